@@ -1,0 +1,6 @@
+"""Allow ``python -m gymmigrate``."""
+
+from gymmigrate.cli import main
+
+if __name__ == "__main__":
+    main()

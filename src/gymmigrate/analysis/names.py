@@ -1,0 +1,125 @@
+"""Qualified-name tables: which library objects create which kind of environment.
+
+Kept apart from the classifier so the tables can be read (and extended) without
+reading the logic that applies them.
+"""
+
+from __future__ import annotations
+
+GYM_PACKAGES = ("gym", "gymnasium")
+
+# Names under gym/gymnasium (without the package prefix) whose call returns one env.
+GYM_ENV_FACTORIES = frozenset({"make", "envs.make", "envs.registration.make", "envs.registration.registry.make"})
+
+# Prefixes under gym/gymnasium whose class constructors return one (wrapped) env.
+GYM_ENV_CLASS_PREFIXES = ("wrappers.", "envs.")
+
+GYM_ENV_BASE_CLASSES = frozenset(
+    {
+        "Env",
+        "core.Env",
+        "Wrapper",
+        "core.Wrapper",
+        "ObservationWrapper",
+        "core.ObservationWrapper",
+        "ActionWrapper",
+        "core.ActionWrapper",
+        "RewardWrapper",
+        "core.RewardWrapper",
+        "GoalEnv",
+        "core.GoalEnv",
+    }
+)
+GYM_WRAPPER_BASE_CLASSES = frozenset(
+    name for name in GYM_ENV_BASE_CLASSES if "Wrapper" in name
+)
+
+GYM_VEC_FACTORIES = frozenset(
+    {
+        "vector.make",
+        "make_vec",
+        "vector.SyncVectorEnv",
+        "vector.AsyncVectorEnv",
+        "vector.sync_vector_env.SyncVectorEnv",
+        "vector.async_vector_env.AsyncVectorEnv",
+        "experimental.vector.SyncVectorEnv",
+        "experimental.vector.AsyncVectorEnv",
+    }
+)
+GYM_VEC_PREFIXES = ("wrappers.vector.",)
+
+# Stable-Baselines3 (and OpenAI baselines, which shares the VecEnv API): four-field
+# step, obs-only reset and seed() are their current API and must never be rewritten.
+SB3_VEC_PREFIXES = (
+    "stable_baselines3.common.vec_env.",
+    "sb3_contrib.common.vec_env.",
+    "baselines.common.vec_env.",
+    "baselines.common.vec_env",
+)
+SB3_VEC_FACTORIES = frozenset(
+    {
+        "stable_baselines3.common.env_util.make_vec_env",
+        "stable_baselines3.common.env_util.make_atari_env",
+        "stable_baselines3.common.cmd_util.make_vec_env",
+        "stable_baselines3.common.cmd_util.make_atari_env",
+        "baselines.common.cmd_util.make_vec_env",
+    }
+)
+SB3_PACKAGES = ("stable_baselines3", "sb3_contrib", "baselines")
+SB3_CALLBACK_BASES = frozenset(
+    {
+        "stable_baselines3.common.callbacks.BaseCallback",
+        "stable_baselines3.common.callbacks.EventCallback",
+    }
+)
+
+PETTINGZOO_PACKAGE = "pettingzoo"
+PZ_PARALLEL_SUFFIXES = (".parallel_env",)
+PZ_AEC_SUFFIXES = (".env", ".raw_env")
+PZ_PARALLEL_FACTORIES = frozenset(
+    {
+        "pettingzoo.utils.conversions.aec_to_parallel",
+        "pettingzoo.utils.aec_to_parallel",
+        "pettingzoo.utils.conversions.to_parallel",
+    }
+)
+PZ_AEC_FACTORIES = frozenset(
+    {
+        "pettingzoo.utils.conversions.parallel_to_aec",
+        "pettingzoo.utils.parallel_to_aec",
+    }
+)
+PZ_AEC_BASES = frozenset({"pettingzoo.AECEnv", "pettingzoo.utils.env.AECEnv", "pettingzoo.utils.AECEnv"})
+PZ_PARALLEL_BASES = frozenset(
+    {"pettingzoo.ParallelEnv", "pettingzoo.utils.env.ParallelEnv", "pettingzoo.utils.ParallelEnv"}
+)
+
+# Libraries whose objects are never environments (their .step() is an optimiser or
+# scheduler step).
+NOT_ENV_PACKAGES = (
+    "torch",
+    "tensorflow",
+    "keras",
+    "jax",
+    "optax",
+    "flax",
+    "numpy",
+    "scipy",
+    "sklearn",
+    "pandas",
+    "transformers",
+)
+
+
+def strip_gym_prefix(qualified: str) -> str | None:
+    """``gym.wrappers.TimeLimit`` -> ``wrappers.TimeLimit``; None if not under gym/gymnasium."""
+    for package in GYM_PACKAGES:
+        if qualified == package:
+            return ""
+        if qualified.startswith(package + "."):
+            return qualified[len(package) + 1 :]
+    return None
+
+
+def top_package(qualified: str) -> str:
+    return qualified.split(".", 1)[0]

@@ -1,0 +1,109 @@
+"""Command line: argument parsing and exit codes only.
+
+Heavy modules (libcst, the rules, gymnasium) are imported inside the commands, so
+``gymmigrate --version`` and ``--help`` start fast and gymnasium is only ever imported
+by ``smoke``.
+
+Exit codes: 0 success; 1 pending changes (``--diff``), findings (``check``) or a failed
+smoke check; 2 usage errors and files (or targets) that could not be processed.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated, Optional
+
+import typer
+
+from gymmigrate import __version__
+
+app = typer.Typer(
+    name="gymmigrate",
+    help="Migrate legacy OpenAI Gym code to the Gymnasium 1.x API.",
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_enable=False,
+)
+
+EXIT_OK = 0
+EXIT_PENDING = 1
+EXIT_ERROR = 2
+
+
+def _version(value: bool) -> None:
+    if value:
+        typer.echo(f"gymmigrate {__version__}")
+        raise typer.Exit(EXIT_OK)
+
+
+@app.callback()
+def _root(
+    version: Annotated[
+        bool, typer.Option("--version", callback=_version, is_eager=True, help="Show the version and exit.")
+    ] = False,
+) -> None:
+    """Migrate legacy OpenAI Gym code to the Gymnasium 1.x API."""
+
+
+PathsArgument = Annotated[
+    list[str],
+    typer.Argument(help="Files or directories (searched recursively for *.py).", show_default=False),
+]
+
+
+@app.command()
+def rewrite(
+    paths: PathsArgument,
+    diff: Annotated[
+        bool, typer.Option("--diff", help="Dry run: print a unified diff to stdout and write nothing.")
+    ] = False,
+    seed: Annotated[
+        Optional[int],
+        typer.Option("--seed", min=0, help="Seed the first reset of envs that were never seeded."),
+    ] = None,
+    report: Annotated[
+        Optional[Path],
+        typer.Option("--report", help="Write every change and review item as JSON to this file.", dir_okay=False),
+    ] = None,
+) -> None:
+    """Rewrite legacy Gym code in place (or show the diff with --diff)."""
+    from gymmigrate.engine import Status, process_file
+    from gymmigrate.files import discover
+    from gymmigrate.report import print_diff, print_summary, write_json_report
+    from gymmigrate.rules.base import RewriteOptions
+
+    options = RewriteOptions(seed=seed)
+    discovery = discover(paths)
+    results = []
+    for path in discovery.files:
+        result = process_file(path, options, write=not diff, want_diff=diff)
+        if result.diff:
+            print_diff(result.diff)
+        results.append(result)
+    results.extend(_missing(discovery.errors))
+    print_summary(results, wrote=not diff)
+    if report is not None:
+        try:
+            write_json_report(report, results, wrote=not diff)
+        except OSError as exc:
+            typer.echo(f"error: cannot write the report {report}: {exc.strerror or exc}", err=True)
+            raise typer.Exit(EXIT_ERROR) from None
+    if any(r.status is Status.ERROR for r in results):
+        raise typer.Exit(EXIT_ERROR)
+    if diff and any(r.status is Status.CHANGED for r in results):
+        raise typer.Exit(EXIT_PENDING)
+    raise typer.Exit(EXIT_OK)
+
+
+def _missing(errors: list[tuple[str, str]]) -> list:
+    from gymmigrate.engine import FileResult, Status
+
+    return [FileResult(path, Status.ERROR, error=reason) for path, reason in errors]
+
+
+def main() -> None:
+    app()
+
+
+if __name__ == "__main__":
+    main()

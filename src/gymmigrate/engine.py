@@ -1,0 +1,263 @@
+"""Run the rule passes over one file, verify the result, and write it safely.
+
+``transform_source`` is pure (bytes in, bytes and findings out) so tests, the CLI and
+a future process pool share it. ``process_file`` adds the I/O: reading, the atomic
+write that keeps the file's mode, and turning every failure into a reported error
+instead of a traceback.
+"""
+
+from __future__ import annotations
+
+import ast
+import difflib
+import os
+import re
+import tempfile
+from bisect import bisect_right
+from dataclasses import dataclass, field, replace
+from enum import Enum
+from pathlib import Path
+
+import libcst as cst
+from libcst.codemod.visitors import AddImportsVisitor, RemoveImportsVisitor
+
+from gymmigrate.findings import Finding
+from gymmigrate.rules import registered_passes
+from gymmigrate.rules.base import FileContext, FileProfile, RewriteOptions
+
+# A file that mentions none of these cannot hold Gym code: skip it before parsing.
+_MAY_HOLD_GYM_CODE = re.compile(rb"gym|pettingzoo|baselines|env", re.IGNORECASE)
+
+
+class Status(str, Enum):
+    UNCHANGED = "unchanged"
+    CHANGED = "changed"
+    SKIPPED = "skipped"  # filtered out before parsing
+    ERROR = "error"
+
+
+@dataclass(frozen=True)
+class FileResult:
+    path: str
+    status: Status
+    findings: tuple[Finding, ...] = ()
+    error: str | None = None
+    diff: str | None = None
+    written: bool = False
+
+    @property
+    def changed(self) -> bool:
+        return self.status is Status.CHANGED
+
+
+class TransformError(Exception):
+    """The file could not be processed; the message says why in one sentence."""
+
+
+@dataclass
+class Transformed:
+    original: bytes
+    rewritten: bytes
+    encoding: str
+    findings: list[Finding] = field(default_factory=list)
+
+    @property
+    def changed(self) -> bool:
+        return self.original != self.rewritten
+
+
+def may_hold_gym_code(source: bytes) -> bool:
+    return _MAY_HOLD_GYM_CODE.search(source) is not None
+
+
+def parse(source: bytes, path: str) -> cst.Module:
+    try:
+        return cst.parse_module(source)
+    except UnicodeDecodeError as exc:
+        raise TransformError(f"cannot decode the file ({exc.reason} at byte {exc.start})") from None
+    except (LookupError, SyntaxError) as exc:  # unknown encoding cookie
+        raise TransformError(f"cannot decode the file: {exc}") from None
+    except cst.ParserSyntaxError as exc:
+        hint = " (this looks like Python 2 code)" if _looks_like_python2(source) else ""
+        raise TransformError(f"syntax error at line {exc.raw_line}, column {exc.raw_column}{hint}") from None
+
+
+_PY2_HINTS = re.compile(rb"^\s*(print\s+[^\s(=]|exec\s+[\"']|except\s+[\w.]+\s*,\s*\w+\s*:)|\bur[\"']|`[^`\n]+`", re.M)
+
+
+def _looks_like_python2(source: bytes) -> bool:
+    return _PY2_HINTS.search(source) is not None
+
+
+def transform_source(source: bytes, path: str = "<string>", options: RewriteOptions | None = None) -> Transformed:
+    """Run every applicable pass over ``source`` and verify the output.
+
+    Raises TransformError when the file cannot be parsed, a rule fails, or the output
+    would not parse or would change again on a second run.
+    """
+    options = options or RewriteOptions()
+    result = _run_passes(source, path, options)
+    if result.changed:
+        _verify(result, path, options)
+    return result
+
+
+def _run_passes(source: bytes, path: str, options: RewriteOptions) -> Transformed:
+    module = parse(source, path)
+    text = module.code
+    context = FileContext(path=path, options=options, profile=FileProfile.from_source(text))
+    maps: list[LineMap] = []  # one per pass that changed the code, in order
+    reported: list[tuple[int, list[Finding]]] = []  # findings, with how many maps preceded them
+    for pass_class in registered_passes():
+        if not pass_class.applies_to(text, context.profile):
+            continue
+        transformer = pass_class(context)
+        try:
+            module = cst.MetadataWrapper(module, unsafe_skip_copy=True).visit(transformer)
+            module = _apply_scheduled_imports(module, context)
+        except Exception as exc:  # a rule bug must not lose the user's file or print a traceback
+            raise TransformError(f"internal error in {pass_class.__name__}: {type(exc).__name__}: {exc}") from exc
+        reported.append((len(maps), transformer.findings))
+        new_text = module.code
+        if new_text != text:
+            maps.append(LineMap(text, new_text))
+            text = new_text
+    findings = []
+    for depth, pass_findings in reported:
+        for finding in pass_findings:
+            # Positions come from the pass's input: map them back to the original source
+            # and forward to the final output.
+            before = finding.line
+            for line_map in reversed(maps[:depth]):
+                before = line_map.backward(before)
+            after = finding.line
+            for line_map in maps[depth:]:
+                after = line_map.forward(after)
+            findings.append(replace(finding, line=before, line_after=after if maps else None))
+    return Transformed(original=source, rewritten=module.bytes, encoding=module.encoding, findings=sorted(findings))
+
+
+def _apply_scheduled_imports(module: cst.Module, context: FileContext) -> cst.Module:
+    """Imports that rules asked for through AddImportsVisitor/RemoveImportsVisitor."""
+    scratch = context.codemod.scratch
+    if scratch.get(AddImportsVisitor.CONTEXT_KEY):
+        module = AddImportsVisitor(context.codemod).transform_module(module)
+        scratch.pop(AddImportsVisitor.CONTEXT_KEY, None)
+    if scratch.get(RemoveImportsVisitor.CONTEXT_KEY):
+        module = RemoveImportsVisitor(context.codemod).transform_module(module)
+        scratch.pop(RemoveImportsVisitor.CONTEXT_KEY, None)
+    return module
+
+
+def _verify(result: Transformed, path: str, options: RewriteOptions) -> None:
+    """The output must compile, and a second run over it must change nothing."""
+    text = result.rewritten.decode(result.encoding)
+    try:
+        ast.parse(text, filename=path)
+    except SyntaxError as exc:
+        raise TransformError(f"the rewrite would not parse (line {exc.lineno}: {exc.msg}); file left unchanged") from None
+    again = _run_passes(result.rewritten, path, options)
+    if again.rewritten != result.rewritten:
+        raise TransformError("the rewrite is not stable (a second run would change it again); file left unchanged")
+
+
+class LineMap:
+    """Maps line numbers between two versions of a text (1-based), via difflib opcodes."""
+
+    def __init__(self, before: str, after: str) -> None:
+        a = before.splitlines()
+        b = after.splitlines()
+        self._ops = difflib.SequenceMatcher(None, a, b, autojunk=False).get_opcodes()
+        self._starts_a = [op[1] for op in self._ops]
+        self._starts_b = [op[3] for op in self._ops]
+        self._len_a, self._len_b = len(a), len(b)
+
+    def forward(self, line: int) -> int:
+        return self._map(line, self._starts_a, forward=True)
+
+    def backward(self, line: int) -> int:
+        return self._map(line, self._starts_b, forward=False)
+
+    def _map(self, line: int, starts: list[int], forward: bool) -> int:
+        index = line - 1
+        i = max(bisect_right(starts, index) - 1, 0)
+        # Skip zero-length ranges on the side we are mapping from.
+        while i < len(self._ops):
+            tag, i1, i2, j1, j2 = self._ops[i]
+            lo, hi, tlo, thi = (i1, i2, j1, j2) if forward else (j1, j2, i1, i2)
+            if lo <= index < hi or i == len(self._ops) - 1:
+                break
+            i += 1
+        tag, i1, i2, j1, j2 = self._ops[i]
+        lo, hi, tlo, thi = (i1, i2, j1, j2) if forward else (j1, j2, i1, i2)
+        if thi == tlo:  # deleted lines map to where they were
+            target = tlo
+        else:
+            target = tlo + min(index - lo, thi - tlo - 1)
+        limit = self._len_b if forward else self._len_a
+        return max(1, min(target + 1, max(limit, 1)))
+
+
+def unified_diff(path: str, transformed: Transformed) -> str:
+    before = transformed.original.decode(transformed.encoding).splitlines(keepends=True)
+    after = transformed.rewritten.decode(transformed.encoding).splitlines(keepends=True)
+    lines = []
+    old, new = (path, path) if os.path.isabs(path) else (f"a/{path}", f"b/{path}")
+    for line in difflib.unified_diff(before, after, fromfile=old, tofile=new):
+        if not line.endswith(("\n", "\r")):
+            line += "\n\\ No newline at end of file\n"
+        lines.append(line)
+    return "".join(lines)
+
+
+def write_atomically(path: Path, data: bytes) -> None:
+    """Write via a temporary file in the same folder, keep the mode, then replace."""
+    mode = path.stat().st_mode & 0o7777
+    fd, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".gymmigrate", dir=path.parent)
+    try:
+        with os.fdopen(fd, "wb") as handle:
+            handle.write(data)
+            handle.flush()
+            os.fsync(handle.fileno())
+        os.chmod(temporary, mode)
+        os.replace(temporary, path)
+    except BaseException:
+        try:
+            os.unlink(temporary)
+        except FileNotFoundError:
+            pass
+        raise
+
+
+def process_file(
+    path: Path,
+    options: RewriteOptions,
+    *,
+    write: bool,
+    want_diff: bool,
+    display_path: str | None = None,
+) -> FileResult:
+    """Read, rewrite, verify and (if asked) write one file. Never raises for bad input."""
+    shown = display_path or str(path)
+    try:
+        source = path.read_bytes()
+    except OSError as exc:
+        return FileResult(shown, Status.ERROR, error=f"cannot read the file: {exc.strerror or exc}")
+    if not may_hold_gym_code(source):
+        return FileResult(shown, Status.SKIPPED)
+    try:
+        transformed = transform_source(source, shown, options)
+    except TransformError as exc:
+        return FileResult(shown, Status.ERROR, error=str(exc))
+    except RecursionError:
+        return FileResult(shown, Status.ERROR, error="the file is nested too deeply to analyse")
+    findings = tuple(transformed.findings)
+    if not transformed.changed:
+        return FileResult(shown, Status.UNCHANGED, findings=findings)
+    diff = unified_diff(shown, transformed) if want_diff else None
+    if write:
+        try:
+            write_atomically(path, transformed.rewritten)
+        except OSError as exc:
+            return FileResult(shown, Status.ERROR, findings=findings, error=f"cannot write the file: {exc.strerror or exc}")
+    return FileResult(shown, Status.CHANGED, findings=findings, diff=diff, written=write)

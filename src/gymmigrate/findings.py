@@ -1,0 +1,60 @@
+"""What a rule reports: one `Finding` per change made or place to review.
+
+Findings are small frozen dataclasses so that a process pool can return them and
+every output format (summary, JSON report, later SARIF/GitHub annotations) reads the
+same record: rule id, position, fix kind and a one-sentence message.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+from enum import Enum
+
+
+class FixKind(str, Enum):
+    """How a rule acted on a site, after the catalog's legend.
+
+    AUTO    rewritten; the meaning is unchanged.
+    ASSIST  rewritten, but the meaning may have shifted: a person must review it.
+    FLAG    not rewritten: a person must look and decide.
+    """
+
+    AUTO = "auto"
+    ASSIST = "assist"
+    FLAG = "flag"
+
+    @property
+    def rewrites(self) -> bool:
+        return self is not FixKind.FLAG
+
+    @property
+    def needs_review(self) -> bool:
+        return self is not FixKind.AUTO
+
+
+@dataclass(frozen=True, order=True)
+class Finding:
+    """One change or review item, positioned in the original source (1-based line, 0-based column).
+
+    ``line_after`` is the same place in the rewritten source, when the file changed.
+    """
+
+    line: int
+    column: int
+    rule: str
+    kind: FixKind
+    message: str
+    line_after: int | None = None
+
+    @property
+    def is_change(self) -> bool:
+        return self.kind.rewrites
+
+    @property
+    def needs_review(self) -> bool:
+        return self.kind.needs_review
+
+    def to_json(self) -> dict[str, object]:
+        data = asdict(self)
+        data["kind"] = self.kind.value
+        return data

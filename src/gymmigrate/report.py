@@ -1,0 +1,104 @@
+"""Show results: diffs on stdout, the summary and review list on stderr, JSON reports.
+
+stdout carries data (diffs), stderr carries the human summary; colour only on a
+terminal (rich decides, and honours NO_COLOR / FORCE_COLOR).
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from collections import Counter
+from collections.abc import Sequence
+from pathlib import Path
+from typing import TextIO
+
+from gymmigrate import __version__
+from gymmigrate.engine import FileResult, Status
+
+
+def print_diff(diff: str, stream: TextIO | None = None) -> None:
+    stream = stream or sys.stdout
+    if not stream.isatty():
+        stream.write(diff)
+        stream.flush()
+        return
+    from rich.console import Console
+    from rich.text import Text
+
+    console = Console(file=stream, highlight=False, soft_wrap=True)
+    for line in diff.splitlines():
+        style = None
+        if line.startswith(("+++", "---")):
+            style = "bold"
+        elif line.startswith("+"):
+            style = "green"
+        elif line.startswith("-"):
+            style = "red"
+        elif line.startswith("@@"):
+            style = "cyan"
+        console.print(Text(line, style=style or ""))
+
+
+def print_summary(results: Sequence[FileResult], *, wrote: bool, stream: TextIO | None = None) -> None:
+    from rich.console import Console
+    from rich.markup import escape
+
+    console = Console(file=stream or sys.stderr, highlight=False, soft_wrap=True)
+    changed = [r for r in results if r.status is Status.CHANGED]
+    errors = [r for r in results if r.status is Status.ERROR]
+    per_rule = Counter(f.rule for r in results for f in r.findings if f.is_change)
+    review = [(r, f) for r in results for f in r.findings if f.needs_review]
+
+    verb = "rewrote" if wrote else "would rewrite"
+    console.print(
+        f"[bold]gymmigrate[/bold] {verb} {len(changed)} of {len(results)} file{'s' if len(results) != 1 else ''}"
+        + (f", [red]{len(errors)} could not be processed[/red]" if errors else "")
+    )
+    if per_rule:
+        console.print("Changes per rule: " + ", ".join(f"{rule} x{count}" for rule, count in sorted(per_rule.items())))
+    if review:
+        console.print(f"\n[bold yellow]Review ({len(review)})[/bold yellow]: places where the meaning may have shifted")
+        for result, finding in review:
+            line = finding.line_after if (wrote and result.written and finding.line_after) else finding.line
+            tag = "rewritten" if finding.is_change else "not rewritten"
+            console.print(
+                f"  {escape(result.path)}:{line}: [bold]{finding.rule}[/bold] ({tag}) {escape(finding.message)}"
+            )
+    for result in errors:
+        console.print(f"[red]error[/red]: {escape(result.path)}: {escape(result.error or 'unknown error')}")
+
+
+def report_json(results: Sequence[FileResult], *, wrote: bool) -> dict[str, object]:
+    files = []
+    for result in results:
+        if result.status is Status.SKIPPED and not result.findings:
+            continue
+        files.append(
+            {
+                "path": result.path,
+                "status": result.status.value,
+                "written": result.written,
+                "error": result.error,
+                "changes": [f.to_json() for f in result.findings if f.is_change],
+                "review": [f.to_json() for f in result.findings if f.needs_review],
+            }
+        )
+    per_rule = Counter(f.rule for r in results for f in r.findings if f.is_change)
+    return {
+        "tool": "gymmigrate",
+        "version": __version__,
+        "mode": "rewrite" if wrote else "dry-run",
+        "summary": {
+            "files_seen": len(results),
+            "files_changed": sum(r.status is Status.CHANGED for r in results),
+            "files_with_errors": sum(r.status is Status.ERROR for r in results),
+            "changes_per_rule": dict(sorted(per_rule.items())),
+            "review_items": sum(f.needs_review for r in results for f in r.findings),
+        },
+        "files": files,
+    }
+
+
+def write_json_report(path: Path, results: Sequence[FileResult], *, wrote: bool) -> None:
+    path.write_text(json.dumps(report_json(results, wrote=wrote), indent=2) + "\n", encoding="utf-8")

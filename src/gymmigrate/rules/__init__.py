@@ -1,0 +1,37 @@
+"""Rule families, one module each. Importing a module registers its pass.
+
+Where a rule lives (passes run in ORDER, shown in brackets):
+
+    GM101-GM105, GM108  imports ............................ imports.py       [10]
+    GM106, GM802-GM806  env ids, Atari registration, registry  env_ids.py     [20]
+    GM305, GM801        removed make() keywords ............ make_kwargs.py   [30]
+    GM401-GM407         rendering at call sites ............ rendering.py     [32]
+    GM701-GM708         vector envs ........................ vector.py        [35]
+    GM404, GM501-GM509  custom Env subclasses .............. custom_env.py    [40]
+    GM505, GM506, GM901 np_random Generator API ............ rng.py           [45]
+    GM201-GM208         reset and seeding at call sites .... reset_seed.py    [50]
+    GM301-GM304         step and done at call sites ........ step_done.py     [55]
+    GM601-GM615         wrapper subclasses and wrappers .... wrappers.py      [60]
+    GM902-GM908         spaces, logger, errors, utils ...... spaces_logger.py [80]
+
+Guards (SB102-SB104: Stable-Baselines3 VecEnvs keep their API) are not a pass: every
+call-site rule asks ``gymmigrate.analysis`` what the receiver is and leaves SB3
+VecEnvs, PettingZoo envs and unrelated objects alone.
+"""
+
+from gymmigrate.rules import (  # noqa: F401  (imported to register their passes)
+    custom_env,
+    env_ids,
+    imports,
+    make_kwargs,
+    rendering,
+    reset_seed,
+    rng,
+    spaces_logger,
+    step_done,
+    vector,
+    wrappers,
+)
+from gymmigrate.rules.base import Rule, RulePass, all_rules, registered_passes
+
+__all__ = ["Rule", "RulePass", "all_rules", "registered_passes"]

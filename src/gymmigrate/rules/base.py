@@ -1,0 +1,150 @@
+"""The rule framework.
+
+A *rule* is one catalog entry (``GM301``: its id, title, fix kind and summary). A *pass*
+is one LibCST traversal that implements a family of rules. Passes run one after the
+other over a file, in ``ORDER`` (the catalog's pass order: imports before call sites,
+class bodies before data-flow checks), each seeing the previous pass's output, so a
+family never has to know what another family rewrote.
+
+Adding a rule family is adding a module under ``gymmigrate.rules`` that defines a
+``RulePass`` subclass; it registers itself and is picked up by ``rules/__init__.py``.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+from typing import ClassVar
+
+import libcst as cst
+import libcst.matchers as m
+from libcst.codemod import CodemodContext
+from libcst.metadata import PositionProvider
+
+from gymmigrate.findings import Finding, FixKind
+
+
+@dataclass(frozen=True)
+class Rule:
+    """One catalog entry: what the README documents and what ``--select`` will name."""
+
+    code: str
+    title: str
+    kind: FixKind
+    summary: str
+
+
+@dataclass(frozen=True)
+class RewriteOptions:
+    """Settings that change what the rules write (not how files are found)."""
+
+    seed: int | None = None
+
+
+@dataclass(frozen=True)
+class FileProfile:
+    """Cheap facts about a file's imports, read from its text before parsing."""
+
+    imports_gym: bool
+    imports_gymnasium: bool
+    imports_sb3: bool
+    imports_pettingzoo: bool
+
+    @classmethod
+    def from_source(cls, source: str) -> FileProfile:
+        return cls(
+            imports_gym=bool(_IMPORT_RE["gym"].search(source)),
+            imports_gymnasium=bool(_IMPORT_RE["gymnasium"].search(source)),
+            imports_sb3=bool(_IMPORT_RE["sb3"].search(source)),
+            imports_pettingzoo=bool(_IMPORT_RE["pettingzoo"].search(source)),
+        )
+
+    @property
+    def gym_only(self) -> bool:
+        """The file uses Gym and none of the libraries whose envs keep other APIs.
+
+        In such a file an env-like name of unknown origin is, in practice, a Gym env;
+        rules may rewrite it as ASSIST (with a review item) instead of only flagging it.
+        """
+        return (self.imports_gym or self.imports_gymnasium) and not (self.imports_sb3 or self.imports_pettingzoo)
+
+
+_IMPORT_RE = {
+    "gym": re.compile(r"^\s*(?:import\s+gym\b|from\s+gym(?:\.|\s+import\b))", re.M),
+    "gymnasium": re.compile(r"^\s*(?:import\s+gymnasium\b|from\s+gymnasium\b)", re.M),
+    "sb3": re.compile(r"^\s*(?:import|from)\s+(?:stable_baselines3|sb3_contrib|baselines)\b", re.M),
+    "pettingzoo": re.compile(r"^\s*(?:import|from)\s+(?:pettingzoo|supersuit)\b", re.M),
+}
+
+
+@dataclass
+class FileContext:
+    """State of one file shared by all passes that run over it."""
+
+    path: str
+    options: RewriteOptions
+    profile: FileProfile
+    codemod: CodemodContext = field(default_factory=CodemodContext)
+    # Notes one pass leaves for a later one (e.g. render modes a make() call needs).
+    notes: dict[str, object] = field(default_factory=dict)
+
+
+_PASSES: list[type[RulePass]] = []
+
+
+class RulePass(m.MatcherDecoratableTransformer):
+    """One traversal implementing a family of rules.
+
+    Subclasses set ``RULES`` and ``ORDER``, may narrow ``applies_to`` with a cheap text
+    test, and call ``self.report(node, code, message)`` for every change or review item.
+    ``report`` must be given a node of the pass's *input* tree (``original_node``), since
+    positions come from it.
+    """
+
+    RULES: ClassVar[tuple[Rule, ...]] = ()
+    ORDER: ClassVar[int] = 100
+    METADATA_DEPENDENCIES = (PositionProvider,)
+
+    def __init_subclass__(cls, **kwargs: object) -> None:
+        super().__init_subclass__(**kwargs)
+        if cls.RULES:
+            _PASSES.append(cls)
+
+    def __init__(self, context: FileContext) -> None:
+        super().__init__()
+        self.context = context
+        self.findings: list[Finding] = []
+        self._rules = {rule.code: rule for rule in self.RULES}
+
+    @classmethod
+    def applies_to(cls, source: str, profile: FileProfile) -> bool:
+        """Cheap test on the text: can this family fire at all? Skips whole traversals."""
+        return True
+
+    def report(
+        self,
+        node: cst.CSTNode,
+        code: str,
+        message: str,
+        kind: FixKind | None = None,
+    ) -> None:
+        rule = self._rules[code]
+        position = self.get_metadata(PositionProvider, node).start
+        self.findings.append(
+            Finding(
+                line=position.line,
+                column=position.column,
+                rule=code,
+                kind=kind or rule.kind,
+                message=message,
+            )
+        )
+
+
+def registered_passes() -> list[type[RulePass]]:
+    return sorted(_PASSES, key=lambda cls: (cls.ORDER, cls.__module__))
+
+
+def all_rules() -> list[Rule]:
+    rules = [rule for cls in registered_passes() for rule in cls.RULES]
+    return sorted(rules, key=lambda rule: rule.code)

@@ -1,0 +1,61 @@
+"""Read the before/after fixture pairs under ``fixtures/rules/<RULE>/``.
+
+Each case is ``<name>.py`` (the input), an optional ``<name>.expected.py`` (the expected
+output; when absent the case is a no-op and the output must equal the input byte for
+byte) and a mandatory ``<name>.findings``: one ``LINE RULE KIND`` per expected finding
+(line in the input, kind auto/assist/flag), ``#`` comments allowed, empty for none.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+FIXTURES = Path(__file__).resolve().parent.parent / "fixtures"
+RULE_FIXTURES = FIXTURES / "rules"
+
+
+@dataclass(frozen=True)
+class Case:
+    rule_dir: str
+    name: str
+    source: Path
+    expected: Path | None
+    findings: Path
+
+    @property
+    def id(self) -> str:
+        return f"{self.rule_dir}/{self.name}"
+
+    @property
+    def is_noop(self) -> bool:
+        return self.expected is None
+
+    def expected_findings(self) -> list[tuple[int, str, str]]:
+        rows = []
+        for raw in self.findings.read_text(encoding="utf-8").splitlines():
+            line = raw.split("#", 1)[0].strip()
+            if not line:
+                continue
+            number, rule, kind = line.split()
+            rows.append((int(number), rule, kind))
+        return sorted(rows)
+
+
+def collect_cases() -> list[Case]:
+    cases = []
+    for source in sorted(RULE_FIXTURES.glob("*/*.py")):
+        if source.name.endswith(".expected.py"):
+            continue
+        stem = source.name[: -len(".py")]
+        expected = source.with_name(stem + ".expected.py")
+        cases.append(
+            Case(
+                rule_dir=source.parent.name,
+                name=stem,
+                source=source,
+                expected=expected if expected.exists() else None,
+                findings=source.with_name(stem + ".findings"),
+            )
+        )
+    return cases

@@ -1,0 +1,56 @@
+"""Every rule, from its before/after fixtures: output, parse, idempotence, findings."""
+
+from __future__ import annotations
+
+import ast
+
+import pytest
+
+from gymmigrate.engine import transform_source
+from gymmigrate.findings import FixKind
+from gymmigrate.rules import all_rules
+from tests.fixture_cases import RULE_FIXTURES, collect_cases
+
+CASES = collect_cases()
+
+
+@pytest.mark.parametrize("case", CASES, ids=[c.id for c in CASES])
+def test_fixture(case) -> None:
+    source = case.source.read_bytes()
+    result = transform_source(source, str(case.source))
+    if case.is_noop:
+        assert result.rewritten == source, "a no-op case must stay byte-identical"
+    else:
+        expected = case.expected.read_bytes()
+        assert result.rewritten.decode() == expected.decode()
+        assert result.rewritten == expected
+        ast.parse(expected)
+        again = transform_source(expected, str(case.expected))
+        assert again.rewritten == expected, "a second run must change nothing"
+    assert case.findings.exists(), f"{case.findings.name} is missing: every case states its findings"
+    found = sorted((f.line, f.rule, f.kind.value) for f in result.findings)
+    assert found == case.expected_findings()
+
+
+def test_every_rule_has_rewrite_and_noop_fixtures() -> None:
+    by_dir: dict[str, list] = {}
+    for case in CASES:
+        by_dir.setdefault(case.rule_dir, []).append(case)
+    missing = []
+    for rule in all_rules():
+        cases = by_dir.get(rule.code, [])
+        fires = [c for c in cases if any(r == rule.code for _, r, _ in c.expected_findings())]
+        if rule.kind is not FixKind.FLAG:
+            fires = [c for c in fires if not c.is_noop]
+        quiet = [c for c in cases if c.is_noop and not any(r == rule.code for _, r, _ in c.expected_findings())]
+        if not fires:
+            missing.append(f"{rule.code}: no case in fixtures/rules/{rule.code}/ where it fires")
+        if not quiet:
+            missing.append(f"{rule.code}: no no-op case in fixtures/rules/{rule.code}/")
+    assert not missing, "\n".join(missing)
+
+
+def test_fixture_directories_name_known_rules() -> None:
+    known = {rule.code for rule in all_rules()}
+    unknown = {path.name for path in RULE_FIXTURES.iterdir() if path.is_dir()} - known
+    assert not unknown
