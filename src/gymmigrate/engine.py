@@ -26,7 +26,8 @@ from gymmigrate.rules import registered_passes
 from gymmigrate.rules.base import FileContext, FileProfile, RewriteOptions
 
 # A file that mentions none of these cannot hold Gym code: skip it before parsing.
-_MAY_HOLD_GYM_CODE = re.compile(rb"gym|pettingzoo|baselines|env", re.IGNORECASE)
+# ``envs?\b`` catches env, envs, vec_env, CartPoleEnv, but not os.environ.
+_MAY_HOLD_GYM_CODE = re.compile(rb"gym|pettingzoo|baselines|envs?\b", re.IGNORECASE)
 
 
 class Status(str, Enum):
