@@ -109,20 +109,25 @@ def _run_passes(source: bytes, path: str, options: RewriteOptions) -> Transforme
     context = FileContext(path=path, options=options, profile=FileProfile.from_source(text))
     maps: list[LineMap] = []  # one per pass that changed the code, in order
     reported: list[tuple[int, list[Finding]]] = []  # findings, with how many maps preceded them
+    # Most passes change nothing in a given file. While the code is unchanged, the same
+    # wrapper (and the scope/qualified-name metadata it has resolved) serves every pass.
+    wrapper = cst.MetadataWrapper(module, unsafe_skip_copy=True)
     for pass_class in registered_passes():
         if not pass_class.applies_to(text, context.profile):
             continue
         transformer = pass_class(context)
         try:
-            module = cst.MetadataWrapper(module, unsafe_skip_copy=True).visit(transformer)
-            module = _apply_scheduled_imports(module, context)
+            new_module = wrapper.visit(transformer)
+            new_module = _apply_scheduled_imports(new_module, context)
         except Exception as exc:  # a rule bug must not lose the user's file or print a traceback
             raise TransformError(f"internal error in {pass_class.__name__}: {type(exc).__name__}: {exc}") from exc
         reported.append((len(maps), transformer.findings))
-        new_text = module.code
+        new_text = new_module.code
         if new_text != text:
             maps.append(LineMap(text, new_text))
             text = new_text
+            module = new_module
+            wrapper = cst.MetadataWrapper(module, unsafe_skip_copy=True)
     findings = []
     for depth, pass_findings in reported:
         for finding in pass_findings:
