@@ -65,8 +65,18 @@ def rewrite(
         Optional[Path],
         typer.Option("--report", help="Write every change and review item as JSON to this file.", dir_okay=False),
     ] = None,
+    smoke: Annotated[
+        bool,
+        typer.Option(
+            "--smoke",
+            help="After rewriting, smoke-check (seed --seed or 0) each rewritten script that creates an env.",
+        ),
+    ] = False,
 ) -> None:
     """Rewrite legacy Gym code in place (or show the diff with --diff)."""
+    if smoke and diff:
+        typer.echo("error: --smoke runs the rewritten files, so it cannot be combined with --diff", err=True)
+        raise typer.Exit(EXIT_ERROR)
     from gymmigrate.engine import Status, process_file
     from gymmigrate.files import discover
     from gymmigrate.report import print_diff, print_summary, write_json_report
@@ -88,11 +98,78 @@ def rewrite(
         except OSError as exc:
             typer.echo(f"error: cannot write the report {report}: {exc.strerror or exc}", err=True)
             raise typer.Exit(EXIT_ERROR) from None
+    smoke_failed = _smoke_rewritten(results, seed or 0) if smoke else False
     if any(r.status is Status.ERROR for r in results):
         raise typer.Exit(EXIT_ERROR)
     if diff and any(r.status is Status.CHANGED for r in results):
         raise typer.Exit(EXIT_PENDING)
-    raise typer.Exit(EXIT_OK)
+    raise typer.Exit(EXIT_PENDING if smoke_failed else EXIT_OK)
+
+
+def _smoke_rewritten(results: list, seed: int) -> bool:
+    """Smoke-check each written file that creates an env; True if any failed or could not run."""
+    from gymmigrate.smoke.rewritten import smoke_rewritten
+
+    return smoke_rewritten([r.path for r in results if r.written], seed)
+
+
+@app.command(name="smoke")
+def smoke_command(
+    target: Annotated[
+        str,
+        typer.Argument(
+            help="A registered env id (CartPole-v1), a class (path/to/file.py:ClassName or package.module:ClassName) "
+            "or a script (path/to/train.py).",
+            show_default=False,
+        ),
+    ],
+    script_args: Annotated[
+        Optional[list[str]],
+        typer.Argument(help="Arguments passed to the script (put them after --).", show_default=False),
+    ] = None,
+    seed: Annotated[
+        int, typer.Option("--seed", min=0, help="Seed of the runs (a second run repeats it, a third uses seed + 1).")
+    ] = 0,
+    episodes: Annotated[int, typer.Option("--episodes", min=1, help="Stop once this many episodes have ended.")] = 3,
+    max_steps: Annotated[
+        int, typer.Option("--max-steps", min=1, help="Stop once this many steps have run (all envs together).")
+    ] = 1000,
+    timeout: Annotated[
+        float, typer.Option("--timeout", min=0.1, help="Stop a run (kill a script) after this many seconds.")
+    ] = 60.0,
+    evidence_file: Annotated[
+        Optional[Path],
+        typer.Option("--evidence", help="Write the evidence as JSON to this file.", dir_okay=False),
+    ] = None,
+    determinism: Annotated[
+        bool,
+        typer.Option("--determinism/--no-determinism", help="Repeat the run with the same seed and with seed + 1."),
+    ] = True,
+) -> None:
+    """Run a short, bounded, seeded episode loop and check the Gymnasium API contract.
+
+    Exit codes: 0 the contract holds, 1 a check failed, 2 the target could not be loaded or run.
+    """
+    from gymmigrate.smoke.runner import SmokeOptions, run_smoke
+    from gymmigrate.smoke.summary import print_evidence
+
+    options = SmokeOptions(
+        seed=seed,
+        episodes=episodes,
+        max_steps=max_steps,
+        timeout=timeout,
+        determinism=determinism,
+        script_args=tuple(script_args or ()),
+    )
+    evidence = run_smoke(target, options)
+    print_evidence(evidence)
+    if evidence_file is not None:
+        try:
+            evidence.write(evidence_file)
+        except OSError as exc:
+            typer.echo(f"error: cannot write the evidence {evidence_file}: {exc.strerror or exc}", err=True)
+            raise typer.Exit(EXIT_ERROR) from None
+    raise typer.Exit(evidence.exit_code)
 
 
 def _missing(errors: list[tuple[str, str]]) -> list:
