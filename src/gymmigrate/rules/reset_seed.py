@@ -242,7 +242,16 @@ class ResetSeedPass(RulePass):
                 self._edit(call).int_seed = True
                 self.report(seed.value, "GM206", "numpy seed wrapped in int(): Gymnasium accepts only Python ints as seeds")
         if shape is Shape.EITHER:
-            if use not in (Use.STATEMENT, Use.UNPACKED, Use.INDEXED, Use.PASSTHROUGH):
+            if self.context.profile.imports_gym and use in (Use.ASSIGN, Use.OBS_TUPLE, Use.IN_TUPLE, Use.EXPRESSION):
+                # Still importing legacy gym: the code was written for a reset that returned
+                # the observation (0.22-0.25); on Gymnasium a single name would hold the pair.
+                legacy = Decision(
+                    Action.REWRITE_FOR_REVIEW,
+                    "gym 0.22-0.25 returned only the observation from reset(seed=/options=); "
+                    "if this code was written for gym 0.26 and kept the pair on purpose, undo this",
+                )
+                self._reshape(call, use, assign, index, code, legacy, vector)
+            elif use not in (Use.STATEMENT, Use.UNPACKED, Use.INDEXED, Use.PASSTHROUGH):
                 self.report(
                     call,
                     code,
