@@ -10,6 +10,7 @@ smoke check; 2 usage errors and files (or targets) that could not be processed.
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Annotated, Optional
 
@@ -65,6 +66,9 @@ def rewrite(
         Optional[Path],
         typer.Option("--report", help="Write every change and review item as JSON to this file.", dir_okay=False),
     ] = None,
+    jobs: Annotated[
+        int, typer.Option("--jobs", "-j", min=0, help="Worker processes (0: one per core).")
+    ] = 0,
     smoke: Annotated[
         bool,
         typer.Option(
@@ -77,20 +81,15 @@ def rewrite(
     if smoke and diff:
         typer.echo("error: --smoke runs the rewritten files, so it cannot be combined with --diff", err=True)
         raise typer.Exit(EXIT_ERROR)
-    from gymmigrate.engine import Status, process_file
-    from gymmigrate.files import discover
+    from gymmigrate.engine import Status
     from gymmigrate.report import print_diff, print_summary, write_json_report
     from gymmigrate.rules.base import RewriteOptions
 
-    options = RewriteOptions(seed=seed)
-    discovery = discover(paths)
     results = []
-    for path in discovery.files:
-        result = process_file(path, options, write=not diff, want_diff=diff)
+    for result in _run(paths, RewriteOptions(seed=seed), write=not diff, want_diff=diff, jobs=jobs):
         if result.diff:
             print_diff(result.diff)
         results.append(result)
-    results.extend(_missing(discovery.errors))
     print_summary(results, wrote=not diff)
     if report is not None:
         try:
@@ -104,6 +103,52 @@ def rewrite(
     if diff and any(r.status is Status.CHANGED for r in results):
         raise typer.Exit(EXIT_PENDING)
     raise typer.Exit(EXIT_PENDING if smoke_failed else EXIT_OK)
+
+
+def _run(paths: list[str], options: object, *, write: bool, want_diff: bool, jobs: int) -> Iterator:
+    """Every file's result in the order given, then one error result per bad argument."""
+    from gymmigrate.engine import FileResult, Status
+    from gymmigrate.files import discover
+    from gymmigrate.runner import run_files
+
+    discovery = discover(paths)
+    yield from run_files(discovery.files, options, write=write, want_diff=want_diff, jobs=jobs)  # type: ignore[arg-type]
+    for path, reason in discovery.errors:
+        yield FileResult(path, Status.ERROR, error=reason)
+
+
+@app.command()
+def check(
+    paths: PathsArgument,
+    report: Annotated[
+        Optional[Path],
+        typer.Option("--report", help="Write every finding as JSON to this file.", dir_okay=False),
+    ] = None,
+    jobs: Annotated[
+        int, typer.Option("--jobs", "-j", min=0, help="Worker processes (0: one per core).")
+    ] = 0,
+) -> None:
+    """Lint mode: list every legacy Gym site (what rewrite would change or asks you to review); write nothing.
+
+    Each finding is printed to stdout as `path:line:column: RULE \\[kind] message`.
+    Exit codes: 0 nothing found, 1 findings, 2 files that could not be processed.
+    """
+    from gymmigrate.engine import Status
+    from gymmigrate.report import print_findings, print_summary, write_json_report
+    from gymmigrate.rules.base import RewriteOptions
+
+    results = list(_run(paths, RewriteOptions(), write=False, want_diff=False, jobs=jobs))
+    print_findings(results)
+    print_summary(results, wrote=False)
+    if report is not None:
+        try:
+            write_json_report(report, results, wrote=False)
+        except OSError as exc:
+            typer.echo(f"error: cannot write the report {report}: {exc.strerror or exc}", err=True)
+            raise typer.Exit(EXIT_ERROR) from None
+    if any(r.status is Status.ERROR for r in results):
+        raise typer.Exit(EXIT_ERROR)
+    raise typer.Exit(EXIT_PENDING if any(r.findings for r in results) else EXIT_OK)
 
 
 def _smoke_rewritten(results: list, seed: int) -> bool:
@@ -170,12 +215,6 @@ def smoke_command(
             typer.echo(f"error: cannot write the evidence {evidence_file}: {exc.strerror or exc}", err=True)
             raise typer.Exit(EXIT_ERROR) from None
     raise typer.Exit(evidence.exit_code)
-
-
-def _missing(errors: list[tuple[str, str]]) -> list:
-    from gymmigrate.engine import FileResult, Status
-
-    return [FileResult(path, Status.ERROR, error=reason) for path, reason in errors]
 
 
 def main() -> None:

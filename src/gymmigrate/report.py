@@ -40,6 +40,17 @@ def print_diff(diff: str, stream: TextIO | None = None) -> None:
         console.print(Text(line, style=style or ""))
 
 
+def print_findings(results: Sequence[FileResult], stream: TextIO | None = None) -> None:
+    """One line per finding, in the compiler style editors and CI annotators read."""
+    stream = stream or sys.stdout
+    for result in results:
+        for finding in result.findings:
+            stream.write(
+                f"{result.path}:{finding.line}:{finding.column + 1}: {finding.rule} [{finding.kind.value}] {finding.message}\n"
+            )
+    stream.flush()
+
+
 def print_summary(results: Sequence[FileResult], *, wrote: bool, stream: TextIO | None = None) -> None:
     from rich.console import Console
     from rich.markup import escape
