@@ -122,3 +122,37 @@ def test_python_dash_m_entry_point(project: Path) -> None:
     )
     assert completed.returncode == 1
     assert "+import gymnasium as gym" in completed.stdout
+
+
+def test_check_lists_findings_and_writes_nothing(project: Path) -> None:
+    result = runner.invoke(app, ["check", str(project)])
+    assert result.exit_code == 1
+    assert f"{project / 'train.py'}:1:1: GM101 [auto] import gym -> import gymnasium as gym\n" in result.stdout
+    assert f"{project / 'train.py'}:2:1: GM103 [auto]" in result.stdout
+    assert (project / "train.py").read_bytes() == LEGACY
+
+
+def test_check_exit_zero_on_migrated_code(project: Path) -> None:
+    result = runner.invoke(app, ["check", str(project / "clean.py"), str(project / "unrelated.py")])
+    assert result.exit_code == 0
+    assert result.stdout == ""
+
+
+def test_check_exit_two_on_bad_files(project: Path) -> None:
+    (project / "broken.py").write_text("import gym\ndef f(:\n")
+    result = runner.invoke(app, ["check", str(project)])
+    assert result.exit_code == 2
+    assert "broken.py: syntax error at line 2" in result.stderr
+
+
+def test_parallel_run_gives_the_same_results_in_the_same_order(tmp_path: Path) -> None:
+    for index in range(40):
+        (tmp_path / f"script_{index:02}.py").write_bytes(LEGACY if index % 3 else b"import gymnasium as gym\n")
+    serial = runner.invoke(app, ["rewrite", "--diff", "--jobs", "1", str(tmp_path)])
+    parallel = runner.invoke(app, ["rewrite", "--diff", "--jobs", "2", str(tmp_path)])
+    assert serial.exit_code == parallel.exit_code == 1
+    assert serial.stdout == parallel.stdout
+    assert serial.stdout.count("+import gymnasium as gym") == 26
+    written = runner.invoke(app, ["rewrite", "--jobs", "2", str(tmp_path)])
+    assert written.exit_code == 0
+    assert all(p.read_bytes().startswith(b"import gymnasium as gym") for p in tmp_path.iterdir())
