@@ -234,7 +234,7 @@ class ResetSeedPass(RulePass):
                 )
             return
         self._check_custom_arguments(call, name, keywords)
-        shape = self._legacy_shape(call, decision, name, keywords)
+        shape = self._legacy_shape(call, decision, name, keywords, use)
         seed = keywords.get("seed")
         if seed is not None:
             self._check_seed_in_loop(call, seed.value, f"`{name}.reset(seed=...)`")
@@ -284,7 +284,9 @@ class ResetSeedPass(RulePass):
                 "and read them from `options` in the env's reset()",
             )
 
-    def _legacy_shape(self, call: cst.Call, decision: Decision, name: str, keywords: dict[str, cst.Arg]) -> Shape:
+    def _legacy_shape(
+        self, call: cst.Call, decision: Decision, name: str, keywords: dict[str, cst.Arg], use: Use
+    ) -> Shape:
         """What the legacy call returned; drops ``return_info=`` (GM202) on the way."""
         return_info = keywords.get("return_info")
         if return_info is None:
@@ -297,6 +299,18 @@ class ResetSeedPass(RulePass):
                 "GM202",
                 "return_info=<expression> chose the result's shape at run time; reset() always returns "
                 "(obs, info) now: drop the keyword and keep the branch that unpacks two values",
+                FixKind.FLAG,
+            )
+            return Shape.AT_RUN_TIME
+        kept_whole = use not in (Use.STATEMENT, Use.UNPACKED, Use.PASSTHROUGH)
+        if flag and kept_whole and not ({"seed", "options"} & set(keywords)):
+            # `pair = env.reset(return_info=True)` would become `pair = env.reset()`, which
+            # reads exactly like a legacy obs-only reset: no later run could tell them apart.
+            self.report(
+                call,
+                "GM202",
+                f"reset() always returns (obs, info) now: drop return_info=True here by hand; "
+                f"`{name}.reset()` kept as one value already is the pair",
                 FixKind.FLAG,
             )
             return Shape.AT_RUN_TIME
