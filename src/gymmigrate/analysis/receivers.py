@@ -84,14 +84,26 @@ class ReceiverAnalysis:
 
     def __init__(self, module: cst.Module, metadata: Mapping[type, Mapping[cst.CSTNode, object]]) -> None:
         self._module = module
-        self._scopes = metadata[ScopeProvider]
-        self._parents = metadata[ParentNodeProvider]
-        self._qualnames = metadata[QualifiedNameProvider]
+        self._metadata = metadata  # providers are looked up on first use (they may be lazy)
         self._cache: dict[int, EnvKind] = {}
         self._in_progress: set[int] = set()
         self._calls_by_name: dict[str, list[cst.Call]] | None = None
         self._classes: dict[str, cst.ClassDef] | None = None
         self._functions: dict[str, cst.FunctionDef] | None = None
+        self._self_stores: dict[int, dict[str, list[cst.BaseExpression]]] = {}
+        self._returns: dict[int, list[cst.BaseExpression]] = {}
+
+    @property
+    def _scopes(self) -> Mapping[cst.CSTNode, object]:
+        return self._metadata[ScopeProvider]
+
+    @property
+    def _parents(self) -> Mapping[cst.CSTNode, object]:
+        return self._metadata[ParentNodeProvider]
+
+    @property
+    def _qualnames(self) -> Mapping[cst.CSTNode, object]:
+        return self._metadata[QualifiedNameProvider]
 
     # -- public -----------------------------------------------------------------
 
@@ -457,9 +469,13 @@ class ReceiverAnalysis:
         classdef = self.enclosing(attr, cst.ClassDef)
         if not isinstance(classdef, cst.ClassDef):
             return []
-        collector = _SelfStoreCollector(name)
-        classdef.visit(collector)
-        return collector.values
+        # One walk per class, not per attribute read: env classes read dozens of self.x.
+        stores = self._self_stores.get(id(classdef))
+        if stores is None:
+            collector = _SelfStoreCollector()
+            classdef.visit(collector)
+            stores = self._self_stores[id(classdef)] = collector.values
+        return stores.get(name, [])
 
     def _is_sb3_callback(self, classdef: cst.ClassDef) -> bool:
         return any(q in N.SB3_CALLBACK_BASES for base in classdef.bases for q in self.qualified_names(base.value))
@@ -508,11 +524,14 @@ class ReceiverAnalysis:
         return EnvKind.UNKNOWN
 
     def _returns_kind(self, function: cst.FunctionDef) -> EnvKind:
-        collector = _ReturnCollector()
-        function.body.visit(collector)
-        if not collector.values:
+        values = self._returns.get(id(function))
+        if values is None:
+            collector = _ReturnCollector()
+            function.body.visit(collector)
+            values = self._returns[id(function)] = collector.values
+        if not values:
             return EnvKind.NOT_ENV
-        return join_kinds(self.kind_of(value) for value in collector.values)
+        return join_kinds(self.kind_of(value) for value in values)
 
 
 def _argument(call: cst.Call, position: int | None, name: str) -> cst.BaseExpression | None:
@@ -540,11 +559,10 @@ class _CallCollector(cst.CSTVisitor):
 
 
 class _SelfStoreCollector(cst.CSTVisitor):
-    """Values stored to ``self.<name>`` anywhere in a class body (not nested classes)."""
+    """Values stored to ``self.<name>`` anywhere in a class body (not nested classes), by name."""
 
-    def __init__(self, name: str) -> None:
-        self.name = name
-        self.values: list[cst.BaseExpression] = []
+    def __init__(self) -> None:
+        self.values: dict[str, list[cst.BaseExpression]] = defaultdict(list)
         self._depth = 0
 
     def visit_ClassDef(self, node: cst.ClassDef) -> bool:
@@ -554,26 +572,27 @@ class _SelfStoreCollector(cst.CSTVisitor):
     def leave_ClassDef(self, original_node: cst.ClassDef) -> None:
         self._depth -= 1
 
-    def _matches(self, target: cst.BaseExpression) -> bool:
-        return (
-            isinstance(target, cst.Attribute)
-            and isinstance(target.value, cst.Name)
-            and target.value.value == "self"
-            and target.attr.value == self.name
-        )
+    @staticmethod
+    def _stored_name(target: cst.BaseExpression) -> str | None:
+        if isinstance(target, cst.Attribute) and isinstance(target.value, cst.Name) and target.value.value == "self":
+            return target.attr.value
+        return None
 
     def visit_Assign(self, node: cst.Assign) -> None:
         for target in node.targets:
-            if self._matches(target.target):
-                self.values.append(node.value)
+            name = self._stored_name(target.target)
+            if name is not None:
+                self.values[name].append(node.value)
             elif isinstance(target.target, (cst.Tuple, cst.List)) and isinstance(node.value, (cst.Tuple, cst.List)):
                 for el, value in zip(target.target.elements, node.value.elements):
-                    if self._matches(el.value):
-                        self.values.append(value.value)
+                    name = self._stored_name(el.value)
+                    if name is not None:
+                        self.values[name].append(value.value)
 
     def visit_AnnAssign(self, node: cst.AnnAssign) -> None:
-        if self._matches(node.target) and node.value is not None:
-            self.values.append(node.value)
+        name = self._stored_name(node.target)
+        if name is not None and node.value is not None:
+            self.values[name].append(node.value)
 
 
 class _ReturnCollector(cst.CSTVisitor):
