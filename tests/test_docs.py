@@ -1,0 +1,50 @@
+"""README is the user's manual: every rule, every option and the Quick start are in it."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pytest
+import typer
+
+from gymmigrate.cli import app
+from gymmigrate.rules import all_rules
+
+README = (Path(__file__).resolve().parent.parent / "README.md").read_text(encoding="utf-8")
+
+
+def _section(code: str) -> str:
+    match = re.search(rf"^(#+) {code}\b.*$", README, flags=re.M)
+    assert match, f"README has no heading for {code}"
+    level = len(match.group(1))
+    rest = README[match.end() :]
+    end = re.search(rf"^#{{1,{level}}} ", rest, flags=re.M)
+    return rest[: end.start()] if end else rest
+
+
+@pytest.mark.parametrize("rule", all_rules(), ids=lambda rule: rule.code)
+def test_every_rule_is_documented_with_an_example(rule) -> None:
+    section = _section(rule.code)
+    assert section.count("```python") >= 1, f"{rule.code} needs a before/after example in README"
+    assert f"| {rule.kind.value} |" in README.split(f"| [{rule.code}]", 1)[1].split("\n", 1)[0]
+
+
+def test_quick_start_has_exactly_two_shell_blocks() -> None:
+    quick = README.split("## Quick start", 1)[1].split("\n## ", 1)[0]
+    blocks = re.findall(r"```sh\n(.*?)```", quick, flags=re.S)
+    assert len(blocks) == 2
+    assert "gymmigrate rewrite --diff fixtures/examples/" in blocks[0]
+    assert 'pip install -e ".[test]"' in blocks[1] and "pytest" in blocks[1]
+
+
+def test_every_cli_option_is_documented() -> None:
+    command = typer.main.get_command(app)
+    commands = command.commands  # type: ignore[attr-defined]
+    assert set(commands) >= {"rewrite", "check", "smoke"}
+    for name, sub in commands.items():
+        assert f"gymmigrate {name}" in README
+        for param in sub.params:
+            for option in param.opts:
+                if option.startswith("--") and option != "--help":
+                    assert option in README, f"`gymmigrate {name} {option}` is not in README"
