@@ -22,6 +22,7 @@ import libcst as cst
 from libcst.metadata import Assignment, ScopeProvider
 
 from gymmigrate.analysis import names as N
+from gymmigrate.analysis.syntax import own_return_values
 from gymmigrate.analysis.receivers import ReceiverAnalysis
 
 try:  # LibCST resolves some providers lazily
@@ -178,7 +179,7 @@ class CreationFinder:
 
     def _thunk_factory(self, function: cst.FunctionDef, seen: set[int]) -> Creation:
         result = Creation()
-        returned = _return_values(function)
+        returned = own_return_values(function)
         if not returned:
             result.fail(f"`{function.name.value}` returns nothing")
         for value in returned:
@@ -197,7 +198,7 @@ class CreationFinder:
         if id(function) in seen:
             return result
         seen = seen | {id(function)}
-        values = _return_values(function)
+        values = own_return_values(function)
         if not values:
             result.fail(f"`{function.name.value}` returns nothing")
         for value in values:
@@ -350,12 +351,6 @@ def _looks_like_wrapper(call: cst.Call, analysis: ReceiverAnalysis) -> bool:
     return name[:1].isupper() and not name.isupper()
 
 
-def _return_values(function: cst.FunctionDef) -> list[cst.BaseExpression]:
-    collector = _ReturnCollector()
-    function.body.visit(collector)
-    return collector.values
-
-
 def _nested_function(function: cst.FunctionDef, value: cst.BaseExpression) -> cst.FunctionDef | None:
     if not isinstance(value, cst.Name) or not isinstance(function.body, cst.IndentedBlock):
         return None
@@ -380,24 +375,6 @@ class _NamedCalls(cst.CSTVisitor):
     def visit_Call(self, node: cst.Call) -> None:
         if isinstance(node.func, cst.Name):
             self.calls.setdefault(node.func.value, []).append(node)
-
-
-class _ReturnCollector(cst.CSTVisitor):
-    def __init__(self) -> None:
-        self.values: list[cst.BaseExpression] = []
-
-    def visit_FunctionDef(self, node: cst.FunctionDef) -> bool:
-        return False
-
-    def visit_ClassDef(self, node: cst.ClassDef) -> bool:
-        return False
-
-    def visit_Lambda(self, node: cst.Lambda) -> bool:
-        return False
-
-    def visit_Return(self, node: cst.Return) -> None:
-        if node.value is not None:
-            self.values.append(node.value)
 
 
 class _SelfStores(cst.CSTVisitor):

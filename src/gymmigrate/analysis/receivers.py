@@ -28,6 +28,7 @@ from libcst.metadata import (
 )
 
 from gymmigrate.analysis import names as N
+from gymmigrate.analysis.syntax import own_return_values
 
 try:  # LibCST resolves some providers lazily
     from libcst._metadata_dependent import LazyValue
@@ -526,9 +527,7 @@ class ReceiverAnalysis:
     def _returns_kind(self, function: cst.FunctionDef) -> EnvKind:
         values = self._returns.get(id(function))
         if values is None:
-            collector = _ReturnCollector()
-            function.body.visit(collector)
-            values = self._returns[id(function)] = collector.values
+            values = self._returns[id(function)] = own_return_values(function)
         if not values:
             return EnvKind.NOT_ENV
         return join_kinds(self.kind_of(value) for value in values)
@@ -595,21 +594,3 @@ class _SelfStoreCollector(cst.CSTVisitor):
             self.values[name].append(node.value)
 
 
-class _ReturnCollector(cst.CSTVisitor):
-    """Return values of one function, not of functions nested in it."""
-
-    def __init__(self) -> None:
-        self.values: list[cst.BaseExpression] = []
-
-    def visit_FunctionDef(self, node: cst.FunctionDef) -> bool:
-        return False
-
-    def visit_Lambda(self, node: cst.Lambda) -> bool:
-        return False
-
-    def visit_ClassDef(self, node: cst.ClassDef) -> bool:
-        return False
-
-    def visit_Return(self, node: cst.Return) -> None:
-        if node.value is not None:
-            self.values.append(node.value)

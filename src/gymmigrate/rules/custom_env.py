@@ -40,6 +40,7 @@ from libcst.codemod.visitors import RemoveImportsVisitor
 from libcst.metadata import PositionProvider
 
 from gymmigrate.analysis import env_classes as E
+from gymmigrate.analysis.syntax import own_returns
 from gymmigrate.analysis.decisions import Action, decide
 from gymmigrate.analysis.receivers import METADATA, EnvKind, ReceiverAnalysis
 from gymmigrate.findings import FixKind
@@ -446,7 +447,7 @@ class _EnvClassMigration:
                 FixKind.ASSIST,
                 "returns (obs, self._get_info()), the info the class already builds",
             )
-        originals = _returns(orig)
+        originals = own_returns(orig)
         for ret in originals:
             if ret.value is not None and not E.is_super_method_call(ret.value, "reset"):
                 self.report(ret, "GM501", f"reset {why}", kind)
@@ -468,8 +469,8 @@ class _EnvClassMigration:
         if pair is None:
             return
         orig, fn = pair
-        orig_returns = _returns(orig)
-        returns = _returns(fn)
+        orig_returns = own_returns(orig)
+        returns = own_returns(fn)
         if any(_tuple_len(r.value) == 5 for r in returns):
             return  # already the five-value API
         splits: dict[str, tuple[list[cst.BaseExpression], list[cst.BaseExpression]]] = {}
@@ -624,7 +625,7 @@ class _EnvClassMigration:
             orig = self.orig_methods.get(old)
             if orig is None:
                 continue
-            for ret in _returns(orig):
+            for ret in own_returns(orig):
                 obs = _observation_of(ret.value, name)
                 if obs is not None and _is_float64_array(obs) and not _state_is_float32(self.original):
                     self.report(obs, "GM509", "observation built with np.array(...) is float64 but observation_space is a float32 Box; pass dtype=np.float32 (check_env rejects it)")
@@ -832,13 +833,6 @@ def _drop_return_info(fn: cst.FunctionDef) -> cst.FunctionDef:
     return fn.with_changes(body=fn.body.visit(_ReturnInfoRemover()))
 
 
-def _returns(fn: cst.CSTNode) -> list[cst.Return]:
-    collector = _OwnReturns()
-    body = fn.body if isinstance(fn, cst.FunctionDef) else fn
-    body.visit(collector)
-    return collector.returns
-
-
 def _tuple_len(value: cst.BaseExpression | None) -> int | None:
     if isinstance(value, cst.Tuple) and not any(isinstance(el, cst.StarredElement) for el in value.elements):
         return len(value.elements)
@@ -875,7 +869,7 @@ def _rebinds_name(fn: cst.FunctionDef, name: str) -> bool:
 
 def _reads_name_outside_returns(fn: cst.FunctionDef, name: str) -> bool:
     total = len(m.findall(fn.body, m.Name(name)))
-    in_returns = sum(len(m.findall(r, m.Name(name))) for r in _returns(fn))
+    in_returns = sum(len(m.findall(r, m.Name(name))) for r in own_returns(fn))
     stores = len(m.findall(fn.body, m.AssignTarget(m.Name(name))))
     return total - in_returns - stores > 0
 
@@ -1010,25 +1004,6 @@ def _is_float64_array(expr: cst.BaseExpression) -> bool:
 
 
 # -- transformers ---------------------------------------------------------------------------------
-
-
-class _OwnReturns(cst.CSTVisitor):
-    """Returns of one function body, not of functions, lambdas or classes nested in it."""
-
-    def __init__(self) -> None:
-        self.returns: list[cst.Return] = []
-
-    def visit_FunctionDef(self, node: cst.FunctionDef) -> bool:
-        return False
-
-    def visit_ClassDef(self, node: cst.ClassDef) -> bool:
-        return False
-
-    def visit_Lambda(self, node: cst.Lambda) -> bool:
-        return False
-
-    def visit_Return(self, node: cst.Return) -> None:
-        self.returns.append(node)
 
 
 class _ReturnRewriter(cst.CSTTransformer):

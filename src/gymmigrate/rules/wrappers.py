@@ -43,6 +43,7 @@ import libcst as cst
 from libcst.metadata import PositionProvider
 
 from gymmigrate.analysis.receivers import METADATA, ReceiverAnalysis
+from gymmigrate.analysis.syntax import own_returns
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileProfile, Rule, RulePass
 
@@ -199,25 +200,6 @@ class _Names(cst.CSTVisitor):
             self.reads[node.value] = self.reads.get(node.value, 0) + 1
 
 
-class _Returns(cst.CSTVisitor):
-    """``return`` statements of one function (not of functions nested in it)."""
-
-    def __init__(self) -> None:
-        self.returns: list[cst.Return] = []
-
-    def visit_FunctionDef(self, node: cst.FunctionDef) -> bool:
-        return False
-
-    def visit_Lambda(self, node: cst.Lambda) -> bool:
-        return False
-
-    def visit_ClassDef(self, node: cst.ClassDef) -> bool:
-        return False
-
-    def visit_Return(self, node: cst.Return) -> None:
-        self.returns.append(node)
-
-
 class _Lines(cst.CSTVisitor):
     """Statement lines of one function body, in order, not entering nested definitions."""
 
@@ -361,7 +343,7 @@ class WrapperClassPass(RulePass):
             if flags is not None and flags != found:
                 consistent = False
             flags = flags or found
-        returns = _returns(function)
+        returns = own_returns(function)
         bound = {name for line in lines for name in _assigned_names(line)}
         replaced_done_reads = 0
         done_modified = done_name is not None and _has_other_assignments(lines, done_name, done_line, unpack_lines)
@@ -489,7 +471,7 @@ class WrapperClassPass(RulePass):
         original = function
         function = self._fix_reset_signature(function, edits)
         needs_info_default = False
-        for ret in _returns(function):
+        for ret in own_returns(function):
             value = ret.value
             if value is None or _inner_call(value, "reset") is not None:
                 continue  # a pass-through already returns (obs, info)
@@ -658,12 +640,6 @@ def _lines(function: cst.FunctionDef) -> list[cst.SimpleStatementLine]:
     collector = _Lines()
     function.body.visit(collector)
     return collector.lines
-
-
-def _returns(function: cst.FunctionDef) -> list[cst.Return]:
-    collector = _Returns()
-    function.body.visit(collector)
-    return collector.returns
 
 
 def _assigned_single_name(line: cst.SimpleStatementLine) -> str | None:
