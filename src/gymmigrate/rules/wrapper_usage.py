@@ -182,6 +182,24 @@ def _positional(call: cst.Call) -> list[cst.Arg]:
     return [a for a in call.args if a.keyword is None and not a.star]
 
 
+def _parameter(call: cst.Call, name: str, position: int) -> cst.Arg | None:
+    """The argument bound to a wrapper parameter, passed by keyword or at ``position``."""
+    found = _keyword(call, name)
+    if found is None:
+        positional = _positional(call)
+        if len(positional) > position:
+            found = positional[position]
+    return found
+
+
+def _missing_or_none(call: cst.Call, name: str, position: int) -> bool:
+    """A required parameter left out (and not possibly in *args/**kwargs) or passed None."""
+    found = _parameter(call, name, position)
+    if found is None:
+        return not any(a.star for a in call.args)
+    return _is_none(found.value)
+
+
 def _is_none(node: cst.BaseExpression) -> bool:
     return isinstance(node, cst.Name) and node.value == "None"
 
@@ -486,10 +504,7 @@ class WrapperRenamesPass(RulePass):
         if num_stack is not None:
             args = _replace_arg(args, num_stack, _renamed_keyword(num_stack, "stack_size"))
             notes.append("`num_stack=` is `stack_size=`")
-        lz4 = _keyword(call, "lz4_compress")
-        positional = _positional(call)
-        if lz4 is None and len(positional) >= 3:
-            lz4 = positional[2]
+        lz4 = _parameter(call, "lz4_compress", 2)
         if lz4 is not None:
             args = [a for a in args if a is not lz4]
             notes.append("`lz4_compress` is gone (frames are a plain ndarray now)")
@@ -574,10 +589,7 @@ class WrapperRenamesPass(RulePass):
         return call.with_changes(args=_replace_arg(list(call.args), f, _renamed_keyword(f, "func")))
 
     def _args_ResizeObservation(self, original: cst.Call, call: cst.Call) -> cst.Call:
-        shape = _keyword(call, "shape")
-        positional = _positional(call)
-        if shape is None and len(positional) >= 2:
-            shape = positional[1]
+        shape = _parameter(call, "shape", 1)
         if shape is None or not isinstance(shape.value, cst.Integer):
             return call
         size = shape.value
@@ -605,11 +617,7 @@ class WrapperRenamesPass(RulePass):
         return call.with_changes(args=_without_args(call, [new_step_api]))
 
     def _args_TimeLimit(self, original: cst.Call, call: cst.Call) -> cst.Call:
-        steps = _keyword(call, "max_episode_steps")
-        positional = _positional(call)
-        if steps is None and len(positional) >= 2:
-            steps = positional[1]
-        if (steps is None and not any(a.star for a in call.args)) or (steps is not None and _is_none(steps.value)):
+        if _missing_or_none(call, "max_episode_steps", 1):
             self.report(
                 original,
                 "GM609",
@@ -620,11 +628,7 @@ class WrapperRenamesPass(RulePass):
         return call
 
     def _args_FilterObservation(self, original: cst.Call, call: cst.Call) -> cst.Call:
-        keys = _keyword(call, "filter_keys")
-        positional = _positional(call)
-        if keys is None and len(positional) >= 2:
-            keys = positional[1]
-        if (keys is None and not any(a.star for a in call.args)) or (keys is not None and _is_none(keys.value)):
+        if _missing_or_none(call, "filter_keys", 1):
             self.report(
                 original,
                 "GM609",
@@ -644,10 +648,7 @@ class WrapperRenamesPass(RulePass):
         return call
 
     def _args_AtariPreprocessing(self, original: cst.Call, call: cst.Call) -> cst.Call:
-        frame_skip = _keyword(call, "frame_skip")
-        positional = _positional(call)
-        if frame_skip is None and len(positional) >= 3:
-            frame_skip = positional[2]
+        frame_skip = _parameter(call, "frame_skip", 2)
         if frame_skip is not None and isinstance(frame_skip.value, cst.Integer) and frame_skip.value.value == "1":
             return call
         original_positional = _positional(original)
