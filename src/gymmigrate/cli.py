@@ -50,6 +50,11 @@ PathsArgument = Annotated[
     list[str],
     typer.Argument(help="Files or directories (searched recursively for *.py).", show_default=False),
 ]
+ReportOption = Annotated[
+    Optional[Path],
+    typer.Option("--report", help="Write every change and review item as JSON to this file.", dir_okay=False),
+]
+JobsOption = Annotated[int, typer.Option("--jobs", "-j", min=0, help="Worker processes (0: one per core).")]
 
 
 @app.command()
@@ -62,13 +67,8 @@ def rewrite(
         Optional[int],
         typer.Option("--seed", min=0, help="Seed the first reset of envs that were never seeded."),
     ] = None,
-    report: Annotated[
-        Optional[Path],
-        typer.Option("--report", help="Write every change and review item as JSON to this file.", dir_okay=False),
-    ] = None,
-    jobs: Annotated[
-        int, typer.Option("--jobs", "-j", min=0, help="Worker processes (0: one per core).")
-    ] = 0,
+    report: ReportOption = None,
+    jobs: JobsOption = 0,
     smoke: Annotated[
         bool,
         typer.Option(
@@ -82,7 +82,7 @@ def rewrite(
         typer.echo("error: --smoke runs the rewritten files, so it cannot be combined with --diff", err=True)
         raise typer.Exit(EXIT_ERROR)
     from gymmigrate.engine import Status
-    from gymmigrate.report import print_diff, print_summary, write_json_report
+    from gymmigrate.report import print_diff, print_summary
     from gymmigrate.rules.base import RewriteOptions
 
     results = []
@@ -92,17 +92,23 @@ def rewrite(
         results.append(result)
     print_summary(results, wrote=not diff)
     if report is not None:
-        try:
-            write_json_report(report, results, wrote=not diff)
-        except OSError as exc:
-            typer.echo(f"error: cannot write the report {report}: {exc.strerror or exc}", err=True)
-            raise typer.Exit(EXIT_ERROR) from None
+        _write_report(report, results, wrote=not diff)
     smoke_failed = _smoke_rewritten(results, seed or 0) if smoke else False
     if any(r.status is Status.ERROR for r in results):
         raise typer.Exit(EXIT_ERROR)
     if diff and any(r.status is Status.CHANGED for r in results):
         raise typer.Exit(EXIT_PENDING)
     raise typer.Exit(EXIT_PENDING if smoke_failed else EXIT_OK)
+
+
+def _write_report(path: Path, results: list, *, wrote: bool) -> None:
+    from gymmigrate.report import write_json_report
+
+    try:
+        write_json_report(path, results, wrote=wrote)
+    except OSError as exc:
+        typer.echo(f"error: cannot write the report {path}: {exc.strerror or exc}", err=True)
+        raise typer.Exit(EXIT_ERROR) from None
 
 
 def _run(paths: list[str], options: object, *, write: bool, want_diff: bool, jobs: int) -> Iterator:
@@ -120,13 +126,8 @@ def _run(paths: list[str], options: object, *, write: bool, want_diff: bool, job
 @app.command()
 def check(
     paths: PathsArgument,
-    report: Annotated[
-        Optional[Path],
-        typer.Option("--report", help="Write every finding as JSON to this file.", dir_okay=False),
-    ] = None,
-    jobs: Annotated[
-        int, typer.Option("--jobs", "-j", min=0, help="Worker processes (0: one per core).")
-    ] = 0,
+    report: ReportOption = None,
+    jobs: JobsOption = 0,
 ) -> None:
     """Lint mode: list every legacy Gym site (what rewrite would change or asks you to review); write nothing.
 
@@ -134,18 +135,14 @@ def check(
     Exit codes: 0 nothing found, 1 findings, 2 files that could not be processed.
     """
     from gymmigrate.engine import Status
-    from gymmigrate.report import print_findings, print_summary, write_json_report
+    from gymmigrate.report import print_findings, print_summary
     from gymmigrate.rules.base import RewriteOptions
 
     results = list(_run(paths, RewriteOptions(), write=False, want_diff=False, jobs=jobs))
     print_findings(results)
     print_summary(results, wrote=False)
     if report is not None:
-        try:
-            write_json_report(report, results, wrote=False)
-        except OSError as exc:
-            typer.echo(f"error: cannot write the report {report}: {exc.strerror or exc}", err=True)
-            raise typer.Exit(EXIT_ERROR) from None
+        _write_report(report, results, wrote=False)
     if any(r.status is Status.ERROR for r in results):
         raise typer.Exit(EXIT_ERROR)
     raise typer.Exit(EXIT_PENDING if any(r.findings for r in results) else EXIT_OK)
