@@ -139,3 +139,35 @@ def test_unreadable_file_is_an_error(tmp_path: Path) -> None:
     locked.write_text("import gym\n")
     locked.chmod(0)
     assert process_file(locked, OPTIONS, write=False, want_diff=False).status is Status.ERROR
+
+
+def test_pathological_nesting_is_an_error_not_a_crash(tmp_path: Path) -> None:
+    # LibCST's native parser segfaults on this; CPython's parser rejects it first.
+    deep = tmp_path / "deep.py"
+    deep.write_text("import gym\nx = " + "(" * 5000 + "1" + ")" * 5000 + "\n")
+    result = process_file(deep, OPTIONS, write=True, want_diff=False)
+    assert result.status is Status.ERROR
+    assert "too many nested parentheses" in (result.error or "")
+
+
+@pytest.mark.parametrize(
+    "source",
+    [
+        pytest.param(b"import gym\renv = gym.make('CartPole-v1')\robs = env.reset()\r", id="cr-only line endings"),
+        pytest.param(b"import gym\n\x0cenv = gym.make('CartPole-v1')\n", id="form feed"),
+    ],
+)
+def test_files_libcst_cannot_reproduce_are_left_alone(source: bytes) -> None:
+    with pytest.raises(TransformError, match="cannot be reproduced byte for byte"):
+        transform_source(source)
+
+
+def test_null_bytes_are_reported() -> None:
+    with pytest.raises(TransformError, match="null bytes"):
+        transform_source(b"import gym\nx = '\x00'\n")
+
+
+def test_tabs_survive() -> None:
+    source = b"import gym\nif True:\n\tenv = gym.make('CartPole-v1')\n\tobs = env.reset()\n"
+    result = transform_source(source)
+    assert result.rewritten == b"import gymnasium as gym\nif True:\n\tenv = gym.make('CartPole-v1')\n\tobs, info = env.reset()\n"

@@ -10,9 +10,11 @@ from __future__ import annotations
 
 import ast
 import difflib
+import io
 import os
 import re
 import tempfile
+import tokenize
 from bisect import bisect_right
 from dataclasses import dataclass, field, replace
 from enum import Enum
@@ -72,15 +74,34 @@ def may_hold_gym_code(source: bytes) -> bool:
 
 
 def parse(source: bytes, path: str) -> cst.Module:
+    """Parse for rewriting, or raise TransformError saying in one sentence why not."""
     try:
-        return cst.parse_module(source)
+        encoding, _ = tokenize.detect_encoding(io.BytesIO(source).readline)
+        text = source.decode(encoding)
     except UnicodeDecodeError as exc:
         raise TransformError(f"cannot decode the file ({exc.reason} at byte {exc.start})") from None
-    except (LookupError, SyntaxError) as exc:  # unknown encoding cookie
+    except (LookupError, SyntaxError) as exc:  # unknown or malformed encoding cookie
         raise TransformError(f"cannot decode the file: {exc}") from None
-    except cst.ParserSyntaxError as exc:
+    # CPython's parser first: it rejects cleanly what would crash LibCST's native parser
+    # (pathological nesting segfaults it), and the rewrite must compile with it anyway.
+    try:
+        ast.parse(text, filename=path)
+    except SyntaxError as exc:
         hint = " (this looks like Python 2 code)" if _looks_like_python2(source) else ""
-        raise TransformError(f"syntax error at line {exc.raw_line}, column {exc.raw_column}{hint}") from None
+        where = f" at line {exc.lineno}" if exc.lineno else ""
+        raise TransformError(f"syntax error{where}: {exc.msg}{hint}") from None
+    except (ValueError, RecursionError, MemoryError) as exc:
+        raise TransformError(f"cannot parse the file: {exc}") from None
+    try:
+        module = cst.parse_module(source)
+    except cst.ParserSyntaxError as exc:
+        raise TransformError(f"syntax error at line {exc.raw_line}, column {exc.raw_column}") from None
+    if module.bytes != source:
+        # e.g. old Mac CR-only line endings: LibCST would drop bytes on output.
+        raise TransformError(
+            "the file cannot be reproduced byte for byte (CR-only line endings or form feeds?); left unchanged"
+        )
+    return module
 
 
 _PY2_HINTS = re.compile(rb"^\s*(print\s+[^\s(=]|exec\s+[\"']|except\s+[\w.]+\s*,\s*\w+\s*:)|\bur[\"']|`[^`\n]+`", re.M)
