@@ -136,6 +136,7 @@ class ImportsPass(RulePass):
     def __init__(self, context) -> None:  # type: ignore[no-untyped-def]
         super().__init__(context)
         self._fallback_depth = 0
+        self._guarded_depth = 0
         self._plain_gym_import = False
 
     @classmethod
@@ -151,22 +152,50 @@ class ImportsPass(RulePass):
     # -- GM108: fallbacks ----------------------------------------------------------
 
     def visit_Try(self, node: cst.Try) -> None:
-        collector = _ImportedPackages()
-        node.visit(collector)
-        if {"gym", "gymnasium"} <= collector.packages:
+        guard = self._import_guard(node)
+        if guard == "fallback":
             self._fallback_depth += 1
             self.report(
                 node,
                 "GM108",
                 "gym-or-gymnasium import fallback: keep the gymnasium branch and delete the legacy one",
             )
+        elif guard == "detector":
+            self._fallback_depth += 1
+            self.report(
+                node,
+                "GM108",
+                "this try/except ImportError detects whether legacy gym is installed (the file already uses "
+                "gymnasium): left as it is; delete it if legacy gym support is no longer wanted",
+            )
+        elif guard == "guarded":
+            self._guarded_depth += 1
 
     def leave_Try(self, original_node: cst.Try, updated_node: cst.Try) -> cst.Try:
-        collector = _ImportedPackages()
-        original_node.visit(collector)
-        if {"gym", "gymnasium"} <= collector.packages:
+        guard = self._import_guard(original_node)
+        if guard in ("fallback", "detector"):
             self._fallback_depth -= 1
+        elif guard == "guarded":
+            self._guarded_depth -= 1
         return updated_node
+
+    def _import_guard(self, node: cst.Try) -> str | None:
+        """How a try statement that imports gym treats a missing package.
+
+        fallback: it tries gym and gymnasium (one branch is dead after the migration);
+        detector: an ImportError guard around gym in a file that already uses gymnasium
+        (it asks whether *legacy* gym is installed: rewriting it would change the answer);
+        guarded: an ImportError guard around gym alone (rewritten, but listed for review).
+        """
+        collector = _ImportedPackages()
+        node.visit(collector)
+        if "gym" not in collector.packages:
+            return None
+        if "gymnasium" in collector.packages:
+            return "fallback"
+        if not any(_catches_import_error(handler) for handler in node.handlers):
+            return None
+        return "detector" if self.context.profile.imports_gymnasium else "guarded"
 
     def visit_Assign(self, node: cst.Assign) -> None:
         for target in node.targets:
@@ -215,7 +244,16 @@ class ImportsPass(RulePass):
             if rest == "":
                 asname = alias.asname or cst.AsName(name=cst.Name("gym"))
                 names.append(alias.with_changes(name=cst.Name("gymnasium"), asname=asname))
-                self.report(original_node, "GM101", "import gym -> import gymnasium as gym")
+                if self._guarded_depth:
+                    self.report(
+                        original_node,
+                        "GM101",
+                        "import gym -> import gymnasium as gym inside a try/except ImportError: the guard now "
+                        "asks whether gymnasium is installed",
+                        FixKind.ASSIST,
+                    )
+                else:
+                    self.report(original_node, "GM101", "import gym -> import gymnasium as gym")
                 continue
             new_module = "gymnasium." + _legacy_wrapper_path(rest)
             names.append(alias.with_changes(name=_dotted_node(new_module)))
@@ -284,6 +322,14 @@ def _legacy_wrapper_path(rest: str) -> str:
         if parts[1] == "vector_list_info":
             return "wrappers.vector"
     return rest
+
+
+def _catches_import_error(handler: cst.ExceptHandler) -> bool:
+    if handler.type is None:
+        return True  # a bare except catches it too
+    caught = handler.type.elements if isinstance(handler.type, cst.Tuple) else [handler.type]
+    names = {_dotted(item.value if isinstance(item, cst.Element) else item) for item in caught}
+    return bool(names & {"ImportError", "ModuleNotFoundError", "Exception", "BaseException"})
 
 
 class _ImportedPackages(cst.CSTVisitor):
