@@ -181,6 +181,13 @@ class RenderingPass(RulePass):
         node.visit(collector)
         self.plan = _Plan()
         self._legacy_025 = LEGACY_SINGLE_FRAME in node.code
+        # A file that still passes modes to render() is legacy code even once its imports
+        # say gymnasium (e.g. a conflict reported on a first run): its bare render()
+        # calls still mean "human", so a second run decides the same way.
+        self._has_legacy_mode_calls = any(
+            isinstance(call.func, cst.Attribute) and call.func.attr.value == "render" and _mode_argument(call) is not None
+            for call in collector.calls
+        )
         sites: list[RenderSite] = []
         for call in collector.calls:
             site = self._render_site(call) or self._recorder_site(call)
@@ -212,7 +219,7 @@ class RenderingPass(RulePass):
             self._plan_close(call, decision.action, decision.reason)
             return None
         if mode_arg is None:
-            if not self.context.profile.imports_gym:
+            if not (self.context.profile.imports_gym or self._has_legacy_mode_calls):
                 return None  # code already written for Gymnasium: a bare render() is its API
             return RenderSite(call, "GM402", HUMAN, (), decision.action, self.finder.find(receiver))
         extra = [a for a in call.args if a is not mode_arg and a is not close]
