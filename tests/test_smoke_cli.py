@@ -67,12 +67,18 @@ def test_rewrite_smoke_checks_each_rewritten_script(tmp_path: Path) -> None:
         "    obs, reward, done, info = env.step(env.action_space.sample())\n",
         encoding="utf-8",
     )
-    result = runner.invoke(app, ["rewrite", "--smoke", str(tmp_path)])
+    report = tmp_path / "report.json"
+    result = runner.invoke(app, ["rewrite", "--smoke", "--report", str(report), str(tmp_path)])
     assert "Smoke (2 files, seed 0)" in result.stderr, result.stderr
     assert f"ok {tmp_path / 'train.py'}: passed" in result.stderr
     assert f"FAIL {tmp_path / 'broken.py'}: 1 check failed: no_step_after_end: step() on CartPole-v1" in result.stderr
     assert "helpers.py" not in result.stderr.split("Smoke")[1], "a file that creates no env is not run"
     assert result.exit_code == 1
+    smoked = {Path(record["path"]).name: record for record in json.loads(report.read_text())["smoke"]}
+    assert set(smoked) == {"train.py", "broken.py"}
+    assert (smoked["train.py"]["outcome"], smoked["train.py"]["exit_code"]) == ("passed", 0)
+    assert smoked["broken.py"]["outcome"] == "failed"
+    assert "no_step_after_end" in smoked["broken.py"]["summary"]
 
 
 def test_rewrite_smoke_refuses_diff(tmp_path: Path) -> None:

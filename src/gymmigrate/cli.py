@@ -91,9 +91,10 @@ def rewrite(
             print_diff(result.diff)
         results.append(result)
     print_summary(results, wrote=not diff)
+    smoked = _smoke_rewritten(results, seed or 0) if smoke else None
     if report is not None:
-        _write_report(report, results, wrote=not diff)
-    smoke_failed = _smoke_rewritten(results, seed or 0) if smoke else False
+        _write_report(report, results, wrote=not diff, smoke=smoked)
+    smoke_failed = any(outcome.outcome == "failed" for outcome in smoked or ())
     if any(r.status is Status.ERROR for r in results):
         raise typer.Exit(EXIT_ERROR)
     if diff and any(r.status is Status.CHANGED for r in results):
@@ -101,11 +102,11 @@ def rewrite(
     raise typer.Exit(EXIT_PENDING if smoke_failed else EXIT_OK)
 
 
-def _write_report(path: Path, results: list, *, wrote: bool) -> None:
+def _write_report(path: Path, results: list, *, wrote: bool, smoke: list | None = None) -> None:
     from gymmigrate.report import write_json_report
 
     try:
-        write_json_report(path, results, wrote=wrote)
+        write_json_report(path, results, wrote=wrote, smoke=smoke)
     except OSError as exc:
         typer.echo(f"error: cannot write the report {path}: {exc.strerror or exc}", err=True)
         raise typer.Exit(EXIT_ERROR) from None
@@ -148,7 +149,7 @@ def check(
     raise typer.Exit(EXIT_PENDING if any(r.findings for r in results) else EXIT_OK)
 
 
-def _smoke_rewritten(results: list, seed: int) -> bool:
+def _smoke_rewritten(results: list, seed: int) -> list:
     """Smoke-check each written file that creates an env; True if any failed or could not run."""
     from gymmigrate.smoke.rewritten import smoke_rewritten
 

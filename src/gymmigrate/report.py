@@ -80,7 +80,7 @@ def print_summary(results: Sequence[FileResult], *, wrote: bool, stream: TextIO 
         console.print(f"[red]error[/red]: {escape(result.path)}: {escape(result.error or 'unknown error')}")
 
 
-def report_json(results: Sequence[FileResult], *, wrote: bool) -> dict[str, object]:
+def report_json(results: Sequence[FileResult], *, wrote: bool, smoke: Sequence[object] | None = None) -> dict[str, object]:
     files = []
     for result in results:
         if result.status is Status.SKIPPED and not result.findings:
@@ -108,8 +108,12 @@ def report_json(results: Sequence[FileResult], *, wrote: bool) -> dict[str, obje
             "review_items": sum(f.needs_review for r in results for f in r.findings),
         },
         "files": files,
+        # Present only with `rewrite --smoke`: one record per rewritten script checked.
+        **({"smoke": [outcome.to_json() for outcome in smoke]} if smoke is not None else {}),  # type: ignore[attr-defined]
     }
 
 
-def write_json_report(path: Path, results: Sequence[FileResult], *, wrote: bool) -> None:
-    path.write_text(json.dumps(report_json(results, wrote=wrote), indent=2) + "\n", encoding="utf-8")
+def write_json_report(
+    path: Path, results: Sequence[FileResult], *, wrote: bool, smoke: Sequence[object] | None = None
+) -> None:
+    path.write_text(json.dumps(report_json(results, wrote=wrote, smoke=smoke), indent=2) + "\n", encoding="utf-8")

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import re
 import sys
+from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import TextIO
 
@@ -21,8 +22,21 @@ def may_create_env(source: str) -> bool:
     return _CREATES_ENV.search(source) is not None
 
 
-def smoke_rewritten(paths: list[str], seed: int, stream: TextIO | None = None) -> bool:
-    """Run the script smoke check on each file that may create an env; True if any failed."""
+@dataclass(frozen=True)
+class SmokeOutcome:
+    """One rewritten file's smoke check, for the summary and the JSON report."""
+
+    path: str
+    outcome: str  # "passed", "failed" or "skipped" (running it created no env)
+    exit_code: int
+    summary: str
+
+    def to_json(self) -> dict[str, object]:
+        return asdict(self)
+
+
+def smoke_rewritten(paths: list[str], seed: int, stream: TextIO | None = None) -> list[SmokeOutcome]:
+    """Run the script smoke check on each file that may create an env."""
     from rich.console import Console
     from rich.markup import escape
 
@@ -33,19 +47,20 @@ def smoke_rewritten(paths: list[str], seed: int, stream: TextIO | None = None) -
     candidates = [path for path in paths if _reads_as_env_code(path)]
     if not candidates:
         console.print("\n[bold]Smoke[/bold]: no rewritten file creates an env")
-        return False
+        return []
     console.print(f"\n[bold]Smoke[/bold] ({len(candidates)} file{'s' if len(candidates) != 1 else ''}, seed {seed})")
-    failed = False
+    outcomes = []
     for path in candidates:
         evidence = run_smoke(path, SmokeOptions(seed=seed))
         if evidence.created_no_env:
             console.print(f"  {escape(path)}: [dim]skipped: running it created no env[/dim]")
+            outcomes.append(SmokeOutcome(path, "skipped", evidence.exit_code, "running it created no env"))
             continue
         passed = evidence.exit_code == 0
-        failed = failed or not passed
         mark = "[green]ok[/green]" if passed else "[red]FAIL[/red]"
         console.print(f"  {mark} {escape(path)}: {escape(one_line(evidence))}")
-    return failed
+        outcomes.append(SmokeOutcome(path, "passed" if passed else "failed", evidence.exit_code, one_line(evidence)))
+    return outcomes
 
 
 def _reads_as_env_code(path: str) -> bool:
