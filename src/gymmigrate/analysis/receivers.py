@@ -423,12 +423,9 @@ class ReceiverAnalysis:
                 return EnvKind.GYM_ENV
             if rest is not None and (rest.startswith("vector.") and rest.endswith("Env")):
                 return EnvKind.GYM_VEC
-            if q.startswith(N.SB3_VEC_PREFIXES):
-                return EnvKind.SB3_VEC
-            if q in N.PZ_AEC_BASES:
-                return EnvKind.PZ_AEC
-            if q in N.PZ_PARALLEL_BASES:
-                return EnvKind.PZ_PARALLEL
+            other = _other_library_class_kind(q)
+            if other is not None:
+                return other
         return EnvKind.UNKNOWN
 
     def _call_sites(self, function: cst.FunctionDef, classdef: cst.ClassDef | None) -> list[cst.Call]:
@@ -513,12 +510,9 @@ class ReceiverAnalysis:
                     return EnvKind.GYM_ENV
                 if rest.startswith("vector."):
                     return EnvKind.GYM_VEC
-            if q.startswith(N.SB3_VEC_PREFIXES):
-                return EnvKind.SB3_VEC
-            if q in N.PZ_AEC_BASES:
-                return EnvKind.PZ_AEC
-            if q in N.PZ_PARALLEL_BASES:
-                return EnvKind.PZ_PARALLEL
+            other = _other_library_class_kind(q)
+            if other is not None:
+                return other
         local = self._local_class(base)
         if local is not None:
             return self.class_kind(local)
@@ -531,6 +525,17 @@ class ReceiverAnalysis:
         if not values:
             return EnvKind.NOT_ENV
         return join_kinds(self.kind_of(value) for value in values)
+
+
+def _other_library_class_kind(qualified: str) -> EnvKind | None:
+    """Kind of an SB3 or PettingZoo class named in an annotation or a base list."""
+    if qualified.startswith(N.SB3_VEC_PREFIXES):
+        return EnvKind.SB3_VEC
+    if qualified in N.PZ_AEC_BASES:
+        return EnvKind.PZ_AEC
+    if qualified in N.PZ_PARALLEL_BASES:
+        return EnvKind.PZ_PARALLEL
+    return None
 
 
 def _argument(call: cst.Call, position: int | None, name: str) -> cst.BaseExpression | None:
