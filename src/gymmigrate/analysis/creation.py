@@ -144,7 +144,7 @@ class CreationFinder:
         last = callee.rsplit(".", 1)[-1]
         if last in _ENV_FN_LIST_CONSTRUCTORS and call.args:
             return self._env_fn_list(call.args[0].value, seen)
-        function = self.analysis._local_function(call.func)  # noqa: SLF001 (shared, read-only)
+        function = self.analysis.local_function(call.func)
         if function is not None:
             return self._returns(function, seen)
         inner = _wrapped_env_argument(call)
@@ -168,11 +168,11 @@ class CreationFinder:
         for item in items:
             if isinstance(item, cst.Lambda):
                 result.merge(self._expr(item.body, seen))
-            elif isinstance(item, cst.Name) and self.analysis._local_function(item) is not None:  # noqa: SLF001
-                result.merge(self._returns(self.analysis._local_function(item), seen))  # noqa: SLF001
-            elif isinstance(item, cst.Call) and self.analysis._local_function(item.func) is not None:  # noqa: SLF001
+            elif isinstance(item, cst.Name) and self.analysis.local_function(item) is not None:
+                result.merge(self._returns(self.analysis.local_function(item), seen))
+            elif isinstance(item, cst.Call) and self.analysis.local_function(item.func) is not None:
                 # ``make_env(i)`` returning a thunk ``def thunk(): return gym.make(...)``
-                result.merge(self._thunk_factory(self.analysis._local_function(item.func), seen))  # noqa: SLF001
+                result.merge(self._thunk_factory(self.analysis.local_function(item.func), seen))
             else:
                 result.fail(f"`{_text(item)}` is not an env factory defined here")
         return result
@@ -285,7 +285,7 @@ class CreationFinder:
             module.visit(collector)
             self._calls_by_name = collector.calls
         calls = self._calls_by_name.get(function.name.value, [])
-        return [c for c in calls if self.analysis._local_function(c.func) is function]  # noqa: SLF001
+        return [c for c in calls if self.analysis.local_function(c.func) is function]
 
     def _attribute(self, attr: cst.Attribute, seen: set[int]) -> Creation:
         result = Creation()
@@ -344,7 +344,7 @@ def _looks_like_wrapper(call: cst.Call, analysis: ReceiverAnalysis) -> bool:
             return name[:1].isupper()
         if N.top_package(q) in N.NOT_ENV_PACKAGES:
             return False
-    local = analysis._local_class(call.func)  # noqa: SLF001
+    local = analysis.local_class(call.func)
     if local is not None:
         return True
     name = _text(call.func).rsplit(".", 1)[-1]

@@ -28,7 +28,7 @@ def is_custom_env_class(analysis: ReceiverAnalysis, classdef: cst.ClassDef, _see
     for base in classdef.bases:
         if any(_is_builtin_env_class(q) for q in analysis.qualified_names(base.value)):
             return True
-        local = analysis._local_class(base.value)  # noqa: SLF001  (same-module class lookup)
+        local = analysis.local_class(base.value)
         if local is not None and is_custom_env_class(analysis, local, seen):
             return True
     return False
@@ -45,7 +45,7 @@ def extends_gym_env_directly(analysis: ReceiverAnalysis, classdef: cst.ClassDef)
 
 def has_local_env_base(analysis: ReceiverAnalysis, classdef: cst.ClassDef) -> bool:
     """The class extends another env class of this module (so ``__init__`` comes from there)."""
-    return any(analysis._local_class(base.value) is not None for base in classdef.bases)  # noqa: SLF001
+    return any(analysis.local_class(base.value) is not None for base in classdef.bases)
 
 
 def _is_builtin_env_class(qualified: str) -> bool:

@@ -98,6 +98,10 @@ class ReceiverAnalysis:
     def _scopes(self) -> Mapping[cst.CSTNode, object]:
         return self._metadata[ScopeProvider]
 
+    def scope_of(self, node: cst.CSTNode) -> object:
+        """LibCST's scope of ``node`` (None for nodes outside the analysed tree)."""
+        return _metadata(self._scopes, node)
+
     @property
     def _parents(self) -> Mapping[cst.CSTNode, object]:
         return self._metadata[ParentNodeProvider]
@@ -140,7 +144,7 @@ class ReceiverAnalysis:
                 rest = N.strip_gym_prefix(q)
                 if rest is not None and (rest in N.GYM_WRAPPER_BASE_CLASSES or rest.startswith("wrappers.")):
                     return True
-            local = self._local_class(base.value)
+            local = self.local_class(base.value)
             if local is not None and local is not classdef and self.is_gym_wrapper_class(local):
                 return True
         return False
@@ -206,10 +210,10 @@ class ReceiverAnalysis:
         kinds = [k for k in kinds if k is not None]
         if kinds:
             return join_kinds(kinds)
-        local_class = self._local_class(func)
+        local_class = self.local_class(func)
         if local_class is not None:
             return self.class_kind(local_class)
-        local_function = self._local_function(func)
+        local_function = self.local_function(func)
         if local_function is not None:
             return self._returns_kind(local_function)
         # Methods of known objects: ``env.unwrapped`` style accessors are attributes, but
@@ -344,7 +348,7 @@ class ReceiverAnalysis:
         if value is not None and not isinstance(value, (cst.Tuple, cst.List)):
             # ``obs, info = env.reset()``: the targets are values returned by a call, not envs
             # unless the call is a local function returning a tuple of envs.
-            local = self._local_function(value.func) if isinstance(value, cst.Call) else None
+            local = self.local_function(value.func) if isinstance(value, cst.Call) else None
             if local is None:
                 return EnvKind.NOT_ENV if isinstance(value, cst.Call) and self._is_env_method_call(value) else EnvKind.UNKNOWN
         return EnvKind.UNKNOWN
@@ -402,12 +406,12 @@ class ReceiverAnalysis:
         position = next((i for i, p in enumerate(params) if p is param), None)
         if position is not None and is_method:
             position -= 1  # calls do not pass self
-        calls = self._call_sites(function, classdef if is_method else None)
+        calls = self.call_sites(function, classdef if is_method else None)
         if not calls:
             return EnvKind.UNKNOWN
         kinds = []
         for call in calls:
-            argument = _argument(call, position, name)
+            argument = call_argument(call, position, name)
             if argument is None:
                 if param.default is not None:
                     continue
@@ -428,7 +432,7 @@ class ReceiverAnalysis:
                 return other
         return EnvKind.UNKNOWN
 
-    def _call_sites(self, function: cst.FunctionDef, classdef: cst.ClassDef | None) -> list[cst.Call]:
+    def call_sites(self, function: cst.FunctionDef, classdef: cst.ClassDef | None) -> list[cst.Call]:
         if self._calls_by_name is None:
             collector = _CallCollector()
             self._module.visit(collector)
@@ -436,7 +440,7 @@ class ReceiverAnalysis:
         name = function.name.value
         calls = self._calls_by_name.get(name, [])
         if classdef is None:
-            return [c for c in calls if isinstance(c.func, cst.Name) and self._local_function(c.func) is function]
+            return [c for c in calls if isinstance(c.func, cst.Name) and self.local_function(c.func) is function]
         if name == "__init__":
             return [c for c in self._calls_by_name.get(classdef.name.value, []) if isinstance(c.func, cst.Name)]
         return [c for c in calls if isinstance(c.func, cst.Attribute) and isinstance(c.func.value, cst.Name) and self._is_self(c.func.value)]
@@ -492,12 +496,12 @@ class ReceiverAnalysis:
             self._classes, self._functions = classes, functions
         return self._classes, self._functions
 
-    def _local_class(self, func: cst.BaseExpression) -> cst.ClassDef | None:
+    def local_class(self, func: cst.BaseExpression) -> cst.ClassDef | None:
         if not isinstance(func, cst.Name):
             return None
         return self._definitions()[0].get(func.value)
 
-    def _local_function(self, func: cst.BaseExpression) -> cst.FunctionDef | None:
+    def local_function(self, func: cst.BaseExpression) -> cst.FunctionDef | None:
         if not isinstance(func, cst.Name):
             return None
         return self._definitions()[1].get(func.value)
@@ -513,7 +517,7 @@ class ReceiverAnalysis:
             other = _other_library_class_kind(q)
             if other is not None:
                 return other
-        local = self._local_class(base)
+        local = self.local_class(base)
         if local is not None:
             return self.class_kind(local)
         return EnvKind.UNKNOWN
@@ -538,7 +542,7 @@ def _other_library_class_kind(qualified: str) -> EnvKind | None:
     return None
 
 
-def _argument(call: cst.Call, position: int | None, name: str) -> cst.BaseExpression | None:
+def call_argument(call: cst.Call, position: int | None, name: str) -> cst.BaseExpression | None:
     positional = [a for a in call.args if a.keyword is None and a.star == ""]
     for arg in call.args:
         if arg.keyword is not None and arg.keyword.value == name:

@@ -195,7 +195,7 @@ class RngPass(RulePass):
         return None
 
     def _name_from_seeding(self, name: cst.Name) -> bool:
-        scope = self.analysis._scopes.get(name)  # noqa: SLF001
+        scope = self.analysis.scope_of(name)
         if scope is None:
             return False
         assignments = [a for a in scope[name.value] if isinstance(a, Assignment)]  # type: ignore[index]

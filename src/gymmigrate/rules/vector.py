@@ -759,7 +759,7 @@ class VectorPass(RulePass):
         elif any(r.startswith("wrappers.") for r in rests):
             pass  # gymnasium's own wrappers on a vector env are GM613's (wrapper_usage.py)
         else:
-            local = self.analysis._local_class(func)  # noqa: SLF001
+            local = self.analysis.local_class(func)
             if local is not None and self.analysis.is_gym_wrapper_class(local):
                 what = f"{local.name.value} is a single-env gym.Wrapper (port it to gymnasium.vector.VectorWrapper or apply it per sub-env)"
         if what:

@@ -37,7 +37,7 @@ from libcst.codemod.visitors import AddImportsVisitor, RemoveImportsVisitor
 from libcst.metadata import Assignment, PositionProvider, ScopeProvider
 
 from gymmigrate.analysis import names as N
-from gymmigrate.analysis.receivers import METADATA, EnvKind, ReceiverAnalysis, _argument, join_kinds
+from gymmigrate.analysis.receivers import METADATA, EnvKind, ReceiverAnalysis, call_argument, join_kinds
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileProfile, Rule, RulePass
 
@@ -1005,7 +1005,7 @@ class WrapperAttributesPass(RulePass):
         """Attributes and methods defined by wrapper classes of this module (they shadow the base env's)."""
         if not hasattr(self, "_local_attrs"):
             attrs: set[str] = set()
-            module = self.analysis._module  # noqa: SLF001  (the analysed module)
+            module = self.analysis._module
             for statement in module.body:
                 if isinstance(statement, cst.ClassDef) and self.analysis.is_gym_wrapper_class(statement):
                     collector = _DefinedAttributes()
@@ -1050,14 +1050,14 @@ class WrapperAttributesPass(RulePass):
                 return MADE if inner == MADE else WRAPPED
             if rest.startswith("envs."):
                 return RAW
-        local = self.analysis._local_class(call.func)  # noqa: SLF001
+        local = self.analysis.local_class(call.func)
         if local is not None:
             if self.analysis.is_gym_wrapper_class(local):
                 inner = self._origin(call.args[0].value, depth + 1) if call.args else None
                 return MADE if inner == MADE else WRAPPED
             if self.analysis.class_kind(local) is EnvKind.GYM_ENV:
                 return RAW
-        local_function = self.analysis._local_function(call.func)  # noqa: SLF001
+        local_function = self.analysis.local_function(call.func)
         if local_function is not None:
             collector = _ReturnValues()
             local_function.body.visit(collector)
@@ -1113,14 +1113,14 @@ class WrapperAttributesPass(RulePass):
         # A module function: the env is whatever its callers in this module pass.
         params = list(function.params.posonly_params) + list(function.params.params)
         position = next((i for i, p in enumerate(params) if p is param), None)
-        calls = self.analysis._call_sites(function, None)  # noqa: SLF001
+        calls = self.analysis.call_sites(function, None)
         if not calls or id(param) in self._resolving:
             return None
         self._resolving.add(id(param))
         try:
             origins = []
             for call in calls:
-                argument = _argument(call, position, param.name.value)
+                argument = call_argument(call, position, param.name.value)
                 origins.append(self._origin(argument) if argument is not None else None)
         finally:
             self._resolving.discard(id(param))
@@ -1141,7 +1141,7 @@ class WrapperAttributesPass(RulePass):
         names = {_wrapper_rest(q) for q in self.analysis.qualified_names(value.func)} - {None}
         if len(names) == 1:
             return names.pop()  # type: ignore[return-value]
-        local = self.analysis._local_class(value.func)  # noqa: SLF001
+        local = self.analysis.local_class(value.func)
         if local is not None and self.analysis.is_gym_wrapper_class(local):
             return local.name.value
         return None
@@ -1153,7 +1153,7 @@ class WrapperAttributesPass(RulePass):
             return set()
         if owner in OWN_ATTRIBUTES:
             return OWN_ATTRIBUTES[owner]
-        local = self.analysis._local_class(cst.Name(owner))  # noqa: SLF001
+        local = self.analysis.local_class(cst.Name(owner))
         if local is None:
             return set()
         collector = _DefinedAttributes()
