@@ -22,8 +22,8 @@ import libcst as cst
 from libcst.metadata import Assignment, ScopeProvider
 
 from gymmigrate.analysis import names as N
-from gymmigrate.analysis.syntax import own_return_values
 from gymmigrate.analysis.receivers import ReceiverAnalysis
+from gymmigrate.analysis.syntax import keyword_argument, own_return_values
 
 try:  # LibCST resolves some providers lazily
     from libcst._metadata_dependent import LazyValue
@@ -260,7 +260,7 @@ class CreationFinder:
             result.fail(f"`{label}` is a parameter of `{function.name.value}`, which is not called here")
             return result
         for call in calls:
-            argument = keyword(call, label)
+            argument = keyword_argument(call, label)
             positional = [a for a in call.args if a.keyword is None]
             if argument is None and position is not None and position < len(positional):
                 argument = positional[position]
@@ -406,11 +406,6 @@ class _SelfStores(cst.CSTVisitor):
 # -- argument editing (shared by the render and vector passes) ----------------------------
 
 
-def keyword(call: cst.Call, name: str) -> cst.Arg | None:
-    for arg in call.args:
-        if arg.keyword is not None and arg.keyword.value == name:
-            return arg
-    return None
 
 
 def has_star_kwargs(call: cst.Call) -> bool:

@@ -34,3 +34,25 @@ def own_returns(function: cst.FunctionDef | cst.BaseSuite) -> list[cst.Return]:
 def own_return_values(function: cst.FunctionDef) -> list[cst.BaseExpression]:
     """The values a function returns (bare ``return`` left out)."""
     return [statement.value for statement in own_returns(function) if statement.value is not None]
+
+
+def keyword_argument(call: cst.Call, name: str) -> cst.Arg | None:
+    """The ``name=...`` argument of a call, if passed."""
+    return next((arg for arg in call.args if arg.keyword is not None and arg.keyword.value == name), None)
+
+
+def string_value(node: cst.BaseExpression | None) -> str | None:
+    """The text of a plain string literal (not bytes, f-strings or concatenations)."""
+    if isinstance(node, cst.SimpleString):
+        value = node.evaluated_value
+        return value if isinstance(value, str) else None
+    return None
+
+
+def dotted_node(path: str) -> cst.Name | cst.Attribute:
+    """``a.b.c`` as a Name/Attribute chain."""
+    parts = path.split(".")
+    node: cst.Name | cst.Attribute = cst.Name(parts[0])
+    for part in parts[1:]:
+        node = cst.Attribute(value=node, attr=cst.Name(part))
+    return node

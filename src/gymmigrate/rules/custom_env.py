@@ -40,9 +40,9 @@ from libcst.codemod.visitors import RemoveImportsVisitor
 from libcst.metadata import PositionProvider
 
 from gymmigrate.analysis import env_classes as E
-from gymmigrate.analysis.syntax import own_returns
 from gymmigrate.analysis.decisions import Action, decide
 from gymmigrate.analysis.receivers import METADATA, EnvKind, ReceiverAnalysis
+from gymmigrate.analysis.syntax import own_returns
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileProfile, Rule, RulePass
 

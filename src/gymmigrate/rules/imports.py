@@ -19,6 +19,7 @@ from __future__ import annotations
 import libcst as cst
 from libcst.helpers import get_full_name_for_node
 
+from gymmigrate.analysis.syntax import dotted_node
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileProfile, Rule, RulePass
 
@@ -105,12 +106,6 @@ def _dotted(node: cst.BaseExpression) -> str:
     return get_full_name_for_node(node) or ""
 
 
-def _dotted_node(path: str) -> cst.Attribute | cst.Name:
-    parts = path.split(".")
-    node: cst.Attribute | cst.Name = cst.Name(parts[0])
-    for part in parts[1:]:
-        node = cst.Attribute(value=node, attr=cst.Name(part))
-    return node
 
 
 def _under_gym(module: str) -> str | None:
@@ -256,7 +251,7 @@ class ImportsPass(RulePass):
                     self.report(original_node, "GM101", "import gym -> import gymnasium as gym")
                 continue
             new_module = "gymnasium." + _legacy_wrapper_path(rest)
-            names.append(alias.with_changes(name=_dotted_node(new_module)))
+            names.append(alias.with_changes(name=dotted_node(new_module)))
             self.report(original_node, "GM103", f"{module} -> {new_module}")
             if alias.asname is None and not self._plain_gym_import:
                 # ``import gym.spaces`` bound ``gym``; keep that name working.
@@ -310,7 +305,7 @@ class ImportsPass(RulePass):
             return updated_node
         code = "GM102" if rest == "" else "GM104" if new_rest != rest else "GM103"
         self.report(original_node, code, f"from {module} import ... -> from {new_module} import ...")
-        return updated_node.with_changes(module=_dotted_node(new_module))
+        return updated_node.with_changes(module=dotted_node(new_module))
 
 
 def _legacy_wrapper_path(rest: str) -> str:

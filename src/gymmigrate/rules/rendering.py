@@ -35,9 +35,10 @@ import libcst as cst
 from libcst.metadata import Assignment, PositionProvider, ScopeProvider
 
 from gymmigrate.analysis import names as N
-from gymmigrate.analysis.creation import Creation, CreationFinder, append_keyword, keyword, remove_args
+from gymmigrate.analysis.creation import Creation, CreationFinder, append_keyword, remove_args
 from gymmigrate.analysis.decisions import Action, decide, receiver_text
 from gymmigrate.analysis.receivers import METADATA, ReceiverAnalysis
+from gymmigrate.analysis.syntax import keyword_argument, string_value
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileProfile, Rule, RulePass
 
@@ -114,11 +115,6 @@ class _Plan:
     single_frame_modes: set[int] = field(default_factory=set)  # id(SimpleString) "single_rgb_array"
 
 
-def _string(node: cst.BaseExpression | None) -> str | None:
-    if isinstance(node, cst.SimpleString):
-        value = node.evaluated_value
-        return value if isinstance(value, str) else None
-    return None
 
 
 def _replace_string(node: cst.SimpleString, value: str) -> cst.SimpleString:
@@ -128,7 +124,7 @@ def _replace_string(node: cst.SimpleString, value: str) -> cst.SimpleString:
 
 def _mode_argument(call: cst.Call) -> cst.Arg | None:
     """The ``mode`` argument of a legacy ``render`` call (keyword or first positional)."""
-    found = keyword(call, "mode")
+    found = keyword_argument(call, "mode")
     if found is not None:
         return found
     if call.args and call.args[0].keyword is None and not call.args[0].star:
@@ -204,7 +200,7 @@ class RenderingPass(RulePass):
         if not (isinstance(func, cst.Attribute) and func.attr.value == "render"):
             return None
         receiver = func.value
-        close = keyword(call, "close")
+        close = keyword_argument(call, "close")
         mode_arg = _mode_argument(call)
         if close is None and mode_arg is None and call.args:
             return None  # some other render(...) signature: not the Gym one
@@ -232,7 +228,7 @@ class RenderingPass(RulePass):
                 FixKind.FLAG,
             )
             return None
-        mode = _string(mode_arg.value)
+        mode = string_value(mode_arg.value)
         if mode is None:
             self.report(
                 call,
@@ -261,7 +257,7 @@ class RenderingPass(RulePass):
                 consumer = "VecVideoRecorder"
         if consumer is None or not call.args:
             return None
-        env_arg = keyword(call, "env") or keyword(call, "venv") or call.args[0]
+        env_arg = keyword_argument(call, "env") or keyword_argument(call, "venv") or call.args[0]
         if env_arg.keyword is not None and env_arg.keyword.value not in ("env", "venv"):
             return None
         creation = self.finder.find(env_arg.value)
@@ -312,9 +308,9 @@ class RenderingPass(RulePass):
         final_mode: dict[int, str | None] = {}
         blocked: dict[int, str] = {}  # id(make) -> why its sites cannot be rewritten
         for key, make_sites in by_make.items():
-            existing = keyword(makes[key], "render_mode")
+            existing = keyword_argument(makes[key], "render_mode")
             if existing is not None:
-                value = _string(existing.value)
+                value = string_value(existing.value)
                 final_mode[key] = RGB_ARRAY if value == LEGACY_SINGLE_FRAME else value
                 if value is None:
                     blocked[key] = "its gym.make passes a render_mode that is not a literal"
@@ -358,7 +354,7 @@ class RenderingPass(RulePass):
             )
             return
         keys = [id(m) for m in site.creation.calls]
-        if code == "GM402" and all(keyword(makes[k], "render_mode") is not None for k in keys):
+        if code == "GM402" and all(keyword_argument(makes[k], "render_mode") is not None for k in keys):
             return  # the make already chose a mode: this bare render() is Gymnasium's API
         reasons = [blocked[k] for k in keys if k in blocked]
         if reasons:
@@ -413,10 +409,10 @@ class RenderingPass(RulePass):
         for call in calls:
             if not self._is_make(call):
                 continue
-            existing = keyword(call, "render_mode")
+            existing = keyword_argument(call, "render_mode")
             if existing is None:
                 continue
-            value = _string(existing.value)
+            value = string_value(existing.value)
             if value == LEGACY_SINGLE_FRAME:
                 self.plan.single_frame_modes.add(id(existing.value))
                 self.report(call, "GM403", 'gym 0.25 render_mode "single_rgb_array" is "rgb_array" in Gymnasium')

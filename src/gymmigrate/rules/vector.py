@@ -38,9 +38,10 @@ from libcst.codemod.visitors import AddImportsVisitor, RemoveImportsVisitor
 from libcst.metadata import Assignment, PositionProvider, ScopeProvider
 
 from gymmigrate.analysis import names as N
-from gymmigrate.analysis.creation import CreationFinder, append_keyword, keyword
+from gymmigrate.analysis.creation import CreationFinder, append_keyword
 from gymmigrate.analysis.decisions import Action, decide, receiver_text
 from gymmigrate.analysis.receivers import METADATA, EnvKind, ReceiverAnalysis
+from gymmigrate.analysis.syntax import keyword_argument, string_value
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileProfile, Rule, RulePass
 
@@ -154,11 +155,6 @@ class _InfosReaders:
     key_strings: list[cst.SimpleString] = field(default_factory=list)  # every key literal seen
 
 
-def _string(node: cst.BaseExpression | None) -> str | None:
-    if isinstance(node, cst.SimpleString):
-        value = node.evaluated_value
-        return value if isinstance(value, str) else None
-    return None
 
 
 def _code(node: cst.CSTNode) -> str:
@@ -288,7 +284,7 @@ class VectorPass(RulePass):
             self.report(call, "GM701", message)
 
     def _legacy_argument(self, call: cst.Call, name: str) -> cst.Arg | None:
-        found = keyword(call, name)
+        found = keyword_argument(call, name)
         if found is not None:
             return found
         index = _LEGACY_POSITIONS.index(name)
@@ -525,7 +521,7 @@ class VectorPass(RulePass):
                 self.plan.vector_makes[id(creation)].autoreset = True  # type: ignore[arg-type]
             creator = _code(creation.func)  # type: ignore[union-attr]
             for node in final_obs:
-                old = _string(node)
+                old = string_value(node)
                 self.plan.renamed_keys[id(node)] = _FINAL_OBS_KEYS[old]  # type: ignore[index]
                 self.report(
                     node,
@@ -571,16 +567,16 @@ class VectorPass(RulePass):
     def _can_set_autoreset(self, creation: cst.Call) -> bool:
         rests = self._gym_rest(creation.func)
         if id(creation) in self.plan.vector_makes:
-            return keyword(creation, "autoreset_mode") is None
+            return keyword_argument(creation, "autoreset_mode") is None
         if "make_vec" in rests:
-            existing = keyword(creation, "vector_kwargs")
+            existing = keyword_argument(creation, "vector_kwargs")
             if existing is None:
                 return True
             return isinstance(existing.value, cst.Dict) and not any(
-                isinstance(el, cst.DictElement) and _string(el.key) == "autoreset_mode" for el in existing.value.elements
+                isinstance(el, cst.DictElement) and string_value(el.key) == "autoreset_mode" for el in existing.value.elements
             )
         if rests & _VECTOR_CLASSES:
-            return keyword(creation, "autoreset_mode") is None and not any(a.star for a in creation.args)
+            return keyword_argument(creation, "autoreset_mode") is None and not any(a.star for a in creation.args)
         return False
 
     def _readers(self, infos: cst.Name) -> _InfosReaders:
@@ -618,13 +614,13 @@ class VectorPass(RulePass):
         elif isinstance(parent, cst.ComparisonTarget):
             comparison = self.analysis.parent(parent)
             if isinstance(comparison, cst.Comparison) and isinstance(parent.operator, (cst.In, cst.NotIn)):
-                key = _string(comparison.left)
+                key = string_value(comparison.left)
                 if key is not None:
                     self._keyed(comparison, key, comparison.left, readers, presence=True)  # type: ignore[arg-type]
         elif isinstance(parent, cst.Attribute) and parent.value is node and parent.attr.value in ("get", "pop"):
             call = self.analysis.parent(parent)
             if isinstance(call, cst.Call) and call.args:
-                key = _string(call.args[0].value)
+                key = string_value(call.args[0].value)
                 if key is not None:
                     self._keyed(call, key, call.args[0].value, readers)  # type: ignore[arg-type]
 
@@ -649,7 +645,7 @@ class VectorPass(RulePass):
         if self.context.profile.imports_sb3 or not self.context.profile.imports_gym:
             return  # SB3 VecEnvs keep terminal_observation (SB104); Gymnasium-era files keep their keys
         for string in strings:
-            key = _string(string)
+            key = string_value(string)
             if key not in ("terminal_observation", "final_observation", "final_info") or id(string) in handled:
                 continue
             if not self._reads_a_key(string):
@@ -793,7 +789,7 @@ class VectorPass(RulePass):
         same_step = self._same_step(original)
         if self._gym_rest(original.func) & _VECTOR_CLASSES:
             return append_keyword(updated, "autoreset_mode", same_step)
-        existing = keyword(updated, "vector_kwargs")
+        existing = keyword_argument(updated, "vector_kwargs")
         q = _quote_style(original)
         entry = cst.DictElement(cst.SimpleString(f"{q}autoreset_mode{q}"), same_step)
         if existing is None:
@@ -833,7 +829,7 @@ def _subscript_string(subscript: cst.Subscript) -> cst.SimpleString | None:
 def _subscript_key(subscript: cst.CSTNode) -> str | None:
     if not isinstance(subscript, cst.Subscript):
         return None
-    return _string(_subscript_string(subscript))
+    return string_value(_subscript_string(subscript))
 
 
 def _quote_style(call: cst.Call) -> str:

@@ -38,6 +38,7 @@ from libcst.metadata import Assignment, PositionProvider, ScopeProvider
 
 from gymmigrate.analysis import names as N
 from gymmigrate.analysis.receivers import METADATA, EnvKind, ReceiverAnalysis, call_argument, join_kinds
+from gymmigrate.analysis.syntax import dotted_node, keyword_argument, string_value
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileProfile, Rule, RulePass
 
@@ -166,16 +167,8 @@ def _dotted(node: cst.CSTNode) -> str:
     return ""
 
 
-def _dotted_node(path: str) -> cst.BaseExpression:
-    parts = path.split(".")
-    node: cst.BaseExpression = cst.Name(parts[0])
-    for part in parts[1:]:
-        node = cst.Attribute(value=node, attr=cst.Name(part))
-    return node
 
 
-def _keyword(call: cst.Call, name: str) -> cst.Arg | None:
-    return next((a for a in call.args if a.keyword is not None and a.keyword.value == name), None)
 
 
 def _positional(call: cst.Call) -> list[cst.Arg]:
@@ -184,7 +177,7 @@ def _positional(call: cst.Call) -> list[cst.Arg]:
 
 def _parameter(call: cst.Call, name: str, position: int) -> cst.Arg | None:
     """The argument bound to a wrapper parameter, passed by keyword or at ``position``."""
-    found = _keyword(call, name)
+    found = keyword_argument(call, name)
     if found is None:
         positional = _positional(call)
         if len(positional) > position:
@@ -204,11 +197,6 @@ def _is_none(node: cst.BaseExpression) -> bool:
     return isinstance(node, cst.Name) and node.value == "None"
 
 
-def _string(node: cst.BaseExpression) -> str | None:
-    if isinstance(node, cst.SimpleString):
-        value = node.evaluated_value
-        return value if isinstance(value, str) else None
-    return None
 
 
 def _without_args(call: cst.Call, drop: list[cst.Arg]) -> list[cst.Arg]:
@@ -343,7 +331,7 @@ class WrapperRenamesPass(RulePass):
             return updated_node
         if not new_names:
             return cst.RemoveFromParent()
-        return updated_node.with_changes(module=_dotted_node(new_module), names=_with_commas(new_names, updated_node.names))
+        return updated_node.with_changes(module=dotted_node(new_module), names=_with_commas(new_names, updated_node.names))
 
     def _experimental_import(
         self, original_node: cst.ImportFrom, updated_node: cst.ImportFrom, rest: str
@@ -362,7 +350,7 @@ class WrapperRenamesPass(RulePass):
             if alias.asname is None:
                 self._renamed_locals[name] = new
         self.report(original_node, "GM614", f"gymnasium.{rest} -> {new_module}: the experimental wrappers became the 1.0 wrappers")
-        return updated_node.with_changes(module=_dotted_node(new_module), names=_with_commas(names, updated_node.names))  # type: ignore[arg-type]
+        return updated_node.with_changes(module=dotted_node(new_module), names=_with_commas(names, updated_node.names))  # type: ignore[arg-type]
 
     def _rename_code(self, old: str) -> tuple[str, FixKind | None]:
         if old == "AutoResetWrapper":
@@ -417,7 +405,7 @@ class WrapperRenamesPass(RulePass):
             if rest in ("wrappers.VectorListInfo", "wrappers.vector_list_info.VectorListInfo"):
                 self.report(original_node, "GM608", "`VectorListInfo` is now `gymnasium.wrappers.vector.DictInfoToList`")
                 root = _root_name(original_node)
-                return _dotted_node(f"{root}.wrappers.vector.DictInfoToList")  # type: ignore[return-value]
+                return dotted_node(f"{root}.wrappers.vector.DictInfoToList")  # type: ignore[return-value]
             if rest.startswith("experimental.wrappers.") and experimental_name(name):
                 new = experimental_name(name)
                 if ".experimental.wrappers." not in _dotted(original_node):
@@ -428,7 +416,7 @@ class WrapperRenamesPass(RulePass):
                 if not isinstance(parent, cst.Call) or parent.func is not original_node:
                     self.report(original_node, "GM614", f"`{name}` is `gymnasium.wrappers.{new}` in Gymnasium 1.x")
                 vector = ".vector" if rest.startswith("experimental.wrappers.vector.") else ""
-                return _dotted_node(f"{_root_name(original_node)}.wrappers{vector}.{new}")  # type: ignore[return-value]
+                return dotted_node(f"{_root_name(original_node)}.wrappers{vector}.{new}")  # type: ignore[return-value]
         return updated_node
 
     def visit_Name(self, node: cst.Name) -> None:
@@ -500,7 +488,7 @@ class WrapperRenamesPass(RulePass):
         args = list(call.args)
         notes = []
         kind: FixKind | None = None
-        num_stack = _keyword(call, "num_stack")
+        num_stack = keyword_argument(call, "num_stack")
         if num_stack is not None:
             args = _replace_arg(args, num_stack, _renamed_keyword(num_stack, "stack_size"))
             notes.append("`num_stack=` is `stack_size=`")
@@ -518,7 +506,7 @@ class WrapperRenamesPass(RulePass):
     def _args_AddRenderObservation(self, original: cst.Call, call: cst.Call) -> cst.Call:
         args = list(call.args)
         positional = _positional(call)
-        if len(positional) > 2 or _keyword(call, "render_kwargs") is not None:
+        if len(positional) > 2 or keyword_argument(call, "render_kwargs") is not None:
             self.report(
                 original,
                 "GM609",
@@ -527,10 +515,10 @@ class WrapperRenamesPass(RulePass):
                 kind=FixKind.FLAG,
             )
             return call
-        pixels_only = _keyword(call, "pixels_only")
+        pixels_only = keyword_argument(call, "pixels_only")
         if pixels_only is not None:
             args = _replace_arg(args, pixels_only, _renamed_keyword(pixels_only, "render_only"))
-        keys = _keyword(call, "pixel_keys")
+        keys = keyword_argument(call, "pixel_keys")
         if keys is not None:
             value = keys.value
             single = (
@@ -546,11 +534,11 @@ class WrapperRenamesPass(RulePass):
 
     def _args_TransformObservation(self, original: cst.Call, call: cst.Call) -> cst.Call:
         args = list(call.args)
-        f = _keyword(call, "f")
+        f = keyword_argument(call, "f")
         if f is not None:
             args = _replace_arg(args, f, _renamed_keyword(f, "func"))
         positional = _positional(call)
-        has_space = _keyword(call, "observation_space") is not None or len(positional) >= 3
+        has_space = keyword_argument(call, "observation_space") is not None or len(positional) >= 3
         func = f.value if f is not None else positional[1].value if len(positional) >= 2 else None
         if has_space:
             if f is not None:
@@ -582,7 +570,7 @@ class WrapperRenamesPass(RulePass):
         return call.with_changes(args=args)
 
     def _args_TransformReward(self, original: cst.Call, call: cst.Call) -> cst.Call:
-        f = _keyword(call, "f")
+        f = keyword_argument(call, "f")
         if f is None:
             return call
         self.report(original, "GM609", "TransformReward's `f=` is `func=`")
@@ -603,14 +591,14 @@ class WrapperRenamesPass(RulePass):
         return call.with_changes(args=_replace_arg(list(call.args), shape, shape.with_changes(value=pair)))
 
     def _args_RecordEpisodeStatistics(self, original: cst.Call, call: cst.Call) -> cst.Call:
-        deque_size = _keyword(call, "deque_size")
+        deque_size = keyword_argument(call, "deque_size")
         if deque_size is None:
             return call
         self.report(original, "GM609", "RecordEpisodeStatistics' `deque_size=` is `buffer_length=`")
         return call.with_changes(args=_replace_arg(list(call.args), deque_size, _renamed_keyword(deque_size, "buffer_length")))
 
     def _args_RecordVideo(self, original: cst.Call, call: cst.Call) -> cst.Call:
-        new_step_api = _keyword(call, "new_step_api")
+        new_step_api = keyword_argument(call, "new_step_api")
         if new_step_api is None:
             return call
         self.report(original, "GM609", "RecordVideo has no `new_step_api` (the five-value step is the only API)")
@@ -691,7 +679,7 @@ class WrapperRenamesPass(RulePass):
         if env is None or directory is None:
             self.report(original, "GM611", "Monitor is gone: wrap with RecordEpisodeStatistics and RecordVideo", kind=FixKind.FLAG)
             return call
-        stats = cst.Call(func=_dotted_node(prefix + "RecordEpisodeStatistics"), args=[cst.Arg(value=env)])
+        stats = cst.Call(func=dotted_node(prefix + "RecordEpisodeStatistics"), args=[cst.Arg(value=env)])
         trigger = values.get("video_callable")
         dropped = sorted(k for k in values if k in ("force", "resume", "write_upon_reset", "uid", "mode"))
         note = ""
@@ -716,7 +704,7 @@ class WrapperRenamesPass(RulePass):
             "Monitor is RecordVideo(RecordEpisodeStatistics(env)): the env must be made with "
             f"render_mode=\"rgb_array\" for videos{note}",
         )
-        return cst.Call(func=_dotted_node(prefix + "RecordVideo"), args=args)
+        return cst.Call(func=dotted_node(prefix + "RecordVideo"), args=args)
 
     # GM613
 
@@ -743,7 +731,7 @@ class WrapperRenamesPass(RulePass):
             if root is None:
                 AddImportsVisitor.add_needed_import(self.context.codemod, "gymnasium")
                 root = "gymnasium"
-            new_func = _dotted_node(f"{root}.wrappers.vector.{new}")
+            new_func = dotted_node(f"{root}.wrappers.vector.{new}")
             if isinstance(func, cst.Name):
                 # the single-env import may now be unused
                 RemoveImportsVisitor.remove_unused_import(self.context.codemod, "gymnasium.wrappers", func.value)
@@ -830,15 +818,15 @@ class WrapperRenamesPass(RulePass):
         if not self._uses_autoreset or len(node.slice) != 1:
             return
         index = node.slice[0].slice
-        if isinstance(index, cst.Index) and _string(index.value) in FINAL_INFO_KEYS:
-            self._report_final_info(node, _string(index.value))  # type: ignore[arg-type]
+        if isinstance(index, cst.Index) and string_value(index.value) in FINAL_INFO_KEYS:
+            self._report_final_info(node, string_value(index.value))  # type: ignore[arg-type]
 
     def _check_final_info_get(self, call: cst.Call) -> None:
         if not self._uses_autoreset:
             return
         func = call.func
         if isinstance(func, cst.Attribute) and func.attr.value == "get" and call.args:
-            key = _string(call.args[0].value)
+            key = string_value(call.args[0].value)
             if key in FINAL_INFO_KEYS:
                 self._report_final_info(call, key)  # type: ignore[arg-type]
 
@@ -1245,11 +1233,11 @@ def _keeps_shape(func: cst.BaseExpression) -> bool:
 
 def _frameskip_is_one(make: cst.Call) -> bool:
     """Does this make() call build an env that does not skip frames (or can it not be told)?"""
-    frameskip = _keyword(make, "frameskip")
+    frameskip = keyword_argument(make, "frameskip")
     if frameskip is not None:
         return isinstance(frameskip.value, cst.Integer) and frameskip.value.value == "1"
     positional = _positional(make)
-    env_id = _string(positional[0].value) if positional else None
+    env_id = string_value(positional[0].value) if positional else None
     if env_id is None:
         return True  # cannot tell: stay quiet rather than guess
     # ``ALE/X-v5`` skips 4 frames, ``X-v4`` 2-4, ``XDeterministic-v4`` 4; only NoFrameskip ids do not.
