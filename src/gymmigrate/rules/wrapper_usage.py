@@ -216,7 +216,20 @@ def _replace_arg(args: list[cst.Arg], old: cst.Arg, new: cst.Arg) -> list[cst.Ar
     return [new if a is old else a for a in args]
 
 
-class WrapperRenamesPass(RulePass):
+class _SkipsImportedNames:
+    """Names inside import statements are the imports rules' business, not a use.
+
+    Returning False skips an import's children; its own leave_ method still runs.
+    """
+
+    def visit_Import(self, node: cst.Import) -> bool:
+        return False
+
+    def visit_ImportFrom(self, node: cst.ImportFrom) -> bool:
+        return False
+
+
+class WrapperRenamesPass(_SkipsImportedNames, RulePass):
     """GM608-GM615: wrapper names, arguments and stacks.
 
     Runs right after the make() keyword pass and before the rendering pass (ORDER 32), so
@@ -229,7 +242,6 @@ class WrapperRenamesPass(RulePass):
 
     def __init__(self, context) -> None:  # type: ignore[no-untyped-def]
         super().__init__(context)
-        self._import_depth = 0
         self._renamed_locals: dict[str, str] = {}  # imported name -> new name
         self._monitor_locals: set[str] = set()
         self._gymnasium_alias: str | None = None
@@ -254,20 +266,9 @@ class WrapperRenamesPass(RulePass):
 
     # -- imports: GM608, GM611, GM614 --------------------------------------------------------
 
-    def visit_Import(self, node: cst.Import) -> None:
-        self._import_depth += 1
-
-    def leave_Import(self, original_node: cst.Import, updated_node: cst.Import) -> cst.Import:
-        self._import_depth -= 1
-        return updated_node
-
-    def visit_ImportFrom(self, node: cst.ImportFrom) -> None:
-        self._import_depth += 1
-
     def leave_ImportFrom(
         self, original_node: cst.ImportFrom, updated_node: cst.ImportFrom
     ) -> cst.ImportFrom | cst.RemovalSentinel:
-        self._import_depth -= 1
         if updated_node.relative or updated_node.module is None or isinstance(updated_node.names, cst.ImportStar):
             return updated_node
         module = _dotted(updated_node.module)
@@ -362,7 +363,7 @@ class WrapperRenamesPass(RulePass):
     # -- names and attribute paths: GM608, GM610, GM612, GM614 ----------------------------------
 
     def leave_Name(self, original_node: cst.Name, updated_node: cst.Name) -> cst.Name:
-        if self._import_depth or original_node.value not in self._renamed_locals:
+        if original_node.value not in self._renamed_locals:
             return updated_node
         parent = self.analysis.parent(original_node)
         if isinstance(parent, cst.Attribute) and parent.attr is original_node:
@@ -389,8 +390,6 @@ class WrapperRenamesPass(RulePass):
     def leave_Attribute(
         self, original_node: cst.Attribute, updated_node: cst.Attribute
     ) -> cst.BaseExpression:
-        if self._import_depth:
-            return updated_node
         qualified = self.analysis.qualified_names(original_node)
         for q in qualified:
             rest = N.strip_gym_prefix(q)
@@ -427,8 +426,6 @@ class WrapperRenamesPass(RulePass):
 
     def _check_removed(self, node: cst.Name | cst.Attribute) -> None:
         """GM610: each use (not the import, which the imports rules report) of a removed wrapper."""
-        if self._import_depth:
-            return
         parent = self.analysis.parent(node)
         if isinstance(parent, cst.Attribute) and parent.attr is node:
             return  # the attribute around it is the reference
@@ -840,7 +837,7 @@ class WrapperRenamesPass(RulePass):
         )
 
 
-class WrapperAttributesPass(RulePass):
+class WrapperAttributesPass(_SkipsImportedNames, RulePass):
     """GM604-GM606: what legacy code read through ``Wrapper.__getattr__``."""
 
     RULES = ATTRIBUTE_RULES
@@ -849,7 +846,6 @@ class WrapperAttributesPass(RulePass):
 
     def __init__(self, context) -> None:  # type: ignore[no-untyped-def]
         super().__init__(context)
-        self._import_depth = 0
         self._resolving: set[int] = set()
 
     @classmethod
@@ -859,23 +855,7 @@ class WrapperAttributesPass(RulePass):
     def visit_Module(self, node: cst.Module) -> None:
         self.analysis = ReceiverAnalysis(node, self.metadata)
 
-    def visit_Import(self, node: cst.Import) -> None:
-        self._import_depth += 1
-
-    def leave_Import(self, original_node: cst.Import, updated_node: cst.Import) -> cst.Import:
-        self._import_depth -= 1
-        return updated_node
-
-    def visit_ImportFrom(self, node: cst.ImportFrom) -> None:
-        self._import_depth += 1
-
-    def leave_ImportFrom(self, original_node: cst.ImportFrom, updated_node: cst.ImportFrom) -> cst.ImportFrom:
-        self._import_depth -= 1
-        return updated_node
-
     def leave_Attribute(self, original_node: cst.Attribute, updated_node: cst.Attribute) -> cst.BaseExpression:
-        if self._import_depth:
-            return updated_node
         return self._attribute_access(original_node, updated_node)
 
     def visit_Call(self, node: cst.Call) -> None:
