@@ -73,8 +73,13 @@ def may_hold_gym_code(source: bytes) -> bool:
     return _MAY_HOLD_GYM_CODE.search(source) is not None
 
 
-def parse(source: bytes, path: str) -> cst.Module:
-    """Parse for rewriting, or raise TransformError saying in one sentence why not."""
+def parse(source: bytes, path: str, *, compiles: bool = False) -> cst.Module:
+    """Parse for rewriting, or raise TransformError saying in one sentence why not.
+
+    ``compiles``: the caller has already parsed ``source`` with CPython.
+    """
+    if compiles:
+        return _parse_cst(source)
     try:
         encoding, _ = tokenize.detect_encoding(io.BytesIO(source).readline)
         text = source.decode(encoding)
@@ -92,11 +97,14 @@ def parse(source: bytes, path: str) -> cst.Module:
         raise TransformError(f"syntax error{where}: {exc.msg}{hint}") from None
     except (ValueError, RecursionError, MemoryError) as exc:
         raise TransformError(f"cannot parse the file: {exc}") from None
+    return _parse_cst(source)
+
+
+def _parse_cst(source: bytes) -> cst.Module:
     try:
-        module = cst.parse_module(source)
+        return cst.parse_module(source)
     except cst.ParserSyntaxError as exc:
         raise TransformError(f"syntax error at line {exc.raw_line}, column {exc.raw_column}") from None
-    return module
 
 
 _PY2_HINTS = re.compile(rb"^\s*(print\s+[^\s(=]|exec\s+[\"']|except\s+[\w.]+\s*,\s*\w+\s*:)|\bur[\"']|`[^`\n]+`", re.M)
@@ -119,8 +127,8 @@ def transform_source(source: bytes, path: str = "<string>", options: RewriteOpti
     return result
 
 
-def _run_passes(source: bytes, path: str, options: RewriteOptions) -> Transformed:
-    module = original = parse(source, path)
+def _run_passes(source: bytes, path: str, options: RewriteOptions, *, compiles: bool = False) -> Transformed:
+    module = original = parse(source, path, compiles=compiles)
     text = module.code
     context = FileContext(path=path, options=options, profile=FileProfile.from_source(text))
     maps: list[LineMap] = []  # one per pass that changed the code, in order
@@ -186,7 +194,7 @@ def _verify(result: Transformed, path: str, options: RewriteOptions) -> None:
         ast.parse(text, filename=path)
     except SyntaxError as exc:
         raise TransformError(f"the rewrite would not parse (line {exc.lineno}: {exc.msg}); file left unchanged") from None
-    again = _run_passes(result.rewritten, path, options)
+    again = _run_passes(result.rewritten, path, options, compiles=True)
     if again.rewritten != result.rewritten:
         raise TransformError("the rewrite is not stable (a second run would change it again); file left unchanged")
 
