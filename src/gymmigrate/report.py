@@ -40,6 +40,11 @@ def print_diff(diff: str, stream: TextIO | None = None) -> None:
         console.print(Text(line, style=style or ""))
 
 
+def changes_per_rule(results: Sequence[FileResult]) -> Counter[str]:
+    """How many rewrites each rule made (review-only findings are not changes)."""
+    return Counter(f.rule for r in results for f in r.findings if f.is_change)
+
+
 def print_findings(results: Sequence[FileResult], stream: TextIO | None = None) -> None:
     """One line per finding, in the compiler style editors and CI annotators read."""
     stream = stream or sys.stdout
@@ -58,7 +63,7 @@ def print_summary(results: Sequence[FileResult], *, wrote: bool, stream: TextIO 
     console = Console(file=stream or sys.stderr, highlight=False, soft_wrap=True)
     changed = [r for r in results if r.status is Status.CHANGED]
     errors = [r for r in results if r.status is Status.ERROR]
-    per_rule = Counter(f.rule for r in results for f in r.findings if f.is_change)
+    per_rule = changes_per_rule(results)
     review = [(r, f) for r in results for f in r.findings if f.needs_review]
 
     verb = "rewrote" if wrote else "would rewrite"
@@ -95,7 +100,7 @@ def report_json(results: Sequence[FileResult], *, wrote: bool, smoke: Sequence[o
                 "review": [f.to_json() for f in result.findings if f.needs_review],
             }
         )
-    per_rule = Counter(f.rule for r in results for f in r.findings if f.is_change)
+    per_rule = changes_per_rule(results)
     return {
         "tool": "gymmigrate",
         "version": __version__,
