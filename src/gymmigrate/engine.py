@@ -21,10 +21,13 @@ from enum import Enum
 from pathlib import Path
 
 import libcst as cst
-from libcst.codemod.visitors import AddImportsVisitor, RemoveImportsVisitor
 
+from gymmigrate.edits.apply import apply_plan
+from gymmigrate.edits.plan import Plan
+from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts.receivers import Receivers
 from gymmigrate.findings import Finding
-from gymmigrate.rules import registered_passes
+from gymmigrate.rules import registered_families, registered_passes
 from gymmigrate.rules.base import FileContext, FileProfile, RewriteOptions
 
 # A file that mentions none of these cannot hold Gym code: skip it before parsing.
@@ -73,30 +76,10 @@ def may_hold_gym_code(source: bytes) -> bool:
     return _MAY_HOLD_GYM_CODE.search(source) is not None
 
 
-def parse(source: bytes, path: str, *, compiles: bool = False) -> cst.Module:
-    """Parse for rewriting, or raise TransformError saying in one sentence why not.
-
-    ``compiles``: the caller has already parsed ``source`` with CPython.
-    """
-    if compiles:
-        return _parse_cst(source)
-    try:
-        encoding, _ = tokenize.detect_encoding(io.BytesIO(source).readline)
-        text = source.decode(encoding)
-    except UnicodeDecodeError as exc:
-        raise TransformError(f"cannot decode the file ({exc.reason} at byte {exc.start})") from None
-    except (LookupError, SyntaxError) as exc:  # unknown or malformed encoding cookie
-        raise TransformError(f"cannot decode the file: {exc}") from None
-    # CPython's parser first: it rejects cleanly what would crash LibCST's native parser
-    # (pathological nesting segfaults it), and the rewrite must compile with it anyway.
-    try:
-        ast.parse(text, filename=path)
-    except SyntaxError as exc:
-        hint = " (this looks like Python 2 code)" if _looks_like_python2(source) else ""
-        where = f" at line {exc.lineno}" if exc.lineno else ""
-        raise TransformError(f"syntax error{where}: {exc.msg}{hint}") from None
-    except (ValueError, RecursionError, MemoryError) as exc:
-        raise TransformError(f"cannot parse the file: {exc}") from None
+def parse(source: bytes, path: str) -> cst.Module:
+    """Parse for rewriting, or raise TransformError saying in one sentence why not."""
+    text, _ = decode(source)
+    _parse_ast(text, source, path)
     return _parse_cst(source)
 
 
@@ -115,28 +98,122 @@ def _looks_like_python2(source: bytes) -> bool:
 
 
 def transform_source(source: bytes, path: str = "<string>", options: RewriteOptions | None = None) -> Transformed:
-    """Run every applicable pass over ``source`` and verify the output.
+    """Migrate ``source`` and verify the output.
 
     Raises TransformError when the file cannot be parsed, a rule fails, or the output
     would not parse or would change again on a second run.
     """
     options = options or RewriteOptions()
-    result = _run_passes(source, path, options)
+    text, encoding = decode(source)
+    tree = _parse_ast(text, source, path)
+    result = _migrate(source, text, encoding, tree, path, options)
     if result.changed:
         _verify(result, path, options)
     return result
 
 
-def _run_passes(source: bytes, path: str, options: RewriteOptions, *, compiles: bool = False) -> Transformed:
-    module = original = parse(source, path, compiles=compiles)
-    text = module.code
+def decode(source: bytes) -> tuple[str, str]:
+    """The text of ``source`` and its encoding (PEP 263 cookie or BOM, else UTF-8)."""
+    try:
+        encoding, _ = tokenize.detect_encoding(io.BytesIO(source).readline)
+        text = source.decode(encoding)
+    except UnicodeDecodeError as exc:
+        raise TransformError(f"cannot decode the file ({exc.reason} at byte {exc.start})") from None
+    except (LookupError, SyntaxError) as exc:  # unknown or malformed encoding cookie
+        raise TransformError(f"cannot decode the file: {exc}") from None
+    if encoding == "utf-8-sig":
+        text = text.removeprefix("\ufeff")
+    return text, encoding
+
+
+def _parse_ast(text: str, source: bytes, path: str) -> ast.Module:
+    # CPython's parser: cheap, exact positions, and it rejects cleanly what would crash
+    # LibCST's native parser (pathological nesting segfaults it).
+    try:
+        return ast.parse(text, filename=path)
+    except SyntaxError as exc:
+        hint = " (this looks like Python 2 code)" if _looks_like_python2(source) else ""
+        where = f" at line {exc.lineno}" if exc.lineno else ""
+        raise TransformError(f"syntax error{where}: {exc.msg}{hint}") from None
+    except (ValueError, RecursionError, MemoryError) as exc:
+        raise TransformError(f"cannot parse the file: {exc}") from None
+
+
+def plan_file(tree: ast.Module, text: str, path: str, options: RewriteOptions) -> tuple[Plan, FileContext]:
+    """Every rule family decides on the same facts; nothing is changed yet."""
+    facts = ModuleFacts(tree, text)
     context = FileContext(path=path, options=options, profile=FileProfile.from_source(text))
-    maps: list[LineMap] = []  # one per pass that changed the code, in order
+    plan = Plan(facts)
+    receivers = Receivers(facts)
+    for family in registered_families():
+        if not family.may_fire(facts, context):
+            continue
+        try:
+            family(context, facts, receivers, plan).decide()
+        except RecursionError:
+            raise TransformError(f"internal error in {family.__name__}: the code is nested too deeply to analyse") from None
+        except Exception as exc:  # a rule bug must not lose the user's file or print a traceback
+            raise TransformError(f"internal error in {family.__name__}: {type(exc).__name__}: {exc}") from exc
+    return plan, context
+
+
+def _migrate(source: bytes, text: str, encoding: str, tree: ast.Module, path: str, options: RewriteOptions) -> Transformed:
+    plan, context = plan_file(tree, text, path, options)
+    passes = registered_passes()
+    findings = list(plan.findings)
+    if not plan.has_edits and not any(p.applies_to(text, context.profile) for p in passes):
+        # Nothing to change: no LibCST tree at all.
+        return Transformed(original=source, rewritten=source, encoding=encoding, findings=sorted(findings))
+    module = _parse_cst(source)
+    if plan.has_edits:
+        try:
+            module = apply_plan(module, plan)
+        except Exception as exc:  # noqa: BLE001  (a rule's edit could not be placed)
+            raise TransformError(f"internal error while applying edits: {type(exc).__name__}: {exc}") from exc
+    planned_text = module.code if plan.has_edits else text
+    maps: list[LineMap] = [LineMap(text, planned_text)] if planned_text != text else []
+    if passes:
+        module, pass_findings = _run_passes(module, planned_text, context, passes, maps)
+    else:
+        pass_findings = []
+    rewritten = module.bytes
+    if rewritten != source:
+        _check_round_trip(source, text)
+    if maps:  # the plan's findings are placed in the original: place them in the output too
+        findings = [replace(f, line_after=_forward(f.line, maps)) for f in findings]
+    findings.extend(pass_findings)
+    return Transformed(original=source, rewritten=rewritten, encoding=encoding, findings=sorted(findings))
+
+
+_UNREPRODUCIBLE = re.compile(r"\r(?!\n)|\f")
+
+
+def _forward(line: int, maps: list[LineMap]) -> int:
+    for line_map in maps:
+        line = line_map.forward(line)
+    return line
+
+
+def _check_round_trip(source: bytes, text: str) -> None:
+    # LibCST cannot reproduce every file (CR-only line endings, form feeds): writing its
+    # output would drop bytes no rule touched. Only those characters need the check.
+    if _UNREPRODUCIBLE.search(text) and _parse_cst(source).bytes != source:
+        raise TransformError(
+            "the file cannot be reproduced byte for byte (CR-only line endings or form feeds?); left unchanged"
+        )
+
+
+def _run_passes(
+    module: cst.Module, text: str, context: FileContext, passes: list, maps: list[LineMap]
+) -> tuple[cst.Module, list[Finding]]:
+    """Rule families that still run as one LibCST pass each, in ORDER, after the plan."""
     reported: list[tuple[int, list[Finding]]] = []  # findings, with how many maps preceded them
     # Most passes change nothing in a given file. While the code is unchanged, the same
     # wrapper (and the scope/qualified-name metadata it has resolved) serves every pass.
     wrapper = cst.MetadataWrapper(module, unsafe_skip_copy=True)
-    for pass_class in registered_passes():
+    for pass_class in passes:
+        # Asked of the text as earlier passes left it: one family's rewrite can give
+        # another something to do (a Monitor replaced by RecordVideo needs a render mode).
         if not pass_class.applies_to(text, context.profile):
             continue
         transformer = pass_class(context)
@@ -164,19 +241,13 @@ def _run_passes(source: bytes, path: str, options: RewriteOptions, *, compiles: 
             for line_map in maps[depth:]:
                 after = line_map.forward(after)
             findings.append(replace(finding, line=before, line_after=after if maps else None))
-    rewritten = module.bytes
-    if rewritten != source and original.bytes != source:
-        # LibCST cannot reproduce every file (CR-only line endings, form feeds): writing
-        # its output would drop bytes the rules never touched. Checked only for files
-        # that change, since the others are never written.
-        raise TransformError(
-            "the file cannot be reproduced byte for byte (CR-only line endings or form feeds?); left unchanged"
-        )
-    return Transformed(original=source, rewritten=rewritten, encoding=module.encoding, findings=sorted(findings))
+    return module, findings
 
 
 def _apply_scheduled_imports(module: cst.Module, context: FileContext) -> cst.Module:
-    """Imports that rules asked for through AddImportsVisitor/RemoveImportsVisitor."""
+    """Imports that passes asked for through AddImportsVisitor/RemoveImportsVisitor."""
+    from libcst.codemod.visitors import AddImportsVisitor, RemoveImportsVisitor
+
     scratch = context.codemod.scratch
     if scratch.get(AddImportsVisitor.CONTEXT_KEY):
         module = AddImportsVisitor(context.codemod).transform_module(module)
@@ -188,13 +259,20 @@ def _apply_scheduled_imports(module: cst.Module, context: FileContext) -> cst.Mo
 
 
 def _verify(result: Transformed, path: str, options: RewriteOptions) -> None:
-    """The output must compile, and a second run over it must change nothing."""
+    """The output must compile, and a second run over it must change nothing.
+
+    The second run decides on ``ast`` like the first; it only builds a LibCST tree
+    when a rule would change the output again (an unstable rewrite) or a family that
+    still runs as a LibCST pass may fire.
+    """
     text = result.rewritten.decode(result.encoding)
+    if result.encoding == "utf-8-sig":
+        text = text.removeprefix("\ufeff")
     try:
-        ast.parse(text, filename=path)
+        tree = ast.parse(text, filename=path)
     except SyntaxError as exc:
         raise TransformError(f"the rewrite would not parse (line {exc.lineno}: {exc.msg}); file left unchanged") from None
-    again = _run_passes(result.rewritten, path, options, compiles=True)
+    again = _migrate(result.rewritten, text, result.encoding, tree, path, options)
     if again.rewritten != result.rewritten:
         raise TransformError("the rewrite is not stable (a second run would change it again); file left unchanged")
 

@@ -66,6 +66,7 @@ SB3_VEC_FACTORIES = frozenset(
     }
 )
 SB3_PACKAGES = ("stable_baselines3", "sb3_contrib", "baselines")
+SB3_MODEL_CLASSES = frozenset({"HER", "RecurrentPPO", "MaskablePPO", "QRDQN", "TQC", "TRPO", "ARS"})
 SB3_CALLBACK_BASES = frozenset(
     {
         "stable_baselines3.common.callbacks.BaseCallback",

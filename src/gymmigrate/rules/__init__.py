@@ -37,6 +37,6 @@ from gymmigrate.rules import (  # noqa: F401  (imported to register their passes
     vector,
     wrappers,
 )
-from gymmigrate.rules.base import Rule, RulePass, all_rules, registered_passes
+from gymmigrate.rules.base import Rule, RuleFamily, RulePass, all_rules, registered_families, registered_passes
 
-__all__ = ["Rule", "RulePass", "all_rules", "registered_passes"]
+__all__ = ["Rule", "RuleFamily", "RulePass", "all_rules", "registered_families", "registered_passes"]

@@ -1,26 +1,37 @@
 """The rule framework.
 
-A *rule* is one catalog entry (``GM301``: its id, title, fix kind and summary). A *pass*
-is one LibCST traversal that implements a family of rules. Passes run one after the
-other over a file, in ``ORDER`` (the catalog's pass order: imports before call sites,
-class bodies before data-flow checks), each seeing the previous pass's output, so a
-family never has to know what another family rewrote.
+A *rule* is one catalog entry (``GM301``: its id, title, fix kind and summary). A
+*family* (``RuleFamily``) implements a few related rules: it reads the file's facts
+(``gymmigrate.facts``, built once from CPython's ``ast``), reports findings and records
+edits in the file's ``Plan``. Every family decides on the same original module, in
+``ORDER``; the edits are applied afterwards in one LibCST traversal
+(``gymmigrate.edits.apply``), so a single run reaches the fixed point.
+
+``RulePass`` is the earlier design (one LibCST transformer per family, each seeing the
+previous pass's output); families not yet moved to ``RuleFamily`` still run that way,
+after the planned edits, and only in files their cheap ``applies_to`` test admits.
 
 Adding a rule family is adding a module under ``gymmigrate.rules`` that defines a
-``RulePass`` subclass; it registers itself and is picked up by ``rules/__init__.py``.
+``RuleFamily`` subclass; it registers itself and is picked up by ``rules/__init__.py``.
 """
 
 from __future__ import annotations
 
+import ast
 import re
 from dataclasses import dataclass, field
-from typing import ClassVar
+from typing import TYPE_CHECKING, ClassVar
 
 import libcst as cst
 from libcst.codemod import CodemodContext
 from libcst.metadata import PositionProvider
 
 from gymmigrate.findings import Finding, FixKind
+
+if TYPE_CHECKING:
+    from gymmigrate.edits.plan import Plan
+    from gymmigrate.facts import ModuleFacts
+    from gymmigrate.facts.receivers import Receivers
 
 
 @dataclass(frozen=True)
@@ -89,6 +100,47 @@ class FileContext:
 
 
 _PASSES: list[type[RulePass]] = []
+_FAMILIES: list[type[RuleFamily]] = []
+
+
+class RuleFamily:
+    """A family of rules that decides from facts and records edits in a ``Plan``.
+
+    Subclasses set ``RULES`` and ``ORDER``, may narrow ``may_fire`` with a cheap test on
+    the facts, and implement ``decide``. They report with ``self.report(node, code,
+    message)`` (``node`` is an ``ast`` node of the original source) and edit through
+    ``self.plan`` (``replace``, ``insert_after``, ``ensure_import``...).
+    """
+
+    RULES: ClassVar[tuple[Rule, ...]] = ()
+    ORDER: ClassVar[int] = 100
+
+    def __init_subclass__(cls, **kwargs: object) -> None:
+        super().__init_subclass__(**kwargs)
+        if cls.RULES:
+            _FAMILIES.append(cls)
+
+    def __init__(self, context: FileContext, facts: ModuleFacts, receivers: Receivers, plan: Plan) -> None:
+        self.context = context
+        self.facts = facts
+        self.receivers = receivers
+        self.plan = plan
+        self._rules = {rule.code: rule for rule in self.RULES}
+
+    @classmethod
+    def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
+        """Cheap test on the facts: can this family fire at all in this file?"""
+        return True
+
+    def decide(self) -> None:
+        raise NotImplementedError
+
+    def report(self, node: ast.AST, code: str, message: str, kind: FixKind | None = None) -> None:
+        self.plan.report(node, code, kind or self._rules[code].kind, message)
+
+
+def registered_families() -> list[type[RuleFamily]]:
+    return sorted(_FAMILIES, key=lambda cls: (cls.ORDER, cls.__module__))
 
 
 class RulePass(cst.CSTTransformer):
@@ -149,5 +201,5 @@ def registered_passes() -> list[type[RulePass]]:
 
 
 def all_rules() -> list[Rule]:
-    rules = [rule for cls in registered_passes() for rule in cls.RULES]
+    rules = [rule for cls in [*registered_families(), *registered_passes()] for rule in cls.RULES]
     return sorted(rules, key=lambda rule: rule.code)

@@ -1,0 +1,1 @@
+"""Edits: rules record them against ``ast`` nodes (``plan``); one traversal applies them (``apply``)."""

@@ -1,0 +1,92 @@
+"""What the rules decided for one file: findings, and the edits that carry them out.
+
+Rules decide from ``ModuleFacts`` (CPython ``ast``) and record here *what* to change,
+addressed by ``ast`` nodes. Nothing is changed while rules decide: every rule sees the
+same original module, so one run reaches the fixed point, and a file whose plan holds
+no edit never pays for a LibCST tree. ``gymmigrate.edits.apply`` then carries out all
+edits in one traversal.
+"""
+
+from __future__ import annotations
+
+import ast
+from collections import defaultdict
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+from gymmigrate.findings import Finding, FixKind
+
+if TYPE_CHECKING:  # LibCST is imported only by files that change
+    import libcst as cst
+
+    from gymmigrate.facts import ModuleFacts
+
+# Receives the node as already changed by edits inside it; returns its replacement
+# (a node, or a LibCST FlattenSentinel / RemovalSentinel where the parent allows it).
+Build = Callable[["cst.CSTNode"], Any]
+NewCode = "str | cst.BaseStatement | cst.BaseSmallStatement"
+
+
+@dataclass
+class Plan:
+    """Findings and edits for one file, in the order the rules produced them."""
+
+    facts: ModuleFacts
+    findings: list[Finding] = field(default_factory=list)
+    replacements: dict[ast.AST, list[Build]] = field(default_factory=lambda: defaultdict(list))
+    before: dict[ast.stmt, list[Any]] = field(default_factory=lambda: defaultdict(list))
+    after: dict[ast.stmt, list[Any]] = field(default_factory=lambda: defaultdict(list))
+    removed: set[ast.stmt] = field(default_factory=set)
+    imports: list[str] = field(default_factory=list)  # new top-level import lines
+    # What one rule family decided that another must follow in the same run (e.g. the
+    # render mode a creation site needs because a wrapper was replaced).
+    notes: dict[str, Any] = field(default_factory=dict)
+    _seen: set[tuple[int, int, str, str]] = field(default_factory=set)
+
+    @property
+    def has_edits(self) -> bool:
+        return bool(self.replacements or self.before or self.after or self.removed or self.imports)
+
+    # -- findings -------------------------------------------------------------------------
+
+    def report(self, node: ast.AST, code: str, kind: FixKind, message: str) -> None:
+        line = node.lineno  # type: ignore[attr-defined]
+        column = self.facts.column(node)
+        key = (line, column, code, message)
+        if key in self._seen:  # two routes to the same conclusion: one item
+            return
+        self._seen.add(key)
+        self.findings.append(Finding(line=line, column=column, rule=code, kind=kind, message=message))
+
+    # -- edits ----------------------------------------------------------------------------
+
+    def replace(self, node: ast.AST, build: Build) -> None:
+        """Replace the LibCST counterpart of ``node`` with ``build(node_as_changed)``."""
+        self.replacements[node].append(build)
+
+    def insert_before(self, statement: ast.stmt, *code: Any) -> None:
+        self.before[statement].extend(code)
+
+    def insert_after(self, statement: ast.stmt, *code: Any) -> None:
+        self.after[statement].extend(code)
+
+    def remove(self, statement: ast.stmt) -> None:
+        self.removed.add(statement)
+
+    def add_import(self, line: str) -> None:
+        """A top-level import statement, added once after the module's last import."""
+        if line not in self.imports:
+            self.imports.append(line)
+
+    def ensure_import(self, module: str, name: str | None = None, asname: str | None = None) -> str:
+        """Make ``module`` (or ``module.name``) available; return the name to use in code."""
+        qualified = f"{module}.{name}" if name else module
+        bound = self.facts.imported_as(qualified)
+        if bound is not None:
+            return bound
+        if name:
+            self.add_import(f"from {module} import {name}" + (f" as {asname}" if asname else ""))
+            return asname or name
+        self.add_import(f"import {module}" + (f" as {asname}" if asname else ""))
+        return asname or module

@@ -1,0 +1,355 @@
+"""What one module says about its names, computed once from CPython's ``ast``.
+
+Every rule asks the same questions: where does this name come from, which import
+does ``gym`` stand for, what encloses this node, which calls name this function.
+``ModuleFacts`` answers them from a single walk over the tree (``ast`` is several
+times cheaper to build and walk than a LibCST tree), and memoizes everything else.
+
+The walk is iterative, so deep expressions and long chains cannot overflow the
+interpreter's stack, and every lookup is linear or better in the size of the file.
+"""
+
+from __future__ import annotations
+
+import ast
+from collections import defaultdict
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+
+FUNCTIONS = (ast.FunctionDef, ast.AsyncFunctionDef)
+COMPREHENSIONS = (ast.ListComp, ast.SetComp, ast.DictComp, ast.GeneratorExp)
+SCOPES = (ast.Module, *FUNCTIONS, ast.ClassDef, ast.Lambda, *COMPREHENSIONS)
+LOOPS = (ast.For, ast.AsyncFor, ast.While)
+
+
+@dataclass(eq=False)
+class Scope:
+    """A module, class, function, lambda or comprehension scope."""
+
+    node: ast.AST
+    parent: Scope | None
+    bindings: dict[str, list[ast.AST]] = field(default_factory=lambda: defaultdict(list))
+    reads: dict[str, list[ast.Name]] = field(default_factory=lambda: defaultdict(list))
+    declared_global: set[str] = field(default_factory=set)
+    declared_nonlocal: set[str] = field(default_factory=set)
+
+    @property
+    def is_class(self) -> bool:
+        return isinstance(self.node, ast.ClassDef)
+
+    @property
+    def is_function(self) -> bool:
+        return isinstance(self.node, (*FUNCTIONS, ast.Lambda))
+
+
+class ModuleFacts:
+    """Parents, scopes, bindings, imports and definitions of one module.
+
+    A *binding* is the node that binds a name: an ``ast.Name`` in store context, an
+    ``ast.arg``, an ``ast.alias`` (imports), or a ``FunctionDef``/``ClassDef``.
+    """
+
+    def __init__(self, tree: ast.Module, text: str) -> None:
+        self.tree = tree
+        self.text = text
+        self.lines = text.splitlines(keepends=True)
+        self.parents: dict[ast.AST, ast.AST] = {}
+        self.scopes: dict[ast.AST, Scope] = {}  # scope-creating node -> its Scope
+        self._scope_of: dict[ast.AST, Scope] = {}  # Name / arg / alias / def -> scope it lives in
+        self.imports: dict[ast.alias, str] = {}  # import binding -> qualified name it binds
+        self.calls_by_name: dict[str, list[ast.Call]] = defaultdict(list)
+        self.attribute_calls: dict[str, list[ast.Call]] = defaultdict(list)  # x.<attr>(...)
+        self.classes: dict[str, ast.ClassDef] = {}  # module-level classes
+        self.functions: dict[str, ast.FunctionDef | ast.AsyncFunctionDef] = {}  # module-level functions
+        self.all_classes: list[ast.ClassDef] = []
+        self.strings: list[ast.Constant] = []
+        self._memo: dict[tuple[str, int], object] = {}
+        self.module_scope = Scope(tree, None)
+        self.scopes[tree] = self.module_scope
+        self._walk()
+
+    # -- the one walk ------------------------------------------------------------------
+
+    def _walk(self) -> None:
+        parents = self.parents
+        stack: list[tuple[ast.AST, Scope]] = [(self.tree, self.module_scope)]
+        while stack:
+            node, scope = stack.pop()
+            inner = self._enter(node, scope)
+            if inner is not None:
+                pushed = self._scoped_children(node, scope, inner)
+            elif isinstance(node, ast.arguments):  # defaults are evaluated where the def is
+                outside = scope.parent or scope
+                pushed = [(c, scope if isinstance(c, ast.arg) else outside) for c in ast.iter_child_nodes(node)]
+            else:
+                pushed = [(child, scope) for child in ast.iter_child_nodes(node)]
+            # Reversed so the stack pops children in source order.
+            for child, child_scope in reversed(pushed):
+                parents[child] = node
+                stack.append((child, child_scope))
+
+    def _enter(self, node: ast.AST, scope: Scope) -> Scope | None:
+        """Record what ``node`` binds or reads; return the scope it opens, if any."""
+        if isinstance(node, ast.Name):
+            self._scope_of[node] = scope
+            if isinstance(node.ctx, ast.Load):
+                scope.reads[node.id].append(node)
+            else:
+                self._bind(scope, node.id, node)
+            return None
+        if isinstance(node, ast.Call):
+            func = node.func
+            if isinstance(func, ast.Name):
+                self.calls_by_name[func.id].append(node)
+            elif isinstance(func, ast.Attribute):
+                self.attribute_calls[func.attr].append(node)
+            return None
+        if isinstance(node, ast.Constant):
+            if isinstance(node.value, str):
+                self.strings.append(node)
+            return None
+        if isinstance(node, (*FUNCTIONS, ast.ClassDef)):
+            self._scope_of[node] = scope
+            self._bind(scope, node.name, node)
+            if scope is self.module_scope:
+                if isinstance(node, ast.ClassDef):
+                    self.classes[node.name] = node
+                else:
+                    self.functions[node.name] = node
+            if isinstance(node, ast.ClassDef):
+                self.all_classes.append(node)
+            inner = Scope(node, scope)
+            self.scopes[node] = inner
+            return inner
+        if isinstance(node, (ast.Lambda, *COMPREHENSIONS)):
+            inner = Scope(node, scope)
+            self.scopes[node] = inner
+            return inner
+        if isinstance(node, ast.arguments):
+            return None
+        if isinstance(node, ast.arg):
+            self._scope_of[node] = scope
+            self._bind(scope, node.arg, node)
+            return None
+        if isinstance(node, (ast.Import, ast.ImportFrom)):
+            self._record_import(node, scope)
+            return None
+        if isinstance(node, ast.Global):
+            scope.declared_global.update(node.names)
+            return None
+        if isinstance(node, ast.Nonlocal):
+            scope.declared_nonlocal.update(node.names)
+            return None
+        if isinstance(node, ast.ExceptHandler) and node.name:
+            self._scope_of[node] = scope
+            self._bind(scope, node.name, node)
+        return None
+
+    @staticmethod
+    def _scoped_children(node: ast.AST, outer: Scope, inner: Scope) -> list[tuple[ast.AST, Scope]]:
+        """Children of a scope-opening node, each with the scope it is evaluated in.
+
+        Decorators, bases, defaults and annotations run in the enclosing scope; parameter
+        names and the body bind in the new one.
+        """
+        pushed: list[tuple[ast.AST, Scope]] = []
+        if isinstance(node, (*FUNCTIONS, ast.Lambda)):
+            for decorator in getattr(node, "decorator_list", ()):
+                pushed.append((decorator, outer))
+            arguments = node.args
+            pushed.append((arguments, inner))
+            if isinstance(node, ast.Lambda):
+                pushed.append((node.body, inner))
+            else:
+                pushed.extend((statement, inner) for statement in node.body)
+                if node.returns is not None:
+                    pushed.append((node.returns, outer))
+            return pushed
+        if isinstance(node, ast.ClassDef):
+            pushed.extend((decorator, outer) for decorator in node.decorator_list)
+            pushed.extend((base, outer) for base in node.bases)
+            pushed.extend((kw, outer) for kw in node.keywords)
+            pushed.extend((statement, inner) for statement in node.body)
+            return pushed
+        return [(child, inner) for child in ast.iter_child_nodes(node)]  # comprehensions
+
+    def _bind(self, scope: Scope, name: str, node: ast.AST) -> None:
+        target = self.module_scope if name in scope.declared_global else scope
+        target.bindings[name].append(node)
+
+    def _record_import(self, node: ast.Import | ast.ImportFrom, scope: Scope) -> None:
+        for alias in node.names:
+            if isinstance(node, ast.Import):
+                bound = alias.asname or alias.name.split(".", 1)[0]
+                qualified = alias.name if alias.asname else bound
+            else:
+                if alias.name == "*":
+                    continue
+                base = "." * node.level + (node.module or "")
+                bound = alias.asname or alias.name
+                qualified = f"{base}.{alias.name}" if base and not base.endswith(".") else base + alias.name
+            self._scope_of[alias] = scope
+            self.imports[alias] = qualified
+            self._bind(scope, bound, alias)
+
+    # -- structure ----------------------------------------------------------------------
+
+    def parent(self, node: ast.AST) -> ast.AST | None:
+        return self.parents.get(node)
+
+    def ancestors(self, node: ast.AST) -> Iterator[ast.AST]:
+        current = self.parents.get(node)
+        while current is not None:
+            yield current
+            current = self.parents.get(current)
+
+    def enclosing(self, node: ast.AST, kind: type | tuple[type, ...]) -> ast.AST | None:
+        for ancestor in self.ancestors(node):
+            if isinstance(ancestor, kind):
+                return ancestor
+        return None
+
+    def statement_of(self, node: ast.AST) -> ast.stmt:
+        """The innermost statement that contains ``node`` (``node`` itself if it is one)."""
+        current: ast.AST | None = node
+        while current is not None and not isinstance(current, ast.stmt):
+            current = self.parents.get(current)
+        assert current is not None, "every node of a module sits in a statement"
+        return current
+
+    def enclosing_function(self, node: ast.AST) -> ast.FunctionDef | ast.AsyncFunctionDef | None:
+        return self.enclosing(node, FUNCTIONS)  # type: ignore[return-value]
+
+    def enclosing_class(self, node: ast.AST) -> ast.ClassDef | None:
+        return self.enclosing(node, ast.ClassDef)  # type: ignore[return-value]
+
+    def is_method(self, function: ast.AST) -> bool:
+        parent = self.parents.get(function)
+        return isinstance(parent, ast.ClassDef) and function in parent.body
+
+    # -- names ----------------------------------------------------------------------------
+
+    def scope_of(self, node: ast.AST) -> Scope:
+        """The scope a Name/arg/alias/def lives in (for other nodes, the enclosing one)."""
+        scope = self._scope_of.get(node)
+        if scope is not None:
+            return scope
+        for ancestor in self.ancestors(node):
+            if ancestor in self.scopes and not (isinstance(ancestor, ast.ClassDef) and node not in ancestor.body):
+                return self.scopes[ancestor]
+        return self.module_scope
+
+    def resolve(self, name: str, scope: Scope) -> tuple[Scope | None, list[ast.AST]]:
+        """The scope that binds ``name`` as seen from ``scope``, and its bindings."""
+        current: Scope | None = scope
+        first = True
+        while current is not None:
+            if name in current.declared_global:
+                current = self.module_scope
+            if current.is_class and not first:
+                current = current.parent  # class bodies are not enclosing scopes for functions
+                continue
+            found = current.bindings.get(name)
+            if found:
+                return current, found
+            first = False
+            current = current.parent
+        return None, []
+
+    def bindings_of(self, name: ast.Name) -> list[ast.AST]:
+        return self.resolve(name.id, self.scope_of(name))[1]
+
+    def qualified_names(self, expr: ast.AST) -> set[str]:
+        """Library names ``expr`` stands for through imports: ``gym.make`` -> {"gym.make"}."""
+        if isinstance(expr, ast.Name):
+            found = set()
+            for binding in self.bindings_of(expr):
+                if isinstance(binding, ast.alias):
+                    found.add(self.imports[binding])
+            return found
+        if isinstance(expr, ast.Attribute):
+            return {f"{q}.{expr.attr}" for q in self.qualified_names(expr.value)}
+        return set()
+
+    def imported_as(self, qualified: str) -> str | None:
+        """A module-level name bound to ``qualified`` (``numpy`` -> ``np``), if any."""
+        for alias, name in self.imports.items():
+            if name == qualified and self._scope_of.get(alias) is self.module_scope:
+                return alias.asname or alias.name.split(".", 1)[0]
+        return None
+
+    # -- source -------------------------------------------------------------------------
+
+    def segment(self, node: ast.AST) -> str:
+        return ast.get_source_segment(self.text, node) or ""
+
+    def column(self, node: ast.AST) -> int:
+        """``ast`` columns count UTF-8 bytes; findings count characters."""
+        line = self.lines[node.lineno - 1] if 0 < node.lineno <= len(self.lines) else ""  # type: ignore[attr-defined]
+        offset = node.col_offset  # type: ignore[attr-defined]
+        if line.isascii():
+            return offset
+        return len(line.encode("utf-8")[:offset].decode("utf-8", errors="replace"))
+
+    def memo(self, key: tuple[str, int], compute):  # type: ignore[no-untyped-def]
+        """Memoize a per-node fact under ``(fact name, id(node))``."""
+        try:
+            return self._memo[key]
+        except KeyError:
+            value = self._memo[key] = compute()
+            return value
+
+
+def dotted_name(expr: ast.AST) -> str | None:
+    """``a.b.c`` for a chain of attributes on a name, else None."""
+    parts = []
+    while isinstance(expr, ast.Attribute):
+        parts.append(expr.attr)
+        expr = expr.value
+    if not isinstance(expr, ast.Name):
+        return None
+    parts.append(expr.id)
+    return ".".join(reversed(parts))
+
+
+def own_returns(function: ast.AST) -> list[ast.Return]:
+    """Return statements of ``function`` itself, not of nested defs, lambdas or classes."""
+    found: list[ast.Return] = []
+    stack = list(getattr(function, "body", []))
+    while stack:
+        node = stack.pop()
+        if isinstance(node, ast.Return):
+            found.append(node)
+        if isinstance(node, (*FUNCTIONS, ast.Lambda, ast.ClassDef)):
+            continue
+        stack.extend(ast.iter_child_nodes(node))
+    found.sort(key=lambda r: (r.lineno, r.col_offset))
+    return found
+
+
+def keyword(call: ast.Call, name: str) -> ast.keyword | None:
+    for kw in call.keywords:
+        if kw.arg == name:
+            return kw
+    return None
+
+
+def string_value(node: ast.AST | None) -> str | None:
+    if isinstance(node, ast.Constant) and isinstance(node.value, str):
+        return node.value
+    return None
+
+
+def call_argument(call: ast.Call, position: int | None, name: str) -> ast.expr | None:
+    """The argument ``call`` passes for parameter ``name`` at ``position`` (None if unclear)."""
+    for kw in call.keywords:
+        if kw.arg == name:
+            return kw.value
+    if position is None or position < 0:
+        return None
+    for index, arg in enumerate(call.args):
+        if isinstance(arg, ast.Starred):
+            return None
+        if index == position:
+            return arg
+    return None

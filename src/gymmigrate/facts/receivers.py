@@ -1,0 +1,550 @@
+"""Receiver classification: what kind of object is ``x`` in ``x.step(a)``?
+
+The same text (``x.reset()``, ``x.step(a)``, ``x.seed(s)``) has different correct
+answers for a Gym env, a Gym vector env, a Stable-Baselines3 VecEnv, a PettingZoo env
+or an optimiser. Rules that rewrite those calls ask this module first.
+
+The analysis decides from where a name comes from, never from its spelling: it
+follows assignments, ``self.x = ...`` stores in the same class, returns of functions
+defined in the module, and arguments at every call site of a function whose parameter
+is used. When the evidence disagrees or runs out, the answer is ``UNKNOWN`` and
+callers report instead of guessing.
+
+Every answer is memoized per node, and a node whose answer is being computed counts as
+"no evidence" when reached again, so rebinding chains (``env = Wrapper(env)`` a dozen
+times) cost linear time.
+"""
+
+from __future__ import annotations
+
+import ast
+from collections import defaultdict
+from collections.abc import Iterable
+from enum import Enum
+
+from gymmigrate.analysis import names as N
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, call_argument, own_returns
+
+# Deeper than any real chain of rebindings; beyond it the answer is "unknown", which
+# callers report. Keeps recursion far from the interpreter's limit.
+MAX_DEPTH = 120
+
+
+class EnvKind(str, Enum):
+    GYM_ENV = "Gym env"
+    GYM_VEC = "Gym vector env"
+    SB3_VEC = "Stable-Baselines3 VecEnv"
+    SB3_MODEL = "Stable-Baselines3 model"
+    PZ_AEC = "PettingZoo AEC env"
+    PZ_PARALLEL = "PettingZoo parallel env"
+    NOT_ENV = "not an env"
+    UNKNOWN = "unknown"
+
+    @property
+    def is_gym(self) -> bool:
+        return self in (EnvKind.GYM_ENV, EnvKind.GYM_VEC)
+
+
+def join_kinds(kinds: Iterable[EnvKind]) -> EnvKind:
+    """Combine the kinds of every binding of one name.
+
+    A guard kind wins (one SB3 binding is enough to leave the call alone); otherwise
+    the bindings must agree.
+    """
+    found = set(kinds)
+    if not found:
+        return EnvKind.UNKNOWN
+    if EnvKind.SB3_VEC in found:
+        return EnvKind.SB3_VEC
+    if len(found) == 1:
+        return found.pop()
+    found.discard(EnvKind.NOT_ENV)  # e.g. ``env = None`` before ``env = gym.make(...)``
+    if len(found) == 1:
+        return found.pop()
+    return EnvKind.UNKNOWN
+
+
+_NOT_ENV_EXPRESSIONS = (
+    ast.Constant,
+    ast.List,
+    ast.Tuple,
+    ast.Dict,
+    ast.Set,
+    ast.ListComp,
+    ast.DictComp,
+    ast.SetComp,
+    ast.GeneratorExp,
+    ast.Lambda,
+    ast.BinOp,
+    ast.UnaryOp,
+    ast.Compare,
+    ast.BoolOp,
+    ast.JoinedStr,
+)
+
+
+class Receivers:
+    """Classifies expressions of one module. One per file, shared by every rule."""
+
+    def __init__(self, facts: ModuleFacts) -> None:
+        self.facts = facts
+        self._cache: dict[ast.AST, EnvKind] = {}
+        self._in_progress: set[ast.AST] = set()
+        self._self_stores: dict[ast.ClassDef, dict[str, list[ast.expr]]] = {}
+        self._depth = 0
+
+    # -- public -------------------------------------------------------------------------
+
+    def kind_of(self, expr: ast.AST) -> EnvKind:
+        cached = self._cache.get(expr)
+        if cached is not None:
+            return cached
+        if expr in self._in_progress or self._depth > MAX_DEPTH:
+            return EnvKind.UNKNOWN  # a cycle such as ``env = wrap(env)``: no new evidence
+        self._in_progress.add(expr)
+        self._depth += 1
+        try:
+            kind = self._classify(expr)
+        finally:
+            self._depth -= 1
+            self._in_progress.discard(expr)
+        self._cache[expr] = kind
+        return kind
+
+    def qualified_names(self, node: ast.AST) -> set[str]:
+        return self.facts.qualified_names(node)
+
+    def class_kind(self, classdef: ast.ClassDef) -> EnvKind:
+        """The kind of instances of a class defined in this module, from its bases."""
+        kinds = [self._base_kind(base) for base in classdef.bases]
+        useful = [k for k in kinds if k not in (EnvKind.UNKNOWN, EnvKind.NOT_ENV)]
+        return useful[0] if useful else EnvKind.NOT_ENV if not kinds else EnvKind.UNKNOWN
+
+    def is_gym_wrapper_class(self, classdef: ast.ClassDef, _seen: frozenset[int] = frozenset()) -> bool:
+        for base in classdef.bases:
+            for q in self.qualified_names(base):
+                rest = N.strip_gym_prefix(q)
+                if rest is not None and (rest in N.GYM_WRAPPER_BASE_CLASSES or rest.startswith("wrappers.")):
+                    return True
+            local = self.local_class(base)
+            if local is not None and local is not classdef and id(local) not in _seen:
+                if self.is_gym_wrapper_class(local, _seen | {id(classdef)}):
+                    return True
+        return False
+
+    def local_class(self, func: ast.AST) -> ast.ClassDef | None:
+        return self.facts.classes.get(func.id) if isinstance(func, ast.Name) else None
+
+    def local_function(self, func: ast.AST) -> ast.FunctionDef | ast.AsyncFunctionDef | None:
+        return self.facts.functions.get(func.id) if isinstance(func, ast.Name) else None
+
+    def super_kind(self, receiver: ast.AST) -> EnvKind | None:
+        """``super().step(a)`` inside a Gym wrapper or env subclass is the wrapped Gym call."""
+        if not (isinstance(receiver, ast.Call) and isinstance(receiver.func, ast.Name) and receiver.func.id == "super"):
+            return None
+        classdef = self.facts.enclosing_class(receiver)
+        if classdef is None:
+            return None
+        if self.is_gym_wrapper_class(classdef):
+            return EnvKind.GYM_ENV
+        kind = self.class_kind(classdef)
+        return kind if kind.is_gym else None
+
+    # -- classification -----------------------------------------------------------------
+
+    def _classify(self, expr: ast.AST) -> EnvKind:
+        if isinstance(expr, ast.Name):
+            return self._classify_name(expr)
+        if isinstance(expr, ast.Call):
+            return self._classify_call(expr)
+        if isinstance(expr, ast.Attribute):
+            return self._classify_attribute(expr)
+        if isinstance(expr, ast.Subscript):
+            return self._element_kind(expr.value)
+        if isinstance(expr, ast.IfExp):
+            return join_kinds([self.kind_of(expr.body), self.kind_of(expr.orelse)])
+        if isinstance(expr, ast.NamedExpr):
+            return self.kind_of(expr.value)
+        if isinstance(expr, ast.Await):
+            return EnvKind.UNKNOWN
+        if isinstance(expr, _NOT_ENV_EXPRESSIONS):
+            return EnvKind.NOT_ENV
+        return EnvKind.UNKNOWN
+
+    def _classify_call(self, call: ast.Call) -> EnvKind:
+        func = call.func
+        # model.get_env() on anything: Stable-Baselines3's accessor for its VecEnv.
+        if isinstance(func, ast.Attribute) and func.attr == "get_env":
+            return EnvKind.SB3_VEC
+        # gym.spec(id).make()
+        if isinstance(func, ast.Attribute) and func.attr == "make" and isinstance(func.value, ast.Call):
+            if any(N.strip_gym_prefix(q) in ("spec", "envs.spec") for q in self.qualified_names(func.value.func)):
+                return EnvKind.GYM_ENV
+        kinds = [k for k in (self._kind_from_qualified(q, call) for q in self.qualified_names(func)) if k is not None]
+        if kinds:
+            return join_kinds(kinds)
+        local_class = self.local_class(func)
+        if local_class is not None:
+            return self.class_kind(local_class)
+        local_function = self.local_function(func)
+        if local_function is not None:
+            return self._returns_kind(local_function)
+        # ``VecNormalize.load(...)`` is a classmethod call on a known class.
+        if isinstance(func, ast.Attribute):
+            owner = self.qualified_names(func.value)
+            if any(q.startswith(N.SB3_VEC_PREFIXES) for q in owner):
+                return EnvKind.SB3_VEC
+            if any(q.startswith(N.SB3_PACKAGES) for q in owner) and func.attr == "load":
+                return EnvKind.SB3_MODEL
+        return EnvKind.UNKNOWN
+
+    def _kind_from_qualified(self, qualified: str, call: ast.Call) -> EnvKind | None:
+        rest = N.strip_gym_prefix(qualified)
+        if rest is not None:
+            if rest in N.GYM_VEC_FACTORIES or rest.startswith(N.GYM_VEC_PREFIXES):
+                return EnvKind.GYM_VEC
+            if rest in N.GYM_ENV_FACTORIES:
+                return EnvKind.GYM_ENV
+            if rest.startswith(N.GYM_ENV_CLASS_PREFIXES) and rest.rsplit(".", 1)[-1][:1].isupper():
+                return EnvKind.GYM_ENV
+            return EnvKind.NOT_ENV
+        if qualified in N.SB3_VEC_FACTORIES or qualified.startswith(N.SB3_VEC_PREFIXES):
+            return EnvKind.SB3_VEC
+        package = N.top_package(qualified)
+        if package in N.SB3_PACKAGES:
+            name = qualified.rsplit(".", 1)[-1]
+            if name.isupper() or name in N.SB3_MODEL_CLASSES:
+                return EnvKind.SB3_MODEL
+            return None
+        if package == N.PETTINGZOO_PACKAGE:
+            if qualified in N.PZ_PARALLEL_FACTORIES or qualified.endswith(N.PZ_PARALLEL_SUFFIXES):
+                return EnvKind.PZ_PARALLEL
+            if qualified in N.PZ_AEC_FACTORIES or qualified.endswith(N.PZ_AEC_SUFFIXES):
+                return EnvKind.PZ_AEC
+            if qualified == "pettingzoo.make" and call.args:
+                first = call.args[0]
+                if isinstance(first, ast.Constant) and isinstance(first.value, str):
+                    return EnvKind.PZ_PARALLEL if "parallel" in first.value else EnvKind.PZ_AEC
+            if ".wrappers." in qualified:
+                return EnvKind.PZ_AEC
+            return None
+        if package in N.NOT_ENV_PACKAGES:
+            return EnvKind.NOT_ENV
+        return None
+
+    def _classify_attribute(self, attr: ast.Attribute) -> EnvKind:
+        name = attr.attr
+        if name == "training_env":
+            return EnvKind.SB3_VEC
+        if isinstance(attr.value, ast.Name) and self.is_self(attr.value):
+            return self._self_attribute_kind(attr, name)
+        if name in ("env", "unwrapped"):
+            owner = self.kind_of(attr.value)
+            if owner is EnvKind.SB3_MODEL and name == "env":
+                return EnvKind.SB3_VEC
+            if owner is EnvKind.GYM_ENV:
+                return EnvKind.GYM_ENV
+        if any(N.top_package(q) in N.NOT_ENV_PACKAGES for q in self.qualified_names(attr)):
+            return EnvKind.NOT_ENV
+        return EnvKind.UNKNOWN
+
+    def _classify_name(self, name: ast.Name) -> EnvKind:
+        bindings = self.facts.bindings_of(name)
+        if not bindings:
+            return EnvKind.UNKNOWN  # a builtin or a name this module never binds
+        kinds = []
+        for binding in bindings:
+            kind = self.binding_kind(binding)
+            if kind is not None:
+                kinds.append(kind)
+        return join_kinds(kinds)
+
+    def binding_kind(self, binding: ast.AST) -> EnvKind | None:
+        """The kind of value one binding stores (None: it adds no evidence, e.g. ``+=``)."""
+        if isinstance(binding, (ast.alias, *FUNCTIONS, ast.ClassDef, ast.ExceptHandler)):
+            return EnvKind.NOT_ENV  # modules, functions, classes, exceptions
+        if isinstance(binding, ast.arg):
+            return self._param_kind(binding)
+        if not isinstance(binding, ast.Name):
+            return EnvKind.UNKNOWN
+        parent = self.facts.parent(binding)
+        if isinstance(parent, ast.Assign):
+            return self.kind_of(parent.value)
+        if isinstance(parent, ast.AnnAssign):
+            if parent.value is not None:
+                return self.kind_of(parent.value)
+            return self.annotation_kind(parent.annotation)
+        if isinstance(parent, ast.NamedExpr):
+            return self.kind_of(parent.value)
+        if isinstance(parent, ast.withitem):
+            return self.kind_of(parent.context_expr)
+        if isinstance(parent, (ast.For, ast.AsyncFor, ast.comprehension)) and parent.target is binding:
+            return self._element_kind(parent.iter)
+        if isinstance(parent, (ast.Tuple, ast.List)):
+            return self._unpacked_kind(binding, parent)
+        if isinstance(parent, ast.AugAssign):
+            return None
+        return EnvKind.UNKNOWN
+
+    def _unpacked_kind(self, target: ast.Name, container: ast.Tuple | ast.List) -> EnvKind:
+        index = next(i for i, el in enumerate(container.elts) if el is target)
+        holder = self.facts.parent(container)
+        value: ast.AST | None = None
+        if isinstance(holder, ast.Assign):
+            value = holder.value
+        elif isinstance(holder, (ast.For, ast.AsyncFor, ast.comprehension)) and holder.target is container:
+            # ``for i, env in enumerate(envs)`` and ``for env, name in zip(envs, names)``
+            iterable = holder.iter
+            if isinstance(iterable, ast.Call) and isinstance(iterable.func, ast.Name):
+                if iterable.func.id == "enumerate" and index == 1 and iterable.args:
+                    return self._element_kind(iterable.args[0])
+                if iterable.func.id == "zip" and index < len(iterable.args):
+                    return self._element_kind(iterable.args[index])
+            return EnvKind.UNKNOWN
+        if isinstance(value, (ast.Tuple, ast.List)) and len(value.elts) == len(container.elts):
+            if not any(isinstance(el, ast.Starred) for el in value.elts):
+                return self.kind_of(value.elts[index])
+        if value is not None and not isinstance(value, (ast.Tuple, ast.List)):
+            # ``obs, info = env.reset()``: the targets are values returned by a call, not envs
+            # unless the call is a local function returning a tuple of envs.
+            local = self.local_function(value.func) if isinstance(value, ast.Call) else None
+            if local is None and isinstance(value, ast.Call) and _is_env_method_call(value):
+                return EnvKind.NOT_ENV
+        return EnvKind.UNKNOWN
+
+    def _element_kind(self, container: ast.AST) -> EnvKind:
+        """Kind of the items of a list/tuple of envs (``envs[i]``, ``for env in envs``)."""
+        if isinstance(container, (ast.List, ast.Tuple, ast.Set)):
+            return join_kinds(self.kind_of(el) for el in container.elts if not isinstance(el, ast.Starred))
+        if isinstance(container, (ast.ListComp, ast.GeneratorExp, ast.SetComp)):
+            return self.kind_of(container.elt)
+        if isinstance(container, ast.Name):
+            bindings = self.facts.bindings_of(container)
+            if not bindings:
+                return EnvKind.UNKNOWN
+            kinds = []
+            for binding in bindings:
+                parent = self.facts.parent(binding)
+                if isinstance(binding, ast.Name) and isinstance(parent, ast.Assign):
+                    kinds.append(self._element_kind_memo(parent.value))
+                else:
+                    kinds.append(EnvKind.UNKNOWN)
+            return join_kinds(kinds)
+        if isinstance(container, ast.Attribute) and isinstance(container.value, ast.Name):
+            if self.is_self(container.value):
+                values = self.self_attribute_values(container, container.attr)
+                return join_kinds(self._element_kind_memo(v) for v in values) if values else EnvKind.UNKNOWN
+        return EnvKind.UNKNOWN
+
+    def _element_kind_memo(self, container: ast.AST) -> EnvKind:
+        key = ("element-kind", id(container))
+        cached = self.facts._memo.get(key)
+        if cached is not None:
+            return cached  # type: ignore[return-value]
+        if self._depth > MAX_DEPTH:
+            return EnvKind.UNKNOWN
+        self.facts._memo[key] = EnvKind.UNKNOWN  # a cycle adds no evidence
+        self._depth += 1
+        try:
+            kind = self._element_kind(container)
+        finally:
+            self._depth -= 1
+        self.facts._memo[key] = kind
+        return kind
+
+    # -- parameters ---------------------------------------------------------------------
+
+    def _param_kind(self, param: ast.arg) -> EnvKind:
+        if param.annotation is not None:
+            kind = self.annotation_kind(param.annotation)
+            if kind is not EnvKind.UNKNOWN:
+                return kind
+        function = self.facts.parent(self.facts.parent(param))  # arg -> arguments -> def
+        if not isinstance(function, FUNCTIONS):
+            return EnvKind.UNKNOWN
+        params = [*function.args.posonlyargs, *function.args.args]
+        name = param.arg
+        classdef = self.facts.parent(function)
+        is_method = isinstance(classdef, ast.ClassDef) and self.facts.is_method(function)
+        if is_method and params and params[0] is param:
+            return EnvKind.NOT_ENV  # self / cls
+        if is_method and name == "env" and function.name == "__init__" and self.is_gym_wrapper_class(classdef):  # type: ignore[arg-type]
+            return EnvKind.GYM_ENV
+        position = next((i for i, p in enumerate(params) if p is param), None)
+        if position is not None and is_method:
+            position -= 1  # calls do not pass self
+        calls = self.call_sites(function, classdef if is_method else None)  # type: ignore[arg-type]
+        if not calls:
+            return EnvKind.UNKNOWN
+        defaults = _default_of(function, param)
+        kinds = []
+        for call in calls:
+            argument = call_argument(call, position, name)
+            if argument is None:
+                if defaults:
+                    continue
+                kinds.append(EnvKind.UNKNOWN)
+            else:
+                kinds.append(self.kind_of(argument))
+        return join_kinds(kinds)
+
+    def annotation_kind(self, annotation: ast.AST) -> EnvKind:
+        for q in self.qualified_names(annotation):
+            rest = N.strip_gym_prefix(q)
+            if rest in N.GYM_ENV_BASE_CLASSES:
+                return EnvKind.GYM_ENV
+            if rest is not None and rest.startswith("vector.") and rest.endswith("Env"):
+                return EnvKind.GYM_VEC
+            other = _other_library_class_kind(q)
+            if other is not None:
+                return other
+        return EnvKind.UNKNOWN
+
+    def call_sites(self, function: ast.AST, classdef: ast.ClassDef | None) -> list[ast.Call]:
+        """Calls in this module that reach ``function`` (a method when ``classdef`` is given)."""
+        name = function.name  # type: ignore[attr-defined]
+        if classdef is None:
+            return [
+                c
+                for c in self.facts.calls_by_name.get(name, [])
+                if self.local_function(c.func) is function
+            ]
+        if name == "__init__":
+            return list(self.facts.calls_by_name.get(classdef.name, []))
+        return [
+            c
+            for c in self.facts.attribute_calls.get(name, [])
+            if isinstance(c.func.value, ast.Name) and self.is_self(c.func.value)  # type: ignore[attr-defined]
+        ]
+
+    # -- self attributes ----------------------------------------------------------------
+
+    def is_self(self, name: ast.Name) -> bool:
+        if name.id not in ("self", "cls"):
+            return False
+        function = self.facts.enclosing_function(name)
+        if function is None:
+            return False
+        params = [*function.args.posonlyargs, *function.args.args]
+        return bool(params) and params[0].arg == name.id
+
+    def _self_attribute_kind(self, attr: ast.Attribute, name: str) -> EnvKind:
+        classdef = self.facts.enclosing_class(attr)
+        if classdef is None:
+            return EnvKind.UNKNOWN
+        if name == "env" and self.is_gym_wrapper_class(classdef):
+            return EnvKind.GYM_ENV
+        if name == "training_env":
+            return EnvKind.SB3_VEC
+        if name == "model" and self._is_sb3_callback(classdef):
+            return EnvKind.SB3_MODEL
+        values = self.self_attribute_values(attr, name)
+        if not values:
+            return EnvKind.UNKNOWN
+        return join_kinds(self.kind_of(value) for value in values)
+
+    def self_attribute_values(self, attr: ast.AST, name: str) -> list[ast.expr]:
+        """Values stored to ``self.<name>`` in the class that encloses ``attr``."""
+        classdef = self.facts.enclosing_class(attr)
+        if classdef is None:
+            return []
+        return self.self_stores(classdef).get(name, [])
+
+    def self_stores(self, classdef: ast.ClassDef) -> dict[str, list[ast.expr]]:
+        """Values stored to ``self.x`` anywhere in a class (not nested classes), by name.
+
+        One walk per class, not per attribute read: env classes read dozens of ``self.x``.
+        """
+        stores = self._self_stores.get(classdef)
+        if stores is None:
+            stores = self._self_stores[classdef] = _collect_self_stores(classdef)
+        return stores
+
+    def _is_sb3_callback(self, classdef: ast.ClassDef) -> bool:
+        return any(q in N.SB3_CALLBACK_BASES for base in classdef.bases for q in self.qualified_names(base))
+
+    def _base_kind(self, base: ast.AST) -> EnvKind:
+        for q in self.qualified_names(base):
+            rest = N.strip_gym_prefix(q)
+            if rest is not None:
+                if rest in N.GYM_ENV_BASE_CLASSES or rest.startswith("wrappers."):
+                    return EnvKind.GYM_ENV
+                if rest.startswith("vector."):
+                    return EnvKind.GYM_VEC
+            other = _other_library_class_kind(q)
+            if other is not None:
+                return other
+        local = self.local_class(base)
+        if local is not None:
+            key = ("class-kind", id(local))
+            cached = self.facts._memo.get(key)
+            if cached is None:
+                self.facts._memo[key] = EnvKind.UNKNOWN  # class cycles add no evidence
+                cached = self.facts._memo[key] = self.class_kind(local)
+            return cached  # type: ignore[return-value]
+        return EnvKind.UNKNOWN
+
+    def _returns_kind(self, function: ast.AST) -> EnvKind:
+        values = [r.value for r in own_returns(function) if r.value is not None]
+        if not values:
+            return EnvKind.NOT_ENV
+        return join_kinds(self.kind_of(value) for value in values)
+
+
+def _is_env_method_call(call: ast.Call) -> bool:
+    return isinstance(call.func, ast.Attribute) and call.func.attr in ("reset", "step", "last")
+
+
+def _default_of(function: ast.AST, param: ast.arg) -> bool:
+    """Whether ``param`` has a default value."""
+    args = function.args  # type: ignore[attr-defined]
+    positional = [*args.posonlyargs, *args.args]
+    if param in positional:
+        return positional.index(param) >= len(positional) - len(args.defaults)
+    if param in args.kwonlyargs:
+        return args.kw_defaults[args.kwonlyargs.index(param)] is not None
+    return False
+
+
+def _other_library_class_kind(qualified: str) -> EnvKind | None:
+    """Kind of an SB3 or PettingZoo class named in an annotation or a base list."""
+    if qualified.startswith(N.SB3_VEC_PREFIXES):
+        return EnvKind.SB3_VEC
+    if qualified in N.PZ_AEC_BASES:
+        return EnvKind.PZ_AEC
+    if qualified in N.PZ_PARALLEL_BASES:
+        return EnvKind.PZ_PARALLEL
+    return None
+
+
+def _stored_self_name(target: ast.AST) -> str | None:
+    if isinstance(target, ast.Attribute) and isinstance(target.value, ast.Name) and target.value.id == "self":
+        return target.attr
+    return None
+
+
+def _collect_self_stores(classdef: ast.ClassDef) -> dict[str, list[ast.expr]]:
+    values: dict[str, list[ast.expr]] = defaultdict(list)
+    stack: list[ast.AST] = list(classdef.body)
+    while stack:
+        node = stack.pop()
+        if isinstance(node, ast.ClassDef):
+            continue
+        if isinstance(node, ast.Assign):
+            for target in node.targets:
+                name = _stored_self_name(target)
+                if name is not None:
+                    values[name].append(node.value)
+                elif isinstance(target, (ast.Tuple, ast.List)) and isinstance(node.value, (ast.Tuple, ast.List)):
+                    for element, value in zip(target.elts, node.value.elts):
+                        name = _stored_self_name(element)
+                        if name is not None:
+                            values[name].append(value)
+        elif isinstance(node, ast.AnnAssign) and node.value is not None:
+            name = _stored_self_name(node.target)
+            if name is not None:
+                values[name].append(node.value)
+        stack.extend(ast.iter_child_nodes(node))
+    for stored in values.values():
+        stored.sort(key=lambda v: (v.lineno, v.col_offset))
+    return values
