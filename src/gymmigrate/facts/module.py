@@ -312,6 +312,25 @@ def dotted_name(expr: ast.AST) -> str | None:
     return ".".join(reversed(parts))
 
 
+def full_name(node: ast.AST) -> str | None:
+    """The name a reader would say: ``super().step`` -> ``super.step``, ``envs[0]`` -> ``envs``.
+
+    The same spelling LibCST's ``get_full_name_for_node`` gives, so messages read alike.
+    """
+    if isinstance(node, ast.Name):
+        return node.id
+    if isinstance(node, ast.Attribute):
+        owner = full_name(node.value)
+        return None if owner is None else f"{owner}.{node.attr}"
+    if isinstance(node, ast.Call):
+        return full_name(node.func)
+    if isinstance(node, ast.Subscript):
+        return full_name(node.value)
+    if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+        return node.name
+    return None
+
+
 def own_returns(function: ast.AST) -> list[ast.Return]:
     """Return statements of ``function`` itself, not of nested defs, lambdas or classes."""
     found: list[ast.Return] = []

@@ -22,15 +22,14 @@ and `apply_api_compatibility` was removed").
 
 from __future__ import annotations
 
+import ast
+
 import libcst as cst
-from libcst.codemod.visitors import AddImportsVisitor
-from libcst.helpers import get_full_name_for_node
-from libcst.metadata import ParentNodeProvider, PositionProvider, QualifiedNameProvider, ScopeProvider
 
 from gymmigrate.analysis import names as N
-from gymmigrate.analysis.receivers import ReceiverAnalysis
+from gymmigrate.facts import ModuleFacts
 from gymmigrate.findings import FixKind
-from gymmigrate.rules.base import FileProfile, Rule, RulePass
+from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 
 RULES = (
     Rule(
@@ -53,44 +52,57 @@ REMOVED_MAKE_KEYWORDS = ("autoreset", "apply_api_compatibility", "return_info")
 _VECTOR_CONSTRUCTORS = frozenset({"vector.make", "make_vec"}) | N.GYM_VEC_FACTORIES
 
 
-class MakeKeywordsPass(RulePass):
+class MakeKeywords(RuleFamily):
     RULES = RULES
     ORDER = 30
-    METADATA_DEPENDENCIES = (PositionProvider, ScopeProvider, ParentNodeProvider, QualifiedNameProvider)
 
     @classmethod
-    def applies_to(cls, source: str, profile: FileProfile) -> bool:
-        return any(keyword + "=" in source or keyword + " =" in source for keyword in (NEW_STEP_API, *REMOVED_MAKE_KEYWORDS))
+    def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
+        return any(keyword in facts.text for keyword in (NEW_STEP_API, *REMOVED_MAKE_KEYWORDS))
 
-    def visit_Module(self, node: cst.Module) -> None:
-        self.analysis = ReceiverAnalysis(node, self.metadata)
+    def decide(self) -> None:
+        for calls in (*self.facts.calls_by_name.values(), *self.facts.attribute_calls.values()):
+            for call in calls:
+                if any(kw.arg in (NEW_STEP_API, *REMOVED_MAKE_KEYWORDS) for kw in call.keywords):
+                    self._decide_call(call)
 
-    def leave_Call(self, original_node: cst.Call, updated_node: cst.Call) -> cst.BaseExpression:
-        callee = self._callee(original_node)
+    def _decide_call(self, call: ast.Call) -> None:
+        callee = self._callee(call)
         if callee is None:
-            return updated_node
+            return
         drop: set[str] = set()
         wrap_autoreset = False
-        for arg in original_node.args:
-            keyword = arg.keyword.value if arg.keyword is not None else None
-            if keyword == NEW_STEP_API:
-                drop.add(keyword)
-                self.report(arg, "GM305", f"`{NEW_STEP_API}=` was removed in gym 0.26: step always returns five values")
-            elif callee == "make" and keyword in REMOVED_MAKE_KEYWORDS:
-                handled, wrap = self._removed_make_keyword(arg, keyword)  # type: ignore[arg-type]
+        for kw in call.keywords:
+            if kw.arg == NEW_STEP_API:
+                drop.add(kw.arg)
+                self.report(kw, "GM305", f"`{NEW_STEP_API}=` was removed in gym 0.26: step always returns five values")
+            elif callee == "make" and kw.arg in REMOVED_MAKE_KEYWORDS:
+                handled, wrap = self._removed_make_keyword(kw, kw.arg)
                 if handled:
-                    drop.add(keyword)  # type: ignore[arg-type]
+                    drop.add(kw.arg)
                     wrap_autoreset = wrap_autoreset or wrap
         if not drop:
-            return updated_node
-        call = updated_node.with_changes(args=_without_keywords(updated_node.args, drop))
-        return self._autoreset(call) if wrap_autoreset else call
+            return
+        wrapper = self._autoreset_wrapper(call) if wrap_autoreset else None
+
+        def build(node: cst.Call) -> cst.BaseExpression:
+            node = node.with_changes(args=_without_keywords(node.args, drop))
+            if wrapper is None:
+                return node
+            return cst.Call(
+                func=cst.parse_expression(wrapper),
+                args=[cst.Arg(value=node.with_changes(lpar=(), rpar=()))],
+                lpar=node.lpar,
+                rpar=node.rpar,
+            )
+
+        self.plan.replace(call, build)
 
     # -- which calls ----------------------------------------------------------------------
 
-    def _callee(self, call: cst.Call) -> str | None:
+    def _callee(self, call: ast.Call) -> str | None:
         """``make`` for env factories, ``other`` for vector/wrapper constructors, else None."""
-        for qualified in self.analysis.qualified_names(call.func):
+        for qualified in self.facts.qualified_names(call.func):
             rest = N.strip_gym_prefix(qualified)
             if rest is None:
                 continue
@@ -98,58 +110,60 @@ class MakeKeywordsPass(RulePass):
                 return "make"
             if rest in _VECTOR_CONSTRUCTORS or rest.startswith(("wrappers.", "vector.")):
                 return "other"
-        if isinstance(call.func, cst.Attribute) and call.func.attr.value == "make" and isinstance(call.func.value, cst.Call):
-            if any(N.strip_gym_prefix(q) in ("spec", "envs.spec") for q in self.analysis.qualified_names(call.func.value.func)):
+        func = call.func
+        if isinstance(func, ast.Attribute) and func.attr == "make" and isinstance(func.value, ast.Call):
+            if any(N.strip_gym_prefix(q) in ("spec", "envs.spec") for q in self.facts.qualified_names(func.value.func)):
                 return "make"  # gym.spec(id).make(...)
         if self._is_wrapper_super_init(call):
             return "other"
         return None
 
-    def _is_wrapper_super_init(self, call: cst.Call) -> bool:
+    def _is_wrapper_super_init(self, call: ast.Call) -> bool:
         """``super().__init__(env, new_step_api=...)`` inside a Gym wrapper subclass."""
         func = call.func
         if not (
-            isinstance(func, cst.Attribute)
-            and func.attr.value == "__init__"
-            and isinstance(func.value, cst.Call)
-            and get_full_name_for_node(func.value.func) == "super"
+            isinstance(func, ast.Attribute)
+            and func.attr == "__init__"
+            and isinstance(func.value, ast.Call)
+            and isinstance(func.value.func, ast.Name)
+            and func.value.func.id == "super"
         ):
             return False
-        classdef = self.analysis.enclosing(call, cst.ClassDef)
-        return isinstance(classdef, cst.ClassDef) and self.analysis.is_gym_wrapper_class(classdef)
+        classdef = self.facts.enclosing_class(call)
+        return classdef is not None and self.receivers.is_gym_wrapper_class(classdef)
 
     # -- GM801 ------------------------------------------------------------------------------
 
-    def _removed_make_keyword(self, arg: cst.Arg, keyword: str) -> tuple[bool, bool]:
+    def _removed_make_keyword(self, kw: ast.keyword, keyword: str) -> tuple[bool, bool]:
         """Report one removed ``make`` keyword; (delete it?, wrap the call in Autoreset?)."""
-        value = _constant(arg.value)
+        value = kw.value.value if isinstance(kw.value, ast.Constant) and isinstance(kw.value.value, bool) else None
         if keyword == "return_info":
-            self.report(arg, "GM801", "`return_info=` is not a `make` keyword (the env constructor rejects it): deleted", FixKind.AUTO)
+            self.report(kw, "GM801", "`return_info=` is not a `make` keyword (the env constructor rejects it): deleted", FixKind.AUTO)
             return True, False
         if keyword == "apply_api_compatibility":
             if value is False:
-                self.report(arg, "GM801", "`apply_api_compatibility=False` was the default and is gone: deleted", FixKind.AUTO)
+                self.report(kw, "GM801", "`apply_api_compatibility=False` was the default and is gone: deleted", FixKind.AUTO)
             else:
                 self.report(
-                    arg,
+                    kw,
                     "GM801",
                     "`apply_api_compatibility=` was removed in Gymnasium 1.0: deleted; the env must follow the "
                     'Gymnasium API, or create a legacy one with gym.make("GymV21Environment-v0", env_id=...) from Shimmy',
                 )
             return True, False
         if value is False:
-            self.report(arg, "GM801", "`autoreset=False` was the default and is gone: deleted", FixKind.AUTO)
+            self.report(kw, "GM801", "`autoreset=False` was the default and is gone: deleted", FixKind.AUTO)
             return True, False
         if value is True:
             self.report(
-                arg,
+                kw,
                 "GM801",
                 "`autoreset=True` became the `Autoreset` wrapper; since Gymnasium 1.0 it resets on the step after "
                 "the episode ends (that step returns the reset obs with reward 0) and sets no final_observation: review",
             )
             return True, True
         self.report(
-            arg,
+            kw,
             "GM801",
             "`autoreset=` was removed in Gymnasium 1.0 and its value is not a constant: wrap the env in "
             "gymnasium.wrappers.Autoreset where it was true",
@@ -157,21 +171,12 @@ class MakeKeywordsPass(RulePass):
         )
         return False, False
 
-    def _autoreset(self, call: cst.Call) -> cst.Call:
-        """``gym.make(...)`` -> ``gym.wrappers.Autoreset(gym.make(...))``, through the user's alias."""
+    def _autoreset_wrapper(self, call: ast.Call) -> str:
+        """The wrapper's name through the user's alias (``gym.wrappers.Autoreset``), or an import."""
         func = call.func
-        if isinstance(func, cst.Attribute) and isinstance(func.value, cst.Name):
-            wrapper: cst.BaseExpression = cst.parse_expression(f"{func.value.value}.wrappers.Autoreset")
-        else:
-            AddImportsVisitor.add_needed_import(self.context.codemod, "gymnasium.wrappers", "Autoreset")
-            wrapper = cst.Name("Autoreset")
-        return cst.Call(func=wrapper, args=[cst.Arg(value=call.with_changes(lpar=(), rpar=()))], lpar=call.lpar, rpar=call.rpar)
-
-
-def _constant(value: cst.BaseExpression) -> bool | None:
-    if isinstance(value, cst.Name) and value.value in ("True", "False"):
-        return value.value == "True"
-    return None
+        if isinstance(func, ast.Attribute) and isinstance(func.value, ast.Name):
+            return f"{func.value.id}.wrappers.Autoreset"
+        return self.plan.ensure_import("gymnasium.wrappers", "Autoreset")
 
 
 def _without_keywords(args: tuple[cst.Arg, ...] | list[cst.Arg], keywords: set[str]) -> list[cst.Arg]:

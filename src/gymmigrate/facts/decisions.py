@@ -1,0 +1,77 @@
+"""One policy for every call-site rule: rewrite, rewrite for review, report, or leave.
+
+Keeping the policy in one place means ``reset``, ``step``, ``seed`` and ``render``
+rules treat an uncertain receiver the same way.
+"""
+
+from __future__ import annotations
+
+import ast
+import re
+from dataclasses import dataclass
+from enum import Enum
+from typing import TYPE_CHECKING
+
+from gymmigrate.facts.module import full_name
+from gymmigrate.facts.receivers import EnvKind
+
+if TYPE_CHECKING:
+    from gymmigrate.rules.base import FileProfile
+
+# Spellings that name an environment. Used only to decide between reporting and
+# staying silent (or, in a file that uses nothing but Gym, rewriting for review):
+# never to rewrite on its own.
+_ENV_LIKE = re.compile(r"(^|_)(env|envs|environment|environments)(_|$|\d)", re.IGNORECASE)
+
+
+class Action(str, Enum):
+    REWRITE = "rewrite"  # the receiver is a Gym env: rewrite (AUTO unless the rule says ASSIST)
+    REWRITE_FOR_REVIEW = "rewrite-for-review"  # probably a Gym env: rewrite as ASSIST, list it
+    REPORT = "report"  # cannot tell: leave the code, list it for review (FLAG)
+    LEAVE = "leave"  # not a Gym env (SB3 VecEnv, PettingZoo, optimiser...): never touch
+
+
+@dataclass(frozen=True)
+class Decision:
+    action: Action
+    reason: str
+
+
+def receiver_text(receiver: ast.AST) -> str:
+    return full_name(receiver) or "the receiver"
+
+
+def looks_like_env(receiver: ast.AST) -> bool:
+    name = full_name(receiver) or ""
+    last = name.rsplit(".", 1)[-1]
+    return bool(_ENV_LIKE.search(last))
+
+
+def decide(
+    kind: EnvKind,
+    receiver: ast.AST,
+    profile: FileProfile,
+    *,
+    legacy_shape: bool = False,
+    expected: EnvKind = EnvKind.GYM_ENV,
+) -> Decision:
+    """What to do with ``receiver.method(...)`` given its classified ``kind``.
+
+    ``legacy_shape``: the call is used the legacy way (e.g. four names unpacked from
+    ``step``), which makes an unknown receiver worth reporting even if its name does
+    not look like an env. ``expected`` is the kind the rule rewrites (GYM_ENV or GYM_VEC).
+    """
+    name = receiver_text(receiver)
+    if kind is expected:
+        return Decision(Action.REWRITE, f"`{name}` is a {kind.value}")
+    if kind is not EnvKind.UNKNOWN:
+        return Decision(Action.LEAVE, f"`{name}` is a {kind.value}")
+    env_like = looks_like_env(receiver)
+    if env_like and profile.gym_only:
+        return Decision(
+            Action.REWRITE_FOR_REVIEW,
+            f"could not trace where `{name}` comes from; rewritten because this file uses only Gym",
+        )
+    if env_like or (legacy_shape and (profile.imports_gym or profile.imports_gymnasium)):
+        return Decision(Action.REPORT, f"could not tell whether `{name}` is a Gym env; not rewritten")
+    return Decision(Action.LEAVE, f"`{name}` is not known to be an env")
