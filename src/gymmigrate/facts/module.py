@@ -63,6 +63,7 @@ class ModuleFacts:
         self.functions: dict[str, ast.FunctionDef | ast.AsyncFunctionDef] = {}  # module-level functions
         self.all_classes: list[ast.ClassDef] = []
         self.strings: list[ast.Constant] = []
+        self.import_statements: list[ast.Import | ast.ImportFrom] = []
         self._memo: dict[tuple[str, int], object] = {}
         self.module_scope = Scope(tree, None)
         self.scopes[tree] = self.module_scope
@@ -132,6 +133,7 @@ class ModuleFacts:
             self._bind(scope, node.arg, node)
             return None
         if isinstance(node, (ast.Import, ast.ImportFrom)):
+            self.import_statements.append(node)
             self._record_import(node, scope)
             return None
         if isinstance(node, ast.Global):

@@ -16,12 +16,15 @@ Source: Gymnasium migration guide, "Package Import"; gymnasium 1.0 release notes
 
 from __future__ import annotations
 
+import ast
+
 import libcst as cst
-from libcst.helpers import get_full_name_for_node
 
 from gymmigrate.analysis.syntax import dotted_node
+from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts.module import dotted_name
 from gymmigrate.findings import FixKind
-from gymmigrate.rules.base import FileProfile, Rule, RulePass
+from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 
 RULES = (
     Rule("GM101", "import gym", FixKind.AUTO, "`import gym` becomes `import gymnasium as gym`."),
@@ -102,12 +105,6 @@ REMOVED_NAMES = {
 LEGACY_PACKAGES = ("gym", "gymnasium")
 
 
-def _dotted(node: cst.BaseExpression) -> str:
-    return get_full_name_for_node(node) or ""
-
-
-
-
 def _under_gym(module: str) -> str | None:
     """``gym.spaces.box`` -> ``spaces.box``; ``gym`` -> ``""``; None for other modules."""
     if module == "gym":
@@ -124,188 +121,223 @@ def _removed_module(rest: str) -> str | None:
     return None
 
 
-class ImportsPass(RulePass):
+class Imports(RuleFamily):
     RULES = RULES
     ORDER = 10
 
-    def __init__(self, context) -> None:  # type: ignore[no-untyped-def]
-        super().__init__(context)
-        self._fallback_depth = 0
-        self._guarded_depth = 0
-        self._plain_gym_import = False
-
     @classmethod
-    def applies_to(cls, source: str, profile: FileProfile) -> bool:
-        return "gym" in source
+    def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
+        return "gym" in facts.text
 
-    def visit_Module(self, node: cst.Module) -> None:
+    def decide(self) -> None:
         # Does a plain ``import gym`` bind the name ``gym`` (so ``import gym.x`` needs no alias)?
-        finder = _PlainGymImportFinder()
-        node.visit(finder)
-        self._plain_gym_import = finder.found
+        self._plain_gym_import = any(
+            (alias.asname or alias.name) == "gym" and alias.name in LEGACY_PACKAGES
+            for node in self._imports()
+            if isinstance(node, ast.Import)
+            for alias in node.names
+        )
+        self._gym_names: set[str] = set()
+        guards = self._guards()
+        for node in self._imports():
+            guard = _innermost_guard(node, guards, self.facts)
+            if guard in ("fallback", "detector"):
+                self._record_names(node)
+            elif isinstance(node, ast.Import):
+                self._import(node, guarded=guard == "guarded")
+            else:
+                self._import_from(node)
+        self._sys_modules_hacks()
+        self._version_checks()
+
+    def _imports(self) -> list[ast.Import | ast.ImportFrom]:
+        return self.facts.import_statements
 
     # -- GM108: fallbacks ----------------------------------------------------------
 
-    def visit_Try(self, node: cst.Try) -> None:
-        guard = self._import_guard(node)
-        if guard == "fallback":
-            self._fallback_depth += 1
-            self.report(
-                node,
-                "GM108",
-                "gym-or-gymnasium import fallback: keep the gymnasium branch and delete the legacy one",
-            )
-        elif guard == "detector":
-            self._fallback_depth += 1
-            self.report(
-                node,
-                "GM108",
-                "this try/except ImportError detects whether legacy gym is installed (the file already uses "
-                "gymnasium): left as it is; delete it if legacy gym support is no longer wanted",
-            )
-        elif guard == "guarded":
-            self._guarded_depth += 1
-
-    def leave_Try(self, original_node: cst.Try, updated_node: cst.Try) -> cst.Try:
-        guard = self._import_guard(original_node)
-        if guard in ("fallback", "detector"):
-            self._fallback_depth -= 1
-        elif guard == "guarded":
-            self._guarded_depth -= 1
-        return updated_node
-
-    def _import_guard(self, node: cst.Try) -> str | None:
-        """How a try statement that imports gym treats a missing package.
+    def _guards(self) -> dict[ast.Try, str]:
+        """How each try statement that imports gym treats a missing package.
 
         fallback: it tries gym and gymnasium (one branch is dead after the migration);
         detector: an ImportError guard around gym in a file that already uses gymnasium
         (it asks whether *legacy* gym is installed: rewriting it would change the answer);
         guarded: an ImportError guard around gym alone (rewritten, but listed for review).
         """
-        collector = _ImportedPackages()
-        node.visit(collector)
-        if "gym" not in collector.packages:
-            return None
-        if "gymnasium" in collector.packages:
-            return "fallback"
-        if not any(_catches_import_error(handler) for handler in node.handlers):
-            return None
-        return "detector" if self.context.profile.imports_gymnasium else "guarded"
+        packages: dict[ast.Try, set[str]] = {}
+        for node in self._imports():
+            for ancestor in self.facts.ancestors(node):
+                if isinstance(ancestor, (ast.Try, getattr(ast, "TryStar", ast.Try))):
+                    packages.setdefault(ancestor, set()).update(_packages(node))  # type: ignore[arg-type]
+        guards: dict[ast.Try, str] = {}
+        for try_node, imported in packages.items():
+            if "gym" not in imported:
+                continue
+            if "gymnasium" in imported:
+                guards[try_node] = "fallback"
+                self.report(try_node, "GM108", "gym-or-gymnasium import fallback: keep the gymnasium branch and delete the legacy one")
+            elif any(_catches_import_error(handler) for handler in try_node.handlers):
+                if self.context.profile.imports_gymnasium:
+                    guards[try_node] = "detector"
+                    self.report(
+                        try_node,
+                        "GM108",
+                        "this try/except ImportError detects whether legacy gym is installed (the file already uses "
+                        "gymnasium): left as it is; delete it if legacy gym support is no longer wanted",
+                    )
+                else:
+                    guards[try_node] = "guarded"
+        return guards
 
-    def visit_Assign(self, node: cst.Assign) -> None:
-        for target in node.targets:
-            subscript = target.target
-            if isinstance(subscript, cst.Subscript) and _dotted(subscript.value) == "sys.modules":
-                for element in subscript.slice:
-                    index = element.slice
-                    if isinstance(index, cst.Index) and isinstance(index.value, cst.SimpleString):
-                        if index.value.evaluated_value in ("gym", "gymnasium") or str(
-                            index.value.evaluated_value
-                        ).startswith("gym."):
+    def _record_names(self, node: ast.Import | ast.ImportFrom) -> None:
+        if isinstance(node, ast.Import):
+            for alias in node.names:
+                if alias.name.split(".")[0] in LEGACY_PACKAGES:
+                    self._gym_names.add(alias.asname or alias.name.split(".")[0])
+
+    def _sys_modules_hacks(self) -> None:
+        if "sys.modules" not in self.facts.text:
+            return
+        for node in ast.walk(self.facts.tree):
+            if not isinstance(node, ast.Assign):
+                continue
+            for target in node.targets:
+                if isinstance(target, ast.Subscript) and dotted_name(target.value) == "sys.modules":
+                    key = target.slice
+                    if isinstance(key, ast.Constant) and isinstance(key.value, str):
+                        if key.value in ("gym", "gymnasium") or key.value.startswith("gym."):
                             self.report(node, "GM108", "sys.modules hack aliasing gym: remove it once the code uses gymnasium")
 
-    def visit_Attribute(self, node: cst.Attribute) -> None:
-        if node.attr.value == "__version__" and isinstance(node.value, cst.Name) and node.value.value in self._gym_names:
-            self.report(node, "GM108", "gym version check: after the migration one branch is dead; delete the legacy one")
-
-    @property
-    def _gym_names(self) -> set[str]:
-        return self.context.notes.setdefault("gym_import_names", set())  # type: ignore[return-value]
+    def _version_checks(self) -> None:
+        if "__version__" not in self.facts.text:
+            return
+        for node in ast.walk(self.facts.tree):
+            if isinstance(node, ast.Attribute) and node.attr == "__version__":
+                if isinstance(node.value, ast.Name) and node.value.id in self._gym_names:
+                    self.report(node, "GM108", "gym version check: after the migration one branch is dead; delete the legacy one")
 
     # -- GM101 / GM103: import gym[.x] [as y] -------------------------------------------
 
-    def leave_Import(self, original_node: cst.Import, updated_node: cst.Import) -> cst.Import:
-        if self._fallback_depth:
-            for alias in updated_node.names:
-                if _dotted(alias.name).split(".")[0] in LEGACY_PACKAGES:
-                    self._gym_names.add(_dotted(alias.asname.name) if alias.asname else _dotted(alias.name).split(".")[0])
-            return updated_node
-        names = []
+    def _import(self, node: ast.Import, *, guarded: bool) -> None:
+        names: list[tuple[str, str | None]] = []  # (module, asname) after the rewrite
         changed = False
-        for alias in updated_node.names:
-            module = _dotted(alias.name)
+        for alias in node.names:
+            module = alias.name
             rest = _under_gym(module)
             if rest is None:
-                names.append(alias)
+                names.append((module, alias.asname))
                 continue
-            bound = alias.asname.name.value if alias.asname else module.split(".")[0]  # type: ignore[union-attr]
-            self._gym_names.add(bound)
+            self._gym_names.add(alias.asname or module.split(".")[0])
             hint = _removed_module(rest)
             if hint:
-                self.report(original_node, "GM105", f"`{module}` was removed: {hint}")
-                names.append(alias)
+                self.report(node, "GM105", f"`{module}` was removed: {hint}")
+                names.append((module, alias.asname))
                 continue
             changed = True
             if rest == "":
-                asname = alias.asname or cst.AsName(name=cst.Name("gym"))
-                names.append(alias.with_changes(name=cst.Name("gymnasium"), asname=asname))
-                if self._guarded_depth:
+                names.append(("gymnasium", alias.asname or "gym"))
+                if guarded:
                     self.report(
-                        original_node,
+                        node,
                         "GM101",
                         "import gym -> import gymnasium as gym inside a try/except ImportError: the guard now "
                         "asks whether gymnasium is installed",
                         FixKind.ASSIST,
                     )
                 else:
-                    self.report(original_node, "GM101", "import gym -> import gymnasium as gym")
+                    self.report(node, "GM101", "import gym -> import gymnasium as gym")
                 continue
             new_module = "gymnasium." + _legacy_wrapper_path(rest)
-            names.append(alias.with_changes(name=dotted_node(new_module)))
-            self.report(original_node, "GM103", f"{module} -> {new_module}")
+            names.append((new_module, alias.asname))
+            self.report(node, "GM103", f"{module} -> {new_module}")
             if alias.asname is None and not self._plain_gym_import:
                 # ``import gym.spaces`` bound ``gym``; keep that name working.
-                names.append(
-                    cst.ImportAlias(name=cst.Name("gymnasium"), asname=cst.AsName(name=cst.Name("gym")))
-                )
+                names.append(("gymnasium", "gym"))
                 self._plain_gym_import = True
-        if not changed:
-            return updated_node
-        if len(names) == len(updated_node.names):
-            # Keep the user's own separators.
-            names = [new.with_changes(comma=old.comma) for new, old in zip(names, updated_node.names)]
-        else:
-            last_comma = updated_node.names[-1].comma
-            names = [n.with_changes(comma=cst.Comma(whitespace_after=cst.SimpleWhitespace(" "))) for n in names[:-1]] + [
-                names[-1].with_changes(comma=last_comma)
-            ]
-        return updated_node.with_changes(names=names)
+        if changed:
+            self.plan.replace(node, lambda import_node: _with_names(import_node, names))
 
     # -- GM102 / GM103 / GM104: from gym[.x] import y ----------------------------------
 
-    def leave_ImportFrom(self, original_node: cst.ImportFrom, updated_node: cst.ImportFrom) -> cst.ImportFrom:
-        if self._fallback_depth or updated_node.relative or updated_node.module is None:
-            return updated_node
-        module = _dotted(updated_node.module)
+    def _import_from(self, node: ast.ImportFrom) -> None:
+        if node.level or node.module is None:
+            return
+        module = node.module
         rest = _under_gym(module)
         legacy_gymnasium_wrappers = module.startswith("gymnasium.wrappers.") and module[19:] in LEGACY_WRAPPER_MODULES
         if rest is None and not legacy_gymnasium_wrappers:
-            return updated_node
+            return
         if rest is None:
             rest = module[len("gymnasium.") :]
+        star = any(alias.name == "*" for alias in node.names)
         hint = _removed_module(rest)
-        if hint is None and not isinstance(updated_node.names, cst.ImportStar):
-            for alias in updated_node.names:
-                hint = REMOVED_NAMES.get((rest, _dotted(alias.name)))
+        if hint is None and not star:
+            for alias in node.names:
+                hint = REMOVED_NAMES.get((rest, alias.name))
                 if hint:
-                    hint = f"`{_dotted(alias.name)}` was removed: {hint}"
+                    hint = f"`{alias.name}` was removed: {hint}"
                     break
         elif hint is not None:
             hint = f"`{module}` was removed: {hint}"
         if hint:
-            self.report(original_node, "GM105", hint)
-            return updated_node
+            self.report(node, "GM105", hint)
+            return
         new_rest = _legacy_wrapper_path(rest)
-        if not isinstance(updated_node.names, cst.ImportStar) and new_rest != rest:
-            moved = [MOVED_NAMES.get((rest.split(".")[-1], _dotted(a.name))) for a in updated_node.names]
+        if not star and new_rest != rest:
+            moved = [MOVED_NAMES.get((rest.split(".")[-1], alias.name)) for alias in node.names]
             if any(moved) and len(set(moved)) == 1:
                 new_rest = moved[0][len("gymnasium.") :]  # type: ignore[index]
         new_module = "gymnasium" + ("." + new_rest if new_rest else "")
         if new_module == module:
-            return updated_node
+            return
         code = "GM102" if rest == "" else "GM104" if new_rest != rest else "GM103"
-        self.report(original_node, code, f"from {module} import ... -> from {new_module} import ...")
-        return updated_node.with_changes(module=dotted_node(new_module))
+        self.report(node, code, f"from {module} import ... -> from {new_module} import ...")
+        self.plan.replace(node, lambda from_node: from_node.with_changes(module=dotted_node(new_module)))
+
+
+def _with_names(node: cst.Import, names: list[tuple[str, str | None]]) -> cst.Import:
+    aliases = [
+        cst.ImportAlias(name=dotted_node(module), asname=cst.AsName(name=cst.Name(asname)) if asname else None)
+        for module, asname in names
+    ]
+    old = list(node.names)
+    if len(aliases) == len(old):
+        # Keep the user's own separators and ``as`` spacing.
+        aliases = [
+            new.with_changes(comma=previous.comma, asname=_same_asname(previous, new))
+            for new, previous in zip(aliases, old)
+        ]
+    else:
+        last_comma = old[-1].comma
+        aliases = [a.with_changes(comma=cst.Comma(whitespace_after=cst.SimpleWhitespace(" "))) for a in aliases[:-1]] + [
+            aliases[-1].with_changes(comma=last_comma)
+        ]
+    return node.with_changes(names=aliases)
+
+
+def _same_asname(previous: cst.ImportAlias, new: cst.ImportAlias) -> cst.AsName | None:
+    """The user's ``as name`` node (with its spacing) where the bound name is unchanged."""
+    if previous.asname and new.asname and previous.asname.name.value == new.asname.name.value:  # type: ignore[union-attr]
+        return previous.asname
+    return new.asname
+
+
+def _packages(node: ast.Import | ast.ImportFrom) -> set[str]:
+    if isinstance(node, ast.Import):
+        return {alias.name.split(".")[0] for alias in node.names}
+    if node.module is not None and not node.level:
+        return {node.module.split(".")[0]}
+    return set()
+
+
+def _innermost_guard(node: ast.AST, guards: dict[ast.Try, str], facts: ModuleFacts) -> str | None:
+    """The guard kind of the nearest enclosing try that is a fallback, detector or guard.
+
+    A fallback or detector anywhere above wins, as the old traversal's depth counters did.
+    """
+    kinds = [guards[a] for a in facts.ancestors(node) if a in guards]  # type: ignore[index]
+    if "fallback" in kinds or "detector" in kinds:
+        return "fallback"
+    return "guarded" if kinds else None
 
 
 def _legacy_wrapper_path(rest: str) -> str:
@@ -319,33 +351,9 @@ def _legacy_wrapper_path(rest: str) -> str:
     return rest
 
 
-def _catches_import_error(handler: cst.ExceptHandler) -> bool:
+def _catches_import_error(handler: ast.ExceptHandler) -> bool:
     if handler.type is None:
         return True  # a bare except catches it too
-    caught = handler.type.elements if isinstance(handler.type, cst.Tuple) else [handler.type]
-    names = {_dotted(item.value if isinstance(item, cst.Element) else item) for item in caught}
+    caught = handler.type.elts if isinstance(handler.type, ast.Tuple) else [handler.type]
+    names = {dotted_name(item) for item in caught}
     return bool(names & {"ImportError", "ModuleNotFoundError", "Exception", "BaseException"})
-
-
-class _ImportedPackages(cst.CSTVisitor):
-    def __init__(self) -> None:
-        self.packages: set[str] = set()
-
-    def visit_Import(self, node: cst.Import) -> None:
-        for alias in node.names:
-            self.packages.add(_dotted(alias.name).split(".")[0])
-
-    def visit_ImportFrom(self, node: cst.ImportFrom) -> None:
-        if node.module is not None and not node.relative:
-            self.packages.add(_dotted(node.module).split(".")[0])
-
-
-class _PlainGymImportFinder(cst.CSTVisitor):
-    def __init__(self) -> None:
-        self.found = False
-
-    def visit_Import(self, node: cst.Import) -> None:
-        for alias in node.names:
-            bound = _dotted(alias.asname.name) if alias.asname else _dotted(alias.name)
-            if bound == "gym" and _dotted(alias.name) in LEGACY_PACKAGES:
-                self.found = True
