@@ -372,7 +372,9 @@ def apply_plan(module: cst.Module, plan: Plan) -> cst.Module:
     if plan.imports:
         anchor, where = _import_anchor(facts.tree)
         if anchor is None:  # an empty module
-            module = module.with_changes(body=[*module.body, *_new_statements(plan.imports, small=False)])
+            module = module.with_changes(
+                body=[*module.body, *_new_statements(plan.imports, small=False)], has_trailing_newline=True
+            )
         elif where == "after":
             insertions["after"].setdefault(anchor, []).extend(plan.imports)
         else:

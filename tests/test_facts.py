@@ -1,0 +1,170 @@
+"""The facts layer: scopes, bindings, imports and receiver kinds from CPython's ast."""
+
+from __future__ import annotations
+
+import ast
+import textwrap
+
+import pytest
+
+from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts.module import call_argument, full_name, own_returns
+from gymmigrate.facts.receivers import EnvKind, Receivers
+
+
+def facts_of(code: str) -> ModuleFacts:
+    code = textwrap.dedent(code)
+    return ModuleFacts(ast.parse(code), code)
+
+
+def name_reads(facts: ModuleFacts, name: str) -> list[ast.Name]:
+    reads = [n for n in ast.walk(facts.tree) if isinstance(n, ast.Name) and n.id == name and isinstance(n.ctx, ast.Load)]
+    return sorted(reads, key=lambda n: (n.lineno, n.col_offset))
+
+
+def test_qualified_names_follow_every_import_form() -> None:
+    facts = facts_of(
+        """
+        import gym
+        import gymnasium as gm
+        import gym.spaces
+        from gym.wrappers import TimeLimit as TL
+        (gym.make, gm.make, gym.spaces.Box, TL)
+        """
+    )
+    expressions = facts.tree.body[-1].value.elts  # type: ignore[attr-defined]
+    assert [facts.qualified_names(e) for e in expressions] == [
+        {"gym.make"},
+        {"gymnasium.make"},
+        {"gym.spaces.Box"},
+        {"gym.wrappers.TimeLimit"},
+    ]
+    assert facts.imported_as("gymnasium") == "gm"
+
+
+def test_function_locals_shadow_module_names_and_class_bodies_do_not_enclose() -> None:
+    facts = facts_of(
+        """
+        env = 1
+        class Agent:
+            env = 2
+            def act(self):
+                return env
+        def local():
+            env = 3
+            return env
+        """
+    )
+    method_read, local_read = name_reads(facts, "env")
+    assert [b.lineno for b in facts.bindings_of(method_read)] == [2]  # the module's, not the class body's
+    assert [b.lineno for b in facts.bindings_of(local_read)] == [8]
+
+
+def test_defaults_are_read_in_the_enclosing_scope() -> None:
+    facts = facts_of(
+        """
+        import gym
+        env = gym.make("CartPole-v1")
+        def run(env=env):
+            return env
+        """
+    )
+    default, body_read = name_reads(facts, "env")
+    assert isinstance(facts.bindings_of(default)[0], ast.Name)  # the module-level assignment
+    assert isinstance(facts.bindings_of(body_read)[0], ast.arg)
+
+
+def test_indexes_of_calls_classes_and_functions() -> None:
+    facts = facts_of(
+        """
+        def make_env():
+            return 1
+        class Box:
+            pass
+        make_env()
+        x.step(1)
+        y.step(2)
+        """
+    )
+    assert len(facts.calls_by_name["make_env"]) == 1
+    assert len(facts.attribute_calls["step"]) == 2
+    assert set(facts.classes) == {"Box"} and set(facts.functions) == {"make_env"}
+
+
+def test_statement_of_and_enclosing() -> None:
+    facts = facts_of(
+        """
+        class Env:
+            def step(self, a):
+                return self.inner.step(a)
+        """
+    )
+    call = facts.attribute_calls["step"][0]
+    assert isinstance(facts.statement_of(call), ast.Return)
+    assert facts.enclosing_class(call).name == "Env"  # type: ignore[union-attr]
+    assert facts.is_method(facts.enclosing_function(call))  # type: ignore[arg-type]
+
+
+def test_columns_count_characters_not_bytes() -> None:
+    facts = facts_of('naïve = 1; env.reset()\n')
+    call = facts.attribute_calls["reset"][0]
+    assert call.col_offset == 12 and facts.column(call) == 11
+
+
+def test_small_helpers() -> None:
+    facts = facts_of(
+        """
+        def f(a, b=1):
+            def g():
+                return 2
+            return a
+        f(1, b=2)
+        super().step.x
+        """
+    )
+    function = facts.functions["f"]
+    assert len(own_returns(function)) == 1  # the nested def's return is its own
+    call = facts.calls_by_name["f"][0]
+    assert ast.unparse(call_argument(call, 0, "a")) == "1"  # type: ignore[arg-type]
+    assert ast.unparse(call_argument(call, 1, "b")) == "2"  # type: ignore[arg-type]
+    assert full_name(facts.tree.body[-1].value) == "super.step.x"  # type: ignore[attr-defined]
+
+
+# -- receivers -------------------------------------------------------------------------------
+
+
+def receiver_kind(code: str, name: str = "env") -> EnvKind:
+    facts = facts_of(code)
+    return Receivers(facts).kind_of(name_reads(facts, name)[-1])
+
+
+@pytest.mark.parametrize(
+    ("code", "kind"),
+    [
+        ("import gym\nenv = gym.make('X')\nenv", EnvKind.GYM_ENV),
+        ("import gymnasium as g\nenv = g.vector.SyncVectorEnv([])\nenv", EnvKind.GYM_VEC),
+        ("from stable_baselines3.common.vec_env import DummyVecEnv\nenv = DummyVecEnv([])\nenv", EnvKind.SB3_VEC),
+        ("from pettingzoo.classic import rps_v2\nenv = rps_v2.env()\nenv", EnvKind.PZ_AEC),
+        ("import torch\nenv = torch.optim.Adam([])\nenv", EnvKind.NOT_ENV),
+        ("env = something()\nenv", EnvKind.UNKNOWN),
+        ("import gym\ndef make():\n    return gym.make('X')\nenv = make()\nenv", EnvKind.GYM_ENV),
+        ("import gym\nenvs = [gym.make('X') for _ in range(3)]\nfor env in envs:\n    env", EnvKind.GYM_ENV),
+        ("import gym\ndef run(env):\n    env\nrun(gym.make('X'))", EnvKind.GYM_ENV),
+        ("import gym\nclass E(gym.Env):\n    pass\nenv = E()\nenv", EnvKind.GYM_ENV),
+    ],
+    ids=["make", "vector", "sb3", "pettingzoo", "optimiser", "unknown", "factory", "list", "param", "local-class"],
+)
+def test_receiver_kinds(code: str, kind: EnvKind) -> None:
+    assert receiver_kind(code) is kind
+
+
+def test_a_long_rebinding_chain_is_linear_and_cannot_overflow() -> None:
+    # The classic Atari preprocessing stack, a thousand times over: no RecursionError,
+    # and each binding is classified once.
+    lines = ["import gym", "from gym import wrappers", "env = gym.make('Pong-v4')"]
+    lines += ["env = wrappers.TimeLimit(env, 100)"] * 1000
+    lines += ["env"]
+    facts = facts_of("\n".join(lines))
+    receivers = Receivers(facts)
+    assert receivers.kind_of(name_reads(facts, "env")[-1]) is EnvKind.GYM_ENV
+    assert len(receivers._cache) < 5000
