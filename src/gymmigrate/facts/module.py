@@ -12,6 +12,7 @@ interpreter's stack, and every lookup is linear or better in the size of the fil
 from __future__ import annotations
 
 import ast
+import io
 from collections import defaultdict
 from collections.abc import Iterator
 from dataclasses import dataclass, field
@@ -52,7 +53,10 @@ class ModuleFacts:
     def __init__(self, tree: ast.Module, text: str) -> None:
         self.tree = tree
         self.text = text
-        self.lines = text.splitlines(keepends=True)
+        # Split where the tokenizer does (\n, \r\n, \r), not at form feeds or \u2028 as
+        # str.splitlines would, so line numbers agree with ast's.
+        self.lines = io.StringIO(text, newline="").readlines()
+        self._line_starts: list[int] | None = None
         self.parents: dict[ast.AST, ast.AST] = {}
         self.scopes: dict[ast.AST, Scope] = {}  # scope-creating node -> its Scope
         self._scope_of: dict[ast.AST, Scope] = {}  # Name / arg / alias / def -> scope it lives in
@@ -283,7 +287,25 @@ class ModuleFacts:
     # -- source -------------------------------------------------------------------------
 
     def segment(self, node: ast.AST) -> str:
-        return ast.get_source_segment(self.text, node) or ""
+        """The exact source text of ``node`` (without its parentheses)."""
+        if getattr(node, "end_lineno", None) is None:
+            return ""
+        start = self.offset(node.lineno, node.col_offset)  # type: ignore[attr-defined]
+        end = self.offset(node.end_lineno, node.end_col_offset)  # type: ignore[attr-defined]
+        return self.text[start:end]
+
+    def offset(self, line: int, byte_column: int) -> int:
+        """Character offset in the text of an ast position (1-based line, UTF-8 byte column)."""
+        if self._line_starts is None:
+            starts, total = [], 0
+            for text_line in self.lines:
+                starts.append(total)
+                total += len(text_line)
+            starts.append(total)
+            self._line_starts = starts
+        text_line = self.lines[line - 1] if 0 < line <= len(self.lines) else ""
+        column = byte_column if text_line.isascii() else len(text_line.encode("utf-8")[:byte_column].decode("utf-8", "replace"))
+        return self._line_starts[min(line - 1, len(self._line_starts) - 1)] + column
 
     def column(self, node: ast.AST) -> int:
         """``ast`` columns count UTF-8 bytes; findings count characters."""
