@@ -13,6 +13,7 @@ from __future__ import annotations
 import ast
 import re
 from collections import defaultdict
+from collections.abc import Callable
 from typing import Any
 
 import libcst as cst
@@ -304,6 +305,7 @@ class _Applier(cst.CSTTransformer):
         self.before: dict[int, list[cst.CSTNode]] = defaultdict(list)
         self.after: dict[int, list[cst.CSTNode]] = defaultdict(list)
         self.removed: set[int] = set()
+        self.leading: dict[int, list[cst.EmptyLine]] = defaultdict(list)  # comment lines moved here
 
     def mark(self, chain: list[cst.CSTNode]) -> None:
         self.enter.update(id(node) for node in chain)
@@ -319,6 +321,13 @@ class _Applier(cst.CSTTransformer):
         if key in self.removed:
             result = cst.RemovalSentinel.REMOVE
         before, after = self.before.get(key), self.after.get(key)
+        carried = self.leading.get(key)
+        if carried and result is not cst.RemovalSentinel.REMOVE:
+            if before:
+                first = before[0]
+                before = [first.with_changes(leading_lines=[*carried, *first.leading_lines]), *before[1:]]
+            elif hasattr(result, "leading_lines"):
+                result = result.with_changes(leading_lines=[*carried, *result.leading_lines])
         if before or after:
             kept = [] if result is cst.RemovalSentinel.REMOVE else [result]
             result = cst.FlattenSentinel([*(before or ()), *kept, *(after or ())])
@@ -396,10 +405,41 @@ def apply_plan(module: cst.Module, plan: Plan) -> cst.Module:
         holder, _ = _holder(located)
         applier.removed.add(id(holder))
         applier.mark([holder])
+        if statement in plan.keep_comments:
+            _carry_comments(statement, located, holder, plan, locate, applier)
 
     if not applier.enter:
         return module
     return module.visit(applier)  # type: ignore[return-value]
+
+
+def _carry_comments(
+    statement: ast.stmt, located: _Located, holder: cst.CSTNode, plan: Plan, locate: Callable[[ast.stmt], _Located], applier: _Applier
+) -> None:
+    """Move the comment lines above a removed statement to the next statement kept in its block."""
+    lines = getattr(holder, "leading_lines", ())
+    if not lines or (located.line is not None and holder is not located.line):
+        return  # nothing above it, or it shares its line with other statements
+    siblings = _block_of(statement, plan.facts.parents)
+    index = next(i for i, item in enumerate(siblings) if item is statement)
+    following = next((item for item in siblings[index + 1 :] if item not in plan.removed), None)
+    if following is None:
+        return
+    target = locate(following)
+    if target.line is not None and not isinstance(target.line, cst.SimpleStatementLine):
+        return  # a one-line suite holds no comment lines
+    owner = target.line if target.line is not None else target.node
+    applier.mark([*target.chain, owner])
+    applier.leading[id(owner)].extend(lines)
+
+
+def _block_of(statement: ast.stmt, parents: dict[ast.AST, ast.AST]) -> list[ast.stmt]:
+    parent = parents[statement]
+    for name in _STATEMENT_FIELDS:
+        items = getattr(parent, name, None)
+        if isinstance(items, list) and any(item is statement for item in items):
+            return items
+    raise ApplyError(f"cannot find the block of a {type(statement).__name__}")
 
 
 def _holder(located: _Located) -> tuple[cst.CSTNode, bool]:

@@ -38,6 +38,8 @@ class Plan:
     before: dict[ast.stmt, list[Any]] = field(default_factory=lambda: defaultdict(list))
     after: dict[ast.stmt, list[Any]] = field(default_factory=lambda: defaultdict(list))
     removed: set[ast.stmt] = field(default_factory=set)
+    # Removed statements whose comment lines (above them) move to the next statement.
+    keep_comments: set[ast.stmt] = field(default_factory=set)
     imports: list[str] = field(default_factory=list)  # new top-level import lines
     # What one rule family decided that another must follow in the same run (e.g. the
     # render mode a creation site needs because a wrapper was replaced).
@@ -71,8 +73,12 @@ class Plan:
     def insert_after(self, statement: ast.stmt, *code: Any) -> None:
         self.after[statement].extend(code)
 
-    def remove(self, statement: ast.stmt) -> None:
+    def remove(self, statement: ast.stmt, keep_comments: bool = False) -> None:
+        """Delete ``statement``; with ``keep_comments``, the comment lines above it stay,
+        above the statement that follows it in its block."""
         self.removed.add(statement)
+        if keep_comments:
+            self.keep_comments.add(statement)
 
     def add_import(self, line: str) -> None:
         """A top-level import statement, added once after the module's last import."""

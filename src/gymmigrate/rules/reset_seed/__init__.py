@@ -1,0 +1,59 @@
+"""Reset and seeding at call sites (GM201-GM208, GM704).
+
+Gym 0.26 (and so Gymnasium) changed three things about starting an episode:
+
+* ``reset()`` returns ``(obs, info)`` (``Env.reset -> tuple[ObsType, dict]``), for single
+  and vector envs alike, and the 0.22-0.25 ``return_info=`` keyword is gone
+  (GM201, GM202, GM704: ``resets``).
+* ``env.seed(s)`` is gone (``AttributeError: 'TimeLimit' object has no attribute 'seed'``):
+  a seed is passed to ``reset(seed=s)``, "right after initialization and then never
+  again" (``Env.reset`` docstring). A seed moved onto every reset of an episode loop makes
+  every episode identical, the most common hand-migration bug (GM203, GM208: ``seeds``;
+  GM204, with ``--seed N``: ``cli_seed``).
+* Seeds must be Python ints (``Seed must be a python integer``, GM206); ``Space.seed()``
+  returns an int or a dict, not ``[seed]`` (GM205); custom reset keywords go into
+  ``options={...}`` (GM207).
+
+Every call site asks ``facts.decisions.decide`` about its receiver first, so
+Stable-Baselines3 VecEnvs (obs-only ``reset()``, ``vec_env.seed(s)``: their current API,
+SB102/SB103), PettingZoo envs and unrelated objects are never touched. Already migrated
+code (a two-name reset unpack, ``reset(seed=...)``) is left alone.
+
+The family decides on the original module (``ast``): seeds first (a seed merged into
+the next reset adds to that reset's edit), then resets, then ``--seed``. Control- and
+data-flow questions (loops, constant seeds, numpy seeds, a free ``info`` name) are
+answered by ``gymmigrate.facts.reset_flow``.
+"""
+
+from __future__ import annotations
+
+import ast
+
+from gymmigrate.facts import ModuleFacts
+from gymmigrate.rules.base import FileContext
+from gymmigrate.rules.reset_seed.catalog import RULES
+from gymmigrate.rules.reset_seed.cli_seed import CliSeed
+from gymmigrate.rules.reset_seed.resets import ResetCalls
+from gymmigrate.rules.reset_seed.seeds import SeedCalls
+
+__all__ = ["RULES", "ResetSeed"]
+
+
+class ResetSeed(ResetCalls, SeedCalls, CliSeed):
+    RULES = RULES
+    ORDER = 50
+
+    @classmethod
+    def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
+        return bool(facts.attribute_calls.get("reset") or facts.attribute_calls.get("seed"))
+
+    def decide(self) -> None:
+        self._start()
+        seeds: list[ast.Call] = self.facts.attribute_calls.get("seed", [])
+        resets: list[ast.Call] = self.facts.attribute_calls.get("reset", [])
+        for call in seeds:
+            self._decide_seed(call)
+        for call in resets:
+            self._decide_reset(call)
+        if self.context.options.seed is not None:
+            self._decide_cli_seed(self.context.options.seed, [*seeds, *resets])

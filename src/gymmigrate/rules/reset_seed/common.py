@@ -1,0 +1,94 @@
+"""What the reset and seed rules share: the receiver policy, per-call edits, loop checks.
+
+``ResetSeedBase`` carries the state of one file's decisions (the edits collected per
+call, the names introduced for ``info``); the rule modules (``resets``, ``seeds``,
+``cli_seed``) extend it and ``ResetSeed`` in ``__init__`` puts them together.
+"""
+
+from __future__ import annotations
+
+import ast
+
+from gymmigrate.facts.decisions import Action, Decision, decide
+from gymmigrate.facts.receivers import EnvKind
+from gymmigrate.facts.reset_flow import InfoNames, NumpySeeds, enclosing_loops, guarded_to_run_once, is_iteration_invariant
+from gymmigrate.findings import FixKind
+from gymmigrate.rules.base import RuleFamily
+from gymmigrate.rules.reset_seed.call_edits import CallEdit
+
+
+class ResetSeedBase(RuleFamily):
+    """Shared helpers; registers nothing (no ``RULES``)."""
+
+    def _start(self) -> None:
+        self._edits: dict[ast.Call, CallEdit] = {}
+        self.info_names = InfoNames(self.facts)
+        self.numpy_seeds = NumpySeeds(self.facts)
+
+    def _edit(self, call: ast.Call) -> CallEdit:
+        """The edit of ``call``, planned once; the rules fill it in before it is applied."""
+        edit = self._edits.get(call)
+        if edit is None:
+            edit = self._edits[call] = CallEdit()
+            self.plan.replace(call, edit.build)
+        return edit
+
+    # -- the receiver ---------------------------------------------------------------------
+
+    def _receiver_kind(self, receiver: ast.expr) -> EnvKind:
+        # ``super().reset()`` inside a Gym wrapper reaches the wrapped env's reset.
+        if isinstance(receiver, ast.Call) and isinstance(receiver.func, ast.Name) and receiver.func.id == "super":
+            classdef = self.facts.enclosing_class(receiver)
+            if classdef is not None and self.receivers.is_gym_wrapper_class(classdef):
+                return EnvKind.GYM_ENV
+        return self.receivers.kind_of(receiver)
+
+    def _decide(self, receiver: ast.expr) -> tuple[Decision, bool]:
+        """The decision for a Gym single-env or vector-env call, and whether it is a vector env."""
+        kind = self._receiver_kind(receiver)
+        vector = kind is EnvKind.GYM_VEC
+        expected = EnvKind.GYM_VEC if vector else EnvKind.GYM_ENV
+        return decide(kind, receiver, self.context.profile, expected=expected), vector
+
+    @staticmethod
+    def _kind(decision: Decision, default: FixKind | None = None) -> FixKind | None:
+        return FixKind.ASSIST if decision.action is Action.REWRITE_FOR_REVIEW else default
+
+    @staticmethod
+    def _why(decision: Decision) -> str:
+        return f" ({decision.reason})" if decision.action is Action.REWRITE_FOR_REVIEW else ""
+
+    # -- GM204 ------------------------------------------------------------------------------
+
+    def _check_seed_in_loop(self, call: ast.Call, seed: ast.expr, shown: str) -> None:
+        """GM204: a seed that is the same on every iteration of a loop resets the RNG each time."""
+        if isinstance(seed, ast.Constant) and seed.value is None:
+            return
+        for loop in enclosing_loops(self.facts, call):
+            if is_iteration_invariant(self.facts, seed, loop) and not guarded_to_run_once(self.facts, call, loop):
+                self.report(
+                    call,
+                    "GM204",
+                    f"{shown} reseeds with the same value on every loop iteration, so every episode starts from "
+                    "the same state: seed the first reset before the loop and reset without a seed inside it, "
+                    "unless identical episodes are intended",
+                )
+                return
+
+
+def is_space(receiver: ast.expr) -> bool:
+    """``env.action_space``, ``observation_space``, ``space``, ``spaces["x"]``..."""
+    if isinstance(receiver, ast.Subscript):
+        return is_space(receiver.value)
+    if isinstance(receiver, ast.Attribute):
+        name = receiver.attr
+    elif isinstance(receiver, ast.Name):
+        name = receiver.id
+    else:
+        return False
+    return name.lower().endswith(("space", "spaces"))
+
+
+def is_seeding(call: ast.Call) -> bool:
+    """``x.seed(...)`` or ``x.reset(seed=...)``."""
+    return call.func.attr == "seed" or any(kw.arg == "seed" for kw in call.keywords)  # type: ignore[attr-defined]

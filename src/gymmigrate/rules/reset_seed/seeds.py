@@ -1,0 +1,255 @@
+"""``seed()`` calls: ``env.seed(s)`` is gone, a seed goes to the first reset (GM203, GM205, GM206, GM208).
+
+``env.seed(s)`` raises ``AttributeError: 'TimeLimit' object has no attribute 'seed'`` since
+gym 0.26: a seed is passed to ``reset(seed=s)``, "right after initialization and then
+never again" (``Env.reset`` docstring). So:
+
+* GM203/GM208 ``env.seed(s)`` (``envs.seed(s)`` on a vector env) is merged into the reset
+  of the same env that follows it in the same block (statements in between must leave
+  the env alone), keeping the comments above it; otherwise it becomes
+  ``env.reset(seed=s)`` in place. A seed is never moved into a loop. A ``seed()`` whose
+  result is used, that has no single seed, or that sits in a ``seed()`` method is reported.
+* GM206 a numpy scalar seed is wrapped in ``int()`` (``Seed must be a python integer``).
+* GM204 a seed that is the same on every iteration of a loop is reported.
+* GM205 ``space.seed(s)`` stays, but it returns an int (a dict for Dict spaces), not
+  ``[seed]``: a subscript of its result is reported.
+"""
+
+from __future__ import annotations
+
+import ast
+from collections.abc import Iterator
+
+from gymmigrate.facts.decisions import Action, receiver_text
+from gymmigrate.facts.reset_flow import line_before, segment
+from gymmigrate.findings import FixKind
+from gymmigrate.rules.reset_seed.call_edits import SeedValue
+from gymmigrate.rules.reset_seed.common import ResetSeedBase, is_space
+
+_COMPOUND = (
+    ast.If,
+    ast.For,
+    ast.AsyncFor,
+    ast.While,
+    ast.With,
+    ast.AsyncWith,
+    ast.Try,
+    ast.TryStar,
+    ast.FunctionDef,
+    ast.AsyncFunctionDef,
+    ast.ClassDef,
+    ast.Match,
+)
+_BLOCK_FIELDS = ("body", "orelse", "finalbody")
+
+
+class SeedCalls(ResetSeedBase):
+    def _decide_seed(self, call: ast.Call) -> None:
+        receiver = call.func.value  # type: ignore[attr-defined]
+        if is_space(receiver):
+            self._check_space_seed(call)
+            return
+        decision, vector = self._decide(receiver)
+        if decision.action is Action.LEAVE:
+            return
+        code = "GM208" if vector else "GM203"
+        name = receiver_text(receiver)
+        if decision.action is Action.REPORT:
+            self.report(call, code, f"{decision.reason}: if it is a Gym env, replace seed(s) with reset(seed=s)", FixKind.FLAG)
+            return
+        function = self.facts.enclosing_function(call)
+        if function is not None and function.name == "seed":
+            self.report(
+                call,
+                code,
+                "inside a seed() method, which Gymnasium never calls: move the seeding into reset(seed=...)",
+                FixKind.FLAG,
+            )
+            return
+        statement = self.facts.parent(call)
+        if not isinstance(statement, ast.Expr):
+            self.report(
+                call,
+                code,
+                f"`{name}.seed()` is gone and its result (legacy: [seed]) is used here: call "
+                f"`{name}.reset(seed=s)` and keep the seed value yourself",
+                FixKind.FLAG,
+            )
+            return
+        seed = _seed_argument(call)
+        if seed is None:
+            self.report(
+                call,
+                code,
+                f"`{name}.seed()` without exactly one seed is gone: pass the seed to the first "
+                f"`{name}.reset(seed=s)` (with no seed Gymnasium draws one from entropy); then delete this call",
+                FixKind.FLAG,
+            )
+            return
+        numpy = self.numpy_seeds.is_numpy(seed)
+        if numpy:
+            self.report(seed, "GM206", "numpy seed wrapped in int(): Gymnasium accepts only Python ints as seeds")
+        self._check_seed_in_loop(call, seed, f"`{name}.seed(...)`")
+        merged = self._next_reset(statement, receiver)
+        why = self._why(decision)
+        if merged is not None:
+            value = SeedValue()
+            self.plan.replace(call, value.take)
+            self.plan.remove(statement, keep_comments=True)
+            self._edit(merged).add_seed = value.get(as_int=numpy)
+            self.report(
+                call,
+                code,
+                f"`{name}.seed(s)` merged into the reset that follows it: `{name}.reset(seed=s)`{why}",
+                self._kind(decision, FixKind.AUTO),
+            )
+            return
+        edit = self._edit(call)
+        edit.to_reset = True
+        edit.int_seed = numpy
+        self.report(
+            call,
+            code,
+            f"`{name}.seed(s)` -> `{name}.reset(seed=s)` at the same place: it seeds once here and starts an extra "
+            f"episode; later resets continue the seeded stream{why}",
+            self._kind(decision),
+        )
+
+    def _check_space_seed(self, call: ast.Call) -> None:
+        parent = self.facts.parent(call)
+        if isinstance(parent, ast.Subscript) and parent.value is call:
+            self.report(
+                parent,
+                "GM205",
+                "Space.seed() returns an int (a dict for Dict spaces) since Gymnasium 1.0, not [seed]: drop the subscript",
+            )
+
+    # -- merging into the next reset ---------------------------------------------------------
+
+    def _next_reset(self, statement: ast.Expr, receiver: ast.expr) -> ast.Call | None:
+        """The reset of the same env that the seeding ``statement`` leads to, if merging is safe.
+
+        Only statements of the same block are looked at, so a seed is never moved into a
+        loop; statements in between must not touch the env (space seeding and other
+        seeding calls are fine). The seed must have its line to itself.
+        """
+        found = self._place_in_block(statement)
+        if found is None:
+            return None
+        block, position = found
+        if not self._alone_on_its_line(statement, block, position):
+            return None
+        wanted = segment(self.facts, receiver)
+        root = _root_name(receiver)
+        for line in _lines(block, position + 1):
+            reset = self._reset_statement(line, wanted)
+            if reset is not None:
+                return reset
+            if not _independent_of(line, root):
+                return None
+        return None
+
+    def _alone_on_its_line(self, statement: ast.stmt, block: list[ast.stmt], position: int) -> bool:
+        """Not in a one-line suite (``if x: env.seed(1)``) nor sharing its line (``a; env.seed(1)``)."""
+        if line_before(self.facts, statement).strip():
+            return False
+        following = block[position + 1] if position + 1 < len(block) else None
+        return following is None or following.lineno > (statement.end_lineno or statement.lineno)
+
+    def _place_in_block(self, statement: ast.stmt) -> tuple[list[ast.stmt], int] | None:
+        """The block that holds ``statement`` (a body, an else, a handler...) and its index there."""
+        parent = self.facts.parent(statement)
+
+        def index() -> dict[int, tuple[list[ast.stmt], int]]:
+            places = {}
+            for name in _BLOCK_FIELDS:
+                items = getattr(parent, name, None)
+                if isinstance(items, list):
+                    places.update((id(item), (items, i)) for i, item in enumerate(items))
+            return places
+
+        return self.facts.memo(("reset-seed-block", id(parent)), index).get(id(statement))  # type: ignore[no-any-return]
+
+    def _reset_statement(self, line: list[ast.stmt], receiver_code: str) -> ast.Call | None:
+        if len(line) != 1 or not isinstance(line[0], (ast.Expr, ast.Assign)):
+            return None
+        value = line[0].value
+        if not (isinstance(value, ast.Call) and isinstance(value.func, ast.Attribute) and value.func.attr == "reset"):
+            return None
+        if segment(self.facts, value.func.value) != receiver_code:
+            return None
+        if value.args or any(kw.arg is None or kw.arg == "seed" for kw in value.keywords):
+            return None
+        return value
+
+
+def _lines(statements: list[ast.stmt], start: int) -> Iterator[list[ast.stmt]]:
+    """Statements from ``start`` on, grouped by the line they share (``a; b``); a compound
+    statement is alone. Lazy: the caller usually stops at the first line."""
+    line: list[ast.stmt] = []
+    for index in range(start, len(statements)):
+        statement = statements[index]
+        previous = line[-1] if line else None
+        if (
+            previous is not None
+            and not isinstance(previous, _COMPOUND)
+            and not isinstance(statement, _COMPOUND)
+            and statement.lineno == previous.end_lineno
+        ):
+            line.append(statement)
+            continue
+        if line:
+            yield line
+        line = [statement]
+    if line:
+        yield line
+
+
+def _seed_argument(call: ast.Call) -> ast.expr | None:
+    """The one seed of ``x.seed(s)`` / ``x.seed(seed=s)``, else None."""
+    if len(call.args) + len(call.keywords) != 1:
+        return None
+    if call.args:
+        return None if isinstance(call.args[0], ast.Starred) else call.args[0]
+    keyword = call.keywords[0]
+    return keyword.value if keyword.arg == "seed" else None
+
+
+def _root_name(node: ast.expr) -> str | None:
+    while isinstance(node, (ast.Attribute, ast.Subscript, ast.Call)):
+        node = node.func if isinstance(node, ast.Call) else node.value
+    return node.id if isinstance(node, ast.Name) else None
+
+
+def _independent_of(line: list[ast.stmt], root: str | None) -> bool:
+    """Can a seed move past ``line``? Only simple lines that leave the env alone qualify.
+
+    Reading the env's attributes is fine; rebinding the name or calling anything but a
+    seeding function (env.action_space.seed, np.random.seed...) is not.
+    """
+    if root is None or isinstance(line[0], _COMPOUND):
+        return False
+    bound: set[str] = set()
+
+    def bind(target: ast.expr) -> None:
+        if isinstance(target, (ast.Tuple, ast.List)):
+            for element in target.elts:
+                bind(element.value if isinstance(element, ast.Starred) else element)
+        else:
+            name = _root_name(target)
+            if name is not None:
+                bound.add(name)
+
+    for statement in line:
+        for node in ast.walk(statement):
+            if isinstance(node, ast.Assign):
+                for target in node.targets:
+                    bind(target)
+            elif isinstance(node, (ast.AugAssign, ast.AnnAssign, ast.NamedExpr)):
+                bind(node.target)
+            elif isinstance(node, ast.Call):
+                func = node.func
+                called = func.attr if isinstance(func, ast.Attribute) else func.id if isinstance(func, ast.Name) else ""
+                if "seed" not in called:
+                    return False
+    return root not in bound
