@@ -12,6 +12,7 @@ interpreter's stack, and every lookup is linear or better in the size of the fil
 from __future__ import annotations
 
 import ast
+import re
 from collections import defaultdict
 from collections.abc import Iterator
 from dataclasses import dataclass, field
@@ -20,6 +21,7 @@ FUNCTIONS = (ast.FunctionDef, ast.AsyncFunctionDef)
 COMPREHENSIONS = (ast.ListComp, ast.SetComp, ast.DictComp, ast.GeneratorExp)
 SCOPES = (ast.Module, *FUNCTIONS, ast.ClassDef, ast.Lambda, *COMPREHENSIONS)
 LOOPS = (ast.For, ast.AsyncFor, ast.While)
+_LINE = re.compile(r"[^\r\n]*(?:\r\n|\r|\n)|[^\r\n]+$")
 
 
 @dataclass(eq=False)
@@ -52,7 +54,9 @@ class ModuleFacts:
     def __init__(self, tree: ast.Module, text: str) -> None:
         self.tree = tree
         self.text = text
-        self.lines = text.splitlines(keepends=True)
+        # Split where the tokenizer counts lines (``str.splitlines`` also splits at form
+        # feeds and other separators, which would shift every later line number).
+        self.lines = _LINE.findall(text)
         self.parents: dict[ast.AST, ast.AST] = {}
         self.scopes: dict[ast.AST, Scope] = {}  # scope-creating node -> its Scope
         self._scope_of: dict[ast.AST, Scope] = {}  # Name / arg / alias / def -> scope it lives in
@@ -285,7 +289,21 @@ class ModuleFacts:
     # -- source -------------------------------------------------------------------------
 
     def segment(self, node: ast.AST) -> str:
-        return ast.get_source_segment(self.text, node) or ""
+        """The source text of ``node``: ``ast.get_source_segment`` without splitting the
+        whole file again on every call (the applier asks once per edited expression)."""
+        end = getattr(node, "end_lineno", None)
+        end_col = getattr(node, "end_col_offset", None)
+        if end is None or end_col is None:
+            return ""
+        start, col = node.lineno, node.col_offset  # type: ignore[attr-defined]
+        lines = self.lines[start - 1 : end]
+        if len(lines) != end - start + 1:
+            return ""
+        if start == end:
+            return lines[0].encode("utf-8")[col:end_col].decode("utf-8", errors="replace")
+        first = lines[0].encode("utf-8")[col:].decode("utf-8", errors="replace")
+        last = lines[-1].encode("utf-8")[:end_col].decode("utf-8", errors="replace")
+        return first + "".join(lines[1:-1]) + last
 
     def column(self, node: ast.AST) -> int:
         """``ast`` columns count UTF-8 bytes; findings count characters."""
