@@ -63,6 +63,7 @@ class ModuleFacts:
         self.imports: dict[ast.alias, str] = {}  # import binding -> qualified name it binds
         self.calls_by_name: dict[str, list[ast.Call]] = defaultdict(list)
         self.attribute_calls: dict[str, list[ast.Call]] = defaultdict(list)  # x.<attr>(...)
+        self.attributes: dict[str, list[ast.Attribute]] = defaultdict(list)  # every x.<attr>, by attr
         self.classes: dict[str, ast.ClassDef] = {}  # module-level classes
         self.functions: dict[str, ast.FunctionDef | ast.AsyncFunctionDef] = {}  # module-level functions
         self.all_classes: list[ast.ClassDef] = []
@@ -108,6 +109,9 @@ class ModuleFacts:
                 self.calls_by_name[func.id].append(node)
             elif isinstance(func, ast.Attribute):
                 self.attribute_calls[func.attr].append(node)
+            return None
+        if isinstance(node, ast.Attribute):
+            self.attributes[node.attr].append(node)
             return None
         if isinstance(node, ast.Constant):
             if isinstance(node.value, str):

@@ -3,7 +3,8 @@
 Where a rule lives (passes run in ORDER, shown in brackets):
 
     GM101-GM105, GM108         imports ......................... imports.py        [10]
-    GM106, GM802-GM806         env ids, Atari registration ..... env_ids.py        [20]
+    GM106, GM803-GM805         env ids, Atari registration ..... env_ids/ids.py    [20]
+    GM802, GM806               registry API, EnvSpec ........... env_ids/registry.py [21]
     GM305, GM801               removed make() keywords ......... make_kwargs.py    [30]
     GM608-GM615                renamed/removed wrappers ........ wrapper_usage.py  [31]
     GM401-GM403, GM406, GM407  rendering at call sites ......... rendering.py      [32]

@@ -31,15 +31,16 @@ Sources: Gymnasium 1.4.0 ``spaces/box.py``, ``spaces/space.py``, ``logger.py``,
 
 from __future__ import annotations
 
+import ast
+import re
+
 import libcst as cst
-from libcst.codemod.visitors import AddImportsVisitor
-from libcst.helpers import get_full_name_for_node
-from libcst.metadata import Assignment, PositionProvider, ScopeProvider
 
 from gymmigrate.analysis import names as N
-from gymmigrate.analysis.receivers import METADATA, ReceiverAnalysis
+from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts.module import full_name
 from gymmigrate.findings import FixKind
-from gymmigrate.rules.base import FileProfile, Rule, RulePass
+from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 
 RULES = (
     Rule("GM902", "Space.seed() return value", FixKind.FLAG, "`space.seed(s)[0]` and unpacking its result are reported."),
@@ -105,238 +106,281 @@ def _gym_rest(qualified: set[str]) -> set[str]:
     return {rest for q in qualified if (rest := N.strip_gym_prefix(q)) is not None}
 
 
-class SpacesLoggerPass(RulePass):
+# A single string literal, not an implicit concatenation (``"float" "32"``).
+_ONE_STRING = re.compile(r"""^[rRuU]?(\"\"\"[\s\S]*\"\"\"|'''[\s\S]*'''|"(?:[^"\\\n]|\\.)*"|'(?:[^'\\\n]|\\.)*')$""")
+
+
+class SpacesLogger(RuleFamily):
     RULES = RULES
     ORDER = 80
-    METADATA_DEPENDENCIES = (PositionProvider, *METADATA)
 
     @classmethod
-    def applies_to(cls, source: str, profile: FileProfile) -> bool:
-        return profile.imports_gym or profile.imports_gymnasium
+    def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
+        profile = context.profile
+        if not (profile.imports_gym or profile.imports_gymnasium):
+            return False
+        return any(word in facts.text for word in ("logger", "error", "check_env", "Box", "seed"))
 
-    def visit_Module(self, node: cst.Module) -> None:
-        self.analysis = ReceiverAnalysis(node, self.metadata)
+    def decide(self) -> None:
+        self._decide_logger()
+        self._decide_errors()
+        self._decide_imports()
+        for call in self._calls_of(CHECK_ENV, "check_env"):
+            self._decide_check_env(call)
+        for call in self._calls_of(BOX_CLASSES, "Box"):
+            self._decide_box(call)
+        for call in self.facts.attribute_calls.get("seed", ()):
+            self._decide_space_seed(call)
 
-    def _qualified(self, node: cst.CSTNode) -> set[str]:
-        return self.analysis.qualified_names(node)
+    def _is_logger(self, expr: ast.AST) -> bool:
+        return bool(self.facts.qualified_names(expr) & LOGGER_MODULES)
+
+    def _calls_of(self, qualified: frozenset[str], name: str) -> list[ast.Call]:
+        """Calls of a gym callable (``qualified`` without the package), however it is imported."""
+        bound = {name}
+        for alias, full in self.facts.imports.items():
+            rest = N.strip_gym_prefix(full)
+            if rest in qualified and alias.asname:
+                bound.add(alias.asname)
+        candidates = [call for local in sorted(bound) for call in self.facts.calls_by_name.get(local, ())]
+        candidates += self.facts.attribute_calls.get(name, ())
+        return [call for call in candidates if _gym_rest(self.facts.qualified_names(call.func)) & qualified]
 
     # -- GM906: logger ---------------------------------------------------------------
 
-    def _is_logger(self, expr: cst.BaseExpression) -> bool:
-        return bool(self._qualified(expr) & LOGGER_MODULES)
+    def _decide_logger(self) -> None:
+        for method in sorted(SET_LEVEL | REMOVED_LOG_FUNCTIONS):
+            for call in self.facts.attribute_calls.get(method, ()):
+                func = call.func
+                assert isinstance(func, ast.Attribute)
+                if not self._is_logger(func.value):
+                    continue
+                if method in REMOVED_LOG_FUNCTIONS:
+                    self.report(
+                        call,
+                        "GM906",
+                        f"`logger.{method}()` was removed in Gymnasium 1.0 (AttributeError): use `logging.getLogger(__name__).{method}(...)` "
+                        "or delete it",
+                        kind=FixKind.FLAG,
+                    )
+                elif self._is_statement(call):
+                    self._set_level_statement(call, method)
+                else:
+                    self.report(
+                        call,
+                        "GM906",
+                        f"`logger.{method}(...)` was removed in Gymnasium 1.0: assign `logger.min_level` in a statement of its own",
+                        kind=FixKind.FLAG,
+                    )
+        for name, value in REMOVED_LEVELS.items():
+            for attribute in self.facts.attributes.get(name, ()):
+                if self._is_logger(attribute.value):
+                    self.report(attribute, "GM906", f"`logger.{name}` was removed in Gymnasium 1.0: it was the level number {value}")
+                    self.plan.replace(
+                        attribute, lambda node, value=value: cst.Integer(str(value), lpar=node.lpar, rpar=node.rpar)
+                    )
+        for attribute in self.facts.attributes.get("MIN_LEVEL", ()):
+            if self._is_logger(attribute.value):
+                self.report(attribute, "GM906", "gym 0.21's `logger.MIN_LEVEL` is `logger.min_level` in Gymnasium")
+                self.plan.replace(attribute, lambda node: node.with_changes(attr=cst.Name("min_level")))
 
-    def leave_Expr(self, original_node: cst.Expr, updated_node: cst.Expr) -> cst.BaseSmallStatement:
-        """``gym.logger.set_level(x)`` as a statement -> ``gym.logger.min_level = x``."""
-        call, new_call = original_node.value, updated_node.value
-        if not (isinstance(call, cst.Call) and isinstance(call.func, cst.Attribute) and isinstance(new_call, cst.Call)):
-            return updated_node
-        if call.func.attr.value not in SET_LEVEL or not self._is_logger(call.func.value):
-            return updated_node
-        if not self._is_statement(call) or len(new_call.args) != 1:
-            return updated_node  # reported by leave_Call
-        logger = new_call.func.value  # type: ignore[attr-defined]
-        self.report(
-            original_node,
-            "GM906",
-            f"`logger.{call.func.attr.value}(...)` was removed in Gymnasium 1.0 (AttributeError): set `logger.min_level` instead",
-        )
-        target = cst.AssignTarget(target=cst.Attribute(value=logger, attr=cst.Name("min_level")))
-        return cst.Assign(targets=[target], value=new_call.args[0].value)
-
-    def leave_Call(self, original_node: cst.Call, updated_node: cst.Call) -> cst.BaseExpression:
-        func = original_node.func
-        if isinstance(func, cst.Attribute) and self._is_logger(func.value):
-            name = func.attr.value
-            if name in REMOVED_LOG_FUNCTIONS:
-                self.report(
-                    original_node,
-                    "GM906",
-                    f"`logger.{name}()` was removed in Gymnasium 1.0 (AttributeError): use `logging.getLogger(__name__).{name}(...)` "
-                    "or delete it",
-                    kind=FixKind.FLAG,
-                )
-            elif name in SET_LEVEL and not self._is_statement(original_node):
-                self.report(
-                    original_node,
-                    "GM906",
-                    f"`logger.{name}(...)` was removed in Gymnasium 1.0: assign `logger.min_level` in a statement of its own",
-                    kind=FixKind.FLAG,
-                )
-        rest = _gym_rest(self._qualified(func))
-        if rest & CHECK_ENV:
-            return self._drop_check_env_warn(original_node, updated_node)
-        if rest & BOX_CLASSES:
-            return self._box(original_node, updated_node)
-        return updated_node
-
-    def _is_statement(self, call: cst.Call) -> bool:
+    def _is_statement(self, call: ast.Call) -> bool:
         """``logger.set_level(x)`` on its own line, with one plain argument."""
-        parent = self.analysis.parent(call)
-        if not isinstance(parent, cst.Expr):
+        if not isinstance(self.facts.parent(call), ast.Expr):
             return False
-        return len([a for a in call.args if not a.star]) == 1 and len(call.args) == 1
+        if call.keywords:
+            return not call.args and len(call.keywords) == 1 and call.keywords[0].arg is not None
+        return len(call.args) == 1 and not isinstance(call.args[0], ast.Starred)
 
-    def leave_Attribute(self, original_node: cst.Attribute, updated_node: cst.Attribute) -> cst.BaseExpression:
-        name = original_node.attr.value
-        if name in REMOVED_LEVELS and self._is_logger(original_node.value):
-            value = REMOVED_LEVELS[name]
-            self.report(original_node, "GM906", f"`logger.{name}` was removed in Gymnasium 1.0: it was the level number {value}")
-            return cst.Integer(str(value), lpar=updated_node.lpar, rpar=updated_node.rpar)
-        if name == "MIN_LEVEL" and self._is_logger(original_node.value):
-            self.report(original_node, "GM906", "gym 0.21's `logger.MIN_LEVEL` is `logger.min_level` in Gymnasium")
-            return updated_node.with_changes(attr=cst.Name("min_level"))
-        if name in REMOVED_ERRORS and self._qualified(original_node.value) & ERROR_MODULES:
-            self.report(original_node, "GM907", _error_message(name))
-        return updated_node
+    def _set_level_statement(self, call: ast.Call, method: str) -> None:
+        """``gym.logger.set_level(x)`` as a statement -> ``gym.logger.min_level = x``."""
+        statement = self.facts.parent(call)
+        assert isinstance(statement, ast.Expr)
+        self.report(
+            statement,
+            "GM906",
+            f"`logger.{method}(...)` was removed in Gymnasium 1.0 (AttributeError): set `logger.min_level` instead",
+        )
 
-    def visit_ImportFrom(self, node: cst.ImportFrom) -> None:
-        if node.module is None or node.relative or isinstance(node.names, cst.ImportStar):
-            return
-        module = get_full_name_for_node(node.module) or ""
-        imported = [get_full_name_for_node(alias.name) or "" for alias in node.names]
-        if module in ERROR_MODULES:
-            for name in imported:
-                if name in REMOVED_ERRORS:
-                    self.report(node, "GM907", _error_message(name))
-        elif module in LOGGER_MODULES:
-            removed = [name for name in imported if name in REMOVED_LOGGER_NAMES]
-            if removed:
-                self.report(
-                    node,
-                    "GM906",
-                    f"`{', '.join(removed)}` no longer exist in gymnasium.logger (ImportError): use `logger.min_level` "
-                    "and the level numbers (10 debug, 20 info, 50 disabled)",
-                    kind=FixKind.FLAG,
-                )
+        def build(node: cst.Expr) -> cst.Assign:
+            new_call = node.value
+            logger = new_call.func.value  # type: ignore[attr-defined]
+            target = cst.AssignTarget(target=cst.Attribute(value=logger, attr=cst.Name("min_level")))
+            return cst.Assign(targets=[target], value=new_call.args[0].value)  # type: ignore[attr-defined]
+
+        self.plan.replace(statement, build)
+
+    def _decide_imports(self) -> None:
+        """``from gym.error import Unregistered`` / ``from gym.logger import set_level``."""
+        statements = {self.facts.parent(alias) for alias in self.facts.imports}
+        for statement in sorted((s for s in statements if isinstance(s, ast.ImportFrom)), key=lambda s: (s.lineno, s.col_offset)):
+            if statement.module is None or statement.level:
+                continue
+            imported = [alias.name for alias in statement.names]
+            if statement.module in ERROR_MODULES:
+                for name in imported:
+                    if name in REMOVED_ERRORS:
+                        self.report(statement, "GM907", _error_message(name))
+            elif statement.module in LOGGER_MODULES:
+                removed = [name for name in imported if name in REMOVED_LOGGER_NAMES]
+                if removed:
+                    self.report(
+                        statement,
+                        "GM906",
+                        f"`{', '.join(removed)}` no longer exist in gymnasium.logger (ImportError): use `logger.min_level` "
+                        "and the level numbers (10 debug, 20 info, 50 disabled)",
+                        kind=FixKind.FLAG,
+                    )
+
+    # -- GM907: gym.error ------------------------------------------------------------------
+
+    def _decide_errors(self) -> None:
+        for name in REMOVED_ERRORS:
+            for attribute in self.facts.attributes.get(name, ()):
+                if self.facts.qualified_names(attribute.value) & ERROR_MODULES:
+                    self.report(attribute, "GM907", _error_message(name))
 
     # -- GM908: check_env(warn=) -------------------------------------------------------
 
-    def _drop_check_env_warn(self, original: cst.Call, updated: cst.Call) -> cst.Call:
-        args = list(updated.args)
-        positional = [i for i, a in enumerate(args) if a.keyword is None and not a.star]
-        index = next((i for i, a in enumerate(args) if a.keyword is not None and a.keyword.value == "warn"), None)
-        if index is None and len(positional) > 2:
+    def _decide_check_env(self, call: ast.Call) -> None:
+        positional = [a for a in call.args if not isinstance(a, ast.Starred)]
+        has_warn = any(kw.arg == "warn" for kw in call.keywords)
+        if not has_warn and len(positional) > 2:
             # check_env(env, warn, skip_render_check): dropping warn would shift the rest.
-            self.report(original, "GM908", "`check_env`'s `warn` argument is ignored now: drop it and pass the rest by keyword", kind=FixKind.FLAG)
-            return updated
-        if index is None and len(positional) == 2:
-            index = positional[1]
-        if index is None:
-            return updated
-        self.report(original, "GM908", "`check_env`'s `warn` argument is ignored (and itself warns) in Gymnasium 1.x: dropped")
-        removed = args.pop(index)
-        if index == len(args) and args:  # it was the last argument: the new last keeps its comma style
-            args[-1] = args[-1].with_changes(comma=removed.comma)
-        return updated.with_changes(args=args)
+            self.report(call, "GM908", "`check_env`'s `warn` argument is ignored now: drop it and pass the rest by keyword", kind=FixKind.FLAG)
+            return
+        if not has_warn and len(positional) != 2:
+            return
+        self.report(call, "GM908", "`check_env`'s `warn` argument is ignored (and itself warns) in Gymnasium 1.x: dropped")
+        self.plan.replace(call, _drop_warn)
 
     # -- GM904: Box ----------------------------------------------------------------------
 
-    def _box(self, original: cst.Call, updated: cst.Call) -> cst.Call:
-        keywords = {a.keyword.value: a for a in original.args if a.keyword is not None}
-        dtype_arg = keywords.get("dtype")
-        positional = [a for a in original.args if a.keyword is None and not a.star]
-        if dtype_arg is None and len(positional) >= 4:
-            dtype_arg = positional[3]
-        if dtype_arg is not None and isinstance(dtype_arg.value, cst.Name) and dtype_arg.value.value == "None":
-            self.report(original, "GM904", "`Box(dtype=None)` raises in Gymnasium 1.x: give the dtype explicitly (np.float32 was the default)", kind=FixKind.FLAG)
-            return updated
-        bounds = [i for i, a in enumerate(original.args) if _is_bound(a, i)]
-        literal = [i for i in bounds if isinstance(original.args[i].value, (cst.List, cst.Tuple))]
+    def _decide_box(self, call: ast.Call) -> None:
+        positional = [a for a in call.args if not isinstance(a, ast.Starred)]
+        dtype = next((kw.value for kw in call.keywords if kw.arg == "dtype"), None)
+        if dtype is None and len(positional) >= 4:
+            dtype = positional[3]
+        if isinstance(dtype, ast.Constant) and dtype.value is None:
+            self.report(call, "GM904", "`Box(dtype=None)` raises in Gymnasium 1.x: give the dtype explicitly (np.float32 was the default)", kind=FixKind.FLAG)
+            return
+        literal = [value for value in _bounds(call) if isinstance(value, (ast.List, ast.Tuple))]
         if not literal:
-            return updated
-        dtype_text = get_full_name_for_node(dtype_arg.value) if dtype_arg is not None else "np.float32"
-        if dtype_arg is not None and dtype_text is None and not isinstance(dtype_arg.value, cst.SimpleString):
-            self.report(original, "GM904", "`Box` low/high must be arrays or scalars (a list raises): wrap them in `np.array(...)`", kind=FixKind.FLAG)
-            return updated
-        is_float = dtype_text in FLOAT_DTYPES or (
-            isinstance(dtype_arg.value, cst.SimpleString) and "float" in dtype_arg.value.value  # type: ignore[union-attr]
-        )
-        if not is_float and any(_mentions_inf(original.args[i].value) for i in literal):
+            return
+        dtype_text = full_name(dtype) if dtype is not None else "np.float32"
+        dtype_string = self._one_string(dtype)
+        if dtype is not None and dtype_text is None and dtype_string is None:
+            self.report(call, "GM904", "`Box` low/high must be arrays or scalars (a list raises): wrap them in `np.array(...)`", kind=FixKind.FLAG)
+            return
+        is_float = dtype_text in FLOAT_DTYPES or (dtype_string is not None and "float" in dtype_string)
+        if not is_float and any("inf" in self.facts.segment(value) for value in literal):
             self.report(
-                original,
+                call,
                 "GM904",
                 "`Box` low/high must be arrays or scalars (a list raises); this list holds infinities and the dtype is not a "
                 "float: use the dtype's limits in an `np.array(...)`",
                 kind=FixKind.FLAG,
             )
-            return updated
-        self.report(original, "GM904", "`Box` low/high lists raise in Gymnasium 1.x: wrapped in `np.array(..., dtype=...)` with the Box dtype")
-        AddImportsVisitor.add_needed_import(self.context.codemod, "numpy", asname="np")
-        dtype = dtype_arg.value if dtype_arg is not None else cst.parse_expression("np.float32")
-        args = list(updated.args)
-        for i in literal:
-            arg = args[i]
-            wrapped = cst.Call(
-                func=cst.parse_expression("np.array"),
-                args=[
-                    cst.Arg(value=arg.value, comma=cst.Comma(whitespace_after=cst.SimpleWhitespace(" "))),
-                    cst.Arg(
-                        keyword=cst.Name("dtype"),
-                        value=dtype,
-                        equal=cst.AssignEqual(whitespace_before=cst.SimpleWhitespace(""), whitespace_after=cst.SimpleWhitespace("")),
-                    ),
-                ],
-            )
-            args[i] = arg.with_changes(value=wrapped)
-        return updated.with_changes(args=args)
+            return
+        self.report(call, "GM904", "`Box` low/high lists raise in Gymnasium 1.x: wrapped in `np.array(..., dtype=...)` with the Box dtype")
+        if not self._numpy_imported_as_np():
+            self.plan.add_import("import numpy as np")
+        self.plan.replace(call, _wrap_bounds)
+
+    def _one_string(self, node: ast.AST | None) -> str | None:
+        """The source of a single string literal (quotes included), else None."""
+        if not (isinstance(node, ast.Constant) and isinstance(node.value, str)):
+            return None
+        source = self.facts.segment(node)
+        return source if _ONE_STRING.match(source) else None
+
+    def _numpy_imported_as_np(self) -> bool:
+        return any(
+            full == "numpy" and alias.asname == "np" and self.facts.scope_of(alias) is self.facts.module_scope
+            for alias, full in self.facts.imports.items()
+        )
 
     # -- GM902: Space.seed() result ----------------------------------------------------
 
-    def visit_Subscript(self, node: cst.Subscript) -> None:
-        if self._is_space_seed(node.value) and not _gm205_covers(node.value):
-            self.report(
-                node,
-                "GM902",
-                "`Space.seed()` returns an int (a dict for Dict, a tuple for Tuple spaces) since Gymnasium 1.0, not a list: "
-                "drop the index",
-            )
+    def _decide_space_seed(self, call: ast.Call) -> None:
+        parent = self.facts.parent(call)
+        if isinstance(parent, ast.Subscript) and parent.value is call:
+            if self._is_space(call.func.value) and not _gm205_covers(call):  # type: ignore[attr-defined]
+                self.report(
+                    parent,
+                    "GM902",
+                    "`Space.seed()` returns an int (a dict for Dict, a tuple for Tuple spaces) since Gymnasium 1.0, not a list: "
+                    "drop the index",
+                )
+        elif isinstance(parent, ast.Assign) and parent.value is call and any(isinstance(t, (ast.Tuple, ast.List)) for t in parent.targets):
+            if self._is_space(call.func.value):  # type: ignore[attr-defined]
+                self.report(
+                    parent,
+                    "GM902",
+                    "`Space.seed()` returns an int (a dict for Dict, a tuple for Tuple spaces) since Gymnasium 1.0, not a list: "
+                    "assign it to one name",
+                )
 
-    def visit_Assign(self, node: cst.Assign) -> None:
-        if self._is_space_seed(node.value) and any(isinstance(t.target, (cst.Tuple, cst.List)) for t in node.targets):
-            self.report(
-                node,
-                "GM902",
-                "`Space.seed()` returns an int (a dict for Dict, a tuple for Tuple spaces) since Gymnasium 1.0, not a list: "
-                "assign it to one name",
-            )
-
-    def _is_space_seed(self, expr: cst.BaseExpression) -> bool:
-        if not (isinstance(expr, cst.Call) and isinstance(expr.func, cst.Attribute) and expr.func.attr.value == "seed"):
-            return False
-        return self._is_space(expr.func.value)
-
-    def _is_space(self, expr: cst.BaseExpression) -> bool:
-        if isinstance(expr, cst.Attribute) and expr.attr.value in SPACE_ATTRIBUTES:
+    def _is_space(self, expr: ast.AST) -> bool:
+        if isinstance(expr, ast.Attribute) and expr.attr in SPACE_ATTRIBUTES:
             return True
-        if isinstance(expr, cst.Call):
-            return any(rest.startswith("spaces.") for rest in _gym_rest(self._qualified(expr.func)))
-        if isinstance(expr, cst.Name):
-            scope = self.get_metadata(ScopeProvider, expr, None)
-            if scope is None:
-                return False
-            assignments = list(scope[expr.value])
-            values = [_assigned_value(self.analysis, a) for a in assignments]
-            return bool(values) and all(v is not None and not isinstance(v, cst.Name) and self._is_space(v) for v in values)
+        if isinstance(expr, ast.Call):
+            return any(rest.startswith("spaces.") for rest in _gym_rest(self.facts.qualified_names(expr.func)))
+        if isinstance(expr, ast.Name):
+            # Every binding is ``name = <a space>`` (one level: no chains of names).
+            values = [self._assigned_value(binding) for binding in self.facts.bindings_of(expr)]
+            return bool(values) and all(v is not None and not isinstance(v, ast.Name) and self._is_space(v) for v in values)
         return False
 
-
-def _assigned_value(analysis: ReceiverAnalysis, assignment: object) -> cst.BaseExpression | None:
-    if not isinstance(assignment, Assignment):
+    def _assigned_value(self, binding: ast.AST) -> ast.expr | None:
+        statement = self.facts.parent(binding)
+        if isinstance(binding, ast.Name) and isinstance(statement, ast.Assign) and binding in statement.targets:
+            return statement.value
         return None
-    holder = analysis.parent(assignment.node)
-    statement = analysis.parent(holder) if isinstance(holder, cst.AssignTarget) else None
-    return statement.value if isinstance(statement, cst.Assign) else None
 
 
-def _gm205_covers(call: cst.Call) -> bool:
+def _gm205_covers(call: ast.Call) -> bool:
     """reset_seed.py (GM205) already reports ``<...>space.seed(s)[i]`` by the receiver's
     spelling; GM902 reports the other spaces (traced to a ``spaces.*`` constructor) and
     unpacked results, so one site never gets two findings."""
     receiver = call.func.value  # type: ignore[attr-defined]
-    while isinstance(receiver, cst.Subscript):
+    while isinstance(receiver, ast.Subscript):
         receiver = receiver.value
-    name = receiver.attr.value if isinstance(receiver, cst.Attribute) else receiver.value if isinstance(receiver, cst.Name) else ""
+    name = receiver.attr if isinstance(receiver, ast.Attribute) else receiver.id if isinstance(receiver, ast.Name) else ""
     return name.lower().endswith(("space", "spaces"))
+
+
+def _bounds(call: ast.Call) -> list[ast.expr]:
+    """The values given for ``low`` / ``high``: the first two arguments, or by keyword."""
+    arguments = sorted([*call.args, *call.keywords], key=lambda a: (a.lineno, a.col_offset))
+    found = []
+    for index, argument in enumerate(arguments):
+        if isinstance(argument, ast.keyword):
+            if argument.arg in ("low", "high"):
+                found.append(argument.value)
+        elif not isinstance(argument, ast.Starred) and index < 2:
+            found.append(argument)
+    return found
+
+
+def _error_message(name: str) -> str:
+    return f"`gym.error.{name}` does not exist in Gymnasium (AttributeError/ImportError): {REMOVED_ERRORS[name]}"
+
+
+# -- building the new code ------------------------------------------------------------------
+
+
+def _drop_warn(call: cst.Call) -> cst.Call:
+    """``check_env(env, warn=...)`` / ``check_env(env, False)`` without the ``warn`` argument."""
+    args = list(call.args)
+    index = next((i for i, a in enumerate(args) if a.keyword is not None and a.keyword.value == "warn"), None)
+    if index is None:
+        positional = [i for i, a in enumerate(args) if a.keyword is None and not a.star]
+        index = positional[1]
+    removed = args.pop(index)
+    if index == len(args) and args:  # it was the last argument: the new last keeps its comma style
+        args[-1] = args[-1].with_changes(comma=removed.comma)
+    return call.with_changes(args=args)
 
 
 def _is_bound(arg: cst.Arg, index: int) -> bool:
@@ -345,10 +389,24 @@ def _is_bound(arg: cst.Arg, index: int) -> bool:
     return not arg.star and index < 2
 
 
-def _mentions_inf(expr: cst.BaseExpression) -> bool:
-    code = cst.Module(body=[]).code_for_node(expr)
-    return "inf" in code
-
-
-def _error_message(name: str) -> str:
-    return f"`gym.error.{name}` does not exist in Gymnasium (AttributeError/ImportError): {REMOVED_ERRORS[name]}"
+def _wrap_bounds(call: cst.Call) -> cst.Call:
+    """List and tuple bounds -> ``np.array(<bound>, dtype=<the Box dtype>)``: what Box built from them."""
+    dtype_arg = next((a for a in call.args if a.keyword is not None and a.keyword.value == "dtype"), None)
+    positional = [a for a in call.args if a.keyword is None and not a.star]
+    if dtype_arg is None and len(positional) >= 4:
+        dtype_arg = positional[3]
+    dtype = dtype_arg.value if dtype_arg is not None else cst.parse_expression("np.float32")
+    no_space = cst.SimpleWhitespace("")
+    args = list(call.args)
+    for i, arg in enumerate(args):
+        if not (_is_bound(arg, i) and isinstance(arg.value, (cst.List, cst.Tuple))):
+            continue
+        wrapped = cst.Call(
+            func=cst.parse_expression("np.array"),
+            args=[
+                cst.Arg(value=arg.value, comma=cst.Comma(whitespace_after=cst.SimpleWhitespace(" "))),
+                cst.Arg(keyword=cst.Name("dtype"), value=dtype, equal=cst.AssignEqual(whitespace_before=no_space, whitespace_after=no_space)),
+            ],
+        )
+        args[i] = arg.with_changes(value=wrapped)
+    return call.with_changes(args=args)

@@ -1,0 +1,34 @@
+"""Environment ids, third-party registration and the registry API (GM106, GM802-GM806).
+
+    catalog.py   what retired, Atari and removed-family ids become (tables, no syntax)
+    syntax.py    which calls take an id, which literals can be rewritten, the registry
+    ids.py       GM803-GM805 id strings and GM106 registration imports   [20]
+    registry.py  GM802 registry API and GM806 EnvSpec attributes          [21]
+"""
+
+from gymmigrate.rules.env_ids import ids, registry  # noqa: F401  (imported to register their families)
+from gymmigrate.rules.env_ids.catalog import (
+    LEGACY_ATARI_GAMES,
+    REMOVED_FAMILIES,
+    RETIRED_IDS,
+    EnvPackage,
+    IdMigration,
+    atari_migration,
+    env_package,
+    is_atari_id,
+    migration_for,
+    removed_family,
+)
+
+__all__ = [
+    "LEGACY_ATARI_GAMES",
+    "REMOVED_FAMILIES",
+    "RETIRED_IDS",
+    "EnvPackage",
+    "IdMigration",
+    "atari_migration",
+    "env_package",
+    "is_atari_id",
+    "migration_for",
+    "removed_family",
+]

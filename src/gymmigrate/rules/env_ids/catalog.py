@@ -1,0 +1,169 @@
+"""What became of legacy env ids: the tables GM803-GM805 and GM106 rewrite from.
+
+Every id the tool writes is registered by Gymnasium 1.4 (or ale-py 0.12.1) and every id
+it replaces is gone; ``tests/test_env_ids.py`` checks both against the installed
+packages. Pure data and pure functions of an id string: no syntax here.
+
+Sources: Gymnasium ``envs/__init__.py`` and each env's Version History (1.4.0);
+ale-py 0.12.1 ``registration.py``.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+from gymmigrate.findings import FixKind
+
+
+@dataclass(frozen=True)
+class IdMigration:
+    """What a retired id becomes: the new id, keywords the env needs to stay the same env."""
+
+    new_id: str
+    kind: FixKind
+    reason: str
+    kwargs: tuple[tuple[str, str], ...] = ()  # (keyword, Python source of its value)
+    rule: str = "GM803"
+
+
+_SAME = "the same environment under its current version"
+_LANDER = "v3 resets wind each episode and widens the observation bounds; saved policies and normalisers may not transfer"
+_CAR = "v3 ends a finished lap with termination instead of truncation and changed the track-completion logic (0.24)"
+_MUJOCO = (
+    "mujoco-py envs raise ImportError since Gymnasium 1.2; v4 keeps the model and reward on the mujoco bindings "
+    "(v5 is maintained but changes rewards and observations)"
+)
+_MUJOCO_IDS = {
+    "v2": (
+        "Ant", "HalfCheetah", "Hopper", "Humanoid", "HumanoidStandup", "InvertedDoublePendulum",
+        "InvertedPendulum", "Pusher", "Reacher", "Swimmer", "Walker2d",
+    ),
+    "v3": ("Ant", "HalfCheetah", "Hopper", "Humanoid", "Swimmer", "Walker2d"),
+}  # fmt: skip
+
+# Every legacy id Gymnasium 1.4 no longer makes, and what it becomes (tests check that
+# each target is registered and not a stub that raises).
+RETIRED_IDS: dict[str, IdMigration] = {
+    "Pendulum-v0": IdMigration("Pendulum-v1", FixKind.AUTO, "v1 only simplified the equations, same behaviour"),
+    "FrozenLake-v0": IdMigration("FrozenLake-v1", FixKind.AUTO, _SAME),
+    "FrozenLake8x8-v0": IdMigration("FrozenLake8x8-v1", FixKind.AUTO, _SAME),
+    "Blackjack-v0": IdMigration("Blackjack-v1", FixKind.AUTO, "v1 fixed `natural=True` handling; the defaults are unchanged"),
+    "Taxi-v3": IdMigration("Taxi-v4", FixKind.AUTO, "v4 only fixed the optional rainy/fickle modes; the defaults are unchanged"),
+    "Taxi-v2": IdMigration("Taxi-v4", FixKind.ASSIST, "v3 corrected the map, so episodes differ from v2"),
+    "CliffWalking-v0": IdMigration("CliffWalking-v1", FixKind.AUTO, "v1 only added the optional slippery variant"),
+    "LunarLander-v2": IdMigration("LunarLander-v3", FixKind.ASSIST, _LANDER),
+    "LunarLanderContinuous-v2": IdMigration("LunarLanderContinuous-v3", FixKind.ASSIST, _LANDER),
+    "CarRacing-v0": IdMigration("CarRacing-v3", FixKind.ASSIST, _CAR),
+    "CarRacing-v1": IdMigration("CarRacing-v3", FixKind.ASSIST, _CAR),
+    "CarRacing-v2": IdMigration("CarRacing-v3", FixKind.ASSIST, "v3 ends a finished lap with termination instead of truncation"),
+    "CarRacingDiscrete-v1": IdMigration("CarRacing-v3", FixKind.ASSIST, _CAR, (("continuous", "False"),)),
+    "CarRacingDomainRandomize-v1": IdMigration("CarRacing-v3", FixKind.ASSIST, _CAR, (("domain_randomize", "True"),)),
+    "CarRacingDomainRandomizeDiscrete-v1": IdMigration(
+        "CarRacing-v3", FixKind.ASSIST, _CAR, (("continuous", "False"), ("domain_randomize", "True"))
+    ),
+    **{
+        f"{name}-{version}": IdMigration(f"{name}-v4", FixKind.ASSIST, _MUJOCO)
+        for version, env_names in _MUJOCO_IDS.items()
+        for name in env_names
+    },
+}
+
+# GM805: families that are gone from Gymnasium, with what to do instead.
+REMOVED_FAMILIES: tuple[tuple[re.Pattern[str], str], ...] = (
+    (
+        re.compile(r"^(Fetch(Slide|PickAndPlace|Reach|Push)|HandReach|HandManipulate(Block|Egg|Pen)[A-Za-z]*)(Dense)?-v\d+$"),
+        "robotics envs moved to gymnasium_robotics: install it, `gym.register_envs(gymnasium_robotics)` and use its current id",
+    ),
+    (re.compile(r"^(Striker|Thrower)-v\d+$"), "Striker/Thrower were removed in gym 0.23 (archived in Gym-Mujoco-Archive)"),
+    (
+        re.compile(r"^(CubeCrash(Sparse|ScreenBecomesBlack)?|MemorizeDigits)-v\d+$"),
+        "the gym unittest envs were removed in gym 0.22; vendor the env or pick another",
+    ),
+)
+
+# Atari games whose ``<Game>-v0/v4`` and ``NoFrameskip`` ids ale-py still registers
+# (ale-py 0.12.1 ``register_v0_v4_envs``); the ``ALE/`` namespace has every ROM.
+LEGACY_ATARI_GAMES = frozenset(
+    {
+        "Adventure", "AirRaid", "Alien", "Amidar", "Assault", "Asterix", "Asteroids", "Atlantis",
+        "BankHeist", "BattleZone", "BeamRider", "Berzerk", "Bowling", "Boxing", "Breakout", "Carnival",
+        "Centipede", "ChopperCommand", "CrazyClimber", "Defender", "DemonAttack", "DoubleDunk",
+        "ElevatorAction", "Enduro", "FishingDerby", "Freeway", "Frostbite", "Gopher", "Gravitar", "Hero",
+        "IceHockey", "Jamesbond", "JourneyEscape", "Kangaroo", "Krull", "KungFuMaster",
+        "MontezumaRevenge", "MsPacman", "NameThisGame", "Phoenix", "Pitfall", "Pong", "Pooyan",
+        "PrivateEye", "Qbert", "Riverraid", "RoadRunner", "Robotank", "Seaquest", "Skiing", "Solaris",
+        "SpaceInvaders", "StarGunner", "Tennis", "TimePilot", "Tutankham", "UpNDown", "Venture",
+        "VideoPinball", "WizardOfWor", "YarsRevenge", "Zaxxon",
+    }
+)  # fmt: skip
+_ATARI_ID = re.compile(
+    r"^(?P<namespace>ALE/)?(?P<game>[A-Z][A-Za-z0-9]*?)(?P<ram>-ram)?(?P<mode>Deterministic|NoFrameskip)?-v(?P<version>\d+)$"
+)
+
+
+@dataclass(frozen=True)
+class EnvPackage:
+    """A third-party package whose ids need an import since Gymnasium 1.0 (GM106)."""
+
+    module: str
+    kind: FixKind
+    legacy_module: str | None = None  # its gym-era name, which does not work with Gymnasium
+
+
+ALE = EnvPackage("ale_py", FixKind.AUTO)
+MINIGRID = EnvPackage("minigrid", FixKind.ASSIST, legacy_module="gym_minigrid")
+HIGHWAY = EnvPackage("highway_env", FixKind.ASSIST)
+
+
+def atari_migration(env_id: str) -> IdMigration | None:
+    """Removed ``Deterministic`` / ``-ram`` ids -> base id + keywords (None: keep the id)."""
+    match = _ATARI_ID.match(env_id)
+    if match is None or not is_atari_id(env_id):
+        return None
+    game, ram, mode, version = match["game"], match["ram"], match["mode"], match["version"]
+    if not ram and mode != "Deterministic":
+        return None
+    kwargs: list[tuple[str, str]] = []
+    if mode == "Deterministic":
+        kwargs.append(("frameskip", "3" if game == "SpaceInvaders" else "4"))
+    if ram:
+        kwargs.append(("obs_type", '"ram"'))
+    base = f"{match['namespace'] or ''}{game}{'NoFrameskip' if mode == 'NoFrameskip' else ''}-v{version}"
+    removed = "Deterministic and -ram ids" if ram and mode == "Deterministic" else "-ram ids" if ram else "Deterministic ids"
+    if match["namespace"]:
+        # ale-py registered ALE/<Game>-ram-v5 as ALE/<Game>-v5 with obs_type="ram": the same env.
+        return IdMigration(base, FixKind.AUTO, f"ale-py 0.11.1 removed {removed}; the keyword selects the same env", tuple(kwargs), "GM804")
+    reason = f"ale-py 0.11.1 removed {removed}; episodes are now capped at 108000 frames by ale-py instead of gym's TimeLimit"
+    return IdMigration(base, FixKind.ASSIST, reason, tuple(kwargs), rule="GM804")
+
+
+def is_atari_id(env_id: str) -> bool:
+    match = _ATARI_ID.match(env_id)
+    if match is None:
+        return False
+    if match["namespace"]:
+        return True
+    return match["game"] in LEGACY_ATARI_GAMES and match["version"] in ("0", "4")
+
+
+def env_package(env_id: str) -> EnvPackage | None:
+    if is_atari_id(env_id):
+        return ALE
+    if env_id.startswith("MiniGrid-"):
+        return MINIGRID
+    if env_id.startswith("highway-"):
+        return HIGHWAY
+    return None
+
+
+def migration_for(env_id: str) -> IdMigration | None:
+    return RETIRED_IDS.get(env_id) or atari_migration(env_id)
+
+
+def removed_family(env_id: str) -> str | None:
+    for pattern, hint in REMOVED_FAMILIES:
+        if pattern.match(env_id):
+            return hint
+    return None
+

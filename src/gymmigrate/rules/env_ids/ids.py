@@ -1,0 +1,370 @@
+"""Env id strings: retired ids, Atari variants, removed families, plugin registration.
+
+* GM803 retired ids are bumped to the id Gymnasium 1.4 registers (``catalog.RETIRED_IDS``).
+  Only strings in an env-id position are touched: the id argument of ``make`` /
+  ``make_vec`` / ``vector.make`` / ``spec`` / the legacy registry methods / SB3's
+  ``make_vec_env`` and ``make_atari_env``, a constant that is only ever assigned one
+  literal and is passed there, and the ``default=`` of an ``--env...`` argparse option.
+  Gymnasium raises ``DeprecatedEnv`` for every retired id.
+* GM804 Atari ids removed in ale-py 0.11.1 (``*Deterministic*``, ``*-ram*``) become the
+  base id plus ``frameskip=`` / ``obs_type="ram"`` on the call that makes the env; where
+  that call cannot take the keywords (``spec``, a constant, one branch of a conditional)
+  they are reported instead.
+* GM805 ids of removed families (robotics, Striker/Thrower, the unittest envs) are reported.
+* GM106 Gymnasium 1.0 removed plugin auto-registration: a module that makes an Atari id
+  gets ``import ale_py`` + ``gym.register_envs(ale_py)`` (AUTO; ``register_envs`` keeps
+  linters from deleting an import that looks unused); MiniGrid and highway-env ids get
+  their package import (ASSIST).
+"""
+
+from __future__ import annotations
+
+import ast
+import re
+from dataclasses import dataclass
+
+import libcst as cst
+
+from gymmigrate.analysis import names as N
+from gymmigrate.facts import ModuleFacts
+from gymmigrate.findings import FixKind
+from gymmigrate.rules.base import FileContext, Rule, RuleFamily
+from gymmigrate.rules.env_ids.catalog import ALE, EnvPackage, IdMigration, env_package, migration_for, removed_family
+from gymmigrate.rules.env_ids.syntax import (
+    FORWARDS_KWARGS,
+    ID_FUNCTIONS,
+    SB3_ID_FUNCTIONS,
+    gym_alias,
+    id_argument,
+    is_registry,
+    plain_string,
+)
+
+RULES = (
+    Rule(
+        "GM106",
+        "register third-party env packages",
+        FixKind.ASSIST,
+        "Atari ids get `import ale_py` + `gym.register_envs(ale_py)`; MiniGrid/highway ids get their package import.",
+    ),
+    Rule("GM803", "retired env ids", FixKind.AUTO, "Retired env ids are bumped to the version Gymnasium 1.4 registers."),
+    Rule("GM804", "Atari ids", FixKind.ASSIST, "Removed `*Deterministic*` / `*-ram*` Atari ids become the base id plus keywords."),
+    Rule("GM805", "removed env families", FixKind.FLAG, "Ids of env families Gymnasium removed are reported."),
+)
+
+# Set in ``plan.notes`` when the registration block imports ``gymnasium`` itself, so the
+# registry family does not import it a second time.
+GYMNASIUM_IMPORTED = "env_ids.gymnasium-imported"
+
+_ENV_OPTION = re.compile(r"^--?env", re.IGNORECASE)
+
+
+@dataclass
+class IdSite:
+    """One string literal used as an env id, and the call that receives it (if known)."""
+
+    string: ast.Constant
+    env_id: str
+    module_prefix: str  # "ale_py:" in "ale_py:ALE/Pong-v5"
+    call: ast.Call | None
+    forwards_kwargs: bool
+    via: str = ""  # how the string reaches the call ("the constant ENV_ID"), for messages
+    conditional: bool = False  # one branch of ``a if c else b``: keywords would hit both
+
+
+class EnvIds(RuleFamily):
+    RULES = RULES
+    ORDER = 20
+
+    @classmethod
+    def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
+        return "-v" in facts.text
+
+    def decide(self) -> None:
+        self._planned: set[ast.Constant] = set()
+        self._new_keywords: dict[ast.Call, list[tuple[str, str]]] = {}
+        # package module -> (package, the first id string that needs it)
+        self._packages: dict[str, tuple[EnvPackage, ast.Constant]] = {}
+        for site in self._id_sites():
+            self._decide_site(site)
+        for call, keywords in self._new_keywords.items():
+            self.plan.replace(call, lambda node, keywords=keywords: _append_keywords(node, keywords))
+        self._decide_registration()
+
+    # -- where env ids are ---------------------------------------------------------------
+
+    def _id_sites(self) -> list[IdSite]:
+        sites: list[IdSite] = []
+        for call in _calls_in_source_order(self.facts):
+            forwards = self._id_call(call)
+            if forwards is None:
+                sites.extend(self._argparse_default(call))
+                continue
+            arg = id_argument(call)
+            if arg is None:
+                continue
+            # ``gym.make("A-v0" if continuous else "B-v0")``: both branches are ids.
+            branches = [arg.body, arg.orelse] if isinstance(arg, ast.IfExp) else [arg]
+            for branch in branches:
+                site = self._site(branch, call, forwards)
+                if site is not None:
+                    site.conditional = len(branches) > 1
+                    sites.append(site)
+            if isinstance(arg, ast.Name):
+                literal = self._single_literal_constant(arg)
+                if literal is not None:
+                    site = self._site(literal, None, False, via=f"the constant `{arg.id}`")
+                    if site is not None:
+                        sites.append(site)
+        return sites
+
+    def _site(self, string: ast.AST, call: ast.Call | None, forwards: bool, via: str = "") -> IdSite | None:
+        text = plain_string(self.facts, string)
+        if text is None:
+            return None
+        prefix, env_id = _split_module_prefix(text)
+        return IdSite(string, env_id, prefix, call, forwards, via)  # type: ignore[arg-type]
+
+    def _id_call(self, call: ast.Call) -> bool | None:
+        """Does ``call`` take an env id? True if it also forwards keywords to the env, None if no id."""
+        for qualified in self.facts.qualified_names(call.func):
+            rest = N.strip_gym_prefix(qualified)
+            if rest in ID_FUNCTIONS:
+                return rest in FORWARDS_KWARGS
+            if qualified in SB3_ID_FUNCTIONS:
+                return False
+        func = call.func
+        if isinstance(func, ast.Attribute) and func.attr in ("spec", "make") and is_registry(self.facts, func.value):
+            return func.attr == "make"
+        return None
+
+    def _argparse_default(self, call: ast.Call) -> list[IdSite]:
+        """``parser.add_argument("--env-id", default="LunarLander-v2")``: the default is an id."""
+        if not (isinstance(call.func, ast.Attribute) and call.func.attr == "add_argument"):
+            return []
+        flags = [plain_string(self.facts, a) for a in call.args]
+        if not any(flag and _ENV_OPTION.match(flag) for flag in flags):
+            return []
+        sites = []
+        for kw in call.keywords:
+            if kw.arg == "default":
+                site = self._site(kw.value, None, False, via="this argparse default")
+                if site is not None:
+                    sites.append(site)
+        return sites
+
+    def _single_literal_constant(self, name: ast.Name) -> ast.Constant | None:
+        """The literal of ``ENV_ID = "..."`` when that is the name's only assignment."""
+        bindings = self.facts.bindings_of(name)
+        if len(bindings) != 1 or not isinstance(bindings[0], ast.Name):
+            return None
+        target = bindings[0]
+        statement = self.facts.parent(target)
+        if isinstance(statement, ast.Assign) and statement.targets == [target]:
+            value = statement.value
+        elif isinstance(statement, ast.AnnAssign) and statement.target is target:
+            value = statement.value
+        else:
+            return None
+        return value if isinstance(value, ast.Constant) and isinstance(value.value, str) else None
+
+    # -- GM803 / GM804 / GM805 -------------------------------------------------------------
+
+    def _decide_site(self, site: IdSite) -> None:
+        if site.string in self._planned:  # a constant passed to several calls
+            return
+        self._planned.add(site.string)
+        migration = migration_for(site.env_id)
+        if migration is not None:
+            self._decide_migration(site, migration)
+        hint = removed_family(site.env_id)
+        if hint is not None:
+            self.report(site.string, "GM805", f"`{site.env_id}` no longer exists: {hint}")
+        final_id = migration.new_id if migration is not None else site.env_id
+        package = env_package(final_id)
+        if package is not None and not site.module_prefix and package.module not in self._packages:
+            self._packages[package.module] = (package, site.string)
+
+    def _decide_migration(self, site: IdSite, migration: IdMigration) -> None:
+        old, new = site.env_id, migration.new_id
+        where = f" ({site.via})" if site.via else ""
+        if migration.kwargs:
+            keywords = ", ".join(f"{k}={v}" for k, v in migration.kwargs)
+            taken = {kw.arg for kw in site.call.keywords if kw.arg is not None} if site.call else set()
+            clash = [k for k, _ in migration.kwargs if k in taken]
+            if not site.forwards_kwargs or clash or site.call is None or site.conditional:
+                if clash:
+                    why = f"the call already passes {', '.join(clash)}"
+                elif site.via:
+                    why = f"the id comes from {site.via}"
+                elif site.conditional:
+                    why = "the id is one branch of a conditional"
+                else:
+                    why = "this call cannot pass keywords to the env"
+                self.report(
+                    site.string,
+                    migration.rule,
+                    f"`{old}` no longer exists: make `{new}` with {keywords} ({why}); {migration.reason}",
+                    kind=FixKind.FLAG,
+                )
+                return
+            planned = self._new_keywords.setdefault(site.call, [])
+            planned.extend(k for k in migration.kwargs if k not in planned)
+            new_text = f"`{new}` with {keywords}"
+        else:
+            new_text = f"`{new}`"
+        new_value = site.module_prefix + new
+        self.plan.replace(site.string, lambda node: _with_string_value(node, new_value))
+        self.report(site.string, migration.rule, f"`{old}` -> {new_text}{where}: {migration.reason}", kind=migration.kind)
+
+    # -- GM106 -----------------------------------------------------------------------------
+
+    def _decide_registration(self) -> None:
+        if not self._packages:
+            return
+        imported = _imported_modules(self.facts.tree, self.facts)
+        needed = []
+        for package, string in self._packages.values():
+            if package.module in imported:
+                continue
+            if package.legacy_module and package.legacy_module in imported:
+                self.report(
+                    string,
+                    "GM106",
+                    f"`{package.legacy_module}` is the gym-era package: import `{package.module}` instead and call "
+                    f"`gym.register_envs({package.module})`",
+                    kind=FixKind.FLAG,
+                )
+                continue
+            needed.append(package)
+            self.report(string, "GM106", _registration_message(package), kind=package.kind)
+        if needed:
+            self._insert_registration([p.module for p in needed], [s for _, s in self._packages.values()])
+
+    def _insert_registration(self, packages: list[str], strings: list[ast.Constant]) -> None:
+        """``import ale_py`` after the last top-level import that comes before the first use
+        of an id, then a blank line and ``gym.register_envs(ale_py)``."""
+        body = self.facts.tree.body
+        first_use = min(body.index(self._top_level_statement(s)) for s in strings)
+        alias = gym_alias(self.facts)
+        lines = []
+        if alias is None:
+            alias = "gymnasium"
+            lines.append("import gymnasium")
+            self.plan.notes[GYMNASIUM_IMPORTED] = True
+        lines += [f"import {package}" for package in packages]
+        calls = [f"{alias}.register_envs({package})" for package in packages]
+        calls[0] = "\n" + calls[0]
+        last_import = next((s for s in reversed(body[:first_use]) if isinstance(s, (ast.Import, ast.ImportFrom))), None)
+        if last_import is not None:
+            self.plan.insert_after(last_import, *lines, *calls)
+            return
+        # No import before the first use: after a module docstring, else first, with a
+        # blank line before the module's own code where its first statement can take one.
+        if _is_docstring(body[0]):
+            self.plan.insert_after(body[0], *lines, *calls)
+            return
+        self.plan.insert_before(body[0], *lines, *calls)
+        if isinstance(body[0], (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef, ast.If, ast.For, ast.While, ast.With, ast.Try)):
+            self.plan.replace(body[0], lambda node: node.with_changes(leading_lines=[cst.EmptyLine()]))
+
+    def _top_level_statement(self, node: ast.AST) -> ast.stmt:
+        statement = self.facts.statement_of(node)
+        tree = self.facts.tree
+        while self.facts.parent(statement) is not tree:
+            statement = self.facts.statement_of(self.facts.parent(statement))  # type: ignore[arg-type]
+        return statement
+
+
+def _calls_in_source_order(facts: ModuleFacts) -> list[ast.Call]:
+    """Every call whose callee is a name or an attribute, outer calls before the calls inside them.
+
+    The order decides which string a shared constant's finding names and which id a
+    package's registration finding points at, as a walk of the tree would.
+    """
+    calls = [call for index in (facts.calls_by_name, facts.attribute_calls) for found in index.values() for call in found]
+    calls.sort(key=lambda c: (c.lineno, c.col_offset, -(c.end_lineno or 0), -(c.end_col_offset or 0)))
+    return calls
+
+
+def _split_module_prefix(text: str) -> tuple[str, str]:
+    if ":" in text:
+        module, env_id = text.split(":", 1)
+        return module + ":", env_id
+    return "", text
+
+
+def _is_docstring(statement: ast.stmt) -> bool:
+    return isinstance(statement, ast.Expr) and isinstance(statement.value, ast.Constant) and isinstance(statement.value.value, str)
+
+
+def _imported_modules(tree: ast.Module, facts: ModuleFacts) -> set[str]:
+    """Top-level package of every absolute import in the module (any scope, star imports too)."""
+    found: set[str] = set()
+    statements = {facts.parent(alias) for alias in facts.imports}
+    statements.update(_star_imports(tree.body))
+    for statement in statements:
+        if isinstance(statement, ast.Import):
+            found.update(alias.name.split(".")[0] for alias in statement.names)
+        elif isinstance(statement, ast.ImportFrom) and statement.module and not statement.level:
+            found.add(statement.module.split(".")[0])
+    return found
+
+
+def _star_imports(body: list[ast.stmt]) -> list[ast.ImportFrom]:
+    """``from m import *`` (module level only, but possibly under ``if`` / ``try``)."""
+    found = []
+    for statement in body:
+        if isinstance(statement, ast.ImportFrom) and statement.names[0].name == "*":
+            found.append(statement)
+        elif isinstance(statement, (ast.If, ast.Try, ast.With, ast.For, ast.While)):
+            for block in ("body", "orelse", "finalbody"):
+                found.extend(_star_imports(getattr(statement, block, [])))
+            for handler in getattr(statement, "handlers", []):
+                found.extend(_star_imports(handler.body))
+    return found
+
+
+def _registration_message(package: EnvPackage) -> str:
+    if package is ALE:
+        return "Atari ids need `import ale_py` since Gymnasium 1.0 removed plugin auto-registration; added it with `register_envs(ale_py)`"
+    return (
+        f"these ids need `import {package.module}` since Gymnasium 1.0 removed plugin auto-registration; "
+        f"added it: check the package is installed and registers the ids on import"
+    )
+
+
+# -- building the new code ------------------------------------------------------------------
+
+
+def _with_string_value(node: cst.SimpleString, text: str) -> cst.SimpleString:
+    return node.with_changes(value=f"{node.prefix}{node.quote}{text}{node.quote}")
+
+
+def _append_keywords(call: cst.Call, keywords: list[tuple[str, str]]) -> cst.Call:
+    """Add ``name=value`` arguments at the end, following the call's comma style."""
+    args = list(call.args)
+    no_space = cst.SimpleWhitespace("")
+    new_args = [
+        cst.Arg(keyword=cst.Name(name), value=cst.parse_expression(value), equal=cst.AssignEqual(whitespace_before=no_space, whitespace_after=no_space))
+        for name, value in keywords
+    ]
+    if not args:
+        return call.with_changes(args=new_args)
+    last = args[-1]
+    separator = cst.Comma(whitespace_after=cst.SimpleWhitespace(" "))
+    if isinstance(last.comma, cst.Comma):
+        # Trailing-comma style (often one argument per line): copy the separator of the
+        # previous argument so new arguments land on their own lines.
+        if len(args) > 1 and isinstance(args[-2].comma, cst.Comma):
+            between = args[-2].comma
+        elif isinstance(call.whitespace_before_args, cst.ParenthesizedWhitespace):
+            between = cst.Comma(whitespace_after=call.whitespace_before_args)  # the line break after "("
+        else:
+            between = separator
+        args[-1] = last.with_changes(comma=between)
+        new_args = [a.with_changes(comma=between) for a in new_args[:-1]] + [new_args[-1].with_changes(comma=last.comma)]
+    else:
+        args[-1] = last.with_changes(comma=separator)
+        new_args = [a.with_changes(comma=separator) for a in new_args[:-1]] + [new_args[-1]]
+    return call.with_changes(args=args + new_args)

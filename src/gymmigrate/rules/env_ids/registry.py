@@ -1,0 +1,143 @@
+"""The registry API (GM802) and ``EnvSpec``'s private attributes (GM806).
+
+* GM802 gym 0.21's ``EnvRegistry`` object became the plain dict ``gym.registry``
+  (``dict[str, EnvSpec]``) in gym 0.24/0.26: ``registry.env_specs`` is the registry
+  itself, ``registry.all()`` is ``registry.values()``, and ``registry.spec()`` /
+  ``make()`` / ``register()`` are the module functions ``gym.spec`` / ``gym.make`` /
+  ``gym.register``. ``gym.envs.registry`` is spelled ``gym.registry``.
+* GM806 ``EnvSpec._kwargs`` / ``_env_name`` became ``kwargs`` / ``name``: rewritten where
+  the object is an ``EnvSpec`` (``x.spec``, ``gym.spec(...)``, an item of the registry,
+  a name only ever bound to one of those).
+
+Source: gym 0.21 ``envs/registration.py`` against Gymnasium 1.4 ``envs/registration.py``.
+"""
+
+from __future__ import annotations
+
+import ast
+
+import libcst as cst
+
+from gymmigrate.analysis import names as N
+from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts.module import full_name
+from gymmigrate.findings import FixKind
+from gymmigrate.rules.base import FileContext, Rule, RuleFamily
+from gymmigrate.rules.env_ids.ids import GYMNASIUM_IMPORTED
+from gymmigrate.rules.env_ids.syntax import gym_alias, is_registry
+
+RULES = (
+    Rule("GM802", "registry API", FixKind.AUTO, "`registry.env_specs/all()/spec()/make()` become `gym.registry` and `gym.spec/make`."),
+    Rule("GM806", "EnvSpec attributes", FixKind.AUTO, "`spec._kwargs` / `spec._env_name` become `spec.kwargs` / `spec.name`."),
+)
+
+REGISTRY_METHODS = frozenset({"spec", "make", "register"})
+SPEC_ATTRIBUTES = {"_kwargs": "kwargs", "_env_name": "name"}
+_SPEC_FUNCTIONS = frozenset({"spec", "envs.spec", "envs.registration.spec"})
+# How far ``spec = specs[i]; s = spec`` chains are followed: enough for real code, and
+# it bounds the work per attribute.
+_MAX_SPEC_DEPTH = 3
+
+
+class RegistryApi(RuleFamily):
+    RULES = RULES
+    ORDER = 21  # after EnvIds, which may already import gymnasium for the registration block
+
+    @classmethod
+    def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
+        text = facts.text
+        return "registry" in text or "_kwargs" in text or "_env_name" in text
+
+    def decide(self) -> None:
+        self._gym_alias = gym_alias(self.facts)
+        for attribute in self.facts.attributes.get("env_specs", ()):
+            if is_registry(self.facts, attribute.value):
+                self.report(attribute, "GM802", "`registry.env_specs` -> the registry itself: `gym.registry` is a plain dict of EnvSpec")
+                self.plan.replace(attribute, self._current_registry_build(attribute.value, lambda node: node.value))
+        for method in ("all", *sorted(REGISTRY_METHODS)):
+            for call in self.facts.attribute_calls.get(method, ()):
+                if is_registry(self.facts, call.func.value):  # type: ignore[attr-defined]
+                    self._decide_registry_call(call, method)
+        for private, public in SPEC_ATTRIBUTES.items():
+            for attribute in self.facts.attributes.get(private, ()):
+                if self._is_env_spec(attribute.value, 0):
+                    self.report(attribute, "GM806", f"`EnvSpec.{private}` -> `EnvSpec.{public}`: the private attribute was made public")
+                    self.plan.replace(attribute, lambda node, public=public: node.with_changes(attr=cst.Name(public)))
+
+    # -- GM802 -------------------------------------------------------------------------------
+
+    def _decide_registry_call(self, call: ast.Call, method: str) -> None:
+        func = call.func
+        assert isinstance(func, ast.Attribute)
+        if method == "all":
+            if call.args or call.keywords:
+                return
+            self.report(call, "GM802", "`registry.all()` -> `registry.values()`: the registry is a plain dict")
+            owner = self._current_registry_build(func.value, lambda node: node.func.value)
+            self.plan.replace(call, lambda node: node.with_changes(func=node.func.with_changes(value=owner(node), attr=cst.Name("values"))))
+            return
+        self.report(call, "GM802", f"`registry.{method}(...)` -> `gym.{method}(...)`: the registry is a plain dict")
+        module = self._gym_module_name()
+        self.plan.replace(call, lambda node: node.with_changes(func=cst.Attribute(value=cst.Name(module), attr=cst.Name(method))))
+
+    def _current_registry_build(self, registry: ast.expr, current):  # type: ignore[no-untyped-def]
+        """``gym.envs.registry`` / ``gym.envs.registration.registry`` -> ``gym.registry``;
+        any other spelling of the registry stays as written (``current(node)``)."""
+        parts = (full_name(registry) or "").split(".")
+        if len(parts) >= 3 and parts[1] == "envs" and parts[-1] == "registry" and parts[0] == self._gym_alias:
+            alias = parts[0]
+            return lambda node: cst.Attribute(value=cst.Name(alias), attr=cst.Name("registry"))
+        return current
+
+    def _gym_module_name(self) -> str:
+        if self._gym_alias is not None:
+            return self._gym_alias
+        if not self.plan.notes.get(GYMNASIUM_IMPORTED):
+            self.plan.add_import("import gymnasium")
+        return "gymnasium"
+
+    # -- GM806 -------------------------------------------------------------------------------
+
+    def _is_env_spec(self, expr: ast.AST, depth: int) -> bool:
+        if depth > _MAX_SPEC_DEPTH:
+            return False
+        if isinstance(expr, ast.Attribute) and expr.attr == "spec":
+            return True  # env.spec, self.spec, gym.make(...).spec
+        if isinstance(expr, ast.Call):
+            if any(N.strip_gym_prefix(q) in _SPEC_FUNCTIONS for q in self.facts.qualified_names(expr.func)):
+                return True
+            return isinstance(expr.func, ast.Attribute) and expr.func.attr == "spec" and is_registry(self.facts, expr.func.value)
+        if isinstance(expr, ast.Subscript):
+            return is_registry(self.facts, expr.value) or self._is_env_specs_dict(expr.value)
+        if isinstance(expr, ast.Name):
+            return self._name_is_env_spec(expr, depth)
+        return False
+
+    def _is_env_specs_dict(self, expr: ast.AST) -> bool:
+        return isinstance(expr, ast.Attribute) and expr.attr == "env_specs" and is_registry(self.facts, expr.value)
+
+    def _iterates_specs(self, iterable: ast.AST) -> bool:
+        """``registry.all()``, ``registry.values()``, ``registry.env_specs.values()``."""
+        if not (isinstance(iterable, ast.Call) and isinstance(iterable.func, ast.Attribute)):
+            return False
+        owner = iterable.func.value
+        return iterable.func.attr in ("all", "values") and (is_registry(self.facts, owner) or self._is_env_specs_dict(owner))
+
+    def _name_is_env_spec(self, name: ast.Name, depth: int) -> bool:
+        """Every binding of ``name`` is ``name = <an EnvSpec>`` or ``for name in <the specs>``."""
+        bindings = self.facts.bindings_of(name)
+        if not bindings:
+            return False
+        for binding in bindings:
+            if not isinstance(binding, ast.Name):
+                return False
+            parent = self.facts.parent(binding)
+            if isinstance(parent, ast.Assign) and binding in parent.targets:
+                if not self._is_env_spec(parent.value, depth + 1):
+                    return False
+            elif isinstance(parent, (ast.For, ast.AsyncFor, ast.comprehension)) and parent.target is binding:
+                if not self._iterates_specs(parent.iter):
+                    return False
+            else:
+                return False
+        return True
