@@ -12,11 +12,13 @@ interpreter's stack, and every lookup is linear or better in the size of the fil
 from __future__ import annotations
 
 import ast
+import re
 from collections import defaultdict
 from collections.abc import Iterator
 from dataclasses import dataclass, field
 
 FUNCTIONS = (ast.FunctionDef, ast.AsyncFunctionDef)
+_LINE_ENDS = re.compile(r"(?<=\r\n)|(?<=\r)(?!\n)|(?<=\n)")
 COMPREHENSIONS = (ast.ListComp, ast.SetComp, ast.DictComp, ast.GeneratorExp)
 SCOPES = (ast.Module, *FUNCTIONS, ast.ClassDef, ast.Lambda, *COMPREHENSIONS)
 LOOPS = (ast.For, ast.AsyncFor, ast.While)
@@ -52,7 +54,9 @@ class ModuleFacts:
     def __init__(self, tree: ast.Module, text: str) -> None:
         self.tree = tree
         self.text = text
-        self.lines = text.splitlines(keepends=True)
+        # Split as CPython numbers lines (only \r\n, \r, \n end one; str.splitlines also
+        # splits at form feeds and other separators, which would shift every later line).
+        self.lines = _LINE_ENDS.split(text)
         self.parents: dict[ast.AST, ast.AST] = {}
         self.scopes: dict[ast.AST, Scope] = {}  # scope-creating node -> its Scope
         self._scope_of: dict[ast.AST, Scope] = {}  # Name / arg / alias / def -> scope it lives in
@@ -284,7 +288,20 @@ class ModuleFacts:
     # -- source -------------------------------------------------------------------------
 
     def segment(self, node: ast.AST) -> str:
-        return ast.get_source_segment(self.text, node) or ""
+        """The source text of ``node`` (``ast.get_source_segment`` splits the whole text on
+        every call; this reads the lines split once)."""
+        try:
+            first, last = node.lineno - 1, node.end_lineno - 1  # type: ignore[attr-defined]
+            start, end = node.col_offset, node.end_col_offset  # type: ignore[attr-defined]
+        except AttributeError:
+            return ""
+        if first < 0 or last >= len(self.lines) or end is None:
+            return ""
+        if first == last:
+            return self.lines[first].encode("utf-8")[start:end].decode("utf-8")
+        head = self.lines[first].encode("utf-8")[start:].decode("utf-8")
+        tail = self.lines[last].encode("utf-8")[:end].decode("utf-8")
+        return head + "".join(self.lines[first + 1 : last]) + tail
 
     def column(self, node: ast.AST) -> int:
         """``ast`` columns count UTF-8 bytes; findings count characters."""
