@@ -77,11 +77,14 @@ class StepFamilyBase(RuleFamily):
     """State and helpers shared by the step rules (no ``RULES``: not registered itself)."""
 
     flow: Flow
-    # Reads of an ``info`` name -> the step that bound it (None: an SB3 VecEnv step).
-    info_names: dict[int, StepNames | None]
-    # ``done`` reads already rewritten to ``terminated`` or reported (by node id).
-    claimed_reads: set[int]
-    reported_reads: set[int]
+    # Rewritten steps whose ``info`` target is a name, and the ``info`` variables of
+    # SB3 VecEnv steps (scope id, name): GM303 reads resolve against them.
+    info_steps: dict[ast.Assign, StepNames]
+    guarded_infos: set[tuple[int, str]]
+    # Rewritten steps by ``done`` variable (scope id, name); their reads are planned together.
+    done_steps: dict[tuple[int, str], list]  # type: ignore[type-arg]
+    reported_reads: set[int]  # ``done`` reads already reported (by node id)
+    result_steps: dict[tuple[int, str], list]  # type: ignore[type-arg]  # ``res = x.step(a)`` by variable
     # Four-target step unpacks: a read that one of them dominates belongs to it alone.
     legacy_unpacks: set[ast.Assign]
     numpy_name: str | None

@@ -15,7 +15,7 @@ from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.module import FUNCTIONS
 from gymmigrate.rules.base import FileContext
-from gymmigrate.rules.step_done.common import RULES, TIME_LIMIT_KEY, StepNames
+from gymmigrate.rules.step_done.common import RULES, TIME_LIMIT_KEY
 from gymmigrate.rules.step_done.results import ResultRules
 from gymmigrate.rules.step_done.time_limit import TimeLimitRules, time_limit_reads
 from gymmigrate.rules.step_done.unpack import UnpackRules
@@ -36,9 +36,10 @@ class StepDone(UnpackRules, TimeLimitRules, ResultRules):
         facts = self.facts
         self.flow = Flow.of(facts)
         self.numpy_name = _numpy_name(facts.tree)
-        self.info_steps: dict[ast.Assign, StepNames] = {}
-        self.guarded_infos: set[tuple[int, str]] = set()
-        self.claimed_reads = set()
+        self.info_steps = {}
+        self.guarded_infos = set()
+        self.done_steps = {}
+        self.result_steps = {}
         self.reported_reads = set()
         steps = facts.attribute_calls.get("step", [])
         self.legacy_unpacks = {
@@ -46,6 +47,8 @@ class StepDone(UnpackRules, TimeLimitRules, ResultRules):
         }
         for call in steps:
             self._plan_step(call)
+        self.finish_done_reads()
+        self.finish_results()
         if TIME_LIMIT_KEY in facts.text:
             for node in time_limit_reads(facts.strings, facts.parent):
                 self.plan_time_limit_read(node)

@@ -11,12 +11,27 @@ step result used without being stored at all (``env.step(a)[2]``).
 from __future__ import annotations
 
 import ast
+from bisect import bisect_left, bisect_right
+from dataclasses import dataclass
 
 import libcst as cst
 
-from gymmigrate.facts.decisions import Action, receiver_text
+from gymmigrate.facts.decisions import Action, Decision, receiver_text
+from gymmigrate.facts.flow import end, start
+from gymmigrate.facts.module import LOOPS, ModuleFacts
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.step_done.common import StepFamilyBase, looks_vectorised, stands_alone
+
+
+@dataclass(frozen=True)
+class _ResultStep:
+    """``res = x.step(a)`` on a receiver that may be a Gym env."""
+
+    assign: ast.Assign
+    result: ast.Name
+    receiver: ast.expr
+    decision: Decision
+    vector: bool
 
 
 class ResultRules(StepFamilyBase):
@@ -35,43 +50,109 @@ class ResultRules(StepFamilyBase):
             )
 
     def plan_result_name(self, assign: ast.Assign, result: ast.Name, receiver: ast.expr) -> None:
+        """``res = env.step(a)``: its reads are planned once every such step is known."""
+        if not self.context.profile.imports_gym:
+            return  # Gymnasium code: nothing to move
         decision, vector = self.decision(receiver, legacy_shape=False)
         if decision.action is Action.LEAVE:
             return
+        scope = self.flow.binding_scope(result)
+        group = (id(scope), result.id) if scope is not None else (id(assign), result.id)
+        self.result_steps.setdefault(group, []).append(_ResultStep(assign, result, receiver, decision, vector))
+
+    def finish_results(self) -> None:
+        for steps in self.result_steps.values():
+            self._plan_result_reads(steps)
+
+    def _plan_result_reads(self, steps: list[_ResultStep]) -> None:
+        """Plan the reads of one result variable that its steps (in source order) bind.
+
+        The steps that can reach a read form a run from the first one (those before the
+        read, then those in a loop around it), so each read is one range. A step none of
+        whose reachable reads already counts five values (``res[4]``) moves the indices
+        of the reads it dominates; every other reachable read is reported once.
+        """
         flow = self.flow
-        reads = [read for read in flow.reads(result) if flow.observes(read, assign, result)]
-        if not self.context.profile.imports_gym or any((self._constant_index(read) or 0) in (4, -5) for read in reads):
-            return  # Gymnasium code, or indices that already count five values: nothing to move
-        if decision.action is Action.REPORT:
-            self.report(assign, "GM304", f"{decision.reason}; if it is a Gym env, its step returns five values", FixKind.FLAG)
-            return
+        result = steps[0].result
+        scope = self.facts.scope_of(result)
+        starts = [start(step.assign) for step in steps]
+        ends = [end(step.assign) for step in steps]
+        index_of = {id(step.assign): i for i, step in enumerate(steps)}
+        reads = flow.reads(result)
+        reach: list[int] = []  # per read: the steps [0, stop) that can reach it
+        poisoned = 0  # steps [0, poisoned) reach an index that already counts five values
         for read in reads:
-            index = self._constant_index(read)
-            subscript = self.facts.parent(read)
-            dominated = flow.dominates(assign, read, result)
-            if index in (0, 1, -1) and dominated:
-                continue  # observation, reward and info keep their places
-            if index == 3 and dominated:
-                self.plan.replace(subscript, lambda node: _with_index(node, 4))  # type: ignore[arg-type]
-                exact = FixKind.AUTO if decision.action is Action.REWRITE else FixKind.ASSIST
-                self.report(subscript, "GM304", f"`{result.id}[3]` (info) is `{result.id}[4]` now", exact)  # type: ignore[arg-type]
-            elif index == 2 and dominated and not (vector or looks_vectorised(receiver, result)):
-                bare = stands_alone(subscript, self.facts.parent(subscript))  # type: ignore[arg-type]
-                self.plan.replace(subscript, lambda node, bare=bare: _either(node, bare))  # type: ignore[arg-type, misc]
-                self.report(
-                    subscript,  # type: ignore[arg-type]
-                    "GM304",
-                    f"`{result.id}[2]` (done) is now `{result.id}[2] or {result.id}[3]`; "
-                    f"if it feeds bootstrapping, use `{result.id}[2]` (terminated) alone",
-                )
+            if not flow.same_frame(read, scope):
+                stop = len(steps)  # a nested function may run after any of them
             else:
+                before = bisect_right(ends, start(read))
+                loop = _outermost_loop(read, self.facts)
+                stop = max(before, bisect_left(starts, end(loop)) if loop is not None else 0)
+            reach.append(stop)
+            if (self._constant_index(read) or 0) in (4, -5):
+                poisoned = max(poisoned, stop)
+        active = [0]
+        for i, step in enumerate(steps):
+            live = i >= poisoned
+            if live and step.decision.action is Action.REPORT:
                 self.report(
-                    read,
-                    "GM304",
-                    f"`{result.id}` holds a five-value step result now (2 terminated, 3 truncated, 4 info): "
-                    "update this use by hand",
-                    FixKind.FLAG,
+                    step.assign, "GM304", f"{step.decision.reason}; if it is a Gym env, its step returns five values", FixKind.FLAG
                 )
+            active.append(active[-1] + (live and step.decision.action is not Action.REPORT))
+        for read, stop in zip(reads, reach):
+            # The step that dominates the read (one at most) moves its index; any other
+            # step that reaches it cannot tell which value the read sees.
+            owner = self._dominating_result(read, result, index_of)
+            others = active[stop]
+            if owner is not None and owner >= poisoned and steps[owner].decision.action is not Action.REPORT:
+                self._move_index(read, steps[owner])
+                others -= 1
+            if others > 0:
+                self._report_by_hand(read, result)
+
+    def _dominating_result(self, read: ast.Name, result: ast.Name, index_of: dict[int, int]) -> int | None:
+        """Index of the step (among ``index_of``) that certainly binds the value ``read`` sees."""
+        binding = self.flow.last_binding_before(read, result)
+        if binding is None:
+            return None
+        statement = self.facts.statement_of(binding)
+        index = index_of.get(id(statement))
+        if index is not None and self.flow.dominates(statement, read, result):  # type: ignore[arg-type]
+            return index
+        return None
+
+    def _move_index(self, read: ast.Name, step: _ResultStep) -> None:
+        """Move the index of a read ``step`` dominates (or report it when it cannot move)."""
+        result = step.result
+        index = self._constant_index(read)
+        subscript = self.facts.parent(read)
+        if index in (0, 1, -1):
+            return  # observation, reward and info keep their places
+        if index == 3:
+            self.plan.replace(subscript, lambda node: _with_index(node, 4))  # type: ignore[arg-type]
+            exact = FixKind.AUTO if step.decision.action is Action.REWRITE else FixKind.ASSIST
+            self.report(subscript, "GM304", f"`{result.id}[3]` (info) is `{result.id}[4]` now", exact)  # type: ignore[arg-type]
+            return
+        if index == 2 and not (step.vector or looks_vectorised(step.receiver, result)):
+            bare = stands_alone(subscript, self.facts.parent(subscript))  # type: ignore[arg-type]
+            self.plan.replace(subscript, lambda node: _either(node, bare))  # type: ignore[arg-type]
+            self.report(
+                subscript,  # type: ignore[arg-type]
+                "GM304",
+                f"`{result.id}[2]` (done) is now `{result.id}[2] or {result.id}[3]`; "
+                f"if it feeds bootstrapping, use `{result.id}[2]` (terminated) alone",
+            )
+            return
+        self._report_by_hand(read, result)
+
+    def _report_by_hand(self, read: ast.Name, result: ast.Name) -> None:
+        self.report(
+            read,
+            "GM304",
+            f"`{result.id}` holds a five-value step result now (2 terminated, 3 truncated, 4 info): "
+            "update this use by hand",
+            FixKind.FLAG,
+        )
 
     def _constant_index(self, read: ast.Name) -> int | None:
         """``res[2]`` read (not stored) with a literal integer index -> 2; otherwise None."""
@@ -116,3 +197,11 @@ def _either(subscript: cst.Subscript, bare: bool) -> cst.BaseExpression:
     if bare:
         return either
     return either.with_changes(lpar=[cst.LeftParen()], rpar=[cst.RightParen()])
+
+
+def _outermost_loop(node: ast.AST, facts: ModuleFacts) -> ast.AST | None:
+    found = None
+    for ancestor in facts.ancestors(node):
+        if isinstance(ancestor, LOOPS):
+            found = ancestor
+    return found

@@ -15,15 +15,26 @@ binding, and reads whose purpose is unclear, are reported instead.
 from __future__ import annotations
 
 import ast
+from bisect import bisect_left, bisect_right
+from dataclasses import dataclass
 
 import libcst as cst
 
 from gymmigrate.facts.decisions import Action, Decision
 from gymmigrate.facts.done_uses import DoneUse, classify_done_read
-from gymmigrate.facts.flow import bound_names, is_after
-from gymmigrate.facts.module import Scope
+from gymmigrate.facts.flow import bound_names, end, start
+from gymmigrate.facts.module import LOOPS, Scope
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.step_done.common import StepFamilyBase, StepNames, looks_vectorised
+
+
+@dataclass(frozen=True)
+class _DoneStep:
+    """A rewritten step whose done target is a name: its reads are planned together."""
+
+    assign: ast.Assign
+    done: ast.Name
+    names: StepNames
 
 
 class UnpackRules(StepFamilyBase):
@@ -57,17 +68,13 @@ class UnpackRules(StepFamilyBase):
         names = self._step_names(assign, vector)
         self.plan.replace(target, lambda node: _split_done(node, names))
         if isinstance(done_target, ast.Name):
-            alias = False
             if done_target.id != "_":
-                alias = self._plan_done_reads(assign, done_target, names)
-                # ``global done``: readers live in other scopes and cannot all be traced.
-                alias = alias or self._declared_outside(assign, done_target.id)
+                # Whether ``done`` is still read is decided once every step is known.
+                scope = self.flow.binding_scope(done_target)
+                group = (id(scope), done_target.id) if scope is not None else (id(assign), done_target.id)
+                self.done_steps.setdefault(group, []).append(_DoneStep(assign, done_target, names))
         else:
-            alias = True  # ``self.done``/``dones[i]``: readers cannot be traced
-        if alias:
-            if vector and self.numpy_name is None:
-                self.plan.add_import("import numpy as np")
-            self.plan.insert_after(assign, f"{self.facts.segment(done_target)} = {names.joined()}")
+            self._keep_done(assign, done_target, names)  # ``self.done``/``dones[i]``: readers cannot be traced
         if isinstance(target.elts[3], ast.Name):
             self.info_steps[assign] = names
         message = f"step now returns {names.terminated} and {names.truncated} instead of one done flag"
@@ -78,61 +85,119 @@ class UnpackRules(StepFamilyBase):
 
     # -- the done reads ---------------------------------------------------------------------
 
-    def _plan_done_reads(self, assign: ast.Assign, done: ast.Name, names: StepNames) -> bool:
-        """Plan every read of the old flag; True when ``done = ...`` must be kept."""
-        flow = self.flow
-        needs_alias = False
-        for read in flow.reads(done):
-            if id(read) in self.claimed_reads or not flow.observes(read, assign, done):
-                continue
-            if self._later_step_owns(read, assign, done):
-                continue  # a later step rebinds the flag before this read
-            use = classify_done_read(read, self.facts)
-            if use is DoneUse.DATA and flow.dominates(assign, read, done):
-                self.claimed_reads.add(id(read))
-                terminated = names.terminated
-                self.plan.replace(read, lambda node: node.with_changes(value=terminated))
-                self._report_read(
-                    read,
-                    f"`{done.id}` used as a value (target, mask or stored transition) now reads "
-                    f"`{names.terminated}`: a time-limit truncation must still bootstrap; review",
-                    FixKind.ASSIST,
-                )
-                continue
-            needs_alias = True
-            if use is DoneUse.DATA:
-                self._report_read(
-                    read,
-                    f"`{done.id}` used as a value may not come from the step on line {assign.lineno}; "
-                    f"if it feeds bootstrapping, use `{names.terminated}` there",
-                    FixKind.FLAG,
-                )
-            elif use is DoneUse.AMBIGUOUS:
-                self._report_read(
-                    read,
-                    f"`{done.id}` now means `{names.terminated} or {names.truncated}`; "
-                    f"if this use decides bootstrapping, use `{names.terminated}`",
-                    FixKind.FLAG,
-                )
-        return needs_alias
+    def _keep_done(self, assign: ast.Assign, done_target: ast.expr, names: StepNames) -> None:
+        """``done = terminated or truncated`` right after the step (``np.logical_or`` for vectors)."""
+        if names.vector and self.numpy_name is None:
+            self.plan.add_import("import numpy as np")
+        self.plan.insert_after(assign, f"{self.facts.segment(done_target)} = {names.joined()}")
 
-    def _later_step_owns(self, read: ast.Name, assign: ast.Assign, done: ast.Name) -> bool:
-        """Another four-target step after ``assign`` binds the flag and dominates ``read``.
+    def finish_done_reads(self) -> None:
+        """Plan the reads of every rewritten step's ``done``, one variable at a time."""
+        for steps in self.done_steps.values():
+            keep = self._plan_done_reads(steps)
+            for step, needed in zip(steps, keep):
+                # ``global done``: readers live in other scopes and cannot all be traced.
+                if needed or self._declared_outside(step.assign, step.done.id):
+                    self._keep_done(step.assign, step.done, step.names)
+
+    def _plan_done_reads(self, steps: list[_DoneStep]) -> list[bool]:
+        """Plan every read of one ``done`` variable that its rewritten steps bind (in
+        source order); for each step, whether ``done = ...`` must be kept after it.
+
+        A read belongs to the four-target step that dominates it, if any: a value read
+        there becomes ``terminated``. Otherwise every rewritten step that can reach it (not
+        one before the step that dominates it) must keep ``done``; those steps form a run
+        in source order (the ones before the read, then the ones in a loop around it), so
+        each read marks a range, and the first step of the range reports it.
+        """
+        flow = self.flow
+        done = steps[0].done
+        reads = flow.reads(done)
+        if not reads:
+            return [False] * len(steps)
+        scope = self.facts.scope_of(done)
+        starts = [start(step.assign) for step in steps]
+        ends = [end(step.assign) for step in steps]
+        index_of = {id(step.assign): i for i, step in enumerate(steps)}
+        marks = [0] * (len(steps) + 1)
+        for read in reads:
+            owner = self._dominating_step(read, done)
+            first = 0
+            if owner is not None:
+                first = index_of.get(id(owner), bisect_left(starts, end(owner)))
+                if first < len(steps) and steps[first].assign is owner:
+                    if classify_done_read(read, self.facts) is DoneUse.DATA:
+                        self._claim(read, steps[first])
+                        continue
+            if not flow.same_frame(read, scope):
+                stop = len(steps)  # a nested function may run after any of them
+            else:
+                before = bisect_right(ends, start(read))
+                loop = self._outermost_loop(read)
+                stop = max(before, bisect_left(starts, end(loop)) if loop is not None else 0)
+            if first >= stop:
+                continue
+            marks[first] += 1
+            marks[stop] -= 1
+            self._report_open_read(read, steps[first])
+        keep, running = [], 0
+        for mark in marks[:-1]:
+            running += mark
+            keep.append(running > 0)
+        return keep
+
+    def _dominating_step(self, read: ast.Name, done: ast.Name) -> ast.Assign | None:
+        """The four-target step that certainly binds the value ``read`` sees, if any.
 
         Only the statement holding the last binding before the read can dominate it, so
-        one lookup replaces a test against every other step.
+        one lookup replaces a test against every step.
         """
         binding = self.flow.last_binding_before(read, done)
         if binding is None:
-            return False
-        other = self.facts.statement_of(binding)
-        return (
-            other is not assign
-            and other in self.legacy_unpacks
-            and any(done.id in bound_names(t) for t in other.targets)  # type: ignore[attr-defined]
-            and is_after(other, assign)
-            and self.flow.dominates(other, read, done)
+            return None
+        step = self.facts.statement_of(binding)
+        if (
+            step in self.legacy_unpacks
+            and any(done.id in bound_names(t) for t in step.targets)  # type: ignore[attr-defined]
+            and self.flow.dominates(step, read, done)
+        ):
+            return step  # type: ignore[return-value]
+        return None
+
+    def _outermost_loop(self, node: ast.AST) -> ast.AST | None:
+        found = None
+        for ancestor in self.facts.ancestors(node):
+            if isinstance(ancestor, LOOPS):
+                found = ancestor
+        return found
+
+    def _claim(self, read: ast.Name, step: _DoneStep) -> None:
+        terminated = step.names.terminated
+        self.plan.replace(read, lambda node: node.with_changes(value=terminated))
+        self._report_read(
+            read,
+            f"`{read.id}` used as a value (target, mask or stored transition) now reads "
+            f"`{terminated}`: a time-limit truncation must still bootstrap; review",
+            FixKind.ASSIST,
         )
+
+    def _report_open_read(self, read: ast.Name, step: _DoneStep) -> None:
+        use = classify_done_read(read, self.facts)
+        names = step.names
+        if use is DoneUse.DATA:
+            self._report_read(
+                read,
+                f"`{read.id}` used as a value may not come from the step on line {step.assign.lineno}; "
+                f"if it feeds bootstrapping, use `{names.terminated}` there",
+                FixKind.FLAG,
+            )
+        elif use is DoneUse.AMBIGUOUS:
+            self._report_read(
+                read,
+                f"`{read.id}` now means `{names.terminated} or {names.truncated}`; "
+                f"if this use decides bootstrapping, use `{names.terminated}`",
+                FixKind.FLAG,
+            )
 
     def _report_read(self, read: ast.Name, message: str, kind: FixKind) -> None:
         if id(read) not in self.reported_reads:
