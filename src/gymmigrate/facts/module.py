@@ -244,9 +244,12 @@ class ModuleFacts:
         scope = self._scope_of.get(node)
         if scope is not None:
             return scope
+        child = node
         for ancestor in self.ancestors(node):
-            if ancestor in self.scopes and not (isinstance(ancestor, ast.ClassDef) and node not in ancestor.body):
+            # A class body is a scope; its decorators and bases run in the enclosing one.
+            if ancestor in self.scopes and not (isinstance(ancestor, ast.ClassDef) and child not in ancestor.body):
                 return self.scopes[ancestor]
+            child = ancestor
         return self.module_scope
 
     def resolve(self, name: str, scope: Scope) -> tuple[Scope | None, list[ast.AST]]:

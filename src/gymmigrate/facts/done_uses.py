@@ -7,16 +7,16 @@ from the next state (value targets, masks, replay transitions): there the Gymnas
 migration guide says to use ``terminated`` ("Value Bootstrapping":
 ``target = reward + (1 - terminated) * gamma * next_value``). This module sorts reads
 into those groups by the syntax around them; anything it cannot place is AMBIGUOUS and
-gets reported rather than guessed.
+gets reported rather than guessed. The walk goes up from the read through ``ast``
+parents, a few levels at most, and its answer is memoized per read.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
+import ast
 from enum import Enum
 
-import libcst as cst
-from libcst.helpers import get_full_name_for_node
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, full_name
 
 
 class DoneUse(str, Enum):
@@ -83,59 +83,77 @@ DISPLAY_FUNCTIONS = frozenset({"print", "str", "repr", "format", "pprint", "isin
 DISPLAY_METHODS = frozenset({"debug", "info", "warning", "warn", "log", "write", "add_scalar", "set_postfix", "format"})
 
 
-def classify_done_read(read: cst.Name, parent_of: Callable[[cst.CSTNode], cst.CSTNode | None]) -> DoneUse:
+def classify_done_read(read: ast.Name, facts: ModuleFacts) -> DoneUse:
     """Sort one read of the done flag by what the code around it does with it."""
-    node: cst.CSTNode = read
+    return facts.memo(("done-use", id(read)), lambda: _classify(read, facts))  # type: ignore[no-any-return]
+
+
+def _classify(read: ast.Name, facts: ModuleFacts) -> DoneUse:
+    node: ast.AST = read
     in_container = False
     while True:
-        parent = parent_of(node)
+        parent = facts.parent(node)
         if parent is None:
             return DoneUse.AMBIGUOUS
-        if isinstance(parent, (cst.BooleanOperation, cst.Comparison, cst.ComparisonTarget)):
+        if isinstance(parent, (ast.BoolOp, ast.Compare)):
             node = parent
             continue
-        if isinstance(parent, cst.UnaryOperation):
-            if isinstance(parent.operator, cst.Not):
+        if isinstance(parent, ast.UnaryOp):
+            if isinstance(parent.op, ast.Not):
                 node = parent
                 continue
             return DoneUse.DATA  # ``-done``, ``~done``
-        if isinstance(parent, cst.BinaryOperation):
+        if isinstance(parent, ast.BinOp):
             return DoneUse.DATA
-        if isinstance(parent, (cst.If, cst.While, cst.IfExp, cst.Assert)) and getattr(parent, "test", None) is node:
+        if isinstance(parent, (ast.If, ast.While, ast.IfExp, ast.Assert)) and parent.test is node:
             return DoneUse.CONTROL
-        if isinstance(parent, (cst.Element, cst.StarredElement, cst.DictElement)):
-            if isinstance(parent, cst.DictElement) and parent.key is node:
-                return DoneUse.AMBIGUOUS
-            node = parent_of(parent) or parent  # the tuple/list/dict itself
+        if isinstance(parent, ast.Starred):
+            holder = facts.parent(parent)
+            if isinstance(holder, ast.Call):  # ``f(*done)``: an argument
+                return _call_use(holder)
+            node = holder or parent  # ``(*done, x)``: the tuple/list itself
             in_container = True
             continue
-        if isinstance(parent, cst.Arg):
-            call = parent_of(parent)
-            return _call_use(call) if isinstance(call, cst.Call) else DoneUse.AMBIGUOUS
-        if isinstance(parent, cst.Subscript) and parent.value is node:
+        if isinstance(parent, (ast.Tuple, ast.List, ast.Set)):
+            node = parent
+            in_container = True
+            continue
+        if isinstance(parent, ast.Dict):
+            index = next((i for i, value in enumerate(parent.values) if value is node), None)
+            if index is None or parent.keys[index] is None:
+                return DoneUse.AMBIGUOUS  # a key, or ``**done``
+            node = parent
+            in_container = True
+            continue
+        if isinstance(parent, ast.keyword):
+            call = facts.parent(parent)
+            return _call_use(call) if isinstance(call, ast.Call) else DoneUse.AMBIGUOUS
+        if isinstance(parent, ast.Call):
+            return DoneUse.AMBIGUOUS if parent.func is node else _call_use(parent)
+        if isinstance(parent, ast.Subscript) and parent.value is node:
             node = parent  # ``dones[i]``: one env's flag is still the flag
             continue
-        if isinstance(parent, cst.Attribute) and parent.value is node:
-            return _method_use(parent, parent_of)
-        if isinstance(parent, cst.Assign) and parent.value is node:
+        if isinstance(parent, ast.Attribute) and parent.value is node:
+            return _method_use(parent, facts)
+        if isinstance(parent, ast.Assign) and parent.value is node:
             return _assign_use(parent, read, in_container, node)
-        if isinstance(parent, cst.Return):
-            return DoneUse.WRAPPER_RETURN if _in_step_method(parent, parent_of) else DoneUse.AMBIGUOUS
-        if isinstance(parent, (cst.FormattedStringExpression, cst.Expr)):
+        if isinstance(parent, ast.Return):
+            return DoneUse.WRAPPER_RETURN if _in_step_method(parent, facts) else DoneUse.AMBIGUOUS
+        if isinstance(parent, (ast.FormattedValue, ast.Expr)):
             return DoneUse.NEUTRAL
         return DoneUse.AMBIGUOUS
 
 
-def _call_use(call: cst.Call) -> DoneUse:
-    name = get_full_name_for_node(call.func) or ""
+def _call_use(call: ast.Call) -> DoneUse:
+    name = full_name(call.func) or ""
     last = name.rsplit(".", 1)[-1]
-    if isinstance(call.func, cst.Name) and last in NUMBER_BUILTINS:
+    if isinstance(call.func, ast.Name) and last in NUMBER_BUILTINS:
         return DoneUse.DATA
-    if isinstance(call.func, cst.Name) and last in DISPLAY_FUNCTIONS:
+    if isinstance(call.func, ast.Name) and last in DISPLAY_FUNCTIONS:
         return DoneUse.NEUTRAL
     if last in TEST_FUNCTIONS:
         return DoneUse.CONTROL
-    if isinstance(call.func, cst.Attribute):
+    if isinstance(call.func, ast.Attribute):
         if last in TENSOR_FACTORIES:
             return DoneUse.DATA
         if last in STORE_METHODS and (last not in GENERIC_STORE_METHODS or _looks_like_storage(call.func.value)):
@@ -147,16 +165,16 @@ def _call_use(call: cst.Call) -> DoneUse:
     return DoneUse.AMBIGUOUS
 
 
-def _looks_like_storage(receiver: cst.BaseExpression) -> bool:
-    name = (get_full_name_for_node(receiver) or "").rsplit(".", 1)[-1].lower()
+def _looks_like_storage(receiver: ast.expr) -> bool:
+    name = (full_name(receiver) or "").rsplit(".", 1)[-1].lower()
     return any(word in name for word in _STORAGE_WORDS) or bool(_STORAGE_TOKENS & set(name.split("_")))
 
 
-def _method_use(attribute: cst.Attribute, parent_of: Callable[[cst.CSTNode], cst.CSTNode | None]) -> DoneUse:
-    call = parent_of(attribute)
-    if not isinstance(call, cst.Call) or call.func is not attribute:
+def _method_use(attribute: ast.Attribute, facts: ModuleFacts) -> DoneUse:
+    call = facts.parent(attribute)
+    if not isinstance(call, ast.Call) or call.func is not attribute:
         return DoneUse.AMBIGUOUS
-    method = attribute.attr.value
+    method = attribute.attr
     if method in CONVERSION_METHODS:
         return DoneUse.DATA
     if method in TEST_FUNCTIONS:
@@ -166,19 +184,17 @@ def _method_use(attribute: cst.Attribute, parent_of: Callable[[cst.CSTNode], cst
     return DoneUse.AMBIGUOUS
 
 
-def _assign_use(assign: cst.Assign, read: cst.Name, in_container: bool, value: cst.CSTNode) -> DoneUse:
-    targets = [t.target for t in assign.targets]
-    if len(targets) == 1 and isinstance(targets[0], cst.Name) and targets[0].value == read.value:
+def _assign_use(assign: ast.Assign, read: ast.Name, in_container: bool, value: ast.AST) -> DoneUse:
+    targets = assign.targets
+    if len(targets) == 1 and isinstance(targets[0], ast.Name) and targets[0].id == read.id:
         return DoneUse.CONTROL  # ``done = done or step >= limit``: still the episode-over flag
-    if in_container and isinstance(value, (cst.Tuple, cst.List, cst.Dict)):
+    if in_container and isinstance(value, (ast.Tuple, ast.List, ast.Dict)):
         return DoneUse.DATA  # ``transition = (s, a, r, s2, done)``
-    if all(isinstance(t, cst.Subscript) for t in targets) and value is read:
+    if all(isinstance(t, ast.Subscript) for t in targets) and value is read:
         return DoneUse.DATA  # ``dones[t] = done``: a rollout array
     return DoneUse.AMBIGUOUS  # ``episode_done = done``: depends on what the new name is for
 
 
-def _in_step_method(node: cst.CSTNode, parent_of: Callable[[cst.CSTNode], cst.CSTNode | None]) -> bool:
-    current = parent_of(node)
-    while current is not None and not isinstance(current, (cst.FunctionDef, cst.Lambda)):
-        current = parent_of(current)
-    return isinstance(current, cst.FunctionDef) and current.name.value == "step"
+def _in_step_method(node: ast.AST, facts: ModuleFacts) -> bool:
+    function = facts.enclosing(node, (*FUNCTIONS, ast.Lambda))
+    return isinstance(function, FUNCTIONS) and function.name == "step"

@@ -1,0 +1,255 @@
+"""Just enough data flow to follow one variable from a statement to its readers.
+
+The step rules need to know, for a name bound by ``obs, r, done, info = env.step(a)``:
+which reads of ``done`` can see that value (to decide whether ``done = terminated or
+truncated`` is needed), and which reads are certainly *that* value (so rewriting them
+to ``terminated`` cannot pick up some other ``done``). Scopes link reads to a name but
+not to one assignment, so this module adds a conservative, position-based test on top
+of them: a read is *dominated* by a binding when it sits later in the same block (or
+in a statement nested there), with no other binding of the name in between and none
+inside a loop that would run the read again.
+
+Everything is computed from ``ModuleFacts`` (CPython ``ast`` nodes carry their
+positions) and memoized: the reads and the sorted binding positions of a name are
+indexed once per scope, so a dominance test costs the depth of the read plus a binary
+search, not a walk over the function.
+"""
+
+from __future__ import annotations
+
+import ast
+from bisect import bisect_left
+from collections import defaultdict
+from collections.abc import Iterator
+
+from gymmigrate.facts.module import COMPREHENSIONS, FUNCTIONS, LOOPS, ModuleFacts, Scope
+
+Position = tuple[int, int]
+
+
+def start(node: ast.AST) -> Position:
+    return (node.lineno, node.col_offset)  # type: ignore[attr-defined]
+
+
+def end(node: ast.AST) -> Position:
+    return (node.end_lineno, node.end_col_offset)  # type: ignore[attr-defined]
+
+
+def is_after(node: ast.AST, anchor: ast.AST) -> bool:
+    """``node`` starts where ``anchor`` has ended (or later)."""
+    return start(node) >= end(anchor)
+
+
+def contains(outer: ast.AST, inner: ast.AST) -> bool:
+    return start(outer) <= start(inner) and end(inner) <= end(outer)
+
+
+_STATEMENT_LISTS = ("body", "orelse", "finalbody")
+
+
+class Flow:
+    """Reads, bindings and dominance over one module's facts. One per file (``Flow.of``)."""
+
+    def __init__(self, facts: ModuleFacts) -> None:
+        self.facts = facts
+        self._readers: dict[str, list[Scope]] | None = None  # name -> scopes that read it
+        self._reads: dict[str, dict[int, list[ast.Name]]] = {}  # name -> binding scope -> reads
+        self._binding_starts: dict[tuple[int, str], tuple[list[Position], list[ast.AST]]] = {}
+        self._slots: dict[int, dict[int, tuple[str, int]]] = {}  # parent -> statement -> (field, index)
+        self._names_in: dict[int, set[str]] = {}
+
+    @classmethod
+    def of(cls, facts: ModuleFacts) -> Flow:
+        return facts.memo(("flow", id(facts.tree)), lambda: cls(facts))  # type: ignore[no-any-return]
+
+    # -- scopes ---------------------------------------------------------------------------
+
+    def binding_scope(self, name: ast.Name) -> Scope | None:
+        """The scope whose variable ``name`` (a store) binds; None when it is declared
+        ``global``/``nonlocal`` there (its readers live in other scopes)."""
+        scope = self.facts.scope_of(name)
+        if name.id in scope.declared_global or name.id in scope.declared_nonlocal:
+            return None
+        return scope
+
+    def same_frame(self, read: ast.AST, binding_scope: Scope) -> bool:
+        """The read runs in the binding's frame (comprehensions count; nested defs do not)."""
+        scope: Scope | None = self.facts.scope_of(read)
+        while scope is not None and scope is not binding_scope:
+            if not isinstance(scope.node, COMPREHENSIONS):
+                return False
+            scope = scope.parent
+        return scope is binding_scope
+
+    # -- bindings and reads -------------------------------------------------------------
+
+    def bindings(self, name: ast.Name) -> list[ast.AST]:
+        """Every node that binds ``name`` in the scope where ``name`` is bound."""
+        scope = self.binding_scope(name)
+        return list(scope.bindings.get(name.id, ())) if scope is not None else []
+
+    def reads(self, name: ast.Name) -> list[ast.Name]:
+        """Every read of the variable ``name`` binds, in its scope and nested scopes, in order."""
+        scope = self.binding_scope(name)
+        if scope is None or not scope.bindings.get(name.id):
+            return []
+        by_scope = self._reads.get(name.id)
+        if by_scope is None:
+            by_scope = self._reads[name.id] = self._index_reads(name.id)
+        return by_scope.get(id(scope), [])
+
+    def _index_reads(self, name: str) -> dict[int, list[ast.Name]]:
+        if self._readers is None:
+            readers: dict[str, list[Scope]] = defaultdict(list)
+            for scope in self.facts.scopes.values():
+                for read_name in scope.reads:
+                    readers[read_name].append(scope)
+            self._readers = readers
+        found: dict[int, list[ast.Name]] = defaultdict(list)
+        for scope in self._readers.get(name, ()):
+            bound_in, _ = self.facts.resolve(name, scope)
+            if bound_in is not None:
+                found[id(bound_in)].extend(scope.reads[name])
+        for reads in found.values():
+            reads.sort(key=start)
+        return found
+
+    def _sorted_bindings(self, scope: Scope, name: str) -> tuple[list[Position], list[ast.AST]]:
+        """Every binding of ``name`` in ``scope`` and their start positions, in source order."""
+        key = (id(scope), name)
+        found = self._binding_starts.get(key)
+        if found is None:
+            ordered = sorted(scope.bindings.get(name, ()), key=start)
+            found = self._binding_starts[key] = ([start(b) for b in ordered], ordered)
+        return found
+
+    def last_binding_before(self, read: ast.AST, name: ast.Name) -> ast.AST | None:
+        """The binding of ``name``'s variable that starts last before ``read`` ends."""
+        scope = self.binding_scope(name)
+        return None if scope is None else self._last_in(scope, name.id, read)
+
+    def last_binding_of(self, read: ast.Name) -> ast.AST | None:
+        """The binding of the variable ``read`` reads that starts last before the read ends."""
+        scope, _ = self.facts.resolve(read.id, self.facts.scope_of(read))
+        return None if scope is None else self._last_in(scope, read.id, read)
+
+    def _last_in(self, scope: Scope, name: str, read: ast.AST) -> ast.AST | None:
+        starts, ordered = self._sorted_bindings(scope, name)
+        index = bisect_left(starts, end(read)) - 1
+        return ordered[index] if index >= 0 else None
+
+    def _any_binding_in(self, scope: Scope, name: str, low: Position, high: Position) -> bool:
+        starts, _ = self._sorted_bindings(scope, name)
+        index = bisect_left(starts, low)
+        return index < len(starts) and starts[index] < high
+
+    # -- flow ---------------------------------------------------------------------------
+
+    def observes(self, read: ast.AST, statement: ast.stmt, name: ast.Name) -> bool:
+        """Can ``read`` see a value bound by ``statement``? (later in the text, in a loop
+        that runs the statement and then comes back to the read, or in a nested function
+        that may be called at any time)."""
+        if is_after(read, statement) or not self.same_frame(read, self.facts.scope_of(name)):
+            return True
+        return any(isinstance(a, LOOPS) and contains(a, read) for a in self.facts.ancestors(statement))
+
+    def dominates(self, statement: ast.stmt, read: ast.AST, name: ast.Name) -> bool:
+        """Is ``read`` certain to see the value ``statement`` bound to ``name``?"""
+        scope = self.binding_scope(name)
+        if scope is None or not self.same_frame(read, scope) or not is_after(read, statement):
+            return False
+        if not self._follows_in_block(statement, read):
+            return False
+        # Bindings inside ``statement`` start before it ends, so they are never "between".
+        if self._any_binding_in(scope, name.id, end(statement), end(read)):
+            return False  # rebound between the statement and the read
+        for loop in self.facts.ancestors(read):
+            if isinstance(loop, LOOPS) and not contains(loop, statement):
+                if self._any_binding_in(scope, name.id, start(loop), end(loop)):
+                    return False  # rebound later in a loop that runs the read again
+        return True
+
+    def _follows_in_block(self, statement: ast.stmt, read: ast.AST) -> bool:
+        """``read`` sits in a statement after ``statement`` in the same statement list."""
+        holder = self.facts.parent(statement)
+        if holder is None:
+            return False
+        slots = self._slots_of(holder)
+        mine = slots.get(id(statement))
+        node: ast.AST | None = read
+        while node is not None:
+            parent = self.facts.parent(node)
+            if parent is holder:
+                theirs = slots.get(id(node))
+                return theirs is not None and mine is not None and theirs[0] == mine[0] and theirs[1] > mine[1]
+            node = parent
+        return False
+
+    def _slots_of(self, holder: ast.AST) -> dict[int, tuple[str, int]]:
+        slots = self._slots.get(id(holder))
+        if slots is None:
+            slots = {}
+            for field in _STATEMENT_LISTS:
+                for index, item in enumerate(getattr(holder, field, None) or ()):
+                    if isinstance(item, ast.stmt):
+                        slots[id(item)] = (field, index)
+            self._slots[id(holder)] = slots
+        return slots
+
+    # -- names ----------------------------------------------------------------------------
+
+    def names_used_in(self, scope: Scope) -> set[str]:
+        """Identifiers that mean something in ``scope``: its own names, attribute and
+        keyword names spelled there, and names that nested functions spell without binding
+        them (they may refer to ``scope``'s). A nested function's own locals do not count:
+        binding the same name here is safe."""
+        taken = self._names_in.get(id(scope))
+        if taken is not None:
+            return taken
+        facts = self.facts
+        taken = set()
+        stack: list[tuple[ast.AST, Scope]] = [(scope.node, scope)]
+        while stack:
+            node, around = stack.pop()
+            for identifier, where in _identifiers(node, around, facts):
+                if where is None or where is scope or identifier not in where.bindings:
+                    taken.add(identifier)
+            inner = facts.scopes.get(node, around) if node is not scope.node else scope
+            stack.extend((child, inner) for child in ast.iter_child_nodes(node))
+        self._names_in[id(scope)] = taken
+        return taken
+
+
+def _identifiers(node: ast.AST, around: Scope, facts: ModuleFacts) -> Iterator[tuple[str, Scope | None]]:
+    """The identifiers ``node`` spells itself, each with the scope it belongs to (None: no scope)."""
+    if isinstance(node, ast.Name):
+        yield node.id, facts.scope_of(node)
+    elif isinstance(node, ast.Attribute):
+        yield node.attr, around
+    elif isinstance(node, ast.arg):
+        yield node.arg, facts.scope_of(node)
+    elif isinstance(node, (*FUNCTIONS, ast.ClassDef)):
+        yield node.name, facts.scope_of(node)
+    elif isinstance(node, ast.keyword) and node.arg is not None:
+        yield node.arg, None
+    elif isinstance(node, ast.alias):
+        for part in node.name.split("."):
+            yield part, around
+        if node.asname:
+            yield node.asname, around
+    elif isinstance(node, ast.ExceptHandler) and node.name:
+        yield node.name, facts.scope_of(node)
+    elif isinstance(node, (ast.Global, ast.Nonlocal)):
+        for name in node.names:
+            yield name, around
+
+
+def bound_names(target: ast.AST) -> set[str]:
+    """Names a target binds: ``a``, ``a, (b, *c)``; attributes and subscripts bind none."""
+    if isinstance(target, ast.Name):
+        return {target.id}
+    if isinstance(target, (ast.Tuple, ast.List)):
+        return {name for element in target.elts for name in bound_names(element)}
+    if isinstance(target, ast.Starred):
+        return bound_names(target.value)
+    return set()

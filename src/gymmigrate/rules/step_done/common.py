@@ -1,0 +1,119 @@
+"""What every step rule shares: the catalog entries, the names of the new flags, the
+receiver decision and the per-file state the rules hand to one another.
+
+The rules of this family read each other's conclusions within one run: a ``done`` read
+that one step unpack rewrites is not claimed by a later one, and the ``info`` names an
+unpack binds tell GM303 which ``TimeLimit.truncated`` reads it can rewrite.
+"""
+
+from __future__ import annotations
+
+import ast
+from dataclasses import dataclass
+
+from gymmigrate.facts.decisions import Decision, decide, receiver_text
+from gymmigrate.facts.flow import Flow
+from gymmigrate.facts.receivers import EnvKind
+from gymmigrate.findings import FixKind
+from gymmigrate.rules.base import Rule, RuleFamily
+
+RULES = (
+    Rule(
+        "GM301",
+        "step returns terminated and truncated",
+        FixKind.AUTO,
+        "`obs, r, done, info = env.step(a)` unpacks five values; `done = terminated or truncated` where it is read.",
+    ),
+    Rule(
+        "GM302",
+        "bootstrapping uses terminated",
+        FixKind.ASSIST,
+        "Value targets, masks and replay writes of `done` use `terminated`; unclear uses are reported.",
+    ),
+    Rule(
+        "GM303",
+        "TimeLimit.truncated info key",
+        FixKind.ASSIST,
+        '`info["TimeLimit.truncated"]` becomes `truncated and not terminated`; the key is no longer set.',
+    ),
+    Rule(
+        "GM304",
+        "step results that are not unpacked",
+        FixKind.ASSIST,
+        "Constant indices of a step result move (`res[3]` -> `res[4]`, `res[2]` -> `res[2] or res[3]`).",
+    ),
+    Rule(
+        "GM703",
+        "vector step returns terminations and truncations",
+        FixKind.AUTO,
+        "Vector `obs, rewards, dones, infos = envs.step(a)` unpacks five arrays; "
+        "`dones = np.logical_or(terminations, truncations)`.",
+    ),
+)
+
+TIME_LIMIT_KEY = "TimeLimit.truncated"
+
+
+@dataclass(frozen=True)
+class StepNames:
+    """Names of the two new flags for one step, and how to join them into ``done``."""
+
+    terminated: str
+    truncated: str
+    vector: bool
+    numpy: str = "np"
+
+    @property
+    def code(self) -> str:
+        return "GM703" if self.vector else "GM301"
+
+    def joined(self) -> str:
+        if self.vector:
+            return f"{self.numpy}.logical_or({self.terminated}, {self.truncated})"
+        return f"{self.terminated} or {self.truncated}"
+
+
+class StepFamilyBase(RuleFamily):
+    """State and helpers shared by the step rules (no ``RULES``: not registered itself)."""
+
+    flow: Flow
+    # Rewritten steps whose ``info`` target is a name, and the ``info`` variables of
+    # SB3 VecEnv steps (scope id, name): GM303 reads resolve against them.
+    info_steps: dict[ast.Assign, StepNames]
+    guarded_infos: set[tuple[int, str]]
+    # Rewritten steps by ``done`` variable (scope id, name); their reads are planned together.
+    done_steps: dict[tuple[int, str], list]  # type: ignore[type-arg]
+    reported_reads: set[int]  # ``done`` reads already reported (by node id)
+    result_steps: dict[tuple[int, str], list]  # type: ignore[type-arg]  # ``res = x.step(a)`` by variable
+    # Four-target step unpacks: a read that one of them dominates belongs to it alone.
+    legacy_unpacks: set[ast.Assign]
+    numpy_name: str | None
+
+    def decision(self, receiver: ast.expr, legacy_shape: bool) -> tuple[Decision, bool]:
+        """What to do with ``receiver.step``, and whether it is a vector env."""
+        kind = self.receivers.super_kind(receiver) or self.receivers.kind_of(receiver)
+        profile = self.context.profile
+        if kind is EnvKind.GYM_VEC:
+            return decide(kind, receiver, profile, legacy_shape=legacy_shape, expected=EnvKind.GYM_VEC), True
+        return decide(kind, receiver, profile, legacy_shape=legacy_shape), False
+
+
+def looks_vectorised(receiver: ast.expr, done_target: ast.expr) -> bool:
+    """An untraced ``envs.step`` or a ``dones`` target: single-env ``or`` would be wrong."""
+    name = receiver_text(receiver).rsplit(".", 1)[-1].lower()
+    plural = name.endswith(("envs", "environments"))
+    return plural or (isinstance(done_target, ast.Name) and done_target.id.endswith("dones"))
+
+
+def stands_alone(node: ast.expr, parent: ast.AST | None) -> bool:
+    """``node`` is a whole expression on its own (a test, an assigned or returned value, an
+    argument, a container element): a replacement needs no parentheses there."""
+    if isinstance(parent, (ast.If, ast.While, ast.Assert)):
+        return parent.test is node
+    if isinstance(parent, (ast.Assign, ast.Return, ast.Expr, ast.AnnAssign, ast.keyword)):
+        return parent.value is node
+    if isinstance(parent, ast.Call):
+        return any(arg is node for arg in parent.args)
+    if isinstance(parent, (ast.Tuple, ast.List, ast.Set)):
+        return any(element is node for element in parent.elts)
+    return False

@@ -1,0 +1,106 @@
+"""The step family: finds every ``x.step(...)`` call and ``TimeLimit.truncated`` read and
+hands each to its rule (GM301-GM304, GM703).
+
+Each call is classified once (``Receivers``); Stable-Baselines3 VecEnvs keep the
+four-value step and their ``TimeLimit.truncated`` key (SB102-SB104), and objects that
+are not envs (optimisers, schedulers, agents) are left alone, unless four names are
+unpacked from their ``step`` in a Gym file, which is reported.
+"""
+
+from __future__ import annotations
+
+import ast
+
+from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts.flow import Flow
+from gymmigrate.facts.module import FUNCTIONS
+from gymmigrate.rules.base import FileContext
+from gymmigrate.rules.step_done.common import RULES, TIME_LIMIT_KEY
+from gymmigrate.rules.step_done.results import ResultRules
+from gymmigrate.rules.step_done.time_limit import TimeLimitRules, time_limit_reads
+from gymmigrate.rules.step_done.unpack import UnpackRules
+
+
+class StepDone(UnpackRules, TimeLimitRules, ResultRules):
+    RULES = RULES
+    ORDER = 55
+
+    @classmethod
+    def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
+        if TIME_LIMIT_KEY in facts.text:
+            return True
+        # Steps already unpacked into five names are migrated: nothing to do for them.
+        return any(not _five_targets(facts.parent(call), call) for call in facts.attribute_calls.get("step", ()))
+
+    def decide(self) -> None:
+        facts = self.facts
+        self.flow = Flow.of(facts)
+        self.numpy_name = _numpy_name(facts.tree)
+        self.info_steps = {}
+        self.guarded_infos = set()
+        self.done_steps = {}
+        self.result_steps = {}
+        self.reported_reads = set()
+        steps = facts.attribute_calls.get("step", [])
+        self.legacy_unpacks = {
+            parent for parent in (facts.parent(call) for call in steps) if isinstance(parent, ast.Assign) and _four_targets(parent)
+        }
+        for call in steps:
+            self._plan_step(call)
+        self.finish_done_reads()
+        self.finish_results()
+        if TIME_LIMIT_KEY in facts.text:
+            for node in time_limit_reads(facts.strings, facts.parent):
+                self.plan_time_limit_read(node)
+
+    def _plan_step(self, call: ast.Call) -> None:
+        receiver = call.func.value  # type: ignore[attr-defined]
+        parent = self.facts.parent(call)
+        if isinstance(parent, ast.Assign) and parent.value is call and len(parent.targets) == 1:
+            target = parent.targets[0]
+            if isinstance(target, (ast.Tuple, ast.List)) and not _starred(target):
+                if len(target.elts) == 5:
+                    return  # already migrated
+                if len(target.elts) == 4:
+                    self.plan_unpack(parent, target, receiver)
+                    return
+            if isinstance(target, ast.Name):
+                self.plan_result_name(parent, target, receiver)
+                return
+        if isinstance(parent, ast.Expr) or self._returned_from_step_method(call, parent):
+            return  # result unused, or passed through by a wrapper's step (the wrapper rules' job)
+        self.report_unpacked_use(call, receiver)
+
+    def _returned_from_step_method(self, call: ast.Call, parent: ast.AST | None) -> bool:
+        if not isinstance(parent, ast.Return):
+            return False
+        function = self.facts.enclosing(call, (*FUNCTIONS, ast.Lambda))
+        return isinstance(function, FUNCTIONS) and function.name == "step"
+
+
+def _numpy_name(module: ast.Module) -> str | None:
+    """The name a module-level ``import numpy [as x]`` binds, if there is one."""
+    for statement in module.body:
+        if isinstance(statement, ast.Import):
+            for alias in statement.names:
+                if alias.name == "numpy":
+                    return alias.asname or "numpy"
+    return None
+
+
+def _starred(target: ast.Tuple | ast.List) -> bool:
+    return any(isinstance(el, ast.Starred) for el in target.elts)
+
+
+def _four_targets(assign: ast.Assign) -> bool:
+    if len(assign.targets) != 1:
+        return False
+    target = assign.targets[0]
+    return isinstance(target, (ast.Tuple, ast.List)) and len(target.elts) == 4 and not _starred(target)
+
+
+def _five_targets(parent: ast.AST | None, call: ast.Call) -> bool:
+    if not (isinstance(parent, ast.Assign) and parent.value is call and len(parent.targets) == 1):
+        return False
+    target = parent.targets[0]
+    return isinstance(target, (ast.Tuple, ast.List)) and len(target.elts) == 5 and not _starred(target)

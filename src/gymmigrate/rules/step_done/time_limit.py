@@ -1,0 +1,141 @@
+"""GM303: reads of the legacy ``info["TimeLimit.truncated"]`` key.
+
+Gymnasium's ``TimeLimit`` no longer sets the key, so ``info["TimeLimit.truncated"]``
+raises and ``info.get("TimeLimit.truncated", False)`` is silently always false. Where
+the ``info`` comes from a step this family rewrote, the read becomes ``truncated and not
+terminated``, the exact legacy meaning (legacy ``TimeLimit`` stored ``not done`` there,
+and only when the limit was hit); ``"TimeLimit.truncated" in info`` becomes
+``truncated``. Other reads are reported; stores of the key (a legacy time-limit
+wrapper) are reported too. Stable-Baselines3 VecEnv infos still carry the key (SB104)
+and are left alone.
+"""
+
+from __future__ import annotations
+
+import ast
+
+import libcst as cst
+
+from gymmigrate.findings import FixKind
+from gymmigrate.rules.step_done.common import TIME_LIMIT_KEY, StepFamilyBase, StepNames, stands_alone
+
+_UNTRACED = object()  # a read whose info dict comes from no known step
+
+
+def time_limit_reads(facts_strings: list[ast.Constant], parent_of) -> list[ast.expr]:  # type: ignore[no-untyped-def]
+    """``info[KEY]``, ``info.get(KEY, ...)`` and ``KEY in info`` nodes, in source order."""
+    found: list[ast.expr] = []
+    for string in facts_strings:
+        if string.value != TIME_LIMIT_KEY:
+            continue
+        parent = parent_of(string)
+        if isinstance(parent, ast.Subscript) and parent.slice is string:
+            found.append(parent)
+        elif (
+            isinstance(parent, ast.Call)
+            and parent.args
+            and parent.args[0] is string
+            and isinstance(parent.func, ast.Attribute)
+            and parent.func.attr == "get"
+        ):
+            found.append(parent)
+        elif (
+            isinstance(parent, ast.Compare)
+            and parent.left is string
+            and len(parent.ops) == 1
+            and isinstance(parent.ops[0], (ast.In, ast.NotIn))
+        ):
+            found.append(parent)
+    return found
+
+
+class TimeLimitRules(StepFamilyBase):
+    """GM303 (mixed into the family)."""
+
+    def plan_time_limit_read(self, node: ast.expr) -> None:
+        if isinstance(node, ast.Subscript) and not isinstance(node.ctx, ast.Load):
+            # A legacy TimeLimit-style wrapper *writing* the key: a store cannot become a
+            # `truncated and not terminated` expression, and the wrapper must now report
+            # the limit through the truncated flag it returns.
+            self.report(
+                node,
+                "GM303",
+                f'writes the legacy "{TIME_LIMIT_KEY}" info key, which Gymnasium code no longer reads: '
+                "return the time limit as the step's `truncated` flag instead",
+                FixKind.FLAG,
+            )
+            return
+        base = _time_limit_base(node)
+        names = self._info_step(base) if isinstance(base, ast.Name) else _UNTRACED
+        if names is None:
+            return  # SB3 VecEnv infos keep the key (SB104)
+        if isinstance(names, StepNames) and not names.vector:
+            self._replace_read(node, names)
+            equivalent = (
+                f"`{names.truncated}` (the key was present exactly when the time limit was hit)"
+                if isinstance(node, ast.Compare)
+                else f"`{names.truncated} and not {names.terminated}` (the key held `not done` at the time limit)"
+            )
+            self.report(node, "GM303", f'Gymnasium no longer sets "{TIME_LIMIT_KEY}": replaced by {equivalent}; review')
+            return
+        if self.context.profile.imports_sb3:
+            return  # most likely SB3 VecEnv infos, which still carry the key
+        self.report(
+            node,
+            "GM303",
+            f'Gymnasium\'s TimeLimit no longer sets "{TIME_LIMIT_KEY}", so this read is always false: '
+            "use `truncated and not terminated` from the step that produced this info",
+            FixKind.FLAG,
+        )
+
+    def _info_step(self, base: ast.Name) -> object:
+        """The rewritten step whose ``info`` target certainly reaches ``base`` (StepNames),
+        None for the infos of an SB3 VecEnv step, else ``_UNTRACED``."""
+        binding = self.flow.last_binding_of(base)
+        if isinstance(binding, ast.Name):
+            step = self.facts.parent(self.facts.parent(binding))
+            names = self.info_steps.get(step)  # type: ignore[call-overload]
+            if names is not None and step.targets[0].elts[3] is binding and self.flow.dominates(step, base, binding):  # type: ignore[union-attr]
+                return names
+        scope, _ = self.facts.resolve(base.id, self.facts.scope_of(base))
+        if scope is not None and (id(scope), base.id) in self.guarded_infos:
+            return None
+        return _UNTRACED
+
+    def _replace_read(self, node: ast.expr, names: StepNames) -> None:
+        if isinstance(node, ast.Compare):
+            # The key was present exactly when the time limit was reached.
+            negated = isinstance(node.ops[0], ast.NotIn)
+
+            def membership(cst_node: cst.Comparison) -> cst.BaseExpression:
+                expression: cst.BaseExpression = cst.Name(names.truncated)
+                if negated:
+                    expression = cst.UnaryOperation(operator=cst.Not(), expression=expression)
+                return expression.with_changes(lpar=cst_node.lpar, rpar=cst_node.rpar)
+
+            self.plan.replace(node, membership)
+            return
+        bare = stands_alone(node, self.facts.parent(node))
+
+        def lookup(cst_node: cst.BaseExpression) -> cst.BaseExpression:
+            expression = cst.BooleanOperation(
+                left=cst.Name(names.truncated),
+                operator=cst.And(),
+                right=cst.UnaryOperation(operator=cst.Not(), expression=cst.Name(names.terminated)),
+            )
+            if cst_node.lpar:  # type: ignore[attr-defined]
+                return expression.with_changes(lpar=cst_node.lpar, rpar=cst_node.rpar)  # type: ignore[attr-defined]
+            if bare:
+                return expression
+            return expression.with_changes(lpar=[cst.LeftParen()], rpar=[cst.RightParen()])
+
+        self.plan.replace(node, lookup)
+
+
+def _time_limit_base(node: ast.expr) -> ast.expr:
+    """The dict a ``TimeLimit.truncated`` read looks in."""
+    if isinstance(node, ast.Subscript):
+        return node.value
+    if isinstance(node, ast.Call):
+        return node.func.value  # type: ignore[attr-defined]
+    return node.comparators[0]  # type: ignore[attr-defined]

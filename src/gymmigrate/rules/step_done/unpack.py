@@ -1,0 +1,279 @@
+"""GM301 / GM703 / GM302: a four-target step unpack gets five targets.
+
+``obs, r, done, info = env.step(a)`` becomes ``obs, r, terminated, truncated, info =
+env.step(a)`` (vector envs: ``terminations, truncations``). The old flag is kept as
+``done = terminated or truncated`` (vector: ``np.logical_or``, since ``or`` on arrays
+raises) right after the step, but only where something still reads it: a loop test, a
+``break`` condition, a ``while not done`` around the step, a reader in another scope.
+
+Reads of ``done`` that feed a value (``1 - done``, masks, tensors, replay writes) and
+that certainly see this step's flag become ``terminated`` (GM302, review): a time-limit
+truncation must still bootstrap from the next state. Value reads that may see another
+binding, and reads whose purpose is unclear, are reported instead.
+"""
+
+from __future__ import annotations
+
+import ast
+from bisect import bisect_left, bisect_right
+from dataclasses import dataclass
+
+import libcst as cst
+
+from gymmigrate.facts.decisions import Action, Decision
+from gymmigrate.facts.done_uses import DoneUse, classify_done_read
+from gymmigrate.facts.flow import bound_names, end, start
+from gymmigrate.facts.module import LOOPS, Scope
+from gymmigrate.findings import FixKind
+from gymmigrate.rules.step_done.common import StepFamilyBase, StepNames, looks_vectorised
+
+
+@dataclass(frozen=True)
+class _DoneStep:
+    """A rewritten step whose done target is a name: its reads are planned together."""
+
+    assign: ast.Assign
+    done: ast.Name
+    names: StepNames
+
+
+class UnpackRules(StepFamilyBase):
+    """GM301, GM302 and GM703 (mixed into the family)."""
+
+    def plan_unpack(self, assign: ast.Assign, target: ast.Tuple | ast.List, receiver: ast.expr) -> None:
+        decision, vector = self.decision(receiver, legacy_shape=True)
+        done_target = target.elts[2]
+        if decision.action is Action.LEAVE:
+            self.note_guarded_info(target.elts[3])
+            return
+        if not isinstance(done_target, (ast.Name, ast.Attribute, ast.Subscript)):
+            self.report(
+                assign,
+                "GM301",
+                f"step now returns terminated and truncated, and the done target `{self.facts.segment(done_target)}` "
+                "cannot be split: unpack five values by hand",
+                FixKind.FLAG,
+            )
+            return
+        if decision.action is Action.REWRITE_FOR_REVIEW and looks_vectorised(receiver, done_target):
+            decision = Decision(Action.REPORT, decision.reason + "; it may be a vector env")
+        if decision.action is Action.REPORT:
+            self.report(
+                assign,
+                "GM301",
+                f"{decision.reason}: if it is a Gym env, unpack `obs, reward, terminated, truncated, info`",
+                FixKind.FLAG,
+            )
+            return
+        names = self._step_names(assign, vector)
+        self.plan.replace(target, lambda node: _split_done(node, names))
+        if isinstance(done_target, ast.Name):
+            if done_target.id != "_":
+                # Whether ``done`` is still read is decided once every step is known.
+                scope = self.flow.binding_scope(done_target)
+                group = (id(scope), done_target.id) if scope is not None else (id(assign), done_target.id)
+                self.done_steps.setdefault(group, []).append(_DoneStep(assign, done_target, names))
+        else:
+            self._keep_done(assign, done_target, names)  # ``self.done``/``dones[i]``: readers cannot be traced
+        if isinstance(target.elts[3], ast.Name):
+            self.info_steps[assign] = names
+        message = f"step now returns {names.terminated} and {names.truncated} instead of one done flag"
+        if decision.action is Action.REWRITE_FOR_REVIEW:
+            self.report(assign, names.code, f"{message}; {decision.reason}", FixKind.ASSIST)
+        else:
+            self.report(assign, names.code, message)
+
+    # -- the done reads ---------------------------------------------------------------------
+
+    def _keep_done(self, assign: ast.Assign, done_target: ast.expr, names: StepNames) -> None:
+        """``done = terminated or truncated`` right after the step (``np.logical_or`` for vectors)."""
+        if names.vector and self.numpy_name is None:
+            self.plan.add_import("import numpy as np")
+        self.plan.insert_after(assign, f"{self.facts.segment(done_target)} = {names.joined()}")
+
+    def finish_done_reads(self) -> None:
+        """Plan the reads of every rewritten step's ``done``, one variable at a time."""
+        for steps in self.done_steps.values():
+            keep = self._plan_done_reads(steps)
+            for step, needed in zip(steps, keep):
+                # ``global done``: readers live in other scopes and cannot all be traced.
+                if needed or self._declared_outside(step.assign, step.done.id):
+                    self._keep_done(step.assign, step.done, step.names)
+
+    def _plan_done_reads(self, steps: list[_DoneStep]) -> list[bool]:
+        """Plan every read of one ``done`` variable that its rewritten steps bind (in
+        source order); for each step, whether ``done = ...`` must be kept after it.
+
+        A read belongs to the four-target step that dominates it, if any: a value read
+        there becomes ``terminated``. Otherwise every rewritten step that can reach it (not
+        one before the step that dominates it) must keep ``done``; those steps form a run
+        in source order (the ones before the read, then the ones in a loop around it), so
+        each read marks a range, and the first step of the range reports it.
+        """
+        flow = self.flow
+        done = steps[0].done
+        reads = flow.reads(done)
+        if not reads:
+            return [False] * len(steps)
+        scope = self.facts.scope_of(done)
+        starts = [start(step.assign) for step in steps]
+        ends = [end(step.assign) for step in steps]
+        index_of = {id(step.assign): i for i, step in enumerate(steps)}
+        marks = [0] * (len(steps) + 1)
+        for read in reads:
+            owner = self._dominating_step(read, done)
+            first = 0
+            if owner is not None:
+                first = index_of.get(id(owner), bisect_left(starts, end(owner)))
+                if first < len(steps) and steps[first].assign is owner:
+                    if classify_done_read(read, self.facts) is DoneUse.DATA:
+                        self._claim(read, steps[first])
+                        continue
+            if not flow.same_frame(read, scope):
+                stop = len(steps)  # a nested function may run after any of them
+            else:
+                before = bisect_right(ends, start(read))
+                loop = self._outermost_loop(read)
+                stop = max(before, bisect_left(starts, end(loop)) if loop is not None else 0)
+            if first >= stop:
+                continue
+            marks[first] += 1
+            marks[stop] -= 1
+            self._report_open_read(read, steps[first])
+        keep, running = [], 0
+        for mark in marks[:-1]:
+            running += mark
+            keep.append(running > 0)
+        return keep
+
+    def _dominating_step(self, read: ast.Name, done: ast.Name) -> ast.Assign | None:
+        """The four-target step that certainly binds the value ``read`` sees, if any.
+
+        Only the statement holding the last binding before the read can dominate it, so
+        one lookup replaces a test against every step.
+        """
+        binding = self.flow.last_binding_before(read, done)
+        if binding is None:
+            return None
+        step = self.facts.statement_of(binding)
+        if (
+            step in self.legacy_unpacks
+            and any(done.id in bound_names(t) for t in step.targets)  # type: ignore[attr-defined]
+            and self.flow.dominates(step, read, done)
+        ):
+            return step  # type: ignore[return-value]
+        return None
+
+    def _outermost_loop(self, node: ast.AST) -> ast.AST | None:
+        found = None
+        for ancestor in self.facts.ancestors(node):
+            if isinstance(ancestor, LOOPS):
+                found = ancestor
+        return found
+
+    def _claim(self, read: ast.Name, step: _DoneStep) -> None:
+        terminated = step.names.terminated
+        self.plan.replace(read, lambda node: node.with_changes(value=terminated))
+        self._report_read(
+            read,
+            f"`{read.id}` used as a value (target, mask or stored transition) now reads "
+            f"`{terminated}`: a time-limit truncation must still bootstrap; review",
+            FixKind.ASSIST,
+        )
+
+    def _report_open_read(self, read: ast.Name, step: _DoneStep) -> None:
+        use = classify_done_read(read, self.facts)
+        names = step.names
+        if use is DoneUse.DATA:
+            self._report_read(
+                read,
+                f"`{read.id}` used as a value may not come from the step on line {step.assign.lineno}; "
+                f"if it feeds bootstrapping, use `{names.terminated}` there",
+                FixKind.FLAG,
+            )
+        elif use is DoneUse.AMBIGUOUS:
+            self._report_read(
+                read,
+                f"`{read.id}` now means `{names.terminated} or {names.truncated}`; "
+                f"if this use decides bootstrapping, use `{names.terminated}`",
+                FixKind.FLAG,
+            )
+
+    def _report_read(self, read: ast.Name, message: str, kind: FixKind) -> None:
+        if id(read) not in self.reported_reads:
+            self.reported_reads.add(id(read))
+            self.report(read, "GM302", message, kind)
+
+    def _declared_outside(self, node: ast.AST, name: str) -> bool:
+        function = self.facts.enclosing_function(node)
+        if function is None:
+            return False
+        scope = self.facts.scopes[function]
+        return name in scope.declared_global or name in scope.declared_nonlocal
+
+    def note_guarded_info(self, info_target: ast.expr) -> None:
+        """SB3 VecEnv infos still carry ``TimeLimit.truncated`` (SB104): stay silent on them."""
+        if isinstance(info_target, ast.Name):
+            scope = self.flow.binding_scope(info_target)
+            if scope is not None:
+                self.guarded_infos.add((id(scope), info_target.id))
+
+    # -- names --------------------------------------------------------------------------------
+
+    def _step_names(self, assign: ast.Assign, vector: bool) -> StepNames:
+        scope = self.facts.scope_of(assign)
+        taken = self.flow.names_used_in(scope)
+        compatible = self._step_flag_names(scope)
+        base = ("terminations", "truncations") if vector else ("terminated", "truncated")
+        return StepNames(*(_fresh(name, taken, compatible) for name in base), vector=vector, numpy=self.numpy_name or "np")
+
+    def _step_flag_names(self, scope: Scope) -> set[str]:
+        """Names that only ever hold step flags in ``scope`` (safe to bind again)."""
+        return self.facts.memo(("step-flag-names", id(scope.node)), lambda: _collect_flag_names(scope.node))  # type: ignore[no-any-return]
+
+
+def _fresh(base: str, taken: set[str], compatible: set[str]) -> str:
+    if base not in taken or base in compatible:
+        return base
+    candidate, number = base + "_", 2
+    while candidate in taken:
+        candidate, number = f"{base}_{number}", number + 1
+    return candidate
+
+
+def _collect_flag_names(root: ast.AST) -> set[str]:
+    """Names bound as the flags of a five-target step in ``root``, and nowhere else."""
+    flags: set[str] = set()
+    other: set[str] = set()
+    for node in ast.walk(root):
+        if isinstance(node, ast.Assign):
+            value = node.value
+            is_step = isinstance(value, ast.Call) and isinstance(value.func, ast.Attribute) and value.func.attr == "step"
+            for target in node.targets:
+                if is_step and isinstance(target, (ast.Tuple, ast.List)) and len(target.elts) == 5:
+                    flags.update(el.id for el in target.elts[2:4] if isinstance(el, ast.Name))
+                    continue
+                other |= bound_names(target)
+        elif isinstance(node, ast.arg):
+            other.add(node.arg)
+        elif isinstance(node, (ast.For, ast.AsyncFor, ast.AugAssign, ast.NamedExpr)):
+            other |= bound_names(node.target)
+        elif isinstance(node, ast.alias) and node.asname:
+            other.add(node.asname)
+        elif isinstance(node, ast.withitem) and node.optional_vars is not None:
+            other |= bound_names(node.optional_vars)
+        elif isinstance(node, ast.ExceptHandler) and node.name:
+            other.add(node.name)
+    return flags - other
+
+
+def _split_done(target: cst.BaseExpression, names: StepNames) -> cst.BaseExpression:
+    """``obs, r, done, info`` -> ``obs, r, terminated, truncated, info`` (user spacing kept)."""
+    elements = list(target.elements)  # type: ignore[attr-defined]
+    done = elements[2]
+    discard = isinstance(done.value, cst.Name) and done.value.value == "_"
+    first = cst.Name("_" if discard else names.terminated)
+    second = cst.Name("_" if discard else names.truncated)
+    comma = done.comma if isinstance(done.comma, cst.Comma) else cst.Comma(whitespace_after=cst.SimpleWhitespace(" "))
+    elements[2:3] = [cst.Element(value=first, comma=comma), cst.Element(value=second, comma=comma)]
+    return target.with_changes(elements=elements)
