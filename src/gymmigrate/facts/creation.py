@@ -235,6 +235,8 @@ class CreationFinder:
         return self._follow_bindings(name, bindings)
 
     def _follow_bindings(self, name: ast.Name, bindings: list[ast.AST]) -> Creation:
+        if not bindings:  # an unbound name's empty list is a fresh object: nothing to share
+            return self._bindings(name, bindings)
         key = ("bindings", id(bindings))
         known = self._memo.get(key)
         if known is not None:
