@@ -12,7 +12,6 @@ interpreter's stack, and every lookup is linear or better in the size of the fil
 from __future__ import annotations
 
 import ast
-import re
 from collections import defaultdict
 from collections.abc import Iterator
 from dataclasses import dataclass, field
@@ -21,7 +20,6 @@ FUNCTIONS = (ast.FunctionDef, ast.AsyncFunctionDef)
 COMPREHENSIONS = (ast.ListComp, ast.SetComp, ast.DictComp, ast.GeneratorExp)
 SCOPES = (ast.Module, *FUNCTIONS, ast.ClassDef, ast.Lambda, *COMPREHENSIONS)
 LOOPS = (ast.For, ast.AsyncFor, ast.While)
-_LINE_ENDS = re.compile(r"(?<=\n)|(?<=\r)(?!\n)")
 
 
 @dataclass(eq=False)
@@ -66,7 +64,6 @@ class ModuleFacts:
         self.all_classes: list[ast.ClassDef] = []
         self.strings: list[ast.Constant] = []
         self._memo: dict[tuple[str, int], object] = {}
-        self._source_lines: list[str] | None = None
         self.module_scope = Scope(tree, None)
         self.scopes[tree] = self.module_scope
         self._walk()
@@ -291,22 +288,7 @@ class ModuleFacts:
     # -- source -------------------------------------------------------------------------
 
     def segment(self, node: ast.AST) -> str:
-        """``ast.get_source_segment``, without splitting the whole text again on every call."""
-        lineno, end_lineno = getattr(node, "lineno", None), getattr(node, "end_lineno", None)
-        col, end_col = getattr(node, "col_offset", None), getattr(node, "end_col_offset", None)
-        if lineno is None or end_lineno is None or col is None or end_col is None:
-            return ""
-        lines = self._source_lines
-        if lines is None:
-            # Lines as the tokenizer counts them (\r\n, \r, \n; not \f or \v like str.splitlines).
-            lines = self._source_lines = [line for line in _LINE_ENDS.split(self.text) if line]
-        if end_lineno > len(lines):
-            return ""
-        if lineno == end_lineno:
-            return lines[lineno - 1].encode()[col:end_col].decode()
-        first = lines[lineno - 1].encode()[col:].decode()
-        last = lines[end_lineno - 1].encode()[:end_col].decode()
-        return first + "".join(lines[lineno:end_lineno - 1]) + last
+        return ast.get_source_segment(self.text, node) or ""
 
     def column(self, node: ast.AST) -> int:
         """``ast`` columns count UTF-8 bytes; findings count characters."""
