@@ -132,7 +132,11 @@ class Rendering(RuleFamily):
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
         text = facts.text
-        return any(word in text for word in ("render", "RecordVideo", "VecVideoRecorder", "play", "Monitor", LEGACY_SINGLE_FRAME))
+        if LEGACY_SINGLE_FRAME in text or any(word in text for word in _RECORDER_ATTRIBUTES):
+            return True
+        renders = facts.attribute_calls.get("render", [])
+        # Migrated code calls render() bare, in a file that imports gymnasium, not gym.
+        return any(call.args or call.keywords for call in renders) or (bool(renders) and context.profile.imports_gym)
 
     def decide(self) -> None:
         self.finder = CreationFinder(self.facts, self.receivers, self._is_make)
