@@ -275,11 +275,18 @@ class ModuleFacts:
     def qualified_names(self, expr: ast.AST) -> set[str]:
         """Library names ``expr`` stands for through imports: ``gym.make`` -> {"gym.make"}."""
         if isinstance(expr, ast.Name):
-            found = set()
-            for binding in self.bindings_of(expr):
-                if isinstance(binding, ast.alias):
-                    found.add(self.imports[binding])
-            return found
+            bindings = self.bindings_of(expr)
+            if not bindings:
+                return set()
+            # One answer per set of bindings, not per read: a name rebound n times is read
+            # about n times, and each read would otherwise scan all n bindings.
+            key = ("qualified-names", id(bindings))
+            found = self._memo.get(key)
+            if found is None:
+                found = self._memo[key] = frozenset(
+                    self.imports[binding] for binding in bindings if isinstance(binding, ast.alias)
+                )
+            return set(found)  # type: ignore[arg-type]
         if isinstance(expr, ast.Attribute):
             return {f"{q}.{expr.attr}" for q in self.qualified_names(expr.value)}
         return set()

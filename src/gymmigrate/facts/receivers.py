@@ -252,12 +252,22 @@ class Receivers:
         bindings = self.facts.bindings_of(name)
         if not bindings:
             return EnvKind.UNKNOWN  # a builtin or a name this module never binds
+        # Every read that sees the same bindings has the same kind: n reads of a name
+        # rebound n times cost n, not n * n. Only an answer computed with nothing else in
+        # progress is shared (deeper ones may be partial, cut short by a cycle).
+        key = ("name-kind", id(bindings))
+        shared = self.facts._memo.get(key)
+        if shared is not None:
+            return shared  # type: ignore[return-value]
         kinds = []
         for binding in bindings:
             kind = self.binding_kind(binding)
             if kind is not None:
                 kinds.append(kind)
-        return join_kinds(kinds)
+        kind = join_kinds(kinds)
+        if self._depth == 1:
+            self.facts._memo[key] = kind
+        return kind
 
     def binding_kind(self, binding: ast.AST) -> EnvKind | None:
         """The kind of value one binding stores (None: it adds no evidence, e.g. ``+=``)."""

@@ -4,7 +4,7 @@ Gym 0.26 made the render mode a property of the env instance: ``gym.make(id,
 render_mode=...)`` fixes it and ``env.render()`` takes no arguments (Gymnasium 1.x:
 ``TypeError: ... render() got an unexpected keyword argument 'mode'``). So each rule
 here edits two places: the ``render`` call and the ``gym.make`` that created that env,
-found through ``gymmigrate.analysis.creation``.
+found through ``gymmigrate.facts.creation``.
 
 * GM401 ``env.render(mode="rgb_array")`` -> ``render_mode="rgb_array"`` at the make and
   ``env.render()``. One env rendered in two modes, a make that already has another
@@ -17,30 +17,41 @@ found through ``gymmigrate.analysis.creation``.
   a ``"rgb_array"`` render returned a list of frames, and is reported.
 * GM406 ``env.render(close=True)`` -> ``env.close()``.
 * GM407 ``RecordVideo``, ``gymnasium.utils.play.play`` and SB3 ``VecVideoRecorder`` need
-  ``render_mode="rgb_array"`` on the make that feeds them.
+  ``render_mode="rgb_array"`` on the make that feeds them; so does a legacy ``Monitor``
+  that records videos, which the wrapper family replaces by ``RecordVideo`` (GM611) in
+  the same run.
 
-Receivers go through ``analysis.decisions.decide``: Stable-Baselines3 VecEnvs keep
+Receivers go through ``facts.decisions.decide``: Stable-Baselines3 VecEnvs keep
 ``vec_env.render("human")`` (SB105, their 2.x API) and PettingZoo envs are left alone.
 A make that already has ``render_mode`` is not given another (idempotence).
+
+One make, one ``render_mode``, whichever family adds it: ``plan.notes["render_mode"]``
+is a dict ``{id(ast.Call): mode}`` of the creation calls given a ``render_mode`` in this
+run. A family that adds one (the wrapper family may, where ``Monitor`` becomes
+``RecordVideo``) records it there; this family (ORDER 32, after the wrappers at 31)
+treats a noted make as already having that mode, adds none of its own, and records
+every make it gives a mode.
 Sources: gym 0.25/0.26 release notes ("Env.Render", "Render modes"); Gymnasium
 ``core.py::Env.render``, ``wrappers/rendering.py::RecordVideo``, ``utils/play.py``.
 """
 
 from __future__ import annotations
 
+import ast
 from collections import defaultdict
-from dataclasses import dataclass, field
+from dataclasses import dataclass
+from typing import Any
 
 import libcst as cst
-from libcst.metadata import Assignment, PositionProvider, ScopeProvider
 
 from gymmigrate.analysis import names as N
-from gymmigrate.analysis.creation import Creation, CreationFinder, append_keyword, remove_args
-from gymmigrate.analysis.decisions import Action, decide, receiver_text
-from gymmigrate.analysis.receivers import METADATA, ReceiverAnalysis
-from gymmigrate.analysis.syntax import keyword_argument, string_value
+from gymmigrate.edits.arguments import append_keyword, remove_args
+from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts.creation import Creation, CreationFinder
+from gymmigrate.facts.decisions import Action, decide, receiver_text
+from gymmigrate.facts.module import keyword, string_value
 from gymmigrate.findings import FixKind
-from gymmigrate.rules.base import FileProfile, Rule, RulePass
+from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 
 RULES = (
     Rule(
@@ -89,11 +100,21 @@ _SB3_MAKE_VEC_ENV = {
 }
 
 
+# The legacy ``gym.wrappers.Monitor`` that the wrapper family turns into ``RecordVideo``
+# (GM611) when it records videos: its env needs ``render_mode="rgb_array"`` too.
+_MONITORS = frozenset({"wrappers.Monitor", "wrappers.monitor.Monitor"})
+_MONITOR_POSITIONS = ("env", "directory", "video_callable")
+# Callee spellings worth a qualified-name lookup (the last part of ``x.y.Name``).
+_RECORDER_ATTRIBUTES = ("RecordVideo", "play", "VecVideoRecorder", "Monitor")
+# ``plan.notes`` key shared with the wrapper family: {id(make call): render mode added}.
+RENDER_MODE_NOTE = "render_mode"
+
+
 @dataclass
 class RenderSite:
     """One call that needs its env created in one render mode."""
 
-    node: cst.Call  # the render / recorder call (input tree)
+    node: ast.Call  # the render / recorder call
     code: str  # GM401, GM402 or GM407
     mode: str  # the mode it needs
     accepted: tuple[str, ...]  # modes at the make that satisfy it
@@ -104,131 +125,83 @@ class RenderSite:
     quote: str = '"'  # the user's quote style, taken from their mode literal
 
 
-@dataclass
-class _Plan:
-    """What the pass will do, decided before the traversal rewrites anything."""
-
-    add_mode: dict[int, str] = field(default_factory=dict)  # id(make call) -> mode to add
-    quotes: dict[int, str] = field(default_factory=dict)  # id(make call) -> quote character to write it with
-    rewrite_render: set[int] = field(default_factory=set)  # id(render call) -> drop its mode argument
-    close_calls: set[int] = field(default_factory=set)  # id(render(close=True) call)
-    single_frame_modes: set[int] = field(default_factory=set)  # id(SimpleString) "single_rgb_array"
-
-
-
-
-def _replace_string(node: cst.SimpleString, value: str) -> cst.SimpleString:
-    quote = node.quote
-    return node.with_changes(value=f"{node.prefix}{quote}{value}{quote}")
-
-
-def _mode_argument(call: cst.Call) -> cst.Arg | None:
-    """The ``mode`` argument of a legacy ``render`` call (keyword or first positional)."""
-    found = keyword_argument(call, "mode")
-    if found is not None:
-        return found
-    if call.args and call.args[0].keyword is None and not call.args[0].star:
-        return call.args[0]
-    return None
-
-
-def _code(node: cst.CSTNode) -> str:
-    return cst.Module(body=[]).code_for_node(node)
-
-
-def _call_summary(call: cst.Call) -> str:
-    """``gym.make("CartPole-v1", ...)``: names a make call in a message (lines move between passes)."""
-    first = _code(call.args[0].value) if call.args else ""
-    more = ", ..." if len(call.args) > 1 else ""
-    return f"{_code(call.func)}({first}{more})"
-
-
-def _argument_names(args: list[cst.Arg]) -> str:
-    return ", ".join(a.keyword.value if a.keyword is not None else _code(a.value) for a in args)
-
-
-def _quote_style(make: cst.Call, sites: list[RenderSite]) -> str:
-    """Write the mode the way the make call already quotes its strings (else like the render call)."""
-    for arg in make.args:
-        if isinstance(arg.value, cst.SimpleString):
-            return arg.value.quote[0]
-    return next((site.quote for site in sites if site.code == "GM401"), '"')
-
-
-def _is_true(node: cst.BaseExpression) -> bool:
-    return isinstance(node, cst.Name) and node.value == "True"
-
-
-class RenderingPass(RulePass):
+class Rendering(RuleFamily):
     RULES = RULES
     ORDER = 32
-    METADATA_DEPENDENCIES = (PositionProvider, *METADATA)
 
     @classmethod
-    def applies_to(cls, source: str, profile: FileProfile) -> bool:
-        return any(word in source for word in ("render", "RecordVideo", "VecVideoRecorder", "play", LEGACY_SINGLE_FRAME))
+    def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
+        text = facts.text
+        if LEGACY_SINGLE_FRAME in text or any(word in text for word in _RECORDER_ATTRIBUTES):
+            return True
+        renders = facts.attribute_calls.get("render", [])
+        # Migrated code calls render() bare, in a file that imports gymnasium, not gym.
+        return any(call.args or call.keywords for call in renders) or (bool(renders) and context.profile.imports_gym)
 
-    # -- planning (on the input tree) ----------------------------------------------------
-
-    def visit_Module(self, node: cst.Module) -> None:
-        self.analysis = ReceiverAnalysis(node, self.metadata)
-        self.finder = CreationFinder(self.analysis, self.metadata, self._is_make)
-        collector = _CallCollector()
-        node.visit(collector)
-        self.plan = _Plan()
-        self._legacy_025 = LEGACY_SINGLE_FRAME in node.code
+    def decide(self) -> None:
+        self.finder = CreationFinder(self.facts, self.receivers, self._is_make)
+        self._legacy_025 = LEGACY_SINGLE_FRAME in self.facts.text
+        self._added: dict[int, str] = self.plan.notes.setdefault(RENDER_MODE_NOTE, {})
+        self._noted = dict(self._added)  # modes another family gives a make in this run
+        render_calls = self.facts.attribute_calls.get("render", [])
         # A file that still passes modes to render() is legacy code even once its imports
         # say gymnasium (e.g. a conflict reported on a first run): its bare render()
         # calls still mean "human", so a second run decides the same way.
-        self._has_legacy_mode_calls = any(
-            isinstance(call.func, cst.Attribute) and call.func.attr.value == "render" and _mode_argument(call) is not None
-            for call in collector.calls
-        )
+        self._has_legacy_mode_calls = any(_mode_argument(call) is not None for call in render_calls)
         sites: list[RenderSite] = []
-        for call in collector.calls:
-            site = self._render_site(call) or self._recorder_site(call)
+        for call in _in_source_order([*render_calls, *self._recorder_candidates()]):
+            site = self._render_site(call) if _is_render(call) else self._recorder_site(call)
             if site is not None:
                 sites.append(site)
         self._plan_sites(sites)
-        self._plan_make_literals(collector.calls)
+        self._plan_make_literals()
 
-    def _is_make(self, call: cst.Call) -> bool:
-        return any(N.strip_gym_prefix(q) in N.GYM_ENV_FACTORIES for q in self.analysis.qualified_names(call.func))
+    def _is_make(self, call: ast.Call) -> bool:
+        return self.facts.memo(
+            ("rendering-is-make", id(call)),
+            lambda: any(N.strip_gym_prefix(q) in N.GYM_ENV_FACTORIES for q in self.facts.qualified_names(call.func)),
+        )
 
-    def _render_site(self, call: cst.Call) -> RenderSite | None:
-        func = call.func
-        if not (isinstance(func, cst.Attribute) and func.attr.value == "render"):
-            return None
-        receiver = func.value
-        close = keyword_argument(call, "close")
+    def _recorder_candidates(self) -> list[ast.Call]:
+        found = [call for calls in self.facts.calls_by_name.values() for call in calls]
+        found.extend(call for attr in _RECORDER_ATTRIBUTES for call in self.facts.attribute_calls.get(attr, []))
+        return found
+
+    # -- sites ------------------------------------------------------------------------------
+
+    def _render_site(self, call: ast.Call) -> RenderSite | None:
+        receiver = call.func.value  # type: ignore[attr-defined]
+        close = keyword(call, "close")
         mode_arg = _mode_argument(call)
-        if close is None and mode_arg is None and call.args:
+        if close is None and mode_arg is None and (call.args or call.keywords):
             return None  # some other render(...) signature: not the Gym one
-        function = self.analysis.enclosing(call, cst.FunctionDef)
-        if isinstance(function, cst.FunctionDef) and function.name.value == "render":
+        function = self.facts.enclosing_function(call)
+        if function is not None and function.name == "render":
             return None  # a render method forwarding to its env: the Env/Wrapper rules own it
-        kind = self.analysis.kind_of(receiver)
+        kind = self.receivers.kind_of(receiver)
         decision = decide(kind, receiver, self.context.profile, legacy_shape=mode_arg is not None or close is not None)
         if decision.action is Action.LEAVE:
             return None
-        if close is not None and _is_true(close.value):
+        if close is not None and isinstance(close.value, ast.Constant) and close.value.value is True:
             self._plan_close(call, decision.action, decision.reason)
             return None
         if mode_arg is None:
             if not (self.context.profile.imports_gym or self._has_legacy_mode_calls):
                 return None  # code already written for Gymnasium: a bare render() is its API
             return RenderSite(call, "GM402", HUMAN, (), decision.action, self.finder.find(receiver))
-        extra = [a for a in call.args if a is not mode_arg and a is not close]
+        extra = [a for a in _arguments_in_order(call) if a is not mode_arg and a is not close]
         if extra:
+            names = ", ".join(self._argument_name(a) for a in extra)
             self.report(
                 call,
                 "GM401",
-                f"render() takes no arguments in Gymnasium: pass {_argument_names(extra)} and the render mode to gym.make "
+                f"render() takes no arguments in Gymnasium: pass {names} and the render mode to gym.make "
                 "where the env is created (MuJoCo envs take width/height/camera_id there)",
                 FixKind.FLAG,
             )
             return None
-        mode = string_value(mode_arg.value)
+        value = mode_arg.value if isinstance(mode_arg, ast.keyword) else mode_arg
+        mode = string_value(value)
         if mode is None:
             self.report(
                 call,
@@ -241,89 +214,114 @@ class RenderingPass(RulePass):
         legacy = mode == LEGACY_SINGLE_FRAME
         if legacy:
             mode = RGB_ARRAY
-        quote = mode_arg.value.quote[0] if isinstance(mode_arg.value, cst.SimpleString) else '"'
-        return RenderSite(
-            call, "GM401", mode, (), decision.action, self.finder.find(receiver), legacy_spelling=legacy, quote=quote
-        )
+        quote = self._quote(value) or '"'
+        return RenderSite(call, "GM401", mode, (), decision.action, self.finder.find(receiver), legacy_spelling=legacy, quote=quote)
 
-    def _recorder_site(self, call: cst.Call) -> RenderSite | None:
-        qualified = self.analysis.qualified_names(call.func)
+    def _recorder_site(self, call: ast.Call) -> RenderSite | None:
         consumer, accepted = None, (RGB_ARRAY,)
-        for q in qualified:
+        monitor = False
+        for q in self.facts.qualified_names(call.func):
             rest = N.strip_gym_prefix(q)
             if rest in _GYM_RECORDERS:
                 consumer, accepted = _GYM_RECORDERS[rest]
             elif q in _SB3_RECORDERS:
                 consumer = "VecVideoRecorder"
-        if consumer is None or not call.args:
+            elif rest in _MONITORS:
+                consumer, monitor = "RecordVideo", True
+        if consumer is None or not (call.args or call.keywords):
             return None
-        env_arg = keyword_argument(call, "env") or keyword_argument(call, "venv") or call.args[0]
-        if env_arg.keyword is not None and env_arg.keyword.value not in ("env", "venv"):
-            return None
-        creation = self.finder.find(env_arg.value)
+        if monitor:
+            env = self._monitor_env(call)
+            if env is None:
+                return None
+        else:
+            env = keyword(call, "env") or keyword(call, "venv")
+            env = env.value if env is not None else _first_argument(call)
+            if isinstance(env, ast.keyword):
+                return None  # the first argument is some other keyword
+        creation = self.finder.find(env)
         if not creation.found:
-            sb3_factory = self._sb3_make_vec_env(env_arg.value)
+            sb3_factory = self._sb3_make_vec_env(env)
             if sb3_factory:
                 creation.gap = f"it comes from {sb3_factory}(...): pass env_kwargs={{\"render_mode\": \"rgb_array\"}} to it"
         return RenderSite(call, "GM407", RGB_ARRAY, accepted, Action.REWRITE, creation, consumer=consumer)
 
-    def _sb3_make_vec_env(self, expr: cst.BaseExpression) -> str | None:
+    def _monitor_env(self, call: ast.Call) -> ast.expr | None:
+        """The env of a ``Monitor`` that becomes ``RecordVideo`` (GM611), else None.
+
+        Mirrors the wrapper family's rewrite: it needs the env and the directory, no
+        star arguments, and videos (``video_callable=False`` becomes RecordEpisodeStatistics).
+        """
+        if not call.args or any(isinstance(a, ast.Starred) for a in call.args) or any(k.arg is None for k in call.keywords):
+            return None
+        values: dict[str, ast.expr] = dict(zip(_MONITOR_POSITIONS, call.args))
+        values.update((k.arg, k.value) for k in call.keywords if k.arg is not None)
+        trigger = values.get("video_callable")
+        if "directory" not in values or (isinstance(trigger, ast.Constant) and trigger.value is False):
+            return None
+        return values.get("env")
+
+    def _sb3_make_vec_env(self, expr: ast.AST) -> str | None:
         """``make_vec_env`` builds the envs itself: the mode goes in its ``env_kwargs``."""
-        values: list[cst.BaseExpression] = [expr]
-        scope = self.metadata[ScopeProvider].get(expr) if isinstance(expr, cst.Name) else None
-        if isinstance(expr, cst.Name) and scope is not None:
-            for assignment in scope[expr.value]:
-                if not isinstance(assignment, Assignment):
-                    continue
-                target = self.analysis.parent(assignment.node)
-                assign = self.analysis.parent(target) if isinstance(target, cst.AssignTarget) else None
-                if isinstance(assign, cst.Assign):
+        values: list[ast.AST] = [expr]
+        if isinstance(expr, ast.Name):
+            for binding in self.facts.bindings_of(expr):
+                assign = self.facts.parent(binding)
+                if isinstance(binding, ast.Name) and isinstance(assign, ast.Assign):
                     values.append(assign.value)
         for value in values:
-            if isinstance(value, cst.Call):
-                for q in self.analysis.qualified_names(value.func):
+            if isinstance(value, ast.Call):
+                for q in self.facts.qualified_names(value.func):
                     if q in _SB3_MAKE_VEC_ENV:
                         return q.rsplit(".", 1)[-1]
         return None
 
-    def _plan_close(self, call: cst.Call, action: Action, reason: str) -> None:
+    # -- GM406 ------------------------------------------------------------------------------
+
+    def _plan_close(self, call: ast.Call, action: Action, reason: str) -> None:
         if action is Action.REPORT:
             self.report(call, "GM406", f"{reason}: render(close=True) is close() on a Gym env", FixKind.FLAG)
             return
-        self.plan.close_calls.add(id(call))
+        self.plan.replace(call, _close_call)
         if action is Action.REWRITE_FOR_REVIEW:
             self.report(call, "GM406", f"render(close=True) -> close(); {reason}", FixKind.ASSIST)
         else:
             self.report(call, "GM406", "render(close=True) -> close()")
 
+    # -- the makes --------------------------------------------------------------------------
+
     def _plan_sites(self, sites: list[RenderSite]) -> None:
         by_make: dict[int, list[RenderSite]] = defaultdict(list)
-        makes: dict[int, cst.Call] = {}
+        makes: dict[int, ast.Call] = {}
         for site in sites:
             if site.creation.found:
                 for make in site.creation.calls:
                     by_make[id(make)].append(site)
                     makes[id(make)] = make
-        # The mode each make will have: its own render_mode, or the one its sites agree on.
+        # The mode each make will have: its own render_mode, the one another family gives
+        # it, or the one its sites agree on.
         final_mode: dict[int, str | None] = {}
         blocked: dict[int, str] = {}  # id(make) -> why its sites cannot be rewritten
         for key, make_sites in by_make.items():
-            existing = keyword_argument(makes[key], "render_mode")
+            make = makes[key]
+            existing = keyword(make, "render_mode")
             if existing is not None:
                 value = string_value(existing.value)
                 final_mode[key] = RGB_ARRAY if value == LEGACY_SINGLE_FRAME else value
                 if value is None:
                     blocked[key] = "its gym.make passes a render_mode that is not a literal"
                 continue
-            if any(arg.star == "**" for arg in makes[key].args):
+            if key in self._noted:
+                final_mode[key] = self._noted[key]
+                continue
+            if any(k.arg is None for k in make.keywords):
                 final_mode[key] = None
                 blocked[key] = "its gym.make passes **kwargs that may already hold render_mode: set it there by hand"
                 continue
             wanted = {s.mode for s in make_sites}
             if len(wanted) == 1:
-                final_mode[key] = wanted.pop()
-                self.plan.add_mode[key] = final_mode[key]  # type: ignore[assignment]
-                self.plan.quotes[key] = _quote_style(makes[key], make_sites)
+                mode = final_mode[key] = wanted.pop()
+                self._add_mode(make, mode, self._quote_style(make, make_sites))
             else:
                 final_mode[key] = None
                 modes = " and ".join(sorted(f'"{m}"' for m in wanted))
@@ -334,10 +332,16 @@ class RenderingPass(RulePass):
         for site in sites:
             self._plan_site(site, makes, final_mode, blocked)
 
+    def _add_mode(self, make: ast.Call, mode: str, quote: str) -> None:
+        self._added[id(make)] = mode
+        func = self.facts.segment(make.func)
+        literal = f"{quote}{mode}{quote}"
+        self.plan.replace(make, lambda node: _with_keyword(node, func, "render_mode", literal))
+
     def _plan_site(
         self,
         site: RenderSite,
-        makes: dict[int, cst.Call],
+        makes: dict[int, ast.Call],
         final_mode: dict[int, str | None],
         blocked: dict[int, str],
     ) -> None:
@@ -354,7 +358,7 @@ class RenderingPass(RulePass):
             )
             return
         keys = [id(m) for m in site.creation.calls]
-        if code == "GM402" and all(keyword_argument(makes[k], "render_mode") is not None for k in keys):
+        if code == "GM402" and all(keyword(makes[k], "render_mode") is not None for k in keys):
             return  # the make already chose a mode: this bare render() is Gymnasium's API
         reasons = [blocked[k] for k in keys if k in blocked]
         if reasons:
@@ -371,8 +375,8 @@ class RenderingPass(RulePass):
                 FixKind.FLAG,
             )
             return
-        where = " and ".join(_call_summary(makes[k]) for k in keys)
-        added = any(k in self.plan.add_mode for k in keys)
+        where = " and ".join(self._call_summary(makes[k]) for k in keys)
+        added = any(k in self._added for k in keys)
         if site.legacy_spelling:
             self.report(call, "GM403", 'gym 0.25 "single_rgb_array" is "rgb_array" in Gymnasium')
         if code == "GM407":
@@ -388,7 +392,7 @@ class RenderingPass(RulePass):
                     "now draws every step inside step()/reset(), so this call is redundant (keep or remove it)",
                 )
             return
-        self.plan.rewrite_render.add(id(call))
+        self.plan.replace(call, _without_mode_argument)
         if self._legacy_025 and site.mode == RGB_ARRAY and not site.legacy_spelling:
             self.report(
                 call,
@@ -404,17 +408,17 @@ class RenderingPass(RulePass):
         else:
             self.report(call, code, f"{where} already has {target}; render() takes no arguments", FixKind.AUTO)
 
-    def _plan_make_literals(self, calls: list[cst.Call]) -> None:
+    def _plan_make_literals(self) -> None:
         """``gym.make(..., render_mode="single_rgb_array")`` (GM403) and 0.25 list readers."""
-        for call in calls:
-            if not self._is_make(call):
-                continue
-            existing = keyword_argument(call, "render_mode")
-            if existing is None:
+        calls = [c for name in ("make", *self._make_aliases()) for c in self.facts.calls_by_name.get(name, [])]
+        calls.extend(self.facts.attribute_calls.get("make", []))
+        for call in _in_source_order(calls):
+            existing = keyword(call, "render_mode")
+            if existing is None or not self._is_make(call):
                 continue
             value = string_value(existing.value)
             if value == LEGACY_SINGLE_FRAME:
-                self.plan.single_frame_modes.add(id(existing.value))
+                self.plan.replace(existing.value, _single_frame_fixed)
                 self.report(call, "GM403", 'gym 0.25 render_mode "single_rgb_array" is "rgb_array" in Gymnasium')
             elif value == RGB_ARRAY and self._legacy_025:
                 self.report(
@@ -425,36 +429,112 @@ class RenderingPass(RulePass):
                     FixKind.FLAG,
                 )
 
-    # -- rewriting ------------------------------------------------------------------------
+    def _make_aliases(self) -> list[str]:
+        """Local names bound to a gym ``make`` by ``from gym import make as ...``."""
+        return [
+            alias.asname
+            for alias, q in self.facts.imports.items()
+            if alias.asname and N.strip_gym_prefix(q) in N.GYM_ENV_FACTORIES
+        ]
 
-    def leave_SimpleString(self, original_node: cst.SimpleString, updated_node: cst.SimpleString) -> cst.SimpleString:
-        if id(original_node) in self.plan.single_frame_modes:
-            return _replace_string(updated_node, RGB_ARRAY)
-        return updated_node
+    # -- text -------------------------------------------------------------------------------
 
-    def leave_Call(self, original_node: cst.Call, updated_node: cst.Call) -> cst.BaseExpression:
-        key = id(original_node)
-        if key in self.plan.close_calls and isinstance(updated_node.func, cst.Attribute):
-            return updated_node.with_changes(
-                func=updated_node.func.with_changes(attr=cst.Name("close")),
-                args=[],
-                whitespace_before_args=cst.SimpleWhitespace(""),
-            )
-        if key in self.plan.rewrite_render:
-            mode_arg = _mode_argument(original_node)
-            index = original_node.args.index(mode_arg) if mode_arg is not None else -1
-            dropped = updated_node.args[index] if index >= 0 else None
-            updated_node = remove_args(updated_node, lambda arg: arg is dropped)
-        if key in self.plan.add_mode:
-            updated_node = append_keyword(
-                updated_node, "render_mode", cst.SimpleString(f"{self.plan.quotes[key]}{self.plan.add_mode[key]}{self.plan.quotes[key]}")
-            )
-        return updated_node
+    def _quote(self, node: ast.AST) -> str | None:
+        """The quote character of a plain string literal, as written."""
+        if not (isinstance(node, ast.Constant) and isinstance(node.value, str)):
+            return None
+        text = self.facts.segment(node).lstrip("rRuU")
+        return text[0] if text[:1] in ("'", '"') else None
+
+    def _quote_style(self, make: ast.Call, sites: list[RenderSite]) -> str:
+        """Write the mode the way the make call already quotes its strings (else like the render call)."""
+        for arg in _arguments_in_order(make):
+            quote = self._quote(arg.value if isinstance(arg, ast.keyword) else arg)
+            if quote is not None:
+                return quote
+        return next((site.quote for site in sites if site.code == "GM401"), '"')
+
+    def _call_summary(self, call: ast.Call) -> str:
+        """``gym.make("CartPole-v1", ...)``: names a make call in a message."""
+        arguments = _arguments_in_order(call)
+        first = ""
+        if arguments:
+            value = arguments[0].value if isinstance(arguments[0], (ast.keyword, ast.Starred)) else arguments[0]
+            first = self.facts.segment(value)
+        more = ", ..." if len(arguments) > 1 else ""
+        return f"{self.facts.segment(call.func)}({first}{more})"
+
+    def _argument_name(self, argument: ast.AST) -> str:
+        if isinstance(argument, ast.keyword) and argument.arg is not None:
+            return argument.arg
+        value = argument.value if isinstance(argument, (ast.keyword, ast.Starred)) else argument
+        return self.facts.segment(value)
 
 
-class _CallCollector(cst.CSTVisitor):
-    def __init__(self) -> None:
-        self.calls: list[cst.Call] = []
+# -- ast helpers ----------------------------------------------------------------------------
 
-    def visit_Call(self, node: cst.Call) -> None:
-        self.calls.append(node)
+
+def _is_render(call: ast.Call) -> bool:
+    return isinstance(call.func, ast.Attribute) and call.func.attr == "render"
+
+
+def _mode_argument(call: ast.Call) -> ast.AST | None:
+    """The ``mode`` argument of a legacy ``render`` call (keyword or first positional)."""
+    found = keyword(call, "mode")
+    if found is not None:
+        return found
+    first = _first_argument(call)
+    if isinstance(first, ast.expr) and not isinstance(first, ast.Starred):
+        return first
+    return None
+
+
+def _arguments_in_order(call: ast.Call) -> list[ast.AST]:
+    """Positional arguments and keywords in source order (LibCST's ``call.args``)."""
+    return sorted([*call.args, *call.keywords], key=lambda a: (a.lineno, a.col_offset))  # type: ignore[attr-defined]
+
+
+def _first_argument(call: ast.Call) -> ast.AST | None:
+    arguments = _arguments_in_order(call)
+    return arguments[0] if arguments else None
+
+
+def _in_source_order(calls: list[ast.Call]) -> list[ast.Call]:
+    """Unique calls, outer before inner (the order a LibCST visitor met them)."""
+    unique = {id(c): c for c in calls}.values()
+    return sorted(unique, key=lambda c: (c.lineno, c.col_offset, -(c.end_lineno or 0), -(c.end_col_offset or 0)))
+
+
+# -- builds (LibCST) ------------------------------------------------------------------------
+
+
+def _code(node: cst.CSTNode) -> str:
+    return cst.Module(body=[]).code_for_node(node)
+
+
+def _close_call(node: Any) -> Any:
+    return node.with_changes(
+        func=node.func.with_changes(attr=cst.Name("close")), args=[], whitespace_before_args=cst.SimpleWhitespace("")
+    )
+
+
+def _without_mode_argument(node: Any) -> Any:
+    mode = next((a for a in node.args if a.keyword is not None and a.keyword.value == "mode"), None)
+    if mode is None and node.args and node.args[0].keyword is None and not node.args[0].star:
+        mode = node.args[0]
+    return remove_args(node, lambda arg: arg is mode)
+
+
+def _with_keyword(node: Any, func: str, name: str, literal: str) -> Any:
+    """Add ``name=literal`` to the make call, even when another family wrapped it (``Autoreset(make(...))``)."""
+    if isinstance(node, cst.Call) and "".join(_code(node.func).split()) != "".join(func.split()):
+        inner = node.args[0].value if node.args else None
+        if isinstance(inner, cst.Call):
+            args = list(node.args)
+            args[0] = args[0].with_changes(value=_with_keyword(inner, func, name, literal))
+            return node.with_changes(args=args)
+    return append_keyword(node, name, cst.SimpleString(literal))
+
+
+def _single_frame_fixed(node: Any) -> Any:
+    return node.with_changes(value=f"{node.prefix}{node.quote}{RGB_ARRAY}{node.quote}")

@@ -1,0 +1,382 @@
+"""Where was this env created? Finds the creation calls (``gym.make(...)``) behind an expression.
+
+Rendering (GM401-GM403, GM407) and vector rules (GM705, GM706) must change the call
+that *created* an env, not the call site that uses it: Gymnasium fixes the render mode
+and the vector autoreset mode at construction. This module follows an expression back
+to those calls through the same evidence the receiver analysis trusts: bindings of a
+name (``env = gym.make(...)``, then ``env = SomeWrapper(env)``), ``self.env = ...``
+stores in the same class, ``with ... as env``, returns of functions defined in the
+module, arguments at the call sites of a module-level function, and the env factories
+in a ``DummyVecEnv([lambda: gym.make(...)])`` list.
+
+The answer says whether the search was complete: a rule may only rewrite a creation
+site when every path was followed (a parameter, an import or an unknown factory makes
+the answer incomplete, and the rule reports instead).
+
+Every answer is memoized per node, and a node reached again while its own answer is
+being computed adds nothing (``env = Wrapper(env)`` loops back to itself), so a chain
+of rebindings costs linear time; past ``MAX_DEPTH`` nested steps the search gives up
+as incomplete instead of nearing the interpreter's recursion limit.
+"""
+
+from __future__ import annotations
+
+import ast
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+from gymmigrate.analysis import names as N
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
+from gymmigrate.facts.receivers import Receivers
+
+# SB3 / baselines / Gym VecEnv constructors that take a list of env factories.
+ENV_FN_LIST_CONSTRUCTORS = ("DummyVecEnv", "SubprocVecEnv", "SyncVectorEnv", "AsyncVectorEnv")
+# Far deeper than any real chain of rebindings and wrappers.
+MAX_DEPTH = 150
+
+
+@dataclass
+class Creation:
+    """The creation calls found for one expression, and whether the search was complete."""
+
+    calls: list[ast.Call] = field(default_factory=list)
+    complete: bool = True
+    # Why the search stopped, for the report ("`env` is a function parameter").
+    gap: str = ""
+
+    def add(self, call: ast.Call) -> None:
+        if not any(c is call for c in self.calls):
+            self.calls.append(call)
+
+    def merge(self, other: Creation) -> None:
+        for call in other.calls:
+            self.add(call)
+        if not other.complete:
+            self.complete = False
+            self.gap = self.gap or other.gap
+
+    def fail(self, gap: str) -> None:
+        self.complete = False
+        self.gap = self.gap or gap
+
+    def copy(self) -> Creation:
+        return Creation(list(self.calls), self.complete, self.gap)
+
+    @property
+    def found(self) -> bool:
+        return self.complete and bool(self.calls)
+
+
+_NOTHING = Creation()  # what a node adds while its own answer is being computed
+
+
+class CreationFinder:
+    """Follows expressions of one module back to the calls that created them.
+
+    ``is_creation(call)`` says which calls end the search (``gym.make`` for render
+    modes; vector constructors for autoreset); every other call is followed only if it
+    looks like a wrapper around its first argument. Each finder keeps its own memo, so
+    finders with different ``is_creation`` never share answers.
+    """
+
+    def __init__(self, facts: ModuleFacts, receivers: Receivers, is_creation: Callable[[ast.Call], bool]) -> None:
+        self.facts = facts
+        self.receivers = receivers
+        self._is_creation = is_creation
+        self._memo: dict[tuple[str, int], Creation] = {}
+        self._depth = 0
+
+    def find(self, expr: ast.AST) -> Creation:
+        """The creation calls behind ``expr`` (a fresh object: callers may annotate it)."""
+        return self._follow(expr, self._expr).copy()
+
+    # -- memo -----------------------------------------------------------------------------
+
+    def _follow(self, node: ast.AST, compute: Callable[[ast.AST], Creation]) -> Creation:
+        key = (compute.__name__, id(node))
+        known = self._memo.get(key)
+        if known is not None:
+            return known
+        if self._depth >= MAX_DEPTH:
+            result = Creation()
+            result.fail("the chain of assignments is too long to follow")
+            return result
+        self._memo[key] = _NOTHING  # a cycle back to this node adds no evidence
+        self._depth += 1
+        try:
+            result = compute(node)
+        finally:
+            self._depth -= 1
+        self._memo[key] = result
+        return result
+
+    # -- expressions --------------------------------------------------------------------
+
+    def _expr(self, expr: ast.AST) -> Creation:
+        if isinstance(expr, ast.Call):
+            return self._call(expr)
+        if isinstance(expr, ast.Name):
+            return self._name(expr)
+        if isinstance(expr, ast.Attribute):
+            return self._attribute(expr)
+        result = Creation()
+        if isinstance(expr, ast.IfExp):
+            result.merge(self._follow(expr.body, self._expr))
+            result.merge(self._follow(expr.orelse, self._expr))
+            return result
+        if isinstance(expr, ast.NamedExpr):
+            return self._follow(expr.value, self._expr)
+        if isinstance(expr, ast.Subscript):
+            return self._items(expr.value)
+        result.fail(f"`{self.facts.segment(expr)}` is not a call or a name")
+        return result
+
+    def _items(self, container: ast.AST) -> Creation:
+        """The envs held in a list: ``envs[0]``, ``for env in envs``."""
+        return self._follow(container, self._compute_items) if isinstance(container, ast.Name) else self._compute_items(container)
+
+    def _compute_items(self, container: ast.AST) -> Creation:
+        result = Creation()
+        if isinstance(container, (ast.List, ast.Tuple)):
+            for element in container.elts:
+                if isinstance(element, ast.Starred):
+                    result.fail("a starred element")
+                else:
+                    result.merge(self._follow(element, self._expr))
+            return result
+        if isinstance(container, (ast.ListComp, ast.GeneratorExp)):
+            return self._follow(container.elt, self._expr)
+        if isinstance(container, ast.Name):
+            bindings = self.facts.bindings_of(container)
+            if not bindings:
+                result.fail(f"`{container.id}` is never assigned here")
+            for binding in bindings:
+                assign = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
+                if isinstance(assign, ast.Assign):
+                    result.merge(self._items(assign.value))
+                else:
+                    result.fail(f"`{container.id}` is not a list built here")
+            return result
+        result.fail(f"`{self.facts.segment(container)}` is not a list built here")
+        return result
+
+    def _call(self, call: ast.Call) -> Creation:
+        result = Creation()
+        if self._is_creation(call):
+            result.add(call)
+            return result
+        first = _first_argument(call)
+        if _last_name(call.func) in ENV_FN_LIST_CONSTRUCTORS and first is not None:
+            return self._env_fn_list(first)
+        function = self.receivers.local_function(call.func)
+        if function is not None:
+            return self._follow(function, self._returns)
+        inner = _wrapped_env_argument(call)
+        if inner is not None and self._looks_like_wrapper(call):
+            return self._follow(inner, self._expr)
+        result.fail(f"`{self.facts.segment(call.func)}(...)` is not a known env factory")
+        return result
+
+    def _env_fn_list(self, fns: ast.AST) -> Creation:
+        """``[lambda: gym.make(...)]``, ``[make_env(i) for i in range(n)]``, ``[fn] * n``."""
+        result = Creation()
+        if isinstance(fns, ast.BinOp) and isinstance(fns.op, ast.Mult):
+            fns = fns.left
+        if isinstance(fns, (ast.List, ast.Tuple)):
+            items = list(fns.elts)
+        elif isinstance(fns, (ast.ListComp, ast.GeneratorExp)):
+            items = [fns.elt]
+        else:
+            result.fail(f"`{self.facts.segment(fns)}` is not a list of env factories")
+            return result
+        for item in items:
+            if isinstance(item, ast.Lambda):
+                result.merge(self._follow(item.body, self._expr))
+            elif isinstance(item, ast.Name) and self.receivers.local_function(item) is not None:
+                result.merge(self._follow(self.receivers.local_function(item), self._returns))  # type: ignore[arg-type]
+            elif isinstance(item, ast.Call) and self.receivers.local_function(item.func) is not None:
+                # ``make_env(i)`` returning a thunk ``def thunk(): return gym.make(...)``
+                result.merge(self._thunk_factory(self.receivers.local_function(item.func)))  # type: ignore[arg-type]
+            else:
+                result.fail(f"`{self.facts.segment(item)}` is not an env factory defined here")
+        return result
+
+    def _thunk_factory(self, function: ast.FunctionDef | ast.AsyncFunctionDef) -> Creation:
+        result = Creation()
+        returned = _return_values(function)
+        if not returned:
+            result.fail(f"`{function.name}` returns nothing")
+        for value in returned:
+            if isinstance(value, ast.Lambda):
+                result.merge(self._follow(value.body, self._expr))
+                continue
+            inner = _nested_function(function, value)
+            if inner is None:
+                result.fail(f"`{function.name}` does not return an env factory")
+            else:
+                result.merge(self._follow(inner, self._returns))
+        return result
+
+    def _returns(self, function: ast.AST) -> Creation:
+        result = Creation()
+        values = _return_values(function)
+        if not values:
+            result.fail(f"`{function.name}` returns nothing")  # type: ignore[attr-defined]
+        for value in values:
+            result.merge(self._follow(value, self._expr))
+        return result
+
+    # -- names ----------------------------------------------------------------------------
+
+    def _name(self, name: ast.Name) -> Creation:
+        # Every read that resolves to the same bindings has the same answer: one
+        # computation per (scope, name), not per read (a chain of n rebindings has n reads).
+        bindings = self.facts.bindings_of(name)
+        return self._follow_bindings(name, bindings)
+
+    def _follow_bindings(self, name: ast.Name, bindings: list[ast.AST]) -> Creation:
+        if not bindings:  # an unbound name's empty list is a fresh object: nothing to share
+            return self._bindings(name, bindings)
+        key = ("bindings", id(bindings))
+        known = self._memo.get(key)
+        if known is not None:
+            return known
+        self._memo[key] = _NOTHING
+        result = self._memo[key] = self._bindings(name, bindings)
+        return result
+
+    def _bindings(self, name: ast.Name, bindings: list[ast.AST]) -> Creation:
+        result = Creation()
+        if not bindings:
+            result.fail(f"`{name.id}` is never assigned here")
+        for binding in bindings:
+            if isinstance(binding, ast.alias):
+                result.fail(f"`{name.id}` is imported or a builtin")
+                continue
+            result.merge(self._follow(binding, self._binding))
+        return result
+
+    def _binding(self, binding: ast.AST) -> Creation:
+        if isinstance(binding, ast.arg):
+            return self._parameter(binding)
+        label = getattr(binding, "id", None) or getattr(binding, "name", None) or "?"
+        parent = self.facts.parent(binding)
+        if isinstance(binding, ast.Name):
+            if isinstance(parent, ast.Assign):
+                return self._follow(parent.value, self._expr)
+            if isinstance(parent, ast.AnnAssign) and parent.value is not None:
+                return self._follow(parent.value, self._expr)
+            if isinstance(parent, ast.NamedExpr):
+                return self._follow(parent.value, self._expr)
+            if isinstance(parent, ast.withitem):
+                return self._follow(parent.context_expr, self._expr)
+            if isinstance(parent, (ast.For, ast.AsyncFor, ast.comprehension)) and parent.target is binding:
+                return self._items(parent.iter)
+        result = Creation()
+        result.fail(f"`{label}` is assigned in a way that is not followed")
+        return result
+
+    def _parameter(self, param: ast.arg) -> Creation:
+        """A parameter of a module-level function: the arguments at its call sites in this module."""
+        result = Creation()
+        label = param.arg
+        function = self.facts.parent(self.facts.parent(param))  # arg -> arguments -> def
+        if not isinstance(function, FUNCTIONS) or self.facts.parent(function) is not self.facts.tree:
+            result.fail(f"`{label}` is a function parameter")
+            return result
+        params = [*function.args.posonlyargs, *function.args.args]
+        position = next((i for i, p in enumerate(params) if p is param), None)
+        calls = [
+            c
+            for c in self.receivers.call_sites(function, None)
+            if not any(isinstance(a, ast.Starred) for a in c.args) and not any(k.arg is None for k in c.keywords)
+        ]
+        if not calls:
+            result.fail(f"`{label}` is a parameter of `{function.name}`, which is not called here")
+            return result
+        for call in calls:
+            argument = next((k.value for k in call.keywords if k.arg == label), None)
+            if argument is None and position is not None and position < len(call.args):
+                argument = call.args[position]
+            if argument is None:
+                result.fail(f"`{label}` is not passed at every call of `{function.name}`")
+            else:
+                result.merge(self._follow(argument, self._expr))
+        return result
+
+    def _attribute(self, attr: ast.Attribute) -> Creation:
+        result = Creation()
+        if isinstance(attr.value, ast.Name) and attr.value.id == "self":
+            classdef = self.facts.enclosing_class(attr)
+            if classdef is None:
+                result.fail("`self` outside a class")
+                return result
+            values = self.receivers.self_stores(classdef).get(attr.attr, [])
+            if not values:
+                result.fail(f"`self.{attr.attr}` is never assigned in the class")
+            for value in values:
+                result.merge(self._follow(value, self._expr))
+            return result
+        if attr.attr in ("env", "unwrapped", "venv"):
+            # ``wrapper.env`` / ``env.unwrapped``: the same underlying env
+            return self._follow(attr.value, self._expr)
+        result.fail(f"`{self.facts.segment(attr)}` is not followed")
+        return result
+
+    def _looks_like_wrapper(self, call: ast.Call) -> bool:
+        """``SomeWrapper(env, ...)``: a gym wrapper, a wrapper class of this module, or a class."""
+        for q in self.facts.qualified_names(call.func):
+            rest = N.strip_gym_prefix(q)
+            if rest is not None:
+                return rest.startswith("wrappers.")
+            if q.startswith(N.SB3_VEC_PREFIXES) or N.top_package(q) in N.SB3_PACKAGES:
+                return q.rsplit(".", 1)[-1][:1].isupper()
+            if N.top_package(q) in N.NOT_ENV_PACKAGES:
+                return False
+        if self.receivers.local_class(call.func) is not None:
+            return True
+        name = _last_name(call.func)
+        return name[:1].isupper() and not name.isupper()
+
+
+# -- helpers ---------------------------------------------------------------------------
+
+
+def _first_argument(call: ast.Call) -> ast.expr | None:
+    """The first argument in source order (LibCST's ``call.args[0]``), keyword or not."""
+    candidates: list[ast.expr] = [a.value if isinstance(a, ast.Starred) else a for a in call.args]
+    if call.keywords:
+        first_keyword = min(call.keywords, key=lambda k: (k.lineno, k.col_offset))
+        if not candidates or (first_keyword.lineno, first_keyword.col_offset) < (call.args[0].lineno, call.args[0].col_offset):
+            return first_keyword.value
+    return candidates[0] if candidates else None
+
+
+def _last_name(func: ast.AST) -> str:
+    """``Wrapper`` for ``gym.wrappers.Wrapper`` (and for ``Wrapper``); "" for other callees."""
+    if isinstance(func, ast.Attribute):
+        return func.attr
+    return func.id if isinstance(func, ast.Name) else ""
+
+
+def _wrapped_env_argument(call: ast.Call) -> ast.expr | None:
+    for kw in call.keywords:
+        if kw.arg in ("env", "venv"):
+            return kw.value
+    if call.args and not isinstance(call.args[0], ast.Starred) and _first_argument(call) is call.args[0]:
+        return call.args[0]
+    return None
+
+
+def _return_values(function: ast.AST) -> list[ast.expr]:
+    """The values a function returns (bare ``return`` left out)."""
+    return [r.value for r in own_returns(function) if r.value is not None]
+
+
+def _nested_function(function: ast.AST, value: ast.AST) -> ast.FunctionDef | ast.AsyncFunctionDef | None:
+    if not isinstance(value, ast.Name):
+        return None
+    for statement in getattr(function, "body", ()):
+        if isinstance(statement, FUNCTIONS) and statement.name == value.id:
+            return statement
+    return None
