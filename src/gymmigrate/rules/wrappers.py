@@ -778,5 +778,3 @@ class _SuperInitFinder(cst.CSTVisitor):
                 if isinstance(first, cst.Name) and first.value == "self":
                     self.found = True
 
-
-from gymmigrate.rules import wrapper_usage  # noqa: E402,F401  (registers the usage pass)
