@@ -7,10 +7,11 @@ never touched (SB108); ``Monitor(..., video_callable=False)`` recorded no video 
 becomes ``RecordEpisodeStatistics`` alone.
 
 The render mode is part of the same decision, taken on the original source like every
-other: where the env's ``make`` call is found (every path from the env argument ends in
-one, none passes ``render_mode`` or ``**kwargs``, and no ``render()`` call in the file
-might want another mode), this family adds ``render_mode="rgb_array"`` there itself and
-reports it as GM407, the rendering rule's code, as the rendering rules would have.
+other. Where the env's ``make`` call is found (every path from the env argument ends in
+one, none passes ``render_mode`` or ``**kwargs``) and nothing else in the file may want
+a mode (no ``render()`` call, no other frame consumer), this family adds
+``render_mode="rgb_array"`` there itself and reports it as GM407, the rendering rule's
+code, as the rendering rules would have.
 Every RecordVideo it creates is also recorded for the rendering family in
 ``plan.notes[FRAMES_NEEDED]``, a list of ``FramesNeeded``:
 
@@ -47,6 +48,7 @@ if TYPE_CHECKING:
 FRAMES_NEEDED = "frames_needed"
 RGB_ARRAY = "rgb_array"
 _MONITOR_PARAMETERS = ("env", "directory", "video_callable", "force", "resume", "write_upon_reset", "uid", "mode")
+_OTHER_FRAME_CONSUMERS = ("RecordVideo", "VecVideoRecorder", "play(")
 _DROPPED = ("force", "resume", "write_upon_reset", "uid", "mode")
 
 
@@ -140,7 +142,10 @@ def _plan_render_mode(family: WrapperRenames, consumer: ast.Call, env: ast.expr)
     added: tuple[ast.Call, ...] = ()
     if (
         makes
-        and not facts.attribute_calls.get("render")  # another mode may be wanted: the rendering rules weigh them
+        # Another render() or frame consumer may want its own mode on the same make: the
+        # rendering rules weigh them all, so the mode is theirs to place.
+        and not facts.attribute_calls.get("render")
+        and not any(word in facts.text for word in _OTHER_FRAME_CONSUMERS)
         and all(keyword(m, "render_mode") is None and not any(k.arg is None for k in m.keywords) for m in makes)
     ):
         added = tuple(makes)

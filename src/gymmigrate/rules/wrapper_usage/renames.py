@@ -75,6 +75,7 @@ _AUTORESET_MESSAGE = (
     "AutoResetWrapper is Autoreset: it now resets on the step after the episode ends (that step ignores the "
     "action and returns the reset observation with reward 0) and sets no final_observation/final_info"
 )
+_REMOVED_SUFFIXES = tuple(REMOVED)
 # Deeper than any real chain of distinct names.
 MAX_DEPTH = 20
 _CYCLE = object()  # a name whose answer is being computed: no evidence either way
@@ -87,7 +88,7 @@ class ImportEdit:
     statement: ast.ImportFrom
     renames: dict[int, str] = field(default_factory=dict)  # alias index -> new name
     dropped: set[int] = field(default_factory=set)  # alias indexes removed
-    added: list[str] = field(default_factory=list)  # names appended (Monitor's replacements)
+    added: dict[int, list[str]] = field(default_factory=dict)  # alias index -> names put in its place (Monitor's)
     module: str | None = None  # new module path under the package root ("wrappers.vector")
     absolute_module: str | None = None  # a whole new module name (the import stays legacy otherwise)
 
@@ -102,7 +103,8 @@ class WrapperRenames(RuleFamily):
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
-        return "gym" in facts.text
+        # Every wrapper these rules know is reached through a ``wrappers`` module path.
+        return "wrappers" in facts.text and "gym" in facts.text
 
     def decide(self) -> None:
         self._legacy = LegacyImports(self.facts, self.context.profile)
@@ -183,7 +185,7 @@ class WrapperRenames(RuleFamily):
                 self.report(statement, "GM608", "`VectorListInfo` is now `gymnasium.wrappers.vector.DictInfoToList`")
             elif name == "Monitor" and rest in ("wrappers", "wrappers.monitor"):
                 present = {a.name for a in names}
-                edit.added.extend(r for r in ("RecordEpisodeStatistics", "RecordVideo") if r not in present)
+                edit.added[index] = [r for r in ("RecordEpisodeStatistics", "RecordVideo") if r not in present]
                 edit.dropped.add(index)
                 self._monitor_locals.add(bound)
                 if stays:
@@ -214,7 +216,7 @@ class WrapperRenames(RuleFamily):
         # Monitor's replacements that no rewritten call uses are not imported (as the
         # LibCST pass's RemoveImportsVisitor dropped them).
         for edit in self._monitor_imports:
-            edit.added = [name for name in edit.added if name in self._names_used]
+            edit.added = {i: [n for n in names if n in self._names_used] for i, names in edit.added.items()}
         # A single-env wrapper whose only uses became ``gym.wrappers.vector.X``.
         for func in self._unused_after:
             for binding in self.facts.bindings_of(func):
@@ -228,7 +230,7 @@ class WrapperRenames(RuleFamily):
         for statement, edit in self._import_edits.items():
             if not edit.changed:
                 continue
-            if len(edit.dropped) == len(statement.names) and not edit.added:
+            if len(edit.dropped) == len(statement.names) and not any(edit.added.values()):
                 self.plan.remove(statement)
                 move = None if self._legacy.stays_legacy(statement) else import_move(statement)
                 if move is not None:
@@ -304,6 +306,9 @@ class WrapperRenames(RuleFamily):
 
     def _check_removed(self, node: ast.Name | ast.Attribute) -> None:
         """GM610: each use (not the import, which the imports rules report) of a removed wrapper."""
+        spelled = node.id if isinstance(node, ast.Name) else node.attr
+        if not spelled.endswith(_REMOVED_SUFFIXES):
+            return  # cheap: resolving every ``env`` read is linear in its bindings
         for q in self.facts.qualified_names(node):
             rest = N.strip_gym_prefix(q)
             if rest is None or not rest.startswith("wrappers."):
@@ -604,12 +609,12 @@ def _import_build(edit: ImportEdit):  # type: ignore[no-untyped-def]
         originals = list(node.names)  # type: ignore[arg-type]
         names: list[cst.ImportAlias] = []
         for index, alias in enumerate(originals):
+            names.extend(cst.ImportAlias(name=cst.Name(name)) for name in edit.added.get(index, ()))
             if index in edit.dropped:
                 continue
             if index in edit.renames:
                 alias = alias.with_changes(name=cst.Name(edit.renames[index]))
             names.append(alias)
-        names.extend(cst.ImportAlias(name=cst.Name(name)) for name in edit.added)
         module = node.module
         if edit.absolute_module is not None:
             module = dotted_node(edit.absolute_module)  # type: ignore[assignment]
