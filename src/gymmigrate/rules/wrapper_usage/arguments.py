@@ -286,7 +286,7 @@ def args_AtariPreprocessing(family: WrapperRenames, call: ast.Call) -> CallBuild
     args = positional(call)
     if not args:
         return None
-    make = family.make_call(args[0])
+    make = family.stacks.make_call(args[0])
     if make is None or frameskip_is_one(make):
         return None
     family.report(

@@ -340,9 +340,12 @@ class WrapperForwarding(RuleFamily):
                 self._in_progress.add(key)
                 try:
                     values = [r.value for r in own_returns(function) if r.value is not None]
-                    self._name_origins[key] = join_origins([self._origin(v) for v in values])
+                    origin = join_origins([self._origin(v) for v in values])
                 finally:
                     self._in_progress.discard(key)
+                if origin == CYCLE:
+                    return CYCLE
+                self._name_origins[key] = origin
             return self._name_origins[key]
         return None
 
@@ -368,7 +371,8 @@ class WrapperForwarding(RuleFamily):
             origin = self._bindings_origin(bindings)
         finally:
             self._in_progress.discard(key)
-        self._name_origins[key] = origin
+        if origin != CYCLE:  # a cycle is an answer only from inside it
+            self._name_origins[key] = origin
         return origin
 
     def _bindings_origin(self, bindings: list[ast.AST]) -> Origin:

@@ -35,7 +35,6 @@ from typing import TYPE_CHECKING
 
 import libcst as cst
 
-from gymmigrate.analysis import names as N
 from gymmigrate.analysis.creation import append_keyword
 from gymmigrate.analysis.syntax import dotted_node
 from gymmigrate.facts.module import dotted_name, keyword
@@ -137,7 +136,7 @@ def plan_monitor(family: WrapperRenames, call: ast.Call) -> MonitorRewrite | Non
 
 
 def _plan_render_mode(family: WrapperRenames, consumer: ast.Call, env: ast.expr) -> None:
-    makes = family.creation_makes(env)
+    makes = family.stacks.creation_makes(env)
     facts = family.facts
     added: tuple[ast.Call, ...] = ()
     if (
@@ -183,10 +182,6 @@ def _call_summary(facts, call: ast.Call) -> str:  # type: ignore[no-untyped-def]
     first = facts.segment(call.args[0]) if call.args else ""
     more = ", ..." if len(call.args) + len(call.keywords) > 1 else ""
     return f"{facts.segment(call.func)}({first}{more})"
-
-
-def is_make(family: WrapperRenames, call: ast.Call) -> bool:
-    return any(N.strip_gym_prefix(q) in N.GYM_ENV_FACTORIES for q in family.facts.qualified_names(call.func))
 
 
 # -- finding arguments again in the LibCST call ---------------------------------------------------

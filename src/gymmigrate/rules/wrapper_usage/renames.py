@@ -28,7 +28,6 @@ from __future__ import annotations
 import ast
 import re
 from collections.abc import Callable
-from dataclasses import dataclass, field
 
 import libcst as cst
 
@@ -36,12 +35,14 @@ from gymmigrate.analysis import names as N
 from gymmigrate.analysis.syntax import dotted_node
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.module import dotted_name, string_value
-from gymmigrate.facts.receivers import EnvKind, join_kinds
+from gymmigrate.facts.receivers import EnvKind
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.wrapper_usage.arguments import HANDLERS, positional
 from gymmigrate.rules.wrapper_usage.legacy_imports import LegacyImports, import_move, migrated_path
-from gymmigrate.rules.wrapper_usage.monitor import is_make, plan_monitor
+from gymmigrate.rules.wrapper_usage.import_edits import ImportEdit, import_build
+from gymmigrate.rules.wrapper_usage.monitor import plan_monitor
+from gymmigrate.rules.wrapper_usage.stacks import WrapperStacks
 from gymmigrate.rules.wrapper_usage.tables import (
     EXPERIMENTAL_SPECIAL,
     FINAL_INFO_KEYS,
@@ -76,25 +77,6 @@ _AUTORESET_MESSAGE = (
     "action and returns the reset observation with reward 0) and sets no final_observation/final_info"
 )
 _REMOVED_SUFFIXES = tuple(REMOVED)
-# Deeper than any real chain of distinct names.
-MAX_DEPTH = 20
-_CYCLE = object()  # a name whose answer is being computed: no evidence either way
-
-
-@dataclass
-class ImportEdit:
-    """What happens to one ``from ... import`` statement."""
-
-    statement: ast.ImportFrom
-    renames: dict[int, str] = field(default_factory=dict)  # alias index -> new name
-    dropped: set[int] = field(default_factory=set)  # alias indexes removed
-    added: dict[int, list[str]] = field(default_factory=dict)  # alias index -> names put in its place (Monitor's)
-    module: str | None = None  # new module path under the package root ("wrappers.vector")
-    absolute_module: str | None = None  # a whole new module name (the import stays legacy otherwise)
-
-    @property
-    def changed(self) -> bool:
-        return bool(self.renames or self.dropped or self.added or self.module or self.absolute_module)
 
 
 class WrapperRenames(RuleFamily):
@@ -114,9 +96,7 @@ class WrapperRenames(RuleFamily):
         self._monitor_imports: list[ImportEdit] = []
         self._names_used: set[str] = set()  # bare names the rewritten Monitor calls use
         self._unused_after: list[ast.Name] = []  # funcs replaced by a vector wrapper path
-        self._memo: dict[tuple[str, int, str], object] = {}
-        self._in_progress: set[tuple[str, int, str]] = set()
-        self._depth = 0
+        self.stacks = WrapperStacks(self.facts, self.receivers)
         self._uses_autoreset = _AUTORESET_USE.search(self.facts.text) is not None
         nodes = list(self.facts.parents)
         for node in nodes:
@@ -237,7 +217,7 @@ class WrapperRenames(RuleFamily):
                     code, message = move
                     self.plan.report(statement, code, FixKind.AUTO, message)
                 continue
-            self.plan.replace(statement, _import_build(edit))
+            self.plan.replace(statement, import_build(edit))
 
     def _other_reads(self, alias: ast.alias, name: str) -> bool:
         """Does any read of ``name`` bound by ``alias`` stay in the output?"""
@@ -380,7 +360,7 @@ class WrapperRenames(RuleFamily):
         if new not in SINGLE_ENV_WRAPPERS:
             return None
         args = positional(call)
-        if not args or self._vector_kind(args[0]) is not EnvKind.GYM_VEC:
+        if not args or self.stacks.vector_kind(args[0]) is not EnvKind.GYM_VEC:
             return None
         if new not in VECTOR_WRAPPERS:
             self.report(
@@ -422,131 +402,6 @@ class WrapperRenames(RuleFamily):
                         return alias.asname or ("gym" if alias.name == "gym" else "gymnasium")
         return None
 
-    def _vector_kind(self, expr: ast.AST) -> EnvKind:
-        """Like ``kind_of``, but a single-env wrapper around an env has that env's kind.
-
-        The shared analysis calls every ``gym.wrappers.X(...)`` a single env, which is what
-        this rule is about to correct, so ``envs = RecordEpisodeStatistics(envs)`` must not
-        hide that ``envs`` was a vector env.
-        """
-        result = self._follow(expr, "vector-kind", self._vector_kind_step)
-        return EnvKind.UNKNOWN if result is _CYCLE or result is None else result  # type: ignore[return-value]
-
-    def _vector_kind_step(self, expr: ast.AST) -> object:
-        if isinstance(expr, ast.Call):
-            if any(wrapper_rest(q) is not None for q in self.facts.qualified_names(expr.func)):
-                first = _first_argument(expr)
-                if first is not None:
-                    return self._follow(first, "vector-kind", self._vector_kind_step)
-            return self.receivers.kind_of(expr)
-        if isinstance(expr, ast.Name):
-            values = self._assigned_values(expr)
-            if values is None:
-                return self.receivers.kind_of(expr)
-            kinds = [self._follow(v, "vector-kind", self._vector_kind_step) for v in values]
-            known = [k for k in kinds if k is not _CYCLE]
-            if not known:
-                return _CYCLE if kinds else EnvKind.UNKNOWN
-            return join_kinds(known)  # type: ignore[arg-type]
-        return self.receivers.kind_of(expr)
-
-    # GM615
-
-    def make_call(self, expr: ast.AST) -> ast.Call | None:
-        """The ``gym.make(...)`` call at the bottom of ``expr``'s wrapper stack, when it is clear."""
-        result = self._follow(expr, "make-call", self._make_call_step)
-        return result if isinstance(result, ast.Call) else None
-
-    def _make_call_step(self, expr: ast.AST) -> object:
-        if isinstance(expr, ast.Call):
-            for q in self.facts.qualified_names(expr.func):
-                rest = N.strip_gym_prefix(q)
-                if rest in N.GYM_ENV_FACTORIES:
-                    return expr
-                if rest is not None and rest.startswith("wrappers.") and _first_argument(expr) is not None:
-                    return self._follow(_first_argument(expr), "make-call", self._make_call_step)  # type: ignore[arg-type]
-            return None
-        if isinstance(expr, ast.Name):
-            values = self._assigned_values(expr)
-            if values is None:
-                return None
-            found = [self._follow(v, "make-call", self._make_call_step) for v in values]
-            found = [f for f in found if f is not _CYCLE]
-            if not found:
-                return _CYCLE if values else None
-            makes = {id(f): f for f in found if f is not None}
-            return next(iter(makes.values())) if len(makes) == 1 and None not in found else None
-        return None
-
-    def creation_makes(self, env: ast.expr) -> list[ast.Call]:
-        """Every make call ``env`` may come from, through wrappers and assignments; [] if a path is unclear."""
-        result = self._follow(env, "creation", self._creation_step)
-        return list(result) if isinstance(result, tuple) else []
-
-    def _creation_step(self, expr: ast.AST) -> object:
-        if isinstance(expr, ast.Call):
-            if is_make(self, expr):
-                return (expr,)
-            wraps = any(wrapper_rest(q) is not None for q in self.facts.qualified_names(expr.func))
-            local = self.receivers.local_class(expr.func)
-            if wraps or (local is not None and self.receivers.is_gym_wrapper_class(local)):
-                first = _first_argument(expr)
-                return self._follow(first, "creation", self._creation_step) if first is not None else None
-            return None
-        if isinstance(expr, ast.Name):
-            values = self._assigned_values(expr)
-            if not values:
-                return None
-            found = [self._follow(v, "creation", self._creation_step) for v in values]
-            found = [f for f in found if f is not _CYCLE]
-            if not found:
-                return _CYCLE
-            if any(f is None for f in found):
-                return None
-            makes: dict[int, ast.Call] = {}
-            for calls in found:
-                for make in calls:  # type: ignore[union-attr]
-                    makes.setdefault(id(make), make)
-            return tuple(makes.values())
-        return None
-
-    def _assigned_values(self, name: ast.Name) -> list[ast.expr] | None:
-        """The values of every ``name = ...`` binding of ``name``; None if one is not a plain assignment."""
-        values = []
-        for binding in self.facts.bindings_of(name):
-            parent = self.facts.parent(binding)
-            if not (isinstance(binding, ast.Name) and isinstance(parent, ast.Assign) and binding in parent.targets):
-                return None
-            values.append(parent.value)
-        return values
-
-    def _follow(self, expr: ast.AST, fact: str, step: Callable[[ast.AST], object]) -> object:
-        """``step(expr)``, memoized per node; a node being computed is a cycle (no evidence).
-
-        Names are memoized by the scope and name they resolve to, so every read of ``env``
-        after a dozen ``env = Wrapper(env)`` shares one answer: linear, not exponential.
-        """
-        if isinstance(expr, ast.Name):
-            scope, _ = self.facts.resolve(expr.id, self.facts.scope_of(expr))
-            key = (fact, id(scope), expr.id)
-        else:
-            key = (fact, id(expr), "")
-        if key in self._memo:
-            return self._memo[key]
-        if key in self._in_progress:
-            return _CYCLE
-        if self._depth > MAX_DEPTH:
-            return None
-        self._in_progress.add(key)
-        self._depth += 1
-        try:
-            result = step(expr)
-        finally:
-            self._depth -= 1
-            self._in_progress.discard(key)
-        self._memo[key] = result
-        return result
-
     # -- GM612: final_observation reads ---------------------------------------------------------
 
     def _check_final_info_subscript(self, node: ast.Subscript) -> None:
@@ -583,14 +438,6 @@ def _rename_code(old: str) -> tuple[str, FixKind | None]:
     return "GM608", None
 
 
-def _first_argument(call: ast.Call) -> ast.expr | None:
-    """What LibCST called ``call.args[0]``: the first argument, positional or not."""
-    if call.args:
-        first = call.args[0]
-        return first.value if isinstance(first, ast.Starred) else first
-    return call.keywords[0].value if call.keywords else None
-
-
 def _root_name(node: ast.AST) -> str:
     while isinstance(node, ast.Attribute):
         node = node.value
@@ -602,45 +449,3 @@ def _dotted_build(text: str):  # type: ignore[no-untyped-def]
         return dotted_node(text).with_changes(lpar=node.lpar, rpar=node.rpar)  # type: ignore[attr-defined]
 
     return build
-
-
-def _import_build(edit: ImportEdit):  # type: ignore[no-untyped-def]
-    def build(node: cst.ImportFrom) -> cst.ImportFrom:
-        originals = list(node.names)  # type: ignore[arg-type]
-        names: list[cst.ImportAlias] = []
-        for index, alias in enumerate(originals):
-            names.extend(cst.ImportAlias(name=cst.Name(name)) for name in edit.added.get(index, ()))
-            if index in edit.dropped:
-                continue
-            if index in edit.renames:
-                alias = alias.with_changes(name=cst.Name(edit.renames[index]))
-            names.append(alias)
-        module = node.module
-        if edit.absolute_module is not None:
-            module = dotted_node(edit.absolute_module)  # type: ignore[assignment]
-        elif edit.module is not None and module is not None:
-            # Keep the package the node names now (``gym`` until the imports rules ran).
-            root = _cst_root(module)
-            module = dotted_node(f"{root}.{edit.module}")  # type: ignore[assignment]
-        return node.with_changes(module=module, names=_with_commas(names, originals))
-
-    return build
-
-
-def _cst_root(node: cst.BaseExpression) -> str:
-    while isinstance(node, cst.Attribute):
-        node = node.value
-    return node.value if isinstance(node, cst.Name) else "gymnasium"
-
-
-def _with_commas(names: list[cst.ImportAlias], originals: list[cst.ImportAlias]) -> list[cst.ImportAlias]:
-    """Separators for a rebuilt import list: ``, `` between names, the original's last comma kept."""
-    last = originals[-1].comma if originals else cst.MaybeSentinel.DEFAULT
-    result = []
-    for i, alias in enumerate(names):
-        if i < len(names) - 1:
-            keep = originals[i].comma if i < len(originals) - 1 and originals[i].comma is not cst.MaybeSentinel.DEFAULT else None
-            result.append(alias.with_changes(comma=keep or cst.Comma(whitespace_after=cst.SimpleWhitespace(" "))))
-        else:
-            result.append(alias.with_changes(comma=last))
-    return result
