@@ -128,3 +128,25 @@ def import_move(statement: ast.ImportFrom) -> tuple[str, str] | None:
         return None
     code = "GM102" if rest == "" else "GM104" if new_rest != rest else "GM103"
     return code, f"from {module} import ... -> from {new_module} import ..."
+
+
+def removed_import(statement: ast.ImportFrom) -> str | None:
+    """The GM105 message the imports rules give for a ``from gym... import`` they leave alone.
+
+    ``from gym.wrappers.monitor import Monitor`` is rewritten here (GM611) before the
+    imports rules would see it; this family reports their finding in their words (the
+    plan keeps one where an imports family reports the same).
+    """
+    if statement.level or statement.module is None:
+        return None
+    rest = under_gym(statement.module)
+    if rest is None:
+        return None
+    for removed, hint in REMOVED_MODULES.items():
+        if rest == removed or rest.startswith(removed + "."):
+            return f"`{statement.module}` was removed: {hint}"
+    for alias in statement.names:
+        hint = REMOVED_NAMES.get((rest, alias.name))
+        if hint:
+            return f"`{alias.name}` was removed: {hint}"
+    return None

@@ -39,7 +39,7 @@ from gymmigrate.facts.receivers import EnvKind
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.wrapper_usage.arguments import HANDLERS, positional
-from gymmigrate.rules.wrapper_usage.legacy_imports import LegacyImports, import_move, migrated_path
+from gymmigrate.rules.wrapper_usage.legacy_imports import LegacyImports, import_move, migrated_path, removed_import
 from gymmigrate.rules.wrapper_usage.import_edits import ImportEdit, import_build
 from gymmigrate.rules.wrapper_usage.monitor import plan_monitor
 from gymmigrate.rules.wrapper_usage.stacks import WrapperStacks
@@ -218,6 +218,9 @@ class WrapperRenames(RuleFamily):
                     self.plan.report(statement, code, FixKind.AUTO, message)
                 continue
             self.plan.replace(statement, import_build(edit))
+            removed = removed_import(statement) if edit.absolute_module and self._legacy.stays_legacy(statement) else None
+            if removed is not None:
+                self.plan.report(statement, "GM105", FixKind.FLAG, removed)
 
     def _other_reads(self, alias: ast.alias, name: str) -> bool:
         """Does any read of ``name`` bound by ``alias`` stay in the output?"""
