@@ -6,7 +6,7 @@ Where a rule lives (passes run in ORDER, shown in brackets):
     GM106, GM803-GM805         env ids, Atari registration ..... env_ids/ids.py    [20]
     GM802, GM806               registry API, EnvSpec ........... env_ids/registry.py [21]
     GM305, GM801               removed make() keywords ......... make_kwargs.py    [30]
-    GM608-GM615                renamed/removed wrappers ........ wrapper_usage.py  [31]
+    GM608-GM615                renamed/removed wrappers ........ wrapper_usage/    [31]
     GM401-GM403, GM406, GM407  rendering at call sites ......... rendering.py      [32]
     GM701, GM702, GM705-GM708  vector envs ..................... vector/           [35]
     GM404, GM405, GM501-GM509  custom Env subclasses ........... custom_env.py     [40]
@@ -14,7 +14,7 @@ Where a rule lives (passes run in ORDER, shown in brackets):
     GM201-GM208, GM704         reset and seeding at call sites . reset_seed/       [50]
     GM301-GM304, GM703         step and done at call sites ..... step_done/        [55]
     GM601-GM603                wrapper subclasses .............. wrappers.py       [60]
-    GM604-GM606                attribute forwarding ............ wrapper_usage.py  [61]
+    GM604-GM606                attribute forwarding ............ wrapper_usage/    [61]
     GM902, GM904, GM906-GM908  spaces, logger, errors, utils ... spaces_logger.py  [80]
 
 Not rules (catalog entries that are information only, or that cannot be told apart
@@ -36,6 +36,7 @@ from gymmigrate.rules import (  # noqa: F401  (imported to register their passes
     spaces_logger,
     step_done,
     vector,
+    wrapper_usage,
     wrappers,
 )
 from gymmigrate.rules.base import Rule, RuleFamily, RulePass, all_rules, registered_families, registered_passes

@@ -32,7 +32,7 @@ out whole. Sources: Gymnasium ``core.py`` (``Wrapper.reset``/``step``/``__init__
 migration guide "Step API" and "Reset".
 
 Wrapper *usage* (attribute forwarding, renamed and removed wrappers, Monitor...) lives in
-``wrapper_usage.py``, imported below so that its pass registers.
+the ``wrapper_usage`` package, which ``rules/__init__.py`` imports so that its families register.
 """
 
 from __future__ import annotations
@@ -778,5 +778,3 @@ class _SuperInitFinder(cst.CSTVisitor):
                 if isinstance(first, cst.Name) and first.value == "self":
                     self.found = True
 
-
-from gymmigrate.rules import wrapper_usage  # noqa: E402,F401  (registers the usage pass)

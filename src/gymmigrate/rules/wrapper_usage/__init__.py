@@ -1,0 +1,18 @@
+"""Using wrappers: renamed, changed and removed wrappers, and attribute forwarding.
+
+Two families, both deciding on the original source:
+
+* ``renames.WrapperRenames`` (GM608-GM615, ORDER 31): renamed wrappers in imports, paths
+  and uses (GM608, GM612, GM614), changed signatures (GM609, ``arguments.py``), removed
+  wrappers (GM610), ``Monitor`` -> ``RecordVideo`` with its render mode (GM611,
+  ``monitor.py``), single-env wrappers on vector envs (GM613) and AtariPreprocessing's
+  frame skip (GM615). ``stacks.py`` follows wrapper stacks down to the env they wrap,
+  ``import_edits.py`` rewrites import lists, and ``legacy_imports.py`` tells which gym
+  imports the imports rules leave alone in the same run.
+* ``forwarding.WrapperForwarding`` (GM604-GM606, ORDER 61): what legacy code read through
+  ``Wrapper.__getattr__``.
+
+``tables.py`` holds what Gymnasium 1.x did to each wrapper, shared by both.
+"""
+
+from gymmigrate.rules.wrapper_usage import forwarding, renames  # noqa: F401  (imported to register the families)

@@ -1,0 +1,339 @@
+"""Changed signatures of the wrappers Gymnasium kept (GM609) and AtariPreprocessing's frame skip (GM615).
+
+One function per 1.x wrapper name, ``args_<Name>(family, call)``: it decides from the
+``ast`` call (reporting through the family) and returns the build that rewrites the
+LibCST call, or None when nothing changes. Builds find arguments by keyword and by
+position among the positional ones, never by identity, so an edit another family made
+to the same call first (``new_step_api=`` dropped by GM305) does not disturb them.
+
+Sources: gymnasium 1.0 release notes; ``FrameStackObservation(env, stack_size, *,
+padding_type)``, ``AddRenderObservation(env, render_only, render_key, obs_key)``,
+``TransformObservation(env, func, observation_space)``, ``ResizeObservation(env, shape)``,
+``RecordEpisodeStatistics(env, buffer_length, stats_key)``, ``TimeLimit(env,
+max_episode_steps)``, ``FilterObservation(env, filter_keys)``,
+``AtariPreprocessing(env, noop_max, frame_skip, ...)``.
+"""
+
+from __future__ import annotations
+
+import ast
+from collections.abc import Callable
+from typing import TYPE_CHECKING
+
+import libcst as cst
+
+from gymmigrate.facts.module import keyword, string_value
+from gymmigrate.findings import FixKind
+
+if TYPE_CHECKING:
+    from gymmigrate.rules.wrapper_usage.renames import WrapperRenames
+
+CallBuild = Callable[[cst.Call], cst.Call]
+
+
+# -- reading the ast call ----------------------------------------------------------------------
+
+
+def positional(call: ast.Call) -> list[ast.expr]:
+    return [a for a in call.args if not isinstance(a, ast.Starred)]
+
+
+def has_star(call: ast.Call) -> bool:
+    return any(isinstance(a, ast.Starred) for a in call.args) or any(k.arg is None for k in call.keywords)
+
+
+def parameter(call: ast.Call, name: str, position: int) -> ast.expr | None:
+    """The value bound to a wrapper parameter, passed by keyword or at ``position``."""
+    found = keyword(call, name)
+    if found is not None:
+        return found.value
+    args = positional(call)
+    return args[position] if len(args) > position else None
+
+
+def _is_constant(node: ast.AST | None, value: object) -> bool:
+    return isinstance(node, ast.Constant) and type(node.value) is type(value) and node.value == value
+
+
+def _is_int(node: ast.AST | None) -> bool:
+    return isinstance(node, ast.Constant) and type(node.value) is int
+
+
+def missing_or_none(call: ast.Call, name: str, position: int) -> bool:
+    """A required parameter left out (and not possibly in *args/**kwargs) or passed None."""
+    found = parameter(call, name, position)
+    if found is None:
+        return not has_star(call)
+    return _is_constant(found, None)
+
+
+# -- editing the LibCST call -------------------------------------------------------------------
+
+
+def _cst_keyword(call: cst.Call, name: str) -> cst.Arg | None:
+    return next((a for a in call.args if a.keyword is not None and a.keyword.value == name), None)
+
+
+def _cst_parameter(call: cst.Call, name: str, position: int) -> cst.Arg | None:
+    found = _cst_keyword(call, name)
+    if found is None:
+        args = [a for a in call.args if a.keyword is None and not a.star]
+        found = args[position] if len(args) > position else None
+    return found
+
+
+def _renamed(arg: cst.Arg, new: str) -> cst.Arg:
+    assert arg.keyword is not None
+    return arg.with_changes(keyword=arg.keyword.with_changes(value=new))
+
+
+def _rename_keyword(call: cst.Call, old: str, new: str) -> cst.Call:
+    arg = _cst_keyword(call, old)
+    if arg is None:
+        return call
+    return call.with_changes(args=[_renamed(a, new) if a is arg else a for a in call.args])
+
+
+def _without(call: cst.Call, drop: cst.Arg) -> cst.Call:
+    """The call without ``drop``; the new last argument keeps the old last one's comma."""
+    args = [a for a in call.args if a is not drop]
+    if args and call.args and args[-1] is not call.args[-1]:
+        args[-1] = args[-1].with_changes(comma=call.args[-1].comma)
+    return call.with_changes(args=args)
+
+
+# -- one function per wrapper --------------------------------------------------------------------
+
+
+def args_FrameStackObservation(family: WrapperRenames, call: ast.Call) -> CallBuild | None:
+    notes = []
+    kind: FixKind | None = None
+    renames_stack = keyword(call, "num_stack") is not None
+    if renames_stack:
+        notes.append("`num_stack=` is `stack_size=`")
+    lz4 = parameter(call, "lz4_compress", 2)
+    if lz4 is not None:
+        notes.append("`lz4_compress` is gone (frames are a plain ndarray now)")
+        if not _is_constant(lz4, False):
+            kind = FixKind.ASSIST
+    if not notes:
+        return None
+    family.report(call, "GM609", "FrameStackObservation: " + "; ".join(notes), kind=kind)
+    drops_lz4 = lz4 is not None
+
+    def build(node: cst.Call) -> cst.Call:
+        dropped = _cst_parameter(node, "lz4_compress", 2) if drops_lz4 else None
+        if renames_stack:
+            node = _rename_keyword(node, "num_stack", "stack_size")
+        if dropped is not None:
+            node = _without(node, next(a for a in node.args if a.value is dropped.value))
+        return node
+
+    return build
+
+
+def args_AddRenderObservation(family: WrapperRenames, call: ast.Call) -> CallBuild | None:
+    if len(positional(call)) > 2 or keyword(call, "render_kwargs") is not None:
+        family.report(
+            call,
+            "GM609",
+            "AddRenderObservation has no render_kwargs: create the env with render_mode=\"rgb_array\" (and "
+            "its render options) instead, then pass render_only/render_key",
+            kind=FixKind.FLAG,
+        )
+        return None
+    keys = keyword(call, "pixel_keys")
+    if keys is not None:
+        value = keys.value
+        if not (isinstance(value, (ast.Tuple, ast.List)) and len(value.elts) == 1):
+            family.report(call, "GM609", "AddRenderObservation takes one `render_key`, not a list of pixel keys", kind=FixKind.FLAG)
+            return None
+    if keys is None and keyword(call, "pixels_only") is None:
+        return None
+
+    def build(node: cst.Call) -> cst.Call:
+        node = _rename_keyword(node, "pixels_only", "render_only")
+        arg = _cst_keyword(node, "pixel_keys")
+        if arg is not None and isinstance(arg.value, (cst.Tuple, cst.List)):
+            single = arg.value.elements[0].value
+            new = arg.with_changes(keyword=cst.Name("render_key"), value=single)
+            node = node.with_changes(args=[new if a is arg else a for a in node.args])
+        return node
+
+    return build
+
+
+def args_TransformObservation(family: WrapperRenames, call: ast.Call) -> CallBuild | None:
+    f = keyword(call, "f")
+    args = positional(call)
+    has_space = keyword(call, "observation_space") is not None or len(args) >= 3
+    func = f.value if f is not None else args[1] if len(args) >= 2 else None
+    if has_space:
+        if f is None:
+            return None
+        family.report(call, "GM609", "TransformObservation's `f=` is `func=`")
+        return lambda node: _rename_keyword(node, "f", "func")
+    if func is None or has_star(call):
+        return None
+    if _keeps_shape(func):
+        family.report(call, "GM609", "TransformObservation needs an observation_space: None keeps the env's, as before")
+    else:
+        family.report(
+            call,
+            "GM609",
+            "TransformObservation needs an observation_space: None keeps the env's space, as legacy did; pass "
+            "the new space if `func` changes the observation's shape or dtype",
+            kind=FixKind.ASSIST,
+        )
+    by_keyword = f is not None
+
+    def build(node: cst.Call) -> cst.Call:
+        node = _rename_keyword(node, "f", "func")
+        items = list(node.args)
+        last = items[-1]
+        comma = cst.Comma(whitespace_after=cst.SimpleWhitespace(" "))
+        space = cst.Arg(value=cst.Name("None"))
+        if last.keyword is not None or by_keyword:
+            space = cst.Arg(
+                keyword=cst.Name("observation_space"),
+                value=cst.Name("None"),
+                equal=cst.AssignEqual(cst.SimpleWhitespace(""), cst.SimpleWhitespace("")),
+            )
+        return node.with_changes(args=[*items[:-1], last.with_changes(comma=comma), space.with_changes(comma=last.comma)])
+
+    return build
+
+
+def args_TransformReward(family: WrapperRenames, call: ast.Call) -> CallBuild | None:
+    if keyword(call, "f") is None:
+        return None
+    family.report(call, "GM609", "TransformReward's `f=` is `func=`")
+    return lambda node: _rename_keyword(node, "f", "func")
+
+
+def args_ResizeObservation(family: WrapperRenames, call: ast.Call) -> CallBuild | None:
+    shape = parameter(call, "shape", 1)
+    if not _is_int(shape):
+        return None
+    text = family.facts.segment(shape)  # type: ignore[arg-type]
+    family.report(call, "GM609", f"ResizeObservation takes a (height, width) pair: {text} -> ({text}, {text})")
+
+    def build(node: cst.Call) -> cst.Call:
+        arg = _cst_parameter(node, "shape", 1)
+        if arg is None:
+            return node
+        size = arg.value
+        pair = cst.Tuple(
+            elements=[
+                cst.Element(value=size, comma=cst.Comma(whitespace_after=cst.SimpleWhitespace(" "))),
+                cst.Element(value=size.deep_clone()),
+            ]
+        )
+        return node.with_changes(args=[arg.with_changes(value=pair) if a is arg else a for a in node.args])
+
+    return build
+
+
+def args_RecordEpisodeStatistics(family: WrapperRenames, call: ast.Call) -> CallBuild | None:
+    if keyword(call, "deque_size") is None:
+        return None
+    family.report(call, "GM609", "RecordEpisodeStatistics' `deque_size=` is `buffer_length=`")
+    return lambda node: _rename_keyword(node, "deque_size", "buffer_length")
+
+
+# RecordVideo's ``new_step_api=`` is GM305's (make_kwargs), which deletes it from every
+# wrapper constructor: the LibCST pass this replaces never saw it either.
+
+
+def args_TimeLimit(family: WrapperRenames, call: ast.Call) -> CallBuild | None:
+    if missing_or_none(call, "max_episode_steps", 1):
+        family.report(
+            call,
+            "GM609",
+            "TimeLimit needs max_episode_steps in Gymnasium 1.x (legacy read it from the spec): pass the "
+            "limit, e.g. env.spec.max_episode_steps",
+            kind=FixKind.FLAG,
+        )
+    return None
+
+
+def args_FilterObservation(family: WrapperRenames, call: ast.Call) -> CallBuild | None:
+    if missing_or_none(call, "filter_keys", 1):
+        family.report(
+            call,
+            "GM609",
+            "FilterObservation needs filter_keys in Gymnasium 1.x (None no longer means every key): list the keys",
+            kind=FixKind.FLAG,
+        )
+    return None
+
+
+def args_ClipAction(family: WrapperRenames, call: ast.Call) -> CallBuild | None:
+    family.report(
+        call,
+        "GM609",
+        "ClipAction now exposes action_space Box(-inf, inf): code or agents that read the bounds or sample "
+        "from this env's action_space must use the inner env's space",
+        kind=FixKind.FLAG,
+    )
+    return None
+
+
+def args_AtariPreprocessing(family: WrapperRenames, call: ast.Call) -> CallBuild | None:
+    """GM615: the base env must not skip frames itself (AtariPreprocessing raises)."""
+    if _is_constant(parameter(call, "frame_skip", 2), 1):
+        return None
+    args = positional(call)
+    if not args:
+        return None
+    make = family.stacks.make_call(args[0])
+    if make is None or frameskip_is_one(make):
+        return None
+    family.report(
+        call,
+        "GM615",
+        "AtariPreprocessing skips frames itself and raises if the base env skips too: make the env with "
+        "frameskip=1 (e.g. gym.make(\"ALE/Pong-v5\", frameskip=1))",
+    )
+    return None
+
+
+HANDLERS: dict[str, Callable[[WrapperRenames, ast.Call], CallBuild | None]] = {
+    name[len("args_") :]: function for name, function in dict(globals()).items() if name.startswith("args_")
+}
+
+
+def frameskip_is_one(make: ast.Call) -> bool:
+    """Does this make() call build an env that does not skip frames (or can it not be told)?"""
+    frameskip = keyword(make, "frameskip")
+    if frameskip is not None:
+        return _is_constant(frameskip.value, 1)
+    args = positional(make)
+    env_id = string_value(args[0]) if args else None
+    if env_id is None:
+        return True  # cannot tell: stay quiet rather than guess
+    # ``ALE/X-v5`` skips 4 frames, ``X-v4`` 2-4, ``XDeterministic-v4`` 4; only NoFrameskip ids do not.
+    return "NoFrameskip" in env_id
+
+
+def _keeps_shape(func: ast.expr) -> bool:
+    """``lambda obs: obs / 255.0``-like functions: arithmetic with numbers keeps shape (not dtype, see ASSIST)."""
+    if not isinstance(func, ast.Lambda):
+        return False
+    arguments = func.args
+    if len(arguments.args) != 1 or arguments.posonlyargs:
+        return False
+    param = arguments.args[0].arg
+
+    def simple(node: ast.expr) -> bool:
+        if isinstance(node, ast.Name):
+            return node.id == param
+        if isinstance(node, ast.Constant):
+            return type(node.value) in (int, float)
+        if isinstance(node, ast.BinOp) and isinstance(node.op, (ast.Add, ast.Sub, ast.Mult)):
+            return simple(node.left) and simple(node.right)
+        if isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.USub):
+            return simple(node.operand)
+        return False
+
+    return simple(func.body)

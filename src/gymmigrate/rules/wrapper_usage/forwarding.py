@@ -1,0 +1,457 @@
+"""Attribute forwarding is gone (GM604-GM606): what legacy code read through ``Wrapper.__getattr__``.
+
+Gymnasium 1.0 removed ``Wrapper.__getattr__``, so on an env built through ``make`` or
+wrappers ``env.x_threshold`` raises ``AttributeError``:
+
+* GM604 (ASSIST) base-env state and methods become ``env.unwrapped.foo``; anything a
+  wrapper may define becomes ``env.get_wrapper_attr("foo")`` (outermost to base, exactly
+  what forwarding did). Writes are reported (forwarding never applied to them). A raw env
+  built by its own constructor never had the problem.
+* GM605 (ASSIST) ``env._max_episode_steps`` -> ``env.spec.max_episode_steps`` for envs from
+  ``make``; ``env.get_wrapper_attr("_max_episode_steps")`` when the spec may be ``None``.
+* GM606 (FLAG) ``gym.make(id).env`` (legacy: "drop the TimeLimit"), ``env.env.env`` chains
+  and ``isinstance(env, TimeLimit)``: ``make`` now stacks three wrappers.
+
+Where an env comes from (its *origin*) decides between those rewrites. Origins are
+memoized per name binding site, and a name whose origin is being computed counts as
+"no evidence" when reached again, so the classic ``env = Wrapper(env)`` preprocessing
+stack costs one visit per assignment instead of one per path through them.
+"""
+
+from __future__ import annotations
+
+import ast
+import bisect
+
+import libcst as cst
+
+from gymmigrate.analysis import names as N
+from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts.module import FUNCTIONS, call_argument, dotted_name, own_returns
+from gymmigrate.facts.receivers import EnvKind
+from gymmigrate.findings import FixKind
+from gymmigrate.rules.base import FileContext, Rule, RuleFamily
+from gymmigrate.rules.wrapper_usage.tables import (
+    BASE_ENV_ATTRIBUTES,
+    OWN_ATTRIBUTES,
+    SAFE_ATTRIBUTES,
+    current_name,
+    wrapper_rest,
+)
+
+RULES = (
+    Rule("GM604", "attribute forwarding removed", FixKind.ASSIST, "`env.foo` -> `env.unwrapped.foo` / `env.get_wrapper_attr(\"foo\")`."),
+    Rule("GM605", "env._max_episode_steps", FixKind.ASSIST, "`env._max_episode_steps` -> `env.spec.max_episode_steps`."),
+    Rule("GM606", "wrapper-stack assumptions", FixKind.FLAG, "`gym.make(id).env`, `env.env.env` and `isinstance(env, TimeLimit)` are reported."),
+)
+
+# Where an env came from.
+MADE = "made"  # gym.make (+ wrappers): a wrapper stack with a spec
+WRAPPED = "wrapped"  # wrapper constructors around something else: a stack, maybe no spec
+INNER = "inner"  # a wrapper's ``self.env`` / ``env`` argument: almost always a make() result
+RAW = "raw"  # an env class's constructor or ``.unwrapped``: no wrapper in between
+# Reached a name whose origin is being computed (``env = Wrapper(env)``): no evidence
+# either way; the other bindings decide.
+CYCLE = "cycle"
+# Deeper than any real chain of distinct names; beyond it the origin is unknown (reported).
+MAX_DEPTH = 20
+
+Origin = str | None
+
+
+def join_origins(origins: list[Origin]) -> Origin:
+    found = set(origins)
+    found.discard(CYCLE)
+    if not found:
+        return CYCLE if origins else None
+    if None in found:
+        return None
+    if len(found) == 1:
+        return found.pop()
+    if RAW in found:
+        return None
+    return WRAPPED if WRAPPED in found or INNER in found else MADE
+
+
+class WrapperForwarding(RuleFamily):
+    """GM604-GM606. ORDER 61: after the wrapper subclass rules, as the LibCST pass it replaces."""
+
+    RULES = RULES
+    ORDER = 61
+
+    def __init__(self, *args, **kwargs) -> None:  # type: ignore[no-untyped-def]
+        super().__init__(*args, **kwargs)
+        self._name_origins: dict[tuple[int, str], Origin] = {}
+        self._in_progress: set[tuple[int, str]] = set()
+        self._param_origins: dict[ast.arg, Origin] = {}
+        self._depth = 0
+        self._local_attrs: set[str] | None = None
+        self._class_attrs: dict[ast.ClassDef, set[str]] = {}
+        # (scope, name) -> (lines, values) of its assignments, sorted by line; None if one is not ``x = ...``
+        self._assign_lines: dict[tuple[int, str], tuple[list[int], list[ast.expr]] | None] = {}
+
+    @classmethod
+    def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
+        return "gym" in facts.text
+
+    def decide(self) -> None:
+        for node in self.facts.parents:  # every node once, in source order
+            if isinstance(node, ast.Attribute):
+                self._attribute_access(node)
+        for call in self.facts.calls_by_name.get("isinstance", []):
+            if self._is_isinstance_timelimit(call):
+                self.report(
+                    call,
+                    "GM606",
+                    "gym.make now returns TimeLimit(OrderEnforcing(PassiveEnvChecker(env))) and other wrappers may "
+                    "sit on top: test `env.spec.max_episode_steps` instead of the wrapper class",
+                )
+
+    # -- GM604 / GM605 / GM606: attribute access on envs ------------------------------------------
+
+    def _attribute_access(self, attr: ast.Attribute) -> None:
+        name = attr.attr
+        receiver = attr.value
+        if name == "env":
+            self._check_env_chain(attr)
+            return
+        if name in SAFE_ATTRIBUTES or (name.startswith("__") and name.endswith("__")):
+            return
+        if isinstance(receiver, ast.Name) and receiver.id in ("self", "cls"):
+            return
+        if self.receivers.kind_of(receiver) is not EnvKind.GYM_ENV:
+            return
+        origin = self._origin(receiver)
+        if origin == CYCLE:
+            origin = None
+        if origin == RAW:
+            return
+        if name in self._outer_attributes(receiver):
+            return  # the outermost wrapper has it: no forwarding involved
+        code = "GM605" if name == "_max_episode_steps" else "GM604"
+        if isinstance(attr.ctx, (ast.Store, ast.Del)):
+            if origin is not None:
+                self.report(
+                    attr,
+                    code,
+                    f"writing `{dotted_name(attr) or name}` sets it on the outermost wrapper only (it never forwarded): "
+                    f"use `.unwrapped.{name} = ...` or `.set_wrapper_attr(\"{name}\", ...)` to change the env",
+                    kind=FixKind.FLAG,
+                )
+            return
+        text = dotted_name(receiver) or "the env"
+        if origin is None:
+            self.report(
+                attr,
+                code,
+                f"could not tell whether `{text}` is wrapped: if it is, `.{name}` raises AttributeError on Gymnasium "
+                f"1.x; use `.unwrapped.{name}` or `.get_wrapper_attr(\"{name}\")`",
+                kind=FixKind.FLAG,
+            )
+            return
+        if name == "_max_episode_steps":
+            if origin == MADE:
+                self.report(attr, code, "`_max_episode_steps` is read from the spec: `.spec.max_episode_steps`")
+                self.plan.replace(attr, _through("spec", "max_episode_steps"))
+                return
+            self.report(
+                attr,
+                code,
+                "`_max_episode_steps` is on the TimeLimit wrapper, not forwarded any more: read it with "
+                "get_wrapper_attr (env.spec may be None for an env built without make)",
+            )
+            self.plan.replace(attr, _get_wrapper_attr(name))
+            return
+        if name in BASE_ENV_ATTRIBUTES and name not in self._local_wrapper_attributes():
+            self.report(
+                attr,
+                code,
+                f"attribute forwarding is gone in Gymnasium 1.0: `{name}` belongs to the base env, read it through "
+                "`.unwrapped`",
+            )
+            self.plan.replace(attr, _through("unwrapped", name))
+            return
+        self.report(
+            attr,
+            code,
+            f"attribute forwarding is gone in Gymnasium 1.0: `get_wrapper_attr(\"{name}\")` searches the wrappers "
+            "and the base env as forwarding did",
+        )
+        self.plan.replace(attr, _get_wrapper_attr(name))
+
+    def _check_env_chain(self, attr: ast.Attribute) -> None:
+        parent = self.facts.parent(attr)
+        if isinstance(parent, ast.Attribute) and parent.value is attr and parent.attr == "env":
+            return  # report the outermost ``.env`` of a chain once
+        receiver = attr.value
+        depth = 1
+        while isinstance(receiver, ast.Attribute) and receiver.attr == "env":
+            receiver = receiver.value
+            depth += 1
+        if isinstance(receiver, ast.Name) and receiver.id == "self":
+            return
+        if self.receivers.kind_of(receiver) is not EnvKind.GYM_ENV:
+            return
+        origin = self._origin(receiver)
+        if origin == MADE or (depth >= 2 and origin in (WRAPPED, INNER)):
+            self.report(
+                attr,
+                "GM606",
+                "gym.make now returns TimeLimit(OrderEnforcing(PassiveEnvChecker(env))), so `.env` chains reach "
+                "a different layer: use gym.make(id, max_episode_steps=-1) to drop the time limit, or `.unwrapped`",
+            )
+
+    def _is_isinstance_timelimit(self, call: ast.Call) -> bool:
+        if len(call.args) != 2 or call.keywords:
+            return False
+        classes = call.args[1]
+        candidates = list(classes.elts) if isinstance(classes, ast.Tuple) else [classes]
+        return any(
+            wrapper_rest(q) == "TimeLimit" for candidate in candidates for q in self.facts.qualified_names(candidate)
+        )
+
+    # -- what the wrappers define ----------------------------------------------------------------
+
+    def _local_wrapper_attributes(self) -> set[str]:
+        """Attributes and methods defined by wrapper classes of this module (they shadow the base env's)."""
+        if self._local_attrs is None:
+            attrs: set[str] = set()
+            for classdef in self.facts.classes.values():
+                if self.receivers.is_gym_wrapper_class(classdef):
+                    attrs |= self._defined_attributes(classdef)
+            self._local_attrs = attrs
+        return self._local_attrs
+
+    def _defined_attributes(self, classdef: ast.ClassDef) -> set[str]:
+        names = self._class_attrs.get(classdef)
+        if names is None:
+            names = self._class_attrs[classdef] = _defined_attributes(classdef)
+        return names
+
+    def _outer_wrapper(self, expr: ast.expr) -> str | None:
+        """The wrapper class that is the outermost layer of ``expr`` where it is read.
+
+        For a name, the binding is the nearest assignment above the read in the same scope
+        (``env = RecordEpisodeStatistics(env)`` then ``env.return_queue``): straight-line
+        script code, which is where such reads live.
+        """
+        value: ast.expr | None = expr
+        if isinstance(expr, ast.Name):
+            value = self._nearest_assignment(expr)
+        if not isinstance(value, ast.Call):
+            return None
+        names = {wrapper_rest(q) for q in self.facts.qualified_names(value.func)} - {None}
+        if len(names) == 1:
+            # Its 1.x name: ``FrameStack`` is becoming FrameStackObservation in the same run.
+            return current_name(names.pop())  # type: ignore[arg-type]
+        local = self.receivers.local_class(value.func)
+        if local is not None and self.receivers.is_gym_wrapper_class(local):
+            return local.name
+        return None
+
+    def _outer_attributes(self, expr: ast.expr) -> set[str]:
+        """Attributes the outermost wrapper of ``expr`` defines itself (gymnasium's or this module's)."""
+        owner = self._outer_wrapper(expr)
+        if owner is None:
+            return set()
+        if owner in OWN_ATTRIBUTES:
+            return OWN_ATTRIBUTES[owner]
+        local = self.facts.classes.get(owner)
+        return self._defined_attributes(local) if local is not None else set()
+
+    def _nearest_assignment(self, name: ast.Name) -> ast.expr | None:
+        scope, bindings = self.facts.resolve(name.id, self.facts.scope_of(name))
+        if scope is None:
+            return None
+        key = (id(scope), name.id)
+        if key not in self._assign_lines:
+            found: list[tuple[int, ast.expr]] = []
+            for binding in bindings:
+                parent = self.facts.parent(binding)
+                if not (isinstance(parent, ast.Assign) and binding in parent.targets):
+                    self._assign_lines[key] = None
+                    break
+                found.append((parent.lineno, parent.value))
+            else:
+                found.sort(key=lambda item: item[0])  # stable: the first of a line stays first
+                self._assign_lines[key] = ([line for line, _ in found], [value for _, value in found])
+        table = self._assign_lines[key]
+        if not table:
+            return None
+        lines, values = table
+        before = bisect.bisect_left(lines, name.lineno)  # assignments on lines above the read
+        if before == 0:
+            return None
+        return values[bisect.bisect_left(lines, lines[before - 1])]  # the first one on the nearest line
+
+    # -- origins -------------------------------------------------------------------------------
+
+    def _origin(self, expr: ast.AST | None) -> Origin:
+        """MADE / WRAPPED / INNER / RAW, CYCLE, or None when it cannot be told."""
+        if expr is None or self._depth > MAX_DEPTH:
+            return None
+        self._depth += 1
+        try:
+            if isinstance(expr, ast.Call):
+                return self._call_origin(expr)
+            if isinstance(expr, ast.Attribute):
+                return self._attribute_origin(expr)
+            if isinstance(expr, ast.Name):
+                return self._name_origin(expr)
+            return None
+        finally:
+            self._depth -= 1
+
+    def _attribute_origin(self, expr: ast.Attribute) -> Origin:
+        if expr.attr == "unwrapped":
+            return RAW
+        if isinstance(expr.value, ast.Name) and expr.value.id == "self":
+            classdef = self.facts.enclosing_class(expr)
+            if classdef is None:
+                return None
+            if expr.attr == "env" and self.receivers.is_gym_wrapper_class(classdef):
+                return INNER
+            return join_origins([self._origin(v) for v in self.receivers.self_stores(classdef).get(expr.attr, [])])
+        return None
+
+    def _call_origin(self, call: ast.Call) -> Origin:
+        for q in self.facts.qualified_names(call.func):
+            rest = N.strip_gym_prefix(q)
+            if rest is None:
+                continue
+            if rest in N.GYM_ENV_FACTORIES:
+                return MADE
+            if rest.startswith("wrappers.") and not rest.startswith("wrappers.vector."):
+                return self._wrapped(call)
+            if rest.startswith("envs."):
+                return RAW
+        local = self.receivers.local_class(call.func)
+        if local is not None:
+            if self.receivers.is_gym_wrapper_class(local):
+                return self._wrapped(call)
+            if self.receivers.class_kind(local) is EnvKind.GYM_ENV:
+                return RAW
+        function = self.receivers.local_function(call.func)
+        if function is not None:
+            key = (id(function), "<returns>")
+            if key in self._in_progress:
+                return CYCLE
+            if key not in self._name_origins:
+                self._in_progress.add(key)
+                try:
+                    values = [r.value for r in own_returns(function) if r.value is not None]
+                    origin = join_origins([self._origin(v) for v in values])
+                finally:
+                    self._in_progress.discard(key)
+                if origin == CYCLE:
+                    return CYCLE
+                self._name_origins[key] = origin
+            return self._name_origins[key]
+        return None
+
+    def _wrapped(self, call: ast.Call) -> Origin:
+        """A wrapper around its first argument: as made as what it wraps, or merely wrapped."""
+        first = call.args[0] if call.args else (call.keywords[0].value if call.keywords else None)
+        inner = self._origin(first) if first is not None else None
+        if inner == CYCLE:
+            return CYCLE
+        return MADE if inner == MADE else WRAPPED
+
+    def _name_origin(self, name: ast.Name) -> Origin:
+        scope, bindings = self.facts.resolve(name.id, self.facts.scope_of(name))
+        if scope is None:
+            return None
+        key = (id(scope), name.id)
+        if key in self._name_origins:
+            return self._name_origins[key]
+        if key in self._in_progress:
+            return CYCLE  # ``env = Wrapper(env)``: the other bindings decide
+        self._in_progress.add(key)
+        try:
+            origin = self._bindings_origin(bindings)
+        finally:
+            self._in_progress.discard(key)
+        if origin != CYCLE:  # a cycle is an answer only from inside it
+            self._name_origins[key] = origin
+        return origin
+
+    def _bindings_origin(self, bindings: list[ast.AST]) -> Origin:
+        origins: list[Origin] = []
+        for binding in bindings:
+            if isinstance(binding, ast.arg):
+                origins.append(self._param_origin(binding))
+                continue
+            parent = self.facts.parent(binding)
+            if isinstance(binding, ast.Name) and isinstance(parent, ast.Assign) and binding in parent.targets:
+                origins.append(self._origin(parent.value))
+                continue
+            if isinstance(binding, ast.Name) and isinstance(parent, ast.AnnAssign) and parent.value is not None:
+                origins.append(self._origin(parent.value))
+                continue
+            return None
+        return join_origins(origins)
+
+    def _param_origin(self, param: ast.arg) -> Origin:
+        if param in self._param_origins:
+            return self._param_origins[param]
+        function = self.facts.parent(self.facts.parent(param))  # arg -> arguments -> def
+        if not isinstance(function, FUNCTIONS):
+            return None
+        classdef = self.facts.enclosing_class(function)
+        if classdef is not None:
+            if function.name == "__init__" and param.arg == "env" and self.receivers.is_gym_wrapper_class(classdef):
+                return INNER
+            return None
+        # A module function: the env is whatever its callers in this module pass.
+        params = [*function.args.posonlyargs, *function.args.args]
+        position = next((i for i, p in enumerate(params) if p is param), None)
+        calls = self.receivers.call_sites(function, None)
+        if not calls:
+            return None
+        self._param_origins[param] = None  # a recursive call adds no evidence
+        origins: list[Origin] = []
+        for call in calls:
+            argument = call_argument(call, position, param.arg)
+            origin = self._origin(argument) if argument is not None else None
+            origins.append(None if origin == CYCLE else origin)
+        result = join_origins(origins)
+        self._param_origins[param] = result
+        return result
+
+
+def _through(*attrs: str):  # type: ignore[no-untyped-def]
+    """``env.foo`` -> ``env.<attrs...>`` (``env.unwrapped.foo``, ``env.spec.max_episode_steps``)."""
+
+    def build(node: cst.Attribute) -> cst.BaseExpression:
+        value: cst.BaseExpression = node.value
+        for name in attrs[:-1]:
+            value = cst.Attribute(value=value, attr=cst.Name(name))
+        return node.with_changes(value=value, attr=cst.Name(attrs[-1]))
+
+    return build
+
+
+def _get_wrapper_attr(name: str):  # type: ignore[no-untyped-def]
+    def build(node: cst.Attribute) -> cst.BaseExpression:
+        return cst.Call(
+            func=cst.Attribute(value=node.value, attr=cst.Name("get_wrapper_attr")),
+            args=[cst.Arg(value=cst.SimpleString(f'"{name}"'))],
+            lpar=node.lpar,
+            rpar=node.rpar,
+        )
+
+    return build
+
+
+def _defined_attributes(classdef: ast.ClassDef) -> set[str]:
+    """Methods (at any depth) and ``self.x = ...`` targets of a class."""
+    names: set[str] = set()
+    for node in ast.walk(classdef):
+        if isinstance(node, FUNCTIONS):
+            names.add(node.name)
+        elif isinstance(node, ast.Assign):
+            for target in node.targets:
+                if isinstance(target, ast.Attribute) and isinstance(target.value, ast.Name) and target.value.id == "self":
+                    names.add(target.attr)
+    return names
+

@@ -1,0 +1,204 @@
+"""``Monitor`` is gone (GM611): ``RecordVideo(RecordEpisodeStatistics(env), video_folder=dir, ...)``.
+
+gym 0.23 removed ``gym.wrappers.Monitor``. Its statistics are ``RecordEpisodeStatistics``
+and its videos ``RecordVideo``, which needs frames: the env must be made with
+``render_mode="rgb_array"``. Stable-Baselines3's ``Monitor`` is another class and is
+never touched (SB108); ``Monitor(..., video_callable=False)`` recorded no video and
+becomes ``RecordEpisodeStatistics`` alone.
+
+The render mode is part of the same decision, taken on the original source like every
+other. Where the env's ``make`` call is found (every path from the env argument ends in
+one, none passes ``render_mode`` or ``**kwargs``) and nothing else in the file may want
+a mode (no ``render()`` call, no other frame consumer), this family adds
+``render_mode="rgb_array"`` there itself and reports it as GM407, the rendering rule's
+code, as the rendering rules would have.
+Every RecordVideo it creates is also recorded for the rendering family in
+``plan.notes[FRAMES_NEEDED]``, a list of ``FramesNeeded``:
+
+* ``consumer``: the ``Monitor(...)`` call (an ``ast.Call`` of the original source) that
+  becomes ``RecordVideo``;
+* ``env``: the env argument passed to it (an ``ast.expr``);
+* ``mode``: ``"rgb_array"``;
+* ``added_to``: the make calls that receive ``render_mode`` from this family; empty when
+  the rendering family must place the mode (or report why it cannot), exactly as it does
+  for a ``RecordVideo`` written in the source.
+
+A rendering family that still runs as a LibCST pass after the plan sees the
+``RecordVideo`` in the rewritten text, and the mode already present where it was added.
+"""
+
+from __future__ import annotations
+
+import ast
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+import libcst as cst
+
+from gymmigrate.analysis.creation import append_keyword
+from gymmigrate.analysis.syntax import dotted_node
+from gymmigrate.facts.module import dotted_name, keyword
+from gymmigrate.findings import FixKind
+from gymmigrate.rules.wrapper_usage.arguments import positional
+
+if TYPE_CHECKING:
+    from gymmigrate.rules.wrapper_usage.renames import WrapperRenames
+
+FRAMES_NEEDED = "frames_needed"
+RGB_ARRAY = "rgb_array"
+_MONITOR_PARAMETERS = ("env", "directory", "video_callable", "force", "resume", "write_upon_reset", "uid", "mode")
+_OTHER_FRAME_CONSUMERS = ("RecordVideo", "VecVideoRecorder", "play(")
+_DROPPED = ("force", "resume", "write_upon_reset", "uid", "mode")
+
+
+@dataclass(frozen=True)
+class FramesNeeded:
+    consumer: ast.Call
+    env: ast.expr
+    mode: str = RGB_ARRAY
+    added_to: tuple[ast.Call, ...] = field(default=())
+
+
+@dataclass(frozen=True)
+class MonitorRewrite:
+    """What ``Monitor(...)`` becomes: the names it uses (for the imports) and whether it records video."""
+
+    uses: tuple[str, ...]
+
+
+def plan_monitor(family: WrapperRenames, call: ast.Call) -> MonitorRewrite | None:
+    """Decide one ``Monitor(...)`` call; None when it is only reported."""
+    func = call.func
+    prefix = ""
+    if isinstance(func, ast.Attribute):
+        prefix = (dotted_name(func.value) or "") + "."
+        if prefix.endswith(".monitor."):
+            prefix = prefix[: -len("monitor.")]
+    args = positional(call)
+    values: dict[str, ast.expr] = dict(zip(_MONITOR_PARAMETERS, args))
+    for kw in call.keywords:
+        if kw.arg is not None:
+            values[kw.arg] = kw.value
+    starred = any(isinstance(a, ast.Starred) for a in call.args) or any(k.arg is None for k in call.keywords)
+    if not args or starred or values.get("env") is None or values.get("directory") is None:
+        family.report(call, "GM611", "Monitor is gone: wrap with RecordEpisodeStatistics and RecordVideo", kind=FixKind.FLAG)
+        return None
+    env = values["env"]
+    trigger = values.get("video_callable")
+    dropped = sorted(k for k in values if k in _DROPPED)
+    note = ""
+    if dropped:
+        listed = ", ".join(f"`{k}`" for k in dropped)
+        note = f"; {listed} {'has' if len(dropped) == 1 else 'have'} no equivalent and {'was' if len(dropped) == 1 else 'were'} dropped"
+    # Where each value sits in the call, to find its LibCST counterpart in the build.
+    where = {name: _argument_slot(call, value) for name, value in values.items()}
+
+    if isinstance(trigger, ast.Constant) and trigger.value is False:
+        family.report(call, "GM611", f"Monitor without videos is RecordEpisodeStatistics{note}")
+
+        def stats_only(node: cst.Call) -> cst.BaseExpression:
+            return cst.Call(
+                func=dotted_node(prefix + "RecordEpisodeStatistics"),
+                args=[cst.Arg(value=_slot_value(node, where["env"]))],
+                lpar=node.lpar,
+                rpar=node.rpar,
+            )
+
+        family.plan.replace(call, stats_only)
+        return MonitorRewrite(uses=("RecordEpisodeStatistics",) if not prefix else ())
+    with_trigger = trigger is not None and not (isinstance(trigger, ast.Constant) and trigger.value is None)
+
+    def record_video(node: cst.Call) -> cst.BaseExpression:
+        eq = cst.AssignEqual(cst.SimpleWhitespace(""), cst.SimpleWhitespace(""))
+        comma = cst.Comma(whitespace_after=cst.SimpleWhitespace(" "))
+        stats = cst.Call(func=dotted_node(prefix + "RecordEpisodeStatistics"), args=[cst.Arg(value=_slot_value(node, where["env"]))])
+        new_args = [
+            cst.Arg(value=stats, comma=comma),
+            cst.Arg(keyword=cst.Name("video_folder"), value=_slot_value(node, where["directory"]), equal=eq),
+        ]
+        if with_trigger:
+            new_args[-1] = new_args[-1].with_changes(comma=comma)
+            new_args.append(cst.Arg(keyword=cst.Name("episode_trigger"), value=_slot_value(node, where["video_callable"]), equal=eq))
+        return cst.Call(func=dotted_node(prefix + "RecordVideo"), args=new_args, lpar=node.lpar, rpar=node.rpar)
+
+    family.report(
+        call,
+        "GM611",
+        "Monitor is RecordVideo(RecordEpisodeStatistics(env)): the env must be made with "
+        f"render_mode=\"rgb_array\" for videos{note}",
+    )
+    family.plan.replace(call, record_video)
+    _plan_render_mode(family, call, env)
+    return MonitorRewrite(uses=("RecordEpisodeStatistics", "RecordVideo") if not prefix else ())
+
+
+# -- the render mode at the env's creation --------------------------------------------------------
+
+
+def _plan_render_mode(family: WrapperRenames, consumer: ast.Call, env: ast.expr) -> None:
+    makes = family.stacks.creation_makes(env)
+    facts = family.facts
+    added: tuple[ast.Call, ...] = ()
+    if (
+        makes
+        # Another render() or frame consumer may want its own mode on the same make: the
+        # rendering rules weigh them all, so the mode is theirs to place.
+        and not facts.attribute_calls.get("render")
+        and not any(word in facts.text for word in _OTHER_FRAME_CONSUMERS)
+        and all(keyword(m, "render_mode") is None and not any(k.arg is None for k in m.keywords) for m in makes)
+    ):
+        added = tuple(makes)
+        for make in makes:
+            family.plan.replace(make, _add_render_mode(_quote_of(facts.segment(make))))
+            summary = _call_summary(facts, make)
+            family.plan.report(
+                consumer,
+                "GM407",
+                FixKind.ASSIST,
+                f'added render_mode="{RGB_ARRAY}" to {summary} so RecordVideo gets frames',
+            )
+    family.plan.notes.setdefault(FRAMES_NEEDED, []).append(FramesNeeded(consumer=consumer, env=env, added_to=added))
+
+
+def _add_render_mode(quote: str):  # type: ignore[no-untyped-def]
+    def build(node: cst.Call) -> cst.Call:
+        if any(a.keyword is not None and a.keyword.value == "render_mode" for a in node.args):
+            return node  # a later family placed one already
+        return append_keyword(node, "render_mode", cst.SimpleString(f"{quote}{RGB_ARRAY}{quote}"))
+
+    return build
+
+
+def _quote_of(text: str) -> str:
+    """Write the mode the way the make call already quotes its strings."""
+    for char in text:
+        if char in "\"'":
+            return char
+    return '"'
+
+
+def _call_summary(facts, call: ast.Call) -> str:  # type: ignore[no-untyped-def]
+    """``gym.make("CartPole-v1", ...)``, as the rendering rules name a make call in a message."""
+    first = facts.segment(call.args[0]) if call.args else ""
+    more = ", ..." if len(call.args) + len(call.keywords) > 1 else ""
+    return f"{facts.segment(call.func)}({first}{more})"
+
+
+# -- finding arguments again in the LibCST call ---------------------------------------------------
+
+
+def _argument_slot(call: ast.Call, value: ast.expr) -> tuple[str, int | str]:
+    for index, arg in enumerate(a for a in call.args if not isinstance(a, ast.Starred)):
+        if arg is value:
+            return ("position", index)
+    for kw in call.keywords:
+        if kw.value is value:
+            return ("keyword", kw.arg or "")
+    raise ValueError("argument not in call")
+
+
+def _slot_value(node: cst.Call, slot: tuple[str, int | str]) -> cst.BaseExpression:
+    how, key = slot
+    if how == "position":
+        return [a for a in node.args if a.keyword is None and not a.star][key].value  # type: ignore[index]
+    return next(a.value for a in node.args if a.keyword is not None and a.keyword.value == key)

@@ -1,0 +1,454 @@
+"""Renamed, changed and removed wrappers (GM608-GM615).
+
+Gymnasium 1.0 reworked ``gymnasium.wrappers`` (1.0 release notes; ``wrappers/__init__.py``
+``_renamed_wrapper``):
+
+* GM608 (AUTO; ASSIST for PixelObservationWrapper) renamed wrappers, in imports, attribute
+  paths and every use of an imported name; FrameStack's ``num_stack``/``lz4_compress`` too.
+* GM609 (AUTO; FLAG where a person must choose) changed signatures of kept wrappers
+  (``arguments.py``).
+* GM610 (FLAG) removed wrappers: EnvCompatibility, StepAPICompatibility, LazyFrames, VideoRecorder.
+* GM611 (ASSIST) ``Monitor`` -> ``RecordVideo(RecordEpisodeStatistics(env), ...)`` (``monitor.py``).
+* GM612 (ASSIST) ``AutoResetWrapper`` -> ``Autoreset``, which now resets on the *next* step
+  and no longer fills ``info["final_observation"]`` (reads of it are reported).
+* GM613 (ASSIST) single-env wrappers around a Gym vector env -> ``gymnasium.wrappers.vector.X``
+  (1.x ``Wrapper.__init__`` raises for a ``VectorEnv``).
+* GM614 (AUTO) ``gymnasium.experimental.wrappers.XxxV0`` (0.28-0.29) -> ``gymnasium.wrappers.Xxx``.
+* GM615 (FLAG) ``AtariPreprocessing`` on a base env that already skips frames (it raises).
+
+ORDER 31: right after the make() keywords (GM305 owns ``new_step_api=`` on wrappers) and
+before the rendering rules, which read the RecordVideo that replaces Monitor. Decided on
+the original source: an import from ``gym.wrappers`` keeps its module here (the imports
+rules move it to ``gymnasium`` in the same run) unless those rules leave it alone
+(``legacy_imports.py``), in which case its wrappers are left alone too.
+"""
+
+from __future__ import annotations
+
+import ast
+import re
+from collections.abc import Callable
+
+import libcst as cst
+
+from gymmigrate.analysis import names as N
+from gymmigrate.analysis.syntax import dotted_node
+from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts.module import dotted_name, string_value
+from gymmigrate.facts.receivers import EnvKind
+from gymmigrate.findings import FixKind
+from gymmigrate.rules.base import FileContext, Rule, RuleFamily
+from gymmigrate.rules.wrapper_usage.arguments import HANDLERS, positional
+from gymmigrate.rules.wrapper_usage.legacy_imports import LegacyImports, import_move, migrated_path, removed_import
+from gymmigrate.rules.wrapper_usage.import_edits import ImportEdit, import_build
+from gymmigrate.rules.wrapper_usage.monitor import plan_monitor
+from gymmigrate.rules.wrapper_usage.stacks import WrapperStacks
+from gymmigrate.rules.wrapper_usage.tables import (
+    EXPERIMENTAL_SPECIAL,
+    FINAL_INFO_KEYS,
+    RENAMED,
+    REMOVED,
+    SINGLE_ENV_WRAPPERS,
+    VECTOR_WRAPPERS,
+    experimental_name,
+    wrapper_rest,
+)
+
+RULES = (
+    Rule("GM608", "renamed wrappers", FixKind.AUTO, "`FrameStack` -> `FrameStackObservation` and the other 1.0 renames."),
+    Rule("GM609", "wrapper signature changes", FixKind.AUTO, "Arguments of TransformObservation, ResizeObservation... follow 1.x."),
+    Rule("GM610", "removed wrappers", FixKind.FLAG, "EnvCompatibility, StepAPICompatibility, LazyFrames and VideoRecorder are reported."),
+    Rule("GM611", "Monitor", FixKind.ASSIST, "`Monitor(env, dir)` -> `RecordVideo(RecordEpisodeStatistics(env), video_folder=dir)`."),
+    Rule("GM612", "Autoreset semantics", FixKind.ASSIST, "`AutoResetWrapper` -> `Autoreset` (resets on the next step); `final_observation` reads are reported."),
+    Rule("GM613", "single-env wrappers on vector envs", FixKind.ASSIST, "Wrappers around a Gym vector env come from `gymnasium.wrappers.vector`."),
+    Rule("GM614", "gymnasium.experimental wrappers", FixKind.AUTO, "`gymnasium.experimental.wrappers.XxxV0` -> `gymnasium.wrappers.Xxx`."),
+    Rule("GM615", "AtariPreprocessing frameskip", FixKind.FLAG, "`AtariPreprocessing` on a base env that skips frames is reported."),
+)
+
+# The single-env Autoreset wrapper in code (not ``AutoresetMode``, not comments).
+_AUTORESET_USE = re.compile(r"^[^#\n]*\b(?:AutoResetWrapper|Autoreset)\b", re.M)
+_PIXELS_MESSAGE = (
+    "PixelObservationWrapper is AddRenderObservation: the env must be made with render_mode=\"rgb_array\", "
+    "`pixels_only`/`pixel_keys` are `render_only`/`render_key`, and a non-dict observation is stored under "
+    "obs_key=\"state\""
+)
+_AUTORESET_MESSAGE = (
+    "AutoResetWrapper is Autoreset: it now resets on the step after the episode ends (that step ignores the "
+    "action and returns the reset observation with reward 0) and sets no final_observation/final_info"
+)
+_REMOVED_SUFFIXES = tuple(REMOVED)
+
+
+class WrapperRenames(RuleFamily):
+    RULES = RULES
+    ORDER = 31
+
+    @classmethod
+    def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
+        # Every wrapper these rules know is reached through a ``wrappers`` module path.
+        return "wrappers" in facts.text and "gym" in facts.text
+
+    def decide(self) -> None:
+        self._legacy = LegacyImports(self.facts, self.context.profile)
+        self._renamed_locals: dict[str, str] = {}  # imported name -> new name
+        self._monitor_locals: set[str] = set()
+        self._import_edits: dict[ast.ImportFrom, ImportEdit] = {}
+        self._monitor_imports: list[ImportEdit] = []
+        self._names_used: set[str] = set()  # bare names the rewritten Monitor calls use
+        self._unused_after: list[ast.Name] = []  # funcs replaced by a vector wrapper path
+        self.stacks = WrapperStacks(self.facts, self.receivers)
+        self._uses_autoreset = _AUTORESET_USE.search(self.facts.text) is not None
+        nodes = list(self.facts.parents)
+        for node in nodes:
+            if isinstance(node, ast.ImportFrom):
+                self._plan_import_from(node)
+        for node in nodes:
+            if isinstance(node, ast.Name):
+                if isinstance(node.ctx, ast.Load):
+                    self._check_removed(node)
+                    self._rename_name(node)
+            elif isinstance(node, ast.Attribute):
+                self._check_removed(node)
+                self._rename_attribute(node)
+            elif isinstance(node, ast.Call):
+                self._call(node)
+            elif isinstance(node, ast.Subscript):
+                self._check_final_info_subscript(node)
+        self._finish_imports()
+
+    # -- imports: GM608, GM611, GM614 --------------------------------------------------------
+
+    def _plan_import_from(self, statement: ast.ImportFrom) -> None:
+        if statement.level or statement.module is None or any(a.name == "*" for a in statement.names):
+            return
+        module = statement.module
+        rest = N.strip_gym_prefix(module)
+        if rest is None:
+            return
+        if rest.startswith(("experimental.wrappers", "experimental.vector")):
+            self._experimental_import(statement, rest)
+            return
+        stays = self._legacy.stays_legacy(statement)
+        if not stays:
+            rest = migrated_path(rest)  # where the imports rules put it in the same run
+        if rest not in ("wrappers", "wrappers.vector", "wrappers.monitor"):
+            return
+        names = statement.names
+        if stays and module.startswith("gym.") and not (len(names) == 1 and names[0].name == "Monitor"):
+            # The imports rules leave this legacy import (it names something removed): its
+            # names stay as they are until a person splits it.
+            return
+        edit = ImportEdit(statement)
+        for index, alias in enumerate(names):
+            name = alias.name
+            bound = alias.asname or name
+            if name in RENAMED and rest == "wrappers":
+                new = RENAMED[name]
+                edit.renames[index] = new
+                if alias.asname is None:
+                    self._renamed_locals[bound] = new
+                code, kind = _rename_code(name)
+                self.report(statement, code, f"`{name}` was renamed `{new}` in Gymnasium 1.0", kind=kind)
+            elif name == "VectorListInfo" and rest in ("wrappers", "wrappers.vector"):
+                if rest == "wrappers" and len(names) > 1:
+                    self.report(
+                        statement,
+                        "GM608",
+                        "`VectorListInfo` is now `gymnasium.wrappers.vector.DictInfoToList`: import it from there",
+                        kind=FixKind.FLAG,
+                    )
+                    continue
+                edit.module = "wrappers.vector"
+                edit.renames[index] = "DictInfoToList"
+                if alias.asname is None:
+                    self._renamed_locals[bound] = "DictInfoToList"
+                self.report(statement, "GM608", "`VectorListInfo` is now `gymnasium.wrappers.vector.DictInfoToList`")
+            elif name == "Monitor" and rest in ("wrappers", "wrappers.monitor"):
+                present = {a.name for a in names}
+                edit.added[index] = [r for r in ("RecordEpisodeStatistics", "RecordVideo") if r not in present]
+                edit.dropped.add(index)
+                self._monitor_locals.add(bound)
+                if stays:
+                    edit.absolute_module = "gymnasium.wrappers"
+                elif rest != "wrappers":
+                    edit.module = "wrappers"
+                self._monitor_imports.append(edit)
+                self.report(statement, "GM611", "`Monitor` is gone: it is replaced by RecordVideo and RecordEpisodeStatistics")
+        if edit.changed:
+            self._import_edits[statement] = edit
+
+    def _experimental_import(self, statement: ast.ImportFrom, rest: str) -> None:
+        new_module = "gymnasium." + rest.replace("experimental.wrappers", "wrappers", 1).replace(
+            "experimental.vector", "vector", 1
+        )
+        edit = ImportEdit(statement, absolute_module=new_module)
+        for index, alias in enumerate(statement.names):
+            new = experimental_name(alias.name) if rest.startswith("experimental.wrappers") else None
+            if new is None:
+                continue
+            edit.renames[index] = new
+            if alias.asname is None:
+                self._renamed_locals[alias.name] = new
+        self.report(statement, "GM614", f"gymnasium.{rest} -> {new_module}: the experimental wrappers became the 1.0 wrappers")
+        self._import_edits[statement] = edit
+
+    def _finish_imports(self) -> None:
+        # Monitor's replacements that no rewritten call uses are not imported (as the
+        # LibCST pass's RemoveImportsVisitor dropped them).
+        for edit in self._monitor_imports:
+            edit.added = {i: [n for n in names if n in self._names_used] for i, names in edit.added.items()}
+        # A single-env wrapper whose only uses became ``gym.wrappers.vector.X``.
+        for func in self._unused_after:
+            for binding in self.facts.bindings_of(func):
+                statement = self.facts.parent(binding)
+                if not (isinstance(binding, ast.alias) and isinstance(statement, ast.ImportFrom)):
+                    continue
+                if self._legacy.stays_legacy(statement) or self._other_reads(binding, func.id):
+                    continue
+                edit = self._import_edits.setdefault(statement, ImportEdit(statement))
+                edit.dropped.add(statement.names.index(binding))
+        for statement, edit in self._import_edits.items():
+            if not edit.changed:
+                continue
+            if len(edit.dropped) == len(statement.names) and not any(edit.added.values()):
+                self.plan.remove(statement)
+                move = None if self._legacy.stays_legacy(statement) else import_move(statement)
+                if move is not None:
+                    code, message = move
+                    self.plan.report(statement, code, FixKind.AUTO, message)
+                continue
+            self.plan.replace(statement, import_build(edit))
+            removed = removed_import(statement) if edit.absolute_module and self._legacy.stays_legacy(statement) else None
+            if removed is not None:
+                self.plan.report(statement, "GM105", FixKind.FLAG, removed)
+
+    def _other_reads(self, alias: ast.alias, name: str) -> bool:
+        """Does any read of ``name`` bound by ``alias`` stay in the output?"""
+        removed = {id(func) for func in self._unused_after}
+        for scope in self.facts.scopes.values():
+            for read in scope.reads.get(name, ()):
+                if id(read) not in removed and alias in self.facts.bindings_of(read):
+                    return True
+        return False
+
+    # -- names and attribute paths: GM608, GM610, GM612, GM614 ----------------------------------
+
+    def _rename_name(self, node: ast.Name) -> None:
+        new = self._renamed_locals.get(node.id)
+        if new is None:
+            return
+        if not any(wrapper_rest(q) == node.id or q.endswith("VectorListInfo") for q in self.facts.qualified_names(node)):
+            return
+        if not self._is_call_func(node):
+            self._report_reference(node, node.id, new)
+        self.plan.replace(node, lambda n: n.with_changes(value=new))
+
+    def _report_reference(self, node: ast.AST, old: str, new: str) -> None:
+        if old.endswith(("V0", "V1")) or old in EXPERIMENTAL_SPECIAL:
+            self.report(node, "GM614", f"`{old}` is `{new}` in Gymnasium 1.x")
+            return
+        code, kind = _rename_code(old)
+        message = f"`{old}` was renamed `{new}` in Gymnasium 1.0"
+        if code == "GM612":
+            message = _AUTORESET_MESSAGE
+        elif old == "PixelObservationWrapper":
+            message = _PIXELS_MESSAGE
+        self.report(node, code, message, kind=kind)
+
+    def _rename_attribute(self, node: ast.Attribute) -> None:
+        for q in self.facts.qualified_names(node):
+            rest = N.strip_gym_prefix(q)
+            if rest is None:
+                continue
+            name = rest.rsplit(".", 1)[-1]
+            if rest.startswith("wrappers.") and not rest.startswith("wrappers.vector.") and name in RENAMED:
+                if not self._is_call_func(node):
+                    self._report_reference(node, name, RENAMED[name])
+                new = RENAMED[name]
+                self.plan.replace(node, lambda n: n.with_changes(attr=cst.Name(new)))
+                return
+            if rest in ("wrappers.VectorListInfo", "wrappers.vector_list_info.VectorListInfo"):
+                self.report(node, "GM608", "`VectorListInfo` is now `gymnasium.wrappers.vector.DictInfoToList`")
+                self.plan.replace(node, _dotted_build(f"{_root_name(node)}.wrappers.vector.DictInfoToList"))
+                return
+            new = experimental_name(name) if rest.startswith("experimental.wrappers.") else None
+            if new:
+                if ".experimental.wrappers." not in (dotted_name(node) or ""):
+                    self.report(
+                        node,
+                        "GM614",
+                        f"`{name}` is `gymnasium.wrappers.{new}` in Gymnasium 1.x: import it from there",
+                        kind=FixKind.FLAG,
+                    )
+                    return
+                if not self._is_call_func(node):
+                    self.report(node, "GM614", f"`{name}` is `gymnasium.wrappers.{new}` in Gymnasium 1.x")
+                vector = ".vector" if rest.startswith("experimental.wrappers.vector.") else ""
+                self.plan.replace(node, _dotted_build(f"{_root_name(node)}.wrappers{vector}.{new}"))
+                return
+
+    def _check_removed(self, node: ast.Name | ast.Attribute) -> None:
+        """GM610: each use (not the import, which the imports rules report) of a removed wrapper."""
+        spelled = node.id if isinstance(node, ast.Name) else node.attr
+        if not spelled.endswith(_REMOVED_SUFFIXES):
+            return  # cheap: resolving every ``env`` read is linear in its bindings
+        for q in self.facts.qualified_names(node):
+            rest = N.strip_gym_prefix(q)
+            if rest is None or not rest.startswith("wrappers."):
+                continue
+            name = rest.rsplit(".", 1)[-1]
+            if name in REMOVED and (dotted_name(node) or "").endswith(name):
+                self.report(node, "GM610", f"`{name}` was removed in Gymnasium 1.0: {REMOVED[name]}")
+                return
+
+    def _is_call_func(self, node: ast.AST) -> bool:
+        parent = self.facts.parent(node)
+        return isinstance(parent, ast.Call) and parent.func is node
+
+    # -- calls: GM609, GM611, GM613, GM615 ------------------------------------------------------
+
+    def _call(self, call: ast.Call) -> None:
+        wrapper = self._called_wrapper(call)
+        if wrapper is None:
+            self._check_final_info_get(call)
+            return
+        old, new = wrapper
+        if old in self._monitor_locals or old == "Monitor":
+            rewrite = plan_monitor(self, call)
+            if rewrite is not None:
+                self._names_used.update(rewrite.uses)
+            return
+        if new in REMOVED:
+            return
+        if old != new:
+            self._report_reference(call, old, new)
+        builds: list[Callable[[cst.Call], cst.Call]] = []
+        vector = self._vector(call, new)
+        if vector is not None:
+            builds.append(vector)
+        handler = HANDLERS.get(new)
+        if handler is not None:
+            build = handler(self, call)
+            if build is not None:
+                builds.append(build)
+        for build in builds:
+            self.plan.replace(call, build)
+
+    def _called_wrapper(self, call: ast.Call) -> tuple[str, str] | None:
+        """(legacy name, 1.x name) of the gym/gymnasium wrapper class this call constructs."""
+        func = call.func
+        if isinstance(func, ast.Name) and func.id in self._monitor_locals:
+            return func.id, "Monitor"
+        qualified = self.facts.qualified_names(func)
+        if not qualified:
+            return None
+        legacy = self._legacy.binds_legacy(func)
+        for q in sorted(qualified):
+            if q.startswith("gym.") and legacy:
+                continue  # imported by a legacy import the imports rules leave alone: not migrated yet
+            name = wrapper_rest(q)
+            if name is None:
+                if q in ("gym.wrappers.monitor.Monitor", "gymnasium.wrappers.monitor.Monitor"):
+                    return "Monitor", "Monitor"
+                continue
+            rest = N.strip_gym_prefix(q) or ""
+            if rest.startswith("experimental."):
+                return name, experimental_name(name) or name
+            return name, RENAMED.get(name, name)
+        return None
+
+    # GM613
+
+    def _vector(self, call: ast.Call, new: str) -> Callable[[cst.Call], cst.Call] | None:
+        if new not in SINGLE_ENV_WRAPPERS:
+            return None
+        args = positional(call)
+        if not args or self.stacks.vector_kind(args[0]) is not EnvKind.GYM_VEC:
+            return None
+        if new not in VECTOR_WRAPPERS:
+            self.report(
+                call,
+                "GM613",
+                f"{new} wraps one env and has no vector version: apply it to each env, e.g. "
+                f"gym.make_vec(..., wrappers=[...])",
+                kind=FixKind.FLAG,
+            )
+            return None
+        self.report(
+            call,
+            "GM613",
+            f"a vector env needs gymnasium.wrappers.vector.{new} (the single-env wrapper raises on a VectorEnv); "
+            "its info layout is per-env arrays",
+        )
+        func = call.func
+        if isinstance(func, ast.Attribute) and (dotted_name(func.value) or "").endswith("wrappers"):
+
+            def under_wrappers(node: cst.Call) -> cst.Call:
+                owner = node.func.value  # type: ignore[attr-defined]
+                return node.with_changes(
+                    func=cst.Attribute(value=cst.Attribute(value=owner, attr=cst.Name("vector")), attr=cst.Name(new))
+                )
+
+            return under_wrappers
+        root = self._gymnasium_alias() or self.plan.ensure_import("gymnasium")
+        if isinstance(func, ast.Name):
+            self._unused_after.append(func)  # the single-env import may now be unused
+        path = f"{root}.wrappers.vector.{new}"
+        return lambda node: node.with_changes(func=dotted_node(path))
+
+    def _gymnasium_alias(self) -> str | None:
+        """The module-level name ``gymnasium`` will be bound to once the imports rules ran."""
+        for statement in self.facts.tree.body:
+            if isinstance(statement, ast.Import):
+                for alias in statement.names:
+                    if alias.name == "gymnasium" or (alias.name == "gym" and not self._legacy.stays_legacy(statement)):
+                        return alias.asname or ("gym" if alias.name == "gym" else "gymnasium")
+        return None
+
+    # -- GM612: final_observation reads ---------------------------------------------------------
+
+    def _check_final_info_subscript(self, node: ast.Subscript) -> None:
+        if not self._uses_autoreset:
+            return
+        key = string_value(node.slice)
+        if key in FINAL_INFO_KEYS:
+            self._report_final_info(node, key)  # type: ignore[arg-type]
+
+    def _check_final_info_get(self, call: ast.Call) -> None:
+        if not self._uses_autoreset:
+            return
+        func = call.func
+        if isinstance(func, ast.Attribute) and func.attr == "get" and call.args:
+            key = string_value(call.args[0])
+            if key in FINAL_INFO_KEYS:
+                self._report_final_info(call, key)  # type: ignore[arg-type]
+
+    def _report_final_info(self, node: ast.AST, key: str) -> None:
+        self.report(
+            node,
+            "GM612",
+            f"Autoreset no longer fills info[\"{key}\"]: the step after an episode ends returns the reset "
+            "observation (reward 0, action ignored); keep the last observation of the episode yourself",
+            kind=FixKind.FLAG,
+        )
+
+
+def _rename_code(old: str) -> tuple[str, FixKind | None]:
+    if old == "AutoResetWrapper":
+        return "GM612", None
+    if old == "PixelObservationWrapper":
+        return "GM608", FixKind.ASSIST
+    return "GM608", None
+
+
+def _root_name(node: ast.AST) -> str:
+    while isinstance(node, ast.Attribute):
+        node = node.value
+    return node.id if isinstance(node, ast.Name) else "gymnasium"
+
+
+def _dotted_build(text: str):  # type: ignore[no-untyped-def]
+    def build(node: cst.BaseExpression) -> cst.BaseExpression:
+        return dotted_node(text).with_changes(lpar=node.lpar, rpar=node.rpar)  # type: ignore[attr-defined]
+
+    return build

@@ -1,0 +1,107 @@
+"""What Gymnasium 1.x did to its wrappers: renames, removals, vector versions, own attributes.
+
+Tables from gymnasium 1.4 ``wrappers/__init__.py`` (``_renamed_wrapper``) and
+``wrappers/vector/__init__.py``, shared by the renames family (GM608-GM615) and the
+forwarding family (GM604-GM606), plus the helpers that read a qualified name as a wrapper.
+"""
+
+from __future__ import annotations
+
+from gymmigrate.analysis import names as N
+
+RENAMED = {
+    "AutoResetWrapper": "Autoreset",
+    "FrameStack": "FrameStackObservation",
+    "GrayScaleObservation": "GrayscaleObservation",
+    "PixelObservationWrapper": "AddRenderObservation",
+    "FilterObservationWrapper": "FilterObservation",
+}
+EXPERIMENTAL_SPECIAL = {
+    "LambdaObservationV0": "TransformObservation",
+    "LambdaActionV0": "TransformAction",
+    "LambdaRewardV0": "TransformReward",
+    "PixelObservationV0": "AddRenderObservation",
+    "AutoresetV0": "Autoreset",
+    "NormalizeRewardV1": "NormalizeReward",
+}
+REMOVED = {
+    "EnvCompatibility": "use Shimmy's GymV21Environment-v0 / GymV26Environment-v0 to load a legacy env",
+    "StepAPICompatibility": "use gymnasium.utils.step_api_compatibility's converters",
+    "LazyFrames": "frame stacks are plain numpy arrays now (FrameStackObservation)",
+    "VideoRecorder": "use gymnasium.wrappers.RecordVideo or gymnasium.utils.save_video.save_video",
+}
+VECTOR_WRAPPERS = frozenset(
+    {
+        "TransformObservation", "FilterObservation", "FlattenObservation", "GrayscaleObservation",
+        "ResizeObservation", "ReshapeObservation", "RescaleObservation", "DtypeObservation",
+        "NormalizeObservation", "TransformAction", "ClipAction", "RescaleAction", "TransformReward",
+        "ClipReward", "NormalizeReward", "RecordEpisodeStatistics", "RecordVideo", "HumanRendering",
+        "ArrayConversion", "JaxToNumpy", "JaxToTorch", "NumpyToTorch",
+    }
+)  # fmt: skip
+SINGLE_ENV_WRAPPERS = VECTOR_WRAPPERS | {
+    "AtariPreprocessing", "DelayObservation", "FrameStackObservation", "TimeAwareObservation",
+    "MaxAndSkipObservation", "AddRenderObservation", "StickyAction", "RepeatAction", "TimeLimit",
+    "Autoreset", "PassiveEnvChecker", "OrderEnforcing", "RenderCollection", "AddWhiteNoise", "ObstructView",
+}  # fmt: skip
+
+# Defined on gymnasium.Wrapper itself (``dir(gymnasium.Wrapper)``, 1.4): reads never needed forwarding.
+# ``seed`` is the seeding rules' business (GM203).
+SAFE_ATTRIBUTES = frozenset(
+    {
+        "env", "unwrapped", "spec", "action_space", "observation_space", "metadata", "render_mode",
+        "np_random", "np_random_seed", "reset", "step", "render", "close", "get_wrapper_attr",
+        "set_wrapper_attr", "has_wrapper_attr", "class_name", "wrapper_spec", "seed", "reward_range",
+    }
+)  # fmt: skip
+# State and methods of the base envs that legacy code reached through forwarding.
+BASE_ENV_ATTRIBUTES = frozenset(
+    {
+        "state", "x_threshold", "theta_threshold_radians", "gravity", "masscart", "masspole", "length",
+        "force_mag", "tau", "max_speed", "max_torque", "goal_position", "goal_velocity", "ale", "lives",
+        "get_action_meanings", "get_keys_to_action", "desc", "P", "s", "lastaction", "nS", "nA", "model",
+        "data", "sim", "lander", "world", "game", "compute_reward", "goal", "frameskip", "_frameskip",
+    }
+)  # fmt: skip
+# Attributes a gymnasium wrapper class sets itself: reading them on that wrapper is fine.
+OWN_ATTRIBUTES = {
+    "RecordEpisodeStatistics": {"return_queue", "length_queue", "time_queue", "episode_count", "buffer_length",
+                                "episode_returns", "episode_lengths", "episode_start_time", "stats_key"},
+    "NormalizeObservation": {"obs_rms", "epsilon", "update_running_mean"},
+    "NormalizeReward": {"return_rms", "discounted_reward", "gamma", "epsilon", "update_running_mean"},
+    "TimeLimit": {"_max_episode_steps", "_elapsed_steps"},
+    "RecordVideo": {"video_folder", "episode_trigger", "step_trigger", "video_length", "name_prefix", "episode_id"},
+}  # fmt: skip
+
+FINAL_INFO_KEYS = ("final_observation", "final_info")
+
+
+def wrapper_rest(qualified: str) -> str | None:
+    """``gymnasium.wrappers.frame_stack.FrameStack`` -> ``FrameStack``; ``experimental.wrappers.X`` -> ``X``."""
+    rest = N.strip_gym_prefix(qualified)
+    if rest is None:
+        return None
+    for prefix in ("wrappers.", "experimental.wrappers."):
+        if rest.startswith(prefix):
+            tail = rest[len(prefix) :]
+            if tail.startswith("vector."):
+                return None
+            return tail.rsplit(".", 1)[-1]
+    return None
+
+
+def experimental_name(name: str) -> str | None:
+    """``ClipActionV0`` -> ``ClipAction``; None for a name that is not an experimental wrapper."""
+    if name in EXPERIMENTAL_SPECIAL:
+        return EXPERIMENTAL_SPECIAL[name]
+    for suffix in ("V0", "V1"):
+        if name.endswith(suffix) and name[:1].isupper():
+            return name[: -len(suffix)]
+    return None
+
+
+def current_name(name: str) -> str:
+    """The 1.x name of a wrapper written under its legacy or experimental name."""
+    if name == "Monitor":
+        return "RecordVideo"
+    return RENAMED.get(name) or experimental_name(name) or name
