@@ -51,29 +51,14 @@ class ClassDecision:
         return self.plan.renamed
 
     def report(self, node: ast.AST, code: str, message: str, kind: FixKind | None = None) -> None:
-        self.family.report(anchor(node), code, message, kind)
+        # ast places a decorated def on its ``def`` line, as LibCST's positions did.
+        self.family.report(node, code, message, kind)
 
     def method(self, name: str) -> Method | None:
         return self.methods.get(self.renamed.get(name, name))
 
     def function(self, function: ast.AST) -> FunctionIndex:
         return self.env.function(function)
-
-
-class _Position(ast.AST):
-    _attributes = ("lineno", "col_offset")
-
-
-def anchor(node: ast.AST) -> ast.AST:
-    """Where a finding on ``node`` is placed: a decorated def or class starts at its first decorator."""
-    decorators = getattr(node, "decorator_list", None)
-    if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)) and decorators:
-        first = decorators[0]
-        position = _Position()
-        position.lineno = first.lineno  # type: ignore[attr-defined]
-        position.col_offset = max(first.col_offset - 1, 0)  # type: ignore[attr-defined]
-        return position
-    return node
 
 
 def statement_lines(body: list[ast.stmt]) -> list[list[ast.stmt]]:

@@ -7,8 +7,6 @@ draws nothing (Gymnasium's convention).
 
 from __future__ import annotations
 
-import ast
-
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.custom_env.common import ClassDecision, param_names
 

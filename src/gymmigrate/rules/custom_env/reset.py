@@ -21,8 +21,6 @@ def decide_reset(decision: ClassDecision) -> None:
     function = decision.method("reset")
     if function is None:
         return
-    facts = decision.family.facts
-    index = decision.function(function)
     names = param_names(function)
     legacy_flag = "return_info" in names
     modern = "seed" in names and "options" in names and not legacy_flag
@@ -43,7 +41,6 @@ def decide_reset(decision: ClassDecision) -> None:
             "reset() must seed np_random, but super().reset() here would also run the base env's own reset; call Env.reset(self, seed=seed) first by hand",
             FixKind.FLAG,
         )
-    del facts, index
     decision.plan.reset = (
         not modern
         or inserted

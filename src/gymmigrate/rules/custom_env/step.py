@@ -54,7 +54,29 @@ def _step_limit_text(decision: ClassDecision, function: ast.AST) -> str | None:
     if not found:
         return None
     first = min(found, key=lambda c: (c.lineno, c.col_offset, -(c.end_lineno or 0), -(c.end_col_offset or 0)))
-    return decision.family.facts.segment(first).strip()
+    return _parenthesized_text(decision, first).strip()
+
+
+def _parenthesized_text(decision: ClassDecision, node: ast.expr) -> str:
+    """The source of ``node`` with the grouping parentheses around it, as LibCST prints it."""
+    facts = decision.family.facts
+    text = facts.segment(node)
+    line = facts.lines[node.lineno - 1] if node.lineno == node.end_lineno else ""
+    if not line.isascii():
+        return text
+    start, end = node.col_offset, node.end_col_offset or node.col_offset
+    parent = facts.parent(node)
+    call_paren = -1
+    if isinstance(parent, ast.Call) and parent.func.end_lineno == node.lineno:
+        call_paren = line.find("(", parent.func.end_col_offset or 0)
+    while True:
+        before = line[:start].rstrip()
+        after = line[end:].lstrip()
+        if not (before.endswith("(") and after.startswith(")")) or len(before) - 1 == call_paren:
+            return text
+        start = len(before) - 1
+        end = len(line) - len(after) + 1
+        text = line[start:end]
 
 
 def _is_step_limit(expr: ast.AST) -> bool:
