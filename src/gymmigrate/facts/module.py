@@ -12,6 +12,7 @@ interpreter's stack, and every lookup is linear or better in the size of the fil
 from __future__ import annotations
 
 import ast
+import re
 from collections import defaultdict
 from collections.abc import Iterator
 from dataclasses import dataclass, field
@@ -281,7 +282,32 @@ class ModuleFacts:
     # -- source -------------------------------------------------------------------------
 
     def segment(self, node: ast.AST) -> str:
-        return ast.get_source_segment(self.text, node) or ""
+        """``ast.get_source_segment``, without splitting the whole text on every call
+        (the applier and the rules ask for hundreds of segments in a large file)."""
+        try:
+            first, last = node.lineno - 1, node.end_lineno - 1  # type: ignore[attr-defined]
+            start, end = node.col_offset, node.end_col_offset  # type: ignore[attr-defined]
+        except AttributeError:
+            return ""
+        if first is None or last is None or start is None or end is None:
+            return ""
+        lines = self._source_lines
+        if not 0 <= first <= last < len(lines):
+            return ""
+        if first == last:
+            return lines[first].encode()[start:end].decode()
+        head = lines[first].encode()[start:].decode()
+        tail = lines[last].encode()[:end].decode()
+        return head + "".join(lines[first + 1 : last]) + tail
+
+    @property
+    def _source_lines(self) -> list[str]:
+        # Split as the parser counts lines (``\n``, ``\r\n``, ``\r`` only), like
+        # ``ast.get_source_segment``; ``str.splitlines`` also splits on form feeds.
+        lines = self._memo.get(("source-lines", 0))
+        if lines is None:
+            lines = self._memo[("source-lines", 0)] = re.split(r"(?<=\r\n)|(?<=\r)(?!\n)|(?<=\n)", self.text)
+        return lines  # type: ignore[return-value]
 
     def column(self, node: ast.AST) -> int:
         """``ast`` columns count UTF-8 bytes; findings count characters."""
