@@ -75,7 +75,14 @@ class FunctionIndex:
             self.nodes[type(node)].append(node)
         for found in self.nodes.values():
             found.sort(key=lambda n: (getattr(n, "lineno", 0), getattr(n, "col_offset", 0)))
-        self.names = set(identifiers(function))
+        self._names: set[str] | None = None
+
+    @property
+    def names(self) -> set[str]:
+        """Every identifier in the function (computed on first use)."""
+        if self._names is None:
+            self._names = set(identifiers(self.function))
+        return self._names
 
     def of(self, *kinds: type) -> list[ast.AST]:
         return [node for kind in kinds for node in self.nodes.get(kind, ())]

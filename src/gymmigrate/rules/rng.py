@@ -179,6 +179,10 @@ class GeneratorApi(RuleFamily):
         classdef = self.facts.enclosing_class(node)
         if classdef is None:
             return None
+        # One verdict per class: an env class reads self.np_random dozens of times.
+        return self.facts.memo(("rng-self-np-random", id(classdef)), lambda: self._class_np_random(classdef))  # type: ignore[no-any-return]
+
+    def _class_np_random(self, classdef: ast.ClassDef) -> Verdict | None:
         index = self.env.index(classdef)
         stores = index.stores_to_self("np_random") + index.stores_to_self("_np_random")
         if any(_is_random_state(value) for value in stores):
@@ -223,8 +227,13 @@ class GeneratorApi(RuleFamily):
         classdef = self.facts.enclosing_class(attr)
         if classdef is None:
             return False
-        stores = self.env.index(classdef).stores_to_self(attr.attr)
-        return bool(stores) and all(self.env.is_seeding_np_random(v) or self._seeding_first(v) for v in stores)
+        key = ("rng-self-attribute-" + attr.attr, id(classdef))
+
+        def compute() -> bool:
+            stores = self.env.index(classdef).stores_to_self(attr.attr)
+            return bool(stores) and all(self.env.is_seeding_np_random(v) or self._seeding_first(v) for v in stores)
+
+        return self.facts.memo(key, compute)  # type: ignore[no-any-return]
 
     # -- GM506 -------------------------------------------------------------------------------------
 

@@ -61,6 +61,15 @@ class ClassDecision:
         return self.env.function(function)
 
 
+def method_of(decision: ClassDecision, node: ast.AST) -> Method | None:
+    """The method of the decided class that contains ``node`` (None outside its methods)."""
+    facts = decision.family.facts
+    for ancestor in facts.ancestors(node):
+        if facts.parent(ancestor) is decision.classdef:
+            return ancestor if isinstance(ancestor, (ast.FunctionDef, ast.AsyncFunctionDef)) else None
+    return None
+
+
 def statement_lines(body: list[ast.stmt]) -> list[list[ast.stmt]]:
     """``body`` grouped as LibCST lines: ``a; b`` is one line of two statements."""
     groups: list[list[ast.stmt]] = []

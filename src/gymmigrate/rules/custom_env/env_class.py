@@ -19,12 +19,12 @@ import ast
 from gymmigrate.facts.env_classes import EnvClasses
 from gymmigrate.facts.module import ModuleFacts
 from gymmigrate.rules.base import FileContext, RuleFamily
-from gymmigrate.rules.custom_env.common import CLASS_RULES, UNDERSCORE_RULE, ClassDecision
+from gymmigrate.rules.custom_env.common import CLASS_RULES, UNDERSCORE_RULE, ClassDecision, method_of
 from gymmigrate.rules.custom_env.observations import decide_float64_observations, decide_mujoco
 from gymmigrate.rules.custom_env.rebuild import rewrite_class
 from gymmigrate.rules.custom_env.render import decide_render
 from gymmigrate.rules.custom_env.reset import decide_internal_calls, decide_reset
-from gymmigrate.rules.custom_env.seed import _method_of, decide_seed
+from gymmigrate.rules.custom_env.seed import decide_seed
 from gymmigrate.rules.custom_env.seeding_import import drop_unused_seeding_import
 from gymmigrate.rules.custom_env.step import decide_step
 
@@ -49,7 +49,7 @@ class EnvClassFamily(RuleFamily):
             for new, old in decision.renamed.items():
                 decision.report(decision.methods[old], UNDERSCORE_RULE[new], f"gym < 0.9 method `{old}` renamed `{new}`")
                 for call in decision.index.self_calls.get(old, ()):
-                    method = _method_of(decision, call)
+                    method = method_of(decision, call)
                     if method is not None:
                         decision.plan.rename_callers.add(method.name)  # type: ignore[attr-defined]
             decide_seed(decision)

@@ -11,10 +11,10 @@ from __future__ import annotations
 
 import ast
 
-from gymmigrate.facts.env_classes import is_self_attribute, is_super_method_call
+from gymmigrate.facts.env_classes import is_super_method_call
 from gymmigrate.facts.module import own_returns
 from gymmigrate.findings import FixKind
-from gymmigrate.rules.custom_env.common import ClassDecision, param_names
+from gymmigrate.rules.custom_env.common import ClassDecision, method_of, param_names
 
 
 def decide_reset(decision: ClassDecision) -> None:
@@ -91,31 +91,27 @@ def decide_internal_calls(decision: ClassDecision) -> None:
     """``obs = self.reset()`` in the class itself: reset() returns (obs, info) now."""
     facts = decision.family.facts
     unpackable = False
-    for name, method in decision.methods.items():
-        if name in decision.removed or name in ("reset", "_reset"):
-            continue
-        index = decision.function(method)
-        for call in index.of(ast.Call):
-            func = call.func  # type: ignore[attr-defined]
-            for target, code in (("reset", "GM501"), ("step", "GM504")):
-                if not is_self_attribute(func, (target, "_" + target)):
-                    continue
-                parent = facts.parent(call)
-                if isinstance(parent, ast.Expr):
-                    continue
-                if (
-                    target == "reset"
-                    and isinstance(parent, ast.Assign)
-                    and len(parent.targets) == 1
-                    and isinstance(parent.targets[0], (ast.Name, ast.Attribute))
-                    and parent.value is call
-                ):
-                    unpackable = True
-                    decision.plan.reset_callers.add(name)
-                    decision.report(call, code, "self.reset() returns (obs, info) now: unpacked as `obs, _ = self.reset()`", FixKind.ASSIST)
-                else:
-                    what = "(obs, info)" if target == "reset" else "(obs, reward, terminated, truncated, info)"
-                    decision.report(call, code, f"self.{target}() returns {what} now: update how its result is used", FixKind.FLAG)
+    for target, code in (("reset", "GM501"), ("step", "GM504")):
+        for call in (*decision.index.self_calls.get(target, ()), *decision.index.self_calls.get("_" + target, ())):
+            method = method_of(decision, call)
+            if method is None or method.name in decision.removed or method.name in ("reset", "_reset"):
+                continue
+            parent = facts.parent(call)
+            if isinstance(parent, ast.Expr):
+                continue
+            if (
+                target == "reset"
+                and isinstance(parent, ast.Assign)
+                and len(parent.targets) == 1
+                and isinstance(parent.targets[0], (ast.Name, ast.Attribute))
+                and parent.value is call
+            ):
+                unpackable = True
+                decision.plan.reset_callers.add(method.name)
+                decision.report(call, code, "self.reset() returns (obs, info) now: unpacked as `obs, _ = self.reset()`", FixKind.ASSIST)
+            else:
+                what = "(obs, info)" if target == "reset" else "(obs, reward, terminated, truncated, info)"
+                decision.report(call, code, f"self.{target}() returns {what} now: update how its result is used", FixKind.FLAG)
     decision.plan.unpack_self_reset = unpackable
 
 

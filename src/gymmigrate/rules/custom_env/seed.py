@@ -13,7 +13,7 @@ import ast
 
 from gymmigrate.facts.env_classes import identifiers, is_self_attribute, is_super_method_call
 from gymmigrate.findings import FixKind
-from gymmigrate.rules.custom_env.common import ClassDecision, is_docstring, param_names, statement_lines
+from gymmigrate.rules.custom_env.common import ClassDecision, is_docstring, method_of, param_names, statement_lines
 from gymmigrate.rules.custom_env.rebuild import SeedPlan
 
 NP_RANDOM = ("np_random", "_np_random")
@@ -77,7 +77,7 @@ def decide_seed(decision: ClassDecision) -> None:
         decision.report(call, "GM503", message, FixKind.ASSIST if given else FixKind.AUTO)
     if setup:
         decision.report(init_call, "GM503", "the set-up seed() did besides seeding (spaces, objects) now runs here in __init__ instead of the self.seed() call", FixKind.ASSIST)  # type: ignore[arg-type]
-    callers = {method.name for call in calls if (method := _method_of(decision, call)) is not None}
+    callers = {method.name for call in calls if (method := method_of(decision, call)) is not None}
     decision.plan.seed = SeedPlan(moved=moved, setup=setup, renames={n: "seed" for n in seed_names if n != "seed"}, callers=callers)
     decision.removed.add(seed_method.name)
     decision.deleted_statements.extend(deleted)
@@ -124,10 +124,3 @@ def _is_seeding_statement(group: list[ast.stmt], seed_names: set[str]) -> bool:
                 return True
     return False
 
-
-def _method_of(decision: ClassDecision, node: ast.AST) -> ast.AST | None:
-    """The method of the decided class that contains ``node``."""
-    for ancestor in decision.family.facts.ancestors(node):
-        if decision.family.facts.parent(ancestor) is decision.classdef:
-            return ancestor if isinstance(ancestor, (ast.FunctionDef, ast.AsyncFunctionDef)) else None
-    return None
