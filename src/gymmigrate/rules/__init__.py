@@ -9,7 +9,7 @@ Where a rule lives (passes run in ORDER, shown in brackets):
     GM608-GM615                renamed/removed wrappers ........ wrapper_usage/    [31]
     GM401-GM403, GM406, GM407  rendering at call sites ......... rendering.py      [32]
     GM701, GM702, GM705-GM708  vector envs ..................... vector/           [35]
-    GM404, GM405, GM501-GM509  custom Env subclasses ........... custom_env.py     [40]
+    GM404, GM405, GM501-GM509  custom Env subclasses ........... custom_env/       [40]
     GM505, GM506, GM901        np_random Generator API ......... rng.py            [45]
     GM201-GM208, GM704         reset and seeding at call sites . reset_seed/       [50]
     GM301-GM304, GM703         step and done at call sites ..... step_done/        [55]

@@ -28,17 +28,18 @@ Sources: gym 0.22 release notes (``np_random`` is a Generator); gym 0.26 release
 
 from __future__ import annotations
 
+import ast
+
 import libcst as cst
 import libcst.matchers as m
-from libcst.helpers import get_full_name_for_node
-from libcst.metadata import Assignment, PositionProvider
 
-from gymmigrate.analysis import env_classes as E
 from gymmigrate.analysis import names as N
-from gymmigrate.analysis.decisions import receiver_text
-from gymmigrate.analysis.receivers import METADATA, EnvKind, ReceiverAnalysis
+from gymmigrate.facts.decisions import receiver_text
+from gymmigrate.facts.env_classes import EnvClasses, is_self_attribute
+from gymmigrate.facts.module import ModuleFacts, full_name
+from gymmigrate.facts.receivers import EnvKind
 from gymmigrate.findings import FixKind
-from gymmigrate.rules.base import FileProfile, Rule, RulePass
+from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 
 RULES = (
     Rule("GM505", "np_random Generator API", FixKind.AUTO, "RandomState methods on `np_random` become their Generator equivalents."),
@@ -62,187 +63,199 @@ STREAM_NOTE = (
 )
 
 
-class RngPass(RulePass):
+GYM_RNG_KINDS = (EnvKind.GYM_ENV, EnvKind.GYM_VEC, EnvKind.PZ_AEC, EnvKind.PZ_PARALLEL)
+Verdict = tuple[str, FixKind, str]
+
+
+class GeneratorApi(RuleFamily):
     RULES = RULES
     ORDER = 45
-    METADATA_DEPENDENCIES = (PositionProvider, *METADATA)
 
     @classmethod
-    def applies_to(cls, source: str, profile: FileProfile) -> bool:
-        return "np_random" in source or "seeding" in source
+    def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
+        return "np_random" in facts.text or "seeding" in facts.text
 
-    def visit_Module(self, node: cst.Module) -> None:
-        self.analysis = ReceiverAnalysis(node, self.metadata)
+    def decide(self) -> None:
+        self.env = EnvClasses.of(self.facts, self.receivers)
         self._noted_stream = False
+        calls = [call for method in RNG_METHODS for call in self.facts.attribute_calls.get(method, ())]
+        # In the order a LibCST traversal leaves them (inner calls first): the first
+        # rewritten site carries the one note about the changed random stream.
+        calls.sort(key=lambda c: (c.end_lineno, c.end_col_offset, -c.lineno, -c.col_offset))
+        for call in calls:
+            self._rng_call(call)
+        self._removed_helpers()
 
     # -- GM505 / GM901 ---------------------------------------------------------------------
 
-    def leave_Call(self, original_node: cst.Call, updated_node: cst.Call) -> cst.BaseExpression:
-        func = original_node.func
-        if not isinstance(func, cst.Attribute) or func.attr.value not in RNG_METHODS:
-            return updated_node
+    def _rng_call(self, call: ast.Call) -> None:
+        func = call.func
+        assert isinstance(func, ast.Attribute)
         verdict = self._rng_receiver(func.value)
         if verdict is None:
-            return updated_node
+            return
         code, kind, why = verdict
-        method = func.attr.value
+        method = func.attr
+        statement = self.facts.parent(call)
         if kind is FixKind.FLAG:
-            self.report(original_node, code, f"np_random.{method}(...) is RandomState API; {why}: if it is, use the Generator method", FixKind.FLAG)
-            return updated_node
-        new_func = updated_node.func
-        assert isinstance(new_func, cst.Attribute)
-        rewritten: cst.BaseExpression | None = None
+            self.report(call, code, f"np_random.{method}(...) is RandomState API; {why}: if it is, use the Generator method", FixKind.FLAG)
+            if not (method == "set_state" and isinstance(statement, ast.Expr)):
+                return
+        if method == "set_state" and isinstance(statement, ast.Expr):
+            # The statement becomes an assignment (the old pass did this even where it
+            # also flagged the receiver).
+            if len(call.args) == 1 and not call.keywords and not isinstance(call.args[0], ast.Starred):
+                self.report(call, code, "np_random.set_state(s) -> np_random.bit_generator.state = s: the state must be a PCG64 state dict now", FixKind.ASSIST)
+                self._note_stream(call, code)
+                self.plan.replace(statement, _state_assignment)
+            return
         message = ""
         if method in RENAMED:
-            rewritten = updated_node.with_changes(func=new_func.with_changes(attr=cst.Name(RENAMED[method])))
+            self.plan.replace(func, _renamed(RENAMED[method]))
             message = f"np_random.{method}(...) -> np_random.{RENAMED[method]}(...)"
         elif method == "random_integers":
-            rewritten = _inclusive_integers(updated_node, new_func)
+            self.plan.replace(call, _inclusive)
             message = "np_random.random_integers(lo, hi) -> np_random.integers(lo, hi, endpoint=True) (both ends inclusive)"
         elif method in PACKED_SIZE:
             new_name = PACKED_SIZE[method]
-            if any(a.star or a.keyword is not None for a in updated_node.args):
-                self.report(original_node, code, f"np_random.{method}(*dims) takes one size tuple as Generator.{new_name}(size); rewrite by hand", FixKind.FLAG)
-                return updated_node
-            rewritten = _packed(updated_node, new_func, new_name)
+            if call.keywords or any(isinstance(a, ast.Starred) for a in call.args):
+                self.report(call, code, f"np_random.{method}(*dims) takes one size tuple as Generator.{new_name}(size); rewrite by hand", FixKind.FLAG)
+                return
+            self.plan.replace(call, _packed_call(new_name))
             message = f"np_random.{method}(...) -> np_random.{new_name}(...)"
-            if len(updated_node.args) > 1:
+            if len(call.args) > 1:
                 message = f"np_random.{method}(d0, d1, ...) -> np_random.{new_name}((d0, d1, ...)): the dimensions became one size tuple"
                 kind = FixKind.ASSIST if kind is FixKind.AUTO else kind
-        elif method == "get_state" and not updated_node.args:
-            rewritten = cst.Attribute(value=cst.Attribute(value=new_func.value, attr=cst.Name("bit_generator")), attr=cst.Name("state"))
+        elif method == "get_state" and not call.args and not call.keywords:
+            self.plan.replace(call, _state_attribute)
             message = "np_random.get_state() -> np_random.bit_generator.state: the state is now a dict, not the MT19937 tuple"
             kind = FixKind.ASSIST if kind is FixKind.AUTO else kind
-        elif method in NO_EQUIVALENT or method in ("get_state", "set_state"):
-            if method == "set_state" and self._is_statement(original_node):
-                return updated_node  # leave_Expr rewrites the whole statement
+        else:  # seed, tomaxint, get_state(...) with arguments, set_state not as a statement
             reason = NO_EQUIVALENT.get(method, "set the state with `np_random.bit_generator.state = state` as a statement")
-            self.report(original_node, code, f"np_random.{method}(...) on a Generator: {reason}", FixKind.FLAG)
-            return updated_node
-        if rewritten is None:
-            return updated_node
+            self.report(call, code, f"np_random.{method}(...) on a Generator: {reason}", FixKind.FLAG)
+            return
         if kind is not FixKind.AUTO and why:
             message = f"{message}; {why}"
-        self.report(original_node, code, message, kind)
-        self._note_stream(original_node, code)
-        return rewritten
-
-    def leave_Expr(self, original_node: cst.Expr, updated_node: cst.Expr) -> cst.BaseSmallStatement:
-        call = original_node.value
-        if not m.matches(call, m.Call(func=m.Attribute(attr=m.Name("set_state")), args=[m.Arg(keyword=None, star="")])):
-            return updated_node
-        verdict = self._rng_receiver(call.func.value)  # type: ignore[attr-defined]
-        new_call = updated_node.value
-        if verdict is None or not isinstance(new_call, cst.Call) or not isinstance(new_call.func, cst.Attribute):
-            return updated_node
-        code, kind, _ = verdict
-        target = cst.Attribute(value=cst.Attribute(value=new_call.func.value, attr=cst.Name("bit_generator")), attr=cst.Name("state"))
-        self.report(call, code, "np_random.set_state(s) -> np_random.bit_generator.state = s: the state must be a PCG64 state dict now", FixKind.ASSIST)
+        self.report(call, code, message, kind)
         self._note_stream(call, code)
-        return cst.Assign(targets=[cst.AssignTarget(target)], value=new_call.args[0].value)
 
-    def _is_statement(self, call: cst.Call) -> bool:
-        return isinstance(self.analysis.parent(call), cst.Expr)
-
-    def _note_stream(self, node: cst.CSTNode, code: str) -> None:
+    def _note_stream(self, node: ast.AST, code: str) -> None:
         if not self._noted_stream:
             self._noted_stream = True
             self.report(node, code, STREAM_NOTE, FixKind.FLAG)
 
     # -- which receivers are Generators ---------------------------------------------------------
 
-    def _rng_receiver(self, receiver: cst.BaseExpression) -> tuple[str, FixKind, str] | None:
+    def _rng_receiver(self, receiver: ast.AST) -> Verdict | None:
         """(rule, fix kind, reason) when ``receiver`` is a gym RNG; None to leave the call alone."""
-        if isinstance(receiver, cst.Attribute) and receiver.attr.value == "np_random":
+        if isinstance(receiver, ast.Attribute) and receiver.attr == "np_random":
             return self._np_random_owner(receiver.value)
-        if isinstance(receiver, cst.Name) and self._name_from_seeding(receiver):
+        if isinstance(receiver, ast.Name) and self._name_from_seeding(receiver):
             return "GM505", FixKind.AUTO, ""
-        if m.matches(receiver, m.Attribute(value=m.Name("self"))) and self._self_attribute_from_seeding(receiver):  # type: ignore[arg-type]
+        if is_self_attribute(receiver) and self._self_attribute_from_seeding(receiver):  # type: ignore[arg-type]
             return "GM505", FixKind.AUTO, ""
-        if m.matches(receiver, m.Subscript(value=m.Call())) and self._seeding_first(receiver):
+        if isinstance(receiver, ast.Subscript) and isinstance(receiver.value, ast.Call) and self._seeding_first(receiver):
             return "GM505", FixKind.AUTO, ""
         return None
 
-    def _np_random_owner(self, owner: cst.BaseExpression) -> tuple[str, FixKind, str] | None:
+    def _np_random_owner(self, owner: ast.AST) -> Verdict | None:
         text = receiver_text(owner)
         if _names_a_space(owner):
             return "GM901", FixKind.AUTO, ""
-        if isinstance(owner, cst.Name) and owner.value == "self":
+        if isinstance(owner, ast.Name) and owner.id == "self":
             return self._self_np_random(owner)
-        kind = self.analysis.kind_of(owner)
-        if kind in (EnvKind.GYM_ENV, EnvKind.GYM_VEC, EnvKind.PZ_AEC, EnvKind.PZ_PARALLEL):
+        kind = self.receivers.kind_of(owner)
+        if kind in GYM_RNG_KINDS:
             return "GM505", FixKind.AUTO, ""
-        if kind is EnvKind.UNKNOWN and (self.context.profile.imports_gym or self.context.profile.imports_gymnasium):
+        if kind is EnvKind.UNKNOWN and self._gym_file:
             return "GM505", FixKind.ASSIST, f"could not trace where `{text}` comes from; every gym/gymnasium np_random is a Generator"
         return None
 
-    def _self_np_random(self, node: cst.Name) -> tuple[str, FixKind, str] | None:
-        classdef = self.analysis.enclosing(node, cst.ClassDef)
-        if not isinstance(classdef, cst.ClassDef):
+    @property
+    def _gym_file(self) -> bool:
+        return self.context.profile.imports_gym or self.context.profile.imports_gymnasium
+
+    def _self_np_random(self, node: ast.Name) -> Verdict | None:
+        classdef = self.facts.enclosing_class(node)
+        if classdef is None:
             return None
-        stores = _self_stores(classdef, "np_random") + _self_stores(classdef, "_np_random")
+        # One verdict per class: an env class reads self.np_random dozens of times.
+        return self.facts.memo(("rng-self-np-random", id(classdef)), lambda: self._class_np_random(classdef))  # type: ignore[no-any-return]
+
+    def _class_np_random(self, classdef: ast.ClassDef) -> Verdict | None:
+        index = self.env.index(classdef)
+        stores = index.stores_to_self("np_random") + index.stores_to_self("_np_random")
         if any(_is_random_state(value) for value in stores):
             return None  # np.random.RandomState(seed): still the legacy API (GUARD)
-        gym_file = self.context.profile.imports_gym or self.context.profile.imports_gymnasium
-        if all(E.is_seeding_np_random(self.analysis, value) for value in stores):
-            if stores or E.is_custom_env_class(self.analysis, classdef) or self.analysis.class_kind(classdef).is_gym:
+        if all(self.env.is_seeding_np_random(value) for value in stores):
+            if stores or self.env.is_custom_env(classdef) or self.receivers.class_kind(classdef).is_gym:
                 return "GM505", FixKind.AUTO, ""
-            if gym_file:
+            if self._gym_file:
                 return "GM505", FixKind.ASSIST, "this class's np_random is inherited from a base the module does not define; it is a Generator if that base is a gym/gymnasium class"
             return None
-        if gym_file:
+        if self._gym_file:
             return "GM505", FixKind.FLAG, "self.np_random is set from a value this module does not create (an env's np_random passed in is a Generator now)"
         return None
 
-    def _name_from_seeding(self, name: cst.Name) -> bool:
-        scope = self.analysis.scope_of(name)
-        if scope is None:
-            return False
-        assignments = [a for a in scope[name.value] if isinstance(a, Assignment)]  # type: ignore[index]
-        return bool(assignments) and all(self._binding_from_seeding(a.node) for a in assignments)
+    def _name_from_seeding(self, name: ast.Name) -> bool:
+        bindings = self.facts.bindings_of(name)
+        return bool(bindings) and all(self._binding_from_seeding(b) for b in bindings)
 
-    def _binding_from_seeding(self, target: cst.CSTNode) -> bool:
-        parent = self.analysis.parent(target)
-        if isinstance(parent, cst.AssignTarget):
-            assign = self.analysis.parent(parent)
-            return isinstance(assign, cst.Assign) and self._seeding_first(assign.value)
-        if isinstance(parent, cst.Element):
-            container = self.analysis.parent(parent)
-            holder = self.analysis.parent(container) if container is not None else None
-            if isinstance(container, (cst.Tuple, cst.List)) and container.elements and container.elements[0] is parent:
-                assign = self.analysis.parent(holder) if isinstance(holder, cst.AssignTarget) else None
-                return isinstance(assign, cst.Assign) and E.is_seeding_np_random(self.analysis, assign.value)
+    def _binding_from_seeding(self, target: ast.AST) -> bool:
+        if not isinstance(target, ast.Name):
+            return False
+        parent = self.facts.parent(target)
+        if isinstance(parent, ast.Assign) and any(t is target for t in parent.targets):
+            return self._seeding_first(parent.value)
+        if isinstance(parent, (ast.Tuple, ast.List)) and parent.elts and parent.elts[0] is target:
+            assign = self.facts.parent(parent)
+            return isinstance(assign, ast.Assign) and any(t is parent for t in assign.targets) and self.env.is_seeding_np_random(assign.value)
         return False
 
-    def _seeding_first(self, value: cst.BaseExpression) -> bool:
+    def _seeding_first(self, value: ast.AST) -> bool:
         """``seeding.np_random(s)[0]``."""
         return (
-            isinstance(value, cst.Subscript)
-            and E.is_seeding_np_random(self.analysis, value.value)
-            and len(value.slice) == 1
-            and m.matches(value.slice[0].slice, m.Index(m.Integer("0")))
+            isinstance(value, ast.Subscript)
+            and self.env.is_seeding_np_random(value.value)
+            and isinstance(value.slice, ast.Constant)
+            and type(value.slice.value) is int
+            and value.slice.value == 0
+            and self.facts.segment(value.slice) == "0"
         )
 
-    def _self_attribute_from_seeding(self, attr: cst.Attribute) -> bool:
-        classdef = self.analysis.enclosing(attr, cst.ClassDef)
-        if not isinstance(classdef, cst.ClassDef):
+    def _self_attribute_from_seeding(self, attr: ast.Attribute) -> bool:
+        classdef = self.facts.enclosing_class(attr)
+        if classdef is None:
             return False
-        stores = _self_stores(classdef, attr.attr.value)
-        return bool(stores) and all(E.is_seeding_np_random(self.analysis, v) or self._seeding_first(v) for v in stores)
+        key = ("rng-self-attribute-" + attr.attr, id(classdef))
+
+        def compute() -> bool:
+            stores = self.env.index(classdef).stores_to_self(attr.attr)
+            return bool(stores) and all(self.env.is_seeding_np_random(v) or self._seeding_first(v) for v in stores)
+
+        return self.facts.memo(key, compute)  # type: ignore[no-any-return]
 
     # -- GM506 -------------------------------------------------------------------------------------
 
-    def visit_Attribute(self, node: cst.Attribute) -> None:
-        self._check_removed_helper(node)
-
-    def visit_Name(self, node: cst.Name) -> None:
-        parent = self.analysis.parent(node)
-        if isinstance(parent, cst.Attribute) or self.analysis.enclosing(node, cst.ImportFrom) is not None:
+    def _removed_helpers(self) -> None:
+        if "seeding" not in self.facts.text:
             return
-        self._check_removed_helper(node)
+        # Names an import binds to something under gym(nasium).utils.seeding.
+        bound = {
+            alias.asname or alias.name.split(".", 1)[0]
+            for alias, qualified in self.facts.imports.items()
+            if (N.strip_gym_prefix(qualified) or "").startswith("utils.seeding")
+            or N.strip_gym_prefix(qualified) in ("", "utils")
+        }
+        for node in self.facts.parents:
+            if isinstance(node, ast.Attribute):
+                if node.attr in REMOVED_SEEDING:
+                    self._check_removed_helper(node)
+            elif isinstance(node, ast.Name) and node.id in bound and not isinstance(self.facts.parent(node), ast.Attribute):
+                self._check_removed_helper(node)
 
-    def _check_removed_helper(self, node: cst.BaseExpression) -> None:
-        for q in self.analysis.qualified_names(node):
+    def _check_removed_helper(self, node: ast.AST) -> None:
+        for q in sorted(self.facts.qualified_names(node)):
             rest = N.strip_gym_prefix(q)
             if rest is not None and rest.startswith("utils.seeding.") and rest.rsplit(".", 1)[-1] in REMOVED_SEEDING:
                 helper = rest.rsplit(".", 1)[-1]
@@ -250,26 +263,48 @@ class RngPass(RulePass):
                 return
 
 
-def _is_random_state(value: cst.BaseExpression) -> bool:
-    return isinstance(value, cst.Call) and (get_full_name_for_node(value.func) or "").endswith("RandomState")
+def _is_random_state(value: ast.AST) -> bool:
+    return isinstance(value, ast.Call) and (full_name(value.func) or "").endswith("RandomState")
 
 
-def _names_a_space(owner: cst.BaseExpression) -> bool:
-    last = owner.attr.value if isinstance(owner, cst.Attribute) else owner.value if isinstance(owner, cst.Name) else ""
+def _names_a_space(owner: ast.AST) -> bool:
+    last = owner.attr if isinstance(owner, ast.Attribute) else owner.id if isinstance(owner, ast.Name) else ""
     return last == "space" or last.endswith("_space") or last.endswith("_spaces")
 
 
-def _self_stores(classdef: cst.ClassDef, attribute: str) -> list[cst.BaseExpression]:
-    """Values assigned to ``self.<attribute>``, including the first slot of a tuple unpack."""
-    values: list[cst.BaseExpression] = []
-    target = m.Attribute(value=m.Name("self"), attr=m.Name(attribute))
-    for assign in m.findall(classdef, m.Assign()):
-        for t in assign.targets:  # type: ignore[attr-defined]
-            if m.matches(t.target, target):
-                values.append(assign.value)  # type: ignore[attr-defined]
-            elif isinstance(t.target, (cst.Tuple, cst.List)) and any(m.matches(el.value, target) for el in t.target.elements):
-                values.append(assign.value)  # type: ignore[attr-defined]
-    return values
+# -- builds: LibCST replacements for the decided sites --------------------------------------------
+
+
+def _renamed(new: str):  # type: ignore[no-untyped-def]
+    def build(node: cst.Attribute) -> cst.Attribute:
+        return node.with_changes(attr=cst.Name(new))
+
+    return build
+
+
+def _inclusive(node: cst.Call) -> cst.Call:
+    assert isinstance(node.func, cst.Attribute)
+    return _inclusive_integers(node, node.func)
+
+
+def _packed_call(new_name: str):  # type: ignore[no-untyped-def]
+    def build(node: cst.Call) -> cst.Call:
+        assert isinstance(node.func, cst.Attribute)
+        return _packed(node, node.func, new_name)
+
+    return build
+
+
+def _state_attribute(node: cst.Call) -> cst.Attribute:
+    assert isinstance(node.func, cst.Attribute)
+    return cst.Attribute(value=cst.Attribute(value=node.func.value, attr=cst.Name("bit_generator")), attr=cst.Name("state"))
+
+
+def _state_assignment(node: cst.Expr) -> cst.Assign:
+    call = node.value
+    assert isinstance(call, cst.Call) and isinstance(call.func, cst.Attribute)
+    target = cst.Attribute(value=cst.Attribute(value=call.func.value, attr=cst.Name("bit_generator")), attr=cst.Name("state"))
+    return cst.Assign(targets=[cst.AssignTarget(target)], value=call.args[0].value)
 
 
 def _inclusive_integers(call: cst.Call, func: cst.Attribute) -> cst.Call:

@@ -1,0 +1,208 @@
+"""Facts about user-defined environment classes, shared by the custom-env and RNG families.
+
+A class is a *custom env* when it subclasses ``gym.Env`` (or ``gymnasium.Env``), a
+built-in env class under ``gym.envs`` (``CartPoleEnv``, ``MujocoEnv``...), or another
+custom env of the same module, and is not a wrapper (wrappers keep their own rules).
+
+Env classes run to hundreds of lines and dozens of methods, and every rule asks about
+their methods, their ``self.x`` stores and the names they use. ``ClassIndex`` walks a
+class once and answers all of that from lists; ``EnvClasses`` memoizes one per class
+and one ``FunctionIndex`` per method.
+"""
+
+from __future__ import annotations
+
+import ast
+from collections import defaultdict
+
+from gymmigrate.analysis import names as N
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
+from gymmigrate.facts.receivers import EnvKind, Receivers
+
+# Qualified names (without the gym/gymnasium prefix) of the mujoco-py era base class.
+MUJOCO_BASES = frozenset({"envs.mujoco.MujocoEnv", "envs.mujoco.mujoco_env.MujocoEnv", "envs.mujoco.MuJocoPyEnv"})
+DIRECT_ENV_BASES = frozenset({"Env", "core.Env", "GoalEnv", "core.GoalEnv"})
+
+
+def identifiers(node: ast.AST) -> list[str]:
+    """Every identifier spelled in ``node``: variables, attribute and keyword names,
+    parameters, def/class names. What a LibCST ``Name`` search finds, on ``ast``."""
+    found: list[str] = []
+    for child in ast.walk(node):
+        if isinstance(child, ast.Name):
+            found.append(child.id)
+        elif isinstance(child, ast.Attribute):
+            found.append(child.attr)
+        elif isinstance(child, ast.keyword) and child.arg is not None:
+            found.append(child.arg)
+        elif isinstance(child, ast.arg):
+            found.append(child.arg)
+        elif isinstance(child, (*FUNCTIONS, ast.ClassDef)):
+            found.append(child.name)
+        elif isinstance(child, (ast.Global, ast.Nonlocal)):
+            found.extend(child.names)
+    return found
+
+
+def is_super_method_call(node: ast.AST | None, method: str) -> bool:
+    """``super().method(...)`` or ``super(Cls, self).method(...)``."""
+    return (
+        isinstance(node, ast.Call)
+        and isinstance(node.func, ast.Attribute)
+        and node.func.attr == method
+        and isinstance(node.func.value, ast.Call)
+        and isinstance(node.func.value.func, ast.Name)
+        and node.func.value.func.id == "super"
+    )
+
+
+def is_self_attribute(node: ast.AST, names: tuple[str, ...] | frozenset[str] | None = None) -> bool:
+    return (
+        isinstance(node, ast.Attribute)
+        and isinstance(node.value, ast.Name)
+        and node.value.id == "self"
+        and (names is None or node.attr in names)
+    )
+
+
+class FunctionIndex:
+    """One walk over a function (nested defs included, as a LibCST search would)."""
+
+    def __init__(self, function: ast.AST) -> None:
+        self.function = function
+        self.nodes: dict[type, list[ast.AST]] = defaultdict(list)
+        for node in ast.walk(function):
+            self.nodes[type(node)].append(node)
+        for found in self.nodes.values():
+            found.sort(key=lambda n: (getattr(n, "lineno", 0), getattr(n, "col_offset", 0)))
+        self._names: set[str] | None = None
+
+    @property
+    def names(self) -> set[str]:
+        """Every identifier in the function (computed on first use)."""
+        if self._names is None:
+            self._names = set(identifiers(self.function))
+        return self._names
+
+    def of(self, *kinds: type) -> list[ast.AST]:
+        return [node for kind in kinds for node in self.nodes.get(kind, ())]
+
+    def assigns_name(self, name: str) -> bool:
+        """``name = ...`` or ``a, name = ...`` (a direct target, as the old matcher had it)."""
+        for assign in self.nodes.get(ast.Assign, ()):
+            for target in assign.targets:  # type: ignore[attr-defined]
+                if isinstance(target, ast.Name) and target.id == name:
+                    return True
+                if isinstance(target, ast.Tuple) and any(isinstance(e, ast.Name) and e.id == name for e in target.elts):
+                    return True
+        return False
+
+
+class ClassIndex:
+    """A class's methods, ``self`` calls and stores, from one walk."""
+
+    def __init__(self, classdef: ast.ClassDef) -> None:
+        self.classdef = classdef
+        self.methods: dict[str, ast.FunctionDef | ast.AsyncFunctionDef] = {}
+        for statement in classdef.body:
+            if isinstance(statement, FUNCTIONS):
+                self.methods[statement.name] = statement
+        self.self_calls: dict[str, list[ast.Call]] = defaultdict(list)  # self.<name>(...)
+        self.assigns: list[ast.Assign] = []
+        self.nodes: dict[type, list[ast.AST]] = defaultdict(list)
+        for node in ast.walk(classdef):
+            self.nodes[type(node)].append(node)
+            if isinstance(node, ast.Call) and is_self_attribute(node.func):
+                self.self_calls[node.func.attr].append(node)  # type: ignore[attr-defined]
+            elif isinstance(node, ast.Assign):
+                self.assigns.append(node)
+        for calls in self.self_calls.values():
+            calls.sort(key=lambda c: (c.lineno, c.col_offset))
+        self.assigns.sort(key=lambda a: (a.lineno, a.col_offset))
+
+    def stores_to_self(self, attribute: str) -> list[ast.expr]:
+        """Values assigned to ``self.<attribute>``, including the first slot of a tuple unpack."""
+        values = []
+        for assign in self.assigns:
+            for target in assign.targets:
+                if is_self_attribute(target, (attribute,)):
+                    values.append(assign.value)
+                elif isinstance(target, (ast.Tuple, ast.List)) and any(is_self_attribute(e, (attribute,)) for e in target.elts):
+                    values.append(assign.value)
+        return values
+
+
+class EnvClasses:
+    """Which classes of a module are custom envs, and their indexes. One per file."""
+
+    def __init__(self, facts: ModuleFacts, receivers: Receivers) -> None:
+        self.facts = facts
+        self.receivers = receivers
+        self._custom: dict[ast.ClassDef, bool] = {}
+        self._classes: dict[ast.ClassDef, ClassIndex] = {}
+        self._functions: dict[ast.AST, FunctionIndex] = {}
+
+    @classmethod
+    def of(cls, facts: ModuleFacts, receivers: Receivers) -> EnvClasses:
+        return facts.memo(("env-classes", id(receivers)), lambda: cls(facts, receivers))  # type: ignore[no-any-return]
+
+    def index(self, classdef: ast.ClassDef) -> ClassIndex:
+        found = self._classes.get(classdef)
+        if found is None:
+            found = self._classes[classdef] = ClassIndex(classdef)
+        return found
+
+    def function(self, function: ast.AST) -> FunctionIndex:
+        found = self._functions.get(function)
+        if found is None:
+            found = self._functions[function] = FunctionIndex(function)
+        return found
+
+    def is_custom_env(self, classdef: ast.ClassDef) -> bool:
+        known = self._custom.get(classdef)
+        if known is not None:
+            return known
+        self._custom[classdef] = False  # a cycle of local bases adds no evidence
+        result = self._is_custom_env(classdef)
+        self._custom[classdef] = result
+        return result
+
+    def _is_custom_env(self, classdef: ast.ClassDef) -> bool:
+        receivers = self.receivers
+        if receivers.is_gym_wrapper_class(classdef):
+            return False
+        if receivers.class_kind(classdef) is EnvKind.GYM_ENV:
+            return True
+        for base in classdef.bases:
+            if any(_is_builtin_env_class(q) for q in self.facts.qualified_names(base)):
+                return True
+            local = receivers.local_class(base)
+            if local is not None and self.is_custom_env(local):
+                return True
+        return False
+
+    def extends_gym_env_directly(self, classdef: ast.ClassDef) -> bool:
+        """A base is ``gym.Env`` / ``gymnasium.Env`` itself (so ``super().reset`` only seeds)."""
+        return any(
+            N.strip_gym_prefix(q) in DIRECT_ENV_BASES for base in classdef.bases for q in self.facts.qualified_names(base)
+        )
+
+    def has_local_env_base(self, classdef: ast.ClassDef) -> bool:
+        """The class extends another class of this module (so ``__init__`` comes from there)."""
+        return any(self.receivers.local_class(base) is not None for base in classdef.bases)
+
+    def mujoco_base(self, classdef: ast.ClassDef) -> bool:
+        return any(N.strip_gym_prefix(q) in MUJOCO_BASES for base in classdef.bases for q in self.facts.qualified_names(base))
+
+    def is_seeding_np_random(self, call: ast.AST | None) -> bool:
+        """A call of ``gym.utils.seeding.np_random`` / ``gymnasium.utils.seeding.np_random``."""
+        if not isinstance(call, ast.Call):
+            return False
+        return any(N.strip_gym_prefix(q) == "utils.seeding.np_random" for q in self.facts.qualified_names(call.func))
+
+
+def _is_builtin_env_class(qualified: str) -> bool:
+    rest = N.strip_gym_prefix(qualified)
+    if rest is None or not rest.startswith("envs."):
+        return False
+    return rest.rsplit(".", 1)[-1][:1].isupper() and rest.endswith("Env")

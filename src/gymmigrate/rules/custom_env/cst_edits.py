@@ -1,0 +1,522 @@
+"""LibCST pieces the custom-env builds use to rewrite a class's methods.
+
+Everything here runs inside ``plan.replace(classdef, build)`` callbacks: it receives
+LibCST nodes already changed by inner edits and returns new ones. The decisions (what
+to rewrite, what to report) are taken on ``ast`` by the family; these helpers only
+carry them out, and are purely syntactic.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Callable, Sequence
+
+import libcst as cst
+import libcst.matchers as m
+
+from gymmigrate.analysis.syntax import own_returns
+
+SUPER_RESET = "super().reset(seed=seed)"
+# Identifiers that count steps or time (``self.steps >= self.max_steps``, ``self.t > 200``).
+STEP_LIMIT_WORD = re.compile(
+    r"(^|_)(t|ts|step|steps|timestep|timesteps|tick|ticks|iter|iters|iteration|iterations|horizon|"
+    r"time|time_limit|ep_len|episode_len|episode_length|counter)(_|$)"
+)
+_LIMIT_OPS = (cst.GreaterThan, cst.GreaterThanEqual, cst.LessThan, cst.LessThanEqual, cst.Equal)
+_SUPER_CALL = m.Call(func=m.Name("super"))
+
+
+def is_super_method_call(node: cst.CSTNode, method: str) -> bool:
+    """``super().method(...)`` or ``super(Cls, self).method(...)``."""
+    return m.matches(node, m.Call(func=m.Attribute(value=_SUPER_CALL, attr=m.Name(method))))
+
+
+def _identifiers(node: cst.CSTNode) -> list[str]:
+    return [n.value for n in m.findall(node, m.Name())]  # type: ignore[attr-defined]
+
+
+def _append_element(elements: Sequence[cst.BaseDictElement], new: cst.DictElement) -> list[cst.BaseDictElement]:
+    """Append keeping the layout: a one-line dict stays one line, a multi-line one gets a new line."""
+    items = list(elements)
+    if not items:
+        return [new]
+    last = items[-1]
+    if isinstance(last.comma, cst.Comma):  # trailing comma: the new element takes over the closing layout
+        between = items[-2].comma if len(items) > 1 and isinstance(items[-2].comma, cst.Comma) else cst.Comma(whitespace_after=cst.SimpleWhitespace(" "))
+        items[-1] = last.with_changes(comma=between)
+        return [*items, new.with_changes(comma=last.comma)]
+    items[-1] = last.with_changes(comma=cst.Comma(whitespace_after=cst.SimpleWhitespace(" ")))
+    return [*items, new]
+
+
+def _contains(node: cst.CSTNode, matcher: m.BaseMatcherNode) -> bool:
+    return bool(m.findall(node, matcher))
+
+
+def _param_names(fn: cst.FunctionDef) -> list[str]:
+    params = fn.params
+    found = [p.name.value for p in (*params.posonly_params, *params.params)]
+    if isinstance(params.star_arg, cst.Param):
+        found.append(params.star_arg.name.value)
+    found += [p.name.value for p in params.kwonly_params]
+    if params.star_kwarg is not None:
+        found.append(params.star_kwarg.name.value)
+    return found
+
+
+def _body_statements(fn: cst.FunctionDef) -> list[cst.BaseStatement]:
+    return list(fn.body.body) if isinstance(fn.body, cst.IndentedBlock) else []
+
+
+def _is_docstring(stmt: cst.CSTNode) -> bool:
+    return m.matches(stmt, m.SimpleStatementLine([m.Expr(m.SimpleString() | m.ConcatenatedString())]))
+
+
+def _modern_reset_params(fn: cst.FunctionDef) -> cst.FunctionDef:
+    params = fn.params
+    keep = [p for p in params.params if p.name.value not in ("seed", "options", "return_info")]
+    old = {p.name.value: p for p in (*params.params, *params.kwonly_params)}
+    kwonly = [p for p in params.kwonly_params if p.name.value not in ("seed", "options", "return_info")]
+    for name in ("seed", "options"):
+        param = old.get(name) or cst.Param(cst.Name(name), default=cst.Name("None"))
+        param = param.with_changes(
+            default=param.default or cst.Name("None"),
+            equal=cst.AssignEqual(whitespace_before=cst.SimpleWhitespace(""), whitespace_after=cst.SimpleWhitespace(""))
+            if param.annotation is None
+            else param.equal,
+            comma=cst.MaybeSentinel.DEFAULT,
+            whitespace_after_param=cst.SimpleWhitespace(""),
+        )
+        kwonly.append(param)
+    keep = [p.with_changes(comma=cst.MaybeSentinel.DEFAULT) for p in keep]
+    star_arg = params.star_arg if isinstance(params.star_arg, cst.Param) else cst.ParamStar()
+    star_kwarg = params.star_kwarg.with_changes(comma=cst.MaybeSentinel.DEFAULT) if params.star_kwarg else None
+    return fn.with_changes(
+        params=params.with_changes(params=keep, star_arg=star_arg, kwonly_params=kwonly, star_kwarg=star_kwarg)
+    )
+
+
+def _add_keyword_param(params: cst.Parameters, name: str) -> cst.Parameters:
+    new = cst.Param(
+        cst.Name(name),
+        default=cst.Name("None"),
+        equal=cst.AssignEqual(whitespace_before=cst.SimpleWhitespace(""), whitespace_after=cst.SimpleWhitespace("")),
+    )
+    if isinstance(params.star_arg, cst.Param) or params.kwonly_params:
+        return params.with_changes(kwonly_params=_append_param(params.kwonly_params, new))
+    return params.with_changes(params=_append_param(params.params, new))
+
+
+def _append_param(existing: Sequence[cst.Param], new: cst.Param) -> list[cst.Param]:
+    items = list(existing)
+    if not items:
+        return [new]
+    last = items[-1]
+    if isinstance(last.comma, cst.Comma):
+        between = items[-2].comma if len(items) > 1 and isinstance(items[-2].comma, cst.Comma) else cst.Comma(whitespace_after=cst.SimpleWhitespace(" "))
+        items[-1] = last.with_changes(comma=between)
+        return [*items, new.with_changes(comma=last.comma)]
+    return [*items, new]
+
+
+def _insert_at_top(body: cst.BaseSuite, statements: list[cst.BaseStatement]) -> cst.BaseSuite:
+    if not isinstance(body, cst.IndentedBlock):
+        return body
+    existing = list(body.body)
+    at = 1 if existing and _is_docstring(existing[0]) else 0
+    return body.with_changes(body=[*existing[:at], *statements, *existing[at:]])
+
+
+def _insert_after_super_init(body: cst.BaseSuite, statement: cst.BaseStatement) -> cst.BaseSuite:
+    if not isinstance(body, cst.IndentedBlock):
+        return body
+    existing = list(body.body)
+    at = 1 if existing and _is_docstring(existing[0]) else 0
+    for index, stmt in enumerate(existing[at:], start=at):
+        if _contains(stmt, m.Call(func=m.Attribute(attr=m.Name("__init__")))):
+            at = index + 1
+            break
+        if index > at + 2:
+            break
+    return body.with_changes(body=[*existing[:at], statement, *existing[at:]])
+
+
+def _is_tuple_annotation(annotation: cst.BaseExpression, length: int) -> bool:
+    return (
+        isinstance(annotation, cst.Subscript)
+        and m.matches(annotation.value, m.Name("Tuple") | m.Name("tuple") | m.Attribute(attr=m.Name("Tuple")))
+        and len(annotation.slice) == length
+    )
+
+
+def _calls_super_reset(fn: cst.FunctionDef) -> bool:
+    return any(is_super_method_call(c, "reset") for c in m.findall(fn.body, m.Call()))
+
+
+def _ensure_super_reset(fn: cst.FunctionDef) -> tuple[cst.FunctionDef, bool]:
+    """Insert ``super().reset(seed=seed)`` first, or add ``seed=seed`` to an existing call."""
+    calls = [c for c in m.findall(fn.body, m.Call()) if is_super_method_call(c, "reset")]
+    if calls:
+        return fn.with_changes(body=fn.body.visit(_SuperResetFixer())), False
+    return fn.with_changes(body=_insert_at_top(fn.body, [cst.parse_statement(SUPER_RESET)])), True
+
+
+def _insert_after_super_reset(fn: cst.FunctionDef, statements: list[cst.BaseStatement]) -> cst.FunctionDef:
+    body = fn.body
+    if not isinstance(body, cst.IndentedBlock):
+        return fn
+    existing = list(body.body)
+    guard = cst.If(
+        test=cst.parse_expression("seed is not None"),
+        body=cst.IndentedBlock([s.with_changes(leading_lines=[]) if i == 0 else s for i, s in enumerate(statements)]),  # type: ignore[union-attr]
+    )
+    for index, stmt in enumerate(existing):
+        if any(is_super_method_call(c, "reset") for c in m.findall(stmt, m.Call())):
+            return fn.with_changes(body=body.with_changes(body=[*existing[: index + 1], guard, *existing[index + 1 :]]))
+    return fn.with_changes(body=_insert_at_top(body, [guard]))
+
+
+def _drop_return_info(fn: cst.FunctionDef) -> cst.FunctionDef:
+    return fn.with_changes(body=fn.body.visit(_ReturnInfoRemover()))
+
+
+def _tuple_len(value: cst.BaseExpression | None) -> int | None:
+    if isinstance(value, cst.Tuple) and not any(isinstance(el, cst.StarredElement) for el in value.elements):
+        return len(value.elements)
+    return None
+
+
+def _assigns_name(fn: cst.CSTNode, name: str) -> bool:
+    return _contains(fn, m.AssignTarget(m.Name(name)) | m.AssignTarget(m.Tuple([m.ZeroOrMore(), m.Element(m.Name(name)), m.ZeroOrMore()])))
+
+
+def _single_assignment(fn: cst.FunctionDef, name: str) -> cst.BaseExpression | None:
+    assigns = m.findall(fn, m.Assign(targets=[m.AssignTarget(m.Name(name))]))
+    others = m.findall(fn, m.AugAssign(target=m.Name(name)) | m.AnnAssign(target=m.Name(name)) | m.For(target=m.Name(name)))
+    if len(assigns) != 1 or others or _assigns_in_tuple(fn, name):
+        return None
+    return assigns[0].value  # type: ignore[attr-defined]
+
+
+def _assigns_in_tuple(fn: cst.FunctionDef, name: str) -> bool:
+    return _contains(fn, m.AssignTarget(m.Tuple([m.ZeroOrMore(), m.Element(m.Name(name)), m.ZeroOrMore()])))
+
+
+def _uses_name(fn: cst.CSTNode, name: str) -> bool:
+    return _contains(fn, m.Name(name))
+
+
+def _declares_global(fn: cst.FunctionDef, name: str) -> bool:
+    return _contains(fn, m.Global(names=[m.ZeroOrMore(), m.NameItem(m.Name(name)), m.ZeroOrMore()]) | m.Nonlocal())
+
+
+def _rebinds_name(fn: cst.FunctionDef, name: str) -> bool:
+    return _assigns_name(fn.body, name) or _contains(fn.body, m.AugAssign(target=m.Name(name)) | m.For(target=m.Name(name)))
+
+
+def _reads_name_outside_returns(fn: cst.FunctionDef, name: str) -> bool:
+    total = len(m.findall(fn.body, m.Name(name)))
+    in_returns = sum(len(m.findall(r, m.Name(name))) for r in own_returns(fn))
+    stores = len(m.findall(fn.body, m.AssignTarget(m.Name(name))))
+    return total - in_returns - stores > 0
+
+
+def _is_step_limit(expr: cst.BaseExpression) -> bool:
+    if not isinstance(expr, cst.Comparison) or not all(isinstance(t.operator, _LIMIT_OPS) for t in expr.comparisons):
+        return False
+    return any(STEP_LIMIT_WORD.search(word) and "beyond" not in word for word in _identifiers(expr))
+
+
+def _or_operands(expr: cst.BaseExpression) -> list[cst.BaseExpression]:
+    if isinstance(expr, cst.BooleanOperation) and isinstance(expr.operator, cst.Or) and not expr.lpar:
+        return _or_operands(expr.left) + _or_operands(expr.right)
+    if isinstance(expr, cst.BooleanOperation) and isinstance(expr.operator, cst.Or):
+        return _or_operands(expr.with_changes(lpar=[], rpar=[]))
+    return [expr]
+
+
+def _split_done(expr: cst.BaseExpression) -> tuple[list[cst.BaseExpression], list[cst.BaseExpression]] | None:
+    """``bool(task or self.steps >= self.max_steps)`` -> ([task], [limit]); None if no clear limit."""
+    if m.matches(expr, m.Call(func=m.Name("bool"), args=[m.Arg(keyword=None)])):
+        expr = expr.args[0].value  # type: ignore[attr-defined]
+    operands = _or_operands(expr)
+    limit = [op for op in operands if _is_step_limit(op)]
+    if not limit:
+        return None
+    task = [op for op in operands if not _is_step_limit(op)]
+    return task, limit
+
+
+def _code(node: cst.CSTNode) -> str:
+    return cst.Module([]).code_for_node(node)
+
+
+def _bool_of(parts: list[cst.BaseExpression]) -> cst.BaseExpression:
+    if not parts:
+        return cst.Name("False")
+    text = " or ".join(_code(p.with_changes(lpar=[], rpar=[]) if len(parts) == 1 else p).strip() for p in parts)  # type: ignore[call-arg]
+    return cst.parse_expression(f"bool({text})")
+
+
+def _needs_bool(expr: cst.BaseExpression) -> bool:
+    return isinstance(expr, (cst.Comparison, cst.BooleanOperation, cst.UnaryOperation))
+
+
+def _five(terminated: cst.BaseExpression, truncated: cst.BaseExpression) -> Callable[[cst.Return], cst.Return]:
+    def rewrite(ret: cst.Return) -> cst.Return:
+        value = ret.value
+        assert isinstance(value, cst.Tuple)
+        elements = list(value.elements)
+        third = elements[2]
+        elements[2:3] = [
+            third.with_changes(value=terminated, comma=cst.Comma(whitespace_after=cst.SimpleWhitespace(" "))),
+            cst.Element(truncated, comma=third.comma),
+        ]
+        return ret.with_changes(value=value.with_changes(elements=elements))
+
+    return rewrite
+
+
+def _step_limit_text(fn: cst.FunctionDef) -> str | None:
+    for comparison in m.findall(fn.body, m.Comparison()):
+        if _is_step_limit(comparison):  # type: ignore[arg-type]
+            return _code(comparison).strip()
+    return None
+
+
+def _truncated_false_message(limit_hint: str | None) -> str:
+    if limit_hint:
+        return f"step returns truncated=False, but `{limit_hint}` looks like a step limit: return it as truncated, not terminated"
+    return "step returns terminated (the old done) and truncated=False; set truncated if the env stops episodes on a step limit"
+
+
+def _bool_wrap_assignments(body: cst.BaseSuite, name: str) -> cst.BaseSuite:
+    """``terminated = x > 1`` -> ``terminated = bool(x > 1)``: check_env wants a Python bool."""
+
+    class Wrap(cst.CSTTransformer):
+        def leave_Assign(self, original_node: cst.Assign, updated_node: cst.Assign) -> cst.Assign:
+            if m.matches(updated_node, m.Assign(targets=[m.AssignTarget(m.Name(name))])) and _needs_bool(updated_node.value):
+                return updated_node.with_changes(value=_bool_of([updated_node.value]))
+            return updated_node
+
+    return body.visit(Wrap())
+
+
+def _rename_names(node: cst.CSTNodeT, renames: dict[str, str]) -> cst.CSTNodeT:
+    if not renames:
+        return node
+    return node.visit(_NameRenamer(renames))  # type: ignore[return-value]
+
+
+# -- transformers ---------------------------------------------------------------------------------
+
+
+class _ReturnRewriter(cst.CSTTransformer):
+    def __init__(self, rewrite: Callable[[cst.Return], cst.Return]) -> None:
+        self.rewrite = rewrite
+
+    def visit_FunctionDef(self, node: cst.FunctionDef) -> bool:
+        return False
+
+    def visit_ClassDef(self, node: cst.ClassDef) -> bool:
+        return False
+
+    def visit_Lambda(self, node: cst.Lambda) -> bool:
+        return False
+
+    def leave_Return(self, original_node: cst.Return, updated_node: cst.Return) -> cst.Return:
+        return self.rewrite(updated_node)
+
+
+class _NameRenamer(cst.CSTTransformer):
+    """Renames variables, not attributes, keywords or parameters spelled the same."""
+
+    def __init__(self, renames: dict[str, str]) -> None:
+        self.renames = renames
+
+    def leave_Name(self, original_node: cst.Name, updated_node: cst.Name) -> cst.Name:
+        new = self.renames.get(updated_node.value)
+        return updated_node.with_changes(value=new) if new else updated_node
+
+    def leave_Attribute(self, original_node: cst.Attribute, updated_node: cst.Attribute) -> cst.Attribute:
+        return updated_node.with_changes(attr=original_node.attr)
+
+    def leave_Arg(self, original_node: cst.Arg, updated_node: cst.Arg) -> cst.Arg:
+        return updated_node.with_changes(keyword=original_node.keyword)
+
+    def leave_Param(self, original_node: cst.Param, updated_node: cst.Param) -> cst.Param:
+        return updated_node.with_changes(name=original_node.name)
+
+
+class _ModeReader(cst.CSTTransformer):
+    """``mode`` -> ``self.render_mode`` in a render body; ``super().render(mode)`` loses its argument."""
+
+    def visit_FunctionDef(self, node: cst.FunctionDef) -> bool:
+        return False
+
+    def leave_Name(self, original_node: cst.Name, updated_node: cst.Name) -> cst.BaseExpression:  # type: ignore[override]
+        if updated_node.value == "mode":
+            return cst.Attribute(value=cst.Name("self"), attr=cst.Name("render_mode"))
+        return updated_node
+
+    def leave_Attribute(self, original_node: cst.Attribute, updated_node: cst.Attribute) -> cst.Attribute:
+        return updated_node.with_changes(attr=original_node.attr)
+
+    def leave_Arg(self, original_node: cst.Arg, updated_node: cst.Arg) -> cst.Arg:
+        return updated_node.with_changes(keyword=original_node.keyword)
+
+    def leave_Call(self, original_node: cst.Call, updated_node: cst.Call) -> cst.Call:
+        if is_super_method_call(original_node, "render"):
+            return updated_node.with_changes(args=[])
+        return updated_node
+
+
+class _SuperResetFixer(cst.CSTTransformer):
+    """An existing ``super().reset(...)``: pass ``seed=seed`` and drop ``return_info``."""
+
+    def leave_Call(self, original_node: cst.Call, updated_node: cst.Call) -> cst.Call:
+        if not is_super_method_call(original_node, "reset"):
+            return updated_node
+        args = [a for a in updated_node.args if not m.matches(a.keyword, m.Name("return_info"))]
+        changed = len(args) != len(updated_node.args)
+        if not any(m.matches(a.keyword, m.Name("seed")) for a in args) and not any(a.star for a in args):
+            if args:
+                args[-1] = args[-1].with_changes(comma=cst.Comma(whitespace_after=cst.SimpleWhitespace(" ")))
+            args.append(cst.Arg(cst.Name("seed"), keyword=cst.Name("seed"), equal=cst.AssignEqual(cst.SimpleWhitespace(""), cst.SimpleWhitespace(""))))
+            changed = True
+        if not changed:
+            return updated_node
+        if args:
+            args[-1] = args[-1].with_changes(comma=cst.MaybeSentinel.DEFAULT)
+        return updated_node.with_changes(args=args)
+
+
+class _ReturnInfoRemover(cst.CSTTransformer):
+    """Keeps the ``return_info=True`` branch of ``if return_info:`` / ``... if return_info else ...``."""
+
+    def visit_FunctionDef(self, node: cst.FunctionDef) -> bool:
+        return False
+
+    def leave_IndentedBlock(self, original_node: cst.IndentedBlock, updated_node: cst.IndentedBlock) -> cst.IndentedBlock:
+        statements: list[cst.BaseStatement] = []
+        # Tests are read on the original nodes: leave_Name has already replaced return_info below.
+        for original, stmt in zip(original_node.body, updated_node.body):
+            branch = _return_info_branch(original, stmt)
+            if branch is None:
+                statements.append(stmt)
+                continue
+            kept = list(branch.body) if isinstance(branch, cst.IndentedBlock) else []
+            if kept:
+                kept[0] = kept[0].with_changes(leading_lines=stmt.leading_lines)  # type: ignore[union-attr]
+            statements.extend(kept)
+            if kept and m.matches(kept[-1], m.SimpleStatementLine([m.Return()])):
+                break  # what followed was the return_info=False path
+        if not statements:
+            statements = [cst.SimpleStatementLine([cst.Pass()])]
+        return updated_node.with_changes(body=statements)
+
+    def leave_IfExp(self, original_node: cst.IfExp, updated_node: cst.IfExp) -> cst.BaseExpression:
+        if m.matches(original_node.test, m.Name("return_info")):
+            return updated_node.body
+        if m.matches(original_node.test, m.UnaryOperation(operator=m.Not(), expression=m.Name("return_info"))):
+            return updated_node.orelse
+        return updated_node
+
+    def leave_Name(self, original_node: cst.Name, updated_node: cst.Name) -> cst.Name:
+        return cst.Name("True") if updated_node.value == "return_info" else updated_node
+
+    def leave_Arg(self, original_node: cst.Arg, updated_node: cst.Arg) -> cst.Arg:
+        return updated_node.with_changes(keyword=original_node.keyword)
+
+    def leave_Call(self, original_node: cst.Call, updated_node: cst.Call) -> cst.Call:
+        args = [a for a in updated_node.args if not m.matches(a.keyword, m.Name("return_info"))]
+        if len(args) == len(updated_node.args):
+            return updated_node
+        if args:
+            args[-1] = args[-1].with_changes(comma=cst.MaybeSentinel.DEFAULT)
+        return updated_node.with_changes(args=args)
+
+
+def _return_info_branch(original: cst.BaseStatement, stmt: cst.BaseStatement) -> cst.BaseSuite | None:
+    """For ``if return_info:`` (or ``if not return_info:``) the suite that runs when it is True."""
+    if not isinstance(original, cst.If) or not isinstance(stmt, cst.If):
+        return None
+    if m.matches(original.test, m.Name("return_info")):
+        return stmt.body
+    if m.matches(original.test, m.UnaryOperation(operator=m.Not(), expression=m.Name("return_info"))):
+        if isinstance(stmt.orelse, cst.Else):
+            return stmt.orelse.body
+        return cst.IndentedBlock([])
+    return None
+
+
+class _DoneSplitter(cst.CSTTransformer):
+    """``done = bool(task or limit)`` -> ``terminated = bool(task)`` / ``truncated = bool(limit)``."""
+
+    def __init__(self, name: str, task: list[cst.BaseExpression], limit: list[cst.BaseExpression], keep_done: bool) -> None:
+        self.name = name
+        self.task = task
+        self.limit = limit
+        self.keep_done = keep_done
+
+    def leave_SimpleStatementLine(
+        self, original_node: cst.SimpleStatementLine, updated_node: cst.SimpleStatementLine
+    ) -> cst.BaseStatement | cst.FlattenSentinel[cst.BaseStatement]:
+        if not m.matches(updated_node, m.SimpleStatementLine([m.Assign(targets=[m.AssignTarget(m.Name(self.name))])])):
+            return updated_node
+        lines = [
+            updated_node.with_changes(body=[cst.Assign([cst.AssignTarget(cst.Name("terminated"))], _bool_of(self.task))]),
+            cst.SimpleStatementLine([cst.Assign([cst.AssignTarget(cst.Name("truncated"))], _bool_of(self.limit))]),
+        ]
+        if self.keep_done:
+            lines.append(cst.parse_statement(f"{self.name} = terminated or truncated"))  # type: ignore[arg-type]
+        return cst.FlattenSentinel(lines)
+
+
+class _SelfSeedCallRemover(cst.CSTTransformer):
+    """Drops ``self.seed(...)`` statements, or puts ``replacement`` statements in their place."""
+
+    def __init__(self, replacement: list[cst.BaseStatement] | None = None) -> None:
+        self.replacement = replacement or []
+
+    def leave_IndentedBlock(self, original_node: cst.IndentedBlock, updated_node: cst.IndentedBlock) -> cst.IndentedBlock:
+        kept: list[cst.BaseStatement] = []
+        carried: Sequence[cst.EmptyLine] = ()
+        for stmt in updated_node.body:
+            if m.matches(stmt, m.SimpleStatementLine([m.Expr(m.Call(func=m.Attribute(value=m.Name("self"), attr=m.Name("seed") | m.Name("_seed"))))])):
+                carried = stmt.leading_lines  # type: ignore[attr-defined]
+                if self.replacement:
+                    kept.extend([self.replacement[0].with_changes(leading_lines=carried), *self.replacement[1:]])  # type: ignore[union-attr]
+                    carried = ()
+                continue
+            if carried:
+                stmt = stmt.with_changes(leading_lines=[*carried, *stmt.leading_lines])  # type: ignore[union-attr]
+                carried = ()
+            kept.append(stmt)
+        if len(kept) == len(updated_node.body) and not self.replacement:
+            return updated_node
+        if not kept:
+            kept = [cst.SimpleStatementLine([cst.Pass()])]
+        return updated_node.with_changes(body=kept)
+
+
+class _SelfMethodCallRenamer(cst.CSTTransformer):
+    def __init__(self, renames: dict[str, str]) -> None:
+        self.renames = renames
+
+    def leave_Call(self, original_node: cst.Call, updated_node: cst.Call) -> cst.Call:
+        func = updated_node.func
+        if m.matches(func, m.Attribute(value=m.Name("self"))) and func.attr.value in self.renames:  # type: ignore[attr-defined]
+            return updated_node.with_changes(func=func.with_changes(attr=cst.Name(self.renames[func.attr.value])))  # type: ignore[attr-defined]
+        return updated_node
+
+
+class _SelfResetUnpacker(cst.CSTTransformer):
+    """``x = self.reset()`` -> ``x, _ = self.reset()``."""
+
+    def leave_Assign(self, original_node: cst.Assign, updated_node: cst.Assign) -> cst.Assign:
+        reset = m.Call(func=m.Attribute(value=m.Name("self"), attr=m.Name("reset") | m.Name("_reset")))
+        if not m.matches(updated_node, m.Assign(targets=[m.AssignTarget(m.Name() | m.Attribute())], value=reset)):
+            return updated_node
+        target = cst.Tuple([cst.Element(updated_node.targets[0].target), cst.Element(cst.Name("_"))], lpar=[], rpar=[])
+        return updated_node.with_changes(targets=[updated_node.targets[0].with_changes(target=target)])

@@ -1,0 +1,78 @@
+"""Custom ``Env`` subclasses: the methods Gymnasium calls with a new contract.
+
+One family decides, per custom env class, what each rule does with its methods
+(``seed.py``, ``reset.py``, ``step.py``, ``render.py``, ``observations.py``), and
+records a single replacement of the class whose build (``rebuild.py``) rewrites the
+methods in dependency order: ``seed()``'s seeding folds into ``reset``, ``render``'s
+mode reaches ``__init__``. Very old ``_step`` / ``_reset`` / ``_seed`` / ``_render``
+(gym < 0.9) are renamed first and then migrated like the modern names. Wrapper
+subclasses are left to the wrapper rules.
+
+Sources: Gymnasium ``core.py`` (``Env.reset`` seeds ``_np_random``), gym 0.26 release
+notes, ``envs/registration.py::make``.
+"""
+
+from __future__ import annotations
+
+import ast
+
+from gymmigrate.facts.env_classes import EnvClasses
+from gymmigrate.facts.module import ModuleFacts
+from gymmigrate.rules.base import FileContext, RuleFamily
+from gymmigrate.rules.custom_env.common import CLASS_RULES, UNDERSCORE_RULE, ClassDecision, method_of
+from gymmigrate.rules.custom_env.observations import decide_float64_observations, decide_mujoco
+from gymmigrate.rules.custom_env.rebuild import rewrite_class
+from gymmigrate.rules.custom_env.render import decide_render
+from gymmigrate.rules.custom_env.reset import decide_internal_calls, decide_reset
+from gymmigrate.rules.custom_env.seed import decide_seed
+from gymmigrate.rules.custom_env.seeding_import import drop_unused_seeding_import
+from gymmigrate.rules.custom_env.step import decide_step
+
+
+class EnvClassFamily(RuleFamily):
+    RULES = CLASS_RULES
+    ORDER = 40
+
+    @classmethod
+    def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
+        return bool(facts.all_classes) and "gym" in facts.text
+
+    def decide(self) -> None:
+        env = EnvClasses.of(self.facts, self.receivers)
+        deleted: list[ast.stmt] = []
+        removed_seed = False
+        for classdef in self.facts.all_classes:
+            if not env.is_custom_env(classdef):
+                continue
+            decision = ClassDecision(self, env, classdef)
+            decide_mujoco(decision)
+            for new, old in decision.renamed.items():
+                decision.report(decision.methods[old], UNDERSCORE_RULE[new], f"gym < 0.9 method `{old}` renamed `{new}`")
+                for call in decision.index.self_calls.get(old, ()):
+                    method = method_of(decision, call)
+                    if method is not None:
+                        decision.plan.rename_callers.add(method.name)  # type: ignore[attr-defined]
+            decide_seed(decision)
+            decide_reset(decision)
+            decide_step(decision)
+            decide_render(decision)
+            decide_internal_calls(decision)
+            decide_float64_observations(decision)
+            if self._changes(decision):
+                self.plan.replace(classdef, rewrite_class(decision.plan))
+            deleted.extend(decision.deleted_statements)
+            removed_seed = removed_seed or bool(decision.removed)
+        if removed_seed:
+            drop_unused_seeding_import(self.facts, self.plan, self.context, deleted)
+
+    @staticmethod
+    def _changes(decision: ClassDecision) -> bool:
+        plan = decision.plan
+        return bool(
+            plan.renamed
+            or plan.seed
+            or plan.render
+            or plan.unpack_self_reset
+            or plan.reset
+            or plan.step
+        )

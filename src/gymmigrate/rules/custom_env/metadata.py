@@ -1,0 +1,111 @@
+"""GM404: metadata keys ``render.modes`` / ``video.frames_per_second`` -> ``render_modes`` / ``render_fps``.
+
+The keys were renamed in gym 0.23 and ``gymnasium.make`` checks them. A metadata dict
+that declares render modes without a frame rate gets ``"render_fps": 30`` (for review):
+the env checker wants one whenever modes are declared.
+"""
+
+from __future__ import annotations
+
+import ast
+from collections.abc import Sequence
+
+import libcst as cst
+
+from gymmigrate.facts.module import ModuleFacts, string_value
+from gymmigrate.findings import FixKind
+from gymmigrate.rules.base import FileContext, Rule, RuleFamily
+from gymmigrate.rules.custom_env.cst_edits import _append_element
+
+LEGACY_METADATA_KEYS = {"render.modes": "render_modes", "video.frames_per_second": "render_fps"}
+DEFAULT_RENDER_FPS = 30
+
+
+class MetadataKeys(RuleFamily):
+    RULES = (
+        Rule("GM404", "metadata keys", FixKind.AUTO, "`render.modes` / `video.frames_per_second` become `render_modes` / `render_fps`."),
+    )
+    ORDER = 40
+
+    @classmethod
+    def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
+        return "render.modes" in facts.text or "video.frames_per_second" in facts.text
+
+    def decide(self) -> None:
+        for string in self.facts.strings:
+            value = string.value
+            if value in LEGACY_METADATA_KEYS and self._is_metadata_key(string):
+                new = LEGACY_METADATA_KEYS[value]
+                self.report(string, "GM404", f"metadata key {value!r} -> {new!r}")
+                self.plan.replace(string, _renamed_key(value, new))
+        for statement in self._metadata_stores():
+            if isinstance(statement.value, ast.Dict):
+                self._add_render_fps(statement.value)
+
+    def _metadata_stores(self) -> list[ast.Assign | ast.AnnAssign]:
+        found: list[ast.Assign | ast.AnnAssign] = []
+        for string in self.facts.strings:
+            if string.value in LEGACY_METADATA_KEYS:
+                parent = self.facts.parent(string)
+                if isinstance(parent, ast.Dict) and _is_metadata_store(self.facts.parent(parent)):
+                    holder = self.facts.parent(parent)
+                    if holder not in found and holder.value is parent:  # type: ignore[union-attr]
+                        found.append(holder)  # type: ignore[arg-type]
+        return found
+
+    def _is_metadata_key(self, string: ast.Constant) -> bool:
+        parent = self.facts.parent(string)
+        if isinstance(parent, ast.Dict) and any(key is string for key in parent.keys):
+            return _is_metadata_store(self.facts.parent(parent))
+        if isinstance(parent, ast.Subscript) and parent.slice is string:
+            return _is_metadata_expr(parent.value)
+        if isinstance(parent, ast.Call) and parent.args and parent.args[0] is string:
+            func = parent.func
+            return isinstance(func, ast.Attribute) and func.attr == "get" and _is_metadata_expr(func.value)
+        if isinstance(parent, ast.Compare) and parent.left is string:
+            return any(isinstance(op, (ast.In, ast.NotIn)) and _is_metadata_expr(c) for op, c in zip(parent.ops, parent.comparators))
+        return False
+
+    def _add_render_fps(self, metadata: ast.Dict) -> None:
+        keys = [string_value(key) for key in metadata.keys]
+        renamed = [LEGACY_METADATA_KEYS.get(k, k) if k is not None else None for k in keys]
+        modes = next((v for k, v in zip(renamed, metadata.values) if k == "render_modes"), None)
+        if modes is None or "render_fps" in renamed or not any(k in LEGACY_METADATA_KEYS for k in keys):
+            return  # modern metadata may set render_fps elsewhere (Gymnasium's MuJoCo envs do)
+        if isinstance(modes, (ast.List, ast.Tuple)) and not modes.elts:
+            return  # no render modes: the checker needs no fps
+        self.report(
+            metadata,
+            "GM404",
+            f"added \"render_fps\": {DEFAULT_RENDER_FPS} because render modes are declared without a frame rate; set the rate the env really draws at",
+            FixKind.ASSIST,
+        )
+        self.plan.replace(metadata, _with_render_fps)
+
+
+def _is_metadata_expr(expr: ast.AST) -> bool:
+    return (isinstance(expr, ast.Attribute) and expr.attr == "metadata") or (isinstance(expr, ast.Name) and expr.id == "metadata")
+
+
+def _is_metadata_store(node: ast.AST | None) -> bool:
+    """``metadata = {...}`` in a class body or ``self.metadata = {...}``."""
+    if isinstance(node, ast.Assign):
+        return any(_is_metadata_expr(t) for t in node.targets)
+    if isinstance(node, ast.AnnAssign):
+        return _is_metadata_expr(node.target)
+    return False
+
+
+def _renamed_key(old: str, new: str):  # type: ignore[no-untyped-def]
+    def build(node: cst.SimpleString) -> cst.SimpleString:
+        return node.with_changes(value=node.value.replace(old, new))
+
+    return build
+
+
+def _with_render_fps(node: cst.Dict) -> cst.Dict:
+    elements: Sequence[cst.BaseDictElement] = node.elements
+    first_key = next((el.key for el in elements if isinstance(el, cst.DictElement) and isinstance(el.key, cst.SimpleString)), None)
+    quote = first_key.quote if first_key is not None else '"'
+    element = cst.DictElement(key=cst.SimpleString(f"{quote}render_fps{quote}"), value=cst.Integer(str(DEFAULT_RENDER_FPS)))
+    return node.with_changes(elements=_append_element(elements, element))

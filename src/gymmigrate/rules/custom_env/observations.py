@@ -1,0 +1,97 @@
+"""GM508 mujoco-py ``MujocoEnv`` subclasses and GM509 float64 observations (reports only).
+
+Gymnasium's ``MujocoEnv`` needs ``observation_space`` in ``__init__`` and reads
+``self.data`` where mujoco-py had ``self.sim.data``: a port by hand. An observation
+built with ``np.array(...)`` from Python floats is float64, which ``check_env`` rejects
+for a float32 ``Box``.
+"""
+
+from __future__ import annotations
+
+import ast
+
+from gymmigrate.facts.env_classes import identifiers, is_self_attribute
+from gymmigrate.facts.module import own_returns
+from gymmigrate.rules.custom_env.common import ClassDecision, tuple_len
+
+
+def decide_mujoco(decision: ClassDecision) -> None:
+    if decision.env.mujoco_base(decision.classdef) and _uses_mujoco_py(decision):
+        decision.report(
+            decision.classdef,
+            "GM508",
+            "mujoco-py MujocoEnv: Gymnasium's MujocoEnv needs observation_space (and render settings) in __init__, and self.sim.data becomes self.data; port by hand",
+        )
+
+
+def _uses_mujoco_py(decision: ClassDecision) -> bool:
+    nodes = decision.index.nodes
+    if any(isinstance(a, ast.Attribute) and is_self_attribute(a.value, ("sim",)) for a in nodes.get(ast.Attribute, ())):
+        return True
+    return "observation_space" not in identifiers(decision.classdef)
+
+
+def decide_float64_observations(decision: ClassDecision) -> None:
+    if not _declares_float32_box(decision):
+        return
+    for name in ("reset", "step"):
+        function = decision.methods.get(decision.renamed.get(name, name))
+        if function is None:
+            continue
+        for ret in own_returns(function):
+            obs = _observation_of(ret.value, name)
+            if obs is not None and _is_float64_array(obs) and not _state_is_float32(decision):
+                decision.report(obs, "GM509", "observation built with np.array(...) is float64 but observation_space is a float32 Box; pass dtype=np.float32 (check_env rejects it)")
+
+
+def _declares_float32_box(decision: ClassDecision) -> bool:
+    for value in _plain_self_stores(decision, "observation_space"):
+        if not isinstance(value, ast.Call):
+            continue
+        func = value.func
+        if not ((isinstance(func, ast.Name) and func.id == "Box") or (isinstance(func, ast.Attribute) and func.attr == "Box")):
+            continue
+        dtype = next((k.value for k in value.keywords if k.arg == "dtype"), None)
+        if dtype is None or (isinstance(dtype, ast.Attribute) and dtype.attr == "float32") or (isinstance(dtype, ast.Name) and dtype.id == "float32"):
+            return True
+    return False
+
+
+def _plain_self_stores(decision: ClassDecision, attribute: str) -> list[ast.expr]:
+    """``self.<attribute> = value`` (a single target), in source order."""
+    return [
+        a.value
+        for a in decision.index.assigns
+        if len(a.targets) == 1 and is_self_attribute(a.targets[0], (attribute,))
+    ]
+
+
+def _state_is_float32(decision: ClassDecision) -> bool:
+    """``self.state`` is stored as a float32 array somewhere, so ``np.array(self.state)`` keeps float32."""
+    facts = decision.family.facts
+    return any("float32" in facts.segment(value) for value in _plain_self_stores(decision, "state"))
+
+
+def _observation_of(value: ast.AST | None, method: str) -> ast.AST | None:
+    if value is None:
+        return None
+    if method == "step":
+        return value.elts[0] if tuple_len(value) in (4, 5) else None  # type: ignore[attr-defined]
+    if tuple_len(value) == 2:
+        return None  # (obs, info) or a tuple observation: cannot tell
+    return value
+
+
+def _is_float64_array(expr: ast.AST) -> bool:
+    if not (
+        isinstance(expr, ast.Call)
+        and isinstance(expr.func, ast.Attribute)
+        and expr.func.attr in ("array", "asarray")
+        and isinstance(expr.func.value, ast.Name)
+        and expr.func.value.id in ("np", "numpy")
+    ):
+        return False
+    if any(k.arg == "dtype" for k in expr.keywords) or len(expr.args) + len(expr.keywords) != 1 or len(expr.args) != 1:
+        return False
+    first = expr.args[0]
+    return is_self_attribute(first, ("state",)) or isinstance(first, (ast.List, ast.Tuple))

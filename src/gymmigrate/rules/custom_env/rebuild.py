@@ -1,0 +1,355 @@
+"""Carry out what the family decided for one env class, on its LibCST node.
+
+``ClassPlan`` holds the decisions taken on ``ast`` (which methods are renamed, what
+``seed()`` moves where, whether ``super().reset`` may seed...). ``rewrite_class`` is the
+``build`` of the class's ``plan.replace``: it gets the class as other edits left it and
+rewrites its methods in the order the rules depend on each other (``seed`` folds into
+``reset``; ``render`` adds ``render_mode`` to ``__init__``). It reports nothing.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+import libcst as cst
+import libcst.matchers as m
+
+from gymmigrate.rules.custom_env.cst_edits import (
+    _add_keyword_param,
+    _assigns_name,
+    _body_statements,
+    _bool_of,
+    _bool_wrap_assignments,
+    _calls_super_reset,
+    _code,
+    _contains,
+    _declares_global,
+    _DoneSplitter,
+    _drop_return_info,
+    _ensure_super_reset,
+    _five,
+    _insert_after_super_init,
+    _insert_after_super_reset,
+    _insert_at_top,
+    _is_tuple_annotation,
+    _ModeReader,
+    _modern_reset_params,
+    _NameRenamer,
+    _needs_bool,
+    _param_names,
+    _reads_name_outside_returns,
+    _rebinds_name,
+    _rename_names,
+    _ReturnRewriter,
+    _SelfMethodCallRenamer,
+    _SelfResetUnpacker,
+    _SelfSeedCallRemover,
+    _single_assignment,
+    _split_done,
+    _tuple_len,
+    _uses_name,
+    is_super_method_call,
+    own_returns,
+)
+
+
+@dataclass
+class SeedPlan:
+    """``seed()`` is removed: statements (by index in its body) that move elsewhere."""
+
+    moved: list[int] = field(default_factory=list)  # into reset(), under ``if seed is not None:``
+    setup: list[int] = field(default_factory=list)  # into __init__, where self.seed() was called
+    renames: dict[str, str] = field(default_factory=dict)  # the seed's other names -> ``seed``
+    callers: set[str] = field(default_factory=set)  # methods that call self.seed()
+
+
+@dataclass
+class ClassPlan:
+    renamed: dict[str, str] = field(default_factory=dict)  # new name -> gym < 0.9 name
+    seed: SeedPlan | None = None
+    reset_super_seeds: bool = True  # super().reset(seed=seed) may be called (else only reported)
+    render: bool = False
+    local_env_base: bool = False
+    unpack_self_reset: bool = False
+    # Methods that call a gym < 0.9 name or assign self.reset(): only those are visited,
+    # so a class of fifty methods costs what its few affected methods cost.
+    rename_callers: set[str] = field(default_factory=set)
+    reset_callers: set[str] = field(default_factory=set)
+    reset: bool = False  # reset() changes (signature, returns, super().reset(seed=seed))
+    step: bool = False  # step() returns four values somewhere
+
+
+class ClassRewrite:
+    def __init__(self, plan: ClassPlan, updated: cst.ClassDef) -> None:
+        self.plan = plan
+        self.updated = updated
+        self.methods = _class_methods(updated)
+        self.renamed = plan.renamed
+        self.replacements: dict[str, cst.FunctionDef | None] = {}
+        self.seed_folded: list[cst.BaseStatement] = []
+        self.extra_init: cst.FunctionDef | None = None
+
+    def method(self, name: str) -> cst.FunctionDef | None:
+        old = self.renamed.get(name, name)
+        if old not in self.methods:
+            return None
+        fn = self.replacements.get(old, self.methods[old])
+        assert fn is not None
+        return fn
+
+    def set_method(self, name: str, fn: cst.FunctionDef | None) -> None:
+        self.replacements[self.renamed.get(name, name)] = fn
+
+    def run(self) -> cst.ClassDef:
+        for new, old in self.renamed.items():
+            self.replacements[old] = self.methods[old].with_changes(name=cst.Name(new))
+        if self.plan.seed is not None:
+            self._seed(self.plan.seed)
+        self._reset()
+        self._step()
+        if self.plan.render:
+            self._render()
+        if self.plan.unpack_self_reset:
+            self._unpack_self_reset()
+        return self._rebuild()
+
+    def _rebuild(self) -> cst.ClassDef:
+        body = self.updated.body
+        if not isinstance(body, cst.IndentedBlock):
+            return self.updated
+        if self.renamed:
+            calls = _SelfMethodCallRenamer({old: new for new, old in self.renamed.items()})
+            for name, fn in self.methods.items():
+                current = self.replacements.get(name, fn)
+                if current is not None and name in self.plan.rename_callers:
+                    self.replacements[name] = current.visit(calls)  # type: ignore[assignment]
+        statements: list[cst.BaseStatement] = []
+        carried: Sequence[cst.EmptyLine] | None = None  # blank lines of a deleted method
+        for stmt in body.body:
+            if isinstance(stmt, cst.FunctionDef) and stmt.name.value in self.replacements:
+                new = self.replacements[stmt.name.value]
+                if new is None:
+                    carried = stmt.leading_lines if carried is None else carried
+                    continue
+                stmt = new
+            if carried is not None:
+                stmt = stmt.with_changes(leading_lines=carried)  # type: ignore[union-attr]
+                carried = None
+            if self.extra_init is not None and isinstance(stmt, cst.FunctionDef):
+                statements.append(self.extra_init)
+                self.extra_init = None
+            statements.append(stmt)
+        if self.extra_init is not None:
+            statements.append(self.extra_init)
+        if not statements:
+            statements.append(cst.SimpleStatementLine([cst.Pass()]))
+        return self.updated.with_changes(body=body.with_changes(body=statements))
+
+    # -- GM503 ---------------------------------------------------------------------------
+
+    def _seed(self, seed: SeedPlan) -> None:
+        fn = self.method("seed")
+        assert fn is not None
+        body = _body_statements(fn)
+        moved = [body[i] for i in seed.moved]
+        setup = [body[i] for i in seed.setup]
+        seed_method = self.renamed.get("seed", "seed")
+        for name, method in list(self.methods.items()):
+            current = self.replacements.get(name, method)
+            if current is None or name == seed_method or name not in seed.callers:
+                continue
+            new = current.visit(_SelfSeedCallRemover(setup if name == "__init__" else None))
+            if new is not current:
+                self.replacements[name] = new  # type: ignore[assignment]
+        if moved:
+            self.seed_folded = [_rename_names(s, seed.renames) for s in moved]
+        self.set_method("seed", None)
+
+    # -- GM501 / GM502 ---------------------------------------------------------------------
+
+    def _reset(self) -> None:
+        fn = self.method("reset")
+        if fn is None:
+            return
+        names = _param_names(fn)
+        legacy_flag = "return_info" in names
+        modern = "seed" in names and "options" in names and not legacy_flag
+        if not modern:
+            fn = _modern_reset_params(fn)
+        if legacy_flag:
+            fn = _drop_return_info(fn)
+        elif not modern:
+            fn, base_info = _unpack_super_reset(fn)
+            fn = self._return_info_pairs(fn, base_info)
+            if fn.returns is not None and not _is_tuple_annotation(fn.returns.annotation, 2):
+                pair = cst.parse_expression(f"tuple[{_code(fn.returns.annotation).strip()}, dict]")
+                fn = fn.with_changes(returns=fn.returns.with_changes(annotation=pair))
+        if self.plan.reset_super_seeds or _calls_super_reset(fn):
+            fn, _ = _ensure_super_reset(fn)
+        if self.seed_folded:
+            fn = _insert_after_super_reset(fn, self.seed_folded)
+        self.set_method("reset", fn)
+
+    def _return_info_pairs(self, fn: cst.FunctionDef, base_info: str | None) -> cst.FunctionDef:
+        info_expr: cst.BaseExpression = cst.Dict([])
+        if base_info is not None:
+            info_expr = cst.Name(base_info)
+        elif _assigns_name(fn, "info"):
+            info_expr = cst.Name("info")
+        elif "_get_info" in self.methods:
+            info_expr = cst.parse_expression("self._get_info()")
+
+        def pair(ret: cst.Return) -> cst.Return:
+            if ret.value is None or is_super_method_call(ret.value, "reset"):
+                return ret  # the base reset already returns (obs, info)
+            value = ret.value
+            if isinstance(value, cst.Tuple) and not value.lpar:
+                value = value.with_changes(lpar=[cst.LeftParen()], rpar=[cst.RightParen()])
+            return ret.with_changes(value=cst.Tuple([cst.Element(value), cst.Element(info_expr)], lpar=[], rpar=[]))
+
+        return fn.with_changes(body=fn.body.visit(_ReturnRewriter(pair)))
+
+    # -- GM504 ---------------------------------------------------------------------------
+
+    def _step(self) -> None:
+        fn = self.method("step")
+        if fn is None:
+            return
+        returns = own_returns(fn)
+        if any(_tuple_len(r.value) == 5 for r in returns):
+            return  # already the five-value API
+        splits: dict[str, tuple[list[cst.BaseExpression], list[cst.BaseExpression]]] = {}
+        plans: list[Callable[[cst.Return], cst.Return] | None] = []
+        rename_done = False
+        for ret in returns:
+            if ret.value is None or _tuple_len(ret.value) != 4:
+                plans.append(None)
+                continue
+            done = ret.value.elements[2].value  # type: ignore[union-attr]
+            if isinstance(done, cst.Name) and _assigns_name(fn, done.value):
+                assigned = _single_assignment(fn, done.value)
+                split = _split_done(assigned) if assigned is not None else None
+                if split is not None:
+                    splits[done.value] = split
+                    plans.append(_five(cst.Name("terminated"), cst.Name("truncated")))
+                    continue
+                if done.value == "done" and not _uses_name(fn, "terminated") and not _declares_global(fn, "done"):
+                    rename_done = True
+                    plans.append(_five(cst.Name("terminated"), cst.Name("False")))
+                else:
+                    plans.append(_five(done, cst.Name("False")))
+                continue
+            split = _split_done(done)
+            if split is not None:
+                task, limit = split
+                plans.append(_five(_bool_of(task), _bool_of(limit)))
+                continue
+            terminated = _bool_of([done]) if _needs_bool(done) else done
+            plans.append(_five(terminated, cst.Name("False")))
+        if not any(plans):
+            return
+        iterator = iter(plans)
+
+        def rewrite(ret: cst.Return) -> cst.Return:
+            plan = next(iterator)
+            return plan(ret) if plan is not None else ret
+
+        body = fn.body.visit(_ReturnRewriter(rewrite))
+        if fn.returns is not None and _is_tuple_annotation(fn.returns.annotation, 4):
+            annotation = fn.returns.annotation
+            elements = list(annotation.slice)  # type: ignore[attr-defined]
+            elements.insert(3, elements[2])
+            fn = fn.with_changes(returns=fn.returns.with_changes(annotation=annotation.with_changes(slice=elements)))
+        for name, (task, limit) in splits.items():
+            body = body.visit(_DoneSplitter(name, task, limit, keep_done=_reads_name_outside_returns(fn, name)))
+        if rename_done:
+            body = body.visit(_NameRenamer({"done": "terminated"}))
+            body = _bool_wrap_assignments(body, "terminated")
+        self.set_method("step", fn.with_changes(body=body))
+
+    # -- GM501: the class calling its own reset -------------------------------------------
+
+    def _unpack_self_reset(self) -> None:
+        for name, fn in self.methods.items():
+            current = self.replacements.get(name, fn)
+            if current is None or name in ("reset", "_reset") or name not in self.plan.reset_callers:
+                continue
+            new = current.visit(_SelfResetUnpacker())
+            if new is not current:
+                self.replacements[name] = new  # type: ignore[assignment]
+
+    # -- GM405 ---------------------------------------------------------------------------
+
+    def _render(self) -> None:
+        fn = self.method("render")
+        assert fn is not None
+        params = list(fn.params.params)
+        mode_index = next(i for i, p in enumerate(params) if p.name.value == "mode")
+        params.pop(mode_index)
+        if params:
+            params[-1] = params[-1].with_changes(comma=cst.MaybeSentinel.DEFAULT)
+        new_params = fn.params.with_changes(params=params)
+        if _rebinds_name(fn, "mode"):
+            body = _insert_at_top(fn.body, [cst.parse_statement("mode = self.render_mode")])
+        else:
+            body = fn.body.visit(_ModeReader())
+        none_check = m.Comparison(
+            left=m.Attribute(value=m.Name("self"), attr=m.Name("render_mode")),
+            comparisons=[m.ComparisonTarget(operator=m.Is(), comparator=m.Name("None"))],
+        )
+        if not _contains(body, none_check):
+            body = _insert_at_top(body, [cst.parse_statement("if self.render_mode is None:\n    return None\n")])
+        self.set_method("render", fn.with_changes(params=new_params, body=body))
+        self._add_render_mode_to_init()
+
+    def _add_render_mode_to_init(self) -> None:
+        fn = self.method("__init__")
+        if fn is None:
+            if self.plan.local_env_base:
+                return
+            self.extra_init = cst.parse_statement(
+                "def __init__(self, render_mode=None):\n    self.render_mode = render_mode\n",
+                config=cst.PartialParserConfig(),
+            ).with_changes(leading_lines=[cst.EmptyLine(indent=False)])  # type: ignore[assignment]
+            return
+        if "render_mode" not in _param_names(fn):
+            fn = fn.with_changes(params=_add_keyword_param(fn.params, "render_mode"))
+        if not _contains(fn, m.Attribute(value=m.Name("self"), attr=m.Name("render_mode"))):
+            fn = fn.with_changes(body=_insert_after_super_init(fn.body, cst.parse_statement("self.render_mode = render_mode")))
+        self.set_method("__init__", fn)
+
+
+def _class_methods(classdef: cst.ClassDef) -> dict[str, cst.FunctionDef]:
+    body = classdef.body
+    if not isinstance(body, cst.IndentedBlock):
+        return {}
+    return {stmt.name.value: stmt for stmt in body.body if isinstance(stmt, cst.FunctionDef)}
+
+
+def _unpack_super_reset(fn: cst.FunctionDef) -> tuple[cst.FunctionDef, str | None]:
+    """``obs = super().reset()`` -> ``obs, info = super().reset()``: the base env is migrated too."""
+    assigned = [
+        a
+        for a in m.findall(fn, m.Assign(targets=[m.AssignTarget(m.Name())]))
+        if is_super_method_call(a.value, "reset")  # type: ignore[attr-defined]
+    ]
+    if not assigned:
+        return fn, None
+    name = "info" if not _uses_name(fn, "info") else "base_info"
+
+    class Unpack(cst.CSTTransformer):
+        def leave_Assign(self, original_node: cst.Assign, updated_node: cst.Assign) -> cst.Assign:
+            if not is_super_method_call(updated_node.value, "reset") or not m.matches(updated_node.targets[0].target, m.Name()):
+                return updated_node
+            target = cst.Tuple([cst.Element(updated_node.targets[0].target), cst.Element(cst.Name(name))], lpar=[], rpar=[])
+            return updated_node.with_changes(targets=[updated_node.targets[0].with_changes(target=target)])
+
+    return fn.with_changes(body=fn.body.visit(Unpack())), name
+
+
+def rewrite_class(plan: ClassPlan) -> Callable[[cst.ClassDef], cst.ClassDef]:
+    def build(node: cst.ClassDef) -> cst.ClassDef:
+        return ClassRewrite(plan, node).run()
+
+    return build

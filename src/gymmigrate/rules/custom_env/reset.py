@@ -1,0 +1,124 @@
+"""GM501 / GM502: ``reset`` takes ``seed`` and ``options`` and returns ``(obs, info)``.
+
+Gymnasium's wrappers (``TimeLimit`` from ``make`` included) always call
+``env.reset(seed=..., options=...)``, and ``Env.reset`` is what seeds ``self.np_random``,
+so ``super().reset(seed=seed)`` goes first. gym 0.22-0.25's ``return_info`` flag is gone
+in 0.26: its ``(obs, info)`` branch is the only one left (GM502). A ``self.reset()`` the
+class calls itself now returns a pair too.
+"""
+
+from __future__ import annotations
+
+import ast
+
+from gymmigrate.facts.env_classes import is_super_method_call
+from gymmigrate.facts.module import own_returns
+from gymmigrate.findings import FixKind
+from gymmigrate.rules.custom_env.common import ClassDecision, method_of, param_names
+
+
+def decide_reset(decision: ClassDecision) -> None:
+    function = decision.method("reset")
+    if function is None:
+        return
+    names = param_names(function)
+    legacy_flag = "return_info" in names
+    modern = "seed" in names and "options" in names and not legacy_flag
+    if legacy_flag:
+        decision.report(function, "GM502", "return_info removed: reset() always returns (obs, info) now; check callers that expected a bare observation")
+    elif not modern:
+        base_info = _unpack_super_reset(decision, function)
+        _return_info_pairs(decision, function, base_info)
+    super_resets = any(is_super_method_call(c, "reset") for s in function.body for c in ast.walk(s) if isinstance(c, ast.Call))
+    decision.plan.reset_super_seeds = decision.env.extends_gym_env_directly(decision.classdef)
+    inserted = False
+    if decision.plan.reset_super_seeds or super_resets:
+        inserted = not super_resets
+    else:
+        decision.report(
+            function,
+            "GM501",
+            "reset() must seed np_random, but super().reset() here would also run the base env's own reset; call Env.reset(self, seed=seed) first by hand",
+            FixKind.FLAG,
+        )
+    decision.plan.reset = (
+        not modern
+        or inserted
+        or decision.plan.seed is not None and bool(decision.plan.seed.moved)
+        or any(_super_reset_needs_seed(c) for s in function.body for c in ast.walk(s))
+    )
+    if not modern or inserted:
+        star_kwarg = function.args.kwarg.arg if function.args.kwarg else None
+        extra = [n for n in names[1:] if n not in ("seed", "options", "return_info", star_kwarg)]
+        if extra and not legacy_flag:
+            decision.report(function, "GM501", f"reset keeps its own parameters ({', '.join(extra)}) before seed/options; Gymnasium code passes such settings in options", FixKind.ASSIST)
+        elif not legacy_flag:
+            seeds = ", and calls super().reset(seed=seed) first to seed np_random" if inserted else ""
+            decision.report(function, "GM501", f"reset takes seed and options (wrappers always pass them){seeds}")
+
+
+def _unpack_super_reset(decision: ClassDecision, function: ast.AST) -> str | None:
+    facts = decision.family.facts
+    index = decision.function(function)
+    info_name: str | None = None
+    for call in index.of(ast.Call):
+        if not is_super_method_call(call, "reset"):
+            continue
+        parent = facts.parent(call)
+        if isinstance(parent, ast.Assign) and len(parent.targets) == 1 and isinstance(parent.targets[0], ast.Name) and info_name is None:
+            info_name = "info" if "info" not in index.names else "base_info"
+            decision.report(call, "GM501", f"super().reset() returns (obs, info) now: unpacked, and reset returns that {info_name}", FixKind.ASSIST)
+        elif not isinstance(parent, (ast.Expr, ast.Return)):
+            decision.report(call, "GM501", "super().reset(...) returns (obs, info) now: unpack it where its result is used", FixKind.FLAG)
+    return info_name
+
+
+def _return_info_pairs(decision: ClassDecision, function: ast.AST, base_info: str | None) -> None:
+    kind = FixKind.AUTO
+    why = "returns (obs, {})"
+    if base_info is not None:
+        kind, why = FixKind.ASSIST, f"returns (obs, {base_info}) with the info of super().reset()"
+    elif decision.function(function).assigns_name("info"):
+        kind, why = FixKind.ASSIST, "returns (obs, info) with the info dict reset() already builds"
+    elif "_get_info" in decision.methods:
+        kind, why = FixKind.ASSIST, "returns (obs, self._get_info()), the info the class already builds"
+    for ret in own_returns(function):
+        if ret.value is not None and not is_super_method_call(ret.value, "reset"):
+            decision.report(ret, "GM501", f"reset {why}", kind)
+
+
+def decide_internal_calls(decision: ClassDecision) -> None:
+    """``obs = self.reset()`` in the class itself: reset() returns (obs, info) now."""
+    facts = decision.family.facts
+    unpackable = False
+    for target, code in (("reset", "GM501"), ("step", "GM504")):
+        for call in (*decision.index.self_calls.get(target, ()), *decision.index.self_calls.get("_" + target, ())):
+            method = method_of(decision, call)
+            if method is None or method.name in decision.removed or method.name in ("reset", "_reset"):
+                continue
+            parent = facts.parent(call)
+            if isinstance(parent, ast.Expr):
+                continue
+            if (
+                target == "reset"
+                and isinstance(parent, ast.Assign)
+                and len(parent.targets) == 1
+                and isinstance(parent.targets[0], (ast.Name, ast.Attribute))
+                and parent.value is call
+            ):
+                unpackable = True
+                decision.plan.reset_callers.add(method.name)
+                decision.report(call, code, "self.reset() returns (obs, info) now: unpacked as `obs, _ = self.reset()`", FixKind.ASSIST)
+            else:
+                what = "(obs, info)" if target == "reset" else "(obs, reward, terminated, truncated, info)"
+                decision.report(call, code, f"self.{target}() returns {what} now: update how its result is used", FixKind.FLAG)
+    decision.plan.unpack_self_reset = unpackable
+
+
+def _super_reset_needs_seed(node: ast.AST) -> bool:
+    """An existing ``super().reset(...)`` that the build passes ``seed=seed`` (or drops ``return_info``)."""
+    if not is_super_method_call(node, "reset"):
+        return False
+    keywords = {k.arg for k in node.keywords}  # type: ignore[attr-defined]
+    starred = None in keywords or any(isinstance(a, ast.Starred) for a in node.args)  # type: ignore[attr-defined]
+    return "return_info" in keywords or ("seed" not in keywords and not starred)

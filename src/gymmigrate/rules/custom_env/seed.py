@@ -1,0 +1,126 @@
+"""GM503: ``def seed(self, seed=None)`` is removed (gym 0.26 seeds in ``reset``).
+
+The canonical ``self.np_random, seed = seeding.np_random(seed)`` body is deleted;
+anything else that uses the seed moves into ``reset`` under ``if seed is not None:``;
+set-up that does not touch the seed (spaces, simulators) moves into ``__init__`` where
+``self.seed()`` was called; ``self.seed()`` calls go. Where the result of ``seed()`` is
+used, or the body returns early, the method is only reported.
+"""
+
+from __future__ import annotations
+
+import ast
+
+from gymmigrate.facts.env_classes import identifiers, is_self_attribute, is_super_method_call
+from gymmigrate.findings import FixKind
+from gymmigrate.rules.custom_env.common import ClassDecision, is_docstring, method_of, param_names, statement_lines
+from gymmigrate.rules.custom_env.rebuild import SeedPlan
+
+NP_RANDOM = ("np_random", "_np_random")
+
+
+def decide_seed(decision: ClassDecision) -> None:
+    seed_method = decision.method("seed")
+    if seed_method is None:
+        return
+    calls = _seed_call_sites(decision)
+    facts = decision.family.facts
+    if any(not isinstance(facts.parent(call), ast.Expr) for call in calls):
+        decision.report(seed_method, "GM503", "seed() is gone in Gymnasium but its result is used in this class; seed through reset(seed=...) and rewrite those uses", FixKind.FLAG)
+        return
+    params = param_names(seed_method)[1:2]
+    seed_name = params[0] if params else "seed"
+    groups = statement_lines(seed_method.body)
+    moved: list[int] = []
+    canonical_names: set[str] = set()
+    deleted: list[ast.stmt] = []
+    for index, group in enumerate(groups):
+        if index == 0 and is_docstring(group):
+            deleted.extend(group)
+            continue
+        target = _np_random_seeding(decision, group)
+        if target is not None:
+            canonical_names.update(target)
+            deleted.extend(group)
+            continue
+        if index == len(groups) - 1 and len(group) == 1 and isinstance(group[0], ast.Return):
+            deleted.extend(group)
+            continue
+        if len(group) == 1 and isinstance(group[0], ast.Expr) and is_super_method_call(group[0].value, "seed"):
+            deleted.extend(group)
+            continue
+        moved.append(index)
+    if any(isinstance(node, ast.Return) for i in moved for s in groups[i] for node in ast.walk(s)):
+        decision.report(seed_method, "GM503", "seed() returns from the middle of its body; move its seeding into reset() under `if seed is not None:` by hand", FixKind.FLAG)
+        return
+    if moved and decision.method("reset") is None:
+        decision.report(seed_method, "GM503", "seed() does more than seed np_random and this class has no reset(); move that code into reset() under `if seed is not None:`", FixKind.FLAG)
+        return
+    seed_names = {seed_name} | canonical_names
+    setup = [i for i in moved if not _is_seeding_statement(groups[i], seed_names)]
+    moved = [i for i in moved if i not in setup]
+    init = decision.methods.get("__init__")
+    init_call = calls[0] if len(calls) == 1 and init is not None and facts.enclosing_function(calls[0]) is init else None
+    if setup and init_call is None:
+        decision.report(seed_method, "GM503", "seed() also builds state that does not depend on the seed; move it into __init__ and the seeding into reset() by hand", FixKind.FLAG)
+        return
+    for call in calls:
+        if facts.enclosing_function(call) is seed_method or (setup and call is init_call):
+            continue
+        argument = call.args[0] if call.args else None
+        given = argument is not None and not (isinstance(argument, ast.Constant) and argument.value is None)
+        message = (
+            "self.seed(...) removed: pass that seed to the first reset(seed=...) instead"
+            if given
+            else "self.seed() removed: reset(seed=None) picks a random seed itself"
+        )
+        decision.report(call, "GM503", message, FixKind.ASSIST if given else FixKind.AUTO)
+    if setup:
+        decision.report(init_call, "GM503", "the set-up seed() did besides seeding (spaces, objects) now runs here in __init__ instead of the self.seed() call", FixKind.ASSIST)  # type: ignore[arg-type]
+    callers = {method.name for call in calls if (method := method_of(decision, call)) is not None}
+    decision.plan.seed = SeedPlan(moved=moved, setup=setup, renames={n: "seed" for n in seed_names if n != "seed"}, callers=callers)
+    decision.removed.add(seed_method.name)
+    decision.deleted_statements.extend(deleted)
+    if not moved:
+        decision.report(seed_method, "GM503", "seed() removed: super().reset(seed=seed) in reset() seeds self.np_random")
+    else:
+        decision.report(
+            seed_method,
+            "GM503",
+            "seed() removed: its extra seeding moved into reset() under `if seed is not None:`; it now runs only when a seed is given",
+            FixKind.ASSIST,
+        )
+
+
+def _seed_call_sites(decision: ClassDecision) -> list[ast.Call]:
+    names = {"seed", decision.renamed.get("seed", "seed")}
+    calls = [call for name in sorted(names) for call in decision.index.self_calls.get(name, ())]
+    calls.sort(key=lambda c: (c.lineno, c.col_offset))
+    return calls
+
+
+def _np_random_seeding(decision: ClassDecision, group: list[ast.stmt]) -> set[str] | None:
+    """``self.np_random, seed = seeding.np_random(seed)``: the names bound besides np_random."""
+    if len(group) != 1 or not isinstance(group[0], ast.Assign):
+        return None
+    assign = group[0]
+    if len(assign.targets) != 1 or not decision.env.is_seeding_np_random(assign.value):
+        return None
+    target = assign.targets[0]
+    if is_self_attribute(target, NP_RANDOM):
+        return set()
+    if isinstance(target, (ast.Tuple, ast.List)) and target.elts and is_self_attribute(target.elts[0], NP_RANDOM):
+        return {e.id for e in target.elts[1:] if isinstance(e, ast.Name)}
+    return None
+
+
+def _is_seeding_statement(group: list[ast.stmt], seed_names: set[str]) -> bool:
+    """Uses the seed, or seeds something (``random.seed()``, ``space.seed()``, ``sim.set_seed()``)."""
+    for statement in group:
+        if seed_names & set(identifiers(statement)):
+            return True
+        for node in ast.walk(statement):
+            if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and "seed" in node.func.attr:
+                return True
+    return False
+

@@ -1,0 +1,62 @@
+"""``from gym.utils import seeding`` goes when the removed ``seed()`` bodies were its only use.
+
+Gymnasium still has ``gymnasium.utils.seeding``, so the import is only dropped when
+nothing that survives the rewrite reads it (LibCST's ``RemoveImportsVisitor`` did this
+after the old pass; here it is decided on the scopes' reads).
+"""
+
+from __future__ import annotations
+
+import ast
+from collections import defaultdict
+
+import libcst as cst
+from libcst.codemod.visitors import RemoveImportsVisitor
+
+from gymmigrate.edits.plan import Plan
+from gymmigrate.facts.module import ModuleFacts
+from gymmigrate.rules.base import FileContext, registered_passes
+
+SEEDING = frozenset({"gym.utils.seeding", "gymnasium.utils.seeding"})
+
+
+def drop_unused_seeding_import(facts: ModuleFacts, plan: Plan, context: FileContext, deleted: list[ast.stmt]) -> None:
+    if _imports_still_a_pass():
+        # The import rules (GM103) still run as a LibCST pass after the plan and rewrite
+        # this import first: let LibCST drop it after that pass, as before, so GM103 is
+        # still reported for it.
+        for module in ("gymnasium.utils", "gym.utils"):
+            RemoveImportsVisitor.remove_unused_import(context.codemod, module, "seeding")
+        return
+    deleted_set = set(deleted)
+    dropped: dict[ast.ImportFrom, set[str]] = defaultdict(set)
+    for alias, qualified in facts.imports.items():
+        if qualified not in SEEDING:
+            continue
+        statement = facts.parent(alias)
+        if not isinstance(statement, ast.ImportFrom):
+            continue
+        bound = alias.asname or alias.name
+        reads = [read for scope in facts.scopes.values() for read in scope.reads.get(bound, ()) if alias in facts.bindings_of(read)]
+        if any(not any(a in deleted_set for a in facts.ancestors(read)) for read in reads):
+            continue
+        dropped[statement].add(bound)
+    for statement, names in dropped.items():
+        if len(names) == len(statement.names):
+            plan.remove(statement)
+        else:
+            plan.replace(statement, _without(names))
+
+
+def _without(names: set[str]):  # type: ignore[no-untyped-def]
+    def build(node: cst.ImportFrom) -> cst.ImportFrom:
+        assert isinstance(node.names, (list, tuple))
+        kept = [a for a in node.names if (a.evaluated_alias or a.evaluated_name) not in names]
+        kept[-1] = kept[-1].with_changes(comma=cst.MaybeSentinel.DEFAULT)
+        return node.with_changes(names=kept)
+
+    return build
+
+
+def _imports_still_a_pass() -> bool:
+    return any(rule.code == "GM103" for rule_pass in registered_passes() for rule in rule_pass.RULES)

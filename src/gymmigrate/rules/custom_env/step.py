@@ -1,0 +1,124 @@
+"""GM504: ``step`` returns ``(obs, reward, terminated, truncated, info)``.
+
+A step limit the env counts itself (``self.steps >= self.max_steps`` in the done test)
+becomes ``truncated``; everything else ``terminated``. Returns that are not a 4-tuple
+literal are reported. The old migration guide: "replacing ``done`` with ``terminated``
+and ``truncated=False`` in step should address most issues".
+"""
+
+from __future__ import annotations
+
+import ast
+
+from gymmigrate.facts.env_classes import FunctionIndex, identifiers
+from gymmigrate.facts.module import own_returns
+from gymmigrate.findings import FixKind
+from gymmigrate.rules.custom_env.common import ClassDecision, tuple_len
+from gymmigrate.rules.custom_env.cst_edits import STEP_LIMIT_WORD, _truncated_false_message
+
+_LIMIT_OPS = (ast.Gt, ast.GtE, ast.Lt, ast.LtE, ast.Eq)
+
+
+def decide_step(decision: ClassDecision) -> None:
+    function = decision.method("step")
+    if function is None:
+        return
+    returns = own_returns(function)
+    if any(tuple_len(r.value) == 5 for r in returns):
+        return  # already the five-value API
+    index = decision.function(function)
+    limit_hint = _step_limit_text(decision, function)
+    for ret in returns:
+        if ret.value is None:
+            continue
+        if tuple_len(ret.value) != 4:
+            decision.report(ret, "GM504", "step returns something other than a 4-tuple literal; return (obs, reward, terminated, truncated, info) by hand", FixKind.FLAG)
+            continue
+        decision.plan.step = True
+        done = ret.value.elts[2]  # type: ignore[attr-defined]
+        if isinstance(done, ast.Name) and index.assigns_name(done.id):
+            assigned = _single_assignment(index, done.id)
+            if assigned is not None and _split_done(assigned):
+                decision.report(ret, "GM504", f"`{done.id}` split: the step-limit test became truncated, the rest terminated", FixKind.ASSIST)
+                continue
+            decision.report(ret, "GM504", _truncated_false_message(limit_hint), FixKind.ASSIST)
+            continue
+        if _split_done(done):
+            decision.report(ret, "GM504", "done split: the step-limit test became truncated, the rest terminated", FixKind.ASSIST)
+            continue
+        decision.report(ret, "GM504", _truncated_false_message(limit_hint), FixKind.ASSIST)
+
+
+def _step_limit_text(decision: ClassDecision, function: ast.AST) -> str | None:
+    found = [c for s in function.body for c in ast.walk(s) if isinstance(c, ast.Compare) and _is_step_limit(c)]  # type: ignore[attr-defined]
+    if not found:
+        return None
+    first = min(found, key=lambda c: (c.lineno, c.col_offset, -(c.end_lineno or 0), -(c.end_col_offset or 0)))
+    return _parenthesized_text(decision, first).strip()
+
+
+def _parenthesized_text(decision: ClassDecision, node: ast.expr) -> str:
+    """The source of ``node`` with the grouping parentheses around it, as LibCST prints it."""
+    facts = decision.family.facts
+    text = facts.segment(node)
+    line = facts.lines[node.lineno - 1] if node.lineno == node.end_lineno else ""
+    if not line.isascii():
+        return text
+    start, end = node.col_offset, node.end_col_offset or node.col_offset
+    parent = facts.parent(node)
+    call_paren = -1
+    if isinstance(parent, ast.Call) and parent.func.end_lineno == node.lineno:
+        call_paren = line.find("(", parent.func.end_col_offset or 0)
+    while True:
+        before = line[:start].rstrip()
+        after = line[end:].lstrip()
+        if not (before.endswith("(") and after.startswith(")")) or len(before) - 1 == call_paren:
+            return text
+        start = len(before) - 1
+        end = len(line) - len(after) + 1
+        text = line[start:end]
+
+
+def _is_step_limit(expr: ast.AST) -> bool:
+    if not isinstance(expr, ast.Compare) or not all(isinstance(op, _LIMIT_OPS) for op in expr.ops):
+        return False
+    return any(STEP_LIMIT_WORD.search(word) and "beyond" not in word for word in identifiers(expr))
+
+
+def _or_operands(expr: ast.AST) -> list[ast.AST]:
+    if isinstance(expr, ast.BoolOp) and isinstance(expr.op, ast.Or):
+        return [operand for value in expr.values for operand in _or_operands(value)]
+    return [expr]
+
+
+def _split_done(expr: ast.AST) -> bool:
+    """``bool(task or self.steps >= self.max_steps)`` has a clear step-limit test."""
+    if (
+        isinstance(expr, ast.Call)
+        and isinstance(expr.func, ast.Name)
+        and expr.func.id == "bool"
+        and len(expr.args) == 1
+        and not expr.keywords
+        and not isinstance(expr.args[0], ast.Starred)
+    ):
+        expr = expr.args[0]
+    return any(_is_step_limit(op) for op in _or_operands(expr))
+
+
+def _single_assignment(index: FunctionIndex, name: str) -> ast.AST | None:
+    assigns = [
+        a for a in index.of(ast.Assign) if len(a.targets) == 1 and isinstance(a.targets[0], ast.Name) and a.targets[0].id == name  # type: ignore[attr-defined]
+    ]
+    others = [
+        n
+        for n in index.of(ast.AugAssign, ast.AnnAssign, ast.For)
+        if isinstance(n.target, ast.Name) and n.target.id == name  # type: ignore[attr-defined]
+    ]
+    in_tuple = any(
+        isinstance(t, ast.Tuple) and any(isinstance(e, ast.Name) and e.id == name for e in t.elts)
+        for a in index.of(ast.Assign)
+        for t in a.targets  # type: ignore[attr-defined]
+    )
+    if len(assigns) != 1 or others or in_tuple:
+        return None
+    return assigns[0].value  # type: ignore[attr-defined]
