@@ -267,18 +267,21 @@ def process_file(
     display_path: str | None = None,
 ) -> FileResult:
     """Read, rewrite, verify and (if asked) write one file. Never raises for bad input."""
+    from gymmigrate.safety import Refused, read_source, screen
     from gymmigrate.writes import ChangedOnDisk
 
     shown = display_path or str(path)
     try:
-        source = path.read_bytes()
+        source = read_source(path, may_hold_gym_code)
+    except Refused as exc:
+        return FileResult(shown, Status.ERROR, error=str(exc))
     except OSError as exc:
         return FileResult(shown, Status.ERROR, error=f"cannot read the file: {exc.strerror or exc}")
-    if not may_hold_gym_code(source):
-        return FileResult(shown, Status.SKIPPED)
     try:
+        if source is None or not screen(source, may_hold_gym_code):
+            return FileResult(shown, Status.SKIPPED)
         transformed = transform_source(source, shown, options)
-    except TransformError as exc:
+    except (Refused, TransformError) as exc:
         return FileResult(shown, Status.ERROR, error=str(exc))
     except RecursionError:
         return FileResult(shown, Status.ERROR, error="the file is nested too deeply to analyse")
