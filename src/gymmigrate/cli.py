@@ -10,6 +10,7 @@ smoke check; 2 usage errors and files (or targets) that could not be processed.
 
 from __future__ import annotations
 
+import os
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Annotated, Optional
@@ -119,9 +120,22 @@ def _run(paths: list[str], options: object, *, write: bool, want_diff: bool, job
     from gymmigrate.runner import run_files
 
     discovery = discover(paths)
+    if write:
+        _remove_abandoned_temporaries(discovery.files)
     yield from run_files(discovery.files, options, write=write, want_diff=want_diff, jobs=jobs)  # type: ignore[arg-type]
     for path, reason in discovery.errors:
         yield FileResult(path, Status.ERROR, error=reason)
+
+
+def _remove_abandoned_temporaries(files: list[Path]) -> None:
+    """A killed run can leave a temporary file next to the file it was writing; this
+    run is about to write there, so it tidies up (check and --diff write nothing)."""
+    from gymmigrate.writes import remove_abandoned_temporaries
+
+    folders = sorted({Path(os.path.realpath(path)).parent for path in files})
+    removed = remove_abandoned_temporaries(folders)
+    if removed:
+        typer.echo(f"removed {len(removed)} temporary file(s) left by an interrupted gymmigrate run", err=True)
 
 
 @app.command()

@@ -4,7 +4,8 @@ Directories are searched recursively for ``*.py``. Tool and dependency folders (
 virtualenvs, site-packages, build output, caches) are skipped, and inside a git work
 tree the files git ignores are skipped too; git itself answers that question, so the
 rules of nested ``.gitignore`` files, ``info/exclude`` and global excludes all hold.
-Files named explicitly are always taken.
+Files named explicitly are always taken, except the temporary files of an interrupted
+run (walking never yields them: they do not end in ``.py``).
 """
 
 from __future__ import annotations
@@ -14,6 +15,8 @@ import subprocess
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
+
+from gymmigrate.writes import is_temporary_name
 
 SKIPPED_DIRECTORIES = frozenset(
     {
@@ -64,6 +67,8 @@ def discover(arguments: Iterable[str]) -> Discovery:
         if path.is_dir():
             for found in _walk(path):
                 add(found)
+        elif is_temporary_name(path.name):
+            errors.append((argument, "a temporary file of an interrupted gymmigrate run, not a source"))
         elif path.is_file():
             add(path)
         elif path.exists():

@@ -5,8 +5,10 @@ same folder so the final rename stays on one filesystem) and replaces the target
 one ``os.replace``: a reader, or a run killed at any instant, sees either the old bytes
 or the complete new ones, never a mix.
 
-While it writes, a run holds an exclusive ``flock`` on its temporary file, so that one
-left behind by a killed run can be told from one another run is still writing.
+A run killed between creating the temporary file and the rename leaves that file behind.
+While it writes, a run holds an exclusive ``flock`` on its temporary file, so a later
+run can tell an abandoned one (nobody holds the lock) from one another run is still
+writing, and removes only the former, and only names of exactly its own pattern.
 """
 
 from __future__ import annotations
@@ -15,6 +17,8 @@ import os
 import re
 import stat
 import tempfile
+import time
+from collections.abc import Iterable
 from pathlib import Path
 
 try:
@@ -25,6 +29,9 @@ except ImportError:  # pragma: no cover - not on POSIX (Windows)
 TEMPORARY_SUFFIX = ".gymmigrate"
 # mkstemp's random part is 8 characters of [a-z0-9_]. Anything else is not ours.
 _TEMPORARY_NAME = re.compile(r"\..+\.[a-z0-9_]{8}" + re.escape(TEMPORARY_SUFFIX))
+# Without flock (not POSIX) an abandoned file is recognised by age alone: no write of a
+# single source file takes anywhere near this long.
+_ABANDONED_AFTER_SECONDS = 3600.0
 
 
 class ChangedOnDisk(Exception):
@@ -108,3 +115,47 @@ def _remove_quietly(path: str) -> None:
         os.unlink(path)
     except FileNotFoundError:
         pass
+
+
+def remove_abandoned_temporaries(directories: Iterable[Path]) -> list[Path]:
+    """Delete temporary files an interrupted run left in ``directories``; return them.
+
+    Only regular files named exactly as ``write_atomically`` names them, and only when no
+    running gymmigrate is writing them.
+    """
+    removed: list[Path] = []
+    for directory in directories:
+        try:
+            entries = list(os.scandir(directory))
+        except OSError:
+            continue  # discovery reports folders it cannot read
+        for entry in entries:
+            if is_temporary_name(entry.name) and entry.is_file(follow_symlinks=False) and _abandoned(entry.path):
+                try:
+                    os.unlink(entry.path)
+                except OSError:
+                    continue
+                removed.append(Path(entry.path))
+    return removed
+
+
+def _abandoned(path: str) -> bool:
+    """Nobody holds the writer's lock (or, without flock, the file is old)."""
+    if fcntl is None:
+        try:
+            return time.time() - os.stat(path).st_mtime > _ABANDONED_AFTER_SECONDS
+        except OSError:
+            return False
+    try:
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0))
+    except OSError:
+        return False
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:
+        return False  # a live run is writing it
+    finally:
+        os.close(fd)
+    # A writer that created its file but has not locked it yet could lose it here; its
+    # rename then fails and that file is reported, never half-written.
+    return True
