@@ -1,19 +1,27 @@
 """Odd and hostile inputs: each gets a clear outcome, never a traceback or a lost file.
 
-Binary data named ``.py``, huge files, very long lines, mixed line endings.
+Binary data named ``.py``, huge files, very long lines, mixed line endings, symbolic
+links (loops, links out of the tree, links named on the command line), unreadable
+folders, unusual file names, and the same file reached twice.
 """
 
 from __future__ import annotations
 
+import os
+import stat
+import subprocess
 import time
 from pathlib import Path
 
+import pytest
 from typer.testing import CliRunner
 
 from gymmigrate.cli import app
 from gymmigrate.engine import Status, process_file, transform_source
+from gymmigrate.files import discover
 from gymmigrate.rules.base import RewriteOptions
 from gymmigrate.safety import MAX_SOURCE_BYTES
+from gymmigrate.writes import is_temporary_name
 
 OPTIONS = RewriteOptions()
 LEGACY = b"import gym\nobs = gym.make('CartPole-v1').reset()\n"
@@ -89,3 +97,144 @@ def test_mixed_line_endings_are_kept_line_by_line() -> None:
     source = b"import gym\r\nenv = gym.make('CartPole-v1')\nobs = env.reset()\r\n# end\n"
     expected = b"import gymnasium as gym\r\nenv = gym.make('CartPole-v1')\nobs, info = env.reset()\r\n# end\n"
     assert transform_source(source).rewritten == expected
+
+
+# --- symbolic links ------------------------------------------------------------------
+
+
+@pytest.fixture
+def linked_tree(tmp_path: Path) -> tuple[Path, Path]:
+    """A project whose folder holds links: to a folder and a file outside, a loop, a
+    dangling link. Returns (project, outside)."""
+    outside = tmp_path / "outside"
+    outside.mkdir()
+    (outside / "vendored.py").write_bytes(LEGACY)
+    project = tmp_path / "project"
+    (project / "pkg").mkdir(parents=True)
+    (project / "pkg" / "train.py").write_bytes(LEGACY)
+    (project / "linked_folder").symlink_to(outside, target_is_directory=True)
+    (project / "linked_file.py").symlink_to(outside / "vendored.py")
+    (project / "pkg" / "loop").symlink_to(project, target_is_directory=True)
+    (project / "dangling.py").symlink_to(project / "missing.py")
+    return project, outside
+
+
+def test_links_inside_a_walked_folder_are_not_followed(linked_tree: tuple[Path, Path]) -> None:
+    project, outside = linked_tree
+    assert discover([str(project)]).files == [project / "pkg" / "train.py"]
+    result = cli.invoke(app, ["rewrite", str(project)])
+    assert result.exit_code == 0, result.output
+    assert (project / "pkg" / "train.py").read_bytes() == MIGRATED
+    assert (outside / "vendored.py").read_bytes() == LEGACY, "nothing outside the tree is touched"
+    assert (project / "linked_file.py").is_symlink() and (project / "dangling.py").is_symlink()
+
+
+def test_links_are_not_followed_in_a_git_work_tree_either(linked_tree: tuple[Path, Path]) -> None:
+    project, _ = linked_tree
+    subprocess.run(["git", "init", "-q", str(project)], check=True)
+    assert discover([str(project)]).files == [project / "pkg" / "train.py"]
+
+
+def test_a_link_named_explicitly_is_written_through(linked_tree: tuple[Path, Path]) -> None:
+    project, outside = linked_tree
+    link = project / "linked_file.py"
+    result = cli.invoke(app, ["rewrite", str(link)])
+    assert result.exit_code == 0, result.output
+    assert link.is_symlink() and link.resolve() == outside / "vendored.py", "the link stays a link"
+    assert (outside / "vendored.py").read_bytes() == MIGRATED
+    assert not [p for p in (*project.iterdir(), *outside.iterdir()) if is_temporary_name(p.name)]
+
+
+def test_a_link_and_its_target_named_together_are_processed_once(linked_tree: tuple[Path, Path]) -> None:
+    project, outside = linked_tree
+    result = cli.invoke(app, ["rewrite", "--diff", str(project / "linked_file.py"), str(outside / "vendored.py")])
+    assert result.exit_code == 1
+    assert result.stdout.count("+import gymnasium as gym") == 1
+
+
+def test_broken_links_and_loops_named_explicitly_are_errors(linked_tree: tuple[Path, Path], tmp_path: Path) -> None:
+    project, _ = linked_tree
+    first, second = tmp_path / "a.py", tmp_path / "b.py"
+    first.symlink_to(second)
+    second.symlink_to(first)
+    result = cli.invoke(app, ["check", str(project / "dangling.py"), str(first)])
+    assert result.exit_code == 2
+    assert "Traceback" not in result.output
+    for path in (project / "dangling.py", first):
+        assert f"{path}: a broken symbolic link (its target is missing, or the links form a loop)" in result.stderr
+
+
+# --- unreadable folders --------------------------------------------------------------
+
+
+def test_a_folder_that_cannot_be_listed_is_reported(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    # What os.walk meets in a folder without read permission, as root too (root could
+    # read it; the real permission case is the next test).
+    locked = tmp_path / "locked"
+    locked.mkdir()
+    (tmp_path / "train.py").write_bytes(LEGACY)
+    real_scandir = os.scandir
+
+    def scandir(path: object = ".") -> object:
+        if Path(os.fsdecode(path)) == locked:  # type: ignore[arg-type]
+            raise PermissionError(13, "Permission denied", str(locked))
+        return real_scandir(path)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(os, "scandir", scandir)
+    discovery = discover([str(tmp_path)])
+    assert discovery.files == [tmp_path / "train.py"]
+    assert discovery.errors == [(str(locked), "cannot read the folder: Permission denied")]
+
+
+@pytest.mark.skipif(os.geteuid() == 0, reason="root can read folders without permission")
+@pytest.mark.parametrize("in_git", [False, True], ids=["plain folder", "git work tree"])
+def test_unreadable_folder_is_an_error_and_the_rest_runs(tmp_path: Path, in_git: bool) -> None:
+    if in_git:
+        subprocess.run(["git", "init", "-q", str(tmp_path)], check=True)
+    locked = tmp_path / "locked"
+    locked.mkdir()
+    (locked / "hidden.py").write_bytes(LEGACY)
+    (tmp_path / "train.py").write_bytes(LEGACY)
+    locked.chmod(0)
+    try:
+        result = cli.invoke(app, ["rewrite", str(tmp_path)])
+    finally:
+        locked.chmod(stat.S_IRWXU)
+    assert result.exit_code == 2
+    assert f"{locked}: cannot read the folder: Permission denied" in result.stderr
+    assert (tmp_path / "train.py").read_bytes() == MIGRATED
+
+
+# --- names and repeats ----------------------------------------------------------------
+
+
+@pytest.mark.parametrize("in_git", [False, True], ids=["plain folder", "git work tree"])
+def test_names_with_spaces_and_non_ascii_characters(tmp_path: Path, in_git: bool) -> None:
+    if in_git:
+        subprocess.run(["git", "init", "-q", str(tmp_path)], check=True)
+    folder = tmp_path / "données d'entraînement"
+    folder.mkdir()
+    scripts = [folder / "my train script.py", folder / "агент 🤖.py", tmp_path / "日本語.py"]
+    for script in scripts:
+        script.write_bytes(LEGACY)
+    checked = cli.invoke(app, ["check", str(tmp_path)])
+    assert checked.exit_code == 1
+    for script in scripts:
+        assert f"{script}:1:1: GM101 [auto]" in checked.stdout
+    rewritten = cli.invoke(app, ["rewrite", str(tmp_path)])
+    assert rewritten.exit_code == 0, rewritten.output
+    assert all(script.read_bytes() == MIGRATED for script in scripts)
+
+
+def test_a_file_reached_several_ways_is_processed_once(tmp_path: Path) -> None:
+    script = tmp_path / "train.py"
+    script.write_bytes(LEGACY)
+    other = tmp_path / "sub" / "other.py"
+    other.parent.mkdir()
+    other.write_bytes(LEGACY)
+    arguments = [str(tmp_path), str(script), str(script), str(tmp_path / "sub" / ".." / "train.py"), str(other.parent)]
+    result = cli.invoke(app, ["rewrite", "--diff", *arguments])
+    assert result.exit_code == 1
+    assert result.stdout.count(f"+++ {script}\n") == 1 and result.stdout.count(f"+++ {other}\n") == 1
+    assert "would rewrite 2 of 2 files" in result.stderr
+
