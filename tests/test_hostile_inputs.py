@@ -23,6 +23,8 @@ from gymmigrate.rules.base import RewriteOptions
 from gymmigrate.safety import MAX_SOURCE_BYTES
 from gymmigrate.writes import is_temporary_name
 
+from .cli_process import cli_environment, command
+
 OPTIONS = RewriteOptions()
 LEGACY = b"import gym\nobs = gym.make('CartPole-v1').reset()\n"
 MIGRATED = b"import gymnasium as gym\nobs, info = gym.make('CartPole-v1').reset()\n"
@@ -224,6 +226,23 @@ def test_names_with_spaces_and_non_ascii_characters(tmp_path: Path, in_git: bool
     rewritten = cli.invoke(app, ["rewrite", str(tmp_path)])
     assert rewritten.exit_code == 0, rewritten.output
     assert all(script.read_bytes() == MIGRATED for script in scripts)
+
+
+@pytest.mark.skipif(os.uname().sysname == "Darwin", reason="macOS file systems refuse names that are not UTF-8")
+def test_a_name_that_is_not_utf8_prints_its_own_bytes(tmp_path: Path) -> None:
+    script = Path(os.fsdecode(os.path.join(os.fsencode(tmp_path), b"caf\xe9.py")))
+    script.write_bytes(LEGACY)
+    # A strict UTF-8 stdout, as under an en_US.UTF-8 locale.
+    completed = subprocess.run(
+        command("rewrite", "--diff", str(tmp_path)),
+        env=cli_environment(PYTHONIOENCODING="utf-8:strict"),
+        capture_output=True,
+        timeout=120,
+        check=False,
+    )
+    assert completed.returncode == 1, completed.stderr
+    assert b"Traceback" not in completed.stderr
+    assert b"+++ " + os.fsencode(script) + b"\n" in completed.stdout
 
 
 def test_a_file_reached_several_ways_is_processed_once(tmp_path: Path) -> None:

@@ -11,6 +11,7 @@ smoke check; 2 usage errors and files (or targets) that could not be processed.
 from __future__ import annotations
 
 import os
+import sys
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Annotated, Optional
@@ -230,7 +231,17 @@ def smoke_command(
 
 
 def main() -> None:
+    _print_undecodable_names_as_they_are()
     app()
+
+
+def _print_undecodable_names_as_they_are() -> None:
+    """A file name that is not valid UTF-8 reaches Python with lone surrogates (PEP 383).
+    Where stdout is strict (a UTF-8 locale), printing its diff header or finding would
+    raise; surrogateescape writes the name's original bytes back, as ls and git do."""
+    for stream in (sys.stdout, sys.stderr):
+        if getattr(stream, "errors", None) == "strict" and hasattr(stream, "reconfigure"):
+            stream.reconfigure(errors="surrogateescape")
 
 
 if __name__ == "__main__":
