@@ -48,3 +48,13 @@ def test_every_cli_option_is_documented() -> None:
             for option in param.opts:
                 if option.startswith("--") and option != "--help":
                     assert option in README, f"`gymmigrate {name} {option}` is not in README"
+
+
+def test_every_test_named_under_guarantees_exists() -> None:
+    section = README.split("### Guarantees", 1)[1].split("\n### ", 1)[0]
+    named = re.findall(r"`(tests/test_\w+\.py)::(test_\w+)`", section)
+    assert len(named) >= 8, "each guarantee names the test that proves it"
+    root = Path(__file__).resolve().parent.parent
+    for path, test in named:
+        source = (root / path).read_text(encoding="utf-8")
+        assert re.search(rf"^def {test}\(", source, flags=re.M), f"README names {path}::{test}, which does not exist"

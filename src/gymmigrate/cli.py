@@ -10,6 +10,8 @@ smoke check; 2 usage errors and files (or targets) that could not be processed.
 
 from __future__ import annotations
 
+import os
+import sys
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Annotated, Optional
@@ -119,9 +121,22 @@ def _run(paths: list[str], options: object, *, write: bool, want_diff: bool, job
     from gymmigrate.runner import run_files
 
     discovery = discover(paths)
+    if write:
+        _remove_abandoned_temporaries(discovery.files)
     yield from run_files(discovery.files, options, write=write, want_diff=want_diff, jobs=jobs)  # type: ignore[arg-type]
     for path, reason in discovery.errors:
         yield FileResult(path, Status.ERROR, error=reason)
+
+
+def _remove_abandoned_temporaries(files: list[Path]) -> None:
+    """A killed run can leave a temporary file next to the file it was writing; this
+    run is about to write there, so it tidies up (check and --diff write nothing)."""
+    from gymmigrate.writes import remove_abandoned_temporaries
+
+    folders = sorted({Path(os.path.realpath(path)).parent for path in files})
+    removed = remove_abandoned_temporaries(folders)
+    if removed:
+        typer.echo(f"removed {len(removed)} temporary file(s) left by an interrupted gymmigrate run", err=True)
 
 
 @app.command()
@@ -216,7 +231,17 @@ def smoke_command(
 
 
 def main() -> None:
+    _print_undecodable_names_as_they_are()
     app()
+
+
+def _print_undecodable_names_as_they_are() -> None:
+    """A file name that is not valid UTF-8 reaches Python with lone surrogates (PEP 383).
+    Where stdout is strict (a UTF-8 locale), printing its diff header or finding would
+    raise; surrogateescape writes the name's original bytes back, as ls and git do."""
+    for stream in (sys.stdout, sys.stderr):
+        if getattr(stream, "errors", None) == "strict" and hasattr(stream, "reconfigure"):
+            stream.reconfigure(errors="surrogateescape")
 
 
 if __name__ == "__main__":

@@ -13,7 +13,6 @@ import difflib
 import io
 import os
 import re
-import tempfile
 import tokenize
 from bisect import bisect_right
 from dataclasses import dataclass, field, replace
@@ -326,23 +325,15 @@ def unified_diff(path: str, transformed: Transformed) -> str:
     return "".join(lines)
 
 
-def write_atomically(path: Path, data: bytes) -> None:
-    """Write via a temporary file in the same folder, keep the mode, then replace."""
-    mode = path.stat().st_mode & 0o7777
-    fd, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".gymmigrate", dir=path.parent)
-    try:
-        with os.fdopen(fd, "wb") as handle:
-            handle.write(data)
-            handle.flush()
-            os.fsync(handle.fileno())
-        os.chmod(temporary, mode)
-        os.replace(temporary, path)
-    except BaseException:
-        try:
-            os.unlink(temporary)
-        except FileNotFoundError:
-            pass
-        raise
+def write_atomically(path: Path, data: bytes, *, expected: bytes | None = None) -> None:
+    """Write via a temporary file in the same folder, keep mode and owner, then replace.
+
+    With ``expected``, refuse (``writes.ChangedOnDisk``) if the file no longer holds
+    those bytes. See ``gymmigrate.writes``.
+    """
+    from gymmigrate import writes
+
+    writes.write_atomically(path, data, expected=expected)
 
 
 def process_file(
@@ -354,16 +345,21 @@ def process_file(
     display_path: str | None = None,
 ) -> FileResult:
     """Read, rewrite, verify and (if asked) write one file. Never raises for bad input."""
+    from gymmigrate.safety import Refused, read_source, screen
+    from gymmigrate.writes import ChangedOnDisk
+
     shown = display_path or str(path)
     try:
-        source = path.read_bytes()
+        source = read_source(path, may_hold_gym_code)
+    except Refused as exc:
+        return FileResult(shown, Status.ERROR, error=str(exc))
     except OSError as exc:
         return FileResult(shown, Status.ERROR, error=f"cannot read the file: {exc.strerror or exc}")
-    if not may_hold_gym_code(source):
-        return FileResult(shown, Status.SKIPPED)
     try:
+        if source is None or not screen(source, may_hold_gym_code):
+            return FileResult(shown, Status.SKIPPED)
         transformed = transform_source(source, shown, options)
-    except TransformError as exc:
+    except (Refused, TransformError) as exc:
         return FileResult(shown, Status.ERROR, error=str(exc))
     except RecursionError:
         return FileResult(shown, Status.ERROR, error="the file is nested too deeply to analyse")
@@ -373,7 +369,10 @@ def process_file(
     diff = unified_diff(shown, transformed) if want_diff else None
     if write:
         try:
-            write_atomically(path, transformed.rewritten)
+            # ``expected``: an edit saved while this file was being rewritten wins.
+            write_atomically(path, transformed.rewritten, expected=source)
+        except ChangedOnDisk as exc:
+            return FileResult(shown, Status.ERROR, findings=findings, error=f"not rewritten: {exc}; left as it is now")
         except OSError as exc:
             return FileResult(shown, Status.ERROR, findings=findings, error=f"cannot write the file: {exc.strerror or exc}")
     return FileResult(shown, Status.CHANGED, findings=findings, diff=diff, written=write)

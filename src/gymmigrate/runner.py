@@ -1,23 +1,43 @@
 """Run the engine over many files, on every core when it pays off.
 
-Each file is independent and ``process_file`` returns a small picklable
-``FileResult``, so a process pool can do the work; results come back in the order
-the files were given so diffs and summaries are stable from run to run.
+Each file is independent and ``process_file`` returns a small picklable ``FileResult``,
+so worker processes can do the work; results come back in the order the files were
+given so diffs and summaries are stable from run to run.
+
+A worker process can die under a file: a crash in native code (LibCST's parser is
+native), or the kernel's out-of-memory killer. ``concurrent.futures`` cannot survive
+that: a dead worker fails every unfinished task with ``BrokenProcessPool``, including
+results already sent but not yet read, so it cannot tell which file was the cause nor
+keep the others' results. So this module keeps its own small pool: each worker has one
+file at a time and its own pipe, the parent waits on the pipes and on the processes
+together, and a worker that dies costs exactly the file it held. A fresh worker takes
+its place and the run goes on.
 """
 
 from __future__ import annotations
 
+import multiprocessing
 import os
+import signal
+import threading
+import time
+from collections import deque
 from collections.abc import Iterator, Sequence
-from concurrent.futures import ProcessPoolExecutor
-from functools import partial
+from dataclasses import dataclass
+from multiprocessing.connection import Connection, wait
+from multiprocessing.process import BaseProcess
 from pathlib import Path
 
-from gymmigrate.engine import FileResult, process_file
+from gymmigrate.engine import FileResult, Status, process_file
 from gymmigrate.rules.base import RewriteOptions
 
 # Below this many files a pool costs more (worker start-up, imports) than it saves.
 PARALLEL_THRESHOLD = 16
+
+WORKER_DIED = "the worker process died while processing this file (a crash in native code, or killed by the system)"
+
+# How often an orphaned worker checks whether the run that started it is gone.
+_PARENT_POLL_SECONDS = 0.2
 
 
 def default_jobs() -> int:
@@ -35,12 +55,193 @@ def run_files(
     want_diff: bool,
     jobs: int | None = None,
 ) -> Iterator[FileResult]:
-    work = partial(process_file, options=options, write=write, want_diff=want_diff)
+    task = _Task(options, write, want_diff)
     jobs = default_jobs() if jobs is None or jobs <= 0 else jobs
     if jobs == 1 or len(paths) < PARALLEL_THRESHOLD:
         for path in paths:
-            yield work(path)
+            yield task(path)
         return
-    chunk = max(1, len(paths) // (jobs * 8))
-    with ProcessPoolExecutor(max_workers=jobs) as pool:
-        yield from pool.map(work, paths, chunksize=chunk)
+    yield from _run_parallel(list(paths), task, jobs)
+
+
+@dataclass(frozen=True)
+class _Task:
+    """``process_file`` with the run's settings; picklable, so workers receive it."""
+
+    options: RewriteOptions
+    write: bool
+    want_diff: bool
+
+    def __call__(self, path: Path) -> FileResult:
+        try:
+            return process_file(path, self.options, write=self.write, want_diff=self.want_diff)
+        except Exception as exc:  # a bug must cost this file, not the run
+            return _internal_error(path, exc)
+
+
+def _internal_error(path: Path, exc: Exception) -> FileResult:
+    return FileResult(str(path), Status.ERROR, error=f"internal error: {type(exc).__name__}: {exc}")
+
+
+def _run_parallel(paths: list[Path], task: _Task, jobs: int) -> Iterator[FileResult]:
+    """Every file's result, in order, however many workers die on the way."""
+    pool = _Pool(task, min(jobs, len(paths)))
+    order = _InOrder()
+    waiting = deque(range(len(paths)))
+    try:
+        while waiting or pool.busy():
+            for worker in pool.idle():
+                if not waiting:
+                    break
+                index = waiting.popleft()
+                if not pool.assign(worker, index, paths[index]):
+                    waiting.appendleft(index)  # that worker was gone already; a fresh one will take it
+            for index, result in pool.collect(paths):
+                yield from order.add(index, result)
+    finally:
+        pool.close()
+
+
+class _InOrder:
+    """Results arrive by index in any order; release them in index order, as soon as possible."""
+
+    def __init__(self) -> None:
+        self._waiting: dict[int, FileResult] = {}
+        self._next = 0
+
+    def add(self, index: int, result: FileResult) -> Iterator[FileResult]:
+        self._waiting[index] = result
+        while self._next in self._waiting:
+            yield self._waiting.pop(self._next)
+            self._next += 1
+
+
+@dataclass
+class _Worker:
+    process: BaseProcess
+    connection: Connection  # the parent's end of the worker's pipe
+    index: int | None = None  # the file it holds, if any
+
+
+class _Pool:
+    """Worker processes that each hold at most one file, and are replaced when they die."""
+
+    def __init__(self, task: _Task, size: int) -> None:
+        self._task = task
+        self._context = multiprocessing.get_context()
+        self._workers = [self._start() for _ in range(size)]
+
+    def _start(self) -> _Worker:
+        parent_end, child_end = self._context.Pipe()
+        process = self._context.Process(target=_serve, args=(child_end, self._task), daemon=True)
+        process.start()
+        child_end.close()
+        return _Worker(process, parent_end)
+
+    def busy(self) -> list[_Worker]:
+        return [worker for worker in self._workers if worker.index is not None]
+
+    def idle(self) -> list[_Worker]:
+        return [worker for worker in self._workers if worker.index is None]
+
+    def assign(self, worker: _Worker, index: int, path: Path) -> bool:
+        """Hand ``path`` to an idle worker; False (and the worker replaced) if it is gone."""
+        try:
+            worker.connection.send(path)
+        except OSError:
+            self._replace(worker)
+            return False
+        worker.index = index
+        return True
+
+    def collect(self, paths: list[Path]) -> list[tuple[int, FileResult]]:
+        """Wait until some busy worker answers or dies; the results (or deaths) so far."""
+        busy = self.busy()
+        ready = set(wait([w.connection for w in busy] + [w.process.sentinel for w in busy]))
+        finished = []
+        for worker in busy:
+            if worker.connection in ready or worker.process.sentinel in ready:
+                assert worker.index is not None
+                finished.append((worker.index, self._receive(worker, paths[worker.index])))
+        return finished
+
+    def _receive(self, worker: _Worker, path: Path) -> FileResult:
+        result: FileResult | None = None
+        try:
+            if worker.connection.poll():
+                result = worker.connection.recv()
+        except Exception:  # EOF or a message cut short: the worker died while answering
+            result = None
+        worker.index = None
+        if result is None or not worker.process.is_alive():
+            self._replace(worker)
+        return result if result is not None else FileResult(str(path), Status.ERROR, error=WORKER_DIED)
+
+    def _replace(self, worker: _Worker) -> None:
+        _stop(worker)
+        self._workers[self._workers.index(worker)] = self._start()
+
+    def close(self) -> None:
+        """Let every worker finish the file it holds, then stop it."""
+        for worker in self._workers:
+            try:
+                worker.connection.send(None)
+            except OSError:
+                pass  # gone already
+        for worker in self._workers:
+            _stop(worker)
+
+
+def _stop(worker: _Worker) -> None:
+    """Wait for ``worker`` to exit. An answer nobody will use is read and dropped: a
+    worker blocked on a full pipe could not exit."""
+    while worker.process.is_alive():
+        try:
+            if worker.connection.poll(0.1):
+                worker.connection.recv()
+        except Exception:  # EOF, or an answer cut short: it is exiting
+            break
+    worker.process.join()
+    worker.connection.close()
+
+
+# --- in the worker processes ---------------------------------------------------------
+
+def _serve(connection: Connection, task: _Task) -> None:
+    """A worker: process the files the parent sends, one at a time, until it sends None."""
+    # Ctrl-C reaches the whole process group: the parent stops the run, after letting
+    # each worker finish its file; a worker that raised KeyboardInterrupt too would
+    # leave a traceback per process.
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    threading.Thread(target=_exit_when_orphaned, args=(os.getppid(),), daemon=True).start()
+    try:
+        while (path := connection.recv()) is not None:
+            _crash_for_tests(path)
+            result = task(path)
+            try:
+                connection.send(result)
+            except OSError:
+                raise
+            except Exception as exc:  # the result would not pickle: this file's error
+                connection.send(_internal_error(path, exc))
+    except (EOFError, OSError):
+        pass  # the parent is gone: there is no one to answer
+
+
+def _exit_when_orphaned(parent: int) -> None:
+    """A killed run must not leave workers behind (they would wait for work forever).
+
+    The rewrite of the current file is dropped mid-way at worst: writes are atomic, and
+    the next run removes the temporary file and redoes the file.
+    """
+    while os.getppid() == parent:
+        time.sleep(_PARENT_POLL_SECONDS)
+    os._exit(1)
+
+
+def _crash_for_tests(path: Path) -> None:
+    """Test-only hook: die like a segfault on files whose path contains
+    ``GYMMIGRATE_TEST_CRASH_ON``. The tests set it; nothing else should."""
+    marker = os.environ.get("GYMMIGRATE_TEST_CRASH_ON")
+    if marker and marker in str(path):
+        os._exit(139)
