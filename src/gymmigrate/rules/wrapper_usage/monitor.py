@@ -135,6 +135,9 @@ def plan_monitor(family: WrapperRenames, call: ast.Call) -> MonitorRewrite | Non
 # -- the render mode at the env's creation --------------------------------------------------------
 
 
+RENDER_MODE_NOTE = "render_mode"  # see rules/rendering.py
+
+
 def _plan_render_mode(family: WrapperRenames, consumer: ast.Call, env: ast.expr) -> None:
     makes = family.stacks.creation_makes(env)
     facts = family.facts
@@ -148,7 +151,11 @@ def _plan_render_mode(family: WrapperRenames, consumer: ast.Call, env: ast.expr)
         and all(keyword(m, "render_mode") is None and not any(k.arg is None for k in m.keywords) for m in makes)
     ):
         added = tuple(makes)
+        # The rendering family's record of makes given a mode in this run (one protocol
+        # for every family that adds one), so it does not add a second.
+        given = family.plan.notes.setdefault(RENDER_MODE_NOTE, {})
         for make in makes:
+            given[id(make)] = RGB_ARRAY
             family.plan.replace(make, _add_render_mode(_quote_of(facts.segment(make))))
             summary = _call_summary(facts, make)
             family.plan.report(
