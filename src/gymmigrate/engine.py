@@ -282,7 +282,9 @@ class LineMap:
     def __init__(self, before: str, after: str) -> None:
         a = before.splitlines()
         b = after.splitlines()
-        self._ops = difflib.SequenceMatcher(None, a, b, autojunk=False).get_opcodes()
+        # autojunk: in files of 200+ lines, very frequent lines (blank lines, `done = ...` in a
+        # generated loop) stop anchoring matches; without it matching is quadratic there.
+        self._ops = difflib.SequenceMatcher(None, a, b, autojunk=True).get_opcodes()
         self._starts_a = [op[1] for op in self._ops]
         self._starts_b = [op[3] for op in self._ops]
         self._len_a, self._len_b = len(a), len(b)

@@ -30,28 +30,32 @@ class ApplyError(Exception):
 _STATEMENT_FIELDS = ("body", "orelse", "finalbody", "handlers", "cases")
 
 
-def statement_path(statement: ast.stmt, parents: dict[ast.AST, ast.AST]) -> list[tuple[str, int]]:
+def statement_path(
+    statement: ast.stmt, parents: dict[ast.AST, ast.AST], places: dict[ast.AST, tuple[str, int]] | None = None
+) -> list[tuple[str, int]]:
     """``[(field, index), ...]`` from the module down to ``statement``.
 
     Except handlers and match cases are not statements: their step is
-    ``("handlers", i)`` / ``("cases", i)`` followed by ``("body", j)``.
+    ``("handlers", i)`` / ``("cases", i)`` followed by ``("body", j)``. ``places`` caches
+    every child's place in its parent, so each block is enumerated once per file however
+    many edits it holds.
     """
+    places = {} if places is None else places
     path: list[tuple[str, int]] = []
     node: ast.AST = statement
     while node in parents:
         parent = parents[node]
-        for name in _STATEMENT_FIELDS:
-            items = getattr(parent, name, None)
-            if isinstance(items, list):
-                for index, item in enumerate(items):
-                    if item is node:
-                        path.append((name, index))
-                        break
-                else:
-                    continue
-                break
-        else:
-            raise ApplyError(f"cannot place a {type(node).__name__} inside a {type(parent).__name__}")
+        place = places.get(node)
+        if place is None:
+            for name in _STATEMENT_FIELDS:
+                items = getattr(parent, name, None)
+                if isinstance(items, list):
+                    for index, item in enumerate(items):
+                        places[item] = (name, index)
+            place = places.get(node)
+            if place is None:
+                raise ApplyError(f"cannot place a {type(node).__name__} inside a {type(parent).__name__}")
+        path.append(place)
         node = parent
     path.reverse()
     return path
@@ -84,50 +88,58 @@ class _Located:
         self.line = line  # the SimpleStatementLine / SimpleStatementSuite holding a small one
 
 
-def locate_statement(module: cst.Module, path: list[tuple[str, int]]) -> _Located:
+# One entry per ast statement of a block: (the LibCST statement or small statement, the
+# line or suite holding a small one, or None for a compound statement).
+_BlockTable = list[tuple[cst.CSTNode, "cst.CSTNode | None"]]
+
+
+def _block_table(items: list[cst.CSTNode], holder: cst.CSTNode) -> _BlockTable:
+    table: _BlockTable = []
+    for item in items:
+        if isinstance(item, (cst.SimpleStatementLine, cst.SimpleStatementSuite)):
+            table.extend((small, item) for small in item.body)
+        elif isinstance(item, cst.BaseSmallStatement):  # inside a SimpleStatementSuite
+            table.append((item, holder))
+        else:
+            table.append((item, None))
+    return table
+
+
+def locate_statement(
+    module: cst.Module,
+    path: list[tuple[str, int]],
+    tables: dict[tuple[int, str], tuple[list[cst.CSTNode], _BlockTable]] | None = None,
+) -> _Located:
+    """Follow ``path`` down the LibCST tree; ``tables`` caches each block's statements."""
+    tables = {} if tables is None else tables
     chain: list[cst.CSTNode] = [module]
     owner: cst.CSTNode = module
-    steps = list(path)
-    i = 0
-    while i < len(steps):
-        field, index = steps[i]
+    for step, (field, index) in enumerate(path):
+        last = step == len(path) - 1
         if field in ("handlers", "cases"):
-            container = getattr(owner, field)
-            owner = container[index]
+            owner = getattr(owner, field)[index]
             chain.append(owner)
-            i += 1
             continue
-        between, items = _suite_items(owner, field)
+        key = (id(owner), field)
+        cached = tables.get(key)
+        if cached is None:
+            between, items = _suite_items(owner, field)
+            cached = tables[key] = (between, _block_table(items, between[-1] if between else owner))
+        between, table = cached
         chain.extend(between)
-        holder = between[-1] if between else owner
-        count = 0
-        for item in items:
-            if isinstance(item, (cst.SimpleStatementLine, cst.SimpleStatementSuite)):
-                width = len(item.body)
-                if count + width > index:
-                    small = item.body[index - count]
-                    if i != len(steps) - 1:
-                        raise ApplyError("a simple statement cannot contain statements")
-                    chain.append(item)
-                    return _Located(chain, small, item)
-                count += width
-            elif isinstance(item, cst.BaseSmallStatement):  # inside a SimpleStatementSuite
-                if count == index:
-                    if i != len(steps) - 1:
-                        raise ApplyError("a simple statement cannot contain statements")
-                    return _Located(chain, item, holder)
-                count += 1
-            else:
-                if count == index:
-                    if i == len(steps) - 1:
-                        return _Located(chain, item, None)
-                    chain.append(item)
-                    owner = item
-                    break
-                count += 1
-        else:
+        if index >= len(table):
             raise ApplyError("statement structure differs between ast and LibCST")
-        i += 1
+        node, line = table[index]
+        if line is not None:
+            if not last:
+                raise ApplyError("a simple statement cannot contain statements")
+            if isinstance(line, cst.SimpleStatementLine):
+                chain.append(line)
+            return _Located(chain, node, line)
+        if last:
+            return _Located(chain, node, None)
+        chain.append(node)
+        owner = node
     raise ApplyError("empty statement path")
 
 
@@ -270,19 +282,28 @@ def _normal(text: str) -> str:
 
 
 def locate_expression(
-    located: _Located, statement: ast.stmt, target: ast.AST, plan: Plan
+    located: _Located, statement: ast.stmt, target: ast.AST, plan: Plan, cache: dict | None = None
 ) -> tuple[cst.CSTNode, list[cst.CSTNode]]:
-    """The LibCST node for ``target`` inside ``statement``, and its ancestors below it."""
+    """The LibCST node for ``target`` inside ``statement``, and its ancestors below it.
+
+    ``cache`` keeps both sides' candidates per (statement, kind), so many edits in one
+    large statement scan it once.
+    """
     kind = _ast_kind(target)
-    candidates = _ast_candidates(statement, kind, plan.facts.parents)
-    index = next((i for i, node in enumerate(candidates) if node is target), None)
+    cache = {} if cache is None else cache
+    key = (statement, kind)
+    if key not in cache:
+        candidates = _ast_candidates(statement, kind, plan.facts.parents)
+        visitor = _Candidates(kind, located.node)
+        located.node.visit(visitor)
+        if len(visitor.found) != len(candidates):
+            raise ApplyError(f"{len(candidates)} ast {kind} nodes but {len(visitor.found)} in LibCST")
+        cache[key] = ({id(node): i for i, node in enumerate(candidates)}, visitor.found)
+    order, found = cache[key]
+    index = order.get(id(target))
     if index is None:
         raise ApplyError(f"{type(target).__name__} is not inside its statement")
-    visitor = _Candidates(kind, located.node)
-    located.node.visit(visitor)
-    if len(visitor.found) != len(candidates):
-        raise ApplyError(f"{len(candidates)} ast {kind} nodes but {len(visitor.found)} in LibCST")
-    node, ancestors = visitor.found[index]
+    node, ancestors = found[index]
     expected = plan.facts.segment(target)
     actual = cst.Module(body=[]).code_for_node(node)
     for _ in getattr(node, "lpar", ()):
@@ -358,11 +379,15 @@ def apply_plan(module: cst.Module, plan: Plan) -> cst.Module:
     facts = plan.facts
     applier = _Applier()
     located_cache: dict[ast.stmt, _Located] = {}
+    places: dict[ast.AST, tuple[str, int]] = {}
+    candidates: dict = {}  # (statement, kind) -> both sides' candidates
+    tables: dict[tuple[int, str], tuple[list[cst.CSTNode], _BlockTable]] = {}
 
     def locate(statement: ast.stmt) -> _Located:
         found = located_cache.get(statement)
         if found is None:
-            found = located_cache[statement] = locate_statement(module, statement_path(statement, facts.parents))
+            path = statement_path(statement, facts.parents, places)
+            found = located_cache[statement] = locate_statement(module, path, tables)
         return found
 
     for target, builds in plan.replacements.items():
@@ -372,7 +397,7 @@ def apply_plan(module: cst.Module, plan: Plan) -> cst.Module:
         if target is statement:
             node, inner = located.node, []
         else:
-            node, inner = locate_expression(located, statement, target, plan)
+            node, inner = locate_expression(located, statement, target, plan, candidates)
             applier.mark([located.node, *inner])
         applier.mark([node])
         applier.builds[id(node)].extend(builds)
