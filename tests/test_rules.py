@@ -54,3 +54,17 @@ def test_fixture_directories_name_known_rules() -> None:
     known = {rule.code for rule in all_rules()}
     unknown = {path.name for path in RULE_FIXTURES.iterdir() if path.is_dir()} - known
     assert not unknown
+
+
+@pytest.mark.parametrize("case", CASES, ids=[c.id for c in CASES])
+def test_check_decides_like_rewrite(case) -> None:
+    # ``gymmigrate check`` only plans (no LibCST tree, no verification run); it must list
+    # exactly what rewrite reports and agree on whether the file would change.
+    from gymmigrate.engine import lint_source
+
+    source = case.source.read_bytes()
+    rewritten = transform_source(source, str(case.source))
+    findings, would_change = lint_source(source, str(case.source))
+    assert would_change == rewritten.changed
+    strip = lambda items: sorted((f.line, f.column, f.rule, f.kind, f.message) for f in items)  # noqa: E731
+    assert strip(findings) == strip(rewritten.findings)

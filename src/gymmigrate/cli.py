@@ -114,7 +114,7 @@ def _write_report(path: Path, results: list, *, wrote: bool, smoke: list | None 
         raise typer.Exit(EXIT_ERROR) from None
 
 
-def _run(paths: list[str], options: object, *, write: bool, want_diff: bool, jobs: int) -> Iterator:
+def _run(paths: list[str], options: object, *, write: bool, want_diff: bool, jobs: int, lint: bool = False) -> Iterator:
     """Every file's result in the order given, then one error result per bad argument."""
     from gymmigrate.engine import FileResult, Status
     from gymmigrate.files import discover
@@ -123,7 +123,7 @@ def _run(paths: list[str], options: object, *, write: bool, want_diff: bool, job
     discovery = discover(paths)
     if write:
         _remove_abandoned_temporaries(discovery.files)
-    yield from run_files(discovery.files, options, write=write, want_diff=want_diff, jobs=jobs)  # type: ignore[arg-type]
+    yield from run_files(discovery.files, options, write=write, want_diff=want_diff, jobs=jobs, lint=lint)  # type: ignore[arg-type]
     for path, reason in discovery.errors:
         yield FileResult(path, Status.ERROR, error=reason)
 
@@ -154,7 +154,7 @@ def check(
     from gymmigrate.report import print_findings, print_summary
     from gymmigrate.rules.base import RewriteOptions
 
-    results = list(_run(paths, RewriteOptions(), write=False, want_diff=False, jobs=jobs))
+    results = list(_run(paths, RewriteOptions(), write=False, want_diff=False, jobs=jobs, lint=True))
     print_findings(results)
     print_summary(results, wrote=False)
     if report is not None:

@@ -111,6 +111,22 @@ def transform_source(source: bytes, path: str = "<string>", options: RewriteOpti
     return result
 
 
+def lint_source(source: bytes, path: str = "<string>", options: RewriteOptions | None = None) -> tuple[list[Finding], bool]:
+    """What ``check`` needs: the findings, and whether ``rewrite`` would change the file.
+
+    Costs a CPython parse and the rules' decisions. Files where a family that still runs
+    as a LibCST pass may fire take the full route, so their findings are complete.
+    """
+    options = options or RewriteOptions()
+    text, _ = decode(source)
+    tree = _parse_ast(text, source, path)
+    plan, context = plan_file(tree, text, path, options)
+    if any(p.applies_to(text, context.profile) for p in registered_passes()):
+        result = transform_source(source, path, options)
+        return result.findings, result.changed
+    return sorted(plan.findings), plan.has_edits
+
+
 def decode(source: bytes) -> tuple[str, str]:
     """The text of ``source`` and its encoding (PEP 263 cookie or BOM, else UTF-8)."""
     try:
@@ -345,8 +361,13 @@ def process_file(
     write: bool,
     want_diff: bool,
     display_path: str | None = None,
+    lint: bool = False,
 ) -> FileResult:
-    """Read, rewrite, verify and (if asked) write one file. Never raises for bad input."""
+    """Read, rewrite, verify and (if asked) write one file. Never raises for bad input.
+
+    ``lint`` (``gymmigrate check``): only decide; the findings and whether the file would
+    change come from the plan, with no LibCST tree and no verification run.
+    """
     from gymmigrate.safety import Refused, read_source, screen
     from gymmigrate.writes import ChangedOnDisk
 
@@ -360,6 +381,9 @@ def process_file(
     try:
         if source is None or not screen(source, may_hold_gym_code):
             return FileResult(shown, Status.SKIPPED)
+        if lint:
+            findings, would_change = lint_source(source, shown, options)
+            return FileResult(shown, Status.CHANGED if would_change else Status.UNCHANGED, findings=tuple(findings))
         transformed = transform_source(source, shown, options)
     except (Refused, TransformError) as exc:
         return FileResult(shown, Status.ERROR, error=str(exc))

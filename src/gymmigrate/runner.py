@@ -54,8 +54,9 @@ def run_files(
     write: bool,
     want_diff: bool,
     jobs: int | None = None,
+    lint: bool = False,
 ) -> Iterator[FileResult]:
-    task = _Task(options, write, want_diff)
+    task = _Task(options, write, want_diff, lint)
     jobs = default_jobs() if jobs is None or jobs <= 0 else jobs
     if jobs == 1 or len(paths) < PARALLEL_THRESHOLD:
         for path in paths:
@@ -71,10 +72,11 @@ class _Task:
     options: RewriteOptions
     write: bool
     want_diff: bool
+    lint: bool = False
 
     def __call__(self, path: Path) -> FileResult:
         try:
-            return process_file(path, self.options, write=self.write, want_diff=self.want_diff)
+            return process_file(path, self.options, write=self.write, want_diff=self.want_diff, lint=self.lint)
         except Exception as exc:  # a bug must cost this file, not the run
             return _internal_error(path, exc)
 
