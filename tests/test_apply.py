@@ -153,3 +153,10 @@ def test_a_file_with_nothing_to_change_never_builds_a_libcst_tree(monkeypatch: p
     monkeypatch.setattr(engine, "_parse_cst", refuse)
     source = b"import os\n\nprint(os.environ['HOME'])\n"
     assert transform_source(source).rewritten == source
+
+
+def test_a_parenthesized_tuple_is_found_although_ast_spans_its_parentheses() -> None:
+    code, plan = planned("(ob, reward, done, info) = env.step(a)\n")
+    target = plan.facts.tree.body[0].targets[0]  # type: ignore[attr-defined]
+    plan.replace(target, lambda n: cst.Name("step_result"))
+    assert applied(code, plan) == "step_result = env.step(a)\n"

@@ -281,6 +281,25 @@ def _normal(text: str) -> str:
     return re.sub(r"\s+", "", text)
 
 
+def _unparenthesized(text: str) -> str:
+    """``((a, b))`` -> ``a,b``: whitespace dropped, enclosing parentheses peeled while they
+    really enclose the whole text (not ``(a)+(b)``)."""
+    text = _normal(text)
+    while text.startswith("(") and text.endswith(")") and _encloses(text):
+        text = text[1:-1]
+    return text
+
+
+def _encloses(text: str) -> bool:
+    depth = 0
+    for index, char in enumerate(text):
+        depth += char == "("
+        depth -= char == ")"
+        if depth == 0 and index < len(text) - 1:
+            return False
+    return True
+
+
 def locate_expression(
     located: _Located, statement: ast.stmt, target: ast.AST, plan: Plan, cache: dict | None = None
 ) -> tuple[cst.CSTNode, list[cst.CSTNode]]:
@@ -306,11 +325,9 @@ def locate_expression(
     node, ancestors = found[index]
     expected = plan.facts.segment(target)
     actual = cst.Module(body=[]).code_for_node(node)
-    for _ in getattr(node, "lpar", ()):
-        actual = actual.strip()[1:]
-    for _ in getattr(node, "rpar", ()):
-        actual = actual.strip()[:-1]
-    if expected and _normal(actual) != _normal(expected):
+    # ast includes a tuple's own parentheses in its span, LibCST keeps them in lpar/rpar:
+    # compare without any enclosing parentheses on either side.
+    if expected and _unparenthesized(actual) != _unparenthesized(expected):
         raise ApplyError(f"expected {expected!r} at line {target.lineno}, found {actual!r}")  # type: ignore[attr-defined]
     return node, ancestors
 
