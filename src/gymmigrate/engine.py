@@ -189,9 +189,10 @@ def _migrate(source: bytes, text: str, encoding: str, tree: ast.Module, path: st
     maps: list[LineMap] = [LineMap(text, planned_text)] if planned_text != text else []
     if passes:
         module, pass_findings = _run_passes(module, planned_text, context, passes, maps)
+        rewritten = module.bytes
     else:
         pass_findings = []
-    rewritten = module.bytes
+        rewritten = planned_text.encode(module.encoding)  # what module.bytes would print again
     if rewritten != source:
         _check_round_trip(source, text)
     if maps:  # the plan's findings are placed in the original: place them in the output too
