@@ -23,12 +23,13 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, ClassVar
 
 import libcst as cst
-from libcst.codemod import CodemodContext
 from libcst.metadata import PositionProvider
 
 from gymmigrate.findings import Finding, FixKind
 
 if TYPE_CHECKING:
+    from libcst.codemod import CodemodContext
+
     from gymmigrate.edits.plan import Plan
     from gymmigrate.facts import ModuleFacts
     from gymmigrate.facts.receivers import Receivers
@@ -87,6 +88,12 @@ _IMPORT_RE = {
 }
 
 
+def _codemod_context() -> CodemodContext:
+    from libcst.codemod import CodemodContext  # only LibCST passes use it; costly to import
+
+    return CodemodContext()
+
+
 @dataclass
 class FileContext:
     """State of one file shared by all passes that run over it."""
@@ -94,7 +101,7 @@ class FileContext:
     path: str
     options: RewriteOptions
     profile: FileProfile
-    codemod: CodemodContext = field(default_factory=CodemodContext)
+    codemod: CodemodContext = field(default_factory=lambda: _codemod_context())
     # Notes one pass leaves for a later one (e.g. render modes a make() call needs).
     notes: dict[str, object] = field(default_factory=dict)
 

@@ -31,7 +31,7 @@ from __future__ import annotations
 import ast
 
 import libcst as cst
-import libcst.matchers as m
+from gymmigrate.edits.lazy import matchers as m  # loaded by the first edit that matches
 
 from gymmigrate.analysis import names as N
 from gymmigrate.facts.decisions import receiver_text

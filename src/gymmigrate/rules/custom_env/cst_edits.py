@@ -12,7 +12,7 @@ import re
 from collections.abc import Callable, Sequence
 
 import libcst as cst
-import libcst.matchers as m
+from gymmigrate.edits.lazy import matchers as m  # loaded by the first edit that matches
 
 from gymmigrate.analysis.syntax import own_returns
 
@@ -23,12 +23,11 @@ STEP_LIMIT_WORD = re.compile(
     r"time|time_limit|ep_len|episode_len|episode_length|counter)(_|$)"
 )
 _LIMIT_OPS = (cst.GreaterThan, cst.GreaterThanEqual, cst.LessThan, cst.LessThanEqual, cst.Equal)
-_SUPER_CALL = m.Call(func=m.Name("super"))
 
 
 def is_super_method_call(node: cst.CSTNode, method: str) -> bool:
     """``super().method(...)`` or ``super(Cls, self).method(...)``."""
-    return m.matches(node, m.Call(func=m.Attribute(value=_SUPER_CALL, attr=m.Name(method))))
+    return m.matches(node, m.Call(func=m.Attribute(value=m.Call(func=m.Name("super")), attr=m.Name(method))))
 
 
 def _identifiers(node: cst.CSTNode) -> list[str]:
