@@ -73,6 +73,21 @@ class Plan:
     def insert_after(self, statement: ast.stmt, *code: Any) -> None:
         self.after[statement].extend(code)
 
+    def withdraw(self, statement: ast.stmt, code: Any) -> None:
+        """Take back one piece of ``code`` inserted around ``statement`` (the very object
+        given to ``insert_before``/``insert_after``): a later family that removes the last
+        reader of an inserted line (e.g. ``done = terminated or truncated``) drops it."""
+        for inserted in (self.before, self.after):
+            items = inserted.get(statement)
+            if items is None:
+                continue
+            for index, item in enumerate(items):
+                if item is code:
+                    del items[index]
+                    if not items:
+                        del inserted[statement]
+                    return
+
     def remove(self, statement: ast.stmt, keep_comments: bool = False) -> None:
         """Delete ``statement``; with ``keep_comments``, the comment lines above it stay,
         above the statement that follows it in its block."""

@@ -13,7 +13,7 @@ Where a rule lives (passes run in ORDER, shown in brackets):
     GM505, GM506, GM901        np_random Generator API ......... rng.py            [45]
     GM201-GM208, GM704         reset and seeding at call sites . reset_seed/       [50]
     GM301-GM304, GM703         step and done at call sites ..... step_done/        [55]
-    GM601-GM603                wrapper subclasses .............. wrappers.py       [60]
+    GM601-GM603                wrapper subclasses .............. wrappers/         [60]
     GM604-GM606                attribute forwarding ............ wrapper_usage/    [61]
     GM902, GM904, GM906-GM908  spaces, logger, errors, utils ... spaces_logger.py  [80]
 

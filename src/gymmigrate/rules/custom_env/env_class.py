@@ -63,7 +63,7 @@ class EnvClassFamily(RuleFamily):
             deleted.extend(decision.deleted_statements)
             removed_seed = removed_seed or bool(decision.removed)
         if removed_seed:
-            drop_unused_seeding_import(self.facts, self.plan, self.context, deleted)
+            drop_unused_seeding_import(self.facts, self.plan, deleted)
 
     @staticmethod
     def _changes(decision: ClassDecision) -> bool:

@@ -1,8 +1,8 @@
 """``from gym.utils import seeding`` goes when the removed ``seed()`` bodies were its only use.
 
 Gymnasium still has ``gymnasium.utils.seeding``, so the import is only dropped when
-nothing that survives the rewrite reads it (LibCST's ``RemoveImportsVisitor`` did this
-after the old pass; here it is decided on the scopes' reads).
+nothing that survives the rewrite reads it, decided on the scopes' reads: the import
+statement loses that name, or goes when it had no other.
 """
 
 from __future__ import annotations
@@ -11,23 +11,14 @@ import ast
 from collections import defaultdict
 
 import libcst as cst
-from libcst.codemod.visitors import RemoveImportsVisitor
 
 from gymmigrate.edits.plan import Plan
 from gymmigrate.facts.module import ModuleFacts
-from gymmigrate.rules.base import FileContext, registered_passes
 
 SEEDING = frozenset({"gym.utils.seeding", "gymnasium.utils.seeding"})
 
 
-def drop_unused_seeding_import(facts: ModuleFacts, plan: Plan, context: FileContext, deleted: list[ast.stmt]) -> None:
-    if _imports_still_a_pass():
-        # The import rules (GM103) still run as a LibCST pass after the plan and rewrite
-        # this import first: let LibCST drop it after that pass, as before, so GM103 is
-        # still reported for it.
-        for module in ("gymnasium.utils", "gym.utils"):
-            RemoveImportsVisitor.remove_unused_import(context.codemod, module, "seeding")
-        return
+def drop_unused_seeding_import(facts: ModuleFacts, plan: Plan, deleted: list[ast.stmt]) -> None:
     deleted_set = set(deleted)
     dropped: dict[ast.ImportFrom, set[str]] = defaultdict(set)
     for alias, qualified in facts.imports.items():
@@ -57,6 +48,3 @@ def _without(names: set[str]):  # type: ignore[no-untyped-def]
 
     return build
 
-
-def _imports_still_a_pass() -> bool:
-    return any(rule.code == "GM103" for rule_pass in registered_passes() for rule in rule_pass.RULES)

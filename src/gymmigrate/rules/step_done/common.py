@@ -73,6 +73,23 @@ class StepNames:
         return f"{self.terminated} or {self.truncated}"
 
 
+# ``plan.notes[STEP_UNPACKS]``: every four-target step unpack this family rewrites
+# (``ast.Assign`` -> ``StepUnpack``). The wrappers family (GM602, higher ORDER) reads it to
+# return the new flags from a wrapper's ``step`` and may ``plan.withdraw`` the inserted
+# ``done = ...`` line once its return no longer reads ``done``.
+STEP_UNPACKS = "step_unpacks"
+
+
+@dataclass
+class StepUnpack:
+    """What the step family did to one ``obs, r, done, info = x.step(a)``."""
+
+    names: StepNames
+    discarded: bool  # the done target was ``_``: both flags became ``_``
+    done_line: str | None = None  # the ``done = ...`` code inserted after it (the very object)
+    claimed_reads: int = 0  # reads of ``done`` it turned into ``terminated``
+
+
 class StepFamilyBase(RuleFamily):
     """State and helpers shared by the step rules (no ``RULES``: not registered itself)."""
 

@@ -25,7 +25,7 @@ from gymmigrate.facts.done_uses import DoneUse, classify_done_read
 from gymmigrate.facts.flow import bound_names, end, start
 from gymmigrate.facts.module import LOOPS, Scope
 from gymmigrate.findings import FixKind
-from gymmigrate.rules.step_done.common import StepFamilyBase, StepNames, looks_vectorised
+from gymmigrate.rules.step_done.common import STEP_UNPACKS, StepFamilyBase, StepNames, StepUnpack, looks_vectorised
 
 
 @dataclass(frozen=True)
@@ -67,6 +67,8 @@ class UnpackRules(StepFamilyBase):
             return
         names = self._step_names(assign, vector)
         self.plan.replace(target, lambda node: _split_done(node, names))
+        discarded = isinstance(done_target, ast.Name) and done_target.id == "_"
+        self.plan.notes.setdefault(STEP_UNPACKS, {})[assign] = StepUnpack(names, discarded)
         if isinstance(done_target, ast.Name):
             if done_target.id != "_":
                 # Whether ``done`` is still read is decided once every step is known.
@@ -89,7 +91,11 @@ class UnpackRules(StepFamilyBase):
         """``done = terminated or truncated`` right after the step (``np.logical_or`` for vectors)."""
         if names.vector and self.numpy_name is None:
             self.plan.add_import("import numpy as np")
-        self.plan.insert_after(assign, f"{self.facts.segment(done_target)} = {names.joined()}")
+        line = f"{self.facts.segment(done_target)} = {names.joined()}"
+        self.plan.insert_after(assign, line)
+        noted = self.plan.notes.get(STEP_UNPACKS, {}).get(assign)
+        if noted is not None:
+            noted.done_line = line
 
     def finish_done_reads(self) -> None:
         """Plan the reads of every rewritten step's ``done``, one variable at a time."""
@@ -173,6 +179,7 @@ class UnpackRules(StepFamilyBase):
 
     def _claim(self, read: ast.Name, step: _DoneStep) -> None:
         terminated = step.names.terminated
+        self.plan.notes[STEP_UNPACKS][step.assign].claimed_reads += 1
         self.plan.replace(read, lambda node: node.with_changes(value=terminated))
         self._report_read(
             read,

@@ -24,7 +24,6 @@ import libcst as cst
 
 from gymmigrate.edits.arguments import append_keyword
 from gymmigrate.findings import FixKind
-from gymmigrate.rules.base import registered_passes
 from gymmigrate.rules.vector.common import (
     ASYNC_ONLY_KWARGS,
     LEGACY_POSITIONS,
@@ -183,21 +182,6 @@ class Construction(_Base):
 
     def _replace_imported_make(self, func: ast.Name) -> None:
         """``from gym.vector import make``: the import gives way to ``from gymnasium import make_vec``."""
-        if any(p.__module__ == "gymmigrate.rules.imports" for p in registered_passes()):
-            # Transitional, while the imports family still runs as a LibCST pass after the
-            # plan: it must first see (and report, GM103) the legacy import; LibCST's import
-            # visitors then drop the unused ``make`` and add ``make_vec`` after that pass,
-            # as they did when this family was a pass too.
-            from libcst.codemod.visitors import AddImportsVisitor, RemoveImportsVisitor
-
-            codemod = self.context.codemod
-            for q in self.facts.qualified_names(func):
-                module = q.rsplit(".", 1)[0]
-                if module == "gym" or module.startswith("gym."):
-                    module = "gymnasium" + module[len("gym") :]
-                RemoveImportsVisitor.remove_unused_import(codemod, module, func.id)
-            AddImportsVisitor.add_needed_import(codemod, "gymnasium", "make_vec")
-            return
         self.plan.add_import("from gymnasium import make_vec")
         for binding in self.facts.bindings_of(func):
             statement = self.facts.parent(binding) if isinstance(binding, ast.alias) else None

@@ -1,0 +1,153 @@
+"""What the wrapper rules share: the catalog entries, syntax tests on the original
+``ast`` (what an override delegates to, its simple statements and the names they bind) and
+the LibCST tuple builders."""
+
+from __future__ import annotations
+
+import ast
+from collections.abc import Iterator, Sequence
+
+import libcst as cst
+
+from gymmigrate.facts.module import FUNCTIONS
+from gymmigrate.findings import FixKind
+from gymmigrate.rules.base import Rule
+
+RULES = (
+    Rule(
+        "GM601",
+        "wrapper reset returns (obs, info)",
+        FixKind.ASSIST,
+        "A wrapper's `reset` override returns `(obs, info)`; pass-throughs stay.",
+    ),
+    Rule(
+        "GM602",
+        "wrapper step returns five values",
+        FixKind.AUTO,
+        "A wrapper's `step` override returns `(obs, reward, terminated, truncated, info)`.",
+    ),
+    Rule(
+        "GM603",
+        "wrapper __init__ without super().__init__",
+        FixKind.FLAG,
+        "A wrapper whose `__init__` never calls `super().__init__(env)` is reported.",
+    ),
+)
+
+# ``plan.notes`` key of the reset family: "Class.method" -> the info name it unpacked into.
+RESET_INFO_NAMES = "reset_info_names"
+
+
+def _is_inner_env(node: ast.expr) -> bool:
+    """``self.env`` or ``super()`` / ``super(Cls, self)``: what an override delegates to."""
+    if isinstance(node, ast.Attribute):
+        return isinstance(node.value, ast.Name) and node.value.id == "self" and node.attr == "env"
+    return isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "super"
+
+
+def _inner_call(node: ast.AST | None, method: str) -> ast.Call | None:
+    """``node`` if it is ``self.env.<method>(...)`` or ``super().<method>(...)``."""
+    if (
+        isinstance(node, ast.Call)
+        and isinstance(node.func, ast.Attribute)
+        and node.func.attr == method
+        and _is_inner_env(node.func.value)
+    ):
+        return node
+    return None
+
+
+def _inner_calls(root: ast.AST, method: str) -> list[ast.Call]:
+    """Inner ``method`` calls under ``root``, not inside lambdas, in source order."""
+    found: list[ast.Call] = []
+    stack = [root]
+    while stack:
+        node = stack.pop()
+        if isinstance(node, ast.Lambda):
+            continue
+        if _inner_call(node, method) is not None:
+            found.append(node)  # type: ignore[arg-type]
+        stack.extend(ast.iter_child_nodes(node))
+    found.sort(key=lambda call: (call.lineno, call.col_offset))
+    return found
+
+
+def _statements(body: list[ast.stmt]) -> Iterator[ast.stmt]:
+    """Simple statements of a function body, in order, not entering nested definitions."""
+    for statement in body:
+        if isinstance(statement, (*FUNCTIONS, ast.ClassDef)):
+            continue
+        blocks = [getattr(statement, field, None) for field in ("body", "orelse", "finalbody")]
+        blocks += [handler.body for handler in getattr(statement, "handlers", ())]
+        blocks += [case.body for case in getattr(statement, "cases", ())]
+        blocks = [block for block in blocks if isinstance(block, list)]
+        if not blocks:
+            yield statement
+        for block in blocks:
+            yield from _statements(block)
+
+
+def _single_assign(statement: ast.stmt) -> ast.Assign | None:
+    if isinstance(statement, ast.Assign) and len(statement.targets) == 1:
+        return statement
+    return None
+
+
+def _target_names(target: ast.expr) -> list[str] | None:
+    """``a, b, _`` -> ["a", "b", "_"]; None when an element is not a plain name."""
+    if not isinstance(target, (ast.Tuple, ast.List)):
+        return None
+    if not all(isinstance(element, ast.Name) for element in target.elts):
+        return None
+    return [element.id for element in target.elts]  # type: ignore[attr-defined]
+
+
+def _assigned_names(statement: ast.stmt) -> set[str]:
+    targets: list[ast.expr] = []
+    if isinstance(statement, ast.Assign):
+        targets = statement.targets
+    elif isinstance(statement, ast.AnnAssign) and statement.value is not None:
+        targets = [statement.target]
+    names: set[str] = set()
+    for target in targets:
+        if isinstance(target, ast.Name):
+            names.add(target.id)
+        else:
+            names.update(_target_names(target) or ())
+    return names
+
+
+def _names_in(function: ast.AST) -> set[str]:
+    """Every name a function binds or reads (parameters included): fresh names avoid them."""
+    names: set[str] = {function.name} if isinstance(function, FUNCTIONS) else set()
+    for node in ast.walk(function):
+        if isinstance(node, ast.Name):
+            names.add(node.id)
+        elif isinstance(node, ast.arg):
+            names.add(node.arg)
+    return names
+
+
+def _fresh(base: str, taken: set[str]) -> str:
+    name = base
+    while name in taken:
+        name += "_"
+    taken.add(name)
+    return name
+
+
+def _tuple(elements: Sequence[cst.BaseExpression], like: cst.Tuple | None = None) -> cst.Tuple:
+    """A tuple with ``, `` separators, keeping the parentheses of ``like`` if it had any."""
+    items = [
+        cst.Element(value=e, comma=cst.Comma(whitespace_after=cst.SimpleWhitespace(" ")))
+        for e in elements[:-1]
+    ] + [cst.Element(value=elements[-1])]
+    if like is not None:
+        return like.with_changes(elements=items)
+    return cst.Tuple(elements=items, lpar=[], rpar=[])
+
+
+def _parenthesized(expr: cst.BaseExpression) -> cst.BaseExpression:
+    if isinstance(expr, (cst.BooleanOperation, cst.IfExp, cst.Lambda, cst.NamedExpr, cst.Tuple)) and not expr.lpar:
+        return expr.with_changes(lpar=[cst.LeftParen()], rpar=[cst.RightParen()])
+    return expr

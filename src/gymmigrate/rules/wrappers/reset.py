@@ -1,0 +1,245 @@
+"""GM601: a wrapper's ``reset`` override returns ``(obs, info)``.
+
+``return self._process(obs)`` -> ``return self._process(obs), info`` with the info the
+reset family unpacked the inner reset into (``plan.notes["reset_info_names"]``), or
+``{}`` when the override has none; ``return f(self.env.reset(**kw))`` gets the inner
+reset hoisted into ``obs, info = ...``. Pass-throughs stay. ``def reset(self)`` takes
+Gymnasium's ``*, seed=None, options=None``, which outer wrappers always pass.
+"""
+
+from __future__ import annotations
+
+import ast
+
+import libcst as cst
+
+from gymmigrate.facts.module import own_returns
+from gymmigrate.findings import FixKind
+from gymmigrate.rules.base import RuleFamily
+from gymmigrate.rules.wrappers.common import (
+    _assigned_names,
+    _fresh,
+    _inner_call,
+    _inner_calls,
+    _names_in,
+    _parenthesized,
+    _single_assign,
+    _statements,
+    _target_names,
+    _tuple,
+)
+
+# ``plan.notes`` key of the reset family: "Class.method" -> the info name it unpacked into.
+RESET_INFO_NAMES = "reset_info_names"
+
+
+class ResetOverrides(RuleFamily):
+    """GM601 (mixed into the family; no ``RULES``, so not registered itself)."""
+
+    def _fix_reset(self, classdef: ast.ClassDef, function: ast.FunctionDef | ast.AsyncFunctionDef) -> None:
+        noted_info = self.plan.notes.get(RESET_INFO_NAMES, {}).get(f"{classdef.name}.{function.name}")
+        info_name: str | None = None
+        completed: set[ast.stmt] = set()  # one-name resets the reset family unpacks into ``obs, info``
+        for line in _statements(function.body):
+            assign = _single_assign(line)
+            if assign is None or _inner_call(assign.value, "reset") is None:
+                continue
+            target = assign.targets[0]
+            targets = _target_names(target)
+            if targets is not None and len(targets) == 2 and targets[1] != "_":
+                info_name = info_name or targets[1]
+            elif isinstance(target, ast.Name) and noted_info is not None:
+                info_name = info_name or noted_info
+                completed.add(assign)
+        fixed_signature = self._fix_reset_signature(function)
+        taken = _names_in(function)
+        needs_info_default = False
+        for ret in own_returns(function):
+            value = ret.value
+            if value is None or _inner_call(value, "reset") is not None:
+                continue  # a pass-through already returns (obs, info)
+            if _already_pair(value, info_name):
+                continue
+            inner = _inner_calls(value, "reset")
+            if inner:
+                self._hoist_reset(ret, inner, taken, fixed_signature)
+                continue
+            info_code = "{}"
+            if info_name is not None:
+                info_code = info_name
+                if not self._assigned_before(ret, info_name, function, completed):
+                    needs_info_default = True
+                    message = (
+                        f"reset returns (obs, info): `{info_name}` is the inner reset's info when it ran, else "
+                        "an empty dict"
+                    )
+                else:
+                    message = f"reset returns (obs, info) with the inner reset's `{info_name}`"
+            else:
+                message = (
+                    "reset returns (obs, info): this override has no info from an inner reset, so it returns "
+                    "an empty dict; pass the inner info on if callers need it"
+                )
+            self.report(ret, "GM601", message)
+            self.plan.replace(
+                ret,
+                lambda node, code=info_code: node.with_changes(
+                    value=_tuple([_parenthesized(node.value), cst.parse_expression(code)])
+                ),
+            )
+        if needs_info_default and info_name is not None:
+            body = function.body
+            if _is_docstring(body[0]):
+                self.plan.insert_after(body[0], f"{info_name} = {{}}")
+            else:
+                self.plan.insert_before(body[0], f"{info_name} = {{}}")
+
+    def _fix_reset_signature(self, function: ast.FunctionDef | ast.AsyncFunctionDef) -> bool:
+        """``def reset(self)`` cannot take the seed/options that every outer wrapper passes."""
+        args = function.args
+        if len(args.args) != 1 or args.posonlyargs or args.kwonlyargs or args.kwarg or args.vararg:
+            return False
+        self.report(
+            function,
+            "GM601",
+            "reset now takes keyword-only `seed` and `options` (outer wrappers always pass them); they are "
+            "passed on to the inner reset",
+        )
+        for call in _inner_calls(function, "reset"):
+            if not call.args and not call.keywords:
+                self.plan.replace(call, _pass_seed_and_options)
+        self.plan.replace(function, _keyword_seed_and_options)
+        return True
+
+    def _hoist_reset(self, ret: ast.Return, calls: list[ast.Call], taken: set[str], fixed_signature: bool) -> None:
+        """``return f(self.env.reset(**kw))`` -> ``obs, info = self.env.reset(**kw)`` + ``return f(obs), info``."""
+        if len(calls) != 1 or self._shares_line(ret):
+            self.report(ret, "GM601", "reset must return (obs, info): rewrite this return by hand", kind=FixKind.FLAG)
+            return
+        call = calls[0]
+        obs_name, info_name = _fresh("obs", taken), _fresh("info", taken)
+        self.report(ret, "GM601", f"reset returns (obs, info): the inner reset is unpacked into `{obs_name}, {info_name}`")
+        call_text = self.facts.segment(call)
+        if fixed_signature and not call.args and not call.keywords:
+            call_text = call_text[: call_text.rindex("(") + 1] + "seed=seed, options=options)"
+        self.plan.insert_before(ret, f"{obs_name}, {info_name} = {call_text}")
+
+        def rewrite(node: cst.Return) -> cst.Return:
+            value = node.value.visit(_ObservationOf(obs_name))  # type: ignore[union-attr]
+            return node.with_changes(value=_tuple([_parenthesized(value), cst.Name(info_name)]))  # type: ignore[arg-type]
+
+        self.plan.replace(ret, rewrite)
+
+    # -- helpers ----------------------------------------------------------------------------
+
+    def _shares_line(self, statement: ast.stmt) -> bool:
+        """``a; return x`` or ``if c: return x``: no room for a line before it."""
+        parent = self.facts.parent(statement)
+        for field in ("body", "orelse", "finalbody"):
+            items = getattr(parent, field, None)
+            if isinstance(items, list) and any(item is statement for item in items):
+                return any(item is not statement and item.lineno == statement.lineno for item in items) or (
+                    getattr(parent, "lineno", None) == statement.lineno and not isinstance(parent, ast.Module)
+                )
+        return False
+
+    def _assigned_before(
+        self, statement: ast.stmt, name: str, function: ast.AST, completed: set[ast.stmt]
+    ) -> bool:
+        """Is ``name`` surely bound when ``statement`` runs? (an earlier line of an enclosing block)"""
+        current: ast.AST = statement
+        while current is not function:
+            parent = self.facts.parent(current)
+            if parent is None:
+                return False
+            for field in ("body", "orelse", "finalbody"):
+                items = getattr(parent, field, None)
+                if isinstance(items, list) and any(item is current for item in items):
+                    for sibling in items:
+                        if sibling is current:
+                            break
+                        if name in _assigned_names(sibling) or sibling in completed:
+                            return True
+            current = parent
+        return False
+
+
+def _already_pair(value: ast.expr, info_name: str | None) -> bool:
+    """``obs, info`` / ``obs, {}``: a reset return that already has Gymnasium's shape."""
+    if not isinstance(value, ast.Tuple) or len(value.elts) != 2:
+        return False
+    last = value.elts[1]
+    if isinstance(last, ast.Dict):
+        return True
+    return isinstance(last, ast.Name) and (last.id == info_name or "info" in last.id.lower())
+
+
+def _is_docstring(statement: ast.stmt) -> bool:
+    return isinstance(statement, ast.Expr) and isinstance(statement.value, ast.Constant) and isinstance(
+        statement.value.value, str
+    )
+
+
+def _assign_equal() -> cst.AssignEqual:
+    return cst.AssignEqual(cst.SimpleWhitespace(""), cst.SimpleWhitespace(""))
+
+
+def _comma() -> cst.Comma:
+    return cst.Comma(whitespace_after=cst.SimpleWhitespace(" "))
+
+
+def _pass_seed_and_options(node: cst.Call) -> cst.Call:
+    if node.args:
+        return node
+    return node.with_changes(
+        args=[
+            cst.Arg(keyword=cst.Name("seed"), value=cst.Name("seed"), equal=_assign_equal(), comma=_comma()),
+            cst.Arg(keyword=cst.Name("options"), value=cst.Name("options"), equal=_assign_equal()),
+        ]
+    )
+
+
+def _keyword_seed_and_options(node: cst.FunctionDef) -> cst.FunctionDef:
+    """``def reset(self)`` -> ``def reset(self, *, seed=None, options=None)``."""
+    params = node.params
+
+    def keyword(name: str) -> cst.Param:
+        return cst.Param(name=cst.Name(name), default=cst.Name("None"), equal=_assign_equal())
+
+    return node.with_changes(
+        params=params.with_changes(
+            params=[params.params[0].with_changes(comma=_comma())],
+            star_arg=cst.ParamStar(comma=_comma()),
+            kwonly_params=[keyword("seed").with_changes(comma=_comma()), keyword("options")],
+        )
+    )
+
+
+def _is_inner_reset(node: cst.BaseExpression) -> bool:
+    if not (isinstance(node, cst.Call) and isinstance(node.func, cst.Attribute) and node.func.attr.value == "reset"):
+        return False
+    owner = node.func.value
+    if isinstance(owner, cst.Attribute):
+        return isinstance(owner.value, cst.Name) and owner.value.value == "self" and owner.attr.value == "env"
+    return isinstance(owner, cst.Call) and isinstance(owner.func, cst.Name) and owner.func.value == "super"
+
+
+class _ObservationOf(cst.CSTTransformer):
+    """The inner reset (or the ``[0]`` of it the reset family wrote) becomes the observation name."""
+
+    def __init__(self, obs_name: str) -> None:
+        super().__init__()
+        self.obs_name = obs_name
+
+    def visit_Lambda(self, node: cst.Lambda) -> bool:
+        return False
+
+    def leave_Call(self, original_node: cst.Call, updated_node: cst.Call) -> cst.BaseExpression:
+        return cst.Name(self.obs_name) if _is_inner_reset(original_node) else updated_node
+
+    def leave_Subscript(self, original_node: cst.Subscript, updated_node: cst.Subscript) -> cst.BaseExpression:
+        if _is_inner_reset(original_node.value) and len(original_node.slice) == 1:
+            index = original_node.slice[0].slice
+            if isinstance(index, cst.Index) and isinstance(index.value, cst.Integer) and index.value.value == "0":
+                return cst.Name(self.obs_name)
+        return updated_node

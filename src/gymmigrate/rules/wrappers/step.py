@@ -1,0 +1,204 @@
+"""GM602: a wrapper's ``step`` override returns five values.
+
+``return obs, reward, done, info`` -> ``return obs, reward, terminated, truncated, info``
+with the flags of the override's inner step unpack, as the step family rewrote it
+(``plan.notes[STEP_UNPACKS]``) or as it already was (five targets). When the override
+changes ``done`` itself, its own end condition is returned as truncation, for review. The
+``done = terminated or truncated`` line the step family inserts is withdrawn when the
+return was its last reader.
+"""
+
+from __future__ import annotations
+
+import ast
+
+import libcst as cst
+
+from gymmigrate.facts.module import own_returns
+from gymmigrate.findings import FixKind
+from gymmigrate.rules.base import RuleFamily
+from gymmigrate.rules.step_done.common import STEP_UNPACKS, StepUnpack
+from gymmigrate.rules.wrappers.common import (
+    _assigned_names,
+    _inner_call,
+    _parenthesized,
+    _single_assign,
+    _statements,
+    _target_names,
+    _tuple,
+)
+
+
+class StepOverrides(RuleFamily):
+    """GM602 (mixed into the family; no ``RULES``, so not registered itself)."""
+
+    def _fix_step(self, function: ast.FunctionDef | ast.AsyncFunctionDef) -> None:
+        """Return the inner step's terminated/truncated instead of ``done``.
+
+        The flags are those of the step unpack in the override, as the step family
+        rewrote it (``plan.notes[STEP_UNPACKS]``) or as it already was (five targets).
+        """
+        noted_unpacks: dict[ast.Assign, StepUnpack] = self.plan.notes.get(STEP_UNPACKS, {})
+        lines = list(_statements(function.body))
+        flags: tuple[str, str] | None = None
+        done_name: str | None = None
+        done_line: ast.stmt | None = None  # an existing ``done = ...`` line, or the unpack it is inserted after
+        inserted: tuple[ast.Assign, StepUnpack] | None = None
+        consistent = True
+        unpacks: dict[ast.stmt, StepUnpack | None] = {}
+        bound: set[str] = set()
+        for index, line in enumerate(lines):
+            assign = _single_assign(line)
+            if assign is None or _inner_call(assign.value, "step") is None:
+                bound |= _assigned_names(line)
+                continue
+            targets = _target_names(assign.targets[0])
+            if targets is None or len(targets) not in (4, 5):
+                bound |= _assigned_names(line)
+                continue
+            noted = noted_unpacks.get(assign) if len(targets) == 4 else None
+            found: tuple[str, str] | None
+            if len(targets) == 4:
+                if noted is None:  # a legacy step the step family left: nothing to return
+                    found, consistent = None, False
+                    bound.update(targets)
+                else:
+                    names = noted.names
+                    found = ("_", "_") if noted.discarded else (names.terminated, names.truncated)
+                    bound.update((targets[0], targets[1], *found, targets[3]))
+                    if noted.done_line is not None:
+                        bound.add(targets[2])
+                        if done_name is None:
+                            done_name, done_line, inserted = targets[2], assign, (assign, noted)
+            else:
+                found = (targets[2], targets[3])
+                bound.update(targets)
+                following = lines[index + 1] if index + 1 < len(lines) else None
+                if following is not None and _is_done_line(following, found):
+                    done_line, done_name = following, following.targets[0].id  # type: ignore[attr-defined]
+            unpacks[line] = noted
+            if found is not None:
+                if flags is not None and flags != found:
+                    consistent = False
+                flags = flags or found
+        done_modified = done_name is not None and _has_other_assignments(lines, done_name, done_line, unpacks, inserted)
+        replaced_done_reads = 0
+        for ret in own_returns(function):
+            value = ret.value
+            if not isinstance(value, ast.Tuple) or len(value.elts) != 4:
+                continue
+            if any(isinstance(e, ast.Starred) for e in value.elts):
+                continue
+            if flags is None or not consistent or "_" in flags:
+                self.report(
+                    ret,
+                    "GM602",
+                    "this step override returns four values but the inner step's terminated/truncated could "
+                    "not be found; return (obs, reward, terminated, truncated, info)",
+                    kind=FixKind.FLAG,
+                )
+                continue
+            terminated, truncated = flags
+            done = value.elts[2]
+            plain_done = isinstance(done, ast.Name) and (
+                (done.id == done_name and not done_modified) or done.id not in bound
+            )
+            if plain_done:
+                replaced_done_reads += done.id == done_name  # type: ignore[union-attr]
+                self.report(ret, "GM602", "step returns (obs, reward, terminated, truncated, info)")
+                self.plan.replace(value, lambda node, t=terminated, u=truncated: _five(node, [cst.Name(t), cst.Name(u)]))
+            else:
+                self.report(
+                    ret,
+                    "GM602",
+                    "this step override decides `done` itself; its own end condition is now returned as truncation "
+                    f"(`... and not {terminated}`): if it really ends the episode (e.g. a lost life), return it as "
+                    "terminated instead",
+                    kind=FixKind.ASSIST,
+                )
+                self.plan.replace(value, lambda node, t=terminated: _five(node, _cut(node, t)))
+        if done_name is not None and done_line is not None and replaced_done_reads:
+            claimed = sum(noted.claimed_reads for noted in unpacks.values() if noted is not None)
+            reads = sum(
+                1
+                for node in ast.walk(function)
+                if isinstance(node, ast.Name) and node.id == done_name and isinstance(node.ctx, ast.Load)
+            )
+            if reads - claimed - replaced_done_reads <= 0:
+                # nothing reads ``done`` any more: drop the line that kept it
+                if inserted is not None and done_line is inserted[0]:
+                    self.plan.withdraw(inserted[0], inserted[1].done_line)
+                else:
+                    self.plan.remove(done_line)
+
+
+def _is_done_line(statement: ast.stmt, flags: tuple[str, str]) -> bool:
+    """``done = terminated or truncated`` right after a five-target step unpack."""
+    assign = _single_assign(statement)
+    if assign is None or not isinstance(assign.targets[0], ast.Name):
+        return False
+    value = assign.value
+    return (
+        isinstance(value, ast.BoolOp)
+        and isinstance(value.op, ast.Or)
+        and len(value.values) == 2
+        and all(isinstance(v, ast.Name) for v in value.values)
+        and tuple(v.id for v in value.values) == flags  # type: ignore[attr-defined]
+    )
+
+
+def _is_initializer(statement: ast.stmt) -> bool:
+    """``done = None`` / ``done = False`` before a loop: not a change of the inner result."""
+    assign = _single_assign(statement)
+    return (
+        assign is not None
+        and isinstance(assign.value, ast.Constant)
+        and (assign.value.value is None or assign.value.value is False)
+    )
+
+
+def _has_other_assignments(
+    lines: list[ast.stmt],
+    name: str,
+    done_line: ast.stmt | None,
+    unpacks: dict[ast.stmt, StepUnpack | None],
+    inserted: tuple[ast.Assign, StepUnpack] | None,
+) -> bool:
+    """Is ``name`` changed anywhere but by the unpack, its ``done = ...`` line or an initializer?"""
+    seen_unpack = False
+    for line in lines:
+        if line in unpacks:
+            seen_unpack = True
+            noted = unpacks[line]
+            # another unpack after which the step family keeps ``done`` too assigns it again
+            if noted is not None and noted.done_line is not None and (inserted is None or line is not inserted[0]):
+                if name in _assigned_names(line):
+                    return True
+            continue
+        if line is done_line:
+            continue
+        if name not in _assigned_names(line):
+            if isinstance(line, ast.AugAssign) and isinstance(line.target, ast.Name) and line.target.id == name:
+                return True
+            continue
+        if not seen_unpack and _is_initializer(line):
+            continue
+        return True
+    return False
+
+
+def _five(node: cst.Tuple, flags: list[cst.BaseExpression]) -> cst.Tuple:
+    """``obs, reward, done, info`` -> ``obs, reward, <flags>, info``."""
+    obs, reward, _, info = (element.value for element in node.elements)
+    return _tuple([obs, reward, *flags, info], node if node.lpar else None)
+
+
+def _cut(node: cst.Tuple, terminated: str) -> list[cst.BaseExpression]:
+    """The override's own ``done`` becomes truncation: ``terminated, done and not terminated``."""
+    done = node.elements[2].value
+    cut = cst.BooleanOperation(
+        left=_parenthesized(done),
+        operator=cst.And(),
+        right=cst.UnaryOperation(operator=cst.Not(), expression=cst.Name(terminated)),
+    )
+    return [cst.Name(terminated), cut]
