@@ -26,7 +26,7 @@ from gymmigrate.edits.plan import Plan
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.receivers import Receivers
 from gymmigrate.findings import Finding
-from gymmigrate.rules import registered_families, registered_passes
+from gymmigrate.rules import registered_families
 from gymmigrate.rules.base import FileContext, FileProfile, RewriteOptions
 
 # A file that mentions none of these cannot hold Gym code: skip it before parsing.
@@ -114,16 +114,12 @@ def transform_source(source: bytes, path: str = "<string>", options: RewriteOpti
 def lint_source(source: bytes, path: str = "<string>", options: RewriteOptions | None = None) -> tuple[list[Finding], bool]:
     """What ``check`` needs: the findings, and whether ``rewrite`` would change the file.
 
-    Costs a CPython parse and the rules' decisions. Files where a family that still runs
-    as a LibCST pass may fire take the full route, so their findings are complete.
+    Costs a CPython parse and the rules' decisions: no LibCST tree, no verification run.
     """
     options = options or RewriteOptions()
     text, _ = decode(source)
     tree = _parse_ast(text, source, path)
-    plan, context = plan_file(tree, text, path, options)
-    if any(p.applies_to(text, context.profile) for p in registered_passes()):
-        result = transform_source(source, path, options)
-        return result.findings, result.changed
+    plan, _ = plan_file(tree, text, path, options)
     return sorted(plan.findings), plan.has_edits
 
 
@@ -173,41 +169,29 @@ def plan_file(tree: ast.Module, text: str, path: str, options: RewriteOptions) -
 
 
 def _migrate(source: bytes, text: str, encoding: str, tree: ast.Module, path: str, options: RewriteOptions) -> Transformed:
-    plan, context = plan_file(tree, text, path, options)
-    passes = registered_passes()
-    findings = list(plan.findings)
-    if not plan.has_edits and not any(p.applies_to(text, context.profile) for p in passes):
+    plan, _ = plan_file(tree, text, path, options)
+    findings = sorted(plan.findings)
+    if not plan.has_edits:
         # Nothing to change: no LibCST tree at all.
-        return Transformed(original=source, rewritten=source, encoding=encoding, findings=sorted(findings))
-    module = _parse_cst(source)
-    if plan.has_edits:
-        try:
-            module = apply_plan(module, plan)
-        except Exception as exc:  # noqa: BLE001  (a rule's edit could not be placed)
-            raise TransformError(f"internal error while applying edits: {type(exc).__name__}: {exc}") from exc
-    planned_text = module.code if plan.has_edits else text
-    maps: list[LineMap] = [LineMap(text, planned_text)] if planned_text != text else []
-    if passes:
-        module, pass_findings = _run_passes(module, planned_text, context, passes, maps)
-        rewritten = module.bytes
-    else:
-        pass_findings = []
-        rewritten = planned_text.encode(module.encoding)  # what module.bytes would print again
-    if rewritten != source:
-        _check_round_trip(source, text)
-    if maps:  # the plan's findings are placed in the original: place them in the output too
-        findings = [replace(f, line_after=_forward(f.line, maps)) for f in findings]
-    findings.extend(pass_findings)
-    return Transformed(original=source, rewritten=rewritten, encoding=encoding, findings=sorted(findings))
+        return Transformed(original=source, rewritten=source, encoding=encoding, findings=findings)
+    try:
+        module = apply_plan(_parse_cst(source), plan)
+    except TransformError:
+        raise
+    except Exception as exc:  # noqa: BLE001  (a rule's edit could not be placed)
+        raise TransformError(f"internal error while applying edits: {type(exc).__name__}: {exc}") from exc
+    new_text = module.code
+    rewritten = new_text.encode(module.encoding)  # what module.bytes would print again
+    if rewritten == source:
+        return Transformed(original=source, rewritten=source, encoding=encoding, findings=findings)
+    _check_round_trip(source, text)
+    # Findings are placed in the original; place them in the output too.
+    line_map = LineMap(text, new_text)
+    findings = [replace(f, line_after=line_map.forward(f.line)) for f in findings]
+    return Transformed(original=source, rewritten=rewritten, encoding=encoding, findings=findings)
 
 
 _UNREPRODUCIBLE = re.compile(r"\r(?!\n)|\f")
-
-
-def _forward(line: int, maps: list[LineMap]) -> int:
-    for line_map in maps:
-        line = line_map.forward(line)
-    return line
 
 
 def _check_round_trip(source: bytes, text: str) -> None:
@@ -219,67 +203,11 @@ def _check_round_trip(source: bytes, text: str) -> None:
         )
 
 
-def _run_passes(
-    module: cst.Module, text: str, context: FileContext, passes: list, maps: list[LineMap]
-) -> tuple[cst.Module, list[Finding]]:
-    """Rule families that still run as one LibCST pass each, in ORDER, after the plan."""
-    reported: list[tuple[int, list[Finding]]] = []  # findings, with how many maps preceded them
-    # Most passes change nothing in a given file. While the code is unchanged, the same
-    # wrapper (and the scope/qualified-name metadata it has resolved) serves every pass.
-    wrapper = cst.MetadataWrapper(module, unsafe_skip_copy=True)
-    for pass_class in passes:
-        # Asked of the text as earlier passes left it: one family's rewrite can give
-        # another something to do (a Monitor replaced by RecordVideo needs a render mode).
-        if not pass_class.applies_to(text, context.profile):
-            continue
-        transformer = pass_class(context)
-        try:
-            new_module = wrapper.visit(transformer)
-            new_module = _apply_scheduled_imports(new_module, context)
-        except Exception as exc:  # a rule bug must not lose the user's file or print a traceback
-            raise TransformError(f"internal error in {pass_class.__name__}: {type(exc).__name__}: {exc}") from exc
-        reported.append((len(maps), transformer.findings))
-        new_text = new_module.code
-        if new_text != text:
-            maps.append(LineMap(text, new_text))
-            text = new_text
-            module = new_module
-            wrapper = cst.MetadataWrapper(module, unsafe_skip_copy=True)
-    findings = []
-    for depth, pass_findings in reported:
-        for finding in pass_findings:
-            # Positions come from the pass's input: map them back to the original source
-            # and forward to the final output.
-            before = finding.line
-            for line_map in reversed(maps[:depth]):
-                before = line_map.backward(before)
-            after = finding.line
-            for line_map in maps[depth:]:
-                after = line_map.forward(after)
-            findings.append(replace(finding, line=before, line_after=after if maps else None))
-    return module, findings
-
-
-def _apply_scheduled_imports(module: cst.Module, context: FileContext) -> cst.Module:
-    """Imports that passes asked for through AddImportsVisitor/RemoveImportsVisitor."""
-    from libcst.codemod.visitors import AddImportsVisitor, RemoveImportsVisitor
-
-    scratch = context.codemod.scratch
-    if scratch.get(AddImportsVisitor.CONTEXT_KEY):
-        module = AddImportsVisitor(context.codemod).transform_module(module)
-        scratch.pop(AddImportsVisitor.CONTEXT_KEY, None)
-    if scratch.get(RemoveImportsVisitor.CONTEXT_KEY):
-        module = RemoveImportsVisitor(context.codemod).transform_module(module)
-        scratch.pop(RemoveImportsVisitor.CONTEXT_KEY, None)
-    return module
-
-
 def _verify(result: Transformed, path: str, options: RewriteOptions) -> None:
     """The output must compile, and a second run over it must change nothing.
 
     The second run decides on ``ast`` like the first; it only builds a LibCST tree
-    when a rule would change the output again (an unstable rewrite) or a family that
-    still runs as a LibCST pass may fire.
+    when a rule would change the output again (an unstable rewrite).
     """
     text = result.rewritten.decode(result.encoding)
     if result.encoding == "utf-8-sig":

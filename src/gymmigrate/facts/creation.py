@@ -25,7 +25,7 @@ import ast
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-from gymmigrate.analysis import names as N
+from gymmigrate.facts import names as N
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
 from gymmigrate.facts.receivers import Receivers
 

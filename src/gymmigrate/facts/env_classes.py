@@ -15,7 +15,7 @@ from __future__ import annotations
 import ast
 from collections import defaultdict
 
-from gymmigrate.analysis import names as N
+from gymmigrate.facts import names as N
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
 from gymmigrate.facts.receivers import EnvKind, Receivers
 

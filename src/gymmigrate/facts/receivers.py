@@ -22,7 +22,7 @@ from collections import defaultdict
 from collections.abc import Iterable
 from enum import Enum
 
-from gymmigrate.analysis import names as N
+from gymmigrate.facts import names as N
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, call_argument, own_returns
 
 # Deeper than any real chain of rebindings; beyond it the answer is "unknown", which

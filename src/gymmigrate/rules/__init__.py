@@ -21,7 +21,7 @@ Not rules (catalog entries that are information only, or that cannot be told apa
 from correct code by syntax): GM306, GM307, GM607, GM903, GM905.
 
 Guards (SB102-SB104: Stable-Baselines3 VecEnvs keep their API) are not a pass: every
-call-site rule asks ``gymmigrate.analysis`` what the receiver is and leaves SB3
+call-site rule asks ``gymmigrate.facts`` what the receiver is and leaves SB3
 VecEnvs, PettingZoo envs and unrelated objects alone.
 """
 
@@ -39,6 +39,6 @@ from gymmigrate.rules import (  # noqa: F401  (imported to register their passes
     wrapper_usage,
     wrappers,
 )
-from gymmigrate.rules.base import Rule, RuleFamily, RulePass, all_rules, registered_families, registered_passes
+from gymmigrate.rules.base import Rule, RuleFamily, all_rules, registered_families
 
-__all__ = ["Rule", "RuleFamily", "RulePass", "all_rules", "registered_families", "registered_passes"]
+__all__ = ["Rule", "RuleFamily", "all_rules", "registered_families"]

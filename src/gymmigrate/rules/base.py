@@ -7,10 +7,6 @@ edits in the file's ``Plan``. Every family decides on the same original module, 
 ``ORDER``; the edits are applied afterwards in one LibCST traversal
 (``gymmigrate.edits.apply``), so a single run reaches the fixed point.
 
-``RulePass`` is the earlier design (one LibCST transformer per family, each seeing the
-previous pass's output); families not yet moved to ``RuleFamily`` still run that way,
-after the planned edits, and only in files their cheap ``applies_to`` test admits.
-
 Adding a rule family is adding a module under ``gymmigrate.rules`` that defines a
 ``RuleFamily`` subclass; it registers itself and is picked up by ``rules/__init__.py``.
 """
@@ -19,17 +15,12 @@ from __future__ import annotations
 
 import ast
 import re
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, ClassVar
 
-import libcst as cst
-from libcst.metadata import PositionProvider
-
-from gymmigrate.findings import Finding, FixKind
+from gymmigrate.findings import FixKind
 
 if TYPE_CHECKING:
-    from libcst.codemod import CodemodContext
-
     from gymmigrate.edits.plan import Plan
     from gymmigrate.facts import ModuleFacts
     from gymmigrate.facts.receivers import Receivers
@@ -88,25 +79,16 @@ _IMPORT_RE = {
 }
 
 
-def _codemod_context() -> CodemodContext:
-    from libcst.codemod import CodemodContext  # only LibCST passes use it; costly to import
-
-    return CodemodContext()
-
-
 @dataclass
 class FileContext:
-    """State of one file shared by all passes that run over it."""
+    """What every family of one file knows besides the facts: its path, the run's options
+    and the cheap import profile."""
 
     path: str
     options: RewriteOptions
     profile: FileProfile
-    codemod: CodemodContext = field(default_factory=lambda: _codemod_context())
-    # Notes one pass leaves for a later one (e.g. render modes a make() call needs).
-    notes: dict[str, object] = field(default_factory=dict)
 
 
-_PASSES: list[type[RulePass]] = []
 _FAMILIES: list[type[RuleFamily]] = []
 
 
@@ -150,63 +132,6 @@ def registered_families() -> list[type[RuleFamily]]:
     return sorted(_FAMILIES, key=lambda cls: (cls.ORDER, cls.__module__))
 
 
-class RulePass(cst.CSTTransformer):
-    """One traversal implementing a family of rules.
-
-    A plain ``CSTTransformer``: LibCST's matcher-decorator base costs ~25 ms per
-    instance and slows every node visit, which a pre-commit hook cannot afford. Use
-    ``libcst.matchers.matches`` inside visit/leave methods instead of decorators.
-
-    Subclasses set ``RULES`` and ``ORDER``, may narrow ``applies_to`` with a cheap text
-    test, and call ``self.report(node, code, message)`` for every change or review item.
-    ``report`` must be given a node of the pass's *input* tree (``original_node``), since
-    positions come from it.
-    """
-
-    RULES: ClassVar[tuple[Rule, ...]] = ()
-    ORDER: ClassVar[int] = 100
-    METADATA_DEPENDENCIES = (PositionProvider,)
-
-    def __init_subclass__(cls, **kwargs: object) -> None:
-        super().__init_subclass__(**kwargs)
-        if cls.RULES:
-            _PASSES.append(cls)
-
-    def __init__(self, context: FileContext) -> None:
-        super().__init__()
-        self.context = context
-        self.findings: list[Finding] = []
-        self._rules = {rule.code: rule for rule in self.RULES}
-
-    @classmethod
-    def applies_to(cls, source: str, profile: FileProfile) -> bool:
-        """Cheap test on the text: can this family fire at all? Skips whole traversals."""
-        return True
-
-    def report(
-        self,
-        node: cst.CSTNode,
-        code: str,
-        message: str,
-        kind: FixKind | None = None,
-    ) -> None:
-        rule = self._rules[code]
-        position = self.get_metadata(PositionProvider, node).start
-        self.findings.append(
-            Finding(
-                line=position.line,
-                column=position.column,
-                rule=code,
-                kind=kind or rule.kind,
-                message=message,
-            )
-        )
-
-
-def registered_passes() -> list[type[RulePass]]:
-    return sorted(_PASSES, key=lambda cls: (cls.ORDER, cls.__module__))
-
-
 def all_rules() -> list[Rule]:
-    rules = [rule for cls in [*registered_families(), *registered_passes()] for rule in cls.RULES]
+    rules = [rule for cls in registered_families() for rule in cls.RULES]
     return sorted(rules, key=lambda rule: rule.code)

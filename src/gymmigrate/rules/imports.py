@@ -20,7 +20,7 @@ import ast
 
 import libcst as cst
 
-from gymmigrate.analysis.syntax import dotted_node
+from gymmigrate.edits.syntax import dotted_node
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.module import dotted_name
 from gymmigrate.findings import FixKind

@@ -44,7 +44,7 @@ from typing import Any
 
 import libcst as cst
 
-from gymmigrate.analysis import names as N
+from gymmigrate.facts import names as N
 from gymmigrate.edits.arguments import append_keyword, remove_args
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.creation import Creation, CreationFinder

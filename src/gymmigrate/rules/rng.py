@@ -33,7 +33,7 @@ import ast
 import libcst as cst
 from gymmigrate.edits.lazy import matchers as m  # loaded by the first edit that matches
 
-from gymmigrate.analysis import names as N
+from gymmigrate.facts import names as N
 from gymmigrate.facts.decisions import receiver_text
 from gymmigrate.facts.env_classes import EnvClasses, is_self_attribute
 from gymmigrate.facts.module import ModuleFacts, full_name

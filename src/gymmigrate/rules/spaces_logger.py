@@ -36,7 +36,7 @@ import re
 
 import libcst as cst
 
-from gymmigrate.analysis import names as N
+from gymmigrate.facts import names as N
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.module import full_name
 from gymmigrate.findings import FixKind

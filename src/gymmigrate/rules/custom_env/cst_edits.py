@@ -14,7 +14,7 @@ from collections.abc import Callable, Sequence
 import libcst as cst
 from gymmigrate.edits.lazy import matchers as m  # loaded by the first edit that matches
 
-from gymmigrate.analysis.syntax import own_returns
+from gymmigrate.edits.syntax import own_returns
 
 SUPER_RESET = "super().reset(seed=seed)"
 # Identifiers that count steps or time (``self.steps >= self.max_steps``, ``self.t > 200``).

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import libcst as cst
 
-from gymmigrate.analysis import names as N
+from gymmigrate.facts import names as N
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily

@@ -18,7 +18,7 @@ import ast
 
 import libcst as cst
 
-from gymmigrate.analysis import names as N
+from gymmigrate.facts import names as N
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.module import full_name
 from gymmigrate.findings import FixKind

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import ast
 
-from gymmigrate.analysis import names as N
+from gymmigrate.facts import names as N
 from gymmigrate.facts import ModuleFacts
 
 # Functions under gym/gymnasium whose first argument (or ``id=``) is an env id.

@@ -26,7 +26,7 @@ import ast
 
 import libcst as cst
 
-from gymmigrate.analysis import names as N
+from gymmigrate.facts import names as N
 from gymmigrate.edits.arguments import append_keyword
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.creation import CreationFinder

@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 
 import libcst as cst
 
-from gymmigrate.analysis import names as N
+from gymmigrate.facts import names as N
 from gymmigrate.facts import ModuleFacts
 
 # Legacy ``gym.vector.make(id, num_envs=1, asynchronous=True, wrappers=None,

@@ -25,7 +25,7 @@ import bisect
 
 import libcst as cst
 
-from gymmigrate.analysis import names as N
+from gymmigrate.facts import names as N
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.module import FUNCTIONS, call_argument, dotted_name, own_returns
 from gymmigrate.facts.receivers import EnvKind

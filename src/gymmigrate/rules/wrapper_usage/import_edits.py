@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 
 import libcst as cst
 
-from gymmigrate.analysis.syntax import dotted_node
+from gymmigrate.edits.syntax import dotted_node
 
 
 @dataclass

@@ -35,8 +35,8 @@ from typing import TYPE_CHECKING
 
 import libcst as cst
 
-from gymmigrate.analysis.creation import append_keyword
-from gymmigrate.analysis.syntax import dotted_node
+from gymmigrate.edits.arguments import append_keyword
+from gymmigrate.edits.syntax import dotted_node
 from gymmigrate.facts.module import dotted_name, keyword
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.wrapper_usage.arguments import positional

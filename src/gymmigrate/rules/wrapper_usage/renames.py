@@ -31,8 +31,8 @@ from collections.abc import Callable
 
 import libcst as cst
 
-from gymmigrate.analysis import names as N
-from gymmigrate.analysis.syntax import dotted_node
+from gymmigrate.facts import names as N
+from gymmigrate.edits.syntax import dotted_node
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.module import dotted_name, string_value
 from gymmigrate.facts.receivers import EnvKind

@@ -13,7 +13,7 @@ from __future__ import annotations
 import ast
 from collections.abc import Callable
 
-from gymmigrate.analysis import names as N
+from gymmigrate.facts import names as N
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.receivers import EnvKind, Receivers, join_kinds
 from gymmigrate.rules.wrapper_usage.tables import wrapper_rest

@@ -7,7 +7,7 @@ forwarding family (GM604-GM606), plus the helpers that read a qualified name as 
 
 from __future__ import annotations
 
-from gymmigrate.analysis import names as N
+from gymmigrate.facts import names as N
 
 RENAMED = {
     "AutoResetWrapper": "Autoreset",

@@ -1,4 +1,5 @@
-"""Small syntax queries several rule families ask of LibCST trees."""
+"""LibCST syntax helpers for build callbacks: the nodes rules construct or inspect while
+an edit is applied (decisions use ``gymmigrate.facts`` instead)."""
 
 from __future__ import annotations
 
@@ -29,24 +30,6 @@ def own_returns(function: cst.FunctionDef | cst.BaseSuite) -> list[cst.Return]:
     body = function.body if isinstance(function, cst.FunctionDef) else function
     body.visit(collector)
     return collector.returns
-
-
-def own_return_values(function: cst.FunctionDef) -> list[cst.BaseExpression]:
-    """The values a function returns (bare ``return`` left out)."""
-    return [statement.value for statement in own_returns(function) if statement.value is not None]
-
-
-def keyword_argument(call: cst.Call, name: str) -> cst.Arg | None:
-    """The ``name=...`` argument of a call, if passed."""
-    return next((arg for arg in call.args if arg.keyword is not None and arg.keyword.value == name), None)
-
-
-def string_value(node: cst.BaseExpression | None) -> str | None:
-    """The text of a plain string literal (not bytes, f-strings or concatenations)."""
-    if isinstance(node, cst.SimpleString):
-        value = node.evaluated_value
-        return value if isinstance(value, str) else None
-    return None
 
 
 def dotted_node(path: str) -> cst.Name | cst.Attribute:
