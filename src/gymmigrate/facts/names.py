@@ -48,11 +48,13 @@ GYM_VEC_FACTORIES = frozenset(
 )
 GYM_VEC_PREFIXES = ("wrappers.vector.",)
 
-# Stable-Baselines3 (and OpenAI baselines, which shares the VecEnv API): four-field
-# step, obs-only reset and seed() are their current API and must never be rewritten.
+# Every VecEnv family: Stable-Baselines3, stable_baselines 2.x (TF) and OpenAI baselines
+# share the VecEnv API. Four-field step, obs-only reset and seed() are their API and must
+# never be rewritten (kind SB3_VEC, which stands for all of them).
 SB3_VEC_PREFIXES = (
     "stable_baselines3.common.vec_env.",
     "sb3_contrib.common.vec_env.",
+    "stable_baselines.common.vec_env.",
     "baselines.common.vec_env.",
     "baselines.common.vec_env",
 )
@@ -62,10 +64,13 @@ SB3_VEC_FACTORIES = frozenset(
         "stable_baselines3.common.env_util.make_atari_env",
         "stable_baselines3.common.cmd_util.make_vec_env",
         "stable_baselines3.common.cmd_util.make_atari_env",
+        "stable_baselines.common.cmd_util.make_vec_env",
+        "stable_baselines.common.cmd_util.make_atari_env",
+        "stable_baselines.common.make_vec_env",
         "baselines.common.cmd_util.make_vec_env",
     }
 )
-SB3_PACKAGES = ("stable_baselines3", "sb3_contrib", "baselines")
+SB3_PACKAGES = ("stable_baselines3", "sb3_contrib", "stable_baselines", "baselines")
 SB3_MODEL_CLASSES = frozenset({"HER", "RecurrentPPO", "MaskablePPO", "QRDQN", "TQC", "TRPO", "ARS"})
 SB3_CALLBACK_BASES = frozenset(
     {

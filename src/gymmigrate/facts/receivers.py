@@ -1,8 +1,8 @@
 """Receiver classification: what kind of object is ``x`` in ``x.step(a)``?
 
 The same text (``x.reset()``, ``x.step(a)``, ``x.seed(s)``) has different correct
-answers for a Gym env, a Gym vector env, a Stable-Baselines3 VecEnv, a PettingZoo env
-or an optimiser. Rules that rewrite those calls ask this module first.
+answers for a Gym env, a Gym vector env, a VecEnv (Stable-Baselines3, stable_baselines
+2.x or OpenAI baselines), a PettingZoo env or an optimiser. Rules that rewrite those calls ask this module first.
 
 The analysis decides from where a name comes from, never from its spelling: it
 follows assignments, ``self.x = ...`` stores in the same class, returns of functions
@@ -33,7 +33,7 @@ MAX_DEPTH = 120
 class EnvKind(str, Enum):
     GYM_ENV = "Gym env"
     GYM_VEC = "Gym vector env"
-    SB3_VEC = "Stable-Baselines3 VecEnv"
+    SB3_VEC = "VecEnv (Stable-Baselines3, stable_baselines 2.x or OpenAI baselines)"
     SB3_MODEL = "Stable-Baselines3 model"
     PZ_AEC = "PettingZoo AEC env"
     PZ_PARALLEL = "PettingZoo parallel env"

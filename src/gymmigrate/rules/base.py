@@ -74,7 +74,8 @@ class FileProfile:
 _IMPORT_RE = {
     "gym": re.compile(r"^\s*(?:import\s+gym\b|from\s+gym(?:\.|\s+import\b))", re.M),
     "gymnasium": re.compile(r"^\s*(?:import\s+gymnasium\b|from\s+gymnasium\b)", re.M),
-    "sb3": re.compile(r"^\s*(?:import|from)\s+(?:stable_baselines3|sb3_contrib|baselines)\b", re.M),
+    # Every VecEnv family: Stable-Baselines3, stable_baselines 2.x, OpenAI baselines.
+    "sb3": re.compile(r"^\s*(?:import|from)\s+(?:stable_baselines3?|sb3_contrib|baselines)\b", re.M),
     "pettingzoo": re.compile(r"^\s*(?:import|from)\s+(?:pettingzoo|supersuit)\b", re.M),
 }
 

@@ -1,4 +1,4 @@
-"""Imports: ``gym`` becomes ``gymnasium`` (GM101-GM105, GM108).
+"""Imports: ``gym`` becomes ``gymnasium`` (GM101-GM105, GM107, GM108).
 
 * GM101 ``import gym`` -> ``import gymnasium as gym``; a name the user chose stays.
 * GM102 ``from gym import X`` -> ``from gymnasium import X``.
@@ -7,6 +7,9 @@
   -> the package root ``gymnasium.wrappers``.
 * GM105 removed modules and symbols (GoalEnv, classic_control.rendering, DiscreteEnv,
   robotics, VideoRecorder, EnvCompatibility...) are reported and left as they are.
+* GM107 libraries that never moved to Gymnasium (``stable_baselines`` 2.x, the TF-era
+  Stable-Baselines) are reported once per file, at the first import: their users move
+  to Stable-Baselines3. Their VecEnv code is left alone (``Receivers``: SB3_VEC kind).
 * GM108 gym-or-gymnasium ``try/except ImportError`` fallbacks, ``sys.modules`` hacks
   and ``gym.__version__`` checks are reported, not rewritten: after the migration one
   branch is dead and a person should delete it.
@@ -37,6 +40,12 @@ RULES = (
         "`gym.wrappers.<module>` imports come from the package root `gymnasium.wrappers`.",
     ),
     Rule("GM105", "removed modules and symbols", FixKind.FLAG, "Imports of things Gymnasium removed are reported."),
+    Rule(
+        "GM107",
+        "libraries still on Gym",
+        FixKind.FLAG,
+        "An import of a library with no Gymnasium release (`stable_baselines` 2.x) is reported once per file.",
+    ),
     Rule(
         "GM108",
         "version sniffing and import fallbacks",
@@ -104,6 +113,14 @@ REMOVED_NAMES = {
 }
 LEGACY_PACKAGES = ("gym", "gymnasium")
 
+# Top-level packages that have no Gymnasium release, with what their users move to.
+GYM_ONLY_LIBRARIES = {
+    "stable_baselines": (
+        "stable_baselines 2.x (TF) has no Gymnasium release: move to Stable-Baselines3 "
+        "(its VecEnv loops keep the four-field step and the obs-only reset and are left as they are)"
+    ),
+}
+
 
 def _under_gym(module: str) -> str | None:
     """``gym.spaces.box`` -> ``spaces.box``; ``gym`` -> ``""``; None for other modules."""
@@ -127,7 +144,7 @@ class Imports(RuleFamily):
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
-        return "gym" in facts.text
+        return "gym" in facts.text or "stable_baselines" in facts.text
 
     def decide(self) -> None:
         # Does a plain ``import gym`` bind the name ``gym`` (so ``import gym.x`` needs no alias)?
@@ -149,9 +166,26 @@ class Imports(RuleFamily):
                 self._import_from(node)
         self._sys_modules_hacks()
         self._version_checks()
+        self._gym_only_libraries()
 
     def _imports(self) -> list[ast.Import | ast.ImportFrom]:
         return self.facts.import_statements
+
+    # -- GM107: libraries with no Gymnasium release --------------------------------------
+
+    def _gym_only_libraries(self) -> None:
+        """One finding per library and file, at its first import (not one per import line)."""
+        reported: set[str] = set()
+        for node in self._imports():
+            if isinstance(node, ast.Import):
+                modules = [alias.name for alias in node.names]
+            else:
+                modules = [node.module] if node.module and not node.level else []
+            for module in modules:
+                top = module.split(".", 1)[0]
+                if top in GYM_ONLY_LIBRARIES and top not in reported:
+                    reported.add(top)
+                    self.report(node, "GM107", GYM_ONLY_LIBRARIES[top])
 
     # -- GM108: fallbacks ----------------------------------------------------------
 
