@@ -233,7 +233,26 @@ class ResetCalls(ResetSeedBase):
             return Use.INDEXED, None, None
         if isinstance(parent, ast.Return):
             return self._return_use(call), None, None
+        if self._hoisted_by_wrapper_rules(call):
+            return Use.PASSTHROUGH, None, None
         return Use.EXPRESSION, None, None
+
+    def _hoisted_by_wrapper_rules(self, call: ast.Call) -> bool:
+        """``return f(self.env.reset())`` in a Gym wrapper's reset: the wrapper rules (GM601)
+        unpack the inner reset into ``obs, info`` and return ``f(obs), info``; indexing the
+        call here as well would hand ``f`` the observation's first element."""
+        if not isinstance(self.facts.statement_of(call), ast.Return):
+            return False
+        function = self.facts.enclosing_function(call)
+        classdef = self.facts.enclosing_class(call)
+        if function is None or function.name != "reset" or classdef is None:
+            return False
+        receiver = call.func.value  # type: ignore[attr-defined]
+        inner = (
+            isinstance(receiver, ast.Attribute) and isinstance(receiver.value, ast.Name)
+            and receiver.value.id == "self" and receiver.attr == "env"
+        ) or (isinstance(receiver, ast.Call) and isinstance(receiver.func, ast.Name) and receiver.func.id == "super")
+        return inner and self.receivers.is_gym_wrapper_class(classdef)
 
     def _return_use(self, call: ast.Call) -> Use:
         function = self.facts.enclosing_function(call)
