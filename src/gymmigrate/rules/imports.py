@@ -122,7 +122,7 @@ GYM_ONLY_LIBRARIES = {
 }
 
 
-def _under_gym(module: str) -> str | None:
+def under_gym(module: str) -> str | None:
     """``gym.spaces.box`` -> ``spaces.box``; ``gym`` -> ``""``; None for other modules."""
     if module == "gym":
         return ""
@@ -131,7 +131,7 @@ def _under_gym(module: str) -> str | None:
     return None
 
 
-def _removed_module(rest: str) -> str | None:
+def removed_module_hint(rest: str) -> str | None:
     for removed, hint in REMOVED_MODULES.items():
         if rest == removed or rest.startswith(removed + "."):
             return hint
@@ -256,12 +256,12 @@ class Imports(RuleFamily):
         changed = False
         for alias in node.names:
             module = alias.name
-            rest = _under_gym(module)
+            rest = under_gym(module)
             if rest is None:
                 names.append((module, alias.asname))
                 continue
             self._gym_names.add(alias.asname or module.split(".")[0])
-            hint = _removed_module(rest)
+            hint = removed_module_hint(rest)
             if hint:
                 self.report(node, "GM105", f"`{module}` was removed: {hint}")
                 names.append((module, alias.asname))
@@ -280,7 +280,7 @@ class Imports(RuleFamily):
                 else:
                     self.report(node, "GM101", "import gym -> import gymnasium as gym")
                 continue
-            new_module = "gymnasium." + _legacy_wrapper_path(rest)
+            new_module = "gymnasium." + migrated_path(rest)
             names.append((new_module, alias.asname))
             self.report(node, "GM103", f"{module} -> {new_module}")
             if alias.asname is None and not self._plain_gym_import:
@@ -296,14 +296,14 @@ class Imports(RuleFamily):
         if node.level or node.module is None:
             return
         module = node.module
-        rest = _under_gym(module)
+        rest = under_gym(module)
         legacy_gymnasium_wrappers = module.startswith("gymnasium.wrappers.") and module[19:] in LEGACY_WRAPPER_MODULES
         if rest is None and not legacy_gymnasium_wrappers:
             return
         if rest is None:
             rest = module[len("gymnasium.") :]
         star = any(alias.name == "*" for alias in node.names)
-        hint = _removed_module(rest)
+        hint = removed_module_hint(rest)
         if hint is None and not star:
             for alias in node.names:
                 hint = REMOVED_NAMES.get((rest, alias.name))
@@ -315,7 +315,7 @@ class Imports(RuleFamily):
         if hint:
             self.report(node, "GM105", hint)
             return
-        new_rest = _legacy_wrapper_path(rest)
+        new_rest = migrated_path(rest)
         if not star and new_rest != rest:
             moved = [MOVED_NAMES.get((rest.split(".")[-1], alias.name)) for alias in node.names]
             if any(moved) and len(set(moved)) == 1:
@@ -374,7 +374,7 @@ def _innermost_guard(node: ast.AST, guards: dict[ast.Try, str], facts: ModuleFac
     return "guarded" if kinds else None
 
 
-def _legacy_wrapper_path(rest: str) -> str:
+def migrated_path(rest: str) -> str:
     """``wrappers.time_limit`` -> ``wrappers``; ``wrappers.vector_list_info`` -> ``wrappers.vector``."""
     parts = rest.split(".")
     if len(parts) >= 2 and parts[0] == "wrappers":

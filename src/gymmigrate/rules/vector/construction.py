@@ -29,7 +29,6 @@ from gymmigrate.rules.vector.common import (
     LEGACY_POSITIONS,
     VECTOR_CLASS_KWARGS,
     VECTOR_CLASSES,
-    arguments_in_order,
     gym_rest,
     is_false,
     quote_style,

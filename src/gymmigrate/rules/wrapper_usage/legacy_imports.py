@@ -13,31 +13,16 @@ import ast
 
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.rules.base import FileProfile
-from gymmigrate.rules.imports import LEGACY_WRAPPER_MODULES, REMOVED_MODULES, REMOVED_NAMES
+from gymmigrate.rules.imports import (
+    LEGACY_WRAPPER_MODULES,
+    REMOVED_MODULES,
+    REMOVED_NAMES,
+    migrated_path,
+    removed_module_hint,
+    under_gym,
+)
 
-
-def under_gym(module: str) -> str | None:
-    """``gym.spaces.box`` -> ``spaces.box``; ``gym`` -> ``""``; None for other modules."""
-    if module == "gym":
-        return ""
-    if module.startswith("gym."):
-        return module[4:]
-    return None
-
-
-def migrated_path(rest: str) -> str:
-    """Where the imports rules put a wrapper module: ``wrappers.time_limit`` -> ``wrappers``."""
-    parts = rest.split(".")
-    if len(parts) >= 2 and parts[0] == "wrappers":
-        if parts[1] in LEGACY_WRAPPER_MODULES:
-            return "wrappers"
-        if parts[1] == "vector_list_info":
-            return "wrappers.vector"
-    return rest
-
-
-def _removed_module(rest: str) -> bool:
-    return any(rest == removed or rest.startswith(removed + ".") for removed in REMOVED_MODULES)
+__all__ = ["LegacyImports", "import_move", "migrated_path", "removed_import", "under_gym"]
 
 
 class LegacyImports:
@@ -57,8 +42,8 @@ class LegacyImports:
             rest = under_gym(statement.module)
             if rest is None:
                 return False
-            return _removed_module(rest) or any((rest, alias.name) in REMOVED_NAMES for alias in statement.names)
-        return any(_removed_module(under_gym(alias.name) or "") for alias in statement.names if under_gym(alias.name))
+            return (removed_module_hint(rest) is not None) or any((rest, alias.name) in REMOVED_NAMES for alias in statement.names)
+        return any(removed_module_hint(under_gym(alias.name) or "") is not None for alias in statement.names if under_gym(alias.name))
 
     def binds_legacy(self, expr: ast.AST) -> bool:
         """``expr``'s root name is bound by a gym import that stays as it is."""
