@@ -21,6 +21,18 @@ FUNCTIONS = (ast.FunctionDef, ast.AsyncFunctionDef)
 COMPREHENSIONS = (ast.ListComp, ast.SetComp, ast.DictComp, ast.GeneratorExp)
 SCOPES = (ast.Module, *FUNCTIONS, ast.ClassDef, ast.Lambda, *COMPREHENSIONS)
 LOOPS = (ast.For, ast.AsyncFor, ast.While)
+# Statements that hold blocks; ``try/except*`` and ``match`` where this Python has them.
+COMPOUND_STATEMENTS = (
+    *FUNCTIONS,
+    ast.ClassDef,
+    ast.If,
+    *LOOPS,
+    ast.With,
+    ast.AsyncWith,
+    ast.Try,
+    *((ast.TryStar,) if hasattr(ast, "TryStar") else ()),
+    *((ast.Match,) if hasattr(ast, "Match") else ()),
+)
 
 
 @dataclass(eq=False)
@@ -367,6 +379,28 @@ def full_name(node: ast.AST) -> str | None:
     if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
         return node.name
     return None
+
+
+def statement_lines(statements: list[ast.stmt], start: int = 0) -> Iterator[list[ast.stmt]]:
+    """``statements`` from ``start`` on, grouped by the physical line they share, as LibCST
+    groups them: ``a; b`` is one line of two statements, a compound statement is alone.
+    Lazy: callers often stop at the first line."""
+    line: list[ast.stmt] = []
+    for statement in statements[start:]:
+        previous = line[-1] if line else None
+        if (
+            previous is not None
+            and not isinstance(previous, COMPOUND_STATEMENTS)
+            and not isinstance(statement, COMPOUND_STATEMENTS)
+            and statement.lineno == previous.end_lineno
+        ):
+            line.append(statement)
+            continue
+        if line:
+            yield line
+        line = [statement]
+    if line:
+        yield line
 
 
 def own_returns(function: ast.AST) -> list[ast.Return]:

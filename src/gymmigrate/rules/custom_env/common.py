@@ -70,34 +70,6 @@ def method_of(decision: ClassDecision, node: ast.AST) -> Method | None:
     return None
 
 
-def statement_lines(body: list[ast.stmt]) -> list[list[ast.stmt]]:
-    """``body`` grouped as LibCST lines: ``a; b`` is one line of two statements."""
-    groups: list[list[ast.stmt]] = []
-    previous_end = -1
-    for statement in body:
-        simple = not isinstance(statement, _COMPOUND)
-        if simple and groups and statement.lineno == previous_end and not isinstance(groups[-1][-1], _COMPOUND):
-            groups[-1].append(statement)
-        else:
-            groups.append([statement])
-        previous_end = statement.end_lineno or statement.lineno
-    return groups
-
-
-_COMPOUND = (
-    ast.FunctionDef,
-    ast.AsyncFunctionDef,
-    ast.ClassDef,
-    ast.If,
-    ast.For,
-    ast.AsyncFor,
-    ast.While,
-    ast.With,
-    ast.AsyncWith,
-    ast.Try,
-    *((ast.TryStar,) if hasattr(ast, "TryStar") else ()),
-    *((ast.Match,) if hasattr(ast, "Match") else ()),
-)
 
 
 def is_docstring(group: list[ast.stmt]) -> bool:

@@ -13,7 +13,8 @@ import ast
 
 from gymmigrate.facts.env_classes import identifiers, is_self_attribute, is_super_method_call
 from gymmigrate.findings import FixKind
-from gymmigrate.rules.custom_env.common import ClassDecision, is_docstring, method_of, param_names, statement_lines
+from gymmigrate.facts.module import statement_lines
+from gymmigrate.rules.custom_env.common import ClassDecision, is_docstring, method_of, param_names
 from gymmigrate.rules.custom_env.rebuild import SeedPlan
 
 NP_RANDOM = ("np_random", "_np_random")
@@ -30,7 +31,7 @@ def decide_seed(decision: ClassDecision) -> None:
         return
     params = param_names(seed_method)[1:2]
     seed_name = params[0] if params else "seed"
-    groups = statement_lines(seed_method.body)
+    groups = list(statement_lines(seed_method.body))
     moved: list[int] = []
     canonical_names: set[str] = set()
     deleted: list[ast.stmt] = []

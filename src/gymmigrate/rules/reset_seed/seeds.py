@@ -18,28 +18,14 @@ never again" (``Env.reset`` docstring). So:
 from __future__ import annotations
 
 import ast
-from collections.abc import Iterator
 
 from gymmigrate.facts.decisions import Action, receiver_text
+from gymmigrate.facts.module import COMPOUND_STATEMENTS, statement_lines
 from gymmigrate.facts.reset_flow import line_before, segment
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.reset_seed.call_edits import SeedValue
 from gymmigrate.rules.reset_seed.common import ResetSeedBase, is_space
 
-_COMPOUND = (
-    ast.If,
-    ast.For,
-    ast.AsyncFor,
-    ast.While,
-    ast.With,
-    ast.AsyncWith,
-    ast.Try,
-    ast.TryStar,
-    ast.FunctionDef,
-    ast.AsyncFunctionDef,
-    ast.ClassDef,
-    ast.Match,
-)
 _BLOCK_FIELDS = ("body", "orelse", "finalbody")
 
 
@@ -141,7 +127,7 @@ class SeedCalls(ResetSeedBase):
             return None
         wanted = segment(self.facts, receiver)
         root = _root_name(receiver)
-        for line in _lines(block, position + 1):
+        for line in statement_lines(block, position + 1):
             reset = self._reset_statement(line, wanted)
             if reset is not None:
                 return reset
@@ -183,28 +169,6 @@ class SeedCalls(ResetSeedBase):
         return value
 
 
-def _lines(statements: list[ast.stmt], start: int) -> Iterator[list[ast.stmt]]:
-    """Statements from ``start`` on, grouped by the line they share (``a; b``); a compound
-    statement is alone. Lazy: the caller usually stops at the first line."""
-    line: list[ast.stmt] = []
-    for index in range(start, len(statements)):
-        statement = statements[index]
-        previous = line[-1] if line else None
-        if (
-            previous is not None
-            and not isinstance(previous, _COMPOUND)
-            and not isinstance(statement, _COMPOUND)
-            and statement.lineno == previous.end_lineno
-        ):
-            line.append(statement)
-            continue
-        if line:
-            yield line
-        line = [statement]
-    if line:
-        yield line
-
-
 def _seed_argument(call: ast.Call) -> ast.expr | None:
     """The one seed of ``x.seed(s)`` / ``x.seed(seed=s)``, else None."""
     if len(call.args) + len(call.keywords) != 1:
@@ -227,7 +191,7 @@ def _independent_of(line: list[ast.stmt], root: str | None) -> bool:
     Reading the env's attributes is fine; rebinding the name or calling anything but a
     seeding function (env.action_space.seed, np.random.seed...) is not.
     """
-    if root is None or isinstance(line[0], _COMPOUND):
+    if root is None or isinstance(line[0], COMPOUND_STATEMENTS):
         return False
     bound: set[str] = set()
 
