@@ -21,6 +21,7 @@ FUNCTIONS = (ast.FunctionDef, ast.AsyncFunctionDef)
 COMPREHENSIONS = (ast.ListComp, ast.SetComp, ast.DictComp, ast.GeneratorExp)
 SCOPES = (ast.Module, *FUNCTIONS, ast.ClassDef, ast.Lambda, *COMPREHENSIONS)
 LOOPS = (ast.For, ast.AsyncFor, ast.While)
+_UNSET = object()
 # Statements that hold blocks; ``try/except*`` and ``match`` where this Python has them.
 COMPOUND_STATEMENTS = (
     *FUNCTIONS,
@@ -341,13 +342,24 @@ class ModuleFacts:
             return offset
         return len(line.encode("utf-8")[:offset].decode("utf-8", errors="replace"))
 
-    def memo(self, key: tuple[str, int], compute):  # type: ignore[no-untyped-def]
-        """Memoize a per-node fact under ``(fact name, id(node))``."""
+    def peek(self, key: tuple[str, int]) -> object | None:
+        """The memoized fact under ``key``, or None when it has not been computed."""
+        return self._memo.get(key)
+
+    def memo(self, key: tuple[str, int], compute, while_computing: object = _UNSET):  # type: ignore[no-untyped-def]
+        """Memoize a per-node fact under ``(fact name, id(node))``.
+
+        ``while_computing``: the answer a recursive question about the same key gets while
+        ``compute`` runs (e.g. "unknown": a cycle such as ``env = wrap(env)`` adds no evidence).
+        """
         try:
             return self._memo[key]
         except KeyError:
-            value = self._memo[key] = compute()
-            return value
+            pass
+        if while_computing is not _UNSET:
+            self._memo[key] = while_computing
+        value = self._memo[key] = compute()
+        return value
 
 
 def dotted_name(expr: ast.AST) -> str | None:

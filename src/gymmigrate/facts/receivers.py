@@ -91,6 +91,7 @@ class Receivers:
         self._cache: dict[ast.AST, EnvKind] = {}
         self._in_progress: set[ast.AST] = set()
         self._self_stores: dict[ast.ClassDef, dict[str, list[ast.expr]]] = {}
+        self._name_kinds: dict[int, EnvKind] = {}  # id(bindings list) -> kind, see _classify_name
         self._depth = 0
 
     # -- public -------------------------------------------------------------------------
@@ -255,10 +256,10 @@ class Receivers:
         # Every read that sees the same bindings has the same kind: n reads of a name
         # rebound n times cost n, not n * n. Only an answer computed with nothing else in
         # progress is shared (deeper ones may be partial, cut short by a cycle).
-        key = ("name-kind", id(bindings))
-        shared = self.facts._memo.get(key)
+        key = id(bindings)
+        shared = self._name_kinds.get(key)
         if shared is not None:
-            return shared  # type: ignore[return-value]
+            return shared
         kinds = []
         for binding in bindings:
             kind = self.binding_kind(binding)
@@ -266,7 +267,7 @@ class Receivers:
                 kinds.append(kind)
         kind = join_kinds(kinds)
         if self._depth == 1:
-            self.facts._memo[key] = kind
+            self._name_kinds[key] = kind
         return kind
 
     def binding_kind(self, binding: ast.AST) -> EnvKind | None:
@@ -348,19 +349,20 @@ class Receivers:
 
     def _element_kind_memo(self, container: ast.AST) -> EnvKind:
         key = ("element-kind", id(container))
-        cached = self.facts._memo.get(key)
+        cached = self.facts.peek(key)
         if cached is not None:
             return cached  # type: ignore[return-value]
         if self._depth > MAX_DEPTH:
-            return EnvKind.UNKNOWN
-        self.facts._memo[key] = EnvKind.UNKNOWN  # a cycle adds no evidence
-        self._depth += 1
-        try:
-            kind = self._element_kind(container)
-        finally:
-            self._depth -= 1
-        self.facts._memo[key] = kind
-        return kind
+            return EnvKind.UNKNOWN  # not memoized: a shallower question may still answer it
+
+        def compute() -> EnvKind:
+            self._depth += 1
+            try:
+                return self._element_kind(container)
+            finally:
+                self._depth -= 1
+
+        return self.facts.memo(key, compute, while_computing=EnvKind.UNKNOWN)  # type: ignore[no-any-return]
 
     # -- parameters ---------------------------------------------------------------------
 
@@ -486,12 +488,8 @@ class Receivers:
                 return other
         local = self.local_class(base)
         if local is not None:
-            key = ("class-kind", id(local))
-            cached = self.facts._memo.get(key)
-            if cached is None:
-                self.facts._memo[key] = EnvKind.UNKNOWN  # class cycles add no evidence
-                cached = self.facts._memo[key] = self.class_kind(local)
-            return cached  # type: ignore[return-value]
+            # Class cycles (``class A(B)`` / ``class B(A)``) add no evidence.
+            return self.facts.memo(("class-kind", id(local)), lambda: self.class_kind(local), while_computing=EnvKind.UNKNOWN)  # type: ignore[no-any-return]
         return EnvKind.UNKNOWN
 
     def _returns_kind(self, function: ast.AST) -> EnvKind:

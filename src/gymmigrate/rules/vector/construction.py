@@ -123,7 +123,10 @@ class Construction(_Base):
 
     def wrappers_shape(self, value: ast.AST) -> str:
         """"sequence", "callable", "none" or "unknown": legacy accepted one callable or a list."""
-        return self.facts.memo(("vector-wrappers-shape", id(value)), lambda: self._wrappers_shape(value))  # type: ignore[no-any-return]
+        # A binding reached again while its shape is computed (``w = w``) says nothing.
+        return self.facts.memo(  # type: ignore[no-any-return]
+            ("vector-wrappers-shape", id(value)), lambda: self._wrappers_shape(value), while_computing="unknown"
+        )
 
     def _wrappers_shape(self, value: ast.AST) -> str:
         if isinstance(value, (ast.List, ast.Tuple, ast.ListComp)):
@@ -138,8 +141,6 @@ class Construction(_Base):
             bindings = self.facts.bindings_of(value)
             if not bindings and value.id in _BUILTINS:
                 return "callable"
-            # A binding reached again while its shape is computed (``w = w``) says nothing.
-            self.facts._memo[("vector-wrappers-shape", id(value))] = "unknown"
             shapes = set()
             for binding in bindings:
                 if isinstance(binding, (ast.alias, ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
