@@ -119,7 +119,7 @@ def lint_source(source: bytes, path: str = "<string>", options: RewriteOptions |
     options = options or RewriteOptions()
     text, _ = decode(source)
     tree = _parse_ast(text, source, path)
-    plan, _ = plan_file(tree, text, path, options)
+    plan = plan_file(tree, text, path, options)
     return sorted(plan.findings), plan.has_edits
 
 
@@ -150,7 +150,7 @@ def _parse_ast(text: str, source: bytes, path: str) -> ast.Module:
         raise TransformError(f"cannot parse the file: {exc}") from None
 
 
-def plan_file(tree: ast.Module, text: str, path: str, options: RewriteOptions) -> tuple[Plan, FileContext]:
+def plan_file(tree: ast.Module, text: str, path: str, options: RewriteOptions) -> Plan:
     """Every rule family decides on the same facts; nothing is changed yet."""
     facts = ModuleFacts(tree, text)
     context = FileContext(path=path, options=options, profile=FileProfile.from_source(text))
@@ -165,11 +165,11 @@ def plan_file(tree: ast.Module, text: str, path: str, options: RewriteOptions) -
             raise TransformError(f"internal error in {family.__name__}: the code is nested too deeply to analyse") from None
         except Exception as exc:  # a rule bug must not lose the user's file or print a traceback
             raise TransformError(f"internal error in {family.__name__}: {type(exc).__name__}: {exc}") from exc
-    return plan, context
+    return plan
 
 
 def _migrate(source: bytes, text: str, encoding: str, tree: ast.Module, path: str, options: RewriteOptions) -> Transformed:
-    plan, _ = plan_file(tree, text, path, options)
+    plan = plan_file(tree, text, path, options)
     findings = sorted(plan.findings)
     if not plan.has_edits:
         # Nothing to change: no LibCST tree at all.

@@ -25,7 +25,6 @@ if TYPE_CHECKING:  # LibCST is imported only by files that change
 # Receives the node as already changed by edits inside it; returns its replacement
 # (a node, or a LibCST FlattenSentinel / RemovalSentinel where the parent allows it).
 Build = Callable[["cst.CSTNode"], Any]
-NewCode = "str | cst.BaseStatement | cst.BaseSmallStatement"
 
 
 @dataclass
