@@ -85,6 +85,9 @@ def test_json_report(project: Path, tmp_path: Path) -> None:
         "kind": "auto",
         "message": "import gym -> import gymnasium as gym",
         "line_after": 1,
+        "end_line": 1,
+        "end_column": 10,
+        "cell": None,
     }
     assert [(r["line"], r["rule"], r["kind"]) for r in old["review"]] == [(2, "GM105", "flag")]
 

@@ -37,6 +37,9 @@ class Finding:
     """One change or review item, positioned in the original source (1-based line, 0-based column).
 
     ``line_after`` is the same place in the rewritten source, when the file changed.
+    ``end_line``/``end_column`` close the span of the node reported (SARIF, editors).
+    ``cell`` is the notebook cell (0-based) when the file is a notebook; ``line`` is
+    then counted within that cell.
     """
 
     line: int
@@ -45,6 +48,9 @@ class Finding:
     kind: FixKind
     message: str
     line_after: int | None = None
+    end_line: int | None = None
+    end_column: int | None = None
+    cell: int | None = None
 
     @property
     def is_change(self) -> bool:

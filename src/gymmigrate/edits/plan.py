@@ -58,7 +58,12 @@ class Plan:
         if key in self._seen:  # two routes to the same conclusion: one item
             return
         self._seen.add(key)
-        self.findings.append(Finding(line=line, column=column, rule=code, kind=kind, message=message))
+        end_line, end_column = self.facts.end(node)
+        self.findings.append(
+            Finding(
+                line=line, column=column, rule=code, kind=kind, message=message, end_line=end_line, end_column=end_column
+            )
+        )
 
     # -- edits ----------------------------------------------------------------------------
 

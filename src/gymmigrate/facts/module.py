@@ -336,8 +336,18 @@ class ModuleFacts:
 
     def column(self, node: ast.AST) -> int:
         """``ast`` columns count UTF-8 bytes; findings count characters."""
-        line = self.lines[node.lineno - 1] if 0 < node.lineno <= len(self.lines) else ""  # type: ignore[attr-defined]
-        offset = node.col_offset  # type: ignore[attr-defined]
+        return self._characters(node.lineno, node.col_offset)  # type: ignore[attr-defined]
+
+    def end(self, node: ast.AST) -> tuple[int | None, int | None]:
+        """Where ``node`` ends (1-based line, 0-based character column), when ``ast`` knows."""
+        line = getattr(node, "end_lineno", None)
+        offset = getattr(node, "end_col_offset", None)
+        if line is None or offset is None:
+            return None, None
+        return line, self._characters(line, offset)
+
+    def _characters(self, lineno: int, offset: int) -> int:
+        line = self.lines[lineno - 1] if 0 < lineno <= len(self.lines) else ""
         if line.isascii():
             return offset
         return len(line.encode("utf-8")[:offset].decode("utf-8", errors="replace"))
