@@ -1,4 +1,4 @@
-"""README is the user's manual: every rule, every option and the Quick start are in it."""
+"""README and docs/rules/ are the user's manual: every rule, every option and the Quick start are in them."""
 
 from __future__ import annotations
 
@@ -14,19 +14,21 @@ from gymmigrate.rules import all_rules
 README = (Path(__file__).resolve().parent.parent / "README.md").read_text(encoding="utf-8")
 
 
+RULE_DOCS = Path(__file__).resolve().parent.parent / "docs" / "rules"
+
+
 def _section(code: str) -> str:
-    match = re.search(rf"^(#+) {code}\b.*$", README, flags=re.M)
-    assert match, f"README has no heading for {code}"
-    level = len(match.group(1))
-    rest = README[match.end() :]
-    end = re.search(rf"^#{{1,{level}}} ", rest, flags=re.M)
-    return rest[: end.start()] if end else rest
+    page = RULE_DOCS / f"{code}.md"
+    assert page.is_file(), f"{code} has no page docs/rules/{code}.md"
+    text = page.read_text(encoding="utf-8")
+    assert re.match(rf"# {code}\b", text), f"docs/rules/{code}.md must start with its heading"
+    return text
 
 
 @pytest.mark.parametrize("rule", all_rules(), ids=lambda rule: rule.code)
 def test_every_rule_is_documented_with_an_example(rule) -> None:
     section = _section(rule.code)
-    assert section.count("```python") >= 1, f"{rule.code} needs a before/after example in README"
+    assert section.count("```python") >= 1, f"{rule.code} needs a before/after example in docs/rules/{rule.code}.md"
     assert f"| {rule.kind.value} |" in README.split(f"| [{rule.code}]", 1)[1].split("\n", 1)[0]
 
 
