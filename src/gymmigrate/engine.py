@@ -23,6 +23,7 @@ import libcst as cst
 
 from gymmigrate.edits.apply import apply_plan
 from gymmigrate.edits.plan import Plan
+from gymmigrate.edits.splice import splice_plan
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.receivers import Receivers
 from gymmigrate.findings import Finding
@@ -175,16 +176,14 @@ def _migrate(source: bytes, text: str, encoding: str, tree: ast.Module, path: st
         # Nothing to change: no LibCST tree at all.
         return Transformed(original=source, rewritten=source, encoding=encoding, findings=findings)
     try:
-        module = apply_plan(_parse_cst(source), plan)
+        new_text = _apply(source, text, plan)
     except TransformError:
         raise
     except Exception as exc:  # noqa: BLE001  (a rule's edit could not be placed)
         raise TransformError(f"internal error while applying edits: {type(exc).__name__}: {exc}") from exc
-    new_text = module.code
-    rewritten = new_text.encode(module.encoding)  # what module.bytes would print again
+    rewritten = new_text.encode(encoding)  # a BOM comes back with utf-8-sig
     if rewritten == source:
         return Transformed(original=source, rewritten=source, encoding=encoding, findings=findings)
-    _check_round_trip(source, text)
     # Findings are placed in the original; place them in the output too.
     line_map = LineMap(text, new_text)
     findings = [replace(f, line_after=line_map.forward(f.line)) for f in findings]
@@ -192,6 +191,27 @@ def _migrate(source: bytes, text: str, encoding: str, tree: ast.Module, path: st
 
 
 _UNREPRODUCIBLE = re.compile(r"\r(?!\n)|\f")
+
+
+def _apply(source: bytes, text: str, plan: Plan) -> str:
+    """The rewritten text: only the top-level statements that change are parsed and
+    printed again where that is exact (``edits.splice``), else the whole module."""
+    if not _UNREPRODUCIBLE.search(text):
+        spliced = splice_plan(text, plan, _parse_cst_text)
+        if spliced is not None:
+            return spliced
+    module = apply_plan(_parse_cst(source), plan)
+    new_text = module.code
+    if new_text.encode(module.encoding) != source:
+        _check_round_trip(source, text)
+    return new_text
+
+
+def _parse_cst_text(text: str) -> cst.Module:
+    try:
+        return cst.parse_module(text)
+    except cst.ParserSyntaxError as exc:
+        raise TransformError(f"syntax error at line {exc.raw_line}, column {exc.raw_column}") from None
 
 
 def _check_round_trip(source: bytes, text: str) -> None:
