@@ -1,0 +1,143 @@
+"""Migrate the programs of a ``Document`` with the engine, and place findings in the file.
+
+The segments of one program (a notebook's code cells, a page's blocks, the examples of a
+``>>>`` session) are joined into one Python text with a boundary comment line between
+them, so the rules see one module: an env made in cell 2 and stepped in cell 5 is the same
+env. After migration the text is split at the same comments; if any boundary moved or
+vanished the file is refused rather than guessed at.
+"""
+
+from __future__ import annotations
+
+import re
+from bisect import bisect_right
+from dataclasses import replace
+
+from gymmigrate.engine import (
+    Transformed,
+    TransformError,
+    lint_source,
+    may_hold_gym_code,
+    transform_source,
+    unified_diff,
+)
+from gymmigrate.findings import Finding
+from gymmigrate.rules.base import RewriteOptions
+from gymmigrate.sources import Adapter, Document, Location, Segment
+
+_BOUNDARY = "# gymmigrate: segment boundary {}\n"
+_BOUNDARY_PREFIX = "# gymmigrate: segment boundary"
+_BOUNDARY_LINE = re.compile(r"# gymmigrate: segment boundary (\d+)\r?\n?")
+
+
+def join(codes: list[str]) -> tuple[str, list[int]]:
+    """One program text, and the 1-based program line where each segment starts."""
+    parts: list[str] = []
+    starts: list[int] = []
+    line = 1
+    for index, code in enumerate(codes):
+        if index:
+            parts.append(_BOUNDARY.format(index))
+            line += 1
+        starts.append(line)
+        parts.append(code)
+        line += code.count("\n")
+    return "".join(parts), starts
+
+
+def split(code: str, count: int) -> list[str]:
+    """The segments of a migrated program, or TransformError if a boundary moved."""
+    pieces: list[list[str]] = [[]]
+    for line in code.splitlines(keepends=True):
+        match = _BOUNDARY_LINE.fullmatch(line) if line.startswith(_BOUNDARY_PREFIX) else None
+        if match is None:
+            pieces[-1].append(line)
+        elif int(match[1]) == len(pieces):
+            pieces.append([])
+        else:
+            raise TransformError("the rewrite moved a cell or block boundary; file left unchanged")
+    if len(pieces) != count:
+        raise TransformError(f"the rewrite left {len(pieces)} cells or blocks where there were {count}; file left unchanged")
+    return ["".join(piece) for piece in pieces]
+
+
+def migrate(
+    document: Document, source: bytes, path: str, options: RewriteOptions, *, lint: bool
+) -> tuple[list[Finding], bool, bytes]:
+    """The findings (placed in the file), whether the file changes, and its new bytes
+    (``source`` itself in lint mode or when nothing changes)."""
+    findings: list[Finding] = list(document.notes)
+    new_codes: list[list[str]] = []
+    placed: list[tuple[int, Finding, list[int], list[int]]] = []  # program, finding, starts before and after
+    would_change = False
+    for index, program in enumerate(document.programs):
+        codes = [segment.code for segment in program]
+        new_codes.append(codes)
+        code, starts = join(codes)
+        if _BOUNDARY_PREFIX in "".join(codes):
+            raise TransformError("the code holds gymmigrate's own boundary comment; file left unchanged")
+        data = code.encode("utf-8")
+        if not may_hold_gym_code(data):
+            continue
+        if lint:
+            found, changes = lint_source(data, path, options)
+            would_change |= changes
+            findings.extend(_placed(f, starts, program) for f in found)
+            continue
+        transformed = transform_source(data, path, options)
+        after_starts = starts
+        if transformed.changed:
+            new_codes[index] = split(transformed.rewritten.decode(transformed.encoding), len(program))
+            _, after_starts = join(new_codes[index])
+        placed.extend((index, f, starts, after_starts) for f in transformed.findings)
+    if lint:
+        return sorted(findings, key=_order), would_change, source
+    rewritten, segment_starts_after = document.rebuild(new_codes)
+    for index, finding, starts, after_starts in placed:
+        moved = _placed(finding, starts, document.programs[index])
+        if finding.line_after is not None and rewritten != source:
+            where = _locate(finding.line_after, after_starts, segment_starts_after[index])
+            moved = replace(moved, line_after=where.line)
+        else:
+            moved = replace(moved, line_after=None)
+        findings.append(moved)
+    return sorted(findings, key=_order), rewritten != source, rewritten
+
+
+def _order(finding: Finding) -> tuple[int, int, int, str]:
+    return (finding.cell if finding.cell is not None else -1, finding.line, finding.column, finding.rule)
+
+
+def _placed(finding: Finding, starts: list[int], program: list[Segment]) -> Finding:
+    origins = [segment.start for segment in program]
+    where = _locate(finding.line, starts, origins)
+    end_line = finding.end_line
+    if end_line is not None:
+        end_line = _locate(end_line, starts, origins).line
+    return replace(finding, line=where.line, cell=where.cell, end_line=end_line)
+
+
+def _locate(line: int, starts: list[int], origins: list[Location]) -> Location:
+    """Program line -> file location: the segment holding it, then the line within."""
+    index = max(bisect_right(starts, line) - 1, 0)
+    return origins[index].plus(line - starts[index])
+
+
+def transform_document(adapter: Adapter, source: bytes, path: str, options: RewriteOptions) -> Transformed:
+    """``transform_source`` for a file that holds programs: the new bytes, findings placed."""
+    findings, _, rewritten = migrate(adapter.read(source, path), source, path, options, lint=False)
+    return Transformed(original=source, rewritten=rewritten, encoding="utf-8", findings=findings)
+
+
+def lint_document(adapter: Adapter, source: bytes, path: str, options: RewriteOptions) -> tuple[list[Finding], bool]:
+    """``lint_source`` for a file that holds programs."""
+    findings, would_change, _ = migrate(adapter.read(source, path), source, path, options, lint=True)
+    return findings, would_change
+
+
+def document_diff(adapter: Adapter, path: str, transformed: Transformed) -> str:
+    """A unified diff of what a person reads: a page's text, a notebook's code cells."""
+    before = adapter.read(transformed.original, path).code_view()
+    after = adapter.read(transformed.rewritten, path).code_view()
+    label = f"{path} (code cells)" if adapter.name == "notebook" else path
+    return unified_diff(label, Transformed(original=before.encode("utf-8"), rewritten=after.encode("utf-8"), encoding="utf-8"))
