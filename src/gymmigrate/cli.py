@@ -176,7 +176,8 @@ def _smoke_rewritten(results: list, seed: int) -> list:
     """Smoke-check each written file that creates an env; True if any failed or could not run."""
     from gymmigrate.smoke.rewritten import smoke_rewritten
 
-    return smoke_rewritten([r.path for r in results if r.written], seed)
+    # Only Python scripts run: a notebook or a documentation page is not a script.
+    return smoke_rewritten([r.path for r in results if r.written and r.path.endswith(".py")], seed)
 
 
 @app.command(name="smoke")
