@@ -220,3 +220,10 @@ def test_notebooks_of_other_languages_and_without_gym_are_left_alone(tmp_path: P
 def test_walking_a_folder_takes_notebooks() -> None:
     found = {path.name for path in discover([str(FIXTURES)]).files}
     assert found == {"clean_with_magics.ipynb", "multi_cell_loop.ipynb", "multi_cell_loop.expected.ipynb"}
+
+
+def test_rewrite_smoke_does_not_run_notebooks(tmp_path: Path) -> None:
+    shutil.copy(FIXTURES / "multi_cell_loop.ipynb", tmp_path / "loop.ipynb")
+    result = runner.invoke(app, ["rewrite", "--smoke", str(tmp_path)])
+    assert result.exit_code == 0, result.stderr
+    assert "no rewritten file creates an env" in result.stderr
