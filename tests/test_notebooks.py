@@ -145,9 +145,18 @@ def test_magic_lines_are_hidden_only_where_a_statement_starts() -> None:
     assert magics.restore(hidden) == code
 
 
-def test_a_cell_magic_hides_the_whole_cell() -> None:
+def test_a_cell_magic_hides_the_whole_cell_unless_its_body_is_python() -> None:
     magics = Magics()
     assert magics.hide("%%bash\nobs = env.reset()\n") == "pass  # gymmigrate-magic 0\n"
+    timed = "%%time\nobs = env.reset()\n!ls\n"
+    assert magics.hide(timed) == "pass  # gymmigrate-magic 1\nobs = env.reset()\npass  # gymmigrate-magic 2\n"
+    assert magics.restore(magics.hide(timed)) == timed
+
+
+def test_a_timed_training_cell_is_migrated() -> None:
+    source = _notebook(("code", "import gym\nenv = gym.make('CartPole-v1')"), ("code", ["%%time\n", "obs = env.reset()"]))
+    cells = json.loads(_rewrite(source))["cells"]
+    assert cells[1]["source"] == ["%%time\n", "obs, info = env.reset()"]
 
 
 def test_a_cell_that_does_not_parse_is_reported_with_its_number(tmp_path: Path) -> None:

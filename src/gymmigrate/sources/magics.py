@@ -3,8 +3,9 @@
 A line magic (``%time``), a shell escape (``!pip install``), a help request (``env?``,
 ``?env``), ``files = !ls`` and ``get_ipython()`` calls are not Python the rules should
 read. Each such line is replaced by a placeholder that parses, ``pass  # gymmigrate-magic
-N`` at the same indentation, and restored after migration; a cell magic (``%%time``,
-``%%bash``) hides its whole cell. Only lines that start a statement are candidates: a
+N`` at the same indentation, and restored after migration. A cell magic hides its whole
+cell (``%%bash``, ``%%writefile``), except those whose body IPython runs as Python
+(``%%time``, ``%%timeit``, ``%%capture``, ``%%prun``): only their first line is hidden. Only lines that start a statement are candidates: a
 ``!`` or ``?`` inside a triple-quoted string or a bracket stays text.
 """
 
@@ -27,8 +28,19 @@ _MAGIC_LINE = re.compile(
 )
 
 
+# Cell magics whose body is Python that IPython runs as it is: only their first line is
+# hidden, so a `%%time` training loop is migrated like any other cell.
+PYTHON_CELL_MAGICS = frozenset({"time", "timeit", "capture", "prun"})
+_CELL_MAGIC_NAME = re.compile(r"[ \t\r\n]*%%(\w+)")
+
+
 def is_cell_magic(code: str) -> bool:
     return code.lstrip(" \t\r\n").startswith("%%")
+
+
+def _body_is_python(code: str) -> bool:
+    match = _CELL_MAGIC_NAME.match(code)
+    return match is not None and match[1] in PYTHON_CELL_MAGICS
 
 
 class Magics:
@@ -40,10 +52,16 @@ class Magics:
 
     def hide(self, code: str) -> str:
         """``code`` with each IPython line (or the whole cell, for a cell magic) replaced."""
-        if is_cell_magic(code):
-            return self._placeholder("", code)
         out: list[str] = []
-        for line, starts_statement in _statement_starts(code.splitlines(keepends=True)):
+        lines = code.splitlines(keepends=True)
+        if is_cell_magic(code):
+            if not _body_is_python(code):
+                return self._placeholder("", code)
+            head = next(i for i, line in enumerate(lines) if line.strip())
+            out.extend(lines[:head])  # blank lines: kept, so lines keep their numbers
+            out.append(self._placeholder("", lines[head]))
+            lines = lines[head + 1 :]
+        for line, starts_statement in _statement_starts(lines):
             if starts_statement and _MAGIC_LINE.match(line):
                 indent = line[: len(line) - len(line.lstrip(" \t"))]
                 out.append(self._placeholder(indent, line))

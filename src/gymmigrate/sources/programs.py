@@ -79,12 +79,15 @@ def migrate(
         data = code.encode("utf-8")
         if not may_hold_gym_code(data):
             continue
-        if lint:
-            found, changes = lint_source(data, path, options)
-            would_change |= changes
-            findings.extend(_placed(f, starts, program) for f in found)
-            continue
-        transformed = transform_source(data, path, options)
+        try:
+            if lint:
+                found, changes = lint_source(data, path, options)
+                would_change |= changes
+                findings.extend(_placed(f, starts, program) for f in found)
+                continue
+            transformed = transform_source(data, path, options)
+        except TransformError as exc:
+            raise TransformError(_in_file_terms(str(exc), starts, program)) from None
         after_starts = starts
         if transformed.changed:
             new_codes[index] = split(transformed.rewritten.decode(transformed.encoding), len(program))
@@ -102,6 +105,19 @@ def migrate(
             moved = replace(moved, line_after=None)
         findings.append(moved)
     return sorted(findings, key=_order), rewritten != source, rewritten
+
+
+_PROGRAM_LINE = re.compile(r"\bline (\d+)")
+
+
+def _in_file_terms(message: str, starts: list[int], program: list[Segment]) -> str:
+    """An engine message names lines of the joined program; name the file's instead."""
+
+    def where(match: re.Match[str]) -> str:
+        location = _locate(int(match[1]), starts, [segment.start for segment in program])
+        return f"line {location.line}" if location.cell is None else f"cell {location.cell + 1} line {location.line}"
+
+    return _PROGRAM_LINE.sub(where, message)
 
 
 def _order(finding: Finding) -> tuple[int, int, int, str]:
