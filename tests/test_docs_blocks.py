@@ -166,3 +166,10 @@ def test_rewrite_with_docs_writes_pages_then_changes_nothing(project: Path) -> N
     check = runner.invoke(app, ["check", "--docs", str(project)])
     assert check.exit_code == 1  # only the block that does not parse is left
     assert [line.split(": ", 1)[1].split(" ")[0] for line in check.stdout.splitlines()] == ["GM001"]
+
+
+def test_an_indented_excerpt_is_read_from_its_own_margin(tmp_path: Path) -> None:
+    page = tmp_path / "excerpt.md"
+    page.write_text("```python\n    import gym\n    env = gym.make('CartPole-v1')\n    obs = env.reset()\n```\n")
+    rewritten = _transform(page, page.read_bytes()).rewritten.decode()
+    assert rewritten == "```python\n    import gymnasium as gym\n    env = gym.make('CartPole-v1')\n    obs, info = env.reset()\n```\n"

@@ -17,6 +17,7 @@ back, so every other byte of the page stays as it was.
 from __future__ import annotations
 
 import ast
+import os
 from dataclasses import dataclass, field
 
 from gymmigrate.engine import TransformError, may_hold_gym_code
@@ -144,6 +145,10 @@ class Page:
 
 
 def _parse(block: Block) -> _Parsed | None:
+    # An excerpt of a method body is indented as a whole: read it from its own margin.
+    margins = [_margin(line[len(block.indent) :]) for line in block.lines if line.strip() and line.startswith(block.indent)]
+    if margins and (common := os.path.commonprefix(margins)):
+        block = Block(block.first, block.lines, block.indent + common)
     code_lines: list[str] = []
     for line in block.lines:
         if line.startswith(block.indent):
@@ -160,6 +165,10 @@ def _parse(block: Block) -> _Parsed | None:
         return _Parsed(block, code_lines, False, [], [], added_newline)
     preamble, examples = _session(code_lines)
     return _Parsed(block, code_lines, True, preamble, examples, added_newline)
+
+
+def _margin(line: str) -> str:
+    return line[: len(line) - len(line.lstrip(" \t"))]
 
 
 def _prompt(line: str, prompt: str) -> str | None:
