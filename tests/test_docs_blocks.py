@@ -173,3 +173,12 @@ def test_an_indented_excerpt_is_read_from_its_own_margin(tmp_path: Path) -> None
     page.write_text("```python\n    import gym\n    env = gym.make('CartPole-v1')\n    obs = env.reset()\n```\n")
     rewritten = _transform(page, page.read_bytes()).rewritten.decode()
     assert rewritten == "```python\n    import gymnasium as gym\n    env = gym.make('CartPole-v1')\n    obs, info = env.reset()\n```\n"
+
+
+def test_only_newlines_end_lines_so_odd_characters_in_prose_and_code_survive(tmp_path: Path) -> None:
+    page = tmp_path / "odd.md"
+    text = "Prose with a form feed \f and a line separator \u2028 inside.\n\n```python\nimport gym\nname = 'a\u2028b'\n```\n"
+    page.write_text(text, encoding="utf-8")
+    transformed = _transform(page, page.read_bytes())
+    assert transformed.rewritten.decode("utf-8") == text.replace("import gym", "import gymnasium as gym")
+    assert [(f.rule, f.line) for f in transformed.findings] == [("GM101", 4)]

@@ -40,6 +40,13 @@ class Segment:
     start: Location
 
 
+def lines_of(text: str) -> list[str]:
+    """The lines of a text, each with its line ending. Only ``\n`` ends a line (``\r\n``
+    included): ``str.splitlines`` would also split at form feeds and U+2028 in prose."""
+    lines = text.split("\n")
+    return [line + "\n" for line in lines[:-1]] + ([lines[-1]] if lines[-1] else [])
+
+
 class Document(Protocol):
     programs: list[list[Segment]]
     notes: list[Finding]  # things the adapter found itself (a doc block that does not parse)

@@ -14,6 +14,7 @@ from __future__ import annotations
 import re
 
 from gymmigrate.engine import TransformError
+from gymmigrate.sources import lines_of
 
 _PLACEHOLDER = "pass  # gymmigrate-magic {}\n"
 _PLACEHOLDER_LINE = re.compile(r"(?P<indent>[ \t]*)pass  # gymmigrate-magic (?P<number>\d+)\r?\n?")
@@ -53,7 +54,7 @@ class Magics:
     def hide(self, code: str) -> str:
         """``code`` with each IPython line (or the whole cell, for a cell magic) replaced."""
         out: list[str] = []
-        lines = code.splitlines(keepends=True)
+        lines = lines_of(code)
         if is_cell_magic(code):
             if not _body_is_python(code):
                 return self._placeholder("", code)
@@ -76,7 +77,7 @@ class Magics:
     def restore(self, code: str) -> str:
         """Put the hidden lines back; every placeholder must still be there, unchanged."""
         out: list[str] = []
-        for line in code.splitlines(keepends=True):
+        for line in lines_of(code):
             match = _PLACEHOLDER_LINE.fullmatch(line)
             if match is None:
                 out.append(line)

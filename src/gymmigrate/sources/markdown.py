@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import re
 
+from gymmigrate.sources import lines_of
 from gymmigrate.sources.pages import MAX_FILE_BYTES, PYTHON_LANGUAGES, Block, Page, page_text
 
 __all__ = ["MAX_FILE_BYTES", "read"]
@@ -17,7 +18,7 @@ _OPENING = re.compile(r"(?P<indent>[ \t]*)(?P<fence>`{3,}|~{3,})[ \t]*(?P<info>[
 
 def read(source: bytes, path: str) -> Page:
     text = page_text(source)
-    return Page(text, list(_python_blocks(text.splitlines(keepends=True))))
+    return Page(text, list(_python_blocks(lines_of(text))))
 
 
 def _python_blocks(lines: list[str]):

@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 
 from gymmigrate.engine import TransformError, may_hold_gym_code
 from gymmigrate.findings import Finding, FixKind
-from gymmigrate.sources import Location, Segment
+from gymmigrate.sources import Location, Segment, lines_of
 
 # Pages are text; this keeps the same bound as a Python module.
 MAX_FILE_BYTES = 1024 * 1024
@@ -79,7 +79,7 @@ def page_text(source: bytes) -> str:
 
 class Page:
     def __init__(self, text: str, blocks: list[Block]) -> None:
-        self.lines = text.splitlines(keepends=True)
+        self.lines = lines_of(text)
         self.notes: list[Finding] = []
         parsed = [p for p in (_parse(block) for block in blocks) if p is not None]
         self._blocks: list[_Parsed] = []
@@ -206,7 +206,7 @@ def _block_lines(block: _Parsed, codes: list[str]) -> tuple[list[str], list[int]
     if not block.session:
         if codes[0] == block.segments()[0].code:
             return block.block.lines, [0]
-        lines = [indent + line if line.strip() else line for line in codes[0].splitlines(keepends=True)]
+        lines = [indent + line if line.strip() else line for line in lines_of(codes[0])]
         if block.added_newline and lines:
             lines[-1] = lines[-1].removesuffix("\n")
         return lines, [0]
@@ -232,7 +232,7 @@ def _block_lines(block: _Parsed, codes: list[str]) -> tuple[list[str], list[int]
 
 def _with_prompts(code: str) -> list[str]:
     """``>>>`` before each top-level statement, ``...`` before the lines that continue one."""
-    lines = code.splitlines(keepends=True)
+    lines = lines_of(code)
     tree = ast.parse(code)
     starts = {min([node.lineno, *(d.lineno for d in getattr(node, "decorator_list", ()))]) for node in tree.body}
     out = []

@@ -23,7 +23,7 @@ from gymmigrate.engine import (
 )
 from gymmigrate.findings import Finding
 from gymmigrate.rules.base import RewriteOptions
-from gymmigrate.sources import Adapter, Document, Location, Segment
+from gymmigrate.sources import Adapter, Document, Location, Segment, lines_of
 
 _BOUNDARY = "# gymmigrate: segment boundary {}\n"
 _BOUNDARY_PREFIX = "# gymmigrate: segment boundary"
@@ -48,7 +48,7 @@ def join(codes: list[str]) -> tuple[str, list[int]]:
 def split(code: str, count: int) -> list[str]:
     """The segments of a migrated program, or TransformError if a boundary moved."""
     pieces: list[list[str]] = [[]]
-    for line in code.splitlines(keepends=True):
+    for line in lines_of(code):
         match = _BOUNDARY_LINE.fullmatch(line) if line.startswith(_BOUNDARY_PREFIX) else None
         if match is None:
             pieces[-1].append(line)

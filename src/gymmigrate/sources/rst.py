@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import re
 
+from gymmigrate.sources import lines_of
 from gymmigrate.sources.pages import MAX_FILE_BYTES, PYTHON_LANGUAGES, Block, Page, page_text
 
 __all__ = ["MAX_FILE_BYTES", "read"]
@@ -22,7 +23,7 @@ _ALWAYS_PYTHON = frozenset({"testcode", "doctest"})
 
 def read(source: bytes, path: str) -> Page:
     text = page_text(source)
-    return Page(text, list(_python_blocks(text.splitlines(keepends=True))))
+    return Page(text, list(_python_blocks(lines_of(text))))
 
 
 def _indent_of(line: str) -> str:
