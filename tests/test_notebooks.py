@@ -236,3 +236,9 @@ def test_rewrite_smoke_does_not_run_notebooks(tmp_path: Path) -> None:
     result = runner.invoke(app, ["rewrite", "--smoke", str(tmp_path)])
     assert result.exit_code == 0, result.stderr
     assert "no rewritten file creates an env" in result.stderr
+
+
+def test_a_broken_cell_in_a_notebook_without_gym_code_is_not_an_error(tmp_path: Path) -> None:
+    path = tmp_path / "notes.ipynb"
+    path.write_bytes(_notebook(("markdown", "About gym environments"), ("code", "print 'python 2'\n")))
+    assert process_file(path, RewriteOptions(), write=True, want_diff=False).status is Status.UNCHANGED

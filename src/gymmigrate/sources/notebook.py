@@ -19,7 +19,7 @@ import json
 import re
 from typing import Any
 
-from gymmigrate.engine import TransformError
+from gymmigrate.engine import TransformError, may_hold_gym_code
 from gymmigrate.findings import Finding
 from gymmigrate.sources import Location, Segment
 from gymmigrate.sources.magics import Magics
@@ -55,8 +55,12 @@ class Notebook:
                 first_hidden = len(self.magics.hidden)
                 code = self.magics.hide(_with_final_newline(_cell_text(cell)))
                 self._hidden_ranges[index] = range(first_hidden, len(self.magics.hidden))
-                _check_parses(code, index)
                 segments.append(Segment(code, Location(1, index)))
+        # Gym in the outputs or the markdown only: nothing to migrate, whatever the cells hold.
+        if not may_hold_gym_code("".join(segment.code for segment in segments).encode("utf-8")):
+            segments = []
+        for segment in segments:
+            _check_parses(segment.code, segment.start.cell or 0)
         self.programs = [segments] if segments else []
 
     def rebuild(self, codes: list[list[str]]) -> tuple[bytes, list[list[Location]]]:
