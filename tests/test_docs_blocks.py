@@ -182,3 +182,19 @@ def test_only_newlines_end_lines_so_odd_characters_in_prose_and_code_survive(tmp
     transformed = _transform(page, page.read_bytes())
     assert transformed.rewritten.decode("utf-8") == text.replace("import gym", "import gymnasium as gym")
     assert [(f.rule, f.line) for f in transformed.findings] == [("GM101", 4)]
+
+
+def test_a_session_that_gains_statements_gets_a_prompt_per_statement(tmp_path: Path) -> None:
+    page = tmp_path / "atari.md"
+    page.write_text('```pycon\n>>> import gym\n>>> env = gym.make("BreakoutNoFrameskip-v4")\n>>> obs = env.reset()\n```\n')
+    rewritten = _transform(page, page.read_bytes()).rewritten.decode()
+    assert rewritten == (
+        "```pycon\n"
+        ">>> import gymnasium as gym\n"
+        ">>> import ale_py\n"
+        ">>> gym.register_envs(ale_py)\n"
+        '>>> env = gym.make("BreakoutNoFrameskip-v4")\n'
+        ">>> obs, info = env.reset()\n"
+        "```\n"
+    )
+    assert _transform(page, rewritten.encode()).rewritten.decode() == rewritten, "a second run changes nothing"

@@ -237,6 +237,8 @@ def _with_prompts(code: str) -> list[str]:
     starts = {min([node.lineno, *(d.lineno for d in getattr(node, "decorator_list", ()))]) for node in tree.body}
     out = []
     for number, line in enumerate(lines, start=1):
+        if not line.strip() and number + 1 in starts:
+            continue  # a blank line before the next statement: the next `>>>` separates them
         prompt = ">>>" if number == 1 or number in starts else "..."
         out.append(f"{prompt} {line}" if line.strip() else f"{prompt}{line}")
     return out
