@@ -5,6 +5,7 @@ Fixtures: ``fixtures/notebooks/<case>.ipynb`` and, when it changes, ``<case>.exp
 
 from __future__ import annotations
 
+import ast
 import json
 import shutil
 from pathlib import Path
@@ -242,3 +243,44 @@ def test_a_broken_cell_in_a_notebook_without_gym_code_is_not_an_error(tmp_path: 
     path = tmp_path / "notes.ipynb"
     path.write_bytes(_notebook(("markdown", "About gym environments"), ("code", "print 'python 2'\n")))
     assert process_file(path, RewriteOptions(), write=True, want_diff=False).status is Status.UNCHANGED
+
+
+def _cells_of(text: str) -> list[str]:
+    """``text`` cut into cells of two top-level statements each, as a notebook would hold it."""
+    tree = ast.parse(text)
+    lines = text.splitlines(keepends=True)
+    starts = [min([node.lineno, *(d.lineno for d in getattr(node, "decorator_list", ()))]) for node in tree.body]
+    bounds = [0, *(start - 1 for start in sorted(set(starts[1::2]))), len(lines)]
+    return ["".join(lines[a:b]) for a, b in zip(bounds, bounds[1:]) if a < b]
+
+
+RULE_CASES = sorted(
+    path
+    for path in (Path(__file__).resolve().parent.parent / "fixtures" / "rules").glob("*/*.py")
+    if not path.name.endswith(".expected.py")
+)
+
+
+@pytest.mark.parametrize("case", RULE_CASES, ids=lambda path: f"{path.parent.name}/{path.stem}")
+def test_every_rule_case_cut_into_cells_migrates_as_the_script_does(case: Path) -> None:
+    """Cells are one program: the cells' code after migration is the script's migration."""
+    text = case.read_text(encoding="utf-8")
+    expected = case.with_name(f"{case.stem}.expected.py")
+    after = expected.read_text(encoding="utf-8") if expected.exists() else text
+    source = _notebook(*(("code", cell.splitlines(keepends=True)) for cell in _cells_of(text)))
+    cells = json.loads(_rewrite(source))["cells"]
+    assert "".join("".join(cell["source"]) for cell in cells) == after
+
+
+def test_a_cell_whose_first_statement_is_removed_keeps_its_place() -> None:
+    source = _notebook(
+        ("code", "import gym\n"),
+        ("code", "from gym.wrappers import NormalizeReward\nenvs = gym.vector.SyncVectorEnv([lambda: gym.make('CartPole-v1')])\n"),
+        ("code", "envs = NormalizeReward(envs, gamma=0.99)\n"),
+    )
+    cells = json.loads(_rewrite(source))["cells"]
+    assert [cell["source"] for cell in cells] == [
+        "import gymnasium as gym\n",
+        "envs = gym.vector.SyncVectorEnv([lambda: gym.make('CartPole-v1')])\n",
+        "envs = gym.wrappers.vector.NormalizeReward(envs, gamma=0.99)\n",
+    ]

@@ -9,6 +9,7 @@ vanished the file is refused rather than guessed at.
 
 from __future__ import annotations
 
+import difflib
 import re
 from bisect import bisect_right
 from dataclasses import replace
@@ -45,20 +46,54 @@ def join(codes: list[str]) -> tuple[str, list[int]]:
     return "".join(parts), starts
 
 
-def split(code: str, count: int) -> list[str]:
-    """The segments of a migrated program, or TransformError if a boundary moved."""
+def split(code: str, count: int, original: str | None = None) -> list[str]:
+    """The segments of a migrated program, or TransformError if a boundary moved.
+
+    A boundary comment is part of the statement below it, so it goes when a rule removes
+    that statement (`from gym.wrappers import X` opening a cell). With ``original``, such a
+    boundary is put back where the removed lines were, found by aligning the two texts.
+    """
+    lines = lines_of(code)
+    numbers = [_boundary_number(line) for line in lines]
+    present = [number for number in numbers if number is not None]
+    if original is not None and present != list(range(1, count)) and present == sorted(set(present)):
+        lines = _restore_lost_boundaries(lines, lines_of(original), set(present))
+        numbers = [_boundary_number(line) for line in lines]
     pieces: list[list[str]] = [[]]
-    for line in lines_of(code):
-        match = _BOUNDARY_LINE.fullmatch(line) if line.startswith(_BOUNDARY_PREFIX) else None
-        if match is None:
+    for line, number in zip(lines, numbers):
+        if number is None:
             pieces[-1].append(line)
-        elif int(match[1]) == len(pieces):
+        elif number == len(pieces):
             pieces.append([])
         else:
             raise TransformError("the rewrite moved a cell or block boundary; file left unchanged")
     if len(pieces) != count:
         raise TransformError(f"the rewrite left {len(pieces)} cells or blocks where there were {count}; file left unchanged")
     return ["".join(piece) for piece in pieces]
+
+
+def _boundary_number(line: str) -> int | None:
+    match = _BOUNDARY_LINE.fullmatch(line) if line.startswith(_BOUNDARY_PREFIX) else None
+    return int(match[1]) if match else None
+
+
+def _restore_lost_boundaries(after: list[str], before: list[str], present: set[int]) -> list[str]:
+    """``after`` with each boundary of ``before`` it lost put back at the matching place."""
+    lost: dict[int, list[str]] = {}  # index in ``after`` -> boundary lines to put before it
+    matcher = difflib.SequenceMatcher(None, before, after, autojunk=False)
+    for tag, i1, i2, j1, j2 in matcher.get_opcodes():
+        if tag == "equal":
+            continue
+        for i in range(i1, i2):
+            number = _boundary_number(before[i])
+            if number is not None and number not in present:
+                lost.setdefault(j1 + min(i - i1, j2 - j1), []).append(before[i])
+    out: list[str] = []
+    for index, line in enumerate(after):
+        out.extend(lost.get(index, ()))
+        out.append(line)
+    out.extend(lost.get(len(after), ()))
+    return out
 
 
 def migrate(
@@ -90,7 +125,7 @@ def migrate(
             raise TransformError(_in_file_terms(str(exc), starts, program)) from None
         after_starts = starts
         if transformed.changed:
-            new_codes[index] = split(transformed.rewritten.decode(transformed.encoding), len(program))
+            new_codes[index] = split(transformed.rewritten.decode(transformed.encoding), len(program), code)
             _, after_starts = join(new_codes[index])
         placed.extend((index, f, starts, after_starts) for f in transformed.findings)
     if lint:
