@@ -5,6 +5,7 @@ Fixtures: ``fixtures/docs/<page>.md|.rst`` and ``<page>.expected.md|.rst``.
 
 from __future__ import annotations
 
+import ast
 import difflib
 import shutil
 from pathlib import Path
@@ -198,3 +199,41 @@ def test_a_session_that_gains_statements_gets_a_prompt_per_statement(tmp_path: P
         "```\n"
     )
     assert _transform(page, rewritten.encode()).rewritten.decode() == rewritten, "a second run changes nothing"
+
+
+def _as_session(text: str) -> str:
+    """A script typed into the interpreter: ``>>>`` per top-level statement, ``...`` after."""
+    tree = ast.parse(text)
+    lines = text.splitlines(keepends=True)
+    starts = {min([node.lineno, *(d.lineno for d in getattr(node, "decorator_list", ()))]) for node in tree.body}
+    out: list[str] = []
+    for number, line in enumerate(lines, start=1):
+        if not line.strip():
+            if number + 1 not in starts and number != len(lines):
+                out.append("...\n")
+            continue
+        out.append((">>> " if number in starts or not out else "... ") + line)
+    return "".join(out)
+
+
+RULE_CASES = sorted(
+    path
+    for path in (Path(__file__).resolve().parent.parent / "fixtures" / "rules").glob("*/*.py")
+    if not path.name.endswith(".expected.py")
+)
+
+
+@pytest.mark.parametrize("case", RULE_CASES, ids=lambda path: f"{path.parent.name}/{path.stem}")
+def test_every_rule_case_typed_as_a_session_migrates_as_the_script_does(case: Path) -> None:
+    text = case.read_text(encoding="utf-8")
+    expected = case.with_name(f"{case.stem}.expected.py")
+    after = expected.read_text(encoding="utf-8") if expected.exists() else text
+    page = f"Prose.\n\n```pycon\n{_as_session(text if text.endswith(chr(10)) else text + chr(10))}```\n\nMore prose.\n"
+    adapter = adapter_for(Path("page.md"))
+    assert adapter is not None
+    rewritten = transform_document(adapter, page.encode(), "page.md", RewriteOptions()).rewritten.decode()
+    assert rewritten.startswith("Prose.\n\n```pycon\n") and rewritten.endswith("```\n\nMore prose.\n")
+    session = rewritten.splitlines(keepends=True)[3:-3]
+    assert all(line.startswith((">>> ", "... ", "...\n")) for line in session)
+    code = [line[4:] if line[3:4] == " " else line[3:] for line in session]
+    assert [line.rstrip() for line in code if line.strip()] == [line.rstrip() for line in after.splitlines() if line.strip()]
