@@ -237,3 +237,14 @@ def test_every_rule_case_typed_as_a_session_migrates_as_the_script_does(case: Pa
     assert all(line.startswith((">>> ", "... ", "...\n")) for line in session)
     code = [line[4:] if line[3:4] == " " else line[3:] for line in session]
     assert [line.rstrip() for line in code if line.strip()] == [line.rstrip() for line in after.splitlines() if line.strip()]
+
+
+def test_rst_literal_blocks_are_python_only_if_they_parse_and_no_highlight_says_otherwise(tmp_path: Path) -> None:
+    api = (FIXTURES / "api.expected.rst").read_text(encoding="utf-8")
+    assert "Sphinx::\n\n    import gymnasium as gym\n" in api
+    assert "    Episode 1: return 21.0 (env.reset() took 0.1 ms)\n" in api
+    page = tmp_path / "console.rst"
+    text = ".. highlight:: console\n\nRun::\n\n    import gym\n    obs = gym.make('CartPole-v1').reset()\n"
+    page.write_text(text)
+    transformed = _transform(page, page.read_bytes())
+    assert transformed.rewritten.decode() == text and transformed.findings == []

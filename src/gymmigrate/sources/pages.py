@@ -39,6 +39,7 @@ class Block:
     first: int
     lines: list[str]
     indent: str
+    maybe_python: bool = False  # no language given (an RST literal block): Python only if it parses
 
 
 @dataclass
@@ -89,7 +90,8 @@ class Page:
             try:
                 trees.append(ast.parse(code))
             except (SyntaxError, ValueError) as exc:
-                self._note_unparsed(block, code, exc)
+                if not block.block.maybe_python:
+                    self._note_unparsed(block, code, exc)
                 continue
             self._blocks.append(block)
         if _builds_one_program(trees):
@@ -148,7 +150,7 @@ def _parse(block: Block) -> _Parsed | None:
     # An excerpt of a method body is indented as a whole: read it from its own margin.
     margins = [_margin(line[len(block.indent) :]) for line in block.lines if line.strip() and line.startswith(block.indent)]
     if margins and (common := os.path.commonprefix(margins)):
-        block = Block(block.first, block.lines, block.indent + common)
+        block = Block(block.first, block.lines, block.indent + common, block.maybe_python)
     code_lines: list[str] = []
     for line in block.lines:
         if line.startswith(block.indent):

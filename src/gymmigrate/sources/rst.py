@@ -3,6 +3,11 @@
 blocks (a paragraph that starts with ``>>>``). A directive's options (``:linenos:``) and
 everything outside the directive's content stay as they are. Code directives in another
 language are skipped whole, so a ``>>>`` inside them is not taken for Python.
+
+Literal blocks (after a paragraph ending in ``::``) carry no language: Sphinx highlights
+them as Python when they parse as Python, unless a ``.. highlight::`` directive names
+another language. They are taken on the same terms: only if they parse, and a literal
+block that does not parse is not reported (it is most likely output or shell).
 """
 
 from __future__ import annotations
@@ -19,6 +24,9 @@ _DIRECTIVE = re.compile(
     r"::(?:[ \t]+(?P<argument>[^\r\n]*?))?[ \t]*\r?\n?"
 )
 _ALWAYS_PYTHON = frozenset({"testcode", "doctest"})
+_HIGHLIGHT = re.compile(r"[ \t]*\.\.[ \t]+highlight::[ \t]*(?P<language>\S*)")
+_LITERAL_INTRODUCTION = re.compile(r"[^\r\n]*\S[ \t]*::[ \t]*\r?\n?")
+_DEFAULT_LANGUAGES = frozenset({"", "default", "python", "python3", "py", "py3"})
 
 
 def read(source: bytes, path: str) -> Page:
@@ -32,8 +40,20 @@ def _indent_of(line: str) -> str:
 
 def _python_blocks(lines: list[str]):
     index = 0
+    literal_language = ""  # what `.. highlight::` set for literal blocks
     while index < len(lines):
         line = lines[index]
+        highlight = _HIGHLIGHT.match(line)
+        if highlight is not None:
+            literal_language = highlight["language"].lower()
+            index += 1
+            continue
+        if _LITERAL_INTRODUCTION.fullmatch(line) and not line.lstrip(" \t").startswith(".."):
+            block, index = _directive_content(lines, index, _indent_of(line))
+            if block is not None and literal_language in _DEFAULT_LANGUAGES:
+                block.maybe_python = True
+                yield block
+            continue
         directive = _DIRECTIVE.fullmatch(line)
         if directive is not None:
             block, index = _directive_content(lines, index, directive["indent"])
