@@ -284,3 +284,19 @@ def test_a_cell_whose_first_statement_is_removed_keeps_its_place() -> None:
         "envs = gym.vector.SyncVectorEnv([lambda: gym.make('CartPole-v1')])\n",
         "envs = gym.wrappers.vector.NormalizeReward(envs, gamma=0.99)\n",
     ]
+
+
+def test_a_colab_layout_is_kept_key_order_and_escapes_included() -> None:
+    """Colab writes indent 2, its own key order, and may escape non-ASCII."""
+    data = {
+        "nbformat": 4,
+        "nbformat_minor": 0,
+        "metadata": {"colab": {"provenance": []}, "kernelspec": {"name": "python3", "display_name": "Python 3"}},
+        "cells": [
+            {"cell_type": "code", "source": ["import gym  # épisode\n", "env = gym.make('CartPole-v1')"], "metadata": {"id": "x1"},
+             "execution_count": None, "outputs": []},
+        ],
+    }
+    source = (json.dumps(data, indent=2, ensure_ascii=True) + "\n").encode()
+    data["cells"][0]["source"][0] = "import gymnasium as gym  # épisode\n"
+    assert _rewrite(source) == (json.dumps(data, indent=2, ensure_ascii=True) + "\n").encode()

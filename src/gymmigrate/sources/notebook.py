@@ -17,6 +17,9 @@ from __future__ import annotations
 import ast
 import json
 import re
+from collections.abc import Callable
+from functools import partial
+from itertools import product
 from typing import Any
 
 from gymmigrate.engine import TransformError, may_hold_gym_code
@@ -123,19 +126,19 @@ def _check_parses(code: str, index: int) -> None:
         raise TransformError(f"cell {index + 1} cannot be parsed: {exc}; notebook left unchanged") from None
 
 
-def _layout_of(text: str, data: Any):
-    """A serializer that writes this file's JSON layout, checked on the file as it is."""
-    indent_match = re.match(r"[\[{]\n( *)\S", text)
-    indents: list[int | None] = [len(indent_match[1])] if indent_match else [None]
-    final_newline = "\n" if text.endswith("\n") else ""
-    for indent in indents:
-        for ensure_ascii in (False, True):
-            for separators in ((",", ": "), (", ", ": "), (",", ":")):
-                def dump(value: Any, indent=indent, ensure_ascii=ensure_ascii, separators=separators) -> str:
-                    return json.dumps(value, indent=indent, ensure_ascii=ensure_ascii, separators=separators) + final_newline
+def _layout_of(text: str, data: Any) -> Callable[[Any], str]:
+    """A serializer that writes this file's JSON layout, checked on the file as it is.
 
-                if dump(data) == text:
-                    return dump
+    nbformat (Jupyter, VS Code) writes indent 1, ``ensure_ascii=False`` and a final
+    newline; Colab indent 2. The first candidate that reproduces ``text`` exactly wins.
+    """
+    indent_match = re.match(r"[\[{]\n( *)\S", text)
+    indent = len(indent_match[1]) if indent_match else None
+    final_newline = "\n" if text.endswith("\n") else ""
+    for ensure_ascii, separators in product((False, True), ((",", ": "), (", ", ": "), (",", ":"))):
+        dump = partial(json.dumps, indent=indent, ensure_ascii=ensure_ascii, separators=separators)
+        if dump(data) + final_newline == text:
+            return lambda value, dump=dump: dump(value) + final_newline
     raise TransformError(
         "the notebook's JSON layout cannot be reproduced (not written by Jupyter/nbformat?);"
         " left unchanged rather than reformatted"
