@@ -248,3 +248,18 @@ def test_rst_literal_blocks_are_python_only_if_they_parse_and_no_highlight_says_
     page.write_text(text)
     transformed = _transform(page, page.read_bytes())
     assert transformed.rewritten.decode() == text and transformed.findings == []
+
+
+def test_findings_give_their_line_in_the_rewritten_page_too(tmp_path: Path) -> None:
+    page = tmp_path / "two.md"
+    page.write_text(
+        "```python\nimport gym\nenv = gym.make('CartPole-v1')\nobs, r, done, info = env.step(0)\nprint(done)\n```\n\n"
+        "```python\nfrom gymnasium import spaces\nspace = spaces.Box(0, 1, (2,), dtype=None)\n```\n"
+    )
+    transformed = _transform(page, page.read_bytes())
+    box = next(f for f in transformed.findings if f.rule == "GM904")
+    before = page.read_text().splitlines()
+    after = transformed.rewritten.decode().splitlines()
+    assert "dtype=None" in before[box.line - 1]
+    assert "dtype=None" in after[box.line_after - 1]
+    assert box.line_after == box.line + 1, "the first block grew by one line (done = terminated or truncated)"

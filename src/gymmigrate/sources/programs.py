@@ -133,8 +133,10 @@ def migrate(
     rewritten, segment_starts_after = document.rebuild(new_codes)
     for index, finding, starts, after_starts in placed:
         moved = _placed(finding, starts, document.programs[index])
-        if finding.line_after is not None and rewritten != source:
-            where = _locate(finding.line_after, after_starts, segment_starts_after[index])
+        if rewritten != source:
+            # A program left as it was still moves when an earlier block of the page grew.
+            line_after = finding.line_after if finding.line_after is not None else finding.line
+            where = _locate(line_after, after_starts, segment_starts_after[index])
             moved = replace(moved, line_after=where.line)
         else:
             moved = replace(moved, line_after=None)
