@@ -300,3 +300,21 @@ def test_a_colab_layout_is_kept_key_order_and_escapes_included() -> None:
     source = (json.dumps(data, indent=2, ensure_ascii=True) + "\n").encode()
     data["cells"][0]["source"][0] = "import gymnasium as gym  # épisode\n"
     assert _rewrite(source) == (json.dumps(data, indent=2, ensure_ascii=True) + "\n").encode()
+
+
+@pytest.mark.parametrize(
+    ("content", "reason"),
+    [
+        ('{"cells": [ gym', "not a readable notebook (invalid JSON"),
+        ('[1, 2, "gym"]', "not a notebook in nbformat 4"),
+        ('{"cells": [{"cell_type": "code", "source": ["import gym\\n", 3]}]}', "neither text nor a list of lines"),
+        ('{"cells": [{"cell_type": "code", "source": "import gym\\nx = \\"\\ud800\\""}]}', "not valid Unicode"),
+    ],
+    ids=["invalid-json", "not-a-notebook", "odd-source", "lone-surrogate"],
+)
+def test_files_that_are_not_notebooks_are_reported_and_left_alone(tmp_path: Path, content: str, reason: str) -> None:
+    path = tmp_path / "odd.ipynb"
+    path.write_text(content)
+    result = process_file(path, RewriteOptions(), write=True, want_diff=True)
+    assert result.status is Status.ERROR and reason in (result.error or "")
+    assert path.read_text() == content

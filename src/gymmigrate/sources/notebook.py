@@ -109,7 +109,17 @@ def _is_python(data: dict[str, Any]) -> bool:
 
 def _cell_text(cell: dict[str, Any]) -> str:
     source = cell.get("source", "")
-    return "".join(source) if isinstance(source, list) else str(source)
+    if isinstance(source, list) and all(isinstance(part, str) for part in source):
+        text = "".join(source)
+    elif isinstance(source, str):
+        text = source
+    else:
+        raise TransformError("a cell's source is neither text nor a list of lines; notebook left unchanged")
+    try:
+        text.encode("utf-8")
+    except UnicodeEncodeError:  # a lone surrogate escaped in the JSON
+        raise TransformError("a cell holds text that is not valid Unicode; notebook left unchanged") from None
+    return text
 
 
 def _with_final_newline(text: str) -> str:

@@ -111,7 +111,7 @@ def migrate(
         code, starts = join(codes)
         if _BOUNDARY_PREFIX in "".join(codes):
             raise TransformError("the code holds gymmigrate's own boundary comment; file left unchanged")
-        data = code.encode("utf-8")
+        data = code.encode("utf-8", "surrogatepass")  # a lone surrogate from JSON: the engine reports it
         if not may_hold_gym_code(data):
             continue
         try:
