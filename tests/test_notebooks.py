@@ -112,6 +112,9 @@ def test_a_layout_json_dumps_cannot_reproduce_is_refused_not_reformatted() -> No
     source = _notebook(("code", "import gym\n")).replace(b'"nbformat": 4', b'"nbformat": 4, "x": 1e-5')
     with pytest.raises(TransformError, match="layout cannot be reproduced"):
         _rewrite(source)
+    assert NOTEBOOK is not None
+    with pytest.raises(TransformError, match="layout cannot be reproduced"):
+        lint_document(NOTEBOOK, source, "nb.ipynb", RewriteOptions())  # check agrees with rewrite
 
 
 def test_magic_lines_are_hidden_only_where_a_statement_starts() -> None:

@@ -55,6 +55,11 @@ class Document(Protocol):
         """The file with each segment's code replaced, and where each segment now starts."""
         ...
 
+    def check_writable(self) -> None:
+        """Raise TransformError if a rewrite could not be written (what ``check`` reports
+        when the file would change, so that it agrees with ``rewrite``)."""
+        ...
+
     def code_view(self) -> str:
         """The text a diff of this file shows (the file itself, or a notebook's code cells)."""
         ...

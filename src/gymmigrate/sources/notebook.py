@@ -88,6 +88,9 @@ class Notebook:
             cell["source"] = text.splitlines(keepends=True) if isinstance(cell.get("source"), list) else text
         return dump(self.data).encode("utf-8"), starts
 
+    def check_writable(self) -> None:
+        _layout_of(self.text, self.data)
+
     def code_view(self) -> str:
         """The code cells as one text, each under a ``# cell N`` line (1-based, every cell
         counted), for a diff a person can read instead of escaped JSON."""

@@ -138,6 +138,9 @@ class Page:
         text = "".join(out)
         return text.encode("utf-8"), [[start for index in members for start in starts[index]] for members in self._programs_of_blocks]
 
+    def check_writable(self) -> None:
+        """A page is text: whatever its blocks become can be written."""
+
     def code_view(self) -> str:
         return "".join(self.lines)
 

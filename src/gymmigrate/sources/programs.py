@@ -129,6 +129,8 @@ def migrate(
             _, after_starts = join(new_codes[index])
         placed.extend((index, f, starts, after_starts) for f in transformed.findings)
     if lint:
+        if would_change:
+            document.check_writable()
         return sorted(findings, key=_order), would_change, source
     rewritten, segment_starts_after = document.rebuild(new_codes)
     for index, finding, starts, after_starts in placed:
