@@ -50,7 +50,11 @@ def _root(
 
 PathsArgument = Annotated[
     list[str],
-    typer.Argument(help="Files or directories (searched recursively for *.py).", show_default=False),
+    typer.Argument(help="Files or directories (searched recursively for *.py and *.ipynb).", show_default=False),
+]
+DocsOption = Annotated[
+    bool,
+    typer.Option("--docs", help="When searching directories, also take Markdown and reStructuredText pages (*.md, *.rst)."),
 ]
 ReportOption = Annotated[
     Optional[Path],
@@ -71,6 +75,7 @@ def rewrite(
     ] = None,
     report: ReportOption = None,
     jobs: JobsOption = 0,
+    docs: DocsOption = False,
     smoke: Annotated[
         bool,
         typer.Option(
@@ -88,7 +93,7 @@ def rewrite(
     from gymmigrate.rules.base import RewriteOptions
 
     results = []
-    for result in _run(paths, RewriteOptions(seed=seed), write=not diff, want_diff=diff, jobs=jobs):
+    for result in _run(paths, RewriteOptions(seed=seed), write=not diff, want_diff=diff, jobs=jobs, docs=docs):
         if result.diff:
             print_diff(result.diff)
         results.append(result)
@@ -114,13 +119,15 @@ def _write_report(path: Path, results: list, *, wrote: bool, smoke: list | None 
         raise typer.Exit(EXIT_ERROR) from None
 
 
-def _run(paths: list[str], options: object, *, write: bool, want_diff: bool, jobs: int, lint: bool = False) -> Iterator:
+def _run(
+    paths: list[str], options: object, *, write: bool, want_diff: bool, jobs: int, lint: bool = False, docs: bool = False
+) -> Iterator:
     """Every file's result in the order given, then one error result per bad argument."""
     from gymmigrate.engine import FileResult, Status
     from gymmigrate.files import discover
     from gymmigrate.runner import run_files
 
-    discovery = discover(paths)
+    discovery = discover(paths, docs=docs)
     if write:
         _remove_abandoned_temporaries(discovery.files)
     yield from run_files(discovery.files, options, write=write, want_diff=want_diff, jobs=jobs, lint=lint)  # type: ignore[arg-type]
@@ -144,6 +151,7 @@ def check(
     paths: PathsArgument,
     report: ReportOption = None,
     jobs: JobsOption = 0,
+    docs: DocsOption = False,
 ) -> None:
     """Lint mode: list every legacy Gym site (what rewrite would change or asks you to review); write nothing.
 
@@ -154,7 +162,7 @@ def check(
     from gymmigrate.report import print_findings, print_summary
     from gymmigrate.rules.base import RewriteOptions
 
-    results = list(_run(paths, RewriteOptions(), write=False, want_diff=False, jobs=jobs, lint=True))
+    results = list(_run(paths, RewriteOptions(), write=False, want_diff=False, jobs=jobs, lint=True, docs=docs))
     print_findings(results)
     print_summary(results, wrote=False)
     if report is not None:
@@ -168,7 +176,8 @@ def _smoke_rewritten(results: list, seed: int) -> list:
     """Smoke-check each written file that creates an env; True if any failed or could not run."""
     from gymmigrate.smoke.rewritten import smoke_rewritten
 
-    return smoke_rewritten([r.path for r in results if r.written], seed)
+    # Only Python scripts run: a notebook or a documentation page is not a script.
+    return smoke_rewritten([r.path for r in results if r.written and r.path.endswith(".py")], seed)
 
 
 @app.command(name="smoke")

@@ -317,12 +317,15 @@ def process_file(
     ``lint`` (``gymmigrate check``): only decide; the findings and whether the file would
     change come from the plan, with no LibCST tree and no verification run.
     """
-    from gymmigrate.safety import Refused, read_source, screen
+    from gymmigrate.safety import MAX_SOURCE_BYTES, Refused, read_source, screen
+    from gymmigrate.sources import adapter_for
+    from gymmigrate.sources.programs import document_diff, lint_document, transform_document
     from gymmigrate.writes import ChangedOnDisk
 
     shown = display_path or str(path)
+    adapter = adapter_for(path)  # notebooks and documentation pages; None for Python source
     try:
-        source = read_source(path, may_hold_gym_code)
+        source = read_source(path, may_hold_gym_code, limit=adapter.max_bytes if adapter else MAX_SOURCE_BYTES)
     except Refused as exc:
         return FileResult(shown, Status.ERROR, error=str(exc))
     except OSError as exc:
@@ -331,9 +334,15 @@ def process_file(
         if source is None or not screen(source, may_hold_gym_code):
             return FileResult(shown, Status.SKIPPED)
         if lint:
-            findings, would_change = lint_source(source, shown, options)
+            if adapter:
+                findings, would_change = lint_document(adapter, source, shown, options)
+            else:
+                findings, would_change = lint_source(source, shown, options)
             return FileResult(shown, Status.CHANGED if would_change else Status.UNCHANGED, findings=tuple(findings))
-        transformed = transform_source(source, shown, options)
+        if adapter:
+            transformed = transform_document(adapter, source, shown, options)
+        else:
+            transformed = transform_source(source, shown, options)
     except (Refused, TransformError) as exc:
         return FileResult(shown, Status.ERROR, error=str(exc))
     except RecursionError:
@@ -341,7 +350,9 @@ def process_file(
     findings = tuple(transformed.findings)
     if not transformed.changed:
         return FileResult(shown, Status.UNCHANGED, findings=findings)
-    diff = unified_diff(shown, transformed) if want_diff else None
+    diff = None
+    if want_diff:
+        diff = document_diff(adapter, shown, transformed) if adapter else unified_diff(shown, transformed)
     if write:
         try:
             # ``expected``: an edit saved while this file was being rewritten wins.
