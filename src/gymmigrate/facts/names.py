@@ -80,6 +80,8 @@ SB3_CALLBACK_BASES = frozenset(
 )
 
 PETTINGZOO_PACKAGE = "pettingzoo"
+# SuperSuit wraps PettingZoo (and Gymnasium) envs; its ``*vec_env*`` functions make VecEnvs.
+SUPERSUIT_PACKAGE = "supersuit"
 PZ_PARALLEL_SUFFIXES = (".parallel_env",)
 PZ_AEC_SUFFIXES = (".env", ".raw_env")
 PZ_PARALLEL_FACTORIES = frozenset(

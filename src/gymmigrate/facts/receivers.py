@@ -227,11 +227,24 @@ class Receivers:
                 if isinstance(first, ast.Constant) and isinstance(first.value, str):
                     return EnvKind.PZ_PARALLEL if "parallel" in first.value else EnvKind.PZ_AEC
             if ".wrappers." in qualified:
-                return EnvKind.PZ_AEC
+                return EnvKind.PZ_PARALLEL if "Parallel" in qualified.rsplit(".", 1)[-1] else EnvKind.PZ_AEC
             return None
+        if package == N.SUPERSUIT_PACKAGE:
+            return self._supersuit_kind(qualified, call)
         if package in N.NOT_ENV_PACKAGES:
             return EnvKind.NOT_ENV
         return None
+
+    def _supersuit_kind(self, qualified: str, call: ast.Call) -> EnvKind | None:
+        """SuperSuit: vector conversions give VecEnvs with their own API (left alone, like
+        SB3's); every other wrapper keeps the kind of the env it wraps."""
+        if "vec_env" in qualified.rsplit(".", 1)[-1]:
+            return EnvKind.SB3_VEC
+        inner = call_argument(call, 0, "env")
+        if inner is None:
+            return None
+        kind = self.kind_of(inner)
+        return kind if kind is not EnvKind.UNKNOWN else None
 
     def _classify_attribute(self, attr: ast.Attribute) -> EnvKind:
         name = attr.attr
