@@ -1,0 +1,220 @@
+"""PZ108 (with PZ103-PZ106 inside env classes): custom ``AECEnv`` and ``ParallelEnv`` subclasses.
+
+PettingZoo 1.21 renamed the helpers ``_was_done_step`` -> ``_was_dead_step`` and
+``_dones_step_first`` -> ``_deads_step_first``, and replaced ``self.dones`` by two dicts
+that ``last()``, ``_was_dead_step`` and the API tests all read: ``self.terminations``
+(the game is over for the agent) and ``self.truncations`` (a step limit cut it short).
+Which one a store means needs judgement, so stores are rewritten for review: a store
+whose value mentions a step or cycle count becomes a truncation, any other a
+termination, and the other dict is kept all False. Reads read both.
+
+A parallel env's ``step`` returns five dicts (its local ``dones`` becomes
+``terminations``, with ``truncations`` all False beside it), and its ``reset`` returns
+``(observations, infos)`` without ``return_info`` (1.23). Every ``reset`` takes
+``seed=None, options=None``; a class that seeds itself in ``seed()`` calls it from there.
+"""
+
+from __future__ import annotations
+
+import ast
+import re
+
+import libcst as cst
+
+from gymmigrate.facts.module import FUNCTIONS, own_returns
+from gymmigrate.facts.receivers import EnvKind
+from gymmigrate.findings import FixKind
+from gymmigrate.facts.flow import Flow
+from gymmigrate.rules.pettingzoo.common import AGENT, PZ108, PettingZooFamily, either, values_call
+
+RENAMED_HELPERS = {"_was_done_step": "_was_dead_step", "_dones_step_first": "_deads_step_first"}
+# A store of ``dones`` whose value counts steps ends episodes by a limit: a truncation.
+_STEP_LIMIT = re.compile(r"cycle|iter|step|moves|horizon|time_?limit", re.IGNORECASE)
+
+
+class EnvClasses(PettingZooFamily):
+    RULES = (PZ108,)
+    ORDER = 41
+
+    def decide(self) -> None:
+        facts = self.facts
+        for old, new in RENAMED_HELPERS.items():
+            for attr in facts.attributes.get(old, ()):
+                self.rename_attribute(attr, new)
+                self.report(attr, "PZ108", f"`{old}` is `{new}` since PettingZoo 1.21")
+        self.classes = {id(c): kind for c in facts.all_classes if (kind := self.multi_agent.class_kind(c)) is not None}
+        if not self.classes:
+            return
+        for attr in facts.attributes.get("dones", ()):
+            classdef = facts.enclosing_class(attr)
+            if classdef is not None and id(classdef) in self.classes and isinstance(attr.value, ast.Name) and self.receivers.is_self(attr.value):
+                self._plan_self_dones(attr)
+        for classdef in facts.all_classes:
+            kind = self.classes.get(id(classdef))
+            if kind is None:
+                continue
+            methods = {m.name: m for m in classdef.body if isinstance(m, FUNCTIONS)}
+            if "reset" in methods:
+                self._plan_reset(methods["reset"], kind, "seed" in methods)
+            if kind is EnvKind.PZ_PARALLEL and "step" in methods:
+                self._plan_parallel_step(methods["step"])
+            if "last" in methods:
+                self.report(methods["last"], "PZ108", "`last()` returns `observation, reward, termination, truncation, "
+                            "info` since PettingZoo 1.21: check this override", FixKind.FLAG)
+
+    # -- self.dones -----------------------------------------------------------------------
+
+    def _plan_self_dones(self, attr: ast.Attribute) -> None:
+        parent = self.facts.parent(attr)
+        if isinstance(parent, ast.Assign) and parent.targets == [attr]:
+            self._split_store(attr, parent, self.facts.segment(parent.value), whole=True)
+            return
+        if isinstance(parent, ast.Subscript) and parent.value is attr:
+            statement = self.facts.parent(parent)
+            if isinstance(parent.ctx, ast.Store) and isinstance(statement, ast.Assign) and statement.targets == [parent]:
+                self._split_store(attr, statement, self.facts.segment(statement.value), whole=False)
+                return
+            if isinstance(parent.ctx, ast.Load):
+                index = self.facts.segment(parent.slice)
+                text = f"self.terminations[{index}] or self.truncations[{index}]"
+                self.replace_text(parent, either(parent, text, self.facts))
+                self.report(parent, "PZ108", "an agent is done when it is terminated or truncated (PettingZoo 1.21)")
+                return
+        aggregate = values_call(attr, self.facts)
+        if aggregate is not None:
+            outer, name = aggregate
+            self.replace_text(outer, f"{name}(self.terminations[{AGENT}] or self.truncations[{AGENT}] for {AGENT} in self.terminations)")
+            self.report(outer, "PZ108", "an agent is done when it is terminated or truncated (PettingZoo 1.21)")
+            return
+        self.report(attr, "PZ108", "`self.dones` was replaced by `self.terminations` and `self.truncations` in "
+                    "PettingZoo 1.21: change this use by hand", FixKind.FLAG)
+
+    def _split_store(self, attr: ast.Attribute, statement: ast.Assign, value: str, whole: bool) -> None:
+        limit = bool(_STEP_LIMIT.search(value))
+        stored, other = ("truncations", "terminations") if limit else ("terminations", "truncations")
+        self.rename_attribute(attr, stored)
+        if whole:
+            self.plan.insert_after(statement, f"self.{other} = {{{AGENT}: False for {AGENT} in self.{stored}}}")
+        self._report_split(statement, stored)
+
+    def _report_split(self, statement: ast.stmt, stored: str) -> None:
+        why = "it counts steps, so it reads as a step limit" if stored == "truncations" else "it reads as the game ending"
+        self.report(statement, "PZ108", f"`self.dones` split: this store goes to `self.{stored}` ({why}); "
+                    "review: game over is a termination, a step limit a truncation", FixKind.ASSIST)
+
+    # -- reset ----------------------------------------------------------------------------
+
+    def _plan_reset(self, reset: ast.FunctionDef | ast.AsyncFunctionDef, kind: EnvKind, seeds_itself: bool) -> None:
+        self._dropped: list[ast.If] = []
+        args = reset.args
+        names = [a.arg for a in (*args.posonlyargs, *args.args, *args.kwonlyargs)]
+        return_info = next((a for a in args.args if a.arg == "return_info"), None)
+        missing = [name for name in ("seed", "options") if name not in names]
+        if args.vararg is not None or args.kwarg is not None:
+            missing = []
+        uses_info = [read for read in self.facts.scopes[reset].reads.get("return_info", [])] if return_info else []
+        if return_info is not None and not self._plan_return_info_branches(uses_info):
+            self.report(reset, "PZ105", "`return_info` was removed in PettingZoo 1.23: return `(observations, infos)` "
+                        "by hand", FixKind.FLAG)
+            return
+        if missing or return_info is not None:
+            self.changed()
+            self.plan.replace(reset, lambda node: _reset_signature(node, missing))
+            self.report(reset, "PZ105", "`reset` takes `seed=None, options=None` (PettingZoo 1.23 dropped `return_info`)",
+                        FixKind.AUTO)
+        if "seed" in missing and seeds_itself:
+            first = reset.body[0]
+            code = "if seed is not None:\n    self.seed(seed)"
+            if _is_docstring(first) and len(reset.body) > 1:
+                self.plan.insert_after(first, code)
+            else:
+                self.plan.insert_before(first, code)
+            self.report(reset, "PZ106", "the env seeds itself in `seed()`, which PettingZoo no longer calls: "
+                        "`reset(seed=...)` calls it now; review", FixKind.ASSIST)
+        if kind is EnvKind.PZ_PARALLEL:
+            for returned in own_returns(reset):
+                value = returned.value
+                if value is None or isinstance(value, ast.Tuple) and len(value.elts) == 2:
+                    continue
+                if any(self.facts.enclosing(returned, ast.If) is branch for branch in self._dropped):
+                    continue
+                text = self.facts.segment(value)
+                self.replace_text(value, f"{text}, {{{AGENT}: {{}} for {AGENT} in self.agents}}")
+                self.report(returned, "PZ105", "a parallel `reset` returns `(observations, infos)` since PettingZoo 1.23",
+                            FixKind.AUTO)
+
+    def _plan_return_info_branches(self, reads: list[ast.Name]) -> bool:
+        """``if not return_info: return obs`` / ``else: ...``: keep the branch that returns infos."""
+        for read in reads:
+            test = self.facts.parent(read)
+            negated = isinstance(test, ast.UnaryOp) and isinstance(test.op, ast.Not)
+            branch = self.facts.parent(test) if negated else test
+            if not negated:
+                branch, test = test, read
+            if not (isinstance(branch, ast.If) and branch.test is test):
+                return False
+            self._dropped.append(branch)
+            keep_body = not negated
+            self.changed()
+            if keep_body:
+                self.plan.replace(branch, lambda node: cst.FlattenSentinel(node.body.body))
+            elif branch.orelse:
+                self.plan.replace(branch, lambda node: cst.FlattenSentinel(node.orelse.body.body))
+            else:
+                self.plan.remove(branch)
+        return True
+
+    # -- parallel step --------------------------------------------------------------------
+
+    def _plan_parallel_step(self, step: ast.FunctionDef | ast.AsyncFunctionDef) -> None:
+        scope = self.facts.scopes[step]
+        if "terminations" in scope.bindings or "truncations" in scope.bindings:
+            return  # already migrated
+        renamed: set[str] = set()
+        for returned in own_returns(step):
+            value = returned.value
+            if not (isinstance(value, ast.Tuple) and len(value.elts) == 4):
+                continue
+            dones = value.elts[2]
+            if isinstance(dones, ast.Dict) and not dones.keys:
+                self.split_target(value, 2, "{}", "{}")
+            elif isinstance(dones, ast.Name) and dones.id in scope.bindings:
+                renamed.add(dones.id)
+                self.split_target(value, 2, "terminations", "truncations")
+                self.plan.insert_before(returned, f"truncations = {{{AGENT}: False for {AGENT} in terminations}}")
+            else:
+                self.report(returned, "PZ104", "a parallel `step` returns five dicts since PettingZoo 1.21: split "
+                            f"`{self.facts.segment(dones)}` into terminations and truncations", FixKind.FLAG)
+                continue
+            self.report(returned, "PZ104", "a parallel `step` returns terminations and truncations; review: the "
+                        "old dones are all terminations here, a step limit is a truncation", FixKind.ASSIST)
+        flow = Flow.of(self.facts)
+        for name in renamed:
+            bindings = [b for b in scope.bindings[name] if isinstance(b, ast.Name)]
+            reads = {id(r): r for b in bindings for r in flow.reads(b)}
+            for node in [*bindings, *reads.values()]:
+                self.rename(node, "terminations")
+
+
+def _reset_signature(node: cst.FunctionDef, missing: list[str]) -> cst.FunctionDef:
+    params = node.params
+    kept = [p for p in params.params if p.name.value != "return_info"]
+    if len(kept) != len(params.params) and kept:
+        last = [p for p in params.params][-1]
+        kept[-1] = kept[-1].with_changes(comma=last.comma)
+    comma = cst.Comma(whitespace_after=cst.SimpleWhitespace(" "))
+    for name in missing:
+        if kept:
+            kept[-1] = kept[-1].with_changes(comma=comma)
+        kept.append(
+            cst.Param(
+                name=cst.Name(name),
+                default=cst.Name("None"),
+                equal=cst.AssignEqual(whitespace_before=cst.SimpleWhitespace(""), whitespace_after=cst.SimpleWhitespace("")),
+            )
+        )
+    return node.with_changes(params=params.with_changes(params=kept))
+
+
+def _is_docstring(statement: ast.stmt) -> bool:
+    return isinstance(statement, ast.Expr) and isinstance(statement.value, ast.Constant) and isinstance(statement.value.value, str)
