@@ -42,6 +42,9 @@ class EnvClasses(PettingZooFamily):
             for attr in facts.attributes.get(old, ()):
                 self.rename_attribute(attr, new)
                 self.report(attr, "PZ108", f"`{old}` is `{new}` since PettingZoo 1.21")
+        for statement in facts.import_statements:
+            if isinstance(statement, ast.ImportFrom) and statement.module == "pettingzoo.utils" and statement.level == 0:
+                self._plan_agent_selector(statement)
         self.classes = {id(c): kind for c in facts.all_classes if (kind := self.multi_agent.class_kind(c)) is not None}
         if not self.classes:
             return
@@ -61,6 +64,26 @@ class EnvClasses(PettingZooFamily):
             if "last" in methods:
                 self.report(methods["last"], "PZ108", "`last()` returns `observation, reward, termination, truncation, "
                             "info` since PettingZoo 1.21: check this override", FixKind.FLAG)
+
+    def _plan_agent_selector(self, statement: ast.ImportFrom) -> None:
+        """``from pettingzoo.utils import agent_selector`` is the module since 1.24 (the class is
+        ``AgentSelector``): calling it raises ``TypeError: 'module' object is not callable``."""
+        if not any(alias.name == "agent_selector" and alias.asname is None for alias in statement.names):
+            return
+        self.changed()
+
+        def build(node: cst.ImportFrom) -> cst.ImportFrom:
+            names = [
+                alias.with_changes(name=cst.Name("AgentSelector"), asname=cst.AsName(name=cst.Name("agent_selector")))
+                if isinstance(alias.name, cst.Name) and alias.name.value == "agent_selector" and alias.asname is None
+                else alias
+                for alias in node.names  # type: ignore[union-attr]
+            ]
+            return node.with_changes(names=names)
+
+        self.plan.replace(statement, build)
+        self.report(statement, "PZ108", "`pettingzoo.utils.agent_selector` is a module in current PettingZoo: "
+                    "the class is `AgentSelector`")
 
     # -- self.dones -----------------------------------------------------------------------
 
@@ -178,7 +201,9 @@ class EnvClasses(PettingZooFamily):
             dones = value.elts[2]
             if isinstance(dones, ast.Dict) and not dones.keys:
                 self.split_target(value, 2, "{}", "{}")
-            elif isinstance(dones, ast.Name) and dones.id in scope.bindings:
+                self.report(returned, "PZ104", "a parallel `step` returns five dicts since PettingZoo 1.21", FixKind.AUTO)
+                continue
+            if isinstance(dones, ast.Name) and dones.id in scope.bindings:
                 renamed.add(dones.id)
                 self.split_target(value, 2, "terminations", "truncations")
                 self.plan.insert_before(returned, f"truncations = {{{AGENT}: False for {AGENT} in terminations}}")

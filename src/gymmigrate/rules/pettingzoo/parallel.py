@@ -104,24 +104,32 @@ class ParallelCalls(PettingZooFamily):
 
     def _plan_reset(self, call: ast.Call, kind: EnvKind) -> None:
         return_info = keyword(call, "return_info")
+        parent = self.facts.parent(call)
+        if return_info is not None and _true(return_info.value) and not tuple_target(parent, 2) and not isinstance(parent, ast.Expr):
+            # ``pair = penv.reset(return_info=True)`` is already the 1.23 pair, but the plain
+            # ``pair = penv.reset()`` left behind would read as legacy code on a second run.
+            self.report(call, "PZ105", "`return_info` was removed in PettingZoo 1.23 and `reset()` returns the pair: "
+                        "drop the keyword by hand", FixKind.FLAG)
+            return
         if return_info is not None:
             self.changed()
             self.plan.replace(call, lambda node: remove_args(node, lambda arg: arg.keyword is not None and arg.keyword.value == "return_info"))
             self.report(call, "PZ105", "`return_info` was removed in PettingZoo 1.23")
-        parent = self.facts.parent(call)
         if isinstance(parent, ast.Expr):
             return
         if kind is EnvKind.PZ_AEC:
             self.report(call, "PZ105", "an AEC `reset()` returns None: read observations with `last()` or `observe(agent)`",
                         FixKind.FLAG)
             return
-        if tuple_target(parent, 2) is not None:
-            return  # already ``observations, infos = penv.reset()``
+        if tuple_target(parent, 2) is not None or isinstance(parent, ast.Subscript):
+            return  # already ``observations, infos = penv.reset()`` or ``penv.reset()[0]``
         returned_info = return_info is not None and not (
             isinstance(return_info.value, ast.Constant) and not return_info.value.value
         )
         if returned_info:
             return  # ``reset(return_info=True)`` already gave the pair
+        if return_info is not None and not isinstance(parent, ast.Assign):
+            return  # the keyword is dropped; where the pair goes is reported below only for plain uses
         if isinstance(parent, ast.Assign) and len(parent.targets) == 1 and isinstance(parent.targets[0], ast.Name):
             name = parent.targets[0].id
             self.replace_text(parent.targets[0], f"{name}, {INFOS}")
@@ -134,3 +142,7 @@ class ParallelCalls(PettingZooFamily):
 
 def _first_of_pair(node: cst.BaseExpression) -> cst.Subscript:
     return cst.Subscript(value=node, slice=[cst.SubscriptElement(slice=cst.Index(value=cst.Integer("0")))])
+
+
+def _true(value: ast.AST) -> bool:
+    return not (isinstance(value, ast.Constant) and not value.value)
