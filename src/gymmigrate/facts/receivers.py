@@ -465,8 +465,13 @@ class Receivers:
             return EnvKind.SB3_MODEL
         values = self.self_attribute_values(attr, name)
         if not values:
+            if name == "env" and self._is_pettingzoo_wrapper(classdef):
+                return self.class_kind(classdef)
             return EnvKind.UNKNOWN
         return join_kinds(self.kind_of(value) for value in values)
+
+    def _is_pettingzoo_wrapper(self, classdef: ast.ClassDef) -> bool:
+        return any(q in N.PZ_WRAPPER_BASES for base in classdef.bases for q in self.qualified_names(base))
 
     def self_attribute_values(self, attr: ast.AST, name: str) -> list[ast.expr]:
         """Values stored to ``self.<name>`` in the class that encloses ``attr``."""
