@@ -61,6 +61,8 @@ class EnvClasses(PettingZooFamily):
                 self._plan_reset(methods["reset"], kind, "seed" in methods)
             if kind is EnvKind.PZ_PARALLEL and "step" in methods:
                 self._plan_parallel_step(methods["step"])
+            if "render" in methods:
+                self._plan_render(classdef, methods)
             if "last" in methods:
                 self.report(methods["last"], "PZ108", "`last()` returns `observation, reward, termination, truncation, "
                             "info` since PettingZoo 1.21: check this override", FixKind.FLAG)
@@ -125,6 +127,30 @@ class EnvClasses(PettingZooFamily):
         self.report(statement, "PZ108", f"`self.dones` split: this store goes to `self.{stored}` ({why}); "
                     "review: game over is a termination, a step limit a truncation", FixKind.ASSIST)
 
+    # -- render ---------------------------------------------------------------------------
+
+    def _plan_render(self, classdef: ast.ClassDef, methods: dict[str, ast.FunctionDef | ast.AsyncFunctionDef]) -> None:
+        """``def render(self, mode="human")``: since 1.22 the mode is ``self.render_mode``, set at
+        construction (PettingZoo's wrappers assert that the attribute exists)."""
+        render = methods["render"]
+        params = [a.arg for a in render.args.args[1:]]
+        if "mode" not in params or "render_mode" in self.receivers.self_stores(classdef):
+            return
+        init = methods.get("__init__")
+        if init is None or init.args.vararg or init.args.kwarg or init.args.kwonlyargs or any(
+            a.arg == "render_mode" for a in init.args.args
+        ):
+            self.report(render, "PZ107", "`render()` takes no mode since PettingZoo 1.22: take `render_mode` in "
+                        "`__init__`, store `self.render_mode` and read it in `render()`", FixKind.FLAG)
+            return
+        self.changed()
+        self.plan.replace(render, lambda node: _without_param(node, "mode"))
+        _insert_first(self.plan, render, "mode = self.render_mode")
+        self.plan.replace(init, lambda node: _with_params(node, ["render_mode"]))
+        _insert_first(self.plan, init, "self.render_mode = render_mode")
+        self.report(render, "PZ107", "the render mode is fixed at construction (`render_mode=`, PettingZoo 1.22); "
+                    "review: `render()` now reads `self.render_mode`", FixKind.ASSIST)
+
     # -- reset ----------------------------------------------------------------------------
 
     def _plan_reset(self, reset: ast.FunctionDef | ast.AsyncFunctionDef, kind: EnvKind, seeds_itself: bool) -> None:
@@ -146,12 +172,7 @@ class EnvClasses(PettingZooFamily):
             self.report(reset, "PZ105", "`reset` takes `seed=None, options=None` (PettingZoo 1.23 dropped `return_info`)",
                         FixKind.AUTO)
         if "seed" in missing and seeds_itself:
-            first = reset.body[0]
-            code = "if seed is not None:\n    self.seed(seed)"
-            if _is_docstring(first) and len(reset.body) > 1:
-                self.plan.insert_after(first, code)
-            else:
-                self.plan.insert_before(first, code)
+            _insert_first(self.plan, reset, "if seed is not None:\n    self.seed(seed)")
             self.report(reset, "PZ106", "the env seeds itself in `seed()`, which PettingZoo no longer calls: "
                         "`reset(seed=...)` calls it now; review", FixKind.ASSIST)
         if kind is EnvKind.PZ_PARALLEL:
@@ -159,6 +180,8 @@ class EnvClasses(PettingZooFamily):
                 value = returned.value
                 if value is None or isinstance(value, ast.Tuple) and len(value.elts) == 2:
                     continue
+                if _is_reset_of(value) and self.multi_agent.kind(value.func.value) is not None:  # type: ignore[attr-defined]
+                    continue  # a wrapper handing its env's reset on: that returns the pair already
                 if any(self.facts.enclosing(returned, ast.If) is branch for branch in self._dropped):
                     continue
                 text = self.facts.segment(value)
@@ -170,6 +193,9 @@ class EnvClasses(PettingZooFamily):
         """``if not return_info: return obs`` / ``else: ...``: keep the branch that returns infos."""
         for read in reads:
             test = self.facts.parent(read)
+            if isinstance(test, ast.keyword) and test.arg == "return_info":
+                continue  # ``self.env.reset(..., return_info=return_info)``: parallel.py drops it
+
             negated = isinstance(test, ast.UnaryOp) and isinstance(test.op, ast.Not)
             branch = self.facts.parent(test) if negated else test
             if not negated:
@@ -203,6 +229,8 @@ class EnvClasses(PettingZooFamily):
                 self.split_target(value, 2, "{}", "{}")
                 self.report(returned, "PZ104", "a parallel `step` returns five dicts since PettingZoo 1.21", FixKind.AUTO)
                 continue
+            if isinstance(dones, ast.Name) and self._unpacked_from_step(scope.bindings.get(dones.id, [])):
+                continue  # ``obs, rewards, dones, infos = self.env.step(...)``: parallel.py passes both on
             if isinstance(dones, ast.Name) and dones.id in scope.bindings:
                 renamed.add(dones.id)
                 self.split_target(value, 2, "terminations", "truncations")
@@ -221,12 +249,32 @@ class EnvClasses(PettingZooFamily):
                 self.rename(node, "terminations")
 
 
+    def _unpacked_from_step(self, bindings: list[ast.AST]) -> bool:
+        for binding in bindings:
+            holder = self.facts.parent(binding)
+            assign = self.facts.parent(holder) if isinstance(holder, (ast.Tuple, ast.List)) else None
+            if isinstance(assign, ast.Assign) and isinstance(assign.value, ast.Call):
+                func = assign.value.func
+                if isinstance(func, ast.Attribute) and func.attr == "step":
+                    return self.multi_agent.kind(func.value) is EnvKind.PZ_PARALLEL
+        return False
+
+
 def _reset_signature(node: cst.FunctionDef, missing: list[str]) -> cst.FunctionDef:
+    return _with_params(_without_param(node, "return_info"), missing)
+
+
+def _without_param(node: cst.FunctionDef, name: str) -> cst.FunctionDef:
     params = node.params
-    kept = [p for p in params.params if p.name.value != "return_info"]
+    kept = [p for p in params.params if p.name.value != name]
     if len(kept) != len(params.params) and kept:
-        last = [p for p in params.params][-1]
-        kept[-1] = kept[-1].with_changes(comma=last.comma)
+        kept[-1] = kept[-1].with_changes(comma=params.params[-1].comma)
+    return node.with_changes(params=params.with_changes(params=kept))
+
+
+def _with_params(node: cst.FunctionDef, missing: list[str]) -> cst.FunctionDef:
+    params = node.params
+    kept = list(params.params)
     comma = cst.Comma(whitespace_after=cst.SimpleWhitespace(" "))
     for name in missing:
         if kept:
@@ -241,5 +289,18 @@ def _reset_signature(node: cst.FunctionDef, missing: list[str]) -> cst.FunctionD
     return node.with_changes(params=params.with_changes(params=kept))
 
 
+def _insert_first(plan, function: ast.FunctionDef | ast.AsyncFunctionDef, code: str) -> None:  # type: ignore[no-untyped-def]
+    """``code`` as the first statement of ``function`` (after its docstring)."""
+    first = function.body[0]
+    if _is_docstring(first) and len(function.body) > 1:
+        plan.insert_after(first, code)
+    else:
+        plan.insert_before(first, code)
+
+
 def _is_docstring(statement: ast.stmt) -> bool:
     return isinstance(statement, ast.Expr) and isinstance(statement.value, ast.Constant) and isinstance(statement.value.value, str)
+
+
+def _is_reset_of(value: ast.AST) -> bool:
+    return isinstance(value, ast.Call) and isinstance(value.func, ast.Attribute) and value.func.attr == "reset"

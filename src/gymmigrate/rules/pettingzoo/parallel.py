@@ -79,6 +79,10 @@ class ParallelCalls(PettingZooFamily):
                 keep = keep or self.flow.observes(read, assign, dones)  # type: ignore[arg-type]
                 continue
             parent = self.facts.parent(read)
+            if _passed_on(read, parent, self.facts):
+                # ``return obs, rewards, dones, infos`` in a wrapper's step: pass both dicts on.
+                self.split_target(parent, 2, TERMINATIONS, TRUNCATIONS)  # type: ignore[arg-type]
+                continue
             if isinstance(parent, ast.Subscript) and parent.value is read and isinstance(parent.ctx, ast.Load):
                 index = self.facts.segment(parent.slice)
                 if classify_done_read(read, self.facts) is DoneUse.DATA:
@@ -91,6 +95,16 @@ class ParallelCalls(PettingZooFamily):
             keep = True
         if keep:
             self.plan.insert_after(assign, f"{dones.id} = {joined}")
+
+    def _passes_own_parameter(self, call: ast.Call, value: ast.AST) -> bool:
+        function = self.facts.enclosing_function(call)
+        return (
+            isinstance(value, ast.Name)
+            and value.id == "return_info"
+            and function is not None
+            and function.name == "reset"
+            and any(a.arg == "return_info" for a in function.args.args)
+        )
 
     def _plan_all_done(self, outer: ast.Call, env: str) -> None:
         negation = self.facts.parent(outer)
@@ -105,6 +119,13 @@ class ParallelCalls(PettingZooFamily):
     def _plan_reset(self, call: ast.Call, kind: EnvKind) -> None:
         return_info = keyword(call, "return_info")
         parent = self.facts.parent(call)
+        if return_info is not None and self._passes_own_parameter(call, return_info.value):
+            # A wrapper's ``reset`` handing its ``return_info`` on: its own reset now always
+            # returns the pair (env_classes.py), and so does the wrapped env's.
+            self.changed()
+            self.plan.replace(call, lambda node: remove_args(node, lambda arg: arg.keyword is not None and arg.keyword.value == "return_info"))
+            self.report(call, "PZ105", "`return_info` was removed in PettingZoo 1.23")
+            return
         if return_info is not None and _true(return_info.value) and not tuple_target(parent, 2) and not isinstance(parent, ast.Expr):
             # ``pair = penv.reset(return_info=True)`` is already the 1.23 pair, but the plain
             # ``pair = penv.reset()`` left behind would read as legacy code on a second run.
@@ -121,6 +142,9 @@ class ParallelCalls(PettingZooFamily):
             self.report(call, "PZ105", "an AEC `reset()` returns None: read observations with `last()` or `observe(agent)`",
                         FixKind.FLAG)
             return
+        function = self.facts.enclosing_function(call)
+        if isinstance(parent, ast.Return) and function is not None and function.name == "reset":
+            return  # a wrapper's reset hands the pair on
         if tuple_target(parent, 2) is not None or isinstance(parent, ast.Subscript):
             return  # already ``observations, infos = penv.reset()`` or ``penv.reset()[0]``
         returned_info = return_info is not None and not (
@@ -146,3 +170,13 @@ def _first_of_pair(node: cst.BaseExpression) -> cst.Subscript:
 
 def _true(value: ast.AST) -> bool:
     return not (isinstance(value, ast.Constant) and not value.value)
+
+
+def _passed_on(read: ast.Name, parent: ast.AST | None, facts) -> bool:  # type: ignore[no-untyped-def]
+    """``read`` is the dones of a four-value ``return`` (a step that hands its env's result on)."""
+    return (
+        isinstance(parent, ast.Tuple)
+        and len(parent.elts) == 4
+        and parent.elts[2] is read
+        and isinstance(facts.parent(parent), ast.Return)
+    )
