@@ -48,6 +48,8 @@ class MultiAgent:
             return kind
         if kind is not EnvKind.UNKNOWN:
             return None
+        if self._made_by_wrapper_fn(expr):
+            return EnvKind.PZ_PARALLEL
         if isinstance(expr, ast.Name):
             bindings = self.facts.bindings_of(expr)
             if bindings and id(bindings) in self._iterated_bindings:
@@ -55,6 +57,25 @@ class MultiAgent:
         elif isinstance(expr, ast.Attribute) and self._attribute_key(expr) in self._iterated_attributes:
             return EnvKind.PZ_AEC
         return None
+
+    def _made_by_wrapper_fn(self, expr: ast.AST, depth: int = 0) -> bool:
+        """``parallel_env = parallel_wrapper_fn(env)`` at module level, then ``parallel_env()``
+        (how PettingZoo's own env modules, and the custom ones copied from them, make a
+        parallel env): the receiver analysis sees a call of a variable, not of a factory."""
+        if depth > 3:
+            return False
+        if isinstance(expr, ast.Name):
+            values = [self.facts.parent(b).value for b in self.facts.bindings_of(expr)
+                      if isinstance(self.facts.parent(b), ast.Assign)]
+            return bool(values) and all(self._made_by_wrapper_fn(v, depth + 1) for v in values)
+        if not (isinstance(expr, ast.Call) and isinstance(expr.func, ast.Name)):
+            return False
+        for binding in self.facts.bindings_of(expr.func):
+            assign = self.facts.parent(binding)
+            if isinstance(assign, ast.Assign) and isinstance(assign.value, ast.Call):
+                if any(q.endswith(".parallel_wrapper_fn") for q in self.facts.qualified_names(assign.value.func)):
+                    return True
+        return False
 
     def class_kind(self, classdef: ast.ClassDef) -> EnvKind | None:
         """The PettingZoo kind of a class defined here (from its bases), or None."""

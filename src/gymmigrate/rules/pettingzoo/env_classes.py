@@ -190,20 +190,26 @@ class EnvClasses(PettingZooFamily):
                             FixKind.AUTO)
 
     def _plan_return_info_branches(self, reads: list[ast.Name]) -> bool:
-        """``if not return_info: return obs`` / ``else: ...``: keep the branch that returns infos."""
+        """``if not return_info: return obs`` / ``else: ...``: keep the branch that returns infos.
+
+        Decides every read first and plans only when each one is such a test (or the
+        keyword that hands ``return_info`` on to a wrapped env); otherwise nothing changes.
+        """
+        branches: list[tuple[ast.If, bool]] = []  # (the if, keep its body rather than its else)
         for read in reads:
             test = self.facts.parent(read)
             if isinstance(test, ast.keyword) and test.arg == "return_info":
                 continue  # ``self.env.reset(..., return_info=return_info)``: parallel.py drops it
-
             negated = isinstance(test, ast.UnaryOp) and isinstance(test.op, ast.Not)
-            branch = self.facts.parent(test) if negated else test
-            if not negated:
-                branch, test = test, read
+            branch, test = (self.facts.parent(test), test) if negated else (test, read)
             if not (isinstance(branch, ast.If) and branch.test is test):
                 return False
+            kept = branch.orelse if negated else branch.body
+            if kept and (not self._own_line(kept[0]) or (len(kept) == 1 and isinstance(kept[0], ast.If) and branch.orelse is kept)):
+                return False  # ``if x: return obs`` on one line, or an ``elif``: by hand
+            branches.append((branch, not negated))
+        for branch, keep_body in branches:
             self._dropped.append(branch)
-            keep_body = not negated
             self.changed()
             if keep_body:
                 self.plan.replace(branch, lambda node: cst.FlattenSentinel(node.body.body))
@@ -212,6 +218,11 @@ class EnvClasses(PettingZooFamily):
             else:
                 self.plan.remove(branch)
         return True
+
+    def _own_line(self, statement: ast.stmt) -> bool:
+        """``if x: return obs`` shares the ``if`` line: LibCST gives such a branch no indented block."""
+        line = self.facts.lines[statement.lineno - 1]
+        return not line[: statement.col_offset].strip()
 
     # -- parallel step --------------------------------------------------------------------
 
