@@ -134,8 +134,11 @@ class EnvClasses(PettingZooFamily):
         construction (PettingZoo's wrappers assert that the attribute exists)."""
         render = methods["render"]
         params = [a.arg for a in render.args.args[1:]]
-        if "mode" not in params or "render_mode" in self.receivers.self_stores(classdef):
-            return
+        if "mode" not in params or any(
+            isinstance(attr.ctx, ast.Store) and self.facts.enclosing_class(attr) is classdef
+            for attr in self.facts.attributes.get("render_mode", ())
+        ):
+            return  # no mode to move, or the class already stores ``self.render_mode``
         init = methods.get("__init__")
         if init is None or init.args.vararg or init.args.kwarg or init.args.kwonlyargs or any(
             a.arg == "render_mode" for a in init.args.args
