@@ -63,6 +63,8 @@ class EnvClasses(PettingZooFamily):
                 self._plan_parallel_step(methods["step"])
             if "render" in methods:
                 self._plan_render(classdef, methods)
+            if "__init__" in methods:
+                self._plan_space_methods(classdef, methods)
             if "last" in methods:
                 self.report(methods["last"], "PZ108", "`last()` returns `observation, reward, termination, truncation, "
                             "info` since PettingZoo 1.21: check this override", FixKind.FLAG)
@@ -126,6 +128,32 @@ class EnvClasses(PettingZooFamily):
         why = "it counts steps, so it reads as a step limit" if stored == "truncations" else "it reads as the game ending"
         self.report(statement, "PZ108", f"`self.dones` split: this store goes to `self.{stored}` ({why}); "
                     "review: game over is a termination, a step limit a truncation", FixKind.ASSIST)
+
+    # -- spaces -----------------------------------------------------------------------------
+
+    def _plan_space_methods(self, classdef: ast.ClassDef, methods: dict[str, ast.FunctionDef | ast.AsyncFunctionDef]) -> None:
+        """Only ``self.observation_spaces`` / ``self.action_spaces`` dicts: PettingZoo (1.18 on)
+        reads spaces through ``observation_space(agent)`` / ``action_space(agent)``, and its
+        fallback to the dicts warns on every call since 1.22."""
+        stores = {
+            attr.attr
+            for name in ("observation_spaces", "action_spaces")
+            for attr in self.facts.attributes.get(name, ())
+            if isinstance(attr.ctx, ast.Store) and self.facts.enclosing_class(attr) is classdef
+        }
+        added = [
+            cst.parse_statement(f"def {name[:-1]}(self, agent):\n    return self.{name}[agent]\n").with_changes(
+                leading_lines=[cst.EmptyLine(indent=False)]
+            )
+            for name in ("observation_spaces", "action_spaces")
+            if name in stores and name[:-1] not in methods
+        ]
+        if not added:
+            return
+        self.changed()
+        self.plan.insert_after(methods["__init__"], *added)
+        self.report(methods["__init__"], "PZ108", "the env gets `observation_space(agent)` / `action_space(agent)` "
+                    "methods over its space dicts (PettingZoo warns on every fallback to the dicts)")
 
     # -- render ---------------------------------------------------------------------------
 
