@@ -52,11 +52,27 @@ class MultiAgent:
             return EnvKind.PZ_PARALLEL
         if isinstance(expr, ast.Name):
             bindings = self.facts.bindings_of(expr)
-            if bindings and id(bindings) in self._iterated_bindings:
+            if bindings and id(bindings) in self._iterated_bindings and not self._known_otherwise(bindings):
                 return EnvKind.PZ_AEC
         elif isinstance(expr, ast.Attribute) and self._attribute_key(expr) in self._iterated_attributes:
             return EnvKind.PZ_AEC
         return None
+
+    def iterated(self, expr: ast.AST) -> bool:
+        """``expr`` is a name some ``for agent in name.agent_iter():`` loop iterates."""
+        if not isinstance(expr, ast.Name):
+            return False
+        bindings = self.facts.bindings_of(expr)
+        return bool(bindings) and id(bindings) in self._iterated_bindings
+
+    def _known_otherwise(self, bindings: list[ast.AST]) -> bool:
+        """One binding is a Gym env or a VecEnv: ``env`` is reused for two kinds of env in this
+        scope, and ``agent_iter`` only speaks for some of its values."""
+        for binding in bindings:
+            kind = self.receivers.binding_kind(binding)
+            if kind is not None and kind not in (*PETTINGZOO_KINDS, EnvKind.UNKNOWN, EnvKind.NOT_ENV):
+                return True
+        return False
 
     def _made_by_wrapper_fn(self, expr: ast.AST, depth: int = 0) -> bool:
         """``parallel_env = parallel_wrapper_fn(env)`` at module level, then ``parallel_env()``

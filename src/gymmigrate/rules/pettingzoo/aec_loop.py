@@ -46,9 +46,13 @@ class AecLoop(PettingZooFamily):
 
     def _plan_last(self, call: ast.Call) -> None:
         receiver = call.func.value  # type: ignore[attr-defined]
-        if self.multi_agent.kind(receiver) is not EnvKind.PZ_AEC:
-            return
         assign = self.facts.parent(call)
+        if self.multi_agent.kind(receiver) is not EnvKind.PZ_AEC:
+            if self.multi_agent.iterated(receiver) and tuple_target(assign, 4) is not None:
+                self.report(assign, "PZ101", f"`{self.facts.segment(receiver)}` is iterated with `agent_iter()` but "
+                            "also holds another kind of env here: if this is the PettingZoo env, unpack "
+                            "`observation, reward, termination, truncation, info`", FixKind.FLAG)
+            return
         target = tuple_target(assign, 4)
         if target is None:
             if isinstance(assign, ast.Assign) and tuple_target(assign, 5) is None and assign.value is call:
@@ -99,6 +103,11 @@ class AecLoop(PettingZooFamily):
         if isinstance(attr.ctx, ast.Load) and isinstance(parent, ast.Subscript) and parent.value is attr:
             if isinstance(parent.ctx, ast.Load):
                 index = self.facts.segment(parent.slice)
+                if _value_use(parent, self.facts):
+                    self.replace_text(parent, f"{env}.terminations[{index}]")
+                    self.report(parent, "PZ103", "a value read of `dones` now uses `terminations`: a truncated agent "
+                                "still bootstraps from its next observation; review", FixKind.ASSIST)
+                    return
                 self.replace_text(parent, either(parent, f"{env}.terminations[{index}] or {env}.truncations[{index}]", self.facts))
                 self.report(parent, "PZ103", "`dones` is split into `terminations` and `truncations` since PettingZoo 1.21")
                 return
@@ -118,3 +127,11 @@ class AecLoop(PettingZooFamily):
 
 def _is_none(node: ast.AST) -> bool:
     return isinstance(node, ast.Constant) and node.value is None
+
+
+def _value_use(read: ast.expr, facts) -> bool:  # type: ignore[no-untyped-def]
+    """``1 - env.dones[a]``, a buffer write: the flag feeds a value (see facts.done_uses).
+    A plain assignment (``over = env.dones[a]``) is not judged: it keeps both flags."""
+    if isinstance(facts.parent(read), ast.Assign):
+        return False
+    return classify_done_read(read, facts) is DoneUse.DATA  # type: ignore[arg-type]
