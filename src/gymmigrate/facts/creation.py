@@ -26,6 +26,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from gymmigrate.facts import names as N
+from gymmigrate.facts.env_classes import EnvClasses
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
 from gymmigrate.facts.receivers import Receivers
 
@@ -340,6 +341,15 @@ class CreationFinder:
 
 
 # -- helpers ---------------------------------------------------------------------------
+
+
+def local_env_class_takes_render_mode(facts: ModuleFacts, receivers: Receivers, call: ast.Call) -> bool:
+    """``GridEnv()`` where ``GridEnv`` is an env class of this module whose constructor takes
+    ``render_mode`` once migrated: a creation site exactly like ``gym.make``."""
+    classdef = receivers.local_class(call.func)
+    if classdef is None:
+        return False
+    return EnvClasses.of(facts, receivers).takes_render_mode(classdef)
 
 
 def _first_argument(call: ast.Call) -> ast.expr | None:
