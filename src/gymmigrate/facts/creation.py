@@ -175,7 +175,57 @@ class CreationFinder:
         inner = _wrapped_env_argument(call)
         if inner is not None and self._looks_like_wrapper(call):
             return self._follow(inner, self._expr)
+        if isinstance(call.func, ast.Name) and not self.facts.qualified_names(call.func) and self.facts.bindings_of(call.func):
+            return self._follow(call.func, self._called)
         result.fail(f"`{self.facts.segment(call.func)}(...)` is not a known env factory")
+        return result
+
+    def _called(self, callee: ast.AST) -> Creation:
+        """What calling ``callee`` creates: ``make_env = lambda: gym.make(...)``, a nested
+        ``def thunk()``, an ``env_fn`` parameter given such callables at its call sites."""
+        result = Creation()
+        if isinstance(callee, ast.Lambda):
+            return self._follow(callee.body, self._expr)
+        if isinstance(callee, FUNCTIONS):
+            return self._follow(callee, self._returns)
+        if not isinstance(callee, ast.Name):
+            result.fail(f"`{self.facts.segment(callee)}` is not a factory defined here")
+            return result
+        function = self.receivers.local_function(callee)
+        if function is not None:
+            return self._follow(function, self._returns)
+        for binding in self.facts.bindings_of(callee):
+            parent = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
+            if isinstance(binding, FUNCTIONS):
+                result.merge(self._follow(binding, self._returns))
+            elif isinstance(parent, ast.Assign):
+                result.merge(self._follow(parent.value, self._called))
+            elif isinstance(binding, ast.arg):
+                result.merge(self._parameter_factories(binding))
+            else:
+                result.fail(f"`{callee.id}` is not a factory defined here")
+        return result
+
+    def _parameter_factories(self, param: ast.arg) -> Creation:
+        """``def run(env_fn): env = env_fn()``: the factories passed at its call sites here."""
+        result = Creation()
+        function = self.facts.parent(self.facts.parent(param))
+        if not isinstance(function, FUNCTIONS) or self.facts.parent(function) is not self.facts.tree:
+            result.fail(f"`{param.arg}` is a function parameter")
+            return result
+        params = [*function.args.posonlyargs, *function.args.args]
+        position = next((i for i, p in enumerate(params) if p is param), None)
+        calls = self.receivers.call_sites(function, None)
+        if not calls:
+            result.fail(f"`{param.arg}` is a parameter of `{function.name}`, which is not called here")
+        for call in calls:
+            argument = next((k.value for k in call.keywords if k.arg == param.arg), None)
+            if argument is None and position is not None and position < len(call.args) and not any(isinstance(a, ast.Starred) for a in call.args):
+                argument = call.args[position]
+            if argument is None:
+                result.fail(f"`{param.arg}` is not passed at every call of `{function.name}`")
+            else:
+                result.merge(self._follow(argument, self._called))
         return result
 
     def _env_fn_list(self, fns: ast.AST) -> Creation:
