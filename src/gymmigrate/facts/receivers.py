@@ -211,6 +211,9 @@ class Receivers:
             if rest in N.GYM_ENV_FACTORIES:
                 return EnvKind.GYM_ENV
             if rest.startswith(N.GYM_ENV_CLASS_PREFIXES) and rest.rsplit(".", 1)[-1][:1].isupper():
+                *modules, last = rest.split(".")
+                if last in N.GYM_NOT_ENV_CLASSES or N.GYM_NOT_ENV_MODULES.intersection(modules):
+                    return EnvKind.NOT_ENV
                 return EnvKind.GYM_ENV
             return EnvKind.NOT_ENV
         if qualified in N.SB3_VEC_FACTORIES or qualified.startswith(N.SB3_VEC_PREFIXES):
