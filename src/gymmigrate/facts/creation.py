@@ -398,7 +398,11 @@ def local_env_class_takes_render_mode(facts: ModuleFacts, receivers: Receivers, 
     ``render_mode`` once migrated: a creation site exactly like ``gym.make``."""
     classdef = receivers.local_class(call.func)
     if classdef is None:
-        return False
+        # An env class of another module of the run that takes render_mode once migrated.
+        project = receivers.project
+        return project is not None and any(
+            (found := project.imported_class(q)) is not None and found[1] for q in facts.qualified_names(call.func)
+        )
     return EnvClasses.of(facts, receivers).takes_render_mode(classdef)
 
 

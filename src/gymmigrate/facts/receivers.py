@@ -21,9 +21,13 @@ import ast
 from collections import defaultdict
 from collections.abc import Iterable
 from enum import Enum
+from typing import TYPE_CHECKING
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, call_argument, own_returns
+
+if TYPE_CHECKING:
+    from gymmigrate.facts.project import ProjectView
 
 # Deeper than any real chain of rebindings; beyond it the answer is "unknown", which
 # callers report. Keeps recursion far from the interpreter's limit.
@@ -86,8 +90,9 @@ _NOT_ENV_EXPRESSIONS = (
 class Receivers:
     """Classifies expressions of one module. One per file, shared by every rule."""
 
-    def __init__(self, facts: ModuleFacts) -> None:
+    def __init__(self, facts: ModuleFacts, project: ProjectView | None = None) -> None:
         self.facts = facts
+        self.project = project  # the run's facts across files (facts/project.py), if any
         self._cache: dict[ast.AST, EnvKind] = {}
         self._in_progress: set[ast.AST] = set()
         self._self_stores: dict[ast.ClassDef, dict[str, list[ast.expr]]] = {}
@@ -184,6 +189,10 @@ class Receivers:
         kinds = [k for k in (self._kind_from_qualified(q, call) for q in self.qualified_names(func)) if k is not None]
         if kinds:
             return join_kinds(kinds)
+        if self.project is not None and any(
+            (found := self.project.imported_class(q)) is not None and found[0] for q in self.qualified_names(func)
+        ):
+            return EnvKind.GYM_ENV  # an env class of another module of the run
         local_class = self.local_class(func)
         if local_class is not None:
             return self.class_kind(local_class)
@@ -393,10 +402,11 @@ class Receivers:
         if position is not None and is_method:
             position -= 1  # calls do not pass self
         calls = self.call_sites(function, classdef if is_method else None)  # type: ignore[arg-type]
-        if not calls:
+        external = self._external_param_kinds(function, classdef if is_method else None, name)  # type: ignore[arg-type]
+        if not calls and not external:
             return EnvKind.UNKNOWN
         defaults = _default_of(function, param)
-        kinds = []
+        kinds = list(external)
         for call in calls:
             argument = call_argument(call, position, name)
             if argument is None:
@@ -406,6 +416,19 @@ class Receivers:
             else:
                 kinds.append(self.kind_of(argument))
         return join_kinds(kinds)
+
+    def _external_param_kinds(self, function: ast.AST, classdef: ast.ClassDef | None, param: str) -> list[EnvKind]:
+        """What the other modules of the run pass for ``param`` (none when checked alone)."""
+        if self.project is None:
+            return []
+        name = function.name  # type: ignore[attr-defined]
+        if classdef is None:
+            if self.facts.parent(function) is not self.facts.tree:
+                return []
+            return self.project.param_kinds(name, param)
+        if self.facts.parent(classdef) is not self.facts.tree:
+            return []
+        return self.project.param_kinds(f"{classdef.name}.{name}", param)
 
     # -- callables ----------------------------------------------------------------------
 
