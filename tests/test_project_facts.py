@@ -86,3 +86,14 @@ def test_a_vecenv_passed_through_an_unknown_owner_keeps_the_method_guarded(tmp_p
     result = runner.invoke(app, ["rewrite", str(tmp_path)])
     assert result.exit_code == 0, result.output
     assert "obs = env.reset()" in agent.read_text()
+
+
+def test_an_env_class_of_another_module_passed_to_a_function_is_a_gym_env(tmp_path: Path) -> None:
+    (tmp_path / "grid.py").write_text(
+        "import gym\n\n\nclass GridEnv(gym.Env):\n    def step(self, action):\n        return 0, 0.0, True, {}\n"
+    )
+    (tmp_path / "runner.py").write_text("def run(env):\n    obs, reward, done, info = env.step(0)\n    return done\n")
+    (tmp_path / "main.py").write_text("from grid import GridEnv\nfrom runner import run\n\nrun(GridEnv())\n")
+    result = runner.invoke(app, ["rewrite", str(tmp_path)])
+    assert result.exit_code == 0, result.output
+    assert "obs, reward, terminated, truncated, info = env.step(0)" in (tmp_path / "runner.py").read_text()

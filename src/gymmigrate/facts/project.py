@@ -35,13 +35,15 @@ from gymmigrate.facts.receivers import EnvKind, Receivers
 # Kinds an unresolved ``x.fit(venv)`` still reports against every ``fit`` of the run.
 _GUARD_KINDS = frozenset({EnvKind.SB3_VEC, EnvKind.GYM_VEC, EnvKind.PZ_AEC, EnvKind.PZ_PARALLEL})
 _UNRESOLVED = "?."
+_NEW = "new:"
+Kind = EnvKind | str  # a kind, or ``new:<qualified class>`` until the join resolves it
 
 
 @dataclass(frozen=True)
 class CallSummary:
     target: str  # "agent.Agent.fit", ".agent.train", "?.fit" (owner unknown)
-    args: tuple[EnvKind, ...]  # by position, up to the first starred argument
-    keywords: tuple[tuple[str, EnvKind], ...]
+    args: tuple[Kind, ...]  # by position, up to the first starred argument
+    keywords: tuple[tuple[str, Kind], ...]
     open_ended: bool  # ``*args`` / ``**kwargs`` at the call: later parameters are unknown
 
 
@@ -171,20 +173,30 @@ class _Summarizer:
         return classes.pop() if len(classes) == 1 else None
 
     def _arguments(self, call: ast.Call, target: str) -> CallSummary:
-        args: list[EnvKind] = []
+        args: list[Kind] = []
         open_ended = False
         for argument in call.args:
             if isinstance(argument, ast.Starred):
                 open_ended = True
                 break
-            args.append(self.receivers.kind_of(argument))
+            args.append(self._kind(argument))
         keywords = []
         for keyword in call.keywords:
             if keyword.arg is None:
                 open_ended = True
             else:
-                keywords.append((keyword.arg, self.receivers.kind_of(keyword.value)))
+                keywords.append((keyword.arg, self._kind(keyword.value)))
         return CallSummary(target, tuple(args), tuple(keywords), open_ended)
+
+    def _kind(self, argument: ast.expr) -> Kind:
+        """The argument's kind; ``new:agent.GridEnv`` for an instance of a class this
+        module imports, which the join resolves against the env classes of the run."""
+        kind = self.receivers.kind_of(argument)
+        if kind is EnvKind.UNKNOWN and isinstance(argument, ast.Call):
+            found = [q for q in self.facts.qualified_names(argument.func) if not _is_library(q)]
+            if len(found) == 1:
+                return _NEW + found[0]
+        return kind
 
 
 def _signature(function: ast.FunctionDef | ast.AsyncFunctionDef, is_method: bool) -> Signature:
@@ -241,15 +253,26 @@ class ProjectFacts:
                 if call.target.startswith(_UNRESOLVED):
                     # A VecEnv passed to some ``x.fit``: every ``fit`` of the run may get it.
                     for path, qualname in methods_named.get(call.target[len(_UNRESOLVED) :], ()):
-                        _add_call(kinds, path, qualname, by_path[path].defs[qualname], call)
+                        _add_call(kinds, path, qualname, by_path[path].defs[qualname], facts._resolved_kinds(call, summary.path))
                     continue
                 resolved = facts._resolve(call.target, summary.path)
                 if resolved is None:
                     continue
                 path, qualname = resolved
-                _add_call(kinds, path, qualname, by_path[path].defs[qualname], call)
+                _add_call(kinds, path, qualname, by_path[path].defs[qualname], facts._resolved_kinds(call, summary.path))
         facts.param_kinds = dict(kinds)
         return facts
+
+    def _resolved_kinds(self, call: CallSummary, importer: str) -> CallSummary:
+        """``new:envs.GridEnv`` becomes a Gym env when ``GridEnv`` is an env class of the run."""
+
+        def resolve(kind: Kind) -> Kind:
+            if isinstance(kind, EnvKind):
+                return kind
+            found = self.view(importer).imported_class(kind[len(_NEW) :])
+            return EnvKind.GYM_ENV if found is not None and found[0] else EnvKind.UNKNOWN
+
+        return CallSummary(call.target, tuple(map(resolve, call.args)), tuple((k, resolve(v)) for k, v in call.keywords), call.open_ended)
 
     def _resolve(self, target: str, importer: str) -> tuple[str, str] | None:
         """``("/run/agent.py", "Agent.fit")`` for ``agent.Agent.fit``; a class called is its ``__init__``."""
