@@ -159,16 +159,27 @@ class _Summarizer:
             found = self.facts.qualified_names(owner.func)
             return next(iter(found)) if len(found) == 1 else None
         if isinstance(owner, ast.Name):
-            values = []
-            for binding in self.facts.bindings_of(owner):
-                parent = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
-                if not isinstance(parent, ast.Assign):
-                    return None
-                values.append(parent.value)
-        elif isinstance(owner, ast.Attribute) and isinstance(owner.value, ast.Name) and self.receivers.is_self(owner.value):
+            # One answer per set of bindings: a name read n times is resolved once.
+            bindings = self.facts.bindings_of(owner)
+            if not bindings:
+                return None  # (an empty list is a fresh object: its id is no key)
+            return self.facts.memo(("instance-class", id(bindings)), lambda: self._class_of_bindings(bindings))  # type: ignore[no-any-return]
+        if isinstance(owner, ast.Attribute) and isinstance(owner.value, ast.Name) and self.receivers.is_self(owner.value):
             values = list(self.receivers.self_attribute_values(owner, owner.attr))
         else:
             return None
+        return self._class_of_values(values)
+
+    def _class_of_bindings(self, bindings: list[ast.AST]) -> str | None:
+        values = []
+        for binding in bindings:
+            parent = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
+            if not isinstance(parent, ast.Assign):
+                return None
+            values.append(parent.value)
+        return self._class_of_values(values)
+
+    def _class_of_values(self, values: list[ast.expr]) -> str | None:
         classes = {self._instance_class(v) if isinstance(v, ast.Call) else None for v in values}
         return classes.pop() if len(classes) == 1 else None
 
