@@ -177,6 +177,9 @@ class CreationFinder:
             return self._follow(inner, self._expr)
         if isinstance(call.func, ast.Name) and not self.facts.qualified_names(call.func) and self.facts.bindings_of(call.func):
             return self._follow(call.func, self._called)
+        own = self.receivers.own_method(call.func)  # ``self.env = self.make_env()``
+        if own is not None:
+            return self._follow(own, self._returns)
         result.fail(f"`{self.facts.segment(call.func)}(...)` is not a known env factory")
         return result
 

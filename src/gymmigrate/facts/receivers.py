@@ -199,6 +199,9 @@ class Receivers:
         local_function = self.local_function(func)
         if local_function is not None:
             return self._returns_kind(local_function)
+        own = self.own_method(func)
+        if own is not None:
+            return self.facts.memo(("returned-kind", id(own)), lambda: self._returns_kind(own), while_computing=EnvKind.UNKNOWN)  # type: ignore[no-any-return]
         if isinstance(func, ast.Name):
             # ``make_env = lambda: gym.make(...)``, a nested ``def thunk()``, an ``env_fn``
             # parameter: what calling the name returns.
@@ -416,6 +419,18 @@ class Receivers:
             else:
                 kinds.append(self.kind_of(argument))
         return join_kinds(kinds)
+
+    def own_method(self, func: ast.AST) -> ast.FunctionDef | ast.AsyncFunctionDef | None:
+        """``self.make_env`` in a method: the class's own ``def make_env``."""
+        if not (isinstance(func, ast.Attribute) and isinstance(func.value, ast.Name) and self.is_self(func.value)):
+            return None
+        classdef = self.facts.enclosing_class(func)
+        if classdef is None:
+            return None
+        methods = self.facts.memo(
+            ("own-methods", id(classdef)), lambda: {s.name: s for s in classdef.body if isinstance(s, FUNCTIONS)}
+        )
+        return methods.get(func.attr)  # type: ignore[no-any-return]
 
     def _external_param_kinds(self, function: ast.AST, classdef: ast.ClassDef | None, param: str) -> list[EnvKind]:
         """What the other modules of the run pass for ``param`` (none when checked alone)."""
