@@ -97,3 +97,11 @@ def test_an_env_class_of_another_module_passed_to_a_function_is_a_gym_env(tmp_pa
     result = runner.invoke(app, ["rewrite", str(tmp_path)])
     assert result.exit_code == 0, result.output
     assert "obs, reward, terminated, truncated, info = env.step(0)" in (tmp_path / "runner.py").read_text()
+
+
+def test_run_facts_reach_the_worker_processes(project: Path) -> None:
+    for index in range(16):  # enough files for the worker pool
+        (project / f"filler_{index:02}.py").write_text("import gym\n\nENV_ID = 'CartPole-v1'\n")
+    result = runner.invoke(app, ["rewrite", "--jobs", "2", str(project)])
+    assert result.exit_code == 0, result.output
+    assert "state, info = env.reset()" in (project / "agents" / "qagent.py").read_text()
