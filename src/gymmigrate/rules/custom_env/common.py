@@ -98,8 +98,9 @@ def _forwards(function: Method, helper: str) -> bool:
 def delegates(decision: ClassDecision, function: Method) -> list[Method]:
     """The class's helpers that ``function`` returns the result of (``return self._step(a)``).
 
-    Only helpers no other code of the class calls: their returns can take the new
-    contract of ``function`` without changing what another caller receives.
+    Only helpers no other code of the class calls (their returns can take the new
+    contract of ``function`` without changing what another caller receives) and that
+    return something themselves (an abstract helper's overrides live elsewhere).
     """
     found: list[Method] = []
     for ret in own_returns(function):
@@ -110,6 +111,8 @@ def delegates(decision: ClassDecision, function: Method) -> list[Method]:
         helper = decision.methods.get(name)
         if not (isinstance(owner, ast.Name) and owner.id == "self") or helper is None or helper is function or helper in found:
             continue
+        if not any(r.value is not None for r in own_returns(helper)):
+            continue  # abstract (``raise NotImplementedError``): subclasses return, nothing here to follow
         callers = decision.index.self_calls.get(name, ())
         if all(method_of(decision, c) is function for c in callers) and name not in decision.renamed.values():
             found.append(helper)
