@@ -105,3 +105,19 @@ def test_run_facts_reach_the_worker_processes(project: Path) -> None:
     result = runner.invoke(app, ["rewrite", "--jobs", "2", str(project)])
     assert result.exit_code == 0, result.output
     assert "state, info = env.reset()" in (project / "agents" / "qagent.py").read_text()
+
+
+def test_an_env_passed_on_through_a_parameter_keeps_its_kind(tmp_path: Path) -> None:
+    """``lander.py`` defines ``demo(env)``; ``test_lander.py`` passes its own parameter on."""
+    (tmp_path / "lander.py").write_text(
+        "import gym\n\n\nclass Lander(gym.Env):\n    pass\n\n\n"
+        "def demo(env):\n    obs = env.reset()\n    return obs\n\n\ndemo(Lander())\n"
+    )
+    (tmp_path / "test_lander.py").write_text(
+        "from lander import Lander, demo\n\n\ndef check(env):\n    return demo(env)\n\n\ncheck(Lander())\n"
+    )
+    summaries = [summarize(str(p), p.read_bytes()) for p in sorted(tmp_path.glob("*.py"))]
+    facts = ProjectFacts.join([s for s in summaries if s is not None])
+    assert facts.view(str(tmp_path / "lander.py")).param_kinds("demo", "env") == [EnvKind.GYM_ENV]
+    findings = _findings(tmp_path, tmp_path, ".")
+    assert [(f["rule"], f["kind"]) for f in findings if f["rule"] == "GM201"] == [("GM201", "auto")]

@@ -6,11 +6,13 @@ cannot tell what ``env`` is; the run can. The run is processed in two cheap step
 
 1. ``summarize`` reads each module once, on the same ``ast`` facts the rules use, into a
    small picklable ``ModuleSummary``: its top-level functions and the methods of its
-   top-level classes with their parameters, its env classes, and for every call of an
-   imported function, class or method (``agent.fit(env)`` where ``agent = Agent()`` and
-   ``Agent`` is imported) the ``EnvKind`` of each argument.
+   top-level classes with their parameters, its env classes, and for every call of one
+   of its own defs or of an imported function, class or method (``agent.fit(env)`` where
+   ``agent = Agent()`` and ``Agent`` is imported) the ``EnvKind`` of each argument.
 2. ``ProjectFacts.join`` resolves those calls to the modules of the run (absolute and
    relative imports) once, and keeps, per parameter, the kinds the other modules pass.
+   An argument that is a parameter of the calling def, or a new instance of a class
+   imported from the run, is resolved here, once per parameter (``_Join``).
 
 Each file is then migrated with ``ProjectFacts.view(path)`` in its context: the receiver
 analysis joins those kinds with the file's own call sites (``Receivers._param_kind``), and
@@ -30,13 +32,17 @@ from pathlib import Path
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
-from gymmigrate.facts.receivers import EnvKind, Receivers
+from gymmigrate.facts.receivers import EnvKind, Receivers, join_kinds
 
 # Kinds an unresolved ``x.fit(venv)`` still reports against every ``fit`` of the run.
 _GUARD_KINDS = frozenset({EnvKind.SB3_VEC, EnvKind.GYM_VEC, EnvKind.PZ_AEC, EnvKind.PZ_PARALLEL})
 _UNRESOLVED = "?."
 _NEW = "new:"
-Kind = EnvKind | str  # a kind, or ``new:<qualified class>`` until the join resolves it
+_OWN = "@"  # a def of the calling module itself
+_PARAM = "param:"
+# Beyond this many parameters passed on from call to call the join stops following.
+_MAX_CHAIN = 50
+Kind = EnvKind | str  # a kind, or ``new:<class>`` / ``param:<def>:<name>`` until the join resolves it
 
 
 @dataclass(frozen=True)
@@ -136,8 +142,12 @@ class _Summarizer:
         return summary
 
     def _target(self, func: ast.expr) -> str | None:
-        """The qualified callee in another module, ``?.name`` for a method of an unknown
-        owner, None for calls the file resolves itself (its own defs) or library calls."""
+        """The qualified callee in another module, ``@name`` for a def of this module
+        (``@Agent.fit`` for ``self.fit(...)``), ``?.name`` for a method of an unknown
+        owner, None for library calls."""
+        own = self._own_target(func)
+        if own is not None:
+            return own
         qualified = self.facts.qualified_names(func)
         if qualified:
             found = sorted(q for q in qualified if not _is_library(q))
@@ -146,11 +156,25 @@ class _Summarizer:
             return None
         owner = func.value
         if isinstance(owner, ast.Name) and self.receivers.is_self(owner):
-            return None  # the class's own methods: the file's call sites
+            return None  # a method the class does not define (inherited)
         cls = self._instance_class(owner)
         if cls is not None:
             return f"{cls}.{func.attr}" if not _is_library(cls) else None
         return _UNRESOLVED + func.attr
+
+    def _own_target(self, func: ast.expr) -> str | None:
+        function = self.receivers.local_function(func)
+        if function is not None:
+            return _OWN + function.name
+        classdef = self.receivers.local_class(func)
+        if classdef is not None:
+            return _OWN + f"{classdef.name}.__init__"
+        method = self.receivers.own_method(func)
+        if method is not None:
+            classdef = self.facts.parent(method)  # type: ignore[assignment]
+            if self.facts.parent(classdef) is self.facts.tree:  # type: ignore[arg-type]
+                return _OWN + f"{classdef.name}.{method.name}"  # type: ignore[union-attr]
+        return None
 
     def _instance_class(self, owner: ast.expr) -> str | None:
         """``Agent`` (qualified through the imports) for ``Agent(...)``, a name or a
@@ -207,7 +231,29 @@ class _Summarizer:
             found = [q for q in self.facts.qualified_names(argument.func) if not _is_library(q)]
             if len(found) == 1:
                 return _NEW + found[0]
+        if kind is EnvKind.UNKNOWN and isinstance(argument, ast.Name):
+            parameter = self._parameter_of_def(argument)
+            if parameter is not None:
+                return parameter
         return kind
+
+    def _parameter_of_def(self, name: ast.Name) -> str | None:
+        """``param:Agent.fit:env`` when ``name`` is only ever the parameter ``env`` of a def
+        the summary lists: the join gives it the kinds the run passes there."""
+        bindings = self.facts.bindings_of(name)
+        if len(bindings) != 1 or not isinstance(bindings[0], ast.arg):
+            return None
+        function = self.facts.parent(self.facts.parent(bindings[0]))
+        if not isinstance(function, FUNCTIONS):
+            return None
+        holder = self.facts.parent(function)
+        if holder is self.facts.tree:
+            qualname = function.name
+        elif isinstance(holder, ast.ClassDef) and self.facts.parent(holder) is self.facts.tree:
+            qualname = f"{holder.name}.{function.name}"
+        else:
+            return None
+        return f"{_PARAM}{qualname}:{name.id}"
 
 
 def _signature(function: ast.FunctionDef | ast.AsyncFunctionDef, is_method: bool) -> Signature:
@@ -258,32 +304,29 @@ class ProjectFacts:
             for qualname, signature in summary.defs.items():
                 if signature.is_method:
                     methods_named[qualname.rsplit(".", 1)[1]].append((summary.path, qualname))
-        kinds: dict[tuple[str, str, str], list[EnvKind]] = defaultdict(list)
+        calls_to: dict[tuple[str, str], list[tuple[str, CallSummary]]] = defaultdict(list)
         for summary in summaries:
             for call in summary.calls:
                 if call.target.startswith(_UNRESOLVED):
                     # A VecEnv passed to some ``x.fit``: every ``fit`` of the run may get it.
                     for path, qualname in methods_named.get(call.target[len(_UNRESOLVED) :], ()):
-                        _add_call(kinds, path, qualname, by_path[path].defs[qualname], facts._resolved_kinds(call, summary.path))
+                        calls_to[(path, qualname)].append((summary.path, call))
+                    continue
+                if call.target.startswith(_OWN):
+                    qualname = call.target[len(_OWN) :]
+                    if qualname in summary.defs:
+                        calls_to[(summary.path, qualname)].append((summary.path, call))
                     continue
                 resolved = facts._resolve(call.target, summary.path)
-                if resolved is None:
-                    continue
-                path, qualname = resolved
-                _add_call(kinds, path, qualname, by_path[path].defs[qualname], facts._resolved_kinds(call, summary.path))
-        facts.param_kinds = dict(kinds)
+                if resolved is not None:
+                    calls_to[resolved].append((summary.path, call))
+        _Join(facts, by_path, calls_to).run()
         return facts
 
-    def _resolved_kinds(self, call: CallSummary, importer: str) -> CallSummary:
-        """``new:envs.GridEnv`` becomes a Gym env when ``GridEnv`` is an env class of the run."""
-
-        def resolve(kind: Kind) -> Kind:
-            if isinstance(kind, EnvKind):
-                return kind
-            found = self.view(importer).imported_class(kind[len(_NEW) :])
-            return EnvKind.GYM_ENV if found is not None and found[0] else EnvKind.UNKNOWN
-
-        return CallSummary(call.target, tuple(map(resolve, call.args)), tuple((k, resolve(v)) for k, v in call.keywords), call.open_ended)
+    def _class_kind(self, kind: str, importer: str) -> EnvKind:
+        """``new:envs.GridEnv`` is a Gym env when ``GridEnv`` is an env class of the run."""
+        found = self.view(importer).imported_class(kind[len(_NEW) :])
+        return EnvKind.GYM_ENV if found is not None and found[0] else EnvKind.UNKNOWN
 
     def _resolve(self, target: str, importer: str) -> tuple[str, str] | None:
         """``("/run/agent.py", "Agent.fit")`` for ``agent.Agent.fit``; a class called is its ``__init__``."""
@@ -319,18 +362,74 @@ class ProjectFacts:
         return ProjectView(self, os.path.realpath(path))
 
 
-def _add_call(kinds: dict[tuple[str, str, str], list[EnvKind]], path: str, qualname: str, signature: Signature, call: CallSummary) -> None:
-    params = list(signature.params[1:] if signature.is_method else signature.params)
-    given = dict(call.keywords)
-    for index, param in enumerate(params):
-        if index < len(call.args):
-            kinds[(path, qualname, param)].append(call.args[index])
-        elif param in given:
-            kinds[(path, qualname, param)].append(given[param])
-        elif call.open_ended:
-            kinds[(path, qualname, param)].append(EnvKind.UNKNOWN)
-        elif param not in signature.defaults:
-            kinds[(path, qualname, param)].append(EnvKind.UNKNOWN)  # a call that would fail: no evidence
+class _Join:
+    """Per parameter, the kinds other modules pass (``ProjectFacts.param_kinds``).
+
+    An argument that is itself a parameter of the calling def (``_test(env)`` passing
+    ``env`` on to ``demo(env)``) has the kind every call of that def gives it, in the
+    whole run: one memoized answer per parameter, so the join is linear in the calls;
+    a cycle or a chain longer than ``_MAX_CHAIN`` is unknown.
+    """
+
+    def __init__(self, facts: ProjectFacts, by_path: dict[str, ModuleSummary], calls_to: dict[tuple[str, str], list[tuple[str, CallSummary]]]) -> None:
+        self.facts = facts
+        self.by_path = by_path
+        self.calls_to = calls_to
+        self.memo: dict[tuple[str, str, str], EnvKind] = {}
+        self.depth = 0
+
+    def run(self) -> None:
+        external: dict[tuple[str, str, str], list[EnvKind]] = defaultdict(list)
+        for (path, qualname), calls in self.calls_to.items():
+            signature = self.by_path[path].defs[qualname]
+            for caller, call in calls:
+                if caller == path:
+                    continue  # the file sees its own call sites itself
+                for param, kind in self._passed(signature, call):
+                    external[(path, qualname, param)].append(self._resolve(kind, caller))
+        self.facts.param_kinds = dict(external)
+
+    def param_kind(self, path: str, qualname: str, param: str) -> EnvKind:
+        key = (path, qualname, param)
+        known = self.memo.get(key)
+        if known is not None:
+            return known
+        if self.depth >= _MAX_CHAIN:
+            return EnvKind.UNKNOWN
+        self.memo[key] = EnvKind.UNKNOWN  # a cycle adds no evidence
+        signature = self.by_path[path].defs.get(qualname)
+        kinds: list[EnvKind] = []
+        self.depth += 1
+        try:
+            for caller, call in self.calls_to.get((path, qualname), ()) if signature is not None else ():
+                kinds.extend(self._resolve(k, caller) for p, k in self._passed(signature, call) if p == param)  # type: ignore[arg-type]
+        finally:
+            self.depth -= 1
+        result = self.memo[key] = join_kinds(kinds)
+        return result
+
+    def _resolve(self, kind: Kind, caller: str) -> EnvKind:
+        if isinstance(kind, EnvKind):
+            return kind
+        if kind.startswith(_NEW):
+            return self.facts._class_kind(kind, caller)
+        qualname, _, param = kind[len(_PARAM) :].rpartition(":")
+        return self.param_kind(caller, qualname, param)
+
+    @staticmethod
+    def _passed(signature: Signature, call: CallSummary) -> list[tuple[str, Kind]]:
+        """(parameter, kind of what the call passes there) for every parameter."""
+        params = list(signature.params[1:] if signature.is_method else signature.params)
+        given = dict(call.keywords)
+        found: list[tuple[str, Kind]] = []
+        for index, param in enumerate(params):
+            if index < len(call.args):
+                found.append((param, call.args[index]))
+            elif param in given:
+                found.append((param, given[param]))
+            elif call.open_ended or param not in signature.defaults:
+                found.append((param, EnvKind.UNKNOWN))  # may be passed unseen, or the call would fail
+        return found
 
 
 def _module_names(path: str) -> list[str]:
