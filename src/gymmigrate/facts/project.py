@@ -92,6 +92,8 @@ def summarize_run(paths: list[Path]) -> ProjectFacts | None:
 
     summaries = []
     for path in paths:
+        if Path(path).suffix not in (".py", ".pyw"):
+            continue  # notebooks and documents: their code is not importable by the run
         try:
             # The same screening as the file's own run: never parse what it refuses.
             source = read_source(Path(path), may_hold_gym_code)
