@@ -476,6 +476,10 @@ class Receivers:
         bindings = self.facts.bindings_of(callee)
         if not bindings:
             return EnvKind.UNKNOWN
+        # One answer per set of bindings, not per call: ``make_env()`` called n times.
+        return self.facts.memo(("returned-kind-bindings", id(bindings)), lambda: self._bindings_returned_kind(bindings), while_computing=EnvKind.UNKNOWN)  # type: ignore[no-any-return]
+
+    def _bindings_returned_kind(self, bindings: list[ast.AST]) -> EnvKind:
         kinds: list[EnvKind] = []
         self._depth += 1
         try:
