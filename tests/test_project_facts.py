@@ -2,7 +2,7 @@
 
 ``fixtures/project/`` is a small package: ``agents/qagent.py`` steps an env it receives
 as a parameter, ``train.py`` passes it ``gym.make(...)`` and builds the package's own
-``envs/corridor.py`` env, ``envs/drawn.py`` draws with gym's removed ``rendering.Viewer``.
+gym 0.9-style ``envs/corridor.py`` env and renders it with a mode, ``envs/drawn.py`` draws with gym's removed ``rendering.Viewer``.
 One ``gymmigrate rewrite`` of the folder migrates it whole; the files checked alone keep
 their cautious answer.
 """
@@ -48,11 +48,15 @@ def test_one_rewrite_of_the_folder_migrates_the_package_and_it_trains(project: P
     assert "state, info = env.reset()" in agent
     assert "next_state, reward, terminated, truncated, info = env.step(action)" in agent
     assert 'CorridorEnv(render_mode="ansi")' in (project / "train.py").read_text()
-    code = "import train; print(train.train(episodes=1)); print(train.show_corridor())"
+    code = (
+        "import train; print(train.train(episodes=1)); print(train.show_corridor())\n"
+        "from gymnasium.utils.env_checker import check_env\nfrom envs.corridor import CorridorEnv\n"
+        "check_env(CorridorEnv(render_mode='ansi'), skip_render_check=True); print('checked')"
+    )
     run = subprocess.run([sys.executable, "-c", code], cwd=project, capture_output=True, text=True, timeout=120)
     assert run.returncode == 0, run.stderr
-    lengths, frames = run.stdout.splitlines()
-    assert len(eval(lengths)) == 1 and eval(frames) == ["@....", ".@..."]
+    lengths, frames, checked = run.stdout.splitlines()
+    assert len(eval(lengths)) == 1 and eval(frames) == ["@....", ".@..."] and checked == "checked"
 
 
 def test_the_agent_module_checked_alone_stays_cautious(project: Path, tmp_path: Path) -> None:
