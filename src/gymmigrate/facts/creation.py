@@ -326,6 +326,8 @@ class CreationFinder:
                 return self._follow(parent.context_expr, self._expr)
             if isinstance(parent, (ast.For, ast.AsyncFor, ast.comprehension)) and parent.target is binding:
                 return self._items(parent.iter)
+            if isinstance(parent, ast.Delete):
+                return Creation()  # ``del env`` creates nothing
         result = Creation()
         result.fail(f"`{label}` is assigned in a way that is not followed")
         return result

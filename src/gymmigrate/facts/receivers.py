@@ -313,8 +313,8 @@ class Receivers(CallableKinds):
             return self._element_kind(parent.iter)
         if isinstance(parent, (ast.Tuple, ast.List)):
             return self._unpacked_kind(binding, parent)
-        if isinstance(parent, ast.AugAssign):
-            return None
+        if isinstance(parent, (ast.AugAssign, ast.Delete)):
+            return None  # ``del env`` unbinds: it adds no value of another kind
         return EnvKind.UNKNOWN
 
     def _unpacked_kind(self, target: ast.Name, container: ast.Tuple | ast.List) -> EnvKind:
