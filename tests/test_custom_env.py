@@ -28,6 +28,7 @@ ACCEPTANCE = [
     ("pole_balance", "PoleBalanceEnv"),
     ("hill_climb", "HillClimbEnv"),
     ("ice_grid", "IceGridEnv"),
+    ("gym09_chain", "ChainWalkEnv"),  # gym <= 0.9: _step/_reset/_seed/_render, forwarding methods
 ]
 _ids = itertools.count()
 
@@ -129,6 +130,14 @@ def test_migrated_env_renders_through_make(migrated: tuple[str, type], capsys: p
     unrendered = gymnasium.make(env_id)
     unrendered.reset(seed=0)
     assert unrendered.render() is None
+
+
+def test_gym09_script_builds_the_local_class_and_renders_as_text() -> None:
+    """``ChainWalkEnv()`` then ``render(mode="ansi")``: the class is the creation site."""
+    namespace: dict[str, object] = {}
+    exec(compile(_migrate("gym09_chain"), "<migrated gym09_chain>", "exec"), namespace)
+    frames = namespace["demo"]()  # type: ignore[operator]
+    assert frames and all(isinstance(f, str) and len(f) == 6 and f.count("o") == 1 for f in frames)
 
 
 @pytest.mark.filterwarnings("ignore")

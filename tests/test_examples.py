@@ -70,3 +70,5 @@ def test_mountaincar_rollouts_are_seeded_and_end_by_time_limit() -> None:
     assert first != other
     # A random policy never reaches the flag: both episodes stop at the 200-step limit.
     assert [steps for steps, _ in endings] == [200, 200]
+    # The after-loop TimeLimit.truncated read became the last step's `truncated and not terminated`.
+    assert [cut for _, cut in endings] == [True, True]

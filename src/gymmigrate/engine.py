@@ -156,7 +156,7 @@ def plan_file(tree: ast.Module, text: str, path: str, options: RewriteOptions) -
     facts = ModuleFacts(tree, text)
     context = FileContext(path=path, options=options, profile=FileProfile.from_source(text))
     plan = Plan(facts)
-    receivers = Receivers(facts)
+    receivers = Receivers(facts, options.project.view(path) if options.project is not None else None)
     for family in registered_families():
         if not family.may_fire(facts, context):
             continue

@@ -23,7 +23,7 @@ import threading
 import time
 from collections import deque
 from collections.abc import Iterator, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from multiprocessing.connection import Connection, wait
 from multiprocessing.process import BaseProcess
 from pathlib import Path
@@ -56,6 +56,10 @@ def run_files(
     jobs: int | None = None,
     lint: bool = False,
 ) -> Iterator[FileResult]:
+    if options.project is None and len(paths) > 1:
+        from gymmigrate.facts.project import summarize_run
+
+        options = replace(options, project=summarize_run(list(paths)))  # one cheap pass, joined once
     task = _Task(options, write, want_diff, lint)
     jobs = default_jobs() if jobs is None or jobs <= 0 else jobs
     if jobs == 1 or len(paths) < PARALLEL_THRESHOLD:

@@ -26,6 +26,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from gymmigrate.facts import names as N
+from gymmigrate.facts.env_classes import EnvClasses
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
 from gymmigrate.facts.receivers import Receivers
 
@@ -174,7 +175,60 @@ class CreationFinder:
         inner = _wrapped_env_argument(call)
         if inner is not None and self._looks_like_wrapper(call):
             return self._follow(inner, self._expr)
+        if isinstance(call.func, ast.Name) and not self.facts.qualified_names(call.func) and self.facts.bindings_of(call.func):
+            return self._follow(call.func, self._called)
+        own = self.receivers.own_method(call.func)  # ``self.env = self.make_env()``
+        if own is not None:
+            return self._follow(own, self._returns)
         result.fail(f"`{self.facts.segment(call.func)}(...)` is not a known env factory")
+        return result
+
+    def _called(self, callee: ast.AST) -> Creation:
+        """What calling ``callee`` creates: ``make_env = lambda: gym.make(...)``, a nested
+        ``def thunk()``, an ``env_fn`` parameter given such callables at its call sites."""
+        result = Creation()
+        if isinstance(callee, ast.Lambda):
+            return self._follow(callee.body, self._expr)
+        if isinstance(callee, FUNCTIONS):
+            return self._follow(callee, self._returns)
+        if not isinstance(callee, ast.Name):
+            result.fail(f"`{self.facts.segment(callee)}` is not a factory defined here")
+            return result
+        function = self.receivers.local_function(callee)
+        if function is not None:
+            return self._follow(function, self._returns)
+        for binding in self.facts.bindings_of(callee):
+            parent = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
+            if isinstance(binding, FUNCTIONS):
+                result.merge(self._follow(binding, self._returns))
+            elif isinstance(parent, ast.Assign):
+                result.merge(self._follow(parent.value, self._called))
+            elif isinstance(binding, ast.arg):
+                result.merge(self._parameter_factories(binding))
+            else:
+                result.fail(f"`{callee.id}` is not a factory defined here")
+        return result
+
+    def _parameter_factories(self, param: ast.arg) -> Creation:
+        """``def run(env_fn): env = env_fn()``: the factories passed at its call sites here."""
+        result = Creation()
+        function = self.facts.parent(self.facts.parent(param))
+        if not isinstance(function, FUNCTIONS) or self.facts.parent(function) is not self.facts.tree:
+            result.fail(f"`{param.arg}` is a function parameter")
+            return result
+        params = [*function.args.posonlyargs, *function.args.args]
+        position = next((i for i, p in enumerate(params) if p is param), None)
+        calls = self.receivers.call_sites(function, None)
+        if not calls:
+            result.fail(f"`{param.arg}` is a parameter of `{function.name}`, which is not called here")
+        for call in calls:
+            argument = next((k.value for k in call.keywords if k.arg == param.arg), None)
+            if argument is None and position is not None and position < len(call.args) and not any(isinstance(a, ast.Starred) for a in call.args):
+                argument = call.args[position]
+            if argument is None:
+                result.fail(f"`{param.arg}` is not passed at every call of `{function.name}`")
+            else:
+                result.merge(self._follow(argument, self._called))
         return result
 
     def _env_fn_list(self, fns: ast.AST) -> Creation:
@@ -272,6 +326,8 @@ class CreationFinder:
                 return self._follow(parent.context_expr, self._expr)
             if isinstance(parent, (ast.For, ast.AsyncFor, ast.comprehension)) and parent.target is binding:
                 return self._items(parent.iter)
+            if isinstance(parent, ast.Delete):
+                return Creation()  # ``del env`` creates nothing
         result = Creation()
         result.fail(f"`{label}` is assigned in a way that is not followed")
         return result
@@ -340,6 +396,19 @@ class CreationFinder:
 
 
 # -- helpers ---------------------------------------------------------------------------
+
+
+def local_env_class_takes_render_mode(facts: ModuleFacts, receivers: Receivers, call: ast.Call) -> bool:
+    """``GridEnv()`` where ``GridEnv`` is an env class of this module whose constructor takes
+    ``render_mode`` once migrated: a creation site exactly like ``gym.make``."""
+    classdef = receivers.local_class(call.func)
+    if classdef is None:
+        # An env class of another module of the run that takes render_mode once migrated.
+        project = receivers.project
+        return project is not None and any(
+            (found := project.imported_class(q)) is not None and found[1] for q in facts.qualified_names(call.func)
+        )
+    return EnvClasses.of(facts, receivers).takes_render_mode(classdef)
 
 
 def _first_argument(call: ast.Call) -> ast.expr | None:

@@ -181,6 +181,26 @@ class EnvClasses:
                 return True
         return False
 
+    def takes_render_mode(self, classdef: ast.ClassDef) -> bool:
+        """Its constructor takes ``render_mode`` once migrated, so ``GridEnv()`` is a creation
+        site like ``gym.make``: ``__init__`` has the parameter, or the class's
+        ``render(self, mode)`` (``_render`` in gym <= 0.9) gets it there (GM405)."""
+        return self.facts.memo(("takes-render-mode", id(classdef)), lambda: self._takes_render_mode(classdef))  # type: ignore[no-any-return]
+
+    def _takes_render_mode(self, classdef: ast.ClassDef) -> bool:
+        if not self.is_custom_env(classdef):
+            return False
+        methods = self.index(classdef).methods
+        init = methods.get("__init__")
+        if init is not None:
+            params = [a.arg for a in (*init.args.args, *init.args.kwonlyargs)]
+            if "render_mode" in params:
+                return True
+        render = methods.get("render") or methods.get("_render")
+        if render is None or not any(a.arg == "mode" for a in render.args.args):
+            return False
+        return init is not None or not self.has_local_env_base(classdef)
+
     def extends_gym_env_directly(self, classdef: ast.ClassDef) -> bool:
         """A base is ``gym.Env`` / ``gymnasium.Env`` itself (so ``super().reset`` only seeds)."""
         return any(

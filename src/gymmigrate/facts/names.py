@@ -13,6 +13,14 @@ GYM_ENV_FACTORIES = frozenset({"make", "envs.make", "envs.registration.make", "e
 
 # Prefixes under gym/gymnasium whose class constructors return one (wrapped) env.
 GYM_ENV_CLASS_PREFIXES = ("wrappers.", "envs.")
+# Classes under those prefixes that are not envs: viewers, recorders, specs, frame
+# buffers. ``self.viewer = rendering.Viewer(...)`` is drawing state, not a wrapped env.
+GYM_NOT_ENV_MODULES = frozenset(
+    {"rendering", "mujoco_rendering", "registration", "monitoring", "video_recorder", "stats_recorder", "car_dynamics"}
+)
+GYM_NOT_ENV_CLASSES = frozenset(
+    {"Viewer", "SimpleImageViewer", "EnvSpec", "LazyFrames", "VideoRecorder", "StatsRecorder", "Car", "ContactDetector", "FrictionDetector"}
+)
 
 GYM_ENV_BASE_CLASSES = frozenset(
     {

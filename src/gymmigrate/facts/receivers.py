@@ -21,9 +21,14 @@ import ast
 from collections import defaultdict
 from collections.abc import Iterable
 from enum import Enum
+from typing import TYPE_CHECKING
 
 from gymmigrate.facts import names as N
+from gymmigrate.facts.callables import CallableKinds, optional_of, parse_annotation, string_names
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, call_argument, own_returns
+
+if TYPE_CHECKING:
+    from gymmigrate.facts.project import ProjectView
 
 # Deeper than any real chain of rebindings; beyond it the answer is "unknown", which
 # callers report. Keeps recursion far from the interpreter's limit.
@@ -83,11 +88,12 @@ _NOT_ENV_EXPRESSIONS = (
 )
 
 
-class Receivers:
+class Receivers(CallableKinds):
     """Classifies expressions of one module. One per file, shared by every rule."""
 
-    def __init__(self, facts: ModuleFacts) -> None:
+    def __init__(self, facts: ModuleFacts, project: ProjectView | None = None) -> None:
         self.facts = facts
+        self.project = project  # the run's facts across files (facts/project.py), if any
         self._cache: dict[ast.AST, EnvKind] = {}
         self._in_progress: set[ast.AST] = set()
         self._self_stores: dict[ast.ClassDef, dict[str, list[ast.expr]]] = {}
@@ -184,12 +190,23 @@ class Receivers:
         kinds = [k for k in (self._kind_from_qualified(q, call) for q in self.qualified_names(func)) if k is not None]
         if kinds:
             return join_kinds(kinds)
+        if self.project is not None and any(
+            (found := self.project.imported_class(q)) is not None and found[0] for q in self.qualified_names(func)
+        ):
+            return EnvKind.GYM_ENV  # an env class of another module of the run
         local_class = self.local_class(func)
         if local_class is not None:
             return self.class_kind(local_class)
         local_function = self.local_function(func)
         if local_function is not None:
             return self._returns_kind(local_function)
+        own = self.own_method(func)
+        if own is not None:
+            return self.facts.memo(("returned-kind", id(own)), lambda: self._returns_kind(own), while_computing=EnvKind.UNKNOWN)  # type: ignore[no-any-return]
+        if isinstance(func, ast.Name):
+            # ``make_env = lambda: gym.make(...)``, a nested ``def thunk()``, an ``env_fn``
+            # parameter: what calling the name returns.
+            return self.returned_kind(func)
         # ``VecNormalize.load(...)`` is a classmethod call on a known class.
         if isinstance(func, ast.Attribute):
             owner = self.qualified_names(func.value)
@@ -207,6 +224,9 @@ class Receivers:
             if rest in N.GYM_ENV_FACTORIES:
                 return EnvKind.GYM_ENV
             if rest.startswith(N.GYM_ENV_CLASS_PREFIXES) and rest.rsplit(".", 1)[-1][:1].isupper():
+                *modules, last = rest.split(".")
+                if last in N.GYM_NOT_ENV_CLASSES or N.GYM_NOT_ENV_MODULES.intersection(modules):
+                    return EnvKind.NOT_ENV
                 return EnvKind.GYM_ENV
             return EnvKind.NOT_ENV
         if qualified in N.SB3_VEC_FACTORIES or qualified.startswith(N.SB3_VEC_PREFIXES):
@@ -306,8 +326,8 @@ class Receivers:
             return self._element_kind(parent.iter)
         if isinstance(parent, (ast.Tuple, ast.List)):
             return self._unpacked_kind(binding, parent)
-        if isinstance(parent, ast.AugAssign):
-            return None
+        if isinstance(parent, (ast.AugAssign, ast.Delete)):
+            return None  # ``del env`` unbinds: it adds no value of another kind
         return EnvKind.UNKNOWN
 
     def _unpacked_kind(self, target: ast.Name, container: ast.Tuple | ast.List) -> EnvKind:
@@ -399,10 +419,11 @@ class Receivers:
         if position is not None and is_method:
             position -= 1  # calls do not pass self
         calls = self.call_sites(function, classdef if is_method else None)  # type: ignore[arg-type]
-        if not calls:
+        external = self._external_param_kinds(function, classdef if is_method else None, name)  # type: ignore[arg-type]
+        if not calls and not external:
             return EnvKind.UNKNOWN
         defaults = _default_of(function, param)
-        kinds = []
+        kinds = list(external)
         for call in calls:
             argument = call_argument(call, position, name)
             if argument is None:
@@ -414,7 +435,16 @@ class Receivers:
         return join_kinds(kinds)
 
     def annotation_kind(self, annotation: ast.AST) -> EnvKind:
-        for q in self.qualified_names(annotation):
+        if isinstance(annotation, ast.Constant) and isinstance(annotation.value, str):
+            parsed = parse_annotation(annotation.value)  # ``env: "gym.Env"``
+            return self._annotation_names_kind(string_names(self.facts, parsed)) if parsed is not None else EnvKind.UNKNOWN
+        optional = optional_of(annotation, self.qualified_names)
+        if optional is not None:
+            return self.annotation_kind(optional)
+        return self._annotation_names_kind(self.qualified_names(annotation))
+
+    def _annotation_names_kind(self, names: set[str]) -> EnvKind:
+        for q in names:
             rest = N.strip_gym_prefix(q)
             if rest in N.GYM_ENV_BASE_CLASSES:
                 return EnvKind.GYM_ENV

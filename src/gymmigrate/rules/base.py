@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import ast
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, ClassVar
 
 from gymmigrate.findings import FixKind
@@ -23,6 +23,7 @@ from gymmigrate.findings import FixKind
 if TYPE_CHECKING:
     from gymmigrate.edits.plan import Plan
     from gymmigrate.facts import ModuleFacts
+    from gymmigrate.facts.project import ProjectFacts
     from gymmigrate.facts.receivers import Receivers
 
 
@@ -41,6 +42,8 @@ class RewriteOptions:
     """Settings that change what the rules write (not how files are found)."""
 
     seed: int | None = None
+    # Facts across the files of the run (facts/project.py); None for a file on its own.
+    project: ProjectFacts | None = field(default=None, compare=False)
 
 
 @dataclass(frozen=True)

@@ -47,7 +47,7 @@ import libcst as cst
 from gymmigrate.facts import names as N
 from gymmigrate.edits.arguments import append_keyword, remove_args
 from gymmigrate.facts import ModuleFacts
-from gymmigrate.facts.creation import Creation, CreationFinder
+from gymmigrate.facts.creation import Creation, CreationFinder, local_env_class_takes_render_mode
 from gymmigrate.facts.decisions import Action, decide, receiver_text
 from gymmigrate.facts.module import keyword, string_value
 from gymmigrate.findings import FixKind
@@ -159,7 +159,8 @@ class Rendering(RuleFamily):
     def _is_make(self, call: ast.Call) -> bool:
         return self.facts.memo(
             ("rendering-is-make", id(call)),
-            lambda: any(N.strip_gym_prefix(q) in N.GYM_ENV_FACTORIES for q in self.facts.qualified_names(call.func)),
+            lambda: any(N.strip_gym_prefix(q) in N.GYM_ENV_FACTORIES for q in self.facts.qualified_names(call.func))
+            or local_env_class_takes_render_mode(self.facts, self.receivers, call),
         )
 
     def _recorder_candidates(self) -> list[ast.Call]:

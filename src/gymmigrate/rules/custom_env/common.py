@@ -6,6 +6,7 @@ import ast
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts.env_classes import ClassIndex, EnvClasses, FunctionIndex
+from gymmigrate.facts.module import own_returns
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import Rule
 from gymmigrate.rules.custom_env.rebuild import ClassPlan
@@ -23,9 +24,11 @@ CLASS_RULES = (
     Rule("GM509", "float64 observations", FixKind.FLAG, "`np.array(...)` observations for a float32 `Box` are reported."),
 )
 
-# gym < 0.9 spelled the API methods with a leading underscore.
-UNDERSCORE_METHODS = {"_step": "step", "_reset": "reset", "_seed": "seed", "_render": "render"}
-UNDERSCORE_RULE = {"step": "GM504", "reset": "GM501", "seed": "GM503", "render": "GM405"}
+# gym <= 0.9 spelled the API methods with a leading underscore: its ``Env.step`` called
+# ``self._step`` and so on. Gymnasium's base class calls none of them, so a class that
+# only defines the underscore names gets the public ones.
+UNDERSCORE_METHODS = {"_step": "step", "_reset": "reset", "_seed": "seed", "_render": "render", "_close": "close", "_configure": "configure"}
+UNDERSCORE_RULE = {"step": "GM504", "reset": "GM501", "seed": "GM503", "render": "GM405", "close": "GM405", "configure": "GM405"}
 
 Method = ast.FunctionDef | ast.AsyncFunctionDef
 
@@ -43,6 +46,12 @@ class ClassDecision:
         for old, new in UNDERSCORE_METHODS.items():
             if old in self.methods and new not in self.methods:
                 self.plan.renamed[new] = old
+        # ``def seed(self, seed=None): return self._seed(seed)``: seeding moves into reset,
+        # so the helper is the method to migrate and the forwarding one goes with it.
+        public, helper = self.methods.get("seed"), self.methods.get("_seed")
+        if public is not None and helper is not None and _forwards(public, "_seed"):
+            self.plan.renamed["seed"] = "_seed"
+            self.plan.dropped.add("seed")
         self.removed: set[str] = set()  # methods (by their source name) the build deletes
         self.deleted_statements: list[ast.stmt] = []  # statements that disappear with them
 
@@ -70,6 +79,55 @@ def method_of(decision: ClassDecision, node: ast.AST) -> Method | None:
     return None
 
 
+
+
+def _forwards(function: Method, helper: str) -> bool:
+    """The body (docstring aside) only passes the parameters on: ``return self.<helper>(seed)``."""
+    body = function.body[1:] if is_docstring(function.body[:1]) else function.body
+    if len(body) != 1 or not isinstance(body[0], (ast.Return, ast.Expr)):
+        return False
+    call = body[0].value
+    params = param_names(function)[1:]
+    return (
+        is_self_call(call, {helper})
+        and not call.keywords  # type: ignore[union-attr]
+        and [a.id if isinstance(a, ast.Name) else None for a in call.args] == params[: len(call.args)]  # type: ignore[union-attr]
+    )
+
+
+def delegates(decision: ClassDecision, function: Method) -> list[Method]:
+    """The class's helpers that ``function`` returns the result of (``return self._step(a)``).
+
+    Only helpers no other code of the class calls (their returns can take the new
+    contract of ``function`` without changing what another caller receives) and that
+    return something themselves (an abstract helper's overrides live elsewhere).
+    """
+    found: list[Method] = []
+    for ret in own_returns(function):
+        call = ret.value
+        if not (isinstance(call, ast.Call) and isinstance(call.func, ast.Attribute)):
+            continue
+        owner, name = call.func.value, call.func.attr
+        helper = decision.methods.get(name)
+        if not (isinstance(owner, ast.Name) and owner.id == "self") or helper is None or helper is function or helper in found:
+            continue
+        if not any(r.value is not None for r in own_returns(helper)):
+            continue  # abstract (``raise NotImplementedError``): subclasses return, nothing here to follow
+        callers = decision.index.self_calls.get(name, ())
+        if all(method_of(decision, c) is function for c in callers) and name not in decision.renamed.values():
+            found.append(helper)
+    return found
+
+
+def is_self_call(node: ast.AST | None, names: set[str]) -> bool:
+    """``self.<one of names>(...)``."""
+    return (
+        isinstance(node, ast.Call)
+        and isinstance(node.func, ast.Attribute)
+        and isinstance(node.func.value, ast.Name)
+        and node.func.value.id == "self"
+        and node.func.attr in names
+    )
 
 
 def is_docstring(group: list[ast.stmt]) -> bool:

@@ -47,7 +47,8 @@ class EnvClassFamily(RuleFamily):
             decision = ClassDecision(self, env, classdef)
             decide_mujoco(decision)
             for new, old in decision.renamed.items():
-                decision.report(decision.methods[old], UNDERSCORE_RULE[new], f"gym < 0.9 method `{old}` renamed `{new}`")
+                why = "; Gymnasium never calls it: call `env.unwrapped.configure(...)`" if new == "configure" else ""
+                decision.report(decision.methods[old], UNDERSCORE_RULE[new], f"gym < 0.9 method `{old}` renamed `{new}`{why}")
                 for call in decision.index.self_calls.get(old, ()):
                     method = method_of(decision, call)
                     if method is not None:

@@ -68,6 +68,7 @@ class SeedPlan:
 @dataclass
 class ClassPlan:
     renamed: dict[str, str] = field(default_factory=dict)  # new name -> gym < 0.9 name
+    dropped: set[str] = field(default_factory=set)  # public methods that only forwarded to a renamed one
     seed: SeedPlan | None = None
     reset_super_seeds: bool = True  # super().reset(seed=seed) may be called (else only reported)
     render: bool = False
@@ -79,6 +80,8 @@ class ClassPlan:
     reset_callers: set[str] = field(default_factory=set)
     reset: bool = False  # reset() changes (signature, returns, super().reset(seed=seed))
     step: bool = False  # step() returns four values somewhere
+    step_helpers: list[str] = field(default_factory=list)  # what step() returns the result of
+    reset_helpers: list[str] = field(default_factory=list)  # likewise for reset()
 
 
 class ClassRewrite:
@@ -105,6 +108,8 @@ class ClassRewrite:
     def run(self) -> cst.ClassDef:
         for new, old in self.renamed.items():
             self.replacements[old] = self.methods[old].with_changes(name=cst.Name(new))
+        for name in self.plan.dropped:
+            self.replacements[name] = None
         if self.plan.seed is not None:
             self._seed(self.plan.seed)
         self._reset()
@@ -182,7 +187,11 @@ class ClassRewrite:
             fn = _drop_return_info(fn)
         elif not modern:
             fn, base_info = _unpack_super_reset(fn)
-            fn = self._return_info_pairs(fn, base_info)
+            fn = self._return_info_pairs(fn, base_info, frozenset(self.plan.reset_helpers))
+            for helper in self.plan.reset_helpers:
+                helper_fn = self.method(helper)
+                if helper_fn is not None:
+                    self.set_method(helper, self._return_info_pairs(helper_fn, None))
             if fn.returns is not None and not _is_tuple_annotation(fn.returns.annotation, 2):
                 pair = cst.parse_expression(f"tuple[{_code(fn.returns.annotation).strip()}, dict]")
                 fn = fn.with_changes(returns=fn.returns.with_changes(annotation=pair))
@@ -192,7 +201,7 @@ class ClassRewrite:
             fn = _insert_after_super_reset(fn, self.seed_folded)
         self.set_method("reset", fn)
 
-    def _return_info_pairs(self, fn: cst.FunctionDef, base_info: str | None) -> cst.FunctionDef:
+    def _return_info_pairs(self, fn: cst.FunctionDef, base_info: str | None, helpers: frozenset[str] = frozenset()) -> cst.FunctionDef:
         info_expr: cst.BaseExpression = cst.Dict([])
         if base_info is not None:
             info_expr = cst.Name(base_info)
@@ -204,6 +213,8 @@ class ClassRewrite:
         def pair(ret: cst.Return) -> cst.Return:
             if ret.value is None or is_super_method_call(ret.value, "reset"):
                 return ret  # the base reset already returns (obs, info)
+            if _is_self_call(ret.value, helpers):
+                return ret  # a helper that now returns (obs, info) itself
             value = ret.value
             if isinstance(value, cst.Tuple) and not value.lpar:
                 value = value.with_changes(lpar=[cst.LeftParen()], rpar=[cst.RightParen()])
@@ -214,7 +225,12 @@ class ClassRewrite:
     # -- GM504 ---------------------------------------------------------------------------
 
     def _step(self) -> None:
-        fn = self.method("step")
+        self._step_returns("step")
+        for helper in self.plan.step_helpers:
+            self._step_returns(helper)
+
+    def _step_returns(self, method_name: str) -> None:
+        fn = self.method(method_name)
         if fn is None:
             return
         returns = own_returns(fn)
@@ -267,7 +283,7 @@ class ClassRewrite:
         if rename_done:
             body = body.visit(_NameRenamer({"done": "terminated"}))
             body = _bool_wrap_assignments(body, "terminated")
-        self.set_method("step", fn.with_changes(body=body))
+        self.set_method(method_name, fn.with_changes(body=body))
 
     # -- GM501: the class calling its own reset -------------------------------------------
 
@@ -315,6 +331,16 @@ class ClassRewrite:
         if not _uses_self_attribute(fn, "render_mode"):
             fn = fn.with_changes(body=_insert_after_super_init(fn.body, cst.parse_statement("self.render_mode = render_mode")))
         self.set_method("__init__", fn)
+
+
+def _is_self_call(node: cst.BaseExpression, names: frozenset[str]) -> bool:
+    return (
+        isinstance(node, cst.Call)
+        and isinstance(node.func, cst.Attribute)
+        and isinstance(node.func.value, cst.Name)
+        and node.func.value.value == "self"
+        and node.func.attr.value in names
+    )
 
 
 def _class_methods(classdef: cst.ClassDef) -> dict[str, cst.FunctionDef]:

@@ -14,7 +14,7 @@ import ast
 from gymmigrate.facts.env_classes import is_super_method_call
 from gymmigrate.facts.module import own_returns
 from gymmigrate.findings import FixKind
-from gymmigrate.rules.custom_env.common import ClassDecision, method_of, param_names
+from gymmigrate.rules.custom_env.common import ClassDecision, delegates, is_self_call, method_of, param_names
 
 
 def decide_reset(decision: ClassDecision) -> None:
@@ -28,7 +28,12 @@ def decide_reset(decision: ClassDecision) -> None:
         decision.report(function, "GM502", "return_info removed: reset() always returns (obs, info) now; check callers that expected a bare observation")
     elif not modern:
         base_info = _unpack_super_reset(decision, function)
-        _return_info_pairs(decision, function, base_info)
+        # ``def reset(self): return self._reset()``: the helper returns the pair instead.
+        helpers = delegates(decision, function)
+        decision.plan.reset_helpers = [h.name for h in helpers]
+        _return_info_pairs(decision, function, base_info, set(decision.plan.reset_helpers))
+        for helper in helpers:
+            _return_info_pairs(decision, helper, None, set())
     super_resets = any(is_super_method_call(c, "reset") for s in function.body for c in ast.walk(s) if isinstance(c, ast.Call))
     decision.plan.reset_super_seeds = decision.env.extends_gym_env_directly(decision.classdef)
     inserted = False
@@ -73,7 +78,7 @@ def _unpack_super_reset(decision: ClassDecision, function: ast.AST) -> str | Non
     return info_name
 
 
-def _return_info_pairs(decision: ClassDecision, function: ast.AST, base_info: str | None) -> None:
+def _return_info_pairs(decision: ClassDecision, function: ast.AST, base_info: str | None, helpers: set[str]) -> None:
     kind = FixKind.AUTO
     why = "returns (obs, {})"
     if base_info is not None:
@@ -83,7 +88,7 @@ def _return_info_pairs(decision: ClassDecision, function: ast.AST, base_info: st
     elif "_get_info" in decision.methods:
         kind, why = FixKind.ASSIST, "returns (obs, self._get_info()), the info the class already builds"
     for ret in own_returns(function):
-        if ret.value is not None and not is_super_method_call(ret.value, "reset"):
+        if ret.value is not None and not is_super_method_call(ret.value, "reset") and not is_self_call(ret.value, helpers):
             decision.report(ret, "GM501", f"reset {why}", kind)
 
 
@@ -99,6 +104,8 @@ def decide_internal_calls(decision: ClassDecision) -> None:
             parent = facts.parent(call)
             if isinstance(parent, ast.Expr):
                 continue
+            if isinstance(parent, ast.Return) and is_self_call(call, set(decision.plan.step_helpers if target == "step" else decision.plan.reset_helpers)):
+                continue  # a delegation the rewrite followed: the helper returns the new contract
             if (
                 target == "reset"
                 and isinstance(parent, ast.Assign)

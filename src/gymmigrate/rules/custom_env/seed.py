@@ -96,6 +96,8 @@ def decide_seed(decision: ClassDecision) -> None:
 def _seed_call_sites(decision: ClassDecision) -> list[ast.Call]:
     names = {"seed", decision.renamed.get("seed", "seed")}
     calls = [call for name in sorted(names) for call in decision.index.self_calls.get(name, ())]
+    if decision.plan.dropped:  # the forwarding ``seed`` that goes is no caller
+        calls = [c for c in calls if (m := method_of(decision, c)) is None or m.name not in decision.plan.dropped]
     calls.sort(key=lambda c: (c.lineno, c.col_offset))
     return calls
 

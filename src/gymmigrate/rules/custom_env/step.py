@@ -13,7 +13,7 @@ import ast
 from gymmigrate.facts.env_classes import FunctionIndex, identifiers
 from gymmigrate.facts.module import own_returns
 from gymmigrate.findings import FixKind
-from gymmigrate.rules.custom_env.common import ClassDecision, tuple_len
+from gymmigrate.rules.custom_env.common import ClassDecision, Method, delegates, tuple_len
 from gymmigrate.rules.custom_env.cst_edits import STEP_LIMIT_WORD, _truncated_false_message
 
 _LIMIT_OPS = (ast.Gt, ast.GtE, ast.Lt, ast.LtE, ast.Eq)
@@ -23,13 +23,24 @@ def decide_step(decision: ClassDecision) -> None:
     function = decision.method("step")
     if function is None:
         return
+    # ``def step(self, a): return self._step(a)`` (gym <= 0.9's own base class did
+    # this): the helper's returns are the step's, so they get the five fields.
+    helpers = delegates(decision, function)
+    decision.plan.step_helpers = [h.name for h in helpers]
+    for step_function in (function, *helpers):
+        _decide_returns(decision, step_function, {id(h) for h in helpers})
+
+
+def _decide_returns(decision: ClassDecision, function: Method, helpers: set[int]) -> None:
     returns = own_returns(function)
-    if any(tuple_len(r.value) == 5 for r in returns):
+    if any(tuple_len(r.value) == 5 or _returns_five_from_helper(r, decision) for r in returns):
         return  # already the five-value API
     index = decision.function(function)
     limit_hint = _step_limit_text(decision, function)
     for ret in returns:
         if ret.value is None:
+            continue
+        if _returns_helper(ret, decision, helpers):
             continue
         if tuple_len(ret.value) != 4:
             decision.report(ret, "GM504", "step returns something other than a 4-tuple literal; return (obs, reward, terminated, truncated, info) by hand", FixKind.FLAG)
@@ -47,6 +58,24 @@ def decide_step(decision: ClassDecision) -> None:
             decision.report(ret, "GM504", "done split: the step-limit test became truncated, the rest terminated", FixKind.ASSIST)
             continue
         decision.report(ret, "GM504", _truncated_false_message(limit_hint), FixKind.ASSIST)
+
+
+def _returns_helper(ret: ast.Return, decision: ClassDecision, helpers: set[int]) -> bool:
+    call = ret.value
+    return (
+        isinstance(call, ast.Call)
+        and isinstance(call.func, ast.Attribute)
+        and id(decision.methods.get(call.func.attr)) in helpers
+    )
+
+
+def _returns_five_from_helper(ret: ast.Return, decision: ClassDecision) -> bool:
+    """``return self._advance(a)`` where ``_advance`` already returns five values."""
+    call = ret.value
+    if not (isinstance(call, ast.Call) and isinstance(call.func, ast.Attribute) and isinstance(call.func.value, ast.Name) and call.func.value.id == "self"):
+        return False
+    helper = decision.methods.get(call.func.attr)
+    return helper is not None and any(tuple_len(r.value) == 5 for r in own_returns(helper))
 
 
 def _step_limit_text(decision: ClassDecision, function: ast.AST) -> str | None:

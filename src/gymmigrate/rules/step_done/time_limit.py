@@ -17,9 +17,11 @@ import ast
 import libcst as cst
 
 from gymmigrate.findings import FixKind
-from gymmigrate.rules.step_done.common import TIME_LIMIT_KEY, StepFamilyBase, StepNames, stands_alone
+from gymmigrate.facts.module import Scope
+from gymmigrate.rules.step_done.common import STEP_UNPACKS, TIME_LIMIT_KEY, StepFamilyBase, StepNames, stands_alone
 
 _UNTRACED = object()  # a read whose info dict comes from no known step
+_DISCARDED = StepNames("_", "_", vector=False)  # a step whose done target was ``_``
 
 
 def time_limit_reads(facts_strings: list[ast.Constant], parent_of) -> list[ast.expr]:  # type: ignore[no-untyped-def]
@@ -100,7 +102,52 @@ class TimeLimitRules(StepFamilyBase):
         scope, _ = self.facts.resolve(base.id, self.facts.scope_of(base))
         if scope is not None and (id(scope), base.id) in self.guarded_infos:
             return None
+        if scope is not None:
+            names = self._only_step_infos(scope, base)
+            if names is not None:
+                return names
         return _UNTRACED
+
+    def _only_step_infos(self, scope: Scope, base: ast.Name) -> StepNames | None:
+        """The flags of the steps that alone bind ``base``'s info, when the read cannot
+        see an info and flags from two different steps.
+
+        After ``while not done: obs, r, done, info = env.step(a)`` no statement dominates
+        the read, but if every binding of ``info`` in the frame is the info target of a
+        rewritten step, the flag names are new to the frame, and every rewritten step that
+        binds those flags also binds this ``info``, then ``info`` and the flags were always
+        assigned together: the read and ``truncated and not terminated`` see the same step.
+        """
+        if not self.flow.same_frame(base, scope):
+            return None
+        by_scope = self._unpacks_by_scope()
+        steps = by_scope.get(id(scope), [])
+        infos = {id(a.targets[0].elts[3]) for a, _ in steps}  # type: ignore[attr-defined]
+        bindings = scope.bindings.get(base.id, [])
+        if not bindings or any(id(b) not in infos for b in bindings):
+            return None
+        names = next(n for a, n in steps if any(a.targets[0].elts[3] is b for b in bindings))  # type: ignore[attr-defined]
+        if names is _DISCARDED or names.vector or scope.bindings.get(names.terminated) or scope.bindings.get(names.truncated):
+            return None
+        for assign, other in steps:
+            shares = {other.terminated, other.truncated} & {names.terminated, names.truncated}
+            info = assign.targets[0].elts[3]  # type: ignore[attr-defined]
+            if shares and not (isinstance(info, ast.Name) and info.id == base.id and other == names):
+                return None
+        return names
+
+    def _unpacks_by_scope(self) -> dict[int, list[tuple[ast.Assign, StepNames]]]:
+        """Every step unpack this family rewrites, by the scope it binds in (built once)."""
+        def build() -> dict[int, list[tuple[ast.Assign, StepNames]]]:
+            found: dict[int, list[tuple[ast.Assign, StepNames]]] = {}
+            for assign, unpack in self.plan.notes.get(STEP_UNPACKS, {}).items():
+                if unpack.discarded:  # ``_`` took both flags: no names to read
+                    found.setdefault(id(self.facts.scope_of(assign)), []).append((assign, _DISCARDED))
+                else:
+                    found.setdefault(id(self.facts.scope_of(assign)), []).append((assign, unpack.names))
+            return found
+
+        return self.facts.memo(("time-limit-unpacks", id(self.plan)), build)  # type: ignore[no-any-return]
 
     def _replace_read(self, node: ast.expr, names: StepNames) -> None:
         if isinstance(node, ast.Compare):

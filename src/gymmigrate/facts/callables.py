@@ -1,0 +1,187 @@
+"""What calling something returns, and what annotations say: the receiver analysis's
+view of callables (``Receivers`` mixes this in).
+
+``env = make_env()`` is a Gym env when ``make_env`` is a lambda or a def (nested ones
+too) that returns one, a name bound to such a callable, ``functools.partial(gym.make,
+...)``, a method of the same class (``self.make_env()``), or an ``env_fn`` parameter
+annotated ``Callable[[], gym.Env]`` or given such callables at every call site.
+Annotations count in every spelling real code uses: ``gym.Env``, ``"gym.Env"``,
+``Optional[gym.Env]``, ``gym.Env | None``. Each answer is memoized per node, or per set
+of bindings for names, so a factory called n times is followed once.
+"""
+
+from __future__ import annotations
+
+import ast
+from typing import TYPE_CHECKING
+
+from gymmigrate.facts import receivers as R
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, call_argument
+
+if TYPE_CHECKING:
+    from gymmigrate.facts.project import ProjectView
+    from gymmigrate.facts.receivers import EnvKind
+
+
+class CallableKinds:
+    """Mixed into ``Receivers``: uses its ``facts``, ``kind_of``, ``call_sites``... Also
+    holds the two hooks of facts across files (``_external_param_kinds``)."""
+
+    facts: ModuleFacts
+    project: ProjectView | None
+    _depth: int
+
+    def own_method(self, func: ast.AST) -> ast.FunctionDef | ast.AsyncFunctionDef | None:
+        """``self.make_env`` in a method: the class's own ``def make_env``."""
+        if not (isinstance(func, ast.Attribute) and isinstance(func.value, ast.Name) and self.is_self(func.value)):
+            return None
+        classdef = self.facts.enclosing_class(func)
+        if classdef is None:
+            return None
+        methods = self.facts.memo(
+            ("own-methods", id(classdef)), lambda: {s.name: s for s in classdef.body if isinstance(s, FUNCTIONS)}
+        )
+        return methods.get(func.attr)  # type: ignore[no-any-return]
+
+    def _external_param_kinds(self, function: ast.AST, classdef: ast.ClassDef | None, param: str) -> list[EnvKind]:
+        """What the other modules of the run pass for ``param`` (none when checked alone)."""
+        if self.project is None:
+            return []
+        name = function.name  # type: ignore[attr-defined]
+        if classdef is None:
+            if self.facts.parent(function) is not self.facts.tree:
+                return []
+            return self.project.param_kinds(name, param)
+        if self.facts.parent(classdef) is not self.facts.tree:
+            return []
+        return self.project.param_kinds(f"{classdef.name}.{name}", param)
+
+    def returned_kind(self, callee: ast.AST) -> EnvKind:
+        """The kind of what calling ``callee`` returns: a lambda's body, the returns of a
+        def, through names bound to either, and through parameters annotated
+        ``Callable[[], gym.Env]`` or passed such callables at every call site."""
+        return self.facts.memo(("returned-kind", id(callee)), lambda: self._returned_kind(callee), while_computing=R.EnvKind.UNKNOWN)  # type: ignore[no-any-return]
+
+    def _returned_kind(self, callee: ast.AST) -> EnvKind:
+        if self._depth > R.MAX_DEPTH:
+            return R.EnvKind.UNKNOWN
+        if isinstance(callee, ast.Lambda):
+            return self.kind_of(callee.body)
+        if isinstance(callee, FUNCTIONS):
+            return self._returns_kind(callee)
+        if isinstance(callee, ast.Call) and any(q in ("functools.partial",) for q in self.qualified_names(callee.func)) and callee.args:
+            return self._kind_of_call_to(callee.args[0], callee)
+        if isinstance(callee, ast.Attribute):
+            return R.EnvKind.UNKNOWN
+        if not isinstance(callee, ast.Name):
+            return R.EnvKind.UNKNOWN
+        local = self.local_function(callee) or self.local_class(callee)
+        if local is not None and isinstance(local, FUNCTIONS):
+            return self._returns_kind(local)
+        if local is not None:
+            return self.class_kind(local)  # type: ignore[arg-type]
+        if self.qualified_names(callee):
+            return R.EnvKind.UNKNOWN  # an imported callable: the call classifies it, not this
+        bindings = self.facts.bindings_of(callee)
+        if not bindings:
+            return R.EnvKind.UNKNOWN
+        # One answer per set of bindings, not per call: ``make_env()`` called n times.
+        return self.facts.memo(("returned-kind-bindings", id(bindings)), lambda: self._bindings_returned_kind(bindings), while_computing=R.EnvKind.UNKNOWN)  # type: ignore[no-any-return]
+
+    def _bindings_returned_kind(self, bindings: list[ast.AST]) -> EnvKind:
+        kinds: list[EnvKind] = []
+        self._depth += 1
+        try:
+            for binding in bindings:
+                kinds.append(self._binding_returned_kind(binding))
+        finally:
+            self._depth -= 1
+        return R.join_kinds(kinds)
+
+    def _kind_of_call_to(self, callee: ast.AST, call: ast.Call) -> EnvKind:
+        """``functools.partial(gym.make, "CartPole-v1")``: the kind ``callee(...)`` returns."""
+        kinds = [k for k in (self._kind_from_qualified(q, call) for q in self.qualified_names(callee)) if k is not None]
+        return R.join_kinds(kinds) if kinds else self.returned_kind(callee)
+
+    def _binding_returned_kind(self, binding: ast.AST) -> EnvKind:
+        if isinstance(binding, FUNCTIONS):
+            return self._returns_kind(binding)
+        if isinstance(binding, ast.arg):
+            return self._param_returned_kind(binding)
+        parent = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
+        if isinstance(parent, (ast.Assign, ast.NamedExpr)) or (isinstance(parent, ast.AnnAssign) and parent.value is not None):
+            return self.returned_kind(parent.value)  # type: ignore[arg-type]
+        if isinstance(parent, ast.AnnAssign):
+            return self.callable_annotation_kind(parent.annotation)
+        return R.EnvKind.UNKNOWN
+
+    def _param_returned_kind(self, param: ast.arg) -> EnvKind:
+        if param.annotation is not None:
+            kind = self.callable_annotation_kind(param.annotation)
+            if kind is not R.EnvKind.UNKNOWN:
+                return kind
+        function = self.facts.parent(self.facts.parent(param))
+        if not isinstance(function, FUNCTIONS):
+            return R.EnvKind.UNKNOWN
+        classdef = self.facts.parent(function)
+        is_method = isinstance(classdef, ast.ClassDef) and self.facts.is_method(function)
+        params = [*function.args.posonlyargs, *function.args.args]
+        position = next((i for i, p in enumerate(params) if p is param), None)
+        if is_method and position is not None:
+            if position == 0:
+                return R.EnvKind.UNKNOWN
+            position -= 1
+        calls = self.call_sites(function, classdef if is_method else None)  # type: ignore[arg-type]
+        kinds = []
+        for call in calls:
+            argument = call_argument(call, position, param.arg)
+            kinds.append(R.EnvKind.UNKNOWN if argument is None else self.returned_kind(argument))
+        return R.join_kinds(kinds) if kinds else R.EnvKind.UNKNOWN
+
+    def callable_annotation_kind(self, annotation: ast.AST, parsed: bool = False) -> EnvKind:
+        """``Callable[[], gym.Env]`` (typing or collections.abc, or as a string): the kind it returns."""
+        if isinstance(annotation, ast.Constant) and isinstance(annotation.value, str):
+            inner = parse_annotation(annotation.value)
+            return self.callable_annotation_kind(inner, parsed=True) if inner is not None else R.EnvKind.UNKNOWN
+        if not isinstance(annotation, ast.Subscript):
+            return R.EnvKind.UNKNOWN
+        owner = string_names(self.facts, annotation.value) if parsed else self.qualified_names(annotation.value)
+        if not owner & {"typing.Callable", "collections.abc.Callable"}:
+            return R.EnvKind.UNKNOWN
+        given = annotation.slice
+        if not (isinstance(given, ast.Tuple) and len(given.elts) == 2):
+            return R.EnvKind.UNKNOWN
+        returned = given.elts[1]
+        return self._annotation_names_kind(string_names(self.facts, returned)) if parsed else self.annotation_kind(returned)
+
+
+
+def parse_annotation(text: str) -> ast.expr | None:
+    try:
+        return ast.parse(text.strip(), mode="eval").body
+    except SyntaxError:
+        return None
+
+
+def string_names(facts: ModuleFacts, expr: ast.AST | None) -> set[str]:
+    """Qualified names of a dotted name parsed from a string annotation, through the
+    module's own imports (the parsed nodes have no scope of their own)."""
+    parts: list[str] = []
+    while isinstance(expr, ast.Attribute):
+        parts.append(expr.attr)
+        expr = expr.value
+    if not isinstance(expr, ast.Name):
+        return set()
+    rest = "".join(f".{p}" for p in reversed(parts))
+    return {facts.imports[b] + rest for b in facts.module_scope.bindings.get(expr.id, ()) if isinstance(b, ast.alias)}
+
+
+def optional_of(annotation: ast.AST, qualified_names) -> ast.AST | None:  # type: ignore[no-untyped-def]
+    """``Optional[X]`` or ``X | None``: X."""
+    if isinstance(annotation, ast.BinOp) and isinstance(annotation.op, ast.BitOr):
+        for one, other in ((annotation.left, annotation.right), (annotation.right, annotation.left)):
+            if isinstance(other, ast.Constant) and other.value is None:
+                return one
+    if isinstance(annotation, ast.Subscript) and "typing.Optional" in qualified_names(annotation.value):
+        return annotation.slice
+    return None

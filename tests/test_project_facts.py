@@ -1,0 +1,127 @@
+"""Facts across the files of one run (facts/project.py), end to end.
+
+``fixtures/project/`` is a small package: ``agents/qagent.py`` steps an env it receives
+as a parameter, ``train.py`` passes it ``gym.make(...)`` and builds the package's own
+gym 0.9-style ``envs/corridor.py`` env and renders it with a mode, ``envs/drawn.py`` draws with gym's removed ``rendering.Viewer``.
+One ``gymmigrate rewrite`` of the folder migrates it whole; the files checked alone keep
+their cautious answer.
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from gymmigrate.cli import app
+from gymmigrate.facts.project import ProjectFacts, summarize
+from gymmigrate.facts.receivers import EnvKind
+from tests.fixture_cases import FIXTURES
+
+PROJECT = FIXTURES / "project"
+runner = CliRunner()
+
+
+@pytest.fixture()
+def project(tmp_path: Path) -> Path:
+    target = tmp_path / "project"
+    shutil.copytree(PROJECT, target)
+    return target
+
+
+def _findings(folder: Path, tmp_path: Path, *paths: str) -> list[dict[str, object]]:
+    report = tmp_path / "report.json"
+    runner.invoke(app, ["check", "--report", str(report), *(str(folder / p) for p in paths)])
+    data = json.loads(report.read_text())
+    return [dict(f, path=file["path"]) for file in data["files"] for f in [*file["changes"], *file["review"]]]
+
+
+def test_one_rewrite_of_the_folder_migrates_the_package_and_it_trains(project: Path) -> None:
+    result = runner.invoke(app, ["rewrite", str(project)])
+    assert result.exit_code == 0, result.output
+    agent = (project / "agents" / "qagent.py").read_text()
+    assert "state, info = env.reset()" in agent
+    assert "next_state, reward, terminated, truncated, info = env.step(action)" in agent
+    assert 'CorridorEnv(render_mode="ansi")' in (project / "train.py").read_text()
+    code = (
+        "import train; print(train.train(episodes=1)); print(train.show_corridor())\n"
+        "from gymnasium.utils.env_checker import check_env\nfrom envs.corridor import CorridorEnv\n"
+        "check_env(CorridorEnv(render_mode='ansi'), skip_render_check=True); print('checked')"
+    )
+    run = subprocess.run([sys.executable, "-c", code], cwd=project, capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
+    lengths, frames, checked = run.stdout.splitlines()
+    assert len(eval(lengths)) == 1 and eval(frames) == ["@....", ".@..."] and checked == "checked"
+
+
+def test_the_agent_module_checked_alone_stays_cautious(project: Path, tmp_path: Path) -> None:
+    alone = _findings(project, tmp_path, "agents/qagent.py")
+    assert {f["rule"] for f in alone} == {"GM201", "GM301"}
+    assert all(f["kind"] == "flag" for f in alone)
+    together = _findings(project, tmp_path, ".")
+    in_agent = [f for f in together if str(f["path"]).endswith("qagent.py")]
+    assert {(f["rule"], f["kind"]) for f in in_agent} == {("GM201", "auto"), ("GM301", "auto")}
+
+
+def test_a_viewer_gets_no_wrapper_attribute_finding(project: Path, tmp_path: Path) -> None:
+    findings = _findings(project, tmp_path, ".")
+    assert not [f for f in findings if f["rule"] in ("GM604", "GM606") and str(f["path"]).endswith("drawn.py")]
+
+
+def test_a_vecenv_passed_through_an_unknown_owner_keeps_the_method_guarded(tmp_path: Path) -> None:
+    agent = tmp_path / "agent.py"
+    agent.write_text("class Agent:\n    def fit(self, env):\n        obs = env.reset()\n        return obs\n")
+    gym_caller = tmp_path / "train.py"
+    gym_caller.write_text("import gym\nfrom agent import Agent\n\nAgent().fit(gym.make('CartPole-v1'))\n")
+    vec_caller = tmp_path / "vec.py"
+    vec_caller.write_text(
+        "from stable_baselines3.common.vec_env import DummyVecEnv\nimport gym\n\n"
+        "def run(trainer):\n    trainer.fit(DummyVecEnv([lambda: gym.make('CartPole-v1')]))\n"
+    )
+    summaries = [summarize(str(p), p.read_bytes()) for p in (agent, gym_caller, vec_caller)]
+    facts = ProjectFacts.join([s for s in summaries if s is not None])
+    kinds = facts.view(str(agent)).param_kinds("Agent.fit", "env")
+    assert EnvKind.GYM_ENV in kinds and EnvKind.SB3_VEC in kinds
+    result = runner.invoke(app, ["rewrite", str(tmp_path)])
+    assert result.exit_code == 0, result.output
+    assert "obs = env.reset()" in agent.read_text()
+
+
+def test_an_env_class_of_another_module_passed_to_a_function_is_a_gym_env(tmp_path: Path) -> None:
+    (tmp_path / "grid.py").write_text(
+        "import gym\n\n\nclass GridEnv(gym.Env):\n    def step(self, action):\n        return 0, 0.0, True, {}\n"
+    )
+    (tmp_path / "runner.py").write_text("def run(env):\n    obs, reward, done, info = env.step(0)\n    return done\n")
+    (tmp_path / "main.py").write_text("from grid import GridEnv\nfrom runner import run\n\nrun(GridEnv())\n")
+    result = runner.invoke(app, ["rewrite", str(tmp_path)])
+    assert result.exit_code == 0, result.output
+    assert "obs, reward, terminated, truncated, info = env.step(0)" in (tmp_path / "runner.py").read_text()
+
+
+def test_run_facts_reach_the_worker_processes(project: Path) -> None:
+    for index in range(16):  # enough files for the worker pool
+        (project / f"filler_{index:02}.py").write_text("import gym\n\nENV_ID = 'CartPole-v1'\n")
+    result = runner.invoke(app, ["rewrite", "--jobs", "2", str(project)])
+    assert result.exit_code == 0, result.output
+    assert "state, info = env.reset()" in (project / "agents" / "qagent.py").read_text()
+
+
+def test_an_env_passed_on_through_a_parameter_keeps_its_kind(tmp_path: Path) -> None:
+    """``lander.py`` defines ``demo(env)``; ``test_lander.py`` passes its own parameter on."""
+    (tmp_path / "lander.py").write_text(
+        "import gym\n\n\nclass Lander(gym.Env):\n    pass\n\n\n"
+        "def demo(env):\n    obs = env.reset()\n    return obs\n\n\ndemo(Lander())\n"
+    )
+    (tmp_path / "test_lander.py").write_text(
+        "from lander import Lander, demo\n\n\ndef check(env):\n    return demo(env)\n\n\ncheck(Lander())\n"
+    )
+    summaries = [summarize(str(p), p.read_bytes()) for p in sorted(tmp_path.glob("*.py"))]
+    facts = ProjectFacts.join([s for s in summaries if s is not None])
+    assert facts.view(str(tmp_path / "lander.py")).param_kinds("demo", "env") == [EnvKind.GYM_ENV]
+    findings = _findings(tmp_path, tmp_path, ".")
+    assert [(f["rule"], f["kind"]) for f in findings if f["rule"] == "GM201"] == [("GM201", "auto")]
