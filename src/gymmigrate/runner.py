@@ -56,17 +56,34 @@ def run_files(
     jobs: int | None = None,
     lint: bool = False,
 ) -> Iterator[FileResult]:
+    jobs = default_jobs() if jobs is None or jobs <= 0 else jobs
+    parallel = jobs > 1 and len(paths) >= PARALLEL_THRESHOLD
     if options.project is None and len(paths) > 1:
         from gymmigrate.facts.project import summarize_run
 
-        options = replace(options, project=summarize_run(list(paths)))  # one cheap pass, joined once
+        # One cheap pass over every module (on the workers too), joined once.
+        pool = (lambda python: _run_parallel(python, _Summarize(), jobs)) if parallel else None  # noqa: E731
+        options = replace(options, project=summarize_run(list(paths), pool))
     task = _Task(options, write, want_diff, lint)
-    jobs = default_jobs() if jobs is None or jobs <= 0 else jobs
-    if jobs == 1 or len(paths) < PARALLEL_THRESHOLD:
+    if not parallel:
         for path in paths:
             yield task(path)
         return
     yield from _run_parallel(list(paths), task, jobs)
+
+
+@dataclass(frozen=True)
+class _Summarize:
+    """``facts.project.summarize_path`` for the workers: a module's summary, or False
+    (never None: the pool reads a missing answer as a dead worker)."""
+
+    def __call__(self, path: Path) -> object:
+        from gymmigrate.facts.project import summarize_path
+
+        try:
+            return summarize_path(path) or False
+        except Exception:  # noqa: BLE001  (the file's own run reports what is wrong with it)
+            return False
 
 
 @dataclass(frozen=True)

@@ -27,6 +27,7 @@ from __future__ import annotations
 import ast
 import os
 from collections import defaultdict
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -83,28 +84,33 @@ def summarize(path: str, source: bytes) -> ModuleSummary | None:
         return None
 
 
-def summarize_run(paths: list[Path]) -> ProjectFacts | None:
-    """Facts across ``paths``; None for a single file (nothing to join)."""
+def summarize_run(paths: list[Path], summaries: Callable[[list[Path]], Iterable[object]] | None = None) -> ProjectFacts | None:
+    """Facts across ``paths``; None for a single file (nothing to join).
+
+    ``summaries`` maps ``summarize_path`` over the paths (the runner passes its worker
+    pool); by default it runs here, one file after the other.
+    """
     if len(paths) < 2:
         return None
+    python = [path for path in paths if Path(path).suffix in (".py", ".pyw")]
+    # Notebooks and documents: their code is not importable by the run.
+    found = summaries(python) if summaries is not None else map(summarize_path, python)
+    return ProjectFacts.join([summary for summary in found if isinstance(summary, ModuleSummary)])
+
+
+def summarize_path(path: Path) -> ModuleSummary | None:
+    """The summary of the module at ``path``, read and screened as its own run will."""
     from gymmigrate.engine import may_hold_gym_code
     from gymmigrate.safety import Refused, read_source, screen
 
-    summaries = []
-    for path in paths:
-        if Path(path).suffix not in (".py", ".pyw"):
-            continue  # notebooks and documents: their code is not importable by the run
-        try:
-            # The same screening as the file's own run: never parse what it refuses.
-            source = read_source(Path(path), may_hold_gym_code)
-            if source is None or not screen(source, may_hold_gym_code):
-                continue
-        except (OSError, Refused):
-            continue
-        summary = summarize(str(path), source)
-        if summary is not None:
-            summaries.append(summary)
-    return ProjectFacts.join(summaries)
+    try:
+        # The same screening as the file's own run: never parse what it refuses.
+        source = read_source(Path(path), may_hold_gym_code)
+        if source is None or not screen(source, may_hold_gym_code):
+            return None
+    except (OSError, Refused):
+        return None
+    return summarize(str(path), source)
 
 
 class _Summarizer:
