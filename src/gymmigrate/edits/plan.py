@@ -43,7 +43,16 @@ class Plan:
     # What one rule family decided that another must follow in the same run (e.g. the
     # render mode a creation site needs because a wrapper was replaced).
     notes: dict[str, Any] = field(default_factory=dict)
-    _seen: set[tuple[int, int, str, str]] = field(default_factory=set)
+    # Which finding each edit carries out, so a finding dropped by rule selection or a
+    # suppression comment takes its fix with it (``drop_findings``). ``deciding`` names
+    # the family deciding now (set by the engine).
+    deciding: str = ""
+    finding_nodes: list[ast.AST] = field(default_factory=list)
+    _finding_families: list[str] = field(default_factory=list)
+    _edits: list[_Edit] = field(default_factory=list)
+    _last_reported: int | None = None
+    partial: bool = False  # some findings were dropped (with their edits)
+    _seen: dict[tuple[int, int, str, str], int] = field(default_factory=dict)
 
     @property
     def has_edits(self) -> bool:
@@ -56,8 +65,11 @@ class Plan:
         column = self.facts.column(node)
         key = (line, column, code, message)
         if key in self._seen:  # two routes to the same conclusion: one item
+            self._last_reported = self._seen[key]
             return
-        self._seen.add(key)
+        self._seen[key] = self._last_reported = len(self.findings)
+        self.finding_nodes.append(node)
+        self._finding_families.append(self.deciding)
         end_line, end_column = self.facts.end(node)
         self.findings.append(
             Finding(
@@ -70,12 +82,17 @@ class Plan:
     def replace(self, node: ast.AST, build: Build) -> None:
         """Replace the LibCST counterpart of ``node`` with ``build(node_as_changed)``."""
         self.replacements[node].append(build)
+        self._record(node, self.replacements, node, build)
 
     def insert_before(self, statement: ast.stmt, *code: Any) -> None:
         self.before[statement].extend(code)
+        for item in code:
+            self._record(statement, self.before, statement, item)
 
     def insert_after(self, statement: ast.stmt, *code: Any) -> None:
         self.after[statement].extend(code)
+        for item in code:
+            self._record(statement, self.after, statement, item)
 
     def withdraw(self, statement: ast.stmt, code: Any) -> None:
         """Take back one piece of ``code`` inserted around ``statement`` (the very object
@@ -98,11 +115,13 @@ class Plan:
         self.removed.add(statement)
         if keep_comments:
             self.keep_comments.add(statement)
+        self._record(statement, self.removed, statement, statement)
 
     def add_import(self, line: str) -> None:
         """A top-level import statement, added once after the module's last import."""
         if line not in self.imports:
             self.imports.append(line)
+        self._record(None, self.imports, None, line)  # every finding that needs it keeps it
 
     def ensure_import(self, module: str, name: str | None = None, asname: str | None = None) -> str:
         """Make ``module`` (or ``module.name``) available; return the name to use in code."""
@@ -115,3 +134,98 @@ class Plan:
             return asname or name
         self.add_import(f"import {module}" + (f" as {asname}" if asname else ""))
         return asname or module
+
+    # -- which finding an edit carries out --------------------------------------------------
+
+    def _record(self, node: ast.AST | None, container: Any, anchor: Any, item: Any) -> None:
+        self._edits.append(_Edit(self.deciding, node, len(self.findings), self._last_reported, container, anchor, item))
+
+    def drop_findings(self, dropped: set[int]) -> None:
+        """Drop the findings at these indexes and every edit that only carries them out.
+
+        Rules do not say which finding an edit serves, so it is read from how they
+        decide: the finding the same family reported on the same node, else on the same
+        statement, else the one it reported just before the edit (or, failing that,
+        just after). An edit that serves no finding is kept.
+        """
+        if not dropped:
+            return
+        self.partial = True
+        by_node: dict[tuple[str, int], list[int]] = defaultdict(list)
+        by_statement: dict[tuple[str, int], list[int]] = defaultdict(list)
+        for index, node in enumerate(self.finding_nodes):
+            family = self._finding_families[index]
+            by_node[family, id(node)].append(index)
+            by_statement[family, id(self.facts.statement_of(node))].append(index)
+        serves: dict[tuple[int, int, object], set[int]] = defaultdict(set)
+        edits: dict[tuple[int, int, object], _Edit] = {}
+        for edit in self._edits:
+            # An import line is one edit however many findings asked for it.
+            key = (id(edit.container), id(edit.anchor), edit.item if edit.container is self.imports else id(edit.item))
+            edits[key] = edit
+            serves[key].update(self._served_by(edit, by_node, by_statement))
+        for key, served in serves.items():
+            if served and served <= dropped:
+                edits[key].undo()
+        self.findings = [f for i, f in enumerate(self.findings) if i not in dropped]
+        self.finding_nodes = [n for i, n in enumerate(self.finding_nodes) if i not in dropped]
+        self._finding_families = [f for i, f in enumerate(self._finding_families) if i not in dropped]
+        self._edits = []
+
+    def _served_by(self, edit: _Edit, by_node: dict, by_statement: dict) -> list[int]:
+        if edit.node is not None:
+            same = (
+                by_node.get((edit.family, id(edit.node)))
+                or self._inside(edit)
+                or by_statement.get((edit.family, id(self.facts.statement_of(edit.node))))
+            )
+            if same:
+                return same
+        if edit.last_reported is not None and self._finding_families[edit.last_reported] == edit.family:
+            return [edit.last_reported]
+        for index in range(edit.reported, len(self.findings)):
+            if self._finding_families[index] == edit.family:
+                return [index]
+        return []
+
+
+    def _inside(self, edit: _Edit) -> list[int]:
+        """The family's findings inside a class or function the edit rebuilds whole."""
+        node = edit.node
+        if not isinstance(node, (ast.ClassDef, ast.FunctionDef, ast.AsyncFunctionDef)):
+            return []
+        first, last = node.lineno, node.end_lineno or node.lineno
+        return [
+            index
+            for index, finding in enumerate(self.findings)
+            if self._finding_families[index] == edit.family and first <= finding.line <= last
+        ]
+
+
+@dataclass
+class _Edit:
+    """One recorded edit: who made it, when, and where it sits in the plan."""
+
+    family: str
+    node: ast.AST | None
+    reported: int  # how many findings existed when it was made
+    last_reported: int | None
+    container: Any
+    anchor: Any
+    item: Any
+
+    def undo(self) -> None:
+        container = self.container
+        if isinstance(container, set):
+            container.discard(self.item)
+        elif isinstance(container, list):
+            if self.item in container:
+                container.remove(self.item)
+        else:  # a dict of lists, by node
+            items = container.get(self.anchor, [])
+            for index, existing in enumerate(items):
+                if existing is self.item:
+                    del items[index]
+                    break
+            if not items and self.anchor in container:
+                del container[self.anchor]
