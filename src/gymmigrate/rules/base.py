@@ -22,6 +22,7 @@ from gymmigrate.findings import FixKind
 
 if TYPE_CHECKING:
     from gymmigrate.edits.plan import Plan
+    from gymmigrate.selection import Selection
     from gymmigrate.facts import ModuleFacts
     from gymmigrate.facts.receivers import Receivers
 
@@ -41,6 +42,8 @@ class RewriteOptions:
     """Settings that change what the rules write (not how files are found)."""
 
     seed: int | None = None
+    selection: Selection | None = None  # --select/--ignore; None: every rule
+    docs: bool = False  # also migrate code blocks in Markdown/RST (config `docs`)
 
 
 @dataclass(frozen=True)
