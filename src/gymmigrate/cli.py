@@ -57,6 +57,21 @@ ReportOption = Annotated[
     typer.Option("--report", help="Write every change and review item as JSON to this file.", dir_okay=False),
 ]
 JobsOption = Annotated[int, typer.Option("--jobs", "-j", min=0, help="Worker processes (0: one per core).")]
+_CODES = "rule codes or prefixes (GM301, GM3, PZ), repeated or comma-separated"
+SelectOption = Annotated[
+    Optional[list[str]], typer.Option("--select", help=f"Apply only these {_CODES} (default: every rule).")
+]
+IgnoreOption = Annotated[Optional[list[str]], typer.Option("--ignore", help=f"Leave out these {_CODES}.")]
+ExtendSelectOption = Annotated[
+    Optional[list[str]], typer.Option("--extend-select", help=f"Add these {_CODES} to the selection.")
+]
+ExtendIgnoreOption = Annotated[
+    Optional[list[str]], typer.Option("--extend-ignore", help=f"Leave out these {_CODES} as well.")
+]
+StdinFilenameOption = Annotated[
+    Optional[str],
+    typer.Option("--stdin-filename", help="With the path -, the file name to show and to look up the configuration from."),
+]
 
 
 @app.command()
@@ -78,17 +93,30 @@ def rewrite(
             help="After rewriting, smoke-check (seed --seed or 0) each rewritten script that creates an env.",
         ),
     ] = False,
+    select: SelectOption = None,
+    ignore: IgnoreOption = None,
+    extend_select: ExtendSelectOption = None,
+    extend_ignore: ExtendIgnoreOption = None,
+    stdin_filename: StdinFilenameOption = None,
 ) -> None:
-    """Rewrite legacy Gym code in place (or show the diff with --diff)."""
+    """Rewrite legacy Gym code in place (or show the diff with --diff).
+
+    With the path -, read one file from stdin and write it, rewritten, to stdout.
+    """
     if smoke and diff:
         typer.echo("error: --smoke runs the rewritten files, so it cannot be combined with --diff", err=True)
         raise typer.Exit(EXIT_ERROR)
     from gymmigrate.engine import Status
     from gymmigrate.report import print_diff, print_summary
-    from gymmigrate.rules.base import RewriteOptions
+    from gymmigrate.workflow import Flags, run_groups
 
+    flags = Flags(select, ignore, extend_select, extend_ignore, seed=seed)
+    if paths == ["-"]:
+        raise typer.Exit(_stdin(flags, stdin_filename, lint=False, diff=diff))
+    groups = _groups(paths, flags)
+    seed = next((group.options.seed for group in groups if group.options.seed is not None), seed)
     results = []
-    for result in _run(paths, RewriteOptions(seed=seed), write=not diff, want_diff=diff, jobs=jobs):
+    for result in run_groups(groups, write=not diff, want_diff=diff, jobs=jobs, lint=False):
         if result.diff:
             print_diff(result.diff)
         results.append(result)
@@ -144,24 +172,92 @@ def check(
     paths: PathsArgument,
     report: ReportOption = None,
     jobs: JobsOption = 0,
+    output_format: Annotated[
+        str,
+        typer.Option(
+            "--output-format",
+            help="How findings are printed to stdout: text (path:line:col: RULE [kind] message), json, "
+            "sarif (SARIF 2.1.0, for code scanning) or github (workflow annotations).",
+            case_sensitive=False,
+        ),
+    ] = "text",
+    select: SelectOption = None,
+    ignore: IgnoreOption = None,
+    extend_select: ExtendSelectOption = None,
+    extend_ignore: ExtendIgnoreOption = None,
+    stdin_filename: StdinFilenameOption = None,
 ) -> None:
     """Lint mode: list every legacy Gym site (what rewrite would change or asks you to review); write nothing.
 
-    Each finding is printed to stdout as `path:line:column: RULE \\[kind] message`.
+    Each finding is printed to stdout as `path:line:column: RULE \\[kind] message` (or in
+    --output-format). With the path -, check one file read from stdin.
     Exit codes: 0 nothing found, 1 findings, 2 files that could not be processed.
     """
     from gymmigrate.engine import Status
-    from gymmigrate.report import print_findings, print_summary
-    from gymmigrate.rules.base import RewriteOptions
+    from gymmigrate.formats import FORMATS, write_findings
+    from gymmigrate.report import print_summary
+    from gymmigrate.workflow import Flags, run_groups
 
-    results = list(_run(paths, RewriteOptions(), write=False, want_diff=False, jobs=jobs, lint=True))
-    print_findings(results)
+    output_format = output_format.lower()
+    if output_format not in FORMATS:
+        typer.echo(f"error: --output-format must be one of {', '.join(FORMATS)}, not {output_format!r}", err=True)
+        raise typer.Exit(EXIT_ERROR)
+    flags = Flags(select, ignore, extend_select, extend_ignore)
+    if paths == ["-"]:
+        raise typer.Exit(_stdin(flags, stdin_filename, lint=True, output_format=output_format))
+    results = list(run_groups(_groups(paths, flags), write=False, want_diff=False, jobs=jobs, lint=True))
+    write_findings(output_format, results, sys.stdout)
     print_summary(results, wrote=False)
     if report is not None:
         _write_report(report, results, wrote=False)
     if any(r.status is Status.ERROR for r in results):
         raise typer.Exit(EXIT_ERROR)
     raise typer.Exit(EXIT_PENDING if any(r.findings for r in results) else EXIT_OK)
+
+
+def _groups(paths: list[str], flags: object) -> list:
+    """Paths grouped by their [tool.gymmigrate]; a bad configuration or rule code is a usage error."""
+    from gymmigrate.config import ConfigError
+    from gymmigrate.selection import SelectionError
+    from gymmigrate.workflow import group_paths
+
+    if "-" in paths:
+        _usage_error("the path - (stdin) cannot be combined with other paths")
+    try:
+        return group_paths(paths, flags)  # type: ignore[arg-type]
+    except (ConfigError, SelectionError) as exc:
+        _usage_error(str(exc))
+
+
+def _usage_error(message: str) -> None:
+    typer.echo(f"error: {message}", err=True)
+    raise typer.Exit(EXIT_ERROR)
+
+
+def _stdin(flags: object, filename: str | None, *, lint: bool, diff: bool = False, output_format: str = "text") -> int:
+    """check - / rewrite -: one file from stdin, the result (or findings) on stdout."""
+    from gymmigrate.engine import Status, Transformed, decode, unified_diff
+    from gymmigrate.formats import write_findings
+    from gymmigrate.report import print_summary
+    from gymmigrate.workflow import run_stdin
+
+    group = _groups([filename or "."], flags)[0]
+    source = sys.stdin.buffer.read()
+    result, output = run_stdin(source, filename, group.options, lint=lint)
+    if lint:
+        write_findings(output_format, [result], sys.stdout)
+    elif diff:
+        if output != source:
+            sys.stdout.write(unified_diff(result.path, Transformed(source, output, decode(source)[1])))
+    else:
+        sys.stdout.buffer.write(output)
+    sys.stdout.flush()
+    print_summary([result], wrote=False)
+    if result.status is Status.ERROR:
+        return EXIT_ERROR
+    if lint:
+        return EXIT_PENDING if result.findings else EXIT_OK
+    return EXIT_PENDING if diff and result.status is Status.CHANGED else EXIT_OK
 
 
 def _smoke_rewritten(results: list, seed: int) -> list:
