@@ -260,6 +260,23 @@ def _stdin(flags: object, filename: str | None, *, lint: bool, diff: bool = Fals
     return EXIT_PENDING if diff and result.status is Status.CHANGED else EXIT_OK
 
 
+@app.command(name="rules")
+def rules_command(
+    code: Annotated[
+        Optional[str], typer.Argument(help="A rule code (GM301): show its full explanation and example.", show_default=False)
+    ] = None,
+) -> None:
+    """List every rule (code, title, fix kind, summary), or explain one with its before/after example."""
+    from gymmigrate.rules_listing import print_rule, print_rules
+
+    if code is None:
+        print_rules()
+        raise typer.Exit(EXIT_OK)
+    if not print_rule(code.upper()):
+        _usage_error(f"unknown rule {code!r} (see `gymmigrate rules`)")
+    raise typer.Exit(EXIT_OK)
+
+
 def _smoke_rewritten(results: list, seed: int) -> list:
     """Smoke-check each written file that creates an env; True if any failed or could not run."""
     from gymmigrate.smoke.rewritten import smoke_rewritten
