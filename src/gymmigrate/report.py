@@ -71,7 +71,11 @@ def print_summary(results: Sequence[FileResult], *, wrote: bool, stream: TextIO 
         f"[bold]gymmigrate[/bold] {verb} {len(changed)} of {len(results)} file{'s' if len(results) != 1 else ''}"
         + (f", [red]{len(errors)} could not be processed[/red]" if errors else "")
     )
-    if per_rule:
+    if console.is_terminal:
+        from gymmigrate.summary_table import summary_table
+
+        console.print(summary_table(results, per_rule, len(review), wrote=wrote))
+    elif per_rule:
         console.print("Changes per rule: " + ", ".join(f"{rule} x{count}" for rule, count in sorted(per_rule.items())))
     if review:
         console.print(f"\n[bold yellow]Review ({len(review)})[/bold yellow]: places where the meaning may have shifted")
