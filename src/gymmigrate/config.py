@@ -19,6 +19,7 @@ is an error that names the key and the file, never silently ignored.
 from __future__ import annotations
 
 import fnmatch
+import os
 import sys
 from dataclasses import dataclass
 from functools import lru_cache
@@ -58,7 +59,7 @@ class Config:
         if not self.exclude or self.root is None:
             return False
         try:
-            relative = file.resolve().relative_to(self.root.resolve()).as_posix()
+            relative = Path(os.path.realpath(file)).relative_to(os.path.realpath(self.root)).as_posix()
         except ValueError:
             relative = file.as_posix()
         parts = relative.split("/")

@@ -8,6 +8,7 @@ options, flags winning over the file.
 
 from __future__ import annotations
 
+import os
 import sys
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
@@ -79,8 +80,9 @@ def run_groups(groups: list[Group], *, write: bool, want_diff: bool, jobs: int, 
     errors: list[tuple[str, str]] = []
     for group in groups:
         discovery = discover(group.arguments)
-        named = {Path(argument).resolve() for argument in group.arguments}
-        files = [f for f in discovery.files if f.resolve() in named or not group.config.excludes(f)]
+        # realpath, not resolve(): a link loop named on the command line is discover's to report.
+        named = {os.path.realpath(argument) for argument in group.arguments}
+        files = [f for f in discovery.files if os.path.realpath(f) in named or not group.config.excludes(f)]
         planned.append((group, files))
         errors.extend(discovery.errors)
     if write:
