@@ -10,6 +10,7 @@ edits in one traversal.
 from __future__ import annotations
 
 import ast
+from bisect import bisect_left
 from collections import defaultdict
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -50,9 +51,8 @@ class Plan:
     finding_nodes: list[ast.AST] = field(default_factory=list)
     _finding_families: list[str] = field(default_factory=list)
     _edits: list[_Edit] = field(default_factory=list)
-    _last_reported: int | None = None
     partial: bool = False  # some findings were dropped (with their edits)
-    _seen: dict[tuple[int, int, str, str], int] = field(default_factory=dict)
+    _seen: set[tuple[int, int, str, str]] = field(default_factory=set)
 
     @property
     def has_edits(self) -> bool:
@@ -65,9 +65,8 @@ class Plan:
         column = self.facts.column(node)
         key = (line, column, code, message)
         if key in self._seen:  # two routes to the same conclusion: one item
-            self._last_reported = self._seen[key]
             return
-        self._seen[key] = self._last_reported = len(self.findings)
+        self._seen.add(key)
         self.finding_nodes.append(node)
         self._finding_families.append(self.deciding)
         end_line, end_column = self.facts.end(node)
@@ -138,23 +137,31 @@ class Plan:
     # -- which finding an edit carries out --------------------------------------------------
 
     def _record(self, node: ast.AST | None, container: Any, anchor: Any, item: Any) -> None:
-        self._edits.append(_Edit(self.deciding, node, len(self.findings), self._last_reported, container, anchor, item))
+        self._edits.append(_Edit(self.deciding, node, len(self.findings), container, anchor, item))
 
     def drop_findings(self, dropped: set[int]) -> None:
         """Drop the findings at these indexes and every edit that only carries them out.
 
         Rules do not say which finding an edit serves, so it is read from how they
-        decide: the finding the same family reported on the same node, else on the same
-        statement, else the one it reported just before the edit (or, failing that,
-        just after). An edit that serves no finding is kept.
+        decide. Only findings of the family that made the edit, and only changes (a flag
+        finding is "not rewritten"), are candidates: every finding inside a class or
+        function the edit rebuilds whole; else every one on the very node edited; else
+        the one on the same statement, or of the family, that was reported next after
+        the edit (rules record a decision's edits, then report it), else the one just
+        before. An import line serves both neighbours. An edit is dropped when every
+        finding it serves is; one that serves none is kept.
+        ``tests/test_selection.py`` holds this to every fixture of every rule.
         """
         if not dropped:
             return
         self.partial = True
         by_node: dict[tuple[str, int], list[int]] = defaultdict(list)
         by_statement: dict[tuple[str, int], list[int]] = defaultdict(list)
+        changes: dict[str, list[int]] = defaultdict(list)  # by family, in report order
         for index, node in enumerate(self.finding_nodes):
             family = self._finding_families[index]
+            if self.findings[index].is_change:
+                changes[family].append(index)
             by_node[family, id(node)].append(index)
             by_statement[family, id(self.facts.statement_of(node))].append(index)
         serves: dict[tuple[int, int, object], set[int]] = defaultdict(set)
@@ -163,7 +170,7 @@ class Plan:
             # An import line is one edit however many findings asked for it.
             key = (id(edit.container), id(edit.anchor), edit.item if edit.container is self.imports else id(edit.item))
             edits[key] = edit
-            serves[key].update(self._served_by(edit, by_node, by_statement))
+            serves[key].update(self._served_by(edit, by_node, by_statement, changes))
         for key, served in serves.items():
             if served and served <= dropped:
                 edits[key].undo()
@@ -172,34 +179,49 @@ class Plan:
         self._finding_families = [f for i, f in enumerate(self._finding_families) if i not in dropped]
         self._edits = []
 
-    def _served_by(self, edit: _Edit, by_node: dict, by_statement: dict) -> list[int]:
-        if edit.node is not None:
-            same = (
-                by_node.get((edit.family, id(edit.node)))
-                or self._inside(edit)
-                or by_statement.get((edit.family, id(self.facts.statement_of(edit.node))))
-            )
-            if same:
-                return same
-        if edit.last_reported is not None and self._finding_families[edit.last_reported] == edit.family:
-            return [edit.last_reported]
-        for index in range(edit.reported, len(self.findings)):
-            if self._finding_families[index] == edit.family:
-                return [index]
-        return []
+    def _served_by(self, edit: _Edit, by_node: dict, by_statement: dict, changes: dict[str, list[int]]) -> list[int]:
+        # Rules record a decision's edits just before reporting it, as a rule: the next
+        # finding of the family first, among those on the same node or statement if any.
+        # A flag finding is "not rewritten": no edit serves it.
+        family = changes.get(edit.family, [])
+        if edit.node is None:
+            # An import serves both neighbours: an import kept for nothing is harmless,
+            # one dropped under a kept edit is a NameError.
+            return [i for i in (_next(family, edit.reported), _previous(family, edit.reported)) if i is not None]
+        inside = self._inside(edit, family)
+        if inside:
+            return inside
+        # Several findings on the very node edited: which one it serves cannot be told,
+        # so it serves them all (kept while any of them is).
+        same = [index for index in by_node.get((edit.family, id(edit.node)), ()) if self.findings[index].is_change]
+        if same:
+            return same
+        near = by_statement.get((edit.family, id(self.facts.statement_of(edit.node))), ())
+        candidates = [index for index in near if self.findings[index].is_change] or family
+        chosen = _next(candidates, edit.reported)
+        if chosen is None:
+            chosen = _previous(candidates, edit.reported)
+        return [chosen] if chosen is not None else []
 
-
-    def _inside(self, edit: _Edit) -> list[int]:
-        """The family's findings inside a class or function the edit rebuilds whole."""
+    def _inside(self, edit: _Edit, family: list[int]) -> list[int]:
+        """The family's changes inside a class or function the edit rebuilds whole."""
         node = edit.node
         if not isinstance(node, (ast.ClassDef, ast.FunctionDef, ast.AsyncFunctionDef)):
             return []
         first, last = node.lineno, node.end_lineno or node.lineno
-        return [
-            index
-            for index, finding in enumerate(self.findings)
-            if self._finding_families[index] == edit.family and first <= finding.line <= last
-        ]
+        return [index for index in family if first <= self.findings[index].line <= last]
+
+
+def _next(indexes: list[int], position: int) -> int | None:
+    """The first of the sorted ``indexes`` at or after ``position``."""
+    at = bisect_left(indexes, position)
+    return indexes[at] if at < len(indexes) else None
+
+
+def _previous(indexes: list[int], position: int) -> int | None:
+    """The last of the sorted ``indexes`` before ``position``."""
+    at = bisect_left(indexes, position)
+    return indexes[at - 1] if at > 0 else None
 
 
 @dataclass
@@ -209,7 +231,6 @@ class _Edit:
     family: str
     node: ast.AST | None
     reported: int  # how many findings existed when it was made
-    last_reported: int | None
     container: Any
     anchor: Any
     item: Any
