@@ -102,4 +102,35 @@ def filter_plan(plan: Plan, text: str, options: RewriteOptions) -> None:
             statement = plan.facts.statement_of(plan.finding_nodes[index])
             if suppressions.silences(finding.rule, (finding.line, statement.lineno)):
                 dropped.add(index)
-    plan.drop_findings(dropped)
+    plan.drop_findings(_with_coupled(plan, dropped))
+
+
+# Families whose fixes build on one another's names: the step unpack introduces
+# ``terminated`` that the done reads use, the reset unpack introduces ``info`` that a
+# wrapper's return uses, a wrapper's step override and the step inside it agree on five
+# values, a vector loop needs the import its info edit adds. Leaving out a change of one
+# of them leaves out the changes of the families it is coupled with in the same function
+# (or at module level), so no kept edit reads a name a dropped one would have made.
+COUPLED_FAMILIES = {
+    "StepDone": frozenset({"StepDone", "WrapperClasses"}),
+    "ResetSeed": frozenset({"ResetSeed", "WrapperClasses"}),
+    "WrapperClasses": frozenset({"WrapperClasses", "StepDone", "ResetSeed"}),
+    "VectorEnvs": frozenset({"VectorEnvs"}),
+}
+
+
+def _with_coupled(plan: Plan, dropped: set[int]) -> set[int]:
+    families = plan.finding_families
+    scope_of = plan.facts.enclosing_function
+    left_out = set()  # (function, family)
+    for index in dropped:
+        if plan.findings[index].is_change:
+            scope = id(scope_of(plan.finding_nodes[index]))
+            left_out.update((scope, family) for family in COUPLED_FAMILIES.get(families[index], ()))
+    if not left_out:
+        return dropped
+    return dropped | {
+        index
+        for index, finding in enumerate(plan.findings)
+        if finding.is_change and (id(scope_of(plan.finding_nodes[index])), families[index]) in left_out
+    }

@@ -49,7 +49,7 @@ class Plan:
     # the family deciding now (set by the engine).
     deciding: str = ""
     finding_nodes: list[ast.AST] = field(default_factory=list)
-    _finding_families: list[str] = field(default_factory=list)
+    finding_families: list[str] = field(default_factory=list)  # the family that reported each
     _edits: list[_Edit] = field(default_factory=list)
     partial: bool = False  # some findings were dropped (with their edits)
     _seen: set[tuple[int, int, str, str]] = field(default_factory=set)
@@ -68,7 +68,7 @@ class Plan:
             return
         self._seen.add(key)
         self.finding_nodes.append(node)
-        self._finding_families.append(self.deciding)
+        self.finding_families.append(self.deciding)
         end_line, end_column = self.facts.end(node)
         self.findings.append(
             Finding(
@@ -159,7 +159,7 @@ class Plan:
         by_statement: dict[tuple[str, int], list[int]] = defaultdict(list)
         changes: dict[str, list[int]] = defaultdict(list)  # by family, in report order
         for index, node in enumerate(self.finding_nodes):
-            family = self._finding_families[index]
+            family = self.finding_families[index]
             if self.findings[index].is_change:
                 changes[family].append(index)
             by_node[family, id(node)].append(index)
@@ -176,7 +176,7 @@ class Plan:
                 edits[key].undo()
         self.findings = [f for i, f in enumerate(self.findings) if i not in dropped]
         self.finding_nodes = [n for i, n in enumerate(self.finding_nodes) if i not in dropped]
-        self._finding_families = [f for i, f in enumerate(self._finding_families) if i not in dropped]
+        self.finding_families = [f for i, f in enumerate(self.finding_families) if i not in dropped]
         self._edits = []
 
     def _served_by(self, edit: _Edit, by_node: dict, by_statement: dict, changes: dict[str, list[int]]) -> list[int]:
