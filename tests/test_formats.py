@@ -111,3 +111,13 @@ def test_errors_appear_in_every_format(tmp_path: Path) -> None:
     assert check(broken, "github")[1].startswith("::error file=")
     log = json.loads(check(broken, "sarif")[1])
     assert log["runs"][0]["invocations"][0]["executionSuccessful"] is False
+
+
+def test_the_report_of_rewrite_carries_the_same_findings_list(loop_file: Path, tmp_path: Path) -> None:
+    report = tmp_path / "report.json"
+    expected = json.loads(check(loop_file, "json")[1])
+    result = runner.invoke(app, ["rewrite", "--diff", "--report", str(report), str(loop_file)])
+    assert result.exit_code == 1
+    data = json.loads(report.read_text())
+    assert {"files", "summary", "mode"} <= set(data), "the report keeps its shape"
+    assert [(f["rule"], f["line"]) for f in data["findings"]] == [(f["rule"], f["line"]) for f in expected]

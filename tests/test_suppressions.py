@@ -86,3 +86,12 @@ def test_check_and_rewrite_honour_comments(tmp_path: Path) -> None:
     assert rewrite.exit_code == 0
     assert f"{STEP}  # gymmigrate: ignore[GM301]".encode() in path.read_bytes()
     assert path.read_bytes().startswith(b"import gymnasium as gym\n")
+
+
+def test_silencing_the_step_keeps_the_done_reads_that_depend_on_it() -> None:
+    # GM302 would read `terminated`, which only the silenced GM301 unpack introduces.
+    source = loop(f"{STEP}  # gymmigrate: ignore[GM301]\nbuffer.append((obs, reward, done))")
+    result = transform_source(source)
+    assert b"buffer.append((obs, reward, done))" in result.rewritten
+    assert b"terminated" not in result.rewritten
+    assert not {"GM301", "GM302"} & {f.rule for f in result.findings}

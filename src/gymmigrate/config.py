@@ -76,6 +76,10 @@ def find_config(start: Path) -> Config:
     return _config_of(folder)
 
 
+def forget_configs() -> None:
+    _config_of.cache_clear()
+
+
 @lru_cache(maxsize=None)
 def _config_of(folder: Path) -> Config:
     for candidate in (folder, *folder.parents):

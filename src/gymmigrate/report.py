@@ -90,6 +90,8 @@ def print_summary(results: Sequence[FileResult], *, wrote: bool, stream: TextIO 
 
 
 def report_json(results: Sequence[FileResult], *, wrote: bool, smoke: Sequence[object] | None = None) -> dict[str, object]:
+    from gymmigrate.formats import findings_json
+
     files = []
     for result in results:
         if result.status is Status.SKIPPED and not result.findings:
@@ -117,6 +119,8 @@ def report_json(results: Sequence[FileResult], *, wrote: bool, smoke: Sequence[o
             "review_items": sum(f.needs_review for r in results for f in r.findings),
         },
         "files": files,
+        # Every finding in the shape of `check --output-format json` (path, every field, fix_available).
+        "findings": findings_json(results),
         # Present only with `rewrite --smoke`: one record per rewritten script checked.
         **({"smoke": [outcome.to_json() for outcome in smoke]} if smoke is not None else {}),  # type: ignore[attr-defined]
     }

@@ -59,6 +59,9 @@ class Group:
 def group_paths(paths: Sequence[str], flags: Flags) -> list[Group]:
     """Arguments by the configuration that applies to them, in the order first seen.
     Raises ConfigError or SelectionError."""
+    from gymmigrate.config import forget_configs
+
+    forget_configs()  # a file edited since the last run in this process (tests, editors) is read again
     groups: dict[Path | None, Group] = {}
     for argument in paths:
         config = find_config(Path(argument))
