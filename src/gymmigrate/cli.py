@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import os
 import sys
-from collections.abc import Iterator
 from pathlib import Path
 from typing import Annotated, Optional
 
@@ -116,7 +115,9 @@ def rewrite(
     groups = _groups(paths, flags)
     seed = next((group.options.seed for group in groups if group.options.seed is not None), seed)
     results = []
-    for result in run_groups(groups, write=not diff, want_diff=diff, jobs=jobs, lint=False):
+    for result in run_groups(
+        groups, write=not diff, want_diff=diff, jobs=jobs, lint=False, before_writing=_remove_abandoned_temporaries
+    ):
         if result.diff:
             print_diff(result.diff)
         results.append(result)
@@ -140,20 +141,6 @@ def _write_report(path: Path, results: list, *, wrote: bool, smoke: list | None 
     except OSError as exc:
         typer.echo(f"error: cannot write the report {path}: {exc.strerror or exc}", err=True)
         raise typer.Exit(EXIT_ERROR) from None
-
-
-def _run(paths: list[str], options: object, *, write: bool, want_diff: bool, jobs: int, lint: bool = False) -> Iterator:
-    """Every file's result in the order given, then one error result per bad argument."""
-    from gymmigrate.engine import FileResult, Status
-    from gymmigrate.files import discover
-    from gymmigrate.runner import run_files
-
-    discovery = discover(paths)
-    if write:
-        _remove_abandoned_temporaries(discovery.files)
-    yield from run_files(discovery.files, options, write=write, want_diff=want_diff, jobs=jobs, lint=lint)  # type: ignore[arg-type]
-    for path, reason in discovery.errors:
-        yield FileResult(path, Status.ERROR, error=reason)
 
 
 def _remove_abandoned_temporaries(files: list[Path]) -> None:

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import os
 import sys
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -72,9 +72,18 @@ def group_paths(paths: Sequence[str], flags: Flags) -> list[Group]:
     return list(groups.values())
 
 
-def run_groups(groups: list[Group], *, write: bool, want_diff: bool, jobs: int, lint: bool) -> Iterator:
+def run_groups(
+    groups: list[Group],
+    *,
+    write: bool,
+    want_diff: bool,
+    jobs: int,
+    lint: bool,
+    before_writing: Callable[[list[Path]], None] | None = None,
+) -> Iterator:
     """Every file's result (group by group, in order), then one error per bad argument;
-    a progress bar on stderr while it runs when stderr is a terminal."""
+    a progress bar on stderr while it runs when stderr is a terminal. ``before_writing``
+    gets every file of a run that writes, before the first is processed."""
     from gymmigrate.engine import FileResult, Status
     from gymmigrate.files import discover
     from gymmigrate.runner import run_files
@@ -88,10 +97,8 @@ def run_groups(groups: list[Group], *, write: bool, want_diff: bool, jobs: int, 
         files = [f for f in discovery.files if os.path.realpath(f) in named or not group.config.excludes(f)]
         planned.append((group, files))
         errors.extend(discovery.errors)
-    if write:
-        from gymmigrate.cli import _remove_abandoned_temporaries
-
-        _remove_abandoned_temporaries([file for _, files in planned for file in files])
+    if write and before_writing is not None:
+        before_writing([file for _, files in planned for file in files])
     total = sum(len(files) for _, files in planned)
     with Progress(total) as progress:
         for group, files in planned:
