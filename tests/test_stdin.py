@@ -57,3 +57,12 @@ def test_stdin_syntax_error_is_exit_2_and_echoes_the_input() -> None:
 def test_stdin_cannot_be_mixed_with_paths(tmp_path: Path) -> None:
     result = runner.invoke(app, ["check", "-", str(tmp_path)])
     assert result.exit_code == 2 and "cannot be combined" in result.stderr
+
+
+def test_stdin_report_and_smoke(tmp_path: Path) -> None:
+    report = tmp_path / "report.json"
+    result = runner.invoke(app, ["check", "-", "--report", str(report)], input=LEGACY)
+    assert result.exit_code == 1
+    assert [f["rule"] for f in json.loads(report.read_text())["findings"]] == ["GM101", "GM103"]
+    smoke = runner.invoke(app, ["rewrite", "--smoke", "-"], input=LEGACY)
+    assert smoke.exit_code == 2 and "--smoke" in smoke.stderr

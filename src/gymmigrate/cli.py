@@ -13,7 +13,7 @@ from __future__ import annotations
 import os
 import sys
 from pathlib import Path
-from typing import Annotated, Optional
+from typing import Annotated, NoReturn, Optional
 
 import typer
 
@@ -111,7 +111,9 @@ def rewrite(
 
     flags = Flags(select, ignore, extend_select, extend_ignore, seed=seed)
     if paths == ["-"]:
-        raise typer.Exit(_stdin(flags, stdin_filename, lint=False, diff=diff))
+        if smoke:
+            _usage_error("--smoke runs the rewritten files, so it cannot be combined with the path - (stdin)")
+        raise typer.Exit(_stdin(flags, stdin_filename, lint=False, diff=diff, report=report))
     groups = _groups(paths, flags)
     seed = next((group.options.seed for group in groups if group.options.seed is not None), seed)
     results = []
@@ -191,7 +193,7 @@ def check(
         raise typer.Exit(EXIT_ERROR)
     flags = Flags(select, ignore, extend_select, extend_ignore)
     if paths == ["-"]:
-        raise typer.Exit(_stdin(flags, stdin_filename, lint=True, output_format=output_format))
+        raise typer.Exit(_stdin(flags, stdin_filename, lint=True, output_format=output_format, report=report))
     results = list(run_groups(_groups(paths, flags), write=False, want_diff=False, jobs=jobs, lint=True))
     write_findings(output_format, results, sys.stdout)
     print_summary(results, wrote=False)
@@ -216,12 +218,20 @@ def _groups(paths: list[str], flags: object) -> list:
         _usage_error(str(exc))
 
 
-def _usage_error(message: str) -> None:
+def _usage_error(message: str) -> NoReturn:
     typer.echo(f"error: {message}", err=True)
     raise typer.Exit(EXIT_ERROR)
 
 
-def _stdin(flags: object, filename: str | None, *, lint: bool, diff: bool = False, output_format: str = "text") -> int:
+def _stdin(
+    flags: object,
+    filename: str | None,
+    *,
+    lint: bool,
+    diff: bool = False,
+    output_format: str = "text",
+    report: Path | None = None,
+) -> int:
     """check - / rewrite -: one file from stdin, the result (or findings) on stdout."""
     from gymmigrate.engine import Status, Transformed, decode, unified_diff
     from gymmigrate.formats import write_findings
@@ -240,6 +250,8 @@ def _stdin(flags: object, filename: str | None, *, lint: bool, diff: bool = Fals
         sys.stdout.buffer.write(output)
     sys.stdout.flush()
     print_summary([result], wrote=False)
+    if report is not None:
+        _write_report(report, [result], wrote=False)
     if result.status is Status.ERROR:
         return EXIT_ERROR
     if lint:
