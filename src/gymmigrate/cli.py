@@ -56,16 +56,16 @@ ReportOption = Annotated[
     typer.Option("--report", help="Write every change and review item as JSON to this file.", dir_okay=False),
 ]
 JobsOption = Annotated[int, typer.Option("--jobs", "-j", min=0, help="Worker processes (0: one per core).")]
-_CODES = "rule codes or prefixes (GM301, GM3, PZ), repeated or comma-separated"
+_CODES = "rule codes or prefixes (GM301, GM3, GM), repeated or comma-separated"
 SelectOption = Annotated[
     Optional[list[str]], typer.Option("--select", help=f"Apply only these {_CODES} (default: every rule).")
 ]
 IgnoreOption = Annotated[Optional[list[str]], typer.Option("--ignore", help=f"Leave out these {_CODES}.")]
 ExtendSelectOption = Annotated[
-    Optional[list[str]], typer.Option("--extend-select", help=f"Add these {_CODES} to the selection.")
+    Optional[list[str]], typer.Option("--extend-select", help=f"Also apply these {_CODES}.")
 ]
 ExtendIgnoreOption = Annotated[
-    Optional[list[str]], typer.Option("--extend-ignore", help=f"Leave out these {_CODES} as well.")
+    Optional[list[str]], typer.Option("--extend-ignore", help=f"Also leave out these {_CODES}.")
 ]
 StdinFilenameOption = Annotated[
     Optional[str],
@@ -165,7 +165,7 @@ def check(
         str,
         typer.Option(
             "--output-format",
-            help="How findings are printed to stdout: text (path:line:col: RULE [kind] message), json, "
+            help="How findings are printed to stdout: text (path:line:col: RULE \\[kind] message), json, "
             "sarif (SARIF 2.1.0, for code scanning) or github (workflow annotations).",
             case_sensitive=False,
         ),
