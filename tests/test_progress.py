@@ -67,3 +67,10 @@ def test_nothing_extra_when_stderr_is_not_a_terminal(many_files: Path) -> None:
     assert b"13/13" not in completed.stderr and b"\x1b[" not in completed.stderr
     assert b"Scanned" not in completed.stderr
     assert b"would rewrite 12 of 13 files" in completed.stderr
+
+
+def test_diffs_stay_on_stdout_while_the_bar_runs(many_files: Path) -> None:
+    code, stdout, stderr = run_with_terminal_stderr("rewrite", "--diff", "-j", "1", ".", cwd=many_files)
+    assert code == 1
+    assert stdout.count(b"+import gymnasium as gym\n") == 12
+    assert b"+import gymnasium" not in stderr

@@ -133,6 +133,9 @@ class Progress:
                 TextColumn("{task.fields[current]}", markup=False),
                 console=Console(file=self._stream),
                 transient=True,
+                # Diffs and findings go to the real stdout, never through the bar's console.
+                redirect_stdout=False,
+                redirect_stderr=False,
             )
             self._bar.start()
             self._task = self._bar.add_task("files", total=self._total, current="")
