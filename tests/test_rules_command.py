@@ -65,4 +65,5 @@ def test_rules_reference_index_lists_every_rule_with_title_and_kind() -> None:
     rows = {m["code"]: (m["title"], m["kind"]) for m in re.finditer(
         r"^\| \[(?P<code>[A-Z]+\d+)\]\((?P=code)\.md\) \| (?P<title>[^|]+?) \| (?P<kind>\w+) \|", index, re.M
     )}
-    assert rows == {rule.code: (rule.title, rule.kind.value) for rule in all_rules()}
+    expected = {rule.code: (rule.title, rule.kind.value) for rule in all_rules()}
+    assert {code: rows.get(code) for code in expected} == expected

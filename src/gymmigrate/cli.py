@@ -49,7 +49,11 @@ def _root(
 
 PathsArgument = Annotated[
     list[str],
-    typer.Argument(help="Files or directories (searched recursively for *.py).", show_default=False),
+    typer.Argument(help="Files or directories (searched recursively for *.py and *.ipynb).", show_default=False),
+]
+DocsOption = Annotated[
+    bool,
+    typer.Option("--docs", help="When searching directories, also take Markdown and reStructuredText pages (*.md, *.rst)."),
 ]
 ReportOption = Annotated[
     Optional[Path],
@@ -85,6 +89,7 @@ def rewrite(
     ] = None,
     report: ReportOption = None,
     jobs: JobsOption = 0,
+    docs: DocsOption = False,
     smoke: Annotated[
         bool,
         typer.Option(
@@ -109,7 +114,7 @@ def rewrite(
     from gymmigrate.report import print_diff, print_summary
     from gymmigrate.workflow import Flags, run_groups
 
-    flags = Flags(select, ignore, extend_select, extend_ignore, seed=seed)
+    flags = Flags(select, ignore, extend_select, extend_ignore, seed=seed, docs=docs or None)
     if paths == ["-"]:
         if smoke:
             _usage_error("--smoke runs the rewritten files, so it cannot be combined with the path - (stdin)")
@@ -170,6 +175,7 @@ def check(
             case_sensitive=False,
         ),
     ] = "text",
+    docs: DocsOption = False,
     select: SelectOption = None,
     ignore: IgnoreOption = None,
     extend_select: ExtendSelectOption = None,
@@ -191,7 +197,7 @@ def check(
     if output_format not in FORMATS:
         typer.echo(f"error: --output-format must be one of {', '.join(FORMATS)}, not {output_format!r}", err=True)
         raise typer.Exit(EXIT_ERROR)
-    flags = Flags(select, ignore, extend_select, extend_ignore)
+    flags = Flags(select, ignore, extend_select, extend_ignore, docs=docs or None)
     if paths == ["-"]:
         raise typer.Exit(_stdin(flags, stdin_filename, lint=True, output_format=output_format, report=report))
     results = list(run_groups(_groups(paths, flags), write=False, want_diff=False, jobs=jobs, lint=True))
@@ -280,7 +286,8 @@ def _smoke_rewritten(results: list, seed: int) -> list:
     """Smoke-check each written file that creates an env; True if any failed or could not run."""
     from gymmigrate.smoke.rewritten import smoke_rewritten
 
-    return smoke_rewritten([r.path for r in results if r.written], seed)
+    # Only Python scripts run: a notebook or a documentation page is not a script.
+    return smoke_rewritten([r.path for r in results if r.written and r.path.endswith(".py")], seed)
 
 
 @app.command(name="smoke")

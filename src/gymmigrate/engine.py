@@ -23,6 +23,7 @@ import libcst as cst
 
 from gymmigrate.edits.apply import apply_plan
 from gymmigrate.edits.plan import Plan
+from gymmigrate.edits.splice import splice_plan
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.receivers import Receivers
 from gymmigrate.findings import Finding
@@ -188,7 +189,7 @@ def _migrate(source: bytes, text: str, encoding: str, tree: ast.Module, path: st
         # Nothing to change: no LibCST tree at all.
         return Transformed(original=source, rewritten=source, encoding=encoding, findings=findings)
     try:
-        module = apply_plan(_parse_cst(source), plan)
+        new_text = _apply(source, text, plan)
     except TransformError:
         raise
     except Exception as exc:  # noqa: BLE001  (a rule's edit could not be placed)
@@ -198,11 +199,9 @@ def _migrate(source: bytes, text: str, encoding: str, tree: ast.Module, path: st
                 "rules that are not: select them together, or silence the whole statement; file left unchanged"
             ) from exc
         raise TransformError(f"internal error while applying edits: {type(exc).__name__}: {exc}") from exc
-    new_text = module.code
-    rewritten = new_text.encode(module.encoding)  # what module.bytes would print again
+    rewritten = new_text.encode(encoding)  # a BOM comes back with utf-8-sig
     if rewritten == source:
         return Transformed(original=source, rewritten=source, encoding=encoding, findings=findings)
-    _check_round_trip(source, text)
     # Findings are placed in the original; place them in the output too.
     line_map = LineMap(text, new_text)
     findings = [replace(f, line_after=line_map.forward(f.line)) for f in findings]
@@ -210,6 +209,27 @@ def _migrate(source: bytes, text: str, encoding: str, tree: ast.Module, path: st
 
 
 _UNREPRODUCIBLE = re.compile(r"\r(?!\n)|\f")
+
+
+def _apply(source: bytes, text: str, plan: Plan) -> str:
+    """The rewritten text: only the top-level statements that change are parsed and
+    printed again where that is exact (``edits.splice``), else the whole module."""
+    if not _UNREPRODUCIBLE.search(text):
+        spliced = splice_plan(text, plan, _parse_cst_text)
+        if spliced is not None:
+            return spliced
+    module = apply_plan(_parse_cst(source), plan)
+    new_text = module.code
+    if new_text.encode(module.encoding) != source:
+        _check_round_trip(source, text)
+    return new_text
+
+
+def _parse_cst_text(text: str) -> cst.Module:
+    try:
+        return cst.parse_module(text)
+    except cst.ParserSyntaxError as exc:
+        raise TransformError(f"syntax error at line {exc.raw_line}, column {exc.raw_column}") from None
 
 
 def _check_round_trip(source: bytes, text: str) -> None:
@@ -315,12 +335,15 @@ def process_file(
     ``lint`` (``gymmigrate check``): only decide; the findings and whether the file would
     change come from the plan, with no LibCST tree and no verification run.
     """
-    from gymmigrate.safety import Refused, read_source, screen
+    from gymmigrate.safety import MAX_SOURCE_BYTES, Refused, read_source, screen
+    from gymmigrate.sources import adapter_for
+    from gymmigrate.sources.programs import document_diff, lint_document, transform_document
     from gymmigrate.writes import ChangedOnDisk
 
     shown = display_path or str(path)
+    adapter = adapter_for(path)  # notebooks and documentation pages; None for Python source
     try:
-        source = read_source(path, may_hold_gym_code)
+        source = read_source(path, may_hold_gym_code, limit=adapter.max_bytes if adapter else MAX_SOURCE_BYTES)
     except Refused as exc:
         return FileResult(shown, Status.ERROR, error=str(exc))
     except OSError as exc:
@@ -329,9 +352,15 @@ def process_file(
         if source is None or not screen(source, may_hold_gym_code):
             return FileResult(shown, Status.SKIPPED)
         if lint:
-            findings, would_change = lint_source(source, shown, options)
+            if adapter:
+                findings, would_change = lint_document(adapter, source, shown, options)
+            else:
+                findings, would_change = lint_source(source, shown, options)
             return FileResult(shown, Status.CHANGED if would_change else Status.UNCHANGED, findings=tuple(findings))
-        transformed = transform_source(source, shown, options)
+        if adapter:
+            transformed = transform_document(adapter, source, shown, options)
+        else:
+            transformed = transform_source(source, shown, options)
     except (Refused, TransformError) as exc:
         return FileResult(shown, Status.ERROR, error=str(exc))
     except RecursionError:
@@ -339,7 +368,9 @@ def process_file(
     findings = tuple(transformed.findings)
     if not transformed.changed:
         return FileResult(shown, Status.UNCHANGED, findings=findings)
-    diff = unified_diff(shown, transformed) if want_diff else None
+    diff = None
+    if want_diff:
+        diff = document_diff(adapter, shown, transformed) if adapter else unified_diff(shown, transformed)
     if write:
         try:
             # ``expected``: an edit saved while this file was being rewritten wins.

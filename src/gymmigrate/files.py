@@ -1,6 +1,7 @@
 """Find the Python files a run should look at.
 
-Directories are searched recursively for ``*.py``. Tool and dependency folders (VCS,
+Directories are searched recursively for ``*.py`` and notebooks (``*.ipynb``), and with
+``docs`` for documentation pages (``*.md``, ``*.rst``) too. Tool and dependency folders (VCS,
 virtualenvs, site-packages, build output, caches) are skipped, and inside a git work
 tree the files git ignores are skipped too; git itself answers that question, so the
 rules of nested ``.gitignore`` files, ``info/exclude`` and global excludes all hold.
@@ -50,6 +51,13 @@ SKIPPED_DIRECTORIES = frozenset(
     }
 )
 PYTHON_SUFFIXES = (".py",)
+NOTEBOOK_SUFFIXES = (".ipynb",)
+DOCS_SUFFIXES = (".md", ".markdown", ".rst")
+
+
+def walked_suffixes(docs: bool = False) -> tuple[str, ...]:
+    """What walking a folder takes: Python source and notebooks, and pages with ``docs``."""
+    return PYTHON_SUFFIXES + NOTEBOOK_SUFFIXES + (DOCS_SUFFIXES if docs else ())
 
 
 @dataclass(frozen=True)
@@ -58,7 +66,8 @@ class Discovery:
     errors: list[tuple[str, str]]  # (path, reason): unusable arguments, folders that cannot be read
 
 
-def discover(arguments: Iterable[str]) -> Discovery:
+def discover(arguments: Iterable[str], *, docs: bool = False) -> Discovery:
+    suffixes = walked_suffixes(docs)
     files: list[Path] = []
     errors: list[tuple[str, str]] = []
     seen: set[Path] = set()
@@ -72,7 +81,7 @@ def discover(arguments: Iterable[str]) -> Discovery:
     for argument in arguments:
         path = Path(argument)
         if path.is_dir():
-            for found in _walk(path, errors):
+            for found in _walk(path, errors, suffixes):
                 add(found)
         elif is_temporary_name(path.name):
             errors.append((argument, "a temporary file of an interrupted gymmigrate run, not a source"))
@@ -101,13 +110,13 @@ def _is_virtualenv(directory: Path) -> bool:
         return False
 
 
-def _walk(root: Path, errors: list[tuple[str, str]]) -> Iterator[Path]:
-    """The Python files under ``root``; folders that cannot be read go to ``errors``."""
+def _walk(root: Path, errors: list[tuple[str, str]], suffixes: tuple[str, ...] = PYTHON_SUFFIXES) -> Iterator[Path]:
+    """The files under ``root`` whose names end with ``suffixes``; folders that cannot be read go to ``errors``."""
     listing = _git_visible_files(root)
     if listing is not None:
         tracked, unreadable = listing
         errors.extend(unreadable)
-        yield from _git_files(root, tracked)
+        yield from _git_files(root, tracked, suffixes)
         return
 
     def unreadable_folder(error: OSError) -> None:
@@ -120,13 +129,13 @@ def _walk(root: Path, errors: list[tuple[str, str]]) -> Iterator[Path]:
         subdirectories[:] = sorted(d for d in subdirectories if not (base / d).is_symlink() and not _skipped(base / d))
         for filename in sorted(filenames):
             path = base / filename
-            if filename.endswith(PYTHON_SUFFIXES) and not path.is_symlink():
+            if filename.endswith(suffixes) and not path.is_symlink():
                 yield path
 
 
-def _git_files(root: Path, tracked: list[str]) -> Iterator[Path]:
+def _git_files(root: Path, tracked: list[str], suffixes: tuple[str, ...]) -> Iterator[Path]:
     for relative in sorted(tracked):
-        if not relative.endswith(PYTHON_SUFFIXES):
+        if not relative.endswith(suffixes):
             continue
         path = root / relative
         parents = path.relative_to(root).parents

@@ -15,6 +15,7 @@ from typing import TextIO
 
 from gymmigrate import __version__
 from gymmigrate.engine import FileResult, Status
+from gymmigrate.findings import Finding
 
 
 def print_diff(diff: str, stream: TextIO | None = None) -> None:
@@ -50,10 +51,17 @@ def print_findings(results: Sequence[FileResult], stream: TextIO | None = None) 
     stream = stream or sys.stdout
     for result in results:
         for finding in result.findings:
-            stream.write(
-                f"{result.path}:{finding.line}:{finding.column + 1}: {finding.rule} [{finding.kind.value}] {finding.message}\n"
-            )
+            where = location(result.path, finding, finding.line)
+            stream.write(f"{where}:{finding.column + 1}: {finding.rule} [{finding.kind.value}] {finding.message}\n")
     stream.flush()
+
+
+def location(path: str, finding: Finding, line: int) -> str:
+    """``path:line``, or ``path:cell N:line L`` in a notebook (N counts every cell from 1,
+    as a reader counts them; the JSON report's ``cell`` is the 0-based index)."""
+    if finding.cell is None:
+        return f"{path}:{line}"
+    return f"{path}:cell {finding.cell + 1}:line {line}"
 
 
 def print_summary(results: Sequence[FileResult], *, wrote: bool, stream: TextIO | None = None) -> None:
@@ -83,7 +91,7 @@ def print_summary(results: Sequence[FileResult], *, wrote: bool, stream: TextIO 
             line = finding.line_after if (wrote and result.written and finding.line_after) else finding.line
             tag = "rewritten" if finding.is_change else "not rewritten"
             console.print(
-                f"  {escape(result.path)}:{line}: [bold]{finding.rule}[/bold] ({tag}) {escape(finding.message)}"
+                f"  {escape(location(result.path, finding, line))}: [bold]{finding.rule}[/bold] ({tag}) {escape(finding.message)}"
             )
     for result in errors:
         console.print(f"[red]error[/red]: {escape(result.path)}: {escape(result.error or 'unknown error')}")

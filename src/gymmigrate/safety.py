@@ -23,21 +23,24 @@ class Refused(Exception):
     """The file is not something gymmigrate will parse; the message says why."""
 
 
-def read_source(path: Path, may_hold_gym_code: Callable[[bytes], bool]) -> bytes | None:
+def read_source(
+    path: Path, may_hold_gym_code: Callable[[bytes], bool], limit: int = MAX_SOURCE_BYTES
+) -> bytes | None:
     """The file's bytes; None if it is too large but cannot hold Gym code (skip it).
 
     Raise Refused if it is too large and may hold Gym code. An oversized file is searched
     through a memory map, never read into memory whole.
     """
     size = path.stat().st_size
-    if size <= MAX_SOURCE_BYTES:
+    if size <= limit:
         return path.read_bytes()
     with path.open("rb") as handle, mmap.mmap(handle.fileno(), 0, access=mmap.ACCESS_READ) as mapped:
         if not may_hold_gym_code(mapped):  # type: ignore[arg-type]
             return None
+    what = "one module" if limit == MAX_SOURCE_BYTES else "this kind of file"
     raise Refused(
-        f"the file is too large ({size / 1024 / 1024:.1f} MB; the limit for one module is"
-        f" {MAX_SOURCE_BYTES // 1024 // 1024} MB); left unchanged"
+        f"the file is too large ({size / 1024 / 1024:.1f} MB; the limit for {what} is"
+        f" {limit // 1024 // 1024} MB); left unchanged"
     )
 
 

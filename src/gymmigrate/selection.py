@@ -116,6 +116,11 @@ COUPLED_FAMILIES = {
     "ResetSeed": frozenset({"ResetSeed", "WrapperClasses"}),
     "WrapperClasses": frozenset({"WrapperClasses", "StepDone", "ResetSeed"}),
     "VectorEnvs": frozenset({"VectorEnvs"}),
+    # PettingZoo: last()'s termination/truncation names and the dead-agent step that reads
+    # them; the parallel step/reset unpacks and the env classes that return them.
+    "AecLoop": frozenset({"AecLoop"}),
+    "ParallelCalls": frozenset({"ParallelCalls", "EnvClasses"}),
+    "EnvClasses": frozenset({"EnvClasses", "ParallelCalls"}),
 }
 
 

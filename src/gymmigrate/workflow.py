@@ -45,7 +45,6 @@ class Flags:
         return RewriteOptions(
             seed=self.seed if self.seed is not None else config.seed,
             selection=None if selection.every_rule else selection,
-            docs=self.docs if self.docs is not None else config.docs,
         )
 
 
@@ -54,6 +53,7 @@ class Group:
     arguments: list[str]
     config: Config
     options: RewriteOptions
+    docs: bool = False  # also take Markdown/RST pages when walking folders (--docs, config `docs`)
 
 
 def group_paths(paths: Sequence[str], flags: Flags) -> list[Group]:
@@ -67,7 +67,8 @@ def group_paths(paths: Sequence[str], flags: Flags) -> list[Group]:
         config = find_config(Path(argument))
         group = groups.get(config.path)
         if group is None:
-            group = groups[config.path] = Group([], config, flags.options(config))
+            docs = flags.docs if flags.docs is not None else config.docs
+            group = groups[config.path] = Group([], config, flags.options(config), docs)
         group.arguments.append(argument)
     return list(groups.values())
 
@@ -91,7 +92,7 @@ def run_groups(
     planned = []
     errors: list[tuple[str, str]] = []
     for group in groups:
-        discovery = discover(group.arguments)
+        discovery = discover(group.arguments, docs=group.docs)
         # realpath, not resolve(): a link loop named on the command line is discover's to report.
         named = {os.path.realpath(argument) for argument in group.arguments}
         files = [f for f in discovery.files if os.path.realpath(f) in named or not group.config.excludes(f)]
@@ -158,14 +159,24 @@ def run_stdin(source: bytes, filename: str | None, options: RewriteOptions, *, l
     rewritten, or as it was when nothing changed or it could not be processed)."""
     from gymmigrate.engine import FileResult, Status, TransformError, lint_source, may_hold_gym_code, transform_source
 
+    from gymmigrate.sources import adapter_for
+    from gymmigrate.sources.programs import lint_document, transform_document
+
     shown = filename or "<stdin>"
+    adapter = adapter_for(Path(filename)) if filename else None  # a notebook or a page, by its name
     try:
         if not may_hold_gym_code(source):
             return FileResult(shown, Status.SKIPPED), source
         if lint:
-            findings, changes = lint_source(source, shown, options)
+            if adapter:
+                findings, changes = lint_document(adapter, source, shown, options)
+            else:
+                findings, changes = lint_source(source, shown, options)
             return FileResult(shown, Status.CHANGED if changes else Status.UNCHANGED, findings=tuple(findings)), source
-        transformed = transform_source(source, shown, options)
+        if adapter:
+            transformed = transform_document(adapter, source, shown, options)
+        else:
+            transformed = transform_source(source, shown, options)
     except TransformError as exc:
         return FileResult(shown, Status.ERROR, error=str(exc)), source
     except RecursionError:

@@ -87,24 +87,47 @@ def _new_statements(code: list[Any], small: bool) -> list[cst.CSTNode]:
     return nodes
 
 
-def apply_plan(module: cst.Module, plan: Plan) -> cst.Module:
-    """Return ``module`` with every edit of ``plan`` carried out."""
+def apply_plan(module: cst.Module, plan: Plan, window: tuple[int, int] | None = None) -> cst.Module:
+    """Return ``module`` with every edit of ``plan`` carried out.
+
+    With ``window=(first, stop)``, ``module`` holds only the top-level statements
+    ``first..stop-1`` of the file (``gymmigrate.edits.splice``): only their edits are
+    carried out, and paths are counted from ``first``.
+    """
     facts = plan.facts
     applier = _Applier()
     located_cache: dict[ast.stmt, Located] = {}
     places: dict[ast.AST, tuple[str, int]] = {}
     candidates: dict = {}  # (statement, kind) -> both sides' candidates
     tables: dict[tuple[int, str], tuple[list[cst.CSTNode], BlockTable]] = {}
+    paths: dict[ast.stmt, list[tuple[str, int]]] = {}
+
+    def path_of(statement: ast.stmt) -> list[tuple[str, int]]:
+        path = paths.get(statement)
+        if path is None:
+            path = paths[statement] = statement_path(statement, facts.parents, places)
+        return path
+
+    def inside(statement: ast.stmt) -> bool:
+        if window is None:
+            return True
+        return window[0] <= path_of(statement)[0][1] < window[1]
 
     def locate(statement: ast.stmt) -> Located:
         found = located_cache.get(statement)
         if found is None:
-            path = statement_path(statement, facts.parents, places)
+            path = path_of(statement)
+            if window is not None:
+                if not window[0] <= path[0][1] < window[1]:
+                    raise ApplyError("an edit reaches outside the statements re-parsed for it")
+                path = [("body", path[0][1] - window[0]), *path[1:]]
             found = located_cache[statement] = locate_statement(module, path, tables)
         return found
 
     for target, builds in plan.replacements.items():
         statement = facts.statement_of(target)
+        if not inside(statement):
+            continue
         located = locate(statement)
         applier.mark(located.chain)
         if target is statement:
@@ -118,7 +141,9 @@ def apply_plan(module: cst.Module, plan: Plan) -> cst.Module:
     insertions = {"before": {k: list(v) for k, v in plan.before.items()}, "after": {k: list(v) for k, v in plan.after.items()}}
     if plan.imports:
         anchor, where = _import_anchor(facts.tree)
-        if anchor is None:  # an empty module
+        if anchor is not None and not inside(anchor):
+            pass  # another window holds the anchor
+        elif anchor is None:  # an empty module
             module = module.with_changes(
                 body=[*module.body, *_new_statements(plan.imports, small=False)], has_trailing_newline=True
             )
@@ -129,7 +154,7 @@ def apply_plan(module: cst.Module, plan: Plan) -> cst.Module:
 
     for where, by_statement in insertions.items():
         for statement, code in by_statement.items():
-            if not code:
+            if not code or not inside(statement):
                 continue
             located = locate(statement)
             applier.mark(located.chain)
@@ -138,6 +163,8 @@ def apply_plan(module: cst.Module, plan: Plan) -> cst.Module:
             applier.mark([holder])
 
     for statement in plan.removed:
+        if not inside(statement):
+            continue
         located = locate(statement)
         applier.mark(located.chain)
         holder, _ = _holder(located)

@@ -146,9 +146,9 @@ class Plan:
         decide. Only findings of the family that made the edit, and only changes (a flag
         finding is "not rewritten"), are candidates: every finding inside a class or
         function the edit rebuilds whole; else every one on the very node edited; else
-        the one on the same statement, or of the family, that was reported next after
-        the edit (rules record a decision's edits, then report it), else the one just
-        before. An import line serves both neighbours. An edit is dropped when every
+        the one on the same statement, in the same function, or of the family, that was
+        reported next after the edit (rules record a decision's edits, then report it),
+        else the one just before. An import line serves both neighbours. An edit is dropped when every
         finding it serves is; one that serves none is kept.
         ``tests/test_selection.py`` holds this to every fixture of every rule.
         """
@@ -158,19 +158,22 @@ class Plan:
         by_node: dict[tuple[str, int], list[int]] = defaultdict(list)
         by_statement: dict[tuple[str, int], list[int]] = defaultdict(list)
         changes: dict[str, list[int]] = defaultdict(list)  # by family, in report order
+        by_function: dict[tuple[str, int], list[int]] = defaultdict(list)  # changes, in report order
         for index, node in enumerate(self.finding_nodes):
             family = self.finding_families[index]
             if self.findings[index].is_change:
                 changes[family].append(index)
             by_node[family, id(node)].append(index)
             by_statement[family, id(self.facts.statement_of(node))].append(index)
+            if self.findings[index].is_change:
+                by_function[family, id(self.facts.enclosing_function(node))].append(index)
         serves: dict[tuple[int, int, object], set[int]] = defaultdict(set)
         edits: dict[tuple[int, int, object], _Edit] = {}
         for edit in self._edits:
             # An import line is one edit however many findings asked for it.
             key = (id(edit.container), id(edit.anchor), edit.item if edit.container is self.imports else id(edit.item))
             edits[key] = edit
-            serves[key].update(self._served_by(edit, by_node, by_statement, changes))
+            serves[key].update(self._served_by(edit, by_node, by_statement, by_function, changes))
         for key, served in serves.items():
             if served and served <= dropped:
                 edits[key].undo()
@@ -179,7 +182,9 @@ class Plan:
         self.finding_families = [f for i, f in enumerate(self.finding_families) if i not in dropped]
         self._edits = []
 
-    def _served_by(self, edit: _Edit, by_node: dict, by_statement: dict, changes: dict[str, list[int]]) -> list[int]:
+    def _served_by(
+        self, edit: _Edit, by_node: dict, by_statement: dict, by_function: dict, changes: dict[str, list[int]]
+    ) -> list[int]:
         # Rules record a decision's edits just before reporting it, as a rule: the next
         # finding of the family first, among those on the same node or statement if any.
         # A flag finding is "not rewritten": no edit serves it.
@@ -197,7 +202,11 @@ class Plan:
         if same:
             return same
         near = by_statement.get((edit.family, id(self.facts.statement_of(edit.node))), ())
-        candidates = [index for index in near if self.findings[index].is_change] or family
+        candidates = (
+            [index for index in near if self.findings[index].is_change]
+            or by_function.get((edit.family, id(self.facts.enclosing_function(edit.node))))
+            or family
+        )
         chosen = _next(candidates, edit.reported)
         if chosen is None:
             chosen = _previous(candidates, edit.reported)

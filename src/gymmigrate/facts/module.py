@@ -56,6 +56,28 @@ class Scope:
         return isinstance(self.node, (*FUNCTIONS, ast.Lambda))
 
 
+# Fields that can hold child nodes, per node class. ``ctx`` (Load/Store) and operators
+# (``op``, ``ops``) are shared singletons in a parsed tree: no fact is about them, and
+# skipping them saves about a third of the walk.
+_SKIPPED_FIELDS = frozenset({"ctx", "op", "ops"})
+_CHILD_FIELDS: dict[type, tuple[str, ...]] = {}
+
+
+def _children(node: ast.AST) -> list[ast.AST]:
+    """``ast.iter_child_nodes`` in the same order, without contexts and operators."""
+    fields = _CHILD_FIELDS.get(type(node))
+    if fields is None:
+        fields = _CHILD_FIELDS[type(node)] = tuple(f for f in node._fields if f not in _SKIPPED_FIELDS)
+    children: list[ast.AST] = []
+    for name in fields:
+        value = getattr(node, name, None)
+        if isinstance(value, list):
+            children.extend(item for item in value if isinstance(item, ast.AST))
+        elif isinstance(value, ast.AST):
+            children.append(value)
+    return children
+
+
 class ModuleFacts:
     """Parents, scopes, bindings, imports and definitions of one module.
 
@@ -99,9 +121,9 @@ class ModuleFacts:
                 pushed = self._scoped_children(node, scope, inner)
             elif isinstance(node, ast.arguments):  # defaults are evaluated where the def is
                 outside = scope.parent or scope
-                pushed = [(c, scope if isinstance(c, ast.arg) else outside) for c in ast.iter_child_nodes(node)]
+                pushed = [(c, scope if isinstance(c, ast.arg) else outside) for c in _children(node)]
             else:
-                pushed = [(child, scope) for child in ast.iter_child_nodes(node)]
+                pushed = [(child, scope) for child in _children(node)]
             # Reversed so the stack pops children in source order.
             for child, child_scope in reversed(pushed):
                 parents[child] = node
@@ -194,7 +216,7 @@ class ModuleFacts:
             pushed.extend((kw, outer) for kw in node.keywords)
             pushed.extend((statement, inner) for statement in node.body)
             return pushed
-        return [(child, inner) for child in ast.iter_child_nodes(node)]  # comprehensions
+        return [(child, inner) for child in _children(node)]  # comprehensions
 
     def _bind(self, scope: Scope, name: str, node: ast.AST) -> None:
         target = self.module_scope if name in scope.declared_global else scope

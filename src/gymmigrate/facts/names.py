@@ -80,6 +80,8 @@ SB3_CALLBACK_BASES = frozenset(
 )
 
 PETTINGZOO_PACKAGE = "pettingzoo"
+# SuperSuit wraps PettingZoo (and Gymnasium) envs; its ``*vec_env*`` functions make VecEnvs.
+SUPERSUIT_PACKAGE = "supersuit"
 PZ_PARALLEL_SUFFIXES = (".parallel_env",)
 PZ_AEC_SUFFIXES = (".env", ".raw_env")
 PZ_PARALLEL_FACTORIES = frozenset(
@@ -95,10 +97,31 @@ PZ_AEC_FACTORIES = frozenset(
         "pettingzoo.utils.parallel_to_aec",
     }
 )
-PZ_AEC_BASES = frozenset({"pettingzoo.AECEnv", "pettingzoo.utils.env.AECEnv", "pettingzoo.utils.AECEnv"})
-PZ_PARALLEL_BASES = frozenset(
-    {"pettingzoo.ParallelEnv", "pettingzoo.utils.env.ParallelEnv", "pettingzoo.utils.ParallelEnv"}
+PZ_AEC_BASES = frozenset(
+    {
+        "pettingzoo.AECEnv",
+        "pettingzoo.utils.env.AECEnv",
+        "pettingzoo.utils.AECEnv",
+        # PettingZoo's wrapper bases: a user wrapper is an env of the same API.
+        "pettingzoo.utils.BaseWrapper",
+        "pettingzoo.utils.wrappers.BaseWrapper",
+        "pettingzoo.utils.wrappers.base.BaseWrapper",
+    }
 )
+PZ_PARALLEL_BASES = frozenset(
+    {
+        "pettingzoo.ParallelEnv",
+        "pettingzoo.utils.env.ParallelEnv",
+        "pettingzoo.utils.ParallelEnv",
+        "pettingzoo.utils.BaseParallelWrapper",
+        "pettingzoo.utils.wrappers.BaseParallelWrapper",
+        "pettingzoo.utils.wrappers.base_parallel.BaseParallelWrapper",
+        "pettingzoo.utils.wrappers.BaseParallelWraper",  # the 1.20 spelling
+        "pettingzoo.utils.wrappers.base_parallel.BaseParallelWraper",
+    }
+)
+# In a subclass of these, ``self.env`` is the wrapped PettingZoo env (the base stores it).
+PZ_WRAPPER_BASES = frozenset(name for name in PZ_AEC_BASES | PZ_PARALLEL_BASES if "Wrap" in name)
 
 # Libraries whose objects are never environments (their .step() is an optimiser or
 # scheduler step).

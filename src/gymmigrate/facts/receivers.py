@@ -227,11 +227,24 @@ class Receivers:
                 if isinstance(first, ast.Constant) and isinstance(first.value, str):
                     return EnvKind.PZ_PARALLEL if "parallel" in first.value else EnvKind.PZ_AEC
             if ".wrappers." in qualified:
-                return EnvKind.PZ_AEC
+                return EnvKind.PZ_PARALLEL if "Parallel" in qualified.rsplit(".", 1)[-1] else EnvKind.PZ_AEC
             return None
+        if package == N.SUPERSUIT_PACKAGE:
+            return self._supersuit_kind(qualified, call)
         if package in N.NOT_ENV_PACKAGES:
             return EnvKind.NOT_ENV
         return None
+
+    def _supersuit_kind(self, qualified: str, call: ast.Call) -> EnvKind | None:
+        """SuperSuit: vector conversions give VecEnvs with their own API (left alone, like
+        SB3's); every other wrapper keeps the kind of the env it wraps."""
+        if "vec_env" in qualified.rsplit(".", 1)[-1]:
+            return EnvKind.SB3_VEC
+        inner = call_argument(call, 0, "env")
+        if inner is None:
+            return None
+        kind = self.kind_of(inner)
+        return kind if kind is not EnvKind.UNKNOWN else None
 
     def _classify_attribute(self, attr: ast.Attribute) -> EnvKind:
         name = attr.attr
@@ -452,8 +465,13 @@ class Receivers:
             return EnvKind.SB3_MODEL
         values = self.self_attribute_values(attr, name)
         if not values:
+            if name == "env" and self._is_pettingzoo_wrapper(classdef):
+                return self.class_kind(classdef)
             return EnvKind.UNKNOWN
         return join_kinds(self.kind_of(value) for value in values)
+
+    def _is_pettingzoo_wrapper(self, classdef: ast.ClassDef) -> bool:
+        return any(q in N.PZ_WRAPPER_BASES for base in classdef.bases for q in self.qualified_names(base))
 
     def self_attribute_values(self, attr: ast.AST, name: str) -> list[ast.expr]:
         """Values stored to ``self.<name>`` in the class that encloses ``attr``."""

@@ -16,13 +16,15 @@ Where a rule lives (passes run in ORDER, shown in brackets):
     GM601-GM603                wrapper subclasses .............. wrappers/         [60]
     GM604-GM606                attribute forwarding ............ wrapper_usage/    [61]
     GM902, GM904, GM906-GM908  spaces, logger, errors, utils ... spaces_logger.py  [80]
+    PZ101-PZ110                PettingZoo AEC and parallel APIs  pettingzoo/   [41-90]
 
 Not rules (catalog entries that are information only, or that cannot be told apart
 from correct code by syntax): GM306, GM307, GM607, GM903, GM905.
 
 Guards (SB102-SB104: Stable-Baselines3 VecEnvs keep their API) are not a pass: every
 call-site rule asks ``gymmigrate.facts`` what the receiver is and leaves SB3
-VecEnvs, PettingZoo envs and unrelated objects alone.
+VecEnvs, PettingZoo envs and unrelated objects alone (PettingZoo envs get their own
+rules, PZ101-PZ110, which leave Gym envs alone in turn).
 """
 
 from gymmigrate.rules import (  # noqa: F401  (imported to register their passes)
@@ -30,6 +32,7 @@ from gymmigrate.rules import (  # noqa: F401  (imported to register their passes
     env_ids,
     imports,
     make_kwargs,
+    pettingzoo,
     rendering,
     reset_seed,
     rng,

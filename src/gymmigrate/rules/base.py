@@ -43,7 +43,6 @@ class RewriteOptions:
 
     seed: int | None = None
     selection: Selection | None = None  # --select/--ignore; None: every rule
-    docs: bool = False  # also migrate code blocks in Markdown/RST (config `docs`)
 
 
 @dataclass(frozen=True)

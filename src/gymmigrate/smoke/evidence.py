@@ -94,6 +94,8 @@ class EnvRecord:
     steps: int
     episodes: tuple[EpisodeRecord, ...]
     first_transition: str | None  # digest of the first reset and first step
+    # PettingZoo envs: per agent, episodes that ended for it by termination and by truncation.
+    agent_counts: dict[str, dict[str, int]] | None = None
 
     def counts(self) -> dict[str, int]:
         return _count_endings(self.episodes)
@@ -111,7 +113,7 @@ class EnvRecord:
             "counts": self.counts(),
             "first_transition": self.first_transition,
             "episodes": [episode.to_json() for episode in self.episodes],
-        }
+        } | ({"agent_counts": self.agent_counts} if self.agent_counts is not None else {})
 
 
 @dataclass(frozen=True)

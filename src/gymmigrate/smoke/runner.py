@@ -66,6 +66,13 @@ def _run_all(target: Target, options: SmokeOptions) -> tuple[tuple[CheckResult, 
         raise LoadError(f"extra arguments {' '.join(options.script_args)!r} are only for a script target")
     if target.kind == "script":
         return (), _repeat(lambda seed: _script_run(target, options, seed), options)
+    from gymmigrate.smoke.multi_agent import api_test_check, drive_pettingzoo, pettingzoo_target
+
+    multi_agent = pettingzoo_target(target)
+    if multi_agent is not None:
+        return (api_test_check(multi_agent),), _repeat(
+            lambda seed: drive_pettingzoo(multi_agent, seed, options.episodes, options.max_steps, options.timeout), options
+        )
     from gymmigrate.smoke.driver import drive
     from gymmigrate.smoke.targets import check_env_id, instantiate, load_class
 

@@ -13,7 +13,6 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import libcst as cst
-from gymmigrate.edits.lazy import matchers as m  # loaded by the first edit that matches
 
 from gymmigrate.rules.custom_env.cst_edits import (
     _add_keyword_param,
@@ -22,8 +21,8 @@ from gymmigrate.rules.custom_env.cst_edits import (
     _bool_of,
     _bool_wrap_assignments,
     _calls_super_reset,
+    _checks_is_none,
     _code,
-    _contains,
     _declares_global,
     _DoneSplitter,
     _drop_return_info,
@@ -31,6 +30,7 @@ from gymmigrate.rules.custom_env.cst_edits import (
     _five,
     _insert_after_super_init,
     _insert_after_super_reset,
+    _index,
     _insert_at_top,
     _is_tuple_annotation,
     _ModeReader,
@@ -49,6 +49,7 @@ from gymmigrate.rules.custom_env.cst_edits import (
     _split_done,
     _tuple_len,
     _uses_name,
+    _uses_self_attribute,
     is_super_method_call,
     own_returns,
 )
@@ -294,11 +295,7 @@ class ClassRewrite:
             body = _insert_at_top(fn.body, [cst.parse_statement("mode = self.render_mode")])
         else:
             body = fn.body.visit(_ModeReader())
-        none_check = m.Comparison(
-            left=m.Attribute(value=m.Name("self"), attr=m.Name("render_mode")),
-            comparisons=[m.ComparisonTarget(operator=m.Is(), comparator=m.Name("None"))],
-        )
-        if not _contains(body, none_check):
+        if not _checks_is_none(body, "render_mode"):
             body = _insert_at_top(body, [cst.parse_statement("if self.render_mode is None:\n    return None\n")])
         self.set_method("render", fn.with_changes(params=new_params, body=body))
         self._add_render_mode_to_init()
@@ -315,7 +312,7 @@ class ClassRewrite:
             return
         if "render_mode" not in _param_names(fn):
             fn = fn.with_changes(params=_add_keyword_param(fn.params, "render_mode"))
-        if not _contains(fn, m.Attribute(value=m.Name("self"), attr=m.Name("render_mode"))):
+        if not _uses_self_attribute(fn, "render_mode"):
             fn = fn.with_changes(body=_insert_after_super_init(fn.body, cst.parse_statement("self.render_mode = render_mode")))
         self.set_method("__init__", fn)
 
@@ -330,9 +327,7 @@ def _class_methods(classdef: cst.ClassDef) -> dict[str, cst.FunctionDef]:
 def _unpack_super_reset(fn: cst.FunctionDef) -> tuple[cst.FunctionDef, str | None]:
     """``obs = super().reset()`` -> ``obs, info = super().reset()``: the base env is migrated too."""
     assigned = [
-        a
-        for a in m.findall(fn, m.Assign(targets=[m.AssignTarget(m.Name())]))
-        if is_super_method_call(a.value, "reset")  # type: ignore[attr-defined]
+        a for assigns in _index(fn).single_assigns.values() for a in assigns if is_super_method_call(a.value, "reset")
     ]
     if not assigned:
         return fn, None
@@ -340,7 +335,7 @@ def _unpack_super_reset(fn: cst.FunctionDef) -> tuple[cst.FunctionDef, str | Non
 
     class Unpack(cst.CSTTransformer):
         def leave_Assign(self, original_node: cst.Assign, updated_node: cst.Assign) -> cst.Assign:
-            if not is_super_method_call(updated_node.value, "reset") or not m.matches(updated_node.targets[0].target, m.Name()):
+            if not is_super_method_call(updated_node.value, "reset") or not isinstance(updated_node.targets[0].target, cst.Name):
                 return updated_node
             target = cst.Tuple([cst.Element(updated_node.targets[0].target), cst.Element(cst.Name(name))], lpar=[], rpar=[])
             return updated_node.with_changes(targets=[updated_node.targets[0].with_changes(target=target)])

@@ -1,0 +1,15 @@
+"""PettingZoo (PZ101-PZ110): the multi-agent AEC and parallel APIs, pre-1.21 to 1.27.
+
+    PZ108, PZ103-PZ106 in classes  custom AEC/parallel envs ... env_classes.py [41]
+    PZ101-PZ103                    AEC loops, ``env.dones`` .... aec_loop.py    [56]
+    PZ104, PZ105                   parallel step and reset ..... parallel.py    [57]
+    PZ106, PZ107                   seed and render calls ....... seed_render.py [58]
+    PZ109, PZ110                   spaces, ``pettingzoo.make`` . spaces_make.py [90]
+
+Every family asks ``facts.multi_agent`` what a receiver is: the PettingZoo rules act
+only on PettingZoo envs, and the Gym rules leave them alone (their kinds are guards).
+SuperSuit's vector conversions (``concat_vec_envs_v1``...) make VecEnvs, which keep
+their own API. Nothing here imports PettingZoo.
+"""
+
+from gymmigrate.rules.pettingzoo import aec_loop, env_classes, parallel, seed_render, spaces_make  # noqa: F401

@@ -1,0 +1,158 @@
+"""Jupyter notebooks (``.ipynb``): the code cells, in order, are one program.
+
+Everything else in the file is kept: markdown cells, outputs, execution counts,
+metadata, key order and the JSON layout. Only the ``source`` of a cell whose code changed
+is replaced, in the form it had (a list of lines or one string). The notebook is written
+again with ``json.dumps`` using the layout read from the file (indent, ``ensure_ascii``,
+final newline: nbformat writes indent 1, non-ASCII as is and a final newline); before
+writing, the unmodified notebook is serialized the same way and must reproduce the file
+byte for byte, otherwise the notebook is refused rather than reformatted.
+
+Findings carry ``cell``, the 0-based index in the notebook's ``cells`` (markdown cells
+count), and ``line`` within that cell.
+"""
+
+from __future__ import annotations
+
+import ast
+import json
+import re
+from collections.abc import Callable
+from functools import partial
+from itertools import product
+from typing import Any
+
+from gymmigrate.engine import TransformError, may_hold_gym_code
+from gymmigrate.findings import Finding
+from gymmigrate.sources import Location, Segment
+from gymmigrate.sources.magics import Magics
+
+# Outputs (plots, videos) make notebooks large; the code in them is what costs time.
+MAX_FILE_BYTES = 64 * 1024 * 1024
+
+
+def read(source: bytes, path: str) -> Notebook:
+    return Notebook(source)
+
+
+class Notebook:
+    def __init__(self, source: bytes) -> None:
+        self.source = source
+        try:
+            self.text = source.decode("utf-8")
+            self.data = json.loads(self.text)
+        except (UnicodeDecodeError, ValueError) as exc:
+            raise TransformError(f"not a readable notebook (invalid JSON: {exc}); left unchanged") from None
+        cells = self.data.get("cells") if isinstance(self.data, dict) else None
+        if not isinstance(cells, list):
+            raise TransformError("not a notebook in nbformat 4 (no top-level `cells` list); left unchanged")
+        self.cells: list[dict[str, Any]] = cells
+        self.notes: list[Finding] = []
+        self.magics = Magics()
+        segments: list[Segment] = []
+        self._hidden_ranges: dict[int, range] = {}
+        if _is_python(self.data):
+            for index, cell in enumerate(cells):
+                if not isinstance(cell, dict) or cell.get("cell_type") != "code":
+                    continue
+                first_hidden = len(self.magics.hidden)
+                code = self.magics.hide(_with_final_newline(_cell_text(cell)))
+                self._hidden_ranges[index] = range(first_hidden, len(self.magics.hidden))
+                segments.append(Segment(code, Location(1, index)))
+        # Gym in the outputs or the markdown only: nothing to migrate, whatever the cells hold.
+        if not may_hold_gym_code("".join(segment.code for segment in segments).encode("utf-8")):
+            segments = []
+        for segment in segments:
+            _check_parses(segment.code, segment.start.cell or 0)
+        self.programs = [segments] if segments else []
+
+    def rebuild(self, codes: list[list[str]]) -> tuple[bytes, list[list[Location]]]:
+        changed: dict[int, str] = {}
+        for program, new_codes in zip(self.programs, codes):
+            for segment, new_code in zip(program, new_codes):
+                if new_code == segment.code:
+                    continue
+                index = segment.start.cell
+                assert index is not None
+                text = self.magics.restore(new_code)
+                if not _cell_text(self.cells[index]).endswith("\n"):
+                    text = text.removesuffix("\n")  # nbformat stores the last line without one
+                changed[index] = text
+        self.magics.check_all_restored({n for index in changed for n in self._hidden_ranges[index]})
+        starts = [[segment.start for segment in program] for program in self.programs]
+        if not changed:
+            return self.source, starts
+        dump = _layout_of(self.text, self.data)
+        for index, text in changed.items():
+            cell = self.cells[index]
+            cell["source"] = text.splitlines(keepends=True) if isinstance(cell.get("source"), list) else text
+        return dump(self.data).encode("utf-8"), starts
+
+    def check_writable(self) -> None:
+        _layout_of(self.text, self.data)
+
+    def code_view(self) -> str:
+        """The code cells as one text, each under a ``# cell N`` line (1-based, every cell
+        counted), for a diff a person can read instead of escaped JSON."""
+        parts = []
+        for index, cell in enumerate(self.cells):
+            if isinstance(cell, dict) and cell.get("cell_type") == "code":
+                parts.append(f"# cell {index + 1}\n{_with_final_newline(_cell_text(cell))}")
+        return "".join(parts)
+
+
+def _is_python(data: dict[str, Any]) -> bool:
+    metadata = data.get("metadata") if isinstance(data.get("metadata"), dict) else {}
+    for key, field in (("kernelspec", "language"), ("language_info", "name")):
+        info = metadata.get(key)
+        if isinstance(info, dict) and isinstance(info.get(field), str):
+            return info[field].lower().startswith("python")
+    return True  # nbformat's default kernel is Python
+
+
+def _cell_text(cell: dict[str, Any]) -> str:
+    source = cell.get("source", "")
+    if isinstance(source, list) and all(isinstance(part, str) for part in source):
+        text = "".join(source)
+    elif isinstance(source, str):
+        text = source
+    else:
+        raise TransformError("a cell's source is neither text nor a list of lines; notebook left unchanged")
+    try:
+        text.encode("utf-8")
+    except UnicodeEncodeError:  # a lone surrogate escaped in the JSON
+        raise TransformError("a cell holds text that is not valid Unicode; notebook left unchanged") from None
+    return text
+
+
+def _with_final_newline(text: str) -> str:
+    return text if not text or text.endswith("\n") else text + "\n"
+
+
+def _check_parses(code: str, index: int) -> None:
+    try:
+        ast.parse(code)
+    except SyntaxError as exc:
+        where = f" at line {exc.lineno}" if exc.lineno else ""
+        raise TransformError(f"cell {index + 1} does not parse{where}: {exc.msg}; notebook left unchanged") from None
+    except (ValueError, RecursionError, MemoryError) as exc:
+        raise TransformError(f"cell {index + 1} cannot be parsed: {exc}; notebook left unchanged") from None
+
+
+def _layout_of(text: str, data: Any) -> Callable[[Any], str]:
+    """A serializer that writes this file's JSON layout, checked on the file as it is.
+
+    nbformat (Jupyter, VS Code) writes indent 1, ``ensure_ascii=False`` and a final
+    newline; Colab indent 2. The first candidate that reproduces ``text`` exactly wins.
+    """
+    indent_match = re.match(r"[\[{]\n( *)\S", text)
+    indent = len(indent_match[1]) if indent_match else None
+    final_newline = "\n" if text.endswith("\n") else ""
+    for ensure_ascii, separators in product((False, True), ((",", ": "), (", ", ": "), (",", ":"))):
+        dump = partial(json.dumps, indent=indent, ensure_ascii=ensure_ascii, separators=separators)
+        if dump(data) + final_newline == text:
+            return lambda value, dump=dump: dump(value) + final_newline
+    raise TransformError(
+        "the notebook's JSON layout cannot be reproduced (not written by Jupyter/nbformat?);"
+        " left unchanged rather than reformatted"
+    )

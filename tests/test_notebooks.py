@@ -1,0 +1,323 @@
+"""Notebooks: code cells migrated as one program; magics, outputs, metadata and layout kept.
+
+Fixtures: ``fixtures/notebooks/<case>.ipynb`` and, when it changes, ``<case>.expected.ipynb``.
+"""
+
+from __future__ import annotations
+
+import ast
+import json
+import shutil
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from gymmigrate.cli import app
+from gymmigrate.engine import Status, TransformError, process_file
+from gymmigrate.files import discover
+from gymmigrate.rules.base import RewriteOptions
+from gymmigrate.sources import adapter_for
+from gymmigrate.sources.magics import Magics
+from gymmigrate.sources.programs import lint_document, transform_document
+
+FIXTURES = Path(__file__).resolve().parent.parent / "fixtures" / "notebooks"
+NOTEBOOK = adapter_for(Path("x.ipynb"))
+runner = CliRunner()
+
+
+def _rewrite(source: bytes) -> bytes:
+    assert NOTEBOOK is not None
+    return transform_document(NOTEBOOK, source, "nb.ipynb", RewriteOptions()).rewritten
+
+
+def _notebook(*cells: tuple[str, object], indent: int = 1) -> bytes:
+    data = {
+        "cells": [
+            {"cell_type": kind, "execution_count": None, "metadata": {}, "outputs": [], "source": source}
+            if kind == "code"
+            else {"cell_type": kind, "metadata": {}, "source": source}
+            for kind, source in cells
+        ],
+        "metadata": {"kernelspec": {"display_name": "Python 3", "language": "python", "name": "python3"}},
+        "nbformat": 4,
+        "nbformat_minor": 5,
+    }
+    return (json.dumps(data, sort_keys=True, indent=indent, ensure_ascii=False) + "\n").encode("utf-8")
+
+
+def test_a_notebook_with_magics_shell_escapes_and_outputs_is_byte_identical() -> None:
+    source = (FIXTURES / "clean_with_magics.ipynb").read_bytes()
+    assert _rewrite(source) == source
+
+
+def test_a_loop_spread_over_cells_is_migrated_as_one_program() -> None:
+    source = (FIXTURES / "multi_cell_loop.ipynb").read_bytes()
+    expected = (FIXTURES / "multi_cell_loop.expected.ipynb").read_bytes()
+    rewritten = _rewrite(source)
+    assert rewritten == expected
+    assert _rewrite(rewritten) == rewritten, "a second run changes nothing"
+
+
+def test_outputs_metadata_and_markdown_cells_are_kept() -> None:
+    before = json.loads((FIXTURES / "multi_cell_loop.ipynb").read_bytes())
+    after = json.loads(_rewrite((FIXTURES / "multi_cell_loop.ipynb").read_bytes()))
+    assert after["metadata"] == before["metadata"]
+    assert len(after["cells"]) == len(before["cells"])
+    for old, new in zip(before["cells"], after["cells"]):
+        assert {k: v for k, v in old.items() if k != "source"} == {k: v for k, v in new.items() if k != "source"}
+        if old["cell_type"] != "code":
+            assert new["source"] == old["source"]
+    magic_cells = [c for c in after["cells"] if c["source"] and c["source"][0].startswith(("!", "%%"))]
+    assert [c["source"] for c in magic_cells] == [
+        ["!pip install gym==0.21.0\n", "%matplotlib inline"],
+        ["%%time\n", "for _ in range(3):\n", "    env.reset()"],
+    ]
+
+
+def test_migrated_cells_run_in_order_and_complete_a_seeded_episode() -> None:
+    """Run the code cells as Jupyter would (magics skipped) against gymnasium."""
+    cells = json.loads((FIXTURES / "multi_cell_loop.expected.ipynb").read_bytes())["cells"]
+    magics = Magics()
+    namespace: dict[str, object] = {}
+    for cell in cells:
+        if cell["cell_type"] == "code":
+            exec(compile(magics.hide("".join(cell["source"]) + "\n"), "<cell>", "exec"), namespace)
+    assert namespace["done"] is True
+    assert namespace["total"] >= 1.0
+    first_observation = namespace["obs"]
+    # Seeded: the same notebook gives the same episode again.
+    namespace_again: dict[str, object] = {}
+    for cell in cells:
+        if cell["cell_type"] == "code":
+            exec(compile(Magics().hide("".join(cell["source"]) + "\n"), "<cell>", "exec"), namespace_again)
+    assert namespace_again["total"] == namespace["total"]
+    assert (namespace_again["obs"] == first_observation).all()
+
+
+def test_cell_source_as_a_string_stays_a_string_and_final_newlines_are_kept() -> None:
+    source = _notebook(("code", "import gym\nenv = gym.make('CartPole-v1')"), ("code", ["obs = env.reset()\n", "print(obs)"]))
+    cells = json.loads(_rewrite(source))["cells"]
+    assert cells[0]["source"] == "import gymnasium as gym\nenv = gym.make('CartPole-v1')"
+    assert cells[1]["source"] == ["obs, info = env.reset()\n", "print(obs)"]
+
+
+def test_the_detected_indent_is_kept() -> None:
+    source = _notebook(("code", "import gym\n"), indent=2)
+    rewritten = _rewrite(source)
+    assert rewritten == _notebook(("code", "import gymnasium as gym\n"), indent=2)
+
+
+def test_a_layout_json_dumps_cannot_reproduce_is_refused_not_reformatted() -> None:
+    source = _notebook(("code", "import gym\n")).replace(b'"nbformat": 4', b'"nbformat": 4, "x": 1e-5')
+    with pytest.raises(TransformError, match="layout cannot be reproduced"):
+        _rewrite(source)
+    assert NOTEBOOK is not None
+    with pytest.raises(TransformError, match="layout cannot be reproduced"):
+        lint_document(NOTEBOOK, source, "nb.ipynb", RewriteOptions())  # check agrees with rewrite
+
+
+def test_magic_lines_are_hidden_only_where_a_statement_starts() -> None:
+    code = (
+        "files = !ls\n"
+        "for name in files:\n"
+        "    !echo {name}\n"
+        "    %time f(name)\n"
+        'text = """\n'
+        "!not a shell line, inside a string\n"
+        '"""\n'
+        "call(a,\n"
+        "     b)?\n"
+        "env.step?\n"
+        "x = 1  # what?\n"
+    )
+    magics = Magics()
+    hidden = magics.hide(code)
+    assert hidden.splitlines() == [
+        "pass  # gymmigrate-magic 0",
+        "for name in files:",
+        "    pass  # gymmigrate-magic 1",
+        "    pass  # gymmigrate-magic 2",
+        'text = """',
+        "!not a shell line, inside a string",
+        '"""',
+        "call(a,",
+        "     b)?",
+        "pass  # gymmigrate-magic 3",
+        "x = 1  # what?",
+    ]
+    assert magics.restore(hidden) == code
+
+
+def test_a_cell_magic_hides_the_whole_cell_unless_its_body_is_python() -> None:
+    magics = Magics()
+    assert magics.hide("%%bash\nobs = env.reset()\n") == "pass  # gymmigrate-magic 0\n"
+    timed = "%%time\nobs = env.reset()\n!ls\n"
+    assert magics.hide(timed) == "pass  # gymmigrate-magic 1\nobs = env.reset()\npass  # gymmigrate-magic 2\n"
+    assert magics.restore(magics.hide(timed)) == timed
+
+
+def test_a_timed_training_cell_is_migrated() -> None:
+    source = _notebook(("code", "import gym\nenv = gym.make('CartPole-v1')"), ("code", ["%%time\n", "obs = env.reset()"]))
+    cells = json.loads(_rewrite(source))["cells"]
+    assert cells[1]["source"] == ["%%time\n", "obs, info = env.reset()"]
+
+
+def test_a_cell_that_does_not_parse_is_reported_with_its_number(tmp_path: Path) -> None:
+    path = tmp_path / "broken.ipynb"
+    source = _notebook(("markdown", "# Title"), ("code", "import gym\n"), ("code", "def f(:\n    pass\n"))
+    path.write_bytes(source)
+    result = runner.invoke(app, ["rewrite", str(tmp_path)])
+    assert result.exit_code == 2
+    assert f"{path}: cell 3 does not parse at line 1: invalid syntax; notebook left unchanged" in result.stderr
+    assert path.read_bytes() == source
+
+
+def test_check_locates_findings_by_cell_and_line(tmp_path: Path) -> None:
+    shutil.copy(FIXTURES / "multi_cell_loop.ipynb", tmp_path / "loop.ipynb")
+    report = tmp_path / "report.json"
+    result = runner.invoke(app, ["check", str(tmp_path), "--report", str(report)])
+    assert result.exit_code == 1
+    assert f"{tmp_path / 'loop.ipynb'}:cell 3:line 1:1: GM101 [auto]" in result.stdout
+    assert f"{tmp_path / 'loop.ipynb'}:cell 6:line 5:5: GM301 [auto]" in result.stdout
+    changes = json.loads(report.read_text())["files"][0]["changes"]
+    assert {(c["rule"], c["cell"], c["line"]) for c in changes} >= {("GM101", 2, 1), ("GM301", 5, 5)}
+
+
+def test_check_agrees_with_rewrite() -> None:
+    assert NOTEBOOK is not None
+    source = (FIXTURES / "multi_cell_loop.ipynb").read_bytes()
+    findings, would_change = lint_document(NOTEBOOK, source, "nb.ipynb", RewriteOptions())
+    transformed = transform_document(NOTEBOOK, source, "nb.ipynb", RewriteOptions())
+    assert would_change and transformed.changed
+    strip = lambda fs: [(f.rule, f.cell, f.line, f.column) for f in fs]  # noqa: E731
+    assert strip(findings) == strip(transformed.findings)
+
+
+def test_rewrite_diff_shows_code_cells_not_json(tmp_path: Path) -> None:
+    path = tmp_path / "loop.ipynb"
+    shutil.copy(FIXTURES / "multi_cell_loop.ipynb", path)
+    result = runner.invoke(app, ["rewrite", "--diff", str(tmp_path)])
+    assert result.exit_code == 1
+    assert f"--- {path} (code cells)" in result.stdout
+    assert "# cell 6\n-obs = env.reset()\n+obs, info = env.reset(seed=42)\n" in result.stdout
+    assert '"source"' not in result.stdout and '"outputs"' not in result.stdout
+    assert path.read_bytes() == (FIXTURES / "multi_cell_loop.ipynb").read_bytes()
+
+
+def test_rewrite_writes_the_notebook_then_a_second_run_changes_nothing(tmp_path: Path) -> None:
+    for name in ("multi_cell_loop.ipynb", "clean_with_magics.ipynb"):
+        shutil.copy(FIXTURES / name, tmp_path / name)
+    (tmp_path / ".ipynb_checkpoints").mkdir()
+    shutil.copy(FIXTURES / "multi_cell_loop.ipynb", tmp_path / ".ipynb_checkpoints" / "multi_cell_loop-checkpoint.ipynb")
+    result = runner.invoke(app, ["rewrite", str(tmp_path)])
+    assert result.exit_code == 0, result.stderr
+    assert "rewrote 1 of 2 files" in result.stderr
+    assert (tmp_path / "multi_cell_loop.ipynb").read_bytes() == (FIXTURES / "multi_cell_loop.expected.ipynb").read_bytes()
+    assert (tmp_path / "clean_with_magics.ipynb").read_bytes() == (FIXTURES / "clean_with_magics.ipynb").read_bytes()
+    again = runner.invoke(app, ["rewrite", "--diff", str(tmp_path)])
+    assert again.exit_code == 0 and again.stdout == ""
+
+
+def test_notebooks_of_other_languages_and_without_gym_are_left_alone(tmp_path: Path) -> None:
+    r_notebook = json.loads(_notebook(("code", "env <- gym_make('CartPole-v1')\n")))
+    r_notebook["metadata"]["kernelspec"]["language"] = "R"
+    path = tmp_path / "r.ipynb"
+    path.write_text(json.dumps(r_notebook, indent=1) + "\n")
+    assert process_file(path, RewriteOptions(), write=True, want_diff=False).status is Status.UNCHANGED
+    plain = tmp_path / "plain.ipynb"
+    plain.write_bytes(_notebook(("code", "print('hello')\n")))
+    assert process_file(plain, RewriteOptions(), write=True, want_diff=False).status is Status.SKIPPED
+
+
+def test_walking_a_folder_takes_notebooks() -> None:
+    found = {path.name for path in discover([str(FIXTURES)]).files}
+    assert found == {"clean_with_magics.ipynb", "multi_cell_loop.ipynb", "multi_cell_loop.expected.ipynb"}
+
+
+def test_rewrite_smoke_does_not_run_notebooks(tmp_path: Path) -> None:
+    shutil.copy(FIXTURES / "multi_cell_loop.ipynb", tmp_path / "loop.ipynb")
+    result = runner.invoke(app, ["rewrite", "--smoke", str(tmp_path)])
+    assert result.exit_code == 0, result.stderr
+    assert "no rewritten file creates an env" in result.stderr
+
+
+def test_a_broken_cell_in_a_notebook_without_gym_code_is_not_an_error(tmp_path: Path) -> None:
+    path = tmp_path / "notes.ipynb"
+    path.write_bytes(_notebook(("markdown", "About gym environments"), ("code", "print 'python 2'\n")))
+    assert process_file(path, RewriteOptions(), write=True, want_diff=False).status is Status.UNCHANGED
+
+
+def _cells_of(text: str) -> list[str]:
+    """``text`` cut into cells of two top-level statements each, as a notebook would hold it."""
+    tree = ast.parse(text)
+    lines = text.splitlines(keepends=True)
+    starts = [min([node.lineno, *(d.lineno for d in getattr(node, "decorator_list", ()))]) for node in tree.body]
+    bounds = [0, *(start - 1 for start in sorted(set(starts[1::2]))), len(lines)]
+    return ["".join(lines[a:b]) for a, b in zip(bounds, bounds[1:]) if a < b]
+
+
+RULE_CASES = sorted(
+    path
+    for path in (Path(__file__).resolve().parent.parent / "fixtures" / "rules").glob("*/*.py")
+    if not path.name.endswith(".expected.py")
+)
+
+
+@pytest.mark.parametrize("case", RULE_CASES, ids=lambda path: f"{path.parent.name}/{path.stem}")
+def test_every_rule_case_cut_into_cells_migrates_as_the_script_does(case: Path) -> None:
+    """Cells are one program: the cells' code after migration is the script's migration."""
+    text = case.read_text(encoding="utf-8")
+    expected = case.with_name(f"{case.stem}.expected.py")
+    after = expected.read_text(encoding="utf-8") if expected.exists() else text
+    source = _notebook(*(("code", cell.splitlines(keepends=True)) for cell in _cells_of(text)))
+    cells = json.loads(_rewrite(source))["cells"]
+    assert "".join("".join(cell["source"]) for cell in cells) == after
+
+
+def test_a_cell_whose_first_statement_is_removed_keeps_its_place() -> None:
+    source = _notebook(
+        ("code", "import gym\n"),
+        ("code", "from gym.wrappers import NormalizeReward\nenvs = gym.vector.SyncVectorEnv([lambda: gym.make('CartPole-v1')])\n"),
+        ("code", "envs = NormalizeReward(envs, gamma=0.99)\n"),
+    )
+    cells = json.loads(_rewrite(source))["cells"]
+    assert [cell["source"] for cell in cells] == [
+        "import gymnasium as gym\n",
+        "envs = gym.vector.SyncVectorEnv([lambda: gym.make('CartPole-v1')])\n",
+        "envs = gym.wrappers.vector.NormalizeReward(envs, gamma=0.99)\n",
+    ]
+
+
+def test_a_colab_layout_is_kept_key_order_and_escapes_included() -> None:
+    """Colab writes indent 2, its own key order, and may escape non-ASCII."""
+    data = {
+        "nbformat": 4,
+        "nbformat_minor": 0,
+        "metadata": {"colab": {"provenance": []}, "kernelspec": {"name": "python3", "display_name": "Python 3"}},
+        "cells": [
+            {"cell_type": "code", "source": ["import gym  # épisode\n", "env = gym.make('CartPole-v1')"], "metadata": {"id": "x1"},
+             "execution_count": None, "outputs": []},
+        ],
+    }
+    source = (json.dumps(data, indent=2, ensure_ascii=True) + "\n").encode()
+    data["cells"][0]["source"][0] = "import gymnasium as gym  # épisode\n"
+    assert _rewrite(source) == (json.dumps(data, indent=2, ensure_ascii=True) + "\n").encode()
+
+
+@pytest.mark.parametrize(
+    ("content", "reason"),
+    [
+        ('{"cells": [ gym', "not a readable notebook (invalid JSON"),
+        ('[1, 2, "gym"]', "not a notebook in nbformat 4"),
+        ('{"cells": [{"cell_type": "code", "source": ["import gym\\n", 3]}]}', "neither text nor a list of lines"),
+        ('{"cells": [{"cell_type": "code", "source": "import gym\\nx = \\"\\ud800\\""}]}', "not valid Unicode"),
+    ],
+    ids=["invalid-json", "not-a-notebook", "odd-source", "lone-surrogate"],
+)
+def test_files_that_are_not_notebooks_are_reported_and_left_alone(tmp_path: Path, content: str, reason: str) -> None:
+    path = tmp_path / "odd.ipynb"
+    path.write_text(content)
+    result = process_file(path, RewriteOptions(), write=True, want_diff=True)
+    assert result.status is Status.ERROR and reason in (result.error or "")
+    assert path.read_text() == content
