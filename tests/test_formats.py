@@ -121,3 +121,17 @@ def test_the_report_of_rewrite_carries_the_same_findings_list(loop_file: Path, t
     data = json.loads(report.read_text())
     assert {"files", "summary", "mode"} <= set(data), "the report keeps its shape"
     assert [(f["rule"], f["line"]) for f in data["findings"]] == [(f["rule"], f["line"]) for f in expected]
+
+
+def test_notebook_findings_name_their_cell_and_no_line_of_the_json_file() -> None:
+    notebook = Path(__file__).resolve().parent.parent / "fixtures" / "notebooks" / "multi_cell_loop.ipynb"
+    items = json.loads(check(notebook, "json")[1])
+    assert items and all(isinstance(item["cell"], int) for item in items)
+    first = items[0]
+    log = json.loads(check(notebook, "sarif")[1])
+    result = log["runs"][0]["results"][0]
+    assert "region" not in result["locations"][0]["physicalLocation"]
+    assert result["message"]["text"].startswith(f"cell {first['cell'] + 1}, line {first['line']}: ")
+    annotation = check(notebook, "github")[1].splitlines()[0]
+    assert ",line=" not in annotation
+    assert f"::{first['rule']} cell {first['cell'] + 1}, line {first['line']}: " in annotation

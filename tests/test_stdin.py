@@ -66,3 +66,13 @@ def test_stdin_report_and_smoke(tmp_path: Path) -> None:
     assert [f["rule"] for f in json.loads(report.read_text())["findings"]] == ["GM101", "GM103"]
     smoke = runner.invoke(app, ["rewrite", "--smoke", "-"], input=LEGACY)
     assert smoke.exit_code == 2 and "--smoke" in smoke.stderr
+
+
+def test_stdin_notebook_by_its_filename() -> None:
+    notebook = Path(__file__).resolve().parent.parent / "fixtures" / "notebooks" / "multi_cell_loop.ipynb"
+    source = notebook.read_bytes()
+    result = runner.invoke(app, ["rewrite", "-", "--stdin-filename", "nb.ipynb"], input=source)
+    assert result.exit_code == 0, result.stderr
+    assert result.stdout_bytes == notebook.with_name("multi_cell_loop.expected.ipynb").read_bytes()
+    findings = runner.invoke(app, ["check", "-", "--stdin-filename", "nb.ipynb"], input=source)
+    assert findings.stdout.startswith("nb.ipynb:cell ")

@@ -96,16 +96,25 @@ def sarif(results: Sequence[FileResult]) -> dict[str, object]:
     }
 
 
+def _in_cell(finding: Finding) -> str:
+    """A notebook finding's line counts within its cell, not within the .ipynb file: the
+    place goes into the message and the location is the file alone."""
+    return f"cell {finding.cell + 1}, line {finding.line}: " if finding.cell is not None else ""
+
+
 def _sarif_result(path: str, finding: Finding, index: dict[str, int]) -> dict[str, object]:
-    region: dict[str, object] = {"startLine": finding.line, "startColumn": finding.column + 1}
-    if finding.end_line is not None and finding.end_column is not None:
-        region["endLine"] = finding.end_line
-        region["endColumn"] = finding.end_column + 1
+    location: dict[str, object] = {"artifactLocation": {"uri": _uri(path)}}
+    if finding.cell is None:
+        region: dict[str, object] = {"startLine": finding.line, "startColumn": finding.column + 1}
+        if finding.end_line is not None and finding.end_column is not None:
+            region["endLine"] = finding.end_line
+            region["endColumn"] = finding.end_column + 1
+        location["region"] = region
     result: dict[str, object] = {
         "ruleId": finding.rule,
         "level": _LEVELS[finding.kind.value],
-        "message": {"text": finding.message},
-        "locations": [{"physicalLocation": {"artifactLocation": {"uri": _uri(path)}, "region": region}}],
+        "message": {"text": _in_cell(finding) + finding.message},
+        "locations": [{"physicalLocation": location}],
         "properties": {"kind": finding.kind.value, "fixAvailable": finding.is_change},
     }
     if finding.rule in index:
@@ -139,12 +148,14 @@ def escape_property(text: str) -> str:
 
 
 def github_annotation(path: str, finding: Finding) -> str:
-    properties = [("file", path), ("line", str(finding.line)), ("col", str(finding.column + 1))]
-    if finding.end_line is not None and finding.end_column is not None:
-        properties += [("endLine", str(finding.end_line)), ("endColumn", str(finding.end_column + 1))]
+    properties = [("file", path)]
+    if finding.cell is None:
+        properties += [("line", str(finding.line)), ("col", str(finding.column + 1))]
+        if finding.end_line is not None and finding.end_column is not None:
+            properties += [("endLine", str(finding.end_line)), ("endColumn", str(finding.end_column + 1))]
     properties.append(("title", finding.rule))
     joined = ",".join(f"{name}={escape_property(value)}" for name, value in properties)
-    return f"::warning {joined}::{escape_data(f'{finding.rule} {finding.message}')}"
+    return f"::warning {joined}::{escape_data(f'{finding.rule} {_in_cell(finding)}{finding.message}')}"
 
 
 def write_github(results: Sequence[FileResult], stream: TextIO) -> None:
