@@ -36,11 +36,14 @@ def test_check_hook_fails_and_rewrite_hook_fixes(tmp_path: Path) -> None:
     project.mkdir()
     git("init", "-q", cwd=project)
     (project / "train.py").write_bytes(LEGACY)
-    git("add", "train.py", cwd=project)
+    notebook = ROOT / "fixtures" / "notebooks" / "multi_cell_loop.ipynb"
+    shutil.copy(notebook, project / "play.ipynb")
+    git("add", "train.py", "play.ipynb", cwd=project)
 
     check = pre_commit("try-repo", str(ROOT), "gymmigrate-check", "--all-files", cwd=project, home=home)
     assert check.returncode == 1, check.stdout + check.stderr
     assert "train.py:1:1: GM101" in check.stdout
+    assert "play.ipynb:cell 3:line 1:1: GM101" in check.stdout, "notebooks reach the hooks too"
     assert (project / "train.py").read_bytes() == LEGACY, "the check hook writes nothing"
 
     rewrite = pre_commit("try-repo", str(ROOT), "gymmigrate", "--all-files", cwd=project, home=home)
@@ -49,7 +52,8 @@ def test_check_hook_fails_and_rewrite_hook_fixes(tmp_path: Path) -> None:
     migrated = (project / "train.py").read_bytes()
     assert migrated.startswith(b"import gymnasium as gym\n")
     assert b"obs, info = env.reset()" in migrated
+    assert (project / "play.ipynb").read_bytes() == notebook.with_name("multi_cell_loop.expected.ipynb").read_bytes()
 
-    git("add", "train.py", cwd=project)
+    git("add", "train.py", "play.ipynb", cwd=project)
     again = pre_commit("try-repo", str(ROOT), "gymmigrate-check", "--all-files", cwd=project, home=home)
     assert again.returncode == 0, again.stdout + again.stderr
