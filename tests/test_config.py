@@ -92,3 +92,12 @@ def test_invalid_toml_is_reported(tmp_path: Path) -> None:
     (tmp_path / "pyproject.toml").write_text("[tool.gymmigrate\n")
     with pytest.raises(ConfigError, match="not valid TOML"):
         find_config(tmp_path / "sub" / "x.py")
+
+
+def test_docs_from_config_takes_pages_when_walking(tmp_path: Path) -> None:
+    project(tmp_path, "docs = true")
+    (tmp_path / "guide.md").write_text("# Guide\n\n```python\nimport gym\n```\n")
+    assert "guide.md:4:1: GM101" in runner.invoke(app, ["check", str(tmp_path)]).stdout
+    (tmp_path / "pyproject.toml").write_text("[tool.gymmigrate]\ndocs = false\n")
+    assert "guide.md" not in runner.invoke(app, ["check", str(tmp_path)]).stdout
+    assert "guide.md" in runner.invoke(app, ["check", "--docs", str(tmp_path)]).stdout
