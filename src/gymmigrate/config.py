@@ -115,6 +115,8 @@ def load(path: Path, table: dict) -> Config:
             if not isinstance(value, list) or not all(isinstance(item, str) for item in value):
                 raise ConfigError(f"{where}: must be a list of strings, got {value!r}")
             value = tuple(item.strip().upper() if "exclude" not in key else item for item in value)
+            if "exclude" not in key:
+                _check_codes(value, where)
         elif key == "seed" and (isinstance(value, bool) or not isinstance(value, int) or value < 0):
             raise ConfigError(f"{where}: must be a non-negative integer, got {value!r}")
         elif key == "docs" and not isinstance(value, bool):
@@ -130,3 +132,15 @@ def load(path: Path, table: dict) -> Config:
         seed=values.get("seed"),  # type: ignore[arg-type]
         docs=bool(values.get("docs", False)),
     )
+
+
+def _check_codes(selectors: tuple[str, ...], where: str) -> None:
+    from gymmigrate.selection import SelectionError, check_selector
+    from gymmigrate.rules import all_rules
+
+    codes = [rule.code for rule in all_rules()]
+    for selector in selectors:
+        try:
+            check_selector(selector, codes)
+        except SelectionError as exc:
+            raise ConfigError(f"{where}: {exc}") from None
