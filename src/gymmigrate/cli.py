@@ -12,9 +12,8 @@ from __future__ import annotations
 
 import os
 import sys
-from collections.abc import Iterator
 from pathlib import Path
-from typing import Annotated, Optional
+from typing import Annotated, NoReturn, Optional
 
 import typer
 
@@ -61,6 +60,21 @@ ReportOption = Annotated[
     typer.Option("--report", help="Write every change and review item as JSON to this file.", dir_okay=False),
 ]
 JobsOption = Annotated[int, typer.Option("--jobs", "-j", min=0, help="Worker processes (0: one per core).")]
+_CODES = "rule codes or prefixes (GM301, GM3, GM), repeated or comma-separated"
+SelectOption = Annotated[
+    Optional[list[str]], typer.Option("--select", help=f"Apply only these {_CODES} (default: every rule).")
+]
+IgnoreOption = Annotated[Optional[list[str]], typer.Option("--ignore", help=f"Leave out these {_CODES}.")]
+ExtendSelectOption = Annotated[
+    Optional[list[str]], typer.Option("--extend-select", help=f"Also apply these {_CODES}.")
+]
+ExtendIgnoreOption = Annotated[
+    Optional[list[str]], typer.Option("--extend-ignore", help=f"Also leave out these {_CODES}.")
+]
+StdinFilenameOption = Annotated[
+    Optional[str],
+    typer.Option("--stdin-filename", help="With the path -, the file name to show and to look up the configuration from."),
+]
 
 
 @app.command()
@@ -83,17 +97,34 @@ def rewrite(
             help="After rewriting, smoke-check (seed --seed or 0) each rewritten script that creates an env.",
         ),
     ] = False,
+    select: SelectOption = None,
+    ignore: IgnoreOption = None,
+    extend_select: ExtendSelectOption = None,
+    extend_ignore: ExtendIgnoreOption = None,
+    stdin_filename: StdinFilenameOption = None,
 ) -> None:
-    """Rewrite legacy Gym code in place (or show the diff with --diff)."""
+    """Rewrite legacy Gym code in place (or show the diff with --diff).
+
+    With the path -, read one file from stdin and write it, rewritten, to stdout.
+    """
     if smoke and diff:
         typer.echo("error: --smoke runs the rewritten files, so it cannot be combined with --diff", err=True)
         raise typer.Exit(EXIT_ERROR)
     from gymmigrate.engine import Status
     from gymmigrate.report import print_diff, print_summary
-    from gymmigrate.rules.base import RewriteOptions
+    from gymmigrate.workflow import Flags, run_groups
 
+    flags = Flags(select, ignore, extend_select, extend_ignore, seed=seed, docs=docs or None)
+    if paths == ["-"]:
+        if smoke:
+            _usage_error("--smoke runs the rewritten files, so it cannot be combined with the path - (stdin)")
+        raise typer.Exit(_stdin(flags, stdin_filename, lint=False, diff=diff, report=report))
+    groups = _groups(paths, flags)
+    seed = next((group.options.seed for group in groups if group.options.seed is not None), seed)
     results = []
-    for result in _run(paths, RewriteOptions(seed=seed), write=not diff, want_diff=diff, jobs=jobs, docs=docs):
+    for result in run_groups(
+        groups, write=not diff, want_diff=diff, jobs=jobs, lint=False, before_writing=_remove_abandoned_temporaries
+    ):
         if result.diff:
             print_diff(result.diff)
         results.append(result)
@@ -119,22 +150,6 @@ def _write_report(path: Path, results: list, *, wrote: bool, smoke: list | None 
         raise typer.Exit(EXIT_ERROR) from None
 
 
-def _run(
-    paths: list[str], options: object, *, write: bool, want_diff: bool, jobs: int, lint: bool = False, docs: bool = False
-) -> Iterator:
-    """Every file's result in the order given, then one error result per bad argument."""
-    from gymmigrate.engine import FileResult, Status
-    from gymmigrate.files import discover
-    from gymmigrate.runner import run_files
-
-    discovery = discover(paths, docs=docs)
-    if write:
-        _remove_abandoned_temporaries(discovery.files)
-    yield from run_files(discovery.files, options, write=write, want_diff=want_diff, jobs=jobs, lint=lint)  # type: ignore[arg-type]
-    for path, reason in discovery.errors:
-        yield FileResult(path, Status.ERROR, error=reason)
-
-
 def _remove_abandoned_temporaries(files: list[Path]) -> None:
     """A killed run can leave a temporary file next to the file it was writing; this
     run is about to write there, so it tidies up (check and --diff write nothing)."""
@@ -151,25 +166,120 @@ def check(
     paths: PathsArgument,
     report: ReportOption = None,
     jobs: JobsOption = 0,
+    output_format: Annotated[
+        str,
+        typer.Option(
+            "--output-format",
+            help="How findings are printed to stdout: text (path:line:col: RULE \\[kind] message), json, "
+            "sarif (SARIF 2.1.0, for code scanning) or github (workflow annotations).",
+            case_sensitive=False,
+        ),
+    ] = "text",
     docs: DocsOption = False,
+    select: SelectOption = None,
+    ignore: IgnoreOption = None,
+    extend_select: ExtendSelectOption = None,
+    extend_ignore: ExtendIgnoreOption = None,
+    stdin_filename: StdinFilenameOption = None,
 ) -> None:
     """Lint mode: list every legacy Gym site (what rewrite would change or asks you to review); write nothing.
 
-    Each finding is printed to stdout as `path:line:column: RULE \\[kind] message`.
+    Each finding is printed to stdout as `path:line:column: RULE \\[kind] message` (or in
+    --output-format). With the path -, check one file read from stdin.
     Exit codes: 0 nothing found, 1 findings, 2 files that could not be processed.
     """
     from gymmigrate.engine import Status
-    from gymmigrate.report import print_findings, print_summary
-    from gymmigrate.rules.base import RewriteOptions
+    from gymmigrate.formats import FORMATS, write_findings
+    from gymmigrate.report import print_summary
+    from gymmigrate.workflow import Flags, run_groups
 
-    results = list(_run(paths, RewriteOptions(), write=False, want_diff=False, jobs=jobs, lint=True, docs=docs))
-    print_findings(results)
+    output_format = output_format.lower()
+    if output_format not in FORMATS:
+        typer.echo(f"error: --output-format must be one of {', '.join(FORMATS)}, not {output_format!r}", err=True)
+        raise typer.Exit(EXIT_ERROR)
+    flags = Flags(select, ignore, extend_select, extend_ignore, docs=docs or None)
+    if paths == ["-"]:
+        raise typer.Exit(_stdin(flags, stdin_filename, lint=True, output_format=output_format, report=report))
+    results = list(run_groups(_groups(paths, flags), write=False, want_diff=False, jobs=jobs, lint=True))
+    write_findings(output_format, results, sys.stdout)
     print_summary(results, wrote=False)
     if report is not None:
         _write_report(report, results, wrote=False)
     if any(r.status is Status.ERROR for r in results):
         raise typer.Exit(EXIT_ERROR)
     raise typer.Exit(EXIT_PENDING if any(r.findings for r in results) else EXIT_OK)
+
+
+def _groups(paths: list[str], flags: object) -> list:
+    """Paths grouped by their [tool.gymmigrate]; a bad configuration or rule code is a usage error."""
+    from gymmigrate.config import ConfigError
+    from gymmigrate.selection import SelectionError
+    from gymmigrate.workflow import group_paths
+
+    if "-" in paths:
+        _usage_error("the path - (stdin) cannot be combined with other paths")
+    try:
+        return group_paths(paths, flags)  # type: ignore[arg-type]
+    except (ConfigError, SelectionError) as exc:
+        _usage_error(str(exc))
+
+
+def _usage_error(message: str) -> NoReturn:
+    typer.echo(f"error: {message}", err=True)
+    raise typer.Exit(EXIT_ERROR)
+
+
+def _stdin(
+    flags: object,
+    filename: str | None,
+    *,
+    lint: bool,
+    diff: bool = False,
+    output_format: str = "text",
+    report: Path | None = None,
+) -> int:
+    """check - / rewrite -: one file from stdin, the result (or findings) on stdout."""
+    from gymmigrate.engine import Status, Transformed, decode, unified_diff
+    from gymmigrate.formats import write_findings
+    from gymmigrate.report import print_summary
+    from gymmigrate.workflow import run_stdin
+
+    group = _groups([filename or "."], flags)[0]
+    source = sys.stdin.buffer.read()
+    result, output = run_stdin(source, filename, group.options, lint=lint)
+    if lint:
+        write_findings(output_format, [result], sys.stdout)
+    elif diff:
+        if output != source:
+            sys.stdout.write(unified_diff(result.path, Transformed(source, output, decode(source)[1])))
+    else:
+        sys.stdout.buffer.write(output)
+    sys.stdout.flush()
+    print_summary([result], wrote=False)
+    if report is not None:
+        _write_report(report, [result], wrote=False)
+    if result.status is Status.ERROR:
+        return EXIT_ERROR
+    if lint:
+        return EXIT_PENDING if result.findings else EXIT_OK
+    return EXIT_PENDING if diff and result.status is Status.CHANGED else EXIT_OK
+
+
+@app.command(name="rules")
+def rules_command(
+    code: Annotated[
+        Optional[str], typer.Argument(help="A rule code (GM301): show its full explanation and example.", show_default=False)
+    ] = None,
+) -> None:
+    """List every rule (code, title, fix kind, summary), or explain one with its before/after example."""
+    from gymmigrate.rules_listing import print_rule, print_rules
+
+    if code is None:
+        print_rules()
+        raise typer.Exit(EXIT_OK)
+    if not print_rule(code.upper()):
+        _usage_error(f"unknown rule {code!r} (see `gymmigrate rules`)")
+    raise typer.Exit(EXIT_OK)
 
 
 def _smoke_rewritten(results: list, seed: int) -> list:

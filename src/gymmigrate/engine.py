@@ -29,6 +29,8 @@ from gymmigrate.facts.receivers import Receivers
 from gymmigrate.findings import Finding
 from gymmigrate.rules import registered_families
 from gymmigrate.rules.base import FileContext, FileProfile, RewriteOptions
+from gymmigrate.selection import family_selected, filter_plan
+from gymmigrate.suppressions import skips_file
 
 # A file that mentions none of these cannot hold Gym code: skip it before parsing.
 # ``envs?\b`` catches env, envs, vec_env, CartPoleEnv, but not os.environ.
@@ -156,17 +158,28 @@ def plan_file(tree: ast.Module, text: str, path: str, options: RewriteOptions) -
     facts = ModuleFacts(tree, text)
     context = FileContext(path=path, options=options, profile=FileProfile.from_source(text))
     plan = Plan(facts)
+    if skips_file(text, _first_statement_line(tree)):
+        return plan
     receivers = Receivers(facts, options.project.view(path) if options.project is not None else None)
     for family in registered_families():
-        if not family.may_fire(facts, context):
+        if not family_selected(family, options.selection) or not family.may_fire(facts, context):
             continue
+        plan.deciding = family.__name__
         try:
             family(context, facts, receivers, plan).decide()
         except RecursionError:
             raise TransformError(f"internal error in {family.__name__}: the code is nested too deeply to analyse") from None
         except Exception as exc:  # a rule bug must not lose the user's file or print a traceback
             raise TransformError(f"internal error in {family.__name__}: {type(exc).__name__}: {exc}") from exc
+    filter_plan(plan, text, options)  # --select/--ignore and suppression comments
     return plan
+
+
+def _first_statement_line(tree: ast.Module) -> int | None:
+    body = tree.body
+    if body and isinstance(body[0], ast.Expr) and isinstance(body[0].value, ast.Constant) and isinstance(body[0].value.value, str):
+        body = body[1:]  # the docstring
+    return body[0].lineno if body else None
 
 
 def _migrate(source: bytes, text: str, encoding: str, tree: ast.Module, path: str, options: RewriteOptions) -> Transformed:
@@ -180,6 +193,11 @@ def _migrate(source: bytes, text: str, encoding: str, tree: ast.Module, path: st
     except TransformError:
         raise
     except Exception as exc:  # noqa: BLE001  (a rule's edit could not be placed)
+        if plan.partial:
+            raise TransformError(
+                "the rules left out here (by --select/--ignore or a suppression comment) share one fix with "
+                "rules that are not: select them together, or silence the whole statement; file left unchanged"
+            ) from exc
         raise TransformError(f"internal error while applying edits: {type(exc).__name__}: {exc}") from exc
     rewritten = new_text.encode(encoding)  # a BOM comes back with utf-8-sig
     if rewritten == source:

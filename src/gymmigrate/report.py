@@ -79,7 +79,11 @@ def print_summary(results: Sequence[FileResult], *, wrote: bool, stream: TextIO 
         f"[bold]gymmigrate[/bold] {verb} {len(changed)} of {len(results)} file{'s' if len(results) != 1 else ''}"
         + (f", [red]{len(errors)} could not be processed[/red]" if errors else "")
     )
-    if per_rule:
+    if console.is_terminal:
+        from gymmigrate.summary_table import summary_table
+
+        console.print(summary_table(results, per_rule, len(review), wrote=wrote))
+    elif per_rule:
         console.print("Changes per rule: " + ", ".join(f"{rule} x{count}" for rule, count in sorted(per_rule.items())))
     if review:
         console.print(f"\n[bold yellow]Review ({len(review)})[/bold yellow]: places where the meaning may have shifted")
@@ -94,6 +98,8 @@ def print_summary(results: Sequence[FileResult], *, wrote: bool, stream: TextIO 
 
 
 def report_json(results: Sequence[FileResult], *, wrote: bool, smoke: Sequence[object] | None = None) -> dict[str, object]:
+    from gymmigrate.formats import findings_json
+
     files = []
     for result in results:
         if result.status is Status.SKIPPED and not result.findings:
@@ -121,6 +127,8 @@ def report_json(results: Sequence[FileResult], *, wrote: bool, smoke: Sequence[o
             "review_items": sum(f.needs_review for r in results for f in r.findings),
         },
         "files": files,
+        # Every finding in the shape of `check --output-format json` (path, every field, fix_available).
+        "findings": findings_json(results),
         # Present only with `rewrite --smoke`: one record per rewritten script checked.
         **({"smoke": [outcome.to_json() for outcome in smoke]} if smoke is not None else {}),  # type: ignore[attr-defined]
     }

@@ -10,6 +10,7 @@ edits in one traversal.
 from __future__ import annotations
 
 import ast
+from bisect import bisect_left
 from collections import defaultdict
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -43,6 +44,14 @@ class Plan:
     # What one rule family decided that another must follow in the same run (e.g. the
     # render mode a creation site needs because a wrapper was replaced).
     notes: dict[str, Any] = field(default_factory=dict)
+    # Which finding each edit carries out, so a finding dropped by rule selection or a
+    # suppression comment takes its fix with it (``drop_findings``). ``deciding`` names
+    # the family deciding now (set by the engine).
+    deciding: str = ""
+    finding_nodes: list[ast.AST] = field(default_factory=list)
+    finding_families: list[str] = field(default_factory=list)  # the family that reported each
+    _edits: list[_Edit] = field(default_factory=list)
+    partial: bool = False  # some findings were dropped (with their edits)
     _seen: set[tuple[int, int, str, str]] = field(default_factory=set)
 
     @property
@@ -58,6 +67,8 @@ class Plan:
         if key in self._seen:  # two routes to the same conclusion: one item
             return
         self._seen.add(key)
+        self.finding_nodes.append(node)
+        self.finding_families.append(self.deciding)
         end_line, end_column = self.facts.end(node)
         self.findings.append(
             Finding(
@@ -70,12 +81,17 @@ class Plan:
     def replace(self, node: ast.AST, build: Build) -> None:
         """Replace the LibCST counterpart of ``node`` with ``build(node_as_changed)``."""
         self.replacements[node].append(build)
+        self._record(node, self.replacements, node, build)
 
     def insert_before(self, statement: ast.stmt, *code: Any) -> None:
         self.before[statement].extend(code)
+        for item in code:
+            self._record(statement, self.before, statement, item)
 
     def insert_after(self, statement: ast.stmt, *code: Any) -> None:
         self.after[statement].extend(code)
+        for item in code:
+            self._record(statement, self.after, statement, item)
 
     def withdraw(self, statement: ast.stmt, code: Any) -> None:
         """Take back one piece of ``code`` inserted around ``statement`` (the very object
@@ -98,11 +114,13 @@ class Plan:
         self.removed.add(statement)
         if keep_comments:
             self.keep_comments.add(statement)
+        self._record(statement, self.removed, statement, statement)
 
     def add_import(self, line: str) -> None:
         """A top-level import statement, added once after the module's last import."""
         if line not in self.imports:
             self.imports.append(line)
+        self._record(None, self.imports, None, line)  # every finding that needs it keeps it
 
     def ensure_import(self, module: str, name: str | None = None, asname: str | None = None) -> str:
         """Make ``module`` (or ``module.name``) available; return the name to use in code."""
@@ -115,3 +133,129 @@ class Plan:
             return asname or name
         self.add_import(f"import {module}" + (f" as {asname}" if asname else ""))
         return asname or module
+
+    # -- which finding an edit carries out --------------------------------------------------
+
+    def _record(self, node: ast.AST | None, container: Any, anchor: Any, item: Any) -> None:
+        self._edits.append(_Edit(self.deciding, node, len(self.findings), container, anchor, item))
+
+    def drop_findings(self, dropped: set[int]) -> None:
+        """Drop the findings at these indexes and every edit that only carries them out.
+
+        Rules do not say which finding an edit serves, so it is read from how they
+        decide. Only findings of the family that made the edit, and only changes (a flag
+        finding is "not rewritten"), are candidates: every finding inside a class or
+        function the edit rebuilds whole; else every one on the very node edited; else
+        the one on the same statement, in the same function, or of the family, that was
+        reported next after the edit (rules record a decision's edits, then report it),
+        else the one just before. An import line serves both neighbours. An edit is dropped when every
+        finding it serves is; one that serves none is kept.
+        ``tests/test_selection.py`` holds this to every fixture of every rule.
+        """
+        if not dropped:
+            return
+        self.partial = True
+        by_node: dict[tuple[str, int], list[int]] = defaultdict(list)
+        by_statement: dict[tuple[str, int], list[int]] = defaultdict(list)
+        changes: dict[str, list[int]] = defaultdict(list)  # by family, in report order
+        by_function: dict[tuple[str, int], list[int]] = defaultdict(list)  # changes, in report order
+        for index, node in enumerate(self.finding_nodes):
+            family = self.finding_families[index]
+            if self.findings[index].is_change:
+                changes[family].append(index)
+            by_node[family, id(node)].append(index)
+            by_statement[family, id(self.facts.statement_of(node))].append(index)
+            if self.findings[index].is_change:
+                by_function[family, id(self.facts.enclosing_function(node))].append(index)
+        serves: dict[tuple[int, int, object], set[int]] = defaultdict(set)
+        edits: dict[tuple[int, int, object], _Edit] = {}
+        for edit in self._edits:
+            # An import line is one edit however many findings asked for it.
+            key = (id(edit.container), id(edit.anchor), edit.item if edit.container is self.imports else id(edit.item))
+            edits[key] = edit
+            serves[key].update(self._served_by(edit, by_node, by_statement, by_function, changes))
+        for key, served in serves.items():
+            if served and served <= dropped:
+                edits[key].undo()
+        self.findings = [f for i, f in enumerate(self.findings) if i not in dropped]
+        self.finding_nodes = [n for i, n in enumerate(self.finding_nodes) if i not in dropped]
+        self.finding_families = [f for i, f in enumerate(self.finding_families) if i not in dropped]
+        self._edits = []
+
+    def _served_by(
+        self, edit: _Edit, by_node: dict, by_statement: dict, by_function: dict, changes: dict[str, list[int]]
+    ) -> list[int]:
+        # Rules record a decision's edits just before reporting it, as a rule: the next
+        # finding of the family first, among those on the same node or statement if any.
+        # A flag finding is "not rewritten": no edit serves it.
+        family = changes.get(edit.family, [])
+        if edit.node is None:
+            # An import serves both neighbours: an import kept for nothing is harmless,
+            # one dropped under a kept edit is a NameError.
+            return [i for i in (_next(family, edit.reported), _previous(family, edit.reported)) if i is not None]
+        inside = self._inside(edit, family)
+        if inside:
+            return inside
+        # Several findings on the very node edited: which one it serves cannot be told,
+        # so it serves them all (kept while any of them is).
+        same = [index for index in by_node.get((edit.family, id(edit.node)), ()) if self.findings[index].is_change]
+        if same:
+            return same
+        near = by_statement.get((edit.family, id(self.facts.statement_of(edit.node))), ())
+        candidates = (
+            [index for index in near if self.findings[index].is_change]
+            or by_function.get((edit.family, id(self.facts.enclosing_function(edit.node))))
+            or family
+        )
+        chosen = _next(candidates, edit.reported)
+        if chosen is None:
+            chosen = _previous(candidates, edit.reported)
+        return [chosen] if chosen is not None else []
+
+    def _inside(self, edit: _Edit, family: list[int]) -> list[int]:
+        """The family's changes inside a class or function the edit rebuilds whole."""
+        node = edit.node
+        if not isinstance(node, (ast.ClassDef, ast.FunctionDef, ast.AsyncFunctionDef)):
+            return []
+        first, last = node.lineno, node.end_lineno or node.lineno
+        return [index for index in family if first <= self.findings[index].line <= last]
+
+
+def _next(indexes: list[int], position: int) -> int | None:
+    """The first of the sorted ``indexes`` at or after ``position``."""
+    at = bisect_left(indexes, position)
+    return indexes[at] if at < len(indexes) else None
+
+
+def _previous(indexes: list[int], position: int) -> int | None:
+    """The last of the sorted ``indexes`` before ``position``."""
+    at = bisect_left(indexes, position)
+    return indexes[at - 1] if at > 0 else None
+
+
+@dataclass
+class _Edit:
+    """One recorded edit: who made it, when, and where it sits in the plan."""
+
+    family: str
+    node: ast.AST | None
+    reported: int  # how many findings existed when it was made
+    container: Any
+    anchor: Any
+    item: Any
+
+    def undo(self) -> None:
+        container = self.container
+        if isinstance(container, set):
+            container.discard(self.item)
+        elif isinstance(container, list):
+            if self.item in container:
+                container.remove(self.item)
+        else:  # a dict of lists, by node
+            items = container.get(self.anchor, [])
+            for index, existing in enumerate(items):
+                if existing is self.item:
+                    del items[index]
+                    break
+            if not items and self.anchor in container:
+                del container[self.anchor]

@@ -22,6 +22,7 @@ from gymmigrate.findings import FixKind
 
 if TYPE_CHECKING:
     from gymmigrate.edits.plan import Plan
+    from gymmigrate.selection import Selection
     from gymmigrate.facts import ModuleFacts
     from gymmigrate.facts.project import ProjectFacts
     from gymmigrate.facts.receivers import Receivers
@@ -42,6 +43,7 @@ class RewriteOptions:
     """Settings that change what the rules write (not how files are found)."""
 
     seed: int | None = None
+    selection: Selection | None = None  # --select/--ignore; None: every rule
     # Facts across the files of the run (facts/project.py); None for a file on its own.
     project: ProjectFacts | None = field(default=None, compare=False)
 

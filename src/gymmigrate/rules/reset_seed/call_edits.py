@@ -23,7 +23,7 @@ class CallEdit:
     to_reset: bool = False  # env.seed(s) -> env.reset(seed=s)
     drop: set[str] = field(default_factory=set)
     # The seed to add, made when the edit is applied (it may come from another statement).
-    add_seed: Callable[[], cst.BaseExpression] | None = None
+    add_seed: Callable[[], cst.BaseExpression | None] | None = None
     int_seed: bool = False
     index_result: bool = False  # env.reset() -> env.reset()[0]
 
@@ -49,8 +49,13 @@ class SeedValue:
         self.value = call.args[0].value
         return call
 
-    def get(self, as_int: bool) -> Callable[[], cst.BaseExpression]:
-        def value() -> cst.BaseExpression:
+    def get(self, as_int: bool, moved: Callable[[], bool] = lambda: True) -> Callable[[], cst.BaseExpression | None]:
+        """``moved()``: whether the seed statement is still removed when the plan is applied
+        (rule selection or a suppression comment can keep it, and then its seed stays there)."""
+
+        def value() -> cst.BaseExpression | None:
+            if not moved():
+                return None
             assert self.value is not None, "the seed statement precedes the reset it is merged into"
             return int_call(self.value) if as_int else self.value
 
@@ -127,8 +132,9 @@ def _apply(call: cst.Call, edit: CallEdit) -> cst.Call:
         first = args[0]
         if first.keyword is None:
             args = [seed_keyword(first.value).with_changes(comma=first.comma)]
-    if edit.add_seed is not None:
-        args = _appended(args, seed_keyword(edit.add_seed()), call)
+    seed = edit.add_seed() if edit.add_seed is not None else None
+    if seed is not None:
+        args = _appended(args, seed_keyword(seed), call)
     if edit.int_seed:
         args = [
             arg.with_changes(value=int_call(arg.value)) if arg.keyword is not None and arg.keyword.value == "seed" else arg

@@ -82,7 +82,7 @@ class SeedCalls(ResetSeedBase):
             value = SeedValue()
             self.plan.replace(call, value.take)
             self.plan.remove(statement, keep_comments=True)
-            self._edit(merged).add_seed = value.get(as_int=numpy)
+            self._edit(merged).add_seed = value.get(as_int=numpy, moved=lambda: statement in self.plan.removed)
             self.report(
                 call,
                 code,

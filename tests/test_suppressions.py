@@ -1,0 +1,97 @@
+"""Suppression comments: a silenced finding is neither reported nor fixed."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from gymmigrate.cli import app
+from gymmigrate.engine import lint_source, transform_source
+from gymmigrate.suppressions import Suppressions
+
+runner = CliRunner()
+STEP = "obs, reward, done, info = env.step(0)"
+
+
+def loop(step_line: str = STEP, header: str = "") -> bytes:
+    return f'{header}import gym\n\nenv = gym.make("CartPole-v1")\n{step_line}\n'.encode()
+
+
+def rules(source: bytes) -> set[str]:
+    return {f.rule for f in transform_source(source).findings}
+
+
+@pytest.mark.parametrize(
+    "comment",
+    ["# gymmigrate: ignore", "# gymmigrate: ignore[GM301]", "# gymmigrate: ignore[GM3, GM201]", "# noqa: GM301",
+     "# noqa:GM301,E501", "# noqa", "# NOQA", "# type: ignore  # noqa: GM3"],
+)
+def test_comment_silences_and_keeps_the_line(comment: str) -> None:
+    source = loop(f"{STEP}  {comment}")
+    result = transform_source(source)
+    assert "GM301" not in {f.rule for f in result.findings}
+    assert f"{STEP}  {comment}".encode() in result.rewritten, "a silenced finding is not fixed"
+    assert "GM101" in {f.rule for f in result.findings}, "other lines are untouched by the comment"
+
+
+@pytest.mark.parametrize("comment", ["# gymmigrate: ignore[GM201]", "# noqa: E501", "# gymmigrate: ignore[]"])
+def test_comment_for_other_rules_silences_nothing_here(comment: str) -> None:
+    result = transform_source(loop(f"{STEP}  {comment}"))
+    assert "GM301" in {f.rule for f in result.findings}
+    assert b"terminated, truncated" in result.rewritten
+
+
+def test_first_line_of_a_multiline_statement() -> None:
+    source = loop("obs, reward, done, info = (  # gymmigrate: ignore[GM301]\n    env.step(0)\n)")
+    result = transform_source(source)
+    assert "GM301" not in {f.rule for f in result.findings}
+    assert b"done, info = (" in result.rewritten
+
+
+def test_comment_on_a_later_line_of_the_statement_does_not_reach_the_first() -> None:
+    source = loop("obs, reward, done, info = (\n    env.step(0)  # gymmigrate: ignore\n)")
+    assert "GM301" in rules(source)
+
+
+def test_a_string_that_looks_like_a_comment_is_not_one() -> None:
+    source = loop(f'{STEP}; note = "# gymmigrate: ignore"')
+    assert "GM301" in rules(source)
+
+
+def test_skip_file_at_the_top() -> None:
+    source = loop(header='"""Docstring."""\n# gymmigrate: skip-file\n')
+    result = transform_source(source)
+    assert result.findings == [] and result.rewritten == source
+    assert lint_source(source) == ([], False)
+
+
+def test_skip_file_below_the_first_statement_is_ignored() -> None:
+    source = loop(step_line=f"{STEP}\n# gymmigrate: skip-file")
+    assert "GM301" in rules(source)
+
+
+def test_file_without_markers_is_not_tokenized() -> None:
+    assert Suppressions.find(loop().decode()) is None
+
+
+def test_check_and_rewrite_honour_comments(tmp_path: Path) -> None:
+    path = tmp_path / "loop.py"
+    source = loop(f"{STEP}  # gymmigrate: ignore[GM301]")
+    path.write_bytes(source)
+    check = runner.invoke(app, ["check", str(path)])
+    assert "GM301" not in check.stdout and "GM101" in check.stdout
+    rewrite = runner.invoke(app, ["rewrite", str(path)])
+    assert rewrite.exit_code == 0
+    assert f"{STEP}  # gymmigrate: ignore[GM301]".encode() in path.read_bytes()
+    assert path.read_bytes().startswith(b"import gymnasium as gym\n")
+
+
+def test_silencing_the_step_keeps_the_done_reads_that_depend_on_it() -> None:
+    # GM302 would read `terminated`, which only the silenced GM301 unpack introduces.
+    source = loop(f"{STEP}  # gymmigrate: ignore[GM301]\nbuffer.append((obs, reward, done))")
+    result = transform_source(source)
+    assert b"buffer.append((obs, reward, done))" in result.rewritten
+    assert b"terminated" not in result.rewritten
+    assert not {"GM301", "GM302"} & {f.rule for f in result.findings}
