@@ -15,7 +15,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
-from gymmigrate.findings import Finding, FixKind
+from gymmigrate.findings import Finding, FixKind, Tier
 
 if TYPE_CHECKING:  # LibCST is imported only by files that change
     import libcst as cst
@@ -43,7 +43,7 @@ class Plan:
     # What one rule family decided that another must follow in the same run (e.g. the
     # render mode a creation site needs because a wrapper was replaced).
     notes: dict[str, Any] = field(default_factory=dict)
-    _seen: set[tuple[int, int, str, str]] = field(default_factory=set)
+    _seen: set[tuple[int, str, str]] = field(default_factory=set)
 
     @property
     def has_edits(self) -> bool:
@@ -51,17 +51,26 @@ class Plan:
 
     # -- findings -------------------------------------------------------------------------
 
-    def report(self, node: ast.AST, code: str, kind: FixKind, message: str) -> None:
+    def report(self, node: ast.AST, code: str, kind: FixKind, message: str, tier: Tier | None = None) -> None:
         line = node.lineno  # type: ignore[attr-defined]
         column = self.facts.column(node)
-        key = (line, column, code, message)
-        if key in self._seen:  # two routes to the same conclusion: one item
+        # Two routes to the same conclusion, or the same item at two columns of one line
+        # (`env.render(); env.render()`): one item.
+        key = (line, code, message)
+        if key in self._seen:
             return
         self._seen.add(key)
         end_line, end_column = self.facts.end(node)
         self.findings.append(
             Finding(
-                line=line, column=column, rule=code, kind=kind, message=message, end_line=end_line, end_column=end_column
+                line=line,
+                column=column,
+                rule=code,
+                kind=kind,
+                message=message,
+                end_line=end_line,
+                end_column=end_column,
+                tier=tier,
             )
         )
 
