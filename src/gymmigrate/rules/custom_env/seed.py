@@ -11,11 +11,13 @@ from __future__ import annotations
 
 import ast
 
+from gymmigrate.facts.decisions import Action, decide
 from gymmigrate.facts.env_classes import identifiers, is_self_attribute, is_super_method_call
 from gymmigrate.findings import FixKind
 from gymmigrate.facts.module import statement_lines
 from gymmigrate.rules.custom_env.common import ClassDecision, is_docstring, method_of, param_names
 from gymmigrate.rules.custom_env.rebuild import SeedPlan
+from gymmigrate.rules.reset_seed.common import is_space
 
 NP_RANDOM = ("np_random", "_np_random")
 
@@ -26,6 +28,16 @@ def decide_seed(decision: ClassDecision) -> None:
         return
     calls = _seed_call_sites(decision)
     facts = decision.family.facts
+    kept_for = _untraced_seed_call(decision)
+    if kept_for is not None:
+        decision.report(
+            seed_method,
+            "GM503",
+            f"seed() kept: `{facts.segment(kept_for)}` on line {kept_for.lineno} may call it and is left as it was "
+            "(its receiver could not be traced); once it seeds through reset(seed=...), remove this method",
+            FixKind.FLAG,
+        )
+        return
     if any(not isinstance(facts.parent(call), ast.Expr) for call in calls):
         decision.report(seed_method, "GM503", "seed() is gone in Gymnasium but its result is used in this class; seed through reset(seed=...) and rewrite those uses", FixKind.FLAG)
         return
@@ -91,6 +103,23 @@ def decide_seed(decision: ClassDecision) -> None:
             "seed() removed: its extra seeding moved into reset() under `if seed is not None:`; it now runs only when a seed is given",
             FixKind.ASSIST,
         )
+
+
+def _untraced_seed_call(decision: ClassDecision) -> ast.Call | None:
+    """An ``x.seed(...)`` elsewhere in the file that the seed rules leave in place because
+    ``x`` may or may not be a Gym env: if it is an instance of this class, removing
+    ``seed()`` would turn that call into an AttributeError."""
+    family = decision.family
+    for call in family.facts.attribute_calls.get("seed", ()):
+        receiver = call.func.value  # type: ignore[attr-defined]
+        if is_space(receiver) or (isinstance(receiver, ast.Name) and receiver.id == "self"):
+            continue
+        if isinstance(receiver, ast.Call) and isinstance(receiver.func, ast.Name) and receiver.func.id == "super":
+            continue
+        verdict = decide(family.receivers.kind_of(receiver), receiver, family.context.profile)
+        if verdict.action is Action.REPORT:
+            return call
+    return None
 
 
 def _seed_call_sites(decision: ClassDecision) -> list[ast.Call]:
