@@ -52,6 +52,7 @@ from gymmigrate.facts.decisions import Action, decide, receiver_text
 from gymmigrate.facts.module import keyword, string_value
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
+from gymmigrate.rules.render_schedule import schedule
 
 RULES = (
     Rule(
@@ -143,6 +144,7 @@ class Rendering(RuleFamily):
         self._legacy_025 = LEGACY_SINGLE_FRAME in self.facts.text
         self._added: dict[int, str] = self.plan.notes.setdefault(RENDER_MODE_NOTE, {})
         self._noted = dict(self._added)  # modes another family gives a make in this run
+        self._scheduled: dict[int, str] = {}  # id(make) -> the creation-time condition of its renders
         render_calls = self.facts.attribute_calls.get("render", [])
         # A file that still passes modes to render() is legacy code even once its imports
         # say gymnasium (e.g. a conflict reported on a first run): its bare render()
@@ -319,6 +321,8 @@ class Rendering(RuleFamily):
                 blocked[key] = "its gym.make passes **kwargs that may already hold render_mode: set it there by hand"
                 continue
             wanted = {s.mode for s in make_sites}
+            if wanted == {HUMAN} and self._keeps_schedule(make, make_sites, final_mode, blocked):
+                continue
             if len(wanted) == 1:
                 mode = final_mode[key] = wanted.pop()
                 self._add_mode(make, mode, self._quote_style(make, make_sites))
@@ -331,6 +335,33 @@ class Rendering(RuleFamily):
                 )
         for site in sites:
             self._plan_site(site, makes, final_mode, blocked)
+
+    def _keeps_schedule(
+        self, make: ast.Call, sites: list[RenderSite], final_mode: dict[int, str | None], blocked: dict[int, str]
+    ) -> bool:
+        """Human renders that run only on a condition (render_schedule.py): the condition
+        moves to the make when it is fixed at creation, else the sites are reported.
+        False when a render runs on every pass (human mode then draws as before)."""
+        how, condition = schedule(self.facts, [site.node for site in sites], make)
+        if how == "always":
+            return False
+        key = id(make)
+        if how == "fixed":
+            quote = self._quote_style(make, sites)
+            final_mode[key] = HUMAN
+            self._added[key] = HUMAN
+            func = self.facts.segment(make.func)
+            value = f"{quote}{HUMAN}{quote} if {condition} else None"
+            self.plan.replace(make, lambda node: _with_keyword(node, func, "render_mode", value))
+            self._scheduled[key] = condition  # type: ignore[assignment]
+            return True
+        final_mode[key] = None
+        blocked[key] = (
+            f"render() runs only when {condition}, but render_mode=\"human\" would draw every step: keep the "
+            'schedule by creating the env with render_mode="rgb_array" and showing the frame render() returns '
+            'here, or choose render_mode="human" if drawing every step is intended'
+        )
+        return True
 
     def _add_mode(self, make: ast.Call, mode: str, quote: str) -> None:
         self._added[id(make)] = mode
@@ -382,6 +413,17 @@ class Rendering(RuleFamily):
         if code == "GM407":
             if added:
                 self.report(call, code, f"added {target} to {where} so {site.consumer} gets frames")
+            return
+        scheduled = [self._scheduled[k] for k in keys if k in self._scheduled]
+        if scheduled:
+            self.report(
+                call,
+                code,
+                f'render() ran only when {scheduled[0]}, which is known when the env is made: added render_mode="human" '
+                f"if {scheduled[0]} else None to {where}; that env now draws every step inside step()/reset()",
+            )
+            if code == "GM401":
+                self.plan.replace(call, _without_mode_argument)
             return
         if code == "GM402":
             if added:
@@ -533,7 +575,9 @@ def _with_keyword(node: Any, func: str, name: str, literal: str) -> Any:
             args = list(node.args)
             args[0] = args[0].with_changes(value=_with_keyword(inner, func, name, literal))
             return node.with_changes(args=args)
-    return append_keyword(node, name, cst.SimpleString(literal))
+    # A literal, or a creation-time conditional (`"human" if rank == 0 else None`).
+    value = cst.SimpleString(literal) if literal[:1] in ("'", '"') and literal[-1:] == literal[:1] else cst.parse_expression(literal)
+    return append_keyword(node, name, value)
 
 
 def _single_frame_fixed(node: Any) -> Any:
