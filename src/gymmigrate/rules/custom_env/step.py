@@ -12,7 +12,7 @@ import ast
 
 from gymmigrate.facts.env_classes import FunctionIndex, identifiers
 from gymmigrate.facts.module import own_returns
-from gymmigrate.findings import FixKind
+from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import ClassDecision, tuple_len
 from gymmigrate.rules.custom_env.cst_edits import STEP_LIMIT_WORD, _truncated_false_message
 
@@ -28,6 +28,13 @@ def decide_step(decision: ClassDecision) -> None:
         return  # already the five-value API
     index = decision.function(function)
     limit_hint = _step_limit_text(decision, function)
+    # No step limit is possible when the class names no counter at all: truncated=False
+    # is then exact (TimeLimit truncates), an explanation rather than a question.
+    no_counter = limit_hint is None and not _names_a_counter(decision)
+    plain = (
+        "step returns terminated (the old done) and truncated=False: the class counts nothing that could end "
+        "an episode on a limit, so truncation is left to TimeLimit (max_episode_steps)"
+    )
     for ret in returns:
         if ret.value is None:
             continue
@@ -41,12 +48,45 @@ def decide_step(decision: ClassDecision) -> None:
             if assigned is not None and _split_done(assigned):
                 decision.report(ret, "GM504", f"`{done.id}` split: the step-limit test became truncated, the rest terminated", FixKind.ASSIST)
                 continue
-            decision.report(ret, "GM504", _truncated_false_message(limit_hint), FixKind.ASSIST)
+            _report_truncated_false(decision, ret, limit_hint, plain if no_counter else None)
             continue
         if _split_done(done):
             decision.report(ret, "GM504", "done split: the step-limit test became truncated, the rest terminated", FixKind.ASSIST)
             continue
+        _report_truncated_false(decision, ret, limit_hint, plain if no_counter else None)
+
+
+def _report_truncated_false(decision: ClassDecision, ret: ast.Return, limit_hint: str | None, certain: str | None) -> None:
+    if certain is not None:
+        decision.report(ret, "GM504", certain, FixKind.ASSIST, tier=Tier.NOTE)
+    else:
         decision.report(ret, "GM504", _truncated_false_message(limit_hint), FixKind.ASSIST)
+
+
+# Parts of a name that may count toward an episode limit (a step counter, rounds left,
+# a budget): a class that names one of these is asked about, never assumed limit-free.
+_COUNTER_PARTS = frozenset(
+    {"t", "ts", "step", "steps", "timestep", "timesteps", "tick", "ticks", "iter", "iters", "iteration",
+     "iterations", "horizon", "time", "limit", "max", "count", "counter", "round", "rounds", "budget",
+     "remaining", "left", "elapsed", "len", "length", "turn", "turns", "frame", "frames", "episode"}
+)
+
+
+def _names_a_counter(decision: ClassDecision) -> bool:
+    facts = decision.family.facts
+
+    def compute() -> bool:
+        if decision.env.has_local_env_base(decision.classdef):
+            return True  # the base class in this file may count steps for it
+        for word in identifiers(decision.classdef):
+            if word in ("step", "_step"):
+                continue  # the method itself (and self.step(...) calls)
+            parts = word.lower().split("_")
+            if "beyond" not in parts and _COUNTER_PARTS.intersection(parts):
+                return True
+        return False
+
+    return facts.memo(("names-a-counter", id(decision.classdef)), compute)  # type: ignore[no-any-return]
 
 
 def _step_limit_text(decision: ClassDecision, function: ast.AST) -> str | None:
