@@ -8,8 +8,8 @@
 * GM105 removed modules and symbols (GoalEnv, classic_control.rendering, DiscreteEnv,
   robotics, VideoRecorder, EnvCompatibility...) are reported and left as they are.
 * GM107 libraries that never moved to Gymnasium (``stable_baselines`` 2.x, the TF-era
-  Stable-Baselines) are reported once per file, at the first import: their users move
-  to Stable-Baselines3. Their VecEnv code is left alone (``Receivers``: SB3_VEC kind).
+  Stable-Baselines, and OpenAI ``baselines``) are reported once per file, at the first
+  import: their users move to Stable-Baselines3. Their VecEnv code is left alone (``Receivers``: SB3_VEC kind).
 * GM108 gym-or-gymnasium ``try/except ImportError`` fallbacks, ``sys.modules`` hacks
   and ``gym.__version__`` checks are reported, not rewritten: after the migration one
   branch is dead and a person should delete it.
@@ -118,6 +118,11 @@ GYM_ONLY_LIBRARIES = {
     "stable_baselines": (
         "stable_baselines 2.x (TF) has no Gymnasium release: move to Stable-Baselines3 "
         "(its VecEnv loops keep the four-field step and the obs-only reset and are left as they are)"
+    ),
+    # OpenAI Baselines: in maintenance mode, built on gym and never released for Gymnasium.
+    "baselines": (
+        "OpenAI baselines has no Gymnasium release (it is in maintenance mode and imports gym): move to "
+        "Stable-Baselines3 or CleanRL (its VecEnv loops keep the four-field step and the obs-only reset and are left as they are)"
     ),
 }
 
