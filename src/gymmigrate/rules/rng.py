@@ -38,7 +38,7 @@ from gymmigrate.facts.decisions import receiver_text
 from gymmigrate.facts.env_classes import EnvClasses, is_self_attribute
 from gymmigrate.facts.module import ModuleFacts, full_name
 from gymmigrate.facts.receivers import EnvKind
-from gymmigrate.findings import FixKind
+from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 
 RULES = (
@@ -142,7 +142,9 @@ class GeneratorApi(RuleFamily):
     def _note_stream(self, node: ast.AST, code: str) -> None:
         if not self._noted_stream:
             self._noted_stream = True
-            self.report(node, code, STREAM_NOTE, FixKind.FLAG)
+            # Once per file, about the file rather than this line: nothing here to decide,
+            # so it is a note (listed in the JSON report and by `check`).
+            self.report(node, code, STREAM_NOTE, FixKind.FLAG, tier=Tier.NOTE)
 
     # -- which receivers are Generators ---------------------------------------------------------
 

@@ -28,8 +28,8 @@ def decide_step(decision: ClassDecision) -> None:
         return  # already the five-value API
     index = decision.function(function)
     limit_hint = _step_limit_text(decision, function)
-    # No step limit is possible when the class names no counter at all: truncated=False
-    # is then exact (TimeLimit truncates), an explanation rather than a question.
+    # No step limit is possible when the class counts nothing: truncated=False is then
+    # exact (TimeLimit truncates), an explanation rather than a question.
     no_counter = limit_hint is None and not _names_a_counter(decision)
     plain = (
         "step returns terminated (the old done) and truncated=False: the class counts nothing that could end "
@@ -63,30 +63,34 @@ def _report_truncated_false(decision: ClassDecision, ret: ast.Return, limit_hint
         decision.report(ret, "GM504", _truncated_false_message(limit_hint), FixKind.ASSIST)
 
 
-# Parts of a name that may count toward an episode limit (a step counter, rounds left,
-# a budget): a class that names one of these is asked about, never assumed limit-free.
-_COUNTER_PARTS = frozenset(
-    {"t", "ts", "step", "steps", "timestep", "timesteps", "tick", "ticks", "iter", "iters", "iteration",
-     "iterations", "horizon", "time", "limit", "max", "count", "counter", "round", "rounds", "budget",
-     "remaining", "left", "elapsed", "len", "length", "turn", "turns", "frame", "frames", "episode"}
-)
-
-
 def _names_a_counter(decision: ClassDecision) -> bool:
+    """The class counts something by a constant (``self.steps += 1``, ``self.rounds -= 1``,
+    ``t = t + 1``): that count may end episodes on a limit, so a person decides. Physics
+    updates (``self.x += dx``) are not counts."""
     facts = decision.family.facts
 
     def compute() -> bool:
         if decision.env.has_local_env_base(decision.classdef):
             return True  # the base class in this file may count steps for it
-        for word in identifiers(decision.classdef):
-            if word in ("step", "_step"):
-                continue  # the method itself (and self.step(...) calls)
-            parts = word.lower().split("_")
-            if "beyond" not in parts and _COUNTER_PARTS.intersection(parts):
+        for node in ast.walk(decision.classdef):
+            if isinstance(node, ast.AugAssign) and isinstance(node.op, (ast.Add, ast.Sub)) and _is_number(node.value):
+                return True
+            if (
+                isinstance(node, ast.Assign)
+                and len(node.targets) == 1
+                and isinstance(node.value, ast.BinOp)
+                and isinstance(node.value.op, (ast.Add, ast.Sub))
+                and _is_number(node.value.right)
+                and ast.dump(node.value.left) == ast.dump(node.targets[0], annotate_fields=True).replace("Store()", "Load()")
+            ):
                 return True
         return False
 
-    return facts.memo(("names-a-counter", id(decision.classdef)), compute)  # type: ignore[no-any-return]
+    return facts.memo(("counts-by-constant", id(decision.classdef)), compute)  # type: ignore[no-any-return]
+
+
+def _is_number(node: ast.AST) -> bool:
+    return isinstance(node, ast.Constant) and isinstance(node.value, (int, float)) and not isinstance(node.value, bool)
 
 
 def _step_limit_text(decision: ClassDecision, function: ast.AST) -> str | None:
