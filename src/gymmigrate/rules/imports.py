@@ -26,7 +26,7 @@ import libcst as cst
 from gymmigrate.edits.syntax import dotted_node
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.module import dotted_name
-from gymmigrate.findings import FixKind
+from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 
 RULES = (
@@ -152,6 +152,7 @@ class Imports(RuleFamily):
         return "gym" in facts.text or "stable_baselines" in facts.text
 
     def decide(self) -> None:
+        self._removed_advice: dict[str, int] = {}  # GM105 advice -> line of its review item
         # Does a plain ``import gym`` bind the name ``gym`` (so ``import gym.x`` needs no alias)?
         self._plain_gym_import = any(
             (alias.asname or alias.name) == "gym" and alias.name in LEGACY_PACKAGES
@@ -254,6 +255,16 @@ class Imports(RuleFamily):
                 if isinstance(node.value, ast.Name) and node.value.id in self._gym_names:
                     self.report(node, "GM108", "gym version check: after the migration one branch is dead; delete the legacy one")
 
+    def _report_removed(self, node: ast.stmt, message: str, advice: str) -> None:
+        """GM105 once per decision: the first import that needs a given move (say, to
+        gymnasium_robotics) is a review item; later imports in the same file needing the
+        same move are notes pointing at it."""
+        first = self._removed_advice.setdefault(advice, node.lineno)
+        if first == node.lineno:
+            self.report(node, "GM105", message)
+        else:
+            self.report(node, "GM105", f"{message} (the same move as line {first})", tier=Tier.NOTE)
+
     # -- GM101 / GM103: import gym[.x] [as y] -------------------------------------------
 
     def _import(self, node: ast.Import, *, guarded: bool) -> None:
@@ -268,7 +279,7 @@ class Imports(RuleFamily):
             self._gym_names.add(alias.asname or module.split(".")[0])
             hint = removed_module_hint(rest)
             if hint:
-                self.report(node, "GM105", f"`{module}` was removed: {hint}")
+                self._report_removed(node, f"`{module}` was removed: {hint}", hint)
                 names.append((module, alias.asname))
                 continue
             changed = True
@@ -309,16 +320,17 @@ class Imports(RuleFamily):
             rest = module[len("gymnasium.") :]
         star = any(alias.name == "*" for alias in node.names)
         hint = removed_module_hint(rest)
+        advice = hint
         if hint is None and not star:
             for alias in node.names:
-                hint = REMOVED_NAMES.get((rest, alias.name))
+                hint = advice = REMOVED_NAMES.get((rest, alias.name))
                 if hint:
                     hint = f"`{alias.name}` was removed: {hint}"
                     break
         elif hint is not None:
             hint = f"`{module}` was removed: {hint}"
         if hint:
-            self.report(node, "GM105", hint)
+            self._report_removed(node, hint, advice or hint)
             return
         new_rest = migrated_path(rest)
         if not star and new_rest != rest:
