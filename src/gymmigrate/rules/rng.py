@@ -78,6 +78,7 @@ class GeneratorApi(RuleFamily):
     def decide(self) -> None:
         self.env = EnvClasses.of(self.facts, self.receivers)
         self._noted_stream = False
+        self._asked: dict[tuple[int, str], int] = {}  # (class, question) -> line it was asked at
         calls = [call for method in RNG_METHODS for call in self.facts.attribute_calls.get(method, ())]
         # In the order a LibCST traversal leaves them (inner calls first): the first
         # rewritten site carries the one note about the changed random stream.
@@ -134,9 +135,18 @@ class GeneratorApi(RuleFamily):
             reason = NO_EQUIVALENT.get(method, "set the state with `np_random.bit_generator.state = state` as a statement")
             self.report(call, code, f"np_random.{method}(...) on a Generator: {reason}", FixKind.FLAG)
             return
+        tier = None
         if kind is not FixKind.AUTO and why:
-            message = f"{message}; {why}"
-        self.report(call, code, message, kind)
+            # One question per class (is its base a gym class?): asked at the first call,
+            # the class's other calls are notes that point there.
+            key = (id(self.facts.enclosing_class(call)), why)
+            first = self._asked.setdefault(key, call.lineno)
+            if first == call.lineno:
+                message = f"{message}; {why}"
+            else:
+                message = f"{message} (the same question as line {first})"
+                tier = Tier.NOTE
+        self.report(call, code, message, kind, tier=tier)
         self._note_stream(call, code)
 
     def _note_stream(self, node: ast.AST, code: str) -> None:
