@@ -43,6 +43,7 @@ from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.module import full_name
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
+from gymmigrate.rules.repeats import Repeats
 
 RULES = (
     Rule("GM902", "Space.seed() return value", FixKind.FLAG, "`space.seed(s)[0]` and unpacking its result are reported."),
@@ -267,10 +268,12 @@ class SpacesLogger(RuleFamily):
     # -- GM907: gym.error ------------------------------------------------------------------
 
     def _decide_errors(self) -> None:
+        repeats = Repeats()  # one review item per removed class and file
         for name in REMOVED_ERRORS:
-            for attribute in self.facts.attributes.get(name, ()):
+            for attribute in sorted(self.facts.attributes.get(name, ()), key=lambda a: (a.lineno, a.col_offset)):
                 if self.facts.qualified_names(attribute.value) & ERROR_MODULES:
-                    self.report(attribute, "GM907", _error_message(name))
+                    tier, same = repeats.tier(name, attribute.lineno)
+                    self.report(attribute, "GM907", _error_message(name) + same, tier=tier)
 
     # -- GM908: check_env(warn=) -------------------------------------------------------
 
