@@ -26,8 +26,9 @@ import libcst as cst
 from gymmigrate.edits.syntax import dotted_node
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.module import dotted_name
-from gymmigrate.findings import FixKind, Tier
+from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
+from gymmigrate.rules.repeats import Repeats
 
 RULES = (
     Rule("GM101", "import gym", FixKind.AUTO, "`import gym` becomes `import gymnasium as gym`."),
@@ -152,7 +153,7 @@ class Imports(RuleFamily):
         return "gym" in facts.text or "stable_baselines" in facts.text
 
     def decide(self) -> None:
-        self._removed_advice: dict[str, int] = {}  # GM105 advice -> line of its review item
+        self._removed_advice = Repeats()  # GM105: one review item per move and file
         # Does a plain ``import gym`` bind the name ``gym`` (so ``import gym.x`` needs no alias)?
         self._plain_gym_import = any(
             (alias.asname or alias.name) == "gym" and alias.name in LEGACY_PACKAGES
@@ -259,11 +260,8 @@ class Imports(RuleFamily):
         """GM105 once per decision: the first import that needs a given move (say, to
         gymnasium_robotics) is a review item; later imports in the same file needing the
         same move are notes pointing at it."""
-        first = self._removed_advice.setdefault(advice, node.lineno)
-        if first == node.lineno:
-            self.report(node, "GM105", message)
-        else:
-            self.report(node, "GM105", f"{message} (the same move as line {first})", tier=Tier.NOTE)
+        tier, same = self._removed_advice.tier(advice, node, "move")
+        self.report(node, "GM105", message + same, tier=tier)
 
     # -- GM101 / GM103: import gym[.x] [as y] -------------------------------------------
 

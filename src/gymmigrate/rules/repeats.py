@@ -8,6 +8,7 @@ every place is still listed (``check``, the JSON report).
 
 from __future__ import annotations
 
+import ast
 from collections.abc import Hashable
 
 from gymmigrate.findings import Tier
@@ -15,12 +16,12 @@ from gymmigrate.findings import Tier
 
 class Repeats:
     def __init__(self) -> None:
-        self._first: dict[Hashable, int] = {}
+        self._first: dict[Hashable, ast.AST] = {}
 
-    def tier(self, key: Hashable, line: int) -> tuple[Tier | None, str]:
-        """(tier, suffix for the message): no tier (the kind decides) for the first line
+    def tier(self, key: Hashable, node: ast.AST, what: str = "decision") -> tuple[Tier | None, str]:
+        """(tier, suffix for the message): no tier (the kind decides) for the first node
         asking ``key``, a note saying where it was asked for any later one."""
-        first = self._first.setdefault(key, line)
-        if first == line:
+        first = self._first.setdefault(key, node)
+        if first is node:
             return None, ""
-        return Tier.NOTE, f" (the same decision as line {first})"
+        return Tier.NOTE, f" (the same {what} as line {first.lineno})"  # type: ignore[attr-defined]

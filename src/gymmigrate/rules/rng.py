@@ -40,6 +40,7 @@ from gymmigrate.facts.module import ModuleFacts, full_name
 from gymmigrate.facts.receivers import EnvKind
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
+from gymmigrate.rules.repeats import Repeats
 
 RULES = (
     Rule("GM505", "np_random Generator API", FixKind.AUTO, "RandomState methods on `np_random` become their Generator equivalents."),
@@ -78,7 +79,7 @@ class GeneratorApi(RuleFamily):
     def decide(self) -> None:
         self.env = EnvClasses.of(self.facts, self.receivers)
         self._noted_stream = False
-        self._asked: dict[tuple[int, str], int] = {}  # (class, question) -> line it was asked at
+        self._asked = Repeats()  # one question per class: is its inherited np_random a Generator?
         calls = [call for method in RNG_METHODS for call in self.facts.attribute_calls.get(method, ())]
         # In the order a LibCST traversal leaves them (inner calls first): the first
         # rewritten site carries the one note about the changed random stream.
@@ -139,13 +140,8 @@ class GeneratorApi(RuleFamily):
         if kind is not FixKind.AUTO and why:
             # One question per class (is its base a gym class?): asked at the first call,
             # the class's other calls are notes that point there.
-            key = (id(self.facts.enclosing_class(call)), why)
-            first = self._asked.setdefault(key, call.lineno)
-            if first == call.lineno:
-                message = f"{message}; {why}"
-            else:
-                message = f"{message} (the same question as line {first})"
-                tier = Tier.NOTE
+            tier, same = self._asked.tier((id(self.facts.enclosing_class(call)), why), call, "question")
+            message = f"{message}{same}" if same else f"{message}; {why}"
         self.report(call, code, message, kind, tier=tier)
         self._note_stream(call, code)
 

@@ -272,7 +272,7 @@ class SpacesLogger(RuleFamily):
         for name in REMOVED_ERRORS:
             for attribute in sorted(self.facts.attributes.get(name, ()), key=lambda a: (a.lineno, a.col_offset)):
                 if self.facts.qualified_names(attribute.value) & ERROR_MODULES:
-                    tier, same = repeats.tier(name, attribute.lineno)
+                    tier, same = repeats.tier(name, attribute)
                     self.report(attribute, "GM907", _error_message(name) + same, tier=tier)
 
     # -- GM908: check_env(warn=) -------------------------------------------------------

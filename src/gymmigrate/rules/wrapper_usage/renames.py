@@ -300,7 +300,7 @@ class WrapperRenames(RuleFamily):
                 continue
             name = rest.rsplit(".", 1)[-1]
             if name in REMOVED and (dotted_name(node) or "").endswith(name):
-                tier, same = self._removed_repeats.tier(name, node.lineno)
+                tier, same = self._removed_repeats.tier(name, node)
                 self.report(node, "GM610", f"`{name}` was removed in Gymnasium 1.0: {REMOVED[name]}{same}", tier=tier)
                 return
 
