@@ -65,3 +65,13 @@ def test_seed_removed_when_its_caller_is_migrated(monkeypatch) -> None:
     module = migrated_module("GM503", "seed_caller_in_file_migrated", monkeypatch)
     assert not hasattr(module["Dice"], "seed")
     assert module["main"]() == module["main"](), "main() seeds through reset(seed=3)"
+
+
+def test_render_keeps_its_mode_while_an_untraced_caller_passes_one(monkeypatch) -> None:
+    module = migrated_module("GM405", "render_kept_for_untraced_caller", monkeypatch)
+    picture, frames = module["main"]()  # `env.render(mode="rgb_array")` on a GridEnv: no TypeError
+    assert picture.shape == (4, 4, 3) and len(frames) == 2
+    env = module["GridEnv"]()
+    assert isinstance(env, gymnasium.Env)
+    obs, info = env.reset(seed=0)
+    assert obs == 0 and info == {}

@@ -109,6 +109,8 @@ _MONITOR_POSITIONS = ("env", "directory", "video_callable")
 _RECORDER_ATTRIBUTES = ("RecordVideo", "play", "VecVideoRecorder", "Monitor")
 # ``plan.notes`` key shared with the wrapper family: {id(make call): render mode added}.
 RENDER_MODE_NOTE = "render_mode"
+# ``plan.notes`` key read by the custom env rules: render calls left passing a mode.
+RENDER_MODE_CALLS_LEFT = "render_mode_calls_left"
 
 
 @dataclass
@@ -144,7 +146,8 @@ class Rendering(RuleFamily):
         self._legacy_025 = LEGACY_SINGLE_FRAME in self.facts.text
         self._added: dict[int, str] = self.plan.notes.setdefault(RENDER_MODE_NOTE, {})
         self._noted = dict(self._added)  # modes another family gives a make in this run
-        self._scheduled: dict[int, str] = {}  # id(make) -> the creation-time condition of its renders
+        self._scheduled: dict[int, str] = {}
+        self._mode_dropped: set[int] = set()  # render calls that lose their mode argument  # id(make) -> the creation-time condition of its renders
         render_calls = self.facts.attribute_calls.get("render", [])
         # A file that still passes modes to render() is legacy code even once its imports
         # say gymnasium (e.g. a conflict reported on a first run): its bare render()
@@ -157,6 +160,16 @@ class Rendering(RuleFamily):
                 sites.append(site)
         self._plan_sites(sites)
         self._plan_make_literals()
+        # Render calls that still pass a mode after this run: a local env class whose
+        # render(mode) they may reach keeps its signature (custom_env/render.py).
+        # (Calls inside a render method forward its mode: the Env/Wrapper rules own them.)
+        self.plan.notes[RENDER_MODE_CALLS_LEFT] = [
+            call
+            for call in render_calls
+            if _mode_argument(call) is not None
+            and id(call) not in self._mode_dropped
+            and getattr(self.facts.enclosing_function(call), "name", None) != "render"
+        ]
 
     def _is_make(self, call: ast.Call) -> bool:
         return self.facts.memo(
@@ -424,6 +437,7 @@ class Rendering(RuleFamily):
             )
             if code == "GM401":
                 self.plan.replace(call, _without_mode_argument)
+                self._mode_dropped.add(id(call))
             return
         if code == "GM402":
             if added:
@@ -435,6 +449,7 @@ class Rendering(RuleFamily):
                 )
             return
         self.plan.replace(call, _without_mode_argument)
+        self._mode_dropped.add(id(call))
         if self._legacy_025 and site.mode == RGB_ARRAY and not site.legacy_spelling:
             self.report(
                 call,

@@ -9,8 +9,12 @@ from __future__ import annotations
 
 import ast
 
+from gymmigrate.facts import names as N
+from gymmigrate.facts.creation import CreationFinder
+from gymmigrate.facts.receivers import EnvKind
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import ClassDecision, param_names
+from gymmigrate.rules.rendering import RENDER_MODE_CALLS_LEFT
 
 
 def decide_render(decision: ClassDecision) -> None:
@@ -28,6 +32,18 @@ def decide_render(decision: ClassDecision) -> None:
     if default is not None:
         text = decision.family.facts.segment(default)
         old_default = f" (the old default was {text}: pass render_mode={text} to gymnasium.make to keep it)"
+    blocking = _unmigrated_mode_call(decision)
+    if blocking is not None:
+        facts = decision.family.facts
+        decision.report(
+            function,
+            "GM405",
+            f"render(mode) kept: `{facts.segment(blocking)}` on line {blocking.lineno} still passes a mode (its env's "
+            "creation could not be followed, so it was not migrated) and may reach this class; give that env its "
+            "render_mode where it is made, then run again",
+            FixKind.FLAG,
+        )
+        return
     decision.plan.render = True
     _report_forwarded_modes(decision, function)
     # Notes: the standard Gymnasium signature, applied; the render calls and creation
@@ -72,3 +88,35 @@ def _report_forwarded_modes(decision: ClassDecision, function: ast.AST) -> None:
 
 def _is_super(node: ast.AST) -> bool:
     return isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "super"
+
+
+def _unmigrated_mode_call(decision: ClassDecision) -> ast.Call | None:
+    """A render call elsewhere in the file that the rendering rules leave passing a mode
+    and that may reach an instance of this class: removing ``mode`` from this render()
+    would turn it into a TypeError."""
+    family = decision.family
+    left = family.plan.notes.get(RENDER_MODE_CALLS_LEFT, ())
+    if not left:
+        return None
+    finder = family.facts.memo(("custom-env-render-finder", 0), lambda: CreationFinder(family.facts, family.receivers, _is_creation(family)))
+    for call in left:
+        if family.facts.enclosing_class(call) is decision.classdef:
+            continue  # its own calls: forwarding (above) or self.render(...)
+        receiver = call.func.value  # type: ignore[attr-defined]
+        if family.receivers.kind_of(receiver) not in (EnvKind.GYM_ENV, EnvKind.UNKNOWN):
+            continue
+        creation = finder.find(receiver)
+        if creation.found and not any(family.receivers.local_class(c.func) is decision.classdef for c in creation.calls):
+            continue  # made elsewhere (gym.make or another class): not this class's render
+        return call
+    return None
+
+
+def _is_creation(family):  # type: ignore[no-untyped-def]
+    """gym.make and friends, or a call of a class defined in this file."""
+    def is_creation(call: ast.Call) -> bool:
+        if family.receivers.local_class(call.func) is not None:
+            return True
+        return any(N.strip_gym_prefix(q) in N.GYM_ENV_FACTORIES for q in family.facts.qualified_names(call.func))
+
+    return is_creation
