@@ -54,3 +54,14 @@ def test_render_on_a_step_schedule_is_not_made_human(made_modes, monkeypatch) ->
     with pytest.warns(UserWarning, match="render_mode"):  # Gymnasium: render() without a mode
         run_migrated("GM402", "render_on_step_schedule", monkeypatch)
     assert made_modes == [None], "the make is left as it was and the site is reported"
+
+
+def test_render_in_an_else_branch_gets_the_negated_condition(made_modes, monkeypatch) -> None:
+    module = run_migrated("GM402", "render_in_else_branch", monkeypatch)
+    module["run"](True, episodes=1)
+    module["run_or"](True)
+    assert made_modes == [None, None], "quiet / skip_render: nothing draws, as before"
+    with pytest.warns(UserWarning):  # the stand-in make drops "human"; render() then warns
+        module["run"](False, episodes=1)
+        module["run_or"](False)
+    assert made_modes[2:] == ["human", "human"]

@@ -25,32 +25,36 @@ from gymmigrate.facts import ModuleFacts
 _PLAIN = (ast.Compare, ast.BoolOp, ast.UnaryOp, ast.Constant, ast.Name, ast.Attribute, ast.Load, ast.cmpop, ast.boolop, ast.unaryop)
 
 
-def render_condition(facts: ModuleFacts, render: ast.Call, make: ast.Call) -> list[ast.expr]:
-    """The conditions that guard ``render`` but not ``make``: the tests of the ``if``
-    statements (or the other operands of ``and``/``or``, or an ``if`` expression) that
-    enclose the render call below the nearest node that also encloses the make."""
+# One guard of a render call: the expression, and whether the render runs when it is
+# false (an ``else`` branch, the right side of ``or``).
+Guard = tuple[ast.AST, bool]
+
+
+def render_condition(facts: ModuleFacts, render: ast.Call, make: ast.Call) -> list[Guard]:
+    """The guards of ``render`` that do not guard ``make``: the tests of the ``if``
+    statements and expressions, and the operands of ``and``/``or`` before it, between the
+    render call and the nearest node that also encloses the make."""
     around_make = {id(node) for node in facts.ancestors(make)}
-    tests: list[ast.expr] = []
+    guards: list[Guard] = []
     child: ast.AST = render
     for ancestor in facts.ancestors(render):
         if id(ancestor) in around_make:
             break
-        if isinstance(ancestor, ast.If) and child is not ancestor.test:
-            tests.append(ancestor.test)
-        elif isinstance(ancestor, ast.IfExp) and child is not ancestor.test:
-            tests.append(ancestor.test)
-        elif isinstance(ancestor, ast.BoolOp) and child is not ancestor.values[0]:
-            # `render and env.render()`; under `or` the whole expression stands (it holds a call).
-            tests.append(ancestor.values[0] if isinstance(ancestor.op, ast.And) else ancestor)
+        if isinstance(ancestor, (ast.If, ast.IfExp)) and child is not ancestor.test:
+            in_else = child in ancestor.orelse if isinstance(ancestor, ast.If) else child is ancestor.orelse
+            guards.append((ancestor.test, in_else))
+        elif isinstance(ancestor, ast.BoolOp):
+            before = ancestor.values[: next(i for i, v in enumerate(ancestor.values) if v is child)]
+            guards.extend((value, isinstance(ancestor.op, ast.Or)) for value in before)
         elif isinstance(ancestor, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda)):
             # Rendered from another function (a callback): its schedule is its caller's.
-            tests.append(ancestor)  # type: ignore[arg-type]
+            guards.append((ancestor, False))
             break
         child = ancestor
-    return tests
+    return guards
 
 
-def fixed_at_creation(facts: ModuleFacts, test: ast.expr, make: ast.Call) -> bool:
+def fixed_at_creation(facts: ModuleFacts, test: ast.AST, make: ast.Call) -> bool:
     """``test`` has the same value when ``make`` runs as when the render call runs."""
     if not all(isinstance(node, _PLAIN) for node in ast.walk(test)):
         return False
@@ -77,19 +81,22 @@ def schedule(facts: ModuleFacts, renders: list[ast.Call], make: ast.Call) -> tup
     when they all run under one condition known at creation (``text`` is its source);
     ``("varies", text)`` otherwise (``text`` names the condition)."""
     conditions = [render_condition(facts, render, make) for render in renders]
-    if any(not tests for tests in conditions):
+    if any(not guards for guards in conditions):
         return "always", None  # one render runs on every pass: human mode draws as before
-    texts = {" and ".join(_text(facts, t) for t in tests) for tests in conditions}
+    texts = {" and ".join(_text(facts, guard) for guard in guards) for guards in conditions}
     first = next(iter(texts))
-    if len(texts) == 1 and all(fixed_at_creation(facts, t, make) for t in conditions[0]):
+    if len(texts) == 1 and all(fixed_at_creation(facts, test, make) for test, _ in conditions[0]):
         return "fixed", first
     return "varies", first
 
 
-def _text(facts: ModuleFacts, test: ast.AST) -> str:
+def _text(facts: ModuleFacts, guard: Guard) -> str:
+    test, negated = guard
     if isinstance(test, (ast.FunctionDef, ast.AsyncFunctionDef)):
         return f"{test.name}() is called"
     if isinstance(test, ast.Lambda):
         return "a lambda is called"
     text = facts.segment(test)
+    if negated:
+        return f"not {text}" if isinstance(test, (ast.Name, ast.Attribute)) else f"not ({text})"
     return f"({text})" if isinstance(test, (ast.BoolOp, ast.IfExp)) else text
