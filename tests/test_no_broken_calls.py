@@ -75,3 +75,10 @@ def test_render_keeps_its_mode_while_an_untraced_caller_passes_one(monkeypatch) 
     assert isinstance(env, gymnasium.Env)
     obs, info = env.reset(seed=0)
     assert obs == 0 and info == {}
+
+
+def test_seed_kept_while_a_subclass_calls_it(monkeypatch) -> None:
+    module = migrated_module("GM503", "seed_kept_for_subclass_call", monkeypatch)
+    child = module["Child"]()  # its __init__ calls self.seed(7), inherited from Base
+    obs, info = child.reset()
+    assert 0 <= obs < 6 and info == {}

@@ -34,7 +34,8 @@ def decide_seed(decision: ClassDecision) -> None:
             seed_method,
             "GM503",
             f"seed() kept: `{facts.segment(kept_for)}` on line {kept_for.lineno} may call it and is left as it was "
-            "(its receiver could not be traced); once it seeds through reset(seed=...), remove this method",
+            "(a subclass's call, or a receiver that could not be traced); once it seeds through reset(seed=...), "
+            "remove this method",
             FixKind.FLAG,
         )
         return
@@ -112,14 +113,42 @@ def _untraced_seed_call(decision: ClassDecision) -> ast.Call | None:
     family = decision.family
     for call in family.facts.attribute_calls.get("seed", ()):
         receiver = call.func.value  # type: ignore[attr-defined]
-        if is_space(receiver) or (isinstance(receiver, ast.Name) and receiver.id == "self"):
+        if is_space(receiver):
             continue
-        if isinstance(receiver, ast.Call) and isinstance(receiver.func, ast.Name) and receiver.func.id == "super":
+        on_self = isinstance(receiver, ast.Name) and receiver.id == "self"
+        on_super = isinstance(receiver, ast.Call) and isinstance(receiver.func, ast.Name) and receiver.func.id == "super"
+        if on_self or on_super:
+            # `self.seed(7)` in a subclass that inherits this seed(): it would lose it.
+            # (A subclass's own seed() is decided with that subclass.)
+            caller = family.facts.enclosing_class(call)
+            if caller is not None and caller is not decision.classdef and _inherits_seed(decision, caller):
+                function = family.facts.enclosing_function(call)
+                if function is None or function.name != "seed":
+                    return call
             continue
         verdict = decide(family.receivers.kind_of(receiver), receiver, family.context.profile)
         if verdict.action is Action.REPORT:
             return call
     return None
+
+
+def _inherits_seed(decision: ClassDecision, classdef: ast.ClassDef) -> bool:
+    """``classdef`` derives from the decided class through local classes, none of which
+    (``classdef`` included) defines its own seed() in between."""
+    receivers = decision.family.receivers
+    seen: set[int] = set()
+    todo = [classdef]
+    while todo:
+        current = todo.pop()
+        if id(current) in seen:
+            continue
+        seen.add(id(current))
+        if current is decision.classdef:
+            return True
+        if any(isinstance(s, (ast.FunctionDef, ast.AsyncFunctionDef)) and s.name in ("seed", "_seed") for s in current.body):
+            continue
+        todo.extend(base for b in current.bases if (base := receivers.local_class(b)) is not None)
+    return False
 
 
 def _seed_call_sites(decision: ClassDecision) -> list[ast.Call]:
