@@ -64,17 +64,20 @@ def _report_truncated_false(decision: ClassDecision, ret: ast.Return, limit_hint
 
 
 def _names_a_counter(decision: ClassDecision) -> bool:
-    """The class counts something by a constant (``self.steps += 1``, ``self.rounds -= 1``,
-    ``t = t + 1``): that count may end episodes on a limit, so a person decides. Physics
-    updates (``self.x += dx``) are not counts."""
+    """The class counts something (``self.steps += 1``, ``self.rounds -= 1``, ``t = t + 1``,
+    ``self.time += self.dt``) or tests a step limit anywhere: that may end episodes on a
+    limit, so a person decides. Physics updates (``self.x += dx``) are not counts."""
     facts = decision.family.facts
 
     def compute() -> bool:
         if decision.env.has_local_env_base(decision.classdef):
             return True  # the base class in this file may count steps for it
         for node in ast.walk(decision.classdef):
-            if isinstance(node, ast.AugAssign) and isinstance(node.op, (ast.Add, ast.Sub)) and _is_number(node.value):
-                return True
+            if isinstance(node, ast.AugAssign) and isinstance(node.op, (ast.Add, ast.Sub)):
+                if _is_number(node.value) or any(STEP_LIMIT_WORD.search(w) for w in identifiers(node.target)):
+                    return True  # `self.steps += 1`, `self.t += self.dt`
+            if isinstance(node, ast.Compare) and _is_step_limit(node):
+                return True  # a step-limit test in a helper (`def _done(self): return self.t > 200`)
             if (
                 isinstance(node, ast.Assign)
                 and len(node.targets) == 1
