@@ -30,3 +30,16 @@ def test_a_file_that_lowers_gyms_level_keeps_its_log_calls_reported() -> None:
     result = transform_source(path.read_bytes(), str(path))
     assert b"gym.logger.info(" in result.rewritten
     assert any(f.rule == "GM906" and f.needs_review and "info" in f.message for f in result.findings)
+
+
+def test_a_step_limit_wrapper_truncates() -> None:
+    import gymnasium
+
+    path = RULE_FIXTURES / "GM602" / "time_limit_pattern.py"
+    rewritten = transform_source(path.read_bytes(), str(path)).rewritten
+    namespace: dict[str, object] = {"__name__": "migrated_time_limit"}
+    exec(compile(rewritten, str(path), "exec"), namespace)  # noqa: S102 (our own fixture)
+    env = namespace["StepLimit"](gymnasium.make("CartPole-v1").unwrapped, max_episode_steps=3)
+    env.reset(seed=0)
+    flags = [env.step(i % 2)[2:4] for i in range(3)]
+    assert flags == [(False, False), (False, False), (False, True)], "the third step is cut by the limit"

@@ -76,7 +76,7 @@ def _names_a_counter(decision: ClassDecision) -> bool:
             if isinstance(node, ast.AugAssign) and isinstance(node.op, (ast.Add, ast.Sub)):
                 if _is_number(node.value) or any(STEP_LIMIT_WORD.search(w) for w in identifiers(node.target)):
                     return True  # `self.steps += 1`, `self.t += self.dt`
-            if isinstance(node, ast.Compare) and _is_step_limit(node):
+            if isinstance(node, ast.Compare) and is_step_limit(node):
                 return True  # a step-limit test in a helper (`def _done(self): return self.t > 200`)
             if (
                 isinstance(node, ast.Assign)
@@ -97,7 +97,7 @@ def _is_number(node: ast.AST) -> bool:
 
 
 def _step_limit_text(decision: ClassDecision, function: ast.AST) -> str | None:
-    found = [c for s in function.body for c in ast.walk(s) if isinstance(c, ast.Compare) and _is_step_limit(c)]  # type: ignore[attr-defined]
+    found = [c for s in function.body for c in ast.walk(s) if isinstance(c, ast.Compare) and is_step_limit(c)]  # type: ignore[attr-defined]
     if not found:
         return None
     first = min(found, key=lambda c: (c.lineno, c.col_offset, -(c.end_lineno or 0), -(c.end_col_offset or 0)))
@@ -126,7 +126,7 @@ def _parenthesized_text(decision: ClassDecision, node: ast.expr) -> str:
         text = line[start:end]
 
 
-def _is_step_limit(expr: ast.AST) -> bool:
+def is_step_limit(expr: ast.AST) -> bool:
     if not isinstance(expr, ast.Compare) or not all(isinstance(op, _LIMIT_OPS) for op in expr.ops):
         return False
     return any(STEP_LIMIT_WORD.search(word) and "beyond" not in word for word in identifiers(expr))
@@ -149,7 +149,7 @@ def _split_done(expr: ast.AST) -> bool:
         and not isinstance(expr.args[0], ast.Starred)
     ):
         expr = expr.args[0]
-    return any(_is_step_limit(op) for op in _or_operands(expr))
+    return any(is_step_limit(op) for op in _or_operands(expr))
 
 
 def _single_assignment(index: FunctionIndex, name: str) -> ast.AST | None:
