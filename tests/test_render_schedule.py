@@ -65,3 +65,9 @@ def test_render_in_an_else_branch_gets_the_negated_condition(made_modes, monkeyp
         module["run"](False, episodes=1)
         module["run_or"](False)
     assert made_modes[2:] == ["human", "human"]
+
+
+def test_render_mode_on_a_step_schedule_loses_its_mode_but_no_human_mode(made_modes, monkeypatch) -> None:
+    with pytest.warns(UserWarning, match="render_mode"):  # render() without a mode: no TypeError
+        run_migrated("GM401", "render_mode_on_step_schedule", monkeypatch)
+    assert made_modes == [None]

@@ -146,8 +146,9 @@ class Rendering(RuleFamily):
         self._legacy_025 = LEGACY_SINGLE_FRAME in self.facts.text
         self._added: dict[int, str] = self.plan.notes.setdefault(RENDER_MODE_NOTE, {})
         self._noted = dict(self._added)  # modes another family gives a make in this run
-        self._scheduled: dict[int, str] = {}
-        self._mode_dropped: set[int] = set()  # render calls that lose their mode argument  # id(make) -> the creation-time condition of its renders
+        self._scheduled: dict[int, str] = {}  # id(make) -> the creation-time condition of its renders
+        self._unscheduled: dict[int, str] = {}  # id(make) -> the run-time condition of its renders
+        self._mode_dropped: set[int] = set()  # render calls that lose their mode argument
         render_calls = self.facts.attribute_calls.get("render", [])
         # A file that still passes modes to render() is legacy code even once its imports
         # say gymnasium (e.g. a conflict reported on a first run): its bare render()
@@ -369,11 +370,7 @@ class Rendering(RuleFamily):
             self._scheduled[key] = condition  # type: ignore[assignment]
             return True
         final_mode[key] = None
-        blocked[key] = (
-            f"render() runs only when {condition}, but render_mode=\"human\" would draw every step: keep the "
-            'schedule by creating the env with render_mode="rgb_array" and showing the frame render() returns '
-            'here, or choose render_mode="human" if drawing every step is intended'
-        )
+        self._unscheduled[key] = condition  # type: ignore[assignment]
         return True
 
     def _add_mode(self, make: ast.Call, mode: str, quote: str) -> None:
@@ -404,6 +401,20 @@ class Rendering(RuleFamily):
         keys = [id(m) for m in site.creation.calls]
         if code == "GM402" and all(keyword(makes[k], "render_mode") is not None for k in keys):
             return  # the make already chose a mode: this bare render() is Gymnasium's API
+        unscheduled = [self._unscheduled[k] for k in keys if k in self._unscheduled]
+        if unscheduled:
+            choice = (
+                f"render() runs only when {unscheduled[0]}, but render_mode=\"human\" would draw every step: keep "
+                'the schedule by creating the env with render_mode="rgb_array" and showing the frame render() '
+                'returns here, or choose render_mode="human" if drawing every step is intended'
+            )
+            if code == "GM401":  # render(mode=...) raises TypeError in Gymnasium: the mode goes
+                self.plan.replace(call, _without_mode_argument)
+                self._mode_dropped.add(id(call))
+                self.report(call, code, f"mode dropped, no render_mode added (it draws nothing until you choose): {choice}")
+            else:
+                self.report(call, code, f"not rewritten: {choice}", FixKind.FLAG)
+            return
         reasons = [blocked[k] for k in keys if k in blocked]
         if reasons:
             self.report(call, code, f"not rewritten: {reasons[0]}", FixKind.FLAG)
