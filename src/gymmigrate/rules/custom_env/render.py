@@ -2,12 +2,17 @@
 
 ``gymnasium.make(id, render_mode=...)`` passes the mode to the constructor, so
 ``__init__`` takes ``render_mode=None`` and stores it; without a mode, ``render()``
-draws nothing (Gymnasium's convention).
+draws nothing (Gymnasium's convention). No caller is left broken: a forwarding
+``env.render(mode, ...)`` to inner envs stops passing the mode (reviewed), and the
+signature is kept (reported) while a render call elsewhere in the file still passes a
+mode and may reach an instance of the class.
 """
 
 from __future__ import annotations
 
 import ast
+from collections.abc import Callable
+from typing import TYPE_CHECKING
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.creation import CreationFinder
@@ -15,6 +20,9 @@ from gymmigrate.facts.receivers import EnvKind
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import ClassDecision, param_names
 from gymmigrate.rules.rendering import RENDER_MODE_CALLS_LEFT
+
+if TYPE_CHECKING:
+    from gymmigrate.rules.base import RuleFamily
 
 
 def decide_render(decision: ClassDecision) -> None:
@@ -59,8 +67,6 @@ def decide_render(decision: ClassDecision) -> None:
         return
     if "render_mode" not in param_names(init):
         decision.report(init, "GM405", "__init__ takes render_mode=None (gymnasium.make passes it) and stores self.render_mode", tier=Tier.NOTE)
-
-
 
 
 def _report_forwarded_modes(decision: ClassDecision, function: ast.AST) -> None:
@@ -112,7 +118,7 @@ def _unmigrated_mode_call(decision: ClassDecision) -> ast.Call | None:
     return None
 
 
-def _is_creation(family):  # type: ignore[no-untyped-def]
+def _is_creation(family: RuleFamily) -> Callable[[ast.Call], bool]:
     """gym.make and friends, or a call of a class defined in this file."""
     def is_creation(call: ast.Call) -> bool:
         if family.receivers.local_class(call.func) is not None:

@@ -4,7 +4,9 @@ The canonical ``self.np_random, seed = seeding.np_random(seed)`` body is deleted
 anything else that uses the seed moves into ``reset`` under ``if seed is not None:``;
 set-up that does not touch the seed (spaces, simulators) moves into ``__init__`` where
 ``self.seed()`` was called; ``self.seed()`` calls go. Where the result of ``seed()`` is
-used, or the body returns early, the method is only reported.
+used, or the body returns early, the method is only reported. So is a method that a
+caller elsewhere in the file may still reach: ``self.seed(7)`` in a subclass that
+inherits it, or an ``x.seed(3)`` the seed rules leave because ``x`` could not be traced.
 """
 
 from __future__ import annotations
