@@ -30,7 +30,7 @@ def decide_step(decision: ClassDecision) -> None:
     limit_hint = _step_limit_text(decision, function)
     # No step limit is possible when the class counts nothing: truncated=False is then
     # exact (TimeLimit truncates), an explanation rather than a question.
-    no_counter = limit_hint is None and not _names_a_counter(decision)
+    no_counter = limit_hint is None and not _counts_toward_a_limit(decision)
     plain = (
         "step returns terminated (the old done) and truncated=False: the class counts nothing that could end "
         "an episode on a limit, so truncation is left to TimeLimit (max_episode_steps)"
@@ -63,7 +63,7 @@ def _report_truncated_false(decision: ClassDecision, ret: ast.Return, limit_hint
         decision.report(ret, "GM504", _truncated_false_message(limit_hint), FixKind.ASSIST)
 
 
-def _names_a_counter(decision: ClassDecision) -> bool:
+def _counts_toward_a_limit(decision: ClassDecision) -> bool:
     """The class counts something (``self.steps += 1``, ``self.rounds -= 1``, ``t = t + 1``,
     ``self.time += self.dt``) or tests a step limit anywhere: that may end episodes on a
     limit, so a person decides. Physics updates (``self.x += dx``) are not counts."""
@@ -84,9 +84,9 @@ def _names_a_counter(decision: ClassDecision) -> bool:
                 and isinstance(node.value, ast.BinOp)
                 and isinstance(node.value.op, (ast.Add, ast.Sub))
                 and _is_number(node.value.right)
-                and ast.dump(node.value.left) == ast.dump(node.targets[0], annotate_fields=True).replace("Store()", "Load()")
+                and facts.segment(node.value.left) == facts.segment(node.targets[0])
             ):
-                return True
+                return True  # `self.t = self.t + 1`
         return False
 
     return facts.memo(("counts-by-constant", id(decision.classdef)), compute)  # type: ignore[no-any-return]
