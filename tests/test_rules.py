@@ -66,5 +66,5 @@ def test_check_decides_like_rewrite(case) -> None:
     rewritten = transform_source(source, str(case.source))
     findings, would_change = lint_source(source, str(case.source))
     assert would_change == rewritten.changed
-    strip = lambda items: sorted((f.line, f.column, f.rule, f.kind, f.message) for f in items)  # noqa: E731
+    strip = lambda items: sorted((f.line, f.column, f.rule, f.kind, f.tier, f.message) for f in items)  # noqa: E731
     assert strip(findings) == strip(rewritten.findings)
