@@ -34,8 +34,9 @@ the median of ``--repeat`` runs (default 3) unless said otherwise:
 
 Also printed, from one ``gymmigrate rewrite --diff --report REPORT.json`` over the Gym
 set: files errored, "not stable" refusals, internal errors, review items per 1,000
-lines and duplicate findings (same path, line, rule and message more than once).
-A field the report lacks is shown as n/a.
+lines (target: at most 9), review items per rule, duplicate findings (same path, line,
+rule and message more than once; target: none) and the notes (explanations of rewrites
+already applied) with their share of all findings. A field the report lacks is n/a.
 
 Verdicts apply to wall time. Next to it the table shows CPU time (user + system of the
 process and the workers it waited for): wall time is what a user waits, CPU time barely
@@ -406,6 +407,9 @@ def summarise_report(path: Path, total_lines: int) -> dict[str, object]:
         "internal_errors": None,
         "review_items": None,
         "review_per_1000_lines": None,
+        "notes": None,
+        "notes_share": None,
+        "review_per_rule": {},
         "duplicate_findings": None,
         "duplicate_examples": [],
         "errors": [],
@@ -437,17 +441,25 @@ def summarise_report(path: Path, total_lines: int) -> dict[str, object]:
         out["review_items"] = sum(len(f["review"]) for f in files)
     if isinstance(out["review_items"], int) and total_lines:
         out["review_per_1000_lines"] = out["review_items"] * 1000 / total_lines
+    if isinstance(summary.get("notes"), int):
+        out["notes"] = summary["notes"]
+        if isinstance(out["review_items"], int) and out["notes"] + out["review_items"]:
+            out["notes_share"] = out["notes"] / (out["notes"] + out["review_items"])
+    if files is not None:
+        per_rule = Counter(str(r.get("rule")) for f in files if isinstance(f, dict) for r in f.get("review") or [])
+        out["review_per_rule"] = dict(per_rule.most_common())
 
     if files is not None and all(isinstance(f, dict) and ("changes" in f or "review" in f) for f in files):
-        # A finding that is both a change and a review item (kind "assist") is listed in
-        # both lists: take each identical record as many times as the longer list has it.
+        # Reports list each finding once, under "review" or "notes" (by tier). Older ones
+        # listed an assist finding under both "changes" and "review": take each identical
+        # record there as many times as the longer list has it.
         sites: Counter[tuple[object, ...]] = Counter()
         for entry in files:
             def records(key: str) -> Counter[str]:
                 items = entry.get(key) or []
                 return Counter(json.dumps(i, sort_keys=True) for i in items if isinstance(i, dict))
 
-            merged = records("changes") | records("review")
+            merged = (records("changes") | records("review")) + records("notes")
             for record, count in merged.items():
                 finding = json.loads(record)
                 site = (entry.get("path"), finding.get("line"), finding.get("rule"), finding.get("message"))
@@ -654,8 +666,11 @@ def main() -> None:
         f"not stable {show(report['not_stable'], '{}')}, "
         f"internal errors {show(report['internal_errors'], '{}')}, "
         f"review items {show(per_thousand, '{:.1f}')} per 1,000 lines ({show(report['review_items'], '{}')}), "
-        f"duplicate findings {show(report['duplicate_findings'], '{}')}"
+        f"duplicate findings {show(report['duplicate_findings'], '{}')}, "
+        f"notes {show(report['notes'], '{}')} ({show(report['notes_share'], '{:.0%}')} of all findings)"
     )
+    if report["review_per_rule"]:
+        print("  review items per rule: " + ", ".join(f"{rule} {n}" for rule, n in report["review_per_rule"].items()))  # type: ignore[union-attr]
     for error in report["errors"]:  # type: ignore[union-attr]
         print(f"  error: {error['path']}: {error['error']}")
     for example in report["duplicate_examples"]:  # type: ignore[union-attr]

@@ -2,8 +2,10 @@
 
 Each case is ``<name>.py`` (the input), an optional ``<name>.expected.py`` (the expected
 output; when absent the case is a no-op and the output must equal the input byte for
-byte) and a mandatory ``<name>.findings``: one ``LINE RULE KIND`` per expected finding
-(line in the input, kind auto/assist/flag), ``#`` comments allowed, empty for none.
+byte) and a mandatory ``<name>.findings``: one ``LINE RULE KIND [TIER]`` per expected
+finding (line in the input, kind auto/assist/flag), ``#`` comments allowed, empty for
+none. TIER (note/review) is written only where it differs from what the kind implies
+(an assist rewrite shown as a note).
 """
 
 from __future__ import annotations
@@ -31,15 +33,23 @@ class Case:
     def is_noop(self) -> bool:
         return self.expected is None
 
-    def expected_findings(self) -> list[tuple[int, str, str]]:
-        rows = []
+    def expected_findings(self) -> list[tuple]:
+        rows: list[tuple] = []
         for raw in self.findings.read_text(encoding="utf-8").splitlines():
             line = raw.split("#", 1)[0].strip()
             if not line:
                 continue
-            number, rule, kind = line.split()
-            rows.append((int(number), rule, kind))
+            number, rule, kind, *tier = line.split()
+            rows.append((int(number), rule, kind, *tier))
         return sorted(rows)
+
+
+def finding_row(finding) -> tuple:
+    """A finding as a ``.findings`` row: the tier only where the kind does not imply it."""
+    from gymmigrate.findings import Tier
+
+    row: tuple = (finding.line, finding.rule, finding.kind.value)
+    return row if finding.tier is Tier.of(finding.kind) else (*row, finding.tier.value)
 
 
 def collect_cases() -> list[Case]:

@@ -68,6 +68,15 @@ def test_review_items_are_listed_with_position(tmp_path: Path) -> None:
     assert f"{script}:2: GM105 (not rewritten)" in result.stderr
 
 
+def test_summary_lists_review_items_and_counts_notes(tmp_path: Path) -> None:
+    script = tmp_path / "old.py"
+    script.write_text("import gym\nfrom gym import GoalEnv\n")
+    result = runner.invoke(app, ["rewrite", "--diff", str(script)])
+    assert "Review (1)" in result.stderr
+    assert "1 note on rewrites already applied" in result.stderr
+    assert "GM101" not in result.stderr.split("Review (1)")[1], "a note is not a review item"
+
+
 def test_json_report(project: Path, tmp_path: Path) -> None:
     report = tmp_path / "report.json"
     (project / "old.py").write_text("import gym\nfrom gym import GoalEnv\n")
@@ -78,7 +87,7 @@ def test_json_report(project: Path, tmp_path: Path) -> None:
     assert data["summary"]["files_changed"] == 2
     by_path = {f["path"]: f for f in data["files"]}
     old = by_path[str(project / "old.py")]
-    assert old["changes"][0] == {
+    assert old["notes"][0] == {
         "line": 1,
         "column": 0,
         "rule": "GM101",
@@ -88,8 +97,10 @@ def test_json_report(project: Path, tmp_path: Path) -> None:
         "end_line": 1,
         "end_column": 10,
         "cell": None,
+        "tier": "note",
     }
-    assert [(r["line"], r["rule"], r["kind"]) for r in old["review"]] == [(2, "GM105", "flag")]
+    assert [(r["line"], r["rule"], r["kind"], r["tier"]) for r in old["review"]] == [(2, "GM105", "flag", "review")]
+    assert data["summary"]["review_items"] == 1 and data["summary"]["notes"] >= 1
 
 
 def test_bad_files_give_exit_two_and_the_rest_still_runs(project: Path) -> None:

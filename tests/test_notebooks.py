@@ -180,8 +180,9 @@ def test_check_locates_findings_by_cell_and_line(tmp_path: Path) -> None:
     assert result.exit_code == 1
     assert f"{tmp_path / 'loop.ipynb'}:cell 3:line 1:1: GM101 [auto]" in result.stdout
     assert f"{tmp_path / 'loop.ipynb'}:cell 6:line 5:5: GM301 [auto]" in result.stdout
-    changes = json.loads(report.read_text())["files"][0]["changes"]
-    assert {(c["rule"], c["cell"], c["line"]) for c in changes} >= {("GM101", 2, 1), ("GM301", 5, 5)}
+    file = json.loads(report.read_text())["files"][0]
+    findings = [*file["review"], *file["notes"]]
+    assert {(c["rule"], c["cell"], c["line"]) for c in findings} >= {("GM101", 2, 1), ("GM301", 5, 5)}
 
 
 def test_check_agrees_with_rewrite() -> None:

@@ -38,7 +38,7 @@ def _findings(folder: Path, tmp_path: Path, *paths: str) -> list[dict[str, objec
     report = tmp_path / "report.json"
     runner.invoke(app, ["check", "--report", str(report), *(str(folder / p) for p in paths)])
     data = json.loads(report.read_text())
-    return [dict(f, path=file["path"]) for file in data["files"] for f in [*file["changes"], *file["review"]]]
+    return [dict(f, path=file["path"]) for file in data["files"] for f in [*file["review"], *file["notes"]]]
 
 
 def test_one_rewrite_of_the_folder_migrates_the_package_and_it_trains(project: Path) -> None:

@@ -9,7 +9,7 @@ import pytest
 from gymmigrate.engine import transform_source
 from gymmigrate.findings import FixKind
 from gymmigrate.rules import all_rules
-from tests.fixture_cases import RULE_FIXTURES, collect_cases
+from tests.fixture_cases import RULE_FIXTURES, collect_cases, finding_row
 
 CASES = collect_cases()
 
@@ -28,7 +28,7 @@ def test_fixture(case) -> None:
         again = transform_source(expected, str(case.expected))
         assert again.rewritten == expected, "a second run must change nothing"
     assert case.findings.exists(), f"{case.findings.name} is missing: every case states its findings"
-    found = sorted((f.line, f.rule, f.kind.value) for f in result.findings)
+    found = sorted(finding_row(f) for f in result.findings)
     assert found == case.expected_findings()
 
 
@@ -39,10 +39,10 @@ def test_every_rule_has_rewrite_and_noop_fixtures() -> None:
     missing = []
     for rule in all_rules():
         cases = by_dir.get(rule.code, [])
-        fires = [c for c in cases if any(r == rule.code for _, r, _ in c.expected_findings())]
+        fires = [c for c in cases if any(row[1] == rule.code for row in c.expected_findings())]
         if rule.kind is not FixKind.FLAG:
             fires = [c for c in fires if not c.is_noop]
-        quiet = [c for c in cases if c.is_noop and not any(r == rule.code for _, r, _ in c.expected_findings())]
+        quiet = [c for c in cases if c.is_noop and not any(row[1] == rule.code for row in c.expected_findings())]
         if not fires:
             missing.append(f"{rule.code}: no case in fixtures/rules/{rule.code}/ where it fires")
         if not quiet:
@@ -66,5 +66,5 @@ def test_check_decides_like_rewrite(case) -> None:
     rewritten = transform_source(source, str(case.source))
     findings, would_change = lint_source(source, str(case.source))
     assert would_change == rewritten.changed
-    strip = lambda items: sorted((f.line, f.column, f.rule, f.kind, f.message) for f in items)  # noqa: E731
+    strip = lambda items: sorted((f.line, f.column, f.rule, f.kind, f.tier, f.message) for f in items)  # noqa: E731
     assert strip(findings) == strip(rewritten.findings)

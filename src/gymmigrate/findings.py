@@ -2,7 +2,14 @@
 
 Findings are small frozen dataclasses so that a process pool can return them and
 every output format (summary, JSON report, later SARIF/GitHub annotations) reads the
-same record: rule id, position, fix kind and a one-sentence message.
+same record: rule id, position, fix kind, tier and a one-sentence message.
+
+Two tiers: *review* items are places where a person must decide (the summary lists
+them); *notes* explain rewrites already applied (the summary counts them, the JSON
+report lists them). The tier follows from the kind (auto -> note, assist/flag ->
+review) unless the rule says otherwise: an assist rewrite whose shift is fully
+explained and asks nothing of the reader (``__init__`` gains ``render_mode=None``)
+is a note.
 """
 
 from __future__ import annotations
@@ -32,6 +39,17 @@ class FixKind(str, Enum):
         return self is not FixKind.AUTO
 
 
+class Tier(str, Enum):
+    """Where a finding is shown: REVIEW needs a person's decision, NOTE explains a rewrite."""
+
+    REVIEW = "review"
+    NOTE = "note"
+
+    @classmethod
+    def of(cls, kind: FixKind) -> Tier:
+        return cls.REVIEW if kind.needs_review else cls.NOTE
+
+
 @dataclass(frozen=True, order=True)
 class Finding:
     """One change or review item, positioned in the original source (1-based line, 0-based column).
@@ -40,6 +58,7 @@ class Finding:
     ``end_line``/``end_column`` close the span of the node reported (SARIF, editors).
     ``cell`` is the notebook cell (0-based) when the file is a notebook; ``line`` is
     then counted within that cell.
+    ``tier`` defaults to what the kind implies (``Tier.of(kind)``).
     """
 
     line: int
@@ -51,6 +70,11 @@ class Finding:
     end_line: int | None = None
     end_column: int | None = None
     cell: int | None = None
+    tier: Tier | None = None
+
+    def __post_init__(self) -> None:
+        if self.tier is None:
+            object.__setattr__(self, "tier", Tier.of(self.kind))
 
     @property
     def is_change(self) -> bool:
@@ -58,9 +82,10 @@ class Finding:
 
     @property
     def needs_review(self) -> bool:
-        return self.kind.needs_review
+        return self.tier is Tier.REVIEW
 
     def to_json(self) -> dict[str, object]:
         data = asdict(self)
         data["kind"] = self.kind.value
+        data["tier"] = self.tier.value  # type: ignore[union-attr]
         return data

@@ -73,6 +73,7 @@ def print_summary(results: Sequence[FileResult], *, wrote: bool, stream: TextIO 
     errors = [r for r in results if r.status is Status.ERROR]
     per_rule = changes_per_rule(results)
     review = [(r, f) for r in results for f in r.findings if f.needs_review]
+    notes = sum(not f.needs_review for r in results for f in r.findings)
 
     verb = "rewrote" if wrote else "would rewrite"
     console.print(
@@ -86,13 +87,15 @@ def print_summary(results: Sequence[FileResult], *, wrote: bool, stream: TextIO 
     elif per_rule:
         console.print("Changes per rule: " + ", ".join(f"{rule} x{count}" for rule, count in sorted(per_rule.items())))
     if review:
-        console.print(f"\n[bold yellow]Review ({len(review)})[/bold yellow]: places where the meaning may have shifted")
+        console.print(f"\n[bold yellow]Review ({len(review)})[/bold yellow]: places where a person must decide")
         for result, finding in review:
             line = finding.line_after if (wrote and result.written and finding.line_after) else finding.line
             tag = "rewritten" if finding.is_change else "not rewritten"
             console.print(
                 f"  {escape(location(result.path, finding, line))}: [bold]{finding.rule}[/bold] ({tag}) {escape(finding.message)}"
             )
+    if notes:
+        console.print(f"{notes} note{'s' if notes != 1 else ''} on rewrites already applied (listed by `check` and in --report)")
     for result in errors:
         console.print(f"[red]error[/red]: {escape(result.path)}: {escape(result.error or 'unknown error')}")
 
@@ -110,8 +113,9 @@ def report_json(results: Sequence[FileResult], *, wrote: bool, smoke: Sequence[o
                 "status": result.status.value,
                 "written": result.written,
                 "error": result.error,
-                "changes": [f.to_json() for f in result.findings if f.is_change],
+                # Each finding once, in its tier (every record also says "tier").
                 "review": [f.to_json() for f in result.findings if f.needs_review],
+                "notes": [f.to_json() for f in result.findings if not f.needs_review],
             }
         )
     per_rule = changes_per_rule(results)
@@ -125,6 +129,7 @@ def report_json(results: Sequence[FileResult], *, wrote: bool, smoke: Sequence[o
             "files_with_errors": sum(r.status is Status.ERROR for r in results),
             "changes_per_rule": dict(sorted(per_rule.items())),
             "review_items": sum(f.needs_review for r in results for f in r.findings),
+            "notes": sum(not f.needs_review for r in results for f in r.findings),
         },
         "files": files,
         # Every finding in the shape of `check --output-format json` (path, every field, fix_available).

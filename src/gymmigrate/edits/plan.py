@@ -16,7 +16,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
-from gymmigrate.findings import Finding, FixKind
+from gymmigrate.findings import Finding, FixKind, Tier
 
 if TYPE_CHECKING:  # LibCST is imported only by files that change
     import libcst as cst
@@ -52,7 +52,7 @@ class Plan:
     finding_families: list[str] = field(default_factory=list)  # the family that reported each
     _edits: list[_Edit] = field(default_factory=list)
     partial: bool = False  # some findings were dropped (with their edits)
-    _seen: set[tuple[int, int, str, str]] = field(default_factory=set)
+    _seen: set[tuple[int, str, str]] = field(default_factory=set)
 
     @property
     def has_edits(self) -> bool:
@@ -60,11 +60,13 @@ class Plan:
 
     # -- findings -------------------------------------------------------------------------
 
-    def report(self, node: ast.AST, code: str, kind: FixKind, message: str) -> None:
+    def report(self, node: ast.AST, code: str, kind: FixKind, message: str, tier: Tier | None = None) -> None:
         line = node.lineno  # type: ignore[attr-defined]
         column = self.facts.column(node)
-        key = (line, column, code, message)
-        if key in self._seen:  # two routes to the same conclusion: one item
+        # Two routes to the same conclusion, or the same item at two columns of one line
+        # (`env.render(); env.render()`): one item.
+        key = (line, code, message)
+        if key in self._seen:
             return
         self._seen.add(key)
         self.finding_nodes.append(node)
@@ -72,7 +74,14 @@ class Plan:
         end_line, end_column = self.facts.end(node)
         self.findings.append(
             Finding(
-                line=line, column=column, rule=code, kind=kind, message=message, end_line=end_line, end_column=end_column
+                line=line,
+                column=column,
+                rule=code,
+                kind=kind,
+                message=message,
+                end_line=end_line,
+                end_column=end_column,
+                tier=tier,
             )
         )
 

@@ -408,7 +408,53 @@ def local_env_class_takes_render_mode(facts: ModuleFacts, receivers: Receivers, 
         return project is not None and any(
             (found := project.imported_class(q)) is not None and found[1] for q in facts.qualified_names(call.func)
         )
-    return EnvClasses.of(facts, receivers).takes_render_mode(classdef)
+    return EnvClasses.of(facts, receivers).takes_render_mode(classdef) and id(classdef) not in render_kept_classes(
+        facts, receivers
+    )
+
+
+def render_kept_classes(facts: ModuleFacts, receivers: Receivers) -> frozenset[int]:
+    """Local env classes (by id) whose ``render(self, mode)`` must stay as it is.
+
+    A ``render`` call that passes a mode, on a receiver whose creation cannot be traced,
+    may reach an instance of any env class of the module: removing ``mode`` from that
+    class's render() would make the call a TypeError (custom_env/render.py keeps it).
+    Such a class takes no ``render_mode``, so ``GridEnv()`` is then no creation site.
+    """
+
+    def compute() -> frozenset[int]:
+        from gymmigrate.facts.receivers import EnvKind
+
+        def is_creation(call: ast.Call) -> bool:
+            return receivers.local_class(call.func) is not None or any(
+                N.strip_gym_prefix(q) in N.GYM_ENV_FACTORIES for q in facts.qualified_names(call.func)
+            )
+
+        finder = CreationFinder(facts, receivers, is_creation)
+        untraced: list[ast.Call] = []
+        for call in facts.attribute_calls.get("render", []):
+            if not _passes_mode(call) or getattr(facts.enclosing_function(call), "name", None) in ("render", "_render"):
+                continue  # no mode, or a render method forwarding its own mode
+            receiver = call.func.value  # type: ignore[attr-defined]
+            if receivers.kind_of(receiver) not in (EnvKind.GYM_ENV, EnvKind.UNKNOWN):
+                continue
+            if not finder.find(receiver).found:
+                untraced.append(call)
+        if not untraced:
+            return frozenset()
+        classes = EnvClasses.of(facts, receivers)
+        return frozenset(
+            id(classdef)
+            for classdef in facts.all_classes
+            if classes.is_custom_env(classdef) and any(facts.enclosing_class(call) is not classdef for call in untraced)
+        )
+
+    return facts.memo(("render-kept-classes", 0), compute)  # type: ignore[no-any-return]
+
+
+def _passes_mode(call: ast.Call) -> bool:
+    """A legacy ``render(mode)`` call: a ``mode`` keyword or a positional argument."""
+    return any(k.arg == "mode" for k in call.keywords) or any(not isinstance(a, ast.Starred) for a in call.args)
 
 
 def _first_argument(call: ast.Call) -> ast.expr | None:

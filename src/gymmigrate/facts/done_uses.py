@@ -20,7 +20,7 @@ from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, full_name
 
 
 class DoneUse(str, Enum):
-    CONTROL = "loop control"  # if/while tests, break conditions, ``done = done or ...``
+    CONTROL = "loop control"  # if/while tests, break conditions, ``done = done or ...``, assertions
     NEUTRAL = "display"  # print, logging, f-strings: the episode-over meaning is right
     DATA = "value"  # arithmetic, tensors, replay writes: bootstrapping needs ``terminated``
     WRAPPER_RETURN = "wrapper return"  # ``return obs, r, done, info`` in a step(): the wrapper rules' job
@@ -89,6 +89,8 @@ def classify_done_read(read: ast.Name, facts: ModuleFacts) -> DoneUse:
 
 
 def _classify(read: ast.Name, facts: ModuleFacts) -> DoneUse:
+    if isinstance(facts.statement_of(read), ast.Assert):
+        return DoneUse.CONTROL  # ``assert dones.dtype == np.bool_``: a check, never a target
     node: ast.AST = read
     in_container = False
     while True:
@@ -151,8 +153,8 @@ def _call_use(call: ast.Call) -> DoneUse:
         return DoneUse.DATA
     if isinstance(call.func, ast.Name) and last in DISPLAY_FUNCTIONS:
         return DoneUse.NEUTRAL
-    if last in TEST_FUNCTIONS:
-        return DoneUse.CONTROL
+    if last in TEST_FUNCTIONS or last.startswith("assert"):
+        return DoneUse.CONTROL  # ``self.assertTrue(done)``, ``np.testing.assert_equal``: checks
     if isinstance(call.func, ast.Attribute):
         if last in TENSOR_FACTORIES:
             return DoneUse.DATA

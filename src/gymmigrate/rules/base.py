@@ -18,7 +18,7 @@ import re
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, ClassVar
 
-from gymmigrate.findings import FixKind
+from gymmigrate.findings import FixKind, Tier
 
 if TYPE_CHECKING:
     from gymmigrate.edits.plan import Plan
@@ -130,8 +130,11 @@ class RuleFamily:
     def decide(self) -> None:
         raise NotImplementedError
 
-    def report(self, node: ast.AST, code: str, message: str, kind: FixKind | None = None) -> None:
-        self.plan.report(node, code, kind or self._rules[code].kind, message)
+    def report(
+        self, node: ast.AST, code: str, message: str, kind: FixKind | None = None, tier: Tier | None = None
+    ) -> None:
+        """``tier`` only where it differs from what the kind implies (see findings.Tier)."""
+        self.plan.report(node, code, kind or self._rules[code].kind, message, tier)
 
 
 def registered_families() -> list[type[RuleFamily]]:

@@ -8,8 +8,8 @@
 * GM105 removed modules and symbols (GoalEnv, classic_control.rendering, DiscreteEnv,
   robotics, VideoRecorder, EnvCompatibility...) are reported and left as they are.
 * GM107 libraries that never moved to Gymnasium (``stable_baselines`` 2.x, the TF-era
-  Stable-Baselines) are reported once per file, at the first import: their users move
-  to Stable-Baselines3. Their VecEnv code is left alone (``Receivers``: SB3_VEC kind).
+  Stable-Baselines, and OpenAI ``baselines``) are reported once per file, at the first
+  import: their users move to Stable-Baselines3. Their VecEnv code is left alone (``Receivers``: SB3_VEC kind).
 * GM108 gym-or-gymnasium ``try/except ImportError`` fallbacks, ``sys.modules`` hacks
   and ``gym.__version__`` checks are reported, not rewritten: after the migration one
   branch is dead and a person should delete it.
@@ -28,6 +28,7 @@ from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.module import dotted_name
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
+from gymmigrate.rules.repeats import Repeats
 
 RULES = (
     Rule("GM101", "import gym", FixKind.AUTO, "`import gym` becomes `import gymnasium as gym`."),
@@ -119,6 +120,11 @@ GYM_ONLY_LIBRARIES = {
         "stable_baselines 2.x (TF) has no Gymnasium release: move to Stable-Baselines3 "
         "(its VecEnv loops keep the four-field step and the obs-only reset and are left as they are)"
     ),
+    # OpenAI Baselines: in maintenance mode, built on gym and never released for Gymnasium.
+    "baselines": (
+        "OpenAI baselines has no Gymnasium release (it is in maintenance mode and imports gym): move to "
+        "Stable-Baselines3 or CleanRL (its VecEnv loops keep the four-field step and the obs-only reset and are left as they are)"
+    ),
 }
 
 
@@ -147,6 +153,7 @@ class Imports(RuleFamily):
         return "gym" in facts.text or "stable_baselines" in facts.text
 
     def decide(self) -> None:
+        self._removed_advice = Repeats()  # GM105: one review item per move and file
         # Does a plain ``import gym`` bind the name ``gym`` (so ``import gym.x`` needs no alias)?
         self._plain_gym_import = any(
             (alias.asname or alias.name) == "gym" and alias.name in LEGACY_PACKAGES
@@ -249,6 +256,13 @@ class Imports(RuleFamily):
                 if isinstance(node.value, ast.Name) and node.value.id in self._gym_names:
                     self.report(node, "GM108", "gym version check: after the migration one branch is dead; delete the legacy one")
 
+    def _report_removed(self, node: ast.stmt, message: str, advice: str) -> None:
+        """GM105 once per decision: the first import that needs a given move (say, to
+        gymnasium_robotics) is a review item; later imports in the same file needing the
+        same move are notes pointing at it."""
+        tier, same = self._removed_advice.tier(advice, node, "move")
+        self.report(node, "GM105", message + same, tier=tier)
+
     # -- GM101 / GM103: import gym[.x] [as y] -------------------------------------------
 
     def _import(self, node: ast.Import, *, guarded: bool) -> None:
@@ -263,7 +277,7 @@ class Imports(RuleFamily):
             self._gym_names.add(alias.asname or module.split(".")[0])
             hint = removed_module_hint(rest)
             if hint:
-                self.report(node, "GM105", f"`{module}` was removed: {hint}")
+                self._report_removed(node, f"`{module}` was removed: {hint}", hint)
                 names.append((module, alias.asname))
                 continue
             changed = True
@@ -304,16 +318,17 @@ class Imports(RuleFamily):
             rest = module[len("gymnasium.") :]
         star = any(alias.name == "*" for alias in node.names)
         hint = removed_module_hint(rest)
+        advice = hint
         if hint is None and not star:
             for alias in node.names:
-                hint = REMOVED_NAMES.get((rest, alias.name))
+                hint = advice = REMOVED_NAMES.get((rest, alias.name))
                 if hint:
                     hint = f"`{alias.name}` was removed: {hint}"
                     break
         elif hint is not None:
             hint = f"`{module}` was removed: {hint}"
         if hint:
-            self.report(node, "GM105", hint)
+            self._report_removed(node, hint, advice or hint)
             return
         new_rest = migrated_path(rest)
         if not star and new_rest != rest:

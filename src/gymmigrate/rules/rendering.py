@@ -52,6 +52,7 @@ from gymmigrate.facts.decisions import Action, decide, receiver_text
 from gymmigrate.facts.module import keyword, string_value
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
+from gymmigrate.rules.render_schedule import schedule
 
 RULES = (
     Rule(
@@ -108,6 +109,8 @@ _MONITOR_POSITIONS = ("env", "directory", "video_callable")
 _RECORDER_ATTRIBUTES = ("RecordVideo", "play", "VecVideoRecorder", "Monitor")
 # ``plan.notes`` key shared with the wrapper family: {id(make call): render mode added}.
 RENDER_MODE_NOTE = "render_mode"
+# ``plan.notes`` key read by the custom env rules: render calls left passing a mode.
+RENDER_MODE_CALLS_LEFT = "render_mode_calls_left"
 
 
 @dataclass
@@ -143,6 +146,9 @@ class Rendering(RuleFamily):
         self._legacy_025 = LEGACY_SINGLE_FRAME in self.facts.text
         self._added: dict[int, str] = self.plan.notes.setdefault(RENDER_MODE_NOTE, {})
         self._noted = dict(self._added)  # modes another family gives a make in this run
+        self._scheduled: dict[int, str] = {}  # id(make) -> the creation-time condition of its renders
+        self._unscheduled: dict[int, str] = {}  # id(make) -> the run-time condition of its renders
+        self._mode_dropped: set[int] = set()  # render calls that lose their mode argument
         render_calls = self.facts.attribute_calls.get("render", [])
         # A file that still passes modes to render() is legacy code even once its imports
         # say gymnasium (e.g. a conflict reported on a first run): its bare render()
@@ -155,6 +161,16 @@ class Rendering(RuleFamily):
                 sites.append(site)
         self._plan_sites(sites)
         self._plan_make_literals()
+        # Render calls that still pass a mode after this run: a local env class whose
+        # render(mode) they may reach keeps its signature (custom_env/render.py).
+        # (Calls inside a render method forward its mode: the Env/Wrapper rules own them.)
+        self.plan.notes[RENDER_MODE_CALLS_LEFT] = [
+            call
+            for call in render_calls
+            if _mode_argument(call) is not None
+            and id(call) not in self._mode_dropped
+            and getattr(self.facts.enclosing_function(call), "name", None) != "render"
+        ]
 
     def _is_make(self, call: ast.Call) -> bool:
         return self.facts.memo(
@@ -320,6 +336,8 @@ class Rendering(RuleFamily):
                 blocked[key] = "its gym.make passes **kwargs that may already hold render_mode: set it there by hand"
                 continue
             wanted = {s.mode for s in make_sites}
+            if wanted == {HUMAN} and self._keeps_schedule(make, make_sites, final_mode, blocked):
+                continue
             if len(wanted) == 1:
                 mode = final_mode[key] = wanted.pop()
                 self._add_mode(make, mode, self._quote_style(make, make_sites))
@@ -332,6 +350,29 @@ class Rendering(RuleFamily):
                 )
         for site in sites:
             self._plan_site(site, makes, final_mode, blocked)
+
+    def _keeps_schedule(
+        self, make: ast.Call, sites: list[RenderSite], final_mode: dict[int, str | None], blocked: dict[int, str]
+    ) -> bool:
+        """Human renders that run only on a condition (render_schedule.py): the condition
+        moves to the make when it is fixed at creation, else the sites are reported.
+        False when a render runs on every pass (human mode then draws as before)."""
+        how, condition = schedule(self.facts, [site.node for site in sites], make)
+        if how == "always":
+            return False
+        key = id(make)
+        if how == "fixed":
+            quote = self._quote_style(make, sites)
+            final_mode[key] = HUMAN
+            self._added[key] = HUMAN
+            func = self.facts.segment(make.func)
+            value = f"{quote}{HUMAN}{quote} if {condition} else None"
+            self.plan.replace(make, lambda node: _with_keyword(node, func, "render_mode", value))
+            self._scheduled[key] = condition  # type: ignore[assignment]
+            return True
+        final_mode[key] = None
+        self._unscheduled[key] = condition  # type: ignore[assignment]
+        return True
 
     def _add_mode(self, make: ast.Call, mode: str, quote: str) -> None:
         self._added[id(make)] = mode
@@ -361,6 +402,20 @@ class Rendering(RuleFamily):
         keys = [id(m) for m in site.creation.calls]
         if code == "GM402" and all(keyword(makes[k], "render_mode") is not None for k in keys):
             return  # the make already chose a mode: this bare render() is Gymnasium's API
+        unscheduled = [self._unscheduled[k] for k in keys if k in self._unscheduled]
+        if unscheduled:
+            choice = (
+                f"render() runs only when {unscheduled[0]}, but render_mode=\"human\" would draw every step: keep "
+                'the schedule by creating the env with render_mode="rgb_array" and showing the frame render() '
+                'returns here, or choose render_mode="human" if drawing every step is intended'
+            )
+            if code == "GM401":  # render(mode=...) raises TypeError in Gymnasium: the mode goes
+                self.plan.replace(call, _without_mode_argument)
+                self._mode_dropped.add(id(call))
+                self.report(call, code, f"mode dropped, no render_mode added (it draws nothing until you choose): {choice}")
+            else:
+                self.report(call, code, f"not rewritten: {choice}", FixKind.FLAG)
+            return
         reasons = [blocked[k] for k in keys if k in blocked]
         if reasons:
             self.report(call, code, f"not rewritten: {reasons[0]}", FixKind.FLAG)
@@ -384,6 +439,18 @@ class Rendering(RuleFamily):
             if added:
                 self.report(call, code, f"added {target} to {where} so {site.consumer} gets frames")
             return
+        scheduled = [self._scheduled[k] for k in keys if k in self._scheduled]
+        if scheduled:
+            self.report(
+                call,
+                code,
+                f'render() ran only when {scheduled[0]}, which is known when the env is made: added render_mode="human" '
+                f"if {scheduled[0]} else None to {where}; that env now draws every step inside step()/reset()",
+            )
+            if code == "GM401":
+                self.plan.replace(call, _without_mode_argument)
+                self._mode_dropped.add(id(call))
+            return
         if code == "GM402":
             if added:
                 self.report(
@@ -394,6 +461,7 @@ class Rendering(RuleFamily):
                 )
             return
         self.plan.replace(call, _without_mode_argument)
+        self._mode_dropped.add(id(call))
         if self._legacy_025 and site.mode == RGB_ARRAY and not site.legacy_spelling:
             self.report(
                 call,
@@ -534,7 +602,9 @@ def _with_keyword(node: Any, func: str, name: str, literal: str) -> Any:
             args = list(node.args)
             args[0] = args[0].with_changes(value=_with_keyword(inner, func, name, literal))
             return node.with_changes(args=args)
-    return append_keyword(node, name, cst.SimpleString(literal))
+    # A literal, or a creation-time conditional (`"human" if rank == 0 else None`).
+    value = cst.SimpleString(literal) if literal[:1] in ("'", '"') and literal[-1:] == literal[:1] else cst.parse_expression(literal)
+    return append_keyword(node, name, value)
 
 
 def _single_frame_fixed(node: Any) -> Any:

@@ -38,8 +38,9 @@ from gymmigrate.facts.decisions import receiver_text
 from gymmigrate.facts.env_classes import EnvClasses, is_self_attribute
 from gymmigrate.facts.module import ModuleFacts, full_name
 from gymmigrate.facts.receivers import EnvKind
-from gymmigrate.findings import FixKind
+from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
+from gymmigrate.rules.repeats import Repeats
 
 RULES = (
     Rule("GM505", "np_random Generator API", FixKind.AUTO, "RandomState methods on `np_random` become their Generator equivalents."),
@@ -78,6 +79,7 @@ class GeneratorApi(RuleFamily):
     def decide(self) -> None:
         self.env = EnvClasses.of(self.facts, self.receivers)
         self._noted_stream = False
+        self._asked = Repeats()  # one question per class: is its inherited np_random a Generator?
         calls = [call for method in RNG_METHODS for call in self.facts.attribute_calls.get(method, ())]
         # In the order a LibCST traversal leaves them (inner calls first): the first
         # rewritten site carries the one note about the changed random stream.
@@ -134,15 +136,21 @@ class GeneratorApi(RuleFamily):
             reason = NO_EQUIVALENT.get(method, "set the state with `np_random.bit_generator.state = state` as a statement")
             self.report(call, code, f"np_random.{method}(...) on a Generator: {reason}", FixKind.FLAG)
             return
+        tier = None
         if kind is not FixKind.AUTO and why:
-            message = f"{message}; {why}"
-        self.report(call, code, message, kind)
+            # One question per class (is its base a gym class?): asked at the first call,
+            # the class's other calls are notes that point there.
+            tier, same = self._asked.tier((id(self.facts.enclosing_class(call)), why), call, "question")
+            message = f"{message}{same}" if same else f"{message}; {why}"
+        self.report(call, code, message, kind, tier=tier)
         self._note_stream(call, code)
 
     def _note_stream(self, node: ast.AST, code: str) -> None:
         if not self._noted_stream:
             self._noted_stream = True
-            self.report(node, code, STREAM_NOTE, FixKind.FLAG)
+            # Once per file, about the file rather than this line: nothing here to decide,
+            # so it is a note (listed in the JSON report and by `check`).
+            self.report(node, code, STREAM_NOTE, FixKind.FLAG, tier=Tier.NOTE)
 
     # -- which receivers are Generators ---------------------------------------------------------
 

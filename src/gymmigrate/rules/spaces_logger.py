@@ -11,9 +11,11 @@
   ``DISABLED``/``debug``/``info`` (only ``WARN``, ``ERROR``, ``min_level``, ``warn``,
   ``error``, ``deprecation`` are left): ``set_level(x)`` becomes ``min_level = x``, the
   level constants become their values (10, 20, 50), gym 0.21's ``MIN_LEVEL`` becomes
-  ``min_level``. ``debug()``/``info()`` are reported, not rewritten: gym printed them to
-  stdout only when the level had been lowered, and whether a message should become a
-  warning, a log record or nothing is the author's call.
+  ``min_level``. ``debug()``/``info()`` become the standard library's
+  ``logging.getLogger(__name__).debug()/info()`` (catalog: "use warnings/logging"): gym
+  printed them only when its level had been lowered, and an unconfigured standard logger
+  drops them too. In a file that lowers gym's level (it wanted them printed) or with
+  keyword arguments they are reported instead.
 * GM907 ``gym.error`` classes Gymnasium dropped (``Unregistered``, ``UnseedableEnv``,
   ``ResetNotAllowed``, the old API-server errors...) are reported wherever they are
   named; the kept classes are left alone.
@@ -41,6 +43,7 @@ from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.module import full_name
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
+from gymmigrate.rules.repeats import Repeats
 
 RULES = (
     Rule("GM902", "Space.seed() return value", FixKind.FLAG, "`space.seed(s)[0]` and unpacking its result are reported."),
@@ -156,13 +159,7 @@ class SpacesLogger(RuleFamily):
                 if not self._is_logger(func.value):
                     continue
                 if method in REMOVED_LOG_FUNCTIONS:
-                    self.report(
-                        call,
-                        "GM906",
-                        f"`logger.{method}()` was removed in Gymnasium 1.0 (AttributeError): use `logging.getLogger(__name__).{method}(...)` "
-                        "or delete it",
-                        kind=FixKind.FLAG,
-                    )
+                    self._removed_log_call(call, method)
                 elif self._is_statement(call):
                     self._set_level_statement(call, method)
                 else:
@@ -183,6 +180,42 @@ class SpacesLogger(RuleFamily):
             if self._is_logger(attribute.value):
                 self.report(attribute, "GM906", "gym 0.21's `logger.MIN_LEVEL` is `logger.min_level` in Gymnasium")
                 self.plan.replace(attribute, lambda node: node.with_changes(attr=cst.Name("min_level")))
+
+    def _removed_log_call(self, call: ast.Call, method: str) -> None:
+        """``logger.info(msg, *args)`` -> ``logging.getLogger(__name__).info(msg, *args)``.
+
+        gym formatted ``msg % args`` and printed it only when the level had been lowered
+        to INFO/DEBUG; the standard library does the same by default (a logger without
+        handlers drops records below WARNING). A file that lowers gym's level wanted these
+        printed, and a call with keywords is not gym's signature: both are reported."""
+        if self._lowers_level() or call.keywords:
+            self.report(
+                call,
+                "GM906",
+                f"`logger.{method}()` was removed in Gymnasium 1.0 (AttributeError): use `logging.getLogger(__name__).{method}(...)` "
+                "(and configure logging if these messages must still print) or delete it",
+                kind=FixKind.FLAG,
+            )
+            return
+        logging = self.plan.ensure_import("logging")
+        self.report(call, "GM906", f"`logger.{method}()` was removed in Gymnasium 1.0: the standard library's logger.{method}() replaces it")
+        replacement = f"{logging}.getLogger(__name__).{method}"
+        self.plan.replace(call, lambda node: node.with_changes(func=cst.parse_expression(replacement)))
+
+    def _lowers_level(self) -> bool:
+        """The file sets gym's log level (or names DEBUG/INFO): it wanted debug/info printed."""
+        def compute() -> bool:
+            return any(
+                self._is_logger(call.func.value)  # type: ignore[attr-defined]
+                for method in SET_LEVEL
+                for call in self.facts.attribute_calls.get(method, ())
+            ) or any(
+                self._is_logger(attribute.value)
+                for name in ("min_level", "MIN_LEVEL", "DEBUG", "INFO")
+                for attribute in self.facts.attributes.get(name, ())
+            )
+
+        return self.facts.memo(("gym-logger-level-set", 0), compute)  # type: ignore[no-any-return]
 
     def _is_statement(self, call: ast.Call) -> bool:
         """``logger.set_level(x)`` on its own line, with one plain argument."""
@@ -235,10 +268,12 @@ class SpacesLogger(RuleFamily):
     # -- GM907: gym.error ------------------------------------------------------------------
 
     def _decide_errors(self) -> None:
+        repeats = Repeats()  # one review item per removed class and file
         for name in REMOVED_ERRORS:
-            for attribute in self.facts.attributes.get(name, ()):
+            for attribute in sorted(self.facts.attributes.get(name, ()), key=lambda a: (a.lineno, a.col_offset)):
                 if self.facts.qualified_names(attribute.value) & ERROR_MODULES:
-                    self.report(attribute, "GM907", _error_message(name))
+                    tier, same = repeats.tier(name, attribute)
+                    self.report(attribute, "GM907", _error_message(name) + same, tier=tier)
 
     # -- GM908: check_env(warn=) -------------------------------------------------------
 

@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING
 
 from gymmigrate.facts.env_classes import ClassIndex, EnvClasses, FunctionIndex
 from gymmigrate.facts.module import own_returns
-from gymmigrate.findings import FixKind
+from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import Rule
 from gymmigrate.rules.custom_env.rebuild import ClassPlan
 
@@ -59,9 +59,11 @@ class ClassDecision:
     def renamed(self) -> dict[str, str]:
         return self.plan.renamed
 
-    def report(self, node: ast.AST, code: str, message: str, kind: FixKind | None = None) -> None:
+    def report(
+        self, node: ast.AST, code: str, message: str, kind: FixKind | None = None, tier: Tier | None = None
+    ) -> None:
         # ast places a decorated def on its ``def`` line, as LibCST's positions did.
-        self.family.report(node, code, message, kind)
+        self.family.report(node, code, message, kind, tier)
 
     def method(self, name: str) -> Method | None:
         return self.methods.get(self.renamed.get(name, name))
@@ -148,6 +150,15 @@ def param_names(function: Method) -> list[str]:
     if args.kwarg is not None:
         found.append(args.kwarg.arg)
     return found
+
+
+def callable_without_arguments(function: Method) -> bool:
+    """``self.function()`` is a valid call: every parameter after ``self`` has a default."""
+    args = function.args
+    positional = [*args.posonlyargs, *args.args][1:]
+    if len(positional) > len(args.defaults):
+        return False
+    return all(default is not None for default in args.kw_defaults)
 
 
 def tuple_len(value: ast.AST | None) -> int | None:

@@ -468,6 +468,12 @@ class _NameRenamer(cst.CSTTransformer):
         return updated_node.with_changes(name=original_node.name)
 
 
+def _passes_mode(arg: cst.Arg) -> bool:
+    """`mode` or `mode=mode`: the render's own mode handed on."""
+    named_mode = isinstance(arg.value, cst.Name) and arg.value.value == "mode"
+    return named_mode and (arg.keyword is None or arg.keyword.value == "mode") and not arg.star
+
+
 class _ModeReader(cst.CSTTransformer):
     """``mode`` -> ``self.render_mode`` in a render body; ``super().render(mode)`` loses its argument."""
 
@@ -488,6 +494,18 @@ class _ModeReader(cst.CSTTransformer):
     def leave_Call(self, original_node: cst.Call, updated_node: cst.Call) -> cst.Call:
         if is_super_method_call(original_node, "render"):
             return updated_node.with_changes(args=[])
+        if isinstance(original_node.func, cst.Attribute) and original_node.func.attr.value == "render":
+            # A forwarding `env.render(mode, ...)` to an inner env: Gymnasium's render()
+            # takes no mode (the inner env renders in the mode it was made with).
+            args = [
+                new
+                for old, new in zip(original_node.args, updated_node.args)
+                if not _passes_mode(old)
+            ]
+            if len(args) != len(updated_node.args):
+                if args:
+                    args[-1] = args[-1].with_changes(comma=cst.MaybeSentinel.DEFAULT)
+                return updated_node.with_changes(args=args)
         return updated_node
 
 

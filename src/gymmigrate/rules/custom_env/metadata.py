@@ -13,7 +13,7 @@ from collections.abc import Sequence
 import libcst as cst
 
 from gymmigrate.facts.module import ModuleFacts, string_value
-from gymmigrate.findings import FixKind
+from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.custom_env.cst_edits import _append_element
 
@@ -74,12 +74,20 @@ class MetadataKeys(RuleFamily):
             return  # modern metadata may set render_fps elsewhere (Gymnasium's MuJoCo envs do)
         if isinstance(modes, (ast.List, ast.Tuple)) and not modes.elts:
             return  # no render modes: the checker needs no fps
-        self.report(
-            metadata,
-            "GM404",
-            f"added \"render_fps\": {DEFAULT_RENDER_FPS} because render modes are declared without a frame rate; set the rate the env really draws at",
-            FixKind.ASSIST,
-        )
+        # Legacy code never reads the new key itself; Gymnasium reads it for frames
+        # (RecordVideo, play). Without "rgb_array" among literal modes the value changes
+        # nothing the env does: a note. With it (or modes not spelled out) it sets the
+        # speed of recorded videos: a person picks the rate.
+        literal_modes = [string_value(e) for e in modes.elts] if isinstance(modes, (ast.List, ast.Tuple)) else None
+        frames = literal_modes is None or any(m is None or "rgb_array" in m for m in literal_modes)
+        if frames:
+            message = f"added \"render_fps\": {DEFAULT_RENDER_FPS} because render modes are declared without a frame rate; set the rate the env really draws at"
+        else:
+            message = (
+                f"added \"render_fps\": {DEFAULT_RENDER_FPS} because render modes are declared without a frame rate; "
+                "no rgb_array mode, so no recorded video reads it"
+            )
+        self.report(metadata, "GM404", message, FixKind.ASSIST, tier=None if frames else Tier.NOTE)
         self.plan.replace(metadata, _with_render_fps)
 
 

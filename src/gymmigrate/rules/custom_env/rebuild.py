@@ -72,6 +72,7 @@ class ClassPlan:
     seed: SeedPlan | None = None
     reset_super_seeds: bool = True  # super().reset(seed=seed) may be called (else only reported)
     render: bool = False
+    info_helper: bool = False  # reset returns self._get_info() (it takes no arguments)
     local_env_base: bool = False
     unpack_self_reset: bool = False
     # Methods that call a gym < 0.9 name or assign self.reset(): only those are visited,
@@ -207,7 +208,7 @@ class ClassRewrite:
             info_expr = cst.Name(base_info)
         elif _assigns_name(fn, "info"):
             info_expr = cst.Name("info")
-        elif "_get_info" in self.methods:
+        elif self.plan.info_helper:
             info_expr = cst.parse_expression("self._get_info()")
 
         def pair(ret: cst.Return) -> cst.Return:

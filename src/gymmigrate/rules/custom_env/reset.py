@@ -14,7 +14,14 @@ import ast
 from gymmigrate.facts.env_classes import is_super_method_call
 from gymmigrate.facts.module import own_returns
 from gymmigrate.findings import FixKind
-from gymmigrate.rules.custom_env.common import ClassDecision, delegates, is_self_call, method_of, param_names
+from gymmigrate.rules.custom_env.common import (
+    ClassDecision,
+    callable_without_arguments,
+    delegates,
+    is_self_call,
+    method_of,
+    param_names,
+)
 
 
 def decide_reset(decision: ClassDecision) -> None:
@@ -86,7 +93,13 @@ def _return_info_pairs(decision: ClassDecision, function: ast.AST, base_info: st
     elif decision.function(function).assigns_name("info"):
         kind, why = FixKind.ASSIST, "returns (obs, info) with the info dict reset() already builds"
     elif "_get_info" in decision.methods:
-        kind, why = FixKind.ASSIST, "returns (obs, self._get_info()), the info the class already builds"
+        # Only a helper that takes no arguments can be called here: `_get_info(self, agent)`
+        # called as `self._get_info()` would raise TypeError on the first reset.
+        if callable_without_arguments(decision.methods["_get_info"]):
+            decision.plan.info_helper = True
+            kind, why = FixKind.ASSIST, "returns (obs, self._get_info()), the info the class already builds"
+        else:
+            why = "returns (obs, {}): _get_info() needs arguments reset() does not have, so it is not called"
     for ret in own_returns(function):
         if ret.value is not None and not is_super_method_call(ret.value, "reset") and not is_self_call(ret.value, helpers):
             decision.report(ret, "GM501", f"reset {why}", kind)

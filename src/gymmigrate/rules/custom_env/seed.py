@@ -4,18 +4,22 @@ The canonical ``self.np_random, seed = seeding.np_random(seed)`` body is deleted
 anything else that uses the seed moves into ``reset`` under ``if seed is not None:``;
 set-up that does not touch the seed (spaces, simulators) moves into ``__init__`` where
 ``self.seed()`` was called; ``self.seed()`` calls go. Where the result of ``seed()`` is
-used, or the body returns early, the method is only reported.
+used, or the body returns early, the method is only reported. So is a method that a
+caller elsewhere in the file may still reach: ``self.seed(7)`` in a subclass that
+inherits it, or an ``x.seed(3)`` the seed rules leave because ``x`` could not be traced.
 """
 
 from __future__ import annotations
 
 import ast
 
+from gymmigrate.facts.decisions import Action, decide
 from gymmigrate.facts.env_classes import identifiers, is_self_attribute, is_super_method_call
 from gymmigrate.findings import FixKind
 from gymmigrate.facts.module import statement_lines
 from gymmigrate.rules.custom_env.common import ClassDecision, is_docstring, method_of, param_names
 from gymmigrate.rules.custom_env.rebuild import SeedPlan
+from gymmigrate.rules.reset_seed.common import is_space
 
 NP_RANDOM = ("np_random", "_np_random")
 
@@ -26,6 +30,17 @@ def decide_seed(decision: ClassDecision) -> None:
         return
     calls = _seed_call_sites(decision)
     facts = decision.family.facts
+    kept_for = _untraced_seed_call(decision)
+    if kept_for is not None:
+        decision.report(
+            seed_method,
+            "GM503",
+            f"seed() kept: `{facts.segment(kept_for)}` on line {kept_for.lineno} may call it and is left as it was "
+            "(a subclass's call, or a receiver that could not be traced); once it seeds through reset(seed=...), "
+            "remove this method",
+            FixKind.FLAG,
+        )
+        return
     if any(not isinstance(facts.parent(call), ast.Expr) for call in calls):
         decision.report(seed_method, "GM503", "seed() is gone in Gymnasium but its result is used in this class; seed through reset(seed=...) and rewrite those uses", FixKind.FLAG)
         return
@@ -91,6 +106,51 @@ def decide_seed(decision: ClassDecision) -> None:
             "seed() removed: its extra seeding moved into reset() under `if seed is not None:`; it now runs only when a seed is given",
             FixKind.ASSIST,
         )
+
+
+def _untraced_seed_call(decision: ClassDecision) -> ast.Call | None:
+    """An ``x.seed(...)`` elsewhere in the file that the seed rules leave in place because
+    ``x`` may or may not be a Gym env: if it is an instance of this class, removing
+    ``seed()`` would turn that call into an AttributeError."""
+    family = decision.family
+    for call in family.facts.attribute_calls.get("seed", ()):
+        receiver = call.func.value  # type: ignore[attr-defined]
+        if is_space(receiver):
+            continue
+        on_self = isinstance(receiver, ast.Name) and receiver.id == "self"
+        on_super = isinstance(receiver, ast.Call) and isinstance(receiver.func, ast.Name) and receiver.func.id == "super"
+        if on_self or on_super:
+            # `self.seed(7)` in a subclass that inherits this seed(): it would lose it.
+            # (A subclass's own seed() is decided with that subclass.)
+            caller = family.facts.enclosing_class(call)
+            if caller is not None and caller is not decision.classdef and _inherits_seed(decision, caller):
+                function = family.facts.enclosing_function(call)
+                if function is None or function.name != "seed":
+                    return call
+            continue
+        verdict = decide(family.receivers.kind_of(receiver), receiver, family.context.profile)
+        if verdict.action is Action.REPORT:
+            return call
+    return None
+
+
+def _inherits_seed(decision: ClassDecision, classdef: ast.ClassDef) -> bool:
+    """``classdef`` derives from the decided class through local classes, none of which
+    (``classdef`` included) defines its own seed() in between."""
+    receivers = decision.family.receivers
+    seen: set[int] = set()
+    todo = [classdef]
+    while todo:
+        current = todo.pop()
+        if id(current) in seen:
+            continue
+        seen.add(id(current))
+        if current is decision.classdef:
+            return True
+        if any(isinstance(s, (ast.FunctionDef, ast.AsyncFunctionDef)) and s.name in ("seed", "_seed") for s in current.body):
+            continue
+        todo.extend(base for b in current.bases if (base := receivers.local_class(b)) is not None)
+    return False
 
 
 def _seed_call_sites(decision: ClassDecision) -> list[ast.Call]:

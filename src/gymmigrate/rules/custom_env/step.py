@@ -12,7 +12,7 @@ import ast
 
 from gymmigrate.facts.env_classes import FunctionIndex, identifiers
 from gymmigrate.facts.module import own_returns
-from gymmigrate.findings import FixKind
+from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import ClassDecision, Method, delegates, tuple_len
 from gymmigrate.rules.custom_env.cst_edits import STEP_LIMIT_WORD, _truncated_false_message
 
@@ -37,6 +37,13 @@ def _decide_returns(decision: ClassDecision, function: Method, helpers: set[int]
         return  # already the five-value API
     index = decision.function(function)
     limit_hint = _step_limit_text(decision, function)
+    # No step limit is possible when the class counts nothing: truncated=False is then
+    # exact (TimeLimit truncates), an explanation rather than a question.
+    no_counter = limit_hint is None and not _counts_toward_a_limit(decision)
+    plain = (
+        "step returns terminated (the old done) and truncated=False: the class counts nothing that could end "
+        "an episode on a limit, so truncation is left to TimeLimit (max_episode_steps)"
+    )
     for ret in returns:
         if ret.value is None:
             continue
@@ -52,11 +59,18 @@ def _decide_returns(decision: ClassDecision, function: Method, helpers: set[int]
             if assigned is not None and _split_done(assigned):
                 decision.report(ret, "GM504", f"`{done.id}` split: the step-limit test became truncated, the rest terminated", FixKind.ASSIST)
                 continue
-            decision.report(ret, "GM504", _truncated_false_message(limit_hint), FixKind.ASSIST)
+            _report_truncated_false(decision, ret, limit_hint, plain if no_counter else None)
             continue
         if _split_done(done):
             decision.report(ret, "GM504", "done split: the step-limit test became truncated, the rest terminated", FixKind.ASSIST)
             continue
+        _report_truncated_false(decision, ret, limit_hint, plain if no_counter else None)
+
+
+def _report_truncated_false(decision: ClassDecision, ret: ast.Return, limit_hint: str | None, certain: str | None) -> None:
+    if certain is not None:
+        decision.report(ret, "GM504", certain, FixKind.ASSIST, tier=Tier.NOTE)
+    else:
         decision.report(ret, "GM504", _truncated_false_message(limit_hint), FixKind.ASSIST)
 
 
@@ -78,8 +92,41 @@ def _returns_five_from_helper(ret: ast.Return, decision: ClassDecision) -> bool:
     return helper is not None and any(tuple_len(r.value) == 5 for r in own_returns(helper))
 
 
+def _counts_toward_a_limit(decision: ClassDecision) -> bool:
+    """The class counts something (``self.steps += 1``, ``self.rounds -= 1``, ``t = t + 1``,
+    ``self.time += self.dt``) or tests a step limit anywhere: that may end episodes on a
+    limit, so a person decides. Physics updates (``self.x += dx``) are not counts."""
+    facts = decision.family.facts
+
+    def compute() -> bool:
+        if decision.env.has_local_env_base(decision.classdef):
+            return True  # the base class in this file may count steps for it
+        for node in ast.walk(decision.classdef):
+            if isinstance(node, ast.AugAssign) and isinstance(node.op, (ast.Add, ast.Sub)):
+                if _is_number(node.value) or any(STEP_LIMIT_WORD.search(w) for w in identifiers(node.target)):
+                    return True  # `self.steps += 1`, `self.t += self.dt`
+            if isinstance(node, ast.Compare) and is_step_limit(node):
+                return True  # a step-limit test in a helper (`def _done(self): return self.t > 200`)
+            if (
+                isinstance(node, ast.Assign)
+                and len(node.targets) == 1
+                and isinstance(node.value, ast.BinOp)
+                and isinstance(node.value.op, (ast.Add, ast.Sub))
+                and _is_number(node.value.right)
+                and facts.segment(node.value.left) == facts.segment(node.targets[0])
+            ):
+                return True  # `self.t = self.t + 1`
+        return False
+
+    return facts.memo(("counts-by-constant", id(decision.classdef)), compute)  # type: ignore[no-any-return]
+
+
+def _is_number(node: ast.AST) -> bool:
+    return isinstance(node, ast.Constant) and isinstance(node.value, (int, float)) and not isinstance(node.value, bool)
+
+
 def _step_limit_text(decision: ClassDecision, function: ast.AST) -> str | None:
-    found = [c for s in function.body for c in ast.walk(s) if isinstance(c, ast.Compare) and _is_step_limit(c)]  # type: ignore[attr-defined]
+    found = [c for s in function.body for c in ast.walk(s) if isinstance(c, ast.Compare) and is_step_limit(c)]  # type: ignore[attr-defined]
     if not found:
         return None
     first = min(found, key=lambda c: (c.lineno, c.col_offset, -(c.end_lineno or 0), -(c.end_col_offset or 0)))
@@ -108,7 +155,7 @@ def _parenthesized_text(decision: ClassDecision, node: ast.expr) -> str:
         text = line[start:end]
 
 
-def _is_step_limit(expr: ast.AST) -> bool:
+def is_step_limit(expr: ast.AST) -> bool:
     if not isinstance(expr, ast.Compare) or not all(isinstance(op, _LIMIT_OPS) for op in expr.ops):
         return False
     return any(STEP_LIMIT_WORD.search(word) and "beyond" not in word for word in identifiers(expr))
@@ -131,7 +178,7 @@ def _split_done(expr: ast.AST) -> bool:
         and not isinstance(expr.args[0], ast.Starred)
     ):
         expr = expr.args[0]
-    return any(_is_step_limit(op) for op in _or_operands(expr))
+    return any(is_step_limit(op) for op in _or_operands(expr))
 
 
 def _single_assignment(index: FunctionIndex, name: str) -> ast.AST | None:

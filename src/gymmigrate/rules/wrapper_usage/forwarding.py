@@ -31,6 +31,7 @@ from gymmigrate.facts.module import FUNCTIONS, call_argument, dotted_name, own_r
 from gymmigrate.facts.receivers import EnvKind
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
+from gymmigrate.rules.repeats import Repeats
 from gymmigrate.rules.wrapper_usage.tables import (
     BASE_ENV_ATTRIBUTES,
     OWN_ATTRIBUTES,
@@ -85,6 +86,7 @@ class WrapperForwarding(RuleFamily):
         self._in_progress: set[tuple[int, str]] = set()
         self._param_origins: dict[ast.arg, Origin] = {}
         self._depth = 0
+        self._unknown_receivers = Repeats()  # GM604: one "is it wrapped?" question per object
         self._local_attrs: set[str] | None = None
         self._class_attrs: dict[ast.ClassDef, set[str]] = {}
         # (scope, name) -> (lines, values) of its assignments, sorted by line; None if one is not ``x = ...``
@@ -141,12 +143,17 @@ class WrapperForwarding(RuleFamily):
             return
         text = dotted_name(receiver) or "the env"
         if origin is None:
+            # One question per object ("is `self.viewer` wrapped?"): asked at its first
+            # read; its other reads are notes pointing there.
+            owner = self.facts.enclosing_class(attr) if text.startswith("self.") else self.facts.enclosing_function(attr)
+            tier, same = self._unknown_receivers.tier((id(owner), text), attr, "question")
             self.report(
                 attr,
                 code,
                 f"could not tell whether `{text}` is wrapped: if it is, `.{name}` raises AttributeError on Gymnasium "
-                f"1.x; use `.unwrapped.{name}` or `.get_wrapper_attr(\"{name}\")`",
+                f"1.x; use `.unwrapped.{name}` or `.get_wrapper_attr(\"{name}\")`{same}",
                 kind=FixKind.FLAG,
+                tier=tier,
             )
             return
         if name == "_max_episode_steps":

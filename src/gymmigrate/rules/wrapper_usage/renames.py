@@ -38,6 +38,7 @@ from gymmigrate.facts.module import dotted_name, string_value
 from gymmigrate.facts.receivers import EnvKind
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
+from gymmigrate.rules.repeats import Repeats
 from gymmigrate.rules.wrapper_usage.arguments import HANDLERS, positional
 from gymmigrate.rules.wrapper_usage.legacy_imports import LegacyImports, import_move, migrated_path, removed_import
 from gymmigrate.rules.wrapper_usage.import_edits import ImportEdit, import_build
@@ -90,6 +91,7 @@ class WrapperRenames(RuleFamily):
 
     def decide(self) -> None:
         self._legacy = LegacyImports(self.facts, self.context.profile)
+        self._removed_repeats = Repeats()  # GM610: one review item per removed wrapper and file
         self._renamed_locals: dict[str, str] = {}  # imported name -> new name
         self._monitor_locals: set[str] = set()
         self._import_edits: dict[ast.ImportFrom, ImportEdit] = {}
@@ -298,7 +300,8 @@ class WrapperRenames(RuleFamily):
                 continue
             name = rest.rsplit(".", 1)[-1]
             if name in REMOVED and (dotted_name(node) or "").endswith(name):
-                self.report(node, "GM610", f"`{name}` was removed in Gymnasium 1.0: {REMOVED[name]}")
+                tier, same = self._removed_repeats.tier(name, node)
+                self.report(node, "GM610", f"`{name}` was removed in Gymnasium 1.0: {REMOVED[name]}{same}", tier=tier)
                 return
 
     def _is_call_func(self, node: ast.AST) -> bool:

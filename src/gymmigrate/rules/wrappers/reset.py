@@ -14,7 +14,7 @@ import ast
 import libcst as cst
 
 from gymmigrate.facts.module import own_returns
-from gymmigrate.findings import FixKind
+from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import RuleFamily
 from gymmigrate.rules.wrappers.common import (
     _assigned_names,
@@ -65,6 +65,7 @@ class ResetOverrides(RuleFamily):
                 self._hoist_reset(ret, inner, taken, fixed_signature)
                 continue
             info_code = "{}"
+            exact = False
             if info_name is not None:
                 info_code = info_name
                 if not self._assigned_before(ret, info_name, function, completed):
@@ -75,12 +76,15 @@ class ResetOverrides(RuleFamily):
                     )
                 else:
                     message = f"reset returns (obs, info) with the inner reset's `{info_name}`"
+                    exact = True
             else:
                 message = (
                     "reset returns (obs, info): this override has no info from an inner reset, so it returns "
                     "an empty dict; pass the inner info on if callers need it"
                 )
-            self.report(ret, "GM601", message)
+            # Handing on the inner reset's own info is exact: a note. An info that may be
+            # missing, or none at all, is for a person to check.
+            self.report(ret, "GM601", message, tier=Tier.NOTE if exact else None)
             self.plan.replace(
                 ret,
                 lambda node, code=info_code: node.with_changes(
@@ -104,6 +108,7 @@ class ResetOverrides(RuleFamily):
             "GM601",
             "reset now takes keyword-only `seed` and `options` (outer wrappers always pass them); they are "
             "passed on to the inner reset",
+            tier=Tier.NOTE,  # what Gymnasium's own Wrapper.reset does
         )
         for call in _inner_calls(function, "reset"):
             if not call.args and not call.keywords:

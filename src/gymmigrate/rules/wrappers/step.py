@@ -15,7 +15,8 @@ import ast
 import libcst as cst
 
 from gymmigrate.facts.module import own_returns
-from gymmigrate.findings import FixKind
+from gymmigrate.findings import FixKind, Tier
+from gymmigrate.rules.custom_env.step import is_step_limit
 from gymmigrate.rules.base import RuleFamily
 from gymmigrate.rules.step_done.common import STEP_UNPACKS, StepUnpack
 from gymmigrate.rules.wrappers.common import (
@@ -31,6 +32,17 @@ from gymmigrate.rules.wrappers.common import (
 
 class StepOverrides(RuleFamily):
     """GM602 (mixed into the family; no ``RULES``, so not registered itself)."""
+
+    def _only_step_limits(
+        self, lines: list[ast.stmt], name: str, done_line: ast.stmt | None, unpacks: dict[ast.stmt, StepUnpack | None]
+    ) -> bool:
+        """Every change of ``name`` after the inner step is a step-limit test setting it."""
+        changes = [
+            line
+            for line in lines
+            if line not in unpacks and line is not done_line and name in _assigned_names(line) and not _is_initializer(line)
+        ]
+        return bool(changes) and all(_sets_done_on_limit(line, name, self.facts.parent(line)) for line in changes)
 
     def _fix_step(self, function: ast.FunctionDef | ast.AsyncFunctionDef) -> None:
         """Return the inner step's terminated/truncated instead of ``done``.
@@ -107,6 +119,18 @@ class StepOverrides(RuleFamily):
                 replaced_done_reads += done.id == done_name  # type: ignore[union-attr]
                 self.report(ret, "GM602", "step returns (obs, reward, terminated, truncated, info)")
                 self.plan.replace(value, lambda node, t=terminated, u=truncated: _five(node, [cst.Name(t), cst.Name(u)]))
+            elif done_name is not None and done.id == done_name and self._only_step_limits(lines, done_name, done_line, unpacks):  # type: ignore[union-attr]
+                # The TimeLimit pattern: the override ends episodes only on a step count,
+                # which is truncation by definition. An explanation, not a question.
+                self.report(
+                    ret,
+                    "GM602",
+                    "this step override ends episodes only on a step limit (the TimeLimit pattern): that end is "
+                    f"returned as truncation (`... and not {terminated}`)",
+                    kind=FixKind.ASSIST,
+                    tier=Tier.NOTE,
+                )
+                self.plan.replace(value, lambda node, t=terminated: _five(node, _cut(node, t)))
             else:
                 self.report(
                     ret,
@@ -155,6 +179,20 @@ def _is_initializer(statement: ast.stmt) -> bool:
         and isinstance(assign.value, ast.Constant)
         and (assign.value.value is None or assign.value.value is False)
     )
+
+
+def _sets_done_on_limit(line: ast.stmt, name: str, parent: ast.AST | None) -> bool:
+    """``if self._elapsed_steps >= self._max_episode_steps: done = True`` or
+    ``done = done or self.t >= self.limit``: ``name`` is set only by a step-limit test."""
+    if not (isinstance(line, ast.Assign) and len(line.targets) == 1 and isinstance(line.targets[0], ast.Name)):
+        return False
+    value = line.value
+    if isinstance(value, ast.Constant) and value.value is True:
+        return isinstance(parent, ast.If) and line in parent.body and not parent.orelse and is_step_limit(parent.test)
+    if isinstance(value, ast.BoolOp) and isinstance(value.op, ast.Or):
+        rest = [v for v in value.values if not (isinstance(v, ast.Name) and v.id == name)]
+        return len(rest) == len(value.values) - 1 and all(is_step_limit(v) for v in rest)
+    return False
 
 
 def _has_other_assignments(

@@ -1,0 +1,102 @@
+"""When does a legacy ``env.render()`` run? (GM401/GM402 keep a render's schedule.)
+
+A legacy human render draws when it is called. Gymnasium's ``render_mode="human"``
+draws inside every ``step()``/``reset()``. Where the render call runs only on a
+condition (``if step % 30 == 0:``, ``if rank == 0:``, ``if args.render:``), adding
+``render_mode="human"`` to the make would draw every frame in every worker: a training
+script slowed down or a display opened where none was. So:
+
+* a condition that is fixed when the env is made (it reads only parameters of the
+  function that makes the env, or module names bound once, never rebound) moves to the
+  make: ``render_mode="human" if rank == 0 else None``;
+* any other condition (a step counter, an episode flag) cannot be known at creation:
+  the site is reported and the make is left as it was.
+"""
+
+from __future__ import annotations
+
+import ast
+
+from gymmigrate.facts import ModuleFacts
+
+# Expressions a creation-time condition may be built of: comparisons, boolean logic,
+# constants, names and attribute reads of names (``args.render``); no calls, no
+# subscripts (they may read state that changes while the env runs).
+_PLAIN = (ast.Compare, ast.BoolOp, ast.UnaryOp, ast.Constant, ast.Name, ast.Attribute, ast.Load, ast.cmpop, ast.boolop, ast.unaryop)
+
+
+# One guard of a render call: the expression, and whether the render runs when it is
+# false (an ``else`` branch, the right side of ``or``).
+Guard = tuple[ast.AST, bool]
+
+
+def render_condition(facts: ModuleFacts, render: ast.Call, make: ast.Call) -> list[Guard]:
+    """The guards of ``render`` that do not guard ``make``: the tests of the ``if``
+    statements and expressions, and the operands of ``and``/``or`` before it, between the
+    render call and the nearest node that also encloses the make."""
+    around_make = {id(node) for node in facts.ancestors(make)}
+    guards: list[Guard] = []
+    child: ast.AST = render
+    for ancestor in facts.ancestors(render):
+        if id(ancestor) in around_make:
+            break
+        if isinstance(ancestor, (ast.If, ast.IfExp)) and child is not ancestor.test:
+            in_else = child in ancestor.orelse if isinstance(ancestor, ast.If) else child is ancestor.orelse
+            guards.append((ancestor.test, in_else))
+        elif isinstance(ancestor, ast.BoolOp):
+            before = ancestor.values[: next(i for i, v in enumerate(ancestor.values) if v is child)]
+            guards.extend((value, isinstance(ancestor.op, ast.Or)) for value in before)
+        elif isinstance(ancestor, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda)):
+            # Rendered from another function (a callback): its schedule is its caller's.
+            guards.append((ancestor, False))
+            break
+        child = ancestor
+    return guards
+
+
+def fixed_at_creation(facts: ModuleFacts, test: ast.AST, make: ast.Call) -> bool:
+    """``test`` has the same value when ``make`` runs as when the render call runs."""
+    if not all(isinstance(node, _PLAIN) for node in ast.walk(test)):
+        return False
+    function = facts.enclosing_function(make)
+    for node in ast.walk(test):
+        if not isinstance(node, ast.Name):
+            continue
+        bindings = facts.bindings_of(node)
+        if len(bindings) != 1:
+            return False  # unbound, or rebound (a counter, a flag that changes)
+        binding = bindings[0]
+        if isinstance(binding, ast.arg):
+            if function is None or facts.enclosing_function(binding) is not function:
+                return False  # a parameter of some other function
+        elif not (isinstance(binding, ast.Name) and facts.enclosing_function(binding) is None):
+            return False  # a local variable: it may change between make and render
+        elif function is None and binding.lineno >= make.lineno:
+            return False  # bound after the env is made
+    return True
+
+
+def schedule(facts: ModuleFacts, renders: list[ast.Call], make: ast.Call) -> tuple[str, str | None]:
+    """How the human renders of one make run: ``("always", None)``; ``("fixed", text)``
+    when they all run under one condition known at creation (``text`` is its source);
+    ``("varies", text)`` otherwise (``text`` names the condition)."""
+    conditions = [render_condition(facts, render, make) for render in renders]
+    if any(not guards for guards in conditions):
+        return "always", None  # one render runs on every pass: human mode draws as before
+    texts = {" and ".join(_text(facts, guard) for guard in guards) for guards in conditions}
+    first = next(iter(texts))
+    if len(texts) == 1 and all(fixed_at_creation(facts, test, make) for test, _ in conditions[0]):
+        return "fixed", first
+    return "varies", first
+
+
+def _text(facts: ModuleFacts, guard: Guard) -> str:
+    test, negated = guard
+    if isinstance(test, (ast.FunctionDef, ast.AsyncFunctionDef)):
+        return f"{test.name}() is called"
+    if isinstance(test, ast.Lambda):
+        return "a lambda is called"
+    text = facts.segment(test)
+    if negated:
+        return f"not {text}" if isinstance(test, (ast.Name, ast.Attribute)) else f"not ({text})"
+    return f"({text})" if isinstance(test, (ast.BoolOp, ast.IfExp)) else text

@@ -1,0 +1,45 @@
+"""Noise patterns settled by the rewrite, executed against Gymnasium."""
+
+from __future__ import annotations
+
+import logging
+import warnings
+from pathlib import Path
+
+from gymmigrate.engine import transform_source
+from tests.fixture_cases import RULE_FIXTURES
+
+
+def test_logger_info_and_debug_run_through_the_standard_library(tmp_path: Path, caplog) -> None:
+    path = RULE_FIXTURES / "GM906" / "info_debug_to_logging.py"
+    rewritten = transform_source(path.read_bytes(), str(path)).rewritten
+    namespace: dict[str, object] = {"__name__": "migrated_logging"}
+    exec(compile(rewritten, str(path), "exec"), namespace)  # noqa: S102 (our own fixture)
+    target = tmp_path / "monitor"
+    with caplog.at_level(logging.DEBUG, logger="migrated_logging"), warnings.catch_warnings(record=True):
+        namespace["make_dirs"](str(target))
+    assert target.is_dir()
+    assert [r.getMessage() for r in caplog.records] == [
+        f"Creating monitor directory {target}",
+        f"Writing manifest to {target}",
+    ]
+
+
+def test_a_file_that_lowers_gyms_level_keeps_its_log_calls_reported() -> None:
+    path = RULE_FIXTURES / "GM906" / "logger_levels.py"
+    result = transform_source(path.read_bytes(), str(path))
+    assert b"gym.logger.info(" in result.rewritten
+    assert any(f.rule == "GM906" and f.needs_review and "info" in f.message for f in result.findings)
+
+
+def test_a_step_limit_wrapper_truncates() -> None:
+    import gymnasium
+
+    path = RULE_FIXTURES / "GM602" / "time_limit_pattern.py"
+    rewritten = transform_source(path.read_bytes(), str(path)).rewritten
+    namespace: dict[str, object] = {"__name__": "migrated_time_limit"}
+    exec(compile(rewritten, str(path), "exec"), namespace)  # noqa: S102 (our own fixture)
+    env = namespace["StepLimit"](gymnasium.make("CartPole-v1").unwrapped, max_episode_steps=3)
+    env.reset(seed=0)
+    flags = [env.step(i % 2)[2:4] for i in range(3)]
+    assert flags == [(False, False), (False, False), (False, True)], "the third step is cut by the limit"
