@@ -22,7 +22,7 @@ from bisect import bisect_left
 from collections import defaultdict
 from collections.abc import Iterator
 
-from gymmigrate.facts.module import COMPREHENSIONS, FUNCTIONS, LOOPS, ModuleFacts, Scope
+from gymmigrate.facts.module import COMPREHENSIONS, FUNCTIONS, LOOPS, ModuleFacts, Scope, child_nodes
 
 Position = tuple[int, int]
 
@@ -215,7 +215,7 @@ class Flow:
                 if where is None or where is scope or identifier not in where.bindings:
                     taken.add(identifier)
             inner = facts.scopes.get(node, around) if node is not scope.node else scope
-            stack.extend((child, inner) for child in ast.iter_child_nodes(node))
+            stack.extend((child, inner) for child in child_nodes(node))
         self._names_in[id(scope)] = taken
         return taken
 

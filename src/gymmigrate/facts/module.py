@@ -63,6 +63,20 @@ _SKIPPED_FIELDS = frozenset({"ctx", "op", "ops"})
 _CHILD_FIELDS: dict[type, tuple[str, ...]] = {}
 
 
+def statements_in(node: ast.AST) -> list[ast.AST]:
+    """The statements (and except/case clauses) directly inside ``node``: enough to find
+    what only statements do (return, assign) without walking every expression."""
+    return [child for child in _children(node) if isinstance(child, _STATEMENT_LIKE)]
+
+
+_STATEMENT_LIKE = (ast.stmt, ast.excepthandler, ast.match_case)
+
+
+def child_nodes(node: ast.AST) -> list[ast.AST]:
+    """``ast.iter_child_nodes`` in the same order, without contexts and operators."""
+    return _children(node)
+
+
 def _children(node: ast.AST) -> list[ast.AST]:
     """``ast.iter_child_nodes`` in the same order, without contexts and operators."""
     fields = _CHILD_FIELDS.get(type(node))
@@ -457,7 +471,7 @@ def own_returns(function: ast.AST) -> list[ast.Return]:
             found.append(node)
         if isinstance(node, (*FUNCTIONS, ast.Lambda, ast.ClassDef)):
             continue
-        stack.extend(ast.iter_child_nodes(node))
+        stack.extend(statements_in(node))
     found.sort(key=lambda r: (r.lineno, r.col_offset))
     return found
 

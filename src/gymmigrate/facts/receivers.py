@@ -25,7 +25,7 @@ from typing import TYPE_CHECKING
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.callables import CallableKinds, optional_of, parse_annotation, string_names
-from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, call_argument, own_returns
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, call_argument, own_returns, statements_in
 
 if TYPE_CHECKING:
     from gymmigrate.facts.project import ProjectView
@@ -600,7 +600,7 @@ def _collect_self_stores(classdef: ast.ClassDef) -> dict[str, list[ast.expr]]:
             name = _stored_self_name(node.target)
             if name is not None:
                 values[name].append(node.value)
-        stack.extend(ast.iter_child_nodes(node))
+        stack.extend(statements_in(node))  # assignments are statements: no expression walk
     for stored in values.values():
         stored.sort(key=lambda v: (v.lineno, v.col_offset))
     return values
