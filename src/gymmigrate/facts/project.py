@@ -68,6 +68,10 @@ class ModuleSummary:
     env_classes: frozenset[str]  # top-level classes whose instances are Gym envs
     render_mode_classes: frozenset[str]  # ...whose constructor takes render_mode once migrated
     calls: tuple[CallSummary, ...]
+    # ``x.seed(...)`` on a receiver this module cannot trace: an env class it imports from
+    # the run must keep its seed() (removing it would make that call an AttributeError).
+    untraced_seed_call: bool = False
+    imported: tuple[str, ...] = ()  # qualified names its imports bind
 
 
 def summarize(path: str, source: bytes) -> ModuleSummary | None:
@@ -137,7 +141,30 @@ class _Summarizer:
                     render_mode.add(name)
         calls = [c for c in (self._call(call) for calls in self.facts.calls_by_name.values() for call in calls) if c]
         calls += [c for c in (self._call(call) for calls in self.facts.attribute_calls.values() for call in calls) if c]
-        return ModuleSummary(self.path, defs, frozenset(env_classes), frozenset(render_mode), tuple(calls))
+        return ModuleSummary(
+            self.path,
+            defs,
+            frozenset(env_classes),
+            frozenset(render_mode),
+            tuple(calls),
+            untraced_seed_call=self._has_untraced_seed_call(),
+            imported=tuple(sorted(set(self.facts.imports.values()))),
+        )
+
+    def _has_untraced_seed_call(self) -> bool:
+        for call in self.facts.attribute_calls.get("seed", ()):
+            receiver = call.func.value  # type: ignore[attr-defined]
+            if isinstance(receiver, ast.Name) and receiver.id == "self":
+                continue  # a class's own seed: decided with that class
+            if isinstance(receiver, ast.Call) and isinstance(receiver.func, ast.Name) and receiver.func.id == "super":
+                continue
+            if self.receivers.kind_of(receiver) is not EnvKind.UNKNOWN:
+                continue
+            made_by = self._instance_class(receiver)
+            if made_by is not None and not _is_library(made_by):
+                continue  # an instance of a class it imports: the run knows that class
+            return True
+        return False
 
     def _call(self, call: ast.Call) -> CallSummary | None:
         target = self._target(call.func)
@@ -296,6 +323,8 @@ class ProjectFacts:
     env_classes: dict[str, frozenset[str]] = field(default_factory=dict)  # path -> env classes
     render_mode_classes: dict[str, frozenset[str]] = field(default_factory=dict)
     modules: dict[str, str] = field(default_factory=dict)  # dotted suffix -> path ("" if ambiguous)
+    # Modules whose env classes an untraced ``x.seed(...)`` elsewhere in the run may reach.
+    seed_called: set[str] = field(default_factory=set)
 
     @classmethod
     def join(cls, summaries: list[ModuleSummary]) -> ProjectFacts:
@@ -329,6 +358,15 @@ class ProjectFacts:
                 if resolved is not None:
                     calls_to[resolved].append((summary.path, call))
         _Join(facts, by_path, calls_to).run()
+        for summary in summaries:
+            if summary.untraced_seed_call:
+                for qualified in summary.imported:
+                    level = len(qualified) - len(qualified.lstrip("."))
+                    parts = qualified.lstrip(".").split(".")
+                    for module in (parts, parts[:-1]):  # `import envs` / `from envs import Dice`
+                        path = facts._module_path(module, level, summary.path) if module else None
+                        if path and path != summary.path and facts.env_classes.get(path):
+                            facts.seed_called.add(path)
         return facts
 
     def _class_kind(self, kind: str, importer: str) -> EnvKind:
@@ -458,6 +496,11 @@ class ProjectView:
     def param_kinds(self, qualname: str, param: str) -> list[EnvKind]:
         """What other modules of the run pass for ``param`` of this file's ``qualname``."""
         return self.facts.param_kinds.get((self.path, qualname, param), [])
+
+    def seed_called_elsewhere(self) -> bool:
+        """Another module of the run calls ``x.seed(...)`` on something it cannot trace and
+        imports this module's env classes: their seed() may be what it calls."""
+        return self.path in self.facts.seed_called
 
     def imported_class(self, qualified: str) -> tuple[bool, bool] | None:
         """For an imported class of the run: (is an env class, takes render_mode)."""

@@ -31,6 +31,17 @@ def decide_seed(decision: ClassDecision) -> None:
     calls = _seed_call_sites(decision)
     facts = decision.family.facts
     kept_for = _untraced_seed_call(decision)
+    project = decision.family.receivers.project
+    if kept_for is None and project is not None and project.seed_called_elsewhere():
+        decision.report(
+            seed_method,
+            "GM503",
+            "seed() kept: another module of this run imports this class and calls `.seed(...)` on an object that "
+            "could not be traced, which may be an instance of it; once that call seeds through reset(seed=...), "
+            "remove this method",
+            FixKind.FLAG,
+        )
+        return
     if kept_for is not None:
         decision.report(
             seed_method,
