@@ -157,3 +157,27 @@ def test_seed_goes_when_every_caller_in_the_run_is_migrated(tmp_path: Path) -> N
     assert "def seed" not in (folder / "envs.py").read_text()
     assert "env.reset(seed=3)" in (folder / "play.py").read_text()
     assert _run_main(folder, "play") == _run_main(folder, "play")
+
+
+def test_render_mode_is_kept_while_another_module_of_the_run_may_pass_one(tmp_path: Path) -> None:
+    """record.py renders objects it cannot trace with a mode and imports GridEnv: the class
+    keeps render(mode), and no creation site of the run gets a render_mode it cannot take."""
+    folder = tmp_path / "grid"
+    shutil.copytree(FIXTURES / "project_render", folder)
+    result = runner.invoke(app, ["rewrite", str(folder)])
+    assert result.exit_code == 0, result.output
+    assert 'def render(self, mode="human"):' in (folder / "envs.py").read_text()
+    assert "render_mode=" not in (folder / "show.py").read_text()
+    assert _run_main(folder, "record") == "[(4, 4, 3), (4, 4, 3)]"
+    assert _run_main(folder, "show") == "(4, 4, 3)"
+
+
+def test_render_mode_moves_to_the_creation_site_when_every_caller_is_traced(tmp_path: Path) -> None:
+    folder = tmp_path / "grid"
+    shutil.copytree(FIXTURES / "project_render", folder)
+    (folder / "record.py").unlink()
+    result = runner.invoke(app, ["rewrite", str(folder)])
+    assert result.exit_code == 0, result.output
+    assert 'GridEnv(render_mode="rgb_array")' in (folder / "show.py").read_text()
+    assert "def render(self):" in (folder / "envs.py").read_text()
+    assert _run_main(folder, "show") == "(4, 4, 3)"

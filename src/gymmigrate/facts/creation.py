@@ -430,6 +430,10 @@ def render_kept_classes(facts: ModuleFacts, receivers: Receivers) -> frozenset[i
                 N.strip_gym_prefix(q) in N.GYM_ENV_FACTORIES for q in facts.qualified_names(call.func)
             )
 
+        classes = EnvClasses.of(facts, receivers)
+        if receivers.project is not None and receivers.project.render_called_elsewhere():
+            # Another module of the run passes modes to objects it cannot trace.
+            return frozenset(id(c) for c in facts.all_classes if classes.is_custom_env(c))
         finder = CreationFinder(facts, receivers, is_creation)
         untraced: list[ast.Call] = []
         for call in facts.attribute_calls.get("render", []):
@@ -442,7 +446,6 @@ def render_kept_classes(facts: ModuleFacts, receivers: Receivers) -> frozenset[i
                 untraced.append(call)
         if not untraced:
             return frozenset()
-        classes = EnvClasses.of(facts, receivers)
         return frozenset(
             id(classdef)
             for classdef in facts.all_classes

@@ -71,6 +71,8 @@ class ModuleSummary:
     # ``x.seed(...)`` on a receiver this module cannot trace: an env class it imports from
     # the run must keep its seed() (removing it would make that call an AttributeError).
     untraced_seed_call: bool = False
+    # ``x.render(mode)`` likewise: an env class it imports must keep render(mode).
+    untraced_render_call: bool = False
     imported: tuple[str, ...] = ()  # qualified names its imports bind
 
 
@@ -124,6 +126,7 @@ class _Summarizer:
         self.path = path
 
     def summary(self) -> ModuleSummary:
+        from gymmigrate.facts.creation import render_kept_classes
         from gymmigrate.facts.env_classes import EnvClasses
 
         defs: dict[str, Signature] = {}
@@ -137,7 +140,7 @@ class _Summarizer:
                     defs[f"{name}.{statement.name}"] = _signature(statement, is_method=True)
             if self.receivers.class_kind(classdef) is EnvKind.GYM_ENV or env.is_custom_env(classdef):
                 env_classes.add(name)
-                if env.takes_render_mode(classdef):
+                if env.takes_render_mode(classdef) and id(classdef) not in render_kept_classes(self.facts, self.receivers):
                     render_mode.add(name)
         calls = [c for c in (self._call(call) for calls in self.facts.calls_by_name.values() for call in calls) if c]
         calls += [c for c in (self._call(call) for calls in self.facts.attribute_calls.values() for call in calls) if c]
@@ -147,17 +150,24 @@ class _Summarizer:
             frozenset(env_classes),
             frozenset(render_mode),
             tuple(calls),
-            untraced_seed_call=self._has_untraced_seed_call(),
+            untraced_seed_call=self._has_untraced_call("seed"),
+            untraced_render_call=self._has_untraced_call("render"),
             imported=tuple(sorted(set(self.facts.imports.values()))),
         )
 
-    def _has_untraced_seed_call(self) -> bool:
-        for call in self.facts.attribute_calls.get("seed", ()):
+    def _has_untraced_call(self, method: str) -> bool:
+        """``x.seed(...)`` / ``x.render(mode)`` on a receiver this module cannot trace."""
+        for call in self.facts.attribute_calls.get(method, ()):
             receiver = call.func.value  # type: ignore[attr-defined]
             if isinstance(receiver, ast.Name) and receiver.id == "self":
-                continue  # a class's own seed: decided with that class
+                continue  # a class's own call: decided with that class
             if isinstance(receiver, ast.Call) and isinstance(receiver.func, ast.Name) and receiver.func.id == "super":
                 continue
+            if method == "render":
+                if not (call.args or any(k.arg == "mode" for k in call.keywords)):
+                    continue  # a bare render(): the Gymnasium call, whatever the class
+                if getattr(self.facts.enclosing_function(call), "name", None) in ("render", "_render"):
+                    continue  # a render method forwarding its own mode
             if self.receivers.kind_of(receiver) is not EnvKind.UNKNOWN:
                 continue
             made_by = self._instance_class(receiver)
@@ -325,6 +335,7 @@ class ProjectFacts:
     modules: dict[str, str] = field(default_factory=dict)  # dotted suffix -> path ("" if ambiguous)
     # Modules whose env classes an untraced ``x.seed(...)`` elsewhere in the run may reach.
     seed_called: set[str] = field(default_factory=set)
+    render_called: set[str] = field(default_factory=set)  # ...and an untraced ``x.render(mode)``
 
     @classmethod
     def join(cls, summaries: list[ModuleSummary]) -> ProjectFacts:
@@ -359,15 +370,24 @@ class ProjectFacts:
                     calls_to[resolved].append((summary.path, call))
         _Join(facts, by_path, calls_to).run()
         for summary in summaries:
-            if summary.untraced_seed_call:
-                for qualified in summary.imported:
-                    level = len(qualified) - len(qualified.lstrip("."))
-                    parts = qualified.lstrip(".").split(".")
-                    for module in (parts, parts[:-1]):  # `import envs` / `from envs import Dice`
-                        path = facts._module_path(module, level, summary.path) if module else None
-                        if path and path != summary.path and facts.env_classes.get(path):
-                            facts.seed_called.add(path)
+            for untraced, called in ((summary.untraced_seed_call, facts.seed_called), (summary.untraced_render_call, facts.render_called)):
+                if untraced:
+                    called.update(facts._imported_env_modules(summary))
+        for path in facts.render_called:  # their classes keep render(mode): no render_mode to pass
+            facts.render_mode_classes[path] = frozenset()
         return facts
+
+    def _imported_env_modules(self, summary: ModuleSummary) -> set[str]:
+        """The other modules of the run with env classes that ``summary``'s module imports."""
+        found = set()
+        for qualified in summary.imported:
+            level = len(qualified) - len(qualified.lstrip("."))
+            parts = qualified.lstrip(".").split(".")
+            for module in (parts, parts[:-1]):  # `import envs` / `from envs import Dice`
+                path = self._module_path(module, level, summary.path) if module else None
+                if path and path != summary.path and self.env_classes.get(path):
+                    found.add(path)
+        return found
 
     def _class_kind(self, kind: str, importer: str) -> EnvKind:
         """``new:envs.GridEnv`` is a Gym env when ``GridEnv`` is an env class of the run."""
@@ -501,6 +521,10 @@ class ProjectView:
         """Another module of the run calls ``x.seed(...)`` on something it cannot trace and
         imports this module's env classes: their seed() may be what it calls."""
         return self.path in self.facts.seed_called
+
+    def render_called_elsewhere(self) -> bool:
+        """The same for ``x.render(mode)``: this module's env classes keep render(mode)."""
+        return self.path in self.facts.render_called
 
     def imported_class(self, qualified: str) -> tuple[bool, bool] | None:
         """For an imported class of the run: (is an env class, takes render_mode)."""

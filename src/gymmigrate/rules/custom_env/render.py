@@ -41,6 +41,17 @@ def decide_render(decision: ClassDecision) -> None:
         text = decision.family.facts.segment(default)
         old_default = f" (the old default was {text}: pass render_mode={text} to gymnasium.make to keep it)"
     blocking = _unmigrated_mode_call(decision)
+    project = decision.family.receivers.project
+    if blocking is None and project is not None and project.render_called_elsewhere():
+        decision.report(
+            function,
+            "GM405",
+            "render(mode) kept: another module of this run imports this class and passes a mode to `.render()` on an "
+            "object that could not be traced, which may be an instance of it; give that env its render_mode where it "
+            "is made, then run again",
+            FixKind.FLAG,
+        )
+        return
     if blocking is not None:
         facts = decision.family.facts
         decision.report(
