@@ -57,7 +57,7 @@ def contract_checks(run: RunRecord) -> tuple[CheckResult, ...]:
     for name, passed_message in _PASSED_MESSAGES.items():
         if any(multi_agent) and name in _PASSED_MESSAGES_AGENTS:
             agents_message = _PASSED_MESSAGES_AGENTS[name]
-            passed_message = agents_message if all(multi_agent) else f"{passed_message}; {agents_message}"
+            passed_message = agents_message if all(multi_agent) else f"Gym envs: {passed_message}; PettingZoo envs: {agents_message}"
         if name in charged:
             message, count = charged[name]
             results.append(CheckResult.fail(name, message + (f" ({count} times)" if count > 1 else "")))

@@ -14,8 +14,8 @@ the script imports PettingZoo, the two classes get a construction hook (as
 script pays one string comparison per import.
 
 As for Gym, every layer (PettingZoo's ``OrderEnforcingWrapper``, ``BaseWrapper``s,
-``aec_to_parallel_wrapper`` and the env they wrap) has its results checked, a violation
-charged to the innermost layer where it shows; the outermost call, the one the script
+``aec_to_parallel_wrapper`` and the env they wrap) has its results checked
+(multi_agent_contract.py), a violation charged to the innermost layer where it shows; the outermost call, the one the script
 made, keeps the episode ledger. An AEC episode ends when ``env.agents`` is empty after
 a step (what ends ``agent_iter``), a parallel one when ``env.agents`` is empty after
 ``step``; it counts as terminated when any agent terminated in it.
@@ -31,22 +31,17 @@ import sys
 from dataclasses import dataclass, field, replace
 from typing import Any
 
-import numpy as np
-
 from gymmigrate.smoke.evidence import Ending, EnvRecord
+from gymmigrate.smoke.multi_agent_contract import AEC, PARALLEL, attribute, check_call
 from gymmigrate.smoke.probe import (
-    FLAGS_ARE_BOOL,
     NO_STEP_AFTER_END,
     OBS_IN_SPACE,
-    RESET_SIGNATURE,
-    STEP_SIGNATURE,
     Observatory,
     SmokeStop,
     _accepts_seed,
     _as_float,
     _as_int,
     _construction_hook,
-    _describe,
     _Episode,
     _fingerprint,
     _Ledger,
@@ -54,7 +49,6 @@ from gymmigrate.smoke.probe import (
     _truthy,
 )
 
-AEC, PARALLEL = "aec", "parallel"
 _ENV_MODULE = "pettingzoo.utils.env"
 _PROBED = "__gymmigrate_agents_probe__"
 _OLD_DONES = ("dones", "_was_done_step", "_dones_step_first")
@@ -169,7 +163,7 @@ class MultiAgentObserver:
             result = method(env, *args, **kwargs)
         finally:
             watch._stack.pop()
-        self._check_contract(env, name, api, result)
+        check_call(env, name, api, result, watch._charge)
         if ledger is not None:
             if name == "reset":
                 self._after_reset(ledger, result)
@@ -180,10 +174,10 @@ class MultiAgentObserver:
         return result
 
     def _ledger_for(self, env: Any, api: str) -> _AgentLedger:
-        base = _attribute(env, "unwrapped", env)
+        base = attribute(env, "unwrapped", env)
         ledger = self.observatory.ledgers.get(id(base))
         if ledger is None:
-            metadata = _attribute(base, "metadata", None)
+            metadata = attribute(base, "metadata", None)
             ledger = _AgentLedger(
                 index=len(self.observatory.ledgers),
                 env_id=metadata.get("name") if isinstance(metadata, dict) else None,
@@ -202,7 +196,7 @@ class MultiAgentObserver:
         watch = self.observatory
         smoke_seed = watch.seed + ledger.index
         # Scripts sample env.action_space(agent): a space nobody seeded draws from OS entropy.
-        for offset, agent in enumerate(_attribute(env, "possible_agents", None) or ()):
+        for offset, agent in enumerate(attribute(env, "possible_agents", None) or ()):
             for space_name in ("action_space", "observation_space"):
                 try:
                     space = getattr(env, space_name)(agent)
@@ -272,12 +266,12 @@ class MultiAgentObserver:
             if ledger.api == PARALLEL:
                 terminations, truncations = self._read_parallel_step(episode, result)
             else:
-                terminations = _attribute(env, "terminations", None) or _attribute(env, "dones", None)
-                truncations = _attribute(env, "truncations", None)
+                terminations = attribute(env, "terminations", None) or attribute(env, "dones", None)
+                truncations = attribute(env, "truncations", None)
             if ledger.first_transition is None:
                 ledger.first_transition = episode.hasher.copy().hexdigest()
             _note_endings(ledger, terminations, truncations)
-            if not _attribute(env, "agents", True):
+            if not attribute(env, "agents", True):
                 episode.ended_at_step = episode.length
                 ended = ledger.ended_agents.values()
                 ending = Ending.TRUNCATED if "truncated" in ended and "terminated" not in ended else Ending.TERMINATED
@@ -298,94 +292,6 @@ class MultiAgentObserver:
         for value in result[:-1]:
             _fingerprint(value, episode.hasher)
         return (result[2], result[3]) if len(result) == 5 else (result[2], None)  # four dicts: dones
-
-    # -- the contract, at every layer -------------------------------------------------
-
-    def _check_contract(self, env: Any, name: str, api: str, result: object) -> None:
-        layer = type(env).__name__
-        if name == "reset" and api == AEC:
-            if result is not None:
-                self._charge(
-                    RESET_SIGNATURE,
-                    f"{layer}.reset() returned {_describe(result)}: an AEC reset() returns None "
-                    "(the script reads observations with last())",
-                )
-        elif name == "reset":
-            if not (isinstance(result, tuple) and len(result) == 2 and all(isinstance(r, dict) for r in result)):
-                self._charge(
-                    RESET_SIGNATURE,
-                    f"{layer}.reset() returned {_describe(result)} instead of (observations, infos), two dicts: "
-                    "the PettingZoo API before 1.21 returned the observations alone",
-                )
-                return
-            self._check_observations(env, layer, "reset", result[0])
-        elif name == "last":
-            self._check_last(env, layer, result)
-        elif api == PARALLEL:
-            self._check_parallel_step(env, layer, result)
-
-    def _check_last(self, env: Any, layer: str, result: object) -> None:
-        if not (isinstance(result, tuple) and len(result) == 5):
-            old = isinstance(result, tuple) and len(result) == 4
-            self._charge(
-                STEP_SIGNATURE,
-                f"{layer}.last() returned "
-                + ("4 values (observation, reward, done, info), the PettingZoo API before 1.21" if old else _describe(result))
-                + ": return (observation, reward, termination, truncation, info)",
-            )
-            return
-        observation, _reward, termination, truncation, _info = result
-        agent = _attribute(env, "agent_selection", None)
-        self._check_flags(layer, "last()", agent, termination, truncation)
-        if observation is not None:
-            self._check_observations(env, layer, "last", {agent: observation})
-
-    def _check_parallel_step(self, env: Any, layer: str, result: object) -> None:
-        if not (isinstance(result, tuple) and len(result) == 5 and all(isinstance(r, dict) for r in result)):
-            old = isinstance(result, tuple) and len(result) == 4
-            self._charge(
-                STEP_SIGNATURE,
-                f"{layer}.step() returned "
-                + ("four dicts (observations, rewards, dones, infos), the PettingZoo API before 1.21" if old else _describe(result))
-                + ": return (observations, rewards, terminations, truncations, infos)",
-            )
-            return
-        observations, _rewards, terminations, truncations, _infos = result
-        for agent, termination in terminations.items():
-            self._check_flags(layer, "step()", agent, termination, truncations.get(agent, False))
-        self._check_observations(env, layer, "step", observations)
-
-    def _check_flags(self, layer: str, call: str, agent: object, termination: object, truncation: object) -> None:
-        for flag_name, flag in (("termination", termination), ("truncation", truncation)):
-            if not isinstance(flag, (bool, np.bool_)):
-                self._charge(
-                    FLAGS_ARE_BOOL,
-                    f"{layer}.{call} returned {flag_name}={flag!r} of type {type(flag).__name__} for {agent}: "
-                    "terminations and truncations must be bool",
-                )
-
-    def _check_observations(self, env: Any, layer: str, call: str, observations: object) -> None:
-        if not isinstance(observations, dict):
-            return
-        for agent, observation in observations.items():
-            try:
-                space = env.observation_space(agent)
-            except Exception:  # an agent the env cannot describe: PettingZoo's api_test reports that
-                continue
-            try:
-                inside = bool(space.contains(observation))
-            except Exception:
-                inside = False
-            if not inside:
-                self._charge(
-                    OBS_IN_SPACE,
-                    f"{layer}.{call}() returned an observation of {agent} outside observation_space({agent!r}) {space}",
-                )
-                return
-
-    def _charge(self, check: str, message: str) -> None:
-        self.observatory._charge(check, message)
-
 
 # -- hooks --------------------------------------------------------------------------
 
@@ -473,9 +379,3 @@ def _wrapper_stack(env: object) -> tuple[str, ...]:
         names.append(type(env).__name__)
     return tuple(names)
 
-
-def _attribute(env: object, name: str, default: object) -> Any:
-    try:
-        return getattr(env, name, default)
-    except Exception:  # OrderEnforcingWrapper raises AttributeError subclasses before reset, or worse
-        return default
