@@ -190,3 +190,22 @@ def test_a_gym_only_script_is_unchanged_and_never_imports_pettingzoo(tmp_path: P
     assert {c["name"]: c["message"] for c in data["checks"]}["step_returns_five_fields"] == (
         "every step() returned (obs, reward, terminated, truncated, info)"
     )
+
+
+def test_reading_the_old_dones_names_the_split(tmp_path: Path) -> None:
+    script = tmp_path / "reads_dones.py"
+    script.write_text(
+        "from pettingzoo.classic import rps_v2\n"
+        "env = rps_v2.env()\n"
+        "env.reset()\n"
+        "for agent in env.agent_iter():\n"
+        "    if env.dones[agent]:\n"
+        "        break\n"
+        "    env.step(env.action_space(agent).sample())\n"
+    )
+    code, data, stderr = smoke(tmp_path, str(script), "--no-determinism")
+    assert code == 1
+    failed = {check["name"]: check["message"] for check in data["checks"] if check["outcome"] == "failed"}
+    assert set(failed) == {"run_completed"}
+    assert "'dones'" in failed["run_completed"] and "reads_dones.py:5)" in failed["run_completed"]
+    assert "PettingZoo 1.21 split dones into terminations and truncations" in failed["run_completed"]

@@ -51,7 +51,7 @@ from gymmigrate.smoke.probe import (
 
 _ENV_MODULE = "pettingzoo.utils.env"
 _PROBED = "__gymmigrate_agents_probe__"
-_OLD_DONES = ("dones", "_was_done_step", "_dones_step_first")
+_OLD_DONES = ("dones", "_was_done_step", "_dones_step_first", "terminations", "truncations")
 
 # PettingZoo's AECEnv and ParallelEnv once the script imported them; the observer that
 # the construction hooks report to (None outside a script smoke run).
@@ -74,6 +74,7 @@ class MultiAgentObserver:
     def __init__(self, observatory: Observatory) -> None:
         self.observatory = observatory
         self.last_root: tuple[str, str] | None = None  # (api, method) of the script's latest call
+        self._last_root_call = 0  # the Gym observer's call count at that call
         self._watch: _ImportWatch | None = None
         self._patched: list[tuple[type, str, object]] = []
 
@@ -98,9 +99,14 @@ class MultiAgentObserver:
         self._patched.clear()
 
     def crash_hint(self, exc: BaseException) -> str:
-        """Why a script crashed right after a PettingZoo call, when it is the pre-1.21 API."""
-        if self.last_root is None:
-            return ""
+        """Why a script crashed on a PettingZoo env, when it is the pre-1.21 API."""
+        if isinstance(exc, AttributeError) and exc.name in _OLD_DONES and _api_of(type(exc.obj)) is not None:
+            return (
+                "; PettingZoo 1.21 split dones into terminations and truncations (and _was_done_step into "
+                "_was_dead_step): run gymmigrate rewrite on it first"
+            )
+        if self.last_root is None or self._last_root_call != self.observatory.calls:
+            return ""  # another env call came after the last PettingZoo one
         api, method = self.last_root
         if isinstance(exc, ValueError) and "too many values to unpack (expected 4" in str(exc):
             if method == "last":
@@ -114,8 +120,6 @@ class MultiAgentObserver:
                     "; the loop unpacks a parallel step() into the four dicts of PettingZoo before 1.21, it "
                     "returns (observations, rewards, terminations, truncations, infos) now: run gymmigrate rewrite on it first"
                 )
-        if isinstance(exc, AttributeError) and getattr(exc, "name", None) in _OLD_DONES:
-            return "; PettingZoo 1.21 split dones into terminations and truncations: run gymmigrate rewrite on it first"
         return ""
 
     # -- instrumenting ----------------------------------------------------------------
@@ -152,7 +156,7 @@ class MultiAgentObserver:
                 raise SmokeStop(watch.stop_reason)
             watch.calls += 1
             watch._chain_charged = set()
-            self.last_root = (api, name)
+            self.last_root, self._last_root_call = (api, name), watch.calls
             ledger = self._ledger_for(env, api)
             if name == "reset":
                 args, kwargs = self._seed_first_reset(ledger, env, method, args, kwargs)
