@@ -106,7 +106,7 @@ def test_the_budget_stops_a_loop_that_swallows_exceptions() -> None:
         ),
         pytest.param(
             "no_env.py",
-            "the script ended without resetting or stepping any gymnasium env: nothing to check",
+            "the script ended without resetting or stepping any gymnasium or PettingZoo env: nothing to check",
             id="no env",
         ),
         pytest.param("missing.py", "no such script: ", id="missing script"),

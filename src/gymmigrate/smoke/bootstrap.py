@@ -31,12 +31,14 @@ def main(argv: list[str]) -> int:
     import numpy as np
 
     from gymmigrate.smoke.evidence import records_to_json
+    from gymmigrate.smoke.multi_agent_probe import MultiAgentObserver
     from gymmigrate.smoke.probe import Budget, Observatory, SmokeStop, SmokeTimeout
 
     seed = config["seed"]
     random.seed(seed)
     np.random.seed(seed)
     observatory = Observatory(seed, Budget(config["episodes"], config["max_steps"]), inject_seed=True)
+    agents = MultiAgentObserver(observatory)  # PettingZoo envs, if the script imports PettingZoo
 
     def on_term(signum: int, frame: object) -> None:
         raise SmokeTimeout("stopped at the timeout")
@@ -47,9 +49,11 @@ def main(argv: list[str]) -> int:
     stopped_by, error = "finished", None
     try:
         observatory.install()
+        agents.install()
         try:
             runpy.run_path(script, run_name="__main__")
         finally:
+            agents.uninstall()
             observatory.uninstall()
     except SmokeStop:
         stopped_by = "budget"
@@ -59,7 +63,7 @@ def main(argv: list[str]) -> int:
         if exc.code not in (None, 0):
             stopped_by, error = "error", f"the script exited with sys.exit({exc.code!r})"
     except BaseException as exc:  # the script's own crash: report it, do not re-raise
-        stopped_by, error = "error", _describe_crash(exc, script)
+        stopped_by, error = "error", _describe_crash(exc, script) + agents.crash_hint(exc)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
     record = observatory.record(stopped_by, error, seconds=time.perf_counter() - started)
     temporary = output.with_suffix(".tmp")
@@ -80,7 +84,7 @@ def _describe_crash(exc: BaseException, script: str) -> str:
 
 
 def _user_frame(exc: BaseException) -> tuple[str, int] | None:
-    """The deepest frame of the user's code: not the stdlib, gymnasium, numpy or gymmigrate."""
+    """The deepest frame of the user's code: not the stdlib, gymnasium, numpy, PettingZoo or gymmigrate."""
     import gymnasium
     import numpy
 
@@ -93,6 +97,7 @@ def _user_frame(exc: BaseException) -> tuple[str, int] | None:
             Path(gymnasium.__file__).parent,
             Path(numpy.__file__).parent,
             Path(gymmigrate.__file__).parent,
+            *(Path(m.__file__).parent for m in [sys.modules.get("pettingzoo")] if m is not None and m.__file__),
         )
     )
     found = None

@@ -30,6 +30,13 @@ _PASSED_MESSAGES = {
     OBS_IN_SPACE: "every observation lay in the observation space",
     NO_STEP_AFTER_END: "the loop reset every env before stepping it again after an episode ended",
 }
+# The same checks on PettingZoo envs (their records carry agent_counts).
+_PASSED_MESSAGES_AGENTS = {
+    RESET_SIGNATURE: "every reset() returned None (AEC) or (observations, infos) (parallel)",
+    STEP_SIGNATURE: "every last() returned (observation, reward, termination, truncation, info) and every "
+    "parallel step() five dicts",
+    FLAGS_ARE_BOOL: "terminations and truncations were always bool",
+}
 
 
 def evaluate(
@@ -45,8 +52,12 @@ def evaluate(
 
 def contract_checks(run: RunRecord) -> tuple[CheckResult, ...]:
     charged = {name: (message, count) for name, message, count in run.violations}
+    multi_agent = [env.agent_counts is not None for env in run.envs]
     results = []
     for name, passed_message in _PASSED_MESSAGES.items():
+        if any(multi_agent) and name in _PASSED_MESSAGES_AGENTS:
+            agents_message = _PASSED_MESSAGES_AGENTS[name]
+            passed_message = agents_message if all(multi_agent) else f"Gym envs: {passed_message}; PettingZoo envs: {agents_message}"
         if name in charged:
             message, count = charged[name]
             results.append(CheckResult.fail(name, message + (f" ({count} times)" if count > 1 else "")))

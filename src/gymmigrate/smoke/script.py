@@ -71,7 +71,7 @@ def run_script(
                 "the script's envs ran only inside AsyncVectorEnv worker processes, out of the shim's sight: "
                 "smoke-check it with vectorization_mode='sync'"
             )
-        raise NothingToCheck("the script ended without resetting or stepping any gymnasium env: nothing to check")
+        raise NothingToCheck("the script ended without resetting or stepping any gymnasium or PettingZoo env: nothing to check")
     return run
 
 
