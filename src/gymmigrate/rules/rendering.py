@@ -40,18 +40,25 @@ from __future__ import annotations
 import ast
 from collections import defaultdict
 from dataclasses import dataclass
-from typing import Any
-
-import libcst as cst
 
 from gymmigrate.facts import names as N
-from gymmigrate.edits.arguments import append_keyword, remove_args
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.creation import Creation, CreationFinder, local_env_class_takes_render_mode
 from gymmigrate.facts.decisions import Action, decide, receiver_text
 from gymmigrate.facts.module import keyword, string_value
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
+from gymmigrate.rules.render_calls import (
+    arguments_in_order,
+    close_call,
+    first_argument,
+    in_source_order,
+    is_render,
+    mode_argument,
+    single_frame_fixed,
+    with_keyword,
+    without_mode_argument,
+)
 from gymmigrate.rules.render_schedule import schedule
 
 RULES = (
@@ -153,10 +160,10 @@ class Rendering(RuleFamily):
         # A file that still passes modes to render() is legacy code even once its imports
         # say gymnasium (e.g. a conflict reported on a first run): its bare render()
         # calls still mean "human", so a second run decides the same way.
-        self._has_legacy_mode_calls = any(_mode_argument(call) is not None for call in render_calls)
+        self._has_legacy_mode_calls = any(mode_argument(call) is not None for call in render_calls)
         sites: list[RenderSite] = []
-        for call in _in_source_order([*render_calls, *self._recorder_candidates()]):
-            site = self._render_site(call) if _is_render(call) else self._recorder_site(call)
+        for call in in_source_order([*render_calls, *self._recorder_candidates()]):
+            site = self._render_site(call) if is_render(call) else self._recorder_site(call)
             if site is not None:
                 sites.append(site)
         self._plan_sites(sites)
@@ -167,7 +174,7 @@ class Rendering(RuleFamily):
         self.plan.notes[RENDER_MODE_CALLS_LEFT] = [
             call
             for call in render_calls
-            if _mode_argument(call) is not None
+            if mode_argument(call) is not None
             and id(call) not in self._mode_dropped
             and getattr(self.facts.enclosing_function(call), "name", None) != "render"
         ]
@@ -189,7 +196,7 @@ class Rendering(RuleFamily):
     def _render_site(self, call: ast.Call) -> RenderSite | None:
         receiver = call.func.value  # type: ignore[attr-defined]
         close = keyword(call, "close")
-        mode_arg = _mode_argument(call)
+        mode_arg = mode_argument(call)
         if close is None and mode_arg is None and (call.args or call.keywords):
             return None  # some other render(...) signature: not the Gym one
         function = self.facts.enclosing_function(call)
@@ -206,7 +213,7 @@ class Rendering(RuleFamily):
             if not (self.context.profile.imports_gym or self._has_legacy_mode_calls):
                 return None  # code already written for Gymnasium: a bare render() is its API
             return RenderSite(call, "GM402", HUMAN, (), decision.action, self.finder.find(receiver))
-        extra = [a for a in _arguments_in_order(call) if a is not mode_arg and a is not close]
+        extra = [a for a in arguments_in_order(call) if a is not mode_arg and a is not close]
         if extra:
             names = ", ".join(self._argument_name(a) for a in extra)
             self.report(
@@ -253,7 +260,7 @@ class Rendering(RuleFamily):
                 return None
         else:
             env = keyword(call, "env") or keyword(call, "venv")
-            env = env.value if env is not None else _first_argument(call)
+            env = env.value if env is not None else first_argument(call)
             if isinstance(env, ast.keyword):
                 return None  # the first argument is some other keyword
         creation = self.finder.find(env)
@@ -299,7 +306,7 @@ class Rendering(RuleFamily):
         if action is Action.REPORT:
             self.report(call, "GM406", f"{reason}: render(close=True) is close() on a Gym env", FixKind.FLAG)
             return
-        self.plan.replace(call, _close_call)
+        self.plan.replace(call, close_call)
         if action is Action.REWRITE_FOR_REVIEW:
             self.report(call, "GM406", f"render(close=True) -> close(); {reason}", FixKind.ASSIST)
         else:
@@ -367,7 +374,7 @@ class Rendering(RuleFamily):
             self._added[key] = HUMAN
             func = self.facts.segment(make.func)
             value = f"{quote}{HUMAN}{quote} if {condition} else None"
-            self.plan.replace(make, lambda node: _with_keyword(node, func, "render_mode", value))
+            self.plan.replace(make, lambda node: with_keyword(node, func, "render_mode", value))
             self._scheduled[key] = condition  # type: ignore[assignment]
             return True
         final_mode[key] = None
@@ -378,7 +385,7 @@ class Rendering(RuleFamily):
         self._added[id(make)] = mode
         func = self.facts.segment(make.func)
         literal = f"{quote}{mode}{quote}"
-        self.plan.replace(make, lambda node: _with_keyword(node, func, "render_mode", literal))
+        self.plan.replace(make, lambda node: with_keyword(node, func, "render_mode", literal))
 
     def _plan_site(
         self,
@@ -410,7 +417,7 @@ class Rendering(RuleFamily):
                 'returns here, or choose render_mode="human" if drawing every step is intended'
             )
             if code == "GM401":  # render(mode=...) raises TypeError in Gymnasium: the mode goes
-                self.plan.replace(call, _without_mode_argument)
+                self.plan.replace(call, without_mode_argument)
                 self._mode_dropped.add(id(call))
                 self.report(call, code, f"mode dropped, no render_mode added (it draws nothing until you choose): {choice}")
             else:
@@ -448,7 +455,7 @@ class Rendering(RuleFamily):
                 f"if {scheduled[0]} else None to {where}; that env now draws every step inside step()/reset()",
             )
             if code == "GM401":
-                self.plan.replace(call, _without_mode_argument)
+                self.plan.replace(call, without_mode_argument)
                 self._mode_dropped.add(id(call))
             return
         if code == "GM402":
@@ -460,7 +467,7 @@ class Rendering(RuleFamily):
                     "now draws every step inside step()/reset(), so this call is redundant (keep or remove it)",
                 )
             return
-        self.plan.replace(call, _without_mode_argument)
+        self.plan.replace(call, without_mode_argument)
         self._mode_dropped.add(id(call))
         if self._legacy_025 and site.mode == RGB_ARRAY and not site.legacy_spelling:
             self.report(
@@ -481,13 +488,13 @@ class Rendering(RuleFamily):
         """``gym.make(..., render_mode="single_rgb_array")`` (GM403) and 0.25 list readers."""
         calls = [c for name in ("make", *self._make_aliases()) for c in self.facts.calls_by_name.get(name, [])]
         calls.extend(self.facts.attribute_calls.get("make", []))
-        for call in _in_source_order(calls):
+        for call in in_source_order(calls):
             existing = keyword(call, "render_mode")
             if existing is None or not self._is_make(call):
                 continue
             value = string_value(existing.value)
             if value == LEGACY_SINGLE_FRAME:
-                self.plan.replace(existing.value, _single_frame_fixed)
+                self.plan.replace(existing.value, single_frame_fixed)
                 self.report(call, "GM403", 'gym 0.25 render_mode "single_rgb_array" is "rgb_array" in Gymnasium')
             elif value == RGB_ARRAY and self._legacy_025:
                 self.report(
@@ -517,7 +524,7 @@ class Rendering(RuleFamily):
 
     def _quote_style(self, make: ast.Call, sites: list[RenderSite]) -> str:
         """Write the mode the way the make call already quotes its strings (else like the render call)."""
-        for arg in _arguments_in_order(make):
+        for arg in arguments_in_order(make):
             quote = self._quote(arg.value if isinstance(arg, ast.keyword) else arg)
             if quote is not None:
                 return quote
@@ -525,7 +532,7 @@ class Rendering(RuleFamily):
 
     def _call_summary(self, call: ast.Call) -> str:
         """``gym.make("CartPole-v1", ...)``: names a make call in a message."""
-        arguments = _arguments_in_order(call)
+        arguments = arguments_in_order(call)
         first = ""
         if arguments:
             value = arguments[0].value if isinstance(arguments[0], (ast.keyword, ast.Starred)) else arguments[0]
@@ -538,74 +545,3 @@ class Rendering(RuleFamily):
             return argument.arg
         value = argument.value if isinstance(argument, (ast.keyword, ast.Starred)) else argument
         return self.facts.segment(value)
-
-
-# -- ast helpers ----------------------------------------------------------------------------
-
-
-def _is_render(call: ast.Call) -> bool:
-    return isinstance(call.func, ast.Attribute) and call.func.attr == "render"
-
-
-def _mode_argument(call: ast.Call) -> ast.AST | None:
-    """The ``mode`` argument of a legacy ``render`` call (keyword or first positional)."""
-    found = keyword(call, "mode")
-    if found is not None:
-        return found
-    first = _first_argument(call)
-    if isinstance(first, ast.expr) and not isinstance(first, ast.Starred):
-        return first
-    return None
-
-
-def _arguments_in_order(call: ast.Call) -> list[ast.AST]:
-    """Positional arguments and keywords in source order (LibCST's ``call.args``)."""
-    return sorted([*call.args, *call.keywords], key=lambda a: (a.lineno, a.col_offset))  # type: ignore[attr-defined]
-
-
-def _first_argument(call: ast.Call) -> ast.AST | None:
-    arguments = _arguments_in_order(call)
-    return arguments[0] if arguments else None
-
-
-def _in_source_order(calls: list[ast.Call]) -> list[ast.Call]:
-    """Unique calls, outer before inner (the order a LibCST visitor met them)."""
-    unique = {id(c): c for c in calls}.values()
-    return sorted(unique, key=lambda c: (c.lineno, c.col_offset, -(c.end_lineno or 0), -(c.end_col_offset or 0)))
-
-
-# -- builds (LibCST) ------------------------------------------------------------------------
-
-
-def _code(node: cst.CSTNode) -> str:
-    return cst.Module(body=[]).code_for_node(node)
-
-
-def _close_call(node: Any) -> Any:
-    return node.with_changes(
-        func=node.func.with_changes(attr=cst.Name("close")), args=[], whitespace_before_args=cst.SimpleWhitespace("")
-    )
-
-
-def _without_mode_argument(node: Any) -> Any:
-    mode = next((a for a in node.args if a.keyword is not None and a.keyword.value == "mode"), None)
-    if mode is None and node.args and node.args[0].keyword is None and not node.args[0].star:
-        mode = node.args[0]
-    return remove_args(node, lambda arg: arg is mode)
-
-
-def _with_keyword(node: Any, func: str, name: str, literal: str) -> Any:
-    """Add ``name=literal`` to the make call, even when another family wrapped it (``Autoreset(make(...))``)."""
-    if isinstance(node, cst.Call) and "".join(_code(node.func).split()) != "".join(func.split()):
-        inner = node.args[0].value if node.args else None
-        if isinstance(inner, cst.Call):
-            args = list(node.args)
-            args[0] = args[0].with_changes(value=_with_keyword(inner, func, name, literal))
-            return node.with_changes(args=args)
-    # A literal, or a creation-time conditional (`"human" if rank == 0 else None`).
-    value = cst.SimpleString(literal) if literal[:1] in ("'", '"') and literal[-1:] == literal[:1] else cst.parse_expression(literal)
-    return append_keyword(node, name, value)
-
-
-def _single_frame_fixed(node: Any) -> Any:
-    return node.with_changes(value=f"{node.prefix}{node.quote}{RGB_ARRAY}{node.quote}")

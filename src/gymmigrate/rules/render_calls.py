@@ -1,0 +1,86 @@
+"""The syntax of ``render(...)`` calls for the rendering rules (``rules/rendering.py``):
+reading a legacy call's arguments on ``ast``, and the LibCST builds that rewrite the call
+and the make it moves its mode to."""
+
+from __future__ import annotations
+
+import ast
+from typing import Any
+
+import libcst as cst
+
+from gymmigrate.edits.arguments import append_keyword, remove_args
+from gymmigrate.facts.module import keyword
+
+RGB_ARRAY = "rgb_array"  # the mode recorders need (also ``rendering.RGB_ARRAY``)
+
+
+# -- ast helpers ----------------------------------------------------------------------------
+
+
+def is_render(call: ast.Call) -> bool:
+    return isinstance(call.func, ast.Attribute) and call.func.attr == "render"
+
+
+def mode_argument(call: ast.Call) -> ast.AST | None:
+    """The ``mode`` argument of a legacy ``render`` call (keyword or first positional)."""
+    found = keyword(call, "mode")
+    if found is not None:
+        return found
+    first = first_argument(call)
+    if isinstance(first, ast.expr) and not isinstance(first, ast.Starred):
+        return first
+    return None
+
+
+def arguments_in_order(call: ast.Call) -> list[ast.AST]:
+    """Positional arguments and keywords in source order (LibCST's ``call.args``)."""
+    return sorted([*call.args, *call.keywords], key=lambda a: (a.lineno, a.col_offset))  # type: ignore[attr-defined]
+
+
+def first_argument(call: ast.Call) -> ast.AST | None:
+    arguments = arguments_in_order(call)
+    return arguments[0] if arguments else None
+
+
+def in_source_order(calls: list[ast.Call]) -> list[ast.Call]:
+    """Unique calls, outer before inner (the order a LibCST visitor met them)."""
+    unique = {id(c): c for c in calls}.values()
+    return sorted(unique, key=lambda c: (c.lineno, c.col_offset, -(c.end_lineno or 0), -(c.end_col_offset or 0)))
+
+
+# -- builds (LibCST) ------------------------------------------------------------------------
+
+
+def code(node: cst.CSTNode) -> str:
+    return cst.Module(body=[]).code_for_node(node)
+
+
+def close_call(node: Any) -> Any:
+    return node.with_changes(
+        func=node.func.with_changes(attr=cst.Name("close")), args=[], whitespace_before_args=cst.SimpleWhitespace("")
+    )
+
+
+def without_mode_argument(node: Any) -> Any:
+    mode = next((a for a in node.args if a.keyword is not None and a.keyword.value == "mode"), None)
+    if mode is None and node.args and node.args[0].keyword is None and not node.args[0].star:
+        mode = node.args[0]
+    return remove_args(node, lambda arg: arg is mode)
+
+
+def with_keyword(node: Any, func: str, name: str, literal: str) -> Any:
+    """Add ``name=literal`` to the make call, even when another family wrapped it (``Autoreset(make(...))``)."""
+    if isinstance(node, cst.Call) and "".join(code(node.func).split()) != "".join(func.split()):
+        inner = node.args[0].value if node.args else None
+        if isinstance(inner, cst.Call):
+            args = list(node.args)
+            args[0] = args[0].with_changes(value=with_keyword(inner, func, name, literal))
+            return node.with_changes(args=args)
+    # A literal, or a creation-time conditional (`"human" if rank == 0 else None`).
+    value = cst.SimpleString(literal) if literal[:1] in ("'", '"') and literal[-1:] == literal[:1] else cst.parse_expression(literal)
+    return append_keyword(node, name, value)
+
+
+def single_frame_fixed(node: Any) -> Any:
+    return node.with_changes(value=f"{node.prefix}{node.quote}{RGB_ARRAY}{node.quote}")
