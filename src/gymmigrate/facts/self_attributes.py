@@ -1,0 +1,110 @@
+"""``self.x`` in a class: what the receiver analysis knows of attributes
+(``Receivers`` mixes this in).
+
+``self.env`` in a ``gym.Wrapper`` is the wrapped env; ``self.training_env`` in a
+Stable-Baselines3 callback is a VecEnv; any other ``self.x`` has the kind of every value
+the class stores to it (``self.x = ...`` in any method, not in nested classes), which
+one walk per class collects.
+"""
+
+from __future__ import annotations
+
+import ast
+from collections import defaultdict
+from typing import TYPE_CHECKING
+
+from gymmigrate.facts import names as N
+from gymmigrate.facts import receivers as R
+from gymmigrate.facts.module import statements_in
+
+if TYPE_CHECKING:
+    from gymmigrate.facts.module import ModuleFacts
+
+
+class SelfAttributes:
+    """Mixed into ``Receivers``: uses its ``facts``, ``kind_of``, ``class_kind``..."""
+
+    facts: ModuleFacts
+    _self_stores: dict[ast.ClassDef, dict[str, list[ast.expr]]]
+
+    def is_self(self, name: ast.Name) -> bool:
+        if name.id not in ("self", "cls"):
+            return False
+        function = self.facts.enclosing_function(name)
+        if function is None:
+            return False
+        params = [*function.args.posonlyargs, *function.args.args]
+        return bool(params) and params[0].arg == name.id
+
+    def _self_attribute_kind(self, attr: ast.Attribute, name: str) -> R.EnvKind:
+        classdef = self.facts.enclosing_class(attr)
+        if classdef is None:
+            return R.EnvKind.UNKNOWN
+        if name == "env" and self.is_gym_wrapper_class(classdef):
+            return R.EnvKind.GYM_ENV
+        if name == "training_env":
+            return R.EnvKind.SB3_VEC
+        if name == "model" and self._is_sb3_callback(classdef):
+            return R.EnvKind.SB3_MODEL
+        values = self.self_attribute_values(attr, name)
+        if not values:
+            if name == "env" and self._is_pettingzoo_wrapper(classdef):
+                return self.class_kind(classdef)
+            return R.EnvKind.UNKNOWN
+        return R.join_kinds(self.kind_of(value) for value in values)
+
+    def _is_pettingzoo_wrapper(self, classdef: ast.ClassDef) -> bool:
+        return any(q in N.PZ_WRAPPER_BASES for base in classdef.bases for q in self.qualified_names(base))
+
+    def self_attribute_values(self, attr: ast.AST, name: str) -> list[ast.expr]:
+        """Values stored to ``self.<name>`` in the class that encloses ``attr``."""
+        classdef = self.facts.enclosing_class(attr)
+        if classdef is None:
+            return []
+        return self.self_stores(classdef).get(name, [])
+
+    def self_stores(self, classdef: ast.ClassDef) -> dict[str, list[ast.expr]]:
+        """Values stored to ``self.x`` anywhere in a class (not nested classes), by name.
+
+        One walk per class, not per attribute read: env classes read dozens of ``self.x``.
+        """
+        stores = self._self_stores.get(classdef)
+        if stores is None:
+            stores = self._self_stores[classdef] = _collect_self_stores(classdef)
+        return stores
+
+    def _is_sb3_callback(self, classdef: ast.ClassDef) -> bool:
+        return any(q in N.SB3_CALLBACK_BASES for base in classdef.bases for q in self.qualified_names(base))
+
+
+def _stored_self_name(target: ast.AST) -> str | None:
+    if isinstance(target, ast.Attribute) and isinstance(target.value, ast.Name) and target.value.id == "self":
+        return target.attr
+    return None
+
+
+def _collect_self_stores(classdef: ast.ClassDef) -> dict[str, list[ast.expr]]:
+    values: dict[str, list[ast.expr]] = defaultdict(list)
+    stack: list[ast.AST] = list(classdef.body)
+    while stack:
+        node = stack.pop()
+        if isinstance(node, ast.ClassDef):
+            continue
+        if isinstance(node, ast.Assign):
+            for target in node.targets:
+                name = _stored_self_name(target)
+                if name is not None:
+                    values[name].append(node.value)
+                elif isinstance(target, (ast.Tuple, ast.List)) and isinstance(node.value, (ast.Tuple, ast.List)):
+                    for element, value in zip(target.elts, node.value.elts):
+                        name = _stored_self_name(element)
+                        if name is not None:
+                            values[name].append(value)
+        elif isinstance(node, ast.AnnAssign) and node.value is not None:
+            name = _stored_self_name(node.target)
+            if name is not None:
+                values[name].append(node.value)
+        stack.extend(statements_in(node))  # assignments are statements: no expression walk
+    for stored in values.values():
+        stored.sort(key=lambda v: (v.lineno, v.col_offset))
+    return values
