@@ -437,8 +437,8 @@ def render_kept_classes(facts: ModuleFacts, receivers: Receivers) -> frozenset[i
         finder = CreationFinder(facts, receivers, is_creation)
         untraced: list[ast.Call] = []
         for call in facts.attribute_calls.get("render", []):
-            if not _passes_mode(call) or getattr(facts.enclosing_function(call), "name", None) in ("render", "_render"):
-                continue  # no mode, or a render method forwarding its own mode
+            if not passes_mode(call, facts):
+                continue
             receiver = call.func.value  # type: ignore[attr-defined]
             if receivers.kind_of(receiver) not in (EnvKind.GYM_ENV, EnvKind.UNKNOWN):
                 continue
@@ -455,9 +455,13 @@ def render_kept_classes(facts: ModuleFacts, receivers: Receivers) -> frozenset[i
     return facts.memo(("render-kept-classes", 0), compute)  # type: ignore[no-any-return]
 
 
-def _passes_mode(call: ast.Call) -> bool:
-    """A legacy ``render(mode)`` call: a ``mode`` keyword or a positional argument."""
-    return any(k.arg == "mode" for k in call.keywords) or any(not isinstance(a, ast.Starred) for a in call.args)
+def passes_mode(call: ast.Call, facts: ModuleFacts) -> bool:
+    """A legacy ``x.render(mode)`` call that may reach an env class's ``render(self, mode)``:
+    a ``mode`` keyword or any positional argument (``*args`` may carry one), outside a
+    render method (which forwards its own mode: the class rules own it)."""
+    if not (any(k.arg == "mode" for k in call.keywords) or call.args):
+        return False
+    return getattr(facts.enclosing_function(call), "name", None) not in ("render", "_render")
 
 
 def _first_argument(call: ast.Call) -> ast.expr | None:

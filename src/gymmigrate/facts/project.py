@@ -157,17 +157,16 @@ class _Summarizer:
 
     def _has_untraced_call(self, method: str) -> bool:
         """``x.seed(...)`` / ``x.render(mode)`` on a receiver this module cannot trace."""
+        from gymmigrate.facts.creation import passes_mode
+
         for call in self.facts.attribute_calls.get(method, ()):
             receiver = call.func.value  # type: ignore[attr-defined]
             if isinstance(receiver, ast.Name) and receiver.id == "self":
                 continue  # a class's own call: decided with that class
             if isinstance(receiver, ast.Call) and isinstance(receiver.func, ast.Name) and receiver.func.id == "super":
                 continue
-            if method == "render":
-                if not (call.args or any(k.arg == "mode" for k in call.keywords)):
-                    continue  # a bare render(): the Gymnasium call, whatever the class
-                if getattr(self.facts.enclosing_function(call), "name", None) in ("render", "_render"):
-                    continue  # a render method forwarding its own mode
+            if method == "render" and not passes_mode(call, self.facts):
+                continue  # a bare render() (the Gymnasium call), or a render method forwarding
             if self.receivers.kind_of(receiver) is not EnvKind.UNKNOWN:
                 continue
             made_by = self._instance_class(receiver)
