@@ -17,7 +17,7 @@ import pytest
 from gymmigrate.edits.apply import ApplyError, apply_plan
 from gymmigrate.edits.plan import Plan
 from gymmigrate.edits.splice import splice_plan
-from gymmigrate.engine import _parse_cst_text, decode, plan_file
+from gymmigrate.engine import _parse_cst, decode, plan_file
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.rules.base import RewriteOptions
 from tests.fixture_cases import collect_cases
@@ -29,7 +29,7 @@ def _plan(text: str) -> Plan:
 
 def both_ways(text: str) -> tuple[str | None, str]:
     """(spliced or None, whole-module result), each from its own plan: builds may keep state."""
-    spliced = splice_plan(text, _plan(text), _parse_cst_text)
+    spliced = splice_plan(text, _plan(text), _parse_cst)
     whole = apply_plan(cst.parse_module(text), _plan(text)).code
     return spliced, whole
 
@@ -97,7 +97,7 @@ def test_an_edit_reaching_outside_the_cut_is_an_error_not_a_wrong_edit() -> None
     plan.remove(plan.facts.tree.body[1], keep_comments=True)
     with pytest.raises(ApplyError, match="outside"):
         apply_plan(cst.parse_module("x = 0\n# note\na = 1\n"), plan, window=(0, 2))
-    assert splice_plan(text, plan, _parse_cst_text) == "x = 0\n# note\nb = 2\n"
+    assert splice_plan(text, plan, _parse_cst) == "x = 0\n# note\nb = 2\n"
 
 
 def test_decline_where_the_whole_module_is_needed() -> None:
@@ -105,7 +105,7 @@ def test_decline_where_the_whole_module_is_needed() -> None:
     text = "env = make()\n"
     plan = Plan(ModuleFacts(ast.parse(text), text))
     plan.add_import("import gymnasium as gym")
-    assert splice_plan(text, plan, _parse_cst_text) is None
+    assert splice_plan(text, plan, _parse_cst) is None
     # the removal of the first statement: its comment lines are the module's header
     text = textwrap.dedent(
         """\
@@ -116,4 +116,4 @@ def test_decline_where_the_whole_module_is_needed() -> None:
     )
     plan = Plan(ModuleFacts(ast.parse(text), text))
     plan.remove(plan.facts.tree.body[0])
-    assert splice_plan(text, plan, _parse_cst_text) is None
+    assert splice_plan(text, plan, _parse_cst) is None

@@ -85,7 +85,8 @@ def parse(source: bytes, path: str) -> cst.Module:
     return _parse_cst(source)
 
 
-def _parse_cst(source: bytes) -> cst.Module:
+def _parse_cst(source: bytes | str) -> cst.Module:
+    """A whole file (bytes) or a cut of its statements (text)."""
     try:
         return cst.parse_module(source)
     except cst.ParserSyntaxError as exc:
@@ -215,7 +216,7 @@ def _apply(source: bytes, text: str, plan: Plan) -> str:
     """The rewritten text: only the top-level statements that change are parsed and
     printed again where that is exact (``edits.splice``), else the whole module."""
     if not _UNREPRODUCIBLE.search(text):
-        spliced = splice_plan(text, plan, _parse_cst_text)
+        spliced = splice_plan(text, plan, _parse_cst)
         if spliced is not None:
             return spliced
     module = apply_plan(_parse_cst(source), plan)
@@ -223,13 +224,6 @@ def _apply(source: bytes, text: str, plan: Plan) -> str:
     if new_text.encode(module.encoding) != source:
         _check_round_trip(source, text)
     return new_text
-
-
-def _parse_cst_text(text: str) -> cst.Module:
-    try:
-        return cst.parse_module(text)
-    except cst.ParserSyntaxError as exc:
-        raise TransformError(f"syntax error at line {exc.raw_line}, column {exc.raw_column}") from None
 
 
 def _check_round_trip(source: bytes, text: str) -> None:

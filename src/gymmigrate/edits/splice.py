@@ -63,14 +63,11 @@ def splice_plan(text: str, plan: Plan, parse: Callable[[str], cst.Module]) -> st
     indent = _default_indent(facts.tree, facts.lines)
     if indent is None:
         return None
-    facts.offset(1, 0)  # builds the line starts
-    starts = facts._line_starts  # noqa: SLF001  (character offset of each line)
-    assert starts is not None
     pieces: list[str] = []
     position = 0
     for first, stop in runs:
-        start = starts[_first_line(body[first]) - 1]
-        end = starts[min(body[stop - 1].end_lineno, len(starts) - 1)]  # type: ignore[arg-type]
+        start = facts.line_start(_first_line(body[first]))
+        end = facts.line_start(body[stop - 1].end_lineno + 1)  # type: ignore[operator]
         module = parse(text[start:end])
         if module.default_indent != indent or module.default_newline != newline:
             return None

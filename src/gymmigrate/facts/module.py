@@ -66,18 +66,13 @@ _CHILD_FIELDS: dict[type, tuple[str, ...]] = {}
 def statements_in(node: ast.AST) -> list[ast.AST]:
     """The statements (and except/case clauses) directly inside ``node``: enough to find
     what only statements do (return, assign) without walking every expression."""
-    return [child for child in _children(node) if isinstance(child, _STATEMENT_LIKE)]
+    return [child for child in child_nodes(node) if isinstance(child, _STATEMENT_LIKE)]
 
 
 _STATEMENT_LIKE = (ast.stmt, ast.excepthandler, ast.match_case)
 
 
 def child_nodes(node: ast.AST) -> list[ast.AST]:
-    """``ast.iter_child_nodes`` in the same order, without contexts and operators."""
-    return _children(node)
-
-
-def _children(node: ast.AST) -> list[ast.AST]:
     """``ast.iter_child_nodes`` in the same order, without contexts and operators."""
     fields = _CHILD_FIELDS.get(type(node))
     if fields is None:
@@ -135,9 +130,9 @@ class ModuleFacts:
                 pushed = self._scoped_children(node, scope, inner)
             elif isinstance(node, ast.arguments):  # defaults are evaluated where the def is
                 outside = scope.parent or scope
-                pushed = [(c, scope if isinstance(c, ast.arg) else outside) for c in _children(node)]
+                pushed = [(c, scope if isinstance(c, ast.arg) else outside) for c in child_nodes(node)]
             else:
-                pushed = [(child, scope) for child in _children(node)]
+                pushed = [(child, scope) for child in child_nodes(node)]
             # Reversed so the stack pops children in source order.
             for child, child_scope in reversed(pushed):
                 parents[child] = node
@@ -230,7 +225,7 @@ class ModuleFacts:
             pushed.extend((kw, outer) for kw in node.keywords)
             pushed.extend((statement, inner) for statement in node.body)
             return pushed
-        return [(child, inner) for child in _children(node)]  # comprehensions
+        return [(child, inner) for child in child_nodes(node)]  # comprehensions
 
     def _bind(self, scope: Scope, name: str, node: ast.AST) -> None:
         target = self.module_scope if name in scope.declared_global else scope
@@ -357,8 +352,9 @@ class ModuleFacts:
         end = self.offset(node.end_lineno, node.end_col_offset)  # type: ignore[attr-defined]
         return self.text[start:end]
 
-    def offset(self, line: int, byte_column: int) -> int:
-        """Character offset in the text of an ast position (1-based line, UTF-8 byte column)."""
+    def line_start(self, line: int) -> int:
+        """Character offset in the text where ``line`` (1-based) starts; one past the last
+        line gives the length of the text."""
         if self._line_starts is None:
             starts, total = [], 0
             for text_line in self.lines:
@@ -366,9 +362,13 @@ class ModuleFacts:
                 total += len(text_line)
             starts.append(total)
             self._line_starts = starts
+        return self._line_starts[min(line - 1, len(self._line_starts) - 1)]
+
+    def offset(self, line: int, byte_column: int) -> int:
+        """Character offset in the text of an ast position (1-based line, UTF-8 byte column)."""
         text_line = self.lines[line - 1] if 0 < line <= len(self.lines) else ""
         column = byte_column if text_line.isascii() else len(text_line.encode("utf-8")[:byte_column].decode("utf-8", "replace"))
-        return self._line_starts[min(line - 1, len(self._line_starts) - 1)] + column
+        return self.line_start(line) + column
 
     def column(self, node: ast.AST) -> int:
         """``ast`` columns count UTF-8 bytes; findings count characters."""

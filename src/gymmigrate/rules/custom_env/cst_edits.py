@@ -15,18 +15,7 @@ import libcst as cst
 from gymmigrate.edits.lazy import matchers as m  # loaded by the first edit that matches
 
 from gymmigrate.edits.syntax import own_returns
-from gymmigrate.rules.custom_env.cst_queries import (  # noqa: F401  (the builds import them from here)
-    _assigns_in_tuple,
-    _assigns_name,
-    _checks_is_none,
-    _declares_global,
-    _index,
-    _reads_name_outside_returns,
-    _rebinds_name,
-    _single_assignment,
-    _uses_name,
-    _uses_self_attribute,
-)
+from gymmigrate.rules.custom_env.cst_queries import _index
 
 SUPER_RESET = "super().reset(seed=seed)"
 # Identifiers that count steps or time (``self.steps >= self.max_steps``, ``self.t > 200``).
