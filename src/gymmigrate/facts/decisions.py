@@ -13,7 +13,7 @@ from enum import Enum
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts.module import full_name
-from gymmigrate.facts.receivers import EnvKind
+from gymmigrate.facts.kinds import EnvKind
 
 if TYPE_CHECKING:
     from gymmigrate.rules.base import FileProfile

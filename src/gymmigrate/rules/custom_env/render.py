@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.creation import CreationFinder
-from gymmigrate.facts.receivers import EnvKind
+from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import ClassDecision, param_names
 from gymmigrate.rules.rendering import RENDER_MODE_CALLS_LEFT

@@ -22,7 +22,7 @@ import re
 import libcst as cst
 
 from gymmigrate.facts.module import FUNCTIONS, own_returns
-from gymmigrate.facts.receivers import EnvKind
+from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.findings import FixKind
 from gymmigrate.facts.flow import Flow
 from gymmigrate.rules.pettingzoo.common import AGENT, PZ108, PettingZooFamily, either, values_call

@@ -18,7 +18,7 @@ from gymmigrate.edits.arguments import remove_args
 from gymmigrate.facts.done_uses import DoneUse, classify_done_read
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.module import keyword
-from gymmigrate.facts.receivers import EnvKind
+from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.pettingzoo.common import (
     AGENT,

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 from gymmigrate.facts.decisions import Decision, decide, receiver_text
 from gymmigrate.facts.flow import Flow
-from gymmigrate.facts.receivers import EnvKind
+from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import Rule, RuleFamily
 

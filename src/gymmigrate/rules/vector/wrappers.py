@@ -19,7 +19,7 @@ import libcst as cst
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.decisions import receiver_text
-from gymmigrate.facts.receivers import EnvKind
+from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.vector.common import gym_rest
 

@@ -28,7 +28,7 @@ import libcst as cst
 from gymmigrate.facts import names as N
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.module import FUNCTIONS, call_argument, dotted_name, own_returns
-from gymmigrate.facts.receivers import EnvKind
+from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.repeats import Repeats

@@ -35,7 +35,7 @@ from gymmigrate.facts import names as N
 from gymmigrate.edits.syntax import dotted_node
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.module import dotted_name, string_value
-from gymmigrate.facts.receivers import EnvKind
+from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.repeats import Repeats

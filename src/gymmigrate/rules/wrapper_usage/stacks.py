@@ -15,7 +15,8 @@ from collections.abc import Callable
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts import ModuleFacts
-from gymmigrate.facts.receivers import EnvKind, Receivers, join_kinds
+from gymmigrate.facts.kinds import EnvKind, join_kinds
+from gymmigrate.facts.receivers import Receivers
 from gymmigrate.rules.wrapper_usage.tables import wrapper_rest
 
 # Deeper than any real chain of distinct names; beyond it the answer is "unknown".
