@@ -11,9 +11,10 @@ import pytest
 from typer.testing import CliRunner
 
 from gymmigrate.cli import app
-from gymmigrate.engine import TransformError, lint_source, transform_source
+from gymmigrate.engine import lint_source, transform_source
+from gymmigrate.source_text import TransformError
 from gymmigrate.rules import all_rules
-from gymmigrate.rules.base import RewriteOptions
+from gymmigrate.options import RewriteOptions
 from gymmigrate.selection import Selection, SelectionError
 from tests.fixture_cases import collect_cases
 

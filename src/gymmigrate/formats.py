@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING, TextIO
 from gymmigrate import __version__
 
 if TYPE_CHECKING:
-    from gymmigrate.engine import FileResult
+    from gymmigrate.process import FileResult
     from gymmigrate.findings import Finding
 
 FORMATS = ("text", "json", "sarif", "github")

@@ -14,7 +14,7 @@ from pathlib import Path
 from typing import TextIO
 
 from gymmigrate import __version__
-from gymmigrate.engine import FileResult, Status
+from gymmigrate.process import FileResult, Status
 from gymmigrate.findings import Finding
 
 

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
     from gymmigrate.edits.plan import Plan
-    from gymmigrate.rules.base import RewriteOptions
+    from gymmigrate.options import RewriteOptions
 
 
 class SelectionError(ValueError):

@@ -7,7 +7,7 @@ from collections.abc import Sequence
 
 from rich.table import Table
 
-from gymmigrate.engine import FileResult, Status
+from gymmigrate.process import FileResult, Status
 
 
 def summary_table(results: Sequence[FileResult], per_rule: Counter[str], review: int, *, wrote: bool) -> Table:
