@@ -189,8 +189,8 @@ def check(
     Exit codes: 0 nothing found, 1 findings, 2 files that could not be processed.
     """
     from gymmigrate.process import Status
-    from gymmigrate.formats import FORMATS, write_findings
-    from gymmigrate.report import print_summary
+    from gymmigrate.formats import FORMATS
+    from gymmigrate.report import print_summary, write_findings
     from gymmigrate.workflow import Flags, run_groups
 
     output_format = output_format.lower()
@@ -242,8 +242,7 @@ def _stdin(
     from gymmigrate.engine import Transformed, unified_diff
     from gymmigrate.process import Status
     from gymmigrate.source_text import decode
-    from gymmigrate.formats import write_findings
-    from gymmigrate.report import print_summary
+    from gymmigrate.report import print_summary, write_findings
     from gymmigrate.process import process_stdin
 
     group = _groups([filename or "."], flags)[0]

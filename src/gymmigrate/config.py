@@ -25,6 +25,9 @@ from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
 
+from gymmigrate.rules import all_rules
+from gymmigrate.selection import SelectionError, check_selector
+
 if sys.version_info >= (3, 11):
     import tomllib
 else:  # pragma: no cover
@@ -135,9 +138,6 @@ def load(path: Path, table: dict) -> Config:
 
 
 def _check_codes(selectors: tuple[str, ...], where: str) -> None:
-    from gymmigrate.selection import SelectionError, check_selector
-    from gymmigrate.rules import all_rules
-
     codes = [rule.code for rule in all_rules()]
     for selector in selectors:
         try:

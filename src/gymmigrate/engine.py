@@ -30,8 +30,9 @@ from gymmigrate.findings import Finding
 from gymmigrate.rules import registered_families
 from gymmigrate.facts.profile import FileProfile
 from gymmigrate.options import RewriteOptions
-from gymmigrate.rules.base import FileContext
-from gymmigrate.selection import family_selected, filter_plan
+from gymmigrate.rules.base import FileContext, RuleFamily
+from gymmigrate.edits.filtering import filter_plan
+from gymmigrate.selection import Selection
 from gymmigrate.source_text import TransformError, decode, first_statement_line, parse_python
 from gymmigrate.suppressions import skips_file
 
@@ -91,7 +92,7 @@ def plan_file(tree: ast.Module, text: str, path: str, options: RewriteOptions) -
         return plan
     receivers = Receivers(facts, options.project.view(path) if options.project is not None else None)
     for family in registered_families():
-        if not family_selected(family, options.selection) or not family.may_fire(facts, context):
+        if not _family_selected(family, options.selection) or not family.may_fire(facts, context):
             continue
         plan.deciding = family.__name__
         try:
@@ -102,6 +103,11 @@ def plan_file(tree: ast.Module, text: str, path: str, options: RewriteOptions) -
             raise TransformError(f"internal error in {family.__name__}: {type(exc).__name__}: {exc}") from exc
     filter_plan(plan, text, options)  # --select/--ignore and suppression comments
     return plan
+
+
+def _family_selected(family: type[RuleFamily], selection: Selection | None) -> bool:
+    """Whether any rule of ``family`` is on: a family with none is not even run."""
+    return selection is None or any(selection.allows(rule.code) for rule in family.RULES)
 
 
 def _migrate(source: bytes, text: str, encoding: str, tree: ast.Module, path: str, options: RewriteOptions) -> Transformed:

@@ -164,17 +164,3 @@ def write_github(results: Sequence[FileResult], stream: TextIO) -> None:
             stream.write(github_annotation(result.path, finding) + "\n")
         if result.error:
             stream.write(f"::error file={escape_property(result.path)}::{escape_data(result.error)}\n")
-
-
-def write_findings(output_format: str, results: Sequence[FileResult], stream: TextIO) -> None:
-    if output_format == "json":
-        write_json(results, stream)
-    elif output_format == "sarif":
-        write_sarif(results, stream)
-    elif output_format == "github":
-        write_github(results, stream)
-    else:
-        from gymmigrate.report import print_findings
-
-        print_findings(results, stream)
-    stream.flush()

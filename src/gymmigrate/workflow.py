@@ -18,6 +18,7 @@ from gymmigrate.config import Config, find_config, forget_configs
 from gymmigrate.files import discover
 from gymmigrate.options import RewriteOptions
 from gymmigrate.process import FileResult, Status
+from gymmigrate.rules import all_rules
 from gymmigrate.runner import run_files
 from gymmigrate.selection import Selection, parse_selectors
 
@@ -44,6 +45,7 @@ class Flags:
             ignore if ignore is not None else config.ignore,
             [*config.extend_select, *(parse_selectors(self.extend_select) or [])],
             [*config.extend_ignore, *(parse_selectors(self.extend_ignore) or [])],
+            codes=[rule.code for rule in all_rules()],
         )
         return RewriteOptions(
             seed=self.seed if self.seed is not None else config.seed,
