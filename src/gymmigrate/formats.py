@@ -17,10 +17,11 @@ from collections.abc import Sequence
 from typing import TYPE_CHECKING, TextIO
 
 from gymmigrate import __version__
+from gymmigrate.rules import all_rules
 
 if TYPE_CHECKING:
-    from gymmigrate.process import FileResult
     from gymmigrate.findings import Finding
+    from gymmigrate.process import FileResult
 
 FORMATS = ("text", "json", "sarif", "github")
 # The one place the project's address is written: rule pages link from here.
@@ -51,8 +52,6 @@ _LEVELS = {"auto": "warning", "assist": "warning", "flag": "warning"}
 
 
 def sarif(results: Sequence[FileResult]) -> dict[str, object]:
-    from gymmigrate.rules import all_rules
-
     rules = all_rules()
     index = {rule.code: position for position, rule in enumerate(rules)}
     return {

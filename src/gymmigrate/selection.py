@@ -13,11 +13,6 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
-
-if TYPE_CHECKING:
-    from gymmigrate.edits.plan import Plan
-    from gymmigrate.options import RewriteOptions
 
 
 class SelectionError(ValueError):
