@@ -27,10 +27,10 @@ class CallableKinds:
     kind questions it asks back). Also holds the hook of facts across files
     (``external_param_kinds``)."""
 
-    def __init__(self, receivers: ReceiverQueries) -> None:
+    def __init__(self, receivers: ReceiverQueries, project: ProjectView | None) -> None:
         self.receivers = receivers
         self.facts: ModuleFacts = receivers.facts
-        self.project: ProjectView | None = receivers.project
+        self.project = project
 
     def own_method(self, func: ast.AST) -> ast.FunctionDef | ast.AsyncFunctionDef | None:
         """``self.make_env`` in a method: the class's own ``def make_env``."""

@@ -11,7 +11,6 @@ from typing import TYPE_CHECKING, Protocol
 
 if TYPE_CHECKING:
     from gymmigrate.facts.module import ModuleFacts
-    from gymmigrate.facts.project import ProjectView
 
 # Deeper than any real chain of rebindings; beyond it the answer is "unknown", which
 # callers report. Keeps recursion far from the interpreter's limit.
@@ -57,7 +56,6 @@ class ReceiverQueries(Protocol):
     ``facts.self_attributes``): they ask back through this, never import it."""
 
     facts: ModuleFacts
-    project: ProjectView | None
     depth: int
 
     def kind_of(self, expr: ast.AST) -> EnvKind: ...

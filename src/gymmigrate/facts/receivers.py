@@ -66,7 +66,7 @@ class Receivers:
         self._in_progress: set[ast.AST] = set()
         self._name_kinds: dict[int, EnvKind] = {}  # id(bindings list) -> kind, see _classify_name
         self.depth = 0  # shared with the helpers: one bound on the whole chain of questions
-        self.callables = CallableKinds(self)
+        self.callables = CallableKinds(self, project)
         self.attributes = SelfAttributes(self)
 
     # -- the helpers' answers, under the names rules ask ----------------------------------

@@ -42,7 +42,7 @@ from gymmigrate.findings import FixKind
 from gymmigrate.rules.wrapper_usage.arguments import positional
 
 if TYPE_CHECKING:
-    from gymmigrate.rules.wrapper_usage.renames import WrapperRenames
+    from gymmigrate.rules.wrapper_usage.stacks import StacksFamily
 
 FRAMES_NEEDED = "frames_needed"
 RGB_ARRAY = "rgb_array"
@@ -66,7 +66,7 @@ class MonitorRewrite:
     uses: tuple[str, ...]
 
 
-def plan_monitor(family: WrapperRenames, call: ast.Call) -> MonitorRewrite | None:
+def plan_monitor(family: StacksFamily, call: ast.Call) -> MonitorRewrite | None:
     """Decide one ``Monitor(...)`` call; None when it is only reported."""
     func = call.func
     prefix = ""
@@ -138,7 +138,7 @@ def plan_monitor(family: WrapperRenames, call: ast.Call) -> MonitorRewrite | Non
 RENDER_MODE_NOTE = "render_mode"  # see rules/rendering.py
 
 
-def _plan_render_mode(family: WrapperRenames, consumer: ast.Call, env: ast.expr) -> None:
+def _plan_render_mode(family: StacksFamily, consumer: ast.Call, env: ast.expr) -> None:
     makes = family.stacks.creation_makes(env)
     facts = family.facts
     added: tuple[ast.Call, ...] = ()
