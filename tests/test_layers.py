@@ -4,8 +4,11 @@ Each module belongs to one layer (``LAYERS``, bottom first). A module may import
 layer and the layers below it, never one above; the imports that run (not those under
 ``if TYPE_CHECKING:``) form no cycle, so one file's text passes through each layer once.
 An import of gymmigrate inside a function body is allowed only in ``cli.py``, where lazy
-imports keep ``gymmigrate --version`` and ``--help`` fast; third-party modules may be
-imported late anywhere (rich only for a terminal, LibCST only to apply edits). A new
+imports keep ``gymmigrate --version`` and ``--help`` fast, and of the *apply layer*: the
+modules that need LibCST when imported (they derive classes from LibCST's, or import a
+module that does), which a build loads when it first runs so that deciding, ``check``
+and a run with nothing to change never load LibCST. Third-party modules may be imported
+late anywhere (rich only for a terminal). A new
 module must be placed in a layer here: the test names any module it cannot place.
 """
 
@@ -36,6 +39,22 @@ LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("cli", ("gymmigrate.cli", "gymmigrate.__main__")),
 ]
 LAZY_IMPORTS_ALLOWED = {"gymmigrate.cli"}
+
+
+def _loads_libcst(path: Path) -> bool:
+    """Does importing this module itself import LibCST (``import libcst`` at module level, or
+    a top-level class derived from one of its classes)?"""
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    for node in tree.body:
+        if isinstance(node, ast.Import) and any(alias.name.split(".")[0] == "libcst" for alias in node.names):
+            return True
+        if isinstance(node, ast.ImportFrom) and (node.module or "").split(".")[0] == "libcst":
+            return True
+        if isinstance(node, ast.ClassDef):
+            for base in node.bases:
+                if isinstance(base, ast.Attribute) and isinstance(base.value, ast.Name) and base.value.id in ("cst", "libcst"):
+                    return True
+    return False
 
 
 @dataclass(frozen=True)
@@ -133,13 +152,39 @@ def test_imports_run_only_downwards() -> None:
     assert upwards == []
 
 
+@lru_cache(maxsize=1)
+def apply_layer() -> frozenset[str]:
+    """Modules that load LibCST on import, directly or through a module-level import."""
+    modules = all_modules()
+    found = {module for module, path in modules.items() if _loads_libcst(path)}
+    while True:
+        more = {imp.source for imp in every_import() if not imp.type_only and not imp.in_function and imp.target in found}
+        if more <= found:
+            return frozenset(found)
+        found |= more
+
+
 def test_no_gymmigrate_import_inside_a_function_outside_the_cli() -> None:
     hidden = [
         f"{imp.source} (line {imp.line}) imports {imp.target} in a function"
         for imp in every_import()
-        if imp.in_function and imp.source not in LAZY_IMPORTS_ALLOWED
+        if imp.in_function and imp.source not in LAZY_IMPORTS_ALLOWED and imp.target not in apply_layer()
     ]
     assert hidden == []
+
+
+def test_only_the_apply_layer_loads_libcst() -> None:
+    """What deciding imports never loads LibCST: the engine, every rule family, the process."""
+    expected = {
+        "gymmigrate.edits.apply",
+        "gymmigrate.edits.locate",
+        "gymmigrate.edits.splice",
+        "gymmigrate.rules.custom_env.cst_edits",
+        "gymmigrate.rules.custom_env.cst_queries",
+        "gymmigrate.rules.custom_env.rebuild",
+        "gymmigrate.rules.wrappers.cst_builds",
+    }
+    assert set(apply_layer()) == expected
 
 
 def test_the_imports_that_run_form_no_cycle() -> None:

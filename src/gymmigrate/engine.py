@@ -19,11 +19,9 @@ from dataclasses import dataclass, field, replace
 from enum import Enum
 from pathlib import Path
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 
-from gymmigrate.edits.apply import apply_plan
 from gymmigrate.edits.plan import Plan
-from gymmigrate.edits.splice import splice_plan
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.receivers import Receivers
 from gymmigrate.findings import Finding
@@ -142,6 +140,11 @@ _UNREPRODUCIBLE = re.compile(r"\r(?!\n)|\f")
 def _apply(source: bytes, text: str, plan: Plan) -> str:
     """The rewritten text: only the top-level statements that change are parsed and
     printed again where that is exact (``edits.splice``), else the whole module."""
+    # The apply layer, and with it LibCST, loads with the first edit of the process: a
+    # run with nothing to change, and ``check``, never import it.
+    from gymmigrate.edits.apply import apply_plan
+    from gymmigrate.edits.splice import splice_plan
+
     if not _UNREPRODUCIBLE.search(text):
         spliced = splice_plan(text, plan, _parse_cst)
         if spliced is not None:

@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import ast
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 
 from gymmigrate.edits.syntax import dotted_node
 from gymmigrate.facts import ModuleFacts

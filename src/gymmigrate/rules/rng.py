@@ -30,7 +30,7 @@ from __future__ import annotations
 
 import ast
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 from gymmigrate.edits.lazy import matchers as m  # loaded by the first edit that matches
 
 from gymmigrate.facts import names as N

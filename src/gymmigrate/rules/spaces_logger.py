@@ -36,7 +36,7 @@ from __future__ import annotations
 import ast
 import re
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts import ModuleFacts

@@ -10,12 +10,11 @@ from __future__ import annotations
 import ast
 from collections.abc import Sequence
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 
 from gymmigrate.facts.module import ModuleFacts, string_value
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
-from gymmigrate.rules.custom_env.cst_edits import _append_element
 
 LEGACY_METADATA_KEYS = {"render.modes": "render_modes", "video.frames_per_second": "render_fps"}
 DEFAULT_RENDER_FPS = 30
@@ -112,6 +111,8 @@ def _renamed_key(old: str, new: str):  # type: ignore[no-untyped-def]
 
 
 def _with_render_fps(node: cst.Dict) -> cst.Dict:
+    from gymmigrate.rules.custom_env.cst_edits import _append_element  # the apply layer: LibCST
+
     elements: Sequence[cst.BaseDictElement] = node.elements
     first_key = next((el.key for el in elements if isinstance(el, cst.DictElement) and isinstance(el.key, cst.SimpleString)), None)
     quote = first_key.quote if first_key is not None else '"'

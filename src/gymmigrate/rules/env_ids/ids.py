@@ -23,7 +23,7 @@ import ast
 import re
 from dataclasses import dataclass
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts import ModuleFacts

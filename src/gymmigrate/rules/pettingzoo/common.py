@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import ast
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.multi_agent import MultiAgent

@@ -19,7 +19,7 @@ from __future__ import annotations
 import ast
 import re
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 
 from gymmigrate.facts.module import FUNCTIONS, own_returns
 from gymmigrate.facts.kinds import EnvKind

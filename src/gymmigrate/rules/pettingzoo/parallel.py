@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import ast
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 
 from gymmigrate.edits.arguments import remove_args
 from gymmigrate.facts.done_uses import DoneUse, classify_done_read

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import ast
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 
 from gymmigrate.edits.arguments import append_keyword, remove_args
 from gymmigrate.facts.creation import CreationFinder

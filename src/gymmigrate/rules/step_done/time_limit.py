@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import ast
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 
 from gymmigrate.findings import FixKind
 from gymmigrate.facts.module import Scope

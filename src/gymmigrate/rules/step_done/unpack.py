@@ -18,7 +18,7 @@ import ast
 from bisect import bisect_left, bisect_right
 from dataclasses import dataclass
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 
 from gymmigrate.facts.decisions import Action, Decision
 from gymmigrate.facts.done_uses import DoneUse, classify_done_read

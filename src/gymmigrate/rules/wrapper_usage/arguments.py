@@ -20,7 +20,7 @@ import ast
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 
 from gymmigrate.facts.module import keyword, string_value
 from gymmigrate.findings import FixKind
@@ -28,7 +28,7 @@ from gymmigrate.findings import FixKind
 if TYPE_CHECKING:
     from gymmigrate.rules.wrapper_usage.stacks import StacksFamily
 
-CallBuild = Callable[[cst.Call], cst.Call]
+CallBuild = Callable[["cst.Call"], "cst.Call"]
 Handler = Callable[["StacksFamily", ast.Call], "CallBuild | None"]
 
 # The 1.x wrapper name -> the function that decides its call's arguments.

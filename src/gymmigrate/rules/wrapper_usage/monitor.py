@@ -33,7 +33,7 @@ import ast
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 
 from gymmigrate.edits.arguments import append_keyword
 from gymmigrate.edits.syntax import dotted_node

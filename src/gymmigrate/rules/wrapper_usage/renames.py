@@ -29,7 +29,7 @@ import ast
 import re
 from collections.abc import Callable
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 
 from gymmigrate.facts import names as N
 from gymmigrate.edits.syntax import dotted_node

@@ -7,7 +7,7 @@ from __future__ import annotations
 import ast
 from collections.abc import Iterator, Sequence
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 
 from gymmigrate.facts.module import FUNCTIONS
 from gymmigrate.findings import FixKind

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import ast
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 
 from gymmigrate.facts.module import own_returns
 from gymmigrate.findings import FixKind, Tier
