@@ -28,11 +28,6 @@ from pathlib import Path
 from gymmigrate.rules import all_rules
 from gymmigrate.selection import SelectionError, check_selector
 
-if sys.version_info >= (3, 11):
-    import tomllib
-else:  # pragma: no cover
-    import tomli as tomllib
-
 LIST_KEYS = ("select", "ignore", "extend-select", "extend-ignore", "exclude", "extend-exclude")
 KEYS = (*LIST_KEYS, "seed", "docs")
 
@@ -95,6 +90,11 @@ def _config_of(folder: Path) -> Config:
 
 
 def _table(pyproject: Path) -> dict | None:
+    # The TOML parser loads only where a pyproject.toml is found.
+    if sys.version_info >= (3, 11):
+        import tomllib
+    else:  # pragma: no cover
+        import tomli as tomllib
     try:
         data = tomllib.loads(pyproject.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError) as exc:

@@ -16,7 +16,6 @@ its place and the run goes on.
 
 from __future__ import annotations
 
-import multiprocessing
 import os
 import signal
 import threading
@@ -24,9 +23,8 @@ import time
 from collections import deque
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass, replace
-from multiprocessing.connection import Connection, wait
-from multiprocessing.process import BaseProcess
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from gymmigrate.facts.project import ModuleSummary, ProjectFacts
 from gymmigrate.facts.summaries import summarize
@@ -34,6 +32,10 @@ from gymmigrate.options import RewriteOptions
 from gymmigrate.process import FileResult, Status, process_file
 from gymmigrate.safety import Refused, read_source, screen
 from gymmigrate.source_text import TransformError, decode, may_hold_gym_code
+
+if TYPE_CHECKING:
+    from multiprocessing.connection import Connection
+    from multiprocessing.process import BaseProcess
 
 # Below this many files a pool costs more (worker start-up, imports) than it saves.
 PARALLEL_THRESHOLD = 16
@@ -177,6 +179,9 @@ class _Pool:
     """Worker processes that each hold at most one file, and are replaced when they die."""
 
     def __init__(self, task: _Task, size: int) -> None:
+        # multiprocessing loads only for a pool: a run of one file (a pre-commit hook) never pays for it.
+        import multiprocessing
+
         self._task = task
         self._context = multiprocessing.get_context()
         self._workers = [self._start() for _ in range(size)]
@@ -206,6 +211,8 @@ class _Pool:
 
     def collect(self, paths: list[Path]) -> list[tuple[int, FileResult]]:
         """Wait until some busy worker answers or dies; the results (or deaths) so far."""
+        from multiprocessing.connection import wait
+
         busy = self.busy()
         ready = set(wait([w.connection for w in busy] + [w.process.sentinel for w in busy]))
         finished = []

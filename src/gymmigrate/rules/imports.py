@@ -146,7 +146,6 @@ def removed_module_hint(rest: str) -> str | None:
 
 class Imports(RuleFamily):
     RULES = RULES
-    ORDER = 10
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:

@@ -54,7 +54,6 @@ _VECTOR_CONSTRUCTORS = frozenset({"vector.make", "make_vec"}) | N.GYM_VEC_FACTOR
 
 class MakeKeywords(RuleFamily):
     RULES = RULES
-    ORDER = 30
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:

@@ -70,7 +70,6 @@ Verdict = tuple[str, FixKind, str]
 
 class GeneratorApi(RuleFamily):
     RULES = RULES
-    ORDER = 45
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:

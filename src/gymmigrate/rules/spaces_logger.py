@@ -115,7 +115,6 @@ _ONE_STRING = re.compile(r"""^[rRuU]?(\"\"\"[\s\S]*\"\"\"|'''[\s\S]*'''|"(?:[^"\
 
 class SpacesLogger(RuleFamily):
     RULES = RULES
-    ORDER = 80
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:

@@ -33,7 +33,7 @@ from gymmigrate.rules.custom_env.step import decide_step
 
 class EnvClassFamily(RuleFamily):
     RULES = CLASS_RULES
-    ORDER = 40
+    after = ("Rendering",)
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:

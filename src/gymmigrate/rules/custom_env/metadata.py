@@ -24,7 +24,6 @@ class MetadataKeys(RuleFamily):
     RULES = (
         Rule("GM404", "metadata keys", FixKind.AUTO, "`render.modes` / `video.frames_per_second` become `render_modes` / `render_fps`."),
     )
-    ORDER = 40
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:

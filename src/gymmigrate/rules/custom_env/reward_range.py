@@ -17,7 +17,6 @@ from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 
 class RewardRange(RuleFamily):
     RULES = (Rule("GM507", "reward_range", FixKind.FLAG, "Reads of `reward_range`, removed from `Env` and `Wrapper`, are reported."),)
-    ORDER = 40
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:

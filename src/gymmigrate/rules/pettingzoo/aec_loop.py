@@ -33,7 +33,6 @@ TERMINATION, TRUNCATION = "termination", "truncation"
 
 class AecLoop(PettingZooFamily):
     RULES = (PZ101, PZ102, PZ103)
-    ORDER = 56
 
     def decide(self) -> None:
         self.flow = Flow.of(self.facts)

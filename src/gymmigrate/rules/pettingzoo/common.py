@@ -40,7 +40,6 @@ PZ110 = Rule("PZ110", "`pettingzoo.make` replaces module-level creation", FixKin
 
 # ``plan.notes`` key: set when a PettingZoo family changed something in the file (PZ110
 # only speaks up in files that are being migrated, see spaces_make.py).
-PETTINGZOO_EDITED = "pettingzoo-edited"
 
 # The loop variable written into generated comprehensions.
 AGENT = "agent"
@@ -59,7 +58,7 @@ class PettingZooFamily(RuleFamily):
         return MultiAgent.of(self.facts, self.receivers)
 
     def changed(self) -> None:
-        self.plan.notes[PETTINGZOO_EDITED] = True
+        self.notes.pettingzoo_edited = True
 
     def replace_text(self, node: ast.AST, text: str) -> None:
         """Replace ``node`` by an expression written as source text."""

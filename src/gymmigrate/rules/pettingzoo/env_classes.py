@@ -34,7 +34,6 @@ _STEP_LIMIT = re.compile(r"cycle|iter|step|moves|horizon|time_?limit", re.IGNORE
 
 class EnvClasses(PettingZooFamily):
     RULES = (PZ108,)
-    ORDER = 41
 
     def decide(self) -> None:
         facts = self.facts

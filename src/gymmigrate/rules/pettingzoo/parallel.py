@@ -35,7 +35,6 @@ TERMINATIONS, TRUNCATIONS, INFOS = "terminations", "truncations", "infos"
 
 class ParallelCalls(PettingZooFamily):
     RULES = (PZ104, PZ105)
-    ORDER = 57
 
     def decide(self) -> None:
         self.flow = Flow.of(self.facts)

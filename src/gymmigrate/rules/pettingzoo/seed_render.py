@@ -28,7 +28,6 @@ PZ_FACTORY_SUFFIXES = (".env", ".parallel_env", ".raw_env")
 
 class SeedRender(PettingZooFamily):
     RULES = (PZ106, PZ107)
-    ORDER = 58
 
     def decide(self) -> None:
         for call in self.facts.attribute_calls.get("seed", ()):

@@ -73,13 +73,6 @@ class StepNames:
         return f"{self.terminated} or {self.truncated}"
 
 
-# ``plan.notes[STEP_UNPACKS]``: every four-target step unpack this family rewrites
-# (``ast.Assign`` -> ``StepUnpack``). The wrappers family (GM602, higher ORDER) reads it to
-# return the new flags from a wrapper's ``step`` and may ``plan.withdraw`` the inserted
-# ``done = ...`` line once its return no longer reads ``done``.
-STEP_UNPACKS = "step_unpacks"
-
-
 @dataclass
 class StepUnpack:
     """What the step family did to one ``obs, r, done, info = x.step(a)``."""

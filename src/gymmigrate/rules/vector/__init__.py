@@ -75,7 +75,6 @@ RULES = (
 
 class VectorEnvs(Construction, Infos, VectorWrappers, RuleFamily):
     RULES = RULES
-    ORDER = 35
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:

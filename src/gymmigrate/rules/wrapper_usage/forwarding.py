@@ -75,10 +75,9 @@ def join_origins(origins: list[Origin]) -> Origin:
 
 
 class WrapperForwarding(RuleFamily):
-    """GM604-GM606. ORDER 61: after the wrapper subclass rules, as the LibCST pass it replaces."""
+    """GM604-GM606. In the pipeline after the wrapper subclass rules, as the LibCST pass it replaced."""
 
     RULES = RULES
-    ORDER = 61
 
     def __init__(self, *args, **kwargs) -> None:  # type: ignore[no-untyped-def]
         super().__init__(*args, **kwargs)

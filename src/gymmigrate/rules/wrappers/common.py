@@ -35,7 +35,6 @@ RULES = (
 )
 
 # ``plan.notes`` key of the reset family: "Class.method" -> the info name it unpacked into.
-RESET_INFO_NAMES = "reset_info_names"
 
 
 def _is_inner_env(node: ast.expr) -> bool:

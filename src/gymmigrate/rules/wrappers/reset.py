@@ -1,7 +1,7 @@
 """GM601: a wrapper's ``reset`` override returns ``(obs, info)``.
 
 ``return self._process(obs)`` -> ``return self._process(obs), info`` with the info the
-reset family unpacked the inner reset into (``plan.notes["reset_info_names"]``), or
+reset family unpacked the inner reset into (``notes.reset_info_names``), or
 ``{}`` when the override has none; ``return f(self.env.reset(**kw))`` gets the inner
 reset hoisted into ``obs, info = ...``. Pass-throughs stay. ``def reset(self)`` takes
 Gymnasium's ``*, seed=None, options=None``, which outer wrappers always pass.
@@ -30,14 +30,13 @@ from gymmigrate.rules.wrappers.common import (
 )
 
 # ``plan.notes`` key of the reset family: "Class.method" -> the info name it unpacked into.
-RESET_INFO_NAMES = "reset_info_names"
 
 
 class ResetOverrides(RuleFamily):
     """GM601 (mixed into the family; no ``RULES``, so not registered itself)."""
 
     def _fix_reset(self, classdef: ast.ClassDef, function: ast.FunctionDef | ast.AsyncFunctionDef) -> None:
-        noted_info = self.plan.notes.get(RESET_INFO_NAMES, {}).get(f"{classdef.name}.{function.name}")
+        noted_info = self.notes.reset_info_names.get(f"{classdef.name}.{function.name}")
         info_name: str | None = None
         completed: set[ast.stmt] = set()  # one-name resets the reset family unpacks into ``obs, info``
         for line in _statements(function.body):
