@@ -19,9 +19,12 @@ from gymmigrate.rules.custom_env.cst_queries import _index
 
 SUPER_RESET = "super().reset(seed=seed)"
 # Identifiers that count steps or time (``self.steps >= self.max_steps``, ``self.t > 200``).
+# A word that counts steps (matched on the lower-cased identifier: ``MAX_STEPS`` too).
+# ``cycles``, ``frames`` and ``num_moves`` are how PettingZoo's envs count theirs
+# (``self.frames >= self.max_cycles``); a bare ``moves`` is often a list of legal moves.
 STEP_LIMIT_WORD = re.compile(
     r"(^|_)(t|ts|step|steps|timestep|timesteps|tick|ticks|iter|iters|iteration|iterations|horizon|"
-    r"time|time_limit|ep_len|episode_len|episode_length|counter)(_|$)"
+    r"time|time_limit|ep_len|episode_len|episode_length|counter|cycle|cycles|frame|frames|num_moves|n_moves)(_|$)"
 )
 _LIMIT_OPS = (cst.GreaterThan, cst.GreaterThanEqual, cst.LessThan, cst.LessThanEqual, cst.Equal)
 
@@ -188,7 +191,7 @@ def _tuple_len(value: cst.BaseExpression | None) -> int | None:
 def _is_step_limit(expr: cst.BaseExpression) -> bool:
     if not isinstance(expr, cst.Comparison) or not all(isinstance(t.operator, _LIMIT_OPS) for t in expr.comparisons):
         return False
-    return any(STEP_LIMIT_WORD.search(word) and "beyond" not in word for word in _identifiers(expr))
+    return any(STEP_LIMIT_WORD.search(word.lower()) and "beyond" not in word for word in _identifiers(expr))
 
 
 def _or_operands(expr: cst.BaseExpression) -> list[cst.BaseExpression]:
