@@ -127,6 +127,20 @@ class EnvClasses(PettingZooFamily):
         self.report(outer, "PZ108", "an agent is done when it is terminated or truncated (PettingZoo 1.21)")
         return True
 
+    def replace_value(self, statement: ast.Assign, text: str) -> None:
+        """The value of ``statement`` becomes ``text`` (a ``BoolOp`` cannot be addressed alone)."""
+        self.changed()
+        self.plan.replace(statement, lambda node: node.with_changes(value=cst.parse_expression(text)))
+
+    def replace_element(self, value: ast.expr, text: str) -> None:
+        """The per-agent value of a ``{k: v for k in ...}`` or ``dict.fromkeys(keys, v)`` becomes ``text``."""
+        self.changed()
+        if isinstance(value, ast.DictComp):
+            self.plan.replace(value, lambda node: node.with_changes(value=cst.parse_expression(text)))
+        else:
+            self.plan.replace(value, lambda node: node.with_changes(
+                args=[node.args[0], node.args[1].with_changes(value=cst.parse_expression(text))]))
+
     def endings(self, classdef: ast.ClassDef) -> Endings:
         if id(classdef) not in self._endings:
             self._endings[id(classdef)] = Endings(self.facts, classdef)
@@ -154,7 +168,7 @@ class EnvClasses(PettingZooFamily):
             return False
         reads = Flow.of(self.facts).reads(target)  # type: ignore[arg-type]
         self.rename(target, "termination")  # type: ignore[arg-type]
-        self.replace_text(assign.value, joined(traced.task, self.facts))
+        self.replace_value(assign, joined(traced.task, self.facts))
         limit = joined(traced.limit, self.facts)
         limit = f"({limit})" if len(traced.limit) > 1 else limit
         inserted = [f"truncation = not termination and {limit}"]
@@ -498,10 +512,9 @@ class _Split:
                 # ``if <limit>: self.dones = {a: True for a in self.agents}``: keep an agent
                 # that terminated on this step terminated.
                 self.rename("truncations")
-                for element in elements.values:
-                    self.family.replace_text(element, f"not {self.term}[{elements.key}]")
-                self._report(statement, f"goes to `{self.trunc}` (the `if` above calls the match off on a step limit), "
-                             "except for agents terminated on the same step")
+                self.family.replace_element(value, f"not {self.term}[{elements.key}]")
+                self._report(statement, f"goes to `{self.trunc}` (the `if` above calls the match off on a step limit, "
+                             "except for agents terminated on the same step)")
                 return
             self._store(statement, "truncations", "the `if` above calls the match off on a step limit")
             return
@@ -530,9 +543,13 @@ class _Split:
             self._untraced(statement, "it shares its line with other code")
             return
         self.rename(stored)
+        elements = _elements(statement.value)
+        key = elements.key if elements is not None and elements.key is not None else AGENT
         partner = f"{other} = {{}}" if self.empty and _is_empty_dict(statement.value) else \
-            f"{other} = {{{AGENT}: False for {AGENT} in {mine}}}"
+            f"{other} = {{{key}: False for {key} in {mine}}}"
         self.family.plan.insert_after(statement, partner)
+        if partner.endswith("{}"):
+            why = "both dicts start empty"
         self._report(statement, f"goes to `{mine}` ({why})")
 
     def _split_whole(self, statement: ast.Assign, elements: _Elements, traced: Traced) -> None:
@@ -545,10 +562,10 @@ class _Split:
             if not self.family.split_assignment(traced, element):
                 self._untraced(statement, f"`{traced.name.id}` cannot be split where it is assigned")
                 return
-            self.family.replace_text(element, "termination")
+            self.family.replace_element(statement.value, "termination")
             partner = f"{self.trunc} = {{{key}: truncation for {key} in {self.term}}}"
         else:
-            self.family.replace_text(element, joined(traced.task, self.facts))
+            self.family.replace_element(statement.value, joined(traced.task, self.facts))
             partner = f"{self.trunc} = {{{key}: not {self.term}[{key}] and {_limit_text(traced, self.facts)} for {key} in {self.term}}}"
         self.limited = True
         self.rename("terminations")
@@ -599,10 +616,10 @@ class _Split:
             if not self.family.split_assignment(traced, statement.value):
                 self._untraced(statement, f"`{traced.name.id}` cannot be split where it is assigned")
                 return
-            self.family.replace_text(statement.value, "termination")
+            self.family.replace_value(statement, "termination")
             partner = f"{self.trunc}[{index}] = truncation"
         else:
-            self.family.replace_text(statement.value, joined(traced.task, self.facts))
+            self.family.replace_value(statement, joined(traced.task, self.facts))
             partner = f"{self.trunc}[{index}] = not {self.term}[{index}] and {_limit_text(traced, self.facts)}"
         self.limited = True
         self.rename("terminations")
