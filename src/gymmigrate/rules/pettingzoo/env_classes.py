@@ -309,8 +309,7 @@ class EnvClasses(PettingZooFamily):
         scope = self.facts.scopes[step]
         if "terminations" in scope.bindings or "truncations" in scope.bindings:
             return  # already migrated
-        names: set[str] = set()
-        returned_names: list[ast.Name] = []
+        names: set[str] = set()  # the local dicts split already (two returns may hand one back)
         for returned in own_returns(step):
             value = returned.value
             if not (isinstance(value, ast.Tuple) and len(value.elts) == 4):
@@ -322,9 +321,10 @@ class EnvClasses(PettingZooFamily):
                 continue
             if isinstance(dones, ast.Name) and self._unpacked_from_step(scope.bindings.get(dones.id, [])):
                 continue  # ``obs, rewards, dones, infos = self.env.step(...)``: parallel.py passes both on
-            if isinstance(dones, ast.Name) and dones.id in scope.bindings and self._local_dones(classdef, step, dones.id):
+            if isinstance(dones, ast.Name) and dones.id in scope.bindings and (
+                dones.id in names or self._local_dones(classdef, step, dones.id)
+            ):
                 names.add(dones.id)
-                returned_names.append(dones)
                 self.split_target(value, 2, "terminations", "truncations")
                 self.report(returned, "PZ104", "a parallel `step` returns terminations and truncations since PettingZoo "
                             "1.21", FixKind.AUTO)
@@ -375,7 +375,7 @@ class EnvClasses(PettingZooFamily):
             elif not self._aggregate_both(read, "terminations", "truncations"):
                 self.rename(read, "terminations")
                 self.report(read, "PZ104", f"`{name}` is split into terminations and truncations: this use reads only "
-                            "the terminations; check it", FixKind.FLAG)
+                            "the terminations; check it", FixKind.ASSIST)
         return True
 
     def _is_returned(self, read: ast.Name) -> bool:
@@ -645,8 +645,8 @@ class _Split:
                 )
                 self.family.plan.insert_after(statement, partner)
         self.family.report(statement, self.code, f"`{self.old}` split: this store could not be traced ({why}), so it "
-                           f"went to `{self.term}`: a game over is a termination, a step limit a truncation; split it "
-                           "by hand", FixKind.FLAG)
+                           f"went to `{self.term}`; review: a game over is a termination, a step limit a truncation; split it "
+                           "by hand", FixKind.ASSIST)
 
 
 def _limit_text(traced: Traced, facts: ModuleFacts) -> str:
