@@ -4,12 +4,12 @@ PettingZoo 1.21 renamed the helpers ``_was_done_step`` -> ``_was_dead_step`` and
 ``_dones_step_first`` -> ``_deads_step_first``, and replaced ``self.dones`` by two dicts
 that ``last()``, ``_was_dead_step`` and the API tests all read: ``self.terminations``
 (the game is over for the agent) and ``self.truncations`` (a step limit cut it short).
-Which one a store means needs judgement, so stores are rewritten for review: a store
-whose value mentions a step or cycle count becomes a truncation, any other a
-termination, and the other dict is kept all False. Reads read both.
+Each store is split by meaning (``endings.py`` traces its causes): a step or cycle limit
+goes to ``self.truncations``, any other cause to ``self.terminations``, ``a or <limit>``
+to both; what cannot be traced goes to ``self.terminations`` for review. Reads read both.
 
-A parallel env's ``step`` returns five dicts (its local ``dones`` becomes
-``terminations``, with ``truncations`` all False beside it), and its ``reset`` returns
+A parallel env's ``step`` returns five dicts (its local ``dones`` is split the same way,
+store by store), and its ``reset`` returns
 ``(observations, infos)`` without ``return_info`` (1.23). Every ``reset`` takes
 ``seed=None, options=None``; a class that seeds itself in ``seed()`` calls it from there.
 """
