@@ -8,9 +8,12 @@ This traces each stored value to its causes with the single-agent predicate
 
 * a name assigned once in the same function from a limit (``over = self.t >= T``),
 * ``self.helper()`` whose every return is a limit (``def _out_of_time(self): ...``),
+* ``self.flag`` whose every store in the class is a limit or ``False``
+  (``self.truncate = self.frames >= self.max_cycles``, as PettingZoo's pistonball keeps it),
 * ``True`` stored under ``if <limit>:`` (the branch that calls the match off).
 
-Everything else is a termination. ``a or <limit>`` splits into both; an agent that
+Everything else is a termination, unless a limit hides inside it (``not <limit>``,
+``dict(zip(...))`` around one): that is left for review. ``a or <limit>`` splits into both; an agent that
 terminated on the step is then not also truncated (``not terminated and <limit>``, as
 PettingZoo's cooperative_pong decides the two).
 """
@@ -46,6 +49,7 @@ class Endings:
 
     def __init__(self, facts: ModuleFacts, classdef: ast.ClassDef) -> None:
         self.facts = facts
+        self.classdef = classdef
         self.methods = {m.name: m for m in classdef.body if isinstance(m, FUNCTIONS)}
 
     # -- limits ---------------------------------------------------------------------------
@@ -67,10 +71,30 @@ class Endings:
         if isinstance(expr, ast.Name):
             assign = self.single_assignment(expr)
             return assign is not None and self.is_limit(assign.value, depth + 1)
+        if isinstance(expr, ast.Attribute) and isinstance(expr.ctx, ast.Load) and _is_self(expr.value):
+            values = self._attribute_values(expr.attr)
+            limits = [v for v in values or () if not (isinstance(v, ast.Constant) and v.value in (False, None))]
+            return values is not None and bool(limits) and all(self.is_limit(v, depth + 1) for v in limits)
         return False
 
+    def _attribute_values(self, name: str) -> list[ast.expr] | None:
+        """Every value ``self.<name> = value`` stores in this class; None when a store is
+        anything else (an augmented assignment, a tuple target, ...)."""
+        values = []
+        for attr in self.facts.attributes.get(name, ()):
+            if not isinstance(attr.ctx, ast.Store) or not _is_self(attr.value):
+                continue
+            if self.facts.enclosing_class(attr) is not self.classdef:
+                continue
+            holder = self.facts.parent(attr)
+            if not (isinstance(holder, ast.Assign) and holder.targets == [attr]):
+                return None
+            values.append(holder.value)
+        return values
+
     def mentions_limit(self, expr: ast.AST) -> bool:
-        return any(self.is_limit(node) for node in ast.walk(expr) if isinstance(node, (ast.Compare, ast.Call, ast.Name)))
+        kinds = (ast.Compare, ast.Call, ast.Name, ast.Attribute)
+        return any(self.is_limit(node) for node in ast.walk(expr) if isinstance(node, kinds))
 
     def _self_method(self, func: ast.AST) -> ast.FunctionDef | ast.AsyncFunctionDef | None:
         if isinstance(func, ast.Attribute) and isinstance(func.value, ast.Name) and func.value.id == "self":
@@ -107,10 +131,14 @@ class Endings:
                     traced = self.value(assign.value)
                     if traced.cause is Cause.SPLIT and traced.name is None:
                         return Traced(Cause.SPLIT, traced.task, traced.limit, expr, assign)
-            return Traced(Cause.TERMINATION)
+            # a limit inside something else (``not self._out_of_time()``, ``dict(zip(...))``)
+            return Traced(Cause.UNKNOWN if self.mentions_limit(expr) else Cause.TERMINATION)
         if len(limits) == len(operands):
             return Traced(Cause.TRUNCATION)
-        return Traced(Cause.SPLIT, [op for op in operands if op not in limits], limits)
+        task = [op for op in operands if op not in limits]
+        if any(self.mentions_limit(op) for op in task):
+            return Traced(Cause.UNKNOWN)
+        return Traced(Cause.SPLIT, task, limits)
 
     def branch(self, statement: ast.stmt) -> Cause | None:
         """The cause the enclosing ``if`` gives a store: TRUNCATION in the body of
@@ -131,6 +159,10 @@ class Endings:
                     return Cause.UNKNOWN
             child = parent
         return None
+
+
+def _is_self(expr: ast.AST) -> bool:
+    return isinstance(expr, ast.Name) and expr.id == "self"
 
 
 def _unwrap_bool(expr: ast.AST) -> ast.AST:

@@ -520,13 +520,20 @@ class _Split:
             return
         if elements is None:
             limit = self.endings.is_limit(value)
+            if not limit and self.endings.mentions_limit(value):
+                self._untraced(statement, "a step limit is tested inside it")
+                return
             self._store(statement, "truncations" if limit else "terminations",
                         "a step limit" if limit else "no step limit among its causes: the game ended")
             return
         traced = [self.endings.value(v) for v in elements.values]
         causes = {t.cause for t in traced}
-        if causes <= {Cause.TERMINATION}:
-            self._store(statement, "terminations", "no step limit among its causes: the game ended")
+        if Cause.UNKNOWN in causes:
+            self._untraced(statement, "a step limit is tested inside its value")
+        elif causes <= {Cause.TERMINATION}:
+            start = all(isinstance(v, ast.Constant) and v.value is False for v in elements.values)
+            self._store(statement, "terminations", "all False: nothing has ended" if start else
+                        "no step limit among its causes: the game ended")
         elif causes == {Cause.TRUNCATION}:
             self._store(statement, "truncations", "a step limit calls the match off")
         elif len(traced) == 1 and elements.per_agent and causes == {Cause.SPLIT}:
@@ -589,7 +596,9 @@ class _Split:
                        + (", except for an agent terminated on the same step" if is_true(value) else ""))
             return
         traced = self.endings.value(value)
-        if traced.cause is Cause.TERMINATION:
+        if traced.cause is Cause.UNKNOWN:
+            self._untraced(statement, "a step limit is tested inside its value")
+        elif traced.cause is Cause.TERMINATION:
             self._item(statement, "terminations", index, "no step limit among its causes: the game ended")
         elif traced.cause is Cause.TRUNCATION:
             self._item(statement, "truncations", index, "a step limit calls the match off")
