@@ -142,16 +142,19 @@ class Endings:
 
     def branch(self, statement: ast.stmt) -> Cause | None:
         """The cause the enclosing ``if`` gives a store: TRUNCATION in the body of
-        ``if <limit>:`` (or the else of ``if not <limit>:``), TERMINATION in the other
-        branch, UNKNOWN under a test that mixes a limit with other causes, else None."""
+        ``if <limit>:`` (or the else of ``if not <limit>:`` / ``if counter < limit:``),
+        TERMINATION in the other branch, UNKNOWN under a test that mixes a limit with
+        other causes, else None."""
         child: ast.AST = statement
         for parent in self.facts.ancestors(statement):
             if isinstance(parent, (*FUNCTIONS, ast.ClassDef, ast.Lambda)):
                 return None
-            if isinstance(parent, (ast.If, ast.While)) and child is not parent.test:
+            if isinstance(parent, ast.If) and child is not parent.test:
                 test, negated = parent.test, False
                 if isinstance(test, ast.UnaryOp) and isinstance(test.op, ast.Not):
                     test, negated = test.operand, True
+                if _under_limit(test):
+                    negated = not negated  # ``if self.num_moves < self.max_cycles:`` plays on
                 in_body = child in parent.body
                 if self.is_limit(test):
                     return Cause.TRUNCATION if in_body != negated else Cause.TERMINATION
@@ -159,6 +162,26 @@ class Endings:
                     return Cause.UNKNOWN
             child = parent
         return None
+
+
+def _under_limit(test: ast.AST) -> bool:
+    """``counter < limit`` (or ``limit > counter``): true while the match goes on."""
+    if not (isinstance(test, ast.Compare) and len(test.ops) == 1):
+        return False
+    left_is_limit = _is_bound(test.left)
+    if isinstance(test.ops[0], (ast.Lt, ast.LtE)):
+        return not left_is_limit
+    if isinstance(test.ops[0], (ast.Gt, ast.GtE)):
+        return left_is_limit
+    return False
+
+
+def _is_bound(expr: ast.AST) -> bool:
+    """A limit rather than a counter: a number, a CONSTANT, or a name that says max/limit."""
+    if isinstance(expr, ast.Constant):
+        return True
+    name = expr.attr if isinstance(expr, ast.Attribute) else expr.id if isinstance(expr, ast.Name) else ""
+    return name.isupper() or any(word in name.lower() for word in ("max", "limit", "horizon"))
 
 
 def _is_self(expr: ast.AST) -> bool:
