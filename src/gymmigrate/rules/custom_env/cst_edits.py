@@ -183,7 +183,7 @@ def _tuple_len(value: cst.BaseExpression | None) -> int | None:
 def _is_step_limit(expr: cst.BaseExpression) -> bool:
     if not isinstance(expr, cst.Comparison) or not all(isinstance(t.operator, _LIMIT_OPS) for t in expr.comparisons):
         return False
-    return any(STEP_LIMIT_WORD.search(word) and "beyond" not in word for word in _identifiers(expr))
+    return any(STEP_LIMIT_WORD.search(word.lower()) and "beyond" not in word for word in _identifiers(expr))
 
 
 def _or_operands(expr: cst.BaseExpression) -> list[cst.BaseExpression]:

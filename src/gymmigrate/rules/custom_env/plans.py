@@ -10,10 +10,14 @@ from dataclasses import dataclass, field
 
 SUPER_RESET = "super().reset(seed=seed)"
 # Identifiers that count steps or time (``self.steps >= self.max_steps``, ``self.t > 200``).
+# A word that counts steps (matched on the lower-cased identifier: ``MAX_STEPS`` too).
+# ``cycles``, ``frames`` and ``num_moves`` are how PettingZoo's envs count theirs
+# (``self.frames >= self.max_cycles``); a bare ``moves`` is often a list of legal moves.
 STEP_LIMIT_WORD = re.compile(
     r"(^|_)(t|ts|step|steps|timestep|timesteps|tick|ticks|iter|iters|iteration|iterations|horizon|"
-    r"time|time_limit|ep_len|episode_len|episode_length|counter)(_|$)"
+    r"time|time_limit|ep_len|episode_len|episode_length|counter|cycle|cycles|frame|frames|num_moves|n_moves)(_|$)"
 )
+
 
 @dataclass
 class SeedPlan:

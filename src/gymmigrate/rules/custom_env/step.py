@@ -158,7 +158,7 @@ def _parenthesized_text(decision: ClassDecision, node: ast.expr) -> str:
 def is_step_limit(expr: ast.AST) -> bool:
     if not isinstance(expr, ast.Compare) or not all(isinstance(op, _LIMIT_OPS) for op in expr.ops):
         return False
-    return any(STEP_LIMIT_WORD.search(word) and "beyond" not in word for word in identifiers(expr))
+    return any(STEP_LIMIT_WORD.search(word.lower()) and "beyond" not in word for word in identifiers(expr))
 
 
 def _or_operands(expr: ast.AST) -> list[ast.AST]:

@@ -38,9 +38,6 @@ PZ109 = Rule("PZ109", "PettingZoo spaces come from Gymnasium", FixKind.AUTO,
 PZ110 = Rule("PZ110", "`pettingzoo.make` replaces module-level creation", FixKind.FLAG,
              "`rps_v2.env()` -> `pettingzoo.make(\"aec\", \"classic/rps-v2\")` (PettingZoo 1.27)")
 
-# ``plan.notes`` key: set when a PettingZoo family changed something in the file (PZ110
-# only speaks up in files that are being migrated, see spaces_make.py).
-
 # The loop variable written into generated comprehensions.
 AGENT = "agent"
 
