@@ -1,0 +1,162 @@
+"""Dependency declarations: the files that say what to install, migrated with the code.
+
+``gym`` becomes ``gymnasium`` (extras mapped), libraries that moved to Gymnasium with it
+(Stable-Baselines3, sb3-contrib, PettingZoo, SuperSuit, Shimmy, MiniGrid) get a release
+that supports Gymnasium 1.x, ROM helpers become ``ale-py``, and Gym-only packages are
+reported with the Shimmy route (``mapping.py``; docs/dependencies.md has the table).
+
+Pure functions, text in and text out: ``migrate_dependency_file(path, source)`` picks the
+handler from the file name (``handler_for``), and every byte outside a changed requirement
+string is kept (comments, markers, ``--hash`` options, line endings). Rule codes: GM109
+(rewritten), GM110 (reported, left), SB110 (pins of libraries that moved with Gym).
+"""
+
+from __future__ import annotations
+
+import fnmatch
+from collections.abc import Callable
+from dataclasses import dataclass, replace
+from pathlib import Path, PurePath
+
+from gymmigrate.findings import Finding
+
+__all__ = ["DependencyError", "DependencyResult", "handler_for", "is_dependency_file", "migrate_dependency_file", "migrate_page_commands"]
+
+# Dependency files are small; a larger one is generated (a lock file) or data.
+MAX_FILE_BYTES = 1024 * 1024
+
+
+class DependencyError(ValueError):
+    """The file could not be read as what its name says; the message says why."""
+
+
+@dataclass(frozen=True)
+class DependencyResult:
+    rewritten: bytes
+    findings: list[Finding]
+
+    def __iter__(self):  # ``rewritten, findings = migrate_dependency_file(...)``
+        return iter((self.rewritten, self.findings))
+
+
+def _requirements(text: str):
+    from gymmigrate.dependencies.lines import migrate_requirements
+
+    return migrate_requirements(text)
+
+
+def _environment(text: str):
+    from gymmigrate.dependencies.lines import migrate_environment
+
+    return migrate_environment(text)
+
+
+def _setup_cfg(text: str):
+    from gymmigrate.dependencies.lines import migrate_setup_cfg
+
+    return migrate_setup_cfg(text)
+
+
+def _setup_py(text: str):
+    from gymmigrate.dependencies.setup_py import SetupPyError, migrate_setup_py
+
+    try:
+        return migrate_setup_py(text)
+    except SetupPyError as exc:
+        raise DependencyError(str(exc)) from None
+
+
+def _pyproject(text: str):
+    from gymmigrate.dependencies.pyproject import PyprojectError, migrate_pyproject
+
+    try:
+        return migrate_pyproject(text)
+    except PyprojectError as exc:
+        raise DependencyError(str(exc)) from None
+
+
+def _dockerfile(text: str):
+    from gymmigrate.dependencies.shell import migrate_dockerfile
+
+    return migrate_dockerfile(text)
+
+
+# File name patterns (matched case-insensitively against the name) -> handler. The first
+# match wins. ``requirements/*.txt`` is matched on the folder name below.
+HANDLERS: tuple[tuple[str, Callable], ...] = (
+    ("requirements*.txt", _requirements),
+    ("requirements*.in", _requirements),
+    ("constraints*.txt", _requirements),
+    ("setup.py", _setup_py),
+    ("setup.cfg", _setup_cfg),
+    ("pyproject.toml", _pyproject),
+    ("environment*.yml", _environment),
+    ("environment*.yaml", _environment),
+    ("dockerfile", _dockerfile),
+    ("dockerfile.*", _dockerfile),
+    ("*.dockerfile", _dockerfile),
+    ("containerfile", _dockerfile),
+)
+
+
+def handler_for(path: PurePath | str) -> Callable | None:
+    path = PurePath(path)
+    name = path.name.lower()
+    for pattern, handler in HANDLERS:
+        if fnmatch.fnmatchcase(name, pattern):
+            return handler
+    if path.parent.name.lower() == "requirements" and name.endswith((".txt", ".in")):
+        return _requirements
+    return None
+
+
+def is_dependency_file(path: PurePath | str) -> bool:
+    return handler_for(path) is not None
+
+
+def _decode(source: bytes) -> tuple[str, bool]:
+    bom = source.startswith(b"\xef\xbb\xbf")
+    try:
+        return source[3 if bom else 0 :].decode("utf-8"), bom
+    except UnicodeDecodeError as exc:
+        raise DependencyError(f"cannot decode the file as UTF-8 ({exc.reason} at byte {exc.start}); left unchanged") from None
+
+
+def _run(handler: Callable, source: bytes) -> DependencyResult:
+    from gymmigrate.dependencies.core import apply_edits
+    from gymmigrate.engine import LineMap
+
+    text, bom = _decode(source)
+    outcome = handler(text)
+    findings = sorted(outcome.findings)
+    if not outcome.edits:
+        return DependencyResult(source, findings)
+    new_text = apply_edits(text, outcome.edits)
+    rewritten = (b"\xef\xbb\xbf" if bom else b"") + new_text.encode("utf-8")
+    if rewritten == source:
+        return DependencyResult(source, findings)
+    line_map = LineMap(text, new_text)
+    return DependencyResult(rewritten, [replace(f, line_after=line_map.forward(f.line)) for f in findings])
+
+
+def migrate_dependency_file(path: Path | str, source: bytes) -> DependencyResult:
+    """The migrated bytes of a dependency file and what was changed or must be reviewed.
+
+    Raises DependencyError when the file cannot be read as its kind, or when the rewrite
+    would not be stable (a second run would change it again).
+    """
+    handler = handler_for(path)
+    if handler is None:
+        raise DependencyError("not a dependency file")
+    result = _run(handler, source)
+    if result.rewritten != source and _run(handler, result.rewritten).rewritten != result.rewritten:
+        raise DependencyError("the dependency rewrite is not stable (a second run would change it again); file left unchanged")
+    return result
+
+
+def migrate_page_commands(path: Path | str, source: bytes) -> DependencyResult:
+    """``pip install`` lines in the shell/console code blocks of a Markdown or RST page."""
+    from gymmigrate.dependencies.shell import migrate_page
+
+    markdown = PurePath(path).suffix.lower() in (".md", ".markdown")
+    return _run(lambda text: migrate_page(text, markdown), source)
