@@ -29,6 +29,7 @@ class Site:
     hashed: bool = False  # pinned by ``--hash`` options (requirements files)
     conda: bool = False  # a conda match spec (``gym=0.21``), not PEP 508
     bare_word: bool = False  # an unquoted shell word: quote the new text if the shell would split it
+    group: object = None  # requirements installed together (one list, one command): ale-py is deduplicated within it
 
 
 @dataclass(frozen=True)
@@ -105,14 +106,15 @@ def migrate_sites(text: str, sites: list[Site], positions: Positions | None = No
             decision = mapping.decide(requirement)
         decided.append((site, raw, decision))
 
-    # ale-py: the Atari extra of gymnasium already requires it; keep one at most.
-    has_ale = any(
-        (d.name == "gymnasium" and {"atari", "all"} & set(d.extras)) for _, _, d in decided
-    ) or any(_is_ale_already(raw, d, site) for site, raw, d in decided)
+    # ale-py: the Atari extra of gymnasium already requires it; keep one at most per group.
+    has_ale: set[object] = set()
+    for site, raw, decision in decided:
+        if (decision.name == "gymnasium" and {"atari", "all"} & set(decision.extras)) or _is_ale_already(raw, decision, site):
+            has_ale.add(site.group)
     for site, raw, decision in decided:
         new: str | None = None
         notes = list(decision.notes)
-        if decision.ale and has_ale and site.removal is not None:
+        if decision.ale and site.group in has_ale and site.removal is not None:
             outcome.edits.append(Edit(*site.removal, ""))
             outcome.decided[raw] = ""
             notes = [Note(mapping.GYM_PACKAGE, FixKind.AUTO, f"`{raw.strip()}` removed: ale-py (required by gymnasium[atari] or listed here) ships the Atari ROMs")]
@@ -121,7 +123,7 @@ def migrate_sites(text: str, sites: list[Site], positions: Positions | None = No
             if site.bare_word and re.search(r"[\s<>|&;()$`\\\"']", new):
                 new = f'"{new}"'  # `>=` unquoted would be a redirection
             if decision.ale:
-                has_ale = True
+                has_ale.add(site.group)
         if new is not None and new != raw:
             outcome.edits.append(Edit(site.start, site.end, new))
             outcome.decided[raw] = new

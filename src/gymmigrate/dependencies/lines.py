@@ -115,7 +115,7 @@ def migrate_environment(text: str) -> Outcome:
         inner_end = value_start + len(value_text) - len(quote)
         if inner_end <= inner_start:
             continue
-        sites.append(Site(inner_start, inner_end, removal=(start, end), conda=pip_indent is None))
+        sites.append(Site(inner_start, inner_end, removal=(start, end), conda=pip_indent is None, group=pip_indent is None))
     return migrate_sites(text, sites, positions)
 
 
@@ -132,6 +132,7 @@ def migrate_setup_cfg(text: str) -> Outcome:
     positions = Positions(text)
     sites: list[Site] = []
     section = ""
+    key_name = ""
     collecting = False
     for start, end in physical_lines(text):
         content = text[start:_content_end(text, start, end)]
@@ -149,6 +150,7 @@ def migrate_setup_cfg(text: str) -> Outcome:
             collecting = bool(key) and (
                 (section == "options" and key["key"] in _REQUIREMENT_KEYS) or section == "options.extras_require"
             )
+            key_name = key["key"] if key else ""
             if not collecting or not key["value"].strip():
                 continue
             value_start = start + key.start("value")
@@ -162,5 +164,5 @@ def migrate_setup_cfg(text: str) -> Outcome:
         comment = _COMMENT.search(value)
         value_end = value_start + len((value[: comment.start()] if comment else value).rstrip())
         removal = line_span(text, value_start, value_end) if continued else None
-        sites.append(Site(value_start, value_end, removal=removal))
+        sites.append(Site(value_start, value_end, removal=removal, group=(section, key_name)))
     return migrate_sites(text, sites, positions)

@@ -76,7 +76,7 @@ GYM_ONLY_PACKAGES: dict[str, str] = {
     "roboschool": "a Gym-only env package (abandoned)",
     "pybullet-envs": "a Gym-only env package",
     "pybullet": "its bundled envs (pybullet_envs) register with Gym",
-    "gym-notices": "a gym dependency, not needed by Gymnasium",
+    "gym-notices": "a dependency of gym only, not needed by Gymnasium: remove it",
 }
 SHIMMY_ROUTE = 'keep it on Gym through Shimmy (`shimmy[gym-v21]` or `shimmy[gym-v26]`, then `gymnasium.make("GymV21Environment-v0", env_id=...)`) or port it'
 
@@ -139,11 +139,12 @@ def decide(requirement: Requirement) -> Decision:
             "ale-py",
             [],
             ALE_SPEC,
-            [Note(GYM_PACKAGE, FixKind.AUTO, f"`{requirement.name}` -> `ale-py{ALE_SPEC}`: Atari ROMs ship with ale-py, no licence step or ROM download is needed")],
+            [Note(GYM_PACKAGE, FixKind.AUTO, f"`{requirement}` -> `ale-py{ALE_SPEC}`: Atari ROMs ship with ale-py, no licence step or ROM download is needed")],
             ale=True,
         )
     if name in GYM_ONLY_PACKAGES:
-        return Decision(notes=[Note(GYM_ONLY, FixKind.FLAG, f"`{requirement.name}`: {GYM_ONLY_PACKAGES[name]}; {SHIMMY_ROUTE}")])
+        route = "" if name == "gym-notices" else f"; {SHIMMY_ROUTE}"
+        return Decision(notes=[Note(GYM_ONLY, FixKind.FLAG, f"`{requirement.name}`: {GYM_ONLY_PACKAGES[name]}{route}")])
     return Decision()
 
 

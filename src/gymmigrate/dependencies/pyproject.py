@@ -13,6 +13,7 @@ the scanner does not place, any surprise costs a rewrite, never the file.
 from __future__ import annotations
 
 import copy
+from bisect import bisect_right
 import re
 import sys
 from dataclasses import dataclass
@@ -79,7 +80,7 @@ def scan(text: str) -> tuple[list[Token], list[Entry]]:
             if char == "[":
                 newline = text.find("\n", i)
                 end = n if newline < 0 else newline
-                table = _header_path(text[i:end])
+                table = _header_path(text[i:end].rstrip("\r"))
                 i = end
                 continue
             entries.append(Entry(i, table))
@@ -173,8 +174,10 @@ def migrate_pyproject(text: str) -> Outcome:
         raise PyprojectError(f"pyproject.toml does not parse: {exc}") from None
     positions = Positions(text)
     wanted = {value for values in _requirement_lists(data) for value in values if isinstance(value, str)}
+    starts = [entry.start for entry in entries]
     sites = [
-        Site(token.start, token.end, removal=line_span(text, token.start, token.end))
+        # group: the entry (``dependencies = [...]``) the string belongs to
+        Site(token.start, token.end, removal=line_span(text, token.start, token.end), group=starts[bisect_right(starts, token.start) - 1] if starts else None)
         for token in tokens
         if token.table in _PEP621_TABLES and not token.escaped and text[token.start : token.end] in wanted
     ]

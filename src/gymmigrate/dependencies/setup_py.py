@@ -40,17 +40,16 @@ def migrate_setup_py(text: str) -> Outcome:
         for keyword in node.keywords:
             if keyword.arg not in _KEYWORDS:
                 continue
-            for constant in _strings(keyword.value, assigned, keyword.arg == "extras_require"):
+            for group, constant in _strings(keyword.value, assigned, keyword.arg == "extras_require", keyword.arg):
                 span = _literal_span(text, line_starts, constant)
                 if span is None:
-                    if isinstance(constant, ast.Constant) and mapping.mentions_gym(str(constant.value)) or not isinstance(constant, ast.Constant):
-                        start = _offset(text, line_starts, constant.lineno, constant.col_offset)
-                        end = _offset(text, line_starts, constant.end_lineno or constant.lineno, constant.end_col_offset or 0)
-                        if mapping.mentions_gym(text[start:end]):
-                            note = Note(GYM_ONLY, FixKind.FLAG, "this requirement is not a plain string literal; left as it is: check it by hand")
-                            findings.append(finding(positions, start, end, note))
+                    start = _offset(text, line_starts, constant.lineno, constant.col_offset)
+                    end = _offset(text, line_starts, constant.end_lineno or constant.lineno, constant.end_col_offset or 0)
+                    if mapping.mentions_gym(text[start:end]):
+                        note = Note(GYM_ONLY, FixKind.FLAG, "this requirement is not a plain string literal; left as it is: check it by hand")
+                        findings.append(finding(positions, start, end, note))
                     continue
-                sites.append(Site(span[0], span[1], removal=line_span(text, span[0], span[1])))
+                sites.append(Site(span[0], span[1], removal=line_span(text, span[0], span[1]), group=group))
     outcome = migrate_sites(text, sites, positions)
     outcome.findings.extend(findings)
     return outcome
@@ -73,18 +72,23 @@ def _module_assignments(tree: ast.Module) -> dict[str, ast.expr]:
     return {name: value for name, value in seen.items() if value is not None}
 
 
-def _strings(value: ast.expr, assigned: dict[str, ast.expr], extras: bool, depth: int = 0) -> list[ast.expr]:
-    """The elements of the requirement list(s) ``value`` stands for."""
+def _strings(value: ast.expr, assigned: dict[str, ast.expr], extras: bool, group: object, depth: int = 0) -> list[tuple[object, ast.expr]]:
+    """The elements of the requirement list(s) ``value`` stands for, each with its group
+    (the keyword, or the keyword and the extra's position)."""
     if depth > 3:
         return []
     if isinstance(value, ast.Name) and value.id in assigned:
-        return _strings(assigned[value.id], assigned, extras, depth + 1)
+        return _strings(assigned[value.id], assigned, extras, group, depth + 1)
     if extras and isinstance(value, ast.Dict):
-        return [item for element in value.values for item in _strings(element, assigned, False, depth + 1)]
+        return [
+            item
+            for index, element in enumerate(value.values)
+            for item in _strings(element, assigned, False, (group, index), depth + 1)
+        ]
     if isinstance(value, (ast.List, ast.Tuple)):
-        return list(value.elts)
+        return [(group, element) for element in value.elts]
     if isinstance(value, ast.BinOp) and isinstance(value.op, ast.Add):
-        return _strings(value.left, assigned, extras, depth + 1) + _strings(value.right, assigned, extras, depth + 1)
+        return _strings(value.left, assigned, extras, group, depth + 1) + _strings(value.right, assigned, extras, group, depth + 1)
     return []
 
 

@@ -117,7 +117,7 @@ def command_sites(text: str, positions: Positions, regions: list[tuple[int, int]
                             before -= 1
                         removal = (before, word.end)
                 bare = (word.inner[0], word.inner[1]) == (word.start, word.end)  # type: ignore[index]
-                sites.append(Site(word.inner[0], word.inner[1], removal=removal, bare_word=bare))  # type: ignore[index]
+                sites.append(Site(word.inner[0], word.inner[1], removal=removal, bare_word=bare, group=match.start()))  # type: ignore[index]
     return sites, findings
 
 
