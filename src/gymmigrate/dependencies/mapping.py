@@ -75,7 +75,7 @@ GYM_ONLY_PACKAGES: dict[str, str] = {
     "procgen": "a Gym-only env package",
     "roboschool": "a Gym-only env package (abandoned)",
     "pybullet-envs": "a Gym-only env package",
-    "pybullet": "its bundled envs (pybullet_envs) register with Gym",
+    "pybullet": "if the project uses its bundled envs (pybullet_envs), they register with Gym only",
     "gym-notices": "a dependency of gym only, not needed by Gymnasium: remove it",
 }
 SHIMMY_ROUTE = 'keep it on Gym through Shimmy (`shimmy[gym-v21]` or `shimmy[gym-v26]`, then `gymnasium.make("GymV21Environment-v0", env_id=...)`) or port it'
