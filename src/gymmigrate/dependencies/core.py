@@ -106,6 +106,12 @@ def migrate_sites(text: str, sites: list[Site], positions: Positions | None = No
             decision = mapping.decide(requirement)
         decided.append((site, raw, decision))
 
+    # PettingZoo's Atari envs (multi-agent-ale-py) still take their ROMs from AutoROM.
+    if any(_needs_autorom(raw, site) for site, raw, _ in decided):
+        decided = [
+            (site, raw, _autorom_kept(raw) if decision.ale and _name(raw, site) != "atari-py" else decision)
+            for site, raw, decision in decided
+        ]
     # ale-py: the Atari extra of gymnasium already requires it; keep one at most per group.
     has_ale: set[object] = set()
     for site, raw, decision in decided:
@@ -133,6 +139,33 @@ def migrate_sites(text: str, sites: list[Site], positions: Positions | None = No
             notes = []
         outcome.findings.extend(finding(positions, site.start, site.end, note) for note in notes)
     return outcome
+
+
+def _name(raw: str, site: Site) -> str | None:
+    requirement = None if site.conda else mapping.parse(raw.strip())
+    return canonicalize_name(requirement.name) if requirement is not None else None
+
+
+def _needs_autorom(raw: str, site: Site) -> bool:
+    requirement = None if site.conda else mapping.parse(raw.strip())
+    if requirement is None:
+        return False
+    name = canonicalize_name(requirement.name)
+    extras = {canonicalize_name(extra) for extra in requirement.extras}
+    return name == "multi-agent-ale-py" or (name == "pettingzoo" and bool(extras & {"atari", "all"}))
+
+
+def _autorom_kept(raw: str) -> Decision:
+    return Decision(
+        notes=[
+            Note(
+                GYM_ONLY,
+                FixKind.FLAG,
+                f"`{raw.strip()}` left: PettingZoo's Atari envs (multi-agent-ale-py) still take their ROMs from AutoROM; "
+                "Gymnasium's Atari envs need only ale-py, which ships the ROMs",
+            )
+        ]
+    )
 
 
 def _is_ale_already(raw: str, decision: Decision, site: Site) -> bool:

@@ -175,18 +175,33 @@ def _gym(requirement: Requirement, extras: list[str]) -> Decision:
     return Decision("gymnasium", sorted(new_extras), GYMNASIUM_SPEC, notes)
 
 
+GYMNASIUM_1X = tuple(Version(v) for v in ("1.0.0", "1.1.1", "1.2.0", "1.3.0", "1.4.0"))
+
+
 def _gymnasium(requirement: Requirement, extras: list[str]) -> Decision:
-    """Already Gymnasium: only a pin that excludes 1.x is raised; unknown extras reported."""
+    """Already Gymnasium. A pin that admits no 1.x release is raised to ``>=1.0``; one that
+    admits 1.x but not 1.4 is the project's choice and only reported; unknown extras are
+    reported; ``accept-rom-license`` is dropped."""
     notes: list[Note] = []
     unknown = [extra for extra in extras if extra not in GYMNASIUM_EXTRAS and extra != "accept-rom-license"]
     if unknown:
         notes.append(Note(GYM_ONLY, FixKind.FLAG, f"`{requirement}`: Gymnasium 1.4 has no extra {', '.join(unknown)}"))
-    if requirement.specifier.contains(GYMNASIUM_TARGET, prereleases=True) and "accept-rom-license" not in extras:
+    specifier = requirement.specifier
+    admits_1x = any(specifier.contains(version, prereleases=True) for version in GYMNASIUM_1X)
+    rom_extra = "accept-rom-license" in extras
+    if admits_1x and not specifier.contains(GYMNASIUM_TARGET, prereleases=True):
+        notes.append(Note(PINS, FixKind.FLAG, f"`{requirement}` excludes Gymnasium 1.4; left as it is (another dependency may need the cap)"))
+    if not rom_extra and admits_1x:
         return Decision(notes=notes)
-    new_extras = [extra for extra in requirement.extras if canonicalize_name(extra) != "accept-rom-license"]
-    notes.insert(0, Note(GYM_PACKAGE, FixKind.ASSIST, f"`{requirement}` -> `gymnasium{_extras(sorted(new_extras))}{GYMNASIUM_SPEC}`: the pin excluded Gymnasium 1.x"))
-    spec = GYMNASIUM_SPEC if not requirement.specifier.contains(GYMNASIUM_TARGET, prereleases=True) else str(requirement.specifier)
-    return Decision("gymnasium", sorted(new_extras), spec, notes)
+    new_extras = sorted(extra for extra in requirement.extras if canonicalize_name(extra) != "accept-rom-license")
+    spec = str(specifier) if admits_1x else GYMNASIUM_SPEC
+    reasons = []
+    if not admits_1x:
+        reasons.append("the pin admitted no Gymnasium 1.x release")
+    if rom_extra:
+        reasons.append("`accept-rom-license` is gone: the ROMs ship with ale-py")
+    notes.insert(0, Note(GYM_PACKAGE, FixKind.ASSIST, f"`{requirement}` -> `gymnasium{_extras(new_extras)}{spec}`: {'; '.join(reasons)}"))
+    return Decision("gymnasium", new_extras, spec, notes)
 
 
 def _moved(requirement: Requirement, name: str, extras: list[str]) -> Decision:

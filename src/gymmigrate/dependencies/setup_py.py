@@ -11,6 +11,7 @@ concatenation, no f-string); a requirement built any other way is reported.
 from __future__ import annotations
 
 import ast
+import warnings
 
 from gymmigrate.dependencies import mapping
 from gymmigrate.dependencies.core import Outcome, Positions, Site, finding, line_span, migrate_sites
@@ -26,8 +27,10 @@ class SetupPyError(ValueError):
 
 def migrate_setup_py(text: str) -> Outcome:
     try:
-        tree = ast.parse(text)
-    except (SyntaxError, ValueError) as exc:
+        with warnings.catch_warnings():  # invalid escapes in the project's code are not ours to report
+            warnings.simplefilter("ignore")
+            tree = ast.parse(text)
+    except (SyntaxError, ValueError, RecursionError, MemoryError) as exc:
         raise SetupPyError(f"setup.py does not parse: {exc}") from None
     positions = Positions(text)
     line_starts = positions.starts
