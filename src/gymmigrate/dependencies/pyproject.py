@@ -18,14 +18,14 @@ import re
 import sys
 from dataclasses import dataclass
 
-from packaging.requirements import Requirement
+from packaging.requirements import InvalidRequirement, Requirement
 from packaging.specifiers import InvalidSpecifier, SpecifierSet
 from packaging.utils import canonicalize_name
 
 from gymmigrate.dependencies import mapping
-from gymmigrate.dependencies.core import Edit, Outcome, Positions, Site, finding, line_span, migrate_sites
+from gymmigrate.dependencies.core import Edit, Outcome, Positions, Site, apply_edits, finding, line_span, migrate_sites
 from gymmigrate.dependencies.mapping import GYM_ONLY, Note
-from gymmigrate.findings import Finding, FixKind
+from gymmigrate.findings import FixKind
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -193,8 +193,6 @@ def migrate_pyproject(text: str) -> Outcome:
         for old_key, (new_key, new_value) in poetry_changes.get(path, {}).items():
             del table[old_key]
             table[new_key] = new_value
-    from gymmigrate.dependencies.core import apply_edits
-
     try:
         again = tomllib.loads(apply_edits(text, outcome.edits))
     except (tomllib.TOMLDecodeError, ValueError):
@@ -269,7 +267,18 @@ def _migrate_poetry(
     return changes
 
 
-def _poetry_entry(text, key, value, key_match, value_tokens, line_end, positions, outcome):
+def _poetry_entry(
+    text: str,
+    key: str,
+    value: object,
+    key_match: re.Match[str],
+    value_tokens: list[Token],
+    line_end: int,
+    positions: Positions,
+    outcome: Outcome,
+) -> tuple[str, object] | None:
+    """One Poetry entry (``gym = "^0.21"``, ``gym = {version = ..., extras = [...]}``):
+    its edits and findings go to ``outcome``; returns the new key and value, or None."""
     if isinstance(value, str):
         constraint, extras, version_token = value, [], (value_tokens[0] if value_tokens else None)
     elif isinstance(value, dict) and not ({"git", "path", "url"} & set(value)):
@@ -284,7 +293,7 @@ def _poetry_entry(text, key, value, key_match, value_tokens, line_end, positions
     extras_text = f"[{','.join(extras)}]" if extras else ""
     try:
         requirement = Requirement(f"{key}{extras_text}{specifier if specifier is not None else ''}")
-    except Exception:  # noqa: BLE001  (a key that is no package name: not ours)
+    except InvalidRequirement:  # a key that is no package name: not ours
         return None
     if specifier is None and canonicalize_name(key) != "gym":
         if mapping.decide(Requirement(f"{key}{extras_text}")).notes:
@@ -340,4 +349,4 @@ def _without_extras(text: str, start: int, end: int) -> tuple[int, int]:
     return (before.start() if before else start), end
 
 
-__all__ = ["migrate_pyproject", "PyprojectError", "poetry_to_pep440", "Finding"]
+__all__ = ["PyprojectError", "migrate_pyproject", "poetry_to_pep440"]
