@@ -240,3 +240,27 @@ def test_cli_page_pip_lines_with_docs(tmp_path: Path) -> None:
     assert result.exit_code == 0, result.output
     assert page.read_bytes() == b'# Setup\n\n```sh\npip install "gymnasium>=1.0"\n```\n\n```python\nimport gymnasium as gym\n```\n'
     assert runner.invoke(app, ["check", "--docs", str(tmp_path)]).exit_code == 0
+
+
+def test_select_and_ignore_apply_to_dependency_rules(repo: Path) -> None:
+    """A rule left out neither reports nor fixes, in dependency files as in Python."""
+    only_python = runner.invoke(app, ["check", "--select", "GM3", str(repo)])
+    assert only_python.exit_code == 0 and only_python.stdout == ""
+    rewrite = runner.invoke(app, ["rewrite", "--ignore", "SB110", str(repo)])
+    assert rewrite.exit_code == 0, rewrite.output
+    pyproject = (repo / "pyproject.toml").read_text()
+    assert '"gymnasium>=1.0"' in pyproject and '"stable-baselines3[extra]==1.8.0"' in pyproject
+    assert runner.invoke(app, ["check", "--select", "SB110", str(repo)]).exit_code == 1
+    assert runner.invoke(app, ["rewrite", "--select", "SB110", str(repo)]).exit_code == 0
+    assert '"stable-baselines3[extra]>=2.9"' in (repo / "pyproject.toml").read_text()
+    assert runner.invoke(app, ["check", str(repo)]).exit_code == 0
+
+
+def test_hash_warning_goes_with_its_rewrite() -> None:
+    source = b"gym==0.21.0 \\\n    --hash=sha256:00\n"
+    _, findings = migrate_dependency_file("requirements.txt", source)
+    assert sorted(f.rule for f in findings) == ["GM109", "GM110"]
+    from gymmigrate.selection import Selection
+
+    rewritten, findings = migrate_dependency_file("requirements.txt", source, selection=Selection.from_selectors(["GM110"]))
+    assert rewritten == source and findings == []

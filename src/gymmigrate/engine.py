@@ -340,7 +340,7 @@ def process_file(
     from gymmigrate.dependencies.process import lint_page_commands, process_dependency_file, with_page_commands
 
     if is_dependency_file(path):
-        return process_dependency_file(path, shown, write=write, want_diff=want_diff, lint=lint)
+        return process_dependency_file(path, shown, write=write, want_diff=want_diff, lint=lint, selection=options.selection)
     adapter = adapter_for(path)  # notebooks and documentation pages; None for Python source
     try:
         source = read_source(path, may_hold_gym_code, limit=adapter.max_bytes if adapter else MAX_SOURCE_BYTES)
@@ -354,13 +354,13 @@ def process_file(
         if lint:
             if adapter:
                 findings, would_change = lint_document(adapter, source, shown, options)
-                findings, would_change = lint_page_commands(adapter, path, source, findings, would_change)  # [deps branch]
+                findings, would_change = lint_page_commands(adapter, path, source, findings, would_change, options.selection)  # [deps branch]
             else:
                 findings, would_change = lint_source(source, shown, options)
             return FileResult(shown, Status.CHANGED if would_change else Status.UNCHANGED, findings=tuple(findings))
         if adapter:
             transformed = transform_document(adapter, source, shown, options)
-            transformed = with_page_commands(adapter, path, transformed)  # pip install lines [deps branch]
+            transformed = with_page_commands(adapter, path, transformed, options.selection)  # pip install lines [deps branch]
         else:
             transformed = transform_source(source, shown, options)
     except (Refused, TransformError) as exc:

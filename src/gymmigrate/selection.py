@@ -76,9 +76,10 @@ def _decides(code: str, chosen: Sequence[str], ignored: Sequence[str]) -> bool:
 
 
 def _implemented_codes() -> list[str]:
+    from gymmigrate.dependencies import CODES as DEPENDENCY_CODES
     from gymmigrate.rules import all_rules
 
-    return [rule.code for rule in all_rules()]
+    return [rule.code for rule in all_rules()] + list(DEPENDENCY_CODES)
 
 
 def family_selected(family: type, selection: Selection | None) -> bool:

@@ -8,7 +8,8 @@ reported with the Shimmy route (``mapping.py``; docs/dependencies.md has the tab
 Pure functions, text in and text out: ``migrate_dependency_file(path, source)`` picks the
 handler from the file name (``handler_for``), and every byte outside a changed requirement
 string is kept (comments, markers, ``--hash`` options, line endings). Rule codes: GM109
-(rewritten), GM110 (reported, left), SB110 (pins of libraries that moved with Gym).
+(rewritten), GM110 (reported, left), SB110 (pins of libraries that moved with Gym);
+``--select``/``--ignore`` apply to them (``selection``).
 """
 
 from __future__ import annotations
@@ -17,8 +18,14 @@ import fnmatch
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 from pathlib import Path, PurePath
+from typing import TYPE_CHECKING
 
 from gymmigrate.findings import Finding
+
+if TYPE_CHECKING:
+    from gymmigrate.selection import Selection
+
+CODES = ("GM109", "GM110", "SB110")  # what --select/--ignore may name (gymmigrate.selection)
 
 __all__ = ["DependencyError", "DependencyResult", "handler_for", "is_dependency_file", "migrate_dependency_file", "migrate_page_commands"]
 
@@ -122,16 +129,24 @@ def _decode(source: bytes) -> tuple[str, bool]:
         raise DependencyError(f"cannot decode the file as UTF-8 ({exc.reason} at byte {exc.start}); left unchanged") from None
 
 
-def _run(handler: Callable, source: bytes) -> DependencyResult:
+def _run(handler: Callable, source: bytes, selection: Selection | None = None) -> DependencyResult:
     from gymmigrate.dependencies.core import apply_edits
     from gymmigrate.engine import LineMap
 
+    def allowed(code: str) -> bool:
+        return selection is None or selection.allows(code)
+
     text, bom = _decode(source)
     outcome = handler(text)
-    findings = sorted(outcome.findings)
-    if not outcome.edits:
+    # --select/--ignore: a rule left out neither reports nor fixes.
+    edits = [edit for edit in outcome.edits if allowed(edit.code)]
+    findings = sorted(
+        [finding for finding in outcome.findings if allowed(finding.rule)]
+        + [companion for edit in edits for companion in edit.companions if allowed(companion.rule)]
+    )
+    if not edits:
         return DependencyResult(source, findings)
-    new_text = apply_edits(text, outcome.edits)
+    new_text = apply_edits(text, edits)
     rewritten = (b"\xef\xbb\xbf" if bom else b"") + new_text.encode("utf-8")
     if rewritten == source:
         return DependencyResult(source, findings)
@@ -139,7 +154,7 @@ def _run(handler: Callable, source: bytes) -> DependencyResult:
     return DependencyResult(rewritten, [replace(f, line_after=line_map.forward(f.line)) for f in findings])
 
 
-def migrate_dependency_file(path: Path | str, source: bytes) -> DependencyResult:
+def migrate_dependency_file(path: Path | str, source: bytes, *, selection: Selection | None = None) -> DependencyResult:
     """The migrated bytes of a dependency file and what was changed or must be reviewed.
 
     Raises DependencyError when the file cannot be read as its kind, or when the rewrite
@@ -148,15 +163,15 @@ def migrate_dependency_file(path: Path | str, source: bytes) -> DependencyResult
     handler = handler_for(path)
     if handler is None:
         raise DependencyError("not a dependency file")
-    result = _run(handler, source)
-    if result.rewritten != source and _run(handler, result.rewritten).rewritten != result.rewritten:
+    result = _run(handler, source, selection)
+    if result.rewritten != source and _run(handler, result.rewritten, selection).rewritten != result.rewritten:
         raise DependencyError("the dependency rewrite is not stable (a second run would change it again); file left unchanged")
     return result
 
 
-def migrate_page_commands(path: Path | str, source: bytes) -> DependencyResult:
+def migrate_page_commands(path: Path | str, source: bytes, *, selection: Selection | None = None) -> DependencyResult:
     """``pip install`` lines in the shell/console code blocks of a Markdown or RST page."""
     from gymmigrate.dependencies.shell import migrate_page
 
     markdown = PurePath(path).suffix.lower() in (".md", ".markdown")
-    return _run(lambda text: migrate_page(text, markdown), source)
+    return _run(lambda text: migrate_page(text, markdown), source, selection)

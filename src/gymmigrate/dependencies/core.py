@@ -34,9 +34,15 @@ class Site:
 
 @dataclass(frozen=True)
 class Edit:
+    """``text[start:end]`` becomes ``text``. ``code`` is the rule the edit carries out (a
+    run that leaves the rule out drops the edit); ``companions`` are findings that exist
+    only because of the edit (the --hash warning)."""
+
     start: int
     end: int
     text: str
+    code: str = mapping.GYM_PACKAGE
+    companions: tuple[Finding, ...] = ()
 
 
 @dataclass
@@ -121,7 +127,7 @@ def migrate_sites(text: str, sites: list[Site], positions: Positions | None = No
         new: str | None = None
         notes = list(decision.notes)
         if decision.ale and site.group in has_ale and site.removal is not None:
-            outcome.edits.append(Edit(*site.removal, ""))
+            outcome.edits.append(Edit(*site.removal, "", code=mapping.GYM_PACKAGE))
             outcome.decided[raw] = ""
             notes = [Note(mapping.GYM_PACKAGE, FixKind.AUTO, f"`{raw.strip()}` removed: ale-py (required by gymnasium[atari] or listed here) ships the Atari ROMs")]
         elif decision.rewrites:
@@ -131,10 +137,13 @@ def migrate_sites(text: str, sites: list[Site], positions: Positions | None = No
             if decision.ale:
                 has_ale.add(site.group)
         if new is not None and new != raw:
-            outcome.edits.append(Edit(site.start, site.end, new))
-            outcome.decided[raw] = new
+            companions: tuple[Finding, ...] = ()
             if site.hashed:
-                notes.append(Note(GYM_ONLY, FixKind.FLAG, "this requirement is pinned by --hash: the hashes belong to the old package; regenerate them (pip-compile --generate-hashes)"))
+                hashes = Note(GYM_ONLY, FixKind.FLAG, "this requirement is pinned by --hash: the hashes belong to the old package; regenerate them (pip-compile --generate-hashes)")
+                companions = (finding(positions, site.start, site.end, hashes),)
+            code = next((note.code for note in decision.notes if note.kind.rewrites), mapping.GYM_PACKAGE)
+            outcome.edits.append(Edit(site.start, site.end, new, code=code, companions=companions))
+            outcome.decided[raw] = new
         elif decision.rewrites and new == raw:
             notes = []
         outcome.findings.extend(finding(positions, site.start, site.end, note) for note in notes)

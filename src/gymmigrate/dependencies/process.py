@@ -16,6 +16,7 @@ from gymmigrate.findings import Finding
 
 if TYPE_CHECKING:
     from gymmigrate.engine import FileResult, Transformed
+    from gymmigrate.selection import Selection
     from gymmigrate.sources import Adapter
 
 
@@ -25,7 +26,9 @@ def _may_matter(source: bytes) -> bool:
     return any(word in lowered for word in (b"gym", b"baselines", b"sb3", b"pettingzoo", b"supersuit", b"shimmy", b"minigrid", b"atari", b"autorom", b"mujoco", b"procgen", b"roboschool", b"nes-py", b"nes_py", b"bullet"))
 
 
-def process_dependency_file(path: Path, shown: str, *, write: bool, want_diff: bool, lint: bool) -> FileResult:
+def process_dependency_file(
+    path: Path, shown: str, *, write: bool, want_diff: bool, lint: bool, selection: Selection | None = None
+) -> FileResult:
     from gymmigrate.engine import FileResult, Status, Transformed, unified_diff, write_atomically
     from gymmigrate.safety import Refused, read_source, screen
     from gymmigrate.writes import ChangedOnDisk
@@ -34,7 +37,7 @@ def process_dependency_file(path: Path, shown: str, *, write: bool, want_diff: b
         source = read_source(path, _may_matter, limit=MAX_FILE_BYTES)
         if source is None or not screen(source, _may_matter):
             return FileResult(shown, Status.SKIPPED)
-        rewritten, findings = migrate_dependency_file(path, source)
+        rewritten, findings = migrate_dependency_file(path, source, selection=selection)
     except (Refused, DependencyError) as exc:
         return FileResult(shown, Status.ERROR, error=str(exc))
     except OSError as exc:
@@ -57,18 +60,20 @@ def _order(finding: Finding) -> tuple[int, int, int, str]:
     return (finding.cell if finding.cell is not None else -1, finding.line, finding.column, finding.rule)
 
 
-def lint_page_commands(adapter: Adapter, path: Path, source: bytes, findings: list[Finding], would_change: bool) -> tuple[list[Finding], bool]:
+def lint_page_commands(
+    adapter: Adapter, path: Path, source: bytes, findings: list[Finding], would_change: bool, selection: Selection | None = None
+) -> tuple[list[Finding], bool]:
     """``check`` of a page: its blocks' findings plus those of its ``pip install`` lines."""
     if adapter.name not in ("markdown", "rst"):
         return findings, would_change
     try:
-        result = migrate_page_commands(path, source)
+        result = migrate_page_commands(path, source, selection=selection)
     except DependencyError:
         return findings, would_change
     return sorted([*findings, *result.findings], key=_order), would_change or result.rewritten != source
 
 
-def with_page_commands(adapter: Adapter, path: Path, transformed: Transformed) -> Transformed:
+def with_page_commands(adapter: Adapter, path: Path, transformed: Transformed, selection: Selection | None = None) -> Transformed:
     """A migrated page with its ``pip install`` lines migrated too. Those edits stay within
     their lines, so every finding's place in the output is still right."""
     from gymmigrate.engine import LineMap
@@ -76,8 +81,8 @@ def with_page_commands(adapter: Adapter, path: Path, transformed: Transformed) -
     if adapter.name not in ("markdown", "rst"):
         return transformed
     try:
-        before = migrate_page_commands(path, transformed.original)
-        after = migrate_page_commands(path, transformed.rewritten)
+        before = migrate_page_commands(path, transformed.original, selection=selection)
+        after = migrate_page_commands(path, transformed.rewritten, selection=selection)
     except DependencyError:
         return transformed
     if not before.findings:

@@ -308,17 +308,18 @@ def _poetry_entry(
     if version_token is None and isinstance(value, str):
         return None
     new_value: object
-    edits = []
+    code = next((note.code for note in decision.notes if note.kind.rewrites), mapping.GYM_PACKAGE)
+    edits: list[Edit] = []
     if decision.name != key and canonicalize_name(decision.name) != canonicalize_name(key):
-        edits.append(Edit(start, end, decision.name))
+        edits.append(Edit(start, end, decision.name, code=code))
     new_key = decision.name if edits else key
     if isinstance(value, str):
-        edits.append(Edit(version_token.start, version_token.end, decision.specifier))
+        edits.append(Edit(version_token.start, version_token.end, decision.specifier, code=code))
         new_value = decision.specifier
     else:
         new_value = dict(value)
         if version_token is not None:
-            edits.append(Edit(version_token.start, version_token.end, decision.specifier))
+            edits.append(Edit(version_token.start, version_token.end, decision.specifier, code=code))
             new_value["version"] = decision.specifier
         elif decision.specifier:
             return None  # an inline table without a version: nothing to pin in place
@@ -329,11 +330,11 @@ def _poetry_entry(
             if decision.extras:
                 quote = '"' if '"' in found.group() or "'" not in found.group() else "'"
                 rendered = "extras = [" + ", ".join(f"{quote}{e}{quote}" for e in decision.extras) + "]"
-                edits.append(Edit(found.start(), found.end(), rendered))
+                edits.append(Edit(found.start(), found.end(), rendered, code=code))
                 new_value["extras"] = decision.extras
             else:
                 span = _without_extras(text, found.start(), found.end())
-                edits.append(Edit(span[0], span[1], ""))
+                edits.append(Edit(span[0], span[1], "", code=code))
                 del new_value["extras"]
     outcome.edits.extend(edits)
     outcome.findings.extend(finding(positions, start, end, note) for note in decision.notes)
