@@ -10,6 +10,10 @@ byte for byte, otherwise the notebook is refused rather than reformatted.
 
 Findings carry ``cell``, the 0-based index in the notebook's ``cells`` (markdown cells
 count), and ``line`` within that cell.
+
+A code cell that does not parse (an exercise placeholder such as ``<YOUR CODE>``, code
+left half-written) is reported as GM001 with its cell and left byte for byte; the other
+code cells are still migrated, as one program without it.
 """
 
 from __future__ import annotations
@@ -23,12 +27,14 @@ from itertools import product
 from typing import Any
 
 from gymmigrate.engine import TransformError, may_hold_gym_code
-from gymmigrate.findings import Finding
+from gymmigrate.findings import Finding, FixKind
 from gymmigrate.sources import Location, Segment
 from gymmigrate.sources.magics import Magics
 
 # Outputs (plots, videos) make notebooks large; the code in them is what costs time.
 MAX_FILE_BYTES = 64 * 1024 * 1024
+
+UNPARSED_CELL = "GM001"  # the rule of a documentation block that does not parse
 
 
 def read(source: bytes, path: str) -> Notebook:
@@ -62,9 +68,27 @@ class Notebook:
         # Gym in the outputs or the markdown only: nothing to migrate, whatever the cells hold.
         if not may_hold_gym_code("".join(segment.code for segment in segments).encode("utf-8")):
             segments = []
+        # A cell that does not parse (an exercise's `<YOUR CODE>`, half-written code) is
+        # reported and left byte for byte; the other cells are still one program.
+        parsed = []
         for segment in segments:
-            _check_parses(segment.code, segment.start.cell or 0)
-        self.programs = [segments] if segments else []
+            problem = _parse_problem(segment.code)
+            if problem is None:
+                parsed.append(segment)
+                continue
+            line, detail = problem
+            self.notes.append(
+                Finding(
+                    line=line,
+                    column=0,
+                    rule=UNPARSED_CELL,
+                    kind=FixKind.FLAG,
+                    message=f"cell {(segment.start.cell or 0) + 1} does not parse ({detail}); left as it is, the "
+                    "other cells are migrated without it: check it by hand",
+                    cell=segment.start.cell,
+                )
+            )
+        self.programs = [parsed] if parsed else []
 
     def rebuild(self, codes: list[list[str]]) -> tuple[bytes, list[list[Location]]]:
         changed: dict[int, str] = {}
@@ -129,14 +153,16 @@ def _with_final_newline(text: str) -> str:
     return text if not text or text.endswith("\n") else text + "\n"
 
 
-def _check_parses(code: str, index: int) -> None:
+def _parse_problem(code: str) -> tuple[int, str] | None:
+    """None if the cell's code parses, else the line (1-based, within the cell) and why not."""
     try:
         ast.parse(code)
     except SyntaxError as exc:
-        where = f" at line {exc.lineno}" if exc.lineno else ""
-        raise TransformError(f"cell {index + 1} does not parse{where}: {exc.msg}; notebook left unchanged") from None
+        line = exc.lineno or 1
+        return line, f"line {line}: {exc.msg}"
     except (ValueError, RecursionError, MemoryError) as exc:
-        raise TransformError(f"cell {index + 1} cannot be parsed: {exc}; notebook left unchanged") from None
+        return 1, f"cannot be parsed: {type(exc).__name__}"
+    return None
 
 
 def _layout_of(text: str, data: Any) -> Callable[[Any], str]:
