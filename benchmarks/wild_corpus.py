@@ -36,6 +36,7 @@ import json
 import os
 import re
 import shutil
+import signal
 import subprocess
 import sys
 import tarfile
@@ -52,7 +53,6 @@ DEFAULT_CACHE = Path(os.environ.get("GYMMIGRATE_WILD_CACHE", "/work/cache/wild")
 PINS = (
     "ma-gym==0.0.14",
     "gym-minigrid==1.0.3",
-    "sumo-rl==1.2.1",
     "gym-anytrading==1.3.2",
     "gym-super-mario-bros==7.3.2",
     "nes-py==8.1.8",
@@ -61,7 +61,6 @@ PINS = (
     "keras-rl2==1.0.5",
     "keras-rl==0.4.2",
     "pfrl==0.3.0",
-    "mushroom-rl==1.7.0",
     "garage==2021.3.0",
     "tensorforce==0.6.5",
     "dopamine-rl==3.1.10",
@@ -83,7 +82,6 @@ PINS = (
     "gym-microrts==0.3.2",
     "gym-idsgame==1.0.13",
     "recsim==0.2.4",
-    "gym-donkeycar==1.3.0",
     "gym-cartpole-swingup==0.1.4",
     "gym-notebook-wrapper==1.3.3",
     "gym-unity==0.28.0",
@@ -96,20 +94,39 @@ PINS = (
     "chainerrl==0.8.0",
     "flappy-bird-gym==0.3.0",
     "gym-2048==0.2.6",
-    "gym-anm==1.0.5",
     "compiler-gym==0.2.5",
     "rlberry==0.2.1",
     "gym-derk==1.1.1",
-    "vizdoom==1.1.13",
     "ray==1.13.0",
     "pybullet==3.2.5",
-    "evogym==1.0.0",
     "catanatron-gym==3.2.1",
     "gym-fetch==0.2.2",
     "cpr-gym==0.7.0",
     "entity-gym==0.1.10",
     "bullet-safety-gym==1.4.0",
-    "fancy-gym==0.2.0",
+    "imitation==0.3.2",
+    "seals==0.1.5",
+    "tf-agents==0.12.0",
+    "tensortrade==1.0.3",
+    "finrl==0.3.5",
+    "elegantrl==0.3.3",
+    "coax==0.1.10",
+    "mbrl==0.1.4",
+    "nasim==0.9.1",
+    "rl-coach==1.0.1",
+    "textworld==1.5.3",
+    "rlgym==1.2.0",
+    "dreamerv2==2.2.0",
+    "parl==2.0.4",
+    "keras-gym==0.2.17",
+    "magent==0.1.14",
+    "dm-acme==0.2.4",
+    "bsuite==0.3.5",
+    "rlcard==1.0.7",
+    "trax==1.4.1",
+    "citylearn==1.3.6",
+    "gym-ignition==1.3.1",
+    "sample-factory==1.121.4",
     "stable-baselines3==1.6.2",
 )
 
@@ -126,15 +143,24 @@ def _pip_download(pin: str, dest: Path) -> str | None:
     attempts = (
         base + ["--only-binary", ":all:", "--python-version", "3.9", pin],
         base + ["--only-binary", ":all:", pin],
+        # An sdist: pip prepares its metadata, which may build its build requirements
+        # (never the package itself): bounded in time, the whole process group ended then.
         base + ["--no-binary", ":all:", pin],
     )
     error = ""
     for command in attempts:
-        run = subprocess.run(command, capture_output=True, text=True, timeout=900)
-        if run.returncode == 0 and any(dest.iterdir()):
+        process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+        try:
+            out, err = process.communicate(timeout=240)
+        except subprocess.TimeoutExpired:
+            os.killpg(process.pid, signal.SIGKILL)
+            process.communicate()
+            error = "timed out"
+            continue
+        if process.returncode == 0 and any(dest.iterdir()):
             return None
-        error = (run.stderr or run.stdout).strip().splitlines()[-1:] or ["failed"]
-        error = error[0]
+        lines = [line for line in (err or out).strip().splitlines() if line.startswith("ERROR")]
+        error = lines[-1] if lines else "failed"
     return error
 
 
