@@ -45,6 +45,8 @@ EXPRESSIONS = {
     "method_chain": "self.env.unwrapped.get()",
 }
 
+ASYNC_KINDS = frozenset({"await", "name", "call", "walrus", "yield"})
+
 # Assignment targets, each valid on the left of ``=``.
 TARGETS = {
     "name": "x",
@@ -80,6 +82,16 @@ EXPRESSION_TEMPLATES = {
         body="    {D}def reset(self):\n        return self.process(self.env.reset(), {E})\n"
         "    def process(self, o, x=None):\n        return o\n"
     ),
+    "wrapper_reset_assigned": WRAPPER.format(
+        body="    {D}def reset(self):\n        obs = self.process(self.env.reset(), {E})\n        return obs\n"
+    ),
+    "env_holds_env": "import gym\n\n\nclass E(gym.Env):\n    def __init__(self):\n        self.env = gym.make('CartPole-v1')\n\n"
+    "    {D}def reset(self):\n        return self.env.reset({E})\n\n"
+    "    {D}def seed(self, seed=None):\n        self.env.seed({E})\n\n"
+    "    {D}def step(self, action):\n        obs, reward, done, info = self.env.step({E})\n        return obs, reward, done, info\n",
+    "elif_chain": "import gym\n\n{D}def main():\n    env = gym.make('CartPole-v1')\n    obs = env.reset()\n"
+    "    if env.spec.id == 'a':\n        pass\n    elif {E}:\n        obs, reward, done, info = env.step(env.action_space.sample())\n"
+    "    elif env.unwrapped.state is None:\n        env.seed(0)\n    else:\n        env.render(mode='human')\n",
     "wrapper_step_done_no_unpack": WRAPPER.format(
         body="    {D}def step(self, action):\n        return self.obs, self.r, {E}, {{}}\n"
     ),
@@ -189,7 +201,9 @@ def _programs() -> list[tuple[str, str]]:
     programs: list[tuple[str, str]] = []
     for slot, template in EXPRESSION_TEMPLATES.items():
         for kind, expr in EXPRESSIONS.items():
-            for prefix in ("", "async "):
+            # ``async def`` around the slot for the kinds that differ there (await is only
+            # valid in it); every other kind once, in a plain ``def``.
+            for prefix in ("", "async ") if kind in ASYNC_KINDS else ("",):
                 if kind == "await" and not prefix:
                     continue
                 code = template.replace("{D}", prefix).replace("{E}", expr).replace("{{", "{").replace("}}", "}")
@@ -216,7 +230,7 @@ def test_the_torture_covers_every_slot_and_kind() -> None:
     for slot in EXPRESSION_TEMPLATES:
         for kind in EXPRESSIONS:
             assert any(n.startswith(f"{slot}-{kind}") for n in names), f"{slot}-{kind} generated nothing that parses"
-    assert len(PROGRAMS) > 1000
+    assert len(PROGRAMS) > 800
 
 
 @pytest.mark.parametrize(("name", "code"), PROGRAMS, ids=[name for name, _ in PROGRAMS])
