@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import argparse
 import ast
+import hashlib
 import json
 import os
 import re
@@ -63,13 +64,13 @@ PINS = (
     "keras-rl==0.4.2 sdist",
     "pfrl==0.3.0 sdist",
     "garage==2021.3.0",
-    "tensorforce==0.6.5 sdist",
+    "tensorforce==0.6.5",
     "dopamine-rl==3.1.10 sdist",
     "stable-baselines==2.10.2 sdist",
-    "d3rlpy==1.1.1 sdist",
+    "d3rlpy==1.1.1",
     "mo-gym==0.2.1",
     "supersuit==3.3.3 sdist",
-    "pettingzoo==1.20.1 sdist",
+    "pettingzoo==1.20.1",
     "griddly==1.4.0",
     "gym-chess==0.1.1",
     "gym-sokoban==0.0.6",
@@ -86,7 +87,7 @@ PINS = (
     "gym-cartpole-swingup==0.1.4",
     "gym-notebook-wrapper==1.3.3",
     "gym-unity==0.28.0",
-    "gym-electric-motor==1.0.1 sdist",
+    "gym-electric-motor==1.0.1",
     "or-gym==0.5.0",
     "panda-gym==2.0.0",
     "rware==1.0.3",
@@ -115,6 +116,26 @@ PINS = (
     "mbrl==0.1.4 sdist",
     "nasim==0.9.1 sdist",
     "metadrive-simulator==0.2.5.1",
+    "di-engine==0.4.5",
+    "ray==2.2.0",
+    "mani-skill2==0.4.2",
+    "pgdrive==0.1.1",
+    "torchrl==0.0.4",
+    "l2rpn-baselines==0.6.0",
+    "duckietown-gym-daffy==6.1.34",
+    "ray==1.6.0",
+    "di-engine==0.3.1",
+    "pettingzoo==1.15.0",
+    "stable-baselines==2.5.1",
+    "garage==2020.06.3",
+    "supersuit==2.6.6",
+    "gym-donkeycar==1.0.13",
+    "robo-gym==1.0.0",
+    "rlzoo==1.0.4",
+    "cherry-rl==0.1.4",
+    "ptan==0.7",
+    "gym-electric-motor==0.3.1",
+    "tf-agents==0.9.0",
     "myosuite==1.2.4",
     "crafter==1.8.0",
     "pddlgym==0.0.5",
@@ -122,8 +143,6 @@ PINS = (
     "envpool==0.6.6",
     "gym3==0.3.3",
     "overcooked-ai==1.1.0",
-    "babyai==1.1.1",
-    "gym-gridverse==0.0.5",
     "textworld==1.5.3 sdist",
     "rlgym==1.2.0",
     "dreamerv2==2.2.0",
@@ -156,7 +175,7 @@ def _pip_download(pin: str, dest: Path) -> str | None:
         base + ["--only-binary", ":all:", pin],
         # An sdist: pip prepares its metadata, which may build its build requirements
         # (never the package itself): bounded in time, the whole process group ended then.
-        base + ["--no-binary", ":all:", pin],
+        base + ["--no-binary", ":all:", "--ignore-requires-python", pin],
     )
     if kind == "sdist":
         attempts = attempts[2:]
@@ -225,8 +244,10 @@ def fetch(cache: Path, pins: tuple[str, ...]) -> tuple[dict[str, Path], dict[str
 
 
 def corpus_files(unpacked: dict[str, Path]) -> dict[str, list[Path]]:
-    """The files of each pin that mention gym."""
+    """The files of each pin that mention gym (a file identical to one already taken,
+    from another release or package, is left out)."""
     chosen: dict[str, list[Path]] = {}
+    seen: set[str] = set()
     for pin, root in unpacked.items():
         files = []
         for path in sorted(root.rglob("*")):
@@ -236,7 +257,9 @@ def corpus_files(unpacked: dict[str, Path]) -> dict[str, list[Path]]:
                 text = path.read_text(encoding="utf-8", errors="replace")
             except OSError:
                 continue
-            if GYM_TEXT.search(text):
+            digest = hashlib.sha1(text.encode("utf-8", "replace")).hexdigest()
+            if GYM_TEXT.search(text) and digest not in seen:
+                seen.add(digest)  # a file two releases share counts once
                 files.append(path)
         chosen[pin] = files
     return chosen
