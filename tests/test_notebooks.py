@@ -369,3 +369,13 @@ def test_files_that_are_not_notebooks_are_reported_and_left_alone(tmp_path: Path
     result = process_file(path, RewriteOptions(), write=True, want_diff=True)
     assert result.status is Status.ERROR and reason in (result.error or "")
     assert path.read_text() == content
+
+
+def test_a_notebook_with_crlf_line_ends_is_migrated_and_keeps_them() -> None:
+    """Saved on Windows or checked out with core.autocrlf: the JSON's line ends are CRLF."""
+    lf = _notebook(("markdown", "# Title"), ("code", ["import gym\n", "env = gym.make('CartPole-v1')\n", "obs = env.reset()"]))
+    crlf = lf.replace(b"\n", b"\r\n")
+    rewritten = _rewrite(crlf)
+    assert rewritten == _rewrite(lf).replace(b"\n", b"\r\n")
+    assert b"obs, info = env.reset()" in rewritten and b"\n" not in rewritten.replace(b"\r\n", b"")
+    assert _rewrite(rewritten) == rewritten

@@ -169,16 +169,26 @@ def _layout_of(text: str, data: Any) -> Callable[[Any], str]:
     """A serializer that writes this file's JSON layout, checked on the file as it is.
 
     nbformat (Jupyter, VS Code) writes indent 1, ``ensure_ascii=False`` and a final
-    newline; Colab indent 2. The first candidate that reproduces ``text`` exactly wins.
+    newline; Colab indent 2. A notebook saved on Windows (or checked out with
+    ``core.autocrlf``) has CRLF line ends: JSON strings hold no raw line break, so every
+    ``\n`` of the dump is a line end to write as the file does. The first candidate that
+    reproduces ``text`` exactly wins.
     """
-    indent_match = re.match(r"[\[{]\n( *)\S", text)
+    newline = "\r\n" if "\r\n" in text else "\n"
+    indent_match = re.match(r"[\[{]\r?\n( *)\S", text)
     indent = len(indent_match[1]) if indent_match else None
-    final_newline = "\n" if text.endswith("\n") else ""
+    final_newline = newline if text.endswith(newline) else ""
     for ensure_ascii, separators in product((False, True), ((",", ": "), (", ", ": "), (",", ":"))):
         dump = partial(json.dumps, indent=indent, ensure_ascii=ensure_ascii, separators=separators)
+        if newline != "\n":
+            dump = partial(_with_line_ends, dump, newline)
         if dump(data) + final_newline == text:
             return lambda value, dump=dump: dump(value) + final_newline
     raise TransformError(
         "the notebook's JSON layout cannot be reproduced (not written by Jupyter/nbformat?);"
         " left unchanged rather than reformatted"
     )
+
+
+def _with_line_ends(dump: Callable[[Any], str], newline: str, value: Any) -> str:
+    return dump(value).replace("\n", newline)
