@@ -147,6 +147,25 @@ class StepOverrides(RuleFamily):
                     tier=Tier.NOTE,
                 )
                 self.plan.replace(value, lambda node, t=terminated: _five(node, _cut(node, t)))
+            elif isinstance(done, ast.Constant) and (done.value is None or isinstance(done.value, bool)):
+                # ``return obs, reward, False, info``: the override's own constant end.
+                self.report(
+                    ret,
+                    "GM602",
+                    f"this step override returns a constant `done` ({done.value}): returned as terminated, with "
+                    "truncated False; the inner step's flags are not passed on, as before",
+                    kind=FixKind.ASSIST,
+                )
+                self.plan.replace(value, lambda node: _five(node, [node.elements[2].value, cst.Name("False")]))
+            elif isinstance(done, _COLLECTIONS):
+                # ``return obs, rewards, [done] * n, info``: per-agent flags, not one bool.
+                self.report(
+                    ret,
+                    "GM602",
+                    "this step override returns a collection as `done` (per-agent flags?): return "
+                    "(obs, reward, terminated, truncated, info) with a collection for each flag by hand",
+                    kind=FixKind.FLAG,
+                )
             else:
                 self.report(
                     ret,
@@ -170,6 +189,9 @@ class StepOverrides(RuleFamily):
                     self.plan.withdraw(inserted[0], inserted[1].done_line)
                 else:
                     self.plan.remove(done_line)
+
+
+_COLLECTIONS = (ast.List, ast.Tuple, ast.Set, ast.Dict, ast.ListComp, ast.SetComp, ast.DictComp, ast.GeneratorExp)
 
 
 def _is_done_line(statement: ast.stmt, flags: tuple[str, str]) -> bool:
