@@ -92,6 +92,14 @@ EXPRESSION_TEMPLATES = {
     "elif_chain": "import gym\n\n{D}def main():\n    env = gym.make('CartPole-v1')\n    obs = env.reset()\n"
     "    if env.spec.id == 'a':\n        pass\n    elif {E}:\n        obs, reward, done, info = env.step(env.action_space.sample())\n"
     "    elif env.unwrapped.state is None:\n        env.seed(0)\n    else:\n        env.render(mode='human')\n",
+    "time_limit_info": "import gym\n\n{D}def main():\n    env = gym.make('CartPole-v1')\n    obs = env.reset()\n"
+    "    obs, reward, done, info = env.step(0)\n    timeout = info.get('TimeLimit.truncated', {E})\n"
+    "    if done and not info[{E}]:\n        target = reward\n    return done and not timeout\n",
+    "vector_infos": "import gym\n\n{D}def main():\n    envs = gym.vector.make('CartPole-v1', num_envs=2)\n    obs = envs.reset()\n"
+    "    obs, rewards, dones, infos = envs.step(envs.action_space.sample())\n"
+    "    for i, d in enumerate({E}):\n        last = infos[i]['terminal_observation'] if d else {E}\n",
+    "env_step_limit": "import gym\n\n\nclass E(gym.Env):\n    {D}def step(self, action):\n        self.t += 1\n"
+    "        done = self.t >= ({E}) or ({E})\n        return self.obs, 0.0, done, {{}}\n",
     "wrapper_step_done_no_unpack": WRAPPER.format(
         body="    {D}def step(self, action):\n        return self.obs, self.r, {E}, {{}}\n"
     ),
