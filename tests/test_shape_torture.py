@@ -170,6 +170,12 @@ TARGET_TEMPLATES = {
     "for _ in range(3):\n    obs, reward, {T}, info = env.step(0)\n    {T} = env.step(0)\n",
     "loop_reset_target": "import gym\n\nenv = gym.make('CartPole-v1')\n{T} = env.reset()\nwhile True:\n"
     "    {T}, r, done, _ = env.step(0)\n    if done:\n        {T} = env.reset()\n",
+    "pettingzoo_last_targets": "from pettingzoo.butterfly import pistonball_v6\n\nenv = pistonball_v6.env()\nenv.reset()\n"
+    "for agent in env.agent_iter():\n    obs, reward, {T}, info = env.last()\n    {T} = env.last()\n    env.step(None)\n",
+    "pettingzoo_parallel_targets": "from pettingzoo.butterfly import pistonball_v6\n\nenv = pistonball_v6.parallel_env()\n"
+    "obs = env.reset()\nobs, rewards, {T}, infos = env.step({a: 0 for a in env.agents})\n{T} = env.step({})\n",
+    "vector_targets": "import gym\n\nenvs = gym.vector.make('CartPole-v1', num_envs=2)\nobs = envs.reset()\n"
+    "obs, rewards, {T}, infos = envs.step(envs.action_space.sample())\n",
     "for_target": "import gym\n\nenv = gym.make('CartPole-v1')\nfor {T} in [env.step(0)]:\n    pass\n"
     "with env.step(0) as {T}:\n    pass\n",
     "aug_and_ann": "import gym\n\nenv = gym.make('CartPole-v1')\nobs: object = env.reset()\n"
