@@ -157,13 +157,16 @@ class StepOverrides(RuleFamily):
                     kind=FixKind.ASSIST,
                 )
                 self.plan.replace(value, lambda node: _five(node, [node.elements[2].value, cst.Name("False")]))
-            elif isinstance(done, _COLLECTIONS):
-                # ``return obs, rewards, [done] * n, info``: per-agent flags, not one bool.
+            elif isinstance(done, _COLLECTIONS) or _reads_per_agent(done, {done_name, *flags} - {None}):
+                # ``return obs, rewards, [done] * n, info`` or ``all(done)``, ``list(done.values())``:
+                # per-agent flags, not one bool; cutting them against ``terminated`` (a
+                # collection too) would be always false.
                 self.report(
                     ret,
                     "GM602",
-                    "this step override returns a collection as `done` (per-agent flags?): return "
-                    "(obs, reward, terminated, truncated, info) with a collection for each flag by hand",
+                    "this step override returns per-agent `done` flags (a collection, or all()/any()/values() of "
+                    "the inner ones): return (obs, reward, terminated, truncated, info) with terminated and "
+                    "truncated per agent by hand",
                     kind=FixKind.FLAG,
                 )
             else:
@@ -192,6 +195,26 @@ class StepOverrides(RuleFamily):
 
 
 _COLLECTIONS = (ast.List, ast.Tuple, ast.Set, ast.Dict, ast.ListComp, ast.SetComp, ast.DictComp, ast.GeneratorExp)
+
+
+def _reads_per_agent(expr: ast.expr, names: set[str]) -> bool:
+    """``all(done)``, ``any(dones)``, ``done.values()``, ``done[i]`` or a comprehension over
+    ``done``: the inner step's done (or flags) is a collection of per-agent flags."""
+    def is_flag(node: ast.AST) -> bool:
+        return isinstance(node, ast.Name) and node.id in names
+
+    for node in ast.walk(expr):
+        if isinstance(node, ast.Call):
+            func = node.func
+            if isinstance(func, ast.Name) and func.id in ("all", "any", "list", "sum", "len") and any(is_flag(a) for a in node.args):
+                return True
+            if isinstance(func, ast.Attribute) and func.attr in ("values", "items", "keys") and is_flag(func.value):
+                return True
+        elif isinstance(node, ast.Subscript) and is_flag(node.value):
+            return True
+        elif isinstance(node, ast.comprehension) and is_flag(node.iter):
+            return True
+    return False
 
 
 def _is_done_line(statement: ast.stmt, flags: tuple[str, str]) -> bool:
