@@ -169,7 +169,7 @@ def test_a_cell_that_does_not_parse_is_reported_with_its_number(tmp_path: Path) 
     path.write_bytes(source)
     result = runner.invoke(app, ["rewrite", str(tmp_path)])
     assert result.exit_code == 0, result.stderr
-    assert f"{path}:cell 3:line 1: GM001 (not rewritten) cell 3 does not parse (line 1: invalid syntax)" in result.stderr
+    assert f"{path}:cell 3:line 1: GM001 (not rewritten) this code cell does not parse (line 1: invalid syntax)" in result.stderr
     cells = json.loads(path.read_bytes())["cells"]
     assert cells[1]["source"] == "import gymnasium as gym\n"  # the other cells are migrated
     assert cells[2]["source"] == "def f(:\n    pass\n"  # the broken one is left as it was

@@ -83,8 +83,8 @@ class Notebook:
                     column=0,
                     rule=UNPARSED_CELL,
                     kind=FixKind.FLAG,
-                    message=f"cell {(segment.start.cell or 0) + 1} does not parse ({detail}); left as it is, the "
-                    "other cells are migrated without it: check it by hand",
+                    message=f"this code cell does not parse ({detail}); left as it is, the other cells are "
+                    "migrated without it: check it by hand",
                     cell=segment.start.cell,
                 )
             )
