@@ -225,3 +225,20 @@ def test_a_refused_env_module_blocks_what_its_importers_would_assume(tmp_path: P
     assert results["play.py"].status is Status.UNCHANGED
     assert [f.rule for f in results["play.py"].findings if f.rule == "GM002"] == ["GM002"]
     assert "not stable" in next(f.message for f in results["play.py"].findings if f.rule == "GM002")
+
+
+def test_a_seed_caller_the_run_rewrites_does_not_keep_seed_and_a_second_run_changes_nothing(tmp_path: Path) -> None:
+    """worker.py seeds an env it cannot trace, in a file that uses only Gym: GM203 makes
+    that call reset(seed=3) in this run, so it is no seed() caller left. Counting it kept
+    Dice.seed() in the first run and removed it in the second."""
+    folder = tmp_path / "dice"
+    shutil.copytree(FIXTURES / "project_seed_rewritten", folder)
+    result = runner.invoke(app, ["rewrite", str(folder)])
+    assert result.exit_code == 0, result.output
+    assert "def seed" not in (folder / "envs.py").read_text()
+    assert "env.reset(seed=3)" in (folder / "worker.py").read_text()
+    migrated = {path.name: path.read_bytes() for path in folder.glob("*.py")}
+    again = runner.invoke(app, ["rewrite", str(folder)])
+    assert again.exit_code == 0, again.output
+    assert {path.name: path.read_bytes() for path in folder.glob("*.py")} == migrated
+    assert _run_main(folder, "worker") == _run_main(folder, "worker")

@@ -189,6 +189,8 @@ class ClassRewrite:
                 return ret  # the base reset already returns (obs, info)
             if _is_self_call(ret.value, helpers):
                 return ret  # a helper that now returns (obs, info) itself
+            if _is_inner_reset(ret.value, self.plan.inner_reset_receivers):
+                return ret  # the held env's reset returns (obs, info) itself
             value = ret.value
             if isinstance(value, cst.Tuple) and not value.lpar:
                 value = value.with_changes(lpar=[cst.LeftParen()], rpar=[cst.RightParen()])
@@ -348,3 +350,14 @@ def rewrite_class(plan: ClassPlan) -> Callable[[cst.ClassDef], cst.ClassDef]:
         return ClassRewrite(plan, node).run()
 
     return build
+
+
+def _is_inner_reset(value: cst.BaseExpression, receivers: set[str]) -> bool:
+    """``self.env.reset(...)`` for a receiver in ``receivers`` (its source text)."""
+    return (
+        bool(receivers)
+        and isinstance(value, cst.Call)
+        and isinstance(value.func, cst.Attribute)
+        and value.func.attr.value == "reset"
+        and cst.Module(body=[]).code_for_node(value.func.value) in receivers
+    )

@@ -18,6 +18,7 @@ from gymmigrate.rules.custom_env.common import (
     ClassDecision,
     callable_without_arguments,
     delegates,
+    inner_gym_env_call,
     is_self_call,
     method_of,
     param_names,
@@ -101,8 +102,14 @@ def _return_info_pairs(decision: ClassDecision, function: ast.AST, base_info: st
         else:
             why = "returns (obs, {}): _get_info() needs arguments reset() does not have, so it is not called"
     for ret in own_returns(function):
-        if ret.value is not None and not is_super_method_call(ret.value, "reset") and not is_self_call(ret.value, helpers):
-            decision.report(ret, "GM501", f"reset {why}", kind)
+        if ret.value is None or is_super_method_call(ret.value, "reset") or is_self_call(ret.value, helpers):
+            continue
+        if inner_gym_env_call(decision, ret.value, "reset"):
+            # ``return self.env.reset()``: the inner env's reset returns (obs, info) now and
+            # the reset rule (GM201) passes it through; adding ``{}`` would nest the pair.
+            decision.plan.inner_reset_receivers.add(decision.family.facts.segment(ret.value.func.value))  # type: ignore[attr-defined]
+            continue
+        decision.report(ret, "GM501", f"reset {why}", kind)
 
 
 def decide_internal_calls(decision: ClassDecision) -> None:
