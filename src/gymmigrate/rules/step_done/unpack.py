@@ -238,14 +238,24 @@ class UnpackRules(StepFamilyBase):
             return set()
         names = {first.id}
         function = self.facts.enclosing_function(step.assign) or self.facts.tree
+
+        def after_step(value: ast.AST) -> bool:  # reads this step's observation, not an earlier one
+            return any(
+                isinstance(node, ast.Name)
+                and node.id == first.id
+                and isinstance(node.ctx, ast.Load)
+                and self.flow.dominates(step.assign, node, first)
+                for node in ast.walk(value)
+            )
+
         for node in ast.walk(function):
             if isinstance(node, ast.Assign) and node is not step.assign and len(node.targets) == 1:
                 target = node.targets[0]
-                if isinstance(target, ast.Name) and first.id in loaded_names(node.value):
+                if isinstance(target, ast.Name) and after_step(node.value):
                     names.add(target.id)
                 elif isinstance(target, (ast.Tuple, ast.List)) and isinstance(node.value, (ast.Tuple, ast.List)):
                     for element, value in zip(target.elts, node.value.elts):
-                        if isinstance(element, ast.Name) and first.id in loaded_names(value):
+                        if isinstance(element, ast.Name) and after_step(value):
                             names.add(element.id)
         return names
 
