@@ -20,6 +20,7 @@ Source: Gymnasium migration guide, "Package Import"; gymnasium 1.0 release notes
 from __future__ import annotations
 
 import ast
+import re
 
 import libcst as cst
 
@@ -28,6 +29,7 @@ from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.module import dotted_name
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
+from gymmigrate.rules.gymnasium_api import GYMNASIUM_VERSION, has_name, module_exists
 from gymmigrate.rules.repeats import Repeats
 
 RULES = (
@@ -95,6 +97,9 @@ REMOVED_MODULES = {
     "wrappers.monitoring.video_recorder": "use gymnasium.wrappers.RecordVideo or gymnasium.utils.save_video",
     "wrappers.compatibility": "use Shimmy's GymV21Environment-v0 / GymV26Environment-v0",
     "wrappers.step_api_compatibility": "use gymnasium.utils.step_api_compatibility",
+    "envs.atari": "the Atari envs live in ale_py: `import ale_py`, `gymnasium.register_envs(ale_py)`, ids `ALE/Pong-v5`",
+    "envs.unittest": "gym's unittest envs are gone: write a small test env of your own",
+    "envs.algorithmic": "the algorithmic envs were removed in gym 0.20 and have no Gymnasium counterpart",
 }
 # (module under gym, name) pairs that are gone.
 REMOVED_NAMES = {
@@ -137,11 +142,41 @@ def under_gym(module: str) -> str | None:
     return None
 
 
-def removed_module_hint(rest: str) -> str | None:
+def removed_module_hint(rest: str, *, unknown: bool = True) -> str | None:
+    """Why ``gym.<rest>`` cannot become ``gymnasium.<rest>``, or None when it can: a known
+    removal with its replacement, or (``unknown``) any other path Gymnasium 1.4 lacks."""
     for removed, hint in REMOVED_MODULES.items():
         if rest == removed or rest.startswith(removed + "."):
             return hint
-    return None
+    target = gymnasium_module(rest)
+    if module_exists(target):
+        return None
+    if rest.startswith("envs.mujoco."):
+        base = re.sub(r"_v\d$", "", rest.split(".")[2])
+        if module_exists(f"gymnasium.envs.mujoco.{base}_v5"):
+            return (
+                "the mujoco-py envs (v2/v3) were removed in Gymnasium 1.0: use "
+                f"`gymnasium.envs.mujoco.{base}_v5` (the `mujoco` bindings, ids `...-v5`)"
+            )
+    if not unknown:
+        return None
+    return f"`{target}` does not exist in Gymnasium {GYMNASIUM_VERSION}: import what it held from where it lives now"
+
+
+def removed_name_hint(rest: str, name: str) -> str | None:
+    """Why ``from gym.<rest> import <name>`` cannot be moved to Gymnasium, or None: a
+    removed name, or a removed submodule (``from gym.envs import atari``). Other names that
+    Gymnasium renamed are the business of the families that rename them (GM906, GM907...)."""
+    hint = REMOVED_NAMES.get((rest, name))
+    if hint is not None or name == "*" or has_name(gymnasium_module(rest), name):
+        return hint
+    return removed_module_hint(f"{rest}.{name}" if rest else name, unknown=False)
+
+
+def gymnasium_module(rest: str) -> str:
+    """``wrappers.time_limit`` -> ``gymnasium.wrappers``; ``""`` -> ``gymnasium``."""
+    moved = migrated_path(rest)
+    return "gymnasium" + ("." + moved if moved else "")
 
 
 class Imports(RuleFamily):
@@ -321,9 +356,9 @@ class Imports(RuleFamily):
         advice = hint
         if hint is None and not star:
             for alias in node.names:
-                hint = advice = REMOVED_NAMES.get((rest, alias.name))
+                hint = advice = removed_name_hint(rest, alias.name)
                 if hint:
-                    hint = f"`{alias.name}` was removed: {hint}"
+                    hint = f"`{alias.name}` cannot move to Gymnasium: {hint}"
                     break
         elif hint is not None:
             hint = f"`{module}` was removed: {hint}"
