@@ -156,7 +156,6 @@ GYM_ONLY_LIBRARIES = {
         "(`gymnasium.make(\"GymV21Environment-v0\", env=...)`, gym installed)"
     ),
     "nes_py": "nes_py has no Gymnasium release: wrap its envs with Shimmy (`GymV21Environment-v0`, gym installed)",
-    "gym_minigrid": "gym_minigrid is now `minigrid` (Farama's Gymnasium release): `import minigrid`, same `MiniGrid-...` ids",
     "atari_py": "atari_py is replaced by ale_py: `import ale_py`, `gymnasium.register_envs(ale_py)`, ids `ALE/Pong-v5`",
     "mujoco_py": "mujoco_py envs were removed in Gymnasium 1.0: use the `mujoco` bindings and the v5 envs",
     "d4rl": "D4RL has no Gymnasium release: its datasets moved to Minari (`minari`), its envs to gymnasium-robotics",
