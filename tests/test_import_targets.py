@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import ast
 import importlib
+import subprocess
+import sys
 
 import gymnasium
 import pytest
@@ -64,10 +66,9 @@ def test_every_wrapper_name_the_rules_write_exists() -> None:
 
 
 def test_the_atari_hint_names_a_working_route() -> None:
-    import ale_py
-
-    gymnasium.register_envs(ale_py)
-    assert "ALE/Pong-v5" in gymnasium.registry
+    # in a fresh interpreter: other tests swap the process-wide registry
+    code = "import gymnasium, ale_py; gymnasium.register_envs(ale_py); assert 'ALE/Pong-v5' in gymnasium.registry"
+    subprocess.run([sys.executable, "-c", code], check=True, timeout=60)
 
 
 # Legacy paths (gym 0.21-0.26) that Gymnasium 1.4 does not have.

@@ -38,7 +38,7 @@ import libcst as cst
 from gymmigrate.edits.arguments import append_keyword
 from gymmigrate.edits.syntax import dotted_node
 from gymmigrate.facts.module import dotted_name, keyword
-from gymmigrate.findings import FixKind
+from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.wrapper_usage.arguments import positional
 
 if TYPE_CHECKING:
@@ -94,7 +94,7 @@ def plan_monitor(family: WrapperRenames, call: ast.Call) -> MonitorRewrite | Non
     where = {name: _argument_slot(call, value) for name, value in values.items()}
 
     if isinstance(trigger, ast.Constant) and trigger.value is False:
-        family.report(call, "GM611", f"Monitor without videos is RecordEpisodeStatistics{note}")
+        family.report(call, "GM611", f"Monitor without videos is RecordEpisodeStatistics{note}", tier=None if note else Tier.NOTE)
 
         def stats_only(node: cst.Call) -> cst.BaseExpression:
             return cst.Call(
@@ -126,6 +126,7 @@ def plan_monitor(family: WrapperRenames, call: ast.Call) -> MonitorRewrite | Non
         "GM611",
         "Monitor is RecordVideo(RecordEpisodeStatistics(env)): the env must be made with "
         f"render_mode=\"rgb_array\" for videos{note}",
+        tier=None if note else Tier.NOTE,  # dropped arguments are a question; the rest explains the rewrite
     )
     family.plan.replace(call, record_video)
     _plan_render_mode(family, call, env)
@@ -163,6 +164,7 @@ def _plan_render_mode(family: WrapperRenames, consumer: ast.Call, env: ast.expr)
                 "GM407",
                 FixKind.ASSIST,
                 f'added render_mode="{RGB_ARRAY}" to {summary} so RecordVideo gets frames',
+                Tier.NOTE,
             )
     family.plan.notes.setdefault(FRAMES_NEEDED, []).append(FramesNeeded(consumer=consumer, env=env, added_to=added))
 
