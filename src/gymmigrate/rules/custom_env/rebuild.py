@@ -74,6 +74,8 @@ class ClassPlan:
     seed: SeedPlan | None = None
     reset_super_seeds: bool = True  # super().reset(seed=seed) may be called (else only reported)
     render: bool = False
+    render_helper: str | None = None  # keeps the old render(mode) body for the class's own mode calls
+    render_helper_callers: set[str] = field(default_factory=set)  # methods that call self.render(mode)
     info_helper: bool = False  # reset returns self._get_info() (it takes no arguments)
     local_env_base: bool = False
     unpack_self_reset: bool = False
@@ -96,6 +98,7 @@ class ClassRewrite:
         self.replacements: dict[str, cst.FunctionDef | None] = {}
         self.seed_folded: list[cst.BaseStatement] = []
         self.extra_init: cst.FunctionDef | None = None
+        self.after_method: dict[str, list[cst.FunctionDef]] = {}  # new methods, by the method they follow
 
     def method(self, name: str) -> cst.FunctionDef | None:
         old = self.renamed.get(name, name)
@@ -149,6 +152,8 @@ class ClassRewrite:
                 statements.append(self.extra_init)
                 self.extra_init = None
             statements.append(stmt)
+            if isinstance(stmt, cst.FunctionDef):
+                statements.extend(self.after_method.get(stmt.name.value, ()))
         if self.extra_init is not None:
             statements.append(self.extra_init)
         if not statements:
@@ -190,7 +195,7 @@ class ClassRewrite:
             fn = _drop_return_info(fn)
         elif not modern:
             fn, base_info = _unpack_super_reset(fn)
-            fn = self._return_info_pairs(fn, base_info, frozenset(self.plan.reset_helpers))
+            fn = self._return_info_pairs(fn, base_info, frozenset(self.plan.reset_helpers), own=True)
             for helper in self.plan.reset_helpers:
                 helper_fn = self.method(helper)
                 if helper_fn is not None:
@@ -204,7 +209,9 @@ class ClassRewrite:
             fn = _insert_after_super_reset(fn, self.seed_folded)
         self.set_method("reset", fn)
 
-    def _return_info_pairs(self, fn: cst.FunctionDef, base_info: str | None, helpers: frozenset[str] = frozenset()) -> cst.FunctionDef:
+    def _return_info_pairs(
+        self, fn: cst.FunctionDef, base_info: str | None, helpers: frozenset[str] = frozenset(), own: bool = False
+    ) -> cst.FunctionDef:
         info_expr: cst.BaseExpression = cst.Dict([])
         if base_info is not None:
             info_expr = cst.Name(base_info)
@@ -213,11 +220,14 @@ class ClassRewrite:
         elif self.plan.info_helper:
             info_expr = cst.parse_expression("self._get_info()")
 
+        # ``return self.reset()`` (a retry inside reset) returns the pair already
+        retries = frozenset({"reset", self.renamed.get("reset", "reset")}) if own else frozenset()
+
         def pair(ret: cst.Return) -> cst.Return:
             if ret.value is None or is_super_method_call(ret.value, "reset"):
                 return ret  # the base reset already returns (obs, info)
-            if _is_self_call(ret.value, helpers):
-                return ret  # a helper that now returns (obs, info) itself
+            if _is_self_call(ret.value, helpers | retries):
+                return ret  # a helper, or a retry of reset itself, that now returns (obs, info)
             value = ret.value
             if isinstance(value, cst.Tuple) and not value.lpar:
                 value = value.with_changes(lpar=[cst.LeftParen()], rpar=[cst.RightParen()])
@@ -304,6 +314,10 @@ class ClassRewrite:
     def _render(self) -> None:
         fn = self.method("render")
         assert fn is not None
+        helper = self.plan.render_helper
+        if helper is not None:
+            self._render_through_helper(fn, helper)
+            return
         params = list(fn.params.params)
         mode_index = next(i for i, p in enumerate(params) if p.name.value == "mode")
         params.pop(mode_index)
@@ -317,6 +331,25 @@ class ClassRewrite:
         if not _checks_is_none(body, "render_mode"):
             body = _insert_at_top(body, [cst.parse_statement("if self.render_mode is None:\n    return None\n")])
         self.set_method("render", fn.with_changes(params=new_params, body=body))
+        self._add_render_mode_to_init()
+
+    def _render_through_helper(self, fn: cst.FunctionDef, helper: str) -> None:
+        """``render(self, mode)`` becomes ``helper(self, mode)`` as it was; the new
+        ``render()`` passes ``self.render_mode``; the class's own mode calls use the helper."""
+        kept = fn.with_changes(name=cst.Name(helper), decorators=[], leading_lines=[cst.EmptyLine(indent=False)])
+        render = cst.parse_statement(
+            f"def render(self):\n    if self.render_mode is None:\n        return None\n"
+            f"    return self.{helper}(mode=self.render_mode)\n"
+        )
+        self.set_method("render", render.with_changes(leading_lines=fn.leading_lines, decorators=fn.decorators))  # type: ignore[arg-type]
+        calls = _SelfModeRenderCalls(helper)
+        for name, method in self.methods.items():
+            current = self.replacements.get(name, method)
+            if current is not None and name in self.plan.render_helper_callers and name != self.renamed.get("render", "render"):
+                self.replacements[name] = current.visit(calls)  # type: ignore[assignment]
+        if self.renamed.get("render", "render") in self.plan.render_helper_callers:
+            kept = kept.visit(calls)  # type: ignore[assignment]
+        self.after_method.setdefault(self.renamed.get("render", "render"), []).append(kept)
         self._add_render_mode_to_init()
 
     def _add_render_mode_to_init(self) -> None:
@@ -334,6 +367,26 @@ class ClassRewrite:
         if not _uses_self_attribute(fn, "render_mode"):
             fn = fn.with_changes(body=_insert_after_super_init(fn.body, cst.parse_statement("self.render_mode = render_mode")))
         self.set_method("__init__", fn)
+
+
+class _SelfModeRenderCalls(cst.CSTTransformer):
+    """``self.render(mode="x")`` / ``self.render("x")`` -> ``self.<helper>(...)`` (calls without
+    arguments are the new render())."""
+
+    def __init__(self, helper: str) -> None:
+        self.helper = helper
+
+    def leave_Call(self, original_node: cst.Call, updated_node: cst.Call) -> cst.Call:
+        func = updated_node.func
+        if (
+            updated_node.args
+            and isinstance(func, cst.Attribute)
+            and isinstance(func.value, cst.Name)
+            and func.value.value == "self"
+            and func.attr.value == "render"
+        ):
+            return updated_node.with_changes(func=func.with_changes(attr=cst.Name(self.helper)))
+        return updated_node
 
 
 def _is_self_call(node: cst.BaseExpression, names: frozenset[str]) -> bool:

@@ -18,7 +18,7 @@ from gymmigrate.facts import names as N
 from gymmigrate.facts.creation import CreationFinder
 from gymmigrate.facts.receivers import EnvKind
 from gymmigrate.findings import FixKind, Tier
-from gymmigrate.rules.custom_env.common import ClassDecision, param_names
+from gymmigrate.rules.custom_env.common import ClassDecision, method_of, param_names
 from gymmigrate.rules.rendering import RENDER_MODE_CALLS_LEFT
 
 if TYPE_CHECKING:
@@ -64,6 +64,7 @@ def decide_render(decision: ClassDecision) -> None:
         )
         return
     decision.plan.render = True
+    _plan_internal_renders(decision, function)
     _report_forwarded_modes(decision, function)
     # Notes: the standard Gymnasium signature, applied; the render calls and creation
     # sites in the run are reviewed where they are (GM401/GM402), not here.
@@ -78,6 +79,38 @@ def decide_render(decision: ClassDecision) -> None:
         return
     if "render_mode" not in param_names(init):
         decision.report(init, "GM405", "__init__ takes render_mode=None (gymnasium.make passes it) and stores self.render_mode", tier=Tier.NOTE)
+
+
+def _plan_internal_renders(decision: ClassDecision, function: ast.FunctionDef | ast.AsyncFunctionDef) -> None:
+    """The class renders itself with a mode (``obs = self.render(mode="rgb_array")`` in
+    ``reset``/``step``): those calls must keep working once ``render()`` takes no mode. The
+    old body is kept as a helper that takes the mode, ``render()`` calls it with
+    ``self.render_mode``, and the internal calls call the helper."""
+    facts = decision.family.facts
+    calls = [
+        call
+        for call in facts.attribute_calls.get("render", ())
+        if isinstance(call.func.value, ast.Name)  # type: ignore[attr-defined]
+        and call.func.value.id == "self"  # type: ignore[attr-defined]
+        and (call.args or call.keywords)
+        and method_of(decision, call) is not None
+    ]
+    if not calls:
+        return
+    taken = set(decision.methods) | {n.attr for node in ast.walk(decision.classdef) for n in [node] if isinstance(n, ast.Attribute)}
+    helper, number = "_render_frame", 2
+    while helper in taken:
+        helper, number = f"_render_frame{number}", number + 1
+    decision.plan.render_helper = helper
+    decision.plan.render_helper_callers = {method.name for call in calls if (method := method_of(decision, call)) is not None}
+    lines = ", ".join(str(call.lineno) for call in calls[:3]) + (", ..." if len(calls) > 3 else "")
+    decision.report(
+        function,
+        "GM405",
+        f"the class renders itself with a mode (`self.render(...)` on line {lines}): the old body is kept as "
+        f"`{helper}(mode)`, which those calls now use, and render() calls it with self.render_mode",
+        tier=Tier.NOTE,
+    )
 
 
 def _report_forwarded_modes(decision: ClassDecision, function: ast.AST) -> None:
