@@ -65,6 +65,7 @@ class SeedPlan:
     setup: list[int] = field(default_factory=list)  # into __init__, where self.seed() was called
     renames: dict[str, str] = field(default_factory=dict)  # the seed's other names -> ``seed``
     callers: set[str] = field(default_factory=set)  # methods that call self.seed()
+    keep: bool = False  # seed() stays a method; reset() calls it when given a seed
 
 
 @dataclass
@@ -165,6 +166,9 @@ class ClassRewrite:
     def _seed(self, seed: SeedPlan) -> None:
         fn = self.method("seed")
         assert fn is not None
+        if seed.keep:
+            self.seed_folded = [cst.parse_statement(f"self.{fn.name.value}(seed)")]
+            return
         body = _body_statements(fn)
         moved = [body[i] for i in seed.moved]
         setup = [body[i] for i in seed.setup]

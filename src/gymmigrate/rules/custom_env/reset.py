@@ -56,7 +56,7 @@ def decide_reset(decision: ClassDecision) -> None:
     decision.plan.reset = (
         not modern
         or inserted
-        or decision.plan.seed is not None and bool(decision.plan.seed.moved)
+        or decision.plan.seed is not None and (bool(decision.plan.seed.moved) or decision.plan.seed.keep)
         or any(_super_reset_needs_seed(c) for s in function.body for c in ast.walk(s))
     )
     if not modern or inserted:
