@@ -22,7 +22,7 @@ from gymmigrate.rules.base import FileContext, RuleFamily
 from gymmigrate.rules.custom_env.common import CLASS_RULES, UNDERSCORE_RULE, ClassDecision, method_of
 from gymmigrate.rules.custom_env.observations import decide_float64_observations, decide_mujoco
 from gymmigrate.rules.custom_env.rebuild import rewrite_class
-from gymmigrate.rules.custom_env.render import decide_render
+from gymmigrate.rules.custom_env.render import decide_render, decide_subclass_render_mode
 from gymmigrate.rules.custom_env.reset import decide_internal_calls, decide_reset
 from gymmigrate.rules.custom_env.seed import decide_seed
 from gymmigrate.rules.custom_env.seeding_import import drop_unused_seeding_import
@@ -57,6 +57,7 @@ class EnvClassFamily(RuleFamily):
             decide_reset(decision)
             decide_step(decision)
             decide_render(decision)
+            decide_subclass_render_mode(decision)
             decide_internal_calls(decision)
             decide_float64_observations(decision)
             if self._changes(decision):
@@ -73,6 +74,7 @@ class EnvClassFamily(RuleFamily):
             plan.renamed
             or plan.seed
             or plan.render
+            or plan.pass_render_mode
             or plan.unpack_self_reset
             or plan.reset
             or plan.step

@@ -13,7 +13,9 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import libcst as cst
+import libcst.matchers as m
 
+from gymmigrate.edits.arguments import append_keyword
 from gymmigrate.rules.custom_env.cst_edits import (
     _add_keyword_param,
     _body_statements,
@@ -75,6 +77,7 @@ class ClassPlan:
     seed: SeedPlan | None = None
     reset_super_seeds: bool = True  # super().reset(seed=seed) may be called (else only reported)
     render: bool = False
+    pass_render_mode: bool = False  # a subclass __init__ takes render_mode and passes it to the base
     render_helper: str | None = None  # keeps the old render(mode) body for the class's own mode calls
     render_helper_callers: set[str] = field(default_factory=set)  # methods that call self.render(mode)
     info_helper: bool = False  # reset returns self._get_info() (it takes no arguments)
@@ -123,6 +126,8 @@ class ClassRewrite:
         self._step()
         if self.plan.render:
             self._render()
+        if self.plan.pass_render_mode:
+            self._pass_render_mode()
         if self.plan.unpack_self_reset:
             self._unpack_self_reset()
         return self._rebuild()
@@ -355,6 +360,19 @@ class ClassRewrite:
             kept = kept.visit(calls)  # type: ignore[assignment]
         self.after_method.setdefault(self.renamed.get("render", "render"), []).append(kept)
         self._add_render_mode_to_init()
+
+    def _pass_render_mode(self) -> None:
+        fn = self.method("__init__")
+        assert fn is not None
+        fn = fn.with_changes(params=_add_keyword_param(fn.params, "render_mode"))
+
+        class PassOn(cst.CSTTransformer):
+            def leave_Call(self, original_node: cst.Call, updated_node: cst.Call) -> cst.Call:
+                if m.matches(updated_node.func, m.Attribute(attr=m.Name("__init__"))):
+                    return append_keyword(updated_node, "render_mode", cst.Name("render_mode"))
+                return updated_node
+
+        self.set_method("__init__", fn.with_changes(body=fn.body.visit(PassOn())))
 
     def _add_render_mode_to_init(self) -> None:
         fn = self.method("__init__")

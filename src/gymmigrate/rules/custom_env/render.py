@@ -81,6 +81,61 @@ def decide_render(decision: ClassDecision) -> None:
         decision.report(init, "GM405", "__init__ takes render_mode=None (gymnasium.make passes it) and stores self.render_mode", tier=Tier.NOTE)
 
 
+def decide_subclass_render_mode(decision: ClassDecision) -> None:
+    """A subclass of a local env whose ``__init__`` takes ``render_mode`` (or gets it here)
+    must take it too and pass it on: ``gymnasium.make(id, render_mode=...)`` passes it to
+    the registered class, and ``BigGrid.__init__(self)`` would raise TypeError."""
+    if decision.plan.render:
+        return  # its own render(mode) migration adds render_mode to __init__
+    init = decision.method("__init__")
+    if init is None or "render_mode" in param_names(init) or init.args.kwarg is not None:
+        return
+    if not _ancestor_takes_render_mode(decision, decision.classdef, set()):
+        return
+    calls = [
+        node
+        for node in ast.walk(init)
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "__init__"
+    ]
+    if len(calls) != 1 or any(k.arg is None for k in calls[0].keywords):
+        decision.report(
+            init,
+            "GM405",
+            "the base env's __init__ takes render_mode (gymnasium.make passes it to this class): add a render_mode=None "
+            "parameter here and pass it to the base __init__",
+            FixKind.FLAG,
+        )
+        return
+    decision.plan.pass_render_mode = True
+    decision.report(
+        init,
+        "GM405",
+        "__init__ takes render_mode=None and passes it to the base env's __init__: gymnasium.make passes render_mode "
+        "to the registered class",
+        tier=Tier.NOTE,
+    )
+
+
+def _ancestor_takes_render_mode(decision: ClassDecision, classdef: ast.ClassDef, seen: set[int]) -> bool:
+    receivers = decision.family.receivers
+    for base_expr in classdef.bases:
+        base = receivers.local_class(base_expr)
+        if base is None or id(base) in seen:
+            continue
+        seen.add(id(base))
+        methods = {s.name: s for s in base.body if isinstance(s, (ast.FunctionDef, ast.AsyncFunctionDef))}
+        render, init = methods.get("render"), methods.get("__init__")
+        if render is not None and "mode" in param_names(render):
+            return True  # its migration adds render_mode to its __init__
+        if init is not None:
+            if "render_mode" in param_names(init):
+                return True
+            continue  # a base __init__ without it: that class is decided on its own
+        if _ancestor_takes_render_mode(decision, base, seen):
+            return True
+    return False
+
+
 def _plan_internal_renders(decision: ClassDecision, function: ast.FunctionDef | ast.AsyncFunctionDef) -> None:
     """The class renders itself with a mode (``obs = self.render(mode="rgb_array")`` in
     ``reset``/``step``): those calls must keep working once ``render()`` takes no mode. The
