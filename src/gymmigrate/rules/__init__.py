@@ -15,6 +15,7 @@ Where a rule lives (passes run in ORDER, shown in brackets):
     GM301-GM304, GM703         step and done at call sites ..... step_done/        [55]
     GM601-GM603                wrapper subclasses .............. wrappers/         [60]
     GM604-GM606                attribute forwarding ............ wrapper_usage/    [61]
+    GM616                      gym < 0.9 wrapper hooks ......... legacy_hooks.py   [62]
     GM902, GM904, GM906-GM908  spaces, logger, errors, utils ... spaces_logger.py  [80]
     PZ101-PZ110                PettingZoo AEC and parallel APIs  pettingzoo/   [41-90]
 
@@ -31,6 +32,7 @@ from gymmigrate.rules import (  # noqa: F401  (imported to register their passes
     custom_env,
     env_ids,
     imports,
+    legacy_hooks,
     make_kwargs,
     pettingzoo,
     rendering,

@@ -18,6 +18,7 @@ import ast
 
 from gymmigrate.facts.env_classes import EnvClasses
 from gymmigrate.facts.module import ModuleFacts
+from gymmigrate.findings import Tier
 from gymmigrate.rules.base import FileContext, RuleFamily
 from gymmigrate.rules.custom_env.common import CLASS_RULES, UNDERSCORE_RULE, ClassDecision, method_of
 from gymmigrate.rules.custom_env.observations import decide_float64_observations, decide_mujoco
@@ -48,7 +49,8 @@ class EnvClassFamily(RuleFamily):
             decide_mujoco(decision)
             for new, old in decision.renamed.items():
                 why = "; Gymnasium never calls it: call `env.unwrapped.configure(...)`" if new == "configure" else ""
-                decision.report(decision.methods[old], UNDERSCORE_RULE[new], f"gym < 0.9 method `{old}` renamed `{new}`{why}")
+                # an explanation of the rename; the migrated method's own findings follow
+                decision.report(decision.methods[old], UNDERSCORE_RULE[new], f"gym < 0.9 method `{old}` renamed `{new}`{why}", tier=None if why else Tier.NOTE)
                 for call in decision.index.self_calls.get(old, ()):
                     method = method_of(decision, call)
                     if method is not None:
