@@ -11,6 +11,7 @@ from __future__ import annotations
 import sys
 import textwrap
 import types
+from pathlib import Path
 from typing import Any
 
 import gymnasium
@@ -280,3 +281,109 @@ def test_life_loss_wrapper_terminates_on_a_lost_life(monkeypatch: pytest.MonkeyP
             lost_lives += 1
             assert terminated and not truncated
     assert lost_lives > 0
+
+
+# -- custom env internals: the fixtures' legacy classes against their migrations --------------
+
+FIXTURES = Path(__file__).resolve().parent.parent / "fixtures" / "rules"
+
+
+class LegacyEnvBase:
+    """What a legacy env class inherited from gym 0.22-0.25's Env: a lazily seeded np_random."""
+
+    _np_random = None
+
+    @property
+    def np_random(self) -> np.random.Generator:
+        if self._np_random is None:
+            self._np_random, _ = gymnasium.utils.seeding.np_random()
+        return self._np_random
+
+    @np_random.setter
+    def np_random(self, value: np.random.Generator) -> None:
+        self._np_random = value
+
+
+def legacy_gym_with_envs() -> dict[str, types.ModuleType]:
+    gym = legacy_gym()
+    gym.Env = LegacyEnvBase  # type: ignore[attr-defined]
+    for name in ("ObservationWrapper", "RewardWrapper", "ActionWrapper"):
+        setattr(gym, name, LegacyWrapper)
+    utils = types.ModuleType("gym.utils")
+    utils.seeding = gymnasium.utils.seeding  # type: ignore[attr-defined]  # gym 0.22+ seeding.np_random is the same
+    registration = types.ModuleType("gym.envs.registration")
+    registration.register = lambda **kwargs: None  # type: ignore[attr-defined]
+    envs = types.ModuleType("gym.envs")
+    envs.registration = registration  # type: ignore[attr-defined]
+    gym.utils, gym.envs = utils, envs  # type: ignore[attr-defined]
+    return {"gym": gym, "gym.utils": utils, "gym.envs": envs, "gym.envs.registration": registration}
+
+
+def load_fixture(case: str, monkeypatch: pytest.MonkeyPatch) -> tuple[dict[str, Any], dict[str, Any]]:
+    """(legacy namespace, migrated namespace) of a fixture module."""
+    source = (FIXTURES / f"{case}.py").read_text(encoding="utf-8")
+    legacy: dict[str, Any] = {}
+    with monkeypatch.context() as patch:
+        for name, module in legacy_gym_with_envs().items():
+            patch.setitem(sys.modules, name, module)
+        exec(compile(source, f"legacy_{case}.py", "exec"), legacy)
+    migrated: dict[str, Any] = {}
+    text = transform_source(source.encode(), f"{case}.py").rewritten.decode()
+    exec(compile(text, f"migrated_{case}.py", "exec"), migrated)
+    return legacy, migrated
+
+
+def test_env_that_renders_itself_with_a_mode_keeps_its_observations(monkeypatch: pytest.MonkeyPatch) -> None:
+    legacy, migrated = load_fixture("GM405/internal_mode_render", monkeypatch)
+    old, new = legacy["FrameEnv"](), migrated["FrameEnv"](render_mode="rgb_array")
+    first, info = new.reset()
+    np.testing.assert_array_equal(first, old.reset())
+    assert info == {}
+    for action in (1, 0, 1, 1, 1):
+        old_obs, _, old_done, _ = old.step(action)
+        new_obs, _, terminated, truncated, _ = new.step(action)
+        np.testing.assert_array_equal(new_obs, old_obs)
+        assert (terminated, truncated) == (old_done, False)
+    np.testing.assert_array_equal(new.render(), old.render(mode="rgb_array"))
+    assert migrated["FrameEnv"]().render() is None  # no render_mode: draws nothing
+
+
+def test_registered_subclass_accepts_render_mode_from_make(monkeypatch: pytest.MonkeyPatch) -> None:
+    legacy, migrated = load_fixture("GM405/subclass_takes_render_mode", monkeypatch)
+    env = gymnasium.make("BigGrid-v0", render_mode="rgb_array", disable_env_checker=True)
+    assert env.unwrapped.render_mode == "rgb_array"
+    np.testing.assert_array_equal(env.unwrapped.render(), legacy["BigGrid"]().render())
+
+
+def test_reset_that_retries_returns_one_pair(monkeypatch: pytest.MonkeyPatch) -> None:
+    _, migrated = load_fixture("GM501/reset_retry", monkeypatch)
+    retried = 0
+    for seed in range(40):
+        first_draw = gymnasium.utils.seeding.np_random(seed)[0].integers(0, 10)
+        retried += first_draw == 0
+        obs, info = migrated["RetryEnv"]().reset(seed=seed)
+        assert isinstance(info, dict) and not isinstance(obs, tuple) and obs != 0
+    assert retried, "no seed in the range exercised the retry"
+
+
+def test_seed_helper_kept_seeds_what_legacy_seed_seeded(monkeypatch: pytest.MonkeyPatch) -> None:
+    legacy, migrated = load_fixture("GM503/seed_builds_from_rng", monkeypatch)
+    for seed in (0, 5, 11):
+        old = legacy["WorldEnv"]()
+        old.seed(seed)
+        old.reset()
+        new = migrated["WorldEnv"]()
+        new.reset(seed=seed)
+        assert new.goal == old.goal
+        assert new.np_random.integers(0, 1000) == old.np_random.integers(0, 1000)
+
+
+def test_old_wrapper_hooks_are_called_by_gymnasium(monkeypatch: pytest.MonkeyPatch) -> None:
+    legacy, migrated = load_fixture("GM616/old_hooks", monkeypatch)
+    env = migrated["Scale"](gymnasium.make("CartPole-v1"))
+    obs, _ = env.reset(seed=3)
+    raw, _ = gymnasium.make("CartPole-v1").reset(seed=3)
+    np.testing.assert_allclose(obs, legacy["Scale"]._observation(None, raw))
+    clipped = migrated["Clip"](gymnasium.make("CartPole-v1"))
+    clipped.reset(seed=0)
+    assert clipped.step(0)[1] == legacy["Clip"]._reward(None, 1.0)

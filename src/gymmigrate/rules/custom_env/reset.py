@@ -100,8 +100,9 @@ def _return_info_pairs(decision: ClassDecision, function: ast.AST, base_info: st
             kind, why = FixKind.ASSIST, "returns (obs, self._get_info()), the info the class already builds"
         else:
             why = "returns (obs, {}): _get_info() needs arguments reset() does not have, so it is not called"
+    retries = {"reset", decision.renamed.get("reset", "reset")}  # ``return self.reset()``: the retry's pair
     for ret in own_returns(function):
-        if ret.value is not None and not is_super_method_call(ret.value, "reset") and not is_self_call(ret.value, helpers):
+        if ret.value is not None and not is_super_method_call(ret.value, "reset") and not is_self_call(ret.value, helpers | retries):
             decision.report(ret, "GM501", f"reset {why}", kind)
 
 
