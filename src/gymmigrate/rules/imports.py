@@ -326,7 +326,9 @@ class Imports(RuleFamily):
         """GM105 once per decision: the first import that needs a given move (say, to
         gymnasium_robotics) is a review item; later imports in the same file needing the
         same move are notes pointing at it."""
-        tier, same = self._removed_advice.tier(advice, node, "move")
+        # the advice up to its colon names the move (``the mujoco-py envs ... were removed``),
+        # whatever module it then names
+        tier, same = self._removed_advice.tier(advice.split(": ", 1)[0], node, "move")
         self.report(node, "GM105", message + same, tier=tier)
 
     # -- GM101 / GM103: import gym[.x] [as y] -------------------------------------------

@@ -15,6 +15,7 @@ binding, and reads whose purpose is unclear, are reported instead.
 from __future__ import annotations
 
 import ast
+import re
 from bisect import bisect_left, bisect_right
 from dataclasses import dataclass
 
@@ -30,7 +31,7 @@ from gymmigrate.facts.done_uses import (
     value_site,
 )
 from gymmigrate.facts.flow import bound_names, end, start
-from gymmigrate.facts.module import FUNCTIONS, LOOPS, Scope
+from gymmigrate.facts.module import FUNCTIONS, LOOPS, Scope, full_name
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.step_done.common import STEP_UNPACKS, StepFamilyBase, StepNames, StepUnpack, looks_vectorised
 
@@ -270,17 +271,24 @@ class UnpackRules(StepFamilyBase):
         return self.facts.memo(("statement-reads", id(function)), compute)  # type: ignore[no-any-return]
 
     def _stores_next_state(self, node: ast.AST, step: _DoneStep, next_names: set[str]) -> bool:
-        """``next_states.append(s2)`` or ``buf[t] = s2`` that runs after the step, in its iteration."""
+        """``next_states.append(s2)`` or ``next_obs_buf[t] = s2`` that runs after the step, in its
+        iteration: a replay memory kept in separate arrays. The store or the value must say
+        "next state" (``next_``, ``new_``, ``s2``, ``s_``): a trajectory log that records each
+        step's observation (``observations.append(obs)``) is not a replay memory."""
         if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr in STORE_METHODS:
             values: list[ast.AST] = list(node.args)
-        elif isinstance(node, ast.Assign) and any(isinstance(t, ast.Subscript) for t in node.targets):
+            store = node.func.value
+        elif isinstance(node, ast.Assign) and len(node.targets) == 1 and isinstance(node.targets[0], ast.Subscript):
             values = [node.value]
+            store = node.targets[0].value
         else:
             return False
         first = step.assign.targets[0].elts[0]  # type: ignore[attr-defined]
         for value in values:
             for name in ast.walk(value):
                 if isinstance(name, ast.Name) and name.id in next_names and isinstance(name.ctx, ast.Load):
+                    if not (_says_next(name.id) or _says_next(full_name(store) or "")):
+                        continue
                     if name.id != first.id or self.flow.dominates(step.assign, name, first):
                         return True
         return False
@@ -340,7 +348,7 @@ class UnpackRules(StepFamilyBase):
         elif use is DoneUse.DATA and owner is step.assign and stored_in_sequence(read, self.facts):
             self._report_read(
                 read,
-                f"`{read.id}` is stored per step without the next state (an on-policy rollout): it stays "
+                f"`{read.id}` is stored per step without the next state (a rollout or a log): it stays "
                 f"`{names.terminated} or {names.truncated}`, the episode boundary. To bootstrap time-limit "
                 f"truncations, also keep the value of the final observation and mask it with `{names.terminated}`",
                 FixKind.FLAG,
@@ -398,6 +406,15 @@ class UnpackRules(StepFamilyBase):
     def _step_flag_names(self, scope: Scope) -> set[str]:
         """Names that only ever hold step flags in ``scope`` (safe to bind again)."""
         return self.facts.memo(("step-flag-names", id(scope.node)), lambda: _collect_flag_names(scope.node))  # type: ignore[no-any-return]
+
+
+_NEXT_WORDS = re.compile(r"(^|_|\.)(next|new)|next_?$|(^|_|\.)(s|o|obs|state|x)(2|_|p|tp1|_tp1|_next|_prime)$", re.IGNORECASE)
+
+
+def _says_next(name: str) -> bool:
+    """``next_states``, ``new_obs``, ``s2``, ``s_``, ``obs_tp1``, ``self.next_obs_buf``."""
+    last = name.rsplit(".", 1)[-1]
+    return bool(_NEXT_WORDS.search(last)) or last.endswith("2")
 
 
 def _fresh(base: str, taken: set[str], compatible: set[str]) -> str:
