@@ -229,11 +229,17 @@ class UnpackRules(StepFamilyBase):
                 return True
         if stored_in_sequence(read, facts):
             # separate lists: ``next_states.append(s2)`` beside ``dones.append(done)``
-            return any(self._stores_next_state(node, step, next_names) for node in ast.walk(function))
+            return facts.memo(  # type: ignore[no-any-return]
+                ("stores-next-state", id(step.assign)),
+                lambda: any(self._stores_next_state(node, step, next_names) for node in ast.walk(function)),
+            )
         return False
 
     def _next_state_names(self, step: _DoneStep) -> set[str]:
         """The step's observation target and the names computed from it in the same function."""
+        return self.facts.memo(("next-state-names", id(step.assign)), lambda: self._compute_next_state_names(step))  # type: ignore[no-any-return]
+
+    def _compute_next_state_names(self, step: _DoneStep) -> set[str]:
         first = step.assign.targets[0].elts[0]  # type: ignore[attr-defined]
         if not isinstance(first, ast.Name) or first.id == "_":
             return set()
