@@ -13,7 +13,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import libcst as cst
-import libcst.matchers as m
+from gymmigrate.edits.lazy import matchers as m  # loaded by the first edit that matches
 
 from gymmigrate.edits.arguments import append_keyword
 from gymmigrate.rules.custom_env.cst_edits import (
