@@ -24,8 +24,10 @@ from pathlib import Path
 
 import libcst as cst
 
-from gymmigrate.engine import TransformError, process_file, transform_source
-from gymmigrate.rules.base import RewriteOptions
+from gymmigrate.engine import transform_source
+from gymmigrate.process import process_file
+from gymmigrate.source_text import TransformError
+from gymmigrate.options import RewriteOptions
 
 ROOT = Path(__file__).resolve().parent.parent
 

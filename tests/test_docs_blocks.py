@@ -15,7 +15,7 @@ from typer.testing import CliRunner
 
 from gymmigrate.cli import app
 from gymmigrate.findings import FixKind
-from gymmigrate.rules.base import RewriteOptions
+from gymmigrate.options import RewriteOptions
 from gymmigrate.sources import adapter_for
 from gymmigrate.sources.pages import _with_prompts
 from gymmigrate.sources.programs import lint_document, transform_document

@@ -9,9 +9,11 @@ from pathlib import Path
 
 import pytest
 
-from gymmigrate.engine import LineMap, Status, TransformError, process_file, transform_source
+from gymmigrate.engine import LineMap, transform_source
+from gymmigrate.process import process_file, Status
+from gymmigrate.source_text import TransformError
 from gymmigrate.files import discover
-from gymmigrate.rules.base import RewriteOptions
+from gymmigrate.options import RewriteOptions
 
 OPTIONS = RewriteOptions()
 

@@ -24,7 +24,8 @@ import pytest
 from hypothesis import HealthCheck, assume, given, reject, settings
 from hypothesis import strategies as st
 
-from gymmigrate.engine import Transformed, TransformError, transform_source
+from gymmigrate.engine import transform_source, Transformed
+from gymmigrate.source_text import TransformError
 
 # Generated code is often odd ("'str' object is not callable; perhaps you missed a comma?").
 pytestmark = pytest.mark.filterwarnings("ignore::SyntaxWarning")

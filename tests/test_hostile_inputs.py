@@ -17,9 +17,10 @@ import pytest
 from typer.testing import CliRunner
 
 from gymmigrate.cli import app
-from gymmigrate.engine import Status, process_file, transform_source
+from gymmigrate.engine import transform_source
+from gymmigrate.process import process_file, Status
 from gymmigrate.files import discover
-from gymmigrate.rules.base import RewriteOptions
+from gymmigrate.options import RewriteOptions
 from gymmigrate.safety import MAX_SOURCE_BYTES
 from gymmigrate.writes import is_temporary_name
 

@@ -19,7 +19,8 @@ import pytest
 from typer.testing import CliRunner
 
 from gymmigrate.cli import app
-from gymmigrate.facts.project import ProjectFacts, summarize
+from gymmigrate.facts.project import ProjectFacts
+from gymmigrate.facts.summaries import summarize
 from gymmigrate.facts.receivers import EnvKind
 from tests.fixture_cases import FIXTURES
 
@@ -83,7 +84,7 @@ def test_a_vecenv_passed_through_an_unknown_owner_keeps_the_method_guarded(tmp_p
         "from stable_baselines3.common.vec_env import DummyVecEnv\nimport gym\n\n"
         "def run(trainer):\n    trainer.fit(DummyVecEnv([lambda: gym.make('CartPole-v1')]))\n"
     )
-    summaries = [summarize(str(p), p.read_bytes()) for p in (agent, gym_caller, vec_caller)]
+    summaries = [summarize(str(p), p.read_text()) for p in (agent, gym_caller, vec_caller)]
     facts = ProjectFacts.join([s for s in summaries if s is not None])
     kinds = facts.view(str(agent)).param_kinds("Agent.fit", "env")
     assert EnvKind.GYM_ENV in kinds and EnvKind.SB3_VEC in kinds
@@ -120,7 +121,7 @@ def test_an_env_passed_on_through_a_parameter_keeps_its_kind(tmp_path: Path) -> 
     (tmp_path / "test_lander.py").write_text(
         "from lander import Lander, demo\n\n\ndef check(env):\n    return demo(env)\n\n\ncheck(Lander())\n"
     )
-    summaries = [summarize(str(p), p.read_bytes()) for p in sorted(tmp_path.glob("*.py"))]
+    summaries = [summarize(str(p), p.read_text()) for p in sorted(tmp_path.glob("*.py"))]
     facts = ProjectFacts.join([s for s in summaries if s is not None])
     assert facts.view(str(tmp_path / "lander.py")).param_kinds("demo", "env") == [EnvKind.GYM_ENV]
     findings = _findings(tmp_path, tmp_path, ".")

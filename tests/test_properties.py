@@ -13,8 +13,9 @@ import ast
 from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
-from gymmigrate.engine import TransformError, transform_source
-from gymmigrate.rules.base import RewriteOptions
+from gymmigrate.engine import transform_source
+from gymmigrate.source_text import TransformError
+from gymmigrate.options import RewriteOptions
 
 HEADERS = [
     "import gym",

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from gymmigrate.engine import transform_source
-from gymmigrate.rules.base import RewriteOptions
+from gymmigrate.options import RewriteOptions
 from tests.fixture_cases import RULE_FIXTURES
 
 

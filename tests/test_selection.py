@@ -11,9 +11,10 @@ import pytest
 from typer.testing import CliRunner
 
 from gymmigrate.cli import app
-from gymmigrate.engine import TransformError, lint_source, transform_source
+from gymmigrate.engine import lint_source, transform_source
+from gymmigrate.source_text import TransformError
 from gymmigrate.rules import all_rules
-from gymmigrate.rules.base import RewriteOptions
+from gymmigrate.options import RewriteOptions
 from gymmigrate.selection import Selection, SelectionError
 from tests.fixture_cases import collect_cases
 
@@ -62,7 +63,7 @@ def test_unknown_selector_is_an_error(selector: str) -> None:
 
 
 def options(**selectors: object) -> RewriteOptions:
-    return RewriteOptions(selection=Selection.from_selectors(**selectors))  # type: ignore[arg-type]
+    return RewriteOptions(selection=Selection.from_selectors(codes=[r.code for r in all_rules()], **selectors))  # type: ignore[arg-type]
 
 
 def test_deselected_rule_neither_reports_nor_fixes() -> None:
@@ -120,7 +121,7 @@ def test_each_rule_alone_and_each_rule_left_out(case) -> None:
     when it makes a change; leaving one rule out reports none of it, and the file changes
     exactly when another rule does; no kept edit reads a name only a dropped one makes.
     This holds the attribution of edits to findings (``Plan.drop_findings``) and the
-    coupled families (``selection.COUPLED_FAMILIES``) to every rule's real decisions.
+    coupled families (``edits.filtering.COUPLED_FAMILIES``) to every rule's real decisions.
     A half-migrated result the rules would change again is refused, file unchanged."""
     source = case.source.read_bytes()
     full = transform_source(source, str(case.source))
@@ -144,7 +145,7 @@ def test_each_rule_alone_and_each_rule_left_out(case) -> None:
 
 def test_every_code_and_family_prefix_is_accepted() -> None:
     for rule in all_rules():
-        Selection.from_selectors(select=[rule.code, rule.code[:3]])
+        Selection.from_selectors(select=[rule.code, rule.code[:3]], codes=[r.code for r in all_rules()])
 
 
 # -- the command line ---------------------------------------------------------------------

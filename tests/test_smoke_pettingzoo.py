@@ -63,7 +63,7 @@ def test_rewritten_custom_parallel_env_passes_and_the_legacy_one_fails(tmp_path:
     migrated.write_bytes((RULE_FIXTURES / "PZ108/custom_parallel_env.expected.py").read_bytes())
     code, data, stderr = smoke(tmp_path, f"{migrated}:parallel_env", "--episodes", "2")
     assert code == 0, stderr
-    assert data["envs"][0]["agent_counts"]["player_0"] == {"terminated": 2, "truncated": 0}
+    assert data["envs"][0]["agent_counts"]["player_0"] == {"terminated": 0, "truncated": 2}  # ten rounds: a step limit
 
     # The 1.20 API on top of Gymnasium spaces: imports fine, breaks the 1.27 contract.
     legacy = tmp_path / "legacy_env.py"

@@ -15,7 +15,7 @@ import textwrap
 from pathlib import Path
 
 from gymmigrate.engine import transform_source
-from gymmigrate.rules.base import FileProfile
+from gymmigrate.facts.profile import FileProfile
 
 FAKE_VEC_ENV = '''
 import numpy as np

@@ -13,10 +13,10 @@ from pathlib import Path
 import pytest
 from typer.testing import CliRunner
 
-from gymmigrate import engine
+from gymmigrate import process
 from gymmigrate.cli import app
-from gymmigrate.engine import Status, process_file
-from gymmigrate.rules.base import RewriteOptions
+from gymmigrate.process import process_file, Status
+from gymmigrate.options import RewriteOptions
 from gymmigrate.writes import is_temporary_name
 
 OPTIONS = RewriteOptions()
@@ -27,14 +27,14 @@ EDITED = b'import gym\nenv = gym.make("CartPole-v1")\nobs = env.reset()\nprint("
 
 def _edit_during_transform(monkeypatch: pytest.MonkeyPatch, edit) -> None:
     """The user saves (or deletes) the file while gymmigrate is computing its rewrite."""
-    real = engine.transform_source
+    real = process.transform_source
 
     def transform_then_edit(source: bytes, path: str = "<string>", options: RewriteOptions | None = None):
         result = real(source, path, options)
         edit()
         return result
 
-    monkeypatch.setattr(engine, "transform_source", transform_then_edit)
+    monkeypatch.setattr(process, "transform_source", transform_then_edit)
 
 
 def test_a_file_edited_during_the_run_is_not_overwritten(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:

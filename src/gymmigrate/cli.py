@@ -110,7 +110,7 @@ def rewrite(
     if smoke and diff:
         typer.echo("error: --smoke runs the rewritten files, so it cannot be combined with --diff", err=True)
         raise typer.Exit(EXIT_ERROR)
-    from gymmigrate.engine import Status
+    from gymmigrate.process import Status
     from gymmigrate.report import print_diff, print_summary
     from gymmigrate.workflow import Flags, run_groups
 
@@ -188,9 +188,9 @@ def check(
     --output-format). With the path -, check one file read from stdin.
     Exit codes: 0 nothing found, 1 findings, 2 files that could not be processed.
     """
-    from gymmigrate.engine import Status
-    from gymmigrate.formats import FORMATS, write_findings
-    from gymmigrate.report import print_summary
+    from gymmigrate.process import Status
+    from gymmigrate.formats import FORMATS
+    from gymmigrate.report import print_summary, write_findings
     from gymmigrate.workflow import Flags, run_groups
 
     output_format = output_format.lower()
@@ -239,14 +239,15 @@ def _stdin(
     report: Path | None = None,
 ) -> int:
     """check - / rewrite -: one file from stdin, the result (or findings) on stdout."""
-    from gymmigrate.engine import Status, Transformed, decode, unified_diff
-    from gymmigrate.formats import write_findings
-    from gymmigrate.report import print_summary
-    from gymmigrate.workflow import run_stdin
+    from gymmigrate.engine import Transformed, unified_diff
+    from gymmigrate.process import Status
+    from gymmigrate.source_text import decode
+    from gymmigrate.report import print_summary, write_findings
+    from gymmigrate.process import process_stdin
 
     group = _groups([filename or "."], flags)[0]
     source = sys.stdin.buffer.read()
-    result, output = run_stdin(source, filename, group.options, lint=lint)
+    result, output = process_stdin(source, filename, group.options, lint=lint)
     if lint:
         write_findings(output_format, [result], sys.stdout)
     elif diff:

@@ -25,10 +25,8 @@ from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
 
-if sys.version_info >= (3, 11):
-    import tomllib
-else:  # pragma: no cover
-    import tomli as tomllib
+from gymmigrate.rules import all_rules
+from gymmigrate.selection import SelectionError, check_selector
 
 LIST_KEYS = ("select", "ignore", "extend-select", "extend-ignore", "exclude", "extend-exclude")
 KEYS = (*LIST_KEYS, "seed", "docs")
@@ -92,6 +90,11 @@ def _config_of(folder: Path) -> Config:
 
 
 def _table(pyproject: Path) -> dict | None:
+    # The TOML parser loads only where a pyproject.toml is found.
+    if sys.version_info >= (3, 11):
+        import tomllib
+    else:  # pragma: no cover
+        import tomli as tomllib
     try:
         data = tomllib.loads(pyproject.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError) as exc:
@@ -135,9 +138,6 @@ def load(path: Path, table: dict) -> Config:
 
 
 def _check_codes(selectors: tuple[str, ...], where: str) -> None:
-    from gymmigrate.selection import SelectionError, check_selector
-    from gymmigrate.rules import all_rules
-
     codes = [rule.code for rule in all_rules()]
     for selector in selectors:
         try:

@@ -1,9 +1,9 @@
-"""Run the rule passes over one file, verify the result, and write it safely.
+"""One program's migration, pure: text in, text and findings out.
 
-``transform_source`` is pure (bytes in, bytes and findings out) so tests, the CLI and
-a future process pool share it. ``process_file`` adds the I/O: reading, the atomic
-write that keeps the file's mode, and turning every failure into a reported error
-instead of a traceback.
+``plan_file`` lets every rule family decide on the same CPython ``ast`` facts;
+``lint_source`` (what ``check`` needs) stops there. ``transform_source`` applies the plan
+with LibCST, only where it has edits, and verifies the output: it parses, and a second
+run changes nothing. No file I/O here: ``process`` reads and writes.
 """
 
 from __future__ import annotations
@@ -19,48 +19,20 @@ from dataclasses import dataclass, field, replace
 from enum import Enum
 from pathlib import Path
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 
-from gymmigrate.edits.apply import apply_plan
 from gymmigrate.edits.plan import Plan
-from gymmigrate.edits.splice import splice_plan
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.receivers import Receivers
 from gymmigrate.findings import Finding
 from gymmigrate.rules import registered_families
-from gymmigrate.rules.base import FileContext, FileProfile, RewriteOptions
-from gymmigrate.selection import family_selected, filter_plan
+from gymmigrate.facts.profile import FileProfile
+from gymmigrate.options import RewriteOptions
+from gymmigrate.rules.base import FileContext, RuleFamily
+from gymmigrate.edits.filtering import filter_plan
+from gymmigrate.selection import Selection
+from gymmigrate.source_text import TransformError, decode, first_statement_line, parse_python
 from gymmigrate.suppressions import skips_file
-
-# A file that mentions none of these cannot hold Gym code: skip it before parsing.
-# ``envs?\b`` catches env, envs, vec_env, CartPoleEnv, but not os.environ.
-_MAY_HOLD_GYM_CODE = re.compile(rb"gym|pettingzoo|baselines|envs?\b", re.IGNORECASE)
-
-
-class Status(str, Enum):
-    UNCHANGED = "unchanged"
-    CHANGED = "changed"
-    SKIPPED = "skipped"  # filtered out before parsing
-    ERROR = "error"
-
-
-@dataclass(frozen=True)
-class FileResult:
-    path: str
-    status: Status
-    findings: tuple[Finding, ...] = ()
-    error: str | None = None
-    diff: str | None = None
-    written: bool = False
-
-    @property
-    def changed(self) -> bool:
-        return self.status is Status.CHANGED
-
-
-class TransformError(Exception):
-    """The file could not be processed; the message says why in one sentence."""
-
 
 @dataclass
 class Transformed:
@@ -74,30 +46,12 @@ class Transformed:
         return self.original != self.rewritten
 
 
-def may_hold_gym_code(source: bytes) -> bool:
-    return _MAY_HOLD_GYM_CODE.search(source) is not None
-
-
-def parse(source: bytes, path: str) -> cst.Module:
-    """Parse for rewriting, or raise TransformError saying in one sentence why not."""
-    text, _ = decode(source)
-    _parse_ast(text, source, path)
-    return _parse_cst(source)
-
-
 def _parse_cst(source: bytes | str) -> cst.Module:
     """A whole file (bytes) or a cut of its statements (text)."""
     try:
         return cst.parse_module(source)
     except cst.ParserSyntaxError as exc:
         raise TransformError(f"syntax error at line {exc.raw_line}, column {exc.raw_column}") from None
-
-
-_PY2_HINTS = re.compile(rb"^\s*(print\s+[^\s(=]|exec\s+[\"']|except\s+[\w.]+\s*,\s*\w+\s*:)|\bur[\"']|`[^`\n]+`", re.M)
-
-
-def _looks_like_python2(source: bytes) -> bool:
-    return _PY2_HINTS.search(source) is not None
 
 
 def transform_source(source: bytes, path: str = "<string>", options: RewriteOptions | None = None) -> Transformed:
@@ -108,7 +62,7 @@ def transform_source(source: bytes, path: str = "<string>", options: RewriteOpti
     """
     options = options or RewriteOptions()
     text, encoding = decode(source)
-    tree = _parse_ast(text, source, path)
+    tree = parse_python(text, source, path)
     result = _migrate(source, text, encoding, tree, path, options)
     if result.changed:
         _verify(result, path, options)
@@ -122,36 +76,9 @@ def lint_source(source: bytes, path: str = "<string>", options: RewriteOptions |
     """
     options = options or RewriteOptions()
     text, _ = decode(source)
-    tree = _parse_ast(text, source, path)
+    tree = parse_python(text, source, path)
     plan = plan_file(tree, text, path, options)
     return sorted(plan.findings), plan.has_edits
-
-
-def decode(source: bytes) -> tuple[str, str]:
-    """The text of ``source`` and its encoding (PEP 263 cookie or BOM, else UTF-8)."""
-    try:
-        encoding, _ = tokenize.detect_encoding(io.BytesIO(source).readline)
-        text = source.decode(encoding)
-    except UnicodeDecodeError as exc:
-        raise TransformError(f"cannot decode the file ({exc.reason} at byte {exc.start})") from None
-    except (LookupError, SyntaxError) as exc:  # unknown or malformed encoding cookie
-        raise TransformError(f"cannot decode the file: {exc}") from None
-    if encoding == "utf-8-sig":
-        text = text.removeprefix("\ufeff")
-    return text, encoding
-
-
-def _parse_ast(text: str, source: bytes, path: str) -> ast.Module:
-    # CPython's parser: cheap, exact positions, and it rejects cleanly what would crash
-    # LibCST's native parser (pathological nesting segfaults it).
-    try:
-        return ast.parse(text, filename=path)
-    except SyntaxError as exc:
-        hint = " (this looks like Python 2 code)" if _looks_like_python2(source) else ""
-        where = f" at line {exc.lineno}" if exc.lineno else ""
-        raise TransformError(f"syntax error{where}: {exc.msg}{hint}") from None
-    except (ValueError, RecursionError, MemoryError) as exc:
-        raise TransformError(f"cannot parse the file: {exc}") from None
 
 
 def plan_file(tree: ast.Module, text: str, path: str, options: RewriteOptions) -> Plan:
@@ -159,11 +86,11 @@ def plan_file(tree: ast.Module, text: str, path: str, options: RewriteOptions) -
     facts = ModuleFacts(tree, text)
     context = FileContext(path=path, options=options, profile=FileProfile.from_source(text))
     plan = Plan(facts)
-    if skips_file(text, _first_statement_line(tree)):
+    if skips_file(text, first_statement_line(tree)):
         return plan
     receivers = Receivers(facts, options.project.view(path) if options.project is not None else None)
     for family in registered_families():
-        if not family_selected(family, options.selection) or not family.may_fire(facts, context):
+        if not _family_selected(family, options.selection) or not family.may_fire(facts, context):
             continue
         plan.deciding = family.__name__
         try:
@@ -176,11 +103,9 @@ def plan_file(tree: ast.Module, text: str, path: str, options: RewriteOptions) -
     return plan
 
 
-def _first_statement_line(tree: ast.Module) -> int | None:
-    body = tree.body
-    if body and isinstance(body[0], ast.Expr) and isinstance(body[0].value, ast.Constant) and isinstance(body[0].value.value, str):
-        body = body[1:]  # the docstring
-    return body[0].lineno if body else None
+def _family_selected(family: type[RuleFamily], selection: Selection | None) -> bool:
+    """Whether any rule of ``family`` is on: a family with none is not even run."""
+    return selection is None or any(selection.allows(rule.code) for rule in family.RULES)
 
 
 def _migrate(source: bytes, text: str, encoding: str, tree: ast.Module, path: str, options: RewriteOptions) -> Transformed:
@@ -215,6 +140,11 @@ _UNREPRODUCIBLE = re.compile(r"\r(?!\n)|\f")
 def _apply(source: bytes, text: str, plan: Plan) -> str:
     """The rewritten text: only the top-level statements that change are parsed and
     printed again where that is exact (``edits.splice``), else the whole module."""
+    # The apply layer, and with it LibCST, loads with the first edit of the process: a
+    # run with nothing to change, and ``check``, never import it.
+    from gymmigrate.edits.apply import apply_plan
+    from gymmigrate.edits.splice import splice_plan
+
     if not _UNREPRODUCIBLE.search(text):
         spliced = splice_plan(text, plan, _parse_cst)
         if spliced is not None:
@@ -302,75 +232,3 @@ def unified_diff(path: str, transformed: Transformed) -> str:
             line += "\n\\ No newline at end of file\n"
         lines.append(line)
     return "".join(lines)
-
-
-def write_atomically(path: Path, data: bytes, *, expected: bytes | None = None) -> None:
-    """Write via a temporary file in the same folder, keep mode and owner, then replace.
-
-    With ``expected``, refuse (``writes.ChangedOnDisk``) if the file no longer holds
-    those bytes. See ``gymmigrate.writes``.
-    """
-    from gymmigrate import writes
-
-    writes.write_atomically(path, data, expected=expected)
-
-
-def process_file(
-    path: Path,
-    options: RewriteOptions,
-    *,
-    write: bool,
-    want_diff: bool,
-    display_path: str | None = None,
-    lint: bool = False,
-) -> FileResult:
-    """Read, rewrite, verify and (if asked) write one file. Never raises for bad input.
-
-    ``lint`` (``gymmigrate check``): only decide; the findings and whether the file would
-    change come from the plan, with no LibCST tree and no verification run.
-    """
-    from gymmigrate.safety import MAX_SOURCE_BYTES, Refused, read_source, screen
-    from gymmigrate.sources import adapter_for
-    from gymmigrate.sources.programs import document_diff, lint_document, transform_document
-    from gymmigrate.writes import ChangedOnDisk
-
-    shown = display_path or str(path)
-    adapter = adapter_for(path)  # notebooks and documentation pages; None for Python source
-    try:
-        source = read_source(path, may_hold_gym_code, limit=adapter.max_bytes if adapter else MAX_SOURCE_BYTES)
-    except Refused as exc:
-        return FileResult(shown, Status.ERROR, error=str(exc))
-    except OSError as exc:
-        return FileResult(shown, Status.ERROR, error=f"cannot read the file: {exc.strerror or exc}")
-    try:
-        if source is None or not screen(source, may_hold_gym_code):
-            return FileResult(shown, Status.SKIPPED)
-        if lint:
-            if adapter:
-                findings, would_change = lint_document(adapter, source, shown, options)
-            else:
-                findings, would_change = lint_source(source, shown, options)
-            return FileResult(shown, Status.CHANGED if would_change else Status.UNCHANGED, findings=tuple(findings))
-        if adapter:
-            transformed = transform_document(adapter, source, shown, options)
-        else:
-            transformed = transform_source(source, shown, options)
-    except (Refused, TransformError) as exc:
-        return FileResult(shown, Status.ERROR, error=str(exc))
-    except RecursionError:
-        return FileResult(shown, Status.ERROR, error="the file is nested too deeply to analyse")
-    findings = tuple(transformed.findings)
-    if not transformed.changed:
-        return FileResult(shown, Status.UNCHANGED, findings=findings)
-    diff = None
-    if want_diff:
-        diff = document_diff(adapter, shown, transformed) if adapter else unified_diff(shown, transformed)
-    if write:
-        try:
-            # ``expected``: an edit saved while this file was being rewritten wins.
-            write_atomically(path, transformed.rewritten, expected=source)
-        except ChangedOnDisk as exc:
-            return FileResult(shown, Status.ERROR, findings=findings, error=f"not rewritten: {exc}; left as it is now")
-        except OSError as exc:
-            return FileResult(shown, Status.ERROR, findings=findings, error=f"cannot write the file: {exc.strerror or exc}")
-    return FileResult(shown, Status.CHANGED, findings=findings, diff=diff, written=write)

@@ -17,10 +17,11 @@ from collections.abc import Sequence
 from typing import TYPE_CHECKING, TextIO
 
 from gymmigrate import __version__
+from gymmigrate.rules import all_rules
 
 if TYPE_CHECKING:
-    from gymmigrate.engine import FileResult
     from gymmigrate.findings import Finding
+    from gymmigrate.process import FileResult
 
 FORMATS = ("text", "json", "sarif", "github")
 # The one place the project's address is written: rule pages link from here.
@@ -51,8 +52,6 @@ _LEVELS = {"auto": "warning", "assist": "warning", "flag": "warning"}
 
 
 def sarif(results: Sequence[FileResult]) -> dict[str, object]:
-    from gymmigrate.rules import all_rules
-
     rules = all_rules()
     index = {rule.code: position for position, rule in enumerate(rules)}
     return {
@@ -164,17 +163,3 @@ def write_github(results: Sequence[FileResult], stream: TextIO) -> None:
             stream.write(github_annotation(result.path, finding) + "\n")
         if result.error:
             stream.write(f"::error file={escape_property(result.path)}::{escape_data(result.error)}\n")
-
-
-def write_findings(output_format: str, results: Sequence[FileResult], stream: TextIO) -> None:
-    if output_format == "json":
-        write_json(results, stream)
-    elif output_format == "sarif":
-        write_sarif(results, stream)
-    elif output_format == "github":
-        write_github(results, stream)
-    else:
-        from gymmigrate.report import print_findings
-
-        print_findings(results, stream)
-    stream.flush()

@@ -7,15 +7,20 @@ terminal (rich decides, and honours NO_COLOR / FORCE_COLOR).
 from __future__ import annotations
 
 import json
+import os
 import sys
 from collections import Counter
 from collections.abc import Sequence
 from pathlib import Path
-from typing import TextIO
+from typing import TYPE_CHECKING, TextIO
 
 from gymmigrate import __version__
-from gymmigrate.engine import FileResult, Status
 from gymmigrate.findings import Finding
+from gymmigrate.formats import findings_json, write_github, write_json, write_sarif
+from gymmigrate.process import FileResult, Status
+
+if TYPE_CHECKING:
+    from rich.table import Table
 
 
 def print_diff(diff: str, stream: TextIO | None = None) -> None:
@@ -64,45 +69,81 @@ def location(path: str, finding: Finding, line: int) -> str:
     return f"{path}:cell {finding.cell + 1}:line {line}"
 
 
-def print_summary(results: Sequence[FileResult], *, wrote: bool, stream: TextIO | None = None) -> None:
-    from rich.console import Console
-    from rich.markup import escape
+# One line of the summary: pieces of text, each with a rich style ("" for none).
+Line = list[tuple[str, str]]
 
-    console = Console(file=stream or sys.stderr, highlight=False, soft_wrap=True)
+
+def print_summary(results: Sequence[FileResult], *, wrote: bool, stream: TextIO | None = None) -> None:
+    """The closing summary and the review list; rich (colour, the table) only on a
+    terminal, plain lines for logs and pipes."""
+    stream = stream or sys.stderr
     changed = [r for r in results if r.status is Status.CHANGED]
     errors = [r for r in results if r.status is Status.ERROR]
-    per_rule = changes_per_rule(results)
     review = [(r, f) for r in results for f in r.findings if f.needs_review]
     notes = sum(not f.needs_review for r in results for f in r.findings)
+    per_rule = changes_per_rule(results)
 
     verb = "rewrote" if wrote else "would rewrite"
-    console.print(
-        f"[bold]gymmigrate[/bold] {verb} {len(changed)} of {len(results)} file{'s' if len(results) != 1 else ''}"
-        + (f", [red]{len(errors)} could not be processed[/red]" if errors else "")
-    )
-    if console.is_terminal:
-        from gymmigrate.summary_table import summary_table
-
-        console.print(summary_table(results, per_rule, len(review), wrote=wrote))
-    elif per_rule:
-        console.print("Changes per rule: " + ", ".join(f"{rule} x{count}" for rule, count in sorted(per_rule.items())))
+    head: Line = [("gymmigrate", "bold"), (f" {verb} {len(changed)} of {len(results)} file{'s' if len(results) != 1 else ''}", "")]
+    if errors:
+        head += [(", ", ""), (f"{len(errors)} could not be processed", "red")]
+    lines: list[Line] = []
     if review:
-        console.print(f"\n[bold yellow]Review ({len(review)})[/bold yellow]: places where a person must decide")
+        lines.append([("\n", ""), (f"Review ({len(review)})", "bold yellow"), (": places where a person must decide", "")])
         for result, finding in review:
             line = finding.line_after if (wrote and result.written and finding.line_after) else finding.line
             tag = "rewritten" if finding.is_change else "not rewritten"
-            console.print(
-                f"  {escape(location(result.path, finding, line))}: [bold]{finding.rule}[/bold] ({tag}) {escape(finding.message)}"
-            )
+            lines.append([(f"  {location(result.path, finding, line)}: ", ""), (finding.rule, "bold"), (f" ({tag}) {finding.message}", "")])
     if notes:
-        console.print(f"{notes} note{'s' if notes != 1 else ''} on rewrites already applied (listed by `check` and in --report)")
+        lines.append([(f"{notes} note{'s' if notes != 1 else ''} on rewrites already applied (listed by `check` and in --report)", "")])
     for result in errors:
-        console.print(f"[red]error[/red]: {escape(result.path)}: {escape(result.error or 'unknown error')}")
+        lines.append([("error", "red"), (f": {result.path}: {result.error or 'unknown error'}", "")])
+
+    if not _is_terminal(stream):
+        per_rule_line: list[Line] = []
+        if per_rule:
+            per_rule_line = [[("Changes per rule: " + ", ".join(f"{rule} x{count}" for rule, count in sorted(per_rule.items())), "")]]
+        for pieces in [head, *per_rule_line, *lines]:
+            stream.write("".join(text for text, _ in pieces) + "\n")
+        stream.flush()
+        return
+    from rich.console import Console
+    from rich.text import Text
+
+    console = Console(file=stream, highlight=False, soft_wrap=True)
+    console.print(Text.assemble(*head))
+    console.print(summary_table(results, per_rule, len(review), wrote=wrote))
+    for pieces in lines:
+        console.print(Text.assemble(*pieces))
+
+
+def summary_table(results: Sequence[FileResult], per_rule: Counter[str], review: int, *, wrote: bool) -> Table:
+    """The closing summary as a table, for a person at a terminal (logs keep the one-line form)."""
+    from rich.table import Table
+
+    table = Table(show_header=False, box=None, padding=(0, 2))
+    table.add_column(style="bold")
+    table.add_column(justify="right")
+    statuses = Counter(result.status for result in results)
+    table.add_row("Scanned", str(len(results)))
+    table.add_row("Skipped (no Gym code)", str(statuses[Status.SKIPPED]))
+    table.add_row("Changed" if wrote else "Would change", str(statuses[Status.CHANGED]))
+    table.add_row("Failed", str(statuses[Status.ERROR]))
+    table.add_row("Review items", str(review))
+    for rule, count in sorted(per_rule.items()):
+        table.add_row(f"  {rule}", f"x{count}")
+    return table
+
+
+def _is_terminal(stream: TextIO) -> bool:
+    """What rich would decide: a TTY, unless FORCE_COLOR / TTY_COMPATIBLE say otherwise."""
+    if os.environ.get("FORCE_COLOR") or os.environ.get("TTY_COMPATIBLE") == "1":
+        return True
+    isatty = getattr(stream, "isatty", None)
+    return bool(isatty and isatty())
 
 
 def report_json(results: Sequence[FileResult], *, wrote: bool, smoke: Sequence[object] | None = None) -> dict[str, object]:
-    from gymmigrate.formats import findings_json
-
     files = []
     for result in results:
         if result.status is Status.SKIPPED and not result.findings:
@@ -143,3 +184,16 @@ def write_json_report(
     path: Path, results: Sequence[FileResult], *, wrote: bool, smoke: Sequence[object] | None = None
 ) -> None:
     path.write_text(json.dumps(report_json(results, wrote=wrote, smoke=smoke), indent=2) + "\n", encoding="utf-8")
+
+
+def write_findings(output_format: str, results: Sequence[FileResult], stream: TextIO) -> None:
+    """``check``'s findings on ``stream`` in ``output_format`` (``formats.FORMATS``)."""
+    if output_format == "json":
+        write_json(results, stream)
+    elif output_format == "sarif":
+        write_sarif(results, stream)
+    elif output_format == "github":
+        write_github(results, stream)
+    else:
+        print_findings(results, stream)
+    stream.flush()

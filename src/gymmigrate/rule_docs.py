@@ -15,6 +15,8 @@ import sys
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
+from gymmigrate.rules import all_rules
+
 PACKAGE = Path(__file__).resolve().parent
 CHECKOUT = PACKAGE.parent.parent
 GENERATED = PACKAGE / "rule_docs.json"
@@ -31,8 +33,6 @@ class RuleDoc:
 
 def from_checkout(root: Path = CHECKOUT) -> dict[str, RuleDoc] | None:
     """Every rule's doc read from a source checkout; None when this is not one."""
-    from gymmigrate.rules import all_rules
-
     pages, fixtures = root / "docs" / "rules", root / "fixtures" / "rules"
     if not (pages.is_dir() and fixtures.is_dir()):
         return None

@@ -5,6 +5,9 @@ from __future__ import annotations
 import sys
 from typing import TextIO
 
+from gymmigrate import rule_docs
+from gymmigrate.rules import all_rules
+
 
 def _console(stream: TextIO | None):  # type: ignore[no-untyped-def]
     from rich.console import Console
@@ -14,8 +17,6 @@ def _console(stream: TextIO | None):  # type: ignore[no-untyped-def]
 
 def print_rules(stream: TextIO | None = None) -> None:
     from rich.table import Table
-
-    from gymmigrate.rules import all_rules
 
     table = Table(title="gymmigrate rules", title_justify="left")
     table.add_column("Code", no_wrap=True, style="bold")
@@ -31,9 +32,6 @@ def print_rule(code: str, stream: TextIO | None = None) -> bool:
     """Print the rule's page and its example; False when no rule has that code."""
     from rich.markdown import Markdown
     from rich.syntax import Syntax
-
-    from gymmigrate import rule_docs
-    from gymmigrate.rules import all_rules
 
     rule = next((rule for rule in all_rules() if rule.code == code), None)
     if rule is None:

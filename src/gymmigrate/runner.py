@@ -16,20 +16,26 @@ its place and the run goes on.
 
 from __future__ import annotations
 
-import multiprocessing
 import os
 import signal
 import threading
 import time
 from collections import deque
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass, replace
-from multiprocessing.connection import Connection, wait
-from multiprocessing.process import BaseProcess
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-from gymmigrate.engine import FileResult, Status, process_file
-from gymmigrate.rules.base import RewriteOptions
+from gymmigrate.facts.project import ModuleSummary, ProjectFacts
+from gymmigrate.facts.summaries import summarize
+from gymmigrate.options import RewriteOptions
+from gymmigrate.process import FileResult, Status, process_file
+from gymmigrate.safety import Refused, read_source, screen
+from gymmigrate.source_text import TransformError, decode, may_hold_gym_code
+
+if TYPE_CHECKING:
+    from multiprocessing.connection import Connection
+    from multiprocessing.process import BaseProcess
 
 # Below this many files a pool costs more (worker start-up, imports) than it saves.
 PARALLEL_THRESHOLD = 16
@@ -59,8 +65,6 @@ def run_files(
     jobs = default_jobs() if jobs is None or jobs <= 0 else jobs
     parallel = jobs > 1 and len(paths) >= PARALLEL_THRESHOLD
     if options.project is None and len(paths) > 1:
-        from gymmigrate.facts.project import summarize_run
-
         # One cheap pass over every module (on the workers too), joined once.
         pool = (lambda python: _run_parallel(python, _Summarize(), jobs)) if parallel else None  # noqa: E731
         options = replace(options, project=summarize_run(list(paths), pool))
@@ -72,14 +76,39 @@ def run_files(
     yield from _run_parallel(list(paths), task, jobs)
 
 
+def summarize_run(paths: list[Path], summaries: Callable[[list[Path]], Iterable[object]] | None = None) -> ProjectFacts | None:
+    """Facts across ``paths``; None for a single file (nothing to join).
+
+    ``summaries`` maps ``summarize_path`` over the paths (the worker pool); by default it
+    runs here, one file after the other.
+    """
+    if len(paths) < 2:
+        return None
+    python = [path for path in paths if Path(path).suffix in (".py", ".pyw")]
+    # Notebooks and documents: their code is not importable by the run.
+    found = summaries(python) if summaries is not None else map(summarize_path, python)
+    return ProjectFacts.join([summary for summary in found if isinstance(summary, ModuleSummary)])
+
+
+def summarize_path(path: Path) -> ModuleSummary | None:
+    """The summary of the module at ``path``, read and screened as its own run will."""
+    try:
+        # The same screening as the file's own run: never parse what it refuses.
+        source = read_source(Path(path), may_hold_gym_code)
+        if source is None or not screen(source, may_hold_gym_code):
+            return None
+        text, _ = decode(source)
+    except (OSError, Refused, TransformError):
+        return None
+    return summarize(str(path), text)
+
+
 @dataclass(frozen=True)
 class _Summarize:
-    """``facts.project.summarize_path`` for the workers: a module's summary, or False
+    """``summarize_path`` for the workers: a module's summary, or False
     (never None: the pool reads a missing answer as a dead worker)."""
 
     def __call__(self, path: Path) -> object:
-        from gymmigrate.facts.project import summarize_path
-
         try:
             return summarize_path(path) or False
         except Exception:  # noqa: BLE001  (the file's own run reports what is wrong with it)
@@ -150,6 +179,9 @@ class _Pool:
     """Worker processes that each hold at most one file, and are replaced when they die."""
 
     def __init__(self, task: _Task, size: int) -> None:
+        # multiprocessing loads only for a pool: a run of one file (a pre-commit hook) never pays for it.
+        import multiprocessing
+
         self._task = task
         self._context = multiprocessing.get_context()
         self._workers = [self._start() for _ in range(size)]
@@ -179,6 +211,8 @@ class _Pool:
 
     def collect(self, paths: list[Path]) -> list[tuple[int, FileResult]]:
         """Wait until some busy worker answers or dies; the results (or deaths) so far."""
+        from multiprocessing.connection import wait
+
         busy = self.busy()
         ready = set(wait([w.connection for w in busy] + [w.process.sentinel for w in busy]))
         finished = []

@@ -1,5 +1,5 @@
-"""What ``check`` and ``rewrite`` do around the engine: settings from flags and
-``[tool.gymmigrate]``, excluded files, standard input, and the progress bar.
+"""What ``check`` and ``rewrite`` do around the runner: settings from flags and
+``[tool.gymmigrate]``, excluded files, and the progress bar.
 
 Paths are grouped by the configuration that applies to them (the nearest
 ``pyproject.toml`` with a ``[tool.gymmigrate]`` table); each group runs with its own
@@ -14,8 +14,12 @@ from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-from gymmigrate.config import Config, find_config
-from gymmigrate.rules.base import RewriteOptions
+from gymmigrate.config import Config, find_config, forget_configs
+from gymmigrate.files import discover
+from gymmigrate.options import RewriteOptions
+from gymmigrate.process import FileResult, Status
+from gymmigrate.rules import all_rules
+from gymmigrate.runner import run_files
 from gymmigrate.selection import Selection, parse_selectors
 
 STDIN = "-"
@@ -41,6 +45,7 @@ class Flags:
             ignore if ignore is not None else config.ignore,
             [*config.extend_select, *(parse_selectors(self.extend_select) or [])],
             [*config.extend_ignore, *(parse_selectors(self.extend_ignore) or [])],
+            codes=[rule.code for rule in all_rules()],
         )
         return RewriteOptions(
             seed=self.seed if self.seed is not None else config.seed,
@@ -59,8 +64,6 @@ class Group:
 def group_paths(paths: Sequence[str], flags: Flags) -> list[Group]:
     """Arguments by the configuration that applies to them, in the order first seen.
     Raises ConfigError or SelectionError."""
-    from gymmigrate.config import forget_configs
-
     forget_configs()  # a file edited since the last run in this process (tests, editors) is read again
     groups: dict[Path | None, Group] = {}
     for argument in paths:
@@ -81,14 +84,10 @@ def run_groups(
     jobs: int,
     lint: bool,
     before_writing: Callable[[list[Path]], None] | None = None,
-) -> Iterator:
+) -> Iterator[FileResult]:
     """Every file's result (group by group, in order), then one error per bad argument;
     a progress bar on stderr while it runs when stderr is a terminal. ``before_writing``
     gets every file of a run that writes, before the first is processed."""
-    from gymmigrate.engine import FileResult, Status
-    from gymmigrate.files import discover
-    from gymmigrate.runner import run_files
-
     planned = []
     errors: list[tuple[str, str]] = []
     for group in groups:
@@ -149,37 +148,3 @@ class Progress:
     def __exit__(self, *exc: object) -> None:
         if self._bar is not None:
             self._bar.stop()
-
-
-# -- standard input ---------------------------------------------------------------------------
-
-
-def run_stdin(source: bytes, filename: str | None, options: RewriteOptions, *, lint: bool) -> tuple[object, bytes]:
-    """One file read from stdin: its result and the bytes to print (rewrite: the file as
-    rewritten, or as it was when nothing changed or it could not be processed)."""
-    from gymmigrate.engine import FileResult, Status, TransformError, lint_source, may_hold_gym_code, transform_source
-
-    from gymmigrate.sources import adapter_for
-    from gymmigrate.sources.programs import lint_document, transform_document
-
-    shown = filename or "<stdin>"
-    adapter = adapter_for(Path(filename)) if filename else None  # a notebook or a page, by its name
-    try:
-        if not may_hold_gym_code(source):
-            return FileResult(shown, Status.SKIPPED), source
-        if lint:
-            if adapter:
-                findings, changes = lint_document(adapter, source, shown, options)
-            else:
-                findings, changes = lint_source(source, shown, options)
-            return FileResult(shown, Status.CHANGED if changes else Status.UNCHANGED, findings=tuple(findings)), source
-        if adapter:
-            transformed = transform_document(adapter, source, shown, options)
-        else:
-            transformed = transform_source(source, shown, options)
-    except TransformError as exc:
-        return FileResult(shown, Status.ERROR, error=str(exc)), source
-    except RecursionError:
-        return FileResult(shown, Status.ERROR, error="the file is nested too deeply to analyse"), source
-    status = Status.CHANGED if transformed.changed else Status.UNCHANGED
-    return FileResult(shown, status, findings=tuple(transformed.findings)), transformed.rewritten

@@ -16,7 +16,6 @@ from __future__ import annotations
 import os
 import re
 import stat
-import tempfile
 import time
 from collections.abc import Iterable
 from pathlib import Path
@@ -56,6 +55,8 @@ def write_atomically(path: Path, data: bytes, *, expected: bytes | None = None) 
         status = target.stat()
     except FileNotFoundError:
         raise ChangedOnDisk("it was deleted while gymmigrate ran") from None
+    import tempfile  # only a run that writes needs it
+
     fd, temporary = tempfile.mkstemp(prefix=f".{target.name}.", suffix=TEMPORARY_SUFFIX, dir=target.parent)
     try:
         _lock(fd)

@@ -1,18 +1,22 @@
-"""Modules that only edits need, imported the first time an edit uses them.
+"""LibCST, loaded the first time an edit is built or applied.
 
-``libcst.matchers`` costs more to import than everything ``gymmigrate check`` needs on
-a clean file; build callbacks that match nodes run only for files that change.
+``import libcst`` costs more than everything ``gymmigrate check`` needs on a clean file,
+and a run with nothing to change never needs it. Rules record builds that name ``cst``
+and ``m`` from here; the module is imported when a build first runs. Modules whose
+classes derive from LibCST's (transformers, visitors) form the apply layer; the engine
+loads them on first use. Type checkers see the real modules.
 """
 
 from __future__ import annotations
 
 import importlib
 from types import ModuleType
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 
 class LazyModule:
-    """Stands for a module; imports it on first attribute access."""
+    """Stands for a module; imports it on first attribute access, then keeps each
+    attribute it hands out, so later reads cost a plain attribute lookup."""
 
     def __init__(self, name: str) -> None:
         self._name = name
@@ -21,7 +25,14 @@ class LazyModule:
     def __getattr__(self, attribute: str) -> Any:
         if self._module is None:
             self._module = importlib.import_module(self._name)
-        return getattr(self._module, attribute)
+        value = getattr(self._module, attribute)
+        setattr(self, attribute, value)
+        return value
 
 
-matchers: Any = LazyModule("libcst.matchers")
+if TYPE_CHECKING:
+    import libcst as cst
+    import libcst.matchers as matchers
+else:
+    cst = LazyModule("libcst")
+    matchers = LazyModule("libcst.matchers")

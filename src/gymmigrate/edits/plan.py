@@ -41,9 +41,6 @@ class Plan:
     # Removed statements whose comment lines (above them) move to the next statement.
     keep_comments: set[ast.stmt] = field(default_factory=set)
     imports: list[str] = field(default_factory=list)  # new top-level import lines
-    # What one rule family decided that another must follow in the same run (e.g. the
-    # render mode a creation site needs because a wrapper was replaced).
-    notes: dict[str, Any] = field(default_factory=dict)
     # Which finding each edit carries out, so a finding dropped by rule selection or a
     # suppression comment takes its fix with it (``drop_findings``). ``deciding`` names
     # the family deciding now (set by the engine).

@@ -15,25 +15,26 @@ from __future__ import annotations
 import ast
 from typing import TYPE_CHECKING
 
-from gymmigrate.facts import receivers as R
+from gymmigrate.facts.kinds import MAX_DEPTH, EnvKind, ReceiverQueries, join_kinds
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, call_argument
 
 if TYPE_CHECKING:
     from gymmigrate.facts.project import ProjectView
-    from gymmigrate.facts.receivers import EnvKind
 
 
 class CallableKinds:
-    """Mixed into ``Receivers``: uses its ``facts``, ``kind_of``, ``call_sites``... Also
-    holds the two hooks of facts across files (``_external_param_kinds``)."""
+    """What calling a callable returns, for ``Receivers`` (which owns one and answers the
+    kind questions it asks back). Also holds the hook of facts across files
+    (``external_param_kinds``)."""
 
-    facts: ModuleFacts
-    project: ProjectView | None
-    _depth: int
+    def __init__(self, receivers: ReceiverQueries, project: ProjectView | None) -> None:
+        self.receivers = receivers
+        self.facts: ModuleFacts = receivers.facts
+        self.project = project
 
     def own_method(self, func: ast.AST) -> ast.FunctionDef | ast.AsyncFunctionDef | None:
         """``self.make_env`` in a method: the class's own ``def make_env``."""
-        if not (isinstance(func, ast.Attribute) and isinstance(func.value, ast.Name) and self.is_self(func.value)):
+        if not (isinstance(func, ast.Attribute) and isinstance(func.value, ast.Name) and self.receivers.is_self(func.value)):
             return None
         classdef = self.facts.enclosing_class(func)
         if classdef is None:
@@ -43,7 +44,7 @@ class CallableKinds:
         )
         return methods.get(func.attr)  # type: ignore[no-any-return]
 
-    def _external_param_kinds(self, function: ast.AST, classdef: ast.ClassDef | None, param: str) -> list[EnvKind]:
+    def external_param_kinds(self, function: ast.AST, classdef: ast.ClassDef | None, param: str) -> list[EnvKind]:
         """What the other modules of the run pass for ``param`` (none when checked alone)."""
         if self.project is None:
             return []
@@ -60,52 +61,52 @@ class CallableKinds:
         """The kind of what calling ``callee`` returns: a lambda's body, the returns of a
         def, through names bound to either, and through parameters annotated
         ``Callable[[], gym.Env]`` or passed such callables at every call site."""
-        return self.facts.memo(("returned-kind", id(callee)), lambda: self._returned_kind(callee), while_computing=R.EnvKind.UNKNOWN)  # type: ignore[no-any-return]
+        return self.facts.memo(("returned-kind", id(callee)), lambda: self._returned_kind(callee), while_computing=EnvKind.UNKNOWN)  # type: ignore[no-any-return]
 
     def _returned_kind(self, callee: ast.AST) -> EnvKind:
-        if self._depth > R.MAX_DEPTH:
-            return R.EnvKind.UNKNOWN
+        if self.receivers.depth > MAX_DEPTH:
+            return EnvKind.UNKNOWN
         if isinstance(callee, ast.Lambda):
-            return self.kind_of(callee.body)
+            return self.receivers.kind_of(callee.body)
         if isinstance(callee, FUNCTIONS):
-            return self._returns_kind(callee)
-        if isinstance(callee, ast.Call) and any(q in ("functools.partial",) for q in self.qualified_names(callee.func)) and callee.args:
-            return self._kind_of_call_to(callee.args[0], callee)
+            return self.receivers.returns_kind(callee)
+        if isinstance(callee, ast.Call) and any(q in ("functools.partial",) for q in self.receivers.qualified_names(callee.func)) and callee.args:
+            return self.kind_of_call_to(callee.args[0], callee)
         if isinstance(callee, ast.Attribute):
-            return R.EnvKind.UNKNOWN
+            return EnvKind.UNKNOWN
         if not isinstance(callee, ast.Name):
-            return R.EnvKind.UNKNOWN
-        local = self.local_function(callee) or self.local_class(callee)
+            return EnvKind.UNKNOWN
+        local = self.receivers.local_function(callee) or self.receivers.local_class(callee)
         if local is not None and isinstance(local, FUNCTIONS):
-            return self._returns_kind(local)
+            return self.receivers.returns_kind(local)
         if local is not None:
-            return self.class_kind(local)  # type: ignore[arg-type]
-        if self.qualified_names(callee):
-            return R.EnvKind.UNKNOWN  # an imported callable: the call classifies it, not this
+            return self.receivers.class_kind(local)  # type: ignore[arg-type]
+        if self.receivers.qualified_names(callee):
+            return EnvKind.UNKNOWN  # an imported callable: the call classifies it, not this
         bindings = self.facts.bindings_of(callee)
         if not bindings:
-            return R.EnvKind.UNKNOWN
+            return EnvKind.UNKNOWN
         # One answer per set of bindings, not per call: ``make_env()`` called n times.
-        return self.facts.memo(("returned-kind-bindings", id(bindings)), lambda: self._bindings_returned_kind(bindings), while_computing=R.EnvKind.UNKNOWN)  # type: ignore[no-any-return]
+        return self.facts.memo(("returned-kind-bindings", id(bindings)), lambda: self._bindings_returned_kind(bindings), while_computing=EnvKind.UNKNOWN)  # type: ignore[no-any-return]
 
     def _bindings_returned_kind(self, bindings: list[ast.AST]) -> EnvKind:
         kinds: list[EnvKind] = []
-        self._depth += 1
+        self.receivers.depth += 1
         try:
             for binding in bindings:
                 kinds.append(self._binding_returned_kind(binding))
         finally:
-            self._depth -= 1
-        return R.join_kinds(kinds)
+            self.receivers.depth -= 1
+        return join_kinds(kinds)
 
-    def _kind_of_call_to(self, callee: ast.AST, call: ast.Call) -> EnvKind:
+    def kind_of_call_to(self, callee: ast.AST, call: ast.Call) -> EnvKind:
         """``functools.partial(gym.make, "CartPole-v1")``: the kind ``callee(...)`` returns."""
-        kinds = [k for k in (self._kind_from_qualified(q, call) for q in self.qualified_names(callee)) if k is not None]
-        return R.join_kinds(kinds) if kinds else self.returned_kind(callee)
+        kinds = [k for k in (self.receivers.kind_from_qualified(q, call) for q in self.receivers.qualified_names(callee)) if k is not None]
+        return join_kinds(kinds) if kinds else self.returned_kind(callee)
 
     def _binding_returned_kind(self, binding: ast.AST) -> EnvKind:
         if isinstance(binding, FUNCTIONS):
-            return self._returns_kind(binding)
+            return self.receivers.returns_kind(binding)
         if isinstance(binding, ast.arg):
             return self._param_returned_kind(binding)
         parent = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
@@ -113,46 +114,46 @@ class CallableKinds:
             return self.returned_kind(parent.value)  # type: ignore[arg-type]
         if isinstance(parent, ast.AnnAssign):
             return self.callable_annotation_kind(parent.annotation)
-        return R.EnvKind.UNKNOWN
+        return EnvKind.UNKNOWN
 
     def _param_returned_kind(self, param: ast.arg) -> EnvKind:
         if param.annotation is not None:
             kind = self.callable_annotation_kind(param.annotation)
-            if kind is not R.EnvKind.UNKNOWN:
+            if kind is not EnvKind.UNKNOWN:
                 return kind
         function = self.facts.parent(self.facts.parent(param))
         if not isinstance(function, FUNCTIONS):
-            return R.EnvKind.UNKNOWN
+            return EnvKind.UNKNOWN
         classdef = self.facts.parent(function)
         is_method = isinstance(classdef, ast.ClassDef) and self.facts.is_method(function)
         params = [*function.args.posonlyargs, *function.args.args]
         position = next((i for i, p in enumerate(params) if p is param), None)
         if is_method and position is not None:
             if position == 0:
-                return R.EnvKind.UNKNOWN
+                return EnvKind.UNKNOWN
             position -= 1
-        calls = self.call_sites(function, classdef if is_method else None)  # type: ignore[arg-type]
+        calls = self.receivers.call_sites(function, classdef if is_method else None)  # type: ignore[arg-type]
         kinds = []
         for call in calls:
             argument = call_argument(call, position, param.arg)
-            kinds.append(R.EnvKind.UNKNOWN if argument is None else self.returned_kind(argument))
-        return R.join_kinds(kinds) if kinds else R.EnvKind.UNKNOWN
+            kinds.append(EnvKind.UNKNOWN if argument is None else self.returned_kind(argument))
+        return join_kinds(kinds) if kinds else EnvKind.UNKNOWN
 
     def callable_annotation_kind(self, annotation: ast.AST, parsed: bool = False) -> EnvKind:
         """``Callable[[], gym.Env]`` (typing or collections.abc, or as a string): the kind it returns."""
         if isinstance(annotation, ast.Constant) and isinstance(annotation.value, str):
             inner = parse_annotation(annotation.value)
-            return self.callable_annotation_kind(inner, parsed=True) if inner is not None else R.EnvKind.UNKNOWN
+            return self.callable_annotation_kind(inner, parsed=True) if inner is not None else EnvKind.UNKNOWN
         if not isinstance(annotation, ast.Subscript):
-            return R.EnvKind.UNKNOWN
-        owner = string_names(self.facts, annotation.value) if parsed else self.qualified_names(annotation.value)
+            return EnvKind.UNKNOWN
+        owner = string_names(self.facts, annotation.value) if parsed else self.receivers.qualified_names(annotation.value)
         if not owner & {"typing.Callable", "collections.abc.Callable"}:
-            return R.EnvKind.UNKNOWN
+            return EnvKind.UNKNOWN
         given = annotation.slice
         if not (isinstance(given, ast.Tuple) and len(given.elts) == 2):
-            return R.EnvKind.UNKNOWN
+            return EnvKind.UNKNOWN
         returned = given.elts[1]
-        return self._annotation_names_kind(string_names(self.facts, returned)) if parsed else self.annotation_kind(returned)
+        return self.receivers.annotation_names_kind(string_names(self.facts, returned)) if parsed else self.receivers.annotation_kind(returned)
 
 
 

@@ -27,6 +27,7 @@ from dataclasses import dataclass, field
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.env_classes import EnvClasses
+from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
 from gymmigrate.facts.receivers import Receivers
 
@@ -423,7 +424,6 @@ def render_kept_classes(facts: ModuleFacts, receivers: Receivers) -> frozenset[i
     """
 
     def compute() -> frozenset[int]:
-        from gymmigrate.facts.receivers import EnvKind
 
         def is_creation(call: ast.Call) -> bool:
             return receivers.local_class(call.func) is not None or any(

@@ -13,10 +13,10 @@ from enum import Enum
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts.module import full_name
-from gymmigrate.facts.receivers import EnvKind
+from gymmigrate.facts.kinds import EnvKind
 
 if TYPE_CHECKING:
-    from gymmigrate.rules.base import FileProfile
+    from gymmigrate.facts.profile import FileProfile
 
 # Spellings that name an environment. Used only to decide between reporting and
 # staying silent (or, in a file that uses nothing but Gym, rewriting for review):

@@ -17,7 +17,8 @@ from collections import defaultdict
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
-from gymmigrate.facts.receivers import EnvKind, Receivers
+from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.receivers import Receivers
 
 # Qualified names (without the gym/gymnasium prefix) of the mujoco-py era base class.
 MUJOCO_BASES = frozenset({"envs.mujoco.MujocoEnv", "envs.mujoco.mujoco_env.MujocoEnv", "envs.mujoco.MuJocoPyEnv"})

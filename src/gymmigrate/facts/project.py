@@ -24,23 +24,19 @@ against every method of that name: a guard kind wins.
 
 from __future__ import annotations
 
-import ast
 import os
 from collections import defaultdict
-from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from gymmigrate.facts import names as N
-from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
-from gymmigrate.facts.receivers import EnvKind, Receivers, join_kinds
+from gymmigrate.facts.kinds import EnvKind, join_kinds
 
 # Kinds an unresolved ``x.fit(venv)`` still reports against every ``fit`` of the run.
-_GUARD_KINDS = frozenset({EnvKind.SB3_VEC, EnvKind.GYM_VEC, EnvKind.PZ_AEC, EnvKind.PZ_PARALLEL})
-_UNRESOLVED = "?."
-_NEW = "new:"
-_OWN = "@"  # a def of the calling module itself
-_PARAM = "param:"
+GUARD_KINDS = frozenset({EnvKind.SB3_VEC, EnvKind.GYM_VEC, EnvKind.PZ_AEC, EnvKind.PZ_PARALLEL})
+UNRESOLVED = "?."
+NEW = "new:"
+OWN = "@"  # a def of the calling module itself
+PARAM = "param:"
 # Beyond this many parameters passed on from call to call the join stops following.
 _MAX_CHAIN = 50
 Kind = EnvKind | str  # a kind, or ``new:<class>`` / ``param:<def>:<name>`` until the join resolves it
@@ -76,252 +72,6 @@ class ModuleSummary:
     imported: tuple[str, ...] = ()  # qualified names its imports bind
 
 
-def summarize(path: str, source: bytes) -> ModuleSummary | None:
-    """The summary of one module, or None when it holds no Gym code or does not parse."""
-    from gymmigrate.engine import decode, may_hold_gym_code
-
-    if not may_hold_gym_code(source):
-        return None
-    try:
-        text, _ = decode(source)
-        facts = ModuleFacts(ast.parse(text), text)
-        return _Summarizer(facts, Receivers(facts), os.path.realpath(path)).summary()
-    except Exception:  # noqa: BLE001  (the file's own run reports why; it just adds no facts)
-        return None
-
-
-def summarize_run(paths: list[Path], summaries: Callable[[list[Path]], Iterable[object]] | None = None) -> ProjectFacts | None:
-    """Facts across ``paths``; None for a single file (nothing to join).
-
-    ``summaries`` maps ``summarize_path`` over the paths (the runner passes its worker
-    pool); by default it runs here, one file after the other.
-    """
-    if len(paths) < 2:
-        return None
-    python = [path for path in paths if Path(path).suffix in (".py", ".pyw")]
-    # Notebooks and documents: their code is not importable by the run.
-    found = summaries(python) if summaries is not None else map(summarize_path, python)
-    return ProjectFacts.join([summary for summary in found if isinstance(summary, ModuleSummary)])
-
-
-def summarize_path(path: Path) -> ModuleSummary | None:
-    """The summary of the module at ``path``, read and screened as its own run will."""
-    from gymmigrate.engine import may_hold_gym_code
-    from gymmigrate.safety import Refused, read_source, screen
-
-    try:
-        # The same screening as the file's own run: never parse what it refuses.
-        source = read_source(Path(path), may_hold_gym_code)
-        if source is None or not screen(source, may_hold_gym_code):
-            return None
-    except (OSError, Refused):
-        return None
-    return summarize(str(path), source)
-
-
-class _Summarizer:
-    def __init__(self, facts: ModuleFacts, receivers: Receivers, path: str) -> None:
-        self.facts = facts
-        self.receivers = receivers
-        self.path = path
-
-    def summary(self) -> ModuleSummary:
-        from gymmigrate.facts.creation import render_kept_classes
-        from gymmigrate.facts.env_classes import EnvClasses
-
-        defs: dict[str, Signature] = {}
-        for name, function in self.facts.functions.items():
-            defs[name] = _signature(function, is_method=False)
-        env = EnvClasses.of(self.facts, self.receivers)
-        env_classes, render_mode = set(), set()
-        for name, classdef in self.facts.classes.items():
-            for statement in classdef.body:
-                if isinstance(statement, FUNCTIONS):
-                    defs[f"{name}.{statement.name}"] = _signature(statement, is_method=True)
-            if self.receivers.class_kind(classdef) is EnvKind.GYM_ENV or env.is_custom_env(classdef):
-                env_classes.add(name)
-                if env.takes_render_mode(classdef) and id(classdef) not in render_kept_classes(self.facts, self.receivers):
-                    render_mode.add(name)
-        calls = [c for c in (self._call(call) for calls in self.facts.calls_by_name.values() for call in calls) if c]
-        calls += [c for c in (self._call(call) for calls in self.facts.attribute_calls.values() for call in calls) if c]
-        return ModuleSummary(
-            self.path,
-            defs,
-            frozenset(env_classes),
-            frozenset(render_mode),
-            tuple(calls),
-            untraced_seed_call=self._has_untraced_call("seed"),
-            untraced_render_call=self._has_untraced_call("render"),
-            imported=tuple(sorted(set(self.facts.imports.values()))),
-        )
-
-    def _has_untraced_call(self, method: str) -> bool:
-        """``x.seed(...)`` / ``x.render(mode)`` on a receiver this module cannot trace."""
-        from gymmigrate.facts.creation import passes_mode
-
-        for call in self.facts.attribute_calls.get(method, ()):
-            receiver = call.func.value  # type: ignore[attr-defined]
-            if isinstance(receiver, ast.Name) and receiver.id == "self":
-                continue  # a class's own call: decided with that class
-            if isinstance(receiver, ast.Call) and isinstance(receiver.func, ast.Name) and receiver.func.id == "super":
-                continue
-            if method == "render" and not passes_mode(call, self.facts):
-                continue  # a bare render() (the Gymnasium call), or a render method forwarding
-            if self.receivers.kind_of(receiver) is not EnvKind.UNKNOWN:
-                continue
-            made_by = self._instance_class(receiver)
-            if made_by is not None and not _is_library(made_by):
-                continue  # an instance of a class it imports: the run knows that class
-            return True
-        return False
-
-    def _call(self, call: ast.Call) -> CallSummary | None:
-        target = self._target(call.func)
-        if target is None:
-            return None
-        summary = self._arguments(call, target)
-        if target.startswith(_UNRESOLVED):
-            kinds = {*summary.args, *(k for _, k in summary.keywords)}
-            return summary if kinds & _GUARD_KINDS else None
-        return summary
-
-    def _target(self, func: ast.expr) -> str | None:
-        """The qualified callee in another module, ``@name`` for a def of this module
-        (``@Agent.fit`` for ``self.fit(...)``), ``?.name`` for a method of an unknown
-        owner, None for library calls."""
-        own = self._own_target(func)
-        if own is not None:
-            return own
-        qualified = self.facts.qualified_names(func)
-        if qualified:
-            found = sorted(q for q in qualified if not _is_library(q))
-            return found[0] if len(found) == 1 else None
-        if not isinstance(func, ast.Attribute):
-            return None
-        owner = func.value
-        if isinstance(owner, ast.Name) and self.receivers.is_self(owner):
-            return None  # a method the class does not define (inherited)
-        cls = self._instance_class(owner)
-        if cls is not None:
-            return f"{cls}.{func.attr}" if not _is_library(cls) else None
-        return _UNRESOLVED + func.attr
-
-    def _own_target(self, func: ast.expr) -> str | None:
-        function = self.receivers.local_function(func)
-        if function is not None:
-            return _OWN + function.name
-        classdef = self.receivers.local_class(func)
-        if classdef is not None:
-            return _OWN + f"{classdef.name}.__init__"
-        method = self.receivers.own_method(func)
-        if method is not None:
-            classdef = self.facts.parent(method)  # type: ignore[assignment]
-            if self.facts.parent(classdef) is self.facts.tree:  # type: ignore[arg-type]
-                return _OWN + f"{classdef.name}.{method.name}"  # type: ignore[union-attr]
-        return None
-
-    def _instance_class(self, owner: ast.expr) -> str | None:
-        """``Agent`` (qualified through the imports) for ``Agent(...)``, a name or a
-        ``self.x`` every binding of which is ``Agent(...)``; None otherwise."""
-        if isinstance(owner, ast.Call):
-            found = self.facts.qualified_names(owner.func)
-            return next(iter(found)) if len(found) == 1 else None
-        if isinstance(owner, ast.Name):
-            # One answer per set of bindings: a name read n times is resolved once.
-            bindings = self.facts.bindings_of(owner)
-            if not bindings:
-                return None  # (an empty list is a fresh object: its id is no key)
-            return self.facts.memo(("instance-class", id(bindings)), lambda: self._class_of_bindings(bindings))  # type: ignore[no-any-return]
-        if isinstance(owner, ast.Attribute) and isinstance(owner.value, ast.Name) and self.receivers.is_self(owner.value):
-            values = list(self.receivers.self_attribute_values(owner, owner.attr))
-        else:
-            return None
-        return self._class_of_values(values)
-
-    def _class_of_bindings(self, bindings: list[ast.AST]) -> str | None:
-        values = []
-        for binding in bindings:
-            parent = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
-            if not isinstance(parent, ast.Assign):
-                return None
-            values.append(parent.value)
-        return self._class_of_values(values)
-
-    def _class_of_values(self, values: list[ast.expr]) -> str | None:
-        classes = {self._instance_class(v) if isinstance(v, ast.Call) else None for v in values}
-        return classes.pop() if len(classes) == 1 else None
-
-    def _arguments(self, call: ast.Call, target: str) -> CallSummary:
-        args: list[Kind] = []
-        open_ended = False
-        for argument in call.args:
-            if isinstance(argument, ast.Starred):
-                open_ended = True
-                break
-            args.append(self._kind(argument))
-        keywords = []
-        for keyword in call.keywords:
-            if keyword.arg is None:
-                open_ended = True
-            else:
-                keywords.append((keyword.arg, self._kind(keyword.value)))
-        return CallSummary(target, tuple(args), tuple(keywords), open_ended)
-
-    def _kind(self, argument: ast.expr) -> Kind:
-        """The argument's kind; ``new:agent.GridEnv`` for an instance of a class this
-        module imports, which the join resolves against the env classes of the run."""
-        kind = self.receivers.kind_of(argument)
-        if kind is EnvKind.UNKNOWN and isinstance(argument, ast.Call):
-            found = [q for q in self.facts.qualified_names(argument.func) if not _is_library(q)]
-            if len(found) == 1:
-                return _NEW + found[0]
-        if kind is EnvKind.UNKNOWN and isinstance(argument, ast.Name):
-            parameter = self._parameter_of_def(argument)
-            if parameter is not None:
-                return parameter
-        return kind
-
-    def _parameter_of_def(self, name: ast.Name) -> str | None:
-        """``param:Agent.fit:env`` when ``name`` is only ever the parameter ``env`` of a def
-        the summary lists: the join gives it the kinds the run passes there."""
-        bindings = self.facts.bindings_of(name)
-        if len(bindings) != 1 or not isinstance(bindings[0], ast.arg):
-            return None
-        function = self.facts.parent(self.facts.parent(bindings[0]))
-        if not isinstance(function, FUNCTIONS):
-            return None
-        holder = self.facts.parent(function)
-        if holder is self.facts.tree:
-            qualname = function.name
-        elif isinstance(holder, ast.ClassDef) and self.facts.parent(holder) is self.facts.tree:
-            qualname = f"{holder.name}.{function.name}"
-        else:
-            return None
-        return f"{_PARAM}{qualname}:{name.id}"
-
-
-def _signature(function: ast.FunctionDef | ast.AsyncFunctionDef, is_method: bool) -> Signature:
-    args = function.args
-    positional = [*args.posonlyargs, *args.args]
-    with_default = positional[len(positional) - len(args.defaults) :]
-    defaults = {a.arg for a in with_default}
-    defaults |= {a.arg for a, d in zip(args.kwonlyargs, args.kw_defaults) if d is not None}
-    params = tuple(a.arg for a in (*positional, *args.kwonlyargs))
-    return Signature(params, frozenset(defaults), is_method)
-
-
-def _is_library(qualified: str) -> bool:
-    """Gym, Stable-Baselines, PettingZoo, numpy...: never a module of the run."""
-    package = N.top_package(qualified)
-    return (
-        N.strip_gym_prefix(qualified) is not None
-        or package in N.SB3_PACKAGES
-        or package == N.PETTINGZOO_PACKAGE
-        or package in N.NOT_ENV_PACKAGES
-        or package in ("typing", "collections", "functools", "os", "sys", "math", "random", "time", "logging")
-    )
-
-
 @dataclass
 class ProjectFacts:
     """The run's joined facts; picklable, sent once to each worker with the options."""
@@ -354,13 +104,13 @@ class ProjectFacts:
         calls_to: dict[tuple[str, str], list[tuple[str, CallSummary]]] = defaultdict(list)
         for summary in summaries:
             for call in summary.calls:
-                if call.target.startswith(_UNRESOLVED):
+                if call.target.startswith(UNRESOLVED):
                     # A VecEnv passed to some ``x.fit``: every ``fit`` of the run may get it.
-                    for path, qualname in methods_named.get(call.target[len(_UNRESOLVED) :], ()):
+                    for path, qualname in methods_named.get(call.target[len(UNRESOLVED) :], ()):
                         calls_to[(path, qualname)].append((summary.path, call))
                     continue
-                if call.target.startswith(_OWN):
-                    qualname = call.target[len(_OWN) :]
+                if call.target.startswith(OWN):
+                    qualname = call.target[len(OWN) :]
                     if qualname in summary.defs:
                         calls_to[(summary.path, qualname)].append((summary.path, call))
                     continue
@@ -390,7 +140,7 @@ class ProjectFacts:
 
     def _class_kind(self, kind: str, importer: str) -> EnvKind:
         """``new:envs.GridEnv`` is a Gym env when ``GridEnv`` is an env class of the run."""
-        found = self.view(importer).imported_class(kind[len(_NEW) :])
+        found = self.view(importer).imported_class(kind[len(NEW) :])
         return EnvKind.GYM_ENV if found is not None and found[0] else EnvKind.UNKNOWN
 
     def _resolve(self, target: str, importer: str) -> tuple[str, str] | None:
@@ -476,9 +226,9 @@ class _Join:
     def _resolve(self, kind: Kind, caller: str) -> EnvKind:
         if isinstance(kind, EnvKind):
             return kind
-        if kind.startswith(_NEW):
+        if kind.startswith(NEW):
             return self.facts._class_kind(kind, caller)
-        qualname, _, param = kind[len(_PARAM) :].rpartition(":")
+        qualname, _, param = kind[len(PARAM) :].rpartition(":")
         return self.param_kind(caller, qualname, param)
 
     @staticmethod

@@ -19,10 +19,10 @@ from __future__ import annotations
 
 import ast
 from collections.abc import Iterable
-from enum import Enum
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts import names as N
+from gymmigrate.facts.kinds import MAX_DEPTH, EnvKind, join_kinds
 from gymmigrate.facts.callables import CallableKinds, optional_of, parse_annotation, string_names
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, call_argument, own_returns
 from gymmigrate.facts.self_attributes import SelfAttributes
@@ -30,43 +30,6 @@ from gymmigrate.facts.self_attributes import SelfAttributes
 if TYPE_CHECKING:
     from gymmigrate.facts.project import ProjectView
 
-# Deeper than any real chain of rebindings; beyond it the answer is "unknown", which
-# callers report. Keeps recursion far from the interpreter's limit.
-MAX_DEPTH = 120
-
-
-class EnvKind(str, Enum):
-    GYM_ENV = "Gym env"
-    GYM_VEC = "Gym vector env"
-    SB3_VEC = "VecEnv (Stable-Baselines3, stable_baselines 2.x or OpenAI baselines)"
-    SB3_MODEL = "Stable-Baselines3 model"
-    PZ_AEC = "PettingZoo AEC env"
-    PZ_PARALLEL = "PettingZoo parallel env"
-    NOT_ENV = "not an env"
-    UNKNOWN = "unknown"
-
-    @property
-    def is_gym(self) -> bool:
-        return self in (EnvKind.GYM_ENV, EnvKind.GYM_VEC)
-
-
-def join_kinds(kinds: Iterable[EnvKind]) -> EnvKind:
-    """Combine the kinds of every binding of one name.
-
-    A guard kind wins (one SB3 binding is enough to leave the call alone); otherwise
-    the bindings must agree.
-    """
-    found = set(kinds)
-    if not found:
-        return EnvKind.UNKNOWN
-    if EnvKind.SB3_VEC in found:
-        return EnvKind.SB3_VEC
-    if len(found) == 1:
-        return found.pop()
-    found.discard(EnvKind.NOT_ENV)  # e.g. ``env = None`` before ``env = gym.make(...)``
-    if len(found) == 1:
-        return found.pop()
-    return EnvKind.UNKNOWN
 
 
 _NOT_ENV_EXPRESSIONS = (
@@ -88,17 +51,40 @@ _NOT_ENV_EXPRESSIONS = (
 )
 
 
-class Receivers(CallableKinds, SelfAttributes):
-    """Classifies expressions of one module. One per file, shared by every rule."""
+class Receivers:
+    """Classifies expressions of one module. One per file, shared by every rule.
+
+    Two helpers answer the narrower questions and ask this object back for kinds:
+    ``callables`` (what calling a factory returns) and ``attributes`` (what ``self.x``
+    holds).
+    """
 
     def __init__(self, facts: ModuleFacts, project: ProjectView | None = None) -> None:
         self.facts = facts
         self.project = project  # the run's facts across files (facts/project.py), if any
         self._cache: dict[ast.AST, EnvKind] = {}
         self._in_progress: set[ast.AST] = set()
-        self._self_stores: dict[ast.ClassDef, dict[str, list[ast.expr]]] = {}
         self._name_kinds: dict[int, EnvKind] = {}  # id(bindings list) -> kind, see _classify_name
-        self._depth = 0
+        self.depth = 0  # shared with the helpers: one bound on the whole chain of questions
+        self.callables = CallableKinds(self, project)
+        self.attributes = SelfAttributes(self)
+
+    # -- the helpers' answers, under the names rules ask ----------------------------------
+
+    def own_method(self, func: ast.AST) -> ast.FunctionDef | ast.AsyncFunctionDef | None:
+        return self.callables.own_method(func)
+
+    def returned_kind(self, callee: ast.AST) -> EnvKind:
+        return self.callables.returned_kind(callee)
+
+    def is_self(self, name: ast.Name) -> bool:
+        return self.attributes.is_self(name)
+
+    def self_stores(self, classdef: ast.ClassDef) -> dict[str, list[ast.expr]]:
+        return self.attributes.self_stores(classdef)
+
+    def self_attribute_values(self, attr: ast.AST, name: str) -> list[ast.expr]:
+        return self.attributes.self_attribute_values(attr, name)
 
     # -- public -------------------------------------------------------------------------
 
@@ -106,14 +92,14 @@ class Receivers(CallableKinds, SelfAttributes):
         cached = self._cache.get(expr)
         if cached is not None:
             return cached
-        if expr in self._in_progress or self._depth > MAX_DEPTH:
+        if expr in self._in_progress or self.depth > MAX_DEPTH:
             return EnvKind.UNKNOWN  # a cycle such as ``env = wrap(env)``: no new evidence
         self._in_progress.add(expr)
-        self._depth += 1
+        self.depth += 1
         try:
             kind = self._classify(expr)
         finally:
-            self._depth -= 1
+            self.depth -= 1
             self._in_progress.discard(expr)
         self._cache[expr] = kind
         return kind
@@ -187,7 +173,7 @@ class Receivers(CallableKinds, SelfAttributes):
         if isinstance(func, ast.Attribute) and func.attr == "make" and isinstance(func.value, ast.Call):
             if any(N.strip_gym_prefix(q) in ("spec", "envs.spec") for q in self.qualified_names(func.value.func)):
                 return EnvKind.GYM_ENV
-        kinds = [k for k in (self._kind_from_qualified(q, call) for q in self.qualified_names(func)) if k is not None]
+        kinds = [k for k in (self.kind_from_qualified(q, call) for q in self.qualified_names(func)) if k is not None]
         if kinds:
             return join_kinds(kinds)
         if self.project is not None and any(
@@ -199,10 +185,10 @@ class Receivers(CallableKinds, SelfAttributes):
             return self.class_kind(local_class)
         local_function = self.local_function(func)
         if local_function is not None:
-            return self._returns_kind(local_function)
+            return self.returns_kind(local_function)
         own = self.own_method(func)
         if own is not None:
-            return self.facts.memo(("returned-kind", id(own)), lambda: self._returns_kind(own), while_computing=EnvKind.UNKNOWN)  # type: ignore[no-any-return]
+            return self.facts.memo(("returned-kind", id(own)), lambda: self.returns_kind(own), while_computing=EnvKind.UNKNOWN)  # type: ignore[no-any-return]
         if isinstance(func, ast.Name):
             # ``make_env = lambda: gym.make(...)``, a nested ``def thunk()``, an ``env_fn``
             # parameter: what calling the name returns.
@@ -216,7 +202,7 @@ class Receivers(CallableKinds, SelfAttributes):
                 return EnvKind.SB3_MODEL
         return EnvKind.UNKNOWN
 
-    def _kind_from_qualified(self, qualified: str, call: ast.Call) -> EnvKind | None:
+    def kind_from_qualified(self, qualified: str, call: ast.Call) -> EnvKind | None:
         rest = N.strip_gym_prefix(qualified)
         if rest is not None:
             if rest in N.GYM_VEC_FACTORIES or rest.startswith(N.GYM_VEC_PREFIXES):
@@ -271,7 +257,7 @@ class Receivers(CallableKinds, SelfAttributes):
         if name == "training_env":
             return EnvKind.SB3_VEC
         if isinstance(attr.value, ast.Name) and self.is_self(attr.value):
-            return self._self_attribute_kind(attr, name)
+            return self.attributes.self_attribute_kind(attr, name)
         if name in ("env", "unwrapped"):
             owner = self.kind_of(attr.value)
             if owner is EnvKind.SB3_MODEL and name == "env":
@@ -299,7 +285,7 @@ class Receivers(CallableKinds, SelfAttributes):
             if kind is not None:
                 kinds.append(kind)
         kind = join_kinds(kinds)
-        if self._depth == 1:
+        if self.depth == 1:
             self._name_kinds[key] = kind
         return kind
 
@@ -385,15 +371,15 @@ class Receivers(CallableKinds, SelfAttributes):
         cached = self.facts.peek(key)
         if cached is not None:
             return cached  # type: ignore[return-value]
-        if self._depth > MAX_DEPTH:
+        if self.depth > MAX_DEPTH:
             return EnvKind.UNKNOWN  # not memoized: a shallower question may still answer it
 
         def compute() -> EnvKind:
-            self._depth += 1
+            self.depth += 1
             try:
                 return self._element_kind(container)
             finally:
-                self._depth -= 1
+                self.depth -= 1
 
         return self.facts.memo(key, compute, while_computing=EnvKind.UNKNOWN)  # type: ignore[no-any-return]
 
@@ -419,7 +405,7 @@ class Receivers(CallableKinds, SelfAttributes):
         if position is not None and is_method:
             position -= 1  # calls do not pass self
         calls = self.call_sites(function, classdef if is_method else None)  # type: ignore[arg-type]
-        external = self._external_param_kinds(function, classdef if is_method else None, name)  # type: ignore[arg-type]
+        external = self.callables.external_param_kinds(function, classdef if is_method else None, name)  # type: ignore[arg-type]
         if not calls and not external:
             return EnvKind.UNKNOWN
         defaults = _default_of(function, param)
@@ -437,13 +423,13 @@ class Receivers(CallableKinds, SelfAttributes):
     def annotation_kind(self, annotation: ast.AST) -> EnvKind:
         if isinstance(annotation, ast.Constant) and isinstance(annotation.value, str):
             parsed = parse_annotation(annotation.value)  # ``env: "gym.Env"``
-            return self._annotation_names_kind(string_names(self.facts, parsed)) if parsed is not None else EnvKind.UNKNOWN
+            return self.annotation_names_kind(string_names(self.facts, parsed)) if parsed is not None else EnvKind.UNKNOWN
         optional = optional_of(annotation, self.qualified_names)
         if optional is not None:
             return self.annotation_kind(optional)
-        return self._annotation_names_kind(self.qualified_names(annotation))
+        return self.annotation_names_kind(self.qualified_names(annotation))
 
-    def _annotation_names_kind(self, names: set[str]) -> EnvKind:
+    def annotation_names_kind(self, names: set[str]) -> EnvKind:
         for q in names:
             rest = N.strip_gym_prefix(q)
             if rest in N.GYM_ENV_BASE_CLASSES:
@@ -489,7 +475,7 @@ class Receivers(CallableKinds, SelfAttributes):
             return self.facts.memo(("class-kind", id(local)), lambda: self.class_kind(local), while_computing=EnvKind.UNKNOWN)  # type: ignore[no-any-return]
         return EnvKind.UNKNOWN
 
-    def _returns_kind(self, function: ast.AST) -> EnvKind:
+    def returns_kind(self, function: ast.AST) -> EnvKind:
         values = [r.value for r in own_returns(function) if r.value is not None]
         if not values:
             return EnvKind.NOT_ENV

@@ -14,7 +14,7 @@ from collections import defaultdict
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts import names as N
-from gymmigrate.facts import receivers as R
+from gymmigrate.facts.kinds import EnvKind, ReceiverQueries, join_kinds
 from gymmigrate.facts.module import statements_in
 
 if TYPE_CHECKING:
@@ -22,10 +22,13 @@ if TYPE_CHECKING:
 
 
 class SelfAttributes:
-    """Mixed into ``Receivers``: uses its ``facts``, ``kind_of``, ``class_kind``..."""
+    """What ``self.x`` holds, for ``Receivers`` (which owns one and answers the kind
+    questions it asks back)."""
 
-    facts: ModuleFacts
-    _self_stores: dict[ast.ClassDef, dict[str, list[ast.expr]]]
+    def __init__(self, receivers: ReceiverQueries) -> None:
+        self.receivers = receivers
+        self.facts: ModuleFacts = receivers.facts
+        self._self_stores: dict[ast.ClassDef, dict[str, list[ast.expr]]] = {}
 
     def is_self(self, name: ast.Name) -> bool:
         if name.id not in ("self", "cls"):
@@ -36,25 +39,25 @@ class SelfAttributes:
         params = [*function.args.posonlyargs, *function.args.args]
         return bool(params) and params[0].arg == name.id
 
-    def _self_attribute_kind(self, attr: ast.Attribute, name: str) -> R.EnvKind:
+    def self_attribute_kind(self, attr: ast.Attribute, name: str) -> EnvKind:
         classdef = self.facts.enclosing_class(attr)
         if classdef is None:
-            return R.EnvKind.UNKNOWN
-        if name == "env" and self.is_gym_wrapper_class(classdef):
-            return R.EnvKind.GYM_ENV
+            return EnvKind.UNKNOWN
+        if name == "env" and self.receivers.is_gym_wrapper_class(classdef):
+            return EnvKind.GYM_ENV
         if name == "training_env":
-            return R.EnvKind.SB3_VEC
+            return EnvKind.SB3_VEC
         if name == "model" and self._is_sb3_callback(classdef):
-            return R.EnvKind.SB3_MODEL
+            return EnvKind.SB3_MODEL
         values = self.self_attribute_values(attr, name)
         if not values:
             if name == "env" and self._is_pettingzoo_wrapper(classdef):
-                return self.class_kind(classdef)
-            return R.EnvKind.UNKNOWN
-        return R.join_kinds(self.kind_of(value) for value in values)
+                return self.receivers.class_kind(classdef)
+            return EnvKind.UNKNOWN
+        return join_kinds(self.receivers.kind_of(value) for value in values)
 
     def _is_pettingzoo_wrapper(self, classdef: ast.ClassDef) -> bool:
-        return any(q in N.PZ_WRAPPER_BASES for base in classdef.bases for q in self.qualified_names(base))
+        return any(q in N.PZ_WRAPPER_BASES for base in classdef.bases for q in self.receivers.qualified_names(base))
 
     def self_attribute_values(self, attr: ast.AST, name: str) -> list[ast.expr]:
         """Values stored to ``self.<name>`` in the class that encloses ``attr``."""
@@ -74,7 +77,7 @@ class SelfAttributes:
         return stores
 
     def _is_sb3_callback(self, classdef: ast.ClassDef) -> bool:
-        return any(q in N.SB3_CALLBACK_BASES for base in classdef.bases for q in self.qualified_names(base))
+        return any(q in N.SB3_CALLBACK_BASES for base in classdef.bases for q in self.receivers.qualified_names(base))
 
 
 def _stored_self_name(target: ast.AST) -> str | None:

@@ -1,23 +1,23 @@
 """Rule families, one module each. Importing a module registers its pass.
 
-Where a rule lives (passes run in ORDER, shown in brackets):
+Where a rule lives (families decide in the order of ``PIPELINE`` below):
 
-    GM101-GM105, GM108         imports ......................... imports.py        [10]
-    GM106, GM803-GM805         env ids, Atari registration ..... env_ids/ids.py    [20]
-    GM802, GM806               registry API, EnvSpec ........... env_ids/registry.py [21]
-    GM305, GM801               removed make() keywords ......... make_kwargs.py    [30]
-    GM608-GM615                renamed/removed wrappers ........ wrapper_usage/    [31]
-    GM401-GM403, GM406, GM407  rendering at call sites ......... rendering.py      [32]
-    GM701, GM702, GM705-GM708  vector envs ..................... vector/           [35]
-    GM404, GM405, GM501-GM509  custom Env subclasses ........... custom_env/       [40]
-    GM505, GM506, GM901        np_random Generator API ......... rng.py            [45]
-    GM201-GM208, GM704         reset and seeding at call sites . reset_seed/       [50]
-    GM301-GM304, GM703         step and done at call sites ..... step_done/        [55]
-    GM601-GM603                wrapper subclasses .............. wrappers/         [60]
-    GM604-GM606                attribute forwarding ............ wrapper_usage/    [61]
-    GM616                      gym < 0.9 wrapper hooks ......... legacy_hooks.py   [62]
-    GM902, GM904, GM906-GM908  spaces, logger, errors, utils ... spaces_logger.py  [80]
-    PZ101-PZ110                PettingZoo AEC and parallel APIs  pettingzoo/   [41-90]
+    GM101-GM105, GM108         imports ......................... imports.py
+    GM106, GM803-GM805         env ids, Atari registration ..... env_ids/ids.py
+    GM802, GM806               registry API, EnvSpec ........... env_ids/registry.py
+    GM305, GM801               removed make() keywords ......... make_kwargs.py
+    GM608-GM615                renamed/removed wrappers ........ wrapper_usage/
+    GM401-GM403, GM406, GM407  rendering at call sites ......... rendering.py
+    GM701, GM702, GM705-GM708  vector envs ..................... vector/
+    GM404, GM405, GM501-GM509  custom Env subclasses ........... custom_env/
+    GM505, GM506, GM901        np_random Generator API ......... rng.py
+    GM201-GM208, GM704         reset and seeding at call sites . reset_seed/
+    GM301-GM304, GM703         step and done at call sites ..... step_done/
+    GM601-GM603                wrapper subclasses .............. wrappers/
+    GM604-GM606                attribute forwarding ............ wrapper_usage/
+    GM616                      gym < 0.9 wrapper hooks ......... legacy_hooks.py
+    GM902, GM904, GM906-GM908  spaces, logger, errors, utils ... spaces_logger.py
+    PZ101-PZ110                PettingZoo AEC and parallel APIs  pettingzoo/
 
 Not rules (catalog entries that are information only, or that cannot be told apart
 from correct code by syntax): GM306, GM307, GM607, GM903, GM905.
@@ -44,6 +44,35 @@ from gymmigrate.rules import (  # noqa: F401  (imported to register their passes
     wrapper_usage,
     wrappers,
 )
-from gymmigrate.rules.base import Rule, RuleFamily, all_rules, registered_families
+from gymmigrate.rules.base import Rule, RuleFamily, all_rules, registered_families, set_pipeline
 
-__all__ = ["Rule", "RuleFamily", "all_rules", "registered_families"]
+# The order families decide in. Each decides on the same original module, so the order
+# matters only where a family reads another's notes (``after``, checked against this
+# list) and for edits several families make to one node (applied in this order).
+PIPELINE = (
+    "Imports",
+    "EnvIds",
+    "RegistryApi",
+    "MakeKeywords",
+    "WrapperRenames",
+    "Rendering",
+    "VectorEnvs",
+    "EnvClassFamily",
+    "MetadataKeys",
+    "RewardRange",
+    "EnvClasses",
+    "GeneratorApi",
+    "ResetSeed",
+    "StepDone",
+    "AecLoop",
+    "ParallelCalls",
+    "SeedRender",
+    "WrapperClasses",
+    "WrapperForwarding",
+    "LegacyWrapperHooks",
+    "SpacesLogger",
+    "SpacesAndMake",
+)
+set_pipeline(PIPELINE)
+
+__all__ = ["PIPELINE", "Rule", "RuleFamily", "all_rules", "registered_families"]

@@ -3,8 +3,8 @@
 A *rule* is one catalog entry (``GM301``: its id, title, fix kind and summary). A
 *family* (``RuleFamily``) implements a few related rules: it reads the file's facts
 (``gymmigrate.facts``, built once from CPython's ``ast``), reports findings and records
-edits in the file's ``Plan``. Every family decides on the same original module, in
-``ORDER``; the edits are applied afterwards in one LibCST traversal
+edits in the file's ``Plan``. Every family decides on the same original module, in the
+order of ``rules/__init__.py``'s ``PIPELINE``; the edits are applied afterwards in one LibCST traversal
 (``gymmigrate.edits.apply``), so a single run reaches the fixed point.
 
 Adding a rule family is adding a module under ``gymmigrate.rules`` that defines a
@@ -14,17 +14,18 @@ Adding a rule family is adding a module under ``gymmigrate.rules`` that defines 
 from __future__ import annotations
 
 import ast
-import re
+from functools import lru_cache
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, ClassVar
 
+from gymmigrate.facts.profile import FileProfile
 from gymmigrate.findings import FixKind, Tier
+from gymmigrate.rules.notes import FamilyNotes
+from gymmigrate.options import RewriteOptions
 
 if TYPE_CHECKING:
     from gymmigrate.edits.plan import Plan
-    from gymmigrate.selection import Selection
     from gymmigrate.facts import ModuleFacts
-    from gymmigrate.facts.project import ProjectFacts
     from gymmigrate.facts.receivers import Receivers
 
 
@@ -38,53 +39,6 @@ class Rule:
     summary: str
 
 
-@dataclass(frozen=True)
-class RewriteOptions:
-    """Settings that change what the rules write (not how files are found)."""
-
-    seed: int | None = None
-    selection: Selection | None = None  # --select/--ignore; None: every rule
-    # Facts across the files of the run (facts/project.py); None for a file on its own.
-    project: ProjectFacts | None = field(default=None, compare=False)
-
-
-@dataclass(frozen=True)
-class FileProfile:
-    """Cheap facts about a file's imports, read from its text before parsing."""
-
-    imports_gym: bool
-    imports_gymnasium: bool
-    imports_sb3: bool
-    imports_pettingzoo: bool
-
-    @classmethod
-    def from_source(cls, source: str) -> FileProfile:
-        return cls(
-            imports_gym=bool(_IMPORT_RE["gym"].search(source)),
-            imports_gymnasium=bool(_IMPORT_RE["gymnasium"].search(source)),
-            imports_sb3=bool(_IMPORT_RE["sb3"].search(source)),
-            imports_pettingzoo=bool(_IMPORT_RE["pettingzoo"].search(source)),
-        )
-
-    @property
-    def gym_only(self) -> bool:
-        """The file uses Gym and none of the libraries whose envs keep other APIs.
-
-        In such a file an env-like name of unknown origin is, in practice, a Gym env;
-        rules may rewrite it as ASSIST (with a review item) instead of only flagging it.
-        """
-        return (self.imports_gym or self.imports_gymnasium) and not (self.imports_sb3 or self.imports_pettingzoo)
-
-
-_IMPORT_RE = {
-    "gym": re.compile(r"^\s*(?:import\s+gym\b|from\s+gym(?:\.|\s+import\b))", re.M),
-    "gymnasium": re.compile(r"^\s*(?:import\s+gymnasium\b|from\s+gymnasium\b)", re.M),
-    # Every VecEnv family: Stable-Baselines3, stable_baselines 2.x, OpenAI baselines.
-    "sb3": re.compile(r"^\s*(?:import|from)\s+(?:stable_baselines3?|sb3_contrib|baselines)\b", re.M),
-    "pettingzoo": re.compile(r"^\s*(?:import|from)\s+(?:pettingzoo|supersuit)\b", re.M),
-}
-
-
 @dataclass
 class FileContext:
     """What every family of one file knows besides the facts: its path, the run's options
@@ -93,6 +47,7 @@ class FileContext:
     path: str
     options: RewriteOptions
     profile: FileProfile
+    notes: FamilyNotes = field(default_factory=FamilyNotes)  # what the families tell each other
 
 
 _FAMILIES: list[type[RuleFamily]] = []
@@ -101,14 +56,15 @@ _FAMILIES: list[type[RuleFamily]] = []
 class RuleFamily:
     """A family of rules that decides from facts and records edits in a ``Plan``.
 
-    Subclasses set ``RULES`` and ``ORDER``, may narrow ``may_fire`` with a cheap test on
+    Subclasses set ``RULES`` (and ``after`` where they read another family's notes), may narrow ``may_fire`` with a cheap test on
     the facts, and implement ``decide``. They report with ``self.report(node, code,
     message)`` (``node`` is an ``ast`` node of the original source) and edit through
     ``self.plan`` (``replace``, ``insert_after``, ``ensure_import``...).
     """
 
     RULES: ClassVar[tuple[Rule, ...]] = ()
-    ORDER: ClassVar[int] = 100
+    # Families whose notes this one reads (``rules/notes.py``): the pipeline runs them first.
+    after: ClassVar[tuple[str, ...]] = ()
 
     def __init_subclass__(cls, **kwargs: object) -> None:
         super().__init_subclass__(**kwargs)
@@ -120,6 +76,7 @@ class RuleFamily:
         self.facts = facts
         self.receivers = receivers
         self.plan = plan
+        self.notes = context.notes
         self._rules = {rule.code: rule for rule in self.RULES}
 
     @classmethod
@@ -138,7 +95,34 @@ class RuleFamily:
 
 
 def registered_families() -> list[type[RuleFamily]]:
-    return sorted(_FAMILIES, key=lambda cls: (cls.ORDER, cls.__module__))
+    """Every family, in the order of ``PIPELINE`` (``rules/__init__.py``)."""
+    return list(_ordered_families())
+
+
+def set_pipeline(names: tuple[str, ...]) -> None:
+    """The order families decide in; each must come after the families it names in ``after``."""
+    global _PIPELINE
+    _PIPELINE = names
+    _ordered_families.cache_clear()
+
+
+_PIPELINE: tuple[str, ...] = ()
+
+
+@lru_cache(maxsize=1)
+def _ordered_families() -> tuple[type[RuleFamily], ...]:
+    by_name = {cls.__name__: cls for cls in _FAMILIES}
+    missing = sorted(set(by_name) - set(_PIPELINE))
+    unknown = sorted(set(_PIPELINE) - set(by_name))
+    if missing or unknown:
+        raise RuntimeError(f"rules/__init__.py PIPELINE: families not listed {missing}, names without a family {unknown}")
+    for position, name in enumerate(_PIPELINE):
+        for before in by_name[name].after:
+            if before not in by_name:
+                raise RuntimeError(f"{name}.after names {before!r}, which is no family")
+            if _PIPELINE.index(before) > position:
+                raise RuntimeError(f"{name} reads the notes of {before}, which the PIPELINE runs later")
+    return tuple(by_name[name] for name in _PIPELINE)
 
 
 def all_rules() -> list[Rule]:

@@ -24,7 +24,7 @@ from __future__ import annotations
 import ast
 import re
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 
 from gymmigrate.edits.syntax import dotted_node
 from gymmigrate.facts import ModuleFacts
@@ -210,7 +210,6 @@ def gymnasium_module(rest: str) -> str:
 
 class Imports(RuleFamily):
     RULES = RULES
-    ORDER = 10
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:

@@ -31,7 +31,6 @@ class LegacyWrapperHooks(RuleFamily):
             "`_observation` / `_action` / `_reward` hooks of a wrapper become `observation` / `action` / `reward`.",
         ),
     )
-    ORDER = 62
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import ast
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts import ModuleFacts
@@ -54,7 +54,6 @@ _VECTOR_CONSTRUCTORS = frozenset({"vector.make", "make_vec"}) | N.GYM_VEC_FACTOR
 
 class MakeKeywords(RuleFamily):
     RULES = RULES
-    ORDER = 30
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:

@@ -7,7 +7,7 @@ from __future__ import annotations
 import ast
 from typing import Any
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 
 from gymmigrate.edits.arguments import append_keyword, remove_args
 from gymmigrate.facts.module import keyword

@@ -25,10 +25,10 @@ Receivers go through ``facts.decisions.decide``: Stable-Baselines3 VecEnvs keep
 ``vec_env.render("human")`` (SB105, their 2.x API) and PettingZoo envs are left alone.
 A make that already has ``render_mode`` is not given another (idempotence).
 
-One make, one ``render_mode``, whichever family adds it: ``plan.notes["render_mode"]``
+One make, one ``render_mode``, whichever family adds it: ``notes.render_modes_added``
 is a dict ``{id(ast.Call): mode}`` of the creation calls given a ``render_mode`` in this
 run. A family that adds one (the wrapper family may, where ``Monitor`` becomes
-``RecordVideo``) records it there; this family (ORDER 32, after the wrappers at 31)
+``RecordVideo``) records it there; this family (``after = ("WrapperRenames",)``)
 treats a noted make as already having that mode, adds none of its own, and records
 every make it gives a mode.
 Sources: gym 0.25/0.26 release notes ("Env.Render", "Render modes"); Gymnasium
@@ -114,10 +114,6 @@ _MONITORS = frozenset({"wrappers.Monitor", "wrappers.monitor.Monitor"})
 _MONITOR_POSITIONS = ("env", "directory", "video_callable")
 # Callee spellings worth a qualified-name lookup (the last part of ``x.y.Name``).
 _RECORDER_ATTRIBUTES = ("RecordVideo", "play", "VecVideoRecorder", "Monitor")
-# ``plan.notes`` key shared with the wrapper family: {id(make call): render mode added}.
-RENDER_MODE_NOTE = "render_mode"
-# ``plan.notes`` key read by the custom env rules: render calls left passing a mode.
-RENDER_MODE_CALLS_LEFT = "render_mode_calls_left"
 
 
 @dataclass
@@ -137,7 +133,7 @@ class RenderSite:
 
 class Rendering(RuleFamily):
     RULES = RULES
-    ORDER = 32
+    after = ("WrapperRenames",)
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
@@ -151,7 +147,7 @@ class Rendering(RuleFamily):
     def decide(self) -> None:
         self.finder = CreationFinder(self.facts, self.receivers, self._is_make)
         self._legacy_025 = LEGACY_SINGLE_FRAME in self.facts.text
-        self._added: dict[int, str] = self.plan.notes.setdefault(RENDER_MODE_NOTE, {})
+        self._added: dict[int, str] = self.notes.render_modes_added
         self._noted = dict(self._added)  # modes another family gives a make in this run
         self._scheduled: dict[int, str] = {}  # id(make) -> the creation-time condition of its renders
         self._unscheduled: dict[int, str] = {}  # id(make) -> the run-time condition of its renders
@@ -171,7 +167,7 @@ class Rendering(RuleFamily):
         # Render calls that still pass a mode after this run: a local env class whose
         # render(mode) they may reach keeps its signature (custom_env/render.py).
         # (Calls inside a render method forward its mode: the Env/Wrapper rules own them.)
-        self.plan.notes[RENDER_MODE_CALLS_LEFT] = [
+        self.notes.render_mode_calls_left = [
             call
             for call in render_calls
             if mode_argument(call) is not None

@@ -30,14 +30,14 @@ from __future__ import annotations
 
 import ast
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 from gymmigrate.edits.lazy import matchers as m  # loaded by the first edit that matches
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.decisions import receiver_text
 from gymmigrate.facts.env_classes import EnvClasses, is_self_attribute
 from gymmigrate.facts.module import ModuleFacts, full_name
-from gymmigrate.facts.receivers import EnvKind
+from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.repeats import Repeats
@@ -70,7 +70,6 @@ Verdict = tuple[str, FixKind, str]
 
 class GeneratorApi(RuleFamily):
     RULES = RULES
-    ORDER = 45
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:

@@ -36,7 +36,7 @@ from __future__ import annotations
 import ast
 import re
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts import ModuleFacts
@@ -115,7 +115,6 @@ _ONE_STRING = re.compile(r"""^[rRuU]?(\"\"\"[\s\S]*\"\"\"|'''[\s\S]*'''|"(?:[^"\
 
 class SpacesLogger(RuleFamily):
     RULES = RULES
-    ORDER = 80
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:

@@ -21,6 +21,12 @@ import time
 import traceback
 from pathlib import Path
 
+import gymmigrate
+from gymmigrate.smoke.evidence import records_to_json
+from gymmigrate.smoke.multi_agent_probe import MultiAgentObserver
+from gymmigrate.smoke.probe import Budget, Observatory, SmokeStop, SmokeTimeout
+from gymmigrate.smoke.targets import describe_exception
+
 
 def main(argv: list[str]) -> int:
     config = json.loads(Path(argv[0]).read_text(encoding="utf-8"))
@@ -29,10 +35,6 @@ def main(argv: list[str]) -> int:
     started = time.perf_counter()
 
     import numpy as np
-
-    from gymmigrate.smoke.evidence import records_to_json
-    from gymmigrate.smoke.multi_agent_probe import MultiAgentObserver
-    from gymmigrate.smoke.probe import Budget, Observatory, SmokeStop, SmokeTimeout
 
     seed = config["seed"]
     random.seed(seed)
@@ -73,8 +75,6 @@ def main(argv: list[str]) -> int:
 
 
 def _describe_crash(exc: BaseException, script: str) -> str:
-    from gymmigrate.smoke.targets import describe_exception
-
     text = describe_exception(exc)
     frame = _user_frame(exc)
     if frame is not None:
@@ -87,8 +87,6 @@ def _user_frame(exc: BaseException) -> tuple[str, int] | None:
     """The deepest frame of the user's code: not the stdlib, gymnasium, numpy, PettingZoo or gymmigrate."""
     import gymnasium
     import numpy
-
-    import gymmigrate
 
     skipped = tuple(
         str(Path(p).resolve())

@@ -30,8 +30,9 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from gymmigrate.smoke.evidence import CheckResult, Ending, EnvRecord, EpisodeRecord, RunRecord
+from gymmigrate.smoke.driver import _deadline
 from gymmigrate.smoke.probe import FLAGS_ARE_BOOL, OBS_IN_SPACE, RESET_SIGNATURE, STEP_SIGNATURE, SmokeTimeout
-from gymmigrate.smoke.targets import LoadError, Target, describe_exception
+from gymmigrate.smoke.targets import LoadError, Target, _import_file, _import_module, describe_exception
 
 PETTINGZOO_API_TEST = "pettingzoo_api_test"
 AEC, PARALLEL = "aec", "parallel"
@@ -63,8 +64,6 @@ def pettingzoo_target(target: Target) -> MultiAgentTarget | None:
         return None
     if not _names_pettingzoo(target.location):
         return None
-    from gymmigrate.smoke.targets import _import_file, _import_module
-
     module = _import_file(target.location) if target.location.endswith(".py") else _import_module(target.location)
     made = getattr(module, target.class_name or "", None)
     if made is None:
@@ -199,8 +198,6 @@ class _Tally:
 
 
 def drive_pettingzoo(target: MultiAgentTarget, seed: int, episodes: int, max_steps: int, timeout: float) -> RunRecord:
-    from gymmigrate.smoke.driver import _deadline
-
     tally = _Tally(seed, episodes, max_steps)
     env = _construct(target)
     started = time.perf_counter()

@@ -15,6 +15,9 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import TextIO
 
+from gymmigrate.smoke.runner import SmokeOptions, run_smoke
+from gymmigrate.smoke.summary import one_line
+
 _CREATES_ENV = re.compile(r"\bmake(?:_vec)?\s*\(|^\s*class\s+\w+\s*\([^)]*Env\b", re.MULTILINE)
 
 
@@ -39,9 +42,6 @@ def smoke_rewritten(paths: list[str], seed: int, stream: TextIO | None = None) -
     """Run the script smoke check on each file that may create an env."""
     from rich.console import Console
     from rich.markup import escape
-
-    from gymmigrate.smoke.runner import SmokeOptions, run_smoke
-    from gymmigrate.smoke.summary import one_line
 
     console = Console(file=stream or sys.stderr, highlight=False, soft_wrap=True)
     candidates = [path for path in paths if _reads_as_env_code(path)]

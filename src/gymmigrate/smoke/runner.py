@@ -12,9 +12,21 @@ import time
 from dataclasses import dataclass, replace
 
 from gymmigrate.smoke.checks import evaluate
+from gymmigrate.smoke.driver import drive
+from gymmigrate.smoke.multi_agent import api_test_check, drive_pettingzoo, pettingzoo_target
+from gymmigrate.smoke.script import run_script
 from gymmigrate.smoke.evidence import CheckResult, Evidence, RunRecord
 from gymmigrate.smoke.probe import Budget
-from gymmigrate.smoke.targets import LoadError, NothingToCheck, Target, parse_target
+from gymmigrate.smoke.targets import (
+    LoadError,
+    NothingToCheck,
+    Target,
+    check_env_id,
+    describe_exception,
+    instantiate,
+    load_class,
+    parse_target,
+)
 
 GYMNASIUM_CHECK_ENV = "gymnasium_check_env"
 
@@ -66,16 +78,11 @@ def _run_all(target: Target, options: SmokeOptions) -> tuple[tuple[CheckResult, 
         raise LoadError(f"extra arguments {' '.join(options.script_args)!r} are only for a script target")
     if target.kind == "script":
         return (), _repeat(lambda seed: _script_run(target, options, seed), options)
-    from gymmigrate.smoke.multi_agent import api_test_check, drive_pettingzoo, pettingzoo_target
-
     multi_agent = pettingzoo_target(target)
     if multi_agent is not None:
         return (api_test_check(multi_agent),), _repeat(
             lambda seed: drive_pettingzoo(multi_agent, seed, options.episodes, options.max_steps, options.timeout), options
         )
-    from gymmigrate.smoke.driver import drive
-    from gymmigrate.smoke.targets import check_env_id, instantiate, load_class
-
     if target.kind == "env-id":
         check_env_id(target.location)
         import gymnasium
@@ -103,7 +110,6 @@ def _repeat(run_once, options: SmokeOptions) -> tuple[RunRecord, RunRecord | Non
 
 
 def _script_run(target: Target, options: SmokeOptions, seed: int) -> RunRecord:
-    from gymmigrate.smoke.script import run_script
 
     return run_script(
         target.location,
@@ -121,7 +127,6 @@ def _gymnasium_check_env(cls: type) -> CheckResult:
 
     from gymnasium.utils.env_checker import check_env
 
-    from gymmigrate.smoke.targets import describe_exception, instantiate
 
     env = instantiate(cls)
     with warnings.catch_warnings(record=True) as caught:

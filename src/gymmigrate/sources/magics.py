@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import re
 
-from gymmigrate.engine import TransformError
+from gymmigrate.source_text import TransformError
 from gymmigrate.sources import lines_of
 
 _PLACEHOLDER = "pass  # gymmigrate-magic {}\n"

@@ -22,7 +22,7 @@ from functools import partial
 from itertools import product
 from typing import Any
 
-from gymmigrate.engine import TransformError, may_hold_gym_code
+from gymmigrate.source_text import may_hold_gym_code, TransformError
 from gymmigrate.findings import Finding
 from gymmigrate.sources import Location, Segment
 from gymmigrate.sources.magics import Magics

@@ -20,7 +20,7 @@ import ast
 import os
 from dataclasses import dataclass, field
 
-from gymmigrate.engine import TransformError, may_hold_gym_code
+from gymmigrate.source_text import may_hold_gym_code, TransformError
 from gymmigrate.findings import Finding, FixKind
 from gymmigrate.sources import Location, Segment, lines_of
 

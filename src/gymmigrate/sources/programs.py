@@ -14,16 +14,10 @@ import re
 from bisect import bisect_right
 from dataclasses import replace
 
-from gymmigrate.engine import (
-    Transformed,
-    TransformError,
-    lint_source,
-    may_hold_gym_code,
-    transform_source,
-    unified_diff,
-)
+from gymmigrate.engine import lint_source, transform_source, Transformed, unified_diff
+from gymmigrate.source_text import may_hold_gym_code, TransformError
 from gymmigrate.findings import Finding
-from gymmigrate.rules.base import RewriteOptions
+from gymmigrate.options import RewriteOptions
 from gymmigrate.sources import Adapter, Document, Location, Segment, lines_of
 
 _BOUNDARY = "# gymmigrate: segment boundary {}\n"

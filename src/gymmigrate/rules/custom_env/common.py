@@ -9,7 +9,7 @@ from gymmigrate.facts.env_classes import ClassIndex, EnvClasses, FunctionIndex
 from gymmigrate.facts.module import own_returns
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import Rule
-from gymmigrate.rules.custom_env.rebuild import ClassPlan
+from gymmigrate.rules.custom_env.plans import ClassPlan
 
 if TYPE_CHECKING:
     from gymmigrate.rules.base import RuleFamily

@@ -1,4 +1,5 @@
-"""LibCST pieces the custom-env builds use to rewrite a class's methods.
+"""LibCST pieces the custom-env builds use to rewrite a class's methods (the apply layer:
+loaded by the first build that runs, never while the family decides).
 
 Everything here runs inside ``plan.replace(classdef, build)`` callbacks: it receives
 LibCST nodes already changed by inner edits and returns new ones. The decisions (what
@@ -12,17 +13,11 @@ import re
 from collections.abc import Callable, Sequence
 
 import libcst as cst
-from gymmigrate.edits.lazy import matchers as m  # loaded by the first edit that matches
+import libcst.matchers as m
 
-from gymmigrate.edits.syntax import own_returns
-from gymmigrate.rules.custom_env.cst_queries import _index
+from gymmigrate.rules.custom_env.cst_queries import _index, own_returns
+from gymmigrate.rules.custom_env.plans import STEP_LIMIT_WORD, SUPER_RESET
 
-SUPER_RESET = "super().reset(seed=seed)"
-# Identifiers that count steps or time (``self.steps >= self.max_steps``, ``self.t > 200``).
-STEP_LIMIT_WORD = re.compile(
-    r"(^|_)(t|ts|step|steps|timestep|timesteps|tick|ticks|iter|iters|iteration|iterations|horizon|"
-    r"time|time_limit|ep_len|episode_len|episode_length|counter)(_|$)"
-)
 _LIMIT_OPS = (cst.GreaterThan, cst.GreaterThanEqual, cst.LessThan, cst.LessThanEqual, cst.Equal)
 
 
@@ -188,7 +183,7 @@ def _tuple_len(value: cst.BaseExpression | None) -> int | None:
 def _is_step_limit(expr: cst.BaseExpression) -> bool:
     if not isinstance(expr, cst.Comparison) or not all(isinstance(t.operator, _LIMIT_OPS) for t in expr.comparisons):
         return False
-    return any(STEP_LIMIT_WORD.search(word) and "beyond" not in word for word in _identifiers(expr))
+    return any(STEP_LIMIT_WORD.search(word.lower()) and "beyond" not in word for word in _identifiers(expr))
 
 
 def _or_operands(expr: cst.BaseExpression) -> list[cst.BaseExpression]:
@@ -246,12 +241,6 @@ def _step_limit_text(fn: cst.FunctionDef) -> str | None:
         if _is_step_limit(comparison):
             return _code(comparison).strip()
     return None
-
-
-def _truncated_false_message(limit_hint: str | None) -> str:
-    if limit_hint:
-        return f"step returns truncated=False, but `{limit_hint}` looks like a step limit: return it as truncated, not terminated"
-    return "step returns terminated (the old done) and truncated=False; set truncated if the env stops episodes on a step limit"
 
 
 def _bool_wrap_assignments(body: cst.BaseSuite, name: str) -> cst.BaseSuite:

@@ -15,14 +15,16 @@ notes, ``envs/registration.py::make``.
 from __future__ import annotations
 
 import ast
+from collections.abc import Callable
 
+from gymmigrate.edits.lazy import cst
 from gymmigrate.facts.env_classes import EnvClasses
 from gymmigrate.facts.module import ModuleFacts
 from gymmigrate.findings import Tier
 from gymmigrate.rules.base import FileContext, RuleFamily
 from gymmigrate.rules.custom_env.common import CLASS_RULES, UNDERSCORE_RULE, ClassDecision, method_of
 from gymmigrate.rules.custom_env.observations import decide_float64_observations, decide_mujoco
-from gymmigrate.rules.custom_env.rebuild import rewrite_class
+from gymmigrate.rules.custom_env.plans import ClassPlan
 from gymmigrate.rules.custom_env.render import decide_render, decide_subclass_render_mode
 from gymmigrate.rules.custom_env.reset import decide_internal_calls, decide_reset
 from gymmigrate.rules.custom_env.seed import decide_seed
@@ -32,7 +34,7 @@ from gymmigrate.rules.custom_env.step import decide_step
 
 class EnvClassFamily(RuleFamily):
     RULES = CLASS_RULES
-    ORDER = 40
+    after = ("Rendering",)
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
@@ -63,7 +65,7 @@ class EnvClassFamily(RuleFamily):
             decide_internal_calls(decision)
             decide_float64_observations(decision)
             if self._changes(decision):
-                self.plan.replace(classdef, rewrite_class(decision.plan))
+                self.plan.replace(classdef, _rewrite_class(decision.plan))
             deleted.extend(decision.deleted_statements)
             removed_seed = removed_seed or bool(decision.removed)
         if removed_seed:
@@ -81,3 +83,14 @@ class EnvClassFamily(RuleFamily):
             or plan.reset
             or plan.step
         )
+
+
+def _rewrite_class(plan: ClassPlan) -> Callable[[cst.ClassDef], cst.ClassDef]:
+    """The class's build: ``rebuild.rewrite_class``, loaded when it first runs."""
+
+    def build(node: cst.ClassDef) -> cst.ClassDef:
+        from gymmigrate.rules.custom_env.rebuild import rewrite_class  # the apply layer: LibCST
+
+        return rewrite_class(plan)(node)
+
+    return build

@@ -10,12 +10,11 @@ from __future__ import annotations
 import ast
 from collections.abc import Sequence
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 
 from gymmigrate.facts.module import ModuleFacts, string_value
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
-from gymmigrate.rules.custom_env.cst_edits import _append_element
 from gymmigrate.rules.repeats import Repeats
 
 LEGACY_METADATA_KEYS = {"render.modes": "render_modes", "video.frames_per_second": "render_fps"}
@@ -26,7 +25,6 @@ class MetadataKeys(RuleFamily):
     RULES = (
         Rule("GM404", "metadata keys", FixKind.AUTO, "`render.modes` / `video.frames_per_second` become `render_modes` / `render_fps`."),
     )
-    ORDER = 40
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
@@ -149,6 +147,8 @@ def _without_key(key: str):  # type: ignore[no-untyped-def]
 
 
 def _with_render_fps(node: cst.Dict) -> cst.Dict:
+    from gymmigrate.rules.custom_env.cst_edits import _append_element  # the apply layer: LibCST
+
     elements: Sequence[cst.BaseDictElement] = node.elements
     first_key = next((el.key for el in elements if isinstance(el, cst.DictElement) and isinstance(el.key, cst.SimpleString)), None)
     quote = first_key.quote if first_key is not None else '"'

@@ -1,6 +1,7 @@
-"""Carry out what the family decided for one env class, on its LibCST node.
+"""Carry out what the family decided for one env class, on its LibCST node (the apply
+layer: ``env_class.py`` loads it when the class's build first runs).
 
-``ClassPlan`` holds the decisions taken on ``ast`` (which methods are renamed, what
+``plans.ClassPlan`` holds the decisions taken on ``ast`` (which methods are renamed, what
 ``seed()`` moves where, whether ``super().reset`` may seed...). ``rewrite_class`` is the
 ``build`` of the class's ``plan.replace``: it gets the class as other edits left it and
 rewrites its methods in the order the rules depend on each other (``seed`` folds into
@@ -10,10 +11,9 @@ rewrites its methods in the order the rules depend on each other (``seed`` folds
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
 
 import libcst as cst
-from gymmigrate.edits.lazy import matchers as m  # loaded by the first edit that matches
+import libcst.matchers as m
 
 from gymmigrate.edits.arguments import append_keyword
 from gymmigrate.rules.custom_env.cst_edits import (
@@ -46,6 +46,7 @@ from gymmigrate.rules.custom_env.cst_edits import (
     is_super_method_call,
     own_returns,
 )
+from gymmigrate.rules.custom_env.plans import ClassPlan, SeedPlan
 from gymmigrate.rules.custom_env.cst_queries import (
     _assigns_name,
     _checks_is_none,
@@ -57,40 +58,6 @@ from gymmigrate.rules.custom_env.cst_queries import (
     _uses_name,
     _uses_self_attribute,
 )
-
-
-@dataclass
-class SeedPlan:
-    """``seed()`` is removed: statements (by index in its body) that move elsewhere."""
-
-    moved: list[int] = field(default_factory=list)  # into reset(), under ``if seed is not None:``
-    setup: list[int] = field(default_factory=list)  # into __init__, where self.seed() was called
-    renames: dict[str, str] = field(default_factory=dict)  # the seed's other names -> ``seed``
-    callers: set[str] = field(default_factory=set)  # methods that call self.seed()
-    keep: bool = False  # seed() stays a method; reset() calls it when given a seed
-
-
-@dataclass
-class ClassPlan:
-    renamed: dict[str, str] = field(default_factory=dict)  # new name -> gym < 0.9 name
-    dropped: set[str] = field(default_factory=set)  # public methods that only forwarded to a renamed one
-    seed: SeedPlan | None = None
-    reset_super_seeds: bool = True  # super().reset(seed=seed) may be called (else only reported)
-    render: bool = False
-    pass_render_mode: bool = False  # a subclass __init__ takes render_mode and passes it to the base
-    render_helper: str | None = None  # keeps the old render(mode) body for the class's own mode calls
-    render_helper_callers: set[str] = field(default_factory=set)  # methods that call self.render(mode)
-    info_helper: bool = False  # reset returns self._get_info() (it takes no arguments)
-    local_env_base: bool = False
-    unpack_self_reset: bool = False
-    # Methods that call a gym < 0.9 name or assign self.reset(): only those are visited,
-    # so a class of fifty methods costs what its few affected methods cost.
-    rename_callers: set[str] = field(default_factory=set)
-    reset_callers: set[str] = field(default_factory=set)
-    reset: bool = False  # reset() changes (signature, returns, super().reset(seed=seed))
-    step: bool = False  # step() returns four values somewhere
-    step_helpers: list[str] = field(default_factory=list)  # what step() returns the result of
-    reset_helpers: list[str] = field(default_factory=list)  # likewise for reset()
 
 
 class ClassRewrite:

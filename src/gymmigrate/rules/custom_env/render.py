@@ -16,10 +16,9 @@ from typing import TYPE_CHECKING
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.creation import CreationFinder
-from gymmigrate.facts.receivers import EnvKind
+from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import ClassDecision, method_of, param_names
-from gymmigrate.rules.rendering import RENDER_MODE_CALLS_LEFT
 
 if TYPE_CHECKING:
     from gymmigrate.rules.base import RuleFamily
@@ -200,7 +199,7 @@ def _unmigrated_mode_call(decision: ClassDecision) -> ast.Call | None:
     and that may reach an instance of this class: removing ``mode`` from this render()
     would turn it into a TypeError."""
     family = decision.family
-    left = family.plan.notes.get(RENDER_MODE_CALLS_LEFT, ())
+    left = family.notes.render_mode_calls_left
     if not left:
         return None
     finder = family.facts.memo(("custom-env-render-finder", 0), lambda: CreationFinder(family.facts, family.receivers, _is_creation(family)))

@@ -10,14 +10,13 @@ import ast
 from gymmigrate.facts.decisions import Action, decide
 from gymmigrate.facts.env_classes import EnvClasses, is_self_attribute
 from gymmigrate.facts.module import ModuleFacts
-from gymmigrate.facts.receivers import EnvKind
+from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 
 
 class RewardRange(RuleFamily):
     RULES = (Rule("GM507", "reward_range", FixKind.FLAG, "Reads of `reward_range`, removed from `Env` and `Wrapper`, are reported."),)
-    ORDER = 40
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:

@@ -18,7 +18,7 @@ from gymmigrate.facts.env_classes import identifiers, is_self_attribute, is_supe
 from gymmigrate.findings import FixKind
 from gymmigrate.facts.module import full_name, statement_lines
 from gymmigrate.rules.custom_env.common import ClassDecision, is_docstring, method_of, param_names
-from gymmigrate.rules.custom_env.rebuild import SeedPlan
+from gymmigrate.rules.custom_env.plans import SeedPlan
 from gymmigrate.rules.reset_seed.common import is_space
 
 NP_RANDOM = ("np_random", "_np_random")

@@ -10,7 +10,7 @@ from __future__ import annotations
 import ast
 from collections import defaultdict
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 
 from gymmigrate.edits.plan import Plan
 from gymmigrate.facts.module import ModuleFacts

@@ -14,7 +14,7 @@ from gymmigrate.facts.env_classes import FunctionIndex, identifiers
 from gymmigrate.facts.module import own_returns
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import ClassDecision, Method, delegates, tuple_len
-from gymmigrate.rules.custom_env.cst_edits import STEP_LIMIT_WORD, _truncated_false_message
+from gymmigrate.rules.custom_env.plans import STEP_LIMIT_WORD, truncated_false_message
 
 _LIMIT_OPS = (ast.Gt, ast.GtE, ast.Lt, ast.LtE, ast.Eq)
 
@@ -71,7 +71,7 @@ def _report_truncated_false(decision: ClassDecision, ret: ast.Return, limit_hint
     if certain is not None:
         decision.report(ret, "GM504", certain, FixKind.ASSIST, tier=Tier.NOTE)
     else:
-        decision.report(ret, "GM504", _truncated_false_message(limit_hint), FixKind.ASSIST)
+        decision.report(ret, "GM504", truncated_false_message(limit_hint), FixKind.ASSIST)
 
 
 def _returns_helper(ret: ast.Return, decision: ClassDecision, helpers: set[int]) -> bool:
@@ -158,7 +158,7 @@ def _parenthesized_text(decision: ClassDecision, node: ast.expr) -> str:
 def is_step_limit(expr: ast.AST) -> bool:
     if not isinstance(expr, ast.Compare) or not all(isinstance(op, _LIMIT_OPS) for op in expr.ops):
         return False
-    return any(STEP_LIMIT_WORD.search(word) and "beyond" not in word for word in identifiers(expr))
+    return any(STEP_LIMIT_WORD.search(word.lower()) and "beyond" not in word for word in identifiers(expr))
 
 
 def _or_operands(expr: ast.AST) -> list[ast.AST]:

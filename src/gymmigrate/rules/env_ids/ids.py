@@ -23,7 +23,7 @@ import ast
 import re
 from dataclasses import dataclass
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts import ModuleFacts
@@ -52,9 +52,8 @@ RULES = (
     Rule("GM805", "removed env families", FixKind.FLAG, "Ids of env families Gymnasium removed are reported."),
 )
 
-# Set in ``plan.notes`` when the registration block imports ``gymnasium`` itself, so the
+# ``notes.gymnasium_imported`` is set when the registration block imports ``gymnasium`` itself, so the
 # registry family does not import it a second time.
-GYMNASIUM_IMPORTED = "env_ids.gymnasium-imported"
 
 _ENV_OPTION = re.compile(r"^--?env", re.IGNORECASE)
 
@@ -74,7 +73,6 @@ class IdSite:
 
 class EnvIds(RuleFamily):
     RULES = RULES
-    ORDER = 20
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
@@ -251,7 +249,7 @@ class EnvIds(RuleFamily):
         if alias is None:
             alias = "gymnasium"
             lines.append("import gymnasium")
-            self.plan.notes[GYMNASIUM_IMPORTED] = True
+            self.notes.gymnasium_imported = True
         lines += [f"import {package}" for package in packages]
         calls = [f"{alias}.register_envs({package})" for package in packages]
         calls[0] = "\n" + calls[0]

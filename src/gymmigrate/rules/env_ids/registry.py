@@ -16,14 +16,13 @@ from __future__ import annotations
 
 import ast
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.module import full_name
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
-from gymmigrate.rules.env_ids.ids import GYMNASIUM_IMPORTED
 from gymmigrate.rules.env_ids.syntax import gym_alias, is_registry
 
 RULES = (
@@ -41,7 +40,7 @@ _MAX_SPEC_DEPTH = 3
 
 class RegistryApi(RuleFamily):
     RULES = RULES
-    ORDER = 21  # after EnvIds, which may already import gymnasium for the registration block
+    after = ("EnvIds",)
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
@@ -92,7 +91,7 @@ class RegistryApi(RuleFamily):
     def _gym_module_name(self) -> str:
         if self._gym_alias is not None:
             return self._gym_alias
-        if not self.plan.notes.get(GYMNASIUM_IMPORTED):
+        if not self.notes.gymnasium_imported:
             self.plan.add_import("import gymnasium")
         return "gymnasium"
 

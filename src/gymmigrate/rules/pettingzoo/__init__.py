@@ -6,6 +6,9 @@
     PZ106, PZ107                   seed and render calls ....... seed_render.py [58]
     PZ109, PZ110                   spaces, ``pettingzoo.make`` . spaces_make.py [90]
 
+``endings.py`` traces why a custom env's ``dones`` value is True (a game over or a
+step limit) for PZ104 and PZ108, with the single-agent step-limit test (GM504's).
+
 Every family asks ``facts.multi_agent`` what a receiver is: the PettingZoo rules act
 only on PettingZoo envs, and the Gym rules leave them alone (their kinds are guards).
 SuperSuit's vector conversions (``concat_vec_envs_v1``...) make VecEnvs, which keep

@@ -16,7 +16,7 @@ import ast
 
 from gymmigrate.facts.done_uses import DoneUse, classify_done_read
 from gymmigrate.facts.flow import Flow
-from gymmigrate.facts.receivers import EnvKind
+from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.pettingzoo.common import (
     PZ101,
@@ -33,7 +33,6 @@ TERMINATION, TRUNCATION = "termination", "truncation"
 
 class AecLoop(PettingZooFamily):
     RULES = (PZ101, PZ102, PZ103)
-    ORDER = 56
 
     def decide(self) -> None:
         self.flow = Flow.of(self.facts)

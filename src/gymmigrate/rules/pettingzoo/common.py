@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import ast
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.multi_agent import MultiAgent
@@ -38,10 +38,6 @@ PZ109 = Rule("PZ109", "PettingZoo spaces come from Gymnasium", FixKind.AUTO,
 PZ110 = Rule("PZ110", "`pettingzoo.make` replaces module-level creation", FixKind.FLAG,
              "`rps_v2.env()` -> `pettingzoo.make(\"aec\", \"classic/rps-v2\")` (PettingZoo 1.27)")
 
-# ``plan.notes`` key: set when a PettingZoo family changed something in the file (PZ110
-# only speaks up in files that are being migrated, see spaces_make.py).
-PETTINGZOO_EDITED = "pettingzoo-edited"
-
 # The loop variable written into generated comprehensions.
 AGENT = "agent"
 
@@ -59,7 +55,7 @@ class PettingZooFamily(RuleFamily):
         return MultiAgent.of(self.facts, self.receivers)
 
     def changed(self) -> None:
-        self.plan.notes[PETTINGZOO_EDITED] = True
+        self.notes.pettingzoo_edited = True
 
     def replace_text(self, node: ast.AST, text: str) -> None:
         """Replace ``node`` by an expression written as source text."""

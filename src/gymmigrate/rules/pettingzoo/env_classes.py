@@ -4,12 +4,12 @@ PettingZoo 1.21 renamed the helpers ``_was_done_step`` -> ``_was_dead_step`` and
 ``_dones_step_first`` -> ``_deads_step_first``, and replaced ``self.dones`` by two dicts
 that ``last()``, ``_was_dead_step`` and the API tests all read: ``self.terminations``
 (the game is over for the agent) and ``self.truncations`` (a step limit cut it short).
-Which one a store means needs judgement, so stores are rewritten for review: a store
-whose value mentions a step or cycle count becomes a truncation, any other a
-termination, and the other dict is kept all False. Reads read both.
+Each store is split by meaning (``endings.py`` traces its causes): a step or cycle limit
+goes to ``self.truncations``, any other cause to ``self.terminations``, ``a or <limit>``
+to both; what cannot be traced goes to ``self.terminations`` for review. Reads read both.
 
-A parallel env's ``step`` returns five dicts (its local ``dones`` becomes
-``terminations``, with ``truncations`` all False beside it), and its ``reset`` returns
+A parallel env's ``step`` returns five dicts (its local ``dones`` is split the same way,
+store by store), and its ``reset`` returns
 ``(observations, infos)`` without ``return_info`` (1.23). Every ``reset`` takes
 ``seed=None, options=None``; a class that seeds itself in ``seed()`` calls it from there.
 """
@@ -17,27 +17,27 @@ A parallel env's ``step`` returns five dicts (its local ``dones`` becomes
 from __future__ import annotations
 
 import ast
-import re
+from collections.abc import Callable
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 
-from gymmigrate.facts.module import FUNCTIONS, own_returns
-from gymmigrate.facts.receivers import EnvKind
+from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
 from gymmigrate.findings import FixKind
 from gymmigrate.facts.flow import Flow
 from gymmigrate.rules.pettingzoo.common import AGENT, PZ108, PettingZooFamily, either, values_call
+from gymmigrate.rules.pettingzoo.endings import Cause, Endings, Traced, is_true, joined
 
 RENAMED_HELPERS = {"_was_done_step": "_was_dead_step", "_dones_step_first": "_deads_step_first"}
-# A store of ``dones`` whose value counts steps ends episodes by a limit: a truncation.
-_STEP_LIMIT = re.compile(r"cycle|iter|step|moves|horizon|time_?limit", re.IGNORECASE)
 
 
 class EnvClasses(PettingZooFamily):
     RULES = (PZ108,)
-    ORDER = 41
 
     def decide(self) -> None:
         facts = self.facts
+        self._endings: dict[int, Endings] = {}
+        self._split_assignments: dict[int, bool] = {}
         for old, new in RENAMED_HELPERS.items():
             for attr in facts.attributes.get(old, ()):
                 self.rename_attribute(attr, new)
@@ -60,7 +60,7 @@ class EnvClasses(PettingZooFamily):
             if "reset" in methods:
                 self._plan_reset(methods["reset"], kind, "seed" in methods)
             if kind is EnvKind.PZ_PARALLEL and "step" in methods:
-                self._plan_parallel_step(methods["step"])
+                self._plan_parallel_step(classdef, methods["step"])
             if "render" in methods:
                 self._plan_render(classdef, methods)
             if "__init__" in methods:
@@ -93,41 +93,88 @@ class EnvClasses(PettingZooFamily):
 
     def _plan_self_dones(self, attr: ast.Attribute) -> None:
         parent = self.facts.parent(attr)
+        classdef = self.facts.enclosing_class(attr)
+        assert classdef is not None
+        split = _Split(self, classdef, "self.terminations", "self.truncations", lambda new: self.rename_attribute(attr, new))
         if isinstance(parent, ast.Assign) and parent.targets == [attr]:
-            self._split_store(attr, parent, self.facts.segment(parent.value), whole=True)
+            split.whole(parent, owned=True)
             return
         if isinstance(parent, ast.Subscript) and parent.value is attr:
             statement = self.facts.parent(parent)
             if isinstance(parent.ctx, ast.Store) and isinstance(statement, ast.Assign) and statement.targets == [parent]:
-                self._split_store(attr, statement, self.facts.segment(statement.value), whole=False)
+                split.item(statement, parent)
                 return
             if isinstance(parent.ctx, ast.Load):
-                index = self.facts.segment(parent.slice)
-                text = f"self.terminations[{index}] or self.truncations[{index}]"
-                self.replace_text(parent, either(parent, text, self.facts))
-                self.report(parent, "PZ108", "an agent is done when it is terminated or truncated (PettingZoo 1.21)")
+                self._read_both(parent, "self.terminations", "self.truncations")
                 return
-        aggregate = values_call(attr, self.facts)
-        if aggregate is not None:
-            outer, name = aggregate
-            self.replace_text(outer, f"{name}(self.terminations[{AGENT}] or self.truncations[{AGENT}] for {AGENT} in self.terminations)")
-            self.report(outer, "PZ108", "an agent is done when it is terminated or truncated (PettingZoo 1.21)")
-            return
-        self.report(attr, "PZ108", "`self.dones` was replaced by `self.terminations` and `self.truncations` in "
-                    "PettingZoo 1.21: change this use by hand", FixKind.FLAG)
+        if not self._aggregate_both(attr, "self.terminations", "self.truncations"):
+            self.report(attr, "PZ108", "`self.dones` was replaced by `self.terminations` and `self.truncations` in "
+                        "PettingZoo 1.21: change this use by hand", FixKind.FLAG)
 
-    def _split_store(self, attr: ast.Attribute, statement: ast.Assign, value: str, whole: bool) -> None:
-        limit = bool(_STEP_LIMIT.search(value))
-        stored, other = ("truncations", "terminations") if limit else ("terminations", "truncations")
-        self.rename_attribute(attr, stored)
-        if whole:
-            self.plan.insert_after(statement, f"self.{other} = {{{AGENT}: False for {AGENT} in self.{stored}}}")
-        self._report_split(statement, stored)
+    def _read_both(self, subscript: ast.Subscript, terminations: str, truncations: str) -> None:
+        index = self.facts.segment(subscript.slice)
+        text = f"{terminations}[{index}] or {truncations}[{index}]"
+        self.replace_text(subscript, either(subscript, text, self.facts))
+        self.report(subscript, "PZ108", "an agent is done when it is terminated or truncated (PettingZoo 1.21)")
 
-    def _report_split(self, statement: ast.stmt, stored: str) -> None:
-        why = "it counts steps, so it reads as a step limit" if stored == "truncations" else "it reads as the game ending"
-        self.report(statement, "PZ108", f"`self.dones` split: this store goes to `self.{stored}` ({why}); "
-                    "review: game over is a termination, a step limit a truncation", FixKind.ASSIST)
+    def _aggregate_both(self, dones: ast.AST, terminations: str, truncations: str) -> bool:
+        aggregate = values_call(dones, self.facts)
+        if aggregate is None:
+            return False
+        outer, name = aggregate
+        self.replace_text(outer, f"{name}({terminations}[{AGENT}] or {truncations}[{AGENT}] for {AGENT} in {terminations})")
+        self.report(outer, "PZ108", "an agent is done when it is terminated or truncated (PettingZoo 1.21)")
+        return True
+
+    def replace_value(self, statement: ast.Assign, text: str) -> None:
+        """The value of ``statement`` becomes ``text`` (a ``BoolOp`` cannot be addressed alone)."""
+        self.changed()
+        self.plan.replace(statement, lambda node: node.with_changes(value=cst.parse_expression(text)))
+
+    def replace_element(self, value: ast.expr, text: str) -> None:
+        """The per-agent value of a ``{k: v for k in ...}`` or ``dict.fromkeys(keys, v)`` becomes ``text``."""
+        self.changed()
+        if isinstance(value, ast.DictComp):
+            self.plan.replace(value, lambda node: node.with_changes(value=cst.parse_expression(text)))
+        else:
+            self.plan.replace(value, lambda node: node.with_changes(
+                args=[node.args[0], node.args[1].with_changes(value=cst.parse_expression(text))]))
+
+    def endings(self, classdef: ast.ClassDef) -> Endings:
+        if id(classdef) not in self._endings:
+            self._endings[id(classdef)] = Endings(self.facts, classdef)
+        return self._endings[id(classdef)]
+
+    def split_assignment(self, traced: Traced, read: ast.AST) -> bool:
+        """``done = caught or <limit>`` -> ``termination = caught`` / ``truncation = not
+        termination and <limit>`` (and ``done = termination or truncation`` while other code
+        reads ``done``), once per assignment; False when it cannot be done."""
+        assign, name = traced.assign, traced.name
+        assert assign is not None and name is not None
+        key = id(assign)
+        if key in self._split_assignments:
+            return self._split_assignments[key]
+        target = assign.targets[0]
+        function = self.facts.enclosing_function(assign)
+        bindings = self.facts.scopes[function].bindings if function is not None else {}
+        ok = (
+            isinstance(target, ast.Name)
+            and "termination" not in bindings and "truncation" not in bindings
+            and self._own_line(assign)
+        )
+        self._split_assignments[key] = ok
+        if not ok:
+            return False
+        reads = Flow.of(self.facts).reads(target)  # type: ignore[arg-type]
+        self.rename(target, "termination")  # type: ignore[arg-type]
+        self.replace_value(assign, joined(traced.task, self.facts))
+        limit = joined(traced.limit, self.facts)
+        limit = f"({limit})" if len(traced.limit) > 1 else limit
+        inserted = [f"truncation = not termination and {limit}"]
+        if len(reads) > 1 or any(r is not read for r in reads):
+            inserted.append(f"{name.id} = termination or truncation")
+        self.plan.insert_after(assign, *inserted)
+        return True
 
     # -- spaces -----------------------------------------------------------------------------
 
@@ -257,11 +304,11 @@ class EnvClasses(PettingZooFamily):
 
     # -- parallel step --------------------------------------------------------------------
 
-    def _plan_parallel_step(self, step: ast.FunctionDef | ast.AsyncFunctionDef) -> None:
+    def _plan_parallel_step(self, classdef: ast.ClassDef, step: ast.FunctionDef | ast.AsyncFunctionDef) -> None:
         scope = self.facts.scopes[step]
         if "terminations" in scope.bindings or "truncations" in scope.bindings:
             return  # already migrated
-        renamed: set[str] = set()
+        names: set[str] = set()  # the local dicts split already (two returns may hand one back)
         for returned in own_returns(step):
             value = returned.value
             if not (isinstance(value, ast.Tuple) and len(value.elts) == 4):
@@ -273,23 +320,67 @@ class EnvClasses(PettingZooFamily):
                 continue
             if isinstance(dones, ast.Name) and self._unpacked_from_step(scope.bindings.get(dones.id, [])):
                 continue  # ``obs, rewards, dones, infos = self.env.step(...)``: parallel.py passes both on
-            if isinstance(dones, ast.Name) and dones.id in scope.bindings:
-                renamed.add(dones.id)
+            if isinstance(dones, ast.Name) and dones.id in scope.bindings and (
+                dones.id in names or self._local_dones(classdef, step, dones.id)
+            ):
+                names.add(dones.id)
                 self.split_target(value, 2, "terminations", "truncations")
-                self.plan.insert_before(returned, f"truncations = {{{AGENT}: False for {AGENT} in terminations}}")
+                self.report(returned, "PZ104", "a parallel `step` returns terminations and truncations since PettingZoo "
+                            "1.21", FixKind.AUTO)
             else:
                 self.report(returned, "PZ104", "a parallel `step` returns five dicts since PettingZoo 1.21: split "
                             f"`{self.facts.segment(dones)}` into terminations and truncations", FixKind.FLAG)
-                continue
-            self.report(returned, "PZ104", "a parallel `step` returns terminations and truncations; review: the "
-                        "old dones are all terminations here, a step limit is a truncation", FixKind.ASSIST)
-        flow = Flow.of(self.facts)
-        for name in renamed:
-            bindings = [b for b in scope.bindings[name] if isinstance(b, ast.Name)]
-            reads = {id(r): r for b in bindings for r in flow.reads(b)}
-            for node in [*bindings, *reads.values()]:
-                self.rename(node, "terminations")
 
+    def _local_dones(self, classdef: ast.ClassDef, step: ast.FunctionDef | ast.AsyncFunctionDef, name: str) -> bool:
+        """Split the local ``dones`` of a parallel ``step``: each whole store and item store by
+        its causes, each read of both dicts. False (nothing planned) when a binding is not a
+        plain ``dones = ...``."""
+        scope = self.facts.scopes[step]
+        bindings = scope.bindings[name]
+        if not all(isinstance(b, ast.Name) and _plain_assign(self.facts.parent(b), b) for b in bindings):
+            return False
+        flow = Flow.of(self.facts)
+        reads = list({id(r): r for b in bindings for r in flow.reads(b)}.values())  # type: ignore[arg-type]
+        empty = any(_is_empty_dict(self.facts.parent(b).value) for b in bindings)  # type: ignore[union-attr]
+        splits: list[_Split] = []
+        item_stores: list[tuple[ast.Assign, ast.Subscript, _Split]] = []
+        other_reads: list[ast.Name] = []
+        for binding in bindings:
+            split = _Split(self, classdef, "terminations", "truncations", lambda new, b=binding: self.rename(b, new), empty)
+            splits.append(split)
+            split.whole(self.facts.parent(binding), owned=False)  # type: ignore[arg-type]
+        for read in reads:
+            subscript = self.facts.parent(read)
+            statement = self.facts.parent(subscript) if subscript is not None else None
+            if (
+                isinstance(subscript, ast.Subscript) and subscript.value is read and isinstance(subscript.ctx, ast.Store)
+                and isinstance(statement, ast.Assign) and statement.targets == [subscript]
+            ):
+                split = _Split(self, classdef, "terminations", "truncations", lambda new, r=read: self.rename(r, new), empty)
+                item_stores.append((statement, subscript, split))
+                split.item(statement, subscript)
+                splits.append(split)
+            else:
+                other_reads.append(read)
+        limited = any(split.limited for split in splits)
+        for read in other_reads:
+            parent = self.facts.parent(read)
+            if self._is_returned(read):
+                continue
+            if not limited:
+                self.rename(read, "terminations")
+            elif isinstance(parent, ast.Subscript) and parent.value is read and isinstance(parent.ctx, ast.Load):
+                self._read_both(parent, "terminations", "truncations")
+            elif not self._aggregate_both(read, "terminations", "truncations"):
+                self.rename(read, "terminations")
+                self.report(read, "PZ104", f"`{name}` is split into terminations and truncations: this use reads only "
+                            "the terminations; check it", FixKind.ASSIST)
+        return True
+
+    def _is_returned(self, read: ast.Name) -> bool:
+        holder = self.facts.parent(read)
+        return isinstance(holder, ast.Tuple) and isinstance(self.facts.parent(holder), ast.Return) and len(holder.elts) == 4 \
+            and holder.elts[2] is read
 
     def _unpacked_from_step(self, bindings: list[ast.AST]) -> bool:
         for binding in bindings:
@@ -346,3 +437,232 @@ def _is_docstring(statement: ast.stmt) -> bool:
 
 def _is_reset_of(value: ast.AST) -> bool:
     return isinstance(value, ast.Call) and isinstance(value.func, ast.Attribute) and value.func.attr == "reset"
+
+
+# -- splitting stores of ``dones`` ------------------------------------------------------------
+
+
+def _plain_assign(statement: ast.AST | None, target: ast.AST) -> bool:
+    return isinstance(statement, ast.Assign) and statement.targets == [target]
+
+
+def _is_empty_dict(value: ast.AST) -> bool:
+    if isinstance(value, ast.Dict):
+        return not value.keys
+    return isinstance(value, ast.Call) and isinstance(value.func, ast.Name) and value.func.id == "dict" and not value.args and not value.keywords
+
+
+class _Elements:
+    """The per-agent values a whole store of ``dones`` holds, and the comprehension's
+    variable (None for ``dict.fromkeys`` and literals)."""
+
+    def __init__(self, values: list[ast.expr], key: str | None, per_agent: bool) -> None:
+        self.values = values
+        self.key = key
+        self.per_agent = per_agent  # one value for every agent: a comprehension or ``dict.fromkeys``
+
+
+def _elements(value: ast.AST) -> _Elements | None:
+    if isinstance(value, ast.DictComp):
+        if len(value.generators) != 1:
+            return None
+        target = value.generators[0].target
+        key = target.id if isinstance(target, ast.Name) and isinstance(value.key, ast.Name) and value.key.id == target.id else None
+        return _Elements([value.value], key, key is not None)
+    if (
+        isinstance(value, ast.Call) and isinstance(value.func, ast.Attribute) and value.func.attr == "fromkeys"
+        and isinstance(value.func.value, ast.Name) and value.func.value.id == "dict" and not value.keywords
+        and 1 <= len(value.args) <= 2 and not any(isinstance(a, ast.Starred) for a in value.args)
+    ):
+        return _Elements(value.args[1:], None, len(value.args) == 2)
+    if isinstance(value, ast.Dict) and all(k is not None for k in value.keys):
+        return _Elements(list(value.values), None, False)
+    return None
+
+
+class _Split:
+    """One store of ``dones`` (``dones = ...`` or ``dones[k] = ...``) sent to the dict its
+    causes say (see endings.py), with the other dict kept beside it."""
+
+    def __init__(self, family: EnvClasses, classdef: ast.ClassDef, terminations: str, truncations: str,
+                 rename: Callable[[str], None], empty: bool = False) -> None:
+        self.family = family
+        self.facts = family.facts
+        self.endings = family.endings(classdef)
+        self.term, self.trunc = terminations, truncations
+        self.rename = rename  # the stored dict becomes ``terminations`` or ``truncations``
+        self.empty = empty  # a local dict that starts empty: item stores keep both dicts' keys
+        self.limited = False  # a step limit feeds this store
+        self.code = "PZ108" if terminations.startswith("self.") else "PZ104"
+        self.old = "self.dones" if terminations.startswith("self.") else "dones"
+
+    # -- whole stores ---------------------------------------------------------------------
+
+    def whole(self, statement: ast.Assign, owned: bool) -> None:
+        value = statement.value
+        elements = _elements(value)
+        branch = self.endings.branch(statement)
+        if branch is Cause.UNKNOWN:
+            self._untraced(statement, "the `if` above it mixes a step limit with other causes")
+            return
+        if branch is Cause.TRUNCATION:
+            self.limited = True
+            if owned and elements is not None and elements.key is not None and all(is_true(v) for v in elements.values):
+                # ``if <limit>: self.dones = {a: True for a in self.agents}``: keep an agent
+                # that terminated on this step terminated.
+                self.rename("truncations")
+                self.family.replace_element(value, f"not {self.term}[{elements.key}]")
+                self._report(statement, f"goes to `{self.trunc}` (the `if` above calls the match off on a step limit, "
+                             "except for agents terminated on the same step)")
+                return
+            self._store(statement, "truncations", "the `if` above calls the match off on a step limit")
+            return
+        if elements is None:
+            limit = self.endings.is_limit(value)
+            if not limit and self.endings.mentions_limit(value):
+                self._untraced(statement, "a step limit is tested inside it")
+                return
+            self._store(statement, "truncations" if limit else "terminations",
+                        "a step limit" if limit else "no step limit among its causes: the game ended")
+            return
+        traced = [self.endings.value(v) for v in elements.values]
+        causes = {t.cause for t in traced}
+        if Cause.UNKNOWN in causes:
+            self._untraced(statement, "a step limit is tested inside its value")
+        elif causes <= {Cause.TERMINATION}:
+            start = all(isinstance(v, ast.Constant) and v.value is False for v in elements.values)
+            self._store(statement, "terminations", "all False: nothing has ended" if start else
+                        "no step limit among its causes: the game ended")
+        elif causes == {Cause.TRUNCATION}:
+            self._store(statement, "truncations", "a step limit calls the match off")
+        elif len(traced) == 1 and elements.per_agent and causes == {Cause.SPLIT}:
+            self._split_whole(statement, elements, traced[0])
+        else:
+            self._untraced(statement, "its values end the game for some agents and call it off for others")
+
+    def _store(self, statement: ast.Assign, stored: str, why: str) -> None:
+        if stored == "truncations":
+            self.limited = True
+        other = self.trunc if stored == "terminations" else self.term
+        mine = self.term if stored == "terminations" else self.trunc
+        if not self.family._own_line(statement):
+            self._untraced(statement, "it shares its line with other code")
+            return
+        self.rename(stored)
+        elements = _elements(statement.value)
+        key = elements.key if elements is not None and elements.key is not None else AGENT
+        partner = f"{other} = {{}}" if self.empty and _is_empty_dict(statement.value) else \
+            f"{other} = {{{key}: False for {key} in {mine}}}"
+        self.family.plan.insert_after(statement, partner)
+        if partner.endswith("{}"):
+            why = "both dicts start empty"
+        self._report(statement, f"goes to `{mine}` ({why})")
+
+    def _split_whole(self, statement: ast.Assign, elements: _Elements, traced: Traced) -> None:
+        if not self.family._own_line(statement):
+            self._untraced(statement, "it shares its line with other code")
+            return
+        key = elements.key or AGENT
+        element = elements.values[0]
+        if traced.name is not None:
+            if not self.family.split_assignment(traced, element):
+                self._untraced(statement, f"`{traced.name.id}` cannot be split where it is assigned")
+                return
+            self.family.replace_element(statement.value, "termination")
+            partner = f"{self.trunc} = {{{key}: truncation for {key} in {self.term}}}"
+        else:
+            self.family.replace_element(statement.value, joined(traced.task, self.facts))
+            partner = f"{self.trunc} = {{{key}: not {self.term}[{key}] and {_limit_text(traced, self.facts)} for {key} in {self.term}}}"
+        self.limited = True
+        self.rename("terminations")
+        self.family.plan.insert_after(statement, partner)
+        self._report(statement, f"splits: {_split_reason(traced, self.facts)}")
+
+    # -- item stores ----------------------------------------------------------------------
+
+    def item(self, statement: ast.Assign, subscript: ast.Subscript) -> None:
+        index = self.facts.segment(subscript.slice)
+        value = statement.value
+        branch = self.endings.branch(statement)
+        if branch is Cause.UNKNOWN:
+            self._untraced(statement, "the `if` above it mixes a step limit with other causes")
+            return
+        if branch is Cause.TRUNCATION:
+            self.limited = True
+            if is_true(value):
+                self.family.replace_text(value, f"not {self.term}[{index}]")
+            self._item(statement, "truncations", index, "the `if` above calls the match off on a step limit"
+                       + (", except for an agent terminated on the same step" if is_true(value) else ""))
+            return
+        traced = self.endings.value(value)
+        if traced.cause is Cause.UNKNOWN:
+            self._untraced(statement, "a step limit is tested inside its value")
+        elif traced.cause is Cause.TERMINATION:
+            self._item(statement, "terminations", index, "no step limit among its causes: the game ended")
+        elif traced.cause is Cause.TRUNCATION:
+            self._item(statement, "truncations", index, "a step limit calls the match off")
+        else:
+            self._split_item(statement, index, traced)
+
+    def _item(self, statement: ast.Assign, stored: str, index: str, why: str) -> None:
+        if stored == "truncations":
+            self.limited = True
+        mine, other = (self.term, self.trunc) if stored == "terminations" else (self.trunc, self.term)
+        if self.empty:
+            if not self.family._own_line(statement):
+                self._untraced(statement, "it shares its line with other code")
+                return
+            self.family.plan.insert_after(statement, f"{other}.setdefault({index}, False)")
+        self.rename(stored)
+        self._report(statement, f"goes to `{mine}` ({why})")
+
+    def _split_item(self, statement: ast.Assign, index: str, traced: Traced) -> None:
+        if not self.family._own_line(statement):
+            self._untraced(statement, "it shares its line with other code")
+            return
+        if traced.name is not None:
+            if not self.family.split_assignment(traced, statement.value):
+                self._untraced(statement, f"`{traced.name.id}` cannot be split where it is assigned")
+                return
+            self.family.replace_value(statement, "termination")
+            partner = f"{self.trunc}[{index}] = truncation"
+        else:
+            self.family.replace_value(statement, joined(traced.task, self.facts))
+            partner = f"{self.trunc}[{index}] = not {self.term}[{index}] and {_limit_text(traced, self.facts)}"
+        self.limited = True
+        self.rename("terminations")
+        self.family.plan.insert_after(statement, partner)
+        self._report(statement, f"splits: {_split_reason(traced, self.facts)}")
+
+    # -- reports --------------------------------------------------------------------------
+
+    def _report(self, statement: ast.stmt, what: str) -> None:
+        self.family.report(statement, self.code, f"`{self.old}` split by meaning (PettingZoo 1.21): this store {what}",
+                           FixKind.AUTO)
+
+    def _untraced(self, statement: ast.Assign, why: str) -> None:
+        """Kept as terminations (what ``dones`` meant before truncations existed), for review."""
+        self.rename("terminations")
+        if self.empty or isinstance(statement.targets[0], (ast.Name, ast.Attribute)):
+            mine = self.term
+            if self.family._own_line(statement):
+                partner = f"{self.trunc} = {{}}" if self.empty and _is_empty_dict(statement.value) else (
+                    f"{self.trunc}.setdefault({self.facts.segment(statement.targets[0].slice)}, False)"  # type: ignore[attr-defined]
+                    if isinstance(statement.targets[0], ast.Subscript)
+                    else f"{self.trunc} = {{{AGENT}: False for {AGENT} in {mine}}}"
+                )
+                self.family.plan.insert_after(statement, partner)
+        self.family.report(statement, self.code, f"`{self.old}` split: this store could not be traced ({why}), so it "
+                           f"went to `{self.term}`; review: a game over is a termination, a step limit a truncation; split it "
+                           "by hand", FixKind.ASSIST)
+
+
+def _limit_text(traced: Traced, facts: ModuleFacts) -> str:
+    text = joined(traced.limit, facts)
+    return f"({text})" if len(traced.limit) > 1 else text
+
+
+def _split_reason(traced: Traced, facts: ModuleFacts) -> str:
+    task, limit = joined(traced.task, facts), joined(traced.limit, facts)
+    return (f"`{task}` ends the game (a termination), `{limit}` calls it off (a truncation, not for an agent "
+            "terminated on the same step)")

@@ -12,13 +12,13 @@ from __future__ import annotations
 
 import ast
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 
 from gymmigrate.edits.arguments import remove_args
 from gymmigrate.facts.done_uses import DoneUse, classify_done_read
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.module import keyword
-from gymmigrate.facts.receivers import EnvKind
+from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.pettingzoo.common import (
     AGENT,
@@ -35,7 +35,6 @@ TERMINATIONS, TRUNCATIONS, INFOS = "terminations", "truncations", "infos"
 
 class ParallelCalls(PettingZooFamily):
     RULES = (PZ104, PZ105)
-    ORDER = 57
 
     def decide(self) -> None:
         self.flow = Flow.of(self.facts)

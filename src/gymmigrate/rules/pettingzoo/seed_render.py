@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import ast
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 
 from gymmigrate.edits.arguments import append_keyword, remove_args
 from gymmigrate.facts.creation import CreationFinder
@@ -28,7 +28,6 @@ PZ_FACTORY_SUFFIXES = (".env", ".parallel_env", ".raw_env")
 
 class SeedRender(PettingZooFamily):
     RULES = (PZ106, PZ107)
-    ORDER = 58
 
     def decide(self) -> None:
         for call in self.facts.attribute_calls.get("seed", ()):

@@ -18,7 +18,7 @@ import ast
 import re
 
 from gymmigrate.facts import names as N
-from gymmigrate.rules.pettingzoo.common import PETTINGZOO_EDITED, PZ109, PZ110, PettingZooFamily
+from gymmigrate.rules.pettingzoo.common import PZ109, PZ110, PettingZooFamily
 
 # ``pettingzoo.classic.rps_v2.env`` -> ("classic", "rps", "2", "env")
 _MODULE_FACTORY = re.compile(r"^pettingzoo\.(\w+)\.(\w+?)_v(\d+)\.(env|parallel_env)$")
@@ -26,12 +26,12 @@ _MODULE_FACTORY = re.compile(r"^pettingzoo\.(\w+)\.(\w+?)_v(\d+)\.(env|parallel_
 
 class SpacesAndMake(PettingZooFamily):
     RULES = (PZ109, PZ110)
-    ORDER = 90  # after every other PettingZoo family: PZ110 reads what they changed
+    after = ("EnvClasses", "AecLoop", "ParallelCalls", "SeedRender")
 
     def decide(self) -> None:
         if self.context.profile.imports_pettingzoo:
             self._report_gym_spaces()
-        if self.plan.notes.get(PETTINGZOO_EDITED):
+        if self.notes.pettingzoo_edited:
             for calls in (self.facts.attribute_calls.get("env", ()), self.facts.attribute_calls.get("parallel_env", ())):
                 for call in calls:
                     self._suggest_make(call)

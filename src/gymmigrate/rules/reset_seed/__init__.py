@@ -41,7 +41,6 @@ __all__ = ["RULES", "ResetSeed"]
 
 class ResetSeed(ResetCalls, SeedCalls, CliSeed):
     RULES = RULES
-    ORDER = 50
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:

@@ -10,7 +10,7 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.facts.decisions import Action, Decision, decide
-from gymmigrate.facts.receivers import EnvKind
+from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.reset_flow import InfoNames, NumpySeeds, enclosing_loops, guarded_to_run_once, is_iteration_invariant
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import RuleFamily

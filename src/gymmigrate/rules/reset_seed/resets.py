@@ -269,7 +269,7 @@ class ResetCalls(ResetSeedBase):
         function = self.facts.enclosing_function(call)
         classdef = self.facts.enclosing_class(call)
         if function is not None and classdef is not None:
-            names = self.plan.notes.setdefault("reset_info_names", {})
+            names = self.notes.reset_info_names
             names[f"{classdef.name}.{function.name}"] = info
 
 

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 from gymmigrate.facts.decisions import Decision, decide, receiver_text
 from gymmigrate.facts.flow import Flow
-from gymmigrate.facts.receivers import EnvKind
+from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import Rule, RuleFamily
 
@@ -71,13 +71,6 @@ class StepNames:
         if self.vector:
             return f"{self.numpy}.logical_or({self.terminated}, {self.truncated})"
         return f"{self.terminated} or {self.truncated}"
-
-
-# ``plan.notes[STEP_UNPACKS]``: every four-target step unpack this family rewrites
-# (``ast.Assign`` -> ``StepUnpack``). The wrappers family (GM602, higher ORDER) reads it to
-# return the new flags from a wrapper's ``step`` and may ``plan.withdraw`` the inserted
-# ``done = ...`` line once its return no longer reads ``done``.
-STEP_UNPACKS = "step_unpacks"
 
 
 @dataclass

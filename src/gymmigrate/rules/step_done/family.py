@@ -23,7 +23,6 @@ from gymmigrate.rules.step_done.unpack import UnpackRules
 
 class StepDone(UnpackRules, TimeLimitRules, ResultRules):
     RULES = RULES
-    ORDER = 55
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:

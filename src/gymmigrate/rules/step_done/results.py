@@ -14,7 +14,7 @@ import ast
 from bisect import bisect_left, bisect_right
 from dataclasses import dataclass
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 
 from gymmigrate.facts.decisions import Action, Decision, receiver_text
 from gymmigrate.facts.flow import end, start

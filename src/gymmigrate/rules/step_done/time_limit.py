@@ -14,11 +14,11 @@ from __future__ import annotations
 
 import ast
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 
 from gymmigrate.findings import FixKind
 from gymmigrate.facts.module import Scope
-from gymmigrate.rules.step_done.common import STEP_UNPACKS, TIME_LIMIT_KEY, StepFamilyBase, StepNames, stands_alone
+from gymmigrate.rules.step_done.common import TIME_LIMIT_KEY, StepFamilyBase, StepNames, stands_alone
 
 _UNTRACED = object()  # a read whose info dict comes from no known step
 _DISCARDED = StepNames("_", "_", vector=False)  # a step whose done target was ``_``
@@ -140,7 +140,7 @@ class TimeLimitRules(StepFamilyBase):
         """Every step unpack this family rewrites, by the scope it binds in (built once)."""
         def build() -> dict[int, list[tuple[ast.Assign, StepNames]]]:
             found: dict[int, list[tuple[ast.Assign, StepNames]]] = {}
-            for assign, unpack in self.plan.notes.get(STEP_UNPACKS, {}).items():
+            for assign, unpack in self.notes.step_unpacks.items():
                 if unpack.discarded:  # ``_`` took both flags: no names to read
                     found.setdefault(id(self.facts.scope_of(assign)), []).append((assign, _DISCARDED))
                 else:

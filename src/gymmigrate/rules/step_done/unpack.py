@@ -19,7 +19,7 @@ import re
 from bisect import bisect_left, bisect_right
 from dataclasses import dataclass
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 
 from gymmigrate.facts.decisions import Action, Decision
 from gymmigrate.facts.done_uses import (
@@ -33,7 +33,7 @@ from gymmigrate.facts.done_uses import (
 from gymmigrate.facts.flow import bound_names, end, start
 from gymmigrate.facts.module import FUNCTIONS, LOOPS, Scope, full_name
 from gymmigrate.findings import FixKind, Tier
-from gymmigrate.rules.step_done.common import STEP_UNPACKS, StepFamilyBase, StepNames, StepUnpack, looks_vectorised
+from gymmigrate.rules.step_done.common import StepFamilyBase, StepNames, StepUnpack, looks_vectorised
 
 
 @dataclass(frozen=True)
@@ -76,7 +76,7 @@ class UnpackRules(StepFamilyBase):
         names = self._step_names(assign, vector)
         self.plan.replace(target, lambda node: _split_done(node, names))
         discarded = isinstance(done_target, ast.Name) and done_target.id == "_"
-        self.plan.notes.setdefault(STEP_UNPACKS, {})[assign] = StepUnpack(names, discarded)
+        self.notes.step_unpacks[assign] = StepUnpack(names, discarded)
         if isinstance(done_target, ast.Name):
             if done_target.id != "_":
                 # Whether ``done`` is still read is decided once every step is known.
@@ -102,7 +102,7 @@ class UnpackRules(StepFamilyBase):
             self.plan.add_import("import numpy as np")
         line = f"{self.facts.segment(done_target)} = {names.joined()}"
         self.plan.insert_after(assign, line)
-        noted = self.plan.notes.get(STEP_UNPACKS, {}).get(assign)
+        noted = self.notes.step_unpacks.get(assign)
         if noted is not None:
             noted.done_line = line
 
@@ -188,7 +188,7 @@ class UnpackRules(StepFamilyBase):
 
     def _claim(self, read: ast.Name, step: _DoneStep) -> None:
         terminated = step.names.terminated
-        self.plan.notes[STEP_UNPACKS][step.assign].claimed_reads += 1
+        self.notes.step_unpacks[step.assign].claimed_reads += 1
         self.plan.replace(read, lambda node: node.with_changes(value=terminated))
         next_state = self.facts.segment(step.assign.targets[0].elts[0])  # type: ignore[attr-defined]
         self._report_read(
@@ -403,11 +403,15 @@ class UnpackRules(StepFamilyBase):
     # -- names --------------------------------------------------------------------------------
 
     def _step_names(self, assign: ast.Assign, vector: bool) -> StepNames:
+        base = ("terminations", "truncations") if vector else ("terminated", "truncated")
+        numpy = self.numpy_name or "np"
+        if not any(name in self.facts.text for name in base):
+            # A name the file never spells is free: no walk of the scope for the names it uses.
+            return StepNames(*base, vector=vector, numpy=numpy)
         scope = self.facts.scope_of(assign)
         taken = self.flow.names_used_in(scope)
-        compatible = self._step_flag_names(scope)
-        base = ("terminations", "truncations") if vector else ("terminated", "truncated")
-        return StepNames(*(_fresh(name, taken, compatible) for name in base), vector=vector, numpy=self.numpy_name or "np")
+        compatible = self._step_flag_names(scope) if any(name in taken for name in base) else set()
+        return StepNames(*(_fresh(name, taken, compatible) for name in base), vector=vector, numpy=numpy)
 
     def _step_flag_names(self, scope: Scope) -> set[str]:
         """Names that only ever hold step flags in ``scope`` (safe to bind again)."""

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import ast
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 
 from gymmigrate.facts import names as N
 from gymmigrate.edits.arguments import append_keyword
@@ -75,7 +75,6 @@ RULES = (
 
 class VectorEnvs(Construction, Infos, VectorWrappers, RuleFamily):
     RULES = RULES
-    ORDER = 35
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:

@@ -20,7 +20,7 @@ import builtins
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 
 from gymmigrate.edits.arguments import append_keyword
 from gymmigrate.findings import FixKind
@@ -233,8 +233,9 @@ def _equal() -> cst.AssignEqual:
     return cst.AssignEqual(whitespace_before=cst.SimpleWhitespace(""), whitespace_after=cst.SimpleWhitespace(""))
 
 
-def kwarg(name: str, value: cst.BaseExpression, comma: cst.Comma | cst.MaybeSentinel = cst.MaybeSentinel.DEFAULT) -> cst.Arg:
-    return cst.Arg(keyword=cst.Name(name), value=value, equal=_equal(), comma=comma)
+def kwarg(name: str, value: cst.BaseExpression, comma: cst.Comma | cst.MaybeSentinel | None = None) -> cst.Arg:
+    # None for LibCST's default comma: a default of cst.MaybeSentinel.DEFAULT would load LibCST on import.
+    return cst.Arg(keyword=cst.Name(name), value=value, equal=_equal(), comma=cst.MaybeSentinel.DEFAULT if comma is None else comma)
 
 
 def dict_literal(items: list[tuple[str, cst.BaseExpression]], q: str = '"') -> cst.Dict:

@@ -26,7 +26,7 @@ from typing import TYPE_CHECKING
 from gymmigrate.facts import names as N
 from gymmigrate.facts.decisions import Action, decide
 from gymmigrate.facts.module import keyword, string_value
-from gymmigrate.facts.receivers import EnvKind
+from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.vector.common import LIST_INFO_WRAPPERS, VECTOR_CLASSES, arguments_in_order, argument_value, gym_rest
 

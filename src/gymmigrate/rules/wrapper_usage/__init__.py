@@ -2,14 +2,14 @@
 
 Two families, both deciding on the original source:
 
-* ``renames.WrapperRenames`` (GM608-GM615, ORDER 31): renamed wrappers in imports, paths
+* ``renames.WrapperRenames`` (GM608-GM615): renamed wrappers in imports, paths
   and uses (GM608, GM612, GM614), changed signatures (GM609, ``arguments.py``), removed
   wrappers (GM610), ``Monitor`` -> ``RecordVideo`` with its render mode (GM611,
   ``monitor.py``), single-env wrappers on vector envs (GM613) and AtariPreprocessing's
   frame skip (GM615). ``stacks.py`` follows wrapper stacks down to the env they wrap,
   ``import_edits.py`` rewrites import lists, and ``legacy_imports.py`` tells which gym
   imports the imports rules leave alone in the same run.
-* ``forwarding.WrapperForwarding`` (GM604-GM606, ORDER 61): what legacy code read through
+* ``forwarding.WrapperForwarding`` (GM604-GM606): what legacy code read through
   ``Wrapper.__getattr__``.
 
 ``tables.py`` holds what Gymnasium 1.x did to each wrapper, shared by both.

@@ -1,6 +1,6 @@
 """Changed signatures of the wrappers Gymnasium kept (GM609) and AtariPreprocessing's frame skip (GM615).
 
-One function per 1.x wrapper name, ``args_<Name>(family, call)``: it decides from the
+One function per 1.x wrapper name, registered with ``@handles("<Name>")``: it decides from the
 ``ast`` call (reporting through the family) and returns the build that rewrites the
 LibCST call, or None when nothing changes. Builds find arguments by keyword and by
 position among the positional ones, never by identity, so an edit another family made
@@ -20,15 +20,31 @@ import ast
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 
 from gymmigrate.facts.module import keyword, string_value
 from gymmigrate.findings import FixKind
 
 if TYPE_CHECKING:
-    from gymmigrate.rules.wrapper_usage.renames import WrapperRenames
+    from gymmigrate.rules.wrapper_usage.stacks import StacksFamily
 
-CallBuild = Callable[[cst.Call], cst.Call]
+CallBuild = Callable[["cst.Call"], "cst.Call"]
+Handler = Callable[["StacksFamily", ast.Call], "CallBuild | None"]
+
+# The 1.x wrapper name -> the function that decides its call's arguments.
+HANDLERS: dict[str, Handler] = {}
+
+
+def handles(wrapper: str) -> Callable[[Handler], Handler]:
+    """Register the decorated function as the argument rule for calls of ``wrapper``."""
+
+    def register(function: Handler) -> Handler:
+        if wrapper in HANDLERS:
+            raise ValueError(f"two argument handlers for {wrapper}")
+        HANDLERS[wrapper] = function
+        return function
+
+    return register
 
 
 # -- reading the ast call ----------------------------------------------------------------------
@@ -105,7 +121,8 @@ def _without(call: cst.Call, drop: cst.Arg) -> cst.Call:
 # -- one function per wrapper --------------------------------------------------------------------
 
 
-def args_FrameStackObservation(family: WrapperRenames, call: ast.Call) -> CallBuild | None:
+@handles("FrameStackObservation")
+def args_FrameStackObservation(family: StacksFamily, call: ast.Call) -> CallBuild | None:
     notes = []
     kind: FixKind | None = None
     renames_stack = keyword(call, "num_stack") is not None
@@ -132,7 +149,8 @@ def args_FrameStackObservation(family: WrapperRenames, call: ast.Call) -> CallBu
     return build
 
 
-def args_AddRenderObservation(family: WrapperRenames, call: ast.Call) -> CallBuild | None:
+@handles("AddRenderObservation")
+def args_AddRenderObservation(family: StacksFamily, call: ast.Call) -> CallBuild | None:
     if len(positional(call)) > 2 or keyword(call, "render_kwargs") is not None:
         family.report(
             call,
@@ -163,7 +181,8 @@ def args_AddRenderObservation(family: WrapperRenames, call: ast.Call) -> CallBui
     return build
 
 
-def args_TransformObservation(family: WrapperRenames, call: ast.Call) -> CallBuild | None:
+@handles("TransformObservation")
+def args_TransformObservation(family: StacksFamily, call: ast.Call) -> CallBuild | None:
     f = keyword(call, "f")
     args = positional(call)
     has_space = keyword(call, "observation_space") is not None or len(args) >= 3
@@ -204,14 +223,16 @@ def args_TransformObservation(family: WrapperRenames, call: ast.Call) -> CallBui
     return build
 
 
-def args_TransformReward(family: WrapperRenames, call: ast.Call) -> CallBuild | None:
+@handles("TransformReward")
+def args_TransformReward(family: StacksFamily, call: ast.Call) -> CallBuild | None:
     if keyword(call, "f") is None:
         return None
     family.report(call, "GM609", "TransformReward's `f=` is `func=`")
     return lambda node: _rename_keyword(node, "f", "func")
 
 
-def args_ResizeObservation(family: WrapperRenames, call: ast.Call) -> CallBuild | None:
+@handles("ResizeObservation")
+def args_ResizeObservation(family: StacksFamily, call: ast.Call) -> CallBuild | None:
     shape = parameter(call, "shape", 1)
     if not _is_int(shape):
         return None
@@ -234,7 +255,8 @@ def args_ResizeObservation(family: WrapperRenames, call: ast.Call) -> CallBuild 
     return build
 
 
-def args_RecordEpisodeStatistics(family: WrapperRenames, call: ast.Call) -> CallBuild | None:
+@handles("RecordEpisodeStatistics")
+def args_RecordEpisodeStatistics(family: StacksFamily, call: ast.Call) -> CallBuild | None:
     if keyword(call, "deque_size") is None:
         return None
     family.report(call, "GM609", "RecordEpisodeStatistics' `deque_size=` is `buffer_length=`")
@@ -245,7 +267,8 @@ def args_RecordEpisodeStatistics(family: WrapperRenames, call: ast.Call) -> Call
 # wrapper constructor: the LibCST pass this replaces never saw it either.
 
 
-def args_TimeLimit(family: WrapperRenames, call: ast.Call) -> CallBuild | None:
+@handles("TimeLimit")
+def args_TimeLimit(family: StacksFamily, call: ast.Call) -> CallBuild | None:
     if missing_or_none(call, "max_episode_steps", 1):
         family.report(
             call,
@@ -257,7 +280,8 @@ def args_TimeLimit(family: WrapperRenames, call: ast.Call) -> CallBuild | None:
     return None
 
 
-def args_FilterObservation(family: WrapperRenames, call: ast.Call) -> CallBuild | None:
+@handles("FilterObservation")
+def args_FilterObservation(family: StacksFamily, call: ast.Call) -> CallBuild | None:
     if missing_or_none(call, "filter_keys", 1):
         family.report(
             call,
@@ -268,7 +292,8 @@ def args_FilterObservation(family: WrapperRenames, call: ast.Call) -> CallBuild 
     return None
 
 
-def args_ClipAction(family: WrapperRenames, call: ast.Call) -> CallBuild | None:
+@handles("ClipAction")
+def args_ClipAction(family: StacksFamily, call: ast.Call) -> CallBuild | None:
     family.report(
         call,
         "GM609",
@@ -279,7 +304,8 @@ def args_ClipAction(family: WrapperRenames, call: ast.Call) -> CallBuild | None:
     return None
 
 
-def args_AtariPreprocessing(family: WrapperRenames, call: ast.Call) -> CallBuild | None:
+@handles("AtariPreprocessing")
+def args_AtariPreprocessing(family: StacksFamily, call: ast.Call) -> CallBuild | None:
     """GM615: the base env must not skip frames itself (AtariPreprocessing raises)."""
     if _is_constant(parameter(call, "frame_skip", 2), 1):
         return None
@@ -298,9 +324,6 @@ def args_AtariPreprocessing(family: WrapperRenames, call: ast.Call) -> CallBuild
     return None
 
 
-HANDLERS: dict[str, Callable[[WrapperRenames, ast.Call], CallBuild | None]] = {
-    name[len("args_") :]: function for name, function in dict(globals()).items() if name.startswith("args_")
-}
 
 
 def frameskip_is_one(make: ast.Call) -> bool:

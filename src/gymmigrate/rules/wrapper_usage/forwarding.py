@@ -23,12 +23,12 @@ from __future__ import annotations
 import ast
 import bisect
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.module import FUNCTIONS, call_argument, dotted_name, own_returns
-from gymmigrate.facts.receivers import EnvKind
+from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.repeats import Repeats
@@ -75,10 +75,9 @@ def join_origins(origins: list[Origin]) -> Origin:
 
 
 class WrapperForwarding(RuleFamily):
-    """GM604-GM606. ORDER 61: after the wrapper subclass rules, as the LibCST pass it replaces."""
+    """GM604-GM606. In the pipeline after the wrapper subclass rules, as the LibCST pass it replaced."""
 
     RULES = RULES
-    ORDER = 61
 
     def __init__(self, *args, **kwargs) -> None:  # type: ignore[no-untyped-def]
         super().__init__(*args, **kwargs)

@@ -12,7 +12,7 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.facts import ModuleFacts
-from gymmigrate.rules.base import FileProfile
+from gymmigrate.facts.profile import FileProfile
 from gymmigrate.rules.imports import (
     LEGACY_WRAPPER_MODULES,
     REMOVED_MODULES,

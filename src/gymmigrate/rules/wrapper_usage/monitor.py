@@ -12,19 +12,8 @@ one, none passes ``render_mode`` or ``**kwargs``) and nothing else in the file m
 a mode (no ``render()`` call, no other frame consumer), this family adds
 ``render_mode="rgb_array"`` there itself and reports it as GM407, the rendering rule's
 code, as the rendering rules would have.
-Every RecordVideo it creates is also recorded for the rendering family in
-``plan.notes[FRAMES_NEEDED]``, a list of ``FramesNeeded``:
-
-* ``consumer``: the ``Monitor(...)`` call (an ``ast.Call`` of the original source) that
-  becomes ``RecordVideo``;
-* ``env``: the env argument passed to it (an ``ast.expr``);
-* ``mode``: ``"rgb_array"``;
-* ``added_to``: the make calls that receive ``render_mode`` from this family; empty when
-  the rendering family must place the mode (or report why it cannot), exactly as it does
-  for a ``RecordVideo`` written in the source.
-
-A rendering family that still runs as a LibCST pass after the plan sees the
-``RecordVideo`` in the rewritten text, and the mode already present where it was added.
+The makes it gives a mode are recorded in ``notes.render_modes_added``, which the
+rendering family reads, so that no make gets a second one.
 """
 
 from __future__ import annotations
@@ -33,7 +22,7 @@ import ast
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 
 from gymmigrate.edits.arguments import append_keyword
 from gymmigrate.edits.syntax import dotted_node
@@ -42,21 +31,12 @@ from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.wrapper_usage.arguments import positional
 
 if TYPE_CHECKING:
-    from gymmigrate.rules.wrapper_usage.renames import WrapperRenames
+    from gymmigrate.rules.wrapper_usage.stacks import StacksFamily
 
-FRAMES_NEEDED = "frames_needed"
 RGB_ARRAY = "rgb_array"
 _MONITOR_PARAMETERS = ("env", "directory", "video_callable", "force", "resume", "write_upon_reset", "uid", "mode")
 _OTHER_FRAME_CONSUMERS = ("RecordVideo", "VecVideoRecorder", "play(")
 _DROPPED = ("force", "resume", "write_upon_reset", "uid", "mode")
-
-
-@dataclass(frozen=True)
-class FramesNeeded:
-    consumer: ast.Call
-    env: ast.expr
-    mode: str = RGB_ARRAY
-    added_to: tuple[ast.Call, ...] = field(default=())
 
 
 @dataclass(frozen=True)
@@ -66,7 +46,7 @@ class MonitorRewrite:
     uses: tuple[str, ...]
 
 
-def plan_monitor(family: WrapperRenames, call: ast.Call) -> MonitorRewrite | None:
+def plan_monitor(family: StacksFamily, call: ast.Call) -> MonitorRewrite | None:
     """Decide one ``Monitor(...)`` call; None when it is only reported."""
     func = call.func
     prefix = ""
@@ -136,13 +116,10 @@ def plan_monitor(family: WrapperRenames, call: ast.Call) -> MonitorRewrite | Non
 # -- the render mode at the env's creation --------------------------------------------------------
 
 
-RENDER_MODE_NOTE = "render_mode"  # see rules/rendering.py
 
-
-def _plan_render_mode(family: WrapperRenames, consumer: ast.Call, env: ast.expr) -> None:
+def _plan_render_mode(family: StacksFamily, consumer: ast.Call, env: ast.expr) -> None:
     makes = family.stacks.creation_makes(env)
     facts = family.facts
-    added: tuple[ast.Call, ...] = ()
     if (
         makes
         # Another render() or frame consumer may want its own mode on the same make: the
@@ -151,10 +128,9 @@ def _plan_render_mode(family: WrapperRenames, consumer: ast.Call, env: ast.expr)
         and not any(word in facts.text for word in _OTHER_FRAME_CONSUMERS)
         and all(keyword(m, "render_mode") is None and not any(k.arg is None for k in m.keywords) for m in makes)
     ):
-        added = tuple(makes)
         # The rendering family's record of makes given a mode in this run (one protocol
         # for every family that adds one), so it does not add a second.
-        given = family.plan.notes.setdefault(RENDER_MODE_NOTE, {})
+        given = family.notes.render_modes_added
         for make in makes:
             given[id(make)] = RGB_ARRAY
             family.plan.replace(make, _add_render_mode(_quote_of(facts.segment(make))))
@@ -166,7 +142,6 @@ def _plan_render_mode(family: WrapperRenames, consumer: ast.Call, env: ast.expr)
                 f'added render_mode="{RGB_ARRAY}" to {summary} so RecordVideo gets frames',
                 Tier.NOTE,
             )
-    family.plan.notes.setdefault(FRAMES_NEEDED, []).append(FramesNeeded(consumer=consumer, env=env, added_to=added))
 
 
 def _add_render_mode(quote: str):  # type: ignore[no-untyped-def]

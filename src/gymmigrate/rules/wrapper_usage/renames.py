@@ -16,7 +16,7 @@ Gymnasium 1.0 reworked ``gymnasium.wrappers`` (1.0 release notes; ``wrappers/__i
 * GM614 (AUTO) ``gymnasium.experimental.wrappers.XxxV0`` (0.28-0.29) -> ``gymnasium.wrappers.Xxx``.
 * GM615 (FLAG) ``AtariPreprocessing`` on a base env that already skips frames (it raises).
 
-ORDER 31: right after the make() keywords (GM305 owns ``new_step_api=`` on wrappers) and
+In the pipeline right after the make() keywords (GM305 owns ``new_step_api=`` on wrappers) and
 before the rendering rules, which read the RecordVideo that replaces Monitor. Decided on
 the original source: an import from ``gym.wrappers`` keeps its module here (the imports
 rules move it to ``gymnasium`` in the same run) unless those rules leave it alone
@@ -29,13 +29,13 @@ import ast
 import re
 from collections.abc import Callable
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 
 from gymmigrate.facts import names as N
 from gymmigrate.edits.syntax import dotted_node
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.module import dotted_name, string_value
-from gymmigrate.facts.receivers import EnvKind
+from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.repeats import Repeats
@@ -82,7 +82,6 @@ _REMOVED_SUFFIXES = tuple(REMOVED)
 
 class WrapperRenames(RuleFamily):
     RULES = RULES
-    ORDER = 31
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:

@@ -12,11 +12,31 @@ from __future__ import annotations
 
 import ast
 from collections.abc import Callable
+from typing import TYPE_CHECKING, Protocol
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts import ModuleFacts
-from gymmigrate.facts.receivers import EnvKind, Receivers, join_kinds
+from gymmigrate.facts.kinds import EnvKind, join_kinds
+from gymmigrate.facts.receivers import Receivers
 from gymmigrate.rules.wrapper_usage.tables import wrapper_rest
+
+if TYPE_CHECKING:
+    from gymmigrate.edits.plan import Plan
+    from gymmigrate.findings import FixKind, Tier
+
+
+class StacksFamily(Protocol):
+    """What the rule groups of this package use of the family that calls them
+    (``renames.WrapperRenames``): its facts, plan, reports and wrapper stacks."""
+
+    facts: ModuleFacts
+    receivers: Receivers
+    plan: Plan
+    stacks: WrapperStacks
+
+    def report(
+        self, node: ast.AST, code: str, message: str, kind: FixKind | None = None, tier: Tier | None = None
+    ) -> None: ...
 
 # Deeper than any real chain of distinct names; beyond it the answer is "unknown".
 MAX_DEPTH = 20

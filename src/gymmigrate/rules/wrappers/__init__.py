@@ -8,7 +8,7 @@ them must return the new shapes, or the next wrapper up (``TimeLimit`` from
 The reset family (ORDER 50) and the step family (ORDER 55) rewrite the *calls* inside the
 overrides (``obs, info = self.env.reset(**kwargs)``, ``obs, reward, terminated, truncated,
 info = self.env.step(action)`` plus ``done = terminated or truncated`` when ``done`` is
-read later) and say so in ``plan.notes`` (``reset_info_names``, ``step_unpacks``). This
+read later) and say so in ``notes`` (``reset_info_names``, ``step_unpacks``: ``rules/notes.py``). This
 family (ORDER 60), deciding on the same original source, fixes what the override itself
 returns:
 

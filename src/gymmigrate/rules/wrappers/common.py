@@ -7,7 +7,7 @@ from __future__ import annotations
 import ast
 from collections.abc import Iterator, Sequence
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 
 from gymmigrate.facts.module import FUNCTIONS
 from gymmigrate.findings import FixKind
@@ -35,7 +35,6 @@ RULES = (
 )
 
 # ``plan.notes`` key of the reset family: "Class.method" -> the info name it unpacked into.
-RESET_INFO_NAMES = "reset_info_names"
 
 
 def _is_inner_env(node: ast.expr) -> bool:

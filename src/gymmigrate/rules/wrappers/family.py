@@ -15,7 +15,7 @@ from gymmigrate.rules.wrappers.step import StepOverrides
 
 class WrapperClasses(StepOverrides, ResetOverrides):
     RULES = RULES
-    ORDER = 60
+    after = ("ResetSeed", "StepDone")
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:

@@ -1,7 +1,7 @@
 """GM601: a wrapper's ``reset`` override returns ``(obs, info)``.
 
 ``return self._process(obs)`` -> ``return self._process(obs), info`` with the info the
-reset family unpacked the inner reset into (``plan.notes["reset_info_names"]``), or
+reset family unpacked the inner reset into (``notes.reset_info_names``), or
 ``{}`` when the override has none; ``return f(self.env.reset(**kw))`` gets the inner
 reset hoisted into ``obs, info = ...``. Pass-throughs stay. ``def reset(self)`` takes
 Gymnasium's ``*, seed=None, options=None``, which outer wrappers always pass.
@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import ast
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 
 from gymmigrate.facts.module import own_returns
 from gymmigrate.findings import FixKind, Tier
@@ -30,14 +30,13 @@ from gymmigrate.rules.wrappers.common import (
 )
 
 # ``plan.notes`` key of the reset family: "Class.method" -> the info name it unpacked into.
-RESET_INFO_NAMES = "reset_info_names"
 
 
 class ResetOverrides(RuleFamily):
     """GM601 (mixed into the family; no ``RULES``, so not registered itself)."""
 
     def _fix_reset(self, classdef: ast.ClassDef, function: ast.FunctionDef | ast.AsyncFunctionDef) -> None:
-        noted_info = self.plan.notes.get(RESET_INFO_NAMES, {}).get(f"{classdef.name}.{function.name}")
+        noted_info = self.notes.reset_info_names.get(f"{classdef.name}.{function.name}")
         info_name: str | None = None
         completed: set[ast.stmt] = set()  # one-name resets the reset family unpacks into ``obs, info``
         for line in _statements(function.body):
@@ -130,7 +129,9 @@ class ResetOverrides(RuleFamily):
         self.plan.insert_before(ret, f"{obs_name}, {info_name} = {call_text}")
 
         def rewrite(node: cst.Return) -> cst.Return:
-            value = node.value.visit(_ObservationOf(obs_name))  # type: ignore[union-attr]
+            from gymmigrate.rules.wrappers.cst_builds import ObservationOf  # the apply layer: LibCST
+
+            value = node.value.visit(ObservationOf(obs_name))  # type: ignore[union-attr]
             return node.with_changes(value=_tuple([_parenthesized(value), cst.Name(info_name)]))  # type: ignore[arg-type]
 
         self.plan.replace(ret, rewrite)
@@ -218,33 +219,3 @@ def _keyword_seed_and_options(node: cst.FunctionDef) -> cst.FunctionDef:
             kwonly_params=[keyword("seed").with_changes(comma=_comma()), keyword("options")],
         )
     )
-
-
-def _is_inner_reset(node: cst.BaseExpression) -> bool:
-    if not (isinstance(node, cst.Call) and isinstance(node.func, cst.Attribute) and node.func.attr.value == "reset"):
-        return False
-    owner = node.func.value
-    if isinstance(owner, cst.Attribute):
-        return isinstance(owner.value, cst.Name) and owner.value.value == "self" and owner.attr.value == "env"
-    return isinstance(owner, cst.Call) and isinstance(owner.func, cst.Name) and owner.func.value == "super"
-
-
-class _ObservationOf(cst.CSTTransformer):
-    """The inner reset (or the ``[0]`` of it the reset family wrote) becomes the observation name."""
-
-    def __init__(self, obs_name: str) -> None:
-        super().__init__()
-        self.obs_name = obs_name
-
-    def visit_Lambda(self, node: cst.Lambda) -> bool:
-        return False
-
-    def leave_Call(self, original_node: cst.Call, updated_node: cst.Call) -> cst.BaseExpression:
-        return cst.Name(self.obs_name) if _is_inner_reset(original_node) else updated_node
-
-    def leave_Subscript(self, original_node: cst.Subscript, updated_node: cst.Subscript) -> cst.BaseExpression:
-        if _is_inner_reset(original_node.value) and len(original_node.slice) == 1:
-            index = original_node.slice[0].slice
-            if isinstance(index, cst.Index) and isinstance(index.value, cst.Integer) and index.value.value == "0":
-                return cst.Name(self.obs_name)
-        return updated_node

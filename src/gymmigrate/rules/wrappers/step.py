@@ -2,7 +2,7 @@
 
 ``return obs, reward, done, info`` -> ``return obs, reward, terminated, truncated, info``
 with the flags of the override's inner step unpack, as the step family rewrote it
-(``plan.notes[STEP_UNPACKS]``) or as it already was (five targets). When the override
+(``notes.step_unpacks``) or as it already was (five targets). When the override
 changes ``done`` itself, its own end condition is returned as truncation, for review,
 except a lost life (baselines' ``EpisodicLifeEnv``): that sets ``terminated``, as
 Stable-Baselines3's port does. The
@@ -15,13 +15,13 @@ from __future__ import annotations
 import ast
 import re
 
-import libcst as cst
+from gymmigrate.edits.lazy import cst
 
 from gymmigrate.facts.module import own_returns
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.step import is_step_limit
 from gymmigrate.rules.base import RuleFamily
-from gymmigrate.rules.step_done.common import STEP_UNPACKS, StepUnpack
+from gymmigrate.rules.step_done.common import StepUnpack
 from gymmigrate.rules.wrappers.common import (
     _assigned_names,
     _inner_call,
@@ -66,9 +66,9 @@ class StepOverrides(RuleFamily):
         """Return the inner step's terminated/truncated instead of ``done``.
 
         The flags are those of the step unpack in the override, as the step family
-        rewrote it (``plan.notes[STEP_UNPACKS]``) or as it already was (five targets).
+        rewrote it (``notes.step_unpacks``) or as it already was (five targets).
         """
-        noted_unpacks: dict[ast.Assign, StepUnpack] = self.plan.notes.get(STEP_UNPACKS, {})
+        noted_unpacks: dict[ast.Assign, StepUnpack] = self.notes.step_unpacks
         lines = list(_statements(function.body))
         flags: tuple[str, str] | None = None
         done_name: str | None = None

@@ -1,0 +1,72 @@
+"""What kind of object a receiver is (``EnvKind``), and how the kinds of several
+bindings of one name join. Every receiver question in the facts and the rules is
+answered in these terms."""
+
+from __future__ import annotations
+
+import ast
+from collections.abc import Iterable
+from enum import Enum
+from typing import TYPE_CHECKING, Protocol
+
+if TYPE_CHECKING:
+    from gymmigrate.facts.module import ModuleFacts
+
+# Deeper than any real chain of rebindings; beyond it the answer is "unknown", which
+# callers report. Keeps recursion far from the interpreter's limit.
+MAX_DEPTH = 120
+
+
+class EnvKind(str, Enum):
+    GYM_ENV = "Gym env"
+    GYM_VEC = "Gym vector env"
+    SB3_VEC = "VecEnv (Stable-Baselines3, stable_baselines 2.x or OpenAI baselines)"
+    SB3_MODEL = "Stable-Baselines3 model"
+    PZ_AEC = "PettingZoo AEC env"
+    PZ_PARALLEL = "PettingZoo parallel env"
+    NOT_ENV = "not an env"
+    UNKNOWN = "unknown"
+
+    @property
+    def is_gym(self) -> bool:
+        return self in (EnvKind.GYM_ENV, EnvKind.GYM_VEC)
+
+
+def join_kinds(kinds: Iterable[EnvKind]) -> EnvKind:
+    """Combine the kinds of every binding of one name.
+
+    A guard kind wins (one SB3 binding is enough to leave the call alone); otherwise
+    the bindings must agree.
+    """
+    found = set(kinds)
+    if not found:
+        return EnvKind.UNKNOWN
+    if EnvKind.SB3_VEC in found:
+        return EnvKind.SB3_VEC
+    if len(found) == 1:
+        return found.pop()
+    found.discard(EnvKind.NOT_ENV)  # e.g. ``env = None`` before ``env = gym.make(...)``
+    if len(found) == 1:
+        return found.pop()
+    return EnvKind.UNKNOWN
+
+
+class ReceiverQueries(Protocol):
+    """What the receiver analysis answers its helpers (``facts.callables``,
+    ``facts.self_attributes``): they ask back through this, never import it."""
+
+    facts: ModuleFacts
+    depth: int
+
+    def kind_of(self, expr: ast.AST) -> EnvKind: ...
+    def qualified_names(self, node: ast.AST) -> set[str]: ...
+    def class_kind(self, classdef: ast.ClassDef) -> EnvKind: ...
+    def is_gym_wrapper_class(self, classdef: ast.ClassDef) -> bool: ...
+    def local_class(self, func: ast.AST) -> ast.ClassDef | None: ...
+    def local_function(self, func: ast.AST) -> ast.FunctionDef | ast.AsyncFunctionDef | None: ...
+    def call_sites(self, function: ast.AST, classdef: ast.ClassDef | None) -> list[ast.Call]: ...
+    def returns_kind(self, function: ast.AST) -> EnvKind: ...
+    def kind_from_qualified(self, qualified: str, call: ast.Call) -> EnvKind | None: ...
+    def annotation_kind(self, annotation: ast.AST) -> EnvKind: ...
+    def annotation_names_kind(self, names: set[str]) -> EnvKind: ...
+    def is_self(self, name: ast.Name) -> bool: ...

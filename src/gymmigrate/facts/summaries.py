@@ -1,0 +1,239 @@
+"""One module's summary for the facts across the run (``facts/project.py``): its defs,
+its env classes, and the ``EnvKind`` of each argument it passes into other modules.
+
+Pure: text in, ``ModuleSummary`` out. Reading the files of a run, and mapping this over
+them on the worker pool, is the runner's.
+"""
+
+from __future__ import annotations
+
+import ast
+import os
+
+from gymmigrate.facts import names as N
+from gymmigrate.facts.creation import passes_mode, render_kept_classes
+from gymmigrate.facts.env_classes import EnvClasses
+from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
+from gymmigrate.facts.project import (
+    GUARD_KINDS,
+    NEW,
+    OWN,
+    PARAM,
+    UNRESOLVED,
+    CallSummary,
+    Kind,
+    ModuleSummary,
+    Signature,
+)
+from gymmigrate.facts.receivers import Receivers
+
+
+def summarize(path: str, text: str) -> ModuleSummary | None:
+    """The summary of one module's text (already screened by its reader), or None when it
+    does not parse."""
+    try:
+        facts = ModuleFacts(ast.parse(text), text)
+        return _Summarizer(facts, Receivers(facts), os.path.realpath(path)).summary()
+    except Exception:  # noqa: BLE001  (the file's own run reports why; it just adds no facts)
+        return None
+
+
+class _Summarizer:
+    def __init__(self, facts: ModuleFacts, receivers: Receivers, path: str) -> None:
+        self.facts = facts
+        self.receivers = receivers
+        self.path = path
+
+    def summary(self) -> ModuleSummary:
+        defs: dict[str, Signature] = {}
+        for name, function in self.facts.functions.items():
+            defs[name] = _signature(function, is_method=False)
+        env = EnvClasses.of(self.facts, self.receivers)
+        env_classes, render_mode = set(), set()
+        for name, classdef in self.facts.classes.items():
+            for statement in classdef.body:
+                if isinstance(statement, FUNCTIONS):
+                    defs[f"{name}.{statement.name}"] = _signature(statement, is_method=True)
+            if self.receivers.class_kind(classdef) is EnvKind.GYM_ENV or env.is_custom_env(classdef):
+                env_classes.add(name)
+                if env.takes_render_mode(classdef) and id(classdef) not in render_kept_classes(self.facts, self.receivers):
+                    render_mode.add(name)
+        calls = [c for c in (self._call(call) for calls in self.facts.calls_by_name.values() for call in calls) if c]
+        calls += [c for c in (self._call(call) for calls in self.facts.attribute_calls.values() for call in calls) if c]
+        return ModuleSummary(
+            self.path,
+            defs,
+            frozenset(env_classes),
+            frozenset(render_mode),
+            tuple(calls),
+            untraced_seed_call=self._has_untraced_call("seed"),
+            untraced_render_call=self._has_untraced_call("render"),
+            imported=tuple(sorted(set(self.facts.imports.values()))),
+        )
+
+    def _has_untraced_call(self, method: str) -> bool:
+        """``x.seed(...)`` / ``x.render(mode)`` on a receiver this module cannot trace."""
+        for call in self.facts.attribute_calls.get(method, ()):
+            receiver = call.func.value  # type: ignore[attr-defined]
+            if isinstance(receiver, ast.Name) and receiver.id == "self":
+                continue  # a class's own call: decided with that class
+            if isinstance(receiver, ast.Call) and isinstance(receiver.func, ast.Name) and receiver.func.id == "super":
+                continue
+            if method == "render" and not passes_mode(call, self.facts):
+                continue  # a bare render() (the Gymnasium call), or a render method forwarding
+            if self.receivers.kind_of(receiver) is not EnvKind.UNKNOWN:
+                continue
+            made_by = self._instance_class(receiver)
+            if made_by is not None and not _is_library(made_by):
+                continue  # an instance of a class it imports: the run knows that class
+            return True
+        return False
+
+    def _call(self, call: ast.Call) -> CallSummary | None:
+        target = self._target(call.func)
+        if target is None:
+            return None
+        summary = self._arguments(call, target)
+        if target.startswith(UNRESOLVED):
+            kinds = {*summary.args, *(k for _, k in summary.keywords)}
+            return summary if kinds & GUARD_KINDS else None
+        return summary
+
+    def _target(self, func: ast.expr) -> str | None:
+        """The qualified callee in another module, ``@name`` for a def of this module
+        (``@Agent.fit`` for ``self.fit(...)``), ``?.name`` for a method of an unknown
+        owner, None for library calls."""
+        own = self._own_target(func)
+        if own is not None:
+            return own
+        qualified = self.facts.qualified_names(func)
+        if qualified:
+            found = sorted(q for q in qualified if not _is_library(q))
+            return found[0] if len(found) == 1 else None
+        if not isinstance(func, ast.Attribute):
+            return None
+        owner = func.value
+        if isinstance(owner, ast.Name) and self.receivers.is_self(owner):
+            return None  # a method the class does not define (inherited)
+        cls = self._instance_class(owner)
+        if cls is not None:
+            return f"{cls}.{func.attr}" if not _is_library(cls) else None
+        return UNRESOLVED + func.attr
+
+    def _own_target(self, func: ast.expr) -> str | None:
+        function = self.receivers.local_function(func)
+        if function is not None:
+            return OWN + function.name
+        classdef = self.receivers.local_class(func)
+        if classdef is not None:
+            return OWN + f"{classdef.name}.__init__"
+        method = self.receivers.own_method(func)
+        if method is not None:
+            classdef = self.facts.parent(method)  # type: ignore[assignment]
+            if self.facts.parent(classdef) is self.facts.tree:  # type: ignore[arg-type]
+                return OWN + f"{classdef.name}.{method.name}"  # type: ignore[union-attr]
+        return None
+
+    def _instance_class(self, owner: ast.expr) -> str | None:
+        """``Agent`` (qualified through the imports) for ``Agent(...)``, a name or a
+        ``self.x`` every binding of which is ``Agent(...)``; None otherwise."""
+        if isinstance(owner, ast.Call):
+            found = self.facts.qualified_names(owner.func)
+            return next(iter(found)) if len(found) == 1 else None
+        if isinstance(owner, ast.Name):
+            # One answer per set of bindings: a name read n times is resolved once.
+            bindings = self.facts.bindings_of(owner)
+            if not bindings:
+                return None  # (an empty list is a fresh object: its id is no key)
+            return self.facts.memo(("instance-class", id(bindings)), lambda: self._class_of_bindings(bindings))  # type: ignore[no-any-return]
+        if isinstance(owner, ast.Attribute) and isinstance(owner.value, ast.Name) and self.receivers.is_self(owner.value):
+            values = list(self.receivers.self_attribute_values(owner, owner.attr))
+        else:
+            return None
+        return self._class_of_values(values)
+
+    def _class_of_bindings(self, bindings: list[ast.AST]) -> str | None:
+        values = []
+        for binding in bindings:
+            parent = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
+            if not isinstance(parent, ast.Assign):
+                return None
+            values.append(parent.value)
+        return self._class_of_values(values)
+
+    def _class_of_values(self, values: list[ast.expr]) -> str | None:
+        classes = {self._instance_class(v) if isinstance(v, ast.Call) else None for v in values}
+        return classes.pop() if len(classes) == 1 else None
+
+    def _arguments(self, call: ast.Call, target: str) -> CallSummary:
+        args: list[Kind] = []
+        open_ended = False
+        for argument in call.args:
+            if isinstance(argument, ast.Starred):
+                open_ended = True
+                break
+            args.append(self._kind(argument))
+        keywords = []
+        for keyword in call.keywords:
+            if keyword.arg is None:
+                open_ended = True
+            else:
+                keywords.append((keyword.arg, self._kind(keyword.value)))
+        return CallSummary(target, tuple(args), tuple(keywords), open_ended)
+
+    def _kind(self, argument: ast.expr) -> Kind:
+        """The argument's kind; ``new:agent.GridEnv`` for an instance of a class this
+        module imports, which the join resolves against the env classes of the run."""
+        kind = self.receivers.kind_of(argument)
+        if kind is EnvKind.UNKNOWN and isinstance(argument, ast.Call):
+            found = [q for q in self.facts.qualified_names(argument.func) if not _is_library(q)]
+            if len(found) == 1:
+                return NEW + found[0]
+        if kind is EnvKind.UNKNOWN and isinstance(argument, ast.Name):
+            parameter = self._parameter_of_def(argument)
+            if parameter is not None:
+                return parameter
+        return kind
+
+    def _parameter_of_def(self, name: ast.Name) -> str | None:
+        """``param:Agent.fit:env`` when ``name`` is only ever the parameter ``env`` of a def
+        the summary lists: the join gives it the kinds the run passes there."""
+        bindings = self.facts.bindings_of(name)
+        if len(bindings) != 1 or not isinstance(bindings[0], ast.arg):
+            return None
+        function = self.facts.parent(self.facts.parent(bindings[0]))
+        if not isinstance(function, FUNCTIONS):
+            return None
+        holder = self.facts.parent(function)
+        if holder is self.facts.tree:
+            qualname = function.name
+        elif isinstance(holder, ast.ClassDef) and self.facts.parent(holder) is self.facts.tree:
+            qualname = f"{holder.name}.{function.name}"
+        else:
+            return None
+        return f"{PARAM}{qualname}:{name.id}"
+
+
+def _signature(function: ast.FunctionDef | ast.AsyncFunctionDef, is_method: bool) -> Signature:
+    args = function.args
+    positional = [*args.posonlyargs, *args.args]
+    with_default = positional[len(positional) - len(args.defaults) :]
+    defaults = {a.arg for a in with_default}
+    defaults |= {a.arg for a, d in zip(args.kwonlyargs, args.kw_defaults) if d is not None}
+    params = tuple(a.arg for a in (*positional, *args.kwonlyargs))
+    return Signature(params, frozenset(defaults), is_method)
+
+
+def _is_library(qualified: str) -> bool:
+    """Gym, Stable-Baselines, PettingZoo, numpy...: never a module of the run."""
+    package = N.top_package(qualified)
+    return (
+        N.strip_gym_prefix(qualified) is not None
+        or package in N.SB3_PACKAGES
+        or package == N.PETTINGZOO_PACKAGE
+        or package in N.NOT_ENV_PACKAGES
+        or package in ("typing", "collections", "functools", "os", "sys", "math", "random", "time", "logging")
+    )
+
+

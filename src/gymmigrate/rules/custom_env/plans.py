@@ -1,0 +1,59 @@
+"""What the custom-env family decides for one class, taken on ``ast`` and carried out by
+the build in ``rebuild.py``; plus the words both sides read. No LibCST here: deciding
+never loads it.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+
+SUPER_RESET = "super().reset(seed=seed)"
+# Identifiers that count steps or time (``self.steps >= self.max_steps``, ``self.t > 200``).
+# A word that counts steps (matched on the lower-cased identifier: ``MAX_STEPS`` too).
+# ``cycles``, ``frames`` and ``num_moves`` are how PettingZoo's envs count theirs
+# (``self.frames >= self.max_cycles``); a bare ``moves`` is often a list of legal moves.
+STEP_LIMIT_WORD = re.compile(
+    r"(^|_)(t|ts|step|steps|timestep|timesteps|tick|ticks|iter|iters|iteration|iterations|horizon|"
+    r"time|time_limit|ep_len|episode_len|episode_length|counter|cycle|cycles|frame|frames|num_moves|n_moves)(_|$)"
+)
+
+
+@dataclass
+class SeedPlan:
+    """``seed()`` is removed: statements (by index in its body) that move elsewhere."""
+
+    moved: list[int] = field(default_factory=list)  # into reset(), under ``if seed is not None:``
+    setup: list[int] = field(default_factory=list)  # into __init__, where self.seed() was called
+    renames: dict[str, str] = field(default_factory=dict)  # the seed's other names -> ``seed``
+    callers: set[str] = field(default_factory=set)  # methods that call self.seed()
+    keep: bool = False  # seed() stays a method; reset() calls it when given a seed
+
+
+@dataclass
+class ClassPlan:
+    renamed: dict[str, str] = field(default_factory=dict)  # new name -> gym < 0.9 name
+    dropped: set[str] = field(default_factory=set)  # public methods that only forwarded to a renamed one
+    seed: SeedPlan | None = None
+    reset_super_seeds: bool = True  # super().reset(seed=seed) may be called (else only reported)
+    render: bool = False
+    pass_render_mode: bool = False  # a subclass __init__ takes render_mode and passes it to the base
+    render_helper: str | None = None  # keeps the old render(mode) body for the class's own mode calls
+    render_helper_callers: set[str] = field(default_factory=set)  # methods that call self.render(mode)
+    info_helper: bool = False  # reset returns self._get_info() (it takes no arguments)
+    local_env_base: bool = False
+    unpack_self_reset: bool = False
+    # Methods that call a gym < 0.9 name or assign self.reset(): only those are visited,
+    # so a class of fifty methods costs what its few affected methods cost.
+    rename_callers: set[str] = field(default_factory=set)
+    reset_callers: set[str] = field(default_factory=set)
+    reset: bool = False  # reset() changes (signature, returns, super().reset(seed=seed))
+    step: bool = False  # step() returns four values somewhere
+    step_helpers: list[str] = field(default_factory=list)  # what step() returns the result of
+    reset_helpers: list[str] = field(default_factory=list)  # likewise for reset()
+
+
+def truncated_false_message(limit_hint: str | None) -> str:
+    if limit_hint:
+        return f"step returns truncated=False, but `{limit_hint}` looks like a step limit: return it as truncated, not terminated"
+    return "step returns terminated (the old done) and truncated=False; set truncated if the env stops episodes on a step limit"

@@ -1,0 +1,38 @@
+"""What one rule family tells another about the same file, typed.
+
+Every family decides on the same original module; where one family's change implies
+another's (the step unpack's new names read by a wrapper's ``step``, the ``render_mode``
+one make gets whichever family adds it), the first records it here and the reader
+declares ``after = ("Writer",)`` so the pipeline runs it later (``rules/__init__.py``).
+One ``FamilyNotes`` per file, in ``FileContext.notes``.
+"""
+
+from __future__ import annotations
+
+import ast
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from gymmigrate.rules.step_done.common import StepUnpack
+
+
+@dataclass
+class FamilyNotes:
+    # StepDone -> WrapperClasses: every four-target step unpack StepDone rewrites. The
+    # wrappers family returns the new flags from a wrapper's ``step`` and may withdraw the
+    # inserted ``done = ...`` line once its return no longer reads ``done``.
+    step_unpacks: dict[ast.Assign, StepUnpack] = field(default_factory=dict)
+    # EnvIds -> RegistryApi: the registration block already imports gymnasium.
+    gymnasium_imported: bool = False
+    # WrapperRenames <-> Rendering: the ``render_mode`` added to a make (id of the call ->
+    # mode), so that one make gets one, whichever family adds it first.
+    render_modes_added: dict[int, str] = field(default_factory=dict)
+    # Rendering -> EnvClassFamily: render calls that still pass a mode after this run; a
+    # local env class whose render(mode) they may reach keeps its signature.
+    render_mode_calls_left: list[ast.Call] = field(default_factory=list)
+    # PettingZoo families -> SpacesAndMake: some PettingZoo call or class was edited.
+    pettingzoo_edited: bool = False
+    # ResetSeed -> WrapperClasses: the info name a wrapper's inner reset was unpacked into,
+    # by ``"Class.method"``.
+    reset_info_names: dict[str, str] = field(default_factory=dict)

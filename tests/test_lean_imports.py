@@ -1,0 +1,56 @@
+"""``check``, and ``rewrite`` where nothing changes, never import LibCST; rich loads only
+for a terminal. Each command runs in a fresh interpreter, which then lists what it loaded."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+LEGACY = ROOT / "fixtures" / "examples" / "legacy_cartpole_dqn.py"
+
+_PROBE = """
+import json, sys
+sys.argv = ["gymmigrate", *json.loads(sys.argv[1])]
+from gymmigrate.cli import main
+try:
+    main()
+except SystemExit:
+    pass
+loaded = sorted({name.split(".")[0] for name in sys.modules})
+sys.stderr.write("\\nLOADED " + json.dumps(loaded) + "\\n")
+"""
+
+
+def loaded_by(*arguments: str) -> set[str]:
+    done = subprocess.run(
+        [sys.executable, "-c", _PROBE, json.dumps(list(arguments))], capture_output=True, text=True, timeout=120
+    )
+    line = next(line for line in done.stderr.splitlines() if line.startswith("LOADED "))
+    return set(json.loads(line[len("LOADED ") :]))
+
+
+def test_check_imports_no_libcst_and_no_rich() -> None:
+    loaded = loaded_by("check", str(LEGACY))
+    assert "libcst" not in loaded
+    assert "rich" not in loaded  # findings and summary go to pipes here, not a terminal
+
+
+@pytest.mark.parametrize("diff", [True, False], ids=["rewrite --diff", "rewrite"])
+def test_rewrite_with_nothing_to_change_imports_no_libcst(tmp_path: Path, diff: bool) -> None:
+    clean = tmp_path / "train.py"
+    clean.write_text("import gymnasium as gym\n\nenv = gym.make('CartPole-v1')\nobs, info = env.reset(seed=0)\n")
+    loaded = loaded_by("rewrite", *(["--diff"] if diff else []), str(tmp_path))
+    assert "libcst" not in loaded
+    assert clean.read_text().startswith("import gymnasium")
+
+
+def test_rewrite_that_changes_a_file_does_load_libcst(tmp_path: Path) -> None:
+    """The probe can see LibCST: a real edit loads it."""
+    legacy = tmp_path / "train.py"
+    legacy.write_bytes(LEGACY.read_bytes())
+    assert "libcst" in loaded_by("rewrite", "--diff", str(legacy))
