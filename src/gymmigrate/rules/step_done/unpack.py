@@ -352,12 +352,15 @@ class UnpackRules(StepFamilyBase):
                 FixKind.FLAG,
             )
         elif use is DoneUse.DATA and owner is step.assign and stored_in_sequence(read, self.facts):
+            # one question per step: its other stores are notes pointing at the first
+            tier, same = self.rollout_advice.tier(id(step.assign), read)
             self._report_read(
                 read,
                 f"`{read.id}` is stored per step without the next state (a rollout or a log): it stays "
                 f"`{names.terminated} or {names.truncated}`, the episode boundary. To bootstrap time-limit "
-                f"truncations, also keep the value of the final observation and mask it with `{names.terminated}`",
+                f"truncations, also keep the value of the final observation and mask it with `{names.terminated}`{same}",
                 FixKind.FLAG,
+                tier,
             )
         elif use is DoneUse.DATA and owner is step.assign:
             self._report_read(
