@@ -19,6 +19,13 @@ from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 
 HOOKS = {"_observation": "observation", "_action": "action", "_reverse_action": "reverse_action", "_reward": "reward"}
+# The Gym wrapper class whose step called each hook.
+HOOK_BASES = {
+    "_observation": "ObservationWrapper",
+    "_action": "ActionWrapper",
+    "_reverse_action": "ActionWrapper",
+    "_reward": "RewardWrapper",
+}
 API_METHODS = {"_step": "step", "_reset": "reset", "_render": "render", "_seed": "seed", "_close": "close"}
 
 
@@ -41,7 +48,12 @@ class LegacyWrapperHooks(RuleFamily):
             if not self.receivers.is_gym_wrapper_class(classdef):
                 continue
             methods = {s.name: s for s in classdef.body if isinstance(s, (ast.FunctionDef, ast.AsyncFunctionDef))}
-            renames = {old: new for old, new in HOOKS.items() if old in methods and new not in methods}
+            bases, inherited = self._ancestry(classdef)
+            renames = {
+                old: new
+                for old, new in HOOKS.items()
+                if old in methods and new not in methods and new not in inherited and HOOK_BASES[old] in bases
+            }
             for old, new in renames.items():
                 self.plan.replace(methods[old], lambda node, new=new: node.with_changes(name=node.name.with_changes(value=new)))
                 for call in self._self_calls(classdef, old):
@@ -60,6 +72,26 @@ class LegacyWrapperHooks(RuleFamily):
                         "gymmigrate again to migrate its contract",
                         FixKind.FLAG,
                     )
+
+    def _ancestry(self, classdef: ast.ClassDef) -> tuple[set[str], set[str]]:
+        """The Gym wrapper classes ``classdef`` derives from (last name: ``ObservationWrapper``),
+        and the methods its local base classes define."""
+        bases: set[str] = set()
+        inherited: set[str] = set()
+        seen: set[int] = {id(classdef)}
+        todo = [classdef]
+        while todo:
+            current = todo.pop()
+            for base in current.bases:
+                local = self.receivers.local_class(base)
+                if local is not None and id(local) not in seen:
+                    seen.add(id(local))
+                    inherited.update(s.name for s in local.body if isinstance(s, (ast.FunctionDef, ast.AsyncFunctionDef)))
+                    todo.append(local)
+                    continue
+                for qualified in self.facts.qualified_names(base):
+                    bases.add(qualified.rsplit(".", 1)[-1])
+        return bases, inherited
 
     def _self_calls(self, classdef: ast.ClassDef, name: str) -> list[ast.Call]:
         return [
