@@ -162,8 +162,13 @@ def test_rewrite_with_docs_writes_pages_then_changes_nothing(project: Path) -> N
     result = runner.invoke(app, ["rewrite", "--docs", str(project)])
     assert result.exit_code == 0, result.stderr
     assert "GM001 (not rewritten)" in result.stderr
+    from gymmigrate.dependencies import migrate_page_commands
+
     for page in PAGES:
-        assert (project / page.name).read_bytes() == _expected(page).read_bytes()
+        # The run also migrates the `pip install` lines of shell blocks (gymmigrate.dependencies).
+        expected = migrate_page_commands(page, _expected(page).read_bytes()).rewritten
+        assert (project / page.name).read_bytes() == expected
+    assert b'pip install "gymnasium>=1.0"\n' in (project / "quickstart.md").read_bytes()
     check = runner.invoke(app, ["check", "--docs", str(project)])
     assert check.exit_code == 1  # only the block that does not parse is left
     assert [line.split(": ", 1)[1].split(" ")[0] for line in check.stdout.splitlines()] == ["GM001"]

@@ -24,15 +24,15 @@ PACKAGE = Path(__file__).resolve().parent.parent / "src" / "gymmigrate"
 # Bottom first. A module belongs to the first entry whose prefix names it (longest prefix wins).
 LAYERS: list[tuple[str, tuple[str, ...]]] = [
     ("base", ("gymmigrate", "gymmigrate.findings", "gymmigrate.source_text", "gymmigrate.selection",
-              "gymmigrate.suppressions", "gymmigrate.safety", "gymmigrate.writes", "gymmigrate.files")),
+              "gymmigrate.suppressions", "gymmigrate.safety", "gymmigrate.writes")),
     ("facts", ("gymmigrate.facts",)),
     ("options", ("gymmigrate.options",)),
     ("edits", ("gymmigrate.edits",)),
     ("rules", ("gymmigrate.rules",)),
     ("engine", ("gymmigrate.engine", "gymmigrate.rule_docs", "gymmigrate.config")),
-    ("sources", ("gymmigrate.sources",)),
+    ("sources", ("gymmigrate.sources", "gymmigrate.dependencies")),
     ("process", ("gymmigrate.process",)),
-    ("runner", ("gymmigrate.runner",)),
+    ("runner", ("gymmigrate.runner", "gymmigrate.files")),
     ("report", ("gymmigrate.formats", "gymmigrate.report", "gymmigrate.rules_listing")),
     ("workflow", ("gymmigrate.workflow",)),
     ("smoke", ("gymmigrate.smoke",)),

@@ -1,7 +1,9 @@
 """Find the Python files a run should look at.
 
-Directories are searched recursively for ``*.py`` and notebooks (``*.ipynb``), and with
-``docs`` for documentation pages (``*.md``, ``*.rst``) too. Tool and dependency folders (VCS,
+Directories are searched recursively for ``*.py``, notebooks (``*.ipynb``) and dependency
+declarations (``requirements*.txt``, ``pyproject.toml``, ``setup.cfg``, ``environment.yml``,
+Dockerfiles: ``gymmigrate.dependencies.is_dependency_file``), and with ``docs`` for
+documentation pages (``*.md``, ``*.rst``) too. Tool and dependency folders (VCS,
 virtualenvs, site-packages, build output, caches) are skipped, and inside a git work
 tree the files git ignores are skipped too; git itself answers that question, so the
 rules of nested ``.gitignore`` files, ``info/exclude`` and global excludes all hold.
@@ -24,6 +26,7 @@ from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
+from gymmigrate.dependencies import is_dependency_file
 from gymmigrate.writes import is_temporary_name
 
 SKIPPED_DIRECTORIES = frozenset(
@@ -129,13 +132,13 @@ def _walk(root: Path, errors: list[tuple[str, str]], suffixes: tuple[str, ...] =
         subdirectories[:] = sorted(d for d in subdirectories if not (base / d).is_symlink() and not _skipped(base / d))
         for filename in sorted(filenames):
             path = base / filename
-            if filename.endswith(suffixes) and not path.is_symlink():
+            if (filename.endswith(suffixes) or is_dependency_file(path)) and not path.is_symlink():
                 yield path
 
 
 def _git_files(root: Path, tracked: list[str], suffixes: tuple[str, ...]) -> Iterator[Path]:
     for relative in sorted(tracked):
-        if not relative.endswith(suffixes):
+        if not relative.endswith(suffixes) and not is_dependency_file(relative):
             continue
         path = root / relative
         parents = path.relative_to(root).parents

@@ -2,17 +2,26 @@
 bad input.
 
 Files and stdin share one dispatch (``migrate_bytes``): the same safety screen, the same
-adapter for notebooks and pages, the same lint path for ``check``. ``process_file`` adds
+adapter for notebooks and pages, dependency declarations (``gymmigrate.dependencies``),
+the same lint path for ``check``. ``process_file`` adds
 reading and the atomic write that never overwrites an edit saved meanwhile.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from enum import Enum
 from pathlib import Path
 
-from gymmigrate.engine import lint_source, transform_source, Transformed, unified_diff
+from gymmigrate.dependencies import MAX_FILE_BYTES as DEPENDENCY_MAX_BYTES
+from gymmigrate.dependencies import (
+    DependencyError,
+    is_dependency_file,
+    may_name_a_moved_package,
+    migrate_dependency_file,
+    migrate_page_commands,
+)
+from gymmigrate.engine import LineMap, Transformed, lint_source, transform_source, unified_diff
 from gymmigrate.findings import Finding
 from gymmigrate.options import RewriteOptions
 from gymmigrate.safety import MAX_SOURCE_BYTES, Refused, read_source, screen
@@ -44,30 +53,38 @@ class FileResult:
 
 
 def migrate_bytes(
-    source: bytes, shown: str, adapter: Adapter | None, options: RewriteOptions, *, lint: bool
+    source: bytes, shown: str, path: Path | None, options: RewriteOptions, *, lint: bool
 ) -> tuple[FileResult, Transformed | None]:
-    """The one dispatch: screen, then lint or migrate ``source`` as Python or through its
-    adapter. The ``Transformed`` is None where nothing was migrated (skipped, linted, an
-    error)."""
+    """The one dispatch: screen, then lint or migrate ``source`` by what ``path`` names (a
+    dependency declaration, a notebook or page through its adapter, else Python). The
+    ``Transformed`` is None where nothing was migrated (skipped, linted, an error)."""
+    dependency = path is not None and is_dependency_file(path)
+    adapter = adapter_for(path) if path is not None and not dependency else None
     try:
-        if not screen(source, may_hold_gym_code):
+        if not screen(source, may_name_a_moved_package if dependency else may_hold_gym_code):
             return FileResult(shown, Status.SKIPPED), None
-        if lint:
+        if dependency:
+            assert path is not None
+            rewritten, found = migrate_dependency_file(path, source, selection=options.selection)
+            transformed = Transformed(original=source, rewritten=rewritten, encoding="utf-8", findings=list(found))
+        elif lint:
             if adapter:
                 findings, would_change = lint_document(adapter, source, shown, options)
+                findings, would_change = _lint_page_commands(adapter, path, source, findings, would_change, options)
             else:
                 findings, would_change = lint_source(source, shown, options)
             return FileResult(shown, Status.CHANGED if would_change else Status.UNCHANGED, findings=tuple(findings)), None
-        if adapter:
-            transformed = transform_document(adapter, source, shown, options)
+        elif adapter:
+            transformed = _with_page_commands(adapter, path, transform_document(adapter, source, shown, options), options)
         else:
             transformed = transform_source(source, shown, options)
-    except (Refused, TransformError) as exc:
+    except (Refused, TransformError, DependencyError) as exc:
         return FileResult(shown, Status.ERROR, error=str(exc)), None
     except RecursionError:
         return FileResult(shown, Status.ERROR, error="the file is nested too deeply to analyse"), None
     status = Status.CHANGED if transformed.changed else Status.UNCHANGED
-    return FileResult(shown, status, findings=tuple(transformed.findings)), transformed
+    result = FileResult(shown, status, findings=tuple(transformed.findings))
+    return result, None if lint else transformed
 
 
 def process_file(
@@ -86,20 +103,24 @@ def process_file(
     """
     shown = display_path or str(path)
     adapter = adapter_for(path)  # notebooks and documentation pages; None for Python source
+    if is_dependency_file(path):
+        prefilter, limit = may_name_a_moved_package, DEPENDENCY_MAX_BYTES
+    else:
+        prefilter, limit = may_hold_gym_code, adapter.max_bytes if adapter else MAX_SOURCE_BYTES
     try:
-        source = read_source(path, may_hold_gym_code, limit=adapter.max_bytes if adapter else MAX_SOURCE_BYTES)
+        source = read_source(path, prefilter, limit=limit)
     except Refused as exc:
         return FileResult(shown, Status.ERROR, error=str(exc))
     except OSError as exc:
         return FileResult(shown, Status.ERROR, error=f"cannot read the file: {exc.strerror or exc}")
     if source is None:
         return FileResult(shown, Status.SKIPPED)
-    result, transformed = migrate_bytes(source, shown, adapter, options, lint=lint)
+    result, transformed = migrate_bytes(source, shown, path, options, lint=lint)
     if transformed is None or not transformed.changed:
         return result
     diff = None
     if want_diff:
-        diff = document_diff(adapter, shown, transformed) if adapter else unified_diff(shown, transformed)
+        diff = document_diff(adapter, shown, transformed) if adapter and not is_dependency_file(path) else unified_diff(shown, transformed)
     if write:
         try:
             # ``expected``: an edit saved while this file was being rewritten wins.
@@ -115,6 +136,48 @@ def process_stdin(source: bytes, filename: str | None, options: RewriteOptions, 
     """One file read from stdin: its result and the bytes to print (rewrite: the file as
     rewritten, or as it was when nothing changed or it could not be processed)."""
     shown = filename or "<stdin>"
-    adapter = adapter_for(Path(filename)) if filename else None  # a notebook or a page, by its name
-    result, transformed = migrate_bytes(source, shown, adapter, options, lint=lint)
+    # A notebook, a page or a dependency file, by its name.
+    result, transformed = migrate_bytes(source, shown, Path(filename) if filename else None, options, lint=lint)
     return result, transformed.rewritten if transformed is not None else source
+
+
+# -- pip install lines in pages ----------------------------------------------------------------
+
+
+def _order(finding: Finding) -> tuple[int, int, int, str]:
+    return (finding.cell if finding.cell is not None else -1, finding.line, finding.column, finding.rule)
+
+
+def _lint_page_commands(
+    adapter: Adapter, path: Path | None, source: bytes, findings: list[Finding], would_change: bool, options: RewriteOptions
+) -> tuple[list[Finding], bool]:
+    """``check`` of a page: its blocks' findings plus those of its ``pip install`` lines."""
+    if path is None or adapter.name not in ("markdown", "rst"):
+        return findings, would_change
+    try:
+        result = migrate_page_commands(path, source, selection=options.selection)
+    except DependencyError:
+        return findings, would_change
+    return sorted([*findings, *result.findings], key=_order), would_change or result.rewritten != source
+
+
+def _with_page_commands(adapter: Adapter, path: Path | None, transformed: Transformed, options: RewriteOptions) -> Transformed:
+    """A migrated page with its ``pip install`` lines migrated too. Those edits stay within
+    their lines, so every finding's place in the output is still right."""
+    if path is None or adapter.name not in ("markdown", "rst"):
+        return transformed
+    try:
+        before = migrate_page_commands(path, transformed.original, selection=options.selection)
+        after = migrate_page_commands(path, transformed.rewritten, selection=options.selection)
+    except DependencyError:
+        return transformed
+    if not before.findings:
+        return transformed
+    rewritten = after.rewritten
+    findings = list(before.findings)
+    if rewritten != transformed.original:
+        line_map = LineMap(transformed.original.decode("utf-8"), rewritten.decode("utf-8"))
+        findings = [replace(f, line_after=line_map.forward(f.line)) for f in findings]
+    else:
+        findings = [replace(f, line_after=None) for f in findings]
+    return replace(transformed, rewritten=rewritten, findings=sorted([*transformed.findings, *findings], key=_order))

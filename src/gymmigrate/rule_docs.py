@@ -16,6 +16,7 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 
 from gymmigrate.rules import all_rules
+from gymmigrate.rules.base import standalone_rules
 
 PACKAGE = Path(__file__).resolve().parent
 CHECKOUT = PACKAGE.parent.parent
@@ -36,12 +37,36 @@ def from_checkout(root: Path = CHECKOUT) -> dict[str, RuleDoc] | None:
     pages, fixtures = root / "docs" / "rules", root / "fixtures" / "rules"
     if not (pages.is_dir() and fixtures.is_dir()):
         return None
+    standalone = {rule.code for rule in standalone_rules()}
     docs = {}
     for rule in all_rules():
         page = pages / f"{rule.code}.md"
         text = page.read_text(encoding="utf-8") if page.is_file() else ""
-        docs[rule.code] = RuleDoc(rule.code, text, *_example(fixtures / rule.code, rule.code, root))
+        if rule.code in standalone:
+            example = _dependency_example(root / "fixtures" / "dependencies", rule.code, root)
+        else:
+            example = _example(fixtures / rule.code, rule.code, root)
+        docs[rule.code] = RuleDoc(rule.code, text, *example)
     return docs
+
+
+def _dependency_example(folder: Path, code: str, root: Path) -> tuple[str | None, str | None, str | None]:
+    """The smallest dependency-file case (``fixtures/dependencies/<case>/``) where the rule fires."""
+    firing = []
+    for findings in sorted(folder.glob("*/findings")):
+        if not any(row.split()[1:2] == [code] for row in findings.read_text(encoding="utf-8").splitlines()):
+            continue
+        for source in sorted(findings.parent.iterdir()):
+            if source.name == "findings" or ".expected" in source.name:
+                continue
+            stem, dot, suffix = source.name.partition(".")
+            expected = source.with_name(f"{stem}.expected{dot}{suffix}")
+            firing.append((not expected.is_file(), source.stat().st_size, source, expected))
+    if not firing:
+        return None, None, None
+    _, _, source, expected = min(firing)
+    after = expected.read_text(encoding="utf-8") if expected.is_file() else None
+    return source.relative_to(root).as_posix(), source.read_text(encoding="utf-8"), after
 
 
 def _example(folder: Path, code: str, root: Path) -> tuple[str | None, str | None, str | None]:

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import ast
 import os
+from dataclasses import replace
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.creation import passes_mode, render_kept_classes
@@ -27,14 +28,18 @@ from gymmigrate.facts.project import (
     Signature,
 )
 from gymmigrate.facts.receivers import Receivers
+from gymmigrate.source_text import first_statement_line
+from gymmigrate.suppressions import skips_file
 
 
 def summarize(path: str, text: str) -> ModuleSummary | None:
     """The summary of one module's text (already screened by its reader), or None when it
     does not parse."""
     try:
-        facts = ModuleFacts(ast.parse(text), text)
-        return _Summarizer(facts, Receivers(facts), os.path.realpath(path)).summary()
+        tree = ast.parse(text)
+        facts = ModuleFacts(tree, text)
+        summary = _Summarizer(facts, Receivers(facts), os.path.realpath(path)).summary()
+        return replace(summary, skips_file=True) if skips_file(text, first_statement_line(tree)) else summary
     except Exception:  # noqa: BLE001  (the file's own run reports why; it just adds no facts)
         return None
 

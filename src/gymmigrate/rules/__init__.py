@@ -18,6 +18,8 @@ Where a rule lives (families decide in the order of ``PIPELINE`` below):
     GM616                      gym < 0.9 wrapper hooks ......... legacy_hooks.py
     GM902, GM904, GM906-GM908  spaces, logger, errors, utils ... spaces_logger.py
     PZ101-PZ110                PettingZoo AEC and parallel APIs  pettingzoo/
+    GM109, GM110, SB110        dependency declarations ......... dependency_files.py (carried
+                               out by gymmigrate.dependencies, not a family)
 
 Not rules (catalog entries that are information only, or that cannot be told apart
 from correct code by syntax): GM306, GM307, GM607, GM903, GM905.
@@ -30,6 +32,7 @@ rules, PZ101-PZ110, which leave Gym envs alone in turn).
 
 from gymmigrate.rules import (  # noqa: F401  (imported to register their passes)
     custom_env,
+    dependency_files,
     env_ids,
     imports,
     legacy_hooks,

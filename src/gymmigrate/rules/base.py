@@ -125,6 +125,19 @@ def _ordered_families() -> tuple[type[RuleFamily], ...]:
     return tuple(by_name[name] for name in _PIPELINE)
 
 
+# Rules carried out outside the Python engine (``rules/dependency_files.py``).
+_STANDALONE_RULES: list[Rule] = []
+
+
+def register_rules(*rules: Rule) -> None:
+    """Declare rules that no family of the Python engine implements."""
+    _STANDALONE_RULES.extend(rules)
+
+
+def standalone_rules() -> list[Rule]:
+    return list(_STANDALONE_RULES)
+
+
 def all_rules() -> list[Rule]:
-    rules = [rule for cls in registered_families() for rule in cls.RULES]
+    rules = [rule for cls in registered_families() for rule in cls.RULES] + _STANDALONE_RULES
     return sorted(rules, key=lambda rule: rule.code)

@@ -1,0 +1,234 @@
+"""What a Gym-era requirement becomes: one decision per package, shared by every file format.
+
+A requirement is read with ``packaging`` (name, extras, specifier, marker, URL); the
+decision says which package, extras and specifier to write, and what to report. The
+formats only locate requirements and put the new text back (``render_pep508`` for
+requirement strings; Poetry renders its own table entries).
+
+The versions below were read from the packages' own metadata (``Requires-Dist`` and
+``Provides-Extra`` of the wheels on PyPI), see docs/dependencies.md.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+
+from packaging.requirements import InvalidRequirement, Requirement
+from packaging.specifiers import InvalidSpecifier, SpecifierSet
+from packaging.utils import canonicalize_name
+from packaging.version import Version
+
+from gymmigrate.findings import FixKind
+
+GYM_PACKAGE = "GM109"  # gym and Gym-era packages rewritten to their Gymnasium successors
+GYM_ONLY = "GM110"  # Gym-only packages and requirements that cannot be read: reported, never rewritten
+PINS = "SB110"  # libraries that moved to Gymnasium with it: pins raised to a Gymnasium-1.x release
+
+GYMNASIUM_SPEC = ">=1.0"
+ALE_SPEC = ">=0.9"  # what gymnasium 1.4's `atari` extra requires (ale_py>=0.9)
+GYMNASIUM_TARGET = Version("1.4.0")
+
+# gym extra (canonical name) -> gymnasium 1.4 extra (None: dropped). Gymnasium 1.4's
+# Provides-Extra: atari, box2d, classic-control, mujoco, toy-text, jax, torch,
+# array-api, other, all, testing.
+GYM_EXTRAS: dict[str, str | None] = {
+    "atari": "atari",
+    "accept-rom-license": None,  # the ROMs ship with ale-py; Gymnasium 1.0 dropped the extra
+    "box2d": "box2d",
+    "classic-control": "classic-control",
+    "toy-text": "toy-text",
+    "mujoco": "mujoco",
+    "mujoco-py": "mujoco",
+    "other": "other",
+    "all": "all",
+    "testing": "testing",
+}
+GYMNASIUM_EXTRAS = frozenset({"atari", "box2d", "classic-control", "mujoco", "toy-text", "jax", "torch", "array-api", "other", "all", "testing"})
+
+# Libraries that moved to Gymnasium with it: a pin that excludes the release that supports
+# Gymnasium 1.x (``current``, the newest checked) is raised to ``minimum``.
+MOVED_WITH_GYM: dict[str, tuple[str, str, str]] = {
+    # name: (minimum spec, newest release checked, why)
+    "stable-baselines3": (">=2.9", "2.9.2", "SB3 2.9 is the first release that accepts Gymnasium 1.3/1.4 (gymnasium<2.0)"),
+    "sb3-contrib": (">=2.9", "2.9.2", "sb3-contrib follows SB3 (2.9.2 requires stable_baselines3>=2.9.2)"),
+    "pettingzoo": (">=1.25", "1.27.0", "PettingZoo 1.25 is the first release that requires gymnasium>=1.0"),
+    "supersuit": (">=3.10", "3.11.0", "SuperSuit 3.10 is the first release that requires gymnasium>=1.0"),
+    "shimmy": (">=2.0", "2.0.1", "Shimmy 2.0 is the first release that requires gymnasium>=1.0"),
+    "minigrid": (">=3.0", "3.2.0", "MiniGrid 3.0 is the release made for Gymnasium 1.0"),
+}
+
+# Renamed packages: old name -> (new requirement head, message).
+RENAMED: dict[str, tuple[str, str]] = {
+    "gym-minigrid": ("minigrid>=3.0", "gym-minigrid is now minigrid (imports change: `gym_minigrid` -> `minigrid`, and `import minigrid` registers its envs)"),
+}
+# Packages that only fetched Atari ROMs or wrapped the old ALE: ale-py replaces them, and
+# gymnasium[atari] already requires it.
+ALE_PREDECESSORS = frozenset({"atari-py", "autorom", "autorom-accept-rom-license"})
+
+# Packages written for the Gym API that no Gymnasium release replaces.
+GYM_ONLY_PACKAGES: dict[str, str] = {
+    "mujoco-py": "Gymnasium's MuJoCo envs (v4/v5) use the `mujoco` bindings (`gymnasium[mujoco]`); mujoco-py serves only the legacy v2/v3 envs",
+    "gym-super-mario-bros": "a Gym-only env package",
+    "nes-py": "a Gym-only env package",
+    "gym-retro": "a Gym-only env package (its successor is stable-retro)",
+    "procgen": "a Gym-only env package",
+    "roboschool": "a Gym-only env package (abandoned)",
+    "pybullet-envs": "a Gym-only env package",
+    "pybullet": "if the project uses its bundled envs (pybullet_envs), they register with Gym only",
+    "gym-notices": "a dependency of gym only, not needed by Gymnasium: remove it",
+}
+SHIMMY_ROUTE = 'keep it on Gym through Shimmy (`shimmy[gym-v21]` or `shimmy[gym-v26]`, then `gymnasium.make("GymV21Environment-v0", env_id=...)`) or port it'
+
+_GYM_WORD = re.compile(r"(?<![A-Za-z0-9])(gym|atari[-_]py|autorom|mujoco[-_]py|stable[-_]baselines3?|pettingzoo|supersuit)(?![A-Za-z0-9])", re.I)
+
+
+def mentions_gym(text: str) -> bool:
+    return _GYM_WORD.search(text) is not None
+
+
+@dataclass(frozen=True)
+class Note:
+    code: str
+    kind: FixKind
+    message: str
+
+
+@dataclass
+class Decision:
+    """What to do with one requirement. ``name`` is None: leave it as it is."""
+
+    name: str | None = None
+    extras: list[str] = field(default_factory=list)
+    specifier: str = ""
+    notes: list[Note] = field(default_factory=list)
+    ale: bool = False  # the requirement only brings ale-py: redundant next to gymnasium[atari]
+
+    @property
+    def rewrites(self) -> bool:
+        return self.name is not None
+
+
+def parse(text: str) -> Requirement | None:
+    try:
+        return Requirement(text)
+    except InvalidRequirement:
+        return None
+
+
+def decide(requirement: Requirement) -> Decision:
+    """The decision for one parsed requirement (URL requirements are only reported)."""
+    name = canonicalize_name(requirement.name)
+    extras = sorted(canonicalize_name(extra) for extra in requirement.extras)
+    if requirement.url:
+        if name in ("gym",) or name in MOVED_WITH_GYM or name in RENAMED or name in ALE_PREDECESSORS or name in GYM_ONLY_PACKAGES:
+            return Decision(notes=[Note(GYM_ONLY, FixKind.FLAG, f"`{requirement.name}` is installed from a URL; point it at a Gymnasium-1.x release by hand")])
+        return Decision()
+    if name == "gym":
+        return _gym(requirement, extras)
+    if name == "gymnasium":
+        return _gymnasium(requirement, extras)
+    if name in MOVED_WITH_GYM:
+        return _moved(requirement, name, extras)
+    if name in RENAMED:
+        head, why = RENAMED[name]
+        new = Requirement(head)
+        return Decision(new.name, extras, str(new.specifier), [Note(GYM_PACKAGE, FixKind.ASSIST, f"`{requirement.name}` -> `{head}`: {why}")])
+    if name in ALE_PREDECESSORS:
+        return Decision(
+            "ale-py",
+            [],
+            ALE_SPEC,
+            [Note(GYM_PACKAGE, FixKind.AUTO, f"`{requirement}` -> `ale-py{ALE_SPEC}`: Atari ROMs ship with ale-py, no licence step or ROM download is needed")],
+            ale=True,
+        )
+    if name in GYM_ONLY_PACKAGES:
+        route = "" if name == "gym-notices" else f"; {SHIMMY_ROUTE}"
+        return Decision(notes=[Note(GYM_ONLY, FixKind.FLAG, f"`{requirement.name}`: {GYM_ONLY_PACKAGES[name]}{route}")])
+    return Decision()
+
+
+def _gym(requirement: Requirement, extras: list[str]) -> Decision:
+    notes: list[Note] = []
+    new_extras: list[str] = []
+    dropped: list[str] = []
+    for extra in extras:
+        mapped = GYM_EXTRAS.get(extra)
+        if mapped is None:
+            dropped.append(extra)
+        elif mapped not in new_extras:
+            new_extras.append(mapped)
+    message = f"`{requirement}` -> `gymnasium{_extras(new_extras)}{GYMNASIUM_SPEC}`"
+    kind = FixKind.ASSIST
+    reasons = ["the code must be migrated with it (imports, reset/step API)"]
+    if "accept-rom-license" in dropped:
+        reasons.append("`accept-rom-license` is gone: the ROMs ship with ale-py")
+        dropped.remove("accept-rom-license")
+    if "mujoco" in extras or "mujoco-py" in extras:
+        reasons.append("gym's `mujoco` extra meant mujoco-py (v2/v3 envs); gymnasium[mujoco] uses the `mujoco` bindings and v4/v5 envs")
+    if "robotics" in dropped:
+        reasons.append("the robotics envs moved to the `gymnasium-robotics` package")
+        dropped.remove("robotics")
+    if dropped:
+        reasons.append("extras Gymnasium 1.4 does not have were dropped: " + ", ".join(dropped))
+    notes.append(Note(GYM_PACKAGE, kind, f"{message}: {'; '.join(reasons)}"))
+    return Decision("gymnasium", sorted(new_extras), GYMNASIUM_SPEC, notes)
+
+
+GYMNASIUM_1X = tuple(Version(v) for v in ("1.0.0", "1.1.1", "1.2.0", "1.3.0", "1.4.0"))
+
+
+def _gymnasium(requirement: Requirement, extras: list[str]) -> Decision:
+    """Already Gymnasium. A pin that admits no 1.x release is raised to ``>=1.0``; one that
+    admits 1.x but not 1.4 is the project's choice and only reported; unknown extras are
+    reported; ``accept-rom-license`` is dropped."""
+    notes: list[Note] = []
+    unknown = [extra for extra in extras if extra not in GYMNASIUM_EXTRAS and extra != "accept-rom-license"]
+    if unknown:
+        notes.append(Note(GYM_ONLY, FixKind.FLAG, f"`{requirement}`: Gymnasium 1.4 has no extra {', '.join(unknown)}"))
+    specifier = requirement.specifier
+    admits_1x = any(specifier.contains(version, prereleases=True) for version in GYMNASIUM_1X)
+    rom_extra = "accept-rom-license" in extras
+    if admits_1x and not specifier.contains(GYMNASIUM_TARGET, prereleases=True):
+        notes.append(Note(PINS, FixKind.FLAG, f"`{requirement}` excludes Gymnasium 1.4; left as it is (another dependency may need the cap)"))
+    if not rom_extra and admits_1x:
+        return Decision(notes=notes)
+    new_extras = sorted(extra for extra in requirement.extras if canonicalize_name(extra) != "accept-rom-license")
+    spec = str(specifier) if admits_1x else GYMNASIUM_SPEC
+    reasons = []
+    if not admits_1x:
+        reasons.append("the pin admitted no Gymnasium 1.x release")
+    if rom_extra:
+        reasons.append("`accept-rom-license` is gone: the ROMs ship with ale-py")
+    notes.insert(0, Note(GYM_PACKAGE, FixKind.ASSIST, f"`{requirement}` -> `gymnasium{_extras(new_extras)}{spec}`: {'; '.join(reasons)}"))
+    return Decision("gymnasium", new_extras, spec, notes)
+
+
+def _moved(requirement: Requirement, name: str, extras: list[str]) -> Decision:
+    minimum, current, why = MOVED_WITH_GYM[name]
+    if requirement.specifier.contains(Version(current), prereleases=True):
+        return Decision()
+    new_name = requirement.name
+    message = f"`{requirement}` -> `{new_name}{_extras(sorted(requirement.extras))}{minimum}`: {why}"
+    return Decision(new_name, sorted(requirement.extras), minimum, [Note(PINS, FixKind.ASSIST, message)])
+
+
+def _extras(extras: list[str]) -> str:
+    return f"[{','.join(extras)}]" if extras else ""
+
+
+def render_pep508(original: str, decision: Decision) -> str:
+    """The requirement string with name, extras and specifier replaced; the marker (after
+    ``;``) and the whitespace around it are kept as written."""
+    head, separator, marker = original.partition(";")
+    trailing = head[len(head.rstrip()) :]
+    leading = head[: len(head) - len(head.lstrip())]
+    return f"{leading}{decision.name}{_extras(decision.extras)}{decision.specifier}{trailing}{separator}{marker}"
+
+
+def spec_admits_target(spec: str) -> bool:
+    """Whether a PEP 440 specifier admits Gymnasium 1.4.0 (tests use it on every written spec)."""
+    try:
+        return SpecifierSet(spec).contains(GYMNASIUM_TARGET, prereleases=True)
+    except InvalidSpecifier:
+        return False
