@@ -18,7 +18,7 @@ from gymmigrate.facts import names as N
 from gymmigrate.facts.creation import CreationFinder
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.findings import FixKind, Tier
-from gymmigrate.rules.custom_env.common import ClassDecision, param_names
+from gymmigrate.rules.custom_env.common import ClassDecision, method_of, param_names
 
 if TYPE_CHECKING:
     from gymmigrate.rules.base import RuleFamily
@@ -63,6 +63,7 @@ def decide_render(decision: ClassDecision) -> None:
         )
         return
     decision.plan.render = True
+    _plan_internal_renders(decision, function)
     _report_forwarded_modes(decision, function)
     # Notes: the standard Gymnasium signature, applied; the render calls and creation
     # sites in the run are reviewed where they are (GM401/GM402), not here.
@@ -77,6 +78,93 @@ def decide_render(decision: ClassDecision) -> None:
         return
     if "render_mode" not in param_names(init):
         decision.report(init, "GM405", "__init__ takes render_mode=None (gymnasium.make passes it) and stores self.render_mode", tier=Tier.NOTE)
+
+
+def decide_subclass_render_mode(decision: ClassDecision) -> None:
+    """A subclass of a local env whose ``__init__`` takes ``render_mode`` (or gets it here)
+    must take it too and pass it on: ``gymnasium.make(id, render_mode=...)`` passes it to
+    the registered class, and ``BigGrid.__init__(self)`` would raise TypeError."""
+    if decision.plan.render:
+        return  # its own render(mode) migration adds render_mode to __init__
+    init = decision.method("__init__")
+    if init is None or "render_mode" in param_names(init) or init.args.kwarg is not None:
+        return
+    if not _ancestor_takes_render_mode(decision, decision.classdef, set()):
+        return
+    calls = [
+        node
+        for node in ast.walk(init)
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "__init__"
+    ]
+    if len(calls) != 1 or any(k.arg is None for k in calls[0].keywords):
+        decision.report(
+            init,
+            "GM405",
+            "the base env's __init__ takes render_mode (gymnasium.make passes it to this class): add a render_mode=None "
+            "parameter here and pass it to the base __init__",
+            FixKind.FLAG,
+        )
+        return
+    decision.plan.pass_render_mode = True
+    decision.report(
+        init,
+        "GM405",
+        "__init__ takes render_mode=None and passes it to the base env's __init__: gymnasium.make passes render_mode "
+        "to the registered class",
+        tier=Tier.NOTE,
+    )
+
+
+def _ancestor_takes_render_mode(decision: ClassDecision, classdef: ast.ClassDef, seen: set[int]) -> bool:
+    receivers = decision.family.receivers
+    for base_expr in classdef.bases:
+        base = receivers.local_class(base_expr)
+        if base is None or id(base) in seen:
+            continue
+        seen.add(id(base))
+        methods = {s.name: s for s in base.body if isinstance(s, (ast.FunctionDef, ast.AsyncFunctionDef))}
+        render, init = methods.get("render"), methods.get("__init__")
+        if render is not None and "mode" in param_names(render):
+            return True  # its migration adds render_mode to its __init__
+        if init is not None:
+            if "render_mode" in param_names(init):
+                return True
+            continue  # a base __init__ without it: that class is decided on its own
+        if _ancestor_takes_render_mode(decision, base, seen):
+            return True
+    return False
+
+
+def _plan_internal_renders(decision: ClassDecision, function: ast.FunctionDef | ast.AsyncFunctionDef) -> None:
+    """The class renders itself with a mode (``obs = self.render(mode="rgb_array")`` in
+    ``reset``/``step``): those calls must keep working once ``render()`` takes no mode. The
+    old body is kept as a helper that takes the mode, ``render()`` calls it with
+    ``self.render_mode``, and the internal calls call the helper."""
+    facts = decision.family.facts
+    calls = [
+        call
+        for call in facts.attribute_calls.get("render", ())
+        if isinstance(call.func.value, ast.Name)  # type: ignore[attr-defined]
+        and call.func.value.id == "self"  # type: ignore[attr-defined]
+        and (call.args or call.keywords)
+        and method_of(decision, call) is not None
+    ]
+    if not calls:
+        return
+    taken = set(decision.methods) | {n.attr for node in ast.walk(decision.classdef) for n in [node] if isinstance(n, ast.Attribute)}
+    helper, number = "_render_frame", 2
+    while helper in taken:
+        helper, number = f"_render_frame{number}", number + 1
+    decision.plan.render_helper = helper
+    decision.plan.render_helper_callers = {method.name for call in calls if (method := method_of(decision, call)) is not None}
+    lines = ", ".join(str(call.lineno) for call in calls[:3]) + (", ..." if len(calls) > 3 else "")
+    decision.report(
+        function,
+        "GM405",
+        f"the class renders itself with a mode (`self.render(...)` on line {lines}): the old body is kept as "
+        f"`{helper}(mode)`, which those calls now use, and render() calls it with self.render_mode",
+        tier=Tier.NOTE,
+    )
 
 
 def _report_forwarded_modes(decision: ClassDecision, function: ast.AST) -> None:
