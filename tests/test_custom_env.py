@@ -307,3 +307,19 @@ def test_legacy_feature_combinations_pass_check_env(seed: str, reset: str, done:
         check_env(env.unwrapped, skip_render_check=not _RENDERS[render])
     assert [str(w.message) for w in caught] == []
     assert np.array_equal(env.reset(seed=9)[0], env.reset(seed=9)[0])
+
+
+def test_a_gym_026_reset_that_returns_the_pair_is_not_paired_again() -> None:
+    """fixtures/rules/GM501/reset_already_pair: only the signature changes; the migrated
+    env resets to (obs, info) with a bare array observation and passes check_env."""
+    from pathlib import Path
+
+    from gymnasium.utils.env_checker import check_env
+
+    expected = Path(__file__).resolve().parent.parent / "fixtures" / "rules" / "GM501" / "reset_already_pair.expected.py"
+    namespace: dict[str, object] = {}
+    exec(compile(expected.read_text(), str(expected), "exec"), namespace)
+    env = namespace["Treasure"]()
+    obs, info = env.reset(seed=0)
+    assert obs.shape == (2,) and info == {}
+    check_env(env, skip_render_check=True)

@@ -151,3 +151,10 @@ def names_of(module: str) -> frozenset[str]:
 def has_name(module: str, name: str) -> bool:
     """``from module import name`` works in Gymnasium 1.4 (a name it binds or a submodule)."""
     return name in names_of(module)
+
+
+@lru_cache(maxsize=None)
+def submodules_of(module: str) -> tuple[str, ...]:
+    """The modules of Gymnasium 1.4 directly below ``module``."""
+    depth = module.count(".") + 1
+    return tuple(m for m in GYMNASIUM_API if m.startswith(module + ".") and m.count(".") == depth)

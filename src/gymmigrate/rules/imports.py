@@ -31,7 +31,7 @@ from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.module import dotted_name
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
-from gymmigrate.rules.gymnasium_api import GYMNASIUM_VERSION, has_name, module_exists
+from gymmigrate.rules.gymnasium_api import GYMNASIUM_VERSION, has_name, module_exists, submodules_of
 from gymmigrate.rules.repeats import Repeats
 
 RULES = (
@@ -399,15 +399,36 @@ class Imports(RuleFamily):
             return
         new_rest = migrated_path(rest)
         if not star and new_rest != rest:
-            moved = [MOVED_NAMES.get((rest.split(".")[-1], alias.name)) for alias in node.names]
+            moved = [MOVED_NAMES.get((rest.split(".")[-1], alias.name)) or _home_of(new_rest, alias.name) for alias in node.names]
             if any(moved) and len(set(moved)) == 1:
                 new_rest = moved[0][len("gymnasium.") :]  # type: ignore[index]
+            elif any(moved):
+                names = ", ".join(f"`{alias.name}`" for alias in node.names)
+                self._report_removed(
+                    node,
+                    f"{names} now live in different Gymnasium modules ({', '.join(sorted({m or 'gymnasium.' + new_rest for m in moved}))}): "
+                    "split this import by hand",
+                    "split the import: its names moved to different modules",
+                )
+                return
         new_module = "gymnasium" + ("." + new_rest if new_rest else "")
         if new_module == module:
             return
         code = "GM102" if rest == "" else "GM104" if new_rest != rest else "GM103"
         self.report(node, code, f"from {module} import ... -> from {new_module} import ...")
         self.plan.replace(node, lambda from_node: from_node.with_changes(module=dotted_node(new_module)))
+
+
+def _home_of(rest: str, name: str) -> str | None:
+    """Where ``name`` lives in Gymnasium 1.4 when ``gymnasium.<rest>`` no longer binds it:
+    a helper a legacy wrapper module exported (``gym.wrappers.normalize.RunningMeanStd``)
+    is in a submodule now (``gymnasium.wrappers.utils``). None where ``<rest>`` binds it,
+    or no submodule does (the import is then reported by the removed-name check)."""
+    module = f"gymnasium.{rest}" if rest else "gymnasium"
+    if has_name(module, name) or not module_exists(module):
+        return None
+    homes = sorted(m for m in submodules_of(module) if has_name(m, name))
+    return (f"{module}.utils" if f"{module}.utils" in homes else homes[0]) if homes else None
 
 
 def _with_names(node: cst.Import, names: list[tuple[str, str | None]]) -> cst.Import:

@@ -54,6 +54,9 @@ class ClassPlan:
     # ``return self.env.reset()`` of an env the class holds: the call-site rule passes the
     # inner (obs, info) through, so these receivers' resets are not paired again.
     inner_reset_receivers: set[str] = field(default_factory=set)
+    # Every return of reset() already gives (obs, info) (gym 0.26's shape, without
+    # ``options``): only the signature changes, the returns are not paired again.
+    reset_returns_pairs: bool = False
 
 
 def truncated_false_message(limit_hint: str | None) -> str:

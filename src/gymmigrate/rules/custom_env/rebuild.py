@@ -169,7 +169,7 @@ class ClassRewrite:
             fn = _modern_reset_params(fn)
         if legacy_flag:
             fn = _drop_return_info(fn)
-        elif not modern:
+        elif not modern and not self.plan.reset_returns_pairs:
             fn, base_info = _unpack_super_reset(fn)
             fn = self._return_info_pairs(fn, base_info, frozenset(self.plan.reset_helpers), own=True)
             for helper in self.plan.reset_helpers:

@@ -34,6 +34,9 @@ def decide_reset(decision: ClassDecision) -> None:
     modern = "seed" in names and "options" in names and not legacy_flag
     if legacy_flag:
         decision.report(function, "GM502", "return_info removed: reset() always returns (obs, info) now; check callers that expected a bare observation")
+    elif not modern and _returns_pairs(function):
+        # gym 0.26: ``def reset(self, seed=None): ... return obs, {}``: already the pair.
+        decision.plan.reset_returns_pairs = True
     elif not modern:
         base_info = _unpack_super_reset(decision, function)
         # ``def reset(self): return self._reset()``: the helper returns the pair instead.
@@ -68,6 +71,25 @@ def decide_reset(decision: ClassDecision) -> None:
         elif not legacy_flag:
             seeds = ", and calls super().reset(seed=seed) first to seed np_random" if inserted else ""
             decision.report(function, "GM501", f"reset takes seed and options (wrappers always pass them){seeds}")
+
+
+def _returns_pairs(function: ast.AST) -> bool:
+    """Every ``return`` of ``function`` gives ``(obs, info)`` already: a two-element tuple
+    whose second element is a dict (a display, ``dict(...)``) or named like an info."""
+    returns = [ret for ret in own_returns(function) if ret.value is not None]
+    return bool(returns) and all(_is_info_pair(ret.value) for ret in returns)  # type: ignore[arg-type]
+
+
+def _is_info_pair(value: ast.expr) -> bool:
+    if not (isinstance(value, ast.Tuple) and len(value.elts) == 2):
+        return False
+    second = value.elts[1]
+    if isinstance(second, (ast.Dict, ast.DictComp)):
+        return True
+    if isinstance(second, ast.Call) and isinstance(second.func, ast.Name) and second.func.id == "dict":
+        return True
+    name = second.id if isinstance(second, ast.Name) else second.attr if isinstance(second, ast.Attribute) else ""
+    return "info" in name.lower()
 
 
 def _unpack_super_reset(decision: ClassDecision, function: ast.AST) -> str | None:
