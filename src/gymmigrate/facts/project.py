@@ -35,6 +35,7 @@ from gymmigrate.facts.kinds import EnvKind, join_kinds
 GUARD_KINDS = frozenset({EnvKind.SB3_VEC, EnvKind.GYM_VEC, EnvKind.PZ_AEC, EnvKind.PZ_PARALLEL})
 UNRESOLVED = "?."
 NEW = "new:"
+REF = "ref:"
 OWN = "@"  # a def of the calling module itself
 PARAM = "param:"
 # Beyond this many parameters passed on from call to call the join stops following.
@@ -70,6 +71,13 @@ class ModuleSummary:
     # ``x.render(mode)`` likewise: an env class it imports must keep render(mode).
     untraced_render_call: bool = False
     imported: tuple[str, ...] = ()  # qualified names its imports bind
+    # Top-level name -> the kind of what calling it gives (a class: its instances; a def or
+    # an alias of ``gym.make``: what it returns), or ``ref:<qualified>`` for a name bound to
+    # another module's (a re-export, ``from .utils import make``, a subclass of a class of
+    # the run): the join follows it. Every top-level def, class and import is listed, so the
+    # run knows which names it defines itself.
+    exports: dict[str, Kind] = field(default_factory=dict)
+    star_imports: tuple[str, ...] = ()  # ``from .utils import *``: modules whose names it re-exports
 
 
 @dataclass
@@ -85,6 +93,10 @@ class ProjectFacts:
     # Modules whose env classes an untraced ``x.seed(...)`` elsewhere in the run may reach.
     seed_called: set[str] = field(default_factory=set)
     render_called: set[str] = field(default_factory=set)  # ...and an untraced ``x.render(mode)``
+    # (path, top-level name) -> what calling that name gives, re-exports and subclasses
+    # across modules followed: ``pkg.make`` re-exported from ``utils.make = gym.make`` is a
+    # Gym env factory, ``from hunt import HuntEnv`` a PettingZoo parallel env class.
+    call_kinds: dict[tuple[str, str], EnvKind] = field(default_factory=dict)
 
     @classmethod
     def join(cls, summaries: list[ModuleSummary]) -> ProjectFacts:
@@ -117,6 +129,7 @@ class ProjectFacts:
                 resolved = facts._resolve(call.target, summary.path)
                 if resolved is not None:
                     calls_to[resolved].append((summary.path, call))
+        _Exports(facts, by_path).run()
         _Join(facts, by_path, calls_to).run()
         for summary in summaries:
             for untraced, called in ((summary.untraced_seed_call, facts.seed_called), (summary.untraced_render_call, facts.render_called)):
@@ -139,9 +152,25 @@ class ProjectFacts:
         return found
 
     def _class_kind(self, kind: str, importer: str) -> EnvKind:
-        """``new:envs.GridEnv`` is a Gym env when ``GridEnv`` is an env class of the run."""
-        found = self.view(importer).imported_class(kind[len(NEW) :])
-        return EnvKind.GYM_ENV if found is not None and found[0] else EnvKind.UNKNOWN
+        """``new:envs.GridEnv`` is a Gym env when ``GridEnv`` is an env class of the run (or
+        derives from one, or is re-exported); a PettingZoo env class of the run likewise."""
+        found = self.view(importer).call_kind(kind[len(NEW) :])
+        if found is not None and found is not EnvKind.NOT_ENV:
+            return found
+        imported = self.view(importer).imported_class(kind[len(NEW) :])
+        return EnvKind.GYM_ENV if imported is not None and imported[0] else EnvKind.UNKNOWN
+
+    def _split(self, qualified: str, importer: str) -> tuple[str, str] | None:
+        """``("/run/pkg/utils.py", "make")`` for ``pkg.utils.make`` (or ``.utils.make``)."""
+        level = len(qualified) - len(qualified.lstrip("."))
+        parts = qualified.lstrip(".").split(".")
+        for cut in range(len(parts) - 1, -1, -1):
+            if cut == 0 and level == 0:
+                break
+            path = self._module_path(parts[:cut], level, importer)
+            if path and cut < len(parts):
+                return path, ".".join(parts[cut:])
+        return None
 
     def _resolve(self, target: str, importer: str) -> tuple[str, str] | None:
         """``("/run/agent.py", "Agent.fit")`` for ``agent.Agent.fit``; a class called is its ``__init__``."""
@@ -168,6 +197,9 @@ class ProjectFacts:
         for _ in range(level - 1):
             base = base.parent
         candidate = base.joinpath(*module)
+        if not module:  # ``from . import x``: the package itself
+            path = str(base / "__init__.py")
+            return path if path in self.defs else None
         for path in (f"{candidate}.py", str(candidate / "__init__.py")):
             if path in self.defs:
                 return path
@@ -175,6 +207,71 @@ class ProjectFacts:
 
     def view(self, path: str) -> ProjectView:
         return ProjectView(self, os.path.realpath(path))
+
+
+class _Exports:
+    """``ProjectFacts.call_kinds``: every top-level name of the run with what calling it
+    gives, re-exports (``__init__``, star imports, ``make = utils.make``) and subclasses
+    followed to the module that decides. One memoized answer per name; a cycle or a chain
+    longer than ``_MAX_CHAIN`` is unknown."""
+
+    def __init__(self, facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> None:
+        self.facts = facts
+        self.by_path = by_path
+        self.depth = 0
+
+    def run(self) -> None:
+        for path, summary in self.by_path.items():
+            for name in summary.exports:
+                self.kind(path, name)
+
+    def kind(self, path: str, name: str) -> EnvKind | None:
+        """What calling ``name`` of module ``path`` gives; None when the module does not
+        bind it (not even through a star import)."""
+        key = (path, name)
+        known = self.facts.call_kinds.get(key)
+        if known is not None:
+            return known
+        summary = self.by_path.get(path)
+        if summary is None or self.depth >= _MAX_CHAIN:
+            return None
+        kind = summary.exports.get(name)
+        self.facts.call_kinds[key] = EnvKind.UNKNOWN  # a cycle adds no evidence
+        self.depth += 1
+        try:
+            if kind is None:
+                found = self._from_stars(summary, name)
+                if found is None:
+                    del self.facts.call_kinds[key]
+                    return None
+            elif isinstance(kind, EnvKind):
+                found = kind
+            else:
+                found = self._follow(kind[len(REF) :], path)
+        finally:
+            self.depth -= 1
+        self.facts.call_kinds[key] = found
+        return found
+
+    def _follow(self, qualified: str, importer: str) -> EnvKind:
+        split = self.facts._split(qualified, importer)
+        if split is None:
+            return EnvKind.UNKNOWN  # a library name the module could not classify
+        path, name = split
+        if "." in name:
+            return EnvKind.UNKNOWN  # ``module.Class.method``: not a top-level name
+        found = self.kind(path, name)
+        return EnvKind.UNKNOWN if found is None else found
+
+    def _from_stars(self, summary: ModuleSummary, name: str) -> EnvKind | None:
+        for module in summary.star_imports:
+            level = len(module) - len(module.lstrip("."))
+            path = self.facts._module_path(module.lstrip(".").split(".") if module.strip(".") else [], level, summary.path)
+            if path and path != summary.path:
+                found = self.kind(path, name)
+                if found is not None:
+                    return found
+        return None
 
 
 class _Join:
@@ -274,6 +371,23 @@ class ProjectView:
     def render_called_elsewhere(self) -> bool:
         """The same for ``x.render(mode)``: this module's env classes keep render(mode)."""
         return self.path in self.facts.render_called
+
+    def call_kind(self, qualified: str) -> EnvKind | None:
+        """What calling an imported name of the run gives (``from hunt import HuntEnv``:
+        a PettingZoo parallel env; ``pkg.make``: a Gym env). ``EnvKind.UNKNOWN`` for a name
+        a module of the run binds but cannot classify; None when the run does not define it."""
+        split = self.facts._split(qualified, self.path)
+        if split is None:
+            return None
+        path, name = split
+        if "." in name:
+            return None
+        found = self.facts.call_kinds.get((path, name))
+        return found if found is not None else EnvKind.UNKNOWN
+
+    def defines(self, qualified: str) -> bool:
+        """The name comes from a module of the run (its own code, not a library's)."""
+        return self.facts._split(qualified, self.path) is not None
 
     def imported_class(self, qualified: str) -> tuple[bool, bool] | None:
         """For an imported class of the run: (is an env class, takes render_mode)."""

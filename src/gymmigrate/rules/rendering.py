@@ -199,7 +199,7 @@ class Rendering(RuleFamily):
         if function is not None and function.name == "render":
             return None  # a render method forwarding to its env: the Env/Wrapper rules own it
         kind = self.receivers.kind_of(receiver)
-        decision = decide(kind, receiver, self.context.profile, legacy_shape=mode_arg is not None or close is not None)
+        decision = decide(kind, receiver, self.context.profile, legacy_shape=mode_arg is not None or close is not None, origins=self.receivers)
         if decision.action is Action.LEAVE:
             return None
         if close is not None and isinstance(close.value, ast.Constant) and close.value.value is True:
