@@ -77,7 +77,9 @@ def decide(
     if kind is not EnvKind.UNKNOWN:
         return Decision(Action.LEAVE, f"`{name}` is a {kind.value}")
     env_like = looks_like_env(receiver)
-    if env_like and profile.gym_only and not (origins is not None and origins.run_defined(receiver)):
+    if (env_like or legacy_shape) and origins is not None and origins.run_defined(receiver):
+        return Decision(Action.REPORT, f"`{name}` holds an object the project makes itself, not shown to be a Gym env; not rewritten")
+    if env_like and profile.gym_only:
         return Decision(
             Action.REWRITE_FOR_REVIEW,
             f"could not trace where `{name}` comes from; rewritten because this file uses only Gym",

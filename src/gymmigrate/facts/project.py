@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import os
 from collections import defaultdict
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -78,6 +79,9 @@ class ModuleSummary:
     # run knows which names it defines itself.
     exports: dict[str, Kind] = field(default_factory=dict)
     star_imports: tuple[str, ...] = ()  # ``from .utils import *``: modules whose names it re-exports
+    # Top-level name -> the library callable it is bound to (``make = gym.make``,
+    # ``from gym import make``): a creation site of the run that takes ``make``'s keywords.
+    aliases: dict[str, str] = field(default_factory=dict)
 
 
 @dataclass
@@ -97,6 +101,8 @@ class ProjectFacts:
     # across modules followed: ``pkg.make`` re-exported from ``utils.make = gym.make`` is a
     # Gym env factory, ``from hunt import HuntEnv`` a PettingZoo parallel env class.
     call_kinds: dict[tuple[str, str], EnvKind] = field(default_factory=dict)
+    # (path, top-level name) -> the library callable it stands for, re-exports followed.
+    aliases: dict[tuple[str, str], str] = field(default_factory=dict)
 
     @classmethod
     def join(cls, summaries: list[ModuleSummary]) -> ProjectFacts:
@@ -224,6 +230,49 @@ class _Exports:
         for path, summary in self.by_path.items():
             for name in summary.exports:
                 self.kind(path, name)
+                alias = self._alias(path, name)
+                if alias is not None:
+                    self.facts.aliases[(path, name)] = alias
+            for name in self._star_names(summary, set()):
+                self.kind(path, name)  # ``from .envs import *``: its names are this module's too
+
+    def _star_names(self, summary: ModuleSummary, seen: set[str]) -> set[str]:
+        """The public names a module's star imports bring in (star chains followed once)."""
+        seen.add(summary.path)
+        names: set[str] = set()
+        for path in self._star_paths(summary):
+            if path in seen:
+                continue
+            star = self.by_path[path]
+            names.update(n for n in star.exports if not n.startswith("_"))
+            names.update(self._star_names(star, seen))
+        return names
+
+    def _star_paths(self, summary: ModuleSummary) -> list[str]:
+        found = []
+        for module in summary.star_imports:
+            level = len(module) - len(module.lstrip("."))
+            path = self.facts._module_path(module.lstrip(".").split(".") if module.strip(".") else [], level, summary.path)
+            if path and path != summary.path and path in self.by_path:
+                found.append(path)
+        return found
+
+    def _alias(self, path: str, name: str) -> str | None:
+        """``gym.make`` for a name bound to it here or through a chain of re-exports."""
+        for _ in range(_MAX_CHAIN):
+            summary = self.by_path.get(path)
+            if summary is None:
+                return None
+            if name in summary.aliases:
+                return summary.aliases[name]
+            kind = summary.exports.get(name)
+            if not isinstance(kind, str):
+                return None
+            split = self.facts._split(kind[len(REF) :], path)
+            if split is None:
+                return None
+            path, name = split
+        return None
 
     def kind(self, path: str, name: str) -> EnvKind | None:
         """What calling ``name`` of module ``path`` gives; None when the module does not
@@ -264,13 +313,10 @@ class _Exports:
         return EnvKind.UNKNOWN if found is None else found
 
     def _from_stars(self, summary: ModuleSummary, name: str) -> EnvKind | None:
-        for module in summary.star_imports:
-            level = len(module) - len(module.lstrip("."))
-            path = self.facts._module_path(module.lstrip(".").split(".") if module.strip(".") else [], level, summary.path)
-            if path and path != summary.path:
-                found = self.kind(path, name)
-                if found is not None:
-                    return found
+        for path in self._star_paths(summary):
+            found = self.kind(path, name)
+            if found is not None:
+                return found
         return None
 
 
@@ -384,6 +430,16 @@ class ProjectView:
             return None
         found = self.facts.call_kinds.get((path, name))
         return found if found is not None else EnvKind.UNKNOWN
+
+    def library_alias(self, qualified: str) -> str | None:
+        """The library callable an imported name of the run is bound to (``pkg.make`` ->
+        ``gym.make``), or None."""
+        split = self.facts._split(qualified, self.path)
+        return None if split is None else self.facts.aliases.get(split)
+
+    def imports_multi_agent(self, qualified_names: Iterable[str]) -> bool:
+        """One of these imported names is a PettingZoo env class or factory of the run."""
+        return any(self.call_kind(q) in (EnvKind.PZ_AEC, EnvKind.PZ_PARALLEL) for q in qualified_names)
 
     def defines(self, qualified: str) -> bool:
         """The name comes from a module of the run (its own code, not a library's)."""

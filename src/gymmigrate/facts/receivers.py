@@ -25,6 +25,7 @@ from gymmigrate.facts import names as N
 from gymmigrate.facts.kinds import MAX_DEPTH, EnvKind, join_kinds
 from gymmigrate.facts.callables import CallableKinds, optional_of, parse_annotation, string_names
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, call_argument, own_returns
+from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.self_attributes import SelfAttributes
 
 if TYPE_CHECKING:
@@ -65,6 +66,7 @@ class Receivers:
         self._cache: dict[ast.AST, EnvKind] = {}
         self._in_progress: set[ast.AST] = set()
         self._name_kinds: dict[int, EnvKind] = {}  # id(bindings list) -> kind, see _classify_name
+        self._mixed: set[int] = set()  # bindings lists whose kinds disagree
         self.depth = 0  # shared with the helpers: one bound on the whole chain of questions
         self.callables = CallableKinds(self, project)
         self.attributes = SelfAttributes(self)
@@ -285,17 +287,34 @@ class Receivers:
         # progress is shared (deeper ones may be partial, cut short by a cycle).
         key = id(bindings)
         shared = self._name_kinds.get(key)
-        if shared is not None:
-            return shared
-        kinds = []
-        for binding in bindings:
-            kind = self.binding_kind(binding)
-            if kind is not None:
-                kinds.append(kind)
-        kind = join_kinds(kinds)
-        if self.depth == 1:
-            self._name_kinds[key] = kind
-        return kind
+        if shared is None:
+            kinds = set()
+            for binding in bindings:
+                kind = self.binding_kind(binding)
+                if kind is not None:
+                    kinds.add(kind)
+            shared = join_kinds(kinds)
+            if len(kinds) > 1:
+                self._mixed.add(key)
+            if self.depth == 1:
+                self._name_kinds[key] = shared
+        if key in self._mixed:
+            # The bindings disagree (``env`` a VecEnv first, a Gym env later): a read that
+            # only the last binding before it can reach has that binding's kind.
+            last = self._dominating_binding(name)
+            if last is not None:
+                kind = self.binding_kind(last)
+                if kind is not None and kind is not EnvKind.UNKNOWN:
+                    return kind
+        return shared
+
+    def _dominating_binding(self, name: ast.Name) -> ast.AST | None:
+        flow = Flow.of(self.facts)
+        last = flow.last_binding_of(name)
+        if not isinstance(last, ast.Name):
+            return None
+        statement = self.facts.statement_of(last)
+        return last if isinstance(statement, (ast.Assign, ast.AnnAssign)) and flow.dominates(statement, name, name) else None
 
     def binding_kind(self, binding: ast.AST) -> EnvKind | None:
         """The kind of value one binding stores (None: it adds no evidence, e.g. ``+=``)."""

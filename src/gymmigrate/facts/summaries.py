@@ -72,6 +72,7 @@ class _Summarizer:
             untraced_render_call=self._has_untraced_call("render"),
             imported=tuple(sorted(set(self.facts.imports.values()))),
             exports=self._exports(env_classes),
+            aliases=self._aliases(),
             star_imports=tuple(
                 "." * s.level + (s.module or "") for s in self.facts.tree.body if isinstance(s, ast.ImportFrom) and any(a.name == "*" for a in s.names)
             ),
@@ -118,6 +119,23 @@ class _Summarizer:
                         return EnvKind.PZ_PARALLEL
                     return self.receivers.returned_kind(value)
         return EnvKind.UNKNOWN
+
+    def _aliases(self) -> dict[str, str]:
+        """Top-level names bound to a Gym callable: ``make = gym.make``, ``from gym import make``."""
+        found: dict[str, str] = {}
+        for name, bindings in self.facts.module_scope.bindings.items():
+            if len(bindings) != 1:
+                continue
+            binding = bindings[0]
+            if isinstance(binding, ast.alias):
+                qualified = {self.facts.imports[binding]}
+            elif isinstance(binding, ast.Name) and isinstance(assign := self.facts.parent(binding), ast.Assign) and isinstance(assign.value, (ast.Name, ast.Attribute)):
+                qualified = self.facts.qualified_names(assign.value)
+            else:
+                continue
+            if len(qualified) == 1 and N.strip_gym_prefix(next(iter(qualified))) is not None:
+                found[name] = qualified.pop()
+        return found
 
     def _reference(self, qualified: str) -> Kind:
         if not _is_library(qualified):
