@@ -231,3 +231,16 @@ def test_a_notebook_vecenv_copy_is_left_and_the_name_rebound_to_make_is_rewritte
     assert "obs = env.reset()\n" in cells[2]  # the project's VecEnv keeps its API
     assert "obs, info = env.reset()" in cells[3]
     assert "obs, reward, terminated, truncated, info = env.step(0)" in cells[3]
+
+
+def test_an_env_kept_in_its_own_attribute_runs_migrated() -> None:
+    """``fixtures/rules/GM201/self_alias_of_env.expected.py`` on Gymnasium 1.4."""
+    from gymnasium.utils.env_checker import check_env
+
+    namespace: dict[str, object] = {}
+    path = FIXTURES / "rules" / "GM201" / "self_alias_of_env.expected.py"
+    exec(compile(path.read_text(), str(path), "exec"), namespace)
+    env = namespace["Stacked"]()  # type: ignore[operator]
+    env.step(1)
+    assert env.restart() == 0 and env.count == 0
+    check_env(env, skip_render_check=True)
