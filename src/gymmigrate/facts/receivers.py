@@ -314,7 +314,11 @@ class Receivers:
         if not isinstance(last, ast.Name):
             return None
         statement = self.facts.statement_of(last)
-        return last if isinstance(statement, (ast.Assign, ast.AnnAssign)) and flow.dominates(statement, name, name) else None
+        if not (isinstance(statement, (ast.Assign, ast.AnnAssign)) and statement.value is not None):
+            return None
+        if any(isinstance(n, ast.Name) and n.id == name.id for n in ast.walk(statement.value)):
+            return None  # ``env = Wrapper(env)``: its kind rests on the earlier values too
+        return last if flow.dominates(statement, name, name) else None
 
     def binding_kind(self, binding: ast.AST) -> EnvKind | None:
         """The kind of value one binding stores (None: it adds no evidence, e.g. ``+=``)."""
