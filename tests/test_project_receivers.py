@@ -128,6 +128,8 @@ def test_one_rewrite_migrates_the_envs_and_leaves_the_helpers(tmp_path: Path) ->
     assert "observations = env.reset()\n" in driver  # ...its reset too
     assert "observation, info = env.reset()\n    return rewards" in driver  # rebound to an env: rewritten
     assert (project / "warehouse" / "helpers.py").read_bytes() == helpers
+    again = runner.invoke(app, ["rewrite", str(project)])
+    assert again.exit_code == 0 and "rewrote 0 of" in again.output  # the migrated run knows it is done
     game = (project / "warehouse" / "game.py").read_text()
     assert "observation, info = self.environment.reset(seed=seed)" in game
     # What the legacy driver meant, on Gymnasium 1.4: CartPole's episode length from the
@@ -190,6 +192,8 @@ def test_the_pettingzoo_driver_is_migrated_and_plays_as_before(tmp_path: Path) -
     assert "observations, infos = penv.reset(seed=seed)" in driver
     assert ".seed(" not in driver
     assert "import gym\n" not in (project / "hunt_parallel.py").read_text()
+    again = runner.invoke(app, ["rewrite", str(project)])
+    assert again.exit_code == 0 and "rewrote 0 of" in again.output
     migrated = _run(project, _PLAY)
     assert migrated == legacy and len(migrated.splitlines()) == 6
     checked = _run(
