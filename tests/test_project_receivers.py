@@ -204,6 +204,26 @@ def test_the_pettingzoo_driver_is_migrated_and_plays_as_before(tmp_path: Path) -
     assert checked.strip().endswith("ok")
 
 
+def test_the_aec_driver_of_the_runs_factory_is_migrated_and_takes_its_turns(tmp_path: Path) -> None:
+    """``drive_aec.py`` plays the package's ``env()`` (``parallel_to_aec`` of ``HuntEnv``)."""
+    project = _copy("project_pettingzoo", tmp_path)
+    cycles = _run(
+        project,
+        _LEGACY_GYM + "from hunt_parallel import HuntEnv\nfor seed in range(6):\n"
+        "    e = HuntEnv(max_cycles=4); e.seed(seed); e.reset(); n = 0\n"
+        "    while e.agents:\n        e.step({a: 1 for a in e.agents}); n += 1\n    print(n)\n",
+    ).split()
+    result = runner.invoke(app, ["rewrite", str(project)])
+    assert result.exit_code == 0, result.output
+    driver = (project / "drive_aec.py").read_text()
+    assert "game.reset(seed=seed)" in driver and ".seed(" not in driver.replace("reset(seed=", "")
+    assert "observation, reward, termination, truncation, info = game.last()" in driver
+    assert "game.step(None if termination or truncation else 1)" in driver
+    turns = _run(project, "import drive_aec\nfor seed in range(6):\n    print(drive_aec.play_turns(seed))\n").split()
+    # Two turns a cycle, then each agent steps once more with None once it is done.
+    assert [int(t) for t in turns] == [2 * int(n) + 2 for n in cycles]
+
+
 def test_the_pettingzoo_driver_alone_is_not_touched(tmp_path: Path) -> None:
     project = _copy("project_pettingzoo", tmp_path)
     before = (project / "drive.py").read_bytes()

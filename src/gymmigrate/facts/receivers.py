@@ -570,9 +570,27 @@ _VEC_METHODS = frozenset({"step_async", "step_wait"})
 
 
 def _is_vec_env_shaped(classdef: ast.ClassDef) -> bool:
-    """Defines ``step_async`` and ``step_wait`` (the VecEnv protocol of baselines and SB3)."""
+    """Defines ``step_async`` and ``step_wait`` (the VecEnv protocol of baselines and SB3), or
+    ``step`` in a class that counts its ``num_envs`` (its results are stacked per env)."""
     methods = {s.name for s in classdef.body if isinstance(s, FUNCTIONS)}
-    return _VEC_METHODS <= methods
+    if _VEC_METHODS <= methods:
+        return True
+    return "step" in methods and _counts_envs(classdef)
+
+
+def _counts_envs(classdef: ast.ClassDef) -> bool:
+    """``num_envs`` is a class attribute or is stored on ``self`` in ``__init__``."""
+    for statement in classdef.body:
+        if isinstance(statement, (ast.Assign, ast.AnnAssign)):
+            targets = statement.targets if isinstance(statement, ast.Assign) else [statement.target]
+            if any(isinstance(t, ast.Name) and t.id == "num_envs" for t in targets):
+                return True
+        if isinstance(statement, FUNCTIONS) and statement.name == "__init__":
+            for inner in ast.walk(statement):
+                if isinstance(inner, ast.Attribute) and inner.attr == "num_envs" and isinstance(inner.ctx, ast.Store):
+                    if isinstance(inner.value, ast.Name) and inner.value.id == "self":
+                        return True
+    return False
 
 
 def _is_env_method_call(call: ast.Call) -> bool:
