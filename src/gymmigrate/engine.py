@@ -91,7 +91,7 @@ def plan_file(tree: ast.Module, text: str, path: str, options: RewriteOptions) -
     if skips_file(text, first_statement_line(tree)):
         return plan
     receivers = Receivers(facts, options.project.view(path) if options.project is not None else None)
-    for family in families_for(text):
+    for family in families_for(text, in_a_run=options.project is not None):
         if not _family_selected(family, options.selection) or not family.may_fire(facts, context):
             continue
         plan.deciding = family.__name__

@@ -142,14 +142,25 @@ def _with_blocked_note(result: FileResult, project: ProjectFacts) -> FileResult:
 def summarize_path(path: Path) -> ModuleSummary | None:
     """The summary of the module at ``path``, read and screened as its own run will."""
     try:
-        # The same screening as the file's own run: never parse what it refuses.
-        source = read_source(Path(path), may_hold_gym_code)
-        if source is None or not screen(source, may_hold_gym_code):
+        # The same screening as the file's own run: never parse what it refuses. A package's
+        # ``__init__`` and a star import are read whatever they say: they re-export names
+        # (``from .utils import make``) the rest of the run calls.
+        relevant = _may_reexport if Path(path).name == "__init__.py" else _may_matter_to_the_run
+        source = read_source(Path(path), relevant)
+        if source is None or not screen(source, relevant):
             return None
         text, _ = decode(source)
     except (OSError, Refused, TransformError):
         return None
     return summarize(str(path), text)
+
+
+def _may_reexport(source: bytes) -> bool:
+    return may_hold_gym_code(source) or b"import" in source
+
+
+def _may_matter_to_the_run(source: bytes) -> bool:
+    return may_hold_gym_code(source) or b"import *" in source
 
 
 @dataclass(frozen=True)

@@ -13,7 +13,7 @@ import tokenize
 
 # A file that mentions none of these cannot hold Gym code: skip it before parsing.
 # ``envs?\b`` catches env, envs, vec_env, CartPoleEnv, but not os.environ.
-_MAY_HOLD_GYM_CODE = re.compile(rb"gym|pettingzoo|baselines|envs?\b", re.IGNORECASE)
+_MAY_HOLD_GYM_CODE = re.compile(rb"gym|pettingzoo|baselines|envs?\b|environments?\b", re.IGNORECASE)
 
 _PY2_HINTS = re.compile(rb"^\s*(print\s+[^\s(=]|exec\s+[\"']|except\s+[\w.]+\s*,\s*\w+\s*:)|\bur[\"']|`[^`\n]+`", re.M)
 

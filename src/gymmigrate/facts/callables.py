@@ -73,7 +73,8 @@ class CallableKinds:
         if isinstance(callee, ast.Call) and any(q in ("functools.partial",) for q in self.receivers.qualified_names(callee.func)) and callee.args:
             return self.kind_of_call_to(callee.args[0], callee)
         if isinstance(callee, ast.Attribute):
-            return EnvKind.UNKNOWN
+            # ``make = gym.make`` then ``make(...)``: what the library callable returns.
+            return self.kind_of_call_to(callee, _NO_ARGUMENTS) if self.receivers.qualified_names(callee) else EnvKind.UNKNOWN
         if not isinstance(callee, ast.Name):
             return EnvKind.UNKNOWN
         local = self.receivers.local_function(callee) or self.receivers.local_class(callee)
@@ -82,7 +83,9 @@ class CallableKinds:
         if local is not None:
             return self.receivers.class_kind(local)  # type: ignore[arg-type]
         if self.receivers.qualified_names(callee):
-            return EnvKind.UNKNOWN  # an imported callable: the call classifies it, not this
+            # An imported callable bound again (``make = gym.make``): what it returns.
+            kinds = [k for k in (self.receivers.kind_from_qualified(q, _NO_ARGUMENTS) for q in self.receivers.qualified_names(callee)) if k is not None]
+            return join_kinds(kinds) if kinds else EnvKind.UNKNOWN
         bindings = self.facts.bindings_of(callee)
         if not bindings:
             return EnvKind.UNKNOWN
@@ -102,7 +105,9 @@ class CallableKinds:
     def kind_of_call_to(self, callee: ast.AST, call: ast.Call) -> EnvKind:
         """``functools.partial(gym.make, "CartPole-v1")``: the kind ``callee(...)`` returns."""
         kinds = [k for k in (self.receivers.kind_from_qualified(q, call) for q in self.receivers.qualified_names(callee)) if k is not None]
-        return join_kinds(kinds) if kinds else self.returned_kind(callee)
+        if kinds:
+            return join_kinds(kinds)
+        return EnvKind.UNKNOWN if isinstance(callee, ast.Attribute) else self.returned_kind(callee)
 
     def _binding_returned_kind(self, binding: ast.AST) -> EnvKind:
         if isinstance(binding, FUNCTIONS):
@@ -155,6 +160,10 @@ class CallableKinds:
         returned = given.elts[1]
         return self.receivers.annotation_names_kind(string_names(self.facts, returned)) if parsed else self.receivers.annotation_kind(returned)
 
+
+
+# A call with no arguments: what a library callable returns when the call is not at hand.
+_NO_ARGUMENTS = ast.Call(func=ast.Name(id="_", ctx=ast.Load()), args=[], keywords=[])
 
 
 def parse_annotation(text: str) -> ast.expr | None:

@@ -10,13 +10,19 @@ import ast
 import re
 from dataclasses import dataclass
 from enum import Enum
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Protocol
 
 from gymmigrate.facts.module import full_name
 from gymmigrate.facts.kinds import EnvKind
 
 if TYPE_CHECKING:
     from gymmigrate.facts.profile import FileProfile
+
+
+class Origins(Protocol):
+    """What ``decide`` asks the receiver analysis (``Receivers.run_defined``)."""
+
+    def run_defined(self, expr: ast.AST) -> bool: ...
 
 # Spellings that name an environment. Used only to decide between reporting and
 # staying silent (or, in a file that uses nothing but Gym, rewriting for review):
@@ -54,12 +60,16 @@ def decide(
     *,
     legacy_shape: bool = False,
     expected: EnvKind = EnvKind.GYM_ENV,
+    origins: Origins | None = None,
 ) -> Decision:
     """What to do with ``receiver.method(...)`` given its classified ``kind``.
 
     ``legacy_shape``: the call is used the legacy way (e.g. four names unpacked from
     ``step``), which makes an unknown receiver worth reporting even if its name does
     not look like an env. ``expected`` is the kind the rule rewrites (GYM_ENV or GYM_VEC).
+    ``origins``: the receiver analysis; with it, an object the run itself makes (a class or
+    a def of the run, a name imported from one of its modules) is never rewritten on the
+    "this file uses only Gym" fallback: the run knows that code, so it reports instead.
     """
     name = receiver_text(receiver)
     if kind is expected:
@@ -67,6 +77,8 @@ def decide(
     if kind is not EnvKind.UNKNOWN:
         return Decision(Action.LEAVE, f"`{name}` is a {kind.value}")
     env_like = looks_like_env(receiver)
+    if (env_like or legacy_shape) and origins is not None and origins.run_defined(receiver):
+        return Decision(Action.REPORT, f"`{name}` holds an object the project makes itself, not shown to be a Gym env; not rewritten")
     if env_like and profile.gym_only:
         return Decision(
             Action.REWRITE_FOR_REVIEW,

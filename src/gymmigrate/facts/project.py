@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import os
 from collections import defaultdict
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -35,6 +36,7 @@ from gymmigrate.facts.kinds import EnvKind, join_kinds
 GUARD_KINDS = frozenset({EnvKind.SB3_VEC, EnvKind.GYM_VEC, EnvKind.PZ_AEC, EnvKind.PZ_PARALLEL})
 UNRESOLVED = "?."
 NEW = "new:"
+REF = "ref:"
 OWN = "@"  # a def of the calling module itself
 PARAM = "param:"
 # Beyond this many parameters passed on from call to call the join stops following.
@@ -72,6 +74,16 @@ class ModuleSummary:
     imported: tuple[str, ...] = ()  # qualified names its imports bind
     # ``# gymmigrate: skip-file``: the module stays as it is, so the run must not assume it migrated.
     skips_file: bool = False
+    # Top-level name -> the kind of what calling it gives (a class: its instances; a def or
+    # an alias of ``gym.make``: what it returns), or ``ref:<qualified>`` for a name bound to
+    # another module's (a re-export, ``from .utils import make``, a subclass of a class of
+    # the run): the join follows it. Every top-level def, class and import is listed, so the
+    # run knows which names it defines itself.
+    exports: dict[str, Kind] = field(default_factory=dict)
+    star_imports: tuple[str, ...] = ()  # ``from .utils import *``: modules whose names it re-exports
+    # Top-level name -> the library callable it is bound to (``make = gym.make``,
+    # ``from gym import make``): a creation site of the run that takes ``make``'s keywords.
+    aliases: dict[str, str] = field(default_factory=dict)
 
 
 @dataclass
@@ -92,6 +104,12 @@ class ProjectFacts:
     # Modules the run leaves as they are (refused, skip-file), with the reason: their
     # classes count as unknown, so no other module is rewritten as if they had migrated.
     blocked: dict[str, str] = field(default_factory=dict)
+    # (path, top-level name) -> what calling that name gives, re-exports and subclasses
+    # across modules followed: ``pkg.make`` re-exported from ``utils.make = gym.make`` is a
+    # Gym env factory, ``from hunt import HuntEnv`` a PettingZoo parallel env class.
+    call_kinds: dict[tuple[str, str], EnvKind] = field(default_factory=dict)
+    # (path, top-level name) -> the library callable it stands for, re-exports followed.
+    aliases: dict[tuple[str, str], str] = field(default_factory=dict)
 
     @classmethod
     def join(cls, summaries: list[ModuleSummary], blocked: dict[str, str] | None = None) -> ProjectFacts:
@@ -129,6 +147,7 @@ class ProjectFacts:
                 resolved = facts._resolve(call.target, summary.path)
                 if resolved is not None:
                     calls_to[resolved].append((summary.path, call))
+        _Exports(facts, by_path).run()
         _Join(facts, by_path, calls_to).run()
         for summary in summaries:
             for untraced, called in ((summary.untraced_seed_call, facts.seed_called), (summary.untraced_render_call, facts.render_called)):
@@ -156,9 +175,25 @@ class ProjectFacts:
         return found
 
     def _class_kind(self, kind: str, importer: str) -> EnvKind:
-        """``new:envs.GridEnv`` is a Gym env when ``GridEnv`` is an env class of the run."""
-        found = self.view(importer).imported_class(kind[len(NEW) :])
-        return EnvKind.GYM_ENV if found is not None and found[0] else EnvKind.UNKNOWN
+        """``new:envs.GridEnv`` is a Gym env when ``GridEnv`` is an env class of the run (or
+        derives from one, or is re-exported); a PettingZoo env class of the run likewise."""
+        found = self.view(importer).call_kind(kind[len(NEW) :])
+        if found is not None and found is not EnvKind.NOT_ENV:
+            return found
+        imported = self.view(importer).imported_class(kind[len(NEW) :])
+        return EnvKind.GYM_ENV if imported is not None and imported[0] else EnvKind.UNKNOWN
+
+    def _split(self, qualified: str, importer: str) -> tuple[str, str] | None:
+        """``("/run/pkg/utils.py", "make")`` for ``pkg.utils.make`` (or ``.utils.make``)."""
+        level = len(qualified) - len(qualified.lstrip("."))
+        parts = qualified.lstrip(".").split(".")
+        for cut in range(len(parts) - 1, -1, -1):
+            if cut == 0 and level == 0:
+                break
+            path = self._module_path(parts[:cut], level, importer)
+            if path and cut < len(parts):
+                return path, ".".join(parts[cut:])
+        return None
 
     def _resolve(self, target: str, importer: str) -> tuple[str, str] | None:
         """``("/run/agent.py", "Agent.fit")`` for ``agent.Agent.fit``; a class called is its ``__init__``."""
@@ -185,6 +220,9 @@ class ProjectFacts:
         for _ in range(level - 1):
             base = base.parent
         candidate = base.joinpath(*module)
+        if not module:  # ``from . import x``: the package itself
+            path = str(base / "__init__.py")
+            return path if path in self.defs else None
         for path in (f"{candidate}.py", str(candidate / "__init__.py")):
             if path in self.defs:
                 return path
@@ -192,6 +230,112 @@ class ProjectFacts:
 
     def view(self, path: str) -> ProjectView:
         return ProjectView(self, os.path.realpath(path))
+
+
+class _Exports:
+    """``ProjectFacts.call_kinds``: every top-level name of the run with what calling it
+    gives, re-exports (``__init__``, star imports, ``make = utils.make``) and subclasses
+    followed to the module that decides. One memoized answer per name; a cycle or a chain
+    longer than ``_MAX_CHAIN`` is unknown."""
+
+    def __init__(self, facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> None:
+        self.facts = facts
+        self.by_path = by_path
+        self.depth = 0
+
+    def run(self) -> None:
+        for path, summary in self.by_path.items():
+            for name in summary.exports:
+                self.kind(path, name)
+                alias = self._alias(path, name)
+                if alias is not None:
+                    self.facts.aliases[(path, name)] = alias
+            for name in self._star_names(summary, set()):
+                self.kind(path, name)  # ``from .envs import *``: its names are this module's too
+
+    def _star_names(self, summary: ModuleSummary, seen: set[str]) -> set[str]:
+        """The public names a module's star imports bring in (star chains followed once)."""
+        seen.add(summary.path)
+        names: set[str] = set()
+        for path in self._star_paths(summary):
+            if path in seen:
+                continue
+            star = self.by_path[path]
+            names.update(n for n in star.exports if not n.startswith("_"))
+            names.update(self._star_names(star, seen))
+        return names
+
+    def _star_paths(self, summary: ModuleSummary) -> list[str]:
+        found = []
+        for module in summary.star_imports:
+            level = len(module) - len(module.lstrip("."))
+            path = self.facts._module_path(module.lstrip(".").split(".") if module.strip(".") else [], level, summary.path)
+            if path and path != summary.path and path in self.by_path:
+                found.append(path)
+        return found
+
+    def _alias(self, path: str, name: str) -> str | None:
+        """``gym.make`` for a name bound to it here or through a chain of re-exports."""
+        for _ in range(_MAX_CHAIN):
+            summary = self.by_path.get(path)
+            if summary is None:
+                return None
+            if name in summary.aliases:
+                return summary.aliases[name]
+            kind = summary.exports.get(name)
+            if not isinstance(kind, str):
+                return None
+            split = self.facts._split(kind[len(REF) :], path)
+            if split is None:
+                return None
+            path, name = split
+        return None
+
+    def kind(self, path: str, name: str) -> EnvKind | None:
+        """What calling ``name`` of module ``path`` gives; None when the module does not
+        bind it (not even through a star import)."""
+        key = (path, name)
+        known = self.facts.call_kinds.get(key)
+        if known is not None:
+            return known
+        summary = self.by_path.get(path)
+        if summary is None or self.depth >= _MAX_CHAIN:
+            return None
+        kind = summary.exports.get(name)
+        self.facts.call_kinds[key] = EnvKind.UNKNOWN  # a cycle adds no evidence
+        self.depth += 1
+        try:
+            if kind is None:
+                found = self._from_stars(summary, name)
+                if found is None:
+                    del self.facts.call_kinds[key]
+                    return None
+            elif isinstance(kind, EnvKind):
+                # A module the run leaves as it is: its classes did not migrate.
+                found = EnvKind.UNKNOWN if path in self.facts.blocked and kind is not EnvKind.NOT_ENV else kind
+            else:
+                found = self._follow(kind[len(REF) :], path)
+        finally:
+            self.depth -= 1
+        self.facts.call_kinds[key] = found
+        return found
+
+    def _follow(self, qualified: str, importer: str) -> EnvKind:
+        split = self.facts._split(qualified, importer)
+        if split is None:
+            return EnvKind.UNKNOWN  # a library name the module could not classify
+        path, name = split
+        if "." in name:
+            return EnvKind.UNKNOWN  # ``module.Class.method``: not a top-level name
+        found = self.kind(path, name)
+        return EnvKind.UNKNOWN if found is None else found
+
+    def _from_stars(self, summary: ModuleSummary, name: str) -> EnvKind | None:
+        for path in self._star_paths(summary):
+            found = self.kind(path, name)
+            if found is not None:
+                return found
+        return None
 
 
 class _Join:
@@ -291,6 +435,33 @@ class ProjectView:
     def render_called_elsewhere(self) -> bool:
         """The same for ``x.render(mode)``: this module's env classes keep render(mode)."""
         return self.path in self.facts.render_called
+
+    def call_kind(self, qualified: str) -> EnvKind | None:
+        """What calling an imported name of the run gives (``from hunt import HuntEnv``:
+        a PettingZoo parallel env; ``pkg.make``: a Gym env). ``EnvKind.UNKNOWN`` for a name
+        a module of the run binds but cannot classify; None when the run does not define it."""
+        split = self.facts._split(qualified, self.path)
+        if split is None:
+            return None
+        path, name = split
+        if "." in name:
+            return None
+        found = self.facts.call_kinds.get((path, name))
+        return found if found is not None else EnvKind.UNKNOWN
+
+    def library_alias(self, qualified: str) -> str | None:
+        """The library callable an imported name of the run is bound to (``pkg.make`` ->
+        ``gym.make``), or None."""
+        split = self.facts._split(qualified, self.path)
+        return None if split is None else self.facts.aliases.get(split)
+
+    def imports_multi_agent(self, qualified_names: Iterable[str]) -> bool:
+        """One of these imported names is a PettingZoo env class or factory of the run."""
+        return any(self.call_kind(q) in (EnvKind.PZ_AEC, EnvKind.PZ_PARALLEL) for q in qualified_names)
+
+    def defines(self, qualified: str) -> bool:
+        """The name comes from a module of the run (its own code, not a library's)."""
+        return self.facts._split(qualified, self.path) is not None
 
     def imported_class(self, qualified: str) -> tuple[bool, bool] | None:
         """For an imported class of the run: (is an env class, takes render_mode)."""

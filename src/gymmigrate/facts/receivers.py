@@ -25,6 +25,7 @@ from gymmigrate.facts import names as N
 from gymmigrate.facts.kinds import MAX_DEPTH, EnvKind, join_kinds
 from gymmigrate.facts.callables import CallableKinds, optional_of, parse_annotation, string_names
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, call_argument, own_returns
+from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.self_attributes import SelfAttributes
 
 if TYPE_CHECKING:
@@ -65,6 +66,7 @@ class Receivers:
         self._cache: dict[ast.AST, EnvKind] = {}
         self._in_progress: set[ast.AST] = set()
         self._name_kinds: dict[int, EnvKind] = {}  # id(bindings list) -> kind, see _classify_name
+        self._mixed: set[int] = set()  # bindings lists whose kinds disagree
         self.depth = 0  # shared with the helpers: one bound on the whole chain of questions
         self.callables = CallableKinds(self, project)
         self.attributes = SelfAttributes(self)
@@ -108,10 +110,16 @@ class Receivers:
         return self.facts.qualified_names(node)
 
     def class_kind(self, classdef: ast.ClassDef) -> EnvKind:
-        """The kind of instances of a class defined in this module, from its bases."""
-        kinds = [self._base_kind(base) for base in classdef.bases]
+        """The kind of instances of a class defined in this module, from its bases; a class
+        with no library base that steps many envs at once (``step_async``/``step_wait``,
+        baselines' ``SubprocVecEnv`` copied into a project) is a VecEnv."""
+        kinds = [self._base_kind(base) for base in classdef.bases if not _is_object(base)]
         useful = [k for k in kinds if k not in (EnvKind.UNKNOWN, EnvKind.NOT_ENV)]
-        return useful[0] if useful else EnvKind.NOT_ENV if not kinds else EnvKind.UNKNOWN
+        if useful:
+            return useful[0]
+        if all(k is EnvKind.NOT_ENV for k in kinds) and _is_vec_env_shaped(classdef):
+            return EnvKind.SB3_VEC
+        return EnvKind.NOT_ENV if not kinds else EnvKind.UNKNOWN
 
     def is_gym_wrapper_class(self, classdef: ast.ClassDef, _seen: frozenset[int] = frozenset()) -> bool:
         for base in classdef.bases:
@@ -176,10 +184,12 @@ class Receivers:
         kinds = [k for k in (self.kind_from_qualified(q, call) for q in self.qualified_names(func)) if k is not None]
         if kinds:
             return join_kinds(kinds)
-        if self.project is not None and any(
-            (found := self.project.imported_class(q)) is not None and found[0] for q in self.qualified_names(func)
-        ):
-            return EnvKind.GYM_ENV  # an env class of another module of the run
+        if self.project is not None:
+            # A class or factory of another module of the run (re-exports and subclasses
+            # followed): its instances or its returns.
+            found = [k for k in (self.project.call_kind(q) for q in self.qualified_names(func)) if k is not None]
+            if found:
+                return join_kinds(found)
         local_class = self.local_class(func)
         if local_class is not None:
             return self.class_kind(local_class)
@@ -277,17 +287,38 @@ class Receivers:
         # progress is shared (deeper ones may be partial, cut short by a cycle).
         key = id(bindings)
         shared = self._name_kinds.get(key)
-        if shared is not None:
-            return shared
-        kinds = []
-        for binding in bindings:
-            kind = self.binding_kind(binding)
-            if kind is not None:
-                kinds.append(kind)
-        kind = join_kinds(kinds)
-        if self.depth == 1:
-            self._name_kinds[key] = kind
-        return kind
+        if shared is None:
+            kinds = set()
+            for binding in bindings:
+                kind = self.binding_kind(binding)
+                if kind is not None:
+                    kinds.add(kind)
+            shared = join_kinds(kinds)
+            if len(kinds) > 1:
+                self._mixed.add(key)
+            if self.depth == 1:
+                self._name_kinds[key] = shared
+        if key in self._mixed:
+            # The bindings disagree (``env`` a VecEnv first, a Gym env later): a read that
+            # only the last binding before it can reach has that binding's kind.
+            last = self._dominating_binding(name)
+            if last is not None:
+                kind = self.binding_kind(last)
+                if kind is not None and kind is not EnvKind.UNKNOWN:
+                    return kind
+        return shared
+
+    def _dominating_binding(self, name: ast.Name) -> ast.AST | None:
+        flow = Flow.of(self.facts)
+        last = flow.last_binding_of(name)
+        if not isinstance(last, ast.Name):
+            return None
+        statement = self.facts.statement_of(last)
+        if not (isinstance(statement, (ast.Assign, ast.AnnAssign)) and statement.value is not None):
+            return None
+        if any(isinstance(n, ast.Name) and n.id == name.id for n in ast.walk(statement.value)):
+            return None  # ``env = Wrapper(env)``: its kind rests on the earlier values too
+        return last if flow.dominates(statement, name, name) else None
 
     def binding_kind(self, binding: ast.AST) -> EnvKind | None:
         """The kind of value one binding stores (None: it adds no evidence, e.g. ``+=``)."""
@@ -427,6 +458,10 @@ class Receivers:
         optional = optional_of(annotation, self.qualified_names)
         if optional is not None:
             return self.annotation_kind(optional)
+        local = self.local_class(annotation)
+        if local is not None:
+            kind = self.class_kind(local)  # ``def test_x(env: Warehouse)`` with Warehouse defined here
+            return kind if kind is not EnvKind.NOT_ENV else EnvKind.UNKNOWN
         return self.annotation_names_kind(self.qualified_names(annotation))
 
     def annotation_names_kind(self, names: set[str]) -> EnvKind:
@@ -439,7 +474,52 @@ class Receivers:
             other = _other_library_class_kind(q)
             if other is not None:
                 return other
+            if self.project is not None:
+                found = self.project.call_kind(q)  # a class of another module of the run
+                if found is not None and found is not EnvKind.NOT_ENV:
+                    return found
         return EnvKind.UNKNOWN
+
+    def run_defined(self, expr: ast.AST) -> bool:
+        """``expr`` holds (or may hold) an object the run itself makes: an instance of a class
+        or the return of a def of this file, or a name imported from a module of the run. The
+        run knows that code, so its kind is never guessed from a name."""
+        return self.facts.memo(("run-defined", id(expr)), lambda: self._run_defined(expr), while_computing=False)  # type: ignore[no-any-return]
+
+    def _run_defined(self, expr: ast.AST) -> bool:
+        if self.depth > MAX_DEPTH:
+            return False
+        self.depth += 1
+        try:
+            if isinstance(expr, ast.Call):
+                func = expr.func
+                if self.local_class(func) is not None or self.local_function(func) is not None or self.own_method(func) is not None:
+                    return True
+                return any(self._from_run(q) for q in self.qualified_names(func)) or (
+                    isinstance(func, ast.Attribute) and self.run_defined(func.value)
+                )
+            if isinstance(expr, ast.Name):
+                for binding in self.facts.bindings_of(expr):
+                    if isinstance(binding, ast.alias) and self._from_run(self.facts.imports[binding]):
+                        return True
+                    parent = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
+                    if isinstance(parent, (ast.Assign, ast.NamedExpr)) and self.run_defined(parent.value):
+                        return True
+                return False
+            if isinstance(expr, ast.Attribute):
+                if isinstance(expr.value, ast.Name) and self.is_self(expr.value):
+                    return any(self.run_defined(v) for v in self.self_attribute_values(expr, expr.attr))
+                return self.run_defined(expr.value)
+            if isinstance(expr, ast.Subscript):
+                return self.run_defined(expr.value)
+            return False
+        finally:
+            self.depth -= 1
+
+    def _from_run(self, qualified: str) -> bool:
+        if qualified.startswith("."):
+            return True  # a relative import: a module of the project
+        return self.project is not None and self.project.defines(qualified)
 
     def call_sites(self, function: ast.AST, classdef: ast.ClassDef | None) -> list[ast.Call]:
         """Calls in this module that reach ``function`` (a method when ``classdef`` is given)."""
@@ -480,6 +560,37 @@ class Receivers:
         if not values:
             return EnvKind.NOT_ENV
         return join_kinds(self.kind_of(value) for value in values)
+
+
+def _is_object(base: ast.AST) -> bool:
+    return isinstance(base, ast.Name) and base.id == "object"
+
+
+_VEC_METHODS = frozenset({"step_async", "step_wait"})
+
+
+def _is_vec_env_shaped(classdef: ast.ClassDef) -> bool:
+    """Defines ``step_async`` and ``step_wait`` (the VecEnv protocol of baselines and SB3), or
+    ``step`` in a class that counts its ``num_envs`` (its results are stacked per env)."""
+    methods = {s.name for s in classdef.body if isinstance(s, FUNCTIONS)}
+    if _VEC_METHODS <= methods:
+        return True
+    return "step" in methods and _counts_envs(classdef)
+
+
+def _counts_envs(classdef: ast.ClassDef) -> bool:
+    """``num_envs`` is a class attribute or is stored on ``self`` in ``__init__``."""
+    for statement in classdef.body:
+        if isinstance(statement, (ast.Assign, ast.AnnAssign)):
+            targets = statement.targets if isinstance(statement, ast.Assign) else [statement.target]
+            if any(isinstance(t, ast.Name) and t.id == "num_envs" for t in targets):
+                return True
+        if isinstance(statement, FUNCTIONS) and statement.name == "__init__":
+            for inner in ast.walk(statement):
+                if isinstance(inner, ast.Attribute) and inner.attr == "num_envs" and isinstance(inner.ctx, ast.Store):
+                    if isinstance(inner.value, ast.Name) and inner.value.id == "self":
+                        return True
+    return False
 
 
 def _is_env_method_call(call: ast.Call) -> bool:

@@ -54,7 +54,16 @@ class SelfAttributes:
             if name == "env" and self._is_pettingzoo_wrapper(classdef):
                 return self.receivers.class_kind(classdef)
             return EnvKind.UNKNOWN
-        return join_kinds(self.receivers.kind_of(value) for value in values)
+        return join_kinds(self._value_kind(value, classdef) for value in values)
+
+    def _value_kind(self, value: ast.expr, classdef: ast.ClassDef) -> EnvKind:
+        """``self._top = self`` in an env class: the attribute is the env itself."""
+        if isinstance(value, ast.Name) and self.is_self(value) and self.facts.enclosing_class(value) is classdef:
+            if self.receivers.is_gym_wrapper_class(classdef):
+                return EnvKind.GYM_ENV
+            kind = self.receivers.class_kind(classdef)
+            return kind if kind is not EnvKind.NOT_ENV else EnvKind.UNKNOWN
+        return self.receivers.kind_of(value)
 
     def _is_pettingzoo_wrapper(self, classdef: ast.ClassDef) -> bool:
         return any(q in N.PZ_WRAPPER_BASES for base in classdef.bases for q in self.receivers.qualified_names(base))

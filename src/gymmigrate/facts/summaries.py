@@ -23,6 +23,7 @@ from gymmigrate.facts.project import (
     NEW,
     OWN,
     PARAM,
+    REF,
     UNRESOLVED,
     CallSummary,
     Kind,
@@ -77,7 +78,77 @@ class _Summarizer:
             untraced_seed_call=self._has_untraced_call("seed"),
             untraced_render_call=self._has_untraced_call("render"),
             imported=tuple(sorted(set(self.facts.imports.values()))),
+            exports=self._exports(env_classes),
+            aliases=self._aliases(),
+            star_imports=tuple(
+                "." * s.level + (s.module or "") for s in self.facts.tree.body if isinstance(s, ast.ImportFrom) and any(a.name == "*" for a in s.names)
+            ),
         )
+
+    def _exports(self, env_classes: set[str]) -> dict[str, Kind]:
+        """Every top-level name the module binds with what calling it gives (see
+        ``ModuleSummary.exports``)."""
+        exports: dict[str, Kind] = {}
+        for name, bindings in self.facts.module_scope.bindings.items():
+            kinds = {self._export(name, binding, env_classes) for binding in bindings}
+            kinds.discard(None)
+            if len(kinds) == 1:
+                exports[name] = kinds.pop()  # type: ignore[assignment]
+            elif kinds:
+                exports[name] = EnvKind.UNKNOWN
+        return exports
+
+    def _export(self, name: str, binding: ast.AST, env_classes: set[str]) -> Kind | None:
+        if isinstance(binding, ast.alias):
+            return self._reference(self.facts.imports[binding])
+        if isinstance(binding, ast.ClassDef):
+            kind = EnvKind.GYM_ENV if name in env_classes else self.receivers.class_kind(binding)
+            if kind is EnvKind.UNKNOWN:
+                # ``class Hunter(HuntEnv)`` with ``HuntEnv`` from another module of the run.
+                run_bases = [q for base in binding.bases for q in self.facts.qualified_names(base) if not _is_library(q)]
+                if len(run_bases) == 1:
+                    return REF + run_bases[0]
+            return kind
+        if isinstance(binding, FUNCTIONS):
+            return self.receivers.returns_kind(binding)
+        if isinstance(binding, ast.Name):
+            parent = self.facts.parent(binding)
+            if isinstance(parent, ast.Assign) and len(parent.targets) == 1 and parent.targets[0] is binding:
+                value = parent.value
+                if isinstance(value, (ast.Name, ast.Attribute)):
+                    qualified = self.facts.qualified_names(value)
+                    if len(qualified) == 1:
+                        return self._reference(qualified.pop())  # ``make = gym.make``
+                    return self.receivers.returned_kind(value)
+                if isinstance(value, ast.Call):
+                    # ``parallel_env = parallel_wrapper_fn(env)``: a factory made by a factory.
+                    if any(q.endswith(".parallel_wrapper_fn") for q in self.facts.qualified_names(value.func)):
+                        return EnvKind.PZ_PARALLEL
+                    return self.receivers.returned_kind(value)
+        return EnvKind.UNKNOWN
+
+    def _aliases(self) -> dict[str, str]:
+        """Top-level names bound to a Gym callable: ``make = gym.make``, ``from gym import make``."""
+        found: dict[str, str] = {}
+        for name, bindings in self.facts.module_scope.bindings.items():
+            if len(bindings) != 1:
+                continue
+            binding = bindings[0]
+            if isinstance(binding, ast.alias):
+                qualified = {self.facts.imports[binding]}
+            elif isinstance(binding, ast.Name) and isinstance(assign := self.facts.parent(binding), ast.Assign) and isinstance(assign.value, (ast.Name, ast.Attribute)):
+                qualified = self.facts.qualified_names(assign.value)
+            else:
+                continue
+            if len(qualified) == 1 and N.strip_gym_prefix(next(iter(qualified))) is not None:
+                found[name] = qualified.pop()
+        return found
+
+    def _reference(self, qualified: str) -> Kind:
+        if not _is_library(qualified):
+            return REF + qualified
+        kind = self.receivers.kind_from_qualified(qualified, ast.Call(func=ast.Name(id="_"), args=[], keywords=[]))
+        return kind if kind is not None else EnvKind.UNKNOWN
 
     def _has_untraced_call(self, method: str) -> bool:
         """``x.seed(...)`` / ``x.render(mode)`` on a receiver this module cannot trace."""

@@ -59,18 +59,18 @@ PIPELINE = (
     FamilySpec("EnvClassFamily", "gymmigrate.rules.custom_env.env_class", ("class",)),
     FamilySpec("MetadataKeys", "gymmigrate.rules.custom_env.metadata", ("render.modes", "video.frames_per_second")),
     FamilySpec("RewardRange", "gymmigrate.rules.custom_env.reward_range", ("reward_range",)),
-    FamilySpec("EnvClasses", "gymmigrate.rules.pettingzoo.env_classes", _PZ),
+    FamilySpec("EnvClasses", "gymmigrate.rules.pettingzoo.env_classes", _PZ, follows_the_run=True),
     FamilySpec("GeneratorApi", "gymmigrate.rules.rng", ("np_random", "seeding")),
     FamilySpec("ResetSeed", "gymmigrate.rules.reset_seed", ("reset", "seed")),
     FamilySpec("StepDone", "gymmigrate.rules.step_done.family", ("step", "TimeLimit.truncated")),
-    FamilySpec("AecLoop", "gymmigrate.rules.pettingzoo.aec_loop", _PZ),
-    FamilySpec("ParallelCalls", "gymmigrate.rules.pettingzoo.parallel", _PZ),
-    FamilySpec("SeedRender", "gymmigrate.rules.pettingzoo.seed_render", _PZ),
+    FamilySpec("AecLoop", "gymmigrate.rules.pettingzoo.aec_loop", _PZ, follows_the_run=True),
+    FamilySpec("ParallelCalls", "gymmigrate.rules.pettingzoo.parallel", _PZ, follows_the_run=True),
+    FamilySpec("SeedRender", "gymmigrate.rules.pettingzoo.seed_render", _PZ, follows_the_run=True),
     FamilySpec("WrapperClasses", "gymmigrate.rules.wrappers.family", ("Wrapper", "wrappers")),
     FamilySpec("WrapperForwarding", "gymmigrate.rules.wrapper_usage.forwarding", ("gym",)),
     FamilySpec("LegacyWrapperHooks", "gymmigrate.rules.legacy_hooks", ("def _",)),
     FamilySpec("SpacesLogger", "gymmigrate.rules.spaces_logger", ("logger", "error", "check_env", "Box", "seed")),
-    FamilySpec("SpacesAndMake", "gymmigrate.rules.pettingzoo.spaces_make", _PZ),
+    FamilySpec("SpacesAndMake", "gymmigrate.rules.pettingzoo.spaces_make", _PZ, follows_the_run=True),
 )
 set_pipeline(PIPELINE)
 

@@ -108,9 +108,12 @@ class FamilySpec(NamedTuple):
     name: str  # the RuleFamily subclass
     module: str  # the module that defines it
     words: tuple[str, ...] | None = None
+    # The family may also fire on what other modules of the run say (a PettingZoo class
+    # imported from the project): in a run of several files the words do not decide.
+    follows_the_run: bool = False
 
-    def may_fire_in(self, text: str) -> bool:
-        return self.words is None or any(word in text for word in self.words)
+    def may_fire_in(self, text: str, in_a_run: bool = False) -> bool:
+        return self.words is None or (in_a_run and self.follows_the_run) or any(word in text for word in self.words)
 
     def load(self) -> type[RuleFamily]:
         found = _by_name().get(self.name)
@@ -136,10 +139,11 @@ def set_pipeline(specs: tuple[FamilySpec, ...]) -> None:
 _PIPELINE: tuple[FamilySpec, ...] = ()
 
 
-def families_for(text: str) -> Iterator[type[RuleFamily]]:
-    """The families that may fire on ``text``, in pipeline order, loaded on first use."""
+def families_for(text: str, in_a_run: bool = False) -> Iterator[type[RuleFamily]]:
+    """The families that may fire on ``text`` (a module of a run of several files when
+    ``in_a_run``), in pipeline order, loaded on first use."""
     for spec in _PIPELINE:
-        if spec.may_fire_in(text):
+        if spec.may_fire_in(text, in_a_run):
             yield spec.load()
 
 

@@ -45,6 +45,7 @@ from gymmigrate.facts import names as N
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.creation import Creation, CreationFinder, local_env_class_takes_render_mode
 from gymmigrate.facts.decisions import Action, decide, receiver_text
+from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import keyword, string_value
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
@@ -142,7 +143,18 @@ class Rendering(RuleFamily):
             return True
         renders = facts.attribute_calls.get("render", [])
         # Migrated code calls render() bare, in a file that imports gymnasium, not gym.
-        return any(call.args or call.keywords for call in renders) or (bool(renders) and context.profile.imports_gym)
+        if any(call.args or call.keywords for call in renders):
+            return True
+        if not renders:
+            return False
+        return context.profile.imports_gym or _imports_legacy_make(facts, context)
+
+    def _helper_method(self, function: ast.AST) -> bool:
+        """``render`` is a method of a plain class of the run (muzero's ``Game`` owning a
+        ``gym.make`` env), not of an env or wrapper: its forwarded ``self.env.render()`` is a
+        call site like any other, and the make gets the mode."""
+        classdef = self.facts.parent(function)
+        return isinstance(classdef, ast.ClassDef) and self.receivers.class_kind(classdef) is EnvKind.NOT_ENV
 
     def decide(self) -> None:
         self.finder = CreationFinder(self.facts, self.receivers, self._is_make)
@@ -179,7 +191,18 @@ class Rendering(RuleFamily):
         return self.facts.memo(
             ("rendering-is-make", id(call)),
             lambda: any(N.strip_gym_prefix(q) in N.GYM_ENV_FACTORIES for q in self.facts.qualified_names(call.func))
-            or local_env_class_takes_render_mode(self.facts, self.receivers, call),
+            or local_env_class_takes_render_mode(self.facts, self.receivers, call)
+            or self._is_project_make(call),
+        )
+
+    def _is_project_make(self, call: ast.Call) -> bool:
+        """``make(...)`` / ``pkg.make(...)`` where the run binds that name to ``gym.make``."""
+        project = self.receivers.project
+        if project is None:
+            return False
+        return any(
+            (alias := project.library_alias(q)) is not None and N.strip_gym_prefix(alias) in N.GYM_ENV_FACTORIES
+            for q in self.facts.qualified_names(call.func)
         )
 
     def _recorder_candidates(self) -> list[ast.Call]:
@@ -196,17 +219,17 @@ class Rendering(RuleFamily):
         if close is None and mode_arg is None and (call.args or call.keywords):
             return None  # some other render(...) signature: not the Gym one
         function = self.facts.enclosing_function(call)
-        if function is not None and function.name == "render":
+        if function is not None and function.name == "render" and not self._helper_method(function):
             return None  # a render method forwarding to its env: the Env/Wrapper rules own it
         kind = self.receivers.kind_of(receiver)
-        decision = decide(kind, receiver, self.context.profile, legacy_shape=mode_arg is not None or close is not None)
+        decision = decide(kind, receiver, self.context.profile, legacy_shape=mode_arg is not None or close is not None, origins=self.receivers)
         if decision.action is Action.LEAVE:
             return None
         if close is not None and isinstance(close.value, ast.Constant) and close.value.value is True:
             self._plan_close(call, decision.action, decision.reason)
             return None
         if mode_arg is None:
-            if not (self.context.profile.imports_gym or self._has_legacy_mode_calls):
+            if not (self.context.profile.imports_gym or self._has_legacy_mode_calls or _imports_legacy_make(self.facts, self.context)):
                 return None  # code already written for Gymnasium: a bare render() is its API
             return RenderSite(call, "GM402", HUMAN, (), decision.action, self.finder.find(receiver))
         extra = [a for a in arguments_in_order(call) if a is not mode_arg and a is not close]
@@ -541,3 +564,17 @@ class Rendering(RuleFamily):
             return argument.arg
         value = argument.value if isinstance(argument, (ast.keyword, ast.Starred)) else argument
         return self.facts.segment(value)
+
+
+def _imports_legacy_make(facts: ModuleFacts, context: FileContext) -> bool:
+    """The file imports a name another module of the run binds to the legacy ``gym.make``
+    (``from .utils import make``): its bare ``render()`` calls are legacy Gym code too."""
+    project = context.options.project
+    if project is None:
+        return False
+    view = project.view(context.path)
+    return any(_is_legacy_gym_make(view.library_alias(q)) for q in facts.imports.values())
+
+
+def _is_legacy_gym_make(alias: str | None) -> bool:
+    return alias is not None and alias.split(".", 1)[0] == "gym" and N.strip_gym_prefix(alias) in N.GYM_ENV_FACTORIES

@@ -44,11 +44,16 @@ AGENT = "agent"
 
 class PettingZooFamily(RuleFamily):
     """Base of the PettingZoo families: gated on the file importing PettingZoo or SuperSuit,
-    or iterating ``x.agent_iter()`` (a loop over an env passed in from elsewhere)."""
+    iterating ``x.agent_iter()`` (a loop over an env passed in from elsewhere), or importing
+    a PettingZoo env class or factory another module of the run defines (a driver script
+    of the project's own env)."""
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
-        return context.profile.imports_pettingzoo or "agent_iter" in facts.attribute_calls
+        if context.profile.imports_pettingzoo or "agent_iter" in facts.attribute_calls:
+            return True
+        project = context.options.project
+        return project is not None and project.view(context.path).imports_multi_agent(facts.imports.values())
 
     @property
     def multi_agent(self) -> MultiAgent:

@@ -48,7 +48,7 @@ class ResetSeedBase(RuleFamily):
         kind = self._receiver_kind(receiver)
         vector = kind is EnvKind.GYM_VEC
         expected = EnvKind.GYM_VEC if vector else EnvKind.GYM_ENV
-        return decide(kind, receiver, self.context.profile, expected=expected), vector
+        return decide(kind, receiver, self.context.profile, expected=expected, origins=self.receivers), vector
 
     @staticmethod
     def _kind(decision: Decision, default: FixKind | None = None) -> FixKind | None:

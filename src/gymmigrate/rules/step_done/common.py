@@ -106,8 +106,8 @@ class StepFamilyBase(RuleFamily):
         kind = self.receivers.super_kind(receiver) or self.receivers.kind_of(receiver)
         profile = self.context.profile
         if kind is EnvKind.GYM_VEC:
-            return decide(kind, receiver, profile, legacy_shape=legacy_shape, expected=EnvKind.GYM_VEC), True
-        return decide(kind, receiver, profile, legacy_shape=legacy_shape), False
+            return decide(kind, receiver, profile, legacy_shape=legacy_shape, expected=EnvKind.GYM_VEC, origins=self.receivers), True
+        return decide(kind, receiver, profile, legacy_shape=legacy_shape, origins=self.receivers), False
 
 
 def looks_vectorised(receiver: ast.expr, done_target: ast.expr) -> bool:

@@ -41,6 +41,19 @@ class ResultRules(StepFamilyBase):
         """A step whose result is used some other way than stored or unpacked."""
         decision, _ = self.decision(receiver, legacy_shape=False)
         if decision.action is not Action.LEAVE and self.context.profile.imports_gym:
+            chained = _chained_four(self.facts.parent(call), call)
+            if chained is not None:
+                obs, reward, done, info = (self.facts.segment(el) for el in chained.elts)
+                others = ", ".join(f"`{self.facts.segment(t)}`" for t in self.facts.parent(call).targets if t is not chained)  # type: ignore[union-attr]
+                self.report(
+                    call,
+                    "GM304",
+                    f"a chained assignment also stores the step result in {others}, which would hold five values now: "
+                    f"split it: `{obs}, {reward}, terminated, truncated, {info} = {receiver_text(receiver)}.step(...)`, "
+                    f"`{done} = terminated or truncated`, then assign `{obs}, {reward}, {done}, {info}` to the other targets",
+                    FixKind.FLAG,
+                )
+                return
             self.report(
                 call,
                 "GM304",
@@ -205,3 +218,15 @@ def _outermost_loop(node: ast.AST, facts: ModuleFacts) -> ast.AST | None:
         if isinstance(ancestor, LOOPS):
             found = ancestor
     return found
+
+
+def _chained_four(parent: ast.AST | None, call: ast.Call) -> ast.Tuple | ast.List | None:
+    """``out = obs, reward, done, info = env.step(a)``: the four-name target of a chained
+    assignment of a step result (its other targets get the whole result)."""
+    if not (isinstance(parent, ast.Assign) and parent.value is call and len(parent.targets) > 1):
+        return None
+    for target in parent.targets:
+        if isinstance(target, (ast.Tuple, ast.List)) and len(target.elts) == 4:
+            if not any(isinstance(el, ast.Starred) for el in target.elts):
+                return target
+    return None

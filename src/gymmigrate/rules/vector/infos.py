@@ -90,7 +90,7 @@ class Infos(_Base):
         for step, infos in self._step_assigns():
             receiver = step.func.value  # type: ignore[attr-defined]
             kind = self.receivers.kind_of(receiver)
-            decision = decide(kind, receiver, self.context.profile, legacy_shape=True, expected=EnvKind.GYM_VEC)
+            decision = decide(kind, receiver, self.context.profile, legacy_shape=True, expected=EnvKind.GYM_VEC, origins=self.receivers)
             if decision.action is Action.LEAVE:
                 continue
             readers = self._readers(infos)

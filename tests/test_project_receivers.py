@@ -1,0 +1,270 @@
+"""Know the receiver across the run, never guess it (facts/summaries.py exports, joined in
+facts/project.py ``call_kinds``).
+
+``fixtures/project_receivers/`` is a package driven by a script that never says where its
+objects come from: ``warehouse.make`` is ``gym.make`` re-exported from ``utils`` through
+``__init__``, ``Shelf`` comes in by a star import, ``LongShelf`` derives from it in another
+module, ``Game`` holds a ``make`` env in ``self.environment`` (a file whose text never names
+the library), and ``helpers`` has a plain ``Environment`` and the project's own
+``SubprocVecEnv``: the run rewrites the envs and leaves the helpers. ``fixtures/
+project_pettingzoo/`` is a PettingZoo 1.20 parallel env and a driver that never imports
+PettingZoo.
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from gymmigrate.cli import app
+from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.project import ProjectFacts
+from gymmigrate.facts.summaries import summarize
+from tests.fixture_cases import FIXTURES
+
+runner = CliRunner()
+
+
+def _copy(name: str, tmp_path: Path) -> Path:
+    target = tmp_path / name
+    shutil.copytree(FIXTURES / name, target)
+    return target
+
+
+def _findings(paths: list[Path], tmp_path: Path) -> list[dict[str, object]]:
+    report = tmp_path / "report.json"
+    runner.invoke(app, ["check", "--report", str(report), *map(str, paths)])
+    data = json.loads(report.read_text())
+    return [dict(f, path=file["path"]) for file in data["files"] for f in [*file["review"], *file["notes"]]]
+
+
+def _run(folder: Path, code: str) -> str:
+    run = subprocess.run([sys.executable, "-c", code], cwd=folder, capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
+    return run.stdout
+
+
+def _join(files: dict[str, str], tmp_path: Path) -> ProjectFacts:
+    summaries = []
+    for name, text in files.items():
+        path = tmp_path / name
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(text)
+        summary = summarize(str(path), text)
+        assert summary is not None
+        summaries.append(summary)
+    return ProjectFacts.join(summaries)
+
+
+# -- the facts ----------------------------------------------------------------------------
+
+
+def test_reexports_star_imports_aliases_and_subclasses_are_followed(tmp_path: Path) -> None:
+    facts = _join(
+        {
+            "pkg/__init__.py": "from .utils import make\nfrom .envs import *\n",
+            "pkg/utils.py": "import gym\n\nmake = gym.make\n",
+            "pkg/envs.py": "import gym\n\n\nclass Grid(gym.Env):\n    pass\n\n\nclass Board:\n    pass\n",
+            "pkg/more.py": "from .envs import Grid\n\n\nclass BigGrid(Grid):\n    pass\n",
+            "main.py": "import pkg\n",
+        },
+        tmp_path,
+    )
+    main = facts.view(str(tmp_path / "main.py"))
+    assert main.call_kind("pkg.make") is EnvKind.GYM_ENV
+    assert main.library_alias("pkg.make") == "gym.make"
+    assert main.call_kind("pkg.Grid") is EnvKind.GYM_ENV  # through the star import
+    assert main.call_kind("pkg.more.BigGrid") is EnvKind.GYM_ENV
+    assert main.call_kind("pkg.Board") is EnvKind.NOT_ENV
+    assert main.call_kind("pkg.Nothing") is EnvKind.UNKNOWN  # a module of the run, a name it lacks
+    assert main.call_kind("numpy.zeros") is None  # not the run's
+
+
+def test_pettingzoo_classes_and_factories_of_the_run(tmp_path: Path) -> None:
+    facts = _join(
+        {
+            "hunt.py": (
+                "from pettingzoo import ParallelEnv, AECEnv\nfrom pettingzoo.utils import parallel_to_aec, parallel_wrapper_fn\n\n\n"
+                "class Hunt(ParallelEnv):\n    pass\n\n\nclass Tag(AECEnv):\n    pass\n\n\n"
+                "def env():\n    return parallel_to_aec(Hunt())\n\n\nparallel_env = parallel_wrapper_fn(env)\n"
+            ),
+            "drive.py": "import hunt\n",
+        },
+        tmp_path,
+    )
+    view = facts.view(str(tmp_path / "drive.py"))
+    assert view.call_kind("hunt.Hunt") is EnvKind.PZ_PARALLEL
+    assert view.call_kind("hunt.Tag") is EnvKind.PZ_AEC
+    assert view.call_kind("hunt.env") is EnvKind.PZ_AEC
+    assert view.call_kind("hunt.parallel_env") is EnvKind.PZ_PARALLEL
+    assert view.imports_multi_agent(["hunt.Hunt"]) and not view.imports_multi_agent(["hunt.nothing"])
+
+
+def test_a_reexport_cycle_is_unknown_not_a_hang(tmp_path: Path) -> None:
+    facts = _join({"a.py": "from b import make\n", "b.py": "from a import make\n"}, tmp_path)
+    assert facts.view(str(tmp_path / "a.py")).call_kind("b.make") is EnvKind.UNKNOWN
+
+
+# -- the Gym package --------------------------------------------------------------------------
+
+
+def test_one_rewrite_migrates_the_envs_and_leaves_the_helpers(tmp_path: Path) -> None:
+    project = _copy("project_receivers", tmp_path)
+    helpers = (project / "warehouse" / "helpers.py").read_bytes()
+    result = runner.invoke(app, ["rewrite", str(project)])
+    assert result.exit_code == 0, result.output
+    driver = (project / "run_warehouse.py").read_text()
+    assert "observation, info = env.reset(seed=seed)" in driver  # warehouse.make
+    assert "observation, info = env_0.reset()" in driver  # annotated with a star-imported class
+    assert "observation, reward, terminated, truncated, info = shelf.step(1)" in driver  # a subclass elsewhere
+    assert "state, reward, done, info = env.step(2)" in driver  # the plain helper: untouched
+    assert "observations, rewards, dones, infos = env.step([1, 2])" in driver  # the project's VecEnv
+    assert "observations = env.reset()\n" in driver  # ...its reset too
+    assert "observation, info = env.reset()\n    return rewards" in driver  # rebound to an env: rewritten
+    assert (project / "warehouse" / "helpers.py").read_bytes() == helpers
+    again = runner.invoke(app, ["rewrite", str(project)])
+    assert again.exit_code == 0 and "rewrote 0 of" in again.output  # the migrated run knows it is done
+    game = (project / "warehouse" / "game.py").read_text()
+    assert "observation, info = self.environment.reset(seed=seed)" in game
+    # What the legacy driver meant, on Gymnasium 1.4: CartPole's episode length from the
+    # seed, the shelves' own rules, the helpers' unchanged results.
+    out = _run(
+        project,
+        "import gymnasium\nimport run_warehouse as r\n"
+        "def length(seed, action):\n"
+        "    env = gymnasium.make('CartPole-v1'); env.reset(seed=seed); n = 0\n"
+        "    while True:\n"
+        "        n += 1; _, _, term, trunc, _ = env.step(action)\n"
+        "        if term or trunc: return n\n"
+        "print(r.pole_steps(3) == length(3, 0), r.game_length(5) == length(5, 1))\n"
+        "print(r.shelf_return(r.Shelf()), r.long_shelf_steps(), r.helper_counts(), r.stacked_rewards())\n",
+    )
+    same, values = out.splitlines()
+    assert same == "True True"
+    assert values == "1.0 8 (2, 2.0, False) ([1.0, 2.0], 4)"
+
+
+def test_the_game_render_forwarding_is_reported_at_its_make(tmp_path: Path) -> None:
+    project = _copy("project_receivers", tmp_path)
+    findings = _findings([project], tmp_path)
+    renders = [f for f in findings if f["rule"] == "GM402"]
+    assert [Path(str(f["path"])).name for f in renders] == ["game.py"]
+
+
+def test_the_driver_checked_alone_reports_instead_of_guessing(tmp_path: Path) -> None:
+    project = _copy("project_receivers", tmp_path)
+    alone = _findings([project / "run_warehouse.py"], tmp_path)
+    assert alone and all(f["kind"] == "flag" for f in alone)
+
+
+def test_a_file_whose_text_says_environment_is_not_skipped(tmp_path: Path) -> None:
+    project = _copy("project_receivers", tmp_path)
+    findings = _findings([project], tmp_path)
+    assert {f["rule"] for f in findings if str(f["path"]).endswith("game.py")} >= {"GM201", "GM203", "GM301"}
+
+
+# -- the PettingZoo package ----------------------------------------------------------------
+
+# The legacy code runs on PettingZoo 1.27 as it is (its env defines seed/reset/step itself)
+# once ``gym`` names Gymnasium: what it prints is what the legacy driver meant.
+_LEGACY_GYM = (
+    "import sys, gymnasium, gymnasium.spaces, gymnasium.utils, gymnasium.utils.seeding\n"
+    "sys.modules.update({'gym': gymnasium, 'gym.spaces': gymnasium.spaces, 'gym.utils': gymnasium.utils,"
+    " 'gym.utils.seeding': gymnasium.utils.seeding})\n"
+)
+_PLAY = "import drive\nfor seed in range(6):\n    print(seed, drive.play(seed), drive.play_factory(seed))\n"
+
+
+def test_the_pettingzoo_driver_is_migrated_and_plays_as_before(tmp_path: Path) -> None:
+    project = _copy("project_pettingzoo", tmp_path)
+    legacy = _run(project, _LEGACY_GYM + _PLAY)
+    result = runner.invoke(app, ["rewrite", str(project)])
+    assert result.exit_code == 0, result.output
+    driver = (project / "drive.py").read_text()
+    assert "observations, infos = env.reset(seed=seed)" in driver
+    assert "observations, rewards, terminations, truncations, infos = env.step(chase(observations))" in driver
+    assert "observations, infos = penv.reset(seed=seed)" in driver
+    assert ".seed(" not in driver
+    assert "import gym\n" not in (project / "hunt_parallel.py").read_text()
+    again = runner.invoke(app, ["rewrite", str(project)])
+    assert again.exit_code == 0 and "rewrote 0 of" in again.output
+    migrated = _run(project, _PLAY)
+    assert migrated == legacy and len(migrated.splitlines()) == 6
+    checked = _run(
+        project,
+        "from pettingzoo.test import parallel_api_test\nfrom hunt_parallel import HuntEnv\n"
+        "parallel_api_test(HuntEnv(), num_cycles=20); print('ok')",
+    )
+    assert checked.strip().endswith("ok")
+
+
+def test_the_aec_driver_of_the_runs_factory_is_migrated_and_takes_its_turns(tmp_path: Path) -> None:
+    """``drive_aec.py`` plays the package's ``env()`` (``parallel_to_aec`` of ``HuntEnv``)."""
+    project = _copy("project_pettingzoo", tmp_path)
+    cycles = _run(
+        project,
+        _LEGACY_GYM + "from hunt_parallel import HuntEnv\nfor seed in range(6):\n"
+        "    e = HuntEnv(max_cycles=4); e.seed(seed); e.reset(); n = 0\n"
+        "    while e.agents:\n        e.step({a: 1 for a in e.agents}); n += 1\n    print(n)\n",
+    ).split()
+    result = runner.invoke(app, ["rewrite", str(project)])
+    assert result.exit_code == 0, result.output
+    driver = (project / "drive_aec.py").read_text()
+    assert "game.reset(seed=seed)" in driver and ".seed(" not in driver.replace("reset(seed=", "")
+    assert "observation, reward, termination, truncation, info = game.last()" in driver
+    assert "game.step(None if termination or truncation else 1)" in driver
+    turns = _run(project, "import drive_aec\nfor seed in range(6):\n    print(drive_aec.play_turns(seed))\n").split()
+    # Two turns a cycle, then each agent steps once more with None once it is done.
+    assert [int(t) for t in turns] == [2 * int(n) + 2 for n in cycles]
+
+
+def test_the_pettingzoo_driver_alone_is_not_touched(tmp_path: Path) -> None:
+    project = _copy("project_pettingzoo", tmp_path)
+    before = (project / "drive.py").read_bytes()
+    result = runner.invoke(app, ["rewrite", str(project / "drive.py")])
+    assert result.exit_code == 0, result.output
+    assert (project / "drive.py").read_bytes() == before
+
+
+# -- a notebook: kinds follow the cells in order ------------------------------------------------
+
+
+def test_a_notebook_vecenv_copy_is_left_and_the_name_rebound_to_make_is_rewritten() -> None:
+    from tests.test_notebooks import _notebook, _rewrite
+
+    vec_class = (
+        "class SubprocVecEnv(object):\n"
+        "    def __init__(self, fns):\n        self.envs = [fn() for fn in fns]\n        self.num_envs = len(self.envs)\n"
+        "    def reset(self):\n        return [e.reset() for e in self.envs]\n"
+        "    def step_async(self, actions):\n        self.actions = actions\n"
+        "    def step_wait(self):\n        return [], [], [], []\n"
+    )
+    source = _notebook(
+        ("code", "import gym\n"),
+        ("code", vec_class),
+        ("code", "env = SubprocVecEnv([lambda: gym.make('CartPole-v1')])\nobs = env.reset()\n"),
+        ("code", "env = gym.make('CartPole-v1')\nobs = env.reset()\nobs, reward, done, info = env.step(0)\n"),
+    )
+    cells = ["".join(c["source"]) for c in json.loads(_rewrite(source))["cells"]]
+    assert "obs = env.reset()\n" in cells[2]  # the project's VecEnv keeps its API
+    assert "obs, info = env.reset()" in cells[3]
+    assert "obs, reward, terminated, truncated, info = env.step(0)" in cells[3]
+
+
+def test_an_env_kept_in_its_own_attribute_runs_migrated() -> None:
+    """``fixtures/rules/GM201/self_alias_of_env.expected.py`` on Gymnasium 1.4."""
+    from gymnasium.utils.env_checker import check_env
+
+    namespace: dict[str, object] = {}
+    path = FIXTURES / "rules" / "GM201" / "self_alias_of_env.expected.py"
+    exec(compile(path.read_text(), str(path), "exec"), namespace)
+    env = namespace["Stacked"]()  # type: ignore[operator]
+    env.step(1)
+    assert env.restart() == 0 and env.count == 0
+    check_env(env, skip_render_check=True)
