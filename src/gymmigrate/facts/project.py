@@ -70,6 +70,10 @@ class ModuleSummary:
     # ``x.render(mode)`` likewise: an env class it imports must keep render(mode).
     untraced_render_call: bool = False
     imported: tuple[str, ...] = ()  # qualified names its imports bind
+    # -- method contracts across modules (rules/custom_env/hooks.py) --
+    # Each top-level class with a base imported from elsewhere: (class, qualified base
+    # names as the imports spell them, the methods the class defines).
+    subclasses: tuple[tuple[str, tuple[str, ...], tuple[str, ...]], ...] = ()
 
 
 @dataclass
@@ -85,6 +89,9 @@ class ProjectFacts:
     # Modules whose env classes an untraced ``x.seed(...)`` elsewhere in the run may reach.
     seed_called: set[str] = field(default_factory=set)
     render_called: set[str] = field(default_factory=set)  # ...and an untraced ``x.render(mode)``
+    # (path, class) -> the methods subclasses in other modules of the run override, with
+    # where ("pkg/far.py:FarEnv"): a hook a base class migrates must migrate there too.
+    overrides: dict[tuple[str, str], dict[str, list[str]]] = field(default_factory=dict)
 
     @classmethod
     def join(cls, summaries: list[ModuleSummary]) -> ProjectFacts:
@@ -124,7 +131,22 @@ class ProjectFacts:
                     called.update(facts._imported_env_modules(summary))
         for path in facts.render_called:  # their classes keep render(mode): no render_mode to pass
             facts.render_mode_classes[path] = frozenset()
+        facts._join_overrides(summaries)
         return facts
+
+    def _join_overrides(self, summaries: list[ModuleSummary]) -> None:
+        """Which methods of a run's class are overridden by subclasses in other modules."""
+        for summary in summaries:
+            for name, bases, methods in summary.subclasses:
+                for qualified in bases:
+                    level = len(qualified) - len(qualified.lstrip("."))
+                    parts = qualified.lstrip(".").split(".")
+                    path = self._module_path(parts[:-1], level, summary.path) if len(parts) > 1 else None
+                    if not path or path == summary.path:
+                        continue
+                    found = self.overrides.setdefault((path, parts[-1]), {})
+                    for method in methods:
+                        found.setdefault(method, []).append(f"{summary.path}:{name}")
 
     def _imported_env_modules(self, summary: ModuleSummary) -> set[str]:
         """The other modules of the run with env classes that ``summary``'s module imports."""
@@ -274,6 +296,10 @@ class ProjectView:
     def render_called_elsewhere(self) -> bool:
         """The same for ``x.render(mode)``: this module's env classes keep render(mode)."""
         return self.path in self.facts.render_called
+
+    def overridden_elsewhere(self, classname: str, method: str) -> list[str]:
+        """Subclasses in other modules of the run that override ``classname.method``."""
+        return self.facts.overrides.get((self.path, classname), {}).get(method, [])
 
     def imported_class(self, qualified: str) -> tuple[bool, bool] | None:
         """For an imported class of the run: (is an env class, takes render_mode)."""

@@ -43,6 +43,7 @@ class EnvClassFamily(RuleFamily):
         env = EnvClasses.of(self.facts, self.receivers)
         deleted: list[ast.stmt] = []
         removed_seed = False
+        inherited: dict[int, list[str]] = {}  # subclass -> step hooks its bases migrated (hooks.py)
         for classdef in self.facts.all_classes:
             if not env.is_custom_env(classdef):
                 continue
@@ -57,7 +58,7 @@ class EnvClassFamily(RuleFamily):
                         decision.plan.rename_callers.add(method.name)  # type: ignore[attr-defined]
             decide_seed(decision)
             decide_reset(decision)
-            decide_step(decision)
+            decide_step(decision, inherited)
             decide_render(decision)
             decide_internal_calls(decision)
             decide_float64_observations(decision)

@@ -22,6 +22,7 @@ from gymmigrate.rules.custom_env.common import (
     method_of,
     param_names,
 )
+from gymmigrate.rules.custom_env.hooks import overrides
 
 
 def decide_reset(decision: ClassDecision) -> None:
@@ -36,7 +37,8 @@ def decide_reset(decision: ClassDecision) -> None:
     elif not modern:
         base_info = _unpack_super_reset(decision, function)
         # ``def reset(self): return self._reset()``: the helper returns the pair instead.
-        helpers = delegates(decision, function)
+        # A hook subclasses override is not followed: `(self._restart(), {})` is right for each.
+        helpers = [h for h in delegates(decision, function) if overrides(decision, h.name) == ([], [])]
         decision.plan.reset_helpers = [h.name for h in helpers]
         _return_info_pairs(decision, function, base_info, set(decision.plan.reset_helpers))
         for helper in helpers:
