@@ -16,12 +16,13 @@ Where a rule lives (families decide in the order of ``PIPELINE`` below):
     GM601-GM603                wrapper subclasses .............. wrappers/
     GM604-GM606                attribute forwarding ............ wrapper_usage/
     GM902, GM904, GM906-GM908  spaces, logger, errors, utils ... spaces_logger.py
+    GM903, GM905, GM909, GM910 space drift (ints, dicts, sizes, ==) spaces/drift.py
     PZ101-PZ110                PettingZoo AEC and parallel APIs  pettingzoo/
     GM109, GM110, SB110        dependency declarations ......... dependency_files.py (carried
                                out by gymmigrate.dependencies, not a family)
 
 Not rules (catalog entries that are information only, or that cannot be told apart
-from correct code by syntax): GM306, GM307, GM607, GM903, GM905.
+from correct code by syntax): GM306, GM307, GM607.
 
 Guards (SB102-SB104: Stable-Baselines3 VecEnvs keep their API) are not a pass: every
 call-site rule asks ``gymmigrate.facts`` what the receiver is and leaves SB3
@@ -39,6 +40,7 @@ from gymmigrate.rules import (  # noqa: F401  (imported to register their passes
     rendering,
     reset_seed,
     rng,
+    spaces,
     spaces_logger,
     step_done,
     vector,
@@ -71,6 +73,7 @@ PIPELINE = (
     "WrapperClasses",
     "WrapperForwarding",
     "SpacesLogger",
+    "SpaceDrift",
     "SpacesAndMake",
 )
 set_pipeline(PIPELINE)
