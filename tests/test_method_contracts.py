@@ -65,3 +65,22 @@ def test_a_hook_overridden_in_another_module_is_reported_and_left_whole(tmp_path
     # Checked alone, core.py cannot see the override: the hook is followed (the run is what knows).
     alone = runner.invoke(app, ["rewrite", "--diff", str(project / "envs" / "core.py")])
     assert "False, {}" in alone.output
+
+
+def test_an_env_holding_a_gym_env_returns_its_reset_and_step_as_they_are() -> None:
+    """``return self.env.reset()`` is (obs, info) once the held env is Gymnasium's: not
+    wrapped in a second pair (which also made the rewrite unstable); it gets the seed."""
+    import importlib.util
+
+    from gymnasium.utils.env_checker import check_env
+
+    path = FIXTURES / "rules" / "GM501" / "holds_gym_env.expected.py"
+    spec = importlib.util.spec_from_file_location("holds_gym_env", path)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    env = module.HolderEnv()
+    obs, info = env.reset(seed=3)
+    assert obs.shape == (4,) and isinstance(info, dict)
+    assert len(env.step(0)) == 5
+    check_env(env, skip_render_check=True)  # deterministic: the seed reaches the held env

@@ -189,6 +189,12 @@ class ClassRewrite:
                 return ret  # the base reset already returns (obs, info)
             if _is_self_call(ret.value, helpers):
                 return ret  # a helper that now returns (obs, info) itself
+            if _is_env_reset(ret.value, self.plan.env_resets):
+                # a held Gym env's reset(): (obs, info) already; it gets the seed and options
+                if not ret.value.args:  # type: ignore[attr-defined]
+                    call = cst.parse_expression("f(seed=seed, options=options)")
+                    return ret.with_changes(value=ret.value.with_changes(args=call.args))  # type: ignore[attr-defined]
+                return ret
             value = ret.value
             if isinstance(value, cst.Tuple) and not value.lpar:
                 value = value.with_changes(lpar=[cst.LeftParen()], rpar=[cst.RightParen()])
@@ -305,6 +311,15 @@ class ClassRewrite:
         if not _uses_self_attribute(fn, "render_mode"):
             fn = fn.with_changes(body=_insert_after_super_init(fn.body, cst.parse_statement("self.render_mode = render_mode")))
         self.set_method("__init__", fn)
+
+
+def _is_env_reset(node: cst.BaseExpression, receivers: set[str]) -> bool:
+    return (
+        isinstance(node, cst.Call)
+        and isinstance(node.func, cst.Attribute)
+        and node.func.attr.value == "reset"
+        and _code(node.func.value).strip() in receivers
+    )
 
 
 def _is_self_call(node: cst.BaseExpression, names: frozenset[str]) -> bool:

@@ -12,6 +12,7 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.facts.env_classes import is_super_method_call
+from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import own_returns
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.custom_env.common import (
@@ -103,8 +104,24 @@ def _return_info_pairs(decision: ClassDecision, function: ast.AST, base_info: st
         else:
             why = "returns (obs, {}): _get_info() needs arguments reset() does not have, so it is not called"
     for ret in own_returns(function):
+        held = _held_env_reset(decision, ret.value)
+        if held is not None:
+            decision.plan.env_resets.add(held)  # already (obs, info) once that env is Gymnasium's
+            if not ret.value.args and not ret.value.keywords:  # type: ignore[union-attr]
+                decision.report(ret, "GM501", f"reset returns {held}.reset(), already (obs, info) in Gymnasium; it is passed seed and options")
+            continue
         if ret.value is not None and not is_super_method_call(ret.value, "reset") and not is_self_call(ret.value, helpers):
             decision.report(ret, "GM501", f"reset {why}", kind)
+
+
+def _held_env_reset(decision: ClassDecision, value: ast.AST | None) -> str | None:
+    """``self.env.reset(...)`` on a Gym env the class holds: the source of its receiver."""
+    if not (isinstance(value, ast.Call) and isinstance(value.func, ast.Attribute) and value.func.attr == "reset"):
+        return None
+    receiver = value.func.value
+    if isinstance(receiver, ast.Call) or decision.family.receivers.kind_of(receiver) is not EnvKind.GYM_ENV:
+        return None
+    return decision.family.facts.segment(receiver).strip()
 
 
 def decide_internal_calls(decision: ClassDecision) -> None:
