@@ -37,7 +37,7 @@ PROPERTIES = settings(
     suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much, HealthCheck.data_too_large],
 )
 GYM = re.compile("gym", re.IGNORECASE)
-BROKEN_PROMISES = ("internal error", "not stable", "would not parse")
+BROKEN_PROMISES = ("internal error", "not stable", "oscillates", "does not settle", "would not parse")
 LEGACY_SNIPPETS = [
     "import gym\n",
     "from gym import spaces\n",

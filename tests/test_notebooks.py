@@ -169,9 +169,50 @@ def test_a_cell_that_does_not_parse_is_reported_with_its_number(tmp_path: Path) 
     source = _notebook(("markdown", "# Title"), ("code", "import gym\n"), ("code", "def f(:\n    pass\n"))
     path.write_bytes(source)
     result = runner.invoke(app, ["rewrite", str(tmp_path)])
-    assert result.exit_code == 2
-    assert f"{path}: cell 3 does not parse at line 1: invalid syntax; notebook left unchanged" in result.stderr
-    assert path.read_bytes() == source
+    assert result.exit_code == 0, result.stderr
+    assert f"{path}:cell 3:line 1: GM001 (not rewritten) this code cell does not parse (line 1: invalid syntax)" in result.stderr
+    cells = json.loads(path.read_bytes())["cells"]
+    assert cells[1]["source"] == "import gymnasium as gym\n"  # the other cells are migrated
+    assert cells[2]["source"] == "def f(:\n    pass\n"  # the broken one is left as it was
+
+
+def test_an_exercise_placeholder_cell_is_left_and_the_rest_migrated() -> None:
+    source = (FIXTURES / "exercise_placeholder.ipynb").read_bytes()
+    expected = (FIXTURES / "exercise_placeholder.expected.ipynb").read_bytes()
+    assert NOTEBOOK is not None
+    transformed = transform_document(NOTEBOOK, source, "nb.ipynb", RewriteOptions())
+    assert transformed.rewritten == expected
+    assert _rewrite(expected) == expected, "a second run changes nothing"
+    before, after = json.loads(source)["cells"], json.loads(expected)["cells"]
+    assert after[4]["source"] == before[4]["source"]  # `return <YOUR CODE>`, byte for byte
+    flagged = [(f.rule, f.cell, f.line, f.kind.value) for f in transformed.findings if f.rule == "GM001"]
+    assert flagged == [("GM001", 4, 3, "flag")]
+    findings, would_change = lint_document(NOTEBOOK, source, "nb.ipynb", RewriteOptions())
+    assert would_change
+    strip = lambda fs: [(f.rule, f.cell, f.line) for f in fs]  # noqa: E731
+    assert strip(findings) == strip(transformed.findings)
+
+
+def test_the_cells_around_an_exercise_placeholder_run_on_gymnasium() -> None:
+    """Every code cell of the migrated exercise but the placeholder, run in order against
+    Gymnasium, as a student who skipped the exercise would."""
+    cells = json.loads((FIXTURES / "exercise_placeholder.expected.ipynb").read_bytes())["cells"]
+    namespace: dict[str, object] = {}
+    skipped = 0
+    for cell in cells:
+        if cell["cell_type"] != "code":
+            continue
+        code = "".join(cell["source"]) + "\n"
+        try:
+            compiled = compile(code, "<cell>", "exec")
+        except SyntaxError:
+            skipped += 1
+            continue
+        exec(compiled, namespace)
+    assert skipped == 1
+    assert namespace["done"] is True
+    assert 1 <= namespace["steps"] <= 500  # type: ignore[operator]
+    assert type(namespace["env"]).__module__.startswith("gymnasium")
 
 
 def test_check_locates_findings_by_cell_and_line(tmp_path: Path) -> None:
@@ -234,7 +275,13 @@ def test_notebooks_of_other_languages_and_without_gym_are_left_alone(tmp_path: P
 
 def test_walking_a_folder_takes_notebooks() -> None:
     found = {path.name for path in discover([str(FIXTURES)]).files}
-    assert found == {"clean_with_magics.ipynb", "multi_cell_loop.ipynb", "multi_cell_loop.expected.ipynb"}
+    assert found == {
+        "clean_with_magics.ipynb",
+        "multi_cell_loop.ipynb",
+        "multi_cell_loop.expected.ipynb",
+        "exercise_placeholder.ipynb",
+        "exercise_placeholder.expected.ipynb",
+    }
 
 
 def test_rewrite_smoke_does_not_run_notebooks(tmp_path: Path) -> None:
@@ -323,3 +370,13 @@ def test_files_that_are_not_notebooks_are_reported_and_left_alone(tmp_path: Path
     result = process_file(path, RewriteOptions(), write=True, want_diff=True)
     assert result.status is Status.ERROR and reason in (result.error or "")
     assert path.read_text() == content
+
+
+def test_a_notebook_with_crlf_line_ends_is_migrated_and_keeps_them() -> None:
+    """Saved on Windows or checked out with core.autocrlf: the JSON's line ends are CRLF."""
+    lf = _notebook(("markdown", "# Title"), ("code", ["import gym\n", "env = gym.make('CartPole-v1')\n", "obs = env.reset()"]))
+    crlf = lf.replace(b"\n", b"\r\n")
+    rewritten = _rewrite(crlf)
+    assert rewritten == _rewrite(lf).replace(b"\n", b"\r\n")
+    assert b"obs, info = env.reset()" in rewritten and b"\n" not in rewritten.replace(b"\r\n", b"")
+    assert _rewrite(rewritten) == rewritten

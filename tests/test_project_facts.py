@@ -182,3 +182,63 @@ def test_render_mode_moves_to_the_creation_site_when_every_caller_is_traced(tmp_
     assert 'GridEnv(render_mode="rgb_array")' in (folder / "show.py").read_text()
     assert "def render(self):" in (folder / "envs.py").read_text()
     assert _run_main(folder, "show") == "(4, 4, 3)"
+
+
+def test_a_module_left_as_it_is_keeps_its_importers_on_its_api(tmp_path: Path) -> None:
+    """envs.py says skip-file: play.py must not be rewritten as if PairEnv had migrated
+    (no render_mode= for a class that does not take it, no (obs, info) from its reset,
+    its seed() kept), says so (GM002), and the pair still runs on Gymnasium 1.4."""
+    folder = tmp_path / "pair"
+    shutil.copytree(FIXTURES / "project_blocked", folder)
+    legacy = _run_main(folder, "play")
+    result = runner.invoke(app, ["rewrite", str(folder)])
+    assert result.exit_code in (0, 1), result.output
+    assert (folder / "envs.py").read_bytes() == (FIXTURES / "project_blocked" / "envs.py").read_bytes()
+    assert (folder / "play.py").read_bytes() == (FIXTURES / "project_blocked" / "play.py").read_bytes()
+    assert "GM002" in result.output and "envs.py" in result.output
+    assert _run_main(folder, "play") == legacy
+
+
+def test_a_refused_env_module_blocks_what_its_importers_would_assume(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The same when envs.py is refused (here: its rewrite fails): play.py is not migrated
+    against the PairEnv it would have become."""
+    from gymmigrate import process
+    from gymmigrate.options import RewriteOptions
+    from gymmigrate.process import Status
+    from gymmigrate.runner import run_files
+    from gymmigrate.source_text import TransformError
+
+    folder = tmp_path / "pair"
+    shutil.copytree(FIXTURES / "project_blocked", folder)
+    envs = folder / "envs.py"
+    envs.write_text(envs.read_text().replace("# gymmigrate: skip-file\n", "import gym  # legacy\n"))
+    real = process.transform_source
+
+    def refuse_envs(source: bytes, path: str = "<string>", options: RewriteOptions | None = None):
+        if path.endswith("envs.py"):
+            raise TransformError("the rewrite is not stable (a second run would change it again); file left unchanged")
+        return real(source, path, options)
+
+    monkeypatch.setattr(process, "transform_source", refuse_envs)
+    results = {Path(r.path).name: r for r in run_files([envs, folder / "play.py"], RewriteOptions(), write=True, want_diff=False, jobs=1)}
+    assert results["envs.py"].status is Status.ERROR
+    assert results["play.py"].status is Status.UNCHANGED
+    assert [f.rule for f in results["play.py"].findings if f.rule == "GM002"] == ["GM002"]
+    assert "not stable" in next(f.message for f in results["play.py"].findings if f.rule == "GM002")
+
+
+def test_a_seed_caller_the_run_rewrites_does_not_keep_seed_and_a_second_run_changes_nothing(tmp_path: Path) -> None:
+    """worker.py seeds an env it cannot trace, in a file that uses only Gym: GM203 makes
+    that call reset(seed=3) in this run, so it is no seed() caller left. Counting it kept
+    Dice.seed() in the first run and removed it in the second."""
+    folder = tmp_path / "dice"
+    shutil.copytree(FIXTURES / "project_seed_rewritten", folder)
+    result = runner.invoke(app, ["rewrite", str(folder)])
+    assert result.exit_code == 0, result.output
+    assert "def seed" not in (folder / "envs.py").read_text()
+    assert "env.reset(seed=3)" in (folder / "worker.py").read_text()
+    migrated = {path.name: path.read_bytes() for path in folder.glob("*.py")}
+    again = runner.invoke(app, ["rewrite", str(folder)])
+    assert again.exit_code == 0, again.output
+    assert {path.name: path.read_bytes() for path in folder.glob("*.py")} == migrated
+    assert _run_main(folder, "worker") == _run_main(folder, "worker")

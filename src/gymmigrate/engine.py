@@ -40,6 +40,8 @@ class Transformed:
     rewritten: bytes
     encoding: str
     findings: list[Finding] = field(default_factory=list)
+    # The families whose edits made this rewrite (named when a rewrite does not settle).
+    changed_by: frozenset[str] = frozenset()
 
     @property
     def changed(self) -> bool:
@@ -65,7 +67,7 @@ def transform_source(source: bytes, path: str = "<string>", options: RewriteOpti
     tree = parse_python(text, source, path)
     result = _migrate(source, text, encoding, tree, path, options)
     if result.changed:
-        _verify(result, path, options)
+        result = _settle(result, text, path, options)
     return result
 
 
@@ -131,7 +133,8 @@ def _migrate(source: bytes, text: str, encoding: str, tree: ast.Module, path: st
     # Findings are placed in the original; place them in the output too.
     line_map = LineMap(text, new_text)
     findings = [replace(f, line_after=line_map.forward(f.line)) for f in findings]
-    return Transformed(original=source, rewritten=rewritten, encoding=encoding, findings=findings)
+    changed_by = frozenset(family for finding, family in zip(plan.findings, plan.finding_families) if finding.is_change)
+    return Transformed(original=source, rewritten=rewritten, encoding=encoding, findings=findings, changed_by=changed_by)
 
 
 _UNREPRODUCIBLE = re.compile(r"\r(?!\n)|\f")
@@ -165,22 +168,56 @@ def _check_round_trip(source: bytes, text: str) -> None:
         )
 
 
-def _verify(result: Transformed, path: str, options: RewriteOptions) -> None:
-    """The output must compile, and a second run over it must change nothing.
+# A rewrite that needs more rounds than this to reach its fixed point oscillates.
+MAX_ROUNDS = 3
 
-    The second run decides on ``ast`` like the first; it only builds a LibCST tree
-    when a rule would change the output again (an unstable rewrite).
+
+def _settle(first: Transformed, original_text: str, path: str, options: RewriteOptions) -> Transformed:
+    """The output must compile, and a further run over it must change nothing.
+
+    As ruff's fix loop does: where the verifying run still finds something to change (one
+    rule's output is legacy code another rule reads), that change is applied and verified
+    in turn, up to ``MAX_ROUNDS``. Only a real oscillation (a text seen before) or a rewrite
+    that does not settle is refused, naming the rules that kept changing it. Each run
+    decides on ``ast``; a LibCST tree is built only where a run has edits.
     """
-    text = result.rewritten.decode(result.encoding)
-    if result.encoding == "utf-8-sig":
-        text = text.removeprefix("\ufeff")
-    try:
-        tree = ast.parse(text, filename=path)
-    except SyntaxError as exc:
-        raise TransformError(f"the rewrite would not parse (line {exc.lineno}: {exc.msg}); file left unchanged") from None
-    again = _migrate(result.rewritten, text, result.encoding, tree, path, options)
-    if again.rewritten != result.rewritten:
-        raise TransformError("the rewrite is not stable (a second run would change it again); file left unchanged")
+    current, findings, seen = first, list(first.findings), {first.original, first.rewritten}
+    for _ in range(MAX_ROUNDS):
+        text = _text_of(current.rewritten, current.encoding)
+        try:
+            tree = ast.parse(text, filename=path)
+        except SyntaxError as exc:
+            raise TransformError(f"the rewrite would not parse (line {exc.lineno}: {exc.msg}); file left unchanged") from None
+        again = _migrate(current.rewritten, text, current.encoding, tree, path, options)
+        if again.rewritten == current.rewritten:
+            if current is first:
+                return first
+            final = _text_of(current.rewritten, current.encoding)
+            return replace(current, original=first.original, findings=_placed(findings, original_text, final))
+        if again.rewritten in seen:
+            raise TransformError(
+                f"the rewrite oscillates ({', '.join(sorted(again.changed_by))} undo what another round wrote); file left unchanged"
+            )
+        seen.add(again.rewritten)
+        # The later round's own changes, placed in the original by way of the text it read.
+        back = LineMap(original_text, text)
+        findings += [replace(f, line=back.backward(f.line)) for f in again.findings if f.is_change]
+        current = again
+    raise TransformError(
+        f"the rewrite does not settle after {MAX_ROUNDS} rounds ({', '.join(sorted(current.changed_by))} kept changing it); "
+        "file left unchanged"
+    )
+
+
+def _text_of(data: bytes, encoding: str) -> str:
+    text = data.decode(encoding)
+    return text.removeprefix("\ufeff") if encoding == "utf-8-sig" else text
+
+
+def _placed(findings: list[Finding], original: str, final: str) -> list[Finding]:
+    """Every finding with its line in the original and in the final output."""
+    forward = LineMap(original, final)
+    return sorted(replace(f, line_after=forward.forward(f.line)) for f in findings)
 
 
 class LineMap:

@@ -27,6 +27,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts.project import ModuleSummary, ProjectFacts
+from gymmigrate.findings import Finding, FixKind
 from gymmigrate.facts.summaries import summarize
 from gymmigrate.options import RewriteOptions
 from gymmigrate.process import FileResult, Status, process_file
@@ -36,6 +37,10 @@ from gymmigrate.source_text import TransformError, decode, may_hold_gym_code
 if TYPE_CHECKING:
     from multiprocessing.connection import Connection
     from multiprocessing.process import BaseProcess
+
+# The finding an importer of a module the run leaves as it is gets (like GM001, a
+# finding of the run itself, not a rule of the table).
+BLOCKED_BY_MODULE = "GM002"
 
 # Below this many files a pool costs more (worker start-up, imports) than it saves.
 PARALLEL_THRESHOLD = 16
@@ -67,27 +72,71 @@ def run_files(
     if options.project is None and len(paths) > 1:
         # One cheap pass over every module (on the workers too), joined once.
         pool = (lambda python: _run_parallel(python, _Summarize(), jobs)) if parallel else None  # noqa: E731
-        options = replace(options, project=summarize_run(list(paths), pool))
+        summaries = run_summaries(list(paths), pool)
+        project = ProjectFacts.join(summaries)
+        if not lint:
+            project = _with_refusals(project, summaries, options, jobs if parallel else 1)
+        options = replace(options, project=project)
     task = _Task(options, write, want_diff, lint)
-    if not parallel:
-        for path in paths:
-            yield task(path)
+    results = (task(path) for path in paths) if not parallel else _run_parallel(list(paths), task, jobs)
+    project = options.project
+    if project is None or not project.blocked:
+        yield from results
         return
-    yield from _run_parallel(list(paths), task, jobs)
+    for result in results:
+        yield _with_blocked_note(result, project)
 
 
-def summarize_run(paths: list[Path], summaries: Callable[[list[Path]], Iterable[object]] | None = None) -> ProjectFacts | None:
-    """Facts across ``paths``; None for a single file (nothing to join).
+def run_summaries(paths: list[Path], summaries: Callable[[list[Path]], Iterable[object]] | None = None) -> list[ModuleSummary]:
+    """One summary per Python module of the run (none for a single file: nothing to join).
 
     ``summaries`` maps ``summarize_path`` over the paths (the worker pool); by default it
     runs here, one file after the other.
     """
     if len(paths) < 2:
-        return None
+        return []
     python = [path for path in paths if Path(path).suffix in (".py", ".pyw")]
     # Notebooks and documents: their code is not importable by the run.
     found = summaries(python) if summaries is not None else map(summarize_path, python)
-    return ProjectFacts.join([summary for summary in found if isinstance(summary, ModuleSummary)])
+    return [summary for summary in found if isinstance(summary, ModuleSummary)]
+
+
+def _with_refusals(project: ProjectFacts, summaries: list[ModuleSummary], options: RewriteOptions, jobs: int) -> ProjectFacts:
+    """The run's facts with the env modules it cannot migrate marked as blocked.
+
+    A module whose env classes other modules import is migrated in memory first; if it is
+    refused (an error, an unstable rewrite), the run is joined again without its classes,
+    so that no importer passes ``render_mode=`` to them, unpacks their ``reset`` or drops
+    their ``seed()`` as if they had migrated. Only such modules pay a second pass.
+    """
+    providers = sorted(path for path in project.importers if path not in project.blocked)
+    if not providers:
+        return project
+    check = _Task(replace(options, project=project), write=False, want_diff=False)
+    results = map(check, map(Path, providers)) if jobs == 1 else _run_parallel([Path(p) for p in providers], check, jobs)
+    refused = {str(path): result.error or "it could not be migrated" for path, result in zip(providers, results) if result.status is Status.ERROR}
+    if not refused:
+        return project
+    return ProjectFacts.join(summaries, blocked={**project.blocked, **refused})
+
+
+def _with_blocked_note(result: FileResult, project: ProjectFacts) -> FileResult:
+    """An importer of a blocked module says which module held it back (GM002)."""
+    path = os.path.realpath(result.path)
+    notes = tuple(
+        Finding(
+            1,
+            0,
+            BLOCKED_BY_MODULE,
+            FixKind.FLAG,
+            f"`{os.path.relpath(blocked, os.path.dirname(path))}` is left as it is ({reason}): this module's uses of its "
+            "classes (render_mode=, reset and step results, seed()) were not migrated and are reported; "
+            "migrate both together",
+        )
+        for blocked, reason in sorted(project.blocked.items())
+        if path in project.importers.get(blocked, ())
+    )
+    return replace(result, findings=(*notes, *result.findings)) if notes else result
 
 
 def summarize_path(path: Path) -> ModuleSummary | None:

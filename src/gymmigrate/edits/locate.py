@@ -233,8 +233,10 @@ class _Candidates(cst.CSTVisitor):
     def on_visit(self, node: cst.CSTNode) -> bool:
         if id(node) in self._skip:
             return False
-        if node is not self.root and isinstance(node, (cst.BaseSuite,)):
-            return False  # nested statements are addressed on their own
+        if node is not self.root and isinstance(node, (cst.BaseSuite, cst.If)):
+            # Nested statements are addressed on their own; an ``elif`` is a nested ``If``
+            # in LibCST's ``orelse`` (no suite in between), and its own statement in ast.
+            return False
         if isinstance(node, cst.ConcatenatedString) and self.kind == "string":
             self.found.append((node, list(self.stack)))
             return False  # its parts are one ast string

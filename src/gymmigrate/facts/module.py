@@ -345,12 +345,14 @@ class ModuleFacts:
     # -- source -------------------------------------------------------------------------
 
     def segment(self, node: ast.AST) -> str:
-        """The exact source text of ``node`` (without its parentheses)."""
+        """The exact source text of ``node`` (without its parentheses), except that an
+        expression which is only valid in parentheses (a walrus, a ``yield``) gets them,
+        so that the text can stand in any expression position it is moved to."""
         if getattr(node, "end_lineno", None) is None:
             return ""
         start = self.offset(node.lineno, node.col_offset)  # type: ignore[attr-defined]
         end = self.offset(node.end_lineno, node.end_col_offset)  # type: ignore[attr-defined]
-        return self.text[start:end]
+        return parenthesized_if_needed(node, self.text[start:end])
 
     def line_start(self, line: int) -> int:
         """Character offset in the text where ``line`` (1-based) starts; one past the last
@@ -502,3 +504,13 @@ def call_argument(call: ast.Call, position: int | None, name: str) -> ast.expr |
         if index == position:
             return arg
     return None
+
+
+# Expressions that the grammar takes only in parentheses outside their own statement.
+NEEDS_PARENTHESES = (ast.NamedExpr, ast.Yield, ast.YieldFrom)
+
+
+def parenthesized_if_needed(node: ast.AST, text: str) -> str:
+    """``text`` (the source of ``node`` without its parentheses), in parentheses when the
+    node is a walrus or a ``yield``: ``d := f()`` alone is no expression."""
+    return f"({text})" if isinstance(node, NEEDS_PARENTHESES) else text

@@ -70,6 +70,8 @@ class ModuleSummary:
     # ``x.render(mode)`` likewise: an env class it imports must keep render(mode).
     untraced_render_call: bool = False
     imported: tuple[str, ...] = ()  # qualified names its imports bind
+    # ``# gymmigrate: skip-file``: the module stays as it is, so the run must not assume it migrated.
+    skips_file: bool = False
     # -- method contracts across modules (rules/custom_env/hooks.py) --
     # Each top-level class with a base imported from elsewhere: (class, qualified base
     # names as the imports spell them, the methods the class defines).
@@ -89,18 +91,28 @@ class ProjectFacts:
     # Modules whose env classes an untraced ``x.seed(...)`` elsewhere in the run may reach.
     seed_called: set[str] = field(default_factory=set)
     render_called: set[str] = field(default_factory=set)  # ...and an untraced ``x.render(mode)``
+    # Modules with env classes, and the modules of the run that import them.
+    importers: dict[str, set[str]] = field(default_factory=dict)
+    # Modules the run leaves as they are (refused, skip-file), with the reason: their
+    # classes count as unknown, so no other module is rewritten as if they had migrated.
+    blocked: dict[str, str] = field(default_factory=dict)
     # (path, class) -> the methods subclasses in other modules of the run override, with
     # where ("pkg/far.py:FarEnv"): a hook a base class migrates must migrate there too.
     overrides: dict[tuple[str, str], dict[str, list[str]]] = field(default_factory=dict)
 
     @classmethod
-    def join(cls, summaries: list[ModuleSummary]) -> ProjectFacts:
+    def join(cls, summaries: list[ModuleSummary], blocked: dict[str, str] | None = None) -> ProjectFacts:
         facts = cls()
+        facts.blocked = dict(blocked or {})
+        facts.blocked.update(
+            (s.path, "it says `# gymmigrate: skip-file`") for s in summaries if s.skips_file and s.path not in facts.blocked
+        )
         by_path = {s.path: s for s in summaries}
         for summary in summaries:
             facts.defs[summary.path] = frozenset(summary.defs)
-            facts.env_classes[summary.path] = summary.env_classes
-            facts.render_mode_classes[summary.path] = summary.render_mode_classes
+            left = summary.path in facts.blocked
+            facts.env_classes[summary.path] = frozenset() if left else summary.env_classes
+            facts.render_mode_classes[summary.path] = frozenset() if left else summary.render_mode_classes
             for name in _module_names(summary.path):
                 facts.modules[name] = "" if name in facts.modules and facts.modules[name] != summary.path else summary.path
         methods_named: dict[str, list[tuple[str, str]]] = defaultdict(list)
@@ -129,6 +141,8 @@ class ProjectFacts:
             for untraced, called in ((summary.untraced_seed_call, facts.seed_called), (summary.untraced_render_call, facts.render_called)):
                 if untraced:
                     called.update(facts._imported_env_modules(summary))
+            for provider in facts._imported_env_modules(summary, declared=by_path):
+                facts.importers.setdefault(provider, set()).add(summary.path)
         for path in facts.render_called:  # their classes keep render(mode): no render_mode to pass
             facts.render_mode_classes[path] = frozenset()
         facts._join_overrides(summaries)
@@ -148,15 +162,18 @@ class ProjectFacts:
                     for method in methods:
                         found.setdefault(method, []).append(f"{summary.path}:{name}")
 
-    def _imported_env_modules(self, summary: ModuleSummary) -> set[str]:
-        """The other modules of the run with env classes that ``summary``'s module imports."""
+    def _imported_env_modules(self, summary: ModuleSummary, declared: dict[str, ModuleSummary] | None = None) -> set[str]:
+        """The other modules of the run with env classes that ``summary``'s module imports
+        (``declared``: by the classes each module declares, blocked or not)."""
         found = set()
         for qualified in summary.imported:
             level = len(qualified) - len(qualified.lstrip("."))
             parts = qualified.lstrip(".").split(".")
             for module in (parts, parts[:-1]):  # `import envs` / `from envs import Dice`
                 path = self._module_path(module, level, summary.path) if module else None
-                if path and path != summary.path and self.env_classes.get(path):
+                if path and path != summary.path and (
+                    self.env_classes.get(path) or (declared is not None and path in declared and declared[path].env_classes)
+                ):
                     found.add(path)
         return found
 

@@ -19,7 +19,7 @@ import ast
 import re
 from bisect import bisect_left, bisect_right
 
-from gymmigrate.facts.module import COMPREHENSIONS, FUNCTIONS, ModuleFacts, Scope, dotted_name
+from gymmigrate.facts.module import COMPREHENSIONS, FUNCTIONS, ModuleFacts, Scope, dotted_name, parenthesized_if_needed
 
 Position = tuple[int, int]
 Loop = ast.For | ast.AsyncFor | ast.While | ast.ListComp | ast.SetComp | ast.GeneratorExp | ast.DictComp
@@ -63,8 +63,9 @@ def segment(facts: ModuleFacts, node: ast.AST) -> str:
     first, last = node.lineno - 1, node.end_lineno - 1  # type: ignore[attr-defined]
     start, end = node.col_offset, node.end_col_offset  # type: ignore[attr-defined]
     if first == last:
-        return lines[first][start:end].decode("utf-8")
-    return b"".join([lines[first][start:], *lines[first + 1 : last], lines[last][:end]]).decode("utf-8")
+        return parenthesized_if_needed(node, lines[first][start:end].decode("utf-8"))
+    text = b"".join([lines[first][start:], *lines[first + 1 : last], lines[last][:end]]).decode("utf-8")
+    return parenthesized_if_needed(node, text)
 
 
 def line_before(facts: ModuleFacts, node: ast.AST) -> str:

@@ -9,12 +9,15 @@ from __future__ import annotations
 
 import ast
 import os
+from dataclasses import replace
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.creation import passes_mode, render_kept_classes
+from gymmigrate.facts.decisions import Action, decide
 from gymmigrate.facts.env_classes import EnvClasses
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
+from gymmigrate.facts.profile import FileProfile
 from gymmigrate.facts.project import (
     GUARD_KINDS,
     NEW,
@@ -27,14 +30,18 @@ from gymmigrate.facts.project import (
     Signature,
 )
 from gymmigrate.facts.receivers import Receivers
+from gymmigrate.source_text import first_statement_line
+from gymmigrate.suppressions import skips_file
 
 
 def summarize(path: str, text: str) -> ModuleSummary | None:
     """The summary of one module's text (already screened by its reader), or None when it
     does not parse."""
     try:
-        facts = ModuleFacts(ast.parse(text), text)
-        return _Summarizer(facts, Receivers(facts), os.path.realpath(path)).summary()
+        tree = ast.parse(text)
+        facts = ModuleFacts(tree, text)
+        summary = _Summarizer(facts, Receivers(facts), os.path.realpath(path)).summary()
+        return replace(summary, skips_file=True) if skips_file(text, first_statement_line(tree)) else summary
     except Exception:  # noqa: BLE001  (the file's own run reports why; it just adds no facts)
         return None
 
@@ -85,11 +92,28 @@ class _Summarizer:
                 continue  # a bare render() (the Gymnasium call), or a render method forwarding
             if self.receivers.kind_of(receiver) is not EnvKind.UNKNOWN:
                 continue
+            if method == "seed" and self._seed_call_rewritten_here(call):
+                continue  # GM203 makes it reset(seed=...) in this run: no seed() caller is left
             made_by = self._instance_class(receiver)
             if made_by is not None and not _is_library(made_by):
                 continue  # an instance of a class it imports: the run knows that class
             return True
         return False
+
+    def _seed_call_rewritten_here(self, call: ast.Call) -> bool:
+        """``env.seed(s)`` as a statement, with one seed, on an untraced receiver that GM203
+        rewrites anyway (an env-like name in a file that uses only Gym). Counting it as a
+        caller kept a class's seed() in one run and removed it in the next."""
+        if not isinstance(self.facts.parent(call), ast.Expr) or len(call.args) + len(call.keywords) != 1:
+            return False
+        if (call.args and isinstance(call.args[0], ast.Starred)) or (call.keywords and call.keywords[0].arg != "seed"):
+            return False
+        function = self.facts.enclosing_function(call)
+        if function is not None and function.name == "seed":
+            return False
+        receiver = call.func.value  # type: ignore[attr-defined]
+        profile = FileProfile.from_source(self.facts.text)
+        return decide(EnvKind.UNKNOWN, receiver, profile).action is Action.REWRITE_FOR_REVIEW
 
     def _call(self, call: ast.Call) -> CallSummary | None:
         target = self._target(call.func)

@@ -10,6 +10,10 @@ byte for byte, otherwise the notebook is refused rather than reformatted.
 
 Findings carry ``cell``, the 0-based index in the notebook's ``cells`` (markdown cells
 count), and ``line`` within that cell.
+
+A code cell that does not parse (an exercise placeholder such as ``<YOUR CODE>``, code
+left half-written) is reported as GM001 with its cell and left byte for byte; the other
+code cells are still migrated, as one program without it.
 """
 
 from __future__ import annotations
@@ -22,13 +26,15 @@ from functools import partial
 from itertools import product
 from typing import Any
 
-from gymmigrate.source_text import may_hold_gym_code, TransformError
-from gymmigrate.findings import Finding
+from gymmigrate.findings import Finding, FixKind
+from gymmigrate.source_text import TransformError, may_hold_gym_code
 from gymmigrate.sources import Location, Segment
 from gymmigrate.sources.magics import Magics
 
 # Outputs (plots, videos) make notebooks large; the code in them is what costs time.
 MAX_FILE_BYTES = 64 * 1024 * 1024
+
+UNPARSED_CELL = "GM001"  # the rule of a documentation block that does not parse
 
 
 def read(source: bytes, path: str) -> Notebook:
@@ -62,9 +68,27 @@ class Notebook:
         # Gym in the outputs or the markdown only: nothing to migrate, whatever the cells hold.
         if not may_hold_gym_code("".join(segment.code for segment in segments).encode("utf-8")):
             segments = []
+        # A cell that does not parse (an exercise's `<YOUR CODE>`, half-written code) is
+        # reported and left byte for byte; the other cells are still one program.
+        parsed = []
         for segment in segments:
-            _check_parses(segment.code, segment.start.cell or 0)
-        self.programs = [segments] if segments else []
+            problem = _parse_problem(segment.code)
+            if problem is None:
+                parsed.append(segment)
+                continue
+            line, detail = problem
+            self.notes.append(
+                Finding(
+                    line=line,
+                    column=0,
+                    rule=UNPARSED_CELL,
+                    kind=FixKind.FLAG,
+                    message=f"this code cell does not parse ({detail}); left as it is, the other cells are "
+                    "migrated without it: check it by hand",
+                    cell=segment.start.cell,
+                )
+            )
+        self.programs = [parsed] if parsed else []
 
     def rebuild(self, codes: list[list[str]]) -> tuple[bytes, list[list[Location]]]:
         changed: dict[int, str] = {}
@@ -129,30 +153,42 @@ def _with_final_newline(text: str) -> str:
     return text if not text or text.endswith("\n") else text + "\n"
 
 
-def _check_parses(code: str, index: int) -> None:
+def _parse_problem(code: str) -> tuple[int, str] | None:
+    """None if the cell's code parses, else the line (1-based, within the cell) and why not."""
     try:
         ast.parse(code)
     except SyntaxError as exc:
-        where = f" at line {exc.lineno}" if exc.lineno else ""
-        raise TransformError(f"cell {index + 1} does not parse{where}: {exc.msg}; notebook left unchanged") from None
+        line = exc.lineno or 1
+        return line, f"line {line}: {exc.msg}"
     except (ValueError, RecursionError, MemoryError) as exc:
-        raise TransformError(f"cell {index + 1} cannot be parsed: {exc}; notebook left unchanged") from None
+        return 1, f"cannot be parsed: {type(exc).__name__}"
+    return None
 
 
 def _layout_of(text: str, data: Any) -> Callable[[Any], str]:
     """A serializer that writes this file's JSON layout, checked on the file as it is.
 
     nbformat (Jupyter, VS Code) writes indent 1, ``ensure_ascii=False`` and a final
-    newline; Colab indent 2. The first candidate that reproduces ``text`` exactly wins.
+    newline; Colab indent 2. A notebook saved on Windows (or checked out with
+    ``core.autocrlf``) has CRLF line ends: JSON strings hold no raw line break, so every
+    ``\n`` of the dump is a line end to write as the file does. The first candidate that
+    reproduces ``text`` exactly wins.
     """
-    indent_match = re.match(r"[\[{]\n( *)\S", text)
+    newline = "\r\n" if "\r\n" in text else "\n"
+    indent_match = re.match(r"[\[{]\r?\n( *)\S", text)
     indent = len(indent_match[1]) if indent_match else None
-    final_newline = "\n" if text.endswith("\n") else ""
+    final_newline = newline if text.endswith(newline) else ""
     for ensure_ascii, separators in product((False, True), ((",", ": "), (", ", ": "), (",", ":"))):
         dump = partial(json.dumps, indent=indent, ensure_ascii=ensure_ascii, separators=separators)
+        if newline != "\n":
+            dump = partial(_with_line_ends, dump, newline)
         if dump(data) + final_newline == text:
             return lambda value, dump=dump: dump(value) + final_newline
     raise TransformError(
         "the notebook's JSON layout cannot be reproduced (not written by Jupyter/nbformat?);"
         " left unchanged rather than reformatted"
     )
+
+
+def _with_line_ends(dump: Callable[[Any], str], newline: str, value: Any) -> str:
+    return dump(value).replace("\n", newline)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import ast
 from typing import TYPE_CHECKING
 
+from gymmigrate.facts.decisions import Action, decide
 from gymmigrate.facts.env_classes import ClassIndex, EnvClasses, FunctionIndex
 from gymmigrate.facts.module import own_returns
 from gymmigrate.findings import FixKind, Tier
@@ -165,3 +166,19 @@ def tuple_len(value: ast.AST | None) -> int | None:
     if isinstance(value, ast.Tuple) and not any(isinstance(e, ast.Starred) for e in value.elts):
         return len(value.elts)
     return None
+
+
+def inner_gym_env_call(decision: ClassDecision, node: ast.AST, method: str) -> bool:
+    """``self.sim.<method>(...)`` on a receiver that the call-site rules (GM201, GM203)
+    rewrite as a Gym env: an env class that holds another env and delegates to it. Such
+    a call is theirs to migrate; the class rules must not treat its result as their own."""
+    if not (isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == method):
+        return False
+    receiver = node.func.value
+    if isinstance(receiver, ast.Name) and receiver.id == "self":
+        return False
+    if isinstance(receiver, ast.Call):
+        return False  # super().<method>(...): the class rules' own business
+    family = decision.family
+    kind = family.receivers.kind_of(receiver)
+    return decide(kind, receiver, family.context.profile).action in (Action.REWRITE, Action.REWRITE_FOR_REVIEW)

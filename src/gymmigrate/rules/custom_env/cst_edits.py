@@ -213,7 +213,10 @@ def _code(node: cst.CSTNode) -> str:
 def _bool_of(parts: list[cst.BaseExpression]) -> cst.BaseExpression:
     if not parts:
         return cst.Name("False")
-    text = " or ".join(_code(p.with_changes(lpar=[], rpar=[]) if len(parts) == 1 else p).strip() for p in parts)  # type: ignore[call-arg]
+    # A lone operand loses its own parentheses inside ``bool(...)``, except a ``yield``,
+    # which is only an argument in them.
+    single = len(parts) == 1 and not isinstance(parts[0], cst.Yield)
+    text = " or ".join(_code(p.with_changes(lpar=[], rpar=[]) if single else p).strip() for p in parts)  # type: ignore[call-arg]
     return cst.parse_expression(f"bool({text})")
 
 

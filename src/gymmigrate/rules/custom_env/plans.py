@@ -47,9 +47,9 @@ class ClassPlan:
     step: bool = False  # step() returns four values somewhere
     step_helpers: list[str] = field(default_factory=list)  # what step() returns the result of
     reset_helpers: list[str] = field(default_factory=list)  # likewise for reset()
-    # Receivers (their source) of ``return self.env.reset()`` in reset: a Gym env held by the
-    # class, whose reset() returns (obs, info) in Gymnasium already; such returns stay as they are.
-    env_resets: set[str] = field(default_factory=set)
+    # ``return self.env.reset()`` of an env the class holds: the call-site rule passes the
+    # inner (obs, info) through, so these receivers' resets are not paired again.
+    inner_reset_receivers: set[str] = field(default_factory=set)
 
 
 def truncated_false_message(limit_hint: str | None) -> str:

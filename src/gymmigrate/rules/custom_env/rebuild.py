@@ -189,11 +189,12 @@ class ClassRewrite:
                 return ret  # the base reset already returns (obs, info)
             if _is_self_call(ret.value, helpers):
                 return ret  # a helper that now returns (obs, info) itself
-            if _is_env_reset(ret.value, self.plan.env_resets):
-                # a held Gym env's reset(): (obs, info) already; it gets the seed and options
+            if _is_inner_reset(ret.value, self.plan.inner_reset_receivers):
+                # the held env's reset returns (obs, info) itself; a bare call gets the seed
+                # and options, or the env could not be reset reproducibly (check_env fails)
                 if not ret.value.args:  # type: ignore[attr-defined]
-                    call = cst.parse_expression("f(seed=seed, options=options)")
-                    return ret.with_changes(value=ret.value.with_changes(args=call.args))  # type: ignore[attr-defined]
+                    passed = cst.parse_expression("f(seed=seed, options=options)").args  # type: ignore[attr-defined]
+                    return ret.with_changes(value=ret.value.with_changes(args=passed))  # type: ignore[attr-defined]
                 return ret
             value = ret.value
             if isinstance(value, cst.Tuple) and not value.lpar:
@@ -313,15 +314,6 @@ class ClassRewrite:
         self.set_method("__init__", fn)
 
 
-def _is_env_reset(node: cst.BaseExpression, receivers: set[str]) -> bool:
-    return (
-        isinstance(node, cst.Call)
-        and isinstance(node.func, cst.Attribute)
-        and node.func.attr.value == "reset"
-        and _code(node.func.value).strip() in receivers
-    )
-
-
 def _is_self_call(node: cst.BaseExpression, names: frozenset[str]) -> bool:
     return (
         isinstance(node, cst.Call)
@@ -363,3 +355,14 @@ def rewrite_class(plan: ClassPlan) -> Callable[[cst.ClassDef], cst.ClassDef]:
         return ClassRewrite(plan, node).run()
 
     return build
+
+
+def _is_inner_reset(value: cst.BaseExpression, receivers: set[str]) -> bool:
+    """``self.env.reset(...)`` for a receiver in ``receivers`` (its source text)."""
+    return (
+        bool(receivers)
+        and isinstance(value, cst.Call)
+        and isinstance(value.func, cst.Attribute)
+        and value.func.attr.value == "reset"
+        and cst.Module(body=[]).code_for_node(value.func.value) in receivers
+    )

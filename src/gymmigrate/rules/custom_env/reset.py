@@ -12,13 +12,13 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.facts.env_classes import is_super_method_call
-from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import own_returns
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.custom_env.common import (
     ClassDecision,
     callable_without_arguments,
     delegates,
+    inner_gym_env_call,
     is_self_call,
     method_of,
     param_names,
@@ -104,24 +104,17 @@ def _return_info_pairs(decision: ClassDecision, function: ast.AST, base_info: st
         else:
             why = "returns (obs, {}): _get_info() needs arguments reset() does not have, so it is not called"
     for ret in own_returns(function):
-        held = _held_env_reset(decision, ret.value)
-        if held is not None:
-            decision.plan.env_resets.add(held)  # already (obs, info) once that env is Gymnasium's
-            if not ret.value.args and not ret.value.keywords:  # type: ignore[union-attr]
-                decision.report(ret, "GM501", f"reset returns {held}.reset(), already (obs, info) in Gymnasium; it is passed seed and options")
+        if ret.value is None or is_super_method_call(ret.value, "reset") or is_self_call(ret.value, helpers):
             continue
-        if ret.value is not None and not is_super_method_call(ret.value, "reset") and not is_self_call(ret.value, helpers):
-            decision.report(ret, "GM501", f"reset {why}", kind)
-
-
-def _held_env_reset(decision: ClassDecision, value: ast.AST | None) -> str | None:
-    """``self.env.reset(...)`` on a Gym env the class holds: the source of its receiver."""
-    if not (isinstance(value, ast.Call) and isinstance(value.func, ast.Attribute) and value.func.attr == "reset"):
-        return None
-    receiver = value.func.value
-    if isinstance(receiver, ast.Call) or decision.family.receivers.kind_of(receiver) is not EnvKind.GYM_ENV:
-        return None
-    return decision.family.facts.segment(receiver).strip()
+        if inner_gym_env_call(decision, ret.value, "reset"):
+            # ``return self.env.reset()``: the inner env's reset returns (obs, info) now and
+            # the reset rule (GM201) passes it through; adding ``{}`` would nest the pair.
+            decision.plan.inner_reset_receivers.add(decision.family.facts.segment(ret.value.func.value))  # type: ignore[attr-defined]
+            if not ret.value.args and not ret.value.keywords:  # type: ignore[attr-defined]
+                held = decision.family.facts.segment(ret.value.func.value)  # type: ignore[attr-defined]
+                decision.report(ret, "GM501", f"reset returns {held}.reset(), (obs, info) in Gymnasium: passed seed and options")
+            continue
+        decision.report(ret, "GM501", f"reset {why}", kind)
 
 
 def decide_internal_calls(decision: ClassDecision) -> None:

@@ -17,7 +17,7 @@ from gymmigrate.facts.decisions import Action, decide
 from gymmigrate.facts.env_classes import identifiers, is_self_attribute, is_super_method_call
 from gymmigrate.findings import FixKind
 from gymmigrate.facts.module import statement_lines
-from gymmigrate.rules.custom_env.common import ClassDecision, is_docstring, method_of, param_names
+from gymmigrate.rules.custom_env.common import ClassDecision, inner_gym_env_call, is_docstring, method_of, param_names
 from gymmigrate.rules.custom_env.plans import SeedPlan
 from gymmigrate.rules.reset_seed.common import is_space
 
@@ -77,6 +77,17 @@ def decide_seed(decision: ClassDecision) -> None:
             deleted.extend(group)
             continue
         moved.append(index)
+    if any(inner_gym_env_call(decision, node, "seed") for i in moved for s in groups[i] for node in ast.walk(s)):
+        # Moved into reset(), `self.inner.seed(seed)` would be rewritten by the call-site
+        # rule on the next run (a reset of the inner env inside this reset): by hand.
+        decision.report(
+            seed_method,
+            "GM503",
+            "seed() seeds an env this class holds; Gymnasium seeds it through its reset: pass `seed` to that "
+            "env's reset(seed=...) in this class's reset() by hand",
+            FixKind.FLAG,
+        )
+        return
     if any(isinstance(node, ast.Return) for i in moved for s in groups[i] for node in ast.walk(s)):
         decision.report(seed_method, "GM503", "seed() returns from the middle of its body; move its seeding into reset() under `if seed is not None:` by hand", FixKind.FLAG)
         return

@@ -11,10 +11,9 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.facts.env_classes import FunctionIndex, identifiers, is_super_method_call
-from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import own_returns
 from gymmigrate.findings import FixKind, Tier
-from gymmigrate.rules.custom_env.common import ClassDecision, Method, delegates, tuple_len
+from gymmigrate.rules.custom_env.common import ClassDecision, Method, delegates, inner_gym_env_call, tuple_len
 from gymmigrate.rules.custom_env.hooks import overrides, step_override_migratable, where
 from gymmigrate.rules.custom_env.plans import STEP_LIMIT_WORD, truncated_false_message
 
@@ -67,7 +66,7 @@ def _decide_returns(decision: ClassDecision, function: Method, helpers: set[int]
             continue
         if _returns_helper(ret, decision, helpers) or is_super_method_call(ret.value, function.name):
             continue  # the helper's (or the base's own hook's) returns carry the contract
-        if _held_env_step(decision, ret.value):
+        if inner_gym_env_call(decision, ret.value, "step"):
             continue  # a Gym env the class holds: its step() returns the five values in Gymnasium
         hook = _blocked_hook(ret, blocked or {})
         if hook is not None:
@@ -95,13 +94,6 @@ def _decide_returns(decision: ClassDecision, function: Method, helpers: set[int]
             decision.report(ret, "GM504", "done split: the step-limit test became truncated, the rest terminated", FixKind.ASSIST)
             continue
         _report_truncated_false(decision, ret, limit_hint, plain if no_counter else None)
-
-
-def _held_env_step(decision: ClassDecision, value: ast.AST | None) -> bool:
-    if not (isinstance(value, ast.Call) and isinstance(value.func, ast.Attribute) and value.func.attr == "step"):
-        return False
-    receiver = value.func.value
-    return not isinstance(receiver, ast.Call) and decision.family.receivers.kind_of(receiver) is EnvKind.GYM_ENV
 
 
 def _blocked_hook(ret: ast.Return, blocked: dict[str, str]) -> tuple[str, str] | None:

@@ -34,7 +34,6 @@ RULES = (
     ),
 )
 
-# ``plan.notes`` key of the reset family: "Class.method" -> the info name it unpacked into.
 
 
 def _is_inner_env(node: ast.expr) -> bool:

@@ -29,7 +29,6 @@ from gymmigrate.rules.wrappers.common import (
     _tuple,
 )
 
-# ``plan.notes`` key of the reset family: "Class.method" -> the info name it unpacked into.
 
 
 class ResetOverrides(RuleFamily):
@@ -194,8 +193,12 @@ def _comma() -> cst.Comma:
     return cst.Comma(whitespace_after=cst.SimpleWhitespace(" "))
 
 
-def _pass_seed_and_options(node: cst.Call) -> cst.Call:
-    if node.args:
+def _pass_seed_and_options(node: cst.BaseExpression) -> cst.BaseExpression:
+    # The reset family may already have turned the call into ``self.env.reset()[0]``
+    # (its result assigned to one name and used as the observation): seed the call inside.
+    if isinstance(node, cst.Subscript):
+        return node.with_changes(value=_pass_seed_and_options(node.value))
+    if not isinstance(node, cst.Call) or node.args:
         return node
     return node.with_changes(
         args=[

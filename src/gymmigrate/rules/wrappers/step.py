@@ -25,7 +25,6 @@ from gymmigrate.rules.wrappers.common import (
     _parenthesized,
     _single_assign,
     _statements,
-    _target_names,
     _tuple,
 )
 
@@ -64,27 +63,40 @@ class StepOverrides(RuleFamily):
             if assign is None or _inner_call(assign.value, "step") is None:
                 bound |= _assigned_names(line)
                 continue
-            targets = _target_names(assign.targets[0])
-            if targets is None or len(targets) not in (4, 5):
+            target = assign.targets[0]
+            if (
+                not isinstance(target, (ast.Tuple, ast.List))
+                or len(target.elts) not in (4, 5)
+                or any(isinstance(element, ast.Starred) for element in target.elts)
+            ):
                 bound |= _assigned_names(line)
                 continue
+            # Targets may be attributes or subscripts (``obs, reward, self.done, info = ...``):
+            # only the plain names among them are bound names of the override.
+            targets = [element.id if isinstance(element, ast.Name) else None for element in target.elts]
+            named = {name for name in targets if name is not None}
             noted = noted_unpacks.get(assign) if len(targets) == 4 else None
             found: tuple[str, str] | None
             if len(targets) == 4:
                 if noted is None:  # a legacy step the step family left: nothing to return
                     found, consistent = None, False
-                    bound.update(targets)
+                    bound.update(named)
                 else:
                     names = noted.names
                     found = ("_", "_") if noted.discarded else (names.terminated, names.truncated)
-                    bound.update((targets[0], targets[1], *found, targets[3]))
-                    if noted.done_line is not None:
+                    bound.update(named - {targets[2]})
+                    bound.update(found)
+                    if noted.done_line is not None and targets[2] is not None:
                         bound.add(targets[2])
                         if done_name is None:
                             done_name, done_line, inserted = targets[2], assign, (assign, noted)
+            elif targets[2] is None or targets[3] is None:
+                # ``obs, reward, self.terminated, self.truncated, info``: no names to return
+                found, consistent = None, False
+                bound.update(named)
             else:
                 found = (targets[2], targets[3])
-                bound.update(targets)
+                bound.update(named)
                 following = lines[index + 1] if index + 1 < len(lines) else None
                 if following is not None and _is_done_line(following, found):
                     done_line, done_name = following, following.targets[0].id  # type: ignore[attr-defined]
@@ -119,7 +131,11 @@ class StepOverrides(RuleFamily):
                 replaced_done_reads += done.id == done_name  # type: ignore[union-attr]
                 self.report(ret, "GM602", "step returns (obs, reward, terminated, truncated, info)")
                 self.plan.replace(value, lambda node, t=terminated, u=truncated: _five(node, [cst.Name(t), cst.Name(u)]))
-            elif done_name is not None and done.id == done_name and self._only_step_limits(lines, done_name, done_line, unpacks):  # type: ignore[union-attr]
+            elif (
+                isinstance(done, ast.Name)
+                and done.id == done_name
+                and self._only_step_limits(lines, done_name, done_line, unpacks)
+            ):
                 # The TimeLimit pattern: the override ends episodes only on a step count,
                 # which is truncation by definition. An explanation, not a question.
                 self.report(
@@ -131,6 +147,28 @@ class StepOverrides(RuleFamily):
                     tier=Tier.NOTE,
                 )
                 self.plan.replace(value, lambda node, t=terminated: _five(node, _cut(node, t)))
+            elif isinstance(done, ast.Constant) and (done.value is None or isinstance(done.value, bool)):
+                # ``return obs, reward, False, info``: the override's own constant end.
+                self.report(
+                    ret,
+                    "GM602",
+                    f"this step override returns a constant `done` ({done.value}): returned as terminated, with "
+                    "truncated False; the inner step's flags are not passed on, as before",
+                    kind=FixKind.ASSIST,
+                )
+                self.plan.replace(value, lambda node: _five(node, [node.elements[2].value, cst.Name("False")]))
+            elif isinstance(done, _COLLECTIONS) or _reads_per_agent(done, {done_name, *flags} - {None}):
+                # ``return obs, rewards, [done] * n, info`` or ``all(done)``, ``list(done.values())``:
+                # per-agent flags, not one bool; cutting them against ``terminated`` (a
+                # collection too) would be always false.
+                self.report(
+                    ret,
+                    "GM602",
+                    "this step override returns per-agent `done` flags (a collection, or all()/any()/values() of "
+                    "the inner ones): return (obs, reward, terminated, truncated, info) with terminated and "
+                    "truncated per agent by hand",
+                    kind=FixKind.FLAG,
+                )
             else:
                 self.report(
                     ret,
@@ -154,6 +192,29 @@ class StepOverrides(RuleFamily):
                     self.plan.withdraw(inserted[0], inserted[1].done_line)
                 else:
                     self.plan.remove(done_line)
+
+
+_COLLECTIONS = (ast.List, ast.Tuple, ast.Set, ast.Dict, ast.ListComp, ast.SetComp, ast.DictComp, ast.GeneratorExp)
+
+
+def _reads_per_agent(expr: ast.expr, names: set[str]) -> bool:
+    """``all(done)``, ``any(dones)``, ``done.values()``, ``done[i]`` or a comprehension over
+    ``done``: the inner step's done (or flags) is a collection of per-agent flags."""
+    def is_flag(node: ast.AST) -> bool:
+        return isinstance(node, ast.Name) and node.id in names
+
+    for node in ast.walk(expr):
+        if isinstance(node, ast.Call):
+            func = node.func
+            if isinstance(func, ast.Name) and func.id in ("all", "any", "list", "sum", "len") and any(is_flag(a) for a in node.args):
+                return True
+            if isinstance(func, ast.Attribute) and func.attr in ("values", "items", "keys") and is_flag(func.value):
+                return True
+        elif isinstance(node, ast.Subscript) and is_flag(node.value):
+            return True
+        elif isinstance(node, ast.comprehension) and is_flag(node.iter):
+            return True
+    return False
 
 
 def _is_done_line(statement: ast.stmt, flags: tuple[str, str]) -> bool:
