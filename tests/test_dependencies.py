@@ -21,7 +21,7 @@ from typer.testing import CliRunner
 from gymmigrate.cli import app
 from gymmigrate.dependencies import (
     DependencyError,
-    handler_for,
+    kind_of,
     is_dependency_file,
     migrate_dependency_file,
     migrate_page_commands,
@@ -181,7 +181,7 @@ def test_registry_names() -> None:
     for name in ["requirements.txt", "requirements-dev.txt", "requirements/base.txt", "constraints.txt", "setup.py", "setup.cfg", "pyproject.toml", "environment.yml", "Dockerfile", "Dockerfile.gpu", "train.dockerfile"]:
         assert is_dependency_file(name), name
     for name in ["train.py", "notes.txt", "README.md", "Pipfile", "poetry.lock"]:
-        assert handler_for(name) is None, name
+        assert kind_of(name) is None, name
 
 
 def test_discovery_finds_dependency_files(tmp_path: Path) -> None:

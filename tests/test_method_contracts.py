@@ -3,10 +3,12 @@
 ``fixtures/project_contracts/`` is a small package: ``CoreEnv`` resets through a hook
 (``first_observation``) a subclass in another module overrides, and steps through a hook
 (``post_step``) a subclass in the same module overrides; ``BoardEnv`` asks its own
-``render`` for a mode. ``play.py`` uses them the legacy way. On main before this change
-the migrated package raised ``ValueError`` (four values from the override) and
-``TypeError`` (``render(mode=)`` after render lost its mode). ``project_hooks_elsewhere``
-has the step hook overridden in another module: nothing of the hook changes, it is reported.
+``render`` for a mode, and ``FramedBoardEnv`` overrides that render. ``play.py`` uses
+them the legacy way. Before this change the migrated package raised ``ValueError`` (four
+values from the override), and ``FramedBoardEnv().snapshot()`` silently skipped the
+override (the base's own ``self.render(mode)`` went to a helper of the base's old body);
+earlier still, that call raised ``TypeError``. ``project_hooks_elsewhere`` has the step
+hook overridden in another module: nothing of the hook changes, it is reported.
 """
 
 from __future__ import annotations
@@ -41,14 +43,15 @@ def test_hooks_and_render_follow_their_class_and_the_package_runs(tmp_path: Path
     assert 'def render(self, mode="human"):' in (project / "envs" / "board.py").read_text()
     code = (
         "import play\nprint(play.play_bonus())\nprint(play.first_noisy())\nprint(play.board_snapshot())\n"
+        "print(play.framed_snapshot())\n"
         "from gymnasium.utils.env_checker import check_env\nfrom envs.core import BonusEnv, CoreEnv\n"
         "from envs.noisy import NoisyEnv\nfor cls in (CoreEnv, BonusEnv, NoisyEnv):\n    check_env(cls())\nprint('checked')"
     )
     run = subprocess.run([sys.executable, "-W", "ignore", "-c", code], cwd=project, capture_output=True, text=True, timeout=120)
     assert run.returncode == 0, run.stderr
-    bonus, noisy, board, checked = run.stdout.splitlines()
+    bonus, noisy, board, framed, checked = run.stdout.splitlines()
     assert bonus == "(3.0, [3.0], {'bonus': True})"
-    assert noisy == "[1.0]" and board == "board at 1" and checked == "checked"
+    assert noisy == "[1.0]" and board == "board at 1" and framed == "[board at 0]" and checked == "checked"
 
 
 def test_a_hook_overridden_in_another_module_is_reported_and_left_whole(tmp_path: Path) -> None:

@@ -192,9 +192,69 @@ def _assign_use(assign: ast.Assign, read: ast.Name, in_container: bool, value: a
         return DoneUse.CONTROL  # ``done = done or step >= limit``: still the episode-over flag
     if in_container and isinstance(value, (ast.Tuple, ast.List, ast.Dict)):
         return DoneUse.DATA  # ``transition = (s, a, r, s2, done)``
+    if value is read and any(_is_bookkeeping(t) for t in targets):
+        return DoneUse.NEUTRAL  # ``info["real_done"] = done``, ``self.was_real_done = done``: game over
     if all(isinstance(t, ast.Subscript) for t in targets) and value is read:
         return DoneUse.DATA  # ``dones[t] = done``: a rollout array
     return DoneUse.AMBIGUOUS  # ``episode_done = done``: depends on what the new name is for
+
+
+_BOOKKEEPING_WORDS = ("real_done", "game_over", "gameover", "episode_over", "all_done")
+
+
+def _is_bookkeeping(target: ast.expr) -> bool:
+    """A record of the episode (or game) being over: a string-keyed entry (``info["real_done"]``)
+    or a name that says game over (``self.was_real_done``). ``done`` is the right value there."""
+    if isinstance(target, ast.Subscript):
+        key = target.slice
+        return isinstance(key, ast.Constant) and isinstance(key.value, str)
+    name = (full_name(target) or "").rsplit(".", 1)[-1].lower()
+    return any(word in name for word in _BOOKKEEPING_WORDS)
+
+
+def value_site(read: ast.AST, facts: ModuleFacts) -> ast.AST:
+    """The one value ``read`` is part of: the whole expression up to its statement (a TD
+    target, a stored transition, the arguments of a store call), or one element of a
+    parallel assignment (``next_obs, next_done = f(next_obs), g(done)``: two values)."""
+    node = read
+    while True:
+        parent = facts.parent(node)
+        if parent is None or isinstance(parent, (ast.Lambda, ast.comprehension)):
+            return node
+        if isinstance(parent, (ast.Tuple, ast.List)):
+            holder = facts.parent(parent)
+            if (
+                isinstance(holder, ast.Assign)
+                and holder.value is parent
+                and len(holder.targets) == 1
+                and isinstance(holder.targets[0], (ast.Tuple, ast.List))
+                and len(holder.targets[0].elts) == len(parent.elts)
+            ):
+                return node
+        if isinstance(parent, ast.stmt):
+            return node
+        node = parent
+
+
+def stored_in_sequence(read: ast.AST, facts: ModuleFacts) -> bool:
+    """The flag goes into a per-step sequence (``dones.append(done)``, ``dones[t] = done``,
+    ``buffer.store(v, r, done)``, ``next_done = torch.Tensor(done)``), not into an expression
+    that uses it right away."""
+    site = value_site(read, facts)
+    if isinstance(site, ast.Call):
+        last = (full_name(site.func) or "").rsplit(".", 1)[-1]
+        if last in STORE_METHODS:
+            return True
+    statement = facts.statement_of(read)
+    if isinstance(statement, ast.Assign):
+        if any(isinstance(t, ast.Subscript) for t in statement.targets):
+            return True
+        return not any(isinstance(n, (ast.BinOp, ast.UnaryOp)) for n in ast.walk(site))
+    return False
+
+
+def loaded_names(node: ast.AST) -> set[str]:
+    return {n.id for n in ast.walk(node) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load)}
 
 
 def _in_step_method(node: ast.AST, facts: ModuleFacts) -> bool:

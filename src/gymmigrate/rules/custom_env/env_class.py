@@ -20,11 +20,12 @@ from collections.abc import Callable
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts.env_classes import EnvClasses
 from gymmigrate.facts.module import ModuleFacts
+from gymmigrate.findings import Tier
 from gymmigrate.rules.base import FileContext, RuleFamily
 from gymmigrate.rules.custom_env.common import CLASS_RULES, UNDERSCORE_RULE, ClassDecision, method_of
 from gymmigrate.rules.custom_env.observations import decide_float64_observations, decide_mujoco
 from gymmigrate.rules.custom_env.plans import ClassPlan
-from gymmigrate.rules.custom_env.render import decide_render
+from gymmigrate.rules.custom_env.render import decide_render, decide_subclass_render_mode
 from gymmigrate.rules.custom_env.reset import decide_internal_calls, decide_reset
 from gymmigrate.rules.custom_env.seed import decide_seed
 from gymmigrate.rules.custom_env.seeding_import import drop_unused_seeding_import
@@ -51,7 +52,8 @@ class EnvClassFamily(RuleFamily):
             decide_mujoco(decision)
             for new, old in decision.renamed.items():
                 why = "; Gymnasium never calls it: call `env.unwrapped.configure(...)`" if new == "configure" else ""
-                decision.report(decision.methods[old], UNDERSCORE_RULE[new], f"gym < 0.9 method `{old}` renamed `{new}`{why}")
+                # an explanation of the rename; the migrated method's own findings follow
+                decision.report(decision.methods[old], UNDERSCORE_RULE[new], f"gym < 0.9 method `{old}` renamed `{new}`{why}", tier=None if why else Tier.NOTE)
                 for call in decision.index.self_calls.get(old, ()):
                     method = method_of(decision, call)
                     if method is not None:
@@ -60,6 +62,7 @@ class EnvClassFamily(RuleFamily):
             decide_reset(decision)
             decide_step(decision, inherited)
             decide_render(decision)
+            decide_subclass_render_mode(decision)
             decide_internal_calls(decision)
             decide_float64_observations(decision)
             if self._changes(decision):
@@ -76,6 +79,7 @@ class EnvClassFamily(RuleFamily):
             plan.renamed
             or plan.seed
             or plan.render
+            or plan.pass_render_mode
             or plan.unpack_self_reset
             or plan.reset
             or plan.step

@@ -15,6 +15,7 @@ from gymmigrate.edits.lazy import cst
 from gymmigrate.facts.module import ModuleFacts, string_value
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
+from gymmigrate.rules.repeats import Repeats
 
 LEGACY_METADATA_KEYS = {"render.modes": "render_modes", "video.frames_per_second": "render_fps"}
 DEFAULT_RENDER_FPS = 30
@@ -30,15 +31,34 @@ class MetadataKeys(RuleFamily):
         return "render.modes" in facts.text or "video.frames_per_second" in facts.text
 
     def decide(self) -> None:
+        self._fps_advice = Repeats()
+        sites: dict[str, list[ast.Constant]] = {}
         for string in self.facts.strings:
             value = string.value
             if value in LEGACY_METADATA_KEYS and self._is_metadata_key(string):
-                new = LEGACY_METADATA_KEYS[value]
-                self.report(string, "GM404", f"metadata key {value!r} -> {new!r}")
-                self.plan.replace(string, _renamed_key(value, new))
+                sites.setdefault(value, []).append(string)
+        for value, strings in sites.items():
+            # One finding per key and file, however many envs and reads spell it.
+            new = LEGACY_METADATA_KEYS[value]
+            for string in strings:
+                twin = self._modern_twin(string, new)
+                if twin is not None:
+                    self.plan.replace(twin, _without_key(value))  # ``{"render.modes": m, "render_modes": m}``
+                else:
+                    self.plan.replace(string, _renamed_key(value, new))
+            more = f" ({len(strings)} places in this file)" if len(strings) > 1 else ""
+            self.report(strings[0], "GM404", f"metadata key {value!r} -> {new!r}{more}")
         for statement in self._metadata_stores():
             if isinstance(statement.value, ast.Dict):
                 self._add_render_fps(statement.value)
+
+    def _modern_twin(self, string: ast.Constant, new: str) -> ast.Dict | None:
+        """The dict literal holding ``string`` as a key when it already has the new key too:
+        the legacy entry is dropped there instead of renamed into a duplicate key."""
+        parent = self.facts.parent(string)
+        if isinstance(parent, ast.Dict) and any(string_value(key) == new for key in parent.keys if key is not None):
+            return parent
+        return None
 
     def _metadata_stores(self) -> list[ast.Assign | ast.AnnAssign]:
         found: list[ast.Assign | ast.AnnAssign] = []
@@ -85,7 +105,8 @@ class MetadataKeys(RuleFamily):
                 f"added \"render_fps\": {DEFAULT_RENDER_FPS} because render modes are declared without a frame rate; "
                 "no rgb_array mode, so no recorded video reads it"
             )
-        self.report(metadata, "GM404", message, FixKind.ASSIST, tier=None if frames else Tier.NOTE)
+        tier, same = self._fps_advice.tier("render_fps", metadata)
+        self.report(metadata, "GM404", message + same, FixKind.ASSIST, tier=tier if frames else Tier.NOTE)
         self.plan.replace(metadata, _with_render_fps)
 
 
@@ -105,6 +126,22 @@ def _is_metadata_store(node: ast.AST | None) -> bool:
 def _renamed_key(old: str, new: str):  # type: ignore[no-untyped-def]
     def build(node: cst.SimpleString) -> cst.SimpleString:
         return node.with_changes(value=node.value.replace(old, new))
+
+    return build
+
+
+def _without_key(key: str):  # type: ignore[no-untyped-def]
+    """Drop the ``key`` entry of a dict literal (its modern spelling is there already)."""
+
+    def build(node: cst.Dict) -> cst.Dict:
+        kept = [
+            element
+            for element in node.elements
+            if not (isinstance(element, cst.DictElement) and isinstance(element.key, cst.SimpleString) and element.key.evaluated_value == key)
+        ]
+        if kept and len(kept) < len(node.elements) and node.elements[-1].comma is cst.MaybeSentinel.DEFAULT:
+            kept[-1] = kept[-1].with_changes(comma=cst.MaybeSentinel.DEFAULT)
+        return node.with_changes(elements=kept)
 
     return build
 

@@ -27,6 +27,7 @@ class SeedPlan:
     setup: list[int] = field(default_factory=list)  # into __init__, where self.seed() was called
     renames: dict[str, str] = field(default_factory=dict)  # the seed's other names -> ``seed``
     callers: set[str] = field(default_factory=set)  # methods that call self.seed()
+    keep: bool = False  # seed() stays a method; reset() calls it when given a seed
 
 
 @dataclass
@@ -36,6 +37,9 @@ class ClassPlan:
     seed: SeedPlan | None = None
     reset_super_seeds: bool = True  # super().reset(seed=seed) may be called (else only reported)
     render: bool = False
+    pass_render_mode: bool = False  # a subclass __init__ takes render_mode and passes it to the base
+    render_helper: str | None = None  # keeps the old render(mode) body for the class's own mode calls
+    render_helper_callers: set[str] = field(default_factory=set)  # methods that call self.render(mode)
     info_helper: bool = False  # reset returns self._get_info() (it takes no arguments)
     local_env_base: bool = False
     unpack_self_reset: bool = False

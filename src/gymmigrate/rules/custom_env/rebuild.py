@@ -13,7 +13,9 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 
 import libcst as cst
+import libcst.matchers as m
 
+from gymmigrate.edits.arguments import append_keyword
 from gymmigrate.rules.custom_env.cst_edits import (
     _add_keyword_param,
     _body_statements,
@@ -67,6 +69,7 @@ class ClassRewrite:
         self.replacements: dict[str, cst.FunctionDef | None] = {}
         self.seed_folded: list[cst.BaseStatement] = []
         self.extra_init: cst.FunctionDef | None = None
+        self.after_method: dict[str, list[cst.FunctionDef]] = {}  # new methods, by the method they follow
 
     def method(self, name: str) -> cst.FunctionDef | None:
         old = self.renamed.get(name, name)
@@ -90,6 +93,8 @@ class ClassRewrite:
         self._step()
         if self.plan.render:
             self._render()
+        if self.plan.pass_render_mode:
+            self._pass_render_mode()
         if self.plan.unpack_self_reset:
             self._unpack_self_reset()
         return self._rebuild()
@@ -120,6 +125,8 @@ class ClassRewrite:
                 statements.append(self.extra_init)
                 self.extra_init = None
             statements.append(stmt)
+            if isinstance(stmt, cst.FunctionDef):
+                statements.extend(self.after_method.get(stmt.name.value, ()))
         if self.extra_init is not None:
             statements.append(self.extra_init)
         if not statements:
@@ -131,6 +138,9 @@ class ClassRewrite:
     def _seed(self, seed: SeedPlan) -> None:
         fn = self.method("seed")
         assert fn is not None
+        if seed.keep:
+            self.seed_folded = [cst.parse_statement(f"self.{fn.name.value}(seed)")]
+            return
         body = _body_statements(fn)
         moved = [body[i] for i in seed.moved]
         setup = [body[i] for i in seed.setup]
@@ -161,7 +171,7 @@ class ClassRewrite:
             fn = _drop_return_info(fn)
         elif not modern:
             fn, base_info = _unpack_super_reset(fn)
-            fn = self._return_info_pairs(fn, base_info, frozenset(self.plan.reset_helpers))
+            fn = self._return_info_pairs(fn, base_info, frozenset(self.plan.reset_helpers), own=True)
             for helper in self.plan.reset_helpers:
                 helper_fn = self.method(helper)
                 if helper_fn is not None:
@@ -175,7 +185,9 @@ class ClassRewrite:
             fn = _insert_after_super_reset(fn, self.seed_folded)
         self.set_method("reset", fn)
 
-    def _return_info_pairs(self, fn: cst.FunctionDef, base_info: str | None, helpers: frozenset[str] = frozenset()) -> cst.FunctionDef:
+    def _return_info_pairs(
+        self, fn: cst.FunctionDef, base_info: str | None, helpers: frozenset[str] = frozenset(), own: bool = False
+    ) -> cst.FunctionDef:
         info_expr: cst.BaseExpression = cst.Dict([])
         if base_info is not None:
             info_expr = cst.Name(base_info)
@@ -184,11 +196,14 @@ class ClassRewrite:
         elif self.plan.info_helper:
             info_expr = cst.parse_expression("self._get_info()")
 
+        # ``return self.reset()`` (a retry inside reset) returns the pair already
+        retries = frozenset({"reset", self.renamed.get("reset", "reset")}) if own else frozenset()
+
         def pair(ret: cst.Return) -> cst.Return:
             if ret.value is None or is_super_method_call(ret.value, "reset"):
                 return ret  # the base reset already returns (obs, info)
-            if _is_self_call(ret.value, helpers):
-                return ret  # a helper that now returns (obs, info) itself
+            if _is_self_call(ret.value, helpers | retries):
+                return ret  # a helper, or a retry of reset itself, that now returns (obs, info)
             if _is_inner_reset(ret.value, self.plan.inner_reset_receivers):
                 # the held env's reset returns (obs, info) itself; a bare call gets the seed
                 # and options, or the env could not be reset reproducibly (check_env fails)
@@ -282,6 +297,10 @@ class ClassRewrite:
     def _render(self) -> None:
         fn = self.method("render")
         assert fn is not None
+        helper = self.plan.render_helper
+        if helper is not None:
+            self._render_through_helper(fn, helper)
+            return
         params = list(fn.params.params)
         mode_index = next(i for i, p in enumerate(params) if p.name.value == "mode")
         params.pop(mode_index)
@@ -296,6 +315,38 @@ class ClassRewrite:
             body = _insert_at_top(body, [cst.parse_statement("if self.render_mode is None:\n    return None\n")])
         self.set_method("render", fn.with_changes(params=new_params, body=body))
         self._add_render_mode_to_init()
+
+    def _render_through_helper(self, fn: cst.FunctionDef, helper: str) -> None:
+        """``render(self, mode)`` becomes ``helper(self, mode)`` as it was; the new
+        ``render()`` passes ``self.render_mode``; the class's own mode calls use the helper."""
+        kept = fn.with_changes(name=cst.Name(helper), decorators=[], leading_lines=[cst.EmptyLine(indent=False)])
+        render = cst.parse_statement(
+            f"def render(self):\n    if self.render_mode is None:\n        return None\n"
+            f"    return self.{helper}(mode=self.render_mode)\n"
+        )
+        self.set_method("render", render.with_changes(leading_lines=fn.leading_lines, decorators=fn.decorators))  # type: ignore[arg-type]
+        calls = _SelfModeRenderCalls(helper)
+        for name, method in self.methods.items():
+            current = self.replacements.get(name, method)
+            if current is not None and name in self.plan.render_helper_callers and name != self.renamed.get("render", "render"):
+                self.replacements[name] = current.visit(calls)  # type: ignore[assignment]
+        if self.renamed.get("render", "render") in self.plan.render_helper_callers:
+            kept = kept.visit(calls)  # type: ignore[assignment]
+        self.after_method.setdefault(self.renamed.get("render", "render"), []).append(kept)
+        self._add_render_mode_to_init()
+
+    def _pass_render_mode(self) -> None:
+        fn = self.method("__init__")
+        assert fn is not None
+        fn = fn.with_changes(params=_add_keyword_param(fn.params, "render_mode"))
+
+        class PassOn(cst.CSTTransformer):
+            def leave_Call(self, original_node: cst.Call, updated_node: cst.Call) -> cst.Call:
+                if m.matches(updated_node.func, m.Attribute(attr=m.Name("__init__"))):
+                    return append_keyword(updated_node, "render_mode", cst.Name("render_mode"))
+                return updated_node
+
+        self.set_method("__init__", fn.with_changes(body=fn.body.visit(PassOn())))
 
     def _add_render_mode_to_init(self) -> None:
         fn = self.method("__init__")
@@ -312,6 +363,26 @@ class ClassRewrite:
         if not _uses_self_attribute(fn, "render_mode"):
             fn = fn.with_changes(body=_insert_after_super_init(fn.body, cst.parse_statement("self.render_mode = render_mode")))
         self.set_method("__init__", fn)
+
+
+class _SelfModeRenderCalls(cst.CSTTransformer):
+    """``self.render(mode="x")`` / ``self.render("x")`` -> ``self.<helper>(...)`` (calls without
+    arguments are the new render())."""
+
+    def __init__(self, helper: str) -> None:
+        self.helper = helper
+
+    def leave_Call(self, original_node: cst.Call, updated_node: cst.Call) -> cst.Call:
+        func = updated_node.func
+        if (
+            updated_node.args
+            and isinstance(func, cst.Attribute)
+            and isinstance(func.value, cst.Name)
+            and func.value.value == "self"
+            and func.attr.value == "render"
+        ):
+            return updated_node.with_changes(func=func.with_changes(attr=cst.Name(self.helper)))
+        return updated_node
 
 
 def _is_self_call(node: cst.BaseExpression, names: frozenset[str]) -> bool:

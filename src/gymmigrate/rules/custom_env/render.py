@@ -19,7 +19,7 @@ from gymmigrate.facts.creation import CreationFinder, passes_mode
 from gymmigrate.facts.env_classes import is_super_method_call
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.findings import FixKind, Tier
-from gymmigrate.rules.custom_env.common import ClassDecision, param_names
+from gymmigrate.rules.custom_env.common import ClassDecision, method_of, param_names
 from gymmigrate.rules.custom_env.hooks import local_subclasses
 
 if TYPE_CHECKING:
@@ -76,6 +76,7 @@ def decide_render(decision: ClassDecision) -> None:
         )
         return
     decision.plan.render = True
+    _plan_internal_renders(decision, function)
     _report_forwarded_modes(decision, function)
     # Notes: the standard Gymnasium signature, applied; the render calls and creation
     # sites in the run are reviewed where they are (GM401/GM402), not here.
@@ -94,27 +95,121 @@ def decide_render(decision: ClassDecision) -> None:
 
 def _own_mode_call(decision: ClassDecision) -> ast.Call | None:
     """``self.render(mode="ansi")`` (or ``super().render("ansi")``) outside a render method,
-    in this class, a local base or a local subclass: it reaches this render(), and with the
-    mode removed it would be a TypeError. The mode it asks for is not the env's
-    render_mode, so it is not rewritten: the class keeps render(mode) with the call."""
+    in a local base or a local subclass: it reaches this render(), and with the mode
+    removed it would be a TypeError; the class keeps render(mode) with the call. The
+    class's own ``self.render(mode)`` calls are rewritten to call the old body kept as a
+    helper (``_plan_internal_renders``), unless a local subclass overrides render: the
+    helper would then bypass the override, so render(mode) is kept for them too."""
     facts = decision.family.facts
-    hierarchy = [decision.classdef, *local_subclasses(decision)]
+    subclasses = local_subclasses(decision)
+    hierarchy = [*subclasses]
     receivers = decision.family.receivers
     todo = list(decision.classdef.bases)
     while todo:
         base = receivers.local_class(todo.pop())
-        if base is not None and base not in hierarchy:
+        if base is not None and base not in hierarchy and base is not decision.classdef:
             hierarchy.append(base)
             todo.extend(base.bases)
     for classdef in hierarchy:
         for call in (*decision.env.index(classdef).self_calls.get("render", ()), *_super_render_calls(decision, classdef)):
             if passes_mode(call, facts):
-                return call  # type: ignore[no-any-return]
+                return call
+    if any("render" in decision.env.index(sub).methods for sub in subclasses):
+        for call in decision.env.index(decision.classdef).self_calls.get("render", ()):
+            if passes_mode(call, facts):
+                return call
     return None
 
 
 def _super_render_calls(decision: ClassDecision, classdef: ast.ClassDef) -> list[ast.Call]:
     return [c for c in decision.env.index(classdef).nodes[ast.Call] if is_super_method_call(c, "render")]  # type: ignore[misc]
+
+
+def decide_subclass_render_mode(decision: ClassDecision) -> None:
+    """A subclass of a local env whose ``__init__`` takes ``render_mode`` (or gets it here)
+    must take it too and pass it on: ``gymnasium.make(id, render_mode=...)`` passes it to
+    the registered class, and ``BigGrid.__init__(self)`` would raise TypeError."""
+    if decision.plan.render:
+        return  # its own render(mode) migration adds render_mode to __init__
+    init = decision.method("__init__")
+    if init is None or "render_mode" in param_names(init) or init.args.kwarg is not None:
+        return
+    if not _ancestor_takes_render_mode(decision, decision.classdef, set()):
+        return
+    calls = [
+        node
+        for node in ast.walk(init)
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "__init__"
+    ]
+    if len(calls) != 1 or any(k.arg is None for k in calls[0].keywords):
+        decision.report(
+            init,
+            "GM405",
+            "the base env's __init__ takes render_mode (gymnasium.make passes it to this class): add a render_mode=None "
+            "parameter here and pass it to the base __init__",
+            FixKind.FLAG,
+        )
+        return
+    decision.plan.pass_render_mode = True
+    decision.report(
+        init,
+        "GM405",
+        "__init__ takes render_mode=None and passes it to the base env's __init__: gymnasium.make passes render_mode "
+        "to the registered class",
+        tier=Tier.NOTE,
+    )
+
+
+def _ancestor_takes_render_mode(decision: ClassDecision, classdef: ast.ClassDef, seen: set[int]) -> bool:
+    receivers = decision.family.receivers
+    for base_expr in classdef.bases:
+        base = receivers.local_class(base_expr)
+        if base is None or id(base) in seen:
+            continue
+        seen.add(id(base))
+        methods = {s.name: s for s in base.body if isinstance(s, (ast.FunctionDef, ast.AsyncFunctionDef))}
+        render, init = methods.get("render"), methods.get("__init__")
+        if render is not None and "mode" in param_names(render):
+            return True  # its migration adds render_mode to its __init__
+        if init is not None:
+            if "render_mode" in param_names(init):
+                return True
+            continue  # a base __init__ without it: that class is decided on its own
+        if _ancestor_takes_render_mode(decision, base, seen):
+            return True
+    return False
+
+
+def _plan_internal_renders(decision: ClassDecision, function: ast.FunctionDef | ast.AsyncFunctionDef) -> None:
+    """The class renders itself with a mode (``obs = self.render(mode="rgb_array")`` in
+    ``reset``/``step``): those calls must keep working once ``render()`` takes no mode. The
+    old body is kept as a helper that takes the mode, ``render()`` calls it with
+    ``self.render_mode``, and the internal calls call the helper."""
+    facts = decision.family.facts
+    calls = [
+        call
+        for call in facts.attribute_calls.get("render", ())
+        if isinstance(call.func.value, ast.Name)  # type: ignore[attr-defined]
+        and call.func.value.id == "self"  # type: ignore[attr-defined]
+        and (call.args or call.keywords)
+        and method_of(decision, call) is not None
+    ]
+    if not calls:
+        return
+    taken = set(decision.methods) | {n.attr for node in ast.walk(decision.classdef) for n in [node] if isinstance(n, ast.Attribute)}
+    helper, number = "_render_frame", 2
+    while helper in taken:
+        helper, number = f"_render_frame{number}", number + 1
+    decision.plan.render_helper = helper
+    decision.plan.render_helper_callers = {method.name for call in calls if (method := method_of(decision, call)) is not None}
+    lines = ", ".join(str(call.lineno) for call in calls[:3]) + (", ..." if len(calls) > 3 else "")
+    decision.report(
+        function,
+        "GM405",
+        f"the class renders itself with a mode (`self.render(...)` on line {lines}): the old body is kept as "
+        f"`{helper}(mode)`, which those calls now use, and render() calls it with self.render_mode",
+        tier=Tier.NOTE,
+    )
 
 
 def _report_forwarded_modes(decision: ClassDecision, function: ast.AST) -> None:

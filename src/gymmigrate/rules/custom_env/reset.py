@@ -59,7 +59,7 @@ def decide_reset(decision: ClassDecision) -> None:
     decision.plan.reset = (
         not modern
         or inserted
-        or decision.plan.seed is not None and bool(decision.plan.seed.moved)
+        or decision.plan.seed is not None and (bool(decision.plan.seed.moved) or decision.plan.seed.keep)
         or any(_super_reset_needs_seed(c) for s in function.body for c in ast.walk(s))
     )
     if not modern or inserted:
@@ -103,8 +103,9 @@ def _return_info_pairs(decision: ClassDecision, function: ast.AST, base_info: st
             kind, why = FixKind.ASSIST, "returns (obs, self._get_info()), the info the class already builds"
         else:
             why = "returns (obs, {}): _get_info() needs arguments reset() does not have, so it is not called"
+    retries = {"reset", decision.renamed.get("reset", "reset")}  # ``return self.reset()``: the retry's pair
     for ret in own_returns(function):
-        if ret.value is None or is_super_method_call(ret.value, "reset") or is_self_call(ret.value, helpers):
+        if ret.value is None or is_super_method_call(ret.value, "reset") or is_self_call(ret.value, helpers | retries):
             continue
         if inner_gym_env_call(decision, ret.value, "reset"):
             # ``return self.env.reset()``: the inner env's reset returns (obs, info) now and

@@ -16,12 +16,14 @@ import ast
 from gymmigrate.facts.decisions import Action, decide
 from gymmigrate.facts.env_classes import identifiers, is_self_attribute, is_super_method_call
 from gymmigrate.findings import FixKind
-from gymmigrate.facts.module import statement_lines
+from gymmigrate.facts.module import full_name, statement_lines
 from gymmigrate.rules.custom_env.common import ClassDecision, inner_gym_env_call, is_docstring, method_of, param_names
 from gymmigrate.rules.custom_env.plans import SeedPlan
 from gymmigrate.rules.reset_seed.common import is_space
 
 NP_RANDOM = ("np_random", "_np_random")
+# gym.utils.seeding helpers Gymnasium removed (GM506 reports them)
+REMOVED_SEEDING_HELPERS = frozenset({"hash_seed", "create_seed", "_bigint_from_bytes", "_int_list_from_bigint"})
 
 
 def decide_seed(decision: ClassDecision) -> None:
@@ -99,6 +101,9 @@ def decide_seed(decision: ClassDecision) -> None:
     moved = [i for i in moved if i not in setup]
     init = decision.methods.get("__init__")
     init_call = calls[0] if len(calls) == 1 and init is not None and facts.enclosing_function(calls[0]) is init else None
+    if (setup or moved) and _needs_the_method(groups, moved, setup, seed_names) and not _calls_removed_helpers(seed_method):
+        _keep_as_helper(decision, seed_method)
+        return
     if setup and init_call is None:
         decision.report(seed_method, "GM503", "seed() also builds state that does not depend on the seed; move it into __init__ and the seeding into reset() by hand", FixKind.FLAG)
         return
@@ -128,6 +133,63 @@ def decide_seed(decision: ClassDecision) -> None:
             "seed() removed: its extra seeding moved into reset() under `if seed is not None:`; it now runs only when a seed is given",
             FixKind.ASSIST,
         )
+
+
+def _needs_the_method(groups: list[list[ast.stmt]], moved: list[int], setup: list[int], seed_names: set[str]) -> bool:
+    """Would moving the statements apart break them? Set-up that draws from the seeded
+    generator (``self.offset = self.np_random.integers(3)``) must rerun on every new seed,
+    and a statement that reads a local of seed() (``self.world = World(rng)`` after
+    ``rng, seed = seeding.np_random(seed)``) cannot run without the statement binding it.
+    The seed itself is no such local: every name it had becomes reset()'s ``seed``."""
+    carried = set(moved) | set(setup)
+    local: dict[str, set[int]] = {}
+    for index, group in enumerate(groups):
+        for statement in group:
+            for node in ast.walk(statement):
+                if isinstance(node, ast.Name) and isinstance(node.ctx, ast.Store):
+                    local.setdefault(node.id, set()).add(index)
+    for index in carried:
+        together = set(setup) if index in setup else set(moved)
+        for statement in groups[index]:
+            for node in ast.walk(statement):
+                if index in setup and is_self_attribute(node, NP_RANDOM):
+                    return True
+                if isinstance(node, ast.Name) and isinstance(node.ctx, ast.Load) and node.id in local and node.id not in seed_names:
+                    binders = local[node.id] - {index}
+                    if binders and not binders <= together:
+                        return True
+    return False
+
+
+def _calls_removed_helpers(function: ast.AST) -> bool:
+    """``seeding.hash_seed(...)`` and the like (GM506): calling this seed() would fail."""
+    return any(
+        isinstance(node, ast.Attribute) and node.attr in REMOVED_SEEDING_HELPERS and full_name(node.value) == "seeding"
+        for node in ast.walk(function)
+    )
+
+
+def _keep_as_helper(decision: ClassDecision, seed_method: ast.FunctionDef | ast.AsyncFunctionDef) -> None:
+    """seed() stays as it is (``seeding.np_random`` still exists) and reset() calls it with
+    the seed it is given, as ``env.seed(s); env.reset()`` did."""
+    reset = decision.method("reset")
+    if reset is None:
+        decision.report(seed_method, "GM503", "seed() does more than seed np_random and this class has no reset(); call it from reset() under `if seed is not None:`", FixKind.FLAG)
+        return
+    if any(
+        isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == seed_method.name
+        and isinstance(node.func.value, ast.Name) and node.func.value.id == "self"
+        for node in ast.walk(reset)
+    ):
+        return  # reset() calls it already (migrated)
+    decision.plan.seed = SeedPlan(keep=True)
+    decision.report(
+        seed_method,
+        "GM503",
+        "seed() kept as a helper: besides seeding np_random it builds state from the seeded generator or from its own "
+        "locals, which cannot be split up; reset() now calls it when given a seed, as `env.seed(s)` before reset() did",
+        FixKind.ASSIST,
+    )
 
 
 def _untraced_seed_call(decision: ClassDecision) -> ast.Call | None:

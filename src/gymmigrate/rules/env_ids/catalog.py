@@ -77,6 +77,17 @@ REMOVED_FAMILIES: tuple[tuple[re.Pattern[str], str], ...] = (
     ),
     (re.compile(r"^(Striker|Thrower)-v\d+$"), "Striker/Thrower were removed in gym 0.23 (archived in Gym-Mujoco-Archive)"),
     (
+        re.compile(r"^[A-Z][A-Za-z0-9]*BulletEnv-v\d+$"),
+        "a pybullet_envs id, registered with gym only: load it through Shimmy "
+        "(`gym.make(\"GymV21Environment-v0\", env_id=...)`, gym and pybullet installed) or use the MuJoCo v5 env",
+    ),
+    (re.compile(r"^Roboschool[A-Za-z0-9]+-v\d+$"), "roboschool is abandoned (no Gymnasium release): use the MuJoCo v5 env"),
+    (
+        re.compile(r"^SuperMarioBros(2)?(RandomStages)?-[A-Za-z0-9-]*v\d+$"),
+        "a gym_super_mario_bros id, registered with gym only: wrap `gym_super_mario_bros.make(...)` with Shimmy "
+        "(`gym.make(\"GymV21Environment-v0\", env=...)`, gym installed)",
+    ),
+    (
         re.compile(r"^(CubeCrash(Sparse|ScreenBecomesBlack)?|MemorizeDigits)-v\d+$"),
         "the gym unittest envs were removed in gym 0.22; vendor the env or pick another",
     ),

@@ -22,7 +22,7 @@ import ast
 from gymmigrate.facts.decisions import Action, receiver_text
 from gymmigrate.facts.module import COMPOUND_STATEMENTS, statement_lines
 from gymmigrate.facts.reset_flow import line_before, segment
-from gymmigrate.findings import FixKind
+from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.reset_seed.call_edits import SeedValue
 from gymmigrate.rules.reset_seed.common import ResetSeedBase, is_space
 
@@ -99,6 +99,7 @@ class SeedCalls(ResetSeedBase):
             f"`{name}.seed(s)` -> `{name}.reset(seed=s)` at the same place: it seeds once here and starts an extra "
             f"episode; later resets continue the seeded stream{why}",
             self._kind(decision),
+            tier=Tier.NOTE if decision.action is Action.REWRITE else None,  # it explains the rewrite: nothing to decide
         )
 
     def _check_space_seed(self, call: ast.Call) -> None:

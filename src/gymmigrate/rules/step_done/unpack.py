@@ -15,16 +15,24 @@ binding, and reads whose purpose is unclear, are reported instead.
 from __future__ import annotations
 
 import ast
+import re
 from bisect import bisect_left, bisect_right
 from dataclasses import dataclass
 
 from gymmigrate.edits.lazy import cst
 
 from gymmigrate.facts.decisions import Action, Decision
-from gymmigrate.facts.done_uses import DoneUse, classify_done_read
+from gymmigrate.facts.done_uses import (
+    STORE_METHODS,
+    DoneUse,
+    classify_done_read,
+    loaded_names,
+    stored_in_sequence,
+    value_site,
+)
 from gymmigrate.facts.flow import bound_names, end, start
-from gymmigrate.facts.module import LOOPS, Scope
-from gymmigrate.findings import FixKind
+from gymmigrate.facts.module import FUNCTIONS, LOOPS, Scope, full_name
+from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.step_done.common import StepFamilyBase, StepNames, StepUnpack, looks_vectorised
 
 
@@ -77,6 +85,7 @@ class UnpackRules(StepFamilyBase):
                 self.done_steps.setdefault(group, []).append(_DoneStep(assign, done_target, names))
         else:
             self._keep_done(assign, done_target, names)  # ``self.done``/``dones[i]``: readers cannot be traced
+            self._report_stored_attribute(assign, done_target, names)
         if isinstance(target.elts[3], ast.Name):
             self.info_steps[assign] = names
         message = f"step now returns {names.terminated} and {names.truncated} instead of one done flag"
@@ -132,7 +141,7 @@ class UnpackRules(StepFamilyBase):
             if owner is not None:
                 first = index_of.get(id(owner), bisect_left(starts, end(owner)))
                 if first < len(steps) and steps[first].assign is owner:
-                    if classify_done_read(read, self.facts) is DoneUse.DATA:
+                    if classify_done_read(read, self.facts) is DoneUse.DATA and self._masks_next_state(read, steps[first]):
                         self._claim(read, steps[first])
                         continue
             if not flow.same_frame(read, scope):
@@ -181,17 +190,186 @@ class UnpackRules(StepFamilyBase):
         terminated = step.names.terminated
         self.notes.step_unpacks[step.assign].claimed_reads += 1
         self.plan.replace(read, lambda node: node.with_changes(value=terminated))
+        next_state = self.facts.segment(step.assign.targets[0].elts[0])  # type: ignore[attr-defined]
         self._report_read(
             read,
-            f"`{read.id}` used as a value (target, mask or stored transition) now reads "
-            f"`{terminated}`: a time-limit truncation must still bootstrap; review",
+            f"`{read.id}` masks bootstrapping from the next state `{next_state}` (a target or stored transition): "
+            f"it now reads `{terminated}`, so a time-limit truncation still bootstraps",
             FixKind.ASSIST,
+            Tier.NOTE,  # the Gymnasium migration guide's own rewrite: nothing to decide
         )
+
+    # -- what a value read of ``done`` masks -------------------------------------------------------
+
+    def _masks_next_state(self, read: ast.Name, step: _DoneStep) -> bool:
+        """Does this value read mask bootstrapping from the step's own next observation?
+
+        Only there is ``terminated`` right: the transition stores the next state, or the
+        target computes its value (``r + gamma * (1 - done) * V(s2)``, also through one
+        name: ``mask = 1 - done``). A flag stored per step without the next state (an
+        on-policy rollout whose GAE reads ``values[k + 1]`` of the following step) marks
+        the episode boundary: after a reset that value belongs to the next episode, so
+        the flag stays ``terminated or truncated``.
+        """
+        next_names = self._next_state_names(step)
+        if not next_names:
+            return False
+        facts = self.facts
+        site = value_site(read, facts)
+        if loaded_names(site) & next_names:
+            return True
+        statement = facts.statement_of(read)
+        function = facts.enclosing_function(step.assign) or facts.tree
+        if isinstance(statement, ast.Assign) and site is statement.value:
+            # ``mask = 1 - done`` read by a target that also reads the next state
+            targets = {t.id for t in statement.targets if isinstance(t, ast.Name)}
+            if targets and any(
+                targets & names and names & next_names for names in self._statement_reads(function).values()
+            ):
+                return True
+        if stored_in_sequence(read, facts):
+            # separate lists: ``next_states.append(s2)`` beside ``dones.append(done)``
+            return facts.memo(  # type: ignore[no-any-return]
+                ("stores-next-state", id(step.assign)),
+                lambda: any(self._stores_next_state(node, step, next_names) for node in ast.walk(function)),
+            )
+        return False
+
+    def _next_state_names(self, step: _DoneStep) -> set[str]:
+        """The step's observation target and the names computed from it in the same function."""
+        return self.facts.memo(("next-state-names", id(step.assign)), lambda: self._compute_next_state_names(step))  # type: ignore[no-any-return]
+
+    def _compute_next_state_names(self, step: _DoneStep) -> set[str]:
+        first = step.assign.targets[0].elts[0]  # type: ignore[attr-defined]
+        if not isinstance(first, ast.Name) or first.id == "_":
+            return set()
+        names = {first.id}
+        function = self.facts.enclosing_function(step.assign) or self.facts.tree
+
+        def after_step(value: ast.AST) -> bool:  # reads this step's observation, not an earlier one
+            return any(
+                isinstance(node, ast.Name)
+                and node.id == first.id
+                and isinstance(node.ctx, ast.Load)
+                and self.flow.dominates(step.assign, node, first)
+                for node in ast.walk(value)
+            )
+
+        for node in ast.walk(function):
+            if isinstance(node, ast.Assign) and node is not step.assign and len(node.targets) == 1:
+                target = node.targets[0]
+                if isinstance(target, ast.Name) and after_step(node.value):
+                    names.add(target.id)
+                elif isinstance(target, (ast.Tuple, ast.List)) and isinstance(node.value, (ast.Tuple, ast.List)):
+                    for element, value in zip(target.elts, node.value.elts):
+                        if isinstance(element, ast.Name) and after_step(value):
+                            names.add(element.id)
+        return names
+
+    def _statement_reads(self, function: ast.AST) -> dict[int, set[str]]:
+        def compute() -> dict[int, set[str]]:
+            return {
+                id(node): loaded_names(node)
+                for node in ast.walk(function)
+                if isinstance(node, ast.stmt) and not isinstance(node, (*LOOPS, ast.If, ast.With, ast.Try, *FUNCTIONS))
+            }
+
+        return self.facts.memo(("statement-reads", id(function)), compute)  # type: ignore[no-any-return]
+
+    def _stores_next_state(self, node: ast.AST, step: _DoneStep, next_names: set[str]) -> bool:
+        """``next_states.append(s2)`` or ``next_obs_buf[t] = s2`` that runs after the step, in its
+        iteration: a replay memory kept in separate arrays. The store or the value must say
+        "next state" (``next_``, ``new_``, ``s2``, ``s_``): a trajectory log that records each
+        step's observation (``observations.append(obs)``) is not a replay memory."""
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr in STORE_METHODS:
+            values: list[ast.AST] = list(node.args)
+            store = node.func.value
+        elif isinstance(node, ast.Assign) and len(node.targets) == 1 and isinstance(node.targets[0], ast.Subscript):
+            values = [node.value]
+            store = node.targets[0].value
+        else:
+            return False
+        first = step.assign.targets[0].elts[0]  # type: ignore[attr-defined]
+        for value in values:
+            for name in ast.walk(value):
+                if isinstance(name, ast.Name) and name.id in next_names and isinstance(name.ctx, ast.Load):
+                    if not (_says_next(name.id) or _says_next(full_name(store) or "")):
+                        continue
+                    if name.id != first.id or self.flow.dominates(step.assign, name, first):
+                        return True
+        return False
+
+    def _self_attribute_data_reads(self, near: ast.AST, target: ast.expr) -> list[ast.Attribute]:
+        """Reads of ``self.<attr>`` (``target``) in the class around ``near`` that feed a value."""
+        if not (isinstance(target, ast.Attribute) and isinstance(target.value, ast.Name) and target.value.id == "self"):
+            return []
+        classdef = self.facts.enclosing_class(near)
+        if classdef is None:
+            return []
+        return [
+            node
+            for node in self.facts.attributes.get(target.attr, ())
+            if isinstance(node, ast.Attribute)
+            and isinstance(node.ctx, ast.Load)
+            and isinstance(node.value, ast.Name)
+            and node.value.id == "self"
+            and self.facts.enclosing_class(node) is classdef
+            and classify_done_read(node, self.facts) is DoneUse.DATA  # type: ignore[arg-type]
+        ]
+
+    def _report_stored_attribute(self, assign: ast.Assign, target: ast.expr, names: StepNames) -> None:
+        """``obs, r, self.done, info = env.step(a)`` and ``self.done`` stored as a value elsewhere."""
+        for read in self._self_attribute_data_reads(assign, target):
+            if id(read) not in self.reported_reads:
+                self.reported_reads.add(id(read))
+                self.report(
+                    read,
+                    "GM302",
+                    f"`{self.facts.segment(read)}` is set by the step on line {assign.lineno} to "
+                    f"`{names.terminated} or {names.truncated}`; if this value masks bootstrapping from the next state, store "
+                    f"`{names.terminated}` there",
+                    FixKind.FLAG,
+                )
 
     def _report_open_read(self, read: ast.Name, step: _DoneStep) -> None:
         use = classify_done_read(read, self.facts)
         names = step.names
-        if use is DoneUse.DATA:
+        owner = self._dominating_step(read, step.done)
+        statement = self.facts.statement_of(read)
+        stored = (
+            self._self_attribute_data_reads(read, statement.targets[0])
+            if isinstance(statement, ast.Assign) and statement.value is read and len(statement.targets) == 1
+            else []
+        )
+        if stored and any(id(node) in self.reported_reads for node in stored):
+            self.reported_reads.add(id(read))  # the stored value is reported already: one item
+        elif stored:
+            self._report_read(
+                read,
+                f"`{read.id}` is kept in `{self.facts.segment(statement.targets[0])}` and stored as a value on line "  # type: ignore[attr-defined]
+                f"{stored[0].lineno}; it means `{names.terminated} or {names.truncated}`: if it masks bootstrapping "
+                f"from the next state, store `{names.terminated}`",
+                FixKind.FLAG,
+            )
+        elif use is DoneUse.DATA and owner is step.assign and stored_in_sequence(read, self.facts):
+            # one question per step: its other stores are notes pointing at the first
+            tier, same = self.rollout_advice.tier(id(step.assign), read)
+            self._report_read(
+                read,
+                f"`{read.id}` is stored per step without the next state (a rollout or a log): it stays "
+                f"`{names.terminated} or {names.truncated}`, the episode boundary. To bootstrap time-limit "
+                f"truncations, also keep the value of the final observation and mask it with `{names.terminated}`{same}",
+                FixKind.FLAG,
+                tier,
+            )
+        elif use is DoneUse.DATA and owner is step.assign:
+            self._report_read(
+                read,
+                f"`{read.id}` used as a value now means `{names.terminated} or {names.truncated}`; if it masks "
+                f"bootstrapping from the next state, use `{names.terminated}` there",
+                FixKind.FLAG,
+            )
+        elif use is DoneUse.DATA:
             self._report_read(
                 read,
                 f"`{read.id}` used as a value may not come from the step on line {step.assign.lineno}; "
@@ -206,10 +384,10 @@ class UnpackRules(StepFamilyBase):
                 FixKind.FLAG,
             )
 
-    def _report_read(self, read: ast.Name, message: str, kind: FixKind) -> None:
+    def _report_read(self, read: ast.Name, message: str, kind: FixKind, tier: Tier | None = None) -> None:
         if id(read) not in self.reported_reads:
             self.reported_reads.add(id(read))
-            self.report(read, "GM302", message, kind)
+            self.report(read, "GM302", message, kind, tier)
 
     def _declared_outside(self, node: ast.AST, name: str) -> bool:
         function = self.facts.enclosing_function(node)
@@ -241,6 +419,15 @@ class UnpackRules(StepFamilyBase):
     def _step_flag_names(self, scope: Scope) -> set[str]:
         """Names that only ever hold step flags in ``scope`` (safe to bind again)."""
         return self.facts.memo(("step-flag-names", id(scope.node)), lambda: _collect_flag_names(scope.node))  # type: ignore[no-any-return]
+
+
+_NEXT_WORDS = re.compile(r"(^|_|\.)(next|new)|next_?$|(^|_|\.)(s|o|obs|state|x)(2|_|p|tp1|_tp1|_next|_prime)$", re.IGNORECASE)
+
+
+def _says_next(name: str) -> bool:
+    """``next_states``, ``new_obs``, ``s2``, ``s_``, ``obs_tp1``, ``self.next_obs_buf``."""
+    last = name.rsplit(".", 1)[-1]
+    return bool(_NEXT_WORDS.search(last)) or last.endswith("2")
 
 
 def _fresh(base: str, taken: set[str], compatible: set[str]) -> str:

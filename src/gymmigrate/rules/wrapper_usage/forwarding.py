@@ -29,7 +29,7 @@ from gymmigrate.facts import names as N
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.module import FUNCTIONS, call_argument, dotted_name, own_returns
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.findings import FixKind
+from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.repeats import Repeats
 from gymmigrate.rules.wrapper_usage.tables import (
@@ -157,7 +157,7 @@ class WrapperForwarding(RuleFamily):
             return
         if name == "_max_episode_steps":
             if origin == MADE:
-                self.report(attr, code, "`_max_episode_steps` is read from the spec: `.spec.max_episode_steps`")
+                self.report(attr, code, "`_max_episode_steps` is read from the spec: `.spec.max_episode_steps`", tier=Tier.NOTE)
                 self.plan.replace(attr, _through("spec", "max_episode_steps"))
                 return
             self.report(
@@ -165,6 +165,7 @@ class WrapperForwarding(RuleFamily):
                 code,
                 "`_max_episode_steps` is on the TimeLimit wrapper, not forwarded any more: read it with "
                 "get_wrapper_attr (env.spec may be None for an env built without make)",
+                tier=Tier.NOTE,  # the same attribute forwarding reached: an explanation
             )
             self.plan.replace(attr, _get_wrapper_attr(name))
             return
@@ -174,6 +175,7 @@ class WrapperForwarding(RuleFamily):
                 code,
                 f"attribute forwarding is gone in Gymnasium 1.0: `{name}` belongs to the base env, read it through "
                 "`.unwrapped`",
+                tier=Tier.NOTE,
             )
             self.plan.replace(attr, _through("unwrapped", name))
             return
@@ -182,6 +184,7 @@ class WrapperForwarding(RuleFamily):
             code,
             f"attribute forwarding is gone in Gymnasium 1.0: `get_wrapper_attr(\"{name}\")` searches the wrappers "
             "and the base env as forwarding did",
+            tier=Tier.NOTE,
         )
         self.plan.replace(attr, _get_wrapper_attr(name))
 

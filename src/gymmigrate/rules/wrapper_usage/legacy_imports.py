@@ -19,6 +19,7 @@ from gymmigrate.rules.imports import (
     REMOVED_NAMES,
     migrated_path,
     removed_module_hint,
+    removed_name_hint,
     under_gym,
 )
 
@@ -42,7 +43,9 @@ class LegacyImports:
             rest = under_gym(statement.module)
             if rest is None:
                 return False
-            return (removed_module_hint(rest) is not None) or any((rest, alias.name) in REMOVED_NAMES for alias in statement.names)
+            return (removed_module_hint(rest) is not None) or any(
+                removed_name_hint(rest, alias.name) is not None for alias in statement.names
+            )
         return any(removed_module_hint(under_gym(alias.name) or "") is not None for alias in statement.names if under_gym(alias.name))
 
     def binds_legacy(self, expr: ast.AST) -> bool:

@@ -27,7 +27,7 @@ from gymmigrate.edits.lazy import cst
 from gymmigrate.edits.arguments import append_keyword
 from gymmigrate.edits.syntax import dotted_node
 from gymmigrate.facts.module import dotted_name, keyword
-from gymmigrate.findings import FixKind
+from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.wrapper_usage.arguments import positional
 
 if TYPE_CHECKING:
@@ -74,7 +74,7 @@ def plan_monitor(family: StacksFamily, call: ast.Call) -> MonitorRewrite | None:
     where = {name: _argument_slot(call, value) for name, value in values.items()}
 
     if isinstance(trigger, ast.Constant) and trigger.value is False:
-        family.report(call, "GM611", f"Monitor without videos is RecordEpisodeStatistics{note}")
+        family.report(call, "GM611", f"Monitor without videos is RecordEpisodeStatistics{note}", tier=None if note else Tier.NOTE)
 
         def stats_only(node: cst.Call) -> cst.BaseExpression:
             return cst.Call(
@@ -106,6 +106,7 @@ def plan_monitor(family: StacksFamily, call: ast.Call) -> MonitorRewrite | None:
         "GM611",
         "Monitor is RecordVideo(RecordEpisodeStatistics(env)): the env must be made with "
         f"render_mode=\"rgb_array\" for videos{note}",
+        tier=None if note else Tier.NOTE,  # dropped arguments are a question; the rest explains the rewrite
     )
     family.plan.replace(call, record_video)
     _plan_render_mode(family, call, env)
@@ -139,6 +140,7 @@ def _plan_render_mode(family: StacksFamily, consumer: ast.Call, env: ast.expr) -
                 "GM407",
                 FixKind.ASSIST,
                 f'added render_mode="{RGB_ARRAY}" to {summary} so RecordVideo gets frames',
+                Tier.NOTE,
             )
 
 

@@ -36,7 +36,7 @@ from gymmigrate.edits.syntax import dotted_node
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.module import dotted_name, string_value
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.findings import FixKind
+from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.repeats import Repeats
 from gymmigrate.rules.wrapper_usage.arguments import HANDLERS, positional
@@ -174,7 +174,9 @@ class WrapperRenames(RuleFamily):
                 elif rest != "wrappers":
                     edit.module = "wrappers"
                 self._monitor_imports.append(edit)
-                self.report(statement, "GM611", "`Monitor` is gone: it is replaced by RecordVideo and RecordEpisodeStatistics")
+                self.report(
+                    statement, "GM611", "`Monitor` is gone: it is replaced by RecordVideo and RecordEpisodeStatistics", tier=Tier.NOTE
+                )
         if edit.changed:
             self._import_edits[statement] = edit
 

@@ -3,7 +3,9 @@
 ``return obs, reward, done, info`` -> ``return obs, reward, terminated, truncated, info``
 with the flags of the override's inner step unpack, as the step family rewrote it
 (``notes.step_unpacks``) or as it already was (five targets). When the override
-changes ``done`` itself, its own end condition is returned as truncation, for review. The
+changes ``done`` itself, its own end condition is returned as truncation, for review,
+except a lost life (baselines' ``EpisodicLifeEnv``): that sets ``terminated``, as
+Stable-Baselines3's port does. The
 ``done = terminated or truncated`` line the step family inserts is withdrawn when the
 return was its last reader.
 """
@@ -11,6 +13,7 @@ return was its last reader.
 from __future__ import annotations
 
 import ast
+import re
 
 from gymmigrate.edits.lazy import cst
 
@@ -42,6 +45,21 @@ class StepOverrides(RuleFamily):
             if line not in unpacks and line is not done_line and name in _assigned_names(line) and not _is_initializer(line)
         ]
         return bool(changes) and all(_sets_done_on_limit(line, name, self.facts.parent(line)) for line in changes)
+
+    def _life_loss_sets(
+        self, lines: list[ast.stmt], name: str, done_line: ast.stmt | None, unpacks: dict[ast.stmt, StepUnpack | None]
+    ) -> list[ast.Assign]:
+        """The ``done = True`` lines of baselines' ``EpisodicLifeEnv`` pattern (``if lives <
+        self.lives and lives > 0: done = True``), when they are the only changes of ``name``
+        after the inner step; else nothing."""
+        changes = [
+            line
+            for line in lines
+            if line not in unpacks and line is not done_line and name in _assigned_names(line) and not _is_initializer(line)
+        ]
+        if changes and all(_sets_done_on_life_loss(line, self.facts.parent(line)) for line in changes):
+            return changes  # type: ignore[return-value]
+        return []
 
     def _fix_step(self, function: ast.FunctionDef | ast.AsyncFunctionDef) -> None:
         """Return the inner step's terminated/truncated instead of ``done``.
@@ -169,6 +187,22 @@ class StepOverrides(RuleFamily):
                     "truncated per agent by hand",
                     kind=FixKind.FLAG,
                 )
+            elif isinstance(done, ast.Name) and done_name is not None and done.id == done_name and (
+                life_losses := self._life_loss_sets(lines, done_name, done_line, unpacks)
+            ):
+                # A lost life ends the agent's episode: Stable-Baselines3's EpisodicLifeEnv
+                # returns it as ``terminated=True`` and keeps ``truncated`` from the inner step.
+                self.report(
+                    ret,
+                    "GM602",
+                    "this step override ends the episode on a lost life (the EpisodicLifeEnv pattern): a lost life "
+                    f"sets `{terminated}` as Stable-Baselines3 does; `{truncated}` stays the inner step's",
+                    kind=FixKind.ASSIST,
+                    tier=Tier.NOTE,
+                )
+                for life_loss in life_losses:
+                    self.plan.insert_after(life_loss, f"{terminated} = True")
+                self.plan.replace(value, lambda node, t=terminated, u=truncated: _five(node, [cst.Name(t), cst.Name(u)]))
             else:
                 self.report(
                     ret,
@@ -254,6 +288,34 @@ def _sets_done_on_limit(line: ast.stmt, name: str, parent: ast.AST | None) -> bo
         rest = [v for v in value.values if not (isinstance(v, ast.Name) and v.id == name)]
         return len(rest) == len(value.values) - 1 and all(is_step_limit(v) for v in rest)
     return False
+
+
+_LIFE_WORDS = re.compile(r"\blives?\b|life", re.IGNORECASE)
+
+
+def _sets_done_on_life_loss(line: ast.stmt, parent: ast.AST | None) -> bool:
+    """``done = True`` alone in an ``if`` that tests the number of lives."""
+    return (
+        isinstance(line, ast.Assign)
+        and len(line.targets) == 1
+        and isinstance(line.targets[0], ast.Name)
+        and isinstance(line.value, ast.Constant)
+        and line.value.value is True
+        and isinstance(parent, ast.If)
+        and line in parent.body
+        and not parent.orelse
+        and any(_LIFE_WORDS.search(_identifier(node)) for node in ast.walk(parent.test))
+    )
+
+
+def _identifier(node: ast.AST) -> str:
+    if isinstance(node, ast.Name):
+        return node.id
+    if isinstance(node, ast.Attribute):
+        return node.attr
+    if isinstance(node, ast.Constant) and isinstance(node.value, str):
+        return node.value
+    return ""
 
 
 def _has_other_assignments(

@@ -1,0 +1,124 @@
+"""The dependency-file formats and their migration (``gymmigrate.dependencies`` loads this
+with the first dependency file of a run, so runs over Python files never import the
+parsers: ``packaging``, the TOML scanner)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, replace
+from pathlib import Path, PurePath
+from typing import TYPE_CHECKING
+
+from gymmigrate.dependencies import DependencyError, kind_of
+from gymmigrate.dependencies.core import apply_edits
+from gymmigrate.dependencies.lines import migrate_environment, migrate_requirements, migrate_setup_cfg
+from gymmigrate.dependencies.pyproject import PyprojectError, migrate_pyproject
+from gymmigrate.dependencies.setup_py import SetupPyError, migrate_setup_py
+from gymmigrate.dependencies.shell import migrate_dockerfile, migrate_page
+from gymmigrate.engine import LineMap
+from gymmigrate.findings import Finding
+
+if TYPE_CHECKING:
+    from gymmigrate.selection import Selection
+
+
+@dataclass(frozen=True)
+class DependencyResult:
+    rewritten: bytes
+    findings: list[Finding]
+
+    def __iter__(self):  # ``rewritten, findings = migrate_dependency_file(...)``
+        return iter((self.rewritten, self.findings))
+
+
+def _requirements(text: str):
+    return migrate_requirements(text)
+
+
+def _environment(text: str):
+    return migrate_environment(text)
+
+
+def _setup_cfg(text: str):
+    return migrate_setup_cfg(text)
+
+
+def _setup_py(text: str):
+    try:
+        return migrate_setup_py(text)
+    except SetupPyError as exc:
+        raise DependencyError(str(exc)) from None
+
+
+def _pyproject(text: str):
+    try:
+        return migrate_pyproject(text)
+    except PyprojectError as exc:
+        raise DependencyError(str(exc)) from None
+
+
+def _dockerfile(text: str):
+    return migrate_dockerfile(text)
+
+
+# The kind of a dependency file (``dependencies.kind_of``) -> its handler.
+HANDLERS: dict[str, Callable] = {
+    "requirements": _requirements,
+    "setup.py": _setup_py,
+    "setup.cfg": _setup_cfg,
+    "pyproject.toml": _pyproject,
+    "environment.yml": _environment,
+    "dockerfile": _dockerfile,
+}
+
+
+def _decode(source: bytes) -> tuple[str, bool]:
+    bom = source.startswith(b"\xef\xbb\xbf")
+    try:
+        return source[3 if bom else 0 :].decode("utf-8"), bom
+    except UnicodeDecodeError as exc:
+        raise DependencyError(f"cannot decode the file as UTF-8 ({exc.reason} at byte {exc.start}); left unchanged") from None
+
+
+def _run(handler: Callable, source: bytes, selection: Selection | None = None) -> DependencyResult:
+    def allowed(code: str) -> bool:
+        return selection is None or selection.allows(code)
+
+    text, bom = _decode(source)
+    outcome = handler(text)
+    # --select/--ignore: a rule left out neither reports nor fixes.
+    edits = [edit for edit in outcome.edits if allowed(edit.code)]
+    findings = sorted(
+        [finding for finding in outcome.findings if allowed(finding.rule)]
+        + [companion for edit in edits for companion in edit.companions if allowed(companion.rule)]
+    )
+    if not edits:
+        return DependencyResult(source, findings)
+    new_text = apply_edits(text, edits)
+    rewritten = (b"\xef\xbb\xbf" if bom else b"") + new_text.encode("utf-8")
+    if rewritten == source:
+        return DependencyResult(source, findings)
+    line_map = LineMap(text, new_text)
+    return DependencyResult(rewritten, [replace(f, line_after=line_map.forward(f.line)) for f in findings])
+
+
+def migrate_dependency_file(path: Path | str, source: bytes, *, selection: Selection | None = None) -> DependencyResult:
+    """The migrated bytes of a dependency file and what was changed or must be reviewed.
+
+    Raises DependencyError when the file cannot be read as its kind, or when the rewrite
+    would not be stable (a second run would change it again).
+    """
+    kind = kind_of(path)
+    if kind is None:
+        raise DependencyError("not a dependency file")
+    handler = HANDLERS[kind]
+    result = _run(handler, source, selection)
+    if result.rewritten != source and _run(handler, result.rewritten, selection).rewritten != result.rewritten:
+        raise DependencyError("the dependency rewrite is not stable (a second run would change it again); file left unchanged")
+    return result
+
+
+def migrate_page_commands(path: Path | str, source: bytes, *, selection: Selection | None = None) -> DependencyResult:
+    """``pip install`` lines in the shell/console code blocks of a Markdown or RST page."""
+    markdown = PurePath(path).suffix.lower() in (".md", ".markdown")
+    return _run(lambda text: migrate_page(text, markdown), source, selection)

@@ -1,0 +1,104 @@
+"""GM616: gym < 0.9 wrapper hooks ``_observation`` / ``_action`` / ``_reverse_action`` /
+``_reward`` become ``observation`` / ``action`` / ``reverse_action`` / ``reward``.
+
+Before gym 0.9.6 ``ObservationWrapper.step`` called ``self._observation(obs)``, and so on
+for actions and rewards. Gymnasium's wrappers call the public names only, so an old
+wrapper's hook is never called and the wrapper silently passes everything through. The
+hook is renamed where the class derives from a Gym wrapper and does not define the
+public name too; its own ``self._observation(...)`` calls follow. The old ``_step`` /
+``_reset`` / ``_render`` / ``_seed`` / ``_close`` of a wrapper change their contract as
+well (five values, ``(obs, info)``): those are reported, to rename and run again.
+"""
+
+from __future__ import annotations
+
+import ast
+
+from gymmigrate.facts import ModuleFacts
+from gymmigrate.findings import FixKind
+from gymmigrate.rules.base import FileContext, Rule, RuleFamily
+
+HOOKS = {"_observation": "observation", "_action": "action", "_reverse_action": "reverse_action", "_reward": "reward"}
+# The Gym wrapper class whose step called each hook.
+HOOK_BASES = {
+    "_observation": "ObservationWrapper",
+    "_action": "ActionWrapper",
+    "_reverse_action": "ActionWrapper",
+    "_reward": "RewardWrapper",
+}
+API_METHODS = {"_step": "step", "_reset": "reset", "_render": "render", "_seed": "seed", "_close": "close"}
+
+
+class LegacyWrapperHooks(RuleFamily):
+    RULES = (
+        Rule(
+            "GM616",
+            "gym < 0.9 wrapper hooks",
+            FixKind.AUTO,
+            "`_observation` / `_action` / `_reward` hooks of a wrapper become `observation` / `action` / `reward`.",
+        ),
+    )
+
+    @classmethod
+    def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
+        return any(f"def {name}(" in facts.text for name in (*HOOKS, *API_METHODS))
+
+    def decide(self) -> None:
+        for classdef in self.facts.all_classes:
+            if not self.receivers.is_gym_wrapper_class(classdef):
+                continue
+            methods = {s.name: s for s in classdef.body if isinstance(s, (ast.FunctionDef, ast.AsyncFunctionDef))}
+            bases, inherited = self._ancestry(classdef)
+            renames = {
+                old: new
+                for old, new in HOOKS.items()
+                if old in methods and new not in methods and new not in inherited and HOOK_BASES[old] in bases
+            }
+            for old, new in renames.items():
+                self.plan.replace(methods[old], lambda node, new=new: node.with_changes(name=node.name.with_changes(value=new)))
+                for call in self._self_calls(classdef, old):
+                    self.plan.replace(call.func, lambda node, new=new: node.with_changes(attr=node.attr.with_changes(value=new)))
+                self.report(
+                    methods[old],
+                    "GM616",
+                    f"gym < 0.9 wrapper hook `{old}` renamed `{new}`: Gymnasium's wrappers call `{new}` only",
+                )
+            for old, new in API_METHODS.items():
+                if old in methods and new not in methods:
+                    self.report(
+                        methods[old],
+                        "GM616",
+                        f"gym < 0.9 wrapper method `{old}` is never called by Gymnasium: rename it `{new}` and run "
+                        "gymmigrate again to migrate its contract",
+                        FixKind.FLAG,
+                    )
+
+    def _ancestry(self, classdef: ast.ClassDef) -> tuple[set[str], set[str]]:
+        """The Gym wrapper classes ``classdef`` derives from (last name: ``ObservationWrapper``),
+        and the methods its local base classes define."""
+        bases: set[str] = set()
+        inherited: set[str] = set()
+        seen: set[int] = {id(classdef)}
+        todo = [classdef]
+        while todo:
+            current = todo.pop()
+            for base in current.bases:
+                local = self.receivers.local_class(base)
+                if local is not None and id(local) not in seen:
+                    seen.add(id(local))
+                    inherited.update(s.name for s in local.body if isinstance(s, (ast.FunctionDef, ast.AsyncFunctionDef)))
+                    todo.append(local)
+                    continue
+                for qualified in self.facts.qualified_names(base):
+                    bases.add(qualified.rsplit(".", 1)[-1])
+        return bases, inherited
+
+    def _self_calls(self, classdef: ast.ClassDef, name: str) -> list[ast.Call]:
+        return [
+            call
+            for call in self.facts.attribute_calls.get(name, ())
+            if isinstance(call.func, ast.Attribute)
+            and isinstance(call.func.value, ast.Name)
+            and call.func.value.id == "self"
+            and self.facts.enclosing_class(call) is classdef
+        ]
