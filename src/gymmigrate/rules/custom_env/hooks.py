@@ -39,7 +39,7 @@ def local_subclasses(decision: ClassDecision) -> list[ast.ClassDef]:
                     children.setdefault(id(parent), []).append(classdef)
         return children
 
-    children: dict[int, list[ast.ClassDef]] = facts.memo(("local-subclasses",), compute)  # type: ignore[assignment]
+    children: dict[int, list[ast.ClassDef]] = facts.memo(("local-subclasses", 0), compute)
     found: list[ast.ClassDef] = []
     todo = [decision.classdef]
     while todo:

@@ -207,9 +207,11 @@ class ClassRewrite:
             if _is_inner_reset(ret.value, self.plan.inner_reset_receivers):
                 # the held env's reset returns (obs, info) itself; a bare call gets the seed
                 # and options, or the env could not be reset reproducibly (check_env fails)
-                if not ret.value.args:  # type: ignore[attr-defined]
-                    passed = cst.parse_expression("f(seed=seed, options=options)").args  # type: ignore[attr-defined]
-                    return ret.with_changes(value=ret.value.with_changes(args=passed))  # type: ignore[attr-defined]
+                call = ret.value
+                if isinstance(call, cst.Call) and not call.args:
+                    bare = cst.parse_expression("f(seed=seed, options=options)")
+                    assert isinstance(bare, cst.Call)
+                    return ret.with_changes(value=call.with_changes(args=bare.args))
                 return ret
             value = ret.value
             if isinstance(value, cst.Tuple) and not value.lpar:

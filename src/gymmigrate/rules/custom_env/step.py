@@ -10,10 +10,20 @@ from __future__ import annotations
 
 import ast
 
-from gymmigrate.facts.env_classes import FunctionIndex, identifiers, is_super_method_call
+from gymmigrate.facts.env_classes import (
+    FunctionIndex,
+    identifiers,
+    is_super_method_call,
+)
 from gymmigrate.facts.module import own_returns
 from gymmigrate.findings import FixKind, Tier
-from gymmigrate.rules.custom_env.common import ClassDecision, Method, delegates, inner_gym_env_call, tuple_len
+from gymmigrate.rules.custom_env.common import (
+    ClassDecision,
+    Method,
+    delegates,
+    inner_gym_env_call,
+    tuple_len,
+)
 from gymmigrate.rules.custom_env.hooks import overrides, step_override_migratable, where
 from gymmigrate.rules.custom_env.plans import STEP_LIMIT_WORD, truncated_false_message
 

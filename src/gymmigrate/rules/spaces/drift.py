@@ -31,8 +31,8 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.edits.lazy import cst
-from gymmigrate.facts import names as N
 from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts import names as N
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 
@@ -89,7 +89,7 @@ class SpaceDrift(RuleFamily):
                     self._decide_size(call, name)
 
     def _compares(self) -> list[ast.Compare]:
-        return self.facts.memo(("space-drift-compares",), lambda: [n for n in ast.walk(self.facts.tree) if isinstance(n, ast.Compare)])  # type: ignore[no-any-return]
+        return self.facts.memo(("space-drift-compares", 0), lambda: [n for n in ast.walk(self.facts.tree) if isinstance(n, ast.Compare)])
 
     # -- what an expression is -----------------------------------------------------------
 
@@ -288,7 +288,7 @@ def _json_values(expr: ast.expr) -> list[ast.expr]:
 # -- building the new code ------------------------------------------------------------------
 
 
-def _add_integer(numpy: str):  # type: ignore[no-untyped-def]
+def _add_integer(numpy: str):
     """``int`` -> ``(int, np.integer)``; ``(int, float)`` -> ``(int, float, np.integer)``."""
 
     def build(node: cst.BaseExpression) -> cst.BaseExpression:
@@ -303,7 +303,7 @@ def _add_integer(numpy: str):  # type: ignore[no-untyped-def]
     return build
 
 
-def _isinstance_of(classes: str, negated: bool):  # type: ignore[no-untyped-def]
+def _isinstance_of(classes: str, negated: bool):
     def build(node: cst.Comparison) -> cst.BaseExpression:
         typed = node.left if _is_type_call(node.left) else node.comparisons[0].comparator
         value = typed.args[0].value  # type: ignore[attr-defined]
@@ -322,5 +322,6 @@ def _is_type_call(node: cst.BaseExpression) -> bool:
     return isinstance(node, cst.Call) and isinstance(node.func, cst.Name) and node.func.value == "type"
 
 
-def _int_of(node: cst.BaseExpression) -> cst.BaseExpression:
+def _int_of(node: cst.CSTNode) -> cst.CSTNode:
+    assert isinstance(node, cst.BaseExpression)
     return cst.Call(func=cst.Name("int"), args=[cst.Arg(node.with_changes(lpar=[], rpar=[]))])
