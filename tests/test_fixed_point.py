@@ -14,7 +14,7 @@ import pytest
 from gymmigrate.engine import MAX_ROUNDS, transform_source
 from gymmigrate.findings import FixKind
 from gymmigrate.rules import PIPELINE
-from gymmigrate.rules.base import _FAMILIES, Rule, RuleFamily, set_pipeline
+from gymmigrate.rules.base import _FAMILIES, FamilySpec, Rule, RuleFamily, set_pipeline
 from gymmigrate.source_text import TransformError
 
 
@@ -22,7 +22,7 @@ from gymmigrate.source_text import TransformError
 def registered(family: type[RuleFamily]) -> Iterator[None]:
     if family not in _FAMILIES:  # registered when its class was made; again for a second use
         _FAMILIES.append(family)
-    set_pipeline((*PIPELINE, family.__name__))
+    set_pipeline((*PIPELINE, FamilySpec(family.__name__, __name__)))
     try:
         yield
     finally:

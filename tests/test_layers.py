@@ -261,7 +261,7 @@ def test_the_pipeline_runs_every_family_after_those_whose_notes_it_reads() -> No
     from gymmigrate.rules import PIPELINE, registered_families
 
     order = [family.__name__ for family in registered_families()]
-    assert order == list(PIPELINE)
+    assert order == [spec.name for spec in PIPELINE]
     for family in registered_families():
         for writer in family.after:
             assert order.index(writer) < order.index(family.__name__), (family.__name__, writer)
@@ -274,13 +274,14 @@ def test_a_pipeline_that_runs_a_reader_first_is_refused() -> None:
     from gymmigrate.rules.base import registered_families, set_pipeline
 
     swapped = list(PIPELINE)
-    reader, writer = swapped.index("WrapperClasses"), swapped.index("StepDone")
+    names = [spec.name for spec in swapped]
+    reader, writer = names.index("WrapperClasses"), names.index("StepDone")
     swapped[reader], swapped[writer] = swapped[writer], swapped[reader]
     try:
         set_pipeline(tuple(swapped))
         with pytest.raises(RuntimeError, match="WrapperClasses reads the notes of StepDone"):
             registered_families()
-        set_pipeline(tuple(name for name in PIPELINE if name != "Imports"))
+        set_pipeline(tuple(spec for spec in PIPELINE if spec.name != "Imports"))
         with pytest.raises(RuntimeError, match="families not listed"):
             registered_families()
     finally:

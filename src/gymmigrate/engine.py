@@ -25,7 +25,7 @@ from gymmigrate.edits.plan import Plan
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.receivers import Receivers
 from gymmigrate.findings import Finding
-from gymmigrate.rules import registered_families
+from gymmigrate.rules import families_for
 from gymmigrate.facts.profile import FileProfile
 from gymmigrate.options import RewriteOptions
 from gymmigrate.rules.base import FileContext, RuleFamily
@@ -91,7 +91,7 @@ def plan_file(tree: ast.Module, text: str, path: str, options: RewriteOptions) -
     if skips_file(text, first_statement_line(tree)):
         return plan
     receivers = Receivers(facts, options.project.view(path) if options.project is not None else None)
-    for family in registered_families():
+    for family in families_for(text):
         if not _family_selected(family, options.selection) or not family.may_fire(facts, context):
             continue
         plan.deciding = family.__name__

@@ -40,17 +40,18 @@ class Flags:
         """Flags win over the file; ``extend-*`` from both add up. Raises SelectionError."""
         select = parse_selectors(self.select)
         ignore = parse_selectors(self.ignore)
-        selection = Selection.from_selectors(
+        selectors = (
             select if select is not None else config.select,
             ignore if ignore is not None else config.ignore,
             [*config.extend_select, *(parse_selectors(self.extend_select) or [])],
             [*config.extend_ignore, *(parse_selectors(self.extend_ignore) or [])],
-            codes=[rule.code for rule in all_rules()],
         )
-        return RewriteOptions(
-            seed=self.seed if self.seed is not None else config.seed,
-            selection=None if selection.every_rule else selection,
-        )
+        seed = self.seed if self.seed is not None else config.seed
+        if selectors[0] is None and not any(selectors[1:]):
+            # Every rule: no need to load every family to learn their codes.
+            return RewriteOptions(seed=seed)
+        selection = Selection.from_selectors(*selectors, codes=[rule.code for rule in all_rules()])
+        return RewriteOptions(seed=seed, selection=None if selection.every_rule else selection)
 
 
 @dataclass

@@ -1,4 +1,4 @@
-"""Rule families, one module each. Importing a module registers its pass.
+"""Rule families, one module each, loaded on first use (``PIPELINE`` below).
 
 Where a rule lives (families decide in the order of ``PIPELINE`` below):
 
@@ -31,54 +31,56 @@ VecEnvs, PettingZoo envs and unrelated objects alone (PettingZoo envs get their 
 rules, PZ101-PZ110, which leave Gym envs alone in turn).
 """
 
-from gymmigrate.rules import (  # noqa: F401  (imported to register their passes)
-    custom_env,
-    dependency_files,
-    env_ids,
-    imports,
-    legacy_hooks,
-    make_kwargs,
-    pettingzoo,
-    rendering,
-    reset_seed,
-    rng,
-    spaces,
-    spaces_logger,
-    step_done,
-    vector,
-    wrapper_usage,
-    wrappers,
+from gymmigrate.rules import dependency_files  # noqa: F401  (declares GM109, GM110, SB110)
+from gymmigrate.rules.base import (
+    FamilySpec,
+    Rule,
+    RuleFamily,
+    families_for,
+    registered_families,
+    set_pipeline,
+    standalone_rules,
 )
-from gymmigrate.rules.base import Rule, RuleFamily, all_rules, registered_families, set_pipeline
 
-# The order families decide in. Each decides on the same original module, so the order
-# matters only where a family reads another's notes (``after``, checked against this
-# list) and for edits several families make to one node (applied in this order).
+_PZ = ("pettingzoo", "supersuit", "agent_iter")  # a PettingZoo import, or an agent_iter() loop
+
+# The order families decide in, each with where it lives and the words without which it
+# cannot fire (its module loads only for a file that spells one). Each decides on the same
+# original module, so the order matters only where a family reads another's notes
+# (``after``, checked against this list) and for edits several families make to one node
+# (applied in this order).
 PIPELINE = (
-    "Imports",
-    "EnvIds",
-    "RegistryApi",
-    "MakeKeywords",
-    "WrapperRenames",
-    "Rendering",
-    "VectorEnvs",
-    "EnvClassFamily",
-    "MetadataKeys",
-    "RewardRange",
-    "EnvClasses",
-    "GeneratorApi",
-    "ResetSeed",
-    "StepDone",
-    "AecLoop",
-    "ParallelCalls",
-    "SeedRender",
-    "WrapperClasses",
-    "WrapperForwarding",
-    "LegacyWrapperHooks",
-    "SpacesLogger",
-    "SpaceDrift",
-    "SpacesAndMake",
+    FamilySpec("Imports", "gymmigrate.rules.imports"),
+    FamilySpec("EnvIds", "gymmigrate.rules.env_ids.ids", ("-v",)),
+    FamilySpec("RegistryApi", "gymmigrate.rules.env_ids.registry", ("registry", "_kwargs", "_env_name")),
+    FamilySpec("MakeKeywords", "gymmigrate.rules.make_kwargs", ("new_step_api", "autoreset", "apply_api_compatibility", "return_info")),
+    FamilySpec("WrapperRenames", "gymmigrate.rules.wrapper_usage.renames", ("wrappers",)),
+    FamilySpec("Rendering", "gymmigrate.rules.rendering", ("render", "single_rgb_array", "RecordVideo", "play", "VecVideoRecorder", "Monitor")),
+    FamilySpec("VectorEnvs", "gymmigrate.rules.vector", ("vector", "VectorEnv", "final_", "terminal_observation")),
+    FamilySpec("EnvClassFamily", "gymmigrate.rules.custom_env.env_class", ("class",)),
+    FamilySpec("MetadataKeys", "gymmigrate.rules.custom_env.metadata", ("render.modes", "video.frames_per_second")),
+    FamilySpec("RewardRange", "gymmigrate.rules.custom_env.reward_range", ("reward_range",)),
+    FamilySpec("EnvClasses", "gymmigrate.rules.pettingzoo.env_classes", _PZ),
+    FamilySpec("GeneratorApi", "gymmigrate.rules.rng", ("np_random", "seeding")),
+    FamilySpec("ResetSeed", "gymmigrate.rules.reset_seed", ("reset", "seed")),
+    FamilySpec("StepDone", "gymmigrate.rules.step_done.family", ("step", "TimeLimit.truncated")),
+    FamilySpec("AecLoop", "gymmigrate.rules.pettingzoo.aec_loop", _PZ),
+    FamilySpec("ParallelCalls", "gymmigrate.rules.pettingzoo.parallel", _PZ),
+    FamilySpec("SeedRender", "gymmigrate.rules.pettingzoo.seed_render", _PZ),
+    FamilySpec("WrapperClasses", "gymmigrate.rules.wrappers.family", ("Wrapper", "wrappers")),
+    FamilySpec("WrapperForwarding", "gymmigrate.rules.wrapper_usage.forwarding", ("gym",)),
+    FamilySpec("LegacyWrapperHooks", "gymmigrate.rules.legacy_hooks", ("def _",)),
+    FamilySpec("SpacesLogger", "gymmigrate.rules.spaces_logger", ("logger", "error", "check_env", "Box", "seed")),
+    FamilySpec("SpaceDrift", "gymmigrate.rules.spaces.drift", ("isinstance", "type(", "json", "MultiBinary", "Discrete", "==")),
+    FamilySpec("SpacesAndMake", "gymmigrate.rules.pettingzoo.spaces_make", _PZ),
 )
 set_pipeline(PIPELINE)
 
-__all__ = ["PIPELINE", "Rule", "RuleFamily", "all_rules", "registered_families"]
+
+def all_rules() -> list[Rule]:
+    """Every rule: those of every family (which loads them all) and the standalone ones."""
+    rules = [rule for family in registered_families() for rule in family.RULES] + standalone_rules()
+    return sorted(rules, key=lambda rule: rule.code)
+
+
+__all__ = ["PIPELINE", "FamilySpec", "Rule", "RuleFamily", "all_rules", "families_for", "registered_families"]

@@ -14,9 +14,11 @@ Adding a rule family is adding a module under ``gymmigrate.rules`` that defines 
 from __future__ import annotations
 
 import ast
+import importlib
+from collections.abc import Iterator
 from functools import lru_cache
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, ClassVar
+from typing import TYPE_CHECKING, ClassVar, NamedTuple
 
 from gymmigrate.facts.profile import FileProfile
 from gymmigrate.findings import FixKind, Tier
@@ -94,35 +96,73 @@ class RuleFamily:
         self.plan.report(node, code, kind or self._rules[code].kind, message, tier)
 
 
-def registered_families() -> list[type[RuleFamily]]:
-    """Every family, in the order of ``PIPELINE`` (``rules/__init__.py``)."""
-    return list(_ordered_families())
+class FamilySpec(NamedTuple):
+    """One family in the pipeline: where it lives, and the words without which it cannot fire.
+
+    A family's module is imported the first time a file spells one of ``words`` (None:
+    every file), so ``check`` on a file pays only for the families that may fire on it.
+    The words are a necessary condition of the family's ``may_fire``, which still decides
+    (``tests/test_pipeline.py`` holds every fixture to that).
+    """
+
+    name: str  # the RuleFamily subclass
+    module: str  # the module that defines it
+    words: tuple[str, ...] | None = None
+
+    def may_fire_in(self, text: str) -> bool:
+        return self.words is None or any(word in text for word in self.words)
+
+    def load(self) -> type[RuleFamily]:
+        found = _by_name().get(self.name)
+        if found is None:
+            importlib.import_module(self.module)  # its classes register themselves
+            found = _by_name().get(self.name)
+        if found is None:
+            raise RuntimeError(f"rules/__init__.py PIPELINE: {self.module} defines no family {self.name}")
+        return found
 
 
-def set_pipeline(names: tuple[str, ...]) -> None:
+def _by_name() -> dict[str, type[RuleFamily]]:
+    return {cls.__name__: cls for cls in _FAMILIES}
+
+
+def set_pipeline(specs: tuple[FamilySpec, ...]) -> None:
     """The order families decide in; each must come after the families it names in ``after``."""
     global _PIPELINE
-    _PIPELINE = names
+    _PIPELINE = specs
     _ordered_families.cache_clear()
 
 
-_PIPELINE: tuple[str, ...] = ()
+_PIPELINE: tuple[FamilySpec, ...] = ()
+
+
+def families_for(text: str) -> Iterator[type[RuleFamily]]:
+    """The families that may fire on ``text``, in pipeline order, loaded on first use."""
+    for spec in _PIPELINE:
+        if spec.may_fire_in(text):
+            yield spec.load()
+
+
+def registered_families() -> list[type[RuleFamily]]:
+    """Every family, in the order of ``PIPELINE`` (``rules/__init__.py``); loads them all."""
+    return list(_ordered_families())
 
 
 @lru_cache(maxsize=1)
 def _ordered_families() -> tuple[type[RuleFamily], ...]:
-    by_name = {cls.__name__: cls for cls in _FAMILIES}
-    missing = sorted(set(by_name) - set(_PIPELINE))
-    unknown = sorted(set(_PIPELINE) - set(by_name))
-    if missing or unknown:
-        raise RuntimeError(f"rules/__init__.py PIPELINE: families not listed {missing}, names without a family {unknown}")
-    for position, name in enumerate(_PIPELINE):
-        for before in by_name[name].after:
+    loaded = [spec.load() for spec in _PIPELINE]
+    names = [spec.name for spec in _PIPELINE]
+    by_name = _by_name()
+    missing = sorted(set(by_name) - set(names))
+    if missing:
+        raise RuntimeError(f"rules/__init__.py PIPELINE: families not listed {missing}")
+    for position, family in enumerate(loaded):
+        for before in family.after:
             if before not in by_name:
-                raise RuntimeError(f"{name}.after names {before!r}, which is no family")
-            if _PIPELINE.index(before) > position:
-                raise RuntimeError(f"{name} reads the notes of {before}, which the PIPELINE runs later")
-    return tuple(by_name[name] for name in _PIPELINE)
+                raise RuntimeError(f"{family.__name__}.after names {before!r}, which is no family")
+            if names.index(before) > position:
+                raise RuntimeError(f"{family.__name__} reads the notes of {before}, which the PIPELINE runs later")
+    return tuple(loaded)
 
 
 # Rules carried out outside the Python engine (``rules/dependency_files.py``).
@@ -136,8 +176,3 @@ def register_rules(*rules: Rule) -> None:
 
 def standalone_rules() -> list[Rule]:
     return list(_STANDALONE_RULES)
-
-
-def all_rules() -> list[Rule]:
-    rules = [rule for cls in registered_families() for rule in cls.RULES] + _STANDALONE_RULES
-    return sorted(rules, key=lambda rule: rule.code)
