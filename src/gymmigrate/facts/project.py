@@ -84,6 +84,10 @@ class ModuleSummary:
     # Top-level name -> the library callable it is bound to (``make = gym.make``,
     # ``from gym import make``): a creation site of the run that takes ``make``'s keywords.
     aliases: dict[str, str] = field(default_factory=dict)
+    # -- method contracts across modules (rules/custom_env/hooks.py) --
+    # Each top-level class with a base imported from elsewhere: (class, qualified base
+    # names as the imports spell them, the methods the class defines).
+    subclasses: tuple[tuple[str, tuple[str, ...], tuple[str, ...]], ...] = ()
 
 
 @dataclass
@@ -110,6 +114,9 @@ class ProjectFacts:
     call_kinds: dict[tuple[str, str], EnvKind] = field(default_factory=dict)
     # (path, top-level name) -> the library callable it stands for, re-exports followed.
     aliases: dict[tuple[str, str], str] = field(default_factory=dict)
+    # (path, class) -> the methods subclasses in other modules of the run override, with
+    # where ("pkg/far.py:FarEnv"): a hook a base class migrates must migrate there too.
+    overrides: dict[tuple[str, str], dict[str, list[str]]] = field(default_factory=dict)
 
     @classmethod
     def join(cls, summaries: list[ModuleSummary], blocked: dict[str, str] | None = None) -> ProjectFacts:
@@ -157,7 +164,22 @@ class ProjectFacts:
                 facts.importers.setdefault(provider, set()).add(summary.path)
         for path in facts.render_called:  # their classes keep render(mode): no render_mode to pass
             facts.render_mode_classes[path] = frozenset()
+        facts._join_overrides(summaries)
         return facts
+
+    def _join_overrides(self, summaries: list[ModuleSummary]) -> None:
+        """Which methods of a run's class are overridden by subclasses in other modules."""
+        for summary in summaries:
+            for name, bases, methods in summary.subclasses:
+                for qualified in bases:
+                    level = len(qualified) - len(qualified.lstrip("."))
+                    parts = qualified.lstrip(".").split(".")
+                    path = self._module_path(parts[:-1], level, summary.path) if len(parts) > 1 else None
+                    if not path or path == summary.path:
+                        continue
+                    found = self.overrides.setdefault((path, parts[-1]), {})
+                    for method in methods:
+                        found.setdefault(method, []).append(f"{summary.path}:{name}")
 
     def _imported_env_modules(self, summary: ModuleSummary, declared: dict[str, ModuleSummary] | None = None) -> set[str]:
         """The other modules of the run with env classes that ``summary``'s module imports
@@ -462,6 +484,9 @@ class ProjectView:
     def defines(self, qualified: str) -> bool:
         """The name comes from a module of the run (its own code, not a library's)."""
         return self.facts._split(qualified, self.path) is not None
+    def overridden_elsewhere(self, classname: str, method: str) -> list[str]:
+        """Subclasses in other modules of the run that override ``classname.method``."""
+        return self.facts.overrides.get((self.path, classname), {}).get(method, [])
 
     def imported_class(self, qualified: str) -> tuple[bool, bool] | None:
         """For an imported class of the run: (is an env class, takes render_mode)."""

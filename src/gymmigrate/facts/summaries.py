@@ -83,6 +83,7 @@ class _Summarizer:
             star_imports=tuple(
                 "." * s.level + (s.module or "") for s in self.facts.tree.body if isinstance(s, ast.ImportFrom) and any(a.name == "*" for a in s.names)
             ),
+            subclasses=_subclasses(self.facts),
         )
 
     def _exports(self, env_classes: set[str]) -> dict[str, Kind]:
@@ -332,3 +333,16 @@ def _is_library(qualified: str) -> bool:
     )
 
 
+
+
+def _subclasses(facts: ModuleFacts) -> tuple[tuple[str, tuple[str, ...], tuple[str, ...]], ...]:
+    """Top-level classes with an imported base: (name, the bases' qualified names, the
+    methods it defines). The join finds which methods of the run's classes are overridden
+    in other modules (method contracts follow their class: rules/custom_env/hooks.py)."""
+    found = []
+    for name, classdef in facts.classes.items():
+        bases = tuple(sorted(q for base in classdef.bases for q in facts.qualified_names(base) if not _is_library(q)))
+        if bases:
+            methods = tuple(s.name for s in classdef.body if isinstance(s, FUNCTIONS))
+            found.append((name, bases, methods))
+    return tuple(found)

@@ -17,12 +17,13 @@ Where a rule lives (families decide in the order of ``PIPELINE`` below):
     GM604-GM606                attribute forwarding ............ wrapper_usage/
     GM616                      gym < 0.9 wrapper hooks ......... legacy_hooks.py
     GM902, GM904, GM906-GM908  spaces, logger, errors, utils ... spaces_logger.py
+    GM903, GM905, GM909, GM910 space drift (ints, dicts, sizes, ==) spaces/drift.py
     PZ101-PZ110                PettingZoo AEC and parallel APIs  pettingzoo/
     GM109, GM110, SB110        dependency declarations ......... dependency_files.py (carried
                                out by gymmigrate.dependencies, not a family)
 
 Not rules (catalog entries that are information only, or that cannot be told apart
-from correct code by syntax): GM306, GM307, GM607, GM903, GM905.
+from correct code by syntax): GM306, GM307, GM607.
 
 Guards (SB102-SB104: Stable-Baselines3 VecEnvs keep their API) are not a pass: every
 call-site rule asks ``gymmigrate.facts`` what the receiver is and leaves SB3
@@ -70,6 +71,7 @@ PIPELINE = (
     FamilySpec("WrapperForwarding", "gymmigrate.rules.wrapper_usage.forwarding", ("gym",)),
     FamilySpec("LegacyWrapperHooks", "gymmigrate.rules.legacy_hooks", ("def _",)),
     FamilySpec("SpacesLogger", "gymmigrate.rules.spaces_logger", ("logger", "error", "check_env", "Box", "seed")),
+    FamilySpec("SpaceDrift", "gymmigrate.rules.spaces.drift", ("isinstance", "type(", "json", "MultiBinary", "Discrete", "==")),
     FamilySpec("SpacesAndMake", "gymmigrate.rules.pettingzoo.spaces_make", _PZ, follows_the_run=True),
 )
 set_pipeline(PIPELINE)

@@ -22,10 +22,8 @@
 * GM908 ``check_env(env, warn=...)``: ``warn`` is ignored (and itself warns) in 1.x, so
   it is dropped. Only Gym's checker: Stable-Baselines3's ``check_env`` keeps ``warn``.
 
-GM903 (``Discrete.sample()`` returns ``np.int64``) and GM905 (``Dict.sample()`` returns
-a ``dict``) are informational and have no rule: legacy code keeps working in nearly
-every use (indexing, arithmetic, key access), and flagging every ``sample()`` would bury
-the review items that matter. The docs list them.
+GM903 (NumPy ints from ``Discrete``) and GM905 (``Dict.sample()`` is a ``dict``) live in
+``rules/spaces/drift.py`` with the other space drift (GM909, GM910).
 
 Sources: Gymnasium 1.4.0 ``spaces/box.py``, ``spaces/space.py``, ``logger.py``,
 ``error.py``, ``utils/env_checker.py``; gym 0.21 ``logger.py`` and ``error.py``.

@@ -4,7 +4,8 @@
 * ``reward_range.py``  GM507 reads of the removed ``reward_range``
 * ``env_class.py``     the family that migrates each env class's methods, deciding with
   ``seed.py`` (GM503), ``reset.py`` (GM501, GM502), ``step.py`` (GM504),
-  ``render.py`` (GM405) and ``observations.py`` (GM508, GM509); ``rebuild.py`` and
+  ``render.py`` (GM405) and ``observations.py`` (GM508, GM509), with ``hooks.py`` (a
+  hook ``step``/``reset`` returns migrates with its overrides, or none does); ``rebuild.py`` and
   ``cst_edits.py`` carry the decisions out on the class's LibCST node.
 """
 

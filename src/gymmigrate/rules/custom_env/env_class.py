@@ -44,6 +44,7 @@ class EnvClassFamily(RuleFamily):
         env = EnvClasses.of(self.facts, self.receivers)
         deleted: list[ast.stmt] = []
         removed_seed = False
+        inherited: dict[int, list[str]] = {}  # subclass -> step hooks its bases migrated (hooks.py)
         for classdef in self.facts.all_classes:
             if not env.is_custom_env(classdef):
                 continue
@@ -59,7 +60,7 @@ class EnvClassFamily(RuleFamily):
                         decision.plan.rename_callers.add(method.name)  # type: ignore[attr-defined]
             decide_seed(decision)
             decide_reset(decision)
-            decide_step(decision)
+            decide_step(decision, inherited)
             decide_render(decision)
             decide_subclass_render_mode(decision)
             decide_internal_calls(decision)

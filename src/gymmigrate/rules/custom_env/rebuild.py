@@ -205,7 +205,14 @@ class ClassRewrite:
             if _is_self_call(ret.value, helpers | retries):
                 return ret  # a helper, or a retry of reset itself, that now returns (obs, info)
             if _is_inner_reset(ret.value, self.plan.inner_reset_receivers):
-                return ret  # the held env's reset returns (obs, info) itself
+                # the held env's reset returns (obs, info) itself; a bare call gets the seed
+                # and options, or the env could not be reset reproducibly (check_env fails)
+                call = ret.value
+                if isinstance(call, cst.Call) and not call.args:
+                    bare = cst.parse_expression("f(seed=seed, options=options)")
+                    assert isinstance(bare, cst.Call)
+                    return ret.with_changes(value=call.with_changes(args=bare.args))
+                return ret
             value = ret.value
             if isinstance(value, cst.Tuple) and not value.lpar:
                 value = value.with_changes(lpar=[cst.LeftParen()], rpar=[cst.RightParen()])

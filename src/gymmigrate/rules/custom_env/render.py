@@ -15,10 +15,12 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts import names as N
-from gymmigrate.facts.creation import CreationFinder
+from gymmigrate.facts.creation import CreationFinder, passes_mode
+from gymmigrate.facts.env_classes import is_super_method_call
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import ClassDecision, method_of, param_names
+from gymmigrate.rules.custom_env.hooks import local_subclasses
 
 if TYPE_CHECKING:
     from gymmigrate.rules.base import RuleFamily
@@ -39,6 +41,17 @@ def decide_render(decision: ClassDecision) -> None:
     if default is not None:
         text = decision.family.facts.segment(default)
         old_default = f" (the old default was {text}: pass render_mode={text} to gymnasium.make to keep it)"
+    own = _own_mode_call(decision)
+    if own is not None:
+        decision.report(
+            function,
+            "GM405",
+            f"render(mode) kept: `{decision.family.facts.segment(own)}` on line {own.lineno} (this class, a base or a "
+            "subclass in this file) asks render() for a mode, a TypeError once render() takes none; render that mode "
+            "another way (or drop the argument), then run again",
+            FixKind.FLAG,
+        )
+        return
     blocking = _unmigrated_mode_call(decision)
     project = decision.family.receivers.project
     if blocking is None and project is not None and project.render_called_elsewhere():
@@ -78,6 +91,38 @@ def decide_render(decision: ClassDecision) -> None:
         return
     if "render_mode" not in param_names(init):
         decision.report(init, "GM405", "__init__ takes render_mode=None (gymnasium.make passes it) and stores self.render_mode", tier=Tier.NOTE)
+
+
+def _own_mode_call(decision: ClassDecision) -> ast.Call | None:
+    """``self.render(mode="ansi")`` (or ``super().render("ansi")``) outside a render method,
+    in a local base or a local subclass: it reaches this render(), and with the mode
+    removed it would be a TypeError; the class keeps render(mode) with the call. The
+    class's own ``self.render(mode)`` calls are rewritten to call the old body kept as a
+    helper (``_plan_internal_renders``), unless a local subclass overrides render: the
+    helper would then bypass the override, so render(mode) is kept for them too."""
+    facts = decision.family.facts
+    subclasses = local_subclasses(decision)
+    hierarchy = [*subclasses]
+    receivers = decision.family.receivers
+    todo = list(decision.classdef.bases)
+    while todo:
+        base = receivers.local_class(todo.pop())
+        if base is not None and base not in hierarchy and base is not decision.classdef:
+            hierarchy.append(base)
+            todo.extend(base.bases)
+    for classdef in hierarchy:
+        for call in (*decision.env.index(classdef).self_calls.get("render", ()), *_super_render_calls(decision, classdef)):
+            if passes_mode(call, facts):
+                return call
+    if any("render" in decision.env.index(sub).methods for sub in subclasses):
+        for call in decision.env.index(decision.classdef).self_calls.get("render", ()):
+            if passes_mode(call, facts):
+                return call
+    return None
+
+
+def _super_render_calls(decision: ClassDecision, classdef: ast.ClassDef) -> list[ast.Call]:
+    return [c for c in decision.env.index(classdef).nodes[ast.Call] if is_super_method_call(c, "render")]  # type: ignore[misc]
 
 
 def decide_subclass_render_mode(decision: ClassDecision) -> None:

@@ -23,6 +23,7 @@ from gymmigrate.rules.custom_env.common import (
     method_of,
     param_names,
 )
+from gymmigrate.rules.custom_env.hooks import overrides
 
 
 def decide_reset(decision: ClassDecision) -> None:
@@ -40,7 +41,8 @@ def decide_reset(decision: ClassDecision) -> None:
     elif not modern:
         base_info = _unpack_super_reset(decision, function)
         # ``def reset(self): return self._reset()``: the helper returns the pair instead.
-        helpers = delegates(decision, function)
+        # A hook subclasses override is not followed: `(self._restart(), {})` is right for each.
+        helpers = [h for h in delegates(decision, function) if overrides(decision, h.name) == ([], [])]
         decision.plan.reset_helpers = [h.name for h in helpers]
         _return_info_pairs(decision, function, base_info, set(decision.plan.reset_helpers))
         for helper in helpers:
@@ -131,6 +133,9 @@ def _return_info_pairs(decision: ClassDecision, function: ast.AST, base_info: st
             # ``return self.env.reset()``: the inner env's reset returns (obs, info) now and
             # the reset rule (GM201) passes it through; adding ``{}`` would nest the pair.
             decision.plan.inner_reset_receivers.add(decision.family.facts.segment(ret.value.func.value))  # type: ignore[attr-defined]
+            if not ret.value.args and not ret.value.keywords:  # type: ignore[attr-defined]
+                held = decision.family.facts.segment(ret.value.func.value)  # type: ignore[attr-defined]
+                decision.report(ret, "GM501", f"reset returns {held}.reset(), (obs, info) in Gymnasium: passed seed and options")
             continue
         decision.report(ret, "GM501", f"reset {why}", kind)
 

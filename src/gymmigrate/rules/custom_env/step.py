@@ -10,28 +10,55 @@ from __future__ import annotations
 
 import ast
 
-from gymmigrate.facts.env_classes import FunctionIndex, identifiers
+from gymmigrate.facts.env_classes import (
+    FunctionIndex,
+    identifiers,
+    is_super_method_call,
+)
 from gymmigrate.facts.module import own_returns
 from gymmigrate.findings import FixKind, Tier
-from gymmigrate.rules.custom_env.common import ClassDecision, Method, delegates, tuple_len
+from gymmigrate.rules.custom_env.common import (
+    ClassDecision,
+    Method,
+    delegates,
+    inner_gym_env_call,
+    tuple_len,
+)
+from gymmigrate.rules.custom_env.hooks import overrides, step_override_migratable, where
 from gymmigrate.rules.custom_env.plans import STEP_LIMIT_WORD, truncated_false_message
 
 _LIMIT_OPS = (ast.Gt, ast.GtE, ast.Lt, ast.LtE, ast.Eq)
 
 
-def decide_step(decision: ClassDecision) -> None:
+def decide_step(decision: ClassDecision, inherited: dict[int, list[str]]) -> None:
+    """``inherited``: per subclass (by id), the hooks a base class of this module migrated,
+    which its overrides migrate with (``hooks.py``); filled as the bases are decided."""
+    for name in inherited.get(id(decision.classdef), ()):
+        override = decision.methods.get(name)
+        if override is not None and name not in decision.plan.step_helpers:
+            decision.plan.step_helpers.append(name)
+            _decide_returns(decision, override, set())
     function = decision.method("step")
     if function is None:
         return
     # ``def step(self, a): return self._step(a)`` (gym <= 0.9's own base class did
     # this): the helper's returns are the step's, so they get the five fields.
-    helpers = delegates(decision, function)
-    decision.plan.step_helpers = [h.name for h in helpers]
+    helpers = []
+    blocked: dict[str, str] = {}
+    for helper in delegates(decision, function):
+        local, elsewhere = overrides(decision, helper.name)
+        if elsewhere or not all(step_override_migratable(m) for _, m in local):
+            blocked[helper.name] = where(decision, local, elsewhere)
+            continue
+        helpers.append(helper)
+        for subclass, _ in local:
+            inherited.setdefault(id(subclass), []).append(helper.name)
+    decision.plan.step_helpers += [h.name for h in helpers if h.name not in decision.plan.step_helpers]
     for step_function in (function, *helpers):
-        _decide_returns(decision, step_function, {id(h) for h in helpers})
+        _decide_returns(decision, step_function, {id(h) for h in helpers}, blocked)
 
 
-def _decide_returns(decision: ClassDecision, function: Method, helpers: set[int]) -> None:
+def _decide_returns(decision: ClassDecision, function: Method, helpers: set[int], blocked: dict[str, str] | None = None) -> None:
     returns = own_returns(function)
     if any(tuple_len(r.value) == 5 or _returns_five_from_helper(r, decision) for r in returns):
         return  # already the five-value API
@@ -47,7 +74,19 @@ def _decide_returns(decision: ClassDecision, function: Method, helpers: set[int]
     for ret in returns:
         if ret.value is None:
             continue
-        if _returns_helper(ret, decision, helpers):
+        if _returns_helper(ret, decision, helpers) or is_super_method_call(ret.value, function.name):
+            continue  # the helper's (or the base's own hook's) returns carry the contract
+        if inner_gym_env_call(decision, ret.value, "step"):
+            continue  # a Gym env the class holds: its step() returns the five values in Gymnasium
+        hook = _blocked_hook(ret, blocked or {})
+        if hook is not None:
+            decision.report(
+                ret,
+                "GM504",
+                f"step returns self.{hook[0]}(...), which subclasses override ({hook[1]}): the hook and every override "
+                "must return (obs, reward, terminated, truncated, info) together; none was changed, migrate them by hand",
+                FixKind.FLAG,
+            )
             continue
         if tuple_len(ret.value) != 4:
             decision.report(ret, "GM504", "step returns something other than a 4-tuple literal; return (obs, reward, terminated, truncated, info) by hand", FixKind.FLAG)
@@ -65,6 +104,13 @@ def _decide_returns(decision: ClassDecision, function: Method, helpers: set[int]
             decision.report(ret, "GM504", "done split: the step-limit test became truncated, the rest terminated", FixKind.ASSIST)
             continue
         _report_truncated_false(decision, ret, limit_hint, plain if no_counter else None)
+
+
+def _blocked_hook(ret: ast.Return, blocked: dict[str, str]) -> tuple[str, str] | None:
+    call = ret.value
+    if isinstance(call, ast.Call) and isinstance(call.func, ast.Attribute) and call.func.attr in blocked:
+        return call.func.attr, blocked[call.func.attr]
+    return None
 
 
 def _report_truncated_false(decision: ClassDecision, ret: ast.Return, limit_hint: str | None, certain: str | None) -> None:

@@ -1,0 +1,88 @@
+"""Method contracts follow their class: a hook migrated in a base class, migrated in its overrides.
+
+``def step(self, a): ...; return self.post_step(a)`` makes ``post_step`` part of the step
+contract: the rewrite gives its returns the five fields (``step.py``). A subclass that
+overrides ``post_step`` still returns four, and its ``step()`` (the base's) then hands
+four values to a Gymnasium caller that unpacks five. So a hook is followed only when
+every override in the run follows with it:
+
+* overrides in subclasses of the same module whose returns the rewrite can carry out
+  (four-value literals, or ``return super().post_step(...)``) are migrated with the base;
+* an override the rewrite cannot carry out, or one in another module of the run (its
+  summary lists it, ``ProjectView.overridden_elsewhere``), keeps every one of them on
+  the old contract: the base's ``step`` is reported instead.
+
+``reset`` hooks (``return self._restart()``) are never followed when overridden: the base's
+``reset`` returns ``(self._restart(), {})``, right whichever override runs.
+"""
+
+from __future__ import annotations
+
+import ast
+
+from gymmigrate.facts.env_classes import is_super_method_call
+from gymmigrate.facts.module import own_returns
+from gymmigrate.rules.custom_env.common import ClassDecision, Method, tuple_len
+
+
+def local_subclasses(decision: ClassDecision) -> list[ast.ClassDef]:
+    """Classes of this module that extend the decided class, directly or through others."""
+    facts = decision.family.facts
+    receivers = decision.family.receivers
+
+    def compute() -> dict[int, list[ast.ClassDef]]:
+        children: dict[int, list[ast.ClassDef]] = {}
+        for classdef in facts.all_classes:
+            for base in classdef.bases:
+                parent = receivers.local_class(base)
+                if parent is not None and parent is not classdef:
+                    children.setdefault(id(parent), []).append(classdef)
+        return children
+
+    children: dict[int, list[ast.ClassDef]] = facts.memo(("local-subclasses", 0), compute)
+    found: list[ast.ClassDef] = []
+    todo = [decision.classdef]
+    while todo:
+        for child in children.get(id(todo.pop()), ()):
+            if child not in found and child is not decision.classdef:
+                found.append(child)
+                todo.append(child)
+    return found
+
+
+def overrides(decision: ClassDecision, name: str) -> tuple[list[tuple[ast.ClassDef, Method]], list[str]]:
+    """The overrides of method ``name``: in this module (class, method), and where in other
+    modules of the run (``path:Class``)."""
+    local = []
+    for sub in local_subclasses(decision):
+        method = decision.env.index(sub).methods.get(name)
+        if method is not None:
+            local.append((sub, method))
+    project = decision.family.receivers.project
+    elsewhere: list[str] = []
+    if project is not None:
+        for classdef in (decision.classdef, *local_subclasses(decision)):
+            if decision.family.facts.parent(classdef) is decision.family.facts.tree:
+                elsewhere.extend(project.overridden_elsewhere(classdef.name, name))
+    return local, elsewhere
+
+
+def step_override_migratable(method: Method) -> bool:
+    """Every return of the override is a four-value literal, five already, or the base's own
+    (``return super().post_step(a)``), and it reads the base's result nowhere else."""
+    supers = [n for n in ast.walk(method) if is_super_method_call(n, method.name)]
+    returned = []
+    for ret in own_returns(method):
+        if ret.value is None:
+            return False
+        if is_super_method_call(ret.value, method.name):
+            returned.append(ret.value)
+        elif tuple_len(ret.value) not in (4, 5):
+            return False
+    return len(supers) == len(returned)
+
+
+def where(decision: ClassDecision, local: list[tuple[ast.ClassDef, Method]], elsewhere: list[str]) -> str:
+    names = [f"{c.name} (line {m.lineno})" for c, m in local]
+    names += [w.rsplit("/", 1)[-1] for w in elsewhere]
+    return ", ".join(names)

@@ -1,0 +1,327 @@
+"""Space drift: what Gymnasium 1.x's spaces build, return and compare differently (GM903, GM905, GM909, GM910).
+
+Each claim was checked against the installed Gymnasium 1.4.0 (``docs/rules/<CODE>.md``
+has the script):
+
+* GM903 ``Discrete.n``, ``Discrete.start`` and ``Discrete.sample()`` are ``np.int64``
+  (gym 0.21: ``int`` for ``n``, ``int`` from ``sample()``). ``json.dumps(np.int64(3))``
+  raises ``TypeError``; ``isinstance(np.int64(3), int)`` and ``type(...) is int`` are
+  False. Rewritten where certain: ``isinstance(x, int)`` / ``type(x) is int`` on a
+  space's ``.n``, ``.start`` or ``sample()`` become ``isinstance(x, (int, np.integer))``
+  (the same answer as before for every space: a Box sample is an array either way);
+  ``json.dump(s)`` of a value traced to a ``Discrete`` gets ``int(...)``; a value of a
+  space whose class is not known (``env.action_space.n`` may be a ``MultiBinary``'s
+  list) is reported.
+* GM905 ``Dict.sample()`` (and ``Dict.spaces``) are a plain ``dict`` (gym 0.21: an
+  ``OrderedDict``): ``isinstance(x, OrderedDict)`` / ``type(x) is OrderedDict`` on a
+  space's ``sample()`` or ``.spaces`` become ``isinstance(x, dict)`` (an OrderedDict is
+  a dict; no other space's sample is either). ``Tuple.sample()`` is a tuple in both.
+* GM909 ``MultiBinary(0)`` and ``Discrete(0)`` raise ``ValueError`` (gym 0.21 built
+  them); ``Discrete(<float>)`` raises ``TypeError``. Reported: what an empty space
+  should become is the env's choice. ``MultiDiscrete([])`` still builds.
+* GM910 ``Box.__eq__`` compares ``dtype`` (gym 0.21 compared shape and bounds only):
+  ``box_a == box_b`` is False now for a float32 and a float64 Box. Reported.
+
+Sources: Gymnasium 1.4.0 ``spaces/discrete.py``, ``spaces/multi_binary.py``,
+``spaces/box.py``, ``spaces/dict.py``; gym 0.21 ``spaces/`` (catalog GM903, GM905).
+"""
+
+from __future__ import annotations
+
+import ast
+
+from gymmigrate.edits.lazy import cst
+from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts import names as N
+from gymmigrate.findings import FixKind
+from gymmigrate.rules.base import FileContext, Rule, RuleFamily
+
+RULES = (
+    Rule(
+        "GM903",
+        "Discrete ints are NumPy ints",
+        FixKind.AUTO,
+        "`isinstance(x, int)` / `type(x) is int` on a space's `n`/`sample()` accept `np.integer`; `json.dumps` gets `int(...)`.",
+    ),
+    Rule("GM905", "Dict.sample() is a dict", FixKind.AUTO, "`isinstance(x, OrderedDict)` on a space's `sample()` becomes `isinstance(x, dict)`."),
+    Rule("GM909", "zero-size spaces raise", FixKind.FLAG, "`MultiBinary(0)`, `Discrete(0)` and `Discrete(<float>)` raise in Gymnasium 1.x: reported."),
+    Rule("GM910", "Box equality compares dtype", FixKind.FLAG, "`box == other_space` is False across dtypes in Gymnasium 1.x: reported."),
+)
+
+SPACE_ATTRIBUTES = frozenset({"action_space", "observation_space", "single_action_space", "single_observation_space"})
+SPACE_INT_ATTRIBUTES = frozenset({"n", "start"})
+JSON_WRITERS = frozenset({"json.dumps", "json.dump"})
+UNKNOWN = "?"  # a space of a class not known here
+
+
+def _space_class(qualified: set[str]) -> str | None:
+    for q in qualified:
+        rest = N.strip_gym_prefix(q)
+        if rest is not None and rest.startswith("spaces.") and rest.rsplit(".", 1)[-1][:1].isupper():
+            return rest.rsplit(".", 1)[-1]
+    return None
+
+
+class SpaceDrift(RuleFamily):
+    RULES = RULES
+
+    @classmethod
+    def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
+        profile = context.profile
+        if not (profile.imports_gym or profile.imports_gymnasium):
+            return False
+        return any(word in facts.text for word in ("isinstance", "type(", "json", "MultiBinary", "Discrete", "=="))
+
+    def decide(self) -> None:
+        for name in ("isinstance",):
+            for call in self.facts.calls_by_name.get(name, ()):
+                if not self.facts.bindings_of(call.func):  # type: ignore[arg-type]
+                    self._decide_isinstance(call)
+        for node in self._compares():
+            self._decide_compare(node)
+        for name in ("dumps", "dump"):
+            for call in self.facts.attribute_calls.get(name, ()):
+                if self.facts.qualified_names(call.func) & JSON_WRITERS:
+                    self._decide_json(call)
+        for name in ("MultiBinary", "Discrete"):
+            for call in [*self.facts.calls_by_name.get(name, ()), *self.facts.attribute_calls.get(name, ())]:
+                if _space_class(self.facts.qualified_names(call.func)) == name:
+                    self._decide_size(call, name)
+
+    def _compares(self) -> list[ast.Compare]:
+        return self.facts.memo(("space-drift-compares", 0), lambda: [n for n in ast.walk(self.facts.tree) if isinstance(n, ast.Compare)])
+
+    # -- what an expression is -----------------------------------------------------------
+
+    def space_class(self, expr: ast.AST, depth: int = 0) -> str | None:
+        """The space class of ``expr`` (``"Box"``), ``UNKNOWN`` for a space of a class not
+        known here (``env.action_space``), None for what is not known to be a space."""
+        if isinstance(expr, ast.Call):
+            return _space_class(self.facts.qualified_names(expr.func))
+        if isinstance(expr, ast.Attribute) and expr.attr in SPACE_ATTRIBUTES:
+            if isinstance(expr.value, ast.Name) and self.receivers.is_self(expr.value):
+                values = self.receivers.self_attribute_values(expr, expr.attr)
+                found = {self.space_class(v, depth + 1) if isinstance(v, ast.Call) else None for v in values}
+                if len(found) == 1 and None not in found:
+                    return found.pop()
+            return UNKNOWN
+        if isinstance(expr, ast.Name) and depth == 0:
+            values = self._values(expr)
+            found = {self.space_class(v, depth + 1) for v in values} if values else {None}
+            return found.pop() if len(found) == 1 else (UNKNOWN if None not in found else None)
+        return None
+
+    def _values(self, name: ast.Name) -> list[ast.expr]:
+        """What every binding of ``name`` assigns (empty when one is not a plain assignment)."""
+        values = []
+        for binding in self.facts.bindings_of(name):
+            statement = self.facts.parent(binding)
+            if not (isinstance(binding, ast.Name) and isinstance(statement, ast.Assign) and binding in statement.targets):
+                return []
+            values.append(statement.value)
+        return values
+
+    def space_value(self, expr: ast.AST, what: frozenset[str], depth: int = 0) -> str | None:
+        """For ``<space>.n`` / ``<space>.sample()`` (the members in ``what``: "n", "start",
+        "sample", "spaces"), or a name every binding of which is one: the space's class."""
+        if isinstance(expr, ast.Attribute) and expr.attr in what and expr.attr != "sample":
+            return self.space_class(expr.value)
+        if (
+            isinstance(expr, ast.Call)
+            and "sample" in what
+            and isinstance(expr.func, ast.Attribute)
+            and expr.func.attr == "sample"
+        ):
+            return self.space_class(expr.func.value)
+        if isinstance(expr, ast.Name) and depth == 0:
+            values = self._values(expr)
+            found = {self.space_value(v, what, depth + 1) for v in values} if values else {None}
+            if None in found:
+                return None
+            return found.pop() if len(found) == 1 else UNKNOWN
+        return None
+
+    def _is_builtin(self, expr: ast.AST, name: str) -> bool:
+        return isinstance(expr, ast.Name) and expr.id == name and not self.facts.bindings_of(expr)
+
+    def _is_ordered_dict(self, expr: ast.AST) -> bool:
+        return "collections.OrderedDict" in self.facts.qualified_names(expr)
+
+    # -- GM903 / GM905: isinstance and type() checks --------------------------------------
+
+    def _decide_isinstance(self, call: ast.Call) -> None:
+        if len(call.args) != 2 or call.keywords or any(isinstance(a, ast.Starred) for a in call.args):
+            return
+        value, classes = call.args
+        options = classes.elts if isinstance(classes, ast.Tuple) else [classes]
+        if any(self._is_builtin(c, "int") for c in options) and not any(self._integer_class(c) for c in options):
+            kind = self.space_value(value, frozenset({"n", "start", "sample"}))
+            if kind is not None and kind in ("Discrete", UNKNOWN):
+                numpy = self.plan.ensure_import("numpy", asname="np")
+                self.report(call, "GM903", "a space's `n`/`sample()` is an `np.int64` in Gymnasium 1.x, not an `int`: the check accepts `np.integer` too")
+                self.plan.replace(classes, _add_integer(numpy))
+            return
+        if len(options) == 1 and self._is_ordered_dict(classes) and self.space_value(value, frozenset({"sample", "spaces"})) is not None:
+            self.report(call, "GM905", "`Dict.sample()` (and `Dict.spaces`) is a plain `dict` in Gymnasium 1.x, not an `OrderedDict`: checked as a dict")
+            self.plan.replace(classes, lambda node: cst.Name("dict"))
+
+    def _integer_class(self, expr: ast.AST) -> bool:
+        return bool({"numpy.integer", "numbers.Integral", "numpy.int64"} & self.facts.qualified_names(expr))
+
+    def _decide_compare(self, node: ast.Compare) -> None:
+        if len(node.ops) != 1:
+            return
+        op, left, right = node.ops[0], node.left, node.comparators[0]
+        if isinstance(op, (ast.Is, ast.IsNot, ast.Eq, ast.NotEq)):
+            if self._type_check(node, op, left, right) or self._type_check(node, op, right, left):
+                return
+        if isinstance(op, (ast.Eq, ast.NotEq)):
+            self._decide_box_equality(node, left, right)
+
+    def _type_check(self, node: ast.Compare, op: ast.cmpop, typed: ast.expr, cls: ast.expr) -> bool:
+        """``type(x) is int`` / ``type(x) == OrderedDict`` (either side)."""
+        if not (isinstance(typed, ast.Call) and self._is_builtin(typed.func, "type") and len(typed.args) == 1 and not typed.keywords):
+            return False
+        value = typed.args[0]
+        if isinstance(value, ast.Starred):
+            return False
+        negated = isinstance(op, (ast.IsNot, ast.NotEq))
+        if self._is_builtin(cls, "int"):
+            kind = self.space_value(value, frozenset({"n", "start", "sample"}))
+            if kind not in ("Discrete", UNKNOWN):
+                return False
+            numpy = self.plan.ensure_import("numpy", asname="np")
+            self.report(node, "GM903", "a space's `n`/`sample()` is an `np.int64` in Gymnasium 1.x, so `type(...) is int` is False: an isinstance check that accepts `np.integer` too")
+            self.plan.replace(node, _isinstance_of(f"(int, {numpy}.integer)", negated))
+            return True
+        if self._is_ordered_dict(cls) and self.space_value(value, frozenset({"sample", "spaces"})) is not None:
+            self.report(node, "GM905", "`Dict.sample()` (and `Dict.spaces`) is a plain `dict` in Gymnasium 1.x: `type(...) is OrderedDict` is False; checked as a dict")
+            self.plan.replace(node, _isinstance_of("dict", negated))
+            return True
+        return False
+
+    # -- GM903: JSON -----------------------------------------------------------------------
+
+    def _decide_json(self, call: ast.Call) -> None:
+        if not call.args or isinstance(call.args[0], ast.Starred):
+            return
+        if any(k.arg in ("default", "cls") for k in call.keywords):
+            return  # the code already serializes what json cannot
+        certain, unsure = [], []
+        for value in _json_values(call.args[0]):
+            kind = self.space_value(value, frozenset({"n", "start", "sample"}))
+            if kind == "Discrete":
+                certain.append(value)
+            elif kind == UNKNOWN:
+                unsure.append(value)  # a MultiBinary's n may be a list, a Box's sample an array: int() would break them
+        for value in certain:
+            self.report(value, "GM903", "`Discrete.n`/`sample()` is an `np.int64` in Gymnasium 1.x, which json cannot write: converted with int()")
+            self.plan.replace(value, _int_of)
+        if unsure:
+            text = self.facts.segment(unsure[0])
+            self.report(
+                call,
+                "GM903",
+                f"`{text}` is a NumPy value in Gymnasium 1.x (`np.int64` for a Discrete space), which json cannot write "
+                "(TypeError): convert it (`int(...)`, `.tolist()`) for the space it is",
+                FixKind.FLAG,
+            )
+
+    # -- GM909: sizes Gymnasium rejects ------------------------------------------------------
+
+    def _decide_size(self, call: ast.Call, name: str) -> None:
+        size = call.args[0] if call.args and not isinstance(call.args[0], ast.Starred) else next((k.value for k in call.keywords if k.arg == "n"), None)
+        if size is None:
+            return
+        if self._may_be_zero(size):
+            text = self.facts.segment(size)
+            where = "" if isinstance(size, ast.Constant) else f": `{text}` can be 0 here"
+            self.report(
+                call,
+                "GM909",
+                f"`{name}` with n=0 raises ValueError in Gymnasium 1.x (gym built an empty space){where}; leave the space "
+                "out (or use a Box of shape (0,)) when the feature is off",
+                FixKind.FLAG,
+            )
+        elif name == "Discrete" and self._is_float(size):
+            self.report(call, "GM909", f"`Discrete(n)` needs an integer in Gymnasium 1.x (a float raises TypeError): `{self.facts.segment(size)}` is a float; use `//` or int()", FixKind.FLAG)
+
+    def _may_be_zero(self, expr: ast.AST, depth: int = 0) -> bool:
+        if isinstance(expr, ast.Constant):
+            return expr.value == 0 and not isinstance(expr.value, bool) and isinstance(expr.value, int)
+        if isinstance(expr, (ast.List, ast.Tuple)):
+            return any(self._may_be_zero(e, depth) for e in expr.elts)
+        if isinstance(expr, ast.IfExp):
+            return self._may_be_zero(expr.body, depth) or self._may_be_zero(expr.orelse, depth)
+        if isinstance(expr, ast.Name) and depth == 0:
+            return any(self._may_be_zero(v, depth + 1) for v in self._values(expr))
+        return False
+
+    @staticmethod
+    def _is_float(expr: ast.AST) -> bool:
+        return (isinstance(expr, ast.BinOp) and isinstance(expr.op, ast.Div)) or (isinstance(expr, ast.Constant) and isinstance(expr.value, float))
+
+    # -- GM910: Box equality ----------------------------------------------------------------
+
+    def _decide_box_equality(self, node: ast.Compare, left: ast.expr, right: ast.expr) -> None:
+        kinds = (self.space_class(left), self.space_class(right))
+        if "Box" not in kinds or None in kinds:
+            return
+        self.report(
+            node,
+            "GM910",
+            "`Box` equality compares the dtype in Gymnasium 1.x (gym compared shape and bounds only): a float32 and a "
+            "float64 Box are no longer equal; compare the dtypes you mean, or `.shape`/`.low`/`.high`",
+            FixKind.FLAG,
+        )
+
+
+def _json_values(expr: ast.expr) -> list[ast.expr]:
+    """The values json writes: ``expr`` itself, or the items of dict/list/tuple literals."""
+    if isinstance(expr, ast.Dict):
+        return [v for value in expr.values for v in _json_values(value)]
+    if isinstance(expr, (ast.List, ast.Tuple)):
+        return [v for e in expr.elts if not isinstance(e, ast.Starred) for v in _json_values(e)]
+    return [expr]
+
+
+# -- building the new code ------------------------------------------------------------------
+
+
+def _add_integer(numpy: str):
+    """``int`` -> ``(int, np.integer)``; ``(int, float)`` -> ``(int, float, np.integer)``."""
+
+    def build(node: cst.BaseExpression) -> cst.BaseExpression:
+        integer = cst.parse_expression(f"{numpy}.integer")
+        if isinstance(node, cst.Tuple):
+            elements = list(node.elements)
+            last = elements[-1]
+            elements[-1] = last.with_changes(comma=cst.Comma(whitespace_after=cst.SimpleWhitespace(" ")))
+            return node.with_changes(elements=[*elements, cst.Element(integer)])
+        return cst.parse_expression(f"(int, {numpy}.integer)")
+
+    return build
+
+
+def _isinstance_of(classes: str, negated: bool):
+    def build(node: cst.Comparison) -> cst.BaseExpression:
+        typed = node.left if _is_type_call(node.left) else node.comparisons[0].comparator
+        value = typed.args[0].value  # type: ignore[attr-defined]
+        check = cst.Call(
+            func=cst.Name("isinstance"),
+            args=[cst.Arg(value, comma=cst.Comma(whitespace_after=cst.SimpleWhitespace(" "))), cst.Arg(cst.parse_expression(classes))],
+        )
+        if negated:
+            return cst.UnaryOperation(operator=cst.Not(), expression=check, lpar=node.lpar, rpar=node.rpar)
+        return check.with_changes(lpar=node.lpar, rpar=node.rpar)
+
+    return build
+
+
+def _is_type_call(node: cst.BaseExpression) -> bool:
+    return isinstance(node, cst.Call) and isinstance(node.func, cst.Name) and node.func.value == "type"
+
+
+def _int_of(node: cst.CSTNode) -> cst.CSTNode:
+    assert isinstance(node, cst.BaseExpression)
+    return cst.Call(func=cst.Name("int"), args=[cst.Arg(node.with_changes(lpar=[], rpar=[]))])

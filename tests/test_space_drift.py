@@ -1,0 +1,58 @@
+"""Space drift (rules/spaces/drift.py): the migrated fixtures run on Gymnasium 1.4.
+
+The GM903 / GM905 fixtures' expected outputs are imported and run against real
+Gymnasium spaces: the checks that were False on NumPy ints and plain dicts hold again,
+and the JSON writes succeed. The behaviours the rules rest on are asserted here too, so
+an upgrade of Gymnasium that changes them fails this file first.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+from pathlib import Path
+from types import ModuleType, SimpleNamespace
+
+import gymnasium
+import numpy as np
+import pytest
+from gymnasium import spaces
+
+from tests.fixture_cases import RULE_FIXTURES
+
+
+def _load(path: Path) -> ModuleType:
+    spec = importlib.util.spec_from_file_location(path.stem.replace(".", "_"), path)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_the_behaviours_the_rules_rest_on() -> None:
+    discrete = spaces.Discrete(3)
+    assert type(discrete.n) is np.int64 and type(discrete.sample()) is np.int64  # GM903
+    with pytest.raises(TypeError):
+        json.dumps(discrete.n)
+    assert type(spaces.Dict({"a": discrete}).sample()) is dict  # GM905
+    assert type(spaces.Tuple([discrete]).sample()) is tuple
+    for build in (lambda: spaces.MultiBinary(0), lambda: spaces.Discrete(0)):  # GM909
+        with pytest.raises(ValueError):
+            build()
+    with pytest.raises(TypeError):
+        spaces.Discrete(4.0)  # type: ignore[arg-type]
+    assert spaces.MultiDiscrete([]).shape == (0,)  # still builds: no rule
+    assert spaces.Box(0, 1, (2,), np.float32) != spaces.Box(0, 1, (2,), np.float64)  # GM910
+
+
+def test_migrated_int_checks_and_json_run() -> None:
+    module = _load(RULE_FIXTURES / "GM903" / "space_ints.expected.py")
+    env = gymnasium.make("CartPole-v1")
+    assert module.check(env) is True
+    assert json.loads(module.GridEnv().describe()) == {"actions": 4}
+
+
+def test_migrated_dict_checks_run() -> None:
+    module = _load(RULE_FIXTURES / "GM905" / "dict_sample.expected.py")
+    env = SimpleNamespace(observation_space=spaces.Dict({"x": spaces.Discrete(2)}))
+    assert set(module.check(env)) == {"position", "goal"}
