@@ -36,6 +36,9 @@ Sources (pinned below; nothing is ever committed to this repository):
               never moved to Gymnasium: no human port)
   minigrid    github.com/Farama-Foundation/Minigrid legacy f2a30bd1 (MiniGrid 1.2.1, gym 0.26)
               human 4c409330 "migrate to gymnasium (#239)"
+  gym-minigrid  the same repository at v1.1.0 = 14bd9030 (gym_minigrid 1.1.0, gym 0.25:
+              one done flag, reset(return_info=...); its port went through gym 0.26 first,
+              so there is no human port of this tree to Gymnasium)
   mo-gym      github.com/Farama-Foundation/MO-Gymnasium legacy f66ecd97 (mo-gym 0.3.0,
               gym 0.26) human 48e3b520 "Replace gym for gymnasium (#16)"
   supersuit   github.com/Farama-Foundation/SuperSuit legacy f35fd124 (3.6.0, gym 0.26,
@@ -116,6 +119,18 @@ REPOS = (
         new_fallback=(GYMNASIUM, "numpy", "matplotlib", "pytest<8"),
     ),
     Repo(
+        name="gym-minigrid",  # the same project a step earlier: gym 0.25, one done flag
+        github="Farama-Foundation/Minigrid",
+        legacy="14bd9030d7f9cf691d58e7a0929bc98f9a40172f",
+        human=None,
+        extras="testing",
+        tests=("tests",),
+        legacy_pre=("gym==0.25.2",),
+        legacy_constraints=("numpy<1.24",),
+        legacy_fallback=("gym==0.25.2", "numpy<1.24", "matplotlib", "pytest<8"),
+        new_fallback=(GYMNASIUM, "numpy", "matplotlib", "pytest<8"),
+    ),
+    Repo(
         name="mo-gym",
         github="Farama-Foundation/MO-Gymnasium",
         legacy="f66ecd97cb30c255b502001b614eff9767872b8d",
@@ -135,10 +150,11 @@ REPOS = (
         human="3707553f3aa22e51577c346961705ca8b97f6b8d",
         extras="",
         tests=("test",),
-        legacy_pre=("gym==0.26.2", "pettingzoo[butterfly,mpe]==1.21.0"),
+        # PettingZoo 1.21's [butterfly] extra pins pygame 2.1.0, which has no 3.11 wheel
+        legacy_pre=("gym==0.26.2", "pettingzoo==1.21.0", "pygame", "pymunk"),
         legacy_constraints=("numpy<1.24", "pettingzoo==1.21.0"),
-        legacy_fallback=("gym==0.26.2", "numpy<1.24", "pettingzoo[butterfly,mpe]==1.21.0",
-                         "tinyscaler", "pygame", "pymunk", "opencv-python-headless", "pytest<8"),
+        legacy_fallback=("gym==0.26.2", "numpy<1.24", "pettingzoo==1.21.0", "tinyscaler",
+                         "pygame", "pymunk", "opencv-python-headless", "pytest<8"),
         new_fallback=(GYMNASIUM, "numpy", "pettingzoo[butterfly]==1.27.*", "tinyscaler", "pygame",
                       "pymunk", "opencv-python-headless", "pytest<8"),
     ),
@@ -314,7 +330,10 @@ def read_junit(path: Path) -> dict[str, tuple[str, str]]:
         for child in case:
             if child.tag in ("failure", "error", "skipped"):
                 outcome = {"failure": "failed", "error": "error", "skipped": "skipped"}[child.tag]
-                msg = (child.get("message") or (child.text or "")).strip().split("\n")[0][:200]
+                e_lines = [ln[1:].strip() for ln in (child.text or "").splitlines()
+                           if ln.startswith("E ")]
+                msg = (e_lines[0] if e_lines else
+                       (child.get("message") or "").strip().split("\n")[0])[:200]
                 break
         if tid in out and out[tid][0] != "passed":
             continue  # an error in teardown after a failure: keep the first
@@ -395,6 +414,10 @@ def bench_repo(repo: Repo, args) -> dict:
     legacy = result["stages"].get("legacy")
     migrated = result["stages"].get("gymmigrate")
     if legacy and migrated:
+        # errors of tests (or whole modules, when collecting fails) legacy never had
+        result["new_errors"] = {
+            tid: v for tid, v in migrated["cases"].items()
+            if tid not in legacy["cases"] and v[0] in ("failed", "error")}
         result["regressions"] = {
             tid: migrated["cases"].get(tid, ("missing", "not collected"))
             for tid, (o, _) in legacy["cases"].items()
@@ -404,17 +427,17 @@ def bench_repo(repo: Repo, args) -> dict:
 
 def print_table(results: list[dict], stages: list[str]) -> None:
     print()
-    print(f"{'repository':<11} {'stage':<11} {'deps':<9} {'passed':>6} {'failed':>6} "
+    print(f"{'repository':<13} {'stage':<11} {'deps':<9} {'passed':>6} {'failed':>6} "
           f"{'errors':>6} {'skipped':>7} {'time':>7}  versions")
     for r in results:
         for stage in stages:
             s = r["stages"].get(stage)
             if s is None:
-                print(f"{r['repo']:<11} {stage:<11} {'-':<9} {'(no tree)':>6}")
+                print(f"{r['repo']:<13} {stage:<11} {'-':<9} {'(no tree)':>6}")
                 continue
             deps = "yes" if s["declared"] else ("fallback" if s["fallback"] else "NO")
             c = s["counts"]
-            print(f"{r['repo']:<11} {stage:<11} {deps:<9} {c['passed']:>6} {c['failed']:>6} "
+            print(f"{r['repo']:<13} {stage:<11} {deps:<9} {c['passed']:>6} {c['failed']:>6} "
                   f"{c['error']:>6} {c['skipped']:>7} {s['seconds']:>6}s  "
                   f"{', '.join(s.get('versions', []))}")
         m = (r["stages"].get("gymmigrate") or {}).get("migration")
@@ -423,17 +446,27 @@ def print_table(results: list[dict], stages: list[str]) -> None:
                   f"changed in {m['seconds']} s, {len(m['errors'])} error(s)")
             for line in m["errors"]:
                 print(f"    {line}")
+        if r.get("new_errors"):
+            print(f"  {r['repo']}: {len(r['new_errors'])} error(s) after gymmigrate that legacy "
+                  f"did not have (collection errors show as a module name)")
+            for tid, (o, msg) in sorted(r["new_errors"].items()):
+                print(f"    {o} {tid.lstrip(':')}: {msg}")
         if "regressions" in r:
             reg = r["regressions"]
             print(f"  {r['repo']}: {len(reg)} test(s) passed on legacy but not after gymmigrate")
+            groups: dict[tuple[str, str], list[str]] = {}
             for tid, (o, msg) in sorted(reg.items()):
-                print(f"    {o:<7} {tid}: {msg}")
+                groups.setdefault((o, msg), []).append(tid)
+            for (o, msg), tids in sorted(groups.items(), key=lambda g: -len(g[1])):
+                more = f" (+{len(tids) - 3} more)" if len(tids) > 3 else ""
+                print(f"    {len(tids):>3} x {o}: {msg}")
+                print(f"          {', '.join(tids[:3])}{more}")
         print()
 
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--repos", default=",".join(r.name for r in REPOS))
+    ap.add_argument("--repos", default=",".join(r.name for r in REPOS))  # names as in REPOS
     ap.add_argument("--stages", default="legacy,human,gymmigrate")
     ap.add_argument("--cache", type=Path, default=Path("/work/cache/repos"))
     ap.add_argument("--sources", type=Path, default=None)
