@@ -348,7 +348,7 @@ def run_tests(repo: Repo, stage: str, tree: Path, venv: Path, args, logf: Path) 
                PYTHONDONTWRITEBYTECODE="1")
     env.pop("PYTHONPATH", None)
     cmd = [venv / "bin" / "python", "-m", "pytest", "-p", "no:cacheprovider", "-q", "-rfE",
-           "--tb=short", f"--timeout={args.timeout}", f"--junitxml={junit}", *repo.tests]
+           "--tb=short", "--continue-on-collection-errors", f"--timeout={args.timeout}", f"--junitxml={junit}", *repo.tests]
     log(f"{repo.name}/{stage}: pytest")
     t0 = time.monotonic()
     rc = run(cmd, cwd=tree, logf=logf, timeout=args.suite_timeout, env=env)
@@ -449,8 +449,13 @@ def print_table(results: list[dict], stages: list[str]) -> None:
         if r.get("new_errors"):
             print(f"  {r['repo']}: {len(r['new_errors'])} error(s) after gymmigrate that legacy "
                   f"did not have (collection errors show as a module name)")
+            groups = {}
             for tid, (o, msg) in sorted(r["new_errors"].items()):
-                print(f"    {o} {tid.lstrip(':')}: {msg}")
+                groups.setdefault((o, msg[:160]), []).append(tid.lstrip(":"))
+            for (o, msg), tids in sorted(groups.items(), key=lambda g: -len(g[1])):
+                more = f" (+{len(tids) - 3} more)" if len(tids) > 3 else ""
+                print(f"    {len(tids):>3} x {o}: {msg}")
+                print(f"          {', '.join(tids[:3])}{more}")
         if "regressions" in r:
             reg = r["regressions"]
             print(f"  {r['repo']}: {len(reg)} test(s) passed on legacy but not after gymmigrate")
