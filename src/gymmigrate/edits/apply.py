@@ -175,7 +175,7 @@ def apply_plan(module: cst.Module, plan: Plan, window: tuple[int, int] | None = 
 
     if not applier.enter:
         return module
-    return module.visit(applier)  # type: ignore[return-value]
+    return module.visit(applier)
 
 
 def _carry_comments(

@@ -193,7 +193,7 @@ def _ast_candidates(statement: ast.stmt, kind: str, parents: dict[ast.AST, ast.A
         if isinstance(node, (ast.expr,)) and _matches_ast_kind(node, kind, parents):
             found.append(node)
         stack.extend(ast.iter_child_nodes(node))
-    found.sort(key=lambda n: (n.lineno, n.col_offset, -(n.end_lineno or 0), -(n.end_col_offset or 0)))  # type: ignore[attr-defined]
+    found.sort(key=lambda n: (n.lineno, n.col_offset, -(n.end_lineno or 0), -(n.end_col_offset or 0)))
     return found
 
 

@@ -450,7 +450,7 @@ def _innermost_guard(node: ast.AST, guards: dict[ast.Try, str], facts: ModuleFac
 
     A fallback or detector anywhere above wins, as the old traversal's depth counters did.
     """
-    kinds = [guards[a] for a in facts.ancestors(node) if a in guards]  # type: ignore[index]
+    kinds = [guards[a] for a in facts.ancestors(node) if a in guards]
     if "fallback" in kinds or "detector" in kinds:
         return "fallback"
     return "guarded" if kinds else None

@@ -178,10 +178,10 @@ class Observatory:
         for space_class in _subclasses(gymnasium.spaces.Space):
             original_seed = space_class.__dict__.get("seed")
             if inspect.isfunction(original_seed):
-                space_class.seed = self._seed_probe(original_seed)  # type: ignore[method-assign]
+                space_class.seed = self._seed_probe(original_seed)
                 self._patched.append((space_class, "seed", original_seed))
         self._saved_showwarning = warnings.showwarning
-        warnings.showwarning = self._record_warning  # type: ignore[assignment]
+        warnings.showwarning = self._record_warning
 
     def uninstall(self) -> None:
         global _ACTIVE
@@ -308,7 +308,7 @@ class Observatory:
         if space is None or id(space) in self._seeded_spaces or not hasattr(space, "seed"):
             return
         try:
-            space.seed(seed)  # type: ignore[attr-defined]
+            space.seed(seed)
         except Exception:  # a custom space with its own seed(): leave it as the code made it
             pass
 
@@ -519,7 +519,7 @@ def _on_new_vector(vector: object) -> None:
 def _unwrapped(env: object) -> object:
     seen = 0
     while hasattr(env, "env") and seen < 100 and _is_wrapper(env):
-        env = env.env  # type: ignore[attr-defined]
+        env = env.env
         seen += 1
     return env
 

@@ -79,7 +79,7 @@ class RegistryApi(RuleFamily):
         module = self._gym_module_name()
         self.plan.replace(call, lambda node: node.with_changes(func=cst.Attribute(value=cst.Name(module), attr=cst.Name(method))))
 
-    def _current_registry_build(self, registry: ast.expr, current):  # type: ignore[no-untyped-def]
+    def _current_registry_build(self, registry: ast.expr, current):
         """``gym.envs.registry`` / ``gym.envs.registration.registry`` -> ``gym.registry``;
         any other spelling of the registry stays as written (``current(node)``)."""
         parts = (full_name(registry) or "").split(".")

@@ -128,7 +128,7 @@ def _is_none(node: ast.AST) -> bool:
     return isinstance(node, ast.Constant) and node.value is None
 
 
-def _value_use(read: ast.expr, facts) -> bool:  # type: ignore[no-untyped-def]
+def _value_use(read: ast.expr, facts) -> bool:
     """``1 - env.dones[a]``, a buffer write: the flag feeds a value (see facts.done_uses).
     A plain assignment (``over = env.dones[a]``) is not judged: it keeps both flags."""
     if isinstance(facts.parent(read), ast.Assign):

@@ -422,7 +422,7 @@ def _with_params(node: cst.FunctionDef, missing: list[str]) -> cst.FunctionDef:
     return node.with_changes(params=params.with_changes(params=kept))
 
 
-def _insert_first(plan, function: ast.FunctionDef | ast.AsyncFunctionDef, code: str) -> None:  # type: ignore[no-untyped-def]
+def _insert_first(plan, function: ast.FunctionDef | ast.AsyncFunctionDef, code: str) -> None:
     """``code`` as the first statement of ``function`` (after its docstring)."""
     first = function.body[0]
     if _is_docstring(first) and len(function.body) > 1:
@@ -647,7 +647,7 @@ class _Split:
             mine = self.term
             if self.family._own_line(statement):
                 partner = f"{self.trunc} = {{}}" if self.empty and _is_empty_dict(statement.value) else (
-                    f"{self.trunc}.setdefault({self.facts.segment(statement.targets[0].slice)}, False)"  # type: ignore[attr-defined]
+                    f"{self.trunc}.setdefault({self.facts.segment(statement.targets[0].slice)}, False)"
                     if isinstance(statement.targets[0], ast.Subscript)
                     else f"{self.trunc} = {{{AGENT}: False for {AGENT} in {mine}}}"
                 )

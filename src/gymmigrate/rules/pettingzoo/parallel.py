@@ -174,7 +174,7 @@ def _true(value: ast.AST) -> bool:
     return not (isinstance(value, ast.Constant) and not value.value)
 
 
-def _passed_on(read: ast.Name, parent: ast.AST | None, facts) -> bool:  # type: ignore[no-untyped-def]
+def _passed_on(read: ast.Name, parent: ast.AST | None, facts) -> bool:
     """``read`` is the dones of a four-value ``return`` (a step that hands its env's result on)."""
     return (
         isinstance(parent, ast.Tuple)

@@ -155,7 +155,7 @@ class SeedCalls(ResetSeedBase):
                     places.update((id(item), (items, i)) for i, item in enumerate(items))
             return places
 
-        return self.facts.memo(("reset-seed-block", id(parent)), index).get(id(statement))  # type: ignore[no-any-return]
+        return self.facts.memo(("reset-seed-block", id(parent)), index).get(id(statement))
 
     def _reset_statement(self, line: list[ast.stmt], receiver_code: str) -> ast.Call | None:
         if len(line) != 1 or not isinstance(line[0], (ast.Expr, ast.Assign)):

@@ -117,7 +117,7 @@ class ResultRules(StepFamilyBase):
             return None
         statement = self.facts.statement_of(binding)
         index = index_of.get(id(statement))
-        if index is not None and self.flow.dominates(statement, read, result):  # type: ignore[arg-type]
+        if index is not None and self.flow.dominates(statement, read, result):
             return index
         return None
 
@@ -183,7 +183,7 @@ class ResultRules(StepFamilyBase):
 def _with_index(subscript: cst.Subscript, index: int) -> cst.Subscript:
     element = subscript.slice[0]
     return subscript.with_changes(
-        slice=[element.with_changes(slice=element.slice.with_changes(value=cst.Integer(str(index))))]  # type: ignore[union-attr]
+        slice=[element.with_changes(slice=element.slice.with_changes(value=cst.Integer(str(index))))]
     )
 
 

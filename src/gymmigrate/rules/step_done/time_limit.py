@@ -24,7 +24,7 @@ _UNTRACED = object()  # a read whose info dict comes from no known step
 _DISCARDED = StepNames("_", "_", vector=False)  # a step whose done target was ``_``
 
 
-def time_limit_reads(facts_strings: list[ast.Constant], parent_of) -> list[ast.expr]:  # type: ignore[no-untyped-def]
+def time_limit_reads(facts_strings: list[ast.Constant], parent_of) -> list[ast.expr]:
     """``info[KEY]``, ``info.get(KEY, ...)`` and ``KEY in info`` nodes, in source order."""
     found: list[ast.expr] = []
     for string in facts_strings:
@@ -147,7 +147,7 @@ class TimeLimitRules(StepFamilyBase):
                     found.setdefault(id(self.facts.scope_of(assign)), []).append((assign, unpack.names))
             return found
 
-        return self.facts.memo(("time-limit-unpacks", id(self.plan)), build)  # type: ignore[no-any-return]
+        return self.facts.memo(("time-limit-unpacks", id(self.plan)), build)
 
     def _replace_read(self, node: ast.expr, names: StepNames) -> None:
         if isinstance(node, ast.Compare):
@@ -170,8 +170,8 @@ class TimeLimitRules(StepFamilyBase):
                 operator=cst.And(),
                 right=cst.UnaryOperation(operator=cst.Not(), expression=cst.Name(names.terminated)),
             )
-            if cst_node.lpar:  # type: ignore[attr-defined]
-                return expression.with_changes(lpar=cst_node.lpar, rpar=cst_node.rpar)  # type: ignore[attr-defined]
+            if cst_node.lpar:
+                return expression.with_changes(lpar=cst_node.lpar, rpar=cst_node.rpar)
             if bare:
                 return expression
             return expression.with_changes(lpar=[cst.LeftParen()], rpar=[cst.RightParen()])

@@ -173,10 +173,10 @@ class UnpackRules(StepFamilyBase):
         step = self.facts.statement_of(binding)
         if (
             step in self.legacy_unpacks
-            and any(done.id in bound_names(t) for t in step.targets)  # type: ignore[attr-defined]
+            and any(done.id in bound_names(t) for t in step.targets)
             and self.flow.dominates(step, read, done)
         ):
-            return step  # type: ignore[return-value]
+            return step
         return None
 
     def _outermost_loop(self, node: ast.AST) -> ast.AST | None:
@@ -229,7 +229,7 @@ class UnpackRules(StepFamilyBase):
                 return True
         if stored_in_sequence(read, facts):
             # separate lists: ``next_states.append(s2)`` beside ``dones.append(done)``
-            return facts.memo(  # type: ignore[no-any-return]
+            return facts.memo(
                 ("stores-next-state", id(step.assign)),
                 lambda: any(self._stores_next_state(node, step, next_names) for node in ast.walk(function)),
             )
@@ -237,7 +237,7 @@ class UnpackRules(StepFamilyBase):
 
     def _next_state_names(self, step: _DoneStep) -> set[str]:
         """The step's observation target and the names computed from it in the same function."""
-        return self.facts.memo(("next-state-names", id(step.assign)), lambda: self._compute_next_state_names(step))  # type: ignore[no-any-return]
+        return self.facts.memo(("next-state-names", id(step.assign)), lambda: self._compute_next_state_names(step))
 
     def _compute_next_state_names(self, step: _DoneStep) -> set[str]:
         first = step.assign.targets[0].elts[0]  # type: ignore[attr-defined]
@@ -274,7 +274,7 @@ class UnpackRules(StepFamilyBase):
                 if isinstance(node, ast.stmt) and not isinstance(node, (*LOOPS, ast.If, ast.With, ast.Try, *FUNCTIONS))
             }
 
-        return self.facts.memo(("statement-reads", id(function)), compute)  # type: ignore[no-any-return]
+        return self.facts.memo(("statement-reads", id(function)), compute)
 
     def _stores_next_state(self, node: ast.AST, step: _DoneStep, next_names: set[str]) -> bool:
         """``next_states.append(s2)`` or ``next_obs_buf[t] = s2`` that runs after the step, in its
@@ -418,7 +418,7 @@ class UnpackRules(StepFamilyBase):
 
     def _step_flag_names(self, scope: Scope) -> set[str]:
         """Names that only ever hold step flags in ``scope`` (safe to bind again)."""
-        return self.facts.memo(("step-flag-names", id(scope.node)), lambda: _collect_flag_names(scope.node))  # type: ignore[no-any-return]
+        return self.facts.memo(("step-flag-names", id(scope.node)), lambda: _collect_flag_names(scope.node))
 
 
 _NEXT_WORDS = re.compile(r"(^|_|\.)(next|new)|next_?$|(^|_|\.)(s|o|obs|state|x)(2|_|p|tp1|_tp1|_next|_prime)$", re.IGNORECASE)

@@ -51,7 +51,7 @@ def gym_rest(facts: ModuleFacts, node: ast.AST) -> frozenset[str]:
         rests = (N.strip_gym_prefix(q) for q in facts.qualified_names(node))
         return frozenset(rest for rest in rests if rest is not None)
 
-    return facts.memo(("vector-gym-rest", id(node)), compute)  # type: ignore[no-any-return]
+    return facts.memo(("vector-gym-rest", id(node)), compute)
 
 
 def arguments_in_order(call: ast.Call) -> list[ast.AST]:

@@ -74,7 +74,7 @@ class Construction(_Base):
             self.report(
                 call,
                 "GM701",
-                f"gym.vector.make -> gym.make_vec(vectorization_mode=\"sync\"); dropped {', '.join(dropped)}: "  # type: ignore[arg-type]
+                f"gym.vector.make -> gym.make_vec(vectorization_mode=\"sync\"); dropped {', '.join(dropped)}: "
                 "SyncVectorEnv has no such parameter (gym.vector.make passed it to each sub-env's constructor)",
                 FixKind.ASSIST,
             )
@@ -106,7 +106,7 @@ class Construction(_Base):
             self.report(
                 call,
                 "GM701",
-                f"{message}; {', '.join(moved)} moved into vector_kwargs: gym.vector.make passed them to each "  # type: ignore[arg-type]
+                f"{message}; {', '.join(moved)} moved into vector_kwargs: gym.vector.make passed them to each "
                 f"sub-env's constructor, make_vec gives them to the vector env class{caveat}",
                 FixKind.ASSIST,
             )
@@ -114,7 +114,7 @@ class Construction(_Base):
             self.report(
                 call,
                 "GM701",
-                f"{message}; make_vec needs wrappers= to be a list and `{segment(wrappers)}` could not be "  # type: ignore[arg-type]
+                f"{message}; make_vec needs wrappers= to be a list and `{segment(wrappers)}` could not be "
                 "checked: wrap a single callable in [...]",
                 FixKind.ASSIST,
             )
@@ -124,7 +124,7 @@ class Construction(_Base):
     def wrappers_shape(self, value: ast.AST) -> str:
         """"sequence", "callable", "none" or "unknown": legacy accepted one callable or a list."""
         # A binding reached again while its shape is computed (``w = w``) says nothing.
-        return self.facts.memo(  # type: ignore[no-any-return]
+        return self.facts.memo(
             ("vector-wrappers-shape", id(value)), lambda: self._wrappers_shape(value), while_computing="unknown"
         )
 
@@ -214,7 +214,7 @@ class Construction(_Base):
         positional = [a for a in call.args if not isinstance(a, ast.Starred)]
         if named or len(positional) > 1:
             what = (
-                f"{'/'.join(named)} are no longer parameters of Gymnasium vector envs"  # type: ignore[arg-type]
+                f"{'/'.join(named)} are no longer parameters of Gymnasium vector envs"
                 if named
                 else "legacy positional observation_space/action_space would now land on copy/shared_memory"
             )

@@ -129,7 +129,7 @@ class Infos(_Base):
         """
         index = self.facts.memo(("vector-reads-by-bindings", 0), self._reads_by_bindings)
         seen = self.facts.resolve(binding.id, self.facts.scope_of(binding))[1]
-        return index.get(id(seen), [])  # type: ignore[union-attr]
+        return index.get(id(seen), [])
 
     def _reads_by_bindings(self) -> dict[int, list[ast.Name]]:
         index: dict[int, list[ast.Name]] = defaultdict(list)
@@ -203,7 +203,7 @@ class Infos(_Base):
                     )
         same_step = bool(final_obs) and creation is not None and self._can_set_autoreset(creation)
         if same_step:
-            self.decisions.autoreset[id(creation)] = creation  # type: ignore[assignment]
+            self.decisions.autoreset[id(creation)] = creation
             creator = self.facts.segment(creation.func)  # type: ignore[union-attr]
             for node in final_obs:
                 old = node.value
@@ -270,7 +270,7 @@ class Infos(_Base):
 
     def _readers(self, infos: ast.Name) -> InfosReaders:
         seen = self.facts.resolve(infos.id, self.facts.scope_of(infos))[1]
-        return self.facts.memo(("vector-infos-readers", id(seen)), lambda: self._classify_reads(infos))  # type: ignore[no-any-return]
+        return self.facts.memo(("vector-infos-readers", id(seen)), lambda: self._classify_reads(infos))
 
     def _classify_reads(self, infos: ast.Name) -> InfosReaders:
         readers = InfosReaders()
@@ -290,8 +290,8 @@ class Infos(_Base):
                 outer_key = _subscript_key(outer) if isinstance(outer, ast.Subscript) and outer.value is parent else None
                 if outer_key in _TERMINAL_KEYS or outer_key in _FINAL_INFO_KEYS or outer_key in FINAL_OBS_KEYS:
                     # ``infos[i]["terminal_observation"]``: the list form of gym 0.22-0.23
-                    readers.terminal.append(outer)  # type: ignore[arg-type]
-                    readers.key_strings.append(outer.slice)  # type: ignore[union-attr]
+                    readers.terminal.append(outer)
+                    readers.key_strings.append(outer.slice)
                 else:
                     readers.positional.append(parent)
             else:
@@ -381,5 +381,5 @@ def _subscript_key(subscript: ast.AST | None) -> str | None:
     return string_value(subscript.slice)
 
 
-def _renamed(node, value: str):  # type: ignore[no-untyped-def]
+def _renamed(node, value: str):
     return node.with_changes(value=f"{node.prefix}{node.quote}{value}{node.quote}")

@@ -79,7 +79,7 @@ class WrapperForwarding(RuleFamily):
 
     RULES = RULES
 
-    def __init__(self, *args, **kwargs) -> None:  # type: ignore[no-untyped-def]
+    def __init__(self, *args, **kwargs) -> None:
         super().__init__(*args, **kwargs)
         self._name_origins: dict[tuple[int, str], Origin] = {}
         self._in_progress: set[tuple[int, str]] = set()
@@ -428,7 +428,7 @@ class WrapperForwarding(RuleFamily):
         return result
 
 
-def _through(*attrs: str):  # type: ignore[no-untyped-def]
+def _through(*attrs: str):
     """``env.foo`` -> ``env.<attrs...>`` (``env.unwrapped.foo``, ``env.spec.max_episode_steps``)."""
 
     def build(node: cst.Attribute) -> cst.BaseExpression:
@@ -440,7 +440,7 @@ def _through(*attrs: str):  # type: ignore[no-untyped-def]
     return build
 
 
-def _get_wrapper_attr(name: str):  # type: ignore[no-untyped-def]
+def _get_wrapper_attr(name: str):
     def build(node: cst.Attribute) -> cst.BaseExpression:
         return cst.Call(
             func=cst.Attribute(value=node.value, attr=cst.Name("get_wrapper_attr")),

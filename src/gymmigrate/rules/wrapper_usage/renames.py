@@ -416,7 +416,7 @@ class WrapperRenames(RuleFamily):
             return
         key = string_value(node.slice)
         if key in FINAL_INFO_KEYS:
-            self._report_final_info(node, key)  # type: ignore[arg-type]
+            self._report_final_info(node, key)
 
     def _check_final_info_get(self, call: ast.Call) -> None:
         if not self._uses_autoreset:
@@ -425,7 +425,7 @@ class WrapperRenames(RuleFamily):
         if isinstance(func, ast.Attribute) and func.attr == "get" and call.args:
             key = string_value(call.args[0])
             if key in FINAL_INFO_KEYS:
-                self._report_final_info(call, key)  # type: ignore[arg-type]
+                self._report_final_info(call, key)
 
     def _report_final_info(self, node: ast.AST, key: str) -> None:
         self.report(
@@ -451,8 +451,8 @@ def _root_name(node: ast.AST) -> str:
     return node.id if isinstance(node, ast.Name) else "gymnasium"
 
 
-def _dotted_build(text: str):  # type: ignore[no-untyped-def]
+def _dotted_build(text: str):
     def build(node: cst.BaseExpression) -> cst.BaseExpression:
-        return dotted_node(text).with_changes(lpar=node.lpar, rpar=node.rpar)  # type: ignore[attr-defined]
+        return dotted_node(text).with_changes(lpar=node.lpar, rpar=node.rpar)
 
     return build

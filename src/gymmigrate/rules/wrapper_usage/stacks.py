@@ -134,7 +134,7 @@ class WrapperStacks:
                 return None
             makes: dict[int, ast.Call] = {}
             for calls in found:
-                for make in calls:  # type: ignore[union-attr]
+                for make in calls:
                     makes.setdefault(id(make), make)
             return tuple(makes.values())
         return None

@@ -146,7 +146,7 @@ class StepOverrides(RuleFamily):
                 (done.id == done_name and not done_modified) or done.id not in bound
             )
             if plain_done:
-                replaced_done_reads += done.id == done_name  # type: ignore[union-attr]
+                replaced_done_reads += done.id == done_name
                 self.report(ret, "GM602", "step returns (obs, reward, terminated, truncated, info)")
                 self.plan.replace(value, lambda node, t=terminated, u=truncated: _five(node, [cst.Name(t), cst.Name(u)]))
             elif (
