@@ -26,7 +26,7 @@ if TYPE_CHECKING:
 # The parameter is the LibCST counterpart of the ``ast`` node given to ``replace``: its
 # class (``cst.Call`` for an ``ast.Call``, ...) is known to the rule, not to the plan, so
 # a build may annotate it with the class it expects.
-Build = Callable[[Any], Any]
+Build = Callable[..., Any]  # called with that one node; a lambda may bind values as defaults
 
 
 @dataclass

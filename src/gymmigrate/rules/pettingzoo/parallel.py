@@ -53,7 +53,7 @@ class ParallelCalls(PettingZooFamily):
     def _plan_step(self, call: ast.Call, receiver: ast.expr) -> None:
         assign = self.facts.parent(call)
         target = tuple_target(assign, 4)
-        if target is None:
+        if target is None or not isinstance(assign, ast.Assign):  # a target is only found on an Assign
             function = self.facts.enclosing_function(call)
             if function is not None and function.name == "step" and self.facts.enclosing_class(call) is not None:
                 return  # ``res = self.env.step(a)`` in a wrapper's step: handed on whole, five dicts now
@@ -77,8 +77,8 @@ class ParallelCalls(PettingZooFamily):
             if aggregate is not None and aggregate[1] == "all":
                 self._plan_all_done(aggregate[0], env)
                 continue
-            if not self.flow.dominates(assign, read, dones):  # type: ignore[arg-type]
-                keep = keep or self.flow.observes(read, assign, dones)  # type: ignore[arg-type]
+            if not self.flow.dominates(assign, read, dones):
+                keep = keep or self.flow.observes(read, assign, dones)
                 continue
             parent = self.facts.parent(read)
             if _passed_on(read, parent, self.facts):

@@ -7,11 +7,16 @@ from __future__ import annotations
 
 import ast
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 from gymmigrate.edits.lazy import cst
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts import ModuleFacts
+
+if TYPE_CHECKING:
+    from gymmigrate.facts.creation import CreationFinder
+    from gymmigrate.rules.base import RuleFamily
 
 # Legacy ``gym.vector.make(id, num_envs=1, asynchronous=True, wrappers=None,
 # disable_env_checker=None, **kwargs)`` positional parameters.
@@ -92,3 +97,16 @@ def code(node: cst.CSTNode) -> str:
 
 def renamed_string(node: cst.SimpleString, value: str) -> cst.SimpleString:
     return node.with_changes(value=f"{node.prefix}{node.quote}{value}{node.quote}")
+
+
+if TYPE_CHECKING:
+
+    class VectorFamilyBase(RuleFamily):
+        """What the rule modules' mixins (``Construction``, ``Infos``, ``VectorWrappers``)
+        see of the family they are mixed into (``rules/vector/__init__.py``)."""
+
+        decisions: VectorDecisions
+        finder: CreationFinder
+
+else:
+    VectorFamilyBase = object  # the mixins add methods only; RuleFamily comes with the family

@@ -18,7 +18,7 @@ from __future__ import annotations
 import ast
 import builtins
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from gymmigrate.edits.lazy import cst
 
@@ -29,22 +29,17 @@ from gymmigrate.rules.vector.common import (
     LEGACY_POSITIONS,
     VECTOR_CLASS_KWARGS,
     VECTOR_CLASSES,
+    VectorFamilyBase,
     gym_rest,
     is_false,
     quote_style,
 )
 
-if TYPE_CHECKING:
-    from gymmigrate.rules.vector import VectorEnvs
-
-    _Base = VectorEnvs
-else:
-    _Base = object
 
 _BUILTINS = frozenset(dir(builtins))
 
 
-class Construction(_Base):
+class Construction(VectorFamilyBase):
     """GM701 and GM702, mixed into the vector family."""
 
     # -- GM701 ------------------------------------------------------------------------------
@@ -110,7 +105,7 @@ class Construction(_Base):
                 f"sub-env's constructor, make_vec gives them to the vector env class{caveat}",
                 FixKind.ASSIST,
             )
-        elif unknown_wrappers:
+        elif unknown_wrappers and wrappers is not None:  # ``unknown_wrappers`` implies an argument
             self.report(
                 call,
                 "GM701",
@@ -185,7 +180,11 @@ class Construction(_Base):
         self.plan.add_import("from gymnasium import make_vec")
         for binding in self.facts.bindings_of(func):
             statement = self.facts.parent(binding) if isinstance(binding, ast.alias) else None
-            if not isinstance(statement, ast.ImportFrom) or self.facts.parent(statement) is not self.facts.tree:
+            if (
+                not isinstance(binding, ast.alias)
+                or not isinstance(statement, ast.ImportFrom)
+                or self.facts.parent(statement) is not self.facts.tree
+            ):
                 continue
             still_used = any(
                 binding in self.facts.bindings_of(read) and not self._is_rewritten_make(read)

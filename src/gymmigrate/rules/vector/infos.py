@@ -21,21 +21,22 @@ from __future__ import annotations
 import ast
 from collections import defaultdict
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import cast
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.decisions import Action, decide
 from gymmigrate.facts.module import keyword, string_value
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.findings import FixKind
-from gymmigrate.rules.vector.common import LIST_INFO_WRAPPERS, VECTOR_CLASSES, arguments_in_order, argument_value, gym_rest
+from gymmigrate.rules.vector.common import (
+    LIST_INFO_WRAPPERS,
+    VECTOR_CLASSES,
+    VectorFamilyBase,
+    arguments_in_order,
+    argument_value,
+    gym_rest,
+)
 
-if TYPE_CHECKING:
-    from gymmigrate.rules.vector import VectorEnvs
-
-    _Base = VectorEnvs
-else:
-    _Base = object
 
 # What a gymnasium VectorWrapper such as DictInfoToList exposes (it has no __getattr__):
 # ``envs.call(...)``, ``envs.get_attr(...)`` or ``envs.envs`` would break once wrapped.
@@ -79,7 +80,7 @@ class InfosReaders:
     key_strings: list[ast.AST] = field(default_factory=list)  # every key literal seen
 
 
-class Infos(_Base):
+class Infos(VectorFamilyBase):
     """GM705 and GM706, mixed into the vector family."""
 
     def plan_infos(self, handled: set[int]) -> None:
@@ -202,11 +203,11 @@ class Infos(_Base):
                         FixKind.FLAG,
                     )
         same_step = bool(final_obs) and creation is not None and self._can_set_autoreset(creation)
-        if same_step:
+        if same_step and creation is not None:  # ``same_step`` already implies a creation
             self.decisions.autoreset[id(creation)] = creation
-            creator = self.facts.segment(creation.func)  # type: ignore[union-attr]
+            creator = self.facts.segment(creation.func)
             for node in final_obs:
-                old = node.value
+                old = cast(str, node.value)  # ``_keyed`` keeps only the strings in FINAL_OBS_KEYS
                 new = FINAL_OBS_KEYS[old]
                 self.plan.replace(node, lambda string, new=new: _renamed(string, new))
                 self.report(
@@ -288,7 +289,9 @@ class Infos(_Base):
             if key is None:
                 outer = facts.parent(parent)
                 outer_key = _subscript_key(outer) if isinstance(outer, ast.Subscript) and outer.value is parent else None
-                if outer_key in _TERMINAL_KEYS or outer_key in _FINAL_INFO_KEYS or outer_key in FINAL_OBS_KEYS:
+                if isinstance(outer, ast.Subscript) and (
+                    outer_key in _TERMINAL_KEYS or outer_key in _FINAL_INFO_KEYS or outer_key in FINAL_OBS_KEYS
+                ):
                     # ``infos[i]["terminal_observation"]``: the list form of gym 0.22-0.23
                     readers.terminal.append(outer)
                     readers.key_strings.append(outer.slice)
