@@ -67,7 +67,7 @@ def words(text: str, position: int, limit: int) -> list[Word]:
                 i += 1
             pieces += 1
         word_value = "".join(value)
-        inner = (start, i)
+        inner: tuple[int, int] | None = (start, i)
         if quoted is not None:
             inner = quoted if (quoted[0] - 1, quoted[1] + 1) == (start, i) else None
         out.append(Word(start, i, word_value, inner))
@@ -144,7 +144,7 @@ def _language(info: str) -> str:
 
 
 def markdown_regions(text: str) -> list[tuple[int, int]]:
-    regions = []
+    regions: list[tuple[int, int]] = []
     position = 0
     while True:
         opening = _FENCE.search(text, position)

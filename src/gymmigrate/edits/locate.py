@@ -182,9 +182,9 @@ def _ast_kind(node: ast.AST) -> str:
     raise ApplyError(f"rules cannot address a {type(node).__name__} node directly")
 
 
-def _ast_candidates(statement: ast.stmt, kind: str, parents: dict[ast.AST, ast.AST]) -> list[ast.AST]:
+def _ast_candidates(statement: ast.stmt, kind: str, parents: dict[ast.AST, ast.AST]) -> list[ast.expr]:
     """Nodes of ``kind`` in ``statement``, not in nested statements, in source order."""
-    found = []
+    found: list[ast.expr] = []
     stack: list[ast.AST] = [statement]
     while stack:
         node = stack.pop()
