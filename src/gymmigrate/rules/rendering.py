@@ -238,7 +238,8 @@ class Rendering(RuleFamily):
         return RenderSite(call, "GM401", mode, (), decision.action, self.finder.find(receiver), legacy_spelling=legacy, quote=quote)
 
     def _recorder_site(self, call: ast.Call) -> RenderSite | None:
-        consumer, accepted = None, (RGB_ARRAY,)
+        consumer: str | None = None
+        accepted: tuple[str, ...] = (RGB_ARRAY,)
         monitor = False
         for q in self.facts.qualified_names(call.func):
             rest = N.strip_gym_prefix(q)
@@ -250,15 +251,16 @@ class Rendering(RuleFamily):
                 consumer, monitor = "RecordVideo", True
         if consumer is None or not (call.args or call.keywords):
             return None
+        env: ast.AST | None
         if monitor:
             env = self._monitor_env(call)
-            if env is None:
-                return None
         else:
-            env = keyword(call, "env") or keyword(call, "venv")
-            env = env.value if env is not None else first_argument(call)
+            named = keyword(call, "env") or keyword(call, "venv")
+            env = named.value if named is not None else first_argument(call)
             if isinstance(env, ast.keyword):
                 return None  # the first argument is some other keyword
+        if env is None:  # a monitor without its env (a call here always has an argument)
+            return None
         creation = self.finder.find(env)
         if not creation.found:
             sb3_factory = self._sb3_make_vec_env(env)

@@ -317,7 +317,7 @@ def _state_assignment(node: cst.Expr) -> cst.Assign:
 def _inclusive_integers(call: cst.Call, func: cst.Attribute) -> cst.Call:
     args = list(call.args)
     positional = [a for a in args if a.keyword is None]
-    if len(positional) == 1 and not any(m.matches(a.keyword, m.Name("high")) for a in args):
+    if len(positional) == 1 and not any(a.keyword is not None and m.matches(a.keyword, m.Name("high")) for a in args):
         # random_integers(n) draws from [1, n]
         args.insert(0, cst.Arg(cst.Integer("1")))
     if args:

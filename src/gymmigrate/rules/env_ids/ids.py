@@ -158,6 +158,7 @@ class EnvIds(RuleFamily):
             return None
         target = bindings[0]
         statement = self.facts.parent(target)
+        value: ast.expr | None
         if isinstance(statement, ast.Assign) and statement.targets == [target]:
             value = statement.value
         elif isinstance(statement, ast.AnnAssign) and statement.target is target:

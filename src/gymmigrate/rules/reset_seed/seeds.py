@@ -148,7 +148,7 @@ class SeedCalls(ResetSeedBase):
         parent = self.facts.parent(statement)
 
         def index() -> dict[int, tuple[list[ast.stmt], int]]:
-            places = {}
+            places: dict[int, tuple[list[ast.stmt], int]] = {}
             for name in _BLOCK_FIELDS:
                 items = getattr(parent, name, None)
                 if isinstance(items, list):

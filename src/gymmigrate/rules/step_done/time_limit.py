@@ -95,10 +95,16 @@ class TimeLimitRules(StepFamilyBase):
         None for the infos of an SB3 VecEnv step, else ``_UNTRACED``."""
         binding = self.flow.last_binding_of(base)
         if isinstance(binding, ast.Name):
-            step = self.facts.parent(self.facts.parent(binding))
-            names = self.info_steps.get(step)  # type: ignore[call-overload]
-            if names is not None and step.targets[0].elts[3] is binding and self.flow.dominates(step, base, binding):  # type: ignore[union-attr]
-                return names
+            holder = self.facts.parent(binding)
+            step = self.facts.parent(holder) if holder is not None else None
+            if isinstance(step, ast.Assign) and step in self.info_steps:
+                target = step.targets[0]  # the tuple ``unpack.py`` split
+                if (
+                    isinstance(target, (ast.Tuple, ast.List))
+                    and target.elts[3] is binding
+                    and self.flow.dominates(step, base, binding)
+                ):
+                    return self.info_steps[step]
         scope, _ = self.facts.resolve(base.id, self.facts.scope_of(base))
         if scope is not None and (id(scope), base.id) in self.guarded_infos:
             return None

@@ -414,7 +414,8 @@ class UnpackRules(StepFamilyBase):
         scope = self.facts.scope_of(assign)
         taken = self.flow.names_used_in(scope)
         compatible = self._step_flag_names(scope) if any(name in taken for name in base) else set()
-        return StepNames(*(_fresh(name, taken, compatible) for name in base), vector=vector, numpy=numpy)
+        terminated, truncated = (_fresh(name, taken, compatible) for name in base)
+        return StepNames(terminated, truncated, vector=vector, numpy=numpy)
 
     def _step_flag_names(self, scope: Scope) -> set[str]:
         """Names that only ever hold step flags in ``scope`` (safe to bind again)."""

@@ -403,7 +403,8 @@ class WrapperForwarding(RuleFamily):
     def _param_origin(self, param: ast.arg) -> Origin:
         if param in self._param_origins:
             return self._param_origins[param]
-        function = self.facts.parent(self.facts.parent(param))  # arg -> arguments -> def
+        arguments = self.facts.parent(param)
+        function = self.facts.parent(arguments) if arguments is not None else None  # arg -> arguments -> def
         if not isinstance(function, FUNCTIONS):
             return None
         classdef = self.facts.enclosing_class(function)

@@ -274,20 +274,20 @@ class WrapperRenames(RuleFamily):
                 self.report(node, "GM608", "`VectorListInfo` is now `gymnasium.wrappers.vector.DictInfoToList`")
                 self.plan.replace(node, _dotted_build(f"{_root_name(node)}.wrappers.vector.DictInfoToList"))
                 return
-            new = experimental_name(name) if rest.startswith("experimental.wrappers.") else None
-            if new:
+            experimental = experimental_name(name) if rest.startswith("experimental.wrappers.") else None
+            if experimental:
                 if ".experimental.wrappers." not in (dotted_name(node) or ""):
                     self.report(
                         node,
                         "GM614",
-                        f"`{name}` is `gymnasium.wrappers.{new}` in Gymnasium 1.x: import it from there",
+                        f"`{name}` is `gymnasium.wrappers.{experimental}` in Gymnasium 1.x: import it from there",
                         kind=FixKind.FLAG,
                     )
                     return
                 if not self._is_call_func(node):
-                    self.report(node, "GM614", f"`{name}` is `gymnasium.wrappers.{new}` in Gymnasium 1.x")
+                    self.report(node, "GM614", f"`{name}` is `gymnasium.wrappers.{experimental}` in Gymnasium 1.x")
                 vector = ".vector" if rest.startswith("experimental.wrappers.vector.") else ""
-                self.plan.replace(node, _dotted_build(f"{_root_name(node)}.wrappers{vector}.{new}"))
+                self.plan.replace(node, _dotted_build(f"{_root_name(node)}.wrappers{vector}.{experimental}"))
                 return
 
     def _check_removed(self, node: ast.Name | ast.Attribute) -> None:

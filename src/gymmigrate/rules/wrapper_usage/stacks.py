@@ -23,6 +23,7 @@ from gymmigrate.rules.wrapper_usage.tables import wrapper_rest
 if TYPE_CHECKING:
     from gymmigrate.edits.plan import Plan
     from gymmigrate.findings import FixKind, Tier
+    from gymmigrate.rules.notes import FamilyNotes
 
 
 class StacksFamily(Protocol):
@@ -32,6 +33,7 @@ class StacksFamily(Protocol):
     facts: ModuleFacts
     receivers: Receivers
     plan: Plan
+    notes: FamilyNotes
     stacks: WrapperStacks
 
     def report(
@@ -134,8 +136,9 @@ class WrapperStacks:
                 return None
             makes: dict[int, ast.Call] = {}
             for calls in found:
-                for make in calls:
-                    makes.setdefault(id(make), make)
+                if isinstance(calls, tuple):  # each path's make calls (None and cycles are out)
+                    for make in calls:
+                        makes.setdefault(id(make), make)
             return tuple(makes.values())
         return None
 

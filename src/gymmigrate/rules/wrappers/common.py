@@ -78,11 +78,11 @@ def _statements(body: list[ast.stmt]) -> Iterator[ast.stmt]:
         blocks = [getattr(statement, field, None) for field in ("body", "orelse", "finalbody")]
         blocks += [handler.body for handler in getattr(statement, "handlers", ())]
         blocks += [case.body for case in getattr(statement, "cases", ())]
-        blocks = [block for block in blocks if isinstance(block, list)]
-        if not blocks:
+        suites = [block for block in blocks if isinstance(block, list)]
+        if not suites:
             yield statement
-        for block in blocks:
-            yield from _statements(block)
+        for suite in suites:
+            yield from _statements(suite)
 
 
 def _single_assign(statement: ast.stmt) -> ast.Assign | None:
