@@ -190,7 +190,10 @@ class Rendering(RuleFamily):
     # -- sites ------------------------------------------------------------------------------
 
     def _render_site(self, call: ast.Call) -> RenderSite | None:
-        receiver = call.func.value  # type: ignore[attr-defined]
+        func = call.func
+        if not isinstance(func, ast.Attribute):  # ``x.method(...)`` calls only
+            return None
+        receiver = func.value
         close = keyword(call, "close")
         mode_arg = mode_argument(call)
         if close is None and mode_arg is None and (call.args or call.keywords):

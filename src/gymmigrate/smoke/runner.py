@@ -91,7 +91,7 @@ def _run_all(target: Target, options: SmokeOptions) -> tuple[tuple[CheckResult, 
         check_env_id(target.location)
         import gymnasium
 
-        def make() -> object:
+        def make() -> gymnasium.Env:
             return gymnasium.make(target.location)
 
         pre_checks: tuple[CheckResult, ...] = ()
@@ -99,7 +99,7 @@ def _run_all(target: Target, options: SmokeOptions) -> tuple[tuple[CheckResult, 
         cls = load_class(target)
         pre_checks = (_gymnasium_check_env(cls),)
 
-        def make() -> object:
+        def make() -> gymnasium.Env:
             return instantiate(cls)
 
     runs = _repeat(lambda seed: drive(make, seed, budget, options.timeout), options)

@@ -44,7 +44,10 @@ class AecLoop(PettingZooFamily):
     # -- last() -------------------------------------------------------------------------
 
     def _plan_last(self, call: ast.Call) -> None:
-        receiver = call.func.value  # type: ignore[attr-defined]
+        func = call.func
+        if not isinstance(func, ast.Attribute):  # ``x.method(...)`` calls only
+            return
+        receiver = func.value
         assign = self.facts.parent(call)
         if self.multi_agent.kind(receiver) is not EnvKind.PZ_AEC:
             if self.multi_agent.iterated(receiver) and isinstance(assign, ast.Assign) and tuple_target(assign, 4) is not None:

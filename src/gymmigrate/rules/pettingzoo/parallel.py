@@ -39,11 +39,17 @@ class ParallelCalls(PettingZooFamily):
     def decide(self) -> None:
         self.flow = Flow.of(self.facts)
         for call in self.facts.attribute_calls.get("step", ()):
-            receiver = call.func.value  # type: ignore[attr-defined]
+            func = call.func
+            if not isinstance(func, ast.Attribute):  # ``x.method(...)`` calls only
+                continue
+            receiver = func.value
             if self.multi_agent.kind(receiver) is EnvKind.PZ_PARALLEL:
                 self._plan_step(call, receiver)
         for call in self.facts.attribute_calls.get("reset", ()):
-            receiver = call.func.value  # type: ignore[attr-defined]
+            func = call.func
+            if not isinstance(func, ast.Attribute):  # ``x.method(...)`` calls only
+                continue
+            receiver = func.value
             kind = self.multi_agent.kind(receiver)
             if kind is not None and not (isinstance(receiver, ast.Name) and self.receivers.is_self(receiver)):
                 self._plan_reset(call, kind)

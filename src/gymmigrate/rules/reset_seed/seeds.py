@@ -31,7 +31,10 @@ _BLOCK_FIELDS = ("body", "orelse", "finalbody")
 
 class SeedCalls(ResetSeedBase):
     def _decide_seed(self, call: ast.Call) -> None:
-        receiver = call.func.value  # type: ignore[attr-defined]
+        func = call.func
+        if not isinstance(func, ast.Attribute):  # ``x.method(...)`` calls only
+            return
+        receiver = func.value
         if is_space(receiver):
             self._check_space_seed(call)
             return
