@@ -128,16 +128,17 @@ class ResultRules(StepFamilyBase):
         subscript = self.facts.parent(read)
         if index in (0, 1, -1):
             return  # observation, reward and info keep their places
-        if index == 3:
-            self.plan.replace(subscript, lambda node: _with_index(node, 4))  # type: ignore[arg-type]
+        # An index is only found on a subscript (``_constant_index``).
+        if index == 3 and isinstance(subscript, ast.Subscript):
+            self.plan.replace(subscript, lambda node: _with_index(node, 4))
             exact = FixKind.AUTO if step.decision.action is Action.REWRITE else FixKind.ASSIST
-            self.report(subscript, "GM304", f"`{result.id}[3]` (info) is `{result.id}[4]` now", exact)  # type: ignore[arg-type]
+            self.report(subscript, "GM304", f"`{result.id}[3]` (info) is `{result.id}[4]` now", exact)
             return
-        if index == 2 and not (step.vector or looks_vectorised(step.receiver, result)):
-            bare = stands_alone(subscript, self.facts.parent(subscript))  # type: ignore[arg-type]
-            self.plan.replace(subscript, lambda node: _either(node, bare))  # type: ignore[arg-type]
+        if index == 2 and isinstance(subscript, ast.Subscript) and not (step.vector or looks_vectorised(step.receiver, result)):
+            bare = stands_alone(subscript, self.facts.parent(subscript))
+            self.plan.replace(subscript, lambda node: _either(node, bare))
             self.report(
-                subscript,  # type: ignore[arg-type]
+                subscript,
                 "GM304",
                 f"`{result.id}[2]` (done) is now `{result.id}[2] or {result.id}[3]`; "
                 f"if it feeds bootstrapping, use `{result.id}[2]` (terminated) alone",

@@ -189,6 +189,6 @@ def _time_limit_base(node: ast.expr) -> ast.expr:
     """The dict a ``TimeLimit.truncated`` read looks in."""
     if isinstance(node, ast.Subscript):
         return node.value
-    if isinstance(node, ast.Call):
-        return node.func.value  # type: ignore[attr-defined]
+    if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute):
+        return node.func.value
     return node.comparators[0]  # type: ignore[attr-defined]

@@ -43,6 +43,7 @@ class _DoneStep:
     assign: ast.Assign
     done: ast.Name
     names: StepNames
+    target: ast.Tuple | ast.List  # ``assign``'s only target, the unpacked values
 
 
 class UnpackRules(StepFamilyBase):
@@ -82,7 +83,7 @@ class UnpackRules(StepFamilyBase):
                 # Whether ``done`` is still read is decided once every step is known.
                 scope = self.flow.binding_scope(done_target)
                 group = (id(scope), done_target.id) if scope is not None else (id(assign), done_target.id)
-                self.done_steps.setdefault(group, []).append(_DoneStep(assign, done_target, names))
+                self.done_steps.setdefault(group, []).append(_DoneStep(assign, done_target, names, target))
         else:
             self._keep_done(assign, done_target, names)  # ``self.done``/``dones[i]``: readers cannot be traced
             self._report_stored_attribute(assign, done_target, names)
@@ -190,7 +191,7 @@ class UnpackRules(StepFamilyBase):
         terminated = step.names.terminated
         self.notes.step_unpacks[step.assign].claimed_reads += 1
         self.plan.replace(read, lambda node: node.with_changes(value=terminated))
-        next_state = self.facts.segment(step.assign.targets[0].elts[0])  # type: ignore[attr-defined]
+        next_state = self.facts.segment(step.target.elts[0])
         self._report_read(
             read,
             f"`{read.id}` masks bootstrapping from the next state `{next_state}` (a target or stored transition): "
@@ -240,7 +241,7 @@ class UnpackRules(StepFamilyBase):
         return self.facts.memo(("next-state-names", id(step.assign)), lambda: self._compute_next_state_names(step))
 
     def _compute_next_state_names(self, step: _DoneStep) -> set[str]:
-        first = step.assign.targets[0].elts[0]  # type: ignore[attr-defined]
+        first = step.target.elts[0]
         if not isinstance(first, ast.Name) or first.id == "_":
             return set()
         names = {first.id}
@@ -289,7 +290,9 @@ class UnpackRules(StepFamilyBase):
             store = node.targets[0].value
         else:
             return False
-        first = step.assign.targets[0].elts[0]  # type: ignore[attr-defined]
+        first = step.target.elts[0]
+        if not isinstance(first, ast.Name):
+            return False  # then ``next_names`` is empty: nothing below could match
         for value in values:
             for name in ast.walk(value):
                 if isinstance(name, ast.Name) and name.id in next_names and isinstance(name.ctx, ast.Load):
