@@ -59,13 +59,14 @@ def gym_rest(facts: ModuleFacts, node: ast.AST) -> frozenset[str]:
     return facts.memo(("vector-gym-rest", id(node)), compute)
 
 
-def arguments_in_order(call: ast.Call) -> list[ast.AST]:
+def arguments_in_order(call: ast.Call) -> list[ast.expr | ast.keyword]:
     """Positional arguments and keywords in source order (LibCST's ``call.args``)."""
-    return sorted([*call.args, *call.keywords], key=lambda a: (a.lineno, a.col_offset))  # type: ignore[attr-defined]
+    arguments: list[ast.expr | ast.keyword] = [*call.args, *call.keywords]
+    return sorted(arguments, key=lambda a: (a.lineno, a.col_offset))
 
 
-def argument_value(argument: ast.AST) -> ast.expr:
-    return argument.value if isinstance(argument, (ast.keyword, ast.Starred)) else argument  # type: ignore[return-value]
+def argument_value(argument: ast.expr | ast.keyword) -> ast.expr:
+    return argument.value if isinstance(argument, (ast.keyword, ast.Starred)) else argument
 
 
 def quote_of(facts: ModuleFacts, node: ast.AST) -> str | None:

@@ -89,7 +89,10 @@ class Infos(VectorFamilyBase):
         creations: dict[int, ast.Call | None] = {}
         counted: set[int] = set()  # readers whose key strings are in ``handled``
         for step, infos in self._step_assigns():
-            receiver = step.func.value  # type: ignore[attr-defined]
+            func = step.func
+            if not isinstance(func, ast.Attribute):  # ``x.step(...)`` calls only
+                continue
+            receiver = func.value
             kind = self.receivers.kind_of(receiver)
             decision = decide(kind, receiver, self.context.profile, legacy_shape=True, expected=EnvKind.GYM_VEC)
             if decision.action is Action.LEAVE:
@@ -298,7 +301,7 @@ class Infos(VectorFamilyBase):
                 else:
                     readers.positional.append(parent)
             else:
-                self._keyed(parent, key, parent.slice, readers)  # type: ignore[arg-type]
+                self._keyed(parent, key, parent.slice, readers)
         elif isinstance(parent, (ast.Call, ast.keyword)):
             call = parent if isinstance(parent, ast.Call) else facts.parent(parent)
             if isinstance(call, ast.Call) and call.func is not node:
@@ -309,7 +312,7 @@ class Infos(VectorFamilyBase):
             if isinstance(operator, (ast.In, ast.NotIn)):
                 key = string_value(parent.left)
                 if key is not None:
-                    self._keyed(parent, key, parent.left, readers, presence=True)  # type: ignore[arg-type]
+                    self._keyed(parent, key, parent.left, readers, presence=True)
         elif isinstance(parent, ast.Attribute) and parent.value is node and parent.attr in ("get", "pop"):
             call = facts.parent(parent)
             if isinstance(call, ast.Call) and call.func is parent:
@@ -318,14 +321,15 @@ class Infos(VectorFamilyBase):
                     first = argument_value(arguments[0])
                     key = string_value(first)
                     if key is not None:
-                        self._keyed(call, key, first, readers)  # type: ignore[arg-type]
+                        self._keyed(call, key, first, readers)
 
-    def _keyed(self, node: ast.AST, key: str, string: ast.Constant | None, readers: InfosReaders, presence: bool = False) -> None:
+    def _keyed(self, node: ast.AST, key: str, string: ast.expr | None, readers: InfosReaders, presence: bool = False) -> None:
+        """``string`` is the literal ``key`` was read from (a Constant), if any."""
         if string is not None:
             readers.key_strings.append(string)
         if presence and key in _FINAL_INFO_KEYS:
             return  # ``"final_info" in infos`` still works; the reads below it are what break
-        if key in FINAL_OBS_KEYS and string is not None:
+        if key in FINAL_OBS_KEYS and isinstance(string, ast.Constant):
             readers.final_obs.append(string)
         elif key in _FINAL_INFO_KEYS:
             readers.final_info.append(node)
@@ -341,7 +345,8 @@ class Infos(VectorFamilyBase):
         if isinstance(reader, ast.Subscript):
             return self.facts.segment(reader.value)
         if isinstance(reader, ast.Call):
-            return next((argument_value(a).id for a in arguments_in_order(reader) if isinstance(argument_value(a), ast.Name)), "infos")  # type: ignore[attr-defined]
+            values = map(argument_value, arguments_in_order(reader))
+            return next((value.id for value in values if isinstance(value, ast.Name)), "infos")
         return "infos"
 
     # -- keys read off something else ---------------------------------------------------------
