@@ -366,7 +366,7 @@ class Rendering(RuleFamily):
         moves to the make when it is fixed at creation, else the sites are reported.
         False when a render runs on every pass (human mode then draws as before)."""
         how, condition = schedule(self.facts, [site.node for site in sites], make)
-        if how == "always":
+        if how == "always" or condition is None:  # the condition is None only "always"
             return False
         key = id(make)
         if how == "fixed":
@@ -376,10 +376,10 @@ class Rendering(RuleFamily):
             func = self.facts.segment(make.func)
             value = f"{quote}{HUMAN}{quote} if {condition} else None"
             self.plan.replace(make, lambda node: with_keyword(node, func, "render_mode", value))
-            self._scheduled[key] = condition  # type: ignore[assignment]
+            self._scheduled[key] = condition
             return True
         final_mode[key] = None
-        self._unscheduled[key] = condition  # type: ignore[assignment]
+        self._unscheduled[key] = condition
         return True
 
     def _add_mode(self, make: ast.Call, mode: str, quote: str) -> None:

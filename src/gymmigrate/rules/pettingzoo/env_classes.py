@@ -164,10 +164,10 @@ class EnvClasses(PettingZooFamily):
             and self._own_line(assign)
         )
         self._split_assignments[key] = ok
-        if not ok:
+        if not ok or not isinstance(target, ast.Name):  # ``ok`` implies a Name
             return False
-        reads = Flow.of(self.facts).reads(target)  # type: ignore[arg-type]
-        self.rename(target, "termination")  # type: ignore[arg-type]
+        reads = Flow.of(self.facts).reads(target)
+        self.rename(target, "termination")
         self.replace_value(assign, joined(traced.task, self.facts))
         limit = joined(traced.limit, self.facts)
         limit = f"({limit})" if len(traced.limit) > 1 else limit

@@ -262,7 +262,7 @@ def _is_done_line(statement: ast.stmt, flags: tuple[str, str]) -> bool:
         and isinstance(value.op, ast.Or)
         and len(value.values) == 2
         and all(isinstance(v, ast.Name) for v in value.values)
-        and tuple(v.id for v in value.values) == flags  # type: ignore[attr-defined]
+        and tuple(v.id for v in value.values if isinstance(v, ast.Name)) == flags  # all Names (above)
     )
 
 
