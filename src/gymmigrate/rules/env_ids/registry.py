@@ -55,7 +55,8 @@ class RegistryApi(RuleFamily):
                 self.plan.replace(attribute, self._current_registry_build(attribute.value, lambda node: node.value))
         for method in ("all", *sorted(REGISTRY_METHODS)):
             for call in self.facts.attribute_calls.get(method, ()):
-                if is_registry(self.facts, call.func.value):  # type: ignore[attr-defined]
+                func = call.func
+                if isinstance(func, ast.Attribute) and is_registry(self.facts, func.value):
                     self._decide_registry_call(call, method)
         for private, public in SPEC_ATTRIBUTES.items():
             for attribute in self.facts.attributes.get(private, ()):
