@@ -400,8 +400,9 @@ class Imports(RuleFamily):
         new_rest = migrated_path(rest)
         if not star and new_rest != rest:
             moved = [MOVED_NAMES.get((rest.split(".")[-1], alias.name)) for alias in node.names]
-            if any(moved) and len(set(moved)) == 1:
-                new_rest = moved[0][len("gymnasium.") :]  # type: ignore[index]
+            first = moved[0] if moved else None
+            if first and len(set(moved)) == 1:  # every name moved, to one module
+                new_rest = first[len("gymnasium.") :]
         new_module = "gymnasium" + ("." + new_rest if new_rest else "")
         if new_module == module:
             return
