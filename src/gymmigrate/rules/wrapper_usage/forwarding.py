@@ -249,10 +249,10 @@ class WrapperForwarding(RuleFamily):
             value = self._nearest_assignment(expr)
         if not isinstance(value, ast.Call):
             return None
-        names = {wrapper_rest(q) for q in self.facts.qualified_names(value.func)} - {None}
+        names = {rest for q in self.facts.qualified_names(value.func) if (rest := wrapper_rest(q)) is not None}
         if len(names) == 1:
             # Its 1.x name: ``FrameStack`` is becoming FrameStackObservation in the same run.
-            return current_name(names.pop())  # type: ignore[arg-type]
+            return current_name(names.pop())
         local = self.receivers.local_class(value.func)
         if local is not None and self.receivers.is_gym_wrapper_class(local):
             return local.name

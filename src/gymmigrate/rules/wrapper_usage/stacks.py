@@ -94,8 +94,9 @@ class WrapperStacks:
                 rest = N.strip_gym_prefix(q)
                 if rest in N.GYM_ENV_FACTORIES:
                     return expr
-                if rest is not None and rest.startswith("wrappers.") and first_argument(expr) is not None:
-                    return self._follow(first_argument(expr), "make-call", self._make_call_step)  # type: ignore[arg-type]
+                first = first_argument(expr)
+                if rest is not None and rest.startswith("wrappers.") and first is not None:
+                    return self._follow(first, "make-call", self._make_call_step)
             return None
         if isinstance(expr, ast.Name):
             values = self._assigned_values(expr)
