@@ -159,7 +159,7 @@ class GeneratorApi(RuleFamily):
             return self._np_random_owner(receiver.value)
         if isinstance(receiver, ast.Name) and self._name_from_seeding(receiver):
             return "GM505", FixKind.AUTO, ""
-        if is_self_attribute(receiver) and self._self_attribute_from_seeding(receiver):  # type: ignore[arg-type]
+        if isinstance(receiver, ast.Attribute) and is_self_attribute(receiver) and self._self_attribute_from_seeding(receiver):
             return "GM505", FixKind.AUTO, ""
         if isinstance(receiver, ast.Subscript) and isinstance(receiver.value, ast.Call) and self._seeding_first(receiver):
             return "GM505", FixKind.AUTO, ""

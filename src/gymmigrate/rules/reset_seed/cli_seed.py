@@ -59,7 +59,10 @@ class CliSeed(ResetSeedBase):
             if not resets:
                 continue
             first = resets[0]
-            kind = self.receivers.kind_of(first.func.value)  # type: ignore[attr-defined]
+            func = first.func
+            if not isinstance(func, ast.Attribute):  # ``x.reset(...)`` calls only (above)
+                continue
+            kind = self.receivers.kind_of(func.value)
             if not kind.is_gym or (kind is EnvKind.GYM_VEC and seeded_somewhere):
                 continue  # a vector env whose sub-envs are seeded already
             self._seed_first_reset(first, assigns[0], name, seed)
