@@ -9,7 +9,7 @@ from gymmigrate import rule_docs
 from gymmigrate.rules import all_rules
 
 
-def _console(stream: TextIO | None):  # type: ignore[no-untyped-def]
+def _console(stream: TextIO | None):
     from rich.console import Console
 
     return Console(file=stream or sys.stdout, highlight=False, soft_wrap=stream is None and not sys.stdout.isatty())

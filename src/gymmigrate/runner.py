@@ -24,7 +24,7 @@ from collections import deque
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, overload
 
 from gymmigrate.facts.project import ModuleSummary, ProjectFacts
 from gymmigrate.findings import Finding, FixKind
@@ -79,12 +79,12 @@ def run_files(
         options = replace(options, project=project)
     task = _Task(options, write, want_diff, lint)
     results = (task(path) for path in paths) if not parallel else _run_parallel(list(paths), task, jobs)
-    project = options.project
-    if project is None or not project.blocked:
+    run_project = options.project
+    if run_project is None or not run_project.blocked:
         yield from results
         return
     for result in results:
-        yield _with_blocked_note(result, project)
+        yield _with_blocked_note(result, run_project)
 
 
 def run_summaries(paths: list[Path], summaries: Callable[[list[Path]], Iterable[object]] | None = None) -> list[ModuleSummary]:
@@ -195,7 +195,11 @@ def _internal_error(path: Path, exc: Exception) -> FileResult:
     return FileResult(str(path), Status.ERROR, error=f"internal error: {type(exc).__name__}: {exc}")
 
 
-def _run_parallel(paths: list[Path], task: _Task, jobs: int) -> Iterator[FileResult]:
+@overload
+def _run_parallel(paths: list[Path], task: _Task, jobs: int) -> Iterator[FileResult]: ...
+@overload
+def _run_parallel(paths: list[Path], task: _Summarize, jobs: int) -> Iterator[object]: ...
+def _run_parallel(paths: list[Path], task: _Task | _Summarize, jobs: int) -> Iterator[object]:
     """Every file's result, in order, however many workers die on the way."""
     pool = _Pool(task, min(jobs, len(paths)))
     order = _InOrder()
@@ -238,7 +242,7 @@ class _Worker:
 class _Pool:
     """Worker processes that each hold at most one file, and are replaced when they die."""
 
-    def __init__(self, task: _Task, size: int) -> None:
+    def __init__(self, task: _Task | _Summarize, size: int) -> None:
         # multiprocessing loads only for a pool: a run of one file (a pre-commit hook) never pays for it.
         import multiprocessing
 
@@ -324,7 +328,7 @@ def _stop(worker: _Worker) -> None:
 
 # --- in the worker processes ---------------------------------------------------------
 
-def _serve(connection: Connection, task: _Task) -> None:
+def _serve(connection: Connection, task: _Task | _Summarize) -> None:
     """A worker: process the files the parent sends, one at a time, until it sends None."""
     # Ctrl-C reaches the whole process group: the parent stops the run, after letting
     # each worker finish its file; a worker that raised KeyboardInterrupt too would

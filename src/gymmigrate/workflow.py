@@ -13,6 +13,7 @@ import sys
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import IO, TYPE_CHECKING
 
 from gymmigrate.config import Config, find_config, forget_configs
 from gymmigrate.files import discover
@@ -21,6 +22,10 @@ from gymmigrate.process import FileResult, Status
 from gymmigrate.rules import all_rules
 from gymmigrate.runner import run_files
 from gymmigrate.selection import Selection, parse_selectors
+
+if TYPE_CHECKING:  # rich loads only where a progress bar is drawn
+    from rich.progress import Progress as RichProgress
+    from rich.progress import TaskID
 
 STDIN = "-"
 
@@ -114,11 +119,11 @@ class Progress:
     """files done / total, the file just finished and the time so far, on stderr; only
     when stderr is a terminal (a log or a pipe gets nothing extra)."""
 
-    def __init__(self, total: int, stream: object = None) -> None:
+    def __init__(self, total: int, stream: IO[str] | None = None) -> None:
         self._stream = stream or sys.stderr
         self._total = total
-        self._bar = None
-        self._task = None
+        self._bar: RichProgress | None = None
+        self._task: TaskID | None = None
 
     def __enter__(self) -> Progress:
         if self._total and getattr(self._stream, "isatty", lambda: False)():
@@ -126,7 +131,7 @@ class Progress:
             from rich.progress import BarColumn, MofNCompleteColumn, TextColumn, TimeElapsedColumn
             from rich.progress import Progress as RichProgress
 
-            self._bar = RichProgress(
+            bar = self._bar = RichProgress(
                 TextColumn("[bold]gymmigrate[/bold]"),
                 BarColumn(),
                 MofNCompleteColumn(),
@@ -138,12 +143,12 @@ class Progress:
                 redirect_stdout=False,
                 redirect_stderr=False,
             )
-            self._bar.start()
-            self._task = self._bar.add_task("files", total=self._total, current="")
+            bar.start()
+            self._task = bar.add_task("files", total=self._total, current="")
         return self
 
     def advance(self, path: str) -> None:
-        if self._bar is not None:
+        if self._bar is not None and self._task is not None:  # both set together
             self._bar.update(self._task, advance=1, current=path)
 
     def __exit__(self, *exc: object) -> None:

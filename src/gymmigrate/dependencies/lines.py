@@ -147,11 +147,11 @@ def migrate_setup_cfg(text: str) -> Outcome:
                 collecting = False
                 continue
             key = _CFG_KEY.fullmatch(content)
-            collecting = bool(key) and (
+            collecting = key is not None and (
                 (section == "options" and key["key"] in _REQUIREMENT_KEYS) or section == "options.extras_require"
             )
             key_name = key["key"] if key else ""
-            if not collecting or not key["value"].strip():
+            if key is None or not collecting or not key["value"].strip():
                 continue
             value_start = start + key.start("value")
         elif collecting:

@@ -119,7 +119,7 @@ def parse(text: str) -> Requirement | None:
 def decide(requirement: Requirement) -> Decision:
     """The decision for one parsed requirement (URL requirements are only reported)."""
     name = canonicalize_name(requirement.name)
-    extras = sorted(canonicalize_name(extra) for extra in requirement.extras)
+    extras: list[str] = sorted(canonicalize_name(extra) for extra in requirement.extras)
     if requirement.url:
         if name in ("gym",) or name in MOVED_WITH_GYM or name in RENAMED or name in ALE_PREDECESSORS or name in GYM_ONLY_PACKAGES:
             return Decision(notes=[Note(GYM_ONLY, FixKind.FLAG, f"`{requirement.name}` is installed from a URL; point it at a Gymnasium-1.x release by hand")])

@@ -156,7 +156,7 @@ def _requirement_lists(data: dict) -> list[list]:
 
 def _poetry_tables(data: dict) -> list[tuple[tuple[str, ...], dict]]:
     poetry = data.get("tool", {}).get("poetry", {})
-    tables = []
+    tables: list[tuple[tuple[str, ...], dict]] = []
     for key in ("dependencies", "dev-dependencies"):
         if isinstance(poetry.get(key), dict):
             tables.append((("tool", "poetry", key), poetry[key]))
@@ -302,10 +302,8 @@ def _poetry_entry(
         return None
     decision = mapping.decide(requirement)
     start, end = key_match.start("key"), key_match.end("key")
-    if not decision.rewrites:
+    if decision.name is None:  # the decision does not rewrite
         outcome.findings.extend(finding(positions, start, end, note) for note in decision.notes)
-        return None
-    if version_token is None and isinstance(value, str):
         return None
     new_value: object
     code = next((note.code for note in decision.notes if note.kind.rewrites), mapping.GYM_PACKAGE)
@@ -314,6 +312,8 @@ def _poetry_entry(
         edits.append(Edit(start, end, decision.name, code=code))
     new_key = decision.name if edits else key
     if isinstance(value, str):
+        if version_token is None:
+            return None
         edits.append(Edit(version_token.start, version_token.end, decision.specifier, code=code))
         new_value = decision.specifier
     else:

@@ -67,7 +67,7 @@ def words(text: str, position: int, limit: int) -> list[Word]:
                 i += 1
             pieces += 1
         word_value = "".join(value)
-        inner = (start, i)
+        inner: tuple[int, int] | None = (start, i)
         if quoted is not None:
             inner = quoted if (quoted[0] - 1, quoted[1] + 1) == (start, i) else None
         out.append(Word(start, i, word_value, inner))
@@ -83,7 +83,7 @@ def command_sites(text: str, positions: Positions, regions: list[tuple[int, int]
             if text[line_start : match.start()].lstrip().startswith("#"):
                 continue  # a comment
             arguments = words(text, match.end(), region_end)
-            requirements: list[Word] = []
+            requirements: list[tuple[Word, tuple[int, int]]] = []  # with the text between the quotes
             skip = False
             for word in arguments:
                 if skip:
@@ -100,8 +100,8 @@ def command_sites(text: str, positions: Positions, regions: list[tuple[int, int]
                         note = Note(GYM_ONLY, FixKind.FLAG, f"`{word.value}` is not a plain requirement (a shell variable or mixed quoting); left as it is")
                         findings.append(finding(positions, word.start, word.end, note))
                     continue
-                requirements.append(word)
-            for word in requirements:
+                requirements.append((word, word.inner))
+            for word, inner in requirements:
                 # A word is dropped only while another requirement keeps the command valid.
                 removal = None
                 if len(requirements) > 1:
@@ -116,8 +116,8 @@ def command_sites(text: str, positions: Positions, regions: list[tuple[int, int]
                         while text[before - 1] in " \t":
                             before -= 1
                         removal = (before, word.end)
-                bare = (word.inner[0], word.inner[1]) == (word.start, word.end)  # type: ignore[index]
-                sites.append(Site(word.inner[0], word.inner[1], removal=removal, bare_word=bare, group=match.start()))  # type: ignore[index]
+                bare = (inner[0], inner[1]) == (word.start, word.end)
+                sites.append(Site(inner[0], inner[1], removal=removal, bare_word=bare, group=match.start()))
     return sites, findings
 
 
@@ -144,7 +144,7 @@ def _language(info: str) -> str:
 
 
 def markdown_regions(text: str) -> list[tuple[int, int]]:
-    regions = []
+    regions: list[tuple[int, int]] = []
     position = 0
     while True:
         opening = _FENCE.search(text, position)

@@ -10,7 +10,7 @@ from __future__ import annotations
 import ast
 from collections import defaultdict
 from collections.abc import Callable
-from typing import Any
+from typing import Any, cast
 
 import libcst as cst
 
@@ -58,7 +58,8 @@ class _Applier(cst.CSTTransformer):
         carried = self.leading.get(key)
         if carried and result is not cst.RemovalSentinel.REMOVE:
             if before:
-                first = before[0]
+                # Comment lines are carried only to whole statements, never to small ones.
+                first = cast("cst.SimpleStatementLine | cst.BaseCompoundStatement", before[0])
                 before = [first.with_changes(leading_lines=[*carried, *first.leading_lines]), *before[1:]]
             elif hasattr(result, "leading_lines"):
                 result = result.with_changes(leading_lines=[*carried, *result.leading_lines])
@@ -130,6 +131,7 @@ def apply_plan(module: cst.Module, plan: Plan, window: tuple[int, int] | None = 
             continue
         located = locate(statement)
         applier.mark(located.chain)
+        inner: list[cst.CSTNode]
         if target is statement:
             node, inner = located.node, []
         else:
@@ -175,7 +177,7 @@ def apply_plan(module: cst.Module, plan: Plan, window: tuple[int, int] | None = 
 
     if not applier.enter:
         return module
-    return module.visit(applier)  # type: ignore[return-value]
+    return module.visit(applier)
 
 
 def _carry_comments(

@@ -50,7 +50,7 @@ COUPLED_FAMILIES = {
 def _with_coupled(plan: Plan, dropped: set[int]) -> set[int]:
     families = plan.finding_families
     scope_of = plan.facts.enclosing_function
-    left_out = set()  # (function, family)
+    left_out: set[tuple[int, str]] = set()  # (function, family)
     for index in dropped:
         if plan.findings[index].is_change:
             scope = id(scope_of(plan.finding_nodes[index]))

@@ -182,9 +182,9 @@ def _ast_kind(node: ast.AST) -> str:
     raise ApplyError(f"rules cannot address a {type(node).__name__} node directly")
 
 
-def _ast_candidates(statement: ast.stmt, kind: str, parents: dict[ast.AST, ast.AST]) -> list[ast.AST]:
+def _ast_candidates(statement: ast.stmt, kind: str, parents: dict[ast.AST, ast.AST]) -> list[ast.expr]:
     """Nodes of ``kind`` in ``statement``, not in nested statements, in source order."""
-    found = []
+    found: list[ast.expr] = []
     stack: list[ast.AST] = [statement]
     while stack:
         node = stack.pop()
@@ -193,7 +193,7 @@ def _ast_candidates(statement: ast.stmt, kind: str, parents: dict[ast.AST, ast.A
         if isinstance(node, (ast.expr,)) and _matches_ast_kind(node, kind, parents):
             found.append(node)
         stack.extend(ast.iter_child_nodes(node))
-    found.sort(key=lambda n: (n.lineno, n.col_offset, -(n.end_lineno or 0), -(n.end_col_offset or 0)))  # type: ignore[attr-defined]
+    found.sort(key=lambda n: (n.lineno, n.col_offset, -(n.end_lineno or 0), -(n.end_col_offset or 0)))
     return found
 
 

@@ -18,14 +18,15 @@ from typing import TYPE_CHECKING, Any
 
 from gymmigrate.findings import Finding, FixKind, Tier
 
-if TYPE_CHECKING:  # LibCST is imported only by files that change
-    import libcst as cst
-
+if TYPE_CHECKING:
     from gymmigrate.facts import ModuleFacts
 
 # Receives the node as already changed by edits inside it; returns its replacement
 # (a node, or a LibCST FlattenSentinel / RemovalSentinel where the parent allows it).
-Build = Callable[["cst.CSTNode"], Any]
+# The parameter is the LibCST counterpart of the ``ast`` node given to ``replace``: its
+# class (``cst.Call`` for an ``ast.Call``, ...) is known to the rule, not to the plan, so
+# a build may annotate it with the class it expects.
+Build = Callable[..., Any]  # called with that one node; a lambda may bind values as defaults
 
 
 @dataclass

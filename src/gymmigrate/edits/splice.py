@@ -33,7 +33,7 @@ from gymmigrate.edits.plan import Plan
 
 _NEWLINE = re.compile(r"\r\n?|\n")  # as LibCST finds a module's default newline
 _LIBCST_FALLBACK_INDENT = "    "
-_COMPOUND = (
+_COMPOUND: tuple[type[ast.stmt], ...] = (
     ast.FunctionDef,
     ast.AsyncFunctionDef,
     ast.ClassDef,
@@ -181,8 +181,8 @@ def _suites(statement: ast.stmt, lines: list[str]) -> list[list[ast.stmt]]:
     if isinstance(statement, ast.Match):
         return [case.body for case in statement.cases]
     suites = [statement.body]  # type: ignore[attr-defined]
-    orelse = getattr(statement, "orelse", None)
-    return suites + ([orelse] if orelse else [])
+    rest = getattr(statement, "orelse", None)
+    return suites + ([rest] if rest else [])
 
 
 def _is_elif(statement: ast.If, lines: list[str]) -> bool:

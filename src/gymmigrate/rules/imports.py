@@ -400,8 +400,9 @@ class Imports(RuleFamily):
         new_rest = migrated_path(rest)
         if not star and new_rest != rest:
             moved = [MOVED_NAMES.get((rest.split(".")[-1], alias.name)) or _home_of(new_rest, alias.name) for alias in node.names]
-            if any(moved) and len(set(moved)) == 1:
-                new_rest = moved[0][len("gymnasium.") :]  # type: ignore[index]
+            first = moved[0] if moved else None
+            if first and len(set(moved)) == 1:  # every name moved, to one module
+                new_rest = first[len("gymnasium.") :]
             elif any(moved):
                 names = ", ".join(f"`{alias.name}`" for alias in node.names)
                 self._report_removed(
@@ -471,7 +472,7 @@ def _innermost_guard(node: ast.AST, guards: dict[ast.Try, str], facts: ModuleFac
 
     A fallback or detector anywhere above wins, as the old traversal's depth counters did.
     """
-    kinds = [guards[a] for a in facts.ancestors(node) if a in guards]  # type: ignore[index]
+    kinds = [guards[a] for a in facts.ancestors(node) if a in guards]
     if "fallback" in kinds or "detector" in kinds:
         return "fallback"
     return "guarded" if kinds else None

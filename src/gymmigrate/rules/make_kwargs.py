@@ -23,6 +23,7 @@ and `apply_api_compatibility` was removed").
 from __future__ import annotations
 
 import ast
+from collections.abc import Sequence
 
 from gymmigrate.edits.lazy import cst
 
@@ -178,7 +179,7 @@ class MakeKeywords(RuleFamily):
         return self.plan.ensure_import("gymnasium.wrappers", "Autoreset")
 
 
-def _without_keywords(args: tuple[cst.Arg, ...] | list[cst.Arg], keywords: set[str]) -> list[cst.Arg]:
+def _without_keywords(args: Sequence[cst.Arg], keywords: set[str]) -> list[cst.Arg]:
     """Drop keyword arguments, keeping the user's commas and line breaks for the rest."""
     kept: list[cst.Arg] = []
     for arg in args:

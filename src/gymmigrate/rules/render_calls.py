@@ -33,9 +33,10 @@ def mode_argument(call: ast.Call) -> ast.AST | None:
     return None
 
 
-def arguments_in_order(call: ast.Call) -> list[ast.AST]:
+def arguments_in_order(call: ast.Call) -> list[ast.expr | ast.keyword]:
     """Positional arguments and keywords in source order (LibCST's ``call.args``)."""
-    return sorted([*call.args, *call.keywords], key=lambda a: (a.lineno, a.col_offset))  # type: ignore[attr-defined]
+    arguments: list[ast.expr | ast.keyword] = [*call.args, *call.keywords]
+    return sorted(arguments, key=lambda a: (a.lineno, a.col_offset))
 
 
 def first_argument(call: ast.Call) -> ast.AST | None:

@@ -213,7 +213,10 @@ class Rendering(RuleFamily):
     # -- sites ------------------------------------------------------------------------------
 
     def _render_site(self, call: ast.Call) -> RenderSite | None:
-        receiver = call.func.value  # type: ignore[attr-defined]
+        func = call.func
+        if not isinstance(func, ast.Attribute):  # ``x.method(...)`` calls only
+            return None
+        receiver = func.value
         close = keyword(call, "close")
         mode_arg = mode_argument(call)
         if close is None and mode_arg is None and (call.args or call.keywords):
@@ -261,7 +264,8 @@ class Rendering(RuleFamily):
         return RenderSite(call, "GM401", mode, (), decision.action, self.finder.find(receiver), legacy_spelling=legacy, quote=quote)
 
     def _recorder_site(self, call: ast.Call) -> RenderSite | None:
-        consumer, accepted = None, (RGB_ARRAY,)
+        consumer: str | None = None
+        accepted: tuple[str, ...] = (RGB_ARRAY,)
         monitor = False
         for q in self.facts.qualified_names(call.func):
             rest = N.strip_gym_prefix(q)
@@ -273,15 +277,16 @@ class Rendering(RuleFamily):
                 consumer, monitor = "RecordVideo", True
         if consumer is None or not (call.args or call.keywords):
             return None
+        env: ast.AST | None
         if monitor:
             env = self._monitor_env(call)
-            if env is None:
-                return None
         else:
-            env = keyword(call, "env") or keyword(call, "venv")
-            env = env.value if env is not None else first_argument(call)
+            named = keyword(call, "env") or keyword(call, "venv")
+            env = named.value if named is not None else first_argument(call)
             if isinstance(env, ast.keyword):
                 return None  # the first argument is some other keyword
+        if env is None:  # a monitor without its env (a call here always has an argument)
+            return None
         creation = self.finder.find(env)
         if not creation.found:
             sb3_factory = self._sb3_make_vec_env(env)
@@ -384,7 +389,7 @@ class Rendering(RuleFamily):
         moves to the make when it is fixed at creation, else the sites are reported.
         False when a render runs on every pass (human mode then draws as before)."""
         how, condition = schedule(self.facts, [site.node for site in sites], make)
-        if how == "always":
+        if how == "always" or condition is None:  # the condition is None only "always"
             return False
         key = id(make)
         if how == "fixed":
@@ -394,10 +399,10 @@ class Rendering(RuleFamily):
             func = self.facts.segment(make.func)
             value = f"{quote}{HUMAN}{quote} if {condition} else None"
             self.plan.replace(make, lambda node: with_keyword(node, func, "render_mode", value))
-            self._scheduled[key] = condition  # type: ignore[assignment]
+            self._scheduled[key] = condition
             return True
         final_mode[key] = None
-        self._unscheduled[key] = condition  # type: ignore[assignment]
+        self._unscheduled[key] = condition
         return True
 
     def _add_mode(self, make: ast.Call, mode: str, quote: str) -> None:

@@ -159,7 +159,7 @@ class GeneratorApi(RuleFamily):
             return self._np_random_owner(receiver.value)
         if isinstance(receiver, ast.Name) and self._name_from_seeding(receiver):
             return "GM505", FixKind.AUTO, ""
-        if is_self_attribute(receiver) and self._self_attribute_from_seeding(receiver):  # type: ignore[arg-type]
+        if isinstance(receiver, ast.Attribute) and is_self_attribute(receiver) and self._self_attribute_from_seeding(receiver):
             return "GM505", FixKind.AUTO, ""
         if isinstance(receiver, ast.Subscript) and isinstance(receiver.value, ast.Call) and self._seeding_first(receiver):
             return "GM505", FixKind.AUTO, ""
@@ -187,7 +187,7 @@ class GeneratorApi(RuleFamily):
         if classdef is None:
             return None
         # One verdict per class: an env class reads self.np_random dozens of times.
-        return self.facts.memo(("rng-self-np-random", id(classdef)), lambda: self._class_np_random(classdef))  # type: ignore[no-any-return]
+        return self.facts.memo(("rng-self-np-random", id(classdef)), lambda: self._class_np_random(classdef))
 
     def _class_np_random(self, classdef: ast.ClassDef) -> Verdict | None:
         index = self.env.index(classdef)
@@ -240,7 +240,7 @@ class GeneratorApi(RuleFamily):
             stores = self.env.index(classdef).stores_to_self(attr.attr)
             return bool(stores) and all(self.env.is_seeding_np_random(v) or self._seeding_first(v) for v in stores)
 
-        return self.facts.memo(key, compute)  # type: ignore[no-any-return]
+        return self.facts.memo(key, compute)
 
     # -- GM506 -------------------------------------------------------------------------------------
 
@@ -282,7 +282,7 @@ def _names_a_space(owner: ast.AST) -> bool:
 # -- builds: LibCST replacements for the decided sites --------------------------------------------
 
 
-def _renamed(new: str):  # type: ignore[no-untyped-def]
+def _renamed(new: str):
     def build(node: cst.Attribute) -> cst.Attribute:
         return node.with_changes(attr=cst.Name(new))
 
@@ -294,7 +294,7 @@ def _inclusive(node: cst.Call) -> cst.Call:
     return _inclusive_integers(node, node.func)
 
 
-def _packed_call(new_name: str):  # type: ignore[no-untyped-def]
+def _packed_call(new_name: str):
     def build(node: cst.Call) -> cst.Call:
         assert isinstance(node.func, cst.Attribute)
         return _packed(node, node.func, new_name)
@@ -317,7 +317,7 @@ def _state_assignment(node: cst.Expr) -> cst.Assign:
 def _inclusive_integers(call: cst.Call, func: cst.Attribute) -> cst.Call:
     args = list(call.args)
     positional = [a for a in args if a.keyword is None]
-    if len(positional) == 1 and not any(m.matches(a.keyword, m.Name("high")) for a in args):
+    if len(positional) == 1 and not any(a.keyword is not None and m.matches(a.keyword, m.Name("high")) for a in args):
         # random_integers(n) draws from [1, n]
         args.insert(0, cst.Arg(cst.Integer("1")))
     if args:

@@ -91,7 +91,7 @@ def _user_frame(exc: BaseException) -> tuple[str, int] | None:
     skipped = tuple(
         str(Path(p).resolve())
         for p in (
-            sysconfig.get_paths()["stdlib"],
+            Path(sysconfig.get_paths()["stdlib"]),
             Path(gymnasium.__file__).parent,
             Path(numpy.__file__).parent,
             Path(gymmigrate.__file__).parent,

@@ -15,13 +15,17 @@ import threading
 import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
+from typing import TYPE_CHECKING
 
 from gymmigrate.smoke.evidence import RunRecord
 from gymmigrate.smoke.probe import Budget, Observatory, SmokeStop, SmokeTimeout
 from gymmigrate.smoke.targets import LoadError, describe_exception
 
+if TYPE_CHECKING:  # gymnasium loads only when an env is driven
+    import gymnasium
 
-def drive(make_env: Callable[[], object], seed: int, budget: Budget, timeout: float) -> RunRecord:
+
+def drive(make_env: Callable[[], gymnasium.Env], seed: int, budget: Budget, timeout: float) -> RunRecord:
     """Run episodes until the budget is spent; raises LoadError if the env cannot be built."""
     observatory = Observatory(seed, budget, inject_seed=False, loop_owner="smoke")
     started = time.perf_counter()
@@ -47,21 +51,21 @@ def drive(make_env: Callable[[], object], seed: int, budget: Budget, timeout: fl
     return observatory.record(stopped_by, error, seconds=time.perf_counter() - started)
 
 
-def _loop(env: object, observatory: Observatory, seed: int) -> None:
-    action_space = env.action_space  # type: ignore[attr-defined]
+def _loop(env: gymnasium.Env, observatory: Observatory, seed: int) -> None:
+    action_space = env.action_space
     action_space.seed(seed)
     first = True
     while True:  # ends by SmokeStop once the episode or step budget is spent
         if observatory.needs_reset(env):
-            env.reset(seed=seed if first else None)  # type: ignore[attr-defined]
+            env.reset(seed=seed if first else None)
             first = False
         else:
-            env.step(action_space.sample())  # type: ignore[attr-defined]
+            env.step(action_space.sample())
 
 
-def _close(env: object) -> None:
+def _close(env: gymnasium.Env) -> None:
     try:
-        env.close()  # type: ignore[attr-defined]
+        env.close()
     except Exception:  # closing is not part of the contract checked here
         pass
 

@@ -29,6 +29,9 @@ import inspect
 import os
 import sys
 from dataclasses import dataclass, field, replace
+from collections.abc import Sequence
+from importlib.machinery import ModuleSpec
+from types import ModuleType
 from typing import Any
 
 from gymmigrate.smoke.evidence import Ending, EnvRecord
@@ -127,7 +130,9 @@ class MultiAgentObserver:
     def _instrument(self, cls: type) -> None:
         for owner in cls.__mro__:
             api = _api_of(owner)
-            for name in ("reset", "step", "last") if api == AEC else ("reset", "step") if api else ():
+            if api is None:
+                continue
+            for name in ("reset", "step", "last") if api == AEC else ("reset", "step"):
                 original = owner.__dict__.get(name)
                 if not inspect.isfunction(original) or getattr(original, _PROBED, False):
                     continue
@@ -303,7 +308,7 @@ class MultiAgentObserver:
 class _ImportWatch:
     """A meta path finder that lets PettingZoo's env module load, then hooks its two classes."""
 
-    def find_spec(self, fullname: str, path: object, target: object = None) -> object:
+    def find_spec(self, fullname: str, path: Sequence[str] | None, target: ModuleType | None = None) -> ModuleSpec | None:
         if fullname != _ENV_MODULE:
             return None
         for finder in sys.meta_path:
@@ -321,7 +326,7 @@ class _ImportWatch:
                 exec_module(module)
                 _hook_classes(module)
 
-            spec.loader.exec_module = exec_and_hook  # this spec's own loader instance
+            _monkeypatch(spec.loader, "exec_module", exec_and_hook)  # this spec's own loader instance
         return spec
 
 
@@ -333,7 +338,12 @@ def _hook_classes(module: object) -> None:
             continue
         _CLASSES[api] = base
         if "__new__" not in base.__dict__:
-            base.__new__ = staticmethod(_construction_hook(base, _on_new_env))
+            _monkeypatch(base, "__new__", staticmethod(_construction_hook(base, _on_new_env)))
+
+
+def _monkeypatch(owner: object, name: str, value: object) -> None:
+    """``owner.name = value`` where ``name`` is a method (a plain assignment would not type-check)."""
+    setattr(owner, name, value)
 
 
 def _on_new_env(env: object) -> None:

@@ -178,10 +178,9 @@ class Observatory:
         for space_class in _subclasses(gymnasium.spaces.Space):
             original_seed = space_class.__dict__.get("seed")
             if inspect.isfunction(original_seed):
-                space_class.seed = self._seed_probe(original_seed)  # type: ignore[method-assign]
-                self._patched.append((space_class, "seed", original_seed))
+                self._patch(space_class, "seed", self._seed_probe(original_seed), original_seed)
         self._saved_showwarning = warnings.showwarning
-        warnings.showwarning = self._record_warning  # type: ignore[assignment]
+        warnings.showwarning = self._record_warning
 
     def uninstall(self) -> None:
         global _ACTIVE
@@ -209,15 +208,22 @@ class Observatory:
         return observed_seed
 
     def _instrument(self, cls: type) -> None:
+        env_class = self._env_class
+        if env_class is None:  # only called while installed, which sets it
+            return
         for owner in cls.__mro__:
-            if not (isinstance(owner, type) and issubclass(owner, self._env_class)):
+            if not (isinstance(owner, type) and issubclass(owner, env_class)):
                 continue
             for name in ("reset", "step"):
                 original = owner.__dict__.get(name)
                 if not inspect.isfunction(original) or getattr(original, _PROBED, False):
                     continue
-                setattr(owner, name, self._probe(original, name))
-                self._patched.append((owner, name, original))
+                self._patch(owner, name, self._probe(original, name), original)
+
+    def _patch(self, owner: type, name: str, replacement: Callable, original: Callable) -> None:
+        """Put ``replacement`` in the class for ``original``; ``uninstall`` puts it back."""
+        setattr(owner, name, replacement)
+        self._patched.append((owner, name, original))
 
     def _probe(self, method: Callable, kind: str) -> Callable:
         observatory = self
@@ -308,7 +314,7 @@ class Observatory:
         if space is None or id(space) in self._seeded_spaces or not hasattr(space, "seed"):
             return
         try:
-            space.seed(seed)  # type: ignore[attr-defined]
+            space.seed(seed)
         except Exception:  # a custom space with its own seed(): leave it as the code made it
             pass
 
@@ -483,8 +489,8 @@ def _install_construction_hooks(gymnasium: Any) -> None:
             base.__new__ = staticmethod(_construction_hook(base, on_new))
 
 
-def _construction_hook(base: type, on_new: Callable[[object], None]) -> Callable[..., object]:
-    def observed_new(cls: type, *args: object, **kwargs: object) -> object:
+def _construction_hook(base: type[Any], on_new: Callable[[object], None]) -> Callable[..., object]:
+    def observed_new(cls: type[object], *args: object, **kwargs: object) -> object:
         following = super(base, cls).__new__  # what __new__ would have been without the hook
         instance = following(cls) if following is object.__new__ else following(cls, *args, **kwargs)
         on_new(instance)
@@ -494,7 +500,9 @@ def _construction_hook(base: type, on_new: Callable[[object], None]) -> Callable
 
 
 def _subclasses(cls: type) -> list[type]:
-    found, pending = [cls], [cls]
+    found: list[type] = [cls]
+    pending: list[type] = [cls]
+    sub: type
     while pending:
         for sub in pending.pop().__subclasses__():
             if sub not in found:
@@ -519,7 +527,7 @@ def _on_new_vector(vector: object) -> None:
 def _unwrapped(env: object) -> object:
     seen = 0
     while hasattr(env, "env") and seen < 100 and _is_wrapper(env):
-        env = env.env  # type: ignore[attr-defined]
+        env = env.env
         seen += 1
     return env
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 from gymmigrate.smoke.checks import evaluate
 from gymmigrate.smoke.driver import drive
@@ -27,6 +28,9 @@ from gymmigrate.smoke.targets import (
     load_class,
     parse_target,
 )
+
+if TYPE_CHECKING:  # gymnasium loads only when a target is checked
+    import gymnasium
 
 GYMNASIUM_CHECK_ENV = "gymnasium_check_env"
 
@@ -87,7 +91,7 @@ def _run_all(target: Target, options: SmokeOptions) -> tuple[tuple[CheckResult, 
         check_env_id(target.location)
         import gymnasium
 
-        def make() -> object:
+        def make() -> gymnasium.Env:
             return gymnasium.make(target.location)
 
         pre_checks: tuple[CheckResult, ...] = ()
@@ -95,7 +99,7 @@ def _run_all(target: Target, options: SmokeOptions) -> tuple[tuple[CheckResult, 
         cls = load_class(target)
         pre_checks = (_gymnasium_check_env(cls),)
 
-        def make() -> object:
+        def make() -> gymnasium.Env:
             return instantiate(cls)
 
     runs = _repeat(lambda seed: drive(make, seed, budget, options.timeout), options)
@@ -121,7 +125,7 @@ def _script_run(target: Target, options: SmokeOptions, seed: int) -> RunRecord:
     )
 
 
-def _gymnasium_check_env(cls: type) -> CheckResult:
+def _gymnasium_check_env(cls: type[gymnasium.Env]) -> CheckResult:
     """Gymnasium's own checker, on a fresh instance (it resets and steps the env itself)."""
     import warnings
 

@@ -13,6 +13,13 @@ import importlib.util
 import sys
 from dataclasses import dataclass
 from pathlib import Path
+from types import ModuleType
+from typing import TYPE_CHECKING, TypeVar
+
+if TYPE_CHECKING:  # gymnasium loads only when a target is loaded
+    import gymnasium
+
+_T = TypeVar("_T")
 
 
 class LoadError(Exception):
@@ -54,7 +61,7 @@ def check_env_id(env_id: str) -> None:
         raise LoadError(f"cannot load env id {env_id!r}: {exc}") from None
 
 
-def load_class(target: Target) -> type:
+def load_class(target: Target) -> type[gymnasium.Env]:
     import gymnasium
 
     module = _import_file(target.location) if target.location.endswith(".py") else _import_module(target.location)
@@ -66,21 +73,21 @@ def load_class(target: Target) -> type:
     return cls
 
 
-def instantiate(cls: type) -> object:
+def instantiate(cls: type[_T]) -> _T:
     try:
         return cls()
     except Exception as exc:
         raise LoadError(f"cannot construct {cls.__name__}() without arguments: {describe_exception(exc)}") from None
 
 
-def _import_module(name: str) -> object:
+def _import_module(name: str) -> ModuleType:
     try:
         return importlib.import_module(name)
     except Exception as exc:
         raise LoadError(f"cannot import {name}: {describe_exception(exc)}") from None
 
 
-def _import_file(path_text: str) -> object:
+def _import_file(path_text: str) -> ModuleType:
     path = Path(path_text)
     if not path.is_file():
         raise LoadError(f"no such file: {path_text}")

@@ -126,7 +126,9 @@ class Notebook:
 
 
 def _is_python(data: dict[str, Any]) -> bool:
-    metadata = data.get("metadata") if isinstance(data.get("metadata"), dict) else {}
+    metadata = data.get("metadata")
+    if not isinstance(metadata, dict):
+        metadata = {}
     for key, field in (("kernelspec", "language"), ("language_info", "name")):
         info = metadata.get(key)
         if isinstance(info, dict) and isinstance(info.get(field), str):
@@ -183,7 +185,7 @@ def _layout_of(text: str, data: Any) -> Callable[[Any], str]:
         if newline != "\n":
             dump = partial(_with_line_ends, dump, newline)
         if dump(data) + final_newline == text:
-            return lambda value, dump=dump: dump(value) + final_newline
+            return partial(_ending_with, dump, final_newline)
     raise TransformError(
         "the notebook's JSON layout cannot be reproduced (not written by Jupyter/nbformat?);"
         " left unchanged rather than reformatted"
@@ -192,3 +194,7 @@ def _layout_of(text: str, data: Any) -> Callable[[Any], str]:
 
 def _with_line_ends(dump: Callable[[Any], str], newline: str, value: Any) -> str:
     return dump(value).replace("\n", newline)
+
+
+def _ending_with(dump: Callable[[Any], str], final_newline: str, value: Any) -> str:
+    return dump(value) + final_newline

@@ -118,10 +118,10 @@ class EnvIds(RuleFamily):
 
     def _site(self, string: ast.AST, call: ast.Call | None, forwards: bool, via: str = "") -> IdSite | None:
         text = plain_string(self.facts, string)
-        if text is None:
+        if text is None or not isinstance(string, ast.Constant):  # a text comes only from a Constant
             return None
         prefix, env_id = _split_module_prefix(text)
-        return IdSite(string, env_id, prefix, call, forwards, via)  # type: ignore[arg-type]
+        return IdSite(string, env_id, prefix, call, forwards, via)
 
     def _id_call(self, call: ast.Call) -> bool | None:
         """Does ``call`` take an env id? True if it also forwards keywords to the env, None if no id."""
@@ -158,6 +158,7 @@ class EnvIds(RuleFamily):
             return None
         target = bindings[0]
         statement = self.facts.parent(target)
+        value: ast.expr | None
         if isinstance(statement, ast.Assign) and statement.targets == [target]:
             value = statement.value
         elif isinstance(statement, ast.AnnAssign) and statement.target is target:

@@ -55,7 +55,8 @@ class RegistryApi(RuleFamily):
                 self.plan.replace(attribute, self._current_registry_build(attribute.value, lambda node: node.value))
         for method in ("all", *sorted(REGISTRY_METHODS)):
             for call in self.facts.attribute_calls.get(method, ()):
-                if is_registry(self.facts, call.func.value):  # type: ignore[attr-defined]
+                func = call.func
+                if isinstance(func, ast.Attribute) and is_registry(self.facts, func.value):
                     self._decide_registry_call(call, method)
         for private, public in SPEC_ATTRIBUTES.items():
             for attribute in self.facts.attributes.get(private, ()):
@@ -79,7 +80,7 @@ class RegistryApi(RuleFamily):
         module = self._gym_module_name()
         self.plan.replace(call, lambda node: node.with_changes(func=cst.Attribute(value=cst.Name(module), attr=cst.Name(method))))
 
-    def _current_registry_build(self, registry: ast.expr, current):  # type: ignore[no-untyped-def]
+    def _current_registry_build(self, registry: ast.expr, current):
         """``gym.envs.registry`` / ``gym.envs.registration.registry`` -> ``gym.registry``;
         any other spelling of the registry stays as written (``current(node)``)."""
         parts = (full_name(registry) or "").split(".")

@@ -44,16 +44,19 @@ class AecLoop(PettingZooFamily):
     # -- last() -------------------------------------------------------------------------
 
     def _plan_last(self, call: ast.Call) -> None:
-        receiver = call.func.value  # type: ignore[attr-defined]
+        func = call.func
+        if not isinstance(func, ast.Attribute):  # ``x.method(...)`` calls only
+            return
+        receiver = func.value
         assign = self.facts.parent(call)
         if self.multi_agent.kind(receiver) is not EnvKind.PZ_AEC:
-            if self.multi_agent.iterated(receiver) and tuple_target(assign, 4) is not None:
+            if self.multi_agent.iterated(receiver) and isinstance(assign, ast.Assign) and tuple_target(assign, 4) is not None:
                 self.report(assign, "PZ101", f"`{self.facts.segment(receiver)}` is iterated with `agent_iter()` but "
                             "also holds another kind of env here: if this is the PettingZoo env, unpack "
                             "`observation, reward, termination, truncation, info`", FixKind.FLAG)
             return
         target = tuple_target(assign, 4)
-        if target is None:
+        if target is None or not isinstance(assign, ast.Assign):  # a target is only found on an Assign
             if isinstance(assign, ast.Assign) and tuple_target(assign, 5) is None and assign.value is call:
                 self.report(assign, "PZ101", "`last()` returns five values since PettingZoo 1.21: unpack "
                             "`observation, reward, termination, truncation, info`", FixKind.FLAG)
@@ -64,7 +67,7 @@ class AecLoop(PettingZooFamily):
         else:
             self.split_target(target, 2, TERMINATION, TRUNCATION)
             if isinstance(done, ast.Name):
-                self._plan_done_reads(assign, done)  # type: ignore[arg-type]
+                self._plan_done_reads(assign, done)
             else:
                 self.plan.insert_after(assign, f"{self.facts.segment(done)} = {TERMINATION} or {TRUNCATION}")
         self.report(assign, "PZ101", "`last()` returns termination and truncation instead of one done flag")
@@ -128,7 +131,7 @@ def _is_none(node: ast.AST) -> bool:
     return isinstance(node, ast.Constant) and node.value is None
 
 
-def _value_use(read: ast.expr, facts) -> bool:  # type: ignore[no-untyped-def]
+def _value_use(read: ast.expr, facts) -> bool:
     """``1 - env.dones[a]``, a buffer write: the flag feeds a value (see facts.done_uses).
     A plain assignment (``over = env.dones[a]``) is not judged: it keeps both flags."""
     if isinstance(facts.parent(read), ast.Assign):

@@ -92,7 +92,7 @@ def split_element(target: cst.BaseExpression, index: int, first: str, second: st
     return target.with_changes(elements=elements)
 
 
-def tuple_target(assign: ast.AST, size: int) -> ast.Tuple | ast.List | None:
+def tuple_target(assign: ast.AST | None, size: int) -> ast.Tuple | ast.List | None:
     """The target of ``a, b, c = ...`` when it unpacks exactly ``size`` plain elements."""
     if not (isinstance(assign, ast.Assign) and len(assign.targets) == 1):
         return None

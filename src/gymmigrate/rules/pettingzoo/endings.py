@@ -23,9 +23,12 @@ from __future__ import annotations
 import ast
 import enum
 from dataclasses import dataclass, field
+from typing import TypeVar
 
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
 from gymmigrate.rules.custom_env.step import is_step_limit
+
+_Node = TypeVar("_Node", bound=ast.AST)
 
 
 class Cause(enum.Enum):
@@ -188,7 +191,7 @@ def _is_self(expr: ast.AST) -> bool:
     return isinstance(expr, ast.Name) and expr.id == "self"
 
 
-def _unwrap_bool(expr: ast.AST) -> ast.AST:
+def _unwrap_bool(expr: _Node) -> _Node | ast.expr:
     if (
         isinstance(expr, ast.Call)
         and isinstance(expr.func, ast.Name)
@@ -201,7 +204,7 @@ def _unwrap_bool(expr: ast.AST) -> ast.AST:
     return expr
 
 
-def _or_operands(expr: ast.AST) -> list[ast.AST]:
+def _or_operands(expr: ast.expr) -> list[ast.expr]:
     if isinstance(expr, ast.BoolOp) and isinstance(expr.op, ast.Or):
         return [operand for value in expr.values for operand in _or_operands(value)]
     return [expr]

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import ast
 from collections.abc import Callable
+from functools import partial
 
 from gymmigrate.edits.lazy import cst
 
@@ -163,10 +164,10 @@ class EnvClasses(PettingZooFamily):
             and self._own_line(assign)
         )
         self._split_assignments[key] = ok
-        if not ok:
+        if not ok or not isinstance(target, ast.Name):  # ``ok`` implies a Name
             return False
-        reads = Flow.of(self.facts).reads(target)  # type: ignore[arg-type]
-        self.rename(target, "termination")  # type: ignore[arg-type]
+        reads = Flow.of(self.facts).reads(target)
+        self.rename(target, "termination")
         self.replace_value(assign, joined(traced.task, self.facts))
         limit = joined(traced.limit, self.facts)
         limit = f"({limit})" if len(traced.limit) > 1 else limit
@@ -279,7 +280,10 @@ class EnvClasses(PettingZooFamily):
             if isinstance(test, ast.keyword) and test.arg == "return_info":
                 continue  # ``self.env.reset(..., return_info=return_info)``: parallel.py drops it
             negated = isinstance(test, ast.UnaryOp) and isinstance(test.op, ast.Not)
-            branch, test = (self.facts.parent(test), test) if negated else (test, read)
+            if isinstance(test, ast.UnaryOp) and isinstance(test.op, ast.Not):
+                branch, test = self.facts.parent(test), test
+            else:
+                branch, test = test, read
             if not (isinstance(branch, ast.If) and branch.test is test):
                 return False
             kept = branch.orelse if negated else branch.body
@@ -336,17 +340,17 @@ class EnvClasses(PettingZooFamily):
         its causes, each read of both dicts. False (nothing planned) when a binding is not a
         plain ``dones = ...``."""
         scope = self.facts.scopes[step]
-        bindings = scope.bindings[name]
-        if not all(isinstance(b, ast.Name) and _plain_assign(self.facts.parent(b), b) for b in bindings):
+        bindings = [b for b in scope.bindings[name] if isinstance(b, ast.Name)]
+        if len(bindings) != len(scope.bindings[name]) or not all(_plain_assign(self.facts.parent(b), b) for b in bindings):
             return False
         flow = Flow.of(self.facts)
-        reads = list({id(r): r for b in bindings for r in flow.reads(b)}.values())  # type: ignore[arg-type]
+        reads = list({id(r): r for b in bindings for r in flow.reads(b)}.values())
         empty = any(_is_empty_dict(self.facts.parent(b).value) for b in bindings)  # type: ignore[union-attr]
         splits: list[_Split] = []
         item_stores: list[tuple[ast.Assign, ast.Subscript, _Split]] = []
         other_reads: list[ast.Name] = []
         for binding in bindings:
-            split = _Split(self, classdef, "terminations", "truncations", lambda new, b=binding: self.rename(b, new), empty)
+            split = _Split(self, classdef, "terminations", "truncations", partial(self.rename, binding), empty)
             splits.append(split)
             split.whole(self.facts.parent(binding), owned=False)  # type: ignore[arg-type]
         for read in reads:
@@ -356,7 +360,7 @@ class EnvClasses(PettingZooFamily):
                 isinstance(subscript, ast.Subscript) and subscript.value is read and isinstance(subscript.ctx, ast.Store)
                 and isinstance(statement, ast.Assign) and statement.targets == [subscript]
             ):
-                split = _Split(self, classdef, "terminations", "truncations", lambda new, r=read: self.rename(r, new), empty)
+                split = _Split(self, classdef, "terminations", "truncations", partial(self.rename, read), empty)
                 item_stores.append((statement, subscript, split))
                 split.item(statement, subscript)
                 splits.append(split)
@@ -422,7 +426,7 @@ def _with_params(node: cst.FunctionDef, missing: list[str]) -> cst.FunctionDef:
     return node.with_changes(params=params.with_changes(params=kept))
 
 
-def _insert_first(plan, function: ast.FunctionDef | ast.AsyncFunctionDef, code: str) -> None:  # type: ignore[no-untyped-def]
+def _insert_first(plan, function: ast.FunctionDef | ast.AsyncFunctionDef, code: str) -> None:
     """``code`` as the first statement of ``function`` (after its docstring)."""
     first = function.body[0]
     if _is_docstring(first) and len(function.body) > 1:
@@ -647,7 +651,7 @@ class _Split:
             mine = self.term
             if self.family._own_line(statement):
                 partner = f"{self.trunc} = {{}}" if self.empty and _is_empty_dict(statement.value) else (
-                    f"{self.trunc}.setdefault({self.facts.segment(statement.targets[0].slice)}, False)"  # type: ignore[attr-defined]
+                    f"{self.trunc}.setdefault({self.facts.segment(statement.targets[0].slice)}, False)"
                     if isinstance(statement.targets[0], ast.Subscript)
                     else f"{self.trunc} = {{{AGENT}: False for {AGENT} in {mine}}}"
                 )

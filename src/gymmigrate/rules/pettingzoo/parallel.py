@@ -39,11 +39,17 @@ class ParallelCalls(PettingZooFamily):
     def decide(self) -> None:
         self.flow = Flow.of(self.facts)
         for call in self.facts.attribute_calls.get("step", ()):
-            receiver = call.func.value  # type: ignore[attr-defined]
+            func = call.func
+            if not isinstance(func, ast.Attribute):  # ``x.method(...)`` calls only
+                continue
+            receiver = func.value
             if self.multi_agent.kind(receiver) is EnvKind.PZ_PARALLEL:
                 self._plan_step(call, receiver)
         for call in self.facts.attribute_calls.get("reset", ()):
-            receiver = call.func.value  # type: ignore[attr-defined]
+            func = call.func
+            if not isinstance(func, ast.Attribute):  # ``x.method(...)`` calls only
+                continue
+            receiver = func.value
             kind = self.multi_agent.kind(receiver)
             if kind is not None and not (isinstance(receiver, ast.Name) and self.receivers.is_self(receiver)):
                 self._plan_reset(call, kind)
@@ -53,7 +59,7 @@ class ParallelCalls(PettingZooFamily):
     def _plan_step(self, call: ast.Call, receiver: ast.expr) -> None:
         assign = self.facts.parent(call)
         target = tuple_target(assign, 4)
-        if target is None:
+        if target is None or not isinstance(assign, ast.Assign):  # a target is only found on an Assign
             function = self.facts.enclosing_function(call)
             if function is not None and function.name == "step" and self.facts.enclosing_class(call) is not None:
                 return  # ``res = self.env.step(a)`` in a wrapper's step: handed on whole, five dicts now
@@ -77,8 +83,8 @@ class ParallelCalls(PettingZooFamily):
             if aggregate is not None and aggregate[1] == "all":
                 self._plan_all_done(aggregate[0], env)
                 continue
-            if not self.flow.dominates(assign, read, dones):  # type: ignore[arg-type]
-                keep = keep or self.flow.observes(read, assign, dones)  # type: ignore[arg-type]
+            if not self.flow.dominates(assign, read, dones):
+                keep = keep or self.flow.observes(read, assign, dones)
                 continue
             parent = self.facts.parent(read)
             if _passed_on(read, parent, self.facts):
@@ -174,7 +180,7 @@ def _true(value: ast.AST) -> bool:
     return not (isinstance(value, ast.Constant) and not value.value)
 
 
-def _passed_on(read: ast.Name, parent: ast.AST | None, facts) -> bool:  # type: ignore[no-untyped-def]
+def _passed_on(read: ast.Name, parent: ast.AST | None, facts) -> bool:
     """``read`` is the dones of a four-value ``return`` (a step that hands its env's result on)."""
     return (
         isinstance(parent, ast.Tuple)

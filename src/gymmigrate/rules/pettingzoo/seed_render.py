@@ -31,12 +31,18 @@ class SeedRender(PettingZooFamily):
 
     def decide(self) -> None:
         for call in self.facts.attribute_calls.get("seed", ()):
-            receiver = call.func.value  # type: ignore[attr-defined]
+            func = call.func
+            if not isinstance(func, ast.Attribute):  # ``x.method(...)`` calls only
+                continue
+            receiver = func.value
             if self.multi_agent.kind(receiver) is not None and not _is_self(receiver):
                 self._plan_seed(call, receiver)
         self.finder: CreationFinder | None = None
         for call in self.facts.attribute_calls.get("render", ()):
-            receiver = call.func.value  # type: ignore[attr-defined]
+            func = call.func
+            if not isinstance(func, ast.Attribute):  # ``x.method(...)`` calls only
+                continue
+            receiver = func.value
             if (call.args or keyword(call, "mode")) and self.multi_agent.kind(receiver) is not None and not _is_self(receiver):
                 self._plan_render(call)
 

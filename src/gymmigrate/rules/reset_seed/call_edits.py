@@ -127,7 +127,7 @@ def _apply(call: cst.Call, edit: CallEdit) -> cst.Call:
             kept[-1] = kept[-1].with_changes(comma=args[-1].comma)
         args = kept
     if edit.to_reset:
-        func = func.with_changes(attr=cst.Name("reset"))  # type: ignore[union-attr]
+        func = func.with_changes(attr=cst.Name("reset"))
         first = args[0]
         if first.keyword is None:
             args = [seed_keyword(first.value).with_changes(comma=first.comma)]

@@ -41,7 +41,10 @@ class CliSeed(ResetSeedBase):
         # ``x.seed(...)`` and ``x.reset(...)`` on a plain name, by the scope the name is read in.
         by_receiver: dict[tuple[Scope, str], list[ast.Call]] = defaultdict(list)
         for call in calls:
-            receiver = call.func.value  # type: ignore[attr-defined]
+            func = call.func
+            if not isinstance(func, ast.Attribute):  # ``x.method(...)`` calls only
+                continue
+            receiver = func.value
             if isinstance(receiver, ast.Name):
                 by_receiver[(facts.scope_of(receiver), receiver.id)].append(call)
         seeded_somewhere = any(self._seeds_a_gym_env(call) for call in calls)
@@ -56,7 +59,10 @@ class CliSeed(ResetSeedBase):
             if not resets:
                 continue
             first = resets[0]
-            kind = self.receivers.kind_of(first.func.value)  # type: ignore[attr-defined]
+            func = first.func
+            if not isinstance(func, ast.Attribute):  # ``x.reset(...)`` calls only (above)
+                continue
+            kind = self.receivers.kind_of(func.value)
             if not kind.is_gym or (kind is EnvKind.GYM_VEC and seeded_somewhere):
                 continue  # a vector env whose sub-envs are seeded already
             self._seed_first_reset(first, assigns[0], name, seed)
@@ -78,5 +84,8 @@ class CliSeed(ResetSeedBase):
         )
 
     def _seeds_a_gym_env(self, call: ast.Call) -> bool:
-        receiver = call.func.value  # type: ignore[attr-defined]
+        func = call.func
+        if not isinstance(func, ast.Attribute):  # ``x.method(...)`` calls only
+            return False
+        receiver = func.value
         return is_seeding(call) and not is_space(receiver) and self._receiver_kind(receiver).is_gym

@@ -91,4 +91,5 @@ def is_space(receiver: ast.expr) -> bool:
 
 def is_seeding(call: ast.Call) -> bool:
     """``x.seed(...)`` or ``x.reset(seed=...)``."""
-    return call.func.attr == "seed" or any(kw.arg == "seed" for kw in call.keywords)  # type: ignore[attr-defined]
+    func = call.func  # an attribute: the calls of ``x.seed`` and ``x.reset`` only
+    return (isinstance(func, ast.Attribute) and func.attr == "seed") or any(kw.arg == "seed" for kw in call.keywords)

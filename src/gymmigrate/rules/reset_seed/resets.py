@@ -61,7 +61,10 @@ class Shape(Enum):
 
 class ResetCalls(ResetSeedBase):
     def _decide_reset(self, call: ast.Call) -> None:
-        receiver = call.func.value  # type: ignore[attr-defined]
+        func = call.func
+        if not isinstance(func, ast.Attribute):  # ``x.method(...)`` calls only
+            return
+        receiver = func.value
         decision, vector = self._decide(receiver)
         if decision.action is Action.LEAVE:
             return
@@ -247,7 +250,10 @@ class ResetCalls(ResetSeedBase):
         classdef = self.facts.enclosing_class(call)
         if function is None or function.name != "reset" or classdef is None:
             return False
-        receiver = call.func.value  # type: ignore[attr-defined]
+        func = call.func
+        if not isinstance(func, ast.Attribute):  # ``x.method(...)`` calls only
+            return False
+        receiver = func.value
         inner = (
             isinstance(receiver, ast.Attribute) and isinstance(receiver.value, ast.Name)
             and receiver.value.id == "self" and receiver.attr == "env"

@@ -31,7 +31,10 @@ _BLOCK_FIELDS = ("body", "orelse", "finalbody")
 
 class SeedCalls(ResetSeedBase):
     def _decide_seed(self, call: ast.Call) -> None:
-        receiver = call.func.value  # type: ignore[attr-defined]
+        func = call.func
+        if not isinstance(func, ast.Attribute):  # ``x.method(...)`` calls only
+            return
+        receiver = func.value
         if is_space(receiver):
             self._check_space_seed(call)
             return
@@ -148,14 +151,14 @@ class SeedCalls(ResetSeedBase):
         parent = self.facts.parent(statement)
 
         def index() -> dict[int, tuple[list[ast.stmt], int]]:
-            places = {}
+            places: dict[int, tuple[list[ast.stmt], int]] = {}
             for name in _BLOCK_FIELDS:
                 items = getattr(parent, name, None)
                 if isinstance(items, list):
                     places.update((id(item), (items, i)) for i, item in enumerate(items))
             return places
 
-        return self.facts.memo(("reset-seed-block", id(parent)), index).get(id(statement))  # type: ignore[no-any-return]
+        return self.facts.memo(("reset-seed-block", id(parent)), index).get(id(statement))
 
     def _reset_statement(self, line: list[ast.stmt], receiver_code: str) -> ast.Call | None:
         if len(line) != 1 or not isinstance(line[0], (ast.Expr, ast.Assign)):

@@ -93,10 +93,10 @@ class StepFamilyBase(RuleFamily):
     info_steps: dict[ast.Assign, StepNames]
     guarded_infos: set[tuple[int, str]]
     # Rewritten steps by ``done`` variable (scope id, name); their reads are planned together.
-    done_steps: dict[tuple[int, str], list]  # type: ignore[type-arg]
+    done_steps: dict[tuple[int, str], list]
     reported_reads: set[int]  # ``done`` reads already reported (by node id)
     rollout_advice: Repeats  # GM302: one review item per step whose flag is stored per step
-    result_steps: dict[tuple[int, str], list]  # type: ignore[type-arg]  # ``res = x.step(a)`` by variable
+    result_steps: dict[tuple[int, str], list]  # ``res = x.step(a)`` by variable
     # Four-target step unpacks: a read that one of them dominates belongs to it alone.
     legacy_unpacks: set[ast.Assign]
     numpy_name: str | None

@@ -55,7 +55,10 @@ class StepDone(UnpackRules, TimeLimitRules, ResultRules):
                 self.plan_time_limit_read(node)
 
     def _plan_step(self, call: ast.Call) -> None:
-        receiver = call.func.value  # type: ignore[attr-defined]
+        func = call.func
+        if not isinstance(func, ast.Attribute):  # ``x.method(...)`` calls only
+            return
+        receiver = func.value
         parent = self.facts.parent(call)
         if isinstance(parent, ast.Assign) and parent.value is call and len(parent.targets) == 1:
             target = parent.targets[0]

@@ -130,7 +130,7 @@ class ResultRules(StepFamilyBase):
             return None
         statement = self.facts.statement_of(binding)
         index = index_of.get(id(statement))
-        if index is not None and self.flow.dominates(statement, read, result):  # type: ignore[arg-type]
+        if index is not None and self.flow.dominates(statement, read, result):
             return index
         return None
 
@@ -141,16 +141,17 @@ class ResultRules(StepFamilyBase):
         subscript = self.facts.parent(read)
         if index in (0, 1, -1):
             return  # observation, reward and info keep their places
-        if index == 3:
-            self.plan.replace(subscript, lambda node: _with_index(node, 4))  # type: ignore[arg-type]
+        # An index is only found on a subscript (``_constant_index``).
+        if index == 3 and isinstance(subscript, ast.Subscript):
+            self.plan.replace(subscript, lambda node: _with_index(node, 4))
             exact = FixKind.AUTO if step.decision.action is Action.REWRITE else FixKind.ASSIST
-            self.report(subscript, "GM304", f"`{result.id}[3]` (info) is `{result.id}[4]` now", exact)  # type: ignore[arg-type]
+            self.report(subscript, "GM304", f"`{result.id}[3]` (info) is `{result.id}[4]` now", exact)
             return
-        if index == 2 and not (step.vector or looks_vectorised(step.receiver, result)):
-            bare = stands_alone(subscript, self.facts.parent(subscript))  # type: ignore[arg-type]
-            self.plan.replace(subscript, lambda node: _either(node, bare))  # type: ignore[arg-type]
+        if index == 2 and isinstance(subscript, ast.Subscript) and not (step.vector or looks_vectorised(step.receiver, result)):
+            bare = stands_alone(subscript, self.facts.parent(subscript))
+            self.plan.replace(subscript, lambda node: _either(node, bare))
             self.report(
-                subscript,  # type: ignore[arg-type]
+                subscript,
                 "GM304",
                 f"`{result.id}[2]` (done) is now `{result.id}[2] or {result.id}[3]`; "
                 f"if it feeds bootstrapping, use `{result.id}[2]` (terminated) alone",
@@ -196,7 +197,7 @@ class ResultRules(StepFamilyBase):
 def _with_index(subscript: cst.Subscript, index: int) -> cst.Subscript:
     element = subscript.slice[0]
     return subscript.with_changes(
-        slice=[element.with_changes(slice=element.slice.with_changes(value=cst.Integer(str(index))))]  # type: ignore[union-attr]
+        slice=[element.with_changes(slice=element.slice.with_changes(value=cst.Integer(str(index))))]
     )
 
 

@@ -24,7 +24,7 @@ _UNTRACED = object()  # a read whose info dict comes from no known step
 _DISCARDED = StepNames("_", "_", vector=False)  # a step whose done target was ``_``
 
 
-def time_limit_reads(facts_strings: list[ast.Constant], parent_of) -> list[ast.expr]:  # type: ignore[no-untyped-def]
+def time_limit_reads(facts_strings: list[ast.Constant], parent_of) -> list[ast.expr]:
     """``info[KEY]``, ``info.get(KEY, ...)`` and ``KEY in info`` nodes, in source order."""
     found: list[ast.expr] = []
     for string in facts_strings:
@@ -95,10 +95,16 @@ class TimeLimitRules(StepFamilyBase):
         None for the infos of an SB3 VecEnv step, else ``_UNTRACED``."""
         binding = self.flow.last_binding_of(base)
         if isinstance(binding, ast.Name):
-            step = self.facts.parent(self.facts.parent(binding))
-            names = self.info_steps.get(step)  # type: ignore[call-overload]
-            if names is not None and step.targets[0].elts[3] is binding and self.flow.dominates(step, base, binding):  # type: ignore[union-attr]
-                return names
+            holder = self.facts.parent(binding)
+            step = self.facts.parent(holder) if holder is not None else None
+            if isinstance(step, ast.Assign) and step in self.info_steps:
+                target = step.targets[0]  # the tuple ``unpack.py`` split
+                if (
+                    isinstance(target, (ast.Tuple, ast.List))
+                    and target.elts[3] is binding
+                    and self.flow.dominates(step, base, binding)
+                ):
+                    return self.info_steps[step]
         scope, _ = self.facts.resolve(base.id, self.facts.scope_of(base))
         if scope is not None and (id(scope), base.id) in self.guarded_infos:
             return None
@@ -147,7 +153,7 @@ class TimeLimitRules(StepFamilyBase):
                     found.setdefault(id(self.facts.scope_of(assign)), []).append((assign, unpack.names))
             return found
 
-        return self.facts.memo(("time-limit-unpacks", id(self.plan)), build)  # type: ignore[no-any-return]
+        return self.facts.memo(("time-limit-unpacks", id(self.plan)), build)
 
     def _replace_read(self, node: ast.expr, names: StepNames) -> None:
         if isinstance(node, ast.Compare):
@@ -170,8 +176,8 @@ class TimeLimitRules(StepFamilyBase):
                 operator=cst.And(),
                 right=cst.UnaryOperation(operator=cst.Not(), expression=cst.Name(names.terminated)),
             )
-            if cst_node.lpar:  # type: ignore[attr-defined]
-                return expression.with_changes(lpar=cst_node.lpar, rpar=cst_node.rpar)  # type: ignore[attr-defined]
+            if cst_node.lpar:
+                return expression.with_changes(lpar=cst_node.lpar, rpar=cst_node.rpar)
             if bare:
                 return expression
             return expression.with_changes(lpar=[cst.LeftParen()], rpar=[cst.RightParen()])
@@ -183,6 +189,6 @@ def _time_limit_base(node: ast.expr) -> ast.expr:
     """The dict a ``TimeLimit.truncated`` read looks in."""
     if isinstance(node, ast.Subscript):
         return node.value
-    if isinstance(node, ast.Call):
-        return node.func.value  # type: ignore[attr-defined]
+    if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute):
+        return node.func.value
     return node.comparators[0]  # type: ignore[attr-defined]

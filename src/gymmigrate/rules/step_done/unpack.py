@@ -43,6 +43,7 @@ class _DoneStep:
     assign: ast.Assign
     done: ast.Name
     names: StepNames
+    target: ast.Tuple | ast.List  # ``assign``'s only target, the unpacked values
 
 
 class UnpackRules(StepFamilyBase):
@@ -82,7 +83,7 @@ class UnpackRules(StepFamilyBase):
                 # Whether ``done`` is still read is decided once every step is known.
                 scope = self.flow.binding_scope(done_target)
                 group = (id(scope), done_target.id) if scope is not None else (id(assign), done_target.id)
-                self.done_steps.setdefault(group, []).append(_DoneStep(assign, done_target, names))
+                self.done_steps.setdefault(group, []).append(_DoneStep(assign, done_target, names, target))
         else:
             self._keep_done(assign, done_target, names)  # ``self.done``/``dones[i]``: readers cannot be traced
             self._report_stored_attribute(assign, done_target, names)
@@ -173,10 +174,10 @@ class UnpackRules(StepFamilyBase):
         step = self.facts.statement_of(binding)
         if (
             step in self.legacy_unpacks
-            and any(done.id in bound_names(t) for t in step.targets)  # type: ignore[attr-defined]
+            and any(done.id in bound_names(t) for t in step.targets)
             and self.flow.dominates(step, read, done)
         ):
-            return step  # type: ignore[return-value]
+            return step
         return None
 
     def _outermost_loop(self, node: ast.AST) -> ast.AST | None:
@@ -190,7 +191,7 @@ class UnpackRules(StepFamilyBase):
         terminated = step.names.terminated
         self.notes.step_unpacks[step.assign].claimed_reads += 1
         self.plan.replace(read, lambda node: node.with_changes(value=terminated))
-        next_state = self.facts.segment(step.assign.targets[0].elts[0])  # type: ignore[attr-defined]
+        next_state = self.facts.segment(step.target.elts[0])
         self._report_read(
             read,
             f"`{read.id}` masks bootstrapping from the next state `{next_state}` (a target or stored transition): "
@@ -229,7 +230,7 @@ class UnpackRules(StepFamilyBase):
                 return True
         if stored_in_sequence(read, facts):
             # separate lists: ``next_states.append(s2)`` beside ``dones.append(done)``
-            return facts.memo(  # type: ignore[no-any-return]
+            return facts.memo(
                 ("stores-next-state", id(step.assign)),
                 lambda: any(self._stores_next_state(node, step, next_names) for node in ast.walk(function)),
             )
@@ -237,10 +238,10 @@ class UnpackRules(StepFamilyBase):
 
     def _next_state_names(self, step: _DoneStep) -> set[str]:
         """The step's observation target and the names computed from it in the same function."""
-        return self.facts.memo(("next-state-names", id(step.assign)), lambda: self._compute_next_state_names(step))  # type: ignore[no-any-return]
+        return self.facts.memo(("next-state-names", id(step.assign)), lambda: self._compute_next_state_names(step))
 
     def _compute_next_state_names(self, step: _DoneStep) -> set[str]:
-        first = step.assign.targets[0].elts[0]  # type: ignore[attr-defined]
+        first = step.target.elts[0]
         if not isinstance(first, ast.Name) or first.id == "_":
             return set()
         names = {first.id}
@@ -274,7 +275,7 @@ class UnpackRules(StepFamilyBase):
                 if isinstance(node, ast.stmt) and not isinstance(node, (*LOOPS, ast.If, ast.With, ast.Try, *FUNCTIONS))
             }
 
-        return self.facts.memo(("statement-reads", id(function)), compute)  # type: ignore[no-any-return]
+        return self.facts.memo(("statement-reads", id(function)), compute)
 
     def _stores_next_state(self, node: ast.AST, step: _DoneStep, next_names: set[str]) -> bool:
         """``next_states.append(s2)`` or ``next_obs_buf[t] = s2`` that runs after the step, in its
@@ -289,7 +290,9 @@ class UnpackRules(StepFamilyBase):
             store = node.targets[0].value
         else:
             return False
-        first = step.assign.targets[0].elts[0]  # type: ignore[attr-defined]
+        first = step.target.elts[0]
+        if not isinstance(first, ast.Name):
+            return False  # then ``next_names`` is empty: nothing below could match
         for value in values:
             for name in ast.walk(value):
                 if isinstance(name, ast.Name) and name.id in next_names and isinstance(name.ctx, ast.Load):
@@ -414,11 +417,12 @@ class UnpackRules(StepFamilyBase):
         scope = self.facts.scope_of(assign)
         taken = self.flow.names_used_in(scope)
         compatible = self._step_flag_names(scope) if any(name in taken for name in base) else set()
-        return StepNames(*(_fresh(name, taken, compatible) for name in base), vector=vector, numpy=numpy)
+        terminated, truncated = (_fresh(name, taken, compatible) for name in base)
+        return StepNames(terminated, truncated, vector=vector, numpy=numpy)
 
     def _step_flag_names(self, scope: Scope) -> set[str]:
         """Names that only ever hold step flags in ``scope`` (safe to bind again)."""
-        return self.facts.memo(("step-flag-names", id(scope.node)), lambda: _collect_flag_names(scope.node))  # type: ignore[no-any-return]
+        return self.facts.memo(("step-flag-names", id(scope.node)), lambda: _collect_flag_names(scope.node))
 
 
 _NEXT_WORDS = re.compile(r"(^|_|\.)(next|new)|next_?$|(^|_|\.)(s|o|obs|state|x)(2|_|p|tp1|_tp1|_next|_prime)$", re.IGNORECASE)

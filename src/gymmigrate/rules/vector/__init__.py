@@ -127,14 +127,14 @@ class VectorEnvs(Construction, Infos, VectorWrappers, RuleFamily):
             return f"{root.id}.vector.AutoresetMode.SAME_STEP"
         return self.plan.ensure_import("gymnasium.vector", "AutoresetMode") + ".SAME_STEP"
 
-    def _same_step_build(self, creation: ast.Call, same_step: str):  # type: ignore[no-untyped-def]
+    def _same_step_build(self, creation: ast.Call, same_step: str):
         """``autoreset_mode=`` on a vector class; ``vector_kwargs={"autoreset_mode": ...}`` on make_vec."""
         if gym_rest(self.facts, creation.func) & VECTOR_CLASSES:
             return lambda node: append_keyword(node, "autoreset_mode", cst.parse_expression(same_step))
         q = quote_style(self.facts, creation)
         has_vector_kwargs = keyword(creation, "vector_kwargs") is not None
 
-        def build(node):  # type: ignore[no-untyped-def]
+        def build(node):
             entry = cst.DictElement(cst.SimpleString(f"{q}autoreset_mode{q}"), cst.parse_expression(same_step))
             existing = next((a for a in node.args if a.keyword is not None and a.keyword.value == "vector_kwargs"), None)
             if existing is None or not has_vector_kwargs or not isinstance(existing.value, cst.Dict):

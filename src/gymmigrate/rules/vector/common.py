@@ -7,11 +7,16 @@ from __future__ import annotations
 
 import ast
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 from gymmigrate.edits.lazy import cst
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts import ModuleFacts
+
+if TYPE_CHECKING:
+    from gymmigrate.facts.creation import CreationFinder
+    from gymmigrate.rules.base import RuleFamily
 
 # Legacy ``gym.vector.make(id, num_envs=1, asynchronous=True, wrappers=None,
 # disable_env_checker=None, **kwargs)`` positional parameters.
@@ -51,16 +56,17 @@ def gym_rest(facts: ModuleFacts, node: ast.AST) -> frozenset[str]:
         rests = (N.strip_gym_prefix(q) for q in facts.qualified_names(node))
         return frozenset(rest for rest in rests if rest is not None)
 
-    return facts.memo(("vector-gym-rest", id(node)), compute)  # type: ignore[no-any-return]
+    return facts.memo(("vector-gym-rest", id(node)), compute)
 
 
-def arguments_in_order(call: ast.Call) -> list[ast.AST]:
+def arguments_in_order(call: ast.Call) -> list[ast.expr | ast.keyword]:
     """Positional arguments and keywords in source order (LibCST's ``call.args``)."""
-    return sorted([*call.args, *call.keywords], key=lambda a: (a.lineno, a.col_offset))  # type: ignore[attr-defined]
+    arguments: list[ast.expr | ast.keyword] = [*call.args, *call.keywords]
+    return sorted(arguments, key=lambda a: (a.lineno, a.col_offset))
 
 
-def argument_value(argument: ast.AST) -> ast.expr:
-    return argument.value if isinstance(argument, (ast.keyword, ast.Starred)) else argument  # type: ignore[return-value]
+def argument_value(argument: ast.expr | ast.keyword) -> ast.expr:
+    return argument.value if isinstance(argument, (ast.keyword, ast.Starred)) else argument
 
 
 def quote_of(facts: ModuleFacts, node: ast.AST) -> str | None:
@@ -92,3 +98,16 @@ def code(node: cst.CSTNode) -> str:
 
 def renamed_string(node: cst.SimpleString, value: str) -> cst.SimpleString:
     return node.with_changes(value=f"{node.prefix}{node.quote}{value}{node.quote}")
+
+
+if TYPE_CHECKING:
+
+    class VectorFamilyBase(RuleFamily):
+        """What the rule modules' mixins (``Construction``, ``Infos``, ``VectorWrappers``)
+        see of the family they are mixed into (``rules/vector/__init__.py``)."""
+
+        decisions: VectorDecisions
+        finder: CreationFinder
+
+else:
+    VectorFamilyBase = object  # the mixins add methods only; RuleFamily comes with the family

@@ -18,7 +18,7 @@ from __future__ import annotations
 import ast
 import builtins
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from gymmigrate.edits.lazy import cst
 
@@ -29,22 +29,17 @@ from gymmigrate.rules.vector.common import (
     LEGACY_POSITIONS,
     VECTOR_CLASS_KWARGS,
     VECTOR_CLASSES,
+    VectorFamilyBase,
     gym_rest,
     is_false,
     quote_style,
 )
 
-if TYPE_CHECKING:
-    from gymmigrate.rules.vector import VectorEnvs
-
-    _Base = VectorEnvs
-else:
-    _Base = object
 
 _BUILTINS = frozenset(dir(builtins))
 
 
-class Construction(_Base):
+class Construction(VectorFamilyBase):
     """GM701 and GM702, mixed into the vector family."""
 
     # -- GM701 ------------------------------------------------------------------------------
@@ -74,7 +69,7 @@ class Construction(_Base):
             self.report(
                 call,
                 "GM701",
-                f"gym.vector.make -> gym.make_vec(vectorization_mode=\"sync\"); dropped {', '.join(dropped)}: "  # type: ignore[arg-type]
+                f"gym.vector.make -> gym.make_vec(vectorization_mode=\"sync\"); dropped {', '.join(dropped)}: "
                 "SyncVectorEnv has no such parameter (gym.vector.make passed it to each sub-env's constructor)",
                 FixKind.ASSIST,
             )
@@ -106,15 +101,15 @@ class Construction(_Base):
             self.report(
                 call,
                 "GM701",
-                f"{message}; {', '.join(moved)} moved into vector_kwargs: gym.vector.make passed them to each "  # type: ignore[arg-type]
+                f"{message}; {', '.join(moved)} moved into vector_kwargs: gym.vector.make passed them to each "
                 f"sub-env's constructor, make_vec gives them to the vector env class{caveat}",
                 FixKind.ASSIST,
             )
-        elif unknown_wrappers:
+        elif unknown_wrappers and wrappers is not None:  # ``unknown_wrappers`` implies an argument
             self.report(
                 call,
                 "GM701",
-                f"{message}; make_vec needs wrappers= to be a list and `{segment(wrappers)}` could not be "  # type: ignore[arg-type]
+                f"{message}; make_vec needs wrappers= to be a list and `{segment(wrappers)}` could not be "
                 "checked: wrap a single callable in [...]",
                 FixKind.ASSIST,
             )
@@ -124,7 +119,7 @@ class Construction(_Base):
     def wrappers_shape(self, value: ast.AST) -> str:
         """"sequence", "callable", "none" or "unknown": legacy accepted one callable or a list."""
         # A binding reached again while its shape is computed (``w = w``) says nothing.
-        return self.facts.memo(  # type: ignore[no-any-return]
+        return self.facts.memo(
             ("vector-wrappers-shape", id(value)), lambda: self._wrappers_shape(value), while_computing="unknown"
         )
 
@@ -185,7 +180,11 @@ class Construction(_Base):
         self.plan.add_import("from gymnasium import make_vec")
         for binding in self.facts.bindings_of(func):
             statement = self.facts.parent(binding) if isinstance(binding, ast.alias) else None
-            if not isinstance(statement, ast.ImportFrom) or self.facts.parent(statement) is not self.facts.tree:
+            if (
+                not isinstance(binding, ast.alias)
+                or not isinstance(statement, ast.ImportFrom)
+                or self.facts.parent(statement) is not self.facts.tree
+            ):
                 continue
             still_used = any(
                 binding in self.facts.bindings_of(read) and not self._is_rewritten_make(read)
@@ -214,7 +213,7 @@ class Construction(_Base):
         positional = [a for a in call.args if not isinstance(a, ast.Starred)]
         if named or len(positional) > 1:
             what = (
-                f"{'/'.join(named)} are no longer parameters of Gymnasium vector envs"  # type: ignore[arg-type]
+                f"{'/'.join(named)} are no longer parameters of Gymnasium vector envs"
                 if named
                 else "legacy positional observation_space/action_space would now land on copy/shared_memory"
             )

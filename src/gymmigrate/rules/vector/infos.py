@@ -21,21 +21,22 @@ from __future__ import annotations
 import ast
 from collections import defaultdict
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import cast
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.decisions import Action, decide
 from gymmigrate.facts.module import keyword, string_value
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.findings import FixKind
-from gymmigrate.rules.vector.common import LIST_INFO_WRAPPERS, VECTOR_CLASSES, arguments_in_order, argument_value, gym_rest
+from gymmigrate.rules.vector.common import (
+    LIST_INFO_WRAPPERS,
+    VECTOR_CLASSES,
+    VectorFamilyBase,
+    arguments_in_order,
+    argument_value,
+    gym_rest,
+)
 
-if TYPE_CHECKING:
-    from gymmigrate.rules.vector import VectorEnvs
-
-    _Base = VectorEnvs
-else:
-    _Base = object
 
 # What a gymnasium VectorWrapper such as DictInfoToList exposes (it has no __getattr__):
 # ``envs.call(...)``, ``envs.get_attr(...)`` or ``envs.envs`` would break once wrapped.
@@ -79,7 +80,7 @@ class InfosReaders:
     key_strings: list[ast.AST] = field(default_factory=list)  # every key literal seen
 
 
-class Infos(_Base):
+class Infos(VectorFamilyBase):
     """GM705 and GM706, mixed into the vector family."""
 
     def plan_infos(self, handled: set[int]) -> None:
@@ -88,7 +89,10 @@ class Infos(_Base):
         creations: dict[int, ast.Call | None] = {}
         counted: set[int] = set()  # readers whose key strings are in ``handled``
         for step, infos in self._step_assigns():
-            receiver = step.func.value  # type: ignore[attr-defined]
+            func = step.func
+            if not isinstance(func, ast.Attribute):  # ``x.step(...)`` calls only
+                continue
+            receiver = func.value
             kind = self.receivers.kind_of(receiver)
             decision = decide(kind, receiver, self.context.profile, legacy_shape=True, expected=EnvKind.GYM_VEC, origins=self.receivers)
             if decision.action is Action.LEAVE:
@@ -129,7 +133,7 @@ class Infos(_Base):
         """
         index = self.facts.memo(("vector-reads-by-bindings", 0), self._reads_by_bindings)
         seen = self.facts.resolve(binding.id, self.facts.scope_of(binding))[1]
-        return index.get(id(seen), [])  # type: ignore[union-attr]
+        return index.get(id(seen), [])
 
     def _reads_by_bindings(self) -> dict[int, list[ast.Name]]:
         index: dict[int, list[ast.Name]] = defaultdict(list)
@@ -202,11 +206,11 @@ class Infos(_Base):
                         FixKind.FLAG,
                     )
         same_step = bool(final_obs) and creation is not None and self._can_set_autoreset(creation)
-        if same_step:
-            self.decisions.autoreset[id(creation)] = creation  # type: ignore[assignment]
-            creator = self.facts.segment(creation.func)  # type: ignore[union-attr]
+        if same_step and creation is not None:  # ``same_step`` already implies a creation
+            self.decisions.autoreset[id(creation)] = creation
+            creator = self.facts.segment(creation.func)
             for node in final_obs:
-                old = node.value
+                old = cast(str, node.value)  # ``_keyed`` keeps only the strings in FINAL_OBS_KEYS
                 new = FINAL_OBS_KEYS[old]
                 self.plan.replace(node, lambda string, new=new: _renamed(string, new))
                 self.report(
@@ -270,7 +274,7 @@ class Infos(_Base):
 
     def _readers(self, infos: ast.Name) -> InfosReaders:
         seen = self.facts.resolve(infos.id, self.facts.scope_of(infos))[1]
-        return self.facts.memo(("vector-infos-readers", id(seen)), lambda: self._classify_reads(infos))  # type: ignore[no-any-return]
+        return self.facts.memo(("vector-infos-readers", id(seen)), lambda: self._classify_reads(infos))
 
     def _classify_reads(self, infos: ast.Name) -> InfosReaders:
         readers = InfosReaders()
@@ -288,14 +292,16 @@ class Infos(_Base):
             if key is None:
                 outer = facts.parent(parent)
                 outer_key = _subscript_key(outer) if isinstance(outer, ast.Subscript) and outer.value is parent else None
-                if outer_key in _TERMINAL_KEYS or outer_key in _FINAL_INFO_KEYS or outer_key in FINAL_OBS_KEYS:
+                if isinstance(outer, ast.Subscript) and (
+                    outer_key in _TERMINAL_KEYS or outer_key in _FINAL_INFO_KEYS or outer_key in FINAL_OBS_KEYS
+                ):
                     # ``infos[i]["terminal_observation"]``: the list form of gym 0.22-0.23
-                    readers.terminal.append(outer)  # type: ignore[arg-type]
-                    readers.key_strings.append(outer.slice)  # type: ignore[union-attr]
+                    readers.terminal.append(outer)
+                    readers.key_strings.append(outer.slice)
                 else:
                     readers.positional.append(parent)
             else:
-                self._keyed(parent, key, parent.slice, readers)  # type: ignore[arg-type]
+                self._keyed(parent, key, parent.slice, readers)
         elif isinstance(parent, (ast.Call, ast.keyword)):
             call = parent if isinstance(parent, ast.Call) else facts.parent(parent)
             if isinstance(call, ast.Call) and call.func is not node:
@@ -306,7 +312,7 @@ class Infos(_Base):
             if isinstance(operator, (ast.In, ast.NotIn)):
                 key = string_value(parent.left)
                 if key is not None:
-                    self._keyed(parent, key, parent.left, readers, presence=True)  # type: ignore[arg-type]
+                    self._keyed(parent, key, parent.left, readers, presence=True)
         elif isinstance(parent, ast.Attribute) and parent.value is node and parent.attr in ("get", "pop"):
             call = facts.parent(parent)
             if isinstance(call, ast.Call) and call.func is parent:
@@ -315,14 +321,15 @@ class Infos(_Base):
                     first = argument_value(arguments[0])
                     key = string_value(first)
                     if key is not None:
-                        self._keyed(call, key, first, readers)  # type: ignore[arg-type]
+                        self._keyed(call, key, first, readers)
 
-    def _keyed(self, node: ast.AST, key: str, string: ast.Constant | None, readers: InfosReaders, presence: bool = False) -> None:
+    def _keyed(self, node: ast.AST, key: str, string: ast.expr | None, readers: InfosReaders, presence: bool = False) -> None:
+        """``string`` is the literal ``key`` was read from (a Constant), if any."""
         if string is not None:
             readers.key_strings.append(string)
         if presence and key in _FINAL_INFO_KEYS:
             return  # ``"final_info" in infos`` still works; the reads below it are what break
-        if key in FINAL_OBS_KEYS and string is not None:
+        if key in FINAL_OBS_KEYS and isinstance(string, ast.Constant):
             readers.final_obs.append(string)
         elif key in _FINAL_INFO_KEYS:
             readers.final_info.append(node)
@@ -338,7 +345,8 @@ class Infos(_Base):
         if isinstance(reader, ast.Subscript):
             return self.facts.segment(reader.value)
         if isinstance(reader, ast.Call):
-            return next((argument_value(a).id for a in arguments_in_order(reader) if isinstance(argument_value(a), ast.Name)), "infos")  # type: ignore[attr-defined]
+            values = map(argument_value, arguments_in_order(reader))
+            return next((value.id for value in values if isinstance(value, ast.Name)), "infos")
         return "infos"
 
     # -- keys read off something else ---------------------------------------------------------
@@ -381,5 +389,5 @@ def _subscript_key(subscript: ast.AST | None) -> str | None:
     return string_value(subscript.slice)
 
 
-def _renamed(node, value: str):  # type: ignore[no-untyped-def]
+def _renamed(node, value: str):
     return node.with_changes(value=f"{node.prefix}{node.quote}{value}{node.quote}")

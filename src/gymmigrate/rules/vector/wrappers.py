@@ -13,7 +13,7 @@ Source: Gymnasium 1.0 release notes ("Vector environments"), ``vector/vector_env
 from __future__ import annotations
 
 import ast
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from gymmigrate.edits.lazy import cst
 
@@ -21,14 +21,8 @@ from gymmigrate.facts import names as N
 from gymmigrate.facts.decisions import receiver_text
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.findings import FixKind
-from gymmigrate.rules.vector.common import gym_rest
+from gymmigrate.rules.vector.common import VectorFamilyBase, gym_rest
 
-if TYPE_CHECKING:
-    from gymmigrate.rules.vector import VectorEnvs
-
-    _Base = VectorEnvs
-else:
-    _Base = object
 
 LEGACY_NAME = "VectorEnvWrapper"
 NEW_NAME = "VectorWrapper"
@@ -41,7 +35,7 @@ _SINGLE_ENV_UTILITIES = frozenset(
 )
 
 
-class VectorWrappers(_Base):
+class VectorWrappers(VectorFamilyBase):
     """GM707 and GM708, mixed into the vector family."""
 
     # -- GM707 --------------------------------------------------------------------------------

@@ -234,9 +234,9 @@ def args_TransformReward(family: StacksFamily, call: ast.Call) -> CallBuild | No
 @handles("ResizeObservation")
 def args_ResizeObservation(family: StacksFamily, call: ast.Call) -> CallBuild | None:
     shape = parameter(call, "shape", 1)
-    if not _is_int(shape):
+    if shape is None or not _is_int(shape):
         return None
-    text = family.facts.segment(shape)  # type: ignore[arg-type]
+    text = family.facts.segment(shape)
     family.report(call, "GM609", f"ResizeObservation takes a (height, width) pair: {text} -> ({text}, {text})")
 
     def build(node: cst.Call) -> cst.Call:

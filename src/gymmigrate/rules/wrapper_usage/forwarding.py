@@ -79,7 +79,7 @@ class WrapperForwarding(RuleFamily):
 
     RULES = RULES
 
-    def __init__(self, *args, **kwargs) -> None:  # type: ignore[no-untyped-def]
+    def __init__(self, *args, **kwargs) -> None:
         super().__init__(*args, **kwargs)
         self._name_origins: dict[tuple[int, str], Origin] = {}
         self._in_progress: set[tuple[int, str]] = set()
@@ -249,10 +249,10 @@ class WrapperForwarding(RuleFamily):
             value = self._nearest_assignment(expr)
         if not isinstance(value, ast.Call):
             return None
-        names = {wrapper_rest(q) for q in self.facts.qualified_names(value.func)} - {None}
+        names = {rest for q in self.facts.qualified_names(value.func) if (rest := wrapper_rest(q)) is not None}
         if len(names) == 1:
             # Its 1.x name: ``FrameStack`` is becoming FrameStackObservation in the same run.
-            return current_name(names.pop())  # type: ignore[arg-type]
+            return current_name(names.pop())
         local = self.receivers.local_class(value.func)
         if local is not None and self.receivers.is_gym_wrapper_class(local):
             return local.name
@@ -403,7 +403,8 @@ class WrapperForwarding(RuleFamily):
     def _param_origin(self, param: ast.arg) -> Origin:
         if param in self._param_origins:
             return self._param_origins[param]
-        function = self.facts.parent(self.facts.parent(param))  # arg -> arguments -> def
+        arguments = self.facts.parent(param)
+        function = self.facts.parent(arguments) if arguments is not None else None  # arg -> arguments -> def
         if not isinstance(function, FUNCTIONS):
             return None
         classdef = self.facts.enclosing_class(function)
@@ -428,7 +429,7 @@ class WrapperForwarding(RuleFamily):
         return result
 
 
-def _through(*attrs: str):  # type: ignore[no-untyped-def]
+def _through(*attrs: str):
     """``env.foo`` -> ``env.<attrs...>`` (``env.unwrapped.foo``, ``env.spec.max_episode_steps``)."""
 
     def build(node: cst.Attribute) -> cst.BaseExpression:
@@ -440,7 +441,7 @@ def _through(*attrs: str):  # type: ignore[no-untyped-def]
     return build
 
 
-def _get_wrapper_attr(name: str):  # type: ignore[no-untyped-def]
+def _get_wrapper_attr(name: str):
     def build(node: cst.Attribute) -> cst.BaseExpression:
         return cst.Call(
             func=cst.Attribute(value=node.value, attr=cst.Name("get_wrapper_attr")),

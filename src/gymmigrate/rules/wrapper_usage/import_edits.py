@@ -32,7 +32,7 @@ class ImportEdit:
 
 
 
-def import_build(edit: ImportEdit):  # type: ignore[no-untyped-def]
+def import_build(edit: ImportEdit):
     def build(node: cst.ImportFrom) -> cst.ImportFrom:
         originals = list(node.names)  # type: ignore[arg-type]
         names: list[cst.ImportAlias] = []
@@ -45,11 +45,11 @@ def import_build(edit: ImportEdit):  # type: ignore[no-untyped-def]
             names.append(alias)
         module = node.module
         if edit.absolute_module is not None:
-            module = dotted_node(edit.absolute_module)  # type: ignore[assignment]
+            module = dotted_node(edit.absolute_module)
         elif edit.module is not None and module is not None:
             # Keep the package the node names now (``gym`` until the imports rules ran).
             root = _cst_root(module)
-            module = dotted_node(f"{root}.{edit.module}")  # type: ignore[assignment]
+            module = dotted_node(f"{root}.{edit.module}")
         return node.with_changes(module=module, names=_with_commas(names, originals))
 
     return build

@@ -70,7 +70,7 @@ class LegacyImports:
     def _is_guard(self, node: ast.Try) -> bool:
         """A gym-or-gymnasium fallback, or a "is legacy gym installed?" detector in a gymnasium file."""
         if node not in self._guards:
-            packages = set()
+            packages: set[str] = set()
             for inner in ast.walk(node):
                 if isinstance(inner, ast.Import):
                     packages.update(alias.name.split(".")[0] for alias in inner.names)
@@ -130,9 +130,9 @@ def removed_import(statement: ast.ImportFrom) -> str | None:
     rest = under_gym(statement.module)
     if rest is None:
         return None
-    for removed, hint in REMOVED_MODULES.items():
+    for removed, why in REMOVED_MODULES.items():
         if rest == removed or rest.startswith(removed + "."):
-            return f"`{statement.module}` was removed: {hint}"
+            return f"`{statement.module}` was removed: {why}"
     for alias in statement.names:
         hint = REMOVED_NAMES.get((rest, alias.name))
         if hint:

@@ -144,7 +144,7 @@ def _plan_render_mode(family: StacksFamily, consumer: ast.Call, env: ast.expr) -
             )
 
 
-def _add_render_mode(quote: str):  # type: ignore[no-untyped-def]
+def _add_render_mode(quote: str):
     def build(node: cst.Call) -> cst.Call:
         if any(a.keyword is not None and a.keyword.value == "render_mode" for a in node.args):
             return node  # a later family placed one already
@@ -161,7 +161,7 @@ def _quote_of(text: str) -> str:
     return '"'
 
 
-def _call_summary(facts, call: ast.Call) -> str:  # type: ignore[no-untyped-def]
+def _call_summary(facts, call: ast.Call) -> str:
     """``gym.make("CartPole-v1", ...)``, as the rendering rules name a make call in a message."""
     first = facts.segment(call.args[0]) if call.args else ""
     more = ", ..." if len(call.args) + len(call.keywords) > 1 else ""

@@ -274,20 +274,20 @@ class WrapperRenames(RuleFamily):
                 self.report(node, "GM608", "`VectorListInfo` is now `gymnasium.wrappers.vector.DictInfoToList`")
                 self.plan.replace(node, _dotted_build(f"{_root_name(node)}.wrappers.vector.DictInfoToList"))
                 return
-            new = experimental_name(name) if rest.startswith("experimental.wrappers.") else None
-            if new:
+            experimental = experimental_name(name) if rest.startswith("experimental.wrappers.") else None
+            if experimental:
                 if ".experimental.wrappers." not in (dotted_name(node) or ""):
                     self.report(
                         node,
                         "GM614",
-                        f"`{name}` is `gymnasium.wrappers.{new}` in Gymnasium 1.x: import it from there",
+                        f"`{name}` is `gymnasium.wrappers.{experimental}` in Gymnasium 1.x: import it from there",
                         kind=FixKind.FLAG,
                     )
                     return
                 if not self._is_call_func(node):
-                    self.report(node, "GM614", f"`{name}` is `gymnasium.wrappers.{new}` in Gymnasium 1.x")
+                    self.report(node, "GM614", f"`{name}` is `gymnasium.wrappers.{experimental}` in Gymnasium 1.x")
                 vector = ".vector" if rest.startswith("experimental.wrappers.vector.") else ""
-                self.plan.replace(node, _dotted_build(f"{_root_name(node)}.wrappers{vector}.{new}"))
+                self.plan.replace(node, _dotted_build(f"{_root_name(node)}.wrappers{vector}.{experimental}"))
                 return
 
     def _check_removed(self, node: ast.Name | ast.Attribute) -> None:
@@ -416,7 +416,7 @@ class WrapperRenames(RuleFamily):
             return
         key = string_value(node.slice)
         if key in FINAL_INFO_KEYS:
-            self._report_final_info(node, key)  # type: ignore[arg-type]
+            self._report_final_info(node, key)
 
     def _check_final_info_get(self, call: ast.Call) -> None:
         if not self._uses_autoreset:
@@ -425,7 +425,7 @@ class WrapperRenames(RuleFamily):
         if isinstance(func, ast.Attribute) and func.attr == "get" and call.args:
             key = string_value(call.args[0])
             if key in FINAL_INFO_KEYS:
-                self._report_final_info(call, key)  # type: ignore[arg-type]
+                self._report_final_info(call, key)
 
     def _report_final_info(self, node: ast.AST, key: str) -> None:
         self.report(
@@ -451,8 +451,8 @@ def _root_name(node: ast.AST) -> str:
     return node.id if isinstance(node, ast.Name) else "gymnasium"
 
 
-def _dotted_build(text: str):  # type: ignore[no-untyped-def]
+def _dotted_build(text: str):
     def build(node: cst.BaseExpression) -> cst.BaseExpression:
-        return dotted_node(text).with_changes(lpar=node.lpar, rpar=node.rpar)  # type: ignore[attr-defined]
+        return dotted_node(text).with_changes(lpar=node.lpar, rpar=node.rpar)
 
     return build

@@ -23,6 +23,7 @@ from gymmigrate.rules.wrapper_usage.tables import wrapper_rest
 if TYPE_CHECKING:
     from gymmigrate.edits.plan import Plan
     from gymmigrate.findings import FixKind, Tier
+    from gymmigrate.rules.notes import FamilyNotes
 
 
 class StacksFamily(Protocol):
@@ -32,6 +33,7 @@ class StacksFamily(Protocol):
     facts: ModuleFacts
     receivers: Receivers
     plan: Plan
+    notes: FamilyNotes
     stacks: WrapperStacks
 
     def report(
@@ -92,8 +94,9 @@ class WrapperStacks:
                 rest = N.strip_gym_prefix(q)
                 if rest in N.GYM_ENV_FACTORIES:
                     return expr
-                if rest is not None and rest.startswith("wrappers.") and first_argument(expr) is not None:
-                    return self._follow(first_argument(expr), "make-call", self._make_call_step)  # type: ignore[arg-type]
+                first = first_argument(expr)
+                if rest is not None and rest.startswith("wrappers.") and first is not None:
+                    return self._follow(first, "make-call", self._make_call_step)
             return None
         if isinstance(expr, ast.Name):
             values = self._assigned_values(expr)
@@ -134,8 +137,9 @@ class WrapperStacks:
                 return None
             makes: dict[int, ast.Call] = {}
             for calls in found:
-                for make in calls:  # type: ignore[union-attr]
-                    makes.setdefault(id(make), make)
+                if isinstance(calls, tuple):  # each path's make calls (None and cycles are out)
+                    for make in calls:
+                        makes.setdefault(id(make), make)
             return tuple(makes.values())
         return None
 

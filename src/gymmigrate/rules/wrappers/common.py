@@ -63,8 +63,9 @@ def _inner_calls(root: ast.AST, method: str) -> list[ast.Call]:
         node = stack.pop()
         if isinstance(node, ast.Lambda):
             continue
-        if _inner_call(node, method) is not None:
-            found.append(node)  # type: ignore[arg-type]
+        inner = _inner_call(node, method)  # ``node`` itself, as a Call
+        if inner is not None:
+            found.append(inner)
         stack.extend(ast.iter_child_nodes(node))
     found.sort(key=lambda call: (call.lineno, call.col_offset))
     return found
@@ -78,11 +79,11 @@ def _statements(body: list[ast.stmt]) -> Iterator[ast.stmt]:
         blocks = [getattr(statement, field, None) for field in ("body", "orelse", "finalbody")]
         blocks += [handler.body for handler in getattr(statement, "handlers", ())]
         blocks += [case.body for case in getattr(statement, "cases", ())]
-        blocks = [block for block in blocks if isinstance(block, list)]
-        if not blocks:
+        suites = [block for block in blocks if isinstance(block, list)]
+        if not suites:
             yield statement
-        for block in blocks:
-            yield from _statements(block)
+        for suite in suites:
+            yield from _statements(suite)
 
 
 def _single_assign(statement: ast.stmt) -> ast.Assign | None:
@@ -95,9 +96,8 @@ def _target_names(target: ast.expr) -> list[str] | None:
     """``a, b, _`` -> ["a", "b", "_"]; None when an element is not a plain name."""
     if not isinstance(target, (ast.Tuple, ast.List)):
         return None
-    if not all(isinstance(element, ast.Name) for element in target.elts):
-        return None
-    return [element.id for element in target.elts]  # type: ignore[attr-defined]
+    names = [element.id for element in target.elts if isinstance(element, ast.Name)]
+    return names if len(names) == len(target.elts) else None
 
 
 def _assigned_names(statement: ast.stmt) -> set[str]:

@@ -145,8 +145,8 @@ class StepOverrides(RuleFamily):
             plain_done = isinstance(done, ast.Name) and (
                 (done.id == done_name and not done_modified) or done.id not in bound
             )
-            if plain_done:
-                replaced_done_reads += done.id == done_name  # type: ignore[union-attr]
+            if plain_done and isinstance(done, ast.Name):  # ``plain_done`` implies a Name
+                replaced_done_reads += done.id == done_name
                 self.report(ret, "GM602", "step returns (obs, reward, terminated, truncated, info)")
                 self.plan.replace(value, lambda node, t=terminated, u=truncated: _five(node, [cst.Name(t), cst.Name(u)]))
             elif (
@@ -175,7 +175,7 @@ class StepOverrides(RuleFamily):
                     kind=FixKind.ASSIST,
                 )
                 self.plan.replace(value, lambda node: _five(node, [node.elements[2].value, cst.Name("False")]))
-            elif isinstance(done, _COLLECTIONS) or _reads_per_agent(done, {done_name, *flags} - {None}):
+            elif isinstance(done, _COLLECTIONS) or _reads_per_agent(done, {name for name in (done_name, *flags) if name is not None}):
                 # ``return obs, rewards, [done] * n, info`` or ``all(done)``, ``list(done.values())``:
                 # per-agent flags, not one bool; cutting them against ``terminated`` (a
                 # collection too) would be always false.
@@ -262,7 +262,7 @@ def _is_done_line(statement: ast.stmt, flags: tuple[str, str]) -> bool:
         and isinstance(value.op, ast.Or)
         and len(value.values) == 2
         and all(isinstance(v, ast.Name) for v in value.values)
-        and tuple(v.id for v in value.values) == flags  # type: ignore[attr-defined]
+        and tuple(v.id for v in value.values if isinstance(v, ast.Name)) == flags  # all Names (above)
     )
 
 
