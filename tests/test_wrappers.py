@@ -143,3 +143,20 @@ def test_rewrite_reports_review_items() -> None:
     kinds = {(f.rule, f.kind) for f in findings}
     assert ("GM602", FixKind.ASSIST) in kinds  # the wrapper's own end condition became truncation
     assert ("GM601", FixKind.ASSIST) in kinds  # reset(self) took seed/options
+
+
+def test_the_normalize_statistics_of_a_wrapper_are_not_forwarded() -> None:
+    """fixtures/rules/GM604/normalize_statistics_not_forwarded: ``self.return_rms`` holds a
+    RunningMeanStd, not an env: its ``update``/``var`` stay plain attribute reads, and the
+    migrated wrapper steps on Gymnasium 1.4."""
+    import runpy
+    from pathlib import Path
+
+    import gymnasium
+
+    expected = Path(__file__).resolve().parent.parent / "fixtures" / "rules" / "GM604" / "normalize_statistics_not_forwarded.expected.py"
+    assert "get_wrapper_attr" not in expected.read_text()
+    namespace = runpy.run_path(str(expected))
+    env = namespace["MONormalizeReward"](gymnasium.make("CartPole-v1"), 0)
+    env.reset(seed=0)
+    assert len(env.step(0)) == 5

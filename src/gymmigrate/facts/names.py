@@ -16,10 +16,21 @@ GYM_ENV_CLASS_PREFIXES = ("wrappers.", "envs.")
 # Classes under those prefixes that are not envs: viewers, recorders, specs, frame
 # buffers. ``self.viewer = rendering.Viewer(...)`` is drawing state, not a wrapped env.
 GYM_NOT_ENV_MODULES = frozenset(
-    {"rendering", "mujoco_rendering", "registration", "monitoring", "video_recorder", "stats_recorder", "car_dynamics"}
+    {"rendering", "mujoco_rendering", "registration", "monitoring", "video_recorder", "stats_recorder", "car_dynamics", "utils"}
 )
 GYM_NOT_ENV_CLASSES = frozenset(
-    {"Viewer", "SimpleImageViewer", "EnvSpec", "LazyFrames", "VideoRecorder", "StatsRecorder", "Car", "ContactDetector", "FrictionDetector"}
+    {
+        "Viewer",
+        "SimpleImageViewer",
+        "EnvSpec",
+        "LazyFrames",
+        "VideoRecorder",
+        "StatsRecorder",
+        "Car",
+        "ContactDetector",
+        "FrictionDetector",
+        "RunningMeanStd",  # the normalize wrappers' statistics (gym.wrappers.normalize, gymnasium.wrappers.utils)
+    }
 )
 
 GYM_ENV_BASE_CLASSES = frozenset(
