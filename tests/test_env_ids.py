@@ -214,3 +214,17 @@ def test_both_branches_of_a_conditional_id_are_bumped_but_keywords_are_not_share
     assert "gym.make('Pendulum-v1' if fast else 'PongDeterministic-v4')\n" in result.rewritten.decode()
     kinds = sorted((f.rule, f.kind.value) for f in result.findings)
     assert kinds == [("GM106", "auto"), ("GM803", "auto"), ("GM804", "flag")]
+
+
+def test_string_tests_on_entry_points_run_on_gymnasium() -> None:
+    """fixtures/rules/GM806/entry_point_text: Gymnasium registers ids whose entry point is a
+    callable; the migrated scan of the registry (ma-gym's and MiniGrid's shape) runs, and
+    re-registers Gymnasium's own envs as the legacy one did gym's."""
+    import runpy
+    from pathlib import Path
+
+    import gymnasium
+
+    expected = Path(__file__).resolve().parent.parent / "fixtures" / "rules" / "GM806" / "entry_point_text.expected.py"
+    runpy.run_path(str(expected))
+    assert "ma_CartPole-v1" in gymnasium.registry

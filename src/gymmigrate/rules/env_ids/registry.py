@@ -45,7 +45,7 @@ class RegistryApi(RuleFamily):
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
         text = facts.text
-        return "registry" in text or "_kwargs" in text or "_env_name" in text
+        return "registry" in text or "_kwargs" in text or "_env_name" in text or "entry_point" in text
 
     def decide(self) -> None:
         self._gym_alias = gym_alias(self.facts)
@@ -63,6 +63,65 @@ class RegistryApi(RuleFamily):
                 if self._is_env_spec(attribute.value, 0):
                     self.report(attribute, "GM806", f"`EnvSpec.{private}` -> `EnvSpec.{public}`: the private attribute was made public")
                     self.plan.replace(attribute, lambda node, public=public: node.with_changes(attr=cst.Name(public)))
+        for attribute in self.facts.attributes.get("entry_point", ()):
+            if self._is_env_spec(attribute.value, 0):
+                self._decide_entry_point_text(attribute)
+
+    def _decide_entry_point_text(self, attribute: ast.Attribute) -> None:
+        """``"gym.envs" in spec.entry_point`` / ``spec.entry_point.startswith(...)``: Gymnasium
+        registers some ids with a callable entry point, on which a string test raises
+        TypeError; the test is guarded with ``isinstance(..., str)``, and gym's own package
+        name in it becomes gymnasium's."""
+        parent = self.facts.parent(attribute)
+        if isinstance(parent, ast.Compare) and len(parent.ops) == 1 and isinstance(parent.ops[0], (ast.In, ast.NotIn)) and parent.comparators[0] is attribute:
+            test: ast.expr = parent
+            literal = parent.left
+        elif (
+            isinstance(parent, ast.Attribute)
+            and parent.attr in ("startswith", "endswith")
+            and isinstance(self.facts.parent(parent), ast.Call)
+            and self.facts.parent(parent).func is parent  # type: ignore[union-attr]
+        ):
+            test = self.facts.parent(parent)  # type: ignore[assignment]
+            literal = test.args[0] if test.args else None  # type: ignore[attr-defined]
+        else:
+            return
+        if self._guarded(test):
+            return
+        spec = self.facts.segment(attribute.value)
+        renamed = isinstance(literal, ast.Constant) and isinstance(literal.value, str) and literal.value.startswith("gym.envs")
+        self.report(
+            test,
+            "GM806",
+            "`EnvSpec.entry_point` may be a callable in Gymnasium 1.x (a string test on it raises TypeError): "
+            "guarded with `isinstance(..., str)`" + ("; gym's `gym.envs` is `gymnasium.envs` there" if renamed else ""),
+            FixKind.ASSIST,
+        )
+
+        def build(node: cst.BaseExpression, spec: str = spec, renamed: bool = renamed) -> cst.BaseExpression:
+            if renamed:
+                node = node.visit(_GymEnvsLiteral())
+            guarded = cst.parse_expression(f"isinstance({spec}.entry_point, str) and x")
+            assert isinstance(guarded, cst.BooleanOperation)
+            return guarded.with_changes(right=node)
+
+        self.plan.replace(test, build)
+
+    def _guarded(self, test: ast.expr) -> bool:
+        """The test already follows ``isinstance(<...>.entry_point, str) and``."""
+        parent = self.facts.parent(test)
+        if not (isinstance(parent, ast.BoolOp) and isinstance(parent.op, ast.And)):
+            return False
+        before = parent.values[: parent.values.index(test)]
+        return any(
+            isinstance(value, ast.Call)
+            and isinstance(value.func, ast.Name)
+            and value.func.id == "isinstance"
+            and len(value.args) == 2
+            and isinstance(value.args[0], ast.Attribute)
+            and value.args[0].attr == "entry_point"
+            for value in before
+        )
 
     # -- GM802 -------------------------------------------------------------------------------
 
@@ -123,6 +182,26 @@ class RegistryApi(RuleFamily):
         owner = iterable.func.value
         return iterable.func.attr in ("all", "values") and (is_registry(self.facts, owner) or self._is_env_specs_dict(owner))
 
+    def _lists_specs(self, iterable: ast.AST, depth: int) -> bool:
+        """``specs = [s for s in registry.values() if ...]``: a name bound only to a list of
+        the registry's specs (a comprehension over them that yields its own target)."""
+        if depth > _MAX_SPEC_DEPTH or not isinstance(iterable, ast.Name):
+            return False
+        bindings = self.facts.bindings_of(iterable)
+        for binding in bindings:
+            parent = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
+            value = parent.value if isinstance(parent, ast.Assign) and binding in parent.targets else None
+            if not (
+                isinstance(value, (ast.ListComp, ast.GeneratorExp, ast.SetComp))
+                and len(value.generators) == 1
+                and isinstance(value.elt, ast.Name)
+                and isinstance(value.generators[0].target, ast.Name)
+                and value.elt.id == value.generators[0].target.id
+                and self._iterates_specs(value.generators[0].iter)
+            ):
+                return False
+        return bool(bindings)
+
     def _name_is_env_spec(self, name: ast.Name, depth: int) -> bool:
         """Every binding of ``name`` is ``name = <an EnvSpec>`` or ``for name in <the specs>``."""
         bindings = self.facts.bindings_of(name)
@@ -136,8 +215,23 @@ class RegistryApi(RuleFamily):
                 if not self._is_env_spec(parent.value, depth + 1):
                     return False
             elif isinstance(parent, (ast.For, ast.AsyncFor, ast.comprehension)) and parent.target is binding:
-                if not self._iterates_specs(parent.iter):
+                if not (self._iterates_specs(parent.iter) or self._lists_specs(parent.iter, depth)):
                     return False
             else:
                 return False
         return True
+
+
+class _GymEnvsLiteral:
+    """Visits a test and renames a ``"gym.envs..."`` string literal to ``"gymnasium.envs..."``."""
+
+    def __new__(cls) -> cst.CSTTransformer:  # a LibCST transformer, made when a build runs
+        class Renamer(cst.CSTTransformer):
+            def leave_SimpleString(self, original: cst.SimpleString, updated: cst.SimpleString) -> cst.SimpleString:
+                quote = updated.quote
+                body = updated.value[len(updated.prefix) + len(quote) : -len(quote)]
+                if body.startswith("gym.envs"):
+                    return updated.with_changes(value=f"{updated.prefix}{quote}gymnasium{body[3:]}{quote}")
+                return updated
+
+        return Renamer()
