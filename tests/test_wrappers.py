@@ -160,3 +160,19 @@ def test_the_normalize_statistics_of_a_wrapper_are_not_forwarded() -> None:
     env = namespace["MONormalizeReward"](gymnasium.make("CartPole-v1"), 0)
     env.reset(seed=0)
     assert len(env.step(0)) == 5
+
+
+def test_a_pytest_fixture_env_is_traced_and_its_tests_pass_on_gymnasium(tmp_path) -> None:
+    """fixtures/rules/GM604/pytest_fixture_env: a test's ``env`` parameter is what the
+    module's fixture of that name yields (``gym.make``): its reset, step and attributes
+    read through the wrappers are migrated, and the migrated tests pass under pytest."""
+    import shutil
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    expected = Path(__file__).resolve().parent.parent / "fixtures" / "rules" / "GM604" / "pytest_fixture_env.expected.py"
+    shutil.copy(expected, tmp_path / "test_pair_game.py")
+    done = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", str(tmp_path)], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert "2 passed" in done.stdout

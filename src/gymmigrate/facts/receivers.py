@@ -438,7 +438,8 @@ class Receivers:
         calls = self.call_sites(function, classdef if is_method else None)  # type: ignore[arg-type]
         external = self.callables.external_param_kinds(function, classdef if is_method else None, name)  # type: ignore[arg-type]
         if not calls and not external:
-            return EnvKind.UNKNOWN
+            fixture = self.pytest_fixture(name) if not is_method else None
+            return self._fixture_kind(fixture) if fixture is not None else EnvKind.UNKNOWN
         defaults = _default_of(function, param)
         kinds = list(external)
         for call in calls:
@@ -554,6 +555,31 @@ class Receivers:
             # Class cycles (``class A(B)`` / ``class B(A)``) add no evidence.
             return self.facts.memo(("class-kind", id(local)), lambda: self.class_kind(local), while_computing=EnvKind.UNKNOWN)  # type: ignore[no-any-return]
         return EnvKind.UNKNOWN
+
+    def pytest_fixture(self, name: str) -> ast.FunctionDef | ast.AsyncFunctionDef | None:
+        """The module's ``@pytest.fixture`` function called ``name``: pytest passes what it
+        returns (or yields) to a test's parameter of that name."""
+        function = self.facts.functions.get(name)
+        if function is None:
+            return None
+        for decorator in function.decorator_list:
+            target = decorator.func if isinstance(decorator, ast.Call) else decorator
+            if any(q in ("pytest.fixture", "_pytest.fixtures.fixture") for q in self.qualified_names(target)):
+                return function
+        return None
+
+    def fixture_values(self, fixture: ast.FunctionDef | ast.AsyncFunctionDef) -> list[ast.expr]:
+        """What a fixture gives its tests: what it yields, else what it returns."""
+        yielded = [
+            node.value
+            for node in ast.walk(fixture)
+            if isinstance(node, ast.Yield) and node.value is not None and self.facts.enclosing_function(node) is fixture
+        ]
+        return yielded or [r.value for r in own_returns(fixture) if r.value is not None]
+
+    def _fixture_kind(self, fixture: ast.FunctionDef | ast.AsyncFunctionDef) -> EnvKind:
+        values = self.fixture_values(fixture)
+        return join_kinds(self.kind_of(value) for value in values) if values else EnvKind.NOT_ENV
 
     def returns_kind(self, function: ast.AST) -> EnvKind:
         values = [r.value for r in own_returns(function) if r.value is not None]

@@ -417,7 +417,15 @@ class WrapperForwarding(RuleFamily):
         position = next((i for i, p in enumerate(params) if p is param), None)
         calls = self.receivers.call_sites(function, None)
         if not calls:
-            return None
+            fixture = self.receivers.pytest_fixture(param.arg)
+            if fixture is None:
+                return None
+            # A test's parameter named after a pytest fixture of the module gets what the
+            # fixture yields or returns.
+            self._param_origins[param] = None
+            result = join_origins([self._origin(value) for value in self.receivers.fixture_values(fixture)])
+            self._param_origins[param] = result
+            return result
         self._param_origins[param] = None  # a recursive call adds no evidence
         origins: list[Origin] = []
         for call in calls:
