@@ -394,7 +394,7 @@ class ModuleFacts:
         """The memoized fact under ``key``, or None when it has not been computed."""
         return self._memo.get(key)
 
-    def memo(self, key: tuple[str, int], compute, while_computing: object = _UNSET):  # type: ignore[no-untyped-def]
+    def memo(self, key: tuple[str, int], compute, while_computing: object = _UNSET):
         """Memoize a per-node fact under ``(fact name, id(node))``.
 
         ``while_computing``: the answer a recursive question about the same key gets while

@@ -40,7 +40,7 @@ class MultiAgent:
 
     @classmethod
     def of(cls, facts: ModuleFacts, receivers: Receivers) -> MultiAgent:
-        return facts.memo(("multi-agent", id(facts.tree)), lambda: cls(facts, receivers))  # type: ignore[no-any-return]
+        return facts.memo(("multi-agent", id(facts.tree)), lambda: cls(facts, receivers))
 
     def kind(self, expr: ast.AST) -> EnvKind | None:
         """``PZ_AEC`` or ``PZ_PARALLEL`` when ``expr`` is known to be that env, else None."""

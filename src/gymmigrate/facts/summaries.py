@@ -242,7 +242,7 @@ class _Summarizer:
             bindings = self.facts.bindings_of(owner)
             if not bindings:
                 return None  # (an empty list is a fresh object: its id is no key)
-            return self.facts.memo(("instance-class", id(bindings)), lambda: self._class_of_bindings(bindings))  # type: ignore[no-any-return]
+            return self.facts.memo(("instance-class", id(bindings)), lambda: self._class_of_bindings(bindings))
         if isinstance(owner, ast.Attribute) and isinstance(owner.value, ast.Name) and self.receivers.is_self(owner.value):
             values = list(self.receivers.self_attribute_values(owner, owner.attr))
         else:

@@ -212,7 +212,7 @@ class SpacesLogger(RuleFamily):
                 for attribute in self.facts.attributes.get(name, ())
             )
 
-        return self.facts.memo(("gym-logger-level-set", 0), compute)  # type: ignore[no-any-return]
+        return self.facts.memo(("gym-logger-level-set", 0), compute)
 
     def _is_statement(self, call: ast.Call) -> bool:
         """``logger.set_level(x)`` on its own line, with one plain argument."""

@@ -162,7 +162,7 @@ def _insert_after_super_reset(fn: cst.FunctionDef, statements: list[cst.BaseStat
     existing = list(body.body)
     guard = cst.If(
         test=cst.parse_expression("seed is not None"),
-        body=cst.IndentedBlock([s.with_changes(leading_lines=[]) if i == 0 else s for i, s in enumerate(statements)]),  # type: ignore[union-attr]
+        body=cst.IndentedBlock([s.with_changes(leading_lines=[]) if i == 0 else s for i, s in enumerate(statements)]),
     )
     for index, stmt in enumerate(existing):
         if any(is_super_method_call(c, "reset") for c in m.findall(stmt, m.Call())):
@@ -216,7 +216,7 @@ def _bool_of(parts: list[cst.BaseExpression]) -> cst.BaseExpression:
     # A lone operand loses its own parentheses inside ``bool(...)``, except a ``yield``,
     # which is only an argument in them.
     single = len(parts) == 1 and not isinstance(parts[0], cst.Yield)
-    text = " or ".join(_code(p.with_changes(lpar=[], rpar=[]) if single else p).strip() for p in parts)  # type: ignore[call-arg]
+    text = " or ".join(_code(p.with_changes(lpar=[], rpar=[]) if single else p).strip() for p in parts)
     return cst.parse_expression(f"bool({text})")
 
 
@@ -316,7 +316,7 @@ class _ModeReader(cst.CSTTransformer):
     def visit_FunctionDef(self, node: cst.FunctionDef) -> bool:
         return False
 
-    def leave_Name(self, original_node: cst.Name, updated_node: cst.Name) -> cst.BaseExpression:  # type: ignore[override]
+    def leave_Name(self, original_node: cst.Name, updated_node: cst.Name) -> cst.BaseExpression:
         if updated_node.value == "mode":
             return cst.Attribute(value=cst.Name("self"), attr=cst.Name("render_mode"))
         return updated_node
@@ -460,7 +460,7 @@ class _SelfSeedCallRemover(cst.CSTTransformer):
             if m.matches(stmt, m.SimpleStatementLine([m.Expr(m.Call(func=m.Attribute(value=m.Name("self"), attr=m.Name("seed") | m.Name("_seed"))))])):
                 carried = stmt.leading_lines  # type: ignore[attr-defined]
                 if self.replacement:
-                    kept.extend([self.replacement[0].with_changes(leading_lines=carried), *self.replacement[1:]])  # type: ignore[union-attr]
+                    kept.extend([self.replacement[0].with_changes(leading_lines=carried), *self.replacement[1:]])
                     carried = ()
                 continue
             if carried:

@@ -119,7 +119,7 @@ class ClassRewrite:
                     continue
                 stmt = new
             if carried is not None:
-                stmt = stmt.with_changes(leading_lines=carried)  # type: ignore[union-attr]
+                stmt = stmt.with_changes(leading_lines=carried)
                 carried = None
             if self.extra_init is not None and isinstance(stmt, cst.FunctionDef):
                 statements.append(self.extra_init)
