@@ -16,6 +16,7 @@ import io
 from collections import defaultdict
 from collections.abc import Iterator
 from dataclasses import dataclass, field
+from typing import cast
 
 FUNCTIONS = (ast.FunctionDef, ast.AsyncFunctionDef)
 COMPREHENSIONS = (ast.ListComp, ast.SetComp, ast.DictComp, ast.GeneratorExp)
@@ -248,8 +249,10 @@ class ModuleFacts:
 
     # -- structure ----------------------------------------------------------------------
 
-    def parent(self, node: ast.AST) -> ast.AST | None:
-        return self.parents.get(node)
+    def parent(self, node: ast.AST | None) -> ast.AST | None:
+        """The node's parent; ``None`` for the module, a node outside the tree, or ``None``
+        (so ``parent(parent(param))`` walks arg -> arguments -> def without a check between)."""
+        return None if node is None else self.parents.get(node)
 
     def ancestors(self, node: ast.AST) -> Iterator[ast.AST]:
         current = self.parents.get(node)
@@ -330,7 +333,7 @@ class ModuleFacts:
                 found = self._memo[key] = frozenset(
                     self.imports[binding] for binding in bindings if isinstance(binding, ast.alias)
                 )
-            return set(found)  # type: ignore[arg-type]
+            return set(cast("frozenset[str]", found))  # only this code stores under the key
         if isinstance(expr, ast.Attribute):
             return {f"{q}.{expr.attr}" for q in self.qualified_names(expr.value)}
         return set()

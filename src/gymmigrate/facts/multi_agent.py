@@ -82,8 +82,8 @@ class MultiAgent:
         if depth > 3:
             return False
         if isinstance(expr, ast.Name):
-            values = [self.facts.parent(b).value for b in self.facts.bindings_of(expr)
-                      if isinstance(self.facts.parent(b), ast.Assign)]
+            values = [parent.value for b in self.facts.bindings_of(expr)
+                      if isinstance(parent := self.facts.parent(b), ast.Assign)]
             return bool(values) and all(self._made_by_wrapper_fn(v, depth + 1) for v in values)
         if not (isinstance(expr, ast.Call) and isinstance(expr.func, ast.Name)):
             return False

@@ -384,8 +384,8 @@ def _gm205_covers(call: ast.Call) -> bool:
 
 def _bounds(call: ast.Call) -> list[ast.expr]:
     """The values given for ``low`` / ``high``: the first two arguments, or by keyword."""
-    arguments = sorted([*call.args, *call.keywords], key=lambda a: (a.lineno, a.col_offset))
-    found = []
+    arguments: list[ast.expr | ast.keyword] = sorted([*call.args, *call.keywords], key=lambda a: (a.lineno, a.col_offset))
+    found: list[ast.expr] = []
     for index, argument in enumerate(arguments):
         if isinstance(argument, ast.keyword):
             if argument.arg in ("low", "high"):
