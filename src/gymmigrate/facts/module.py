@@ -250,8 +250,8 @@ class ModuleFacts:
     # -- structure ----------------------------------------------------------------------
 
     def parent(self, node: ast.AST | None) -> ast.AST | None:
-        """The node's parent; ``None`` for the module, a node outside the tree, or ``None``
-        (so ``parent(parent(param))`` walks arg -> arguments -> def without a check between)."""
+        """The node's parent; ``None`` for the module, for a node outside the tree and for
+        ``None`` itself (so ``parent(parent(param))`` walks arg -> arguments -> def)."""
         return None if node is None else self.parents.get(node)
 
     def ancestors(self, node: ast.AST) -> Iterator[ast.AST]:
