@@ -42,7 +42,7 @@ class CallableKinds:
         methods = self.facts.memo(
             ("own-methods", id(classdef)), lambda: {s.name: s for s in classdef.body if isinstance(s, FUNCTIONS)}
         )
-        return methods.get(func.attr)  # type: ignore[no-any-return]
+        return methods.get(func.attr)
 
     def external_param_kinds(self, function: ast.AST, classdef: ast.ClassDef | None, param: str) -> list[EnvKind]:
         """What the other modules of the run pass for ``param`` (none when checked alone)."""
@@ -61,7 +61,7 @@ class CallableKinds:
         """The kind of what calling ``callee`` returns: a lambda's body, the returns of a
         def, through names bound to either, and through parameters annotated
         ``Callable[[], gym.Env]`` or passed such callables at every call site."""
-        return self.facts.memo(("returned-kind", id(callee)), lambda: self._returned_kind(callee), while_computing=EnvKind.UNKNOWN)  # type: ignore[no-any-return]
+        return self.facts.memo(("returned-kind", id(callee)), lambda: self._returned_kind(callee), while_computing=EnvKind.UNKNOWN)
 
     def _returned_kind(self, callee: ast.AST) -> EnvKind:
         if self.receivers.depth > MAX_DEPTH:
@@ -81,7 +81,7 @@ class CallableKinds:
         if local is not None and isinstance(local, FUNCTIONS):
             return self.receivers.returns_kind(local)
         if local is not None:
-            return self.receivers.class_kind(local)  # type: ignore[arg-type]
+            return self.receivers.class_kind(local)
         if self.receivers.qualified_names(callee):
             # An imported callable bound again (``make = gym.make``): what it returns.
             kinds = [k for k in (self.receivers.kind_from_qualified(q, _NO_ARGUMENTS) for q in self.receivers.qualified_names(callee)) if k is not None]
@@ -90,7 +90,7 @@ class CallableKinds:
         if not bindings:
             return EnvKind.UNKNOWN
         # One answer per set of bindings, not per call: ``make_env()`` called n times.
-        return self.facts.memo(("returned-kind-bindings", id(bindings)), lambda: self._bindings_returned_kind(bindings), while_computing=EnvKind.UNKNOWN)  # type: ignore[no-any-return]
+        return self.facts.memo(("returned-kind-bindings", id(bindings)), lambda: self._bindings_returned_kind(bindings), while_computing=EnvKind.UNKNOWN)
 
     def _bindings_returned_kind(self, bindings: list[ast.AST]) -> EnvKind:
         kinds: list[EnvKind] = []
@@ -186,7 +186,7 @@ def string_names(facts: ModuleFacts, expr: ast.AST | None) -> set[str]:
     return {facts.imports[b] + rest for b in facts.module_scope.bindings.get(expr.id, ()) if isinstance(b, ast.alias)}
 
 
-def optional_of(annotation: ast.AST, qualified_names) -> ast.AST | None:  # type: ignore[no-untyped-def]
+def optional_of(annotation: ast.AST, qualified_names) -> ast.AST | None:
     """``Optional[X]`` or ``X | None``: X."""
     if isinstance(annotation, ast.BinOp) and isinstance(annotation.op, ast.BitOr):
         for one, other in ((annotation.left, annotation.right), (annotation.right, annotation.left)):

@@ -452,7 +452,7 @@ def render_kept_classes(facts: ModuleFacts, receivers: Receivers) -> frozenset[i
             if classes.is_custom_env(classdef) and any(facts.enclosing_class(call) is not classdef for call in untraced)
         )
 
-    return facts.memo(("render-kept-classes", 0), compute)  # type: ignore[no-any-return]
+    return facts.memo(("render-kept-classes", 0), compute)
 
 
 def passes_mode(call: ast.Call, facts: ModuleFacts) -> bool:

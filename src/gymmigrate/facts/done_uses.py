@@ -85,7 +85,7 @@ DISPLAY_METHODS = frozenset({"debug", "info", "warning", "warn", "log", "write",
 
 def classify_done_read(read: ast.Name, facts: ModuleFacts) -> DoneUse:
     """Sort one read of the done flag by what the code around it does with it."""
-    return facts.memo(("done-use", id(read)), lambda: _classify(read, facts))  # type: ignore[no-any-return]
+    return facts.memo(("done-use", id(read)), lambda: _classify(read, facts))
 
 
 def _classify(read: ast.Name, facts: ModuleFacts) -> DoneUse:

@@ -145,7 +145,7 @@ class EnvClasses:
 
     @classmethod
     def of(cls, facts: ModuleFacts, receivers: Receivers) -> EnvClasses:
-        return facts.memo(("env-classes", id(receivers)), lambda: cls(facts, receivers))  # type: ignore[no-any-return]
+        return facts.memo(("env-classes", id(receivers)), lambda: cls(facts, receivers))
 
     def index(self, classdef: ast.ClassDef) -> ClassIndex:
         found = self._classes.get(classdef)
@@ -186,7 +186,7 @@ class EnvClasses:
         """Its constructor takes ``render_mode`` once migrated, so ``GridEnv()`` is a creation
         site like ``gym.make``: ``__init__`` has the parameter, or the class's
         ``render(self, mode)`` (``_render`` in gym <= 0.9) gets it there (GM405)."""
-        return self.facts.memo(("takes-render-mode", id(classdef)), lambda: self._takes_render_mode(classdef))  # type: ignore[no-any-return]
+        return self.facts.memo(("takes-render-mode", id(classdef)), lambda: self._takes_render_mode(classdef))
 
     def _takes_render_mode(self, classdef: ast.ClassDef) -> bool:
         if not self.is_custom_env(classdef):

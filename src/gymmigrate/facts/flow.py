@@ -60,7 +60,7 @@ class Flow:
 
     @classmethod
     def of(cls, facts: ModuleFacts) -> Flow:
-        return facts.memo(("flow", id(facts.tree)), lambda: cls(facts))  # type: ignore[no-any-return]
+        return facts.memo(("flow", id(facts.tree)), lambda: cls(facts))
 
     # -- scopes ---------------------------------------------------------------------------
 

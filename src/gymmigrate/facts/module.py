@@ -16,6 +16,7 @@ import io
 from collections import defaultdict
 from collections.abc import Iterator
 from dataclasses import dataclass, field
+from typing import cast
 
 FUNCTIONS = (ast.FunctionDef, ast.AsyncFunctionDef)
 COMPREHENSIONS = (ast.ListComp, ast.SetComp, ast.DictComp, ast.GeneratorExp)
@@ -248,8 +249,10 @@ class ModuleFacts:
 
     # -- structure ----------------------------------------------------------------------
 
-    def parent(self, node: ast.AST) -> ast.AST | None:
-        return self.parents.get(node)
+    def parent(self, node: ast.AST | None) -> ast.AST | None:
+        """The node's parent; ``None`` for the module, for a node outside the tree and for
+        ``None`` itself (so ``parent(parent(param))`` walks arg -> arguments -> def)."""
+        return None if node is None else self.parents.get(node)
 
     def ancestors(self, node: ast.AST) -> Iterator[ast.AST]:
         current = self.parents.get(node)
@@ -330,7 +333,7 @@ class ModuleFacts:
                 found = self._memo[key] = frozenset(
                     self.imports[binding] for binding in bindings if isinstance(binding, ast.alias)
                 )
-            return set(found)  # type: ignore[arg-type]
+            return set(cast("frozenset[str]", found))  # only this code stores under the key
         if isinstance(expr, ast.Attribute):
             return {f"{q}.{expr.attr}" for q in self.qualified_names(expr.value)}
         return set()
@@ -394,7 +397,7 @@ class ModuleFacts:
         """The memoized fact under ``key``, or None when it has not been computed."""
         return self._memo.get(key)
 
-    def memo(self, key: tuple[str, int], compute, while_computing: object = _UNSET):  # type: ignore[no-untyped-def]
+    def memo(self, key: tuple[str, int], compute, while_computing: object = _UNSET):
         """Memoize a per-node fact under ``(fact name, id(node))``.
 
         ``while_computing``: the answer a recursive question about the same key gets while

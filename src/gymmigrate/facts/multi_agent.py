@@ -40,7 +40,7 @@ class MultiAgent:
 
     @classmethod
     def of(cls, facts: ModuleFacts, receivers: Receivers) -> MultiAgent:
-        return facts.memo(("multi-agent", id(facts.tree)), lambda: cls(facts, receivers))  # type: ignore[no-any-return]
+        return facts.memo(("multi-agent", id(facts.tree)), lambda: cls(facts, receivers))
 
     def kind(self, expr: ast.AST) -> EnvKind | None:
         """``PZ_AEC`` or ``PZ_PARALLEL`` when ``expr`` is known to be that env, else None."""
@@ -82,8 +82,8 @@ class MultiAgent:
         if depth > 3:
             return False
         if isinstance(expr, ast.Name):
-            values = [self.facts.parent(b).value for b in self.facts.bindings_of(expr)
-                      if isinstance(self.facts.parent(b), ast.Assign)]
+            values = [parent.value for b in self.facts.bindings_of(expr)
+                      if isinstance(parent := self.facts.parent(b), ast.Assign)]
             return bool(values) and all(self._made_by_wrapper_fn(v, depth + 1) for v in values)
         if not (isinstance(expr, ast.Call) and isinstance(expr.func, ast.Name)):
             return False

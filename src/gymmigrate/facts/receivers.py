@@ -198,7 +198,7 @@ class Receivers:
             return self.returns_kind(local_function)
         own = self.own_method(func)
         if own is not None:
-            return self.facts.memo(("returned-kind", id(own)), lambda: self.returns_kind(own), while_computing=EnvKind.UNKNOWN)  # type: ignore[no-any-return]
+            return self.facts.memo(("returned-kind", id(own)), lambda: self.returns_kind(own), while_computing=EnvKind.UNKNOWN)
         if isinstance(func, ast.Name):
             # ``make_env = lambda: gym.make(...)``, a nested ``def thunk()``, an ``env_fn``
             # parameter: what calling the name returns.
@@ -412,7 +412,7 @@ class Receivers:
             finally:
                 self.depth -= 1
 
-        return self.facts.memo(key, compute, while_computing=EnvKind.UNKNOWN)  # type: ignore[no-any-return]
+        return self.facts.memo(key, compute, while_computing=EnvKind.UNKNOWN)
 
     # -- parameters ---------------------------------------------------------------------
 
@@ -485,7 +485,7 @@ class Receivers:
         """``expr`` holds (or may hold) an object the run itself makes: an instance of a class
         or the return of a def of this file, or a name imported from a module of the run. The
         run knows that code, so its kind is never guessed from a name."""
-        return self.facts.memo(("run-defined", id(expr)), lambda: self._run_defined(expr), while_computing=False)  # type: ignore[no-any-return]
+        return self.facts.memo(("run-defined", id(expr)), lambda: self._run_defined(expr), while_computing=False)
 
     def _run_defined(self, expr: ast.AST) -> bool:
         if self.depth > MAX_DEPTH:
@@ -553,7 +553,7 @@ class Receivers:
         local = self.local_class(base)
         if local is not None:
             # Class cycles (``class A(B)`` / ``class B(A)``) add no evidence.
-            return self.facts.memo(("class-kind", id(local)), lambda: self.class_kind(local), while_computing=EnvKind.UNKNOWN)  # type: ignore[no-any-return]
+            return self.facts.memo(("class-kind", id(local)), lambda: self.class_kind(local), while_computing=EnvKind.UNKNOWN)
         return EnvKind.UNKNOWN
 
     def pytest_fixture(self, name: str) -> ast.FunctionDef | ast.AsyncFunctionDef | None:

@@ -53,7 +53,7 @@ def source_lines(facts: ModuleFacts) -> list[bytes]:
     def compute() -> list[bytes]:
         return re.split(rb"(?<=\r\n)|(?<=\r)(?!\n)|(?<=\n)", facts.text.encode("utf-8"))
 
-    return facts.memo(("reset-flow-lines", 0), compute)  # type: ignore[no-any-return]
+    return facts.memo(("reset-flow-lines", 0), compute)
 
 
 def segment(facts: ModuleFacts, node: ast.AST) -> str:
@@ -93,11 +93,11 @@ def enclosing_loops(facts: ModuleFacts, node: ast.AST) -> list[Loop]:
             elif isinstance(parent, ast.While) and child is parent.test:
                 loops.append(parent)
             elif isinstance(parent, COMPREHENSIONS) and not isinstance(child, ast.comprehension):
-                loops.append(parent)  # type: ignore[arg-type]
+                loops.append(parent)
             child, parent = parent, facts.parent(parent)
         return loops
 
-    return facts.memo(("reset-flow-loops", id(node)), compute)  # type: ignore[no-any-return]
+    return facts.memo(("reset-flow-loops", id(node)), compute)
 
 
 def guarded_to_run_once(facts: ModuleFacts, node: ast.AST, loop: ast.AST) -> bool:
@@ -150,7 +150,7 @@ def is_iteration_invariant(facts: ModuleFacts, expr: ast.expr, loop: ast.AST) ->
     if any(isinstance(node, ast.Call) for node in ast.walk(expr)):
         return False
     bound = facts.memo(("reset-flow-bound", id(loop)), lambda: _bound_names(loop))
-    return not (read_names(expr) & bound)  # type: ignore[operator]
+    return not (read_names(expr) & bound)
 
 
 def _bound_names(code: ast.AST) -> set[str]:
@@ -339,7 +339,7 @@ class InfoNames:
             reads = sorted(scope.reads.get(name, []), key=position)
             return sorted(position(s) for s in statements), [position(r) for r in reads], reads  # type: ignore[arg-type]
 
-        return self._facts.memo((f"reset-flow-info-uses:{name}", id(scope)), compute)  # type: ignore[no-any-return]
+        return self._facts.memo((f"reset-flow-info-uses:{name}", id(scope)), compute)
 
     def _env_result_binding(self, binding: ast.AST) -> ast.Assign | None:
         """The statement if ``binding`` is the last target of ``... , info = env.<step|reset|last>(...)``."""

@@ -226,9 +226,10 @@ class _Summarizer:
             return OWN + f"{classdef.name}.__init__"
         method = self.receivers.own_method(func)
         if method is not None:
-            classdef = self.facts.parent(method)  # type: ignore[assignment]
-            if self.facts.parent(classdef) is self.facts.tree:  # type: ignore[arg-type]
-                return OWN + f"{classdef.name}.{method.name}"  # type: ignore[union-attr]
+            owner = self.facts.parent(method)
+            # own_method takes the def from the class body, so owner is always that ClassDef
+            if isinstance(owner, ast.ClassDef) and self.facts.parent(owner) is self.facts.tree:
+                return OWN + f"{owner.name}.{method.name}"
         return None
 
     def _instance_class(self, owner: ast.expr) -> str | None:
@@ -242,7 +243,7 @@ class _Summarizer:
             bindings = self.facts.bindings_of(owner)
             if not bindings:
                 return None  # (an empty list is a fresh object: its id is no key)
-            return self.facts.memo(("instance-class", id(bindings)), lambda: self._class_of_bindings(bindings))  # type: ignore[no-any-return]
+            return self.facts.memo(("instance-class", id(bindings)), lambda: self._class_of_bindings(bindings))
         if isinstance(owner, ast.Attribute) and isinstance(owner.value, ast.Name) and self.receivers.is_self(owner.value):
             values = list(self.receivers.self_attribute_values(owner, owner.attr))
         else:

@@ -212,7 +212,7 @@ class SpacesLogger(RuleFamily):
                 for attribute in self.facts.attributes.get(name, ())
             )
 
-        return self.facts.memo(("gym-logger-level-set", 0), compute)  # type: ignore[no-any-return]
+        return self.facts.memo(("gym-logger-level-set", 0), compute)
 
     def _is_statement(self, call: ast.Call) -> bool:
         """``logger.set_level(x)`` on its own line, with one plain argument."""
@@ -384,8 +384,8 @@ def _gm205_covers(call: ast.Call) -> bool:
 
 def _bounds(call: ast.Call) -> list[ast.expr]:
     """The values given for ``low`` / ``high``: the first two arguments, or by keyword."""
-    arguments = sorted([*call.args, *call.keywords], key=lambda a: (a.lineno, a.col_offset))
-    found = []
+    arguments: list[ast.expr | ast.keyword] = sorted([*call.args, *call.keywords], key=lambda a: (a.lineno, a.col_offset))
+    found: list[ast.expr] = []
     for index, argument in enumerate(arguments):
         if isinstance(argument, ast.keyword):
             if argument.arg in ("low", "high"):

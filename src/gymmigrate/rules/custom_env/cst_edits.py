@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Callable, Sequence
+from typing import cast
 
 import libcst as cst
 import libcst.matchers as m
@@ -162,7 +163,7 @@ def _insert_after_super_reset(fn: cst.FunctionDef, statements: list[cst.BaseStat
     existing = list(body.body)
     guard = cst.If(
         test=cst.parse_expression("seed is not None"),
-        body=cst.IndentedBlock([s.with_changes(leading_lines=[]) if i == 0 else s for i, s in enumerate(statements)]),  # type: ignore[union-attr]
+        body=cst.IndentedBlock([s.with_changes(leading_lines=[]) if i == 0 else s for i, s in enumerate(statements)]),
     )
     for index, stmt in enumerate(existing):
         if any(is_super_method_call(c, "reset") for c in m.findall(stmt, m.Call())):
@@ -216,7 +217,7 @@ def _bool_of(parts: list[cst.BaseExpression]) -> cst.BaseExpression:
     # A lone operand loses its own parentheses inside ``bool(...)``, except a ``yield``,
     # which is only an argument in them.
     single = len(parts) == 1 and not isinstance(parts[0], cst.Yield)
-    text = " or ".join(_code(p.with_changes(lpar=[], rpar=[]) if single else p).strip() for p in parts)  # type: ignore[call-arg]
+    text = " or ".join(_code(p.with_changes(lpar=[], rpar=[]) if single else p).strip() for p in parts)
     return cst.parse_expression(f"bool({text})")
 
 
@@ -246,6 +247,18 @@ def _step_limit_text(fn: cst.FunctionDef) -> str | None:
     return None
 
 
+def visit_suite(body: cst.BaseSuite, transformer: cst.CSTTransformer) -> cst.BaseSuite:
+    """``body.visit(transformer)`` for this package's transformers: they rewrite inside the
+    block and never remove or flatten the block itself (their leave_IndentedBlock returns one)."""
+    return cast(cst.BaseSuite, body.visit(transformer))
+
+
+def _leading_lines(stmt: cst.BaseStatement) -> Sequence[cst.EmptyLine]:
+    """A statement's leading lines: every BaseStatement is a SimpleStatementLine or a
+    BaseCompoundStatement, both with the field, which BaseStatement itself does not declare."""
+    return cast("cst.SimpleStatementLine | cst.BaseCompoundStatement", stmt).leading_lines
+
+
 def _bool_wrap_assignments(body: cst.BaseSuite, name: str) -> cst.BaseSuite:
     """``terminated = x > 1`` -> ``terminated = bool(x > 1)``: check_env wants a Python bool."""
 
@@ -255,7 +268,7 @@ def _bool_wrap_assignments(body: cst.BaseSuite, name: str) -> cst.BaseSuite:
                 return updated_node.with_changes(value=_bool_of([updated_node.value]))
             return updated_node
 
-    return body.visit(Wrap())
+    return visit_suite(body, Wrap())
 
 
 def _rename_names(node: cst.CSTNodeT, renames: dict[str, str]) -> cst.CSTNodeT:
@@ -316,7 +329,7 @@ class _ModeReader(cst.CSTTransformer):
     def visit_FunctionDef(self, node: cst.FunctionDef) -> bool:
         return False
 
-    def leave_Name(self, original_node: cst.Name, updated_node: cst.Name) -> cst.BaseExpression:  # type: ignore[override]
+    def leave_Name(self, original_node: cst.Name, updated_node: cst.Name) -> cst.BaseExpression:
         if updated_node.value == "mode":
             return cst.Attribute(value=cst.Name("self"), attr=cst.Name("render_mode"))
         return updated_node
@@ -351,9 +364,9 @@ class _SuperResetFixer(cst.CSTTransformer):
     def leave_Call(self, original_node: cst.Call, updated_node: cst.Call) -> cst.Call:
         if not is_super_method_call(original_node, "reset"):
             return updated_node
-        args = [a for a in updated_node.args if not m.matches(a.keyword, m.Name("return_info"))]
+        args = [a for a in updated_node.args if not (a.keyword is not None and m.matches(a.keyword, m.Name("return_info")))]
         changed = len(args) != len(updated_node.args)
-        if not any(m.matches(a.keyword, m.Name("seed")) for a in args) and not any(a.star for a in args):
+        if not any(a.keyword is not None and m.matches(a.keyword, m.Name("seed")) for a in args) and not any(a.star for a in args):
             if args:
                 args[-1] = args[-1].with_changes(comma=cst.Comma(whitespace_after=cst.SimpleWhitespace(" ")))
             args.append(cst.Arg(cst.Name("seed"), keyword=cst.Name("seed"), equal=cst.AssignEqual(cst.SimpleWhitespace(""), cst.SimpleWhitespace(""))))
@@ -381,7 +394,7 @@ class _ReturnInfoRemover(cst.CSTTransformer):
                 continue
             kept = list(branch.body) if isinstance(branch, cst.IndentedBlock) else []
             if kept:
-                kept[0] = kept[0].with_changes(leading_lines=stmt.leading_lines)  # type: ignore[union-attr]
+                kept[0] = kept[0].with_changes(leading_lines=_leading_lines(stmt))
             statements.extend(kept)
             if kept and m.matches(kept[-1], m.SimpleStatementLine([m.Return()])):
                 break  # what followed was the return_info=False path
@@ -403,7 +416,7 @@ class _ReturnInfoRemover(cst.CSTTransformer):
         return updated_node.with_changes(keyword=original_node.keyword)
 
     def leave_Call(self, original_node: cst.Call, updated_node: cst.Call) -> cst.Call:
-        args = [a for a in updated_node.args if not m.matches(a.keyword, m.Name("return_info"))]
+        args = [a for a in updated_node.args if not (a.keyword is not None and m.matches(a.keyword, m.Name("return_info")))]
         if len(args) == len(updated_node.args):
             return updated_node
         if args:
@@ -458,13 +471,13 @@ class _SelfSeedCallRemover(cst.CSTTransformer):
         carried: Sequence[cst.EmptyLine] = ()
         for stmt in updated_node.body:
             if m.matches(stmt, m.SimpleStatementLine([m.Expr(m.Call(func=m.Attribute(value=m.Name("self"), attr=m.Name("seed") | m.Name("_seed"))))])):
-                carried = stmt.leading_lines  # type: ignore[attr-defined]
+                carried = _leading_lines(stmt)
                 if self.replacement:
-                    kept.extend([self.replacement[0].with_changes(leading_lines=carried), *self.replacement[1:]])  # type: ignore[union-attr]
+                    kept.extend([self.replacement[0].with_changes(leading_lines=carried), *self.replacement[1:]])
                     carried = ()
                 continue
             if carried:
-                stmt = stmt.with_changes(leading_lines=[*carried, *stmt.leading_lines])  # type: ignore[union-attr]
+                stmt = stmt.with_changes(leading_lines=[*carried, *_leading_lines(stmt)])
                 carried = ()
             kept.append(stmt)
         if len(kept) == len(updated_node.body) and not self.replacement:

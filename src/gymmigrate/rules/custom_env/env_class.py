@@ -57,7 +57,7 @@ class EnvClassFamily(RuleFamily):
                 for call in decision.index.self_calls.get(old, ()):
                     method = method_of(decision, call)
                     if method is not None:
-                        decision.plan.rename_callers.add(method.name)  # type: ignore[attr-defined]
+                        decision.plan.rename_callers.add(method.name)
             decide_seed(decision)
             decide_reset(decision)
             decide_step(decision, inherited)

@@ -123,14 +123,14 @@ def _is_metadata_store(node: ast.AST | None) -> bool:
     return False
 
 
-def _renamed_key(old: str, new: str):  # type: ignore[no-untyped-def]
+def _renamed_key(old: str, new: str):
     def build(node: cst.SimpleString) -> cst.SimpleString:
         return node.with_changes(value=node.value.replace(old, new))
 
     return build
 
 
-def _without_key(key: str):  # type: ignore[no-untyped-def]
+def _without_key(key: str):
     """Drop the ``key`` entry of a dict literal (its modern spelling is there already)."""
 
     def build(node: cst.Dict) -> cst.Dict:

@@ -45,6 +45,7 @@ from gymmigrate.rules.custom_env.cst_edits import (
     _tuple_len,
     is_super_method_call,
     own_returns,
+    visit_suite,
 )
 from gymmigrate.rules.custom_env.plans import ClassPlan, SeedPlan
 from gymmigrate.rules.custom_env.cst_queries import (
@@ -119,7 +120,7 @@ class ClassRewrite:
                     continue
                 stmt = new
             if carried is not None:
-                stmt = stmt.with_changes(leading_lines=carried)  # type: ignore[union-attr]
+                stmt = stmt.with_changes(leading_lines=carried)
                 carried = None
             if self.extra_init is not None and isinstance(stmt, cst.FunctionDef):
                 statements.append(self.extra_init)
@@ -238,10 +239,10 @@ class ClassRewrite:
         plans: list[Callable[[cst.Return], cst.Return] | None] = []
         rename_done = False
         for ret in returns:
-            if ret.value is None or _tuple_len(ret.value) != 4:
+            if not isinstance(ret.value, cst.Tuple) or _tuple_len(ret.value) != 4:  # _tuple_len: only tuples
                 plans.append(None)
                 continue
-            done = ret.value.elements[2].value  # type: ignore[union-attr]
+            done = ret.value.elements[2].value
             if isinstance(done, cst.Name) and _assigns_name(fn, done.value):
                 assigned = _single_assignment(fn, done.value)
                 split = _split_done(assigned) if assigned is not None else None
@@ -270,16 +271,16 @@ class ClassRewrite:
             plan = next(iterator)
             return plan(ret) if plan is not None else ret
 
-        body = fn.body.visit(_ReturnRewriter(rewrite))
+        body = visit_suite(fn.body, _ReturnRewriter(rewrite))
         if fn.returns is not None and _is_tuple_annotation(fn.returns.annotation, 4):
             annotation = fn.returns.annotation
             elements = list(annotation.slice)  # type: ignore[attr-defined]
             elements.insert(3, elements[2])
             fn = fn.with_changes(returns=fn.returns.with_changes(annotation=annotation.with_changes(slice=elements)))
         for name, (task, limit) in splits.items():
-            body = body.visit(_DoneSplitter(name, task, limit, keep_done=_reads_name_outside_returns(fn, name)))
+            body = visit_suite(body, _DoneSplitter(name, task, limit, keep_done=_reads_name_outside_returns(fn, name)))
         if rename_done:
-            body = body.visit(_NameRenamer({"done": "terminated"}))
+            body = visit_suite(body, _NameRenamer({"done": "terminated"}))
             body = _bool_wrap_assignments(body, "terminated")
         self.set_method(method_name, fn.with_changes(body=body))
 
@@ -312,7 +313,7 @@ class ClassRewrite:
         if _rebinds_name(fn, "mode"):
             body = _insert_at_top(fn.body, [cst.parse_statement("mode = self.render_mode")])
         else:
-            body = fn.body.visit(_ModeReader())
+            body = visit_suite(fn.body, _ModeReader())
         if not _checks_is_none(body, "render_mode"):
             body = _insert_at_top(body, [cst.parse_statement("if self.render_mode is None:\n    return None\n")])
         self.set_method("render", fn.with_changes(params=new_params, body=body))

@@ -39,7 +39,7 @@ def drop_unused_seeding_import(facts: ModuleFacts, plan: Plan, deleted: list[ast
             plan.replace(statement, _without(names))
 
 
-def _without(names: set[str]):  # type: ignore[no-untyped-def]
+def _without(names: set[str]):
     def build(node: cst.ImportFrom) -> cst.ImportFrom:
         assert isinstance(node.names, (list, tuple))
         kept = [a for a in node.names if (a.evaluated_alias or a.evaluated_name) not in names]

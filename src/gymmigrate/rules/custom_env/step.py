@@ -164,7 +164,7 @@ def _counts_toward_a_limit(decision: ClassDecision) -> bool:
                 return True  # `self.t = self.t + 1`
         return False
 
-    return facts.memo(("counts-by-constant", id(decision.classdef)), compute)  # type: ignore[no-any-return]
+    return facts.memo(("counts-by-constant", id(decision.classdef)), compute)
 
 
 def _is_number(node: ast.AST) -> bool:

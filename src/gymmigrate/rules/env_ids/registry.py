@@ -75,15 +75,15 @@ class RegistryApi(RuleFamily):
         parent = self.facts.parent(attribute)
         if isinstance(parent, ast.Compare) and len(parent.ops) == 1 and isinstance(parent.ops[0], (ast.In, ast.NotIn)) and parent.comparators[0] is attribute:
             test: ast.expr = parent
-            literal = parent.left
+            literal: ast.expr | None = parent.left
         elif (
             isinstance(parent, ast.Attribute)
             and parent.attr in ("startswith", "endswith")
-            and isinstance(self.facts.parent(parent), ast.Call)
-            and self.facts.parent(parent).func is parent  # type: ignore[union-attr]
+            and isinstance(call := self.facts.parent(parent), ast.Call)
+            and call.func is parent
         ):
-            test = self.facts.parent(parent)  # type: ignore[assignment]
-            literal = test.args[0] if test.args else None  # type: ignore[attr-defined]
+            test = call
+            literal = call.args[0] if call.args else None
         else:
             return
         if self._guarded(test):
@@ -100,7 +100,7 @@ class RegistryApi(RuleFamily):
 
         def build(node: cst.BaseExpression, spec: str = spec, renamed: bool = renamed) -> cst.BaseExpression:
             if renamed:
-                node = node.visit(_GymEnvsLiteral())
+                node = _renamed_gym_envs(node)
             guarded = cst.parse_expression(f"isinstance({spec}.entry_point, str) and x")
             assert isinstance(guarded, cst.BooleanOperation)
             return guarded.with_changes(right=node)
@@ -222,16 +222,20 @@ class RegistryApi(RuleFamily):
         return True
 
 
-class _GymEnvsLiteral:
-    """Visits a test and renames a ``"gym.envs..."`` string literal to ``"gymnasium.envs..."``."""
+def _renamed_gym_envs(node: cst.BaseExpression) -> cst.BaseExpression:
+    """``node`` with a ``"gym.envs..."`` string literal in it renamed to ``"gymnasium.envs..."``."""
 
-    def __new__(cls) -> cst.CSTTransformer:  # a LibCST transformer, made when a build runs
-        class Renamer(cst.CSTTransformer):
-            def leave_SimpleString(self, original: cst.SimpleString, updated: cst.SimpleString) -> cst.SimpleString:
-                quote = updated.quote
-                body = updated.value[len(updated.prefix) + len(quote) : -len(quote)]
-                if body.startswith("gym.envs"):
-                    return updated.with_changes(value=f"{updated.prefix}{quote}gymnasium{body[3:]}{quote}")
-                return updated
+    def rename(string: cst.SimpleString) -> cst.SimpleString:
+        quote = string.quote
+        body = string.value[len(string.prefix) + len(quote) : -len(quote)]
+        if body.startswith("gym.envs"):
+            return string.with_changes(value=f"{string.prefix}{quote}gymnasium{body[3:]}{quote}")
+        return string
 
-        return Renamer()
+    if isinstance(node, cst.SimpleString):
+        return rename(node)
+    if isinstance(node, cst.Comparison):
+        return node.with_changes(left=_renamed_gym_envs(node.left))
+    if isinstance(node, cst.Call):
+        return node.with_changes(args=[arg.with_changes(value=_renamed_gym_envs(arg.value)) for arg in node.args])
+    return node
