@@ -22,7 +22,14 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from bench_real import DEFAULT_CACHE, fetch_corpus, gym_set, gymmigrate_command, log, run  # noqa: E402
+from bench_real import (  # noqa: E402
+    DEFAULT_CACHE,
+    fetch_corpus,
+    gym_set,
+    gymmigrate_command,
+    log,
+    run,
+)
 
 TARGET_RATIO = 0.8
 

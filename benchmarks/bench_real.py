@@ -455,7 +455,7 @@ def summarise_report(path: Path, total_lines: int) -> dict[str, object]:
         # record there as many times as the longer list has it.
         sites: Counter[tuple[object, ...]] = Counter()
         for entry in files:
-            def records(key: str) -> Counter[str]:
+            def records(key: str, entry: dict = entry) -> Counter[str]:
                 items = entry.get(key) or []
                 return Counter(json.dumps(i, sort_keys=True) for i in items if isinstance(i, dict))
 

@@ -25,9 +25,9 @@ from pathlib import Path
 import libcst as cst
 
 from gymmigrate.engine import transform_source
+from gymmigrate.options import RewriteOptions
 from gymmigrate.process import process_file
 from gymmigrate.source_text import TransformError
-from gymmigrate.options import RewriteOptions
 
 ROOT = Path(__file__).resolve().parent.parent
 

@@ -21,14 +21,14 @@ from typer.testing import CliRunner
 from gymmigrate.cli import app
 from gymmigrate.dependencies import (
     DependencyError,
-    kind_of,
     is_dependency_file,
+    kind_of,
     migrate_dependency_file,
     migrate_page_commands,
 )
 from gymmigrate.dependencies.pyproject import poetry_to_pep440
-from gymmigrate.rules import all_rules
 from gymmigrate.files import discover
+from gymmigrate.rules import all_rules
 
 if sys.version_info >= (3, 11):
     import tomllib

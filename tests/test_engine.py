@@ -10,10 +10,10 @@ from pathlib import Path
 import pytest
 
 from gymmigrate.engine import LineMap, transform_source
-from gymmigrate.process import process_file, Status
-from gymmigrate.source_text import TransformError
 from gymmigrate.files import discover
 from gymmigrate.options import RewriteOptions
+from gymmigrate.process import Status, process_file
+from gymmigrate.source_text import TransformError
 
 OPTIONS = RewriteOptions()
 

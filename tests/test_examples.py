@@ -9,7 +9,6 @@ same seed giving the same first transition.
 from __future__ import annotations
 
 import types
-from pathlib import Path
 
 import numpy as np
 import pytest

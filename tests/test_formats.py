@@ -11,7 +11,12 @@ from typer.testing import CliRunner
 
 from gymmigrate.cli import app
 from gymmigrate.findings import Finding, FixKind
-from gymmigrate.formats import escape_data, escape_property, github_annotation, rule_help_uri
+from gymmigrate.formats import (
+    escape_data,
+    escape_property,
+    github_annotation,
+    rule_help_uri,
+)
 from gymmigrate.rules import all_rules
 
 runner = CliRunner()

@@ -24,7 +24,7 @@ import pytest
 from hypothesis import HealthCheck, assume, given, reject, settings
 from hypothesis import strategies as st
 
-from gymmigrate.engine import transform_source, Transformed
+from gymmigrate.engine import Transformed, transform_source
 from gymmigrate.source_text import TransformError
 
 # Generated code is often odd ("'str' object is not callable; perhaps you missed a comma?").

@@ -18,9 +18,9 @@ from typer.testing import CliRunner
 
 from gymmigrate.cli import app
 from gymmigrate.engine import transform_source
-from gymmigrate.process import process_file, Status
 from gymmigrate.files import discover
 from gymmigrate.options import RewriteOptions
+from gymmigrate.process import Status, process_file
 from gymmigrate.safety import MAX_SOURCE_BYTES
 from gymmigrate.writes import is_temporary_name
 

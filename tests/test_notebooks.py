@@ -14,10 +14,10 @@ import pytest
 from typer.testing import CliRunner
 
 from gymmigrate.cli import app
-from gymmigrate.process import process_file, Status
-from gymmigrate.source_text import TransformError
 from gymmigrate.files import discover
 from gymmigrate.options import RewriteOptions
+from gymmigrate.process import Status, process_file
+from gymmigrate.source_text import TransformError
 from gymmigrate.sources import adapter_for
 from gymmigrate.sources.magics import Magics
 from gymmigrate.sources.programs import lint_document, transform_document

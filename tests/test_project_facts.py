@@ -20,8 +20,8 @@ from typer.testing import CliRunner
 
 from gymmigrate.cli import app
 from gymmigrate.facts.project import ProjectFacts
-from gymmigrate.facts.summaries import summarize
 from gymmigrate.facts.receivers import EnvKind
+from gymmigrate.facts.summaries import summarize
 from tests.fixture_cases import FIXTURES
 
 PROJECT = FIXTURES / "project"

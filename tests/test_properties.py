@@ -14,8 +14,8 @@ from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from gymmigrate.engine import transform_source
-from gymmigrate.source_text import TransformError
 from gymmigrate.options import RewriteOptions
+from gymmigrate.source_text import TransformError
 
 HEADERS = [
     "import gym",

@@ -12,10 +12,10 @@ from typer.testing import CliRunner
 
 from gymmigrate.cli import app
 from gymmigrate.engine import lint_source, transform_source
-from gymmigrate.source_text import TransformError
-from gymmigrate.rules import all_rules
 from gymmigrate.options import RewriteOptions
+from gymmigrate.rules import all_rules
 from gymmigrate.selection import Selection, SelectionError
+from gymmigrate.source_text import TransformError
 from tests.fixture_cases import collect_cases
 
 runner = CliRunner()

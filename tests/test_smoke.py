@@ -8,7 +8,13 @@ from pathlib import Path
 import gymnasium
 import pytest
 
-from gymmigrate.smoke.evidence import EXIT_CHECK_FAILED, EXIT_NOT_RUN, EXIT_OK, Ending, Outcome
+from gymmigrate.smoke.evidence import (
+    EXIT_CHECK_FAILED,
+    EXIT_NOT_RUN,
+    EXIT_OK,
+    Ending,
+    Outcome,
+)
 from gymmigrate.smoke.probe import SmokeStop, SmokeTimeout
 from gymmigrate.smoke.runner import SmokeOptions, run_smoke
 from gymmigrate.smoke.targets import LoadError, parse_target
@@ -250,7 +256,7 @@ def test_script_arguments_are_refused_for_an_env_id() -> None:
 def test_the_observer_leaves_classes_as_it_found_them() -> None:
     module = _import_fixture()
     step, reset = module.Corridor.step, module.Corridor.reset
-    run_smoke(f"smoke_fixture_envs:Corridor", SmokeOptions(determinism=False))
+    run_smoke("smoke_fixture_envs:Corridor", SmokeOptions(determinism=False))
     assert module.Corridor.step is step and module.Corridor.reset is reset
     assert gymnasium.spaces.Discrete.seed.__name__ == "seed" and not hasattr(gymnasium.spaces.Dict.seed, "__wrapped__")
     # The construction hook stays, dormant: envs with and without arguments still build.

@@ -8,7 +8,13 @@ from pathlib import Path
 import pytest
 
 from gymmigrate.engine import transform_source
-from gymmigrate.smoke.evidence import EXIT_CHECK_FAILED, EXIT_NOT_RUN, EXIT_OK, Ending, Outcome
+from gymmigrate.smoke.evidence import (
+    EXIT_CHECK_FAILED,
+    EXIT_NOT_RUN,
+    EXIT_OK,
+    Ending,
+    Outcome,
+)
 from gymmigrate.smoke.runner import SmokeOptions, run_smoke
 
 SCRIPTS = Path(__file__).resolve().parent.parent / "fixtures" / "smoke" / "scripts"

@@ -18,9 +18,9 @@ from gymmigrate.edits.apply import ApplyError, apply_plan
 from gymmigrate.edits.plan import Plan
 from gymmigrate.edits.splice import splice_plan
 from gymmigrate.engine import _parse_cst, plan_file
-from gymmigrate.source_text import decode
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.options import RewriteOptions
+from gymmigrate.source_text import decode
 from tests.fixture_cases import collect_cases
 
 

@@ -11,8 +11,8 @@ from pathlib import Path
 import pytest
 
 from gymmigrate import runner
-from gymmigrate.process import FileResult, Status
 from gymmigrate.options import RewriteOptions
+from gymmigrate.process import FileResult, Status
 from gymmigrate.runner import WORKER_DIED, run_files
 
 from .cli_process import run_cli

@@ -12,13 +12,16 @@ from __future__ import annotations
 
 import types
 from collections.abc import Callable
-from functools import lru_cache
+from functools import cache
 from pathlib import Path
 
 import gymnasium as gym
 import numpy as np
 import pytest
-from gymnasium.utils.passive_env_checker import env_reset_passive_checker, env_step_passive_checker
+from gymnasium.utils.passive_env_checker import (
+    env_reset_passive_checker,
+    env_step_passive_checker,
+)
 
 from gymmigrate.engine import transform_source
 from gymmigrate.findings import FixKind
@@ -28,7 +31,7 @@ EPISODES = 3
 MAX_STEPS_PER_EPISODE = 600
 
 
-@lru_cache(maxsize=None)
+@cache
 def migrated_source(name: str) -> str:
     source = (WRAPPER_FIXTURES / name).read_bytes()
     return transform_source(source, name).rewritten.decode()
@@ -68,7 +71,7 @@ def run_episodes(env: gym.Env, episodes: int = EPISODES) -> list[int]:
     env.action_space.seed(0)
     for episode in range(episodes):
         check_reset(env, seed=episode if episode == 0 else None)
-        for step in range(1, MAX_STEPS_PER_EPISODE + 1):
+        for step in range(1, MAX_STEPS_PER_EPISODE + 1):  # noqa: B007  (the episode's length, read after the loop)
             terminated, truncated = check_step(env, env.action_space.sample())
             if terminated or truncated:
                 break

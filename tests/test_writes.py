@@ -15,8 +15,8 @@ from typer.testing import CliRunner
 
 from gymmigrate import process
 from gymmigrate.cli import app
-from gymmigrate.process import process_file, Status
 from gymmigrate.options import RewriteOptions
+from gymmigrate.process import Status, process_file
 from gymmigrate.writes import is_temporary_name
 
 OPTIONS = RewriteOptions()

@@ -188,8 +188,8 @@ def check(
     --output-format). With the path -, check one file read from stdin.
     Exit codes: 0 nothing found, 1 findings, 2 files that could not be processed.
     """
-    from gymmigrate.process import Status
     from gymmigrate.formats import FORMATS
+    from gymmigrate.process import Status
     from gymmigrate.report import print_summary, write_findings
     from gymmigrate.workflow import Flags, run_groups
 
@@ -240,10 +240,9 @@ def _stdin(
 ) -> int:
     """check - / rewrite -: one file from stdin, the result (or findings) on stdout."""
     from gymmigrate.engine import Transformed, unified_diff
-    from gymmigrate.process import Status
-    from gymmigrate.source_text import decode
+    from gymmigrate.process import Status, process_stdin
     from gymmigrate.report import print_summary, write_findings
-    from gymmigrate.process import process_stdin
+    from gymmigrate.source_text import decode
 
     group = _groups([filename or "."], flags)[0]
     source = sys.stdin.buffer.read()

@@ -22,7 +22,7 @@ import fnmatch
 import os
 import sys
 from dataclasses import dataclass
-from functools import lru_cache
+from functools import cache
 from pathlib import Path
 
 from gymmigrate.rules import all_rules
@@ -78,7 +78,7 @@ def forget_configs() -> None:
     _config_of.cache_clear()
 
 
-@lru_cache(maxsize=None)
+@cache
 def _config_of(folder: Path) -> Config:
     for candidate in (folder, *folder.parents):
         pyproject = candidate / "pyproject.toml"

@@ -10,29 +10,30 @@ from __future__ import annotations
 
 import ast
 import difflib
-import io
 import os
 import re
-import tokenize
 from bisect import bisect_right
 from dataclasses import dataclass, field, replace
-from enum import Enum
-from pathlib import Path
 
+from gymmigrate.edits.filtering import filter_plan
 from gymmigrate.edits.lazy import cst
-
 from gymmigrate.edits.plan import Plan
 from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts.profile import FileProfile
 from gymmigrate.facts.receivers import Receivers
 from gymmigrate.findings import Finding
-from gymmigrate.rules import families_for
-from gymmigrate.facts.profile import FileProfile
 from gymmigrate.options import RewriteOptions
+from gymmigrate.rules import families_for
 from gymmigrate.rules.base import FileContext, RuleFamily
-from gymmigrate.edits.filtering import filter_plan
 from gymmigrate.selection import Selection
-from gymmigrate.source_text import TransformError, decode, first_statement_line, parse_python
+from gymmigrate.source_text import (
+    TransformError,
+    decode,
+    first_statement_line,
+    parse_python,
+)
 from gymmigrate.suppressions import skips_file
+
 
 @dataclass
 class Transformed:

@@ -21,7 +21,13 @@ from gymmigrate.dependencies import (
     migrate_dependency_file,
     migrate_page_commands,
 )
-from gymmigrate.engine import LineMap, Transformed, lint_source, transform_source, unified_diff
+from gymmigrate.engine import (
+    LineMap,
+    Transformed,
+    lint_source,
+    transform_source,
+    unified_diff,
+)
 from gymmigrate.findings import Finding
 from gymmigrate.options import RewriteOptions
 from gymmigrate.safety import MAX_SOURCE_BYTES, Refused, read_source, screen

@@ -27,8 +27,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING, overload
 
 from gymmigrate.facts.project import ModuleSummary, ProjectFacts
-from gymmigrate.findings import Finding, FixKind
 from gymmigrate.facts.summaries import summarize
+from gymmigrate.findings import Finding, FixKind
 from gymmigrate.options import RewriteOptions
 from gymmigrate.process import FileResult, Status, process_file
 from gymmigrate.safety import Refused, read_source, screen

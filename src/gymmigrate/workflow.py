@@ -128,7 +128,12 @@ class Progress:
     def __enter__(self) -> Progress:
         if self._total and getattr(self._stream, "isatty", lambda: False)():
             from rich.console import Console
-            from rich.progress import BarColumn, MofNCompleteColumn, TextColumn, TimeElapsedColumn
+            from rich.progress import (
+                BarColumn,
+                MofNCompleteColumn,
+                TextColumn,
+                TimeElapsedColumn,
+            )
             from rich.progress import Progress as RichProgress
 
             bar = self._bar = RichProgress(

@@ -16,8 +16,6 @@ from __future__ import annotations
 
 import fnmatch
 import importlib
-from collections.abc import Callable
-from dataclasses import dataclass, replace
 from pathlib import Path, PurePath
 from types import ModuleType
 from typing import TYPE_CHECKING

@@ -11,7 +11,14 @@ from __future__ import annotations
 import re
 
 from gymmigrate.dependencies import mapping
-from gymmigrate.dependencies.core import Outcome, Positions, Site, finding, line_span, migrate_sites
+from gymmigrate.dependencies.core import (
+    Outcome,
+    Positions,
+    Site,
+    finding,
+    line_span,
+    migrate_sites,
+)
 from gymmigrate.dependencies.mapping import GYM_ONLY, Note
 from gymmigrate.findings import FixKind
 

@@ -11,7 +11,11 @@ from typing import TYPE_CHECKING
 
 from gymmigrate.dependencies import DependencyError, kind_of
 from gymmigrate.dependencies.core import apply_edits
-from gymmigrate.dependencies.lines import migrate_environment, migrate_requirements, migrate_setup_cfg
+from gymmigrate.dependencies.lines import (
+    migrate_environment,
+    migrate_requirements,
+    migrate_setup_cfg,
+)
 from gymmigrate.dependencies.pyproject import PyprojectError, migrate_pyproject
 from gymmigrate.dependencies.setup_py import SetupPyError, migrate_setup_py
 from gymmigrate.dependencies.shell import migrate_dockerfile, migrate_page

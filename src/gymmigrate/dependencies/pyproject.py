@@ -13,9 +13,9 @@ the scanner does not place, any surprise costs a rewrite, never the file.
 from __future__ import annotations
 
 import copy
-from bisect import bisect_right
 import re
 import sys
+from bisect import bisect_right
 from dataclasses import dataclass
 
 from packaging.requirements import InvalidRequirement, Requirement
@@ -23,7 +23,16 @@ from packaging.specifiers import InvalidSpecifier, SpecifierSet
 from packaging.utils import canonicalize_name
 
 from gymmigrate.dependencies import mapping
-from gymmigrate.dependencies.core import Edit, Outcome, Positions, Site, apply_edits, finding, line_span, migrate_sites
+from gymmigrate.dependencies.core import (
+    Edit,
+    Outcome,
+    Positions,
+    Site,
+    apply_edits,
+    finding,
+    line_span,
+    migrate_sites,
+)
 from gymmigrate.dependencies.mapping import GYM_ONLY, Note
 from gymmigrate.findings import FixKind
 

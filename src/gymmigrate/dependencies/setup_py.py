@@ -14,7 +14,14 @@ import ast
 import warnings
 
 from gymmigrate.dependencies import mapping
-from gymmigrate.dependencies.core import Outcome, Positions, Site, finding, line_span, migrate_sites
+from gymmigrate.dependencies.core import (
+    Outcome,
+    Positions,
+    Site,
+    finding,
+    line_span,
+    migrate_sites,
+)
 from gymmigrate.dependencies.mapping import GYM_ONLY, Note
 from gymmigrate.findings import FixKind
 

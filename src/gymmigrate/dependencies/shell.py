@@ -14,7 +14,13 @@ import re
 from dataclasses import dataclass
 
 from gymmigrate.dependencies import mapping
-from gymmigrate.dependencies.core import Outcome, Positions, Site, finding, migrate_sites
+from gymmigrate.dependencies.core import (
+    Outcome,
+    Positions,
+    Site,
+    finding,
+    migrate_sites,
+)
 from gymmigrate.dependencies.mapping import GYM_ONLY, Note
 from gymmigrate.findings import FixKind
 

@@ -12,8 +12,8 @@ from dataclasses import dataclass
 from enum import Enum
 from typing import TYPE_CHECKING, Protocol
 
-from gymmigrate.facts.module import full_name
 from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.module import full_name
 
 if TYPE_CHECKING:
     from gymmigrate.facts.profile import FileProfile

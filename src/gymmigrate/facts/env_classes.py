@@ -16,8 +16,8 @@ import ast
 from collections import defaultdict
 
 from gymmigrate.facts import names as N
-from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
 from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
 from gymmigrate.facts.receivers import Receivers
 
 # Qualified names (without the gym/gymnasium prefix) of the mujoco-py era base class.

@@ -22,7 +22,14 @@ from bisect import bisect_left
 from collections import defaultdict
 from collections.abc import Iterator
 
-from gymmigrate.facts.module import COMPREHENSIONS, FUNCTIONS, LOOPS, ModuleFacts, Scope, child_nodes
+from gymmigrate.facts.module import (
+    COMPREHENSIONS,
+    FUNCTIONS,
+    LOOPS,
+    ModuleFacts,
+    Scope,
+    child_nodes,
+)
 
 Position = tuple[int, int]
 

@@ -12,8 +12,8 @@ from __future__ import annotations
 
 import ast
 
-from gymmigrate.facts.module import ModuleFacts, full_name
 from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.module import ModuleFacts, full_name
 from gymmigrate.facts.receivers import Receivers
 
 PETTINGZOO_KINDS = (EnvKind.PZ_AEC, EnvKind.PZ_PARALLEL)

@@ -18,14 +18,18 @@ times) cost linear time.
 from __future__ import annotations
 
 import ast
-from collections.abc import Iterable
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts import names as N
-from gymmigrate.facts.kinds import MAX_DEPTH, EnvKind, join_kinds
-from gymmigrate.facts.callables import CallableKinds, optional_of, parse_annotation, string_names
-from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, call_argument, own_returns
+from gymmigrate.facts.callables import (
+    CallableKinds,
+    optional_of,
+    parse_annotation,
+    string_names,
+)
 from gymmigrate.facts.flow import Flow
+from gymmigrate.facts.kinds import MAX_DEPTH, EnvKind, join_kinds
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, call_argument, own_returns
 from gymmigrate.facts.self_attributes import SelfAttributes
 
 if TYPE_CHECKING:

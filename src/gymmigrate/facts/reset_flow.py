@@ -19,7 +19,14 @@ import ast
 import re
 from bisect import bisect_left, bisect_right
 
-from gymmigrate.facts.module import COMPREHENSIONS, FUNCTIONS, ModuleFacts, Scope, dotted_name, parenthesized_if_needed
+from gymmigrate.facts.module import (
+    COMPREHENSIONS,
+    FUNCTIONS,
+    ModuleFacts,
+    Scope,
+    dotted_name,
+    parenthesized_if_needed,
+)
 
 Position = tuple[int, int]
 Loop = ast.For | ast.AsyncFor | ast.While | ast.ListComp | ast.SetComp | ast.GeneratorExp | ast.DictComp

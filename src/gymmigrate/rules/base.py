@@ -16,14 +16,14 @@ from __future__ import annotations
 import ast
 import importlib
 from collections.abc import Iterator
-from functools import lru_cache
 from dataclasses import dataclass, field
+from functools import lru_cache
 from typing import TYPE_CHECKING, ClassVar, NamedTuple
 
 from gymmigrate.facts.profile import FileProfile
 from gymmigrate.findings import FixKind, Tier
-from gymmigrate.rules.notes import FamilyNotes
 from gymmigrate.options import RewriteOptions
+from gymmigrate.rules.notes import FamilyNotes
 
 if TYPE_CHECKING:
     from gymmigrate.edits.plan import Plan

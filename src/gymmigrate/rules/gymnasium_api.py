@@ -9,7 +9,7 @@ installed gymnasium 1.4.0 by ``python -m tests.gymnasium_api_table``;
 
 from __future__ import annotations
 
-from functools import lru_cache
+from functools import cache
 
 GYMNASIUM_VERSION = "1.4.0"
 
@@ -143,7 +143,7 @@ def module_exists(module: str) -> bool:
     return module in GYMNASIUM_API
 
 
-@lru_cache(maxsize=None)
+@cache
 def names_of(module: str) -> frozenset[str]:
     return frozenset(GYMNASIUM_API.get(module, "").split())
 
@@ -153,7 +153,7 @@ def has_name(module: str, name: str) -> bool:
     return name in names_of(module)
 
 
-@lru_cache(maxsize=None)
+@cache
 def submodules_of(module: str) -> tuple[str, ...]:
     """The modules of Gymnasium 1.4 directly below ``module``."""
     depth = module.count(".") + 1

@@ -25,13 +25,17 @@ import ast
 import re
 
 from gymmigrate.edits.lazy import cst
-
 from gymmigrate.edits.syntax import dotted_node
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.module import dotted_name
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
-from gymmigrate.rules.gymnasium_api import GYMNASIUM_VERSION, has_name, module_exists, submodules_of
+from gymmigrate.rules.gymnasium_api import (
+    GYMNASIUM_VERSION,
+    has_name,
+    module_exists,
+    submodules_of,
+)
 from gymmigrate.rules.repeats import Repeats
 
 RULES = (

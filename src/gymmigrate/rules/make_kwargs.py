@@ -26,9 +26,8 @@ import ast
 from collections.abc import Sequence
 
 from gymmigrate.edits.lazy import cst
-
-from gymmigrate.facts import names as N
 from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts import names as N
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 

@@ -7,9 +7,8 @@ from __future__ import annotations
 import ast
 from typing import Any
 
-from gymmigrate.edits.lazy import cst
-
 from gymmigrate.edits.arguments import append_keyword, remove_args
+from gymmigrate.edits.lazy import cst
 from gymmigrate.facts.module import keyword
 
 RGB_ARRAY = "rgb_array"  # the mode recorders need (also ``rendering.RGB_ARRAY``)

@@ -41,9 +41,13 @@ import ast
 from collections import defaultdict
 from dataclasses import dataclass
 
-from gymmigrate.facts import names as N
 from gymmigrate.facts import ModuleFacts
-from gymmigrate.facts.creation import Creation, CreationFinder, local_env_class_takes_render_mode
+from gymmigrate.facts import names as N
+from gymmigrate.facts.creation import (
+    Creation,
+    CreationFinder,
+    local_env_class_takes_render_mode,
+)
 from gymmigrate.facts.decisions import Action, decide, receiver_text
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import keyword, string_value

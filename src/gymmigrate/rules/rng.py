@@ -32,12 +32,11 @@ import ast
 
 from gymmigrate.edits.lazy import cst
 from gymmigrate.edits.lazy import matchers as m  # loaded by the first edit that matches
-
 from gymmigrate.facts import names as N
 from gymmigrate.facts.decisions import receiver_text
 from gymmigrate.facts.env_classes import EnvClasses, is_self_attribute
-from gymmigrate.facts.module import ModuleFacts, full_name
 from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.module import ModuleFacts, full_name
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.repeats import Repeats

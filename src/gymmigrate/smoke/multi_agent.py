@@ -29,10 +29,28 @@ from contextlib import redirect_stdout
 from dataclasses import dataclass, field
 from typing import Any
 
-from gymmigrate.smoke.evidence import CheckResult, Ending, EnvRecord, EpisodeRecord, RunRecord
 from gymmigrate.smoke.driver import _deadline
-from gymmigrate.smoke.probe import FLAGS_ARE_BOOL, OBS_IN_SPACE, RESET_SIGNATURE, STEP_SIGNATURE, SmokeTimeout
-from gymmigrate.smoke.targets import LoadError, Target, _import_file, _import_module, describe_exception
+from gymmigrate.smoke.evidence import (
+    CheckResult,
+    Ending,
+    EnvRecord,
+    EpisodeRecord,
+    RunRecord,
+)
+from gymmigrate.smoke.probe import (
+    FLAGS_ARE_BOOL,
+    OBS_IN_SPACE,
+    RESET_SIGNATURE,
+    STEP_SIGNATURE,
+    SmokeTimeout,
+)
+from gymmigrate.smoke.targets import (
+    LoadError,
+    Target,
+    _import_file,
+    _import_module,
+    describe_exception,
+)
 
 PETTINGZOO_API_TEST = "pettingzoo_api_test"
 AEC, PARALLEL = "aec", "parallel"

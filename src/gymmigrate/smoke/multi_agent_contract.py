@@ -13,7 +13,13 @@ from typing import Any
 
 import numpy as np
 
-from gymmigrate.smoke.probe import FLAGS_ARE_BOOL, OBS_IN_SPACE, RESET_SIGNATURE, STEP_SIGNATURE, _describe
+from gymmigrate.smoke.probe import (
+    FLAGS_ARE_BOOL,
+    OBS_IN_SPACE,
+    RESET_SIGNATURE,
+    STEP_SIGNATURE,
+    _describe,
+)
 
 AEC, PARALLEL = "aec", "parallel"
 Charge = Callable[[str, str], None]

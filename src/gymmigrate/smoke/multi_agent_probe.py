@@ -28,8 +28,8 @@ import hashlib
 import inspect
 import os
 import sys
-from dataclasses import dataclass, field, replace
 from collections.abc import Sequence
+from dataclasses import dataclass, field, replace
 from importlib.machinery import ModuleSpec
 from types import ModuleType
 from typing import Any

@@ -171,7 +171,6 @@ class Observatory:
         self._env_class = gymnasium.Env
         _install_construction_hooks(gymnasium)
         _ACTIVE = self
-        observatory = self
 
         # Which spaces did the code seed itself? Space.np_random is not None once anyone
         # looked at it (batch_space copies it from entropy), so ask Space.seed instead.
@@ -422,7 +421,7 @@ class Observatory:
 
     def _check_obs(self, env: object, name: str, kind: str, obs: object) -> None:
         try:
-            space = getattr(env, "observation_space")
+            space = getattr(env, "observation_space", None)
         except Exception:  # a broken space property is the env's problem, reported elsewhere
             return
         if space is None or not hasattr(space, "contains"):

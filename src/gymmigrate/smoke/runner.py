@@ -14,10 +14,14 @@ from typing import TYPE_CHECKING
 
 from gymmigrate.smoke.checks import evaluate
 from gymmigrate.smoke.driver import drive
-from gymmigrate.smoke.multi_agent import api_test_check, drive_pettingzoo, pettingzoo_target
-from gymmigrate.smoke.script import run_script
 from gymmigrate.smoke.evidence import CheckResult, Evidence, RunRecord
+from gymmigrate.smoke.multi_agent import (
+    api_test_check,
+    drive_pettingzoo,
+    pettingzoo_target,
+)
 from gymmigrate.smoke.probe import Budget
+from gymmigrate.smoke.script import run_script
 from gymmigrate.smoke.targets import (
     LoadError,
     NothingToCheck,

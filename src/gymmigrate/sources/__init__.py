@@ -13,9 +13,10 @@ a line in ``_ADAPTERS``.
 from __future__ import annotations
 
 import importlib
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable, Protocol
+from typing import Protocol
 
 from gymmigrate.findings import Finding
 

@@ -9,7 +9,13 @@ from __future__ import annotations
 import re
 
 from gymmigrate.sources import lines_of
-from gymmigrate.sources.pages import MAX_FILE_BYTES, PYTHON_LANGUAGES, Block, Page, page_text
+from gymmigrate.sources.pages import (
+    MAX_FILE_BYTES,
+    PYTHON_LANGUAGES,
+    Block,
+    Page,
+    page_text,
+)
 
 __all__ = ["MAX_FILE_BYTES", "read"]
 

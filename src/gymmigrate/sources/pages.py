@@ -20,8 +20,8 @@ import ast
 import os
 from dataclasses import dataclass, field
 
-from gymmigrate.source_text import may_hold_gym_code, TransformError
 from gymmigrate.findings import Finding, FixKind
+from gymmigrate.source_text import TransformError, may_hold_gym_code
 from gymmigrate.sources import Location, Segment, lines_of
 
 # Pages are text; this keeps the same bound as a Python module.

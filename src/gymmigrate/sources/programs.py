@@ -14,10 +14,10 @@ import re
 from bisect import bisect_right
 from dataclasses import replace
 
-from gymmigrate.engine import lint_source, transform_source, Transformed, unified_diff
-from gymmigrate.source_text import may_hold_gym_code, TransformError
+from gymmigrate.engine import Transformed, lint_source, transform_source, unified_diff
 from gymmigrate.findings import Finding
 from gymmigrate.options import RewriteOptions
+from gymmigrate.source_text import TransformError, may_hold_gym_code
 from gymmigrate.sources import Adapter, Document, Location, Segment, lines_of
 
 _BOUNDARY = "# gymmigrate: segment boundary {}\n"

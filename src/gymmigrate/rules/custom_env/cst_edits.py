@@ -9,14 +9,13 @@ carry them out, and are purely syntactic.
 
 from __future__ import annotations
 
-import re
 from collections.abc import Callable, Sequence
 from typing import cast
 
 import libcst as cst
 import libcst.matchers as m
 
-from gymmigrate.rules.custom_env.cst_queries import _index, own_returns
+from gymmigrate.rules.custom_env.cst_queries import _index
 from gymmigrate.rules.custom_env.plans import STEP_LIMIT_WORD, SUPER_RESET
 
 _LIMIT_OPS = (cst.GreaterThan, cst.GreaterThanEqual, cst.LessThan, cst.LessThanEqual, cst.Equal)

@@ -22,10 +22,21 @@ from gymmigrate.facts.env_classes import EnvClasses
 from gymmigrate.facts.module import ModuleFacts
 from gymmigrate.findings import Tier
 from gymmigrate.rules.base import FileContext, RuleFamily
-from gymmigrate.rules.custom_env.common import CLASS_RULES, UNDERSCORE_RULE, ClassDecision, method_of
-from gymmigrate.rules.custom_env.observations import decide_float64_observations, decide_mujoco
+from gymmigrate.rules.custom_env.common import (
+    CLASS_RULES,
+    UNDERSCORE_RULE,
+    ClassDecision,
+    method_of,
+)
+from gymmigrate.rules.custom_env.observations import (
+    decide_float64_observations,
+    decide_mujoco,
+)
 from gymmigrate.rules.custom_env.plans import ClassPlan
-from gymmigrate.rules.custom_env.render import decide_render, decide_subclass_render_mode
+from gymmigrate.rules.custom_env.render import (
+    decide_render,
+    decide_subclass_render_mode,
+)
 from gymmigrate.rules.custom_env.reset import decide_internal_calls, decide_reset
 from gymmigrate.rules.custom_env.seed import decide_seed
 from gymmigrate.rules.custom_env.seeding_import import drop_unused_seeding_import
@@ -90,7 +101,9 @@ def _rewrite_class(plan: ClassPlan) -> Callable[[cst.ClassDef], cst.ClassDef]:
     """The class's build: ``rebuild.rewrite_class``, loaded when it first runs."""
 
     def build(node: cst.ClassDef) -> cst.ClassDef:
-        from gymmigrate.rules.custom_env.rebuild import rewrite_class  # the apply layer: LibCST
+        from gymmigrate.rules.custom_env.rebuild import (
+            rewrite_class,  # the apply layer: LibCST
+        )
 
         return rewrite_class(plan)(node)
 

@@ -11,7 +11,6 @@ import ast
 from collections.abc import Sequence
 
 from gymmigrate.edits.lazy import cst
-
 from gymmigrate.facts.module import ModuleFacts, string_value
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
@@ -147,7 +146,9 @@ def _without_key(key: str):
 
 
 def _with_render_fps(node: cst.Dict) -> cst.Dict:
-    from gymmigrate.rules.custom_env.cst_edits import _append_element  # the apply layer: LibCST
+    from gymmigrate.rules.custom_env.cst_edits import (
+        _append_element,  # the apply layer: LibCST
+    )
 
     elements: Sequence[cst.BaseDictElement] = node.elements
     first_key = next((el.key for el in elements if isinstance(el, cst.DictElement) and isinstance(el.key, cst.SimpleString)), None)

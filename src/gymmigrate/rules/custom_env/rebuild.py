@@ -44,10 +44,8 @@ from gymmigrate.rules.custom_env.cst_edits import (
     _split_done,
     _tuple_len,
     is_super_method_call,
-    own_returns,
     visit_suite,
 )
-from gymmigrate.rules.custom_env.plans import ClassPlan, SeedPlan
 from gymmigrate.rules.custom_env.cst_queries import (
     _assigns_name,
     _checks_is_none,
@@ -58,7 +56,9 @@ from gymmigrate.rules.custom_env.cst_queries import (
     _single_assignment,
     _uses_name,
     _uses_self_attribute,
+    own_returns,
 )
+from gymmigrate.rules.custom_env.plans import ClassPlan, SeedPlan
 
 
 class ClassRewrite:

@@ -9,8 +9,8 @@ import ast
 
 from gymmigrate.facts.decisions import Action, decide
 from gymmigrate.facts.env_classes import EnvClasses, is_self_attribute
-from gymmigrate.facts.module import ModuleFacts
 from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.module import ModuleFacts
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 

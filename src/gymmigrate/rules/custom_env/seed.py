@@ -14,10 +14,20 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.facts.decisions import Action, decide
-from gymmigrate.facts.env_classes import identifiers, is_self_attribute, is_super_method_call
-from gymmigrate.findings import FixKind
+from gymmigrate.facts.env_classes import (
+    identifiers,
+    is_self_attribute,
+    is_super_method_call,
+)
 from gymmigrate.facts.module import full_name, statement_lines
-from gymmigrate.rules.custom_env.common import ClassDecision, inner_gym_env_call, is_docstring, method_of, param_names
+from gymmigrate.findings import FixKind
+from gymmigrate.rules.custom_env.common import (
+    ClassDecision,
+    inner_gym_env_call,
+    is_docstring,
+    method_of,
+    param_names,
+)
 from gymmigrate.rules.custom_env.plans import SeedPlan
 from gymmigrate.rules.reset_seed.common import is_space
 

@@ -11,7 +11,6 @@ import ast
 from collections import defaultdict
 
 from gymmigrate.edits.lazy import cst
-
 from gymmigrate.edits.plan import Plan
 from gymmigrate.facts.module import ModuleFacts
 

@@ -24,12 +24,18 @@ import re
 from dataclasses import dataclass
 
 from gymmigrate.edits.lazy import cst
-
-from gymmigrate.facts import names as N
 from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts import names as N
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
-from gymmigrate.rules.env_ids.catalog import ALE, EnvPackage, IdMigration, env_package, migration_for, removed_family
+from gymmigrate.rules.env_ids.catalog import (
+    ALE,
+    EnvPackage,
+    IdMigration,
+    env_package,
+    migration_for,
+    removed_family,
+)
 from gymmigrate.rules.env_ids.syntax import (
     FORWARDS_KWARGS,
     ID_FUNCTIONS,

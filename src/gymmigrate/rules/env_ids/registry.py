@@ -17,9 +17,8 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.edits.lazy import cst
-
-from gymmigrate.facts import names as N
 from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts import names as N
 from gymmigrate.facts.module import full_name
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily

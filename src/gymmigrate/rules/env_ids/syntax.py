@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import ast
 
-from gymmigrate.facts import names as N
 from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts import names as N
 
 # Functions under gym/gymnasium whose first argument (or ``id=``) is an env id.
 ID_FUNCTIONS = frozenset({"make", "make_vec", "vector.make", "spec", "envs.make", "envs.spec", "envs.registration.make", "envs.registration.spec"})

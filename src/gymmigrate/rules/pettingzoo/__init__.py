@@ -15,4 +15,10 @@ SuperSuit's vector conversions (``concat_vec_envs_v1``...) make VecEnvs, which k
 their own API. Nothing here imports PettingZoo.
 """
 
-from gymmigrate.rules.pettingzoo import aec_loop, env_classes, parallel, seed_render, spaces_make  # noqa: F401
+from gymmigrate.rules.pettingzoo import (  # noqa: F401
+    aec_loop,
+    env_classes,
+    parallel,
+    seed_render,
+    spaces_make,
+)

@@ -11,7 +11,6 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.edits.lazy import cst
-
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.multi_agent import MultiAgent
 from gymmigrate.findings import FixKind

@@ -21,12 +21,17 @@ from collections.abc import Callable
 from functools import partial
 
 from gymmigrate.edits.lazy import cst
-
+from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
 from gymmigrate.findings import FixKind
-from gymmigrate.facts.flow import Flow
-from gymmigrate.rules.pettingzoo.common import AGENT, PZ108, PettingZooFamily, either, values_call
+from gymmigrate.rules.pettingzoo.common import (
+    AGENT,
+    PZ108,
+    PettingZooFamily,
+    either,
+    values_call,
+)
 from gymmigrate.rules.pettingzoo.endings import Cause, Endings, Traced, is_true, joined
 
 RENAMED_HELPERS = {"_was_done_step": "_was_dead_step", "_dones_step_first": "_deads_step_first"}

@@ -12,13 +12,12 @@ from __future__ import annotations
 
 import ast
 
-from gymmigrate.edits.lazy import cst
-
 from gymmigrate.edits.arguments import remove_args
+from gymmigrate.edits.lazy import cst
 from gymmigrate.facts.done_uses import DoneUse, classify_done_read
 from gymmigrate.facts.flow import Flow
-from gymmigrate.facts.module import keyword
 from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.module import keyword
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.pettingzoo.common import (
     AGENT,

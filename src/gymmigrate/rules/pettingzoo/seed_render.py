@@ -15,9 +15,8 @@ from __future__ import annotations
 
 import ast
 
-from gymmigrate.edits.lazy import cst
-
 from gymmigrate.edits.arguments import append_keyword, remove_args
+from gymmigrate.edits.lazy import cst
 from gymmigrate.facts.creation import CreationFinder
 from gymmigrate.facts.module import call_argument, full_name, keyword
 from gymmigrate.findings import FixKind

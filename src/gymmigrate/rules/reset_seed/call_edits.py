@@ -14,7 +14,6 @@ from dataclasses import dataclass, field
 from gymmigrate.edits.lazy import cst
 
 
-
 @dataclass
 class CallEdit:
     """Changes to one ``reset``/``seed`` call."""

@@ -12,8 +12,8 @@ from __future__ import annotations
 import ast
 from collections import defaultdict
 
-from gymmigrate.facts.module import Scope
 from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.module import Scope
 from gymmigrate.facts.reset_flow import enclosing_loops, position
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.reset_seed.call_edits import seed_literal, seeding_reset

@@ -11,7 +11,13 @@ import ast
 
 from gymmigrate.facts.decisions import Action, Decision, decide
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.reset_flow import InfoNames, NumpySeeds, enclosing_loops, guarded_to_run_once, is_iteration_invariant
+from gymmigrate.facts.reset_flow import (
+    InfoNames,
+    NumpySeeds,
+    enclosing_loops,
+    guarded_to_run_once,
+    is_iteration_invariant,
+)
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import RuleFamily
 from gymmigrate.rules.reset_seed.call_edits import CallEdit

@@ -15,12 +15,15 @@ from bisect import bisect_left, bisect_right
 from dataclasses import dataclass
 
 from gymmigrate.edits.lazy import cst
-
 from gymmigrate.facts.decisions import Action, Decision, receiver_text
 from gymmigrate.facts.flow import end, start
 from gymmigrate.facts.module import LOOPS, ModuleFacts
 from gymmigrate.findings import FixKind
-from gymmigrate.rules.step_done.common import StepFamilyBase, looks_vectorised, stands_alone
+from gymmigrate.rules.step_done.common import (
+    StepFamilyBase,
+    looks_vectorised,
+    stands_alone,
+)
 
 
 @dataclass(frozen=True)

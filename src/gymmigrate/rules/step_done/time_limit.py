@@ -15,10 +15,14 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.edits.lazy import cst
-
-from gymmigrate.findings import FixKind
 from gymmigrate.facts.module import Scope
-from gymmigrate.rules.step_done.common import TIME_LIMIT_KEY, StepFamilyBase, StepNames, stands_alone
+from gymmigrate.findings import FixKind
+from gymmigrate.rules.step_done.common import (
+    TIME_LIMIT_KEY,
+    StepFamilyBase,
+    StepNames,
+    stands_alone,
+)
 
 _UNTRACED = object()  # a read whose info dict comes from no known step
 _DISCARDED = StepNames("_", "_", vector=False)  # a step whose done target was ``_``

@@ -20,7 +20,6 @@ from bisect import bisect_left, bisect_right
 from dataclasses import dataclass
 
 from gymmigrate.edits.lazy import cst
-
 from gymmigrate.facts.decisions import Action, Decision
 from gymmigrate.facts.done_uses import (
     STORE_METHODS,
@@ -33,7 +32,12 @@ from gymmigrate.facts.done_uses import (
 from gymmigrate.facts.flow import bound_names, end, start
 from gymmigrate.facts.module import FUNCTIONS, LOOPS, Scope, full_name
 from gymmigrate.findings import FixKind, Tier
-from gymmigrate.rules.step_done.common import StepFamilyBase, StepNames, StepUnpack, looks_vectorised
+from gymmigrate.rules.step_done.common import (
+    StepFamilyBase,
+    StepNames,
+    StepUnpack,
+    looks_vectorised,
+)
 
 
 @dataclass(frozen=True)

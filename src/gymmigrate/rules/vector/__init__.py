@@ -24,16 +24,21 @@ from __future__ import annotations
 
 import ast
 
-from gymmigrate.edits.lazy import cst
-
-from gymmigrate.facts import names as N
 from gymmigrate.edits.arguments import append_keyword
+from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts import names as N
 from gymmigrate.facts.creation import CreationFinder
 from gymmigrate.facts.module import keyword
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
-from gymmigrate.rules.vector.common import LIST_INFO_WRAPPERS, VECTOR_CLASSES, VectorDecisions, gym_rest, quote_style
+from gymmigrate.rules.vector.common import (
+    LIST_INFO_WRAPPERS,
+    VECTOR_CLASSES,
+    VectorDecisions,
+    gym_rest,
+    quote_style,
+)
 from gymmigrate.rules.vector.construction import Construction
 from gymmigrate.rules.vector.infos import Infos
 from gymmigrate.rules.vector.wrappers import VectorWrappers

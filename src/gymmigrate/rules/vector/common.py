@@ -10,9 +10,8 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 from gymmigrate.edits.lazy import cst
-
-from gymmigrate.facts import names as N
 from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts import names as N
 
 if TYPE_CHECKING:
     from gymmigrate.facts.creation import CreationFinder

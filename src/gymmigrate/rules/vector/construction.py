@@ -20,9 +20,8 @@ import builtins
 from collections.abc import Callable
 from typing import Any
 
-from gymmigrate.edits.lazy import cst
-
 from gymmigrate.edits.arguments import append_keyword
+from gymmigrate.edits.lazy import cst
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.vector.common import (
     ASYNC_ONLY_KWARGS,
@@ -34,7 +33,6 @@ from gymmigrate.rules.vector.common import (
     is_false,
     quote_style,
 )
-
 
 _BUILTINS = frozenset(dir(builtins))
 

@@ -25,18 +25,17 @@ from typing import cast
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.decisions import Action, decide
-from gymmigrate.facts.module import keyword, string_value
 from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.module import keyword, string_value
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.vector.common import (
     LIST_INFO_WRAPPERS,
     VECTOR_CLASSES,
     VectorFamilyBase,
-    arguments_in_order,
     argument_value,
+    arguments_in_order,
     gym_rest,
 )
-
 
 # What a gymnasium VectorWrapper such as DictInfoToList exposes (it has no __getattr__):
 # ``envs.call(...)``, ``envs.get_attr(...)`` or ``envs.envs`` would break once wrapped.

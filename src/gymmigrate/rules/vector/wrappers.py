@@ -16,13 +16,11 @@ import ast
 from typing import Any
 
 from gymmigrate.edits.lazy import cst
-
 from gymmigrate.facts import names as N
 from gymmigrate.facts.decisions import receiver_text
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.vector.common import VectorFamilyBase, gym_rest
-
 
 LEGACY_NAME = "VectorEnvWrapper"
 NEW_NAME = "VectorWrapper"

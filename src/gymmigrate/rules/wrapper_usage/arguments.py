@@ -21,7 +21,6 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from gymmigrate.edits.lazy import cst
-
 from gymmigrate.facts.module import keyword, string_value
 from gymmigrate.findings import FixKind
 

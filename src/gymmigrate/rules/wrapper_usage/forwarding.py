@@ -24,11 +24,10 @@ import ast
 import bisect
 
 from gymmigrate.edits.lazy import cst
-
-from gymmigrate.facts import names as N
 from gymmigrate.facts import ModuleFacts
-from gymmigrate.facts.module import FUNCTIONS, call_argument, dotted_name, own_returns
+from gymmigrate.facts import names as N
 from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.module import FUNCTIONS, call_argument, dotted_name, own_returns
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.repeats import Repeats

@@ -10,7 +10,6 @@ import ast
 from dataclasses import dataclass, field
 
 from gymmigrate.edits.lazy import cst
-
 from gymmigrate.edits.syntax import dotted_node
 
 

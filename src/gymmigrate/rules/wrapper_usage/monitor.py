@@ -19,12 +19,11 @@ rendering family reads, so that no make gets a second one.
 from __future__ import annotations
 
 import ast
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from gymmigrate.edits.lazy import cst
-
 from gymmigrate.edits.arguments import append_keyword
+from gymmigrate.edits.lazy import cst
 from gymmigrate.edits.syntax import dotted_node
 from gymmigrate.facts.module import dotted_name, keyword
 from gymmigrate.findings import FixKind, Tier

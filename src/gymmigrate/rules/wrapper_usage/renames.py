@@ -30,25 +30,29 @@ import re
 from collections.abc import Callable
 
 from gymmigrate.edits.lazy import cst
-
-from gymmigrate.facts import names as N
 from gymmigrate.edits.syntax import dotted_node
 from gymmigrate.facts import ModuleFacts
-from gymmigrate.facts.module import dotted_name, string_value
+from gymmigrate.facts import names as N
 from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.module import dotted_name, string_value
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.repeats import Repeats
 from gymmigrate.rules.wrapper_usage.arguments import HANDLERS, positional
-from gymmigrate.rules.wrapper_usage.legacy_imports import LegacyImports, import_move, migrated_path, removed_import
 from gymmigrate.rules.wrapper_usage.import_edits import ImportEdit, import_build
+from gymmigrate.rules.wrapper_usage.legacy_imports import (
+    LegacyImports,
+    import_move,
+    migrated_path,
+    removed_import,
+)
 from gymmigrate.rules.wrapper_usage.monitor import plan_monitor
 from gymmigrate.rules.wrapper_usage.stacks import WrapperStacks
 from gymmigrate.rules.wrapper_usage.tables import (
     EXPERIMENTAL_SPECIAL,
     FINAL_INFO_KEYS,
-    RENAMED,
     REMOVED,
+    RENAMED,
     SINGLE_ENV_WRAPPERS,
     VECTOR_WRAPPERS,
     experimental_name,
@@ -268,7 +272,7 @@ class WrapperRenames(RuleFamily):
                 if not self._is_call_func(node):
                     self._report_reference(node, name, RENAMED[name])
                 new = RENAMED[name]
-                self.plan.replace(node, lambda n: n.with_changes(attr=cst.Name(new)))
+                self.plan.replace(node, lambda n, new=new: n.with_changes(attr=cst.Name(new)))
                 return
             if rest in ("wrappers.VectorListInfo", "wrappers.vector_list_info.VectorListInfo"):
                 self.report(node, "GM608", "`VectorListInfo` is now `gymnasium.wrappers.vector.DictInfoToList`")

@@ -14,8 +14,8 @@ import ast
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Protocol
 
-from gymmigrate.facts import names as N
 from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts import names as N
 from gymmigrate.facts.kinds import EnvKind, join_kinds
 from gymmigrate.facts.receivers import Receivers
 from gymmigrate.rules.wrapper_usage.tables import wrapper_rest

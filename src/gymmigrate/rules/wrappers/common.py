@@ -8,7 +8,6 @@ import ast
 from collections.abc import Iterator, Sequence
 
 from gymmigrate.edits.lazy import cst
-
 from gymmigrate.facts.module import FUNCTIONS
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import Rule

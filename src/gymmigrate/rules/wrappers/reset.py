@@ -12,7 +12,6 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.edits.lazy import cst
-
 from gymmigrate.facts.module import own_returns
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import RuleFamily
@@ -28,7 +27,6 @@ from gymmigrate.rules.wrappers.common import (
     _target_names,
     _tuple,
 )
-
 
 
 class ResetOverrides(RuleFamily):
@@ -63,7 +61,6 @@ class ResetOverrides(RuleFamily):
                 self._hoist_reset(ret, inner, taken, fixed_signature)
                 continue
             info_code = "{}"
-            exact = False
             if info_name is not None:
                 info_code = info_name
                 if not self._assigned_before(ret, info_name, function, completed):
@@ -74,7 +71,6 @@ class ResetOverrides(RuleFamily):
                     )
                 else:
                     message = f"reset returns (obs, info) with the inner reset's `{info_name}`"
-                    exact = True
             else:
                 message = (
                     "reset returns (obs, info): this override has no info from an inner reset, so it returns "
@@ -128,7 +124,9 @@ class ResetOverrides(RuleFamily):
         self.plan.insert_before(ret, f"{obs_name}, {info_name} = {call_text}")
 
         def rewrite(node: cst.Return) -> cst.Return:
-            from gymmigrate.rules.wrappers.cst_builds import ObservationOf  # the apply layer: LibCST
+            from gymmigrate.rules.wrappers.cst_builds import (
+                ObservationOf,  # the apply layer: LibCST
+            )
 
             value = node.value.visit(ObservationOf(obs_name))  # type: ignore[union-attr]
             return node.with_changes(value=_tuple([_parenthesized(value), cst.Name(info_name)]))  # type: ignore[arg-type]

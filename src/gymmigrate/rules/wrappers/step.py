@@ -16,11 +16,10 @@ import ast
 import re
 
 from gymmigrate.edits.lazy import cst
-
 from gymmigrate.facts.module import own_returns
 from gymmigrate.findings import FixKind, Tier
-from gymmigrate.rules.custom_env.step import is_step_limit
 from gymmigrate.rules.base import RuleFamily
+from gymmigrate.rules.custom_env.step import is_step_limit
 from gymmigrate.rules.step_done.common import StepUnpack
 from gymmigrate.rules.wrappers.common import (
     _assigned_names,
