@@ -130,3 +130,15 @@ def test_rewrite_and_check_never_import_pettingzoo() -> None:
         "assert 'pettingzoo' not in sys.modules and 'supersuit' not in sys.modules\n"
     )
     subprocess.run([sys.executable, "-c", code], check=True)
+
+
+def test_the_old_spelling_of_the_parallel_wrapper_base_imports_on_pettingzoo_1_27() -> None:
+    """fixtures/rules/PZ108/wrapper_old_spelling: SuperSuit's ``BaseParallelWraper``
+    import is an ImportError on current PettingZoo; the migrated module imports."""
+    import runpy
+
+    expected = FIXTURES / "PZ108" / "wrapper_old_spelling.expected.py"
+    namespace = runpy.run_path(str(expected))
+    from pettingzoo.utils.wrappers import BaseParallelWrapper
+
+    assert issubclass(namespace["Skip"], BaseParallelWrapper)

@@ -37,6 +37,10 @@ from gymmigrate.rules.pettingzoo.endings import Cause, Endings, Traced, is_true,
 RENAMED_HELPERS = {"_was_done_step": "_was_dead_step", "_dones_step_first": "_deads_step_first"}
 
 
+# PettingZoo <= 1.22's spelling of the parallel wrapper base class.
+MISSPELLED_WRAPPER = "BaseParallelWraper"
+
+
 class EnvClasses(PettingZooFamily):
     RULES = (PZ108,)
 
@@ -51,6 +55,12 @@ class EnvClasses(PettingZooFamily):
         for statement in facts.import_statements:
             if isinstance(statement, ast.ImportFrom) and statement.module == "pettingzoo.utils" and statement.level == 0:
                 self._plan_agent_selector(statement)
+            if isinstance(statement, ast.ImportFrom) and statement.level == 0 and (statement.module or "").startswith("pettingzoo.utils.wrappers"):
+                self._plan_wrapper_spelling(statement)
+        for attr in facts.attributes.get(MISSPELLED_WRAPPER, ()):
+            if any(q.startswith("pettingzoo.") for q in facts.qualified_names(attr)):
+                self.rename_attribute(attr, "BaseParallelWrapper")
+                self.report(attr, "PZ108", f"`{MISSPELLED_WRAPPER}` is spelled `BaseParallelWrapper` in current PettingZoo")
         self.classes = {id(c): kind for c in facts.all_classes if (kind := self.multi_agent.class_kind(c)) is not None}
         if not self.classes:
             return
@@ -74,6 +84,29 @@ class EnvClasses(PettingZooFamily):
             if "last" in methods:
                 self.report(methods["last"], "PZ108", "`last()` returns `observation, reward, termination, truncation, "
                             "info` since PettingZoo 1.21: check this override", FixKind.FLAG)
+
+    def _plan_wrapper_spelling(self, statement: ast.ImportFrom) -> None:
+        """``from pettingzoo.utils.wrappers import BaseParallelWraper`` (the 1.20 spelling) is an
+        ImportError now: import ``BaseParallelWrapper`` under the old name, so no use changes."""
+        if not any(alias.name == MISSPELLED_WRAPPER for alias in statement.names):
+            return
+        self.changed()
+
+        def build(node: cst.ImportFrom) -> cst.ImportFrom:
+            assert not isinstance(node.names, cst.ImportStar)  # it names the class
+            names = [
+                alias.with_changes(
+                    name=cst.Name("BaseParallelWrapper"),
+                    asname=alias.asname or cst.AsName(name=cst.Name(MISSPELLED_WRAPPER)),
+                )
+                if isinstance(alias.name, cst.Name) and alias.name.value == MISSPELLED_WRAPPER
+                else alias
+                for alias in node.names
+            ]
+            return node.with_changes(names=names)
+
+        self.plan.replace(statement, build)
+        self.report(statement, "PZ108", f"`{MISSPELLED_WRAPPER}` is spelled `BaseParallelWrapper` in current PettingZoo")
 
     def _plan_agent_selector(self, statement: ast.ImportFrom) -> None:
         """``from pettingzoo.utils import agent_selector`` is the module since 1.24 (the class is
