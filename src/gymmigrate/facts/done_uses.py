@@ -186,10 +186,11 @@ def _method_use(attribute: ast.Attribute, facts: ModuleFacts) -> DoneUse:
     return DoneUse.AMBIGUOUS
 
 
-def _assign_use(assign: ast.Assign, read: ast.Name, in_container: bool, value: ast.AST) -> DoneUse:
+def _assign_use(assign: ast.Assign, read: ast.expr, in_container: bool, value: ast.AST) -> DoneUse:
     targets = assign.targets
-    if len(targets) == 1 and isinstance(targets[0], ast.Name) and targets[0].id == read.id:
-        return DoneUse.CONTROL  # ``done = done or step >= limit``: still the episode-over flag
+    # ``done = done or step >= limit`` (``self.done = self.done or ...``): still the episode-over flag.
+    if len(targets) == 1 and ast.dump(targets[0], annotate_fields=False).replace("Store()", "Load()") == ast.dump(read, annotate_fields=False):
+        return DoneUse.CONTROL
     if in_container and isinstance(value, (ast.Tuple, ast.List, ast.Dict)):
         return DoneUse.DATA  # ``transition = (s, a, r, s2, done)``
     if value is read and any(_is_bookkeeping(t) for t in targets):
