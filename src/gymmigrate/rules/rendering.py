@@ -392,10 +392,16 @@ class Rendering(RuleFamily):
         """Human renders that run only on a condition (render_schedule.py): the condition
         moves to the make when it is fixed at creation, else the sites are reported.
         False when a render runs on every pass (human mode then draws as before)."""
+        key = id(make)
+        trained = self._used_where_nothing_renders(make, sites)
+        if trained is not None:
+            # Train, then watch: human mode would draw every training step too.
+            final_mode[key] = None
+            self._unscheduled[key] = f"the watch loop runs (the env is also {trained}, where nothing renders)"
+            return True
         how, condition = schedule(self.facts, [site.node for site in sites], make)
         if how == "always" or condition is None:  # the condition is None only "always"
             return False
-        key = id(make)
         if how == "fixed":
             quote = self._quote_style(make, sites)
             final_mode[key] = HUMAN
@@ -408,6 +414,36 @@ class Rendering(RuleFamily):
         final_mode[key] = None
         self._unscheduled[key] = condition
         return True
+
+    def _used_where_nothing_renders(self, make: ast.Call, sites: list[RenderSite]) -> str | None:
+        """How the env made by ``make`` (``env = gym.make(...)``) is used away from its renders:
+        ``"stepped at line N"`` in a loop without a render call, ``"passed to f()"`` (a
+        training function, an agent) — or None when every use renders as it goes (a
+        legacy script that watches what it runs, where human mode draws as before)."""
+        assign = self.facts.parent(make)
+        if not (isinstance(assign, ast.Assign) and len(assign.targets) == 1 and isinstance(assign.targets[0], ast.Name)):
+            return None
+        target = assign.targets[0]
+        rendered = {id(site.node) for site in sites}
+        for read in self.facts.scope_of(target).reads.get(target.id, ()):
+            if target not in self.facts.bindings_of(read):
+                continue
+            parent = self.facts.parent(read)
+            if isinstance(parent, ast.Call) and read in parent.args and not self.qualified_names_under_gym(parent.func):
+                return f"passed to {self.facts.segment(parent.func)}()"
+            if isinstance(parent, ast.Attribute) and parent.attr == "step":
+                call = self.facts.parent(parent)
+                if isinstance(call, ast.Call) and call.func is parent and not self._loop_renders(call, rendered):
+                    return f"stepped at line {call.lineno}"
+        return None
+
+    def qualified_names_under_gym(self, func: ast.expr) -> bool:
+        return any(N.strip_gym_prefix(q) is not None for q in self.facts.qualified_names(func))
+
+    def _loop_renders(self, call: ast.Call, rendered: set[int]) -> bool:
+        """The innermost loop around ``call`` holds one of the render sites."""
+        loop = next((a for a in self.facts.ancestors(call) if isinstance(a, (ast.For, ast.While, ast.AsyncFor))), None)
+        return loop is not None and any(id(node) in rendered for node in ast.walk(loop) if isinstance(node, ast.Call))
 
     def _add_mode(self, make: ast.Call, mode: str, quote: str) -> None:
         self._added[id(make)] = mode
