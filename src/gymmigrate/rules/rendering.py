@@ -425,7 +425,10 @@ class Rendering(RuleFamily):
             return None
         target = assign.targets[0]
         rendered = {id(site.node) for site in sites}
-        for read in self.facts.scope_of(target).reads.get(target.id, ()):
+        # Every read of that binding, in functions of the module too (a training function
+        # that steps the module's ``env``); only files with a human render site pay the walk.
+        reads = [n for n in ast.walk(self.facts.tree) if isinstance(n, ast.Name) and n.id == target.id and isinstance(n.ctx, ast.Load)]
+        for read in reads:
             if target not in self.facts.bindings_of(read):
                 continue
             parent = self.facts.parent(read)
