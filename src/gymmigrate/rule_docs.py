@@ -62,6 +62,11 @@ def _dependency_example(folder: Path, code: str, root: Path) -> tuple[str | None
             stem, dot, suffix = source.name.partition(".")
             expected = source.with_name(f"{stem}.expected{dot}{suffix}")
             firing.append((not expected.is_file(), source.stat().st_size, source, expected))
+    return _smallest(firing, root)
+
+
+def _smallest(firing: list[tuple[bool, int, Path, Path]], root: Path) -> tuple[str | None, str | None, str | None]:
+    """The example among ``firing`` (reported-only last, then by size): path, before, after."""
     if not firing:
         return None, None, None
     _, _, source, expected = min(firing)
@@ -81,11 +86,7 @@ def _example(folder: Path, code: str, root: Path) -> tuple[str | None, str | Non
             continue
         expected = source.with_name(source.name[: -len(".py")] + ".expected.py")
         firing.append((not expected.is_file(), source.stat().st_size, source, expected))
-    if not firing:
-        return None, None, None
-    _, _, source, expected = min(firing)
-    after = expected.read_text(encoding="utf-8") if expected.is_file() else None
-    return source.relative_to(root).as_posix(), source.read_text(encoding="utf-8"), after
+    return _smallest(firing, root)
 
 
 def load() -> dict[str, RuleDoc]:
