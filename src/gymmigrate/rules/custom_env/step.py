@@ -9,6 +9,7 @@ and ``truncated=False`` in step should address most issues".
 from __future__ import annotations
 
 import ast
+from typing import TypeVar
 
 from gymmigrate.facts.env_classes import (
     FunctionIndex,
@@ -215,6 +216,14 @@ def _or_operands(expr: ast.AST) -> list[ast.AST]:
 
 def _split_done(expr: ast.AST) -> bool:
     """``bool(task or self.steps >= self.max_steps)`` has a clear step-limit test."""
+    return any(is_step_limit(op) for op in _or_operands(unwrap_bool(expr)))
+
+
+_AnyNode = TypeVar("_AnyNode", bound=ast.AST)
+
+
+def unwrap_bool(expr: _AnyNode) -> _AnyNode | ast.expr:
+    """``bool(x)`` -> ``x`` (a done flag built as ``bool(task or limit)``); anything else as it is."""
     if (
         isinstance(expr, ast.Call)
         and isinstance(expr.func, ast.Name)
@@ -223,8 +232,8 @@ def _split_done(expr: ast.AST) -> bool:
         and not expr.keywords
         and not isinstance(expr.args[0], ast.Starred)
     ):
-        expr = expr.args[0]
-    return any(is_step_limit(op) for op in _or_operands(expr))
+        return expr.args[0]
+    return expr
 
 
 def _single_assignment(index: FunctionIndex, name: str) -> ast.AST | None:

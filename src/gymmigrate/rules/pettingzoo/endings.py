@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 from typing import TypeVar
 
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
-from gymmigrate.rules.custom_env.step import is_step_limit
+from gymmigrate.rules.custom_env.step import is_step_limit, unwrap_bool
 
 _Node = TypeVar("_Node", bound=ast.AST)
 
@@ -62,7 +62,7 @@ class Endings:
             return False
         if is_step_limit(expr):
             return True
-        expr = _unwrap_bool(expr)
+        expr = unwrap_bool(expr)
         if isinstance(expr, ast.BoolOp) and isinstance(expr.op, ast.Or):
             return all(self.is_limit(v, depth + 1) for v in expr.values)
         if isinstance(expr, ast.Call) and not expr.args and not expr.keywords:
@@ -125,7 +125,7 @@ class Endings:
 
     def value(self, expr: ast.expr) -> Traced:
         """The cause of one stored value."""
-        operands = _or_operands(_unwrap_bool(expr))
+        operands = _or_operands(unwrap_bool(expr))
         limits = [op for op in operands if self.is_limit(op)]
         if not limits:
             if isinstance(expr, ast.Name):
@@ -190,18 +190,6 @@ def _is_bound(expr: ast.AST) -> bool:
 def _is_self(expr: ast.AST) -> bool:
     return isinstance(expr, ast.Name) and expr.id == "self"
 
-
-def _unwrap_bool(expr: _Node) -> _Node | ast.expr:
-    if (
-        isinstance(expr, ast.Call)
-        and isinstance(expr.func, ast.Name)
-        and expr.func.id == "bool"
-        and len(expr.args) == 1
-        and not expr.keywords
-        and not isinstance(expr.args[0], ast.Starred)
-    ):
-        return expr.args[0]
-    return expr
 
 
 def _or_operands(expr: ast.expr) -> list[ast.expr]:
