@@ -49,6 +49,7 @@ from gymmigrate.facts.creation import (
     local_env_class_takes_render_mode,
 )
 from gymmigrate.facts.decisions import Action, decide, receiver_text
+from gymmigrate.facts.env_classes import EnvClasses
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import keyword, string_value
 from gymmigrate.findings import FixKind, Tier
@@ -370,6 +371,14 @@ class Rendering(RuleFamily):
                 final_mode[key] = None
                 blocked[key] = "its gym.make passes **kwargs that may already hold render_mode: set it there by hand"
                 continue
+            unready = self._registered_without_render_mode(make)
+            if unready is not None:
+                final_mode[key] = None
+                blocked[key] = (
+                    f"the id may name {unready}, registered in this file, whose __init__ takes no render_mode "
+                    "(make would raise TypeError): give it a render_mode parameter first"
+                )
+                continue
             wanted = {s.mode for s in make_sites}
             if wanted == {HUMAN} and self._keeps_schedule(make, make_sites, final_mode, blocked):
                 continue
@@ -414,6 +423,25 @@ class Rendering(RuleFamily):
         final_mode[key] = None
         self._unscheduled[key] = condition
         return True
+
+    def _registered_without_render_mode(self, make: ast.Call) -> str | None:
+        """A make whose id is not a literal, in a file that registers one of its own classes
+        that will not take ``render_mode``: that class may be what the make builds."""
+        first = make.args[0] if make.args else None
+        if first is None or isinstance(first, ast.Constant):
+            return None
+        env = EnvClasses.of(self.facts, self.receivers)
+        for call in (*self.facts.calls_by_name.get("register", ()), *self.facts.attribute_calls.get("register", ())):
+            entry = keyword(call, "entry_point")
+            target = entry.value if entry is not None else (call.args[1] if len(call.args) > 1 else None)
+            name = target.id if isinstance(target, ast.Name) else None
+            text = string_value(target) if target is not None else None
+            if name is None and text is not None and ":" in text:
+                name = text.rsplit(":", 1)[1]
+            classdef = self.facts.classes.get(name) if name else None
+            if classdef is not None and not env.takes_render_mode(classdef):
+                return classdef.name
+        return None
 
     def _used_where_nothing_renders(self, make: ast.Call, sites: list[RenderSite]) -> str | None:
         """How the env made by ``make`` (``env = gym.make(...)``) is used away from its renders:
