@@ -453,14 +453,14 @@ class Rendering(RuleFamily):
             return None
         target = assign.targets[0]
         rendered = {id(site.node) for site in sites}
-        # Every read of that binding, in functions of the module too (a training function
-        # that steps the module's ``env``); only files with a human render site pay the walk.
-        reads = [n for n in ast.walk(self.facts.tree) if isinstance(n, ast.Name) and n.id == target.id and isinstance(n.ctx, ast.Load)]
+        # Every read of that binding, in the functions of the module too (a training
+        # function that steps the module's ``env``): the scopes already index their reads.
+        reads = [read for scope in self.facts.scopes.values() for read in scope.reads.get(target.id, ())]
         for read in reads:
             if target not in self.facts.bindings_of(read):
                 continue
             parent = self.facts.parent(read)
-            if isinstance(parent, ast.Call) and read in parent.args and not self.qualified_names_under_gym(parent.func):
+            if isinstance(parent, ast.Call) and read in parent.args and not self._under_gym(parent.func):
                 return f"passed to {self.facts.segment(parent.func)}()"
             if isinstance(parent, ast.Attribute) and parent.attr == "step":
                 call = self.facts.parent(parent)
@@ -468,7 +468,8 @@ class Rendering(RuleFamily):
                     return f"stepped at line {call.lineno}"
         return None
 
-    def qualified_names_under_gym(self, func: ast.expr) -> bool:
+    def _under_gym(self, func: ast.expr) -> bool:
+        """A gym/gymnasium callable (a wrapper taking the env is no training function)."""
         return any(N.strip_gym_prefix(q) is not None for q in self.facts.qualified_names(func))
 
     def _loop_renders(self, call: ast.Call, rendered: set[int]) -> bool:
