@@ -69,16 +69,21 @@ def run_files(
 ) -> Iterator[FileResult]:
     jobs = default_jobs() if jobs is None or jobs <= 0 else jobs
     parallel = jobs > 1 and len(paths) >= PARALLEL_THRESHOLD
+    done: dict[Path, FileResult] = {}  # results the refusal check already has, final as they are
     if options.project is None and len(paths) > 1:
         # One cheap pass over every module (on the workers too), joined once.
         pool = (lambda python: _run_parallel(python, _Summarize(), jobs)) if parallel else None  # noqa: E731
         summaries = run_summaries(list(paths), pool)
         project = ProjectFacts.join(summaries)
         if not lint:
-            project = _with_refusals(project, summaries, options, jobs if parallel else 1)
+            project, done = _with_refusals(project, summaries, paths, options, want_diff, jobs if parallel else 1)
+            if write or project.blocked:
+                done = {}  # a written run writes in its own pass; a blocked module changes the facts
         options = replace(options, project=project)
     task = _Task(options, write, want_diff, lint)
-    results = (task(path) for path in paths) if not parallel else _run_parallel(list(paths), task, jobs)
+    rest = [path for path in paths if path not in done]
+    computed = (task(path) for path in rest) if not parallel else _run_parallel(rest, task, jobs)
+    results = (done[path] if path in done else next(computed) for path in paths)
     run_project = options.project
     if run_project is None or not run_project.blocked:
         yield from results
@@ -101,23 +106,32 @@ def run_summaries(paths: list[Path], summaries: Callable[[list[Path]], Iterable[
     return [summary for summary in found if isinstance(summary, ModuleSummary)]
 
 
-def _with_refusals(project: ProjectFacts, summaries: list[ModuleSummary], options: RewriteOptions, jobs: int) -> ProjectFacts:
-    """The run's facts with the env modules it cannot migrate marked as blocked.
+def _with_refusals(
+    project: ProjectFacts, summaries: list[ModuleSummary], paths: Sequence[Path], options: RewriteOptions, want_diff: bool, jobs: int
+) -> tuple[ProjectFacts, dict[Path, FileResult]]:
+    """The run's facts with the env modules it cannot migrate marked as blocked, and the
+    results of the modules it migrated to find out.
 
     A module whose env classes other modules import is migrated in memory first; if it is
     refused (an error, an unstable rewrite), the run is joined again without its classes,
     so that no importer passes ``render_mode=`` to them, unpacks their ``reset`` or drops
-    their ``seed()`` as if they had migrated. Only such modules pay a second pass.
+    their ``seed()`` as if they had migrated. Where none is refused and the run writes
+    nothing, those results are the run's own: no module is migrated twice.
     """
-    providers = sorted(path for path in project.importers if path not in project.blocked)
-    if not providers:
-        return project
-    check = _Task(replace(options, project=project), write=False, want_diff=False)
-    results = map(check, map(Path, providers)) if jobs == 1 else _run_parallel([Path(p) for p in providers], check, jobs)
-    refused = {str(path): result.error or "it could not be migrated" for path, result in zip(providers, results) if result.status is Status.ERROR}
+    providers = set(project.importers) - set(project.blocked)
+    checked = [path for path in paths if os.path.realpath(path) in providers]
+    if not checked:
+        return project, {}
+    check = _Task(replace(options, project=project), write=False, want_diff=want_diff)
+    results = list(map(check, checked) if jobs == 1 else _run_parallel(checked, check, jobs))
+    refused = {
+        os.path.realpath(path): result.error or "it could not be migrated"
+        for path, result in zip(checked, results)
+        if result.status is Status.ERROR
+    }
     if not refused:
-        return project
-    return ProjectFacts.join(summaries, blocked={**project.blocked, **refused})
+        return project, dict(zip(checked, results))
+    return ProjectFacts.join(summaries, blocked={**project.blocked, **refused}), {}
 
 
 def _with_blocked_note(result: FileResult, project: ProjectFacts) -> FileResult:
