@@ -142,3 +142,17 @@ def test_the_old_spelling_of_the_parallel_wrapper_base_imports_on_pettingzoo_1_2
     from pettingzoo.utils.wrappers import BaseParallelWrapper
 
     assert issubclass(namespace["Skip"], BaseParallelWrapper)
+
+
+def test_the_old_spelling_through_pettingzoo_utils_imports_on_pettingzoo_1_27() -> None:
+    """fixtures/rules/PZ108/wrapper_old_spelling_utils: the same class imported from the
+    ``pettingzoo.utils`` package, which re-exports the wrappers."""
+    import runpy
+
+    legacy = FIXTURES / "PZ108" / "wrapper_old_spelling_utils.py"
+    with pytest.raises(ImportError):
+        runpy.run_path(str(legacy))
+    namespace = runpy.run_path(str(legacy.with_suffix(".expected.py")))
+    from pettingzoo.utils import BaseParallelWrapper
+
+    assert issubclass(namespace["Repeat"], BaseParallelWrapper)

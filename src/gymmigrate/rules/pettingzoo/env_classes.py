@@ -41,6 +41,12 @@ RENAMED_HELPERS = {"_was_done_step": "_was_dead_step", "_dones_step_first": "_de
 MISSPELLED_WRAPPER = "BaseParallelWraper"
 
 
+def _exports_wrappers(module: str) -> bool:
+    """``pettingzoo.utils`` re-exports the wrapper classes of ``pettingzoo.utils.wrappers``
+    (both spellings in their own releases)."""
+    return module == "pettingzoo.utils" or module.startswith("pettingzoo.utils.wrappers")
+
+
 class EnvClasses(PettingZooFamily):
     RULES = (PZ108,)
 
@@ -55,7 +61,7 @@ class EnvClasses(PettingZooFamily):
         for statement in facts.import_statements:
             if isinstance(statement, ast.ImportFrom) and statement.module == "pettingzoo.utils" and statement.level == 0:
                 self._plan_agent_selector(statement)
-            if isinstance(statement, ast.ImportFrom) and statement.level == 0 and (statement.module or "").startswith("pettingzoo.utils.wrappers"):
+            if isinstance(statement, ast.ImportFrom) and statement.level == 0 and _exports_wrappers(statement.module or ""):
                 self._plan_wrapper_spelling(statement)
         for attr in facts.attributes.get(MISSPELLED_WRAPPER, ()):
             if any(q.startswith("pettingzoo.") for q in facts.qualified_names(attr)):
