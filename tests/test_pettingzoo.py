@@ -156,3 +156,41 @@ def test_the_old_spelling_through_pettingzoo_utils_imports_on_pettingzoo_1_27() 
     from pettingzoo.utils import BaseParallelWrapper
 
     assert issubclass(namespace["Repeat"], BaseParallelWrapper)
+
+
+def test_mpe_imports_moved_to_mpe2_run_on_pettingzoo_1_27() -> None:
+    """fixtures/rules/PZ111/mpe_family_import: ``pettingzoo.mpe`` raises ImportError on
+    PettingZoo 1.27; the migrated module imports the same envs from mpe2 and runs them."""
+    import runpy
+
+    pytest.importorskip("mpe2")
+    legacy = FIXTURES / "PZ111" / "mpe_family_import.py"
+    with pytest.raises(ImportError, match="MPE2"):
+        runpy.run_path(str(legacy))
+    namespace = runpy.run_path(str(legacy.with_suffix(".expected.py")))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)
+        assert namespace["spread_rollout"](seed=1) == 5  # max_cycles ends it: the same as v2
+        assert namespace["push_agents"]() == ["adversary_0", "agent_0"]
+
+
+def test_bumped_env_raises_on_its_old_version_and_runs_on_the_new_one() -> None:
+    """fixtures/rules/PZ111/bumped_with_removed_keyword: knights_archers_zombies_v10 imports
+    on PettingZoo 1.27 but raises DeprecatedEnv when made; v11 runs (the keyword it no
+    longer takes is reported, so only the default factory is called here)."""
+    import runpy
+
+    pytest.importorskip("pygame")
+    from pettingzoo.utils.deprecated_module import DeprecatedEnv
+
+    legacy = runpy.run_path(str(FIXTURES / "PZ111" / "bumped_with_removed_keyword.py"))
+    with pytest.raises(DeprecatedEnv):
+        legacy["make_default"]()
+    migrated = runpy.run_path(str(FIXTURES / "PZ111" / "bumped_with_removed_keyword.expected.py"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)
+        env = migrated["make_default"]()
+        env.reset(seed=0)
+        assert env.agents == ["archer_0", "archer_1", "knight_0", "knight_1"]
+        with pytest.raises(TypeError, match="vector_state"):
+            migrated["make"](image=False)

@@ -5,6 +5,7 @@
     PZ104, PZ105                   parallel step and reset ..... parallel.py    [57]
     PZ106, PZ107                   seed and render calls ....... seed_render.py [58]
     PZ109, PZ110                   spaces, ``pettingzoo.make`` . spaces_make.py [90]
+    PZ111                          moved and bumped env modules  env_modules.py
 
 ``endings.py`` traces why a custom env's ``dones`` value is True (a game over or a
 step limit) for PZ104 and PZ108, with the single-agent step-limit test (GM504's).
@@ -17,6 +18,7 @@ their own API. Nothing here imports PettingZoo.
 
 from gymmigrate.rules.pettingzoo import (  # noqa: F401
     aec_loop,
+    env_modules,
     env_classes,
     parallel,
     seed_render,
