@@ -176,8 +176,8 @@ def test_mpe_imports_moved_to_mpe2_run_on_pettingzoo_1_27() -> None:
 
 def test_bumped_env_raises_on_its_old_version_and_runs_on_the_new_one() -> None:
     """fixtures/rules/PZ111/bumped_with_removed_keyword: knights_archers_zombies_v10 imports
-    on PettingZoo 1.27 but raises DeprecatedEnv when made; v11 runs (the keyword it no
-    longer takes is reported, so only the default factory is called here)."""
+    on PettingZoo 1.27 but raises DeprecatedEnv when made; v11 runs, with the old keywords
+    turned into their v11 equivalents where the value is a literal."""
     import runpy
 
     pytest.importorskip("pygame")
@@ -193,4 +193,8 @@ def test_bumped_env_raises_on_its_old_version_and_runs_on_the_new_one() -> None:
         env.reset(seed=0)
         assert env.agents == ["archer_0", "archer_1", "knight_0", "knight_1"]
         with pytest.raises(TypeError, match="vector_state"):
-            migrated["make"](image=False)
+            migrated["make"](image=False)  # reported: a computed value has no certain equivalent
+        images = migrated["make_images"]()
+        observations, _ = images.reset(seed=0)
+        assert observations["archer_0"].shape == (512, 512, 3)  # what v10 gave for vector_state=False
+        assert migrated["make_slow"](5).reset(seed=0)

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import ast
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import ModuleFacts
@@ -54,7 +54,20 @@ class Bump:
     current: int
     previous: int
     change: str
-    removed_keywords: tuple[str, ...] = ()
+    # keyword of the old version -> {its literal value (ANY: whatever it is): the new
+    # (keyword, value source) it means, ("", "") to drop it}; a value not listed, or a
+    # keyword mapped to None, has no certain equivalent and is reported
+    keywords: dict[str, dict[object, tuple[str, str | None]] | None] = field(default_factory=dict)
+
+    @property
+    def removed_keywords(self) -> tuple[str, ...]:
+        return tuple(self.keywords)
+
+
+ANY = object()  # any value: the keyword is renamed, its value kept (value source None)
+DROP = ("", "")
+# The env factories a module-level env exposes.
+FACTORIES = frozenset({"env", "parallel_env", "raw_env"})
 
 
 # (family module, env name) -> its bump. Families: the package the env is imported from
@@ -68,7 +81,16 @@ BUMPS: dict[tuple[str, str], Bump] = {
         11, 10, "v11 (PettingZoo 1.25.1) is a rewrite with numerous fixes: `spawn_rate` is `spawn_delay`, "
         "`vector_state`, `use_typemasks` and `transformer` became `obs_method` (default \"vector\"), "
         "`pad_observation` was removed",
-        ("spawn_rate", "vector_state", "use_typemasks", "transformer", "pad_observation")),
+        {
+            # the same count of cycles between two zombies (the v10 docs said "rate")
+            "spawn_rate": {ANY: ("spawn_delay", None)},
+            # v10 images and v11's "image" are both Box(0, 255, (512, 512, 3), uint8); typemasked
+            # vectors are (27, 11) in both
+            "vector_state": {False: ("obs_method", '"image"'), True: ("obs_method", '"vector"')},
+            "use_typemasks": {True: ("obs_method", '"vector-masked"'), False: DROP},
+            "pad_observation": {True: DROP},  # v11 always pads
+            "transformer": None,  # v11's "vector-sequence" is a Sequence space, not v10's Box
+        }),
     ("pettingzoo.butterfly", "cooperative_pong"): Bump(
         6, 5, "v6 (PettingZoo 1.25.5) fixed an incorrect termination condition and the random bounce behaviour"),
     ("pettingzoo.classic", "chess"): Bump(
@@ -218,26 +240,56 @@ class EnvModules(PettingZooFamily):
 
     def _report_removed_keywords(self, imported: str, bump: Bump, statement: ast.ImportFrom,
                                  bound: list[str] | None) -> None:
-        """Calls ``<name>.env(k=...)`` (or ``env(k=...)`` imported from the module) passing a
-        keyword the new version no longer takes."""
-        if not bump.removed_keywords:
+        """Calls ``<name>.env(k=...)`` (or ``env(k=...)`` imported from the env module) that pass
+        a keyword the new version no longer takes: rewritten where the table gives its
+        certain equivalent, reported otherwise."""
+        if not bump.keywords:
             return
-        names = set(bound) if bound is not None else {
-            alias.asname or alias.name for alias in statement.names if alias.name == imported}
-        for calls in self.facts.attribute_calls.values():
+        aliases = [alias for alias in statement.names
+                   if (bound is not None) or alias.name == imported]
+        for alias in aliases:
+            name = alias.asname or alias.name
+            if bound is None:  # ``from family import env_vN``: ``env_vN.env(...)``
+                calls = [call for attr in FACTORIES for call in self.facts.attribute_calls.get(attr, ())
+                         if isinstance(call.func, ast.Attribute) and isinstance(call.func.value, ast.Name)
+                         and call.func.value.id == name and alias in self.facts.bindings_of(call.func.value)]
+            elif alias.name in FACTORIES:  # ``from family.env_vN import env``: ``env(...)``
+                calls = [call for call in self.facts.calls_by_name.get(name, ())
+                         if isinstance(call.func, ast.Name) and alias in self.facts.bindings_of(call.func)]
+            else:
+                continue
             for call in calls:
-                func = call.func
-                if isinstance(func, ast.Attribute) and isinstance(func.value, ast.Name) and func.value.id in names:
-                    self._flag_keywords(call, imported, bump)
-        for name in names:
-            for call in self.facts.calls_by_name.get(name, ()):
-                self._flag_keywords(call, imported, bump)
+                self._keywords(call, imported, bump)
 
-    def _flag_keywords(self, call: ast.Call, imported: str, bump: Bump) -> None:
-        passed = [k.arg for k in call.keywords if k.arg in bump.removed_keywords]
-        if passed:
-            self.report(call, "PZ111", f"{', '.join(f'`{k}`' for k in passed)}: not an argument of "
-                        f"`{imported.rsplit('_v', 1)[0]}_v{bump.current}` (see the import's PZ111 finding)", FixKind.FLAG)
+    def _keywords(self, call: ast.Call, imported: str, bump: Bump) -> None:
+        passed = [k for k in call.keywords if k.arg in bump.keywords]
+        if not passed:
+            return
+        new_name = f"{imported.rsplit('_v', 1)[0]}_v{bump.current}"
+        changes: dict[str, tuple[str, str | None]] = {}
+        uncertain: list[str] = []
+        for keyword in passed:
+            assert keyword.arg is not None
+            table = bump.keywords[keyword.arg]
+            target = None
+            if table is not None:
+                literal = isinstance(keyword.value, ast.Constant) and keyword.value.value in table
+                target = table[keyword.value.value] if literal else table.get(ANY)  # type: ignore[union-attr]
+            if target is None:
+                uncertain.append(keyword.arg)
+            else:
+                changes[keyword.arg] = target
+        targets = [new for new, _ in changes.values() if new]
+        if uncertain or len(targets) != len(set(targets)) or any(
+            k.arg in targets for k in call.keywords if k.arg not in changes):
+            self.report(call, "PZ111", f"{', '.join(f'`{k.arg}`' for k in passed)}: not an argument of `{new_name}`, "
+                        "and this call has no certain equivalent (see the import's PZ111 finding): change it by hand",
+                        FixKind.FLAG)
+            return
+        self.changed()
+        self.plan.replace(call, lambda node: _rewrite_keywords(node, changes))
+        done = ", ".join(f"`{old}` -> `{new}`" if new else f"`{old}` dropped" for old, (new, _) in changes.items())
+        self.report(call, "PZ111", f"{done}: the arguments of `{new_name}`", FixKind.AUTO)
 
     # -- renaming the bound name -------------------------------------------------------------
 
@@ -268,3 +320,23 @@ class EnvModules(PettingZooFamily):
 
 # PettingZoo's own env families: their envs stay in PettingZoo, some at a new version.
 _FAMILIES = frozenset({"pettingzoo.butterfly", "pettingzoo.classic", "pettingzoo.sisl"})
+
+
+def _rewrite_keywords(node: cst.Call, changes: dict[str, tuple[str, str | None]]) -> cst.Call:
+    """Rename, revalue or drop the keyword arguments ``changes`` names, commas kept valid."""
+    args: list[cst.Arg] = []
+    for arg in node.args:
+        change = changes.get(arg.keyword.value) if arg.keyword is not None else None
+        if change is None:
+            args.append(arg)
+            continue
+        new, value = change
+        if not new:
+            continue
+        arg = arg.with_changes(keyword=cst.Name(new))
+        if value is not None:
+            arg = arg.with_changes(value=cst.parse_expression(value))
+        args.append(arg)
+    if args and node.args and args[-1] is not node.args[-1]:
+        args[-1] = args[-1].with_changes(comma=node.args[-1].comma)
+    return node.with_changes(args=args)
