@@ -198,3 +198,24 @@ def test_bumped_env_raises_on_its_old_version_and_runs_on_the_new_one() -> None:
         observations, _ = images.reset(seed=0)
         assert observations["archer_0"].shape == (512, 512, 3)  # what v10 gave for vector_state=False
         assert migrated["make_slow"](5).reset(seed=0)
+
+
+def test_parallel_wrapper_reset_through_super_returns_the_pair() -> None:
+    """fixtures/rules/PZ105/wrapper_super_reset: a ``BaseParallelWrapper`` subclass whose
+    ``reset`` reads ``super().reset(...)`` as the observations; on PettingZoo 1.23+ that is
+    the ``(observations, infos)`` pair, so the legacy wrapper fails and the migrated one runs."""
+    import runpy
+
+    from pettingzoo.classic import rps_v2
+
+    legacy = runpy.run_path(str(FIXTURES / "PZ105" / "wrapper_super_reset.py"))
+    migrated = runpy.run_path(str(FIXTURES / "PZ105" / "wrapper_super_reset.expected.py"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)
+        with pytest.raises(AttributeError, match="items"):
+            legacy["ScaleObservations"](rps_v2.parallel_env(), 2).reset(seed=0)
+        env = migrated["ScaleObservations"](rps_v2.parallel_env(), 2)
+        observations, infos = env.reset(seed=0)
+        assert set(observations) == set(infos) == {"player_0", "player_1"}
+        assert observations["player_0"] == 2 * 3  # rps starts every agent on observation 3
+        parallel_api_test(migrated["ScaleObservations"](rps_v2.parallel_env(), 1), num_cycles=5)
