@@ -28,6 +28,7 @@ from dataclasses import dataclass, field
 
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts import names as N
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext
 from gymmigrate.rules.pettingzoo.common import PZ111, PettingZooFamily
@@ -36,10 +37,7 @@ _ENV_NAME = re.compile(r"^([a-z_]+?)_v(\d+)$")
 
 # Families that left PettingZoo: old package -> (new package, whether the env table below
 # covers it). MAgent2's modules were not checked, so its imports are only reported.
-MOVED_FAMILIES: dict[str, tuple[str, bool]] = {
-    "pettingzoo.mpe": ("mpe2", True),
-    "pettingzoo.magent": ("magent2", False),
-}
+MOVED_FAMILIES = N.PZ_MOVED_FAMILIES
 
 _MPE_V3 = ("positions now integrate before the velocity update, so trajectories and rewards differ from "
            "v{old} for the same seed and actions, and continuous actions move the same way as the discrete "
