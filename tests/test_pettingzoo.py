@@ -219,3 +219,26 @@ def test_parallel_wrapper_reset_through_super_returns_the_pair() -> None:
         assert set(observations) == set(infos) == {"player_0", "player_1"}
         assert observations["player_0"] == 2 * 3  # rps starts every agent on observation 3
         parallel_api_test(migrated["ScaleObservations"](rps_v2.parallel_env(), 1), num_cycles=5)
+
+
+def test_parallel_wrapper_reads_the_raw_envs_generator() -> None:
+    """fixtures/rules/PZ108/parallel_wrapper_rng: ``self.np_random`` in a parallel wrapper
+    reached the raw env through PettingZoo 1.21's attribute forwarding; the AEC-to-parallel
+    conversion no longer forwards, so only the migrated ``self.unwrapped.np_random`` runs."""
+    import runpy
+
+    pytest.importorskip("pygame")
+    from pettingzoo.butterfly import knights_archers_zombies_v11
+
+    legacy = runpy.run_path(str(FIXTURES / "PZ108" / "parallel_wrapper_rng.py"))
+    migrated = runpy.run_path(str(FIXTURES / "PZ108" / "parallel_wrapper_rng.expected.py"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)
+        env = legacy["RandomRepeat"](knights_archers_zombies_v11.parallel_env())
+        env.reset(seed=0)
+        with pytest.raises(AttributeError, match="np_random"):
+            env.step({agent: 0 for agent in env.agents})
+        env = migrated["RandomRepeat"](knights_archers_zombies_v11.parallel_env())
+        env.reset(seed=0)
+        observations, *_ = env.step({agent: 0 for agent in env.agents})
+        assert set(observations) == {"archer_0", "archer_1", "knight_0", "knight_1"}
