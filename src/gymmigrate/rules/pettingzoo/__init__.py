@@ -18,8 +18,8 @@ their own API. Nothing here imports PettingZoo.
 
 from gymmigrate.rules.pettingzoo import (  # noqa: F401
     aec_loop,
-    env_modules,
     env_classes,
+    env_modules,
     parallel,
     seed_render,
     spaces_make,

@@ -271,8 +271,9 @@ class EnvModules(PettingZooFamily):
             table = bump.keywords[keyword.arg]
             target = None
             if table is not None:
-                literal = isinstance(keyword.value, ast.Constant) and keyword.value.value in table
-                target = table[keyword.value.value] if literal else table.get(ANY)  # type: ignore[union-attr]
+                value = keyword.value
+                literal = isinstance(value, ast.Constant) and value.value in table
+                target = table[value.value] if literal and isinstance(value, ast.Constant) else table.get(ANY)
             if target is None:
                 uncertain.append(keyword.arg)
             else:
