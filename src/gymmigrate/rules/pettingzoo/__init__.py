@@ -1,4 +1,4 @@
-"""PettingZoo (PZ101-PZ110): the multi-agent AEC and parallel APIs, pre-1.21 to 1.27.
+"""PettingZoo (PZ101-PZ111): the multi-agent AEC and parallel APIs, pre-1.21 to 1.27, and the env modules that moved.
 
     PZ108, PZ103-PZ106 in classes  custom AEC/parallel envs ... env_classes.py [41]
     PZ101-PZ103                    AEC loops, ``env.dones`` .... aec_loop.py    [56]
