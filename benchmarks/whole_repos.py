@@ -155,7 +155,8 @@ REPOS = (
         legacy_constraints=("numpy<1.24", "pettingzoo==1.21.0"),
         legacy_fallback=("gym==0.26.2", "numpy<1.24", "pettingzoo==1.21.0", "tinyscaler",
                          "pygame", "pymunk", "opencv-python-headless", "pytest<8"),
-        new_fallback=(GYMNASIUM, "numpy", "pettingzoo[butterfly]==1.27.*", "tinyscaler", "pygame",
+        # mpe2: where PettingZoo 1.27's MPE envs live (the migration imports them from there)
+        new_fallback=(GYMNASIUM, "numpy", "pettingzoo[butterfly]==1.27.*", "mpe2", "tinyscaler", "pygame",
                       "pymunk", "opencv-python-headless", "pytest<8"),
     ),
 )

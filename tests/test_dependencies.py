@@ -275,3 +275,65 @@ def test_every_dependency_rule_fires_in_a_fixture_and_is_listed() -> None:
     fired = {row.split()[1] for case in CASES for row in (case / "findings").read_text().splitlines() if row.strip()}
     assert {rule.code for rule in DEPENDENCY_RULES} <= fired
     assert set(DEPENDENCY_RULES) <= set(all_rules())
+
+
+# -- packages the migrated code imports that left a declared library (mpe2 out of pettingzoo)
+
+MPE2 = frozenset({"mpe2"})
+
+
+@pytest.mark.parametrize(
+    ("name", "before", "after"),
+    [
+        ("requirements.txt", "gym==0.26.2\npettingzoo==1.21.0  # envs\nnumpy\n",
+         "gymnasium>=1.0\npettingzoo>=1.25  # envs\nmpe2>=1.0\nnumpy\n"),
+        ("setup.py", 'from setuptools import setup\n\nsetup(\n    install_requires=[\n        "pettingzoo>=1.21.0",\n'
+         '        "numpy",\n    ],\n    extras_require={"dev": ["pettingzoo[butterfly]"]},\n)\n',
+         'from setuptools import setup\n\nsetup(\n    install_requires=[\n        "pettingzoo>=1.21.0",\n'
+         '        "mpe2>=1.0",\n        "numpy",\n    ],\n    extras_require={"dev": ["pettingzoo[butterfly]"]},\n)\n'),
+        ("pyproject.toml", '[project]\nname = "x"\ndependencies = [\n    "numpy",\n    \'pettingzoo>=1.24\',\n]\n',
+         '[project]\nname = "x"\ndependencies = [\n    "numpy",\n    \'pettingzoo>=1.24\',\n    \'mpe2>=1.0\',\n]\n'),
+    ],
+)
+def test_mpe2_is_declared_next_to_pettingzoo_when_the_code_imports_it(name: str, before: str, after: str) -> None:
+    result = migrate_dependency_file(name, before.encode(), requires=MPE2)
+    assert result.rewritten.decode() == after
+    again = migrate_dependency_file(name, result.rewritten, requires=MPE2)
+    assert again.rewritten == result.rewritten
+    assert any(f.rule == "SB110" and "mpe2" in f.message for f in result.findings)
+    if name == "setup.py":
+        Requirement("mpe2>=1.0")  # what is written parses as a requirement
+        compile(result.rewritten, name, "exec")
+
+
+@pytest.mark.parametrize(
+    ("name", "text", "requires"),
+    [
+        ("requirements.txt", "pettingzoo>=1.25\nmpe2\n", MPE2),  # declared already
+        ("requirements.txt", "gymnasium>=1.0\n", MPE2),  # no pettingzoo here: another file's business
+        ("requirements.txt", "pettingzoo>=1.25\n", frozenset()),  # the code does not import mpe2
+    ],
+)
+def test_mpe2_is_not_added_where_it_is_not_needed(name: str, text: str, requires: frozenset[str]) -> None:
+    result = migrate_dependency_file(name, text.encode(), requires=requires)
+    assert result.rewritten == text.encode()
+    assert not any("mpe2" in f.message for f in result.findings)
+
+
+def test_mpe2_is_reported_where_no_line_can_hold_it() -> None:
+    text = 'from setuptools import setup\nsetup(install_requires=["pettingzoo>=1.25"])\n'
+    result = migrate_dependency_file("setup.py", text.encode(), requires=MPE2)
+    assert result.rewritten == text.encode()
+    assert [f.kind.value for f in result.findings if "mpe2" in f.message] == ["flag"]
+
+
+def test_a_run_that_moves_mpe_imports_declares_mpe2(tmp_path: Path) -> None:
+    (tmp_path / "requirements.txt").write_text("pettingzoo==1.21.0\n")
+    (tmp_path / "train.py").write_text("from pettingzoo.mpe import simple_v2\n\nenv = simple_v2.env()\n")
+    (tmp_path / "other.txt").write_text("pettingzoo\n")
+    result = CliRunner().invoke(app, ["rewrite", str(tmp_path)])
+    assert result.exit_code == 0, result.output
+    assert (tmp_path / "requirements.txt").read_text() == "pettingzoo>=1.25\nmpe2>=1.0\n"
+    assert (tmp_path / "train.py").read_text() == "from mpe2 import simple_v3\n\nenv = simple_v3.env()\n"
+    again = CliRunner().invoke(app, ["rewrite", str(tmp_path)])
+    assert again.exit_code == 0 and (tmp_path / "requirements.txt").read_text() == "pettingzoo>=1.25\nmpe2>=1.0\n"

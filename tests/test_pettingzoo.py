@@ -142,3 +142,103 @@ def test_the_old_spelling_of_the_parallel_wrapper_base_imports_on_pettingzoo_1_2
     from pettingzoo.utils.wrappers import BaseParallelWrapper
 
     assert issubclass(namespace["Skip"], BaseParallelWrapper)
+
+
+def test_the_old_spelling_through_pettingzoo_utils_imports_on_pettingzoo_1_27() -> None:
+    """fixtures/rules/PZ108/wrapper_old_spelling_utils: the same class imported from the
+    ``pettingzoo.utils`` package, which re-exports the wrappers."""
+    import runpy
+
+    legacy = FIXTURES / "PZ108" / "wrapper_old_spelling_utils.py"
+    with pytest.raises(ImportError):
+        runpy.run_path(str(legacy))
+    namespace = runpy.run_path(str(legacy.with_suffix(".expected.py")))
+    from pettingzoo.utils import BaseParallelWrapper
+
+    assert issubclass(namespace["Repeat"], BaseParallelWrapper)
+
+
+def test_mpe_imports_moved_to_mpe2_run_on_pettingzoo_1_27() -> None:
+    """fixtures/rules/PZ111/mpe_family_import: ``pettingzoo.mpe`` raises ImportError on
+    PettingZoo 1.27; the migrated module imports the same envs from mpe2 and runs them."""
+    import runpy
+
+    pytest.importorskip("mpe2")
+    legacy = FIXTURES / "PZ111" / "mpe_family_import.py"
+    with pytest.raises(ImportError, match="MPE2"):
+        runpy.run_path(str(legacy))
+    namespace = runpy.run_path(str(legacy.with_suffix(".expected.py")))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)
+        assert namespace["spread_rollout"](seed=1) == 5  # max_cycles ends it: the same as v2
+        assert namespace["push_agents"]() == ["adversary_0", "agent_0"]
+
+
+def test_bumped_env_raises_on_its_old_version_and_runs_on_the_new_one() -> None:
+    """fixtures/rules/PZ111/bumped_with_removed_keyword: knights_archers_zombies_v10 imports
+    on PettingZoo 1.27 but raises DeprecatedEnv when made; v11 runs, with the old keywords
+    turned into their v11 equivalents where the value is a literal."""
+    import runpy
+
+    pytest.importorskip("pygame")
+    from pettingzoo.utils.deprecated_module import DeprecatedEnv
+
+    legacy = runpy.run_path(str(FIXTURES / "PZ111" / "bumped_with_removed_keyword.py"))
+    with pytest.raises(DeprecatedEnv):
+        legacy["make_default"]()
+    migrated = runpy.run_path(str(FIXTURES / "PZ111" / "bumped_with_removed_keyword.expected.py"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)
+        env = migrated["make_default"]()
+        env.reset(seed=0)
+        assert env.agents == ["archer_0", "archer_1", "knight_0", "knight_1"]
+        with pytest.raises(TypeError, match="vector_state"):
+            migrated["make"](image=False)  # reported: a computed value has no certain equivalent
+        images = migrated["make_images"]()
+        observations, _ = images.reset(seed=0)
+        assert observations["archer_0"].shape == (512, 512, 3)  # what v10 gave for vector_state=False
+        assert migrated["make_slow"](5).reset(seed=0)
+
+
+def test_parallel_wrapper_reset_through_super_returns_the_pair() -> None:
+    """fixtures/rules/PZ105/wrapper_super_reset: a ``BaseParallelWrapper`` subclass whose
+    ``reset`` reads ``super().reset(...)`` as the observations; on PettingZoo 1.23+ that is
+    the ``(observations, infos)`` pair, so the legacy wrapper fails and the migrated one runs."""
+    import runpy
+
+    from pettingzoo.classic import rps_v2
+
+    legacy = runpy.run_path(str(FIXTURES / "PZ105" / "wrapper_super_reset.py"))
+    migrated = runpy.run_path(str(FIXTURES / "PZ105" / "wrapper_super_reset.expected.py"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)
+        with pytest.raises(AttributeError, match="items"):
+            legacy["ScaleObservations"](rps_v2.parallel_env(), 2).reset(seed=0)
+        env = migrated["ScaleObservations"](rps_v2.parallel_env(), 2)
+        observations, infos = env.reset(seed=0)
+        assert set(observations) == set(infos) == {"player_0", "player_1"}
+        assert observations["player_0"] == 2 * 3  # rps starts every agent on observation 3
+        parallel_api_test(migrated["ScaleObservations"](rps_v2.parallel_env(), 1), num_cycles=5)
+
+
+def test_parallel_wrapper_reads_the_raw_envs_generator() -> None:
+    """fixtures/rules/PZ108/parallel_wrapper_rng: ``self.np_random`` in a parallel wrapper
+    reached the raw env through PettingZoo 1.21's attribute forwarding; the AEC-to-parallel
+    conversion no longer forwards, so only the migrated ``self.unwrapped.np_random`` runs."""
+    import runpy
+
+    pytest.importorskip("pygame")
+    from pettingzoo.butterfly import knights_archers_zombies_v11
+
+    legacy = runpy.run_path(str(FIXTURES / "PZ108" / "parallel_wrapper_rng.py"))
+    migrated = runpy.run_path(str(FIXTURES / "PZ108" / "parallel_wrapper_rng.expected.py"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)
+        env = legacy["RandomRepeat"](knights_archers_zombies_v11.parallel_env())
+        env.reset(seed=0)
+        with pytest.raises(AttributeError, match="np_random"):
+            env.step({agent: 0 for agent in env.agents})
+        env = migrated["RandomRepeat"](knights_archers_zombies_v11.parallel_env())
+        env.reset(seed=0)
+        observations, *_ = env.step({agent: 0 for agent in env.agents})
+        assert set(observations) == {"archer_0", "archer_1", "knight_0", "knight_1"}

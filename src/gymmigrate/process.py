@@ -71,7 +71,8 @@ def migrate_bytes(
             return FileResult(shown, Status.SKIPPED), None
         if dependency:
             assert path is not None
-            rewritten, found = migrate_dependency_file(path, source, selection=options.selection)
+            requires = options.project.requires if options.project is not None else frozenset()
+            rewritten, found = migrate_dependency_file(path, source, selection=options.selection, requires=requires)
             transformed = Transformed(original=source, rewritten=rewritten, encoding="utf-8", findings=list(found))
         elif lint:
             if adapter:

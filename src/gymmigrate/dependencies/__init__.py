@@ -81,13 +81,14 @@ def may_name_a_moved_package(source: bytes) -> bool:
 _MOVED_WORDS = (b"gym", b"baselines", b"sb3", b"pettingzoo", b"supersuit", b"shimmy", b"minigrid", b"atari", b"autorom", b"mujoco", b"procgen", b"roboschool", b"nes-py", b"nes_py", b"bullet")
 
 
-def migrate_dependency_file(path: Path | str, source: bytes, *, selection: Selection | None = None) -> DependencyResult:
+def migrate_dependency_file(path: Path | str, source: bytes, *, selection: Selection | None = None,
+                            requires: frozenset[str] = frozenset()) -> DependencyResult:
     """The migrated bytes of a dependency file and what was changed or must be reviewed.
 
     Raises DependencyError when the file cannot be read as its kind, or when the rewrite
     would not be stable (a second run would change it again).
     """
-    return _formats().migrate_dependency_file(path, source, selection=selection)
+    return _formats().migrate_dependency_file(path, source, selection=selection, requires=requires)
 
 
 def migrate_page_commands(path: Path | str, source: bytes, *, selection: Selection | None = None) -> DependencyResult:

@@ -53,6 +53,8 @@ class Outcome:
     edits: list[Edit] = field(default_factory=list)
     findings: list[Finding] = field(default_factory=list)
     decided: dict[str, str] = field(default_factory=dict)
+    # every PEP 508 requirement read: (its site, its canonical name), for ``companions``
+    declared: list[tuple[Site, str]] = field(default_factory=list)
 
 
 class Positions:
@@ -110,6 +112,7 @@ def migrate_sites(text: str, sites: list[Site], positions: Positions | None = No
                     outcome.findings.append(finding(positions, site.start, site.end, note))
                 continue
             decision = mapping.decide(requirement)
+            outcome.declared.append((site, canonicalize_name(requirement.name)))
         decided.append((site, raw, decision))
 
     # PettingZoo's Atari envs (multi-agent-ale-py) still take their ROMs from AutoROM.
@@ -148,6 +151,39 @@ def migrate_sites(text: str, sites: list[Site], positions: Positions | None = No
             notes = []
         outcome.findings.extend(finding(positions, site.start, site.end, note) for note in notes)
     return outcome
+
+
+def companions(text: str, outcome: Outcome, requires: frozenset[str], positions: Positions | None = None) -> None:
+    """Packages the migrated code imports that moved out of a declared one (``mpe2`` out of
+    ``pettingzoo``): once per file, a line is added after the first requirement of that
+    library, in the same list and style (``"pettingzoo>=1.21",`` -> ``"mpe2>=1.0",`` below
+    it), where that requirement has a line of its own; elsewhere the place is reported."""
+    positions = positions or Positions(text)
+    declared = {name for _, name in outcome.declared}
+    for package in sorted(requires - declared):
+        companion = mapping.COMPANIONS.get(package)
+        if companion is None:
+            continue
+        anchor, requirement, why = companion
+        site = next((site for site, name in outcome.declared if name == anchor), None)
+        if site is None:
+            continue  # the file does not declare the library it came out of: not this file's business
+        line = line_span(text, site.start, site.end)
+        suffix = text[site.end : line[1]] if line is not None else ""
+        if "#" in suffix:  # the requirement's comment stays with it
+            suffix = suffix[: suffix.index("#")].rstrip() + ("\n" if suffix.endswith("\n") else "")
+        quoted = text[site.start - 1 : site.start] in ("'", '"')
+        if line is None or site.hashed or site.bare_word or site.conda or (quoted and "," not in suffix):
+            note = Note(mapping.PINS, FixKind.FLAG, f"the migrated code imports `{package}`: add `{requirement}` "
+                        f"next to `{text[site.start:site.end].strip()}` by hand ({why})")
+            outcome.findings.append(finding(positions, site.start, site.end, note))
+            continue
+        new_line = text[line[0] : site.start] + requirement + suffix
+        if not new_line.endswith("\n"):
+            new_line = "\n" + new_line
+        note = Note(mapping.PINS, FixKind.AUTO, f"`{requirement}` added: the migrated code imports `{package}` ({why})")
+        outcome.edits.append(Edit(line[1], line[1], new_line, code=mapping.PINS))
+        outcome.findings.append(finding(positions, site.start, site.end, note))
 
 
 def _name(raw: str, site: Site) -> str | None:

@@ -58,6 +58,13 @@ MOVED_WITH_GYM: dict[str, tuple[str, str, str]] = {
     "minigrid": (">=3.0", "3.2.0", "MiniGrid 3.0 is the release made for Gymnasium 1.0"),
 }
 
+# Packages that left a declared library: what the migrated code imports -> (the library it
+# came out of, the requirement to add next to it, why). mpe2 1.0 is the first release;
+# mpe2 1.1.1 requires pettingzoo>=1.24.3 (its wheel's Requires-Dist).
+COMPANIONS: dict[str, tuple[str, str, str]] = {
+    "mpe2": ("pettingzoo", "mpe2>=1.0", "PettingZoo's MPE envs moved to the mpe2 package"),
+}
+
 # Renamed packages: old name -> (new requirement head, message).
 RENAMED: dict[str, tuple[str, str]] = {
     "gym-minigrid": ("minigrid>=3.0", "gym-minigrid is now minigrid (imports change: `gym_minigrid` -> `minigrid`, and `import minigrid` registers its envs)"),

@@ -10,7 +10,7 @@ from pathlib import Path, PurePath
 from typing import TYPE_CHECKING
 
 from gymmigrate.dependencies import DependencyError, kind_of
-from gymmigrate.dependencies.core import apply_edits
+from gymmigrate.dependencies.core import apply_edits, companions
 from gymmigrate.dependencies.lines import (
     migrate_environment,
     migrate_requirements,
@@ -84,12 +84,15 @@ def _decode(source: bytes) -> tuple[str, bool]:
         raise DependencyError(f"cannot decode the file as UTF-8 ({exc.reason} at byte {exc.start}); left unchanged") from None
 
 
-def _run(handler: Callable, source: bytes, selection: Selection | None = None) -> DependencyResult:
+def _run(handler: Callable, source: bytes, selection: Selection | None = None,
+         requires: frozenset[str] = frozenset()) -> DependencyResult:
     def allowed(code: str) -> bool:
         return selection is None or selection.allows(code)
 
     text, bom = _decode(source)
     outcome = handler(text)
+    if requires:
+        companions(text, outcome, requires)
     # --select/--ignore: a rule left out neither reports nor fixes.
     edits = [edit for edit in outcome.edits if allowed(edit.code)]
     findings = sorted(
@@ -106,8 +109,10 @@ def _run(handler: Callable, source: bytes, selection: Selection | None = None) -
     return DependencyResult(rewritten, [replace(f, line_after=line_map.forward(f.line)) for f in findings])
 
 
-def migrate_dependency_file(path: Path | str, source: bytes, *, selection: Selection | None = None) -> DependencyResult:
+def migrate_dependency_file(path: Path | str, source: bytes, *, selection: Selection | None = None,
+                            requires: frozenset[str] = frozenset()) -> DependencyResult:
     """The migrated bytes of a dependency file and what was changed or must be reviewed.
+    ``requires``: packages the run's migrated code imports (``ProjectFacts.requires``).
 
     Raises DependencyError when the file cannot be read as its kind, or when the rewrite
     would not be stable (a second run would change it again).
@@ -116,8 +121,8 @@ def migrate_dependency_file(path: Path | str, source: bytes, *, selection: Selec
     if kind is None:
         raise DependencyError("not a dependency file")
     handler = HANDLERS[kind]
-    result = _run(handler, source, selection)
-    if result.rewritten != source and _run(handler, result.rewritten, selection).rewritten != result.rewritten:
+    result = _run(handler, source, selection, requires)
+    if result.rewritten != source and _run(handler, result.rewritten, selection, requires).rewritten != result.rewritten:
         raise DependencyError("the dependency rewrite is not stable (a second run would change it again); file left unchanged")
     return result
 

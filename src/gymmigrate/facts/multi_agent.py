@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import ast
 
+from gymmigrate.facts import names as N
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import ModuleFacts, full_name
 from gymmigrate.facts.receivers import Receivers
@@ -44,6 +45,8 @@ class MultiAgent:
 
     def kind(self, expr: ast.AST) -> EnvKind | None:
         """``PZ_AEC`` or ``PZ_PARALLEL`` when ``expr`` is known to be that env, else None."""
+        if self._parallel_wrapper_super(expr):
+            return EnvKind.PZ_PARALLEL
         kind = self.receivers.kind_of(expr)
         if kind in PETTINGZOO_KINDS:
             return kind
@@ -58,6 +61,20 @@ class MultiAgent:
         elif isinstance(expr, ast.Attribute) and self._attribute_key(expr) in self._iterated_attributes:
             return EnvKind.PZ_AEC
         return None
+
+    def _parallel_wrapper_super(self, expr: ast.AST) -> bool:
+        """``super()`` in a method of a subclass of PettingZoo's ``BaseParallelWrapper``: the
+        base's methods hand the wrapped parallel env's calls on (``reset`` returns its pair)."""
+        if not (isinstance(expr, ast.Call) and isinstance(expr.func, ast.Name) and expr.func.id == "super"):
+            return False
+        classdef = self.facts.enclosing_class(expr)
+        if classdef is None or not any(isinstance(f, ast.FunctionDef | ast.AsyncFunctionDef) for f in self.facts.ancestors(expr)):
+            return False
+        return any(
+            qualified in N.PZ_PARALLEL_BASES and qualified in N.PZ_WRAPPER_BASES
+            for base in classdef.bases
+            for qualified in self.facts.qualified_names(base)
+        )
 
     def iterated(self, expr: ast.AST) -> bool:
         """``expr`` is a name some ``for agent in name.agent_iter():`` loop iterates."""

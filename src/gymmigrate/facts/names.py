@@ -139,6 +139,12 @@ PZ_PARALLEL_BASES = frozenset(
         "pettingzoo.utils.wrappers.base_parallel.BaseParallelWraper",
     }
 )
+# PettingZoo env families that left for their own package: old module -> (new package,
+# whether PZ111 rewrites their imports: MAgent2's layout was not checked, so it only reports).
+PZ_MOVED_FAMILIES: dict[str, tuple[str, bool]] = {
+    "pettingzoo.mpe": ("mpe2", True),
+    "pettingzoo.magent": ("magent2", False),
+}
 # In a subclass of these, ``self.env`` is the wrapped PettingZoo env (the base stores it).
 PZ_WRAPPER_BASES = frozenset(name for name in PZ_AEC_BASES | PZ_PARALLEL_BASES if "Wrap" in name)
 

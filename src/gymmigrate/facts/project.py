@@ -30,6 +30,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from gymmigrate.facts import names as N
 from gymmigrate.facts.kinds import EnvKind, join_kinds
 
 # Kinds an unresolved ``x.fit(venv)`` still reports against every ``fit`` of the run.
@@ -117,6 +118,9 @@ class ProjectFacts:
     # (path, class) -> the methods subclasses in other modules of the run override, with
     # where ("pkg/far.py:FarEnv"): a hook a base class migrates must migrate there too.
     overrides: dict[tuple[str, str], dict[str, list[str]]] = field(default_factory=dict)
+    # Packages the migrated code imports that its dependency files must declare: ``mpe2``
+    # where a module imports ``pettingzoo.mpe`` (PZ111 moves the import there).
+    requires: frozenset[str] = frozenset()
 
     @classmethod
     def join(cls, summaries: list[ModuleSummary], blocked: dict[str, str] | None = None) -> ProjectFacts:
@@ -154,6 +158,15 @@ class ProjectFacts:
                 resolved = facts._resolve(call.target, summary.path)
                 if resolved is not None:
                     calls_to[resolved].append((summary.path, call))
+        facts.requires = frozenset(
+            package
+            for family, (package, rewritten) in N.PZ_MOVED_FAMILIES.items()
+            if rewritten and any(
+                q == family or q.startswith(family + ".") or q == package or q.startswith(package + ".")
+                for summary in summaries
+                for q in summary.imported
+            )
+        )
         _Exports(facts, by_path).run()
         _Join(facts, by_path, calls_to).run()
         for summary in summaries:

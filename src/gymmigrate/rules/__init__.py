@@ -18,7 +18,7 @@ Where a rule lives (families decide in the order of ``PIPELINE`` below):
     GM616                      gym < 0.9 wrapper hooks ......... legacy_hooks.py
     GM902, GM904, GM906-GM908  spaces, logger, errors, utils ... spaces_logger.py
     GM903, GM905, GM909, GM910 space drift (ints, dicts, sizes, ==) spaces/drift.py
-    PZ101-PZ110                PettingZoo AEC and parallel APIs  pettingzoo/
+    PZ101-PZ111                PettingZoo APIs and env modules . pettingzoo/
     GM109, GM110, SB110        dependency declarations ......... dependency_files.py (carried
                                out by gymmigrate.dependencies, not a family)
 
@@ -72,6 +72,7 @@ PIPELINE = (
     FamilySpec("LegacyWrapperHooks", "gymmigrate.rules.legacy_hooks", ("def _",)),
     FamilySpec("SpacesLogger", "gymmigrate.rules.spaces_logger", ("logger", "error", "check_env", "Box", "seed")),
     FamilySpec("SpaceDrift", "gymmigrate.rules.spaces.drift", ("isinstance", "type(", "json", "MultiBinary", "Discrete", "==")),
+    FamilySpec("EnvModules", "gymmigrate.rules.pettingzoo.env_modules", ("pettingzoo",)),
     FamilySpec("SpacesAndMake", "gymmigrate.rules.pettingzoo.spaces_make", _PZ, follows_the_run=True),
 )
 set_pipeline(PIPELINE)

@@ -1,10 +1,11 @@
-"""PettingZoo (PZ101-PZ110): the multi-agent AEC and parallel APIs, pre-1.21 to 1.27.
+"""PettingZoo (PZ101-PZ111): the multi-agent AEC and parallel APIs, pre-1.21 to 1.27, and the env modules that moved.
 
     PZ108, PZ103-PZ106 in classes  custom AEC/parallel envs ... env_classes.py [41]
     PZ101-PZ103                    AEC loops, ``env.dones`` .... aec_loop.py    [56]
     PZ104, PZ105                   parallel step and reset ..... parallel.py    [57]
     PZ106, PZ107                   seed and render calls ....... seed_render.py [58]
     PZ109, PZ110                   spaces, ``pettingzoo.make`` . spaces_make.py [90]
+    PZ111                          moved and bumped env modules  env_modules.py
 
 ``endings.py`` traces why a custom env's ``dones`` value is True (a game over or a
 step limit) for PZ104 and PZ108, with the single-agent step-limit test (GM504's).
@@ -18,6 +19,7 @@ their own API. Nothing here imports PettingZoo.
 from gymmigrate.rules.pettingzoo import (  # noqa: F401
     aec_loop,
     env_classes,
+    env_modules,
     parallel,
     seed_render,
     spaces_make,

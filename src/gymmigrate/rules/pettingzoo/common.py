@@ -36,6 +36,8 @@ PZ109 = Rule("PZ109", "PettingZoo spaces come from Gymnasium", FixKind.AUTO,
              "`gym.spaces` in PettingZoo envs -> `gymnasium.spaces`")
 PZ110 = Rule("PZ110", "`pettingzoo.make` replaces module-level creation", FixKind.FLAG,
              "`rps_v2.env()` -> `pettingzoo.make(\"aec\", \"classic/rps-v2\")` (PettingZoo 1.27)")
+PZ111 = Rule("PZ111", "env modules that moved or were bumped", FixKind.ASSIST,
+             "`from pettingzoo.mpe import simple_spread_v2` -> `from mpe2 import simple_spread_v3` (what changed is reported)")
 
 # The loop variable written into generated comprehensions.
 AGENT = "agent"

@@ -21,6 +21,7 @@ from collections.abc import Callable
 from functools import partial
 
 from gymmigrate.edits.lazy import cst
+from gymmigrate.facts import names as N
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
@@ -41,6 +42,12 @@ RENAMED_HELPERS = {"_was_done_step": "_was_dead_step", "_dones_step_first": "_de
 MISSPELLED_WRAPPER = "BaseParallelWraper"
 
 
+def _exports_wrappers(module: str) -> bool:
+    """``pettingzoo.utils`` re-exports the wrapper classes of ``pettingzoo.utils.wrappers``
+    (both spellings in their own releases)."""
+    return module == "pettingzoo.utils" or module.startswith("pettingzoo.utils.wrappers")
+
+
 class EnvClasses(PettingZooFamily):
     RULES = (PZ108,)
 
@@ -55,7 +62,7 @@ class EnvClasses(PettingZooFamily):
         for statement in facts.import_statements:
             if isinstance(statement, ast.ImportFrom) and statement.module == "pettingzoo.utils" and statement.level == 0:
                 self._plan_agent_selector(statement)
-            if isinstance(statement, ast.ImportFrom) and statement.level == 0 and (statement.module or "").startswith("pettingzoo.utils.wrappers"):
+            if isinstance(statement, ast.ImportFrom) and statement.level == 0 and _exports_wrappers(statement.module or ""):
                 self._plan_wrapper_spelling(statement)
         for attr in facts.attributes.get(MISSPELLED_WRAPPER, ()):
             if any(q.startswith("pettingzoo.") for q in facts.qualified_names(attr)):
@@ -64,6 +71,7 @@ class EnvClasses(PettingZooFamily):
         self.classes = {id(c): kind for c in facts.all_classes if (kind := self.multi_agent.class_kind(c)) is not None}
         if not self.classes:
             return
+        self._plan_wrapper_rng()
         for attr in facts.attributes.get("dones", ()):
             classdef = facts.enclosing_class(attr)
             if classdef is not None and id(classdef) in self.classes and isinstance(attr.value, ast.Name) and self.receivers.is_self(attr.value):
@@ -84,6 +92,32 @@ class EnvClasses(PettingZooFamily):
             if "last" in methods:
                 self.report(methods["last"], "PZ108", "`last()` returns `observation, reward, termination, truncation, "
                             "info` since PettingZoo 1.21: check this override", FixKind.FLAG)
+
+    def _plan_wrapper_rng(self) -> None:
+        """``self.np_random`` in a ``BaseParallelWrapper`` subclass: PettingZoo 1.21's parallel
+        wrappers and its AEC-to-parallel conversion forwarded unknown attributes to the env
+        they wrap; the conversion no longer does (1.24: "'aec_to_parallel_wrapper' object has
+        no attribute 'np_random'"). The generator belongs to the raw env: read it there."""
+        for attr in self.facts.attributes.get("np_random", ()):
+            if not (isinstance(attr.ctx, ast.Load) and isinstance(attr.value, ast.Name) and self.receivers.is_self(attr.value)):
+                continue
+            classdef = self.facts.enclosing_class(attr)
+            if classdef is None or not self._is_parallel_wrapper(classdef) or any(
+                isinstance(other.ctx, ast.Store) and self.facts.enclosing_class(other) is classdef
+                for other in self.facts.attributes.get("np_random", ())
+            ):
+                continue
+            self.changed()
+            self.plan.replace(attr, lambda node: node.with_changes(value=cst.Attribute(value=node.value, attr=cst.Name("unwrapped"))))
+            self.report(attr, "PZ108", "a parallel wrapper's `self.np_random` is the raw env's: read it through "
+                        "`self.unwrapped` (PettingZoo's AEC-to-parallel conversion no longer forwards attributes)")
+
+    def _is_parallel_wrapper(self, classdef: ast.ClassDef) -> bool:
+        return any(
+            qualified in N.PZ_PARALLEL_BASES and qualified in N.PZ_WRAPPER_BASES
+            for base in classdef.bases
+            for qualified in self.facts.qualified_names(base)
+        )
 
     def _plan_wrapper_spelling(self, statement: ast.ImportFrom) -> None:
         """``from pettingzoo.utils.wrappers import BaseParallelWraper`` (the 1.20 spelling) is an

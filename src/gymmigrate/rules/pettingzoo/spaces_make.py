@@ -19,6 +19,7 @@ import re
 
 from gymmigrate.facts import names as N
 from gymmigrate.rules.pettingzoo.common import PZ109, PZ110, PettingZooFamily
+from gymmigrate.rules.pettingzoo.env_modules import BUMPS, MOVED_FAMILIES
 
 # ``pettingzoo.classic.rps_v2.env`` -> ("classic", "rps", "2", "env")
 _MODULE_FACTORY = re.compile(r"^pettingzoo\.(\w+)\.(\w+?)_v(\d+)\.(env|parallel_env)$")
@@ -26,7 +27,7 @@ _MODULE_FACTORY = re.compile(r"^pettingzoo\.(\w+)\.(\w+?)_v(\d+)\.(env|parallel_
 
 class SpacesAndMake(PettingZooFamily):
     RULES = (PZ109, PZ110)
-    after = ("EnvClasses", "AecLoop", "ParallelCalls", "SeedRender")
+    after = ("EnvClasses", "AecLoop", "ParallelCalls", "SeedRender", "EnvModules")
 
     def decide(self) -> None:
         if self.context.profile.imports_pettingzoo:
@@ -57,6 +58,11 @@ class SpacesAndMake(PettingZooFamily):
             if match is None or N.top_package(qualified) != N.PETTINGZOO_PACKAGE:
                 continue
             family, name, version, factory = match.groups()
+            if f"pettingzoo.{family}" in MOVED_FAMILIES:
+                return  # its own package now (PZ111); PettingZoo's registry does not hold it
+            bump = BUMPS.get((f"pettingzoo.{family}", name))
+            if bump is not None and int(version) == bump.previous:
+                version = str(bump.current)  # PZ111 bumps the import
             api = "parallel" if factory == "parallel_env" else "aec"
             self.report(call, "PZ110", f"PettingZoo 1.27 deprecates module-level creation: "
                         f"`pettingzoo.make(\"{api}\", \"{family}/{name}-v{version}\", ...)` is the new form (1.27 only)")
