@@ -112,7 +112,11 @@ class ResultRules(StepFamilyBase):
             live = i >= poisoned
             if live and step.decision.action is Action.REPORT:
                 self.report(
-                    step.assign, "GM304", f"{step.decision.reason}; if it is a Gym env, its step returns five values", FixKind.FLAG
+                    step.assign,
+                    "GM304",
+                    f"{step.decision.reason}; if it is a Gym env, its step returns five values",
+                    FixKind.FLAG,
+                    question=self.receiver_question(step.receiver, step.decision),
                 )
             active.append(active[-1] + (live and step.decision.action is not Action.REPORT))
         for read, stop in zip(reads, reach):

@@ -76,6 +76,7 @@ class UnpackRules(StepFamilyBase):
                 "GM301",
                 f"{decision.reason}: if it is a Gym env, unpack `obs, reward, terminated, truncated, info`",
                 FixKind.FLAG,
+                question=self.receiver_question(receiver, decision),
             )
             return
         names = self._step_names(assign, vector)
@@ -95,7 +96,9 @@ class UnpackRules(StepFamilyBase):
             self.info_steps[assign] = names
         message = f"step now returns {names.terminated} and {names.truncated} instead of one done flag"
         if decision.action is Action.REWRITE_FOR_REVIEW:
-            self.report(assign, names.code, f"{message}; {decision.reason}", FixKind.ASSIST)
+            self.report(
+                assign, names.code, f"{message}; {decision.reason}", FixKind.ASSIST, question=self.receiver_question(receiver, decision)
+            )
         else:
             self.report(assign, names.code, message)
 
