@@ -61,3 +61,17 @@ def test_the_legacy_autoreset_question_is_asked_once_per_file() -> None:
     asked = [f for f in result.findings if f.needs_review and f.rule == "GM706"]
     assert [f.line for f in asked] == [3] and "same step" in asked[0].message
     assert sorted(f.line for f in result.findings if f.rule == "GM706" and not f.needs_review) == [9, 10]
+
+
+def test_a_sampled_discrete_action_takes_the_integer_branch_of_a_migrated_step() -> None:
+    path = RULE_FIXTURES / "GM903" / "discrete_action_in_step.py"
+    rewritten = transform_source(path.read_bytes(), str(path)).rewritten
+    namespace: dict[str, object] = {"__name__": "migrated_maze"}
+    exec(compile(rewritten, str(path), "exec"), namespace)  # noqa: S102 (our own fixture)
+    env = namespace["Maze"]()
+    env.reset(seed=0)
+    env.action_space.seed(0)
+    action = env.action_space.sample()
+    assert not isinstance(action, int)  # np.int64: the legacy check alone would miss it
+    *_, info = env.step(action)
+    assert info["move"] in ("N", "S", "E", "W")
