@@ -43,3 +43,35 @@ def test_a_step_limit_wrapper_truncates() -> None:
     env.reset(seed=0)
     flags = [env.step(i % 2)[2:4] for i in range(3)]
     assert flags == [(False, False), (False, False), (False, True)], "the third step is cut by the limit"
+
+
+def test_an_untraced_receiver_is_one_review_item_naming_every_line() -> None:
+    path = RULE_FIXTURES / "GM201" / "untraced_receiver_asked_once.py"
+    result = transform_source(path.read_bytes(), str(path))
+    asked = [f for f in result.findings if f.needs_review]
+    assert [(f.line, f.rule) for f in asked] == [(7, "GM201")]
+    assert asked[0].message.endswith("(the same question at lines 10, 11)")
+    pointers = [f for f in result.findings if "asked once, at line 7" in f.message]
+    assert sorted(f.line for f in pointers) == [10, 11] and all(f.is_change for f in pointers)
+
+
+def test_the_legacy_autoreset_question_is_asked_once_per_file() -> None:
+    path = RULE_FIXTURES / "GM706" / "loop_variable_terminal.py"
+    result = transform_source(path.read_bytes(), str(path))
+    asked = [f for f in result.findings if f.needs_review and f.rule == "GM706"]
+    assert [f.line for f in asked] == [3] and "same step" in asked[0].message
+    assert sorted(f.line for f in result.findings if f.rule == "GM706" and not f.needs_review) == [9, 10]
+
+
+def test_a_sampled_discrete_action_takes_the_integer_branch_of_a_migrated_step() -> None:
+    path = RULE_FIXTURES / "GM903" / "discrete_action_in_step.py"
+    rewritten = transform_source(path.read_bytes(), str(path)).rewritten
+    namespace: dict[str, object] = {"__name__": "migrated_maze"}
+    exec(compile(rewritten, str(path), "exec"), namespace)  # noqa: S102 (our own fixture)
+    env = namespace["Maze"]()
+    env.reset(seed=0)
+    env.action_space.seed(0)
+    action = env.action_space.sample()
+    assert not isinstance(action, int)  # np.int64: the legacy check alone would miss it
+    *_, info = env.step(action)
+    assert info["move"] in ("N", "S", "E", "W")

@@ -103,6 +103,7 @@ def plan_file(tree: ast.Module, text: str, path: str, options: RewriteOptions) -
         except Exception as exc:  # a rule bug must not lose the user's file or print a traceback
             raise TransformError(f"internal error in {family.__name__}: {type(exc).__name__}: {exc}") from exc
     filter_plan(plan, text, options)  # --select/--ignore and suppression comments
+    plan.ask_once()
     return plan
 
 

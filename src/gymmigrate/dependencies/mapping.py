@@ -82,6 +82,7 @@ GYM_ONLY_PACKAGES: dict[str, str] = {
     "procgen": "a Gym-only env package",
     "roboschool": "a Gym-only env package (abandoned)",
     "pybullet-envs": "a Gym-only env package",
+    "dmc2gym": "a Gym-only env package (Shimmy's dm_control envs replace it)",
     "pybullet": "if the project uses its bundled envs (pybullet_envs), they register with Gym only",
     "gym-notices": "a dependency of gym only, not needed by Gymnasium: remove it",
 }

@@ -12,8 +12,8 @@ from __future__ import annotations
 import ast
 from bisect import bisect_left
 from collections import defaultdict
-from collections.abc import Callable
-from dataclasses import dataclass, field
+from collections.abc import Callable, Hashable
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any
 
 from gymmigrate.findings import Finding, FixKind, Tier
@@ -48,6 +48,9 @@ class Plan:
     deciding: str = ""
     finding_nodes: list[ast.AST] = field(default_factory=list)
     finding_families: list[str] = field(default_factory=list)  # the family that reported each
+    # The question each review item asks, where rules name one (``ask_once``): items of one
+    # file asking the same question (is this receiver a Gym env?) are one decision.
+    finding_questions: list[Hashable | None] = field(default_factory=list)
     _edits: list[_Edit] = field(default_factory=list)
     partial: bool = False  # some findings were dropped (with their edits)
     _seen: set[tuple[int, str, str]] = field(default_factory=set)
@@ -58,7 +61,15 @@ class Plan:
 
     # -- findings -------------------------------------------------------------------------
 
-    def report(self, node: ast.AST, code: str, kind: FixKind, message: str, tier: Tier | None = None) -> None:
+    def report(
+        self,
+        node: ast.AST,
+        code: str,
+        kind: FixKind,
+        message: str,
+        tier: Tier | None = None,
+        question: Hashable | None = None,
+    ) -> None:
         line = node.lineno  # type: ignore[attr-defined]
         column = self.facts.column(node)
         # Two routes to the same conclusion, or the same item at two columns of one line
@@ -69,6 +80,7 @@ class Plan:
         self._seen.add(key)
         self.finding_nodes.append(node)
         self.finding_families.append(self.deciding)
+        self.finding_questions.append(question)
         end_line, end_column = self.facts.end(node)
         self.findings.append(
             Finding(
@@ -82,6 +94,31 @@ class Plan:
                 tier=tier,
             )
         )
+
+    def ask_once(self) -> None:
+        """One review item per question: where several review items of the file ask the same
+        question (the same untraced receiver, in one function or one class), the first one
+        asks it and names the other lines; the others become notes that point at it, so
+        every place is still listed (``check``, the JSON report) and decided once."""
+        groups: dict[Hashable, list[int]] = defaultdict(list)
+        for index, question in enumerate(self.finding_questions):
+            if question is not None and self.findings[index].needs_review:
+                groups[question].append(index)
+        for indexes in groups.values():
+            if len(indexes) < 2:
+                continue
+            indexes.sort(key=lambda i: (self.findings[i].line, self.findings[i].column))
+            first, *others = indexes
+            lines = sorted({self.findings[i].line for i in others} - {self.findings[first].line})
+            if lines:
+                where = "line" if len(lines) == 1 else "lines"
+                also = f" (the same question at {where} {', '.join(map(str, lines))})"
+                self.findings[first] = replace(self.findings[first], message=self.findings[first].message + also)
+            for i in others:
+                finding = self.findings[i]
+                self.findings[i] = replace(
+                    finding, message=f"{finding.message} (asked once, at line {self.findings[first].line})", tier=Tier.NOTE
+                )
 
     # -- edits ----------------------------------------------------------------------------
 
@@ -187,6 +224,7 @@ class Plan:
         self.findings = [f for i, f in enumerate(self.findings) if i not in dropped]
         self.finding_nodes = [n for i, n in enumerate(self.finding_nodes) if i not in dropped]
         self.finding_families = [f for i, f in enumerate(self.finding_families) if i not in dropped]
+        self.finding_questions = [q for i, q in enumerate(self.finding_questions) if i not in dropped]
         self._edits = []
 
     def _served_by(

@@ -141,8 +141,41 @@ class CallableKinds:
         kinds = []
         for call in calls:
             argument = call_argument(call, position, param.arg)
+            if argument is None:
+                argument = self._splatted_argument(call, param.arg)
             kinds.append(EnvKind.UNKNOWN if argument is None else self.returned_kind(argument))
         return join_kinds(kinds) if kinds else EnvKind.UNKNOWN
+
+    def _splatted_argument(self, call: ast.Call, name: str) -> ast.expr | None:
+        """``f(**kwargs)`` where ``kwargs = dict(name=value, ...)`` (or a dict display with the
+        key ``"name"``) is bound once: ``value``."""
+        for keyword in call.keywords:
+            if keyword.arg is not None or not isinstance(keyword.value, ast.Name):
+                continue
+            bindings = self.facts.bindings_of(keyword.value)
+            if len(bindings) != 1 or not isinstance(bindings[0], ast.Name):
+                continue
+            assign = self.facts.parent(bindings[0])
+            if not (isinstance(assign, ast.Assign) and len(assign.targets) == 1 and assign.targets[0] is bindings[0]):
+                continue
+            value = assign.value
+            if (
+                isinstance(value, ast.Call)
+                and isinstance(value.func, ast.Name)
+                and value.func.id == "dict"
+                and not self.facts.bindings_of(value.func)  # the builtin
+            ):
+                if not value.args:
+                    found = [kw.value for kw in value.keywords if kw.arg == name]
+                    if len(found) == 1:
+                        return found[0]
+            elif isinstance(value, ast.Dict):
+                found = [
+                    v for k, v in zip(value.keys, value.values) if isinstance(k, ast.Constant) and k.value == name
+                ]
+                if len(found) == 1:
+                    return found[0]
+        return None
 
     def callable_annotation_kind(self, annotation: ast.AST, parsed: bool = False) -> EnvKind:
         """``Callable[[], gym.Env]`` (typing or collections.abc, or as a string): the kind it returns."""

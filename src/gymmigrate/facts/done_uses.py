@@ -127,6 +127,24 @@ def _classify(read: ast.Name, facts: ModuleFacts) -> DoneUse:
             node = parent
             in_container = True
             continue
+        if isinstance(parent, ast.For) and parent.iter is node and not in_container:
+            loop = _loop_variable_use(parent, parent.target, facts)  # ``for d in dones: if d: ...``
+            if loop is not None:
+                return loop
+        if (
+            isinstance(parent, ast.Call)
+            and isinstance(parent.func, ast.Name)
+            and parent.func.id == "enumerate"
+            and parent.args[:1] == [node]
+            and not in_container
+            and isinstance(loop_node := facts.parent(parent), ast.For)
+            and loop_node.iter is parent
+            and isinstance(loop_node.target, ast.Tuple)
+            and len(loop_node.target.elts) == 2
+        ):
+            loop = _loop_variable_use(loop_node, loop_node.target.elts[1], facts)  # ``for i, d in enumerate(dones)``
+            if loop is not None:
+                return loop
         if isinstance(parent, ast.keyword):
             call = facts.parent(parent)
             return _call_use(call) if isinstance(call, ast.Call) else DoneUse.AMBIGUOUS
@@ -144,6 +162,25 @@ def _classify(read: ast.Name, facts: ModuleFacts) -> DoneUse:
         if isinstance(parent, (ast.FormattedValue, ast.Expr)):
             return DoneUse.NEUTRAL
         return DoneUse.AMBIGUOUS
+
+
+def _loop_variable_use(loop: ast.For, target: ast.expr, facts: ModuleFacts) -> DoneUse | None:
+    """A loop over the done flags whose variable only decides control flow (``if d: ...``,
+    e.g. picking each finished env's final observation) is control flow itself; None when
+    the variable is used otherwise (its reads decide as before)."""
+    if not isinstance(target, ast.Name):
+        return None
+    reads = [
+        node
+        for statement in loop.body
+        for node in ast.walk(statement)
+        if isinstance(node, ast.Name) and node.id == target.id
+    ]
+    if not reads or any(not isinstance(node.ctx, ast.Load) for node in reads):
+        return None
+    if all(classify_done_read(node, facts) in (DoneUse.CONTROL, DoneUse.NEUTRAL) for node in reads):
+        return DoneUse.CONTROL
+    return None
 
 
 def _call_use(call: ast.Call) -> DoneUse:

@@ -90,6 +90,10 @@ SB3_VEC_FACTORIES = frozenset(
     }
 )
 SB3_PACKAGES = ("stable_baselines3", "sb3_contrib", "stable_baselines", "baselines")
+# Stable-Baselines3 2.x single-env wrappers subclass ``gymnasium.Wrapper``: what they wrap
+# and return is a Gym env (``env = NoopResetEnv(gym.make(...))``; ``Monitor(env)``).
+SB3_ENV_WRAPPER_PREFIXES = ("stable_baselines3.common.atari_wrappers.",)
+SB3_ENV_WRAPPERS = frozenset({"stable_baselines3.common.monitor.Monitor"})
 SB3_MODEL_CLASSES = frozenset({"HER", "RecurrentPPO", "MaskablePPO", "QRDQN", "TQC", "TRPO", "ARS"})
 SB3_CALLBACK_BASES = frozenset(
     {

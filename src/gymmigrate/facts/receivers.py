@@ -231,6 +231,10 @@ class Receivers:
             return EnvKind.NOT_ENV
         if qualified in N.SB3_VEC_FACTORIES or qualified.startswith(N.SB3_VEC_PREFIXES):
             return EnvKind.SB3_VEC
+        if qualified in N.SB3_ENV_WRAPPERS or (
+            qualified.startswith(N.SB3_ENV_WRAPPER_PREFIXES) and qualified.rsplit(".", 1)[-1][:1].isupper()
+        ):
+            return EnvKind.GYM_ENV
         package = N.top_package(qualified)
         if package in N.SB3_PACKAGES:
             name = qualified.rsplit(".", 1)[-1]

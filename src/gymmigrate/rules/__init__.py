@@ -52,7 +52,11 @@ _PZ = ("pettingzoo", "supersuit", "agent_iter")  # a PettingZoo import, or an ag
 PIPELINE = (
     FamilySpec("Imports", "gymmigrate.rules.imports"),
     FamilySpec("EnvIds", "gymmigrate.rules.env_ids.ids", ("-v",)),
-    FamilySpec("RegistryApi", "gymmigrate.rules.env_ids.registry", ("registry", "_kwargs", "_env_name", "entry_point")),
+    FamilySpec(
+        "RegistryApi",
+        "gymmigrate.rules.env_ids.registry",
+        ("registry", "_kwargs", "_env_name", "entry_point", "timestep_limit", "trials", "tags", "max_episode_seconds", "local_only"),
+    ),
     FamilySpec("MakeKeywords", "gymmigrate.rules.make_kwargs", ("new_step_api", "autoreset", "apply_api_compatibility", "return_info")),
     FamilySpec("WrapperRenames", "gymmigrate.rules.wrapper_usage.renames", ("wrappers",)),
     FamilySpec("Rendering", "gymmigrate.rules.rendering", ("render", "single_rgb_array", "RecordVideo", "play", "VecVideoRecorder", "Monitor")),

@@ -15,11 +15,13 @@ from __future__ import annotations
 
 import ast
 import importlib
-from collections.abc import Iterator
+from collections.abc import Hashable, Iterator
 from dataclasses import dataclass, field
 from functools import lru_cache
 from typing import TYPE_CHECKING, ClassVar, NamedTuple
 
+from gymmigrate.facts.decisions import Action, Decision
+from gymmigrate.facts.module import full_name
 from gymmigrate.facts.profile import FileProfile
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.options import RewriteOptions
@@ -90,10 +92,33 @@ class RuleFamily:
         raise NotImplementedError
 
     def report(
-        self, node: ast.AST, code: str, message: str, kind: FixKind | None = None, tier: Tier | None = None
+        self,
+        node: ast.AST,
+        code: str,
+        message: str,
+        kind: FixKind | None = None,
+        tier: Tier | None = None,
+        question: Hashable | None = None,
     ) -> None:
-        """``tier`` only where it differs from what the kind implies (see findings.Tier)."""
-        self.plan.report(node, code, kind or self._rules[code].kind, message, tier)
+        """``tier`` only where it differs from what the kind implies (see findings.Tier).
+        ``question``: what the item asks, where other items of the file may ask the same
+        (``receiver_question``): the file's review list asks it once (``Plan.ask_once``)."""
+        self.plan.report(node, code, kind or self._rules[code].kind, message, tier, question)
+
+    def receiver_question(self, receiver: ast.AST, decision: Decision) -> Hashable | None:
+        """The question an item on an untraced receiver asks: "is `env` a Gym env?". The
+        same spelling asks it once per function (``self.x``: once per class), whatever the
+        method called on it, as long as the run answers it the same way (rewrites or not)."""
+        if decision.action not in (Action.REWRITE_FOR_REVIEW, Action.REPORT):
+            return None
+        name = full_name(receiver)
+        if not name:
+            return None
+        if name.split(".", 1)[0] == "self":
+            owner: ast.AST | None = self.facts.enclosing_class(receiver)
+        else:
+            owner = self.facts.enclosing_function(receiver)
+        return ("receiver", decision.action, id(owner), name)
 
 
 class FamilySpec(NamedTuple):

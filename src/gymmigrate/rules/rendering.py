@@ -503,6 +503,10 @@ class Rendering(RuleFamily):
             )
             return
         keys = [id(m) for m in site.creation.calls]
+        # The render calls of one env ask one question (which mode it is made with).
+        def question(outcome: str) -> tuple[object, ...]:
+            return ("render", code, tuple(sorted(keys)), outcome)
+
         if code == "GM402" and all(keyword(makes[k], "render_mode") is not None for k in keys):
             return  # the make already chose a mode: this bare render() is Gymnasium's API
         unscheduled = [self._unscheduled[k] for k in keys if k in self._unscheduled]
@@ -517,11 +521,11 @@ class Rendering(RuleFamily):
                 self._mode_dropped.add(id(call))
                 self.report(call, code, f"mode dropped, no render_mode added (it draws nothing until you choose): {choice}")
             else:
-                self.report(call, code, f"not rewritten: {choice}", FixKind.FLAG)
+                self.report(call, code, f"not rewritten: {choice}", FixKind.FLAG, question=question("unscheduled"))
             return
         reasons = [blocked[k] for k in keys if k in blocked]
         if reasons:
-            self.report(call, code, f"not rewritten: {reasons[0]}", FixKind.FLAG)
+            self.report(call, code, f"not rewritten: {reasons[0]}", FixKind.FLAG, question=question(reasons[0]))
             return
         accepted = site.accepted or (site.mode,)
         conflicting = [final_mode[k] for k in keys if final_mode[k] not in accepted]
@@ -532,6 +536,7 @@ class Rendering(RuleFamily):
                 f'not rewritten: the env is created with render_mode="{conflicting[0]}" but {site.consumer} needs '
                 f'"{site.mode}"; create a separate env for it',
                 FixKind.FLAG,
+                question=question("conflict"),
             )
             return
         where = " and ".join(self._call_summary(makes[k]) for k in keys)
@@ -574,9 +579,13 @@ class Rendering(RuleFamily):
             )
         if added:
             message = f"render mode moved to {where} ({target}); render() takes no arguments"
-            if site.decision is Action.REWRITE_FOR_REVIEW or site.decision is Action.REPORT:
+            inferred = site.decision is Action.REWRITE_FOR_REVIEW or site.decision is Action.REPORT
+            if inferred:
                 message += "; the env's origin was inferred, check it"
-            self.report(call, code, message)
+            # A frame or text mode draws nothing by itself: the env renders when render() is
+            # called, as before, so the move explains itself. "human" draws every step.
+            exact = not inferred and site.mode != HUMAN
+            self.report(call, code, message, tier=Tier.NOTE if exact else None, question=question("moved"))
         else:
             self.report(call, code, f"{where} already has {target}; render() takes no arguments", FixKind.AUTO)
 

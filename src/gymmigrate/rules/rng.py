@@ -173,6 +173,8 @@ class GeneratorApi(RuleFamily):
         kind = self.receivers.kind_of(owner)
         if kind in GYM_RNG_KINDS:
             return "GM505", FixKind.AUTO, ""
+        if kind is EnvKind.UNKNOWN and self._gym_file and isinstance(owner, ast.Attribute) and owner.attr == "unwrapped":
+            return "GM505", FixKind.AUTO, ""  # ``x.unwrapped.np_random``: only a Gym env has ``unwrapped``
         if kind is EnvKind.UNKNOWN and self._gym_file:
             return "GM505", FixKind.ASSIST, f"could not trace where `{text}` comes from; every gym/gymnasium np_random is a Generator"
         return None

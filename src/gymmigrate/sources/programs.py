@@ -140,15 +140,23 @@ def migrate(
     return sorted(findings, key=_order), rewritten != source, rewritten
 
 
-_PROGRAM_LINE = re.compile(r"\bline (\d+)")
+_PROGRAM_LINE = re.compile(r"\blines? (\d+(?:, \d+)*)")
 
 
 def _in_file_terms(message: str, starts: list[int], program: list[Segment]) -> str:
-    """An engine message names lines of the joined program; name the file's instead."""
+    """An engine message names lines of the joined program ("line 48", "lines 10, 12");
+    name the file's instead (a notebook's "cell 3 line 4")."""
+    origins = [segment.start for segment in program]
 
     def where(match: re.Match[str]) -> str:
-        location = _locate(int(match[1]), starts, [segment.start for segment in program])
-        return f"line {location.line}" if location.cell is None else f"cell {location.cell + 1} line {location.line}"
+        locations = [_locate(int(number), starts, origins) for number in match[1].split(", ")]
+        if all(location.cell is None for location in locations):
+            word = "line" if len(locations) == 1 else "lines"
+            return f"{word} {', '.join(str(location.line) for location in locations)}"
+        return ", ".join(
+            f"line {location.line}" if location.cell is None else f"cell {location.cell + 1} line {location.line}"
+            for location in locations
+        )
 
     return _PROGRAM_LINE.sub(where, message)
 
@@ -163,7 +171,8 @@ def _placed(finding: Finding, starts: list[int], program: list[Segment]) -> Find
     end_line = finding.end_line
     if end_line is not None:
         end_line = _locate(end_line, starts, origins).line
-    return replace(finding, line=where.line, cell=where.cell, end_line=end_line)
+    message = _in_file_terms(finding.message, starts, program)
+    return replace(finding, line=where.line, cell=where.cell, end_line=end_line, message=message)
 
 
 def _locate(line: int, starts: list[int], origins: list[Location]) -> Location:

@@ -5,7 +5,8 @@
   itself, ``registry.all()`` is ``registry.values()``, and ``registry.spec()`` /
   ``make()`` / ``register()`` are the module functions ``gym.spec`` / ``gym.make`` /
   ``gym.register``. ``gym.envs.registry`` is spelled ``gym.registry``.
-* GM806 ``EnvSpec._kwargs`` / ``_env_name`` became ``kwargs`` / ``name``: rewritten where
+* GM806 ``EnvSpec._kwargs`` / ``_env_name`` became ``kwargs`` / ``name`` (and gym 0.9's
+  ``timestep_limit`` is ``max_episode_steps``; ``trials``, ``tags``... are gone and reported): rewritten where
   the object is an ``EnvSpec`` (``x.spec``, ``gym.spec(...)``, an item of the registry,
   a name only ever bound to one of those).
 
@@ -26,11 +27,24 @@ from gymmigrate.rules.env_ids.syntax import gym_alias, is_registry
 
 RULES = (
     Rule("GM802", "registry API", FixKind.AUTO, "`registry.env_specs/all()/spec()/make()` become `gym.registry` and `gym.spec/make`."),
-    Rule("GM806", "EnvSpec attributes", FixKind.AUTO, "`spec._kwargs` / `spec._env_name` become `spec.kwargs` / `spec.name`."),
+    Rule(
+        "GM806",
+        "EnvSpec attributes",
+        FixKind.AUTO,
+        "`spec._kwargs` / `spec._env_name` / `spec.timestep_limit` become `spec.kwargs` / `spec.name` / "
+        "`spec.max_episode_steps`; removed ones (`trials`, `tags`...) are reported.",
+    ),
 )
 
 REGISTRY_METHODS = frozenset({"spec", "make", "register"})
-SPEC_ATTRIBUTES = {"_kwargs": "kwargs", "_env_name": "name"}
+SPEC_ATTRIBUTES = {"_kwargs": "kwargs", "_env_name": "name", "timestep_limit": "max_episode_steps"}
+# EnvSpec attributes of gym < 0.21 that Gymnasium's EnvSpec does not have (AttributeError).
+REMOVED_SPEC_ATTRIBUTES = {
+    "trials": "gym 0.9's number of trials for the reward threshold is gone: use your own count (e.g. 100)",
+    "tags": "the spec's tags are gone (gym 0.9's `wrapper_config.TimeLimit.max_episode_steps` tag is `spec.max_episode_steps`)",
+    "max_episode_seconds": "the time limit in seconds is gone: only `max_episode_steps` is kept",
+    "local_only": "gone with the scoreboard: drop it",
+}
 _SPEC_FUNCTIONS = frozenset({"spec", "envs.spec", "envs.registration.spec"})
 # How far ``spec = specs[i]; s = spec`` chains are followed: enough for real code, and
 # it bounds the work per attribute.
@@ -44,7 +58,9 @@ class RegistryApi(RuleFamily):
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
         text = facts.text
-        return "registry" in text or "_kwargs" in text or "_env_name" in text or "entry_point" in text
+        return "registry" in text or "entry_point" in text or any(
+            word in text for word in (*SPEC_ATTRIBUTES, *REMOVED_SPEC_ATTRIBUTES)
+        )
 
     def decide(self) -> None:
         self._gym_alias = gym_alias(self.facts)
@@ -58,13 +74,23 @@ class RegistryApi(RuleFamily):
                 if isinstance(func, ast.Attribute) and is_registry(self.facts, func.value):
                     self._decide_registry_call(call, method)
         for private, public in SPEC_ATTRIBUTES.items():
+            if not private.startswith("_") and not self.context.profile.imports_gym:
+                continue
+            why = "the private attribute was made public" if private.startswith("_") else "gym 0.9's name for the same limit"
             for attribute in self.facts.attributes.get(private, ()):
                 if self._is_env_spec(attribute.value, 0):
-                    self.report(attribute, "GM806", f"`EnvSpec.{private}` -> `EnvSpec.{public}`: the private attribute was made public")
+                    self.report(attribute, "GM806", f"`EnvSpec.{private}` -> `EnvSpec.{public}`: {why}")
                     self.plan.replace(attribute, lambda node, public=public: node.with_changes(attr=cst.Name(public)))
         for attribute in self.facts.attributes.get("entry_point", ()):
             if self._is_env_spec(attribute.value, 0):
                 self._decide_entry_point_text(attribute)
+        if self.context.profile.imports_gym:
+            for removed, hint in REMOVED_SPEC_ATTRIBUTES.items():
+                for attribute in self.facts.attributes.get(removed, ()):
+                    if self._is_env_spec(attribute.value, 0):
+                        self.report(
+                            attribute, "GM806", f"`EnvSpec.{removed}` does not exist in Gymnasium (AttributeError): {hint}", FixKind.FLAG
+                        )
 
     def _decide_entry_point_text(self, attribute: ast.Attribute) -> None:
         """``"gym.envs" in spec.entry_point`` / ``spec.entry_point.startswith(...)``: Gymnasium

@@ -80,6 +80,7 @@ class ResetCalls(ResetSeedBase):
                     code,
                     f"{decision.reason}: if it is a Gym env, reset() returns (obs, info) now and the result must be unpacked",
                     FixKind.FLAG,
+                    question=self.receiver_question(receiver, decision),
                 )
             return
         self._check_custom_arguments(call, name, keywords)
@@ -169,6 +170,7 @@ class ResetCalls(ResetSeedBase):
             "GM202",
             f"return_info= dropped: `{name}.reset()` always returns (obs, info){self._why(decision)}",
             self._kind(decision),
+            question=self.receiver_question(call.func.value, decision),  # type: ignore[attr-defined]
         )
         return Shape.PAIR if flag else Shape.OBS
 
@@ -185,16 +187,19 @@ class ResetCalls(ResetSeedBase):
         name = receiver_text(call.func.value)  # type: ignore[attr-defined]
         kind = self._kind(decision)
         why = self._why(decision)
+        question = self.receiver_question(call.func.value, decision)  # type: ignore[attr-defined]
         if use in (Use.ASSIGN, Use.OBS_TUPLE, Use.IN_TUPLE) and assign is not None:
             scope = scope_of_expression(self.facts, call)
             info = self.info_names.choose(scope, call, "infos" if vector else "info")
             self.plan.replace(assign, unpack_builder(info, index))
             self._note_wrapper_info_name(call, info)
-            self.report(call, code, f"`{name}.reset()` returns (obs, {info}) now: the result is unpacked{why}", kind)
+            self.report(call, code, f"`{name}.reset()` returns (obs, {info}) now: the result is unpacked{why}", kind, question=question)
         elif use is Use.EXPRESSION:
             self._edit(call).index_result = True
             pair = "(obs, infos)" if vector else "(obs, info)"
-            self.report(call, code, f"`{name}.reset()` returns {pair} now: the observation is `[0]` of it here{why}", kind)
+            self.report(
+                call, code, f"`{name}.reset()` returns {pair} now: the observation is `[0]` of it here{why}", kind, question=question
+            )
         elif use is Use.FOREIGN_RESET:
             self.report(
                 call,

@@ -44,7 +44,13 @@ class SeedCalls(ResetSeedBase):
         code = "GM208" if vector else "GM203"
         name = receiver_text(receiver)
         if decision.action is Action.REPORT:
-            self.report(call, code, f"{decision.reason}: if it is a Gym env, replace seed(s) with reset(seed=s)", FixKind.FLAG)
+            self.report(
+                call,
+                code,
+                f"{decision.reason}: if it is a Gym env, replace seed(s) with reset(seed=s)",
+                FixKind.FLAG,
+                question=self.receiver_question(receiver, decision),
+            )
             return
         function = self.facts.enclosing_function(call)
         if function is not None and function.name == "seed":
@@ -91,6 +97,7 @@ class SeedCalls(ResetSeedBase):
                 code,
                 f"`{name}.seed(s)` merged into the reset that follows it: `{name}.reset(seed=s)`{why}",
                 self._kind(decision, FixKind.AUTO),
+                question=self.receiver_question(receiver, decision),
             )
             return
         edit = self._edit(call)
@@ -103,6 +110,7 @@ class SeedCalls(ResetSeedBase):
             f"episode; later resets continue the seeded stream{why}",
             self._kind(decision),
             tier=Tier.NOTE if decision.action is Action.REWRITE else None,  # it explains the rewrite: nothing to decide
+            question=self.receiver_question(receiver, decision),
         )
 
     def _check_space_seed(self, call: ast.Call) -> None:

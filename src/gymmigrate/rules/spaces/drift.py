@@ -8,7 +8,9 @@ has the script):
   raises ``TypeError``; ``isinstance(np.int64(3), int)`` and ``type(...) is int`` are
   False. Rewritten where certain: ``isinstance(x, int)`` / ``type(x) is int`` on a
   space's ``.n``, ``.start`` or ``sample()`` become ``isinstance(x, (int, np.integer))``
-  (the same answer as before for every space: a Box sample is an array either way);
+  (the same answer as before for every space: a Box sample is an array either way), and
+  ``isinstance(action, int)`` in the ``step`` of a Gym env class whose action space is only
+  ever ``Discrete``;
   ``json.dump(s)`` of a value traced to a ``Discrete`` gets ``int(...)``; a value of a
   space whose class is not known (``env.action_space.n`` may be a ``MultiBinary``'s
   list) is reported.
@@ -33,6 +35,7 @@ import ast
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
+from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 
@@ -156,6 +159,16 @@ class SpaceDrift(RuleFamily):
         options = classes.elts if isinstance(classes, ast.Tuple) else [classes]
         if any(self._is_builtin(c, "int") for c in options) and not any(self._integer_class(c) for c in options):
             kind = self.space_value(value, frozenset({"n", "start", "sample"}))
+            if kind is None and self._discrete_action(value):
+                numpy = self.plan.ensure_import("numpy", asname="np")
+                self.report(
+                    call,
+                    "GM903",
+                    "this env's actions are Discrete, and `action_space.sample()` gives an `np.int64` in Gymnasium "
+                    "1.x, not an `int`: the check accepts `np.integer` too",
+                )
+                self.plan.replace(classes, _add_integer(numpy))
+                return
             if kind is not None and kind in ("Discrete", UNKNOWN):
                 numpy = self.plan.ensure_import("numpy", asname="np")
                 self.report(call, "GM903", "a space's `n`/`sample()` is an `np.int64` in Gymnasium 1.x, not an `int`: the check accepts `np.integer` too")
@@ -164,6 +177,32 @@ class SpaceDrift(RuleFamily):
         if len(options) == 1 and self._is_ordered_dict(classes) and self.space_value(value, frozenset({"sample", "spaces"})) is not None:
             self.report(call, "GM905", "`Dict.sample()` (and `Dict.spaces`) is a plain `dict` in Gymnasium 1.x, not an `OrderedDict`: checked as a dict")
             self.plan.replace(classes, lambda node: cst.Name("dict"))
+
+    def _discrete_action(self, value: ast.AST) -> bool:
+        """``action`` in ``def step(self, action)`` of a Gym env class whose action space is
+        only ever a ``Discrete``: every action is an integer, and a sampled one is ``np.int64``."""
+        if not isinstance(value, ast.Name):
+            return False
+        function = self.facts.enclosing_function(value)
+        classdef = self.facts.enclosing_class(value)
+        if function is None or classdef is None or function.name != "step" or self.facts.parent(function) is not classdef:
+            return False
+        params = function.args.args
+        if len(params) < 2 or params[1].arg != value.id or self.receivers.class_kind(classdef) is not EnvKind.GYM_ENV:
+            return False
+        if any(isinstance(b, ast.Name) and b.id == value.id for b in self.facts.bindings_of(value) if b is not params[1]):
+            return False
+        spaces = [
+            node.value
+            for node in ast.walk(classdef)
+            if isinstance(node, ast.Assign)
+            and any(isinstance(t, ast.Attribute) and t.attr == "action_space" for t in node.targets)
+        ]
+        return bool(spaces) and all(
+            isinstance(space, ast.Call)
+            and any(q.endswith("spaces.Discrete") or q.endswith("spaces.discrete.Discrete") for q in self.facts.qualified_names(space.func))
+            for space in spaces
+        )
 
     def _integer_class(self, expr: ast.AST) -> bool:
         return bool({"numpy.integer", "numbers.Integral", "numpy.int64"} & self.facts.qualified_names(expr))

@@ -42,6 +42,8 @@ class ResultRules(StepFamilyBase):
 
     def report_unpacked_use(self, call: ast.Call, receiver: ast.expr) -> None:
         """A step whose result is used some other way than stored or unpacked."""
+        if self._discarded(call):
+            return  # ``[env.step(a) for a in actions]`` as a statement: nothing reads the result
         decision, _ = self.decision(receiver, legacy_shape=False)
         if decision.action is not Action.LEAVE and self.context.profile.imports_gym:
             chained = _chained_four(self.facts.parent(call), call)
@@ -64,6 +66,14 @@ class ResultRules(StepFamilyBase):
                 "(index 2 is now terminated, 3 truncated, 4 info): update this use by hand",
                 FixKind.FLAG,
             )
+
+    def _discarded(self, call: ast.Call) -> bool:
+        """The step is the element of a comprehension that is itself a statement, or the call
+        a statement's whole expression: its result is thrown away."""
+        parent = self.facts.parent(call)
+        if isinstance(parent, (ast.ListComp, ast.SetComp, ast.GeneratorExp)) and parent.elt is call:
+            parent = self.facts.parent(parent)
+        return isinstance(parent, ast.Expr)
 
     def plan_result_name(self, assign: ast.Assign, result: ast.Name, receiver: ast.expr) -> None:
         """``res = env.step(a)``: its reads are planned once every such step is known."""
@@ -112,7 +122,11 @@ class ResultRules(StepFamilyBase):
             live = i >= poisoned
             if live and step.decision.action is Action.REPORT:
                 self.report(
-                    step.assign, "GM304", f"{step.decision.reason}; if it is a Gym env, its step returns five values", FixKind.FLAG
+                    step.assign,
+                    "GM304",
+                    f"{step.decision.reason}; if it is a Gym env, its step returns five values",
+                    FixKind.FLAG,
+                    question=self.receiver_question(step.receiver, step.decision),
                 )
             active.append(active[-1] + (live and step.decision.action is not Action.REPORT))
         for read, stop in zip(reads, reach):

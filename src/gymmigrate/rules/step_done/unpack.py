@@ -15,6 +15,7 @@ binding, and reads whose purpose is unclear, are reported instead.
 from __future__ import annotations
 
 import ast
+from collections.abc import Hashable
 import re
 from bisect import bisect_left, bisect_right
 from dataclasses import dataclass
@@ -76,6 +77,7 @@ class UnpackRules(StepFamilyBase):
                 "GM301",
                 f"{decision.reason}: if it is a Gym env, unpack `obs, reward, terminated, truncated, info`",
                 FixKind.FLAG,
+                question=self.receiver_question(receiver, decision),
             )
             return
         names = self._step_names(assign, vector)
@@ -95,7 +97,9 @@ class UnpackRules(StepFamilyBase):
             self.info_steps[assign] = names
         message = f"step now returns {names.terminated} and {names.truncated} instead of one done flag"
         if decision.action is Action.REWRITE_FOR_REVIEW:
-            self.report(assign, names.code, f"{message}; {decision.reason}", FixKind.ASSIST)
+            self.report(
+                assign, names.code, f"{message}; {decision.reason}", FixKind.ASSIST, question=self.receiver_question(receiver, decision)
+            )
         else:
             self.report(assign, names.code, message)
 
@@ -336,11 +340,14 @@ class UnpackRules(StepFamilyBase):
                     f"`{names.terminated} or {names.truncated}`; if this value masks bootstrapping from the next state, store "
                     f"`{names.terminated}` there",
                     FixKind.FLAG,
+                    question=("GM302", id(assign)),
                 )
 
     def _report_open_read(self, read: ast.Name, step: _DoneStep) -> None:
         use = classify_done_read(read, self.facts)
         names = step.names
+        # The reads of one step's done ask one question: what its done should mean.
+        question = ("GM302", id(step.assign))
         owner = self._dominating_step(read, step.done)
         statement = self.facts.statement_of(read)
         stored = (
@@ -357,6 +364,7 @@ class UnpackRules(StepFamilyBase):
                 f"{stored[0].lineno}; it means `{names.terminated} or {names.truncated}`: if it masks bootstrapping "
                 f"from the next state, store `{names.terminated}`",
                 FixKind.FLAG,
+                question=question,
             )
         elif use is DoneUse.DATA and owner is step.assign and stored_in_sequence(read, self.facts):
             # one question per step: its other stores are notes pointing at the first
@@ -368,6 +376,7 @@ class UnpackRules(StepFamilyBase):
                 f"truncations, also keep the value of the final observation and mask it with `{names.terminated}`{same}",
                 FixKind.FLAG,
                 tier,
+                question=question,
             )
         elif use is DoneUse.DATA and owner is step.assign:
             self._report_read(
@@ -375,6 +384,7 @@ class UnpackRules(StepFamilyBase):
                 f"`{read.id}` used as a value now means `{names.terminated} or {names.truncated}`; if it masks "
                 f"bootstrapping from the next state, use `{names.terminated}` there",
                 FixKind.FLAG,
+                question=question,
             )
         elif use is DoneUse.DATA:
             self._report_read(
@@ -382,6 +392,7 @@ class UnpackRules(StepFamilyBase):
                 f"`{read.id}` used as a value may not come from the step on line {step.assign.lineno}; "
                 f"if it feeds bootstrapping, use `{names.terminated}` there",
                 FixKind.FLAG,
+                question=question,
             )
         elif use is DoneUse.AMBIGUOUS:
             self._report_read(
@@ -389,12 +400,15 @@ class UnpackRules(StepFamilyBase):
                 f"`{read.id}` now means `{names.terminated} or {names.truncated}`; "
                 f"if this use decides bootstrapping, use `{names.terminated}`",
                 FixKind.FLAG,
+                question=question,
             )
 
-    def _report_read(self, read: ast.Name, message: str, kind: FixKind, tier: Tier | None = None) -> None:
+    def _report_read(
+        self, read: ast.Name, message: str, kind: FixKind, tier: Tier | None = None, question: Hashable | None = None
+    ) -> None:
         if id(read) not in self.reported_reads:
             self.reported_reads.add(id(read))
-            self.report(read, "GM302", message, kind, tier)
+            self.report(read, "GM302", message, kind, tier, question=question)
 
     def _declared_outside(self, node: ast.AST, name: str) -> bool:
         function = self.facts.enclosing_function(node)

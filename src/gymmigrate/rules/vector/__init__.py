@@ -66,7 +66,7 @@ RULES = (
         "GM706",
         "vector autoreset and final observation",
         FixKind.ASSIST,
-        "`final_observation` readers get `autoreset_mode=SAME_STEP` and `final_obs`; other readers are reported.",
+        "`final_observation` readers get `autoreset_mode=SAME_STEP` and `final_obs`; other legacy autoreset uses are reported, once per file.",
     ),
     Rule(
         "GM707",

@@ -27,7 +27,7 @@ from gymmigrate.facts import names as N
 from gymmigrate.facts.decisions import Action, decide
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import keyword, string_value
-from gymmigrate.findings import FixKind
+from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.vector.common import (
     LIST_INFO_WRAPPERS,
     VECTOR_CLASSES,
@@ -64,6 +64,9 @@ _VECTOR_WRAPPER_API = frozenset(
 FINAL_OBS_KEYS = {"final_observation": "final_obs", "_final_observation": "_final_obs"}
 _FINAL_INFO_KEYS = ("final_info", "_final_info")
 _TERMINAL_KEYS = ("terminal_observation", "_terminal_observation")
+# The one question every legacy-autoreset item of a file asks (``Plan.ask_once``): how this
+# code meets Gymnasium's next-step autoreset.
+_AUTORESET = ("GM706", "autoreset")
 _POSITIONAL_CONSUMERS = ("enumerate", "zip", "len", "list", "tuple", "iter", "sorted", "reversed")
 
 
@@ -190,6 +193,7 @@ class Infos(VectorFamilyBase):
                     "GM705",
                     f"vector infos are a dict of arrays in Gymnasium: wrapped the env in DictInfoToList so the "
                     f"list-style reads of {infos_names} still get one dict per sub-env",
+                    tier=Tier.NOTE,  # the wrapper gives the legacy lists back exactly: nothing to decide
                 )
             else:
                 caveat = ""
@@ -218,7 +222,23 @@ class Infos(VectorFamilyBase):
                     f'Gymnasium resets sub-envs on the next step by default: the {creator}(...) env now uses '
                     f'autoreset_mode=SAME_STEP, which keeps the legacy timing, and "{old}" is "{new}"',
                 )
-        else:
+        elif creation is not None and self.context.profile.imports_gym:
+            # Every legacy vector env reset a finished sub-env inside the same step. Neither
+            # Gymnasium mode is that: NEXT_STEP adds a step, SAME_STEP moves the ending step's
+            # info (``"episode"``...) into infos["final_info"]. The final_info/terminal readers'
+            # items ask the same question: the file's review list asks it once.
+            self.report(
+                creation,
+                "GM706",
+                "legacy vector envs reset a finished sub-env within the same step; Gymnasium's default returns the "
+                "final observation and resets on the next step, which ignores its action and returns reward 0 (one "
+                "extra transition per episode in code that stores every step): skip that step (mask it with the "
+                "previous step's `terminations | truncations`), or create the env with "
+                'autoreset_mode=AutoresetMode.SAME_STEP (the ending step\'s info is then in infos["final_info"])',
+                FixKind.FLAG,
+                question=_AUTORESET,
+            )
+        if not same_step:
             for node in final_obs:
                 self.report(
                     node,
@@ -226,6 +246,7 @@ class Infos(VectorFamilyBase):
                     "Gymnasium 1.x has no final_observation: by default the final obs is in obs and the sub-env resets "
                     'on the next step; create the env with autoreset_mode=AutoresetMode.SAME_STEP and read "final_obs"',
                     FixKind.FLAG,
+                    question=_AUTORESET,
                 )
         for node in final_info:
             hint = "with SAME_STEP autoreset" if same_step else "with autoreset_mode=SAME_STEP (the default NEXT_STEP has none)"
@@ -235,6 +256,7 @@ class Infos(VectorFamilyBase):
                 f'infos["final_info"] exists only {hint} and is now a dict of arrays with a "_final_info" mask, not '
                 "an array of per-env dicts: rewrite this reader",
                 FixKind.FLAG,
+                question=_AUTORESET,
             )
         for node in terminal:
             self.report(
@@ -243,6 +265,7 @@ class Infos(VectorFamilyBase):
                 "terminal_observation (gym 0.22-0.24) is gone: with the default NEXT_STEP autoreset the final obs is in "
                 'obs itself; with autoreset_mode=SAME_STEP read infos["final_obs"][i] where infos["_final_obs"][i]',
                 FixKind.FLAG,
+                question=_AUTORESET,
             )
 
     def _creates_list_infos(self, creation: ast.Call) -> bool:
@@ -366,6 +389,7 @@ class Infos(VectorFamilyBase):
                 f'"{key}" comes from legacy vector autoreset: Gymnasium 1.x resets sub-envs on the next step and has no '
                 'such key (with autoreset_mode=SAME_STEP: "final_obs"/"final_info", dicts of arrays); rewrite this reader',
                 FixKind.FLAG,
+                question=_AUTORESET,
             )
 
     def _reads_a_key(self, string: ast.Constant) -> bool:

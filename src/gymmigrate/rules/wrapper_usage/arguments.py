@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING
 
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts.module import keyword, string_value
-from gymmigrate.findings import FixKind
+from gymmigrate.findings import FixKind, Tier
 
 if TYPE_CHECKING:
     from gymmigrate.rules.wrapper_usage.stacks import StacksFamily
@@ -202,6 +202,7 @@ def args_TransformObservation(family: StacksFamily, call: ast.Call) -> CallBuild
             "TransformObservation needs an observation_space: None keeps the env's space, as legacy did; pass "
             "the new space if `func` changes the observation's shape or dtype",
             kind=FixKind.ASSIST,
+            tier=Tier.NOTE,  # exactly what the legacy wrapper did (it never changed the space)
         )
     by_keyword = f is not None
 

@@ -121,6 +121,18 @@ class WrapperForwarding(RuleFamily):
             return
         if self.receivers.kind_of(receiver) is not EnvKind.GYM_ENV:
             return
+        if name == "monitor" and isinstance(attr.ctx, ast.Load):
+            # gym < 0.9's ``env.monitor.start(dir)`` / ``.close()``: no wrapper has it to forward.
+            self.report(
+                attr,
+                "GM604",
+                f"`{dotted_name(attr) or name}` (gym < 0.9's monitor API) is gone, and no wrapper has it: record with "
+                "`RecordVideo`/`RecordEpisodeStatistics` around the env; `.monitor.close()` becomes `.close()` "
+                "(which also closes the env)",
+                kind=FixKind.FLAG,
+                question=("GM604", "monitor", dotted_name(receiver)),
+            )
+            return
         origin = self._origin(receiver)
         if origin == CYCLE:
             origin = None
