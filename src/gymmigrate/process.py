@@ -9,6 +9,7 @@ reading and the atomic write that never overwrites an edit saved meanwhile.
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass, replace
 from enum import Enum
 from pathlib import Path
@@ -71,7 +72,8 @@ def migrate_bytes(
             return FileResult(shown, Status.SKIPPED), None
         if dependency:
             assert path is not None
-            rewritten, found = migrate_dependency_file(path, source, selection=options.selection)
+            routes = None if options.project is None else options.project.plugin_routes.get(os.path.realpath(path), {})
+            rewritten, found = migrate_dependency_file(path, source, selection=options.selection, plugins=routes)
             transformed = Transformed(original=source, rewritten=rewritten, encoding="utf-8", findings=list(found))
         elif lint:
             if adapter:

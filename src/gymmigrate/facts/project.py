@@ -117,6 +117,11 @@ class ProjectFacts:
     # (path, class) -> the methods subclasses in other modules of the run override, with
     # where ("pkg/far.py:FarEnv"): a hook a base class migrates must migrate there too.
     overrides: dict[tuple[str, str], dict[str, list[str]]] = field(default_factory=dict)
+    # ``gym.envs`` plugin entry points of the run's dependency files (GM111): the module
+    # path -> the (function, namespace or None) calls to append to it, and the dependency
+    # file's path -> entry target -> (the module that calls it, as shown, or None; why not).
+    plugin_calls: dict[str, tuple[tuple[str, str | None], ...]] = field(default_factory=dict)
+    plugin_routes: dict[str, dict[str, tuple[str | None, str]]] = field(default_factory=dict)
 
     @classmethod
     def join(cls, summaries: list[ModuleSummary], blocked: dict[str, str] | None = None) -> ProjectFacts:
@@ -484,6 +489,11 @@ class ProjectView:
     def defines(self, qualified: str) -> bool:
         """The name comes from a module of the run (its own code, not a library's)."""
         return self.facts._split(qualified, self.path) is not None
+    def plugin_calls(self) -> tuple[tuple[str, str | None], ...]:
+        """The register functions of ``gym.envs`` entry points this module must call on
+        import, each with the namespace gym registered its ids in (None: the root)."""
+        return self.facts.plugin_calls.get(self.path, ())
+
     def overridden_elsewhere(self, classname: str, method: str) -> list[str]:
         """Subclasses in other modules of the run that override ``classname.method``."""
         return self.facts.overrides.get((self.path, classname), {}).get(method, [])

@@ -554,6 +554,11 @@ class Receivers:
             other = _other_library_class_kind(q)
             if other is not None:
                 return other
+        if self.project is not None:
+            for q in self.qualified_names(base):
+                found = self.project.call_kind(q)  # an env class of another module of the run
+                if found is not None and found not in (EnvKind.UNKNOWN, EnvKind.NOT_ENV):
+                    return found
         local = self.local_class(base)
         if local is not None:
             # Class cycles (``class A(B)`` / ``class B(A)``) add no evidence.

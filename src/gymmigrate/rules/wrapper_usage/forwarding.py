@@ -118,6 +118,8 @@ class WrapperForwarding(RuleFamily):
         if name in SAFE_ATTRIBUTES or (name.startswith("__") and name.endswith("__")):
             return
         if isinstance(receiver, ast.Name) and receiver.id in ("self", "cls"):
+            if receiver.id == "self":
+                self._self_forwarding(attr)
             return
         if self.receivers.kind_of(receiver) is not EnvKind.GYM_ENV:
             return
@@ -186,6 +188,57 @@ class WrapperForwarding(RuleFamily):
             tier=Tier.NOTE,
         )
         self.plan.replace(attr, _get_wrapper_attr(name))
+
+    def _self_forwarding(self, attr: ast.Attribute) -> None:
+        """``self.get_frame()`` in a method of a Gym wrapper class that defines no
+        ``get_frame``: legacy ``Wrapper.__getattr__`` found it on the wrapped env (never a
+        private name: gym refused those); ``self.get_wrapper_attr("get_frame")`` searches
+        this wrapper, then the ones below it and the base env, as forwarding did."""
+        name = attr.attr
+        if not isinstance(attr.ctx, ast.Load) or name.startswith("_") or name in _WRAPPER_OWN:
+            return
+        function = self.facts.enclosing_function(attr)
+        classdef = self.facts.enclosing_class(attr)
+        if function is None or classdef is None or self.facts.parent(function) is not classdef:
+            return
+        args = function.args.posonlyargs + function.args.args
+        static = any(isinstance(d, ast.Name) and d.id in ("staticmethod", "classmethod") for d in function.decorator_list)
+        if not args or args[0].arg != "self" or static:
+            return
+        chain = self._wrapper_chain(classdef, frozenset())
+        if chain is None or any(name in _self_defined(local) for local in chain):
+            return
+        self.report(
+            attr,
+            "GM604",
+            f"attribute forwarding is gone in Gymnasium 1.0: this wrapper class defines no `{name}`, which gym found on "
+            f"the wrapped env; `self.get_wrapper_attr(\"{name}\")` searches the wrappers and the base env as forwarding did",
+            tier=Tier.NOTE,
+        )
+        self.plan.replace(attr, _get_wrapper_attr(name))
+
+    def _wrapper_chain(self, classdef: ast.ClassDef, seen: frozenset[int]) -> list[ast.ClassDef] | None:
+        """``classdef`` and the classes of this module it derives from, when every base is
+        one of those or a Gym wrapper base class (``Wrapper``, ``ObservationWrapper``...),
+        at least one is, and none takes attribute lookup in hand; else None."""
+        if id(classdef) in seen or not classdef.bases or classdef.keywords:
+            return None
+        chain = [classdef]
+        gym_base = False
+        for base in classdef.bases:
+            names = {N.strip_gym_prefix(q) for q in self.facts.qualified_names(base)}
+            if names & N.GYM_WRAPPER_BASE_CLASSES:
+                gym_base = True
+                continue
+            local = self.receivers.local_class(base)
+            inner = None if local is None else self._wrapper_chain(local, seen | {id(classdef)})
+            if inner is None:
+                return None
+            chain += inner
+            gym_base = True
+        if not gym_base or any(_takes_lookup_in_hand(local) for local in chain):
+            return None
+        return chain
 
     def _check_env_chain(self, attr: ast.Attribute) -> None:
         parent = self.facts.parent(attr)
@@ -458,6 +511,40 @@ def _get_wrapper_attr(name: str):
         )
 
     return build
+
+
+# Methods of Gymnasium's wrapper base classes besides SAFE_ATTRIBUTES (a subclass overrides them).
+_WRAPPER_OWN = SAFE_ATTRIBUTES | {"observation", "action", "reward", "reverse_action", "env_is_wrapped"}
+
+
+def _self_defined(classdef: ast.ClassDef) -> set[str]:
+    """What a class defines for ``self``: its methods and class-level names, and every
+    ``self.x`` it stores anywhere (tuple targets, ``for``, ``with ... as`` included)."""
+    names: set[str] = set()
+    for statement in classdef.body:
+        if isinstance(statement, (*FUNCTIONS, ast.ClassDef)):
+            names.add(statement.name)
+        elif isinstance(statement, (ast.Assign, ast.AnnAssign, ast.AugAssign)):
+            targets = statement.targets if isinstance(statement, ast.Assign) else [statement.target]
+            names.update(n.id for target in targets for n in ast.walk(target) if isinstance(n, ast.Name))
+    for node in ast.walk(classdef):
+        if isinstance(node, FUNCTIONS):
+            names.add(node.name)
+        elif isinstance(node, ast.Attribute) and isinstance(node.ctx, ast.Store) and isinstance(node.value, ast.Name) and node.value.id == "self":
+            names.add(node.attr)
+    return names
+
+
+def _takes_lookup_in_hand(classdef: ast.ClassDef) -> bool:
+    """It defines ``__getattr__``/``__getattribute__``, or sets attributes by name."""
+    for node in ast.walk(classdef):
+        if isinstance(node, FUNCTIONS) and node.name in ("__getattr__", "__getattribute__", "__init_subclass__"):
+            return True
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "setattr":
+            return True
+        if isinstance(node, ast.Attribute) and node.attr == "__dict__":
+            return True
+    return False
 
 
 def _defined_attributes(classdef: ast.ClassDef) -> set[str]:
