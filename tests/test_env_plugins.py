@@ -44,7 +44,7 @@ def test_the_migrated_package_registers_its_envs_and_passes_its_own_tests(tmp_pa
     result = runner.invoke(app, ["rewrite", "--report", str(report), str(project)])
     assert result.exit_code == 0, result.output
     init = (project / "tilegrid" / "__init__.py").read_text()
-    assert init.endswith('kwargs={"size": 6})\n\n\nregister_tile_envs()\n')
+    assert init.endswith('entry_point="tilegrid.rooms:TrapRoom")\n\n\nregister_tile_envs()\n')
     setup = (project / "setup.py").read_text()
     assert '"gym.envs": ["__root__ = tilegrid.__init__:register_tile_envs"]' in setup  # reported, left for gym
     found = _review(report)
@@ -57,7 +57,7 @@ def test_the_migrated_package_registers_its_envs_and_passes_its_own_tests(tmp_pa
         timeout=120,
     )
     assert run.returncode == 0, run.stdout + run.stderr
-    assert "3 passed" in run.stdout
+    assert "4 passed" in run.stdout
     again = runner.invoke(app, ["rewrite", "--diff", str(project)])
     assert "would rewrite 0 of" in again.output
 

@@ -144,15 +144,38 @@ class Receivers:
         return self.facts.functions.get(func.id) if isinstance(func, ast.Name) else None
 
     def super_kind(self, receiver: ast.AST) -> EnvKind | None:
-        """``super().step(a)`` inside a Gym wrapper or env subclass is the wrapped Gym call."""
+        """``super().step(a)`` inside a Gym wrapper or env subclass is the wrapped Gym call;
+        so is ``Base.step(self, a)`` naming one of the class's own bases."""
         if not (isinstance(receiver, ast.Call) and isinstance(receiver.func, ast.Name) and receiver.func.id == "super"):
-            return None
+            return self._explicit_base_kind(receiver)
         classdef = self.facts.enclosing_class(receiver)
         if classdef is None:
             return None
         if self.is_gym_wrapper_class(classdef):
             return EnvKind.GYM_ENV
         kind = self.class_kind(classdef)
+        return kind if kind.is_gym else None
+
+    def _explicit_base_kind(self, receiver: ast.AST) -> EnvKind | None:
+        if not isinstance(receiver, (ast.Name, ast.Attribute)):
+            return None
+        method = self.facts.parent(receiver)
+        call = self.facts.parent(method) if isinstance(method, ast.Attribute) else None
+        if not (isinstance(call, ast.Call) and call.func is method and call.args):
+            return None
+        first = call.args[0]
+        function = self.facts.enclosing_function(call)
+        classdef = self.facts.enclosing_class(call)
+        if function is None or classdef is None or self.facts.parent(function) is not classdef:
+            return None
+        params = function.args.posonlyargs + function.args.args
+        if not (params and isinstance(first, ast.Name) and first.id == params[0].arg):
+            return None
+        text = ast.dump(receiver)
+        base = next((b for b in classdef.bases if ast.dump(b) == text), None)
+        if base is None:
+            return None
+        kind = self._base_kind(base)
         return kind if kind.is_gym else None
 
     # -- classification -----------------------------------------------------------------
