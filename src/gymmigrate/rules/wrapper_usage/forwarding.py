@@ -121,9 +121,12 @@ class WrapperForwarding(RuleFamily):
             if receiver.id == "self":
                 self._self_forwarding(attr)
             return
-        if self.receivers.kind_of(receiver) is not EnvKind.GYM_ENV:
+        if self._outer_is_wrapper(receiver):
+            origin: Origin = WRAPPED  # whatever else the name held, here it is a wrapper
+        elif self.receivers.kind_of(receiver) is not EnvKind.GYM_ENV:
             return
-        origin = self._origin(receiver)
+        else:
+            origin = self._origin(receiver)
         if origin == CYCLE:
             origin = None
         if origin == RAW:
@@ -310,6 +313,19 @@ class WrapperForwarding(RuleFamily):
             return local.name
         return None
 
+    def _is_run_wrapper_class(self, func: ast.expr) -> bool:
+        """A Gym wrapper class another module of the run defines."""
+        view = self.receivers.project
+        return view is not None and any(view.is_wrapper_class(q) for q in self.facts.qualified_names(func))
+
+    def _outer_is_wrapper(self, expr: ast.expr) -> bool:
+        """``expr`` is, where it is read, a Gym wrapper made by a constructor call: Gymnasium's
+        wrappers, this module's wrapper classes, or another module's of the run."""
+        if self._outer_wrapper(expr) is not None:
+            return True
+        value = self._nearest_assignment(expr) if isinstance(expr, ast.Name) else expr
+        return isinstance(value, ast.Call) and self._is_run_wrapper_class(value.func)
+
     def _outer_attributes(self, expr: ast.expr) -> set[str]:
         """Attributes the outermost wrapper of ``expr`` defines itself (gymnasium's or this module's)."""
         owner = self._outer_wrapper(expr)
@@ -386,6 +402,8 @@ class WrapperForwarding(RuleFamily):
                 return self._wrapped(call)
             if rest.startswith("envs."):
                 return RAW
+        if self._is_run_wrapper_class(call.func):
+            return self._wrapped(call)
         local = self.receivers.local_class(call.func)
         if local is not None:
             if self.receivers.is_gym_wrapper_class(local):
