@@ -343,9 +343,24 @@ class Receivers:
         statement = self.facts.statement_of(last)
         if not (isinstance(statement, (ast.Assign, ast.AnnAssign)) and statement.value is not None):
             return None
-        if any(isinstance(n, ast.Name) and n.id == name.id for n in ast.walk(statement.value)):
-            return None  # ``env = Wrapper(env)``: its kind rests on the earlier values too
+        rebinds = any(isinstance(n, ast.Name) and n.id == name.id for n in ast.walk(statement.value))
+        if rebinds and not self._makes_gym_wrapper(statement.value):
+            return None  # ``env = wrap(env)``: its kind rests on the earlier values too
         return last if flow.dominates(statement, name, name) else None
+
+    def _makes_gym_wrapper(self, value: ast.expr) -> bool:
+        """``Wrapper(env, ...)`` with a Gym wrapper class (Gymnasium's, this module's, or
+        another module's of the run): a Gym env whatever ``env`` was."""
+        if not isinstance(value, ast.Call):
+            return False
+        for q in self.qualified_names(value.func):
+            rest = N.strip_gym_prefix(q)
+            if rest is not None and (rest in N.GYM_WRAPPER_BASE_CLASSES or (rest.startswith("wrappers.") and not rest.startswith("wrappers.vector."))):
+                return True
+            if self.project is not None and self.project.is_wrapper_class(q):
+                return True
+        local = self.local_class(value.func)
+        return local is not None and self.is_gym_wrapper_class(local)
 
     def binding_kind(self, binding: ast.AST) -> EnvKind | None:
         """The kind of value one binding stores (None: it adds no evidence, e.g. ``+=``)."""
