@@ -121,12 +121,14 @@ class WrapperForwarding(RuleFamily):
             if receiver.id == "self":
                 self._self_forwarding(attr)
             return
-        if self._outer_is_wrapper(receiver):
-            origin: Origin = WRAPPED  # whatever else the name held, here it is a wrapper
-        elif self.receivers.kind_of(receiver) is not EnvKind.GYM_ENV:
-            return
-        else:
+        if self.receivers.kind_of(receiver) is EnvKind.GYM_ENV:
             origin = self._origin(receiver)
+        elif self._outer_is_wrapper(receiver):
+            origin = self._origin(receiver)
+            if origin in (None, CYCLE, RAW):
+                origin = WRAPPED  # whatever else the name held, here it is a wrapper
+        else:
+            return
         if origin == CYCLE:
             origin = None
         if origin == RAW:
