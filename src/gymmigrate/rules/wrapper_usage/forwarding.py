@@ -173,7 +173,7 @@ class WrapperForwarding(RuleFamily):
                 "get_wrapper_attr (env.spec may be None for an env built without make)",
                 tier=Tier.NOTE,  # the same attribute forwarding reached: an explanation
             )
-            self.plan.replace(attr, _get_wrapper_attr(name))
+            self._replace_with_get_wrapper_attr(attr, name)
             return
         if name in BASE_ENV_ATTRIBUTES and name not in self._local_wrapper_attributes():
             self.report(
@@ -192,7 +192,7 @@ class WrapperForwarding(RuleFamily):
             "and the base env as forwarding did",
             tier=Tier.NOTE,
         )
-        self.plan.replace(attr, _get_wrapper_attr(name))
+        self._replace_with_get_wrapper_attr(attr, name)
 
     def _self_forwarding(self, attr: ast.Attribute) -> None:
         """``self.get_frame()`` in a method of a Gym wrapper class that defines no
@@ -220,7 +220,20 @@ class WrapperForwarding(RuleFamily):
             f"the wrapped env; `self.get_wrapper_attr(\"{name}\")` searches the wrappers and the base env as forwarding did",
             tier=Tier.NOTE,
         )
-        self.plan.replace(attr, _get_wrapper_attr(name))
+        self._replace_with_get_wrapper_attr(attr, name)
+
+    def _replace_with_get_wrapper_attr(self, attr: ast.Attribute, name: str) -> None:
+        """``x.get_wrapper_attr("name")``, quoted so that it can stand inside the f-strings
+        around it (before Python 3.12 an f-string cannot hold its own quote)."""
+        used = set()
+        for ancestor in self.facts.ancestors(attr):
+            if isinstance(ancestor, ast.JoinedStr):
+                text = self.facts.segment(ancestor).lstrip("rRbBfFuU")
+                used.add(text[:1])
+        quote = next((q for q in ('"', "'") if q not in used), None)
+        if quote is None:
+            return  # both quotes taken by nested f-strings: the finding stands alone
+        self.plan.replace(attr, _get_wrapper_attr(name, quote))
 
     def _wrapper_chain(self, classdef: ast.ClassDef, seen: frozenset[int]) -> list[ast.ClassDef] | None:
         """``classdef`` and the classes of this module it derives from, when every base is
@@ -521,11 +534,11 @@ def _through(*attrs: str):
     return build
 
 
-def _get_wrapper_attr(name: str):
+def _get_wrapper_attr(name: str, quote: str = '"'):
     def build(node: cst.Attribute) -> cst.BaseExpression:
         return cst.Call(
             func=cst.Attribute(value=node.value, attr=cst.Name("get_wrapper_attr")),
-            args=[cst.Arg(value=cst.SimpleString(f'"{name}"'))],
+            args=[cst.Arg(value=cst.SimpleString(f"{quote}{name}{quote}"))],
             lpar=node.lpar,
             rpar=node.rpar,
         )
