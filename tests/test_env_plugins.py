@@ -57,7 +57,7 @@ def test_the_migrated_package_registers_its_envs_and_passes_its_own_tests(tmp_pa
         timeout=120,
     )
     assert run.returncode == 0, run.stdout + run.stderr
-    assert "5 passed" in run.stdout
+    assert "6 passed" in run.stdout
     again = runner.invoke(app, ["rewrite", "--diff", str(project)])
     assert "would rewrite 0 of" in again.output
 

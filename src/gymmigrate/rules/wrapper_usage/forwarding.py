@@ -121,14 +121,12 @@ class WrapperForwarding(RuleFamily):
             if receiver.id == "self":
                 self._self_forwarding(attr)
             return
-        if self.receivers.kind_of(receiver) is EnvKind.GYM_ENV:
-            origin = self._origin(receiver)
-        elif self._outer_is_wrapper(receiver):
-            origin = self._origin(receiver)
-            if origin in (None, CYCLE, RAW):
-                origin = WRAPPED  # whatever else the name held, here it is a wrapper
-        else:
+        known = self.receivers.kind_of(receiver) is EnvKind.GYM_ENV
+        if not known and not self._outer_is_wrapper(receiver):
             return
+        origin = self._origin(receiver)
+        if origin in (None, CYCLE, RAW) and (not known or self._outer_is_wrapper(receiver)):
+            origin = WRAPPED  # whatever else the name held, where it is read it is a wrapper
         if origin == CYCLE:
             origin = None
         if origin == RAW:
