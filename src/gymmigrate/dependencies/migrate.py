@@ -11,12 +11,12 @@ from typing import TYPE_CHECKING
 
 from gymmigrate.dependencies import DependencyError, kind_of
 from gymmigrate.dependencies.core import apply_edits
-from gymmigrate.dependencies.plugins import plugin_findings
 from gymmigrate.dependencies.lines import (
     migrate_environment,
     migrate_requirements,
     migrate_setup_cfg,
 )
+from gymmigrate.dependencies.plugins import plugin_findings
 from gymmigrate.dependencies.pyproject import PyprojectError, migrate_pyproject
 from gymmigrate.dependencies.setup_py import SetupPyError, migrate_setup_py
 from gymmigrate.dependencies.shell import migrate_dockerfile, migrate_page
