@@ -9,6 +9,7 @@ reading and the atomic write that never overwrites an edit saved meanwhile.
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass, replace
 from enum import Enum
 from pathlib import Path
@@ -72,7 +73,10 @@ def migrate_bytes(
         if dependency:
             assert path is not None
             requires = options.project.requires if options.project is not None else frozenset()
-            rewritten, found = migrate_dependency_file(path, source, selection=options.selection, requires=requires)
+            routes = None if options.project is None else options.project.plugin_routes.get(os.path.realpath(path), {})
+            rewritten, found = migrate_dependency_file(
+                path, source, selection=options.selection, requires=requires, plugins=routes
+            )
             transformed = Transformed(original=source, rewritten=rewritten, encoding="utf-8", findings=list(found))
         elif lint:
             if adapter:

@@ -26,6 +26,8 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, overload
 
+from gymmigrate.dependencies import kind_of
+from gymmigrate.dependencies.plugins import PluginEntry, plugin_entries
 from gymmigrate.facts.project import ModuleSummary, ProjectFacts
 from gymmigrate.facts.summaries import summarize
 from gymmigrate.findings import Finding, FixKind
@@ -74,9 +76,10 @@ def run_files(
         # One cheap pass over every module (on the workers too), joined once.
         pool = (lambda python: _run_parallel(python, _Summarize(), jobs)) if parallel else None  # noqa: E731
         summaries = run_summaries(list(paths), pool)
-        project = ProjectFacts.join(summaries)
+        project = _with_plugins(ProjectFacts.join(summaries), summaries, paths)
         if not lint:
             project, done = _with_refusals(project, summaries, paths, options, want_diff, jobs if parallel else 1)
+            project = _with_plugins(project, summaries, paths)
             if write or project.blocked:
                 done = {}  # a written run writes in its own pass; a blocked module changes the facts
         options = replace(options, project=project)
@@ -132,6 +135,67 @@ def _with_refusals(
     if not refused:
         return project, dict(zip(checked, results))
     return ProjectFacts.join(summaries, blocked={**project.blocked, **refused}), {}
+
+
+def _with_plugins(project: ProjectFacts, summaries: list[ModuleSummary], paths: Sequence[Path]) -> ProjectFacts:
+    """The run's facts with its ``gym.envs`` entry points resolved (GM111): each names a
+    function of a module; where that module is migrated in this run and defines it, the
+    module calls it on import, and the dependency file says so; else it says why not."""
+    plugin_files = [path for path in paths if kind_of(path) in ("setup.py", "setup.cfg", "pyproject.toml")]
+    project.plugin_calls, project.plugin_routes = {}, {}
+    if not plugin_files:
+        return project
+    python = {os.path.realpath(path) for path in paths if Path(path).suffix in (".py", ".pyw")}
+    by_path = {os.path.realpath(summary.path): summary for summary in summaries}
+    for path in plugin_files:
+        try:
+            text = Path(path).read_bytes().decode("utf-8-sig")
+        except (OSError, UnicodeDecodeError):
+            continue
+        kind = kind_of(path)
+        assert kind is not None
+        routes = project.plugin_routes.setdefault(os.path.realpath(path), {})
+        for entry in plugin_entries(kind, text):
+            target, reason = _plugin_module(Path(os.path.realpath(path)).parent, entry, python, by_path, project)
+            if target is None:
+                routes[entry.target] = (None, reason)
+                continue
+            calls = project.plugin_calls.setdefault(target, ())
+            if (entry.attr, entry.namespace) not in calls:
+                project.plugin_calls[target] = (*calls, (entry.attr, entry.namespace))
+            routes[entry.target] = (os.path.relpath(target, os.path.dirname(os.path.realpath(path))), "")
+    return project
+
+
+def _plugin_module(
+    base: Path, entry: PluginEntry, python: set[str], by_path: dict[str, ModuleSummary], project: ProjectFacts
+) -> tuple[str | None, str]:
+    """The module of the run that will call ``entry``'s function, or None and why not."""
+    if not entry.attr or "." in entry.attr:
+        return None, "it names no top-level function of a module"
+    parts = entry.module.split(".")
+    if parts[-1] == "__init__":
+        parts.pop()
+    candidates = [root.joinpath(*parts).with_suffix(".py") for root in (base, base / "src")] if parts else []
+    candidates += [root.joinpath(*parts, "__init__.py") for root in (base, base / "src")]
+    found = next((os.path.realpath(candidate) for candidate in candidates if candidate.is_file()), None)
+    if found is None:
+        return None, f"no module `{entry.module}` beside this file"
+    shown = os.path.relpath(found, base)
+    if found not in python:
+        return None, f"`{shown}` is not part of this run"
+    if found in project.blocked:
+        return None, f"`{shown}` is left as it is: {project.blocked[found]}"
+    summary = by_path.get(found)
+    try:
+        migrated = screen(read_source(Path(found), may_hold_gym_code) or b"", may_hold_gym_code)
+    except (OSError, Refused):
+        migrated = False
+    if summary is None or not migrated:
+        return None, f"the run does not migrate `{shown}`: it holds no Gym code"
+    if entry.attr not in summary.exports:
+        return None, f"`{shown}` defines no top-level `{entry.attr}`"
+    return found, ""
 
 
 def _with_blocked_note(result: FileResult, project: ProjectFacts) -> FileResult:

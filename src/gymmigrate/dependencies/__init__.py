@@ -23,7 +23,10 @@ from typing import TYPE_CHECKING
 from gymmigrate.rules.dependency_files import DEPENDENCY_RULES
 
 if TYPE_CHECKING:
+    from collections.abc import Mapping
+
     from gymmigrate.dependencies.migrate import DependencyResult
+    from gymmigrate.dependencies.plugins import Route
     from gymmigrate.selection import Selection
 
 CODES = tuple(rule.code for rule in DEPENDENCY_RULES)
@@ -81,14 +84,20 @@ def may_name_a_moved_package(source: bytes) -> bool:
 _MOVED_WORDS = (b"gym", b"baselines", b"sb3", b"pettingzoo", b"supersuit", b"shimmy", b"minigrid", b"atari", b"autorom", b"mujoco", b"procgen", b"roboschool", b"nes-py", b"nes_py", b"bullet")
 
 
-def migrate_dependency_file(path: Path | str, source: bytes, *, selection: Selection | None = None,
-                            requires: frozenset[str] = frozenset()) -> DependencyResult:
+def migrate_dependency_file(
+    path: Path | str,
+    source: bytes,
+    *,
+    selection: Selection | None = None,
+    requires: frozenset[str] = frozenset(),
+    plugins: Mapping[str, Route] | None = None,
+) -> DependencyResult:
     """The migrated bytes of a dependency file and what was changed or must be reviewed.
 
     Raises DependencyError when the file cannot be read as its kind, or when the rewrite
     would not be stable (a second run would change it again).
     """
-    return _formats().migrate_dependency_file(path, source, selection=selection, requires=requires)
+    return _formats().migrate_dependency_file(path, source, selection=selection, requires=requires, plugins=plugins)
 
 
 def migrate_page_commands(path: Path | str, source: bytes, *, selection: Selection | None = None) -> DependencyResult:

@@ -16,6 +16,7 @@ from gymmigrate.dependencies.lines import (
     migrate_requirements,
     migrate_setup_cfg,
 )
+from gymmigrate.dependencies.plugins import plugin_findings
 from gymmigrate.dependencies.pyproject import PyprojectError, migrate_pyproject
 from gymmigrate.dependencies.setup_py import SetupPyError, migrate_setup_py
 from gymmigrate.dependencies.shell import migrate_dockerfile, migrate_page
@@ -23,6 +24,9 @@ from gymmigrate.engine import LineMap
 from gymmigrate.findings import Finding
 
 if TYPE_CHECKING:
+    from collections.abc import Mapping
+
+    from gymmigrate.dependencies.plugins import Route
     from gymmigrate.selection import Selection
 
 
@@ -109,10 +113,19 @@ def _run(handler: Callable, source: bytes, selection: Selection | None = None,
     return DependencyResult(rewritten, [replace(f, line_after=line_map.forward(f.line)) for f in findings])
 
 
-def migrate_dependency_file(path: Path | str, source: bytes, *, selection: Selection | None = None,
-                            requires: frozenset[str] = frozenset()) -> DependencyResult:
+def migrate_dependency_file(
+    path: Path | str,
+    source: bytes,
+    *,
+    selection: Selection | None = None,
+    requires: frozenset[str] = frozenset(),
+    plugins: Mapping[str, Route] | None = None,
+) -> DependencyResult:
     """The migrated bytes of a dependency file and what was changed or must be reviewed.
     ``requires``: packages the run's migrated code imports (``ProjectFacts.requires``).
+
+    ``plugins``: what the run did with each ``gym.envs`` entry point of the file (GM111,
+    ``plugins.py``), by target; None for a file migrated on its own.
 
     Raises DependencyError when the file cannot be read as its kind, or when the rewrite
     would not be stable (a second run would change it again).
@@ -121,10 +134,21 @@ def migrate_dependency_file(path: Path | str, source: bytes, *, selection: Selec
     if kind is None:
         raise DependencyError("not a dependency file")
     handler = HANDLERS[kind]
+    if kind in ("setup.py", "setup.cfg", "pyproject.toml"):
+        handler = _reporting_plugins(handler, kind, plugins)
     result = _run(handler, source, selection, requires)
     if result.rewritten != source and _run(handler, result.rewritten, selection, requires).rewritten != result.rewritten:
         raise DependencyError("the dependency rewrite is not stable (a second run would change it again); file left unchanged")
     return result
+
+
+def _reporting_plugins(handler: Callable, kind: str, plugins: Mapping[str, Route] | None) -> Callable:
+    def run(text: str):
+        outcome = handler(text)
+        outcome.findings.extend(plugin_findings(kind, text, plugins))
+        return outcome
+
+    return run
 
 
 def migrate_page_commands(path: Path | str, source: bytes, *, selection: Selection | None = None) -> DependencyResult:

@@ -89,6 +89,9 @@ class ModuleSummary:
     # Each top-level class with a base imported from elsewhere: (class, qualified base
     # names as the imports spell them, the methods the class defines).
     subclasses: tuple[tuple[str, tuple[str, ...], tuple[str, ...]], ...] = ()
+    # Top-level Gym wrapper classes (``Wrapper`` subclasses, through local bases): an
+    # instance made elsewhere is a wrapper, so what it does not define was forwarded.
+    wrapper_classes: frozenset[str] = frozenset()
 
 
 @dataclass
@@ -99,6 +102,7 @@ class ProjectFacts:
     param_kinds: dict[tuple[str, str, str], list[EnvKind]] = field(default_factory=dict)
     defs: dict[str, frozenset[str]] = field(default_factory=dict)  # path -> qualnames defined
     env_classes: dict[str, frozenset[str]] = field(default_factory=dict)  # path -> env classes
+    wrapper_classes: dict[str, frozenset[str]] = field(default_factory=dict)  # path -> Gym wrapper classes
     render_mode_classes: dict[str, frozenset[str]] = field(default_factory=dict)
     modules: dict[str, str] = field(default_factory=dict)  # dotted suffix -> path ("" if ambiguous)
     # Modules whose env classes an untraced ``x.seed(...)`` elsewhere in the run may reach.
@@ -121,6 +125,11 @@ class ProjectFacts:
     # Packages the migrated code imports that its dependency files must declare: ``mpe2``
     # where a module imports ``pettingzoo.mpe`` (PZ111 moves the import there).
     requires: frozenset[str] = frozenset()
+    # ``gym.envs`` plugin entry points of the run's dependency files (GM111): the module
+    # path -> the (function, namespace or None) calls to append to it, and the dependency
+    # file's path -> entry target -> (the module that calls it, as shown, or None; why not).
+    plugin_calls: dict[str, tuple[tuple[str, str | None], ...]] = field(default_factory=dict)
+    plugin_routes: dict[str, dict[str, tuple[str | None, str]]] = field(default_factory=dict)
 
     @classmethod
     def join(cls, summaries: list[ModuleSummary], blocked: dict[str, str] | None = None) -> ProjectFacts:
@@ -134,6 +143,7 @@ class ProjectFacts:
             facts.defs[summary.path] = frozenset(summary.defs)
             left = summary.path in facts.blocked
             facts.env_classes[summary.path] = frozenset() if left else summary.env_classes
+            facts.wrapper_classes[summary.path] = frozenset() if left else summary.wrapper_classes
             facts.render_mode_classes[summary.path] = frozenset() if left else summary.render_mode_classes
             for name in _module_names(summary.path):
                 facts.modules[name] = "" if name in facts.modules and facts.modules[name] != summary.path else summary.path
@@ -497,9 +507,19 @@ class ProjectView:
     def defines(self, qualified: str) -> bool:
         """The name comes from a module of the run (its own code, not a library's)."""
         return self.facts._split(qualified, self.path) is not None
+    def plugin_calls(self) -> tuple[tuple[str, str | None], ...]:
+        """The register functions of ``gym.envs`` entry points this module must call on
+        import, each with the namespace gym registered its ids in (None: the root)."""
+        return self.facts.plugin_calls.get(self.path, ())
+
     def overridden_elsewhere(self, classname: str, method: str) -> list[str]:
         """Subclasses in other modules of the run that override ``classname.method``."""
         return self.facts.overrides.get((self.path, classname), {}).get(method, [])
+
+    def is_wrapper_class(self, qualified: str) -> bool:
+        """An imported name of the run is a Gym wrapper class (``from pkg.wrappers import X``)."""
+        split = self.facts._split(qualified, self.path)
+        return split is not None and split[1] in self.facts.wrapper_classes.get(split[0], ())
 
     def imported_class(self, qualified: str) -> tuple[bool, bool] | None:
         """For an imported class of the run: (is an env class, takes render_mode)."""

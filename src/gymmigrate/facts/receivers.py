@@ -144,15 +144,38 @@ class Receivers:
         return self.facts.functions.get(func.id) if isinstance(func, ast.Name) else None
 
     def super_kind(self, receiver: ast.AST) -> EnvKind | None:
-        """``super().step(a)`` inside a Gym wrapper or env subclass is the wrapped Gym call."""
+        """``super().step(a)`` inside a Gym wrapper or env subclass is the wrapped Gym call;
+        so is ``Base.step(self, a)`` naming one of the class's own bases."""
         if not (isinstance(receiver, ast.Call) and isinstance(receiver.func, ast.Name) and receiver.func.id == "super"):
-            return None
+            return self._explicit_base_kind(receiver)
         classdef = self.facts.enclosing_class(receiver)
         if classdef is None:
             return None
         if self.is_gym_wrapper_class(classdef):
             return EnvKind.GYM_ENV
         kind = self.class_kind(classdef)
+        return kind if kind.is_gym else None
+
+    def _explicit_base_kind(self, receiver: ast.AST) -> EnvKind | None:
+        if not isinstance(receiver, (ast.Name, ast.Attribute)):
+            return None
+        method = self.facts.parent(receiver)
+        call = self.facts.parent(method) if isinstance(method, ast.Attribute) else None
+        if not (isinstance(call, ast.Call) and call.func is method and call.args):
+            return None
+        first = call.args[0]
+        function = self.facts.enclosing_function(call)
+        classdef = self.facts.enclosing_class(call)
+        if function is None or classdef is None or self.facts.parent(function) is not classdef:
+            return None
+        params = function.args.posonlyargs + function.args.args
+        if not (params and isinstance(first, ast.Name) and first.id == params[0].arg):
+            return None
+        text = ast.dump(receiver)
+        base = next((b for b in classdef.bases if ast.dump(b) == text), None)
+        if base is None:
+            return None
+        kind = self._base_kind(base)
         return kind if kind.is_gym else None
 
     # -- classification -----------------------------------------------------------------
@@ -324,9 +347,24 @@ class Receivers:
         statement = self.facts.statement_of(last)
         if not (isinstance(statement, (ast.Assign, ast.AnnAssign)) and statement.value is not None):
             return None
-        if any(isinstance(n, ast.Name) and n.id == name.id for n in ast.walk(statement.value)):
-            return None  # ``env = Wrapper(env)``: its kind rests on the earlier values too
+        rebinds = any(isinstance(n, ast.Name) and n.id == name.id for n in ast.walk(statement.value))
+        if rebinds and not self._makes_gym_wrapper(statement.value):
+            return None  # ``env = wrap(env)``: its kind rests on the earlier values too
         return last if flow.dominates(statement, name, name) else None
+
+    def _makes_gym_wrapper(self, value: ast.expr) -> bool:
+        """``Wrapper(env, ...)`` with a Gym wrapper class (Gymnasium's, this module's, or
+        another module's of the run): a Gym env whatever ``env`` was."""
+        if not isinstance(value, ast.Call):
+            return False
+        for q in self.qualified_names(value.func):
+            rest = N.strip_gym_prefix(q)
+            if rest is not None and (rest in N.GYM_WRAPPER_BASE_CLASSES or (rest.startswith("wrappers.") and not rest.startswith("wrappers.vector."))):
+                return True
+            if self.project is not None and self.project.is_wrapper_class(q):
+                return True
+        local = self.local_class(value.func)
+        return local is not None and self.is_gym_wrapper_class(local)
 
     def binding_kind(self, binding: ast.AST) -> EnvKind | None:
         """The kind of value one binding stores (None: it adds no evidence, e.g. ``+=``)."""
@@ -558,6 +596,11 @@ class Receivers:
             other = _other_library_class_kind(q)
             if other is not None:
                 return other
+        if self.project is not None:
+            for q in self.qualified_names(base):
+                found = self.project.call_kind(q)  # an env class of another module of the run
+                if found is not None and found not in (EnvKind.UNKNOWN, EnvKind.NOT_ENV):
+                    return found
         local = self.local_class(base)
         if local is not None:
             # Class cycles (``class A(B)`` / ``class B(A)``) add no evidence.

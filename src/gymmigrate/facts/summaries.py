@@ -84,6 +84,7 @@ class _Summarizer:
                 "." * s.level + (s.module or "") for s in self.facts.tree.body if isinstance(s, ast.ImportFrom) and any(a.name == "*" for a in s.names)
             ),
             subclasses=_subclasses(self.facts),
+            wrapper_classes=frozenset(name for name, classdef in self.facts.classes.items() if self.receivers.is_gym_wrapper_class(classdef)),
         )
 
     def _exports(self, env_classes: set[str]) -> dict[str, Kind]:

@@ -21,6 +21,8 @@ Where a rule lives (families decide in the order of ``PIPELINE`` below):
     PZ101-PZ111                PettingZoo APIs and env modules . pettingzoo/
     GM109, GM110, SB110        dependency declarations ......... dependency_files.py (carried
                                out by gymmigrate.dependencies, not a family)
+    GM111                      gym.envs plugin entry points .... dependency_files.py; the module
+                               they name gets its call from env_ids/plugins.py
 
 Not rules (catalog entries that are information only, or that cannot be told apart
 from correct code by syntax): GM306, GM307, GM607.
@@ -52,6 +54,7 @@ _PZ = ("pettingzoo", "supersuit", "agent_iter")  # a PettingZoo import, or an ag
 PIPELINE = (
     FamilySpec("Imports", "gymmigrate.rules.imports"),
     FamilySpec("EnvIds", "gymmigrate.rules.env_ids.ids", ("-v",)),
+    FamilySpec("EnvPlugins", "gymmigrate.rules.env_ids.plugins", (), follows_the_run=True),
     FamilySpec(
         "RegistryApi",
         "gymmigrate.rules.env_ids.registry",

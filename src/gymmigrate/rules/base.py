@@ -67,12 +67,15 @@ class RuleFamily:
     """
 
     RULES: ClassVar[tuple[Rule, ...]] = ()
+    # Codes of standalone rules (``register_rules``) whose Python side this family carries
+    # out: GM111's dependency files name a module, and the module gets the edit.
+    CARRIES_OUT: ClassVar[tuple[str, ...]] = ()
     # Families whose notes this one reads (``rules/notes.py``): the pipeline runs them first.
     after: ClassVar[tuple[str, ...]] = ()
 
     def __init_subclass__(cls, **kwargs: object) -> None:
         super().__init_subclass__(**kwargs)
-        if cls.RULES:
+        if cls.RULES or cls.CARRIES_OUT:
             _FAMILIES.append(cls)
 
     def __init__(self, context: FileContext, facts: ModuleFacts, receivers: Receivers, plan: Plan) -> None:
@@ -81,7 +84,7 @@ class RuleFamily:
         self.receivers = receivers
         self.plan = plan
         self.notes = context.notes
-        self._rules = {rule.code: rule for rule in self.RULES}
+        self._rules = {rule.code: rule for rule in (*self.RULES, *standalone_rules()) if rule in self.RULES or rule.code in self.CARRIES_OUT}
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:

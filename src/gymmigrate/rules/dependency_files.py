@@ -1,4 +1,4 @@
-"""GM109, GM110, SB110: dependency declarations (requirements files, ``setup.py``,
+"""GM109, GM110, SB110, GM111: dependency declarations (requirements files, ``setup.py``,
 ``setup.cfg``, ``pyproject.toml``, ``environment.yml``, Dockerfiles, ``pip install`` lines
 in pages).
 
@@ -30,5 +30,11 @@ SB110 = Rule(
     FixKind.ASSIST,
     "`stable-baselines3<2` -> `>=2.9`; PettingZoo, SuperSuit, Shimmy, MiniGrid to Gymnasium-1.x releases",
 )
-DEPENDENCY_RULES = (GM109, GM110, SB110)
+GM111 = Rule(
+    "GM111",
+    "`gym.envs` plugin entry points",
+    FixKind.ASSIST,
+    "Gymnasium loads no plugins: the module an entry point names calls its register function on import; the entry point is reported",
+)
+DEPENDENCY_RULES = (GM109, GM110, SB110, GM111)
 register_rules(*DEPENDENCY_RULES)

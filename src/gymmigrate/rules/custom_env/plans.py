@@ -35,6 +35,7 @@ class ClassPlan:
     renamed: dict[str, str] = field(default_factory=dict)  # new name -> gym < 0.9 name
     dropped: set[str] = field(default_factory=set)  # public methods that only forwarded to a renamed one
     seed: SeedPlan | None = None
+    reset_forwards_keywords: bool = False  # reset(**kwargs) passes seed/options to super().reset(**kwargs)
     reset_super_seeds: bool = True  # super().reset(seed=seed) may be called (else only reported)
     render: bool = False
     pass_render_mode: bool = False  # a subclass __init__ takes render_mode and passes it to the base

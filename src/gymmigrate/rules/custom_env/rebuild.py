@@ -166,7 +166,7 @@ class ClassRewrite:
         names = _param_names(fn)
         legacy_flag = "return_info" in names
         modern = "seed" in names and "options" in names and not legacy_flag
-        if not modern:
+        if not modern and not self.plan.reset_forwards_keywords:
             fn = _modern_reset_params(fn)
         if legacy_flag:
             fn = _drop_return_info(fn)

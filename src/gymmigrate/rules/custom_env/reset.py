@@ -33,6 +33,10 @@ def decide_reset(decision: ClassDecision) -> None:
     names = param_names(function)
     legacy_flag = "return_info" in names
     modern = "seed" in names and "options" in names and not legacy_flag
+    # ``def reset(self, **kwargs): obs = super().reset(**kwargs)``: seed and options already
+    # reach the base reset through ``**kwargs``; new keyword-only parameters would take them.
+    forwards = not modern and not legacy_flag and _forwards_keywords(function)
+    decision.plan.reset_forwards_keywords = forwards
     if legacy_flag:
         decision.report(function, "GM502", "return_info removed: reset() always returns (obs, info) now; check callers that expected a bare observation")
     elif not modern and _returns_pairs(function):
@@ -59,13 +63,16 @@ def decide_reset(decision: ClassDecision) -> None:
             "reset() must seed np_random, but super().reset() here would also run the base env's own reset; call Env.reset(self, seed=seed) first by hand",
             FixKind.FLAG,
         )
+    migrates = not modern and not (forwards and decision.plan.reset_returns_pairs)
     decision.plan.reset = (
-        not modern
+        migrates
         or inserted
         or decision.plan.seed is not None and (bool(decision.plan.seed.moved) or decision.plan.seed.keep)
         or any(_super_reset_needs_seed(c) for s in function.body for c in ast.walk(s))
     )
-    if not modern or inserted:
+    if forwards and migrates:
+        decision.report(function, "GM501", "reset passes seed and options on to super().reset() in its **kwargs (wrappers always pass them)")
+    elif migrates or inserted:
         star_kwarg = function.args.kwarg.arg if function.args.kwarg else None
         extra = [n for n in names[1:] if n not in ("seed", "options", "return_info", star_kwarg)]
         if extra and not legacy_flag:
@@ -73,6 +80,17 @@ def decide_reset(decision: ClassDecision) -> None:
         elif not legacy_flag:
             seeds = ", and calls super().reset(seed=seed) first to seed np_random" if inserted else ""
             decision.report(function, "GM501", f"reset takes seed and options (wrappers always pass them){seeds}")
+
+
+def _forwards_keywords(function: ast.AST) -> bool:
+    """``reset(self, ..., **kwargs)`` whose every ``super().reset(...)`` passes ``**kwargs`` on."""
+    kwarg = function.args.kwarg.arg if function.args.kwarg else None  # type: ignore[attr-defined]
+    if kwarg is None:
+        return False
+    calls = [c for s in function.body for c in ast.walk(s) if isinstance(c, ast.Call) and is_super_method_call(c, "reset")]  # type: ignore[attr-defined]
+    return bool(calls) and all(
+        any(k.arg is None and isinstance(k.value, ast.Name) and k.value.id == kwarg for k in call.keywords) for call in calls
+    )
 
 
 def _returns_pairs(function: ast.AST) -> bool:

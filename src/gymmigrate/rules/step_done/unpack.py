@@ -15,9 +15,9 @@ binding, and reads whose purpose is unclear, are reported instead.
 from __future__ import annotations
 
 import ast
-from collections.abc import Hashable
 import re
 from bisect import bisect_left, bisect_right
+from collections.abc import Hashable
 from dataclasses import dataclass
 
 from gymmigrate.edits.lazy import cst

@@ -118,8 +118,11 @@ class WrapperForwarding(RuleFamily):
         if name in SAFE_ATTRIBUTES or (name.startswith("__") and name.endswith("__")):
             return
         if isinstance(receiver, ast.Name) and receiver.id in ("self", "cls"):
+            if receiver.id == "self":
+                self._self_forwarding(attr)
             return
-        if self.receivers.kind_of(receiver) is not EnvKind.GYM_ENV:
+        known = self.receivers.kind_of(receiver) is EnvKind.GYM_ENV
+        if not known and not self._outer_is_wrapper(receiver):
             return
         if name == "monitor" and isinstance(attr.ctx, ast.Load):
             # gym < 0.9's ``env.monitor.start(dir)`` / ``.close()``: no wrapper has it to forward.
@@ -134,6 +137,8 @@ class WrapperForwarding(RuleFamily):
             )
             return
         origin = self._origin(receiver)
+        if origin in (None, CYCLE, RAW) and (not known or self._outer_is_wrapper(receiver)):
+            origin = WRAPPED  # whatever else the name held, where it is read it is a wrapper
         if origin == CYCLE:
             origin = None
         if origin == RAW:
@@ -178,7 +183,7 @@ class WrapperForwarding(RuleFamily):
                 "get_wrapper_attr (env.spec may be None for an env built without make)",
                 tier=Tier.NOTE,  # the same attribute forwarding reached: an explanation
             )
-            self.plan.replace(attr, _get_wrapper_attr(name))
+            self._replace_with_get_wrapper_attr(attr, name)
             return
         if name in BASE_ENV_ATTRIBUTES and name not in self._local_wrapper_attributes():
             self.report(
@@ -197,7 +202,71 @@ class WrapperForwarding(RuleFamily):
             "and the base env as forwarding did",
             tier=Tier.NOTE,
         )
-        self.plan.replace(attr, _get_wrapper_attr(name))
+        self._replace_with_get_wrapper_attr(attr, name)
+
+    def _self_forwarding(self, attr: ast.Attribute) -> None:
+        """``self.get_frame()`` in a method of a Gym wrapper class that defines no
+        ``get_frame``: legacy ``Wrapper.__getattr__`` found it on the wrapped env (never a
+        private name: gym refused those); ``self.get_wrapper_attr("get_frame")`` searches
+        this wrapper, then the ones below it and the base env, as forwarding did."""
+        name = attr.attr
+        if not isinstance(attr.ctx, ast.Load) or name.startswith("_") or name in _WRAPPER_OWN:
+            return
+        function = self.facts.enclosing_function(attr)
+        classdef = self.facts.enclosing_class(attr)
+        if function is None or classdef is None or self.facts.parent(function) is not classdef:
+            return
+        args = function.args.posonlyargs + function.args.args
+        static = any(isinstance(d, ast.Name) and d.id in ("staticmethod", "classmethod") for d in function.decorator_list)
+        if not args or args[0].arg != "self" or static:
+            return
+        chain = self._wrapper_chain(classdef, frozenset())
+        if chain is None or any(name in _self_defined(local) for local in chain):
+            return
+        self.report(
+            attr,
+            "GM604",
+            f"attribute forwarding is gone in Gymnasium 1.0: this wrapper class defines no `{name}`, which gym found on "
+            f"the wrapped env; `self.get_wrapper_attr(\"{name}\")` searches the wrappers and the base env as forwarding did",
+            tier=Tier.NOTE,
+        )
+        self._replace_with_get_wrapper_attr(attr, name)
+
+    def _replace_with_get_wrapper_attr(self, attr: ast.Attribute, name: str) -> None:
+        """``x.get_wrapper_attr("name")``, quoted so that it can stand inside the f-strings
+        around it (before Python 3.12 an f-string cannot hold its own quote)."""
+        used = set()
+        for ancestor in self.facts.ancestors(attr):
+            if isinstance(ancestor, ast.JoinedStr):
+                text = self.facts.segment(ancestor).lstrip("rRbBfFuU")
+                used.add(text[:1])
+        quote = next((q for q in ('"', "'") if q not in used), None)
+        if quote is None:
+            return  # both quotes taken by nested f-strings: the finding stands alone
+        self.plan.replace(attr, _get_wrapper_attr(name, quote))
+
+    def _wrapper_chain(self, classdef: ast.ClassDef, seen: frozenset[int]) -> list[ast.ClassDef] | None:
+        """``classdef`` and the classes of this module it derives from, when every base is
+        one of those or a Gym wrapper base class (``Wrapper``, ``ObservationWrapper``...),
+        at least one is, and none takes attribute lookup in hand; else None."""
+        if id(classdef) in seen or not classdef.bases or classdef.keywords:
+            return None
+        chain = [classdef]
+        gym_base = False
+        for base in classdef.bases:
+            names = {N.strip_gym_prefix(q) for q in self.facts.qualified_names(base)}
+            if names & N.GYM_WRAPPER_BASE_CLASSES:
+                gym_base = True
+                continue
+            local = self.receivers.local_class(base)
+            inner = None if local is None else self._wrapper_chain(local, seen | {id(classdef)})
+            if inner is None:
+                return None
+            chain += inner
+            gym_base = True
+        if not gym_base or any(_takes_lookup_in_hand(local) for local in chain):
+            return None
+        return chain
 
     def _check_env_chain(self, attr: ast.Attribute) -> None:
         parent = self.facts.parent(attr)
@@ -268,6 +337,19 @@ class WrapperForwarding(RuleFamily):
         if local is not None and self.receivers.is_gym_wrapper_class(local):
             return local.name
         return None
+
+    def _is_run_wrapper_class(self, func: ast.expr) -> bool:
+        """A Gym wrapper class another module of the run defines."""
+        view = self.receivers.project
+        return view is not None and any(view.is_wrapper_class(q) for q in self.facts.qualified_names(func))
+
+    def _outer_is_wrapper(self, expr: ast.expr) -> bool:
+        """``expr`` is, where it is read, a Gym wrapper made by a constructor call: Gymnasium's
+        wrappers, this module's wrapper classes, or another module's of the run."""
+        if self._outer_wrapper(expr) is not None:
+            return True
+        value = self._nearest_assignment(expr) if isinstance(expr, ast.Name) else expr
+        return isinstance(value, ast.Call) and self._is_run_wrapper_class(value.func)
 
     def _outer_attributes(self, expr: ast.expr) -> set[str]:
         """Attributes the outermost wrapper of ``expr`` defines itself (gymnasium's or this module's)."""
@@ -345,6 +427,8 @@ class WrapperForwarding(RuleFamily):
                 return self._wrapped(call)
             if rest.startswith("envs."):
                 return RAW
+        if self._is_run_wrapper_class(call.func):
+            return self._wrapped(call)
         local = self.receivers.local_class(call.func)
         if local is not None:
             if self.receivers.is_gym_wrapper_class(local):
@@ -460,16 +544,50 @@ def _through(*attrs: str):
     return build
 
 
-def _get_wrapper_attr(name: str):
+def _get_wrapper_attr(name: str, quote: str = '"'):
     def build(node: cst.Attribute) -> cst.BaseExpression:
         return cst.Call(
             func=cst.Attribute(value=node.value, attr=cst.Name("get_wrapper_attr")),
-            args=[cst.Arg(value=cst.SimpleString(f'"{name}"'))],
+            args=[cst.Arg(value=cst.SimpleString(f"{quote}{name}{quote}"))],
             lpar=node.lpar,
             rpar=node.rpar,
         )
 
     return build
+
+
+# Methods of Gymnasium's wrapper base classes besides SAFE_ATTRIBUTES (a subclass overrides them).
+_WRAPPER_OWN = SAFE_ATTRIBUTES | {"observation", "action", "reward", "reverse_action", "env_is_wrapped"}
+
+
+def _self_defined(classdef: ast.ClassDef) -> set[str]:
+    """What a class defines for ``self``: its methods and class-level names, and every
+    ``self.x`` it stores anywhere (tuple targets, ``for``, ``with ... as`` included)."""
+    names: set[str] = set()
+    for statement in classdef.body:
+        if isinstance(statement, (*FUNCTIONS, ast.ClassDef)):
+            names.add(statement.name)
+        elif isinstance(statement, (ast.Assign, ast.AnnAssign, ast.AugAssign)):
+            targets = statement.targets if isinstance(statement, ast.Assign) else [statement.target]
+            names.update(n.id for target in targets for n in ast.walk(target) if isinstance(n, ast.Name))
+    for node in ast.walk(classdef):
+        if isinstance(node, FUNCTIONS):
+            names.add(node.name)
+        elif isinstance(node, ast.Attribute) and isinstance(node.ctx, ast.Store) and isinstance(node.value, ast.Name) and node.value.id == "self":
+            names.add(node.attr)
+    return names
+
+
+def _takes_lookup_in_hand(classdef: ast.ClassDef) -> bool:
+    """It defines ``__getattr__``/``__getattribute__``, or sets attributes by name."""
+    for node in ast.walk(classdef):
+        if isinstance(node, FUNCTIONS) and node.name in ("__getattr__", "__getattribute__", "__init_subclass__"):
+            return True
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "setattr":
+            return True
+        if isinstance(node, ast.Attribute) and node.attr == "__dict__":
+            return True
+    return False
 
 
 def _defined_attributes(classdef: ast.ClassDef) -> set[str]:
