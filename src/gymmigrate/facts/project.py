@@ -88,6 +88,14 @@ class ModuleSummary:
     # Each top-level class with a base imported from elsewhere: (class, qualified base
     # names as the imports spell them, the methods the class defines).
     subclasses: tuple[tuple[str, tuple[str, ...], tuple[str, ...]], ...] = ()
+    # -- spaces that are not Spaces (rules/env_ids/registry.py, GM807) --
+    # Top-level classes that certainly are not ``gymnasium.spaces.Space``: no base, or only
+    # ``list``/``tuple``/``dict``/``object``, with what they derive from ("list").
+    plain_classes: dict[str, str] = field(default_factory=dict)
+    # Top-level class -> ((space attribute, callee as the module spells it), ...) for each
+    # ``self.action_space = C(...)`` / ``self.observation_space = C(...)`` in its methods;
+    # ``@C`` for a class of the module itself.
+    space_calls: dict[str, tuple[tuple[str, str], ...]] = field(default_factory=dict)
 
 
 @dataclass
@@ -117,6 +125,10 @@ class ProjectFacts:
     # (path, class) -> the methods subclasses in other modules of the run override, with
     # where ("pkg/far.py:FarEnv"): a hook a base class migrates must migrate there too.
     overrides: dict[tuple[str, str], dict[str, list[str]]] = field(default_factory=dict)
+    # (path, top-level name) -> (space attribute, space class, what it derives from) for a
+    # class (or a re-export of one) that sets a space to an instance of a class of the run
+    # that is not a ``gymnasium.spaces.Space``: Gymnasium 1.x's env checker rejects it.
+    non_space_envs: dict[tuple[str, str], tuple[str, str, str]] = field(default_factory=dict)
 
     @classmethod
     def join(cls, summaries: list[ModuleSummary], blocked: dict[str, str] | None = None) -> ProjectFacts:
@@ -165,6 +177,7 @@ class ProjectFacts:
         for path in facts.render_called:  # their classes keep render(mode): no render_mode to pass
             facts.render_mode_classes[path] = frozenset()
         facts._join_overrides(summaries)
+        _NonSpaces(facts, by_path).run()
         return facts
 
     def _join_overrides(self, summaries: list[ModuleSummary]) -> None:
@@ -360,6 +373,58 @@ class _Exports:
         return None
 
 
+class _NonSpaces:
+    """``ProjectFacts.non_space_envs``: classes of the run whose ``action_space`` or
+    ``observation_space`` is an instance of a class of the run that certainly is not a
+    ``Space`` (``class MultiAgentActionSpace(list)``), and every name re-exporting them."""
+
+    def __init__(self, facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> None:
+        self.facts = facts
+        self.by_path = by_path
+
+    def origin(self, path: str, name: str) -> tuple[str, str] | None:
+        """The module and name that define ``name`` of module ``path``, re-exports followed."""
+        for _ in range(_MAX_CHAIN):
+            summary = self.by_path.get(path)
+            if summary is None:
+                return None
+            if name in summary.plain_classes or name in summary.space_calls:
+                return path, name  # defined here (a subclass's export refers to its base)
+            kind = summary.exports.get(name)
+            if not isinstance(kind, str):
+                return (path, name) if kind is not None else None
+            split = self.facts._split(kind[len(REF) :], path)
+            if split is None or "." in split[1]:
+                return None
+            path, name = split
+        return None
+
+    def run(self) -> None:
+        found: dict[tuple[str, str], tuple[str, str, str]] = {}
+        for path, summary in self.by_path.items():
+            if path in self.facts.blocked:
+                continue
+            for classname, calls in summary.space_calls.items():
+                for attribute, callee in calls:
+                    if callee.startswith(OWN):
+                        where: tuple[str, str] | None = (path, callee[len(OWN) :])
+                    else:
+                        split = self.facts._split(callee, path)
+                        where = self.origin(*split) if split is not None and "." not in split[1] else None
+                    if where is None:
+                        continue
+                    base = self.by_path[where[0]].plain_classes.get(where[1])
+                    if base is not None:
+                        found.setdefault((path, classname), (attribute, where[1], base))
+        if not found:
+            return
+        for path, summary in self.by_path.items():
+            for name in summary.exports:
+                where = self.origin(path, name)
+                if where is not None and where in found:
+                    self.facts.non_space_envs[(path, name)] = found[where]
+
+
 class _Join:
     """Per parameter, the kinds other modules pass (``ProjectFacts.param_kinds``).
 
@@ -484,9 +549,16 @@ class ProjectView:
     def defines(self, qualified: str) -> bool:
         """The name comes from a module of the run (its own code, not a library's)."""
         return self.facts._split(qualified, self.path) is not None
+
     def overridden_elsewhere(self, classname: str, method: str) -> list[str]:
         """Subclasses in other modules of the run that override ``classname.method``."""
         return self.facts.overrides.get((self.path, classname), {}).get(method, [])
+
+    def non_space_env(self, module: str, name: str) -> tuple[str, str, str] | None:
+        """For ``module:name`` as an ``entry_point`` spells it, a class of the run whose
+        spaces are not Spaces: (attribute, space class, what that class derives from)."""
+        path = self.facts.modules.get(module)
+        return self.facts.non_space_envs.get((path, name)) if path else None
 
     def imported_class(self, qualified: str) -> tuple[bool, bool] | None:
         """For an imported class of the run: (is an env class, takes render_mode)."""

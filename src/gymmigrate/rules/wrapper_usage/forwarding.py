@@ -130,6 +130,23 @@ class WrapperForwarding(RuleFamily):
             return  # the outermost wrapper has it: no forwarding involved
         code = "GM605" if name == "_max_episode_steps" else "GM604"
         if isinstance(attr.ctx, (ast.Store, ast.Del)):
+            statement = self.facts.parent(attr)
+            if (
+                origin is not None
+                and name != "_max_episode_steps"
+                and isinstance(statement, ast.Assign)
+                and len(statement.targets) == 1
+                and statement.targets[0] is attr
+            ):
+                self.report(
+                    attr,
+                    code,
+                    f"writing `{dotted_name(attr) or name}` would set it on the outermost wrapper only (writes never "
+                    f"forwarded): `set_wrapper_attr(\"{name}\", ...)` sets it on the layer that has it, the base env "
+                    "when no wrapper does, as a write to the bare env did",
+                )
+                self.plan.replace(statement, _set_wrapper_attr(name))
+                return
             if origin is not None:
                 self.report(
                     attr,
@@ -416,13 +433,13 @@ class WrapperForwarding(RuleFamily):
         position = next((i for i, p in enumerate(params) if p is param), None)
         calls = self.receivers.call_sites(function, None)
         if not calls:
-            fixture = self.receivers.pytest_fixture(param.arg)
-            if fixture is None:
+            fixtures = self.receivers.param_fixtures(function, param.arg)
+            if not fixtures:
                 return None
-            # A test's parameter named after a pytest fixture of the module gets what the
-            # fixture yields or returns.
+            # A test's parameter named after a pytest fixture of the module (or parametrized
+            # over fixtures with ``fixture_ref``) gets what the fixtures yield or return.
             self._param_origins[param] = None
-            result = join_origins([self._origin(value) for value in self.receivers.fixture_values(fixture)])
+            result = join_origins([self._origin(value) for fixture in fixtures for value in self.receivers.fixture_values(fixture)])
             self._param_origins[param] = result
             return result
         self._param_origins[param] = None  # a recursive call adds no evidence
@@ -434,6 +451,24 @@ class WrapperForwarding(RuleFamily):
         result = join_origins(origins)
         self._param_origins[param] = result
         return result
+
+
+def _set_wrapper_attr(name: str):
+    """``env.foo = value`` -> ``env.set_wrapper_attr("foo", value)``."""
+
+    def build(node: cst.Assign) -> cst.BaseSmallStatement:
+        target = node.targets[0].target
+        assert isinstance(target, cst.Attribute)
+        call = cst.Call(
+            func=cst.Attribute(value=target.value, attr=cst.Name("set_wrapper_attr")),
+            args=[
+                cst.Arg(value=cst.SimpleString(f'"{name}"'), comma=cst.Comma(whitespace_after=cst.SimpleWhitespace(" "))),
+                cst.Arg(value=node.value),
+            ],
+        )
+        return cst.Expr(call, semicolon=node.semicolon)
+
+    return build
 
 
 def _through(*attrs: str):
