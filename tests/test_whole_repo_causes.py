@@ -51,6 +51,14 @@ for n in (2, 3):
     assert len(env.action_space.sample()) == n
     obs, rewards, terminated, truncated, info = env.step([1] * n)
     assert all(terminated) and rewards == [1.0] * n, (terminated, rewards)
+team = gym.make("TeamCartPole-v0")
+obs, info = team.reset(seed=1)
+steps, done = 0, [False]
+while not all(done):
+    obs, rewards, terminated, truncated, info = team.step(team.action_space.sample())
+    done = terminated or truncated
+    steps += 1
+assert len(obs) == 1 and terminated == [True] and truncated is False and steps < 500
 solo = gym.make("Solo-v0")
 assert "PassiveEnvChecker" in str(solo)
 solo.reset(seed=0)
@@ -61,7 +69,9 @@ print(solo.step(0)[1])
 def test_list_spaces_register_without_the_env_checker_and_the_tests_reach_the_env(tmp_path: Path) -> None:
     project = _migrated("project_teams", tmp_path)
     init = (project / "teams" / "__init__.py").read_text()
-    assert init.count("disable_env_checker=True") == 1  # Relay only: Solo's Box space keeps its checker
+    assert init.count("disable_env_checker=True") == 2  # Relay and OneAgent: Solo's Box space keeps its checker
+    single = (project / "teams" / "single.py").read_text()
+    assert "return [obs], [reward], [terminated or truncated], False, info" in single or "[done], False, info" in single
     tests = (project / "tests" / "test_relay.py").read_text()
     assert 'env.set_wrapper_attr("baton", env.get_wrapper_attr("n_agents") - 1)' in tests
     assert "obs, rewards, terminated, truncated, info = env.step(" in tests
