@@ -13,7 +13,7 @@ Where a rule lives (families decide in the order of ``PIPELINE`` below):
     GM505, GM506, GM901        np_random Generator API ......... rng.py
     GM201-GM208, GM704         reset and seeding at call sites . reset_seed/
     GM301-GM304, GM703         step and done at call sites ..... step_done/
-    GM601-GM603, GM617         wrapper subclasses .............. wrappers/
+    GM601-GM603, GM617, GM618  wrapper subclasses .............. wrappers/
     GM604-GM606                attribute forwarding ............ wrapper_usage/
     GM616                      gym < 0.9 wrapper hooks ......... legacy_hooks.py
     GM902, GM904, GM906-GM908  spaces, logger, errors, utils ... spaces_logger.py

@@ -57,6 +57,7 @@ CYCLE = "cycle"
 MAX_DEPTH = 20
 
 Origin = str | None
+_SYNC_VECTOR_ENVS = frozenset({"vector.SyncVectorEnv", "vector.sync_vector_env.SyncVectorEnv"})
 
 
 def join_origins(origins: list[Origin]) -> Origin:
@@ -119,9 +120,12 @@ class WrapperForwarding(RuleFamily):
             return
         if isinstance(receiver, ast.Name) and receiver.id in ("self", "cls"):
             return
-        if self.receivers.kind_of(receiver) is not EnvKind.GYM_ENV:
+        if self._is_sub_env(receiver):
+            origin: Origin = INNER  # what the env_fns built: make() results, maybe wrapped
+        elif self.receivers.kind_of(receiver) is not EnvKind.GYM_ENV:
             return
-        origin = self._origin(receiver)
+        else:
+            origin = self._origin(receiver)
         if origin == CYCLE:
             origin = None
         if origin == RAW:
@@ -203,6 +207,24 @@ class WrapperForwarding(RuleFamily):
             tier=Tier.NOTE,
         )
         self.plan.replace(attr, _get_wrapper_attr(name))
+
+    def _is_sub_env(self, receiver: ast.expr) -> bool:
+        """``self.envs[i]`` in a subclass of Gym's ``SyncVectorEnv``, which never rebinds
+        ``envs``: one of the envs its ``env_fns`` made."""
+        if not (
+            isinstance(receiver, ast.Subscript)
+            and isinstance(receiver.value, ast.Attribute)
+            and receiver.value.attr == "envs"
+            and isinstance(receiver.value.value, ast.Name)
+            and receiver.value.value.id == "self"
+        ):
+            return False
+        classdef = self.facts.enclosing_class(receiver)
+        if classdef is None or "envs" in self.receivers.self_stores(classdef):
+            return False
+        return any(
+            N.strip_gym_prefix(q) in _SYNC_VECTOR_ENVS for base in classdef.bases for q in self.facts.qualified_names(base)
+        )
 
     def _check_env_chain(self, attr: ast.Attribute) -> None:
         parent = self.facts.parent(attr)
