@@ -11,6 +11,7 @@ Where a rule lives (families decide in the order of ``PIPELINE`` below):
     GM701, GM702, GM705-GM708  vector envs ..................... vector/
     GM404, GM405, GM501-GM509  custom Env subclasses ........... custom_env/
     GM505, GM506, GM901        np_random Generator API ......... rng.py
+    GM510                      stdlib random in env methods .... stdlib_random.py
     GM201-GM208, GM704         reset and seeding at call sites . reset_seed/
     GM301-GM304, GM703         step and done at call sites ..... step_done/
     GM601-GM603, GM617, GM618  wrapper subclasses .............. wrappers/
@@ -62,6 +63,7 @@ PIPELINE = (
     FamilySpec("RewardRange", "gymmigrate.rules.custom_env.reward_range", ("reward_range",)),
     FamilySpec("EnvClasses", "gymmigrate.rules.pettingzoo.env_classes", _PZ, follows_the_run=True),
     FamilySpec("GeneratorApi", "gymmigrate.rules.rng", ("np_random", "seeding")),
+    FamilySpec("StdlibRandom", "gymmigrate.rules.stdlib_random", ("random",)),
     FamilySpec("ResetSeed", "gymmigrate.rules.reset_seed", ("reset", "seed")),
     FamilySpec("StepDone", "gymmigrate.rules.step_done.family", ("step", "TimeLimit.truncated")),
     FamilySpec("AecLoop", "gymmigrate.rules.pettingzoo.aec_loop", _PZ, follows_the_run=True),
