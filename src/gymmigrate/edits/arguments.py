@@ -37,8 +37,10 @@ def append_keyword(call: cst.Call, name: str, value: cst.BaseExpression) -> cst.
     else:
         # One argument per line without a trailing comma: the new one gets a line of its own.
         previous = args[-2].comma if len(args) >= 2 else None
-        on_lines = isinstance(previous, cst.Comma) and isinstance(previous.whitespace_after, cst.ParenthesizedWhitespace)
-        separator = previous if on_lines else cst.Comma(whitespace_after=cst.SimpleWhitespace(" "))
+        if isinstance(previous, cst.Comma) and isinstance(previous.whitespace_after, cst.ParenthesizedWhitespace):
+            separator = previous
+        else:
+            separator = cst.Comma(whitespace_after=cst.SimpleWhitespace(" "))
         args[-1] = last.with_changes(comma=separator)
         args.append(new_arg.with_changes(whitespace_after_arg=last.whitespace_after_arg))
         args[-2] = args[-2].with_changes(whitespace_after_arg=cst.SimpleWhitespace(""))

@@ -29,7 +29,13 @@ from gymmigrate.facts.callables import (
 )
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import MAX_DEPTH, EnvKind, join_kinds
-from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, call_argument, own_returns, string_value
+from gymmigrate.facts.module import (
+    FUNCTIONS,
+    ModuleFacts,
+    call_argument,
+    own_returns,
+    string_value,
+)
 from gymmigrate.facts.self_attributes import SelfAttributes
 
 if TYPE_CHECKING:
@@ -593,10 +599,11 @@ class Receivers:
                 return []
             found = []
             for value in values.elts:
-                referred = value.args[0] if isinstance(value, ast.Call) and len(value.args) == 1 else None
+                if not (isinstance(value, ast.Call) and len(value.args) == 1):
+                    return []
+                referred = value.args[0]
                 if not (
-                    referred is not None
-                    and any(q.endswith("fixture_ref") for q in self.qualified_names(value.func))  # type: ignore[union-attr]
+                    any(q.endswith("fixture_ref") for q in self.qualified_names(value.func))
                     and isinstance(referred, ast.Name)
                     and (fixture := self.pytest_fixture(referred.id)) is not None
                 ):
