@@ -79,9 +79,24 @@ class WrapperConstructorArgs(RuleFamily):
         for classdef in self.facts.all_classes:
             if not self.receivers.is_gym_wrapper_class(classdef) or self._records_already(classdef):
                 continue
+            if self._derives_from_a_helper(classdef):
+                continue
             init = next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == "__init__"), None)
             if init is not None:
                 self._record(classdef, init)
+
+    def _derives_from_a_helper(self, classdef: ast.ClassDef) -> bool:
+        """A base under ``gym.wrappers`` that is no wrapper: the monitoring recorders, the
+        video encoder, the normalize statistics."""
+        for base in classdef.bases:
+            for q in self.facts.qualified_names(base):
+                rest = N.strip_gym_prefix(q)
+                if rest is None:
+                    continue
+                parts = rest.split(".")
+                if parts[-1] in N.GYM_NOT_ENV_CLASSES or any(part in N.GYM_NOT_ENV_MODULES for part in parts[:-1]):
+                    return True
+        return False
 
     def _records_already(self, classdef: ast.ClassDef) -> bool:
         """A base or a call names ``RecordConstructorArgs`` (or ``EzPickle``, its gym-era cousin
