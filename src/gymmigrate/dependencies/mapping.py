@@ -86,6 +86,10 @@ GYM_ONLY_PACKAGES: dict[str, str] = {
     "pybullet": "if the project uses its bundled envs (pybullet_envs), they register with Gym only",
     "gym-notices": "a dependency of gym only, not needed by Gymnasium: remove it",
 }
+MUJOCO_IMAGEIO = (
+    "`mujoco` alone does not run Gymnasium 1.x's MuJoCo envs: their renderer imports `imageio` (ModuleNotFoundError at "
+    "make); add `imageio>=2.14.1` next to it, or depend on `gymnasium[mujoco]`, which requires both"
+)
 SHIMMY_ROUTE = 'keep it on Gym through Shimmy (`shimmy[gym-v21]` or `shimmy[gym-v26]`, then `gymnasium.make("GymV21Environment-v0", env_id=...)`) or port it'
 
 _GYM_WORD = re.compile(r"(?<![A-Za-z0-9])(gym|atari[-_]py|autorom|mujoco[-_]py|stable[-_]baselines3?|pettingzoo|supersuit)(?![A-Za-z0-9])", re.I)
@@ -150,6 +154,10 @@ def decide(requirement: Requirement) -> Decision:
             [Note(GYM_PACKAGE, FixKind.AUTO, f"`{requirement}` -> `ale-py{ALE_SPEC}`: Atari ROMs ship with ale-py, no licence step or ROM download is needed")],
             ale=True,
         )
+    if name == "mujoco" and not extras:
+        # gym 0.26's MuJoCo envs rendered without imageio; Gymnasium 1.x's import it with
+        # their renderer (gymnasium[mujoco] requires imageio>=2.14.1).
+        return Decision(notes=[Note(GYM_ONLY, FixKind.FLAG, MUJOCO_IMAGEIO)])
     if name in GYM_ONLY_PACKAGES:
         route = "" if name == "gym-notices" else f"; {SHIMMY_ROUTE}"
         return Decision(notes=[Note(GYM_ONLY, FixKind.FLAG, f"`{requirement.name}`: {GYM_ONLY_PACKAGES[name]}{route}")])

@@ -35,7 +35,13 @@ def append_keyword(call: cst.Call, name: str, value: cst.BaseExpression) -> cst.
         args[-1] = last.with_changes(comma=separator)
         args.append(new_arg.with_changes(comma=last.comma))
     else:
-        args[-1] = last.with_changes(comma=cst.Comma(whitespace_after=cst.SimpleWhitespace(" ")))
+        # One argument per line without a trailing comma: the new one gets a line of its own.
+        previous = args[-2].comma if len(args) >= 2 else None
+        if isinstance(previous, cst.Comma) and isinstance(previous.whitespace_after, cst.ParenthesizedWhitespace):
+            separator = previous
+        else:
+            separator = cst.Comma(whitespace_after=cst.SimpleWhitespace(" "))
+        args[-1] = last.with_changes(comma=separator)
         args.append(new_arg.with_changes(whitespace_after_arg=last.whitespace_after_arg))
         args[-2] = args[-2].with_changes(whitespace_after_arg=cst.SimpleWhitespace(""))
     return call.with_changes(args=args)

@@ -92,6 +92,14 @@ class ModuleSummary:
     # Top-level Gym wrapper classes (``Wrapper`` subclasses, through local bases): an
     # instance made elsewhere is a wrapper, so what it does not define was forwarded.
     wrapper_classes: frozenset[str] = frozenset()
+    # -- spaces that are not Spaces (rules/env_ids/registry.py, GM807) --
+    # Top-level classes that certainly are not ``gymnasium.spaces.Space``: no base, or only
+    # ``list``/``tuple``/``dict``/``object``, with what they derive from ("list").
+    plain_classes: dict[str, str] = field(default_factory=dict)
+    # Top-level class -> ((space attribute, callee as the module spells it), ...) for each
+    # ``self.action_space = C(...)`` / ``self.observation_space = C(...)`` in its methods;
+    # ``@C`` for a class of the module itself.
+    space_calls: dict[str, tuple[tuple[str, str], ...]] = field(default_factory=dict)
 
 
 @dataclass
@@ -130,6 +138,10 @@ class ProjectFacts:
     # file's path -> entry target -> (the module that calls it, as shown, or None; why not).
     plugin_calls: dict[str, tuple[tuple[str, str | None], ...]] = field(default_factory=dict)
     plugin_routes: dict[str, dict[str, tuple[str | None, str]]] = field(default_factory=dict)
+    # (path, top-level name) -> (space attribute, space class, what it derives from) for a
+    # class (or a re-export of one) that sets a space to an instance of a class of the run
+    # that is not a ``gymnasium.spaces.Space``: Gymnasium 1.x's env checker rejects it.
+    non_space_envs: dict[tuple[str, str], tuple[str, str, str]] = field(default_factory=dict)
 
     @classmethod
     def join(cls, summaries: list[ModuleSummary], blocked: dict[str, str] | None = None) -> ProjectFacts:
@@ -188,6 +200,7 @@ class ProjectFacts:
         for path in facts.render_called:  # their classes keep render(mode): no render_mode to pass
             facts.render_mode_classes[path] = frozenset()
         facts._join_overrides(summaries)
+        _NonSpaces(facts, by_path).run()
         return facts
 
     def _join_overrides(self, summaries: list[ModuleSummary]) -> None:
@@ -383,6 +396,58 @@ class _Exports:
         return None
 
 
+class _NonSpaces:
+    """``ProjectFacts.non_space_envs``: classes of the run whose ``action_space`` or
+    ``observation_space`` is an instance of a class of the run that certainly is not a
+    ``Space`` (``class MultiAgentActionSpace(list)``), and every name re-exporting them."""
+
+    def __init__(self, facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> None:
+        self.facts = facts
+        self.by_path = by_path
+
+    def origin(self, path: str, name: str) -> tuple[str, str] | None:
+        """The module and name that define ``name`` of module ``path``, re-exports followed."""
+        for _ in range(_MAX_CHAIN):
+            summary = self.by_path.get(path)
+            if summary is None:
+                return None
+            if name in summary.plain_classes or name in summary.space_calls:
+                return path, name  # defined here (a subclass's export refers to its base)
+            kind = summary.exports.get(name)
+            if not isinstance(kind, str):
+                return (path, name) if kind is not None else None
+            split = self.facts._split(kind[len(REF) :], path)
+            if split is None or "." in split[1]:
+                return None
+            path, name = split
+        return None
+
+    def run(self) -> None:
+        found: dict[tuple[str, str], tuple[str, str, str]] = {}
+        for path, summary in self.by_path.items():
+            if path in self.facts.blocked:
+                continue
+            for classname, calls in summary.space_calls.items():
+                for attribute, callee in calls:
+                    if callee.startswith(OWN):
+                        where: tuple[str, str] | None = (path, callee[len(OWN) :])
+                    else:
+                        split = self.facts._split(callee, path)
+                        where = self.origin(*split) if split is not None and "." not in split[1] else None
+                    if where is None:
+                        continue
+                    base = self.by_path[where[0]].plain_classes.get(where[1])
+                    if base is not None:
+                        found.setdefault((path, classname), (attribute, where[1], base))
+        if not found:
+            return
+        for path, summary in self.by_path.items():
+            for name in summary.exports:
+                where = self.origin(path, name)
+                if where is not None and where in found:
+                    self.facts.non_space_envs[(path, name)] = found[where]
+
+
 class _Join:
     """Per parameter, the kinds other modules pass (``ProjectFacts.param_kinds``).
 
@@ -520,6 +585,11 @@ class ProjectView:
         """An imported name of the run is a Gym wrapper class (``from pkg.wrappers import X``)."""
         split = self.facts._split(qualified, self.path)
         return split is not None and split[1] in self.facts.wrapper_classes.get(split[0], ())
+    def non_space_env(self, module: str, name: str) -> tuple[str, str, str] | None:
+        """For ``module:name`` as an ``entry_point`` spells it, a class of the run whose
+        spaces are not Spaces: (attribute, space class, what that class derives from)."""
+        path = self.facts.modules.get(module)
+        return self.facts.non_space_envs.get((path, name)) if path else None
 
     def imported_class(self, qualified: str) -> tuple[bool, bool] | None:
         """For an imported class of the run: (is an env class, takes render_mode)."""

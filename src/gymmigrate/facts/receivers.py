@@ -29,7 +29,13 @@ from gymmigrate.facts.callables import (
 )
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import MAX_DEPTH, EnvKind, join_kinds
-from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, call_argument, own_returns
+from gymmigrate.facts.module import (
+    FUNCTIONS,
+    ModuleFacts,
+    call_argument,
+    own_returns,
+    string_value,
+)
 from gymmigrate.facts.self_attributes import SelfAttributes
 
 if TYPE_CHECKING:
@@ -484,8 +490,10 @@ class Receivers:
         calls = self.call_sites(function, classdef if is_method else None)  # type: ignore[arg-type]
         external = self.callables.external_param_kinds(function, classdef if is_method else None, name)  # type: ignore[arg-type]
         if not calls and not external:
-            fixture = self.pytest_fixture(name) if not is_method else None
-            return self._fixture_kind(fixture) if fixture is not None else EnvKind.UNKNOWN
+            fixtures = self.param_fixtures(function, name) if not is_method else []
+            if not fixtures:
+                return EnvKind.UNKNOWN
+            return join_kinds(self._fixture_kind(fixture) for fixture in fixtures)
         defaults = _default_of(function, param)
         kinds = list(external)
         for call in calls:
@@ -618,6 +626,39 @@ class Receivers:
             if any(q in ("pytest.fixture", "_pytest.fixtures.fixture") for q in self.qualified_names(target)):
                 return function
         return None
+
+    def param_fixtures(self, function: ast.FunctionDef | ast.AsyncFunctionDef, name: str) -> list[ast.FunctionDef | ast.AsyncFunctionDef]:
+        """The module's pytest fixtures that give a test's parameter ``name`` its values:
+        the fixture of that name, or, where the test is parametrized over that name with
+        ``fixture_ref`` (pytest-cases: ``@parametrize("env", [fixture_ref(env_4),
+        fixture_ref(env_10)])``), every fixture referred to; empty when any value is
+        something else."""
+        for decorator in function.decorator_list:
+            if not (isinstance(decorator, ast.Call) and len(decorator.args) >= 2):
+                continue
+            if not any(q.endswith("parametrize") for q in self.qualified_names(decorator.func)):
+                continue
+            argnames = string_value(decorator.args[0])
+            if argnames is None or [n.strip() for n in argnames.split(",")] != [name]:
+                continue
+            values = decorator.args[1]
+            if not isinstance(values, (ast.List, ast.Tuple)) or not values.elts:
+                return []
+            found = []
+            for value in values.elts:
+                if not (isinstance(value, ast.Call) and len(value.args) == 1):
+                    return []
+                referred = value.args[0]
+                if not (
+                    any(q.endswith("fixture_ref") for q in self.qualified_names(value.func))
+                    and isinstance(referred, ast.Name)
+                    and (fixture := self.pytest_fixture(referred.id)) is not None
+                ):
+                    return []
+                found.append(fixture)
+            return found
+        fixture = self.pytest_fixture(name)
+        return [fixture] if fixture is not None else []
 
     def fixture_values(self, fixture: ast.FunctionDef | ast.AsyncFunctionDef) -> list[ast.expr]:
         """What a fixture gives its tests: what it yields, else what it returns."""

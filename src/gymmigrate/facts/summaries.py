@@ -85,7 +85,12 @@ class _Summarizer:
             ),
             subclasses=_subclasses(self.facts),
             wrapper_classes=frozenset(name for name, classdef in self.facts.classes.items() if self.receivers.is_gym_wrapper_class(classdef)),
+            plain_classes=plain_classes(self.facts),
+            space_calls=self._space_calls(),
         )
+
+    def _space_calls(self) -> dict[str, tuple[tuple[str, str], ...]]:
+        return space_calls(self.facts, self.receivers)
 
     def _exports(self, env_classes: set[str]) -> dict[str, Kind]:
         """Every top-level name the module binds with what calling it gives (see
@@ -335,6 +340,50 @@ def _is_library(qualified: str) -> bool:
     )
 
 
+
+
+_SPACE_ATTRIBUTES = ("action_space", "observation_space")
+
+
+def space_calls(facts: ModuleFacts, receivers: Receivers) -> dict[str, tuple[tuple[str, str], ...]]:
+    """``self.action_space = C(...)`` / ``self.observation_space = C(...)`` in the methods
+    of each top-level class: (attribute, ``C`` qualified, or ``@C`` for a class here)."""
+    found: dict[str, tuple[tuple[str, str], ...]] = {}
+    for name, classdef in facts.classes.items():
+        stores = receivers.self_stores(classdef)
+        calls = []
+        for attribute in _SPACE_ATTRIBUTES:
+            for value in stores.get(attribute, ()):
+                if not isinstance(value, ast.Call):
+                    continue
+                local = receivers.local_class(value.func)
+                if local is not None:
+                    calls.append((attribute, OWN + local.name))
+                    continue
+                qualified = [q for q in facts.qualified_names(value.func) if not _is_library(q)]
+                if len(qualified) == 1:
+                    calls.append((attribute, qualified[0]))
+        if calls:
+            found[name] = tuple(calls)
+    return found
+_PLAIN_BASES = frozenset({"list", "tuple", "dict", "object"})
+
+
+def plain_classes(facts: ModuleFacts) -> dict[str, str]:
+    """Top-level classes that certainly are not Spaces: no base, or only builtin
+    containers (``class MultiAgentActionSpace(list)``), with what they derive from."""
+    found = {}
+    for name, classdef in facts.classes.items():
+        if classdef.keywords or classdef.decorator_list:
+            continue  # a metaclass or a decorator may make it anything
+        bases = []
+        for base in classdef.bases:
+            if not (isinstance(base, ast.Name) and base.id in _PLAIN_BASES and not facts.module_scope.bindings.get(base.id)):
+                break
+            bases.append(base.id)
+        else:
+            found[name] = ", ".join(bases) or "object"
+    return found
 
 
 def _subclasses(facts: ModuleFacts) -> tuple[tuple[str, tuple[str, ...], tuple[str, ...]], ...]:

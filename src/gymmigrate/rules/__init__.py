@@ -4,16 +4,17 @@ Where a rule lives (families decide in the order of ``PIPELINE`` below):
 
     GM101-GM105, GM108         imports ......................... imports.py
     GM106, GM803-GM805         env ids, Atari registration ..... env_ids/ids.py
-    GM802, GM806               registry API, EnvSpec ........... env_ids/registry.py
+    GM802, GM806, GM807        registry API, EnvSpec ........... env_ids/registry.py
     GM305, GM801               removed make() keywords ......... make_kwargs.py
     GM608-GM615                renamed/removed wrappers ........ wrapper_usage/
     GM401-GM403, GM406, GM407  rendering at call sites ......... rendering.py
     GM701, GM702, GM705-GM708  vector envs ..................... vector/
     GM404, GM405, GM501-GM509  custom Env subclasses ........... custom_env/
     GM505, GM506, GM901        np_random Generator API ......... rng.py
+    GM510                      stdlib random in env methods .... stdlib_random.py
     GM201-GM208, GM704         reset and seeding at call sites . reset_seed/
     GM301-GM304, GM703         step and done at call sites ..... step_done/
-    GM601-GM603                wrapper subclasses .............. wrappers/
+    GM601-GM603, GM617, GM618  wrapper subclasses .............. wrappers/
     GM604-GM606                attribute forwarding ............ wrapper_usage/
     GM616                      gym < 0.9 wrapper hooks ......... legacy_hooks.py
     GM902, GM904, GM906-GM908  spaces, logger, errors, utils ... spaces_logger.py
@@ -69,12 +70,14 @@ PIPELINE = (
     FamilySpec("RewardRange", "gymmigrate.rules.custom_env.reward_range", ("reward_range",)),
     FamilySpec("EnvClasses", "gymmigrate.rules.pettingzoo.env_classes", _PZ, follows_the_run=True),
     FamilySpec("GeneratorApi", "gymmigrate.rules.rng", ("np_random", "seeding")),
+    FamilySpec("StdlibRandom", "gymmigrate.rules.stdlib_random", ("random",)),
     FamilySpec("ResetSeed", "gymmigrate.rules.reset_seed", ("reset", "seed")),
     FamilySpec("StepDone", "gymmigrate.rules.step_done.family", ("step", "TimeLimit.truncated")),
     FamilySpec("AecLoop", "gymmigrate.rules.pettingzoo.aec_loop", _PZ, follows_the_run=True),
     FamilySpec("ParallelCalls", "gymmigrate.rules.pettingzoo.parallel", _PZ, follows_the_run=True),
     FamilySpec("SeedRender", "gymmigrate.rules.pettingzoo.seed_render", _PZ, follows_the_run=True),
     FamilySpec("WrapperClasses", "gymmigrate.rules.wrappers.family", ("Wrapper", "wrappers")),
+    FamilySpec("WrapperConstructorArgs", "gymmigrate.rules.wrappers.constructor_args", ("Wrapper", "wrappers")),
     FamilySpec("WrapperForwarding", "gymmigrate.rules.wrapper_usage.forwarding", ("gym",)),
     FamilySpec("LegacyWrapperHooks", "gymmigrate.rules.legacy_hooks", ("def _",)),
     FamilySpec("SpacesLogger", "gymmigrate.rules.spaces_logger", ("logger", "error", "check_env", "Box", "seed")),

@@ -341,12 +341,21 @@ class Imports(RuleFamily):
         on Gymnasium: the branch dies silently)."""
         if not self._gym_names:
             return
+        found: dict[ast.Attribute, str] = {}
         for removed in REMOVED_MODULES:
             for node in self.facts.attributes.get(removed.rsplit(".", 1)[-1], []):
-                if not any(under_gym(q) == removed for q in self.facts.qualified_names(node)):
-                    continue
-                hint = REMOVED_MODULES[removed]
-                self._report_removed(node, f"`gym.{removed}` was removed: {hint}", hint)  # type: ignore[arg-type]
+                if any(under_gym(q) == removed for q in self.facts.qualified_names(node)):
+                    found[node] = removed
+        for node, removed in sorted(found.items(), key=lambda item: (item[0].lineno, item[0].col_offset)):
+            # one item per chain: ``gym.wrappers.monitoring.video_recorder.X`` names the
+            # shortest removed module only, not each removed module along it
+            inner = node.value
+            while isinstance(inner, ast.Attribute) and inner not in found:
+                inner = inner.value
+            if isinstance(inner, ast.Attribute):
+                continue
+            hint = REMOVED_MODULES[removed]
+            self._report_removed(node, f"`gym.{removed}` was removed: {hint}", hint)  # type: ignore[arg-type]
 
     def _report_removed(self, node: ast.stmt, message: str, advice: str) -> None:
         """GM105 once per decision: the first import that needs a given move (say, to

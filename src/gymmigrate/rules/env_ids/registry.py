@@ -9,6 +9,14 @@
   ``timestep_limit`` is ``max_episode_steps``; ``trials``, ``tags``... are gone and reported): rewritten where
   the object is an ``EnvSpec`` (``x.spec``, ``gym.spec(...)``, an item of the registry,
   a name only ever bound to one of those).
+* GM807 ``register(...)`` of a class of the run whose ``action_space`` or
+  ``observation_space`` is an instance of a class of the run that certainly is not a
+  ``Space`` (``class MultiAgentActionSpace(list)``, the multi-agent lists of spaces of
+  gym-era packages): Gymnasium 1.x's ``make`` wraps every env in ``PassiveEnvChecker``,
+  whose constructor raises TypeError on it, where gym <= 0.21 had no checker. The call gets
+  ``disable_env_checker=True`` (ASSIST: a ``gymnasium.spaces.Tuple`` of the per-agent
+  spaces would let the checker run). Only in a run of several files, which knows the class
+  behind the ``entry_point`` string.
 
 Source: gym 0.21 ``envs/registration.py`` against Gymnasium 1.4 ``envs/registration.py``.
 """
@@ -17,10 +25,12 @@ from __future__ import annotations
 
 import ast
 
+from gymmigrate.edits.arguments import append_keyword
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
-from gymmigrate.facts.module import full_name
+from gymmigrate.facts.module import full_name, keyword, string_value
+from gymmigrate.facts.summaries import plain_classes, space_calls
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.env_ids.syntax import gym_alias, is_registry
@@ -34,7 +44,14 @@ RULES = (
         "`spec._kwargs` / `spec._env_name` / `spec.timestep_limit` become `spec.kwargs` / `spec.name` / "
         "`spec.max_episode_steps`; removed ones (`trials`, `tags`...) are reported.",
     ),
+    Rule(
+        "GM807",
+        "spaces that are not Spaces",
+        FixKind.ASSIST,
+        "`register(...)` of an env whose spaces are the run's own non-`Space` classes (a `list` of spaces) gets `disable_env_checker=True`.",
+    ),
 )
+_REGISTER_FUNCTIONS = frozenset({"register", "envs.register", "envs.registration.register"})
 
 REGISTRY_METHODS = frozenset({"spec", "make", "register"})
 SPEC_ATTRIBUTES = {"_kwargs": "kwargs", "_env_name": "name", "timestep_limit": "max_episode_steps"}
@@ -91,6 +108,31 @@ class RegistryApi(RuleFamily):
                         self.report(
                             attribute, "GM806", f"`EnvSpec.{removed}` does not exist in Gymnasium (AttributeError): {hint}", FixKind.FLAG
                         )
+        calls = [*self.facts.calls_by_name.get("register", ()), *self.facts.attribute_calls.get("register", ())]
+        for call in calls:
+            self._decide_non_space_register(call)
+
+    # -- GM807 -------------------------------------------------------------------------------
+
+    def _decide_non_space_register(self, call: ast.Call) -> None:
+        if not any(N.strip_gym_prefix(q) in _REGISTER_FUNCTIONS for q in self.facts.qualified_names(call.func)):
+            return
+        if any(kw.arg is None or kw.arg == "disable_env_checker" for kw in call.keywords):
+            return  # set already, or maybe in ``**kwargs``
+        entry = keyword(call, "entry_point")
+        value = entry.value if entry is not None else (call.args[1] if len(call.args) > 1 else None)
+        found = self._non_space_entry(value)
+        if found is None:
+            return
+        name, attribute, space, base = found
+        self.report(
+            call,
+            "GM807",
+            f"`{name}.{attribute}` is an instance of `{space}`, a `{base}` subclass, not a `gymnasium.spaces.Space`: the env checker "
+            "that Gymnasium 1.x's make runs raises TypeError on it; registered with `disable_env_checker=True` "
+            "(a `gymnasium.spaces.Tuple` of the per-agent spaces would let the checker run)",
+        )
+        self.plan.replace(call, lambda node: append_keyword(node, "disable_env_checker", cst.Name("True")))
 
     def _decide_entry_point_text(self, attribute: ast.Attribute) -> None:
         """``"gym.envs" in spec.entry_point`` / ``spec.entry_point.startswith(...)``: Gymnasium
@@ -147,6 +189,34 @@ class RegistryApi(RuleFamily):
             and value.args[0].attr == "entry_point"
             for value in before
         )
+
+    def _non_space_entry(self, value: ast.expr | None) -> tuple[str, str, str, str] | None:
+        """(class, space attribute, space class, its bases) when the entry point names a
+        class whose space is an instance of a class that certainly is not a ``Space``: a
+        class of this file (``entry_point=Relay``, ``"__main__:Relay"``, ``"<this module>:Relay"``)
+        or, in a run of several files, of the run."""
+        target = string_value(value)
+        if isinstance(value, ast.Name):
+            module, name = "", value.id
+        elif target is not None and target.count(":") == 1:
+            module, _, name = target.partition(":")
+        else:
+            return None
+        project = self.receivers.project
+        here = module in ("", "__main__") or (project is not None and project.facts.modules.get(module) == project.path)
+        if here:
+            classdef = self.facts.classes.get(name)
+            if classdef is None or (isinstance(value, ast.Name) and self.receivers.local_class(value) is not classdef):
+                return None
+            plain = self.facts.memo(("plain-classes", 0), lambda: plain_classes(self.facts))
+            for attribute, callee in space_calls(self.facts, self.receivers).get(name, ()):
+                base = plain.get(callee[1:]) if callee.startswith("@") else None
+                if base is not None:
+                    return name, attribute, callee[1:], base
+        if project is None:
+            return None
+        found = project.non_space_env(module, name)
+        return None if found is None else (name, *found)
 
     # -- GM802 -------------------------------------------------------------------------------
 

@@ -57,6 +57,7 @@ CYCLE = "cycle"
 MAX_DEPTH = 20
 
 Origin = str | None
+_SYNC_VECTOR_ENVS = frozenset({"vector.SyncVectorEnv", "vector.sync_vector_env.SyncVectorEnv"})
 
 
 def join_origins(origins: list[Origin]) -> Origin:
@@ -121,7 +122,8 @@ class WrapperForwarding(RuleFamily):
             if receiver.id == "self":
                 self._self_forwarding(attr)
             return
-        known = self.receivers.kind_of(receiver) is EnvKind.GYM_ENV
+        sub_env = self._is_sub_env(receiver)
+        known = sub_env or self.receivers.kind_of(receiver) is EnvKind.GYM_ENV
         if not known and not self._outer_is_wrapper(receiver):
             return
         if name == "monitor" and isinstance(attr.ctx, ast.Load):
@@ -136,9 +138,13 @@ class WrapperForwarding(RuleFamily):
                 question=("GM604", "monitor", dotted_name(receiver)),
             )
             return
-        origin = self._origin(receiver)
-        if origin in (None, CYCLE, RAW) and (not known or self._outer_is_wrapper(receiver)):
-            origin = WRAPPED  # whatever else the name held, where it is read it is a wrapper
+        origin: Origin
+        if sub_env:
+            origin = INNER  # what the env_fns built: make() results, maybe wrapped
+        else:
+            origin = self._origin(receiver)
+            if origin in (None, CYCLE, RAW) and (not known or self._outer_is_wrapper(receiver)):
+                origin = WRAPPED  # whatever else the name held, where it is read it is a wrapper
         if origin == CYCLE:
             origin = None
         if origin == RAW:
@@ -147,6 +153,23 @@ class WrapperForwarding(RuleFamily):
             return  # the outermost wrapper has it: no forwarding involved
         code = "GM605" if name == "_max_episode_steps" else "GM604"
         if isinstance(attr.ctx, (ast.Store, ast.Del)):
+            statement = self.facts.parent(attr)
+            if (
+                origin is not None
+                and name != "_max_episode_steps"
+                and isinstance(statement, ast.Assign)
+                and len(statement.targets) == 1
+                and statement.targets[0] is attr
+            ):
+                self.report(
+                    attr,
+                    code,
+                    f"writing `{dotted_name(attr) or name}` would set it on the outermost wrapper only (writes never "
+                    f"forwarded): `set_wrapper_attr(\"{name}\", ...)` sets it on the layer that has it, the base env "
+                    "when no wrapper does, as a write to the bare env did",
+                )
+                self.plan.replace(statement, _set_wrapper_attr(name))
+                return
             if origin is not None:
                 self.report(
                     attr,
@@ -267,6 +290,24 @@ class WrapperForwarding(RuleFamily):
         if not gym_base or any(_takes_lookup_in_hand(local) for local in chain):
             return None
         return chain
+
+    def _is_sub_env(self, receiver: ast.expr) -> bool:
+        """``self.envs[i]`` in a subclass of Gym's ``SyncVectorEnv``, which never rebinds
+        ``envs``: one of the envs its ``env_fns`` made."""
+        if not (
+            isinstance(receiver, ast.Subscript)
+            and isinstance(receiver.value, ast.Attribute)
+            and receiver.value.attr == "envs"
+            and isinstance(receiver.value.value, ast.Name)
+            and receiver.value.value.id == "self"
+        ):
+            return False
+        classdef = self.facts.enclosing_class(receiver)
+        if classdef is None or "envs" in self.receivers.self_stores(classdef):
+            return False
+        return any(
+            N.strip_gym_prefix(q) in _SYNC_VECTOR_ENVS for base in classdef.bases for q in self.facts.qualified_names(base)
+        )
 
     def _check_env_chain(self, attr: ast.Attribute) -> None:
         parent = self.facts.parent(attr)
@@ -512,13 +553,13 @@ class WrapperForwarding(RuleFamily):
         position = next((i for i, p in enumerate(params) if p is param), None)
         calls = self.receivers.call_sites(function, None)
         if not calls:
-            fixture = self.receivers.pytest_fixture(param.arg)
-            if fixture is None:
+            fixtures = self.receivers.param_fixtures(function, param.arg)
+            if not fixtures:
                 return None
-            # A test's parameter named after a pytest fixture of the module gets what the
-            # fixture yields or returns.
+            # A test's parameter named after a pytest fixture of the module (or parametrized
+            # over fixtures with ``fixture_ref``) gets what the fixtures yield or return.
             self._param_origins[param] = None
-            result = join_origins([self._origin(value) for value in self.receivers.fixture_values(fixture)])
+            result = join_origins([self._origin(value) for fixture in fixtures for value in self.receivers.fixture_values(fixture)])
             self._param_origins[param] = result
             return result
         self._param_origins[param] = None  # a recursive call adds no evidence
@@ -530,6 +571,24 @@ class WrapperForwarding(RuleFamily):
         result = join_origins(origins)
         self._param_origins[param] = result
         return result
+
+
+def _set_wrapper_attr(name: str):
+    """``env.foo = value`` -> ``env.set_wrapper_attr("foo", value)``."""
+
+    def build(node: cst.Assign) -> cst.BaseSmallStatement:
+        target = node.targets[0].target
+        assert isinstance(target, cst.Attribute)
+        call = cst.Call(
+            func=cst.Attribute(value=target.value, attr=cst.Name("set_wrapper_attr")),
+            args=[
+                cst.Arg(value=cst.SimpleString(f'"{name}"'), comma=cst.Comma(whitespace_after=cst.SimpleWhitespace(" "))),
+                cst.Arg(value=node.value),
+            ],
+        )
+        return cst.Expr(call, semicolon=node.semicolon)
+
+    return build
 
 
 def _through(*attrs: str):

@@ -1,4 +1,5 @@
-"""Wrapper subclasses: ``reset`` and ``step`` overrides keep Gymnasium's contract (GM601-GM603).
+"""Wrapper subclasses: ``reset`` and ``step`` overrides keep Gymnasium's contract (GM601-GM603), record their
+constructor arguments (GM617) and stop reading state gym-era bases kept (GM618).
 
 Gymnasium 0.26 changed ``Wrapper.reset`` to return ``(obs, info)`` and ``Wrapper.step``
 to return ``(obs, reward, terminated, truncated, info)``; every wrapper that overrides
@@ -23,6 +24,13 @@ returns:
   line is dropped when nothing reads ``done`` any more.
 * GM603 (FLAG) ``__init__`` that never calls ``super().__init__(env)``: Gymnasium's
   ``Wrapper.__init__`` sets up ``env`` and the space/metadata properties.
+
+* GM617 (AUTO) a wrapper whose ``__init__`` takes arguments besides the env records them
+  with ``RecordConstructorArgs`` (its own family, ``constructor_args``), so Gymnasium 1.x
+  can recreate it from ``env.spec``.
+* GM618 (FLAG) a subclass of gym's ``RecordEpisodeStatistics``/``NormalizeReward``/
+  ``NormalizeObservation`` that reads ``self.num_envs``, ``self.t0``... which the 1.x
+  single-env rewrites of those wrappers no longer set.
 
 GM607 (``ActionWrapper.reverse_action``) is deliberately not a rule: a user definition
 is harmless (Gymnasium just never calls it), so a finding would only add review noise.

@@ -31,7 +31,21 @@ RULES = (
         FixKind.FLAG,
         "A wrapper whose `__init__` never calls `super().__init__(env)` is reported.",
     ),
+    Rule(
+        "GM618",
+        "subclasses of rewritten Gym wrappers",
+        FixKind.FLAG,
+        "A subclass of `RecordEpisodeStatistics`/`NormalizeReward`/`NormalizeObservation` reading state 1.x no longer keeps (`num_envs`, `t0`...) is reported.",
+    ),
 )
+
+# Gym 0.26 wrappers whose Gymnasium 1.x versions are single-env rewrites (the vector ones
+# moved to ``gymnasium.wrappers.vector``): state a subclass may read that is gone.
+GONE_WRAPPER_STATE: dict[str, frozenset[str]] = {
+    "RecordEpisodeStatistics": frozenset({"num_envs", "is_vector_env", "t0"}),
+    "NormalizeReward": frozenset({"num_envs", "is_vector_env", "returns"}),
+    "NormalizeObservation": frozenset({"num_envs", "is_vector_env"}),
+}
 
 
 

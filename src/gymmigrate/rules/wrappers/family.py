@@ -8,7 +8,8 @@ import ast
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.module import FUNCTIONS
 from gymmigrate.rules.base import FileContext
-from gymmigrate.rules.wrappers.common import RULES
+from gymmigrate.rules.wrapper_usage.tables import wrapper_rest
+from gymmigrate.rules.wrappers.common import GONE_WRAPPER_STATE, RULES
 from gymmigrate.rules.wrappers.reset import ResetOverrides
 from gymmigrate.rules.wrappers.step import StepOverrides
 
@@ -25,6 +26,7 @@ class WrapperClasses(StepOverrides, ResetOverrides):
         for classdef in self.facts.all_classes:
             if not self.receivers.is_gym_wrapper_class(classdef):
                 continue
+            self._check_gone_state(classdef)
             for statement in classdef.body:
                 if not isinstance(statement, FUNCTIONS):
                     continue
@@ -34,6 +36,40 @@ class WrapperClasses(StepOverrides, ResetOverrides):
                     self._fix_step(statement)
                 elif statement.name == "reset":
                     self._fix_reset(classdef, statement)
+
+    # -- GM618 ------------------------------------------------------------------------------
+
+    def _check_gone_state(self, classdef: ast.ClassDef) -> None:
+        """A subclass of gym's RecordEpisodeStatistics (or the normalize wrappers) that reads
+        what the 0.26 base set (``self.num_envs``, ``self.t0``) and 1.x's does not."""
+        bases = {rest for base in classdef.bases for q in self.facts.qualified_names(base) if (rest := wrapper_rest(q)) is not None}
+        gone: set[str] = set()
+        for base in bases:
+            gone |= GONE_WRAPPER_STATE.get(base, frozenset())
+        if not gone:
+            return
+        stored = self.receivers.self_stores(classdef)
+        read = sorted(
+            {
+                node.attr
+                for node in ast.walk(classdef)
+                if isinstance(node, ast.Attribute)
+                and isinstance(node.ctx, ast.Load)
+                and node.attr in gone
+                and node.attr not in stored
+                and isinstance(node.value, ast.Name)
+                and node.value.id == "self"
+            }
+        )
+        if read:
+            base = sorted(bases & set(GONE_WRAPPER_STATE))[0]
+            self.report(
+                classdef,
+                "GM618",
+                f"`{classdef.name}` reads `{'`, `'.join('self.' + name for name in read)}`, which gym's `{base}` set and "
+                f"Gymnasium 1.x's does not: the 1.x `{base}` is single-env (the vector one is "
+                f"`gymnasium.wrappers.vector.{base}`) and keeps its episode state differently; port this subclass by hand",
+            )
 
     # -- GM603 ------------------------------------------------------------------------------
 

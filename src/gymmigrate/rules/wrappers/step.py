@@ -174,16 +174,29 @@ class StepOverrides(RuleFamily):
                     kind=FixKind.ASSIST,
                 )
                 self.plan.replace(value, lambda node: _five(node, [node.elements[2].value, cst.Name("False")]))
-            elif isinstance(done, _COLLECTIONS) or _reads_per_agent(done, {name for name in (done_name, *flags) if name is not None}):
-                # ``return obs, rewards, [done] * n, info`` or ``all(done)``, ``list(done.values())``:
-                # per-agent flags, not one bool; cutting them against ``terminated`` (a
-                # collection too) would be always false.
+            elif isinstance(done, _COLLECTIONS):
+                # ``return [obs], [reward], [done], info``: a wrapper that makes an env look
+                # multi-agent returns per-agent flags, not one bool; cutting them against
+                # ``terminated`` would be always false. They are returned whole as
+                # terminated, with truncated False, as custom envs' per-agent lists are
+                # (GM504): ``terminated or truncated`` is the old ``done``.
                 self.report(
                     ret,
                     "GM602",
-                    "this step override returns per-agent `done` flags (a collection, or all()/any()/values() of "
-                    "the inner ones): return (obs, reward, terminated, truncated, info) with terminated and "
-                    "truncated per agent by hand",
+                    "this step override returns per-agent `done` flags (a collection): they are returned as terminated "
+                    "with truncated False, so `terminated or truncated` is the old done (the inner step's truncation "
+                    "included); split them per agent where a learner bootstraps on terminated",
+                    kind=FixKind.ASSIST,
+                )
+                self.plan.replace(value, lambda node: _five(node, [node.elements[2].value, cst.Name("False")]))
+            elif _reads_per_agent(done, {name for name in (done_name, *flags) if name is not None}):
+                # ``all(done)``, ``list(done.values())``: the inner flags are per agent;
+                # cutting them against ``terminated`` (a collection too) would be always false.
+                self.report(
+                    ret,
+                    "GM602",
+                    "this step override returns per-agent `done` flags (all()/any()/values() of the inner ones): "
+                    "return (obs, reward, terminated, truncated, info) with terminated and truncated per agent by hand",
                     kind=FixKind.FLAG,
                 )
             elif isinstance(done, ast.Name) and done_name is not None and done.id == done_name and (

@@ -1,0 +1,196 @@
+"""GM617: wrapper classes record their constructor arguments.
+
+Gymnasium 1.x recreates an env from its spec: ``env.spec`` of a wrapped env lists every
+wrapper with the keyword arguments it was built with, and ``make(env.spec)``,
+``env.spec.make()`` and ``check_env`` (which recreates the env to test ``close``) build
+it again from them. A wrapper that does not derive from
+``gymnasium.utils.RecordConstructorArgs`` has no arguments on record, and the recreation
+raises ``ValueError: <Name> wrapper does not inherit from
+`gymnasium.utils.RecordConstructorArgs`, therefore, the wrapper cannot be recreated``;
+gym had no such recreation.
+
+A wrapper class whose own ``__init__(self, env, ...)`` takes arguments besides the env records them the way
+Gymnasium's own wrappers do: its first statement becomes
+``gym.utils.RecordConstructorArgs.__init__(self, weight=weight, ...)`` (before anything
+can rebind a parameter), and a class that derives directly from ``Wrapper``,
+``ObservationWrapper``, ``ActionWrapper`` or ``RewardWrapper`` gains
+``RecordConstructorArgs`` as a base. A subclass of a Gymnasium wrapper that records its
+own arguments (``RecordEpisodeStatistics``) or of a wrapper of the run gets the call only:
+the first call wins, so the subclass's arguments, not its base's, are on record.
+
+``RecordConstructorArgs`` deep-copies what it records; a parameter that may hold
+anything (no annotation, or not a plain value type, and no literal default) could be an
+object ``deepcopy`` cannot copy (a lock, a file, another env with a window), so where
+one does the call passes ``_disable_deepcopy=True``. ``*args`` cannot be recorded by
+name: such a wrapper is reported. A wrapper without ``__init__``, or whose ``__init__``
+takes only the env, is left as it is (its recreation still raises, as gym-era wrappers'
+did under any recreation; Gymnasium's own env-only wrappers record nothing either).
+
+Only modules that import gym (the code this run moves) are changed: a module already on
+Gymnasium decided how its wrappers record themselves.
+
+Source: Gymnasium 1.4 ``core.py`` (``Wrapper.spec``), ``envs/registration.py``
+(``_create_from_env_id``'s recreation of ``additional_wrappers``),
+``utils/record_constructor.py`` and ``wrappers/common.py`` (``TimeLimit.__init__``).
+"""
+
+from __future__ import annotations
+
+import ast
+
+from gymmigrate.edits.lazy import cst
+from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts import names as N
+from gymmigrate.facts.module import FUNCTIONS
+from gymmigrate.findings import FixKind
+from gymmigrate.rules.base import FileContext, Rule, RuleFamily
+from gymmigrate.rules.env_ids.syntax import gym_alias
+
+RULES = (
+    Rule(
+        "GM617",
+        "wrapper constructor arguments",
+        FixKind.AUTO,
+        "A wrapper's `__init__` records its arguments with `RecordConstructorArgs`, so `make(env.spec)` and `check_env` can recreate it.",
+    ),
+)
+
+_RECORD = "RecordConstructorArgs"
+# Names an annotation may be made of for a value ``deepcopy`` always copies.
+_PLAIN_ANNOTATIONS = frozenset(
+    {
+        "int", "float", "str", "bool", "complex", "bytes", "None", "Optional", "Union",
+        "list", "List", "tuple", "Tuple", "dict", "Dict", "Sequence", "Mapping", "set", "Set",
+        "np", "numpy", "ndarray", "NDArray", "typing", "npt",
+        "float16", "float32", "float64", "int8", "int16", "int32", "int64", "uint8", "bool_",
+    }
+)
+
+
+class WrapperConstructorArgs(RuleFamily):
+    RULES = RULES
+
+    @classmethod
+    def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
+        # Code being moved off gym: a module already on Gymnasium chose how its wrappers record.
+        return context.profile.imports_gym and ("Wrapper" in facts.text or "wrappers" in facts.text)
+
+    def decide(self) -> None:
+        for classdef in self.facts.all_classes:
+            if not self.receivers.is_gym_wrapper_class(classdef) or self._records_already(classdef):
+                continue
+            if self._derives_from_a_helper(classdef):
+                continue
+            init = next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == "__init__"), None)
+            if init is not None:
+                self._record(classdef, init)
+
+    def _derives_from_a_helper(self, classdef: ast.ClassDef) -> bool:
+        """A base under ``gym.wrappers`` that is no wrapper: the monitoring recorders, the
+        video encoder, the normalize statistics."""
+        for base in classdef.bases:
+            for q in self.facts.qualified_names(base):
+                rest = N.strip_gym_prefix(q)
+                if rest is None:
+                    continue
+                parts = rest.split(".")
+                if parts[-1] in N.GYM_NOT_ENV_CLASSES or any(part in N.GYM_NOT_ENV_MODULES for part in parts[:-1]):
+                    return True
+        return False
+
+    def _records_already(self, classdef: ast.ClassDef) -> bool:
+        """A base or a call names ``RecordConstructorArgs`` (or ``EzPickle``, its gym-era cousin
+        some wrappers used for pickling): the class decided how it records itself."""
+        for node in ast.walk(classdef):
+            name = node.attr if isinstance(node, ast.Attribute) else node.id if isinstance(node, ast.Name) else None
+            if name in (_RECORD, "EzPickle"):
+                return True
+        return False
+
+    def _record(self, classdef: ast.ClassDef, init: ast.FunctionDef | ast.AsyncFunctionDef) -> None:
+        args = init.args
+        positional = [*args.posonlyargs, *args.args]
+        if len(positional) < 2 or args.posonlyargs:
+            return  # no env parameter, or positional-only ones: not a wrapper constructor we can read
+        if args.vararg is not None:
+            self.report(
+                init,
+                "GM617",
+                f"`{classdef.name}.__init__` takes `*{args.vararg.arg}`, which `RecordConstructorArgs` cannot record by "
+                "name: `make(env.spec)` and `check_env` cannot recreate this wrapper until its arguments are recorded "
+                f"(`gymnasium.utils.RecordConstructorArgs.__init__(self, name=value, ...)`)",
+                FixKind.FLAG,
+            )
+            return
+        recorded = [*positional[2:], *args.kwonlyargs]
+        if not recorded and args.kwarg is None:
+            return  # only the env: left as it is (nothing of its own to record)
+        defaults = dict(zip([a.arg for a in positional][len(positional) - len(args.defaults) :], args.defaults))
+        defaults.update((a.arg, d) for a, d in zip(args.kwonlyargs, args.kw_defaults) if d is not None)
+        unsure = [a.arg for a in recorded if not _plain(a, defaults.get(a.arg))]
+        if args.kwarg is not None:
+            unsure.append(f"**{args.kwarg.arg}")
+        alias = gym_alias(self.facts)
+        direct = any(
+            N.strip_gym_prefix(q) in N.GYM_WRAPPER_BASE_CLASSES for base in classdef.bases for q in self.facts.qualified_names(base)
+        )
+        record = f"{alias}.utils.{_RECORD}" if alias is not None else self.plan.ensure_import("gymnasium.utils", _RECORD)
+        keywords = [f"{a.arg}={a.arg}" for a in recorded]
+        if args.kwarg is not None:
+            keywords.append(f"**{args.kwarg.arg}")
+        if unsure:
+            keywords.append("_disable_deepcopy=True")
+        call = f"{record}.__init__({', '.join(['self', *keywords])})"
+        body = init.body
+        if _is_docstring(body[0]) and len(body) == 1:
+            self.plan.insert_after(body[0], call)
+        else:
+            self.plan.insert_before(body[1] if _is_docstring(body[0]) else body[0], call)
+        if direct:
+            self.plan.replace(classdef, lambda node, record=record: _with_base(node, record))
+        copy = (
+            f"; `{'`, `'.join(unsure)}` may hold objects deepcopy cannot copy: recorded as they are, not copied"
+            if unsure
+            else ""
+        )
+        self.report(
+            classdef,
+            "GM617",
+            f"`{classdef.name}` records its constructor arguments ({', '.join(keywords) or 'none besides env'})"
+            + (f" and derives from `{_RECORD}`" if direct else "")
+            + ": Gymnasium 1.x recreates wrappers from `env.spec` (`make(env.spec)`, `check_env`) and raises ValueError "
+            f"for one that does not{copy}",
+        )
+
+
+def _plain(arg: ast.arg, default: ast.expr | None) -> bool:
+    """The parameter holds a value ``deepcopy`` copies: its annotation names only plain
+    types, or it has none and its default is a literal other than None."""
+    if arg.annotation is not None:
+        annotation: ast.AST = arg.annotation
+        if isinstance(annotation, ast.Constant) and isinstance(annotation.value, str):
+            try:
+                annotation = ast.parse(annotation.value, mode="eval").body
+            except SyntaxError:
+                return False
+        names = {n.id for n in ast.walk(annotation) if isinstance(n, ast.Name)}
+        names |= {n.attr for n in ast.walk(annotation) if isinstance(n, ast.Attribute)}
+        return bool(names) and names <= _PLAIN_ANNOTATIONS
+    if default is None:
+        return False
+    literal = default.operand if isinstance(default, ast.UnaryOp) else default
+    if isinstance(literal, (ast.Tuple, ast.List)):
+        return all(isinstance(e, ast.Constant) for e in literal.elts) and bool(literal.elts)
+    return isinstance(literal, ast.Constant) and literal.value is not None
+
+
+def _is_docstring(statement: ast.stmt) -> bool:
+    return isinstance(statement, ast.Expr) and isinstance(statement.value, ast.Constant) and isinstance(statement.value.value, str)
+
+
+def _with_base(node: cst.ClassDef, record: str) -> cst.ClassDef:
+    bases = list(node.bases)
+    last = bases[-1]
+    bases[-1] = last.with_changes(comma=cst.Comma(whitespace_after=cst.SimpleWhitespace(" ")))
+    bases.append(cst.Arg(value=cst.parse_expression(record)))
+    return node.with_changes(bases=bases)

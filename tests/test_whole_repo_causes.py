@@ -1,0 +1,135 @@
+"""Causes the whole-repository benchmark found (benchmarks/whole_repos.py: ma-gym, mo-gym),
+each a fixture package migrated by one ``gymmigrate rewrite`` and run on Gymnasium 1.4.
+
+``fixtures/project_teams/`` is a multi-agent package: its envs keep one space per agent in
+a ``list`` subclass and register in the package's ``__init__`` (GM807: Gymnasium's env
+checker, which ``make`` runs, rejects such spaces), and its tests reach the env through
+pytest-cases ``fixture_ref`` parametrization and write its attributes (GM604).
+``fixtures/project_rewards/`` has a vector-reward env and a scalarising wrapper with its
+own constructor argument, checked with ``check_env``, which recreates the env from its
+spec (GM617), and which draws its slips from Python's global ``random`` (GM510: check_env
+tests that a seeded reset makes steps reproducible).
+"""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+from typer.testing import CliRunner
+
+from gymmigrate.cli import app
+from tests.fixture_cases import FIXTURES
+
+runner = CliRunner()
+
+
+def _migrated(name: str, tmp_path: Path, *extra: str) -> Path:
+    project = tmp_path / name
+    shutil.copytree(FIXTURES / name, project)
+    result = runner.invoke(app, ["rewrite", str(project), *extra])
+    assert result.exit_code == 0, result.output
+    again = runner.invoke(app, ["rewrite", str(project), *extra])
+    assert "rewrote 0 of" in again.output, again.output
+    return project
+
+
+def _run(project: Path, code: str) -> subprocess.CompletedProcess[str]:
+    return subprocess.run([sys.executable, "-W", "ignore", "-c", code], cwd=project, capture_output=True, text=True, timeout=120)
+
+
+_RELAY = """
+import gymnasium as gym
+import teams
+
+for n in (2, 3):
+    env = gym.make("Relay-v0", n_agents=n)
+    obs, info = env.reset(seed=0)
+    env.set_wrapper_attr("baton", n - 1)
+    assert env.unwrapped.baton == n - 1
+    assert len(env.action_space.sample()) == n
+    obs, rewards, terminated, truncated, info = env.step([1] * n)
+    assert all(terminated) and rewards == [1.0] * n, (terminated, rewards)
+team = gym.make("TeamCartPole-v0")
+obs, info = team.reset(seed=1)
+steps, done = 0, [False]
+while not all(done):
+    obs, rewards, terminated, truncated, info = team.step(team.action_space.sample())
+    done = terminated or truncated
+    steps += 1
+assert len(obs) == 1 and terminated == [True] and truncated is False and steps < 500
+solo = gym.make("Solo-v0")
+assert "PassiveEnvChecker" in str(solo)
+solo.reset(seed=0)
+print(solo.step(0)[1])
+"""
+
+
+def test_list_spaces_register_without_the_env_checker_and_the_tests_reach_the_env(tmp_path: Path) -> None:
+    project = _migrated("project_teams", tmp_path)
+    init = (project / "teams" / "__init__.py").read_text()
+    assert init.count("disable_env_checker=True") == 2  # Relay and OneAgent: Solo's Box space keeps its checker
+    single = (project / "teams" / "single.py").read_text()
+    assert "return [obs], [reward], [terminated or truncated], False, info" in single or "[done], False, info" in single
+    tests = (project / "tests" / "test_relay.py").read_text()
+    assert 'env.set_wrapper_attr("baton", env.get_wrapper_attr("n_agents") - 1)' in tests
+    assert "obs, rewards, terminated, truncated, info = env.step(" in tests
+    run = _run(project, _RELAY)
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.split() == ["1.0"]
+
+
+def test_without_gm807_make_raises_on_the_list_spaces(tmp_path: Path) -> None:
+    project = _migrated("project_teams", tmp_path, "--ignore", "GM807")
+    run = _run(project, "import gymnasium as gym, teams\ngym.make('Relay-v0')")
+    assert run.returncode != 0 and "does not inherit from `gymnasium.spaces.Space`" in run.stderr
+
+
+_SCALAR = """
+import gymnasium as gym
+import numpy as np
+from gymnasium.utils.env_checker import check_env
+
+import scalar
+
+env = scalar.Weighted(gym.make("TwoGoals-v0"), np.array([1.0, 0.5]))
+check_env(env.unwrapped)
+check_env(env)
+again = gym.make(env.spec)
+assert type(again).__name__ == "Weighted" and list(again.weight) == [1.0, 0.5]
+
+
+def episode(seed):
+    again.reset(seed=seed)
+    path = []
+    for _ in range(20):
+        obs, reward, terminated, truncated, info = again.step(1)
+        path.append((float(obs[0]), reward, *info["vector_reward"].tolist()))
+        if terminated or truncated:
+            return path, terminated
+    raise AssertionError("TimeLimit(20) did not end the episode")
+
+
+first, ended = episode(3)
+assert episode(3) == (first, ended)  # a seeded reset makes the slips reproducible
+print(len(first) >= 5, first[-1][1] in (0.0, 1.0, 0.5))
+"""
+
+
+def test_a_wrapper_with_arguments_is_recreated_from_its_spec(tmp_path: Path) -> None:
+    project = _migrated("project_rewards", tmp_path)
+    wrappers = (project / "scalar" / "wrappers.py").read_text()
+    assert "class Weighted(gym.Wrapper, gym.utils.RecordConstructorArgs):" in wrappers
+    assert "gym.utils.RecordConstructorArgs.__init__(self, weight=weight)" in wrappers
+    assert "if self.np_random.random() < 0.05:" in (project / "scalar" / "envs.py").read_text()
+    run = _run(project, _SCALAR)
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.split() == ["True", "True"]
+
+
+def test_without_gm617_check_env_cannot_recreate_the_wrapper(tmp_path: Path) -> None:
+    project = _migrated("project_rewards", tmp_path, "--ignore", "GM617")
+    run = _run(project, _SCALAR)
+    assert run.returncode != 0 and "cannot be recreated" in run.stderr
