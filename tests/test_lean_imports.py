@@ -34,10 +34,18 @@ def loaded_by(*arguments: str) -> set[str]:
     return set(json.loads(line[len("LOADED ") :]))
 
 
-def test_check_imports_no_libcst_and_no_rich() -> None:
+def test_check_imports_no_libcst_no_rich_and_no_typer() -> None:
+    """A pre-commit hook's ``check FILES``: cli.py reads the arguments itself."""
     loaded = loaded_by("check", str(LEGACY))
     assert "libcst" not in loaded
     assert "rich" not in loaded  # findings and summary go to pipes here, not a terminal
+    assert "typer" not in loaded
+    loaded = loaded_by("check", "--select", "GM1", "--output-format", "json", "-j", "1", str(LEGACY))
+    assert not loaded & {"libcst", "rich", "typer"}
+
+
+def test_check_help_still_comes_from_typer() -> None:
+    assert "typer" in loaded_by("check", "--help")
 
 
 @pytest.mark.parametrize("diff", [True, False], ids=["rewrite --diff", "rewrite"])
