@@ -17,8 +17,6 @@ its place and the run goes on.
 from __future__ import annotations
 
 import os
-import signal
-import threading
 import time
 from collections import deque
 from collections.abc import Callable, Generator, Iterable, Iterator, Sequence
@@ -404,6 +402,9 @@ def _serve(connection: Connection, task: _Task | _Migrate | _Summarize) -> None:
     # Ctrl-C reaches the whole process group: the parent stops the run, after letting
     # each worker finish its file; a worker that raised KeyboardInterrupt too would
     # leave a traceback per process.
+    import signal  # only workers need these: a run of one file never loads them
+    import threading
+
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     threading.Thread(target=_exit_when_orphaned, args=(os.getppid(),), daemon=True).start()
     try:
