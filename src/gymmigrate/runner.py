@@ -144,7 +144,7 @@ def _providers_first(
     stream: Generator[FileResult, None, None] | None = None
     migrated: list[FileResult | PendingWrite]
     if write:
-        migrated = list(_computed(first, _Migrate(run_options, want_diff), workers))
+        migrated = list(_computed(first, _Migrate(run_options, want_diff), workers)) if first else []
     else:
         stream = _computed(first + rest, _Task(run_options, False, want_diff), workers)
         migrated = [next(stream) for _ in first]
