@@ -3,7 +3,6 @@ for a terminal. Each command runs in a fresh interpreter, which then lists what 
 
 from __future__ import annotations
 
-import json
 import subprocess
 import sys
 from pathlib import Path
@@ -14,30 +13,52 @@ ROOT = Path(__file__).resolve().parent.parent
 LEGACY = ROOT / "fixtures" / "examples" / "legacy_cartpole_dqn.py"
 
 _PROBE = """
-import json, sys
-sys.argv = ["gymmigrate", *json.loads(sys.argv[1])]
+import sys
+sys.argv = ["gymmigrate", *sys.argv[1:]]
 from gymmigrate.cli import main
 try:
     main()
 except SystemExit:
     pass
-loaded = sorted({name.split(".")[0] for name in sys.modules})
-sys.stderr.write("\\nLOADED " + json.dumps(loaded) + "\\n")
+sys.stderr.write("\\nLOADED " + " ".join(sorted(sys.modules)) + "\\n")
 """
 
 
-def loaded_by(*arguments: str) -> set[str]:
-    done = subprocess.run(
-        [sys.executable, "-c", _PROBE, json.dumps(list(arguments))], capture_output=True, text=True, timeout=120
-    )
+def modules_loaded_by(*arguments: str) -> set[str]:
+    done = subprocess.run([sys.executable, "-c", _PROBE, *arguments], capture_output=True, text=True, timeout=120)
     line = next(line for line in done.stderr.splitlines() if line.startswith("LOADED "))
-    return set(json.loads(line[len("LOADED ") :]))
+    return set(line[len("LOADED ") :].split())
 
 
-def test_check_imports_no_libcst_and_no_rich() -> None:
+def loaded_by(*arguments: str) -> set[str]:
+    return {name.split(".")[0] for name in modules_loaded_by(*arguments)}
+
+
+def test_check_imports_no_libcst_no_rich_and_no_typer() -> None:
+    """A pre-commit hook's ``check FILES``: cli.py reads the arguments itself."""
     loaded = loaded_by("check", str(LEGACY))
     assert "libcst" not in loaded
     assert "rich" not in loaded  # findings and summary go to pipes here, not a terminal
+    assert "typer" not in loaded
+    loaded = loaded_by("check", "--select", "GM1", "--output-format", "json", "-j", "1", str(LEGACY))
+    assert not loaded & {"libcst", "rich", "typer"}
+
+
+def test_check_of_one_file_loads_only_what_it_uses() -> None:
+    """No worker pool, no git, no JSON for text findings, no dependency-file parsers, no
+    other command's modules."""
+    modules = modules_loaded_by("check", str(LEGACY))
+    assert not {name.split(".")[0] for name in modules} & {"subprocess", "multiprocessing", "threading", "json"}
+    assert not modules & {"gymmigrate.typer_app", "gymmigrate.rules_listing", "gymmigrate.rule_docs"}
+    # the runner reads plugin entry points (GM111) with the standard library only; the
+    # requirement parsers (packaging, the TOML and YAML readers) load with a dependency file
+    light = {"gymmigrate.dependencies.plugins", "gymmigrate.dependencies.positions"}
+    assert not any(name.startswith(("gymmigrate.smoke", "gymmigrate.dependencies.")) for name in modules - light)
+    assert not {name.split(".")[0] for name in modules} & {"packaging", "tomlkit", "yaml"}
+
+
+def test_check_help_still_comes_from_typer() -> None:
+    assert "typer" in loaded_by("check", "--help")
 
 
 @pytest.mark.parametrize("diff", [True, False], ids=["rewrite --diff", "rewrite"])

@@ -76,6 +76,39 @@ def test_file_without_markers_is_not_tokenized() -> None:
     assert Suppressions.find(loop().decode()) is None
 
 
+@pytest.mark.parametrize(
+    "comment", ["# noqa: F401", "# noqa: E501, C901", "# noqa:GM2", "# pylint: disable=x  # noqa: PZ1"]
+)
+def test_markers_that_cannot_silence_these_findings_are_not_tokenized(
+    comment: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Other tools' ``# noqa: CODE`` (common in real code) costs no tokenizing, and silences nothing."""
+    text = loop(f"{STEP}  {comment}").decode()
+    monkeypatch.setattr("gymmigrate.suppressions.tokenize.generate_tokens", _no_tokenizing)
+    assert Suppressions.find(text, {"GM101", "GM301"}) is None
+    assert Suppressions.find(text, set()) is None
+
+
+@pytest.mark.parametrize(
+    "comment",
+    ["# noqa", "# NOQA:gm3", "# noqa: E501,GM301", "# gymmigrate: ignore[GM2]", 'x = "# noqa: E1"  # noqa: GM3',
+     "# noqa: E1  # noqa"],
+)
+def test_markers_that_may_silence_them_are_tokenized(comment: str) -> None:
+    text = loop(f"{STEP}  {comment}").decode()
+    assert Suppressions.find(text, {"GM301"}) == Suppressions.find(text)
+    assert Suppressions.find(text, {"GM301"}) is not None
+
+
+def test_a_marker_in_a_string_beside_another_tools_noqa_still_silences_nothing() -> None:
+    source = loop(f'{STEP}; note = "# noqa: GM301"  # noqa: E501')
+    assert "GM301" in rules(source)
+
+
+def _no_tokenizing(*arguments: object) -> object:
+    raise AssertionError("tokenized")
+
+
 def test_check_and_rewrite_honour_comments(tmp_path: Path) -> None:
     path = tmp_path / "loop.py"
     source = loop(f"{STEP}  # gymmigrate: ignore[GM301]")

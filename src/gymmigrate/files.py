@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import os
 import re
-import subprocess
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
@@ -157,6 +156,8 @@ _GIT_UNREADABLE = re.compile(r"^warning: could not open directory '(?P<folder>.+
 def _git_visible_files(root: Path) -> tuple[list[str], list[tuple[str, str]]] | None:
     """Files under ``root`` that git tracks or would track (not ignored), and the folders
     git could not read; None outside git."""
+    import subprocess  # only a folder's walk asks git: ``check FILE`` never loads it
+
     try:
         completed = subprocess.run(
             ["git", "-C", str(root), "ls-files", "-z", "--cached", "--others", "--exclude-standard", "--", "."],
@@ -176,6 +177,8 @@ def _git_unreadable_folders(root: Path, warnings: str) -> list[tuple[str, str]]:
     found = list(_GIT_UNREADABLE.finditer(warnings))
     if not found:
         return []
+    import subprocess
+
     # git names these folders from the top of the work tree, not from ``root``.
     top = subprocess.run(
         ["git", "-C", str(root), "rev-parse", "--show-toplevel"], capture_output=True, text=True, check=False

@@ -12,7 +12,6 @@
 
 from __future__ import annotations
 
-import json
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, TextIO
 
@@ -43,6 +42,8 @@ def findings_json(results: Sequence[FileResult]) -> list[dict[str, object]]:
 
 
 def write_json(results: Sequence[FileResult], stream: TextIO) -> None:
+    import json  # text findings (a pre-commit hook's) need no json
+
     stream.write(json.dumps(findings_json(results), indent=2) + "\n")
 
 
@@ -130,6 +131,8 @@ def _uri(path: str) -> str:
 
 
 def write_sarif(results: Sequence[FileResult], stream: TextIO) -> None:
+    import json
+
     stream.write(json.dumps(sarif(results), indent=2) + "\n")
 
 

@@ -3,8 +3,9 @@ bad input.
 
 Files and stdin share one dispatch (``migrate_bytes``): the same safety screen, the same
 adapter for notebooks and pages, dependency declarations (``gymmigrate.dependencies``),
-the same lint path for ``check``. ``process_file`` adds
-reading and the atomic write that never overwrites an edit saved meanwhile.
+the same lint path for ``check``. ``process_file`` adds reading (``migrate_file``) and
+the atomic write that never overwrites an edit saved meanwhile (``PendingWrite``, which a
+run can also finish later).
 """
 
 from __future__ import annotations
@@ -112,6 +113,45 @@ def process_file(
     ``lint`` (``gymmigrate check``): only decide; the findings and whether the file would
     change come from the plan, with no LibCST tree and no verification run.
     """
+    migrated = migrate_file(path, options, want_diff=want_diff, display_path=display_path, lint=lint)
+    if isinstance(migrated, PendingWrite):
+        return migrated.write() if write else migrated.result
+    return migrated
+
+
+@dataclass(frozen=True)
+class PendingWrite:
+    """A file migrated in memory that changes: its result so far, and the write that
+    finishes it (the bytes read and the bytes that replace them)."""
+
+    path: Path
+    result: FileResult  # CHANGED, not written yet
+    source: bytes
+    rewritten: bytes
+
+    def write(self) -> FileResult:
+        """Write the file atomically; an edit saved since it was read wins (an error here)."""
+        shown, findings = self.result.path, self.result.findings
+        try:
+            # ``expected``: an edit saved while this file was being rewritten wins.
+            write_atomically(self.path, self.rewritten, expected=self.source)
+        except ChangedOnDisk as exc:
+            return FileResult(shown, Status.ERROR, findings=findings, error=f"not rewritten: {exc}; left as it is now")
+        except OSError as exc:
+            return FileResult(shown, Status.ERROR, findings=findings, error=f"cannot write the file: {exc.strerror or exc}")
+        return replace(self.result, written=True)
+
+
+def migrate_file(
+    path: Path,
+    options: RewriteOptions,
+    *,
+    want_diff: bool,
+    display_path: str | None = None,
+    lint: bool = False,
+) -> FileResult | PendingWrite:
+    """Read and migrate one file in memory: its result, or where it changes, the
+    ``PendingWrite`` that would write it. Never raises for bad input."""
     shown = display_path or str(path)
     adapter = adapter_for(path)  # notebooks and documentation pages; None for Python source
     if is_dependency_file(path):
@@ -132,15 +172,8 @@ def process_file(
     diff = None
     if want_diff:
         diff = document_diff(adapter, shown, transformed) if adapter and not is_dependency_file(path) else unified_diff(shown, transformed)
-    if write:
-        try:
-            # ``expected``: an edit saved while this file was being rewritten wins.
-            write_atomically(path, transformed.rewritten, expected=source)
-        except ChangedOnDisk as exc:
-            return FileResult(shown, Status.ERROR, findings=result.findings, error=f"not rewritten: {exc}; left as it is now")
-        except OSError as exc:
-            return FileResult(shown, Status.ERROR, findings=result.findings, error=f"cannot write the file: {exc.strerror or exc}")
-    return FileResult(shown, Status.CHANGED, findings=result.findings, diff=diff, written=write)
+    changed = FileResult(shown, Status.CHANGED, findings=result.findings, diff=diff)
+    return PendingWrite(path, changed, source, transformed.rewritten)
 
 
 def process_stdin(source: bytes, filename: str | None, options: RewriteOptions, *, lint: bool) -> tuple[FileResult, bytes]:

@@ -6,7 +6,6 @@ terminal (rich decides, and honours NO_COLOR / FORCE_COLOR).
 
 from __future__ import annotations
 
-import json
 import os
 import sys
 from collections import Counter
@@ -183,6 +182,8 @@ def report_json(results: Sequence[FileResult], *, wrote: bool, smoke: Sequence[o
 def write_json_report(
     path: Path, results: Sequence[FileResult], *, wrote: bool, smoke: Sequence[object] | None = None
 ) -> None:
+    import json  # only a run with --report writes one
+
     path.write_text(json.dumps(report_json(results, wrote=wrote, smoke=smoke), indent=2) + "\n", encoding="utf-8")
 
 

@@ -17,11 +17,9 @@ its place and the run goes on.
 from __future__ import annotations
 
 import os
-import signal
-import threading
 import time
 from collections import deque
-from collections.abc import Callable, Iterable, Iterator, Sequence
+from collections.abc import Callable, Generator, Iterable, Iterator, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, overload
@@ -32,7 +30,13 @@ from gymmigrate.facts.project import ModuleSummary, ProjectFacts
 from gymmigrate.facts.summaries import summarize
 from gymmigrate.findings import Finding, FixKind
 from gymmigrate.options import RewriteOptions
-from gymmigrate.process import FileResult, Status, process_file
+from gymmigrate.process import (
+    FileResult,
+    PendingWrite,
+    Status,
+    migrate_file,
+    process_file,
+)
 from gymmigrate.safety import Refused, read_source, screen
 from gymmigrate.source_text import TransformError, decode, may_hold_gym_code
 
@@ -70,29 +74,34 @@ def run_files(
     lint: bool = False,
 ) -> Iterator[FileResult]:
     jobs = default_jobs() if jobs is None or jobs <= 0 else jobs
-    parallel = jobs > 1 and len(paths) >= PARALLEL_THRESHOLD
-    done: dict[Path, FileResult] = {}  # results the refusal check already has, final as they are
+    workers = jobs if jobs > 1 and len(paths) >= PARALLEL_THRESHOLD else 1
+    project: ProjectFacts | None
+    results: Iterator[FileResult]
     if options.project is None and len(paths) > 1:
         # One cheap pass over every module (on the workers too), joined once.
-        pool = (lambda python: _run_parallel(python, _Summarize(), jobs)) if parallel else None  # noqa: E731
+        pool = (lambda python: _run_parallel(python, _Summarize(), workers)) if workers > 1 else None  # noqa: E731
         summaries = run_summaries(list(paths), pool)
         project = _with_plugins(ProjectFacts.join(summaries), summaries, paths)
-        if not lint:
-            project, done = _with_refusals(project, summaries, paths, options, want_diff, jobs if parallel else 1)
-            project = _with_plugins(project, summaries, paths)
-            if write or project.blocked:
-                done = {}  # a written run writes in its own pass; a blocked module changes the facts
-        options = replace(options, project=project)
-    task = _Task(options, write, want_diff, lint)
-    rest = [path for path in paths if path not in done]
-    computed = (task(path) for path in rest) if not parallel else _run_parallel(rest, task, jobs)
-    results = (done[path] if path in done else next(computed) for path in paths)
-    run_project = options.project
-    if run_project is None or not run_project.blocked:
+        if lint:
+            results = _computed(list(paths), _Task(replace(options, project=project), write, want_diff, True), workers)
+        else:
+            project, results = _providers_first(paths, summaries, project, options, write, want_diff, workers)
+    else:
+        project, results = options.project, _computed(list(paths), _Task(options, write, want_diff, lint), workers)
+    if project is None or not project.blocked:
         yield from results
         return
     for result in results:
-        yield _with_blocked_note(result, run_project)
+        yield _with_blocked_note(result, project)
+
+
+@overload
+def _computed(paths: list[Path], task: _Task, workers: int) -> Generator[FileResult, None, None]: ...
+@overload
+def _computed(paths: list[Path], task: _Migrate, workers: int) -> Generator[FileResult | PendingWrite, None, None]: ...
+def _computed(paths: list[Path], task: _Task | _Migrate, workers: int) -> Generator[FileResult | PendingWrite, None, None]:
+    """``task`` over ``paths``, in order: here, or on ``workers`` processes."""
+    return (task(path) for path in paths) if workers == 1 else _run_parallel(paths, task, workers)
 
 
 def run_summaries(paths: list[Path], summaries: Callable[[list[Path]], Iterable[object]] | None = None) -> list[ModuleSummary]:
@@ -109,32 +118,60 @@ def run_summaries(paths: list[Path], summaries: Callable[[list[Path]], Iterable[
     return [summary for summary in found if isinstance(summary, ModuleSummary)]
 
 
-def _with_refusals(
-    project: ProjectFacts, summaries: list[ModuleSummary], paths: Sequence[Path], options: RewriteOptions, want_diff: bool, jobs: int
-) -> tuple[ProjectFacts, dict[Path, FileResult]]:
-    """The run's facts with the env modules it cannot migrate marked as blocked, and the
-    results of the modules it migrated to find out.
+def _providers_first(
+    paths: Sequence[Path],
+    summaries: list[ModuleSummary],
+    project: ProjectFacts,
+    options: RewriteOptions,
+    write: bool,
+    want_diff: bool,
+    workers: int,
+) -> tuple[ProjectFacts, Iterator[FileResult]]:
+    """The run's final facts and every file's result, migrating first the modules whose
+    env classes other modules import (the providers).
 
-    A module whose env classes other modules import is migrated in memory first; if it is
-    refused (an error, an unstable rewrite), the run is joined again without its classes,
-    so that no importer passes ``render_mode=`` to them, unpacks their ``reset`` or drops
-    their ``seed()`` as if they had migrated. Where none is refused and the run writes
-    nothing, those results are the run's own: no module is migrated twice.
+    A provider that is refused (an error, an unstable rewrite) is marked blocked and the
+    run joined again without its classes, so that no importer passes ``render_mode=`` to
+    them, unpacks their ``reset`` or drops their ``seed()`` as if they had migrated; then
+    every file runs with those facts. Where none is refused, which is the rule, each file
+    is migrated once: with ``--diff`` the others run on the same workers meanwhile, and a
+    provider's result is the run's own; a written run migrates the providers in memory,
+    writes nothing before all of them are known to migrate, then writes each in its turn
+    (``PendingWrite``) while the others are migrated and written.
     """
+    run_options = replace(options, project=project)
     providers = set(project.importers) - set(project.blocked)
-    checked = [path for path in paths if os.path.realpath(path) in providers]
-    if not checked:
-        return project, {}
-    check = _Task(replace(options, project=project), write=False, want_diff=want_diff)
-    results = list(map(check, checked) if jobs == 1 else _run_parallel(checked, check, jobs))
+    first = [path for path in paths if os.path.realpath(path) in providers]
+    rest = [path for path in paths if os.path.realpath(path) not in providers]
+    stream: Generator[FileResult, None, None] | None = None
+    migrated: list[FileResult | PendingWrite]
+    if write:
+        migrated = list(_computed(first, _Migrate(run_options, want_diff), workers)) if first else []
+    else:
+        stream = _computed(first + rest, _Task(run_options, False, want_diff), workers)
+        migrated = [next(stream) for _ in first]
     refused = {
-        os.path.realpath(path): result.error or "it could not be migrated"
-        for path, result in zip(checked, results)
-        if result.status is Status.ERROR
+        os.path.realpath(path): _result_of(answer).error or "it could not be migrated"
+        for path, answer in zip(first, migrated)
+        if _result_of(answer).status is Status.ERROR
     }
-    if not refused:
-        return project, dict(zip(checked, results))
-    return ProjectFacts.join(summaries, blocked={**project.blocked, **refused}), {}
+    if refused:
+        if stream is not None:
+            stream.close()  # computed with the facts the refusal changes
+        project = _with_plugins(ProjectFacts.join(summaries, blocked={**project.blocked, **refused}), summaries, paths)
+        return project, _computed(list(paths), _Task(replace(options, project=project), write, want_diff), workers)
+    if stream is None:
+        stream = _computed(rest, _Task(run_options, write, want_diff), workers)
+    done = dict(zip(first, migrated))
+    return project, (_finished(done[path]) if path in done else next(stream) for path in paths)
+
+
+def _result_of(answer: FileResult | PendingWrite) -> FileResult:
+    return answer.result if isinstance(answer, PendingWrite) else answer
+
+
+def _finished(answer: FileResult | PendingWrite) -> FileResult:
+    return answer.write() if isinstance(answer, PendingWrite) else answer
 
 
 def _with_plugins(project: ProjectFacts, summaries: list[ModuleSummary], paths: Sequence[Path]) -> ProjectFacts:
@@ -269,15 +306,32 @@ class _Task:
             return _internal_error(path, exc)
 
 
+@dataclass(frozen=True)
+class _Migrate:
+    """``migrate_file`` for the workers: the file migrated in memory, a ``PendingWrite``
+    where it changes, for the run to write later."""
+
+    options: RewriteOptions
+    want_diff: bool
+
+    def __call__(self, path: Path) -> FileResult | PendingWrite:
+        try:
+            return migrate_file(path, self.options, want_diff=self.want_diff)
+        except Exception as exc:  # a bug must cost this file, not the run
+            return _internal_error(path, exc)
+
+
 def _internal_error(path: Path, exc: Exception) -> FileResult:
     return FileResult(str(path), Status.ERROR, error=f"internal error: {type(exc).__name__}: {exc}")
 
 
 @overload
-def _run_parallel(paths: list[Path], task: _Task, jobs: int) -> Iterator[FileResult]: ...
+def _run_parallel(paths: list[Path], task: _Task, jobs: int) -> Generator[FileResult, None, None]: ...
 @overload
-def _run_parallel(paths: list[Path], task: _Summarize, jobs: int) -> Iterator[object]: ...
-def _run_parallel(paths: list[Path], task: _Task | _Summarize, jobs: int) -> Iterator[object]:
+def _run_parallel(paths: list[Path], task: _Migrate, jobs: int) -> Generator[FileResult | PendingWrite, None, None]: ...
+@overload
+def _run_parallel(paths: list[Path], task: _Summarize, jobs: int) -> Generator[object, None, None]: ...
+def _run_parallel(paths: list[Path], task: _Task | _Migrate | _Summarize, jobs: int) -> Generator[object, None, None]:
     """Every file's result, in order, however many workers die on the way."""
     pool = _Pool(task, min(jobs, len(paths)))
     order = _InOrder()
@@ -320,7 +374,7 @@ class _Worker:
 class _Pool:
     """Worker processes that each hold at most one file, and are replaced when they die."""
 
-    def __init__(self, task: _Task | _Summarize, size: int) -> None:
+    def __init__(self, task: _Task | _Migrate | _Summarize, size: int) -> None:
         # multiprocessing loads only for a pool: a run of one file (a pre-commit hook) never pays for it.
         import multiprocessing
 
@@ -406,11 +460,14 @@ def _stop(worker: _Worker) -> None:
 
 # --- in the worker processes ---------------------------------------------------------
 
-def _serve(connection: Connection, task: _Task | _Summarize) -> None:
+def _serve(connection: Connection, task: _Task | _Migrate | _Summarize) -> None:
     """A worker: process the files the parent sends, one at a time, until it sends None."""
     # Ctrl-C reaches the whole process group: the parent stops the run, after letting
     # each worker finish its file; a worker that raised KeyboardInterrupt too would
     # leave a traceback per process.
+    import signal  # only workers need these: a run of one file never loads them
+    import threading
+
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     threading.Thread(target=_exit_when_orphaned, args=(os.getppid(),), daemon=True).start()
     try:

@@ -11,7 +11,9 @@
   the docstring at most) leaves the whole file alone.
 
 A silenced finding is neither reported nor fixed. Files that do not mention
-``gymmigrate:`` or ``noqa`` pay one regex search; only the others are tokenized.
+``gymmigrate:`` or ``noqa`` pay one regex search; only the others are tokenized, and
+only when one of their marked lines could silence one of the findings to filter (a
+``# noqa: F401`` of another tool cannot).
 """
 
 from __future__ import annotations
@@ -37,9 +39,13 @@ class Suppressions:
     by_line: dict[int, set[str]] = field(default_factory=dict)
 
     @classmethod
-    def find(cls, text: str) -> Suppressions | None:
-        """The file's suppressions, or None when it has none (the common, cheap case)."""
+    def find(cls, text: str, rules: Iterable[str] | None = None) -> Suppressions | None:
+        """The file's suppressions, or None when it has none (the common, cheap case).
+        With ``rules`` (the codes of the findings to filter), also None when none of
+        them could be silenced, which is decided without tokenizing."""
         if _MARKER.search(text) is None:
+            return None
+        if rules is not None and not _may_silence(text, set(rules)):
             return None
         found = cls()
         for line, comment in _comments(text):
@@ -75,6 +81,30 @@ def _codes_silenced(comment: str) -> set[str]:
     for match in _NOQA.finditer(comment):
         codes |= _code_list(match["codes"])
     return codes
+
+
+def _may_silence(text: str, rules: set[str]) -> bool:
+    """Whether a comment of ``text`` could silence one of ``rules``, read generously:
+    each line with a marker counts as if it were all comment, and every ``noqa`` in it
+    as if it started a match. A comment is a line's tail and its matches are some of
+    those, so a False here means tokenizing would find nothing that silences them."""
+    if not rules:
+        return False
+    for marker in _MARKER.finditer(text):
+        start = max(text.rfind("\n", 0, marker.start()), text.rfind("\r", 0, marker.start())) + 1
+        ends = [end for end in (text.find("\n", marker.end()), text.find("\r", marker.end())) if end >= 0]
+        line = text[start : min(ends, default=len(text))]
+        if "gymmigrate:" in line.lower():
+            return True
+        for noqa in re.finditer("noqa", line, re.IGNORECASE):
+            found = _NOQA.match(line, noqa.start())
+            if found is not None and _silences_one_of(_code_list(found["codes"]), rules):
+                return True
+    return False
+
+
+def _silences_one_of(codes: set[str], rules: set[str]) -> bool:
+    return EVERY_RULE in codes or any(rule.startswith(code) for code in codes for rule in rules)
 
 
 def _code_list(text: str | None) -> set[str]:

@@ -9,13 +9,13 @@ those spans only, findings placed. Every byte outside a changed requirement is k
 from __future__ import annotations
 
 import re
-from bisect import bisect_right
 from dataclasses import dataclass, field
 
 from packaging.utils import canonicalize_name
 
 from gymmigrate.dependencies import mapping
 from gymmigrate.dependencies.mapping import GYM_ONLY, Decision, Note
+from gymmigrate.dependencies.positions import Positions
 from gymmigrate.findings import Finding, FixKind
 
 
@@ -55,17 +55,6 @@ class Outcome:
     decided: dict[str, str] = field(default_factory=dict)
     # every PEP 508 requirement read: (its site, its canonical name), for ``companions``
     declared: list[tuple[Site, str]] = field(default_factory=list)
-
-
-class Positions:
-    """Offsets in a text -> 1-based lines and 0-based columns."""
-
-    def __init__(self, text: str) -> None:
-        self.starts = [0] + [match.end() for match in re.finditer(r"\n", text)]
-
-    def of(self, offset: int) -> tuple[int, int]:
-        index = bisect_right(self.starts, offset) - 1
-        return index + 1, offset - self.starts[index]
 
 
 def finding(positions: Positions, start: int, end: int, note: Note) -> Finding:

@@ -23,7 +23,7 @@ import warnings
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from gymmigrate.dependencies.core import Positions
+from gymmigrate.dependencies.positions import Positions
 from gymmigrate.findings import Finding, FixKind
 
 if TYPE_CHECKING:

@@ -14,7 +14,7 @@ from gymmigrate.suppressions import Suppressions
 def filter_plan(plan: Plan, text: str, options: RewriteOptions) -> None:
     """Drop the findings of deselected rules and the suppressed ones, with their edits."""
     selection = options.selection
-    suppressions = Suppressions.find(text)
+    suppressions = Suppressions.find(text, {finding.rule for finding in plan.findings})
     if (selection is None or selection.every_rule) and suppressions is None:
         return
     dropped = set()
