@@ -338,6 +338,8 @@ class CreationFinder:
         result = Creation()
         label = param.arg
         function = self.facts.parent(self.facts.parent(param))  # arg -> arguments -> def
+        if isinstance(function, FUNCTIONS) and function.name == "__init__":
+            return self._constructor_parameter(param, function)
         if not isinstance(function, FUNCTIONS) or self.facts.parent(function) is not self.facts.tree:
             result.fail(f"`{label}` is a function parameter")
             return result
@@ -357,6 +359,40 @@ class CreationFinder:
                 argument = call.args[position]
             if argument is None:
                 result.fail(f"`{label}` is not passed at every call of `{function.name}`")
+            else:
+                result.merge(self._follow(argument, self._expr))
+        return result
+
+    def _constructor_parameter(self, param: ast.arg, init: ast.FunctionDef | ast.AsyncFunctionDef) -> Creation:
+        """``class Agent: def __init__(self, env): self.env = env`` with ``Agent(gym.make(...))``:
+        the arguments where this module builds the class. Complete only when nothing else
+        can build it: no subclass here, no call from another module of the run."""
+        result = Creation()
+        label = param.arg
+        classdef = self.facts.parent(init)
+        if not isinstance(classdef, ast.ClassDef) or self.facts.parent(classdef) is not self.facts.tree:
+            result.fail(f"`{label}` is a function parameter")
+            return result
+        params = [*init.args.posonlyargs, *init.args.args][1:]  # without ``self``
+        position = next((i for i, p in enumerate(params) if p is param), None)
+        subclassed = any(
+            isinstance(node, ast.ClassDef) and any(isinstance(b, ast.Name) and b.id == classdef.name for b in node.bases)
+            for node in self.facts.tree.body
+        )
+        project = self.receivers.project
+        elsewhere = project is not None and any(
+            project.param_kinds(qualname, label) for qualname in (classdef.name, f"{classdef.name}.__init__")
+        )
+        calls = [c for c in self.receivers.call_sites(init, classdef) if self.receivers.local_class(c.func) is classdef]
+        if subclassed or elsewhere or not calls:
+            result.fail(f"`{label}` is a parameter of `{classdef.name}`, which is not only built here")
+            return result
+        for call in calls:
+            argument = next((k.value for k in call.keywords if k.arg == label), None)
+            if argument is None and position is not None and position < len(call.args):
+                argument = call.args[position]
+            if argument is None or any(isinstance(a, ast.Starred) for a in call.args) or any(k.arg is None for k in call.keywords):
+                result.fail(f"`{label}` is not passed at every construction of `{classdef.name}`")
             else:
                 result.merge(self._follow(argument, self._expr))
         return result

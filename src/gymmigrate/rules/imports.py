@@ -92,7 +92,11 @@ LEGACY_WRAPPER_MODULES = frozenset(
     }
 )
 # Names imported from a legacy wrapper module that do not live in gymnasium.wrappers.
-MOVED_NAMES = {("record_video", "capped_cubic_video_schedule"): "gymnasium.utils.save_video"}
+# ``("*", name)``: from any legacy module that exported it (gym 0.26's ``gym.wrappers``).
+MOVED_NAMES = {
+    ("record_video", "capped_cubic_video_schedule"): "gymnasium.utils.save_video",
+    ("*", "capped_cubic_video_schedule"): "gymnasium.utils.save_video",
+}
 
 # Module paths (under gym) that are gone, with what to use instead.
 REMOVED_MODULES = {
@@ -434,8 +438,20 @@ class Imports(RuleFamily):
             self._report_removed(node, hint, advice or hint)
             return
         new_rest = migrated_path(rest)
-        if not star and new_rest != rest:
-            moved = [MOVED_NAMES.get((rest.split(".")[-1], alias.name)) or _home_of(new_rest, alias.name) for alias in node.names]
+        target = "gymnasium" + ("." + new_rest if new_rest else "")
+        # Every name must exist where the import points, whether or not the module path
+        # changed: ``from gym.wrappers import capped_cubic_video_schedule`` needs
+        # ``gymnasium.utils.save_video``. (Names Gymnasium renamed or dropped are reported by
+        # the families that rename them: GM906, GM907...)
+        if not star and (new_rest != rest or module_exists(target)):
+            moved = [
+                None
+                if module_exists(target) and has_name(target, alias.name)
+                else MOVED_NAMES.get((rest.split(".")[-1], alias.name))
+                or MOVED_NAMES.get(("*", alias.name))
+                or _home_of(new_rest, alias.name)
+                for alias in node.names
+            ]
             first = moved[0] if moved else None
             if first and len(set(moved)) == 1:  # every name moved, to one module
                 new_rest = first[len("gymnasium.") :]

@@ -154,8 +154,20 @@ class WrapperForwarding(RuleFamily):
         code = "GM605" if name == "_max_episode_steps" else "GM604"
         if isinstance(attr.ctx, (ast.Store, ast.Del)):
             statement = self.facts.parent(attr)
+            if (origin == WRAPPED or self._outer_is_wrapper(receiver)) and isinstance(statement, ast.Assign):
+                # The user's own stack: the legacy write landed on its outermost wrapper, and
+                # so does this one (reads through get_wrapper_attr find it there first);
+                # set_wrapper_attr would reach an inner wrapper that has the name (a
+                # RecordVideo's episode_trigger) and change what the program does.
+                self.report(
+                    attr,
+                    code,
+                    f"writing `{dotted_name(attr) or name}` sets it on the outermost wrapper, as it did: left as it is",
+                    tier=Tier.NOTE,
+                )
+                return
             if (
-                origin is not None
+                origin in (MADE, INNER)
                 and name != "_max_episode_steps"
                 and isinstance(statement, ast.Assign)
                 and len(statement.targets) == 1

@@ -64,16 +64,19 @@ def plan_monitor(family: StacksFamily, call: ast.Call) -> MonitorRewrite | None:
         return None
     env = values["env"]
     trigger = values.get("video_callable")
-    dropped = sorted(k for k in values if k in _DROPPED)
+    # ``force`` cleared the folder's old monitor files; RecordVideo writes over what is there
+    # (with a warning), so dropping it keeps the behaviour: no question, only the note.
+    dropped = sorted(k for k in values if k in _DROPPED and k != "force")
     note = ""
     if dropped:
         listed = ", ".join(f"`{k}`" for k in dropped)
         note = f"; {listed} {'has' if len(dropped) == 1 else 'have'} no equivalent and {'was' if len(dropped) == 1 else 'were'} dropped"
+    explained = "; `force` was dropped (RecordVideo writes over the folder's files)" if "force" in values else ""
     # Where each value sits in the call, to find its LibCST counterpart in the build.
     where = {name: _argument_slot(call, value) for name, value in values.items()}
 
     if isinstance(trigger, ast.Constant) and trigger.value is False:
-        family.report(call, "GM611", f"Monitor without videos is RecordEpisodeStatistics{note}", tier=None if note else Tier.NOTE)
+        family.report(call, "GM611", f"Monitor without videos is RecordEpisodeStatistics{note}{explained}", tier=None if note else Tier.NOTE)
 
         def stats_only(node: cst.Call) -> cst.BaseExpression:
             return cst.Call(
@@ -104,7 +107,7 @@ def plan_monitor(family: StacksFamily, call: ast.Call) -> MonitorRewrite | None:
         call,
         "GM611",
         "Monitor is RecordVideo(RecordEpisodeStatistics(env)): the env must be made with "
-        f"render_mode=\"rgb_array\" for videos{note}",
+        f"render_mode=\"rgb_array\" for videos{note}{explained}",
         tier=None if note else Tier.NOTE,  # dropped arguments are a question; the rest explains the rewrite
     )
     family.plan.replace(call, record_video)
