@@ -180,15 +180,20 @@ class ProjectFacts:
                 resolved = facts._resolve(call.target, summary.path)
                 if resolved is not None:
                     calls_to[resolved].append((summary.path, call))
-        facts.requires = frozenset(
+        imported = {q for summary in summaries for q in summary.imported}
+        requires = {
             package
             for family, (package, rewritten) in N.PZ_MOVED_FAMILIES.items()
             if rewritten and any(
                 q == family or q.startswith(family + ".") or q == package or q.startswith(package + ".")
-                for summary in summaries
-                for q in summary.imported
+                for q in imported
             )
-        )
+        }
+        # Gymnasium 1.x's ``envs/mujoco/__init__.py`` imports its renderer, which imports
+        # imageio: any import under ``gym.envs.mujoco`` (``gymnasium.envs.mujoco``) needs it.
+        if any(q.split(".")[:3] in (["gym", "envs", "mujoco"], ["gymnasium", "envs", "mujoco"]) for q in imported):
+            requires.add("imageio")
+        facts.requires = frozenset(requires)
         _Exports(facts, by_path).run()
         _Join(facts, by_path, calls_to).run()
         for summary in summaries:
