@@ -83,3 +83,22 @@ def test_seed_kept_while_a_subclass_calls_it(monkeypatch) -> None:
     child = module["Child"]()  # its __init__ calls self.seed(7), inherited from Base
     obs, info = child.reset()
     assert 0 <= obs < 6 and info == {}
+
+
+def test_render_migrates_beside_a_render_that_draws_into_an_array(monkeypatch) -> None:
+    """``obj.render(canvas)`` with ``canvas = np.zeros(...)`` is no Gym render call: the env
+    class's render(mode) migrates, and the tile still draws."""
+    module = migrated_module("GM405", "render_beside_array_draws", monkeypatch)
+    env = module["Board"](render_mode="rgb_array")
+    env.reset(seed=0)
+    frame = env.render()
+    assert frame.shape == (2, 2, 3) and frame[0, 0, 0] == 255
+    assert module["Board"]().render() is None, "no render_mode: draws nothing (Gymnasium's convention)"
+    gymnasium.register(id="BoardBesideArrayDraws-v0", entry_point=module["Board"])
+    try:
+        made = gymnasium.make("BoardBesideArrayDraws-v0", render_mode="rgb_array")
+        made.reset(seed=0)
+        made.step(1)
+        assert made.render().shape == (2, 2, 3)
+    finally:
+        gymnasium.registry.pop("BoardBesideArrayDraws-v0")

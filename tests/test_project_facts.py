@@ -242,3 +242,21 @@ def test_a_seed_caller_the_run_rewrites_does_not_keep_seed_and_a_second_run_chan
     assert again.exit_code == 0, again.output
     assert {path.name: path.read_bytes() for path in folder.glob("*.py")} == migrated
     assert _run_main(folder, "worker") == _run_main(folder, "worker")
+
+
+def test_render_mode_is_kept_while_a_gym_env_of_another_module_is_rendered_with_a_mode_left(tmp_path: Path) -> None:
+    """snap.py renders a Gym env (a parameter annotated ``gym.Env``) with a mode that is no
+    literal: the rendering rules cannot move it and leave the call passing it, so GridEnv,
+    which snap.py imports, keeps render(mode) and the call still works after the run."""
+    folder = tmp_path / "grid"
+    shutil.copytree(FIXTURES / "project_render", folder)
+    (folder / "record.py").unlink()
+    (folder / "snap.py").write_text(
+        "import gym\n\nfrom envs import GridEnv\n\n\ndef snapshot(env: gym.Env, mode):\n    return env.render(mode=mode)\n\n\n"
+        "def main():\n    env = GridEnv()\n    env.reset()\n    return snapshot(env, \"rgb_array\").shape\n"
+    )
+    result = runner.invoke(app, ["rewrite", str(folder)])
+    assert result.exit_code == 0, result.output
+    assert 'def render(self, mode="human"):' in (folder / "envs.py").read_text()
+    assert _run_main(folder, "snap") == "(4, 4, 3)"
+    assert _run_main(folder, "show") == "(4, 4, 3)"

@@ -167,7 +167,10 @@ class _Summarizer:
                 continue
             if method == "render" and not passes_mode(call, self.facts):
                 continue  # a bare render() (the Gymnasium call), or a render method forwarding
-            if self.receivers.kind_of(receiver) is not EnvKind.UNKNOWN:
+            kind = self.receivers.kind_of(receiver)
+            if method == "render" and kind is EnvKind.GYM_ENV and _keeps_mode(call):
+                return True  # a Gym env the rendering rules leave passing its mode: any class's render
+            if kind is not EnvKind.UNKNOWN:
                 continue
             if method == "seed" and self._seed_call_rewritten_here(call):
                 continue  # GM203 makes it reset(seed=...) in this run: no seed() caller is left
@@ -397,3 +400,14 @@ def _subclasses(facts: ModuleFacts) -> tuple[tuple[str, tuple[str, ...], tuple[s
             methods = tuple(s.name for s in classdef.body if isinstance(s, FUNCTIONS))
             found.append((name, bases, methods))
     return tuple(found)
+
+
+def _keeps_mode(call: ast.Call) -> bool:
+    """A render call on a Gym env that the rendering rules report and leave passing its
+    mode (GM401): a mode that is not a string literal, or other arguments beside it
+    (``env.render(mode="rgb_array", tile_size=8)`` on an env class that takes them)."""
+    mode = next((k.value for k in call.keywords if k.arg == "mode"), None)
+    if mode is None and call.args:
+        mode = call.args[0]
+    others = len(call.args) + len(call.keywords) - 1
+    return others > 0 or not (isinstance(mode, ast.Constant) and isinstance(mode.value, str))

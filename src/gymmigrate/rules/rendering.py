@@ -47,6 +47,7 @@ from gymmigrate.facts.creation import (
     Creation,
     CreationFinder,
     local_env_class_takes_render_mode,
+    not_a_mode_call,
 )
 from gymmigrate.facts.decisions import Action, decide, receiver_text
 from gymmigrate.facts.env_classes import EnvClasses
@@ -173,7 +174,7 @@ class Rendering(RuleFamily):
         # A file that still passes modes to render() is legacy code even once its imports
         # say gymnasium (e.g. a conflict reported on a first run): its bare render()
         # calls still mean "human", so a second run decides the same way.
-        self._has_legacy_mode_calls = any(mode_argument(call) is not None for call in render_calls)
+        self._has_legacy_mode_calls = any(self._mode_argument(call) is not None for call in render_calls)
         sites: list[RenderSite] = []
         for call in in_source_order([*render_calls, *self._recorder_candidates()]):
             site = self._render_site(call) if is_render(call) else self._recorder_site(call)
@@ -187,10 +188,16 @@ class Rendering(RuleFamily):
         self.notes.render_mode_calls_left = [
             call
             for call in render_calls
-            if mode_argument(call) is not None
+            if self._mode_argument(call) is not None
             and id(call) not in self._mode_dropped
             and getattr(self.facts.enclosing_function(call), "name", None) != "render"
         ]
+
+    def _mode_argument(self, call: ast.Call) -> ast.AST | None:
+        """The mode a legacy render call passes; None when its argument is certainly no mode
+        string (``obj.render(img)`` on a grid cell drawing into an array: not a Gym render)."""
+        found = mode_argument(call)
+        return None if found is None or not_a_mode_call(call, self.facts) else found
 
     def _is_make(self, call: ast.Call) -> bool:
         return self.facts.memo(
@@ -223,7 +230,7 @@ class Rendering(RuleFamily):
             return None
         receiver = func.value
         close = keyword(call, "close")
-        mode_arg = mode_argument(call)
+        mode_arg = self._mode_argument(call)
         if close is None and mode_arg is None and (call.args or call.keywords):
             return None  # some other render(...) signature: not the Gym one
         function = self.facts.enclosing_function(call)

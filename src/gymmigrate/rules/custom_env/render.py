@@ -59,8 +59,8 @@ def decide_render(decision: ClassDecision) -> None:
             function,
             "GM405",
             "render(mode) kept: another module of this run imports this class and passes a mode to `.render()` on an "
-            "object that could not be traced, which may be an instance of it; give that env its render_mode where it "
-            "is made, then run again",
+            "object that could not be traced, or on a Gym env with a mode or arguments the rendering rules leave "
+            "(GM401), which may be an instance of it; give that env its render_mode where it is made, then run again",
             FixKind.FLAG,
         )
         return
