@@ -71,3 +71,13 @@ def test_render_mode_on_a_step_schedule_loses_its_mode_but_no_human_mode(made_mo
     with pytest.warns(UserWarning, match="render_mode"):  # render() without a mode: no TypeError
         run_migrated("GM401", "render_mode_on_step_schedule", monkeypatch)
     assert made_modes == [None]
+
+
+def test_a_mode_from_a_loop_or_a_parameter_moves_to_the_make(monkeypatch) -> None:
+    """``for mode in modes: env = make(...); env.render(mode=mode)``: each env is made in the
+    loop's mode, so render() gives what render(mode=mode) gave; the same for a parameter."""
+    module = run_migrated("GM401", "mode_from_loop", monkeypatch)
+    frame, text = module["frames"]("FrozenLake-v1")
+    assert frame.shape[2] == 3 and isinstance(text, str) and "S" in text
+    assert isinstance(module["frame"]("FrozenLake-v1", mode="ansi"), str)
+    assert module["frame"]("FrozenLake-v1").ndim == 3

@@ -66,7 +66,7 @@ from gymmigrate.rules.render_calls import (
     with_keyword,
     without_mode_argument,
 )
-from gymmigrate.rules.render_schedule import schedule
+from gymmigrate.rules.render_schedule import same_value_at_make, schedule
 
 RULES = (
     Rule(
@@ -136,6 +136,7 @@ class RenderSite:
     legacy_spelling: bool = False  # it said "single_rgb_array" (GM403)
     consumer: str = "render()"
     quote: str = '"'  # the user's quote style, taken from their mode literal
+    variable: bool = False  # ``mode`` is a name holding the mode (its text), not a literal
 
 
 class Rendering(RuleFamily):
@@ -260,6 +261,10 @@ class Rendering(RuleFamily):
             return None
         value = mode_arg.value if isinstance(mode_arg, ast.keyword) else mode_arg
         mode = string_value(value)
+        if mode is None and isinstance(value, ast.Name):
+            creation = self.finder.find(receiver)
+            if creation.found and all(same_value_at_make(self.facts, value, call, make) for make in creation.calls):
+                return RenderSite(call, "GM401", value.id, (), decision.action, creation, variable=True)
         if mode is None:
             self.report(
                 call,
@@ -387,11 +392,12 @@ class Rendering(RuleFamily):
                 )
                 continue
             wanted = {s.mode for s in make_sites}
-            if wanted == {HUMAN} and self._keeps_schedule(make, make_sites, final_mode, blocked):
+            if wanted == {HUMAN} and not any(s.variable for s in make_sites) and self._keeps_schedule(make, make_sites, final_mode, blocked):
                 continue
             if len(wanted) == 1:
                 mode = final_mode[key] = wanted.pop()
-                self._add_mode(make, mode, self._quote_style(make, make_sites))
+                variable = any(s.variable for s in make_sites)
+                self._add_mode(make, mode, "" if variable else self._quote_style(make, make_sites))
             else:
                 final_mode[key] = None
                 modes = " and ".join(sorted(f'"{m}"' for m in wanted))
@@ -498,7 +504,7 @@ class Rendering(RuleFamily):
         blocked: dict[int, str],
     ) -> None:
         code, call = site.code, site.node
-        target = f'render_mode="{site.mode}"'
+        target = f"render_mode={site.mode}" if site.variable else f'render_mode="{site.mode}"'
         if not site.creation.found:
             where = site.creation.gap or "no gym.make was found"
             self.report(
@@ -591,7 +597,9 @@ class Rendering(RuleFamily):
                 message += "; the env's origin was inferred, check it"
             # A frame or text mode draws nothing by itself: the env renders when render() is
             # called, as before, so the move explains itself. "human" draws every step.
-            exact = not inferred and site.mode != HUMAN
+            exact = not inferred and site.mode != HUMAN and not site.variable
+            if site.variable:
+                message += f'; the mode is read once per env now: where {site.mode} is "human", that env draws every step inside step()/reset()'
             self.report(call, code, message, tier=Tier.NOTE if exact else None, question=question("moved"))
         else:
             self.report(call, code, f"{where} already has {target}; render() takes no arguments", FixKind.AUTO)
