@@ -13,6 +13,7 @@ from dataclasses import replace
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.creation import passes_mode, render_kept_classes
+from gymmigrate.facts.env_specs import module_spec_lists
 from gymmigrate.facts.decisions import Action, decide
 from gymmigrate.facts.env_classes import EnvClasses
 from gymmigrate.facts.kinds import EnvKind
@@ -87,6 +88,7 @@ class _Summarizer:
             wrapper_classes=frozenset(name for name, classdef in self.facts.classes.items() if self.receivers.is_gym_wrapper_class(classdef)),
             plain_classes=plain_classes(self.facts),
             space_calls=self._space_calls(),
+            spec_lists=module_spec_lists(self.facts),
         )
 
     def _space_calls(self) -> dict[str, tuple[tuple[str, str], ...]]:

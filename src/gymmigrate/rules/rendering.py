@@ -51,6 +51,7 @@ from gymmigrate.facts.creation import (
 )
 from gymmigrate.facts.decisions import Action, decide, receiver_text
 from gymmigrate.facts.env_classes import EnvClasses
+from gymmigrate.facts.env_specs import is_spec_make
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import keyword, string_value
 from gymmigrate.findings import FixKind, Tier
@@ -205,7 +206,8 @@ class Rendering(RuleFamily):
             ("rendering-is-make", id(call)),
             lambda: any(N.strip_gym_prefix(q) in N.GYM_ENV_FACTORIES for q in self.facts.qualified_names(call.func))
             or local_env_class_takes_render_mode(self.facts, self.receivers, call)
-            or self._is_project_make(call),
+            or self._is_project_make(call)
+            or is_spec_make(self.facts, self.receivers.project, call),
         )
 
     def _is_project_make(self, call: ast.Call) -> bool:
