@@ -321,10 +321,17 @@ def test_mpe2_is_not_added_where_it_is_not_needed(name: str, text: str, requires
 
 
 def test_mpe2_is_reported_where_no_line_can_hold_it() -> None:
-    text = 'from setuptools import setup\nsetup(install_requires=["pettingzoo>=1.25"])\n'
-    result = migrate_dependency_file("setup.py", text.encode(), requires=MPE2)
+    text = "pettingzoo>=1.25 --hash=sha256:abc\n"  # a hashed line: a new one needs its own hashes
+    result = migrate_dependency_file("requirements.txt", text.encode(), requires=MPE2)
     assert result.rewritten == text.encode()
     assert [f.kind.value for f in result.findings if "mpe2" in f.message] == ["flag"]
+
+
+def test_mpe2_joins_a_one_line_list() -> None:
+    text = 'from setuptools import setup\nsetup(install_requires=["pettingzoo>=1.25"])\n'
+    result = migrate_dependency_file("setup.py", text.encode(), requires=MPE2)
+    assert result.rewritten.decode() == 'from setuptools import setup\nsetup(install_requires=["pettingzoo>=1.25", "mpe2>=1.0"])\n'
+    assert [f.kind.value for f in result.findings if "mpe2" in f.message] == ["auto"]
 
 
 def test_a_run_that_moves_mpe_imports_declares_mpe2(tmp_path: Path) -> None:
@@ -337,3 +344,59 @@ def test_a_run_that_moves_mpe_imports_declares_mpe2(tmp_path: Path) -> None:
     assert (tmp_path / "train.py").read_text() == "from mpe2 import simple_v3\n\nenv = simple_v3.env()\n"
     again = CliRunner().invoke(app, ["rewrite", str(tmp_path)])
     assert again.exit_code == 0 and (tmp_path / "requirements.txt").read_text() == "pettingzoo>=1.25\nmpe2>=1.0\n"
+
+
+# -- imageio next to mujoco, where the run's code imports Gymnasium's MuJoCo envs
+
+IMAGEIO = frozenset({"imageio"})
+
+
+@pytest.mark.parametrize(
+    ("name", "before", "after"),
+    [
+        ("requirements.txt", "mujoco>=2.3  # physics\nnumpy\n", "mujoco>=2.3  # physics\nimageio>=2.14.1\nnumpy\n"),
+        # the last element of a one-line list: a new element after it, in its quotes
+        ("pyproject.toml", '[project]\nname = "x"\n[project.optional-dependencies]\nsim = ["mujoco >=2.3.0"]\n',
+         '[project]\nname = "x"\n[project.optional-dependencies]\nsim = ["mujoco >=2.3.0", "imageio>=2.14.1"]\n'),
+        ("setup.py", "from setuptools import setup\nsetup(extras_require={'sim': ['mujoco>=2.3' ]})\n",
+         "from setuptools import setup\nsetup(extras_require={'sim': ['mujoco>=2.3', 'imageio>=2.14.1' ]})\n"),
+    ],
+)
+def test_imageio_is_declared_next_to_mujoco_when_the_code_imports_mujoco_envs(name: str, before: str, after: str) -> None:
+    result = migrate_dependency_file(name, before.encode(), requires=IMAGEIO)
+    assert result.rewritten.decode() == after
+    assert migrate_dependency_file(name, result.rewritten, requires=IMAGEIO).rewritten == result.rewritten
+    # the GM110 note asking for imageio by hand is answered on that line
+    assert not any(f.rule == "GM110" for f in result.findings)
+    assert [f.rule for f in result.findings if "imageio" in f.message] == ["SB110"]
+    if name == "setup.py":
+        compile(result.rewritten, name, "exec")
+
+
+@pytest.mark.parametrize(
+    ("name", "text"),
+    [
+        ("requirements.txt", "mujoco>=2.3\n"),  # the code imports no MuJoCo env: GM110 reports it only
+        ("setup.py", "from setuptools import setup\nsetup(install_requires='mujoco')\n"),  # a string, not a list
+    ],
+)
+def test_imageio_is_not_added_without_the_import_or_a_list(name: str, text: str) -> None:
+    requires = IMAGEIO if name == "setup.py" else frozenset()
+    result = migrate_dependency_file(name, text.encode(), requires=requires)
+    assert result.rewritten == text.encode()
+
+
+def test_a_run_that_imports_mujoco_envs_declares_imageio(tmp_path: Path) -> None:
+    (tmp_path / "pyproject.toml").write_text(
+        '[project]\nname = "x"\ndependencies = ["gym>=0.26"]\n[project.optional-dependencies]\nmujoco = ["mujoco>=2.3"]\n'
+    )
+    (tmp_path / "cheetah.py").write_text(
+        "from gym.envs.mujoco.half_cheetah_v4 import HalfCheetahEnv\n\n\nclass Cheetah(HalfCheetahEnv):\n    pass\n"
+    )
+    result = CliRunner().invoke(app, ["rewrite", str(tmp_path)])
+    assert result.exit_code == 0, result.output
+    expected = '[project]\nname = "x"\ndependencies = ["gymnasium>=1.0"]\n[project.optional-dependencies]\nmujoco = ["mujoco>=2.3", "imageio>=2.14.1"]\n'
+    assert (tmp_path / "pyproject.toml").read_text() == expected
+    assert "from gymnasium.envs.mujoco.half_cheetah_v4 import HalfCheetahEnv" in (tmp_path / "cheetah.py").read_text()
+    again = CliRunner().invoke(app, ["rewrite", str(tmp_path)])
+    assert again.exit_code == 0 and (tmp_path / "pyproject.toml").read_text() == expected

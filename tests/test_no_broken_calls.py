@@ -71,11 +71,20 @@ def test_render_keeps_its_mode_while_an_untraced_caller_passes_one(monkeypatch) 
     module = migrated_module("GM405", "render_kept_for_untraced_caller", monkeypatch)
     picture = module["main"]()  # `env.render(mode="rgb_array")` on a GridEnv: no TypeError
     assert picture.shape == (4, 4, 3)
-    env = module["GridEnv"]()  # made here: the class takes no render_mode, it kept render(mode)
+    env = module["GridEnv"]()  # made without a render_mode: a mode passed still wins
     assert [frame.shape for frame in module["frames"](env)] == [(4, 4, 3), (4, 4, 3)]
     assert isinstance(env, gymnasium.Env)
     obs, info = env.reset(seed=0)
     assert obs == 0 and info == {}
+    assert env.render() is None, "no mode passed, no render_mode: draws nothing (Gymnasium's convention)"
+    # Gymnasium's wrappers call render() without arguments: the env's own mode is used.
+    gymnasium.register(id="GridKeepsMode-v0", entry_point=module["GridEnv"])
+    try:
+        wrapped = gymnasium.make("GridKeepsMode-v0", render_mode="rgb_array")
+        wrapped.reset(seed=0)
+        assert wrapped.render().shape == (4, 4, 3)
+    finally:
+        gymnasium.registry.pop("GridKeepsMode-v0")
 
 
 def test_seed_kept_while_a_subclass_calls_it(monkeypatch) -> None:
@@ -83,3 +92,22 @@ def test_seed_kept_while_a_subclass_calls_it(monkeypatch) -> None:
     child = module["Child"]()  # its __init__ calls self.seed(7), inherited from Base
     obs, info = child.reset()
     assert 0 <= obs < 6 and info == {}
+
+
+def test_render_migrates_beside_a_render_that_draws_into_an_array(monkeypatch) -> None:
+    """``obj.render(canvas)`` with ``canvas = np.zeros(...)`` is no Gym render call: the env
+    class's render(mode) migrates, and the tile still draws."""
+    module = migrated_module("GM405", "render_beside_array_draws", monkeypatch)
+    env = module["Board"](render_mode="rgb_array")
+    env.reset(seed=0)
+    frame = env.render()
+    assert frame.shape == (2, 2, 3) and frame[0, 0, 0] == 255
+    assert module["Board"]().render() is None, "no render_mode: draws nothing (Gymnasium's convention)"
+    gymnasium.register(id="BoardBesideArrayDraws-v0", entry_point=module["Board"])
+    try:
+        made = gymnasium.make("BoardBesideArrayDraws-v0", render_mode="rgb_array")
+        made.reset(seed=0)
+        made.step(1)
+        assert made.render().shape == (2, 2, 3)
+    finally:
+        gymnasium.registry.pop("BoardBesideArrayDraws-v0")

@@ -162,12 +162,13 @@ def test_seed_goes_when_every_caller_in_the_run_is_migrated(tmp_path: Path) -> N
 
 def test_render_mode_is_kept_while_another_module_of_the_run_may_pass_one(tmp_path: Path) -> None:
     """record.py renders objects it cannot trace with a mode and imports GridEnv: the class
-    keeps render(mode), and no creation site of the run gets a render_mode it cannot take."""
+    keeps an optional mode (``render(self, mode=None)``, else self.render_mode), and no
+    creation site of the run is given a render_mode it does not need."""
     folder = tmp_path / "grid"
     shutil.copytree(FIXTURES / "project_render", folder)
     result = runner.invoke(app, ["rewrite", str(folder)])
     assert result.exit_code == 0, result.output
-    assert 'def render(self, mode="human"):' in (folder / "envs.py").read_text()
+    assert "def render(self, mode=None):" in (folder / "envs.py").read_text()
     assert "render_mode=" not in (folder / "show.py").read_text()
     assert _run_main(folder, "record") == "[(4, 4, 3), (4, 4, 3)]"
     assert _run_main(folder, "show") == "(4, 4, 3)"
@@ -242,3 +243,41 @@ def test_a_seed_caller_the_run_rewrites_does_not_keep_seed_and_a_second_run_chan
     assert again.exit_code == 0, again.output
     assert {path.name: path.read_bytes() for path in folder.glob("*.py")} == migrated
     assert _run_main(folder, "worker") == _run_main(folder, "worker")
+
+
+def test_render_mode_is_kept_while_a_gym_env_of_another_module_is_rendered_with_a_mode_left(tmp_path: Path) -> None:
+    """snap.py renders a Gym env (a parameter annotated ``gym.Env``) with a mode that is no
+    literal: the rendering rules cannot move it and leave the call passing it, so GridEnv,
+    which snap.py imports, keeps an optional mode and the call still works after the run."""
+    folder = tmp_path / "grid"
+    shutil.copytree(FIXTURES / "project_render", folder)
+    (folder / "record.py").unlink()
+    (folder / "snap.py").write_text(
+        "import gym\n\nfrom envs import GridEnv\n\n\ndef snapshot(env: gym.Env, mode):\n    return env.render(mode=mode)\n\n\n"
+        "def main():\n    env = GridEnv()\n    env.reset()\n    return snapshot(env, \"rgb_array\").shape\n"
+    )
+    result = runner.invoke(app, ["rewrite", str(folder)])
+    assert result.exit_code == 0, result.output
+    assert "def render(self, mode=None):" in (folder / "envs.py").read_text()
+    assert _run_main(folder, "snap") == "(4, 4, 3)"
+    assert _run_main(folder, "show") == "(4, 4, 3)"
+
+
+def test_a_test_parametrized_over_another_modules_spec_list_makes_envs_in_the_render_mode(tmp_path: Path) -> None:
+    """``@pytest.mark.parametrize("spec", SPECS)`` with SPECS imported from a module of the
+    run that binds it to registry specs: ``spec.make()`` is a creation site, and a mode that
+    loops with the make moves to it."""
+    (tmp_path / "specs.py").write_text(
+        "import gym\n\nSPECS = [s for s in gym.envs.registry.values() if s.id == \"FrozenLake-v1\"]\n"
+    )
+    (tmp_path / "check.py").write_text(
+        "import pytest\n\nfrom specs import SPECS\n\n\n@pytest.mark.parametrize(\"spec\", SPECS)\ndef test_modes(spec):\n"
+        "    shots = []\n    for mode in (\"ansi\", \"rgb_array\"):\n        env = spec.make()\n        env.reset()\n"
+        "        shots.append(env.render(mode=mode))\n    return shots\n\n\n"
+        "def main():\n    text, frame = test_modes(SPECS[0])\n    return type(text).__name__, frame.ndim\n"
+    )
+    result = runner.invoke(app, ["rewrite", str(tmp_path)])
+    assert result.exit_code == 0, result.output
+    migrated = (tmp_path / "check.py").read_text()
+    assert "env = spec.make(render_mode=mode)" in migrated and "env.render()" in migrated
+    assert _run_main(tmp_path, "check") == "('str', 3)"

@@ -71,3 +71,23 @@ def test_render_mode_on_a_step_schedule_loses_its_mode_but_no_human_mode(made_mo
     with pytest.warns(UserWarning, match="render_mode"):  # render() without a mode: no TypeError
         run_migrated("GM401", "render_mode_on_step_schedule", monkeypatch)
     assert made_modes == [None]
+
+
+def test_a_mode_from_a_loop_or_a_parameter_moves_to_the_make(monkeypatch) -> None:
+    """``for mode in modes: env = make(...); env.render(mode=mode)``: each env is made in the
+    loop's mode, so render() gives what render(mode=mode) gave; the same for a parameter."""
+    module = run_migrated("GM401", "mode_from_loop", monkeypatch)
+    frame, text = module["frames"]("FrozenLake-v1")
+    assert frame.shape[2] == 3 and isinstance(text, str) and "S" in text
+    assert isinstance(module["frame"]("FrozenLake-v1", mode="ansi"), str)
+    assert module["frame"]("FrozenLake-v1").ndim == 3
+
+
+def test_an_env_spec_of_the_registry_makes_its_env_in_the_render_mode(monkeypatch) -> None:
+    """``spec.make()`` on one of the registry's specs (a loop over it, or a test parametrized
+    over a list of them) is a creation site: the mode moves there and render() gives frames."""
+    module = run_migrated("GM401", "spec_make", monkeypatch)
+    shots = module["frames"]()
+    assert len(shots) == 1 and shots[0].ndim == 3
+    for spec in module["SPECS"]:
+        module["test_frame"](spec)

@@ -161,7 +161,19 @@ def companions(text: str, outcome: Outcome, requires: frozenset[str], positions:
         suffix = text[site.end : line[1]] if line is not None else ""
         if "#" in suffix:  # the requirement's comment stays with it
             suffix = suffix[: suffix.index("#")].rstrip() + ("\n" if suffix.endswith("\n") else "")
-        quoted = text[site.start - 1 : site.start] in ("'", '"')
+        quote = text[site.start - 1 : site.start]
+        quoted = quote in ("'", '"')
+        added = Note(mapping.PINS, FixKind.AUTO, f"`{requirement}` added: the migrated code imports `{package}` ({why})")
+        if (
+            quoted and not (site.hashed or site.bare_word or site.conda)
+            and text[site.end : site.end + 1] == quote and re.match(r"[ \t]*\]", text[site.end + 1 :])
+        ):
+            # The last element of a one-line list (``mujoco = ["mujoco>=2.3"]``): a new
+            # element after it, in the same quotes.
+            outcome.edits.append(Edit(site.end + 1, site.end + 1, f", {quote}{requirement}{quote}", code=mapping.PINS))
+            _settled(outcome, positions, site.start, package)
+            outcome.findings.append(finding(positions, site.start, site.end, added))
+            continue
         if line is None or site.hashed or site.bare_word or site.conda or (quoted and "," not in suffix):
             note = Note(mapping.PINS, FixKind.FLAG, f"the migrated code imports `{package}`: add `{requirement}` "
                         f"next to `{text[site.start:site.end].strip()}` by hand ({why})")
@@ -170,9 +182,20 @@ def companions(text: str, outcome: Outcome, requires: frozenset[str], positions:
         new_line = text[line[0] : site.start] + requirement + suffix
         if not new_line.endswith("\n"):
             new_line = "\n" + new_line
-        note = Note(mapping.PINS, FixKind.AUTO, f"`{requirement}` added: the migrated code imports `{package}` ({why})")
         outcome.edits.append(Edit(line[1], line[1], new_line, code=mapping.PINS))
-        outcome.findings.append(finding(positions, site.start, site.end, note))
+        _settled(outcome, positions, site.start, package)
+        outcome.findings.append(finding(positions, site.start, site.end, added))
+
+
+def _settled(outcome: Outcome, positions: Positions, start: int, package: str) -> None:
+    """The anchor's own finding asking for ``package`` by hand (GM110 on ``mujoco``) is
+    answered by the line just added: drop it."""
+    if package != "imageio":
+        return
+    where = positions.of(start)
+    outcome.findings[:] = [
+        f for f in outcome.findings if not (f.message == mapping.MUJOCO_IMAGEIO and (f.line, f.column) == where)
+    ]
 
 
 def _name(raw: str, site: Site) -> str | None:

@@ -63,6 +63,10 @@ MOVED_WITH_GYM: dict[str, tuple[str, str, str]] = {
 # mpe2 1.1.1 requires pettingzoo>=1.24.3 (its wheel's Requires-Dist).
 COMPANIONS: dict[str, tuple[str, str, str]] = {
     "mpe2": ("pettingzoo", "mpe2>=1.0", "PettingZoo's MPE envs moved to the mpe2 package"),
+    # gym 0.26's MuJoCo envs rendered without imageio; importing anything under
+    # gymnasium.envs.mujoco (1.x) imports its renderer, which imports imageio at load time.
+    # gymnasium[mujoco] requires imageio>=2.14.1: the same bound.
+    "imageio": ("mujoco", "imageio>=2.14.1", "Gymnasium 1.x's MuJoCo envs import imageio with their renderer"),
 }
 
 # Renamed packages: old name -> (new requirement head, message).

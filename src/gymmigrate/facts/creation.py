@@ -27,6 +27,7 @@ from dataclasses import dataclass, field
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.env_classes import EnvClasses
+from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
 from gymmigrate.facts.receivers import Receivers
@@ -494,10 +495,53 @@ def render_kept_classes(facts: ModuleFacts, receivers: Receivers) -> frozenset[i
 def passes_mode(call: ast.Call, facts: ModuleFacts) -> bool:
     """A legacy ``x.render(mode)`` call that may reach an env class's ``render(self, mode)``:
     a ``mode`` keyword or any positional argument (``*args`` may carry one), outside a
-    render method (which forwards its own mode: the class rules own it)."""
+    render method (which forwards its own mode: the class rules own it). A call whose
+    argument is certainly no mode string (``obj.render(img)`` drawing into an array) is
+    some other class's render."""
     if not (any(k.arg == "mode" for k in call.keywords) or call.args):
         return False
+    if not_a_mode_call(call, facts):
+        return False
     return getattr(facts.enclosing_function(call), "name", None) not in ("render", "_render")
+
+
+# numpy callables that build an array: their result is never a mode string.
+_ARRAY_BUILDERS = frozenset(
+    {"zeros", "ones", "empty", "full", "array", "asarray", "zeros_like", "ones_like", "empty_like", "full_like",
+     "arange", "linspace", "stack", "concatenate", "eye", "identity"}
+)
+_NOT_STRINGS = (ast.List, ast.Tuple, ast.Dict, ast.Set, ast.ListComp, ast.SetComp, ast.DictComp, ast.GeneratorExp, ast.Lambda)
+
+
+def not_a_mode_call(call: ast.Call, facts: ModuleFacts) -> bool:
+    """``x.render(arg)`` whose mode argument (``mode=`` or the first positional) is certainly
+    not a string, so not a Gym render mode: a literal that is no string, a container, a
+    numpy array built there, or a name whose binding reaching the call is one of those
+    (``img = np.zeros(...)`` then ``obj.render(img)``). A ``*args`` may hold anything."""
+    if any(isinstance(a, ast.Starred) for a in call.args) or any(k.arg is None for k in call.keywords):
+        return False
+    named = next((k.value for k in call.keywords if k.arg == "mode"), None)
+    value = named if named is not None else _first_argument(call)
+    return value is not None and _not_a_string(value, facts, 0)
+
+
+def _not_a_string(value: ast.AST, facts: ModuleFacts, depth: int) -> bool:
+    if isinstance(value, ast.Constant):
+        return not isinstance(value.value, str)
+    if isinstance(value, _NOT_STRINGS):
+        return True
+    if isinstance(value, ast.Call):
+        return any(
+            q.split(".")[0] == "numpy" and q.rsplit(".", 1)[-1] in _ARRAY_BUILDERS for q in facts.qualified_names(value.func)
+        )
+    if isinstance(value, ast.Name) and depth < 8:
+        flow = Flow.of(facts)
+        binding = flow.last_binding_of(value)
+        statement = facts.statement_of(binding) if isinstance(binding, ast.Name) else None
+        if not (isinstance(statement, ast.Assign) and len(statement.targets) == 1 and statement.targets[0] is binding):
+            return False
+        return flow.dominates(statement, value, value) and _not_a_string(statement.value, facts, depth + 1)
+    return False
 
 
 def _first_argument(call: ast.Call) -> ast.expr | None:

@@ -100,6 +100,10 @@ class ModuleSummary:
     # ``self.action_space = C(...)`` / ``self.observation_space = C(...)`` in its methods;
     # ``@C`` for a class of the module itself.
     space_calls: dict[str, tuple[tuple[str, str], ...]] = field(default_factory=dict)
+    # Top-level names bound once to a list of the registry's EnvSpecs
+    # (``[spec for spec in gym.envs.registry.values() if ...]``): ``spec.make(...)`` on one
+    # of them makes an env (``facts/env_specs.py``).
+    spec_lists: frozenset[str] = frozenset()
 
 
 @dataclass
@@ -111,6 +115,7 @@ class ProjectFacts:
     defs: dict[str, frozenset[str]] = field(default_factory=dict)  # path -> qualnames defined
     env_classes: dict[str, frozenset[str]] = field(default_factory=dict)  # path -> env classes
     wrapper_classes: dict[str, frozenset[str]] = field(default_factory=dict)  # path -> Gym wrapper classes
+    spec_lists: dict[str, frozenset[str]] = field(default_factory=dict)  # path -> names bound to lists of EnvSpecs
     render_mode_classes: dict[str, frozenset[str]] = field(default_factory=dict)
     modules: dict[str, str] = field(default_factory=dict)  # dotted suffix -> path ("" if ambiguous)
     # Modules whose env classes an untraced ``x.seed(...)`` elsewhere in the run may reach.
@@ -156,6 +161,7 @@ class ProjectFacts:
             left = summary.path in facts.blocked
             facts.env_classes[summary.path] = frozenset() if left else summary.env_classes
             facts.wrapper_classes[summary.path] = frozenset() if left else summary.wrapper_classes
+            facts.spec_lists[summary.path] = summary.spec_lists
             facts.render_mode_classes[summary.path] = frozenset() if left else summary.render_mode_classes
             for name in _module_names(summary.path):
                 facts.modules[name] = "" if name in facts.modules and facts.modules[name] != summary.path else summary.path
@@ -180,15 +186,20 @@ class ProjectFacts:
                 resolved = facts._resolve(call.target, summary.path)
                 if resolved is not None:
                     calls_to[resolved].append((summary.path, call))
-        facts.requires = frozenset(
+        imported = {q for summary in summaries for q in summary.imported}
+        requires = {
             package
             for family, (package, rewritten) in N.PZ_MOVED_FAMILIES.items()
             if rewritten and any(
                 q == family or q.startswith(family + ".") or q == package or q.startswith(package + ".")
-                for summary in summaries
-                for q in summary.imported
+                for q in imported
             )
-        )
+        }
+        # Gymnasium 1.x's ``envs/mujoco/__init__.py`` imports its renderer, which imports
+        # imageio: any import under ``gym.envs.mujoco`` (``gymnasium.envs.mujoco``) needs it.
+        if any(q.split(".")[:3] in (["gym", "envs", "mujoco"], ["gymnasium", "envs", "mujoco"]) for q in imported):
+            requires.add("imageio")
+        facts.requires = frozenset(requires)
         _Exports(facts, by_path).run()
         _Join(facts, by_path, calls_to).run()
         for summary in summaries:
@@ -580,6 +591,11 @@ class ProjectView:
     def overridden_elsewhere(self, classname: str, method: str) -> list[str]:
         """Subclasses in other modules of the run that override ``classname.method``."""
         return self.facts.overrides.get((self.path, classname), {}).get(method, [])
+
+    def is_spec_list(self, qualified: str) -> bool:
+        """An imported name of the run is bound to a list of the registry's EnvSpecs."""
+        split = self.facts._split(qualified, self.path)
+        return split is not None and split[1] in self.facts.spec_lists.get(split[0], ())
 
     def is_wrapper_class(self, qualified: str) -> bool:
         """An imported name of the run is a Gym wrapper class (``from pkg.wrappers import X``)."""

@@ -27,6 +27,7 @@ from gymmigrate.facts.callables import (
     parse_annotation,
     string_names,
 )
+from gymmigrate.facts.env_specs import is_spec_make
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import MAX_DEPTH, EnvKind, join_kinds
 from gymmigrate.facts.module import (
@@ -214,6 +215,9 @@ class Receivers:
         if isinstance(func, ast.Attribute) and func.attr == "make" and isinstance(func.value, ast.Call):
             if any(N.strip_gym_prefix(q) in ("spec", "envs.spec") for q in self.qualified_names(func.value.func)):
                 return EnvKind.GYM_ENV
+        # spec.make() on one of the registry's EnvSpecs
+        if is_spec_make(self.facts, self.project, call):
+            return EnvKind.GYM_ENV
         kinds = [k for k in (self.kind_from_qualified(q, call) for q in self.qualified_names(func)) if k is not None]
         if kinds:
             return join_kinds(kinds)

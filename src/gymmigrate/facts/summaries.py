@@ -13,6 +13,7 @@ from dataclasses import replace
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.creation import passes_mode, render_kept_classes
+from gymmigrate.facts.env_specs import module_spec_lists
 from gymmigrate.facts.decisions import Action, decide
 from gymmigrate.facts.env_classes import EnvClasses
 from gymmigrate.facts.kinds import EnvKind
@@ -87,6 +88,7 @@ class _Summarizer:
             wrapper_classes=frozenset(name for name, classdef in self.facts.classes.items() if self.receivers.is_gym_wrapper_class(classdef)),
             plain_classes=plain_classes(self.facts),
             space_calls=self._space_calls(),
+            spec_lists=module_spec_lists(self.facts),
         )
 
     def _space_calls(self) -> dict[str, tuple[tuple[str, str], ...]]:
@@ -167,7 +169,10 @@ class _Summarizer:
                 continue
             if method == "render" and not passes_mode(call, self.facts):
                 continue  # a bare render() (the Gymnasium call), or a render method forwarding
-            if self.receivers.kind_of(receiver) is not EnvKind.UNKNOWN:
+            kind = self.receivers.kind_of(receiver)
+            if method == "render" and kind is EnvKind.GYM_ENV and _keeps_mode(call):
+                return True  # a Gym env the rendering rules leave passing its mode: any class's render
+            if kind is not EnvKind.UNKNOWN:
                 continue
             if method == "seed" and self._seed_call_rewritten_here(call):
                 continue  # GM203 makes it reset(seed=...) in this run: no seed() caller is left
@@ -397,3 +402,14 @@ def _subclasses(facts: ModuleFacts) -> tuple[tuple[str, tuple[str, ...], tuple[s
             methods = tuple(s.name for s in classdef.body if isinstance(s, FUNCTIONS))
             found.append((name, bases, methods))
     return tuple(found)
+
+
+def _keeps_mode(call: ast.Call) -> bool:
+    """A render call on a Gym env that the rendering rules report and leave passing its
+    mode (GM401): a mode that is not a string literal, or other arguments beside it
+    (``env.render(mode="rgb_array", tile_size=8)`` on an env class that takes them)."""
+    mode = next((k.value for k in call.keywords if k.arg == "mode"), None)
+    if mode is None and call.args:
+        mode = call.args[0]
+    others = len(call.args) + len(call.keywords) - 1
+    return others > 0 or not (isinstance(mode, ast.Constant) and isinstance(mode.value, str))

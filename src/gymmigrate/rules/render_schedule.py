@@ -100,3 +100,36 @@ def _text(facts: ModuleFacts, guard: Guard) -> str:
     if negated:
         return f"not {text}" if isinstance(test, (ast.Name, ast.Attribute)) else f"not ({text})"
     return f"({text})" if isinstance(test, (ast.BoolOp, ast.IfExp)) else text
+
+
+def same_value_at_make(facts: ModuleFacts, name: ast.Name, render: ast.Call, make: ast.Call) -> bool:
+    """``name``, read by ``render``, holds the value it had when ``make`` ran, so it can be
+    the make's ``render_mode``: bound once, and either fixed at creation (a parameter of
+    the function that makes the env and renders it, a module name bound once before the
+    make) or the target of a ``for`` loop whose body makes the env and renders it
+    (``for mode in modes: env = make(...); env.render(mode=mode)``)."""
+    bindings = facts.bindings_of(name)
+    if len(bindings) != 1:
+        return False
+    function = facts.enclosing_function(make)
+    if facts.enclosing_function(render) is not function:
+        return False  # rendered from another function: any value may reach it
+    binding = bindings[0]
+    if isinstance(binding, ast.arg):
+        return fixed_at_creation(facts, name, make)
+    loop = facts.parent(binding)
+    if isinstance(loop, (ast.For, ast.AsyncFor)) and loop.target is binding:
+        return facts.enclosing_function(loop) is function and _in_body(facts, loop, make) and _in_body(facts, loop, render)
+    return function is None and fixed_at_creation(facts, name, make)
+
+
+def _in_body(facts: ModuleFacts, loop: ast.For | ast.AsyncFor, node: ast.AST) -> bool:
+    """``node`` runs in ``loop``'s body (not its ``else``), in the loop's own frame."""
+    child: ast.AST = node
+    for ancestor in facts.ancestors(node):
+        if ancestor is loop:
+            return any(child is statement for statement in loop.body)
+        if isinstance(ancestor, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda, ast.ClassDef)):
+            return False
+        child = ancestor
+    return False

@@ -47,9 +47,11 @@ from gymmigrate.facts.creation import (
     Creation,
     CreationFinder,
     local_env_class_takes_render_mode,
+    not_a_mode_call,
 )
 from gymmigrate.facts.decisions import Action, decide, receiver_text
 from gymmigrate.facts.env_classes import EnvClasses
+from gymmigrate.facts.env_specs import is_spec_make
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import keyword, string_value
 from gymmigrate.findings import FixKind, Tier
@@ -65,7 +67,7 @@ from gymmigrate.rules.render_calls import (
     with_keyword,
     without_mode_argument,
 )
-from gymmigrate.rules.render_schedule import schedule
+from gymmigrate.rules.render_schedule import same_value_at_make, schedule
 
 RULES = (
     Rule(
@@ -135,6 +137,7 @@ class RenderSite:
     legacy_spelling: bool = False  # it said "single_rgb_array" (GM403)
     consumer: str = "render()"
     quote: str = '"'  # the user's quote style, taken from their mode literal
+    variable: bool = False  # ``mode`` is a name holding the mode (its text), not a literal
 
 
 class Rendering(RuleFamily):
@@ -173,7 +176,7 @@ class Rendering(RuleFamily):
         # A file that still passes modes to render() is legacy code even once its imports
         # say gymnasium (e.g. a conflict reported on a first run): its bare render()
         # calls still mean "human", so a second run decides the same way.
-        self._has_legacy_mode_calls = any(mode_argument(call) is not None for call in render_calls)
+        self._has_legacy_mode_calls = any(self._mode_argument(call) is not None for call in render_calls)
         sites: list[RenderSite] = []
         for call in in_source_order([*render_calls, *self._recorder_candidates()]):
             site = self._render_site(call) if is_render(call) else self._recorder_site(call)
@@ -187,17 +190,24 @@ class Rendering(RuleFamily):
         self.notes.render_mode_calls_left = [
             call
             for call in render_calls
-            if mode_argument(call) is not None
+            if self._mode_argument(call) is not None
             and id(call) not in self._mode_dropped
             and getattr(self.facts.enclosing_function(call), "name", None) != "render"
         ]
+
+    def _mode_argument(self, call: ast.Call) -> ast.AST | None:
+        """The mode a legacy render call passes; None when its argument is certainly no mode
+        string (``obj.render(img)`` on a grid cell drawing into an array: not a Gym render)."""
+        found = mode_argument(call)
+        return None if found is None or not_a_mode_call(call, self.facts) else found
 
     def _is_make(self, call: ast.Call) -> bool:
         return self.facts.memo(
             ("rendering-is-make", id(call)),
             lambda: any(N.strip_gym_prefix(q) in N.GYM_ENV_FACTORIES for q in self.facts.qualified_names(call.func))
             or local_env_class_takes_render_mode(self.facts, self.receivers, call)
-            or self._is_project_make(call),
+            or self._is_project_make(call)
+            or is_spec_make(self.facts, self.receivers.project, call),
         )
 
     def _is_project_make(self, call: ast.Call) -> bool:
@@ -223,7 +233,7 @@ class Rendering(RuleFamily):
             return None
         receiver = func.value
         close = keyword(call, "close")
-        mode_arg = mode_argument(call)
+        mode_arg = self._mode_argument(call)
         if close is None and mode_arg is None and (call.args or call.keywords):
             return None  # some other render(...) signature: not the Gym one
         function = self.facts.enclosing_function(call)
@@ -253,6 +263,10 @@ class Rendering(RuleFamily):
             return None
         value = mode_arg.value if isinstance(mode_arg, ast.keyword) else mode_arg
         mode = string_value(value)
+        if mode is None and isinstance(value, ast.Name):
+            creation = self.finder.find(receiver)
+            if creation.found and all(same_value_at_make(self.facts, value, call, make) for make in creation.calls):
+                return RenderSite(call, "GM401", value.id, (), decision.action, creation, variable=True)
         if mode is None:
             self.report(
                 call,
@@ -380,11 +394,12 @@ class Rendering(RuleFamily):
                 )
                 continue
             wanted = {s.mode for s in make_sites}
-            if wanted == {HUMAN} and self._keeps_schedule(make, make_sites, final_mode, blocked):
+            if wanted == {HUMAN} and not any(s.variable for s in make_sites) and self._keeps_schedule(make, make_sites, final_mode, blocked):
                 continue
             if len(wanted) == 1:
                 mode = final_mode[key] = wanted.pop()
-                self._add_mode(make, mode, self._quote_style(make, make_sites))
+                variable = any(s.variable for s in make_sites)
+                self._add_mode(make, mode, "" if variable else self._quote_style(make, make_sites))
             else:
                 final_mode[key] = None
                 modes = " and ".join(sorted(f'"{m}"' for m in wanted))
@@ -491,7 +506,7 @@ class Rendering(RuleFamily):
         blocked: dict[int, str],
     ) -> None:
         code, call = site.code, site.node
-        target = f'render_mode="{site.mode}"'
+        target = f"render_mode={site.mode}" if site.variable else f'render_mode="{site.mode}"'
         if not site.creation.found:
             where = site.creation.gap or "no gym.make was found"
             self.report(
@@ -584,7 +599,9 @@ class Rendering(RuleFamily):
                 message += "; the env's origin was inferred, check it"
             # A frame or text mode draws nothing by itself: the env renders when render() is
             # called, as before, so the move explains itself. "human" draws every step.
-            exact = not inferred and site.mode != HUMAN
+            exact = not inferred and site.mode != HUMAN and not site.variable
+            if site.variable:
+                message += f'; the mode is read once per env now: where {site.mode} is "human", that env draws every step inside step()/reset()'
             self.report(call, code, message, tier=Tier.NOTE if exact else None, question=question("moved"))
         else:
             self.report(call, code, f"{where} already has {target}; render() takes no arguments", FixKind.AUTO)

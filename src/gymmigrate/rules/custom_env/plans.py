@@ -40,6 +40,7 @@ class ClassPlan:
     render: bool = False
     pass_render_mode: bool = False  # a subclass __init__ takes render_mode and passes it to the base
     render_helper: str | None = None  # keeps the old render(mode) body for the class's own mode calls
+    render_keeps_mode: bool = False  # render(self, mode=None, ...): a mode passed wins, else self.render_mode
     render_helper_callers: set[str] = field(default_factory=set)  # methods that call self.render(mode)
     info_helper: bool = False  # reset returns self._get_info() (it takes no arguments)
     local_env_base: bool = False

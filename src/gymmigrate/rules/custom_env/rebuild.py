@@ -306,6 +306,19 @@ class ClassRewrite:
             return
         params = list(fn.params.params)
         mode_index = next(i for i, p in enumerate(params) if p.name.value == "mode")
+        if self.plan.render_keeps_mode:
+            # render(self, mode=None, ...): a caller's mode wins, else the env's own.
+            mode = params[mode_index]
+            params[mode_index] = mode.with_changes(
+                default=cst.Name("None"), equal=mode.equal if mode.default is not None else cst.AssignEqual(
+                    whitespace_before=cst.SimpleWhitespace(""), whitespace_after=cst.SimpleWhitespace(""))
+            )
+            lead = cst.parse_statement("if mode is None:\n    mode = self.render_mode\n")
+            none = cst.parse_statement("if mode is None:\n    return None\n")
+            body = _insert_at_top(fn.body, [lead, none])
+            self.set_method("render", fn.with_changes(params=fn.params.with_changes(params=params), body=body))
+            self._add_render_mode_to_init()
+            return
         params.pop(mode_index)
         if params:
             params[-1] = params[-1].with_changes(comma=cst.MaybeSentinel.DEFAULT)

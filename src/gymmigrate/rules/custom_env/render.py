@@ -41,6 +41,8 @@ def decide_render(decision: ClassDecision) -> None:
     if default is not None:
         text = decision.family.facts.segment(default)
         old_default = f" (the old default was {text}: pass render_mode={text} to gymnasium.make to keep it)"
+    if _keeps_mode_already(function, default):
+        return  # render(self, mode=None) reading self.render_mode: migrated by an earlier run
     own = _own_mode_call(decision)
     if own is not None:
         decision.report(
@@ -54,26 +56,38 @@ def decide_render(decision: ClassDecision) -> None:
         return
     blocking = _unmigrated_mode_call(decision)
     project = decision.family.receivers.project
-    if blocking is None and project is not None and project.render_called_elsewhere():
-        decision.report(
-            function,
-            "GM405",
-            "render(mode) kept: another module of this run imports this class and passes a mode to `.render()` on an "
-            "object that could not be traced, which may be an instance of it; give that env its render_mode where it "
-            "is made, then run again",
-            FixKind.FLAG,
-        )
-        return
-    if blocking is not None:
+    elsewhere = blocking is None and project is not None and project.render_called_elsewhere()
+    if elsewhere or blocking is not None:
         facts = decision.family.facts
+        if elsewhere:
+            caller = (
+                "another module of this run imports this class and passes a mode to `.render()` on an object that "
+                "could not be traced, or on a Gym env with a mode or arguments the rendering rules leave (GM401), "
+                "which may be an instance of it"
+            )
+        else:
+            caller = (
+                f"`{facts.segment(blocking)}` on line {blocking.lineno} still passes a mode (its env's creation could "
+                "not be followed, so it was not migrated) and may reach this class"
+            )
+        if not _can_keep_mode(decision, function, mode_index):
+            decision.report(
+                function,
+                "GM405",
+                f"render(mode) kept: {caller}; give that env its render_mode where it is made, then run again",
+                FixKind.FLAG,
+            )
+            return
+        # Those callers keep working, and so does Gymnasium's render() without arguments.
+        decision.plan.render = True
+        decision.plan.render_keeps_mode = True
         decision.report(
             function,
             "GM405",
-            f"render(mode) kept: `{facts.segment(blocking)}` on line {blocking.lineno} still passes a mode (its env's "
-            "creation could not be followed, so it was not migrated) and may reach this class; give that env its "
-            "render_mode where it is made, then run again",
-            FixKind.FLAG,
+            f"render() reads self.render_mode (fixed when the env is made) when no mode is passed, but keeps `mode` as an "
+            f"optional parameter: {caller}; once every caller passes none, remove the parameter{old_default}",
         )
+        _add_init_render_mode(decision)
         return
     decision.plan.render = True
     _plan_internal_renders(decision, function)
@@ -81,6 +95,44 @@ def decide_render(decision: ClassDecision) -> None:
     # Notes: the standard Gymnasium signature, applied; the render calls and creation
     # sites in the run are reviewed where they are (GM401/GM402), not here.
     decision.report(function, "GM405", f"render() takes no mode: it reads self.render_mode, fixed when the env is made, and draws nothing when that is None{old_default}", tier=Tier.NOTE)
+    _add_init_render_mode(decision)
+
+
+def _keeps_mode_already(function: ast.FunctionDef | ast.AsyncFunctionDef, default: ast.AST | None) -> bool:
+    """``def render(self, mode=None)`` starting ``if mode is None: mode = self.render_mode``."""
+    if not (isinstance(default, ast.Constant) and default.value is None):
+        return False
+    body = function.body
+    if body and isinstance(body[0], ast.Expr) and isinstance(body[0].value, ast.Constant) and isinstance(body[0].value.value, str):
+        body = body[1:]
+    first = body[0] if body else None
+    return (
+        isinstance(first, ast.If)
+        and ast.unparse(first.test) == "mode is None"
+        and len(first.body) == 1
+        and ast.unparse(first.body[0]) == "mode = self.render_mode"
+    )
+
+
+def _can_keep_mode(decision: ClassDecision, function: ast.FunctionDef | ast.AsyncFunctionDef, mode_index: int) -> bool:
+    """``mode`` can become ``mode=None`` in place: every parameter after it has a default
+    (else the signature would not compile), and the body hands no mode on to inner envs
+    (a forwarding render is migrated by the plain rewrite, which drops it)."""
+    args = function.args
+    first_default = len(args.args) - len(args.defaults)
+    if mode_index < first_default and first_default > mode_index + 1:
+        return False
+    for call in decision.function(function).of(ast.Call):
+        func = call.func  # type: ignore[attr-defined]
+        if not (isinstance(func, ast.Attribute) and func.attr == "render"):
+            continue
+        values = [*call.args, *(k.value for k in call.keywords)]  # type: ignore[attr-defined]
+        if any(isinstance(v, ast.Name) and v.id == "mode" for v in values):
+            return False  # ``env.render(mode)``: forwards the mode
+    return True
+
+
+def _add_init_render_mode(decision: ClassDecision) -> None:
     init = decision.method("__init__")
     if init is None:
         if decision.env.has_local_env_base(decision.classdef):
