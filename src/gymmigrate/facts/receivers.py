@@ -630,7 +630,7 @@ class Receivers:
                             out.setdefault(target.value.id, []).append(target)
             return out
 
-        return self.facts.memo(("subscript-assigns", 0), compute)  # type: ignore[return-value]
+        return self.facts.memo(("subscript-assigns", 0), compute)
 
     def _from_run(self, qualified: str) -> bool:
         if qualified.startswith("."):
