@@ -11,7 +11,8 @@ spec (GM617), and which draws its slips from Python's global ``random`` (GM510: 
 tests that a seeded reset makes steps reproducible).
 ``fixtures/project_batches/`` (SuperSuit's shapes): its tests are parametrized over a list
 of wrappers around the package's own env, and its ``VectorEnv`` subclass resets a list of
-sub-envs that the package's own obs-only batches are written into.
+sub-envs that the package's own obs-only batches are written into, and keeps that
+obs-only reset itself (its callers are left on it).
 """
 
 from __future__ import annotations
@@ -145,6 +146,9 @@ def test_parametrized_envs_are_traced_and_the_run_s_own_batches_are_left(tmp_pat
     concat = (project / "batches" / "concat.py").read_text()
     assert "obs = self.sub_envs[i].reset(seed=seed + i, options=options)" in concat  # SingleBatch's own reset
     assert "[sub_env.reset(seed=None, options=options) for sub_env" in concat
+    # ConcatBatches is a vector env whose own reset still returns the rows alone: its
+    # callers stay on that contract (reported), not unpacked as a Gymnasium vector reset.
+    assert "rows = envs.reset(seed=seed)" in test
     run = subprocess.run(
         [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-W", "ignore", "checks"],
         cwd=project, capture_output=True, text=True, timeout=120,

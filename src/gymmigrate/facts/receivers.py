@@ -126,6 +126,11 @@ class Receivers:
         kinds = [self._base_kind(base) for base in classdef.bases if not _is_object(base)]
         useful = [k for k in kinds if k not in (EnvKind.UNKNOWN, EnvKind.NOT_ENV)]
         if useful:
+            if useful[0] is EnvKind.GYM_VEC and _keeps_bare_reset(classdef):
+                # A vector env subclass whose own reset returns the bare observations (no
+                # rule changes a vector env's reset): its callers are on that contract, so
+                # its instances are not rewritten as Gymnasium vector envs; reported.
+                return EnvKind.UNKNOWN
             return useful[0]
         if all(k is EnvKind.NOT_ENV for k in kinds) and _is_vec_env_shaped(classdef):
             return EnvKind.SB3_VEC
@@ -824,6 +829,21 @@ def _argnames(node: ast.AST) -> list[str] | None:
         names = [string_value(el) for el in node.elts]
         return None if any(n is None for n in names) else names  # type: ignore[return-value]
     return None
+
+
+def _keeps_bare_reset(classdef: ast.ClassDef) -> bool:
+    """The class defines ``reset`` and one of its returns is a bare value: not a tuple,
+    not ``None``, not another env's ``reset(...)`` passed through."""
+    for statement in classdef.body:
+        if isinstance(statement, FUNCTIONS) and statement.name == "reset":
+            for ret in own_returns(statement):
+                value = ret.value
+                if value is None or isinstance(value, ast.Tuple) or (isinstance(value, ast.Constant) and value.value is None):
+                    continue
+                if isinstance(value, ast.Call) and isinstance(value.func, ast.Attribute) and value.func.attr == "reset":
+                    continue
+                return True
+    return False
 
 
 def _is_object(base: ast.AST) -> bool:
