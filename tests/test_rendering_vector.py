@@ -274,3 +274,15 @@ def test_fixture_output_runs(fixture: str, needs: str | None, tmp_path: Path, mo
     for value in namespace.values():
         if isinstance(value, gymnasium.vector.VectorEnv):
             value.close()
+
+
+def test_the_starred_spaces_gm702_reports_raise_and_the_env_fns_alone_run() -> None:
+    """GM702's claim on ``constructor(*args)``: gym's (env_fns, observation_space,
+    action_space) by position raise on Gymnasium 1.x; the env functions alone build."""
+    env = gymnasium.make("CartPole-v1")
+    args = [lambda: gymnasium.make("CartPole-v1")] * 2, env.observation_space, env.action_space
+    with pytest.raises(ValueError, match="observation_mode"):
+        gymnasium.vector.SyncVectorEnv(*args)
+    envs = gymnasium.vector.SyncVectorEnv(args[0])
+    assert envs.reset(seed=0)[0].shape == (2, 4)
+    envs.close()

@@ -56,3 +56,24 @@ def test_migrated_dict_checks_run() -> None:
     module = _load(RULE_FIXTURES / "GM905" / "dict_sample.expected.py")
     env = SimpleNamespace(observation_space=spaces.Dict({"x": spaces.Discrete(2)}))
     assert set(module.check(env)) == {"position", "goal"}
+
+
+def test_box_bounds_reported_are_exactly_those_gymnasium_rejects() -> None:
+    """GM909 on Box: every literal Box of the fixture runs; the lines reported raise and
+    the others build."""
+    from gymmigrate.engine import transform_source
+
+    path = RULE_FIXTURES / "GM909" / "box_bounds_outside_dtype.py"
+    source = path.read_bytes()
+    reported = {f.line for f in transform_source(source, str(path)).findings if f.rule == "GM909"}
+    namespace: dict = {"gym": gymnasium, "np": np, "spaces": spaces}
+    for number, line in enumerate(source.decode().splitlines(), 1):
+        if "Box(" not in line:
+            continue
+        statement = line.split("#")[0].strip()
+        if number in reported:
+            with pytest.raises(ValueError, match="out of bounds of the dtype range"):
+                exec(statement, namespace)
+        else:
+            exec(statement, namespace)
+    assert len(reported) == 3

@@ -9,6 +9,10 @@ pytest-cases ``fixture_ref`` parametrization and write its attributes (GM604).
 own constructor argument, checked with ``check_env``, which recreates the env from its
 spec (GM617), and which draws its slips from Python's global ``random`` (GM510: check_env
 tests that a seeded reset makes steps reproducible).
+``fixtures/project_batches/`` (SuperSuit's shapes): its tests are parametrized over a list
+of wrappers around the package's own env, and its ``VectorEnv`` subclass resets a list of
+sub-envs that the package's own obs-only batches are written into, and keeps that
+obs-only reset itself (its callers are left on it).
 """
 
 from __future__ import annotations
@@ -133,3 +137,21 @@ def test_without_gm617_check_env_cannot_recreate_the_wrapper(tmp_path: Path) -> 
     project = _migrated("project_rewards", tmp_path, "--ignore", "GM617")
     run = _run(project, _SCALAR)
     assert run.returncode != 0 and "cannot be recreated" in run.stderr
+
+
+def test_parametrized_envs_are_traced_and_the_run_s_own_batches_are_left(tmp_path: Path) -> None:
+    project = _migrated("project_batches", tmp_path)
+    test = (project / "checks" / "test_batches.py").read_text()
+    assert "obs, info = env.reset(seed=5)" in test  # each parametrized item is the package's env
+    concat = (project / "batches" / "concat.py").read_text()
+    assert "obs = self.sub_envs[i].reset(seed=seed + i, options=options)" in concat  # SingleBatch's own reset
+    assert "[sub_env.reset(seed=None, options=options) for sub_env" in concat
+    # ConcatBatches is a vector env whose own reset still returns the rows alone: its
+    # callers stay on that contract (reported), not unpacked as a Gymnasium vector reset.
+    assert "rows = envs.reset(seed=seed)" in test
+    run = subprocess.run(
+        [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-W", "ignore", "checks"],
+        cwd=project, capture_output=True, text=True, timeout=120,
+    )
+    assert run.returncode == 0, run.stdout + run.stderr
+    assert "5 passed" in run.stdout

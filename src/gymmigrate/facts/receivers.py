@@ -127,6 +127,11 @@ class Receivers:
         kinds = [self._base_kind(base) for base in classdef.bases if not _is_object(base)]
         useful = [k for k in kinds if k not in (EnvKind.UNKNOWN, EnvKind.NOT_ENV)]
         if useful:
+            if useful[0] is EnvKind.GYM_VEC and _keeps_bare_reset(classdef):
+                # A vector env subclass whose own reset returns the bare observations (no
+                # rule changes a vector env's reset): its callers are on that contract, so
+                # its instances are not rewritten as Gymnasium vector envs; reported.
+                return EnvKind.UNKNOWN
             return useful[0]
         if all(k is EnvKind.NOT_ENV for k in kinds) and _is_vec_env_shaped(classdef):
             return EnvKind.SB3_VEC
@@ -292,6 +297,15 @@ class Receivers:
             return EnvKind.NOT_ENV
         return None
 
+    def _kind_keeping_inner(self, value: ast.expr) -> ast.expr | None:
+        """The env a SuperSuit wrapper call wraps (its result has that env's kind), else None."""
+        if not isinstance(value, ast.Call):
+            return None
+        for q in self.qualified_names(value.func):
+            if N.top_package(q) == N.SUPERSUIT_PACKAGE and "vec_env" not in q.rsplit(".", 1)[-1]:
+                return call_argument(value, 0, "env")
+        return None
+
     def _supersuit_kind(self, qualified: str, call: ast.Call) -> EnvKind | None:
         """SuperSuit: vector conversions give VecEnvs with their own API (left alone, like
         SB3's); every other wrapper keeps the kind of the env it wraps."""
@@ -386,6 +400,9 @@ class Receivers:
             return EnvKind.UNKNOWN
         parent = self.facts.parent(binding)
         if isinstance(parent, ast.Assign):
+            inner = self._kind_keeping_inner(parent.value)
+            if isinstance(inner, ast.Name) and inner.id == binding.id:
+                return None  # ``env = supersuit.dtype_v0(env, ...)``: env keeps its kind, no new evidence
             return self.kind_of(parent.value)
         if isinstance(parent, ast.AnnAssign):
             if parent.value is not None:
@@ -495,9 +512,12 @@ class Receivers:
         external = self.callables.external_param_kinds(function, classdef if is_method else None, name)  # type: ignore[arg-type]
         if not calls and not external:
             fixtures = self.param_fixtures(function, name) if not is_method else []
-            if not fixtures:
-                return EnvKind.UNKNOWN
-            return join_kinds(self._fixture_kind(fixture) for fixture in fixtures)
+            if fixtures:
+                return join_kinds(self._fixture_kind(fixture) for fixture in fixtures)
+            values = self.param_values(function, name) if not is_method else None
+            if values:
+                return join_kinds(self.kind_of(value) for value in values)
+            return EnvKind.UNKNOWN
         defaults = _default_of(function, param)
         kinds = list(external)
         for call in calls:
@@ -564,16 +584,62 @@ class Receivers:
                     parent = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
                     if isinstance(parent, (ast.Assign, ast.NamedExpr)) and self.run_defined(parent.value):
                         return True
-                return False
+                    if isinstance(parent, (ast.For, ast.AsyncFor, ast.comprehension)) and parent.target is binding:
+                        if self.run_defined(parent.iter):  # an item of a list that holds the run's objects
+                            return True
+                return any(self.run_defined(v) for v in self._items_stored(expr))
             if isinstance(expr, ast.Attribute):
                 if isinstance(expr.value, ast.Name) and self.is_self(expr.value):
-                    return any(self.run_defined(v) for v in self.self_attribute_values(expr, expr.attr))
+                    values = self.self_attribute_values(expr, expr.attr)
+                    return any(self.run_defined(v) for v in values) or any(self.run_defined(v) for v in self._items_stored(expr))
                 return self.run_defined(expr.value)
             if isinstance(expr, ast.Subscript):
                 return self.run_defined(expr.value)
+            if isinstance(expr, (ast.List, ast.Tuple)):
+                return any(self.run_defined(el.value if isinstance(el, ast.Starred) else el) for el in expr.elts)
+            if isinstance(expr, (ast.ListComp, ast.GeneratorExp)):
+                return self.run_defined(expr.elt)
             return False
         finally:
             self.depth -= 1
+
+    def _items_stored(self, container: ast.expr) -> list[ast.expr]:
+        """Values written into the list ``container`` (``envs[i] = X``) under any name that
+        holds the same list: ``self.envs = envs = [...]`` followed by ``envs[i] = X`` puts X
+        in ``self.envs`` too."""
+        holders: list[ast.Name] = []
+        if isinstance(container, ast.Name):
+            holders.append(container)
+        values = [container]
+        if isinstance(container, ast.Attribute) and isinstance(container.value, ast.Name) and self.is_self(container.value):
+            values = self.self_attribute_values(container, container.attr)
+        for value in values:
+            statement = self.facts.parent(value)
+            if isinstance(statement, ast.Assign) and statement.value is value:
+                holders += [t for t in statement.targets if isinstance(t, ast.Name)]
+        found: list[ast.expr] = []
+        for holder in holders:
+            same = {id(b) for b in self.facts.bindings_of(holder)} | {id(holder)}
+            for store in self._subscript_assigns().get(holder.id, ()):
+                if same & {id(b) for b in self.facts.bindings_of(store.value)}:  # type: ignore[arg-type]
+                    parent = self.facts.parent(store)
+                    if isinstance(parent, ast.Assign):
+                        found.append(parent.value)
+        return found
+
+    def _subscript_assigns(self) -> dict[str, list[ast.Subscript]]:
+        """``name[...] = value`` targets of this module, by name."""
+
+        def compute() -> dict[str, list[ast.Subscript]]:
+            out: dict[str, list[ast.Subscript]] = {}
+            for node in ast.walk(self.facts.tree):
+                if isinstance(node, ast.Assign):
+                    for target in node.targets:
+                        if isinstance(target, ast.Subscript) and isinstance(target.value, ast.Name):
+                            out.setdefault(target.value.id, []).append(target)
+            return out
+
+        return self.facts.memo(("subscript-assigns", 0), compute)
 
     def _from_run(self, qualified: str) -> bool:
         if qualified.startswith("."):
@@ -664,6 +730,77 @@ class Receivers:
         fixture = self.pytest_fixture(name)
         return [fixture] if fixture is not None else []
 
+    def param_values(self, function: ast.FunctionDef | ast.AsyncFunctionDef, name: str) -> list[ast.expr] | None:
+        """What ``@pytest.mark.parametrize`` gives a test's parameter ``name``: the values of
+        a list or tuple display written in the decorator, or bound once in this module to a
+        name the decorator reads (``wrappers = [wrap(make_env()), ...]``), or the element of
+        a comprehension; with several argnames (``"env, n"``) the item at the parameter's
+        place in each tuple. ``pytest.param(value, id=...)`` gives its value. None when any
+        value cannot be read so (a starred item, a list extended elsewhere, ``indirect``)."""
+        for decorator in function.decorator_list:
+            if not (isinstance(decorator, ast.Call) and len(decorator.args) >= 2):
+                continue
+            if not any(q.endswith("parametrize") for q in self.qualified_names(decorator.func)):
+                continue
+            argnames = _argnames(decorator.args[0])
+            if argnames is None or name not in argnames:
+                continue
+            if any(k.arg == "indirect" for k in decorator.keywords):
+                return None
+            container = self._param_container(decorator.args[1])
+            if container is None:
+                return None
+            if isinstance(container, (ast.ListComp, ast.GeneratorExp)):
+                rows: list[ast.expr] = [container.elt]
+            else:
+                rows = list(container.elts)
+            index = argnames.index(name)
+            values: list[ast.expr] = []
+            for row in rows:
+                if isinstance(row, ast.Call) and any(q.endswith("pytest.param") for q in self.qualified_names(row.func)):
+                    items: list[ast.expr] | None = list(row.args)
+                elif len(argnames) == 1:
+                    items = [row]
+                elif isinstance(row, (ast.Tuple, ast.List)):
+                    items = list(row.elts)
+                else:
+                    items = None
+                if items is None or len(items) != len(argnames) or any(isinstance(i, ast.Starred) for i in items):
+                    return None
+                values.append(items[index])
+            return values
+        return None
+
+    def _param_container(self, values: ast.expr) -> ast.List | ast.Tuple | ast.ListComp | ast.GeneratorExp | None:
+        """The display a parametrize decorator's values come from (see ``param_values``)."""
+        if isinstance(values, (ast.List, ast.Tuple, ast.ListComp, ast.GeneratorExp)):
+            return values
+        if not isinstance(values, ast.Name):
+            return None
+        bindings = self.facts.bindings_of(values)
+        if len(bindings) != 1 or not isinstance(bindings[0], ast.Name):
+            return None
+        statement = self.facts.parent(bindings[0])
+        if not (isinstance(statement, ast.Assign) and statement.targets == [bindings[0]]):
+            return None
+        if not isinstance(statement.value, (ast.List, ast.Tuple, ast.ListComp)):
+            return None
+        # ``wrappers.append(...)`` or ``wrappers[0] = ...`` elsewhere add values the display does not show.
+        for attr in _MUTATORS:
+            if any(isinstance(a.value, ast.Name) and a.value.id == values.id for a in self.facts.attributes.get(attr, ())):
+                return None
+        if values.id in self.facts.memo(("subscript-stores", 0), self._subscript_stores):
+            return None
+        return statement.value
+
+    def _subscript_stores(self) -> frozenset[str]:
+        """Names of this module written through a subscript (``xs[0] = v``, ``del xs[0]``)."""
+        return frozenset(
+            node.value.id
+            for node in ast.walk(self.facts.tree)
+            if isinstance(node, ast.Subscript) and isinstance(node.ctx, (ast.Store, ast.Del)) and isinstance(node.value, ast.Name)
+        )
+
     def fixture_values(self, fixture: ast.FunctionDef | ast.AsyncFunctionDef) -> list[ast.expr]:
         """What a fixture gives its tests: what it yields, else what it returns."""
         yielded = [
@@ -682,6 +819,35 @@ class Receivers:
         if not values:
             return EnvKind.NOT_ENV
         return join_kinds(self.kind_of(value) for value in values)
+
+
+_MUTATORS = frozenset({"append", "extend", "insert", "__setitem__", "__iadd__"})
+
+
+def _argnames(node: ast.AST) -> list[str] | None:
+    """A parametrize decorator's argnames: ``"env"``, ``"env, n"`` or ``("env", "n")``."""
+    text = string_value(node)
+    if text is not None:
+        return [n.strip() for n in text.split(",") if n.strip()]
+    if isinstance(node, (ast.List, ast.Tuple)):
+        names = [string_value(el) for el in node.elts]
+        return None if any(n is None for n in names) else names  # type: ignore[return-value]
+    return None
+
+
+def _keeps_bare_reset(classdef: ast.ClassDef) -> bool:
+    """The class defines ``reset`` and one of its returns is a bare value: not a tuple,
+    not ``None``, not another env's ``reset(...)`` passed through."""
+    for statement in classdef.body:
+        if isinstance(statement, FUNCTIONS) and statement.name == "reset":
+            for ret in own_returns(statement):
+                value = ret.value
+                if value is None or isinstance(value, ast.Tuple) or (isinstance(value, ast.Constant) and value.value is None):
+                    continue
+                if isinstance(value, ast.Call) and isinstance(value.func, ast.Attribute) and value.func.attr == "reset":
+                    continue
+                return True
+    return False
 
 
 def _is_object(base: ast.AST) -> bool:

@@ -13,9 +13,9 @@ from dataclasses import replace
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.creation import passes_mode, render_kept_classes
-from gymmigrate.facts.env_specs import module_spec_lists
 from gymmigrate.facts.decisions import Action, decide
 from gymmigrate.facts.env_classes import EnvClasses
+from gymmigrate.facts.env_specs import module_spec_lists
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
 from gymmigrate.facts.profile import FileProfile

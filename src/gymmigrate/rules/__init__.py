@@ -81,7 +81,7 @@ PIPELINE = (
     FamilySpec("WrapperForwarding", "gymmigrate.rules.wrapper_usage.forwarding", ("gym",)),
     FamilySpec("LegacyWrapperHooks", "gymmigrate.rules.legacy_hooks", ("def _",)),
     FamilySpec("SpacesLogger", "gymmigrate.rules.spaces_logger", ("logger", "error", "check_env", "Box", "seed")),
-    FamilySpec("SpaceDrift", "gymmigrate.rules.spaces.drift", ("isinstance", "type(", "json", "MultiBinary", "Discrete", "==")),
+    FamilySpec("SpaceDrift", "gymmigrate.rules.spaces.drift", ("isinstance", "type(", "json", "MultiBinary", "Discrete", "==", "Box")),
     FamilySpec("EnvModules", "gymmigrate.rules.pettingzoo.env_modules", ("pettingzoo",)),
     FamilySpec("SpacesAndMake", "gymmigrate.rules.pettingzoo.spaces_make", _PZ, follows_the_run=True),
 )

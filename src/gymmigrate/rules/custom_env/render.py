@@ -66,6 +66,7 @@ def decide_render(decision: ClassDecision) -> None:
                 "which may be an instance of it"
             )
         else:
+            assert blocking is not None  # not elsewhere: a blocking call of this module
             caller = (
                 f"`{facts.segment(blocking)}` on line {blocking.lineno} still passes a mode (its env's creation could "
                 "not be followed, so it was not migrated) and may reach this class"

@@ -21,6 +21,9 @@ has the script):
 * GM909 ``MultiBinary(0)`` and ``Discrete(0)`` raise ``ValueError`` (gym 0.21 built
   them); ``Discrete(<float>)`` raises ``TypeError``. Reported: what an empty space
   should become is the env's choice. ``MultiDiscrete([])`` still builds.
+  ``Box(0, 255, dtype=np.int8)`` (a literal bound outside an integer dtype's range) raises
+  ``ValueError`` too (gym cast the bound, 255 to -1 for int8). Reported: the dtype the
+  bounds were meant for is the author's choice.
 * GM910 ``Box.__eq__`` compares ``dtype`` (gym 0.21 compared shape and bounds only):
   ``box_a == box_b`` is False now for a float32 and a float64 Box. Reported.
 
@@ -47,7 +50,12 @@ RULES = (
         "`isinstance(x, int)` / `type(x) is int` on a space's `n`/`sample()` accept `np.integer`; `json.dumps` gets `int(...)`.",
     ),
     Rule("GM905", "Dict.sample() is a dict", FixKind.AUTO, "`isinstance(x, OrderedDict)` on a space's `sample()` becomes `isinstance(x, dict)`."),
-    Rule("GM909", "zero-size spaces raise", FixKind.FLAG, "`MultiBinary(0)`, `Discrete(0)` and `Discrete(<float>)` raise in Gymnasium 1.x: reported."),
+    Rule(
+        "GM909",
+        "zero-size spaces raise",
+        FixKind.FLAG,
+        "`MultiBinary(0)`, `Discrete(0)`, `Discrete(<float>)` and `Box` bounds outside an integer dtype raise in Gymnasium 1.x: reported.",
+    ),
     Rule("GM910", "Box equality compares dtype", FixKind.FLAG, "`box == other_space` is False across dtypes in Gymnasium 1.x: reported."),
 )
 
@@ -55,6 +63,38 @@ SPACE_ATTRIBUTES = frozenset({"action_space", "observation_space", "single_actio
 SPACE_INT_ATTRIBUTES = frozenset({"n", "start"})
 JSON_WRITERS = frozenset({"json.dumps", "json.dump"})
 UNKNOWN = "?"  # a space of a class not known here
+
+
+_INT_RANGES = {
+    "int8": (-(2**7), 2**7 - 1),
+    "uint8": (0, 2**8 - 1),
+    "int16": (-(2**15), 2**15 - 1),
+    "uint16": (0, 2**16 - 1),
+    "int32": (-(2**31), 2**31 - 1),
+    "uint32": (0, 2**32 - 1),
+    "int64": (-(2**63), 2**63 - 1),
+    "uint64": (0, 2**64 - 1),
+}
+
+
+def _argument(call: ast.Call, position: int, name: str) -> ast.expr | None:
+    for kw in call.keywords:
+        if kw.arg == name:
+            return kw.value
+    if any(isinstance(a, ast.Starred) for a in call.args[: position + 1]):
+        return None
+    return call.args[position] if position < len(call.args) else None
+
+
+def _number(expr: ast.AST | None) -> float | None:
+    """A literal int or float (``255``, ``-1``, ``255.0``), else None."""
+    sign = 1
+    if isinstance(expr, ast.UnaryOp) and isinstance(expr.op, (ast.USub, ast.UAdd)):
+        sign = -1 if isinstance(expr.op, ast.USub) else 1
+        expr = expr.operand
+    if isinstance(expr, ast.Constant) and isinstance(expr.value, (int, float)) and not isinstance(expr.value, bool):
+        return sign * expr.value
+    return None
 
 
 def _space_class(qualified: set[str]) -> str | None:
@@ -73,7 +113,7 @@ class SpaceDrift(RuleFamily):
         profile = context.profile
         if not (profile.imports_gym or profile.imports_gymnasium):
             return False
-        return any(word in facts.text for word in ("isinstance", "type(", "json", "MultiBinary", "Discrete", "=="))
+        return any(word in facts.text for word in ("isinstance", "type(", "json", "MultiBinary", "Discrete", "==", "Box"))
 
     def decide(self) -> None:
         for name in ("isinstance",):
@@ -90,6 +130,9 @@ class SpaceDrift(RuleFamily):
             for call in [*self.facts.calls_by_name.get(name, ()), *self.facts.attribute_calls.get(name, ())]:
                 if _space_class(self.facts.qualified_names(call.func)) == name:
                     self._decide_size(call, name)
+        for call in [*self.facts.calls_by_name.get("Box", ()), *self.facts.attribute_calls.get("Box", ())]:
+            if _space_class(self.facts.qualified_names(call.func)) == "Box":
+                self._decide_box_bounds(call)
 
     def _compares(self) -> list[ast.Compare]:
         return self.facts.memo(("space-drift-compares", 0), lambda: [n for n in ast.walk(self.facts.tree) if isinstance(n, ast.Compare)])
@@ -284,6 +327,36 @@ class SpaceDrift(RuleFamily):
             )
         elif name == "Discrete" and self._is_float(size):
             self.report(call, "GM909", f"`Discrete(n)` needs an integer in Gymnasium 1.x (a float raises TypeError): `{self.facts.segment(size)}` is a float; use `//` or int()", FixKind.FLAG)
+
+    def _decide_box_bounds(self, call: ast.Call) -> None:
+        """``Box(0, 255, dtype=np.int8)``: gym cast the bound into the dtype (255 wrapped to -1);
+        Gymnasium 1.x raises ValueError for a bound outside an integer dtype's range."""
+        dtype = _argument(call, 3, "dtype")
+        dtype_name = self._dtype_name(dtype) if dtype is not None else None
+        limits = _INT_RANGES.get(dtype_name) if dtype_name is not None else None
+        if limits is None:
+            return
+        for position, name in ((0, "low"), (1, "high")):
+            bound = _number(_argument(call, position, name))
+            if bound is None or limits[0] <= bound <= limits[1]:
+                continue
+            self.report(
+                call,
+                "GM909",
+                f"`Box` {name}={bound:g} is outside the range of {dtype_name} ({limits[0]}..{limits[1]}): Gymnasium 1.x "
+                f"raises ValueError (gym cast it into the dtype, so the legacy space's {name} was not {bound:g}); use the "
+                "dtype the bounds were meant for (`np.uint8` for 0..255 pixels) or bounds the dtype holds",
+                FixKind.FLAG,
+            )
+            return
+
+    def _dtype_name(self, dtype: ast.AST) -> str | None:
+        if isinstance(dtype, ast.Constant) and isinstance(dtype.value, str):
+            return dtype.value
+        for q in self.facts.qualified_names(dtype):
+            if q.startswith("numpy."):
+                return q.rsplit(".", 1)[-1]
+        return None
 
     def _may_be_zero(self, expr: ast.AST, depth: int = 0) -> bool:
         if isinstance(expr, ast.Constant):

@@ -204,11 +204,32 @@ class Construction(VectorFamilyBase):
     # -- GM702 ------------------------------------------------------------------------------
 
     def is_vector_class(self, call: ast.Call) -> bool:
-        return bool(gym_rest(self.facts, call.func) & VECTOR_CLASSES)
+        if gym_rest(self.facts, call.func) & VECTOR_CLASSES:
+            return True
+        # ``constructor = gym.vector.AsyncVectorEnv if multi else gym.vector.SyncVectorEnv``
+        if not isinstance(call.func, ast.Name):
+            return False
+        bindings = self.facts.bindings_of(call.func)
+        if len(bindings) != 1 or not isinstance(bindings[0], ast.Name):
+            return False
+        statement = self.facts.parent(bindings[0])
+        if not (isinstance(statement, ast.Assign) and isinstance(statement.value, ast.IfExp)):
+            return False
+        branches = (statement.value.body, statement.value.orelse)
+        return all(gym_rest(self.facts, b) & VECTOR_CLASSES for b in branches)
 
     def check_spaces_arguments(self, call: ast.Call) -> None:
         named = [kw.arg for kw in call.keywords if kw.arg in ("observation_space", "action_space")]
         positional = [a for a in call.args if not isinstance(a, ast.Starred)]
+        if not named and call.args and isinstance(call.args[0], ast.Starred):
+            self.report(
+                call,
+                "GM702",
+                f"the arguments unpacked from `{self.facts.segment(call.args[0])}` go by position: if they are gym's "
+                "(env_fns, observation_space, action_space), the spaces land on Gymnasium 1.x's copy and "
+                "observation_mode (a ValueError): pass the env functions alone",
+            )
+            return
         if named or len(positional) > 1:
             what = (
                 f"{'/'.join(named)} are no longer parameters of Gymnasium vector envs"
