@@ -82,10 +82,13 @@ class CreationFinder:
     finders with different ``is_creation`` never share answers.
     """
 
-    def __init__(self, facts: ModuleFacts, receivers: Receivers, is_creation: Callable[[ast.Call], bool]) -> None:
+    def __init__(
+        self, facts: ModuleFacts, receivers: Receivers, is_creation: Callable[[ast.Call], bool], nesting: int = 0
+    ) -> None:
         self.facts = facts
         self.receivers = receivers
         self._is_creation = is_creation
+        self._nesting = nesting  # finders started for constructor arguments, around this one
         self._memo: dict[tuple[str, int], Creation] = {}
         self._depth = 0
 
@@ -395,8 +398,16 @@ class CreationFinder:
             if argument is None or any(isinstance(a, ast.Starred) for a in call.args) or any(k.arg is None for k in call.keywords):
                 result.fail(f"`{label}` is not passed at every construction of `{classdef.name}`")
             else:
-                result.merge(self._follow(argument, self._expr))
+                # A finder of its own: this search may have entered the class from the very
+                # name the argument reads (``env = Monitor(env)`` after ``Agent(env)``), and
+                # answers memoized inside that open cycle would be partial.
+                result.merge(self._argument_finder().find(argument))
         return result
+
+    def _argument_finder(self) -> CreationFinder:
+        if self._nesting >= _MAX_NESTING:
+            return _GivingUp(self.facts, self.receivers, self._is_creation, self._nesting)
+        return CreationFinder(self.facts, self.receivers, self._is_creation, self._nesting + 1)
 
     def _attribute(self, attr: ast.Attribute) -> Creation:
         result = Creation()
@@ -431,6 +442,16 @@ class CreationFinder:
             return True
         name = _last_name(call.func)
         return name[:1].isupper() and not name.isupper()
+
+
+_MAX_NESTING = 3  # constructor arguments followed through constructors
+
+
+class _GivingUp(CreationFinder):
+    def find(self, expr: ast.AST) -> Creation:
+        result = Creation()
+        result.fail("envs passed through too many constructors")
+        return result
 
 
 # -- helpers ---------------------------------------------------------------------------

@@ -89,6 +89,7 @@ def decide_seed(decision: ClassDecision) -> None:
             deleted.extend(group)
             continue
         moved.append(index)
+    moved = _without_dead_returns(groups, moved)
     if any(inner_gym_env_call(decision, node, "seed") for i in moved for s in groups[i] for node in ast.walk(s)):
         # Moved into reset(), `self.inner.seed(seed)` would be rewritten by the call-site
         # rule on the next run (a reset of the inner env inside this reset): by hand.
@@ -169,6 +170,34 @@ def _needs_the_method(groups: list[list[ast.stmt]], moved: list[int], setup: lis
                     if binders and not binders <= together:
                         return True
     return False
+
+
+def _without_dead_returns(groups: list[list[ast.stmt]], moved: list[int]) -> list[int]:
+    """The moved statements less those that only computed what seed() returned (``seed2 =
+    seeding.hash_seed(seed1 + 1)`` for ``return [seed1, seed2]``): the return goes with the
+    method, so in reset() they would be dead code (and a removed helper's call)."""
+    last = groups[-1] if groups else []
+    if not (len(last) == 1 and isinstance(last[0], ast.Return)):
+        return moved
+    dead = []
+    for index in moved:
+        group = groups[index]
+        if not (len(group) == 1 and isinstance(group[0], ast.Assign)):
+            continue
+        targets = group[0].targets
+        if not all(isinstance(t, ast.Name) for t in targets):
+            continue
+        names = {t.id for t in targets}  # type: ignore[attr-defined]
+        read_elsewhere = any(
+            isinstance(node, ast.Name) and node.id in names and isinstance(node.ctx, ast.Load)
+            for other, statements in enumerate(groups[:-1])
+            if other != index
+            for statement in statements
+            for node in ast.walk(statement)
+        )
+        if not read_elsewhere:
+            dead.append(index)
+    return [index for index in moved if index not in dead]
 
 
 def _calls_removed_helpers(function: ast.AST) -> bool:
