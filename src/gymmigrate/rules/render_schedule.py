@@ -30,7 +30,7 @@ _PLAIN = (ast.Compare, ast.BoolOp, ast.UnaryOp, ast.Constant, ast.Name, ast.Attr
 Guard = tuple[ast.AST, bool]
 
 
-def render_condition(facts: ModuleFacts, render: ast.Call, make: ast.Call) -> list[Guard]:
+def render_condition(facts: ModuleFacts, render: ast.Call, make: ast.Call, home: ast.AST | None = None) -> list[Guard]:
     """The guards of ``render`` that do not guard ``make``: the tests of the ``if``
     statements and expressions, and the operands of ``and``/``or`` before it, between the
     render call and the nearest node that also encloses the make."""
@@ -47,8 +47,11 @@ def render_condition(facts: ModuleFacts, render: ast.Call, make: ast.Call) -> li
             before = ancestor.values[: next(i for i, v in enumerate(ancestor.values) if v is child)]
             guards.extend((value, isinstance(ancestor.op, ast.Or)) for value in before)
         elif isinstance(ancestor, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda)):
-            # Rendered from another function (a callback): its schedule is its caller's.
-            guards.append((ancestor, False))
+            # Rendered from another function (a callback): its schedule is its caller's,
+            # unless the env is stepped only in that function (``home``): human mode draws
+            # inside step(), so whether the function runs is then the same question.
+            if ancestor is not home:
+                guards.append((ancestor, False))
             break
         child = ancestor
     return guards
@@ -76,11 +79,11 @@ def fixed_at_creation(facts: ModuleFacts, test: ast.AST, make: ast.Call) -> bool
     return True
 
 
-def schedule(facts: ModuleFacts, renders: list[ast.Call], make: ast.Call) -> tuple[str, str | None]:
+def schedule(facts: ModuleFacts, renders: list[ast.Call], make: ast.Call, home: ast.AST | None = None) -> tuple[str, str | None]:
     """How the human renders of one make run: ``("always", None)``; ``("fixed", text)``
     when they all run under one condition known at creation (``text`` is its source);
     ``("varies", text)`` otherwise (``text`` names the condition)."""
-    conditions = [render_condition(facts, render, make) for render in renders]
+    conditions = [render_condition(facts, render, make, home) for render in renders]
     if any(not guards for guards in conditions):
         return "always", None  # one render runs on every pass: human mode draws as before
     texts = {" and ".join(_text(facts, guard) for guard in guards) for guards in conditions}

@@ -407,6 +407,8 @@ class Rendering(RuleFamily):
                     f"the env is rendered in {modes}, but a Gymnasium env has one render_mode: "
                     "create two envs (e.g. a training env and an eval env with its own render_mode)"
                 )
+        self._makes_by_id = makes
+        self._rendered_nodes = {id(site.node) for site in sites}
         for site in sites:
             self._plan_site(site, makes, final_mode, blocked)
 
@@ -423,7 +425,7 @@ class Rendering(RuleFamily):
             final_mode[key] = None
             self._unscheduled[key] = f"the watch loop runs (the env is also {trained}, where nothing renders)"
             return True
-        how, condition = schedule(self.facts, [site.node for site in sites], make)
+        how, condition = schedule(self.facts, [site.node for site in sites], make, self._stepping_function(make))
         if how == "always" or condition is None:  # the condition is None only "always"
             return False
         if how == "fixed":
@@ -482,6 +484,49 @@ class Rendering(RuleFamily):
                 if isinstance(call, ast.Call) and call.func is parent and not self._loop_renders(call, rendered):
                     return f"stepped at line {call.lineno}"
         return None
+
+    def _steps_render(self, key: int) -> bool:
+        """Every ``step`` of the env made by ``key`` sits in a loop that renders it."""
+        make = self._makes_by_id.get(key)
+        if make is None:
+            return False
+        assign = self.facts.parent(make)
+        if not (isinstance(assign, ast.Assign) and len(assign.targets) == 1 and isinstance(assign.targets[0], ast.Name)):
+            return False
+        target = assign.targets[0]
+        rendered = self._rendered_nodes
+        steps = [
+            call
+            for scope in self.facts.scopes.values()
+            for read in scope.reads.get(target.id, ())
+            if target in self.facts.bindings_of(read)
+            and isinstance(attribute := self.facts.parent(read), ast.Attribute)
+            and attribute.attr == "step"
+            and isinstance(call := self.facts.parent(attribute), ast.Call)
+        ]
+        return bool(steps) and all(self._loop_renders(call, rendered) for call in steps)
+
+    def _stepping_function(self, make: ast.Call) -> ast.AST | None:
+        """The one function (not the make's own) where the env ``make`` binds is stepped, or
+        None: ``env = gym.make(...)`` at the top, ``env.step`` only inside ``main()``."""
+        assign = self.facts.parent(make)
+        if not (isinstance(assign, ast.Assign) and len(assign.targets) == 1 and isinstance(assign.targets[0], ast.Name)):
+            return None
+        target = assign.targets[0]
+        homes = set()
+        steps = 0
+        for scope in self.facts.scopes.values():
+            for read in scope.reads.get(target.id, ()):
+                if target not in self.facts.bindings_of(read):
+                    continue
+                parent = self.facts.parent(read)
+                if isinstance(parent, ast.Attribute) and parent.attr == "step":
+                    steps += 1
+                    homes.add(self.facts.enclosing_function(parent))
+        if steps == 0 or len(homes) != 1:
+            return None
+        home = next(iter(homes))
+        return home if home is not None and home is not self.facts.enclosing_function(make) else None
 
     def _under_gym(self, func: ast.expr) -> bool:
         """A gym/gymnasium callable (a wrapper taking the env is no training function)."""
@@ -564,11 +609,16 @@ class Rendering(RuleFamily):
             return
         scheduled = [self._scheduled[k] for k in keys if k in self._scheduled]
         if scheduled:
+            # Rendered in the same loop as every step of the env: it drew each step before,
+            # and does now; only a render away from the steps (once an episode) is a question.
+            per_step = all(self._steps_render(k) for k in keys)
             self.report(
                 call,
                 code,
                 f'render() ran only when {scheduled[0]}, which is known when the env is made: added render_mode="human" '
-                f"if {scheduled[0]} else None to {where}; that env now draws every step inside step()/reset()",
+                f"if {scheduled[0]} else None to {where}; that env now draws every step inside step()/reset()"
+                + (", as it drew every step here" if per_step else ""),
+                tier=Tier.NOTE if per_step else None,
             )
             if code == "GM401":
                 self.plan.replace(call, without_mode_argument)

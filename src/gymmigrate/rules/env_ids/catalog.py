@@ -172,6 +172,19 @@ def migration_for(env_id: str) -> IdMigration | None:
     return RETIRED_IDS.get(env_id) or atari_migration(env_id)
 
 
+# Gym-only plugin packages whose ids GM805 names: where the file imports the package, the
+# import's GM107 item asks the question, and the id is a note pointing there.
+PLUGIN_OF_FAMILY: tuple[tuple[re.Pattern[str], str], ...] = (
+    (re.compile(r"^[A-Z][A-Za-z0-9]*BulletEnv-v\d+$"), "pybullet_envs"),
+    (re.compile(r"^Roboschool[A-Za-z0-9]+-v\d+$"), "roboschool"),
+    (re.compile(r"^SuperMarioBros(2)?(RandomStages)?-[A-Za-z0-9-]*v\d+$"), "gym_super_mario_bros"),
+)
+
+
+def plugin_of(env_id: str) -> str | None:
+    return next((package for pattern, package in PLUGIN_OF_FAMILY if pattern.match(env_id)), None)
+
+
 def removed_family(env_id: str) -> str | None:
     for pattern, hint in REMOVED_FAMILIES:
         if pattern.match(env_id):

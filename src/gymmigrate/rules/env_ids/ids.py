@@ -26,7 +26,7 @@ from dataclasses import dataclass
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
-from gymmigrate.findings import FixKind
+from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.env_ids.catalog import (
     ALE,
@@ -34,6 +34,7 @@ from gymmigrate.rules.env_ids.catalog import (
     IdMigration,
     env_package,
     migration_for,
+    plugin_of,
     removed_family,
 )
 from gymmigrate.rules.env_ids.syntax import (
@@ -184,7 +185,13 @@ class EnvIds(RuleFamily):
             self._decide_migration(site, migration)
         hint = removed_family(site.env_id)
         if hint is not None:
-            self.report(site.string, "GM805", f"`{site.env_id}` no longer exists: {hint}")
+            plugin = plugin_of(site.env_id)
+            if plugin is not None and re.search(rf"^\s*(?:import|from)\s+{plugin}\b", self.facts.text, re.M):
+                self.report(
+                    site.string, "GM805", f"`{site.env_id}` no longer exists: {hint} (asked once, at the `{plugin}` import)", tier=Tier.NOTE
+                )
+            else:
+                self.report(site.string, "GM805", f"`{site.env_id}` no longer exists: {hint}")
         final_id = migration.new_id if migration is not None else site.env_id
         package = env_package(final_id)
         if package is not None and not site.module_prefix and package.module not in self._packages:
