@@ -281,3 +281,17 @@ def test_a_test_parametrized_over_another_modules_spec_list_makes_envs_in_the_re
     migrated = (tmp_path / "check.py").read_text()
     assert "env = spec.make(render_mode=mode)" in migrated and "env.render()" in migrated
     assert _run_main(tmp_path, "check") == "('str', 3)"
+
+
+def test_a_bare_render_in_a_module_without_gym_is_reported_when_the_run_proves_the_env(tmp_path: Path) -> None:
+    """rollout.py never names gym, but steps the env train.py makes the legacy way: its bare
+    render() needs render_mode="human" at that make, which is in another module (GM402)."""
+    folder = tmp_path / "rollout"
+    shutil.copytree(FIXTURES / "project_render_elsewhere", folder)
+    result = runner.invoke(app, ["check", str(folder)])
+    assert "rollout.py:11:13: GM402 [flag]" in result.output, result.output
+    result = runner.invoke(app, ["rewrite", str(folder)])
+    assert result.exit_code == 0, result.output
+    assert "state, reward, terminated, truncated, _ = env.step(" in (folder / "rollout.py").read_text()
+    assert "env.render()" in (folder / "rollout.py").read_text()
+    float(_run_main(folder, "train"))  # runs on Gymnasium 1.4 and prints the return

@@ -155,7 +155,7 @@ class Rendering(RuleFamily):
             return True
         if not renders:
             return False
-        return context.profile.imports_gym or _imports_legacy_make(facts, context)
+        return context.profile.imports_gym or _imports_legacy_make(facts, context) or _four_value_steps(facts)
 
     def _helper_method(self, function: ast.AST) -> bool:
         """``render`` is a method of a plain class of the run (muzero's ``Game`` owning a
@@ -247,7 +247,12 @@ class Rendering(RuleFamily):
             self._plan_close(call, decision.action, decision.reason)
             return None
         if mode_arg is None:
-            if not (self.context.profile.imports_gym or self._has_legacy_mode_calls or _imports_legacy_make(self.facts, self.context)):
+            if not (
+                self.context.profile.imports_gym
+                or self._has_legacy_mode_calls
+                or _imports_legacy_make(self.facts, self.context)
+                or self._stepped_the_legacy_way(receiver)
+            ):
                 return None  # code already written for Gymnasium: a bare render() is its API
             return RenderSite(call, "GM402", HUMAN, (), decision.action, self.finder.find(receiver))
         extra = [a for a in arguments_in_order(call) if a is not mode_arg and a is not close]
@@ -506,6 +511,28 @@ class Rendering(RuleFamily):
         ]
         return bool(steps) and all(self._loop_renders(call, rendered) for call in steps)
 
+    def _stepped_the_legacy_way(self, receiver: ast.expr) -> bool:
+        """A file that never names gym but steps this env the legacy way (four values):
+        an env another module of the run made and passed in, so its bare render() is a
+        legacy human render too."""
+        if not isinstance(receiver, ast.Name) or self.receivers.kind_of(receiver) is not EnvKind.GYM_ENV:
+            return False  # only an env the run proves: an unknown one is asked about already
+        bindings = self.facts.bindings_of(receiver)
+        for read in (r for scope in self.facts.scopes.values() for r in scope.reads.get(receiver.id, ())):
+            if self.facts.bindings_of(read) != bindings:
+                continue
+            attribute = self.facts.parent(read)
+            call = self.facts.parent(attribute) if isinstance(attribute, ast.Attribute) and attribute.attr == "step" else None
+            statement = self.facts.parent(call) if isinstance(call, ast.Call) else None
+            if (
+                isinstance(statement, ast.Assign)
+                and len(statement.targets) == 1
+                and isinstance(statement.targets[0], (ast.Tuple, ast.List))
+                and len(statement.targets[0].elts) == 4
+            ):
+                return True
+        return False
+
     def _stepping_function(self, make: ast.Call) -> ast.AST | None:
         """The one function (not the make's own) where the env ``make`` binds is stepped, or
         None: ``env = gym.make(...)`` at the top, ``env.step`` only inside ``main()``."""
@@ -717,6 +744,21 @@ class Rendering(RuleFamily):
             return argument.arg
         value = argument.value if isinstance(argument, (ast.keyword, ast.Starred)) else argument
         return self.facts.segment(value)
+
+
+def _four_value_steps(facts: ModuleFacts) -> bool:
+    """``obs, reward, done, info = x.step(a)`` somewhere in the file: legacy stepping, though
+    the file never names gym (an env another module of the run passes in)."""
+    for call in facts.attribute_calls.get("step", ()):
+        statement = facts.parent(call)
+        if (
+            isinstance(statement, ast.Assign)
+            and len(statement.targets) == 1
+            and isinstance(statement.targets[0], (ast.Tuple, ast.List))
+            and len(statement.targets[0].elts) == 4
+        ):
+            return True
+    return False
 
 
 def _imports_legacy_make(facts: ModuleFacts, context: FileContext) -> bool:
