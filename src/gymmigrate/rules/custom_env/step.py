@@ -104,6 +104,10 @@ def _decide_returns(decision: ClassDecision, function: Method, helpers: set[int]
         if _split_done(done):
             decision.report(ret, "GM504", "done split: the step-limit test became truncated, the rest terminated", FixKind.ASSIST)
             continue
+        if isinstance(done, ast.Constant) and done.value is False:
+            # This return never ends an episode, on a limit or otherwise: nothing to split.
+            decision.report(ret, "GM504", "step returns terminated=False and truncated=False, as its done was False", FixKind.ASSIST, tier=Tier.NOTE)
+            continue
         _report_truncated_false(decision, ret, limit_hint, plain if no_counter else None)
 
 
@@ -150,8 +154,9 @@ def _counts_toward_a_limit(decision: ClassDecision) -> bool:
             return True  # the base class in this file may count steps for it
         for node in ast.walk(decision.classdef):
             if isinstance(node, ast.AugAssign) and isinstance(node.op, (ast.Add, ast.Sub)):
-                if _is_number(node.value) or any(STEP_LIMIT_WORD.search(w) for w in identifiers(node.target)):
-                    return True  # `self.steps += 1`, `self.t += self.dt`
+                counted = _is_number(node.value) and not isinstance(node.target, ast.Subscript)
+                if counted or any(STEP_LIMIT_WORD.search(w) for w in identifiers(node.target)):
+                    return True  # `self.steps += 1`, `self.t += self.dt`; not `self.pos[1] += 1`
             if isinstance(node, ast.Compare) and is_step_limit(node):
                 return True  # a step-limit test in a helper (`def _done(self): return self.t > 200`)
             if (
