@@ -86,8 +86,9 @@ def schedule(facts: ModuleFacts, renders: list[ast.Call], make: ast.Call, home: 
     conditions = [render_condition(facts, render, make, home) for render in renders]
     if any(not guards for guards in conditions):
         return "always", None  # one render runs on every pass: human mode draws as before
-    texts = {" and ".join(_text(facts, guard) for guard in guards) for guards in conditions}
-    first = next(iter(texts))
+    # In source order, not a set's: the message must not change from one run to the next.
+    texts = list(dict.fromkeys(" and ".join(_text(facts, guard) for guard in guards) for guards in conditions))
+    first = texts[0]
     if len(texts) == 1 and all(fixed_at_creation(facts, test, make) for test, _ in conditions[0]):
         return "fixed", first
     return "varies", first
