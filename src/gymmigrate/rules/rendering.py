@@ -39,6 +39,7 @@ from __future__ import annotations
 
 import ast
 from collections import defaultdict
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from gymmigrate.facts import ModuleFacts
@@ -493,23 +494,8 @@ class Rendering(RuleFamily):
     def _steps_render(self, key: int) -> bool:
         """Every ``step`` of the env made by ``key`` sits in a loop that renders it."""
         make = self._makes_by_id.get(key)
-        if make is None:
-            return False
-        assign = self.facts.parent(make)
-        if not (isinstance(assign, ast.Assign) and len(assign.targets) == 1 and isinstance(assign.targets[0], ast.Name)):
-            return False
-        target = assign.targets[0]
-        rendered = self._rendered_nodes
-        steps = [
-            call
-            for scope in self.facts.scopes.values()
-            for read in scope.reads.get(target.id, ())
-            if target in self.facts.bindings_of(read)
-            and isinstance(attribute := self.facts.parent(read), ast.Attribute)
-            and attribute.attr == "step"
-            and isinstance(call := self.facts.parent(attribute), ast.Call)
-        ]
-        return bool(steps) and all(self._loop_renders(call, rendered) for call in steps)
+        steps = (self._steps_of_make(make) if make is not None else None) or []
+        return bool(steps) and all(self._loop_renders(call, self._rendered_nodes) for call in steps)
 
     def _stepped_the_legacy_way(self, receiver: ast.expr) -> bool:
         """A file that never names gym but steps this env the legacy way (four values):
@@ -518,39 +504,34 @@ class Rendering(RuleFamily):
         if not isinstance(receiver, ast.Name) or self.receivers.kind_of(receiver) is not EnvKind.GYM_ENV:
             return False  # only an env the run proves: an unknown one is asked about already
         bindings = self.facts.bindings_of(receiver)
-        for read in (r for scope in self.facts.scopes.values() for r in scope.reads.get(receiver.id, ())):
-            if self.facts.bindings_of(read) != bindings:
-                continue
-            attribute = self.facts.parent(read)
-            call = self.facts.parent(attribute) if isinstance(attribute, ast.Attribute) and attribute.attr == "step" else None
-            statement = self.facts.parent(call) if isinstance(call, ast.Call) else None
-            if (
-                isinstance(statement, ast.Assign)
-                and len(statement.targets) == 1
-                and isinstance(statement.targets[0], (ast.Tuple, ast.List))
-                and len(statement.targets[0].elts) == 4
-            ):
-                return True
-        return False
+        return any(_unpacks_four(self.facts, call) for call in self._steps_of(receiver.id, lambda read: self.facts.bindings_of(read) == bindings))
 
-    def _stepping_function(self, make: ast.Call) -> ast.AST | None:
-        """The one function (not the make's own) where the env ``make`` binds is stepped, or
-        None: ``env = gym.make(...)`` at the top, ``env.step`` only inside ``main()``."""
+    def _steps_of(self, name: str, same: Callable[[ast.Name], bool]) -> list[ast.Call]:
+        """The ``name.step(...)`` calls of the module whose ``name`` passes ``same`` (it reads
+        the binding in question), in any function: the scopes already index their reads."""
+        steps = []
+        for scope in self.facts.scopes.values():
+            for read in scope.reads.get(name, ()):
+                attribute = self.facts.parent(read)
+                if isinstance(attribute, ast.Attribute) and attribute.attr == "step" and same(read):
+                    call = self.facts.parent(attribute)
+                    if isinstance(call, ast.Call) and call.func is attribute:
+                        steps.append(call)
+        return steps
+
+    def _steps_of_make(self, make: ast.Call) -> list[ast.Call] | None:
+        """The steps of the env ``env = make(...)`` binds; None when the make binds no name."""
         assign = self.facts.parent(make)
         if not (isinstance(assign, ast.Assign) and len(assign.targets) == 1 and isinstance(assign.targets[0], ast.Name)):
             return None
         target = assign.targets[0]
-        homes = set()
-        steps = 0
-        for scope in self.facts.scopes.values():
-            for read in scope.reads.get(target.id, ()):
-                if target not in self.facts.bindings_of(read):
-                    continue
-                parent = self.facts.parent(read)
-                if isinstance(parent, ast.Attribute) and parent.attr == "step":
-                    steps += 1
-                    homes.add(self.facts.enclosing_function(parent))
-        if steps == 0 or len(homes) != 1:
+        return self._steps_of(target.id, lambda read: target in self.facts.bindings_of(read))
+
+    def _stepping_function(self, make: ast.Call) -> ast.AST | None:
+        """The one function (not the make's own) where the env ``make`` binds is stepped, or
+        None: ``env = gym.make(...)`` at the top, ``env.step`` only inside ``main()``."""
+        homes = {self.facts.enclosing_function(call) for call in self._steps_of_make(make) or ()}
+        if len(homes) != 1:
             return None
         home = next(iter(homes))
         return home if home is not None and home is not self.facts.enclosing_function(make) else None
@@ -749,16 +730,18 @@ class Rendering(RuleFamily):
 def _four_value_steps(facts: ModuleFacts) -> bool:
     """``obs, reward, done, info = x.step(a)`` somewhere in the file: legacy stepping, though
     the file never names gym (an env another module of the run passes in)."""
-    for call in facts.attribute_calls.get("step", ()):
-        statement = facts.parent(call)
-        if (
-            isinstance(statement, ast.Assign)
-            and len(statement.targets) == 1
-            and isinstance(statement.targets[0], (ast.Tuple, ast.List))
-            and len(statement.targets[0].elts) == 4
-        ):
-            return True
-    return False
+    return any(_unpacks_four(facts, call) for call in facts.attribute_calls.get("step", ()))
+
+
+def _unpacks_four(facts: ModuleFacts, call: ast.AST) -> bool:
+    """``a, b, c, d = call``: the legacy step's four values."""
+    statement = facts.parent(call)
+    return (
+        isinstance(statement, ast.Assign)
+        and len(statement.targets) == 1
+        and isinstance(statement.targets[0], (ast.Tuple, ast.List))
+        and len(statement.targets[0].elts) == 4
+    )
 
 
 def _imports_legacy_make(facts: ModuleFacts, context: FileContext) -> bool:
