@@ -227,9 +227,7 @@ class CreationFinder:
         if not calls:
             result.fail(f"`{param.arg}` is a parameter of `{function.name}`, which is not called here")
         for call in calls:
-            argument = next((k.value for k in call.keywords if k.arg == param.arg), None)
-            if argument is None and position is not None and position < len(call.args) and not any(isinstance(a, ast.Starred) for a in call.args):
-                argument = call.args[position]
+            argument = _argument_for(call, param.arg, position)
             if argument is None:
                 result.fail(f"`{param.arg}` is not passed at every call of `{function.name}`")
             else:
@@ -358,9 +356,7 @@ class CreationFinder:
             result.fail(f"`{label}` is a parameter of `{function.name}`, which is not called here")
             return result
         for call in calls:
-            argument = next((k.value for k in call.keywords if k.arg == label), None)
-            if argument is None and position is not None and position < len(call.args):
-                argument = call.args[position]
+            argument = _argument_for(call, label, position)
             if argument is None:
                 result.fail(f"`{label}` is not passed at every call of `{function.name}`")
             else:
@@ -391,23 +387,21 @@ class CreationFinder:
         if subclassed or elsewhere or not calls:
             result.fail(f"`{label}` is a parameter of `{classdef.name}`, which is not only built here")
             return result
+        if self._nesting >= _MAX_NESTING:
+            result.fail("envs passed through too many constructors")
+            return result
+        arguments = CreationFinder(self.facts, self.receivers, self._is_creation, self._nesting + 1)
         for call in calls:
-            argument = next((k.value for k in call.keywords if k.arg == label), None)
-            if argument is None and position is not None and position < len(call.args):
-                argument = call.args[position]
+            argument = _argument_for(call, label, position)
             if argument is None or any(isinstance(a, ast.Starred) for a in call.args) or any(k.arg is None for k in call.keywords):
                 result.fail(f"`{label}` is not passed at every construction of `{classdef.name}`")
             else:
                 # A finder of its own: this search may have entered the class from the very
                 # name the argument reads (``env = Monitor(env)`` after ``Agent(env)``), and
                 # answers memoized inside that open cycle would be partial.
-                result.merge(self._argument_finder().find(argument))
+                result.merge(arguments.find(argument))
         return result
 
-    def _argument_finder(self) -> CreationFinder:
-        if self._nesting >= _MAX_NESTING:
-            return _GivingUp(self.facts, self.receivers, self._is_creation, self._nesting)
-        return CreationFinder(self.facts, self.receivers, self._is_creation, self._nesting + 1)
 
     def _attribute(self, attr: ast.Attribute) -> Creation:
         result = Creation()
@@ -447,14 +441,16 @@ class CreationFinder:
 _MAX_NESTING = 3  # constructor arguments followed through constructors
 
 
-class _GivingUp(CreationFinder):
-    def find(self, expr: ast.AST) -> Creation:
-        result = Creation()
-        result.fail("envs passed through too many constructors")
-        return result
-
-
 # -- helpers ---------------------------------------------------------------------------
+
+
+def _argument_for(call: ast.Call, name: str, position: int | None) -> ast.expr | None:
+    """What ``call`` passes for the parameter ``name`` at ``position``: its keyword, else its
+    positional argument (None after a ``*args``, which may have shifted it)."""
+    argument = next((k.value for k in call.keywords if k.arg == name), None)
+    if argument is None and position is not None and position < len(call.args) and not any(isinstance(a, ast.Starred) for a in call.args):
+        argument = call.args[position]
+    return argument
 
 
 def local_env_class_takes_render_mode(facts: ModuleFacts, receivers: Receivers, call: ast.Call) -> bool:
