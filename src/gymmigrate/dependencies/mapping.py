@@ -58,6 +58,36 @@ MOVED_WITH_GYM: dict[str, tuple[str, str, str]] = {
     "minigrid": (">=3.0", "3.2.0", "MiniGrid 3.0 is the release made for Gymnasium 1.0"),
 }
 
+# Render and physics packages that gym's and PettingZoo 1.2x's extras pinned exactly
+# (gym 0.26: pygame==2.1.0, box2d-py==2.3.5; PettingZoo 1.21/1.22: pygame==2.1.0,
+# pymunk==6.2.0): projects copied those pins, which have no wheel for Python 3.11 and which
+# the Gymnasium-1.x stack does not accept. A pin that admits none of ``releases`` (the ones
+# Gymnasium 1.4's and PettingZoo 1.27's extras accept, read from their wheels' Requires-Dist)
+# becomes ``name spec``.
+ERA_PINS: dict[str, tuple[str, str, tuple[str, ...], str]] = {
+    # old name: (new name, new spec, releases the new stack accepts, why)
+    "pygame": (
+        "pygame",
+        ">=2.3",
+        ("2.3.0", "2.4.0", "2.5.2", "2.6.1"),
+        "PettingZoo 1.27's extras require pygame(-ce)>=2.3.0 and Gymnasium 1.4's >=2.1.3; releases before 2.1.3 have no wheel "
+        "for Python 3.11. Gymnasium's extras install `pygame-ce`, which provides the same `pygame` module: keep one of the two",
+    ),
+    "pymunk": (
+        "pymunk",
+        ">=6.2.0",
+        ("6.3.0", "6.11.1", "7.3.1"),
+        "PettingZoo 1.27's butterfly and sisl envs require pymunk>=6.2.0; pymunk 6.2.x has no wheel for Python 3.11",
+    ),
+    "box2d-py": (
+        "box2d",
+        "==2.3.10",
+        ("2.3.8",),
+        "Gymnasium 1.4's box2d extra requires `box2d==2.3.10` (the same `Box2D` module, with wheels); box2d-py 2.3.5 builds "
+        "only with swig and installing both puts two copies of `Box2D` in one environment",
+    ),
+}
+
 # Packages that left a declared library: what the migrated code imports -> (the library it
 # came out of, the requirement to add next to it, why). mpe2 1.0 is the first release;
 # mpe2 1.1.1 requires pettingzoo>=1.24.3 (its wheel's Requires-Dist).
@@ -158,6 +188,8 @@ def decide(requirement: Requirement) -> Decision:
             [Note(GYM_PACKAGE, FixKind.AUTO, f"`{requirement}` -> `ale-py{ALE_SPEC}`: Atari ROMs ship with ale-py, no licence step or ROM download is needed")],
             ale=True,
         )
+    if name in ERA_PINS:
+        return _era_pin(requirement, name)
     if name == "mujoco" and not extras:
         # gym 0.26's MuJoCo envs rendered without imageio; Gymnasium 1.x's import it with
         # their renderer (gymnasium[mujoco] requires imageio>=2.14.1).
@@ -231,6 +263,20 @@ def _moved(requirement: Requirement, name: str, extras: list[str]) -> Decision:
     new_name = requirement.name
     message = f"`{requirement}` -> `{new_name}{_extras(sorted(requirement.extras))}{minimum}`: {why}"
     return Decision(new_name, sorted(requirement.extras), minimum, [Note(PINS, FixKind.ASSIST, message)])
+
+
+def _era_pin(requirement: Requirement, name: str) -> Decision:
+    """A Gym-era exact pin of a render or physics package, raised to what the new stack
+    accepts. An unpinned requirement, or one that admits a current release, is left
+    (box2d-py 2.3.8 is what Gymnasium itself takes on Python 3.14)."""
+    new_name, spec, releases, why = ERA_PINS[name]
+    if not requirement.specifier:
+        return Decision()
+    if any(requirement.specifier.contains(Version(v), prereleases=True) for v in releases):
+        return Decision()
+    extras = sorted(requirement.extras)
+    message = f"`{requirement}` -> `{new_name}{_extras(extras)}{spec}`: {why}"
+    return Decision(new_name, extras, spec, [Note(PINS, FixKind.ASSIST, message)])
 
 
 def _extras(extras: list[str]) -> str:
