@@ -67,11 +67,12 @@ MOVED_WITH_GYM: dict[str, tuple[str, str, str]] = {
 ERA_PINS: dict[str, tuple[str, str, tuple[str, ...], str]] = {
     # old name: (new name, new spec, releases the new stack accepts, why)
     "pygame": (
-        "pygame",
+        "pygame-ce",
         ">=2.3",
         ("2.3.0", "2.4.0", "2.5.2", "2.6.1"),
-        "PettingZoo 1.27's extras require pygame(-ce)>=2.3.0 and Gymnasium 1.4's >=2.1.3; releases before 2.1.3 have no wheel "
-        "for Python 3.11. Gymnasium's extras install `pygame-ce`, which provides the same `pygame` module: keep one of the two",
+        "Gymnasium 1.4's extras, PettingZoo 1.27's and mpe2 depend on `pygame-ce` (>=2.3.0 for PettingZoo), the maintained "
+        "fork that provides the same `pygame` module; pygame before 2.1.3 has no wheel for Python 3.11, and `pygame` next to "
+        "`pygame-ce` puts two copies of the module in one environment",
     ),
     "pymunk": (
         "pymunk",
