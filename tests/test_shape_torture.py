@@ -27,6 +27,8 @@ EXPRESSIONS = {
     "ifexp": "a if c else b",
     "subscript": "d[0]",
     "slice": "d[1:]",
+    "subscript_tuple": "d[0, 0]",
+    "subscript_tuple_mixed": "d[(0), 1:]",
     "walrus": "(d := f())",
     "lambda": "(lambda: 0)",
     "await": "(await g())",

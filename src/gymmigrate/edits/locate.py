@@ -16,6 +16,8 @@ from typing import TYPE_CHECKING
 import libcst as cst
 
 if TYPE_CHECKING:
+    from collections.abc import Callable
+
     from gymmigrate.edits.plan import Plan
 
 
@@ -182,7 +184,7 @@ def _ast_kind(node: ast.AST) -> str:
     raise ApplyError(f"rules cannot address a {type(node).__name__} node directly")
 
 
-def _ast_candidates(statement: ast.stmt, kind: str, parents: dict[ast.AST, ast.AST]) -> list[ast.expr]:
+def _ast_candidates(statement: ast.stmt, kind: str, parents: dict[ast.AST, ast.AST], segment: Callable[[ast.AST], str]) -> list[ast.expr]:
     """Nodes of ``kind`` in ``statement``, not in nested statements, in source order."""
     found: list[ast.expr] = []
     stack: list[ast.AST] = [statement]
@@ -190,19 +192,31 @@ def _ast_candidates(statement: ast.stmt, kind: str, parents: dict[ast.AST, ast.A
         node = stack.pop()
         if node is not statement and isinstance(node, ast.stmt):
             continue
-        if isinstance(node, (ast.expr,)) and _matches_ast_kind(node, kind, parents):
+        if isinstance(node, (ast.expr,)) and _matches_ast_kind(node, kind, parents, segment):
             found.append(node)
         stack.extend(ast.iter_child_nodes(node))
     found.sort(key=lambda n: (n.lineno, n.col_offset, -(n.end_lineno or 0), -(n.end_col_offset or 0)))
     return found
 
 
-def _matches_ast_kind(node: ast.AST, kind: str, parents: dict[ast.AST, ast.AST]) -> bool:
+def _matches_ast_kind(node: ast.AST, kind: str, parents: dict[ast.AST, ast.AST], segment: Callable[[ast.AST], str]) -> bool:
     if isinstance(node, ast.Constant):
         if isinstance(parents.get(node), ast.JoinedStr):
             return False  # literal parts of an f-string are not strings in LibCST
         return _ast_kind(node) == kind
+    if isinstance(node, ast.Tuple) and _bare_subscript_tuple(node, parents, segment):
+        return False  # ``a[0, 0]``: LibCST holds the elements as subscript elements, no Tuple
     return type(node).__name__ == kind
+
+
+def _bare_subscript_tuple(node: ast.Tuple, parents: dict[ast.AST, ast.AST], segment: Callable[[ast.AST], str]) -> bool:
+    """A subscript's tuple written without parentheses (``a[0, 0]``, ``a[(0), 1]``): LibCST
+    keeps ``a[(0, 0)]`` a Tuple, but not these."""
+    parent = parents.get(node)
+    if not (isinstance(parent, ast.Subscript) and parent.slice is node):
+        return False
+    text = _normal(segment(node))
+    return not (text.startswith("(") and _encloses(text))
 
 
 def _cst_matches(node: cst.CSTNode, kind: str) -> bool:
@@ -312,7 +326,7 @@ def locate_expression(
     cache = {} if cache is None else cache
     key = (statement, kind)
     if key not in cache:
-        candidates = _ast_candidates(statement, kind, plan.facts.parents)
+        candidates = _ast_candidates(statement, kind, plan.facts.parents, plan.facts.segment)
         visitor = _Candidates(kind, located.node)
         located.node.visit(visitor)
         if len(visitor.found) != len(candidates):

@@ -583,6 +583,11 @@ class ProjectView:
     def defines(self, qualified: str) -> bool:
         """The name comes from a module of the run (its own code, not a library's)."""
         return self.facts._split(qualified, self.path) is not None
+    def has_module(self, dotted: str) -> bool:
+        """A module of the run may be imported as ``dotted`` (``gym_minigrid`` in the
+        gym-minigrid repository itself)."""
+        return dotted in self.facts.modules
+
     def plugin_calls(self) -> tuple[tuple[str, str | None], ...]:
         """The register functions of ``gym.envs`` entry points this module must call on
         import, each with the namespace gym registered its ids in (None: the root)."""

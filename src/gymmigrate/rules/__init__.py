@@ -4,6 +4,7 @@ Where a rule lives (families decide in the order of ``PIPELINE`` below):
 
     GM101-GM105, GM108         imports ......................... imports.py
     GM106, GM803-GM805         env ids, Atari registration ..... env_ids/ids.py
+    GM112                      renamed env packages (gym_minigrid) renamed_packages.py
     GM802, GM806, GM807        registry API, EnvSpec ........... env_ids/registry.py
     GM305, GM801               removed make() keywords ......... make_kwargs.py
     GM608-GM615                renamed/removed wrappers ........ wrapper_usage/
@@ -54,6 +55,7 @@ _PZ = ("pettingzoo", "supersuit", "agent_iter")  # a PettingZoo import, or an ag
 # (applied in this order).
 PIPELINE = (
     FamilySpec("Imports", "gymmigrate.rules.imports"),
+    FamilySpec("RenamedEnvPackages", "gymmigrate.rules.renamed_packages", ("gym_minigrid",)),
     FamilySpec("EnvIds", "gymmigrate.rules.env_ids.ids", ("-v",)),
     FamilySpec("EnvPlugins", "gymmigrate.rules.env_ids.plugins", (), follows_the_run=True),
     FamilySpec(

@@ -240,14 +240,7 @@ class EnvIds(RuleFamily):
             if package.module in imported:
                 continue
             if package.legacy_module and package.legacy_module in imported:
-                self.report(
-                    string,
-                    "GM106",
-                    f"`{package.legacy_module}` is the gym-era package: import `{package.module}` instead and call "
-                    f"`gym.register_envs({package.module})`",
-                    kind=FixKind.FLAG,
-                )
-                continue
+                continue  # the gym-era package: GM112 renames its import or reports it
             needed.append(package)
             self.report(string, "GM106", _registration_message(package), kind=package.kind)
         if needed:

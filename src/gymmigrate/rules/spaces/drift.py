@@ -152,10 +152,43 @@ class SpaceDrift(RuleFamily):
                     return found.pop()
             return UNKNOWN
         if isinstance(expr, ast.Name) and depth == 0:
+            narrowed = self._narrowed(expr)
+            if narrowed is not None:
+                return narrowed
             values = self._values(expr)
             found = {self.space_class(v, depth + 1) for v in values} if values else {None}
             return found.pop() if len(found) == 1 else (UNKNOWN if None not in found else None)
         return None
+
+    def _narrowed(self, name: ast.Name) -> str | None:
+        """The space class an enclosing ``if isinstance(name, spaces.X):`` proves (a helper
+        that walks a space of any class: ``def f(space): if isinstance(space, Dict): ...``)."""
+        child: ast.AST = name
+        parent = self.facts.parent(child)
+        while parent is not None and not isinstance(parent, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef, ast.Module)):
+            if isinstance(parent, ast.If) and any(child is statement for statement in parent.body):
+                test = parent.test
+                if (
+                    isinstance(test, ast.Call)
+                    and isinstance(test.func, ast.Name)
+                    and test.func.id == "isinstance"
+                    and len(test.args) == 2
+                    and isinstance(test.args[0], ast.Name)
+                    and test.args[0].id == name.id
+                    and not isinstance(test.args[1], ast.Tuple)
+                ):
+                    if any(self._inside(binding, parent) for binding in self.facts.bindings_of(name)):
+                        return None  # rebound under the check
+                    return _space_class(self.facts.qualified_names(test.args[1]))
+            child, parent = parent, self.facts.parent(parent)
+        return None
+
+    def _inside(self, node: ast.AST, ancestor: ast.AST) -> bool:
+        while node is not None:
+            if node is ancestor:
+                return True
+            node = self.facts.parent(node)
+        return False
 
     def _values(self, name: ast.Name) -> list[ast.expr]:
         """What every binding of ``name`` assigns (empty when one is not a plain assignment)."""
