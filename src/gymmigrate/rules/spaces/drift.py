@@ -184,10 +184,11 @@ class SpaceDrift(RuleFamily):
         return None
 
     def _inside(self, node: ast.AST, ancestor: ast.AST) -> bool:
-        while node is not None:
-            if node is ancestor:
+        current: ast.AST | None = node
+        while current is not None:
+            if current is ancestor:
                 return True
-            node = self.facts.parent(node)
+            current = self.facts.parent(current)
         return False
 
     def _values(self, name: ast.Name) -> list[ast.expr]:
