@@ -24,6 +24,8 @@ class Origins(Protocol):
 
     def run_defined(self, expr: ast.AST) -> bool: ...
 
+    def library_made(self, expr: ast.AST) -> str | None: ...
+
 # Spellings that name an environment. Used only to decide between reporting and
 # staying silent (or, in a file that uses nothing but Gym, rewriting for review):
 # never to rewrite on its own.
@@ -79,6 +81,9 @@ def decide(
     env_like = looks_like_env(receiver)
     if (env_like or legacy_shape) and origins is not None and origins.run_defined(receiver):
         return Decision(Action.REPORT, f"`{name}` holds an object the project makes itself, not shown to be a Gym env; not rewritten")
+    library = origins.library_made(receiver) if env_like and profile.gym_only and origins is not None else None
+    if library is not None:
+        return Decision(Action.REPORT, f"`{name}` is made by `{library}`, a library other than Gym, not shown to be a Gym env; not rewritten")
     if env_like and profile.gym_only:
         return Decision(
             Action.REWRITE_FOR_REVIEW,

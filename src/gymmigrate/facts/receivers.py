@@ -18,6 +18,7 @@ times) cost linear time.
 from __future__ import annotations
 
 import ast
+import sys
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts import names as N
@@ -640,6 +641,45 @@ class Receivers:
             return out
 
         return self.facts.memo(("subscript-assigns", 0), compute)
+
+    def library_made(self, expr: ast.AST) -> str | None:
+        """The callable of a library other than Gym that made ``expr`` (``env =
+        suite_gym.load(...)`` of tf_agents: ``tf_agents.environments.suite_gym.load``), or
+        None. Such an object is not shown to be a Gym env by a file using only Gym."""
+        return self.facts.memo(("library-made", id(expr)), lambda: self._library_made(expr), while_computing=None)
+
+    def _library_made(self, expr: ast.AST) -> str | None:
+        if self.depth > MAX_DEPTH:
+            return None
+        self.depth += 1
+        try:
+            if isinstance(expr, ast.Call):
+                imported = set(self.facts.imports.values())
+                for qualified in sorted(self.qualified_names(expr.func)):
+                    top = qualified.split(".", 1)[0]
+                    if (
+                        top not in ("gym", "gymnasium")
+                        and top not in sys.stdlib_module_names
+                        and any(qualified == m or qualified.startswith(m + ".") for m in imported)
+                        and not self._from_run(qualified)
+                    ):
+                        return qualified
+                return None
+            if isinstance(expr, ast.Name):
+                last = self._dominating_binding(expr)  # the one binding this read can reach
+                if last is not None:
+                    statement = self.facts.statement_of(last)
+                    return self.library_made(statement.value) if isinstance(statement, ast.Assign) else None
+                found = []
+                for binding in self.facts.bindings_of(expr):
+                    parent = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
+                    if not (isinstance(parent, ast.Assign) and binding in parent.targets):
+                        return None
+                    found.append(self.library_made(parent.value))
+                return found[0] if found and all(f is not None for f in found) else None
+            return None
+        finally:
+            self.depth -= 1
 
     def _from_run(self, qualified: str) -> bool:
         if qualified.startswith("."):
