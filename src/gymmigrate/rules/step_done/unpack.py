@@ -21,7 +21,7 @@ from collections.abc import Hashable
 from dataclasses import dataclass
 
 from gymmigrate.edits.lazy import cst
-from gymmigrate.facts.decisions import Action, Decision
+from gymmigrate.facts.decisions import Action, Decision, receiver_text
 from gymmigrate.facts.done_uses import (
     STORE_METHODS,
     DoneUse,
@@ -54,6 +54,25 @@ class _DoneStep:
 class UnpackRules(StepFamilyBase):
     """GM301, GM302 and GM703 (mixed into the family)."""
 
+    def _done_read_per_env(self, done_target: ast.expr) -> bool:
+        """The done flags are read one per env (``zip(..., dones)``, ``for d in dones``,
+        ``dones[i]``): a batched step, where ``terminated or truncated`` would be wrong."""
+        if not isinstance(done_target, ast.Name):
+            return False
+        for read in self.flow.reads(done_target):
+            parent = self.facts.parent(read)
+            if isinstance(parent, ast.Subscript) and parent.value is read:
+                return True
+            if isinstance(parent, (ast.For, ast.AsyncFor, ast.comprehension)) and parent.iter is read:
+                return True
+            if (
+                isinstance(parent, ast.Call)
+                and isinstance(parent.func, ast.Name)
+                and parent.func.id in ("zip", "enumerate", "len", "any", "all", "sum", "list")
+            ):
+                return True
+        return False
+
     def plan_unpack(self, assign: ast.Assign, target: ast.Tuple | ast.List, receiver: ast.expr) -> None:
         decision, vector = self.decision(receiver, legacy_shape=True)
         done_target = target.elts[2]
@@ -69,8 +88,14 @@ class UnpackRules(StepFamilyBase):
                 FixKind.FLAG,
             )
             return
-        if decision.action is Action.REWRITE_FOR_REVIEW and looks_vectorised(receiver, done_target):
-            decision = Decision(Action.REPORT, decision.reason + "; it may be a vector env")
+        if decision.action is Action.REWRITE_FOR_REVIEW and (
+            looks_vectorised(receiver, done_target) or self._done_read_per_env(done_target)
+        ):
+            decision = Decision(
+                Action.REPORT,
+                f"could not trace where `{receiver_text(receiver)}` comes from, and it may be a vector env (its done "
+                "flags look batched); not rewritten",
+            )
         if decision.action is Action.REPORT:
             self.report(
                 assign,
