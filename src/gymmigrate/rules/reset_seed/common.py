@@ -49,12 +49,34 @@ class ResetSeedBase(RuleFamily):
                 return EnvKind.GYM_ENV
         return self.receivers.kind_of(receiver)
 
-    def _decide(self, receiver: ast.expr) -> tuple[Decision, bool]:
+    def _decide(self, receiver: ast.expr, legacy_shape: bool = False) -> tuple[Decision, bool]:
         """The decision for a Gym single-env or vector-env call, and whether it is a vector env."""
         kind = self._receiver_kind(receiver)
         vector = kind is EnvKind.GYM_VEC
         expected = EnvKind.GYM_VEC if vector else EnvKind.GYM_ENV
-        return decide(kind, receiver, self.context.profile, expected=expected, origins=self.receivers), vector
+        return decide(kind, receiver, self.context.profile, legacy_shape=legacy_shape, expected=expected, origins=self.receivers), vector
+
+    def _stepped_the_legacy_way(self, receiver: ast.expr) -> bool:
+        """The same name is stepped in the same function with four unpacked values: an
+        untraced ``e.reset()`` next to ``o, r, done, _ = e.step(a)`` is the same question."""
+        if not isinstance(receiver, ast.Name):
+            return False
+        function = self.facts.enclosing_function(receiver)
+        for call in self.facts.attribute_calls.get("step", ()):
+            value = call.func.value if isinstance(call.func, ast.Attribute) else None
+            if not (isinstance(value, ast.Name) and value.id == receiver.id):
+                continue
+            if self.facts.enclosing_function(call) is not function:
+                continue
+            assign = self.facts.parent(call)
+            if (
+                isinstance(assign, ast.Assign)
+                and len(assign.targets) == 1
+                and isinstance(assign.targets[0], (ast.Tuple, ast.List))
+                and len(assign.targets[0].elts) == 4
+            ):
+                return True
+        return False
 
     @staticmethod
     def _kind(decision: Decision, default: FixKind | None = None) -> FixKind | None:

@@ -65,7 +65,7 @@ class ResetCalls(ResetSeedBase):
         if not isinstance(func, ast.Attribute):  # ``x.method(...)`` calls only
             return
         receiver = func.value
-        decision, vector = self._decide(receiver)
+        decision, vector = self._decide(receiver, legacy_shape=self._stepped_the_legacy_way(receiver))
         if decision.action is Action.LEAVE:
             return
         code = "GM704" if vector else "GM201"
