@@ -404,6 +404,9 @@ class Receivers:
             inner = self._kind_keeping_inner(parent.value)
             if isinstance(inner, ast.Name) and inner.id == binding.id:
                 return None  # ``env = supersuit.dtype_v0(env, ...)``: env keeps its kind, no new evidence
+            value = parent.value
+            if isinstance(value, ast.Attribute) and value.attr == "unwrapped" and isinstance(value.value, ast.Name) and value.value.id == binding.id:
+                return None  # ``env = env.unwrapped``: the same env, its kind unchanged
             return self.kind_of(parent.value)
         if isinstance(parent, ast.AnnAssign):
             if parent.value is not None:

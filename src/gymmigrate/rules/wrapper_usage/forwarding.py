@@ -335,6 +335,19 @@ class WrapperForwarding(RuleFamily):
         if self.receivers.kind_of(receiver) is not EnvKind.GYM_ENV:
             return
         origin = self._origin(receiver)
+        if depth == 1 and self._is_make_call(receiver):
+            # gym 0.21's make returned TimeLimit(env): ``gym.make(id).env`` was the env
+            # itself, without its time limit. Gymnasium's make adds layers under the
+            # TimeLimit; ``.unwrapped`` is that env again.
+            self.plan.replace(attr, lambda node: node.with_changes(attr=cst.Name("unwrapped")))
+            self.report(
+                attr,
+                "GM606",
+                "`gym.make(id).env` -> `.unwrapped`: it meant the env without its TimeLimit (gym 0.21's make "
+                "returned TimeLimit(env)); Gymnasium's make puts more wrappers under the TimeLimit",
+                FixKind.AUTO,
+            )
+            return
         if origin == MADE or (depth >= 2 and origin in (WRAPPED, INNER)):
             self.report(
                 attr,
@@ -343,14 +356,31 @@ class WrapperForwarding(RuleFamily):
                 "a different layer: use gym.make(id, max_episode_steps=-1) to drop the time limit, or `.unwrapped`",
             )
 
+    def _is_make_call(self, expr: ast.AST) -> bool:
+        return isinstance(expr, ast.Call) and any(N.strip_gym_prefix(q) in ("make", "envs.make", "envs.registration.make") for q in self.facts.qualified_names(expr.func))
+
     def _is_isinstance_timelimit(self, call: ast.Call) -> bool:
         if len(call.args) != 2 or call.keywords:
             return False
         classes = call.args[1]
         candidates = list(classes.elts) if isinstance(classes, ast.Tuple) else [classes]
-        return any(
-            wrapper_rest(q) == "TimeLimit" for candidate in candidates for q in self.facts.qualified_names(candidate)
-        )
+        if not any(wrapper_rest(q) == "TimeLimit" for candidate in candidates for q in self.facts.qualified_names(candidate)):
+            return False
+        # A make() result itself: TimeLimit is its outermost wrapper in gym and in Gymnasium.
+        return not self._bare_make_result(call.args[0])
+
+    def _bare_make_result(self, expr: ast.AST) -> bool:
+        if self._is_make_call(expr):
+            return True
+        if not isinstance(expr, ast.Name):
+            return False
+        values = []
+        for binding in self.facts.bindings_of(expr):
+            statement = self.facts.parent(binding)
+            if not (isinstance(statement, ast.Assign) and binding in statement.targets):
+                return False
+            values.append(statement.value)
+        return bool(values) and all(self._is_make_call(value) for value in values)
 
     # -- what the wrappers define ----------------------------------------------------------------
 
