@@ -42,7 +42,8 @@ def render_condition(facts: ModuleFacts, render: ast.Call, make: ast.Call, home:
             break
         if isinstance(ancestor, (ast.If, ast.IfExp)) and child is not ancestor.test:
             in_else = child in ancestor.orelse if isinstance(ancestor, ast.If) else child is ancestor.orelse
-            guards.append((ancestor.test, in_else))
+            if not (_main_guard(ancestor.test) and not in_else):
+                guards.append((ancestor.test, in_else))
         elif isinstance(ancestor, ast.BoolOp):
             before = ancestor.values[: next(i for i, v in enumerate(ancestor.values) if v is child)]
             guards.extend((value, isinstance(ancestor.op, ast.Or)) for value in before)
@@ -55,6 +56,25 @@ def render_condition(facts: ModuleFacts, render: ast.Call, make: ast.Call, home:
             break
         child = ancestor
     return guards
+
+
+def _main_guard(test: ast.AST) -> bool:
+    """``__name__ == "__main__"``: the script runs as a program. That decides whether the
+    program runs at all, not which of its steps draw."""
+    return (
+        isinstance(test, ast.Compare)
+        and len(test.ops) == 1
+        and isinstance(test.ops[0], ast.Eq)
+        and {_plain(test.left), _plain(test.comparators[0])} == {"__name__", "'__main__'"}
+    )
+
+
+def _plain(node: ast.AST) -> str:
+    if isinstance(node, ast.Name):
+        return node.id
+    if isinstance(node, ast.Constant) and isinstance(node.value, str):
+        return repr(node.value)
+    return ""
 
 
 def fixed_at_creation(facts: ModuleFacts, test: ast.AST, make: ast.Call) -> bool:

@@ -634,11 +634,15 @@ class Rendering(RuleFamily):
             return
         if code == "GM402":
             if added:
+                # Rendered in the loop that steps the env: it drew each step before and
+                # does now, so the line only explains the rewrite.
+                per_step = all(self._steps_render(k) for k in keys)
                 self.report(
                     call,
                     code,
                     f'legacy render() meant "human": added {target} to {where}; a human-mode env '
                     "now draws every step inside step()/reset(), so this call is redundant (keep or remove it)",
+                    tier=Tier.NOTE if per_step else None,
                 )
             return
         self.plan.replace(call, without_mode_argument)
