@@ -78,6 +78,12 @@ class IdSite:
     conditional: bool = False  # one branch of ``a if c else b``: keywords would hit both
 
 
+# What loading an earlier run's policy, weights or normaliser looks like.
+_LOADS_SAVED_STATE = re.compile(
+    r"\b(load_state_dict|load_weights|load_model|from_pretrained|restore|load_from_checkpoint)\s*\(|\.load\s*\("
+)
+
+
 class EnvIds(RuleFamily):
     RULES = RULES
 
@@ -227,7 +233,16 @@ class EnvIds(RuleFamily):
             new_text = f"`{new}`"
         new_value = site.module_prefix + new
         self.plan.replace(site.string, lambda node: _with_string_value(node, new_value))
-        self.report(site.string, migration.rule, f"`{old}` -> {new_text}{where}: {migration.reason}", kind=migration.kind)
+        # A new version is a question for a program that loads what an earlier run saved
+        # (a policy, a normaliser); one that trains from scratch just gets the current env.
+        settled = migration.kind is FixKind.ASSIST and not _LOADS_SAVED_STATE.search(self.facts.text)
+        self.report(
+            site.string,
+            migration.rule,
+            f"`{old}` -> {new_text}{where}: {migration.reason}" + ("; nothing here loads a saved model" if settled else ""),
+            kind=migration.kind,
+            tier=Tier.NOTE if settled else None,
+        )
 
     # -- GM106 -----------------------------------------------------------------------------
 
