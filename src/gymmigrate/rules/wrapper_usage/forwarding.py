@@ -93,7 +93,11 @@ class WrapperForwarding(RuleFamily):
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
-        return "gym" in facts.text
+        if "gym" in facts.text:
+            return True
+        # ``env = utils.make_env(...)`` in a file that never names the library
+        project = context.options.project
+        return project is not None and any(name in facts.text for _, name in project.made)
 
     def decide(self) -> None:
         for node in self.facts.parents:  # every node once, in source order
@@ -504,6 +508,9 @@ class WrapperForwarding(RuleFamily):
                     return CYCLE
                 self._name_origins[key] = origin
             return self._name_origins[key]
+        view = self.receivers.project
+        if view is not None and any(view.returns_made(q) for q in self.facts.qualified_names(call.func)):
+            return MADE  # a def of another module of the run that returns make() results
         return None
 
     def _wrapped(self, call: ast.Call) -> Origin:
