@@ -5,12 +5,15 @@ that calls it (``facts/summaries.py`` ``made_factories``, joined in ``facts/proj
 ``gym.make`` env and returns it, and whose ``make_short`` wraps one in ``TimeLimit``; a
 script in ``scripts/`` that never names the library calls them through ``import tools``
 (a star import in ``tools/__init__.py``) and reads ``env.x_threshold`` on the result,
-which Gymnasium 1.x no longer forwards. ``vendor/tools.py`` is another module called
-``tools`` in another folder: the script's ``import tools`` is the package above it.
+which Gymnasium 1.x no longer forwards; later it rebinds the same name to ``LongTrack()``,
+an env class of the run (a subclass in another module), whose attributes are its own.
+``vendor/tools.py`` is another module called ``tools`` in another folder: the script's
+``import tools`` is the package above it.
 """
 
 from __future__ import annotations
 
+import json
 import shutil
 import subprocess
 import sys
@@ -51,6 +54,18 @@ def test_the_factories_are_known_where_they_are_called(tmp_path: Path) -> None:
     assert script.call_kind("tools.describe") is EnvKind.NOT_ENV and not script.returns_made("tools.describe")
     vendor = facts.view(str(project / "vendor" / "x.py"))
     assert vendor.call_kind("tools.make_env") is EnvKind.NOT_ENV  # from its own folder: the other tools
+    assert script.makes_bare_env("tools.long.LongTrack") and not script.makes_bare_env("tools.make_env")
+
+
+def test_the_own_env_class_read_after_a_factory_is_no_question(tmp_path: Path) -> None:
+    project = _copy(tmp_path)
+    report = tmp_path / "report.json"
+    runner.invoke(app, ["check", "--report", str(report), str(project)])
+    files = json.loads(report.read_text())["files"]
+    found = {(f["line"], f["rule"]) for file in files if file["path"].endswith("play.py") for f in [*file["review"], *file["notes"]]}
+    assert (12, "GM604") in found and (13, "GM604") in found  # the make_env result: forwarded
+    assert not any(rule == "GM604" and line > 30 for line, rule in found)  # LongTrack's env.size
+    assert {(38, "GM201"), (41, "GM301")} <= found
 
 
 def test_calls_are_rewritten_and_forwarded_reads_go_through_unwrapped(tmp_path: Path) -> None:
@@ -64,6 +79,7 @@ def test_calls_are_rewritten_and_forwarded_reads_go_through_unwrapped(tmp_path: 
     assert "abs(obs[0]) > env.unwrapped.x_threshold" in script and "env.x_threshold" not in script
     assert "_, _, terminated, truncated, _ = env.step(0)" in script  # the TimeLimit-wrapped make
     assert 'found = tools.describe(name)\n    return found.get("id")' in script  # not an env: untouched
+    assert "obs, reward, terminated, truncated, info = env.step(1)" in script and "return obs, env.size" in script
     assert (project / "vendor" / "tools.py").read_bytes() == vendor
     again = runner.invoke(app, ["rewrite", str(project)])
     assert again.exit_code == 0 and "rewrote 0 of" in again.output
@@ -75,8 +91,8 @@ def test_calls_are_rewritten_and_forwarded_reads_go_through_unwrapped(tmp_path: 
         "while True:\n"
         "    obs, _, term, trunc, _ = env.step(n % 2); n += 1\n"
         "    if term or trunc or abs(obs[0]) > 2.4: break\n"
-        "print(play.episode(7) == (n, 2.4), play.short_episode(), play.record('x'))\n"
+        "print(play.episode(7) == (n, 2.4), play.short_episode(), play.record('x'), *play.walk_long_track())\n"
     )
     run = subprocess.run([sys.executable, "-c", code], cwd=project, capture_output=True, text=True, timeout=120)
     assert run.returncode == 0, run.stderr
-    assert run.stdout.split() == ["True", "5", "x"]
+    assert run.stdout.split() == ["True", "5", "x", "7", "8"]

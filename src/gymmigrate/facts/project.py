@@ -107,6 +107,7 @@ class ModuleSummary:
     # Top-level defs every return of which is a ``make(...)`` result (maybe in Gym wrappers):
     # what they return is a wrapper stack, so attribute reads on it go through forwarding.
     made_factories: frozenset[str] = frozenset()
+    classes: frozenset[str] = frozenset()  # top-level class names
 
 
 @dataclass
@@ -138,6 +139,9 @@ class ProjectFacts:
     # (path, top-level name) of the Gym env factories among them whose every return is a
     # ``make(...)`` result (``ModuleSummary.made_factories``, re-exports followed).
     made: set[tuple[str, str]] = field(default_factory=set)
+    # (path, top-level name) of the run's Gym env classes (re-exports and subclasses across
+    # modules followed) that are no wrapper: an instance is the env itself, no stack.
+    bare_env_classes: set[tuple[str, str]] = field(default_factory=set)
     # (path, top-level name) -> the library callable it stands for, re-exports followed.
     aliases: dict[tuple[str, str], str] = field(default_factory=dict)
     # (path, class) -> the methods subclasses in other modules of the run override, with
@@ -340,13 +344,26 @@ class _Exports:
                 self.kind(path, name)  # ``from .envs import *``: its names are this module's too
         for key, kind in self.facts.call_kinds.items():
             if kind is EnvKind.GYM_ENV:
-                where = self.origin(*key, set())
-                if where is not None and where[1] in self.by_path[where[0]].made_factories:
+                trail: list[tuple[str, str]] = []
+                where = self.origin(*key, set(), trail)
+                if where is None:
+                    continue
+                defining = self.by_path[where[0]]
+                if where[1] in defining.made_factories:
                     self.facts.made.add(key)
+                if (
+                    where[1] in defining.classes
+                    and where[1] in self.facts.env_classes.get(where[0], ())
+                    and not any(n in self.by_path[p].wrapper_classes for p, n in trail)
+                ):
+                    self.facts.bare_env_classes.add(key)
 
-    def origin(self, path: str, name: str, seen: set[tuple[str, str]]) -> tuple[str, str] | None:
-        """The module and name that define ``name`` of module ``path``: re-exports and star
-        imports followed (each once)."""
+    def origin(
+        self, path: str, name: str, seen: set[tuple[str, str]], trail: list[tuple[str, str]] | None = None
+    ) -> tuple[str, str] | None:
+        """The module and name that define ``name`` of module ``path``: re-exports, star
+        imports and subclasses of a class of another module (``ref:``) followed, each once;
+        ``trail`` gets every name passed on the way."""
         summary = self.by_path.get(path)
         if summary is None or (path, name) in seen or len(seen) >= _MAX_CHAIN:
             return None
@@ -354,14 +371,16 @@ class _Exports:
         kind = summary.exports.get(name)
         if kind is None:
             for star in self._star_paths(summary):
-                found = self.origin(star, name, seen)
+                found = self.origin(star, name, seen, trail)
                 if found is not None:
                     return found
             return None
+        if trail is not None:
+            trail.append((path, name))
         if isinstance(kind, EnvKind):
             return path, name
         split = self.facts._split(kind[len(REF) :], path)
-        return None if split is None or "." in split[1] else self.origin(*split, seen)
+        return None if split is None or "." in split[1] else self.origin(*split, seen, trail)
 
     def _star_names(self, summary: ModuleSummary, seen: set[str]) -> set[str]:
         """The public names a module's star imports bring in (star chains followed once)."""
@@ -635,6 +654,12 @@ class ProjectView:
         a wrapper stack, whatever its caller does with it."""
         split = self.facts._split(qualified, self.path)
         return split is not None and split in self.facts.made
+
+    def makes_bare_env(self, qualified: str) -> bool:
+        """An imported Gym env class of the run that is no wrapper (``TakeoffAviary``): its
+        instance is the env itself, whose attributes need no forwarding."""
+        split = self.facts._split(qualified, self.path)
+        return split is not None and split in self.facts.bare_env_classes
 
     def library_alias(self, qualified: str) -> str | None:
         """The library callable an imported name of the run is bound to (``pkg.make`` ->

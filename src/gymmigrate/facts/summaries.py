@@ -90,6 +90,7 @@ class _Summarizer:
             space_calls=self._space_calls(),
             spec_lists=module_spec_lists(self.facts),
             made_factories=made_factories(self.facts),
+            classes=frozenset(self.facts.classes),
         )
 
     def _space_calls(self) -> dict[str, tuple[tuple[str, str], ...]]:
