@@ -119,7 +119,27 @@ class CallableKinds:
             return self.returned_kind(parent.value)  # type: ignore[arg-type]
         if isinstance(parent, ast.AnnAssign):
             return self.callable_annotation_kind(parent.annotation)
+        if isinstance(parent, (ast.For, ast.comprehension)) and parent.target is binding:
+            return self._item_returned_kind(parent.iter)
         return EnvKind.UNKNOWN
+
+    def _item_returned_kind(self, container: ast.expr) -> EnvKind:
+        """``for fn in env_fns`` with ``env_fns: List[Callable[[], gym.Env]]`` a parameter:
+        what calling one of its items returns."""
+        if not isinstance(container, ast.Name):
+            return EnvKind.UNKNOWN
+        bindings = self.facts.bindings_of(container)
+        if len(bindings) != 1 or not isinstance(bindings[0], ast.arg) or bindings[0].annotation is None:
+            return EnvKind.UNKNOWN
+        annotation = bindings[0].annotation
+        if not isinstance(annotation, ast.Subscript):
+            return EnvKind.UNKNOWN
+        owner = self.receivers.qualified_names(annotation.value) | (
+            {annotation.value.id} if isinstance(annotation.value, ast.Name) and not self.facts.bindings_of(annotation.value) else set()
+        )
+        if not owner & _SEQUENCES:
+            return EnvKind.UNKNOWN
+        return self.callable_annotation_kind(annotation.slice)
 
     def _param_returned_kind(self, param: ast.arg) -> EnvKind:
         if param.annotation is not None:
@@ -182,6 +202,9 @@ class CallableKinds:
         if isinstance(annotation, ast.Constant) and isinstance(annotation.value, str):
             inner = parse_annotation(annotation.value)
             return self.callable_annotation_kind(inner, parsed=True) if inner is not None else EnvKind.UNKNOWN
+        optional = None if parsed else optional_of(annotation, self.receivers.qualified_names)
+        if optional is not None:
+            return self.callable_annotation_kind(optional)  # ``Optional[Callable[[], gym.Env]]``
         if not isinstance(annotation, ast.Subscript):
             return EnvKind.UNKNOWN
         owner = string_names(self.facts, annotation.value) if parsed else self.receivers.qualified_names(annotation.value)
@@ -194,6 +217,11 @@ class CallableKinds:
         return self.receivers.annotation_names_kind(string_names(self.facts, returned)) if parsed else self.receivers.annotation_kind(returned)
 
 
+
+# ``List[...]``, ``Sequence[...]``, ``list[...]``: a parameter that holds items of one type.
+_SEQUENCES = frozenset(
+    {"typing.List", "typing.Sequence", "typing.Iterable", "collections.abc.Sequence", "collections.abc.Iterable", "list", "tuple"}
+)
 
 # A call with no arguments: what a library callable returns when the call is not at hand.
 _NO_ARGUMENTS = ast.Call(func=ast.Name(id="_", ctx=ast.Load()), args=[], keywords=[])

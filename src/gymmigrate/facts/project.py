@@ -104,6 +104,10 @@ class ModuleSummary:
     # (``[spec for spec in gym.envs.registry.values() if ...]``): ``spec.make(...)`` on one
     # of them makes an env (``facts/env_specs.py``).
     spec_lists: frozenset[str] = frozenset()
+    # Top-level defs every return of which is a ``make(...)`` result (maybe in Gym wrappers):
+    # what they return is a wrapper stack, so attribute reads on it go through forwarding.
+    made_factories: frozenset[str] = frozenset()
+    classes: frozenset[str] = frozenset()  # top-level class names
 
 
 @dataclass
@@ -118,6 +122,8 @@ class ProjectFacts:
     spec_lists: dict[str, frozenset[str]] = field(default_factory=dict)  # path -> names bound to lists of EnvSpecs
     render_mode_classes: dict[str, frozenset[str]] = field(default_factory=dict)
     modules: dict[str, str] = field(default_factory=dict)  # dotted suffix -> path ("" if ambiguous)
+    # dotted suffix -> every path it may name, where more than one does (see ``_module_path``)
+    ambiguous: dict[str, tuple[str, ...]] = field(default_factory=dict)
     # Modules whose env classes an untraced ``x.seed(...)`` elsewhere in the run may reach.
     seed_called: set[str] = field(default_factory=set)
     render_called: set[str] = field(default_factory=set)  # ...and an untraced ``x.render(mode)``
@@ -130,6 +136,12 @@ class ProjectFacts:
     # across modules followed: ``pkg.make`` re-exported from ``utils.make = gym.make`` is a
     # Gym env factory, ``from hunt import HuntEnv`` a PettingZoo parallel env class.
     call_kinds: dict[tuple[str, str], EnvKind] = field(default_factory=dict)
+    # (path, top-level name) of the Gym env factories among them whose every return is a
+    # ``make(...)`` result (``ModuleSummary.made_factories``, re-exports followed).
+    made: set[tuple[str, str]] = field(default_factory=set)
+    # (path, top-level name) of the run's Gym env classes (re-exports and subclasses across
+    # modules followed) that are no wrapper: an instance is the env itself, no stack.
+    bare_env_classes: set[tuple[str, str]] = field(default_factory=set)
     # (path, top-level name) -> the library callable it stands for, re-exports followed.
     aliases: dict[tuple[str, str], str] = field(default_factory=dict)
     # (path, class) -> the methods subclasses in other modules of the run override, with
@@ -164,7 +176,12 @@ class ProjectFacts:
             facts.spec_lists[summary.path] = summary.spec_lists
             facts.render_mode_classes[summary.path] = frozenset() if left else summary.render_mode_classes
             for name in _module_names(summary.path):
-                facts.modules[name] = "" if name in facts.modules and facts.modules[name] != summary.path else summary.path
+                if name in facts.modules and facts.modules[name] != summary.path:
+                    previous = facts.ambiguous.get(name) or (facts.modules[name],)
+                    facts.ambiguous[name] = (*previous, summary.path)
+                    facts.modules[name] = ""
+                else:
+                    facts.modules[name] = summary.path
         methods_named: dict[str, list[tuple[str, str]]] = defaultdict(list)
         for summary in summaries:
             for qualname, signature in summary.defs.items():
@@ -284,7 +301,11 @@ class ProjectFacts:
 
     def _module_path(self, module: list[str], level: int, importer: str) -> str | None:
         if level == 0:
-            return self.modules.get(".".join(module)) or None
+            dotted = ".".join(module)
+            found = self.modules.get(dotted)
+            if found == "":
+                return _nearest_root(self.ambiguous.get(dotted, ()), len(module), importer)
+            return found or None
         base = Path(importer).parent
         for _ in range(level - 1):
             base = base.parent
@@ -321,6 +342,45 @@ class _Exports:
                     self.facts.aliases[(path, name)] = alias
             for name in self._star_names(summary, set()):
                 self.kind(path, name)  # ``from .envs import *``: its names are this module's too
+        for key, kind in self.facts.call_kinds.items():
+            if kind is EnvKind.GYM_ENV:
+                trail: list[tuple[str, str]] = []
+                where = self.origin(*key, set(), trail)
+                if where is None:
+                    continue
+                defining = self.by_path[where[0]]
+                if where[1] in defining.made_factories:
+                    self.facts.made.add(key)
+                if (
+                    where[1] in defining.classes
+                    and where[1] in self.facts.env_classes.get(where[0], ())
+                    and not any(n in self.by_path[p].wrapper_classes for p, n in trail)
+                ):
+                    self.facts.bare_env_classes.add(key)
+
+    def origin(
+        self, path: str, name: str, seen: set[tuple[str, str]], trail: list[tuple[str, str]] | None = None
+    ) -> tuple[str, str] | None:
+        """The module and name that define ``name`` of module ``path``: re-exports, star
+        imports and subclasses of a class of another module (``ref:``) followed, each once;
+        ``trail`` gets every name passed on the way."""
+        summary = self.by_path.get(path)
+        if summary is None or (path, name) in seen or len(seen) >= _MAX_CHAIN:
+            return None
+        seen.add((path, name))
+        kind = summary.exports.get(name)
+        if kind is None:
+            for star in self._star_paths(summary):
+                found = self.origin(star, name, seen, trail)
+                if found is not None:
+                    return found
+            return None
+        if trail is not None:
+            trail.append((path, name))
+        if isinstance(kind, EnvKind):
+            return path, name
+        split = self.facts._split(kind[len(REF) :], path)
+        return None if split is None or "." in split[1] else self.origin(*split, seen, trail)
 
     def _star_names(self, summary: ModuleSummary, seen: set[str]) -> set[str]:
         """The public names a module's star imports bring in (star chains followed once)."""
@@ -529,6 +589,25 @@ class _Join:
         return found
 
 
+def _nearest_root(paths: tuple[str, ...], depth: int, importer: str) -> str | None:
+    """Of the files a dotted name of ``depth`` parts may name, the one whose import root (the
+    folder the name is taken from) is the nearest folder above ``importer``: Python finds
+    ``import utils`` from the script's folder or a folder above it (the working directory),
+    not from a sibling project's package. None when no root is above it or two are as near."""
+    above = {str(p) for p in Path(importer).parents}
+    roots: dict[str, list[str]] = {}
+    for path in paths:
+        folder = Path(path).parent if Path(path).name == "__init__.py" else Path(path).with_suffix("")
+        for _ in range(depth):
+            folder = folder.parent
+        if str(folder) in above:
+            roots.setdefault(str(folder), []).append(path)
+    if not roots:
+        return None
+    nearest = roots[max(roots, key=len)]
+    return nearest[0] if len(nearest) == 1 else None
+
+
 def _module_names(path: str) -> list[str]:
     """Every dotted name the file may be imported as: ``c``, ``b.c``, ``a.b.c`` for a/b/c.py."""
     parts = list(Path(path).with_suffix("").parts[1:])
@@ -569,6 +648,18 @@ class ProjectView:
             return None
         found = self.facts.call_kinds.get((path, name))
         return found if found is not None else EnvKind.UNKNOWN
+
+    def returns_made(self, qualified: str) -> bool:
+        """An imported def of the run that returns ``make(...)`` results (``utils.make_env``):
+        a wrapper stack, whatever its caller does with it."""
+        split = self.facts._split(qualified, self.path)
+        return split is not None and split in self.facts.made
+
+    def makes_bare_env(self, qualified: str) -> bool:
+        """An imported Gym env class of the run that is no wrapper (``TakeoffAviary``): its
+        instance is the env itself, whose attributes need no forwarding."""
+        split = self.facts._split(qualified, self.path)
+        return split is not None and split in self.facts.bare_env_classes
 
     def library_alias(self, qualified: str) -> str | None:
         """The library callable an imported name of the run is bound to (``pkg.make`` ->

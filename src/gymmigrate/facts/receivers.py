@@ -898,27 +898,49 @@ def _is_object(base: ast.AST) -> bool:
 
 
 _VEC_METHODS = frozenset({"step_async", "step_wait"})
+# ``self.num_envs = len(env_fns)``: baselines and SB3 spell it ``num_envs``, tianshou-style
+# vector envs ``env_num``; a class that counts its envs so steps them all at once.
+_ENV_COUNTS = frozenset({"num_envs", "env_num", "n_envs"})
+# ``step(self, action, id=None)``: a vector env steps (or resets) the envs it is told.
+_ENV_ID_PARAMS = frozenset({"id", "ids", "env_id", "env_ids", "indices"})
 
 
 def _is_vec_env_shaped(classdef: ast.ClassDef) -> bool:
     """Defines ``step_async`` and ``step_wait`` (the VecEnv protocol of baselines and SB3), or
-    ``step`` in a class that counts its ``num_envs`` (its results are stacked per env)."""
-    methods = {s.name for s in classdef.body if isinstance(s, FUNCTIONS)}
-    if _VEC_METHODS <= methods:
+    ``step`` in a class that counts its envs (``num_envs``, ``env_num``: its results are
+    stacked per env), or ``step`` and ``reset`` that both take the ids of the envs to act
+    on in a class made from a list of env factories (``__init__(self, env_fns)``)."""
+    methods = {s.name: s for s in classdef.body if isinstance(s, FUNCTIONS)}
+    if _VEC_METHODS <= set(methods):
         return True
-    return "step" in methods and _counts_envs(classdef)
+    if "step" not in methods:
+        return False
+    if _counts_envs(classdef):
+        return True
+    init = methods.get("__init__")
+    return (
+        init is not None
+        and "reset" in methods
+        and any(a.arg in ("env_fns", "envs") for a in _params(init))
+        and all(any(a.arg in _ENV_ID_PARAMS for a in _params(methods[m])) for m in ("step", "reset"))
+    )
+
+
+def _params(function: ast.FunctionDef | ast.AsyncFunctionDef) -> list[ast.arg]:
+    args = function.args
+    return [*args.posonlyargs, *args.args, *args.kwonlyargs]
 
 
 def _counts_envs(classdef: ast.ClassDef) -> bool:
-    """``num_envs`` is a class attribute or is stored on ``self`` in ``__init__``."""
+    """``num_envs`` (or ``env_num``) is a class attribute or is stored on ``self`` in ``__init__``."""
     for statement in classdef.body:
         if isinstance(statement, (ast.Assign, ast.AnnAssign)):
             targets = statement.targets if isinstance(statement, ast.Assign) else [statement.target]
-            if any(isinstance(t, ast.Name) and t.id == "num_envs" for t in targets):
+            if any(isinstance(t, ast.Name) and t.id in _ENV_COUNTS for t in targets):
                 return True
         if isinstance(statement, FUNCTIONS) and statement.name == "__init__":
             for inner in ast.walk(statement):
-                if isinstance(inner, ast.Attribute) and inner.attr == "num_envs" and isinstance(inner.ctx, ast.Store):
+                if isinstance(inner, ast.Attribute) and inner.attr in _ENV_COUNTS and isinstance(inner.ctx, ast.Store):
                     if isinstance(inner.value, ast.Name) and inner.value.id == "self":
                         return True
     return False

@@ -69,11 +69,19 @@ class SelfAttributes:
         return any(q in N.PZ_WRAPPER_BASES for base in classdef.bases for q in self.receivers.qualified_names(base))
 
     def self_attribute_values(self, attr: ast.AST, name: str) -> list[ast.expr]:
-        """Values stored to ``self.<name>`` in the class that encloses ``attr``."""
+        """Values stored to ``self.<name>`` in the class that encloses ``attr``; where it
+        stores none, in the nearest base class of this module that does (``self.env`` of an
+        ``AsyncCollector(Collector)`` is what ``Collector.__init__`` stored)."""
         classdef = self.facts.enclosing_class(attr)
-        if classdef is None:
-            return []
-        return self.self_stores(classdef).get(name, [])
+        seen: set[int] = set()
+        while classdef is not None and id(classdef) not in seen:
+            seen.add(id(classdef))
+            values = self.self_stores(classdef).get(name)
+            if values:
+                return values
+            bases = [b for b in (self.receivers.local_class(base) for base in classdef.bases) if b is not None]
+            classdef = bases[0] if len(bases) == 1 and len(classdef.bases) == 1 else None
+        return []
 
     def self_stores(self, classdef: ast.ClassDef) -> dict[str, list[ast.expr]]:
         """Values stored to ``self.x`` anywhere in a class (not nested classes), by name.

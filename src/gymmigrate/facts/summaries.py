@@ -17,7 +17,7 @@ from gymmigrate.facts.decisions import Action, decide
 from gymmigrate.facts.env_classes import EnvClasses
 from gymmigrate.facts.env_specs import module_spec_lists
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
 from gymmigrate.facts.profile import FileProfile
 from gymmigrate.facts.project import (
     GUARD_KINDS,
@@ -89,6 +89,8 @@ class _Summarizer:
             plain_classes=plain_classes(self.facts),
             space_calls=self._space_calls(),
             spec_lists=module_spec_lists(self.facts),
+            made_factories=made_factories(self.facts),
+            classes=frozenset(self.facts.classes),
         )
 
     def _space_calls(self) -> dict[str, tuple[tuple[str, str], ...]]:
@@ -345,6 +347,53 @@ def _is_library(qualified: str) -> bool:
     )
 
 
+
+
+def made_factories(facts: ModuleFacts) -> frozenset[str]:
+    """Top-level defs every return of which is a ``make(...)`` result, maybe wrapped in Gym
+    wrappers and kept in a local name first (``env = gym.make(key); env.seed(s); return env``)."""
+    found = set()
+    for name, function in facts.functions.items():
+        values = [r.value for r in own_returns(function)]
+        if values and all(v is not None and _made(facts, v, function, 0) for v in values):
+            found.add(name)
+    return frozenset(found)
+
+
+def _made(facts: ModuleFacts, value: ast.expr, function: ast.AST, depth: int) -> bool:
+    if depth > 8:
+        return False
+    if isinstance(value, ast.Call):
+        for q in facts.qualified_names(value.func):
+            rest = N.strip_gym_prefix(q)
+            if rest in N.GYM_ENV_FACTORIES:
+                return True
+        if _is_gym_wrapper(facts, value.func) and value.args:
+            return _made(facts, value.args[0], function, depth + 1)  # a wrapper around a made env
+        return False
+    if not isinstance(value, ast.Name):
+        return False
+    bindings = facts.bindings_of(value)
+    if not bindings:
+        return False
+    for binding in bindings:
+        assign = facts.parent(binding) if isinstance(binding, ast.Name) else None
+        if not (isinstance(assign, ast.Assign) and assign.targets == [binding]) or facts.enclosing_function(assign) is not function:
+            return False
+        wrapped = assign.value.args[0] if isinstance(assign.value, ast.Call) and assign.value.args else None
+        if isinstance(wrapped, ast.Name) and wrapped.id == value.id and _is_gym_wrapper(facts, assign.value.func):  # type: ignore[attr-defined]
+            continue  # ``env = TimeLimit(env)``: as made as the env's other values
+        if not _made(facts, assign.value, function, depth + 1):
+            return False
+    return True
+
+
+def _is_gym_wrapper(facts: ModuleFacts, func: ast.expr) -> bool:
+    for q in facts.qualified_names(func):
+        rest = N.strip_gym_prefix(q)
+        if rest is not None and rest.startswith("wrappers.") and not rest.startswith("wrappers.vector."):
+            return True
+    return False
 
 
 _SPACE_ATTRIBUTES = ("action_space", "observation_space")

@@ -80,7 +80,7 @@ PIPELINE = (
     FamilySpec("SeedRender", "gymmigrate.rules.pettingzoo.seed_render", _PZ, follows_the_run=True),
     FamilySpec("WrapperClasses", "gymmigrate.rules.wrappers.family", ("Wrapper", "wrappers")),
     FamilySpec("WrapperConstructorArgs", "gymmigrate.rules.wrappers.constructor_args", ("Wrapper", "wrappers")),
-    FamilySpec("WrapperForwarding", "gymmigrate.rules.wrapper_usage.forwarding", ("gym",)),
+    FamilySpec("WrapperForwarding", "gymmigrate.rules.wrapper_usage.forwarding", ("gym",), follows_the_run=True),
     FamilySpec("LegacyWrapperHooks", "gymmigrate.rules.legacy_hooks", ("def _",)),
     FamilySpec("SpacesLogger", "gymmigrate.rules.spaces_logger", ("logger", "error", "check_env", "Box", "seed")),
     FamilySpec("SpaceDrift", "gymmigrate.rules.spaces.drift", ("isinstance", "type(", "json", "MultiBinary", "Discrete", "==", "Box")),

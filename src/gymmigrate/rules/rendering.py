@@ -54,7 +54,7 @@ from gymmigrate.facts.decisions import Action, decide, receiver_text
 from gymmigrate.facts.env_classes import EnvClasses
 from gymmigrate.facts.env_specs import is_spec_make
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.module import keyword, string_value
+from gymmigrate.facts.module import full_name, keyword, string_value
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.render_calls import (
@@ -243,6 +243,18 @@ class Rendering(RuleFamily):
         kind = self.receivers.kind_of(receiver)
         decision = decide(kind, receiver, self.context.profile, legacy_shape=mode_arg is not None or close is not None, origins=self.receivers)
         if decision.action is Action.LEAVE:
+            if kind is EnvKind.SB3_VEC and mode_arg is None and close is None and self.context.profile.imports_gym and self.receivers.run_defined(receiver):
+                # The project's own vector env (left alone) draws through its envs' render():
+                # one item per file, for where those envs are made.
+                self.report(
+                    call,
+                    "GM402",
+                    f"`{full_name(receiver) or 'the env'}` is a vector env of the project (left as it is): if its render() "
+                    "calls its envs' render(), those draw only when made with render_mode=\"human\" now; pass it where "
+                    "they are made",
+                    FixKind.FLAG,
+                    question=("GM402", "vector env of the project"),
+                )
             return None
         if close is not None and isinstance(close.value, ast.Constant) and close.value.value is True:
             self._plan_close(call, decision.action, decision.reason)

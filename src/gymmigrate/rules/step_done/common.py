@@ -111,9 +111,10 @@ class StepFamilyBase(RuleFamily):
 
 
 def looks_vectorised(receiver: ast.expr, done_target: ast.expr) -> bool:
-    """An untraced ``envs.step`` or a ``dones`` target: single-env ``or`` would be wrong."""
+    """An untraced ``envs.step`` or a ``dones`` target: single-env ``or`` would be wrong.
+    ``envs[0].step`` is one item of a list of envs, not a plural receiver."""
     name = receiver_text(receiver).rsplit(".", 1)[-1].lower()
-    plural = name.endswith(("envs", "environments"))
+    plural = not isinstance(receiver, ast.Subscript) and name.endswith(("envs", "environments"))
     return plural or (isinstance(done_target, ast.Name) and done_target.id.endswith("dones"))
 
 

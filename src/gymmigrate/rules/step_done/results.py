@@ -44,6 +44,8 @@ class ResultRules(StepFamilyBase):
         """A step whose result is used some other way than stored or unpacked."""
         if self._discarded(call):
             return  # ``[env.step(a) for a in actions]`` as a statement: nothing reads the result
+        if _subscript_index(self.facts.parent(call), call) in _SAME_PLACE:
+            return  # ``env.step(0)[0]``: the observation (reward, info) is where it was
         decision, _ = self.decision(receiver, legacy_shape=False)
         if decision.action is not Action.LEAVE and self.context.profile.imports_gym:
             chained = _chained_four(self.facts.parent(call), call)
@@ -107,14 +109,22 @@ class ResultRules(StepFamilyBase):
         reads = flow.reads(result)
         reach: list[int] = []  # per read: the steps [0, stop) that can reach it
         poisoned = 0  # steps [0, poisoned) reach an index that already counts five values
+        low: list[int] = []  # per read: steps before this one cannot reach it (rebound on the way)
         for read in reads:
+            first = 0
             if not flow.same_frame(read, scope):
                 stop = len(steps)  # a nested function may run after any of them
             else:
                 before = bisect_right(ends, start(read))
-                loop = _outermost_loop(read, self.facts)
+                killer = _always_bound_before(read, result.id, self.facts)
+                loop = _outermost_loop(read, self.facts, outside=killer)
                 stop = max(before, bisect_left(starts, end(loop)) if loop is not None else 0)
+                if killer is not None:
+                    # ``result = self.policy(obs)`` on every path to the read: only the steps
+                    # from there on (or in a loop around both) can reach it.
+                    first = min(bisect_left(starts, start(killer)), stop)
             reach.append(stop)
+            low.append(first)
             if (self._constant_index(read) or 0) in (4, -5):
                 poisoned = max(poisoned, stop)
         active = [0]
@@ -129,11 +139,11 @@ class ResultRules(StepFamilyBase):
                     question=self.receiver_question(step.receiver, step.decision),
                 )
             active.append(active[-1] + (live and step.decision.action is not Action.REPORT))
-        for read, stop in zip(reads, reach):
+        for read, first, stop in zip(reads, low, reach):
             # The step that dominates the read (one at most) moves its index; any other
             # step that reaches it cannot tell which value the read sees.
             owner = self._dominating_result(read, result, index_of)
-            others = active[stop]
+            others = active[stop] - active[first]
             if owner is not None and owner >= poisoned and steps[owner].decision.action is not Action.REPORT:
                 self._move_index(read, steps[owner])
                 others -= 1
@@ -188,21 +198,10 @@ class ResultRules(StepFamilyBase):
     def _constant_index(self, read: ast.Name) -> int | None:
         """``res[2]`` read (not stored) with a literal integer index -> 2; otherwise None."""
         subscript = self.facts.parent(read)
-        if not isinstance(subscript, ast.Subscript) or subscript.value is not read:
+        index = _subscript_index(subscript, read)
+        if index is None or self._parenthesized(subscript.slice):  # type: ignore[union-attr]
             return None
-        if not isinstance(subscript.ctx, ast.Load):
-            return None  # a store into the result
-        value = subscript.slice
-        sign = 1
-        if isinstance(value, ast.UnaryOp) and isinstance(value.op, ast.USub):
-            sign, value = -1, value.operand
-        if (
-            isinstance(value, ast.Constant)
-            and type(value.value) is int
-            and not self._parenthesized(value)
-        ):
-            return sign * value.value
-        return None
+        return index
 
     def _parenthesized(self, node: ast.expr) -> bool:
         """Whether ``node`` is written inside its own parentheses (``res[(2)]``)."""
@@ -230,12 +229,86 @@ def _either(subscript: cst.Subscript, bare: bool) -> cst.BaseExpression:
     return either.with_changes(lpar=[cst.LeftParen()], rpar=[cst.RightParen()])
 
 
-def _outermost_loop(node: ast.AST, facts: ModuleFacts) -> ast.AST | None:
+_SAME_PLACE = (0, 1, -1)  # observation, reward and info: the same index in both APIs
+
+
+def _subscript_index(subscript: ast.AST | None, value: ast.AST) -> int | None:
+    """``value[2]`` read (not stored) with a literal integer index -> 2; otherwise None."""
+    if not isinstance(subscript, ast.Subscript) or subscript.value is not value:
+        return None
+    if not isinstance(subscript.ctx, ast.Load):
+        return None  # a store into the result
+    index = subscript.slice
+    sign = 1
+    if isinstance(index, ast.UnaryOp) and isinstance(index.op, ast.USub):
+        sign, index = -1, index.operand
+    if isinstance(index, ast.Constant) and type(index.value) is int:
+        return sign * index.value
+    return None
+
+
+def _outermost_loop(node: ast.AST, facts: ModuleFacts, outside: ast.AST | None = None) -> ast.AST | None:
+    """The outermost loop around ``node`` (that does not hold ``outside``: a loop around both
+    runs ``outside`` again before it comes back to ``node``)."""
     found = None
     for ancestor in facts.ancestors(node):
-        if isinstance(ancestor, LOOPS):
+        if isinstance(ancestor, LOOPS) and (outside is None or not _holds(ancestor, outside, facts)):
             found = ancestor
     return found
+
+
+def _holds(outer: ast.AST, inner: ast.AST, facts: ModuleFacts) -> bool:
+    return any(a is outer for a in facts.ancestors(inner))
+
+
+def _always_bound_before(read: ast.Name, name: str, facts: ModuleFacts) -> ast.stmt | None:
+    """The nearest statement before ``read``, in the statement lists around it (up to its
+    function), that binds ``name`` on every path through it: ``result = ...``, or an
+    ``if``/``with`` whose every branch does. Every value ``read`` sees was bound there or
+    after it."""
+    node: ast.AST = read
+    for holder in facts.ancestors(read):
+        for field in ("body", "orelse", "finalbody"):
+            block = getattr(holder, field, None)
+            if isinstance(block, list) and any(s is node for s in block):
+                found = _nearest_binding(block, node, name)
+                if found is not None:
+                    return found
+        if isinstance(holder, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda, ast.ClassDef, ast.Module)):
+            return None
+        node = holder
+    return None
+
+
+def _nearest_binding(block: list[ast.stmt], node: ast.AST, name: str) -> ast.stmt | None:
+    index = next((i for i, s in enumerate(block) if s is node), None)
+    if index is None:
+        return None
+    for statement in reversed(block[:index]):
+        if _always_binds(statement, name):
+            return statement
+    return None
+
+
+def _always_binds(statement: ast.stmt, name: str) -> bool:
+    if isinstance(statement, ast.Assign):
+        return any(isinstance(t, ast.Name) and t.id == name for t in statement.targets)
+    if isinstance(statement, ast.AnnAssign):
+        return statement.value is not None and isinstance(statement.target, ast.Name) and statement.target.id == name
+    if isinstance(statement, ast.If):
+        return bool(statement.orelse) and _block_binds(statement.body, name) and _block_binds(statement.orelse, name)
+    if isinstance(statement, (ast.With, ast.AsyncWith)):
+        return _block_binds(statement.body, name)
+    return False
+
+
+def _block_binds(block: list[ast.stmt], name: str) -> bool:
+    for statement in block:
+        if _always_binds(statement, name):
+            return True
+        if isinstance(statement, (ast.Return, ast.Raise, ast.Continue, ast.Break)):
+            return True  # the path ends here: it never reaches the read unbound
+    return False
 
 
 def _chained_four(parent: ast.AST | None, call: ast.Call) -> ast.Tuple | ast.List | None:

@@ -250,6 +250,8 @@ class UnpackRules(StepFamilyBase):
             return False
         facts = self.facts
         site = value_site(read, facts)
+        if _repacks_step(facts.parent(read), read, step):
+            return False  # ``(obs, reward, done, info)`` passed on: the step's own result, not a transition
         if loaded_names(site) & next_names:
             return True
         statement = facts.statement_of(read)
@@ -522,3 +524,14 @@ def _split_done(target: cst.BaseExpression, names: StepNames) -> cst.BaseExpress
     comma = done.comma if isinstance(done.comma, cst.Comma) else cst.Comma(whitespace_after=cst.SimpleWhitespace(" "))
     elements[2:3] = [cst.Element(value=first, comma=comma), cst.Element(value=second, comma=comma)]
     return target.with_changes(elements=elements)
+
+
+def _repacks_step(site: ast.AST | None, read: ast.Name, step: _DoneStep) -> bool:
+    """``(obs, reward, done, info)`` with the step's own four targets in their places: the
+    legacy step result handed on (a worker's reply), whose done is the episode's end."""
+    if not (isinstance(site, ast.Tuple) and len(site.elts) == len(step.target.elts) == 4 and site.elts[2] is read):
+        return False
+    return all(
+        isinstance(mine, ast.Name) and isinstance(theirs, ast.Name) and mine.id == theirs.id
+        for mine, theirs in zip(site.elts, step.target.elts)
+    )

@@ -26,6 +26,7 @@ import bisect
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
+from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import FUNCTIONS, call_argument, dotted_name, own_returns
 from gymmigrate.findings import FixKind, Tier
@@ -93,7 +94,11 @@ class WrapperForwarding(RuleFamily):
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
-        return "gym" in facts.text
+        if "gym" in facts.text:
+            return True
+        # ``env = utils.make_env(...)`` in a file that never names the library
+        project = context.options.project
+        return project is not None and any(name in facts.text for _, name in project.made)
 
     def decide(self) -> None:
         for node in self.facts.parents:  # every node once, in source order
@@ -143,6 +148,8 @@ class WrapperForwarding(RuleFamily):
             origin = INNER  # what the env_fns built: make() results, maybe wrapped
         else:
             origin = self._origin(receiver)
+            if origin is None and isinstance(receiver, ast.Name):
+                origin = self._dominating_origin(receiver)
             if origin in (None, CYCLE, RAW) and (not known or self._outer_is_wrapper(receiver)):
                 origin = WRAPPED  # whatever else the name held, where it is read it is a wrapper
         if origin == CYCLE:
@@ -238,6 +245,22 @@ class WrapperForwarding(RuleFamily):
             tier=Tier.NOTE,
         )
         self._replace_with_get_wrapper_attr(attr, name)
+
+    def _dominating_origin(self, name: ast.Name) -> Origin:
+        """Where the name's values disagree (``env = gym.make(...)`` in one branch, ``env =
+        TakeoffAviary(...)`` later): the origin of the one assignment every path to this
+        read passes last, if there is one (and it does not rebind the name from itself)."""
+        flow = Flow.of(self.facts)
+        last = flow.last_binding_of(name)
+        statement = self.facts.statement_of(last) if isinstance(last, ast.Name) else None
+        if not (isinstance(statement, ast.Assign) and statement.targets == [last]):
+            return None
+        if any(isinstance(n, ast.Name) and n.id == name.id for n in ast.walk(statement.value)):
+            return None  # ``env = Wrapper(env)``: its origin rests on the earlier values too
+        if not flow.dominates(statement, name, name):
+            return None
+        origin = self._origin(statement.value)
+        return None if origin == CYCLE else origin
 
     def _self_forwarding(self, attr: ast.Attribute) -> None:
         """``self.get_frame()`` in a method of a Gym wrapper class that defines no
@@ -534,6 +557,13 @@ class WrapperForwarding(RuleFamily):
                     return CYCLE
                 self._name_origins[key] = origin
             return self._name_origins[key]
+        view = self.receivers.project
+        if view is not None:
+            qualified = self.facts.qualified_names(call.func)
+            if any(view.returns_made(q) for q in qualified):
+                return MADE  # a def of another module of the run that returns make() results
+            if any(view.makes_bare_env(q) for q in qualified):
+                return RAW  # an env class of another module of the run: the env itself
         return None
 
     def _wrapped(self, call: ast.Call) -> Origin:
