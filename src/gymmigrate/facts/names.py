@@ -129,6 +129,18 @@ PZ_AEC_BASES = frozenset(
         "pettingzoo.utils.BaseWrapper",
         "pettingzoo.utils.wrappers.BaseWrapper",
         "pettingzoo.utils.wrappers.base.BaseWrapper",
+        # ...and the AEC wrappers PettingZoo builds on it (``utils`` re-exports them all).
+        *(
+            f"pettingzoo.utils.{where}{name}"
+            for name, module in (
+                ("OrderEnforcingWrapper", "order_enforcing"),
+                ("AssertOutOfBoundsWrapper", "assert_out_of_bounds"),
+                ("ClipOutOfBoundsWrapper", "clip_out_of_bounds"),
+                ("TerminateIllegalWrapper", "terminate_illegal"),
+                ("CaptureStdoutWrapper", "capture_stdout"),
+            )
+            for where in ("", "wrappers.", f"wrappers.{module}.")
+        ),
     }
 )
 PZ_PARALLEL_BASES = frozenset(
@@ -140,6 +152,7 @@ PZ_PARALLEL_BASES = frozenset(
         "pettingzoo.utils.wrappers.BaseParallelWrapper",
         "pettingzoo.utils.wrappers.base_parallel.BaseParallelWrapper",
         "pettingzoo.utils.wrappers.BaseParallelWraper",  # the 1.20 spelling
+        "pettingzoo.utils.BaseParallelWraper",
         "pettingzoo.utils.wrappers.base_parallel.BaseParallelWraper",
     }
 )
@@ -181,3 +194,15 @@ def strip_gym_prefix(qualified: str) -> str | None:
 
 def top_package(qualified: str) -> str:
     return qualified.split(".", 1)[0]
+
+
+def is_library(qualified: str) -> bool:
+    """Gym, Stable-Baselines, PettingZoo, numpy...: never a module of the run."""
+    package = top_package(qualified)
+    return (
+        strip_gym_prefix(qualified) is not None
+        or package in SB3_PACKAGES
+        or package == PETTINGZOO_PACKAGE
+        or package in NOT_ENV_PACKAGES
+        or package in ("typing", "collections", "functools", "os", "sys", "math", "random", "time", "logging")
+    )

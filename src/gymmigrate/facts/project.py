@@ -92,6 +92,9 @@ class ModuleSummary:
     # Top-level Gym wrapper classes (``Wrapper`` subclasses, through local bases): an
     # instance made elsewhere is a wrapper, so what it does not define was forwarded.
     wrapper_classes: frozenset[str] = frozenset()
+    # Top-level PettingZoo wrapper classes and aliases of PettingZoo's wrapper bases
+    # (``facts/pz_wrappers.py``): name -> ("aec" | "parallel" | "ref:<qualified>", methods).
+    pz_wrappers: dict[str, tuple[str, tuple[str, ...]]] = field(default_factory=dict)
     # -- spaces that are not Spaces (rules/env_ids/registry.py, GM807) --
     # Top-level classes that certainly are not ``gymnasium.spaces.Space``: no base, or only
     # ``list``/``tuple``/``dict``/``object``, with what they derive from ("list").
@@ -119,6 +122,8 @@ class ProjectFacts:
     defs: dict[str, frozenset[str]] = field(default_factory=dict)  # path -> qualnames defined
     env_classes: dict[str, frozenset[str]] = field(default_factory=dict)  # path -> env classes
     wrapper_classes: dict[str, frozenset[str]] = field(default_factory=dict)  # path -> Gym wrapper classes
+    # path -> its PettingZoo wrapper classes (``ModuleSummary.pz_wrappers``)
+    pz_wrappers: dict[str, dict[str, tuple[str, tuple[str, ...]]]] = field(default_factory=dict)
     spec_lists: dict[str, frozenset[str]] = field(default_factory=dict)  # path -> names bound to lists of EnvSpecs
     render_mode_classes: dict[str, frozenset[str]] = field(default_factory=dict)
     modules: dict[str, str] = field(default_factory=dict)  # dotted suffix -> path ("" if ambiguous)
@@ -173,6 +178,7 @@ class ProjectFacts:
             left = summary.path in facts.blocked
             facts.env_classes[summary.path] = frozenset() if left else summary.env_classes
             facts.wrapper_classes[summary.path] = frozenset() if left else summary.wrapper_classes
+            facts.pz_wrappers[summary.path] = summary.pz_wrappers
             facts.spec_lists[summary.path] = summary.spec_lists
             facts.render_mode_classes[summary.path] = frozenset() if left else summary.render_mode_classes
             for name in _module_names(summary.path):
@@ -692,6 +698,26 @@ class ProjectView:
         """An imported name of the run is bound to a list of the registry's EnvSpecs."""
         split = self.facts._split(qualified, self.path)
         return split is not None and split[1] in self.facts.spec_lists.get(split[0], ())
+
+    def pz_wrapper(self, qualified: str) -> tuple[str, frozenset[str]] | None:
+        """For an imported name of the run that is a PettingZoo wrapper class (or an alias of
+        PettingZoo's wrapper bases): ("aec" | "parallel", the methods the run's classes on the
+        way define); None otherwise. References are followed a few modules deep."""
+        split = self.facts._split(qualified, self.path)
+        methods: set[str] = set()
+        for _ in range(_MAX_CHAIN):
+            if split is None:
+                return None
+            path, name = split
+            entry = self.facts.pz_wrappers.get(path, {}).get(name)
+            if entry is None:
+                return None
+            api, defined = entry
+            methods.update(defined)
+            if not api.startswith(REF):
+                return api, frozenset(methods)
+            split = self.facts._split(api[len(REF) :], path)
+        return None
 
     def is_wrapper_class(self, qualified: str) -> bool:
         """An imported name of the run is a Gym wrapper class (``from pkg.wrappers import X``)."""

@@ -12,6 +12,7 @@ import os
 from dataclasses import replace
 
 from gymmigrate.facts import names as N
+from gymmigrate.facts import pz_wrappers
 from gymmigrate.facts.creation import passes_mode, render_kept_classes
 from gymmigrate.facts.decisions import Action, decide
 from gymmigrate.facts.env_classes import EnvClasses
@@ -86,6 +87,7 @@ class _Summarizer:
             ),
             subclasses=_subclasses(self.facts),
             wrapper_classes=frozenset(name for name, classdef in self.facts.classes.items() if self.receivers.is_gym_wrapper_class(classdef)),
+            pz_wrappers=pz_wrappers.summarize(self.facts),
             plain_classes=plain_classes(self.facts),
             space_calls=self._space_calls(),
             spec_lists=module_spec_lists(self.facts),
@@ -337,14 +339,7 @@ def _signature(function: ast.FunctionDef | ast.AsyncFunctionDef, is_method: bool
 
 def _is_library(qualified: str) -> bool:
     """Gym, Stable-Baselines, PettingZoo, numpy...: never a module of the run."""
-    package = N.top_package(qualified)
-    return (
-        N.strip_gym_prefix(qualified) is not None
-        or package in N.SB3_PACKAGES
-        or package == N.PETTINGZOO_PACKAGE
-        or package in N.NOT_ENV_PACKAGES
-        or package in ("typing", "collections", "functools", "os", "sys", "math", "random", "time", "logging")
-    )
+    return N.is_library(qualified)
 
 
 

@@ -20,7 +20,7 @@ Where a rule lives (families decide in the order of ``PIPELINE`` below):
     GM616                      gym < 0.9 wrapper hooks ......... legacy_hooks.py
     GM902, GM904, GM906-GM908  spaces, logger, errors, utils ... spaces_logger.py
     GM903, GM905, GM909, GM910 space drift (ints, dicts, sizes, ==) spaces/drift.py
-    PZ101-PZ111                PettingZoo APIs and env modules . pettingzoo/
+    PZ101-PZ112                PettingZoo APIs and env modules . pettingzoo/
     GM109, GM110, SB110        dependency declarations ......... dependency_files.py (carried
                                out by gymmigrate.dependencies, not a family)
     GM111                      gym.envs plugin entry points .... dependency_files.py; the module
@@ -78,6 +78,7 @@ PIPELINE = (
     FamilySpec("AecLoop", "gymmigrate.rules.pettingzoo.aec_loop", _PZ, follows_the_run=True),
     FamilySpec("ParallelCalls", "gymmigrate.rules.pettingzoo.parallel", _PZ, follows_the_run=True),
     FamilySpec("SeedRender", "gymmigrate.rules.pettingzoo.seed_render", _PZ, follows_the_run=True),
+    FamilySpec("WrapperState", "gymmigrate.rules.pettingzoo.wrapper_state", _PZ, follows_the_run=True),
     FamilySpec("WrapperClasses", "gymmigrate.rules.wrappers.family", ("Wrapper", "wrappers")),
     FamilySpec("WrapperConstructorArgs", "gymmigrate.rules.wrappers.constructor_args", ("Wrapper", "wrappers")),
     FamilySpec("WrapperForwarding", "gymmigrate.rules.wrapper_usage.forwarding", ("gym",), follows_the_run=True),

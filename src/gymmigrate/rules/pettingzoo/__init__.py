@@ -1,4 +1,4 @@
-"""PettingZoo (PZ101-PZ111): the multi-agent AEC and parallel APIs, pre-1.21 to 1.27, and the env modules that moved.
+"""PettingZoo (PZ101-PZ112): the multi-agent AEC and parallel APIs, pre-1.21 to 1.27, and the env modules that moved.
 
     PZ108, PZ103-PZ106 in classes  custom AEC/parallel envs ... env_classes.py [41]
     PZ101-PZ103                    AEC loops, ``env.dones`` .... aec_loop.py    [56]
@@ -6,6 +6,7 @@
     PZ106, PZ107                   seed and render calls ....... seed_render.py [58]
     PZ109, PZ110                   spaces, ``pettingzoo.make`` . spaces_make.py [90]
     PZ111                          moved and bumped env modules  env_modules.py
+    PZ112                          wrappers' copied env state .. wrapper_state.py
 
 ``endings.py`` traces why a custom env's ``dones`` value is True (a game over or a
 step limit) for PZ104 and PZ108, with the single-agent step-limit test (GM504's).
@@ -23,4 +24,5 @@ from gymmigrate.rules.pettingzoo import (  # noqa: F401
     parallel,
     seed_render,
     spaces_make,
+    wrapper_state,
 )

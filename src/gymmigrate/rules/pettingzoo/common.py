@@ -38,6 +38,8 @@ PZ110 = Rule("PZ110", "`pettingzoo.make` replaces module-level creation", FixKin
              "`rps_v2.env()` -> `pettingzoo.make(\"aec\", \"classic/rps-v2\")` (PettingZoo 1.27)")
 PZ111 = Rule("PZ111", "env modules that moved or were bumped", FixKind.ASSIST,
              "`from pettingzoo.mpe import simple_spread_v2` -> `from mpe2 import simple_spread_v3` (what changed is reported)")
+PZ112 = Rule("PZ112", "wrappers no longer copy the wrapped env's agents, rewards and dones", FixKind.AUTO,
+             "`super().reset(...)` in a wrapper that assigns `self.rewards` -> followed by `self.rewards = self.env.rewards`")
 
 # The loop variable written into generated comprehensions.
 AGENT = "agent"
