@@ -418,9 +418,9 @@ class _Exports:
             if name in summary.aliases:
                 return summary.aliases[name]
             kind = summary.exports.get(name)
-            if not isinstance(kind, str):
+            if not _is_ref(kind):
                 return None
-            split = self.facts._split(kind[len(REF) :], path)
+            split = self.facts._split(str(kind)[len(REF) :], path)
             if split is None:
                 return None
             path, name = split
@@ -491,9 +491,9 @@ class _NonSpaces:
             if name in summary.plain_classes or name in summary.space_calls:
                 return path, name  # defined here (a subclass's export refers to its base)
             kind = summary.exports.get(name)
-            if not isinstance(kind, str):
+            if not _is_ref(kind):
                 return (path, name) if kind is not None else None
-            split = self.facts._split(kind[len(REF) :], path)
+            split = self.facts._split(str(kind)[len(REF) :], path)
             if split is None or "." in split[1]:
                 return None
             path, name = split
@@ -612,6 +612,12 @@ def _nearest_root(paths: tuple[str, ...], depth: int, importer: str) -> str | No
         return None
     nearest = roots[max(roots, key=len)]
     return nearest[0] if len(nearest) == 1 else None
+
+
+def _is_ref(kind: object) -> bool:
+    """A re-export (``ref:<module>.<name>``), not a resolved kind: ``EnvKind`` is a ``str``
+    enum, so ``isinstance(kind, str)`` alone does not tell them apart."""
+    return isinstance(kind, str) and not isinstance(kind, EnvKind) and kind.startswith(REF)
 
 
 def _module_names(path: str) -> list[str]:
