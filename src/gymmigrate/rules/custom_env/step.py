@@ -116,14 +116,14 @@ def _decide_returns(decision: ClassDecision, function: Method, helpers: set[int]
             what = (
                 "split it from the task's own end by hand"
                 if traced.cause is Cause.MIXED
-                else "not every way to it could be followed (a dict of flags, an override that takes arguments...)"
+                else "not every way to it could be followed: a dict of per-agent flags, an override that takes arguments"
             )
             decision.report(
                 ret,
                 "GM504",
                 f"step returns `{decision.family.facts.segment(done)}` as terminated with truncated=False, but "
                 f"{_limits_text(traced)} is a step/time limit among its causes: return that end as truncated, not "
-                f"terminated ({what})",
+                f"terminated; {what}",
                 FixKind.ASSIST,
             )
             continue
