@@ -117,3 +117,33 @@ def test_a_goal_override_in_the_run_makes_it_a_report_naming_the_limit(tmp_path:
     items = [f for file in json.loads(report.read_text())["files"] for f in file["review"]]
     messages = [f["message"] for f in items if f["rule"] == "GM504"]
     assert len(messages) == 1 and "hover.py:16" in messages[0] and "among its causes" in messages[0]
+
+
+_STEP = "class E:\n    def step(self, a):\n        self.n += 1\n{body}\n        return obs, 0.0, done, {{}}\n{helpers}"
+
+
+@pytest.mark.parametrize(
+    ("body", "helpers", "cause"),
+    [
+        ("        done = self.t % self.FREQ == 0", "", "termination"),  # a period, not a limit
+        ("        done = self.n >= self.budget", "", "truncation"),  # a count step advances
+        ("        done = self.pos >= self.goal or self.n > 9", "", "mixed"),
+        ("        done = not self.t > 5", "", "unknown"),
+        ("        done = self._over()", "    def _over(self):\n        if self.t < self.T:\n            return False\n        else:\n            return True\n", "truncation"),
+        ("        done = self._over()", "    def _over(self):\n        if self.hit:\n            return True\n        return False\n", "termination"),
+        ("        d = self._dones()\n        done = d['__all__']", "    def _dones(self):\n        d = {a: False for a in self.agents}\n        d['__all__'] = True if self.t > 3 else False\n        return d\n", "truncation"),
+        ("        done = self.flag", "    def reset(self):\n        self.flag = False\n    def tick(self):\n        if self.steps >= self.max_steps:\n            self.flag = True\n", "truncation"),
+    ],
+)
+def test_done_causes(body: str, helpers: str, cause: str) -> None:
+    import ast
+
+    from gymmigrate.facts.limits import DoneTracer
+    from gymmigrate.facts.module import ModuleFacts
+
+    text = _STEP.format(body=body, helpers=helpers)
+    facts = ModuleFacts(ast.parse(text), text)
+    classdef = facts.classes["E"]
+    step = next(m for m in classdef.body if isinstance(m, ast.FunctionDef) and m.name == "step")
+    done = step.body[-1].value.elts[2]
+    assert DoneTracer(facts, classdef).trace(done).cause.value == cause

@@ -169,6 +169,7 @@ class DoneTracer:
         self.external = external
         self.methods: dict[str, Method] = {m.name: m for m in classdef.body if isinstance(m, FUNCTIONS)}
         self._counters: set[str] | None = None
+        self._subclasses: list[ast.ClassDef] | None = None
         self._busy: set[tuple[str, int]] = set()
 
     def tracer_of(self, classdef: ast.ClassDef) -> DoneTracer:
@@ -401,6 +402,11 @@ class DoneTracer:
         return None
 
     def _local_subclasses(self) -> list[ast.ClassDef]:
+        if self._subclasses is None:
+            self._subclasses = self._find_subclasses()
+        return self._subclasses
+
+    def _find_subclasses(self) -> list[ast.ClassDef]:
         found: list[ast.ClassDef] = []
         names = {self.classdef.name}
         grew = True

@@ -17,7 +17,7 @@ from gymmigrate.facts.decisions import Action, decide
 from gymmigrate.facts.env_classes import EnvClasses
 from gymmigrate.facts.env_specs import module_spec_lists
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.limits import DoneCause, DoneTracer
+from gymmigrate.facts.limits import Cause, DoneCause, DoneTracer
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
 from gymmigrate.facts.profile import FileProfile
 from gymmigrate.facts.project import (
@@ -421,7 +421,10 @@ def _done_methods(facts: ModuleFacts) -> dict[str, dict[str, DoneCause]]:
                 continue
             if not any(r.value is not None for r in own_returns(statement)):
                 continue
-            methods[statement.name] = tracer.returns_cause(statement, 0)
+            try:
+                methods[statement.name] = tracer.returns_cause(statement, 0)
+            except RecursionError:  # a pathological nesting: the override counts as untraced
+                methods[statement.name] = DoneCause(Cause.UNKNOWN)
         if methods:
             found[name] = methods
     return found
