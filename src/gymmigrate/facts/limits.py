@@ -29,6 +29,7 @@ import enum
 import re
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
+from typing import TypeVar
 
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
 
@@ -67,7 +68,10 @@ def is_step_limit(expr: ast.AST) -> bool:
     return any(STEP_LIMIT_WORD.search(word.lower()) and "beyond" not in word for word in _identifiers(expr))
 
 
-def unwrap_bool(expr: ast.expr) -> ast.expr:
+_AnyNode = TypeVar("_AnyNode", bound=ast.AST)
+
+
+def unwrap_bool(expr: _AnyNode) -> _AnyNode | ast.expr:
     """``bool(x)`` -> ``x``; anything else as it is."""
     if (
         isinstance(expr, ast.Call)
@@ -299,7 +303,7 @@ class DoneTracer:
             if not (isinstance(holder, ast.Assign) and holder.targets == [binding]):
                 return self._inside(name, depth)
             values.append(holder.value)
-        if not values:
+        if not values or function is None:
             return TERMINATION
         if any(_is_dict(v) for v in values):
             # A dict of flags (per agent, ``"__all__"``): not one flag; its limits are named.
@@ -453,7 +457,7 @@ class DoneTracer:
             function = self.facts.enclosing_function(holder)
             scope = self.facts.scopes.get(function) if function is not None else None
             bindings = scope.bindings.get(holder.id, []) if scope is not None else []
-            if len(bindings) != 1:
+            if function is None or len(bindings) != 1:
                 return None
             assign = self.facts.parent(bindings[0])
             if not (isinstance(assign, ast.Assign) and assign.targets == [bindings[0]]):

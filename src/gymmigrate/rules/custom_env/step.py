@@ -15,7 +15,14 @@ from gymmigrate.facts.env_classes import (
     identifiers,
     is_super_method_call,
 )
-from gymmigrate.facts.limits import Cause, DoneCause, DoneTracer, Limit, is_step_limit, unwrap_bool
+from gymmigrate.facts.limits import (
+    Cause,
+    DoneCause,
+    DoneTracer,
+    Limit,
+    is_step_limit,
+    unwrap_bool,
+)
 from gymmigrate.facts.module import own_returns
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import (
@@ -25,7 +32,12 @@ from gymmigrate.rules.custom_env.common import (
     inner_gym_env_call,
     tuple_len,
 )
-from gymmigrate.rules.custom_env.hooks import local_subclasses, overrides, step_override_migratable, where
+from gymmigrate.rules.custom_env.hooks import (
+    local_subclasses,
+    overrides,
+    step_override_migratable,
+    where,
+)
 from gymmigrate.rules.custom_env.plans import STEP_LIMIT_WORD, truncated_false_message
 
 __all__ = ["decide_step", "is_step_limit", "unwrap_bool"]
@@ -336,7 +348,7 @@ def _or_operands(expr: ast.AST) -> list[ast.AST]:
 
 def _split_done(expr: ast.AST) -> bool:
     """``bool(task or self.steps >= self.max_steps)`` has a clear step-limit test."""
-    return any(is_step_limit(op) for op in _or_operands(unwrap_bool(expr)))  # type: ignore[arg-type]
+    return any(is_step_limit(op) for op in _or_operands(unwrap_bool(expr)))
 
 
 def _single_assignment(index: FunctionIndex, name: str) -> ast.AST | None:
