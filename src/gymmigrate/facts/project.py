@@ -32,6 +32,7 @@ from pathlib import Path
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.kinds import EnvKind, join_kinds
+from gymmigrate.facts.limits import Cause, DoneCause, Limit
 
 # Kinds an unresolved ``x.fit(venv)`` still reports against every ``fit`` of the run.
 GUARD_KINDS = frozenset({EnvKind.SB3_VEC, EnvKind.GYM_VEC, EnvKind.PZ_AEC, EnvKind.PZ_PARALLEL})
@@ -111,6 +112,10 @@ class ModuleSummary:
     # what they return is a wrapper stack, so attribute reads on it go through forwarding.
     made_factories: frozenset[str] = frozenset()
     classes: frozenset[str] = frozenset()  # top-level class names
+    # -- done values across modules (facts/limits.py) --
+    # Class (with an imported base) -> its methods that take only ``self`` and return a
+    # value -> why that value is True (a step limit, the task's end...), traced in the class.
+    done_methods: dict[str, dict[str, DoneCause]] = field(default_factory=dict)
 
 
 @dataclass
@@ -152,6 +157,11 @@ class ProjectFacts:
     # (path, class) -> the methods subclasses in other modules of the run override, with
     # where ("pkg/far.py:FarEnv"): a hook a base class migrates must migrate there too.
     overrides: dict[tuple[str, str], dict[str, list[str]]] = field(default_factory=dict)
+    # (path, class) -> its direct subclasses in other modules of the run, and (path, class)
+    # -> the done causes of their self-only methods (``ModuleSummary.done_methods``).
+    subclasses_of: dict[tuple[str, str], list[tuple[str, str]]] = field(default_factory=dict)
+    done_methods: dict[tuple[str, str], dict[str, DoneCause]] = field(default_factory=dict)
+    subclass_methods: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
     # Packages the migrated code imports that its dependency files must declare: ``mpe2``
     # where a module imports ``pettingzoo.mpe`` (PZ111 moves the import there).
     requires: frozenset[str] = frozenset()
@@ -250,6 +260,10 @@ class ProjectFacts:
                     found = self.overrides.setdefault((path, parts[-1]), {})
                     for method in methods:
                         found.setdefault(method, []).append(f"{summary.path}:{name}")
+                    self.subclasses_of.setdefault((path, parts[-1]), []).append((summary.path, name))
+                self.subclass_methods[(summary.path, name)] = frozenset(methods)
+            for name, methods_done in summary.done_methods.items():
+                self.done_methods[(summary.path, name)] = methods_done
 
     def _imported_env_modules(self, summary: ModuleSummary, declared: dict[str, ModuleSummary] | None = None) -> set[str]:
         """The other modules of the run with env classes that ``summary``'s module imports
@@ -699,6 +713,27 @@ class ProjectView:
     def overridden_elsewhere(self, classname: str, method: str) -> list[str]:
         """Subclasses in other modules of the run that override ``classname.method``."""
         return self.facts.overrides.get((self.path, classname), {}).get(method, [])
+
+    def done_overrides(self, classname: str, method: str) -> list[DoneCause]:
+        """Why what ``method`` returns is True in each override of it by subclasses in
+        other modules of the run, at any depth (``Base`` <- ``Single`` <- ``Hover``); each
+        limit names the module it is in."""
+        found: list[DoneCause] = []
+        seen: set[tuple[str, str]] = set()
+        todo = list(self.facts.subclasses_of.get((self.path, classname), ()))
+        while todo:
+            sub = todo.pop(0)
+            if sub in seen:
+                continue
+            seen.add(sub)
+            cause = self.facts.done_methods.get(sub, {}).get(method)
+            if cause is None and method in self.facts.subclass_methods.get(sub, ()):
+                cause = DoneCause(Cause.UNKNOWN)  # an override that takes arguments, or returns nothing
+            if cause is not None:
+                where = os.path.basename(sub[0])
+                found.append(DoneCause(cause.cause, tuple(Limit(limit.line, limit.text, where, limit.by_counter) for limit in cause.limits)))
+            todo += self.facts.subclasses_of.get(sub, ())
+        return found
 
     def is_spec_list(self, qualified: str) -> bool:
         """An imported name of the run is bound to a list of the registry's EnvSpecs."""

@@ -18,6 +18,7 @@ from gymmigrate.facts.decisions import Action, decide
 from gymmigrate.facts.env_classes import EnvClasses
 from gymmigrate.facts.env_specs import module_spec_lists
 from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.limits import Cause, DoneCause, DoneTracer
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
 from gymmigrate.facts.profile import FileProfile
 from gymmigrate.facts.project import (
@@ -93,6 +94,7 @@ class _Summarizer:
             spec_lists=module_spec_lists(self.facts),
             made_factories=made_factories(self.facts),
             classes=frozenset(self.facts.classes),
+            done_methods=_done_methods(self.facts),
         )
 
     def _space_calls(self) -> dict[str, tuple[tuple[str, str], ...]]:
@@ -446,6 +448,30 @@ def _subclasses(facts: ModuleFacts) -> tuple[tuple[str, tuple[str, ...], tuple[s
             methods = tuple(s.name for s in classdef.body if isinstance(s, FUNCTIONS))
             found.append((name, bases, methods))
     return tuple(found)
+
+
+def _done_methods(facts: ModuleFacts) -> dict[str, dict[str, DoneCause]]:
+    """For each class with an imported base, why its self-only methods' values are True:
+    a subclass's ``def _computeDone(self): return self.t > self.T`` tells its base class in
+    another module that the done of its ``step`` is a step limit (facts/limits.py)."""
+    found: dict[str, dict[str, DoneCause]] = {}
+    for name, classdef in facts.classes.items():
+        if not any(not _is_library(q) for base in classdef.bases for q in facts.qualified_names(base)):
+            continue
+        tracer = DoneTracer(facts, classdef)
+        methods = {}
+        for statement in classdef.body:
+            if not isinstance(statement, FUNCTIONS) or len(statement.args.args) != 1 or statement.args.vararg or statement.args.kwonlyargs:
+                continue
+            if not any(r.value is not None for r in own_returns(statement)):
+                continue
+            try:
+                methods[statement.name] = tracer.returns_cause(statement, 0)
+            except RecursionError:  # a pathological nesting: the override counts as untraced
+                methods[statement.name] = DoneCause(Cause.UNKNOWN)
+        if methods:
+            found[name] = methods
+    return found
 
 
 def _keeps_mode(call: ast.Call) -> bool:

@@ -181,7 +181,11 @@ def _tuple_len(value: cst.BaseExpression | None) -> int | None:
 
 
 def _is_step_limit(expr: cst.BaseExpression) -> bool:
+    """``facts.limits.is_step_limit`` on LibCST: a comparison that names a step counter,
+    not a period (``self.t % FREQ == 0``)."""
     if not isinstance(expr, cst.Comparison) or not all(isinstance(t.operator, _LIMIT_OPS) for t in expr.comparisons):
+        return False
+    if m.findall(expr, m.BinaryOperation(operator=m.Modulo())):
         return False
     return any(STEP_LIMIT_WORD.search(word.lower()) and "beyond" not in word for word in _identifiers(expr))
 

@@ -5,18 +5,15 @@ never loads it.
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass, field
 
+# Identifiers that count steps or time (``self.steps >= self.max_steps``, ``self.t > 200``),
+# shared with the builds.
+from gymmigrate.facts.limits import STEP_LIMIT_WORD
+
 SUPER_RESET = "super().reset(seed=seed)"
-# Identifiers that count steps or time (``self.steps >= self.max_steps``, ``self.t > 200``).
-# A word that counts steps (matched on the lower-cased identifier: ``MAX_STEPS`` too).
-# ``cycles``, ``frames`` and ``num_moves`` are how PettingZoo's envs count theirs
-# (``self.frames >= self.max_cycles``); a bare ``moves`` is often a list of legal moves.
-STEP_LIMIT_WORD = re.compile(
-    r"(^|_)(t|ts|step|steps|timestep|timesteps|tick|ticks|iter|iters|iteration|iterations|horizon|"
-    r"time|time_limit|ep_len|episode_len|episode_length|counter|cycle|cycles|frame|frames|num_moves|n_moves)(_|$)"
-)
+
+__all__ = ["STEP_LIMIT_WORD", "SUPER_RESET", "ClassPlan", "SeedPlan", "truncated_false_message"]
 
 
 @dataclass
@@ -52,6 +49,9 @@ class ClassPlan:
     reset: bool = False  # reset() changes (signature, returns, super().reset(seed=seed))
     step: bool = False  # step() returns four values somewhere
     step_helpers: list[str] = field(default_factory=list)  # what step() returns the result of
+    # Method (source name) -> positions among its returns whose done is only a step limit:
+    # they return ``False, <done>`` (terminated, truncated).
+    truncating_returns: dict[str, set[int]] = field(default_factory=dict)
     reset_helpers: list[str] = field(default_factory=list)  # likewise for reset()
     # ``return self.env.reset()`` of an env the class holds: the call-site rule passes the
     # inner (obs, info) through, so these receivers' resets are not paired again.

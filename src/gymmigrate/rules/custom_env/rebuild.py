@@ -238,11 +238,16 @@ class ClassRewrite:
         splits: dict[str, tuple[list[cst.BaseExpression], list[cst.BaseExpression]]] = {}
         plans: list[Callable[[cst.Return], cst.Return] | None] = []
         rename_done = False
-        for ret in returns:
+        truncating = self.plan.truncating_returns.get(self.renamed.get(method_name, method_name), set())
+        for position, ret in enumerate(returns):
             if not isinstance(ret.value, cst.Tuple) or _tuple_len(ret.value) != 4:  # _tuple_len: only tuples
                 plans.append(None)
                 continue
             done = ret.value.elements[2].value
+            if position in truncating:
+                # The done is only a step limit: terminated=False, truncated=<done>.
+                plans.append(_five(cst.Name("False"), _bool_of([done]) if _needs_bool(done) else done))
+                continue
             if isinstance(done, cst.Name) and _assigns_name(fn, done.value):
                 assigned = _single_assignment(fn, done.value)
                 split = _split_done(assigned) if assigned is not None else None
@@ -250,7 +255,7 @@ class ClassRewrite:
                     splits[done.value] = split
                     plans.append(_five(cst.Name("terminated"), cst.Name("truncated")))
                     continue
-                if done.value == "done" and not _uses_name(fn, "terminated") and not _declares_global(fn, "done"):
+                if done.value == "done" and not truncating and not _uses_name(fn, "terminated") and not _declares_global(fn, "done"):
                     rename_done = True
                     plans.append(_five(cst.Name("terminated"), cst.Name("False")))
                 else:

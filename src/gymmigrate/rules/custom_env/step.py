@@ -9,12 +9,19 @@ and ``truncated=False`` in step should address most issues".
 from __future__ import annotations
 
 import ast
-from typing import TypeVar
 
 from gymmigrate.facts.env_classes import (
     FunctionIndex,
     identifiers,
     is_super_method_call,
+)
+from gymmigrate.facts.limits import (
+    Cause,
+    DoneCause,
+    DoneTracer,
+    Limit,
+    is_step_limit,
+    unwrap_bool,
 )
 from gymmigrate.facts.module import own_returns
 from gymmigrate.findings import FixKind, Tier
@@ -25,10 +32,15 @@ from gymmigrate.rules.custom_env.common import (
     inner_gym_env_call,
     tuple_len,
 )
-from gymmigrate.rules.custom_env.hooks import overrides, step_override_migratable, where
+from gymmigrate.rules.custom_env.hooks import (
+    local_subclasses,
+    overrides,
+    step_override_migratable,
+    where,
+)
 from gymmigrate.rules.custom_env.plans import STEP_LIMIT_WORD, truncated_false_message
 
-_LIMIT_OPS = (ast.Gt, ast.GtE, ast.Lt, ast.LtE, ast.Eq)
+__all__ = ["decide_step", "is_step_limit", "unwrap_bool"]
 
 
 def decide_step(decision: ClassDecision, inherited: dict[int, list[str]]) -> None:
@@ -72,7 +84,8 @@ def _decide_returns(decision: ClassDecision, function: Method, helpers: set[int]
         "step returns terminated (the old done) and truncated=False: the class counts nothing that could end "
         "an episode on a limit, so truncation is left to TimeLimit (max_episode_steps)"
     )
-    for ret in returns:
+    tracer = done_tracer(decision)
+    for position, ret in enumerate(returns):
         if ret.value is None:
             continue
         if _returns_helper(ret, decision, helpers) or is_super_method_call(ret.value, function.name):
@@ -99,16 +112,94 @@ def _decide_returns(decision: ClassDecision, function: Method, helpers: set[int]
             if assigned is not None and _split_done(assigned):
                 decision.report(ret, "GM504", f"`{done.id}` split: the step-limit test became truncated, the rest terminated", FixKind.ASSIST)
                 continue
-            _report_truncated_false(decision, ret, limit_hint, plain if no_counter else None)
-            continue
-        if _split_done(done):
+        elif _split_done(done):
             decision.report(ret, "GM504", "done split: the step-limit test became truncated, the rest terminated", FixKind.ASSIST)
             continue
         if isinstance(done, ast.Constant) and done.value is False:
             # This return never ends an episode, on a limit or otherwise: nothing to split.
             decision.report(ret, "GM504", "step returns terminated=False and truncated=False, as its done was False", FixKind.ASSIST, tier=Tier.NOTE)
             continue
+        traced = tracer.trace(done)
+        if traced.cause is Cause.TRUNCATION:
+            decision.plan.truncating_returns.setdefault(function.name, set()).add(position)
+            _report_truncation(decision, ret, done, traced)
+            continue
+        if traced.limits:
+            what = (
+                "split it from the task's own end by hand"
+                if traced.cause is Cause.MIXED
+                else "not every way to it could be followed: a dict of per-agent flags, an override that takes arguments"
+            )
+            decision.report(
+                ret,
+                "GM504",
+                f"step returns `{decision.family.facts.segment(done)}` as terminated with truncated=False, but "
+                f"{_limits_text(traced)} is a step/time limit among its causes: return that end as truncated, not "
+                f"terminated; {what}",
+                FixKind.ASSIST,
+            )
+            continue
         _report_truncated_false(decision, ret, limit_hint, plain if no_counter else None)
+
+
+def done_tracer(decision: ClassDecision) -> DoneTracer:
+    """The class's done tracer, with the overrides other modules of the run define."""
+    facts = decision.family.facts
+    project = decision.family.receivers.project
+    classdef = decision.classdef
+
+    def external(name: str) -> list[DoneCause]:
+        if project is None:
+            return []
+        found: list[DoneCause] = []
+        for owner in (classdef, *local_subclasses(decision)):
+            if facts.parent(owner) is facts.tree:
+                found += project.done_overrides(owner.name, name)
+        return found
+
+    return facts.memo(("done-tracer-run", id(classdef)), lambda: DoneTracer(facts, classdef, external))
+
+
+def _limits_text(traced: DoneCause) -> str:
+    """```self.t > self.T` (line 12)``, one entry per limit text with every place it is at."""
+    places: dict[str, list[Limit]] = {}
+    for limit in traced.limits:
+        places.setdefault(limit.text, []).append(limit)
+    parts = []
+    for text, limits in list(places.items())[:3]:
+        shown = ", ".join(limit.place() for limit in limits[:4]) + (", ..." if len(limits) > 4 else "")
+        parts.append(f"`{text}` ({shown})")
+    return " and ".join(parts) + (" and others" if len(places) > 3 else "")
+
+
+def _report_truncation(decision: ClassDecision, ret: ast.Return, done: ast.expr, traced: DoneCause) -> None:
+    text = decision.family.facts.segment(done)
+    if traced.elsewhere():
+        decision.report(
+            ret,
+            "GM504",
+            f"step returns terminated=False and truncated=`{text}`: every override in the run ends the episode only on "
+            f"the step/time limit {_limits_text(traced)}, a truncation; check subclasses outside this run",
+            FixKind.ASSIST,
+        )
+    elif not traced.plain():
+        decision.report(
+            ret,
+            "GM504",
+            f"step returns terminated=False and truncated=`{text}`: it is True only on {_limits_text(traced)}, a count "
+            "step advances on every call compared with a bound (an episode length, a truncation); if reaching it is "
+            "the task's goal, return it as terminated instead",
+            FixKind.ASSIST,
+        )
+    else:
+        decision.report(
+            ret,
+            "GM504",
+            f"step returns terminated=False and truncated=`{text}`: it is True only on the step/time limit "
+            f"{_limits_text(traced)}, a truncation",
+            FixKind.ASSIST,
+            tier=Tier.NOTE,
+        )
 
 
 def _blocked_hook(ret: ast.Return, blocked: dict[str, str]) -> tuple[str, str] | None:
@@ -146,7 +237,10 @@ def _returns_five_from_helper(ret: ast.Return, decision: ClassDecision) -> bool:
 def _counts_toward_a_limit(decision: ClassDecision) -> bool:
     """The class counts something (``self.steps += 1``, ``self.rounds -= 1``, ``t = t + 1``,
     ``self.time += self.dt``) or tests a step limit anywhere: that may end episodes on a
-    limit, so a person decides. Physics updates (``self.x += dx``) are not counts."""
+    limit, so a person decides. Physics updates (``self.x += dx``) are not counts, nor is
+    an attribute the class never reads (``self.steps += 1`` kept for statistics) or one it
+    moves both ways (``self.index += 1`` and ``self.index = max(self.index - 1, 0)``: a
+    position, not a count)."""
     facts = decision.family.facts
 
     def compute() -> bool:
@@ -156,7 +250,8 @@ def _counts_toward_a_limit(decision: ClassDecision) -> bool:
             if isinstance(node, ast.AugAssign) and isinstance(node.op, (ast.Add, ast.Sub)):
                 counted = _is_number(node.value) and not isinstance(node.target, ast.Subscript)
                 if counted or any(STEP_LIMIT_WORD.search(w) for w in identifiers(node.target)):
-                    return True  # `self.steps += 1`, `self.t += self.dt`; not `self.pos[1] += 1`
+                    if not _idle_attribute(decision, node.target):
+                        return True  # `self.steps += 1`, `self.t += self.dt`; not `self.pos[1] += 1`
             if isinstance(node, ast.Compare) and is_step_limit(node):
                 return True  # a step-limit test in a helper (`def _done(self): return self.t > 200`)
             if (
@@ -171,6 +266,44 @@ def _counts_toward_a_limit(decision: ClassDecision) -> bool:
         return False
 
     return facts.memo(("counts-by-constant", id(decision.classdef)), compute)
+
+
+def _idle_attribute(decision: ClassDecision, target: ast.expr) -> bool:
+    """``self.<name>`` that cannot limit an episode: the class (and the module) never reads it
+    but to count it, or it also moves it the other way or back from its own value
+    (a position). Only attributes of the class itself; anything else may count."""
+    if not (isinstance(target, ast.Attribute) and isinstance(target.value, ast.Name) and target.value.id == "self"):
+        return False
+    facts = decision.family.facts
+    directions: set[type] = set()
+    reads = 0
+    for attr in facts.attributes.get(target.attr, ()):
+        holder = facts.parent(attr)
+        if isinstance(attr.ctx, ast.Load):
+            if not _self_update(holder, target.attr):
+                reads += 1
+            continue
+        if isinstance(holder, ast.AugAssign):
+            directions.add(type(holder.op))
+        elif isinstance(holder, ast.Assign) and any(
+            isinstance(n, ast.Attribute) and n.attr == target.attr and isinstance(n.value, ast.Name) and n.value.id == "self"
+            for n in ast.walk(holder.value)
+        ) and not _self_update(holder.value, target.attr):
+            return True  # ``self.index = max(self.index - 1, 0)``: moved back, a position
+    if len(directions) > 1:
+        return True  # ``+=`` and ``-=``: a position
+    return reads == 0
+
+
+def _self_update(value: ast.AST | None, name: str) -> bool:
+    """``self.<name> + <number>`` (the right side of ``self.n = self.n + 1``)."""
+    return (
+        isinstance(value, ast.BinOp)
+        and isinstance(value.op, (ast.Add, ast.Sub))
+        and isinstance(value.left, ast.Attribute)
+        and value.left.attr == name
+        and _is_number(value.right)
+    )
 
 
 def _is_number(node: ast.AST) -> bool:
@@ -207,12 +340,6 @@ def _parenthesized_text(decision: ClassDecision, node: ast.expr) -> str:
         text = line[start:end]
 
 
-def is_step_limit(expr: ast.AST) -> bool:
-    if not isinstance(expr, ast.Compare) or not all(isinstance(op, _LIMIT_OPS) for op in expr.ops):
-        return False
-    return any(STEP_LIMIT_WORD.search(word.lower()) and "beyond" not in word for word in identifiers(expr))
-
-
 def _or_operands(expr: ast.AST) -> list[ast.AST]:
     if isinstance(expr, ast.BoolOp) and isinstance(expr.op, ast.Or):
         return [operand for value in expr.values for operand in _or_operands(value)]
@@ -222,23 +349,6 @@ def _or_operands(expr: ast.AST) -> list[ast.AST]:
 def _split_done(expr: ast.AST) -> bool:
     """``bool(task or self.steps >= self.max_steps)`` has a clear step-limit test."""
     return any(is_step_limit(op) for op in _or_operands(unwrap_bool(expr)))
-
-
-_AnyNode = TypeVar("_AnyNode", bound=ast.AST)
-
-
-def unwrap_bool(expr: _AnyNode) -> _AnyNode | ast.expr:
-    """``bool(x)`` -> ``x`` (a done flag built as ``bool(task or limit)``); anything else as it is."""
-    if (
-        isinstance(expr, ast.Call)
-        and isinstance(expr.func, ast.Name)
-        and expr.func.id == "bool"
-        and len(expr.args) == 1
-        and not expr.keywords
-        and not isinstance(expr.args[0], ast.Starred)
-    ):
-        return expr.args[0]
-    return expr
 
 
 def _single_assignment(index: FunctionIndex, name: str) -> ast.AST | None:

@@ -8,6 +8,8 @@ This traces each stored value to its causes with the single-agent predicate
 
 * a name assigned once in the same function from a limit (``over = self.t >= T``),
 * ``self.helper()`` whose every return is a limit (``def _out_of_time(self): ...``),
+* ``self.sim.helper()["__all__"]`` (a class of the module that the env holds, and the key
+  of the dict its helper returns) where every value stored under that key is a limit,
 * ``self.flag`` whose every store in the class is a limit or ``False``
   (``self.truncate = self.frames >= self.max_cycles``, as PettingZoo's pistonball keeps it),
 * ``True`` stored under ``if <limit>:`` (the branch that calls the match off).
@@ -25,8 +27,9 @@ import enum
 from dataclasses import dataclass, field
 from typing import TypeVar
 
+from gymmigrate.facts.limits import Cause as DoneCause
+from gymmigrate.facts.limits import DoneTracer, is_step_limit, unwrap_bool
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
-from gymmigrate.rules.custom_env.step import is_step_limit, unwrap_bool
 
 _Node = TypeVar("_Node", bound=ast.AST)
 
@@ -70,7 +73,9 @@ class Endings:
             if helper is not None:
                 returns = [r.value for r in own_returns(helper)]
                 return bool(returns) and all(v is not None and self.is_limit(v, depth + 1) for v in returns)
-            return False
+            return self._traced_limit(expr)  # ``self.sim.compute_done()``, a class of the module
+        if isinstance(expr, ast.Subscript):
+            return self._traced_limit(expr)  # ``self.sim.compute_dones()["__all__"]``
         if isinstance(expr, ast.Name):
             assign = self.single_assignment(expr)
             return assign is not None and self.is_limit(assign.value, depth + 1)
@@ -79,6 +84,13 @@ class Endings:
             limits = [v for v in values or () if not (isinstance(v, ast.Constant) and v.value in (False, None))]
             return values is not None and bool(limits) and all(self.is_limit(v, depth + 1) for v in limits)
         return False
+
+    def _traced_limit(self, expr: ast.expr) -> bool:
+        """A helper's result (or one key of the dict it returns) that is only ever a step
+        limit, through the helpers and the classes of the module (``facts/limits.py``)."""
+        facts, classdef = self.facts, self.classdef
+        tracer = facts.memo(("done-tracer", id(classdef)), lambda: DoneTracer(facts, classdef))
+        return tracer.trace(expr).cause is DoneCause.TRUNCATION
 
     def _attribute_values(self, name: str) -> list[ast.expr] | None:
         """Every value ``self.<name> = value`` stores in this class; None when a store is

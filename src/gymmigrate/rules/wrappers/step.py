@@ -41,7 +41,7 @@ class StepOverrides(RuleFamily):
         changes = [
             line
             for line in lines
-            if line not in unpacks and line is not done_line and name in _assigned_names(line) and not _is_initializer(line)
+            if line not in unpacks and line is not done_line and name in _assigned_names(line) and not _is_initializer(line, name)
         ]
         return bool(changes) and all(_sets_done_on_limit(line, name, self.facts.parent(line)) for line in changes)
 
@@ -54,7 +54,7 @@ class StepOverrides(RuleFamily):
         changes = [
             line
             for line in lines
-            if line not in unpacks and line is not done_line and name in _assigned_names(line) and not _is_initializer(line)
+            if line not in unpacks and line is not done_line and name in _assigned_names(line) and not _is_initializer(line, name)
         ]
         if changes and all(_sets_done_on_life_loss(line, self.facts.parent(line)) for line in changes):
             return changes  # type: ignore[return-value]
@@ -278,14 +278,19 @@ def _is_done_line(statement: ast.stmt, flags: tuple[str, str]) -> bool:
     )
 
 
-def _is_initializer(statement: ast.stmt) -> bool:
-    """``done = None`` / ``done = False`` before a loop: not a change of the inner result."""
+def _is_initializer(statement: ast.stmt, name: str) -> bool:
+    """``done = None`` / ``done = False`` before a loop (or ``frames, total, done = [], 0.0,
+    False``): not a change of the inner result."""
     assign = _single_assign(statement)
-    return (
-        assign is not None
-        and isinstance(assign.value, ast.Constant)
-        and (assign.value.value is None or assign.value.value is False)
-    )
+    if assign is None:
+        return False
+    target, value = assign.targets[0], assign.value
+    if isinstance(target, ast.Tuple) and isinstance(value, ast.Tuple) and len(target.elts) == len(value.elts):
+        pairs = [(t, v) for t, v in zip(target.elts, value.elts, strict=True) if isinstance(t, ast.Name) and t.id == name]
+        if len(pairs) != 1:
+            return False
+        value = pairs[0][1]
+    return isinstance(value, ast.Constant) and (value.value is None or value.value is False)
 
 
 def _sets_done_on_limit(line: ast.stmt, name: str, parent: ast.AST | None) -> bool:
@@ -354,7 +359,7 @@ def _has_other_assignments(
             if isinstance(line, ast.AugAssign) and isinstance(line.target, ast.Name) and line.target.id == name:
                 return True
             continue
-        if not seen_unpack and _is_initializer(line):
+        if not seen_unpack and _is_initializer(line, name):
             continue
         return True
     return False
