@@ -467,8 +467,9 @@ def _reexport_wrappers(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -
     for path, summary in by_path.items():
         if path in facts.blocked:
             continue
-        for name, export in summary.exports.items():
+        for name, first in summary.exports.items():
             where = (path, name)
+            export: EnvKind | str | None = first
             for _ in range(_MAX_CHAIN):
                 if not isinstance(export, str):
                     break

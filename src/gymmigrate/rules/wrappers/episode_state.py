@@ -151,6 +151,6 @@ def _calls_base(function: ast.AST, method: str) -> bool:
 
 def _is_base_call(statement: ast.stmt, method: str) -> bool:
     """A top-level statement of a method whose value is the base's ``method`` call."""
-    if isinstance(statement, (ast.Expr, ast.Assign, ast.Return, ast.AnnAssign)):
+    if isinstance(statement, (ast.Expr, ast.Assign, ast.Return, ast.AnnAssign)) and statement.value is not None:
         return _base_call(statement.value, method)
     return False

@@ -8,9 +8,9 @@ import ast
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.module import FUNCTIONS
+from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext
 from gymmigrate.rules.wrapper_usage.tables import wrapper_rest
-from gymmigrate.findings import FixKind
 from gymmigrate.rules.wrappers import episode_state
 from gymmigrate.rules.wrappers.common import GONE_WRAPPER_STATE, RULES
 from gymmigrate.rules.wrappers.reset import ResetOverrides
@@ -95,8 +95,8 @@ class WrapperClasses(StepOverrides, ResetOverrides):
             if restoration.reset_anchor is not None:
                 self.plan.insert_after(restoration.reset_anchor, *episode_state.reset_lines(restoration.reset_names, np_name))
             else:
-                method = cst.parse_statement(episode_state.reset_method(restoration.reset_names, np_name))
-                self.plan.insert_after(restoration.last, method.with_changes(leading_lines=[cst.EmptyLine(indent=False)]))
+                code = episode_state.reset_method(restoration.reset_names, np_name)
+                self.plan.insert_after(restoration.last, lambda: _after_a_blank_line(code))
         self.report(
             classdef,
             "GM618",
@@ -130,3 +130,7 @@ def _is_super_init(node: ast.AST) -> bool:
         first = node.args[0]
         return isinstance(first, ast.Name) and first.id == "self"
     return False
+
+
+def _after_a_blank_line(code: str) -> cst.BaseStatement:
+    return cst.parse_statement(code).with_changes(leading_lines=[cst.EmptyLine(indent=False)])
