@@ -125,7 +125,6 @@ class VectorWrappers(VectorFamilyBase):
                 f"`{receiver_text(call.args[0])}` is a vector env, which is not a gym.Env in Gymnasium 1.x: {what}",
             )
 
-
     def _wrapped_kind(self, call: ast.Call) -> EnvKind:
         """The kind of the env ``call`` wraps; in ``envs = Wrapper(envs)``, the value the
         binding above it in the same block gave ``envs``."""
