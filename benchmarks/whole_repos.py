@@ -89,6 +89,9 @@ class Repo:
     new_fallback: tuple[str, ...]  # for the human port and gymmigrate's tree
     new_constraints: tuple[str, ...] = (GYMNASIUM,)
     also: tuple[str, ...] = ()  # optional extras the tests need, installed in every stage
+    # every stage's suite runs on a virtual X display (``xvfb-run -a``): for tests that open
+    # a window, which abort the interpreter (and the whole suite) without a display
+    display: bool = False
 
 
 REPOS = (
@@ -135,17 +138,20 @@ REPOS = (
         github="Farama-Foundation/MO-Gymnasium",
         legacy="f66ecd97cb30c255b502001b614eff9767872b8d",
         human="48e3b52014a63acb36ba095e3419d33af7fceba6",
-        extras="testing",
+        # [mujoco] as each tree declares it, for the half-cheetah and hopper tests (the
+        # migrated and human trees add imageio, which Gymnasium 1.x's MuJoCo renderer
+        # imports); one MuJoCo for every stage
+        extras="testing,mujoco",
         tests=("tests",),
         legacy_pre=("gym==0.26.2",),
-        legacy_constraints=("numpy<1.24",),
-        legacy_fallback=("gym==0.26.2", "numpy<1.24", "pygame", "scipy", "pymoo", "pytest<8"),
-        new_fallback=(GYMNASIUM, "numpy", "pygame", "scipy", "pymoo", "pytest<8"),
-        # its [mujoco] extra, for the half-cheetah and hopper tests. Not installed as
-        # declared: with the imageio the migrated extra declares, Gymnasium 1.x's
-        # check_env re-makes the env in "human" mode, which aborts the interpreter
-        # without a display (glfw) and with it the whole suite.
-        also=("mujoco==2.3.7",),
+        legacy_constraints=("numpy<1.24", "mujoco==2.3.7"),
+        legacy_fallback=("gym==0.26.2", "numpy<1.24", "pygame", "scipy", "pymoo", "mujoco", "pytest<8"),
+        new_fallback=(GYMNASIUM, "numpy", "pygame", "scipy", "pymoo", "mujoco", "imageio", "pytest<8"),
+        new_constraints=(GYMNASIUM, "mujoco==2.3.7"),
+        # Gymnasium 1.x's check_env re-makes an env in each of its render modes and resets
+        # it: MuJoCo's "human" mode opens a glfw window, and glfw aborts the interpreter
+        # without a display (MUJOCO_GL=egl/osmesa only serve the off-screen modes)
+        display=True,
     ),
     Repo(
         name="supersuit",
@@ -352,7 +358,10 @@ def run_tests(repo: Repo, stage: str, tree: Path, venv: Path, args, logf: Path) 
     env = dict(os.environ, SDL_VIDEODRIVER="dummy", SDL_AUDIODRIVER="dummy", MPLBACKEND="Agg",
                PYTHONDONTWRITEBYTECODE="1")
     env.pop("PYTHONPATH", None)
-    cmd = [venv / "bin" / "python", "-m", "pytest", "-p", "no:cacheprovider", "-q", "-rfE",
+    display = repo.display and shutil.which("xvfb-run") is not None
+    if repo.display and not display:
+        log(f"{repo.name}/{stage}: no xvfb-run: tests that open a window abort without a display")
+    cmd = [*(["xvfb-run", "-a"] if display else []), venv / "bin" / "python", "-m", "pytest", "-p", "no:cacheprovider", "-q", "-rfE",
            "--tb=short", "--continue-on-collection-errors", f"--timeout={args.timeout}", f"--junitxml={junit}", *repo.tests]
     log(f"{repo.name}/{stage}: pytest")
     t0 = time.monotonic()
@@ -360,7 +369,8 @@ def run_tests(repo: Repo, stage: str, tree: Path, venv: Path, args, logf: Path) 
     cases = read_junit(junit)
     counts = {k: sum(1 for o, _ in cases.values() if o == k)
               for k in ("passed", "failed", "error", "skipped")}
-    return {"rc": rc, "seconds": round(time.monotonic() - t0, 1), "counts": counts, "cases": cases}
+    return {"rc": rc, "seconds": round(time.monotonic() - t0, 1), "counts": counts, "cases": cases,
+            "virtual_display": display}
 
 
 def migrate(repo: Repo, legacy_tree: Path, dest: Path, venv: Path, logf: Path) -> dict:

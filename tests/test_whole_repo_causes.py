@@ -13,10 +13,16 @@ tests that a seeded reset makes steps reproducible).
 of wrappers around the package's own env, and its ``VectorEnv`` subclass resets a list of
 sub-envs that the package's own obs-only batches are written into, and keeps that
 obs-only reset itself (its callers are left on it).
+``fixtures/project_statistics/`` (mo-gym's shape): a subclass of gym's
+``RecordEpisodeStatistics`` that computes vector-reward statistics in its own ``step`` on
+the state gym 0.26's base set (GM618 restores it), re-exported by the package and used on
+one env, on each env of the package's vector env, and on the whole vector env (reported:
+GM708).
 """
 
 from __future__ import annotations
 
+import json
 import shutil
 import subprocess
 import sys
@@ -155,3 +161,34 @@ def test_parametrized_envs_are_traced_and_the_run_s_own_batches_are_left(tmp_pat
     )
     assert run.returncode == 0, run.stdout + run.stderr
     assert "5 passed" in run.stdout
+
+
+def _pytest(project: Path, *args: str) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-W", "ignore", *args],
+        cwd=project, capture_output=True, text=True, timeout=120,
+    )
+
+
+def test_a_statistics_subclass_gets_gym_0_26_state_back_and_its_vector_use_is_reported(tmp_path: Path) -> None:
+    report = tmp_path / "report.json"
+    result = runner.invoke(app, ["check", str(FIXTURES / "project_statistics"), "--report", str(report)])
+    assert result.exit_code == 1, result.output  # changes pending, and review items
+    project = _migrated("project_statistics", tmp_path)
+    wrappers = (project / "mostats" / "wrappers.py").read_text()
+    assert 'self.num_envs = getattr(self.env, "num_envs", 1)' in wrappers
+    assert "self.t0 = time.perf_counter()" in wrappers
+    assert "self.episode_lengths = np.zeros(self.num_envs, dtype=np.int32)" in wrappers
+    findings = json.loads(report.read_text())["findings"]
+    by_rule = {(Path(f["path"]).name, f["line"], f["rule"], f["kind"]) for f in findings}
+    assert ("wrappers.py", 8, "GM618", "assist") in by_rule
+    # the whole vector env in a single-env wrapper: Gymnasium 1.x's Wrapper raises; reported
+    assert ("test_stats.py", 38, "GM708", "flag") in by_rule
+    run = _pytest(project, "checks", "-k", "not the_whole_batch")
+    assert run.returncode == 0 and "2 passed" in run.stdout, run.stdout + run.stderr
+
+
+def test_without_gm618_the_statistics_subclass_fails_on_gymnasium(tmp_path: Path) -> None:
+    project = _migrated("project_statistics", tmp_path, "--ignore", "GM618")
+    run = _pytest(project, "checks", "-k", "one_env")
+    assert run.returncode != 0 and "has no attribute 'num_envs'" in run.stdout, run.stdout

@@ -179,3 +179,78 @@ def test_a_pytest_fixture_env_is_traced_and_its_tests_pass_on_gymnasium(tmp_path
     done = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", str(tmp_path)], capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stdout + done.stderr
     assert "2 passed" in done.stdout
+
+
+# -- GM618: a RecordEpisodeStatistics subclass that computes its own statistics ----------
+
+_STATISTICS = WRAPPER_FIXTURES.parent / "rules" / "GM618" / "own_statistics.py"
+
+
+def _migrated_statistics(options: object = None) -> types.ModuleType:
+    from gymmigrate.options import RewriteOptions
+
+    text = transform_source(_STATISTICS.read_bytes(), str(_STATISTICS), options or RewriteOptions()).rewritten.decode()
+    module = types.ModuleType("migrated_own_statistics")
+    exec(compile(text, str(_STATISTICS), "exec"), module.__dict__)  # noqa: S102  (our own fixture)
+    return module
+
+
+def _two_rewards(env_id: str) -> gym.Env:
+    """A Gymnasium env whose reward is a vector of two (as multi-objective envs return)."""
+    return gym.wrappers.TransformReward(gym.make(env_id), lambda r: np.array([r, -2.0 * r], dtype=np.float32))
+
+
+def test_a_statistics_subclass_runs_on_gymnasium_with_gym_0_26_state() -> None:
+    module = _migrated_statistics()
+    env = module.VectorRewardStatistics(_two_rewards("CartPole-v1"), reward_dim=2)
+    env.action_space.seed(0)
+    for episode in range(3):
+        env.reset(seed=episode)
+        steps, ended = 0, False
+        while not ended:
+            obs, reward, terminated, truncated, info = env.step(env.action_space.sample())
+            steps += 1
+            ended = terminated or truncated
+        assert isinstance(terminated, bool) and isinstance(truncated, bool)  # one env: the flags, not lists
+        stats = info["episode"]
+        assert stats["r"].shape == (2,) and stats["r"].tolist() == [float(steps), -2.0 * steps]
+        assert stats["l"] == steps and isinstance(stats["l"], np.int32)
+        assert isinstance(stats["t"], float) and stats["t"] >= 0
+    assert env.episode_count == 3 and len(env.return_queue) == 3 and env.num_envs == 1
+    assert env.is_vector_env is False
+
+
+def test_a_statistics_subclass_without_a_reset_gets_one() -> None:
+    module = _migrated_statistics()
+    env = module.EpisodeTimer(gym.make("CartPole-v1"))
+    env.reset(seed=0)
+    env.action_space.seed(0)
+    steps, info, ended = 0, {}, False
+    while not ended:
+        _, _, terminated, truncated, info = env.step(env.action_space.sample())
+        steps += 1
+        ended = terminated or truncated
+    assert info["length"] == steps and info["elapsed"] >= 0
+    obs, info = env.reset(seed=1)  # zeroes the per-env lengths again, returns Gymnasium's pair
+    assert env.episode_lengths.tolist() == [0] and isinstance(info, dict)
+
+
+def test_without_gm618_the_statistics_subclass_lacks_gym_0_26_state() -> None:
+    from gymmigrate.options import RewriteOptions
+    from gymmigrate.rules import all_rules
+    from gymmigrate.selection import Selection
+
+    codes = [rule.code for rule in all_rules()]
+    options = RewriteOptions(selection=Selection.from_selectors(ignore=["GM618"], codes=codes))
+    module = _migrated_statistics(options)
+    env = module.VectorRewardStatistics(_two_rewards("CartPole-v1"))
+    with pytest.raises(AttributeError, match="num_envs"):
+        env.reset(seed=0)
+
+
+def test_a_statistics_subclass_still_refuses_a_vector_env() -> None:
+    """Gymnasium 1.x's single-env base: the vector wrapper is another class (GM708 reports the use)."""
+    module = _migrated_statistics()
+    envs = gym.vector.SyncVectorEnv([lambda: _two_rewards("CartPole-v1")] * 2)
+    with pytest.raises(TypeError, match="Expected env to be a `gymnasium.Env`"):
+        module.VectorRewardStatistics(envs)

@@ -70,10 +70,12 @@ class _Applier(cst.CSTTransformer):
 
 
 def _new_statements(code: list[Any], small: bool) -> list[cst.CSTNode]:
-    """Parse new code for insertion as whole lines, or as small statements on one line."""
+    """Parse new code for insertion as whole lines, or as small statements on one line.
+    An item is source text, a LibCST node, or a function that builds one (so that a rule
+    deciding in ``check`` never loads LibCST)."""
     nodes: list[cst.CSTNode] = []
     for item in code:
-        node = cst.parse_statement(item) if isinstance(item, str) else item
+        node = cst.parse_statement(item) if isinstance(item, str) else item() if callable(item) else item
         if small:
             if isinstance(node, cst.SimpleStatementLine):
                 nodes.extend(node.body)

@@ -160,6 +160,26 @@ class Flow:
             return True
         return any(isinstance(a, LOOPS) and contains(a, read) for a in self.facts.ancestors(statement))
 
+    def binding_above(self, read: ast.Name, statement: ast.stmt) -> ast.AST | None:
+        """The binding of the variable ``read`` reads that starts last before ``statement``
+        starts: what a read in the value of an assignment that rebinds it sees
+        (``envs = Wrapper(envs)``), when that binding sits before it in the same block."""
+        scope, _ = self.facts.resolve(read.id, self.facts.scope_of(read))
+        if scope is None:
+            return None
+        starts, ordered = self._sorted_bindings(scope, read.id)
+        index = bisect_left(starts, start(statement)) - 1
+        if index < 0:
+            return None
+        binding = ordered[index]
+        above = self.facts.statement_of(binding)
+        holder = self.facts.parent(statement)
+        if above is None or holder is None or self.facts.parent(above) is not holder:
+            return None
+        slots = self._slots_of(holder)
+        mine, theirs = slots.get(id(above)), slots.get(id(statement))
+        return binding if mine is not None and theirs is not None and mine[0] == theirs[0] and mine[1] < theirs[1] else None
+
     def dominates(self, statement: ast.stmt, read: ast.AST, name: ast.Name) -> bool:
         """Is ``read`` certain to see the value ``statement`` bound to ``name``?"""
         scope = self.binding_scope(name)

@@ -245,6 +245,7 @@ class ProjectFacts:
             facts.render_mode_classes[path] = frozenset()
         facts._join_overrides(summaries)
         _NonSpaces(facts, by_path).run()
+        _reexport_wrappers(facts, by_path)
         return facts
 
     def _join_overrides(self, summaries: list[ModuleSummary]) -> None:
@@ -537,6 +538,31 @@ class _NonSpaces:
                 where = self.origin(path, name)
                 if where is not None and where in found:
                     self.facts.non_space_envs[(path, name)] = found[where]
+
+
+def _reexport_wrappers(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> None:
+    """A name that re-exports a wrapper class of another module (``from .utils import
+    Stats`` in a package's ``__init__``) is that wrapper class too."""
+    added: dict[str, set[str]] = defaultdict(set)
+    for path, summary in by_path.items():
+        if path in facts.blocked:
+            continue
+        for name, first in summary.exports.items():
+            where = (path, name)
+            export: EnvKind | str | None = first
+            for _ in range(_MAX_CHAIN):
+                if not isinstance(export, str):
+                    break
+                split = facts._split(export[len(REF) :], where[0])
+                if split is None or "." in split[1] or split[0] not in by_path:
+                    break
+                where = split
+                if where[1] in facts.wrapper_classes.get(where[0], ()):
+                    added[path].add(name)
+                    break
+                export = by_path[where[0]].exports.get(where[1])
+    for path, names in added.items():
+        facts.wrapper_classes[path] = facts.wrapper_classes.get(path, frozenset()) | names
 
 
 class _Join:

@@ -18,6 +18,7 @@ from typing import Any
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import names as N
 from gymmigrate.facts.decisions import receiver_text
+from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.vector.common import VectorFamilyBase, gym_rest
@@ -109,14 +110,38 @@ class VectorWrappers(VectorFamilyBase):
             return  # gymnasium's own wrappers on a vector env are GM613's (wrapper_usage.py)
         else:
             local = self.receivers.local_class(func)
+            project = self.receivers.project
+            name = None
             if local is not None and self.receivers.is_gym_wrapper_class(local):
-                what = f"{local.name} is a single-env gym.Wrapper (port it to gymnasium.vector.VectorWrapper or apply it per sub-env)"
-        if what and self.receivers.kind_of(call.args[0]) is EnvKind.GYM_VEC:
+                name = local.name
+            elif project is not None and any(project.is_wrapper_class(q) for q in self.facts.qualified_names(func)):
+                name = self.facts.segment(func)  # a wrapper class of another module of the run
+            if name is not None:
+                what = f"{name} is a single-env gym.Wrapper (port it to gymnasium.vector.VectorWrapper or apply it per sub-env)"
+        if what and self._wrapped_kind(call) is EnvKind.GYM_VEC:
             self.report(
                 call,
                 "GM708",
                 f"`{receiver_text(call.args[0])}` is a vector env, which is not a gym.Env in Gymnasium 1.x: {what}",
             )
+
+    def _wrapped_kind(self, call: ast.Call) -> EnvKind:
+        """The kind of the env ``call`` wraps; in ``envs = Wrapper(envs)``, the value the
+        binding above it in the same block gave ``envs``."""
+        wrapped = call.args[0]
+        kind = self.receivers.kind_of(wrapped)
+        statement = self.facts.statement_of(call)
+        if (
+            kind is EnvKind.GYM_VEC
+            or not isinstance(wrapped, ast.Name)
+            or not isinstance(statement, ast.Assign)
+            or statement.value is not call
+            or not any(isinstance(t, ast.Name) and t.id == wrapped.id for t in statement.targets)
+        ):
+            return kind
+        above = Flow.of(self.facts).binding_above(wrapped, statement)
+        found = self.receivers.binding_kind(above) if above is not None else None
+        return found if found is not None else kind
 
 
 def _header(definition: ast.AST) -> ast.AST:

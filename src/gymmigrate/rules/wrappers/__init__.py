@@ -30,7 +30,9 @@ returns:
   can recreate it from ``env.spec``.
 * GM618 (FLAG) a subclass of gym's ``RecordEpisodeStatistics``/``NormalizeReward``/
   ``NormalizeObservation`` that reads ``self.num_envs``, ``self.t0``... which the 1.x
-  single-env rewrites of those wrappers no longer set.
+  single-env rewrites of those wrappers no longer set; (ASSIST) a ``RecordEpisodeStatistics``
+  subclass whose ``step`` computes the statistics itself gets gym 0.26's ``__init__`` and
+  ``reset`` state back (``episode_state``).
 
 GM607 (``ActionWrapper.reverse_action``) is deliberately not a rule: a user definition
 is harmless (Gymnasium just never calls it), so a finding would only add review noise.
@@ -44,7 +46,8 @@ Wrapper *usage* (attribute forwarding, renamed and removed wrappers, Monitor...)
 the ``wrapper_usage`` package, which ``rules/__init__.py`` imports so that its families register.
 
 Modules: ``common`` (catalog entries, syntax helpers), ``step`` (GM602), ``reset``
-(GM601), ``family`` (the ``RuleFamily``: finds wrapper classes, GM603).
+(GM601), ``episode_state`` (GM618's restoration), ``family`` (the ``RuleFamily``: finds
+wrapper classes, GM603, GM618).
 """
 
 from gymmigrate.rules.wrappers.common import RULES

@@ -34,8 +34,9 @@ RULES = (
     Rule(
         "GM618",
         "subclasses of rewritten Gym wrappers",
-        FixKind.FLAG,
-        "A subclass of `RecordEpisodeStatistics`/`NormalizeReward`/`NormalizeObservation` reading state 1.x no longer keeps (`num_envs`, `t0`...) is reported.",
+        FixKind.ASSIST,
+        "A subclass of `RecordEpisodeStatistics`/`NormalizeReward`/`NormalizeObservation` reading state 1.x no longer keeps (`num_envs`, `t0`...) is reported; "
+        "a `RecordEpisodeStatistics` subclass whose `step` computes the statistics itself gets gym 0.26's `__init__`/`reset` state back.",
     ),
 )
 

@@ -5,10 +5,13 @@ from __future__ import annotations
 
 import ast
 
+from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.module import FUNCTIONS
+from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext
 from gymmigrate.rules.wrapper_usage.tables import wrapper_rest
+from gymmigrate.rules.wrappers import episode_state
 from gymmigrate.rules.wrappers.common import GONE_WRAPPER_STATE, RULES
 from gymmigrate.rules.wrappers.reset import ResetOverrides
 from gymmigrate.rules.wrappers.step import StepOverrides
@@ -61,15 +64,47 @@ class WrapperClasses(StepOverrides, ResetOverrides):
                 and node.value.id == "self"
             }
         )
-        if read:
-            base = sorted(bases & set(GONE_WRAPPER_STATE))[0]
-            self.report(
-                classdef,
-                "GM618",
-                f"`{classdef.name}` reads `{'`, `'.join('self.' + name for name in read)}`, which gym's `{base}` set and "
-                f"Gymnasium 1.x's does not: the 1.x `{base}` is single-env (the vector one is "
-                f"`gymnasium.wrappers.vector.{base}`) and keeps its episode state differently; port this subclass by hand",
-            )
+        if not read:
+            return
+        base = sorted(bases & set(GONE_WRAPPER_STATE))[0]
+        reading = f"`{classdef.name}` reads `{'`, `'.join('self.' + name for name in read)}`, which gym's `{base}` set and Gymnasium 1.x's does not"
+        why = ""
+        if base == episode_state.BASE:
+            restoration, why = episode_state.plan_restoration(classdef, set(read))
+            if restoration is not None:
+                self._restore_episode_state(classdef, restoration, reading)
+                return
+        self.report(
+            classdef,
+            "GM618",
+            f"{reading}: the 1.x `{base}` is single-env (the vector one is "
+            f"`gymnasium.wrappers.vector.{base}`) and keeps its episode state differently"
+            + (f"; {why}" if why else "")
+            + "; port this subclass by hand",
+            FixKind.FLAG,
+        )
+
+    def _restore_episode_state(self, classdef: ast.ClassDef, restoration: episode_state.Restoration, reading: str) -> None:
+        """gym 0.26's ``__init__``/``reset`` state, back in a subclass that computes its own statistics."""
+        time_name = self.plan.ensure_import("time") if "t0" in restoration.init_names else ""
+        if restoration.init_names:
+            self.plan.insert_after(restoration.init_anchor, *episode_state.init_lines(restoration.init_names, time_name))
+        restored = [f"`self.{name}`" for name in (*restoration.init_names, *restoration.reset_names)]
+        if restoration.reset_names:
+            np_name = self.plan.ensure_import("numpy")
+            if restoration.reset_anchor is not None:
+                self.plan.insert_after(restoration.reset_anchor, *episode_state.reset_lines(restoration.reset_names, np_name))
+            else:
+                code = episode_state.reset_method(restoration.reset_names, np_name)
+                self.plan.insert_after(restoration.last, lambda: _after_a_blank_line(code))
+        self.report(
+            classdef,
+            "GM618",
+            f"{reading}; its `step` computes the statistics itself, so {', '.join(restored)} are set as gym 0.26's "
+            "`__init__`/`reset` set them (one env: Gymnasium 1.x's `RecordEpisodeStatistics` raises on a vector env, "
+            "whose wrapper is `gymnasium.wrappers.vector.RecordEpisodeStatistics`)",
+            FixKind.ASSIST,
+        )
 
     # -- GM603 ------------------------------------------------------------------------------
 
@@ -95,3 +130,7 @@ def _is_super_init(node: ast.AST) -> bool:
         first = node.args[0]
         return isinstance(first, ast.Name) and first.id == "self"
     return False
+
+
+def _after_a_blank_line(code: str) -> cst.BaseStatement:
+    return cst.parse_statement(code).with_changes(leading_lines=[cst.EmptyLine(indent=False)])
