@@ -20,6 +20,7 @@ import ast
 from collections.abc import Callable
 from functools import partial
 
+from gymmigrate.edits.arguments import remove_args
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import names as N
 from gymmigrate.facts.flow import Flow
@@ -347,10 +348,18 @@ class EnvClasses(PettingZooFamily):
         keyword that hands ``return_info`` on to a wrapped env); otherwise nothing changes.
         """
         branches: list[tuple[ast.If, bool]] = []  # (the if, keep its body rather than its else)
+        handed_on: list[ast.Call] = []
         for read in reads:
             test = self.facts.parent(read)
             if isinstance(test, ast.keyword) and test.arg == "return_info":
-                continue  # ``self.env.reset(..., return_info=return_info)``: parallel.py drops it
+                # ``self.env.reset(..., return_info=return_info)``: the keyword goes with the
+                # parameter (parallel.py drops it on a PettingZoo env; here on any other).
+                call = self.facts.parent(test)
+                if isinstance(call, ast.Call) and not (
+                    isinstance(call.func, ast.Attribute) and self.multi_agent.kind(call.func.value) is not None
+                ):
+                    handed_on.append(call)
+                continue
             negated = isinstance(test, ast.UnaryOp) and isinstance(test.op, ast.Not)
             if isinstance(test, ast.UnaryOp) and isinstance(test.op, ast.Not):
                 branch, test = self.facts.parent(test), test
@@ -362,6 +371,9 @@ class EnvClasses(PettingZooFamily):
             if kept and (not self._own_line(kept[0]) or (len(kept) == 1 and isinstance(kept[0], ast.If) and branch.orelse is kept)):
                 return False  # ``if x: return obs`` on one line, or an ``elif``: by hand
             branches.append((branch, not negated))
+        for call in handed_on:
+            self.changed()
+            self.plan.replace(call, lambda node: remove_args(node, lambda arg: arg.keyword is not None and arg.keyword.value == "return_info"))
         for branch, keep_body in branches:
             self._dropped.append(branch)
             self.changed()
