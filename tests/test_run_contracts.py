@@ -90,19 +90,25 @@ def test_render_mode_is_threaded_through_subclasses_in_other_modules(tmp_path: P
     assert 'def __init__(self, size=3, gui=False, kind="kin", render_mode=None):' in single
     assert "super().__init__(size=size, gui=gui, render_mode=render_mode)" in single
     assert "super().__init__(size=4, gui=gui, render_mode=render_mode)" in hover
+    # ``TeamArena(SingleArena, Scoring)``: two bases of the run, the first one's kind (as class_kind takes it).
+    assert "super().__init__(size=players + 1, render_mode=render_mode)" in (project / "gym_arenas" / "team.py").read_text()
     assert 'gym.make("HoverArena-v0", gui=False, render_mode="human")' in (project / "play.py").read_text()
     code = (
         "import play\nplay.show(2)\nfrom gym_arenas.hover import HoverArena\n"
-        "env = HoverArena(render_mode='human')\nenv.reset()\nenv.render()\nprint(HoverArena().render())"
+        "env = HoverArena(render_mode='human')\nenv.reset()\nenv.render()\nprint(HoverArena().render())\n"
+        "print(play.team())\nimport gymnasium\nteam = gymnasium.make('TeamArena-v0', render_mode='human')\nteam.reset()\nteam.render()"
     )
     lines = _run(project, code)
+    assert lines[-2:] == ["10", "arena 0 of 3"]
+    lines = lines[:-2]
     assert "arena 1 of 4" in lines and "arena 2 of 4" in lines  # render() draws in the registered subclass
     assert lines[-2:] == ["arena 0 of 4", "None"]  # and without a mode it draws nothing, as Gymnasium's
 
 
 def test_a_subclass_that_cannot_take_render_mode_is_reported_and_its_make_left(tmp_path: Path) -> None:
     """``super().__init__(**opts)`` cannot be given ``render_mode``: the subclass is reported,
-    and the make of its registered id gets no render_mode (it would raise TypeError)."""
+    and the make of its registered id (or of an id that is not a literal) gets no render_mode
+    (it would raise TypeError)."""
     project = tmp_path / "heirs"
     shutil.copytree(FIXTURES / "project_render_heirs", project)
     hover = project / "gym_arenas" / "hover.py"

@@ -508,7 +508,9 @@ def _thread_render_mode(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) 
         if base.startswith(OWN):
             return path, base[len(OWN) :]
         split = facts._split(base, path)
-        return None if split is None or "." in split[1] else _definer(facts, by_path, *split)
+        if split is None or "." in split[1] or facts.call_kinds.get(split) is not EnvKind.GYM_ENV:
+            return None  # only a base that makes the subclass an env class the rules decide
+        return _definer(facts, by_path, *split)
 
     changed = True
     while changed:

@@ -119,9 +119,14 @@ class _Summarizer:
             kind = EnvKind.GYM_ENV if name in env_classes else self.receivers.class_kind(binding)
             if kind is EnvKind.UNKNOWN:
                 # ``class Hunter(HuntEnv)`` with ``HuntEnv`` from another module of the run.
-                run_bases = [q for base in binding.bases for q in self.facts.qualified_names(base) if not _is_library(q)]
-                if len(run_bases) == 1:
-                    return REF + run_bases[0]
+                # With several such bases (``class Flock(BaseAviary, MultiAgentEnv)``), the
+                # first one's, as ``class_kind`` takes the first base that says anything.
+                for base in binding.bases:
+                    run_bases = [q for q in self.facts.qualified_names(base) if not _is_library(q)]
+                    if len(run_bases) == 1:
+                        return REF + run_bases[0]
+                    if run_bases:
+                        break
             return kind
         if isinstance(binding, FUNCTIONS):
             return self.receivers.returns_kind(binding)
