@@ -122,3 +122,21 @@ def test_a_subclass_that_cannot_take_render_mode_is_reported_and_its_make_left(t
     assert any(name == "play.py" and rule == "GM402" and "HoverArena, registered in this run" in message for name, rule, message in review), review
     lines = _run(project, "import play\nplay.show(1)\nprint('built')")
     assert lines == ["built"]  # the make builds; render() draws nothing until render_mode reaches it
+
+
+def test_an_inherited_self_attribute_is_decided_like_the_base_class_reads_it(tmp_path: Path) -> None:
+    """``AsyncCollector(Collector)`` reads ``self.env``, which ``Collector.__init__`` stores
+    (a ``BaseVectorEnv`` of the run: ``reset(id)`` returns stacked observations). Its reset
+    was unpacked into ``(obs, info)`` (splitting the batch) while the base's identical reset
+    was reported; both sites are now decided on the same values, reported and left."""
+    project, review = _migrated(tmp_path, "project_vector_receivers")
+    collector = (project / "rollouts" / "collector.py").read_text()
+    assert "obs = self.env.reset()" in collector and "obs_reset = self.env.reset(finished)" in collector
+    reports = sorted((Path(f["path"]).name, f["line"]) for f in review if f["rule"] == "GM201")
+    assert ("collector.py", 13) in reports and ("collector.py", 22) in reports, review
+    code = (
+        "import gymnasium as gym\nfrom rollouts.collector import AsyncCollector, Collector\n"
+        "print(Collector(gym.make('CartPole-v1')).reset_env().shape)\n"
+        "print(AsyncCollector(gym.make('CartPole-v1')).collect([0]).shape)"
+    )
+    assert _run(project, code) == ["(1, 4)", "(1, 4)"]
