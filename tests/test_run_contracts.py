@@ -140,3 +140,17 @@ def test_an_inherited_self_attribute_is_decided_like_the_base_class_reads_it(tmp
         "print(AsyncCollector(gym.make('CartPole-v1')).collect([0]).shape)"
     )
     assert _run(project, code) == ["(1, 4)", "(1, 4)"]
+
+
+def test_a_reset_mode_the_flag_never_reached_returns_the_pair_too() -> None:
+    """``Junction(single_agent=False)`` (the default) reset through a branch that tested no
+    ``return_info``: its callers, migrated to unpack ``(obs, info)``, unpacked the dict of
+    observations (ValueError with one agent, its keys with two). Both modes give the pair."""
+    path = FIXTURES / "rules" / "GM502" / "untested_mode_return.expected.py"
+    spec = importlib.util.spec_from_file_location("untested_mode_return", path)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    assert sorted(module.first_observations()) == ["a", "b"]
+    obs, info = module.Junction(single_agent=True).reset(seed=1)
+    assert obs.shape == (2,) and info == {}

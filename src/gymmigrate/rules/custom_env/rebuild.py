@@ -25,6 +25,7 @@ from gymmigrate.rules.custom_env.cst_edits import (
     _code,
     _DoneSplitter,
     _drop_return_info,
+    pair_untested_returns,
     _ensure_super_reset,
     _five,
     _insert_after_super_init,
@@ -169,6 +170,8 @@ class ClassRewrite:
         if not modern and not self.plan.reset_forwards_keywords:
             fn = _modern_reset_params(fn)
         if legacy_flag:
+            if self.plan.reset_pairs_untested:
+                fn = pair_untested_returns(fn)
             fn = _drop_return_info(fn)
         elif not modern and not self.plan.reset_returns_pairs:
             fn, base_info = _unpack_super_reset(fn)
