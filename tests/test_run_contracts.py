@@ -154,3 +154,22 @@ def test_a_reset_mode_the_flag_never_reached_returns_the_pair_too() -> None:
     assert sorted(module.first_observations()) == ["a", "b"]
     obs, info = module.Junction(single_agent=True).reset(seed=1)
     assert obs.shape == (2,) and info == {}
+
+
+def test_a_subclass_in_a_module_the_env_rules_skip_is_not_counted_as_taking_render_mode(tmp_path: Path) -> None:
+    """A module that never says "gym" is not decided by the env-class rules, so its
+    subclass's ``__init__`` is not given ``render_mode``: the run must not count it as
+    taking one, or a creation of it would get ``render_mode=`` (TypeError)."""
+    project = tmp_path / "heirs"
+    shutil.copytree(FIXTURES / "project_render_heirs", project)
+    (project / "plain").mkdir()
+    (project / "plain" / "__init__.py").write_text("from gym_arenas.base import BaseArena\n")
+    tiny = project / "plain" / "tiny.py"
+    tiny.write_text("from plain import BaseArena as Base\n\n\nclass TinyArena(Base):\n    def __init__(self):\n        super().__init__(size=1)\n")
+    play = project / "play.py"
+    play.write_text(play.read_text() + "\n\ndef tiny():\n    from plain.tiny import TinyArena\n    arena = TinyArena()\n    arena.reset()\n    arena.render()\n")
+    result = runner.invoke(app, ["rewrite", str(project)])
+    assert result.exit_code == 0, result.output
+    assert "render_mode" not in tiny.read_text()
+    assert "arena = TinyArena()\n" in play.read_text()
+    assert _run(project, "import play\nplay.tiny()\nprint('ran')") == ["ran"]
