@@ -227,3 +227,4 @@ def _is_builtin_env_class(qualified: str) -> bool:
     if rest is None or not rest.startswith("envs."):
         return False
     return rest.rsplit(".", 1)[-1][:1].isupper() and rest.endswith("Env")
+

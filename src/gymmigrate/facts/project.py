@@ -116,6 +116,16 @@ class ModuleSummary:
     # Class (with an imported base) -> its methods that take only ``self`` and return a
     # value -> why that value is True (a step limit, the task's end...), traced in the class.
     done_methods: dict[str, dict[str, DoneCause]] = field(default_factory=dict)
+    # -- contracts the run keeps (facts/receivers.py keeps_legacy_step) --
+    # Top-level env classes whose step keeps the four-field contract (a batch the rules do
+    # not migrate): the callers of their instances keep unpacking four values.
+    legacy_steps: frozenset[str] = frozenset()
+    # Top-level classes with a base of the run (``@Name`` for one of this module): (class,
+    # bases, whether its ``__init__`` hands ``render_mode`` on once a base takes it). The
+    # join threads ``render_mode`` down every chain of subclasses (custom_env/render.py).
+    render_mode_heirs: tuple[tuple[str, tuple[str, ...], bool], ...] = ()
+    # ``register(id, entry_point="pkg.mod:Class")``: (the id if a literal, the entry point).
+    registrations: tuple[tuple[str | None, str], ...] = ()
 
 
 @dataclass
@@ -174,6 +184,13 @@ class ProjectFacts:
     # class (or a re-export of one) that sets a space to an instance of a class of the run
     # that is not a ``gymnasium.spaces.Space``: Gymnasium 1.x's env checker rejects it.
     non_space_envs: dict[tuple[str, str], tuple[str, str, str]] = field(default_factory=dict)
+    # (path, top-level name) of a class (or a re-export of one) whose step keeps the legacy
+    # four-field contract after the run.
+    legacy_steps: frozenset[tuple[str, str]] = frozenset()
+    # Ids the run registers for an env class of the run whose constructor will not take
+    # ``render_mode`` (its ``__init__`` cannot hand it on): id (None: not a literal) -> class.
+    # ``gymnasium.make(id, render_mode=...)`` of one would raise TypeError.
+    no_render_mode_ids: dict[str | None, str] = field(default_factory=dict)
 
     @classmethod
     def join(cls, summaries: list[ModuleSummary], blocked: dict[str, str] | None = None) -> ProjectFacts:
@@ -243,9 +260,11 @@ class ProjectFacts:
                 facts.importers.setdefault(provider, set()).add(summary.path)
         for path in facts.render_called:  # their classes keep render(mode): no render_mode to pass
             facts.render_mode_classes[path] = frozenset()
+        _thread_render_mode(facts, by_path)
         facts._join_overrides(summaries)
         _NonSpaces(facts, by_path).run()
         _reexport_wrappers(facts, by_path)
+        facts.legacy_steps = _legacy_steps(facts, by_path)
         return facts
 
     def _join_overrides(self, summaries: list[ModuleSummary]) -> None:
@@ -563,6 +582,94 @@ def _reexport_wrappers(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -
                 export = by_path[where[0]].exports.get(where[1])
     for path, names in added.items():
         facts.wrapper_classes[path] = facts.wrapper_classes.get(path, frozenset()) | names
+def _definer(facts: ProjectFacts, by_path: dict[str, ModuleSummary], path: str, name: str) -> tuple[str, str] | None:
+    """The module and name of the class ``name`` of module ``path`` is, re-exports followed."""
+    for _ in range(_MAX_CHAIN):
+        summary = by_path.get(path)
+        if summary is None:
+            return None
+        if name in summary.env_classes or any(heir[0] == name for heir in summary.render_mode_heirs):
+            return path, name
+        kind = summary.exports.get(name)
+        if not _is_ref(kind):
+            return (path, name) if kind is not None else None
+        split = facts._split(str(kind)[len(REF) :], path)
+        if split is None or "." in split[1]:
+            return None
+        path, name = split
+    return None
+
+
+def _thread_render_mode(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> None:
+    """A subclass (in any module of the run) of a class whose constructor takes
+    ``render_mode`` takes it too when its ``__init__`` can hand it on: custom_env/render.py
+    adds the parameter and passes it to the base's ``__init__``. Without that, render() of
+    every such subclass is a silent no-op and ``gymnasium.make(id, render_mode=...)`` of a
+    registered one a TypeError. Every name re-exporting such a class counts too."""
+    takes = {(path, name) for path, names in facts.render_mode_classes.items() for name in names}
+
+    def resolve(base: str, path: str) -> tuple[str, str] | None:
+        if base.startswith(OWN):
+            return path, base[len(OWN) :]
+        split = facts._split(base, path)
+        if split is None or "." in split[1] or facts.call_kinds.get(split) is not EnvKind.GYM_ENV:
+            return None  # only a base that makes the subclass an env class the rules decide
+        return _definer(facts, by_path, *split)
+
+    changed = True
+    while changed:
+        changed = False
+        for path, summary in by_path.items():
+            if path in facts.blocked or path in facts.render_called:
+                continue
+            for name, bases, passes_on in summary.render_mode_heirs:
+                if passes_on and (path, name) not in takes and any(resolve(b, path) in takes for b in bases):
+                    takes.add((path, name))
+                    changed = True
+    for path, summary in by_path.items():
+        for name in summary.exports:
+            if (path, name) not in takes and _definer(facts, by_path, path, name) in takes:
+                takes.add((path, name))
+    for summary in by_path.values():
+        for env_id, entry in summary.registrations:
+            module, _, name = entry.partition(":")
+            where = facts.modules.get(module)
+            definer = _definer(facts, by_path, where, name) if where else None
+            if definer is None or definer in takes:
+                continue
+            defined = by_path[definer[0]]
+            if definer[1] in defined.env_classes or any(h[0] == definer[1] for h in defined.render_mode_heirs):
+                facts.no_render_mode_ids.setdefault(env_id, definer[1])
+    found: dict[str, set[str]] = defaultdict(set)
+    for path, name in takes:
+        found[path].add(name)
+    facts.render_mode_classes = {path: frozenset(found.get(path, ())) for path in set(facts.render_mode_classes) | set(found)}
+
+
+def _legacy_steps(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> frozenset[tuple[str, str]]:
+    """Every (path, name) of the run that calls a class whose step keeps the legacy
+    contract: the class itself, its re-exports and subclasses that define no step."""
+    found = set()
+    for path, summary in by_path.items():
+        if path in facts.blocked:
+            continue
+        for name in summary.exports:
+            where: tuple[str, str] | None = (path, name)
+            for _ in range(_MAX_CHAIN):
+                if where is None or where[0] in facts.blocked:
+                    break
+                here = by_path.get(where[0])
+                if here is None:
+                    break
+                if where[1] in here.legacy_steps:
+                    found.add((path, name))
+                    break
+                kind = here.exports.get(where[1])
+                if f"{where[1]}.step" in here.defs or not _is_ref(kind):
+                    break  # its own step, or not a name of the run to follow
+                split = facts._split(str(kind)[len(REF) :], where[0])
+                where = split if split is not None and "." not in split[1] else None
+    return frozenset(found)
 
 
 class _Join:
@@ -760,6 +867,25 @@ class ProjectView:
                 found.append(DoneCause(cause.cause, tuple(Limit(limit.line, limit.text, where, limit.by_counter) for limit in cause.limits)))
             todo += self.facts.subclasses_of.get(sub, ())
         return found
+    def registered_without_render_mode(self, env_id: str | None) -> str | None:
+        """The class of the run that ``gymnasium.make(env_id)`` builds (any registered one
+        when ``env_id`` is None: not a literal) if its constructor takes no ``render_mode``."""
+        ids = self.facts.no_render_mode_ids
+        if env_id is not None:
+            return ids.get(env_id)
+        return next(iter(sorted(ids.values())), None)
+
+    def takes_render_mode(self, qualified: str) -> bool:
+        """An imported class of the run whose constructor takes ``render_mode`` once migrated
+        (its own, or threaded down from a base: ``_thread_render_mode``)."""
+        split = self.facts._split(qualified, self.path)
+        return split is not None and split[1] in self.facts.render_mode_classes.get(split[0], ())
+
+    def keeps_legacy_step(self, qualified: str) -> bool:
+        """An imported name of the run makes instances whose step keeps the four-field
+        contract (the run does not migrate that step): their callers keep it too."""
+        split = self.facts._split(qualified, self.path)
+        return split is not None and split in self.facts.legacy_steps
 
     def is_spec_list(self, qualified: str) -> bool:
         """An imported name of the run is bound to a list of the registry's EnvSpecs."""

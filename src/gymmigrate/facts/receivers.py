@@ -563,6 +563,60 @@ class Receivers:
                     return found
         return EnvKind.UNKNOWN
 
+    def legacy_step_class(self, expr: ast.AST) -> str | None:
+        """The class of the run whose instance ``expr`` certainly holds, when that class's
+        step keeps the four-field contract (``keeps_legacy_step``; another module's through
+        ``ProjectView.keeps_legacy_step``): every value that reaches ``expr`` is made by it."""
+        return self.facts.memo(("legacy-step-class", id(expr)), lambda: self._legacy_step_class(expr), while_computing=None)
+
+    def _legacy_step_class(self, expr: ast.AST) -> str | None:
+        values: list[ast.expr]
+        if isinstance(expr, ast.Call):
+            values = [expr]
+        elif isinstance(expr, ast.Name):
+            last = self._dominating_binding(expr)
+            bindings = [last] if last is not None else self.facts.bindings_of(expr)
+            values = []
+            for binding in bindings:
+                parent = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
+                if not (isinstance(parent, (ast.Assign, ast.AnnAssign)) and parent.value is not None):
+                    return None
+                values.append(parent.value)
+        elif isinstance(expr, ast.Attribute) and isinstance(expr.value, ast.Name) and self.is_self(expr.value):
+            values = self.self_attribute_values(expr, expr.attr)
+        else:
+            return None
+        found = {self._legacy_step_maker(value) for value in values}
+        return found.pop() if len(found) == 1 and values else None
+
+    def _legacy_step_maker(self, value: ast.expr) -> str | None:
+        if not isinstance(value, ast.Call):
+            return None
+        local = self.local_class(value.func)
+        if local is not None:
+            return local.name if self.class_keeps_legacy_step(local) else None
+        if self.project is not None:
+            for qualified in self.qualified_names(value.func):
+                if self.project.keeps_legacy_step(qualified):
+                    return qualified.rsplit(".", 1)[-1]
+        return None
+
+    def class_keeps_legacy_step(self, classdef: ast.ClassDef, seen: frozenset[int] = frozenset()) -> bool:
+        """The step ``classdef``'s instances run keeps its legacy contract: its own, or the
+        one a base of this module (or of the run) defines when it defines none."""
+        if id(classdef) in seen or self.class_kind(classdef) is not EnvKind.GYM_ENV:
+            return False
+        seen = seen | {id(classdef)}
+        if any(isinstance(s, FUNCTIONS) and s.name == "step" for s in classdef.body):
+            return keeps_legacy_step(classdef)
+        for base in classdef.bases:
+            local = self.local_class(base)
+            if local is not None:
+                return self.class_keeps_legacy_step(local, seen)
+            if self.project is not None and any(self.project.keeps_legacy_step(q) for q in self.qualified_names(base)):
+                return True
+        return False
+
     def run_defined(self, expr: ast.AST) -> bool:
         """``expr`` holds (or may hold) an object the run itself makes: an instance of a class
         or the return of a def of this file, or a name imported from a module of the run. The
@@ -891,6 +945,26 @@ def _keeps_bare_reset(classdef: ast.ClassDef) -> bool:
                     continue
                 return True
     return False
+
+
+def keeps_legacy_step(classdef: ast.ClassDef) -> bool:
+    """The class's own ``step`` returns what no rule migrates: every value it returns is a
+    name, a container built in the method, or a call of a plain function (``return
+    results`` with ``results = zip(*per_env)``: a batch; GM504 reports it, changes
+    nothing). Its step keeps the four-field contract after the run, so the callers whose
+    receiver is an instance of it keep unpacking four values: the run is the unit."""
+    step = next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == "step"), None)
+    if step is None:
+        return False
+    values = [r.value for r in own_returns(step) if r.value is not None]
+    if not values:
+        return False
+    for value in values:
+        if isinstance(value, ast.Call) and isinstance(value.func, ast.Name) and value.func.id != "super":
+            continue  # ``zip(*results)``, ``tuple(batch)``
+        if not isinstance(value, (ast.Name, ast.ListComp, ast.GeneratorExp, ast.List)):
+            return False  # a tuple literal the rules migrate, a helper's or an inner env's result
+    return True
 
 
 def _is_object(base: ast.AST) -> bool:

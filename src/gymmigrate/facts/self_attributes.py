@@ -73,15 +73,24 @@ class SelfAttributes:
         stores none, in the nearest base class of this module that does (``self.env`` of an
         ``AsyncCollector(Collector)`` is what ``Collector.__init__`` stored)."""
         classdef = self.facts.enclosing_class(attr)
-        seen: set[int] = set()
-        while classdef is not None and id(classdef) not in seen:
-            seen.add(id(classdef))
-            values = self.self_stores(classdef).get(name)
-            if values:
-                return values
-            bases = [b for b in (self.receivers.local_class(base) for base in classdef.bases) if b is not None]
-            classdef = bases[0] if len(bases) == 1 and len(classdef.bases) == 1 else None
-        return []
+        if classdef is None:
+            return []
+        return self._stored_in_hierarchy(classdef, name, set())
+
+    def _stored_in_hierarchy(self, classdef: ast.ClassDef, name: str, seen: set[int]) -> list[ast.expr]:
+        """Stores of the class; if it has none, those of its bases of this module (the
+        attribute an inherited ``__init__`` sets: ``AsyncCollector(Collector)`` reads
+        ``self.env`` that ``Collector.__init__`` stores), so both read the same object."""
+        seen.add(id(classdef))
+        values = self.self_stores(classdef).get(name, [])
+        if values:
+            return values
+        found: list[ast.expr] = []
+        for base in classdef.bases:
+            local = self.receivers.local_class(base)
+            if local is not None and id(local) not in seen:
+                found.extend(self._stored_in_hierarchy(local, name, seen))
+        return found
 
     def self_stores(self, classdef: ast.ClassDef) -> dict[str, list[ast.expr]]:
         """Values stored to ``self.x`` anywhere in a class (not nested classes), by name.

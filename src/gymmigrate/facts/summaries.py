@@ -19,7 +19,13 @@ from gymmigrate.facts.env_classes import EnvClasses
 from gymmigrate.facts.env_specs import module_spec_lists
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.limits import Cause, DoneCause, DoneTracer
-from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
+from gymmigrate.facts.module import (
+    FUNCTIONS,
+    ModuleFacts,
+    call_argument,
+    own_returns,
+    string_value,
+)
 from gymmigrate.facts.profile import FileProfile
 from gymmigrate.facts.project import (
     GUARD_KINDS,
@@ -95,6 +101,11 @@ class _Summarizer:
             made_factories=made_factories(self.facts),
             classes=frozenset(self.facts.classes),
             done_methods=_done_methods(self.facts),
+            render_mode_heirs=_render_mode_heirs(self.facts, self.receivers),
+            registrations=_registrations(self.facts),
+            legacy_steps=frozenset(
+                name for name, classdef in self.facts.classes.items() if name in env_classes and self.receivers.class_keeps_legacy_step(classdef)
+            ),
         )
 
     def _space_calls(self) -> dict[str, tuple[tuple[str, str], ...]]:
@@ -120,9 +131,14 @@ class _Summarizer:
             kind = EnvKind.GYM_ENV if name in env_classes else self.receivers.class_kind(binding)
             if kind is EnvKind.UNKNOWN:
                 # ``class Hunter(HuntEnv)`` with ``HuntEnv`` from another module of the run.
-                run_bases = [q for base in binding.bases for q in self.facts.qualified_names(base) if not _is_library(q)]
-                if len(run_bases) == 1:
-                    return REF + run_bases[0]
+                # With several such bases (``class Flock(BaseAviary, MultiAgentEnv)``), the
+                # first one's, as ``class_kind`` takes the first base that says anything.
+                for base in binding.bases:
+                    run_bases = [q for q in self.facts.qualified_names(base) if not _is_library(q)]
+                    if len(run_bases) == 1:
+                        return REF + run_bases[0]
+                    if run_bases:
+                        break
             return kind
         if isinstance(binding, FUNCTIONS):
             return self.receivers.returns_kind(binding)
@@ -435,6 +451,47 @@ def plain_classes(facts: ModuleFacts) -> dict[str, str]:
         else:
             found[name] = ", ".join(bases) or "object"
     return found
+
+
+def _registrations(facts: ModuleFacts) -> tuple[tuple[str | None, str], ...]:
+    """``register(id=..., entry_point="pkg.mod:Class")`` calls: (the id if a literal, the entry point)."""
+    found = []
+    for call in (*facts.calls_by_name.get("register", ()), *facts.attribute_calls.get("register", ())):
+        entry = call_argument(call, 1, "entry_point")
+        text = string_value(entry) if entry is not None else None
+        if text is None or ":" not in text:
+            continue
+        env_id = call_argument(call, 0, "id")
+        found.append((string_value(env_id) if env_id is not None else None, text))
+    return tuple(found)
+
+
+def _render_mode_heirs(facts: ModuleFacts, receivers: Receivers) -> tuple[tuple[str, tuple[str, ...], bool], ...]:
+    """Top-level classes with a base of the run (imported, or ``@Name`` of this module):
+    (name, bases, whether its constructor hands ``render_mode`` on once its base takes it:
+    no ``__init__`` of its own, ``**kwargs``, or one ``__init__`` call of a base that
+    custom_env/render.py gives ``render_mode=render_mode``)."""
+    found = []
+    for name, classdef in facts.classes.items():
+        bases = []
+        for base in classdef.bases:
+            local = receivers.local_class(base)
+            if local is not None and local is not classdef:
+                bases.append(OWN + local.name)
+            else:
+                bases.extend(q for q in facts.qualified_names(base) if not _is_library(q))
+        if not bases:
+            continue
+        init = next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == "__init__"), None)
+        if "gym" not in facts.text:
+            passes_on = False  # the env-class rules never run here (EnvClassFamily.may_fire)
+        elif init is None or init.args.kwarg is not None:
+            passes_on = True
+        else:
+            calls = [n for n in ast.walk(init) if isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute) and n.func.attr == "__init__"]
+            passes_on = len(calls) == 1 and all(k.arg is not None for k in calls[0].keywords)
+        found.append((name, tuple(sorted(bases)), passes_on))
+    return tuple(found)
 
 
 def _subclasses(facts: ModuleFacts) -> tuple[tuple[str, tuple[str, ...], tuple[str, ...]], ...]:

@@ -407,7 +407,7 @@ class Rendering(RuleFamily):
             if unready is not None:
                 final_mode[key] = None
                 blocked[key] = (
-                    f"the id may name {unready}, registered in this file, whose __init__ takes no render_mode "
+                    f"the id may name {unready}, registered in this run, whose __init__ takes no render_mode "
                     "(make would raise TypeError): give it a render_mode parameter first"
                 )
                 continue
@@ -463,6 +463,13 @@ class Rendering(RuleFamily):
         """A make whose id is not a literal, in a file that registers one of its own classes
         that will not take ``render_mode``: that class may be what the make builds."""
         first = make.args[0] if make.args else None
+        project = self.receivers.project
+        if project is not None and first is not None:
+            # A class another module of the run registers (``pkg/__init__.py``), render_mode
+            # not threaded down to it (custom_env/render.py reports why).
+            found = project.registered_without_render_mode(string_value(first) if isinstance(first, ast.Constant) else None)
+            if found is not None:
+                return found
         if first is None or isinstance(first, ast.Constant):
             return None
         env = EnvClasses.of(self.facts, self.receivers)

@@ -174,6 +174,59 @@ def _drop_return_info(fn: cst.FunctionDef) -> cst.FunctionDef:
     return fn.with_changes(body=fn.body.visit(_ReturnInfoRemover()))
 
 
+def pair_untested_returns(fn: cst.FunctionDef) -> cst.FunctionDef:
+    """``return obs`` -> ``return obs, {}`` for the returns ``reset.untested_returns`` lists
+    (run on the legacy body, before the return_info branches are resolved)."""
+    return fn.with_changes(body=fn.body.visit(_UntestedReturnPairer()))
+
+
+def _tests_flag(test: cst.BaseExpression) -> bool:
+    if m.matches(test, m.UnaryOperation(operator=m.Not())):
+        test = test.expression  # type: ignore[attr-defined]
+    return m.matches(test, m.Name("return_info"))
+
+
+class _UntestedReturnPairer(cst.CSTTransformer):
+    def __init__(self) -> None:
+        super().__init__()
+        self.after_flag_test: set[int] = set()  # statements after an ``if return_info`` in their block
+
+    def on_visit(self, node: cst.CSTNode) -> bool:
+        if id(node) in self.after_flag_test:
+            return False
+        return super().on_visit(node)
+
+    def visit_IndentedBlock(self, node: cst.IndentedBlock) -> bool:
+        for index, statement in enumerate(node.body):
+            if isinstance(statement, cst.If) and _tests_flag(statement.test):
+                self.after_flag_test.update(id(s) for s in node.body[index:])
+                break
+        return True
+
+    def visit_FunctionDef(self, node: cst.FunctionDef) -> bool:
+        return False
+
+    def visit_ClassDef(self, node: cst.ClassDef) -> bool:
+        return False
+
+    def visit_Lambda(self, node: cst.Lambda) -> bool:
+        return False
+
+    def visit_Match(self, node: cst.Match) -> bool:
+        return False
+
+    def visit_If(self, node: cst.If) -> bool:
+        return not _tests_flag(node.test)
+
+    def leave_Return(self, original_node: cst.Return, updated_node: cst.Return) -> cst.Return:
+        value = updated_node.value
+        if value is None or isinstance(value, (cst.Tuple, cst.IfExp)) or m.matches(value, m.Name("None")):
+            return updated_node
+        if m.matches(value, m.Call(func=m.Attribute(attr=m.Name("reset") | m.Name("_reset")))):
+            return updated_node
+        return updated_node.with_changes(value=cst.Tuple([cst.Element(value), cst.Element(cst.Dict([]))], lpar=[], rpar=[]))
+
+
 def _tuple_len(value: cst.BaseExpression | None) -> int | None:
     if isinstance(value, cst.Tuple) and not any(isinstance(el, cst.StarredElement) for el in value.elements):
         return len(value.elements)

@@ -32,6 +32,9 @@ class ClassPlan:
     renamed: dict[str, str] = field(default_factory=dict)  # new name -> gym < 0.9 name
     dropped: set[str] = field(default_factory=set)  # public methods that only forwarded to a renamed one
     seed: SeedPlan | None = None
+    # returns of a reset with ``return_info`` that no ``return_info`` test guards (the
+    # other mode of a two-mode env): they return ``(obs, {})`` like the kept branches
+    reset_pairs_untested: bool = False
     reset_forwards_keywords: bool = False  # reset(**kwargs) passes seed/options to super().reset(**kwargs)
     reset_super_seeds: bool = True  # super().reset(seed=seed) may be called (else only reported)
     render: bool = False

@@ -44,6 +44,7 @@ from gymmigrate.rules.custom_env.cst_edits import (
     _split_done,
     _tuple_len,
     is_super_method_call,
+    pair_untested_returns,
     visit_suite,
 )
 from gymmigrate.rules.custom_env.cst_queries import (
@@ -169,6 +170,8 @@ class ClassRewrite:
         if not modern and not self.plan.reset_forwards_keywords:
             fn = _modern_reset_params(fn)
         if legacy_flag:
+            if self.plan.reset_pairs_untested:
+                fn = pair_untested_returns(fn)
             fn = _drop_return_info(fn)
         elif not modern and not self.plan.reset_returns_pairs:
             fn, base_info = _unpack_super_reset(fn)

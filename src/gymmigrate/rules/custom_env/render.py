@@ -215,8 +215,11 @@ def decide_subclass_render_mode(decision: ClassDecision) -> None:
 
 def _ancestor_takes_render_mode(decision: ClassDecision, classdef: ast.ClassDef, seen: set[int]) -> bool:
     receivers = decision.family.receivers
+    project = receivers.project
     for base_expr in classdef.bases:
         base = receivers.local_class(base_expr)
+        if base is None and project is not None and any(project.takes_render_mode(q) for q in receivers.qualified_names(base_expr)):
+            return True  # a class of another module of the run (or its subclass) takes it
         if base is None or id(base) in seen:
             continue
         seen.add(id(base))

@@ -39,6 +39,15 @@ def decide_reset(decision: ClassDecision) -> None:
     decision.plan.reset_forwards_keywords = forwards
     if legacy_flag:
         decision.report(function, "GM502", "return_info removed: reset() always returns (obs, info) now; check callers that expected a bare observation")
+        for ret in untested_returns(function):
+            decision.plan.reset_pairs_untested = True
+            decision.report(
+                ret,
+                "GM502",
+                "this return tests no return_info (another mode of the env): it returns (obs, {}) now like the others, "
+                "so every caller of reset(), migrated to unpack (obs, info), gets the pair in either mode",
+                FixKind.ASSIST,
+            )
     elif not modern and _returns_pairs(function):
         # gym 0.26: ``def reset(self, seed=None): ... return obs, {}``: already the pair.
         decision.plan.reset_returns_pairs = True
@@ -80,6 +89,43 @@ def decide_reset(decision: ClassDecision) -> None:
         elif not legacy_flag:
             seeds = ", and calls super().reset(seed=seed) first to seed np_random" if inserted else ""
             decision.report(function, "GM501", f"reset takes seed and options (wrappers always pass them){seeds}")
+
+
+def untested_returns(function: ast.AST) -> list[ast.Return]:
+    """Returns of a legacy ``reset(..., return_info=False)`` outside every ``if return_info``
+    / ``if not return_info`` (and ``... if return_info else ...``) that give one value: the
+    legacy reset returned it bare even when asked for the info (a mode the flag never
+    reached). ``cst_edits.pair_untested_returns`` pairs the same returns."""
+    found: list[ast.Return] = []
+
+    def visit(statements: list[ast.stmt]) -> None:
+        for statement in statements:
+            if isinstance(statement, ast.If) and _tests_return_info(statement.test):
+                break  # what follows in this block is one of the flag's two paths
+            if isinstance(statement, ast.Return):
+                value = statement.value
+                if value is None or isinstance(value, (ast.Tuple, ast.IfExp)) or (isinstance(value, ast.Constant) and value.value is None):
+                    continue
+                if isinstance(value, ast.Call) and isinstance(value.func, ast.Attribute) and value.func.attr in ("reset", "_reset"):
+                    continue  # a base's or a held env's reset: the pair comes from there
+                found.append(statement)
+            elif isinstance(statement, _BLOCKS):
+                for field in ("body", "orelse", "finalbody"):
+                    visit(getattr(statement, field, []))
+                for handler in getattr(statement, "handlers", []):
+                    visit(handler.body)
+
+    visit(function.body)  # type: ignore[attr-defined]
+    return found
+
+
+_BLOCKS = (ast.If, ast.For, ast.AsyncFor, ast.While, ast.With, ast.AsyncWith, ast.Try)
+
+
+def _tests_return_info(test: ast.expr) -> bool:
+    if isinstance(test, ast.UnaryOp) and isinstance(test.op, ast.Not):
+        test = test.operand
+    return isinstance(test, ast.Name) and test.id == "return_info"
 
 
 def _forwards_keywords(function: ast.AST) -> bool:

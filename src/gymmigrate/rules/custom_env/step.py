@@ -24,6 +24,7 @@ from gymmigrate.facts.limits import (
     unwrap_bool,
 )
 from gymmigrate.facts.module import own_returns
+from gymmigrate.facts.receivers import keeps_legacy_step
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import (
     ClassDecision,
@@ -103,7 +104,13 @@ def _decide_returns(decision: ClassDecision, function: Method, helpers: set[int]
             )
             continue
         if tuple_len(ret.value) != 4:
-            decision.report(ret, "GM504", "step returns something other than a 4-tuple literal; return (obs, reward, terminated, truncated, info) by hand", FixKind.FLAG)
+            kept = (
+                ": the step keeps its four fields, and so do the calls of it this run can trace (their unpacks are left "
+                "as they are); migrate the step and its callers together"
+                if keeps_legacy_step(decision.classdef)
+                else "; return (obs, reward, terminated, truncated, info) by hand"
+            )
+            decision.report(ret, "GM504", f"step returns something other than a 4-tuple literal{kept}", FixKind.FLAG)
             continue
         decision.plan.step = True
         done = ret.value.elts[2]  # type: ignore[attr-defined]

@@ -20,6 +20,7 @@ import ast
 from collections.abc import Callable
 from functools import partial
 
+from gymmigrate.edits.arguments import remove_args
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import names as N
 from gymmigrate.facts.flow import Flow
@@ -85,6 +86,8 @@ class EnvClasses(PettingZooFamily):
                 self._plan_reset(methods["reset"], kind, "seed" in methods)
             if kind is EnvKind.PZ_PARALLEL and "step" in methods:
                 self._plan_parallel_step(classdef, methods["step"])
+            if kind is EnvKind.PZ_AEC:
+                self._report_gym_protocol(methods)
             if "render" in methods:
                 self._plan_render(classdef, methods)
             if "__init__" in methods:
@@ -92,6 +95,28 @@ class EnvClasses(PettingZooFamily):
             if "last" in methods:
                 self.report(methods["last"], "PZ108", "`last()` returns `observation, reward, termination, truncation, "
                             "info` since PettingZoo 1.21: check this override", FixKind.FLAG)
+
+    def _report_gym_protocol(self, methods: dict[str, ast.FunctionDef | ast.AsyncFunctionDef]) -> None:
+        """An AEC env class whose ``reset`` returns an observation and whose ``step`` returns
+        four values: a Gym env's protocol on a PettingZoo base (a framework's adapter, stepped
+        by Gym-style workers). The run migrates Gym-style callers to ``(obs, info)`` and five
+        values; nothing here changes, so both sides are named for review."""
+        reset, step = methods.get("reset"), methods.get("step")
+        if reset is None or step is None:
+            return
+        bare = [r for r in own_returns(reset) if r.value is not None and not (isinstance(r.value, ast.Constant) and r.value.value is None)]
+        four = [r for r in own_returns(step) if isinstance(r.value, ast.Tuple) and len(r.value.elts) == 4]
+        if not bare or not four:
+            return
+        callers = (
+            "code of the run that steps it as a Gym env (a worker's `obs, info = env.reset()`, five-value `step`) "
+            "is migrated to Gymnasium's protocol and no longer matches it"
+        )
+        self.report(reset, "PZ108", f"an AEC env's reset() returns None, this one returns an observation as a Gym env's "
+                    f"did: {callers}; return `(obs, {{}})` here, or keep those callers as they were", FixKind.FLAG)
+        self.report(four[0], "PZ108", f"step returns four values as a Gym env's did (PettingZoo's AEC step returns "
+                    f"None): {callers}; return `obs, rewards, termination, truncation, info`, or keep those callers",
+                    FixKind.FLAG)
 
     def _plan_wrapper_rng(self) -> None:
         """``self.np_random`` in a ``BaseParallelWrapper`` subclass: PettingZoo 1.21's parallel
@@ -347,10 +372,18 @@ class EnvClasses(PettingZooFamily):
         keyword that hands ``return_info`` on to a wrapped env); otherwise nothing changes.
         """
         branches: list[tuple[ast.If, bool]] = []  # (the if, keep its body rather than its else)
+        handed_on: list[ast.Call] = []
         for read in reads:
             test = self.facts.parent(read)
             if isinstance(test, ast.keyword) and test.arg == "return_info":
-                continue  # ``self.env.reset(..., return_info=return_info)``: parallel.py drops it
+                # ``self.env.reset(..., return_info=return_info)``: the keyword goes with the
+                # parameter (parallel.py drops it on a PettingZoo env; here on any other).
+                call = self.facts.parent(test)
+                if isinstance(call, ast.Call) and not (
+                    isinstance(call.func, ast.Attribute) and self.multi_agent.kind(call.func.value) is not None
+                ):
+                    handed_on.append(call)
+                continue
             negated = isinstance(test, ast.UnaryOp) and isinstance(test.op, ast.Not)
             if isinstance(test, ast.UnaryOp) and isinstance(test.op, ast.Not):
                 branch, test = self.facts.parent(test), test
@@ -362,6 +395,9 @@ class EnvClasses(PettingZooFamily):
             if kept and (not self._own_line(kept[0]) or (len(kept) == 1 and isinstance(kept[0], ast.If) and branch.orelse is kept)):
                 return False  # ``if x: return obs`` on one line, or an ``elif``: by hand
             branches.append((branch, not negated))
+        for call in handed_on:
+            self.changed()
+            self.plan.replace(call, lambda node: remove_args(node, lambda arg: arg.keyword is not None and arg.keyword.value == "return_info"))
         for branch, keep_body in branches:
             self._dropped.append(branch)
             self.changed()

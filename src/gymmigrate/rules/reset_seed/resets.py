@@ -23,6 +23,7 @@ import ast
 from enum import Enum
 
 from gymmigrate.facts.decisions import Action, Decision, receiver_text
+from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.reset_flow import scope_of_expression
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.reset_seed.call_edits import unpack_builder
@@ -143,6 +144,11 @@ class ResetCalls(ResetSeedBase):
             # reset(seed=/options=) returned obs in gym 0.22-0.25 and the pair from 0.26 on.
             return Shape.EITHER if "seed" in keywords or "options" in keywords else Shape.OBS
         flag = return_info.value.value if isinstance(return_info.value, ast.Constant) else None
+        if use in (Use.STATEMENT, Use.PASSTHROUGH) and self._hands_on_own_flag(call, return_info.value):
+            # ``self.env.reset(seed=seed, return_info=return_info)`` in an env's ``reset``
+            # whose own ``return_info`` the class rules remove (GM502, PZ105): they drop the
+            # keyword with the parameter, and the pair this reset returns is what is kept.
+            return Shape.PAIR
         if not isinstance(flag, bool):
             self.report(
                 call,
@@ -173,6 +179,21 @@ class ResetCalls(ResetSeedBase):
             question=self.receiver_question(call.func.value, decision),  # type: ignore[attr-defined]
         )
         return Shape.PAIR if flag else Shape.OBS
+
+    def _hands_on_own_flag(self, call: ast.Call, value: ast.AST) -> bool:
+        """``return_info=return_info`` passing the enclosing method's own parameter, in the
+        ``reset`` of a Gym or PettingZoo env class."""
+        function = self.facts.enclosing_function(call)
+        return (
+            isinstance(value, ast.Name)
+            and value.id == "return_info"
+            and function is not None
+            and function.name == "reset"
+            and (classdef := self.facts.enclosing_class(function)) is not None
+            and self.receivers.class_kind(classdef) in (EnvKind.GYM_ENV, EnvKind.PZ_AEC, EnvKind.PZ_PARALLEL)
+            and any(a.arg == "return_info" for a in (*function.args.args, *function.args.kwonlyargs))
+            and [b for b in self.facts.bindings_of(value)] == [a for a in (*function.args.args, *function.args.kwonlyargs) if a.arg == "return_info"]
+        )
 
     def _reshape(
         self,

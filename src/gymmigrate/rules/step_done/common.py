@@ -11,7 +11,7 @@ from __future__ import annotations
 import ast
 from dataclasses import dataclass
 
-from gymmigrate.facts.decisions import Decision, decide, receiver_text
+from gymmigrate.facts.decisions import Action, Decision, decide, receiver_text
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.findings import FixKind
@@ -105,6 +105,11 @@ class StepFamilyBase(RuleFamily):
         """What to do with ``receiver.step``, and whether it is a vector env."""
         kind = self.receivers.super_kind(receiver) or self.receivers.kind_of(receiver)
         profile = self.context.profile
+        kept = self.receivers.legacy_step_class(receiver)
+        if kept is not None:
+            # The run leaves that class's step as it was (GM504 reports it there): its
+            # callers keep the same four fields, or they would no longer match.
+            return Decision(Action.LEAVE, f"`{receiver_text(receiver)}` is a {kept}, whose step keeps four fields"), False
         if kind is EnvKind.GYM_VEC:
             return decide(kind, receiver, profile, legacy_shape=legacy_shape, expected=EnvKind.GYM_VEC, origins=self.receivers), True
         return decide(kind, receiver, profile, legacy_shape=legacy_shape, origins=self.receivers), False

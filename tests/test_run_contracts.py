@@ -1,0 +1,175 @@
+"""A contract the run changes takes its callers with it; one it keeps, they keep (issue #19/#21).
+
+``fixtures/project_kept_step/``: ``BatchEnv(gym.Env)`` steps a list of envs and returns
+their results grouped by field (``zip(*per_env)``), a batch no rule migrates (GM504 reports
+it); its reset is migrated to ``(obs, {})``. Callers in two other modules used to be
+rewritten to five fields (ValueError, and ``terminated or truncated`` on tuples); now the
+step unpacks stay as they are, the reset unpacks follow the migrated reset.
+
+``fixtures/rules/PZ105/hands_on_own_flag.py``: a PettingZoo env's ``reset`` lost
+``return_info`` but still handed it on to the Gym env it holds (NameError on every reset).
+
+``fixtures/project_render_heirs/``: ``BaseArena.render(mode)`` migrates to
+``render_mode``; its subclasses in two other modules have their own ``__init__``: each
+takes ``render_mode`` and passes it on, so ``gymnasium.make(id, render_mode="human")`` of
+the registered subclass builds (it raised TypeError) and ``render()`` draws (it was a
+silent no-op).
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+from typer.testing import CliRunner
+
+from gymmigrate.cli import app
+from tests.fixture_cases import FIXTURES
+
+runner = CliRunner()
+
+
+def _migrated(tmp_path: Path, name: str) -> tuple[Path, list[dict]]:
+    project = tmp_path / name
+    shutil.copytree(FIXTURES / name, project)
+    report = tmp_path / "report.json"
+    result = runner.invoke(app, ["rewrite", "--report", str(report), str(project)])
+    assert result.exit_code == 0, result.output
+    findings = [dict(f, path=file["path"]) for file in json.loads(report.read_text())["files"] for f in file["review"]]
+    return project, findings
+
+
+def _run(project: Path, code: str) -> list[str]:
+    run = subprocess.run([sys.executable, "-W", "ignore", "-c", code], cwd=project, capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
+    return run.stdout.splitlines()
+
+
+def test_callers_of_a_step_the_run_keeps_keep_four_fields_and_run(tmp_path: Path) -> None:
+    project, review = _migrated(tmp_path, "project_kept_step")
+    algo = (project / "batch" / "algo.py").read_text()
+    evaluate = (project / "evaluate.py").read_text()
+    assert "obs, reward, done, _ = self.env.step(actions)" in algo
+    assert "self.obs, info = self.env.reset()" in algo  # the reset did migrate: its callers follow it
+    assert "obss, rewards, dones, _ = env.step(" in evaluate and "terminated" not in evaluate
+    assert "obss, info = env.reset()" in evaluate
+    kept = [f for f in review if f["rule"] == "GM504" and "callers" in f["message"]]
+    assert len(kept) == 1 and kept[0]["path"].endswith("penv.py"), review
+    assert not [f for f in review if f["rule"] in ("GM301", "GM302") and not f["path"].endswith("penv.py")], review
+    code = (
+        "import gymnasium as gym\nfrom batch.algo import Runner\nfrom evaluate import evaluate\n"
+        "print(Runner([gym.make('CartPole-v1') for _ in range(2)]).collect(40))\nprint(evaluate(3, 40))"
+    )
+    finished, evaluated = _run(project, code)
+    assert int(finished) >= 1  # always pushing left ends CartPole episodes well within 40 steps
+    count, episodes = evaluated.strip("()").split(", ")
+    assert count == "3" and int(episodes) >= 3
+
+
+def test_a_pettingzoo_reset_that_loses_return_info_stops_handing_it_on() -> None:
+    path = FIXTURES / "rules" / "PZ105" / "hands_on_own_flag.expected.py"
+    spec = importlib.util.spec_from_file_location("hands_on_own_flag", path)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    env = module.CrossingPZ()
+    env.reset(seed=3)  # NameError before: return_info was gone from the signature only
+    assert env.agents == ["light"]
+    obs, info = env.env.reset(seed=3)
+    assert obs.shape == (2,) and info == {"phase": 0}
+
+
+def test_render_mode_is_threaded_through_subclasses_in_other_modules(tmp_path: Path) -> None:
+    project, review = _migrated(tmp_path, "project_render_heirs")
+    single = (project / "gym_arenas" / "single.py").read_text()
+    hover = (project / "gym_arenas" / "hover.py").read_text()
+    assert 'def __init__(self, size=3, gui=False, kind="kin", render_mode=None):' in single
+    assert "super().__init__(size=size, gui=gui, render_mode=render_mode)" in single
+    assert "super().__init__(size=4, gui=gui, render_mode=render_mode)" in hover
+    # ``TeamArena(SingleArena, Scoring)``: two bases of the run, the first one's kind (as class_kind takes it).
+    assert "super().__init__(size=players + 1, render_mode=render_mode)" in (project / "gym_arenas" / "team.py").read_text()
+    assert 'gym.make("HoverArena-v0", gui=False, render_mode="human")' in (project / "play.py").read_text()
+    code = (
+        "import play\nplay.show(2)\nfrom gym_arenas.hover import HoverArena\n"
+        "env = HoverArena(render_mode='human')\nenv.reset()\nenv.render()\nprint(HoverArena().render())\n"
+        "print(play.team())\nimport gymnasium\nteam = gymnasium.make('TeamArena-v0', render_mode='human')\nteam.reset()\nteam.render()"
+    )
+    lines = _run(project, code)
+    assert lines[-2:] == ["10", "arena 0 of 3"]
+    lines = lines[:-2]
+    assert "arena 1 of 4" in lines and "arena 2 of 4" in lines  # render() draws in the registered subclass
+    assert lines[-2:] == ["arena 0 of 4", "None"]  # and without a mode it draws nothing, as Gymnasium's
+
+
+def test_a_subclass_that_cannot_take_render_mode_is_reported_and_its_make_left(tmp_path: Path) -> None:
+    """``super().__init__(**opts)`` cannot be given ``render_mode``: the subclass is reported,
+    and the make of its registered id (or of an id that is not a literal) gets no render_mode
+    (it would raise TypeError)."""
+    project = tmp_path / "heirs"
+    shutil.copytree(FIXTURES / "project_render_heirs", project)
+    hover = project / "gym_arenas" / "hover.py"
+    hover.write_text(hover.read_text().replace("super().__init__(size=4, gui=gui)", "opts = dict(size=4, gui=gui)\n        super().__init__(**opts)"))
+    report = tmp_path / "report.json"
+    result = runner.invoke(app, ["rewrite", "--report", str(report), str(project)])
+    assert result.exit_code == 0, result.output
+    assert "render_mode" not in hover.read_text() and "render_mode" not in (project / "play.py").read_text()
+    review = [(Path(file["path"]).name, f["rule"], f["message"]) for file in json.loads(report.read_text())["files"] for f in file["review"]]
+    assert any(name == "hover.py" and rule == "GM405" for name, rule, _ in review), review
+    assert any(name == "play.py" and rule == "GM402" and "HoverArena, registered in this run" in message for name, rule, message in review), review
+    lines = _run(project, "import play\nplay.show(1)\nprint('built')")
+    assert lines == ["built"]  # the make builds; render() draws nothing until render_mode reaches it
+
+
+def test_an_inherited_self_attribute_is_decided_like_the_base_class_reads_it(tmp_path: Path) -> None:
+    """``AsyncCollector(Collector)`` reads ``self.env``, which ``Collector.__init__`` stores
+    (a ``BaseVectorEnv`` of the run: ``reset(id)`` returns stacked observations). Its reset
+    was unpacked into ``(obs, info)`` (splitting the batch) while the base's identical reset
+    was reported; both sites are now decided on the same values, reported and left."""
+    project, review = _migrated(tmp_path, "project_vector_receivers")
+    collector = (project / "rollouts" / "collector.py").read_text()
+    assert "obs = self.env.reset()" in collector and "obs_reset = self.env.reset(finished)" in collector
+    reports = sorted((Path(f["path"]).name, f["line"]) for f in review if f["rule"] == "GM201")
+    assert ("collector.py", 13) in reports and ("collector.py", 22) in reports, review
+    code = (
+        "import gymnasium as gym\nfrom rollouts.collector import AsyncCollector, Collector\n"
+        "print(Collector(gym.make('CartPole-v1')).reset_env().shape)\n"
+        "print(AsyncCollector(gym.make('CartPole-v1')).collect([0]).shape)"
+    )
+    assert _run(project, code) == ["(1, 4)", "(1, 4)"]
+
+
+def test_a_reset_mode_the_flag_never_reached_returns_the_pair_too() -> None:
+    """``Junction(single_agent=False)`` (the default) reset through a branch that tested no
+    ``return_info``: its callers, migrated to unpack ``(obs, info)``, unpacked the dict of
+    observations (ValueError with one agent, its keys with two). Both modes give the pair."""
+    path = FIXTURES / "rules" / "GM502" / "untested_mode_return.expected.py"
+    spec = importlib.util.spec_from_file_location("untested_mode_return", path)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    assert sorted(module.first_observations()) == ["a", "b"]
+    obs, info = module.Junction(single_agent=True).reset(seed=1)
+    assert obs.shape == (2,) and info == {}
+
+
+def test_a_subclass_in_a_module_the_env_rules_skip_is_not_counted_as_taking_render_mode(tmp_path: Path) -> None:
+    """A module that never says "gym" is not decided by the env-class rules, so its
+    subclass's ``__init__`` is not given ``render_mode``: the run must not count it as
+    taking one, or a creation of it would get ``render_mode=`` (TypeError)."""
+    project = tmp_path / "heirs"
+    shutil.copytree(FIXTURES / "project_render_heirs", project)
+    (project / "plain").mkdir()
+    (project / "plain" / "__init__.py").write_text("from gym_arenas.base import BaseArena\n")
+    tiny = project / "plain" / "tiny.py"
+    tiny.write_text("from plain import BaseArena as Base\n\n\nclass TinyArena(Base):\n    def __init__(self):\n        super().__init__(size=1)\n")
+    play = project / "play.py"
+    play.write_text(play.read_text() + "\n\ndef tiny():\n    from plain.tiny import TinyArena\n    arena = TinyArena()\n    arena.reset()\n    arena.render()\n")
+    result = runner.invoke(app, ["rewrite", str(project)])
+    assert result.exit_code == 0, result.output
+    assert "render_mode" not in tiny.read_text()
+    assert "arena = TinyArena()\n" in play.read_text()
+    assert _run(project, "import play\nplay.tiny()\nprint('ran')") == ["ran"]
