@@ -41,6 +41,10 @@ class Rule:
     title: str
     kind: FixKind
     summary: str
+    # The item names a decision of the whole run (a library's route, an env id's new
+    # version), not of its file: the same item in several files is asked once
+    # (``report.decide_once``), the other files' items point at it.
+    once_per_run: bool = False
 
 
 @dataclass

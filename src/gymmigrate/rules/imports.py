@@ -55,6 +55,7 @@ RULES = (
         FixKind.FLAG,
         "An import of a library with no Gymnasium release (`stable_baselines` 2.x, env plugins that register "
         "with gym only such as `pybullet_envs`) is reported once per file, with its route.",
+        once_per_run=True,
     ),
     Rule(
         "GM108",
