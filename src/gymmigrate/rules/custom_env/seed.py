@@ -74,8 +74,8 @@ def decide_seed(decision: ClassDecision) -> None:
     canonical_names: set[str] = set()
     deleted: list[ast.stmt] = []
     for index, group in enumerate(groups):
-        if index == 0 and is_docstring(group):
-            deleted.extend(group)
+        if (index == 0 and is_docstring(group)) or _does_nothing(group):
+            deleted.extend(group)  # a docstring, ``pass`` or ``...``: nothing to move
             continue
         target = _np_random_seeding(decision, group)
         if target is not None:
@@ -310,3 +310,10 @@ def _is_seeding_statement(group: list[ast.stmt], seed_names: set[str]) -> bool:
                 return True
     return False
 
+
+def _does_nothing(group: list[ast.stmt]) -> bool:
+    """``pass`` or ``...``: a body that seeds nothing."""
+    return len(group) == 1 and (
+        isinstance(group[0], ast.Pass)
+        or (isinstance(group[0], ast.Expr) and isinstance(group[0].value, ast.Constant) and group[0].value.value is Ellipsis)
+    )
