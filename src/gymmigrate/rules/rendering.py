@@ -39,7 +39,7 @@ from __future__ import annotations
 
 import ast
 from collections import defaultdict
-from collections.abc import Callable
+from collections.abc import Callable, Hashable
 from dataclasses import dataclass
 
 from gymmigrate.facts import ModuleFacts
@@ -54,7 +54,7 @@ from gymmigrate.facts.decisions import Action, decide, receiver_text
 from gymmigrate.facts.env_classes import EnvClasses
 from gymmigrate.facts.env_specs import is_spec_make
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.module import keyword, string_value
+from gymmigrate.facts.module import full_name, keyword, string_value
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.render_calls import (
@@ -568,6 +568,7 @@ class Rendering(RuleFamily):
                 f"{site.consumer} needs the env created with {target}, but its creation site was not found "
                 f"({where}); add it there by hand",
                 FixKind.FLAG,
+                question=self._untraced_question(site, where),
             )
             return
         keys = [id(m) for m in site.creation.calls]
@@ -709,6 +710,16 @@ class Rendering(RuleFamily):
             if quote is not None:
                 return quote
         return next((site.quote for site in sites if site.code == "GM401"), '"')
+
+    def _untraced_question(self, site: RenderSite, where: str) -> Hashable | None:
+        """The renders of one untraced env (one spelling, in one function; ``self.x``: one
+        class) that need the same mode ask one question: where it is made, and with what."""
+        func = site.node.func
+        name = full_name(func.value) if isinstance(func, ast.Attribute) else None
+        if not name:
+            return None
+        owner = self.facts.enclosing_class(func) if name.split(".", 1)[0] == "self" else self.facts.enclosing_function(func)
+        return ("render-untraced", site.code, site.mode, id(owner), name, where)
 
     def _call_summary(self, call: ast.Call) -> str:
         """``gym.make("CartPole-v1", ...)``: names a make call in a message."""
