@@ -132,7 +132,10 @@ class GeneratorApi(RuleFamily):
             kind = FixKind.ASSIST if kind is FixKind.AUTO else kind
         else:  # seed, tomaxint, get_state(...) with arguments, set_state not as a statement
             reason = NO_EQUIVALENT.get(method, "set the state with `np_random.bit_generator.state = state` as a statement")
-            self.report(call, code, f"np_random.{method}(...) on a Generator: {reason}", FixKind.FLAG)
+            # One function reseeding several layers (``env.np_random``, ``env.env.np_random``)
+            # asks one question: how it seeds now.
+            owner = self.facts.enclosing_function(call) or self.facts.tree
+            self.report(call, code, f"np_random.{method}(...) on a Generator: {reason}", FixKind.FLAG, question=("GM505", method, id(owner)))
             return
         tier = None
         if kind is not FixKind.AUTO and why:
