@@ -712,14 +712,20 @@ class Rendering(RuleFamily):
         return next((site.quote for site in sites if site.code == "GM401"), '"')
 
     def _untraced_question(self, site: RenderSite, where: str) -> Hashable | None:
-        """The renders of one untraced env (one spelling, in one function; ``self.x``: one
-        class) that need the same mode ask one question: where it is made, and with what."""
+        """The renders and recorders of one untraced env ask one question: where it is made,
+        and in which mode. One env is one spelling in one function (``self.x``: one class),
+        or, where the finder stopped at a named constructor or function parameter (``env`` is a
+        parameter of ``Evaluation``), that parameter in one class: a recorder built on ``env``
+        and ``self.env.render()``."""
         func = site.node.func
+        class_ = self.facts.enclosing_class(site.node)
+        if site.creation.gap and " is a parameter of `" in site.creation.gap:
+            return ("render-untraced", id(class_ or self.facts.enclosing_function(site.node)), where)
         name = full_name(func.value) if isinstance(func, ast.Attribute) else None
         if not name:
             return None
-        owner = self.facts.enclosing_class(func) if name.split(".", 1)[0] == "self" else self.facts.enclosing_function(func)
-        return ("render-untraced", site.code, site.mode, id(owner), name, where)
+        owner = class_ if name.split(".", 1)[0] == "self" else self.facts.enclosing_function(func)
+        return ("render-untraced", site.mode, id(owner), name, where)
 
     def _call_summary(self, call: ast.Call) -> str:
         """``gym.make("CartPole-v1", ...)``: names a make call in a message."""
