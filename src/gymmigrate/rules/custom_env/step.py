@@ -152,9 +152,20 @@ def _counts_toward_a_limit(decision: ClassDecision) -> bool:
     def compute() -> bool:
         if decision.env.has_local_env_base(decision.classdef):
             return True  # the base class in this file may count steps for it
+        # A name moved by a constant both ways (``pos -= 1`` for one action, ``pos += 1``
+        # for another) is a position, not a count: it cannot run up to a limit by itself.
+        directions: dict[str, set[bool]] = {}
+        for node in ast.walk(decision.classdef):
+            if isinstance(node, ast.AugAssign) and isinstance(node.op, (ast.Add, ast.Sub)) and _is_number(node.value):
+                up = isinstance(node.op, ast.Add) == (node.value.value >= 0)  # type: ignore[attr-defined]
+                directions.setdefault(facts.segment(node.target), set()).add(up)
         for node in ast.walk(decision.classdef):
             if isinstance(node, ast.AugAssign) and isinstance(node.op, (ast.Add, ast.Sub)):
-                counted = _is_number(node.value) and not isinstance(node.target, ast.Subscript)
+                counted = (
+                    _is_number(node.value)
+                    and not isinstance(node.target, ast.Subscript)
+                    and len(directions.get(facts.segment(node.target), ())) < 2
+                )
                 if counted or any(STEP_LIMIT_WORD.search(w) for w in identifiers(node.target)):
                     return True  # `self.steps += 1`, `self.t += self.dt`; not `self.pos[1] += 1`
             if isinstance(node, ast.Compare) and is_step_limit(node):
