@@ -7,6 +7,7 @@ terminal (rich decides, and honours NO_COLOR / FORCE_COLOR).
 from __future__ import annotations
 
 import os
+import re
 import sys
 from collections import Counter, defaultdict
 from collections.abc import Sequence
@@ -70,6 +71,7 @@ def location(path: str, finding: Finding, line: int) -> str:
     return f"{path}:cell {finding.cell + 1}:line {line}"
 
 
+_SAME_IN_FILE = re.compile(r" \(the same question at [^()]*\)$")
 # At most this many other places are named in the item that asks a run-wide decision.
 _PLACES_NAMED = 5
 
@@ -88,7 +90,8 @@ def decide_once(results: Sequence[FileResult]) -> list[FileResult]:
     for r, result in enumerate(results):
         for f, finding in enumerate(result.findings):
             if finding.needs_review:
-                groups[(finding.rule, finding.message)].append((r, f))
+                # the file's own "(the same question at line 43)" does not make it another decision
+                groups[(finding.rule, _SAME_IN_FILE.sub("", finding.message))].append((r, f))
     repeated = {key: places for key, places in groups.items() if len({r for r, _ in places}) > 1}
     if not repeated:
         return list(results)

@@ -276,7 +276,8 @@ class Imports(RuleFamily):
                 top = module.split(".", 1)[0]
                 if top in GYM_ONLY_LIBRARIES and top not in reported:
                     reported.add(top)
-                    self.report(node, "GM107", GYM_ONLY_LIBRARIES[top])
+                    # The objects the file makes with the library ask the same question (``receiver_question``).
+                    self.report(node, "GM107", GYM_ONLY_LIBRARIES[top], question=("gym-only-library", top))
 
     # -- GM108: fallbacks ----------------------------------------------------------
 
