@@ -223,7 +223,7 @@ def _builds_record(call: ast.Call, facts: ModuleFacts) -> bool:
 
 def _record_classes(facts: ModuleFacts) -> frozenset[str]:
     def compute() -> frozenset[str]:
-        names = set()
+        names: set[str] = set()
         for statement in facts.tree.body:
             if (
                 isinstance(statement, ast.Assign)

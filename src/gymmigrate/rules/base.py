@@ -142,19 +142,19 @@ class RuleFamily:
         flow = Flow.of(self.facts)
         last = flow.last_binding_of(receiver)
         statement = self.facts.statement_of(last) if isinstance(last, ast.Name) else None
-        if isinstance(statement, ast.Assign) and flow.dominates(statement, receiver, receiver):
+        if last is not None and isinstance(statement, ast.Assign) and flow.dominates(statement, receiver, receiver):
             bindings = [last]  # the value this read certainly sees
         tops: set[str] = set()
         for binding in bindings:
             assign = self.facts.parent(binding)
             if not (isinstance(binding, ast.Name) and isinstance(assign, ast.Assign) and isinstance(assign.value, ast.Call)):
                 return None
-            found = {q.split(".", 1)[0] for q in self.facts.qualified_names(assign.value.func)}
-            if not found:
+            packages = {q.split(".", 1)[0] for q in self.facts.qualified_names(assign.value.func)}
+            if not packages:
                 return None  # a call of this file's own (or an unbound name): not the library's
-            tops.update(found)
-        found = tops.pop() if len(tops) == 1 else None
-        return found if found in N.GYM_ONLY_PACKAGES else None
+            tops.update(packages)
+        library = tops.pop() if len(tops) == 1 else None
+        return library if library in N.GYM_ONLY_PACKAGES else None
 
 
 class FamilySpec(NamedTuple):

@@ -424,7 +424,7 @@ class Imports(RuleFamily):
             return False
         if parent is not None and not isinstance(parent, ast.Module) and parent.lineno == node.lineno:  # type: ignore[attr-defined]
             return False  # ``try: from gym.wrappers import ...``
-        lines = {n.lineno for n in body if n is not node} | {n.end_lineno for n in body if n is not node}  # type: ignore[attr-defined]
+        lines = {n.lineno for n in body if n is not node} | {n.end_lineno for n in body if n is not node}
         return node.lineno not in lines and node.end_lineno not in lines
 
     def _split_import(self, node: ast.ImportFrom, module: str, homes: list[str]) -> None:
