@@ -135,6 +135,10 @@ def decide_seed(decision: ClassDecision) -> None:
     decision.plan.seed = SeedPlan(moved=moved, setup=setup, renames={n: "seed" for n in seed_names if n != "seed"}, callers=callers)
     decision.removed.add(seed_method.name)
     decision.deleted_statements.extend(deleted)
+    kept = set(moved) | set(setup)
+    decision.family.context.notes.dropped_statements.update(
+        node for index, group in enumerate(groups) if index not in kept for statement in group for node in ast.walk(statement) if isinstance(node, ast.stmt)
+    )
     if not moved:
         decision.report(seed_method, "GM503", "seed() removed: super().reset(seed=seed) in reset() seeds self.np_random")
     else:
