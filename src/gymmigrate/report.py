@@ -100,7 +100,7 @@ def decide_once(results: Sequence[FileResult]) -> list[FileResult]:
     for (rule, _), places in repeated.items():
         if rule not in once:
             continue
-        places.sort(key=lambda place: (results[place[0]].path, findings[place[0]][place[1]].line))
+        places.sort(key=lambda place: (results[place[0]].path, findings[place[0]][place[1]].cell or 0, findings[place[0]][place[1]].line))
         (r0, f0), others = places[0], places[1:]
         first = findings[r0][f0]
         here = location(results[r0].path, first, first.line)

@@ -19,7 +19,6 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.facts import ModuleFacts
-from gymmigrate.facts.module import LOOPS
 
 # Expressions a creation-time condition may be built of: comparisons, boolean logic,
 # constants, names and attribute reads of names (``args.render``); no calls, no
@@ -85,16 +84,11 @@ def fixed_at_creation(facts: ModuleFacts, test: ast.AST, make: ast.Call) -> bool
 
 
 def _bound_once_before(facts: ModuleFacts, binding: ast.Name, make: ast.Call, function: ast.AST) -> bool:
-    """A local name's only binding (``render = True``) runs once, before the make: not in a
-    loop of the function (where it would take a new value each pass), on an earlier line."""
-    if binding.lineno >= make.lineno:
-        return False
-    for ancestor in facts.ancestors(binding):
-        if ancestor is function:
-            return True
-        if isinstance(ancestor, (*LOOPS, ast.comprehension, ast.Lambda)):
-            return False
-    return False
+    """A local name's only binding (``render = True``) is a statement of the function's own
+    body, on an earlier line than the make: it has run, once, when the env is made (not in
+    a loop, where it would take a new value each pass, nor in a branch that may not run)."""
+    statement = facts.statement_of(binding)
+    return binding.lineno < make.lineno and isinstance(statement, ast.Assign) and facts.parent(statement) is function
 
 
 def schedule(facts: ModuleFacts, renders: list[ast.Call], make: ast.Call, home: ast.AST | None = None) -> tuple[str, str | None]:
