@@ -345,6 +345,8 @@ class WrapperForwarding(RuleFamily):
                 "GM606",
                 "gym.make now returns TimeLimit(OrderEnforcing(PassiveEnvChecker(env))), so `.env` chains reach "
                 "a different layer: use gym.make(id, max_episode_steps=-1) to drop the time limit, or `.unwrapped`",
+                # The chains of one env in one function ask one question: which layer they mean.
+                question=("GM606", id(self.facts.enclosing_function(attr) or self.facts.tree), self.facts.segment(receiver)),
             )
 
     def _is_isinstance_timelimit(self, call: ast.Call) -> bool:
