@@ -122,3 +122,10 @@ def test_rewritten_imports_exist_in_gymnasium(line: str) -> None:
     else:
         assert isinstance(statement, ast.Import)
         assert all(importable(alias.name) for alias in statement.names)
+
+
+def test_the_gym_only_packages_the_facts_know_are_the_libraries_gm107_reports() -> None:
+    from gymmigrate.facts.names import GYM_ONLY_PACKAGES
+    from gymmigrate.rules.imports import GYM_ONLY_LIBRARIES
+
+    assert set(GYM_ONLY_LIBRARIES) == GYM_ONLY_PACKAGES

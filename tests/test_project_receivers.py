@@ -267,3 +267,14 @@ def test_an_env_kept_in_its_own_attribute_runs_migrated() -> None:
     env.step(1)
     assert env.restart() == 0 and env.count == 0
     check_env(env, skip_render_check=True)
+
+
+def test_a_gym_wrapper_class_from_a_star_import_makes_a_gym_env(tmp_path: Path) -> None:
+    """``fixtures/project_star_wrappers``: ``WrapPyTorch`` comes in by ``from utils.wrappers
+    import *``; the env it wraps (baselines' ``make_atari``) is unknown, but the wrapper is a
+    Gym env: its reset is rewritten without a question. A plain class of the same module
+    (``Recorder``) proves nothing: its reset is still asked about."""
+    project = _copy("project_star_wrappers", tmp_path)
+    result = runner.invoke(app, ["check", "--output-format", "json", str(project / "train.py"), str(project / "utils")])
+    resets = {f["line"]: f["tier"] for f in json.loads(result.stdout) if f["rule"] == "GM201" and f["path"].endswith("train.py")}
+    assert resets == {8: "note", 15: "review"}

@@ -52,7 +52,7 @@ def check(
     """``gymmigrate check``: list every legacy Gym site; write nothing."""
     from gymmigrate.formats import FORMATS
     from gymmigrate.process import Status
-    from gymmigrate.report import print_summary, write_findings
+    from gymmigrate.report import decide_once, print_summary, write_findings
     from gymmigrate.workflow import Flags, run_groups
 
     try:
@@ -62,7 +62,7 @@ def check(
         flags = Flags(select, ignore, extend_select, extend_ignore, docs=docs or None)
         if paths == ["-"]:
             return _stdin(flags, stdin_filename, lint=True, output_format=output_format, report=report)
-        results = list(run_groups(_groups(paths, flags), write=False, want_diff=False, jobs=jobs, lint=True))
+        results = decide_once(list(run_groups(_groups(paths, flags), write=False, want_diff=False, jobs=jobs, lint=True)))
         write_findings(output_format, results, sys.stdout)
         print_summary(results, wrote=False)
         if report is not None:
@@ -95,7 +95,7 @@ def rewrite(
         echo_stderr("error: --smoke runs the rewritten files, so it cannot be combined with --diff")
         return EXIT_ERROR
     from gymmigrate.process import Status
-    from gymmigrate.report import print_diff, print_summary
+    from gymmigrate.report import decide_once, print_diff, print_summary
     from gymmigrate.workflow import Flags, run_groups
 
     try:
@@ -113,6 +113,7 @@ def rewrite(
             if result.diff:
                 print_diff(result.diff)
             results.append(result)
+        results = decide_once(results)
         print_summary(results, wrote=not diff)
         smoked = _smoke_rewritten(results, seed or 0) if smoke else None
         if report is not None:

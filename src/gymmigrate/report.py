@@ -7,16 +7,19 @@ terminal (rich decides, and honours NO_COLOR / FORCE_COLOR).
 from __future__ import annotations
 
 import os
+import re
 import sys
-from collections import Counter
+from collections import Counter, defaultdict
 from collections.abc import Sequence
+from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, TextIO
 
 from gymmigrate import __version__
-from gymmigrate.findings import Finding
+from gymmigrate.findings import Finding, Tier
 from gymmigrate.formats import findings_json, write_github, write_json, write_sarif
 from gymmigrate.process import FileResult, Status
+from gymmigrate.rules import all_rules
 
 if TYPE_CHECKING:
     from rich.table import Table
@@ -66,6 +69,50 @@ def location(path: str, finding: Finding, line: int) -> str:
     if finding.cell is None:
         return f"{path}:{line}"
     return f"{path}:cell {finding.cell + 1}:line {line}"
+
+
+_SAME_IN_FILE = re.compile(r" \(the same question at [^()]*\)$")
+# At most this many other places are named in the item that asks a run-wide decision.
+_PLACES_NAMED = 5
+
+
+def decide_once(results: Sequence[FileResult]) -> list[FileResult]:
+    """One decision, one review item, across the files of a run too.
+
+    An item of a rule whose decision belongs to the run, not to its file
+    (``Rule.once_per_run``: a library with no Gymnasium release, an env id's new version),
+    is asked once: where several files hold the same item (same rule, same message), the
+    first file's item stays in the review list and names the other places; the others
+    become notes pointing at it, so every place is still listed (``check``, the JSON
+    report) and the count of review items counts decisions. Within a file the rules
+    already ask each question once (``Plan.ask_once``)."""
+    groups: dict[tuple[str, str], list[tuple[int, int]]] = defaultdict(list)
+    for r, result in enumerate(results):
+        for f, finding in enumerate(result.findings):
+            if finding.needs_review:
+                # the file's own "(the same question at line 43)" does not make it another decision
+                groups[(finding.rule, _SAME_IN_FILE.sub("", finding.message))].append((r, f))
+    repeated = {key: places for key, places in groups.items() if len({r for r, _ in places}) > 1}
+    if not repeated:
+        return list(results)
+    once = {rule.code for rule in all_rules() if rule.once_per_run}
+    findings = [list(result.findings) for result in results]
+    for (rule, _), places in repeated.items():
+        if rule not in once:
+            continue
+        places.sort(key=lambda place: (results[place[0]].path, findings[place[0]][place[1]].cell or 0, findings[place[0]][place[1]].line))
+        (r0, f0), others = places[0], places[1:]
+        first = findings[r0][f0]
+        here = location(results[r0].path, first, first.line)
+        named = [location(results[r].path, findings[r][f], findings[r][f].line) for r, f in others]
+        more = f" and {len(named) - _PLACES_NAMED} more" if len(named) > _PLACES_NAMED else ""
+        where = "place" if len(named) == 1 else "places"
+        findings[r0][f0] = replace(
+            first, message=f"{first.message} (the same decision at {len(named)} other {where}: {', '.join(named[:_PLACES_NAMED])}{more})"
+        )
+        for r, f in others:
+            findings[r][f] = replace(findings[r][f], message=f"{findings[r][f].message} (decided once, at {here})", tier=Tier.NOTE)
+    return [replace(result, findings=tuple(found)) for result, found in zip(results, findings)]
 
 
 # One line of the summary: pieces of text, each with a rich style ("" for none).

@@ -44,10 +44,11 @@ STORE_METHODS = frozenset(
         "remember",
         "memorize",
         "memorise",
+        "extend",  # ``self.transition.extend([next_state, reward, done])``
     }
 )
 # Method names too common to mean "store a transition" unless the receiver says so.
-GENERIC_STORE_METHODS = frozenset({"add", "insert", "put"})
+GENERIC_STORE_METHODS = frozenset({"add", "insert", "put", "extend"})
 _STORAGE_WORDS = ("buffer", "memory", "replay", "storage", "rollout", "experience", "transition", "queue")
 _STORAGE_TOKENS = frozenset({"rb", "mem", "per", "her"})  # whole ``_``-separated parts only
 # Calls that turn the flag into a number or a tensor (the value feeds arithmetic).
@@ -147,7 +148,13 @@ def _classify(read: ast.Name, facts: ModuleFacts) -> DoneUse:
                 return loop
         if isinstance(parent, ast.keyword):
             call = facts.parent(parent)
+            if isinstance(call, ast.Call) and _builds_record(call, facts):
+                node, in_container = call, True
+                continue
             return _call_use(call) if isinstance(call, ast.Call) else DoneUse.AMBIGUOUS
+        if isinstance(parent, ast.Call) and parent.func is not node and _builds_record(parent, facts):
+            node, in_container = parent, True  # ``Experience(s, a, r, done, s2)``: a transition record
+            continue
         if isinstance(parent, ast.Call):
             return DoneUse.AMBIGUOUS if parent.func is node else _call_use(parent)
         if isinstance(parent, ast.Subscript) and parent.value is node:
@@ -186,8 +193,8 @@ def _loop_variable_use(loop: ast.For, target: ast.expr, facts: ModuleFacts) -> D
 def _call_use(call: ast.Call) -> DoneUse:
     name = full_name(call.func) or ""
     last = name.rsplit(".", 1)[-1]
-    if isinstance(call.func, ast.Name) and last in NUMBER_BUILTINS:
-        return DoneUse.DATA
+    if last in NUMBER_BUILTINS and (isinstance(call.func, ast.Name) or name.startswith(("np.", "numpy."))):
+        return DoneUse.DATA  # ``float(done)``, numpy's old alias ``np.float(done)``
     if isinstance(call.func, ast.Name) and last in DISPLAY_FUNCTIONS:
         return DoneUse.NEUTRAL
     if last in TEST_FUNCTIONS or last.startswith("assert"):
@@ -202,6 +209,39 @@ def _call_use(call: ast.Call) -> DoneUse:
     elif last in TENSOR_FACTORIES:  # ``from numpy import array``
         return DoneUse.DATA
     return DoneUse.AMBIGUOUS
+
+
+_RECORD_FACTORIES = frozenset({"namedtuple", "NamedTuple"})
+
+
+def _builds_record(call: ast.Call, facts: ModuleFacts) -> bool:
+    """``Experience(state, action, reward, done, new_state)``: a call of a record class of
+    this module (a ``namedtuple``, a ``NamedTuple`` or a ``@dataclass``), whose fields hold
+    the values as a tuple would."""
+    return isinstance(call.func, ast.Name) and call.func.id in _record_classes(facts)
+
+
+def _record_classes(facts: ModuleFacts) -> frozenset[str]:
+    def compute() -> frozenset[str]:
+        names: set[str] = set()
+        for statement in facts.tree.body:
+            if (
+                isinstance(statement, ast.Assign)
+                and isinstance(statement.value, ast.Call)
+                and (full_name(statement.value.func) or "").rsplit(".", 1)[-1] in _RECORD_FACTORIES
+            ):
+                names.update(t.id for t in statement.targets if isinstance(t, ast.Name))
+            elif isinstance(statement, ast.ClassDef) and (
+                any((full_name(base) or "").rsplit(".", 1)[-1] == "NamedTuple" for base in statement.bases)
+                or any(
+                    (full_name(d.func if isinstance(d, ast.Call) else d) or "").rsplit(".", 1)[-1] == "dataclass"
+                    for d in statement.decorator_list
+                )
+            ):
+                names.add(statement.name)
+        return frozenset(names)
+
+    return facts.memo(("record-classes", id(facts.tree)), compute)
 
 
 def _looks_like_storage(receiver: ast.expr) -> bool:
@@ -228,8 +268,8 @@ def _assign_use(assign: ast.Assign, read: ast.expr, in_container: bool, value: a
     # ``done = done or step >= limit`` (``self.done = self.done or ...``): still the episode-over flag.
     if len(targets) == 1 and ast.dump(targets[0], annotate_fields=False).replace("Store()", "Load()") == ast.dump(read, annotate_fields=False):
         return DoneUse.CONTROL
-    if in_container and isinstance(value, (ast.Tuple, ast.List, ast.Dict)):
-        return DoneUse.DATA  # ``transition = (s, a, r, s2, done)``
+    if in_container and isinstance(value, (ast.Tuple, ast.List, ast.Dict, ast.Call)):
+        return DoneUse.DATA  # ``transition = (s, a, r, s2, done)``, ``exp = Experience(...)``
     if value is read and any(_is_bookkeeping(t) for t in targets):
         return DoneUse.NEUTRAL  # ``info["real_done"] = done``, ``self.was_real_done = done``: game over
     if all(isinstance(t, ast.Subscript) for t in targets) and value is read:

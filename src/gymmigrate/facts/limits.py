@@ -6,7 +6,8 @@ Gymnasium), the task's own end (a termination), or both.
 * a comparison of a step or time counter with a bound (``self.t >= self.max_steps``,
   ``self.step_counter / self.SIM_FREQ > self.EPISODE_LEN_SEC``) is a limit. A counter is
   named like one (``STEP_LIMIT_WORD``) or is an attribute the class's ``step`` advances by
-  a fixed amount on every call (``self.n += 1`` at the top of ``step``). A test of a
+  a fixed amount on every call (``self.n += 1`` at the top of ``step``), unless it is named as a
+  place or an amount (``self.agent_pos``). A test of a
   period (``self.t % FREQ == 0``) is not a limit;
 * a local assigned in the same function, ``self.flag`` as the class stores it, ``True``
   stored or returned under ``if <limit>:``, ``True if <limit> else False``, ``bool(...)``;
@@ -39,6 +40,12 @@ from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
 STEP_LIMIT_WORD = re.compile(
     r"(^|_)(t|ts|step|steps|timestep|timesteps|tick|ticks|iter|iters|iteration|iterations|horizon|"
     r"time|time_limit|ep_len|episode_len|episode_length|counter|cycle|cycles|frame|frames|num_moves|n_moves)(_|$)"
+)
+# An attribute named as a place or an amount (``self.agent_pos += 1``) that reaches a bound is
+# the task's goal even when step advances it every call: not taken for a step count.
+_PLACE_WORD = re.compile(
+    r"(^|_)(pos|position|loc|location|coord|coords|x|y|z|dist|distance|height|depth|level|score|"
+    r"energy|health|fuel|money|balance|cash|stock|inventory)(_|$)"
 )
 _LIMIT_OPS = (ast.Gt, ast.GtE, ast.Lt, ast.LtE, ast.Eq)
 _MAX_DEPTH = 8
@@ -194,7 +201,7 @@ class DoneTracer:
             for statement in step.body if step is not None else ():
                 if isinstance(statement, ast.AugAssign) and isinstance(statement.op, (ast.Add, ast.Sub)):
                     name = _self_attribute(statement.target)
-                    if name is not None and _fixed(statement.value):
+                    if name is not None and _fixed(statement.value) and not _PLACE_WORD.search(name):
                         found.add(name)
                 elif isinstance(statement, ast.Assign) and len(statement.targets) == 1:
                     name = _self_attribute(statement.targets[0])
@@ -205,6 +212,7 @@ class DoneTracer:
                         and isinstance(value.op, (ast.Add, ast.Sub))
                         and _self_attribute(value.left) == name
                         and _fixed(value.right)
+                        and not _PLACE_WORD.search(name)
                     ):
                         found.add(name)
             self._counters = found

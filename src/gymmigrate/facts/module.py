@@ -106,6 +106,7 @@ class ModuleFacts:
         self.scopes: dict[ast.AST, Scope] = {}  # scope-creating node -> its Scope
         self._scope_of: dict[ast.AST, Scope] = {}  # Name / arg / alias / def -> scope it lives in
         self.imports: dict[ast.alias, str] = {}  # import binding -> qualified name it binds
+        self.star_imports: tuple[str, ...] = ()  # modules of ``from M import *`` at module level
         self.calls_by_name: dict[str, list[ast.Call]] = defaultdict(list)
         self.attribute_calls: dict[str, list[ast.Call]] = defaultdict(list)  # x.<attr>(...)
         self.attributes: dict[str, list[ast.Attribute]] = defaultdict(list)  # every x.<attr>, by attr
@@ -239,6 +240,8 @@ class ModuleFacts:
                 qualified = alias.name if alias.asname else bound
             else:
                 if alias.name == "*":
+                    if scope is self.module_scope:  # ``from utils.wrappers import *``
+                        self.star_imports += ("." * node.level + (node.module or ""),)
                     continue
                 base = "." * node.level + (node.module or "")
                 bound = alias.asname or alias.name

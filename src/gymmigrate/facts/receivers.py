@@ -233,6 +233,10 @@ class Receivers:
             found = [k for k in (self.project.call_kind(q) for q in self.qualified_names(func)) if k is not None]
             if found:
                 return join_kinds(found)
+            if isinstance(func, ast.Name) and not self.facts.bindings_of(func) and self.facts.star_imports:
+                star = self.project.star_call_kind(func.id, self.facts.star_imports)  # ``from utils.wrappers import *``
+                if star is not None:
+                    return star
         local_class = self.local_class(func)
         if local_class is not None:
             return self.class_kind(local_class)
@@ -388,6 +392,8 @@ class Receivers:
                 return True
             if self.project is not None and self.project.is_wrapper_class(q):
                 return True
+        if isinstance(value.func, ast.Name) and self.project is not None and not self.facts.bindings_of(value.func):
+            return self.project.star_wrapper_class(value.func.id, self.facts.star_imports)
         local = self.local_class(value.func)
         return local is not None and self.is_gym_wrapper_class(local)
 

@@ -49,7 +49,7 @@ class SelfAttributes:
             return EnvKind.SB3_VEC
         if name == "model" and self._is_sb3_callback(classdef):
             return EnvKind.SB3_MODEL
-        values = self.self_attribute_values(attr, name)
+        values = [v for v in self.self_attribute_values(attr, name) if not self._saved_copy(v, name)]
         if not values:
             if name == "env" and self._is_pettingzoo_wrapper(classdef):
                 return self.receivers.class_kind(classdef)
@@ -64,6 +64,26 @@ class SelfAttributes:
             kind = self.receivers.class_kind(classdef)
             return kind if kind is not EnvKind.NOT_ENV else EnvKind.UNKNOWN
         return self.receivers.kind_of(value)
+
+    def _saved_copy(self, value: ast.expr, name: str) -> bool:
+        """``self.env = saved`` where ``saved = self.env`` is every binding of ``saved``: the
+        attribute gets back a value it held (``saved = self.env; self.env = Wrapper(self.env);
+        ...; self.env = saved``), which says nothing new about its kind."""
+        if not isinstance(value, ast.Name):
+            return False
+        bindings = self.facts.bindings_of(value)
+        if not bindings:
+            return False
+        for binding in bindings:
+            assign = self.facts.parent(binding)
+            if not (
+                isinstance(assign, ast.Assign)
+                and assign.targets == [binding]
+                and isinstance(assign.value, ast.Attribute)
+                and _stored_self_name(assign.value) == name
+            ):
+                return False
+        return True
 
     def _is_pettingzoo_wrapper(self, classdef: ast.ClassDef) -> bool:
         return any(q in N.PZ_WRAPPER_BASES for base in classdef.bases for q in self.receivers.qualified_names(base))

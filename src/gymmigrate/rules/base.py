@@ -20,7 +20,9 @@ from dataclasses import dataclass, field
 from functools import lru_cache
 from typing import TYPE_CHECKING, ClassVar, NamedTuple
 
+from gymmigrate.facts import names as N
 from gymmigrate.facts.decisions import Action, Decision
+from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.module import full_name
 from gymmigrate.facts.profile import FileProfile
 from gymmigrate.findings import FixKind, Tier
@@ -41,6 +43,10 @@ class Rule:
     title: str
     kind: FixKind
     summary: str
+    # The item names a decision of the whole run (a library's route, an env id's new
+    # version), not of its file: the same item in several files is asked once
+    # (``report.decide_once``), the other files' items point at it.
+    once_per_run: bool = False
 
 
 @dataclass
@@ -114,6 +120,9 @@ class RuleFamily:
         method called on it, as long as the run answers it the same way (rewrites or not)."""
         if decision.action not in (Action.REWRITE_FOR_REVIEW, Action.REPORT):
             return None
+        library = self._gym_only_origin(receiver)
+        if library is not None:
+            return ("gym-only-library", library)  # decided by the library's port, asked at its import (GM107)
         name = full_name(receiver)
         if not name:
             return None
@@ -122,6 +131,30 @@ class RuleFamily:
         else:
             owner = self.facts.enclosing_function(receiver)
         return ("receiver", decision.action, id(owner), name)
+
+
+    def _gym_only_origin(self, receiver: ast.AST) -> str | None:
+        """The library with no Gymnasium release (``baselines``) every value of ``receiver``
+        comes from (``env = make_atari(id)``, ``env = wrap_deepmind(env)``), if there is one."""
+        if not isinstance(receiver, ast.Name):
+            return None
+        bindings = self.facts.bindings_of(receiver)
+        flow = Flow.of(self.facts)
+        last = flow.last_binding_of(receiver)
+        statement = self.facts.statement_of(last) if isinstance(last, ast.Name) else None
+        if last is not None and isinstance(statement, ast.Assign) and flow.dominates(statement, receiver, receiver):
+            bindings = [last]  # the value this read certainly sees
+        tops: set[str] = set()
+        for binding in bindings:
+            assign = self.facts.parent(binding)
+            if not (isinstance(binding, ast.Name) and isinstance(assign, ast.Assign) and isinstance(assign.value, ast.Call)):
+                return None
+            packages = {q.split(".", 1)[0] for q in self.facts.qualified_names(assign.value.func)}
+            if not packages:
+                return None  # a call of this file's own (or an unbound name): not the library's
+            tops.update(packages)
+        library = tops.pop() if len(tops) == 1 else None
+        return library if library in N.GYM_ONLY_PACKAGES else None
 
 
 class FamilySpec(NamedTuple):

@@ -23,6 +23,7 @@ GM110 = Rule(
     "Gym-only or unreadable requirements",
     FixKind.FLAG,
     "Gym-only packages (Shimmy route), VCS/URL installs and unreadable lines are reported, never rewritten",
+    once_per_run=True,
 )
 SB110 = Rule(
     "SB110",

@@ -55,6 +55,7 @@ RULES = (
         FixKind.FLAG,
         "An import of a library with no Gymnasium release (`stable_baselines` 2.x, env plugins that register "
         "with gym only such as `pybullet_envs`) is reported once per file, with its route.",
+        once_per_run=True,
     ),
     Rule(
         "GM108",
@@ -275,7 +276,8 @@ class Imports(RuleFamily):
                 top = module.split(".", 1)[0]
                 if top in GYM_ONLY_LIBRARIES and top not in reported:
                     reported.add(top)
-                    self.report(node, "GM107", GYM_ONLY_LIBRARIES[top])
+                    # The objects the file makes with the library ask the same question (``receiver_question``).
+                    self.report(node, "GM107", GYM_ONLY_LIBRARIES[top], question=("gym-only-library", top))
 
     # -- GM108: fallbacks ----------------------------------------------------------
 
@@ -413,6 +415,32 @@ class Imports(RuleFamily):
 
     # -- GM102 / GM103 / GM104: from gym[.x] import y ----------------------------------
 
+    def _splittable(self, node: ast.ImportFrom) -> bool:
+        """An import statement on lines of its own (not after ``;``, not a one-line suite's
+        body): one import per module can stand where it stood."""
+        parent = self.facts.parent(node)
+        body = getattr(parent, "body", None)
+        if not isinstance(body, list) or node not in body:
+            return False
+        if parent is not None and not isinstance(parent, ast.Module) and parent.lineno == node.lineno:  # type: ignore[attr-defined]
+            return False  # ``try: from gym.wrappers import ...``
+        lines = {n.lineno for n in body if n is not node} | {n.end_lineno for n in body if n is not node}
+        return node.lineno not in lines and node.end_lineno not in lines
+
+    def _split_import(self, node: ast.ImportFrom, module: str, homes: list[str]) -> None:
+        """``from gym.wrappers import RecordVideo, capped_cubic_video_schedule`` -> one import
+        per Gymnasium module the names live in now, in the order of their first name."""
+        groups: dict[str, list[ast.alias]] = {}
+        for alias, home in zip(node.names, homes):
+            groups.setdefault(home, []).append(alias)
+        (first, kept), *others = groups.items()
+        where = ", ".join(f"{', '.join(f'`{a.name}`' for a in aliases)} from {home}" for home, aliases in groups.items())
+        self.report(node, "GM104", f"from {module} import ...: its names live in different Gymnasium modules now: split into {where}")
+        keep = {alias.name for alias in kept}
+        self.plan.replace(node, lambda from_node: _keep_aliases(from_node, first, keep))
+        for home, aliases in others:
+            self.plan.insert_after(node, f"from {home} import {', '.join(_alias_text(a) for a in aliases)}")
+
     def _import_from(self, node: ast.ImportFrom) -> None:
         if node.level or node.module is None:
             return
@@ -455,6 +483,9 @@ class Imports(RuleFamily):
             first = moved[0] if moved else None
             if first and len(set(moved)) == 1:  # every name moved, to one module
                 new_rest = first[len("gymnasium.") :]
+            elif any(moved) and self._splittable(node):
+                self._split_import(node, module, [m or target for m in moved])
+                return
             elif any(moved):
                 names = ", ".join(f"`{alias.name}`" for alias in node.names)
                 self._report_removed(
@@ -470,6 +501,18 @@ class Imports(RuleFamily):
         code = "GM102" if rest == "" else "GM104" if new_rest != rest else "GM103"
         self.report(node, code, f"from {module} import ... -> from {new_module} import ...")
         self.plan.replace(node, lambda from_node: from_node.with_changes(module=dotted_node(new_module)))
+
+
+def _alias_text(alias: ast.alias) -> str:
+    return f"{alias.name} as {alias.asname}" if alias.asname else alias.name
+
+
+def _keep_aliases(from_node: cst.ImportFrom, module: str, keep: set[str]) -> cst.ImportFrom:
+    """``from_node`` importing only the names in ``keep``, from ``module``."""
+    every = list(from_node.names)  # type: ignore[arg-type]
+    names = [a for a in every if a.evaluated_name in keep]
+    names[-1] = names[-1].with_changes(comma=every[-1].comma)  # the statement's own ending (a trailing comma, a newline)
+    return from_node.with_changes(module=dotted_node(module), names=names)
 
 
 def _home_of(rest: str, name: str) -> str | None:

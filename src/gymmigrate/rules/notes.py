@@ -36,3 +36,6 @@ class FamilyNotes:
     # ResetSeed -> WrapperClasses: the info name a wrapper's inner reset was unpacked into,
     # by ``"Class.method"``.
     reset_info_names: dict[str, str] = field(default_factory=dict)
+    # EnvClassFamily -> GeneratorApi: statements of a removed seed() that go with it (not
+    # moved into reset() or __init__): a removed seeding helper there needs no decision.
+    dropped_statements: set[ast.stmt] = field(default_factory=set)

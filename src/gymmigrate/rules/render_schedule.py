@@ -7,8 +7,9 @@ condition (``if step % 30 == 0:``, ``if rank == 0:``, ``if args.render:``), addi
 script slowed down or a display opened where none was. So:
 
 * a condition that is fixed when the env is made (it reads only parameters of the
-  function that makes the env, or module names bound once, never rebound) moves to the
-  make: ``render_mode="human" if rank == 0 else None``;
+  function that makes the env, module names bound once, never rebound, or local names
+  bound once before the make and outside any loop) moves to the make:
+  ``render_mode="human" if rank == 0 else None``;
 * any other condition (a step counter, an episode flag) cannot be known at creation:
   the site is reported and the make is left as it was.
 """
@@ -92,11 +93,22 @@ def fixed_at_creation(facts: ModuleFacts, test: ast.AST, make: ast.Call) -> bool
         if isinstance(binding, ast.arg):
             if function is None or facts.enclosing_function(binding) is not function:
                 return False  # a parameter of some other function
+        elif isinstance(binding, ast.Name) and function is not None and facts.enclosing_function(binding) is function:
+            if not _bound_once_before(facts, binding, make, function):
+                return False  # a local variable that may change between make and render
         elif not (isinstance(binding, ast.Name) and facts.enclosing_function(binding) is None):
             return False  # a local variable: it may change between make and render
         elif function is None and binding.lineno >= make.lineno:
             return False  # bound after the env is made
     return True
+
+
+def _bound_once_before(facts: ModuleFacts, binding: ast.Name, make: ast.Call, function: ast.AST) -> bool:
+    """A local name's only binding (``render = True``) is a statement of the function's own
+    body, on an earlier line than the make: it has run, once, when the env is made (not in
+    a loop, where it would take a new value each pass, nor in a branch that may not run)."""
+    statement = facts.statement_of(binding)
+    return binding.lineno < make.lineno and isinstance(statement, ast.Assign) and facts.parent(statement) is function
 
 
 def schedule(facts: ModuleFacts, renders: list[ast.Call], make: ast.Call, home: ast.AST | None = None) -> tuple[str, str | None]:

@@ -39,7 +39,7 @@ from __future__ import annotations
 
 import ast
 from collections import defaultdict
-from collections.abc import Callable
+from collections.abc import Callable, Hashable
 from dataclasses import dataclass
 
 from gymmigrate.facts import ModuleFacts
@@ -587,6 +587,7 @@ class Rendering(RuleFamily):
                 f"{site.consumer} needs the env created with {target}, but its creation site was not found "
                 f"({where}); add it there by hand",
                 FixKind.FLAG,
+                question=self._untraced_question(site, where),
             )
             return
         keys = [id(m) for m in site.creation.calls]
@@ -732,6 +733,22 @@ class Rendering(RuleFamily):
             if quote is not None:
                 return quote
         return next((site.quote for site in sites if site.code == "GM401"), '"')
+
+    def _untraced_question(self, site: RenderSite, where: str) -> Hashable | None:
+        """The renders and recorders of one untraced env ask one question: where it is made,
+        and in which mode. One env is one spelling in one function (``self.x``: one class),
+        or, where the finder stopped at a named constructor or function parameter (``env`` is a
+        parameter of ``Evaluation``), that parameter in one class: a recorder built on ``env``
+        and ``self.env.render()``."""
+        func = site.node.func
+        class_ = self.facts.enclosing_class(site.node)
+        if site.creation.gap and " is a parameter of `" in site.creation.gap:
+            return ("render-untraced", id(class_ or self.facts.enclosing_function(site.node)), where)
+        name = full_name(func.value) if isinstance(func, ast.Attribute) else None
+        if not name:
+            return None
+        owner = class_ if name.split(".", 1)[0] == "self" else self.facts.enclosing_function(func)
+        return ("render-untraced", site.mode, id(owner), name, where)
 
     def _call_summary(self, call: ast.Call) -> str:
         """``gym.make("CartPole-v1", ...)``: names a make call in a message."""

@@ -69,6 +69,7 @@ Verdict = tuple[str, FixKind, str]
 
 class GeneratorApi(RuleFamily):
     RULES = RULES
+    after = ("EnvClassFamily",)  # the seed() statements it drops (FamilyNotes.dropped_statements)
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
@@ -132,7 +133,10 @@ class GeneratorApi(RuleFamily):
             kind = FixKind.ASSIST if kind is FixKind.AUTO else kind
         else:  # seed, tomaxint, get_state(...) with arguments, set_state not as a statement
             reason = NO_EQUIVALENT.get(method, "set the state with `np_random.bit_generator.state = state` as a statement")
-            self.report(call, code, f"np_random.{method}(...) on a Generator: {reason}", FixKind.FLAG)
+            # One function reseeding several layers (``env.np_random``, ``env.env.np_random``)
+            # asks one question: how it seeds now.
+            owner = self.facts.enclosing_function(call) or self.facts.tree
+            self.report(call, code, f"np_random.{method}(...) on a Generator: {reason}", FixKind.FLAG, question=("GM505", method, id(owner)))
             return
         tier = None
         if kind is not FixKind.AUTO and why:
@@ -267,6 +271,10 @@ class GeneratorApi(RuleFamily):
             rest = N.strip_gym_prefix(q)
             if rest is not None and rest.startswith("utils.seeding.") and rest.rsplit(".", 1)[-1] in REMOVED_SEEDING:
                 helper = rest.rsplit(".", 1)[-1]
+                if self.facts.statement_of(node) in self.context.notes.dropped_statements:
+                    # The line goes with the seed() method the rewrite removes: nothing to replace.
+                    self.report(node, "GM506", f"seeding.{helper} was removed in gym 0.26; this line goes with the removed seed()", tier=Tier.NOTE)
+                    return
                 self.report(node, "GM506", f"seeding.{helper} was removed in gym 0.26: derive seeds with np.random.SeedSequence or draw from np_random")
                 return
 

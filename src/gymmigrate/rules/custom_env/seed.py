@@ -74,8 +74,8 @@ def decide_seed(decision: ClassDecision) -> None:
     canonical_names: set[str] = set()
     deleted: list[ast.stmt] = []
     for index, group in enumerate(groups):
-        if index == 0 and is_docstring(group):
-            deleted.extend(group)
+        if (index == 0 and is_docstring(group)) or _does_nothing(group):
+            deleted.extend(group)  # a docstring, ``pass`` or ``...``: nothing to move
             continue
         target = _np_random_seeding(decision, group)
         if target is not None:
@@ -135,6 +135,10 @@ def decide_seed(decision: ClassDecision) -> None:
     decision.plan.seed = SeedPlan(moved=moved, setup=setup, renames={n: "seed" for n in seed_names if n != "seed"}, callers=callers)
     decision.removed.add(seed_method.name)
     decision.deleted_statements.extend(deleted)
+    kept = set(moved) | set(setup)
+    decision.family.context.notes.dropped_statements.update(
+        node for index, group in enumerate(groups) if index not in kept for statement in group for node in ast.walk(statement) if isinstance(node, ast.stmt)
+    )
     if not moved:
         decision.report(seed_method, "GM503", "seed() removed: super().reset(seed=seed) in reset() seeds self.np_random")
     else:
@@ -310,3 +314,10 @@ def _is_seeding_statement(group: list[ast.stmt], seed_names: set[str]) -> bool:
                 return True
     return False
 
+
+def _does_nothing(group: list[ast.stmt]) -> bool:
+    """``pass`` or ``...``: a body that seeds nothing."""
+    return len(group) == 1 and (
+        isinstance(group[0], ast.Pass)
+        or (isinstance(group[0], ast.Expr) and isinstance(group[0].value, ast.Constant) and group[0].value.value is Ellipsis)
+    )

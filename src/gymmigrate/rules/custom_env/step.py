@@ -253,9 +253,20 @@ def _counts_toward_a_limit(decision: ClassDecision) -> bool:
     def compute() -> bool:
         if decision.env.has_local_env_base(decision.classdef):
             return True  # the base class in this file may count steps for it
+        # A name moved by a constant both ways (``pos -= 1`` for one action, ``pos += 1``
+        # for another) is a position, not a count: it cannot run up to a limit by itself.
+        directions: dict[str, set[bool]] = {}
+        for node in ast.walk(decision.classdef):
+            if isinstance(node, ast.AugAssign) and isinstance(node.op, (ast.Add, ast.Sub)) and _is_number(node.value):
+                up = isinstance(node.op, ast.Add) == (node.value.value >= 0)  # type: ignore[attr-defined]
+                directions.setdefault(facts.segment(node.target), set()).add(up)
         for node in ast.walk(decision.classdef):
             if isinstance(node, ast.AugAssign) and isinstance(node.op, (ast.Add, ast.Sub)):
-                counted = _is_number(node.value) and not isinstance(node.target, ast.Subscript)
+                counted = (
+                    _is_number(node.value)
+                    and not isinstance(node.target, ast.Subscript)
+                    and len(directions.get(facts.segment(node.target), ())) < 2
+                )
                 if counted or any(STEP_LIMIT_WORD.search(w) for w in identifiers(node.target)):
                     if not _idle_attribute(decision, node.target):
                         return True  # `self.steps += 1`, `self.t += self.dt`; not `self.pos[1] += 1`
@@ -276,7 +287,7 @@ def _counts_toward_a_limit(decision: ClassDecision) -> bool:
 
 
 def _idle_attribute(decision: ClassDecision, target: ast.expr) -> bool:
-    """``self.<name>`` that cannot limit an episode: the class (and the module) never reads it
+    """``self.<name>`` that cannot limit an episode: the module never reads it
     but to count it, or it also moves it the other way or back from its own value
     (a position). Only attributes of the class itself; anything else may count."""
     if not (isinstance(target, ast.Attribute) and isinstance(target.value, ast.Name) and target.value.id == "self"):
@@ -284,12 +295,15 @@ def _idle_attribute(decision: ClassDecision, target: ast.expr) -> bool:
     facts = decision.family.facts
     directions: set[type] = set()
     reads = 0
+    classdef = decision.classdef
     for attr in facts.attributes.get(target.attr, ()):
         holder = facts.parent(attr)
         if isinstance(attr.ctx, ast.Load):
             if not _self_update(holder, target.attr):
-                reads += 1
+                reads += 1  # a read anywhere in the module (``env.steps`` in a script) may limit
             continue
+        if not classdef.lineno <= attr.lineno <= (classdef.end_lineno or attr.lineno):
+            continue  # another class's writes of the same name (its position is not this count)
         if isinstance(holder, ast.AugAssign):
             directions.add(type(holder.op))
         elif isinstance(holder, ast.Assign) and any(

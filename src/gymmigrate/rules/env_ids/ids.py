@@ -54,9 +54,15 @@ RULES = (
         FixKind.ASSIST,
         "Atari ids get `import ale_py` + `gym.register_envs(ale_py)`; MiniGrid/highway ids get their package import.",
     ),
-    Rule("GM803", "retired env ids", FixKind.AUTO, "Retired env ids are bumped to the version Gymnasium 1.4 registers."),
-    Rule("GM804", "Atari ids", FixKind.ASSIST, "Removed `*Deterministic*` / `*-ram*` Atari ids become the base id plus keywords."),
-    Rule("GM805", "removed env families", FixKind.FLAG, "Ids of env families Gymnasium removed are reported."),
+    Rule("GM803", "retired env ids", FixKind.AUTO, "Retired env ids are bumped to the version Gymnasium 1.4 registers.", once_per_run=True),
+    Rule(
+        "GM804",
+        "Atari ids",
+        FixKind.ASSIST,
+        "Removed `*Deterministic*` / `*-ram*` Atari ids become the base id plus keywords.",
+        once_per_run=True,
+    ),
+    Rule("GM805", "removed env families", FixKind.FLAG, "Ids of env families Gymnasium removed are reported.", once_per_run=True),
 )
 
 # ``notes.gymnasium_imported`` is set when the registration block imports ``gymnasium`` itself, so the

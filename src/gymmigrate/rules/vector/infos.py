@@ -28,6 +28,7 @@ from gymmigrate.facts.decisions import Action, decide
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import keyword, string_value
 from gymmigrate.findings import FixKind, Tier
+from gymmigrate.rules.step_done.common import looks_vectorised
 from gymmigrate.rules.vector.common import (
     LIST_INFO_WRAPPERS,
     VECTOR_CLASSES,
@@ -100,6 +101,11 @@ class Infos(VectorFamilyBase):
             if decision.action is Action.LEAVE:
                 continue
             readers = self._readers(infos)
+            if decision.action is not Action.REWRITE and not self._vector_evidence(step, readers):
+                # Not shown to be a vector env and nothing says it is one: a list of infos
+                # (per-agent infos of a multi-agent env, another library's VecEnv) never
+                # changed shape. Whether it is a Gym env at all is asked at its step or reset.
+                continue
             if id(readers) not in counted:
                 counted.add(id(readers))
                 handled.update(id(node) for node in readers.key_strings)
@@ -112,6 +118,15 @@ class Infos(VectorFamilyBase):
                 by_creation[key].append(readers)
         for key, uses in by_creation.items():
             self._plan_creation(creations[key], uses)
+
+    def _vector_evidence(self, step: ast.Call, readers: InfosReaders) -> bool:
+        """An untraced receiver that says it is a vector env: a plural name (``envs``), a
+        ``dones`` target, or infos read for the keys only vector envs set."""
+        assign = cast(ast.Assign, self.facts.parent(step))
+        target = cast(ast.Tuple, assign.targets[0])
+        if readers.final_obs or readers.final_info or readers.terminal:
+            return True
+        return looks_vectorised(cast(ast.Attribute, step.func).value, target.elts[2])
 
     def _step_assigns(self) -> list[tuple[ast.Call, ast.Name]]:
         """``obs, rewards, dones, infos = x.step(a)`` (four or five names): the step and its infos name."""

@@ -9,8 +9,10 @@ wrappers ``env.x_threshold`` raises ``AttributeError``:
   built by its own constructor never had the problem.
 * GM605 (ASSIST) ``env._max_episode_steps`` -> ``env.spec.max_episode_steps`` for envs from
   ``make``; ``env.get_wrapper_attr("_max_episode_steps")`` when the spec may be ``None``.
-* GM606 (FLAG) ``gym.make(id).env`` (legacy: "drop the TimeLimit"), ``env.env.env`` chains
-  and ``isinstance(env, TimeLimit)``: ``make`` now stacks three wrappers.
+* GM606 (FLAG) ``gym.make(id).env`` (legacy: "drop the TimeLimit") becomes ``.unwrapped``;
+  other ``env.env.env`` chains are reported: ``make`` now stacks three wrappers.
+  ``isinstance(env, TimeLimit)`` answers as before (TimeLimit is still the outermost wrapper
+  ``make`` returns): left alone on a make result, a note on a stack of the code's own.
 
 Where an env comes from (its *origin*) decides between those rewrites. Origins are
 memoized per name binding site, and a name whose origin is being computed counts as
@@ -43,7 +45,7 @@ from gymmigrate.rules.wrapper_usage.tables import (
 RULES = (
     Rule("GM604", "attribute forwarding removed", FixKind.ASSIST, "`env.foo` -> `env.unwrapped.foo` / `env.get_wrapper_attr(\"foo\")`."),
     Rule("GM605", "env._max_episode_steps", FixKind.ASSIST, "`env._max_episode_steps` -> `env.spec.max_episode_steps`."),
-    Rule("GM606", "wrapper-stack assumptions", FixKind.FLAG, "`gym.make(id).env`, `env.env.env` and `isinstance(env, TimeLimit)` are reported."),
+    Rule("GM606", "wrapper-stack assumptions", FixKind.FLAG, "`gym.make(id).env` -> `.unwrapped`; other `.env` chains are reported; `isinstance(env, TimeLimit)` on a stack of your own is noted."),
 )
 
 # Where an env came from.
@@ -106,11 +108,14 @@ class WrapperForwarding(RuleFamily):
                 self._attribute_access(node)
         for call in self.facts.calls_by_name.get("isinstance", []):
             if self._is_isinstance_timelimit(call):
+                # Gymnasium's make still puts TimeLimit outermost, as gym's did: the test
+                # answers as before (and failed as before under wrappers of the code's own).
                 self.report(
                     call,
                     "GM606",
-                    "gym.make now returns TimeLimit(OrderEnforcing(PassiveEnvChecker(env))) and other wrappers may "
-                    "sit on top: test `env.spec.max_episode_steps` instead of the wrapper class",
+                    "gym.make still returns TimeLimit outermost (around OrderEnforcing and PassiveEnvChecker), so this "
+                    "test answers as it did; `env.spec.max_episode_steps` also works under wrappers of your own",
+                    tier=Tier.NOTE,
                 )
 
     # -- GM604 / GM605 / GM606: attribute access on envs ------------------------------------------
@@ -377,6 +382,8 @@ class WrapperForwarding(RuleFamily):
                 "GM606",
                 "gym.make now returns TimeLimit(OrderEnforcing(PassiveEnvChecker(env))), so `.env` chains reach "
                 "a different layer: use gym.make(id, max_episode_steps=-1) to drop the time limit, or `.unwrapped`",
+                # The chains of one env in one function ask one question: which layer they mean.
+                question=("GM606", id(self.facts.enclosing_function(attr) or self.facts.tree), self.facts.segment(receiver)),
             )
 
     def _is_make_call(self, expr: ast.AST) -> bool:

@@ -117,7 +117,8 @@ class ResetOverrides(RuleFamily):
             return
         call = calls[0]
         obs_name, info_name = _fresh("obs", taken), _fresh("info", taken)
-        self.report(ret, "GM601", f"reset returns (obs, info): the inner reset is unpacked into `{obs_name}, {info_name}`")
+        # The same function of the same observation, and the inner reset's own info: exact.
+        self.report(ret, "GM601", f"reset returns (obs, info): the inner reset is unpacked into `{obs_name}, {info_name}`", tier=Tier.NOTE)
         call_text = self.facts.segment(call)
         if fixed_signature and not call.args and not call.keywords:
             call_text = call_text[: call_text.rindex("(") + 1] + "seed=seed, options=options)"

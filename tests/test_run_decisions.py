@@ -1,0 +1,64 @@
+"""One decision, one review item across the files of a run (``report.decide_once``).
+
+``fixtures/project_decisions``: three scripts that load a saved policy bump the same env id and import the same
+Gym-only library. Each decision is one review item, in the first file by path, naming
+the other places; those are notes pointing at it. A decision only one file makes stays
+its own item, and ``check`` still exits 1 (findings) with every place listed.
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from gymmigrate.cli import app
+
+FIXTURE = Path(__file__).resolve().parent.parent / "fixtures" / "project_decisions"
+runner = CliRunner()
+
+
+@pytest.fixture
+def run(tmp_path: Path) -> Path:
+    shutil.copytree(FIXTURE, tmp_path / "run")
+    return tmp_path / "run"
+
+
+def _review(findings: list[dict]) -> list[tuple[str, int, str]]:
+    return sorted((Path(f["path"]).name, f["line"], f["rule"]) for f in findings if f["tier"] == "review")
+
+
+def test_check_asks_each_run_wide_decision_once_and_lists_every_place(run: Path) -> None:
+    result = runner.invoke(app, ["check", "--output-format", "json", str(run)])
+    assert result.exit_code == 1
+    findings = json.loads(result.stdout)
+    assert _review(findings) == [("evaluate.py", 7, "GM803"), ("evaluate.py", 12, "GM803"), ("test.py", 5, "GM107")]
+    hopper = [f for f in findings if f["rule"] == "GM803" and "Hopper-v2" in f["message"]]
+    assert len(hopper) == 3  # every place is still listed
+    first = next(f for f in hopper if f["tier"] == "review")
+    assert first["message"].endswith(
+        f"(the same decision at 2 other places: {run / 'scripts' / 'test.py'}:8, {run / 'scripts' / 'train.py'}:8)"
+    )
+    for note in (f for f in hopper if f["tier"] == "note"):
+        assert note["message"].endswith(f"(decided once, at {run / 'scripts' / 'evaluate.py'}:7)")
+    roboschool = [f for f in findings if f["rule"] == "GM107"]
+    assert [f["tier"] for f in sorted(roboschool, key=lambda f: f["path"])] == ["review", "note"]
+
+
+def test_the_report_counts_decisions(run: Path, tmp_path: Path) -> None:
+    report = tmp_path / "report.json"
+    result = runner.invoke(app, ["rewrite", "--diff", "--report", str(report), str(run)])
+    assert result.exit_code == 1
+    data = json.loads(report.read_text())
+    assert data["summary"]["review_items"] == 3
+    assert sum(len(f["review"]) for f in data["files"]) == 3
+    assert "Review (3)" in result.stderr
+
+
+def test_a_decision_of_one_file_is_not_grouped(run: Path) -> None:
+    """Checked alone, each script asks its own questions: nothing is grouped away."""
+    result = runner.invoke(app, ["check", "--output-format", "json", str(run / "scripts" / "train.py")])
+    assert _review(json.loads(result.stdout)) == [("train.py", 5, "GM107"), ("train.py", 8, "GM803")]
