@@ -267,3 +267,47 @@ def test_an_env_kept_in_its_own_attribute_runs_migrated() -> None:
     env.step(1)
     assert env.restart() == 0 and env.count == 0
     check_env(env, skip_render_check=True)
+
+
+# -- a constructor parameter proven by the run's callers ----------------------------------------
+
+_AGENT = """class Agent:
+    def __init__(self, env, gamma=0.99):
+        self.env = env
+        self.gamma = gamma
+
+    def run(self):
+        obs = self.env.reset()
+        obs, reward, done, info = self.env.step(0)
+        return reward
+"""
+
+
+def _agent_steps(project: Path, tmp_path: Path) -> list[tuple[str, str]]:
+    return sorted(
+        (str(f["rule"]), str(f["kind"]))
+        for f in _findings([project], tmp_path)
+        if str(f["path"]).endswith("agent.py") and f["rule"] in ("GM201", "GM301")
+    )
+
+
+def test_a_constructor_parameter_is_known_from_the_callers_in_other_modules(tmp_path: Path) -> None:
+    project = tmp_path / "run"
+    (project / "pkg").mkdir(parents=True)
+    (project / "pkg" / "__init__.py").write_text("")
+    (project / "pkg" / "agent.py").write_text(_AGENT)
+    (project / "main.py").write_text(
+        'import gym\nfrom pkg.agent import Agent\n\nenv = gym.make("CartPole-v1")\nAgent(env).run()\n'
+        'Agent(gym.make("CartPole-v1"), gamma=0.9).run()\n'
+    )
+    assert _agent_steps(project, tmp_path) == [("GM201", "auto"), ("GM301", "auto")]
+    # A subclass in another module built with a VecEnv: the callers no longer all pass a Gym
+    # env, and those calls are not seen from agent.py: reported, not rewritten.
+    (project / "pkg" / "special.py").write_text(
+        "from pkg.agent import Agent\n\n\nclass Special(Agent):\n    def describe(self):\n        return f'on {self.env}'\n"
+    )
+    (project / "vec.py").write_text(
+        "import gym\nfrom stable_baselines3.common.vec_env import DummyVecEnv\nfrom pkg.special import Special\n\n"
+        'Special(DummyVecEnv([lambda: gym.make("CartPole-v1")])).run()\n'
+    )
+    assert _agent_steps(project, tmp_path) == [("GM201", "flag"), ("GM301", "flag")]

@@ -588,6 +588,16 @@ class ProjectView:
         import, each with the namespace gym registered its ids in (None: the root)."""
         return self.facts.plugin_calls.get(self.path, ())
 
+    def built_elsewhere(self, classname: str) -> bool:
+        """Another module of the run calls this file's class ``classname``."""
+        return any(
+            path == self.path and qualname in (classname, f"{classname}.__init__") for path, qualname, _ in self.facts.param_kinds
+        )
+
+    def subclassed_elsewhere(self, classname: str) -> bool:
+        """Another module of the run derives a class from this file's ``classname``."""
+        return (self.path, classname) in self.facts.overrides
+
     def overridden_elsewhere(self, classname: str, method: str) -> list[str]:
         """Subclasses in other modules of the run that override ``classname.method``."""
         return self.facts.overrides.get((self.path, classname), {}).get(method, [])
