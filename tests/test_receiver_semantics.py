@@ -8,7 +8,11 @@ against the installed Gymnasium with the same dynamics.
 
 from __future__ import annotations
 
+import importlib.util
+import subprocess
+import sys
 import textwrap
+from pathlib import Path
 
 import pytest
 
@@ -119,3 +123,45 @@ def test_next_state_masked_by_none_keeps_truncated_next_states(monkeypatch: pyte
         else:
             assert (new[2] is None) == (old[2] is None)
         assert new[1] == old[1]
+
+
+# -- an Atari id reaching make through an argparse default or a parameter default -----------------
+
+ATARI_LAUNCHER = textwrap.dedent(
+    """
+    import argparse
+
+    import gym
+
+    DEFAULT_ENV_NAME = "PongNoFrameskip-v4"
+
+
+    def make_env(env_id="BreakoutNoFrameskip-v4"):
+        return gym.make(env_id)
+
+
+    def run(argv):
+        parser = argparse.ArgumentParser()
+        parser.add_argument("--env", default=DEFAULT_ENV_NAME)
+        args = parser.parse_args(argv)
+        return [make_env(args.env), make_env()]
+    """
+)
+
+
+def test_atari_ids_through_defaults_are_registered_before_make(tmp_path: Path) -> None:
+    if importlib.util.find_spec("ale_py") is None:
+        pytest.skip("ale_py is not installed")
+    text, findings = migrate(ATARI_LAUNCHER)
+    assert "import ale_py\n\ngym.register_envs(ale_py)" in text
+    assert any(f[1] == "GM106" for f in findings)
+    # A fresh interpreter: the registration happens when ale_py is first imported.
+    driver = "envs = run([])\nprint([env.spec.id for env in envs])\nfor env in envs:\n    env.reset(seed=0)\n"
+    (tmp_path / "migrated.py").write_text(text + "\n\n" + driver)
+    run = subprocess.run([sys.executable, "migrated.py"], cwd=tmp_path, capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.strip() == "['PongNoFrameskip-v4', 'BreakoutNoFrameskip-v4']"
+    legacy = (tmp_path / "legacy.py")
+    legacy.write_text(text.replace("import ale_py\n\ngym.register_envs(ale_py)\n", "") + "\n\n" + driver)
+    unregistered = subprocess.run([sys.executable, "legacy.py"], cwd=tmp_path, capture_output=True, text=True, timeout=120)
+    assert unregistered.returncode != 0 and "NameNotFound" in unregistered.stderr  # what the rewrite prevents
