@@ -588,6 +588,11 @@ class ProjectView:
         import, each with the namespace gym registered its ids in (None: the root)."""
         return self.facts.plugin_calls.get(self.path, ())
 
+    def is_module(self, dotted: str) -> bool:
+        """``dotted`` names a module or package of the run (``multiagent`` when the project has
+        its own ``multiagent/`` package)."""
+        return any(path == dotted or path.startswith(dotted + ".") for path in self.facts.modules)
+
     def built_elsewhere(self, classname: str) -> bool:
         """Another module of the run calls this file's class ``classname``."""
         return any(

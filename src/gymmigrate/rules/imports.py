@@ -176,6 +176,20 @@ GYM_ONLY_LIBRARIES = {
     "atari_py": "atari_py is replaced by ale_py: `import ale_py`, `gymnasium.register_envs(ale_py)`, ids `ALE/Pong-v5`",
     "mujoco_py": "mujoco_py envs were removed in Gymnasium 1.0: use the `mujoco` bindings and the v5 envs",
     "d4rl": "D4RL has no Gymnasium release: its datasets moved to Minari (`minari`), its envs to gymnasium-robotics",
+    # ptan 0.7 (setup.py: ``gym``, ``atari-py``) resets and steps its envs with the old API in
+    # ``ExperienceSource``; ptan 0.8.1 imports gymnasium but pins stable-baselines3==2.3.2,
+    # whose wheel requires gymnasium<0.30: no ptan release installs next to Gymnasium 1.x.
+    "ptan": (
+        "ptan has no release for Gymnasium 1.x: ptan 0.7 is built on gym (its ExperienceSource calls the old "
+        "reset/step on the envs it is given) and ptan 0.8 pins stable-baselines3==2.3.2 (gymnasium<0.30); "
+        "envs handed to it keep the old API: port the ptan parts this code uses, or keep it on gym"
+    ),
+    # openai/multiagent-particle-envs: never released, imports gym, MultiAgentEnv returns lists.
+    "multiagent": (
+        "multiagent (openai's multiagent-particle-envs) has no Gymnasium release: its MultiAgentEnv keeps gym's "
+        "list-per-agent reset/step and builds gym.spaces; its successor is PettingZoo's MPE (`mpe2`); until it is "
+        "ported, code that steps its envs or checks their spaces against gym classes stays on gym"
+    ),
 }
 
 
@@ -273,9 +287,14 @@ class Imports(RuleFamily):
                 modules = [node.module] if node.module and not node.level else []
             for module in modules:
                 top = module.split(".", 1)[0]
-                if top in GYM_ONLY_LIBRARIES and top not in reported:
+                if top in GYM_ONLY_LIBRARIES and top not in reported and not self._of_the_run(top):
                     reported.add(top)
                     self.report(node, "GM107", GYM_ONLY_LIBRARIES[top])
+
+    def _of_the_run(self, module: str) -> bool:
+        """A package of the project itself that shares a library's name (its own ``multiagent``)."""
+        project = self.receivers.project
+        return project is not None and project.is_module(module)
 
     # -- GM108: fallbacks ----------------------------------------------------------
 
