@@ -165,3 +165,58 @@ def test_atari_ids_through_defaults_are_registered_before_make(tmp_path: Path) -
     legacy.write_text(text.replace("import ale_py\n\ngym.register_envs(ale_py)\n", "") + "\n\n" + driver)
     unregistered = subprocess.run([sys.executable, "legacy.py"], cwd=tmp_path, capture_output=True, text=True, timeout=120)
     assert unregistered.returncode != 0 and "NameNotFound" in unregistered.stderr  # what the rewrite prevents
+
+
+# -- class checks on the spaces of a Gym-only package's envs -------------------------------------
+
+SPACE_CHECKS = textwrap.dedent(
+    """
+    import gym
+    from gym import spaces
+    from multiagent.environment import MultiAgentEnv
+
+
+    def head_for(space):
+        if isinstance(space, spaces.Box):
+            return "gaussian"
+        if isinstance(space, spaces.Discrete):
+            return "categorical"
+        return "unknown"
+
+
+    def heads():
+        return [head_for(space) for space in MultiAgentEnv().action_space]
+    """
+)
+
+# Stand-ins: a Gym-only package whose env builds the space classes of (a minimal) legacy gym.
+STAND_IN_GYM = "from gym import spaces\n"
+STAND_IN_SPACES = "class Box:\n    pass\n\n\nclass Discrete:\n    pass\n"
+STAND_IN_MULTIAGENT = (
+    "from gym import spaces\n\n\nclass MultiAgentEnv:\n    def __init__(self):\n"
+    "        self.action_space = [spaces.Box(), spaces.Discrete()]\n"
+)
+
+
+def test_space_checks_on_a_gym_only_packages_envs_keep_their_answers(tmp_path: Path) -> None:
+    (tmp_path / "gym").mkdir()
+    (tmp_path / "gym" / "__init__.py").write_text(STAND_IN_GYM)
+    (tmp_path / "gym" / "spaces.py").write_text(STAND_IN_SPACES)
+    (tmp_path / "multiagent").mkdir()
+    (tmp_path / "multiagent" / "__init__.py").write_text("")
+    (tmp_path / "multiagent" / "environment.py").write_text(STAND_IN_MULTIAGENT)
+    text, findings = migrate(SPACE_CHECKS)
+    assert "\nfrom gym import spaces\n" in text  # left on gym, and said why
+    assert (3, "GM102", "flag", "review") in findings
+
+    def heads(program: str) -> str:
+        (tmp_path / "program.py").write_text(program + "\nprint(heads())\n")
+        run = subprocess.run([sys.executable, "program.py"], cwd=tmp_path, capture_output=True, text=True, timeout=120)
+        assert run.returncode == 0, run.stderr
+        return run.stdout.strip()
+
+    legacy = heads(SPACE_CHECKS)
+    assert legacy == "['gaussian', 'categorical']"
+    assert heads(text) == legacy  # migrated: Gymnasium for the rest, the checks still answer
+    # What the plain rewrite of the import would have done: every check False, silently.
+    assert heads(text.replace("\nfrom gym import spaces\n", "\nfrom gymnasium import spaces\n")) == "['unknown', 'unknown']"

@@ -147,6 +147,8 @@ class ProjectFacts:
     # class (or a re-export of one) that sets a space to an instance of a class of the run
     # that is not a ``gymnasium.spaces.Space``: Gymnasium 1.x's env checker rejects it.
     non_space_envs: dict[tuple[str, str], tuple[str, str, str]] = field(default_factory=dict)
+    # Top-level packages any module of the run imports (absolute imports).
+    imported_packages: frozenset[str] = frozenset()
 
     @classmethod
     def join(cls, summaries: list[ModuleSummary], blocked: dict[str, str] | None = None) -> ProjectFacts:
@@ -187,6 +189,7 @@ class ProjectFacts:
                 if resolved is not None:
                     calls_to[resolved].append((summary.path, call))
         imported = {q for summary in summaries for q in summary.imported}
+        facts.imported_packages = frozenset(q.split(".", 1)[0] for q in imported if not q.startswith("."))
         requires = {
             package
             for family, (package, rewritten) in N.PZ_MOVED_FAMILIES.items()
@@ -587,6 +590,10 @@ class ProjectView:
         """The register functions of ``gym.envs`` entry points this module must call on
         import, each with the namespace gym registered its ids in (None: the root)."""
         return self.facts.plugin_calls.get(self.path, ())
+
+    def imported_packages(self) -> frozenset[str]:
+        """The top-level packages the run's modules import (``multiagent``, ``numpy``...)."""
+        return self.facts.imported_packages
 
     def is_module(self, dotted: str) -> bool:
         """``dotted`` names a module or package of the run (``multiagent`` when the project has
