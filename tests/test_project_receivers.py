@@ -311,3 +311,24 @@ def test_a_constructor_parameter_is_known_from_the_callers_in_other_modules(tmp_
         'Special(DummyVecEnv([lambda: gym.make("CartPole-v1")])).run()\n'
     )
     assert _agent_steps(project, tmp_path) == [("GM201", "flag"), ("GM301", "flag")]
+
+
+def test_space_checks_stay_on_gym_next_to_a_gym_only_env_package(tmp_path: Path) -> None:
+    """``from gym import spaces`` used only by isinstance checks in a module that the script
+    importing ``multiagent`` imports: left on gym and reported. An unrelated module of the
+    same run that checks its own spaces is migrated."""
+    project = tmp_path / "run"
+    for folder in ("common", "experiments", "tools"):
+        (project / folder).mkdir(parents=True)
+    checks = "def head(space):\n    from gym import spaces\n    return isinstance(space, spaces.Box)\n"
+    (project / "common" / "distributions.py").write_text(checks)
+    (project / "tools" / "inspect_env.py").write_text("import gym\n" + checks)
+    (project / "experiments" / "train.py").write_text(
+        "import gym\nfrom multiagent.environment import MultiAgentEnv\nfrom common.distributions import head\n"
+    )
+    result = runner.invoke(app, ["rewrite", str(project)])
+    assert result.exit_code == 0, result.output
+    assert "    from gym import spaces\n" in (project / "common" / "distributions.py").read_text()
+    assert "    from gymnasium import spaces\n" in (project / "tools" / "inspect_env.py").read_text()
+    kept = [f for f in _findings([project], tmp_path) if f["rule"] == "GM102" and f["kind"] == "flag"]
+    assert [Path(str(f["path"])).name for f in kept] == ["distributions.py"]

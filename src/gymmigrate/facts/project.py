@@ -147,8 +147,10 @@ class ProjectFacts:
     # class (or a re-export of one) that sets a space to an instance of a class of the run
     # that is not a ``gymnasium.spaces.Space``: Gymnasium 1.x's env checker rejects it.
     non_space_envs: dict[tuple[str, str], tuple[str, str, str]] = field(default_factory=dict)
-    # Top-level packages any module of the run imports (absolute imports).
-    imported_packages: frozenset[str] = frozenset()
+    # path -> the top-level packages the module imports, with those of the run's modules it
+    # imports and of those that import it (one step each way): a project's neighbourhood,
+    # not every project of a run over several.
+    nearby_packages: dict[str, frozenset[str]] = field(default_factory=dict)
 
     @classmethod
     def join(cls, summaries: list[ModuleSummary], blocked: dict[str, str] | None = None) -> ProjectFacts:
@@ -189,7 +191,7 @@ class ProjectFacts:
                 if resolved is not None:
                     calls_to[resolved].append((summary.path, call))
         imported = {q for summary in summaries for q in summary.imported}
-        facts.imported_packages = frozenset(q.split(".", 1)[0] for q in imported if not q.startswith("."))
+        facts._join_nearby_packages(summaries)
         requires = {
             package
             for family, (package, rewritten) in N.PZ_MOVED_FAMILIES.items()
@@ -216,6 +218,18 @@ class ProjectFacts:
         facts._join_overrides(summaries)
         _NonSpaces(facts, by_path).run()
         return facts
+
+    def _join_nearby_packages(self, summaries: list[ModuleSummary]) -> None:
+        own = {s.path: frozenset(q.split(".", 1)[0] for q in s.imported if not q.startswith(".")) for s in summaries}
+        nearby = {path: set(tops) for path, tops in own.items()}
+        for summary in summaries:
+            for qualified in summary.imported:
+                split = self._split(qualified, summary.path)
+                if split is None or split[0] == summary.path or split[0] not in own:
+                    continue
+                nearby[summary.path] |= own[split[0]]
+                nearby[split[0]] |= own[summary.path]
+        self.nearby_packages = {path: frozenset(tops) for path, tops in nearby.items()}
 
     def _join_overrides(self, summaries: list[ModuleSummary]) -> None:
         """Which methods of a run's class are overridden by subclasses in other modules."""
@@ -592,8 +606,9 @@ class ProjectView:
         return self.facts.plugin_calls.get(self.path, ())
 
     def imported_packages(self) -> frozenset[str]:
-        """The top-level packages the run's modules import (``multiagent``, ``numpy``...)."""
-        return self.facts.imported_packages
+        """The top-level packages this module imports, and the run's modules it imports or that
+        import it (``multiagent`` imported by the script that builds this module's agents)."""
+        return self.facts.nearby_packages.get(self.path, frozenset())
 
     def is_module(self, dotted: str) -> bool:
         """``dotted`` names a module or package of the run (``multiagent`` when the project has

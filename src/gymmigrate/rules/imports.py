@@ -328,7 +328,7 @@ class Imports(RuleFamily):
                                 checks.setdefault(statement, []).append(expr)
         kept: dict[ast.ImportFrom, str] = {}
         why = (
-            f"the envs of `{package}` (a Gym-only package this run imports) carry gym's space classes, and "
+            f"the envs of `{package}` (a Gym-only package imported here or next to this module) carry gym's space classes, and "
             f"Gymnasium's are other classes"
         )
         for statement, exprs in sorted(checks.items(), key=lambda item: item[0].lineno):  # type: ignore[attr-defined]
@@ -352,7 +352,8 @@ class Imports(RuleFamily):
         return kept
 
     def _gym_only_env_packages(self) -> set[str]:
-        """Gym-only env packages imported by this file or (in a run) any module of the run."""
+        """Gym-only env packages imported by this file or (in a run) by a module of the run it
+        imports or that imports it."""
         tops = {q.split(".", 1)[0] for q in self.facts.imports.values()}
         project = self.receivers.project
         if project is not None:

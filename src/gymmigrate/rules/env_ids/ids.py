@@ -198,8 +198,11 @@ class EnvIds(RuleFamily):
             return True
         if not (isinstance(parent, ast.Call) and read is not parent.func):
             return False
-        if any(q.split(".", 1)[0] in ("builtins", "logging") for q in self.facts.qualified_names(parent.func)):
+        called = self.facts.qualified_names(parent.func)
+        if any(q.split(".", 1)[0] in ("builtins", "logging") for q in called):
             return False
+        if any(q.split(".", 1)[0] in _LEGACY_GYM_LIBRARIES for q in called):
+            return False  # ``make_atari(env_id)`` of baselines makes it with legacy gym (GM107 says so)
         return not (isinstance(parent.func, ast.Name) and parent.func.id in _DISPLAY_CALLS)
 
     def _site(self, string: ast.AST, call: ast.Call | None, forwards: bool, via: str = "") -> IdSite | None:
@@ -396,6 +399,9 @@ def _calls_in_source_order(facts: ModuleFacts) -> list[ast.Call]:
 
 
 _DISPLAY_CALLS = frozenset({"print", "str", "repr", "len", "format", "isinstance"})
+# Libraries with no Gymnasium release whose factories make envs through legacy gym's own
+# registry: registering ale_py with Gymnasium does nothing for them.
+_LEGACY_GYM_LIBRARIES = frozenset({"baselines", "stable_baselines", "ptan"})
 
 
 def _default(function: ast.FunctionDef | ast.AsyncFunctionDef, param: ast.arg) -> ast.expr | None:

@@ -257,9 +257,10 @@ class UnpackRules(StepFamilyBase):
         return None
 
     def _stored_later(self, statement: ast.stmt, name: str) -> bool:
-        """``name`` is passed to a store call (``memory.push(state, action, next_state, r)``) after
-        ``statement`` in the same function, and never tested (``if state is None: reset``:
-        then None means "start a new episode", not a terminal transition)."""
+        """``name`` is handed on after ``statement`` in the same function, as an argument
+        (``memory.push(state, action, next_state, r)``, ``agent.update(s, a, r, s2)``), and never
+        tested (``if state is None: reset``: then None means "start a new episode", not a
+        terminal transition)."""
         function = self.facts.enclosing_function(statement) or self.facts.tree
         stored = False
         for node in ast.walk(function):
@@ -267,10 +268,9 @@ class UnpackRules(StepFamilyBase):
                 return False
             if (
                 isinstance(node, ast.Call)
-                and isinstance(node.func, ast.Attribute)
-                and node.func.attr in STORE_METHODS
                 and node.lineno > statement.lineno
-                and any(name in loaded_names(arg) for arg in [*node.args, *(k.value for k in node.keywords)])
+                and not (isinstance(node.func, ast.Name) and node.func.id in _NOT_TRANSITIONS)
+                and any(_passes(arg, name) for arg in [*node.args, *(k.value for k in node.keywords)])
             ):
                 stored = True
         return stored
@@ -575,6 +575,17 @@ def _split_done(target: cst.BaseExpression, names: StepNames) -> cst.BaseExpress
     comma = done.comma if isinstance(done.comma, cst.Comma) else cst.Comma(whitespace_after=cst.SimpleWhitespace(" "))
     elements[2:3] = [cst.Element(value=first, comma=comma), cst.Element(value=second, comma=comma)]
     return target.with_changes(elements=elements)
+
+
+# Calls that show or test a value rather than take a transition.
+_NOT_TRANSITIONS = frozenset({"print", "repr", "str", "len", "isinstance", "type", "id"})
+
+
+def _passes(argument: ast.expr, name: str) -> bool:
+    """The argument is ``name``, or a tuple or list that holds it (a transition)."""
+    if isinstance(argument, (ast.Tuple, ast.List)):
+        return any(_passes(element, name) for element in argument.elts)
+    return isinstance(argument, ast.Name) and argument.id == name
 
 
 def _is_none(node: ast.AST) -> bool:
