@@ -171,7 +171,9 @@ class EnvIds(RuleFamily):
                 continue
             target = statement.targets[0]
             literal = self._single_literal_constant(target)
-            text = plain_string(self.facts, literal) if literal is not None else None
+            if literal is None:
+                continue
+            text = plain_string(self.facts, literal)
             if text is None or env_package(_split_module_prefix(text)[1]) is None:
                 continue
             reads = (
