@@ -203,8 +203,12 @@ class EnvIds(RuleFamily):
         called = self.facts.qualified_names(parent.func)
         if any(q.split(".", 1)[0] in ("builtins", "logging") for q in called):
             return False
-        if any(q.split(".", 1)[0] in _LEGACY_GYM_LIBRARIES for q in called):
+        project = self.receivers.project
+        aliases = {project.library_alias(q) for q in called} - {None} if project is not None else set()
+        if any(q.split(".", 1)[0] in _LEGACY_GYM_LIBRARIES for q in called | aliases):  # type: ignore[union-attr]
             return False  # ``make_atari(env_id)`` of baselines makes it with legacy gym (GM107 says so)
+        if not called and isinstance(parent.func, ast.Name) and not self.facts.bindings_of(parent.func):
+            return False  # a name from a star import: what it calls is not known here
         return not (isinstance(parent.func, ast.Name) and parent.func.id in _DISPLAY_CALLS)
 
     def _site(self, string: ast.AST, call: ast.Call | None, forwards: bool, via: str = "") -> IdSite | None:
