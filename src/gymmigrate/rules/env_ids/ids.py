@@ -191,8 +191,10 @@ class EnvIds(RuleFamily):
         return sites
 
     def _hands_on(self, read: ast.AST) -> bool:
-        """The constant is passed on as an id: a call argument, a parameter default, or the
-        default of an argparse option."""
+        """The constant is passed on as an id: an argument of a function of the project (a
+        def of this module, a relative import, a name another module of the run defines), a
+        parameter default, or the default of an argparse option. A library's call
+        (``os.path.join(log_dir, env_id)``) is not one, nor a Gym-only library's factory."""
         parent = self.facts.parent(read)
         if isinstance(parent, ast.keyword):
             parent = self.facts.parent(parent)
@@ -200,16 +202,16 @@ class EnvIds(RuleFamily):
             return True
         if not (isinstance(parent, ast.Call) and read is not parent.func):
             return False
+        if isinstance(parent.func, ast.Attribute) and parent.func.attr == "add_argument":
+            return True  # ``parser.add_argument("--env", default=ENV)``
+        if self.receivers.local_function(parent.func) is not None:
+            return True
         called = self.facts.qualified_names(parent.func)
-        if any(q.split(".", 1)[0] in ("builtins", "logging") for q in called):
-            return False
         project = self.receivers.project
-        aliases = {project.library_alias(q) for q in called} - {None} if project is not None else set()
-        if any(q.split(".", 1)[0] in _LEGACY_GYM_LIBRARIES for q in called | aliases):  # type: ignore[union-attr]
+        aliases = {a for a in (project.library_alias(q) for q in called) if a is not None} if project is not None else set()
+        if any(q.split(".", 1)[0] in _LEGACY_GYM_LIBRARIES for q in called | aliases):
             return False  # ``make_atari(env_id)`` of baselines makes it with legacy gym (GM107 says so)
-        if not called and isinstance(parent.func, ast.Name) and not self.facts.bindings_of(parent.func):
-            return False  # a name from a star import: what it calls is not known here
-        return not (isinstance(parent.func, ast.Name) and parent.func.id in _DISPLAY_CALLS)
+        return any(q.startswith(".") or (project is not None and project.defines(q)) for q in called)
 
     def _site(self, string: ast.AST, call: ast.Call | None, forwards: bool, via: str = "") -> IdSite | None:
         text = plain_string(self.facts, string)
@@ -404,7 +406,6 @@ def _calls_in_source_order(facts: ModuleFacts) -> list[ast.Call]:
     return calls
 
 
-_DISPLAY_CALLS = frozenset({"print", "str", "repr", "len", "format", "isinstance"})
 # Libraries with no Gymnasium release whose factories make envs through legacy gym's own
 # registry: registering ale_py with Gymnasium does nothing for them.
 _LEGACY_GYM_LIBRARIES = frozenset({"baselines", "stable_baselines", "ptan"})
