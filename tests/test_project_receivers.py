@@ -278,3 +278,66 @@ def test_a_gym_wrapper_class_from_a_star_import_makes_a_gym_env(tmp_path: Path) 
     result = runner.invoke(app, ["check", "--output-format", "json", str(project / "train.py"), str(project / "utils")])
     resets = {f["line"]: f["tier"] for f in json.loads(result.stdout) if f["rule"] == "GM201" and f["path"].endswith("train.py")}
     assert resets == {8: "note", 15: "review"}
+# -- a constructor parameter proven by the run's callers ----------------------------------------
+
+_AGENT = """class Agent:
+    def __init__(self, env, gamma=0.99):
+        self.env = env
+        self.gamma = gamma
+
+    def run(self):
+        obs = self.env.reset()
+        obs, reward, done, info = self.env.step(0)
+        return reward
+"""
+
+
+def _agent_steps(project: Path, tmp_path: Path) -> list[tuple[str, str]]:
+    return sorted(
+        (str(f["rule"]), str(f["kind"]))
+        for f in _findings([project], tmp_path)
+        if str(f["path"]).endswith("agent.py") and f["rule"] in ("GM201", "GM301")
+    )
+
+
+def test_a_constructor_parameter_is_known_from_the_callers_in_other_modules(tmp_path: Path) -> None:
+    project = tmp_path / "run"
+    (project / "pkg").mkdir(parents=True)
+    (project / "pkg" / "__init__.py").write_text("")
+    (project / "pkg" / "agent.py").write_text(_AGENT)
+    (project / "main.py").write_text(
+        'import gym\nfrom pkg.agent import Agent\n\nenv = gym.make("CartPole-v1")\nAgent(env).run()\n'
+        'Agent(gym.make("CartPole-v1"), gamma=0.9).run()\n'
+    )
+    assert _agent_steps(project, tmp_path) == [("GM201", "auto"), ("GM301", "auto")]
+    # A subclass in another module built with a VecEnv: the callers no longer all pass a Gym
+    # env, and those calls are not seen from agent.py: reported, not rewritten.
+    (project / "pkg" / "special.py").write_text(
+        "from pkg.agent import Agent\n\n\nclass Special(Agent):\n    def describe(self):\n        return f'on {self.env}'\n"
+    )
+    (project / "vec.py").write_text(
+        "import gym\nfrom stable_baselines3.common.vec_env import DummyVecEnv\nfrom pkg.special import Special\n\n"
+        'Special(DummyVecEnv([lambda: gym.make("CartPole-v1")])).run()\n'
+    )
+    assert _agent_steps(project, tmp_path) == [("GM201", "flag"), ("GM301", "flag")]
+
+
+def test_space_checks_stay_on_gym_next_to_a_gym_only_env_package(tmp_path: Path) -> None:
+    """``from gym import spaces`` used only by isinstance checks in a module that the script
+    importing ``multiagent`` imports: left on gym and reported. An unrelated module of the
+    same run that checks its own spaces is migrated."""
+    project = tmp_path / "run"
+    for folder in ("common", "experiments", "tools"):
+        (project / folder).mkdir(parents=True)
+    checks = "def head(space):\n    from gym import spaces\n    return isinstance(space, spaces.Box)\n"
+    (project / "common" / "distributions.py").write_text(checks)
+    (project / "tools" / "inspect_env.py").write_text("import gym\n" + checks)
+    (project / "experiments" / "train.py").write_text(
+        "import gym\nfrom multiagent.environment import MultiAgentEnv\nfrom common.distributions import head\n"
+    )
+    result = runner.invoke(app, ["rewrite", str(project)])
+    assert result.exit_code == 0, result.output
+    assert "    from gym import spaces\n" in (project / "common" / "distributions.py").read_text()
+    assert "    from gymnasium import spaces\n" in (project / "tools" / "inspect_env.py").read_text()
+    kept = [f for f in _findings([project], tmp_path) if f["rule"] == "GM102" and f["kind"] == "flag"]
+    assert [Path(str(f["path"])).name for f in kept] == ["distributions.py"]

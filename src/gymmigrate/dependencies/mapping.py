@@ -120,7 +120,15 @@ GYM_ONLY_PACKAGES: dict[str, str] = {
     "dmc2gym": "a Gym-only env package (Shimmy's dm_control envs replace it)",
     "pybullet": "if the project uses its bundled envs (pybullet_envs), they register with Gym only",
     "gym-notices": "a dependency of gym only, not needed by Gymnasium: remove it",
+    # ptan 0.7 requires gym and atari-py; ptan 0.8.1 requires gymnasium>=0.29 but pins
+    # stable-baselines3==2.3.2, whose wheel requires gymnasium<0.30 (both wheels' metadata).
+    "ptan": (
+        "no ptan release installs with Gymnasium 1.x (0.7 requires gym; 0.8.1 pins stable-baselines3==2.3.2, "
+        "which requires gymnasium<0.30): port the parts the code uses, or keep this project on gym"
+    ),
 }
+# Gym-only packages for which Shimmy's route does not apply (not env packages).
+NO_SHIMMY_ROUTE = frozenset({"gym-notices", "ptan"})
 MUJOCO_IMAGEIO = (
     "`mujoco` alone does not run Gymnasium 1.x's MuJoCo envs: their renderer imports `imageio` (ModuleNotFoundError at "
     "make); add `imageio>=2.14.1` next to it, or depend on `gymnasium[mujoco]`, which requires both"
@@ -196,7 +204,7 @@ def decide(requirement: Requirement) -> Decision:
         # their renderer (gymnasium[mujoco] requires imageio>=2.14.1).
         return Decision(notes=[Note(GYM_ONLY, FixKind.FLAG, MUJOCO_IMAGEIO)])
     if name in GYM_ONLY_PACKAGES:
-        route = "" if name == "gym-notices" else f"; {SHIMMY_ROUTE}"
+        route = "" if name in NO_SHIMMY_ROUTE else f"; {SHIMMY_ROUTE}"
         return Decision(notes=[Note(GYM_ONLY, FixKind.FLAG, f"`{requirement.name}`: {GYM_ONLY_PACKAGES[name]}{route}")])
     return Decision()
 

@@ -365,8 +365,9 @@ class CreationFinder:
 
     def _constructor_parameter(self, param: ast.arg, init: ast.FunctionDef | ast.AsyncFunctionDef) -> Creation:
         """``class Agent: def __init__(self, env): self.env = env`` with ``Agent(gym.make(...))``:
-        the arguments where this module builds the class. Complete only when nothing else
-        can build it: no subclass here, no call from another module of the run."""
+        the arguments where this module builds the class or a subclass of it (``super().__init__(env)``
+        included). Complete only when nothing else can build it: no call or subclass in another
+        module of the run."""
         result = Creation()
         label = param.arg
         classdef = self.facts.parent(init)
@@ -375,24 +376,27 @@ class CreationFinder:
             return result
         params = [*init.args.posonlyargs, *init.args.args][1:]  # without ``self``
         position = next((i for i, p in enumerate(params) if p is param), None)
-        subclassed = any(
-            isinstance(node, ast.ClassDef) and any(isinstance(b, ast.Name) and b.id == classdef.name for b in node.bases)
-            for node in self.facts.tree.body
-        )
+        # Every call that runs this ``__init__``: the class's own calls and its subclasses'
+        # (inherited ``__init__``, ``super().__init__(env)``), as the receiver analysis finds them.
+        constructions, subclassed_elsewhere = self.receivers.constructions(classdef)
         project = self.receivers.project
-        elsewhere = project is not None and any(
-            project.param_kinds(qualname, label) for qualname in (classdef.name, f"{classdef.name}.__init__")
+        elsewhere = subclassed_elsewhere or (
+            project is not None and any(project.param_kinds(qualname, label) for qualname in (classdef.name, f"{classdef.name}.__init__"))
         )
-        calls = [c for c in self.receivers.call_sites(init, classdef) if self.receivers.local_class(c.func) is classdef]
-        if subclassed or elsewhere or not calls:
+        calls = [
+            (c, shift)
+            for c, shift in constructions
+            if shift or isinstance(c.func, ast.Attribute) or self.receivers.local_class(c.func) is not None
+        ]
+        if elsewhere or not calls or len(calls) != len(constructions):
             result.fail(f"`{label}` is a parameter of `{classdef.name}`, which is not only built here")
             return result
         if self._nesting >= _MAX_NESTING:
             result.fail("envs passed through too many constructors")
             return result
         arguments = CreationFinder(self.facts, self.receivers, self._is_creation, self._nesting + 1)
-        for call in calls:
-            argument = _argument_for(call, label, position)
+        for call, shift in calls:
+            argument = _argument_for(call, label, None if position is None else position + shift)
             if argument is None or any(isinstance(a, ast.Starred) for a in call.args) or any(k.arg is None for k in call.keywords):
                 result.fail(f"`{label}` is not passed at every construction of `{classdef.name}`")
             else:

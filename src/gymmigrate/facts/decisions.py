@@ -23,6 +23,7 @@ class Origins(Protocol):
     """What ``decide`` asks the receiver analysis (``Receivers.run_defined``)."""
 
     def run_defined(self, expr: ast.AST) -> bool: ...
+    def mixed_callers(self, expr: ast.AST) -> str | None: ...
 
     def library_made(self, expr: ast.AST) -> str | None: ...
 
@@ -79,6 +80,9 @@ def decide(
     if kind is not EnvKind.UNKNOWN:
         return Decision(Action.LEAVE, f"`{name}` is a {kind.value}")
     env_like = looks_like_env(receiver)
+    mixed = origins.mixed_callers(receiver) if origins is not None else None
+    if mixed is not None:
+        return Decision(Action.REPORT, f"`{name}` may not be a Gym env: {mixed}; not rewritten")
     if (env_like or legacy_shape) and origins is not None and origins.run_defined(receiver):
         return Decision(Action.REPORT, f"`{name}` holds an object the project makes itself, not shown to be a Gym env; not rewritten")
     library = origins.library_made(receiver) if env_like and profile.gym_only and origins is not None else None

@@ -191,6 +191,10 @@ class ProjectFacts:
     # ``render_mode`` (its ``__init__`` cannot hand it on): id (None: not a literal) -> class.
     # ``gymnasium.make(id, render_mode=...)`` of one would raise TypeError.
     no_render_mode_ids: dict[str | None, str] = field(default_factory=dict)
+    # path -> the top-level packages the module imports, with those of the run's modules it
+    # imports and of those that import it (one step each way): a project's neighbourhood,
+    # not every project of a run over several.
+    nearby_packages: dict[str, frozenset[str]] = field(default_factory=dict)
 
     @classmethod
     def join(cls, summaries: list[ModuleSummary], blocked: dict[str, str] | None = None) -> ProjectFacts:
@@ -237,6 +241,7 @@ class ProjectFacts:
                 if resolved is not None:
                     calls_to[resolved].append((summary.path, call))
         imported = {q for summary in summaries for q in summary.imported}
+        facts._join_nearby_packages(summaries)
         requires = {
             package
             for family, (package, rewritten) in N.PZ_MOVED_FAMILIES.items()
@@ -266,6 +271,18 @@ class ProjectFacts:
         _reexport_wrappers(facts, by_path)
         facts.legacy_steps = _legacy_steps(facts, by_path)
         return facts
+
+    def _join_nearby_packages(self, summaries: list[ModuleSummary]) -> None:
+        own = {s.path: frozenset(q.split(".", 1)[0] for q in s.imported if not q.startswith(".")) for s in summaries}
+        nearby = {path: set(tops) for path, tops in own.items()}
+        for summary in summaries:
+            for qualified in summary.imported:
+                split = self._split(qualified, summary.path)
+                if split is None or split[0] == summary.path or split[0] not in own:
+                    continue
+                nearby[summary.path] |= own[split[0]]
+                nearby[split[0]] |= own[summary.path]
+        self.nearby_packages = {path: frozenset(tops) for path, tops in nearby.items()}
 
     def _join_overrides(self, summaries: list[ModuleSummary]) -> None:
         """Which methods of a run's class are overridden by subclasses in other modules."""
@@ -865,6 +882,26 @@ class ProjectView:
         """The register functions of ``gym.envs`` entry points this module must call on
         import, each with the namespace gym registered its ids in (None: the root)."""
         return self.facts.plugin_calls.get(self.path, ())
+
+    def imported_packages(self) -> frozenset[str]:
+        """The top-level packages this module imports, and the run's modules it imports or that
+        import it (``multiagent`` imported by the script that builds this module's agents)."""
+        return self.facts.nearby_packages.get(self.path, frozenset())
+
+    def is_module(self, dotted: str) -> bool:
+        """``dotted`` names a module or package of the run (``multiagent`` when the project has
+        its own ``multiagent/`` package)."""
+        return any(path == dotted or path.startswith(dotted + ".") for path in self.facts.modules)
+
+    def built_elsewhere(self, classname: str) -> bool:
+        """Another module of the run calls this file's class ``classname``."""
+        return any(
+            path == self.path and qualname in (classname, f"{classname}.__init__") for path, qualname, _ in self.facts.param_kinds
+        )
+
+    def subclassed_elsewhere(self, classname: str) -> bool:
+        """Another module of the run derives a class from this file's ``classname``."""
+        return (self.path, classname) in self.facts.overrides
 
     def overridden_elsewhere(self, classname: str, method: str) -> list[str]:
         """Subclasses in other modules of the run that override ``classname.method``."""

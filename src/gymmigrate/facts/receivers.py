@@ -79,6 +79,8 @@ class Receivers:
         self._in_progress: set[ast.AST] = set()
         self._name_kinds: dict[int, EnvKind] = {}  # id(bindings list) -> kind, see _classify_name
         self._mixed: set[int] = set()  # bindings lists whose kinds disagree
+        # parameters whose callers pass a Gym env and another kind of env: (gym kinds, others)
+        self._mixed_params: dict[ast.arg, tuple[list[str], list[str]]] = {}
         self.depth = 0  # shared with the helpers: one bound on the whole chain of questions
         self.callables = CallableKinds(self, project)
         self.attributes = SelfAttributes(self)
@@ -518,8 +520,17 @@ class Receivers:
         position = next((i for i, p in enumerate(params) if p is param), None)
         if position is not None and is_method:
             position -= 1  # calls do not pass self
-        calls = self.call_sites(function, classdef if is_method else None)  # type: ignore[arg-type]
         external = self.callables.external_param_kinds(function, classdef if is_method else None, name)  # type: ignore[arg-type]
+        if is_method and function.name == "__init__":
+            # A constructor parameter: every call that runs this ``__init__`` (subclasses too).
+            constructions, elsewhere = self.constructions(classdef)  # type: ignore[arg-type]
+            if elsewhere:
+                external = [*external, EnvKind.UNKNOWN]
+            calls = [call for call, _ in constructions]
+            shifts = {id(call): shift for call, shift in constructions}
+        else:
+            calls = self.call_sites(function, classdef if is_method else None)  # type: ignore[arg-type]
+            shifts = {}
         if not calls and not external:
             fixtures = self.param_fixtures(function, name) if not is_method else []
             if fixtures:
@@ -531,14 +542,85 @@ class Receivers:
         defaults = _default_of(function, param)
         kinds = list(external)
         for call in calls:
-            argument = call_argument(call, position, name)
+            shift = shifts.get(id(call), 0)
+            argument = call_argument(call, None if position is None else position + shift, name)
             if argument is None:
-                if defaults:
+                if defaults and not any(k.arg is None for k in call.keywords):
                     continue
-                kinds.append(EnvKind.UNKNOWN)
+                kinds.append(EnvKind.UNKNOWN)  # not passed (or maybe in ``**kwargs``)
             else:
                 kinds.append(self.kind_of(argument))
+        gym = {k for k in kinds if k.is_gym}
+        others = {k for k in kinds if k not in (EnvKind.NOT_ENV, EnvKind.UNKNOWN) and not k.is_gym}
+        if gym and others:
+            # Some callers pass a Gym env, others a VecEnv or a PettingZoo env: the same code
+            # serves both, so no rewrite is right for all of them; reported (``mixed_callers``).
+            self._mixed_params[param] = (sorted(k.value for k in gym), sorted(k.value for k in others))
+            return EnvKind.UNKNOWN
         return join_kinds(kinds)
+
+    def constructions(self, classdef: ast.ClassDef, _seen: frozenset[int] = frozenset()) -> tuple[list[tuple[ast.Call, int]], bool]:
+        """The calls of this module that run ``classdef.__init__``, each with how far its
+        positional arguments are shifted (1 for ``Base.__init__(self, env)``): the class's own
+        calls, the calls of subclasses here that inherit ``__init__``, and the
+        ``super().__init__(...)`` / ``Base.__init__(self, ...)`` of subclasses that define
+        their own. The flag says another module of the run subclasses it (its calls are not
+        known here)."""
+        found: list[tuple[ast.Call, int]] = [(call, 0) for call in self.facts.calls_by_name.get(classdef.name, [])]
+        elsewhere = self.project is not None and self.facts.parent(classdef) is self.facts.tree and self.project.subclassed_elsewhere(classdef.name)
+        for sub in self.facts.classes.values():
+            if sub is classdef or id(sub) in _seen or not any(self.local_class(b) is classdef for b in sub.bases):
+                continue
+            own_init = any(isinstance(s, FUNCTIONS) and s.name == "__init__" for s in sub.body)
+            if not own_init:
+                inherited, far = self.constructions(sub, _seen | {id(classdef)})
+                found += inherited
+                # A subclass built in another module (or, with no run to ask, one never built
+                # here: other modules may build it) passes arguments this module cannot see.
+                if self.project is None:
+                    far = far or not inherited
+                else:
+                    far = far or self.project.built_elsewhere(sub.name)
+                elsewhere = elsewhere or far
+                continue
+            first_base = next((b for b in sub.bases if not _is_object(b)), None)
+            for call in self.facts.attribute_calls.get("__init__", []):
+                if self.facts.enclosing_class(call) is not sub:
+                    continue
+                owner = call.func.value  # type: ignore[attr-defined]
+                if isinstance(owner, ast.Call) and isinstance(owner.func, ast.Name) and owner.func.id == "super":
+                    if first_base is not None and self.local_class(first_base) is classdef:
+                        found.append((call, 0))
+                elif isinstance(owner, ast.Name) and self.local_class(owner) is classdef:
+                    found.append((call, 1))  # ``Base.__init__(self, env)``
+        return found, elsewhere
+
+    def mixed_callers(self, expr: ast.AST, _depth: int = 0) -> str | None:
+        """Why ``expr`` (a parameter, ``self.x`` stored from one, or a name bound to either)
+        has no single kind: its callers pass a Gym env at some sites and another kind of env
+        at others. None when that is not the reason."""
+        if _depth > 4:
+            return None
+        self.kind_of(expr)  # fills ``_mixed_params`` on the way
+        values: list[ast.AST] = []
+        if isinstance(expr, ast.Attribute) and isinstance(expr.value, ast.Name) and self.is_self(expr.value):
+            classdef = self.facts.enclosing_class(expr)
+            values = list(self.self_attribute_values(expr, expr.attr))
+            if not values and classdef is not None:
+                values = list(self.attributes.inherited_values(classdef, expr.attr))
+        elif isinstance(expr, ast.Name):
+            for binding in self.facts.bindings_of(expr):
+                if isinstance(binding, ast.arg) and binding in self._mixed_params:
+                    gym, others = self._mixed_params[binding]
+                    return f"its callers pass a {' or '.join(gym)} at some sites and a {' or '.join(others)} at others"
+                parent = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
+                if isinstance(parent, ast.Assign):
+                    values.append(parent.value)
+        for value in values:
+            found = self.mixed_callers(value, _depth + 1)
+            if found is not None:
+                return found
+        return None
 
     def annotation_kind(self, annotation: ast.AST) -> EnvKind:
         if isinstance(annotation, ast.Constant) and isinstance(annotation.value, str):

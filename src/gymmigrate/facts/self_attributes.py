@@ -50,11 +50,46 @@ class SelfAttributes:
         if name == "model" and self._is_sb3_callback(classdef):
             return EnvKind.SB3_MODEL
         values = [v for v in self.self_attribute_values(attr, name) if not self._saved_copy(v, name)]
+        values = values or self.inherited_values(classdef, name)
         if not values:
             if name == "env" and self._is_pettingzoo_wrapper(classdef):
                 return self.receivers.class_kind(classdef)
             return EnvKind.UNKNOWN
-        return join_kinds(self._value_kind(value, classdef) for value in values)
+        # ``saved = self.env`` ... ``self.env = saved`` (a wrapper put on for a while and taken
+        # off again) stores back a value the attribute already held: no new evidence.
+        kinds = [self._value_kind(value, classdef) for value in values if not self._copies_attribute(value, name)]
+        return join_kinds(kinds) if kinds else EnvKind.UNKNOWN
+
+    def inherited_values(self, classdef: ast.ClassDef, name: str, _seen: frozenset[int] = frozenset()) -> list[ast.expr]:
+        """Values stored to ``self.<name>`` by the classes of this module that ``classdef``
+        derives from (``class Child(Base)`` reading the ``self.env`` that ``Base.__init__``
+        stores), when ``classdef`` itself never stores it."""
+        found: list[ast.expr] = []
+        for base in classdef.bases:
+            local = self.receivers.local_class(base)
+            if local is None or local is classdef or id(local) in _seen:
+                continue
+            found += self.self_stores(local).get(name, []) or self.inherited_values(local, name, _seen | {id(classdef)})
+        return found
+
+    def _copies_attribute(self, value: ast.expr, name: str) -> bool:
+        """``value`` is ``self.<name>`` itself, or a local name every binding of which is
+        assigned ``self.<name>``."""
+        if self._is_self_attribute(value, name):
+            return True
+        if not isinstance(value, ast.Name):
+            return False
+        bindings = self.facts.bindings_of(value)
+        if not bindings:
+            return False
+        for binding in bindings:
+            statement = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
+            if not (isinstance(statement, ast.Assign) and statement.targets == [binding] and self._is_self_attribute(statement.value, name)):
+                return False
+        return True
+
+    def _is_self_attribute(self, value: ast.AST, name: str) -> bool:
+        return isinstance(value, ast.Attribute) and value.attr == name and isinstance(value.value, ast.Name) and self.is_self(value.value)
 
     def _value_kind(self, value: ast.expr, classdef: ast.ClassDef) -> EnvKind:
         """``self._top = self`` in an env class: the attribute is the env itself."""

@@ -177,6 +177,34 @@ GYM_ONLY_LIBRARIES = {
     "atari_py": "atari_py is replaced by ale_py: `import ale_py`, `gymnasium.register_envs(ale_py)`, ids `ALE/Pong-v5`",
     "mujoco_py": "mujoco_py envs were removed in Gymnasium 1.0: use the `mujoco` bindings and the v5 envs",
     "d4rl": "D4RL has no Gymnasium release: its datasets moved to Minari (`minari`), its envs to gymnasium-robotics",
+    # ptan 0.7 (setup.py: ``gym``, ``atari-py``) resets and steps its envs with the old API in
+    # ``ExperienceSource``; ptan 0.8.1 imports gymnasium but pins stable-baselines3==2.3.2,
+    # whose wheel requires gymnasium<0.30: no ptan release installs next to Gymnasium 1.x.
+    "ptan": (
+        "ptan has no release for Gymnasium 1.x: ptan 0.7 is built on gym (its ExperienceSource calls the old "
+        "reset/step on the envs it is given) and ptan 0.8 pins stable-baselines3==2.3.2 (gymnasium<0.30); "
+        "envs handed to it keep the old API: port the ptan parts this code uses, or keep it on gym"
+    ),
+    # openai/multiagent-particle-envs: never released, imports gym, MultiAgentEnv returns lists.
+    "multiagent": (
+        "multiagent (openai's multiagent-particle-envs) has no Gymnasium release: its MultiAgentEnv keeps gym's "
+        "list-per-agent reset/step and builds gym.spaces; its successor is PettingZoo's MPE (`mpe2`); until it is "
+        "ported, code that steps its envs or checks their spaces against gym classes stays on gym"
+    ),
+}
+
+
+# Gym-only env packages whose envs build ``gym.spaces`` objects: a class check against
+# Gymnasium's space classes is False for them.
+GYM_SPACE_PACKAGES = frozenset(
+    {"multiagent", "pybullet_envs", "pybulletgym", "roboschool", "gym_super_mario_bros", "gym_tetris", "nes_py", "dmc2gym"}
+)
+_SUCCESSORS = {
+    "multiagent": "PettingZoo's MPE, `mpe2`",
+    "dmc2gym": "Shimmy's dm_control envs",
+    "pybullet_envs": "Shimmy's GymV21Environment-v0 or the MuJoCo v5 envs",
+    "pybulletgym": "Shimmy's GymV21Environment-v0 or the MuJoCo v5 envs",
+    "roboschool": "the MuJoCo v5 envs",
 }
 
 
@@ -245,6 +273,7 @@ class Imports(RuleFamily):
             for alias in node.names
         )
         self._gym_names: set[str] = set()
+        self._kept_space_imports = self._space_checks_of_gym_only_envs()
         guards = self._guards()
         for node in self._imports():
             guard = _innermost_guard(node, guards, self.facts)
@@ -262,6 +291,96 @@ class Imports(RuleFamily):
     def _imports(self) -> list[ast.Import | ast.ImportFrom]:
         return self.facts.import_statements
 
+    # -- class checks against gym's spaces, on envs of a Gym-only package ----------------
+
+    def _space_checks_of_gym_only_envs(self) -> dict[ast.ImportFrom, str]:
+        """``isinstance(space, spaces.Box)`` where ``spaces`` is gym's and the file or the run
+        imports a Gym-only env package (``multiagent``...): that package's envs build
+        ``gym.spaces`` objects, so after ``from gym import spaces`` becomes ``from gymnasium
+        import spaces`` the check is False and the code takes another branch, silently.
+
+        The least surprising outcome: an import used for nothing but such checks stays on gym
+        (the Gym-only package needs gym installed anyway) and is reported; where the names
+        serve other code too (``spaces.Box(...)`` for the file's own env), or come through
+        ``import gym``, the import is migrated and the first check is reported. Returns the
+        kept imports with their messages."""
+        packages = self._gym_only_env_packages()
+        if not packages:
+            return {}
+        package = sorted(packages)[0]
+        checks: dict[ast.AST, list[ast.expr]] = {}  # binding import -> the class expressions
+        for name in ("isinstance", "issubclass"):
+            for call in self.facts.calls_by_name.get(name, []):
+                if len(call.args) != 2:
+                    continue
+                classes = call.args[1]
+                for expr in classes.elts if isinstance(classes, ast.Tuple) else [classes]:
+                    if not any(q.startswith("gym.spaces.") for q in self.facts.qualified_names(expr)):
+                        continue
+                    base = expr
+                    while isinstance(base, ast.Attribute):
+                        base = base.value
+                    if not isinstance(base, ast.Name):
+                        continue
+                    for binding in self.facts.bindings_of(base):
+                        if isinstance(binding, ast.alias):
+                            statement = self.facts.parent(binding)
+                            if statement is not None:
+                                checks.setdefault(statement, []).append(expr)
+        kept: dict[ast.ImportFrom, str] = {}
+        why = (
+            f"the envs of `{package}` (a Gym-only package imported here or next to this module) carry gym's space classes, and "
+            f"Gymnasium's are other classes"
+        )
+        for statement, exprs in sorted(checks.items(), key=lambda item: item[0].lineno):  # type: ignore[attr-defined]
+            lines = ", ".join(str(line) for line in sorted({e.lineno for e in exprs}))
+            if isinstance(statement, ast.ImportFrom) and self._only_class_checks(statement):
+                kept[statement] = (
+                    f"left on gym: the class checks on line(s) {lines} test spaces against gym's classes; {why}, so with "
+                    f"this import moved to gymnasium they would be False. Move it together with `{package}` "
+                    f"(its successor: {_SUCCESSORS.get(package, 'a Gymnasium port')})"
+                )
+            else:
+                first = min(exprs, key=lambda e: (e.lineno, e.col_offset))
+                self.report(
+                    first,
+                    "GM103",
+                    f"after the migration the class checks on line(s) {lines} test spaces against Gymnasium's classes; "
+                    f"{why}: they are False for those spaces until `{package}` is ported "
+                    f"(its successor: {_SUCCESSORS.get(package, 'a Gymnasium port')})",
+                    FixKind.FLAG,
+                )
+        return kept
+
+    def _gym_only_env_packages(self) -> set[str]:
+        """Gym-only env packages imported by this file or (in a run) by a module of the run it
+        imports or that imports it."""
+        tops = {q.split(".", 1)[0] for q in self.facts.imports.values()}
+        project = self.receivers.project
+        if project is not None:
+            tops |= project.imported_packages()
+        return {t for t in tops & GYM_SPACE_PACKAGES if not self._of_the_run(t)}
+
+    def _only_class_checks(self, statement: ast.ImportFrom) -> bool:
+        """Every read of a name this import binds is a class in an isinstance/issubclass check."""
+        aliases = {id(alias) for alias in statement.names}
+        names = {alias.asname or alias.name for alias in statement.names}
+        for node in ast.walk(self.facts.tree):
+            if not (isinstance(node, ast.Name) and node.id in names and isinstance(node.ctx, ast.Load)):
+                continue
+            if not any(id(b) in aliases for b in self.facts.bindings_of(node)):
+                continue
+            holder: ast.AST | None = self.facts.parent(node)
+            while isinstance(holder, ast.Attribute):
+                holder = self.facts.parent(holder)
+            if isinstance(holder, ast.Tuple):
+                holder = self.facts.parent(holder)
+            if not (isinstance(holder, ast.Call) and isinstance(holder.func, ast.Name) and holder.func.id in ("isinstance", "issubclass")):
+                return False
+            if holder.args and node is holder.args[0]:
+                return False  # the object checked, not a class
+        return True
+
     # -- GM107: libraries with no Gymnasium release --------------------------------------
 
     def _gym_only_libraries(self) -> None:
@@ -274,10 +393,15 @@ class Imports(RuleFamily):
                 modules = [node.module] if node.module and not node.level else []
             for module in modules:
                 top = module.split(".", 1)[0]
-                if top in GYM_ONLY_LIBRARIES and top not in reported:
+                if top in GYM_ONLY_LIBRARIES and top not in reported and not self._of_the_run(top):
                     reported.add(top)
                     # The objects the file makes with the library ask the same question (``receiver_question``).
                     self.report(node, "GM107", GYM_ONLY_LIBRARIES[top], question=("gym-only-library", top))
+
+    def _of_the_run(self, module: str) -> bool:
+        """A package of the project itself that shares a library's name (its own ``multiagent``)."""
+        project = self.receivers.project
+        return project is not None and project.is_module(module)
 
     # -- GM108: fallbacks ----------------------------------------------------------
 
@@ -443,6 +567,10 @@ class Imports(RuleFamily):
 
     def _import_from(self, node: ast.ImportFrom) -> None:
         if node.level or node.module is None:
+            return
+        kept = self._kept_space_imports.get(node)
+        if kept is not None:
+            self.report(node, "GM103" if node.module != "gym" else "GM102", kept, FixKind.FLAG)
             return
         module = node.module
         rest = under_gym(module)

@@ -26,6 +26,7 @@ from dataclasses import dataclass
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
+from gymmigrate.facts.module import call_argument
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.env_ids.catalog import (
@@ -81,6 +82,7 @@ class IdSite:
     call: ast.Call | None
     forwards_kwargs: bool
     via: str = ""  # how the string reaches the call ("the constant ENV_ID"), for messages
+    report_only: bool = False  # handed to another module's code from a file without Gym: say so, add nothing
     conditional: bool = False  # one branch of ``a if c else b``: keywords would hit both
 
 
@@ -133,7 +135,95 @@ class EnvIds(RuleFamily):
                     site = self._site(literal, None, False, via=f"the constant `{arg.id}`")
                     if site is not None:
                         sites.append(site)
+                else:
+                    sites.extend(self._parameter_ids(arg))
+        sites.extend(self._constants_passed_on())
         return sites
+
+    def _parameter_ids(self, name: ast.Name) -> list[IdSite]:
+        """``def make_env(env_id="PongNoFrameskip-v4"): return gym.make(env_id)``: the id is a
+        parameter of the function around the call; its default and what the module's calls of
+        that function pass (string literals, or constants bound once to one) are ids."""
+        bindings = self.facts.bindings_of(name)
+        if len(bindings) != 1 or not isinstance(bindings[0], ast.arg):
+            return []
+        param = bindings[0]
+        function = self.facts.parent(self.facts.parent(param))
+        if not isinstance(function, (ast.FunctionDef, ast.AsyncFunctionDef)):
+            return []
+        values: list[tuple[ast.expr, str]] = []
+        default = _default(function, param)
+        if default is not None:
+            values.append((default, f"the default of `{param.arg}`"))
+        params = [*function.args.posonlyargs, *function.args.args]
+        position = params.index(param) if param in params else None
+        if self.facts.parent(function) is self.facts.tree:
+            for call in self.facts.calls_by_name.get(function.name, []):
+                argument = call_argument(call, position, param.arg)
+                if argument is not None:
+                    values.append((argument, f"an argument of `{function.name}(...)`"))
+        sites = []
+        for value, via in values:
+            if isinstance(value, ast.Name):
+                literal = self._single_literal_constant(value)
+                value, via = (literal, f"the constant `{value.id}`, {via}") if literal is not None else (value, via)
+            site = self._site(value, None, False, via=via)
+            if site is not None:
+                sites.append(site)
+        return sites
+
+    def _constants_passed_on(self) -> list[IdSite]:
+        """A module constant holding the id of a plugin package (``ENV = "PongNoFrameskip-v4"``)
+        handed to a function of the project (``make_env(ENV)``, ``def train(env_id=ENV)``,
+        ``parser.add_argument("--env", default=ENV)``): the make call is elsewhere, but the id
+        is unmistakable, and Gymnasium only finds it once its package is imported."""
+        sites = []
+        for statement in self.facts.tree.body:
+            if not (isinstance(statement, ast.Assign) and len(statement.targets) == 1 and isinstance(statement.targets[0], ast.Name)):
+                continue
+            target = statement.targets[0]
+            literal = self._single_literal_constant(target)
+            if literal is None:
+                continue
+            text = plain_string(self.facts, literal)
+            if text is None or env_package(_split_module_prefix(text)[1]) is None:
+                continue
+            reads = (
+                node
+                for node in ast.walk(self.facts.tree)
+                if isinstance(node, ast.Name) and node.id == target.id and isinstance(node.ctx, ast.Load) and target in self.facts.bindings_of(node)
+            )
+            for read in reads:
+                if self._hands_on(read):
+                    site = self._site(literal, None, False, via=f"the constant `{target.id}`")
+                    if site is not None:
+                        site.report_only = not ({"gym", "gymnasium"} & _imported_modules(self.facts.tree, self.facts))
+                        sites.append(site)
+                    break
+        return sites
+
+    def _hands_on(self, read: ast.AST) -> bool:
+        """The constant is passed on as an id: an argument of a function of the project (a
+        def of this module, a relative import, a name another module of the run defines), a
+        parameter default, or the default of an argparse option. A library's call
+        (``os.path.join(log_dir, env_id)``) is not one, nor a Gym-only library's factory."""
+        parent = self.facts.parent(read)
+        if isinstance(parent, ast.keyword):
+            parent = self.facts.parent(parent)
+        if isinstance(parent, ast.arguments):
+            return True
+        if not (isinstance(parent, ast.Call) and read is not parent.func):
+            return False
+        if isinstance(parent.func, ast.Attribute) and parent.func.attr == "add_argument":
+            return True  # ``parser.add_argument("--env", default=ENV)``
+        if self.receivers.local_function(parent.func) is not None:
+            return True
+        called = self.facts.qualified_names(parent.func)
+        project = self.receivers.project
+        aliases = {a for a in (project.library_alias(q) for q in called) if a is not None} if project is not None else set()
+        if any(q.split(".", 1)[0] in _LEGACY_GYM_LIBRARIES for q in called | aliases):
+            return False  # ``make_atari(env_id)`` of baselines makes it with legacy gym (GM107 says so)
+        return any(q.startswith(".") or (project is not None and project.defines(q)) for q in called)
 
     def _site(self, string: ast.AST, call: ast.Call | None, forwards: bool, via: str = "") -> IdSite | None:
         text = plain_string(self.facts, string)
@@ -165,7 +255,12 @@ class EnvIds(RuleFamily):
         sites = []
         for kw in call.keywords:
             if kw.arg == "default":
-                site = self._site(kw.value, None, False, via="this argparse default")
+                value, via = kw.value, "this argparse default"
+                if isinstance(value, ast.Name):
+                    # ``default=DEFAULT_ENV_NAME``: the constant's one literal
+                    literal = self._single_literal_constant(value)
+                    value, via = (literal, f"the constant `{value.id}`, an argparse default") if literal is not None else (value, via)
+                site = self._site(value, None, False, via=via)
                 if site is not None:
                     sites.append(site)
         return sites
@@ -192,6 +287,18 @@ class EnvIds(RuleFamily):
         if site.string in self._planned:  # a constant passed to several calls
             return
         self._planned.add(site.string)
+        if site.report_only:
+            package = env_package(site.env_id)
+            self.report(
+                site.string,
+                "GM106",
+                f"`{site.env_id}` ({site.via}) is handed to code elsewhere that makes the env: since Gymnasium 1.0 that "
+                f"module (or this one) must `import {package.module}` and call `gymnasium.register_envs({package.module})`"
+                if package is not None
+                else f"`{site.env_id}` ({site.via}) is handed to code elsewhere that makes the env",
+                kind=FixKind.FLAG,
+            )
+            return
         migration = migration_for(site.env_id)
         if migration is not None:
             self._decide_migration(site, migration)
@@ -311,6 +418,23 @@ def _calls_in_source_order(facts: ModuleFacts) -> list[ast.Call]:
     calls = [call for index in (facts.calls_by_name, facts.attribute_calls) for found in index.values() for call in found]
     calls.sort(key=lambda c: (c.lineno, c.col_offset, -(c.end_lineno or 0), -(c.end_col_offset or 0)))
     return calls
+
+
+# Libraries with no Gymnasium release whose factories make envs through legacy gym's own
+# registry: registering ale_py with Gymnasium does nothing for them.
+_LEGACY_GYM_LIBRARIES = frozenset({"baselines", "stable_baselines", "ptan"})
+
+
+def _default(function: ast.FunctionDef | ast.AsyncFunctionDef, param: ast.arg) -> ast.expr | None:
+    """The default value of ``param`` in ``function``'s signature, if it has one."""
+    args = function.args
+    positional = [*args.posonlyargs, *args.args]
+    if param in positional:
+        index = positional.index(param) - (len(positional) - len(args.defaults))
+        return args.defaults[index] if index >= 0 else None
+    if param in args.kwonlyargs:
+        return args.kw_defaults[args.kwonlyargs.index(param)]
+    return None
 
 
 def _split_module_prefix(text: str) -> tuple[str, str]:

@@ -178,6 +178,12 @@ class UnpackRules(StepFamilyBase):
                     if classify_done_read(read, self.facts) is DoneUse.DATA and self._masks_next_state(read, steps[first]):
                         self._claim(read, steps[first])
                         continue
+                    masked = self._none_mask(read, steps[first])
+                    if masked is not None and masked[1]:
+                        self._claim(read, steps[first], none_mask=masked[0])
+                        continue
+                    if masked is not None:
+                        self._report_none_mask(read, steps[first], masked[0])
             if not flow.same_frame(read, scope):
                 stop = len(steps)  # a nested function may run after any of them
             else:
@@ -220,17 +226,89 @@ class UnpackRules(StepFamilyBase):
                 found = ancestor
         return found
 
-    def _claim(self, read: ast.Name, step: _DoneStep) -> None:
+    def _claim(self, read: ast.Name, step: _DoneStep, none_mask: str | None = None) -> None:
         terminated = step.names.terminated
         self.notes.step_unpacks[step.assign].claimed_reads += 1
         self.plan.replace(read, lambda node: node.with_changes(value=terminated))
         next_state = self.facts.segment(step.target.elts[0])
+        if none_mask is not None:
+            message = (
+                f"`{read.id}` decides whether the stored next state `{none_mask}` is None (a terminal transition, "
+                f"no bootstrapping): it now reads `{terminated}`, so a time-limit truncation keeps its next state"
+            )
+        else:
+            message = (
+                f"`{read.id}` masks bootstrapping from the next state `{next_state}` (a target or stored transition): "
+                f"it now reads `{terminated}`, so a time-limit truncation still bootstraps"
+            )
+        self._report_read(read, message, FixKind.ASSIST, Tier.NOTE)  # the migration guide's own rewrite
+
+    # -- ``next_state = None if done else obs``: the mask is the next state itself -------------
+
+    def _none_mask(self, read: ast.Name, step: _DoneStep) -> tuple[str, bool] | None:
+        """``next_state = None if done else s2`` or ``if done: next_state = None`` (the PyTorch
+        DQN tutorial's terminal transition): the flag decides whether the transition stored
+        afterwards has a next state to bootstrap from. Returns the masked name and whether the
+        test can simply read ``terminated``: only when the branches do nothing but assign
+        (a ``break`` there is loop control, which must stay ``done``). None: not such a mask."""
+        facts = self.facts
+        node: ast.AST = read
+        negated = False
+        parent = facts.parent(node)
+        if isinstance(parent, ast.UnaryOp) and isinstance(parent.op, ast.Not):
+            node, negated, parent = parent, True, facts.parent(parent)
+        next_names = self._next_state_names(step)
+        if isinstance(parent, ast.IfExp) and parent.test is node:
+            when_done = parent.orelse if negated else parent.body
+            statement = facts.statement_of(parent)
+            if not (_is_none(when_done) and isinstance(statement, ast.Assign) and statement.value is parent):
+                return None
+            targets = [t.id for t in statement.targets if isinstance(t, ast.Name)]
+            if len(targets) != 1 or targets[0] not in next_names or not self._stored_later(statement, targets[0]):
+                return None
+            return targets[0], True
+        if isinstance(parent, ast.If) and parent.test is node:
+            done_branch, other = (parent.orelse, parent.body) if negated else (parent.body, parent.orelse)
+            masked = [
+                s.targets[0].id
+                for s in done_branch
+                if isinstance(s, ast.Assign) and len(s.targets) == 1 and isinstance(s.targets[0], ast.Name) and _is_none(s.value)
+            ]
+            masked = [name for name in masked if name in next_names and self._stored_later(parent, name)]
+            if not masked:
+                return None
+            simple = all(isinstance(s, (ast.Assign, ast.AnnAssign, ast.Pass)) for s in [*done_branch, *other])
+            return masked[0], simple
+        return None
+
+    def _stored_later(self, statement: ast.stmt, name: str) -> bool:
+        """``name`` is handed on after ``statement`` in the same function, as an argument
+        (``memory.push(state, action, next_state, r)``, ``agent.update(s, a, r, s2)``), and never
+        tested (``if state is None: reset``: then None means "start a new episode", not a
+        terminal transition)."""
+        function = self.facts.enclosing_function(statement) or self.facts.tree
+        stored = False
+        for node in ast.walk(function):
+            if isinstance(node, (ast.If, ast.While, ast.IfExp)) and name in loaded_names(node.test):
+                return False
+            if (
+                isinstance(node, ast.Call)
+                and node.lineno > statement.lineno
+                and not (isinstance(node.func, ast.Name) and node.func.id in _NOT_TRANSITIONS)
+                and any(_passes(arg, name) for arg in [*node.args, *(k.value for k in node.keywords)])
+            ):
+                stored = True
+        return stored
+
+    def _report_none_mask(self, read: ast.Name, step: _DoneStep, masked: str) -> None:
+        names = step.names
         self._report_read(
             read,
-            f"`{read.id}` masks bootstrapping from the next state `{next_state}` (a target or stored transition): "
-            f"it now reads `{terminated}`, so a time-limit truncation still bootstraps",
-            FixKind.ASSIST,
-            Tier.NOTE,  # the Gymnasium migration guide's own rewrite: nothing to decide
+            f"`{read.id}` decides whether the stored next state `{masked}` is None (no bootstrapping) and also "
+            f"controls the loop here; it now means `{names.terminated} or {names.truncated}`: set `{masked}` to None "
+            f"on `{names.terminated}` only, and keep `{read.id}` for ending the episode",
+            FixKind.FLAG,
+            question=("GM302", id(step.assign)),
         )
 
     # -- what a value read of ``done`` masks -------------------------------------------------------
@@ -535,3 +613,16 @@ def _repacks_step(site: ast.AST | None, read: ast.Name, step: _DoneStep) -> bool
         isinstance(mine, ast.Name) and isinstance(theirs, ast.Name) and mine.id == theirs.id
         for mine, theirs in zip(site.elts, step.target.elts)
     )
+# Calls that show or test a value rather than take a transition.
+_NOT_TRANSITIONS = frozenset({"print", "repr", "str", "len", "isinstance", "type", "id"})
+
+
+def _passes(argument: ast.expr, name: str) -> bool:
+    """The argument is ``name``, or a tuple or list that holds it (a transition)."""
+    if isinstance(argument, (ast.Tuple, ast.List)):
+        return any(_passes(element, name) for element in argument.elts)
+    return isinstance(argument, ast.Name) and argument.id == name
+
+
+def _is_none(node: ast.AST) -> bool:
+    return isinstance(node, ast.Constant) and node.value is None
