@@ -149,12 +149,28 @@ class RuleFamily:
             assign = self.facts.parent(binding)
             if not (isinstance(binding, ast.Name) and isinstance(assign, ast.Assign) and isinstance(assign.value, ast.Call)):
                 return None
-            packages = {q.split(".", 1)[0] for q in self.facts.qualified_names(assign.value.func)}
+            packages = self._call_packages(assign.value)
             if not packages:
-                return None  # a call of this file's own (or an unbound name): not the library's
+                return None  # an unbound name, or a def of this file that returns something else
             tops.update(packages)
         library = tops.pop() if len(tops) == 1 else None
         return library if library in N.GYM_ONLY_PACKAGES else None
+
+    def _call_packages(self, call: ast.Call) -> set[str]:
+        """The top-level packages ``call`` is bound to; for a module-level def of this file
+        (``def make_env(s): return MultiAgentEnv(...)``), those of the calls it returns."""
+        packages = {q.split(".", 1)[0] for q in self.facts.qualified_names(call.func)}
+        if packages or not isinstance(call.func, ast.Name):
+            return packages
+        function = self.facts.functions.get(call.func.id)
+        if function is None:
+            return set()
+        returns = [n for n in ast.walk(function) if isinstance(n, ast.Return) and self.facts.enclosing_function(n) is function]
+        for ret in returns:
+            if not isinstance(ret.value, ast.Call):
+                return set()  # it may return something else: not the library's alone
+            packages |= {q.split(".", 1)[0] for q in self.facts.qualified_names(ret.value.func)}
+        return packages if all(packages) else set()
 
 
 class FamilySpec(NamedTuple):
