@@ -292,7 +292,7 @@ class DoneTracer:
                 negated = False
                 if isinstance(test, ast.UnaryOp) and isinstance(test.op, ast.Not):
                     test, negated = test.operand, True
-                if _under_limit(test):
+                if under_limit(test):
                     negated = not negated  # ``if self.t < self.T: ... else: return True``
                 found = self.trace(test, depth + 1)
                 if (child in parent.body) != negated:
@@ -558,8 +558,8 @@ def _bound(expr: ast.AST) -> bool:
     return all(isinstance(node, (ast.Constant, ast.Name, ast.Attribute, ast.BinOp, ast.operator, ast.expr_context)) for node in ast.walk(expr))
 
 
-def _under_limit(test: ast.AST) -> bool:
-    """``counter < limit`` (or ``limit > counter``): true while the episode goes on."""
+def under_limit(test: ast.AST) -> bool:
+    """``counter < limit`` (or ``limit > counter``): true while the episode (or match) goes on."""
     if not (isinstance(test, ast.Compare) and len(test.ops) == 1):
         return False
     left_is_limit = _is_bound_name(test.left)
@@ -571,6 +571,7 @@ def _under_limit(test: ast.AST) -> bool:
 
 
 def _is_bound_name(expr: ast.AST) -> bool:
+    """A limit rather than a counter: a number, a CONSTANT, or a name that says max/limit."""
     if isinstance(expr, ast.Constant):
         return True
     name = expr.attr if isinstance(expr, ast.Attribute) else expr.id if isinstance(expr, ast.Name) else ""

@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 from typing import TypeVar
 
 from gymmigrate.facts.limits import Cause as DoneCause
-from gymmigrate.facts.limits import DoneTracer, is_step_limit, unwrap_bool
+from gymmigrate.facts.limits import DoneTracer, is_step_limit, under_limit, unwrap_bool
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
 
 _Node = TypeVar("_Node", bound=ast.AST)
@@ -168,7 +168,7 @@ class Endings:
                 test, negated = parent.test, False
                 if isinstance(test, ast.UnaryOp) and isinstance(test.op, ast.Not):
                     test, negated = test.operand, True
-                if _under_limit(test):
+                if under_limit(test):
                     negated = not negated  # ``if self.num_moves < self.max_cycles:`` plays on
                 in_body = child in parent.body
                 if self.is_limit(test):
@@ -177,26 +177,6 @@ class Endings:
                     return Cause.UNKNOWN
             child = parent
         return None
-
-
-def _under_limit(test: ast.AST) -> bool:
-    """``counter < limit`` (or ``limit > counter``): true while the match goes on."""
-    if not (isinstance(test, ast.Compare) and len(test.ops) == 1):
-        return False
-    left_is_limit = _is_bound(test.left)
-    if isinstance(test.ops[0], (ast.Lt, ast.LtE)):
-        return not left_is_limit
-    if isinstance(test.ops[0], (ast.Gt, ast.GtE)):
-        return left_is_limit
-    return False
-
-
-def _is_bound(expr: ast.AST) -> bool:
-    """A limit rather than a counter: a number, a CONSTANT, or a name that says max/limit."""
-    if isinstance(expr, ast.Constant):
-        return True
-    name = expr.attr if isinstance(expr, ast.Attribute) else expr.id if isinstance(expr, ast.Name) else ""
-    return name.isupper() or any(word in name.lower() for word in ("max", "limit", "horizon"))
 
 
 def _is_self(expr: ast.AST) -> bool:
