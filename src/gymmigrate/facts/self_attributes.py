@@ -49,16 +49,15 @@ class SelfAttributes:
             return EnvKind.SB3_VEC
         if name == "model" and self._is_sb3_callback(classdef):
             return EnvKind.SB3_MODEL
-        values = [v for v in self.self_attribute_values(attr, name) if not self._saved_copy(v, name)]
-        values = values or self.inherited_values(classdef, name)
+        # ``saved = self.env`` ... ``self.env = saved`` (a wrapper put on for a while and taken
+        # off again) stores back a value the attribute already held: no new evidence.
+        values = [v for v in self.self_attribute_values(attr, name) if not self._copies_attribute(v, name)]
+        values = values or [v for v in self.inherited_values(classdef, name) if not self._copies_attribute(v, name)]
         if not values:
             if name == "env" and self._is_pettingzoo_wrapper(classdef):
                 return self.receivers.class_kind(classdef)
             return EnvKind.UNKNOWN
-        # ``saved = self.env`` ... ``self.env = saved`` (a wrapper put on for a while and taken
-        # off again) stores back a value the attribute already held: no new evidence.
-        kinds = [self._value_kind(value, classdef) for value in values if not self._copies_attribute(value, name)]
-        return join_kinds(kinds) if kinds else EnvKind.UNKNOWN
+        return join_kinds([self._value_kind(value, classdef) for value in values])
 
     def inherited_values(self, classdef: ast.ClassDef, name: str, _seen: frozenset[int] = frozenset()) -> list[ast.expr]:
         """Values stored to ``self.<name>`` by the classes of this module that ``classdef``
@@ -99,26 +98,6 @@ class SelfAttributes:
             kind = self.receivers.class_kind(classdef)
             return kind if kind is not EnvKind.NOT_ENV else EnvKind.UNKNOWN
         return self.receivers.kind_of(value)
-
-    def _saved_copy(self, value: ast.expr, name: str) -> bool:
-        """``self.env = saved`` where ``saved = self.env`` is every binding of ``saved``: the
-        attribute gets back a value it held (``saved = self.env; self.env = Wrapper(self.env);
-        ...; self.env = saved``), which says nothing new about its kind."""
-        if not isinstance(value, ast.Name):
-            return False
-        bindings = self.facts.bindings_of(value)
-        if not bindings:
-            return False
-        for binding in bindings:
-            assign = self.facts.parent(binding)
-            if not (
-                isinstance(assign, ast.Assign)
-                and assign.targets == [binding]
-                and isinstance(assign.value, ast.Attribute)
-                and _stored_self_name(assign.value) == name
-            ):
-                return False
-        return True
 
     def _is_pettingzoo_wrapper(self, classdef: ast.ClassDef) -> bool:
         return any(q in N.PZ_WRAPPER_BASES for base in classdef.bases for q in self.receivers.qualified_names(base))
