@@ -147,3 +147,21 @@ def test_done_causes(body: str, helpers: str, cause: str) -> None:
     step = next(m for m in classdef.body if isinstance(m, ast.FunctionDef) and m.name == "step")
     done = step.body[-1].value.elts[2]
     assert DoneTracer(facts, classdef).trace(done).cause.value == cause
+
+
+def test_an_env_that_hands_an_inner_step_on_keeps_its_truncations_and_seeds() -> None:
+    """``fixtures/rules/GM504/inner_step_flags_passed_on.py``: Pendulum's time limit ends the
+    episode as a truncation through every layer, and ``reset(seed=...)`` reaches the inner
+    env through ``**kwargs`` (the same seed gives the same first observation)."""
+    module = _migrated("GM504/inner_step_flags_passed_on.py")
+    env = module.make()
+    first, _ = env.reset(seed=3)
+    again, _ = module.make().reset(seed=3)
+    assert first.shape == (2,) and (first == again).all()
+    steps = 0
+    while True:
+        steps += 1
+        _, _, terminated, truncated, _ = env.step(env.action_space.sample())
+        if terminated or truncated:
+            break
+    assert (steps, terminated, truncated) == (200, False, True)

@@ -208,6 +208,19 @@ class EnvClasses:
             N.strip_gym_prefix(q) in DIRECT_ENV_BASES for base in classdef.bases for q in self.facts.qualified_names(base)
         )
 
+    def inherited_init(self, classdef: ast.ClassDef) -> str | None:
+        """A base other than ``gym.Env`` itself whose ``__init__`` the class inherits
+        (``HalfCheetahEnv``, a mix-in): its qualified name, or the base's text. An
+        ``__init__`` added to the class would shadow it."""
+        for base in classdef.bases:
+            names = self.facts.qualified_names(base)
+            if any(N.strip_gym_prefix(q) in DIRECT_ENV_BASES for q in names):
+                continue
+            if isinstance(base, ast.Name) and base.id == "object":
+                continue
+            return sorted(names)[0] if names else self.facts.segment(base)
+        return None
+
     def has_local_env_base(self, classdef: ast.ClassDef) -> bool:
         """The class extends another class of this module (so ``__init__`` comes from there)."""
         return any(self.receivers.local_class(base) is not None for base in classdef.bases)

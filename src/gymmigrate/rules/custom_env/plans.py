@@ -43,7 +43,7 @@ class ClassPlan:
     render_keeps_mode: bool = False  # render(self, mode=None, ...): a mode passed wins, else self.render_mode
     render_helper_callers: set[str] = field(default_factory=set)  # methods that call self.render(mode)
     info_helper: bool = False  # reset returns self._get_info() (it takes no arguments)
-    local_env_base: bool = False
+    local_env_base: bool = False  # __init__ comes from a base (of the module, or a library): none is added
     unpack_self_reset: bool = False
     # Methods that call a gym < 0.9 name or assign self.reset(): only those are visited,
     # so a class of fifty methods costs what its few affected methods cost.
@@ -55,6 +55,8 @@ class ClassPlan:
     # Method (source name) -> positions among its returns whose done is only a step limit:
     # they return ``False, <done>`` (terminated, truncated).
     truncating_returns: dict[str, set[int]] = field(default_factory=dict)
+    # method -> positions of returns that hand on an inner step's terminated and truncated
+    passthrough_returns: dict[str, set[int]] = field(default_factory=dict)
     reset_helpers: list[str] = field(default_factory=list)  # likewise for reset()
     # ``return self.env.reset()`` of an env the class holds: the call-site rule passes the
     # inner (obs, info) through, so these receivers' resets are not paired again.

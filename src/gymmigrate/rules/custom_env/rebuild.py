@@ -242,11 +242,15 @@ class ClassRewrite:
         plans: list[Callable[[cst.Return], cst.Return] | None] = []
         rename_done = False
         truncating = self.plan.truncating_returns.get(self.renamed.get(method_name, method_name), set())
+        passing = self.plan.passthrough_returns.get(self.renamed.get(method_name, method_name), set())
         for position, ret in enumerate(returns):
             if not isinstance(ret.value, cst.Tuple) or _tuple_len(ret.value) != 4:  # _tuple_len: only tuples
                 plans.append(None)
                 continue
             done = ret.value.elements[2].value
+            if position in passing:
+                plans.append(_five(cst.Name("terminated"), cst.Name("truncated")))
+                continue
             if position in truncating:
                 # The done is only a step limit: terminated=False, truncated=<done>.
                 plans.append(_five(cst.Name("False"), _bool_of([done]) if _needs_bool(done) else done))

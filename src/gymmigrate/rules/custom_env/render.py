@@ -140,6 +140,28 @@ def _add_init_render_mode(decision: ClassDecision) -> None:
             decision.plan.local_env_base = True
             decision.report(decision.classdef, "GM405", "render_mode must reach __init__: add a render_mode=None parameter to the base class and store self.render_mode", FixKind.FLAG)
             return
+        inherited = decision.env.inherited_init(decision.classdef)
+        if inherited is not None:
+            # An __init__ added here would shadow the base's: its set-up would never run.
+            decision.plan.local_env_base = True
+            if (N.strip_gym_prefix(inherited) or "").startswith("envs."):
+                decision.report(
+                    decision.classdef,
+                    "GM405",
+                    f"`{inherited}`'s __init__ takes render_mode (Gymnasium's envs do) and stores self.render_mode: "
+                    "this class inherits it",
+                    tier=Tier.NOTE,
+                )
+            else:
+                decision.report(
+                    decision.classdef,
+                    "GM405",
+                    f"render_mode must reach __init__, which this class inherits from `{inherited}`: add a "
+                    "render_mode=None parameter there (or an __init__ here that passes the rest on) and store "
+                    "self.render_mode",
+                    FixKind.FLAG,
+                )
+            return
         decision.report(decision.classdef, "GM405", "added __init__(self, render_mode=None) storing self.render_mode: gymnasium.make passes render_mode to the constructor", tier=Tier.NOTE)
         return
     if "render_mode" not in param_names(init):

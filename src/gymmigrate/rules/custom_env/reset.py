@@ -33,9 +33,10 @@ def decide_reset(decision: ClassDecision) -> None:
     names = param_names(function)
     legacy_flag = "return_info" in names
     modern = "seed" in names and "options" in names and not legacy_flag
-    # ``def reset(self, **kwargs): obs = super().reset(**kwargs)``: seed and options already
-    # reach the base reset through ``**kwargs``; new keyword-only parameters would take them.
-    forwards = not modern and not legacy_flag and _forwards_keywords(function)
+    # ``def reset(self, **kwargs): obs = super().reset(**kwargs)`` (or an inner Gym env's
+    # ``self.env.reset(**kwargs)``): seed and options already reach that reset through
+    # ``**kwargs``; new keyword-only parameters would take them.
+    forwards = not modern and not legacy_flag and _forwards_keywords(decision, function)
     decision.plan.reset_forwards_keywords = forwards
     if legacy_flag:
         decision.report(function, "GM502", "return_info removed: reset() always returns (obs, info) now; check callers that expected a bare observation")
@@ -61,9 +62,14 @@ def decide_reset(decision: ClassDecision) -> None:
         for helper in helpers:
             _return_info_pairs(decision, helper, None, set())
     super_resets = any(is_super_method_call(c, "reset") for s in function.body for c in ast.walk(s) if isinstance(c, ast.Call))
-    decision.plan.reset_super_seeds = decision.env.extends_gym_env_directly(decision.classdef)
+    # Only an inner env's reset gets the keywords: that env seeds itself, and this class
+    # has no ``seed`` name of its own to seed np_random with.
+    inner_only = forwards and not super_resets
+    decision.plan.reset_super_seeds = not inner_only and decision.env.extends_gym_env_directly(decision.classdef)
     inserted = False
-    if decision.plan.reset_super_seeds or super_resets:
+    if inner_only:
+        pass
+    elif decision.plan.reset_super_seeds or super_resets:
         inserted = not super_resets
     else:
         decision.report(
@@ -80,7 +86,8 @@ def decide_reset(decision: ClassDecision) -> None:
         or any(_super_reset_needs_seed(c) for s in function.body for c in ast.walk(s))
     )
     if forwards and migrates:
-        decision.report(function, "GM501", "reset passes seed and options on to super().reset() in its **kwargs (wrappers always pass them)")
+        where = "the inner env's reset()" if inner_only else "super().reset()"
+        decision.report(function, "GM501", f"reset passes seed and options on to {where} in its **kwargs (wrappers always pass them)")
     elif migrates or inserted:
         star_kwarg = function.args.kwarg.arg if function.args.kwarg else None
         extra = [n for n in names[1:] if n not in ("seed", "options", "return_info", star_kwarg)]
@@ -128,12 +135,18 @@ def _tests_return_info(test: ast.expr) -> bool:
     return isinstance(test, ast.Name) and test.id == "return_info"
 
 
-def _forwards_keywords(function: ast.AST) -> bool:
-    """``reset(self, ..., **kwargs)`` whose every ``super().reset(...)`` passes ``**kwargs`` on."""
+def _forwards_keywords(decision: ClassDecision, function: ast.AST) -> bool:
+    """``reset(self, ..., **kwargs)`` whose every ``super().reset(...)`` (and inner Gym env
+    ``reset``) passes ``**kwargs`` on."""
     kwarg = function.args.kwarg.arg if function.args.kwarg else None  # type: ignore[attr-defined]
     if kwarg is None:
         return False
-    calls = [c for s in function.body for c in ast.walk(s) if isinstance(c, ast.Call) and is_super_method_call(c, "reset")]  # type: ignore[attr-defined]
+    calls = [
+        c
+        for s in function.body  # type: ignore[attr-defined]
+        for c in ast.walk(s)
+        if isinstance(c, ast.Call) and (is_super_method_call(c, "reset") or inner_gym_env_call(decision, c, "reset"))
+    ]
     return bool(calls) and all(
         any(k.arg is None and isinstance(k.value, ast.Name) and k.value.id == kwarg for k in call.keywords) for call in calls
     )

@@ -126,6 +126,18 @@ def _decide_returns(decision: ClassDecision, function: Method, helpers: set[int]
             # This return never ends an episode, on a limit or otherwise: nothing to split.
             decision.report(ret, "GM504", "step returns terminated=False and truncated=False, as its done was False", FixKind.ASSIST, tier=Tier.NOTE)
             continue
+        if isinstance(done, ast.Name) and _unpacked_from_inner_step(decision, index, done.id):
+            # The step family unpacks that step's terminated and truncated: return them as they
+            # are (``done and False`` would fold the inner truncations into terminated).
+            decision.plan.passthrough_returns.setdefault(function.name, set()).add(position)
+            decision.report(
+                ret,
+                "GM504",
+                f"step returns the terminated and truncated of the step it calls (`{done.id}` was their `or`)",
+                FixKind.ASSIST,
+                tier=Tier.NOTE,
+            )
+            continue
         traced = tracer.trace(done)
         if traced.cause is Cause.TRUNCATION:
             decision.plan.truncating_returns.setdefault(function.name, set()).add(position)
@@ -370,6 +382,46 @@ def _or_operands(expr: ast.AST) -> list[ast.AST]:
 def _split_done(expr: ast.AST) -> bool:
     """``bool(task or self.steps >= self.max_steps)`` has a clear step-limit test."""
     return any(is_step_limit(op) for op in _or_operands(unwrap_bool(expr)))
+
+
+def _unpacked_from_inner_step(decision: ClassDecision, index: FunctionIndex, name: str) -> bool:
+    """``name`` is bound once, as the done of ``obs, r, done, info = <step>`` where the step is
+    an inner Gym env's (``self.env.step(a)``, or ``res = self.env.step(a)`` unpacked) or the
+    base class's migrated one (``super().step(a)``): the step family unpacks five values there,
+    as ``terminated``/``truncated`` (names the function must not use already)."""
+    if any(isinstance(n, ast.Name) and n.id in ("terminated", "truncated") for n in index.of(ast.Name)):
+        return False
+    selection = decision.family.context.options.selection
+    if selection is not None and not selection.allows("GM301"):
+        return False  # the unpack stays a legacy one: so does this return's done
+    binders = [
+        a
+        for a in index.of(ast.Assign)
+        for t in a.targets  # type: ignore[attr-defined]
+        if isinstance(t, ast.Name) and t.id == name
+        or isinstance(t, (ast.Tuple, ast.List)) and any(isinstance(e, ast.Name) and e.id == name for e in t.elts)
+    ]
+    others = [n for n in index.of(ast.AugAssign, ast.AnnAssign, ast.For) if isinstance(n.target, ast.Name) and n.target.id == name]  # type: ignore[attr-defined]
+    if len(binders) != 1 or others:
+        return False
+    unpack = binders[0]
+    target = unpack.targets[0] if len(unpack.targets) == 1 else None  # type: ignore[attr-defined]
+    if not (
+        isinstance(target, (ast.Tuple, ast.List))
+        and len(target.elts) == 4
+        and isinstance(target.elts[2], ast.Name)
+        and target.elts[2].id == name
+    ):
+        return False
+    value = unpack.value  # type: ignore[attr-defined]
+    if isinstance(value, ast.Name):  # ``res = self.env.step(a)`` then ``... = res``
+        stores = [a for a in index.of(ast.Assign) if any(isinstance(t, ast.Name) and t.id == value.id for t in a.targets)]  # type: ignore[attr-defined]
+        if len(stores) != 1:
+            return False
+        value = stores[0].value  # type: ignore[attr-defined]
+    if is_super_method_call(value, "step"):
+        return decision.env.has_local_env_base(decision.classdef)  # the base's step migrates in this run
+    return inner_gym_env_call(decision, value, "step")
 
 
 def _single_assignment(index: FunctionIndex, name: str) -> ast.AST | None:

@@ -99,6 +99,7 @@ class StepFamilyBase(RuleFamily):
     result_steps: dict[tuple[int, str], list]  # ``res = x.step(a)`` by variable
     # Four-target step unpacks: a read that one of them dominates belongs to it alone.
     legacy_unpacks: set[ast.Assign]
+    forwarded_unpacks: dict[int, ast.Assign]  # id of ``res = x.step(a)`` -> ``obs, r, done, info = res``
     numpy_name: str | None
 
     def decision(self, receiver: ast.expr, legacy_shape: bool) -> tuple[Decision, bool]:

@@ -43,9 +43,16 @@ class StepDone(UnpackRules, TimeLimitRules, ResultRules):
         self.reported_reads = set()
         self.rollout_advice = Repeats()
         steps = facts.attribute_calls.get("step", [])
+        self.forwarded_unpacks = {}
+        for call in steps:
+            parent = facts.parent(call)
+            if isinstance(parent, ast.Assign) and parent.value is call and len(parent.targets) == 1:
+                unpack = self._forwarded_unpack(parent, parent.targets[0])
+                if unpack is not None:
+                    self.forwarded_unpacks[id(parent)] = unpack
         self.legacy_unpacks = {
             parent for parent in (facts.parent(call) for call in steps) if isinstance(parent, ast.Assign) and _four_targets(parent)
-        }
+        } | set(self.forwarded_unpacks.values())
         for call in steps:
             self._plan_step(call)
         self.finish_done_reads()
@@ -69,11 +76,35 @@ class StepDone(UnpackRules, TimeLimitRules, ResultRules):
                     self.plan_unpack(parent, target, receiver)
                     return
             if isinstance(target, ast.Name):
+                unpack = self.forwarded_unpacks.get(id(parent))
+                if unpack is not None:
+                    # ``res = env.step(a)`` then ``obs, r, done, info = res``: one unpack of
+                    # this step, migrated as if written in one statement.
+                    self.plan_unpack(unpack, unpack.targets[0], receiver)  # type: ignore[arg-type]
+                    return
                 self.plan_result_name(parent, target, receiver)
                 return
         if isinstance(parent, ast.Expr) or self._returned_from_step_method(call, parent):
             return  # result unused, or passed through by a wrapper's step (the wrapper rules' job)
         self.report_unpacked_use(call, receiver)
+
+    def _forwarded_unpack(self, assign: ast.Assign, target: ast.expr) -> ast.Assign | None:
+        """``obs, r, done, info = res`` where ``res = x.step(a)`` (``assign``) is the only
+        binding of ``res`` and that unpack its only read, dominated by the step."""
+        if not isinstance(target, ast.Name):
+            return None
+        scope = self.flow.binding_scope(target)
+        if scope is None or len(scope.bindings.get(target.id, [])) != 1:
+            return None
+        reads = self.flow.reads(target)
+        if len(reads) != 1:
+            return None
+        unpack = self.facts.parent(reads[0])
+        if not (isinstance(unpack, ast.Assign) and unpack.value is reads[0] and _four_targets(unpack)):
+            return None
+        if not self.flow.same_frame(reads[0], scope) or not self.flow.dominates(assign, reads[0], target):
+            return None
+        return unpack
 
     def _returned_from_step_method(self, call: ast.Call, parent: ast.AST | None) -> bool:
         if not isinstance(parent, ast.Return):
