@@ -631,8 +631,9 @@ class Receivers:
             return self.annotation_kind(optional)
         local = self.local_class(annotation)
         if local is not None:
-            kind = self.class_kind(local)  # ``def test_x(env: Warehouse)`` with Warehouse defined here
-            return kind if kind is not EnvKind.NOT_ENV else EnvKind.UNKNOWN
+            # ``def test_x(env: Warehouse)`` with Warehouse defined here; a class of the run
+            # that is no env (``model_env: ModelEnv``) is the project's own object: left alone.
+            return self.class_kind(local)
         return self.annotation_names_kind(self.qualified_names(annotation))
 
     def annotation_names_kind(self, names: set[str]) -> EnvKind:
@@ -647,7 +648,7 @@ class Receivers:
                 return other
             if self.project is not None:
                 found = self.project.call_kind(q)  # a class of another module of the run
-                if found is not None and found is not EnvKind.NOT_ENV:
+                if found is not None:
                     return found
         return EnvKind.UNKNOWN
 
@@ -822,6 +823,11 @@ class Receivers:
                         return None
                     found.append(self.library_made(parent.value))
                 return found[0] if found and all(f is not None for f in found) else None
+            if isinstance(expr, ast.Attribute) and isinstance(expr.value, ast.Name) and self.is_self(expr.value):
+                # ``self._env = suite.load(...)`` in ``__init__``: every value the class stores
+                values = self.self_attribute_values(expr, expr.attr)
+                made = [self.library_made(value) for value in values]
+                return made[0] if made and all(m is not None for m in made) else None
             return None
         finally:
             self.depth -= 1
