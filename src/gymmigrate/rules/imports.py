@@ -194,17 +194,15 @@ GYM_ONLY_LIBRARIES = {
 }
 
 
-# Gym-only env packages whose envs build ``gym.spaces`` objects: a class check against
-# Gymnasium's space classes is False for them.
-GYM_SPACE_PACKAGES = frozenset(
-    {"multiagent", "pybullet_envs", "pybulletgym", "roboschool", "gym_super_mario_bros", "gym_tetris", "nes_py", "dmc2gym"}
-)
+# Gym-only env packages whose envs, built by the package itself, have ``gym.spaces``
+# objects: a class check against Gymnasium's space classes is False for them. Plugins that
+# only register ids with gym (pybullet_envs, pybulletgym, roboschool) are not among them:
+# their envs are made by the migrated ``gymnasium.make`` (through Shimmy, with Gymnasium
+# spaces) or not at all (GM805 reports the ids), so the checks move with the rest.
+GYM_SPACE_PACKAGES = frozenset({"multiagent", "gym_super_mario_bros", "gym_tetris", "nes_py", "dmc2gym"})
 _SUCCESSORS = {
     "multiagent": "PettingZoo's MPE, `mpe2`",
     "dmc2gym": "Shimmy's dm_control envs",
-    "pybullet_envs": "Shimmy's GymV21Environment-v0 or the MuJoCo v5 envs",
-    "pybulletgym": "Shimmy's GymV21Environment-v0 or the MuJoCo v5 envs",
-    "roboschool": "the MuJoCo v5 envs",
 }
 
 
