@@ -641,6 +641,8 @@ class Receivers:
             rest = N.strip_gym_prefix(q)
             if rest in N.GYM_ENV_BASE_CLASSES:
                 return EnvKind.GYM_ENV
+            if rest is not None and rest.startswith("wrappers.") and not rest.startswith("wrappers.vector."):
+                return EnvKind.GYM_ENV  # ``env: gym.wrappers.TimeLimit``: a wrapper class is a Gym env
             if rest is not None and rest.startswith("vector.") and rest.endswith("Env"):
                 return EnvKind.GYM_VEC
             other = _other_library_class_kind(q)

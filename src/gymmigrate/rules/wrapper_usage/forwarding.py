@@ -627,6 +627,10 @@ class WrapperForwarding(RuleFamily):
             if function.name == "__init__" and param.arg == "env" and self.receivers.is_gym_wrapper_class(classdef):
                 return INNER
             return None
+        if param.annotation is not None and any(
+            wrapper_rest(q) == "TimeLimit" for q in self.facts.qualified_names(param.annotation)
+        ):
+            return MADE  # ``env: gym.wrappers.TimeLimit``: what make returns, its outermost layer
         # A module function: the env is whatever its callers in this module pass.
         params = [*function.args.posonlyargs, *function.args.args]
         position = next((i for i, p in enumerate(params) if p is param), None)
