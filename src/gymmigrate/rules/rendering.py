@@ -211,6 +211,15 @@ class Rendering(RuleFamily):
             or is_spec_make(self.facts, self.receivers.project, call),
         )
 
+    def _is_gym_make(self, call: ast.Call) -> bool:
+        """gym.make and its aliases (not the construction of an env class, whose own render
+        signature may take more)."""
+        return (
+            any(N.strip_gym_prefix(q) in N.GYM_ENV_FACTORIES for q in self.facts.qualified_names(call.func))
+            or self._is_project_make(call)
+            or is_spec_make(self.facts, self.receivers.project, call)
+        )
+
     def _is_project_make(self, call: ast.Call) -> bool:
         """``make(...)`` / ``pkg.make(...)`` where the run binds that name to ``gym.make``."""
         project = self.receivers.project
@@ -236,7 +245,10 @@ class Rendering(RuleFamily):
         close = keyword(call, "close")
         mode_arg = self._mode_argument(call)
         if close is None and mode_arg is None and (call.args or call.keywords):
-            return None  # some other render(...) signature: not the Gym one
+            # Some other render(...) signature: not the Gym one. Through the wrappers make
+            # adds it is a TypeError in Gymnasium (Wrapper.render takes no arguments).
+            self._report_other_signature(call, receiver)
+            return None
         function = self.facts.enclosing_function(call)
         if function is not None and function.name == "render" and not self._helper_method(function):
             return None  # a render method forwarding to its env: the Env/Wrapper rules own it
@@ -299,6 +311,21 @@ class Rendering(RuleFamily):
             mode = RGB_ARRAY
         quote = self._quote(value) or '"'
         return RenderSite(call, "GM401", mode, (), decision.action, self.finder.find(receiver), legacy_spelling=legacy, quote=quote)
+
+    def _report_other_signature(self, call: ast.Call, receiver: ast.expr) -> None:
+        if not self.context.profile.imports_gym or self.receivers.kind_of(receiver) is not EnvKind.GYM_ENV:
+            return
+        creation = self.finder.find(receiver)
+        if not (creation.found and all(self._is_gym_make(make) for make in creation.calls)):
+            return
+        self.report(
+            call,
+            "GM401",
+            f"`{receiver_text(receiver)}` comes from gym.make, and Gymnasium's wrappers take no arguments in "
+            f"render(): `{self._call_summary(call)}` raises TypeError; call `{receiver_text(receiver)}.unwrapped.render(...)` "
+            "for the env's own signature, or pass the settings to gym.make",
+            FixKind.FLAG,
+        )
 
     def _recorder_site(self, call: ast.Call) -> RenderSite | None:
         consumer: str | None = None

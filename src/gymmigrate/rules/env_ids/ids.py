@@ -60,7 +60,7 @@ RULES = (
         "GM804",
         "Atari ids",
         FixKind.ASSIST,
-        "Removed `*Deterministic*` / `*-ram*` Atari ids become the base id plus keywords.",
+        "Removed `*Deterministic*` / `*-ram*` Atari ids become the base id plus keywords; `info[\"ale.lives\"]` reads `\"lives\"`.",
         once_per_run=True,
     ),
     Rule("GM805", "removed env families", FixKind.FLAG, "Ids of env families Gymnasium removed are reported.", once_per_run=True),
@@ -92,14 +92,18 @@ _LOADS_SAVED_STATE = re.compile(
 )
 
 
+_ALE_LIVES = "ale.lives"
+
+
 class EnvIds(RuleFamily):
     RULES = RULES
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
-        return "-v" in facts.text
+        return "-v" in facts.text or _ALE_LIVES in facts.text
 
     def decide(self) -> None:
+        self._rename_lives_key()
         self._planned: set[ast.Constant] = set()
         self._new_keywords: dict[ast.Call, list[tuple[str, str]]] = {}
         # package module -> (package, the first id string that needs it)
@@ -109,6 +113,28 @@ class EnvIds(RuleFamily):
         for call, keywords in self._new_keywords.items():
             self.plan.replace(call, lambda node, keywords=keywords: _append_keywords(node, keywords))
         self._decide_registration()
+
+    # -- GM804: gym's Atari info key ------------------------------------------------------
+
+    def _rename_lives_key(self) -> None:
+        """``info["ale.lives"]`` (``info.get("ale.lives")``): gym's AtariEnv named the key so;
+        ale-py's envs, which Gymnasium's Atari ids make, call it ``"lives"`` (KeyError now)."""
+        if _ALE_LIVES not in self.facts.text or not self.context.profile.imports_gym:
+            return
+        for node in self.facts.strings:
+            if node.value != _ALE_LIVES:
+                continue
+            parent = self.facts.parent(node)
+            keyed = isinstance(parent, ast.Subscript) and parent.slice is node
+            got = (
+                isinstance(parent, ast.Call)
+                and isinstance(parent.func, ast.Attribute)
+                and parent.func.attr in ("get", "pop")
+                and parent.args[:1] == [node]
+            )
+            if keyed or got:
+                self.plan.replace(node, lambda cst_node: _with_string_value(cst_node, "lives"))
+                self.report(node, "GM804", '"ale.lives" -> "lives": ale-py\'s Atari envs name the info key so', FixKind.AUTO)
 
     # -- where env ids are ---------------------------------------------------------------
 
