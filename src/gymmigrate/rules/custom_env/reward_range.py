@@ -1,12 +1,17 @@
 """GM507: reads of ``reward_range``, removed from ``Env`` and ``Wrapper`` in Gymnasium 1.0.
 
-Reported, never rewritten: the value only exists where an env class defines it.
+Reported: the value only exists where an env class defines it. One exception is rewritten:
+an env ``gym.make`` made from a literal id of gym's own classic-control, Box2D, MuJoCo or
+Atari envs, none of which set ``reward_range``, so it was gym's default ``(-inf, inf)``
+(``best_score = env.reward_range[0]`` -> ``-float("inf")``).
 """
 
 from __future__ import annotations
 
 import ast
 
+from gymmigrate.edits.lazy import cst
+from gymmigrate.facts import names as N
 from gymmigrate.facts.decisions import Action, decide
 from gymmigrate.facts.env_classes import EnvClasses, is_self_attribute
 from gymmigrate.facts.kinds import EnvKind
@@ -16,7 +21,14 @@ from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 
 
 class RewardRange(RuleFamily):
-    RULES = (Rule("GM507", "reward_range", FixKind.FLAG, "Reads of `reward_range`, removed from `Env` and `Wrapper`, are reported."),)
+    RULES = (
+        Rule(
+            "GM507",
+            "reward_range",
+            FixKind.FLAG,
+            "Reads of `reward_range`, removed from `Env` and `Wrapper`, are reported; gym's default is written out for its own envs.",
+        ),
+    )
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
@@ -44,6 +56,9 @@ class RewardRange(RuleFamily):
                 self.report(node, "GM507", "Env.reward_range was removed in Gymnasium 1.0; define `reward_range` on this class or drop the read")
             return
         kind = self.receivers.kind_of(owner)
+        if kind is EnvKind.GYM_ENV and self._default_range(owner):
+            self._replace_with_default(node)
+            return
         decision = decide(kind, owner, self.context.profile)
         if decision.action is not Action.LEAVE or kind is EnvKind.GYM_ENV:
             self.report(
@@ -51,6 +66,58 @@ class RewardRange(RuleFamily):
                 "GM507",
                 "reward_range was removed from Env and Wrapper in Gymnasium 1.0 (reads through a wrapper raise AttributeError); use `env.unwrapped.reward_range` if the env defines it",
             )
+
+
+    def _default_range(self, owner: ast.expr) -> bool:
+        """Every binding of ``owner`` is ``gym.make("<id>")`` of an env that kept gym's
+        default reward range."""
+        if not isinstance(owner, ast.Name):
+            return False
+        bindings = self.facts.bindings_of(owner)
+        for binding in bindings:
+            assign = self.facts.parent(binding)
+            if not (isinstance(assign, ast.Assign) and isinstance(assign.value, ast.Call) and assign.value.args):
+                return False
+            call = assign.value
+            if not any(N.strip_gym_prefix(q) in N.GYM_ENV_FACTORIES for q in self.facts.qualified_names(call.func)):
+                return False
+            env_id = call.args[0]
+            if not (isinstance(env_id, ast.Constant) and isinstance(env_id.value, str)):
+                return False
+            if env_id.value.split("/")[-1].split("-v")[0] not in _DEFAULT_RANGE_FAMILIES:
+                return False
+        return bool(bindings)
+
+    def _replace_with_default(self, node: ast.Attribute) -> None:
+        parent = self.facts.parent(node)
+        index = parent.slice if isinstance(parent, ast.Subscript) and parent.value is node else None
+        if parent is not None and isinstance(index, ast.Constant) and index.value in (0, 1) and type(index.value) is int:
+            text = '-float("inf")' if index.value == 0 else 'float("inf")'
+            self.plan.replace(parent, lambda _node: cst.parse_expression(text))
+        else:
+            self.plan.replace(node, lambda _node: cst.parse_expression('(-float("inf"), float("inf"))'))
+        self.report(
+            node,
+            "GM507",
+            "reward_range was removed in Gymnasium 1.0; this env never set it, so it was gym's default (-inf, inf): "
+            "written out",
+            FixKind.AUTO,
+        )
+
+
+# Families of gym's own envs that never set ``reward_range`` (gym's default, (-inf, inf)).
+# toy_text is left out: some of its envs set their own.
+_DEFAULT_RANGE_FAMILIES = frozenset(
+    {
+        "CartPole", "MountainCar", "MountainCarContinuous", "Pendulum", "Acrobot",
+        "LunarLander", "LunarLanderContinuous", "BipedalWalker", "BipedalWalkerHardcore", "CarRacing",
+        "Ant", "HalfCheetah", "Hopper", "Humanoid", "HumanoidStandup", "InvertedPendulum",
+        "InvertedDoublePendulum", "Reacher", "Swimmer", "Walker2d", "Pusher",
+        "Breakout", "BreakoutNoFrameskip", "Pong", "PongNoFrameskip", "SpaceInvaders", "SpaceInvadersNoFrameskip",
+        "Seaquest", "SeaquestNoFrameskip", "Qbert", "QbertNoFrameskip", "MsPacman", "MsPacmanNoFrameskip",
+        "BeamRider", "BeamRiderNoFrameskip", "Enduro", "EnduroNoFrameskip",
+    }
+)  # fmt: skip
 
 
 def _defines_reward_range(env: EnvClasses, classdef: ast.ClassDef) -> bool:
