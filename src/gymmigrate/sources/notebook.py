@@ -2,11 +2,13 @@
 
 Everything else in the file is kept: markdown cells, outputs, execution counts,
 metadata, key order and the JSON layout. Only the ``source`` of a cell whose code changed
-is replaced, in the form it had (a list of lines or one string). The notebook is written
-again with ``json.dumps`` using the layout read from the file (indent, ``ensure_ascii``,
-final newline: nbformat writes indent 1, non-ASCII as is and a final newline); before
-writing, the unmodified notebook is serialized the same way and must reproduce the file
-byte for byte, otherwise the notebook is refused rather than reformatted.
+is replaced, in the form it had (a list of lines or one string), and it is replaced in
+the JSON text itself: the file is never serialized again, so every byte outside the
+changed ``source`` values stays as it was, whatever wrote it (Jupyter's indent 1,
+Colab's indent 2, a line indented by hand, duplicate keys from a merge, CRLF). Inside a
+changed ``source`` list, the lines that did not change keep their bytes too (their
+indentation and escapes); a new line takes the indentation of the line it replaces.
+Where keys repeat, the last one counts, as for ``json.loads`` and Jupyter.
 
 Findings carry ``cell``, the 0-based index in the notebook's ``cells`` (markdown cells
 count), and ``line`` within that cell.
@@ -20,15 +22,18 @@ from __future__ import annotations
 
 import ast
 import json
-import re
-from collections.abc import Callable
-from functools import partial
-from itertools import product
 from typing import Any
 
 from gymmigrate.findings import Finding, FixKind
 from gymmigrate.source_text import TransformError, may_hold_gym_code
 from gymmigrate.sources import Location, Segment
+from gymmigrate.sources.json_text import (
+    JSONLayoutError,
+    Span,
+    cell_source_spans,
+    escapes_non_ascii,
+    new_source_text,
+)
 from gymmigrate.sources.magics import Magics
 
 # Outputs (plots, videos) make notebooks large; the code in them is what costs time.
@@ -106,14 +111,34 @@ class Notebook:
         starts = [[segment.start for segment in program] for program in self.programs]
         if not changed:
             return self.source, starts
-        dump = _layout_of(self.text, self.data)
-        for index, text in changed.items():
+        spans = self._source_spans()
+        ensure_ascii = escapes_non_ascii(self.text)
+        pieces: list[str] = []
+        done = 0
+        for index in sorted(changed):
             cell = self.cells[index]
-            cell["source"] = text.splitlines(keepends=True) if isinstance(cell.get("source"), list) else text
-        return dump(self.data).encode("utf-8"), starts
+            new_source: str | list[str] = changed[index]
+            if isinstance(cell.get("source"), list):
+                new_source = changed[index].splitlines(keepends=True)
+            span = spans.get(index)
+            if span is None:
+                raise TransformError(f"cell {index + 1} has no `source` in the notebook's JSON; left unchanged")
+            pieces += [self.text[done : span.start], new_source_text(self.text, span, new_source, ensure_ascii=ensure_ascii)]
+            done = span.end
+            cell["source"] = new_source
+        pieces.append(self.text[done:])
+        rewritten = "".join(pieces)
+        _check_sources(rewritten, self.cells)
+        return rewritten.encode("utf-8"), starts
 
     def check_writable(self) -> None:
-        _layout_of(self.text, self.data)
+        self._source_spans()
+
+    def _source_spans(self) -> dict[int, Span]:
+        try:
+            return cell_source_spans(self.text)
+        except JSONLayoutError as exc:
+            raise TransformError(f"the cells' sources could not be located in the notebook's JSON ({exc}); left unchanged") from None
 
     def code_view(self) -> str:
         """The code cells as one text, each under a ``# cell N`` line (1-based, every cell
@@ -167,34 +192,16 @@ def _parse_problem(code: str) -> tuple[int, str] | None:
     return None
 
 
-def _layout_of(text: str, data: Any) -> Callable[[Any], str]:
-    """A serializer that writes this file's JSON layout, checked on the file as it is.
-
-    nbformat (Jupyter, VS Code) writes indent 1, ``ensure_ascii=False`` and a final
-    newline; Colab indent 2. A notebook saved on Windows (or checked out with
-    ``core.autocrlf``) has CRLF line ends: JSON strings hold no raw line break, so every
-    ``\n`` of the dump is a line end to write as the file does. The first candidate that
-    reproduces ``text`` exactly wins.
-    """
-    newline = "\r\n" if "\r\n" in text else "\n"
-    indent_match = re.match(r"[\[{]\r?\n( *)\S", text)
-    indent = len(indent_match[1]) if indent_match else None
-    final_newline = newline if text.endswith(newline) else ""
-    for ensure_ascii, separators in product((False, True), ((",", ": "), (", ", ": "), (",", ":"))):
-        dump = partial(json.dumps, indent=indent, ensure_ascii=ensure_ascii, separators=separators)
-        if newline != "\n":
-            dump = partial(_with_line_ends, dump, newline)
-        if dump(data) + final_newline == text:
-            return partial(_ending_with, dump, final_newline)
-    raise TransformError(
-        "the notebook's JSON layout cannot be reproduced (not written by Jupyter/nbformat?);"
-        " left unchanged rather than reformatted"
-    )
+def _check_sources(rewritten: str, cells: list[Any]) -> None:
+    """The edited text must read back (as Jupyter reads it) with exactly the new sources."""
+    try:
+        data = json.loads(rewritten)
+        ok = [_source_of(cell) for cell in data["cells"]] == [_source_of(cell) for cell in cells]
+    except (ValueError, KeyError, TypeError):
+        ok = False
+    if not ok:
+        raise TransformError("the notebook's JSON could not be edited in place; left unchanged")
 
 
-def _with_line_ends(dump: Callable[[Any], str], newline: str, value: Any) -> str:
-    return dump(value).replace("\n", newline)
-
-
-def _ending_with(dump: Callable[[Any], str], final_newline: str, value: Any) -> str:
-    return dump(value) + final_newline
+def _source_of(cell: Any) -> Any:
+    return cell.get("source") if isinstance(cell, dict) else None
