@@ -168,14 +168,21 @@ def test_a_timed_training_cell_is_migrated() -> None:
 
 def test_a_cell_that_does_not_parse_is_reported_with_its_number(tmp_path: Path) -> None:
     path = tmp_path / "broken.ipynb"
-    source = _notebook(("markdown", "# Title"), ("code", "import gym\n"), ("code", "def f(:\n    pass\n"))
+    source = _notebook(
+        ("markdown", "# Title"), ("code", "import gym\n"), ("code", "def f(:\n    env.reset()\n"), ("code", "model = \n")
+    )
     path.write_bytes(source)
     result = runner.invoke(app, ["rewrite", str(tmp_path)])
     assert result.exit_code == 0, result.stderr
     assert f"{path}:cell 3:line 1: GM001 (not rewritten) this code cell does not parse (line 1: invalid syntax)" in result.stderr
+    assert "cell 4" not in result.stderr  # an exercise cell that mentions no env: a note, not a review item
     cells = json.loads(path.read_bytes())["cells"]
     assert cells[1]["source"] == "import gymnasium as gym\n"  # the other cells are migrated
-    assert cells[2]["source"] == "def f(:\n    pass\n"  # the broken one is left as it was
+    assert cells[2]["source"] == "def f(:\n    env.reset()\n"  # the broken ones are left as they were
+    assert cells[3]["source"] == "model = \n"
+    check = runner.invoke(app, ["check", "--output-format", "json", str(path)])
+    tiers = {f["cell"]: f["tier"] for f in json.loads(check.stdout) if f["rule"] == "GM001"}
+    assert tiers == {2: "review", 3: "note"}  # JSON cells count from 0, like nb["cells"]
 
 
 def test_an_exercise_placeholder_cell_is_left_and_the_rest_migrated() -> None:

@@ -24,7 +24,7 @@ import ast
 import json
 from typing import Any
 
-from gymmigrate.findings import Finding, FixKind
+from gymmigrate.findings import Finding, FixKind, Tier
 from gymmigrate.source_text import TransformError, may_hold_gym_code
 from gymmigrate.sources import Location, Segment
 from gymmigrate.sources.json_text import (
@@ -82,6 +82,9 @@ class Notebook:
                 parsed.append(segment)
                 continue
             line, detail = problem
+            # An exercise cell with nothing of Gym in it (``model = ``) has nothing to migrate:
+            # a note, not a question.
+            gym_free = not may_hold_gym_code(segment.code.encode("utf-8"))
             self.notes.append(
                 Finding(
                     line=line,
@@ -89,8 +92,9 @@ class Notebook:
                     rule=UNPARSED_CELL,
                     kind=FixKind.FLAG,
                     message=f"this code cell does not parse ({detail}); left as it is, the other cells are "
-                    "migrated without it: check it by hand",
+                    + ("migrated without it; it mentions no env" if gym_free else "migrated without it: check it by hand"),
                     cell=segment.start.cell,
+                    tier=Tier.NOTE if gym_free else None,
                 )
             )
         self.programs = [parsed] if parsed else []
