@@ -77,6 +77,7 @@ GYM_ONLY_PACKAGES = frozenset(
         "dmc2gym",
         "gym_super_mario_bros",
         "gym_tetris",
+        "gym_unity",
         "mujoco_py",
         "multiagent",
         "nes_py",

@@ -173,6 +173,11 @@ GYM_ONLY_LIBRARIES = {
         "refuse its envs; use Shimmy's dm_control envs (`gymnasium.make(\"dm_control/<domain>-<task>-v0\")`, "
         "`shimmy[dm-control]` installed)"
     ),
+    "gym_unity": (
+        "gym_unity (ml-agents' UnityToGymWrapper) has no Gymnasium release: its envs keep gym's API (a four-field "
+        "step, per-agent arrays when several agents act); wrap them with Shimmy (`GymV21Environment-v0`, gym "
+        "installed) or port the wrapper"
+    ),
     "nes_py": "nes_py has no Gymnasium release: wrap its envs with Shimmy (`GymV21Environment-v0`, gym installed)",
     "atari_py": "atari_py is replaced by ale_py: `import ale_py`, `gymnasium.register_envs(ale_py)`, ids `ALE/Pong-v5`",
     "mujoco_py": "mujoco_py envs were removed in Gymnasium 1.0: use the `mujoco` bindings and the v5 envs",
