@@ -183,11 +183,18 @@ class EnvIds(RuleFamily):
             values.append((default, f"the default of `{param.arg}`"))
         params = [*function.args.posonlyargs, *function.args.args]
         position = params.index(param) if param in params else None
-        if self.facts.parent(function) is self.facts.tree:
-            for call in self.facts.calls_by_name.get(function.name, []):
-                argument = call_argument(call, position, param.arg)
-                if argument is not None:
-                    values.append((argument, f"an argument of `{function.name}(...)`"))
+        owner = self.facts.parent(function)
+        callee: str | None = None
+        if owner is self.facts.tree:
+            callee = function.name
+        elif isinstance(owner, ast.ClassDef) and function.name == "__init__" and self.facts.parent(owner) is self.facts.tree:
+            # ``Task("Hopper-v2")`` with ``self.env = gym.make(name)`` in ``Task.__init__``
+            callee = owner.name
+            position = position - 1 if position else None  # ``self`` is not passed
+        for call in self.facts.calls_by_name.get(callee, []) if callee else []:
+            argument = call_argument(call, position, param.arg)
+            if argument is not None:
+                values.append((argument, f"an argument of `{callee}(...)`"))
         sites = []
         for value, via in values:
             if isinstance(value, ast.Name):
