@@ -89,11 +89,15 @@ def plan_monitor(family: StacksFamily, call: ast.Call) -> MonitorRewrite | None:
         family.plan.replace(call, stats_only)
         return MonitorRewrite(uses=("RecordEpisodeStatistics",) if not prefix else ())
     with_trigger = trigger is not None and not (isinstance(trigger, ast.Constant) and trigger.value is None)
+    # ``env = Monitor(env, d)`` next to ``env = RecordEpisodeStatistics(env)``: the code keeps
+    # its own statistics wrapper, so the Monitor's would count every episode twice.
+    counted = _statistics_beside(family, call)
 
     def record_video(node: cst.Call) -> cst.BaseExpression:
         eq = cst.AssignEqual(cst.SimpleWhitespace(""), cst.SimpleWhitespace(""))
         comma = cst.Comma(whitespace_after=cst.SimpleWhitespace(" "))
-        stats = cst.Call(func=dotted_node(prefix + "RecordEpisodeStatistics"), args=[cst.Arg(value=_slot_value(node, where["env"]))])
+        inner = _slot_value(node, where["env"])
+        stats = inner if counted else cst.Call(func=dotted_node(prefix + "RecordEpisodeStatistics"), args=[cst.Arg(value=inner)])
         new_args = [
             cst.Arg(value=stats, comma=comma),
             cst.Arg(keyword=cst.Name("video_folder"), value=_slot_value(node, where["directory"]), equal=eq),
@@ -103,16 +107,61 @@ def plan_monitor(family: StacksFamily, call: ast.Call) -> MonitorRewrite | None:
             new_args.append(cst.Arg(keyword=cst.Name("episode_trigger"), value=_slot_value(node, where["video_callable"]), equal=eq))
         return cst.Call(func=dotted_node(prefix + "RecordVideo"), args=new_args, lpar=node.lpar, rpar=node.rpar)
 
+    what = (
+        "RecordVideo(env) (the RecordEpisodeStatistics beside it keeps the statistics)"
+        if counted
+        else "RecordVideo(RecordEpisodeStatistics(env))"
+    )
     family.report(
         call,
         "GM611",
-        "Monitor is RecordVideo(RecordEpisodeStatistics(env)): the env must be made with "
-        f"render_mode=\"rgb_array\" for videos{note}{explained}",
+        f"Monitor is {what}: the env must be made with render_mode=\"rgb_array\" for videos{note}{explained}",
         tier=None if note else Tier.NOTE,  # dropped arguments are a question; the rest explains the rewrite
     )
     family.plan.replace(call, record_video)
     _plan_render_mode(family, call, env)
-    return MonitorRewrite(uses=("RecordEpisodeStatistics", "RecordVideo") if not prefix else ())
+    if prefix:
+        return MonitorRewrite(uses=())
+    return MonitorRewrite(uses=("RecordVideo",) if counted else ("RecordEpisodeStatistics", "RecordVideo"))
+
+
+def _statistics_beside(family: StacksFamily, call: ast.Call) -> bool:
+    """``name = Monitor(name, ...)`` whose statement is next to ``name =
+    RecordEpisodeStatistics(name)`` (just before or just after it) in the same block."""
+    facts = family.facts
+    statement = facts.parent(call)
+    if not (
+        isinstance(statement, ast.Assign)
+        and statement.value is call
+        and len(statement.targets) == 1
+        and isinstance(statement.targets[0], ast.Name)
+    ):
+        return False
+    name = statement.targets[0].id
+    block = facts.parent(statement)
+    body: list[ast.stmt] = []
+    for field in ("body", "orelse", "finalbody"):
+        found = getattr(block, field, None)
+        if isinstance(found, list) and statement in found:
+            body = found
+    if not body:
+        return False
+    index = body.index(statement)
+    for neighbour in body[max(index - 1, 0) : index + 2]:
+        if neighbour is statement or not isinstance(neighbour, ast.Assign) or not isinstance(neighbour.value, ast.Call):
+            continue
+        wrapped = neighbour.value
+        if (
+            len(neighbour.targets) == 1
+            and isinstance(neighbour.targets[0], ast.Name)
+            and neighbour.targets[0].id == name
+            and any(q.split(".")[-1] == "RecordEpisodeStatistics" for q in facts.qualified_names(wrapped.func))
+            and wrapped.args
+            and isinstance(wrapped.args[0], ast.Name)
+            and wrapped.args[0].id == name
+        ):
+            return True
+    return False
 
 
 # -- the render mode at the env's creation --------------------------------------------------------
