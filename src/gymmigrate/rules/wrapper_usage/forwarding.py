@@ -7,8 +7,10 @@ wrappers ``env.x_threshold`` raises ``AttributeError``:
   wrapper may define becomes ``env.get_wrapper_attr("foo")`` (outermost to base, exactly
   what forwarding did). Writes are reported (forwarding never applied to them). A raw env
   built by its own constructor never had the problem.
-* GM605 (ASSIST) ``env._max_episode_steps`` -> ``env.spec.max_episode_steps`` for envs from
-  ``make``; ``env.get_wrapper_attr("_max_episode_steps")`` when the spec may be ``None``.
+* GM605 (ASSIST) ``env._max_episode_steps`` on a bare ``make`` result is the outermost
+  TimeLimit's own attribute, left as it is (reads and writes work as in gym); under wrappers
+  of the code's own it is read from ``env.spec.max_episode_steps`` (a make below them) or
+  with ``env.get_wrapper_attr("_max_episode_steps")``.
 * GM606 (FLAG) ``gym.make(id).env`` (legacy: "drop the TimeLimit") becomes ``.unwrapped``;
   other ``env.env.env`` chains are reported: ``make`` now stacks three wrappers.
   ``isinstance(env, TimeLimit)`` answers as before (TimeLimit is still the outermost wrapper
@@ -44,7 +46,7 @@ from gymmigrate.rules.wrapper_usage.tables import (
 
 RULES = (
     Rule("GM604", "attribute forwarding removed", FixKind.ASSIST, "`env.foo` -> `env.unwrapped.foo` / `env.get_wrapper_attr(\"foo\")`."),
-    Rule("GM605", "env._max_episode_steps", FixKind.ASSIST, "`env._max_episode_steps` -> `env.spec.max_episode_steps`."),
+    Rule("GM605", "env._max_episode_steps", FixKind.ASSIST, "`env._max_episode_steps` under wrappers of your own -> `env.spec.max_episode_steps` or `get_wrapper_attr`."),
     Rule("GM606", "wrapper-stack assumptions", FixKind.FLAG, "`gym.make(id).env` -> `.unwrapped`; other `.env` chains are reported; `isinstance(env, TimeLimit)` on a stack of your own is noted."),
 )
 
@@ -164,6 +166,18 @@ class WrapperForwarding(RuleFamily):
         if name in self._outer_attributes(receiver):
             return  # the outermost wrapper has it: no forwarding involved
         code = "GM605" if name == "_max_episode_steps" else "GM604"
+        if name == "_max_episode_steps" and self._bare_make_result(receiver):
+            # make still returns TimeLimit outermost (as gym did): the attribute is its own, and
+            # a write changes the limit as before (checked on gymnasium 1.4: CartPole-v1 with
+            # ``_max_episode_steps = 5`` truncates at step 5).
+            self.report(
+                attr,
+                code,
+                "`_max_episode_steps` is the TimeLimit's own attribute, and gym.make still returns TimeLimit outermost: "
+                "left as it is",
+                tier=Tier.NOTE,
+            )
+            return
         if isinstance(attr.ctx, (ast.Store, ast.Del)):
             statement = self.facts.parent(attr)
             if (origin == WRAPPED or self._outer_is_wrapper(receiver)) and isinstance(statement, ast.Assign):
