@@ -185,6 +185,51 @@ def test_on_policy_rollout_keeps_the_legacy_advantages(monkeypatch: pytest.Monke
     assert not np.allclose(run_migrated(wrong, "advantages"), legacy)
 
 
+STATE_BEFORE_ADVANCE = textwrap.dedent(
+    """
+    import gym
+    import numpy as np
+
+
+    class Rollout:
+        def __init__(self):
+            self.values, self.rewards, self.dones = [], [], []
+
+        def remember(self, state, value, reward, done):
+            self.values.append(value)
+            self.rewards.append(reward)
+            self.dones.append(done)
+
+
+    def advantages(horizon=40, gamma=0.9):
+        env = gym.make("SemanticsWalk-v0")
+        memory = Rollout()
+        observation = env.reset()
+        for t in range(horizon):
+            value = 0.5 * float(observation[0]) + 1.0
+            observation_, reward, done, info = env.step(t % 2)
+            memory.remember(observation, value, reward, done)
+            observation = observation_
+            if done:
+                observation = env.reset()
+        v, r, d = memory.values, memory.rewards, memory.dones
+        return [r[k] + gamma * v[k + 1] * (1 - int(d[k])) - v[k] for k in range(horizon - 1)]
+    """
+)
+
+
+def test_rollout_storing_the_state_before_the_step_keeps_the_legacy_advantages(monkeypatch: pytest.MonkeyPatch) -> None:
+    # ``observation`` is advanced to ``observation_`` only after the store: no next state is
+    # stored, so ``done`` is the episode boundary of the GAE over the value list.
+    legacy = run_legacy(STATE_BEFORE_ADVANCE, "advantages", monkeypatch)
+    text, findings = migrate(STATE_BEFORE_ADVANCE)
+    assert "memory.remember(observation, value, reward, done)" in text
+    assert (23, "GM302", "flag", "review") in findings
+    np.testing.assert_allclose(run_migrated(text, "advantages"), legacy)
+    wrong = text.replace("memory.remember(observation, value, reward, done)", "memory.remember(observation, value, reward, terminated)")
+    assert not np.allclose(run_migrated(wrong, "advantages"), legacy)
+
+
 # -- GM302: replay transitions with the next state use `terminated` ----------------------------
 
 REPLAY = textwrap.dedent(

@@ -330,7 +330,7 @@ class UnpackRules(StepFamilyBase):
         site = value_site(read, facts)
         if _repacks_step(facts.parent(read), read, step):
             return False  # ``(obs, reward, done, info)`` passed on: the step's own result, not a transition
-        if loaded_names(site) & next_names:
+        if self._reads_next_state(site, step, next_names):
             return True
         statement = facts.statement_of(read)
         function = facts.enclosing_function(step.assign) or facts.tree
@@ -349,6 +349,23 @@ class UnpackRules(StepFamilyBase):
             )
         return False
 
+    def _reads_next_state(self, site: ast.AST, step: _DoneStep, next_names: set[str]) -> bool:
+        """``site`` reads the step's next state: a name of ``next_names`` whose binding before
+        the read comes after the step. ``remember(obs, a, r, done)`` before ``obs = obs_`` reads
+        the state the step started from (an on-policy rollout), not the next one."""
+        steps_after = self._next_state_bindings(step)
+        for node in ast.walk(site):
+            if isinstance(node, ast.Name) and node.id in next_names and isinstance(node.ctx, ast.Load):
+                binding = self.flow.last_binding_of(node)
+                if binding is not None and id(self.facts.statement_of(binding)) in steps_after:
+                    return True
+        return False
+
+    def _next_state_bindings(self, step: _DoneStep) -> set[int]:
+        """The statements that bind a next-state name: the step and the assignments after it."""
+        self._next_state_names(step)
+        return self.facts.memo(("next-state-bindings", id(step.assign)), lambda: {id(step.assign)})
+
     def _next_state_names(self, step: _DoneStep) -> set[str]:
         """The step's observation target and the names computed from it in the same function."""
         return self.facts.memo(("next-state-names", id(step.assign)), lambda: self._compute_next_state_names(step))
@@ -358,6 +375,7 @@ class UnpackRules(StepFamilyBase):
         if not isinstance(first, ast.Name) or first.id == "_":
             return set()
         names = {first.id}
+        bindings = self.facts.memo(("next-state-bindings", id(step.assign)), lambda: {id(step.assign)})
         function = self.facts.enclosing_function(step.assign) or self.facts.tree
 
         def after_step(value: ast.AST) -> bool:  # reads this step's observation, not an earlier one
@@ -374,10 +392,12 @@ class UnpackRules(StepFamilyBase):
                 target = node.targets[0]
                 if isinstance(target, ast.Name) and after_step(node.value):
                     names.add(target.id)
+                    bindings.add(id(node))
                 elif isinstance(target, (ast.Tuple, ast.List)) and isinstance(node.value, (ast.Tuple, ast.List)):
                     for element, value in zip(target.elts, node.value.elts):
                         if isinstance(element, ast.Name) and after_step(value):
                             names.add(element.id)
+                            bindings.add(id(node))
         return names
 
     def _statement_reads(self, function: ast.AST) -> dict[int, set[str]]:
