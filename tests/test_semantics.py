@@ -270,6 +270,59 @@ def test_replay_transitions_store_terminated_and_bootstrap_at_the_time_limit(mon
             assert new_target == pytest.approx(old[2] + 0.5 * float(old[3][0]))
 
 
+CALLEE_TARGET = textwrap.dedent(
+    """
+    import gym
+
+
+    class Agent:
+        def __init__(self, gamma=0.5):
+            self.gamma = gamma
+            self.targets = []
+
+        def value(self, state):
+            return float(state[0])
+
+        def train_model(self, state, action, reward, next_state, done):
+            next_value = self.value(next_state)
+            if done:
+                target = reward
+            else:
+                target = reward + self.gamma * next_value
+            self.targets.append(target)
+
+
+    def targets(steps=30):
+        env = gym.make("SemanticsWalk-v0")
+        agent = Agent()
+        state = env.reset()
+        cut = []
+        for t in range(steps):
+            next_state, reward, done, info = env.step(1)
+            agent.train_model(state, 1, reward, next_state, done)
+            cut.append((info.get("TimeLimit.truncated", False), reward, float(next_state[0])))
+            state = env.reset() if done else next_state
+        return agent.targets, cut
+    """
+)
+
+
+def test_flag_passed_with_the_next_state_to_a_method_that_masks_it_bootstraps_at_the_time_limit(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # The call site alone does not say what ``done`` is for; the method does: it masks the
+    # value of ``next_state``. The migration passes ``terminated``: legacy targets where the
+    # task ended or nothing ended, and a bootstrapped target where the time limit cut.
+    legacy_targets, legacy_cut = run_legacy(CALLEE_TARGET, "targets", monkeypatch)
+    text, findings = migrate(CALLEE_TARGET)
+    assert "agent.train_model(state, 1, reward, next_state, terminated)" in text
+    assert (29, "GM302", "assist", "note") in findings
+    targets, _ = run_migrated(text, "targets")
+    assert any(was_cut for was_cut, _, _ in legacy_cut), "the time limit must cut an episode in this run"
+    for old, new, (was_cut, reward, next_value) in zip(legacy_targets, targets, legacy_cut):
+        assert new == pytest.approx(reward + 0.5 * next_value if was_cut else old)
+
+
 # -- GM602: a lost life is a termination -------------------------------------------------------
 
 LIFE_LOSS = textwrap.dedent(

@@ -21,6 +21,7 @@ from collections.abc import Hashable
 from dataclasses import dataclass
 
 from gymmigrate.edits.lazy import cst
+from gymmigrate.facts.bootstrap import next_state_masks
 from gymmigrate.facts.decisions import Action, Decision, receiver_text
 from gymmigrate.facts.done_uses import (
     STORE_METHODS,
@@ -178,6 +179,10 @@ class UnpackRules(StepFamilyBase):
                     if classify_done_read(read, self.facts) is DoneUse.DATA and self._masks_next_state(read, steps[first]):
                         self._claim(read, steps[first])
                         continue
+                    callee = self._callee_masks(read, steps[first])
+                    if callee is not None:
+                        self._claim(read, steps[first], callee=callee)
+                        continue
                     masked = self._none_mask(read, steps[first])
                     if masked is not None and masked[1]:
                         self._claim(read, steps[first], none_mask=masked[0])
@@ -226,7 +231,7 @@ class UnpackRules(StepFamilyBase):
                 found = ancestor
         return found
 
-    def _claim(self, read: ast.Name, step: _DoneStep, none_mask: str | None = None) -> None:
+    def _claim(self, read: ast.Name, step: _DoneStep, none_mask: str | None = None, callee: str | None = None) -> None:
         terminated = step.names.terminated
         self.notes.step_unpacks[step.assign].claimed_reads += 1
         self.plan.replace(read, lambda node: node.with_changes(value=terminated))
@@ -235,6 +240,12 @@ class UnpackRules(StepFamilyBase):
             message = (
                 f"`{read.id}` decides whether the stored next state `{none_mask}` is None (a terminal transition, "
                 f"no bootstrapping): it now reads `{terminated}`, so a time-limit truncation keeps its next state"
+            )
+        elif callee is not None:
+            message = (
+                f"`{read.id}` is passed with the next state to `{callee}`, which masks bootstrapping from that state "
+                f"with it (a target or stored transition): it now reads `{terminated}`, so a time-limit truncation "
+                "still bootstraps"
             )
         else:
             message = (
@@ -349,6 +360,115 @@ class UnpackRules(StepFamilyBase):
             )
         return False
 
+    # -- ``agent.train_model(s, a, r, s2, done)``: the callee says what the flag is for ---------
+
+    def _callee_masks(self, read: ast.Name, step: _DoneStep) -> str | None:
+        """The callee's text when ``read`` is an argument of a call that also passes the
+        step's next state, and the callee (a def of this module, or of another module of
+        the run) masks bootstrapping from that parameter with this one
+        (``facts/bootstrap.py``). None when the call passes no next state or the callee
+        cannot be followed: then the read is decided as before."""
+        call = self.facts.parent(read)
+        if isinstance(call, ast.keyword):
+            call = self.facts.parent(call)
+        if not isinstance(call, ast.Call) or call.func is read or any(isinstance(a, ast.Starred) for a in call.args):
+            return None
+        next_names = self._next_state_names(step)
+        if not next_names:
+            return None
+        passed_next = [
+            argument
+            for argument in [*call.args, *(k.value for k in call.keywords)]
+            if argument is not read and isinstance(argument, ast.Name) and self._reads_next_state(argument, step, next_names)
+        ]
+        if not passed_next:
+            return None
+        found = self._callee_signature(call.func)
+        if found is None:
+            return None
+        params, masks = found
+
+        def param_of(argument: ast.expr) -> str | None:
+            for index, value in enumerate(call.args):
+                if value is argument:
+                    return params[index] if index < len(params) else None
+            for keyword in call.keywords:
+                if keyword.value is argument:
+                    return keyword.arg
+            return None
+
+        flag = param_of(read)
+        if flag is None or not any((flag, param_of(argument)) in masks for argument in passed_next):
+            return None
+        return self.facts.segment(call.func)
+
+    def _stores_step_without_next_state(self, read: ast.Name, step: _DoneStep) -> bool:
+        """``memory.store_memory(obs, value, reward, done)``: a call that hands on the step's
+        reward and flag but no next state (``obs`` still holds the state the step started
+        from). Whatever the callee does, it cannot bootstrap from the next state with this
+        flag: a rollout store, where the flag is the episode boundary."""
+        call = self.facts.parent(read)
+        if isinstance(call, ast.keyword):
+            call = self.facts.parent(call)
+        if not isinstance(call, ast.Call) or call.func is read or any(isinstance(a, ast.Starred) for a in call.args):
+            return False
+        reward = step.target.elts[1] if len(step.target.elts) > 1 else None
+        if not isinstance(reward, ast.Name):
+            return False
+        arguments = [*call.args, *(k.value for k in call.keywords)]
+        if not any(isinstance(a, ast.Name) and a.id == reward.id for a in arguments):
+            return False
+        next_names = self._next_state_names(step)
+        return not any(a is not read and self._reads_next_state(a, step, next_names) for a in arguments)
+
+    def _callee_signature(self, func: ast.expr) -> tuple[tuple[str, ...], frozenset[tuple[str, str]]] | None:
+        """The parameters a call binds by position (``self`` left out) and the callee's
+        bootstrap masks; None when the callee cannot be followed."""
+        function = self.receivers.local_function(func) or self.receivers.own_method(func)
+        method = function is not None and isinstance(self.facts.parent(function), ast.ClassDef)
+        if function is None and isinstance(func, ast.Attribute) and isinstance(func.value, ast.Name):
+            classes = self._instance_classes(func.value)
+            if len(classes) == 1:
+                classdef = next(iter(classes))
+                if isinstance(classdef, ast.ClassDef):
+                    function = next(
+                        (s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == func.attr), None
+                    )
+                    method = True
+                elif self.receivers.project is not None:
+                    found = self.receivers.project.bootstrap_masks(f"{classdef}.{func.attr}")
+                    return None if found is None else (found[0][1:], found[1])
+        if function is None and self.receivers.project is not None and isinstance(func, ast.Name):
+            qualified = self.facts.qualified_names(func)
+            if len(qualified) == 1:
+                found = self.receivers.project.bootstrap_masks(next(iter(qualified)))
+                return found
+        if function is None:
+            return None
+        params = tuple(a.arg for a in (*function.args.posonlyargs, *function.args.args))
+        return (params[1:] if method else params), next_state_masks(function)
+
+    def _instance_classes(self, owner: ast.Name) -> set[ast.ClassDef | str]:
+        """What every binding of ``owner`` constructs: a class of this module, or the
+        qualified name of an imported one (``agent = Agent(...)``)."""
+        found: set[ast.ClassDef | str] = set()
+        bindings = self.facts.bindings_of(owner)
+        if not bindings:
+            return found
+        for binding in bindings:
+            assign = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
+            if not (isinstance(assign, ast.Assign) and isinstance(assign.value, ast.Call) and assign.targets == [binding]):
+                return set()
+            local = self.receivers.local_class(assign.value.func)
+            if local is not None:
+                found.add(local)
+                continue
+            qualified = self.facts.qualified_names(assign.value.func)
+            if len(qualified) != 1:
+                return set()
+            found.add(next(iter(qualified)))
+        return found
+
     def _reads_next_state(self, site: ast.AST, step: _DoneStep, next_names: set[str]) -> bool:
         """``site`` reads the step's next state: a name of ``next_names`` whose binding before
         the read comes after the step. ``remember(obs, a, r, done)`` before ``obs = obs_`` reads
@@ -378,24 +498,29 @@ class UnpackRules(StepFamilyBase):
         bindings = self.facts.memo(("next-state-bindings", id(step.assign)), lambda: {id(step.assign)})
         function = self.facts.enclosing_function(step.assign) or self.facts.tree
 
-        def after_step(value: ast.AST) -> bool:  # reads this step's observation, not an earlier one
+        def sees_step(node: ast.Name, statement: ast.stmt) -> bool:
+            if self.flow.dominates(step.assign, node, first):
+                return True
+            # ``next_state = np.reshape(next_state, shape)`` right after the step: the read
+            # sees the step's value, the statement's own binding comes after it
+            above = self.flow.binding_above(node, statement)
+            return above is not None and self.facts.statement_of(above) is step.assign
+
+        def after_step(value: ast.AST, statement: ast.stmt) -> bool:  # reads this step's observation, not an earlier one
             return any(
-                isinstance(node, ast.Name)
-                and node.id == first.id
-                and isinstance(node.ctx, ast.Load)
-                and self.flow.dominates(step.assign, node, first)
+                isinstance(node, ast.Name) and node.id == first.id and isinstance(node.ctx, ast.Load) and sees_step(node, statement)
                 for node in ast.walk(value)
             )
 
         for node in ast.walk(function):
             if isinstance(node, ast.Assign) and node is not step.assign and len(node.targets) == 1:
                 target = node.targets[0]
-                if isinstance(target, ast.Name) and after_step(node.value):
+                if isinstance(target, ast.Name) and after_step(node.value, node):
                     names.add(target.id)
                     bindings.add(id(node))
                 elif isinstance(target, (ast.Tuple, ast.List)) and isinstance(node.value, (ast.Tuple, ast.List)):
                     for element, value in zip(target.elts, node.value.elts):
-                        if isinstance(element, ast.Name) and after_step(value):
+                        if isinstance(element, ast.Name) and after_step(value, node):
                             names.add(element.id)
                             bindings.add(id(node))
         return names
@@ -491,7 +616,9 @@ class UnpackRules(StepFamilyBase):
                 FixKind.FLAG,
                 question=question,
             )
-        elif use is DoneUse.DATA and owner is step.assign and stored_in_sequence(read, self.facts):
+        elif owner is step.assign and (
+            (use is DoneUse.DATA and stored_in_sequence(read, self.facts)) or self._stores_step_without_next_state(read, step)
+        ):
             # one question per step: its other stores are notes pointing at the first
             tier, same = self.rollout_advice.tier(id(step.assign), read)
             self._report_read(
