@@ -402,6 +402,34 @@ class UnpackRules(StepFamilyBase):
             return None
         return self.facts.segment(call.func)
 
+    def _hands_step_on(self, read: ast.Name, step: _DoneStep) -> bool:
+        """``return agent_state, terminal, agent_reward`` or ``pipe.send((obs, reward, done,
+        info))``: the flag in one tuple with the step's observation and reward (or values
+        computed from them), returned or sent as a call's only argument. The step's result
+        is handed on, an env-like reply: its receiver reads the flag as the episode's end."""
+        site = self.facts.parent(read)
+        if not isinstance(site, ast.Tuple):
+            return False
+        holder = self.facts.parent(site)
+        if isinstance(holder, ast.Call):
+            if holder.args != [site] or holder.keywords or holder.func is site:
+                return False
+        elif not isinstance(holder, ast.Return):
+            return False
+        elements = step.target.elts
+        if len(elements) < 2 or not all(isinstance(e, ast.Name) for e in elements[:2]):
+            return False
+        observation, reward = elements[0].id, elements[1].id  # type: ignore[attr-defined]
+        function = self.facts.enclosing_function(step.assign) or self.facts.tree
+        derived = {observation: {observation}, reward: {reward}}
+        for node in ast.walk(function):
+            if isinstance(node, ast.Assign) and len(node.targets) == 1 and isinstance(node.targets[0], ast.Name):
+                for base, names in derived.items():
+                    if loaded_names(node.value) & names:
+                        names.add(node.targets[0].id)
+        others = [loaded_names(e) for e in site.elts if e is not read]
+        return any(n & derived[observation] for n in others) and any(n & derived[reward] for n in others)
+
     def _stores_step_without_next_state(self, read: ast.Name, step: _DoneStep) -> bool:
         """``memory.store_memory(obs, value, reward, done)``: a call that hands on the step's
         reward and flag but no next state (``obs`` still holds the state the step started
@@ -629,6 +657,14 @@ class UnpackRules(StepFamilyBase):
                 FixKind.FLAG,
                 tier,
                 question=question,
+            )
+        elif use is DoneUse.AMBIGUOUS and owner is step.assign and self._hands_step_on(read, step):
+            self._report_read(
+                read,
+                f"`{read.id}` is handed on with the step's observation and reward (an env-like reply or adapter): "
+                f"it stays `{names.terminated} or {names.truncated}`, the episode's end, for its receiver to read",
+                FixKind.FLAG,
+                Tier.NOTE,
             )
         elif use is DoneUse.DATA and owner is step.assign:
             self._report_read(
