@@ -424,7 +424,7 @@ class UnpackRules(StepFamilyBase):
         derived = {observation: {observation}, reward: {reward}}
         for node in ast.walk(function):
             if isinstance(node, ast.Assign) and len(node.targets) == 1 and isinstance(node.targets[0], ast.Name):
-                for base, names in derived.items():
+                for names in derived.values():
                     if loaded_names(node.value) & names:
                         names.add(node.targets[0].id)
         others = [loaded_names(e) for e in site.elts if e is not read]
