@@ -126,8 +126,13 @@ def worker(env_id, rollout=20):
 
 
 def test_a_callee_in_a_module_without_gym_code_decides(tmp_path: Path) -> None:
+    project = tmp_path / "project"
+    project.mkdir()
     for name, text in {"agent.py": AGENT, "memory.py": MEMORY, "worker.py": WORKER}.items():
-        (tmp_path / name).write_text(text)
+        (project / name).write_text(text)
+    # another project of the run has its own ``agent`` module: the importer's folder decides
+    (tmp_path / "other").mkdir()
+    (tmp_path / "other" / "agent.py").write_text(AGENT.replace("if done else", "if rewards else"))
     report = tmp_path / "report.json"
     runner.invoke(app, ["check", "--report", str(report), str(tmp_path)])
     data = json.loads(report.read_text())
@@ -143,5 +148,5 @@ def test_a_callee_in_a_module_without_gym_code_decides(tmp_path: Path) -> None:
     # ``memory.store_memory(obs, ...)`` runs before ``obs = obs_``: no next state, a rollout
     assert "without the next state" in found[(16, "flag")]
     # the same file alone cannot see the agent: the call stays a question
-    alone = runner.invoke(app, ["check", str(tmp_path / "worker.py")])
+    alone = runner.invoke(app, ["check", str(project / "worker.py")])
     assert "calc_loss`, which masks" not in alone.output

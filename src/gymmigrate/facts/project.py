@@ -205,9 +205,9 @@ class ProjectFacts:
     # (path, "Agent.train_model") -> ``ModuleSummary.bootstrap_masks`` of that def, with
     # its parameters in order (a call passes them by position).
     bootstrap_masks: dict[tuple[str, str], tuple[tuple[str, ...], frozenset[tuple[str, str]]]] = field(default_factory=dict)
-    # dotted suffix -> path of the modules with no Gym code that have bootstrap masks
-    # ("" if ambiguous); they are no module of the run for anything else.
-    mask_modules: dict[str, str] = field(default_factory=dict)
+    # dotted suffix -> paths of the modules with no Gym code that have bootstrap masks (the
+    # nearest to the importer counts when several); no module of the run for anything else.
+    mask_modules: dict[str, tuple[str, ...]] = field(default_factory=dict)
 
     @classmethod
     def join(cls, summaries: list[ModuleSummary], blocked: dict[str, str] | None = None) -> ProjectFacts:
@@ -221,8 +221,7 @@ class ProjectFacts:
                 facts.bootstrap_masks[(summary.path, qualname)] = (summary.defs[qualname].params, masks)
             if summary.masks_only:
                 for name in _module_names(summary.path):
-                    found = facts.mask_modules.get(name)
-                    facts.mask_modules[name] = summary.path if found in (None, summary.path) else ""
+                    facts.mask_modules[name] = (*facts.mask_modules.get(name, ()), summary.path)
         summaries = [s for s in summaries if not s.masks_only]
         by_path = {s.path: s for s in summaries}
         for summary in summaries:
@@ -900,7 +899,8 @@ class ProjectView:
             return self.facts.bootstrap_masks.get(resolved, ((), frozenset()))
         parts = qualified.split(".")  # a module with no Gym code (absolute imports only)
         for cut in range(len(parts) - 1, 0, -1):
-            path = self.facts.mask_modules.get(".".join(parts[:cut]))
+            paths = self.facts.mask_modules.get(".".join(parts[:cut]), ())
+            path = _nearest_root(paths, cut, self.path) if paths else None
             if path:
                 return self.facts.bootstrap_masks.get((path, ".".join(parts[cut:])))
         return None
