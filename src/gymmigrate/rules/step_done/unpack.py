@@ -428,7 +428,30 @@ class UnpackRules(StepFamilyBase):
                     if loaded_names(node.value) & names:
                         names.add(node.targets[0].id)
         others = [loaded_names(e) for e in site.elts if e is not read]
-        return any(n & derived[observation] for n in others) and any(n & derived[reward] for n in others)
+        if not (any(n & derived[observation] for n in others) and any(n & derived[reward] for n in others)):
+            return False
+        # every value is the step's (``reward``, ``info``) or set after it from the step
+        # (``agent_state = featurize(state)``, the auto-reset ``obs = env.reset()``): a
+        # transition (``(obs, action, next_obs, reward, done)``) holds the state before it
+        return all(self._from_step(e, step) for e in site.elts if e is not read)
+
+    def _from_step(self, value: ast.expr, step: _DoneStep) -> bool:
+        step_names = {e.id for e in step.target.elts if isinstance(e, ast.Name)}
+        for node in ast.walk(value):
+            if not (isinstance(node, ast.Name) and isinstance(node.ctx, ast.Load)):
+                continue
+            binding = self.flow.last_binding_of(node)
+            statement = self.facts.statement_of(binding) if binding is not None else None
+            if statement is step.assign:
+                return True
+            if (
+                isinstance(statement, ast.Assign)
+                and start(statement) > end(step.assign)
+                and self.facts.enclosing_function(statement) is self.facts.enclosing_function(step.assign)
+                and (loaded_names(statement.value) & step_names or node.id in step_names)
+            ):
+                return True
+        return False
 
     def _stores_step_without_next_state(self, read: ast.Name, step: _DoneStep) -> bool:
         """``memory.store_memory(obs, value, reward, done)``: a call that hands on the step's
