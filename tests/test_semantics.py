@@ -185,6 +185,51 @@ def test_on_policy_rollout_keeps_the_legacy_advantages(monkeypatch: pytest.Monke
     assert not np.allclose(run_migrated(wrong, "advantages"), legacy)
 
 
+STATE_BEFORE_ADVANCE = textwrap.dedent(
+    """
+    import gym
+    import numpy as np
+
+
+    class Rollout:
+        def __init__(self):
+            self.values, self.rewards, self.dones = [], [], []
+
+        def remember(self, state, value, reward, done):
+            self.values.append(value)
+            self.rewards.append(reward)
+            self.dones.append(done)
+
+
+    def advantages(horizon=40, gamma=0.9):
+        env = gym.make("SemanticsWalk-v0")
+        memory = Rollout()
+        observation = env.reset()
+        for t in range(horizon):
+            value = 0.5 * float(observation[0]) + 1.0
+            observation_, reward, done, info = env.step(t % 2)
+            memory.remember(observation, value, reward, done)
+            observation = observation_
+            if done:
+                observation = env.reset()
+        v, r, d = memory.values, memory.rewards, memory.dones
+        return [r[k] + gamma * v[k + 1] * (1 - int(d[k])) - v[k] for k in range(horizon - 1)]
+    """
+)
+
+
+def test_rollout_storing_the_state_before_the_step_keeps_the_legacy_advantages(monkeypatch: pytest.MonkeyPatch) -> None:
+    # ``observation`` is advanced to ``observation_`` only after the store: no next state is
+    # stored, so ``done`` is the episode boundary of the GAE over the value list.
+    legacy = run_legacy(STATE_BEFORE_ADVANCE, "advantages", monkeypatch)
+    text, findings = migrate(STATE_BEFORE_ADVANCE)
+    assert "memory.remember(observation, value, reward, done)" in text
+    assert (23, "GM302", "flag", "review") in findings
+    np.testing.assert_allclose(run_migrated(text, "advantages"), legacy)
+    wrong = text.replace("memory.remember(observation, value, reward, done)", "memory.remember(observation, value, reward, terminated)")
+    assert not np.allclose(run_migrated(wrong, "advantages"), legacy)
+
+
 # -- GM302: replay transitions with the next state use `terminated` ----------------------------
 
 REPLAY = textwrap.dedent(
@@ -223,6 +268,59 @@ def test_replay_transitions_store_terminated_and_bootstrap_at_the_time_limit(mon
             assert new_target == pytest.approx(old_target)
         else:  # a cut now bootstraps from the next state, as it should
             assert new_target == pytest.approx(old[2] + 0.5 * float(old[3][0]))
+
+
+CALLEE_TARGET = textwrap.dedent(
+    """
+    import gym
+
+
+    class Agent:
+        def __init__(self, gamma=0.5):
+            self.gamma = gamma
+            self.targets = []
+
+        def value(self, state):
+            return float(state[0])
+
+        def train_model(self, state, action, reward, next_state, done):
+            next_value = self.value(next_state)
+            if done:
+                target = reward
+            else:
+                target = reward + self.gamma * next_value
+            self.targets.append(target)
+
+
+    def targets(steps=30):
+        env = gym.make("SemanticsWalk-v0")
+        agent = Agent()
+        state = env.reset()
+        cut = []
+        for t in range(steps):
+            next_state, reward, done, info = env.step(1)
+            agent.train_model(state, 1, reward, next_state, done)
+            cut.append((info.get("TimeLimit.truncated", False), reward, float(next_state[0])))
+            state = env.reset() if done else next_state
+        return agent.targets, cut
+    """
+)
+
+
+def test_flag_passed_with_the_next_state_to_a_method_that_masks_it_bootstraps_at_the_time_limit(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    # The call site alone does not say what ``done`` is for; the method does: it masks the
+    # value of ``next_state``. The migration passes ``terminated``: legacy targets where the
+    # task ended or nothing ended, and a bootstrapped target where the time limit cut.
+    legacy_targets, legacy_cut = run_legacy(CALLEE_TARGET, "targets", monkeypatch)
+    text, findings = migrate(CALLEE_TARGET)
+    assert "agent.train_model(state, 1, reward, next_state, terminated)" in text
+    assert (29, "GM302", "assist", "note") in findings
+    targets, _ = run_migrated(text, "targets")
+    assert any(was_cut for was_cut, _, _ in legacy_cut), "the time limit must cut an episode in this run"
+    for old, new, (was_cut, reward, next_value) in zip(legacy_targets, targets, legacy_cut):
+        assert new == pytest.approx(reward + 0.5 * next_value if was_cut else old)
 
 
 # -- GM602: a lost life is a termination -------------------------------------------------------

@@ -27,7 +27,7 @@ from typing import TYPE_CHECKING, overload
 from gymmigrate.dependencies import kind_of
 from gymmigrate.dependencies.plugins import PluginEntry, plugin_entries
 from gymmigrate.facts.project import ModuleSummary, ProjectFacts
-from gymmigrate.facts.summaries import summarize
+from gymmigrate.facts.summaries import summarize, summarize_masks
 from gymmigrate.findings import Finding, FixKind
 from gymmigrate.options import RewriteOptions
 from gymmigrate.process import (
@@ -262,12 +262,21 @@ def summarize_path(path: Path) -> ModuleSummary | None:
         # (``from .utils import make``) the rest of the run calls.
         relevant = _may_reexport if Path(path).name == "__init__.py" else _may_matter_to_the_run
         source = read_source(Path(path), relevant)
-        if source is None or not screen(source, relevant):
+        if source is None:
             return None
+        if not screen(source, relevant):
+            if not screen(source, _may_mask_bootstrapping):
+                return None
+            # no Gym code, but maybe the agent whose ``learn`` masks bootstrapping (GM302)
+            return summarize_masks(str(path), decode(source)[0])
         text, _ = decode(source)
     except (OSError, Refused, TransformError):
         return None
     return summarize(str(path), text)
+
+
+def _may_mask_bootstrapping(source: bytes) -> bool:
+    return b"done" in source or b"terminal" in source
 
 
 def _may_reexport(source: bytes) -> bool:

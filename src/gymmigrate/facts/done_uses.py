@@ -270,8 +270,11 @@ def _assign_use(assign: ast.Assign, read: ast.expr, in_container: bool, value: a
         return DoneUse.CONTROL
     if in_container and isinstance(value, (ast.Tuple, ast.List, ast.Dict, ast.Call)):
         return DoneUse.DATA  # ``transition = (s, a, r, s2, done)``, ``exp = Experience(...)``
-    if value is read and any(_is_bookkeeping(t) for t in targets):
-        return DoneUse.NEUTRAL  # ``info["real_done"] = done``, ``self.was_real_done = done``: game over
+    either = isinstance(value, ast.BoolOp) and isinstance(value.op, ast.Or)
+    if (value is read or either) and any(_is_bookkeeping(t) for t in targets):
+        # ``info["real_done"] = done``, ``self.was_real_done = done``, ``real_done =
+        # info.get("was_real_done") or done``: game over
+        return DoneUse.NEUTRAL
     if all(isinstance(t, ast.Subscript) for t in targets) and value is read:
         return DoneUse.DATA  # ``dones[t] = done``: a rollout array
     return DoneUse.AMBIGUOUS  # ``episode_done = done``: depends on what the new name is for

@@ -112,6 +112,13 @@ class ModuleSummary:
     # what they return is a wrapper stack, so attribute reads on it go through forwarding.
     made_factories: frozenset[str] = frozenset()
     classes: frozenset[str] = frozenset()  # top-level class names
+    # -- what a flag passed to a def is for (facts/bootstrap.py, GM302) --
+    # "Agent.train_model" -> (flag parameter, next-state parameter) pairs: the def masks
+    # bootstrapping from the next state with the flag (a target or a stored transition).
+    bootstrap_masks: dict[str, frozenset[tuple[str, str]]] = field(default_factory=dict)
+    # A module with no Gym code (an agent's ``learn``): only its ``bootstrap_masks`` count,
+    # it takes no other part in the join (``summaries.summarize_masks``).
+    masks_only: bool = False
     # -- done values across modules (facts/limits.py) --
     # Class (with an imported base) -> its methods that take only ``self`` and return a
     # value -> why that value is True (a step limit, the task's end...), traced in the class.
@@ -195,6 +202,12 @@ class ProjectFacts:
     # imports and of those that import it (one step each way): a project's neighbourhood,
     # not every project of a run over several.
     nearby_packages: dict[str, frozenset[str]] = field(default_factory=dict)
+    # (path, "Agent.train_model") -> ``ModuleSummary.bootstrap_masks`` of that def, with
+    # its parameters in order (a call passes them by position).
+    bootstrap_masks: dict[tuple[str, str], tuple[tuple[str, ...], frozenset[tuple[str, str]]]] = field(default_factory=dict)
+    # dotted suffix -> paths of the modules with no Gym code that have bootstrap masks (the
+    # nearest to the importer counts when several); no module of the run for anything else.
+    mask_modules: dict[str, tuple[str, ...]] = field(default_factory=dict)
 
     @classmethod
     def join(cls, summaries: list[ModuleSummary], blocked: dict[str, str] | None = None) -> ProjectFacts:
@@ -203,6 +216,13 @@ class ProjectFacts:
         facts.blocked.update(
             (s.path, "it says `# gymmigrate: skip-file`") for s in summaries if s.skips_file and s.path not in facts.blocked
         )
+        for summary in summaries:
+            for qualname, masks in summary.bootstrap_masks.items():
+                facts.bootstrap_masks[(summary.path, qualname)] = (summary.defs[qualname].params, masks)
+            if summary.masks_only:
+                for name in _module_names(summary.path):
+                    facts.mask_modules[name] = (*facts.mask_modules.get(name, ()), summary.path)
+        summaries = [s for s in summaries if not s.masks_only]
         by_path = {s.path: s for s in summaries}
         for summary in summaries:
             facts.defs[summary.path] = frozenset(summary.defs)
@@ -869,6 +889,21 @@ class ProjectView:
     def imports_multi_agent(self, qualified_names: Iterable[str]) -> bool:
         """One of these imported names is a PettingZoo env class or factory of the run."""
         return any(self.call_kind(q) in (EnvKind.PZ_AEC, EnvKind.PZ_PARALLEL) for q in qualified_names)
+
+    def bootstrap_masks(self, qualified: str) -> tuple[tuple[str, ...], frozenset[tuple[str, str]]] | None:
+        """For a def or method of another module of the run (``agents.Agent.learn``): its
+        parameters and which of them mask bootstrapping from which (``facts/bootstrap.py``);
+        None when the run does not define it."""
+        resolved = self.facts._resolve(qualified, self.path)
+        if resolved is not None:
+            return self.facts.bootstrap_masks.get(resolved, ((), frozenset()))
+        parts = qualified.split(".")  # a module with no Gym code (absolute imports only)
+        for cut in range(len(parts) - 1, 0, -1):
+            paths = self.facts.mask_modules.get(".".join(parts[:cut]), ())
+            path = _nearest_root(paths, cut, self.path) if paths else None
+            if path:
+                return self.facts.bootstrap_masks.get((path, ".".join(parts[cut:])))
+        return None
 
     def defines(self, qualified: str) -> bool:
         """The name comes from a module of the run (its own code, not a library's)."""

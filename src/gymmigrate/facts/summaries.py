@@ -13,6 +13,7 @@ from dataclasses import replace
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts import pz_wrappers
+from gymmigrate.facts.bootstrap import next_state_masks
 from gymmigrate.facts.creation import passes_mode, render_kept_classes
 from gymmigrate.facts.decisions import Action, decide
 from gymmigrate.facts.env_classes import EnvClasses
@@ -54,6 +55,31 @@ def summarize(path: str, text: str) -> ModuleSummary | None:
         return replace(summary, skips_file=True) if skips_file(text, first_statement_line(tree)) else summary
     except Exception:  # noqa: BLE001  (the file's own run reports why; it just adds no facts)
         return None
+
+
+def summarize_masks(path: str, text: str) -> ModuleSummary | None:
+    """The summary of a module with no Gym code: only the defs that mask bootstrapping
+    with a flag parameter (an agent's ``learn``, a memory's ``store``), for the callers of
+    the run (``facts/bootstrap.py``). None when it has none or does not parse."""
+    try:
+        tree = ast.parse(text)
+    except (SyntaxError, ValueError):
+        return None
+    facts = ModuleFacts(tree, text)
+    masks = _bootstrap_masks(facts)
+    if not masks:
+        return None
+    defs = {name: _signature(_def_named(facts, name), is_method="." in name) for name in masks}
+    return ModuleSummary(
+        os.path.realpath(path), defs, frozenset(), frozenset(), (), bootstrap_masks=masks, masks_only=True
+    )
+
+
+def _def_named(facts: ModuleFacts, qualname: str) -> ast.FunctionDef | ast.AsyncFunctionDef:
+    if "." not in qualname:
+        return facts.functions[qualname]
+    owner, name = qualname.split(".", 1)
+    return next(s for s in facts.classes[owner].body if isinstance(s, FUNCTIONS) and s.name == name)
 
 
 class _Summarizer:
@@ -100,6 +126,7 @@ class _Summarizer:
             spec_lists=module_spec_lists(self.facts),
             made_factories=made_factories(self.facts),
             classes=frozenset(self.facts.classes),
+            bootstrap_masks=_bootstrap_masks(self.facts),
             done_methods=_done_methods(self.facts),
             render_mode_heirs=_render_mode_heirs(self.facts, self.receivers),
             registrations=_registrations(self.facts),
@@ -353,6 +380,24 @@ def _signature(function: ast.FunctionDef | ast.AsyncFunctionDef, is_method: bool
     defaults |= {a.arg for a, d in zip(args.kwonlyargs, args.kw_defaults) if d is not None}
     params = tuple(a.arg for a in (*positional, *args.kwonlyargs))
     return Signature(params, frozenset(defaults), is_method)
+
+
+def _bootstrap_masks(facts: ModuleFacts) -> dict[str, frozenset[tuple[str, str]]]:
+    """Top-level defs and methods of top-level classes whose flag parameter masks
+    bootstrapping from a next-state parameter (``facts/bootstrap.py``)."""
+    found: dict[str, frozenset[tuple[str, str]]] = {}
+    defs = [(name, function) for name, function in facts.functions.items()]
+    defs += [
+        (f"{name}.{statement.name}", statement)
+        for name, classdef in facts.classes.items()
+        for statement in classdef.body
+        if isinstance(statement, FUNCTIONS)
+    ]
+    for qualname, function in defs:
+        masks = next_state_masks(function)
+        if masks:
+            found[qualname] = masks
+    return found
 
 
 def _is_library(qualified: str) -> bool:

@@ -21,6 +21,7 @@ from collections.abc import Hashable
 from dataclasses import dataclass
 
 from gymmigrate.edits.lazy import cst
+from gymmigrate.facts.bootstrap import next_state_masks
 from gymmigrate.facts.decisions import Action, Decision, receiver_text
 from gymmigrate.facts.done_uses import (
     STORE_METHODS,
@@ -178,6 +179,10 @@ class UnpackRules(StepFamilyBase):
                     if classify_done_read(read, self.facts) is DoneUse.DATA and self._masks_next_state(read, steps[first]):
                         self._claim(read, steps[first])
                         continue
+                    callee = self._callee_masks(read, steps[first])
+                    if callee is not None:
+                        self._claim(read, steps[first], callee=callee)
+                        continue
                     masked = self._none_mask(read, steps[first])
                     if masked is not None and masked[1]:
                         self._claim(read, steps[first], none_mask=masked[0])
@@ -226,7 +231,7 @@ class UnpackRules(StepFamilyBase):
                 found = ancestor
         return found
 
-    def _claim(self, read: ast.Name, step: _DoneStep, none_mask: str | None = None) -> None:
+    def _claim(self, read: ast.Name, step: _DoneStep, none_mask: str | None = None, callee: str | None = None) -> None:
         terminated = step.names.terminated
         self.notes.step_unpacks[step.assign].claimed_reads += 1
         self.plan.replace(read, lambda node: node.with_changes(value=terminated))
@@ -235,6 +240,12 @@ class UnpackRules(StepFamilyBase):
             message = (
                 f"`{read.id}` decides whether the stored next state `{none_mask}` is None (a terminal transition, "
                 f"no bootstrapping): it now reads `{terminated}`, so a time-limit truncation keeps its next state"
+            )
+        elif callee is not None:
+            message = (
+                f"`{read.id}` is passed with the next state to `{callee}`, which masks bootstrapping from that state "
+                f"with it (a target or stored transition): it now reads `{terminated}`, so a time-limit truncation "
+                "still bootstraps"
             )
         else:
             message = (
@@ -330,7 +341,7 @@ class UnpackRules(StepFamilyBase):
         site = value_site(read, facts)
         if _repacks_step(facts.parent(read), read, step):
             return False  # ``(obs, reward, done, info)`` passed on: the step's own result, not a transition
-        if loaded_names(site) & next_names:
+        if self._reads_next_state(site, step, next_names):
             return True
         statement = facts.statement_of(read)
         function = facts.enclosing_function(step.assign) or facts.tree
@@ -349,6 +360,183 @@ class UnpackRules(StepFamilyBase):
             )
         return False
 
+    # -- ``agent.train_model(s, a, r, s2, done)``: the callee says what the flag is for ---------
+
+    def _callee_masks(self, read: ast.Name, step: _DoneStep) -> str | None:
+        """The callee's text when ``read`` is an argument of a call that also passes the
+        step's next state, and the callee (a def of this module, or of another module of
+        the run) masks bootstrapping from that parameter with this one
+        (``facts/bootstrap.py``). None when the call passes no next state or the callee
+        cannot be followed: then the read is decided as before."""
+        call = self.facts.parent(read)
+        if isinstance(call, ast.keyword):
+            call = self.facts.parent(call)
+        if not isinstance(call, ast.Call) or call.func is read or any(isinstance(a, ast.Starred) for a in call.args):
+            return None
+        next_names = self._next_state_names(step)
+        if not next_names:
+            return None
+        passed_next = [
+            argument
+            for argument in [*call.args, *(k.value for k in call.keywords)]
+            if argument is not read and isinstance(argument, ast.Name) and self._reads_next_state(argument, step, next_names)
+        ]
+        if not passed_next:
+            return None
+        found = self._callee_signature(call.func)
+        if found is None:
+            return None
+        params, masks = found
+
+        def param_of(argument: ast.expr) -> str | None:
+            for index, value in enumerate(call.args):
+                if value is argument:
+                    return params[index] if index < len(params) else None
+            for keyword in call.keywords:
+                if keyword.value is argument:
+                    return keyword.arg
+            return None
+
+        flag = param_of(read)
+        if flag is None or not any((flag, param_of(argument)) in masks for argument in passed_next):
+            return None
+        return self.facts.segment(call.func)
+
+    def _hands_step_on(self, read: ast.Name, step: _DoneStep) -> bool:
+        """``return agent_state, terminal, agent_reward`` or ``pipe.send((obs, reward, done,
+        info))``: the flag in one tuple with the step's observation and reward (or values
+        computed from them), returned or sent as a call's only argument. The step's result
+        is handed on, an env-like reply: its receiver reads the flag as the episode's end."""
+        site = self.facts.parent(read)
+        if not isinstance(site, ast.Tuple):
+            return False
+        holder = self.facts.parent(site)
+        if isinstance(holder, ast.Call):
+            if holder.args != [site] or holder.keywords or holder.func is site:
+                return False
+        elif not isinstance(holder, ast.Return):
+            return False
+        elements = step.target.elts
+        if len(elements) < 2 or not all(isinstance(e, ast.Name) for e in elements[:2]):
+            return False
+        observation, reward = elements[0].id, elements[1].id  # type: ignore[attr-defined]
+        function = self.facts.enclosing_function(step.assign) or self.facts.tree
+        derived = {observation: {observation}, reward: {reward}}
+        for node in ast.walk(function):
+            if isinstance(node, ast.Assign) and len(node.targets) == 1 and isinstance(node.targets[0], ast.Name):
+                for names in derived.values():
+                    if loaded_names(node.value) & names:
+                        names.add(node.targets[0].id)
+        others = [loaded_names(e) for e in site.elts if e is not read]
+        if not (any(n & derived[observation] for n in others) and any(n & derived[reward] for n in others)):
+            return False
+        # every value is the step's (``reward``, ``info``) or set after it from the step
+        # (``agent_state = featurize(state)``, the auto-reset ``obs = env.reset()``): a
+        # transition (``(obs, action, next_obs, reward, done)``) holds the state before it
+        return all(self._from_step(e, step) for e in site.elts if e is not read)
+
+    def _from_step(self, value: ast.expr, step: _DoneStep) -> bool:
+        step_names = {e.id for e in step.target.elts if isinstance(e, ast.Name)}
+        for node in ast.walk(value):
+            if not (isinstance(node, ast.Name) and isinstance(node.ctx, ast.Load)):
+                continue
+            binding = self.flow.last_binding_of(node)
+            statement = self.facts.statement_of(binding) if binding is not None else None
+            if statement is step.assign:
+                return True
+            if (
+                isinstance(statement, ast.Assign)
+                and start(statement) > end(step.assign)
+                and self.facts.enclosing_function(statement) is self.facts.enclosing_function(step.assign)
+                and (loaded_names(statement.value) & step_names or node.id in step_names)
+            ):
+                return True
+        return False
+
+    def _stores_step_without_next_state(self, read: ast.Name, step: _DoneStep) -> bool:
+        """``memory.store_memory(obs, value, reward, done)``: a call that hands on the step's
+        reward and flag but no next state (``obs`` still holds the state the step started
+        from). Whatever the callee does, it cannot bootstrap from the next state with this
+        flag: a rollout store, where the flag is the episode boundary."""
+        call = self.facts.parent(read)
+        if isinstance(call, ast.keyword):
+            call = self.facts.parent(call)
+        if not isinstance(call, ast.Call) or call.func is read or any(isinstance(a, ast.Starred) for a in call.args):
+            return False
+        reward = step.target.elts[1] if len(step.target.elts) > 1 else None
+        if not isinstance(reward, ast.Name):
+            return False
+        arguments = [*call.args, *(k.value for k in call.keywords)]
+        if not any(isinstance(a, ast.Name) and a.id == reward.id for a in arguments):
+            return False
+        next_names = self._next_state_names(step)
+        return not any(a is not read and self._reads_next_state(a, step, next_names) for a in arguments)
+
+    def _callee_signature(self, func: ast.expr) -> tuple[tuple[str, ...], frozenset[tuple[str, str]]] | None:
+        """The parameters a call binds by position (``self`` left out) and the callee's
+        bootstrap masks; None when the callee cannot be followed."""
+        function = self.receivers.local_function(func) or self.receivers.own_method(func)
+        method = function is not None and isinstance(self.facts.parent(function), ast.ClassDef)
+        if function is None and isinstance(func, ast.Attribute) and isinstance(func.value, ast.Name):
+            classes = self._instance_classes(func.value)
+            if len(classes) == 1:
+                classdef = next(iter(classes))
+                if isinstance(classdef, ast.ClassDef):
+                    function = next(
+                        (s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == func.attr), None
+                    )
+                    method = True
+                elif self.receivers.project is not None:
+                    found = self.receivers.project.bootstrap_masks(f"{classdef}.{func.attr}")
+                    return None if found is None else (found[0][1:], found[1])
+        if function is None and self.receivers.project is not None and isinstance(func, ast.Name):
+            qualified = self.facts.qualified_names(func)
+            if len(qualified) == 1:
+                found = self.receivers.project.bootstrap_masks(next(iter(qualified)))
+                return found
+        if function is None:
+            return None
+        params = tuple(a.arg for a in (*function.args.posonlyargs, *function.args.args))
+        return (params[1:] if method else params), next_state_masks(function)
+
+    def _instance_classes(self, owner: ast.Name) -> set[ast.ClassDef | str]:
+        """What every binding of ``owner`` constructs: a class of this module, or the
+        qualified name of an imported one (``agent = Agent(...)``)."""
+        found: set[ast.ClassDef | str] = set()
+        bindings = self.facts.bindings_of(owner)
+        if not bindings:
+            return found
+        for binding in bindings:
+            assign = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
+            if not (isinstance(assign, ast.Assign) and isinstance(assign.value, ast.Call) and assign.targets == [binding]):
+                return set()
+            local = self.receivers.local_class(assign.value.func)
+            if local is not None:
+                found.add(local)
+                continue
+            qualified = self.facts.qualified_names(assign.value.func)
+            if len(qualified) != 1:
+                return set()
+            found.add(next(iter(qualified)))
+        return found
+
+    def _reads_next_state(self, site: ast.AST, step: _DoneStep, next_names: set[str]) -> bool:
+        """``site`` reads the step's next state: a name of ``next_names`` whose binding before
+        the read comes after the step. ``remember(obs, a, r, done)`` before ``obs = obs_`` reads
+        the state the step started from (an on-policy rollout), not the next one."""
+        steps_after = self._next_state_bindings(step)
+        for node in ast.walk(site):
+            if isinstance(node, ast.Name) and node.id in next_names and isinstance(node.ctx, ast.Load):
+                binding = self.flow.last_binding_of(node)
+                if binding is not None and id(self.facts.statement_of(binding)) in steps_after:
+                    return True
+        return False
+
+    def _next_state_bindings(self, step: _DoneStep) -> set[int]:
+        """The statements that bind a next-state name: the step and the assignments after it."""
+        self._next_state_names(step)
+        return self.facts.memo(("next-state-bindings", id(step.assign)), lambda: {id(step.assign)})
+
     def _next_state_names(self, step: _DoneStep) -> set[str]:
         """The step's observation target and the names computed from it in the same function."""
         return self.facts.memo(("next-state-names", id(step.assign)), lambda: self._compute_next_state_names(step))
@@ -358,26 +546,34 @@ class UnpackRules(StepFamilyBase):
         if not isinstance(first, ast.Name) or first.id == "_":
             return set()
         names = {first.id}
+        bindings = self.facts.memo(("next-state-bindings", id(step.assign)), lambda: {id(step.assign)})
         function = self.facts.enclosing_function(step.assign) or self.facts.tree
 
-        def after_step(value: ast.AST) -> bool:  # reads this step's observation, not an earlier one
+        def sees_step(node: ast.Name, statement: ast.stmt) -> bool:
+            if self.flow.dominates(step.assign, node, first):
+                return True
+            # ``next_state = np.reshape(next_state, shape)`` right after the step: the read
+            # sees the step's value, the statement's own binding comes after it
+            above = self.flow.binding_above(node, statement)
+            return above is not None and self.facts.statement_of(above) is step.assign
+
+        def after_step(value: ast.AST, statement: ast.stmt) -> bool:  # reads this step's observation, not an earlier one
             return any(
-                isinstance(node, ast.Name)
-                and node.id == first.id
-                and isinstance(node.ctx, ast.Load)
-                and self.flow.dominates(step.assign, node, first)
+                isinstance(node, ast.Name) and node.id == first.id and isinstance(node.ctx, ast.Load) and sees_step(node, statement)
                 for node in ast.walk(value)
             )
 
         for node in ast.walk(function):
             if isinstance(node, ast.Assign) and node is not step.assign and len(node.targets) == 1:
                 target = node.targets[0]
-                if isinstance(target, ast.Name) and after_step(node.value):
+                if isinstance(target, ast.Name) and after_step(node.value, node):
                     names.add(target.id)
+                    bindings.add(id(node))
                 elif isinstance(target, (ast.Tuple, ast.List)) and isinstance(node.value, (ast.Tuple, ast.List)):
                     for element, value in zip(target.elts, node.value.elts):
-                        if isinstance(element, ast.Name) and after_step(value):
+                        if isinstance(element, ast.Name) and after_step(value, node):
                             names.add(element.id)
+                            bindings.add(id(node))
         return names
 
     def _statement_reads(self, function: ast.AST) -> dict[int, set[str]]:
@@ -471,7 +667,9 @@ class UnpackRules(StepFamilyBase):
                 FixKind.FLAG,
                 question=question,
             )
-        elif use is DoneUse.DATA and owner is step.assign and stored_in_sequence(read, self.facts):
+        elif owner is step.assign and (
+            (use is DoneUse.DATA and stored_in_sequence(read, self.facts)) or self._stores_step_without_next_state(read, step)
+        ):
             # one question per step: its other stores are notes pointing at the first
             tier, same = self.rollout_advice.tier(id(step.assign), read)
             self._report_read(
@@ -482,6 +680,14 @@ class UnpackRules(StepFamilyBase):
                 FixKind.FLAG,
                 tier,
                 question=question,
+            )
+        elif use is DoneUse.AMBIGUOUS and owner is step.assign and self._hands_step_on(read, step):
+            self._report_read(
+                read,
+                f"`{read.id}` is handed on with the step's observation and reward (an env-like reply or adapter): "
+                f"it stays `{names.terminated} or {names.truncated}`, the episode's end, for its receiver to read",
+                FixKind.FLAG,
+                Tier.NOTE,
             )
         elif use is DoneUse.DATA and owner is step.assign:
             self._report_read(

@@ -1,0 +1,120 @@
+"""Which parameters of a def mask bootstrapping from which others.
+
+``agent.append_sample(state, action, reward, next_state, done)`` or
+``agent.train_model(state, action, reward, next_state, done)``: the call site alone does
+not say what the flag is for. The callee does, when it stores the flag beside the next
+state (``self.memory.append((state, action, reward, next_state, done))``) or computes a
+target from the next state that the flag masks (``target = reward if done else reward +
+gamma * value(next_state)``, ``next_v = zeros if done else self.forward(new_states)``,
+``(1 - done) * v(next_state)``). Then the flag masks bootstrapping from the next state,
+and GM302 passes ``terminated`` there.
+
+Pure: one def's ``ast`` in, pairs ``(flag parameter, next-state parameter)`` out, read
+from the body alone. The summary of a module (``facts/summaries.py``) records them per
+def, so a caller in another module of the run can ask (``ProjectView.bootstrap_masks``).
+"""
+
+from __future__ import annotations
+
+import ast
+
+from gymmigrate.facts.done_uses import DISPLAY_FUNCTIONS, DISPLAY_METHODS
+from gymmigrate.facts.module import FUNCTIONS, full_name
+
+Masks = frozenset[tuple[str, str]]
+_LEAVES = (ast.Return, ast.Break, ast.Continue, ast.Raise)
+
+
+def next_state_masks(function: ast.FunctionDef | ast.AsyncFunctionDef) -> Masks:
+    """``(flag, next_state)`` parameter pairs: in the body, ``flag`` masks a value computed
+    from (or a transition that stores) ``next_state``. A flag rebound in the body, or tested
+    by a branch that leaves (``if done: return``), is loop control, not a mask."""
+    params = [a.arg for a in (*function.args.posonlyargs, *function.args.args, *function.args.kwonlyargs)]
+    params = [p for p in params if p not in ("self", "cls")]
+    if len(params) < 2:
+        return frozenset()
+    rebound = {
+        node.id
+        for node in _walk_own(function)
+        if isinstance(node, ast.Name) and isinstance(node.ctx, (ast.Store, ast.Del))
+    }
+    found: set[tuple[str, str]] = set()
+    for next_param in params:
+        derived = _derived(function, next_param)
+        for flag in params:
+            if flag == next_param or flag in rebound or flag in derived:
+                continue
+            if _masks(function, flag, derived):
+                found.add((flag, next_param))
+    return frozenset(found)
+
+
+def _walk_own(function: ast.AST):
+    """The nodes of ``function``'s body, nested defs and lambdas left out."""
+    stack = list(ast.iter_child_nodes(function))
+    while stack:
+        node = stack.pop()
+        if isinstance(node, (*FUNCTIONS, ast.Lambda, ast.ClassDef)):
+            continue
+        yield node
+        stack.extend(ast.iter_child_nodes(node))
+
+
+def _loads(node: ast.AST) -> set[str]:
+    return {n.id for n in ast.walk(node) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load)}
+
+
+def _derived(function: ast.AST, name: str) -> set[str]:
+    """``name`` and the names assigned from it in the body (``next_value = critic(next_state)``),
+    followed until nothing new is found."""
+    derived = {name}
+    assigns = [n for n in _walk_own(function) if isinstance(n, (ast.Assign, ast.AnnAssign)) and n.value is not None]
+    changed = True
+    while changed:
+        changed = False
+        for assign in assigns:
+            if _loads(assign.value) & derived:  # type: ignore[arg-type]
+                targets = assign.targets if isinstance(assign, ast.Assign) else [assign.target]
+                for target in targets:
+                    if isinstance(target, ast.Name) and target.id not in derived:
+                        derived.add(target.id)
+                        changed = True
+    return derived
+
+
+def _masks(function: ast.AST, flag: str, derived: set[str]) -> bool:
+    for node in _walk_own(function):
+        if isinstance(node, (ast.If, ast.IfExp)) and flag in _loads(node.test):
+            branches = [node.body, node.orelse] if isinstance(node, ast.IfExp) else [*node.body, *node.orelse]
+            if isinstance(node, ast.If) and any(isinstance(n, _LEAVES) for s in branches for n in ast.walk(s)):
+                return False  # ``if done: return``: the flag ends something, it is control
+            if any(_loads(branch) & derived for branch in branches):
+                return True
+        elif isinstance(node, (ast.Assign, ast.AugAssign, ast.Expr)) and not _displays(node.value):
+            value = node.value
+            if flag in _value_loads(value) and _value_loads(value) & derived:
+                return True  # ``memory.append((s, a, r, next_state, done))``, ``(1 - done) * v(next_state)``
+    return False
+
+
+def _displays(value: ast.AST) -> bool:
+    """``print(next_state, done)``, ``logger.info(...)``: shown, not stored."""
+    if not isinstance(value, ast.Call):
+        return False
+    last = (full_name(value.func) or "").rsplit(".", 1)[-1]
+    return last in (DISPLAY_METHODS if isinstance(value.func, ast.Attribute) else DISPLAY_FUNCTIONS)
+
+
+def _value_loads(node: ast.AST) -> set[str]:
+    """Names read as values, not as tests (``x if done else y`` reads ``done`` as a test)."""
+    names: set[str] = set()
+    stack = [node]
+    while stack:
+        current = stack.pop()
+        if isinstance(current, ast.IfExp):
+            stack.extend([current.body, current.orelse])
+            continue
+        if isinstance(current, ast.Name) and isinstance(current.ctx, ast.Load):
+            names.add(current.id)
+        stack.extend(ast.iter_child_nodes(current))
+    return names
