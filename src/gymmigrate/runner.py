@@ -17,6 +17,7 @@ its place and the run goes on.
 from __future__ import annotations
 
 import os
+import re
 import time
 from collections import deque
 from collections.abc import Callable, Generator, Iterable, Iterator, Sequence
@@ -275,8 +276,14 @@ def summarize_path(path: Path) -> ModuleSummary | None:
     return summarize(str(path), text)
 
 
+# A def with a parameter named like a done flag (``def learn(self, s, r, s_, done)``): the only
+# defs ``facts/bootstrap.py`` can find masks in. Most Gym-free modules (a stdlib module that
+# says "done" in a comment) fail this before any parse.
+_FLAG_PARAMETER = re.compile(rb"def\s+\w+\s*\((?:[^()]|\([^()]*\))*?\b\w*(?:done|terminal)\w*\b")
+
+
 def _may_mask_bootstrapping(source: bytes) -> bool:
-    return b"done" in source or b"terminal" in source
+    return (b"done" in source or b"terminal" in source) and _FLAG_PARAMETER.search(source) is not None
 
 
 def _may_reexport(source: bytes) -> bool:

@@ -28,25 +28,86 @@ _LEAVES = (ast.Return, ast.Break, ast.Continue, ast.Raise)
 def next_state_masks(function: ast.FunctionDef | ast.AsyncFunctionDef) -> Masks:
     """``(flag, next_state)`` parameter pairs: in the body, ``flag`` masks a value computed
     from (or a transition that stores) ``next_state``. A flag rebound in the body, or tested
-    by a branch that leaves (``if done: return``), is loop control, not a mask."""
+    by a branch that leaves (``if done: return``), is loop control, not a mask.
+
+    Every def of every module of a run is asked, so the body is walked once and each node's
+    reads are computed once, whatever the number of parameters."""
     params = [a.arg for a in (*function.args.posonlyargs, *function.args.args, *function.args.kwonlyargs)]
     params = [p for p in params if p not in ("self", "cls")]
     if len(params) < 2:
         return frozenset()
-    rebound = {
-        node.id
-        for node in _walk_own(function)
-        if isinstance(node, ast.Name) and isinstance(node.ctx, (ast.Store, ast.Del))
-    }
+    body = _Body(function)
+    rebound = body.stored
+    flags = [p for p in params if p not in rebound and p in body.tested_or_valued]
+    if not flags:
+        return frozenset()
     found: set[tuple[str, str]] = set()
     for next_param in params:
-        derived = _derived(function, next_param)
-        for flag in params:
-            if flag == next_param or flag in rebound or flag in derived:
+        if next_param not in body.loaded:
+            continue
+        derived = body.derived(next_param)
+        for flag in flags:
+            if flag == next_param or flag in derived:
                 continue
-            if _masks(function, flag, derived):
+            if body.masks(flag, derived):
                 found.add((flag, next_param))
     return frozenset(found)
+
+
+class _Body:
+    """One def's own nodes (nested defs and lambdas left out), with their reads."""
+
+    def __init__(self, function: ast.AST) -> None:
+        self.nodes = list(_walk_own(function))
+        self.stored = {
+            n.id for n in self.nodes if isinstance(n, ast.Name) and isinstance(n.ctx, (ast.Store, ast.Del))
+        }
+        self.loaded = {n.id for n in self.nodes if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load)}
+        self.assigns = [
+            (n, _loads(n.value)) for n in self.nodes if isinstance(n, (ast.Assign, ast.AnnAssign)) and n.value is not None
+        ]
+        # (node, kind, reads): the tests and the stored values ``masks`` looks at
+        self.checks: list[tuple[ast.AST, str, set[str]]] = []
+        for node in self.nodes:
+            if isinstance(node, (ast.If, ast.IfExp)):
+                self.checks.append((node, "test", _loads(node.test)))
+            elif isinstance(node, (ast.Assign, ast.AugAssign, ast.Expr)) and not _displays(node.value):
+                self.checks.append((node, "value", _value_loads(node.value)))
+        self.tested_or_valued = set().union(*(reads for _, _, reads in self.checks)) if self.checks else set()
+        self._branch_loads: dict[int, list[set[str]]] = {}
+
+    def derived(self, name: str) -> set[str]:
+        """``name`` and the names assigned from it (``next_value = critic(next_state)``),
+        followed until nothing new is found."""
+        derived = {name}
+        changed = True
+        while changed:
+            changed = False
+            for assign, reads in self.assigns:
+                if reads & derived:
+                    targets = assign.targets if isinstance(assign, ast.Assign) else [assign.target]
+                    for target in targets:
+                        if isinstance(target, ast.Name) and target.id not in derived:
+                            derived.add(target.id)
+                            changed = True
+        return derived
+
+    def masks(self, flag: str, derived: set[str]) -> bool:
+        for node, kind, reads in self.checks:
+            if flag not in reads:
+                continue
+            if kind == "test":
+                branches = [node.body, node.orelse] if isinstance(node, ast.IfExp) else [*node.body, *node.orelse]  # type: ignore[attr-defined]
+                if isinstance(node, ast.If) and any(isinstance(n, _LEAVES) for s in branches for n in ast.walk(s)):
+                    return False  # ``if done: return``: the flag ends something, it is control
+                loads = self._branch_loads.get(id(node))
+                if loads is None:
+                    loads = self._branch_loads[id(node)] = [_loads(branch) for branch in branches]
+                if any(branch & derived for branch in loads):
+                    return True
+            elif reads & derived:
+                return True  # ``memory.append((s, a, r, next_state, done))``, ``(1 - done) * v(next_state)``
+        return False
 
 
 def _walk_own(function: ast.AST):
@@ -62,39 +123,6 @@ def _walk_own(function: ast.AST):
 
 def _loads(node: ast.AST) -> set[str]:
     return {n.id for n in ast.walk(node) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load)}
-
-
-def _derived(function: ast.AST, name: str) -> set[str]:
-    """``name`` and the names assigned from it in the body (``next_value = critic(next_state)``),
-    followed until nothing new is found."""
-    derived = {name}
-    assigns = [n for n in _walk_own(function) if isinstance(n, (ast.Assign, ast.AnnAssign)) and n.value is not None]
-    changed = True
-    while changed:
-        changed = False
-        for assign in assigns:
-            if _loads(assign.value) & derived:  # type: ignore[arg-type]
-                targets = assign.targets if isinstance(assign, ast.Assign) else [assign.target]
-                for target in targets:
-                    if isinstance(target, ast.Name) and target.id not in derived:
-                        derived.add(target.id)
-                        changed = True
-    return derived
-
-
-def _masks(function: ast.AST, flag: str, derived: set[str]) -> bool:
-    for node in _walk_own(function):
-        if isinstance(node, (ast.If, ast.IfExp)) and flag in _loads(node.test):
-            branches = [node.body, node.orelse] if isinstance(node, ast.IfExp) else [*node.body, *node.orelse]
-            if isinstance(node, ast.If) and any(isinstance(n, _LEAVES) for s in branches for n in ast.walk(s)):
-                return False  # ``if done: return``: the flag ends something, it is control
-            if any(_loads(branch) & derived for branch in branches):
-                return True
-        elif isinstance(node, (ast.Assign, ast.AugAssign, ast.Expr)) and not _displays(node.value):
-            value = node.value
-            if flag in _value_loads(value) and _value_loads(value) & derived:
-                return True  # ``memory.append((s, a, r, next_state, done))``, ``(1 - done) * v(next_state)``
-    return False
 
 
 def _displays(value: ast.AST) -> bool:

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import ast
 import os
+from collections.abc import Mapping
 from dataclasses import replace
 
 from gymmigrate.facts import names as N
@@ -65,21 +66,25 @@ def summarize_masks(path: str, text: str) -> ModuleSummary | None:
         tree = ast.parse(text)
     except (SyntaxError, ValueError):
         return None
-    facts = ModuleFacts(tree, text)
-    masks = _bootstrap_masks(facts)
+    # Only the module's defs are read: no ModuleFacts (its indexes cost more than the parse).
+    functions = {s.name: s for s in tree.body if isinstance(s, FUNCTIONS)}
+    classes = {s.name: s for s in tree.body if isinstance(s, ast.ClassDef)}
+    masks = _masks_of(functions, classes)
     if not masks:
         return None
-    defs = {name: _signature(_def_named(facts, name), is_method="." in name) for name in masks}
+    defs = {name: _signature(_named(functions, classes, name), is_method="." in name) for name in masks}
     return ModuleSummary(
         os.path.realpath(path), defs, frozenset(), frozenset(), (), bootstrap_masks=masks, masks_only=True
     )
 
 
-def _def_named(facts: ModuleFacts, qualname: str) -> ast.FunctionDef | ast.AsyncFunctionDef:
+def _named(
+    functions: Mapping[str, ast.FunctionDef | ast.AsyncFunctionDef], classes: Mapping[str, ast.ClassDef], qualname: str
+) -> ast.FunctionDef | ast.AsyncFunctionDef:
     if "." not in qualname:
-        return facts.functions[qualname]
+        return functions[qualname]
     owner, name = qualname.split(".", 1)
-    return next(s for s in facts.classes[owner].body if isinstance(s, FUNCTIONS) and s.name == name)
+    return next(s for s in classes[owner].body if isinstance(s, FUNCTIONS) and s.name == name)
 
 
 class _Summarizer:
@@ -385,11 +390,17 @@ def _signature(function: ast.FunctionDef | ast.AsyncFunctionDef, is_method: bool
 def _bootstrap_masks(facts: ModuleFacts) -> dict[str, frozenset[tuple[str, str]]]:
     """Top-level defs and methods of top-level classes whose flag parameter masks
     bootstrapping from a next-state parameter (``facts/bootstrap.py``)."""
+    return _masks_of(facts.functions, facts.classes)
+
+
+def _masks_of(
+    functions: Mapping[str, ast.FunctionDef | ast.AsyncFunctionDef], classes: Mapping[str, ast.ClassDef]
+) -> dict[str, frozenset[tuple[str, str]]]:
     found: dict[str, frozenset[tuple[str, str]]] = {}
-    defs = [(name, function) for name, function in facts.functions.items()]
+    defs = list(functions.items())
     defs += [
         (f"{name}.{statement.name}", statement)
-        for name, classdef in facts.classes.items()
+        for name, classdef in classes.items()
         for statement in classdef.body
         if isinstance(statement, FUNCTIONS)
     ]
