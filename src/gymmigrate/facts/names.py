@@ -73,6 +73,7 @@ GYM_ONLY_PACKAGES = frozenset(
     {
         "atari_py",
         "baselines",
+        "colabgymrender",
         "d4rl",
         "dmc2gym",
         "gym_super_mario_bros",

@@ -178,6 +178,10 @@ GYM_ONLY_LIBRARIES = {
         "step, per-agent arrays when several agents act); wrap them with Shimmy (`GymV21Environment-v0`, gym "
         "installed) or port the wrapper"
     ),
+    "colabgymrender": (
+        "colabgymrender has no Gymnasium release: its Recorder wraps a gym env and calls render(mode=...), which "
+        "Gymnasium envs reject; record with gymnasium.wrappers.RecordVideo (render_mode=\"rgb_array\" at make)"
+    ),
     "nes_py": "nes_py has no Gymnasium release: wrap its envs with Shimmy (`GymV21Environment-v0`, gym installed)",
     "atari_py": "atari_py is replaced by ale_py: `import ale_py`, `gymnasium.register_envs(ale_py)`, ids `ALE/Pong-v5`",
     "mujoco_py": "mujoco_py envs were removed in Gymnasium 1.0: use the `mujoco` bindings and the v5 envs",
