@@ -72,7 +72,7 @@ def test_outputs_metadata_and_markdown_cells_are_kept() -> None:
             assert new["source"] == old["source"]
     magic_cells = [c for c in after["cells"] if c["source"] and c["source"][0].startswith(("!", "%%"))]
     assert [c["source"] for c in magic_cells] == [
-        ["!pip install gym==0.21.0\n", "%matplotlib inline"],
+        ['!pip install "gymnasium>=1.0"\n', "%matplotlib inline"],  # its requirement moved (GM109)
         ["%%time\n", "for _ in range(3):\n", "    env.reset()"],
     ]
 
@@ -399,6 +399,7 @@ def test_a_notebook_with_crlf_line_ends_is_migrated_and_keeps_them() -> None:
 # Stable-Baselines Colab notebooks): the changed sources are edited in the JSON text.
 HAND_EDITED = {
     "hand_indented_source": {  # one line of a cell's JSON indented by hand
+        "cell 2:line 2:14: GM109",  # its `!pip install gym[box2d]`, given the new requirement
         "cell 3:line 1:1: GM101",
         "cell 4:line 3:7: GM201",
         "cell 4:line 7:5: GM301",
@@ -432,7 +433,8 @@ def test_a_hand_edited_notebook_is_migrated_in_place(case: str) -> None:
     assert _rewrite(rewritten) == rewritten, "a second run changes nothing"
     before, after = json.loads(source), json.loads(rewritten)
     changed = {i for i, (old, new) in enumerate(zip(before["cells"], after["cells"])) if old["source"] != new["source"]}
-    assert changed == {2, 3}
+    # hand_indented_source's install cell gets the new requirement of its `!pip install` line
+    assert changed == ({1, 2, 3} if case == "hand_indented_source" else {2, 3})
     # Every byte outside the changed cells' sources is the file's own.
     assert _outside_sources(rewritten.decode(), changed) == _outside_sources(source.decode(), changed)
     # What Jupyter reads: the new sources, everything else as it was.
@@ -445,7 +447,7 @@ def test_a_hand_edited_notebook_is_migrated_in_place(case: str) -> None:
 
 def test_the_hand_indented_lines_keep_their_bytes() -> None:
     rewritten = _rewrite((FIXTURES / "hand_indented_source.ipynb").read_bytes()).decode()
-    assert '\n    "!apt-get update && apt-get install swig cmake\\n",\n' in rewritten  # a cell left as it was
+    assert '\n    "!apt-get update && apt-get install swig cmake\\n",\n' in rewritten  # a kept line of the install cell
     assert '\n      "for i in range(100):  # ré-indenté à la main\\n",\n' in rewritten  # a kept line of a changed cell
     assert '\n    "obs, info = env.reset()\\n",\n' in rewritten  # a changed line, indented as the line it replaces
 
@@ -523,3 +525,27 @@ def test_an_edit_that_would_not_read_back_is_refused(monkeypatch: pytest.MonkeyP
     monkeypatch.setattr("gymmigrate.sources.notebook.new_source_text", lambda *args, **kwargs: '["import os\\n"]')
     with pytest.raises(TransformError, match="could not be edited in place; left unchanged"):
         _rewrite((FIXTURES / "hand_indented_source.ipynb").read_bytes())
+
+
+def test_an_install_line_in_a_notebook_gets_the_new_requirements(tmp_path: Path) -> None:
+    """``!pip install gym==0.24`` is IPython syntax, never parsed as Python: its requirements
+    move as a requirements file's do (GM109, SB110 for the companions), the rest of the line
+    and of the cell stays byte for byte, and a second run finds nothing."""
+    path = tmp_path / "train.ipynb"
+    source = _notebook(
+        ("code", "!pip install gym==0.24 pyglet\n%pip install -q stable-baselines3==1.6\n%matplotlib inline\n"),
+        ("code", "import gym\nenv = gym.make('CartPole-v1')\nobs = env.reset()\n"),
+    )
+    path.write_bytes(source)
+    check = runner.invoke(app, ["check", "--output-format", "json", str(path)])
+    installs = [(f["cell"], f["line"], f["rule"]) for f in json.loads(check.stdout) if f["rule"] in ("GM109", "SB110")]
+    assert installs == [(0, 1, "GM109"), (0, 2, "SB110")]
+    result = runner.invoke(app, ["rewrite", str(path)])
+    assert result.exit_code == 0, result.stderr
+    cells = json.loads(path.read_bytes())["cells"]
+    assert "".join(cells[0]["source"]) == (
+        '!pip install "gymnasium>=1.0" pyglet\n%pip install -q "stable-baselines3>=2.9"\n%matplotlib inline\n'
+    )
+    assert "obs, info = env.reset()" in "".join(cells[1]["source"])
+    again = runner.invoke(app, ["check", str(path)])
+    assert again.exit_code == 0 and again.stdout == ""

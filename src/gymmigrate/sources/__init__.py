@@ -51,6 +51,8 @@ def lines_of(text: str) -> list[str]:
 class Document(Protocol):
     programs: list[list[Segment]]
     notes: list[Finding]  # things the adapter found itself (a doc block that does not parse)
+    # The adapter changes the file outside the programs too (a notebook's install lines).
+    changes_outside_code: bool
 
     def rebuild(self, codes: list[list[str]]) -> tuple[bytes, list[list[Location]]]:
         """The file with each segment's code replaced, and where each segment now starts."""

@@ -50,6 +50,16 @@ class Magics:
     def __init__(self) -> None:
         self.hidden: list[str] = []
         self.restored: set[int] = set()
+        self.replacements: dict[int, str] = {}  # hidden line -> what it is given back as
+
+    def hidden_number(self, line: str) -> int | None:
+        """The number of the hidden line ``line`` stands for, if it is a placeholder."""
+        match = _PLACEHOLDER_LINE.fullmatch(line)
+        return int(match["number"]) if match is not None else None
+
+    def replace(self, number: int, line: str) -> None:
+        """Give hidden line ``number`` back as ``line`` (an install line with new requirements)."""
+        self.replacements[number] = line
 
     def hide(self, code: str) -> str:
         """``code`` with each IPython line (or the whole cell, for a cell magic) replaced."""
@@ -86,7 +96,7 @@ class Magics:
             if number >= len(self.hidden) or number in self.restored:
                 raise TransformError("the rewrite changed an IPython magic line; notebook left unchanged")
             self.restored.add(number)
-            out.append(self.hidden[number])
+            out.append(self.replacements.get(number, self.hidden[number]))
         return "".join(out)
 
     def check_all_restored(self, hidden_in: set[int]) -> None:

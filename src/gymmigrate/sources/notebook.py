@@ -22,11 +22,15 @@ from __future__ import annotations
 
 import ast
 import json
+import re
+from dataclasses import replace
 from typing import Any
 
+from gymmigrate.dependencies.core import apply_edits
+from gymmigrate.dependencies.shell import migrate_dockerfile
 from gymmigrate.findings import Finding, FixKind, Tier
 from gymmigrate.source_text import TransformError, may_hold_gym_code
-from gymmigrate.sources import Location, Segment
+from gymmigrate.sources import Location, Segment, lines_of
 from gymmigrate.sources.json_text import (
     JSONLayoutError,
     Span,
@@ -73,6 +77,12 @@ class Notebook:
         # Gym in the outputs or the markdown only: nothing to migrate, whatever the cells hold.
         if not may_hold_gym_code("".join(segment.code for segment in segments).encode("utf-8")):
             segments = []
+        # Cells whose install lines (``!pip install gym==0.24``) get new requirements: rebuilt
+        # even when their Python is left as it is.
+        self.install_cells: set[int] = set()
+        if segments:
+            self._plan_install_lines(segments)
+        self.changes_outside_code = bool(self.install_cells)
         # A cell that does not parse (an exercise's `<YOUR CODE>`, half-written code) is
         # reported and left byte for byte; the other cells are still one program.
         parsed = []
@@ -99,6 +109,28 @@ class Notebook:
             )
         self.programs = [parsed] if parsed else []
 
+    def _plan_install_lines(self, segments: list[Segment]) -> None:
+        """``!pip install gym==0.24`` (``%pip install ...``): an IPython line, never parsed as
+        Python, whose requirements move like a requirements file's (GM109, and the companions'
+        rules): the hidden line is given back with them when the cell is rebuilt."""
+        for segment in segments:
+            index = segment.start.cell
+            assert index is not None
+            for number, line in enumerate(lines_of(segment.code), start=1):
+                hidden = self.magics.hidden_number(line)
+                if hidden is None or not _INSTALL_LINE.match(self.magics.hidden[hidden]):
+                    continue
+                original = self.magics.hidden[hidden]
+                ending = original[len(original.rstrip("\r\n")) :] or "\n"
+                outcome = migrate_dockerfile(original.rstrip("\r\n") + "\n")
+                if not outcome.edits:
+                    continue
+                new_line = apply_edits(original.rstrip("\r\n") + "\n", outcome.edits).rstrip("\n")
+                self.magics.replace(hidden, new_line + (ending if original.endswith(("\n", "\r")) else ""))
+                self.install_cells.add(index)
+                for note in outcome.findings:
+                    self.notes.append(replace(note, line=number, column=note.column, end_line=None, end_column=None, cell=index))
+
     def rebuild(self, codes: list[list[str]]) -> tuple[bytes, list[list[Location]]]:
         changed: dict[int, str] = {}
         for program, new_codes in zip(self.programs, codes):
@@ -108,9 +140,15 @@ class Notebook:
                 index = segment.start.cell
                 assert index is not None
                 text = self.magics.restore(new_code)
-                if not _cell_text(self.cells[index]).endswith("\n"):
-                    text = text.removesuffix("\n")  # nbformat stores the last line without one
                 changed[index] = text
+        for program in self.programs:
+            for segment in program:
+                index = segment.start.cell
+                if index in self.install_cells and index not in changed:
+                    changed[index] = self.magics.restore(segment.code)  # only its install lines change
+        for index, text in list(changed.items()):
+            if not _cell_text(self.cells[index]).endswith("\n"):
+                changed[index] = text.removesuffix("\n")  # nbformat stores the last line without one
         self.magics.check_all_restored({n for index in changed for n in self._hidden_ranges[index]})
         starts = [[segment.start for segment in program] for program in self.programs]
         if not changed:
@@ -152,6 +190,9 @@ class Notebook:
             if isinstance(cell, dict) and cell.get("cell_type") == "code":
                 parts.append(f"# cell {index + 1}\n{_with_final_newline(_cell_text(cell))}")
         return "".join(parts)
+
+
+_INSTALL_LINE = re.compile(r"[ \t]*[!%][ \t]*(?:python3? -m )?pip3?[ \t]+install\b")
 
 
 def _is_python(data: dict[str, Any]) -> bool:

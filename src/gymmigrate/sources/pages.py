@@ -82,6 +82,7 @@ class Page:
     def __init__(self, text: str, blocks: list[Block]) -> None:
         self.lines = lines_of(text)
         self.notes: list[Finding] = []
+        self.changes_outside_code = False
         parsed = [p for p in (_parse(block) for block in blocks) if p is not None]
         self._blocks: list[_Parsed] = []
         trees: list[ast.Module] = []

@@ -98,7 +98,7 @@ def migrate(
     findings: list[Finding] = list(document.notes)
     new_codes: list[list[str]] = []
     placed: list[tuple[int, Finding, list[int], list[int]]] = []  # program, finding, starts before and after
-    would_change = False
+    would_change = document.changes_outside_code
     for index, program in enumerate(document.programs):
         codes = [segment.code for segment in program]
         new_codes.append(codes)

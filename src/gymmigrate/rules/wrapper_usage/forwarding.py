@@ -454,6 +454,10 @@ class WrapperForwarding(RuleFamily):
         value: ast.expr | None = expr
         if isinstance(expr, ast.Name):
             value = self._nearest_assignment(expr)
+            annotation = self._annotated_wrapper(expr) if value is None else None
+            if annotation is not None:  # ``env: gym.wrappers.TimeLimit``
+                named = {rest for q in self.facts.qualified_names(annotation) if (rest := wrapper_rest(q)) is not None}
+                return current_name(named.pop()) if len(named) == 1 else None
         if not isinstance(value, ast.Call):
             return None
         names = {rest for q in self.facts.qualified_names(value.func) if (rest := wrapper_rest(q)) is not None}
@@ -463,6 +467,13 @@ class WrapperForwarding(RuleFamily):
         local = self.receivers.local_class(value.func)
         if local is not None and self.receivers.is_gym_wrapper_class(local):
             return local.name
+        return None
+
+    def _annotated_wrapper(self, name: ast.Name) -> ast.expr | None:
+        """The annotation of the parameter ``name`` is, when it is its only binding."""
+        bindings = self.facts.bindings_of(name)
+        if len(bindings) == 1 and isinstance(bindings[0], ast.arg) and bindings[0].annotation is not None:
+            return bindings[0].annotation
         return None
 
     def _is_run_wrapper_class(self, func: ast.expr) -> bool:
