@@ -158,6 +158,22 @@ def _opaque(found: DoneCause) -> DoneCause:
     return DoneCause(Cause.UNKNOWN, found.limits) if found.limits else TERMINATION
 
 
+def self_stores(facts: ModuleFacts, classdef: ast.ClassDef, name: str) -> list[ast.expr] | None:
+    """Every value ``self.<name> = value`` stores in ``classdef``'s own methods; None when a
+    store is anything else (an augmented assignment, a tuple target, ...)."""
+    values = []
+    for attr in facts.attributes.get(name, ()):
+        if not isinstance(attr.ctx, ast.Store) or not _is_self(attr.value):
+            continue
+        if facts.enclosing_class(attr) is not classdef:
+            continue
+        holder = facts.parent(attr)
+        if not (isinstance(holder, ast.Assign) and holder.targets == [attr]):
+            return None
+        values.append(holder.value)
+    return values
+
+
 def _is_self(node: ast.AST) -> bool:
     return isinstance(node, ast.Name) and node.id == "self"
 
@@ -333,16 +349,7 @@ class DoneTracer:
             return TERMINATION
         self._busy.add(key)
         try:
-            values = []
-            for attr in self.facts.attributes.get(name, ()):
-                if not isinstance(attr.ctx, ast.Store) or not _is_self(attr.value):
-                    continue
-                if self.facts.enclosing_class(attr) is not self.classdef:
-                    continue
-                holder = self.facts.parent(attr)
-                if not (isinstance(holder, ast.Assign) and holder.targets == [attr]):
-                    return TERMINATION
-                values.append(holder.value)
+            values = self_stores(self.facts, self.classdef, name)
             return combine(self._in_context(v, depth + 1) for v in values) if values else TERMINATION
         finally:
             self._busy.discard(key)

@@ -28,7 +28,13 @@ from dataclasses import dataclass, field
 from typing import TypeVar
 
 from gymmigrate.facts.limits import Cause as DoneCause
-from gymmigrate.facts.limits import DoneTracer, is_step_limit, under_limit, unwrap_bool
+from gymmigrate.facts.limits import (
+    DoneTracer,
+    is_step_limit,
+    self_stores,
+    under_limit,
+    unwrap_bool,
+)
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
 
 _Node = TypeVar("_Node", bound=ast.AST)
@@ -95,17 +101,7 @@ class Endings:
     def _attribute_values(self, name: str) -> list[ast.expr] | None:
         """Every value ``self.<name> = value`` stores in this class; None when a store is
         anything else (an augmented assignment, a tuple target, ...)."""
-        values = []
-        for attr in self.facts.attributes.get(name, ()):
-            if not isinstance(attr.ctx, ast.Store) or not _is_self(attr.value):
-                continue
-            if self.facts.enclosing_class(attr) is not self.classdef:
-                continue
-            holder = self.facts.parent(attr)
-            if not (isinstance(holder, ast.Assign) and holder.targets == [attr]):
-                return None
-            values.append(holder.value)
-        return values
+        return self_stores(self.facts, self.classdef, name)
 
     def mentions_limit(self, expr: ast.AST) -> bool:
         kinds = (ast.Compare, ast.Call, ast.Name, ast.Attribute)
