@@ -32,6 +32,7 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from typing import TypeVar
 
+from gymmigrate.facts.env_classes import identifiers
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
 
 # A word that counts steps or time (matched on the lower-cased identifier: ``MAX_STEPS``
@@ -51,16 +52,6 @@ _LIMIT_OPS = (ast.Gt, ast.GtE, ast.Lt, ast.LtE, ast.Eq)
 _MAX_DEPTH = 8
 
 
-def _identifiers(node: ast.AST) -> list[str]:
-    found = []
-    for child in ast.walk(node):
-        if isinstance(child, ast.Name):
-            found.append(child.id)
-        elif isinstance(child, ast.Attribute):
-            found.append(child.attr)
-    return found
-
-
 def is_periodic(expr: ast.AST) -> bool:
     """``self.t % FREQ == 0``: a test that comes true every so many steps, not a limit."""
     return any(isinstance(node, ast.BinOp) and isinstance(node.op, ast.Mod) for node in ast.walk(expr))
@@ -72,7 +63,7 @@ def is_step_limit(expr: ast.AST) -> bool:
         return False
     if is_periodic(expr):
         return False
-    return any(STEP_LIMIT_WORD.search(word.lower()) and "beyond" not in word for word in _identifiers(expr))
+    return any(STEP_LIMIT_WORD.search(word.lower()) and "beyond" not in word for word in identifiers(expr))
 
 
 _AnyNode = TypeVar("_AnyNode", bound=ast.AST)
