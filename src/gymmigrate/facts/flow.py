@@ -212,6 +212,16 @@ class Flow:
             node = parent
         return False
 
+    def block_of(self, statement: ast.stmt) -> tuple[list[ast.stmt], int] | None:
+        """The statement list that holds ``statement`` (a body, an else, a finally) and its
+        index there; None for a statement of no such list."""
+        holder = self.facts.parent(statement)
+        slot = self._slots_of(holder).get(id(statement)) if holder is not None else None
+        if slot is None:
+            return None
+        field, index = slot
+        return getattr(holder, field), index
+
     def _slots_of(self, holder: ast.AST) -> dict[int, tuple[str, int]]:
         slots = self._slots.get(id(holder))
         if slots is None:

@@ -25,6 +25,7 @@ from typing import TYPE_CHECKING
 from gymmigrate.edits.arguments import append_keyword
 from gymmigrate.edits.lazy import cst
 from gymmigrate.edits.syntax import dotted_node
+from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.module import dotted_name, keyword
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.wrapper_usage.arguments import positional
@@ -138,15 +139,10 @@ def _statistics_beside(family: StacksFamily, call: ast.Call) -> bool:
     ):
         return False
     name = statement.targets[0].id
-    block = facts.parent(statement)
-    body: list[ast.stmt] = []
-    for field in ("body", "orelse", "finalbody"):
-        found = getattr(block, field, None)
-        if isinstance(found, list) and statement in found:
-            body = found
-    if not body:
+    place = Flow.of(facts).block_of(statement)
+    if place is None:
         return False
-    index = body.index(statement)
+    body, index = place
     for neighbour in body[max(index - 1, 0) : index + 2]:
         if neighbour is statement or not isinstance(neighbour, ast.Assign) or not isinstance(neighbour.value, ast.Call):
             continue
