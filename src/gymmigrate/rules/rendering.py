@@ -205,10 +205,7 @@ class Rendering(RuleFamily):
     def _is_make(self, call: ast.Call) -> bool:
         return self.facts.memo(
             ("rendering-is-make", id(call)),
-            lambda: any(N.strip_gym_prefix(q) in N.GYM_ENV_FACTORIES for q in self.facts.qualified_names(call.func))
-            or local_env_class_takes_render_mode(self.facts, self.receivers, call)
-            or self._is_project_make(call)
-            or is_spec_make(self.facts, self.receivers.project, call),
+            lambda: self._is_gym_make(call) or local_env_class_takes_render_mode(self.facts, self.receivers, call),
         )
 
     def _is_gym_make(self, call: ast.Call) -> bool:
