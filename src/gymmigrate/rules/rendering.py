@@ -310,7 +310,11 @@ class Rendering(RuleFamily):
         return RenderSite(call, "GM401", mode, (), decision.action, self.finder.find(receiver), legacy_spelling=legacy, quote=quote)
 
     def _report_other_signature(self, call: ast.Call, receiver: ast.expr) -> None:
-        if not self.context.profile.imports_gym or self.receivers.kind_of(receiver) is not EnvKind.GYM_ENV:
+        if not self.context.profile.imports_gym:
+            return
+        if self._report_unpacked_arguments(call, receiver):
+            return
+        if self.receivers.kind_of(receiver) is not EnvKind.GYM_ENV:
             return
         creation = self.finder.find(receiver)
         if not (creation.found and all(self._is_gym_make(make) for make in creation.calls)):
@@ -323,6 +327,31 @@ class Rendering(RuleFamily):
             "for the env's own signature, or pass the settings to gym.make",
             FixKind.FLAG,
         )
+
+    def _report_unpacked_arguments(self, call: ast.Call, receiver: ast.expr) -> bool:
+        """``env.render(**kwargs)`` (or ``*args``) outside a render method: what it passes is
+        decided by its callers, and legacy callers passed ``mode=``, which Gymnasium's
+        render() refuses (TypeError) and a Gym env made without a render_mode ignores. On an
+        env the run does not show to be something else, it is reported, not left silent."""
+        if not (any(isinstance(a, ast.Starred) for a in call.args) or any(k.arg is None for k in call.keywords)):
+            return False
+        function = self.facts.enclosing_function(call)
+        if function is not None and function.name == "render":
+            return True  # a render method handing its own arguments on: the Env/Wrapper rules own it
+        kind = self.receivers.kind_of(receiver)
+        decision = decide(kind, receiver, self.context.profile, legacy_shape=True, origins=self.receivers)
+        if decision.action is Action.LEAVE:
+            return True
+        name = receiver_text(receiver)
+        self.report(
+            call,
+            "GM401",
+            f"`{self.facts.segment(call)}` passes on what its callers give (legacy: mode=...), and Gymnasium's render() "
+            f"takes no arguments: if `{name}` is a Gym env, pass the mode as render_mode= (and any size) to gym.make "
+            f"where it is made and call `{name}.render()` bare",
+            FixKind.FLAG,
+        )
+        return True
 
     def _recorder_site(self, call: ast.Call) -> RenderSite | None:
         consumer: str | None = None
