@@ -61,6 +61,7 @@ class SeedCalls(ResetSeedBase):
                 code,
                 "inside a seed() method, which Gymnasium never calls: move the seeding into reset(seed=...)",
                 FixKind.FLAG,
+                question=("seed() method", function.lineno),  # a wrapper's space seeding there asks the same (GM205)
             )
             return
         statement = self.facts.parent(call)
