@@ -249,6 +249,8 @@ class Rendering(RuleFamily):
         function = self.facts.enclosing_function(call)
         if function is not None and function.name == "render" and not self._helper_method(function):
             return None  # a render method forwarding to its env: the Env/Wrapper rules own it
+        if mode_arg is not None and self._class_keeps_its_mode(receiver):
+            return None  # ``render(mode)`` of a class that chooses its mode itself is kept (GM405 says so)
         kind = self.receivers.kind_of(receiver)
         decision = decide(kind, receiver, self.context.profile, legacy_shape=mode_arg is not None or close is not None, origins=self.receivers)
         if decision.action is Action.LEAVE:
@@ -308,6 +310,18 @@ class Rendering(RuleFamily):
             mode = RGB_ARRAY
         quote = self._quote(value) or '"'
         return RenderSite(call, "GM401", mode, (), decision.action, self.finder.find(receiver), legacy_spelling=legacy, quote=quote)
+
+    def _class_keeps_its_mode(self, receiver: ast.expr) -> bool:
+        """``env = MyEnv()`` whose class chooses its render mode itself (``set_render_mode``):
+        its ``render(mode)`` is kept, so a call passing a mode still works as it is."""
+        if not hasattr(self, "_class_finder"):
+            self._class_finder = CreationFinder(self.facts, self.receivers, lambda call: self.receivers.local_class(call.func) is not None)
+        creation = self._class_finder.find(receiver)
+        if not creation.found:
+            return False
+        classes = EnvClasses.of(self.facts, self.receivers)
+        made = [self.receivers.local_class(call.func) for call in creation.calls]
+        return all(c is not None and classes.own_render_mode(c) is not None for c in made)
 
     def _report_other_signature(self, call: ast.Call, receiver: ast.expr) -> None:
         if not self.context.profile.imports_gym:
