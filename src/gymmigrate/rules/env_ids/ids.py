@@ -210,7 +210,8 @@ class EnvIds(RuleFamily):
                 if literal is None:
                     sites.extend(self._parameter_ids(value, seen))
                     continue
-                value, via = literal, f"the constant `{value.id}`, {via}"
+                via = f"the constant `{value.id}`, {via}"
+                value = literal
             site = self._site(value, None, False, via=via)
             if site is not None:
                 sites.append(site)
