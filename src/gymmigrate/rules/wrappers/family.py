@@ -10,9 +10,9 @@ from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.module import FUNCTIONS
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext
+from gymmigrate.rules.reset_seed.common import is_space
 from gymmigrate.rules.wrapper_usage.tables import wrapper_rest
 from gymmigrate.rules.wrappers import episode_state
-from gymmigrate.rules.reset_seed.common import is_space
 from gymmigrate.rules.wrappers.common import GONE_WRAPPER_STATE, RULES, _is_inner_env
 from gymmigrate.rules.wrappers.reset import ResetOverrides
 from gymmigrate.rules.wrappers.step import StepOverrides
@@ -29,6 +29,18 @@ class WrapperClasses(StepOverrides, ResetOverrides):
     def decide(self) -> None:
         for classdef in self.facts.all_classes:
             if not self.receivers.is_gym_wrapper_class(classdef):
+                continue
+            library = self.receivers.wraps_gym_only(classdef)
+            if library is not None:
+                self.report(
+                    classdef,
+                    "GM602",
+                    f"`{classdef.name}` wraps what `{library}` makes, a library still on gym (GM107): its step and "
+                    "reset keep gym's API (a four-field step, per-agent arrays when it is batched), so this wrapper and "
+                    "the code that steps it are left as they are (gymnasium.Wrapper also refuses an env that is no "
+                    "gymnasium.Env); port them together with that env (Shimmy, or the library's Gymnasium successor)",
+                    FixKind.FLAG,
+                )
                 continue
             self._check_gone_state(classdef)
             for statement in classdef.body:
@@ -53,7 +65,7 @@ class WrapperClasses(StepOverrides, ResetOverrides):
         if not self.context.profile.imports_gym:
             return
         spaces = [
-            node
+            node.func.value
             for node in ast.walk(function)
             if isinstance(node, ast.Call)
             and isinstance(node.func, ast.Attribute)
@@ -62,7 +74,7 @@ class WrapperClasses(StepOverrides, ResetOverrides):
         ]
         if not spaces:
             return
-        shown = ", ".join(f"`{self.facts.segment(call.func.value)}`" for call in spaces[:3]) + (", ..." if len(spaces) > 3 else "")
+        shown = ", ".join(f"`{self.facts.segment(space)}`" for space in spaces[:3]) + (", ..." if len(spaces) > 3 else "")
         self.report(
             function,
             "GM205",
