@@ -200,7 +200,16 @@ class EnvClasses:
         render = methods.get("render") or methods.get("_render")
         if render is None or not any(a.arg == "mode" for a in render.args.args):
             return False
+        if self.own_render_mode(classdef) is not None:
+            return False  # its render(mode) is kept (GM405): no render_mode to give it
         return init is not None or not self.has_local_env_base(classdef)
+
+    def own_render_mode(self, classdef: ast.ClassDef) -> str | None:
+        """The class's own way of choosing its render mode, which a migration to
+        ``render_mode`` would bypass: a method that sets it (``set_render_mode``), or
+        ``render(self, mode=None)`` falling back to an attribute of its own (``if mode is
+        None: mode = self._render_mode``). Says how, for a message; None if it has none."""
+        return self.facts.memo(("own-render-mode", id(classdef)), lambda: _own_render_mode(self.index(classdef).methods))
 
     def extends_gym_env_directly(self, classdef: ast.ClassDef) -> bool:
         """A base is ``gym.Env`` / ``gymnasium.Env`` itself (so ``super().reset`` only seeds)."""
@@ -241,3 +250,30 @@ def _is_builtin_env_class(qualified: str) -> bool:
         return False
     return rest.rsplit(".", 1)[-1][:1].isupper() and rest.endswith("Env")
 
+
+def _own_render_mode(methods: dict[str, ast.FunctionDef | ast.AsyncFunctionDef]) -> str | None:
+    render = methods.get("render") or methods.get("_render")
+    if render is None or not any(a.arg == "mode" for a in render.args.args):
+        return None
+    setters = sorted(name for name in methods if "render_mode" in name.lower() and name not in ("render", "_render"))
+    if setters:
+        return f"`{setters[0]}()` sets it"
+    params = render.args.args
+    index = next(i for i, a in enumerate(params) if a.arg == "mode")
+    first_default = len(params) - len(render.args.defaults)
+    default = render.args.defaults[index - first_default] if index >= first_default else None
+    if not (isinstance(default, ast.Constant) and default.value is None):
+        return None
+    for statement in render.body:
+        if not (isinstance(statement, ast.If) and ast.unparse(statement.test) == "mode is None"):
+            continue
+        for inner in statement.body:
+            value = inner.value if isinstance(inner, ast.Assign) and [ast.unparse(t) for t in inner.targets] == ["mode"] else None
+            if (
+                isinstance(value, ast.Attribute)
+                and isinstance(value.value, ast.Name)
+                and value.value.id == "self"
+                and value.attr != "render_mode"
+            ):
+                return f"`render(mode=None)` falls back to `self.{value.attr}`"
+    return None

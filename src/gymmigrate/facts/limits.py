@@ -266,6 +266,10 @@ class DoneTracer:
         if isinstance(expr, ast.Attribute) and isinstance(expr.ctx, ast.Load) and _is_self(expr.value):
             return self._attribute(expr.attr, depth)
         if isinstance(expr, ast.Call):
+            if is_dm_env_last(self.facts, expr):
+                # dm_env's ``time_step.last()`` is also True when dm_control's own time limit
+                # ends the episode (with discount 1.0): a task end and a limit in one flag.
+                return DoneCause(Cause.MIXED, (Limit(expr.lineno, self.facts.segment(expr), by_counter=True),))
             found = self._call(expr, depth)
             if found is not None:
                 return found
@@ -582,3 +586,15 @@ def _is_true(expr: ast.AST) -> bool:
 
 def _is_false(expr: ast.AST) -> bool:
     return isinstance(expr, ast.Constant) and expr.value is False
+
+
+def is_dm_env_last(facts: ModuleFacts, call: ast.Call) -> bool:
+    """``time_step.last()`` in a module that uses dm_control or dm_env: the ``TimeStep``'s
+    end of episode, which dm_control's environments also signal at their time limit."""
+    return (
+        isinstance(call.func, ast.Attribute)
+        and call.func.attr == "last"
+        and not call.args
+        and not call.keywords
+        and ("dm_control" in facts.text or "dm_env" in facts.text)
+    )

@@ -129,6 +129,10 @@ class Receivers:
         baselines' ``SubprocVecEnv`` copied into a project) is a VecEnv."""
         kinds = [self._base_kind(base) for base in classdef.bases if not _is_object(base)]
         useful = [k for k in kinds if k not in (EnvKind.UNKNOWN, EnvKind.NOT_ENV)]
+        if useful and useful[0] is EnvKind.GYM_ENV and self.wraps_gym_only(classdef) is not None:
+            # A wrapper around an object of a Gym-only library (gym_unity's batched envs): that
+            # object keeps gym's API, so neither the wrapper nor its callers are Gymnasium code.
+            return EnvKind.UNKNOWN
         if useful:
             if useful[0] is EnvKind.GYM_VEC and _keeps_bare_reset(classdef):
                 # A vector env subclass whose own reset returns the bare observations (no
@@ -139,6 +143,38 @@ class Receivers:
         if all(k is EnvKind.NOT_ENV for k in kinds) and _is_vec_env_shaped(classdef):
             return EnvKind.SB3_VEC
         return EnvKind.NOT_ENV if not kinds else EnvKind.UNKNOWN
+
+    def wraps_gym_only(self, classdef: ast.ClassDef) -> str | None:
+        """A Gym wrapper class of this module that a construction here wraps around an object
+        a Gym-only library makes (``BatchWrapper(UnityEnv(...))`` of gym_unity, directly or
+        through other wrappers of the module): that library's callable, else None. The
+        object keeps gym's API (a four-field step, per-agent arrays), so the wrapper is not
+        migrated, and it is reported (``rules/wrappers``)."""
+        return self.facts.memo(("wraps-gym-only", id(classdef)), lambda: self._wraps_gym_only(classdef), while_computing=None)
+
+    def _wraps_gym_only(self, classdef: ast.ClassDef) -> str | None:
+        if not self.is_gym_wrapper_class(classdef):
+            return None
+        for call in self.facts.calls_by_name.get(classdef.name, ()):
+            found = self._gym_only_inside(call_argument(call, 0, "env"), 0)
+            if found is not None:
+                return found
+        return None
+
+    def _gym_only_inside(self, expr: ast.expr | None, depth: int) -> str | None:
+        if expr is None or depth > 4:
+            return None
+        if isinstance(expr, ast.Call) and isinstance(expr.func, ast.Name):
+            inner = self.local_class(expr.func)
+            if inner is not None:  # another wrapper of the module around it
+                return self._gym_only_inside(call_argument(expr, 0, "env"), depth + 1) if self.is_gym_wrapper_class(inner) else None
+        if isinstance(expr, ast.Name):
+            last = self._dominating_binding(expr)
+            statement = self.facts.statement_of(last) if last is not None else None
+            if isinstance(statement, ast.Assign) and isinstance(statement.value, ast.Call) and self.local_class(statement.value.func) is not None:
+                return self._gym_only_inside(statement.value, depth + 1)
+        made = self.library_made(expr)
+        return made if made is not None and made.split(".", 1)[0] in N.GYM_ONLY_PACKAGES else None
 
     def is_gym_wrapper_class(self, classdef: ast.ClassDef, _seen: frozenset[int] = frozenset()) -> bool:
         for base in classdef.bases:
@@ -167,7 +203,7 @@ class Receivers:
         if classdef is None:
             return None
         if self.is_gym_wrapper_class(classdef):
-            return EnvKind.GYM_ENV
+            return None if self.wraps_gym_only(classdef) is not None else EnvKind.GYM_ENV
         kind = self.class_kind(classdef)
         return kind if kind.is_gym else None
 
@@ -516,7 +552,7 @@ class Receivers:
         if is_method and params and params[0] is param:
             return EnvKind.NOT_ENV  # self / cls
         if is_method and name == "env" and function.name == "__init__" and self.is_gym_wrapper_class(classdef):  # type: ignore[arg-type]
-            return EnvKind.GYM_ENV
+            return EnvKind.NOT_ENV if self.wraps_gym_only(classdef) is not None else EnvKind.GYM_ENV  # type: ignore[arg-type]
         position = next((i for i, p in enumerate(params) if p is param), None)
         if position is not None and is_method:
             position -= 1  # calls do not pass self

@@ -44,7 +44,8 @@ class SelfAttributes:
         if classdef is None:
             return EnvKind.UNKNOWN
         if name == "env" and self.receivers.is_gym_wrapper_class(classdef):
-            return EnvKind.GYM_ENV
+            # around a Gym-only library's object (gym_unity) the wrapped env keeps gym's API: left alone (GM602 reports the class)
+            return EnvKind.NOT_ENV if self.receivers.wraps_gym_only(classdef) is not None else EnvKind.GYM_ENV
         if name == "training_env":
             return EnvKind.SB3_VEC
         if name == "model" and self._is_sb3_callback(classdef):

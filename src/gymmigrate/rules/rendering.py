@@ -249,6 +249,8 @@ class Rendering(RuleFamily):
         function = self.facts.enclosing_function(call)
         if function is not None and function.name == "render" and not self._helper_method(function):
             return None  # a render method forwarding to its env: the Env/Wrapper rules own it
+        if mode_arg is not None and self._class_keeps_its_mode(receiver):
+            return None  # ``render(mode)`` of a class that chooses its mode itself is kept (GM405 says so)
         kind = self.receivers.kind_of(receiver)
         decision = decide(kind, receiver, self.context.profile, legacy_shape=mode_arg is not None or close is not None, origins=self.receivers)
         if decision.action is Action.LEAVE:
@@ -309,8 +311,24 @@ class Rendering(RuleFamily):
         quote = self._quote(value) or '"'
         return RenderSite(call, "GM401", mode, (), decision.action, self.finder.find(receiver), legacy_spelling=legacy, quote=quote)
 
+    def _class_keeps_its_mode(self, receiver: ast.expr) -> bool:
+        """``env = MyEnv()`` whose class chooses its render mode itself (``set_render_mode``):
+        its ``render(mode)`` is kept, so a call passing a mode still works as it is."""
+        if not hasattr(self, "_class_finder"):
+            self._class_finder = CreationFinder(self.facts, self.receivers, lambda call: self.receivers.local_class(call.func) is not None)
+        creation = self._class_finder.find(receiver)
+        if not creation.found:
+            return False
+        classes = EnvClasses.of(self.facts, self.receivers)
+        made = [self.receivers.local_class(call.func) for call in creation.calls]
+        return all(c is not None and classes.own_render_mode(c) is not None for c in made)
+
     def _report_other_signature(self, call: ast.Call, receiver: ast.expr) -> None:
-        if not self.context.profile.imports_gym or self.receivers.kind_of(receiver) is not EnvKind.GYM_ENV:
+        if not self.context.profile.imports_gym:
+            return
+        if self._report_unpacked_arguments(call, receiver):
+            return
+        if self.receivers.kind_of(receiver) is not EnvKind.GYM_ENV:
             return
         creation = self.finder.find(receiver)
         if not (creation.found and all(self._is_gym_make(make) for make in creation.calls)):
@@ -323,6 +341,31 @@ class Rendering(RuleFamily):
             "for the env's own signature, or pass the settings to gym.make",
             FixKind.FLAG,
         )
+
+    def _report_unpacked_arguments(self, call: ast.Call, receiver: ast.expr) -> bool:
+        """``env.render(**kwargs)`` (or ``*args``) outside a render method: what it passes is
+        decided by its callers, and legacy callers passed ``mode=``, which Gymnasium's
+        render() refuses (TypeError) and a Gym env made without a render_mode ignores. On an
+        env the run does not show to be something else, it is reported, not left silent."""
+        if not (any(isinstance(a, ast.Starred) for a in call.args) or any(k.arg is None for k in call.keywords)):
+            return False
+        function = self.facts.enclosing_function(call)
+        if function is not None and function.name == "render":
+            return True  # a render method handing its own arguments on: the Env/Wrapper rules own it
+        kind = self.receivers.kind_of(receiver)
+        decision = decide(kind, receiver, self.context.profile, legacy_shape=True, origins=self.receivers)
+        if decision.action is Action.LEAVE:
+            return True
+        name = receiver_text(receiver)
+        self.report(
+            call,
+            "GM401",
+            f"`{self.facts.segment(call)}` passes on what its callers give (legacy: mode=...), and Gymnasium's render() "
+            f"takes no arguments: if `{name}` is a Gym env, pass the mode as render_mode= (and any size) to gym.make "
+            f"where it is made and call `{name}.render()` bare",
+            FixKind.FLAG,
+        )
+        return True
 
     def _recorder_site(self, call: ast.Call) -> RenderSite | None:
         consumer: str | None = None

@@ -43,6 +43,18 @@ def decide_render(decision: ClassDecision) -> None:
         old_default = f" (the old default was {text}: pass render_mode={text} to gymnasium.make to keep it)"
     if _keeps_mode_already(function, default):
         return  # render(self, mode=None) reading self.render_mode: migrated by an earlier run
+    mechanism = decision.env.own_render_mode(decision.classdef)
+    if mechanism is not None:
+        decision.report(
+            function,
+            "GM405",
+            f"render(mode) kept: the class chooses its render mode itself ({mechanism}); Gymnasium's "
+            "`render_mode` (given to gymnasium.make, stored by __init__, read by a render() without arguments) "
+            "would bypass that mechanism: fold it into render_mode by hand, or keep the class off gymnasium.make's "
+            "render_mode",
+            FixKind.FLAG,
+        )
+        return
     own = _own_mode_call(decision)
     if own is not None:
         decision.report(

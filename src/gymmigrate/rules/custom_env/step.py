@@ -143,6 +143,19 @@ def _decide_returns(decision: ClassDecision, function: Method, helpers: set[int]
             decision.plan.truncating_returns.setdefault(function.name, set()).add(position)
             _report_truncation(decision, ret, done, traced)
             continue
+        dm_last = next((limit for limit in traced.limits if limit.text.endswith(".last()") and not limit.where), None)
+        if dm_last is not None:
+            step = dm_last.text[: -len(".last()")]
+            decision.report(
+                ret,
+                "GM504",
+                f"step returns `{decision.family.facts.segment(done)}` as terminated with truncated=False, but "
+                f"`{dm_last.text}` ({dm_last.place()}) is also True when dm_control's own time limit ends the episode "
+                f"(with discount 1.0): return terminated = `{step}.last() and {step}.discount == 0` and truncated = "
+                f"`{step}.last() and not terminated`",
+                FixKind.ASSIST,
+            )
+            continue
         if traced.limits:
             what = (
                 "split it from the task's own end by hand"

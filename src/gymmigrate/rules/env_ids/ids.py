@@ -93,6 +93,8 @@ _LOADS_SAVED_STATE = re.compile(
 
 
 _ALE_LIVES = "ale.lives"
+# how many functions an id parameter is followed through to the literal its callers pass
+_PARAMETER_HOPS = 4
 
 
 class EnvIds(RuleFamily):
@@ -166,14 +168,20 @@ class EnvIds(RuleFamily):
         sites.extend(self._constants_passed_on())
         return sites
 
-    def _parameter_ids(self, name: ast.Name) -> list[IdSite]:
+    def _parameter_ids(self, name: ast.Name, seen: frozenset[ast.arg] = frozenset()) -> list[IdSite]:
         """``def make_env(env_id="PongNoFrameskip-v4"): return gym.make(env_id)``: the id is a
         parameter of the function around the call; its default and what the module's calls of
-        that function pass (string literals, or constants bound once to one) are ids."""
+        that function pass (string literals, or constants bound once to one) are ids. A call
+        that passes a parameter of its own function on (``Task(name)`` calling
+        ``make_env(name)``, whose thunk makes ``gym.make(env_id)``) is followed to that
+        function's callers in turn, a few hops deep."""
         bindings = self.facts.bindings_of(name)
         if len(bindings) != 1 or not isinstance(bindings[0], ast.arg):
             return []
         param = bindings[0]
+        if param in seen or len(seen) >= _PARAMETER_HOPS:
+            return []
+        seen = seen | {param}
         function = self.facts.parent(self.facts.parent(param))
         if not isinstance(function, (ast.FunctionDef, ast.AsyncFunctionDef)):
             return []
@@ -199,7 +207,11 @@ class EnvIds(RuleFamily):
         for value, via in values:
             if isinstance(value, ast.Name):
                 literal = self._single_literal_constant(value)
-                value, via = (literal, f"the constant `{value.id}`, {via}") if literal is not None else (value, via)
+                if literal is None:
+                    sites.extend(self._parameter_ids(value, seen))
+                    continue
+                via = f"the constant `{value.id}`, {via}"
+                value = literal
             site = self._site(value, None, False, via=via)
             if site is not None:
                 sites.append(site)

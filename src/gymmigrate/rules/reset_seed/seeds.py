@@ -27,6 +27,8 @@ from gymmigrate.rules.reset_seed.call_edits import SeedValue
 from gymmigrate.rules.reset_seed.common import ResetSeedBase, is_space
 
 _BLOCK_FIELDS = ("body", "orelse", "finalbody")
+# methods of an env a seed never moves past: they run or end episodes
+_NOT_SETUP = frozenset({"reset", "step", "seed", "close", "render", "step_async", "step_wait"})
 
 
 class SeedCalls(ResetSeedBase):
@@ -59,6 +61,7 @@ class SeedCalls(ResetSeedBase):
                 code,
                 "inside a seed() method, which Gymnasium never calls: move the seeding into reset(seed=...)",
                 FixKind.FLAG,
+                question=("seed() method", function.lineno),  # a wrapper's space seeding there asks the same (GM205)
             )
             return
         statement = self.facts.parent(call)
@@ -85,13 +88,28 @@ class SeedCalls(ResetSeedBase):
         if numpy:
             self.report(seed, "GM206", "numpy seed wrapped in int(): Gymnasium accepts only Python ints as seeds")
         self._check_seed_in_loop(call, seed, f"`{name}.seed(...)`")
-        merged = self._next_reset(statement, receiver)
+        merged, setup = self._next_reset(statement, receiver)
         why = self._why(decision)
         if merged is not None:
             value = SeedValue()
             self.plan.replace(call, value.take)
             self.plan.remove(statement, keep_comments=True)
             self._edit(merged).add_seed = value.get(as_int=numpy, moved=lambda: statement in self.plan.removed)
+            if setup is not None:
+                # ``env.seed(0); env.set_agents(...); env.reset()``: a reset in place of the
+                # seed would run before the set-up the reset needs; the seed goes to the reset
+                # that comes next, after it.
+                self.report(
+                    call,
+                    code,
+                    f"`{name}.seed(s)` merged into the reset that follows the set-up "
+                    f"(`{segment(self.facts, setup.func)}(...)`, line {setup.lineno}): `{name}.reset(seed=s)`; "
+                    f"a reset here would run before that set-up. If the set-up draws from the env's "
+                    f"random generator, it is no longer seeded: seed it yourself{why}",
+                    FixKind.ASSIST,
+                    question=self.receiver_question(receiver, decision),
+                )
+                return
             self.report(
                 call,
                 code,
@@ -124,28 +142,57 @@ class SeedCalls(ResetSeedBase):
 
     # -- merging into the next reset ---------------------------------------------------------
 
-    def _next_reset(self, statement: ast.Expr, receiver: ast.expr) -> ast.Call | None:
-        """The reset of the same env that the seeding ``statement`` leads to, if merging is safe.
+    def _next_reset(self, statement: ast.Expr, receiver: ast.expr) -> tuple[ast.Call | None, ast.Call | None]:
+        """The reset of the same env that the seeding ``statement`` leads to, if merging is
+        safe, and the first set-up call on the env the seed moves past (None if none).
 
         Only statements of the same block are looked at, so a seed is never moved into a
         loop; statements in between must not touch the env (space seeding and other
-        seeding calls are fine). The seed must have its line to itself.
+        seeding calls are fine), except set-up calls of the env's own methods
+        (``env.set_agents(...)``): the reset that comes next in program order follows them,
+        and a reset put in the seed's place would run before them. The seed must have its
+        line to itself.
         """
         found = self._place_in_block(statement)
         if found is None:
-            return None
+            return None, None
         block, position = found
         if not self._alone_on_its_line(statement, block, position):
-            return None
+            return None, None
         wanted = segment(self.facts, receiver)
         root = _root_name(receiver)
+        setup: ast.Call | None = None
         for line in statement_lines(block, position + 1):
             reset = self._reset_statement(line, wanted)
             if reset is not None:
-                return reset
-            if not _independent_of(line, root):
-                return None
-        return None
+                return reset, setup
+            if _independent_of(line, root):
+                continue
+            call = self._setup_call(line, wanted, root)
+            if call is None:
+                return None, None
+            setup = setup or call
+        return None, None
+
+    def _setup_call(self, line: list[ast.stmt], receiver_code: str, root: str | None) -> ast.Call | None:
+        """``env.set_agents(agents)`` on a line of its own: a method of the env itself or of
+        what it wraps (not reset, step, seed, close or render) called for its effect, whose arguments neither
+        hand the env on nor rebind anything."""
+        if root is None or len(line) != 1 or not isinstance(line[0], ast.Expr):
+            return None
+        call = line[0].value
+        if not (isinstance(call, ast.Call) and isinstance(call.func, ast.Attribute)):
+            return None
+        owner = call.func.value  # the env, or what it wraps: ``env.unwrapped.set_agents(...)``
+        while isinstance(owner, ast.Attribute) and segment(self.facts, owner) != receiver_code:
+            owner = owner.value
+        if call.func.attr in _NOT_SETUP or segment(self.facts, owner) != receiver_code:
+            return None
+        for argument in [*call.args, *(kw.value for kw in call.keywords)]:
+            for node in ast.walk(argument):
+                if isinstance(node, ast.NamedExpr) or (isinstance(node, ast.Name) and node.id == root):
+                    return None
+        return call
 
     def _alone_on_its_line(self, statement: ast.stmt, block: list[ast.stmt], position: int) -> bool:
         """Not in a one-line suite (``if x: env.seed(1)``) nor sharing its line (``a; env.seed(1)``)."""

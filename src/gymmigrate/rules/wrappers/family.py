@@ -10,9 +10,10 @@ from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.module import FUNCTIONS
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext
+from gymmigrate.rules.reset_seed.common import is_space
 from gymmigrate.rules.wrapper_usage.tables import wrapper_rest
 from gymmigrate.rules.wrappers import episode_state
-from gymmigrate.rules.wrappers.common import GONE_WRAPPER_STATE, RULES
+from gymmigrate.rules.wrappers.common import GONE_WRAPPER_STATE, RULES, _is_inner_env
 from gymmigrate.rules.wrappers.reset import ResetOverrides
 from gymmigrate.rules.wrappers.step import StepOverrides
 
@@ -29,6 +30,18 @@ class WrapperClasses(StepOverrides, ResetOverrides):
         for classdef in self.facts.all_classes:
             if not self.receivers.is_gym_wrapper_class(classdef):
                 continue
+            library = self.receivers.wraps_gym_only(classdef)
+            if library is not None:
+                self.report(
+                    classdef,
+                    "GM602",
+                    f"`{classdef.name}` wraps what `{library}` makes, a library still on gym (GM107): its step and "
+                    "reset keep gym's API (a four-field step, per-agent arrays when it is batched), so this wrapper and "
+                    "the code that steps it are left as they are (gymnasium.Wrapper also refuses an env that is no "
+                    "gymnasium.Env); port them together with that env (Shimmy, or the library's Gymnasium successor)",
+                    FixKind.FLAG,
+                )
+                continue
             self._check_gone_state(classdef)
             for statement in classdef.body:
                 if not isinstance(statement, FUNCTIONS):
@@ -39,6 +52,73 @@ class WrapperClasses(StepOverrides, ResetOverrides):
                     self._fix_step(statement)
                 elif statement.name == "reset":
                     self._fix_reset(classdef, statement)
+                elif statement.name == "seed":
+                    self._check_seed(classdef, statement)
+                elif statement.name == "render":
+                    self._check_render(classdef, statement)
+
+    # -- seed() and render(mode, ...) overrides: Gymnasium calls neither that way ----------------
+
+    def _check_seed(self, classdef: ast.ClassDef, function: ast.FunctionDef | ast.AsyncFunctionDef) -> None:
+        """``def seed(self, seed): self.action_space.seed(seed)``: Gymnasium never calls a
+        wrapper's seed(), so its spaces go unseeded; the seeding belongs in ``reset(seed=...)``."""
+        if not self.context.profile.imports_gym:
+            return
+        spaces = [
+            node.func.value
+            for node in ast.walk(function)
+            if isinstance(node, ast.Call)
+            and isinstance(node.func, ast.Attribute)
+            and node.func.attr == "seed"
+            and is_space(node.func.value)
+        ]
+        if not spaces:
+            return
+        shown = ", ".join(f"`{self.facts.segment(space)}`" for space in spaces[:3]) + (", ..." if len(spaces) > 3 else "")
+        self.report(
+            function,
+            "GM205",
+            f"`{classdef.name}.seed()` seeds {shown}; Gymnasium never calls a wrapper's seed(), so those spaces are no "
+            "longer seeded: seed them in reset (`if seed is not None: self.action_space.seed(seed)`) and hand the seed "
+            "on with `self.env.reset(seed=seed, options=options)`",
+            FixKind.FLAG,
+            question=("seed() method", function.lineno),
+        )
+
+    def _check_render(self, classdef: ast.ClassDef, function: ast.FunctionDef | ast.AsyncFunctionDef) -> None:
+        """``def render(self, mode="rgb_array", height=None, width=None)`` forwarding them to
+        ``self.env.render(mode=mode, ...)``: Gymnasium's wrappers call render() bare and the
+        inner env's render() takes no arguments (TypeError), so the mode and the image size
+        must be given where the inner env is made."""
+        if not self.context.profile.imports_gym:
+            return
+        args = function.args
+        named = [a.arg for a in (*args.posonlyargs, *args.args, *args.kwonlyargs)][1:]  # ``self`` first
+        if not named:
+            return  # ``render(self)`` or ``render(self, *args, **kwargs)``: Gymnasium's call works
+        forwarded = [
+            node
+            for node in ast.walk(function)
+            if isinstance(node, ast.Call)
+            and isinstance(node.func, ast.Attribute)
+            and node.func.attr == "render"
+            and (node.args or node.keywords)
+            and _is_inner_env(node.func.value)
+        ]
+        where = (
+            f": `{self.facts.segment(forwarded[0])}` on line {forwarded[0].lineno} raises TypeError (the inner render() "
+            "takes none)"
+            if forwarded
+            else ""
+        )
+        self.report(
+            function,
+            "GM405",
+            f"`{classdef.name}.render({', '.join(named)})` takes arguments Gymnasium never passes (its wrappers call "
+            f"render() bare){where}; pass the mode as render_mode= and the image size (width=, height= for MuJoCo envs) "
+            "to gym.make where the inner env is made, then forward `self.env.render()`",
+            FixKind.FLAG,
+        )
 
     # -- GM618 ------------------------------------------------------------------------------
 
