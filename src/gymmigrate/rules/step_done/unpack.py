@@ -771,16 +771,15 @@ class UnpackRules(StepFamilyBase):
         elif owner is step.assign and (
             (use is DoneUse.DATA and stored_in_sequence(read, self.facts)) or self._stores_step_without_next_state(read, step)
         ):
-            # one question per step: its other stores are notes pointing at the first
-            tier, same = self.rollout_advice.tier(id(step.assign), read)
+            # Nothing to decide: the boundary means what legacy ``done`` meant (a note).
             self._report_read(
                 read,
                 f"`{read.id}` is stored per step without the next state (a rollout or a log): it stays "
-                f"`{names.terminated} or {names.truncated}`, the episode boundary. To bootstrap time-limit "
-                f"truncations, also keep the value of the final observation and mask it with `{names.terminated}`{same}",
+                f"`{names.terminated} or {names.truncated}`, the episode boundary legacy `done` was. To bootstrap "
+                f"time-limit truncations, also keep the value of the final observation and mask it with "
+                f"`{names.terminated}`",
                 FixKind.FLAG,
-                tier,
-                question=question,
+                Tier.NOTE,
             )
         elif use is DoneUse.AMBIGUOUS and owner is step.assign and self._hands_step_on(read, step):
             self._report_read(
