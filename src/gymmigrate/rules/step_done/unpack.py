@@ -304,13 +304,13 @@ class UnpackRules(StepFamilyBase):
             # only added to when not done (``if not done: y += gamma * q(s2)``): a value, not a
             # state to go on from (``if not done: state = preprocess(s2)``).
             chosen = {name for s in done_branch if isinstance(s, (ast.Assign, ast.AnnAssign)) for name in _assigned(s)}
-            computed = [
+            computed: list[ast.AST] = [
                 s.value
                 for s in other
-                if (isinstance(s, (ast.Assign, ast.AnnAssign)) and _assigned(s) & chosen)
-                or (not done_branch and isinstance(s, ast.AugAssign))
+                if ((isinstance(s, (ast.Assign, ast.AnnAssign)) and _assigned(s) & chosen) or (not done_branch and isinstance(s, ast.AugAssign)))
+                and s.value is not None
+                and not isinstance(s.value, ast.Name)
             ]
-            computed = [value for value in computed if value is not None and not isinstance(value, ast.Name)]
             if not reads(computed) or reads(list(done_branch)):
                 return None
             return all(isinstance(s, (ast.Assign, ast.AugAssign, ast.AnnAssign, ast.Pass)) for s in [*done_branch, *other])
