@@ -154,6 +154,9 @@ class ProjectFacts:
     # Modules whose env classes an untraced ``x.seed(...)`` elsewhere in the run may reach.
     seed_called: set[str] = field(default_factory=set)
     render_called: set[str] = field(default_factory=set)  # ...and an untraced ``x.render(mode)``
+    # Some module imports Gym's (or Gymnasium's) ``check_env``, which tests in Gymnasium 1.x
+    # that a seeded reset makes the steps reproducible (GM510).
+    checks_envs: bool = False
     # Modules with env classes, and the modules of the run that import them.
     importers: dict[str, set[str]] = field(default_factory=dict)
     # Modules the run leaves as they are (refused, skip-file), with the reason: their
@@ -261,6 +264,7 @@ class ProjectFacts:
                 if resolved is not None:
                     calls_to[resolved].append((summary.path, call))
         imported = {q for summary in summaries for q in summary.imported}
+        facts.checks_envs = any(imports_env_checker(q) for q in imported)
         facts._join_nearby_packages(summaries)
         requires = {
             package
@@ -798,6 +802,12 @@ def _nearest_root(paths: tuple[str, ...], depth: int, importer: str) -> str | No
     return nearest[0] if len(nearest) == 1 else None
 
 
+def imports_env_checker(qualified: str) -> bool:
+    """``gym.utils.env_checker.check_env`` or its module, under Gym or Gymnasium."""
+    parts = qualified.split(".")
+    return parts[0] in ("gym", "gymnasium") and parts[1:4] in (["utils", "env_checker"], ["utils", "env_checker", "check_env"])
+
+
 def _is_ref(kind: object) -> bool:
     """A re-export (``ref:<module>.<name>``), not a resolved kind: ``EnvKind`` is a ``str``
     enum, so ``isinstance(kind, str)`` alone does not tell them apart."""
@@ -831,6 +841,10 @@ class ProjectView:
     def render_called_elsewhere(self) -> bool:
         """The same for ``x.render(mode)``: this module's env classes keep render(mode)."""
         return self.path in self.facts.render_called
+
+    def checks_envs(self) -> bool:
+        """A module of the run imports Gym's or Gymnasium's ``check_env`` (or its module)."""
+        return self.facts.checks_envs
 
     def call_kind(self, qualified: str) -> EnvKind | None:
         """What calling an imported name of the run gives (``from hunt import HuntEnv``:

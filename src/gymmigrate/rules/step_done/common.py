@@ -16,7 +16,6 @@ from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import Rule, RuleFamily
-from gymmigrate.rules.repeats import Repeats
 
 RULES = (
     Rule(
@@ -95,7 +94,6 @@ class StepFamilyBase(RuleFamily):
     # Rewritten steps by ``done`` variable (scope id, name); their reads are planned together.
     done_steps: dict[tuple[int, str], list]
     reported_reads: set[int]  # ``done`` reads already reported (by node id)
-    rollout_advice: Repeats  # GM302: one review item per step whose flag is stored per step
     result_steps: dict[tuple[int, str], list]  # ``res = x.step(a)`` by variable
     # Four-target step unpacks: a read that one of them dominates belongs to it alone.
     legacy_unpacks: set[ast.Assign]

@@ -15,7 +15,6 @@ from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.module import FUNCTIONS
 from gymmigrate.rules.base import FileContext
-from gymmigrate.rules.repeats import Repeats
 from gymmigrate.rules.step_done.common import RULES, TIME_LIMIT_KEY
 from gymmigrate.rules.step_done.results import ResultRules
 from gymmigrate.rules.step_done.time_limit import TimeLimitRules, time_limit_reads
@@ -41,7 +40,6 @@ class StepDone(UnpackRules, TimeLimitRules, ResultRules):
         self.done_steps = {}
         self.result_steps = {}
         self.reported_reads = set()
-        self.rollout_advice = Repeats()
         steps = facts.attribute_calls.get("step", [])
         self.forwarded_unpacks = {}
         for call in steps:

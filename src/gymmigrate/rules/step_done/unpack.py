@@ -189,6 +189,11 @@ class UnpackRules(StepFamilyBase):
                         continue
                     if masked is not None:
                         self._report_none_mask(read, steps[first], masked[0])
+                    elif (simple := self._bootstrap_choice(read, steps[first], dominated=True)) is not None:
+                        if simple:
+                            self._claim(read, steps[first])
+                            continue
+                        self._report_bootstrap_choice(read, steps[first])
             if not flow.same_frame(read, scope):
                 stop = len(steps)  # a nested function may run after any of them
             else:
@@ -253,6 +258,100 @@ class UnpackRules(StepFamilyBase):
                 f"it now reads `{terminated}`, so a time-limit truncation still bootstraps"
             )
         self._report_read(read, message, FixKind.ASSIST, Tier.NOTE)  # the migration guide's own rewrite
+
+    def _bootstrap_choice(self, read: ast.Name, step: _DoneStep, dominated: bool) -> bool | None:
+        """``R = 0.0 if done else v(s2)``, ``if done: y = r`` / ``else: y = r + gamma * q(s2)``,
+        ``if not done: y += gamma * q(s2)``: the flag chooses between a value computed from
+        the step's next state and one that is not, so it masks bootstrapping from that state.
+        Returns whether the test can simply read ``terminated`` (a conditional expression, or
+        branches that only assign: a ``break`` there is loop control, which stays ``done``);
+        None when the flag makes no such choice. A None on the done side is the next state
+        itself (``_none_mask``). ``dominated``: the step certainly binds the flag read, and
+        the next state is what the step's observation certainly gave; otherwise any name
+        computed from that observation counts (the read is reported, never rewritten)."""
+        facts = self.facts
+        node: ast.AST = read
+        negated = False
+        parent = facts.parent(node)
+        if isinstance(parent, ast.UnaryOp) and isinstance(parent.op, ast.Not):
+            node, negated, parent = parent, True, facts.parent(parent)
+        if dominated:
+            next_names = self._next_state_names(step)
+
+            def reads(parts: list[ast.AST]) -> bool:
+                return any(self._reads_next_state(part, step, next_names) for part in parts)
+        else:
+            next_names = self._derived_names(step)
+
+            def reads(parts: list[ast.AST]) -> bool:
+                return any(n.id in next_names for part in parts for n in ast.walk(part) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load))
+
+        if not next_names:
+            return None
+        if isinstance(parent, ast.IfExp) and parent.test is node:
+            when_done, otherwise = (parent.orelse, parent.body) if negated else (parent.body, parent.orelse)
+            # ``state = env.reset() if done else obs``: the next state itself, or a new episode
+            if isinstance(otherwise, ast.Name) or _is_none(when_done) or _resets(when_done):
+                return None
+            if not reads([otherwise]) or reads([when_done]):
+                return None
+            return True
+        if isinstance(parent, ast.If) and parent.test is node:
+            done_branch, other = (parent.orelse, parent.body) if negated else (parent.body, parent.orelse)
+            if any(isinstance(s, ast.Assign) and _is_none(s.value) for s in done_branch) or any(map(_resets, done_branch)):
+                return None  # ``if done: next_state = None`` (the None mask), ``if done: obs = env.reset()``
+            # One target chosen both ways (``if done: y = r`` / ``else: y = r + gamma * q(s2)``), or
+            # only added to when not done (``if not done: y += gamma * q(s2)``): a value, not a
+            # state to go on from (``if not done: state = preprocess(s2)``).
+            chosen = {name for s in done_branch if isinstance(s, (ast.Assign, ast.AnnAssign)) for name in _assigned(s)}
+            computed: list[ast.AST] = [
+                s.value
+                for s in other
+                if ((isinstance(s, (ast.Assign, ast.AnnAssign)) and _assigned(s) & chosen) or (not done_branch and isinstance(s, ast.AugAssign)))
+                and s.value is not None
+                and not isinstance(s.value, ast.Name)
+            ]
+            if not reads(computed) or reads(list(done_branch)):
+                return None
+            return all(isinstance(s, (ast.Assign, ast.AugAssign, ast.AnnAssign, ast.Pass)) for s in [*done_branch, *other])
+        return None
+
+    def _derived_names(self, step: _DoneStep) -> set[str]:
+        """The step's observation target and every name assigned, anywhere in its function,
+        from an expression that reads one of them (in source order, without flow)."""
+
+        def compute() -> set[str]:
+            first = step.target.elts[0]
+            if not isinstance(first, ast.Name) or first.id == "_":
+                return set()
+            names = {first.id}
+            function = self.facts.enclosing_function(step.assign) or self.facts.tree
+            assigns = sorted(
+                (n for n in ast.walk(function) if isinstance(n, ast.Assign) and n is not step.assign),
+                key=lambda n: (n.lineno, n.col_offset),
+            )
+            for assign in assigns:
+                if loaded_names(assign.value) & names:
+                    names.update(name for target in assign.targets for name in bound_names(target))
+            return names
+
+        return self.facts.memo(("derived-next-names", id(step.assign)), compute)
+
+    def _report_bootstrap_choice(self, read: ast.Name, step: _DoneStep, dominated: bool = True) -> None:
+        names = step.names
+        why = (
+            "its branches also do more than assign (loop control stays on it)"
+            if dominated
+            else f"it may not come from the step on line {step.assign.lineno}"
+        )
+        self._report_read(
+            read,
+            f"`{read.id}` chooses whether a value is computed from the next state (a bootstrap target), but {why}; "
+            f"it now means `{names.terminated} or {names.truncated}`: decide bootstrapping on `{names.terminated}` "
+            f"so that a time-limit truncation still bootstraps, and keep `{read.id}` for ending the episode",
+            FixKind.FLAG,
+            question=("GM302", id(step.assign)),
+        )
 
     # -- ``next_state = None if done else obs``: the mask is the next state itself -------------
 
@@ -656,7 +755,9 @@ class UnpackRules(StepFamilyBase):
             if isinstance(statement, ast.Assign) and statement.value is read and len(statement.targets) == 1
             else []
         )
-        if stored and any(id(node) in self.reported_reads for node in stored):
+        if owner is not step.assign and self._bootstrap_choice(read, step, dominated=False) is not None:
+            self._report_bootstrap_choice(read, step, dominated=False)
+        elif stored and any(id(node) in self.reported_reads for node in stored):
             self.reported_reads.add(id(read))  # the stored value is reported already: one item
         elif stored:
             self._report_read(
@@ -670,16 +771,15 @@ class UnpackRules(StepFamilyBase):
         elif owner is step.assign and (
             (use is DoneUse.DATA and stored_in_sequence(read, self.facts)) or self._stores_step_without_next_state(read, step)
         ):
-            # one question per step: its other stores are notes pointing at the first
-            tier, same = self.rollout_advice.tier(id(step.assign), read)
+            # Nothing to decide: the boundary means what legacy ``done`` meant (a note).
             self._report_read(
                 read,
                 f"`{read.id}` is stored per step without the next state (a rollout or a log): it stays "
-                f"`{names.terminated} or {names.truncated}`, the episode boundary. To bootstrap time-limit "
-                f"truncations, also keep the value of the final observation and mask it with `{names.terminated}`{same}",
+                f"`{names.terminated} or {names.truncated}`, the episode boundary legacy `done` was. To bootstrap "
+                f"time-limit truncations, also keep the value of the final observation and mask it with "
+                f"`{names.terminated}`",
                 FixKind.FLAG,
-                tier,
-                question=question,
+                Tier.NOTE,
             )
         elif use is DoneUse.AMBIGUOUS and owner is step.assign and self._hands_step_on(read, step):
             self._report_read(
@@ -828,6 +928,16 @@ def _passes(argument: ast.expr, name: str) -> bool:
     if isinstance(argument, (ast.Tuple, ast.List)):
         return any(_passes(element, name) for element in argument.elts)
     return isinstance(argument, ast.Name) and argument.id == name
+
+
+def _assigned(statement: ast.Assign | ast.AnnAssign) -> set[str]:
+    targets = statement.targets if isinstance(statement, ast.Assign) else [statement.target]
+    return {name for target in targets for name in bound_names(target)}
+
+
+def _resets(node: ast.AST) -> bool:
+    """``node`` calls some ``x.reset(...)``: the flag starts a new episode there."""
+    return any(isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute) and n.func.attr == "reset" for n in ast.walk(node))
 
 
 def _is_none(node: ast.AST) -> bool:

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import ast
 import re
+from dataclasses import replace
 
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts.module import own_returns
@@ -33,6 +34,28 @@ from gymmigrate.rules.wrappers.common import (
 
 class StepOverrides(RuleFamily):
     """GM602 (mixed into the family; no ``RULES``, so not registered itself)."""
+
+    def _settle_key_writes(self, function: ast.AST) -> None:
+        """The override now returns its step limit as truncation: the StepDone family's
+        GM303 item on its ``info["TimeLimit.truncated"] = True`` (asking for exactly that)
+        is settled, a note that the leftover key is harmless."""
+        first, last = function.lineno, function.end_lineno or function.lineno  # type: ignore[attr-defined]
+        writes: set[int] = set()
+        for index, node in enumerate(self.plan.finding_nodes):
+            finding = self.plan.findings[index]
+            if finding.rule == "GM303" and isinstance(node, ast.Subscript) and first <= finding.line <= last and finding.needs_review:
+                writes.add(finding.line)
+                self.plan.findings[index] = replace(
+                    finding,
+                    message=f"{finding.message.split(':', 1)[0]}: the step now returns its time limit as `truncated`, so the "
+                    "key is only a leftover (harmless; delete it when convenient)",
+                    tier=Tier.NOTE,
+                )
+        for index, node in enumerate(self.plan.finding_nodes):
+            finding = self.plan.findings[index]
+            # ``info["TimeLimit.truncated"] = not done``: the leftover key's value asks nothing
+            if finding.rule == "GM302" and finding.line in writes and finding.needs_review and not isinstance(node, ast.stmt):
+                self.plan.findings[index] = replace(finding, message=f"{finding.message} (the value of the leftover key)", tier=Tier.NOTE)
 
     def _only_step_limits(
         self, lines: list[ast.stmt], name: str, done_line: ast.stmt | None, unpacks: dict[ast.stmt, StepUnpack | None]
@@ -164,6 +187,7 @@ class StepOverrides(RuleFamily):
                     tier=Tier.NOTE,
                 )
                 self.plan.replace(value, lambda node, t=terminated: _five(node, _cut(node, t)))
+                self._settle_key_writes(function)
             elif isinstance(done, ast.Constant) and (done.value is None or isinstance(done.value, bool)):
                 # ``return obs, reward, False, info``: the override's own constant end.
                 self.report(
