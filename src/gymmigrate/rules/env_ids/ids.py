@@ -458,12 +458,11 @@ class EnvIds(RuleFamily):
         hint = removed_family(site.env_id)
         if hint is not None:
             plugin = plugin_of(site.env_id)
-            if plugin is not None and re.search(rf"^\s*(?:import|from)\s+{plugin}\b", self.facts.text, re.M):
-                self.report(
-                    site.string, "GM805", f"`{site.env_id}` no longer exists: {hint} (asked once, at the `{plugin}` import)", tier=Tier.NOTE
-                )
-            else:
-                self.report(site.string, "GM805", f"`{site.env_id}` no longer exists: {hint}")
+            # The import of the plugin package asks the same question (GM107): the file's
+            # review list asks it once, at the first of them; where the import's item is
+            # silenced (``import pybullet_envs  # noqa``), the id's site asks it.
+            question = ("gym-only-library", plugin) if plugin is not None else None
+            self.report(site.string, "GM805", f"`{site.env_id}` no longer exists: {hint}", question=question)
         final_id = migration.new_id if migration is not None else site.env_id
         package = env_package(final_id)
         if package is not None and not site.module_prefix and package.module not in self._packages:
