@@ -331,15 +331,16 @@ class EnvIds(RuleFamily):
             if self._id_call(call) is not None or not self._project_callee(call):
                 continue
             callee = full_name(call.func) or "the project's function"
-            for argument in (*call.args, *(kw.value for kw in call.keywords)):
+            for passed in (*call.args, *(kw.value for kw in call.keywords)):
                 via = f"an argument of `{callee}(...)`"
-                if isinstance(argument, ast.Name):
-                    if self._single_literal_constant(argument) is not None:
+                argument: ast.expr = passed
+                if isinstance(passed, ast.Name):
+                    if self._single_literal_constant(passed) is not None:
                         continue  # a constant: ``_constants_passed_on``
-                    literal = self._literal_of(argument)
+                    literal = self._literal_of(passed)
                     if literal is None:
                         continue
-                    argument, via = literal, f"`{argument.id}`, {via}"
+                    argument, via = literal, f"`{passed.id}`, {via}"
                 text = plain_string(self.facts, argument)
                 if text is None or env_package(_split_module_prefix(text)[1]) is None:
                     continue
@@ -460,7 +461,7 @@ class EnvIds(RuleFamily):
             plugin = plugin_of(site.env_id)
             # The import of the plugin package asks the same question (GM107): the file's
             # review list asks it once, at the first of them; where the import's item is
-            # silenced (``import pybullet_envs  # noqa``), the id's site asks it.
+            # silenced (a bare noqa comment on ``import pybullet_envs``), the id's site asks it.
             question = ("gym-only-library", plugin) if plugin is not None else None
             self.report(site.string, "GM805", f"`{site.env_id}` no longer exists: {hint}", question=question)
         final_id = migration.new_id if migration is not None else site.env_id
