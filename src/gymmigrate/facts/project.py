@@ -93,6 +93,9 @@ class ModuleSummary:
     # Top-level Gym wrapper classes (``Wrapper`` subclasses, through local bases): an
     # instance made elsewhere is a wrapper, so what it does not define was forwarded.
     wrapper_classes: frozenset[str] = frozenset()
+    # Top-level defs that return their first argument, maybe in Gym wrappers
+    # (``Receivers.wraps_argument``): what they give has the kind of what they take.
+    wrapping_helpers: frozenset[str] = frozenset()
     # Top-level PettingZoo wrapper classes and aliases of PettingZoo's wrapper bases
     # (``facts/pz_wrappers.py``): name -> ("aec" | "parallel" | "ref:<qualified>", methods).
     pz_wrappers: dict[str, tuple[str, tuple[str, ...]]] = field(default_factory=dict)
@@ -144,6 +147,7 @@ class ProjectFacts:
     defs: dict[str, frozenset[str]] = field(default_factory=dict)  # path -> qualnames defined
     env_classes: dict[str, frozenset[str]] = field(default_factory=dict)  # path -> env classes
     wrapper_classes: dict[str, frozenset[str]] = field(default_factory=dict)  # path -> Gym wrapper classes
+    wrapping_helpers: dict[str, frozenset[str]] = field(default_factory=dict)  # path -> defs that wrap their argument
     # path -> its PettingZoo wrapper classes (``ModuleSummary.pz_wrappers``)
     pz_wrappers: dict[str, dict[str, tuple[str, tuple[str, ...]]]] = field(default_factory=dict)
     spec_lists: dict[str, frozenset[str]] = field(default_factory=dict)  # path -> names bound to lists of EnvSpecs
@@ -232,6 +236,7 @@ class ProjectFacts:
             left = summary.path in facts.blocked
             facts.env_classes[summary.path] = frozenset() if left else summary.env_classes
             facts.wrapper_classes[summary.path] = frozenset() if left else summary.wrapper_classes
+            facts.wrapping_helpers[summary.path] = frozenset() if left else summary.wrapping_helpers
             facts.pz_wrappers[summary.path] = summary.pz_wrappers
             facts.spec_lists[summary.path] = summary.spec_lists
             facts.render_mode_classes[summary.path] = frozenset() if left else summary.render_mode_classes
@@ -1020,6 +1025,12 @@ class ProjectView:
                 return api, frozenset(methods)
             split = self.facts._split(api[len(REF) :], path)
         return None
+
+    def wraps_argument(self, qualified: str) -> bool:
+        """An imported def of the run returns its first argument, maybe in Gym wrappers
+        (``from common.wrappers import wrap_deepmind``)."""
+        split = self.facts._split(qualified, self.path)
+        return split is not None and split[1] in self.facts.wrapping_helpers.get(split[0], ())
 
     def is_wrapper_class(self, qualified: str) -> bool:
         """An imported name of the run is a Gym wrapper class (``from pkg.wrappers import X``)."""

@@ -265,6 +265,9 @@ class Receivers:
         kinds = [k for k in (self.kind_from_qualified(q, call) for q in self.qualified_names(func)) if k is not None]
         if kinds:
             return join_kinds(kinds)
+        wrapped = self.wrapped_argument(call)
+        if wrapped is not None and self.kind_of(wrapped) is EnvKind.GYM_ENV:
+            return EnvKind.GYM_ENV  # ``wrap_deepmind(env)``: the Gym env it takes, maybe in Gym wrappers
         if self.project is not None:
             # A class or factory of another module of the run (re-exports and subclasses
             # followed): its instances or its returns.
@@ -415,7 +418,7 @@ class Receivers:
         if not (isinstance(statement, (ast.Assign, ast.AnnAssign)) and statement.value is not None):
             return None
         rebinds = any(isinstance(n, ast.Name) and n.id == name.id for n in ast.walk(statement.value))
-        if rebinds and not self._makes_gym_wrapper(statement.value):
+        if rebinds and not (self._makes_gym_wrapper(statement.value) or self.wrapped_argument(statement.value) is not None):
             return None  # ``env = wrap(env)``: its kind rests on the earlier values too
         return last if flow.dominates(statement, name, name) else None
 
@@ -434,6 +437,56 @@ class Receivers:
             return self.project.star_wrapper_class(value.func.id, self.facts.star_imports)
         local = self.local_class(value.func)
         return local is not None and self.is_gym_wrapper_class(local)
+
+    def wrapped_argument(self, value: ast.AST) -> ast.expr | None:
+        """The env ``value`` hands on: its first argument, where it calls a def of the run
+        that returns that argument or Gym wrappers around it (``def wrap_deepmind(env):
+        if clip: env = ClipReward(env); return env``; ``ProjectView.wraps_argument``)."""
+        if not (isinstance(value, ast.Call) and value.args and not isinstance(value.args[0], ast.Starred)):
+            return None
+        local = self.local_function(value.func)
+        if local is not None:
+            return value.args[0] if self.wraps_argument(local) else None
+        if self.project is not None and any(self.project.wraps_argument(q) for q in self.qualified_names(value.func)):
+            return value.args[0]
+        return None
+
+    def wraps_argument(self, function: ast.AST) -> bool:
+        """Every return of the top-level def ``function`` is its first parameter, maybe
+        rebound to Gym wrappers around it (or to what another such def of the module gives)."""
+        return bool(self.facts.memo(("wraps-argument", id(function)), lambda: self._wraps_argument(function), while_computing=False))
+
+    def _wraps_argument(self, function: ast.AST) -> bool:
+        if not isinstance(function, FUNCTIONS) or self.facts.parent(function) is not self.facts.tree:
+            return False
+        positional = [*function.args.posonlyargs, *function.args.args]
+        if not positional:
+            return False
+        values = [r.value for r in own_returns(function)]
+        return bool(values) and all(v is not None and self._hands_on_param(v, positional[0], function, 0) for v in values)
+
+    def _hands_on_param(self, value: ast.expr, param: ast.arg, function: ast.AST, depth: int) -> bool:
+        if depth > MAX_DEPTH:
+            return False
+        if isinstance(value, ast.Call):
+            if not value.args or isinstance(value.args[0], ast.Starred):
+                return False
+            local = self.local_function(value.func)
+            hands_on = self._makes_gym_wrapper(value) or (local is not None and local is not function and self.wraps_argument(local))
+            return hands_on and self._hands_on_param(value.args[0], param, function, depth + 1)
+        if not (isinstance(value, ast.Name) and value.id == param.arg):
+            return False
+        for binding in self.facts.bindings_of(value):
+            if binding is param:
+                continue
+            assign = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
+            if not (isinstance(assign, ast.Assign) and assign.targets == [binding]):
+                return False
+            if self.facts.enclosing_function(assign) is not function:
+                return False
+            if not self._hands_on_param(assign.value, param, function, depth + 1):
+                return False
+        return True
 
     def binding_kind(self, binding: ast.AST) -> EnvKind | None:
         """The kind of value one binding stores (None: it adds no evidence, e.g. ``+=``)."""

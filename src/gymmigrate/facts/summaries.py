@@ -125,6 +125,7 @@ class _Summarizer:
             ),
             subclasses=_subclasses(self.facts),
             wrapper_classes=frozenset(name for name, classdef in self.facts.classes.items() if self.receivers.is_gym_wrapper_class(classdef)),
+            wrapping_helpers=frozenset(name for name, function in self.facts.functions.items() if self.receivers.wraps_argument(function)),
             pz_wrappers=pz_wrappers.summarize(self.facts),
             plain_classes=plain_classes(self.facts),
             space_calls=self._space_calls(),

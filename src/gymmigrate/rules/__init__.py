@@ -56,7 +56,7 @@ _PZ = ("pettingzoo", "supersuit", "agent_iter")  # a PettingZoo import, or an ag
 PIPELINE = (
     FamilySpec("Imports", "gymmigrate.rules.imports"),
     FamilySpec("RenamedEnvPackages", "gymmigrate.rules.renamed_packages", ("gym_minigrid",)),
-    FamilySpec("EnvIds", "gymmigrate.rules.env_ids.ids", ("-v", "ale.lives")),
+    FamilySpec("EnvIds", "gymmigrate.rules.env_ids.ids", ("-v", "ale.lives", ".ale", "NoFrameskip", "get_action_meanings")),
     FamilySpec("EnvPlugins", "gymmigrate.rules.env_ids.plugins", (), follows_the_run=True),
     FamilySpec(
         "RegistryApi",

@@ -277,6 +277,17 @@ class Rendering(RuleFamily):
                 or _imports_legacy_make(self.facts, self.context)
                 or self._stepped_the_legacy_way(receiver)
             ):
+                if decision.action in (Action.REPORT, Action.REWRITE_FOR_REVIEW) and self._stepped_the_legacy_way(receiver, traced=False):
+                    # An env whose origin is unknown, stepped the legacy way: its reset and
+                    # step ask whether it is a Gym env; the same question names this render.
+                    self.report(
+                        call,
+                        "GM402",
+                        f"{decision.reason}: if it is a Gym env, render() draws only when the env is made with "
+                        'render_mode="human" now: pass it where this env is made',
+                        FixKind.FLAG,
+                        question=self.receiver_question(receiver, decision),
+                    )
                 return None  # code already written for Gymnasium: a bare render() is its API
             return RenderSite(call, "GM402", HUMAN, (), decision.action, self.finder.find(receiver))
         extra = [a for a in arguments_in_order(call) if a is not mode_arg and a is not close]
@@ -583,12 +594,12 @@ class Rendering(RuleFamily):
         steps = (self._steps_of_make(make) if make is not None else None) or []
         return bool(steps) and all(self._loop_renders(call, self._rendered_nodes) for call in steps)
 
-    def _stepped_the_legacy_way(self, receiver: ast.expr) -> bool:
+    def _stepped_the_legacy_way(self, receiver: ast.expr, traced: bool = True) -> bool:
         """A file that never names gym but steps this env the legacy way (four values):
         an env another module of the run made and passed in, so its bare render() is a
-        legacy human render too."""
-        if not isinstance(receiver, ast.Name) or self.receivers.kind_of(receiver) is not EnvKind.GYM_ENV:
-            return False  # only an env the run proves: an unknown one is asked about already
+        legacy human render too. ``traced=False``: any receiver, a Gym env or not."""
+        if not isinstance(receiver, ast.Name) or (traced and self.receivers.kind_of(receiver) is not EnvKind.GYM_ENV):
+            return False
         bindings = self.facts.bindings_of(receiver)
         return any(_unpacks_four(self.facts, call) for call in self._steps_of(receiver.id, lambda read: self.facts.bindings_of(read) == bindings))
 

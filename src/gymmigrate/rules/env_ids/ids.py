@@ -26,7 +26,8 @@ from dataclasses import dataclass
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
-from gymmigrate.facts.module import call_argument
+from gymmigrate.facts.flow import Flow
+from gymmigrate.facts.module import call_argument, full_name
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.env_ids.catalog import (
@@ -95,6 +96,7 @@ _LOADS_SAVED_STATE = re.compile(
 _ALE_LIVES = "ale.lives"
 # how many functions an id parameter is followed through to the literal its callers pass
 _PARAMETER_HOPS = 4
+_ATARI_WORDS = (_ALE_LIVES, ".ale", "NoFrameskip", "get_action_meanings")
 
 
 class EnvIds(RuleFamily):
@@ -102,14 +104,16 @@ class EnvIds(RuleFamily):
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
-        return "-v" in facts.text or _ALE_LIVES in facts.text
+        # ids, gym's Atari info key, and what only an Atari env has (``_atari_helper``)
+        return "-v" in facts.text or any(sign in facts.text for sign in _ATARI_WORDS)
 
     def decide(self) -> None:
         self._rename_lives_key()
         self._planned: set[ast.Constant] = set()
         self._new_keywords: dict[ast.Call, list[tuple[str, str]]] = {}
-        # package module -> (package, the first id string that needs it)
-        self._packages: dict[str, tuple[EnvPackage, ast.Constant]] = {}
+        # package module -> (package, the first id string that needs it, and for a helper
+        # known only by what it does with its env, the message and kind that say why)
+        self._packages: dict[str, tuple[EnvPackage, ast.expr, tuple[str, FixKind] | None]] = {}
         for site in self._id_sites():
             self._decide_site(site)
         for call, keywords in self._new_keywords.items():
@@ -158,15 +162,34 @@ class EnvIds(RuleFamily):
                     site.conditional = len(branches) > 1
                     sites.append(site)
             if isinstance(arg, ast.Name):
-                literal = self._single_literal_constant(arg)
+                literal = self._literal_of(arg)
                 if literal is not None:
                     site = self._site(literal, None, False, via=f"the constant `{arg.id}`")
                     if site is not None:
                         sites.append(site)
                 else:
                     sites.extend(self._parameter_ids(arg))
+                    self._atari_helper(call, arg)
         sites.extend(self._constants_passed_on())
+        sites.extend(self._ids_passed_on())
         return sites
+
+    def _literal_of(self, name: ast.Name) -> ast.Constant | None:
+        """The string literal ``name`` holds where it is read: the one literal a constant is
+        ever assigned, or the literal of the assignment that certainly reaches the read
+        (``env_id = "CartPole-v0"`` ... ``env_id = "PongNoFrameskip-v4"; make_atari(env_id)``)."""
+        literal = self._single_literal_constant(name)
+        if literal is not None:
+            return literal
+        flow = Flow.of(self.facts)
+        last = flow.last_binding_of(name)
+        statement = self.facts.parent(last) if isinstance(last, ast.Name) else None
+        if not (isinstance(last, ast.Name) and isinstance(statement, ast.Assign) and statement.targets == [last]):
+            return None
+        if not flow.dominates(statement, name, last):
+            return None  # another value may reach the read (a branch, a loop)
+        value = statement.value
+        return value if isinstance(value, ast.Constant) and isinstance(value.value, str) else None
 
     def _parameter_ids(self, name: ast.Name, seen: frozenset[ast.arg] = frozenset()) -> list[IdSite]:
         """``def make_env(env_id="PongNoFrameskip-v4"): return gym.make(env_id)``: the id is a
@@ -206,7 +229,7 @@ class EnvIds(RuleFamily):
         sites = []
         for value, via in values:
             if isinstance(value, ast.Name):
-                literal = self._single_literal_constant(value)
+                literal = self._literal_of(value)
                 if literal is None:
                     sites.extend(self._parameter_ids(value, seen))
                     continue
@@ -216,6 +239,67 @@ class EnvIds(RuleFamily):
             if site is not None:
                 sites.append(site)
         return sites
+
+    def _atari_helper(self, call: ast.Call, name: ast.Name) -> None:
+        """``def make_atari(env_id): env = gym.make(env_id); assert "NoFrameskip" in env.spec.id``:
+        a helper that makes its env from a parameter and uses what only Atari envs have (the
+        ``ale`` interface, ``get_action_meanings()``, a ``NoFrameskip`` check, directly or in
+        a def or class of this module it calls) makes Atari envs, whatever id its callers
+        pass: its module needs ``import ale_py``. Where every sign sits under a condition
+        (``if "NoFrameskip" in env_id:``), the helper may make other envs too: for review."""
+        bindings = self.facts.bindings_of(name)
+        if len(bindings) != 1 or not isinstance(bindings[0], ast.arg):
+            return
+        function = self.facts.enclosing_function(call)
+        if function is None or ALE.module in self._packages:
+            return
+        signs = [(sign, node) for node in ast.walk(function) for sign in self._atari_signs(node, function)]
+        signs.sort(key=lambda found: found[0].startswith("through"))  # its own signs first
+        if not signs:
+            return
+        certain = [sign for sign, node in signs if not (sign.startswith("it tests") or _under_condition(self.facts, node, function))]
+        evidence = (certain or [sign for sign, _ in signs])[0]
+        if certain:
+            message = (
+                f"`{function.name}` makes Atari envs ({evidence}): since Gymnasium 1.0 they need `import ale_py`; "
+                "added it with `register_envs(ale_py)`"
+            )
+            kind = FixKind.AUTO
+        else:
+            message = (
+                f"`{function.name}` may make Atari envs ({evidence}, under a condition): since Gymnasium 1.0 they need "
+                "`import ale_py`; added it with `register_envs(ale_py)`: drop it if this project never makes Atari envs here"
+            )
+            kind = FixKind.ASSIST
+        self._packages[ALE.module] = (ALE, name, (message, kind))
+
+    def _atari_signs(self, node: ast.AST, function: ast.AST) -> list[str]:
+        """What in ``node`` only an Atari env has: ``.ale``, ``get_action_meanings()``, a
+        ``"NoFrameskip"`` check; or a call of a def or class of this module that has one."""
+        if isinstance(node, ast.Attribute) and node.attr == "ale":
+            return ["it uses `.ale`"]
+        if isinstance(node, ast.Attribute) and node.attr == "get_action_meanings":
+            return ["it calls `get_action_meanings()`"]
+        if isinstance(node, ast.Constant) and node.value == "NoFrameskip":
+            # ``assert "NoFrameskip" in env.spec.id`` says what it makes; an ``if`` on the id
+            # says that it sometimes does
+            return ['it asserts `"NoFrameskip"`'] if self.facts.enclosing(node, ast.Assert) else ['it tests for `"NoFrameskip"`']
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Name):
+            called = self.facts.functions.get(node.func.id) or self.facts.classes.get(node.func.id)
+            if called is not None and called is not function and self._has_atari_sign(called):
+                return [f"through `{node.func.id}`"]
+        return []
+
+    def _has_atari_sign(self, definition: ast.AST) -> bool:
+        def compute() -> bool:
+            for node in ast.walk(definition):
+                if isinstance(node, ast.Attribute) and node.attr in ("ale", "get_action_meanings"):
+                    return True
+                if isinstance(node, ast.Constant) and node.value == "NoFrameskip":
+                    return True
+            return False
+
+        return bool(self.facts.memo(("atari-sign", id(definition)), compute))
 
     def _constants_passed_on(self) -> list[IdSite]:
         """A module constant holding the id of a plugin package (``ENV = "PongNoFrameskip-v4"``)
@@ -247,6 +331,37 @@ class EnvIds(RuleFamily):
                     break
         return sites
 
+    def _ids_passed_on(self) -> list[IdSite]:
+        """An id of a plugin package handed to a function of the project as an argument: a
+        literal (``make_atari("PongNoFrameskip-v4")``, the make call in another module of the
+        run) or a name the literal certainly reaches the call through (``env_id`` assigned
+        ``"CartPole-v0"`` first, then ``"PongNoFrameskip-v4"``). Constants bound once are
+        ``_constants_passed_on``'s."""
+        sites = []
+        without_gym = not ({"gym", "gymnasium"} & _imported_modules(self.facts.tree, self.facts))
+        for call in _calls_in_source_order(self.facts):
+            if self._id_call(call) is not None or not self._project_callee(call):
+                continue
+            callee = full_name(call.func) or "the project's function"
+            for passed in (*call.args, *(kw.value for kw in call.keywords)):
+                via = f"an argument of `{callee}(...)`"
+                argument: ast.expr = passed
+                if isinstance(passed, ast.Name):
+                    if self._single_literal_constant(passed) is not None:
+                        continue  # a constant: ``_constants_passed_on``
+                    literal = self._literal_of(passed)
+                    if literal is None:
+                        continue
+                    argument, via = literal, f"`{passed.id}`, {via}"
+                text = plain_string(self.facts, argument)
+                if text is None or env_package(_split_module_prefix(text)[1]) is None:
+                    continue
+                site = self._site(argument, None, False, via=via)
+                if site is not None:
+                    site.report_only = without_gym
+                    sites.append(site)
+        return sites
+
     def _hands_on(self, read: ast.AST) -> bool:
         """The constant is passed on as an id: an argument of a function of the project (a
         def of this module, a relative import, a name another module of the run defines), a
@@ -261,9 +376,15 @@ class EnvIds(RuleFamily):
             return False
         if isinstance(parent.func, ast.Attribute) and parent.func.attr == "add_argument":
             return True  # ``parser.add_argument("--env", default=ENV)``
-        if self.receivers.local_function(parent.func) is not None:
+        return self._project_callee(parent)
+
+    def _project_callee(self, call: ast.Call) -> bool:
+        """``call`` calls a function of the project (a def of this module, a relative import,
+        a name another module of the run defines), not a library's nor a Gym-only library's
+        factory."""
+        if self.receivers.local_function(call.func) is not None:
             return True
-        called = self.facts.qualified_names(parent.func)
+        called = self.facts.qualified_names(call.func)
         project = self.receivers.project
         aliases = {a for a in (project.library_alias(q) for q in called) if a is not None} if project is not None else set()
         if any(q.split(".", 1)[0] in _LEGACY_GYM_LIBRARIES for q in called | aliases):
@@ -350,16 +471,15 @@ class EnvIds(RuleFamily):
         hint = removed_family(site.env_id)
         if hint is not None:
             plugin = plugin_of(site.env_id)
-            if plugin is not None and re.search(rf"^\s*(?:import|from)\s+{plugin}\b", self.facts.text, re.M):
-                self.report(
-                    site.string, "GM805", f"`{site.env_id}` no longer exists: {hint} (asked once, at the `{plugin}` import)", tier=Tier.NOTE
-                )
-            else:
-                self.report(site.string, "GM805", f"`{site.env_id}` no longer exists: {hint}")
+            # The import of the plugin package asks the same question (GM107): the file's
+            # review list asks it once, at the first of them; where the import's item is
+            # silenced (a bare noqa comment on ``import pybullet_envs``), the id's site asks it.
+            question = ("gym-only-library", plugin) if plugin is not None else None
+            self.report(site.string, "GM805", f"`{site.env_id}` no longer exists: {hint}", question=question)
         final_id = migration.new_id if migration is not None else site.env_id
         package = env_package(final_id)
         if package is not None and not site.module_prefix and package.module not in self._packages:
-            self._packages[package.module] = (package, site.string)
+            self._packages[package.module] = (package, site.string, None)
 
     def _decide_migration(self, site: IdSite, migration: IdMigration) -> None:
         old, new = site.env_id, migration.new_id
@@ -409,17 +529,18 @@ class EnvIds(RuleFamily):
             return
         imported = _imported_modules(self.facts.tree, self.facts)
         needed = []
-        for package, string in self._packages.values():
+        for package, string, why in self._packages.values():
             if package.module in imported:
                 continue
             if package.legacy_module and package.legacy_module in imported:
                 continue  # the gym-era package: GM112 renames its import or reports it
             needed.append(package)
-            self.report(string, "GM106", _registration_message(package), kind=package.kind)
+            message, kind = why if why is not None else (_registration_message(package), package.kind)
+            self.report(string, "GM106", message, kind=kind)
         if needed:
-            self._insert_registration([p.module for p in needed], [s for _, s in self._packages.values()])
+            self._insert_registration([p.module for p in needed], [s for _, s, _ in self._packages.values()])
 
-    def _insert_registration(self, packages: list[str], strings: list[ast.Constant]) -> None:
+    def _insert_registration(self, packages: list[str], strings: list[ast.expr]) -> None:
         """``import ale_py`` after the last top-level import that comes before the first use
         of an id, then a blank line and ``gym.register_envs(ale_py)``."""
         body = self.facts.tree.body
@@ -480,6 +601,23 @@ def _default(function: ast.FunctionDef | ast.AsyncFunctionDef, param: ast.arg) -
     if param in args.kwonlyargs:
         return args.kw_defaults[args.kwonlyargs.index(param)]
     return None
+
+
+def _under_condition(facts: ModuleFacts, node: ast.AST, function: ast.AST) -> bool:
+    """``node`` runs only on one branch of a test inside ``function`` (the body of an ``if``,
+    a branch of a conditional expression or of ``and``/``or``); a test itself always runs."""
+    child = node
+    for ancestor in facts.ancestors(node):
+        if ancestor is function:
+            return False
+        if isinstance(ancestor, (ast.If, ast.IfExp, ast.While)) and child is not ancestor.test:
+            return True
+        if isinstance(ancestor, ast.BoolOp) and child is not ancestor.values[0]:
+            return True
+        if isinstance(ancestor, ast.ExceptHandler):
+            return True
+        child = ancestor
+    return False
 
 
 def _split_module_prefix(text: str) -> tuple[str, str]:

@@ -98,13 +98,16 @@ class UnpackRules(StepFamilyBase):
                 "flags look batched); not rewritten",
             )
         if decision.action is Action.REPORT:
+            question = self.receiver_question(receiver, decision)
             self.report(
                 assign,
                 "GM301",
                 f"{decision.reason}: if it is a Gym env, unpack `obs, reward, terminated, truncated, info`",
                 FixKind.FLAG,
-                question=self.receiver_question(receiver, decision),
+                question=question,
             )
+            if isinstance(done_target, ast.Name) and done_target.id != "_":
+                self._report_untraced_masks(_DoneStep(assign, done_target, self._step_names(assign, vector), target), decision, question)
             return
         names = self._step_names(assign, vector)
         self.plan.replace(target, lambda node: _split_done(node, names))
@@ -128,6 +131,29 @@ class UnpackRules(StepFamilyBase):
             )
         else:
             self.report(assign, names.code, message)
+
+    def _report_untraced_masks(self, step: _DoneStep, decision: Decision, question: Hashable | None) -> None:
+        """The step is left (its receiver is not shown to be a Gym env), but its ``done``
+        masks bootstrapping from the next state (``memory.push(s, a, r, s2, done)``): the
+        same question names that read, so whoever decides the receiver decides the mask
+        with it (``terminated`` there once the step gives five values)."""
+        for read in self.flow.reads(step.done):
+            if self._dominating_step(read, step.done) is not step.assign:
+                continue
+            if classify_done_read(read, self.facts) is not DoneUse.DATA:
+                continue
+            if not (self._masks_next_state(read, step) or self._callee_masks(read, step) is not None):
+                continue
+            next_state = self.facts.segment(step.target.elts[0])
+            self.report(
+                read,
+                "GM302",
+                f"{decision.reason}: if it is a Gym env, `{read.id}` masks bootstrapping from the next state "
+                f"`{next_state}` here: read `terminated` once the step gives five values, so a time-limit truncation "
+                "still bootstraps",
+                FixKind.FLAG,
+                question=question,
+            )
 
     # -- the done reads ---------------------------------------------------------------------
 
