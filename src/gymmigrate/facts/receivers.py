@@ -41,7 +41,7 @@ from gymmigrate.facts.module import (
 from gymmigrate.facts.self_attributes import SelfAttributes
 
 if TYPE_CHECKING:
-    from gymmigrate.facts.project import ProjectView
+    from gymmigrate.facts.project_view import ProjectView
 
 
 

@@ -28,8 +28,7 @@ from gymmigrate.facts.module import (
     own_returns,
     string_value,
 )
-from gymmigrate.facts.profile import FileProfile
-from gymmigrate.facts.project import (
+from gymmigrate.facts.module_summary import (
     GUARD_KINDS,
     NEW,
     OWN,
@@ -41,6 +40,7 @@ from gymmigrate.facts.project import (
     ModuleSummary,
     Signature,
 )
+from gymmigrate.facts.profile import FileProfile
 from gymmigrate.facts.receivers import Receivers
 from gymmigrate.source_text import first_statement_line
 from gymmigrate.suppressions import skips_file
