@@ -103,7 +103,7 @@ class ModuleSummary:
     # Class (with an imported base) -> its methods that take only ``self`` and return a
     # value -> why that value is True (a step limit, the task's end...), traced in the class.
     done_methods: dict[str, dict[str, DoneCause]] = field(default_factory=dict)
-    # -- contracts the run keeps (facts/receivers.py keeps_legacy_step) --
+    # -- contracts the run keeps (facts/receiver_classes.py keeps_legacy_step) --
     # Top-level env classes whose step keeps the four-field contract (a batch the rules do
     # not migrate): the callers of their instances keep unpacking four values.
     legacy_steps: frozenset[str] = frozenset()

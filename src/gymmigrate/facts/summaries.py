@@ -1,5 +1,6 @@
-"""One module's summary for the facts across the run (``facts/project.py``): its defs,
-its env classes, and the ``EnvKind`` of each argument it passes into other modules.
+"""One module's summary for the facts across the run (``facts/project.py`` joins it; the
+record is ``facts/module_summary.py``): its defs, its env classes, and the ``EnvKind`` of
+each argument it passes into other modules.
 
 Pure: text in, ``ModuleSummary`` out. Reading the files of a run, and mapping this over
 them on the worker pool, is the runner's.
