@@ -27,7 +27,8 @@ from typing import TYPE_CHECKING, overload
 
 from gymmigrate.dependencies import kind_of
 from gymmigrate.dependencies.plugins import PluginEntry, plugin_entries
-from gymmigrate.facts.project import ModuleSummary, ProjectFacts
+from gymmigrate.facts.module_summary import ModuleSummary
+from gymmigrate.facts.project import ProjectFacts
 from gymmigrate.facts.summaries import summarize, summarize_masks
 from gymmigrate.findings import Finding, FixKind
 from gymmigrate.options import RewriteOptions

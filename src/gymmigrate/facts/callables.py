@@ -19,7 +19,7 @@ from gymmigrate.facts.kinds import MAX_DEPTH, EnvKind, ReceiverQueries, join_kin
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, call_argument
 
 if TYPE_CHECKING:
-    from gymmigrate.facts.project import ProjectView
+    from gymmigrate.facts.project_view import ProjectView
 
 
 class CallableKinds:

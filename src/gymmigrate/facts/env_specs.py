@@ -24,7 +24,7 @@ from gymmigrate.facts import names as N
 from gymmigrate.facts.module import ModuleFacts, string_value
 
 if TYPE_CHECKING:
-    from gymmigrate.facts.project import ProjectView
+    from gymmigrate.facts.project_view import ProjectView
 
 # The registry as gym/gymnasium spell it (after the ``gym.``/``gymnasium.`` prefix).
 _REGISTRY = frozenset({"envs.registry", "registry", "envs.registration.registry"})

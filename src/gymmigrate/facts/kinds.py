@@ -10,7 +10,10 @@ from enum import Enum
 from typing import TYPE_CHECKING, Protocol
 
 if TYPE_CHECKING:
+    from gymmigrate.facts.callables import CallableKinds
     from gymmigrate.facts.module import ModuleFacts
+    from gymmigrate.facts.project_view import ProjectView
+    from gymmigrate.facts.self_attributes import SelfAttributes
 
 # Deeper than any real chain of rebindings; beyond it the answer is "unknown", which
 # callers report. Keeps recursion far from the interpreter's limit.
@@ -71,3 +74,21 @@ class ReceiverQueries(Protocol):
     def annotation_kind(self, annotation: ast.AST) -> EnvKind: ...
     def annotation_names_kind(self, names: set[str]) -> EnvKind: ...
     def is_self(self, name: ast.Name) -> bool: ...
+
+
+class ReceiverFacade(ReceiverQueries, Protocol):
+    """What the families mixed into ``Receivers`` (``receiver_classes.py``,
+    ``receiver_params.py``, ``receiver_origins.py``) ask of the whole: type-checking only,
+    each mixin derives from it under ``TYPE_CHECKING`` and from ``object`` at run time."""
+
+    project: ProjectView | None
+    callables: CallableKinds
+    attributes: SelfAttributes
+
+    def own_method(self, func: ast.AST) -> ast.FunctionDef | ast.AsyncFunctionDef | None: ...
+    def self_attribute_values(self, attr: ast.AST, name: str) -> list[ast.expr]: ...
+    def _dominating_binding(self, name: ast.Name) -> ast.AST | None: ...
+    def library_made(self, expr: ast.AST) -> str | None: ...
+    def constructions(
+        self, classdef: ast.ClassDef, _seen: frozenset[int] = frozenset()
+    ) -> tuple[list[tuple[ast.Call, int]], bool]: ...

@@ -12,7 +12,7 @@ cannot tell what ``env`` is; the run can. The run is processed in two cheap step
 2. ``ProjectFacts.join`` resolves those calls to the modules of the run (absolute and
    relative imports) once, and keeps, per parameter, the kinds the other modules pass.
    An argument that is a parameter of the calling def, or a new instance of a class
-   imported from the run, is resolved here, once per parameter (``_Join``).
+   imported from the run, is resolved here, once per parameter (``ParamJoin``, ``facts/project_params.py``).
 
 Each file is then migrated with ``ProjectFacts.view(path)`` in its context: the receiver
 analysis joins those kinds with the file's own call sites (``Receivers._param_kind``), and
@@ -20,122 +20,42 @@ imported env classes of the run count as env classes. A file checked alone has n
 and keeps its own, more cautious, answer. A call whose owner cannot be resolved but which
 passes a VecEnv, vector env or PettingZoo env to a method of the same name still counts
 against every method of that name: a guard kind wins.
+
+This module holds ``ProjectFacts`` (the joined data, the join's order, and how a dotted
+name resolves to a module of the run). The rest, by family: ``module_summary.py`` (what a
+module tells the run), ``import_roots.py`` (which file a dotted name names),
+``project_exports.py`` (what calling a name of the run gives, re-exports followed),
+``project_params.py`` (the kinds passed to each parameter), ``project_contracts.py``
+(non-Space spaces, ``render_mode`` down subclasses, legacy steps) and ``project_view.py``
+(``ProjectView``: the facts as one file sees them).
 """
 
 from __future__ import annotations
 
 import os
 from collections import defaultdict
-from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from gymmigrate.facts import names as N
-from gymmigrate.facts.kinds import EnvKind, join_kinds
-from gymmigrate.facts.limits import Cause, DoneCause, Limit
-
-# Kinds an unresolved ``x.fit(venv)`` still reports against every ``fit`` of the run.
-GUARD_KINDS = frozenset({EnvKind.SB3_VEC, EnvKind.GYM_VEC, EnvKind.PZ_AEC, EnvKind.PZ_PARALLEL})
-UNRESOLVED = "?."
-NEW = "new:"
-REF = "ref:"
-OWN = "@"  # a def of the calling module itself
-PARAM = "param:"
-# Beyond this many parameters passed on from call to call the join stops following.
-_MAX_CHAIN = 50
-Kind = EnvKind | str  # a kind, or ``new:<class>`` / ``param:<def>:<name>`` until the join resolves it
-
-
-@dataclass(frozen=True)
-class CallSummary:
-    target: str  # "agent.Agent.fit", ".agent.train", "?.fit" (owner unknown)
-    args: tuple[Kind, ...]  # by position, up to the first starred argument
-    keywords: tuple[tuple[str, Kind], ...]
-    open_ended: bool  # ``*args`` / ``**kwargs`` at the call: later parameters are unknown
-
-
-@dataclass(frozen=True)
-class Signature:
-    params: tuple[str, ...]  # positional-or-keyword, ``self`` included for methods
-    defaults: frozenset[str]  # parameters with a default value
-    is_method: bool
-
-
-@dataclass(frozen=True)
-class ModuleSummary:
-    path: str  # os.path.realpath of the file
-    defs: dict[str, Signature]  # "train", "Agent.fit", "Agent.__init__"
-    env_classes: frozenset[str]  # top-level classes whose instances are Gym envs
-    render_mode_classes: frozenset[str]  # ...whose constructor takes render_mode once migrated
-    calls: tuple[CallSummary, ...]
-    # ``x.seed(...)`` on a receiver this module cannot trace: an env class it imports from
-    # the run must keep its seed() (removing it would make that call an AttributeError).
-    untraced_seed_call: bool = False
-    # ``x.render(mode)`` likewise: an env class it imports must keep render(mode).
-    untraced_render_call: bool = False
-    imported: tuple[str, ...] = ()  # qualified names its imports bind
-    # ``# gymmigrate: skip-file``: the module stays as it is, so the run must not assume it migrated.
-    skips_file: bool = False
-    # Top-level name -> the kind of what calling it gives (a class: its instances; a def or
-    # an alias of ``gym.make``: what it returns), or ``ref:<qualified>`` for a name bound to
-    # another module's (a re-export, ``from .utils import make``, a subclass of a class of
-    # the run): the join follows it. Every top-level def, class and import is listed, so the
-    # run knows which names it defines itself.
-    exports: dict[str, Kind] = field(default_factory=dict)
-    star_imports: tuple[str, ...] = ()  # ``from .utils import *``: modules whose names it re-exports
-    # Top-level name -> the library callable it is bound to (``make = gym.make``,
-    # ``from gym import make``): a creation site of the run that takes ``make``'s keywords.
-    aliases: dict[str, str] = field(default_factory=dict)
-    # -- method contracts across modules (rules/custom_env/hooks.py) --
-    # Each top-level class with a base imported from elsewhere: (class, qualified base
-    # names as the imports spell them, the methods the class defines).
-    subclasses: tuple[tuple[str, tuple[str, ...], tuple[str, ...]], ...] = ()
-    # Top-level Gym wrapper classes (``Wrapper`` subclasses, through local bases): an
-    # instance made elsewhere is a wrapper, so what it does not define was forwarded.
-    wrapper_classes: frozenset[str] = frozenset()
-    # Top-level defs that return their first argument, maybe in Gym wrappers
-    # (``Receivers.wraps_argument``): what they give has the kind of what they take.
-    wrapping_helpers: frozenset[str] = frozenset()
-    # Top-level PettingZoo wrapper classes and aliases of PettingZoo's wrapper bases
-    # (``facts/pz_wrappers.py``): name -> ("aec" | "parallel" | "ref:<qualified>", methods).
-    pz_wrappers: dict[str, tuple[str, tuple[str, ...]]] = field(default_factory=dict)
-    # -- spaces that are not Spaces (rules/env_ids/registry.py, GM807) --
-    # Top-level classes that certainly are not ``gymnasium.spaces.Space``: no base, or only
-    # ``list``/``tuple``/``dict``/``object``, with what they derive from ("list").
-    plain_classes: dict[str, str] = field(default_factory=dict)
-    # Top-level class -> ((space attribute, callee as the module spells it), ...) for each
-    # ``self.action_space = C(...)`` / ``self.observation_space = C(...)`` in its methods;
-    # ``@C`` for a class of the module itself.
-    space_calls: dict[str, tuple[tuple[str, str], ...]] = field(default_factory=dict)
-    # Top-level names bound once to a list of the registry's EnvSpecs
-    # (``[spec for spec in gym.envs.registry.values() if ...]``): ``spec.make(...)`` on one
-    # of them makes an env (``facts/env_specs.py``).
-    spec_lists: frozenset[str] = frozenset()
-    # Top-level defs every return of which is a ``make(...)`` result (maybe in Gym wrappers):
-    # what they return is a wrapper stack, so attribute reads on it go through forwarding.
-    made_factories: frozenset[str] = frozenset()
-    classes: frozenset[str] = frozenset()  # top-level class names
-    # -- what a flag passed to a def is for (facts/bootstrap.py, GM302) --
-    # "Agent.train_model" -> (flag parameter, next-state parameter) pairs: the def masks
-    # bootstrapping from the next state with the flag (a target or a stored transition).
-    bootstrap_masks: dict[str, frozenset[tuple[str, str]]] = field(default_factory=dict)
-    # A module with no Gym code (an agent's ``learn``): only its ``bootstrap_masks`` count,
-    # it takes no other part in the join (``summaries.summarize_masks``).
-    masks_only: bool = False
-    # -- done values across modules (facts/limits.py) --
-    # Class (with an imported base) -> its methods that take only ``self`` and return a
-    # value -> why that value is True (a step limit, the task's end...), traced in the class.
-    done_methods: dict[str, dict[str, DoneCause]] = field(default_factory=dict)
-    # -- contracts the run keeps (facts/receivers.py keeps_legacy_step) --
-    # Top-level env classes whose step keeps the four-field contract (a batch the rules do
-    # not migrate): the callers of their instances keep unpacking four values.
-    legacy_steps: frozenset[str] = frozenset()
-    # Top-level classes with a base of the run (``@Name`` for one of this module): (class,
-    # bases, whether its ``__init__`` hands ``render_mode`` on once a base takes it). The
-    # join threads ``render_mode`` down every chain of subclasses (custom_env/render.py).
-    render_mode_heirs: tuple[tuple[str, tuple[str, ...], bool], ...] = ()
-    # ``register(id, entry_point="pkg.mod:Class")``: (the id if a literal, the entry point).
-    registrations: tuple[tuple[str | None, str], ...] = ()
+from gymmigrate.facts.import_roots import module_names, nearest_root
+from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.limits import DoneCause
+from gymmigrate.facts.module_summary import (
+    NEW,
+    OWN,
+    UNRESOLVED,
+    CallSummary,
+    ModuleSummary,
+)
+from gymmigrate.facts.project_contracts import (
+    NonSpaces,
+    legacy_steps,
+    thread_render_mode,
+)
+from gymmigrate.facts.project_exports import Exports, reexport_wrappers
+from gymmigrate.facts.project_params import ParamJoin
+from gymmigrate.facts.project_view import ProjectView
 
 
 @dataclass
@@ -227,7 +147,7 @@ class ProjectFacts:
             for qualname, masks in summary.bootstrap_masks.items():
                 facts.bootstrap_masks[(summary.path, qualname)] = (summary.defs[qualname].params, masks)
             if summary.masks_only:
-                for name in _module_names(summary.path):
+                for name in module_names(summary.path):
                     facts.mask_modules[name] = (*facts.mask_modules.get(name, ()), summary.path)
         summaries = [s for s in summaries if not s.masks_only]
         by_path = {s.path: s for s in summaries}
@@ -240,7 +160,7 @@ class ProjectFacts:
             facts.pz_wrappers[summary.path] = summary.pz_wrappers
             facts.spec_lists[summary.path] = summary.spec_lists
             facts.render_mode_classes[summary.path] = frozenset() if left else summary.render_mode_classes
-            for name in _module_names(summary.path):
+            for name in module_names(summary.path):
                 if name in facts.modules and facts.modules[name] != summary.path:
                     previous = facts.ambiguous.get(name) or (facts.modules[name],)
                     facts.ambiguous[name] = (*previous, summary.path)
@@ -284,8 +204,8 @@ class ProjectFacts:
         if any(q.split(".")[:3] in (["gym", "envs", "mujoco"], ["gymnasium", "envs", "mujoco"]) for q in imported):
             requires.add("imageio")
         facts.requires = frozenset(requires)
-        _Exports(facts, by_path).run()
-        _Join(facts, by_path, calls_to).run()
+        Exports(facts, by_path).run()
+        ParamJoin(facts, by_path, calls_to).run()
         for summary in summaries:
             for untraced, called in ((summary.untraced_seed_call, facts.seed_called), (summary.untraced_render_call, facts.render_called)):
                 if untraced:
@@ -294,11 +214,11 @@ class ProjectFacts:
                 facts.importers.setdefault(provider, set()).add(summary.path)
         for path in facts.render_called:  # their classes keep render(mode): no render_mode to pass
             facts.render_mode_classes[path] = frozenset()
-        _thread_render_mode(facts, by_path)
+        thread_render_mode(facts, by_path)
         facts._join_overrides(summaries)
-        _NonSpaces(facts, by_path).run()
-        _reexport_wrappers(facts, by_path)
-        facts.legacy_steps = _legacy_steps(facts, by_path)
+        NonSpaces(facts, by_path).run()
+        reexport_wrappers(facts, by_path)
+        facts.legacy_steps = legacy_steps(facts, by_path)
         return facts
 
     def _join_nearby_packages(self, summaries: list[ModuleSummary]) -> None:
@@ -390,7 +310,7 @@ class ProjectFacts:
             dotted = ".".join(module)
             found = self.modules.get(dotted)
             if found == "":
-                return _nearest_root(self.ambiguous.get(dotted, ()), len(module), importer)
+                return nearest_root(self.ambiguous.get(dotted, ()), len(module), importer)
             return found or None
         base = Path(importer).parent
         for _ in range(level - 1):
@@ -408,648 +328,7 @@ class ProjectFacts:
         return ProjectView(self, os.path.realpath(path))
 
 
-class _Exports:
-    """``ProjectFacts.call_kinds``: every top-level name of the run with what calling it
-    gives, re-exports (``__init__``, star imports, ``make = utils.make``) and subclasses
-    followed to the module that decides. One memoized answer per name; a cycle or a chain
-    longer than ``_MAX_CHAIN`` is unknown."""
-
-    def __init__(self, facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> None:
-        self.facts = facts
-        self.by_path = by_path
-        self.depth = 0
-
-    def run(self) -> None:
-        for path, summary in self.by_path.items():
-            for name in summary.exports:
-                self.kind(path, name)
-                alias = self._alias(path, name)
-                if alias is not None:
-                    self.facts.aliases[(path, name)] = alias
-            for name in self._star_names(summary, set()):
-                self.kind(path, name)  # ``from .envs import *``: its names are this module's too
-        for key, kind in self.facts.call_kinds.items():
-            if kind is EnvKind.GYM_ENV:
-                trail: list[tuple[str, str]] = []
-                where = self.origin(*key, set(), trail)
-                if where is None:
-                    continue
-                defining = self.by_path[where[0]]
-                if where[1] in defining.made_factories:
-                    self.facts.made.add(key)
-                if (
-                    where[1] in defining.classes
-                    and where[1] in self.facts.env_classes.get(where[0], ())
-                    and not any(n in self.by_path[p].wrapper_classes for p, n in trail)
-                ):
-                    self.facts.bare_env_classes.add(key)
-
-    def origin(
-        self, path: str, name: str, seen: set[tuple[str, str]], trail: list[tuple[str, str]] | None = None
-    ) -> tuple[str, str] | None:
-        """The module and name that define ``name`` of module ``path``: re-exports, star
-        imports and subclasses of a class of another module (``ref:``) followed, each once;
-        ``trail`` gets every name passed on the way."""
-        summary = self.by_path.get(path)
-        if summary is None or (path, name) in seen or len(seen) >= _MAX_CHAIN:
-            return None
-        seen.add((path, name))
-        kind = summary.exports.get(name)
-        if kind is None:
-            for star in self._star_paths(summary):
-                found = self.origin(star, name, seen, trail)
-                if found is not None:
-                    return found
-            return None
-        if trail is not None:
-            trail.append((path, name))
-        if isinstance(kind, EnvKind):
-            return path, name
-        split = self.facts._split(kind[len(REF) :], path)
-        return None if split is None or "." in split[1] else self.origin(*split, seen, trail)
-
-    def _star_names(self, summary: ModuleSummary, seen: set[str]) -> set[str]:
-        """The public names a module's star imports bring in (star chains followed once)."""
-        seen.add(summary.path)
-        names: set[str] = set()
-        for path in self._star_paths(summary):
-            if path in seen:
-                continue
-            star = self.by_path[path]
-            names.update(n for n in star.exports if not n.startswith("_"))
-            names.update(self._star_names(star, seen))
-        return names
-
-    def _star_paths(self, summary: ModuleSummary) -> list[str]:
-        found = []
-        for module in summary.star_imports:
-            level = len(module) - len(module.lstrip("."))
-            path = self.facts._module_path(module.lstrip(".").split(".") if module.strip(".") else [], level, summary.path)
-            if path and path != summary.path and path in self.by_path:
-                found.append(path)
-        return found
-
-    def _alias(self, path: str, name: str) -> str | None:
-        """``gym.make`` for a name bound to it here or through a chain of re-exports."""
-        for _ in range(_MAX_CHAIN):
-            summary = self.by_path.get(path)
-            if summary is None:
-                return None
-            if name in summary.aliases:
-                return summary.aliases[name]
-            kind = summary.exports.get(name)
-            if not _is_ref(kind):
-                return None
-            split = self.facts._split(str(kind)[len(REF) :], path)
-            if split is None:
-                return None
-            path, name = split
-        return None
-
-    def kind(self, path: str, name: str) -> EnvKind | None:
-        """What calling ``name`` of module ``path`` gives; None when the module does not
-        bind it (not even through a star import)."""
-        key = (path, name)
-        known = self.facts.call_kinds.get(key)
-        if known is not None:
-            return known
-        summary = self.by_path.get(path)
-        if summary is None or self.depth >= _MAX_CHAIN:
-            return None
-        kind = summary.exports.get(name)
-        self.facts.call_kinds[key] = EnvKind.UNKNOWN  # a cycle adds no evidence
-        self.depth += 1
-        try:
-            if kind is None:
-                found = self._from_stars(summary, name)
-                if found is None:
-                    del self.facts.call_kinds[key]
-                    return None
-            elif isinstance(kind, EnvKind):
-                # A module the run leaves as it is: its classes did not migrate.
-                found = EnvKind.UNKNOWN if path in self.facts.blocked and kind is not EnvKind.NOT_ENV else kind
-            else:
-                found = self._follow(kind[len(REF) :], path)
-        finally:
-            self.depth -= 1
-        self.facts.call_kinds[key] = found
-        return found
-
-    def _follow(self, qualified: str, importer: str) -> EnvKind:
-        split = self.facts._split(qualified, importer)
-        if split is None:
-            return EnvKind.UNKNOWN  # a library name the module could not classify
-        path, name = split
-        if "." in name:
-            return EnvKind.UNKNOWN  # ``module.Class.method``: not a top-level name
-        found = self.kind(path, name)
-        return EnvKind.UNKNOWN if found is None else found
-
-    def _from_stars(self, summary: ModuleSummary, name: str) -> EnvKind | None:
-        for path in self._star_paths(summary):
-            found = self.kind(path, name)
-            if found is not None:
-                return found
-        return None
-
-
-class _NonSpaces:
-    """``ProjectFacts.non_space_envs``: classes of the run whose ``action_space`` or
-    ``observation_space`` is an instance of a class of the run that certainly is not a
-    ``Space`` (``class MultiAgentActionSpace(list)``), and every name re-exporting them."""
-
-    def __init__(self, facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> None:
-        self.facts = facts
-        self.by_path = by_path
-
-    def origin(self, path: str, name: str) -> tuple[str, str] | None:
-        """The module and name that define ``name`` of module ``path``, re-exports followed."""
-        for _ in range(_MAX_CHAIN):
-            summary = self.by_path.get(path)
-            if summary is None:
-                return None
-            if name in summary.plain_classes or name in summary.space_calls:
-                return path, name  # defined here (a subclass's export refers to its base)
-            kind = summary.exports.get(name)
-            if not _is_ref(kind):
-                return (path, name) if kind is not None else None
-            split = self.facts._split(str(kind)[len(REF) :], path)
-            if split is None or "." in split[1]:
-                return None
-            path, name = split
-        return None
-
-    def run(self) -> None:
-        found: dict[tuple[str, str], tuple[str, str, str]] = {}
-        for path, summary in self.by_path.items():
-            if path in self.facts.blocked:
-                continue
-            for classname, calls in summary.space_calls.items():
-                for attribute, callee in calls:
-                    if callee.startswith(OWN):
-                        where: tuple[str, str] | None = (path, callee[len(OWN) :])
-                    else:
-                        split = self.facts._split(callee, path)
-                        where = self.origin(*split) if split is not None and "." not in split[1] else None
-                    if where is None:
-                        continue
-                    base = self.by_path[where[0]].plain_classes.get(where[1])
-                    if base is not None:
-                        found.setdefault((path, classname), (attribute, where[1], base))
-        if not found:
-            return
-        for path, summary in self.by_path.items():
-            for name in summary.exports:
-                where = self.origin(path, name)
-                if where is not None and where in found:
-                    self.facts.non_space_envs[(path, name)] = found[where]
-
-
-def _reexport_wrappers(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> None:
-    """A name that re-exports a wrapper class of another module (``from .utils import
-    Stats`` in a package's ``__init__``) is that wrapper class too."""
-    added: dict[str, set[str]] = defaultdict(set)
-    for path, summary in by_path.items():
-        if path in facts.blocked:
-            continue
-        for name, first in summary.exports.items():
-            where = (path, name)
-            export: EnvKind | str | None = first
-            for _ in range(_MAX_CHAIN):
-                if not isinstance(export, str):
-                    break
-                split = facts._split(export[len(REF) :], where[0])
-                if split is None or "." in split[1] or split[0] not in by_path:
-                    break
-                where = split
-                if where[1] in facts.wrapper_classes.get(where[0], ()):
-                    added[path].add(name)
-                    break
-                export = by_path[where[0]].exports.get(where[1])
-    for path, names in added.items():
-        facts.wrapper_classes[path] = facts.wrapper_classes.get(path, frozenset()) | names
-def _definer(facts: ProjectFacts, by_path: dict[str, ModuleSummary], path: str, name: str) -> tuple[str, str] | None:
-    """The module and name of the class ``name`` of module ``path`` is, re-exports followed."""
-    for _ in range(_MAX_CHAIN):
-        summary = by_path.get(path)
-        if summary is None:
-            return None
-        if name in summary.env_classes or any(heir[0] == name for heir in summary.render_mode_heirs):
-            return path, name
-        kind = summary.exports.get(name)
-        if not _is_ref(kind):
-            return (path, name) if kind is not None else None
-        split = facts._split(str(kind)[len(REF) :], path)
-        if split is None or "." in split[1]:
-            return None
-        path, name = split
-    return None
-
-
-def _thread_render_mode(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> None:
-    """A subclass (in any module of the run) of a class whose constructor takes
-    ``render_mode`` takes it too when its ``__init__`` can hand it on: custom_env/render.py
-    adds the parameter and passes it to the base's ``__init__``. Without that, render() of
-    every such subclass is a silent no-op and ``gymnasium.make(id, render_mode=...)`` of a
-    registered one a TypeError. Every name re-exporting such a class counts too."""
-    takes = {(path, name) for path, names in facts.render_mode_classes.items() for name in names}
-
-    def resolve(base: str, path: str) -> tuple[str, str] | None:
-        if base.startswith(OWN):
-            return path, base[len(OWN) :]
-        split = facts._split(base, path)
-        if split is None or "." in split[1] or facts.call_kinds.get(split) is not EnvKind.GYM_ENV:
-            return None  # only a base that makes the subclass an env class the rules decide
-        return _definer(facts, by_path, *split)
-
-    changed = True
-    while changed:
-        changed = False
-        for path, summary in by_path.items():
-            if path in facts.blocked or path in facts.render_called:
-                continue
-            for name, bases, passes_on in summary.render_mode_heirs:
-                if passes_on and (path, name) not in takes and any(resolve(b, path) in takes for b in bases):
-                    takes.add((path, name))
-                    changed = True
-    for path, summary in by_path.items():
-        for name in summary.exports:
-            if (path, name) not in takes and _definer(facts, by_path, path, name) in takes:
-                takes.add((path, name))
-    for summary in by_path.values():
-        for env_id, entry in summary.registrations:
-            module, _, name = entry.partition(":")
-            where = facts.modules.get(module)
-            definer = _definer(facts, by_path, where, name) if where else None
-            if definer is None or definer in takes:
-                continue
-            defined = by_path[definer[0]]
-            if definer[1] in defined.env_classes or any(h[0] == definer[1] for h in defined.render_mode_heirs):
-                facts.no_render_mode_ids.setdefault(env_id, definer[1])
-    found: dict[str, set[str]] = defaultdict(set)
-    for path, name in takes:
-        found[path].add(name)
-    facts.render_mode_classes = {path: frozenset(found.get(path, ())) for path in set(facts.render_mode_classes) | set(found)}
-
-
-def _legacy_steps(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> frozenset[tuple[str, str]]:
-    """Every (path, name) of the run that calls a class whose step keeps the legacy
-    contract: the class itself, its re-exports and subclasses that define no step."""
-    found = set()
-    for path, summary in by_path.items():
-        if path in facts.blocked:
-            continue
-        for name in summary.exports:
-            where: tuple[str, str] | None = (path, name)
-            for _ in range(_MAX_CHAIN):
-                if where is None or where[0] in facts.blocked:
-                    break
-                here = by_path.get(where[0])
-                if here is None:
-                    break
-                if where[1] in here.legacy_steps:
-                    found.add((path, name))
-                    break
-                kind = here.exports.get(where[1])
-                if f"{where[1]}.step" in here.defs or not _is_ref(kind):
-                    break  # its own step, or not a name of the run to follow
-                split = facts._split(str(kind)[len(REF) :], where[0])
-                where = split if split is not None and "." not in split[1] else None
-    return frozenset(found)
-
-
-class _Join:
-    """Per parameter, the kinds other modules pass (``ProjectFacts.param_kinds``).
-
-    An argument that is itself a parameter of the calling def (``_test(env)`` passing
-    ``env`` on to ``demo(env)``) has the kind every call of that def gives it, in the
-    whole run: one memoized answer per parameter, so the join is linear in the calls;
-    a cycle or a chain longer than ``_MAX_CHAIN`` is unknown.
-    """
-
-    def __init__(self, facts: ProjectFacts, by_path: dict[str, ModuleSummary], calls_to: dict[tuple[str, str], list[tuple[str, CallSummary]]]) -> None:
-        self.facts = facts
-        self.by_path = by_path
-        self.calls_to = calls_to
-        self.memo: dict[tuple[str, str, str], EnvKind] = {}
-        self.depth = 0
-
-    def run(self) -> None:
-        external: dict[tuple[str, str, str], list[EnvKind]] = defaultdict(list)
-        for (path, qualname), calls in self.calls_to.items():
-            signature = self.by_path[path].defs[qualname]
-            for caller, call in calls:
-                if caller == path:
-                    continue  # the file sees its own call sites itself
-                for param, kind in self._passed(signature, call):
-                    external[(path, qualname, param)].append(self._resolve(kind, caller))
-        self.facts.param_kinds = dict(external)
-
-    def param_kind(self, path: str, qualname: str, param: str) -> EnvKind:
-        key = (path, qualname, param)
-        known = self.memo.get(key)
-        if known is not None:
-            return known
-        if self.depth >= _MAX_CHAIN:
-            return EnvKind.UNKNOWN
-        self.memo[key] = EnvKind.UNKNOWN  # a cycle adds no evidence
-        signature = self.by_path[path].defs.get(qualname)
-        kinds: list[EnvKind] = []
-        self.depth += 1
-        try:
-            for caller, call in self.calls_to.get((path, qualname), ()) if signature is not None else ():
-                kinds.extend(self._resolve(k, caller) for p, k in self._passed(signature, call) if p == param)  # type: ignore[arg-type]
-        finally:
-            self.depth -= 1
-        result = self.memo[key] = join_kinds(kinds)
-        return result
-
-    def _resolve(self, kind: Kind, caller: str) -> EnvKind:
-        if isinstance(kind, EnvKind):
-            return kind
-        if kind.startswith(NEW):
-            return self.facts._class_kind(kind, caller)
-        qualname, _, param = kind[len(PARAM) :].rpartition(":")
-        return self.param_kind(caller, qualname, param)
-
-    @staticmethod
-    def _passed(signature: Signature, call: CallSummary) -> list[tuple[str, Kind]]:
-        """(parameter, kind of what the call passes there) for every parameter."""
-        params = list(signature.params[1:] if signature.is_method else signature.params)
-        given = dict(call.keywords)
-        found: list[tuple[str, Kind]] = []
-        for index, param in enumerate(params):
-            if index < len(call.args):
-                found.append((param, call.args[index]))
-            elif param in given:
-                found.append((param, given[param]))
-            elif call.open_ended or param not in signature.defaults:
-                found.append((param, EnvKind.UNKNOWN))  # may be passed unseen, or the call would fail
-        return found
-
-
-def _nearest_root(paths: tuple[str, ...], depth: int, importer: str) -> str | None:
-    """Of the files a dotted name of ``depth`` parts may name, the one whose import root (the
-    folder the name is taken from) is the nearest folder above ``importer``: Python finds
-    ``import utils`` from the script's folder or a folder above it (the working directory),
-    not from a sibling project's package. None when no root is above it or two are as near."""
-    above = {str(p) for p in Path(importer).parents}
-    roots: dict[str, list[str]] = {}
-    for path in paths:
-        folder = Path(path).parent if Path(path).name == "__init__.py" else Path(path).with_suffix("")
-        for _ in range(depth):
-            folder = folder.parent
-        if str(folder) in above:
-            roots.setdefault(str(folder), []).append(path)
-    if not roots:
-        return None
-    nearest = roots[max(roots, key=len)]
-    return nearest[0] if len(nearest) == 1 else None
-
-
 def imports_env_checker(qualified: str) -> bool:
     """``gym.utils.env_checker.check_env`` or its module, under Gym or Gymnasium."""
     parts = qualified.split(".")
     return parts[0] in ("gym", "gymnasium") and parts[1:4] in (["utils", "env_checker"], ["utils", "env_checker", "check_env"])
-
-
-def _is_ref(kind: object) -> bool:
-    """A re-export (``ref:<module>.<name>``), not a resolved kind: ``EnvKind`` is a ``str``
-    enum, so ``isinstance(kind, str)`` alone does not tell them apart."""
-    return isinstance(kind, str) and not isinstance(kind, EnvKind) and kind.startswith(REF)
-
-
-def _module_names(path: str) -> list[str]:
-    """Every dotted name the file may be imported as: ``c``, ``b.c``, ``a.b.c`` for a/b/c.py."""
-    parts = list(Path(path).with_suffix("").parts[1:])
-    if parts and parts[-1] == "__init__":
-        parts.pop()
-    return [".".join(parts[i:]) for i in range(len(parts) - 1, -1, -1) if parts[i:]]
-
-
-@dataclass(frozen=True)
-class ProjectView:
-    """The run's facts as one file sees them."""
-
-    facts: ProjectFacts
-    path: str
-
-    def param_kinds(self, qualname: str, param: str) -> list[EnvKind]:
-        """What other modules of the run pass for ``param`` of this file's ``qualname``."""
-        return self.facts.param_kinds.get((self.path, qualname, param), [])
-
-    def seed_called_elsewhere(self) -> bool:
-        """Another module of the run calls ``x.seed(...)`` on something it cannot trace and
-        imports this module's env classes: their seed() may be what it calls."""
-        return self.path in self.facts.seed_called
-
-    def render_called_elsewhere(self) -> bool:
-        """The same for ``x.render(mode)``: this module's env classes keep render(mode)."""
-        return self.path in self.facts.render_called
-
-    def checks_envs(self) -> bool:
-        """A module of the run imports Gym's or Gymnasium's ``check_env`` (or its module)."""
-        return self.facts.checks_envs
-
-    def call_kind(self, qualified: str) -> EnvKind | None:
-        """What calling an imported name of the run gives (``from hunt import HuntEnv``:
-        a PettingZoo parallel env; ``pkg.make``: a Gym env). ``EnvKind.UNKNOWN`` for a name
-        a module of the run binds but cannot classify; None when the run does not define it."""
-        split = self.facts._split(qualified, self.path)
-        if split is None:
-            return None
-        path, name = split
-        if "." in name:
-            return None
-        found = self.facts.call_kinds.get((path, name))
-        return found if found is not None else EnvKind.UNKNOWN
-
-    def returns_made(self, qualified: str) -> bool:
-        """An imported def of the run that returns ``make(...)`` results (``utils.make_env``):
-        a wrapper stack, whatever its caller does with it."""
-        split = self.facts._split(qualified, self.path)
-        return split is not None and split in self.facts.made
-
-    def makes_bare_env(self, qualified: str) -> bool:
-        """An imported Gym env class of the run that is no wrapper (``TakeoffAviary``): its
-        instance is the env itself, whose attributes need no forwarding."""
-        split = self.facts._split(qualified, self.path)
-        return split is not None and split in self.facts.bare_env_classes
-    def star_call_kind(self, name: str, stars: tuple[str, ...]) -> EnvKind | None:
-        """What calling ``name`` gives where this file binds it only through star imports
-        (``stars``: ``from utils.wrappers import *`` gives ``"utils.wrappers"``) of modules of
-        the run; None when none of them binds it."""
-        for path in self._star_paths(stars):
-            found = self.facts.call_kinds.get((path, name))
-            if found is not None:
-                return found
-        return None
-
-    def star_wrapper_class(self, name: str, stars: tuple[str, ...]) -> bool:
-        """``name``, bound in this file only by star imports, is a Gym wrapper class of the
-        run module that defines it."""
-        return any(name in self.facts.wrapper_classes.get(path, ()) for path in self._star_paths(stars))
-
-    def _star_paths(self, stars: tuple[str, ...]) -> list[str]:
-        found = []
-        for module in stars:
-            level = len(module) - len(module.lstrip("."))
-            path = self.facts._module_path(module.lstrip(".").split(".") if module.strip(".") else [], level, self.path)
-            if path and path != self.path:
-                found.append(path)
-        return found
-
-    def library_alias(self, qualified: str) -> str | None:
-        """The library callable an imported name of the run is bound to (``pkg.make`` ->
-        ``gym.make``), or None."""
-        split = self.facts._split(qualified, self.path)
-        return None if split is None else self.facts.aliases.get(split)
-
-    def imports_multi_agent(self, qualified_names: Iterable[str]) -> bool:
-        """One of these imported names is a PettingZoo env class or factory of the run."""
-        return any(self.call_kind(q) in (EnvKind.PZ_AEC, EnvKind.PZ_PARALLEL) for q in qualified_names)
-
-    def bootstrap_masks(self, qualified: str) -> tuple[tuple[str, ...], frozenset[tuple[str, str]]] | None:
-        """For a def or method of another module of the run (``agents.Agent.learn``): its
-        parameters and which of them mask bootstrapping from which (``facts/bootstrap.py``);
-        None when the run does not define it."""
-        resolved = self.facts._resolve(qualified, self.path)
-        if resolved is not None:
-            return self.facts.bootstrap_masks.get(resolved, ((), frozenset()))
-        parts = qualified.split(".")  # a module with no Gym code (absolute imports only)
-        for cut in range(len(parts) - 1, 0, -1):
-            paths = self.facts.mask_modules.get(".".join(parts[:cut]), ())
-            path = _nearest_root(paths, cut, self.path) if paths else None
-            if path:
-                return self.facts.bootstrap_masks.get((path, ".".join(parts[cut:])))
-        return None
-
-    def defines(self, qualified: str) -> bool:
-        """The name comes from a module of the run (its own code, not a library's)."""
-        return self.facts._split(qualified, self.path) is not None
-    def has_module(self, dotted: str) -> bool:
-        """A module of the run may be imported as ``dotted`` (``gym_minigrid`` in the
-        gym-minigrid repository itself)."""
-        return dotted in self.facts.modules
-
-    def plugin_calls(self) -> tuple[tuple[str, str | None], ...]:
-        """The register functions of ``gym.envs`` entry points this module must call on
-        import, each with the namespace gym registered its ids in (None: the root)."""
-        return self.facts.plugin_calls.get(self.path, ())
-
-    def imported_packages(self) -> frozenset[str]:
-        """The top-level packages this module imports, and the run's modules it imports or that
-        import it (``multiagent`` imported by the script that builds this module's agents)."""
-        return self.facts.nearby_packages.get(self.path, frozenset())
-
-    def is_module(self, dotted: str) -> bool:
-        """``dotted`` names a module or package of the run (``multiagent`` when the project has
-        its own ``multiagent/`` package)."""
-        return any(path == dotted or path.startswith(dotted + ".") for path in self.facts.modules)
-
-    def built_elsewhere(self, classname: str) -> bool:
-        """Another module of the run calls this file's class ``classname``."""
-        return any(
-            path == self.path and qualname in (classname, f"{classname}.__init__") for path, qualname, _ in self.facts.param_kinds
-        )
-
-    def subclassed_elsewhere(self, classname: str) -> bool:
-        """Another module of the run derives a class from this file's ``classname``."""
-        return (self.path, classname) in self.facts.overrides
-
-    def overridden_elsewhere(self, classname: str, method: str) -> list[str]:
-        """Subclasses in other modules of the run that override ``classname.method``."""
-        return self.facts.overrides.get((self.path, classname), {}).get(method, [])
-
-    def done_overrides(self, classname: str, method: str) -> list[DoneCause]:
-        """Why what ``method`` returns is True in each override of it by subclasses in
-        other modules of the run, at any depth (``Base`` <- ``Single`` <- ``Hover``); each
-        limit names the module it is in."""
-        found: list[DoneCause] = []
-        seen: set[tuple[str, str]] = set()
-        todo = list(self.facts.subclasses_of.get((self.path, classname), ()))
-        while todo:
-            sub = todo.pop(0)
-            if sub in seen:
-                continue
-            seen.add(sub)
-            cause = self.facts.done_methods.get(sub, {}).get(method)
-            if cause is None and method in self.facts.subclass_methods.get(sub, ()):
-                cause = DoneCause(Cause.UNKNOWN)  # an override that takes arguments, or returns nothing
-            if cause is not None:
-                where = os.path.basename(sub[0])
-                found.append(DoneCause(cause.cause, tuple(Limit(limit.line, limit.text, where, limit.by_counter) for limit in cause.limits)))
-            todo += self.facts.subclasses_of.get(sub, ())
-        return found
-    def registered_without_render_mode(self, env_id: str | None) -> str | None:
-        """The class of the run that ``gymnasium.make(env_id)`` builds (any registered one
-        when ``env_id`` is None: not a literal) if its constructor takes no ``render_mode``."""
-        ids = self.facts.no_render_mode_ids
-        if env_id is not None:
-            return ids.get(env_id)
-        return next(iter(sorted(ids.values())), None)
-
-    def takes_render_mode(self, qualified: str) -> bool:
-        """An imported class of the run whose constructor takes ``render_mode`` once migrated
-        (its own, or threaded down from a base: ``_thread_render_mode``)."""
-        split = self.facts._split(qualified, self.path)
-        return split is not None and split[1] in self.facts.render_mode_classes.get(split[0], ())
-
-    def keeps_legacy_step(self, qualified: str) -> bool:
-        """An imported name of the run makes instances whose step keeps the four-field
-        contract (the run does not migrate that step): their callers keep it too."""
-        split = self.facts._split(qualified, self.path)
-        return split is not None and split in self.facts.legacy_steps
-
-    def is_spec_list(self, qualified: str) -> bool:
-        """An imported name of the run is bound to a list of the registry's EnvSpecs."""
-        split = self.facts._split(qualified, self.path)
-        return split is not None and split[1] in self.facts.spec_lists.get(split[0], ())
-
-    def pz_wrapper(self, qualified: str) -> tuple[str, frozenset[str]] | None:
-        """For an imported name of the run that is a PettingZoo wrapper class (or an alias of
-        PettingZoo's wrapper bases): ("aec" | "parallel", the methods the run's classes on the
-        way define); None otherwise. References are followed a few modules deep."""
-        split = self.facts._split(qualified, self.path)
-        methods: set[str] = set()
-        for _ in range(_MAX_CHAIN):
-            if split is None:
-                return None
-            path, name = split
-            entry = self.facts.pz_wrappers.get(path, {}).get(name)
-            if entry is None:
-                return None
-            api, defined = entry
-            methods.update(defined)
-            if not api.startswith(REF):
-                return api, frozenset(methods)
-            split = self.facts._split(api[len(REF) :], path)
-        return None
-
-    def wraps_argument(self, qualified: str) -> bool:
-        """An imported def of the run returns its first argument, maybe in Gym wrappers
-        (``from common.wrappers import wrap_deepmind``)."""
-        split = self.facts._split(qualified, self.path)
-        return split is not None and split[1] in self.facts.wrapping_helpers.get(split[0], ())
-
-    def is_wrapper_class(self, qualified: str) -> bool:
-        """An imported name of the run is a Gym wrapper class (``from pkg.wrappers import X``)."""
-        split = self.facts._split(qualified, self.path)
-        return split is not None and split[1] in self.facts.wrapper_classes.get(split[0], ())
-    def non_space_env(self, module: str, name: str) -> tuple[str, str, str] | None:
-        """For ``module:name`` as an ``entry_point`` spells it, a class of the run whose
-        spaces are not Spaces: (attribute, space class, what that class derives from)."""
-        path = self.facts.modules.get(module)
-        return self.facts.non_space_envs.get((path, name)) if path else None
-
-    def imported_class(self, qualified: str) -> tuple[bool, bool] | None:
-        """For an imported class of the run: (is an env class, takes render_mode)."""
-        level = len(qualified) - len(qualified.lstrip("."))
-        parts = qualified.lstrip(".").split(".")
-        if len(parts) < 2:
-            return None
-        path = self.facts._module_path(parts[:-1], level, self.path)
-        if not path:
-            return None
-        name = parts[-1]
-        return name in self.facts.env_classes.get(path, ()), name in self.facts.render_mode_classes.get(path, ())

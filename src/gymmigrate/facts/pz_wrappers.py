@@ -21,7 +21,7 @@ from gymmigrate.facts import names as N
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
 
 if TYPE_CHECKING:
-    from gymmigrate.facts.project import ProjectView
+    from gymmigrate.facts.project_view import ProjectView
 
 AEC = "aec"
 PARALLEL = "parallel"

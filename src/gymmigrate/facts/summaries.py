@@ -1,5 +1,6 @@
-"""One module's summary for the facts across the run (``facts/project.py``): its defs,
-its env classes, and the ``EnvKind`` of each argument it passes into other modules.
+"""One module's summary for the facts across the run (``facts/project.py`` joins it; the
+record is ``facts/module_summary.py``): its defs, its env classes, and the ``EnvKind`` of
+each argument it passes into other modules.
 
 Pure: text in, ``ModuleSummary`` out. Reading the files of a run, and mapping this over
 them on the worker pool, is the runner's.
@@ -28,8 +29,7 @@ from gymmigrate.facts.module import (
     own_returns,
     string_value,
 )
-from gymmigrate.facts.profile import FileProfile
-from gymmigrate.facts.project import (
+from gymmigrate.facts.module_summary import (
     GUARD_KINDS,
     NEW,
     OWN,
@@ -41,6 +41,7 @@ from gymmigrate.facts.project import (
     ModuleSummary,
     Signature,
 )
+from gymmigrate.facts.profile import FileProfile
 from gymmigrate.facts.receivers import Receivers
 from gymmigrate.source_text import first_statement_line
 from gymmigrate.suppressions import skips_file

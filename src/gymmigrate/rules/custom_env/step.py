@@ -24,7 +24,7 @@ from gymmigrate.facts.limits import (
     unwrap_bool,
 )
 from gymmigrate.facts.module import own_returns
-from gymmigrate.facts.receivers import keeps_legacy_step
+from gymmigrate.facts.receiver_classes import keeps_legacy_step
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import (
     ClassDecision,

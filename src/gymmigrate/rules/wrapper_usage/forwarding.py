@@ -33,6 +33,7 @@ from gymmigrate.facts import names as N
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import FUNCTIONS, call_argument, dotted_name, own_returns
+from gymmigrate.facts.pytest_params import fixture_values, param_fixtures
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.repeats import Repeats
@@ -661,13 +662,13 @@ class WrapperForwarding(RuleFamily):
         position = next((i for i, p in enumerate(params) if p is param), None)
         calls = self.receivers.call_sites(function, None)
         if not calls:
-            fixtures = self.receivers.param_fixtures(function, param.arg)
+            fixtures = param_fixtures(self.facts, function, param.arg)
             if not fixtures:
                 return None
             # A test's parameter named after a pytest fixture of the module (or parametrized
             # over fixtures with ``fixture_ref``) gets what the fixtures yield or return.
             self._param_origins[param] = None
-            result = join_origins([self._origin(value) for fixture in fixtures for value in self.receivers.fixture_values(fixture)])
+            result = join_origins([self._origin(value) for fixture in fixtures for value in fixture_values(self.facts, fixture)])
             self._param_origins[param] = result
             return result
         self._param_origins[param] = None  # a recursive call adds no evidence

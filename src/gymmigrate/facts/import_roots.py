@@ -1,0 +1,34 @@
+"""Which file of the run a dotted import name may name: every name a file may be imported
+as, and of several candidates the one whose import root is nearest the importer.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+
+def nearest_root(paths: tuple[str, ...], depth: int, importer: str) -> str | None:
+    """Of the files a dotted name of ``depth`` parts may name, the one whose import root (the
+    folder the name is taken from) is the nearest folder above ``importer``: Python finds
+    ``import utils`` from the script's folder or a folder above it (the working directory),
+    not from a sibling project's package. None when no root is above it or two are as near."""
+    above = {str(p) for p in Path(importer).parents}
+    roots: dict[str, list[str]] = {}
+    for path in paths:
+        folder = Path(path).parent if Path(path).name == "__init__.py" else Path(path).with_suffix("")
+        for _ in range(depth):
+            folder = folder.parent
+        if str(folder) in above:
+            roots.setdefault(str(folder), []).append(path)
+    if not roots:
+        return None
+    nearest = roots[max(roots, key=len)]
+    return nearest[0] if len(nearest) == 1 else None
+
+
+def module_names(path: str) -> list[str]:
+    """Every dotted name the file may be imported as: ``c``, ``b.c``, ``a.b.c`` for a/b/c.py."""
+    parts = list(Path(path).with_suffix("").parts[1:])
+    if parts and parts[-1] == "__init__":
+        parts.pop()
+    return [".".join(parts[i:]) for i in range(len(parts) - 1, -1, -1) if parts[i:]]

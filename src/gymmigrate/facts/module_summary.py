@@ -1,0 +1,121 @@
+"""What the run knows of one module: the small picklable ``ModuleSummary`` that
+``facts/summaries.py`` makes of each file and ``facts/project.py`` joins, and the
+conventions of the names it holds (a kind not yet resolved: ``new:``, ``ref:``, ``param:``,
+``@`` for a def of the module itself, ``?.`` for a call whose owner is unknown).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.limits import DoneCause
+
+# Kinds an unresolved ``x.fit(venv)`` still reports against every ``fit`` of the run.
+GUARD_KINDS = frozenset({EnvKind.SB3_VEC, EnvKind.GYM_VEC, EnvKind.PZ_AEC, EnvKind.PZ_PARALLEL})
+UNRESOLVED = "?."
+NEW = "new:"
+REF = "ref:"
+OWN = "@"  # a def of the calling module itself
+PARAM = "param:"
+# Beyond this many parameters passed on from call to call the join stops following.
+MAX_CHAIN = 50
+Kind = EnvKind | str  # a kind, or ``new:<class>`` / ``param:<def>:<name>`` until the join resolves it
+
+
+@dataclass(frozen=True)
+class CallSummary:
+    target: str  # "agent.Agent.fit", ".agent.train", "?.fit" (owner unknown)
+    args: tuple[Kind, ...]  # by position, up to the first starred argument
+    keywords: tuple[tuple[str, Kind], ...]
+    open_ended: bool  # ``*args`` / ``**kwargs`` at the call: later parameters are unknown
+
+
+@dataclass(frozen=True)
+class Signature:
+    params: tuple[str, ...]  # positional-or-keyword, ``self`` included for methods
+    defaults: frozenset[str]  # parameters with a default value
+    is_method: bool
+
+
+@dataclass(frozen=True)
+class ModuleSummary:
+    path: str  # os.path.realpath of the file
+    defs: dict[str, Signature]  # "train", "Agent.fit", "Agent.__init__"
+    env_classes: frozenset[str]  # top-level classes whose instances are Gym envs
+    render_mode_classes: frozenset[str]  # ...whose constructor takes render_mode once migrated
+    calls: tuple[CallSummary, ...]
+    # ``x.seed(...)`` on a receiver this module cannot trace: an env class it imports from
+    # the run must keep its seed() (removing it would make that call an AttributeError).
+    untraced_seed_call: bool = False
+    # ``x.render(mode)`` likewise: an env class it imports must keep render(mode).
+    untraced_render_call: bool = False
+    imported: tuple[str, ...] = ()  # qualified names its imports bind
+    # ``# gymmigrate: skip-file``: the module stays as it is, so the run must not assume it migrated.
+    skips_file: bool = False
+    # Top-level name -> the kind of what calling it gives (a class: its instances; a def or
+    # an alias of ``gym.make``: what it returns), or ``ref:<qualified>`` for a name bound to
+    # another module's (a re-export, ``from .utils import make``, a subclass of a class of
+    # the run): the join follows it. Every top-level def, class and import is listed, so the
+    # run knows which names it defines itself.
+    exports: dict[str, Kind] = field(default_factory=dict)
+    star_imports: tuple[str, ...] = ()  # ``from .utils import *``: modules whose names it re-exports
+    # Top-level name -> the library callable it is bound to (``make = gym.make``,
+    # ``from gym import make``): a creation site of the run that takes ``make``'s keywords.
+    aliases: dict[str, str] = field(default_factory=dict)
+    # -- method contracts across modules (rules/custom_env/hooks.py) --
+    # Each top-level class with a base imported from elsewhere: (class, qualified base
+    # names as the imports spell them, the methods the class defines).
+    subclasses: tuple[tuple[str, tuple[str, ...], tuple[str, ...]], ...] = ()
+    # Top-level Gym wrapper classes (``Wrapper`` subclasses, through local bases): an
+    # instance made elsewhere is a wrapper, so what it does not define was forwarded.
+    wrapper_classes: frozenset[str] = frozenset()
+    # Top-level defs that return their first argument, maybe in Gym wrappers
+    # (``Receivers.wraps_argument``): what they give has the kind of what they take.
+    wrapping_helpers: frozenset[str] = frozenset()
+    # Top-level PettingZoo wrapper classes and aliases of PettingZoo's wrapper bases
+    # (``facts/pz_wrappers.py``): name -> ("aec" | "parallel" | "ref:<qualified>", methods).
+    pz_wrappers: dict[str, tuple[str, tuple[str, ...]]] = field(default_factory=dict)
+    # -- spaces that are not Spaces (rules/env_ids/registry.py, GM807) --
+    # Top-level classes that certainly are not ``gymnasium.spaces.Space``: no base, or only
+    # ``list``/``tuple``/``dict``/``object``, with what they derive from ("list").
+    plain_classes: dict[str, str] = field(default_factory=dict)
+    # Top-level class -> ((space attribute, callee as the module spells it), ...) for each
+    # ``self.action_space = C(...)`` / ``self.observation_space = C(...)`` in its methods;
+    # ``@C`` for a class of the module itself.
+    space_calls: dict[str, tuple[tuple[str, str], ...]] = field(default_factory=dict)
+    # Top-level names bound once to a list of the registry's EnvSpecs
+    # (``[spec for spec in gym.envs.registry.values() if ...]``): ``spec.make(...)`` on one
+    # of them makes an env (``facts/env_specs.py``).
+    spec_lists: frozenset[str] = frozenset()
+    # Top-level defs every return of which is a ``make(...)`` result (maybe in Gym wrappers):
+    # what they return is a wrapper stack, so attribute reads on it go through forwarding.
+    made_factories: frozenset[str] = frozenset()
+    classes: frozenset[str] = frozenset()  # top-level class names
+    # -- what a flag passed to a def is for (facts/bootstrap.py, GM302) --
+    # "Agent.train_model" -> (flag parameter, next-state parameter) pairs: the def masks
+    # bootstrapping from the next state with the flag (a target or a stored transition).
+    bootstrap_masks: dict[str, frozenset[tuple[str, str]]] = field(default_factory=dict)
+    # A module with no Gym code (an agent's ``learn``): only its ``bootstrap_masks`` count,
+    # it takes no other part in the join (``summaries.summarize_masks``).
+    masks_only: bool = False
+    # -- done values across modules (facts/limits.py) --
+    # Class (with an imported base) -> its methods that take only ``self`` and return a
+    # value -> why that value is True (a step limit, the task's end...), traced in the class.
+    done_methods: dict[str, dict[str, DoneCause]] = field(default_factory=dict)
+    # -- contracts the run keeps (facts/receiver_classes.py keeps_legacy_step) --
+    # Top-level env classes whose step keeps the four-field contract (a batch the rules do
+    # not migrate): the callers of their instances keep unpacking four values.
+    legacy_steps: frozenset[str] = frozenset()
+    # Top-level classes with a base of the run (``@Name`` for one of this module): (class,
+    # bases, whether its ``__init__`` hands ``render_mode`` on once a base takes it). The
+    # join threads ``render_mode`` down every chain of subclasses (custom_env/render.py).
+    render_mode_heirs: tuple[tuple[str, tuple[str, ...], bool], ...] = ()
+    # ``register(id, entry_point="pkg.mod:Class")``: (the id if a literal, the entry point).
+    registrations: tuple[tuple[str | None, str], ...] = ()
+
+
+def is_ref(kind: object) -> bool:
+    """A re-export (``ref:<module>.<name>``), not a resolved kind: ``EnvKind`` is a ``str``
+    enum, so ``isinstance(kind, str)`` alone does not tell them apart."""
+    return isinstance(kind, str) and not isinstance(kind, EnvKind) and kind.startswith(REF)

@@ -1,0 +1,158 @@
+"""Class contracts across the modules of the run, passes of ``ProjectFacts.join``: env
+classes whose spaces are not Spaces (GM807), ``render_mode`` threaded down every chain of
+subclasses (custom_env/render.py), and the classes whose step keeps the legacy four-field
+contract.
+"""
+
+from __future__ import annotations
+
+from collections import defaultdict
+from typing import TYPE_CHECKING
+
+from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.module_summary import MAX_CHAIN, OWN, REF, ModuleSummary, is_ref
+
+if TYPE_CHECKING:
+    from gymmigrate.facts.project import ProjectFacts
+
+
+class NonSpaces:
+    """``ProjectFacts.non_space_envs``: classes of the run whose ``action_space`` or
+    ``observation_space`` is an instance of a class of the run that certainly is not a
+    ``Space`` (``class MultiAgentActionSpace(list)``), and every name re-exporting them."""
+
+    def __init__(self, facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> None:
+        self.facts = facts
+        self.by_path = by_path
+
+    def origin(self, path: str, name: str) -> tuple[str, str] | None:
+        """The module and name that define ``name`` of module ``path``, re-exports followed."""
+        for _ in range(MAX_CHAIN):
+            summary = self.by_path.get(path)
+            if summary is None:
+                return None
+            if name in summary.plain_classes or name in summary.space_calls:
+                return path, name  # defined here (a subclass's export refers to its base)
+            kind = summary.exports.get(name)
+            if not is_ref(kind):
+                return (path, name) if kind is not None else None
+            split = self.facts._split(str(kind)[len(REF) :], path)
+            if split is None or "." in split[1]:
+                return None
+            path, name = split
+        return None
+
+    def run(self) -> None:
+        found: dict[tuple[str, str], tuple[str, str, str]] = {}
+        for path, summary in self.by_path.items():
+            if path in self.facts.blocked:
+                continue
+            for classname, calls in summary.space_calls.items():
+                for attribute, callee in calls:
+                    if callee.startswith(OWN):
+                        where: tuple[str, str] | None = (path, callee[len(OWN) :])
+                    else:
+                        split = self.facts._split(callee, path)
+                        where = self.origin(*split) if split is not None and "." not in split[1] else None
+                    if where is None:
+                        continue
+                    base = self.by_path[where[0]].plain_classes.get(where[1])
+                    if base is not None:
+                        found.setdefault((path, classname), (attribute, where[1], base))
+        if not found:
+            return
+        for path, summary in self.by_path.items():
+            for name in summary.exports:
+                where = self.origin(path, name)
+                if where is not None and where in found:
+                    self.facts.non_space_envs[(path, name)] = found[where]
+
+
+def _definer(facts: ProjectFacts, by_path: dict[str, ModuleSummary], path: str, name: str) -> tuple[str, str] | None:
+    """The module and name of the class ``name`` of module ``path`` is, re-exports followed."""
+    for _ in range(MAX_CHAIN):
+        summary = by_path.get(path)
+        if summary is None:
+            return None
+        if name in summary.env_classes or any(heir[0] == name for heir in summary.render_mode_heirs):
+            return path, name
+        kind = summary.exports.get(name)
+        if not is_ref(kind):
+            return (path, name) if kind is not None else None
+        split = facts._split(str(kind)[len(REF) :], path)
+        if split is None or "." in split[1]:
+            return None
+        path, name = split
+    return None
+
+
+def thread_render_mode(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> None:
+    """A subclass (in any module of the run) of a class whose constructor takes
+    ``render_mode`` takes it too when its ``__init__`` can hand it on: custom_env/render.py
+    adds the parameter and passes it to the base's ``__init__``. Without that, render() of
+    every such subclass is a silent no-op and ``gymnasium.make(id, render_mode=...)`` of a
+    registered one a TypeError. Every name re-exporting such a class counts too."""
+    takes = {(path, name) for path, names in facts.render_mode_classes.items() for name in names}
+
+    def resolve(base: str, path: str) -> tuple[str, str] | None:
+        if base.startswith(OWN):
+            return path, base[len(OWN) :]
+        split = facts._split(base, path)
+        if split is None or "." in split[1] or facts.call_kinds.get(split) is not EnvKind.GYM_ENV:
+            return None  # only a base that makes the subclass an env class the rules decide
+        return _definer(facts, by_path, *split)
+
+    changed = True
+    while changed:
+        changed = False
+        for path, summary in by_path.items():
+            if path in facts.blocked or path in facts.render_called:
+                continue
+            for name, bases, passes_on in summary.render_mode_heirs:
+                if passes_on and (path, name) not in takes and any(resolve(b, path) in takes for b in bases):
+                    takes.add((path, name))
+                    changed = True
+    for path, summary in by_path.items():
+        for name in summary.exports:
+            if (path, name) not in takes and _definer(facts, by_path, path, name) in takes:
+                takes.add((path, name))
+    for summary in by_path.values():
+        for env_id, entry in summary.registrations:
+            module, _, name = entry.partition(":")
+            where = facts.modules.get(module)
+            definer = _definer(facts, by_path, where, name) if where else None
+            if definer is None or definer in takes:
+                continue
+            defined = by_path[definer[0]]
+            if definer[1] in defined.env_classes or any(h[0] == definer[1] for h in defined.render_mode_heirs):
+                facts.no_render_mode_ids.setdefault(env_id, definer[1])
+    found: dict[str, set[str]] = defaultdict(set)
+    for path, name in takes:
+        found[path].add(name)
+    facts.render_mode_classes = {path: frozenset(found.get(path, ())) for path in set(facts.render_mode_classes) | set(found)}
+
+
+def legacy_steps(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> frozenset[tuple[str, str]]:
+    """Every (path, name) of the run that calls a class whose step keeps the legacy
+    contract: the class itself, its re-exports and subclasses that define no step."""
+    found = set()
+    for path, summary in by_path.items():
+        if path in facts.blocked:
+            continue
+        for name in summary.exports:
+            where: tuple[str, str] | None = (path, name)
+            for _ in range(MAX_CHAIN):
+                if where is None or where[0] in facts.blocked:
+                    break
+                here = by_path.get(where[0])
+                if here is None:
+                    break
+                if where[1] in here.legacy_steps:
+                    found.add((path, name))
+                    break
+                kind = here.exports.get(where[1])
+                if f"{where[1]}.step" in here.defs or not is_ref(kind):
+                    break  # its own step, or not a name of the run to follow
+                split = facts._split(str(kind)[len(REF) :], where[0])
+                where = split if split is not None and "." not in split[1] else None
+    return frozenset(found)

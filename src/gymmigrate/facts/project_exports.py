@@ -1,0 +1,185 @@
+"""The run's names, re-exports followed: what calling each top-level name of the run gives
+(``ProjectFacts.call_kinds``, ``aliases``, ``made``, ``bare_env_classes``), and which
+re-exported names are Gym wrapper classes. Passes of ``ProjectFacts.join``.
+"""
+
+from __future__ import annotations
+
+from collections import defaultdict
+from typing import TYPE_CHECKING
+
+from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.module_summary import MAX_CHAIN, REF, ModuleSummary, is_ref
+
+if TYPE_CHECKING:
+    from gymmigrate.facts.project import ProjectFacts
+
+
+class Exports:
+    """``ProjectFacts.call_kinds``: every top-level name of the run with what calling it
+    gives, re-exports (``__init__``, star imports, ``make = utils.make``) and subclasses
+    followed to the module that decides. One memoized answer per name; a cycle or a chain
+    longer than ``MAX_CHAIN`` is unknown."""
+
+    def __init__(self, facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> None:
+        self.facts = facts
+        self.by_path = by_path
+        self.depth = 0
+
+    def run(self) -> None:
+        for path, summary in self.by_path.items():
+            for name in summary.exports:
+                self.kind(path, name)
+                alias = self._alias(path, name)
+                if alias is not None:
+                    self.facts.aliases[(path, name)] = alias
+            for name in self._star_names(summary, set()):
+                self.kind(path, name)  # ``from .envs import *``: its names are this module's too
+        for key, kind in self.facts.call_kinds.items():
+            if kind is EnvKind.GYM_ENV:
+                trail: list[tuple[str, str]] = []
+                where = self.origin(*key, set(), trail)
+                if where is None:
+                    continue
+                defining = self.by_path[where[0]]
+                if where[1] in defining.made_factories:
+                    self.facts.made.add(key)
+                if (
+                    where[1] in defining.classes
+                    and where[1] in self.facts.env_classes.get(where[0], ())
+                    and not any(n in self.by_path[p].wrapper_classes for p, n in trail)
+                ):
+                    self.facts.bare_env_classes.add(key)
+
+    def origin(
+        self, path: str, name: str, seen: set[tuple[str, str]], trail: list[tuple[str, str]] | None = None
+    ) -> tuple[str, str] | None:
+        """The module and name that define ``name`` of module ``path``: re-exports, star
+        imports and subclasses of a class of another module (``ref:``) followed, each once;
+        ``trail`` gets every name passed on the way."""
+        summary = self.by_path.get(path)
+        if summary is None or (path, name) in seen or len(seen) >= MAX_CHAIN:
+            return None
+        seen.add((path, name))
+        kind = summary.exports.get(name)
+        if kind is None:
+            for star in self._star_paths(summary):
+                found = self.origin(star, name, seen, trail)
+                if found is not None:
+                    return found
+            return None
+        if trail is not None:
+            trail.append((path, name))
+        if isinstance(kind, EnvKind):
+            return path, name
+        split = self.facts._split(kind[len(REF) :], path)
+        return None if split is None or "." in split[1] else self.origin(*split, seen, trail)
+
+    def _star_names(self, summary: ModuleSummary, seen: set[str]) -> set[str]:
+        """The public names a module's star imports bring in (star chains followed once)."""
+        seen.add(summary.path)
+        names: set[str] = set()
+        for path in self._star_paths(summary):
+            if path in seen:
+                continue
+            star = self.by_path[path]
+            names.update(n for n in star.exports if not n.startswith("_"))
+            names.update(self._star_names(star, seen))
+        return names
+
+    def _star_paths(self, summary: ModuleSummary) -> list[str]:
+        found = []
+        for module in summary.star_imports:
+            level = len(module) - len(module.lstrip("."))
+            path = self.facts._module_path(module.lstrip(".").split(".") if module.strip(".") else [], level, summary.path)
+            if path and path != summary.path and path in self.by_path:
+                found.append(path)
+        return found
+
+    def _alias(self, path: str, name: str) -> str | None:
+        """``gym.make`` for a name bound to it here or through a chain of re-exports."""
+        for _ in range(MAX_CHAIN):
+            summary = self.by_path.get(path)
+            if summary is None:
+                return None
+            if name in summary.aliases:
+                return summary.aliases[name]
+            kind = summary.exports.get(name)
+            if not is_ref(kind):
+                return None
+            split = self.facts._split(str(kind)[len(REF) :], path)
+            if split is None:
+                return None
+            path, name = split
+        return None
+
+    def kind(self, path: str, name: str) -> EnvKind | None:
+        """What calling ``name`` of module ``path`` gives; None when the module does not
+        bind it (not even through a star import)."""
+        key = (path, name)
+        known = self.facts.call_kinds.get(key)
+        if known is not None:
+            return known
+        summary = self.by_path.get(path)
+        if summary is None or self.depth >= MAX_CHAIN:
+            return None
+        kind = summary.exports.get(name)
+        self.facts.call_kinds[key] = EnvKind.UNKNOWN  # a cycle adds no evidence
+        self.depth += 1
+        try:
+            if kind is None:
+                found = self._from_stars(summary, name)
+                if found is None:
+                    del self.facts.call_kinds[key]
+                    return None
+            elif isinstance(kind, EnvKind):
+                # A module the run leaves as it is: its classes did not migrate.
+                found = EnvKind.UNKNOWN if path in self.facts.blocked and kind is not EnvKind.NOT_ENV else kind
+            else:
+                found = self._follow(kind[len(REF) :], path)
+        finally:
+            self.depth -= 1
+        self.facts.call_kinds[key] = found
+        return found
+
+    def _follow(self, qualified: str, importer: str) -> EnvKind:
+        split = self.facts._split(qualified, importer)
+        if split is None:
+            return EnvKind.UNKNOWN  # a library name the module could not classify
+        path, name = split
+        if "." in name:
+            return EnvKind.UNKNOWN  # ``module.Class.method``: not a top-level name
+        found = self.kind(path, name)
+        return EnvKind.UNKNOWN if found is None else found
+
+    def _from_stars(self, summary: ModuleSummary, name: str) -> EnvKind | None:
+        for path in self._star_paths(summary):
+            found = self.kind(path, name)
+            if found is not None:
+                return found
+        return None
+
+
+def reexport_wrappers(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> None:
+    """A name that re-exports a wrapper class of another module (``from .utils import
+    Stats`` in a package's ``__init__``) is that wrapper class too."""
+    added: dict[str, set[str]] = defaultdict(set)
+    for path, summary in by_path.items():
+        if path in facts.blocked:
+            continue
+        for name, first in summary.exports.items():
+            where = (path, name)
+            export: EnvKind | str | None = first
+            for _ in range(MAX_CHAIN):
+                if not isinstance(export, str):
+                    break
+                split = facts._split(export[len(REF) :], where[0])
+                if split is None or "." in split[1] or split[0] not in by_path:
+                    break
+                where = split
+                if where[1] in facts.wrapper_classes.get(where[0], ()):
+                    added[path].add(name)
+                    break
+                export = by_path[where[0]].exports.get(where[1])
+    for path, names in added.items():
+        facts.wrapper_classes[path] = facts.wrapper_classes.get(path, frozenset()) | names

@@ -1,0 +1,92 @@
+"""Per parameter of the run's defs, the kinds other modules pass
+(``ProjectFacts.param_kinds``): a pass of ``ProjectFacts.join``.
+"""
+
+from __future__ import annotations
+
+from collections import defaultdict
+from typing import TYPE_CHECKING
+
+from gymmigrate.facts.kinds import EnvKind, join_kinds
+from gymmigrate.facts.module_summary import (
+    MAX_CHAIN,
+    NEW,
+    PARAM,
+    CallSummary,
+    Kind,
+    ModuleSummary,
+    Signature,
+)
+
+if TYPE_CHECKING:
+    from gymmigrate.facts.project import ProjectFacts
+
+
+class ParamJoin:
+    """Per parameter, the kinds other modules pass (``ProjectFacts.param_kinds``).
+
+    An argument that is itself a parameter of the calling def (``_test(env)`` passing
+    ``env`` on to ``demo(env)``) has the kind every call of that def gives it, in the
+    whole run: one memoized answer per parameter, so the join is linear in the calls;
+    a cycle or a chain longer than ``MAX_CHAIN`` is unknown.
+    """
+
+    def __init__(self, facts: ProjectFacts, by_path: dict[str, ModuleSummary], calls_to: dict[tuple[str, str], list[tuple[str, CallSummary]]]) -> None:
+        self.facts = facts
+        self.by_path = by_path
+        self.calls_to = calls_to
+        self.memo: dict[tuple[str, str, str], EnvKind] = {}
+        self.depth = 0
+
+    def run(self) -> None:
+        external: dict[tuple[str, str, str], list[EnvKind]] = defaultdict(list)
+        for (path, qualname), calls in self.calls_to.items():
+            signature = self.by_path[path].defs[qualname]
+            for caller, call in calls:
+                if caller == path:
+                    continue  # the file sees its own call sites itself
+                for param, kind in self._passed(signature, call):
+                    external[(path, qualname, param)].append(self._resolve(kind, caller))
+        self.facts.param_kinds = dict(external)
+
+    def param_kind(self, path: str, qualname: str, param: str) -> EnvKind:
+        key = (path, qualname, param)
+        known = self.memo.get(key)
+        if known is not None:
+            return known
+        if self.depth >= MAX_CHAIN:
+            return EnvKind.UNKNOWN
+        self.memo[key] = EnvKind.UNKNOWN  # a cycle adds no evidence
+        signature = self.by_path[path].defs.get(qualname)
+        kinds: list[EnvKind] = []
+        self.depth += 1
+        try:
+            for caller, call in self.calls_to.get((path, qualname), ()) if signature is not None else ():
+                kinds.extend(self._resolve(k, caller) for p, k in self._passed(signature, call) if p == param)  # type: ignore[arg-type]
+        finally:
+            self.depth -= 1
+        result = self.memo[key] = join_kinds(kinds)
+        return result
+
+    def _resolve(self, kind: Kind, caller: str) -> EnvKind:
+        if isinstance(kind, EnvKind):
+            return kind
+        if kind.startswith(NEW):
+            return self.facts._class_kind(kind, caller)
+        qualname, _, param = kind[len(PARAM) :].rpartition(":")
+        return self.param_kind(caller, qualname, param)
+
+    @staticmethod
+    def _passed(signature: Signature, call: CallSummary) -> list[tuple[str, Kind]]:
+        """(parameter, kind of what the call passes there) for every parameter."""
+        params = list(signature.params[1:] if signature.is_method else signature.params)
+        given = dict(call.keywords)
+        found: list[tuple[str, Kind]] = []
+        for index, param in enumerate(params):
+            if index < len(call.args):
+                found.append((param, call.args[index]))
+            elif param in given:
+                found.append((param, given[param]))
+            elif call.open_ended or param not in signature.defaults:
+                found.append((param, EnvKind.UNKNOWN))  # may be passed unseen, or the call would fail
+        return found

@@ -1,0 +1,246 @@
+"""The run's joined facts as one file sees them (``ProjectView``): what the receiver
+analysis and the rules ask of the other modules of the run.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Iterable
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+from gymmigrate.facts.import_roots import nearest_root
+from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.limits import Cause, DoneCause, Limit
+from gymmigrate.facts.module_summary import MAX_CHAIN, REF
+
+if TYPE_CHECKING:
+    from gymmigrate.facts.project import ProjectFacts
+
+
+@dataclass(frozen=True)
+class ProjectView:
+    """The run's facts as one file sees them."""
+
+    facts: ProjectFacts
+    path: str
+
+    def param_kinds(self, qualname: str, param: str) -> list[EnvKind]:
+        """What other modules of the run pass for ``param`` of this file's ``qualname``."""
+        return self.facts.param_kinds.get((self.path, qualname, param), [])
+
+    def seed_called_elsewhere(self) -> bool:
+        """Another module of the run calls ``x.seed(...)`` on something it cannot trace and
+        imports this module's env classes: their seed() may be what it calls."""
+        return self.path in self.facts.seed_called
+
+    def render_called_elsewhere(self) -> bool:
+        """The same for ``x.render(mode)``: this module's env classes keep render(mode)."""
+        return self.path in self.facts.render_called
+
+    def checks_envs(self) -> bool:
+        """A module of the run imports Gym's or Gymnasium's ``check_env`` (or its module)."""
+        return self.facts.checks_envs
+
+    def call_kind(self, qualified: str) -> EnvKind | None:
+        """What calling an imported name of the run gives (``from hunt import HuntEnv``:
+        a PettingZoo parallel env; ``pkg.make``: a Gym env). ``EnvKind.UNKNOWN`` for a name
+        a module of the run binds but cannot classify; None when the run does not define it."""
+        split = self.facts._split(qualified, self.path)
+        if split is None:
+            return None
+        path, name = split
+        if "." in name:
+            return None
+        found = self.facts.call_kinds.get((path, name))
+        return found if found is not None else EnvKind.UNKNOWN
+
+    def returns_made(self, qualified: str) -> bool:
+        """An imported def of the run that returns ``make(...)`` results (``utils.make_env``):
+        a wrapper stack, whatever its caller does with it."""
+        split = self.facts._split(qualified, self.path)
+        return split is not None and split in self.facts.made
+
+    def makes_bare_env(self, qualified: str) -> bool:
+        """An imported Gym env class of the run that is no wrapper (``TakeoffAviary``): its
+        instance is the env itself, whose attributes need no forwarding."""
+        split = self.facts._split(qualified, self.path)
+        return split is not None and split in self.facts.bare_env_classes
+    def star_call_kind(self, name: str, stars: tuple[str, ...]) -> EnvKind | None:
+        """What calling ``name`` gives where this file binds it only through star imports
+        (``stars``: ``from utils.wrappers import *`` gives ``"utils.wrappers"``) of modules of
+        the run; None when none of them binds it."""
+        for path in self._star_paths(stars):
+            found = self.facts.call_kinds.get((path, name))
+            if found is not None:
+                return found
+        return None
+
+    def star_wrapper_class(self, name: str, stars: tuple[str, ...]) -> bool:
+        """``name``, bound in this file only by star imports, is a Gym wrapper class of the
+        run module that defines it."""
+        return any(name in self.facts.wrapper_classes.get(path, ()) for path in self._star_paths(stars))
+
+    def _star_paths(self, stars: tuple[str, ...]) -> list[str]:
+        found = []
+        for module in stars:
+            level = len(module) - len(module.lstrip("."))
+            path = self.facts._module_path(module.lstrip(".").split(".") if module.strip(".") else [], level, self.path)
+            if path and path != self.path:
+                found.append(path)
+        return found
+
+    def library_alias(self, qualified: str) -> str | None:
+        """The library callable an imported name of the run is bound to (``pkg.make`` ->
+        ``gym.make``), or None."""
+        split = self.facts._split(qualified, self.path)
+        return None if split is None else self.facts.aliases.get(split)
+
+    def imports_multi_agent(self, qualified_names: Iterable[str]) -> bool:
+        """One of these imported names is a PettingZoo env class or factory of the run."""
+        return any(self.call_kind(q) in (EnvKind.PZ_AEC, EnvKind.PZ_PARALLEL) for q in qualified_names)
+
+    def bootstrap_masks(self, qualified: str) -> tuple[tuple[str, ...], frozenset[tuple[str, str]]] | None:
+        """For a def or method of another module of the run (``agents.Agent.learn``): its
+        parameters and which of them mask bootstrapping from which (``facts/bootstrap.py``);
+        None when the run does not define it."""
+        resolved = self.facts._resolve(qualified, self.path)
+        if resolved is not None:
+            return self.facts.bootstrap_masks.get(resolved, ((), frozenset()))
+        parts = qualified.split(".")  # a module with no Gym code (absolute imports only)
+        for cut in range(len(parts) - 1, 0, -1):
+            paths = self.facts.mask_modules.get(".".join(parts[:cut]), ())
+            path = nearest_root(paths, cut, self.path) if paths else None
+            if path:
+                return self.facts.bootstrap_masks.get((path, ".".join(parts[cut:])))
+        return None
+
+    def defines(self, qualified: str) -> bool:
+        """The name comes from a module of the run (its own code, not a library's)."""
+        return self.facts._split(qualified, self.path) is not None
+    def has_module(self, dotted: str) -> bool:
+        """A module of the run may be imported as ``dotted`` (``gym_minigrid`` in the
+        gym-minigrid repository itself)."""
+        return dotted in self.facts.modules
+
+    def plugin_calls(self) -> tuple[tuple[str, str | None], ...]:
+        """The register functions of ``gym.envs`` entry points this module must call on
+        import, each with the namespace gym registered its ids in (None: the root)."""
+        return self.facts.plugin_calls.get(self.path, ())
+
+    def imported_packages(self) -> frozenset[str]:
+        """The top-level packages this module imports, and the run's modules it imports or that
+        import it (``multiagent`` imported by the script that builds this module's agents)."""
+        return self.facts.nearby_packages.get(self.path, frozenset())
+
+    def is_module(self, dotted: str) -> bool:
+        """``dotted`` names a module or package of the run (``multiagent`` when the project has
+        its own ``multiagent/`` package)."""
+        return any(path == dotted or path.startswith(dotted + ".") for path in self.facts.modules)
+
+    def built_elsewhere(self, classname: str) -> bool:
+        """Another module of the run calls this file's class ``classname``."""
+        return any(
+            path == self.path and qualname in (classname, f"{classname}.__init__") for path, qualname, _ in self.facts.param_kinds
+        )
+
+    def subclassed_elsewhere(self, classname: str) -> bool:
+        """Another module of the run derives a class from this file's ``classname``."""
+        return (self.path, classname) in self.facts.overrides
+
+    def overridden_elsewhere(self, classname: str, method: str) -> list[str]:
+        """Subclasses in other modules of the run that override ``classname.method``."""
+        return self.facts.overrides.get((self.path, classname), {}).get(method, [])
+
+    def done_overrides(self, classname: str, method: str) -> list[DoneCause]:
+        """Why what ``method`` returns is True in each override of it by subclasses in
+        other modules of the run, at any depth (``Base`` <- ``Single`` <- ``Hover``); each
+        limit names the module it is in."""
+        found: list[DoneCause] = []
+        seen: set[tuple[str, str]] = set()
+        todo = list(self.facts.subclasses_of.get((self.path, classname), ()))
+        while todo:
+            sub = todo.pop(0)
+            if sub in seen:
+                continue
+            seen.add(sub)
+            cause = self.facts.done_methods.get(sub, {}).get(method)
+            if cause is None and method in self.facts.subclass_methods.get(sub, ()):
+                cause = DoneCause(Cause.UNKNOWN)  # an override that takes arguments, or returns nothing
+            if cause is not None:
+                where = os.path.basename(sub[0])
+                found.append(DoneCause(cause.cause, tuple(Limit(limit.line, limit.text, where, limit.by_counter) for limit in cause.limits)))
+            todo += self.facts.subclasses_of.get(sub, ())
+        return found
+    def registered_without_render_mode(self, env_id: str | None) -> str | None:
+        """The class of the run that ``gymnasium.make(env_id)`` builds (any registered one
+        when ``env_id`` is None: not a literal) if its constructor takes no ``render_mode``."""
+        ids = self.facts.no_render_mode_ids
+        if env_id is not None:
+            return ids.get(env_id)
+        return next(iter(sorted(ids.values())), None)
+
+    def takes_render_mode(self, qualified: str) -> bool:
+        """An imported class of the run whose constructor takes ``render_mode`` once migrated
+        (its own, or threaded down from a base: ``thread_render_mode``)."""
+        split = self.facts._split(qualified, self.path)
+        return split is not None and split[1] in self.facts.render_mode_classes.get(split[0], ())
+
+    def keeps_legacy_step(self, qualified: str) -> bool:
+        """An imported name of the run makes instances whose step keeps the four-field
+        contract (the run does not migrate that step): their callers keep it too."""
+        split = self.facts._split(qualified, self.path)
+        return split is not None and split in self.facts.legacy_steps
+
+    def is_spec_list(self, qualified: str) -> bool:
+        """An imported name of the run is bound to a list of the registry's EnvSpecs."""
+        split = self.facts._split(qualified, self.path)
+        return split is not None and split[1] in self.facts.spec_lists.get(split[0], ())
+
+    def pz_wrapper(self, qualified: str) -> tuple[str, frozenset[str]] | None:
+        """For an imported name of the run that is a PettingZoo wrapper class (or an alias of
+        PettingZoo's wrapper bases): ("aec" | "parallel", the methods the run's classes on the
+        way define); None otherwise. References are followed a few modules deep."""
+        split = self.facts._split(qualified, self.path)
+        methods: set[str] = set()
+        for _ in range(MAX_CHAIN):
+            if split is None:
+                return None
+            path, name = split
+            entry = self.facts.pz_wrappers.get(path, {}).get(name)
+            if entry is None:
+                return None
+            api, defined = entry
+            methods.update(defined)
+            if not api.startswith(REF):
+                return api, frozenset(methods)
+            split = self.facts._split(api[len(REF) :], path)
+        return None
+
+    def wraps_argument(self, qualified: str) -> bool:
+        """An imported def of the run returns its first argument, maybe in Gym wrappers
+        (``from common.wrappers import wrap_deepmind``)."""
+        split = self.facts._split(qualified, self.path)
+        return split is not None and split[1] in self.facts.wrapping_helpers.get(split[0], ())
+
+    def is_wrapper_class(self, qualified: str) -> bool:
+        """An imported name of the run is a Gym wrapper class (``from pkg.wrappers import X``)."""
+        split = self.facts._split(qualified, self.path)
+        return split is not None and split[1] in self.facts.wrapper_classes.get(split[0], ())
+    def non_space_env(self, module: str, name: str) -> tuple[str, str, str] | None:
+        """For ``module:name`` as an ``entry_point`` spells it, a class of the run whose
+        spaces are not Spaces: (attribute, space class, what that class derives from)."""
+        path = self.facts.modules.get(module)
+        return self.facts.non_space_envs.get((path, name)) if path else None
+
+    def imported_class(self, qualified: str) -> tuple[bool, bool] | None:
+        """For an imported class of the run: (is an env class, takes render_mode)."""
+        level = len(qualified) - len(qualified.lstrip("."))
+        parts = qualified.lstrip(".").split(".")
+        if len(parts) < 2:
+            return None
+        path = self.facts._module_path(parts[:-1], level, self.path)
+        if not path:
+            return None
+        name = parts[-1]
+        return name in self.facts.env_classes.get(path, ()), name in self.facts.render_mode_classes.get(path, ())

@@ -1,0 +1,251 @@
+"""What a class of the module is: its instances' ``EnvKind`` from its bases
+(``ClassKinds``, mixed into ``Receivers``: Gym wrappers, a wrapper around a Gym-only
+library's object, ``super()`` calls), and the shape predicates that decide from its body
+alone (a VecEnv-shaped class, a reset that returns bare observations, a step that keeps
+the legacy four-field contract).
+"""
+
+from __future__ import annotations
+
+import ast
+from typing import TYPE_CHECKING
+
+from gymmigrate.facts import names as N
+from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.module import FUNCTIONS, call_argument, own_returns
+
+if TYPE_CHECKING:
+    from gymmigrate.facts.kinds import ReceiverFacade as _Facade
+else:
+    _Facade = object
+
+
+class ClassKinds(_Facade):
+    """The kinds of the module's classes and of ``super()`` receivers (part of ``Receivers``)."""
+
+    def class_kind(self, classdef: ast.ClassDef) -> EnvKind:
+        """The kind of instances of a class defined in this module, from its bases; a class
+        with no library base that steps many envs at once (``step_async``/``step_wait``,
+        baselines' ``SubprocVecEnv`` copied into a project) is a VecEnv."""
+        kinds = [self._base_kind(base) for base in classdef.bases if not is_object(base)]
+        useful = [k for k in kinds if k not in (EnvKind.UNKNOWN, EnvKind.NOT_ENV)]
+        if useful and useful[0] is EnvKind.GYM_ENV and self.wraps_gym_only(classdef) is not None:
+            # A wrapper around an object of a Gym-only library (gym_unity's batched envs): that
+            # object keeps gym's API, so neither the wrapper nor its callers are Gymnasium code.
+            return EnvKind.UNKNOWN
+        if useful:
+            if useful[0] is EnvKind.GYM_VEC and keeps_bare_reset(classdef):
+                # A vector env subclass whose own reset returns the bare observations (no
+                # rule changes a vector env's reset): its callers are on that contract, so
+                # its instances are not rewritten as Gymnasium vector envs; reported.
+                return EnvKind.UNKNOWN
+            return useful[0]
+        if all(k is EnvKind.NOT_ENV for k in kinds) and is_vec_env_shaped(classdef):
+            return EnvKind.SB3_VEC
+        return EnvKind.NOT_ENV if not kinds else EnvKind.UNKNOWN
+
+    def wraps_gym_only(self, classdef: ast.ClassDef) -> str | None:
+        """A Gym wrapper class of this module that a construction here wraps around an object
+        a Gym-only library makes (``BatchWrapper(UnityEnv(...))`` of gym_unity, directly or
+        through other wrappers of the module): that library's callable, else None. The
+        object keeps gym's API (a four-field step, per-agent arrays), so the wrapper is not
+        migrated, and it is reported (``rules/wrappers``)."""
+        return self.facts.memo(("wraps-gym-only", id(classdef)), lambda: self._wraps_gym_only(classdef), while_computing=None)
+
+    def _wraps_gym_only(self, classdef: ast.ClassDef) -> str | None:
+        if not self.is_gym_wrapper_class(classdef):
+            return None
+        for call in self.facts.calls_by_name.get(classdef.name, ()):
+            found = self._gym_only_inside(call_argument(call, 0, "env"), 0)
+            if found is not None:
+                return found
+        return None
+
+    def _gym_only_inside(self, expr: ast.expr | None, depth: int) -> str | None:
+        if expr is None or depth > 4:
+            return None
+        if isinstance(expr, ast.Call) and isinstance(expr.func, ast.Name):
+            inner = self.local_class(expr.func)
+            if inner is not None:  # another wrapper of the module around it
+                return self._gym_only_inside(call_argument(expr, 0, "env"), depth + 1) if self.is_gym_wrapper_class(inner) else None
+        if isinstance(expr, ast.Name):
+            last = self._dominating_binding(expr)
+            statement = self.facts.statement_of(last) if last is not None else None
+            if isinstance(statement, ast.Assign) and isinstance(statement.value, ast.Call) and self.local_class(statement.value.func) is not None:
+                return self._gym_only_inside(statement.value, depth + 1)
+        made = self.library_made(expr)
+        return made if made is not None and made.split(".", 1)[0] in N.GYM_ONLY_PACKAGES else None
+
+    def is_gym_wrapper_class(self, classdef: ast.ClassDef, _seen: frozenset[int] = frozenset()) -> bool:
+        for base in classdef.bases:
+            for q in self.qualified_names(base):
+                rest = N.strip_gym_prefix(q)
+                if rest is not None and (rest in N.GYM_WRAPPER_BASE_CLASSES or rest.startswith("wrappers.")):
+                    return True
+            local = self.local_class(base)
+            if local is not None and local is not classdef and id(local) not in _seen:
+                if self.is_gym_wrapper_class(local, _seen | {id(classdef)}):
+                    return True
+        return False
+
+    def local_class(self, func: ast.AST) -> ast.ClassDef | None:
+        return self.facts.classes.get(func.id) if isinstance(func, ast.Name) else None
+
+    def local_function(self, func: ast.AST) -> ast.FunctionDef | ast.AsyncFunctionDef | None:
+        return self.facts.functions.get(func.id) if isinstance(func, ast.Name) else None
+
+    def super_kind(self, receiver: ast.AST) -> EnvKind | None:
+        """``super().step(a)`` inside a Gym wrapper or env subclass is the wrapped Gym call;
+        so is ``Base.step(self, a)`` naming one of the class's own bases."""
+        if not (isinstance(receiver, ast.Call) and isinstance(receiver.func, ast.Name) and receiver.func.id == "super"):
+            return self._explicit_base_kind(receiver)
+        classdef = self.facts.enclosing_class(receiver)
+        if classdef is None:
+            return None
+        if self.is_gym_wrapper_class(classdef):
+            return None if self.wraps_gym_only(classdef) is not None else EnvKind.GYM_ENV
+        kind = self.class_kind(classdef)
+        return kind if kind.is_gym else None
+
+    def _explicit_base_kind(self, receiver: ast.AST) -> EnvKind | None:
+        if not isinstance(receiver, (ast.Name, ast.Attribute)):
+            return None
+        method = self.facts.parent(receiver)
+        call = self.facts.parent(method) if isinstance(method, ast.Attribute) else None
+        if not (isinstance(call, ast.Call) and call.func is method and call.args):
+            return None
+        first = call.args[0]
+        function = self.facts.enclosing_function(call)
+        classdef = self.facts.enclosing_class(call)
+        if function is None or classdef is None or self.facts.parent(function) is not classdef:
+            return None
+        params = function.args.posonlyargs + function.args.args
+        if not (params and isinstance(first, ast.Name) and first.id == params[0].arg):
+            return None
+        text = ast.dump(receiver)
+        base = next((b for b in classdef.bases if ast.dump(b) == text), None)
+        if base is None:
+            return None
+        kind = self._base_kind(base)
+        return kind if kind.is_gym else None
+
+    def _base_kind(self, base: ast.AST) -> EnvKind:
+        for q in self.qualified_names(base):
+            rest = N.strip_gym_prefix(q)
+            if rest is not None:
+                if rest in N.GYM_ENV_BASE_CLASSES or rest.startswith("wrappers."):
+                    return EnvKind.GYM_ENV
+                if rest.startswith("vector."):
+                    return EnvKind.GYM_VEC
+            other = other_library_class_kind(q)
+            if other is not None:
+                return other
+        if self.project is not None:
+            for q in self.qualified_names(base):
+                found = self.project.call_kind(q)  # an env class of another module of the run
+                if found is not None and found not in (EnvKind.UNKNOWN, EnvKind.NOT_ENV):
+                    return found
+        local = self.local_class(base)
+        if local is not None:
+            # Class cycles (``class A(B)`` / ``class B(A)``) add no evidence.
+            return self.facts.memo(("class-kind", id(local)), lambda: self.class_kind(local), while_computing=EnvKind.UNKNOWN)
+        return EnvKind.UNKNOWN
+
+
+def keeps_bare_reset(classdef: ast.ClassDef) -> bool:
+    """The class defines ``reset`` and one of its returns is a bare value: not a tuple,
+    not ``None``, not another env's ``reset(...)`` passed through."""
+    for statement in classdef.body:
+        if isinstance(statement, FUNCTIONS) and statement.name == "reset":
+            for ret in own_returns(statement):
+                value = ret.value
+                if value is None or isinstance(value, ast.Tuple) or (isinstance(value, ast.Constant) and value.value is None):
+                    continue
+                if isinstance(value, ast.Call) and isinstance(value.func, ast.Attribute) and value.func.attr == "reset":
+                    continue
+                return True
+    return False
+
+
+def keeps_legacy_step(classdef: ast.ClassDef) -> bool:
+    """The class's own ``step`` returns what no rule migrates: every value it returns is a
+    name, a container built in the method, or a call of a plain function (``return
+    results`` with ``results = zip(*per_env)``: a batch; GM504 reports it, changes
+    nothing). Its step keeps the four-field contract after the run, so the callers whose
+    receiver is an instance of it keep unpacking four values: the run is the unit."""
+    step = next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == "step"), None)
+    if step is None:
+        return False
+    values = [r.value for r in own_returns(step) if r.value is not None]
+    if not values:
+        return False
+    for value in values:
+        if isinstance(value, ast.Call) and isinstance(value.func, ast.Name) and value.func.id != "super":
+            continue  # ``zip(*results)``, ``tuple(batch)``
+        if not isinstance(value, (ast.Name, ast.ListComp, ast.GeneratorExp, ast.List)):
+            return False  # a tuple literal the rules migrate, a helper's or an inner env's result
+    return True
+
+
+def is_object(base: ast.AST) -> bool:
+    return isinstance(base, ast.Name) and base.id == "object"
+
+
+_VEC_METHODS = frozenset({"step_async", "step_wait"})
+# ``self.num_envs = len(env_fns)``: baselines and SB3 spell it ``num_envs``, tianshou-style
+# vector envs ``env_num``; a class that counts its envs so steps them all at once.
+_ENV_COUNTS = frozenset({"num_envs", "env_num", "n_envs"})
+# ``step(self, action, id=None)``: a vector env steps (or resets) the envs it is told.
+_ENV_ID_PARAMS = frozenset({"id", "ids", "env_id", "env_ids", "indices"})
+
+
+def is_vec_env_shaped(classdef: ast.ClassDef) -> bool:
+    """Defines ``step_async`` and ``step_wait`` (the VecEnv protocol of baselines and SB3), or
+    ``step`` in a class that counts its envs (``num_envs``, ``env_num``: its results are
+    stacked per env), or ``step`` and ``reset`` that both take the ids of the envs to act
+    on in a class made from a list of env factories (``__init__(self, env_fns)``)."""
+    methods = {s.name: s for s in classdef.body if isinstance(s, FUNCTIONS)}
+    if _VEC_METHODS <= set(methods):
+        return True
+    if "step" not in methods:
+        return False
+    if _counts_envs(classdef):
+        return True
+    init = methods.get("__init__")
+    return (
+        init is not None
+        and "reset" in methods
+        and any(a.arg in ("env_fns", "envs") for a in _params(init))
+        and all(any(a.arg in _ENV_ID_PARAMS for a in _params(methods[m])) for m in ("step", "reset"))
+    )
+
+
+def _params(function: ast.FunctionDef | ast.AsyncFunctionDef) -> list[ast.arg]:
+    args = function.args
+    return [*args.posonlyargs, *args.args, *args.kwonlyargs]
+
+
+def _counts_envs(classdef: ast.ClassDef) -> bool:
+    """``num_envs`` (or ``env_num``) is a class attribute or is stored on ``self`` in ``__init__``."""
+    for statement in classdef.body:
+        if isinstance(statement, (ast.Assign, ast.AnnAssign)):
+            targets = statement.targets if isinstance(statement, ast.Assign) else [statement.target]
+            if any(isinstance(t, ast.Name) and t.id in _ENV_COUNTS for t in targets):
+                return True
+        if isinstance(statement, FUNCTIONS) and statement.name == "__init__":
+            for inner in ast.walk(statement):
+                if isinstance(inner, ast.Attribute) and inner.attr in _ENV_COUNTS and isinstance(inner.ctx, ast.Store):
+                    if isinstance(inner.value, ast.Name) and inner.value.id == "self":
+                        return True
+    return False
+
+
+def other_library_class_kind(qualified: str) -> EnvKind | None:
+    """Kind of an SB3 or PettingZoo class named in an annotation or a base list."""
+    if qualified.startswith(N.SB3_VEC_PREFIXES):
+        return EnvKind.SB3_VEC
+    if qualified in N.PZ_AEC_BASES:
+        return EnvKind.PZ_AEC
+    if qualified in N.PZ_PARALLEL_BASES:
+        return EnvKind.PZ_PARALLEL
+    return None

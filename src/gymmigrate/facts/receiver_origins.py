@@ -1,0 +1,209 @@
+"""Who made the object an expression holds, where that decides what the rules may do:
+a class of the run whose step keeps the legacy contract (``legacy_step_class``), code of
+the run itself (``run_defined``: never guessed from a name), or a library other than Gym
+(``library_made``: not shown to be a Gym env). ``MadeObjects``, mixed into ``Receivers``.
+"""
+
+from __future__ import annotations
+
+import ast
+import sys
+from typing import TYPE_CHECKING
+
+from gymmigrate.facts.kinds import MAX_DEPTH, EnvKind
+from gymmigrate.facts.module import FUNCTIONS
+from gymmigrate.facts.receiver_classes import keeps_legacy_step
+
+if TYPE_CHECKING:
+    from gymmigrate.facts.kinds import ReceiverFacade as _Facade
+else:
+    _Facade = object
+
+
+class MadeObjects(_Facade):
+    """Where an expression's object comes from (part of ``Receivers``)."""
+
+    def legacy_step_class(self, expr: ast.AST) -> str | None:
+        """The class of the run whose instance ``expr`` certainly holds, when that class's
+        step keeps the four-field contract (``keeps_legacy_step``; another module's through
+        ``ProjectView.keeps_legacy_step``): every value that reaches ``expr`` is made by it."""
+        return self.facts.memo(("legacy-step-class", id(expr)), lambda: self._legacy_step_class(expr), while_computing=None)
+
+    def _legacy_step_class(self, expr: ast.AST) -> str | None:
+        values: list[ast.expr]
+        if isinstance(expr, ast.Call):
+            values = [expr]
+        elif isinstance(expr, ast.Name):
+            last = self._dominating_binding(expr)
+            bindings = [last] if last is not None else self.facts.bindings_of(expr)
+            values = []
+            for binding in bindings:
+                parent = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
+                if not (isinstance(parent, (ast.Assign, ast.AnnAssign)) and parent.value is not None):
+                    return None
+                values.append(parent.value)
+        elif isinstance(expr, ast.Attribute) and isinstance(expr.value, ast.Name) and self.is_self(expr.value):
+            values = self.self_attribute_values(expr, expr.attr)
+        else:
+            return None
+        found = {self._legacy_step_maker(value) for value in values}
+        return found.pop() if len(found) == 1 and values else None
+
+    def _legacy_step_maker(self, value: ast.expr) -> str | None:
+        if not isinstance(value, ast.Call):
+            return None
+        local = self.local_class(value.func)
+        if local is not None:
+            return local.name if self.class_keeps_legacy_step(local) else None
+        if self.project is not None:
+            for qualified in self.qualified_names(value.func):
+                if self.project.keeps_legacy_step(qualified):
+                    return qualified.rsplit(".", 1)[-1]
+        return None
+
+    def class_keeps_legacy_step(self, classdef: ast.ClassDef, seen: frozenset[int] = frozenset()) -> bool:
+        """The step ``classdef``'s instances run keeps its legacy contract: its own, or the
+        one a base of this module (or of the run) defines when it defines none."""
+        if id(classdef) in seen or self.class_kind(classdef) is not EnvKind.GYM_ENV:
+            return False
+        seen = seen | {id(classdef)}
+        if any(isinstance(s, FUNCTIONS) and s.name == "step" for s in classdef.body):
+            return keeps_legacy_step(classdef)
+        for base in classdef.bases:
+            local = self.local_class(base)
+            if local is not None:
+                return self.class_keeps_legacy_step(local, seen)
+            if self.project is not None and any(self.project.keeps_legacy_step(q) for q in self.qualified_names(base)):
+                return True
+        return False
+
+    def run_defined(self, expr: ast.AST) -> bool:
+        """``expr`` holds (or may hold) an object the run itself makes: an instance of a class
+        or the return of a def of this file, or a name imported from a module of the run. The
+        run knows that code, so its kind is never guessed from a name."""
+        return self.facts.memo(("run-defined", id(expr)), lambda: self._run_defined(expr), while_computing=False)
+
+    def _run_defined(self, expr: ast.AST) -> bool:
+        if self.depth > MAX_DEPTH:
+            return False
+        self.depth += 1
+        try:
+            if isinstance(expr, ast.Call):
+                func = expr.func
+                if self.local_class(func) is not None or self.local_function(func) is not None or self.own_method(func) is not None:
+                    return True
+                return any(self._from_run(q) for q in self.qualified_names(func)) or (
+                    isinstance(func, ast.Attribute) and self.run_defined(func.value)
+                )
+            if isinstance(expr, ast.Name):
+                for binding in self.facts.bindings_of(expr):
+                    if isinstance(binding, ast.alias) and self._from_run(self.facts.imports[binding]):
+                        return True
+                    parent = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
+                    if isinstance(parent, (ast.Assign, ast.NamedExpr)) and self.run_defined(parent.value):
+                        return True
+                    if isinstance(parent, (ast.For, ast.AsyncFor, ast.comprehension)) and parent.target is binding:
+                        if self.run_defined(parent.iter):  # an item of a list that holds the run's objects
+                            return True
+                return any(self.run_defined(v) for v in self._items_stored(expr))
+            if isinstance(expr, ast.Attribute):
+                if isinstance(expr.value, ast.Name) and self.is_self(expr.value):
+                    values = self.self_attribute_values(expr, expr.attr)
+                    return any(self.run_defined(v) for v in values) or any(self.run_defined(v) for v in self._items_stored(expr))
+                return self.run_defined(expr.value)
+            if isinstance(expr, ast.Subscript):
+                return self.run_defined(expr.value)
+            if isinstance(expr, (ast.List, ast.Tuple)):
+                return any(self.run_defined(el.value if isinstance(el, ast.Starred) else el) for el in expr.elts)
+            if isinstance(expr, (ast.ListComp, ast.GeneratorExp)):
+                return self.run_defined(expr.elt)
+            return False
+        finally:
+            self.depth -= 1
+
+    def _items_stored(self, container: ast.expr) -> list[ast.expr]:
+        """Values written into the list ``container`` (``envs[i] = X``) under any name that
+        holds the same list: ``self.envs = envs = [...]`` followed by ``envs[i] = X`` puts X
+        in ``self.envs`` too."""
+        holders: list[ast.Name] = []
+        if isinstance(container, ast.Name):
+            holders.append(container)
+        values = [container]
+        if isinstance(container, ast.Attribute) and isinstance(container.value, ast.Name) and self.is_self(container.value):
+            values = self.self_attribute_values(container, container.attr)
+        for value in values:
+            statement = self.facts.parent(value)
+            if isinstance(statement, ast.Assign) and statement.value is value:
+                holders += [t for t in statement.targets if isinstance(t, ast.Name)]
+        found: list[ast.expr] = []
+        for holder in holders:
+            same = {id(b) for b in self.facts.bindings_of(holder)} | {id(holder)}
+            for store in self._subscript_assigns().get(holder.id, ()):
+                if same & {id(b) for b in self.facts.bindings_of(store.value)}:  # type: ignore[arg-type]
+                    parent = self.facts.parent(store)
+                    if isinstance(parent, ast.Assign):
+                        found.append(parent.value)
+        return found
+
+    def _subscript_assigns(self) -> dict[str, list[ast.Subscript]]:
+        """``name[...] = value`` targets of this module, by name."""
+
+        def compute() -> dict[str, list[ast.Subscript]]:
+            out: dict[str, list[ast.Subscript]] = {}
+            for node in ast.walk(self.facts.tree):
+                if isinstance(node, ast.Assign):
+                    for target in node.targets:
+                        if isinstance(target, ast.Subscript) and isinstance(target.value, ast.Name):
+                            out.setdefault(target.value.id, []).append(target)
+            return out
+
+        return self.facts.memo(("subscript-assigns", 0), compute)
+
+    def library_made(self, expr: ast.AST) -> str | None:
+        """The callable of a library other than Gym that made ``expr`` (``env =
+        suite_gym.load(...)`` of tf_agents: ``tf_agents.environments.suite_gym.load``), or
+        None. Such an object is not shown to be a Gym env by a file using only Gym."""
+        return self.facts.memo(("library-made", id(expr)), lambda: self._library_made(expr), while_computing=None)
+
+    def _library_made(self, expr: ast.AST) -> str | None:
+        if self.depth > MAX_DEPTH:
+            return None
+        self.depth += 1
+        try:
+            if isinstance(expr, ast.Call):
+                imported = set(self.facts.imports.values())
+                for qualified in sorted(self.qualified_names(expr.func)):
+                    top = qualified.split(".", 1)[0]
+                    if (
+                        top not in ("gym", "gymnasium")
+                        and top not in sys.stdlib_module_names
+                        and any(qualified == m or qualified.startswith(m + ".") for m in imported)
+                        and not self._from_run(qualified)
+                    ):
+                        return qualified
+                return None
+            if isinstance(expr, ast.Name):
+                last = self._dominating_binding(expr)  # the one binding this read can reach
+                if last is not None:
+                    statement = self.facts.statement_of(last)
+                    return self.library_made(statement.value) if isinstance(statement, ast.Assign) else None
+                found = []
+                for binding in self.facts.bindings_of(expr):
+                    parent = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
+                    if not (isinstance(parent, ast.Assign) and binding in parent.targets):
+                        return None
+                    found.append(self.library_made(parent.value))
+                return found[0] if found and all(f is not None for f in found) else None
+            if isinstance(expr, ast.Attribute) and isinstance(expr.value, ast.Name) and self.is_self(expr.value):
+                # ``self._env = suite.load(...)`` in ``__init__``: every value the class stores
+                values = self.self_attribute_values(expr, expr.attr)
+                made = [self.library_made(value) for value in values]
+                return made[0] if made and all(m is not None for m in made) else None
+            return None
+        finally:
+            self.depth -= 1
+
+    def _from_run(self, qualified: str) -> bool:
+        if qualified.startswith("."):
+            return True  # a relative import: a module of the project
+        return self.project is not None and self.project.defines(qualified)

@@ -1,0 +1,214 @@
+"""What a parameter of a def holds: its annotation, the arguments at every call site of
+the module (constructions of a class through its subclasses too) and of the run
+(``ProjectView.param_kinds``), or the pytest fixtures and parametrizations that feed a
+test (``ParameterKinds``, mixed into ``Receivers``).
+"""
+
+from __future__ import annotations
+
+import ast
+from typing import TYPE_CHECKING
+
+from gymmigrate.facts import names as N
+from gymmigrate.facts.callables import optional_of, parse_annotation, string_names
+from gymmigrate.facts.kinds import EnvKind, join_kinds
+from gymmigrate.facts.module import FUNCTIONS, call_argument
+from gymmigrate.facts.pytest_params import fixture_values, param_fixtures, param_values
+from gymmigrate.facts.receiver_classes import is_object, other_library_class_kind
+
+if TYPE_CHECKING:
+    from gymmigrate.facts.kinds import ReceiverFacade as _Facade
+else:
+    _Facade = object
+
+
+class ParameterKinds(_Facade):
+    """The kinds of parameters (part of ``Receivers``)."""
+
+    # parameters whose callers pass a Gym env and another kind of env: (gym kinds, others)
+    _mixed_params: dict[ast.arg, tuple[list[str], list[str]]]
+
+    def _param_kind(self, param: ast.arg) -> EnvKind:
+        if param.annotation is not None:
+            kind = self.annotation_kind(param.annotation)
+            if kind is not EnvKind.UNKNOWN:
+                return kind
+        function = self.facts.parent(self.facts.parent(param))  # arg -> arguments -> def
+        if not isinstance(function, FUNCTIONS):
+            return EnvKind.UNKNOWN
+        params = [*function.args.posonlyargs, *function.args.args]
+        name = param.arg
+        classdef = self.facts.parent(function)
+        is_method = isinstance(classdef, ast.ClassDef) and self.facts.is_method(function)
+        if is_method and params and params[0] is param:
+            return EnvKind.NOT_ENV  # self / cls
+        if is_method and name == "env" and function.name == "__init__" and self.is_gym_wrapper_class(classdef):  # type: ignore[arg-type]
+            return EnvKind.NOT_ENV if self.wraps_gym_only(classdef) is not None else EnvKind.GYM_ENV  # type: ignore[arg-type]
+        position = next((i for i, p in enumerate(params) if p is param), None)
+        if position is not None and is_method:
+            position -= 1  # calls do not pass self
+        external = self.callables.external_param_kinds(function, classdef if is_method else None, name)  # type: ignore[arg-type]
+        if is_method and function.name == "__init__":
+            # A constructor parameter: every call that runs this ``__init__`` (subclasses too).
+            constructions, elsewhere = self.constructions(classdef)  # type: ignore[arg-type]
+            if elsewhere:
+                external = [*external, EnvKind.UNKNOWN]
+            calls = [call for call, _ in constructions]
+            shifts = {id(call): shift for call, shift in constructions}
+        else:
+            calls = self.call_sites(function, classdef if is_method else None)  # type: ignore[arg-type]
+            shifts = {}
+        if not calls and not external:
+            fixtures = param_fixtures(self.facts, function, name) if not is_method else []
+            if fixtures:
+                return join_kinds(self._fixture_kind(fixture) for fixture in fixtures)
+            values = param_values(self.facts, function, name) if not is_method else None
+            if values:
+                return join_kinds(self.kind_of(value) for value in values)
+            return EnvKind.UNKNOWN
+        defaults = has_default(function, param)
+        kinds = list(external)
+        for call in calls:
+            shift = shifts.get(id(call), 0)
+            argument = call_argument(call, None if position is None else position + shift, name)
+            if argument is None:
+                if defaults and not any(k.arg is None for k in call.keywords):
+                    continue
+                kinds.append(EnvKind.UNKNOWN)  # not passed (or maybe in ``**kwargs``)
+            else:
+                kinds.append(self.kind_of(argument))
+        gym = {k for k in kinds if k.is_gym}
+        others = {k for k in kinds if k not in (EnvKind.NOT_ENV, EnvKind.UNKNOWN) and not k.is_gym}
+        if gym and others:
+            # Some callers pass a Gym env, others a VecEnv or a PettingZoo env: the same code
+            # serves both, so no rewrite is right for all of them; reported (``mixed_callers``).
+            self._mixed_params[param] = (sorted(k.value for k in gym), sorted(k.value for k in others))
+            return EnvKind.UNKNOWN
+        return join_kinds(kinds)
+
+    def constructions(self, classdef: ast.ClassDef, _seen: frozenset[int] = frozenset()) -> tuple[list[tuple[ast.Call, int]], bool]:
+        """The calls of this module that run ``classdef.__init__``, each with how far its
+        positional arguments are shifted (1 for ``Base.__init__(self, env)``): the class's own
+        calls, the calls of subclasses here that inherit ``__init__``, and the
+        ``super().__init__(...)`` / ``Base.__init__(self, ...)`` of subclasses that define
+        their own. The flag says another module of the run subclasses it (its calls are not
+        known here)."""
+        found: list[tuple[ast.Call, int]] = [(call, 0) for call in self.facts.calls_by_name.get(classdef.name, [])]
+        elsewhere = self.project is not None and self.facts.parent(classdef) is self.facts.tree and self.project.subclassed_elsewhere(classdef.name)
+        for sub in self.facts.classes.values():
+            if sub is classdef or id(sub) in _seen or not any(self.local_class(b) is classdef for b in sub.bases):
+                continue
+            own_init = any(isinstance(s, FUNCTIONS) and s.name == "__init__" for s in sub.body)
+            if not own_init:
+                inherited, far = self.constructions(sub, _seen | {id(classdef)})
+                found += inherited
+                # A subclass built in another module (or, with no run to ask, one never built
+                # here: other modules may build it) passes arguments this module cannot see.
+                if self.project is None:
+                    far = far or not inherited
+                else:
+                    far = far or self.project.built_elsewhere(sub.name)
+                elsewhere = elsewhere or far
+                continue
+            first_base = next((b for b in sub.bases if not is_object(b)), None)
+            for call in self.facts.attribute_calls.get("__init__", []):
+                if self.facts.enclosing_class(call) is not sub:
+                    continue
+                owner = call.func.value  # type: ignore[attr-defined]
+                if isinstance(owner, ast.Call) and isinstance(owner.func, ast.Name) and owner.func.id == "super":
+                    if first_base is not None and self.local_class(first_base) is classdef:
+                        found.append((call, 0))
+                elif isinstance(owner, ast.Name) and self.local_class(owner) is classdef:
+                    found.append((call, 1))  # ``Base.__init__(self, env)``
+        return found, elsewhere
+
+    def mixed_callers(self, expr: ast.AST, _depth: int = 0) -> str | None:
+        """Why ``expr`` (a parameter, ``self.x`` stored from one, or a name bound to either)
+        has no single kind: its callers pass a Gym env at some sites and another kind of env
+        at others. None when that is not the reason."""
+        if _depth > 4:
+            return None
+        self.kind_of(expr)  # fills ``_mixed_params`` on the way
+        values: list[ast.AST] = []
+        if isinstance(expr, ast.Attribute) and isinstance(expr.value, ast.Name) and self.is_self(expr.value):
+            classdef = self.facts.enclosing_class(expr)
+            values = list(self.self_attribute_values(expr, expr.attr))
+            if not values and classdef is not None:
+                values = list(self.attributes.inherited_values(classdef, expr.attr))
+        elif isinstance(expr, ast.Name):
+            for binding in self.facts.bindings_of(expr):
+                if isinstance(binding, ast.arg) and binding in self._mixed_params:
+                    gym, others = self._mixed_params[binding]
+                    return f"its callers pass a {' or '.join(gym)} at some sites and a {' or '.join(others)} at others"
+                parent = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
+                if isinstance(parent, ast.Assign):
+                    values.append(parent.value)
+        for value in values:
+            found = self.mixed_callers(value, _depth + 1)
+            if found is not None:
+                return found
+        return None
+
+    def annotation_kind(self, annotation: ast.AST) -> EnvKind:
+        if isinstance(annotation, ast.Constant) and isinstance(annotation.value, str):
+            parsed = parse_annotation(annotation.value)  # ``env: "gym.Env"``
+            return self.annotation_names_kind(string_names(self.facts, parsed)) if parsed is not None else EnvKind.UNKNOWN
+        optional = optional_of(annotation, self.qualified_names)
+        if optional is not None:
+            return self.annotation_kind(optional)
+        local = self.local_class(annotation)
+        if local is not None:
+            # ``def test_x(env: Warehouse)`` with Warehouse defined here; a class of the run
+            # that is no env (``model_env: ModelEnv``) is the project's own object: left alone.
+            return self.class_kind(local)
+        return self.annotation_names_kind(self.qualified_names(annotation))
+
+    def annotation_names_kind(self, names: set[str]) -> EnvKind:
+        for q in names:
+            rest = N.strip_gym_prefix(q)
+            if rest in N.GYM_ENV_BASE_CLASSES:
+                return EnvKind.GYM_ENV
+            if rest is not None and rest.startswith("wrappers.") and not rest.startswith("wrappers.vector."):
+                return EnvKind.GYM_ENV  # ``env: gym.wrappers.TimeLimit``: a wrapper class is a Gym env
+            if rest is not None and rest.startswith("vector.") and rest.endswith("Env"):
+                return EnvKind.GYM_VEC
+            other = other_library_class_kind(q)
+            if other is not None:
+                return other
+            if self.project is not None:
+                found = self.project.call_kind(q)  # a class of another module of the run
+                if found is not None:
+                    return found
+        return EnvKind.UNKNOWN
+
+    def call_sites(self, function: ast.AST, classdef: ast.ClassDef | None) -> list[ast.Call]:
+        """Calls in this module that reach ``function`` (a method when ``classdef`` is given)."""
+        name = function.name  # type: ignore[attr-defined]
+        if classdef is None:
+            return [
+                c
+                for c in self.facts.calls_by_name.get(name, [])
+                if self.local_function(c.func) is function
+            ]
+        if name == "__init__":
+            return list(self.facts.calls_by_name.get(classdef.name, []))
+        return [
+            c
+            for c in self.facts.attribute_calls.get(name, [])
+            if isinstance(c.func.value, ast.Name) and self.is_self(c.func.value)  # type: ignore[attr-defined]
+        ]
+
+    def _fixture_kind(self, fixture: ast.FunctionDef | ast.AsyncFunctionDef) -> EnvKind:
+        values = fixture_values(self.facts, fixture)
+        return join_kinds(self.kind_of(value) for value in values) if values else EnvKind.NOT_ENV
+
+
+def has_default(function: ast.AST, param: ast.arg) -> bool:
+    """Whether ``param`` has a default value."""
+    args = function.args  # type: ignore[attr-defined]
+    positional = [*args.posonlyargs, *args.args]
+    if param in positional:
+        return positional.index(param) >= len(positional) - len(args.defaults)
+    if param in args.kwonlyargs:
+        return args.kw_defaults[args.kwonlyargs.index(param)] is not None
+    return False
