@@ -89,8 +89,14 @@ class IdSite:
 
 # What loading an earlier run's policy, weights or normaliser looks like.
 _LOADS_SAVED_STATE = re.compile(
-    r"\b(load_state_dict|load_weights|load_model|from_pretrained|restore|load_from_checkpoint)\s*\(|\.load\s*\("
+    r"\b(load_state_dict|load_weights|load_model|from_pretrained|restore|load_from_checkpoint)\s*\(|(\w*)\.load\s*\("
 )
+
+
+def _loads_saved_state(text: str) -> bool:
+    """Does the program load what an earlier run saved? tf_agents' ``suite_gym.load("CartPole-v1")``
+    (``suite_atari``, ``suite_mujoco``...) makes an env: it loads nothing."""
+    return any(not (match.group(2) or "").startswith("suite_") for match in _LOADS_SAVED_STATE.finditer(text))
 
 
 _ALE_LIVES = "ale.lives"
@@ -548,13 +554,15 @@ class EnvIds(RuleFamily):
             self._bumped.setdefault(old, (new, site.string))
         # A new version is a question for a program that loads what an earlier run saved
         # (a policy, a normaliser); one that trains from scratch just gets the current env.
-        settled = migration.kind is FixKind.ASSIST and not _LOADS_SAVED_STATE.search(self.facts.text)
+        settled = migration.kind is FixKind.ASSIST and not _loads_saved_state(self.facts.text)
         self.report(
             site.string,
             migration.rule,
             f"`{old}` -> {new_text}{where}: {migration.reason}" + ("; nothing here loads a saved model" if settled else ""),
             kind=migration.kind,
             tier=Tier.NOTE if settled else None,
+            # the same bump at several places of a file (notebook cells) is one decision
+            question=None if settled or migration.kind is FixKind.AUTO else (migration.rule, old, new),
         )
 
     def _bump_comparisons(self) -> None:
