@@ -27,7 +27,11 @@ from dataclasses import replace
 from typing import Any
 
 from gymmigrate.dependencies.core import apply_edits
-from gymmigrate.dependencies.mapping import GYM_PACKAGE, MIGRATE_WITH_IT, only_describes_gym_pin
+from gymmigrate.dependencies.mapping import (
+    GYM_PACKAGE,
+    MIGRATE_WITH_IT,
+    only_describes_gym_pin,
+)
 from gymmigrate.dependencies.shell import migrate_dockerfile
 from gymmigrate.findings import Finding, FixKind, Tier
 from gymmigrate.source_text import TransformError, may_hold_gym_code
