@@ -549,3 +549,22 @@ def test_an_install_line_in_a_notebook_gets_the_new_requirements(tmp_path: Path)
     assert "obs, info = env.reset()" in "".join(cells[1]["source"])
     again = runner.invoke(app, ["check", str(path)])
     assert again.exit_code == 0 and again.stdout == ""
+
+
+def test_install_lines_that_only_describe_the_pin_rewrite_are_notes(tmp_path: Path) -> None:
+    """``%pip install -U gym~=0.21.0`` and the next line's ``gym[atari,accept-rom-license]``:
+    the notebook's own code is migrated in the same run, so nothing is left to decide (audit F);
+    a pin with a real question (the mujoco-py extra) stays on the review list."""
+    path = tmp_path / "colab.ipynb"
+    path.write_bytes(
+        _notebook(
+            ("code", "%pip install -U gym~=0.21.0\n%pip install -U gym[atari,accept-rom-license]~=0.21.0\n"),
+            ("code", "import gym\nenv = gym.make('CartPole-v1')\nobs = env.reset()\n"),
+        )
+    )
+    check = runner.invoke(app, ["check", "--output-format", "json", str(path)])
+    installs = [(f["line"], f["tier"]) for f in json.loads(check.stdout) if f["rule"] == "GM109"]
+    assert installs == [(1, "note"), (2, "note")]
+    path.write_bytes(_notebook(("code", "!pip install gym[mujoco]==0.21\n"), ("code", "import gym\n")))
+    check = runner.invoke(app, ["check", "--output-format", "json", str(path)])
+    assert [f["tier"] for f in json.loads(check.stdout) if f["rule"] == "GM109"] == ["review"]

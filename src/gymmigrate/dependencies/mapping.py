@@ -209,6 +209,18 @@ def decide(requirement: Requirement) -> Decision:
     return Decision()
 
 
+MIGRATE_WITH_IT = "the code must be migrated with it (imports, reset/step API)"
+ROMS_SHIP_WITH_ALE = "`accept-rom-license` is gone: the ROMs ship with ale-py"
+
+
+def only_describes_gym_pin(message: str) -> bool:
+    """A GM109 message on gym's pin whose every reason describes the rewrite (the code moves
+    with it, the ROM licence extra is gone): where the same document's code is migrated in
+    the same run (a notebook's ``!pip install``), nothing is left to decide."""
+    head, _, reasons = message.partition(": ")
+    return head.endswith("`") and bool(reasons) and set(reasons.split("; ")) <= {MIGRATE_WITH_IT, ROMS_SHIP_WITH_ALE}
+
+
 def _gym(requirement: Requirement, extras: list[str]) -> Decision:
     notes: list[Note] = []
     new_extras: list[str] = []
@@ -221,9 +233,9 @@ def _gym(requirement: Requirement, extras: list[str]) -> Decision:
             new_extras.append(mapped)
     message = f"`{requirement}` -> `gymnasium{_extras(new_extras)}{GYMNASIUM_SPEC}`"
     kind = FixKind.ASSIST
-    reasons = ["the code must be migrated with it (imports, reset/step API)"]
+    reasons = [MIGRATE_WITH_IT]
     if "accept-rom-license" in dropped:
-        reasons.append("`accept-rom-license` is gone: the ROMs ship with ale-py")
+        reasons.append(ROMS_SHIP_WITH_ALE)
         dropped.remove("accept-rom-license")
     if "mujoco" in extras or "mujoco-py" in extras:
         reasons.append("gym's `mujoco` extra meant mujoco-py (v2/v3 envs); gymnasium[mujoco] uses the `mujoco` bindings and v4/v5 envs")

@@ -27,7 +27,7 @@ import re
 from gymmigrate.edits.lazy import cst
 from gymmigrate.edits.syntax import dotted_node
 from gymmigrate.facts import ModuleFacts
-from gymmigrate.facts.module import dotted_name
+from gymmigrate.facts.module import dotted_name, full_name
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.gymnasium_api import (
@@ -201,6 +201,12 @@ GYM_ONLY_LIBRARIES = {
         "ported, code that steps its envs or checks their spaces against gym classes stays on gym"
     ),
 }
+
+
+# Libraries whose calls build legacy gym envs around what they are handed (tf_agents'
+# ``suite_gym.load(..., gym_env_wrappers=[...])``, baselines' wrappers): a Gym class passed to
+# them meets a gym env.
+_LEGACY_ENV_BUILDERS = frozenset({"tf_agents", "baselines", "stable_baselines", "ptan"})
 
 
 # Gym-only env packages whose envs, built by the package itself, have ``gym.spaces``
@@ -387,6 +393,42 @@ class Imports(RuleFamily):
             if holder.args and node is holder.args[0]:
                 return False  # the object checked, not a class
         return True
+
+    def _handed_only_to_legacy_library(self, statement: ast.ImportFrom) -> str | None:
+        """``from gym.wrappers import TimeLimit`` read only in the arguments of another
+        library's call that builds legacy gym envs (``suite_gym.load(...,
+        gym_env_wrappers=[partial(TimeLimit, ...)])`` of tf_agents): Gymnasium's class would
+        receive a gym env and refuse it, so the import stays on gym. The library's call, or None."""
+        if under_gym(statement.module or "") is None or any(alias.name == "*" for alias in statement.names):
+            return None
+        if not any(library in self.facts.text for library in _LEGACY_ENV_BUILDERS):
+            return None
+        aliases = {id(alias) for alias in statement.names}
+        names = {alias.asname or alias.name for alias in statement.names}
+        found: str | None = None
+        for node in ast.walk(self.facts.tree):
+            if not (isinstance(node, ast.Name) and node.id in names and isinstance(node.ctx, ast.Load)):
+                continue
+            if not any(id(b) in aliases for b in self.facts.bindings_of(node)):
+                continue
+            library = self._legacy_builder_around(node)
+            if library is None:
+                return None
+            found = found or library
+        return found
+
+    def _legacy_builder_around(self, node: ast.AST) -> str | None:
+        """The call of a legacy-gym library whose arguments hold ``node``, as ``tf_agents'
+        `suite_gym.load```."""
+        child, holder = node, self.facts.parent(node)
+        while holder is not None and not isinstance(holder, ast.stmt):
+            if isinstance(holder, ast.Call) and child is not holder.func:
+                for qualified in self.facts.qualified_names(holder.func):
+                    top = qualified.split(".", 1)[0]
+                    if top in _LEGACY_ENV_BUILDERS and not self._of_the_run(top):
+                        return f"{top}'s `{full_name(holder.func) or qualified}`"
+            child, holder = holder, self.facts.parent(holder)
+        return None
 
     # -- GM107: libraries with no Gymnasium release --------------------------------------
 
@@ -578,6 +620,17 @@ class Imports(RuleFamily):
         kept = self._kept_space_imports.get(node)
         if kept is not None:
             self.report(node, "GM103" if node.module != "gym" else "GM102", kept, FixKind.FLAG)
+            return
+        library = self._handed_only_to_legacy_library(node)
+        if library is not None:
+            names = ", ".join(f"`{alias.asname or alias.name}`" for alias in node.names)
+            self.report(
+                node,
+                "GM103" if node.module != "gym" else "GM102",
+                f"left on gym: {names} is handed only to {library}, which builds legacy gym envs (Gymnasium's classes "
+                f"refuse them); move it when that code moves off gym",
+                FixKind.FLAG,
+            )
             return
         module = node.module
         rest = under_gym(module)

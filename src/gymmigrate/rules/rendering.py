@@ -251,6 +251,8 @@ class Rendering(RuleFamily):
             return None  # a render method forwarding to its env: the Env/Wrapper rules own it
         if mode_arg is not None and self._class_keeps_its_mode(receiver):
             return None  # ``render(mode)`` of a class that chooses its mode itself is kept (GM405 says so)
+        if self._reached_from_other_library(receiver):
+            return None  # ``tf_env.pyenv.envs[0].render(mode="rgb_array")``: tf_agents' API, not Gym's
         kind = self.receivers.kind_of(receiver)
         decision = decide(kind, receiver, self.context.profile, legacy_shape=mode_arg is not None or close is not None, origins=self.receivers)
         if decision.action is Action.LEAVE:
@@ -321,6 +323,18 @@ class Rendering(RuleFamily):
             mode = RGB_ARRAY
         quote = self._quote(value) or '"'
         return RenderSite(call, "GM401", mode, (), decision.action, self.finder.find(receiver), legacy_spelling=legacy, quote=quote)
+
+    def _reached_from_other_library(self, receiver: ast.expr) -> bool:
+        """``tf_env.pyenv.envs[0]`` with ``tf_env`` made by tf_agents (or dm_control): an
+        object reached through attributes and items of one another library made, whose
+        ``render(mode=...)`` is that library's own."""
+        root: ast.expr = receiver
+        while isinstance(root, (ast.Attribute, ast.Subscript)):
+            root = root.value
+        if root is receiver or not isinstance(root, ast.Name):
+            return False
+        library = self.receivers.library_made(root)
+        return library is not None and library.split(".", 1)[0] in _NON_GYM_ENV_LIBRARIES
 
     def _class_keeps_its_mode(self, receiver: ast.expr) -> bool:
         """``env = MyEnv()`` whose class chooses its render mode itself (``set_render_mode``):
@@ -843,6 +857,11 @@ class Rendering(RuleFamily):
             return argument.arg
         value = argument.value if isinstance(argument, (ast.keyword, ast.Starred)) else argument
         return self.facts.segment(value)
+
+
+# Libraries whose env objects (and what hangs off them) are not Gym envs: their render()
+# keeps its own signature.
+_NON_GYM_ENV_LIBRARIES = frozenset({"tf_agents", "dm_control", "dm_env"})
 
 
 def _four_value_steps(facts: ModuleFacts) -> bool:

@@ -27,6 +27,11 @@ from dataclasses import replace
 from typing import Any
 
 from gymmigrate.dependencies.core import apply_edits
+from gymmigrate.dependencies.mapping import (
+    GYM_PACKAGE,
+    MIGRATE_WITH_IT,
+    only_describes_gym_pin,
+)
 from gymmigrate.dependencies.shell import migrate_dockerfile
 from gymmigrate.findings import Finding, FixKind, Tier
 from gymmigrate.source_text import TransformError, may_hold_gym_code
@@ -129,7 +134,11 @@ class Notebook:
                 self.magics.replace(hidden, new_line + (ending if original.endswith(("\n", "\r")) else ""))
                 self.install_cells.add(index)
                 for note in outcome.findings:
-                    self.notes.append(replace(note, line=number, column=note.column, end_line=None, end_column=None, cell=index))
+                    note = replace(note, line=number, column=note.column, end_line=None, end_column=None, cell=index)
+                    if note.rule == GYM_PACKAGE and note.kind is FixKind.ASSIST and only_describes_gym_pin(note.message):
+                        # the notebook's own code is migrated in the same run: nothing to decide
+                        note = replace(note, tier=Tier.NOTE, message=note.message.replace(MIGRATE_WITH_IT, NOTEBOOK_MIGRATED))
+                    self.notes.append(note)
 
     def rebuild(self, codes: list[list[str]]) -> tuple[bytes, list[list[Location]]]:
         changed: dict[int, str] = {}
@@ -192,6 +201,7 @@ class Notebook:
         return "".join(parts)
 
 
+NOTEBOOK_MIGRATED = "this notebook's code is migrated with it in the same run (imports, reset/step API)"
 _INSTALL_LINE = re.compile(r"[ \t]*[!%][ \t]*(?:python3? -m )?pip3?[ \t]+install\b")
 
 

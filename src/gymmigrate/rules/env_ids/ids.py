@@ -89,8 +89,14 @@ class IdSite:
 
 # What loading an earlier run's policy, weights or normaliser looks like.
 _LOADS_SAVED_STATE = re.compile(
-    r"\b(load_state_dict|load_weights|load_model|from_pretrained|restore|load_from_checkpoint)\s*\(|\.load\s*\("
+    r"\b(load_state_dict|load_weights|load_model|from_pretrained|restore|load_from_checkpoint)\s*\(|(\w*)\.load\s*\("
 )
+
+
+def _loads_saved_state(text: str) -> bool:
+    """Does the program load what an earlier run saved? tf_agents' ``suite_gym.load("CartPole-v1")``
+    (``suite_atari``, ``suite_mujoco``...) makes an env: it loads nothing."""
+    return any(not (match.group(2) or "").startswith("suite_") for match in _LOADS_SAVED_STATE.finditer(text))
 
 
 _ALE_LIVES = "ale.lives"
@@ -114,8 +120,10 @@ class EnvIds(RuleFamily):
         # package module -> (package, the first id string that needs it, and for a helper
         # known only by what it does with its env, the message and kind that say why)
         self._packages: dict[str, tuple[EnvPackage, ast.expr, tuple[str, FixKind] | None]] = {}
+        self._bumped: dict[str, tuple[str, ast.Constant]] = {}  # old id -> new id, the first site bumped
         for site in self._id_sites():
             self._decide_site(site)
+        self._bump_comparisons()
         for call, keywords in self._new_keywords.items():
             self.plan.replace(call, lambda node, keywords=keywords: _append_keywords(node, keywords))
         self._decide_registration()
@@ -161,6 +169,8 @@ class EnvIds(RuleFamily):
                 if site is not None:
                     site.conditional = len(branches) > 1
                     sites.append(site)
+            if isinstance(arg, ast.Subscript):
+                sites.extend(self._listed_ids(arg))
             if isinstance(arg, ast.Name):
                 literal = self._literal_of(arg)
                 if literal is not None:
@@ -190,6 +200,32 @@ class EnvIds(RuleFamily):
             return None  # another value may reach the read (a branch, a loop)
         value = statement.value
         return value if isinstance(value, ast.Constant) and isinstance(value.value, str) else None
+
+    def _listed_ids(self, subscript: ast.Subscript, via: str = "") -> list[IdSite]:
+        """``env_names = ['CartPole-v1', 'LunarLander-v2']`` ... ``gym.make(env_names[i])``: every
+        string of the list or tuple literal a name is bound to once (and never changed in
+        place) is an id the call may receive."""
+        name = subscript.value
+        if not isinstance(name, ast.Name):
+            return []
+        bindings = self.facts.bindings_of(name)
+        if len(bindings) != 1 or not isinstance(bindings[0], ast.Name):
+            return []
+        statement = self.facts.parent(bindings[0])
+        if not (isinstance(statement, ast.Assign) and statement.targets == [bindings[0]]):
+            return []
+        value = statement.value
+        if not isinstance(value, (ast.List, ast.Tuple)) or not value.elts:
+            return []
+        if not all(isinstance(e, ast.Constant) and isinstance(e.value, str) for e in value.elts):
+            return []
+        where = f"an item of `{name.id}`" + (f", {via}" if via else "")
+        sites = []
+        for element in value.elts:
+            site = self._site(element, None, False, via=where)
+            if site is not None:
+                sites.append(site)
+        return sites
 
     def _parameter_ids(self, name: ast.Name, seen: frozenset[ast.arg] = frozenset()) -> list[IdSite]:
         """``def make_env(env_id="PongNoFrameskip-v4"): return gym.make(env_id)``: the id is a
@@ -228,6 +264,9 @@ class EnvIds(RuleFamily):
                 values.append((argument, f"an argument of `{callee}(...)`"))
         sites = []
         for value, via in values:
+            if isinstance(value, ast.Subscript):
+                sites.extend(self._listed_ids(value, via))
+                continue
             if isinstance(value, ast.Name):
                 literal = self._literal_of(value)
                 if literal is None:
@@ -511,16 +550,43 @@ class EnvIds(RuleFamily):
             new_text = f"`{new}`"
         new_value = site.module_prefix + new
         self.plan.replace(site.string, lambda node: _with_string_value(node, new_value))
+        if not migration.kwargs and not site.module_prefix:
+            self._bumped.setdefault(old, (new, site.string))
         # A new version is a question for a program that loads what an earlier run saved
         # (a policy, a normaliser); one that trains from scratch just gets the current env.
-        settled = migration.kind is FixKind.ASSIST and not _LOADS_SAVED_STATE.search(self.facts.text)
+        settled = migration.kind is FixKind.ASSIST and not _loads_saved_state(self.facts.text)
         self.report(
             site.string,
             migration.rule,
             f"`{old}` -> {new_text}{where}: {migration.reason}" + ("; nothing here loads a saved model" if settled else ""),
             kind=migration.kind,
             tier=Tier.NOTE if settled else None,
+            # the same bump at several places of a file (notebook cells) is one decision
+            question=None if settled or migration.kind is FixKind.AUTO else (migration.rule, old, new),
         )
+
+    def _bump_comparisons(self) -> None:
+        """``if self.env_name == 'LunarLander-v2':`` where this module bumps that id: the test
+        would never hold again, so the compared string moves with the id."""
+        if not self._bumped:
+            return
+        for node in self.facts.strings:
+            if node in self._planned or node.value not in self._bumped:
+                continue
+            compare = self.facts.parent(node)
+            if isinstance(compare, (ast.List, ast.Tuple, ast.Set)):  # ``env_id in ('A-v2', 'B-v2')``
+                compare = self.facts.parent(compare)
+            if not (isinstance(compare, ast.Compare) and all(isinstance(op, (ast.Eq, ast.NotEq, ast.In, ast.NotIn)) for op in compare.ops)):
+                continue
+            new, first = self._bumped[node.value]
+            self._planned.add(node)
+            self.plan.replace(node, lambda cst_node, new=new: _with_string_value(cst_node, new))
+            self.report(
+                node,
+                "GM803",
+                f"`{node.value}` -> `{new}` in a comparison: the id is bumped at line {first.lineno}, so the test moves with it",
+                kind=FixKind.AUTO,
+            )
 
     # -- GM106 -----------------------------------------------------------------------------
 

@@ -294,12 +294,19 @@ def args_FilterObservation(family: StacksFamily, call: ast.Call) -> CallBuild | 
 
 @handles("ClipAction")
 def args_ClipAction(family: StacksFamily, call: ast.Call) -> CallBuild | None:
+    # Where the module never reads a space's bounds nor samples one (agents that size their
+    # output from ``.shape`` and tell spaces by class), the new space changes nothing here.
+    facts = family.facts
+    reads_bounds = any(facts.attributes.get(name) for name in ("low", "high", "bounded_below", "bounded_above", "is_bounded"))
+    samples = bool(facts.attribute_calls.get("sample"))
     family.report(
         call,
         "GM609",
         "ClipAction now exposes action_space Box(-inf, inf): code or agents that read the bounds or sample "
-        "from this env's action_space must use the inner env's space",
+        "from this env's action_space must use the inner env's space"
+        + ("" if reads_bounds or samples else "; nothing in this module reads a space's bounds or samples one"),
         kind=FixKind.FLAG,
+        tier=None if reads_bounds or samples else Tier.NOTE,
     )
     return None
 

@@ -123,6 +123,27 @@ class WrapperForwarding(RuleFamily):
 
     # -- GM604 / GM605 / GM606: attribute access on envs ------------------------------------------
 
+    def _closes_monitor_of_env(self, attr: ast.Attribute) -> bool:
+        """``env.monitor.close()`` as a statement, ``env`` a name the run shows is a Gym env
+        and that nothing in its scope reads after this line (``close`` closes the env too)."""
+        receiver, close = attr.value, self.facts.parent(attr)
+        call = self.facts.parent(close) if close is not None else None
+        if not (
+            isinstance(receiver, ast.Name)
+            and isinstance(close, ast.Attribute)
+            and close.attr == "close"
+            and isinstance(call, ast.Call)
+            and call.func is close
+            and not call.args
+            and not call.keywords
+            and isinstance(self.facts.parent(call), ast.Expr)
+        ):
+            return False
+        if self.receivers.kind_of(receiver) is not EnvKind.GYM_ENV:
+            return False
+        scope = self.facts.scope_of(receiver)
+        return not any(read.lineno > call.lineno for read in scope.reads.get(receiver.id, []))
+
     def _attribute_access(self, attr: ast.Attribute) -> None:
         name = attr.attr
         receiver = attr.value
@@ -138,6 +159,18 @@ class WrapperForwarding(RuleFamily):
         sub_env = self._is_sub_env(receiver)
         known = sub_env or self.receivers.kind_of(receiver) is EnvKind.GYM_ENV
         if not known and not self._outer_is_wrapper(receiver):
+            return
+        if name == "monitor" and isinstance(attr.ctx, ast.Load) and self._closes_monitor_of_env(attr):
+            # ``env.monitor.close()`` on an env the run made, read no more afterwards: the
+            # wrapper that recorded is gone, ``env.close()`` is what the item would say.
+            self.plan.replace(attr, lambda node: node.value)
+            self.report(
+                attr,
+                "GM604",
+                f"`{dotted_name(attr)}.close()` (gym < 0.9's monitor API) -> `{dotted_name(receiver)}.close()`: the env is not "
+                "used after it; record with `RecordVideo`/`RecordEpisodeStatistics` around the env",
+                kind=FixKind.AUTO,
+            )
             return
         if name == "monitor" and isinstance(attr.ctx, ast.Load):
             # gym < 0.9's ``env.monitor.start(dir)`` / ``.close()``: no wrapper has it to forward.
