@@ -201,7 +201,9 @@ class UnpackRules(StepFamilyBase):
             first = 0
             if owner is not None:
                 first = index_of.get(id(owner), bisect_left(starts, end(owner)))
-                if first < len(steps) and steps[first].assign is owner:
+                if first < len(steps) and steps[first].assign is owner and self._beside_bootstrap_flag(read, steps[first]):
+                    pass  # ``store(s, a, r, s2, terminal, done)``: the boundary stays (reported below)
+                elif first < len(steps) and steps[first].assign is owner:
                     if classify_done_read(read, self.facts) is DoneUse.DATA and self._masks_next_state(read, steps[first]):
                         self._claim(read, steps[first])
                         continue
@@ -483,6 +485,47 @@ class UnpackRules(StepFamilyBase):
                 ("stores-next-state", id(step.assign)),
                 lambda: any(self._stores_next_state(node, step, next_names) for node in ast.walk(function)),
             )
+        return False
+
+    def _beside_bootstrap_flag(self, read: ast.Name, step: _DoneStep) -> str | None:
+        """``store_transition(s, a, r, s2, terminal, done)`` where ``terminal`` (or ``dw``) is
+        computed from ``done`` after the step together with something else (``if done and
+        steps != limit: terminal = True``, ``dw = done and not truncated``): the code already
+        keeps a separate bootstrap mask, so ``done`` beside it in the same call or tuple is the
+        episode boundary (an n-step cut, the end of a rollout). The name of that flag, or None."""
+        facts = self.facts
+        holder: ast.AST | None = facts.parent(read)
+        if isinstance(holder, ast.keyword):
+            holder = facts.parent(holder)
+        if not isinstance(holder, (ast.Call, ast.Tuple, ast.List)) or getattr(holder, "func", None) is read:
+            return None
+        values = [*holder.args, *(k.value for k in holder.keywords)] if isinstance(holder, ast.Call) else holder.elts
+        function = facts.enclosing_function(step.assign) or facts.tree
+        for value in values:
+            if value is read or not isinstance(value, ast.Name) or value.id == read.id:
+                continue
+            if self._computed_from_done(value, step, function):
+                return value.id
+        return None
+
+    def _computed_from_done(self, flag: ast.Name, step: _DoneStep, function: ast.AST) -> bool:
+        """``flag`` is bound after the step, in its function, from a value or under a test
+        that reads ``done`` with something else (``done and steps != limit``)."""
+        done = step.done.id
+        for binding in self.flow.bindings(flag):
+            statement = self.facts.statement_of(binding)
+            if not isinstance(binding, ast.Name) or statement is None or start(statement) <= end(step.assign):
+                continue  # ``terminal = False`` before the loop: not what the step decides
+            if (self.facts.enclosing_function(statement) or self.facts.tree) is not function:
+                continue
+            value = getattr(statement, "value", None)
+            if value is not None and any(_joins_done(node, done) for node in ast.walk(value)):
+                return True  # ``dw = done and steps != limit``, ``terminal = True if done and ... else False``
+            for ancestor in self.facts.ancestors(binding):
+                if ancestor is function:
+                    break
+                if isinstance(ancestor, ast.If) and _joins_done(ancestor.test, done):
+                    return True  # ``if done and steps != limit: terminal = True``
         return False
 
     # -- ``agent.train_model(s, a, r, s2, done)``: the callee says what the flag is for ---------
@@ -781,7 +824,19 @@ class UnpackRules(StepFamilyBase):
             if isinstance(statement, ast.Assign) and statement.value is read and len(statement.targets) == 1
             else []
         )
-        if owner is not step.assign and self._bootstrap_choice(read, step, dominated=False) is not None:
+        beside = self._beside_bootstrap_flag(read, step) if owner is step.assign else None
+        if beside is not None:
+            # Nothing to decide: both flags keep what they meant (a note).
+            self._report_read(
+                read,
+                f"`{read.id}` is passed beside `{beside}`, a bootstrap flag computed from it after the step: "
+                f"`{read.id}` is the episode boundary there and stays `{names.terminated} or {names.truncated}`, "
+                f"as legacy `done` was; `{beside}` keeps its meaning (it can become `{names.terminated}` where its "
+                "own test is the env's time limit)",
+                FixKind.FLAG,
+                Tier.NOTE,
+            )
+        elif owner is not step.assign and self._bootstrap_choice(read, step, dominated=False) is not None:
             self._report_bootstrap_choice(read, step, dominated=False)
         elif stored and any(id(node) in self.reported_reads for node in stored):
             self.reported_reads.add(id(read))  # the stored value is reported already: one item
@@ -922,6 +977,14 @@ def _collect_flag_names(root: ast.AST) -> set[str]:
         elif isinstance(node, ast.ExceptHandler) and node.name:
             other.add(node.name)
     return flags - other
+
+
+def _joins_done(test: ast.AST, done: str) -> bool:
+    """``done and steps != limit``, ``done and not info.get(...)``: ``done`` read together
+    with another condition (``done`` alone, or negated, is the flag itself)."""
+    if not isinstance(test, ast.BoolOp) or not isinstance(test.op, ast.And):
+        return False
+    return done in loaded_names(test) and any(done not in loaded_names(v) for v in test.values)
 
 
 def _split_done(target: cst.BaseExpression, names: StepNames) -> cst.BaseExpression:
