@@ -640,6 +640,38 @@ class UnpackRules(StepFamilyBase):
         next_names = self._next_state_names(step)
         return not any(a is not read and self._reads_next_state(a, step, next_names) for a in arguments)
 
+    def _may_store_next_state(self, read: ast.Name, step: _DoneStep) -> bool:
+        """The store beside ``read`` holds a value that may be the step's next state in a way
+        not followed (``frames.append(obs)``, then ``state = np.stack(frames)``): a name that
+        says so (``next_state``, ``s_``), or one bound after the step
+        from something else than its reward, flag or info. Then "stored without the next
+        state" would be a guess: the read is a question, not a note."""
+        site = value_site(read, self.facts)
+        if isinstance(site, ast.Call):
+            values: list[ast.AST] = [*site.args, *(k.value for k in site.keywords)]
+        else:
+            values = [site]
+        step_values = {e.id for e in step.target.elts[1:] if isinstance(e, ast.Name)}
+        function = self.facts.enclosing_function(step.assign)
+        for value in values:
+            for node in ast.walk(value):
+                if not (isinstance(node, ast.Name) and isinstance(node.ctx, ast.Load)) or node.id == read.id:
+                    continue
+                if _says_next(node.id):
+                    return True
+                binding = self.flow.last_binding_of(node)
+                statement = self.facts.statement_of(binding) if binding is not None else None
+                if (
+                    isinstance(statement, (ast.Assign, ast.AnnAssign, ast.AugAssign))
+                    and statement is not step.assign
+                    and start(statement) > end(step.assign)
+                    and self.facts.enclosing_function(statement) is function
+                    and statement.value is not None
+                    and not (loaded_names(statement.value) & step_values)
+                ):
+                    return True
+        return False
+
     def _callee_signature(self, func: ast.expr) -> tuple[tuple[str, ...], frozenset[tuple[str, str]]] | None:
         """The parameters a call binds by position (``self`` left out) and the callee's
         bootstrap masks; None when the callee cannot be followed."""
@@ -718,21 +750,31 @@ class UnpackRules(StepFamilyBase):
         function = self.facts.enclosing_function(step.assign) or self.facts.tree
 
         def sees_step(node: ast.Name, statement: ast.stmt) -> bool:
-            if self.flow.dominates(step.assign, node, first):
+            if node.id == first.id and self.flow.dominates(step.assign, node, first):
                 return True
-            # ``next_state = np.reshape(next_state, shape)`` right after the step: the read
-            # sees the step's value, the statement's own binding comes after it
+            # ``next_state = np.reshape(next_state, shape)`` right after the step, then
+            # ``next_state = np.append(state[:, :, 1:], next_state[..., None], axis=2)``
+            # (frame stacking): each read sees the step's value or one computed from it
+            # just above, the statement's own binding comes after it
             above = self.flow.binding_above(node, statement)
-            return above is not None and self.facts.statement_of(above) is step.assign
+            holder: ast.AST | None = statement
+            while above is None and isinstance(holder := self.facts.parent(holder), (ast.If, ast.With)):
+                # ``if use_norm: s_ = norm(s_)``: the read sees what was bound above the ``if``
+                above = self.flow.binding_above(node, holder)
+            return above is not None and id(self.facts.statement_of(above)) in bindings
 
         def after_step(value: ast.AST, statement: ast.stmt) -> bool:  # reads this step's observation, not an earlier one
             return any(
-                isinstance(node, ast.Name) and node.id == first.id and isinstance(node.ctx, ast.Load) and sees_step(node, statement)
+                isinstance(node, ast.Name) and node.id in names and isinstance(node.ctx, ast.Load) and sees_step(node, statement)
                 for node in ast.walk(value)
             )
 
-        for node in ast.walk(function):
-            if isinstance(node, ast.Assign) and node is not step.assign and len(node.targets) == 1:
+        # in source order, so a chain of reassignments is followed link by link
+        assigns = sorted(
+            (node for node in ast.walk(function) if isinstance(node, ast.Assign)), key=lambda node: start(node)
+        )
+        for node in assigns:
+            if node is not step.assign and len(node.targets) == 1:
                 target = node.targets[0]
                 if isinstance(target, ast.Name) and after_step(node.value, node):
                     names.add(target.id)
@@ -849,8 +891,10 @@ class UnpackRules(StepFamilyBase):
                 FixKind.FLAG,
                 question=question,
             )
-        elif owner is step.assign and (
-            (use is DoneUse.DATA and stored_in_sequence(read, self.facts)) or self._stores_step_without_next_state(read, step)
+        elif (
+            owner is step.assign
+            and ((use is DoneUse.DATA and stored_in_sequence(read, self.facts)) or self._stores_step_without_next_state(read, step))
+            and not self._may_store_next_state(read, step)
         ):
             # Nothing to decide: the boundary means what legacy ``done`` meant (a note).
             self._report_read(
