@@ -640,6 +640,80 @@ class UnpackRules(StepFamilyBase):
         next_names = self._next_state_names(step)
         return not any(a is not read and self._reads_next_state(a, step, next_names) for a in arguments)
 
+    def _only_ends_or_unread(self, read: ast.Name) -> str | None:
+        """What the code shows the flag is for, when that settles it: returned by a def of the
+        file whose every caller unpacks the result and reads the flag only to end a loop
+        (``if done: break``), or stored in a list of the function that nothing reads
+        (``episode.append(Transition(..., done=done))``). None otherwise."""
+        node: ast.AST = read
+        parent = self.facts.parent(node)
+        if isinstance(parent, ast.Tuple) and isinstance(self.facts.parent(parent), ast.Return):
+            return self._returned_for_loop_exit(read, parent)
+        while parent is not None and not isinstance(parent, ast.stmt):
+            if (
+                isinstance(parent, ast.Call)
+                and isinstance(parent.func, ast.Attribute)
+                and parent.func.attr in ("append", "extend", "insert")
+                and node is not parent.func
+                and isinstance(parent.func.value, ast.Name)
+                and isinstance(self.facts.parent(parent), ast.Expr)
+            ):
+                return self._unread_list(parent.func.value)
+            node, parent = parent, self.facts.parent(parent)
+        return None
+
+    def _returned_for_loop_exit(self, read: ast.Name, values: ast.Tuple) -> str | None:
+        function = self.facts.enclosing_function(read)
+        if not isinstance(function, FUNCTIONS) or self.facts.enclosing_class(read) is not None:
+            return None
+        index = next(i for i, value in enumerate(values.elts) if value is read)
+        calls = self.facts.calls_by_name.get(function.name, [])
+        if not calls:
+            return None
+        for call in calls:
+            assign = self.facts.parent(call)
+            if not (isinstance(assign, ast.Assign) and assign.value is call and len(assign.targets) == 1):
+                return None
+            target = assign.targets[0]
+            if not isinstance(target, (ast.Tuple, ast.List)) or len(target.elts) != len(values.elts):
+                return None
+            flag = target.elts[index]
+            if not isinstance(flag, ast.Name):
+                return None
+            if any(
+                classify_done_read(use, self.facts) not in (DoneUse.CONTROL, DoneUse.NEUTRAL) for use in self.flow.reads(flag)
+            ):
+                return None
+        return f"is returned by `{function.name}`, whose callers read it only to end their loop"
+
+    def _unread_list(self, name: ast.Name) -> str | None:
+        """``episode`` bound only to new lists in a function and only ever appended to."""
+        scope = self.flow.binding_scope(name)
+        if scope is None or self.facts.enclosing_function(name) is None or self._declared_outside(name, name.id):
+            return None
+        bindings = scope.bindings.get(name.id, ())
+        for binding in bindings:
+            assign = self.facts.parent(binding)
+            if not (
+                isinstance(binding, ast.Name)
+                and isinstance(assign, ast.Assign)
+                and assign.targets == [binding]
+                and isinstance(assign.value, (ast.List, ast.ListComp))
+            ):
+                return None
+        for use in self.flow.reads(name):
+            method = self.facts.parent(use)
+            call = self.facts.parent(method)
+            if not (
+                isinstance(method, ast.Attribute)
+                and method.attr in ("append", "extend", "insert")
+                and isinstance(call, ast.Call)
+                and call.func is method
+                and isinstance(self.facts.parent(call), ast.Expr)
+            ):
+                return None
+        return f"is stored in `{name.id}`, which nothing reads"
+
     def _may_store_next_state(self, read: ast.Name, step: _DoneStep) -> bool:
         """The store beside ``read`` holds a value that may be the step's next state in a way
         not followed (``frames.append(obs)``, then ``state = np.stack(frames)``): a name that
@@ -903,6 +977,15 @@ class UnpackRules(StepFamilyBase):
                 f"`{names.terminated} or {names.truncated}`, the episode boundary legacy `done` was. To bootstrap "
                 f"time-limit truncations, also keep the value of the final observation and mask it with "
                 f"`{names.terminated}`",
+                FixKind.FLAG,
+                Tier.NOTE,
+            )
+        elif owner is step.assign and (settled := self._only_ends_or_unread(read)) is not None:
+            # The code shows what the flag is for: ending a loop, or nothing at all (a note).
+            self._report_read(
+                read,
+                f"`{read.id}` {settled}: it stays `{names.terminated} or {names.truncated}`, the episode's end "
+                "legacy `done` was",
                 FixKind.FLAG,
                 Tier.NOTE,
             )
