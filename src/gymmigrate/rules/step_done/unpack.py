@@ -524,8 +524,13 @@ class UnpackRules(StepFamilyBase):
             for ancestor in self.facts.ancestors(binding):
                 if ancestor is function:
                     break
-                if isinstance(ancestor, ast.If) and _joins_done(ancestor.test, done):
-                    return True  # ``if done and steps != limit: terminal = True``
+                if (
+                    isinstance(ancestor, ast.If)
+                    and _joins_done(ancestor.test, done)
+                    and isinstance(value, ast.Constant)
+                    and value.value in (True, False)  # also 1, 0, 1.0, 0.0
+                ):
+                    return True  # ``if done and steps != limit: terminal = True`` (not ``reward = -1`` there)
         return False
 
     # -- ``agent.train_model(s, a, r, s2, done)``: the callee says what the flag is for ---------
@@ -952,6 +957,15 @@ class UnpackRules(StepFamilyBase):
                 FixKind.FLAG,
                 Tier.NOTE,
             )
+        elif owner is step.assign and (settled := self._only_ends_or_unread(read)) is not None:
+            # The code shows what the flag is for: ending a loop, or nothing at all (a note).
+            self._report_read(
+                read,
+                f"`{read.id}` {settled}: it stays `{names.terminated} or {names.truncated}`, the episode's end "
+                "legacy `done` was",
+                FixKind.FLAG,
+                Tier.NOTE,
+            )
         elif owner is not step.assign and self._bootstrap_choice(read, step, dominated=False) is not None:
             self._report_bootstrap_choice(read, step, dominated=False)
         elif stored and any(id(node) in self.reported_reads for node in stored):
@@ -977,15 +991,6 @@ class UnpackRules(StepFamilyBase):
                 f"`{names.terminated} or {names.truncated}`, the episode boundary legacy `done` was. To bootstrap "
                 f"time-limit truncations, also keep the value of the final observation and mask it with "
                 f"`{names.terminated}`",
-                FixKind.FLAG,
-                Tier.NOTE,
-            )
-        elif owner is step.assign and (settled := self._only_ends_or_unread(read)) is not None:
-            # The code shows what the flag is for: ending a loop, or nothing at all (a note).
-            self._report_read(
-                read,
-                f"`{read.id}` {settled}: it stays `{names.terminated} or {names.truncated}`, the episode's end "
-                "legacy `done` was",
                 FixKind.FLAG,
                 Tier.NOTE,
             )
