@@ -216,15 +216,16 @@ _RECORD_FACTORIES = frozenset({"namedtuple", "NamedTuple"})
 
 def _builds_record(call: ast.Call, facts: ModuleFacts) -> bool:
     """``Experience(state, action, reward, done, new_state)``: a call of a record class of
-    this module (a ``namedtuple``, a ``NamedTuple`` or a ``@dataclass``), whose fields hold
-    the values as a tuple would."""
+    this module, at module level or in a def (a ``namedtuple``, a ``NamedTuple`` or a
+    ``@dataclass``), whose fields hold the values as a tuple would."""
     return isinstance(call.func, ast.Name) and call.func.id in _record_classes(facts)
 
 
 def _record_classes(facts: ModuleFacts) -> frozenset[str]:
     def compute() -> frozenset[str]:
         names: set[str] = set()
-        for statement in facts.tree.body:
+        # module level or local to a def (``Transition = namedtuple(...)`` inside ``train``)
+        for statement in ast.walk(facts.tree):
             if (
                 isinstance(statement, ast.Assign)
                 and isinstance(statement.value, ast.Call)

@@ -201,7 +201,9 @@ class UnpackRules(StepFamilyBase):
             first = 0
             if owner is not None:
                 first = index_of.get(id(owner), bisect_left(starts, end(owner)))
-                if first < len(steps) and steps[first].assign is owner:
+                if first < len(steps) and steps[first].assign is owner and self._beside_bootstrap_flag(read, steps[first]):
+                    pass  # ``store(s, a, r, s2, terminal, done)``: the boundary stays (reported below)
+                elif first < len(steps) and steps[first].assign is owner:
                     if classify_done_read(read, self.facts) is DoneUse.DATA and self._masks_next_state(read, steps[first]):
                         self._claim(read, steps[first])
                         continue
@@ -485,6 +487,52 @@ class UnpackRules(StepFamilyBase):
             )
         return False
 
+    def _beside_bootstrap_flag(self, read: ast.Name, step: _DoneStep) -> str | None:
+        """``store_transition(s, a, r, s2, terminal, done)`` where ``terminal`` (or ``dw``) is
+        computed from ``done`` after the step together with something else (``if done and
+        steps != limit: terminal = True``, ``dw = done and not truncated``): the code already
+        keeps a separate bootstrap mask, so ``done`` beside it in the same call or tuple is the
+        episode boundary (an n-step cut, the end of a rollout). The name of that flag, or None."""
+        facts = self.facts
+        holder: ast.AST | None = facts.parent(read)
+        if isinstance(holder, ast.keyword):
+            holder = facts.parent(holder)
+        if not isinstance(holder, (ast.Call, ast.Tuple, ast.List)) or getattr(holder, "func", None) is read:
+            return None
+        values = [*holder.args, *(k.value for k in holder.keywords)] if isinstance(holder, ast.Call) else holder.elts
+        function = facts.enclosing_function(step.assign) or facts.tree
+        for value in values:
+            if value is read or not isinstance(value, ast.Name) or value.id == read.id:
+                continue
+            if self._computed_from_done(value, step, function):
+                return value.id
+        return None
+
+    def _computed_from_done(self, flag: ast.Name, step: _DoneStep, function: ast.AST) -> bool:
+        """``flag`` is bound after the step, in its function, from a value or under a test
+        that reads ``done`` with something else (``done and steps != limit``)."""
+        done = step.done.id
+        for binding in self.flow.bindings(flag):
+            statement = self.facts.statement_of(binding)
+            if not isinstance(binding, ast.Name) or statement is None or start(statement) <= end(step.assign):
+                continue  # ``terminal = False`` before the loop: not what the step decides
+            if (self.facts.enclosing_function(statement) or self.facts.tree) is not function:
+                continue
+            value = getattr(statement, "value", None)
+            if value is not None and any(_joins_done(node, done) for node in ast.walk(value)):
+                return True  # ``dw = done and steps != limit``, ``terminal = True if done and ... else False``
+            for ancestor in self.facts.ancestors(binding):
+                if ancestor is function:
+                    break
+                if (
+                    isinstance(ancestor, ast.If)
+                    and _joins_done(ancestor.test, done)
+                    and isinstance(value, ast.Constant)
+                    and value.value in (True, False)  # also 1, 0, 1.0, 0.0
+                ):
+                    return True  # ``if done and steps != limit: terminal = True`` (not ``reward = -1`` there)
+        return False
+
     # -- ``agent.train_model(s, a, r, s2, done)``: the callee says what the flag is for ---------
 
     def _callee_masks(self, read: ast.Name, step: _DoneStep) -> str | None:
@@ -597,6 +645,112 @@ class UnpackRules(StepFamilyBase):
         next_names = self._next_state_names(step)
         return not any(a is not read and self._reads_next_state(a, step, next_names) for a in arguments)
 
+    def _only_ends_or_unread(self, read: ast.Name) -> str | None:
+        """What the code shows the flag is for, when that settles it: returned by a def of the
+        file whose every caller unpacks the result and reads the flag only to end a loop
+        (``if done: break``), or stored in a list of the function that nothing reads
+        (``episode.append(Transition(..., done=done))``). None otherwise."""
+        node: ast.AST = read
+        parent = self.facts.parent(node)
+        if isinstance(parent, ast.Tuple) and isinstance(self.facts.parent(parent), ast.Return):
+            return self._returned_for_loop_exit(read, parent)
+        while parent is not None and not isinstance(parent, ast.stmt):
+            if (
+                isinstance(parent, ast.Call)
+                and isinstance(parent.func, ast.Attribute)
+                and parent.func.attr in ("append", "extend", "insert")
+                and node is not parent.func
+                and isinstance(parent.func.value, ast.Name)
+                and isinstance(self.facts.parent(parent), ast.Expr)
+            ):
+                return self._unread_list(parent.func.value)
+            node, parent = parent, self.facts.parent(parent)
+        return None
+
+    def _returned_for_loop_exit(self, read: ast.Name, values: ast.Tuple) -> str | None:
+        function = self.facts.enclosing_function(read)
+        if not isinstance(function, FUNCTIONS) or self.facts.enclosing_class(read) is not None:
+            return None
+        index = next(i for i, value in enumerate(values.elts) if value is read)
+        calls = self.facts.calls_by_name.get(function.name, [])
+        if not calls:
+            return None
+        for call in calls:
+            assign = self.facts.parent(call)
+            if not (isinstance(assign, ast.Assign) and assign.value is call and len(assign.targets) == 1):
+                return None
+            target = assign.targets[0]
+            if not isinstance(target, (ast.Tuple, ast.List)) or len(target.elts) != len(values.elts):
+                return None
+            flag = target.elts[index]
+            if not isinstance(flag, ast.Name):
+                return None
+            if any(
+                classify_done_read(use, self.facts) not in (DoneUse.CONTROL, DoneUse.NEUTRAL) for use in self.flow.reads(flag)
+            ):
+                return None
+        return f"is returned by `{function.name}`, whose callers read it only to end their loop"
+
+    def _unread_list(self, name: ast.Name) -> str | None:
+        """``episode`` bound only to new lists in a function and only ever appended to."""
+        scope = self.flow.binding_scope(name)
+        if scope is None or self.facts.enclosing_function(name) is None or self._declared_outside(name, name.id):
+            return None
+        bindings = scope.bindings.get(name.id, ())
+        for binding in bindings:
+            assign = self.facts.parent(binding)
+            if not (
+                isinstance(binding, ast.Name)
+                and isinstance(assign, ast.Assign)
+                and assign.targets == [binding]
+                and isinstance(assign.value, (ast.List, ast.ListComp))
+            ):
+                return None
+        for use in self.flow.reads(name):
+            method = self.facts.parent(use)
+            call = self.facts.parent(method)
+            if not (
+                isinstance(method, ast.Attribute)
+                and method.attr in ("append", "extend", "insert")
+                and isinstance(call, ast.Call)
+                and call.func is method
+                and isinstance(self.facts.parent(call), ast.Expr)
+            ):
+                return None
+        return f"is stored in `{name.id}`, which nothing reads"
+
+    def _may_store_next_state(self, read: ast.Name, step: _DoneStep) -> bool:
+        """The store beside ``read`` holds a value that may be the step's next state in a way
+        not followed (``frames.append(obs)``, then ``state = np.stack(frames)``): a name that
+        says so (``next_state``, ``s_``), or one bound after the step
+        from something else than its reward, flag or info. Then "stored without the next
+        state" would be a guess: the read is a question, not a note."""
+        site = value_site(read, self.facts)
+        if isinstance(site, ast.Call):
+            values: list[ast.AST] = [*site.args, *(k.value for k in site.keywords)]
+        else:
+            values = [site]
+        step_values = {e.id for e in step.target.elts[1:] if isinstance(e, ast.Name)}
+        function = self.facts.enclosing_function(step.assign)
+        for value in values:
+            for node in ast.walk(value):
+                if not (isinstance(node, ast.Name) and isinstance(node.ctx, ast.Load)) or node.id == read.id:
+                    continue
+                if _says_next(node.id):
+                    return True
+                binding = self.flow.last_binding_of(node)
+                statement = self.facts.statement_of(binding) if binding is not None else None
+                if (
+                    isinstance(statement, (ast.Assign, ast.AnnAssign, ast.AugAssign))
+                    and statement is not step.assign
+                    and start(statement) > end(step.assign)
+                    and self.facts.enclosing_function(statement) is function
+                    and statement.value is not None
+                    and not (loaded_names(statement.value) & step_values)
+                ):
+                    return True
+        return False
+
     def _callee_signature(self, func: ast.expr) -> tuple[tuple[str, ...], frozenset[tuple[str, str]]] | None:
         """The parameters a call binds by position (``self`` left out) and the callee's
         bootstrap masks; None when the callee cannot be followed."""
@@ -675,21 +829,31 @@ class UnpackRules(StepFamilyBase):
         function = self.facts.enclosing_function(step.assign) or self.facts.tree
 
         def sees_step(node: ast.Name, statement: ast.stmt) -> bool:
-            if self.flow.dominates(step.assign, node, first):
+            if node.id == first.id and self.flow.dominates(step.assign, node, first):
                 return True
-            # ``next_state = np.reshape(next_state, shape)`` right after the step: the read
-            # sees the step's value, the statement's own binding comes after it
+            # ``next_state = np.reshape(next_state, shape)`` right after the step, then
+            # ``next_state = np.append(state[:, :, 1:], next_state[..., None], axis=2)``
+            # (frame stacking): each read sees the step's value or one computed from it
+            # just above, the statement's own binding comes after it
             above = self.flow.binding_above(node, statement)
-            return above is not None and self.facts.statement_of(above) is step.assign
+            holder: ast.AST | None = statement
+            while above is None and isinstance(holder := self.facts.parent(holder), (ast.If, ast.With)):
+                # ``if use_norm: s_ = norm(s_)``: the read sees what was bound above the ``if``
+                above = self.flow.binding_above(node, holder)
+            return above is not None and id(self.facts.statement_of(above)) in bindings
 
         def after_step(value: ast.AST, statement: ast.stmt) -> bool:  # reads this step's observation, not an earlier one
             return any(
-                isinstance(node, ast.Name) and node.id == first.id and isinstance(node.ctx, ast.Load) and sees_step(node, statement)
+                isinstance(node, ast.Name) and node.id in names and isinstance(node.ctx, ast.Load) and sees_step(node, statement)
                 for node in ast.walk(value)
             )
 
-        for node in ast.walk(function):
-            if isinstance(node, ast.Assign) and node is not step.assign and len(node.targets) == 1:
+        # in source order, so a chain of reassignments is followed link by link
+        assigns = sorted(
+            (node for node in ast.walk(function) if isinstance(node, ast.Assign)), key=lambda node: start(node)
+        )
+        for node in assigns:
+            if node is not step.assign and len(node.targets) == 1:
                 target = node.targets[0]
                 if isinstance(target, ast.Name) and after_step(node.value, node):
                     names.add(target.id)
@@ -781,7 +945,28 @@ class UnpackRules(StepFamilyBase):
             if isinstance(statement, ast.Assign) and statement.value is read and len(statement.targets) == 1
             else []
         )
-        if owner is not step.assign and self._bootstrap_choice(read, step, dominated=False) is not None:
+        beside = self._beside_bootstrap_flag(read, step) if owner is step.assign else None
+        if beside is not None:
+            # Nothing to decide: both flags keep what they meant (a note).
+            self._report_read(
+                read,
+                f"`{read.id}` is passed beside `{beside}`, a bootstrap flag computed from it after the step: "
+                f"`{read.id}` is the episode boundary there and stays `{names.terminated} or {names.truncated}`, "
+                f"as legacy `done` was; `{beside}` keeps its meaning (it can become `{names.terminated}` where its "
+                "own test is the env's time limit)",
+                FixKind.FLAG,
+                Tier.NOTE,
+            )
+        elif owner is step.assign and (settled := self._only_ends_or_unread(read)) is not None:
+            # The code shows what the flag is for: ending a loop, or nothing at all (a note).
+            self._report_read(
+                read,
+                f"`{read.id}` {settled}: it stays `{names.terminated} or {names.truncated}`, the episode's end "
+                "legacy `done` was",
+                FixKind.FLAG,
+                Tier.NOTE,
+            )
+        elif owner is not step.assign and self._bootstrap_choice(read, step, dominated=False) is not None:
             self._report_bootstrap_choice(read, step, dominated=False)
         elif stored and any(id(node) in self.reported_reads for node in stored):
             self.reported_reads.add(id(read))  # the stored value is reported already: one item
@@ -794,8 +979,10 @@ class UnpackRules(StepFamilyBase):
                 FixKind.FLAG,
                 question=question,
             )
-        elif owner is step.assign and (
-            (use is DoneUse.DATA and stored_in_sequence(read, self.facts)) or self._stores_step_without_next_state(read, step)
+        elif (
+            owner is step.assign
+            and ((use is DoneUse.DATA and stored_in_sequence(read, self.facts)) or self._stores_step_without_next_state(read, step))
+            and not self._may_store_next_state(read, step)
         ):
             # Nothing to decide: the boundary means what legacy ``done`` meant (a note).
             self._report_read(
@@ -922,6 +1109,14 @@ def _collect_flag_names(root: ast.AST) -> set[str]:
         elif isinstance(node, ast.ExceptHandler) and node.name:
             other.add(node.name)
     return flags - other
+
+
+def _joins_done(test: ast.AST, done: str) -> bool:
+    """``done and steps != limit``, ``done and not info.get(...)``: ``done`` read together
+    with another condition (``done`` alone, or negated, is the flag itself)."""
+    if not isinstance(test, ast.BoolOp) or not isinstance(test.op, ast.And):
+        return False
+    return done in loaded_names(test) and any(done not in loaded_names(v) for v in test.values)
 
 
 def _split_done(target: cst.BaseExpression, names: StepNames) -> cst.BaseExpression:
