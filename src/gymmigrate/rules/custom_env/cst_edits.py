@@ -387,9 +387,9 @@ class _HelperReturnUnpacker(cst.CSTTransformer):
         ret = updated_node.body[0]
         assert isinstance(ret, cst.Return) and ret.value is not None
         obs, reward, done, info = self.split[id(ret)]
-        unpack = cst.Assign(
-            targets=[cst.AssignTarget(cst.parse_expression(f"{obs}, {reward}, {done}, {info}"))], value=ret.value
-        )
+        targets = cst.parse_expression(f"{obs}, {reward}, {done}, {info}")
+        assert isinstance(targets, cst.Tuple)
+        unpack = cst.Assign(targets=[cst.AssignTarget(targets)], value=ret.value)
         five = ret.with_changes(value=cst.parse_expression(f"{obs}, {reward}, {done}, False, {info}"))
         return cst.FlattenSentinel(
             [

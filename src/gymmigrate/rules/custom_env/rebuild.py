@@ -17,7 +17,6 @@ import libcst.matchers as m
 
 from gymmigrate.edits.arguments import append_keyword
 from gymmigrate.rules.custom_env.cst_edits import (
-    _HelperReturnUnpacker,
     _add_keyword_param,
     _body_statements,
     _bool_of,
@@ -28,6 +27,7 @@ from gymmigrate.rules.custom_env.cst_edits import (
     _drop_return_info,
     _ensure_super_reset,
     _five,
+    _HelperReturnUnpacker,
     _insert_after_super_init,
     _insert_after_super_reset,
     _insert_at_top,

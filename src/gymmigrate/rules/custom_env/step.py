@@ -109,7 +109,7 @@ def _decide_returns(decision: ClassDecision, function: Method, helpers: set[int]
             # reads those four too: the helper keeps its contract, and step unpacks it.
             decision.plan.step = True
             decision.plan.unpacked_helper_returns.setdefault(function.name, {})[position] = names
-            helper = ret.value.func.attr  # type: ignore[union-attr]
+            helper = ret.value.func.attr  # type: ignore[attr-defined]
             if limit_hint is None and no_counter:
                 decision.report(
                     ret,
