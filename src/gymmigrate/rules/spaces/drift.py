@@ -20,7 +20,10 @@ has the script):
   a dict; no other space's sample is either). ``Tuple.sample()`` is a tuple in both.
 * GM909 ``MultiBinary(0)`` and ``Discrete(0)`` raise ``ValueError`` (gym 0.21 built
   them); ``Discrete(<float>)`` raises ``TypeError``. Reported: what an empty space
-  should become is the env's choice. ``MultiDiscrete([])`` still builds.
+  should become is the env's choice. ``MultiDiscrete([])`` still builds. Except a
+  ``MultiBinary(n)`` whose size is a name or ``self`` attribute known to be an int that
+  can be 0 (a parameter among them): ``(MultiBinary(n) if n else Box(0, 1, (0,), "int8"))``,
+  the empty space with gym's shape, dtype, sample and flattening.
   ``Box(0, 255, dtype=np.int8)`` (a literal bound outside an integer dtype's range) raises
   ``ValueError`` too (gym cast the bound, 255 to -1 for int8). Reported: the dtype the
   bounds were meant for is the author's choice.
@@ -39,7 +42,7 @@ from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.findings import FixKind
+from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 
 RULES = (
@@ -54,7 +57,8 @@ RULES = (
         "GM909",
         "zero-size spaces raise",
         FixKind.FLAG,
-        "`MultiBinary(0)`, `Discrete(0)`, `Discrete(<float>)` and `Box` bounds outside an integer dtype raise in Gymnasium 1.x: reported.",
+        "`MultiBinary(0)`, `Discrete(0)`, `Discrete(<float>)` and `Box` bounds outside an integer dtype raise in Gymnasium 1.x: reported; "
+        "a `MultiBinary(n)` whose int size can be 0 gets an empty `Box` for 0.",
     ),
     Rule("GM910", "Box equality compares dtype", FixKind.FLAG, "`box == other_space` is False across dtypes in Gymnasium 1.x: reported."),
 )
@@ -349,6 +353,24 @@ class SpaceDrift(RuleFamily):
         size = call.args[0] if call.args and not isinstance(call.args[0], ast.Starred) else next((k.value for k in call.keywords if k.arg == "n"), None)
         if size is None:
             return
+        parent = self.facts.parent(call)
+        if isinstance(parent, ast.IfExp) and parent.body is call and ast.dump(parent.test) == ast.dump(size):
+            return  # ``MultiBinary(n) if n else ...``: the size is tested already
+        box = self._box_beside(call) if name == "MultiBinary" else None
+        if box is not None and _pure(size) and self._int_size(size) and (self._may_be_zero(size) or self._from_parameter(size)):
+            # gym built an empty MultiBinary for n=0; an empty int8 Box is the space Gymnasium
+            # builds with its shape, dtype, sample and flattening: it stands in for n=0 only.
+            text = self.facts.segment(size)
+            self.report(
+                call,
+                "GM909",
+                f"`MultiBinary(0)` raises ValueError in Gymnasium 1.x (gym built an empty space), and `{text}` can be 0: "
+                f'an empty `Box(0, 1, (0,), "int8")` stands in for it then (its `contains()` takes integer arrays only)',
+                FixKind.ASSIST,
+                tier=Tier.NOTE,
+            )
+            self.plan.replace(call, _empty_box_when_zero(box))
+            return
         if self._may_be_zero(size):
             text = self.facts.segment(size)
             where = "" if isinstance(size, ast.Constant) else f": `{text}` can be 0 here"
@@ -392,6 +414,61 @@ class SpaceDrift(RuleFamily):
                 return q.rsplit(".", 1)[-1]
         return None
 
+    def _box_beside(self, call: ast.Call) -> str | None:
+        """How ``Box`` is spelled beside this ``MultiBinary``: ``spaces.Box`` for
+        ``spaces.MultiBinary``, ``Box`` where the module imports it from the spaces; else None."""
+        if isinstance(call.func, ast.Attribute):
+            return f"{self.facts.segment(call.func.value)}.Box" if "\n" not in self.facts.segment(call.func.value) else None
+        for binding in self.facts.module_scope.bindings.get("Box", ()):
+            if isinstance(binding, ast.alias) and _space_class({self.facts.imports.get(binding, "")}) == "Box":
+                return "Box"
+        return None
+
+    def _int_size(self, expr: ast.AST, depth: int = 0) -> bool:
+        """``expr`` is an int wherever it comes from: an int literal, a conditional of ints, a
+        parameter annotated ``int`` or defaulting to an int, a name or ``self`` attribute every
+        assignment of which is one of these."""
+        if depth > 3:
+            return False
+        if isinstance(expr, ast.Constant):
+            return isinstance(expr.value, int) and not isinstance(expr.value, bool)
+        if isinstance(expr, ast.IfExp):
+            return self._int_size(expr.body, depth + 1) and self._int_size(expr.orelse, depth + 1)
+        if isinstance(expr, ast.Call) and isinstance(expr.func, ast.Name) and expr.func.id in ("int", "len"):
+            return not self.facts.bindings_of(expr.func)
+        values: list[ast.AST] = []
+        if isinstance(expr, ast.Name):
+            bindings = self.facts.bindings_of(expr)
+            if not bindings:
+                return False
+            for binding in bindings:
+                if isinstance(binding, ast.arg):
+                    if not _int_parameter(binding, self.facts):
+                        return False
+                    continue
+                statement = self.facts.parent(binding)
+                if not (isinstance(binding, ast.Name) and isinstance(statement, ast.Assign) and binding in statement.targets):
+                    return False
+                values.append(statement.value)
+        elif isinstance(expr, ast.Attribute) and isinstance(expr.value, ast.Name) and self.receivers.is_self(expr.value):
+            values = list(self.receivers.self_attribute_values(expr, expr.attr))
+            if not values:
+                return False
+        else:
+            return False
+        return all(self._int_size(v, depth + 1) for v in values)
+
+    def _from_parameter(self, expr: ast.AST) -> bool:
+        """``n`` or ``self.n`` bound from a parameter: the caller chooses the size, 0 too."""
+        if isinstance(expr, ast.Name):
+            return any(isinstance(b, ast.arg) for b in self.facts.bindings_of(expr))
+        if isinstance(expr, ast.Attribute) and isinstance(expr.value, ast.Name) and self.receivers.is_self(expr.value):
+            return any(
+                isinstance(v, ast.Name) and any(isinstance(b, ast.arg) for b in self.facts.bindings_of(v))
+                for v in self.receivers.self_attribute_values(expr, expr.attr)
+            )
+        return False
+
     def _may_be_zero(self, expr: ast.AST, depth: int = 0) -> bool:
         if isinstance(expr, ast.Constant):
             return expr.value == 0 and not isinstance(expr.value, bool) and isinstance(expr.value, int)
@@ -432,6 +509,54 @@ def _json_values(expr: ast.expr) -> list[ast.expr]:
 
 
 # -- building the new code ------------------------------------------------------------------
+
+
+def _pure(expr: ast.AST) -> bool:
+    """A name or an attribute chain of one (``n``, ``self.n``): read twice, the same value."""
+    while isinstance(expr, ast.Attribute):
+        expr = expr.value
+    return isinstance(expr, ast.Name)
+
+
+def _int_parameter(arg: ast.arg, facts: ModuleFacts) -> bool:
+    """A parameter annotated ``int`` or whose default is an int literal."""
+    if isinstance(arg.annotation, ast.Name) and arg.annotation.id == "int":
+        return True
+    function = facts.parent(arg)
+    while function is not None and not isinstance(function, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda)):
+        function = facts.parent(function)
+    if function is None:
+        return False
+    args = function.args
+    positional = [*args.posonlyargs, *args.args]
+    defaults: dict[int, ast.expr | None] = {id(a): d for a, d in zip(positional[len(positional) - len(args.defaults) :], args.defaults)}
+    defaults.update({id(a): d for a, d in zip(args.kwonlyargs, args.kw_defaults)})
+    default = defaults.get(id(arg))
+    return isinstance(default, ast.Constant) and isinstance(default.value, int) and not isinstance(default.value, bool)
+
+
+def _empty_box_when_zero(box: str):
+    """``spaces.MultiBinary(n)`` -> ``(spaces.MultiBinary(n) if n else spaces.Box(0, 1, (0,), "int8"))``."""
+
+    def build(node: cst.BaseExpression) -> cst.BaseExpression:
+        assert isinstance(node, cst.Call)
+        size = next((a.value for a in node.args if a.keyword is None or a.keyword.value == "n"), None)
+        assert size is not None
+        empty = cst.parse_expression('Box(0, 1, (0,), "int8")')
+        assert isinstance(empty, cst.Call)
+        if isinstance(node.func, cst.Attribute):
+            empty = empty.with_changes(func=node.func.with_changes(attr=cst.Name("Box")))  # the same module as changed
+        else:
+            empty = empty.with_changes(func=cst.Name(box))
+        return cst.IfExp(
+            test=size.deep_clone(),
+            body=node,
+            orelse=empty,
+            lpar=[cst.LeftParen()],
+            rpar=[cst.RightParen()],
+        )
+
+    return build
 
 
 def _add_integer(numpy: str):
