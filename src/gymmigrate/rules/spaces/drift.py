@@ -240,6 +240,16 @@ class SpaceDrift(RuleFamily):
         options = classes.elts if isinstance(classes, ast.Tuple) else [classes]
         if any(self._is_builtin(c, "int") for c in options) and not any(self._integer_class(c) for c in options):
             kind = self.space_value(value, frozenset({"n", "start", "sample"}))
+            if kind is None and self._discrete_element(value):
+                numpy = self.plan.ensure_import("numpy", asname="np")
+                self.report(
+                    call,
+                    "GM903",
+                    "a method of a `Discrete` space subclass receives the space's elements, and Gymnasium 1.x gives them "
+                    "as `np.int64` (`sample()`, arithmetic on `n`), not `int`: the check accepts `np.integer` too",
+                )
+                self.plan.replace(classes, _add_integer(numpy))
+                return
             if kind is None and self._discrete_action(value):
                 numpy = self.plan.ensure_import("numpy", asname="np")
                 self.report(
@@ -258,6 +268,24 @@ class SpaceDrift(RuleFamily):
         if len(options) == 1 and self._is_ordered_dict(classes) and self.space_value(value, frozenset({"sample", "spaces"})) is not None:
             self.report(call, "GM905", "`Dict.sample()` (and `Dict.spaces`) is a plain `dict` in Gymnasium 1.x, not an `OrderedDict`: checked as a dict")
             self.plan.replace(classes, lambda node: cst.Name("dict"))
+
+    def _discrete_element(self, value: ast.AST) -> bool:
+        """``idx`` in ``def get_action(self, idx)`` of a subclass of ``spaces.Discrete`` (a
+        parameter the method never rebinds): an element of the space, ``np.int64`` when
+        it comes from ``sample()`` or from arithmetic on ``n``."""
+        if not isinstance(value, ast.Name):
+            return False
+        function = self.facts.enclosing_function(value)
+        classdef = self.facts.enclosing_class(value)
+        if function is None or classdef is None or self.facts.parent(function) is not classdef:
+            return False
+        if function.name in ("__init__", "__new__"):
+            return False  # its arguments build the space: a size, not an element
+        if not any(_space_class(self.facts.qualified_names(base)) == "Discrete" for base in classdef.bases):
+            return False
+        params = function.args.args[1:]  # after self
+        bindings = self.facts.bindings_of(value)
+        return len(bindings) == 1 and any(bindings[0] is p for p in params)
 
     def _discrete_action(self, value: ast.AST) -> bool:
         """``action`` in ``def step(self, action)`` of a Gym env class whose action space is
