@@ -49,6 +49,9 @@ Sources (pinned below; nothing is ever committed to this repository):
   lbforaging  github.com/semitable/lb-foraging legacy cf7a012f (1.1.1, gym==0.21) human
               147df639, the last commit of its port (pull request #29: 0828c10 moved the
               package, 0b405f4 its tests)
+  nasim       github.com/Jjschwartz/NetworkAttackSimulator legacy 269d0589 (0.10.1,
+              gym>=0.25: built on gym 0.25.2, its step already returns five values) human
+              dc471917 "v0.11.0 release" (the move to Gymnasium)
 
 How the trees are obtained, first match wins:
   --sources DIR   already laid-out trees: DIR/NAME/legacy and DIR/NAME/human.
@@ -201,6 +204,18 @@ REPOS = (
         legacy_constraints=("numpy<1.24", "pytest<8"),
         legacy_fallback=("gym==0.21.0", "numpy<1.24", "pyglet<2", "six", "pytest<8"),
         new_fallback=(GYMNASIUM, "numpy", "pyglet<2", "six", "pytest<8"),
+    ),
+    Repo(
+        name="nasim",
+        github="Jjschwartz/NetworkAttackSimulator",
+        legacy="269d0589db64bb5b80a6390dbffd0453f652c4aa",
+        human="dc471917ebbb91d8e22749342c36952e5603c2cc",
+        extras="test",
+        tests=("test",),
+        legacy_pre=("gym==0.25.2",),
+        legacy_constraints=("numpy<1.24", "pytest<8"),
+        legacy_fallback=("gym==0.25.2", "numpy<1.24", "networkx", "matplotlib", "pyyaml", "prettytable", "pytest<8"),
+        new_fallback=(GYMNASIUM, "numpy", "networkx", "matplotlib", "pyyaml", "prettytable", "pytest<8"),
     ),
 )
 
