@@ -21,7 +21,8 @@ GM708).
 ``fixtures/project_agents/`` (NetworkAttackSimulator's shape): an agent module that never
 names the library reads an attribute of the env its callers in other modules pass (GM604),
 and the package's ``Discrete`` subclass checks its elements with ``isinstance(i, int)``
-(GM903).
+(GM903). ``fixtures/project_render_factory/`` (its shape too): the tests render with a mode
+an env the package's own factory made, and ``render`` keeps ``mode`` for them (GM405).
 """
 
 from __future__ import annotations
@@ -218,3 +219,15 @@ def test_without_gm604_and_gm903_the_agent_fails_on_gymnasium(tmp_path: Path) ->
     project = _migrated("project_agents", tmp_path, "--ignore", "GM604,GM903")
     run = _pytest(project, "checks")
     assert "has no attribute 'flat'" in run.stdout and "must be an integer" in run.stdout, run.stdout
+
+
+def test_render_keeps_its_mode_for_a_package_factory_s_env(tmp_path: Path) -> None:
+    """``fixtures/project_render_factory/`` (NetworkAttackSimulator's shape): the tests get
+    the env from the package's own factory (``boards.make_board()``, re-exported through two
+    ``__init__`` modules) and call ``env.render(mode="text")``; no mode can move to a make
+    there, so ``render`` keeps ``mode`` as an optional parameter (GM405)."""
+    project = _migrated("project_render_factory", tmp_path)
+    board = (project / "boards" / "envs" / "board.py").read_text()
+    assert "def render(self, mode=None):" in board and "mode = self.render_mode" in board
+    run = _pytest(project, "checks")
+    assert run.returncode == 0 and "2 passed" in run.stdout, run.stdout + run.stderr

@@ -15,7 +15,7 @@ from dataclasses import replace
 from gymmigrate.facts import names as N
 from gymmigrate.facts import pz_wrappers
 from gymmigrate.facts.bootstrap import next_state_masks
-from gymmigrate.facts.creation import passes_mode, render_kept_classes
+from gymmigrate.facts.creation import CreationFinder, passes_mode, render_kept_classes
 from gymmigrate.facts.decisions import Action, decide
 from gymmigrate.facts.env_classes import EnvClasses
 from gymmigrate.facts.env_specs import module_spec_lists
@@ -89,6 +89,7 @@ def _named(
 
 class _Summarizer:
     def __init__(self, facts: ModuleFacts, receivers: Receivers, path: str) -> None:
+        self.render_makers: set[str] = set()  # what made the receivers of render(mode) calls (run names)
         self.facts = facts
         self.receivers = receivers
         self.path = path
@@ -117,6 +118,7 @@ class _Summarizer:
             tuple(calls),
             untraced_seed_call=self._has_untraced_call("seed"),
             untraced_render_call=self._has_untraced_call("render"),
+            render_makers=frozenset(self.render_makers),  # filled by the line above
             imported=tuple(sorted(set(self.facts.imports.values()))),
             exports=self._exports(env_classes),
             aliases=self._aliases(),
@@ -226,6 +228,13 @@ class _Summarizer:
             kind = self.receivers.kind_of(receiver)
             if method == "render" and kind is EnvKind.GYM_ENV and _keeps_mode(call):
                 return True  # a Gym env the rendering rules leave passing its mode: any class's render
+            if method == "render" and kind in (EnvKind.GYM_ENV, EnvKind.UNKNOWN):
+                made_by = self._instance_class(receiver)
+                if made_by is not None and not _is_library(made_by) and not self._made_here(receiver):
+                    # ``env = pkg.make_board()``: the join tells a class of the run (its
+                    # construction takes the mode, GM401) from a def, where no mode can move
+                    self.render_makers.add(made_by)
+                    continue
             if kind is not EnvKind.UNKNOWN:
                 continue
             if method == "seed" and self._seed_call_rewritten_here(call):
@@ -235,6 +244,19 @@ class _Summarizer:
                 continue  # an instance of a class it imports: the run knows that class
             return True
         return False
+
+    def _made_here(self, receiver: ast.AST) -> bool:
+        """``receiver`` goes back to a ``make`` (or a construction of an env class of this
+        module): where the rendering rules move a literal mode to (GM401)."""
+        facts, receivers = self.facts, self.receivers
+
+        def is_creation(call: ast.Call) -> bool:
+            return receivers.local_class(call.func) is not None or any(
+                N.strip_gym_prefix(q) in N.GYM_ENV_FACTORIES for q in facts.qualified_names(call.func)
+            )
+
+        finder = facts.memo(("summary-make-finder", 0), lambda: CreationFinder(facts, receivers, is_creation))
+        return finder.find(receiver).found
 
     def _seed_call_rewritten_here(self, call: ast.Call) -> bool:
         """``env.seed(s)`` as a statement, with one seed, on an untraced receiver that GM203

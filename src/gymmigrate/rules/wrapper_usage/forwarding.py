@@ -172,6 +172,8 @@ class WrapperForwarding(RuleFamily):
                 origin = WRAPPED  # whatever else the name held, where it is read it is a wrapper
         if origin == CYCLE:
             origin = None
+        if origin in (None, RAW) and self._gym_envs_from_elsewhere(receiver, origin):
+            origin = WRAPPED  # bare or made: get_wrapper_attr reads both (a Gymnasium Env has it too)
         if origin == RAW:
             return
         if name in self._outer_attributes(receiver):
@@ -229,8 +231,6 @@ class WrapperForwarding(RuleFamily):
                 )
             return
         text = dotted_name(receiver) or "the env"
-        if origin is None and self._gym_envs_from_elsewhere(receiver):
-            origin = WRAPPED  # bare or made: get_wrapper_attr reads both (a Gymnasium Env has it too)
         if origin is None:
             # One question per object ("is `self.viewer` wrapped?"): asked at its first
             # read; its other reads are notes pointing there.
@@ -278,10 +278,11 @@ class WrapperForwarding(RuleFamily):
         )
         self._replace_with_get_wrapper_attr(attr, name)
 
-    def _gym_envs_from_elsewhere(self, receiver: ast.expr) -> bool:
-        """``env``, a parameter of a module function that this module never calls, and that
-        every call from other modules of the run passes a Gym env: a bare one or a wrapper
-        stack (``run_agent(gym.make(...))`` in one test, ``run_agent(MyEnv())`` in another)."""
+    def _gym_envs_from_elsewhere(self, receiver: ast.expr, origin: Origin) -> bool:
+        """``env``, a parameter of a module function that every call from other modules of
+        the run passes a Gym env, a bare one or a wrapper stack (``run_agent(gym.make(...))``
+        in one test, ``run_agent(MyEnv())`` in another), and that this module's own calls
+        (its ``__main__`` block) pass the bare env (``origin`` RAW), or never make."""
         project = self.receivers.project
         if project is None or not isinstance(receiver, ast.Name):
             return False
@@ -292,8 +293,8 @@ class WrapperForwarding(RuleFamily):
         function = self.facts.parent(arguments) if arguments is not None else None
         if not isinstance(function, FUNCTIONS) or self.facts.functions.get(function.name) is not function:
             return False
-        if self.receivers.call_sites(function, None):
-            return False  # this module's own calls decide (``_param_origin``)
+        if origin is None and self.receivers.call_sites(function, None):
+            return False  # this module's own calls pass something untraced
         kinds = project.param_kinds(function.name, bindings[0].arg)
         return bool(kinds) and all(kind is EnvKind.GYM_ENV for kind in kinds)
 
