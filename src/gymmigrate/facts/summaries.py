@@ -175,7 +175,14 @@ class _Summarizer:
                         break
             return kind
         if isinstance(binding, FUNCTIONS):
-            return self.receivers.returns_kind(binding)
+            kind = self.receivers.returns_kind(binding)
+            if kind is EnvKind.UNKNOWN:
+                # ``def make_benchmark(...): return NASimEnv(scenario, **kwargs)`` with the class
+                # imported from another module of the run: what calling that name gives
+                made = self._returned_run_call(binding)
+                if made is not None:
+                    return REF + made
+            return kind
         if isinstance(binding, ast.Name):
             parent = self.facts.parent(binding)
             if isinstance(parent, ast.Assign) and len(parent.targets) == 1 and parent.targets[0] is binding:
@@ -191,6 +198,23 @@ class _Summarizer:
                         return EnvKind.PZ_PARALLEL
                     return self.receivers.returned_kind(value)
         return EnvKind.UNKNOWN
+
+    def _returned_run_call(self, function: ast.FunctionDef | ast.AsyncFunctionDef) -> str | None:
+        """The one imported name every return of ``function`` calls (``return Env(...)``),
+        when it is no library's; else None."""
+        found: set[str] = set()
+        for ret in own_returns(function):
+            value = ret.value
+            if not (isinstance(value, ast.Call) and isinstance(value.func, (ast.Name, ast.Attribute))):
+                return None
+            qualified = self.facts.qualified_names(value.func)
+            if len(qualified) != 1:
+                return None
+            name = next(iter(qualified))
+            if _is_library(name) or "." not in name:
+                return None  # a library's, or a name of this module (``returns_kind`` judged it)
+            found.add(name)
+        return found.pop() if len(found) == 1 else None
 
     def _aliases(self) -> dict[str, str]:
         """Top-level names bound to a Gym callable: ``make = gym.make``, ``from gym import make``."""
@@ -378,7 +402,28 @@ class _Summarizer:
             parameter = self._parameter_of_def(argument)
             if parameter is not None:
                 return parameter
+            made = self._made_by_run_call(argument)
+            if made is not None:
+                return NEW + made  # ``env = pkg.make_benchmark(...)``; ``run(env)``
         return kind
+
+    def _made_by_run_call(self, name: ast.Name) -> str | None:
+        """The one name of the run (imported, no library's) every binding of ``name`` calls:
+        ``env = nasim.make_benchmark(...)``; else None."""
+        bindings = self.facts.bindings_of(name)
+        found: set[str] = set()
+        for binding in bindings:
+            statement = self.facts.parent(binding)
+            if not (isinstance(binding, ast.Name) and isinstance(statement, ast.Assign) and statement.targets == [binding]):
+                return None
+            value = statement.value
+            if not isinstance(value, ast.Call):
+                return None
+            qualified = [q for q in self.facts.qualified_names(value.func) if not _is_library(q)]
+            if len(qualified) != 1 or "." not in qualified[0]:
+                return None
+            found.add(qualified[0])
+        return found.pop() if len(found) == 1 else None
 
     def _parameter_of_def(self, name: ast.Name) -> str | None:
         """``param:Agent.fit:env`` when ``name`` is only ever the parameter ``env`` of a def
