@@ -43,6 +43,15 @@ Sources (pinned below; nothing is ever committed to this repository):
               gym 0.26) human 48e3b520 "Replace gym for gymnasium (#16)"
   supersuit   github.com/Farama-Foundation/SuperSuit legacy f35fd124 (3.6.0, gym 0.26,
               PettingZoo 1.21) human 3707553f "gym -> gymnasium and pettingzoo bump"
+  rware       github.com/semitable/robotic-warehouse legacy e4b4d542 (1.0.3, gym==0.21)
+              human ecfde864, the last commit of its port (pull request #30, from bbec2db
+              "update RWARE environment for gymnasium integration")
+  lbforaging  github.com/semitable/lb-foraging legacy cf7a012f (1.1.1, gym==0.21) human
+              147df639, the last commit of its port (pull request #29: 0828c10 moved the
+              package, 0b405f4 its tests)
+  nasim       github.com/Jjschwartz/NetworkAttackSimulator legacy 269d0589 (0.10.1,
+              gym>=0.25: built on gym 0.25.2, its step already returns five values) human
+              dc471917 "v0.11.0 release" (the move to Gymnasium)
 
 How the trees are obtained, first match wins:
   --sources DIR   already laid-out trees: DIR/NAME/legacy and DIR/NAME/human.
@@ -168,6 +177,45 @@ REPOS = (
         # mpe2: where PettingZoo 1.27's MPE envs live (the migration imports them from there)
         new_fallback=(GYMNASIUM, "numpy", "pettingzoo[butterfly]==1.27.*", "mpe2", "tinyscaler", "pygame",
                       "pymunk", "opencv-python-headless", "pytest<8"),
+    ),
+    Repo(
+        name="rware",
+        github="semitable/robotic-warehouse",
+        legacy="e4b4d542c221ccc38b999bed11ddf66c3b8e4359",
+        human="ecfde8649f6acd2f1d320ba3614a9583d68cd0aa",
+        extras="test",
+        tests=("tests",),
+        legacy_pre=("gym==0.21.0",),
+        legacy_constraints=("numpy<1.24", "pytest<8"),
+        legacy_fallback=("gym==0.21.0", "numpy<1.24", "pyglet<2", "networkx", "pytest<8"),
+        new_fallback=(GYMNASIUM, "numpy", "pyglet<2", "networkx", "pytest<8"),
+        # @pytest.mark.parametrize("time_limit,", [1, 100, 200]): pytest 8 reads the trailing
+        # comma as a tuple of names and refuses the module; the legacy stage has pytest<8
+        new_constraints=(GYMNASIUM, "pytest<8"),
+    ),
+    Repo(
+        name="lbforaging",
+        github="semitable/lb-foraging",
+        legacy="cf7a012f3a54dea0dc6ce86d264a28b2b01d0a0c",
+        human="147df6399fedeb23b4ed5735b411cb5b38cb9b60",
+        extras="test",
+        tests=("tests",),
+        legacy_pre=("gym==0.21.0",),
+        legacy_constraints=("numpy<1.24", "pytest<8"),
+        legacy_fallback=("gym==0.21.0", "numpy<1.24", "pyglet<2", "six", "pytest<8"),
+        new_fallback=(GYMNASIUM, "numpy", "pyglet<2", "six", "pytest<8"),
+    ),
+    Repo(
+        name="nasim",
+        github="Jjschwartz/NetworkAttackSimulator",
+        legacy="269d0589db64bb5b80a6390dbffd0453f652c4aa",
+        human="dc471917ebbb91d8e22749342c36952e5603c2cc",
+        extras="test",
+        tests=("test",),
+        legacy_pre=("gym==0.25.2",),
+        legacy_constraints=("numpy<1.24", "pytest<8"),
+        legacy_fallback=("gym==0.25.2", "numpy<1.24", "networkx", "matplotlib", "pyyaml", "prettytable", "pytest<8"),
+        new_fallback=(GYMNASIUM, "numpy", "networkx", "matplotlib", "pyyaml", "prettytable", "pytest<8"),
     ),
 )
 

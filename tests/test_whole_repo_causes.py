@@ -1,4 +1,4 @@
-"""Causes the whole-repository benchmark found (benchmarks/whole_repos.py: ma-gym, mo-gym),
+"""Causes the whole-repository benchmark found (benchmarks/whole_repos.py: ma-gym, mo-gym, nasim),
 each a fixture package migrated by one ``gymmigrate rewrite`` and run on Gymnasium 1.4.
 
 ``fixtures/project_teams/`` is a multi-agent package: its envs keep one space per agent in
@@ -18,6 +18,11 @@ obs-only reset itself (its callers are left on it).
 the state gym 0.26's base set (GM618 restores it), re-exported by the package and used on
 one env, on each env of the package's vector env, and on the whole vector env (reported:
 GM708).
+``fixtures/project_agents/`` (NetworkAttackSimulator's shape): an agent module that never
+names the library reads an attribute of the env its callers in other modules pass (GM604),
+and the package's ``Discrete`` subclass checks its elements with ``isinstance(i, int)``
+(GM903). ``fixtures/project_render_factory/`` (its shape too): the tests render with a mode
+an env the package's own factory made, and ``render`` keeps ``mode`` for them (GM405).
 """
 
 from __future__ import annotations
@@ -192,3 +197,37 @@ def test_without_gm618_the_statistics_subclass_fails_on_gymnasium(tmp_path: Path
     project = _migrated("project_statistics", tmp_path, "--ignore", "GM618")
     run = _pytest(project, "checks", "-k", "one_env")
     assert run.returncode != 0 and "has no attribute 'num_envs'" in run.stdout, run.stdout
+
+
+def test_an_agent_module_that_never_names_gym_reads_its_env_through_the_wrappers(tmp_path: Path) -> None:
+    """``fixtures/project_agents/`` (NetworkAttackSimulator's shape): ``run_cycler(env)`` in
+    a module that never names the library reads ``env.flat`` and steps with ``(act + 1) %
+    env.action_space.n``; other modules pass it a ``gym.make`` env and the bare env class.
+    The read goes through ``get_wrapper_attr`` (GM604: the run's callers pass only Gym
+    envs), and the ``isinstance(index, int)`` check in the package's ``Discrete`` subclass
+    accepts the ``np.int64`` that Gymnasium's ``n`` arithmetic gives (GM903)."""
+    project = _migrated("project_agents", tmp_path)
+    agent = (project / "cyclers" / "agent.py").read_text()
+    assert 'if env.get_wrapper_attr("flat"):' in agent
+    moves = (project / "cyclers" / "moves.py").read_text()
+    assert "isinstance(index, (int, np.integer))" in moves
+    run = _pytest(project, "checks")
+    assert run.returncode == 0 and "2 passed" in run.stdout, run.stdout + run.stderr
+
+
+def test_without_gm604_and_gm903_the_agent_fails_on_gymnasium(tmp_path: Path) -> None:
+    project = _migrated("project_agents", tmp_path, "--ignore", "GM604,GM903")
+    run = _pytest(project, "checks")
+    assert "has no attribute 'flat'" in run.stdout and "must be an integer" in run.stdout, run.stdout
+
+
+def test_render_keeps_its_mode_for_a_package_factory_s_env(tmp_path: Path) -> None:
+    """``fixtures/project_render_factory/`` (NetworkAttackSimulator's shape): the tests get
+    the env from the package's own factory (``boards.make_board()``, re-exported through two
+    ``__init__`` modules) and call ``env.render(mode="text")``; no mode can move to a make
+    there, so ``render`` keeps ``mode`` as an optional parameter (GM405)."""
+    project = _migrated("project_render_factory", tmp_path)
+    board = (project / "boards" / "envs" / "board.py").read_text()
+    assert "def render(self, mode=None):" in board and "mode = self.render_mode" in board
+    run = _pytest(project, "checks")
+    assert run.returncode == 0 and "2 passed" in run.stdout, run.stdout + run.stderr

@@ -50,6 +50,9 @@ class ModuleSummary:
     untraced_seed_call: bool = False
     # ``x.render(mode)`` likewise: an env class it imports must keep render(mode).
     untraced_render_call: bool = False
+    # qualified names of the run that made the receivers of ``x.render(mode)`` calls no make
+    # of the module created (``pkg.make_board``): a def among them leaves the mode in place
+    render_makers: frozenset[str] = frozenset()
     imported: tuple[str, ...] = ()  # qualified names its imports bind
     # ``# gymmigrate: skip-file``: the module stays as it is, so the run must not assume it migrated.
     skips_file: bool = False

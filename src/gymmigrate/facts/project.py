@@ -207,9 +207,12 @@ class ProjectFacts:
         Exports(facts, by_path).run()
         ParamJoin(facts, by_path, calls_to).run()
         for summary in summaries:
-            for untraced, called in ((summary.untraced_seed_call, facts.seed_called), (summary.untraced_render_call, facts.render_called)):
-                if untraced:
-                    called.update(facts._imported_env_modules(summary))
+            if summary.untraced_seed_call:
+                facts.seed_called.update(facts._imported_env_modules(summary))
+            if summary.untraced_render_call or any(facts._made_by_def(maker, summary.path, by_path) for maker in summary.render_makers):
+                # ``import pkg`` reaches the env classes ``pkg/__init__.py`` imports too
+                # (``env = pkg.make_benchmark(...)``; ``env.render(mode="readable")``)
+                facts.render_called.update(facts._env_modules_through_packages(summary, by_path))
             for provider in facts._imported_env_modules(summary, declared=by_path):
                 facts.importers.setdefault(provider, set()).add(summary.path)
         for path in facts.render_called:  # their classes keep render(mode): no render_mode to pass
@@ -264,6 +267,36 @@ class ProjectFacts:
                     self.env_classes.get(path) or (declared is not None and path in declared and declared[path].env_classes)
                 ):
                     found.add(path)
+        return found
+
+    def _made_by_def(self, qualified: str, importer: str, by_path: dict[str, ModuleSummary]) -> bool:
+        """``pkg.make_board`` names a def of the run (not a class, whose construction the
+        rendering rules give a ``render_mode``), followed through re-exports."""
+        resolved = self._resolve(qualified, importer)
+        if resolved is None:
+            return False
+        path, name = resolved
+        summary = by_path.get(path)
+        return summary is not None and "." not in name and name in summary.defs and name not in summary.classes
+
+    def _env_modules_through_packages(self, summary: ModuleSummary, by_path: dict[str, ModuleSummary]) -> set[str]:
+        """``_imported_env_modules``, and those of every package ``__init__`` of the run it
+        imports, followed through the ``__init__`` modules those import."""
+        found = self._imported_env_modules(summary)
+        seen = {summary.path}
+        queue = [summary]
+        while queue:
+            current = queue.pop()
+            for qualified in current.imported:
+                level = len(qualified) - len(qualified.lstrip("."))
+                parts = qualified.lstrip(".").split(".")
+                for module in (parts, parts[:-1]):
+                    path = self._module_path(module, level, current.path) if module else None
+                    if path is None or path in seen or os.path.basename(path) != "__init__.py" or path not in by_path:
+                        continue
+                    seen.add(path)
+                    found |= self._imported_env_modules(by_path[path])
+                    queue.append(by_path[path])
         return found
 
     def _class_kind(self, kind: str, importer: str) -> EnvKind:

@@ -16,7 +16,7 @@ from dataclasses import replace
 from gymmigrate.facts import names as N
 from gymmigrate.facts import pz_wrappers
 from gymmigrate.facts.bootstrap import next_state_masks
-from gymmigrate.facts.creation import passes_mode, render_kept_classes
+from gymmigrate.facts.creation import CreationFinder, passes_mode, render_kept_classes
 from gymmigrate.facts.decisions import Action, decide
 from gymmigrate.facts.env_classes import EnvClasses
 from gymmigrate.facts.env_specs import module_spec_lists
@@ -90,6 +90,7 @@ def _named(
 
 class _Summarizer:
     def __init__(self, facts: ModuleFacts, receivers: Receivers, path: str) -> None:
+        self.render_makers: set[str] = set()  # what made the receivers of render(mode) calls (run names)
         self.facts = facts
         self.receivers = receivers
         self.path = path
@@ -118,6 +119,7 @@ class _Summarizer:
             tuple(calls),
             untraced_seed_call=self._has_untraced_call("seed"),
             untraced_render_call=self._has_untraced_call("render"),
+            render_makers=frozenset(self.render_makers),  # filled by the line above
             imported=tuple(sorted(set(self.facts.imports.values()))),
             exports=self._exports(env_classes),
             aliases=self._aliases(),
@@ -175,7 +177,14 @@ class _Summarizer:
                         break
             return kind
         if isinstance(binding, FUNCTIONS):
-            return self.receivers.returns_kind(binding)
+            kind = self.receivers.returns_kind(binding)
+            if kind is EnvKind.UNKNOWN:
+                # ``def make_benchmark(...): return NASimEnv(scenario, **kwargs)`` with the class
+                # imported from another module of the run: what calling that name gives
+                made = self._returned_run_call(binding)
+                if made is not None:
+                    return REF + made
+            return kind
         if isinstance(binding, ast.Name):
             parent = self.facts.parent(binding)
             if isinstance(parent, ast.Assign) and len(parent.targets) == 1 and parent.targets[0] is binding:
@@ -191,6 +200,23 @@ class _Summarizer:
                         return EnvKind.PZ_PARALLEL
                     return self.receivers.returned_kind(value)
         return EnvKind.UNKNOWN
+
+    def _returned_run_call(self, function: ast.FunctionDef | ast.AsyncFunctionDef) -> str | None:
+        """The one imported name every return of ``function`` calls (``return Env(...)``),
+        when it is no library's; else None."""
+        found: set[str] = set()
+        for ret in own_returns(function):
+            value = ret.value
+            if not (isinstance(value, ast.Call) and isinstance(value.func, (ast.Name, ast.Attribute))):
+                return None
+            qualified = self.facts.qualified_names(value.func)
+            if len(qualified) != 1:
+                return None
+            name = next(iter(qualified))
+            if _is_library(name) or "." not in name:
+                return None  # a library's, or a name of this module (``returns_kind`` judged it)
+            found.add(name)
+        return found.pop() if len(found) == 1 else None
 
     def _aliases(self) -> dict[str, str]:
         """Top-level names bound to a Gym callable: ``make = gym.make``, ``from gym import make``."""
@@ -228,6 +254,13 @@ class _Summarizer:
             kind = self.receivers.kind_of(receiver)
             if method == "render" and kind is EnvKind.GYM_ENV and _keeps_mode(call):
                 return True  # a Gym env the rendering rules leave passing its mode: any class's render
+            if method == "render" and kind in (EnvKind.GYM_ENV, EnvKind.UNKNOWN):
+                made_by = self._instance_class(receiver)
+                if made_by is not None and not _is_library(made_by) and not self._made_here(receiver):
+                    # ``env = pkg.make_board()``: the join tells a class of the run (its
+                    # construction takes the mode, GM401) from a def, where no mode can move
+                    self.render_makers.add(made_by)
+                    continue
             if kind is not EnvKind.UNKNOWN:
                 continue
             if method == "seed" and self._seed_call_rewritten_here(call):
@@ -237,6 +270,19 @@ class _Summarizer:
                 continue  # an instance of a class it imports: the run knows that class
             return True
         return False
+
+    def _made_here(self, receiver: ast.AST) -> bool:
+        """``receiver`` goes back to a ``make`` (or a construction of an env class of this
+        module): where the rendering rules move a literal mode to (GM401)."""
+        facts, receivers = self.facts, self.receivers
+
+        def is_creation(call: ast.Call) -> bool:
+            return receivers.local_class(call.func) is not None or any(
+                N.strip_gym_prefix(q) in N.GYM_ENV_FACTORIES for q in facts.qualified_names(call.func)
+            )
+
+        finder = facts.memo(("summary-make-finder", 0), lambda: CreationFinder(facts, receivers, is_creation))
+        return finder.find(receiver).found
 
     def _seed_call_rewritten_here(self, call: ast.Call) -> bool:
         """``env.seed(s)`` as a statement, with one seed, on an untraced receiver that GM203
@@ -358,7 +404,28 @@ class _Summarizer:
             parameter = self._parameter_of_def(argument)
             if parameter is not None:
                 return parameter
+            made = self._made_by_run_call(argument)
+            if made is not None:
+                return NEW + made  # ``env = pkg.make_benchmark(...)``; ``run(env)``
         return kind
+
+    def _made_by_run_call(self, name: ast.Name) -> str | None:
+        """The one name of the run (imported, no library's) every binding of ``name`` calls:
+        ``env = nasim.make_benchmark(...)``; else None."""
+        bindings = self.facts.bindings_of(name)
+        found: set[str] = set()
+        for binding in bindings:
+            statement = self.facts.parent(binding)
+            if not (isinstance(binding, ast.Name) and isinstance(statement, ast.Assign) and statement.targets == [binding]):
+                return None
+            value = statement.value
+            if not isinstance(value, ast.Call):
+                return None
+            qualified = [q for q in self.facts.qualified_names(value.func) if not _is_library(q)]
+            if len(qualified) != 1 or "." not in qualified[0]:
+                return None
+            found.add(qualified[0])
+        return found.pop() if len(found) == 1 else None
 
     def _parameter_of_def(self, name: ast.Name) -> str | None:
         """``param:Agent.fit:env`` when ``name`` is only ever the parameter ``env`` of a def

@@ -353,6 +353,52 @@ class _ReturnRewriter(cst.CSTTransformer):
         return self.rewrite(updated_node)
 
 
+class _HelperReturnUnpacker(cst.CSTTransformer):
+    """``return self._observe()`` (the function's return at a planned position) ->
+    ``obs, reward, terminated, info = self._observe()`` and
+    ``return obs, reward, terminated, False, info``: the helper keeps its four values."""
+
+    def __init__(self, positions: dict[int, tuple[str, ...]]) -> None:
+        self.positions = positions
+        self.count = 0
+        self.split: dict[int, tuple[str, ...]] = {}  # id of a (left) Return -> its names
+
+    def visit_FunctionDef(self, node: cst.FunctionDef) -> bool:
+        return False
+
+    def visit_ClassDef(self, node: cst.ClassDef) -> bool:
+        return False
+
+    def visit_Lambda(self, node: cst.Lambda) -> bool:
+        return False
+
+    def leave_Return(self, original_node: cst.Return, updated_node: cst.Return) -> cst.Return:
+        names = self.positions.get(self.count)
+        self.count += 1
+        if names is not None:
+            self.split[id(updated_node)] = names
+        return updated_node
+
+    def leave_SimpleStatementLine(
+        self, original_node: cst.SimpleStatementLine, updated_node: cst.SimpleStatementLine
+    ) -> cst.BaseStatement | cst.FlattenSentinel[cst.BaseStatement]:
+        if len(updated_node.body) != 1 or id(updated_node.body[0]) not in self.split:
+            return updated_node
+        ret = updated_node.body[0]
+        assert isinstance(ret, cst.Return) and ret.value is not None
+        obs, reward, done, info = self.split[id(ret)]
+        targets = cst.parse_expression(f"{obs}, {reward}, {done}, {info}")
+        assert isinstance(targets, cst.Tuple)
+        unpack = cst.Assign(targets=[cst.AssignTarget(targets)], value=ret.value)
+        five = ret.with_changes(value=cst.parse_expression(f"{obs}, {reward}, {done}, False, {info}"))
+        return cst.FlattenSentinel(
+            [
+                updated_node.with_changes(body=[unpack], trailing_whitespace=cst.TrailingWhitespace()),
+                cst.SimpleStatementLine(body=[five], trailing_whitespace=updated_node.trailing_whitespace),
+            ]
+        )
+
+
 class _NameRenamer(cst.CSTTransformer):
     """Renames variables, not attributes, keywords or parameters spelled the same."""
 

@@ -57,6 +57,9 @@ class ClassPlan:
     truncating_returns: dict[str, set[int]] = field(default_factory=dict)
     # method -> positions of returns that hand on an inner step's terminated and truncated
     passthrough_returns: dict[str, set[int]] = field(default_factory=dict)
+    # method -> position of ``return self._observe()`` (a helper of four values that other
+    # code reads too) -> the names it is unpacked into before returning five
+    unpacked_helper_returns: dict[str, dict[int, tuple[str, ...]]] = field(default_factory=dict)
     reset_helpers: list[str] = field(default_factory=list)  # likewise for reset()
     # ``return self.env.reset()`` of an env the class holds: the call-site rule passes the
     # inner (obs, info) through, so these receivers' resets are not paired again.

@@ -27,6 +27,7 @@ from gymmigrate.rules.custom_env.cst_edits import (
     _drop_return_info,
     _ensure_super_reset,
     _five,
+    _HelperReturnUnpacker,
     _insert_after_super_init,
     _insert_after_super_reset,
     _insert_at_top,
@@ -243,7 +244,11 @@ class ClassRewrite:
         rename_done = False
         truncating = self.plan.truncating_returns.get(self.renamed.get(method_name, method_name), set())
         passing = self.plan.passthrough_returns.get(self.renamed.get(method_name, method_name), set())
+        unpacked = self.plan.unpacked_helper_returns.get(self.renamed.get(method_name, method_name), {})
         for position, ret in enumerate(returns):
+            if position in unpacked:
+                plans.append(None)  # split into an unpack and a return below
+                continue
             if not isinstance(ret.value, cst.Tuple) or _tuple_len(ret.value) != 4:  # _tuple_len: only tuples
                 plans.append(None)
                 continue
@@ -275,7 +280,7 @@ class ClassRewrite:
                 continue
             terminated = _bool_of([done]) if _needs_bool(done) else done
             plans.append(_five(terminated, cst.Name("False")))
-        if not any(plans):
+        if not any(plans) and not unpacked:
             return
         iterator = iter(plans)
 
@@ -284,6 +289,8 @@ class ClassRewrite:
             return plan(ret) if plan is not None else ret
 
         body = visit_suite(fn.body, _ReturnRewriter(rewrite))
+        if unpacked:
+            body = visit_suite(body, _HelperReturnUnpacker(unpacked))
         if fn.returns is not None and _is_tuple_annotation(fn.returns.annotation, 4):
             annotation = fn.returns.annotation
             elements = list(annotation.slice)  # type: ignore[attr-defined]

@@ -103,6 +103,32 @@ def _decide_returns(decision: ClassDecision, function: Method, helpers: set[int]
                 FixKind.FLAG,
             )
             continue
+        names = _unpacked_helper_names(decision, function, ret)
+        if names is not None and not keeps_legacy_step(decision.classdef):
+            # ``return self._observe()`` where ``_observe`` returns four values and other code
+            # reads those four too: the helper keeps its contract, and step unpacks it.
+            decision.plan.step = True
+            decision.plan.unpacked_helper_returns.setdefault(function.name, {})[position] = names
+            helper = ret.value.func.attr  # type: ignore[attr-defined]
+            if limit_hint is None and no_counter:
+                decision.report(
+                    ret,
+                    "GM504",
+                    f"step unpacks the four values of self.{helper}(), which other code reads as they are, and returns "
+                    "its done as terminated with truncated=False: the class counts nothing that could end an episode "
+                    "on a limit",
+                    FixKind.ASSIST,
+                    tier=Tier.NOTE,
+                )
+            else:
+                decision.report(
+                    ret,
+                    "GM504",
+                    f"step unpacks the four values of self.{helper}(), which other code reads as they are, and returns "
+                    f"its done as terminated with truncated=False; {truncated_false_message(limit_hint)}",
+                    FixKind.ASSIST,
+                )
+            continue
         if tuple_len(ret.value) != 4:
             kept = (
                 ": the step keeps its four fields, and so do the calls of it this run can trace (their unpacks are left "
@@ -246,6 +272,46 @@ def _report_truncated_false(decision: ClassDecision, ret: ast.Return, limit_hint
         decision.report(ret, "GM504", certain, FixKind.ASSIST, tier=Tier.NOTE)
     else:
         decision.report(ret, "GM504", truncated_false_message(limit_hint), FixKind.ASSIST)
+
+
+_UNPACKED_NAMES = ("obs", "reward", "terminated", "info")
+
+
+def _unpacked_helper_names(decision: ClassDecision, function: Method, ret: ast.Return) -> tuple[str, ...] | None:
+    """``return self._observe(...)`` alone on its line, where every return of ``_observe``
+    (a method of the class) is a 4-tuple literal: the names step unpacks it into (free in
+    ``function``), or None."""
+    call = ret.value
+    if not (
+        isinstance(call, ast.Call)
+        and isinstance(call.func, ast.Attribute)
+        and isinstance(call.func.value, ast.Name)
+        and call.func.value.id == "self"
+    ):
+        return None
+    helper = decision.methods.get(call.func.attr)
+    if helper is None or helper is function:
+        return None
+    values = [r.value for r in own_returns(helper) if r.value is not None]
+    if not values or any(tuple_len(v) != 4 for v in values):
+        return None
+    facts = decision.family.facts
+    if ret.end_lineno is None or not 0 < ret.lineno <= ret.end_lineno <= len(facts.lines):
+        return None
+    # ast's columns count UTF-8 bytes
+    if facts.lines[ret.lineno - 1].encode()[: ret.col_offset].strip():
+        return None  # ``if x: return self._observe()``: not a statement of its own line
+    rest = facts.lines[ret.end_lineno - 1].encode()[ret.end_col_offset or 0 :].strip()
+    if rest and not rest.startswith(b"#"):
+        return None  # ``return self._observe(); ...``
+    used = {n.id for n in ast.walk(function) if isinstance(n, ast.Name)}
+    used |= {a.arg for a in ast.walk(function) if isinstance(a, ast.arg)}
+    names = []
+    for name in _UNPACKED_NAMES:
+        while name in used:
+            name += "_"
+        names.append(name)
+    return tuple(names)
 
 
 def _returns_helper(ret: ast.Return, decision: ClassDecision, helpers: set[int]) -> bool:

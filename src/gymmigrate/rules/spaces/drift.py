@@ -20,7 +20,10 @@ has the script):
   a dict; no other space's sample is either). ``Tuple.sample()`` is a tuple in both.
 * GM909 ``MultiBinary(0)`` and ``Discrete(0)`` raise ``ValueError`` (gym 0.21 built
   them); ``Discrete(<float>)`` raises ``TypeError``. Reported: what an empty space
-  should become is the env's choice. ``MultiDiscrete([])`` still builds.
+  should become is the env's choice. ``MultiDiscrete([])`` still builds. Except a
+  ``MultiBinary(n)`` whose size is a name or ``self`` attribute known to be an int that
+  can be 0 (a parameter among them): ``(MultiBinary(n) if n else Box(0, 1, (0,), "int8"))``,
+  the empty space with gym's shape, dtype, sample and flattening.
   ``Box(0, 255, dtype=np.int8)`` (a literal bound outside an integer dtype's range) raises
   ``ValueError`` too (gym cast the bound, 255 to -1 for int8). Reported: the dtype the
   bounds were meant for is the author's choice.
@@ -39,7 +42,7 @@ from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.findings import FixKind
+from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 
 RULES = (
@@ -54,7 +57,8 @@ RULES = (
         "GM909",
         "zero-size spaces raise",
         FixKind.FLAG,
-        "`MultiBinary(0)`, `Discrete(0)`, `Discrete(<float>)` and `Box` bounds outside an integer dtype raise in Gymnasium 1.x: reported.",
+        "`MultiBinary(0)`, `Discrete(0)`, `Discrete(<float>)` and `Box` bounds outside an integer dtype raise in Gymnasium 1.x: reported; "
+        "a `MultiBinary(n)` whose int size can be 0 gets an empty `Box` for 0.",
     ),
     Rule("GM910", "Box equality compares dtype", FixKind.FLAG, "`box == other_space` is False across dtypes in Gymnasium 1.x: reported."),
 )
@@ -236,6 +240,16 @@ class SpaceDrift(RuleFamily):
         options = classes.elts if isinstance(classes, ast.Tuple) else [classes]
         if any(self._is_builtin(c, "int") for c in options) and not any(self._integer_class(c) for c in options):
             kind = self.space_value(value, frozenset({"n", "start", "sample"}))
+            if kind is None and self._discrete_element(value):
+                numpy = self.plan.ensure_import("numpy", asname="np")
+                self.report(
+                    call,
+                    "GM903",
+                    "a method of a `Discrete` space subclass receives the space's elements, and Gymnasium 1.x gives them "
+                    "as `np.int64` (`sample()`, arithmetic on `n`), not `int`: the check accepts `np.integer` too",
+                )
+                self.plan.replace(classes, _add_integer(numpy))
+                return
             if kind is None and self._discrete_action(value):
                 numpy = self.plan.ensure_import("numpy", asname="np")
                 self.report(
@@ -254,6 +268,24 @@ class SpaceDrift(RuleFamily):
         if len(options) == 1 and self._is_ordered_dict(classes) and self.space_value(value, frozenset({"sample", "spaces"})) is not None:
             self.report(call, "GM905", "`Dict.sample()` (and `Dict.spaces`) is a plain `dict` in Gymnasium 1.x, not an `OrderedDict`: checked as a dict")
             self.plan.replace(classes, lambda node: cst.Name("dict"))
+
+    def _discrete_element(self, value: ast.AST) -> bool:
+        """``idx`` in ``def get_action(self, idx)`` of a subclass of ``spaces.Discrete`` (a
+        parameter the method never rebinds): an element of the space, ``np.int64`` when
+        it comes from ``sample()`` or from arithmetic on ``n``."""
+        if not isinstance(value, ast.Name):
+            return False
+        function = self.facts.enclosing_function(value)
+        classdef = self.facts.enclosing_class(value)
+        if function is None or classdef is None or self.facts.parent(function) is not classdef:
+            return False
+        if function.name in ("__init__", "__new__"):
+            return False  # its arguments build the space: a size, not an element
+        if not any(_space_class(self.facts.qualified_names(base)) == "Discrete" for base in classdef.bases):
+            return False
+        params = function.args.args[1:]  # after self
+        bindings = self.facts.bindings_of(value)
+        return len(bindings) == 1 and any(bindings[0] is p for p in params)
 
     def _discrete_action(self, value: ast.AST) -> bool:
         """``action`` in ``def step(self, action)`` of a Gym env class whose action space is
@@ -349,6 +381,27 @@ class SpaceDrift(RuleFamily):
         size = call.args[0] if call.args and not isinstance(call.args[0], ast.Starred) else next((k.value for k in call.keywords if k.arg == "n"), None)
         if size is None:
             return
+        parent = self.facts.parent(call)
+        if isinstance(parent, ast.IfExp) and parent.body is call and ast.dump(parent.test) == ast.dump(size):
+            return  # ``MultiBinary(n) if n else ...``: the size is tested already
+        box = self._box_beside(call) if name == "MultiBinary" else None
+        # A size from a parameter counts only in a module still on legacy gym, whose callers
+        # may pass the 0 gym accepted; code already written for Gymnasium chose its sizes.
+        from_legacy_parameter = self.context.profile.imports_gym and self._from_parameter(size)
+        if box is not None and _pure(size) and self._int_size(size) and (self._may_be_zero(size) or from_legacy_parameter):
+            # gym built an empty MultiBinary for n=0; an empty int8 Box is the space Gymnasium
+            # builds with its shape, dtype, sample and flattening: it stands in for n=0 only.
+            text = self.facts.segment(size)
+            self.report(
+                call,
+                "GM909",
+                f"`MultiBinary(0)` raises ValueError in Gymnasium 1.x (gym built an empty space), and `{text}` can be 0: "
+                f'an empty `Box(0, 1, (0,), "int8")` stands in for it then (its `contains()` takes integer arrays only)',
+                FixKind.ASSIST,
+                tier=Tier.NOTE,
+            )
+            self.plan.replace(call, _empty_box_when_zero(box))
+            return
         if self._may_be_zero(size):
             text = self.facts.segment(size)
             where = "" if isinstance(size, ast.Constant) else f": `{text}` can be 0 here"
@@ -392,6 +445,61 @@ class SpaceDrift(RuleFamily):
                 return q.rsplit(".", 1)[-1]
         return None
 
+    def _box_beside(self, call: ast.Call) -> str | None:
+        """How ``Box`` is spelled beside this ``MultiBinary``: ``spaces.Box`` for
+        ``spaces.MultiBinary``, ``Box`` where the module imports it from the spaces; else None."""
+        if isinstance(call.func, ast.Attribute):
+            return f"{self.facts.segment(call.func.value)}.Box" if "\n" not in self.facts.segment(call.func.value) else None
+        for binding in self.facts.module_scope.bindings.get("Box", ()):
+            if isinstance(binding, ast.alias) and _space_class({self.facts.imports.get(binding, "")}) == "Box":
+                return "Box"
+        return None
+
+    def _int_size(self, expr: ast.AST, depth: int = 0) -> bool:
+        """``expr`` is an int wherever it comes from: an int literal, a conditional of ints, a
+        parameter annotated ``int`` or defaulting to an int, a name or ``self`` attribute every
+        assignment of which is one of these."""
+        if depth > 3:
+            return False
+        if isinstance(expr, ast.Constant):
+            return isinstance(expr.value, int) and not isinstance(expr.value, bool)
+        if isinstance(expr, ast.IfExp):
+            return self._int_size(expr.body, depth + 1) and self._int_size(expr.orelse, depth + 1)
+        if isinstance(expr, ast.Call) and isinstance(expr.func, ast.Name) and expr.func.id in ("int", "len"):
+            return not self.facts.bindings_of(expr.func)
+        values: list[ast.AST] = []
+        if isinstance(expr, ast.Name):
+            bindings = self.facts.bindings_of(expr)
+            if not bindings:
+                return False
+            for binding in bindings:
+                if isinstance(binding, ast.arg):
+                    if not _int_parameter(binding, self.facts):
+                        return False
+                    continue
+                statement = self.facts.parent(binding)
+                if not (isinstance(binding, ast.Name) and isinstance(statement, ast.Assign) and binding in statement.targets):
+                    return False
+                values.append(statement.value)
+        elif isinstance(expr, ast.Attribute) and isinstance(expr.value, ast.Name) and self.receivers.is_self(expr.value):
+            values = list(self.receivers.self_attribute_values(expr, expr.attr))
+            if not values:
+                return False
+        else:
+            return False
+        return all(self._int_size(v, depth + 1) for v in values)
+
+    def _from_parameter(self, expr: ast.AST) -> bool:
+        """``n`` or ``self.n`` bound from a parameter: the caller chooses the size, 0 too."""
+        if isinstance(expr, ast.Name):
+            return any(isinstance(b, ast.arg) for b in self.facts.bindings_of(expr))
+        if isinstance(expr, ast.Attribute) and isinstance(expr.value, ast.Name) and self.receivers.is_self(expr.value):
+            return any(
+                isinstance(v, ast.Name) and any(isinstance(b, ast.arg) for b in self.facts.bindings_of(v))
+                for v in self.receivers.self_attribute_values(expr, expr.attr)
+            )
+        return False
+
     def _may_be_zero(self, expr: ast.AST, depth: int = 0) -> bool:
         if isinstance(expr, ast.Constant):
             return expr.value == 0 and not isinstance(expr.value, bool) and isinstance(expr.value, int)
@@ -432,6 +540,54 @@ def _json_values(expr: ast.expr) -> list[ast.expr]:
 
 
 # -- building the new code ------------------------------------------------------------------
+
+
+def _pure(expr: ast.AST) -> bool:
+    """A name or an attribute chain of one (``n``, ``self.n``): read twice, the same value."""
+    while isinstance(expr, ast.Attribute):
+        expr = expr.value
+    return isinstance(expr, ast.Name)
+
+
+def _int_parameter(arg: ast.arg, facts: ModuleFacts) -> bool:
+    """A parameter annotated ``int`` or whose default is an int literal."""
+    if isinstance(arg.annotation, ast.Name) and arg.annotation.id == "int":
+        return True
+    function = facts.parent(arg)
+    while function is not None and not isinstance(function, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda)):
+        function = facts.parent(function)
+    if function is None:
+        return False
+    args = function.args
+    positional = [*args.posonlyargs, *args.args]
+    defaults: dict[int, ast.expr | None] = {id(a): d for a, d in zip(positional[len(positional) - len(args.defaults) :], args.defaults)}
+    defaults.update({id(a): d for a, d in zip(args.kwonlyargs, args.kw_defaults)})
+    default = defaults.get(id(arg))
+    return isinstance(default, ast.Constant) and isinstance(default.value, int) and not isinstance(default.value, bool)
+
+
+def _empty_box_when_zero(box: str):
+    """``spaces.MultiBinary(n)`` -> ``(spaces.MultiBinary(n) if n else spaces.Box(0, 1, (0,), "int8"))``."""
+
+    def build(node: cst.BaseExpression) -> cst.BaseExpression:
+        assert isinstance(node, cst.Call)
+        size = next((a.value for a in node.args if a.keyword is None or a.keyword.value == "n"), None)
+        assert size is not None
+        empty = cst.parse_expression('Box(0, 1, (0,), "int8")')
+        assert isinstance(empty, cst.Call)
+        if isinstance(node.func, cst.Attribute):
+            empty = empty.with_changes(func=node.func.with_changes(attr=cst.Name("Box")))  # the same module as changed
+        else:
+            empty = empty.with_changes(func=cst.Name(box))
+        return cst.IfExp(
+            test=size.deep_clone(),
+            body=node,
+            orelse=empty,
+            lpar=[cst.LeftParen()],
+            rpar=[cst.RightParen()],
+        )
+
+    return build
 
 
 def _add_integer(numpy: str):

@@ -103,7 +103,18 @@ class WrapperForwarding(RuleFamily):
             return True
         # ``env = utils.make_env(...)`` in a file that never names the library
         project = context.options.project
-        return project is not None and any(name in facts.text for _, name in project.made)
+        if project is None:
+            return False
+        if any(name in facts.text for _, name in project.made):
+            return True
+        # ``def run_agent(env): ... env.flat_actions`` in a file that never names the library,
+        # called from other modules of the run with Gym envs
+        view = project.view(context.path)
+        return any(
+            EnvKind.GYM_ENV in view.param_kinds(name, arg.arg)
+            for name, function in facts.functions.items()
+            for arg in (*function.args.posonlyargs, *function.args.args, *function.args.kwonlyargs)
+        )
 
     def decide(self) -> None:
         for node in self.facts.parents:  # every node once, in source order
@@ -195,6 +206,8 @@ class WrapperForwarding(RuleFamily):
                 origin = WRAPPED  # whatever else the name held, where it is read it is a wrapper
         if origin == CYCLE:
             origin = None
+        if origin in (None, RAW) and self._gym_envs_from_elsewhere(receiver, origin):
+            origin = WRAPPED  # bare or made: get_wrapper_attr reads both (a Gymnasium Env has it too)
         if origin == RAW:
             return
         if name in self._outer_attributes(receiver):
@@ -298,6 +311,26 @@ class WrapperForwarding(RuleFamily):
             tier=Tier.NOTE,
         )
         self._replace_with_get_wrapper_attr(attr, name)
+
+    def _gym_envs_from_elsewhere(self, receiver: ast.expr, origin: Origin) -> bool:
+        """``env``, a parameter of a module function that every call from other modules of
+        the run passes a Gym env, a bare one or a wrapper stack (``run_agent(gym.make(...))``
+        in one test, ``run_agent(MyEnv())`` in another), and that this module's own calls
+        (its ``__main__`` block) pass the bare env (``origin`` RAW), or never make."""
+        project = self.receivers.project
+        if project is None or not isinstance(receiver, ast.Name):
+            return False
+        bindings = self.facts.bindings_of(receiver)
+        if len(bindings) != 1 or not isinstance(bindings[0], ast.arg):
+            return False
+        arguments = self.facts.parent(bindings[0])
+        function = self.facts.parent(arguments) if arguments is not None else None
+        if not isinstance(function, FUNCTIONS) or self.facts.functions.get(function.name) is not function:
+            return False
+        if origin is None and self.receivers.call_sites(function, None):
+            return False  # this module's own calls pass something untraced
+        kinds = project.param_kinds(function.name, bindings[0].arg)
+        return bool(kinds) and all(kind is EnvKind.GYM_ENV for kind in kinds)
 
     def _dominating_origin(self, name: ast.Name) -> Origin:
         """Where the name's values disagree (``env = gym.make(...)`` in one branch, ``env =

@@ -213,16 +213,22 @@ class StepOverrides(RuleFamily):
                     kind=FixKind.ASSIST,
                 )
                 self.plan.replace(value, lambda node: _five(node, [node.elements[2].value, cst.Name("False")]))
-            elif _reads_per_agent(done, {name for name in (done_name, *flags) if name is not None}):
-                # ``all(done)``, ``list(done.values())``: the inner flags are per agent;
-                # cutting them against ``terminated`` (a collection too) would be always false.
+            elif _reads_per_agent(done, per_agent := {name for name in (done_name, *flags) if name is not None}) or (
+                isinstance(done, ast.Name) and _reduces_per_agent(function, done.id, per_agent)
+            ):
+                # ``all(done)``, ``list(done.values())``, or ``done = all(done)`` returned: the
+                # inner flags are per agent; cutting the result against ``terminated`` (a
+                # collection too) would always be false. The old done, reduced as before, is
+                # returned as terminated with truncated False, as the per-agent lists above.
                 self.report(
                     ret,
                     "GM602",
-                    "this step override returns per-agent `done` flags (all()/any()/values() of the inner ones): "
-                    "return (obs, reward, terminated, truncated, info) with terminated and truncated per agent by hand",
-                    kind=FixKind.FLAG,
+                    "this step override reduces per-agent `done` flags (all()/any()/values() of the inner ones): the "
+                    "result is returned as terminated with truncated False, so `terminated or truncated` is the old "
+                    "done; split it where a learner bootstraps on terminated",
+                    kind=FixKind.ASSIST,
                 )
+                self.plan.replace(value, lambda node: _five(node, [node.elements[2].value, cst.Name("False")]))
             elif isinstance(done, ast.Name) and done_name is not None and done.id == done_name and (
                 life_losses := self._life_loss_sets(lines, done_name, done_line, unpacks)
             ):
@@ -283,6 +289,21 @@ def _reads_per_agent(expr: ast.expr, names: set[str]) -> bool:
         elif isinstance(node, ast.Subscript) and is_flag(node.value):
             return True
         elif isinstance(node, ast.comprehension) and is_flag(node.iter):
+            return True
+    return False
+
+
+def _reduces_per_agent(function: ast.AST, name: str, flags: set[str]) -> bool:
+    """``done = all(done)`` (or ``any``, ``.values()``, a comprehension) somewhere in
+    ``function``: ``name`` holds a reduction of the inner step's per-agent flags."""
+    for node in ast.walk(function):
+        if (
+            isinstance(node, ast.Assign)
+            and len(node.targets) == 1
+            and isinstance(node.targets[0], ast.Name)
+            and node.targets[0].id == name
+            and _reads_per_agent(node.value, flags)
+        ):
             return True
     return False
 
