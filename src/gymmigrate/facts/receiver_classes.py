@@ -42,6 +42,8 @@ class ClassKinds(_Facade):
             return useful[0]
         if all(k is EnvKind.NOT_ENV for k in kinds) and is_vec_env_shaped(classdef):
             return EnvKind.SB3_VEC
+        if kinds and all(k is EnvKind.NOT_ENV for k in kinds) and any(self._own_api_base(b) for b in classdef.bases):
+            return EnvKind.NOT_ENV  # ``class Preprocess(AtariPreprocessing)`` of tf_agents
         return EnvKind.NOT_ENV if not kinds else EnvKind.UNKNOWN
 
     def wraps_gym_only(self, classdef: ast.ClassDef) -> str | None:
@@ -105,7 +107,12 @@ class ClassKinds(_Facade):
         if self.is_gym_wrapper_class(classdef):
             return None if self.wraps_gym_only(classdef) is not None else EnvKind.GYM_ENV
         kind = self.class_kind(classdef)
+        if kind is EnvKind.NOT_ENV and any(self._own_api_base(b) for b in classdef.bases):
+            return kind  # the base of a library with its own env API (tf_agents): left alone
         return kind if kind.is_gym else None
+
+    def _own_api_base(self, base: ast.AST) -> bool:
+        return any(N.top_package(q) in N.OWN_ENV_API_PACKAGES for q in self.qualified_names(base))
 
     def _explicit_base_kind(self, receiver: ast.AST) -> EnvKind | None:
         if not isinstance(receiver, (ast.Name, ast.Attribute)):
@@ -241,7 +248,9 @@ def _counts_envs(classdef: ast.ClassDef) -> bool:
 
 
 def other_library_class_kind(qualified: str) -> EnvKind | None:
-    """Kind of an SB3 or PettingZoo class named in an annotation or a base list."""
+    """Kind of an SB3, PettingZoo or tf_agents class named in an annotation or a base list."""
+    if N.top_package(qualified) in N.OWN_ENV_API_PACKAGES:
+        return EnvKind.NOT_ENV
     if qualified.startswith(N.SB3_VEC_PREFIXES):
         return EnvKind.SB3_VEC
     if qualified in N.PZ_AEC_BASES:

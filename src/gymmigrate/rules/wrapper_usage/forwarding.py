@@ -275,10 +275,12 @@ class WrapperForwarding(RuleFamily):
         statement = self.facts.statement_of(last) if isinstance(last, ast.Name) else None
         if not (isinstance(statement, ast.Assign) and statement.targets == [last]):
             return None
-        if any(isinstance(n, ast.Name) and n.id == name.id for n in ast.walk(statement.value)):
-            return None  # ``env = Wrapper(env)``: its origin rests on the earlier values too
         if not flow.dominates(statement, name, name):
             return None
+        if isinstance(statement.value, ast.Attribute) and statement.value.attr == "unwrapped":
+            return RAW  # ``env = env.unwrapped``: the base env, whatever the name held before
+        if any(isinstance(n, ast.Name) and n.id == name.id for n in ast.walk(statement.value)):
+            return None  # ``env = Wrapper(env)``: its origin rests on the earlier values too
         origin = self._origin(statement.value)
         return None if origin == CYCLE else origin
 
