@@ -196,6 +196,41 @@ class Flow:
                     return False  # rebound later in a loop that runs the read again
         return True
 
+    def reaching(self, read: ast.Name) -> list[ast.AST] | None:
+        """The bindings of the variable ``read`` reads whose value may reach it: not those
+        the read cannot observe (later in the text, outside any loop around the read), nor
+        those a later assignment of the same block overwrites before the read (``env =
+        lib.make(...)`` then ``env = Wrapper(env)``). None when a binding is not a plain name
+        of the read's own frame (a parameter, a global of a nested def): no positional answer."""
+        scope, bindings = self.facts.resolve(read.id, self.facts.scope_of(read))
+        if scope is None or not self.same_frame(read, scope):
+            return None
+        found: list[ast.AST] = []
+        for binding in bindings:
+            statement = self.facts.statement_of(binding) if isinstance(binding, ast.Name) else None
+            if statement is None:
+                return None
+            if not self.observes(read, statement, binding):  # type: ignore[arg-type]
+                continue
+            if is_after(read, statement) and self._overwritten(statement, read):
+                continue
+            found.append(binding)
+        return found
+
+    def _overwritten(self, statement: ast.stmt, read: ast.Name) -> bool:
+        """A later statement of ``statement``'s block assigns ``read``'s name unconditionally
+        before the read runs (the read is not in it, nor in a loop that returns above it)."""
+        block = self.block_of(statement)
+        if block is None or any(isinstance(a, LOOPS) and contains(a, statement) and contains(a, read) for a in self.facts.ancestors(read)):
+            return False
+        statements, index = block
+        for later in statements[index + 1 :]:
+            if contains(later, read) or not is_after(read, later):
+                return False
+            if isinstance(later, ast.Assign) and any(isinstance(t, ast.Name) and t.id == read.id for t in later.targets):
+                return True
+        return False
+
     def _follows_in_block(self, statement: ast.stmt, read: ast.AST) -> bool:
         """``read`` sits in a statement after ``statement`` in the same statement list."""
         holder = self.facts.parent(statement)

@@ -40,8 +40,12 @@ class ClassKinds(_Facade):
                 # its instances are not rewritten as Gymnasium vector envs; reported.
                 return EnvKind.UNKNOWN
             return useful[0]
+        if not kinds and self.is_duck_wrapper(classdef):
+            return EnvKind.GYM_ENV  # a plain class around a Gym env that forwards to it
         if all(k is EnvKind.NOT_ENV for k in kinds) and is_vec_env_shaped(classdef):
             return EnvKind.SB3_VEC
+        if kinds and all(k is EnvKind.NOT_ENV for k in kinds) and any(self._own_api_base(b) for b in classdef.bases):
+            return EnvKind.NOT_ENV  # ``class Preprocess(AtariPreprocessing)`` of tf_agents
         return EnvKind.NOT_ENV if not kinds else EnvKind.UNKNOWN
 
     def wraps_gym_only(self, classdef: ast.ClassDef) -> str | None:
@@ -77,6 +81,32 @@ class ClassKinds(_Facade):
         return made if made is not None and made.split(".", 1)[0] in N.GYM_ONLY_PACKAGES else None
 
     def is_gym_wrapper_class(self, classdef: ast.ClassDef, _seen: frozenset[int] = frozenset()) -> bool:
+        """A subclass of a Gym wrapper (through classes of the module), or a duck wrapper
+        the run proves (``is_duck_wrapper``)."""
+        if self.is_duck_wrapper(classdef):
+            return True
+        return self.has_gym_wrapper_base(classdef, _seen)
+
+    def is_duck_wrapper(self, classdef: ast.ClassDef) -> bool:
+        """A plain class (no base but ``object``) that stores a constructor parameter in
+        ``self.env`` and forwards to it (``__getattr__`` giving ``getattr(self.env, name)``,
+        or a ``step``/``reset`` returning what ``self.env.step``/``self.env.reset`` give),
+        where every construction of the run passes a Gym env: it is a Gym wrapper in all
+        but name, and is migrated as one with its callers (the run is the unit)."""
+        return bool(self.facts.memo(("duck-wrapper", id(classdef)), lambda: self._is_duck_wrapper(classdef), while_computing=False))
+
+    def _is_duck_wrapper(self, classdef: ast.ClassDef) -> bool:
+        param = duck_wrapper_param(classdef)
+        return param is not None and self._param_kind(param) is EnvKind.GYM_ENV
+
+    def unproved_duck_wrapper(self, classdef: ast.ClassDef) -> bool:
+        """Shaped as a duck wrapper, but the run does not prove every construction passes a
+        Gym env (some may: what they pass is unknown, or mixed): the class and its callers are
+        left alone and the class is reported."""
+        param = duck_wrapper_param(classdef)
+        return param is not None and not self.is_duck_wrapper(classdef) and self._param_kind(param) is EnvKind.UNKNOWN
+
+    def has_gym_wrapper_base(self, classdef: ast.ClassDef, _seen: frozenset[int] = frozenset()) -> bool:
         for base in classdef.bases:
             for q in self.qualified_names(base):
                 rest = N.strip_gym_prefix(q)
@@ -87,6 +117,8 @@ class ClassKinds(_Facade):
                 if self.is_gym_wrapper_class(local, _seen | {id(classdef)}):
                     return True
         return False
+
+
 
     def local_class(self, func: ast.AST) -> ast.ClassDef | None:
         return self.facts.classes.get(func.id) if isinstance(func, ast.Name) else None
@@ -105,7 +137,12 @@ class ClassKinds(_Facade):
         if self.is_gym_wrapper_class(classdef):
             return None if self.wraps_gym_only(classdef) is not None else EnvKind.GYM_ENV
         kind = self.class_kind(classdef)
+        if kind is EnvKind.NOT_ENV and any(self._own_api_base(b) for b in classdef.bases):
+            return kind  # the base of a library with its own env API (tf_agents): left alone
         return kind if kind.is_gym else None
+
+    def _own_api_base(self, base: ast.AST) -> bool:
+        return any(N.top_package(q) in N.OWN_ENV_API_PACKAGES for q in self.qualified_names(base))
 
     def _explicit_base_kind(self, receiver: ast.AST) -> EnvKind | None:
         if not isinstance(receiver, (ast.Name, ast.Attribute)):
@@ -187,6 +224,84 @@ def keeps_legacy_step(classdef: ast.ClassDef) -> bool:
     return True
 
 
+def duck_wrapper_param(classdef: ast.ClassDef) -> ast.arg | None:
+    """The ``__init__`` parameter a plain class stores in ``self.env`` (its only store
+    there) when the class forwards to it: ``__getattr__`` returns ``getattr(self.env,
+    name)``, or ``step`` returns ``self.env.step(...)`` or the four names it unpacks from
+    it, or ``reset`` returns ``self.env.reset(...)``. None for any other class."""
+    if classdef.keywords or not all(is_object(b) for b in classdef.bases):
+        return None
+    methods = {s.name: s for s in classdef.body if isinstance(s, FUNCTIONS)}
+    init = methods.get("__init__")
+    if init is None:
+        return None
+    params = [*init.args.posonlyargs, *init.args.args][1:]
+    stores = [
+        node
+        for node in ast.walk(classdef)
+        if isinstance(node, (ast.Assign, ast.AnnAssign, ast.AugAssign))
+        and any(_is_self_env(t) for t in (node.targets if isinstance(node, ast.Assign) else [node.target]))
+    ]
+    if len(stores) != 1 or not isinstance(stores[0], ast.Assign) or not isinstance(stores[0].value, ast.Name):
+        return None
+    param = next((p for p in params if p.arg == stores[0].value.id), None)
+    if param is None or _enclosing_def(classdef, stores[0]) is not init:
+        return None
+    if _forwards_getattr(methods.get("__getattr__")) or _returns_inner(methods.get("step"), "step") or _returns_inner(methods.get("reset"), "reset"):
+        return param
+    return None
+
+
+def _is_self_env(node: ast.AST) -> bool:
+    return isinstance(node, ast.Attribute) and node.attr == "env" and isinstance(node.value, ast.Name) and node.value.id == "self"
+
+
+def _enclosing_def(classdef: ast.ClassDef, node: ast.AST) -> ast.AST | None:
+    for statement in classdef.body:
+        if isinstance(statement, FUNCTIONS) and any(inner is node for inner in ast.walk(statement)):
+            return statement
+    return None
+
+
+def _inner_call(value: ast.AST | None, method: str) -> bool:
+    return isinstance(value, ast.Call) and isinstance(value.func, ast.Attribute) and value.func.attr == method and _is_self_env(value.func.value)
+
+
+def _forwards_getattr(function: ast.AST | None) -> bool:
+    """``def __getattr__(self, name): return getattr(self.env, name)``."""
+    if function is None:
+        return False
+    values = [r.value for r in own_returns(function)]
+    return bool(values) and all(
+        isinstance(v, ast.Call) and isinstance(v.func, ast.Name) and v.func.id == "getattr" and len(v.args) >= 2 and _is_self_env(v.args[0])
+        for v in values
+    )
+
+
+def _returns_inner(function: ast.AST | None, method: str) -> bool:
+    """Every return of ``function`` is ``self.env.<method>(...)``, or (for ``step``) a tuple
+    of four names unpacked from it in the method."""
+    if function is None:
+        return False
+    unpacked: set[str] = set()
+    for node in ast.walk(function):
+        if isinstance(node, ast.Assign) and _inner_call(node.value, method) and len(node.targets) == 1:
+            target = node.targets[0]
+            if isinstance(target, (ast.Tuple, ast.List)) and len(target.elts) == 4:
+                unpacked |= {e.id for e in target.elts if isinstance(e, ast.Name)}
+    values = [r.value for r in own_returns(function)]
+    if not values:
+        return False
+    for value in values:
+        if _inner_call(value, method):
+            continue
+        if method == "step" and isinstance(value, ast.Tuple) and len(value.elts) == 4 and unpacked:
+            if all(isinstance(e, ast.Name) and e.id in unpacked for e in value.elts):
+                continue
+        return False
+    return True
+
+
 def is_object(base: ast.AST) -> bool:
     return isinstance(base, ast.Name) and base.id == "object"
 
@@ -241,7 +356,9 @@ def _counts_envs(classdef: ast.ClassDef) -> bool:
 
 
 def other_library_class_kind(qualified: str) -> EnvKind | None:
-    """Kind of an SB3 or PettingZoo class named in an annotation or a base list."""
+    """Kind of an SB3, PettingZoo or tf_agents class named in an annotation or a base list."""
+    if N.top_package(qualified) in N.OWN_ENV_API_PACKAGES:
+        return EnvKind.NOT_ENV
     if qualified.startswith(N.SB3_VEC_PREFIXES):
         return EnvKind.SB3_VEC
     if qualified in N.PZ_AEC_BASES:

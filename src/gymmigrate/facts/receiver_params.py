@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.callables import optional_of, parse_annotation, string_names
+from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import EnvKind, join_kinds
 from gymmigrate.facts.module import FUNCTIONS, call_argument
 from gymmigrate.facts.pytest_params import fixture_values, param_fixtures, param_values
@@ -185,11 +186,13 @@ class ParameterKinds(_Facade):
         """Calls in this module that reach ``function`` (a method when ``classdef`` is given)."""
         name = function.name  # type: ignore[attr-defined]
         if classdef is None:
-            return [
-                c
-                for c in self.facts.calls_by_name.get(name, [])
-                if self.local_function(c.func) is function
-            ]
+            calls = self.facts.calls_by_name.get(name, [])
+            if self.facts.parent(function) is self.facts.tree and self.facts.functions.get(name) is not function:
+                # A def the module defines again later (a notebook's cells, run in order): the
+                # calls that the text shows reach it, those after it and before the next def.
+                flow = Flow.of(self.facts)
+                return [c for c in calls if isinstance(c.func, ast.Name) and flow.last_binding_of(c.func) is function]
+            return [c for c in calls if self.local_function(c.func) is function]
         if name == "__init__":
             return list(self.facts.calls_by_name.get(classdef.name, []))
         return [

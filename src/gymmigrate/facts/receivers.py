@@ -299,7 +299,24 @@ class Receivers(ClassKinds, ParameterKinds, MadeObjects):
                 kind = self.binding_kind(last)
                 if kind is not None and kind is not EnvKind.UNKNOWN:
                     return kind
+            # Else only the bindings that may reach it: ``env = lib.make(...)`` overwritten by
+            # ``env = ClipAction(env)`` before the read, ``env = Mask(env)`` after it.
+            reaching = Flow.of(self.facts).reaching(name)
+            if reaching and len(reaching) < len(bindings):
+                kinds = {k for k in (self._reaching_kind(b) for b in reaching) if k is not None}
+                if kinds:
+                    return join_kinds(kinds)
         return shared
+
+    def _reaching_kind(self, binding: ast.AST) -> EnvKind | None:
+        """A binding's kind, where it decides a read alone: ``env = Recorder(env)`` of a plain
+        class proves nothing about what it holds (UNKNOWN); a Gym wrapper around it does."""
+        kind = self.binding_kind(binding)
+        statement = self.facts.statement_of(binding)
+        if isinstance(binding, ast.Name) and isinstance(statement, ast.Assign) and kind is not None and not kind.is_gym:
+            if any(isinstance(n, ast.Name) and n.id == binding.id for n in ast.walk(statement.value)):
+                return EnvKind.UNKNOWN
+        return kind
 
     def _dominating_binding(self, name: ast.Name) -> ast.AST | None:
         flow = Flow.of(self.facts)

@@ -42,6 +42,7 @@ from gymmigrate.facts.module_summary import (
     Signature,
 )
 from gymmigrate.facts.profile import FileProfile
+from gymmigrate.facts.receiver_classes import duck_wrapper_param
 from gymmigrate.facts.receivers import Receivers
 from gymmigrate.source_text import first_statement_line
 from gymmigrate.suppressions import skips_file
@@ -165,6 +166,10 @@ class _Summarizer:
             return self._reference(self.facts.imports[binding])
         if isinstance(binding, ast.ClassDef):
             kind = EnvKind.GYM_ENV if name in env_classes else self.receivers.class_kind(binding)
+            if kind is EnvKind.NOT_ENV and duck_wrapper_param(binding) is not None:
+                # A duck wrapper its own module cannot prove (other modules build it): what
+                # its instances are is decided where they are made, never "no env".
+                return EnvKind.UNKNOWN
             if kind is EnvKind.UNKNOWN:
                 # ``class Hunter(HuntEnv)`` with ``HuntEnv`` from another module of the run.
                 # With several such bases (``class Flock(BaseAviary, MultiAgentEnv)``), the

@@ -341,12 +341,30 @@ class WrapperForwarding(RuleFamily):
         statement = self.facts.statement_of(last) if isinstance(last, ast.Name) else None
         if not (isinstance(statement, ast.Assign) and statement.targets == [last]):
             return None
-        if any(isinstance(n, ast.Name) and n.id == name.id for n in ast.walk(statement.value)):
-            return None  # ``env = Wrapper(env)``: its origin rests on the earlier values too
         if not flow.dominates(statement, name, name):
             return None
+        if isinstance(statement.value, ast.Attribute) and statement.value.attr == "unwrapped":
+            return RAW  # ``env = env.unwrapped``: the base env, whatever the name held before
+        if any(isinstance(n, ast.Name) and n.id == name.id for n in ast.walk(statement.value)):
+            return None  # ``env = Wrapper(env)``: its origin rests on the earlier values too
         origin = self._origin(statement.value)
         return None if origin == CYCLE else origin
+
+    def _origin_above(self, name: ast.Name) -> Origin:
+        """The origin of what ``name`` holds where the other bindings disagree: in ``env =
+        env.env`` the assignment just above in the same block (``env = gym.make(id)``),
+        elsewhere the one assignment every path to the read passes last."""
+        statement = self.facts.statement_of(name)
+        if isinstance(statement, ast.Assign) and any(isinstance(t, ast.Name) and t.id == name.id for t in statement.targets):
+            above = Flow.of(self.facts).binding_above(name, statement)
+            holder = self.facts.statement_of(above) if isinstance(above, ast.Name) else None
+            if not (isinstance(holder, ast.Assign) and holder.targets == [above]):
+                return None
+            if any(isinstance(n, ast.Name) and n.id == name.id for n in ast.walk(holder.value)):
+                return None
+            origin = self._origin(holder.value)
+            return None if origin == CYCLE else origin
+        return self._dominating_origin(name)
 
     def _self_forwarding(self, attr: ast.Attribute) -> None:
         """``self.get_frame()`` in a method of a Gym wrapper class that defines no
@@ -444,6 +462,8 @@ class WrapperForwarding(RuleFamily):
         if self.receivers.kind_of(receiver) is not EnvKind.GYM_ENV:
             return
         origin = self._origin(receiver)
+        if origin is None and isinstance(receiver, ast.Name):
+            origin = self._origin_above(receiver)
         if depth == 1 and self._is_make_call(receiver):
             # gym 0.21's make returned TimeLimit(env): ``gym.make(id).env`` was the env
             # itself, without its time limit. Gymnasium's make adds layers under the

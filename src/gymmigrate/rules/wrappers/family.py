@@ -24,11 +24,21 @@ class WrapperClasses(StepOverrides, ResetOverrides):
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
-        return "Wrapper" in facts.text or "wrappers" in facts.text
+        return "Wrapper" in facts.text or "wrappers" in facts.text or "self.env" in facts.text
 
     def decide(self) -> None:
         for classdef in self.facts.all_classes:
             if not self.receivers.is_gym_wrapper_class(classdef):
+                if self.context.profile.imports_gym and self.receivers.unproved_duck_wrapper(classdef):
+                    self.report(
+                        classdef,
+                        "GM602",
+                        f"`{classdef.name}` holds an env in `self.env` and forwards to it like a Gym wrapper, but "
+                        "the run does not show that every construction of it passes a Gym env: it and its callers "
+                        "are left as they are (four-field step, bare reset); migrate them together, or check the "
+                        "whole project in one run",
+                        FixKind.FLAG,
+                    )
                 continue
             library = self.receivers.wraps_gym_only(classdef)
             if library is not None:
@@ -46,7 +56,7 @@ class WrapperClasses(StepOverrides, ResetOverrides):
             for statement in classdef.body:
                 if not isinstance(statement, FUNCTIONS):
                     continue
-                if statement.name == "__init__":
+                if statement.name == "__init__" and self.receivers.has_gym_wrapper_base(classdef):
                     self._check_init(classdef, statement)
                 elif statement.name == "step":
                     self._fix_step(statement)
