@@ -352,7 +352,8 @@ def _sets_done_on_limit(line: ast.stmt, name: str, parent: ast.AST | None) -> bo
     return False
 
 
-_LIFE_WORDS = re.compile(r"\blives?\b|life", re.IGNORECASE)
+# ``lives``, ``self.lives``, ``lives_before > lives_after``, ``n_lives``, ``ale.lives()``, ``life_lost``
+_LIFE_WORDS = re.compile(r"(?:^|_)lives?(?:_|$)|life", re.IGNORECASE)
 
 
 def _sets_done_on_life_loss(line: ast.stmt, parent: ast.AST | None) -> bool:
