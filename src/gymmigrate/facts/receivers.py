@@ -310,10 +310,12 @@ class Receivers(ClassKinds, ParameterKinds, MadeObjects):
 
     def _reaching_kind(self, binding: ast.AST) -> EnvKind | None:
         """A binding's kind, where it decides a read alone: ``env = Recorder(env)`` of a plain
-        class proves nothing about what it holds (UNKNOWN); a Gym wrapper around it does."""
+        class proves nothing about what it holds (UNKNOWN); a Gym wrapper around it does, and
+        so does any other kind the class settles (``envs = VecScale(envs)`` of an SB3
+        ``VecEnvWrapper`` is a VecEnv)."""
         kind = self.binding_kind(binding)
         statement = self.facts.statement_of(binding)
-        if isinstance(binding, ast.Name) and isinstance(statement, ast.Assign) and kind is not None and not kind.is_gym:
+        if isinstance(binding, ast.Name) and isinstance(statement, ast.Assign) and kind is EnvKind.NOT_ENV:
             if any(isinstance(n, ast.Name) and n.id == binding.id for n in ast.walk(statement.value)):
                 return EnvKind.UNKNOWN
         return kind
