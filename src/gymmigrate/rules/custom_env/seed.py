@@ -112,8 +112,20 @@ def decide_seed(decision: ClassDecision) -> None:
     moved = [i for i in moved if i not in setup]
     init = decision.methods.get("__init__")
     init_call = calls[0] if len(calls) == 1 and init is not None and facts.enclosing_function(calls[0]) is init else None
-    if (setup or moved) and _needs_the_method(groups, moved, setup, seed_names) and not _calls_removed_helpers(seed_method):
-        _keep_as_helper(decision, seed_method)
+    # ``self.seed()`` with no seed (in __init__, typically) ran the moved statements too:
+    # ``self.rand = random.Random(seed)`` built the generator every later draw needs. Under
+    # reset()'s ``if seed is not None:`` they would never run there, so seed() stays.
+    unseeded_call = any(facts.enclosing_function(call) is not seed_method and not _passes_a_seed(call) for call in calls)
+    builds_state = unseeded_call and bool(_state_only_seed_builds([s for i in moved for s in groups[i]], init))
+    needed = (setup or moved) and _needs_the_method(groups, moved, setup, seed_names)
+    if (needed or builds_state) and not _calls_removed_helpers(seed_method):
+        why = (
+            "besides seeding np_random it builds state from the seeded generator or from its own locals, which cannot be split up"
+            if needed
+            else "the class calls it without a seed, which builds the generators its later draws need (under reset()'s "
+            "`if seed is not None:` that would never run)"
+        )
+        _keep_as_helper(decision, seed_method, why)
         return
     if setup and init_call is None:
         decision.report(seed_method, "GM503", "seed() also builds state that does not depend on the seed; move it into __init__ and the seeding into reset() by hand", FixKind.FLAG)
@@ -121,8 +133,7 @@ def decide_seed(decision: ClassDecision) -> None:
     for call in calls:
         if facts.enclosing_function(call) is seed_method or (setup and call is init_call):
             continue
-        argument = call.args[0] if call.args else None
-        given = argument is not None and not (isinstance(argument, ast.Constant) and argument.value is None)
+        given = _passes_a_seed(call)
         message = (
             "self.seed(...) removed: pass that seed to the first reset(seed=...) instead"
             if given
@@ -148,6 +159,32 @@ def decide_seed(decision: ClassDecision) -> None:
             "seed() removed: its extra seeding moved into reset() under `if seed is not None:`; it now runs only when a seed is given",
             FixKind.ASSIST,
         )
+
+
+def _state_only_seed_builds(statements: list[ast.stmt], init: ast.AST | None) -> set[str]:
+    """``self.x`` attributes the statements assign that ``__init__`` never does: state only
+    seed() creates (``self.rand = random.Random(seed)``), not a global seeding call."""
+    assigned = {
+        target.attr
+        for statement in statements
+        for node in ast.walk(statement)
+        if isinstance(node, (ast.Assign, ast.AnnAssign))
+        for target in (node.targets if isinstance(node, ast.Assign) else [node.target])
+        if isinstance(target, ast.Attribute) and isinstance(target.value, ast.Name) and target.value.id == "self"
+    }
+    if init is not None:
+        assigned -= {
+            node.attr
+            for node in ast.walk(init)
+            if isinstance(node, ast.Attribute) and isinstance(node.ctx, ast.Store) and isinstance(node.value, ast.Name) and node.value.id == "self"
+        }
+    return assigned
+
+
+def _passes_a_seed(call: ast.Call) -> bool:
+    """``self.seed(s)``, not ``self.seed()`` or ``self.seed(None)``."""
+    argument = call.args[0] if call.args else next((k.value for k in call.keywords if k.arg is not None), None)
+    return argument is not None and not (isinstance(argument, ast.Constant) and argument.value is None)
 
 
 def _needs_the_method(groups: list[list[ast.stmt]], moved: list[int], setup: list[int], seed_names: set[str]) -> bool:
@@ -212,7 +249,7 @@ def _calls_removed_helpers(function: ast.AST) -> bool:
     )
 
 
-def _keep_as_helper(decision: ClassDecision, seed_method: ast.FunctionDef | ast.AsyncFunctionDef) -> None:
+def _keep_as_helper(decision: ClassDecision, seed_method: ast.FunctionDef | ast.AsyncFunctionDef, why: str) -> None:
     """seed() stays as it is (``seeding.np_random`` still exists) and reset() calls it with
     the seed it is given, as ``env.seed(s); env.reset()`` did."""
     reset = decision.method("reset")
@@ -229,8 +266,7 @@ def _keep_as_helper(decision: ClassDecision, seed_method: ast.FunctionDef | ast.
     decision.report(
         seed_method,
         "GM503",
-        "seed() kept as a helper: besides seeding np_random it builds state from the seeded generator or from its own "
-        "locals, which cannot be split up; reset() now calls it when given a seed, as `env.seed(s)` before reset() did",
+        f"seed() kept as a helper: {why}; reset() now calls it when given a seed, as `env.seed(s)` before reset() did",
         FixKind.ASSIST,
     )
 
