@@ -83,6 +83,18 @@ class StepOverrides(RuleFamily):
             return changes  # type: ignore[return-value]
         return []
 
+    def _task_end_sets(
+        self, lines: list[ast.stmt], name: str, done_line: ast.stmt | None, unpacks: dict[ast.stmt, StepUnpack | None]
+    ) -> bool:
+        """Every change of ``name`` after the inner step ends the episode on the task's own end:
+        ``done = done or info.get("is_success")``, ``if reached_goal: done = True``."""
+        changes = [
+            line
+            for line in lines
+            if line not in unpacks and line is not done_line and name in _assigned_names(line) and not _is_initializer(line, name)
+        ]
+        return bool(changes) and all(_ends_on_task_end(line, name, self.facts.parent(line)) for line in changes)
+
     def _fix_step(self, function: ast.FunctionDef | ast.AsyncFunctionDef) -> None:
         """Return the inner step's terminated/truncated instead of ``done``.
 
@@ -245,6 +257,24 @@ class StepOverrides(RuleFamily):
                 for life_loss in life_losses:
                     self.plan.insert_after(life_loss, f"{terminated} = True")
                 self.plan.replace(value, lambda node, t=terminated, u=truncated: _five(node, [cst.Name(t), cst.Name(u)]))
+            elif isinstance(done, ast.Name) and done_name is not None and done.id == done_name and self._task_end_sets(
+                lines, done_name, done_line, unpacks
+            ):
+                # ``done = done or info["is_success"]``: the wrapper's own condition is the task
+                # ending (success, a goal, a crash), which Gymnasium calls terminated; the inner
+                # step's truncation stays truncated, so ``terminated or truncated`` is the old done.
+                self.report(
+                    ret,
+                    "GM602",
+                    "this step override ends the episode when the task ends (success, a goal, a failure): that end is "
+                    f"returned as `{terminated}`, the inner step's `{truncated}` as it was (a task end on the very step "
+                    "a time limit cuts counts as the cut)",
+                    kind=FixKind.ASSIST,
+                    tier=Tier.NOTE,
+                )
+                self.plan.replace(
+                    value, lambda node, d=done_name, u=truncated: _five(node, [cst.parse_expression(f"bool({d}) and not {u}"), cst.Name(u)])
+                )
             else:
                 self.report(
                     ret,
@@ -369,6 +399,33 @@ def _sets_done_on_life_loss(line: ast.stmt, parent: ast.AST | None) -> bool:
         and not parent.orelse
         and any(_LIFE_WORDS.search(_identifier(node)) for node in ast.walk(parent.test))
     )
+
+
+# what a task's own end is called: ``info["is_success"]``, ``reached_goal``, ``self.crashed``
+_TASK_END_WORDS = re.compile(r"success|goal|solved|reached|\bwon\b|\bwin\b|crash|collision|collided|fail", re.IGNORECASE)
+
+
+def _ends_on_task_end(line: ast.stmt, name: str, parent: ast.AST | None) -> bool:
+    """``done = done or <task end>`` / ``done = <task end> or done``, or ``done = True`` alone
+    in an ``if`` that tests a task end."""
+    if not (isinstance(line, ast.Assign) and len(line.targets) == 1 and isinstance(line.targets[0], ast.Name)):
+        return False
+    value = line.value
+    if isinstance(value, ast.BoolOp) and isinstance(value.op, ast.Or):
+        rest = [v for v in value.values if not (isinstance(v, ast.Name) and v.id == name)]
+        return len(rest) == len(value.values) - 1 and bool(rest) and all(_names_task_end(v) for v in rest)
+    return (
+        isinstance(value, ast.Constant)
+        and value.value is True
+        and isinstance(parent, ast.If)
+        and line in parent.body
+        and not parent.orelse
+        and _names_task_end(parent.test)
+    )
+
+
+def _names_task_end(expr: ast.AST) -> bool:
+    return any(_TASK_END_WORDS.search(_identifier(node)) for node in ast.walk(expr))
 
 
 def _identifier(node: ast.AST) -> str:
