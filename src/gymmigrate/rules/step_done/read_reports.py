@@ -1,0 +1,230 @@
+"""The findings on reads of a rewritten step's ``done`` (GM302): a read rewritten to
+``terminated`` (a claim), the notes where the code settles what the flag means, and the
+questions where it does not.
+
+Every read is reported at most once (``reported_reads``); the reads of one step ask one
+question, what its ``done`` should mean.
+"""
+
+from __future__ import annotations
+
+import ast
+from collections.abc import Hashable
+
+from gymmigrate.facts.decisions import Decision
+from gymmigrate.facts.done_uses import DoneUse, classify_done_read, stored_in_sequence
+from gymmigrate.findings import FixKind, Tier
+from gymmigrate.rules.step_done.common import StepNames
+from gymmigrate.rules.step_done.next_state import DoneStep
+from gymmigrate.rules.step_done.read_uses import DoneReadUses
+
+
+class DoneReadReports(DoneReadUses):
+    """The GM302 findings on reads of ``done`` (mixed into the family)."""
+
+    def _report_untraced_masks(self, step: DoneStep, decision: Decision, question: Hashable | None) -> None:
+        """The step is left (its receiver is not shown to be a Gym env), but its ``done``
+        masks bootstrapping from the next state (``memory.push(s, a, r, s2, done)``): the
+        same question names that read, so whoever decides the receiver decides the mask
+        with it (``terminated`` there once the step gives five values)."""
+        for read in self.flow.reads(step.done):
+            if self._dominating_step(read, step.done) is not step.assign:
+                continue
+            if classify_done_read(read, self.facts) is not DoneUse.DATA:
+                continue
+            if not (self._masks_next_state(read, step) or self._callee_masks(read, step) is not None):
+                continue
+            next_state = self.facts.segment(step.target.elts[0])
+            self.report(
+                read,
+                "GM302",
+                f"{decision.reason}: if it is a Gym env, `{read.id}` masks bootstrapping from the next state "
+                f"`{next_state}` here: read `terminated` once the step gives five values, so a time-limit truncation "
+                "still bootstraps",
+                FixKind.FLAG,
+                question=question,
+            )
+
+    def _claim(self, read: ast.Name, step: DoneStep, none_mask: str | None = None, callee: str | None = None) -> None:
+        terminated = step.names.terminated
+        self.notes.step_unpacks[step.assign].claimed_reads += 1
+        self.plan.replace(read, lambda node: node.with_changes(value=terminated))
+        next_state = self.facts.segment(step.target.elts[0])
+        if none_mask is not None:
+            message = (
+                f"`{read.id}` decides whether the stored next state `{none_mask}` is None (a terminal transition, "
+                f"no bootstrapping): it now reads `{terminated}`, so a time-limit truncation keeps its next state"
+            )
+        elif callee is not None:
+            message = (
+                f"`{read.id}` is passed with the next state to `{callee}`, which masks bootstrapping from that state "
+                f"with it (a target or stored transition): it now reads `{terminated}`, so a time-limit truncation "
+                "still bootstraps"
+            )
+        else:
+            message = (
+                f"`{read.id}` masks bootstrapping from the next state `{next_state}` (a target or stored transition): "
+                f"it now reads `{terminated}`, so a time-limit truncation still bootstraps"
+            )
+        self._report_read(read, message, FixKind.ASSIST, Tier.NOTE)  # the migration guide's own rewrite
+
+    def _report_bootstrap_choice(self, read: ast.Name, step: DoneStep, dominated: bool = True) -> None:
+        names = step.names
+        why = (
+            "its branches also do more than assign (loop control stays on it)"
+            if dominated
+            else f"it may not come from the step on line {step.assign.lineno}"
+        )
+        self._report_read(
+            read,
+            f"`{read.id}` chooses whether a value is computed from the next state (a bootstrap target), but {why}; "
+            f"it now means `{names.terminated} or {names.truncated}`: decide bootstrapping on `{names.terminated}` "
+            f"so that a time-limit truncation still bootstraps, and keep `{read.id}` for ending the episode",
+            FixKind.FLAG,
+            question=("GM302", id(step.assign)),
+        )
+
+    def _report_none_mask(self, read: ast.Name, step: DoneStep, masked: str) -> None:
+        names = step.names
+        self._report_read(
+            read,
+            f"`{read.id}` decides whether the stored next state `{masked}` is None (no bootstrapping) and also "
+            f"controls the loop here; it now means `{names.terminated} or {names.truncated}`: set `{masked}` to None "
+            f"on `{names.terminated}` only, and keep `{read.id}` for ending the episode",
+            FixKind.FLAG,
+            question=("GM302", id(step.assign)),
+        )
+
+    def _self_attribute_data_reads(self, near: ast.AST, target: ast.expr) -> list[ast.Attribute]:
+        """Reads of ``self.<attr>`` (``target``) in the class around ``near`` that feed a value."""
+        if not (isinstance(target, ast.Attribute) and isinstance(target.value, ast.Name) and target.value.id == "self"):
+            return []
+        classdef = self.facts.enclosing_class(near)
+        if classdef is None:
+            return []
+        return [
+            node
+            for node in self.facts.attributes.get(target.attr, ())
+            if isinstance(node, ast.Attribute)
+            and isinstance(node.ctx, ast.Load)
+            and isinstance(node.value, ast.Name)
+            and node.value.id == "self"
+            and self.facts.enclosing_class(node) is classdef
+            and classify_done_read(node, self.facts) is DoneUse.DATA  # type: ignore[arg-type]
+        ]
+
+    def _report_stored_attribute(self, assign: ast.Assign, target: ast.expr, names: StepNames) -> None:
+        """``obs, r, self.done, info = env.step(a)`` and ``self.done`` stored as a value elsewhere."""
+        for read in self._self_attribute_data_reads(assign, target):
+            if id(read) not in self.reported_reads:
+                self.reported_reads.add(id(read))
+                self.report(
+                    read,
+                    "GM302",
+                    f"`{self.facts.segment(read)}` is set by the step on line {assign.lineno} to "
+                    f"`{names.terminated} or {names.truncated}`; if this value masks bootstrapping from the next state, store "
+                    f"`{names.terminated}` there",
+                    FixKind.FLAG,
+                    question=("GM302", id(assign)),
+                )
+
+    def _report_open_read(self, read: ast.Name, step: DoneStep) -> None:
+        use = classify_done_read(read, self.facts)
+        names = step.names
+        # The reads of one step's done ask one question: what its done should mean.
+        question = ("GM302", id(step.assign))
+        owner = self._dominating_step(read, step.done)
+        statement = self.facts.statement_of(read)
+        stored = (
+            self._self_attribute_data_reads(read, statement.targets[0])
+            if isinstance(statement, ast.Assign) and statement.value is read and len(statement.targets) == 1
+            else []
+        )
+        beside = self._beside_bootstrap_flag(read, step) if owner is step.assign else None
+        if beside is not None:
+            # Nothing to decide: both flags keep what they meant (a note).
+            self._report_read(
+                read,
+                f"`{read.id}` is passed beside `{beside}`, a bootstrap flag computed from it after the step: "
+                f"`{read.id}` is the episode boundary there and stays `{names.terminated} or {names.truncated}`, "
+                f"as legacy `done` was; `{beside}` keeps its meaning (it can become `{names.terminated}` where its "
+                "own test is the env's time limit)",
+                FixKind.FLAG,
+                Tier.NOTE,
+            )
+        elif owner is step.assign and (settled := self._only_ends_or_unread(read)) is not None:
+            # The code shows what the flag is for: ending a loop, or nothing at all (a note).
+            self._report_read(
+                read,
+                f"`{read.id}` {settled}: it stays `{names.terminated} or {names.truncated}`, the episode's end "
+                "legacy `done` was",
+                FixKind.FLAG,
+                Tier.NOTE,
+            )
+        elif owner is not step.assign and self._bootstrap_choice(read, step, dominated=False) is not None:
+            self._report_bootstrap_choice(read, step, dominated=False)
+        elif stored and any(id(node) in self.reported_reads for node in stored):
+            self.reported_reads.add(id(read))  # the stored value is reported already: one item
+        elif stored:
+            self._report_read(
+                read,
+                f"`{read.id}` is kept in `{self.facts.segment(statement.targets[0])}` and stored as a value on line "  # type: ignore[attr-defined]
+                f"{stored[0].lineno}; it means `{names.terminated} or {names.truncated}`: if it masks bootstrapping "
+                f"from the next state, store `{names.terminated}`",
+                FixKind.FLAG,
+                question=question,
+            )
+        elif (
+            owner is step.assign
+            and ((use is DoneUse.DATA and stored_in_sequence(read, self.facts)) or self._stores_step_without_next_state(read, step))
+            and not self._may_store_next_state(read, step)
+        ):
+            # Nothing to decide: the boundary means what legacy ``done`` meant (a note).
+            self._report_read(
+                read,
+                f"`{read.id}` is stored per step without the next state (a rollout or a log): it stays "
+                f"`{names.terminated} or {names.truncated}`, the episode boundary legacy `done` was. To bootstrap "
+                f"time-limit truncations, also keep the value of the final observation and mask it with "
+                f"`{names.terminated}`",
+                FixKind.FLAG,
+                Tier.NOTE,
+            )
+        elif use is DoneUse.AMBIGUOUS and owner is step.assign and self._hands_step_on(read, step):
+            self._report_read(
+                read,
+                f"`{read.id}` is handed on with the step's observation and reward (an env-like reply or adapter): "
+                f"it stays `{names.terminated} or {names.truncated}`, the episode's end, for its receiver to read",
+                FixKind.FLAG,
+                Tier.NOTE,
+            )
+        elif use is DoneUse.DATA and owner is step.assign:
+            self._report_read(
+                read,
+                f"`{read.id}` used as a value now means `{names.terminated} or {names.truncated}`; if it masks "
+                f"bootstrapping from the next state, use `{names.terminated}` there",
+                FixKind.FLAG,
+                question=question,
+            )
+        elif use is DoneUse.DATA:
+            self._report_read(
+                read,
+                f"`{read.id}` used as a value may not come from the step on line {step.assign.lineno}; "
+                f"if it feeds bootstrapping, use `{names.terminated}` there",
+                FixKind.FLAG,
+                question=question,
+            )
+        elif use is DoneUse.AMBIGUOUS:
+            self._report_read(
+                read,
+                f"`{read.id}` now means `{names.terminated} or {names.truncated}`; "
+                f"if this use decides bootstrapping, use `{names.terminated}`",
+                FixKind.FLAG,
+                question=question,
+            )
+
+    def _report_read(
+        self, read: ast.Name, message: str, kind: FixKind, tier: Tier | None = None, question: Hashable | None = None
+    ) -> None:
+        if id(read) not in self.reported_reads:
+            self.reported_reads.add(id(read))
+            self.report(read, "GM302", message, kind, tier, question=question)

@@ -1,0 +1,419 @@
+"""What a read of a rewritten step's ``done`` is for, where the code shows it (GM302).
+
+Beyond the masks of ``next_state``: the flag choosing a bootstrap target
+(``R = 0.0 if done else v(s2)``), the None mask of the PyTorch DQN tutorial
+(``next_state = None if done else s2``), a separate bootstrap flag computed from it
+(``dw = done and not truncated``), the step's result handed on whole (an env-like
+reply), a rollout store without the next state, and a flag only ever used to end a
+loop. Each answers a question; ``read_reports`` turns the answers into findings.
+"""
+
+from __future__ import annotations
+
+import ast
+
+from gymmigrate.facts.done_uses import (
+    DoneUse,
+    classify_done_read,
+    loaded_names,
+    value_site,
+)
+from gymmigrate.facts.flow import bound_names, end, start
+from gymmigrate.facts.module import FUNCTIONS
+from gymmigrate.rules.step_done.next_state import DoneStep, NextStateReads, says_next
+
+
+class DoneReadUses(NextStateReads):
+    """What a read of ``done`` is for, beyond the next-state masks (mixed into the family)."""
+
+    def _dominating_step(self, read: ast.Name, done: ast.Name) -> ast.Assign | None:
+        """The four-target step that certainly binds the value ``read`` sees, if any.
+
+        Only the statement holding the last binding before the read can dominate it, so
+        one lookup replaces a test against every step.
+        """
+        binding = self.flow.last_binding_before(read, done)
+        if binding is None:
+            return None
+        step = self.facts.statement_of(binding)
+        if (
+            step in self.legacy_unpacks
+            and any(done.id in bound_names(t) for t in step.targets)
+            and self.flow.dominates(step, read, done)
+        ):
+            return step
+        return None
+
+    def _bootstrap_choice(self, read: ast.Name, step: DoneStep, dominated: bool) -> bool | None:
+        """``R = 0.0 if done else v(s2)``, ``if done: y = r`` / ``else: y = r + gamma * q(s2)``,
+        ``if not done: y += gamma * q(s2)``: the flag chooses between a value computed from
+        the step's next state and one that is not, so it masks bootstrapping from that state.
+        Returns whether the test can simply read ``terminated`` (a conditional expression, or
+        branches that only assign: a ``break`` there is loop control, which stays ``done``);
+        None when the flag makes no such choice. A None on the done side is the next state
+        itself (``_none_mask``). ``dominated``: the step certainly binds the flag read, and
+        the next state is what the step's observation certainly gave; otherwise any name
+        computed from that observation counts (the read is reported, never rewritten)."""
+        facts = self.facts
+        node: ast.AST = read
+        negated = False
+        parent = facts.parent(node)
+        if isinstance(parent, ast.UnaryOp) and isinstance(parent.op, ast.Not):
+            node, negated, parent = parent, True, facts.parent(parent)
+        if dominated:
+            next_names = self._next_state_names(step)
+
+            def reads(parts: list[ast.AST]) -> bool:
+                return any(self._reads_next_state(part, step, next_names) for part in parts)
+        else:
+            next_names = self._derived_names(step)
+
+            def reads(parts: list[ast.AST]) -> bool:
+                return any(n.id in next_names for part in parts for n in ast.walk(part) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load))
+
+        if not next_names:
+            return None
+        if isinstance(parent, ast.IfExp) and parent.test is node:
+            when_done, otherwise = (parent.orelse, parent.body) if negated else (parent.body, parent.orelse)
+            # ``state = env.reset() if done else obs``: the next state itself, or a new episode
+            if isinstance(otherwise, ast.Name) or _is_none(when_done) or _resets(when_done):
+                return None
+            if not reads([otherwise]) or reads([when_done]):
+                return None
+            return True
+        if isinstance(parent, ast.If) and parent.test is node:
+            done_branch, other = (parent.orelse, parent.body) if negated else (parent.body, parent.orelse)
+            if any(isinstance(s, ast.Assign) and _is_none(s.value) for s in done_branch) or any(map(_resets, done_branch)):
+                return None  # ``if done: next_state = None`` (the None mask), ``if done: obs = env.reset()``
+            # One target chosen both ways (``if done: y = r`` / ``else: y = r + gamma * q(s2)``), or
+            # only added to when not done (``if not done: y += gamma * q(s2)``): a value, not a
+            # state to go on from (``if not done: state = preprocess(s2)``).
+            chosen = {name for s in done_branch if isinstance(s, (ast.Assign, ast.AnnAssign)) for name in _assigned(s)}
+            computed: list[ast.AST] = [
+                s.value
+                for s in other
+                if ((isinstance(s, (ast.Assign, ast.AnnAssign)) and _assigned(s) & chosen) or (not done_branch and isinstance(s, ast.AugAssign)))
+                and s.value is not None
+                and not isinstance(s.value, ast.Name)
+            ]
+            if not reads(computed) or reads(list(done_branch)):
+                return None
+            return all(isinstance(s, (ast.Assign, ast.AugAssign, ast.AnnAssign, ast.Pass)) for s in [*done_branch, *other])
+        return None
+
+    def _none_mask(self, read: ast.Name, step: DoneStep) -> tuple[str, bool] | None:
+        """``next_state = None if done else s2`` or ``if done: next_state = None`` (the PyTorch
+        DQN tutorial's terminal transition): the flag decides whether the transition stored
+        afterwards has a next state to bootstrap from. Returns the masked name and whether the
+        test can simply read ``terminated``: only when the branches do nothing but assign
+        (a ``break`` there is loop control, which must stay ``done``). None: not such a mask."""
+        facts = self.facts
+        node: ast.AST = read
+        negated = False
+        parent = facts.parent(node)
+        if isinstance(parent, ast.UnaryOp) and isinstance(parent.op, ast.Not):
+            node, negated, parent = parent, True, facts.parent(parent)
+        next_names = self._next_state_names(step)
+        if isinstance(parent, ast.IfExp) and parent.test is node:
+            when_done = parent.orelse if negated else parent.body
+            statement = facts.statement_of(parent)
+            if not (_is_none(when_done) and isinstance(statement, ast.Assign) and statement.value is parent):
+                return None
+            targets = [t.id for t in statement.targets if isinstance(t, ast.Name)]
+            if len(targets) != 1 or targets[0] not in next_names or not self._stored_later(statement, targets[0]):
+                return None
+            return targets[0], True
+        if isinstance(parent, ast.If) and parent.test is node:
+            done_branch, other = (parent.orelse, parent.body) if negated else (parent.body, parent.orelse)
+            masked = [
+                s.targets[0].id
+                for s in done_branch
+                if isinstance(s, ast.Assign) and len(s.targets) == 1 and isinstance(s.targets[0], ast.Name) and _is_none(s.value)
+            ]
+            masked = [name for name in masked if name in next_names and self._stored_later(parent, name)]
+            if not masked:
+                return None
+            simple = all(isinstance(s, (ast.Assign, ast.AnnAssign, ast.Pass)) for s in [*done_branch, *other])
+            return masked[0], simple
+        return None
+
+    def _stored_later(self, statement: ast.stmt, name: str) -> bool:
+        """``name`` is handed on after ``statement`` in the same function, as an argument
+        (``memory.push(state, action, next_state, r)``, ``agent.update(s, a, r, s2)``), and never
+        tested (``if state is None: reset``: then None means "start a new episode", not a
+        terminal transition)."""
+        function = self.facts.enclosing_function(statement) or self.facts.tree
+        stored = False
+        for node in ast.walk(function):
+            if isinstance(node, (ast.If, ast.While, ast.IfExp)) and name in loaded_names(node.test):
+                return False
+            if (
+                isinstance(node, ast.Call)
+                and node.lineno > statement.lineno
+                and not (isinstance(node.func, ast.Name) and node.func.id in _NOT_TRANSITIONS)
+                and any(_passes(arg, name) for arg in [*node.args, *(k.value for k in node.keywords)])
+            ):
+                stored = True
+        return stored
+
+    def _beside_bootstrap_flag(self, read: ast.Name, step: DoneStep) -> str | None:
+        """``store_transition(s, a, r, s2, terminal, done)`` where ``terminal`` (or ``dw``) is
+        computed from ``done`` after the step together with something else (``if done and
+        steps != limit: terminal = True``, ``dw = done and not truncated``): the code already
+        keeps a separate bootstrap mask, so ``done`` beside it in the same call or tuple is the
+        episode boundary (an n-step cut, the end of a rollout). The name of that flag, or None."""
+        facts = self.facts
+        holder: ast.AST | None = facts.parent(read)
+        if isinstance(holder, ast.keyword):
+            holder = facts.parent(holder)
+        if not isinstance(holder, (ast.Call, ast.Tuple, ast.List)) or getattr(holder, "func", None) is read:
+            return None
+        values = [*holder.args, *(k.value for k in holder.keywords)] if isinstance(holder, ast.Call) else holder.elts
+        function = facts.enclosing_function(step.assign) or facts.tree
+        for value in values:
+            if value is read or not isinstance(value, ast.Name) or value.id == read.id:
+                continue
+            if self._computed_from_done(value, step, function):
+                return value.id
+        return None
+
+    def _computed_from_done(self, flag: ast.Name, step: DoneStep, function: ast.AST) -> bool:
+        """``flag`` is bound after the step, in its function, from a value or under a test
+        that reads ``done`` with something else (``done and steps != limit``)."""
+        done = step.done.id
+        for binding in self.flow.bindings(flag):
+            statement = self.facts.statement_of(binding)
+            if not isinstance(binding, ast.Name) or statement is None or start(statement) <= end(step.assign):
+                continue  # ``terminal = False`` before the loop: not what the step decides
+            if (self.facts.enclosing_function(statement) or self.facts.tree) is not function:
+                continue
+            value = getattr(statement, "value", None)
+            if value is not None and any(_joins_done(node, done) for node in ast.walk(value)):
+                return True  # ``dw = done and steps != limit``, ``terminal = True if done and ... else False``
+            for ancestor in self.facts.ancestors(binding):
+                if ancestor is function:
+                    break
+                if (
+                    isinstance(ancestor, ast.If)
+                    and _joins_done(ancestor.test, done)
+                    and isinstance(value, ast.Constant)
+                    and value.value in (True, False)  # also 1, 0, 1.0, 0.0
+                ):
+                    return True  # ``if done and steps != limit: terminal = True`` (not ``reward = -1`` there)
+        return False
+
+    def _hands_step_on(self, read: ast.Name, step: DoneStep) -> bool:
+        """``return agent_state, terminal, agent_reward`` or ``pipe.send((obs, reward, done,
+        info))``: the flag in one tuple with the step's observation and reward (or values
+        computed from them), returned or sent as a call's only argument. The step's result
+        is handed on, an env-like reply: its receiver reads the flag as the episode's end."""
+        site = self.facts.parent(read)
+        if not isinstance(site, ast.Tuple):
+            return False
+        holder = self.facts.parent(site)
+        if isinstance(holder, ast.Call):
+            if holder.args != [site] or holder.keywords or holder.func is site:
+                return False
+        elif not isinstance(holder, ast.Return):
+            return False
+        elements = step.target.elts
+        if len(elements) < 2 or not all(isinstance(e, ast.Name) for e in elements[:2]):
+            return False
+        observation, reward = elements[0].id, elements[1].id  # type: ignore[attr-defined]
+        function = self.facts.enclosing_function(step.assign) or self.facts.tree
+        derived = {observation: {observation}, reward: {reward}}
+        for node in ast.walk(function):
+            if isinstance(node, ast.Assign) and len(node.targets) == 1 and isinstance(node.targets[0], ast.Name):
+                for names in derived.values():
+                    if loaded_names(node.value) & names:
+                        names.add(node.targets[0].id)
+        others = [loaded_names(e) for e in site.elts if e is not read]
+        if not (any(n & derived[observation] for n in others) and any(n & derived[reward] for n in others)):
+            return False
+        # every value is the step's (``reward``, ``info``) or set after it from the step
+        # (``agent_state = featurize(state)``, the auto-reset ``obs = env.reset()``): a
+        # transition (``(obs, action, next_obs, reward, done)``) holds the state before it
+        return all(self._from_step(e, step) for e in site.elts if e is not read)
+
+    def _from_step(self, value: ast.expr, step: DoneStep) -> bool:
+        step_names = {e.id for e in step.target.elts if isinstance(e, ast.Name)}
+        for node in ast.walk(value):
+            if not (isinstance(node, ast.Name) and isinstance(node.ctx, ast.Load)):
+                continue
+            binding = self.flow.last_binding_of(node)
+            statement = self.facts.statement_of(binding) if binding is not None else None
+            if statement is step.assign:
+                return True
+            if (
+                isinstance(statement, ast.Assign)
+                and start(statement) > end(step.assign)
+                and self.facts.enclosing_function(statement) is self.facts.enclosing_function(step.assign)
+                and (loaded_names(statement.value) & step_names or node.id in step_names)
+            ):
+                return True
+        return False
+
+    def _stores_step_without_next_state(self, read: ast.Name, step: DoneStep) -> bool:
+        """``memory.store_memory(obs, value, reward, done)``: a call that hands on the step's
+        reward and flag but no next state (``obs`` still holds the state the step started
+        from). Whatever the callee does, it cannot bootstrap from the next state with this
+        flag: a rollout store, where the flag is the episode boundary."""
+        call = self.facts.parent(read)
+        if isinstance(call, ast.keyword):
+            call = self.facts.parent(call)
+        if not isinstance(call, ast.Call) or call.func is read or any(isinstance(a, ast.Starred) for a in call.args):
+            return False
+        reward = step.target.elts[1] if len(step.target.elts) > 1 else None
+        if not isinstance(reward, ast.Name):
+            return False
+        arguments = [*call.args, *(k.value for k in call.keywords)]
+        if not any(isinstance(a, ast.Name) and a.id == reward.id for a in arguments):
+            return False
+        next_names = self._next_state_names(step)
+        return not any(a is not read and self._reads_next_state(a, step, next_names) for a in arguments)
+
+    def _only_ends_or_unread(self, read: ast.Name) -> str | None:
+        """What the code shows the flag is for, when that settles it: returned by a def of the
+        file whose every caller unpacks the result and reads the flag only to end a loop
+        (``if done: break``), or stored in a list of the function that nothing reads
+        (``episode.append(Transition(..., done=done))``). None otherwise."""
+        node: ast.AST = read
+        parent = self.facts.parent(node)
+        if isinstance(parent, ast.Tuple) and isinstance(self.facts.parent(parent), ast.Return):
+            return self._returned_for_loop_exit(read, parent)
+        while parent is not None and not isinstance(parent, ast.stmt):
+            if (
+                isinstance(parent, ast.Call)
+                and isinstance(parent.func, ast.Attribute)
+                and parent.func.attr in ("append", "extend", "insert")
+                and node is not parent.func
+                and isinstance(parent.func.value, ast.Name)
+                and isinstance(self.facts.parent(parent), ast.Expr)
+            ):
+                return self._unread_list(parent.func.value)
+            node, parent = parent, self.facts.parent(parent)
+        return None
+
+    def _returned_for_loop_exit(self, read: ast.Name, values: ast.Tuple) -> str | None:
+        function = self.facts.enclosing_function(read)
+        if not isinstance(function, FUNCTIONS) or self.facts.enclosing_class(read) is not None:
+            return None
+        index = next(i for i, value in enumerate(values.elts) if value is read)
+        calls = self.facts.calls_by_name.get(function.name, [])
+        if not calls:
+            return None
+        for call in calls:
+            assign = self.facts.parent(call)
+            if not (isinstance(assign, ast.Assign) and assign.value is call and len(assign.targets) == 1):
+                return None
+            target = assign.targets[0]
+            if not isinstance(target, (ast.Tuple, ast.List)) or len(target.elts) != len(values.elts):
+                return None
+            flag = target.elts[index]
+            if not isinstance(flag, ast.Name):
+                return None
+            if any(
+                classify_done_read(use, self.facts) not in (DoneUse.CONTROL, DoneUse.NEUTRAL) for use in self.flow.reads(flag)
+            ):
+                return None
+        return f"is returned by `{function.name}`, whose callers read it only to end their loop"
+
+    def _unread_list(self, name: ast.Name) -> str | None:
+        """``episode`` bound only to new lists in a function and only ever appended to."""
+        scope = self.flow.binding_scope(name)
+        if scope is None or self.facts.enclosing_function(name) is None or self._declared_outside(name, name.id):
+            return None
+        bindings = scope.bindings.get(name.id, ())
+        for binding in bindings:
+            assign = self.facts.parent(binding)
+            if not (
+                isinstance(binding, ast.Name)
+                and isinstance(assign, ast.Assign)
+                and assign.targets == [binding]
+                and isinstance(assign.value, (ast.List, ast.ListComp))
+            ):
+                return None
+        for use in self.flow.reads(name):
+            method = self.facts.parent(use)
+            call = self.facts.parent(method)
+            if not (
+                isinstance(method, ast.Attribute)
+                and method.attr in ("append", "extend", "insert")
+                and isinstance(call, ast.Call)
+                and call.func is method
+                and isinstance(self.facts.parent(call), ast.Expr)
+            ):
+                return None
+        return f"is stored in `{name.id}`, which nothing reads"
+
+    def _may_store_next_state(self, read: ast.Name, step: DoneStep) -> bool:
+        """The store beside ``read`` holds a value that may be the step's next state in a way
+        not followed (``frames.append(obs)``, then ``state = np.stack(frames)``): a name that
+        says so (``next_state``, ``s_``), or one bound after the step
+        from something else than its reward, flag or info. Then "stored without the next
+        state" would be a guess: the read is a question, not a note."""
+        site = value_site(read, self.facts)
+        if isinstance(site, ast.Call):
+            values: list[ast.AST] = [*site.args, *(k.value for k in site.keywords)]
+        else:
+            values = [site]
+        step_values = {e.id for e in step.target.elts[1:] if isinstance(e, ast.Name)}
+        function = self.facts.enclosing_function(step.assign)
+        for value in values:
+            for node in ast.walk(value):
+                if not (isinstance(node, ast.Name) and isinstance(node.ctx, ast.Load)) or node.id == read.id:
+                    continue
+                if says_next(node.id):
+                    return True
+                binding = self.flow.last_binding_of(node)
+                statement = self.facts.statement_of(binding) if binding is not None else None
+                if (
+                    isinstance(statement, (ast.Assign, ast.AnnAssign, ast.AugAssign))
+                    and statement is not step.assign
+                    and start(statement) > end(step.assign)
+                    and self.facts.enclosing_function(statement) is function
+                    and statement.value is not None
+                    and not (loaded_names(statement.value) & step_values)
+                ):
+                    return True
+        return False
+
+    def _declared_outside(self, node: ast.AST, name: str) -> bool:
+        function = self.facts.enclosing_function(node)
+        if function is None:
+            return False
+        scope = self.facts.scopes[function]
+        return name in scope.declared_global or name in scope.declared_nonlocal
+
+
+def _joins_done(test: ast.AST, done: str) -> bool:
+    """``done and steps != limit``, ``done and not info.get(...)``: ``done`` read together
+    with another condition (``done`` alone, or negated, is the flag itself)."""
+    if not isinstance(test, ast.BoolOp) or not isinstance(test.op, ast.And):
+        return False
+    return done in loaded_names(test) and any(done not in loaded_names(v) for v in test.values)
+
+
+# Calls that show or test a value rather than take a transition.
+_NOT_TRANSITIONS = frozenset({"print", "repr", "str", "len", "isinstance", "type", "id"})
+
+
+def _passes(argument: ast.expr, name: str) -> bool:
+    """The argument is ``name``, or a tuple or list that holds it (a transition)."""
+    if isinstance(argument, (ast.Tuple, ast.List)):
+        return any(_passes(element, name) for element in argument.elts)
+    return isinstance(argument, ast.Name) and argument.id == name
+
+
+def _assigned(statement: ast.Assign | ast.AnnAssign) -> set[str]:
+    targets = statement.targets if isinstance(statement, ast.Assign) else [statement.target]
+    return {name for target in targets for name in bound_names(target)}
+
+
+def _resets(node: ast.AST) -> bool:
+    """``node`` calls some ``x.reset(...)``: the flag starts a new episode there."""
+    return any(isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute) and n.func.attr == "reset" for n in ast.walk(node))
+
+
+def _is_none(node: ast.AST) -> bool:
+    return isinstance(node, ast.Constant) and node.value is None
