@@ -244,6 +244,7 @@ class ClassRewrite:
         rename_done = False
         truncating = self.plan.truncating_returns.get(self.renamed.get(method_name, method_name), set())
         passing = self.plan.passthrough_returns.get(self.renamed.get(method_name, method_name), set())
+        task_ending = self.plan.task_end_returns.get(self.renamed.get(method_name, method_name), set())
         unpacked = self.plan.unpacked_helper_returns.get(self.renamed.get(method_name, method_name), {})
         for position, ret in enumerate(returns):
             if position in unpacked:
@@ -255,6 +256,9 @@ class ClassRewrite:
             done = ret.value.elements[2].value
             if position in passing:
                 plans.append(_five(cst.Name("terminated"), cst.Name("truncated")))
+                continue
+            if position in task_ending and isinstance(done, cst.Name):
+                plans.append(_five(cst.parse_expression(f"bool({done.value}) and not truncated"), cst.Name("truncated")))
                 continue
             if position in truncating:
                 # The done is only a step limit: terminated=False, truncated=<done>.

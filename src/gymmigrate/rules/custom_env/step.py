@@ -164,6 +164,21 @@ def _decide_returns(decision: ClassDecision, function: Method, helpers: set[int]
                 tier=Tier.NOTE,
             )
             continue
+        if isinstance(done, ast.Name) and (ends := _task_ends(decision, index, done.id)) and _unpacked_from_inner_step(
+            decision, index, done.id, frozenset(id(e) for e in ends)
+        ):
+            # ``obs, r, done, info = super().step(a)`` then ``if solved: done = True``: the
+            # class's own end is a terminal state; the step it calls keeps its truncation.
+            decision.plan.task_end_returns.setdefault(function.name, set()).add(position)
+            decision.report(
+                ret,
+                "GM504",
+                f"step returns the truncated of the step it calls, and its own end of the task (`{done.id} = True` on "
+                f"line {ends[0].lineno}) as terminated: `bool({done.id}) and not truncated`",
+                FixKind.ASSIST,
+                tier=Tier.NOTE,
+            )
+            continue
         traced = tracer.trace(done)
         if traced.cause is Cause.TRUNCATION:
             decision.plan.truncating_returns.setdefault(function.name, set()).add(position)
@@ -463,7 +478,31 @@ def _split_done(expr: ast.AST) -> bool:
     return any(is_step_limit(op) for op in _or_operands(unwrap_bool(expr)))
 
 
-def _unpacked_from_inner_step(decision: ClassDecision, index: FunctionIndex, name: str) -> bool:
+def _task_ends(decision: ClassDecision, index: FunctionIndex, name: str) -> list[ast.Assign]:
+    """The ``name = True`` lines alone in an ``if`` (no ``else``) whose test is no step limit,
+    when every assignment of ``name`` but one is such a line; else nothing."""
+    assigns = [
+        a
+        for a in index.of(ast.Assign)
+        if len(a.targets) == 1 and isinstance(a.targets[0], ast.Name) and a.targets[0].id == name  # type: ignore[attr-defined]
+    ]
+    ends = []
+    for assign in assigns:
+        parent = decision.family.facts.parent(assign)
+        value = assign.value  # type: ignore[attr-defined]
+        if (
+            isinstance(value, ast.Constant)
+            and value.value is True
+            and isinstance(parent, ast.If)
+            and assign in parent.body
+            and not parent.orelse
+            and not any(isinstance(n, ast.Compare) and is_step_limit(n) for n in ast.walk(parent.test))
+        ):
+            ends.append(assign)
+    return ends  # type: ignore[return-value]
+
+
+def _unpacked_from_inner_step(decision: ClassDecision, index: FunctionIndex, name: str, besides: frozenset[int] = frozenset()) -> bool:
     """``name`` is bound once, as the done of ``obs, r, done, info = <step>`` where the step is
     an inner Gym env's (``self.env.step(a)``, or ``res = self.env.step(a)`` unpacked) or the
     base class's migrated one (``super().step(a)``): the step family unpacks five values there,
@@ -480,6 +519,7 @@ def _unpacked_from_inner_step(decision: ClassDecision, index: FunctionIndex, nam
         if isinstance(t, ast.Name) and t.id == name
         or isinstance(t, (ast.Tuple, ast.List)) and any(isinstance(e, ast.Name) and e.id == name for e in t.elts)
     ]
+    binders = [a for a in binders if id(a) not in besides]  # the class's own task ends, judged by the caller
     others = [n for n in index.of(ast.AugAssign, ast.AnnAssign, ast.For) if isinstance(n.target, ast.Name) and n.target.id == name]  # type: ignore[attr-defined]
     if len(binders) != 1 or others:
         return False
