@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import ast
 import re
+from collections.abc import Callable
 from dataclasses import replace
 
 from gymmigrate.edits.lazy import cst
@@ -57,15 +58,23 @@ class StepOverrides(RuleFamily):
             if finding.rule == "GM302" and finding.line in writes and finding.needs_review and not isinstance(node, ast.stmt):
                 self.plan.findings[index] = replace(finding, message=f"{finding.message} (the value of the leftover key)", tier=Tier.NOTE)
 
-    def _only_step_limits(
-        self, lines: list[ast.stmt], name: str, done_line: ast.stmt | None, unpacks: dict[ast.stmt, StepUnpack | None]
-    ) -> bool:
-        """Every change of ``name`` after the inner step is a step-limit test setting it."""
-        changes = [
+    @staticmethod
+    def _done_changes(
+        lines: list[ast.stmt], name: str, done_line: ast.stmt | None, unpacks: dict[ast.stmt, StepUnpack | None]
+    ) -> list[ast.stmt]:
+        """The lines that change ``name`` after the inner step: not the unpack, its ``done =
+        ...`` line or an initializer."""
+        return [
             line
             for line in lines
             if line not in unpacks and line is not done_line and name in _assigned_names(line) and not _is_initializer(line, name)
         ]
+
+    def _only_step_limits(
+        self, lines: list[ast.stmt], name: str, done_line: ast.stmt | None, unpacks: dict[ast.stmt, StepUnpack | None]
+    ) -> bool:
+        """Every change of ``name`` after the inner step is a step-limit test setting it."""
+        changes = self._done_changes(lines, name, done_line, unpacks)
         return bool(changes) and all(_sets_done_on_limit(line, name, self.facts.parent(line)) for line in changes)
 
     def _life_loss_sets(
@@ -74,11 +83,7 @@ class StepOverrides(RuleFamily):
         """The ``done = True`` lines of baselines' ``EpisodicLifeEnv`` pattern (``if lives <
         self.lives and lives > 0: done = True``), when they are the only changes of ``name``
         after the inner step; else nothing."""
-        changes = [
-            line
-            for line in lines
-            if line not in unpacks and line is not done_line and name in _assigned_names(line) and not _is_initializer(line, name)
-        ]
+        changes = self._done_changes(lines, name, done_line, unpacks)
         if changes and all(_sets_done_on_life_loss(line, self.facts.parent(line)) for line in changes):
             return changes  # type: ignore[return-value]
         return []
@@ -88,11 +93,7 @@ class StepOverrides(RuleFamily):
     ) -> bool:
         """Every change of ``name`` after the inner step ends the episode on the task's own end:
         ``done = done or info.get("is_success")``, ``if reached_goal: done = True``."""
-        changes = [
-            line
-            for line in lines
-            if line not in unpacks and line is not done_line and name in _assigned_names(line) and not _is_initializer(line, name)
-        ]
+        changes = self._done_changes(lines, name, done_line, unpacks)
         return bool(changes) and all(_ends_on_task_end(line, name, self.facts.parent(line)) for line in changes)
 
     def _fix_step(self, function: ast.FunctionDef | ast.AsyncFunctionDef) -> None:
@@ -371,14 +372,20 @@ def _is_initializer(statement: ast.stmt, name: str) -> bool:
 def _sets_done_on_limit(line: ast.stmt, name: str, parent: ast.AST | None) -> bool:
     """``if self._elapsed_steps >= self._max_episode_steps: done = True`` or
     ``done = done or self.t >= self.limit``: ``name`` is set only by a step-limit test."""
+    return _sets_done_when(line, name, parent, is_step_limit)
+
+
+def _sets_done_when(line: ast.stmt, name: str, parent: ast.AST | None, test: Callable[[ast.AST], bool]) -> bool:
+    """``if <test>: done = True`` (alone in the ``if``, no ``else``) or ``done = done or
+    <test>``: ``name`` is set only where ``test`` holds of the condition."""
     if not (isinstance(line, ast.Assign) and len(line.targets) == 1 and isinstance(line.targets[0], ast.Name)):
         return False
     value = line.value
     if isinstance(value, ast.Constant) and value.value is True:
-        return isinstance(parent, ast.If) and line in parent.body and not parent.orelse and is_step_limit(parent.test)
+        return isinstance(parent, ast.If) and line in parent.body and not parent.orelse and test(parent.test)
     if isinstance(value, ast.BoolOp) and isinstance(value.op, ast.Or):
         rest = [v for v in value.values if not (isinstance(v, ast.Name) and v.id == name)]
-        return len(rest) == len(value.values) - 1 and all(is_step_limit(v) for v in rest)
+        return len(rest) == len(value.values) - 1 and all(test(v) for v in rest)
     return False
 
 
@@ -408,20 +415,7 @@ _TASK_END_WORDS = re.compile(r"success|goal|solved|reached|\bwon\b|\bwin\b|crash
 def _ends_on_task_end(line: ast.stmt, name: str, parent: ast.AST | None) -> bool:
     """``done = done or <task end>`` / ``done = <task end> or done``, or ``done = True`` alone
     in an ``if`` that tests a task end."""
-    if not (isinstance(line, ast.Assign) and len(line.targets) == 1 and isinstance(line.targets[0], ast.Name)):
-        return False
-    value = line.value
-    if isinstance(value, ast.BoolOp) and isinstance(value.op, ast.Or):
-        rest = [v for v in value.values if not (isinstance(v, ast.Name) and v.id == name)]
-        return len(rest) == len(value.values) - 1 and bool(rest) and all(_names_task_end(v) for v in rest)
-    return (
-        isinstance(value, ast.Constant)
-        and value.value is True
-        and isinstance(parent, ast.If)
-        and line in parent.body
-        and not parent.orelse
-        and _names_task_end(parent.test)
-    )
+    return _sets_done_when(line, name, parent, _names_task_end)
 
 
 def _names_task_end(expr: ast.AST) -> bool:
