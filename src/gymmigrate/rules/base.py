@@ -136,6 +136,11 @@ class RuleFamily:
     def _gym_only_origin(self, receiver: ast.AST) -> str | None:
         """The library with no Gymnasium release (``baselines``) every value of ``receiver``
         comes from (``env = make_atari(id)``, ``env = wrap_deepmind(env)``), if there is one."""
+        if isinstance(receiver, ast.Attribute):
+            # ``self.env`` stored from a Gym-only library's call in the class (``__init__``)
+            made = self.receivers.library_made(receiver)
+            top = made.split(".", 1)[0] if made is not None else None
+            return N.gym_only_stack(top) if top in N.GYM_ONLY_PACKAGES else None
         if not isinstance(receiver, ast.Name):
             return None
         bindings = self.facts.bindings_of(receiver)
@@ -153,7 +158,9 @@ class RuleFamily:
             if not packages:
                 return None  # an unbound name, or a def of this file that returns something else
             tops.update(packages)
-        library = tops.pop() if len(tops) == 1 else None
+        # ``JoypadSpace(gym_super_mario_bros.make(...))``: two packages of one stack (nes_py)
+        stacks = {N.gym_only_stack(top) if top in N.GYM_ONLY_PACKAGES else top for top in tops}
+        library = stacks.pop() if len(stacks) == 1 else None
         return library if library in N.GYM_ONLY_PACKAGES else None
 
     def _call_packages(self, call: ast.Call) -> set[str]:

@@ -27,6 +27,7 @@ import re
 from gymmigrate.edits.lazy import cst
 from gymmigrate.edits.syntax import dotted_node
 from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts import names as N
 from gymmigrate.facts.module import dotted_name, full_name
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
@@ -182,6 +183,19 @@ GYM_ONLY_LIBRARIES = {
         "colabgymrender has no Gymnasium release: its Recorder wraps a gym env and calls render(mode=...), which "
         "Gymnasium envs reject; record with gymnasium.wrappers.RecordVideo (render_mode=\"rgb_array\" at make)"
     ),
+    # gym-retro (``retro``) stopped at gym 0.17; its envs keep the four-field step and the
+    # obs-only reset, and Gymnasium's Wrapper refuses them. stable-retro is its maintained
+    # fork on Gymnasium (same ``import retro``); retro_contest's ``local.make`` builds gym-retro envs.
+    "retro": (
+        "gym-retro (`retro`) has no Gymnasium release: its envs keep gym's API (a four-field step, an obs-only "
+        "reset) and Gymnasium wrappers refuse them; install stable-retro (the maintained fork on Gymnasium, same "
+        "`import retro`), or wrap its envs with Shimmy (`GymV21Environment-v0`, gym installed)"
+    ),
+    "retro_contest": (
+        "retro_contest makes gym-retro envs with gym's API and has no Gymnasium release: Gymnasium wrappers refuse "
+        "them; make the game with stable-retro (`retro.make(game=..., state=...)`), or wrap the env with Shimmy "
+        "(`GymV21Environment-v0`, gym installed)"
+    ),
     "nes_py": "nes_py has no Gymnasium release: wrap its envs with Shimmy (`GymV21Environment-v0`, gym installed)",
     "atari_py": "atari_py is replaced by ale_py: `import ale_py`, `gymnasium.register_envs(ale_py)`, ids `ALE/Pong-v5`",
     "mujoco_py": "mujoco_py envs were removed in Gymnasium 1.0: use the `mujoco` bindings and the v5 envs",
@@ -202,6 +216,9 @@ GYM_ONLY_LIBRARIES = {
     ),
 }
 
+# Gym-only packages whose Gymnasium successor is imported under the same name (stable-retro
+# installs ``retro``): the import is the legacy package only in a file that uses gym.
+_SUCCESSOR_KEEPS_NAME = frozenset({"retro"})
 
 # Libraries whose calls build legacy gym envs around what they are handed (tf_agents'
 # ``suite_gym.load(..., gym_env_wrappers=[...])``, baselines' wrappers): a Gym class passed to
@@ -442,10 +459,12 @@ class Imports(RuleFamily):
                 modules = [node.module] if node.module and not node.level else []
             for module in modules:
                 top = module.split(".", 1)[0]
+                if top in _SUCCESSOR_KEEPS_NAME and not self.context.profile.imports_gym:
+                    continue  # ``import retro`` next to Gymnasium alone: stable-retro already
                 if top in GYM_ONLY_LIBRARIES and top not in reported and not self._of_the_run(top):
                     reported.add(top)
                     # The objects the file makes with the library ask the same question (``receiver_question``).
-                    self.report(node, "GM107", GYM_ONLY_LIBRARIES[top], question=("gym-only-library", top))
+                    self.report(node, "GM107", GYM_ONLY_LIBRARIES[top], question=("gym-only-library", N.gym_only_stack(top)))
 
     def _of_the_run(self, module: str) -> bool:
         """A package of the project itself that shares a library's name (its own ``multiagent``)."""

@@ -833,6 +833,9 @@ class Rendering(RuleFamily):
         parameter of ``Evaluation``), that parameter in one class: a recorder built on ``env``
         and ``self.env.render()``."""
         func = site.node.func
+        library = self._gym_only_origin(func.value) if isinstance(func, ast.Attribute) else None
+        if library is not None:
+            return ("gym-only-library", library)  # an env of a Gym-only stack: ported with it (GM107)
         class_ = self.facts.enclosing_class(site.node)
         if site.creation.gap and " is a parameter of `" in site.creation.gap:
             return ("render-untraced", id(class_ or self.facts.enclosing_function(site.node)), where)

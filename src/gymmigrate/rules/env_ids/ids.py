@@ -513,7 +513,7 @@ class EnvIds(RuleFamily):
             # The import of the plugin package asks the same question (GM107): the file's
             # review list asks it once, at the first of them; where the import's item is
             # silenced (a bare noqa comment on ``import pybullet_envs``), the id's site asks it.
-            question = ("gym-only-library", plugin) if plugin is not None else None
+            question = ("gym-only-library", N.gym_only_stack(plugin)) if plugin is not None else None
             self.report(site.string, "GM805", f"`{site.env_id}` no longer exists: {hint}", question=question)
         final_id = migration.new_id if migration is not None else site.env_id
         package = env_package(final_id)

@@ -7,6 +7,7 @@ import ast
 
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts import names as N
 from gymmigrate.facts.module import FUNCTIONS
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext
@@ -50,6 +51,8 @@ class WrapperClasses(StepOverrides, ResetOverrides):
                     "the code that steps it are left as they are (gymnasium.Wrapper also refuses an env that is no "
                     "gymnasium.Env); port them together with that env (Shimmy, or the library's Gymnasium successor)",
                     FixKind.FLAG,
+                    # ported with the library's envs: the decision its import asks (GM107)
+                    question=("gym-only-library", N.gym_only_stack(library.split(".", 1)[0])),
                 )
                 continue
             self._check_gone_state(classdef)
