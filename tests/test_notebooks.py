@@ -568,3 +568,23 @@ def test_install_lines_that_only_describe_the_pin_rewrite_are_notes(tmp_path: Pa
     path.write_bytes(_notebook(("code", "!pip install gym[mujoco]==0.21\n"), ("code", "import gym\n")))
     check = runner.invoke(app, ["check", "--output-format", "json", str(path)])
     assert [f["tier"] for f in json.loads(check.stdout) if f["rule"] == "GM109"] == ["review"]
+
+
+def test_an_unparsed_cell_is_a_review_item_for_its_gym_code_not_for_its_words(tmp_path: Path) -> None:
+    """GM001's tier follows the code of the cell (a token scan), not "environment" in a
+    docstring or a comment; a done flag that masks a value asks GM302's question."""
+    path = tmp_path / "exercise.ipynb"
+    path.write_bytes(
+        _notebook(
+            ("code", "import gym\nenv = gym.make('CartPole-v1')\n"),
+            ("code", 'class Actor:\n    def act(self, obs):\n        """Acts in the environment."""\n        return <YOUR CODE>\n'),
+            ("code", "# train on the env\nloss.backward()\noptimizer.step()\nmodel = <YOUR CODE>\n"),
+            ("code", "is_not_done = 1 - is_done\ntarget = reward + gamma * next_q * is_not_done\nloss = <YOUR CODE>\n"),
+            ("code", "s = env.reset()\na = <YOUR CODE>\n"),
+        )
+    )
+    check = runner.invoke(app, ["check", "--output-format", "json", str(path)])
+    found = {f["cell"]: f for f in json.loads(check.stdout) if f["rule"] == "GM001"}
+    assert {cell: f["tier"] for cell, f in found.items()} == {1: "note", 2: "note", 3: "review", 4: "review"}
+    assert "`terminated`" in found[3]["message"] and "GM302" in found[3]["message"]
+    assert [found[cell]["cell_number"] for cell in sorted(found)] == [2, 3, 4, 5]  # as the messages count

@@ -2,7 +2,8 @@
 ``report.print_findings``).
 
 - ``json``: a list, one object per finding: every ``Finding`` field (``to_json``) plus
-  ``path`` and ``fix_available``.
+  ``path``, ``cell_number`` (a notebook's cell counted from 1, as messages count it; ``cell``
+  is the 0-based index) and ``fix_available``.
 - ``sarif``: SARIF 2.1.0, one run, with each rule's metadata (``tool.driver.rules``) so
   GitHub code scanning shows its title, description and a link to its page.
 - ``github``: one workflow command per finding
@@ -34,7 +35,10 @@ def rule_help_uri(code: str) -> str:
 
 
 def finding_json(path: str, finding: Finding) -> dict[str, object]:
-    return {"path": path, **finding.to_json(), "fix_available": finding.is_change}
+    # ``cell`` is the 0-based index in ``nb["cells"]`` (kept as it was for its readers);
+    # ``cell_number`` counts from 1, as the messages and the text output do ("cell 15").
+    cell_number = finding.cell + 1 if finding.cell is not None else None
+    return {"path": path, **finding.to_json(), "cell_number": cell_number, "fix_available": finding.is_change}
 
 
 def findings_json(results: Sequence[FileResult]) -> list[dict[str, object]]:

@@ -44,6 +44,7 @@ from gymmigrate.sources.json_text import (
     new_source_text,
 )
 from gymmigrate.sources.magics import Magics
+from gymmigrate.sources.unparsed import UnparsedCode, classify_unparsed
 
 # Outputs (plots, videos) make notebooks large; the code in them is what costs time.
 MAX_FILE_BYTES = 64 * 1024 * 1024
@@ -97,21 +98,7 @@ class Notebook:
                 parsed.append(segment)
                 continue
             line, detail = problem
-            # An exercise cell with nothing of Gym in it (``model = ``) has nothing to migrate:
-            # a note, not a question.
-            gym_free = not may_hold_gym_code(segment.code.encode("utf-8"))
-            self.notes.append(
-                Finding(
-                    line=line,
-                    column=0,
-                    rule=UNPARSED_CELL,
-                    kind=FixKind.FLAG,
-                    message=f"this code cell does not parse ({detail}); left as it is, the other cells are "
-                    + ("migrated without it; it mentions no env" if gym_free else "migrated without it: check it by hand"),
-                    cell=segment.start.cell,
-                    tier=Tier.NOTE if gym_free else None,
-                )
-            )
+            self.notes.append(unparsed_cell_finding(segment.code, line, detail, segment.start.cell))
         self.programs = [parsed] if parsed else []
 
     def _plan_install_lines(self, segments: list[Segment]) -> None:
@@ -204,6 +191,29 @@ class Notebook:
 NOTEBOOK_MIGRATED = "this notebook's code is migrated with it in the same run (imports, reset/step API)"
 _INSTALL_LINE = re.compile(r"[ \t]*[!%][ \t]*(?:python3? -m )?pip3?[ \t]+install\b")
 
+
+
+def unparsed_cell_finding(code: str, line: int, detail: str, cell: int | None) -> Finding:
+    """GM001 for a cell that does not parse. Its tier follows the code the cell holds (a
+    token scan: comments and docstrings do not count), not the words in it: an exercise
+    cell with no Gym call is a note; one that resets, steps or renders an env, makes one
+    or unpacks ``done`` is to be ported by hand; one that masks a value with ``done``
+    (``1 - done``) asks GM302's question, which the run cannot ask inside it."""
+    # (a notebook with no Gym code at all has no cells to migrate: this one is in a Gym program)
+    what = classify_unparsed(code)
+    left = f"this code cell does not parse ({detail}); left as it is, the other cells are migrated without it"
+    if what is UnparsedCode.NO_GYM:
+        message, tier = f"{left}; it holds no Gym call", Tier.NOTE
+    elif what is UnparsedCode.DONE_MASK:
+        message, tier = (
+            f"{left}: it masks a value with a done flag (`1 - done`); once it runs, that flag must be `terminated` "
+            "(GM302): an episode cut by a time limit is no terminal state, so its next-state value still counts; "
+            "store terminated where the transitions are recorded",
+            None,
+        )
+    else:
+        message, tier = f"{left}: it holds Gym calls, check it by hand", None
+    return Finding(line=line, column=0, rule=UNPARSED_CELL, kind=FixKind.FLAG, message=message, cell=cell, tier=tier)
 
 def _is_python(data: dict[str, Any]) -> bool:
     metadata = data.get("metadata")
