@@ -669,6 +669,8 @@ class Imports(RuleFamily):
                     break
         elif hint is not None:
             hint = f"`{module}` was removed: {hint}"
+        if hint and self._atari_class_checks_only(node, rest):
+            return
         if hint:
             self._report_removed(node, hint, advice or hint)
             return
@@ -708,6 +710,63 @@ class Imports(RuleFamily):
         code = "GM102" if rest == "" else "GM104" if new_rest != rest else "GM103"
         self.report(node, code, f"from {module} import ... -> from {new_module} import ...")
         self.plan.replace(node, lambda from_node: from_node.with_changes(module=dotted_node(new_module)))
+
+    def _atari_class_checks_only(self, node: ast.ImportFrom, rest: str) -> bool:
+        """``from gym.envs.atari import AtariEnv`` (or ``from gym.envs import atari`` read as
+        ``atari.AtariEnv``) where every use is a class check (``isinstance(env.unwrapped,
+        AtariEnv)``): the class lives in ale_py now, so the import moves there, certain
+        (``from ale_py import AtariEnv``; ``import ale_py as atari``). Any other use (a
+        construction, another name) leaves the GM105 report. True when rewritten."""
+        if len(node.names) != 1 or node.level:
+            return False
+        alias = node.names[0]
+        bound = alias.asname or alias.name
+        if (rest, alias.name) in (("envs.atari", "AtariEnv"), ("envs.atari.atari_env", "AtariEnv")):
+            via_module = False
+        elif (rest, alias.name) == ("envs", "atari"):
+            via_module = True
+        else:
+            return False
+        reads = [n for n in ast.walk(self.facts.tree) if isinstance(n, ast.Name) and n.id == bound]
+        if not reads or any(not isinstance(n.ctx, ast.Load) for n in reads):
+            return False
+        for read in reads:
+            checked: ast.AST = read
+            if via_module:
+                parent = self.facts.parent(read)
+                if not (isinstance(parent, ast.Attribute) and parent.value is read and parent.attr == "AtariEnv"):
+                    return False
+                checked = parent
+            if not _in_class_check(self.facts, checked):
+                return False
+        if via_module:
+            new_text = f"import ale_py as {bound}"
+            self.plan.replace(node, lambda _: cst.parse_statement(new_text).body[0])  # type: ignore[attr-defined]
+        else:
+            new_text = "from ale_py import " + _alias_text(alias)
+            self.plan.replace(node, lambda from_node: from_node.with_changes(module=dotted_node("ale_py")))
+        self.report(
+            node,
+            "GM105",
+            f"`from gym.{rest} import {alias.name}` -> `{new_text}`: gym's Atari env class lives in ale_py, and "
+            "it is used here only in class checks",
+            FixKind.AUTO,
+        )
+        return True
+
+
+def _in_class_check(facts: ModuleFacts, expr: ast.AST) -> bool:
+    """``expr`` is the class argument of ``isinstance``/``issubclass`` (or one of a tuple)."""
+    parent = facts.parent(expr)
+    if isinstance(parent, ast.Tuple):
+        expr, parent = parent, facts.parent(parent)
+    return (
+        isinstance(parent, ast.Call)
+        and isinstance(parent.func, ast.Name)
+        and parent.func.id in ("isinstance", "issubclass")
+        and len(parent.args) == 2
+        and parent.args[1] is expr
+    )
 
 
 def _alias_text(alias: ast.alias) -> str:
