@@ -16,10 +16,10 @@ from gymmigrate.facts.done_uses import DoneUse, classify_done_read, stored_in_se
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.step_done.common import StepNames
 from gymmigrate.rules.step_done.next_state import DoneStep
-from gymmigrate.rules.step_done.read_uses import DoneReadUses
+from gymmigrate.rules.step_done.read_uses import DoneBookkeeping
 
 
-class DoneReadReports(DoneReadUses):
+class DoneReadReports(DoneBookkeeping):
     """The GM302 findings on reads of ``done`` (mixed into the family)."""
 
     def _report_untraced_masks(self, step: DoneStep, decision: Decision, question: Hashable | None) -> None:
@@ -158,6 +158,15 @@ class DoneReadReports(DoneReadUses):
                 read,
                 f"`{read.id}` {settled}: it stays `{names.terminated} or {names.truncated}`, the episode's end "
                 "legacy `done` was",
+                FixKind.FLAG,
+                Tier.NOTE,
+            )
+        elif (books := self._bookkeeping(read, step, owner is step.assign)) is not None:
+            # The code shows the flag only keeps an episode's books: the episode's end is
+            # what it needs, however the episode ended (a note).
+            self._report_read(
+                read,
+                f"`{read.id}` {books}",
                 FixKind.FLAG,
                 Tier.NOTE,
             )
