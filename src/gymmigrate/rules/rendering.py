@@ -301,6 +301,7 @@ class Rendering(RuleFamily):
                 f"render() takes no arguments in Gymnasium: pass {names} and the render mode to gym.make "
                 "where the env is created (MuJoCo envs take width/height/camera_id there)",
                 FixKind.FLAG,
+                question=self._same_render_call(call, receiver),
             )
             return None
         value = mode_arg.value if isinstance(mode_arg, ast.keyword) else mode_arg
@@ -316,6 +317,7 @@ class Rendering(RuleFamily):
                 f"the render mode of `{receiver_text(receiver)}` is not a literal; pass it as render_mode= to "
                 "gym.make where the env is created and call render() without arguments",
                 FixKind.FLAG,
+                question=self._same_render_call(call, receiver),
             )
             return None
         legacy = mode == LEGACY_SINGLE_FRAME
@@ -825,6 +827,19 @@ class Rendering(RuleFamily):
             if quote is not None:
                 return quote
         return next((site.quote for site in sites if site.code == "GM401"), '"')
+
+    def _same_render_call(self, call: ast.Call, receiver: ast.expr) -> Hashable:
+        """The same render call written at several places of the file (``env.render("pyglet",
+        view=view_mode)`` in each key handler) asks one question: where that env is made, with
+        which mode and options."""
+        arguments = ", ".join(self.facts.segment(argument) for argument in arguments_in_order(call))
+        # one env: the same bindings of a name (a module's ``env`` read in its functions too),
+        # or the same ``self.x`` of one class
+        if isinstance(receiver, ast.Name):
+            env: Hashable = tuple(sorted(id(binding) for binding in self.facts.bindings_of(receiver)))
+        else:
+            env = id(self.facts.enclosing_class(call) or self.facts.enclosing_function(call))
+        return ("render-arguments", receiver_text(receiver), env, arguments)
 
     def _untraced_question(self, site: RenderSite, where: str) -> Hashable | None:
         """The renders and recorders of one untraced env ask one question: where it is made,
