@@ -123,6 +123,8 @@ class RuleFamily:
         library = self._gym_only_origin(receiver)
         if library is not None:
             return ("gym-only-library", library)  # decided by the library's port, asked at its import (GM107)
+        # ``[env.reset() for env in self.envs]`` and ``self.envs[i].step(a)``: one collection of envs
+        receiver = self._iterated_collection(receiver) or receiver
         name = full_name(receiver)
         if not name:
             return None
@@ -132,6 +134,20 @@ class RuleFamily:
             owner = self.facts.enclosing_function(receiver)
         return ("receiver", decision.action, id(owner), name)
 
+
+    def _iterated_collection(self, receiver: ast.AST) -> ast.expr | None:
+        """The collection a loop or comprehension variable runs over (``env`` of ``for env in
+        self.envs``), where that is its only binding; else None."""
+        if not isinstance(receiver, ast.Name):
+            return None
+        bindings = self.facts.bindings_of(receiver)
+        if len(bindings) != 1:
+            return None
+        holder = self.facts.parent(bindings[0])
+        if isinstance(holder, (ast.comprehension, ast.For)) and holder.target is bindings[0]:
+            if isinstance(holder.iter, (ast.Name, ast.Attribute)) and full_name(holder.iter):
+                return holder.iter
+        return None
 
     def _gym_only_origin(self, receiver: ast.AST) -> str | None:
         """The library with no Gymnasium release (``baselines``) every value of ``receiver``
