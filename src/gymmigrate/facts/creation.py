@@ -90,6 +90,8 @@ class CreationFinder:
         self._is_creation = is_creation
         self._nesting = nesting  # finders started for constructor arguments, around this one
         self._memo: dict[tuple[str, int], Creation] = {}
+        self._open: set[tuple[str, int]] = set()  # the answers being computed
+        self._cycles: list[set[tuple[str, int]]] = []  # per answer being computed: the open ones it met
         self._depth = 0
 
     def find(self, expr: ast.AST) -> Creation:
@@ -99,21 +101,40 @@ class CreationFinder:
     # -- memo -----------------------------------------------------------------------------
 
     def _follow(self, node: ast.AST, compute: Callable[[ast.AST], Creation]) -> Creation:
-        key = (compute.__name__, id(node))
+        return self._memoized((compute.__name__, id(node)), lambda: compute(node))
+
+    def _memoized(self, key: tuple[str, int], compute: Callable[[], Creation]) -> Creation:
+        """One answer per node. A node reached again while its own answer is being computed
+        (a cycle: ``env = Monitor(env)`` reads the binding it makes) adds nothing there; an
+        answer computed through such an unfinished node is partial, so it is not kept: the
+        next question recomputes it (asked first from inside the cycle, ``env`` of
+        ``Monitor(env)`` had been kept with no creation)."""
         known = self._memo.get(key)
         if known is not None:
+            if key in self._open:
+                self._cycles[-1].add(key)
             return known
         if self._depth >= MAX_DEPTH:
             result = Creation()
             result.fail("the chain of assignments is too long to follow")
             return result
-        self._memo[key] = _NOTHING  # a cycle back to this node adds no evidence
+        self._memo[key] = _NOTHING
+        self._open.add(key)
+        self._cycles.append(set())
         self._depth += 1
         try:
-            result = compute(node)
+            result = compute()
         finally:
             self._depth -= 1
-        self._memo[key] = result
+            self._open.discard(key)
+            cycles = self._cycles.pop()
+        cycles.discard(key)
+        if cycles:
+            del self._memo[key]
+            if self._cycles:
+                self._cycles[-1].update(cycles)
+        else:
+            self._memo[key] = result
         return result
 
     # -- expressions --------------------------------------------------------------------
@@ -294,13 +315,7 @@ class CreationFinder:
     def _follow_bindings(self, name: ast.Name, bindings: list[ast.AST]) -> Creation:
         if not bindings:  # an unbound name's empty list is a fresh object: nothing to share
             return self._bindings(name, bindings)
-        key = ("bindings", id(bindings))
-        known = self._memo.get(key)
-        if known is not None:
-            return known
-        self._memo[key] = _NOTHING
-        result = self._memo[key] = self._bindings(name, bindings)
-        return result
+        return self._memoized(("bindings", id(bindings)), lambda: self._bindings(name, bindings))
 
     def _bindings(self, name: ast.Name, bindings: list[ast.AST]) -> Creation:
         result = Creation()

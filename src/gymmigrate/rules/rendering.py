@@ -707,7 +707,8 @@ class Rendering(RuleFamily):
             return
         reasons = [blocked[k] for k in keys if k in blocked]
         if reasons:
-            self.report(call, code, f"not rewritten: {reasons[0]}", FixKind.FLAG, question=question(reasons[0]))
+            # the make's one question, whichever render or recorder meets it
+            self.report(call, code, f"not rewritten: {reasons[0]}", FixKind.FLAG, question=("render", tuple(sorted(keys)), reasons[0]))
             return
         accepted = site.accepted or (site.mode,)
         conflicting = [final_mode[k] for k in keys if final_mode[k] not in accepted]
