@@ -74,7 +74,7 @@ class ClassKinds(_Facade):
             if inner is not None:  # another wrapper of the module around it
                 return self._gym_only_inside(call_argument(expr, 0, "env"), depth + 1) if self.is_gym_wrapper_class(inner) else None
         if isinstance(expr, ast.Name):
-            statement = self._statement_seen(expr)
+            statement = self.statement_seen(expr)
             if isinstance(statement, ast.Assign) and isinstance(statement.value, ast.Call):
                 if self.local_class(statement.value.func) is not None:
                     return self._gym_only_inside(statement.value, depth + 1)
@@ -84,7 +84,7 @@ class ClassKinds(_Facade):
         made = self.library_made(expr)
         return made if made is not None and made.split(".", 1)[0] in N.GYM_ONLY_PACKAGES else None
 
-    def _statement_seen(self, read: ast.Name) -> ast.stmt | None:
+    def statement_seen(self, read: ast.Name) -> ast.stmt | None:
         """The assignment whose value ``read`` sees; in ``env = Wrapper(env)`` that is the
         assignment above it in the block (``env = make(...)``), not the statement itself,
         so a chain of rebindings in a factory is followed back to what made the env."""
@@ -94,8 +94,10 @@ class ClassKinds(_Facade):
         if last is not None and isinstance(own, ast.stmt) and self.facts.statement_of(last) is own:
             above = flow.binding_above(read, own)
             return self.facts.statement_of(above) if above is not None else None
-        dominating = self._dominating_binding(read)
-        return self.facts.statement_of(dominating) if dominating is not None else None
+        statement = self.facts.statement_of(last) if last is not None else None
+        if not isinstance(statement, ast.stmt) or isinstance(statement, (ast.For, ast.AsyncFor, ast.With, ast.AsyncWith)):
+            return None
+        return statement if flow.dominates(statement, read, read) else None
 
     def is_gym_wrapper_class(self, classdef: ast.ClassDef, _seen: frozenset[int] = frozenset()) -> bool:
         """A subclass of a Gym wrapper (through classes of the module), or a duck wrapper

@@ -117,6 +117,9 @@ _SB3_MAKE_VEC_ENV = {
 }
 
 
+# How many assignments and wrapping calls are followed back to a VecEnv's maker.
+MAX_VEC_CHAIN = 12
+
 # The legacy ``gym.wrappers.Monitor`` that the wrapper family turns into ``RecordVideo``
 # (GM611) when it records videos: its env needs ``render_mode="rgb_array"`` too.
 _MONITORS = frozenset({"wrappers.Monitor", "wrappers.monitor.Monitor"})
@@ -256,6 +259,9 @@ class Rendering(RuleFamily):
         kind = self.receivers.kind_of(receiver)
         decision = decide(kind, receiver, self.context.profile, legacy_shape=mode_arg is not None or close is not None, origins=self.receivers)
         if decision.action is Action.LEAVE:
+            if kind is EnvKind.SB3_VEC and mode_arg is None and close is None and not self.receivers.run_defined(receiver):
+                self._check_vec_frames(call, receiver)
+                return None
             if kind is EnvKind.SB3_VEC and mode_arg is None and close is None and self.context.profile.imports_gym and self.receivers.run_defined(receiver):
                 # The project's own vector env (left alone) draws through its envs' render():
                 # one item per file, for where those envs are made.
@@ -828,6 +834,44 @@ class Rendering(RuleFamily):
             if quote is not None:
                 return quote
         return next((site.quote for site in sites if site.code == "GM401"), '"')
+
+    def _check_vec_frames(self, call: ast.Call, receiver: ast.expr) -> None:
+        """``img = venv.render()`` on a Stable-Baselines3 VecEnv, the frame used: SB3 2.x
+        returns one only when its envs are made with ``render_mode="rgb_array"`` (legacy SB3
+        rendered by mode at the call), so the envs' maker needs it, whatever wrappers and
+        converters (supersuit's) stand between."""
+        if isinstance(self.facts.parent(call), ast.Expr):
+            return  # drawn, not used: SB3's own API (SB105 keeps it)
+        maker = self._vec_env_maker(receiver)
+        if maker is not None and (keyword(maker, "render_mode") is not None or keyword(maker, "env_kwargs") is not None):
+            return
+        where = f"where `{self.facts.segment(maker.func)}(...)` makes them" if maker is not None else "where they are made"
+        self.report(
+            call,
+            "GM407",
+            f"`{receiver_text(receiver)}` is a Stable-Baselines3 VecEnv and the frame its render() returns is used here: "
+            f'SB3 2.x returns one only when its envs are made with render_mode="rgb_array"; pass it {where}',
+            FixKind.FLAG,
+            question=("vec-frames", receiver_text(receiver)),
+        )
+
+    def _vec_env_maker(self, receiver: ast.expr) -> ast.Call | None:
+        """The call that made the envs under ``receiver``: back through the assignments and
+        the calls that take the env first (``VecMonitor(env)``, ``concat_vec_envs_v1(env, 2)``)
+        to the first that does not (``sumo_rl.grid4x4(...)``, ``make_vec_env("CartPole-v1")``)."""
+        expr: ast.expr | None = receiver
+        for _ in range(MAX_VEC_CHAIN):
+            if isinstance(expr, ast.Name):
+                statement = self.receivers.statement_seen(expr)
+                expr = statement.value if isinstance(statement, ast.Assign) and len(statement.targets) == 1 else None
+            elif isinstance(expr, ast.Call):
+                first = expr.args[0] if expr.args else None
+                if not isinstance(first, (ast.Name, ast.Call)):
+                    return expr
+                expr = first
+            else:
+                return None
+        return None
 
     def _same_render_call(self, call: ast.Call, receiver: ast.expr) -> Hashable:
         """The same render call written at several places of the file (``env.render("pyglet",
