@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.env_classes import EnvClasses
-from gymmigrate.facts.flow import Flow
+from gymmigrate.facts.flow import Flow, contains
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
 from gymmigrate.facts.receivers import Receivers
@@ -307,6 +307,25 @@ class CreationFinder:
     # -- names ----------------------------------------------------------------------------
 
     def _name(self, name: ast.Name) -> Creation:
+        # A read that one assignment certainly reaches (``env = gym.make(...)`` above it in
+        # the block, a notebook cell that makes its env) sees that value alone, whatever
+        # other cells or branches bind the name to later.
+        flow = Flow.of(self.facts)
+        last = flow.last_binding_of(name)
+        statement = self.facts.statement_of(last) if isinstance(last, ast.Name) else None
+        rebinding = isinstance(statement, ast.Assign) and contains(statement.value, name)
+        if rebinding:
+            # ``env = Monitor(env, ...)``: the read sees the assignment just above it in the
+            # same block (``binding_above`` checks both)
+            last = flow.binding_above(name, statement)  # type: ignore[arg-type]
+            statement = self.facts.statement_of(last) if isinstance(last, ast.Name) else None
+        if (
+            isinstance(statement, ast.Assign)
+            and not contains(statement, name)
+            and last in statement.targets
+            and (rebinding or flow.dominates(statement, name, name))
+        ):
+            return self._follow(last, self._binding)  # type: ignore[arg-type]
         # Every read that resolves to the same bindings has the same answer: one
         # computation per (scope, name), not per read (a chain of n rebindings has n reads).
         bindings = self.facts.bindings_of(name)
