@@ -121,6 +121,7 @@ class ProjectFacts:
     # (path, top-level name) of a class (or a re-export of one) whose step keeps the legacy
     # four-field contract after the run.
     legacy_steps: frozenset[tuple[str, str]] = frozenset()
+    silent_renders: frozenset[tuple[str, str]] = frozenset()  # (path, class) whose render() is a stub
     # Ids the run registers for an env class of the run whose constructor will not take
     # ``render_mode`` (its ``__init__`` cannot hand it on): id (None: not a literal) -> class.
     # ``gymnasium.make(id, render_mode=...)`` of one would raise TypeError.
@@ -222,6 +223,7 @@ class ProjectFacts:
         NonSpaces(facts, by_path).run()
         reexport_wrappers(facts, by_path)
         facts.legacy_steps = legacy_steps(facts, by_path)
+        facts.silent_renders = frozenset((path, name) for path, summary in by_path.items() for name in summary.silent_renders)
         return facts
 
     def _join_nearby_packages(self, summaries: list[ModuleSummary]) -> None:

@@ -192,6 +192,11 @@ class ProjectView:
         split = self.facts._split(qualified, self.path)
         return split is not None and split in self.facts.legacy_steps
 
+    def renders_nothing(self, qualified: str) -> bool:
+        """An imported class of the run whose render() is a stub (it renders no env)."""
+        split = self.facts._split(qualified, self.path)
+        return split is not None and split in self.facts.silent_renders
+
     def is_spec_list(self, qualified: str) -> bool:
         """An imported name of the run is bound to a list of the registry's EnvSpecs."""
         split = self.facts._split(qualified, self.path)

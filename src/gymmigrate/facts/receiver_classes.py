@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 from gymmigrate.facts import names as N
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.module import FUNCTIONS, call_argument, own_returns
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, call_argument, own_returns
 
 if TYPE_CHECKING:
     from gymmigrate.facts.kinds import ReceiverFacade as _Facade
@@ -28,7 +28,9 @@ class ClassKinds(_Facade):
         """The kind of instances of a class defined in this module, from its bases; a class
         with no library base that steps many envs at once (``step_async``/``step_wait``,
         baselines' ``SubprocVecEnv`` copied into a project) is a VecEnv."""
-        kinds = [self._base_kind(base) for base in classdef.bases if not is_object(base)]
+        # ``abc.ABC`` says nothing about what a class is, as ``object`` does not: a project's
+        # ``class VecEnv(ABC)`` with step_async/step_wait is a VecEnv, as without it
+        kinds = [self._base_kind(base) for base in classdef.bases if not is_object(base) and not self._abstract_base(base)]
         useful = [k for k in kinds if k not in (EnvKind.UNKNOWN, EnvKind.NOT_ENV)]
         if useful and useful[0] is EnvKind.GYM_ENV and self.wraps_gym_only(classdef) is not None:
             # A wrapper around an object of a Gym-only library (gym_unity's batched envs): that
@@ -48,6 +50,9 @@ class ClassKinds(_Facade):
         if kinds and all(k is EnvKind.NOT_ENV for k in kinds) and any(self._own_api_base(b) for b in classdef.bases):
             return EnvKind.NOT_ENV  # ``class Preprocess(AtariPreprocessing)`` of tf_agents
         return EnvKind.NOT_ENV if not kinds else EnvKind.UNKNOWN
+
+    def _abstract_base(self, base: ast.AST) -> bool:
+        return any(q in ("abc.ABC", "typing.Generic") for q in self.qualified_names(base))
 
     def wraps_gym_only(self, classdef: ast.ClassDef) -> str | None:
         """A Gym wrapper class of this module that a construction here wraps around an object
@@ -385,3 +390,38 @@ def other_library_class_kind(qualified: str) -> EnvKind | None:
     if qualified in N.PZ_PARALLEL_BASES:
         return EnvKind.PZ_PARALLEL
     return None
+
+
+def renders_nothing(facts: ModuleFacts, classdef: ast.ClassDef, _depth: int = 0) -> bool:
+    """The class's render() (its own, else the first base of this module that has one)
+    calls no ``render`` and names no ``"render"`` (a worker's command): a stub that logs
+    or does nothing, so its callers render no env. False where no render() is found."""
+    methods = {s.name: s for s in classdef.body if isinstance(s, FUNCTIONS)}
+    render = methods.get("render")
+    if render is None:
+        if _depth > 4:
+            return False
+        for base in classdef.bases:
+            local = facts.classes.get(base.id) if isinstance(base, ast.Name) else None
+            if local is not None and local is not classdef:
+                return renders_nothing(facts, local, _depth + 1)
+        return False
+    for node in ast.walk(render):
+        if isinstance(node, ast.Attribute) and node.attr == "render":
+            return False
+        if isinstance(node, ast.Constant) and isinstance(node.value, str) and "render" in node.value.lower():
+            if not _in_log_call(facts, node):
+                return False
+        if isinstance(node, (ast.Return, ast.Yield)) and getattr(node, "value", None) is not None:
+            if not (isinstance(node.value, ast.Constant) and node.value.value is None):
+                return False  # it hands something back (a frame)
+    return True
+
+
+def _in_log_call(facts: ModuleFacts, node: ast.AST) -> bool:
+    """``logger.warn('Render not defined for %s' % self)``: the word in a message."""
+    for ancestor in facts.ancestors(node):
+        if isinstance(ancestor, ast.Call):
+            name = ancestor.func.attr if isinstance(ancestor.func, ast.Attribute) else getattr(ancestor.func, "id", "")
+            return name in ("warn", "warning", "info", "debug", "print", "error")
+    return False

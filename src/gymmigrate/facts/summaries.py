@@ -22,6 +22,7 @@ from gymmigrate.facts.env_classes import EnvClasses
 from gymmigrate.facts.env_specs import module_spec_lists
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.limits import Cause, DoneCause, DoneTracer
+from gymmigrate.facts.receiver_classes import renders_nothing
 from gymmigrate.facts.module import (
     FUNCTIONS,
     ModuleFacts,
@@ -140,6 +141,7 @@ class _Summarizer:
             done_methods=_done_methods(self.facts),
             render_mode_heirs=_render_mode_heirs(self.facts, self.receivers),
             registrations=_registrations(self.facts),
+            silent_renders=frozenset(name for name, classdef in self.facts.classes.items() if renders_nothing(self.facts, classdef)),
             legacy_steps=frozenset(
                 name for name, classdef in self.facts.classes.items() if name in env_classes and self.receivers.class_keeps_legacy_step(classdef)
             ),

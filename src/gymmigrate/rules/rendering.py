@@ -55,6 +55,7 @@ from gymmigrate.facts.env_classes import EnvClasses
 from gymmigrate.facts.env_specs import is_spec_make
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import full_name, keyword, string_value
+from gymmigrate.facts.receiver_classes import renders_nothing
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.render_calls import (
@@ -262,6 +263,8 @@ class Rendering(RuleFamily):
             if kind is EnvKind.SB3_VEC and mode_arg is None and close is None and not self.receivers.run_defined(receiver):
                 self._check_vec_frames(call, receiver)
                 return None
+            if kind is EnvKind.SB3_VEC and mode_arg is None and close is None and self._stub_render(receiver):
+                return None  # the project's class renders no env (its render() logs, or does nothing)
             if kind is EnvKind.SB3_VEC and mode_arg is None and close is None and self.context.profile.imports_gym and self.receivers.run_defined(receiver):
                 # The project's own vector env (left alone) draws through its envs' render():
                 # one item per file, for where those envs are made.
@@ -834,6 +837,19 @@ class Rendering(RuleFamily):
             if quote is not None:
                 return quote
         return next((site.quote for site in sites if site.code == "GM401"), '"')
+
+    def _stub_render(self, receiver: ast.expr) -> bool:
+        """``receiver`` is an instance of a class of the run (this module's or imported)
+        whose render() renders no env: a stub of the project's own vector env."""
+        statement = self.receivers.statement_seen(receiver) if isinstance(receiver, ast.Name) else None
+        value = statement.value if isinstance(statement, ast.Assign) else None
+        if not isinstance(value, ast.Call):
+            return False
+        local = self.receivers.local_class(value.func)
+        if local is not None:
+            return renders_nothing(self.facts, local)
+        project = self.receivers.project
+        return project is not None and any(project.renders_nothing(q) for q in self.facts.qualified_names(value.func))
 
     def _check_vec_frames(self, call: ast.Call, receiver: ast.expr) -> None:
         """``img = venv.render()`` on a Stable-Baselines3 VecEnv, the frame used: SB3 2.x
