@@ -325,7 +325,7 @@ class CreationFinder:
             and last in statement.targets
             and (rebinding or flow.dominates(statement, name, name))
         ):
-            return self._follow(last, self._binding)  # type: ignore[arg-type]
+            return self._follow(last, self._binding)
         # Every read that resolves to the same bindings has the same answer: one
         # computation per (scope, name), not per read (a chain of n rebindings has n reads).
         bindings = self.facts.bindings_of(name)

@@ -22,7 +22,6 @@ from gymmigrate.facts.env_classes import EnvClasses
 from gymmigrate.facts.env_specs import module_spec_lists
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.limits import Cause, DoneCause, DoneTracer
-from gymmigrate.facts.receiver_classes import renders_nothing
 from gymmigrate.facts.module import (
     FUNCTIONS,
     ModuleFacts,
@@ -43,7 +42,7 @@ from gymmigrate.facts.module_summary import (
     Signature,
 )
 from gymmigrate.facts.profile import FileProfile
-from gymmigrate.facts.receiver_classes import duck_wrapper_param
+from gymmigrate.facts.receiver_classes import duck_wrapper_param, renders_nothing
 from gymmigrate.facts.receivers import Receivers
 from gymmigrate.source_text import first_statement_line
 from gymmigrate.suppressions import skips_file

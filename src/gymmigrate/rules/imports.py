@@ -741,7 +741,9 @@ class Imports(RuleFamily):
                 return False
         if via_module:
             new_text = f"import ale_py as {bound}"
-            self.plan.replace(node, lambda _: cst.parse_statement(new_text).body[0])  # type: ignore[attr-defined]
+            self.plan.replace(
+                node, lambda _: cst.Import(names=[cst.ImportAlias(name=cst.Name("ale_py"), asname=cst.AsName(name=cst.Name(bound)))])
+            )
         else:
             new_text = "from ale_py import " + _alias_text(alias)
             self.plan.replace(node, lambda from_node: from_node.with_changes(module=dotted_node("ale_py")))
