@@ -77,6 +77,8 @@ def with_keyword(node: Any, func: str, name: str, literal: str) -> Any:
             args = list(node.args)
             args[0] = args[0].with_changes(value=with_keyword(inner, func, name, literal))
             return node.with_changes(args=args)
+    if isinstance(node, cst.Call) and any(arg.keyword is not None and arg.keyword.value == name for arg in node.args):
+        return node  # given already: by the same build for another site of this make (one edit per finding)
     # A literal, or a creation-time conditional (`"human" if rank == 0 else None`).
     value = cst.SimpleString(literal) if literal[:1] in ("'", '"') and literal[-1:] == literal[:1] else cst.parse_expression(literal)
     return append_keyword(node, name, value)

@@ -173,6 +173,7 @@ class Rendering(RuleFamily):
         self.finder = CreationFinder(self.facts, self.receivers, self._is_make)
         self._legacy_025 = LEGACY_SINGLE_FRAME in self.facts.text
         self._added: dict[int, str] = self.notes.render_modes_added
+        self._mode_builds: dict[int, tuple[ast.Call, Callable[[object], object]]] = {}  # id(make) -> (make, its build)
         self._noted = dict(self._added)  # modes another family gives a make in this run
         self._scheduled: dict[int, str] = {}  # id(make) -> the creation-time condition of its renders
         self._unscheduled: dict[int, str] = {}  # id(make) -> the run-time condition of its renders
@@ -554,8 +555,7 @@ class Rendering(RuleFamily):
             final_mode[key] = HUMAN
             self._added[key] = HUMAN
             func = self.facts.segment(make.func)
-            value = f"{quote}{HUMAN}{quote} if {condition} else None"
-            self.plan.replace(make, lambda node: with_keyword(node, func, "render_mode", value))
+            self._give_mode(make, func, f"{quote}{HUMAN}{quote} if {condition} else None")
             self._scheduled[key] = condition
             return True
         final_mode[key] = None
@@ -671,7 +671,23 @@ class Rendering(RuleFamily):
         self._added[id(make)] = mode
         func = self.facts.segment(make.func)
         literal = f"{quote}{mode}{quote}"
-        self.plan.replace(make, lambda node: with_keyword(node, func, "render_mode", literal))
+        self._give_mode(make, func, literal)
+
+    def _give_mode(self, make: ast.Call, func: str, value: str) -> None:
+        def build(node: object) -> object:
+            return with_keyword(node, func, "render_mode", value)
+
+        self._mode_builds[id(make)] = (make, build)
+        self.plan.replace(make, build)
+
+    def _claim_makes(self, keys: list[int]) -> None:
+        """Each site that reports a mode added to its make carries that edit too (the same
+        build again, a no-op once applied): selected alone (``--select GM407``), a recorder's
+        note still comes with the make's ``render_mode``, whichever site decided it first."""
+        for key in keys:
+            found = self._mode_builds.get(key)
+            if found is not None:
+                self.plan.replace(*found)
 
     def _plan_site(
         self,
@@ -737,6 +753,7 @@ class Rendering(RuleFamily):
             self.report(call, "GM403", 'gym 0.25 "single_rgb_array" is "rgb_array" in Gymnasium')
         if code == "GM407":
             if added:
+                self._claim_makes(keys)
                 self.report(call, code, f"added {target} to {where} so {site.consumer} gets frames", tier=Tier.NOTE)
             return
         scheduled = [self._scheduled[k] for k in keys if k in self._scheduled]
@@ -744,6 +761,7 @@ class Rendering(RuleFamily):
             # Rendered in the same loop as every step of the env: it drew each step before,
             # and does now; only a render away from the steps (once an episode) is a question.
             per_step = all(self._steps_render(k) for k in keys)
+            self._claim_makes(keys)
             self.report(
                 call,
                 code,
@@ -761,6 +779,7 @@ class Rendering(RuleFamily):
                 # Rendered in the loop that steps the env: it drew each step before and
                 # does now, so the line only explains the rewrite.
                 per_step = all(self._steps_render(k) for k in keys)
+                self._claim_makes(keys)
                 self.report(
                     call,
                     code,
@@ -788,6 +807,7 @@ class Rendering(RuleFamily):
             exact = not inferred and site.mode != HUMAN and not site.variable
             if site.variable:
                 message += f'; the mode is read once per env now: where {site.mode} is "human", that env draws every step inside step()/reset()'
+            self._claim_makes(keys)
             self.report(call, code, message, tier=Tier.NOTE if exact else None, question=question("moved"))
         else:
             self.report(call, code, f"{where} already has {target}; render() takes no arguments", FixKind.AUTO)
