@@ -79,13 +79,24 @@ class ClassKinds(_Facade):
             if inner is not None:  # another wrapper of the module around it
                 return self._gym_only_inside(call_argument(expr, 0, "env"), depth + 1) if self.is_gym_wrapper_class(inner) else None
         if isinstance(expr, ast.Name):
-            statement = self.statement_seen(expr)
-            if isinstance(statement, ast.Assign) and isinstance(statement.value, ast.Call):
-                if self.local_class(statement.value.func) is not None:
-                    return self._gym_only_inside(statement.value, depth + 1)
-                made = self.library_made(statement.value)
-                if made is not None and made.split(".", 1)[0] in N.GYM_ONLY_PACKAGES:
-                    return made
+            flow = Flow.of(self.facts)
+            own = self.facts.statement_of(expr)
+            last = flow.last_binding_of(expr)
+            if last is not None and isinstance(own, ast.Assign) and self.facts.statement_of(last) is own:
+                # ``env = Wrapper(env)`` in a factory: the read sees the assignment above it
+                # (``env = make(...)``), followed back to what made the env
+                above = flow.binding_above(expr, own)
+                statement = self.facts.statement_of(above) if above is not None else None
+                if isinstance(statement, ast.Assign) and isinstance(statement.value, ast.Call):
+                    if self.local_class(statement.value.func) is not None:
+                        return self._gym_only_inside(statement.value, depth + 1)
+                    made = self.library_made(statement.value)
+                    return made if made is not None and made.split(".", 1)[0] in N.GYM_ONLY_PACKAGES else None
+                return None
+            dominating = self._dominating_binding(expr)
+            statement = self.facts.statement_of(dominating) if dominating is not None else None
+            if isinstance(statement, ast.Assign) and isinstance(statement.value, ast.Call) and self.local_class(statement.value.func) is not None:
+                return self._gym_only_inside(statement.value, depth + 1)
         made = self.library_made(expr)
         return made if made is not None and made.split(".", 1)[0] in N.GYM_ONLY_PACKAGES else None
 
