@@ -93,7 +93,8 @@ class ClassRewrite:
         if self.plan.seed is not None:
             self._seed(self.plan.seed)
         self._reset()
-        self._step()
+        if not self.plan.batched_step:  # a batch's step keeps its stacked four fields (GM504 reports it)
+            self._step()
         if self.plan.render:
             self._render()
         if self.plan.pass_render_mode:

@@ -24,7 +24,7 @@ from gymmigrate.facts.limits import (
     unwrap_bool,
 )
 from gymmigrate.facts.module import own_returns
-from gymmigrate.facts.receiver_classes import keeps_legacy_step
+from gymmigrate.facts.receiver_classes import is_batched_step_return, keeps_legacy_step
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import (
     ClassDecision,
@@ -39,7 +39,11 @@ from gymmigrate.rules.custom_env.hooks import (
     step_override_migratable,
     where,
 )
-from gymmigrate.rules.custom_env.plans import STEP_LIMIT_WORD, truncated_false_message
+from gymmigrate.rules.custom_env.plans import (
+    STEP_LIMIT_WORD,
+    batched_step_message,
+    truncated_false_message,
+)
 
 __all__ = ["decide_step", "is_step_limit", "unwrap_bool"]
 
@@ -128,6 +132,14 @@ def _decide_returns(decision: ClassDecision, function: Method, helpers: set[int]
                     f"its done as terminated with truncated=False; {truncated_false_message(limit_hint)}",
                     FixKind.ASSIST,
                 )
+            continue
+        if keeps_legacy_step(decision.classdef) and is_batched_step_return(ret.value, function):
+            # Stacked per-env flags: a batch of envs with its own API, where a scalar
+            # ``truncated`` has no place and ``done`` folds each env's truncation into one
+            # flag. Its contract is kept (and its callers' with it); one item per class.
+            decision.plan.batched_step = True
+            if not any(is_batched_step_return(r.value, function) for r in returns[:position]):
+                decision.report(ret, "GM504", batched_step_message(decision.classdef.name), FixKind.FLAG)
             continue
         if tuple_len(ret.value) != 4:
             kept = (
