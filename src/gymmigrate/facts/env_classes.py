@@ -172,7 +172,7 @@ class EnvClasses:
         receivers = self.receivers
         if receivers.is_gym_wrapper_class(classdef):
             return False
-        if receivers.class_kind(classdef) is EnvKind.GYM_ENV:
+        if receivers.class_kind(classdef) in (EnvKind.GYM_ENV, EnvKind.OWN_API):
             return True
         for base in classdef.bases:
             if any(_is_builtin_env_class(q) for q in self.facts.qualified_names(base)):
