@@ -50,7 +50,22 @@ class EnvClassFamily(RuleFamily):
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
-        return bool(facts.all_classes) and "gym" in facts.text
+        if not facts.all_classes:
+            return False
+        if "gym" in facts.text:
+            return True
+        # ``class Hallway(MiniWorldEnv)`` in a module that never names Gym: its base is an
+        # env class of another module of the run, whose migration its overrides follow.
+        project = context.options.project
+        if project is None:
+            return False
+        view = project.view(context.path)
+        return any(
+            view.call_kind(qualified) in (EnvKind.GYM_ENV, EnvKind.OWN_API)
+            for classdef in facts.all_classes
+            for base in classdef.bases
+            for qualified in facts.qualified_names(base)
+        )
 
     def decide(self) -> None:
         env = EnvClasses.of(self.facts, self.receivers)
