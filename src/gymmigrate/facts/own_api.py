@@ -14,6 +14,7 @@ Decided from the class body alone, like ``receiver_classes.keeps_legacy_step``.
 from __future__ import annotations
 
 import ast
+from collections.abc import Mapping
 
 from gymmigrate.facts.module import FUNCTIONS, own_returns
 
@@ -70,7 +71,7 @@ def _bare_observation(value: ast.expr) -> bool:
     return not (isinstance(value, ast.Call) and isinstance(value.func, ast.Attribute) and value.func.attr in ("reset", "_reset"))
 
 
-def _per_agent_flags(done: ast.expr, step: ast.AST, methods: dict[str, ast.AST]) -> bool:
+def _per_agent_flags(done: ast.expr, step: ast.AST, methods: Mapping[str, ast.AST]) -> bool:
     """``done`` is a dict with the all-agents key: a display, or a name the step indexes
     with it (``truncated = dones["__all__"]``) or binds to such a display or to a method
     of the class that builds one (``dones = self._compute_dones()``)."""

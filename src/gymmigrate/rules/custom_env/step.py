@@ -574,7 +574,7 @@ def _done_unpacked_from(index: FunctionIndex, name: str, besides: frozenset[int]
             and len(a.targets[0].elts) == 5  # type: ignore[attr-defined]
             and [e.id if isinstance(e, ast.Name) else None for e in a.targets[0].elts[2:4]] == pair  # type: ignore[attr-defined]
         ]
-        return unpacks[0].value if len(unpacks) == 1 else None  # type: ignore[attr-defined,no-any-return]
+        return unpacks[0].value if len(unpacks) == 1 else None  # type: ignore[attr-defined]
     if not (
         isinstance(target, (ast.Tuple, ast.List))
         and len(target.elts) == 4
@@ -588,7 +588,7 @@ def _done_unpacked_from(index: FunctionIndex, name: str, besides: frozenset[int]
         if len(stores) != 1:
             return None
         value = stores[0].value  # type: ignore[attr-defined]
-    return value  # type: ignore[no-any-return]
+    return value
 
 
 def _from_unknown_base_step(decision: ClassDecision, index: FunctionIndex, name: str) -> str | None:
