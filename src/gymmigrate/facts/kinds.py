@@ -27,6 +27,10 @@ class EnvKind(str, Enum):
     SB3_MODEL = "Stable-Baselines3 model"
     PZ_AEC = "PettingZoo AEC env"
     PZ_PARALLEL = "PettingZoo parallel env"
+    # A Gym env class of the run whose own reset/step follow a contract of their own
+    # (per-agent dicts, one shape per mode: ``facts/own_api.py``): neither Gym's nor
+    # Gymnasium's, so no call on one is rewritten.
+    OWN_API = "Gym env with an API of its own"
     NOT_ENV = "not an env"
     UNKNOWN = "unknown"
 

@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING
 from gymmigrate.facts import names as N
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import FUNCTIONS, call_argument, own_returns
+from gymmigrate.facts.own_api import own_api_shape
 
 if TYPE_CHECKING:
     from gymmigrate.facts.kinds import ReceiverFacade as _Facade
@@ -39,6 +40,8 @@ class ClassKinds(_Facade):
                 # rule changes a vector env's reset): its callers are on that contract, so
                 # its instances are not rewritten as Gymnasium vector envs; reported.
                 return EnvKind.UNKNOWN
+            if useful[0] is EnvKind.GYM_ENV and self.own_api(classdef) is not None:
+                return EnvKind.OWN_API
             return useful[0]
         if not kinds and self.is_duck_wrapper(classdef):
             return EnvKind.GYM_ENV  # a plain class around a Gym env that forwards to it
@@ -47,6 +50,13 @@ class ClassKinds(_Facade):
         if kinds and all(k is EnvKind.NOT_ENV for k in kinds) and any(self._own_api_base(b) for b in classdef.bases):
             return EnvKind.NOT_ENV  # ``class Preprocess(AtariPreprocessing)`` of tf_agents
         return EnvKind.NOT_ENV if not kinds else EnvKind.UNKNOWN
+
+    def own_api(self, classdef: ast.ClassDef) -> str | None:
+        """How an env class (no wrapper: GM602 has those) shows an API of its own
+        (``own_api_shape``), or None."""
+        if self.is_gym_wrapper_class(classdef):
+            return None
+        return self.facts.memo(("own-api", id(classdef)), lambda: own_api_shape(classdef))
 
     def wraps_gym_only(self, classdef: ast.ClassDef) -> str | None:
         """A Gym wrapper class of this module that a construction here wraps around an object
@@ -157,6 +167,8 @@ class ClassKinds(_Facade):
         kind = self.class_kind(classdef)
         if kind is EnvKind.NOT_ENV and any(self._own_api_base(b) for b in classdef.bases):
             return kind  # the base of a library with its own env API (tf_agents): left alone
+        if kind is EnvKind.OWN_API:
+            return kind  # a class on a contract of its own: its super() calls stay as they are
         return kind if kind.is_gym else None
 
     def _own_api_base(self, base: ast.AST) -> bool:

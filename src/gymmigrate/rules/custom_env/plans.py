@@ -62,6 +62,9 @@ class ClassPlan:
     # method -> positions of returns whose done is an inner step's or'ed with the class's own
     # end of the task: ``bool(done) and not truncated, truncated``
     task_end_returns: dict[str, set[int]] = field(default_factory=dict)
+    # method -> positions of returns left as they are (the done of a base's step the run
+    # cannot show migrated): reported, not rewritten
+    kept_returns: dict[str, set[int]] = field(default_factory=dict)
     # method -> position of ``return self._observe()`` (a helper of four values that other
     # code reads too) -> the names it is unpacked into before returning five
     unpacked_helper_returns: dict[str, dict[int, tuple[str, ...]]] = field(default_factory=dict)
