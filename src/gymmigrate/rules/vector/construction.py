@@ -12,7 +12,7 @@
   copies (``[lambda: env] * n``, a def returning ``cloudpickle.loads(cloudpickle.dumps(env))``),
   also when they come in a tuple a def of the module returns (``constructor(*args)``
   -> ``constructor(args[0])``): they are then the sub-envs' own spaces, which is what
-  Gymnasium takes when none are passed (legacy only used them after checking they matched).
+  Gymnasium takes when none are passed (gym 0.26 checked that every sub-env's matched).
 
 Source: Gymnasium ``envs/registration.py::make_vec``, ``vector/sync_vector_env.py``,
 ``vector/async_vector_env.py``.
@@ -267,7 +267,7 @@ class Construction(VectorFamilyBase):
                 "GM702",
                 f"`*{self.facts.segment(source)}` holds (env functions, legacy spaces) and the spaces are those of "
                 f"the env each function copies: only the env functions are passed (Gymnasium takes the sub-envs' "
-                "own spaces; gym only checked that they matched)",
+                "own spaces, equal to those of the env they copy)",
                 FixKind.AUTO,
             )
             return True
@@ -290,7 +290,7 @@ class Construction(VectorFamilyBase):
             call,
             "GM702",
             "the legacy spaces are those of the env each function copies: dropped (Gymnasium takes the sub-envs' own "
-            "spaces; gym only checked that they matched)",
+            "spaces, equal to those of the env they copy)",
             FixKind.AUTO,
         )
         return True
