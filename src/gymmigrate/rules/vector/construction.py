@@ -309,8 +309,8 @@ class Construction(VectorFamilyBase):
         if not (isinstance(source, ast.Call) and isinstance(source.func, ast.Name)):
             return []
         defs = self.facts.bindings_of(source.func)
-        if len(defs) != 1 or not isinstance(defs[0], ast.FunctionDef):
-            return []
+        if len(defs) != 1 or not isinstance(defs[0], ast.FunctionDef) or defs[0].decorator_list:
+            return []  # a decorator may return something else
         returns = _own_returns(defs[0])
         if returns is None:
             return []
@@ -351,6 +351,8 @@ class Construction(VectorFamilyBase):
         defs = self.facts.bindings_of(function)
         if len(defs) != 1 or not isinstance(defs[0], ast.FunctionDef) or _has_parameters(defs[0].args):
             return False
+        if defs[0].decorator_list:
+            return False  # a decorator may return something else
         returns = _own_returns(defs[0])
         return bool(returns) and all(self._copy_of(value, binding) for value in returns or ())
 
