@@ -459,10 +459,12 @@ def bench_repo(repo: Repo, args) -> dict:
         if stage == "gymmigrate":
             tree = args.cache / "trees" / repo.name / "gymmigrate"
             # the venv needs gymmigrate before the tree exists: key it on the migrated
-            # dependency files by migrating first with the checkout's own interpreter
+            # dependency files by migrating first with this checkout's code (PYTHONPATH:
+            # the interpreter's own gymmigrate may be another checkout's editable install)
             shutil.rmtree(tree, ignore_errors=True)
             shutil.copytree(legacy_tree, tree, symlinks=True)
-            run([sys.executable, "-m", "gymmigrate", "rewrite", "."], cwd=tree, logf=logf)
+            run([sys.executable, "-m", "gymmigrate", "rewrite", "."], cwd=tree, logf=logf,
+                env=dict(os.environ, PYTHONPATH=str(ROOT / "src")))
             venv, facts = prepare_venv(repo, stage, tree, args, logf)
             facts["migration"] = migrate(repo, legacy_tree, tree, venv, logf)
         else:

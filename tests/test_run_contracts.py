@@ -173,3 +173,21 @@ def test_a_subclass_in_a_module_the_env_rules_skip_is_not_counted_as_taking_rend
     assert "render_mode" not in tiny.read_text()
     assert "arena = TinyArena()\n" in play.read_text()
     assert _run(project, "import play\nplay.tiny()\nprint('ran')") == ["ran"]
+
+
+def test_an_env_class_on_an_api_of_its_own_keeps_it_with_its_callers(tmp_path: Path) -> None:
+    """``fixtures/project_own_api/``: ``JunctionEnv(gym.Env)`` returns per-agent dicts
+    (``flags["__all__"]``) for every junction, and Gymnasium's shapes in its solo mode. Its
+    reset used to be paired again (``(obs, {}), {}``) and its driver in another module
+    unpacked (obs, info) from the dict and five values from four (ValueError); now the class
+    and the driver stay as they are, and the class is one review item."""
+    original = (FIXTURES / "project_own_api" / "drive.py").read_text()
+    project, review = _migrated(tmp_path, "project_own_api")
+    assert (project / "drive.py").read_text() == original
+    env = (project / "grid" / "env.py").read_text()
+    assert "return views[self.junctions[0]], {}\n" in env and "def reset(self, seed=None, **kwargs):" in env
+    assert [(f["rule"], f["path"].endswith("env.py")) for f in review] == [("GM504", True)], review
+    (steps,) = _run(project, "from drive import drive\nprint(drive())")
+    assert steps == "5"
+    (solo,) = _run(project, "from grid.env import JunctionEnv\nenv = JunctionEnv(solo=True)\nprint(env.reset(seed=1), len(env.step(0)))")
+    assert solo == "(0, {}) 5"

@@ -77,3 +77,22 @@ def test_box_bounds_reported_are_exactly_those_gymnasium_rejects() -> None:
         else:
             exec(statement, namespace)
     assert len(reported) == 3
+
+
+def test_box_bound_items_say_what_gym_built() -> None:
+    """GM909 names the bound gym 0.26 built (the literal cast into the dtype, as NumPy wraps
+    it) and, where the cast bounds cross, says that no Gymnasium space reproduces them:
+    Gymnasium 1.x rejects low > high too."""
+    from gymmigrate.engine import transform_source
+
+    path = RULE_FIXTURES / "GM909" / "box_bounds_outside_dtype.py"
+    messages = {f.line: f.message for f in transform_source(path.read_bytes(), str(path)).findings if f.rule == "GM909"}
+    def cast(value: int, dtype: type) -> int:
+        return int(np.array(value).astype(dtype))  # NumPy's wrap, what gym's np.full gave
+
+    assert f"had low 0 above high {cast(255, np.int8)}" in messages[7]
+    assert f"had low {cast(-1, np.uint8)} above high 10" in messages[8]
+    assert "no Gymnasium space reproduces" in messages[7]
+    assert f"the legacy space's high was {cast(70000, np.int16)}" in messages[9]  # 0..4464: they do not cross
+    with pytest.raises(ValueError, match="low values must be less than or equal to high"):
+        spaces.Box(np.zeros(2, np.int8), np.full(2, -1, np.int8), dtype=np.int8)

@@ -254,3 +254,55 @@ def test_a_statistics_subclass_still_refuses_a_vector_env() -> None:
     envs = gym.vector.SyncVectorEnv([lambda: _two_rewards("CartPole-v1")] * 2)
     with pytest.raises(TypeError, match="Expected env to be a `gymnasium.Env`"):
         module.VectorRewardStatistics(envs)
+
+
+_RULE_FIXTURES = WRAPPER_FIXTURES.parent / "rules"
+
+
+def _run_rule_fixture(relative: str) -> dict:
+    path = _RULE_FIXTURES / relative
+    text = transform_source(path.read_bytes(), str(path)).rewritten.decode()
+    assert "import gymnasium as gym\n" in text
+    namespace: dict = {}
+    exec(compile(text, str(path), "exec"), namespace)  # noqa: S102  (our own fixture)
+    return namespace
+
+
+def test_a_batch_kept_on_its_stacked_step_still_runs_on_gymnasium() -> None:
+    """A batch of envs keeps its four stacked fields; its sub-envs' calls are Gymnasium's, its
+    reset gives (obs, infos) as its callers were rewritten to read, and each env's end
+    (terminated or truncated, a time-limit cut included) still resets that env."""
+    namespace = _run_rule_fixture("GM504/batched_env_stacked.py")
+    fleet = namespace["fleet"]
+    frames, info = fleet.reset(seed=0)
+    assert frames.shape == (3, 4) and isinstance(info, dict)
+    ended = 0
+    for _ in range(200):
+        frames, gains, ends, _ = fleet.step([0, 1, 0])
+        assert frames.shape == (3, 4) and gains.shape == (3,) and ends.shape == (3,)
+        ended += int(ends.sum())
+    assert ended > 0
+
+
+def test_a_wrapper_over_a_batch_of_one_keeps_the_batch_shape_on_gymnasium() -> None:
+    namespace = _run_rule_fixture("GM602/batched_single_wrapper.py")
+    solo = namespace["solo"]
+    frame, info = solo.reset(seed=0)
+    assert frame.shape == (1, 4) and isinstance(info, dict)
+    for _ in range(100):
+        frame, gain, end, note = solo.step([1])
+        assert frame.shape == (1, 4) and end.shape == (1,) and isinstance(note, list)
+    assert solo.finished is not None
+
+
+def test_elementwise_done_of_a_wrapper_that_reads_batched_flags() -> None:
+    """``terminated | truncated``: a bool on one env (the ``isinstance(done, bool)`` test still
+    holds), elementwise where arrays come through (``or`` raises there)."""
+    namespace = _run_rule_fixture("GM301/batched_flags_elementwise.py")
+    env = namespace["EndCounter"](gym.make("CartPole-v1"))
+    env.reset(seed=0)
+    for _ in range(60):
+        *_, terminated, truncated, _ = env.step(0)
+        if terminated or truncated:
+            env.reset()
+    assert env.count >= 1

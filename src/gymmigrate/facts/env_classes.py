@@ -172,7 +172,7 @@ class EnvClasses:
         receivers = self.receivers
         if receivers.is_gym_wrapper_class(classdef):
             return False
-        if receivers.class_kind(classdef) is EnvKind.GYM_ENV:
+        if receivers.class_kind(classdef) in (EnvKind.GYM_ENV, EnvKind.OWN_API):
             return True
         for base in classdef.bases:
             if any(_is_builtin_env_class(q) for q in self.facts.qualified_names(base)):
@@ -233,6 +233,30 @@ class EnvClasses:
     def has_local_env_base(self, classdef: ast.ClassDef) -> bool:
         """The class extends another class of this module (so ``__init__`` comes from there)."""
         return any(self.receivers.local_class(base) is not None for base in classdef.bases)
+
+    def base_step_migrates(self, classdef: ast.ClassDef) -> bool | None:
+        """What ``super().step(a)`` in the class runs after the migration, from its first
+        base (the one ``super()`` reaches first): True when that step returns Gymnasium's
+        five values (an env class of this module, or of another module of the run whose
+        step the run migrates, or one of Gym's own env classes); None when the run does not
+        show it (a class of no module of the run, one whose step keeps four fields)."""
+        bases = [b for b in classdef.bases if not (isinstance(b, ast.Name) and b.id == "object")]
+        if not bases:
+            return None
+        base = bases[0]
+        local = self.receivers.local_class(base)
+        if local is not None:
+            return True if self.is_custom_env(local) else None
+        names = self.facts.qualified_names(base)
+        if any(_is_builtin_env_class(q) for q in names):
+            return True
+        project = self.receivers.project
+        if project is None:
+            return None
+        for qualified in names:
+            if project.call_kind(qualified) is EnvKind.GYM_ENV and not project.keeps_legacy_step(qualified):
+                return True
+        return None
 
     def mujoco_base(self, classdef: ast.ClassDef) -> bool:
         return any(N.strip_gym_prefix(q) in MUJOCO_BASES for base in classdef.bases for q in self.facts.qualified_names(base))

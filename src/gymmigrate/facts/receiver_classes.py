@@ -14,6 +14,7 @@ from gymmigrate.facts import names as N
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, call_argument, own_returns
+from gymmigrate.facts.own_api import own_api_shape
 
 if TYPE_CHECKING:
     from gymmigrate.facts.kinds import ReceiverFacade as _Facade
@@ -42,6 +43,8 @@ class ClassKinds(_Facade):
                 # rule changes a vector env's reset): its callers are on that contract, so
                 # its instances are not rewritten as Gymnasium vector envs; reported.
                 return EnvKind.UNKNOWN
+            if useful[0] is EnvKind.GYM_ENV and self.own_api(classdef) is not None:
+                return EnvKind.OWN_API
             return useful[0]
         if not kinds and self.is_duck_wrapper(classdef):
             return EnvKind.GYM_ENV  # a plain class around a Gym env that forwards to it
@@ -53,6 +56,13 @@ class ClassKinds(_Facade):
 
     def _abstract_base(self, base: ast.AST) -> bool:
         return any(q in ("abc.ABC", "typing.Generic") for q in self.qualified_names(base))
+
+    def own_api(self, classdef: ast.ClassDef) -> str | None:
+        """How an env class (no wrapper: GM602 has those) shows an API of its own
+        (``own_api_shape``), or None."""
+        if self.is_gym_wrapper_class(classdef):
+            return None
+        return self.facts.memo(("own-api", id(classdef)), lambda: own_api_shape(classdef))
 
     def wraps_gym_only(self, classdef: ast.ClassDef) -> str | None:
         """A Gym wrapper class of this module that a construction here wraps around an object
@@ -115,6 +125,24 @@ class ClassKinds(_Facade):
             return None
         return statement if flow.dominates(statement, read, read) else None
 
+    def wraps_legacy_step(self, classdef: ast.ClassDef) -> str | None:
+        """A Gym wrapper class of this module that a construction here puts around an instance
+        of a class whose step keeps its four fields (a batch of envs: ``Stats(Batch(...))``,
+        directly or through another such wrapper): that class's name, else None. The wrapped
+        step still returns four values, so the wrapper's own step keeps them too (its callers
+        with it), and it is reported (``rules/wrappers``)."""
+        return self.facts.memo(("wraps-legacy-step", id(classdef)), lambda: self._wraps_legacy_step(classdef), while_computing=None)
+
+    def _wraps_legacy_step(self, classdef: ast.ClassDef) -> str | None:
+        if not self.is_gym_wrapper_class(classdef):
+            return None
+        for call in self.facts.calls_by_name.get(classdef.name, ()):
+            inner = call_argument(call, 0, "env")
+            found = self.legacy_step_class(inner) if inner is not None else None
+            if found is not None:
+                return found
+        return None
+
     def is_gym_wrapper_class(self, classdef: ast.ClassDef, _seen: frozenset[int] = frozenset()) -> bool:
         """A subclass of a Gym wrapper (through classes of the module), or a duck wrapper
         the run proves (``is_duck_wrapper``)."""
@@ -174,6 +202,8 @@ class ClassKinds(_Facade):
         kind = self.class_kind(classdef)
         if kind is EnvKind.NOT_ENV and any(self._own_api_base(b) for b in classdef.bases):
             return kind  # the base of a library with its own env API (tf_agents): left alone
+        if kind is EnvKind.OWN_API:
+            return kind  # a class on a contract of its own: its super() calls stay as they are
         return kind if kind.is_gym else None
 
     def _own_api_base(self, base: ast.AST) -> bool:
@@ -254,9 +284,81 @@ def keeps_legacy_step(classdef: ast.ClassDef) -> bool:
     for value in values:
         if isinstance(value, ast.Call) and isinstance(value.func, ast.Name) and value.func.id != "super":
             continue  # ``zip(*results)``, ``tuple(batch)``
+        if is_batched_step_return(value, step):
+            continue  # ``np.stack(obs), np.stack(rews), np.stack(dones), infos``
         if not isinstance(value, (ast.Name, ast.ListComp, ast.GeneratorExp, ast.List)):
             return False  # a tuple literal the rules migrate, a helper's or an inner env's result
     return True
+
+
+# NumPy functions that put per-env values side by side (or give one env's value a batch
+# axis): what they return is an array with one entry per env, never one env's flag.
+_BATCHING_FUNCTIONS = frozenset({"stack", "vstack", "hstack", "concatenate", "expand_dims", "atleast_1d"})
+# ``np.array(x)`` batches only a list of per-env values; of one flag it makes a 0-d array.
+_ARRAY_FUNCTIONS = frozenset({"array", "asarray"})
+
+
+def is_batched_step_return(value: ast.AST | None, step: ast.AST) -> bool:
+    """A four-field return whose reward and done are both per-env batches: ``np.stack(rews),
+    np.stack(dones)``, ``np.expand_dims(done, 0)``, ``rew[None]``, ``np.array(dones)`` of a
+    list filled in the method. Such a step is a batch of envs with its own API (stacked flags,
+    no place for a scalar ``truncated``): the rules leave its contract, and its callers',
+    as they are (GM504/GM602 report the class once)."""
+    if not (isinstance(value, ast.Tuple) and len(value.elts) == 4):
+        return False
+    lists = _lists_filled_in(step)
+    return all(_is_batched(element, lists) for element in value.elts[1:3])
+
+
+def _is_batched(expr: ast.expr, lists: frozenset[str]) -> bool:
+    # A bare ``[done]`` is not enough: wrappers that make an env look multi-agent return
+    # per-agent lists, which GM602 migrates as such.
+    if isinstance(expr, ast.Subscript) and _adds_axis(expr.slice):
+        return True  # ``rew[None]``
+    if isinstance(expr, ast.Name):
+        return expr.id in lists
+    if not (isinstance(expr, ast.Call) and expr.args):
+        return False
+    func = expr.func
+    name = func.attr if isinstance(func, ast.Attribute) else func.id if isinstance(func, ast.Name) else None
+    if name in _BATCHING_FUNCTIONS:
+        return True
+    if name in _ARRAY_FUNCTIONS:
+        first = expr.args[0]
+        return isinstance(first, (ast.List, ast.ListComp)) or (isinstance(first, ast.Name) and first.id in lists)
+    return False
+
+
+def _adds_axis(index: ast.expr) -> bool:
+    parts = index.elts if isinstance(index, ast.Tuple) else [index]
+    return any(
+        (isinstance(p, ast.Constant) and p.value is None) or (isinstance(p, ast.Attribute) and p.attr == "newaxis")
+        for p in parts
+    )
+
+
+def _lists_filled_in(function: ast.AST) -> frozenset[str]:
+    """Names the method fills with one value per env: ``dones.append(done)``, or a target
+    of ``obs, rews, dones, infos = zip(*results)``."""
+    found: set[str] = set()
+    for node in ast.walk(function):
+        if (
+            isinstance(node, ast.Call)
+            and isinstance(node.func, ast.Attribute)
+            and node.func.attr == "append"
+            and isinstance(node.func.value, ast.Name)
+        ):
+            found.add(node.func.value.id)
+        elif (
+            isinstance(node, ast.Assign)
+            and isinstance(node.value, ast.Call)
+            and isinstance(node.value.func, ast.Name)
+            and node.value.func.id == "zip"
+        ):
+            for target in node.targets:
+                if isinstance(target, (ast.Tuple, ast.List)):
+                    found |= {e.id for e in target.elts if isinstance(e, ast.Name)}
+    return frozenset(found)
 
 
 def duck_wrapper_param(classdef: ast.ClassDef) -> ast.arg | None:

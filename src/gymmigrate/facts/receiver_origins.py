@@ -43,6 +43,9 @@ class MadeObjects(_Facade):
                     return None
                 values.append(parent.value)
         elif isinstance(expr, ast.Attribute) and isinstance(expr.value, ast.Name) and self.is_self(expr.value):
+            classdef = self.facts.enclosing_class(expr)
+            if expr.attr == "env" and classdef is not None and (wrapped := self.wraps_legacy_step(classdef)) is not None:
+                return wrapped  # a wrapper this module puts around such a class: ``self.env`` is it
             values = self.self_attribute_values(expr, expr.attr)
         else:
             return None
@@ -66,6 +69,8 @@ class MadeObjects(_Facade):
         one a base of this module (or of the run) defines when it defines none."""
         if id(classdef) in seen or self.class_kind(classdef) is not EnvKind.GYM_ENV:
             return False
+        if self.wraps_legacy_step(classdef) is not None:
+            return True  # its step passes on the four fields of the batch it wraps
         seen = seen | {id(classdef)}
         if any(isinstance(s, FUNCTIONS) and s.name == "step" for s in classdef.body):
             return keeps_legacy_step(classdef)

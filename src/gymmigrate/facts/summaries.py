@@ -166,7 +166,9 @@ class _Summarizer:
         if isinstance(binding, ast.alias):
             return self._reference(self.facts.imports[binding])
         if isinstance(binding, ast.ClassDef):
-            kind = EnvKind.GYM_ENV if name in env_classes else self.receivers.class_kind(binding)
+            kind = self.receivers.class_kind(binding)
+            if name in env_classes and kind is not EnvKind.OWN_API:
+                kind = EnvKind.GYM_ENV
             if kind is EnvKind.NOT_ENV and duck_wrapper_param(binding) is not None:
                 # A duck wrapper its own module cannot prove (other modules build it): what
                 # its instances are is decided where they are made, never "no env".

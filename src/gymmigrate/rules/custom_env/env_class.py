@@ -19,8 +19,9 @@ from collections.abc import Callable
 
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts.env_classes import EnvClasses
+from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import ModuleFacts
-from gymmigrate.findings import Tier
+from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, RuleFamily
 from gymmigrate.rules.custom_env.common import (
     CLASS_RULES,
@@ -49,7 +50,22 @@ class EnvClassFamily(RuleFamily):
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
-        return bool(facts.all_classes) and "gym" in facts.text
+        if not facts.all_classes:
+            return False
+        if "gym" in facts.text:
+            return True
+        # ``class Hallway(MiniWorldEnv)`` in a module that never names Gym: its base is an
+        # env class of another module of the run, whose migration its overrides follow.
+        project = context.options.project
+        if project is None:
+            return False
+        view = project.view(context.path)
+        return any(
+            view.call_kind(qualified) in (EnvKind.GYM_ENV, EnvKind.OWN_API)
+            for classdef in facts.all_classes
+            for base in classdef.bases
+            for qualified in facts.qualified_names(base)
+        )
 
     def decide(self) -> None:
         env = EnvClasses.of(self.facts, self.receivers)
@@ -61,6 +77,13 @@ class EnvClassFamily(RuleFamily):
                 continue
             decision = ClassDecision(self, env, classdef)
             decide_mujoco(decision)
+            if self.receivers.class_kind(classdef) is EnvKind.OWN_API:
+                # Its reset/step are on a contract of their own, and the calls on its instances
+                # stay on it (the receiver rules leave them): nothing that contract reaches
+                # (seed, reset, step, render) is migrated; one item says so.
+                _report_own_api(decision)
+                decide_float64_observations(decision)
+                continue
             for new, old in decision.renamed.items():
                 why = "; Gymnasium never calls it: call `env.unwrapped.configure(...)`" if new == "configure" else ""
                 # an explanation of the rename; the migrated method's own findings follow
@@ -95,6 +118,25 @@ class EnvClassFamily(RuleFamily):
             or plan.reset
             or plan.step
         )
+
+
+def _report_own_api(decision: ClassDecision) -> None:
+    """One review item for a class on an API of its own: its own shape, or (a subclass that
+    defines reset or step) the base it takes the contract from."""
+    classdef = decision.classdef
+    shape = decision.family.receivers.own_api(classdef)
+    if shape is None:
+        if not {"reset", "step"} & set(decision.methods):
+            return  # nothing of its own on that contract: its base's item covers it
+        shape = "it derives from an env class of the run that follows one"
+    decision.report(
+        classdef,
+        "GM504",
+        f"`{classdef.name}` follows an API of its own, neither Gym's nor Gymnasium's: {shape}; its reset() and "
+        "step() are left as they are, and so are the calls on its instances this run traces; migrate the class and "
+        "its callers together by hand",
+        FixKind.FLAG,
+    )
 
 
 def _rewrite_class(plan: ClassPlan) -> Callable[[cst.ClassDef], cst.ClassDef]:

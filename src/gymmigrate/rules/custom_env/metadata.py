@@ -11,7 +11,7 @@ import ast
 from collections.abc import Sequence
 
 from gymmigrate.edits.lazy import cst
-from gymmigrate.facts.module import ModuleFacts, string_value
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, string_value
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.repeats import Repeats
@@ -97,7 +97,16 @@ class MetadataKeys(RuleFamily):
         # speed of recorded videos: a person picks the rate.
         literal_modes = [string_value(e) for e in modes.elts] if isinstance(modes, (ast.List, ast.Tuple)) else None
         frames = literal_modes is None or any(m is None or "rgb_array" in m for m in literal_modes)
-        if frames:
+        held = self._render_handed_on(metadata)
+        if held is not None:
+            # ``def render(self): return self.env.render()``: the frames are the held env's,
+            # drawn at its rate; this class's value only satisfies the checker.
+            frames = False
+            message = (
+                f"added \"render_fps\": {DEFAULT_RENDER_FPS} because render modes are declared without a frame rate; "
+                f"render() hands on `{held}.render()`, whose frames come at that env's own rate"
+            )
+        elif frames:
             message = f"added \"render_fps\": {DEFAULT_RENDER_FPS} because render modes are declared without a frame rate; set the rate the env really draws at"
         else:
             message = (
@@ -107,6 +116,23 @@ class MetadataKeys(RuleFamily):
         tier, same = self._fps_advice.tier("render_fps", metadata)
         self.report(metadata, "GM404", message + same, FixKind.ASSIST, tier=tier if frames else Tier.NOTE)
         self.plan.replace(metadata, _with_render_fps)
+
+
+    def _render_handed_on(self, metadata: ast.Dict) -> str | None:
+        """The class that declares ``metadata`` renders only by returning ``self.<x>.render(...)``
+        (a held env's frames): ``self.<x>``; else None."""
+        classdef = self.facts.enclosing_class(metadata)
+        render = next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == "render"), None) if classdef else None
+        if render is None:
+            return None
+        body = [s for s in render.body if not (isinstance(s, ast.Expr) and isinstance(s.value, ast.Constant))]
+        value = body[0].value if len(body) == 1 and isinstance(body[0], ast.Return) else None
+        if not (isinstance(value, ast.Call) and isinstance(value.func, ast.Attribute) and value.func.attr == "render"):
+            return None
+        held = value.func.value
+        if isinstance(held, ast.Attribute) and isinstance(held.value, ast.Name) and held.value.id == "self":
+            return self.facts.segment(held)
+        return None
 
 
 def _is_metadata_expr(expr: ast.AST) -> bool:

@@ -13,7 +13,7 @@ from gymmigrate.facts.limits import STEP_LIMIT_WORD
 
 SUPER_RESET = "super().reset(seed=seed)"
 
-__all__ = ["STEP_LIMIT_WORD", "SUPER_RESET", "ClassPlan", "SeedPlan", "truncated_false_message"]
+__all__ = ["STEP_LIMIT_WORD", "SUPER_RESET", "ClassPlan", "SeedPlan", "batched_step_message", "truncated_false_message"]
 
 
 @dataclass
@@ -51,6 +51,8 @@ class ClassPlan:
     reset_callers: set[str] = field(default_factory=set)
     reset: bool = False  # reset() changes (signature, returns, super().reset(seed=seed))
     step: bool = False  # step() returns four values somewhere
+    # step() returns stacked per-env flags (a batch of envs): its returns keep four fields
+    batched_step: bool = False
     step_helpers: list[str] = field(default_factory=list)  # what step() returns the result of
     # Method (source name) -> positions among its returns whose done is only a step limit:
     # they return ``False, <done>`` (terminated, truncated).
@@ -60,6 +62,9 @@ class ClassPlan:
     # method -> positions of returns whose done is an inner step's or'ed with the class's own
     # end of the task: ``bool(done) and not truncated, truncated``
     task_end_returns: dict[str, set[int]] = field(default_factory=dict)
+    # method -> positions of returns left as they are (the done of a base's step the run
+    # cannot show migrated): reported, not rewritten
+    kept_returns: dict[str, set[int]] = field(default_factory=dict)
     # method -> position of ``return self._observe()`` (a helper of four values that other
     # code reads too) -> the names it is unpacked into before returning five
     unpacked_helper_returns: dict[str, dict[int, tuple[str, ...]]] = field(default_factory=dict)
@@ -76,3 +81,16 @@ def truncated_false_message(limit_hint: str | None) -> str:
     if limit_hint:
         return f"step returns truncated=False, but `{limit_hint}` looks like a step limit: return it as truncated, not terminated"
     return "step returns terminated (the old done) and truncated=False; set truncated if the env stops episodes on a step limit"
+
+
+def batched_step_message(class_name: str) -> str:
+    """The one item on a batch of envs whose step returns stacked per-env flags (GM504 on an
+    env class, GM602 on a wrapper), whose contract the run keeps."""
+    return (
+        f"`{class_name}` is a batch of envs (its step returns one stacked done per env): its step keeps its own "
+        "four fields, and so do the calls of it and the wrappers around it this run can trace; only its calls on "
+        "the envs inside were migrated (each env's done is their `terminated or truncated`, so a time-limit cut "
+        "still counts as an end). To give it Gymnasium's step, return stacked terminated and truncated arrays, "
+        "together with its callers and the wrappers put on it (Gymnasium's own, such as RewardWrapper, unpack "
+        "five values)"
+    )

@@ -93,7 +93,8 @@ class ClassRewrite:
         if self.plan.seed is not None:
             self._seed(self.plan.seed)
         self._reset()
-        self._step()
+        if not self.plan.batched_step:  # a batch's step keeps its stacked four fields (GM504 reports it)
+            self._step()
         if self.plan.render:
             self._render()
         if self.plan.pass_render_mode:
@@ -246,7 +247,11 @@ class ClassRewrite:
         passing = self.plan.passthrough_returns.get(self.renamed.get(method_name, method_name), set())
         task_ending = self.plan.task_end_returns.get(self.renamed.get(method_name, method_name), set())
         unpacked = self.plan.unpacked_helper_returns.get(self.renamed.get(method_name, method_name), {})
+        kept = self.plan.kept_returns.get(self.renamed.get(method_name, method_name), set())
         for position, ret in enumerate(returns):
+            if position in kept:
+                plans.append(None)  # reported: what the base's step returns is not known
+                continue
             if position in unpacked:
                 plans.append(None)  # split into an unpack and a return below
                 continue

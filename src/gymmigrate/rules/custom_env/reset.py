@@ -13,6 +13,7 @@ import ast
 
 from gymmigrate.facts.env_classes import is_super_method_call
 from gymmigrate.facts.module import own_returns
+from gymmigrate.facts.own_api import is_info_pair
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.custom_env.common import (
     ClassDecision,
@@ -156,19 +157,7 @@ def _returns_pairs(function: ast.AST) -> bool:
     """Every ``return`` of ``function`` gives ``(obs, info)`` already: a two-element tuple
     whose second element is a dict (a display, ``dict(...)``) or named like an info."""
     returns = [ret for ret in own_returns(function) if ret.value is not None]
-    return bool(returns) and all(_is_info_pair(ret.value) for ret in returns)  # type: ignore[arg-type]
-
-
-def _is_info_pair(value: ast.expr) -> bool:
-    if not (isinstance(value, ast.Tuple) and len(value.elts) == 2):
-        return False
-    second = value.elts[1]
-    if isinstance(second, (ast.Dict, ast.DictComp)):
-        return True
-    if isinstance(second, ast.Call) and isinstance(second.func, ast.Name) and second.func.id == "dict":
-        return True
-    name = second.id if isinstance(second, ast.Name) else second.attr if isinstance(second, ast.Attribute) else ""
-    return "info" in name.lower()
+    return bool(returns) and all(is_info_pair(ret.value) for ret in returns)  # type: ignore[arg-type]
 
 
 def _unpack_super_reset(decision: ClassDecision, function: ast.AST) -> str | None:

@@ -24,7 +24,7 @@ from gymmigrate.facts.limits import (
     unwrap_bool,
 )
 from gymmigrate.facts.module import own_returns
-from gymmigrate.facts.receiver_classes import keeps_legacy_step
+from gymmigrate.facts.receiver_classes import is_batched_step_return, keeps_legacy_step
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import (
     ClassDecision,
@@ -39,7 +39,11 @@ from gymmigrate.rules.custom_env.hooks import (
     step_override_migratable,
     where,
 )
-from gymmigrate.rules.custom_env.plans import STEP_LIMIT_WORD, truncated_false_message
+from gymmigrate.rules.custom_env.plans import (
+    STEP_LIMIT_WORD,
+    batched_step_message,
+    truncated_false_message,
+)
 
 __all__ = ["decide_step", "is_step_limit", "unwrap_bool"]
 
@@ -129,6 +133,14 @@ def _decide_returns(decision: ClassDecision, function: Method, helpers: set[int]
                     FixKind.ASSIST,
                 )
             continue
+        if keeps_legacy_step(decision.classdef) and is_batched_step_return(ret.value, function):
+            # Stacked per-env flags: a batch of envs with its own API, where a scalar
+            # ``truncated`` has no place and ``done`` folds each env's truncation into one
+            # flag. Its contract is kept (and its callers' with it); one item per class.
+            decision.plan.batched_step = True
+            if not any(is_batched_step_return(r.value, function) for r in returns[:position]):
+                decision.report(ret, "GM504", batched_step_message(decision.classdef.name), FixKind.FLAG)
+            continue
         if tuple_len(ret.value) != 4:
             kept = (
                 ": the step keeps its four fields, and so do the calls of it this run can trace (their unpacks are left "
@@ -138,8 +150,23 @@ def _decide_returns(decision: ClassDecision, function: Method, helpers: set[int]
             )
             decision.report(ret, "GM504", f"step returns something other than a 4-tuple literal{kept}", FixKind.FLAG)
             continue
-        decision.plan.step = True
         done = ret.value.elts[2]  # type: ignore[attr-defined]
+        base = _from_unknown_base_step(decision, index, done.id) if isinstance(done, ast.Name) else None
+        if base is not None:
+            # ``done, False`` would be right only if the base's step kept four values, and
+            # ``bool(done) and not truncated, truncated`` only if it returns five: the run
+            # cannot tell which, so the return stays and a person decides.
+            decision.plan.kept_returns.setdefault(function.name, set()).add(position)
+            decision.report(
+                ret,
+                "GM504",
+                f"step returns the done of super().step(...), and `{base}` is no env class this run holds: if its step "
+                f"returns Gymnasium's five values, return `bool({done.id}) and not truncated, truncated` (its "
+                "truncation stays one); if it keeps four, keep this step's unpack and return as they were; not rewritten",
+                FixKind.FLAG,
+            )
+            continue
+        decision.plan.step = True
         if isinstance(done, ast.Name) and index.assigns_name(done.id):
             assigned = _single_assignment(index, done.id)
             if assigned is not None and _split_done(assigned):
@@ -357,8 +384,8 @@ def _counts_toward_a_limit(decision: ClassDecision) -> bool:
     facts = decision.family.facts
 
     def compute() -> bool:
-        if decision.env.has_local_env_base(decision.classdef):
-            return True  # the base class in this file may count steps for it
+        if decision.env.has_local_env_base(decision.classdef) or decision.env.base_step_migrates(decision.classdef):
+            return True  # the base class (in this file, or another of the run) may count steps for it
         # A name moved by a constant both ways (``pos -= 1`` for one action, ``pos += 1``
         # for another) is a position, not a count: it cannot run up to a limit by itself.
         directions: dict[str, set[bool]] = {}
@@ -479,8 +506,9 @@ def _split_done(expr: ast.AST) -> bool:
 
 
 def _task_ends(decision: ClassDecision, index: FunctionIndex, name: str) -> list[ast.Assign]:
-    """The ``name = True`` lines alone in an ``if`` (no ``else``) whose test is no step limit,
-    when every assignment of ``name`` but one is such a line; else nothing."""
+    """The ``name = True`` lines in one branch of an ``if`` whose test is no step limit and
+    whose other branch leaves ``name`` as it was (``else: reward = -100; done = True``: the
+    agent died), when every assignment of ``name`` but one is such a line; else nothing."""
     assigns = [
         a
         for a in index.of(ast.Assign)
@@ -494,12 +522,21 @@ def _task_ends(decision: ClassDecision, index: FunctionIndex, name: str) -> list
             isinstance(value, ast.Constant)
             and value.value is True
             and isinstance(parent, ast.If)
-            and assign in parent.body
-            and not parent.orelse
+            and not _assigns_in(parent.orelse if assign in parent.body else parent.body, name)
             and not any(isinstance(n, ast.Compare) and is_step_limit(n) for n in ast.walk(parent.test))
         ):
             ends.append(assign)
     return ends  # type: ignore[return-value]
+
+
+def _assigns_in(statements: list[ast.stmt], name: str) -> bool:
+    """A branch binds ``name`` (``if solved: done = True`` / ``else: done = False``): the
+    ``if`` decides done both ways, which is no end of the task added to the step's."""
+    return any(
+        isinstance(node, ast.Name) and node.id == name and isinstance(node.ctx, ast.Store)
+        for statement in statements
+        for node in ast.walk(statement)
+    )
 
 
 def _unpacked_from_inner_step(decision: ClassDecision, index: FunctionIndex, name: str, besides: frozenset[int] = frozenset()) -> bool:
@@ -512,6 +549,17 @@ def _unpacked_from_inner_step(decision: ClassDecision, index: FunctionIndex, nam
     selection = decision.family.context.options.selection
     if selection is not None and not selection.allows("GM301"):
         return False  # the unpack stays a legacy one: so does this return's done
+    value = _done_unpacked_from(index, name, besides)
+    if value is None:
+        return False
+    if is_super_method_call(value, "step"):
+        return decision.env.base_step_migrates(decision.classdef) is True  # five values after the run
+    return inner_gym_env_call(decision, value, "step")
+
+
+def _done_unpacked_from(index: FunctionIndex, name: str, besides: frozenset[int] = frozenset()) -> ast.expr | None:
+    """What ``name`` is unpacked from as the done of ``obs, r, name, info = <value>``, its
+    one binding but ``besides`` (``res = x.step(a)`` followed to the call); else None."""
     binders = [
         a
         for a in index.of(ast.Assign)
@@ -522,25 +570,49 @@ def _unpacked_from_inner_step(decision: ClassDecision, index: FunctionIndex, nam
     binders = [a for a in binders if id(a) not in besides]  # the class's own task ends, judged by the caller
     others = [n for n in index.of(ast.AugAssign, ast.AnnAssign, ast.For) if isinstance(n.target, ast.Name) and n.target.id == name]  # type: ignore[attr-defined]
     if len(binders) != 1 or others:
-        return False
+        return None
     unpack = binders[0]
     target = unpack.targets[0] if len(unpack.targets) == 1 else None  # type: ignore[attr-defined]
+    flags = unpack.value  # type: ignore[attr-defined]
+    if isinstance(target, ast.Name) and isinstance(flags, ast.BoolOp) and isinstance(flags.op, ast.Or) and len(flags.values) == 2:
+        # ``done = terminated or truncated`` after a five-name unpack (GM301's, seen again
+        # when the run verifies its own output): the same done, from the same call.
+        pair = [v.id for v in flags.values if isinstance(v, ast.Name)]
+        unpacks = [
+            a
+            for a in index.of(ast.Assign)
+            if len(a.targets) == 1  # type: ignore[attr-defined]
+            and isinstance(a.targets[0], (ast.Tuple, ast.List))  # type: ignore[attr-defined]
+            and len(a.targets[0].elts) == 5  # type: ignore[attr-defined]
+            and [e.id if isinstance(e, ast.Name) else None for e in a.targets[0].elts[2:4]] == pair  # type: ignore[attr-defined]
+        ]
+        return unpacks[0].value if len(unpacks) == 1 else None  # type: ignore[attr-defined]
     if not (
         isinstance(target, (ast.Tuple, ast.List))
         and len(target.elts) == 4
         and isinstance(target.elts[2], ast.Name)
         and target.elts[2].id == name
     ):
-        return False
+        return None
     value = unpack.value  # type: ignore[attr-defined]
     if isinstance(value, ast.Name):  # ``res = self.env.step(a)`` then ``... = res``
         stores = [a for a in index.of(ast.Assign) if any(isinstance(t, ast.Name) and t.id == value.id for t in a.targets)]  # type: ignore[attr-defined]
         if len(stores) != 1:
-            return False
+            return None
         value = stores[0].value  # type: ignore[attr-defined]
-    if is_super_method_call(value, "step"):
-        return decision.env.has_local_env_base(decision.classdef)  # the base's step migrates in this run
-    return inner_gym_env_call(decision, value, "step")
+    return value
+
+
+def _from_unknown_base_step(decision: ClassDecision, index: FunctionIndex, name: str) -> str | None:
+    """``name`` is the done of ``super().step(a)`` (or that done with the class's own task
+    ends) where the run does not show what the first base's step returns once migrated:
+    that base's text, else None."""
+    ends = frozenset(id(e) for e in _task_ends(decision, index, name))
+    value = _done_unpacked_from(index, name, ends)
+    if not is_super_method_call(value, "step") or decision.env.base_step_migrates(decision.classdef):
+        return None
+    bases = [b for b in decision.classdef.bases if not (isinstance(b, ast.Name) and b.id == "object")]
+    return decision.family.facts.segment(bases[0]) if bases else None
 
 
 def _single_assignment(index: FunctionIndex, name: str) -> ast.AST | None:

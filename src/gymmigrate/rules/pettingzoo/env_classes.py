@@ -312,6 +312,19 @@ class EnvClasses(PettingZooFamily):
             for attr in self.facts.attributes.get("render_mode", ())
         ):
             return  # no mode to move, or the class already stores ``self.render_mode``
+        handed_on = self._mode_handed_to_modeless_render(render)
+        if handed_on is not None:
+            # ``def render(self, mode="human"): return self.env.render(mode)`` around an env
+            # whose render takes no mode (it reads its own render_mode): that call raised
+            # TypeError already; without the mode, both are what PettingZoo 1.22 calls.
+            self.changed()
+            self.plan.replace(render, lambda node: _without_param(node, "mode"))
+            self.plan.replace(handed_on, lambda node: remove_args(node, lambda arg: True))
+            held = self.facts.segment(handed_on.func.value)  # type: ignore[attr-defined]
+            self.report(render, "PZ107", f"`render()` takes no mode since PettingZoo 1.22, and `{held}.render()`, which "
+                        "this one handed the mode to, takes none either (its own render_mode decides): the mode is "
+                        "dropped from both", FixKind.ASSIST)
+            return
         init = methods.get("__init__")
         if init is None or init.args.vararg or init.args.kwarg or init.args.kwonlyargs or any(
             a.arg == "render_mode" for a in init.args.args
@@ -326,6 +339,38 @@ class EnvClasses(PettingZooFamily):
         _insert_first(self.plan, init, "self.render_mode = render_mode")
         self.report(render, "PZ107", "the render mode is fixed at construction (`render_mode=`, PettingZoo 1.22); "
                     "review: `render()` now reads `self.render_mode`", FixKind.ASSIST)
+
+    def _mode_handed_to_modeless_render(self, render: ast.FunctionDef | ast.AsyncFunctionDef) -> ast.Call | None:
+        """The one use of ``mode`` in ``render`` is ``self.<x>.render(mode)``, where every value
+        the class stores in ``self.<x>`` is an instance of a class of this module whose
+        ``render(self)`` takes nothing: that call; else None."""
+        reads = self.facts.scopes[render].reads.get("mode", []) if render in self.facts.scopes else []
+        if len(reads) != 1:
+            return None
+        call = self.facts.parent(reads[0])
+        if not (
+            isinstance(call, ast.Call)
+            and len(call.args) == 1
+            and call.args[0] is reads[0]
+            and not call.keywords
+            and isinstance(call.func, ast.Attribute)
+            and call.func.attr == "render"
+        ):
+            return None
+        held = call.func.value
+        if not (isinstance(held, ast.Attribute) and isinstance(held.value, ast.Name) and held.value.id == "self"):
+            return None
+        values = self.receivers.self_attribute_values(held, held.attr)
+        if not values:
+            return None
+        for value in values:
+            classdef = self.receivers.local_class(value.func) if isinstance(value, ast.Call) else None
+            if classdef is None:
+                return None
+            inner = next((m for m in classdef.body if isinstance(m, FUNCTIONS) and m.name == "render"), None)
+            if inner is None or inner.args.vararg or inner.args.kwarg or len([*inner.args.posonlyargs, *inner.args.args]) != 1 or inner.args.kwonlyargs:
+                return None
+        return call
 
     # -- reset ----------------------------------------------------------------------------
 

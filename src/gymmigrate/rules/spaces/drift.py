@@ -101,6 +101,32 @@ def _number(expr: ast.AST | None) -> float | None:
     return None
 
 
+def _wrapped(value: int, limits: tuple[int, int]) -> int:
+    """``value`` cast into an integer dtype of range ``limits``, as NumPy wraps it."""
+    low, high = limits
+    return (value - low) % (high - low + 1) + low
+
+
+def _legacy_cast(call: ast.Call, name: str, bound: float, limits: tuple[int, int]) -> str:
+    """What gym 0.26's Box made of the bound: an integer bound wrapped into the dtype; where
+    the other bound is known too and the wrapped bounds cross, a space no value is in. Said
+    so that the item shows why no Gymnasium space reproduces it (1.x also rejects low > high)."""
+    if not float(bound).is_integer():
+        return f"gym cast it into the dtype, so the legacy space's {name} was not {bound:g}"
+    wrapped = _wrapped(int(bound), limits)
+    text = f"gym cast it into the dtype: the legacy space's {name} was {wrapped}"
+    other_name = "high" if name == "low" else "low"
+    other = _number(_argument(call, 1 if other_name == "high" else 0, other_name))
+    if other is not None and float(other).is_integer():
+        low, high = (wrapped, _wrapped(int(other), limits)) if name == "low" else (_wrapped(int(other), limits), wrapped)
+        if low > high:
+            return (
+                f"gym cast it into the dtype: the legacy space had low {low} above high {high}, so contains() was False "
+                "for every value, which no Gymnasium space reproduces"
+            )
+    return text
+
+
 def _space_class(qualified: set[str]) -> str | None:
     for q in qualified:
         rest = N.strip_gym_prefix(q)
@@ -431,7 +457,7 @@ class SpaceDrift(RuleFamily):
                 call,
                 "GM909",
                 f"`Box` {name}={bound:g} is outside the range of {dtype_name} ({limits[0]}..{limits[1]}): Gymnasium 1.x "
-                f"raises ValueError (gym cast it into the dtype, so the legacy space's {name} was not {bound:g}); use the "
+                f"raises ValueError ({_legacy_cast(call, name, bound, limits)}); use the "
                 "dtype the bounds were meant for (`np.uint8` for 0..255 pixels) or bounds the dtype holds",
                 FixKind.FLAG,
             )

@@ -62,6 +62,9 @@ class StepNames:
     truncated: str
     vector: bool
     numpy: str = "np"
+    # The code reads ``done`` as one flag or as per-env flags (``isinstance(done, bool)``,
+    # ``done[i]``): ``|`` is ``or`` on two bools and elementwise on arrays, where ``or`` raises.
+    elementwise: bool = False
 
     @property
     def code(self) -> str:
@@ -70,6 +73,8 @@ class StepNames:
     def joined(self) -> str:
         if self.vector:
             return f"{self.numpy}.logical_or({self.terminated}, {self.truncated})"
+        if self.elementwise:
+            return f"{self.terminated} | {self.truncated}"
         return f"{self.terminated} or {self.truncated}"
 
 

@@ -13,6 +13,7 @@ from collections.abc import Hashable
 
 from gymmigrate.facts.decisions import Decision
 from gymmigrate.facts.done_uses import DoneUse, classify_done_read, stored_in_sequence
+from gymmigrate.facts.receiver_classes import is_batched_step_return, keeps_legacy_step
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.step_done.common import StepNames
 from gymmigrate.rules.step_done.next_state import DoneStep
@@ -198,6 +199,16 @@ class DoneReadReports(DoneBookkeeping):
                 FixKind.FLAG,
                 Tier.NOTE,
             )
+        elif owner is step.assign and self._in_kept_batch_return(read):
+            # The batch's own four-field step (GM504/GM602 report the class): the flag is
+            # each env's end for the batch's callers, as legacy ``done`` was (a note).
+            self._report_read(
+                read,
+                f"`{read.id}` is returned among a batch's stacked flags, whose step keeps its four fields: it stays "
+                f"`{names.terminated} or {names.truncated}`, each env's end, as legacy `done` was",
+                FixKind.FLAG,
+                Tier.NOTE,
+            )
         elif use is DoneUse.AMBIGUOUS and owner is step.assign and self._hands_step_on(read, step):
             self._report_read(
                 read,
@@ -230,6 +241,20 @@ class DoneReadReports(DoneBookkeeping):
                 FixKind.FLAG,
                 question=question,
             )
+
+    def _in_kept_batch_return(self, read: ast.Name) -> bool:
+        """``read`` is in a stacked return of a step that keeps its four fields (a batch)."""
+        statement = self.facts.statement_of(read)
+        function = self.facts.enclosing_function(read)
+        classdef = self.facts.enclosing_class(read)
+        return (
+            isinstance(statement, ast.Return)
+            and function is not None
+            and classdef is not None
+            and function.name == "step"
+            and keeps_legacy_step(classdef)
+            and is_batched_step_return(statement.value, function)
+        )
 
     def _report_read(
         self, read: ast.Name, message: str, kind: FixKind, tier: Tier | None = None, question: Hashable | None = None

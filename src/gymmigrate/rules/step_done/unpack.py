@@ -209,14 +209,27 @@ class UnpackRules(DoneReadReports):
     def _step_names(self, assign: ast.Assign, vector: bool) -> StepNames:
         base = ("terminations", "truncations") if vector else ("terminated", "truncated")
         numpy = self.numpy_name or "np"
+        elementwise = not vector and self._reads_batched_done(assign)
         if not any(name in self.facts.text for name in base):
             # A name the file never spells is free: no walk of the scope for the names it uses.
-            return StepNames(*base, vector=vector, numpy=numpy)
+            return StepNames(*base, vector=vector, numpy=numpy, elementwise=elementwise)
         scope = self.facts.scope_of(assign)
         taken = self.flow.names_used_in(scope)
         compatible = self._step_flag_names(scope) if any(name in taken for name in base) else set()
         terminated, truncated = (_fresh(name, taken, compatible) for name in base)
-        return StepNames(terminated, truncated, vector=vector, numpy=numpy)
+        return StepNames(terminated, truncated, vector=vector, numpy=numpy, elementwise=elementwise)
+
+    def _reads_batched_done(self, assign: ast.Assign) -> bool:
+        """The function of ``obs, r, done, info = x.step(a)`` handles ``done`` as per-env
+        flags too (``[done] if isinstance(done, bool) else done``, ``done[i]``, ``for d in
+        done``, ``np.any(done)``, ``done.any()``): a batch may come through, where ``or``
+        raises on arrays."""
+        target = assign.targets[0]
+        function = self.facts.enclosing_function(assign)
+        if function is None or not isinstance(target, (ast.Tuple, ast.List)) or len(target.elts) != 4:
+            return False
+        done = target.elts[2]
+        return isinstance(done, ast.Name) and reads_as_batch(function, done.id)
 
     def _step_flag_names(self, scope: Scope) -> set[str]:
         """Names that only ever hold step flags in ``scope`` (safe to bind again)."""
@@ -268,3 +281,28 @@ def _split_done(target: cst.BaseExpression, names: StepNames) -> cst.BaseExpress
     comma = done.comma if isinstance(done.comma, cst.Comma) else cst.Comma(whitespace_after=cst.SimpleWhitespace(" "))
     elements[2:3] = [cst.Element(value=first, comma=comma), cst.Element(value=second, comma=comma)]
     return target.with_changes(elements=elements)
+
+
+# ``np.any(done)``, ``np.logical_not(done)``: calls that read a flag array element by element
+_ELEMENTWISE_CALLS = frozenset({"any", "all", "logical_or", "logical_and", "logical_not", "where", "nonzero", "flatnonzero"})
+
+
+def reads_as_batch(function: ast.AST, name: str) -> bool:
+    """``function`` reads ``name`` as a collection of per-env flags somewhere."""
+
+    def is_name(node: ast.AST) -> bool:
+        return isinstance(node, ast.Name) and node.id == name
+
+    for node in ast.walk(function):
+        if isinstance(node, ast.Call):
+            func = node.func
+            if isinstance(func, ast.Name) and func.id == "isinstance" and node.args and is_name(node.args[0]):
+                return True  # ``isinstance(done, bool)``: a bool or something else (a batch)
+            if isinstance(func, ast.Attribute) and func.attr in _ELEMENTWISE_CALLS:
+                if is_name(func.value) or any(is_name(a) for a in node.args):
+                    return True
+        elif isinstance(node, ast.Subscript) and is_name(node.value):
+            return True
+        elif isinstance(node, (ast.comprehension, ast.For)) and is_name(node.iter):
+            return True
+    return False

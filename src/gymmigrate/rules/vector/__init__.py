@@ -54,7 +54,8 @@ RULES = (
         "GM702",
         "vector env spaces arguments",
         FixKind.FLAG,
-        "`SyncVectorEnv/AsyncVectorEnv(..., observation_space=, action_space=)` no longer exist.",
+        "`SyncVectorEnv/AsyncVectorEnv(..., observation_space=, action_space=)` no longer exist: dropped where they are "
+        "the spaces of the one env every env function copies, reported otherwise.",
     ),
     Rule(
         "GM705",

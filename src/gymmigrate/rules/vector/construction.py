@@ -7,7 +7,12 @@
   ``vector_entry_point`` (for CartPole a different class, which rejects ``wrappers=``).
   ``wrappers`` must be a sequence; arguments of the vector class go in ``vector_kwargs``.
 * GM702 ``SyncVectorEnv/AsyncVectorEnv(fns, observation_space, action_space)``: those
-  parameters are gone (1.x has ``observation_mode``); reported.
+  parameters are gone (1.x has ``observation_mode``); reported. Dropped where they are
+  ``env.observation_space``/``env.action_space`` of one env every function of ``fns``
+  copies (``[lambda: env] * n``, a def returning ``cloudpickle.loads(cloudpickle.dumps(env))``),
+  also when they come in a tuple a def of the module returns (``constructor(*args)``
+  -> ``constructor(args[0])``): they are then the sub-envs' own spaces, which is what
+  Gymnasium takes when none are passed (gym 0.26 checked that every sub-env's matched).
 
 Source: Gymnasium ``envs/registration.py::make_vec``, ``vector/sync_vector_env.py``,
 ``vector/async_vector_env.py``.
@@ -17,7 +22,7 @@ from __future__ import annotations
 
 import ast
 import builtins
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import Any
 
 from gymmigrate.edits.arguments import append_keyword
@@ -221,6 +226,8 @@ class Construction(VectorFamilyBase):
     def check_spaces_arguments(self, call: ast.Call) -> None:
         named = [kw.arg for kw in call.keywords if kw.arg in ("observation_space", "action_space")]
         positional = [a for a in call.args if not isinstance(a, ast.Starred)]
+        if self._drop_own_spaces(call):
+            return
         if not named and call.args and isinstance(call.args[0], ast.Starred):
             self.report(
                 call,
@@ -243,8 +250,209 @@ class Construction(VectorFamilyBase):
                 "if the sub-env spaces differ",
             )
 
+    # GM702's certain case: the spaces of the one env that every env function copies.
+
+    def _drop_own_spaces(self, call: ast.Call) -> bool:
+        """Drop legacy spaces that are certainly the sub-envs' own; True if it did."""
+        if len(call.args) == 1 and isinstance(call.args[0], ast.Starred):
+            if any(kw.arg in ("observation_space", "action_space") or kw.arg is None for kw in call.keywords):
+                return False
+            source = call.args[0].value
+            returned = self._returned_tuples(source)
+            if not returned or not all(self._own_spaces(items[0], items[1:]) for items in returned):
+                return False
+            self.plan.replace(call, _first_of_starred)
+            self.report(
+                call,
+                "GM702",
+                f"`*{self.facts.segment(source)}` holds (env functions, legacy spaces) and the spaces are those of "
+                f"the env each function copies: only the env functions are passed (Gymnasium takes the sub-envs' "
+                "own spaces, equal to those of the env they copy)",
+                FixKind.AUTO,
+            )
+            return True
+        if any(isinstance(a, ast.Starred) for a in call.args) or any(kw.arg is None for kw in call.keywords):
+            return False
+        if not call.args:
+            return False
+        given: dict[str, ast.expr] = dict(zip(("observation_space", "action_space"), call.args[1:3]))
+        for kw in call.keywords:
+            if kw.arg in ("observation_space", "action_space"):
+                if kw.arg in given:
+                    return False  # a space both by position and by name: legacy's own TypeError
+                given[kw.arg] = kw.value
+        if not given or not self._own_spaces(call.args[0], [given.get("observation_space"), given.get("action_space")]):
+            return False
+        dropped_positions = frozenset(range(1, min(len(call.args), 3)))
+        dropped_names = frozenset(kw.arg for kw in call.keywords if kw.arg in ("observation_space", "action_space"))
+        self.plan.replace(call, lambda node: _without_arguments(node, dropped_positions, dropped_names))
+        self.report(
+            call,
+            "GM702",
+            "the legacy spaces are those of the env each function copies: dropped (Gymnasium takes the sub-envs' own "
+            "spaces, equal to those of the env they copy)",
+            FixKind.AUTO,
+        )
+        return True
+
+    def _returned_tuples(self, source: ast.expr) -> list[list[ast.expr]]:
+        """The (fns, observation_space[, action_space]) tuples ``source`` can be: every return
+        of the def of this module it calls (directly or through a name bound once)."""
+        if isinstance(source, ast.Name):
+            bindings = self.facts.bindings_of(source)
+            if len(bindings) != 1 or not isinstance(bindings[0], ast.Name):
+                return []
+            assign = self.facts.parent(bindings[0])
+            if not (isinstance(assign, ast.Assign) and len(assign.targets) == 1 and assign.targets[0] is bindings[0]):
+                return []
+            source = assign.value
+        if not (isinstance(source, ast.Call) and isinstance(source.func, ast.Name)):
+            return []
+        defs = self.facts.bindings_of(source.func)
+        if len(defs) != 1 or not isinstance(defs[0], ast.FunctionDef) or defs[0].decorator_list:
+            return []  # a decorator may return something else
+        returns = _own_returns(defs[0])
+        if returns is None:
+            return []
+        tuples: list[list[ast.expr]] = []
+        for value in returns:
+            if not (isinstance(value, ast.Tuple) and len(value.elts) in (2, 3)):
+                return []
+            if any(isinstance(e, ast.Starred) for e in value.elts):
+                return []
+            tuples.append(list(value.elts))
+        return tuples
+
+    def _own_spaces(self, fns: ast.expr, spaces: Sequence[ast.expr | None]) -> bool:
+        """``spaces`` are ``env.observation_space``/``env.action_space`` of one name ``env``,
+        bound once, and every function of ``fns`` returns ``env`` or a copy of it."""
+        env: ast.Name | None = None
+        for space, attr in zip(spaces, ("observation_space", "action_space")):
+            if space is None:
+                continue
+            if not (isinstance(space, ast.Attribute) and space.attr == attr and isinstance(space.value, ast.Name)):
+                return False
+            if env is not None and space.value.id != env.id:
+                return False
+            env = space.value
+        if env is None:
+            return False
+        binding = self.facts.bindings_of(env)
+        if len(binding) != 1:
+            return False  # a name rebound later may be another env when the functions run
+        functions = _env_functions(fns)
+        return bool(functions) and all(self._returns_copy_of(f, binding[0]) for f in functions)
+
+    def _returns_copy_of(self, function: ast.expr, binding: ast.AST) -> bool:
+        if isinstance(function, ast.Lambda):
+            return not _has_parameters(function.args) and self._copy_of(function.body, binding)
+        if not isinstance(function, ast.Name):
+            return False
+        defs = self.facts.bindings_of(function)
+        if len(defs) != 1 or not isinstance(defs[0], ast.FunctionDef) or _has_parameters(defs[0].args):
+            return False
+        if defs[0].decorator_list:
+            return False  # a decorator may return something else
+        returns = _own_returns(defs[0])
+        return bool(returns) and all(self._copy_of(value, binding) for value in returns or ())
+
+    def _copy_of(self, value: ast.expr | None, binding: ast.AST, depth: int = 0) -> bool:
+        """``value`` is the env bound at ``binding``, ``copy.deepcopy`` of it, or a pickle round trip."""
+        if value is None or depth > 3:
+            return False
+        if isinstance(value, ast.Name):
+            bindings = self.facts.bindings_of(value)
+            if bindings == [binding]:
+                return True
+            # ``env_copy = cloudpickle.loads(cloudpickle.dumps(env)); return env_copy``
+            if len(bindings) == 1 and isinstance(bindings[0], ast.Name):
+                assign = self.facts.parent(bindings[0])
+                if isinstance(assign, ast.Assign) and assign.targets == [bindings[0]]:
+                    return self._copy_of(assign.value, binding, depth + 1)
+            return False
+        if not (isinstance(value, ast.Call) and len(value.args) == 1 and not value.keywords):
+            return False
+        names = self.facts.qualified_names(value.func)
+        if names & {"copy.deepcopy", "copy.copy"}:
+            return self._copy_of(value.args[0], binding, depth + 1)
+        inner = value.args[0]
+        if any(n.endswith(".loads") and n.split(".")[0] in _PICKLERS for n in names) and isinstance(inner, ast.Call):
+            dumps = self.facts.qualified_names(inner.func)
+            if any(n.endswith(".dumps") and n.split(".")[0] in _PICKLERS for n in dumps) and len(inner.args) == 1:
+                return self._copy_of(inner.args[0], binding, depth + 1)
+        return False
+
+
+_PICKLERS = frozenset({"pickle", "cloudpickle", "dill"})
+
+
+def _has_parameters(args: ast.arguments) -> bool:
+    return bool(args.posonlyargs or args.args or args.vararg or args.kwonlyargs or args.kwarg)
+
+
+def _own_returns(function: ast.FunctionDef) -> list[ast.expr | None] | None:
+    """The values ``function`` itself returns (not its nested defs'); None for a generator
+    or a body that can end without a return."""
+    values: list[ast.expr | None] = []
+    stack: list[ast.AST] = list(function.body)
+    while stack:
+        node = stack.pop()
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda, ast.ClassDef)):
+            continue
+        if isinstance(node, (ast.Yield, ast.YieldFrom)):
+            return None
+        if isinstance(node, ast.Return):
+            values.append(node.value)
+        stack.extend(ast.iter_child_nodes(node))
+    if not function.body or not isinstance(function.body[-1], ast.Return):
+        return None
+    return values
+
+
+def _env_functions(fns: ast.expr) -> list[ast.expr]:
+    """The functions a literal list of env functions holds: ``[f] * n``, ``[f, g]``,
+    ``[f for _ in range(n)]``; empty when it is not such a literal."""
+    if isinstance(fns, ast.BinOp) and isinstance(fns.op, ast.Mult):
+        for side in (fns.left, fns.right):
+            if isinstance(side, (ast.List, ast.Tuple)):
+                return _env_functions(side)
+        return []
+    if isinstance(fns, (ast.List, ast.Tuple)):
+        if not fns.elts or any(isinstance(e, ast.Starred) for e in fns.elts):
+            return []
+        return list(fns.elts)
+    if isinstance(fns, ast.ListComp):
+        return [fns.elt]
+    return []
+
 
 # -- builds (LibCST) ------------------------------------------------------------------------
+
+
+def _first_of_starred(node: cst.Call) -> cst.Call:
+    """``f(*args)`` -> ``f(args[0])``."""
+    arg = node.args[0]
+    index = cst.Subscript(value=arg.value, slice=[cst.SubscriptElement(cst.Index(cst.Integer("0")))])
+    return node.with_changes(args=[arg.with_changes(star="", value=index), *node.args[1:]])
+
+
+def _without_arguments(node: cst.Call, positions: frozenset[int], names: frozenset[str]) -> cst.Call:
+    """``node`` without its positional arguments at ``positions`` and keywords ``names``;
+    the last kept argument takes the old last one's trailing comma."""
+    args = list(node.args)
+    kept: list[cst.Arg] = []
+    position = 0
+    for arg in args:
+        if arg.keyword is None and not arg.star:
+            position += 1
+            if position - 1 in positions:
+                continue
+        elif arg.keyword is not None and arg.keyword.value in names:
+            continue
+        kept.append(arg)
+    if kept and kept[-1] is not args[-1]:
+        kept[-1] = kept[-1].with_changes(comma=args[-1].comma)
+    return node.with_changes(args=kept)
 
 
 def _equal() -> cst.AssignEqual:

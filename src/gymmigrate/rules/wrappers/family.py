@@ -62,6 +62,8 @@ class WrapperClasses(StepOverrides, ResetOverrides):
                 if statement.name == "__init__" and self.receivers.has_gym_wrapper_base(classdef):
                     self._check_init(classdef, statement)
                 elif statement.name == "step":
+                    if self._reports_wrapped_batch(classdef, statement):
+                        continue
                     self._fix_step(statement)
                 elif statement.name == "reset":
                     self._fix_reset(classdef, statement)
@@ -69,6 +71,22 @@ class WrapperClasses(StepOverrides, ResetOverrides):
                     self._check_seed(classdef, statement)
                 elif statement.name == "render":
                     self._check_render(classdef, statement)
+
+    def _reports_wrapped_batch(self, classdef: ast.ClassDef, function: ast.FunctionDef | ast.AsyncFunctionDef) -> bool:
+        """``Stats(Batch(...))`` where Batch's step keeps its four stacked fields: the wrapper's
+        step unpacks those four, so it keeps them as well (its reset follows the batch's)."""
+        batch = self.receivers.wraps_legacy_step(classdef)
+        if batch is None:
+            return False
+        self.report(
+            function,
+            "GM602",
+            f"`{classdef.name}` is put around `{batch}` here, a batch of envs whose step keeps its four stacked fields "
+            "(GM504 reports it): this step keeps them too, and so do the calls of it this run can trace; if the "
+            "wrapper also wraps single Gymnasium envs elsewhere, port it together with the batch",
+            FixKind.FLAG,
+        )
+        return True
 
     # -- seed() and render(mode, ...) overrides: Gymnasium calls neither that way ----------------
 

@@ -19,8 +19,10 @@ from dataclasses import replace
 
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts.module import own_returns
+from gymmigrate.facts.receiver_classes import is_batched_step_return, keeps_legacy_step
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import RuleFamily
+from gymmigrate.rules.custom_env.plans import batched_step_message
 from gymmigrate.rules.custom_env.step import is_step_limit
 from gymmigrate.rules.step_done.common import StepUnpack
 from gymmigrate.rules.wrappers.common import (
@@ -102,6 +104,14 @@ class StepOverrides(RuleFamily):
         The flags are those of the step unpack in the override, as the step family
         rewrote it (``notes.step_unpacks``) or as it already was (five targets).
         """
+        classdef = self.facts.parent(function)
+        if isinstance(classdef, ast.ClassDef) and keeps_legacy_step(classdef):
+            batched = [r for r in own_returns(function) if is_batched_step_return(r.value, function)]
+            if batched:
+                # A batch of envs (a single env shown as a batch of one): stacked flags, no
+                # place for one scalar ``truncated``; its contract and its callers' are kept.
+                self.report(batched[0], "GM602", batched_step_message(classdef.name), kind=FixKind.FLAG)
+                return
         noted_unpacks: dict[ast.Assign, StepUnpack] = self.notes.step_unpacks
         lines = list(_statements(function.body))
         flags: tuple[str, str] | None = None
@@ -111,6 +121,7 @@ class StepOverrides(RuleFamily):
         consistent = True
         unpacks: dict[ast.stmt, StepUnpack | None] = {}
         bound: set[str] = set()
+        inner_done: str | None = None  # the legacy unpack's done name, with or without a done line
         for index, line in enumerate(lines):
             assign = _single_assign(line)
             if assign is None or _inner_call(assign.value, "step") is None:
@@ -139,6 +150,7 @@ class StepOverrides(RuleFamily):
                     found = ("_", "_") if noted.discarded else (names.terminated, names.truncated)
                     bound.update(named - {targets[2]})
                     bound.update(found)
+                    inner_done = inner_done or targets[2]
                     if noted.done_line is not None and targets[2] is not None:
                         bound.add(targets[2])
                         if done_name is None:
@@ -276,6 +288,19 @@ class StepOverrides(RuleFamily):
                 self.plan.replace(
                     value, lambda node, d=done_name, u=truncated: _five(node, [cst.parse_expression(f"bool({d}) and not {u}"), cst.Name(u)])
                 )
+            elif (reshaped := done_name or inner_done) is not None and not done_modified and _reshapes(done, reshaped, terminated):
+                # ``np.asarray(done)``, ``bool(done)``: the inner done only reshaped, no end of
+                # the override's own; the same call on each flag keeps both and the shape.
+                self.report(
+                    ret,
+                    "GM602",
+                    f"step returns the inner step's `{terminated}` and `{truncated}`, each passed through the call that "
+                    f"reshaped `{reshaped}`",
+                    kind=FixKind.ASSIST,
+                    tier=Tier.NOTE,
+                )
+                replaced_done_reads += reshaped == done_name
+                self.plan.replace(value, lambda node, t=terminated, u=truncated: _five(node, _reshaped_flags(node, t, u)))
             else:
                 self.report(
                     ret,
@@ -466,6 +491,40 @@ def _five(node: cst.Tuple, flags: list[cst.BaseExpression]) -> cst.Tuple:
     """``obs, reward, done, info`` -> ``obs, reward, <flags>, info``."""
     obs, reward, _, info = (element.value for element in node.elements)
     return _tuple([obs, reward, *flags, info], node if node.lpar else None)
+
+
+# Calls that only convert or reshape a flag (elementwise): ``f(terminated) or f(truncated)``
+# is ``f(terminated or truncated)``.
+_RESHAPING = frozenset({"bool", "asarray", "array", "expand_dims", "atleast_1d", "reshape", "bool_"})
+
+
+def _reshapes(done: ast.expr, name: str, terminated: str) -> bool:
+    """``np.expand_dims(done, 0)``, ``bool(done)``: a reshaping call whose first argument is
+    the inner ``done`` (which the step family may have made ``terminated``) and whose other
+    arguments do not read it."""
+    if not (isinstance(done, ast.Call) and done.args and not any(isinstance(a, ast.Starred) for a in done.args)):
+        return False
+    func = done.func
+    called = func.attr if isinstance(func, ast.Attribute) else func.id if isinstance(func, ast.Name) else None
+    first = done.args[0]
+    rest = [*done.args[1:], *(k.value for k in done.keywords)]
+    return (
+        called in _RESHAPING
+        and isinstance(first, ast.Name)
+        and first.id == name
+        and name != terminated
+        and not any(isinstance(n, ast.Name) and n.id == name for r in rest for n in ast.walk(r))
+    )
+
+
+def _reshaped_flags(node: cst.Tuple, terminated: str, truncated: str) -> list[cst.BaseExpression]:
+    call = node.elements[2].value
+    assert isinstance(call, cst.Call)  # ``_reshapes`` checked the ast side
+    first = call.args[0]
+    return [
+        call.with_changes(args=[first.with_changes(value=cst.Name(flag)), *call.args[1:]])
+        for flag in (terminated, truncated)
+    ]
 
 
 def _cut(node: cst.Tuple, terminated: str) -> list[cst.BaseExpression]:
