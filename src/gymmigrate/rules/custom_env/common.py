@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import ast
+from collections.abc import Hashable
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts.decisions import Action, decide
@@ -61,10 +62,16 @@ class ClassDecision:
         return self.plan.renamed
 
     def report(
-        self, node: ast.AST, code: str, message: str, kind: FixKind | None = None, tier: Tier | None = None
+        self,
+        node: ast.AST,
+        code: str,
+        message: str,
+        kind: FixKind | None = None,
+        tier: Tier | None = None,
+        question: Hashable | None = None,
     ) -> None:
         # ast places a decorated def on its ``def`` line, as LibCST's positions did.
-        self.family.report(node, code, message, kind, tier)
+        self.family.report(node, code, message, kind, tier, question)
 
     def method(self, name: str) -> Method | None:
         return self.methods.get(self.renamed.get(name, name))

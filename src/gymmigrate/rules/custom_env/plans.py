@@ -13,7 +13,15 @@ from gymmigrate.facts.limits import STEP_LIMIT_WORD
 
 SUPER_RESET = "super().reset(seed=seed)"
 
-__all__ = ["STEP_LIMIT_WORD", "SUPER_RESET", "ClassPlan", "SeedPlan", "batched_step_message", "truncated_false_message"]
+__all__ = [
+    "BATCHED_STEP_QUESTION",
+    "STEP_LIMIT_WORD",
+    "SUPER_RESET",
+    "ClassPlan",
+    "SeedPlan",
+    "batched_step_message",
+    "truncated_false_message",
+]
 
 
 @dataclass
@@ -81,6 +89,11 @@ def truncated_false_message(limit_hint: str | None) -> str:
     if limit_hint:
         return f"step returns truncated=False, but `{limit_hint}` looks like a step limit: return it as truncated, not terminated"
     return "step returns terminated (the old done) and truncated=False; set truncated if the env stops episodes on a step limit"
+
+
+# The batches of envs of one module (a batch, its batch of one, its process-pool variant)
+# are one decision, to port together or keep together: one review item names them all.
+BATCHED_STEP_QUESTION = "batches of envs of this module"
 
 
 def batched_step_message(class_name: str) -> str:

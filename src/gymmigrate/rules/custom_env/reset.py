@@ -14,7 +14,7 @@ import ast
 from gymmigrate.facts.env_classes import is_super_method_call
 from gymmigrate.facts.module import own_returns
 from gymmigrate.facts.own_api import is_info_pair
-from gymmigrate.findings import FixKind
+from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import (
     ClassDecision,
     callable_without_arguments,
@@ -72,6 +72,17 @@ def decide_reset(decision: ClassDecision) -> None:
         pass
     elif decision.plan.reset_super_seeds or super_resets:
         inserted = not super_resets
+    elif "np_random" not in decision.family.facts.text:
+        # Nothing of the module draws from np_random (a batch seeds its envs inside, say):
+        # leaving it unseeded changes nothing here, so this is not a decision.
+        decision.report(
+            function,
+            "GM501",
+            "reset() does not seed np_random (super().reset() here would also run the base env's own reset); "
+            "nothing in this module reads np_random, so nothing draws from it unseeded",
+            FixKind.FLAG,
+            Tier.NOTE,
+        )
     else:
         decision.report(
             function,

@@ -40,6 +40,7 @@ from gymmigrate.rules.custom_env.hooks import (
     where,
 )
 from gymmigrate.rules.custom_env.plans import (
+    BATCHED_STEP_QUESTION,
     STEP_LIMIT_WORD,
     batched_step_message,
     truncated_false_message,
@@ -139,7 +140,13 @@ def _decide_returns(decision: ClassDecision, function: Method, helpers: set[int]
             # flag. Its contract is kept (and its callers' with it); one item per class.
             decision.plan.batched_step = True
             if not any(is_batched_step_return(r.value, function) for r in returns[:position]):
-                decision.report(ret, "GM504", batched_step_message(decision.classdef.name), FixKind.FLAG)
+                decision.report(
+                    ret,
+                    "GM504",
+                    batched_step_message(decision.classdef.name),
+                    FixKind.FLAG,
+                    question=BATCHED_STEP_QUESTION,
+                )
             continue
         if tuple_len(ret.value) != 4:
             kept = (

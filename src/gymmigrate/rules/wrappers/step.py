@@ -22,7 +22,10 @@ from gymmigrate.facts.module import own_returns
 from gymmigrate.facts.receiver_classes import is_batched_step_return, keeps_legacy_step
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import RuleFamily
-from gymmigrate.rules.custom_env.plans import batched_step_message
+from gymmigrate.rules.custom_env.plans import (
+    BATCHED_STEP_QUESTION,
+    batched_step_message,
+)
 from gymmigrate.rules.custom_env.step import is_step_limit
 from gymmigrate.rules.step_done.common import StepUnpack
 from gymmigrate.rules.wrappers.common import (
@@ -110,7 +113,13 @@ class StepOverrides(RuleFamily):
             if batched:
                 # A batch of envs (a single env shown as a batch of one): stacked flags, no
                 # place for one scalar ``truncated``; its contract and its callers' are kept.
-                self.report(batched[0], "GM602", batched_step_message(classdef.name), kind=FixKind.FLAG)
+                self.report(
+                    batched[0],
+                    "GM602",
+                    batched_step_message(classdef.name),
+                    kind=FixKind.FLAG,
+                    question=BATCHED_STEP_QUESTION,
+                )
                 return
         noted_unpacks: dict[ast.Assign, StepUnpack] = self.notes.step_unpacks
         lines = list(_statements(function.body))
