@@ -258,6 +258,19 @@ class EnvClasses:
                 return True
         return None
 
+    def has_run_env_base(self, classdef: ast.ClassDef) -> bool:
+        """The first base is an env class of another module of the run whose step the run
+        migrates (such a base may count steps for the class); Gym's own env classes, such
+        as MujocoEnv, count none: TimeLimit does."""
+        bases = [b for b in classdef.bases if not (isinstance(b, ast.Name) and b.id == "object")]
+        project = self.receivers.project
+        if not bases or project is None or self.receivers.local_class(bases[0]) is not None:
+            return False
+        names = self.facts.qualified_names(bases[0])
+        if any(_is_builtin_env_class(q) for q in names):
+            return False
+        return any(project.call_kind(q) is EnvKind.GYM_ENV and not project.keeps_legacy_step(q) for q in names)
+
     def mujoco_base(self, classdef: ast.ClassDef) -> bool:
         return any(N.strip_gym_prefix(q) in MUJOCO_BASES for base in classdef.bases for q in self.facts.qualified_names(base))
 

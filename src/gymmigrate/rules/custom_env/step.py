@@ -391,7 +391,7 @@ def _counts_toward_a_limit(decision: ClassDecision) -> bool:
     facts = decision.family.facts
 
     def compute() -> bool:
-        if decision.env.has_local_env_base(decision.classdef) or decision.env.base_step_migrates(decision.classdef):
+        if decision.env.has_local_env_base(decision.classdef) or decision.env.has_run_env_base(decision.classdef):
             return True  # the base class (in this file, or another of the run) may count steps for it
         # A name moved by a constant both ways (``pos -= 1`` for one action, ``pos += 1``
         # for another) is a position, not a count: it cannot run up to a limit by itself.
