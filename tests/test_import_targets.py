@@ -134,7 +134,11 @@ def test_the_gym_only_packages_the_facts_know_are_the_libraries_gm107_reports() 
 def test_missing_names_are_missing_and_left_to_families_that_handle_them() -> None:
     """The names the imports rules leave to other families are the ones those families
     rename or report, and every name in these tables really is absent from Gymnasium."""
-    from gymmigrate.rules.imports import MISSING_NAMES, RENAMED_ELSEWHERE, USES_REPORTED_ELSEWHERE
+    from gymmigrate.rules.imports import (
+        MISSING_NAMES,
+        RENAMED_ELSEWHERE,
+        USES_REPORTED_ELSEWHERE,
+    )
     from gymmigrate.rules.rng import REMOVED_SEEDING
     from gymmigrate.rules.spaces_logger import REMOVED_ERRORS, REMOVED_LOGGER_NAMES
 

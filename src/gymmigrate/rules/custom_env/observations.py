@@ -90,10 +90,10 @@ def _observation_of(value: ast.AST | None, method: str) -> ast.AST | None:
     return value
 
 
-def _built_dtype(array: ast.Call) -> str:  # type: ignore[type-arg]
+def _built_dtype(array: ast.AST) -> str:
     """What numpy makes of the array's one argument: Python ints give int64, floats float64;
     elements of unknown type (``self.position[0]``) name no dtype."""
-    first = array.args[0]
+    first = array.args[0] if isinstance(array, ast.Call) and array.args else None
     if isinstance(first, (ast.List, ast.Tuple)) and first.elts:
         kinds = {type(e.value) for e in first.elts if isinstance(e, ast.Constant)} if all(
             isinstance(e, ast.Constant) for e in first.elts
