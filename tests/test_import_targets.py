@@ -129,3 +129,31 @@ def test_the_gym_only_packages_the_facts_know_are_the_libraries_gm107_reports() 
     from gymmigrate.rules.imports import GYM_ONLY_LIBRARIES
 
     assert set(GYM_ONLY_LIBRARIES) == GYM_ONLY_PACKAGES
+
+
+def test_missing_names_are_missing_and_left_to_families_that_handle_them() -> None:
+    """The names the imports rules leave to other families are the ones those families
+    rename or report, and every name in these tables really is absent from Gymnasium."""
+    from gymmigrate.rules.imports import (
+        MISSING_NAMES,
+        RENAMED_ELSEWHERE,
+        USES_REPORTED_ELSEWHERE,
+    )
+    from gymmigrate.rules.rng import REMOVED_SEEDING
+    from gymmigrate.rules.spaces_logger import REMOVED_ERRORS, REMOVED_LOGGER_NAMES
+
+    assert RENAMED_ELSEWHERE["gymnasium.wrappers"] == set(tables.RENAMED) | {"Monitor"}
+    assert RENAMED_ELSEWHERE["gymnasium.logger"] == REMOVED_LOGGER_NAMES | {"MIN_LEVEL"}
+    assert RENAMED_ELSEWHERE["gymnasium.error"] == set(REMOVED_ERRORS)
+    assert USES_REPORTED_ELSEWHERE["gymnasium.utils.seeding"] == REMOVED_SEEDING
+    pairs = [(m, n) for m, names in {**RENAMED_ELSEWHERE, **USES_REPORTED_ELSEWHERE}.items() for n in names]
+    pairs += list(MISSING_NAMES)
+    for module, name in pairs:
+        assert not hasattr(importlib.import_module(module), name), f"{module}.{name} exists"
+
+
+def test_a_name_gymnasium_lacks_is_reported_not_moved() -> None:
+    result = transform_source(b"import gym\nfrom gym.utils import reraise, seeding\n", "missing.py")
+    assert "from gym.utils import reraise, seeding" in result.rewritten.decode()
+    reported = [f for f in result.findings if f.rule == "GM105" and f.line == 2]
+    assert reported and "from e" in reported[0].message and reported[0].needs_review

@@ -134,6 +134,49 @@ REMOVED_NAMES = {
     ("wrappers", "LazyFrames"): "frame stacks are plain numpy arrays now",
     ("wrappers.monitoring", "video_recorder"): "use gymnasium.wrappers.RecordVideo",
 }
+# Names gym's modules bound that Gymnasium 1.4's do not, with what to use instead: such an
+# import would raise ImportError once moved, so it is reported and left as it is. Any other
+# missing name is reported too, with a general hint (``missing_name_hint``).
+MISSING_NAMES = {
+    ("gymnasium.utils", "reraise"): (
+        "gym 0.22 removed it; raise the new exception from the caught one "
+        "(`except ImportError as e: raise ImportError(\"...\") from e`)"
+    ),
+    ("gymnasium.utils", "closer"): "gym 0.22 removed the closer module; close envs with `env.close()`",
+    ("gymnasium.utils", "json_utils"): "gym removed json_utils; convert numpy values with `.tolist()` / `.item()` before `json.dump`",
+    ("gymnasium.utils", "atomic_write"): "gym removed atomic_write; write to a temporary file and `os.replace` it",
+    **{
+        ("gymnasium.utils.seeding", name): (
+            f"gym 0.26 removed seeding.{name}; derive seeds with `np.random.SeedSequence` or draw from `np_random`"
+        )
+        for name in ("hash_seed", "create_seed", "_bigint_from_bytes", "_int_list_from_bigint")
+    },
+}
+# Missing names that another family renames or reports where they are imported (GM608
+# FrameStack, GM611 Monitor, GM701 vector.make, GM707 VectorEnvWrapper, GM906 logger levels,
+# GM907 error classes): the imports rules move the import and leave the name to that family.
+# tests/test_import_targets.py checks these sets against those families' tables.
+RENAMED_ELSEWHERE = {
+    "gymnasium.wrappers": frozenset(
+        {"AutoResetWrapper", "FrameStack", "GrayScaleObservation", "PixelObservationWrapper", "FilterObservationWrapper", "Monitor"}
+    ),
+    "gymnasium.vector": frozenset({"VectorEnvWrapper", "make"}),
+    "gymnasium.logger": frozenset({"set_level", "setLevel", "debug", "info", "DEBUG", "INFO", "DISABLED", "MIN_LEVEL"}),
+    "gymnasium.error": frozenset(
+        {
+            "Unregistered", "UnregisteredBenchmark", "UnseedableEnv", "ResetNotAllowed", "APIError",
+            "APIConnectionError", "InvalidRequestError", "AuthenticationError", "RateLimitError",
+            "VideoRecorderError", "InvalidFrame", "DoubleWrapperError", "WrapAfterConfigureError",
+            "RetriesExceededError",
+        }
+    ),  # fmt: skip
+}
+# Read as attributes (``seeding.hash_seed(s)``) these are reported by GM506, not here.
+USES_REPORTED_ELSEWHERE = {
+    "gymnasium.utils.seeding": frozenset(
+        {"hash_seed", "create_seed", "_bigint_from_bytes", "_int_list_from_bigint", "rand", "randn", "randint", "get_state", "set_state"}
+    ),
+}
 LEGACY_PACKAGES = ("gym", "gymnasium")
 
 # Top-level packages that have no Gymnasium release, with what their users move to.
@@ -275,7 +318,24 @@ def removed_name_hint(rest: str, name: str) -> str | None:
     hint = REMOVED_NAMES.get((rest, name))
     if hint is not None or name == "*" or has_name(gymnasium_module(rest), name):
         return hint
-    return removed_module_hint(f"{rest}.{name}" if rest else name, unknown=False)
+    return removed_module_hint(f"{rest}.{name}" if rest else name, unknown=False) or missing_name_hint(rest, name)
+
+
+def missing_name_hint(rest: str, name: str, *, renamed_elsewhere: bool = False) -> str | None:
+    """Why ``gym.<rest>``'s ``name`` has no Gymnasium counterpart where ``gym.<rest>`` moves
+    (``from gym.utils import reraise``), or None: the module is missing as a whole (reported
+    by the module check), Gymnasium binds the name there or in a submodule (the import is
+    moved or split), or another family renames or reports it (``renamed_elsewhere`` asks
+    about the attribute form, which GM506 reports for more names)."""
+    target = gymnasium_module(rest)
+    if not module_exists(target) or has_name(target, name) or (name.startswith("__") and name.endswith("__")):
+        return None  # ``__version__``: GM108's business
+    if name in RENAMED_ELSEWHERE.get(target, ()) or (renamed_elsewhere and name in USES_REPORTED_ELSEWHERE.get(target, ())):
+        return None
+    if MOVED_NAMES.get((rest.split(".")[-1], name)) or MOVED_NAMES.get(("*", name)) or _home_of(migrated_path(rest), name):
+        return None
+    known = MISSING_NAMES.get((target, name))
+    return known or f"`{target}` has no `{name}` in Gymnasium {GYMNASIUM_VERSION}: replace it, or copy what the code needs of it"
 
 
 def gymnasium_module(rest: str) -> str:
@@ -317,6 +377,7 @@ class Imports(RuleFamily):
         self._version_checks()
         self._gym_only_libraries()
         self._removed_module_attributes()
+        self._missing_module_attributes()
 
     def _imports(self) -> list[ast.Import | ast.ImportFrom]:
         return self.facts.import_statements
@@ -554,6 +615,26 @@ class Imports(RuleFamily):
                 continue
             hint = REMOVED_MODULES[removed]
             self._report_removed(node, f"`gym.{removed}` was removed: {hint}", hint)  # type: ignore[arg-type]
+
+    def _missing_module_attributes(self) -> None:
+        """GM105 on ``gym.utils.reraise(...)`` read through the gym module: after ``import gym``
+        becomes ``import gymnasium as gym`` the read raises AttributeError, so the name is
+        reported as its import would be (the code is left as it is)."""
+        if not self._gym_names:
+            return
+        for attr, nodes in self.facts.attributes.items():
+            for node in nodes:
+                for module in self.facts.qualified_names(node.value):
+                    rest = under_gym(module)
+                    if rest is None or (rest == "wrappers" and attr in LEGACY_WRAPPER_MODULES):
+                        continue  # the legacy wrapper modules: GM104's business
+                    path = f"{rest}.{attr}" if rest else attr
+                    if (rest, attr) in REMOVED_NAMES or removed_module_hint(path, unknown=False) is not None:
+                        continue  # reported as a removed module
+                    hint = missing_name_hint(rest, attr, renamed_elsewhere=True)
+                    if hint is not None:
+                        self._report_removed(node, f"`{module}.{attr}` does not exist in Gymnasium: {hint}", hint)  # type: ignore[arg-type]
+                        break
 
     def _report_removed(self, node: ast.stmt, message: str, advice: str) -> None:
         """GM105 once per decision: the first import that needs a given move (say, to

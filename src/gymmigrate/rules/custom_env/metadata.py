@@ -106,8 +106,17 @@ class MetadataKeys(RuleFamily):
                 f"added \"render_fps\": {DEFAULT_RENDER_FPS} because render modes are declared without a frame rate; "
                 f"render() hands on `{held}.render()`, whose frames come at that env's own rate"
             )
-        elif frames:
+        elif frames and self._reads_frame_rate():
             message = f"added \"render_fps\": {DEFAULT_RENDER_FPS} because render modes are declared without a frame rate; set the rate the env really draws at"
+        elif frames:
+            # Recorders fall back to the same 30 frames per second when the key is absent
+            # (gym's VideoRecorder and Gymnasium's RecordVideo and play alike), and nothing
+            # in the module reads the rate itself: the value only satisfies the checker.
+            frames = False
+            message = (
+                f"added \"render_fps\": {DEFAULT_RENDER_FPS} because render modes are declared without a frame rate; "
+                f"recorders used {DEFAULT_RENDER_FPS} without it, so nothing changes (set the rate the env really draws at if it differs)"
+            )
         else:
             message = (
                 f"added \"render_fps\": {DEFAULT_RENDER_FPS} because render modes are declared without a frame rate; "
@@ -117,6 +126,17 @@ class MetadataKeys(RuleFamily):
         self.report(metadata, "GM404", message + same, FixKind.ASSIST, tier=tier if frames else Tier.NOTE)
         self.plan.replace(metadata, _with_render_fps)
 
+
+    def _reads_frame_rate(self) -> bool:
+        """The module reads the frame rate from metadata itself (``self.metadata["render_fps"]``,
+        ``metadata.get("video.frames_per_second", 50)``): the added value replaces what that
+        read found or fell back to."""
+        for string in self.facts.strings:
+            if string.value in ("render_fps", "video.frames_per_second") and self._is_metadata_key(string):
+                parent = self.facts.parent(string)
+                if not (isinstance(parent, ast.Dict) or isinstance(getattr(parent, "ctx", None), ast.Store)):
+                    return True
+        return False
 
     def _render_handed_on(self, metadata: ast.Dict) -> str | None:
         """The class that declares ``metadata`` renders only by returning ``self.<x>.render(...)``

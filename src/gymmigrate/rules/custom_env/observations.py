@@ -41,7 +41,15 @@ def decide_float64_observations(decision: ClassDecision) -> None:
         for ret in own_returns(function):
             obs = _observation_of(ret.value, name)
             if obs is not None and _is_float64_array(obs) and not _state_is_float32(decision):
-                decision.report(obs, "GM509", "observation built with np.array(...) is float64 but observation_space is a float32 Box; pass dtype=np.float32 (check_env rejects it)")
+                # one question per class: each return building the observation the same way
+                # is a note pointing at the first
+                decision.report(
+                    obs,
+                    "GM509",
+                    f"observation built with np.array(...) {_built_dtype(obs)} but observation_space is a float32 Box; "
+                    "pass dtype=np.float32 (check_env rejects it)",
+                    question=("GM509", id(decision.classdef)),
+                )
 
 
 def _declares_float32_box(decision: ClassDecision) -> bool:
@@ -80,6 +88,22 @@ def _observation_of(value: ast.AST | None, method: str) -> ast.AST | None:
     if tuple_len(value) == 2:
         return None  # (obs, info) or a tuple observation: cannot tell
     return value
+
+
+def _built_dtype(array: ast.AST) -> str:
+    """What numpy makes of the array's one argument: Python ints give int64, floats float64;
+    elements of unknown type (``self.position[0]``) name no dtype."""
+    first = array.args[0] if isinstance(array, ast.Call) and array.args else None
+    if isinstance(first, (ast.List, ast.Tuple)) and first.elts:
+        kinds = {type(e.value) for e in first.elts if isinstance(e, ast.Constant)} if all(
+            isinstance(e, ast.Constant) for e in first.elts
+        ) else set()
+        if kinds == {int}:
+            return "is int64"
+        if kinds and kinds <= {int, float}:
+            return "is float64"
+        return "is not float32 (numpy makes int64 of Python ints, float64 of floats)"
+    return "is float64"
 
 
 def _is_float64_array(expr: ast.AST) -> bool:
