@@ -312,9 +312,10 @@ class ProjectFacts:
         imported = self.view(importer).imported_class(kind[len(NEW) :])
         if imported is not None and imported[0]:
             return EnvKind.GYM_ENV
-        # A plain class of the run with its own reset/step (a helper ``Environment`` around a
-        # Gym env): its instances are no Gym env, and the defs they are passed to keep them.
-        return EnvKind.NOT_ENV if found is EnvKind.NOT_ENV else EnvKind.UNKNOWN
+        # A plain class of the run (a helper ``Environment`` around a Gym env, with reset/step
+        # of its own): no call on its instances is rewritten. Not NOT_ENV, which a join lets
+        # a Gym env of another caller outweigh: a def given both is asked about.
+        return EnvKind.OWN_API if found is EnvKind.NOT_ENV else EnvKind.UNKNOWN
 
     def _split(self, qualified: str, importer: str) -> tuple[str, str] | None:
         """``("/run/pkg/utils.py", "make")`` for ``pkg.utils.make`` (or ``.utils.make``)."""
