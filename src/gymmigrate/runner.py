@@ -286,7 +286,10 @@ def summarize_path(path: Path) -> ModuleSummary | None:
 
 def _notebook_summary(path: Path, source: bytes) -> ModuleSummary | None:
     """The summary of a notebook's code cells as the one program its own run migrates."""
-    programs = Notebook(source).programs
+    try:
+        programs = Notebook(source).programs
+    except Exception:  # noqa: BLE001  (the notebook's own run reports why; it just adds no facts)
+        return None
     if not programs:
         return None
     text, _ = join_segments([segment.code for segment in programs[0]])
