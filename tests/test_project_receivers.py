@@ -341,3 +341,23 @@ def test_space_checks_stay_on_gym_next_to_a_gym_only_env_package(tmp_path: Path)
     assert "    from gymnasium import spaces\n" in (project / "tools" / "inspect_env.py").read_text()
     kept = [f for f in _findings([project], tmp_path) if f["rule"] == "GM102" and f["kind"] == "flag"]
     assert [Path(str(f["path"])).name for f in kept] == ["distributions.py"]
+
+
+def test_notebook_calls_count_as_call_sites_and_own_helpers_are_left(tmp_path: Path) -> None:
+    """A notebook is no module anything imports, but it calls the run's defs: its
+    ``gym.make`` env makes ``loops.run_episodes``'s loop certain, and the instance of the
+    project's own ``Frames`` (its own reset/step) it hands ``Trainer.fit`` leaves that
+    method alone, unasked. A def no one calls is still asked."""
+    project = _copy("project_notebook_callers", tmp_path)
+    trainer = (project / "trainer.py").read_bytes()
+    found = _findings([project], tmp_path)
+    review = sorted((Path(str(f["path"])).name, f["line"]) for f in found if f["tier"] == "review")
+    assert review == [("loops.py", 17)]
+    result = runner.invoke(app, ["rewrite", str(project)])
+    assert result.exit_code == 0, result.output
+    loops = (project / "loops.py").read_text()
+    assert "        state, info = env.reset()\n" in loops
+    assert "state, reward, terminated, truncated, _ = env.step(agent(state))" in loops
+    assert "    return env.reset()\n" in loops  # never_called: no caller says what env is
+    assert (project / "trainer.py").read_bytes() == trainer
+    assert "obs, info = self.env.reset()" in (project / "helpers.py").read_text()

@@ -41,6 +41,8 @@ from gymmigrate.process import (
 )
 from gymmigrate.safety import Refused, read_source, screen
 from gymmigrate.source_text import TransformError, decode, may_hold_gym_code
+from gymmigrate.sources.notebook import Notebook
+from gymmigrate.sources.programs import join as join_segments
 
 if TYPE_CHECKING:
     from multiprocessing.connection import Connection
@@ -114,8 +116,11 @@ def run_summaries(paths: list[Path], summaries: Callable[[list[Path]], Iterable[
     """
     if len(paths) < 2:
         return []
-    python = [path for path in paths if Path(path).suffix in (".py", ".pyw")]
-    # Notebooks and documents: their code is not importable by the run.
+    # Documents: their code is not importable by the run. Notebooks are not importable
+    # either, but they call the run's modules (``rl_utils.train(env, agent)`` with a
+    # ``gym.make`` env): their calls count as call sites (``ProjectFacts.join`` keeps them
+    # out of the module names).
+    python = [path for path in paths if Path(path).suffix in (".py", ".pyw", ".ipynb")]
     found = summaries(python) if summaries is not None else map(summarize_path, python)
     return [summary for summary in found if isinstance(summary, ModuleSummary)]
 
@@ -266,6 +271,8 @@ def summarize_path(path: Path) -> ModuleSummary | None:
         source = read_source(Path(path), relevant)
         if source is None:
             return None
+        if Path(path).suffix == ".ipynb":
+            return _notebook_summary(path, source)
         if not screen(source, relevant):
             if not screen(source, _may_mask_bootstrapping):
                 return None
@@ -274,6 +281,18 @@ def summarize_path(path: Path) -> ModuleSummary | None:
         text, _ = decode(source)
     except (OSError, Refused, TransformError):
         return None
+    return summarize(str(path), text)
+
+
+def _notebook_summary(path: Path, source: bytes) -> ModuleSummary | None:
+    """The summary of a notebook's code cells as the one program its own run migrates."""
+    try:
+        programs = Notebook(source).programs
+    except Exception:  # noqa: BLE001  (the notebook's own run reports why; it just adds no facts)
+        return None
+    if not programs:
+        return None
+    text, _ = join_segments([segment.code for segment in programs[0]])
     return summarize(str(path), text)
 
 

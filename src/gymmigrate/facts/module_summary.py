@@ -20,7 +20,7 @@ OWN = "@"  # a def of the calling module itself
 PARAM = "param:"
 # Beyond this many parameters passed on from call to call the join stops following.
 MAX_CHAIN = 50
-Kind = EnvKind | str  # a kind, or ``new:<class>`` / ``param:<def>:<name>`` until the join resolves it
+Kind = EnvKind | str  # a kind, or ``new:<class>[|<class>...]`` / ``param:<def>:<name>`` until the join resolves it
 
 
 @dataclass(frozen=True)

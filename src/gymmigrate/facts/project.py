@@ -161,6 +161,8 @@ class ProjectFacts:
             facts.pz_wrappers[summary.path] = summary.pz_wrappers
             facts.spec_lists[summary.path] = summary.spec_lists
             facts.render_mode_classes[summary.path] = frozenset() if left else summary.render_mode_classes
+            if summary.path.endswith(".ipynb"):
+                continue  # a notebook calls the run's modules; nothing imports it
             for name in module_names(summary.path):
                 if name in facts.modules and facts.modules[name] != summary.path:
                     previous = facts.ambiguous.get(name) or (facts.modules[name],)
@@ -308,7 +310,12 @@ class ProjectFacts:
         if found is not None and found is not EnvKind.NOT_ENV:
             return found
         imported = self.view(importer).imported_class(kind[len(NEW) :])
-        return EnvKind.GYM_ENV if imported is not None and imported[0] else EnvKind.UNKNOWN
+        if imported is not None and imported[0]:
+            return EnvKind.GYM_ENV
+        # A plain class of the run (a helper ``Environment`` around a Gym env, with reset/step
+        # of its own): no call on its instances is rewritten. Not NOT_ENV, which a join lets
+        # a Gym env of another caller outweigh: a def given both is asked about.
+        return EnvKind.OWN_API if found is EnvKind.NOT_ENV else EnvKind.UNKNOWN
 
     def _split(self, qualified: str, importer: str) -> tuple[str, str] | None:
         """``("/run/pkg/utils.py", "make")`` for ``pkg.utils.make`` (or ``.utils.make``)."""

@@ -72,7 +72,8 @@ class ParamJoin:
         if isinstance(kind, EnvKind):
             return kind
         if kind.startswith(NEW):
-            return self.facts._class_kind(kind, caller)
+            # ``new:a.Env|b.Other``: a name bound to instances of several classes of the run
+            return join_kinds(self.facts._class_kind(NEW + made, caller) for made in kind[len(NEW) :].split("|"))
         qualname, _, param = kind[len(PARAM) :].rpartition(":")
         return self.param_kind(caller, qualname, param)
 

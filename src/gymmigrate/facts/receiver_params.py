@@ -195,11 +195,38 @@ class ParameterKinds(_Facade):
             return [c for c in calls if self.local_function(c.func) is function]
         if name == "__init__":
             return list(self.facts.calls_by_name.get(classdef.name, []))
+        # ``self.train(env)`` in the class, and ``Agent().train(env)`` or ``algo.train(env)``
+        # with ``algo = Agent()`` in the module: the instances the module makes itself.
         return [
             c
             for c in self.facts.attribute_calls.get(name, [])
-            if isinstance(c.func.value, ast.Name) and self.is_self(c.func.value)  # type: ignore[attr-defined]
+            if (isinstance(c.func.value, ast.Name) and self.is_self(c.func.value))  # type: ignore[attr-defined]
+            or self._made_instance_of(c.func.value, classdef, name)  # type: ignore[attr-defined]
         ]
+
+    def _made_instance_of(self, owner: ast.AST, classdef: ast.ClassDef, method: str) -> bool:
+        """``owner`` is ``Cls(...)`` or a name every binding of which is ``Cls(...)``, with
+        ``Cls`` this module's ``classdef`` or a subclass here that inherits ``method``."""
+        if isinstance(owner, ast.Name):
+            bindings = self.facts.bindings_of(owner)
+            values = []
+            for binding in bindings:
+                assign = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
+                if not (isinstance(assign, ast.Assign) and assign.targets == [binding]):
+                    return False
+                values.append(assign.value)
+            return bool(values) and all(self._made_instance_of(v, classdef, method) for v in values)
+        if not isinstance(owner, ast.Call):
+            return False
+        made = self.local_class(owner.func)
+        seen: set[int] = set()
+        while made is not None and made is not classdef and id(made) not in seen:
+            seen.add(id(made))
+            if any(isinstance(st, FUNCTIONS) and st.name == method for st in made.body):
+                return False  # the subclass has a method of its own
+            bases = [b for b in made.bases if not is_object(b)]
+            made = self.local_class(bases[0]) if len(bases) == 1 else None
+        return made is classdef
 
     def _fixture_kind(self, fixture: ast.FunctionDef | ast.AsyncFunctionDef) -> EnvKind:
         values = fixture_values(self.facts, fixture)

@@ -456,7 +456,26 @@ class Receivers(ClassKinds, ParameterKinds, MadeObjects):
             local = self.local_function(value.func) if isinstance(value, ast.Call) else None
             if local is None and isinstance(value, ast.Call) and _is_env_method_call(value):
                 return EnvKind.NOT_ENV
+            if isinstance(local, FUNCTIONS) and not any(isinstance(el, ast.Starred) for el in container.elts):
+                # ``env, agent = env_agent_config(cfg)`` where the def ends ``return env, agent``:
+                # the item at this place of every tuple it returns.
+                return self.returned_item_kind(local, index, len(container.elts))
         return EnvKind.UNKNOWN
+
+    def returned_item_kind(self, function: ast.AST, index: int, width: int) -> EnvKind:
+        """The kind of item ``index`` of what ``function`` returns, when every return is a
+        tuple display of ``width`` items (anything else: unknown)."""
+        values = [r.value for r in own_returns(function)]
+        if not values:
+            return EnvKind.UNKNOWN
+        items = []
+        for value in values:
+            if not (isinstance(value, (ast.Tuple, ast.List)) and len(value.elts) == width):
+                return EnvKind.UNKNOWN
+            if any(isinstance(el, ast.Starred) for el in value.elts):
+                return EnvKind.UNKNOWN
+            items.append(value.elts[index])
+        return join_kinds(self.kind_of(item) for item in items)
 
     def _element_kind(self, container: ast.AST) -> EnvKind:
         """Kind of the items of a list/tuple of envs (``envs[i]``, ``for env in envs``)."""

@@ -111,7 +111,7 @@ class _Summarizer:
                 if env.takes_render_mode(classdef) and id(classdef) not in render_kept_classes(self.facts, self.receivers):
                     render_mode.add(name)
         calls = [c for c in (self._call(call) for calls in self.facts.calls_by_name.values() for call in calls) if c]
-        calls += [c for c in (self._call(call) for calls in self.facts.attribute_calls.values() for call in calls) if c]
+        calls += [c for call in (c for calls in self.facts.attribute_calls.values() for c in calls) for c in self._method_calls(call)]
         return ModuleSummary(
             self.path,
             defs,
@@ -317,6 +317,18 @@ class _Summarizer:
             return summary if kinds & GUARD_KINDS else None
         return summary
 
+    def _method_calls(self, call: ast.Call) -> list[CallSummary]:
+        """``x.fit(env)``; with ``x`` bound to instances of several classes of the run
+        (``algo = DDQN(...)`` in one branch, ``algo = A2C(...)`` in another), one call of
+        each class's method."""
+        found = self._call(call)
+        if found is not None or not isinstance(call.func, ast.Attribute) or not isinstance(call.func.value, ast.Name):
+            return [found] if found is not None else []
+        made = self._made_by_run_call(call.func.value)
+        if made is None or "|" not in made:
+            return []
+        return [self._arguments(call, f"{cls}.{call.func.attr}") for cls in made.split("|")]
+
     def _target(self, func: ast.expr) -> str | None:
         """The qualified callee in another module, ``@name`` for a def of this module
         (``@Agent.fit`` for ``self.fit(...)``), ``?.name`` for a method of an unknown
@@ -418,8 +430,10 @@ class _Summarizer:
         return kind
 
     def _made_by_run_call(self, name: ast.Name) -> str | None:
-        """The one name of the run (imported, no library's) every binding of ``name`` calls:
-        ``env = nasim.make_benchmark(...)``; else None."""
+        """The names of the run (imported, no library's) the bindings of ``name`` call,
+        joined by ``|``: ``env = nasim.make_benchmark(...)``, or ``env = AtariEnvironment(args)``
+        in one branch and ``env = Environment(gym.make(id))`` in the other; None when a
+        binding calls anything else."""
         bindings = self.facts.bindings_of(name)
         found: set[str] = set()
         for binding in bindings:
@@ -433,7 +447,7 @@ class _Summarizer:
             if len(qualified) != 1 or "." not in qualified[0]:
                 return None
             found.add(qualified[0])
-        return found.pop() if len(found) == 1 else None
+        return "|".join(sorted(found)) if found else None
 
     def _parameter_of_def(self, name: ast.Name) -> str | None:
         """``param:Agent.fit:env`` when ``name`` is only ever the parameter ``env`` of a def
