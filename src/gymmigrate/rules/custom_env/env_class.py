@@ -96,7 +96,7 @@ class EnvClassFamily(RuleFamily):
             # a step returning a name) keeps its reset with it: a Gymnasium reset beside a legacy
             # step matches neither API, and users of the class break. Its seed() stays too (its
             # own API may call it); the step's item names the reset.
-            kept = self.receivers.class_keeps_legacy_step(classdef)
+            kept = self.receivers.keeps_own_reset(classdef)
             decision.plan.reset_kept = kept
             if not kept:
                 decide_seed(decision)

@@ -66,12 +66,10 @@ class ResetCalls(ResetSeedBase):
         if not isinstance(func, ast.Attribute):  # ``x.method(...)`` calls only
             return
         receiver = func.value
-        kept = self.receivers.legacy_step_class(receiver)
-        local = self.facts.classes.get(kept) if kept is not None else None
-        if kept is not None and (local is None or not self.receivers.is_gym_wrapper_class(local)):
-            # An env class of the run whose step keeps its own four fields keeps its reset with
-            # it (GM504 reports the class): the calls on its instances stay as they are. A Gym
-            # wrapper around such a batch still gets Gymnasium's reset (GM602), so its calls do.
+        if self.receivers.legacy_step_class(receiver) is not None:
+            # A class of the run whose step keeps its own four fields (a batch, a wrapper around
+            # one) keeps its reset with it (GM504/GM602 report the class): the calls on its
+            # instances stay as they are.
             return
         decision, vector = self._decide(receiver, legacy_shape=self._stepped_the_legacy_way(receiver))
         if decision.action is Action.LEAVE:
@@ -291,13 +289,16 @@ class ResetCalls(ResetSeedBase):
             isinstance(receiver, ast.Attribute) and isinstance(receiver.value, ast.Name)
             and receiver.value.id == "self" and receiver.attr == "env"
         ) or (isinstance(receiver, ast.Call) and isinstance(receiver.func, ast.Name) and receiver.func.id == "super")
-        return inner and self.receivers.is_gym_wrapper_class(classdef)
+        # a reset kept with a batch's own step hands on only the observation: ``[0]`` here
+        return inner and self.receivers.is_gym_wrapper_class(classdef) and not self.receivers.keeps_own_reset(classdef)
 
     def _return_use(self, call: ast.Call) -> Use:
         function = self.facts.enclosing_function(call)
         if function is None or function.name != "reset":
             return Use.EXPRESSION  # a helper whose callers use the result as the observation
         classdef = self.facts.enclosing_class(function)
+        if classdef is not None and self.receivers.keeps_own_reset(classdef):
+            return Use.EXPRESSION  # a reset kept with a batch's own step returns the observation alone
         if classdef is not None:
             if self.receivers.is_gym_wrapper_class(classdef) or self.receivers.class_kind(classdef).is_gym:
                 return Use.PASSTHROUGH
