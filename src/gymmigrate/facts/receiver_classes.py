@@ -386,6 +386,32 @@ def concatenated_lists(function: ast.AST) -> dict[str, list[ast.expr]]:
     return {name: values for name, values in extended.items() if name in displays}
 
 
+def per_agent_receivers(classdef: ast.ClassDef) -> frozenset[str]:
+    """Names a method of the class steps with four targets and whose done it concatenates into
+    a list (``obs, reward, done, _ = env.step(a)``, then ``done_n += done``): per-agent envs
+    on their own four-field API, whose reset keeps its own return too."""
+    found: set[str] = set()
+    for method in classdef.body:
+        if not isinstance(method, FUNCTIONS):
+            continue
+        extended = {v.id for values in concatenated_lists(method).values() for v in values if isinstance(v, ast.Name)}
+        for node in ast.walk(method):
+            if not (isinstance(node, ast.Assign) and len(node.targets) == 1 and isinstance(node.value, ast.Call)):
+                continue
+            target, func = node.targets[0], node.value.func
+            if (
+                isinstance(target, (ast.Tuple, ast.List))
+                and len(target.elts) == 4
+                and isinstance(target.elts[2], ast.Name)
+                and target.elts[2].id in extended
+                and isinstance(func, ast.Attribute)
+                and func.attr == "step"
+                and isinstance(func.value, ast.Name)
+            ):
+                found.add(func.value.id)
+    return frozenset(found)
+
+
 def _paired_targets(target: ast.expr, value: ast.expr) -> list[tuple[str, ast.expr]]:
     """``a, b = [], []`` -> ``[("a", []), ("b", [])]``; ``a = []`` -> ``[("a", [])]``."""
     if isinstance(target, ast.Name):

@@ -24,6 +24,7 @@ from enum import Enum
 
 from gymmigrate.facts.decisions import Action, Decision, receiver_text
 from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.receiver_classes import per_agent_receivers
 from gymmigrate.facts.reset_flow import scope_of_expression
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.reset_seed.call_edits import unpack_builder
@@ -74,6 +75,12 @@ class ResetCalls(ResetSeedBase):
         decision, vector = self._decide(receiver, legacy_shape=self._stepped_the_legacy_way(receiver))
         if decision.action is Action.LEAVE:
             return
+        classdef = self.facts.enclosing_class(call)
+        if decision.action is not Action.REWRITE and isinstance(receiver, ast.Name) and classdef is not None:
+            if receiver.id in per_agent_receivers(classdef):
+                # The class concatenates this env's done into a list (``done_n += done``): a
+                # per-agent env whose four-field step the run keeps (GM301), so its reset too.
+                return
         code = "GM704" if vector else "GM201"
         name = receiver_text(receiver)
         use, assign, index = self._use_of(call)
