@@ -338,9 +338,11 @@ def _adds_axis(index: ast.expr) -> bool:
 
 
 def _lists_filled_in(function: ast.AST) -> frozenset[str]:
-    """Names the method fills with one value per env: ``dones.append(done)``, or a target
-    of ``obs, rews, dones, infos = zip(*results)``."""
-    found: set[str] = set()
+    """Names the method fills with one value per env: ``dones.append(done)``, a target
+    of ``obs, rews, dones, infos = zip(*results)``, or a list the method starts empty and
+    extends (``done_n = []``, then ``done_n += done`` or ``done_n.extend(done)`` for each
+    env of a batch of multi-agent envs)."""
+    found: set[str] = set(concatenated_lists(function))
     for node in ast.walk(function):
         if (
             isinstance(node, ast.Call)
@@ -359,6 +361,64 @@ def _lists_filled_in(function: ast.AST) -> frozenset[str]:
                 if isinstance(target, (ast.Tuple, ast.List)):
                     found |= {e.id for e in target.elts if isinstance(e, ast.Name)}
     return frozenset(found)
+
+
+def concatenated_lists(function: ast.AST) -> dict[str, list[ast.expr]]:
+    """Lists ``function`` binds to a list display and extends (``xs += value``,
+    ``xs.extend(value)``): each such name -> the values it is extended with. Those values
+    are iterables (``list += bool`` raises), so per-agent or per-env collections."""
+    displays: set[str] = set()
+    extended: dict[str, list[ast.expr]] = {}
+    for node in ast.walk(function):
+        if isinstance(node, ast.Assign):
+            targets = [t for target in node.targets for t in _paired_targets(target, node.value)]
+            displays |= {name for name, value in targets if isinstance(value, ast.List)}
+        elif isinstance(node, ast.AugAssign) and isinstance(node.op, ast.Add) and isinstance(node.target, ast.Name):
+            extended.setdefault(node.target.id, []).append(node.value)
+        elif (
+            isinstance(node, ast.Call)
+            and isinstance(node.func, ast.Attribute)
+            and node.func.attr == "extend"
+            and isinstance(node.func.value, ast.Name)
+            and len(node.args) == 1
+        ):
+            extended.setdefault(node.func.value.id, []).append(node.args[0])
+    return {name: values for name, values in extended.items() if name in displays}
+
+
+def per_agent_receivers(classdef: ast.ClassDef) -> frozenset[str]:
+    """Names a method of the class steps with four targets and whose done it concatenates into
+    a list (``obs, reward, done, _ = env.step(a)``, then ``done_n += done``): per-agent envs
+    on their own four-field API, whose reset keeps its own return too."""
+    found: set[str] = set()
+    for method in classdef.body:
+        if not isinstance(method, FUNCTIONS):
+            continue
+        extended = {v.id for values in concatenated_lists(method).values() for v in values if isinstance(v, ast.Name)}
+        for node in ast.walk(method):
+            if not (isinstance(node, ast.Assign) and len(node.targets) == 1 and isinstance(node.value, ast.Call)):
+                continue
+            target, func = node.targets[0], node.value.func
+            if (
+                isinstance(target, (ast.Tuple, ast.List))
+                and len(target.elts) == 4
+                and isinstance(target.elts[2], ast.Name)
+                and target.elts[2].id in extended
+                and isinstance(func, ast.Attribute)
+                and func.attr == "step"
+                and isinstance(func.value, ast.Name)
+            ):
+                found.add(func.value.id)
+    return frozenset(found)
+
+
+def _paired_targets(target: ast.expr, value: ast.expr) -> list[tuple[str, ast.expr]]:
+    """``a, b = [], []`` -> ``[("a", []), ("b", [])]``; ``a = []`` -> ``[("a", [])]``."""
+    if isinstance(target, ast.Name):
+        return [(target.id, value)]
+    if isinstance(target, (ast.Tuple, ast.List)) and isinstance(value, (ast.Tuple, ast.List)) and len(target.elts) == len(value.elts):
+        return [pair for t, v in zip(target.elts, value.elts) for pair in _paired_targets(t, v)]
+    return []
 
 
 def duck_wrapper_param(classdef: ast.ClassDef) -> ast.arg | None:

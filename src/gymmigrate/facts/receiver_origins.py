@@ -11,8 +11,8 @@ import sys
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts.kinds import MAX_DEPTH, EnvKind
-from gymmigrate.facts.module import FUNCTIONS
-from gymmigrate.facts.receiver_classes import keeps_legacy_step
+from gymmigrate.facts.module import FUNCTIONS, own_returns
+from gymmigrate.facts.receiver_classes import is_batched_step_return, keeps_legacy_step
 
 if TYPE_CHECKING:
     from gymmigrate.facts.kinds import ReceiverFacade as _Facade
@@ -81,6 +81,18 @@ class MadeObjects(_Facade):
             if self.project is not None and any(self.project.keeps_legacy_step(q) for q in self.qualified_names(base)):
                 return True
         return False
+
+    def keeps_own_reset(self, classdef: ast.ClassDef) -> bool:
+        """The class keeps its reset with the four-field step the run keeps: an env class whose
+        step keeps its legacy contract (``class_keeps_legacy_step``), a Gym wrapper whose own
+        step returns a batch's stacked flags, or one put around such a batch. A reset of
+        Gymnasium's beside that step would match neither API, and its callers would break."""
+        if not self.class_keeps_legacy_step(classdef):
+            return False
+        if not self.is_gym_wrapper_class(classdef) or self.wraps_legacy_step(classdef) is not None:
+            return True
+        step = next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == "step"), None)
+        return step is not None and any(is_batched_step_return(r.value, step) for r in own_returns(step))
 
     def run_defined(self, expr: ast.AST) -> bool:
         """``expr`` holds (or may hold) an object the run itself makes: an instance of a class

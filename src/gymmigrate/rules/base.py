@@ -124,7 +124,7 @@ class RuleFamily:
         if library is not None:
             return ("gym-only-library", library)  # decided by the library's port, asked at its import (GM107)
         # ``[env.reset() for env in self.envs]`` and ``self.envs[i].step(a)``: one collection of envs
-        receiver = self._iterated_collection(receiver) or receiver
+        receiver = self._iterated_collection(receiver) or self._fed_collection(receiver) or receiver
         name = full_name(receiver)
         if not name:
             return None
@@ -145,9 +145,44 @@ class RuleFamily:
             return None
         holder = self.facts.parent(bindings[0])
         if isinstance(holder, (ast.comprehension, ast.For)) and holder.target is bindings[0]:
-            if isinstance(holder.iter, (ast.Name, ast.Attribute)) and full_name(holder.iter):
-                return holder.iter
+            collection = holder.iter
+            if isinstance(collection, ast.Subscript) and isinstance(collection.slice, ast.Slice):
+                collection = collection.value  # ``for env in self.envs[1:]``: part of the same envs
+            if isinstance(collection, (ast.Name, ast.Attribute)) and full_name(collection):
+                return collection
         return None
+
+    def _fed_collection(self, receiver: ast.AST) -> ast.expr | None:
+        """A parameter of a def that every call of the module (``worker(conn, env)``, or a
+        ``Process(target=worker, args=(remote, env))``) feeds from one loop over the same
+        collection (``for env in self.envs[1:]``): that collection, whose question this is."""
+        function = self.facts.enclosing_function(receiver)
+        if not isinstance(receiver, ast.Name) or function is None:
+            return None
+        params = [a.arg for a in (*function.args.posonlyargs, *function.args.args)]
+        if receiver.id not in params or len(self.facts.bindings_of(receiver)) != 1:
+            return None
+        position = params.index(receiver.id)
+        fed: list[ast.expr] = []
+        for node in ast.walk(self.facts.tree):
+            if not isinstance(node, ast.Call):
+                continue
+            if isinstance(node.func, ast.Name) and node.func.id == function.name:
+                arguments: list[ast.expr] | None = list(node.args)
+            else:
+                keywords = {k.arg: k.value for k in node.keywords}
+                target, args = keywords.get("target"), keywords.get("args")
+                if not (isinstance(target, ast.Name) and target.id == function.name):
+                    continue
+                arguments = list(args.elts) if isinstance(args, (ast.Tuple, ast.List)) else None
+            if arguments is None or position >= len(arguments) or any(isinstance(a, ast.Starred) for a in arguments):
+                return None
+            fed.append(arguments[position])
+        collections = [self._iterated_collection(value) for value in fed]
+        if not collections or any(c is None for c in collections):
+            return None
+        keys = {(full_name(c), id(self.facts.enclosing_class(c))) for c in collections if c is not None}
+        return collections[0] if len(keys) == 1 else None
 
     def _gym_only_origin(self, receiver: ast.AST) -> str | None:
         """The library with no Gymnasium release (``baselines``) every value of ``receiver``

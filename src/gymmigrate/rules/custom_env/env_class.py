@@ -92,12 +92,20 @@ class EnvClassFamily(RuleFamily):
                     method = method_of(decision, call)
                     if method is not None:
                         decision.plan.rename_callers.add(method.name)
-            decide_seed(decision)
-            decide_reset(decision)
+            # A class whose step the run keeps on its own four fields (a batch, per-agent lists,
+            # a step returning a name) keeps its reset with it: a Gymnasium reset beside a legacy
+            # step matches neither API, and users of the class break. Its seed() stays too (its
+            # own API may call it); the step's item names the reset.
+            kept = self.receivers.keeps_own_reset(classdef)
+            decision.plan.reset_kept = kept
+            if not kept:
+                decide_seed(decision)
+                decide_reset(decision)
             decide_step(decision, inherited)
             decide_render(decision)
             decide_subclass_render_mode(decision)
-            decide_internal_calls(decision)
+            if not kept:
+                decide_internal_calls(decision)
             decide_float64_observations(decision)
             if self._changes(decision):
                 self.plan.replace(classdef, _rewrite_class(decision.plan))

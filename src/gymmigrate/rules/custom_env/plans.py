@@ -58,6 +58,8 @@ class ClassPlan:
     rename_callers: set[str] = field(default_factory=set)
     reset_callers: set[str] = field(default_factory=set)
     reset: bool = False  # reset() changes (signature, returns, super().reset(seed=seed))
+    # the class keeps its own four-field step (a batch, per-agent lists): reset stays as it is
+    reset_kept: bool = False
     step: bool = False  # step() returns four values somewhere
     # step() returns stacked per-env flags (a batch of envs): its returns keep four fields
     batched_step: bool = False
@@ -96,14 +98,20 @@ def truncated_false_message(limit_hint: str | None) -> str:
 BATCHED_STEP_QUESTION = "batches of envs of this module"
 
 
-def batched_step_message(class_name: str) -> str:
+def batched_step_message(class_name: str, keeps_reset: bool = False) -> str:
     """The one item on a batch of envs whose step returns stacked per-env flags (GM504 on an
-    env class, GM602 on a wrapper), whose contract the run keeps."""
+    env class, GM602 on a wrapper), whose contract the run keeps; an env class keeps its
+    reset with it (``keeps_reset``), so the item names both."""
+    if keeps_reset:
+        kept = "its step keeps its own four fields and its reset its bare observations (no seed/options)"
+        calls = "the calls of them"
+        api = "return stacked terminated and truncated arrays from step and (obs, info) from reset"
+    else:
+        kept, calls, api = "its step keeps its own four fields", "the calls of it", "return stacked terminated and truncated arrays"
     return (
-        f"`{class_name}` is a batch of envs (its step returns one stacked done per env): its step keeps its own "
-        "four fields, and so do the calls of it and the wrappers around it this run can trace; only its calls on "
-        "the envs inside were migrated (each env's done is their `terminated or truncated`, so a time-limit cut "
-        "still counts as an end). To give it Gymnasium's step, return stacked terminated and truncated arrays, "
-        "together with its callers and the wrappers put on it (Gymnasium's own, such as RewardWrapper, unpack "
-        "five values)"
+        f"`{class_name}` is a batch of envs (its step returns one stacked done per env): {kept}, and so do {calls} "
+        "and the wrappers around it this run can trace; only its calls on the envs inside were migrated (each "
+        "env's done is their `terminated or truncated`, so a time-limit cut still counts as an end). To give it "
+        f"Gymnasium's API, {api}, together with its callers and the wrappers put on it (Gymnasium's own, such as "
+        "RewardWrapper, unpack five values)"
     )

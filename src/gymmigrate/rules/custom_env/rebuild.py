@@ -92,7 +92,8 @@ class ClassRewrite:
             self.replacements[name] = None
         if self.plan.seed is not None:
             self._seed(self.plan.seed)
-        self._reset()
+        if not self.plan.reset_kept:  # kept with the class's own four-field step (GM504 reports both)
+            self._reset()
         if not self.plan.batched_step:  # a batch's step keeps its stacked four fields (GM504 reports it)
             self._step()
         if self.plan.render:

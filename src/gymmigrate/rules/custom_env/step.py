@@ -143,18 +143,25 @@ def _decide_returns(decision: ClassDecision, function: Method, helpers: set[int]
                 decision.report(
                     ret,
                     "GM504",
-                    batched_step_message(decision.classdef.name),
+                    batched_step_message(decision.classdef.name, keeps_reset="reset" in decision.methods),
                     FixKind.FLAG,
                     question=BATCHED_STEP_QUESTION,
                 )
             continue
         if tuple_len(ret.value) != 4:
-            kept = (
-                ": the step keeps its four fields, and so do the calls of it this run can trace (their unpacks are left "
-                "as they are); migrate the step and its callers together"
-                if keeps_legacy_step(decision.classdef)
-                else "; return (obs, reward, terminated, truncated, info) by hand"
-            )
+            if not keeps_legacy_step(decision.classdef):
+                kept = "; return (obs, reward, terminated, truncated, info) by hand"
+            elif "reset" in decision.methods:
+                kept = (
+                    ": the step keeps its four fields and reset its own return (no seed/options), and so do the calls "
+                    "of them this run can trace (their unpacks are left as they are); migrate reset, step and their "
+                    "callers together"
+                )
+            else:
+                kept = (
+                    ": the step keeps its four fields, and so do the calls of it this run can trace (their unpacks are "
+                    "left as they are); migrate the step and its callers together"
+                )
             decision.report(ret, "GM504", f"step returns something other than a 4-tuple literal{kept}", FixKind.FLAG)
             continue
         done = ret.value.elts[2]  # type: ignore[attr-defined]

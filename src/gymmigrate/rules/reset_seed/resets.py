@@ -24,6 +24,7 @@ from enum import Enum
 
 from gymmigrate.facts.decisions import Action, Decision, receiver_text
 from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.receiver_classes import per_agent_receivers
 from gymmigrate.facts.reset_flow import scope_of_expression
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.reset_seed.call_edits import unpack_builder
@@ -66,9 +67,20 @@ class ResetCalls(ResetSeedBase):
         if not isinstance(func, ast.Attribute):  # ``x.method(...)`` calls only
             return
         receiver = func.value
+        if self.receivers.legacy_step_class(receiver) is not None:
+            # A class of the run whose step keeps its own four fields (a batch, a wrapper around
+            # one) keeps its reset with it (GM504/GM602 report the class): the calls on its
+            # instances stay as they are.
+            return
         decision, vector = self._decide(receiver, legacy_shape=self._stepped_the_legacy_way(receiver))
         if decision.action is Action.LEAVE:
             return
+        classdef = self.facts.enclosing_class(call)
+        if decision.action is not Action.REWRITE and isinstance(receiver, ast.Name) and classdef is not None:
+            if receiver.id in per_agent_receivers(classdef):
+                # The class concatenates this env's done into a list (``done_n += done``): a
+                # per-agent env whose four-field step the run keeps (GM301), so its reset too.
+                return
         code = "GM704" if vector else "GM201"
         name = receiver_text(receiver)
         use, assign, index = self._use_of(call)
@@ -284,13 +296,16 @@ class ResetCalls(ResetSeedBase):
             isinstance(receiver, ast.Attribute) and isinstance(receiver.value, ast.Name)
             and receiver.value.id == "self" and receiver.attr == "env"
         ) or (isinstance(receiver, ast.Call) and isinstance(receiver.func, ast.Name) and receiver.func.id == "super")
-        return inner and self.receivers.is_gym_wrapper_class(classdef)
+        # a reset kept with a batch's own step hands on only the observation: ``[0]`` here
+        return inner and self.receivers.is_gym_wrapper_class(classdef) and not self.receivers.keeps_own_reset(classdef)
 
     def _return_use(self, call: ast.Call) -> Use:
         function = self.facts.enclosing_function(call)
         if function is None or function.name != "reset":
             return Use.EXPRESSION  # a helper whose callers use the result as the observation
         classdef = self.facts.enclosing_class(function)
+        if classdef is not None and self.receivers.keeps_own_reset(classdef):
+            return Use.EXPRESSION  # a reset kept with a batch's own step returns the observation alone
         if classdef is not None:
             if self.receivers.is_gym_wrapper_class(classdef) or self.receivers.class_kind(classdef).is_gym:
                 return Use.PASSTHROUGH

@@ -13,6 +13,7 @@ from collections.abc import Hashable
 
 from gymmigrate.facts.decisions import Decision
 from gymmigrate.facts.done_uses import DoneUse, classify_done_read, stored_in_sequence
+from gymmigrate.facts.module import own_returns
 from gymmigrate.facts.receiver_classes import is_batched_step_return, keeps_legacy_step
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.step_done.common import StepNames
@@ -209,6 +210,17 @@ class DoneReadReports(DoneBookkeeping):
                 FixKind.FLAG,
                 Tier.NOTE,
             )
+        elif owner is step.assign and self._in_kept_step_result(read):
+            # ``results = zip(*[(obs, reward, done, info)] + replies)``, then ``return results``:
+            # the four fields of a step the run keeps (GM504 reports it) hand the flag on to
+            # that step's callers, which read it as the episode's end, as legacy ``done`` was.
+            self._report_read(
+                read,
+                f"`{read.id}` is handed on in the four fields of a step the run keeps (GM504): it stays "
+                f"`{names.terminated} or {names.truncated}`, the episode's end, as legacy `done` was",
+                FixKind.FLAG,
+                Tier.NOTE,
+            )
         elif use is DoneUse.AMBIGUOUS and owner is step.assign and self._hands_step_on(read, step):
             self._report_read(
                 read,
@@ -255,6 +267,31 @@ class DoneReadReports(DoneBookkeeping):
             and keeps_legacy_step(classdef)
             and is_batched_step_return(statement.value, function)
         )
+
+    def _in_kept_step_result(self, read: ast.Name) -> bool:
+        """``read`` is the done of an ``(obs, reward, done, info)`` tuple that the ``step`` of a
+        class keeping its four fields returns, directly or through one name it returns."""
+        site = self.facts.parent(read)
+        function = self.facts.enclosing_function(read)
+        classdef = self.facts.enclosing_class(read)
+        if not (
+            isinstance(site, ast.Tuple)
+            and len(site.elts) == 4
+            and site.elts[2] is read
+            and function is not None
+            and classdef is not None
+            and function.name == "step"
+            and self.facts.parent(function) is classdef
+            and keeps_legacy_step(classdef)
+        ):
+            return False
+        statement = self.facts.statement_of(read)
+        if isinstance(statement, ast.Return):
+            return True
+        if not (isinstance(statement, ast.Assign) and len(statement.targets) == 1 and isinstance(statement.targets[0], ast.Name)):
+            return False
+        name = statement.targets[0].id
+        return any(isinstance(r.value, ast.Name) and r.value.id == name for r in own_returns(function))
 
     def _report_read(
         self, read: ast.Name, message: str, kind: FixKind, tier: Tier | None = None, question: Hashable | None = None

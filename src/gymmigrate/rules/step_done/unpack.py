@@ -22,7 +22,8 @@ from gymmigrate.facts.decisions import Action, Decision, receiver_text
 from gymmigrate.facts.done_uses import DoneUse, classify_done_read
 from gymmigrate.facts.flow import bound_names, end, start
 from gymmigrate.facts.module import LOOPS, Scope
-from gymmigrate.findings import FixKind
+from gymmigrate.facts.receiver_classes import concatenated_lists
+from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.step_done.common import StepNames, StepUnpack, looks_vectorised
 from gymmigrate.rules.step_done.next_state import DoneStep
 from gymmigrate.rules.step_done.read_reports import DoneReadReports
@@ -50,11 +51,35 @@ class UnpackRules(DoneReadReports):
                 return True
         return False
 
+    def _done_concatenated(self, done_target: ast.expr) -> bool:
+        """The function extends a list it starts empty with ``done`` (``done_n += done``)."""
+        function = self.facts.enclosing_function(done_target)
+        if not isinstance(done_target, ast.Name) or function is None:
+            return False
+        return any(
+            isinstance(value, ast.Name) and value.id == done_target.id
+            for values in concatenated_lists(function).values()
+            for value in values
+        )
+
     def plan_unpack(self, assign: ast.Assign, target: ast.Tuple | ast.List, receiver: ast.expr) -> None:
         decision, vector = self.decision(receiver, legacy_shape=True)
         done_target = target.elts[2]
         if decision.action is Action.LEAVE:
             self.note_guarded_info(target.elts[3])
+            return
+        if decision.action is not Action.REWRITE and self._done_concatenated(done_target):
+            # ``done_n += done``: the done is a list of flags (``list += bool`` raises), so the
+            # stepped env has a per-agent API of its own whose step the run keeps at four
+            # fields (GM504 reports it), not a Gym env's one-flag step.
+            self.report(
+                assign,
+                "GM301",
+                f"the done of `{receiver_text(receiver)}.step()` is a list the function concatenates (per-agent flags): "
+                "an env on its own four-field API; the unpack is left as it is",
+                FixKind.FLAG,
+                Tier.NOTE,
+            )
             return
         if not isinstance(done_target, (ast.Name, ast.Attribute, ast.Subscript)):
             self.report(

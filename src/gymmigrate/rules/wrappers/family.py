@@ -66,6 +66,13 @@ class WrapperClasses(StepOverrides, ResetOverrides):
                         continue
                     self._fix_step(statement)
                 elif statement.name == "reset":
+                    if self.receivers.keeps_own_reset(classdef):
+                        # A batch (or a wrapper around one) keeps its reset's return with its step;
+                        # a batch wrapper still takes the seed/options outer wrappers pass and hands
+                        # them to the Gym env it wraps.
+                        if self.receivers.wraps_legacy_step(classdef) is None:
+                            self._fix_reset_signature(statement)
+                        continue
                     self._fix_reset(classdef, statement)
                 elif statement.name == "seed":
                     self._check_seed(classdef, statement)

@@ -18,7 +18,7 @@ from collections.abc import Callable
 from dataclasses import replace
 
 from gymmigrate.edits.lazy import cst
-from gymmigrate.facts.module import own_returns
+from gymmigrate.facts.module import FUNCTIONS, own_returns
 from gymmigrate.facts.receiver_classes import is_batched_step_return, keeps_legacy_step
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import RuleFamily
@@ -116,7 +116,7 @@ class StepOverrides(RuleFamily):
                 self.report(
                     batched[0],
                     "GM602",
-                    batched_step_message(classdef.name),
+                    batched_step_message(classdef.name, keeps_reset=any(isinstance(s, FUNCTIONS) and s.name == "reset" for s in classdef.body)),
                     kind=FixKind.FLAG,
                     question=BATCHED_STEP_QUESTION,
                 )
