@@ -41,6 +41,8 @@ from gymmigrate.process import (
 )
 from gymmigrate.safety import Refused, read_source, screen
 from gymmigrate.source_text import TransformError, decode, may_hold_gym_code
+from gymmigrate.sources import adapter_for
+from gymmigrate.sources.programs import join as join_segments
 
 if TYPE_CHECKING:
     from multiprocessing.connection import Connection
@@ -284,13 +286,13 @@ def summarize_path(path: Path) -> ModuleSummary | None:
 
 def _notebook_summary(path: Path, source: bytes) -> ModuleSummary | None:
     """The summary of a notebook's code cells as the one program its own run migrates."""
-    # Imported here: the notebook reader needs json, which a run without notebooks (and
-    # ``check`` of one file) never loads.
-    from gymmigrate.sources.notebook import Notebook
-    from gymmigrate.sources.programs import join as join_segments
-
+    # Through its adapter, loaded on first use: the notebook reader needs json, which a run
+    # without notebooks (and ``check`` of one file) never loads.
+    adapter = adapter_for(Path(path))
+    if adapter is None:
+        return None
     try:
-        programs = Notebook(source).programs
+        programs = adapter.read(source, str(path)).programs
     except Exception:  # noqa: BLE001  (the notebook's own run reports why; it just adds no facts)
         return None
     if not programs:

@@ -97,6 +97,12 @@ class ResetOverrides(RuleFamily):
         args = function.args
         if len(args.args) != 1 or args.posonlyargs or args.kwonlyargs or args.kwarg or args.vararg:
             return False
+        # The edits first, then the finding they carry out (how the plan ties an edit to the
+        # finding it serves when the run leaves GM601 out: the pass-on must go with it).
+        for call in _inner_calls(function, "reset"):
+            if not call.args and not call.keywords:
+                self.plan.replace(call, _pass_seed_and_options)
+        self.plan.replace(function, _keyword_seed_and_options)
         self.report(
             function,
             "GM601",
@@ -104,10 +110,6 @@ class ResetOverrides(RuleFamily):
             "passed on to the inner reset",
             tier=Tier.NOTE,  # what Gymnasium's own Wrapper.reset does
         )
-        for call in _inner_calls(function, "reset"):
-            if not call.args and not call.keywords:
-                self.plan.replace(call, _pass_seed_and_options)
-        self.plan.replace(function, _keyword_seed_and_options)
         return True
 
     def _hoist_reset(self, ret: ast.Return, calls: list[ast.Call], taken: set[str], fixed_signature: bool) -> None:
