@@ -70,6 +70,40 @@ class DoneReadReports(DoneBookkeeping):
             )
         self._report_read(read, message, FixKind.ASSIST, Tier.NOTE)  # the migration guide's own rewrite
 
+    def _readers_keep_boundary(self, read: ast.Name, step: DoneStep) -> bool:
+        """The flag is stored with the next state, but the readers this module shows use the
+        stored flag to end something (``if done: break``) or to pick the next record's value
+        (``m[t + 1].value``, a new episode after a reset): then it is the episode boundary and
+        stays ``done``, with a note, or a question when other readers mask a next-state value
+        with it. False: no such reader, the read is decided as before."""
+        readers = self._stored_flag_readers(read)
+        boundary = [r.node.lineno for r in readers if r.use == "boundary"]
+        if not boundary:
+            return False
+        masks = [r.node.lineno for r in readers if r.use == "mask"]
+        names = step.names
+        kept = f"it stays `{names.terminated} or {names.truncated}`, the episode boundary legacy `done` was"
+        if masks:
+            self._report_read(
+                read,
+                f"`{read.id}` is stored with the next state; its readers use the stored flag both as an episode "
+                f"boundary (line {boundary[0]}) and to mask a next-state value (line {masks[0]}): {kept}. Store "
+                f"`{names.terminated}` beside it for the mask, so that a time-limit truncation still bootstraps",
+                FixKind.FLAG,
+                question=("GM302", id(step.assign)),
+            )
+        else:
+            self._report_read(
+                read,
+                f"`{read.id}` is stored with the next state, but its readers use the stored flag only as an episode "
+                f"boundary (line {boundary[0]}: a cut, or the next record's value), never to mask a next-state value: "
+                f"{kept}. To bootstrap time-limit truncations, also store `{names.terminated}` and mask the final "
+                "observation's value with it",
+                FixKind.FLAG,
+                Tier.NOTE,
+            )
+        return True
+
     def _report_bootstrap_choice(self, read: ast.Name, step: DoneStep, dominated: bool = True) -> None:
         names = step.names
         why = (

@@ -20,6 +20,7 @@ from gymmigrate.facts.done_uses import (
 )
 from gymmigrate.facts.flow import bound_names, end, start
 from gymmigrate.facts.module import FUNCTIONS
+from gymmigrate.facts.stored_readers import Reader, stored_flag_readers
 from gymmigrate.rules.step_done.next_state import DoneStep, NextStateReads, says_next
 
 
@@ -155,6 +156,46 @@ class DoneReadUses(NextStateReads):
             ):
                 stored = True
         return stored
+
+    def _stored_flag_readers(self, read: ast.Name) -> list[Reader]:
+        """The readers this module shows of the flag ``read`` stores: in a record or tuple
+        built here (``memories.append(Memory(..., done=done))``), or by the callee of this
+        module it is passed to (``agent.add(s, a, s2, r, done)`` whose body stores it). They
+        say whether the stored flag masks a next-state value or marks the episode boundary
+        (``facts/stored_readers.py``); empty when none is visible."""
+        found = stored_flag_readers(read, self.facts)
+        if found:
+            return found
+        call = self.facts.parent(read)
+        if isinstance(call, ast.keyword):
+            call = self.facts.parent(call)
+        if not isinstance(call, ast.Call) or call.func is read or any(isinstance(a, ast.Starred) for a in call.args):
+            return []
+        function = self.receivers.local_function(call.func) or self.receivers.own_method(call.func)
+        method = function is not None and isinstance(self.facts.parent(function), ast.ClassDef)
+        if function is None and isinstance(call.func, ast.Attribute) and isinstance(call.func.value, ast.Name):
+            classes = self._instance_classes(call.func.value)
+            classdef = next(iter(classes)) if len(classes) == 1 else None
+            if isinstance(classdef, ast.ClassDef):
+                function = next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == call.func.attr), None)
+                method = True
+        if function is None:
+            return []
+        params = [a.arg for a in (*function.args.posonlyargs, *function.args.args)]
+        params = params[1:] if method else params
+        if read in call.args:
+            index = call.args.index(read)
+            flag = params[index] if index < len(params) else None
+        else:
+            flag = next((k.arg for k in call.keywords if k.value is read), None)
+        if flag is None:
+            return []
+        return [
+            reader
+            for node in ast.walk(function)
+            if isinstance(node, ast.Name) and node.id == flag and isinstance(node.ctx, ast.Load)
+            for reader in stored_flag_readers(node, self.facts)
+        ]
 
     def _beside_bootstrap_flag(self, read: ast.Name, step: DoneStep) -> str | None:
         """``store_transition(s, a, r, s2, terminal, done)`` where ``terminal`` (or ``dw``) is

@@ -181,12 +181,13 @@ class UnpackRules(DoneReadReports):
                     pass  # ``store(s, a, r, s2, terminal, done)``: the boundary stays (reported below)
                 elif first < len(steps) and steps[first].assign is owner:
                     if classify_done_read(read, self.facts) is DoneUse.DATA and self._masks_next_state(read, steps[first]):
-                        self._claim(read, steps[first])
-                        continue
-                    callee = self._callee_masks(read, steps[first])
-                    if callee is not None:
-                        self._claim(read, steps[first], callee=callee)
-                        continue
+                        if not self._readers_keep_boundary(read, steps[first]):
+                            self._claim(read, steps[first])
+                            continue
+                    elif (callee := self._callee_masks(read, steps[first])) is not None:
+                        if not self._readers_keep_boundary(read, steps[first]):
+                            self._claim(read, steps[first], callee=callee)
+                            continue
                     masked = self._none_mask(read, steps[first])
                     if masked is not None and masked[1]:
                         self._claim(read, steps[first], none_mask=masked[0])
