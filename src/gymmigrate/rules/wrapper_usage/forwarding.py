@@ -478,14 +478,31 @@ class WrapperForwarding(RuleFamily):
             )
             return
         if origin == MADE or (depth >= 2 and origin in (WRAPPED, INNER)):
+            message = (
+                "gym.make now returns TimeLimit(OrderEnforcing(PassiveEnvChecker(env))), so `.env` chains reach "
+                "a different layer: use gym.make(id, max_episode_steps=-1) to drop the time limit, or `.unwrapped`"
+            )
+            outer = self.facts.parent(attr)
+            if isinstance(outer, ast.Attribute) and outer.value is attr and self._forwarding_reported(outer):
+                # ``env.env.state``: GM604 asks about `.state` read through this very chain, and
+                # its answer (`.unwrapped.state`) settles which layer `.env` meant: one decision.
+                self.report(attr, "GM606", f"{message} (decided with GM604's item on `.{outer.attr}` here)", tier=Tier.NOTE)
+                return
             self.report(
                 attr,
                 "GM606",
-                "gym.make now returns TimeLimit(OrderEnforcing(PassiveEnvChecker(env))), so `.env` chains reach "
-                "a different layer: use gym.make(id, max_episode_steps=-1) to drop the time limit, or `.unwrapped`",
+                message,
                 # The chains of one env in one function ask one question: which layer they mean.
                 question=("GM606", id(self.facts.enclosing_function(attr) or self.facts.tree), self.facts.segment(receiver)),
             )
+
+    def _forwarding_reported(self, outer: ast.Attribute) -> bool:
+        """GM604 already took up this read (attributes are decided in source order, the
+        outer ``env.env.state`` before its ``env.env``)."""
+        return any(
+            node is outer and finding.rule == "GM604"
+            for finding, node in zip(self.plan.findings, self.plan.finding_nodes)
+        )
 
     def _is_make_call(self, expr: ast.AST) -> bool:
         return isinstance(expr, ast.Call) and any(N.strip_gym_prefix(q) in ("make", "envs.make", "envs.registration.make") for q in self.facts.qualified_names(expr.func))
