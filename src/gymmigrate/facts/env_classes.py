@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import ast
 from collections import defaultdict
+from collections.abc import Iterable
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.kinds import EnvKind
@@ -240,36 +241,34 @@ class EnvClasses:
         five values (an env class of this module, or of another module of the run whose
         step the run migrates, or one of Gym's own env classes); None when the run does not
         show it (a class of no module of the run, one whose step keeps four fields)."""
-        bases = [b for b in classdef.bases if not (isinstance(b, ast.Name) and b.id == "object")]
-        if not bases:
+        base = _first_base(classdef)
+        if base is None:
             return None
-        base = bases[0]
         local = self.receivers.local_class(base)
         if local is not None:
             return True if self.is_custom_env(local) else None
         names = self.facts.qualified_names(base)
-        if any(_is_builtin_env_class(q) for q in names):
+        if any(_is_builtin_env_class(q) for q in names) or self._run_env_class(names):
             return True
-        project = self.receivers.project
-        if project is None:
-            return None
-        for qualified in names:
-            if project.call_kind(qualified) is EnvKind.GYM_ENV and not project.keeps_legacy_step(qualified):
-                return True
         return None
 
     def has_run_env_base(self, classdef: ast.ClassDef) -> bool:
         """The first base is an env class of another module of the run whose step the run
         migrates (such a base may count steps for the class); Gym's own env classes, such
         as MujocoEnv, count none: TimeLimit does."""
-        bases = [b for b in classdef.bases if not (isinstance(b, ast.Name) and b.id == "object")]
+        base = _first_base(classdef)
+        if base is None or self.receivers.local_class(base) is not None:
+            return False
+        names = self.facts.qualified_names(base)
+        return not any(_is_builtin_env_class(q) for q in names) and self._run_env_class(names)
+
+    def _run_env_class(self, names: Iterable[str]) -> bool:
+        """One of these names is an env class of another module of the run whose step the
+        run migrates (not one it keeps on four fields)."""
         project = self.receivers.project
-        if not bases or project is None or self.receivers.local_class(bases[0]) is not None:
-            return False
-        names = self.facts.qualified_names(bases[0])
-        if any(_is_builtin_env_class(q) for q in names):
-            return False
-        return any(project.call_kind(q) is EnvKind.GYM_ENV and not project.keeps_legacy_step(q) for q in names)
+        return project is not None and any(
+            project.call_kind(q) is EnvKind.GYM_ENV and not project.keeps_legacy_step(q) for q in names
+        )
 
     def mujoco_base(self, classdef: ast.ClassDef) -> bool:
         return any(N.strip_gym_prefix(q) in MUJOCO_BASES for base in classdef.bases for q in self.facts.qualified_names(base))
@@ -279,6 +278,12 @@ class EnvClasses:
         if not isinstance(call, ast.Call):
             return False
         return any(N.strip_gym_prefix(q) == "utils.seeding.np_random" for q in self.facts.qualified_names(call.func))
+
+
+def _first_base(classdef: ast.ClassDef) -> ast.expr | None:
+    """The base ``super()`` reaches first (``object`` aside)."""
+    bases = [b for b in classdef.bases if not (isinstance(b, ast.Name) and b.id == "object")]
+    return bases[0] if bases else None
 
 
 def _is_builtin_env_class(qualified: str) -> bool:
