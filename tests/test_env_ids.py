@@ -72,11 +72,13 @@ def test_current_ids_are_not_rewritten(kept: str) -> None:
 
 
 def test_removed_families_are_not_registered() -> None:
-    for env_id in ["FetchReach-v1", "HandManipulateBlock-v0", "Striker-v2", "Thrower-v2", "CubeCrash-v0", "MemorizeDigits-v0"]:
+    for env_id in ["FetchReach-v1", "HandManipulateBlock-v0", "Striker-v2", "Thrower-v2", "CubeCrash-v0", "MemorizeDigits-v0",
+                   "Copy-v0", "ReversedAddition3-v0", "NChain-v0", "KellyCoinflipGeneralized-v0"]:
         assert removed_family(env_id) is not None
         with pytest.raises(gymnasium.error.Error):
             gymnasium.spec(env_id)
     assert removed_family("FetchingRobot-v0") is None
+    assert removed_family("CopyCat-v0") is None
 
 
 # -- Atari ---------------------------------------------------------------------------

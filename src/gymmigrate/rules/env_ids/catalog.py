@@ -29,6 +29,7 @@ class IdMigration:
 
 _SAME = "the same environment under its current version"
 _LANDER = "v3 resets wind each episode and widens the observation bounds; saved policies and normalisers may not transfer"
+_WALKER = "v3 (gym 0.16) reports the closest lidar hit instead of the furthest: observations differ, saved policies may not transfer"
 _CAR = "v3 ends a finished lap with termination instead of truncation and changed the track-completion logic (0.24)"
 _MUJOCO = (
     "mujoco-py envs raise ImportError since Gymnasium 1.2; v4 keeps the model and reward on the mujoco bindings "
@@ -54,6 +55,8 @@ RETIRED_IDS: dict[str, IdMigration] = {
     "CliffWalking-v0": IdMigration("CliffWalking-v1", FixKind.AUTO, "v1 only added the optional slippery variant"),
     "LunarLander-v2": IdMigration("LunarLander-v3", FixKind.ASSIST, _LANDER),
     "LunarLanderContinuous-v2": IdMigration("LunarLanderContinuous-v3", FixKind.ASSIST, _LANDER),
+    "BipedalWalker-v2": IdMigration("BipedalWalker-v3", FixKind.ASSIST, _WALKER),
+    "BipedalWalkerHardcore-v2": IdMigration("BipedalWalkerHardcore-v3", FixKind.ASSIST, _WALKER),
     "CarRacing-v0": IdMigration("CarRacing-v3", FixKind.ASSIST, _CAR),
     "CarRacing-v1": IdMigration("CarRacing-v3", FixKind.ASSIST, _CAR),
     "CarRacing-v2": IdMigration("CarRacing-v3", FixKind.ASSIST, "v3 ends a finished lap with termination instead of truncation"),
@@ -86,6 +89,14 @@ REMOVED_FAMILIES: tuple[tuple[re.Pattern[str], str], ...] = (
         re.compile(r"^SuperMarioBros(2)?(RandomStages)?-[A-Za-z0-9-]*v\d+$"),
         "a gym_super_mario_bros id, registered with gym only: wrap `gym_super_mario_bros.make(...)` with Shimmy "
         "(`gym.make(\"GymV21Environment-v0\", env=...)`, gym installed)",
+    ),
+    (
+        re.compile(r"^(Copy|DuplicatedInput|RepeatCopy|Reverse|ReversedAddition3?)-v\d+$"),
+        "the algorithmic envs were removed in gym 0.20 and have no Gymnasium version; vendor the env",
+    ),
+    (
+        re.compile(r"^(GuessingGame|HotterColder|KellyCoinflip(Generalized)?|NChain|Roulette)-v\d+$"),
+        "these toy-text envs were removed in gym 0.22 and have no Gymnasium version; vendor the env",
     ),
     (
         re.compile(r"^(CubeCrash(Sparse|ScreenBecomesBlack)?|MemorizeDigits)-v\d+$"),
