@@ -62,3 +62,34 @@ def test_a_decision_of_one_file_is_not_grouped(run: Path) -> None:
     """Checked alone, each script asks its own questions: nothing is grouped away."""
     result = runner.invoke(app, ["check", "--output-format", "json", str(run / "scripts" / "train.py")])
     assert _review(json.loads(result.stdout)) == [("train.py", 5, "GM107"), ("train.py", 8, "GM803")]
+
+
+# -- a question the modules of a run share ---------------------------------------------
+
+POLICIES = Path(__file__).resolve().parent.parent / "fixtures" / "project_policy_bases"
+
+
+def test_a_base_class_attribute_is_one_question_for_its_subclasses_modules(tmp_path: Path) -> None:
+    """``fixtures/project_policy_bases``: where ``Policy``'s ``self.env`` comes from is asked once
+    (in the base's module), however many modules of subclasses step it; a subclass that binds
+    ``self.env`` itself asks its own question."""
+    run = tmp_path / "run"
+    shutil.copytree(POLICIES, run)
+    result = runner.invoke(app, ["check", "--output-format", "json", str(run)])
+    assert result.exit_code == 1
+    findings = json.loads(result.stdout)
+    assert _review(findings) == [("base.py", 12, "GM201"), ("reinforce.py", 26, "GM201")]
+    first = next(f for f in findings if f["tier"] == "review" and f["path"].endswith("base.py"))
+    assert first["message"].endswith(
+        f"(the same decision at 2 other places: {run / 'policies' / 'dqn.py'}:8, {run / 'policies' / 'reinforce.py'}:13)"
+    )
+    pointed = [f for f in findings if f["message"].endswith(f"(decided once, at {run / 'policies' / 'base.py'}:12)")]
+    assert sorted((Path(f["path"]).name, f["line"], f["tier"]) for f in pointed) == [("dqn.py", 8, "note"), ("reinforce.py", 13, "note")]
+    assert all("question" not in f for f in findings)  # the key is internal
+
+
+def test_a_subclass_module_checked_alone_asks_its_own_question(tmp_path: Path) -> None:
+    run = tmp_path / "run"
+    shutil.copytree(POLICIES, run)
+    result = runner.invoke(app, ["check", "--output-format", "json", str(run / "policies" / "dqn.py")])
+    assert _review(json.loads(result.stdout)) == [("dqn.py", 8, "GM201")]

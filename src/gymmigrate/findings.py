@@ -14,7 +14,7 @@ is a note.
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field
 from enum import Enum
 
 
@@ -50,6 +50,11 @@ class Tier(str, Enum):
         return cls.REVIEW if kind.needs_review else cls.NOTE
 
 
+# The first item of a question key that the files of a run share: the question (where a
+# class's ``self.env`` comes from) belongs to the run, and ``report.decide_once`` asks it once.
+RUN_QUESTION = "run"
+
+
 @dataclass(frozen=True, order=True)
 class Finding:
     """One change or review item, positioned in the original source (1-based line, 0-based column).
@@ -71,6 +76,8 @@ class Finding:
     end_column: int | None = None
     cell: int | None = None
     tier: Tier | None = None
+    # A question the files of a run share (see RUN_QUESTION), spelled as text; not reported.
+    question: str | None = field(default=None, compare=False)
 
     def __post_init__(self) -> None:
         if self.tier is None:
@@ -86,6 +93,7 @@ class Finding:
 
     def to_json(self) -> dict[str, object]:
         data = asdict(self)
+        del data["question"]
         data["kind"] = self.kind.value
         data["tier"] = self.tier.value  # type: ignore[union-attr]
         return data

@@ -81,25 +81,30 @@ def decide_once(results: Sequence[FileResult]) -> list[FileResult]:
 
     An item of a rule whose decision belongs to the run, not to its file
     (``Rule.once_per_run``: a library with no Gymnasium release, an env id's new version),
-    is asked once: where several files hold the same item (same rule, same message), the
+    or of a question the run shares (``Finding.question``: where a base class's ``self.env``
+    comes from, asked by each module of its subclasses), is asked once: where several files hold the same item (same rule, same message), the
     first file's item stays in the review list and names the other places; the others
     become notes pointing at it, so every place is still listed (``check``, the JSON
     report) and the count of review items counts decisions. Within a file the rules
     already ask each question once (``Plan.ask_once``)."""
+    once = {rule.code for rule in all_rules() if rule.once_per_run}
     groups: dict[tuple[str, str], list[tuple[int, int]]] = defaultdict(list)
     for r, result in enumerate(results):
         for f, finding in enumerate(result.findings):
-            if finding.needs_review:
+            if not finding.needs_review:
+                continue
+            if finding.question is not None:
+                # a question of the run (where `self.env` of a base class of the run comes
+                # from): every module of its subclasses asks it, whatever the rule
+                groups[("", finding.question)].append((r, f))
+            elif finding.rule in once:
                 # the file's own "(the same question at line 43)" does not make it another decision
                 groups[(finding.rule, _SAME_IN_FILE.sub("", finding.message))].append((r, f))
     repeated = {key: places for key, places in groups.items() if len({r for r, _ in places}) > 1}
     if not repeated:
         return list(results)
-    once = {rule.code for rule in all_rules() if rule.once_per_run}
     findings = [list(result.findings) for result in results]
-    for (rule, _), places in repeated.items():
-        if rule not in once:
-            continue
+    for places in repeated.values():
         places.sort(key=lambda place: (results[place[0]].path, findings[place[0]][place[1]].cell or 0, findings[place[0]][place[1]].line))
         (r0, f0), others = places[0], places[1:]
         first = findings[r0][f0]

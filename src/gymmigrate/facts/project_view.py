@@ -228,6 +228,15 @@ class ProjectView:
         split = self.facts._split(qualified, self.path)
         return split is not None and split[1] in self.facts.wrapping_helpers.get(split[0], ())
 
+    def class_of_run(self, qualified: str) -> tuple[str, str] | None:
+        """``(path, "Policy")`` for an imported name of the run that is a top-level class with
+        methods (``from .base import Policy``): where its attributes are decided."""
+        split = self.facts._split(qualified, self.path)
+        if split is None or "." in split[1]:
+            return None
+        prefix = split[1] + "."
+        return split if any(q.startswith(prefix) for q in self.facts.defs.get(split[0], ())) else None
+
     def is_wrapper_class(self, qualified: str) -> bool:
         """An imported name of the run is a Gym wrapper class (``from pkg.wrappers import X``)."""
         split = self.facts._split(qualified, self.path)

@@ -25,7 +25,7 @@ from gymmigrate.facts.decisions import Action, Decision
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.module import full_name
 from gymmigrate.facts.profile import FileProfile
-from gymmigrate.findings import FixKind, Tier
+from gymmigrate.findings import RUN_QUESTION, FixKind, Tier
 from gymmigrate.options import RewriteOptions
 from gymmigrate.rules.notes import FamilyNotes
 
@@ -61,6 +61,21 @@ class FileContext:
 
 
 _FAMILIES: list[type[RuleFamily]] = []
+
+
+def _binds_self_attribute(cls: ast.ClassDef, attribute: str) -> bool:
+    """Some method of ``cls`` assigns ``self.<attribute>``."""
+    for node in ast.walk(cls):
+        targets: list[ast.expr] = []
+        if isinstance(node, ast.Assign):
+            targets = list(node.targets)
+        elif isinstance(node, (ast.AnnAssign, ast.AugAssign)):
+            targets = [node.target]
+        for target in targets:
+            for sub in ast.walk(target):
+                if isinstance(sub, ast.Attribute) and sub.attr == attribute and isinstance(sub.value, ast.Name) and sub.value.id == "self":
+                    return True
+    return False
 
 
 class RuleFamily:
@@ -130,9 +145,32 @@ class RuleFamily:
             return None
         if name.split(".", 1)[0] == "self":
             owner: ast.AST | None = self.facts.enclosing_class(receiver)
+            decided_by = self._attribute_owner(owner, name) if isinstance(owner, ast.ClassDef) else None
+            if decided_by is not None:
+                return (RUN_QUESTION, decision.action, *decided_by, name)
         else:
             owner = self.facts.enclosing_function(receiver)
         return ("receiver", decision.action, id(owner), name)
+
+    def _attribute_owner(self, cls: ast.ClassDef, name: str) -> tuple[str, str] | None:
+        """The run's class whose code decides ``self.env`` of ``cls``: ``cls`` itself where it
+        binds the attribute, else its one base of the run (``class DQN(Policy)``, ``Policy``
+        in another module). Policies of one base class spread over modules ask where
+        ``self.env`` comes from once for the run, not once per module (``report.decide_once``).
+        None outside a run, or for a class the question cannot be pinned to."""
+        project = self.receivers.project
+        if project is None or cls not in self.facts.tree.body:
+            return None
+        attribute = name.split(".")[1] if name.count(".") >= 1 else ""
+        if _binds_self_attribute(cls, attribute):
+            return (project.path, cls.name)
+        if len(cls.bases) != 1:
+            return None
+        for qualified in self.facts.qualified_names(cls.bases[0]):
+            found = project.class_of_run(qualified)
+            if found is not None:
+                return found
+        return None
 
 
     def _iterated_collection(self, receiver: ast.AST) -> ast.expr | None:
