@@ -66,6 +66,24 @@ def is_step_limit(expr: ast.AST) -> bool:
     return any(STEP_LIMIT_WORD.search(word.lower()) and "beyond" not in word for word in identifiers(expr))
 
 
+def if_setting_true(line: ast.AST, parent: ast.AST | None) -> ast.If | None:
+    """The ``if`` of ``if <test>: done = True`` (a plain name set to ``True`` in a branch of
+    ``parent``): what the "done is set when ..." checks of the step rules share (a task's own
+    end in an env's step, a step limit or a lost life in a wrapper's), each with its own test
+    and its own demand on the other branch. None for any other line."""
+    if not (
+        isinstance(line, ast.Assign)
+        and len(line.targets) == 1
+        and isinstance(line.targets[0], ast.Name)
+        and isinstance(line.value, ast.Constant)
+        and line.value.value is True
+        and isinstance(parent, ast.If)
+        and (line in parent.body or line in parent.orelse)
+    ):
+        return None
+    return parent
+
+
 _AnyNode = TypeVar("_AnyNode", bound=ast.AST)
 
 

@@ -20,6 +20,7 @@ from gymmigrate.facts.limits import (
     DoneCause,
     DoneTracer,
     Limit,
+    if_setting_true,
     is_step_limit,
     unwrap_bool,
 )
@@ -530,12 +531,9 @@ def _task_ends(decision: ClassDecision, index: FunctionIndex, name: str) -> list
     ]
     ends = []
     for assign in assigns:
-        parent = decision.family.facts.parent(assign)
-        value = assign.value  # type: ignore[attr-defined]
+        parent = if_setting_true(assign, decision.family.facts.parent(assign))
         if (
-            isinstance(value, ast.Constant)
-            and value.value is True
-            and isinstance(parent, ast.If)
+            parent is not None
             and not _assigns_in(parent.orelse if assign in parent.body else parent.body, name)
             and not any(isinstance(n, ast.Compare) and is_step_limit(n) for n in ast.walk(parent.test))
         ):

@@ -18,6 +18,7 @@ from collections.abc import Callable
 from dataclasses import replace
 
 from gymmigrate.edits.lazy import cst
+from gymmigrate.facts.limits import if_setting_true
 from gymmigrate.facts.module import FUNCTIONS, own_returns
 from gymmigrate.facts.receiver_classes import is_batched_step_return, keeps_legacy_step
 from gymmigrate.findings import FixKind, Tier
@@ -416,7 +417,7 @@ def _sets_done_when(line: ast.stmt, name: str, parent: ast.AST | None, test: Cal
         return False
     value = line.value
     if isinstance(value, ast.Constant) and value.value is True:
-        return isinstance(parent, ast.If) and line in parent.body and not parent.orelse and test(parent.test)
+        return _set_alone_when(line, parent, test)
     if isinstance(value, ast.BoolOp) and isinstance(value.op, ast.Or):
         rest = [v for v in value.values if not (isinstance(v, ast.Name) and v.id == name)]
         return len(rest) == len(value.values) - 1 and all(test(v) for v in rest)
@@ -429,17 +430,13 @@ _LIFE_WORDS = re.compile(r"(?:^|_)lives?(?:_|$)|life", re.IGNORECASE)
 
 def _sets_done_on_life_loss(line: ast.stmt, parent: ast.AST | None) -> bool:
     """``done = True`` alone in an ``if`` that tests the number of lives."""
-    return (
-        isinstance(line, ast.Assign)
-        and len(line.targets) == 1
-        and isinstance(line.targets[0], ast.Name)
-        and isinstance(line.value, ast.Constant)
-        and line.value.value is True
-        and isinstance(parent, ast.If)
-        and line in parent.body
-        and not parent.orelse
-        and any(_LIFE_WORDS.search(_identifier(node)) for node in ast.walk(parent.test))
-    )
+    return _set_alone_when(line, parent, lambda test: any(_LIFE_WORDS.search(_identifier(node)) for node in ast.walk(test)))
+
+
+def _set_alone_when(line: ast.stmt, parent: ast.AST | None, test: Callable[[ast.AST], bool]) -> bool:
+    """``if <test>: done = True`` with no ``else``."""
+    branch = if_setting_true(line, parent)
+    return branch is not None and line in branch.body and not branch.orelse and test(branch.test)
 
 
 # what a task's own end is called: ``info["is_success"]``, ``reached_goal``, ``self.crashed``
