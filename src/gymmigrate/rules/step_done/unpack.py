@@ -228,11 +228,12 @@ class UnpackRules(DoneReadReports):
                 return False
         elif not (isinstance(statement, ast.AnnAssign) and statement.value is not None and statement.target is binding):
             return False
-        if statement in self.legacy_unpacks:
+        if statement in self.legacy_unpacks or statement.value is None:
             return False
-        if any(isinstance(n, ast.Name) and n.id == done.id for n in ast.walk(statement.value)):
+        value = statement.value
+        if any(isinstance(n, ast.Name) and n.id == done.id for n in ast.walk(value)):
             return False  # ``done = done or stuck``: the step's flag flows on
-        if any(isinstance(n, ast.Attribute) and n.attr == "step" for n in ast.walk(statement.value)):
+        if any(isinstance(n, ast.Attribute) and n.attr == "step" for n in ast.walk(value)):
             return False  # ``done = env.step(a)[2]``: a step's flag after all
         return self.flow.dominates(statement, read, done)
 

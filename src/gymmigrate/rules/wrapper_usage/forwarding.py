@@ -329,14 +329,13 @@ class WrapperForwarding(RuleFamily):
         if name.startswith("_") or name in _MAKE_LAYER_ATTRIBUTES:
             return False  # gym never forwarded private names; the layers' own stay theirs
         chain: ast.expr = attr.value
-        for depth in range(1, _MAKE_LAYERS + 1):
-            if not (isinstance(chain, ast.Attribute) and chain.attr == "env"):
-                return False
-            chain = chain.value
+        depth = 0
+        while True:
+            if depth == _MAKE_LAYERS or not (isinstance(chain, ast.Attribute) and chain.attr == "env"):
+                return False  # deeper than make's layers is past the base env
+            chain, depth = chain.value, depth + 1
             if self._bare_make(chain, frozenset()):
                 break
-        else:
-            return False  # deeper than make's layers: past the base env
         receiver = dotted_name(chain) or self.facts.segment(chain)
         text = dotted_name(attr) or f"{receiver}{'.env' * depth}.{name}"
         if isinstance(attr.ctx, ast.Load):
@@ -368,7 +367,9 @@ class WrapperForwarding(RuleFamily):
             if classdef is None or self.receivers.is_gym_wrapper_class(classdef):
                 return False  # a wrapper's ``self.env`` is whatever it wraps
             values = self_stores(self.facts, classdef, expr.attr)
-            return bool(values) and all(self._bare_make(value, seen) for value in values)
+            if not values:
+                return False
+            return all(self._bare_make(value, seen) for value in values)
         if not isinstance(expr, ast.Name):
             return False
         bindings = self.facts.bindings_of(expr)
