@@ -337,6 +337,25 @@ def test_every_rule_case_cut_into_cells_migrates_as_the_script_does(case: Path) 
     assert "".join("".join(cell["source"]) for cell in cells) == after
 
 
+def test_a_def_redefined_in_a_later_cell_gets_the_calls_of_the_def_that_calls_it() -> None:
+    # A function defined in a cell and again in a later one: the call inside ``episode()``
+    # runs whenever that is called, so both definitions are traced to the make it passes.
+    source = _notebook(
+        ("code", "import gym\n"),
+        ("code", 'def episode():\n    sim = gym.make("CartPole-v1")\n    sim.reset()\n    return angle(sim)\n'),
+        ("code", "def angle(sim):\n    return sim.env.state[2]\n"),
+        ("code", "episode()\n"),
+        ("code", "def angle(sim, index=2):\n    return sim.env.state[index]\n"),
+        ("code", "episode()\n"),
+    )
+    rewritten = _rewrite(source).decode()
+    assert "sim.env.state" not in rewritten
+    assert rewritten.count("sim.unwrapped.state") == 2
+    findings, would_change = lint_document(NOTEBOOK, source, "nb.ipynb", RewriteOptions())
+    assert would_change
+    assert [f.kind.value for f in findings if f.rule == "GM604"] == ["auto", "auto"]
+
+
 def test_a_cell_whose_first_statement_is_removed_keeps_its_place() -> None:
     source = _notebook(
         ("code", "import gym\n"),

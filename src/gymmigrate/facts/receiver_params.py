@@ -187,11 +187,21 @@ class ParameterKinds(_Facade):
         name = function.name  # type: ignore[attr-defined]
         if classdef is None:
             calls = self.facts.calls_by_name.get(name, [])
-            if self.facts.parent(function) is self.facts.tree and self.facts.functions.get(name) is not function:
-                # A def the module defines again later (a notebook's cells, run in order): the
-                # calls that the text shows reach it, those after it and before the next def.
+            module = self.facts.module_scope
+            defs = [b for b in module.bindings.get(name, ()) if isinstance(b, FUNCTIONS)]
+            if self.facts.parent(function) is self.facts.tree and (len(defs) > 1 or self.facts.functions.get(name) is not function):
+                # A def the module defines again (a notebook's cells, run in order): a call of
+                # the module's own code reaches the def bound where it runs, the one above it
+                # in the text; a call inside a def runs whenever that def is called, so it may
+                # reach any of them (``worker()`` calling ``run_episode`` defined in two cells).
                 flow = Flow.of(self.facts)
-                return [c for c in calls if isinstance(c.func, ast.Name) and flow.last_binding_of(c.func) is function]
+                return [
+                    c
+                    for c in calls
+                    if isinstance(c.func, ast.Name)
+                    and self.facts.resolve(name, self.facts.scope_of(c.func))[0] is module
+                    and (flow.last_binding_of(c.func) is function or not flow.same_frame(c.func, module))
+                ]
             return [c for c in calls if self.local_function(c.func) is function]
         if name == "__init__":
             return list(self.facts.calls_by_name.get(classdef.name, []))

@@ -174,6 +174,8 @@ class UnpackRules(DoneReadReports):
         marks = [0] * (len(steps) + 1)
         for read in reads:
             owner = self._dominating_step(read, done)
+            if owner is None and self._rebound_fresh(read, done):
+                continue  # ``done = float(i == T - 1)`` before it: a new flag, not the step's
             first = 0
             if owner is not None:
                 first = index_of.get(id(owner), bisect_left(starts, end(owner)))
@@ -215,6 +217,25 @@ class UnpackRules(DoneReadReports):
             running += mark
             keep.append(running > 0)
         return keep
+
+    def _rebound_fresh(self, read: ast.Name, done: ast.Name) -> bool:
+        """``read`` certainly sees a plain assignment that is no step and computes the name
+        afresh, without reading it (``done = float(i == T - 1)``): no step's flag reaches it."""
+        binding = self.flow.last_binding_before(read, done)
+        statement = self.facts.statement_of(binding) if binding is not None else None
+        if isinstance(statement, ast.Assign):
+            if statement.targets != [binding]:
+                return False
+        elif not (isinstance(statement, ast.AnnAssign) and statement.value is not None and statement.target is binding):
+            return False
+        if statement in self.legacy_unpacks or statement.value is None:
+            return False
+        value = statement.value
+        if any(isinstance(n, ast.Name) and n.id == done.id for n in ast.walk(value)):
+            return False  # ``done = done or stuck``: the step's flag flows on
+        if any(isinstance(n, ast.Attribute) and n.attr == "step" for n in ast.walk(value)):
+            return False  # ``done = env.step(a)[2]``: a step's flag after all
+        return self.flow.dominates(statement, read, done)
 
     def _outermost_loop(self, node: ast.AST) -> ast.AST | None:
         found = None

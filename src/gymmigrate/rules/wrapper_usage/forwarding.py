@@ -6,7 +6,8 @@ wrappers ``env.x_threshold`` raises ``AttributeError``:
 * GM604 (ASSIST) base-env state and methods become ``env.unwrapped.foo``; anything a
   wrapper may define becomes ``env.get_wrapper_attr("foo")`` (outermost to base, exactly
   what forwarding did). Writes are reported (forwarding never applied to them). A raw env
-  built by its own constructor never had the problem.
+  built by its own constructor never had the problem. ``env.env.state`` on a bare make
+  result becomes ``env.unwrapped.state``: make's layers have no ``state`` to shadow it.
 * GM605 (ASSIST) ``env._max_episode_steps`` on a bare ``make`` result is the outermost
   TimeLimit's own attribute, left as it is (reads and writes work as in gym); under wrappers
   of the code's own it is read from ``env.spec.max_episode_steps`` (a make below them) or
@@ -32,6 +33,7 @@ from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.limits import self_stores
 from gymmigrate.facts.module import FUNCTIONS, call_argument, dotted_name, own_returns
 from gymmigrate.facts.pytest_params import fixture_values, param_fixtures
 from gymmigrate.findings import FixKind, Tier
@@ -93,6 +95,7 @@ class WrapperForwarding(RuleFamily):
         self._depth = 0
         self._unknown_receivers = Repeats()  # GM604: one "is it wrapped?" question per object
         self._local_attrs: set[str] | None = None
+        self._through_make: set[int] = set()  # ``env.env.state`` rewritten to ``env.unwrapped.state``
         self._class_attrs: dict[ast.ClassDef, set[str]] = {}
         # (scope, name) -> (lines, values) of its assignments, sorted by line; None if one is not ``x = ...``
         self._assign_lines: dict[tuple[int, str], tuple[list[int], list[ast.expr]] | None] = {}
@@ -166,6 +169,8 @@ class WrapperForwarding(RuleFamily):
         if isinstance(receiver, ast.Name) and receiver.id in ("self", "cls"):
             if receiver.id == "self":
                 self._self_forwarding(attr)
+            return
+        if self._through_make_layers(attr):
             return
         sub_env = self._is_sub_env(receiver)
         known = sub_env or self.receivers.kind_of(receiver) is EnvKind.GYM_ENV
@@ -312,6 +317,94 @@ class WrapperForwarding(RuleFamily):
         )
         self._replace_with_get_wrapper_attr(attr, name)
 
+    def _through_make_layers(self, attr: ast.Attribute) -> bool:
+        """``env.env.state`` (read or written) with ``env`` a bare ``gym.make`` result: gym's
+        make stacked at most TimeLimit, OrderEnforcing and PassiveEnvChecker, none with a
+        public ``state``, so whichever layer ``.env`` named, the read reached the base env
+        (gym <= 0.20: ``.env`` was the env itself; later: forwarded). Gymnasium's make stacks
+        the same layers and forwards nothing: ``env.unwrapped.state`` is the base env's.
+        Checked on gymnasium 1.4: CartPole-v1's ``.env.state`` raises, ``.env.state = s``
+        sets it on OrderEnforcing, ``.unwrapped.state = s`` is the state the next step uses."""
+        name = attr.attr
+        if name.startswith("_") or name in _MAKE_LAYER_ATTRIBUTES:
+            return False  # gym never forwarded private names; the layers' own stay theirs
+        chain: ast.expr = attr.value
+        depth = 0
+        while True:
+            if depth == _MAKE_LAYERS or not (isinstance(chain, ast.Attribute) and chain.attr == "env"):
+                return False  # deeper than make's layers is past the base env
+            chain, depth = chain.value, depth + 1
+            if self._bare_make(chain, frozenset()):
+                break
+        receiver = dotted_name(chain) or self.facts.segment(chain)
+        text = dotted_name(attr) or f"{receiver}{'.env' * depth}.{name}"
+        if isinstance(attr.ctx, ast.Load):
+            message = (
+                f"`{text}` -> `{receiver}.unwrapped.{name}`: gym.make's wrappers have no `{name}`, so the read reached "
+                "the base env; Gymnasium's make stacks the same wrappers and forwards nothing"
+            )
+        else:
+            message = (
+                f"`{text}` -> `{receiver}.unwrapped.{name}`: the write meant the base env under gym.make's wrappers; "
+                "on Gymnasium it would set the attribute on a wrapper (OrderEnforcing) and the env would not see it"
+            )
+        self.report(attr, "GM604", message, kind=FixKind.AUTO, tier=Tier.NOTE)
+        self.plan.replace(attr, _unwrapped_below(depth))
+        self._through_make.add(id(attr))
+        return True
+
+    def _bare_make(self, expr: ast.expr, seen: frozenset[int]) -> bool:
+        """``expr`` is, on every path, what ``gym.make(...)`` returned with no wrapper of any
+        kind around it: the call itself, a name or ``self.x`` every binding of which is one
+        (``x = y`` followed), a parameter of a module function every call here passes one."""
+        if self._is_make_call(expr):
+            return True
+        if id(expr) in seen:
+            return False
+        seen |= {id(expr)}
+        if isinstance(expr, ast.Attribute) and isinstance(expr.value, ast.Name) and expr.value.id == "self":
+            classdef = self.facts.enclosing_class(expr)
+            if classdef is None or self.receivers.is_gym_wrapper_class(classdef):
+                return False  # a wrapper's ``self.env`` is whatever it wraps
+            values = self_stores(self.facts, classdef, expr.attr)
+            if not values:
+                return False
+            return all(self._bare_make(value, seen) for value in values)
+        if not isinstance(expr, ast.Name):
+            return False
+        bindings = self.facts.bindings_of(expr)
+        if not bindings:
+            return False
+        for binding in bindings:
+            if id(binding) in seen:
+                return False
+            if isinstance(binding, ast.arg):
+                if not self._param_bare_make(binding, seen | {id(binding)}):
+                    return False
+                continue
+            statement = self.facts.parent(binding)
+            if not (isinstance(statement, ast.Assign) and statement.targets == [binding]):
+                return False
+            if not self._bare_make(statement.value, seen | {id(binding)}):
+                return False
+        return True
+
+    def _param_bare_make(self, param: ast.arg, seen: frozenset[int]) -> bool:
+        arguments = self.facts.parent(param)
+        function = self.facts.parent(arguments) if arguments is not None else None
+        if not isinstance(function, FUNCTIONS) or self.facts.enclosing_class(function) is not None:
+            return False
+        params = [*function.args.posonlyargs, *function.args.args]
+        position = next((i for i, p in enumerate(params) if p is param), None)
+        calls = self.receivers.call_sites(function, None)
+        if not calls:
+            return False
+        for call in calls:
+            argument = call_argument(call, position, param.arg)
+            if argument is None or not self._bare_make(argument, seen):
+                return False
+        return True
+
     def _gym_envs_from_elsewhere(self, receiver: ast.expr, origin: Origin) -> bool:
         """``env``, a parameter of a module function that every call from other modules of
         the run passes a Gym env, a bare one or a wrapper stack (``run_agent(gym.make(...))``
@@ -452,6 +545,8 @@ class WrapperForwarding(RuleFamily):
         parent = self.facts.parent(attr)
         if isinstance(parent, ast.Attribute) and parent.value is attr and parent.attr == "env":
             return  # report the outermost ``.env`` of a chain once
+        if isinstance(parent, ast.Attribute) and parent.value is attr and id(parent) in self._through_make:
+            return  # GM604 rewrote the read through it to ``.unwrapped``: the chain is gone
         receiver = attr.value
         depth = 1
         while isinstance(receiver, ast.Attribute) and receiver.attr == "env":
@@ -783,6 +878,29 @@ class WrapperForwarding(RuleFamily):
         result = join_origins(origins)
         self._param_origins[param] = result
         return result
+
+
+# gym.make's layers, legacy (TimeLimit, OrderEnforcing, PassiveEnvChecker in gym 0.24-0.26) and
+# Gymnasium 1.4 (the same three).
+_MAKE_LAYERS = 3
+# Public attributes those layers define themselves (``vars()`` of each layer on gymnasium 1.4,
+# and gym 0.26's): a read of one through ``.env`` may mean the wrapper's.
+_MAKE_LAYER_ATTRIBUTES = frozenset(
+    {"has_reset", "checked_reset", "checked_step", "checked_render", "checked_data_reuse", "close_called"}
+)
+
+
+def _unwrapped_below(depth: int):
+    """``env.env.env.state`` (``depth`` ``.env``) -> ``env.unwrapped.state``."""
+
+    def build(node: cst.Attribute) -> cst.BaseExpression:
+        value: cst.BaseExpression = node.value
+        for _ in range(depth):
+            assert isinstance(value, cst.Attribute)
+            value = value.value
+        return node.with_changes(value=cst.Attribute(value=value, attr=cst.Name("unwrapped")))
+
+    return build
 
 
 def _set_wrapper_attr(name: str):
