@@ -154,8 +154,8 @@ class RuleFamily:
 
     def _attribute_owner(self, cls: ast.ClassDef, name: str) -> tuple[str, str] | None:
         """The run's class whose code decides ``self.env`` of ``cls``: ``cls`` itself where it
-        binds the attribute, else its one base of the run (``class DQN(Policy)``, ``Policy``
-        in another module). Policies of one base class spread over modules ask where
+        binds the attribute, else its first base of the run (``class DQN(Policy)``,
+        ``Policy`` in another module). Policies of one base class spread over modules ask where
         ``self.env`` comes from once for the run, not once per module (``report.decide_once``).
         None outside a run, or for a class the question cannot be pinned to."""
         project = self.receivers.project
@@ -164,12 +164,13 @@ class RuleFamily:
         attribute = name.split(".")[1] if name.count(".") >= 1 else ""
         if _binds_self_attribute(cls, attribute):
             return (project.path, cls.name)
-        if len(cls.bases) != 1:
-            return None
-        for qualified in self.facts.qualified_names(cls.bases[0]):
-            found = project.class_of_run(qualified)
-            if found is not None:
-                return found
+        # the first base of the run: its ``__init__`` is the one that runs (``class
+        # DqnPolicy(Policy, ModelMixin)``: ``Policy`` stores the env)
+        for base in cls.bases:
+            for qualified in sorted(self.facts.qualified_names(base)):
+                found = project.class_of_run(qualified)
+                if found is not None:
+                    return found
         return None
 
 
