@@ -306,7 +306,14 @@ class ProjectFacts:
     def _class_kind(self, kind: str, importer: str) -> EnvKind:
         """``new:envs.GridEnv`` is a Gym env when ``GridEnv`` is an env class of the run (or
         derives from one, or is re-exported); a PettingZoo env class of the run likewise."""
-        found = self.view(importer).call_kind(kind[len(NEW) :])
+        name = kind[len(NEW) :]
+        if name.startswith(OWN):
+            # ``@create_env``: a def of the importer itself, whose returns other modules decide
+            own = self.call_kinds.get((importer, name[len(OWN) :]))
+            if own is None:
+                return EnvKind.UNKNOWN
+            return EnvKind.OWN_API if own is EnvKind.NOT_ENV else own  # (as for a plain class, below)
+        found = self.view(importer).call_kind(name)
         if found is not None and found is not EnvKind.NOT_ENV:
             return found
         imported = self.view(importer).imported_class(kind[len(NEW) :])

@@ -416,10 +416,17 @@ class _Summarizer:
         """The argument's kind; ``new:agent.GridEnv`` for an instance of a class this
         module imports, which the join resolves against the env classes of the run."""
         kind = self.receivers.kind_of(argument)
+        if kind is EnvKind.NOT_ENV and self._env_like_instance(argument, 0):
+            # The project's own reset/step object (``Holder(Board())``): not NOT_ENV, which
+            # a Gym env passed by another caller outweighs in the join; the def is asked about.
+            return EnvKind.OWN_API
         if kind is EnvKind.UNKNOWN and isinstance(argument, ast.Call):
             found = [q for q in self.facts.qualified_names(argument.func) if not _is_library(q)]
             if len(found) == 1:
                 return NEW + found[0]
+            own = self._own_factory(argument.func)
+            if own is not None:
+                return NEW + own  # ``Holder(create_env(name))``: what the run says ``create_env`` gives
         if kind is EnvKind.UNKNOWN and isinstance(argument, ast.Name):
             parameter = self._parameter_of_def(argument)
             if parameter is not None:
@@ -445,9 +452,42 @@ class _Summarizer:
                 return None
             qualified = [q for q in self.facts.qualified_names(value.func) if not _is_library(q)]
             if len(qualified) != 1 or "." not in qualified[0]:
-                return None
+                own = self._own_factory(value.func)
+                if own is None:
+                    return None
+                qualified = [own]
             found.add(qualified[0])
         return "|".join(sorted(found)) if found else None
+
+    def _env_like_instance(self, value: ast.expr, depth: int) -> bool:
+        """An instance of a plain class of this module with a reset or step of its own:
+        ``Board()``, a name bound to one, or a def of this module returning one."""
+        if depth > 4:
+            return False
+        if isinstance(value, ast.Name):
+            bindings = self.facts.bindings_of(value)
+            values = [self.facts.parent(b).value for b in bindings if isinstance(b, ast.Name) and isinstance(self.facts.parent(b), ast.Assign)]  # type: ignore[attr-defined]
+            return bool(values) and len(values) == len(bindings) and any(self._env_like_instance(v, depth + 1) for v in values)
+        if not isinstance(value, ast.Call):
+            return False
+        classdef = self.receivers.local_class(value.func)
+        if classdef is not None:
+            return self.receivers.class_kind(classdef) is EnvKind.NOT_ENV and any(
+                isinstance(s, FUNCTIONS) and s.name in ("reset", "step") for s in classdef.body
+            )
+        function = self.receivers.local_function(value.func)
+        return function is not None and any(
+            r.value is not None and self._env_like_instance(r.value, depth + 1) for r in own_returns(function)
+        )
+
+    def _own_factory(self, func: ast.expr) -> str | None:
+        """``@create_env`` for a top-level def of this module whose returns its own module
+        cannot classify (``return wrappers.wrap(wrappers.make_atari(name))``, calls of
+        another module of the run): the join knows what calling it gives (``call_kinds``)."""
+        function = self.receivers.local_function(func)
+        if function is None or self.facts.functions.get(function.name) is not function:
+            return None
+        return OWN + function.name
 
     def _parameter_of_def(self, name: ast.Name) -> str | None:
         """``param:Agent.fit:env`` when ``name`` is only ever the parameter ``env`` of a def
