@@ -377,6 +377,15 @@ def test_a_holder_built_with_the_runs_own_factory_chain_is_a_gym_env(tmp_path: P
     assert again.exit_code == 0 and "rewrote 0 of" in again.output
 
 
+def test_a_render_through_the_holders_attribute_is_a_gym_render(tmp_path: Path) -> None:
+    """``session.world_env.render()`` in a driver that never names gym, the env made by a
+    module of the run that imports legacy gym: a legacy "human" render, asked about where
+    its make is (in another module), not missed."""
+    project = _copy("project_holders", tmp_path)
+    found = [f for f in _findings([project], tmp_path) if str(f["path"]).endswith("play.py")]
+    assert [(f["rule"], f["kind"], f["line"]) for f in found] == [("GM402", "flag", 19)]
+
+
 def test_a_holder_one_caller_builds_with_a_project_object_is_asked_about(tmp_path: Path) -> None:
     """The same shape, where one construction passes the project's own (non-Gym) board:
     the attribute is not known to be a Gym env, so nothing on it is rewritten."""

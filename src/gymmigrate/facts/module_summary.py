@@ -120,6 +120,10 @@ class ModuleSummary:
     render_mode_heirs: tuple[tuple[str, tuple[str, ...], bool], ...] = ()
     # ``register(id, entry_point="pkg.mod:Class")``: (the id if a literal, the entry point).
     registrations: tuple[tuple[str | None, str], ...] = ()
+    # Top-level plain classes (no env, no wrapper) -> {attribute: ``__init__`` parameter} for
+    # each attribute only ever stored from that parameter (``self.gym_env = gym_env``): an
+    # instance's attribute is what every construction of the run passes there.
+    held_params: dict[str, dict[str, str]] = field(default_factory=dict)
 
 
 def is_ref(kind: object) -> bool:

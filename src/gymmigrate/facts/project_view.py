@@ -61,6 +61,23 @@ class ProjectView:
         split = self.facts._split(qualified, self.path)
         return split is not None and split in self.facts.made
 
+    def imports_legacy_gym(self, qualified: str) -> bool:
+        """``qualified`` (an import of this file: ``pkg.wrappers`` or ``pkg.wrappers.make_env``)
+        names a module of the run that imports legacy ``gym``."""
+        level = len(qualified) - len(qualified.lstrip("."))
+        parts = qualified.lstrip(".").split(".")
+        for module in (parts, parts[:-1]):
+            path = self.facts._module_path(module, level, self.path) if module else None
+            if path and path != self.path and path in self.facts.legacy_gym:
+                return True
+        return False
+
+    def held_kind(self, qualified: str, attribute: str) -> EnvKind | None:
+        """``holder.gym_env`` where ``holder`` is an instance of the run's plain class
+        ``qualified``: the env every construction passes (``ProjectFacts.held_kinds``)."""
+        split = self.facts._split(qualified, self.path)
+        return None if split is None else self.facts.held_kinds.get((*split, attribute))
+
     def makes_bare_env(self, qualified: str) -> bool:
         """An imported Gym env class of the run that is no wrapper (``TakeoffAviary``): its
         instance is the env itself, whose attributes need no forwarding."""

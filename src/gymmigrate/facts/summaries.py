@@ -140,6 +140,7 @@ class _Summarizer:
             done_methods=_done_methods(self.facts),
             render_mode_heirs=_render_mode_heirs(self.facts, self.receivers),
             registrations=_registrations(self.facts),
+            held_params=held_params(self.facts, self.receivers),
             silent_renders=frozenset(name for name, classdef in self.facts.classes.items() if renders_nothing(self.facts, classdef)),
             legacy_steps=frozenset(
                 name for name, classdef in self.facts.classes.items() if name in env_classes and self.receivers.class_keeps_legacy_step(classdef)
@@ -637,6 +638,27 @@ def plain_classes(facts: ModuleFacts) -> dict[str, str]:
             bases.append(base.id)
         else:
             found[name] = ", ".join(bases) or "object"
+    return found
+
+
+def held_params(facts: ModuleFacts, receivers: Receivers) -> dict[str, dict[str, str]]:
+    """``ModuleSummary.held_params``: per top-level plain class, the attributes its methods
+    store only from a parameter of its ``__init__`` that nothing rebinds."""
+    found: dict[str, dict[str, str]] = {}
+    for name, classdef in facts.classes.items():
+        init = next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == "__init__"), None)
+        if init is None or receivers.class_kind(classdef) is not EnvKind.NOT_ENV:
+            continue
+        params = {a.arg for a in (*init.args.posonlyargs, *init.args.args[1:], *init.args.kwonlyargs)}
+        held = {}
+        for attribute, values in receivers.self_stores(classdef).items():
+            if len(values) != 1 or not isinstance(values[0], ast.Name) or values[0].id not in params:
+                continue
+            bindings = facts.bindings_of(values[0])
+            if len(bindings) == 1 and isinstance(bindings[0], ast.arg) and facts.enclosing_function(values[0]) is init:
+                held[attribute] = values[0].id
+        if held:
+            found[name] = held
     return found
 
 

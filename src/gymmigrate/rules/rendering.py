@@ -982,12 +982,14 @@ def _unpacks_four(facts: ModuleFacts, call: ast.AST) -> bool:
 
 def _imports_legacy_make(facts: ModuleFacts, context: FileContext) -> bool:
     """The file imports a name another module of the run binds to the legacy ``gym.make``
-    (``from .utils import make``): its bare ``render()`` calls are legacy Gym code too."""
+    (``from .utils import make``), or a module of the run that imports legacy ``gym`` (the
+    project's wrappers, whose factories it calls): its bare ``render()`` calls are legacy
+    Gym code too."""
     project = context.options.project
     if project is None:
         return False
     view = project.view(context.path)
-    return any(_is_legacy_gym_make(view.library_alias(q)) for q in facts.imports.values())
+    return any(_is_legacy_gym_make(view.library_alias(q)) or view.imports_legacy_gym(q) for q in facts.imports.values())
 
 
 def _is_legacy_gym_make(alias: str | None) -> bool:
