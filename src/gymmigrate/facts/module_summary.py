@@ -29,6 +29,9 @@ class CallSummary:
     args: tuple[Kind, ...]  # by position, up to the first starred argument
     keywords: tuple[tuple[str, Kind], ...]
     open_ended: bool  # ``*args`` / ``**kwargs`` at the call: later parameters are unknown
+    # Arguments that are env ids (``"PongNoFrameskip-v4"``, or a module constant bound once to
+    # one): (position as a string, or the keyword, the id). What ids a factory is given.
+    ids: tuple[tuple[str, str], ...] = ()
 
 
 @dataclass(frozen=True)
@@ -94,6 +97,9 @@ class ModuleSummary:
     # Top-level defs every return of which is a ``make(...)`` result (maybe in Gym wrappers):
     # what they return is a wrapper stack, so attribute reads on it go through forwarding.
     made_factories: frozenset[str] = frozenset()
+    # ...with the lines of the makes their returns reach: where a render_mode their callers
+    # need goes (a caller in another module names it).
+    factory_makes: dict[str, tuple[int, ...]] = field(default_factory=dict)
     classes: frozenset[str] = frozenset()  # top-level class names
     # -- what a flag passed to a def is for (facts/bootstrap.py, GM302) --
     # "Agent.train_model" -> (flag parameter, next-state parameter) pairs: the def masks
@@ -124,6 +130,9 @@ class ModuleSummary:
     # each attribute only ever stored from that parameter (``self.gym_env = gym_env``): an
     # instance's attribute is what every construction of the run passes there.
     held_params: dict[str, dict[str, str]] = field(default_factory=dict)
+    # Imported names of the run read as a value, not called (``partial(wrappers.make_env, i)``,
+    # ``fn=make_env``): they may be called with arguments no summary sees.
+    handed_on: frozenset[str] = frozenset()
 
 
 def is_ref(kind: object) -> bool:

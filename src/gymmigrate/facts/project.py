@@ -93,6 +93,9 @@ class ProjectFacts:
     # (path, top-level name) of the Gym env factories among them whose every return is a
     # ``make(...)`` result (``ModuleSummary.made_factories``, re-exports followed).
     made: set[tuple[str, str]] = field(default_factory=set)
+    # ...each with the def that makes (path, name) and the lines of its makes
+    # (``ModuleSummary.factory_makes``): where a render_mode its callers need goes.
+    made_at: dict[tuple[str, str], tuple[str, str, tuple[int, ...]]] = field(default_factory=dict)
     # (path, top-level name) of the run's Gym env classes (re-exports and subclasses across
     # modules followed) that are no wrapper: an instance is the env itself, no stack.
     bare_env_classes: set[tuple[str, str]] = field(default_factory=set)
@@ -143,6 +146,12 @@ class ProjectFacts:
     # Modules of the run that import legacy ``gym``: the envs they make are legacy Gym envs,
     # wherever they are rendered (a driver that never names gym).
     legacy_gym: frozenset[str] = frozenset()
+    # (path, top-level def, parameter) -> per call of it in another module, the env id
+    # passed there ("" for its default, None for no id literal), for the defs another
+    # module calls (``CallSummary.ids``). GM106 settles an Atari helper from them.
+    passed_ids: dict[tuple[str, str, str], tuple[str | None, ...]] = field(default_factory=dict)
+    # (path, top-level name) another module reads as a value, not called (``handed_on``)
+    handed_on: set[tuple[str, str]] = field(default_factory=set)
 
     @classmethod
     def join(cls, summaries: list[ModuleSummary], blocked: dict[str, str] | None = None) -> ProjectFacts:
@@ -232,6 +241,11 @@ class ProjectFacts:
         thread_render_mode(facts, by_path)
         facts._join_overrides(summaries)
         facts._join_held(by_path, params)
+        for summary in summaries:
+            for qualified in summary.handed_on:
+                resolved = facts._resolve(qualified, summary.path)
+                if resolved is not None:
+                    facts.handed_on.add(resolved)
         NonSpaces(facts, by_path).run()
         reexport_wrappers(facts, by_path)
         facts.legacy_steps = legacy_steps(facts, by_path)

@@ -61,6 +61,16 @@ class ProjectView:
         split = self.facts._split(qualified, self.path)
         return split is not None and split in self.facts.made
 
+    def passed_ids(self, function: str, param: str) -> tuple[str | None, ...]:
+        """For a top-level def of this file, the env id each call in another module passes to
+        ``param`` ("" its default, None no id literal); () when no other module calls it
+        (``ProjectFacts.passed_ids``)."""
+        return self.facts.passed_ids.get((self.path, function, param), ())
+
+    def handed_on(self, function: str) -> bool:
+        """Another module of the run reads this file's ``function`` as a value (``partial(f)``)."""
+        return (self.path, function) in self.facts.handed_on
+
     def imports_legacy_gym(self, qualified: str) -> bool:
         """``qualified`` (an import of this file: ``pkg.wrappers`` or ``pkg.wrappers.make_env``)
         names a module of the run that imports legacy ``gym``."""
@@ -77,6 +87,18 @@ class ProjectView:
         ``qualified``: the env every construction passes (``ProjectFacts.held_kinds``)."""
         split = self.facts._split(qualified, self.path)
         return None if split is None else self.facts.held_kinds.get((*split, attribute))
+
+    def made_at(self, qualified: str) -> str | None:
+        """Where an imported def of the run that returns ``make(...)`` results makes its env,
+        as a reader of this file finds it: "the gym.make in `make_env` of wrappers.py, line 16"."""
+        split = self.facts._split(qualified, self.path)
+        found = self.facts.made_at.get(split) if split is not None else None
+        if found is None or split is None or split[0] == self.path:
+            return None
+        path, name, lines = found
+        shown = os.path.relpath(path, os.path.dirname(self.path))
+        at = f", line {lines[0]}" if len(lines) == 1 else (f", lines {', '.join(map(str, lines))}" if lines else "")
+        return f"the make in `{name}` of {shown}{at}"
 
     def makes_bare_env(self, qualified: str) -> bool:
         """An imported Gym env class of the run that is no wrapper (``TakeoffAviary``): its

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import ast
 import os
+import re
 from collections.abc import Mapping
 from dataclasses import replace
 
@@ -110,6 +111,7 @@ class _Summarizer:
                 env_classes.add(name)
                 if env.takes_render_mode(classdef) and id(classdef) not in render_kept_classes(self.facts, self.receivers):
                     render_mode.add(name)
+        made = factory_makes(self.facts, self.receivers)
         calls = [c for c in (self._call(call) for calls in self.facts.calls_by_name.values() for call in calls) if c]
         calls += [c for call in (c for calls in self.facts.attribute_calls.values() for c in calls) for c in self._method_calls(call)]
         return ModuleSummary(
@@ -134,13 +136,15 @@ class _Summarizer:
             plain_classes=plain_classes(self.facts),
             space_calls=self._space_calls(),
             spec_lists=module_spec_lists(self.facts),
-            made_factories=made_factories(self.facts),
+            made_factories=frozenset(made),
+            factory_makes=made,
             classes=frozenset(self.facts.classes),
             bootstrap_masks=_bootstrap_masks(self.facts),
             done_methods=_done_methods(self.facts),
             render_mode_heirs=_render_mode_heirs(self.facts, self.receivers),
             registrations=_registrations(self.facts),
             held_params=held_params(self.facts, self.receivers),
+            handed_on=handed_on(self.facts),
             silent_renders=frozenset(name for name, classdef in self.facts.classes.items() if renders_nothing(self.facts, classdef)),
             legacy_steps=frozenset(
                 name for name, classdef in self.facts.classes.items() if name in env_classes and self.receivers.class_keeps_legacy_step(classdef)
@@ -411,7 +415,23 @@ class _Summarizer:
                 open_ended = True
             else:
                 keywords.append((keyword.arg, self._kind(keyword.value)))
-        return CallSummary(target, tuple(args), tuple(keywords), open_ended)
+        ids = [(str(i), text) for i, a in enumerate(call.args) if (text := self._env_id(a)) is not None]
+        ids += [(k.arg, text) for k in call.keywords if k.arg is not None and (text := self._env_id(k.value)) is not None]
+        return CallSummary(target, tuple(args), tuple(keywords), open_ended, tuple(ids))
+
+    def _env_id(self, argument: ast.expr) -> str | None:
+        """An env id the argument certainly is: a literal ``"Name-v4"``, or a module-level
+        name bound once to one (``ENV = "PongNoFrameskip-v4"``)."""
+        if isinstance(argument, ast.Name):
+            bindings = self.facts.module_scope.bindings.get(argument.id, [])
+            if self.facts.bindings_of(argument) != bindings or len(bindings) != 1:
+                return None
+            assign = self.facts.parent(bindings[0])
+            if not (isinstance(assign, ast.Assign) and assign.targets == [bindings[0]]):
+                return None
+            argument = assign.value
+        text = string_value(argument) if isinstance(argument, ast.Constant) else None
+        return text if text is not None and _ENV_ID.fullmatch(text) else None
 
     def _kind(self, argument: ast.expr) -> Kind:
         """The argument's kind; ``new:agent.GridEnv`` for an instance of a class this
@@ -509,6 +529,10 @@ class _Summarizer:
         return f"{PARAM}{qualname}:{name.id}"
 
 
+# ``PongNoFrameskip-v4``, ``ALE/Pong-v5``, ``mod:Name-v0``: what the summaries keep of string arguments.
+_ENV_ID = re.compile(r"(?:[\w.]+:)?(?:\w+/)?[\w.-]+-v\d+")
+
+
 def _signature(function: ast.FunctionDef | ast.AsyncFunctionDef, is_method: bool) -> Signature:
     args = function.args
     positional = [*args.posonlyargs, *args.args]
@@ -550,27 +574,35 @@ def _is_library(qualified: str) -> bool:
 
 
 
-def made_factories(facts: ModuleFacts) -> frozenset[str]:
+def factory_makes(facts: ModuleFacts, receivers: Receivers | None = None) -> dict[str, tuple[int, ...]]:
     """Top-level defs every return of which is a ``make(...)`` result, maybe wrapped in Gym
-    wrappers and kept in a local name first (``env = gym.make(key); env.seed(s); return env``)."""
-    found = set()
+    wrappers and kept in a local name first (``env = gym.make(key); env.seed(s); return env``),
+    with the lines of the makes their returns reach (``ModuleSummary.made_factories`` and
+    ``factory_makes``); with ``receivers``, the module's own Gym wrapper classes around a
+    made env count as Gym wrappers too (``env = FireReset(env)``)."""
+    found = {}
     for name, function in facts.functions.items():
         values = [r.value for r in own_returns(function)]
-        if values and all(v is not None and _made(facts, v, function, 0) for v in values):
-            found.add(name)
-    return frozenset(found)
+        makes: list[ast.Call] = []
+        if values and all(v is not None and _made(facts, v, function, 0, receivers, makes) for v in values):
+            found[name] = tuple(sorted({m.lineno for m in makes}))
+    return found
 
 
-def _made(facts: ModuleFacts, value: ast.expr, function: ast.AST, depth: int) -> bool:
+def _made(
+    facts: ModuleFacts, value: ast.expr, function: ast.AST, depth: int, receivers: Receivers | None = None, makes: list[ast.Call] | None = None
+) -> bool:
     if depth > 8:
         return False
     if isinstance(value, ast.Call):
         for q in facts.qualified_names(value.func):
             rest = N.strip_gym_prefix(q)
             if rest in N.GYM_ENV_FACTORIES:
+                if makes is not None:
+                    makes.append(value)
                 return True
-        if _is_gym_wrapper(facts, value.func) and value.args:
-            return _made(facts, value.args[0], function, depth + 1)  # a wrapper around a made env
+        if _is_gym_wrapper(facts, value.func, receivers) and value.args:
+            return _made(facts, value.args[0], function, depth + 1, receivers, makes)  # a wrapper around a made env
         return False
     if not isinstance(value, ast.Name):
         return False
@@ -582,14 +614,18 @@ def _made(facts: ModuleFacts, value: ast.expr, function: ast.AST, depth: int) ->
         if not (isinstance(assign, ast.Assign) and assign.targets == [binding]) or facts.enclosing_function(assign) is not function:
             return False
         wrapped = assign.value.args[0] if isinstance(assign.value, ast.Call) and assign.value.args else None
-        if isinstance(wrapped, ast.Name) and wrapped.id == value.id and _is_gym_wrapper(facts, assign.value.func):  # type: ignore[attr-defined]
+        if isinstance(wrapped, ast.Name) and wrapped.id == value.id and _is_gym_wrapper(facts, assign.value.func, receivers):  # type: ignore[attr-defined]
             continue  # ``env = TimeLimit(env)``: as made as the env's other values
-        if not _made(facts, assign.value, function, depth + 1):
+        if not _made(facts, assign.value, function, depth + 1, receivers, makes):
             return False
     return True
 
 
-def _is_gym_wrapper(facts: ModuleFacts, func: ast.expr) -> bool:
+def _is_gym_wrapper(facts: ModuleFacts, func: ast.expr, receivers: Receivers | None = None) -> bool:
+    if receivers is not None:
+        local = receivers.local_class(func)
+        if local is not None:
+            return receivers.is_gym_wrapper_class(local)
     for q in facts.qualified_names(func):
         rest = N.strip_gym_prefix(q)
         if rest is not None and rest.startswith("wrappers.") and not rest.startswith("wrappers.vector."):
@@ -639,6 +675,29 @@ def plain_classes(facts: ModuleFacts) -> dict[str, str]:
         else:
             found[name] = ", ".join(bases) or "object"
     return found
+
+
+def handed_on(facts: ModuleFacts) -> frozenset[str]:
+    """``ModuleSummary.handed_on``: imported names of the run (``make_env``, ``wrappers.make_env``)
+    read anywhere in the module other than as the callee of a call."""
+    found = set()
+    for name, bindings in facts.module_scope.bindings.items():
+        if len(bindings) != 1 or not isinstance(bindings[0], ast.alias):
+            continue
+        qualified = facts.imports.get(bindings[0])
+        if qualified is None or _is_library(qualified):
+            continue
+        for scope in facts.scopes.values():
+            for read in scope.reads.get(name, ()):
+                node: ast.AST = read
+                parent = facts.parent(read)
+                shown = qualified
+                if isinstance(parent, ast.Attribute) and parent.value is read:
+                    node, shown = parent, f"{qualified}.{parent.attr}"
+                    parent = facts.parent(parent)
+                if not (isinstance(parent, ast.Call) and parent.func is node):
+                    found.add(shown)
+    return frozenset(found)
 
 
 def held_params(facts: ModuleFacts, receivers: Receivers) -> dict[str, dict[str, str]]:
