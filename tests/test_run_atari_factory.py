@@ -46,7 +46,7 @@ def test_the_recorder_names_the_make_in_the_other_module(tmp_path: Path) -> None
     findings = _findings(_copy(tmp_path))
     [found] = [f for f in findings if f["path"] == "record.py" and f["rule"] == "GM407"]
     assert found["kind"] == "flag"
-    assert "the make in `make_game` of arcade_envs.py, line 16" in found["message"]
+    assert "the make in `make_game` of arcade_envs.py" in found["message"]
 
 
 def test_the_same_factory_imported_by_name_or_through_its_package(tmp_path: Path) -> None:
@@ -54,7 +54,7 @@ def test_the_same_factory_imported_by_name_or_through_its_package(tmp_path: Path
     text = (run / "record.py").read_text()
     (run / "record.py").write_text(text.replace("import arcade_envs\n", "from arcade_envs import make_game\n").replace("arcade_envs.make_game(", "make_game("))
     findings = _findings(run)
-    assert "make_game` of arcade_envs.py, line 16" in next(f["message"] for f in findings if f["rule"] == "GM407")
+    assert "make_game` of arcade_envs.py" in next(f["message"] for f in findings if f["rule"] == "GM407")
     assert _of(findings, "arcade_envs.py", "GM106") == [(16, "auto")]
     package = tmp_path / "pkg_run"
     (package / "games").mkdir(parents=True)
@@ -62,7 +62,7 @@ def test_the_same_factory_imported_by_name_or_through_its_package(tmp_path: Path
     shutil.copy(run / "arcade_envs.py", package / "games" / "arcade_envs.py")
     (package / "record.py").write_text(text.replace("import arcade_envs\n", "from games import arcade_envs\n"))
     findings = _findings(package)
-    assert "make_game` of games/arcade_envs.py, line 16" in next(f["message"] for f in findings if f["rule"] == "GM407")
+    assert "make_game` of games/arcade_envs.py" in next(f["message"] for f in findings if f["rule"] == "GM407")
     assert _of(findings, "games/arcade_envs.py", "GM106") == [(16, "auto")]
 
 

@@ -97,9 +97,6 @@ class ModuleSummary:
     # Top-level defs every return of which is a ``make(...)`` result (maybe in Gym wrappers):
     # what they return is a wrapper stack, so attribute reads on it go through forwarding.
     made_factories: frozenset[str] = frozenset()
-    # ...with the lines of the makes their returns reach: where a render_mode their callers
-    # need goes (a caller in another module names it).
-    factory_makes: dict[str, tuple[int, ...]] = field(default_factory=dict)
     classes: frozenset[str] = frozenset()  # top-level class names
     # -- what a flag passed to a def is for (facts/bootstrap.py, GM302) --
     # "Agent.train_model" -> (flag parameter, next-state parameter) pairs: the def masks

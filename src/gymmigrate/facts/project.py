@@ -93,9 +93,8 @@ class ProjectFacts:
     # (path, top-level name) of the Gym env factories among them whose every return is a
     # ``make(...)`` result (``ModuleSummary.made_factories``, re-exports followed).
     made: set[tuple[str, str]] = field(default_factory=set)
-    # ...each with the def that makes (path, name) and the lines of its makes
-    # (``ModuleSummary.factory_makes``): where a render_mode its callers need goes.
-    made_at: dict[tuple[str, str], tuple[str, str, tuple[int, ...]]] = field(default_factory=dict)
+    # ...each with the def that makes it (path, name): where a render_mode its callers need goes.
+    made_at: dict[tuple[str, str], tuple[str, str]] = field(default_factory=dict)
     # (path, top-level name) of the run's Gym env classes (re-exports and subclasses across
     # modules followed) that are no wrapper: an instance is the env itself, no stack.
     bare_env_classes: set[tuple[str, str]] = field(default_factory=set)

@@ -44,7 +44,7 @@ class Exports:
                 defining = self.by_path[where[0]]
                 if where[1] in defining.made_factories:
                     self.facts.made.add(key)
-                    self.facts.made_at[key] = (where[0], where[1], defining.factory_makes.get(where[1], ()))
+                    self.facts.made_at[key] = where
                 if (
                     where[1] in defining.classes
                     and where[1] in self.facts.env_classes.get(where[0], ())

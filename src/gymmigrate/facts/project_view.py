@@ -90,15 +90,14 @@ class ProjectView:
 
     def made_at(self, qualified: str) -> str | None:
         """Where an imported def of the run that returns ``make(...)`` results makes its env,
-        as a reader of this file finds it: "the gym.make in `make_env` of wrappers.py, line 16"."""
+        as a reader of this file finds it: "the make in `make_env` of wrappers.py" (no line:
+        the run may move it, adding imports above it)."""
         split = self.facts._split(qualified, self.path)
         found = self.facts.made_at.get(split) if split is not None else None
-        if found is None or split is None or split[0] == self.path:
+        if found is None or found[0] == self.path:
             return None
-        path, name, lines = found
-        shown = os.path.relpath(path, os.path.dirname(self.path))
-        at = f", line {lines[0]}" if len(lines) == 1 else (f", lines {', '.join(map(str, lines))}" if lines else "")
-        return f"the make in `{name}` of {shown}{at}"
+        path, name = found
+        return f"the make in `{name}` of {os.path.relpath(path, os.path.dirname(self.path))}"
 
     def makes_bare_env(self, qualified: str) -> bool:
         """An imported Gym env class of the run that is no wrapper (``TakeoffAviary``): its

@@ -285,7 +285,7 @@ class Receivers(ClassKinds, ParameterKinds, MadeObjects):
             if not (isinstance(statement, ast.Assign) and statement.targets == [binding] and isinstance(statement.value, ast.Call)):
                 return EnvKind.UNKNOWN
             calls.append(statement.value)
-        kinds = set()
+        kinds: set[EnvKind] = set()
         for call in calls:
             classdef = self.local_class(call.func)
             if classdef is not None:

@@ -111,7 +111,6 @@ class _Summarizer:
                 env_classes.add(name)
                 if env.takes_render_mode(classdef) and id(classdef) not in render_kept_classes(self.facts, self.receivers):
                     render_mode.add(name)
-        made = factory_makes(self.facts, self.receivers)
         calls = [c for c in (self._call(call) for calls in self.facts.calls_by_name.values() for call in calls) if c]
         calls += [c for call in (c for calls in self.facts.attribute_calls.values() for c in calls) for c in self._method_calls(call)]
         return ModuleSummary(
@@ -136,8 +135,7 @@ class _Summarizer:
             plain_classes=plain_classes(self.facts),
             space_calls=self._space_calls(),
             spec_lists=module_spec_lists(self.facts),
-            made_factories=frozenset(made),
-            factory_makes=made,
+            made_factories=made_factories(self.facts, self.receivers),
             classes=frozenset(self.facts.classes),
             bootstrap_masks=_bootstrap_masks(self.facts),
             done_methods=_done_methods(self.facts),
@@ -487,7 +485,8 @@ class _Summarizer:
             return False
         if isinstance(value, ast.Name):
             bindings = self.facts.bindings_of(value)
-            values = [self.facts.parent(b).value for b in bindings if isinstance(b, ast.Name) and isinstance(self.facts.parent(b), ast.Assign)]  # type: ignore[attr-defined]
+            statements = [self.facts.parent(b) for b in bindings if isinstance(b, ast.Name)]
+            values = [s.value for s in statements if isinstance(s, ast.Assign)]
             return bool(values) and len(values) == len(bindings) and any(self._env_like_instance(v, depth + 1) for v in values)
         if not isinstance(value, ast.Call):
             return False
@@ -574,35 +573,29 @@ def _is_library(qualified: str) -> bool:
 
 
 
-def factory_makes(facts: ModuleFacts, receivers: Receivers | None = None) -> dict[str, tuple[int, ...]]:
+def made_factories(facts: ModuleFacts, receivers: Receivers | None = None) -> frozenset[str]:
     """Top-level defs every return of which is a ``make(...)`` result, maybe wrapped in Gym
-    wrappers and kept in a local name first (``env = gym.make(key); env.seed(s); return env``),
-    with the lines of the makes their returns reach (``ModuleSummary.made_factories`` and
-    ``factory_makes``); with ``receivers``, the module's own Gym wrapper classes around a
-    made env count as Gym wrappers too (``env = FireReset(env)``)."""
-    found = {}
+    wrappers and kept in a local name first (``env = gym.make(key); env.seed(s); return env``);
+    with ``receivers``, the module's own Gym wrapper classes around a made env count as Gym
+    wrappers too (``env = FireReset(env)``)."""
+    found = set()
     for name, function in facts.functions.items():
         values = [r.value for r in own_returns(function)]
-        makes: list[ast.Call] = []
-        if values and all(v is not None and _made(facts, v, function, 0, receivers, makes) for v in values):
-            found[name] = tuple(sorted({m.lineno for m in makes}))
-    return found
+        if values and all(v is not None and _made(facts, v, function, 0, receivers) for v in values):
+            found.add(name)
+    return frozenset(found)
 
 
-def _made(
-    facts: ModuleFacts, value: ast.expr, function: ast.AST, depth: int, receivers: Receivers | None = None, makes: list[ast.Call] | None = None
-) -> bool:
+def _made(facts: ModuleFacts, value: ast.expr, function: ast.AST, depth: int, receivers: Receivers | None = None) -> bool:
     if depth > 8:
         return False
     if isinstance(value, ast.Call):
         for q in facts.qualified_names(value.func):
             rest = N.strip_gym_prefix(q)
             if rest in N.GYM_ENV_FACTORIES:
-                if makes is not None:
-                    makes.append(value)
                 return True
         if _is_gym_wrapper(facts, value.func, receivers) and value.args:
-            return _made(facts, value.args[0], function, depth + 1, receivers, makes)  # a wrapper around a made env
+            return _made(facts, value.args[0], function, depth + 1, receivers)  # a wrapper around a made env
         return False
     if not isinstance(value, ast.Name):
         return False
@@ -616,7 +609,7 @@ def _made(
         wrapped = assign.value.args[0] if isinstance(assign.value, ast.Call) and assign.value.args else None
         if isinstance(wrapped, ast.Name) and wrapped.id == value.id and _is_gym_wrapper(facts, assign.value.func, receivers):  # type: ignore[attr-defined]
             continue  # ``env = TimeLimit(env)``: as made as the env's other values
-        if not _made(facts, assign.value, function, depth + 1, receivers, makes):
+        if not _made(facts, assign.value, function, depth + 1, receivers):
             return False
     return True
 
@@ -680,15 +673,17 @@ def plain_classes(facts: ModuleFacts) -> dict[str, str]:
 def handed_on(facts: ModuleFacts) -> frozenset[str]:
     """``ModuleSummary.handed_on``: imported names of the run (``make_env``, ``wrappers.make_env``)
     read anywhere in the module other than as the callee of a call."""
-    found = set()
+    imported = {}
     for name, bindings in facts.module_scope.bindings.items():
-        if len(bindings) != 1 or not isinstance(bindings[0], ast.alias):
-            continue
-        qualified = facts.imports.get(bindings[0])
-        if qualified is None or _is_library(qualified):
-            continue
-        for scope in facts.scopes.values():
-            for read in scope.reads.get(name, ()):
+        if len(bindings) == 1 and isinstance(bindings[0], ast.alias):
+            qualified = facts.imports.get(bindings[0])
+            if qualified is not None and not _is_library(qualified):
+                imported[name] = qualified
+    found = set()
+    for scope in facts.scopes.values() if imported else ():
+        for name in imported.keys() & scope.reads.keys():
+            qualified = imported[name]
+            for read in scope.reads[name]:
                 node: ast.AST = read
                 parent = facts.parent(read)
                 shown = qualified
