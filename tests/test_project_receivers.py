@@ -361,3 +361,41 @@ def test_notebook_calls_count_as_call_sites_and_own_helpers_are_left(tmp_path: P
     assert "    return env.reset()\n" in loops  # never_called: no caller says what env is
     assert (project / "trainer.py").read_bytes() == trainer
     assert "obs, info = self.env.reset()" in (project / "helpers.py").read_text()
+
+
+def test_a_holder_built_with_the_runs_own_factory_chain_is_a_gym_env(tmp_path: Path) -> None:
+    """``fixtures/project_holders/``: ``Session(build(game_id))`` where ``build`` (a def of the
+    caller) returns ``stacks.stack(stacks.make_game(...))`` of another module of the run: every
+    construction passes a Gym env, so ``self.game`` is one and its reset/step are rewritten."""
+    project = _copy("project_holders", tmp_path)
+    result = runner.invoke(app, ["rewrite", str(project)])
+    assert result.exit_code == 0, result.output
+    holder = (project / "arcade" / "holder.py").read_text()
+    assert "frame, reward, terminated, truncated, info = self.world_env.step(action)" in holder
+    assert "return self.world_env.reset()[0]" in holder or "self.world_env.reset()\n" not in holder
+    again = runner.invoke(app, ["rewrite", str(project)])
+    assert again.exit_code == 0 and "rewrote 0 of" in again.output
+
+
+def test_a_render_through_the_holders_attribute_is_a_gym_render(tmp_path: Path) -> None:
+    """``session.world_env.render()`` in a driver that never names gym, the env made by a
+    module of the run that imports legacy gym: a legacy "human" render, asked about where
+    its make is (in another module), not missed."""
+    project = _copy("project_holders", tmp_path)
+    found = [f for f in _findings([project], tmp_path) if str(f["path"]).endswith("play.py")]
+    assert [(f["rule"], f["kind"], f["line"]) for f in found] == [("GM402", "flag", 19)]
+
+
+def test_a_holder_one_caller_builds_with_a_project_object_is_asked_about(tmp_path: Path) -> None:
+    """The same shape, where one construction passes the project's own (non-Gym) board:
+    the attribute is not known to be a Gym env, so nothing on it is rewritten."""
+    project = _copy("project_holders", tmp_path)
+    (project / "arcade" / "board.py").write_text(
+        "from arcade import holder\n\n\nclass Board:\n    def reset(self):\n        return 0\n\n    def step(self, action):\n"
+        "        return 0, 0.0, True, {}\n\n\ndef new_env():\n    return Board()\n\n\ndef solo():\n"
+        "    return holder.Session(new_env()).first()\n"
+    )
+    before = (project / "arcade" / "holder.py").read_bytes()
+    result = runner.invoke(app, ["rewrite", str(project)])
+    assert result.exit_code == 0, result.output
+    assert (project / "arcade" / "holder.py").read_bytes() == before

@@ -206,6 +206,14 @@ class CreationFinder:
         own = self.receivers.own_method(call.func)  # ``self.env = self.make_env()``
         if own is not None:
             return self._follow(own, self._returns)
+        project = self.receivers.project
+        for qualified in self.facts.qualified_names(call.func) if project is not None else ():
+            where = project.made_at(qualified)  # type: ignore[union-attr]
+            if where is not None:
+                # A factory of another module of the run: its make is the creation site, in
+                # a file this one cannot edit; the question names it.
+                result.fail(f"`{self.facts.segment(call.func)}(...)` makes it with {where}, in another module")
+                return result
         result.fail(f"`{self.facts.segment(call.func)}(...)` is not a known env factory")
         return result
 

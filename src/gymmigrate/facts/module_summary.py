@@ -29,6 +29,9 @@ class CallSummary:
     args: tuple[Kind, ...]  # by position, up to the first starred argument
     keywords: tuple[tuple[str, Kind], ...]
     open_ended: bool  # ``*args`` / ``**kwargs`` at the call: later parameters are unknown
+    # Arguments that are env ids (``"PongNoFrameskip-v4"``, or a module constant bound once to
+    # one): (position as a string, or the keyword, the id). What ids a factory is given.
+    ids: tuple[tuple[str, str], ...] = ()
 
 
 @dataclass(frozen=True)
@@ -120,6 +123,13 @@ class ModuleSummary:
     render_mode_heirs: tuple[tuple[str, tuple[str, ...], bool], ...] = ()
     # ``register(id, entry_point="pkg.mod:Class")``: (the id if a literal, the entry point).
     registrations: tuple[tuple[str | None, str], ...] = ()
+    # Top-level plain classes (no env, no wrapper) -> {attribute: ``__init__`` parameter} for
+    # each attribute only ever stored from that parameter (``self.gym_env = gym_env``): an
+    # instance's attribute is what every construction of the run passes there.
+    held_params: dict[str, dict[str, str]] = field(default_factory=dict)
+    # Imported names of the run read as a value, not called (``partial(wrappers.make_env, i)``,
+    # ``fn=make_env``): they may be called with arguments no summary sees.
+    handed_on: frozenset[str] = frozenset()
 
 
 def is_ref(kind: object) -> bool:

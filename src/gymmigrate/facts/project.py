@@ -93,6 +93,8 @@ class ProjectFacts:
     # (path, top-level name) of the Gym env factories among them whose every return is a
     # ``make(...)`` result (``ModuleSummary.made_factories``, re-exports followed).
     made: set[tuple[str, str]] = field(default_factory=set)
+    # ...each with the def that makes it (path, name): where a render_mode its callers need goes.
+    made_at: dict[tuple[str, str], tuple[str, str]] = field(default_factory=dict)
     # (path, top-level name) of the run's Gym env classes (re-exports and subclasses across
     # modules followed) that are no wrapper: an instance is the env itself, no stack.
     bare_env_classes: set[tuple[str, str]] = field(default_factory=set)
@@ -136,6 +138,19 @@ class ProjectFacts:
     # dotted suffix -> paths of the modules with no Gym code that have bootstrap masks (the
     # nearest to the importer counts when several); no module of the run for anything else.
     mask_modules: dict[str, tuple[str, ...]] = field(default_factory=dict)
+    # (path, plain class, attribute) -> the kind every construction of the run passes to the
+    # ``__init__`` parameter the attribute holds (``ModuleSummary.held_params``), where all
+    # agree on a Gym env: ``holder.gym_env`` of an instance made anywhere is that env.
+    held_kinds: dict[tuple[str, str, str], EnvKind] = field(default_factory=dict)
+    # Modules of the run that import legacy ``gym``: the envs they make are legacy Gym envs,
+    # wherever they are rendered (a driver that never names gym).
+    legacy_gym: frozenset[str] = frozenset()
+    # (path, top-level def, parameter) -> per call of it in another module, the env id
+    # passed there ("" for its default, None for no id literal), for the defs another
+    # module calls (``CallSummary.ids``). GM106 settles an Atari helper from them.
+    passed_ids: dict[tuple[str, str, str], tuple[str | None, ...]] = field(default_factory=dict)
+    # (path, top-level name) another module reads as a value, not called (``handed_on``)
+    handed_on: set[tuple[str, str]] = field(default_factory=set)
 
     @classmethod
     def join(cls, summaries: list[ModuleSummary], blocked: dict[str, str] | None = None) -> ProjectFacts:
@@ -193,6 +208,7 @@ class ProjectFacts:
                     calls_to[resolved].append((summary.path, call))
         imported = {q for summary in summaries for q in summary.imported}
         facts.checks_envs = any(imports_env_checker(q) for q in imported)
+        facts.legacy_gym = frozenset(s.path for s in summaries if any(q == "gym" or q.startswith("gym.") for q in s.imported))
         facts._join_nearby_packages(summaries)
         requires = {
             package
@@ -208,7 +224,8 @@ class ProjectFacts:
             requires.add("imageio")
         facts.requires = frozenset(requires)
         Exports(facts, by_path).run()
-        ParamJoin(facts, by_path, calls_to).run()
+        params = ParamJoin(facts, by_path, calls_to)
+        params.run()
         for summary in summaries:
             if summary.untraced_seed_call:
                 facts.seed_called.update(facts._imported_env_modules(summary))
@@ -222,6 +239,12 @@ class ProjectFacts:
             facts.render_mode_classes[path] = frozenset()
         thread_render_mode(facts, by_path)
         facts._join_overrides(summaries)
+        facts._join_held(by_path, params)
+        for summary in summaries:
+            for qualified in summary.handed_on:
+                resolved = facts._resolve(qualified, summary.path)
+                if resolved is not None:
+                    facts.handed_on.add(resolved)
         NonSpaces(facts, by_path).run()
         reexport_wrappers(facts, by_path)
         facts.legacy_steps = legacy_steps(facts, by_path)
@@ -257,6 +280,20 @@ class ProjectFacts:
                 self.subclass_methods[(summary.path, name)] = frozenset(methods)
             for name, methods_done in summary.done_methods.items():
                 self.done_methods[(summary.path, name)] = methods_done
+
+    def _join_held(self, by_path: dict[str, ModuleSummary], params: ParamJoin) -> None:
+        """``held_kinds``: a holder's attribute is a Gym env when every construction of the
+        run (its own module's included) passes one; a class subclassed in another module is
+        built there too, through calls this join does not follow: left out."""
+        for path, summary in by_path.items():
+            if path in self.blocked:
+                continue
+            for name, held in summary.held_params.items():
+                if (path, name) in self.subclasses_of:
+                    continue
+                for attribute, param in held.items():
+                    if params.param_kind(path, f"{name}.__init__", param) is EnvKind.GYM_ENV:
+                        self.held_kinds[(path, name, attribute)] = EnvKind.GYM_ENV
 
     def _imported_env_modules(self, summary: ModuleSummary, declared: dict[str, ModuleSummary] | None = None) -> set[str]:
         """The other modules of the run with env classes that ``summary``'s module imports
@@ -306,7 +343,14 @@ class ProjectFacts:
     def _class_kind(self, kind: str, importer: str) -> EnvKind:
         """``new:envs.GridEnv`` is a Gym env when ``GridEnv`` is an env class of the run (or
         derives from one, or is re-exported); a PettingZoo env class of the run likewise."""
-        found = self.view(importer).call_kind(kind[len(NEW) :])
+        name = kind[len(NEW) :]
+        if name.startswith(OWN):
+            # ``@create_env``: a def of the importer itself, whose returns other modules decide
+            own = self.call_kinds.get((importer, name[len(OWN) :]))
+            if own is None:
+                return EnvKind.UNKNOWN
+            return EnvKind.OWN_API if own is EnvKind.NOT_ENV else own  # (as for a plain class, below)
+        found = self.view(importer).call_kind(name)
         if found is not None and found is not EnvKind.NOT_ENV:
             return found
         imported = self.view(importer).imported_class(kind[len(NEW) :])

@@ -44,6 +44,7 @@ class Exports:
                 defining = self.by_path[where[0]]
                 if where[1] in defining.made_factories:
                     self.facts.made.add(key)
+                    self.facts.made_at[key] = where
                 if (
                     where[1] in defining.classes
                     and where[1] in self.facts.env_classes.get(where[0], ())

@@ -42,12 +42,28 @@ class ParamJoin:
         external: dict[tuple[str, str, str], list[EnvKind]] = defaultdict(list)
         for (path, qualname), calls in self.calls_to.items():
             signature = self.by_path[path].defs[qualname]
+            outside = [call for caller, call in calls if caller != path]  # the file sees its own call sites itself
             for caller, call in calls:
                 if caller == path:
-                    continue  # the file sees its own call sites itself
+                    continue
                 for param, kind in self._passed(signature, call):
                     external[(path, qualname, param)].append(self._resolve(kind, caller))
+            if outside and not signature.is_method:
+                for param in signature.params:
+                    self.facts.passed_ids[(path, qualname, param)] = tuple(self._id_passed(signature, call, param) for call in outside)
         self.facts.param_kinds = dict(external)
+
+    @staticmethod
+    def _id_passed(signature: Signature, call: CallSummary, param: str) -> str | None:
+        """The env id ``call`` passes to ``param``: "" for none given (its default), None
+        for an argument that is no id literal."""
+        position = signature.params.index(param)
+        ids = dict(call.ids)
+        if position < len(call.args):
+            return ids.get(str(position))
+        if any(name == param for name, _ in call.keywords):
+            return ids.get(param)
+        return None if call.open_ended else ""
 
     def param_kind(self, path: str, qualname: str, param: str) -> EnvKind:
         key = (path, qualname, param)

@@ -61,6 +61,44 @@ class ProjectView:
         split = self.facts._split(qualified, self.path)
         return split is not None and split in self.facts.made
 
+    def passed_ids(self, function: str, param: str) -> tuple[str | None, ...]:
+        """For a top-level def of this file, the env id each call in another module passes to
+        ``param`` ("" its default, None no id literal); () when no other module calls it
+        (``ProjectFacts.passed_ids``)."""
+        return self.facts.passed_ids.get((self.path, function, param), ())
+
+    def handed_on(self, function: str) -> bool:
+        """Another module of the run reads this file's ``function`` as a value (``partial(f)``)."""
+        return (self.path, function) in self.facts.handed_on
+
+    def imports_legacy_gym(self, qualified: str) -> bool:
+        """``qualified`` (an import of this file: ``pkg.wrappers`` or ``pkg.wrappers.make_env``)
+        names a module of the run that imports legacy ``gym``."""
+        level = len(qualified) - len(qualified.lstrip("."))
+        parts = qualified.lstrip(".").split(".")
+        for module in (parts, parts[:-1]):
+            path = self.facts._module_path(module, level, self.path) if module else None
+            if path and path != self.path and path in self.facts.legacy_gym:
+                return True
+        return False
+
+    def held_kind(self, qualified: str, attribute: str) -> EnvKind | None:
+        """``holder.gym_env`` where ``holder`` is an instance of the run's plain class
+        ``qualified``: the env every construction passes (``ProjectFacts.held_kinds``)."""
+        split = self.facts._split(qualified, self.path)
+        return None if split is None else self.facts.held_kinds.get((*split, attribute))
+
+    def made_at(self, qualified: str) -> str | None:
+        """Where an imported def of the run that returns ``make(...)`` results makes its env,
+        as a reader of this file finds it: "the make in `make_env` of wrappers.py" (no line:
+        the run may move it, adding imports above it)."""
+        split = self.facts._split(qualified, self.path)
+        found = self.facts.made_at.get(split) if split is not None else None
+        if found is None or found[0] == self.path:
+            return None
+        path, name = found
+        return f"the make in `{name}` of {os.path.relpath(path, os.path.dirname(self.path))}"
+
     def makes_bare_env(self, qualified: str) -> bool:
         """An imported Gym env class of the run that is no wrapper (``TakeoffAviary``): its
         instance is the env itself, whose attributes need no forwarding."""

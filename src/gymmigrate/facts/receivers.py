@@ -269,7 +269,35 @@ class Receivers(ClassKinds, ParameterKinds, MadeObjects):
                 return EnvKind.GYM_ENV
         if any(N.top_package(q) in N.NOT_ENV_PACKAGES for q in self.qualified_names(attr)):
             return EnvKind.NOT_ENV
+        if isinstance(attr.value, ast.Name):
+            return self._held_kind(attr.value, name)
         return EnvKind.UNKNOWN
+
+    def _held_kind(self, holder: ast.Name, name: str) -> EnvKind:
+        """``holder.gym_env`` with every binding of ``holder`` a construction of one plain
+        class (``holder = Environment(gym_env)``) that stores the attribute from its
+        ``__init__`` parameter: a Gym env when every construction passes one (this module's
+        class: its stores' kinds; the run's: ``ProjectView.held_kind``). Else unknown."""
+        bindings = self.facts.bindings_of(holder)
+        calls = []
+        for binding in bindings:
+            statement = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
+            if not (isinstance(statement, ast.Assign) and statement.targets == [binding] and isinstance(statement.value, ast.Call)):
+                return EnvKind.UNKNOWN
+            calls.append(statement.value)
+        kinds: set[EnvKind] = set()
+        for call in calls:
+            classdef = self.local_class(call.func)
+            if classdef is not None:
+                values = self.self_stores(classdef).get(name, [])
+                if self.class_kind(classdef) is not EnvKind.NOT_ENV or not values:
+                    return EnvKind.UNKNOWN
+                kinds.update(self.kind_of(value) for value in values)
+                continue
+            qualified = self.qualified_names(call.func)
+            found = self.project.held_kind(next(iter(qualified)), name) if self.project is not None and len(qualified) == 1 else None
+            kinds.add(found or EnvKind.UNKNOWN)
+        return EnvKind.GYM_ENV if kinds == {EnvKind.GYM_ENV} else EnvKind.UNKNOWN
 
     def _classify_name(self, name: ast.Name) -> EnvKind:
         bindings = self.facts.bindings_of(name)

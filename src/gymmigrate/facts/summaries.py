@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import ast
 import os
+import re
 from collections.abc import Mapping
 from dataclasses import replace
 
@@ -134,12 +135,14 @@ class _Summarizer:
             plain_classes=plain_classes(self.facts),
             space_calls=self._space_calls(),
             spec_lists=module_spec_lists(self.facts),
-            made_factories=made_factories(self.facts),
+            made_factories=made_factories(self.facts, self.receivers),
             classes=frozenset(self.facts.classes),
             bootstrap_masks=_bootstrap_masks(self.facts),
             done_methods=_done_methods(self.facts),
             render_mode_heirs=_render_mode_heirs(self.facts, self.receivers),
             registrations=_registrations(self.facts),
+            held_params=held_params(self.facts, self.receivers),
+            handed_on=handed_on(self.facts),
             silent_renders=frozenset(name for name, classdef in self.facts.classes.items() if renders_nothing(self.facts, classdef)),
             legacy_steps=frozenset(
                 name for name, classdef in self.facts.classes.items() if name in env_classes and self.receivers.class_keeps_legacy_step(classdef)
@@ -410,16 +413,39 @@ class _Summarizer:
                 open_ended = True
             else:
                 keywords.append((keyword.arg, self._kind(keyword.value)))
-        return CallSummary(target, tuple(args), tuple(keywords), open_ended)
+        ids = [(str(i), text) for i, a in enumerate(call.args) if (text := self._env_id(a)) is not None]
+        ids += [(k.arg, text) for k in call.keywords if k.arg is not None and (text := self._env_id(k.value)) is not None]
+        return CallSummary(target, tuple(args), tuple(keywords), open_ended, tuple(ids))
+
+    def _env_id(self, argument: ast.expr) -> str | None:
+        """An env id the argument certainly is: a literal ``"Name-v4"``, or a module-level
+        name bound once to one (``ENV = "PongNoFrameskip-v4"``)."""
+        if isinstance(argument, ast.Name):
+            bindings = self.facts.module_scope.bindings.get(argument.id, [])
+            if self.facts.bindings_of(argument) != bindings or len(bindings) != 1:
+                return None
+            assign = self.facts.parent(bindings[0])
+            if not (isinstance(assign, ast.Assign) and assign.targets == [bindings[0]]):
+                return None
+            argument = assign.value
+        text = string_value(argument) if isinstance(argument, ast.Constant) else None
+        return text if text is not None and _ENV_ID.fullmatch(text) else None
 
     def _kind(self, argument: ast.expr) -> Kind:
         """The argument's kind; ``new:agent.GridEnv`` for an instance of a class this
         module imports, which the join resolves against the env classes of the run."""
         kind = self.receivers.kind_of(argument)
+        if kind is EnvKind.NOT_ENV and self._env_like_instance(argument, 0):
+            # The project's own reset/step object (``Holder(Board())``): not NOT_ENV, which
+            # a Gym env passed by another caller outweighs in the join; the def is asked about.
+            return EnvKind.OWN_API
         if kind is EnvKind.UNKNOWN and isinstance(argument, ast.Call):
             found = [q for q in self.facts.qualified_names(argument.func) if not _is_library(q)]
             if len(found) == 1:
                 return NEW + found[0]
+            own = self._own_factory(argument.func)
+            if own is not None:
+                return NEW + own  # ``Holder(create_env(name))``: what the run says ``create_env`` gives
         if kind is EnvKind.UNKNOWN and isinstance(argument, ast.Name):
             parameter = self._parameter_of_def(argument)
             if parameter is not None:
@@ -445,9 +471,43 @@ class _Summarizer:
                 return None
             qualified = [q for q in self.facts.qualified_names(value.func) if not _is_library(q)]
             if len(qualified) != 1 or "." not in qualified[0]:
-                return None
+                own = self._own_factory(value.func)
+                if own is None:
+                    return None
+                qualified = [own]
             found.add(qualified[0])
         return "|".join(sorted(found)) if found else None
+
+    def _env_like_instance(self, value: ast.expr, depth: int) -> bool:
+        """An instance of a plain class of this module with a reset or step of its own:
+        ``Board()``, a name bound to one, or a def of this module returning one."""
+        if depth > 4:
+            return False
+        if isinstance(value, ast.Name):
+            bindings = self.facts.bindings_of(value)
+            statements = [self.facts.parent(b) for b in bindings if isinstance(b, ast.Name)]
+            values = [s.value for s in statements if isinstance(s, ast.Assign)]
+            return bool(values) and len(values) == len(bindings) and any(self._env_like_instance(v, depth + 1) for v in values)
+        if not isinstance(value, ast.Call):
+            return False
+        classdef = self.receivers.local_class(value.func)
+        if classdef is not None:
+            return self.receivers.class_kind(classdef) is EnvKind.NOT_ENV and any(
+                isinstance(s, FUNCTIONS) and s.name in ("reset", "step") for s in classdef.body
+            )
+        function = self.receivers.local_function(value.func)
+        return function is not None and any(
+            r.value is not None and self._env_like_instance(r.value, depth + 1) for r in own_returns(function)
+        )
+
+    def _own_factory(self, func: ast.expr) -> str | None:
+        """``@create_env`` for a top-level def of this module whose returns its own module
+        cannot classify (``return wrappers.wrap(wrappers.make_atari(name))``, calls of
+        another module of the run): the join knows what calling it gives (``call_kinds``)."""
+        function = self.receivers.local_function(func)
+        if function is None or self.facts.functions.get(function.name) is not function:
+            return None
+        return OWN + function.name
 
     def _parameter_of_def(self, name: ast.Name) -> str | None:
         """``param:Agent.fit:env`` when ``name`` is only ever the parameter ``env`` of a def
@@ -466,6 +526,10 @@ class _Summarizer:
         else:
             return None
         return f"{PARAM}{qualname}:{name.id}"
+
+
+# ``PongNoFrameskip-v4``, ``ALE/Pong-v5``, ``mod:Name-v0``: what the summaries keep of string arguments.
+_ENV_ID = re.compile(r"(?:[\w.]+:)?(?:\w+/)?[\w.-]+-v\d+")
 
 
 def _signature(function: ast.FunctionDef | ast.AsyncFunctionDef, is_method: bool) -> Signature:
@@ -509,18 +573,20 @@ def _is_library(qualified: str) -> bool:
 
 
 
-def made_factories(facts: ModuleFacts) -> frozenset[str]:
+def made_factories(facts: ModuleFacts, receivers: Receivers | None = None) -> frozenset[str]:
     """Top-level defs every return of which is a ``make(...)`` result, maybe wrapped in Gym
-    wrappers and kept in a local name first (``env = gym.make(key); env.seed(s); return env``)."""
+    wrappers and kept in a local name first (``env = gym.make(key); env.seed(s); return env``);
+    with ``receivers``, the module's own Gym wrapper classes around a made env count as Gym
+    wrappers too (``env = FireReset(env)``)."""
     found = set()
     for name, function in facts.functions.items():
         values = [r.value for r in own_returns(function)]
-        if values and all(v is not None and _made(facts, v, function, 0) for v in values):
+        if values and all(v is not None and _made(facts, v, function, 0, receivers) for v in values):
             found.add(name)
     return frozenset(found)
 
 
-def _made(facts: ModuleFacts, value: ast.expr, function: ast.AST, depth: int) -> bool:
+def _made(facts: ModuleFacts, value: ast.expr, function: ast.AST, depth: int, receivers: Receivers | None = None) -> bool:
     if depth > 8:
         return False
     if isinstance(value, ast.Call):
@@ -528,8 +594,8 @@ def _made(facts: ModuleFacts, value: ast.expr, function: ast.AST, depth: int) ->
             rest = N.strip_gym_prefix(q)
             if rest in N.GYM_ENV_FACTORIES:
                 return True
-        if _is_gym_wrapper(facts, value.func) and value.args:
-            return _made(facts, value.args[0], function, depth + 1)  # a wrapper around a made env
+        if _is_gym_wrapper(facts, value.func, receivers) and value.args:
+            return _made(facts, value.args[0], function, depth + 1, receivers)  # a wrapper around a made env
         return False
     if not isinstance(value, ast.Name):
         return False
@@ -541,14 +607,18 @@ def _made(facts: ModuleFacts, value: ast.expr, function: ast.AST, depth: int) ->
         if not (isinstance(assign, ast.Assign) and assign.targets == [binding]) or facts.enclosing_function(assign) is not function:
             return False
         wrapped = assign.value.args[0] if isinstance(assign.value, ast.Call) and assign.value.args else None
-        if isinstance(wrapped, ast.Name) and wrapped.id == value.id and _is_gym_wrapper(facts, assign.value.func):  # type: ignore[attr-defined]
+        if isinstance(wrapped, ast.Name) and wrapped.id == value.id and _is_gym_wrapper(facts, assign.value.func, receivers):  # type: ignore[attr-defined]
             continue  # ``env = TimeLimit(env)``: as made as the env's other values
-        if not _made(facts, assign.value, function, depth + 1):
+        if not _made(facts, assign.value, function, depth + 1, receivers):
             return False
     return True
 
 
-def _is_gym_wrapper(facts: ModuleFacts, func: ast.expr) -> bool:
+def _is_gym_wrapper(facts: ModuleFacts, func: ast.expr, receivers: Receivers | None = None) -> bool:
+    if receivers is not None:
+        local = receivers.local_class(func)
+        if local is not None:
+            return receivers.is_gym_wrapper_class(local)
     for q in facts.qualified_names(func):
         rest = N.strip_gym_prefix(q)
         if rest is not None and rest.startswith("wrappers.") and not rest.startswith("wrappers.vector."):
@@ -597,6 +667,52 @@ def plain_classes(facts: ModuleFacts) -> dict[str, str]:
             bases.append(base.id)
         else:
             found[name] = ", ".join(bases) or "object"
+    return found
+
+
+def handed_on(facts: ModuleFacts) -> frozenset[str]:
+    """``ModuleSummary.handed_on``: imported names of the run (``make_env``, ``wrappers.make_env``)
+    read anywhere in the module other than as the callee of a call."""
+    imported = {}
+    for name, bindings in facts.module_scope.bindings.items():
+        if len(bindings) == 1 and isinstance(bindings[0], ast.alias):
+            qualified = facts.imports.get(bindings[0])
+            if qualified is not None and not _is_library(qualified):
+                imported[name] = qualified
+    found = set()
+    for scope in facts.scopes.values() if imported else ():
+        for name in imported.keys() & scope.reads.keys():
+            qualified = imported[name]
+            for read in scope.reads[name]:
+                node: ast.AST = read
+                parent = facts.parent(read)
+                shown = qualified
+                if isinstance(parent, ast.Attribute) and parent.value is read:
+                    node, shown = parent, f"{qualified}.{parent.attr}"
+                    parent = facts.parent(parent)
+                if not (isinstance(parent, ast.Call) and parent.func is node):
+                    found.add(shown)
+    return frozenset(found)
+
+
+def held_params(facts: ModuleFacts, receivers: Receivers) -> dict[str, dict[str, str]]:
+    """``ModuleSummary.held_params``: per top-level plain class, the attributes its methods
+    store only from a parameter of its ``__init__`` that nothing rebinds."""
+    found: dict[str, dict[str, str]] = {}
+    for name, classdef in facts.classes.items():
+        init = next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == "__init__"), None)
+        if init is None or receivers.class_kind(classdef) is not EnvKind.NOT_ENV:
+            continue
+        params = {a.arg for a in (*init.args.posonlyargs, *init.args.args[1:], *init.args.kwonlyargs)}
+        held = {}
+        for attribute, values in receivers.self_stores(classdef).items():
+            if len(values) != 1 or not isinstance(values[0], ast.Name) or values[0].id not in params:
+                continue
+            bindings = facts.bindings_of(values[0])
+            if len(bindings) == 1 and isinstance(bindings[0], ast.arg) and facts.enclosing_function(values[0]) is init:
+                held[attribute] = values[0].id
+        if held:
+            found[name] = held
     return found
 
 

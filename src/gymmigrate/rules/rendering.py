@@ -160,7 +160,12 @@ class Rendering(RuleFamily):
             return True
         if not renders:
             return False
-        return context.profile.imports_gym or _imports_legacy_make(facts, context) or _four_value_steps(facts)
+        return (
+            context.profile.imports_gym
+            or _imports_legacy_make(facts, context)
+            or _four_value_steps(facts)
+            or _imports_legacy_gym_module(facts, context)
+        )
 
     def _helper_method(self, function: ast.AST) -> bool:
         """``render`` is a method of a plain class of the run (muzero's ``Game`` owning a
@@ -287,6 +292,7 @@ class Rendering(RuleFamily):
                 self.context.profile.imports_gym
                 or self._has_legacy_mode_calls
                 or _imports_legacy_make(self.facts, self.context)
+                or (kind is EnvKind.GYM_ENV and _imports_legacy_gym_module(self.facts, self.context))
                 or self._stepped_the_legacy_way(receiver)
             ):
                 if decision.action in (Action.REPORT, Action.REWRITE_FOR_REVIEW) and self._stepped_the_legacy_way(receiver, traced=False):
@@ -988,6 +994,17 @@ def _imports_legacy_make(facts: ModuleFacts, context: FileContext) -> bool:
         return False
     view = project.view(context.path)
     return any(_is_legacy_gym_make(view.library_alias(q)) for q in facts.imports.values())
+
+
+def _imports_legacy_gym_module(facts: ModuleFacts, context: FileContext) -> bool:
+    """The file imports a module of the run that imports legacy ``gym`` (the project's
+    wrappers, whose factories it calls): a bare ``render()`` of a Gym env there (one the
+    run traced, ``holder.gym_env``) renders a legacy env."""
+    project = context.options.project
+    if project is None:
+        return False
+    view = project.view(context.path)
+    return facts.memo(("imports-legacy-gym-module", 0), lambda: any(view.imports_legacy_gym(q) for q in facts.imports.values()))
 
 
 def _is_legacy_gym_make(alias: str | None) -> bool:

@@ -35,6 +35,7 @@ from gymmigrate.rules.env_ids.catalog import (
     EnvPackage,
     IdMigration,
     env_package,
+    is_atari_id,
     migration_for,
     plugin_of,
     removed_family,
@@ -298,6 +299,13 @@ class EnvIds(RuleFamily):
             return
         certain = [sign for sign, node in signs if not (sign.startswith("it tests") or _under_condition(self.facts, node, function))]
         evidence = (certain or [sign for sign, _ in signs])[0]
+        given = None if certain else self._ids_given(function, bindings[0])
+        if given is not None and not any(is_atari_id(i) for i in given):
+            return  # every caller of the run passes an id, none an Atari one: no ale_py needed
+        if given is not None:
+            atari = next(i for i in given if is_atari_id(i))
+            certain = [f"{evidence}, and its callers in the run pass Atari ids such as `{atari}`"]
+            evidence = certain[0]
         if certain:
             message = (
                 f"`{function.name}` makes Atari envs ({evidence}): since Gymnasium 1.0 they need `import ale_py`; "
@@ -311,6 +319,48 @@ class EnvIds(RuleFamily):
             )
             kind = FixKind.ASSIST
         self._packages[ALE.module] = (ALE, name, (message, kind))
+
+    def _ids_given(self, function: ast.AST, param: ast.arg) -> list[str] | None:
+        """The env ids every call of the run gives ``param`` of the top-level def
+        ``function``: the calls of this module and of the others (``ProjectView.passed_ids``),
+        a default where a call passes none. None when a call passes something else, when the
+        def is read as a value anywhere (it may be called unseen), or when nobody calls it."""
+        project = self.receivers.project
+        if project is None or not isinstance(function, (ast.FunctionDef, ast.AsyncFunctionDef)):
+            return None
+        if self.facts.parent(function) is not self.facts.tree or project.handed_on(function.name):
+            return None
+        params = [*function.args.posonlyargs, *function.args.args]
+        if param not in params:
+            return None
+        position = params.index(param)
+        default = _default(function, param)
+        default_id = plain_string(self.facts, default) if isinstance(default, ast.Constant) else None
+        found: list[str] = []
+        reads = [read for scope in self.facts.scopes.values() for read in scope.reads.get(function.name, ())]
+        for read in reads:
+            call = self.facts.parent(read)
+            if not (isinstance(call, ast.Call) and call.func is read) or self.facts.bindings_of(read) != [function]:
+                return None  # handed on as a value (or another binding of the name)
+            if any(isinstance(a, ast.Starred) for a in call.args) or any(k.arg is None for k in call.keywords):
+                return None
+            argument = call_argument(call, position, param.arg)
+            if argument is None:
+                value = default_id
+            elif isinstance(argument, ast.Name):
+                literal = self._literal_of(argument)
+                value = plain_string(self.facts, literal) if literal is not None else None
+            else:
+                value = plain_string(self.facts, argument) if isinstance(argument, ast.Constant) else None
+            if value is None:
+                return None
+            found.append(_split_module_prefix(value)[1])
+        for value in project.passed_ids(function.name, param.arg):
+            value = default_id if value == "" else value
+            if value is None:
+                return None
+            found.append(_split_module_prefix(value)[1])
+        return found or None
 
     def _atari_signs(self, node: ast.AST, function: ast.AST) -> list[str]:
         """What in ``node`` only an Atari env has: ``.ale``, ``get_action_meanings()``, a
