@@ -14,7 +14,7 @@ is a note.
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, fields
 from enum import Enum
 
 
@@ -77,7 +77,7 @@ class Finding:
     cell: int | None = None
     tier: Tier | None = None
     # A question the files of a run share (see RUN_QUESTION), spelled as text; not reported.
-    question: str | None = field(default=None, compare=False)
+    question: str | None = field(default=None, compare=False, metadata={"internal": True})
 
     def __post_init__(self) -> None:
         if self.tier is None:
@@ -92,8 +92,11 @@ class Finding:
         return self.tier is Tier.REVIEW
 
     def to_json(self) -> dict[str, object]:
-        data = asdict(self)
-        del data["question"]
+        """Every field but the internal ones (``metadata={"internal": True}``)."""
+        data = {key: value for key, value in asdict(self).items() if not _INTERNAL.get(key)}
         data["kind"] = self.kind.value
         data["tier"] = self.tier.value  # type: ignore[union-attr]
         return data
+
+
+_INTERNAL = {f.name: bool(f.metadata.get("internal")) for f in fields(Finding)}

@@ -87,7 +87,6 @@ def decide_once(results: Sequence[FileResult]) -> list[FileResult]:
     become notes pointing at it, so every place is still listed (``check``, the JSON
     report) and the count of review items counts decisions. Within a file the rules
     already ask each question once (``Plan.ask_once``)."""
-    once = {rule.code for rule in all_rules() if rule.once_per_run}
     groups: dict[tuple[str, str], list[tuple[int, int]]] = defaultdict(list)
     for r, result in enumerate(results):
         for f, finding in enumerate(result.findings):
@@ -97,14 +96,17 @@ def decide_once(results: Sequence[FileResult]) -> list[FileResult]:
                 # a question of the run (where `self.env` of a base class of the run comes
                 # from): every module of its subclasses asks it, whatever the rule
                 groups[("", finding.question)].append((r, f))
-            elif finding.rule in once:
+            else:
                 # the file's own "(the same question at line 43)" does not make it another decision
                 groups[(finding.rule, _SAME_IN_FILE.sub("", finding.message))].append((r, f))
     repeated = {key: places for key, places in groups.items() if len({r for r, _ in places}) > 1}
     if not repeated:
-        return list(results)
+        return list(results)  # without loading every rule family (`check` of one file stays lean)
+    once = {rule.code for rule in all_rules() if rule.once_per_run}
     findings = [list(result.findings) for result in results]
-    for places in repeated.values():
+    for (rule, _), places in repeated.items():
+        if rule and rule not in once:
+            continue
         places.sort(key=lambda place: (results[place[0]].path, findings[place[0]][place[1]].cell or 0, findings[place[0]][place[1]].line))
         (r0, f0), others = places[0], places[1:]
         first = findings[r0][f0]
