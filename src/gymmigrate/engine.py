@@ -91,7 +91,10 @@ def plan_file(tree: ast.Module, text: str, path: str, options: RewriteOptions) -
     plan = Plan(facts)
     if skips_file(text, first_statement_line(tree)):
         return plan
-    receivers = Receivers(facts, options.project.view(path) if options.project is not None else None)
+    view = options.project.view(path) if options.project is not None else None
+    if view is not None:
+        facts.is_run_record = view.is_record_class
+    receivers = Receivers(facts, view)
     for family in families_for(text, in_a_run=options.project is not None):
         if not _family_selected(family, options.selection) or not family.may_fire(facts, context):
             continue

@@ -52,7 +52,22 @@ class Tier(str, Enum):
 
 # The first item of a question key that the files of a run share: the question (where a
 # class's ``self.env`` comes from) belongs to the run, and ``report.decide_once`` asks it once.
+# Such a key is ``(RUN_QUESTION, action, path of the module that decides it, ...)``.
 RUN_QUESTION = "run"
+_QUESTION_SEPARATOR = "\n"
+
+
+def run_question_text(question: object) -> str | None:
+    """``Finding.question`` for a question key of a rule: its text where the run shares it."""
+    if isinstance(question, tuple) and question[:1] == (RUN_QUESTION,):
+        return _QUESTION_SEPARATOR.join(str(part) for part in question)
+    return None
+
+
+def deciding_module(question: str) -> str:
+    """The path of the module whose code decides a run's question (see RUN_QUESTION)."""
+    parts = question.split(_QUESTION_SEPARATOR)
+    return parts[2] if len(parts) > 2 else ""
 
 
 @dataclass(frozen=True, order=True)

@@ -16,7 +16,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, TextIO
 
 from gymmigrate import __version__
-from gymmigrate.findings import Finding, Tier
+from gymmigrate.findings import Finding, Tier, deciding_module
 from gymmigrate.formats import findings_json, write_github, write_json, write_sarif
 from gymmigrate.process import FileResult, Status
 from gymmigrate.rules import all_rules
@@ -104,10 +104,20 @@ def decide_once(results: Sequence[FileResult]) -> list[FileResult]:
         return list(results)  # without loading every rule family (`check` of one file stays lean)
     once = {rule.code for rule in all_rules() if rule.once_per_run}
     findings = [list(result.findings) for result in results]
-    for (rule, _), places in repeated.items():
+    for (rule, question), places in repeated.items():
         if rule and rule not in once:
             continue
-        places.sort(key=lambda place: (results[place[0]].path, findings[place[0]][place[1]].cell or 0, findings[place[0]][place[1]].line))
+        # a run's question is asked in the module that decides it (the base class's), if
+        # that module asks it; else, like every other decision, in the first file by path
+        home = deciding_module(question) if not rule else ""
+        places.sort(
+            key=lambda place: (
+                os.path.realpath(results[place[0]].path) != home,
+                results[place[0]].path,
+                findings[place[0]][place[1]].cell or 0,
+                findings[place[0]][place[1]].line,
+            )
+        )
         (r0, f0), others = places[0], places[1:]
         first = findings[r0][f0]
         here = location(results[r0].path, first, first.line)

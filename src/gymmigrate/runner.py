@@ -308,7 +308,14 @@ _FLAG_PARAMETER = re.compile(rb"def\s+\w+\s*\((?:[^()]|\([^()]*\))*?\b\w*(?:done
 
 
 def _may_mask_bootstrapping(source: bytes) -> bool:
-    return (b"done" in source or b"terminal" in source) and _FLAG_PARAMETER.search(source) is not None
+    """An agent's ``learn(..., done)`` that masks with its flag, or a memory's record class
+    with a done field (``Transition = namedtuple(..., "done")``): facts for the run (GM302)."""
+    if b"done" not in source and b"terminal" not in source:
+        return False
+    return _FLAG_PARAMETER.search(source) is not None or _RECORD_CLASS.search(source) is not None
+
+
+_RECORD_CLASS = re.compile(rb"namedtuple|NamedTuple|@dataclass")
 
 
 def _may_reexport(source: bytes) -> bool:

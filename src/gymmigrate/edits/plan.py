@@ -16,7 +16,7 @@ from collections.abc import Callable, Hashable
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any
 
-from gymmigrate.findings import RUN_QUESTION, Finding, FixKind, Tier
+from gymmigrate.findings import Finding, FixKind, Tier, run_question_text
 
 if TYPE_CHECKING:
     from gymmigrate.facts import ModuleFacts
@@ -92,7 +92,7 @@ class Plan:
                 end_line=end_line,
                 end_column=end_column,
                 tier=tier,
-                question=repr(question) if isinstance(question, tuple) and question[:1] == (RUN_QUESTION,) else None,
+                question=run_question_text(question),
             )
         )
 

@@ -217,8 +217,32 @@ _RECORD_FACTORIES = frozenset({"namedtuple", "NamedTuple"})
 def _builds_record(call: ast.Call, facts: ModuleFacts) -> bool:
     """``Experience(state, action, reward, done, new_state)``: a call of a record class of
     this module, at module level or in a def (a ``namedtuple``, a ``NamedTuple`` or a
-    ``@dataclass``), whose fields hold the values as a tuple would."""
-    return isinstance(call.func, ast.Name) and call.func.id in _record_classes(facts)
+    ``@dataclass``), or of another module of the run (``from .memory import Transition``),
+    whose fields hold the values as a tuple would."""
+    if isinstance(call.func, ast.Name) and call.func.id in _record_classes(facts):
+        return True
+    return isinstance(call.func, (ast.Name, ast.Attribute)) and any(facts.is_run_record(q) for q in facts.qualified_names(call.func))
+
+
+def top_level_records(tree: ast.Module) -> frozenset[str]:
+    """The module-level record classes of ``tree`` (``ModuleSummary.record_classes``)."""
+    names: set[str] = set()
+    for statement in tree.body:
+        if isinstance(statement, ast.Assign) and _is_record_factory_call(statement.value):
+            names.update(t.id for t in statement.targets if isinstance(t, ast.Name))
+        elif isinstance(statement, ast.ClassDef) and _is_record_class(statement):
+            names.add(statement.name)
+    return frozenset(names)
+
+
+def _is_record_factory_call(value: ast.AST) -> bool:
+    return isinstance(value, ast.Call) and (full_name(value.func) or "").rsplit(".", 1)[-1] in _RECORD_FACTORIES
+
+
+def _is_record_class(statement: ast.ClassDef) -> bool:
+    return any((full_name(base) or "").rsplit(".", 1)[-1] == "NamedTuple" for base in statement.bases) or any(
+        (full_name(d.func if isinstance(d, ast.Call) else d) or "").rsplit(".", 1)[-1] == "dataclass" for d in statement.decorator_list
+    )
 
 
 def _record_classes(facts: ModuleFacts) -> frozenset[str]:
@@ -226,19 +250,9 @@ def _record_classes(facts: ModuleFacts) -> frozenset[str]:
         names: set[str] = set()
         # module level or local to a def (``Transition = namedtuple(...)`` inside ``train``)
         for statement in ast.walk(facts.tree):
-            if (
-                isinstance(statement, ast.Assign)
-                and isinstance(statement.value, ast.Call)
-                and (full_name(statement.value.func) or "").rsplit(".", 1)[-1] in _RECORD_FACTORIES
-            ):
+            if isinstance(statement, ast.Assign) and _is_record_factory_call(statement.value):
                 names.update(t.id for t in statement.targets if isinstance(t, ast.Name))
-            elif isinstance(statement, ast.ClassDef) and (
-                any((full_name(base) or "").rsplit(".", 1)[-1] == "NamedTuple" for base in statement.bases)
-                or any(
-                    (full_name(d.func if isinstance(d, ast.Call) else d) or "").rsplit(".", 1)[-1] == "dataclass"
-                    for d in statement.decorator_list
-                )
-            ):
+            elif isinstance(statement, ast.ClassDef) and _is_record_class(statement):
                 names.add(statement.name)
         return frozenset(names)
 

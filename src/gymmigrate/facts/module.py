@@ -14,7 +14,7 @@ from __future__ import annotations
 import ast
 import io
 from collections import defaultdict
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from typing import cast
 
@@ -116,6 +116,9 @@ class ModuleFacts:
         self.strings: list[ast.Constant] = []
         self.import_statements: list[ast.Import | ast.ImportFrom] = []
         self._memo: dict[tuple[str, int], object] = {}
+        # Whether a qualified name is a record class of another module of the run (set by the
+        # engine from the run's facts; ``done_uses._builds_record``). None of them outside a run.
+        self.is_run_record: Callable[[str], bool] = _no_record
         self.module_scope = Scope(tree, None)
         self.scopes[tree] = self.module_scope
         self._walk()
@@ -520,3 +523,7 @@ def parenthesized_if_needed(node: ast.AST, text: str) -> str:
     """``text`` (the source of ``node`` without its parentheses), in parentheses when the
     node is a walrus or a ``yield``: ``d := f()`` alone is no expression."""
     return f"({text})" if isinstance(node, NEEDS_PARENTHESES) else text
+
+
+def _no_record(qualified: str) -> bool:
+    return False

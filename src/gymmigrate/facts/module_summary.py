@@ -105,6 +105,10 @@ class ModuleSummary:
     # A module with no Gym code (an agent's ``learn``): only its ``bootstrap_masks`` count,
     # it takes no other part in the join (``summaries.summarize_masks``).
     masks_only: bool = False
+    # Top-level record classes (``Transition = namedtuple(...)``, a ``NamedTuple`` or a
+    # ``@dataclass``): a module that builds one imported from here stores its fields as a
+    # tuple would (GM302 reads a ``done`` given to it as stored data).
+    record_classes: frozenset[str] = frozenset()
     # -- done values across modules (facts/limits.py) --
     # Class (with an imported base) -> its methods that take only ``self`` and return a
     # value -> why that value is True (a step limit, the task's end...), traced in the class.

@@ -138,6 +138,8 @@ class ProjectFacts:
     # dotted suffix -> paths of the modules with no Gym code that have bootstrap masks (the
     # nearest to the importer counts when several); no module of the run for anything else.
     mask_modules: dict[str, tuple[str, ...]] = field(default_factory=dict)
+    # path -> its top-level record classes (``ModuleSummary.record_classes``)
+    record_classes: dict[str, frozenset[str]] = field(default_factory=dict)
     # (path, plain class, attribute) -> the kind every construction of the run passes to the
     # ``__init__`` parameter the attribute holds (``ModuleSummary.held_params``), where all
     # agree on a Gym env: ``holder.gym_env`` of an instance made anywhere is that env.
@@ -162,6 +164,8 @@ class ProjectFacts:
         for summary in summaries:
             for qualname, masks in summary.bootstrap_masks.items():
                 facts.bootstrap_masks[(summary.path, qualname)] = (summary.defs[qualname].params, masks)
+            if summary.record_classes:
+                facts.record_classes[summary.path] = summary.record_classes
             if summary.masks_only:
                 for name in module_names(summary.path):
                     facts.mask_modules[name] = (*facts.mask_modules.get(name, ()), summary.path)

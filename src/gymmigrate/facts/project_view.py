@@ -153,6 +153,21 @@ class ProjectView:
                 return self.facts.bootstrap_masks.get((path, ".".join(parts[cut:])))
         return None
 
+    def is_record_class(self, qualified: str) -> bool:
+        """An imported name of the run is a record class (``from .memory import Transition``,
+        a ``namedtuple`` of a module with no Gym code too)."""
+        split = self.facts._split(qualified, self.path)
+        if split is not None and split[1] in self.facts.record_classes.get(split[0], ()):
+            return True
+        # a module with no Gym code (absolute imports only), which ``_split`` does not know:
+        # ``pkg.memory.Transition`` splits at ``pkg/__init__.py`` there
+        parts = qualified.split(".")
+        if len(parts) < 2:
+            return False
+        paths = self.facts.mask_modules.get(".".join(parts[:-1]), ())
+        path = nearest_root(paths, len(parts) - 1, self.path) if paths else None
+        return path is not None and parts[-1] in self.facts.record_classes.get(path, ())
+
     def defines(self, qualified: str) -> bool:
         """The name comes from a module of the run (its own code, not a library's)."""
         return self.facts._split(qualified, self.path) is not None

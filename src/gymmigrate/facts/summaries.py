@@ -19,6 +19,7 @@ from gymmigrate.facts import pz_wrappers
 from gymmigrate.facts.bootstrap import next_state_masks
 from gymmigrate.facts.creation import CreationFinder, passes_mode, render_kept_classes
 from gymmigrate.facts.decisions import Action, decide
+from gymmigrate.facts.done_uses import top_level_records
 from gymmigrate.facts.env_classes import EnvClasses
 from gymmigrate.facts.env_specs import module_spec_lists
 from gymmigrate.facts.kinds import EnvKind
@@ -64,7 +65,8 @@ def summarize(path: str, text: str) -> ModuleSummary | None:
 def summarize_masks(path: str, text: str) -> ModuleSummary | None:
     """The summary of a module with no Gym code: only the defs that mask bootstrapping
     with a flag parameter (an agent's ``learn``, a memory's ``store``), for the callers of
-    the run (``facts/bootstrap.py``). None when it has none or does not parse."""
+    the run (``facts/bootstrap.py``), and its record classes (a memory's ``Transition``).
+    None when it has neither or does not parse."""
     try:
         tree = ast.parse(text)
     except (SyntaxError, ValueError):
@@ -73,11 +75,12 @@ def summarize_masks(path: str, text: str) -> ModuleSummary | None:
     functions = {s.name: s for s in tree.body if isinstance(s, FUNCTIONS)}
     classes = {s.name: s for s in tree.body if isinstance(s, ast.ClassDef)}
     masks = _masks_of(functions, classes)
-    if not masks:
+    records = top_level_records(tree)
+    if not masks and not records:
         return None
     defs = {name: _signature(_named(functions, classes, name), is_method="." in name) for name in masks}
     return ModuleSummary(
-        os.path.realpath(path), defs, frozenset(), frozenset(), (), bootstrap_masks=masks, masks_only=True
+        os.path.realpath(path), defs, frozenset(), frozenset(), (), bootstrap_masks=masks, masks_only=True, record_classes=records
     )
 
 
@@ -138,6 +141,7 @@ class _Summarizer:
             made_factories=made_factories(self.facts, self.receivers),
             classes=frozenset(self.facts.classes),
             bootstrap_masks=_bootstrap_masks(self.facts),
+            record_classes=top_level_records(self.facts.tree),
             done_methods=_done_methods(self.facts),
             render_mode_heirs=_render_mode_heirs(self.facts, self.receivers),
             registrations=_registrations(self.facts),
