@@ -110,6 +110,7 @@ def test_bad_files_give_exit_two_and_the_rest_still_runs(project: Path) -> None:
     assert result.exit_code == 2
     assert (project / "train.py").read_bytes() == MIGRATED
     assert "py2.py: syntax error at line 2" in result.stderr and "Python 2" in result.stderr
+    assert "port it to Python 3 first" in result.stderr
     assert "latin.py: cannot decode the file" in result.stderr
     assert "missing.py: no such file or directory" in result.stderr
     assert "Traceback" not in result.output

@@ -53,7 +53,9 @@ def parse_python(text: str, source: bytes, path: str) -> ast.Module:
     try:
         return ast.parse(text, filename=path)
     except SyntaxError as exc:
-        hint = " (this looks like Python 2 code)" if looks_like_python2(source) else ""
+        # Gymnasium runs on Python 3 only: such a file needs its Python 3 port first.
+        python2 = " (this looks like Python 2 code: port it to Python 3 first, e.g. with 2to3, then run gymmigrate on it)"
+        hint = python2 if looks_like_python2(source) else ""
         where = f" at line {exc.lineno}" if exc.lineno else ""
         raise TransformError(f"syntax error{where}: {exc.msg}{hint}") from None
     except (ValueError, RecursionError, MemoryError) as exc:
