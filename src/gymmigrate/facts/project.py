@@ -50,6 +50,7 @@ from gymmigrate.facts.module_summary import (
 )
 from gymmigrate.facts.project_contracts import (
     NonSpaces,
+    class_methods,
     legacy_steps,
     thread_render_mode,
 )
@@ -106,6 +107,9 @@ class ProjectFacts:
     subclasses_of: dict[tuple[str, str], list[tuple[str, str]]] = field(default_factory=dict)
     done_methods: dict[tuple[str, str], dict[str, DoneCause]] = field(default_factory=dict)
     subclass_methods: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
+    # (path, top-level name) of a class of the run (or a re-export of one) -> its methods
+    # with those of its bases of the run (``project_contracts.class_methods``).
+    class_methods: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
     # Packages the migrated code imports that its dependency files must declare: ``mpe2``
     # where a module imports ``pettingzoo.mpe`` (PZ111 moves the import there).
     requires: frozenset[str] = frozenset()
@@ -222,6 +226,7 @@ class ProjectFacts:
             facts.render_mode_classes[path] = frozenset()
         thread_render_mode(facts, by_path)
         facts._join_overrides(summaries)
+        facts.class_methods = class_methods(facts, by_path)
         NonSpaces(facts, by_path).run()
         reexport_wrappers(facts, by_path)
         facts.legacy_steps = legacy_steps(facts, by_path)
