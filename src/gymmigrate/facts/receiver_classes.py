@@ -184,7 +184,15 @@ class ClassKinds(_Facade):
 
 
     def local_class(self, func: ast.AST) -> ast.ClassDef | None:
-        return self.facts.classes.get(func.id) if isinstance(func, ast.Name) else None
+        if not isinstance(func, ast.Name):
+            return None
+        found = self.facts.classes.get(func.id)
+        if found is not None or not self.facts.all_classes:
+            return found
+        # A class defined in a def (a test's ``class TaskEnv(pkg.TrialEnv)`` and its
+        # ``TaskEnv()`` below): the one class statement that binds the name where it is read.
+        bindings = self.facts.bindings_of(func)
+        return bindings[0] if len(bindings) == 1 and isinstance(bindings[0], ast.ClassDef) else None
 
     def local_function(self, func: ast.AST) -> ast.FunctionDef | ast.AsyncFunctionDef | None:
         return self.facts.functions.get(func.id) if isinstance(func, ast.Name) else None
