@@ -175,6 +175,8 @@ class ClassKinds(_Facade):
                 rest = N.strip_gym_prefix(q)
                 if rest is not None and (rest in N.GYM_WRAPPER_BASE_CLASSES or rest.startswith("wrappers.")):
                     return True
+                if rest is None and self.project is not None and self.project.is_wrapper_class(q):
+                    return True  # a Gym wrapper class of another module of the run (``pkg.TrialWrapper``)
             local = self.local_class(base)
             if local is not None and local is not classdef and id(local) not in _seen:
                 if self.is_gym_wrapper_class(local, _seen | {id(classdef)}):
