@@ -52,6 +52,10 @@ Sources (pinned below; nothing is ever committed to this repository):
   nasim       github.com/Jjschwartz/NetworkAttackSimulator legacy 269d0589 (0.10.1,
               gym>=0.25: built on gym 0.25.2, its step already returns five values) human
               dc471917 "v0.11.0 release" (the move to Gymnasium)
+  neurogym    github.com/neurogym/neurogym          legacy 52d642fb (0.0.2, gym>=0.20,<0.25:
+              run on 0.24.1, the newest its CI tested) human 4577e2fc, the merge of pull
+              request #5 that finished its port (76e3a501, #9, replaced the imports only);
+              the port moved the suite from neurogym/tests to tests (``human_tests``)
 
 How the trees are obtained, first match wins:
   --sources DIR   already laid-out trees: DIR/NAME/legacy and DIR/NAME/human.
@@ -101,6 +105,8 @@ class Repo:
     # every stage's suite runs on a virtual X display (``xvfb-run -a``): for tests that open
     # a window, which abort the interpreter (and the whole suite) without a display
     display: bool = False
+    # the human port's test paths, when the port moved the tests (None: the same as ``tests``)
+    human_tests: tuple[str, ...] | None = None
 
 
 REPOS = (
@@ -216,6 +222,21 @@ REPOS = (
         legacy_constraints=("numpy<1.24", "pytest<8"),
         legacy_fallback=("gym==0.25.2", "numpy<1.24", "networkx", "matplotlib", "pyyaml", "prettytable", "pytest<8"),
         new_fallback=(GYMNASIUM, "numpy", "networkx", "matplotlib", "pyyaml", "prettytable", "pytest<8"),
+    ),
+    Repo(
+        name="neurogym",
+        github="neurogym/neurogym",
+        legacy="52d642fba4d9401c1b5dd29063f5a14526000ef2",
+        human="4577e2fc7cd4a1345fa1dd391240bb0fb8ad406c",
+        extras="",
+        # its whole suite, which steps every registered env; the port moved it to tests/
+        tests=("neurogym/tests",),
+        human_tests=("tests",),
+        # gym>=0.20.0,<0.25 as declared: pip's choice is 0.24.1, the newest of its CI matrix
+        legacy_pre=("gym==0.24.1",),
+        legacy_constraints=("numpy<1.24", "pytest<8"),
+        legacy_fallback=("gym==0.24.1", "numpy<1.24", "matplotlib", "pytest<8"),
+        new_fallback=(GYMNASIUM, "numpy", "matplotlib", "pytest<8"),
     ),
 )
 
@@ -410,7 +431,8 @@ def run_tests(repo: Repo, stage: str, tree: Path, venv: Path, args, logf: Path) 
     if repo.display and not display:
         log(f"{repo.name}/{stage}: no xvfb-run: tests that open a window abort without a display")
     cmd = [*(["xvfb-run", "-a"] if display else []), venv / "bin" / "python", "-m", "pytest", "-p", "no:cacheprovider", "-q", "-rfE",
-           "--tb=short", "--continue-on-collection-errors", f"--timeout={args.timeout}", f"--junitxml={junit}", *repo.tests]
+           "--tb=short", "--continue-on-collection-errors", f"--timeout={args.timeout}", f"--junitxml={junit}",
+           *(repo.human_tests if stage == "human" and repo.human_tests else repo.tests)]
     log(f"{repo.name}/{stage}: pytest")
     t0 = time.monotonic()
     rc = run(cmd, cwd=tree, logf=logf, timeout=args.suite_timeout, env=env)

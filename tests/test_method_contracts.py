@@ -70,6 +70,37 @@ def test_a_hook_overridden_in_another_module_is_reported_and_left_whole(tmp_path
     assert "False, {}" in alone.output
 
 
+def test_hooks_and_wrappers_of_a_base_in_another_module(tmp_path: Path) -> None:
+    """``project_step_hooks``, the shape of a task library: ``PhaseEnv.step`` (re-exported by
+    ``tasks/__init__.py``) runs the ``_step`` that ``HoldTask`` (``class HoldTask(tasks.PhaseEnv)``,
+    another module) and its subclass define; ``PhaseEnv.reset`` steps through ``self._top``,
+    the env itself or the wrapper that ``PhaseWrapper.__init__`` registers with
+    ``self.unwrapped.set_top(self)``; ``BonusWrapper(tasks.PhaseWrapper)`` reads a method of the
+    env it wraps. Before: the ``_step`` were renamed ``step`` as gym < 0.9 methods and overrode
+    the base's step (``play_hold`` looped for ever), ``self._top.step`` kept four fields (a
+    ValueError in every reset), and ``self.env.bonus()`` was left to forwarding that
+    Gymnasium 1.x removed (an AttributeError under any wrapper). ``CoinEnv``, a gym 0.7 env of
+    the same run, still has its ``_step`` renamed."""
+    project = _copy(tmp_path, "project_step_hooks")
+    before = (project / "tasks" / "hold.py").read_text()
+    result = runner.invoke(app, ["rewrite", str(project)])
+    assert result.exit_code == 0, result.output
+    assert (project / "tasks" / "hold.py").read_text() == before
+    assert "def step(self, action):" in (project / "tasks" / "coin.py").read_text()
+    assert "obs, _, _, _, _ = self._top.step(0)" in (project / "tasks" / "core.py").read_text()
+    assert 'self.env.get_wrapper_attr("bonus")()' in (project / "tasks" / "wrappers.py").read_text()
+    code = (
+        "import play\nprint(play.play_hold(), play.play_bonus(), play.play_coin())\n"
+        "from gymnasium.utils.env_checker import check_env\nfrom gymnasium.wrappers import TimeLimit\n"
+        "from tasks.hold import HoldTask, LongHoldTask\nfrom tasks.wrappers import BonusWrapper\n"
+        "for cls in (HoldTask, LongHoldTask):\n    check_env(cls())\n"
+        "env = BonusWrapper(TimeLimit(LongHoldTask(), 10))\nenv.reset(seed=0)\nprint(env.step(0)[1:])"
+    )
+    run = subprocess.run([sys.executable, "-W", "ignore", "-c", code], cwd=project, capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.splitlines() == ["(2.0, 3) (2.0, 2) (1.0, True)", "(2.0, False, False, {'phase': 2})"]
+
+
 def test_an_env_holding_a_gym_env_returns_its_reset_and_step_as_they_are() -> None:
     """``return self.env.reset()`` is (obs, info) once the held env is Gymnasium's: not
     wrapped in a second pair (which also made the rewrite unstable); it gets the seed."""

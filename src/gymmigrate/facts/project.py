@@ -50,6 +50,7 @@ from gymmigrate.facts.module_summary import (
 )
 from gymmigrate.facts.project_contracts import (
     NonSpaces,
+    class_methods,
     legacy_steps,
     thread_render_mode,
 )
@@ -108,6 +109,9 @@ class ProjectFacts:
     subclasses_of: dict[tuple[str, str], list[tuple[str, str]]] = field(default_factory=dict)
     done_methods: dict[tuple[str, str], dict[str, DoneCause]] = field(default_factory=dict)
     subclass_methods: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
+    # (path, top-level name) of a class of the run (or a re-export of one) -> its methods
+    # with those of its bases of the run (``project_contracts.class_methods``).
+    class_methods: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
     # Packages the migrated code imports that its dependency files must declare: ``mpe2``
     # where a module imports ``pettingzoo.mpe`` (PZ111 moves the import there).
     requires: frozenset[str] = frozenset()
@@ -249,6 +253,7 @@ class ProjectFacts:
                 resolved = facts._resolve(qualified, summary.path)
                 if resolved is not None:
                     facts.handed_on.add(resolved)
+        facts.class_methods = class_methods(facts, by_path)
         NonSpaces(facts, by_path).run()
         reexport_wrappers(facts, by_path)
         facts.legacy_steps = legacy_steps(facts, by_path)

@@ -1,7 +1,7 @@
 """Class contracts across the modules of the run, passes of ``ProjectFacts.join``: env
 classes whose spaces are not Spaces (GM807), ``render_mode`` threaded down every chain of
-subclasses (custom_env/render.py), and the classes whose step keeps the legacy four-field
-contract.
+subclasses (custom_env/render.py), the classes whose step keeps the legacy four-field
+contract, and the methods each class of the run has from its bases of the run.
 """
 
 from __future__ import annotations
@@ -156,3 +156,62 @@ def legacy_steps(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> froz
                 split = facts._split(str(kind)[len(REF) :], where[0])
                 where = split if split is not None and "." not in split[1] else None
     return frozenset(found)
+
+
+def class_methods(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> dict[tuple[str, str], frozenset[str]]:
+    """(path, name) -> the methods of the class of the run that ``name`` of module ``path``
+    is (re-exports followed), with those of its bases of the run in any module, at any
+    depth. ``class Task(pkg.TrialEnv)`` defining only ``_step`` is a gym < 0.9 env when no
+    such base defines ``step``; when ``TrialEnv`` does, ``_step`` is that base's own hook
+    (custom_env/common.py)."""
+    bases: dict[tuple[str, str], tuple[str, ...]] = {}
+    for path, summary in by_path.items():
+        for name, heir_bases, _ in summary.render_mode_heirs:
+            bases[(path, name)] = heir_bases
+
+    def definer(path: str, name: str) -> tuple[str, str] | None:
+        for _ in range(MAX_CHAIN):
+            summary = by_path.get(path)
+            if summary is None:
+                return None
+            if name in summary.classes:
+                return path, name
+            kind = summary.exports.get(name)
+            if not is_ref(kind):
+                return None
+            split = facts._split(str(kind)[len(REF) :], path)
+            if split is None or "." in split[1]:
+                return None
+            path, name = split
+        return None
+
+    memo: dict[tuple[str, str], frozenset[str]] = {}
+
+    def methods(key: tuple[str, str], depth: int) -> frozenset[str]:
+        if key in memo:
+            return memo[key]
+        memo[key] = frozenset()  # a cycle of bases adds nothing
+        path, name = key
+        prefix = name + "."
+        found = {q[len(prefix) :] for q in by_path[path].defs if q.startswith(prefix) and "." not in q[len(prefix) :]}
+        for base in bases.get(key, ()) if depth < MAX_CHAIN else ():
+            if base.startswith(OWN):
+                where: tuple[str, str] | None = (path, base[len(OWN) :])
+            else:
+                split = facts._split(base, path)
+                where = definer(*split) if split is not None and "." not in split[1] else None
+            if where is not None and where[1] in by_path[where[0]].classes:
+                found |= methods(where, depth + 1)
+        memo[key] = frozenset(found)
+        return memo[key]
+
+    result: dict[tuple[str, str], frozenset[str]] = {}
+    for path, summary in by_path.items():
+        for name in summary.classes:
+            result[(path, name)] = methods((path, name), 0)
+        for name, kind in summary.exports.items():
+            if name not in summary.classes and is_ref(kind):
+                where = definer(path, name)
+                if where is not None:
+                    result[(path, name)] = methods(where, 0)
+    return result

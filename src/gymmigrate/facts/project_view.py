@@ -290,6 +290,14 @@ class ProjectView:
         prefix = split[1] + "."
         return split if any(q.startswith(prefix) for q in self.facts.defs.get(split[0], ())) else None
 
+    def class_methods(self, qualified: str) -> frozenset[str]:
+        """The methods of an imported class of the run (``from pkg import TrialEnv``) with
+        those of its bases of the run; empty when the run does not define the class."""
+        split = self.facts._split(qualified, self.path)
+        if split is None or "." in split[1]:
+            return frozenset()
+        return self.facts.class_methods.get(split, frozenset())
+
     def is_wrapper_class(self, qualified: str) -> bool:
         """An imported name of the run is a Gym wrapper class (``from pkg.wrappers import X``)."""
         split = self.facts._split(qualified, self.path)

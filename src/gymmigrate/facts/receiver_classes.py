@@ -175,6 +175,8 @@ class ClassKinds(_Facade):
                 rest = N.strip_gym_prefix(q)
                 if rest is not None and (rest in N.GYM_WRAPPER_BASE_CLASSES or rest.startswith("wrappers.")):
                     return True
+                if rest is None and self.project is not None and self.project.is_wrapper_class(q):
+                    return True  # a Gym wrapper class of another module of the run (``pkg.TrialWrapper``)
             local = self.local_class(base)
             if local is not None and local is not classdef and id(local) not in _seen:
                 if self.is_gym_wrapper_class(local, _seen | {id(classdef)}):
@@ -184,7 +186,15 @@ class ClassKinds(_Facade):
 
 
     def local_class(self, func: ast.AST) -> ast.ClassDef | None:
-        return self.facts.classes.get(func.id) if isinstance(func, ast.Name) else None
+        if not isinstance(func, ast.Name):
+            return None
+        found = self.facts.classes.get(func.id)
+        if found is not None or not self.facts.all_classes:
+            return found
+        # A class defined in a def (a test's ``class TaskEnv(pkg.TrialEnv)`` and its
+        # ``TaskEnv()`` below): the one class statement that binds the name where it is read.
+        bindings = self.facts.bindings_of(func)
+        return bindings[0] if len(bindings) == 1 and isinstance(bindings[0], ast.ClassDef) else None
 
     def local_function(self, func: ast.AST) -> ast.FunctionDef | ast.AsyncFunctionDef | None:
         return self.facts.functions.get(func.id) if isinstance(func, ast.Name) else None

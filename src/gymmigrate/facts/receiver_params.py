@@ -212,7 +212,19 @@ class ParameterKinds(_Facade):
             for c in self.facts.attribute_calls.get(name, [])
             if (isinstance(c.func.value, ast.Name) and self.is_self(c.func.value))  # type: ignore[attr-defined]
             or self._made_instance_of(c.func.value, classdef, name)  # type: ignore[attr-defined]
+            or self._unwrapped_of(c.func.value, classdef)  # type: ignore[attr-defined]
         ]
+
+    def _unwrapped_of(self, owner: ast.AST, classdef: ast.ClassDef) -> bool:
+        """``x.unwrapped.set_top(self)`` with ``set_top`` a method of this module's Gym env
+        class: ``unwrapped`` is the env under every wrapper, and a method only the run's env
+        classes define is theirs (a wrapper registering itself with the env it wraps)."""
+        return (
+            isinstance(owner, ast.Attribute)
+            and owner.attr == "unwrapped"
+            and not self.is_gym_wrapper_class(classdef)
+            and self.class_kind(classdef) is EnvKind.GYM_ENV
+        )
 
     def _made_instance_of(self, owner: ast.AST, classdef: ast.ClassDef, method: str) -> bool:
         """``owner`` is ``Cls(...)`` or a name every binding of which is ``Cls(...)``, with

@@ -28,7 +28,10 @@ CLASS_RULES = (
 
 # gym <= 0.9 spelled the API methods with a leading underscore: its ``Env.step`` called
 # ``self._step`` and so on. Gymnasium's base class calls none of them, so a class that
-# only defines the underscore names gets the public ones.
+# only defines the underscore names gets the public ones, unless a base class of the run
+# defines the public one: then that base's ``step`` calls the subclass's ``_step`` (a hook
+# of the project's own, ``TrialEnv.step`` -> ``self._step(action)``), and a rename would
+# override the base's step with the hook.
 UNDERSCORE_METHODS = {"_step": "step", "_reset": "reset", "_seed": "seed", "_render": "render", "_close": "close", "_configure": "configure"}
 UNDERSCORE_RULE = {"step": "GM504", "reset": "GM501", "seed": "GM503", "render": "GM405", "close": "GM405", "configure": "GM405"}
 
@@ -45,8 +48,11 @@ class ClassDecision:
         self.index: ClassIndex = env.index(classdef)
         self.methods = self.index.methods
         self.plan = ClassPlan()
-        for old, new in UNDERSCORE_METHODS.items():
-            if old in self.methods and new not in self.methods:
+        olds = [old for old in UNDERSCORE_METHODS if old in self.methods]
+        inherited = inherited_methods(family, classdef) if olds else frozenset()
+        for old in olds:
+            new = UNDERSCORE_METHODS[old]
+            if new not in self.methods and new not in inherited:
                 self.plan.renamed[new] = old
         # ``def seed(self, seed=None): return self._seed(seed)``: seeding moves into reset,
         # so the helper is the method to migrate and the forwarding one goes with it.
@@ -78,6 +84,27 @@ class ClassDecision:
 
     def function(self, function: ast.AST) -> FunctionIndex:
         return self.env.function(function)
+
+
+def inherited_methods(family: RuleFamily, classdef: ast.ClassDef) -> frozenset[str]:
+    """The methods the class's bases of the run define: this module's, at any depth, and
+    other modules' (with their own bases) through the run's facts."""
+    facts, receivers = family.facts, family.receivers
+    found: set[str] = set()
+    seen = {id(classdef)}
+    todo = [classdef]
+    while todo:
+        for base in todo.pop().bases:
+            local = receivers.local_class(base)
+            if local is not None:
+                if id(local) not in seen:
+                    seen.add(id(local))
+                    found.update(s.name for s in local.body if isinstance(s, (ast.FunctionDef, ast.AsyncFunctionDef)))
+                    todo.append(local)
+            elif receivers.project is not None:
+                for qualified in facts.qualified_names(base):
+                    found |= receivers.project.class_methods(qualified)
+    return frozenset(found)
 
 
 def method_of(decision: ClassDecision, node: ast.AST) -> Method | None:

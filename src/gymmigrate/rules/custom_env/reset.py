@@ -222,7 +222,10 @@ def decide_internal_calls(decision: ClassDecision) -> None:
     facts = decision.family.facts
     unpackable = False
     for target, code in (("reset", "GM501"), ("step", "GM504")):
-        for call in (*decision.index.self_calls.get(target, ()), *decision.index.self_calls.get("_" + target, ())):
+        # ``self._step(a)`` is the step only where the gym < 0.9 name is renamed; beside a
+        # ``step`` of the class (or of a base of the run) it is a hook on a contract of its own
+        legacy = ("_" + target,) if decision.renamed.get(target) == "_" + target else ()
+        for call in (*decision.index.self_calls.get(target, ()), *(c for name in legacy for c in decision.index.self_calls.get(name, ()))):
             method = method_of(decision, call)
             if method is None or method.name in decision.removed or method.name in ("reset", "_reset"):
                 continue
