@@ -18,7 +18,11 @@ import pytest
 
 from gymmigrate.engine import transform_source
 from gymmigrate.rules import gymnasium_api
-from gymmigrate.rules.imports import LEGACY_WRAPPER_MODULES, MOVED_NAMES, migrated_path
+from gymmigrate.rules.imports.table import (
+    LEGACY_WRAPPER_MODULES,
+    MOVED_NAMES,
+    migrated_path,
+)
 from gymmigrate.rules.wrapper_usage import tables
 from tests.gymnasium_api_table import installed_modules, table
 
@@ -126,7 +130,7 @@ def test_rewritten_imports_exist_in_gymnasium(line: str) -> None:
 
 def test_the_gym_only_packages_the_facts_know_are_the_libraries_gm107_reports() -> None:
     from gymmigrate.facts.names import GYM_ONLY_PACKAGES
-    from gymmigrate.rules.imports import GYM_ONLY_LIBRARIES
+    from gymmigrate.rules.imports.libraries import GYM_ONLY_LIBRARIES
 
     assert set(GYM_ONLY_LIBRARIES) == GYM_ONLY_PACKAGES
 
@@ -134,7 +138,7 @@ def test_the_gym_only_packages_the_facts_know_are_the_libraries_gm107_reports() 
 def test_missing_names_are_missing_and_left_to_families_that_handle_them() -> None:
     """The names the imports rules leave to other families are the ones those families
     rename or report, and every name in these tables really is absent from Gymnasium."""
-    from gymmigrate.rules.imports import (
+    from gymmigrate.rules.imports.table import (
         MISSING_NAMES,
         RENAMED_ELSEWHERE,
         USES_REPORTED_ELSEWHERE,

@@ -119,7 +119,7 @@ class ModuleSummary:
     legacy_steps: frozenset[str] = frozenset()
     # Top-level classes whose render() (their own, or a base's of this module) neither calls
     # a render() nor asks workers to render: a project's stub (``logger.warn(...)``), whose
-    # callers need no render_mode anywhere (rules/rendering.py).
+    # callers need no render_mode anywhere (rules/rendering/).
     silent_renders: frozenset[str] = frozenset()
     # Top-level classes with a base of the run (``@Name`` for one of this module): (class,
     # bases, whether its ``__init__`` hands ``render_mode`` on once a base takes it). The

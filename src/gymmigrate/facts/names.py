@@ -68,7 +68,7 @@ GYM_VEC_FACTORIES = frozenset(
 GYM_VEC_PREFIXES = ("wrappers.vector.",)
 
 # Top-level packages with no Gymnasium release: GM107 reports their imports with a route
-# (``rules/imports.py`` GYM_ONLY_LIBRARIES), and an object they make is decided by that port.
+# (``rules/imports/libraries.py`` GYM_ONLY_LIBRARIES), and an object they make is decided by that port.
 GYM_ONLY_PACKAGES = frozenset(
     {
         "atari_py",

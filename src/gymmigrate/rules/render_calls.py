@@ -1,4 +1,4 @@
-"""The syntax of ``render(...)`` calls for the rendering rules (``rules/rendering.py``):
+"""The syntax of ``render(...)`` calls for the rendering rules (``rules/rendering/``):
 reading a legacy call's arguments on ``ast``, and the LibCST builds that rewrite the call
 and the make it moves its mode to."""
 

@@ -13,7 +13,7 @@ import ast
 
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.profile import FileProfile
-from gymmigrate.rules.imports import (
+from gymmigrate.rules.imports.table import (
     LEGACY_WRAPPER_MODULES,
     REMOVED_MODULES,
     REMOVED_NAMES,

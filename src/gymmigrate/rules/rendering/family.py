@@ -1,0 +1,77 @@
+"""The rendering family: which files it may fire on, and one file's decision, in order: the
+render and recorder sites (``sites.py``, ``recorders.py``), the makes they need a mode at
+(``planning.py``, ``makes.py``), gym 0.25's modes at makes, and the render calls that
+still pass a mode (``notes.render_mode_calls_left``)."""
+
+from __future__ import annotations
+
+from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts.creation import CreationFinder
+from gymmigrate.rules.base import FileContext
+from gymmigrate.rules.render_calls import in_source_order, is_render
+from gymmigrate.rules.rendering.common import (
+    LEGACY_SINGLE_FRAME,
+    RULES,
+    RenderSite,
+    four_value_steps,
+    imports_legacy_gym_module,
+    imports_legacy_make,
+)
+from gymmigrate.rules.rendering.planning import SitePlanning
+from gymmigrate.rules.rendering.recorders import RECORDER_ATTRIBUTES
+from gymmigrate.rules.rendering.sites import RenderSites
+
+
+class Rendering(RenderSites, SitePlanning):
+    RULES = RULES
+    after = ("WrapperRenames",)
+
+    @classmethod
+    def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
+        text = facts.text
+        if LEGACY_SINGLE_FRAME in text or any(word in text for word in RECORDER_ATTRIBUTES):
+            return True
+        renders = facts.attribute_calls.get("render", [])
+        # Migrated code calls render() bare, in a file that imports gymnasium, not gym.
+        if any(call.args or call.keywords for call in renders):
+            return True
+        if not renders:
+            return False
+        return (
+            context.profile.imports_gym
+            or imports_legacy_make(facts, context)
+            or four_value_steps(facts)
+            or imports_legacy_gym_module(facts, context)
+        )
+
+    def decide(self) -> None:
+        self.finder = CreationFinder(self.facts, self.receivers, self._is_make)
+        self._legacy_025 = LEGACY_SINGLE_FRAME in self.facts.text
+        self._added = self.notes.render_modes_added
+        self._mode_builds = {}  # id(make) -> (make, its build)
+        self._noted = dict(self._added)  # modes another family gives a make in this run
+        self._scheduled: dict[int, str] = {}  # id(make) -> the creation-time condition of its renders
+        self._unscheduled: dict[int, str] = {}  # id(make) -> the run-time condition of its renders
+        self._mode_dropped: set[int] = set()  # render calls that lose their mode argument
+        render_calls = self.facts.attribute_calls.get("render", [])
+        # A file that still passes modes to render() is legacy code even once its imports
+        # say gymnasium (e.g. a conflict reported on a first run): its bare render()
+        # calls still mean "human", so a second run decides the same way.
+        self._has_legacy_mode_calls = any(self._mode_argument(call) is not None for call in render_calls)
+        sites: list[RenderSite] = []
+        for call in in_source_order([*render_calls, *self._recorder_candidates()]):
+            site = self._render_site(call) if is_render(call) else self._recorder_site(call)
+            if site is not None:
+                sites.append(site)
+        self._plan_sites(sites)
+        self._plan_make_literals()
+        # Render calls that still pass a mode after this run: a local env class whose
+        # render(mode) they may reach keeps its signature (custom_env/render.py).
+        # (Calls inside a render method forward its mode: the Env/Wrapper rules own them.)
+        self.notes.render_mode_calls_left = [
+            call
+            for call in render_calls
+            if self._mode_argument(call) is not None
+            and id(call) not in self._mode_dropped
+            and getattr(self.facts.enclosing_function(call), "name", None) != "render"
+        ]

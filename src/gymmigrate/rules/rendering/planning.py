@@ -1,0 +1,310 @@
+"""Planning the sites make by make: the mode each make ends with (its own, another
+family's, or the one its sites agree on), the makes that cannot take one (two modes,
+``**kwargs``, a registered class without ``render_mode``), human renders that run on a
+condition (``render_schedule.py``), and each site's finding and edit."""
+
+from __future__ import annotations
+
+import ast
+from collections import defaultdict
+from collections.abc import Hashable
+
+from gymmigrate.facts import names as N
+from gymmigrate.facts.decisions import Action
+from gymmigrate.facts.module import full_name, keyword, string_value
+from gymmigrate.findings import FixKind, Tier
+from gymmigrate.rules.render_calls import without_mode_argument
+from gymmigrate.rules.render_schedule import schedule
+from gymmigrate.rules.rendering.common import (
+    HUMAN,
+    LEGACY_SINGLE_FRAME,
+    RGB_ARRAY,
+    RenderSite,
+)
+from gymmigrate.rules.rendering.makes import MakeEdits
+
+
+class SitePlanning(MakeEdits):
+    """The sites planned by make (mixed into the family)."""
+
+    def _plan_sites(self, sites: list[RenderSite]) -> None:
+        by_make: dict[int, list[RenderSite]] = defaultdict(list)
+        makes: dict[int, ast.Call] = {}
+        for site in sites:
+            if site.creation.found:
+                for make in site.creation.calls:
+                    by_make[id(make)].append(site)
+                    makes[id(make)] = make
+        # The mode each make will have: its own render_mode, the one another family gives
+        # it, or the one its sites agree on.
+        final_mode: dict[int, str | None] = {}
+        blocked: dict[int, str] = {}  # id(make) -> why its sites cannot be rewritten
+        for key, make_sites in by_make.items():
+            make = makes[key]
+            existing = keyword(make, "render_mode")
+            if existing is not None:
+                value = string_value(existing.value)
+                final_mode[key] = RGB_ARRAY if value == LEGACY_SINGLE_FRAME else value
+                if value is None:
+                    blocked[key] = "its gym.make passes a render_mode that is not a literal"
+                continue
+            if key in self._noted:
+                final_mode[key] = self._noted[key]
+                continue
+            if any(k.arg is None for k in make.keywords):
+                final_mode[key] = None
+                blocked[key] = "its gym.make passes **kwargs that may already hold render_mode: set it there by hand"
+                continue
+            unready = self._registered_without_render_mode(make)
+            if unready is not None:
+                final_mode[key] = None
+                blocked[key] = (
+                    f"the id may name {unready}, registered in this run, whose __init__ takes no render_mode "
+                    "(make would raise TypeError): give it a render_mode parameter first"
+                )
+                continue
+            wanted = {s.mode for s in make_sites}
+            if wanted == {HUMAN} and not any(s.variable for s in make_sites) and self._keeps_schedule(make, make_sites, final_mode, blocked):
+                continue
+            if len(wanted) == 1:
+                mode = final_mode[key] = wanted.pop()
+                variable = any(s.variable for s in make_sites)
+                self._add_mode(make, mode, "" if variable else self._quote_style(make, make_sites))
+            else:
+                final_mode[key] = None
+                modes = " and ".join(sorted(f'"{m}"' for m in wanted))
+                blocked[key] = (
+                    f"the env is rendered in {modes}, but a Gymnasium env has one render_mode: "
+                    "create two envs (e.g. a training env and an eval env with its own render_mode)"
+                )
+        self._makes_by_id = makes
+        self._rendered_nodes = {id(site.node) for site in sites}
+        for site in sites:
+            self._plan_site(site, makes, final_mode, blocked)
+
+    def _keeps_schedule(
+        self, make: ast.Call, sites: list[RenderSite], final_mode: dict[int, str | None], blocked: dict[int, str]
+    ) -> bool:
+        """Human renders that run only on a condition (render_schedule.py): the condition
+        moves to the make when it is fixed at creation, else the sites are reported.
+        False when a render runs on every pass (human mode then draws as before)."""
+        key = id(make)
+        trained = self._used_where_nothing_renders(make, sites)
+        if trained is not None:
+            # Train, then watch: human mode would draw every training step too.
+            final_mode[key] = None
+            self._unscheduled[key] = f"the watch loop runs (the env is also {trained}, where nothing renders)"
+            return True
+        how, condition = schedule(self.facts, [site.node for site in sites], make, self._stepping_function(make))
+        if how == "always" or condition is None:  # the condition is None only "always"
+            return False
+        if how == "fixed":
+            quote = self._quote_style(make, sites)
+            final_mode[key] = HUMAN
+            self._added[key] = HUMAN
+            func = self.facts.segment(make.func)
+            self._give_mode(make, func, f"{quote}{HUMAN}{quote} if {condition} else None")
+            self._scheduled[key] = condition
+            return True
+        final_mode[key] = None
+        self._unscheduled[key] = condition
+        return True
+
+    def _plan_site(
+        self,
+        site: RenderSite,
+        makes: dict[int, ast.Call],
+        final_mode: dict[int, str | None],
+        blocked: dict[int, str],
+    ) -> None:
+        code, call = site.code, site.node
+        target = f"render_mode={site.mode}" if site.variable else f'render_mode="{site.mode}"'
+        if not site.creation.found:
+            where = site.creation.gap or "no gym.make was found"
+            self.report(
+                call,
+                code,
+                f"{site.consumer} needs the env created with {target}, but its creation site was not found "
+                f"({where}); add it there by hand",
+                FixKind.FLAG,
+                question=self._untraced_question(site, where),
+            )
+            return
+        keys = [id(m) for m in site.creation.calls]
+        # The render calls of one env ask one question (which mode it is made with).
+        def question(outcome: str) -> tuple[object, ...]:
+            return ("render", code, tuple(sorted(keys)), outcome)
+
+        if code == "GM402" and all(keyword(makes[k], "render_mode") is not None for k in keys):
+            return  # the make already chose a mode: this bare render() is Gymnasium's API
+        unscheduled = [self._unscheduled[k] for k in keys if k in self._unscheduled]
+        if unscheduled:
+            choice = (
+                f"render() runs only when {unscheduled[0]}, but render_mode=\"human\" would draw every step: keep "
+                'the schedule by creating the env with render_mode="rgb_array" and showing the frame render() '
+                'returns here, or choose render_mode="human" if drawing every step is intended'
+            )
+            if code == "GM401":  # render(mode=...) raises TypeError in Gymnasium: the mode goes
+                self.plan.replace(call, without_mode_argument)
+                self._mode_dropped.add(id(call))
+                self.report(call, code, f"mode dropped, no render_mode added (it draws nothing until you choose): {choice}")
+            else:
+                self.report(call, code, f"not rewritten: {choice}", FixKind.FLAG, question=question("unscheduled"))
+            return
+        reasons = [blocked[k] for k in keys if k in blocked]
+        if reasons:
+            # the make's one question, whichever render or recorder meets it
+            self.report(call, code, f"not rewritten: {reasons[0]}", FixKind.FLAG, question=("render", tuple(sorted(keys)), reasons[0]))
+            return
+        accepted = site.accepted or (site.mode,)
+        conflicting = [final_mode[k] for k in keys if final_mode[k] not in accepted]
+        if conflicting:
+            self.report(
+                call,
+                code,
+                f'not rewritten: the env is created with render_mode="{conflicting[0]}" but {site.consumer} needs '
+                f'"{site.mode}"; create a separate env for it',
+                FixKind.FLAG,
+                question=question("conflict"),
+            )
+            return
+        where = " and ".join(self._call_summary(makes[k]) for k in keys)
+        added = any(k in self._added for k in keys)
+        if site.legacy_spelling:
+            self.report(call, "GM403", 'gym 0.25 "single_rgb_array" is "rgb_array" in Gymnasium')
+        if code == "GM407":
+            if added:
+                self._claim_makes(keys)
+                self.report(call, code, f"added {target} to {where} so {site.consumer} gets frames", tier=Tier.NOTE)
+            return
+        scheduled = [self._scheduled[k] for k in keys if k in self._scheduled]
+        if scheduled:
+            # Rendered in the same loop as every step of the env: it drew each step before,
+            # and does now; only a render away from the steps (once an episode) is a question.
+            per_step = all(self._steps_render(k) for k in keys)
+            self._claim_makes(keys)
+            self.report(
+                call,
+                code,
+                f'render() ran only when {scheduled[0]}, which is known when the env is made: added render_mode="human" '
+                f"if {scheduled[0]} else None to {where}; that env now draws every step inside step()/reset()"
+                + (", as it drew every step here" if per_step else ""),
+                tier=Tier.NOTE if per_step else None,
+            )
+            if code == "GM401":
+                self.plan.replace(call, without_mode_argument)
+                self._mode_dropped.add(id(call))
+            return
+        if code == "GM402":
+            if added:
+                # Rendered in the loop that steps the env: it drew each step before and
+                # does now, so the line only explains the rewrite.
+                per_step = all(self._steps_render(k) for k in keys)
+                self._claim_makes(keys)
+                self.report(
+                    call,
+                    code,
+                    f'legacy render() meant "human": added {target} to {where}; a human-mode env '
+                    "now draws every step inside step()/reset(), so this call is redundant (keep or remove it)",
+                    tier=Tier.NOTE if per_step else None,
+                )
+            return
+        self.plan.replace(call, without_mode_argument)
+        self._mode_dropped.add(id(call))
+        if self._legacy_025 and site.mode == RGB_ARRAY and not site.legacy_spelling:
+            self.report(
+                call,
+                "GM403",
+                'in gym 0.25 "rgb_array" returned a list of frames; if this code expects a list, use "rgb_array_list"',
+                FixKind.FLAG,
+            )
+        if added:
+            message = f"render mode moved to {where} ({target}); render() takes no arguments"
+            inferred = site.decision is Action.REWRITE_FOR_REVIEW or site.decision is Action.REPORT
+            if inferred:
+                message += "; the env's origin was inferred, check it"
+            # A frame or text mode draws nothing by itself: the env renders when render() is
+            # called, as before, so the move explains itself. "human" draws every step.
+            exact = not inferred and site.mode != HUMAN and not site.variable
+            if site.variable:
+                message += f'; the mode is read once per env now: where {site.mode} is "human", that env draws every step inside step()/reset()'
+            self._claim_makes(keys)
+            self.report(call, code, message, tier=Tier.NOTE if exact else None, question=question("moved"))
+        else:
+            self.report(call, code, f"{where} already has {target}; render() takes no arguments", FixKind.AUTO)
+
+    def _untraced_question(self, site: RenderSite, where: str) -> Hashable | None:
+        """The renders and recorders of one untraced env ask one question: where it is made,
+        and in which mode. One env is one spelling in one function (``self.x``: one class),
+        or, where the finder stopped at a named constructor or function parameter (``env`` is a
+        parameter of ``Evaluation``), that parameter in one class: a recorder built on ``env``
+        and ``self.env.render()``."""
+        func = site.node.func
+        library = self._gym_only_origin(func.value) if isinstance(func, ast.Attribute) else None
+        if library is not None:
+            return ("gym-only-library", library)  # an env of a Gym-only stack: ported with it (GM107)
+        class_ = self.facts.enclosing_class(site.node)
+        if site.creation.gap and " is a parameter of `" in site.creation.gap:
+            return ("render-untraced", id(class_ or self.facts.enclosing_function(site.node)), where)
+        name = full_name(func.value) if isinstance(func, ast.Attribute) else None
+        if not name:
+            return None
+        owner = class_ if name.split(".", 1)[0] == "self" else self.facts.enclosing_function(func)
+        return ("render-untraced", site.mode, id(owner), name, where)
+
+    def _used_where_nothing_renders(self, make: ast.Call, sites: list[RenderSite]) -> str | None:
+        """How the env made by ``make`` (``env = gym.make(...)``) is used away from its renders:
+        ``"stepped at line N"`` in a loop without a render call, ``"passed to f()"`` (a
+        training function, an agent) — or None when every use renders as it goes (a
+        legacy script that watches what it runs, where human mode draws as before)."""
+        assign = self.facts.parent(make)
+        if not (isinstance(assign, ast.Assign) and len(assign.targets) == 1 and isinstance(assign.targets[0], ast.Name)):
+            return None
+        target = assign.targets[0]
+        rendered = {id(site.node) for site in sites}
+        # Every read of that binding, in the functions of the module too (a training
+        # function that steps the module's ``env``): the scopes already index their reads.
+        reads = [read for scope in self.facts.scopes.values() for read in scope.reads.get(target.id, ())]
+        for read in reads:
+            if target not in self.facts.bindings_of(read):
+                continue
+            parent = self.facts.parent(read)
+            if isinstance(parent, ast.Call) and read in parent.args and not self._under_gym(parent.func):
+                return f"passed to {self.facts.segment(parent.func)}()"
+            if isinstance(parent, ast.Attribute) and parent.attr == "step":
+                call = self.facts.parent(parent)
+                if isinstance(call, ast.Call) and call.func is parent and not self._loop_renders(call, rendered):
+                    return f"stepped at line {call.lineno}"
+        return None
+
+    def _steps_render(self, key: int) -> bool:
+        """Every ``step`` of the env made by ``key`` sits in a loop that renders it."""
+        make = self._makes_by_id.get(key)
+        steps = (self._steps_of_make(make) if make is not None else None) or []
+        return bool(steps) and all(self._loop_renders(call, self._rendered_nodes) for call in steps)
+
+    def _steps_of_make(self, make: ast.Call) -> list[ast.Call] | None:
+        """The steps of the env ``env = make(...)`` binds; None when the make binds no name."""
+        assign = self.facts.parent(make)
+        if not (isinstance(assign, ast.Assign) and len(assign.targets) == 1 and isinstance(assign.targets[0], ast.Name)):
+            return None
+        target = assign.targets[0]
+        return self._steps_of(target.id, lambda read: target in self.facts.bindings_of(read))
+
+    def _stepping_function(self, make: ast.Call) -> ast.AST | None:
+        """The one function (not the make's own) where the env ``make`` binds is stepped, or
+        None: ``env = gym.make(...)`` at the top, ``env.step`` only inside ``main()``."""
+        homes = {self.facts.enclosing_function(call) for call in self._steps_of_make(make) or ()}
+        if len(homes) != 1:
+            return None
+        home = next(iter(homes))
+        return home if home is not None and home is not self.facts.enclosing_function(make) else None
+
+    def _under_gym(self, func: ast.expr) -> bool:
+        """A gym/gymnasium callable (a wrapper taking the env is no training function)."""
+        return any(N.strip_gym_prefix(q) is not None for q in self.facts.qualified_names(func))
+
+    def _loop_renders(self, call: ast.Call, rendered: set[int]) -> bool:
+        """The innermost loop around ``call`` holds one of the render sites."""
+        loop = next((a for a in self.facts.ancestors(call) if isinstance(a, (ast.For, ast.While, ast.AsyncFor))), None)
+        return loop is not None and any(id(node) in rendered for node in ast.walk(loop) if isinstance(node, ast.Call))

@@ -1,0 +1,232 @@
+"""The render calls: which ``env.render(...)`` is a site (GM401 a mode to move, GM402 a
+bare legacy render that meant "human"), which is left alone (another library's render,
+a class that keeps its own mode, a render method forwarding to its env, code already
+written for Gymnasium) and which is reported (other arguments, a mode that is no
+literal); GM406's ``render(close=True)``."""
+
+from __future__ import annotations
+
+import ast
+from collections.abc import Hashable
+
+from gymmigrate.facts.creation import CreationFinder
+from gymmigrate.facts.decisions import Action, decide, receiver_text
+from gymmigrate.facts.env_classes import EnvClasses
+from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.module import full_name, keyword, string_value
+from gymmigrate.findings import FixKind
+from gymmigrate.rules.render_calls import arguments_in_order, close_call
+from gymmigrate.rules.render_schedule import same_value_at_make
+from gymmigrate.rules.rendering.common import (
+    HUMAN,
+    LEGACY_SINGLE_FRAME,
+    RGB_ARRAY,
+    RenderSite,
+    imports_legacy_gym_module,
+    imports_legacy_make,
+)
+from gymmigrate.rules.rendering.recorders import RecorderSites
+
+# Libraries whose env objects (and what hangs off them) are not Gym envs: their render()
+# keeps its own signature.
+_NON_GYM_ENV_LIBRARIES = frozenset({"tf_agents", "dm_control", "dm_env"})
+
+
+class RenderSites(RecorderSites):
+    """The render call sites (mixed into the family)."""
+
+    def _helper_method(self, function: ast.AST) -> bool:
+        """``render`` is a method of a plain class of the run (muzero's ``Game`` owning a
+        ``gym.make`` env), not of an env or wrapper: its forwarded ``self.env.render()`` is a
+        call site like any other, and the make gets the mode."""
+        classdef = self.facts.parent(function)
+        return isinstance(classdef, ast.ClassDef) and self.receivers.class_kind(classdef) is EnvKind.NOT_ENV
+
+    def _render_site(self, call: ast.Call) -> RenderSite | None:
+        func = call.func
+        if not isinstance(func, ast.Attribute):  # ``x.method(...)`` calls only
+            return None
+        receiver = func.value
+        close = keyword(call, "close")
+        mode_arg = self._mode_argument(call)
+        if close is None and mode_arg is None and (call.args or call.keywords):
+            # Some other render(...) signature: not the Gym one. Through the wrappers make
+            # adds it is a TypeError in Gymnasium (Wrapper.render takes no arguments).
+            self._report_other_signature(call, receiver)
+            return None
+        function = self.facts.enclosing_function(call)
+        if function is not None and function.name == "render" and not self._helper_method(function):
+            return None  # a render method forwarding to its env: the Env/Wrapper rules own it
+        if mode_arg is not None and self._class_keeps_its_mode(receiver):
+            return None  # ``render(mode)`` of a class that chooses its mode itself is kept (GM405 says so)
+        if self._reached_from_other_library(receiver):
+            return None  # ``tf_env.pyenv.envs[0].render(mode="rgb_array")``: tf_agents' API, not Gym's
+        kind = self.receivers.kind_of(receiver)
+        decision = decide(kind, receiver, self.context.profile, legacy_shape=mode_arg is not None or close is not None, origins=self.receivers)
+        if decision.action is Action.LEAVE:
+            if kind is EnvKind.SB3_VEC and mode_arg is None and close is None and not self.receivers.run_defined(receiver):
+                self._check_vec_frames(call, receiver)
+                return None
+            if kind is EnvKind.SB3_VEC and mode_arg is None and close is None and self._stub_render(receiver):
+                return None  # the project's class renders no env (its render() logs, or does nothing)
+            if kind is EnvKind.SB3_VEC and mode_arg is None and close is None and self.context.profile.imports_gym and self.receivers.run_defined(receiver):
+                # The project's own vector env (left alone) draws through its envs' render():
+                # one item per file, for where those envs are made.
+                self.report(
+                    call,
+                    "GM402",
+                    f"`{full_name(receiver) or 'the env'}` is a vector env of the project (left as it is): if its render() "
+                    "calls its envs' render(), those draw only when made with render_mode=\"human\" now; pass it where "
+                    "they are made",
+                    FixKind.FLAG,
+                    question=("GM402", "vector env of the project"),
+                )
+            return None
+        if close is not None and isinstance(close.value, ast.Constant) and close.value.value is True:
+            self._plan_close(call, decision.action, decision.reason)
+            return None
+        if mode_arg is None:
+            if not (
+                self.context.profile.imports_gym
+                or self._has_legacy_mode_calls
+                or imports_legacy_make(self.facts, self.context)
+                or (kind is EnvKind.GYM_ENV and imports_legacy_gym_module(self.facts, self.context))
+                or self._stepped_the_legacy_way(receiver)
+            ):
+                if decision.action in (Action.REPORT, Action.REWRITE_FOR_REVIEW) and self._stepped_the_legacy_way(receiver, traced=False):
+                    # An env whose origin is unknown, stepped the legacy way: its reset and
+                    # step ask whether it is a Gym env; the same question names this render.
+                    self.report(
+                        call,
+                        "GM402",
+                        f"{decision.reason}: if it is a Gym env, render() draws only when the env is made with "
+                        'render_mode="human" now: pass it where this env is made',
+                        FixKind.FLAG,
+                        question=self.receiver_question(receiver, decision),
+                    )
+                return None  # code already written for Gymnasium: a bare render() is its API
+            return RenderSite(call, "GM402", HUMAN, (), decision.action, self.finder.find(receiver))
+        extra = [a for a in arguments_in_order(call) if a is not mode_arg and a is not close]
+        if extra:
+            names = ", ".join(self._argument_name(a) for a in extra)
+            self.report(
+                call,
+                "GM401",
+                f"render() takes no arguments in Gymnasium: pass {names} and the render mode to gym.make "
+                "where the env is created (MuJoCo envs take width/height/camera_id there)",
+                FixKind.FLAG,
+                question=self._same_render_call(call, receiver),
+            )
+            return None
+        value = mode_arg.value if isinstance(mode_arg, ast.keyword) else mode_arg
+        mode = string_value(value)
+        if mode is None and isinstance(value, ast.Name):
+            creation = self.finder.find(receiver)
+            if creation.found and all(same_value_at_make(self.facts, value, call, make) for make in creation.calls):
+                return RenderSite(call, "GM401", value.id, (), decision.action, creation, variable=True)
+        if mode is None:
+            self.report(
+                call,
+                "GM401",
+                f"the render mode of `{receiver_text(receiver)}` is not a literal; pass it as render_mode= to "
+                "gym.make where the env is created and call render() without arguments",
+                FixKind.FLAG,
+                question=self._same_render_call(call, receiver),
+            )
+            return None
+        legacy = mode == LEGACY_SINGLE_FRAME
+        if legacy:
+            mode = RGB_ARRAY
+        quote = self._quote(value) or '"'
+        return RenderSite(call, "GM401", mode, (), decision.action, self.finder.find(receiver), legacy_spelling=legacy, quote=quote)
+
+    def _reached_from_other_library(self, receiver: ast.expr) -> bool:
+        """``tf_env.pyenv.envs[0]`` with ``tf_env`` made by tf_agents (or dm_control): an
+        object reached through attributes and items of one another library made, whose
+        ``render(mode=...)`` is that library's own."""
+        root: ast.expr = receiver
+        while isinstance(root, (ast.Attribute, ast.Subscript)):
+            root = root.value
+        if root is receiver or not isinstance(root, ast.Name):
+            return False
+        library = self.receivers.library_made(root)
+        return library is not None and library.split(".", 1)[0] in _NON_GYM_ENV_LIBRARIES
+
+    def _class_keeps_its_mode(self, receiver: ast.expr) -> bool:
+        """``env = MyEnv()`` whose class chooses its render mode itself (``set_render_mode``):
+        its ``render(mode)`` is kept, so a call passing a mode still works as it is."""
+        if not hasattr(self, "_class_finder"):
+            self._class_finder = CreationFinder(self.facts, self.receivers, lambda call: self.receivers.local_class(call.func) is not None)
+        creation = self._class_finder.find(receiver)
+        if not creation.found:
+            return False
+        classes = EnvClasses.of(self.facts, self.receivers)
+        made = [self.receivers.local_class(call.func) for call in creation.calls]
+        return all(c is not None and classes.own_render_mode(c) is not None for c in made)
+
+    def _report_other_signature(self, call: ast.Call, receiver: ast.expr) -> None:
+        if not self.context.profile.imports_gym:
+            return
+        if self._report_unpacked_arguments(call, receiver):
+            return
+        if self.receivers.kind_of(receiver) is not EnvKind.GYM_ENV:
+            return
+        creation = self.finder.find(receiver)
+        if not (creation.found and all(self._is_gym_make(make) for make in creation.calls)):
+            return
+        self.report(
+            call,
+            "GM401",
+            f"`{receiver_text(receiver)}` comes from gym.make, and Gymnasium's wrappers take no arguments in "
+            f"render(): `{self._call_summary(call)}` raises TypeError; call `{receiver_text(receiver)}.unwrapped.render(...)` "
+            "for the env's own signature, or pass the settings to gym.make",
+            FixKind.FLAG,
+        )
+
+    def _report_unpacked_arguments(self, call: ast.Call, receiver: ast.expr) -> bool:
+        """``env.render(**kwargs)`` (or ``*args``) outside a render method: what it passes is
+        decided by its callers, and legacy callers passed ``mode=``, which Gymnasium's
+        render() refuses (TypeError) and a Gym env made without a render_mode ignores. On an
+        env the run does not show to be something else, it is reported, not left silent."""
+        if not (any(isinstance(a, ast.Starred) for a in call.args) or any(k.arg is None for k in call.keywords)):
+            return False
+        function = self.facts.enclosing_function(call)
+        if function is not None and function.name == "render":
+            return True  # a render method handing its own arguments on: the Env/Wrapper rules own it
+        kind = self.receivers.kind_of(receiver)
+        decision = decide(kind, receiver, self.context.profile, legacy_shape=True, origins=self.receivers)
+        if decision.action is Action.LEAVE:
+            return True
+        name = receiver_text(receiver)
+        self.report(
+            call,
+            "GM401",
+            f"`{self.facts.segment(call)}` passes on what its callers give (legacy: mode=...), and Gymnasium's render() "
+            f"takes no arguments: if `{name}` is a Gym env, pass the mode as render_mode= (and any size) to gym.make "
+            f"where it is made and call `{name}.render()` bare",
+            FixKind.FLAG,
+        )
+        return True
+
+    def _same_render_call(self, call: ast.Call, receiver: ast.expr) -> Hashable:
+        """The same render call written at several places of the file (``env.render("pyglet",
+        view=view_mode)`` in each key handler) asks one question: where that env is made, with
+        which mode and options."""
+        arguments = ", ".join(self.facts.segment(argument) for argument in arguments_in_order(call))
+        # one env: the same bindings of a name (a module's ``env`` read in its functions too),
+        # or the same ``self.x`` of one class
+        if isinstance(receiver, ast.Name):
+            env: Hashable = tuple(sorted(id(binding) for binding in self.facts.bindings_of(receiver)))
+        else:
+            env = id(self.facts.enclosing_class(call) or self.facts.enclosing_function(call))
+        return ("render-arguments", receiver_text(receiver), env, arguments)
+
+    def _plan_close(self, call: ast.Call, action: Action, reason: str) -> None:
+        if action is Action.REPORT:
+            self.report(call, "GM406", f"{reason}: render(close=True) is close() on a Gym env", FixKind.FLAG)
+            return
+        self.plan.replace(call, close_call)
+        if action is Action.REWRITE_FOR_REVIEW:
+            self.report(call, "GM406", f"render(close=True) -> close(); {reason}", FixKind.ASSIST)
+        else:
+            self.report(call, "GM406", "render(close=True) -> close()")
