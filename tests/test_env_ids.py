@@ -65,6 +65,26 @@ def test_every_replaced_id_is_gone(legacy_id: str) -> None:
     assert not isinstance(spec.entry_point, str), f"{legacy_id} still works; it must not be rewritten"
 
 
+def test_every_older_version_of_a_family_in_the_table_is_mapped() -> None:
+    """Gymnasium raises DeprecatedEnv for any version below a family's lowest registered one
+    (``Taxi-v1`` when only Taxi-v4 is registered): once a family is in the table, every such
+    version is, so that no older id of it is left to fail at ``gym.make``."""
+    versions: dict[str, set[int]] = {}
+    for spec in gymnasium.registry.values():
+        if spec.namespace is None and spec.version is not None:
+            versions.setdefault(spec.name, set()).add(spec.version)
+    families = {legacy_id.rsplit("-v", 1)[0] for legacy_id in RETIRED_IDS}
+    missing = [
+        f"{name}-v{version}"
+        for name, registered in versions.items()
+        if name in families
+        for version in range(min(registered))
+        if f"{name}-v{version}" not in RETIRED_IDS
+    ]
+    assert not missing
+    assert {"Taxi", "Acrobot", "LunarLander", "BipedalWalker", "Hopper"} <= families
+
+
 @pytest.mark.parametrize("kept", ["CartPole-v0", "MountainCar-v0", "Acrobot-v1", "BipedalWalker-v3", "Ant-v4", "Ant-v5"])
 def test_current_ids_are_not_rewritten(kept: str) -> None:
     gymnasium.spec(kept)

@@ -133,6 +133,14 @@ _STEP = "class E:\n    def step(self, a):\n        self.n += 1\n{body}\n        
         ("        done = self._over()", "    def _over(self):\n        if self.hit:\n            return True\n        return False\n", "termination"),
         ("        d = self._dones()\n        done = d['__all__']", "    def _dones(self):\n        d = {a: False for a in self.agents}\n        d['__all__'] = True if self.t > 3 else False\n        return d\n", "truncation"),
         ("        done = self.flag", "    def reset(self):\n        self.flag = False\n    def tick(self):\n        if self.steps >= self.max_steps:\n            self.flag = True\n", "truncation"),
+        # The end of the env's data is a terminal state, whatever the bound is called ...
+        ("        done = self.n >= self.max_steps", "    def __init__(self, data):\n        self.max_steps = len(data) - 1\n", "termination"),
+        ("        done = self.t == self.max_step", "    def __init__(self, a):\n        self.max_step = a.shape[0] - 1\n", "termination"),
+        ("        done = self.t >= len(self.df.index.unique()) - 1", "", "termination"),
+        # ... but not a budget: a parameter, one store of anything else, a length against a budget.
+        ("        done = self.n >= self.max_steps", "    def __init__(self, data, max_steps):\n        self.max_steps = max_steps\n", "truncation"),
+        ("        done = self.n >= self.max_steps", "    def __init__(self, data):\n        self.max_steps = len(data)\n    def resize(self, k):\n        self.max_steps = k\n", "truncation"),
+        ("        done = len(self.history) >= self.max_steps", "", "truncation"),
     ],
 )
 def test_done_causes(body: str, helpers: str, cause: str) -> None:

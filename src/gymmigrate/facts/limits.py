@@ -28,7 +28,7 @@ from __future__ import annotations
 import ast
 import enum
 import re
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Collection, Iterable
 from dataclasses import dataclass
 from typing import TypeVar
 
@@ -57,13 +57,77 @@ def is_periodic(expr: ast.AST) -> bool:
     return any(isinstance(node, ast.BinOp) and isinstance(node.op, ast.Mod) for node in ast.walk(expr))
 
 
-def is_step_limit(expr: ast.AST) -> bool:
-    """A comparison that names a step or time counter (``self.steps >= self.max_steps``)."""
+def is_step_limit(expr: ast.AST, data_ends: Collection[str] = ()) -> bool:
+    """A comparison that names a step or time counter (``self.steps >= self.max_steps``),
+    unless it tests the end of the env's data (``is_end_of_data``; ``data_ends``: the
+    class's attributes bound to its data's length)."""
     if not isinstance(expr, ast.Compare) or not all(isinstance(op, _LIMIT_OPS) for op in expr.ops):
         return False
-    if is_periodic(expr):
+    if is_periodic(expr) or is_end_of_data(expr, data_ends):
         return False
     return any(STEP_LIMIT_WORD.search(word.lower()) and "beyond" not in word for word in identifiers(expr))
+
+
+def _minus_constant(expr: ast.AST) -> ast.AST:
+    """``x - 1`` (or ``x + 1``) -> ``x``: an index's offset from a length."""
+    while isinstance(expr, ast.BinOp) and isinstance(expr.op, (ast.Add, ast.Sub)) and _number(expr.right):
+        expr = expr.left
+    return expr
+
+
+def _number(expr: ast.AST) -> bool:
+    return isinstance(expr, ast.Constant) and isinstance(expr.value, (int, float)) and not isinstance(expr.value, bool)
+
+
+def is_data_length(expr: ast.AST) -> bool:
+    """``len(x)``, ``x.shape[0]``, either minus a constant (``len(self.df.index.unique()) - 1``):
+    the length of something the env holds, here the end of its data, not a step budget."""
+    expr = _minus_constant(expr)
+    if isinstance(expr, ast.Call):
+        return isinstance(expr.func, ast.Name) and expr.func.id == "len" and len(expr.args) == 1 and not expr.keywords
+    return (
+        isinstance(expr, ast.Subscript)
+        and isinstance(expr.value, ast.Attribute)
+        and expr.value.attr == "shape"
+        and isinstance(expr.slice, ast.Constant)
+        and expr.slice.value == 0
+    )
+
+
+def is_end_of_data(expr: ast.AST, data_ends: Collection[str] = ()) -> bool:
+    """``self.day == self.max_step`` where the class binds ``self.max_step`` only to a data
+    length (``data_ends``), or ``self.t >= len(self.prices) - 1``: the counter reaches the
+    last row of the env's data, after which the episode cannot go on. A terminal state (legacy
+    learners did not bootstrap there), not a time limit, whatever the names say. Not when the
+    other side is itself a budget (``len(self.history) >= self.max_steps``, ``>= 200``)."""
+    if not isinstance(expr, ast.Compare) or len(expr.ops) != 1 or not isinstance(expr.ops[0], _LIMIT_OPS):
+        return False
+
+    def bound(side: ast.AST) -> bool:
+        name = _self_attribute(_minus_constant(side))
+        return is_data_length(side) or (name is not None and name in data_ends)
+
+    sides = (expr.left, expr.comparators[0])
+    return any(bound(a) and not bound(b) and not is_data_length(b) and not _is_bound_name(b) for a, b in (sides, sides[::-1]))
+
+
+def data_end_attributes(facts: ModuleFacts, classdef: ast.ClassDef) -> frozenset[str]:
+    """The attributes every store of which in ``classdef`` is a data length
+    (``self.max_step = self.price_ary.shape[0] - 1``): the end of the env's data, whatever
+    the attribute is called. One store of anything else (a parameter, a constant) and the
+    attribute may be a step budget: it is not one of these."""
+
+    def compute() -> frozenset[str]:
+        found = set()
+        for name, attrs in facts.attributes.items():
+            if not any(isinstance(a.ctx, ast.Store) and _is_self(a.value) and facts.enclosing_class(a) is classdef for a in attrs):
+                continue
+            values = self_stores(facts, classdef, name)
+            if values and all(is_data_length(v) for v in values):
+                found.add(name)
+        return frozenset(found)
+
+    return facts.memo(("data-end-attributes", id(classdef)), compute)
 
 
 def if_setting_true(line: ast.AST, parent: ast.AST | None) -> ast.If | None:
@@ -130,6 +194,8 @@ class Limit:
 class DoneCause:
     cause: Cause
     limits: tuple[Limit, ...] = ()
+    # tests of the end of the env's data among the causes (``is_end_of_data``): terminations
+    ends_of_data: tuple[Limit, ...] = ()
 
     def elsewhere(self) -> bool:
         return any(limit.where for limit in self.limits)
@@ -148,18 +214,20 @@ def combine(parts: Iterable[DoneCause]) -> DoneCause:
     alternatives: several returns, several stores)."""
     parts = list(parts)
     limits: list[Limit] = []
+    ends: list[Limit] = []
     for part in parts:
         limits += [limit for limit in part.limits if limit not in limits]
+        ends += [end for end in part.ends_of_data if end not in ends]
     causes = {part.cause for part in parts} - {Cause.NEVER}
     if not causes:
-        return DoneCause(Cause.NEVER, tuple(limits))
+        return DoneCause(Cause.NEVER, tuple(limits), tuple(ends))
     if Cause.UNKNOWN in causes:
         cause = Cause.UNKNOWN
     elif len(causes) == 1:
         cause = causes.pop()
     else:
         cause = Cause.MIXED
-    return DoneCause(cause, tuple(limits))
+    return DoneCause(cause, tuple(limits), tuple(ends))
 
 
 def _opaque(found: DoneCause) -> DoneCause:
@@ -205,6 +273,7 @@ class DoneTracer:
         self.external = external
         self.methods: dict[str, Method] = {m.name: m for m in classdef.body if isinstance(m, FUNCTIONS)}
         self._counters: set[str] | None = None
+        self.data_ends = data_end_attributes(facts, classdef)
         self._subclasses: list[ast.ClassDef] | None = None
         self._busy: set[tuple[str, int]] = set()
 
@@ -244,10 +313,12 @@ class DoneTracer:
         return self._counters
 
     def is_limit(self, expr: ast.AST) -> bool:
-        """A comparison of a step or time counter with a bound."""
-        if is_step_limit(expr):
+        """A comparison of a step or time counter with a bound (not the end of the data)."""
+        if is_step_limit(expr, self.data_ends):
             return True
         if not isinstance(expr, ast.Compare) or len(expr.ops) != 1 or not isinstance(expr.ops[0], _LIMIT_OPS):
+            return False
+        if is_end_of_data(expr, self.data_ends):
             return False
         if is_periodic(expr) or not self.counters:
             return False
@@ -270,8 +341,10 @@ class DoneTracer:
             return NEVER if expr.value in (False, None, 0) else TERMINATION
         if isinstance(expr, ast.Compare):
             if self.is_limit(expr):
-                limit = Limit(expr.lineno, self.facts.segment(expr), by_counter=not is_step_limit(expr))
+                limit = Limit(expr.lineno, self.facts.segment(expr), by_counter=not is_step_limit(expr, self.data_ends))
                 return DoneCause(Cause.TRUNCATION, (limit,))
+            if is_end_of_data(expr, self.data_ends):
+                return DoneCause(Cause.TERMINATION, ends_of_data=(Limit(expr.lineno, self.facts.segment(expr)),))
             return self._inside(expr, depth)
         if isinstance(expr, ast.BoolOp) and isinstance(expr.op, ast.Or):
             return combine(self.trace(v, depth + 1) for v in expr.values)

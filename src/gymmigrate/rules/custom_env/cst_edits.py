@@ -233,10 +233,13 @@ def _tuple_len(value: cst.BaseExpression | None) -> int | None:
     return None
 
 
-def _is_step_limit(expr: cst.BaseExpression) -> bool:
+def _is_step_limit(expr: cst.BaseExpression, data_ends: frozenset[str] = frozenset()) -> bool:
     """``facts.limits.is_step_limit`` on LibCST: a comparison that names a step counter,
-    not a period (``self.t % FREQ == 0``)."""
+    not a period (``self.t % FREQ == 0``) nor one of the class's tests of the end of its
+    data (``data_ends``, whitespace-free source, as the decision found them)."""
     if not isinstance(expr, cst.Comparison) or not all(isinstance(t.operator, _LIMIT_OPS) for t in expr.comparisons):
+        return False
+    if data_ends and "".join(_code(expr.with_changes(lpar=[], rpar=[])).split()) in data_ends:
         return False
     if m.findall(expr, m.BinaryOperation(operator=m.Modulo())):
         return False
@@ -251,15 +254,17 @@ def _or_operands(expr: cst.BaseExpression) -> list[cst.BaseExpression]:
     return [expr]
 
 
-def _split_done(expr: cst.BaseExpression) -> tuple[list[cst.BaseExpression], list[cst.BaseExpression]] | None:
+def _split_done(
+    expr: cst.BaseExpression, data_ends: frozenset[str] = frozenset()
+) -> tuple[list[cst.BaseExpression], list[cst.BaseExpression]] | None:
     """``bool(task or self.steps >= self.max_steps)`` -> ([task], [limit]); None if no clear limit."""
     if m.matches(expr, m.Call(func=m.Name("bool"), args=[m.Arg(keyword=None)])):
         expr = expr.args[0].value  # type: ignore[attr-defined]
     operands = _or_operands(expr)
-    limit = [op for op in operands if _is_step_limit(op)]
+    limit = [op for op in operands if _is_step_limit(op, data_ends)]
     if not limit:
         return None
-    task = [op for op in operands if not _is_step_limit(op)]
+    task = [op for op in operands if not _is_step_limit(op, data_ends)]
     return task, limit
 
 

@@ -272,7 +272,7 @@ class ClassRewrite:
                 continue
             if isinstance(done, cst.Name) and _assigns_name(fn, done.value):
                 assigned = _single_assignment(fn, done.value)
-                split = _split_done(assigned) if assigned is not None else None
+                split = _split_done(assigned, self.plan.data_end_tests) if assigned is not None else None
                 if split is not None:
                     splits[done.value] = split
                     plans.append(_five(cst.Name("terminated"), cst.Name("truncated")))
@@ -283,7 +283,7 @@ class ClassRewrite:
                 else:
                     plans.append(_five(done, cst.Name("False")))
                 continue
-            split = _split_done(done)
+            split = _split_done(done, self.plan.data_end_tests)
             if split is not None:
                 task, limit = split
                 plans.append(_five(_bool_of(task), _bool_of(limit)))

@@ -9,6 +9,8 @@ and ``truncated=False`` in step should address most issues".
 from __future__ import annotations
 
 import ast
+import re
+from collections.abc import Hashable
 
 from gymmigrate.facts.env_classes import (
     FunctionIndex,
@@ -20,7 +22,9 @@ from gymmigrate.facts.limits import (
     DoneCause,
     DoneTracer,
     Limit,
+    data_end_attributes,
     if_setting_true,
+    is_end_of_data,
     is_step_limit,
     unwrap_bool,
 )
@@ -61,6 +65,14 @@ def decide_step(decision: ClassDecision, inherited: dict[int, list[str]]) -> Non
     function = decision.method("step")
     if function is None:
         return
+    # The class's tests of the end of its data, as text, for the rewrite's own split
+    # (``cst_edits._split_done``): they stay in terminated, whatever their names say.
+    facts = decision.family.facts
+    decision.plan.data_end_tests = frozenset(
+        "".join(facts.segment(node).split())
+        for node in ast.walk(decision.classdef)
+        if isinstance(node, ast.Compare) and is_end_of_data(node, _data_ends(decision))
+    )
     # ``def step(self, a): return self._step(a)`` (gym <= 0.9's own base class did
     # this): the helper's returns are the step's, so they get the five fields.
     helpers = []
@@ -84,6 +96,8 @@ def _decide_returns(decision: ClassDecision, function: Method, helpers: set[int]
         return  # already the five-value API
     index = decision.function(function)
     limit_hint = _step_limit_text(decision, function)
+    data_ends = _data_ends(decision)
+    facts = decision.family.facts
     # No step limit is possible when the class counts nothing: truncated=False is then
     # exact (TimeLimit truncates), an explanation rather than a question.
     no_counter = limit_hint is None and not _counts_toward_a_limit(decision)
@@ -184,10 +198,10 @@ def _decide_returns(decision: ClassDecision, function: Method, helpers: set[int]
         decision.plan.step = True
         if isinstance(done, ast.Name) and index.assigns_name(done.id):
             assigned = _single_assignment(index, done.id)
-            if assigned is not None and _split_done(assigned):
+            if assigned is not None and _split_done(assigned, data_ends):
                 decision.report(ret, "GM504", f"`{done.id}` split: the step-limit test became truncated, the rest terminated", FixKind.ASSIST)
                 continue
-        elif _split_done(done):
+        elif _split_done(done, data_ends):
             decision.report(ret, "GM504", "done split: the step-limit test became truncated, the rest terminated", FixKind.ASSIST)
             continue
         if isinstance(done, ast.Constant) and done.value is False:
@@ -254,7 +268,24 @@ def _decide_returns(decision: ClassDecision, function: Method, helpers: set[int]
                 FixKind.ASSIST,
             )
             continue
-        _report_truncated_false(decision, ret, limit_hint, plain if no_counter else None)
+        if traced.cause is Cause.TERMINATION and traced.ends_of_data and limit_hint is None:
+            # The done is the end of the env's data (``self.day == self.max_step`` with
+            # ``self.max_step = len(prices) - 1``): nothing comes after it, so the episode
+            # cannot go on, a terminal state as legacy learners treated it, not a time limit.
+            end = traced.ends_of_data[0]
+            decision.report(
+                ret,
+                "GM504",
+                f"step returns terminated (the old done) and truncated=False: `{end.text}` ({end.place()}) is the end "
+                f"of the env's data{_bound_text(decision, end)}, a terminal state, not a step limit",
+                FixKind.ASSIST,
+                tier=Tier.NOTE,
+                question=("step-done", id(function), facts.segment(done)),
+            )
+            continue
+        _report_truncated_false(
+            decision, ret, limit_hint, plain if no_counter else None, ("step-done", id(function), facts.segment(done))
+        )
 
 
 def done_tracer(decision: ClassDecision) -> DoneTracer:
@@ -324,11 +355,34 @@ def _blocked_hook(ret: ast.Return, blocked: dict[str, str]) -> tuple[str, str] |
     return None
 
 
-def _report_truncated_false(decision: ClassDecision, ret: ast.Return, limit_hint: str | None, certain: str | None) -> None:
+def _report_truncated_false(
+    decision: ClassDecision, ret: ast.Return, limit_hint: str | None, certain: str | None, question: Hashable | None = None
+) -> None:
+    """``question``: the same done returned again by the same step (``self.terminal`` in both
+    branches) is one decision: asked once, the other returns point at it."""
     if certain is not None:
         decision.report(ret, "GM504", certain, FixKind.ASSIST, tier=Tier.NOTE)
     else:
-        decision.report(ret, "GM504", truncated_false_message(limit_hint), FixKind.ASSIST)
+        decision.report(ret, "GM504", truncated_false_message(limit_hint), FixKind.ASSIST, question=question)
+
+
+def _data_ends(decision: ClassDecision) -> frozenset[str]:
+    return data_end_attributes(decision.family.facts, decision.classdef)
+
+
+def _bound_text(decision: ClassDecision, end: Limit) -> str:
+    """`` (`self.max_step = len(prices) - 1`, line 8)``: where the attribute the test
+    compares with is bound to the data's length; "" when the test spells the length."""
+    facts = decision.family.facts
+    data_ends = _data_ends(decision)
+    for node in ast.walk(decision.classdef):
+        if not (isinstance(node, ast.Assign) and len(node.targets) == 1 and isinstance(node.targets[0], ast.Attribute)):
+            continue
+        target = node.targets[0]
+        if isinstance(target.value, ast.Name) and target.value.id == "self" and target.attr in data_ends:
+            if re.search(rf"\bself\.{re.escape(target.attr)}\b", end.text):
+                return f" (`{facts.segment(node)}`, line {node.lineno})"
+    return ""
 
 
 _UNPACKED_NAMES = ("obs", "reward", "terminated", "info")
@@ -418,7 +472,7 @@ def _counts_toward_a_limit(decision: ClassDecision) -> bool:
                 if counted or any(STEP_LIMIT_WORD.search(w) for w in identifiers(node.target)):
                     if not _idle_attribute(decision, node.target):
                         return True  # `self.steps += 1`, `self.t += self.dt`; not `self.pos[1] += 1`
-            if isinstance(node, ast.Compare) and is_step_limit(node):
+            if isinstance(node, ast.Compare) and is_step_limit(node, _data_ends(decision)):
                 return True  # a step-limit test in a helper (`def _done(self): return self.t > 200`)
             if (
                 isinstance(node, ast.Assign)
@@ -480,7 +534,8 @@ def _is_number(node: ast.AST) -> bool:
 
 
 def _step_limit_text(decision: ClassDecision, function: ast.AST) -> str | None:
-    found = [c for s in function.body for c in ast.walk(s) if isinstance(c, ast.Compare) and is_step_limit(c)]  # type: ignore[attr-defined]
+    data_ends = _data_ends(decision)
+    found = [c for s in function.body for c in ast.walk(s) if isinstance(c, ast.Compare) and is_step_limit(c, data_ends)]  # type: ignore[attr-defined]
     if not found:
         return None
     first = min(found, key=lambda c: (c.lineno, c.col_offset, -(c.end_lineno or 0), -(c.end_col_offset or 0)))
@@ -515,9 +570,9 @@ def _or_operands(expr: ast.AST) -> list[ast.AST]:
     return [expr]
 
 
-def _split_done(expr: ast.AST) -> bool:
+def _split_done(expr: ast.AST, data_ends: frozenset[str] = frozenset()) -> bool:
     """``bool(task or self.steps >= self.max_steps)`` has a clear step-limit test."""
-    return any(is_step_limit(op) for op in _or_operands(unwrap_bool(expr)))
+    return any(is_step_limit(op, data_ends) for op in _or_operands(unwrap_bool(expr)))
 
 
 def _task_ends(decision: ClassDecision, index: FunctionIndex, name: str) -> list[ast.Assign]:
@@ -535,7 +590,7 @@ def _task_ends(decision: ClassDecision, index: FunctionIndex, name: str) -> list
         if (
             parent is not None
             and not _assigns_in(parent.orelse if assign in parent.body else parent.body, name)
-            and not any(isinstance(n, ast.Compare) and is_step_limit(n) for n in ast.walk(parent.test))
+            and not any(isinstance(n, ast.Compare) and is_step_limit(n, _data_ends(decision)) for n in ast.walk(parent.test))
         ):
             ends.append(assign)
     return ends  # type: ignore[return-value]

@@ -35,6 +35,13 @@ _MUJOCO = (
     "mujoco-py envs raise ImportError since Gymnasium 1.2; v4 keeps the model and reward on the mujoco bindings "
     "(v5 is maintained but changes rewards and observations)"
 )
+_TAXI_OLD = "v1 removed a pickup location, v2 no longer starts at the goal and v3 corrected the map: episodes differ"
+_ACROBOT = "v1 observes the sine and cosine of each angle instead of the angles and allows 500 steps instead of 200"
+_LANDER_OLD = f"v1 added leg contacts to the observation and changed the rewards, v2 counts fuel spent; {_LANDER}"
+_WALKER_OLD = (
+    "v1 changed the motors, friction and leg contacts, v2 counts energy spent and v3 reports the closest lidar hit: "
+    "observations and rewards differ, saved policies may not transfer"
+)
 _MUJOCO_IDS = {
     "v2": (
         "Ant", "HalfCheetah", "Hopper", "Humanoid", "HumanoidStandup", "InvertedDoublePendulum",
@@ -42,6 +49,7 @@ _MUJOCO_IDS = {
     ),
     "v3": ("Ant", "HalfCheetah", "Hopper", "Humanoid", "Swimmer", "Walker2d"),
 }  # fmt: skip
+_MUJOCO_OLD = f"v1 raised the step limit to 1000 and v2 moved to mujoco-py 1.50; {_MUJOCO}"
 
 # Every legacy id Gymnasium 1.4 no longer makes, and what it becomes (tests check that
 # each target is registered and not a stub that raises).
@@ -52,11 +60,22 @@ RETIRED_IDS: dict[str, IdMigration] = {
     "Blackjack-v0": IdMigration("Blackjack-v1", FixKind.AUTO, "v1 fixed `natural=True` handling; the defaults are unchanged"),
     "Taxi-v3": IdMigration("Taxi-v4", FixKind.AUTO, "v4 only fixed the optional rainy/fickle modes; the defaults are unchanged"),
     "Taxi-v2": IdMigration("Taxi-v4", FixKind.ASSIST, "v3 corrected the map, so episodes differ from v2"),
+    # Taxi's Version History: v1 changed the pickup locations, v2 the start states, v3 the map.
+    **{f"Taxi-v{v}": IdMigration("Taxi-v4", FixKind.ASSIST, _TAXI_OLD) for v in (0, 1)},
+    "Acrobot-v0": IdMigration("Acrobot-v1", FixKind.ASSIST, _ACROBOT),
     "CliffWalking-v0": IdMigration("CliffWalking-v1", FixKind.AUTO, "v1 only added the optional slippery variant"),
     "LunarLander-v2": IdMigration("LunarLander-v3", FixKind.ASSIST, _LANDER),
     "LunarLanderContinuous-v2": IdMigration("LunarLanderContinuous-v3", FixKind.ASSIST, _LANDER),
     "BipedalWalker-v2": IdMigration("BipedalWalker-v3", FixKind.ASSIST, _WALKER),
     "BipedalWalkerHardcore-v2": IdMigration("BipedalWalkerHardcore-v3", FixKind.ASSIST, _WALKER),
+    **{
+        f"{name}-v{v}": IdMigration(f"{name}-v3", FixKind.ASSIST, reason)
+        for name, reason in (
+            ("LunarLander", _LANDER_OLD), ("LunarLanderContinuous", _LANDER_OLD),
+            ("BipedalWalker", _WALKER_OLD), ("BipedalWalkerHardcore", _WALKER_OLD),
+        )
+        for v in (0, 1)
+    },  # fmt: skip
     "CarRacing-v0": IdMigration("CarRacing-v3", FixKind.ASSIST, _CAR),
     "CarRacing-v1": IdMigration("CarRacing-v3", FixKind.ASSIST, _CAR),
     "CarRacing-v2": IdMigration("CarRacing-v3", FixKind.ASSIST, "v3 ends a finished lap with termination instead of truncation"),
@@ -70,6 +89,9 @@ RETIRED_IDS: dict[str, IdMigration] = {
         for version, env_names in _MUJOCO_IDS.items()
         for name in env_names
     },
+    # Every MuJoCo env's Version History starts at v0 (v1 raised the step limits) and v2
+    # moved to mujoco-py >= 1.50: the families gym had at v2 had v0 and v1 before.
+    **{f"{name}-v{v}": IdMigration(f"{name}-v4", FixKind.ASSIST, _MUJOCO_OLD) for name in _MUJOCO_IDS["v2"] for v in (0, 1)},
 }
 
 # GM805: families that are gone from Gymnasium, with what to do instead.

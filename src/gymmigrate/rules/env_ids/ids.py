@@ -295,9 +295,25 @@ class EnvIds(RuleFamily):
             return
         signs = [(sign, node) for node in ast.walk(function) for sign in self._atari_signs(node, function)]
         signs.sort(key=lambda found: found[0].startswith("through"))  # its own signs first
+        where = {id(node): function for _, node in signs}
+        owner = self.facts.parent(function)
+        if not signs and isinstance(owner, ast.ClassDef):
+            # ``self.env = gym.make(env_id)`` in ``__init__``, and ``self.env.unwrapped.ale.lives()``
+            # in another method: the class holds an env that has what only Atari envs have.
+            for method in owner.body:
+                if isinstance(method, (ast.FunctionDef, ast.AsyncFunctionDef)) and method is not function:
+                    for node in ast.walk(method):
+                        for sign in self._atari_signs(node, method):
+                            signs.append((sign.replace("it ", f"its class `{owner.name}` ", 1), node))
+                            where[id(node)] = method
+            signs.sort(key=lambda found: found[0].startswith("through"))
         if not signs:
             return
-        certain = [sign for sign, node in signs if not (sign.startswith("it tests") or _under_condition(self.facts, node, function))]
+        certain = [
+            sign
+            for sign, node in signs
+            if not ("tests for" in sign or _under_condition(self.facts, node, where[id(node)]))
+        ]
         evidence = (certain or [sign for sign, _ in signs])[0]
         given = None if certain else self._ids_given(function, bindings[0])
         if given is not None and not any(is_atari_id(i) for i in given):
@@ -306,15 +322,16 @@ class EnvIds(RuleFamily):
             atari = next(i for i in given if is_atari_id(i))
             certain = [f"{evidence}, and its callers in the run pass Atari ids such as `{atari}`"]
             evidence = certain[0]
+        maker = f"{owner.name}.{function.name}" if isinstance(owner, ast.ClassDef) else function.name
         if certain:
             message = (
-                f"`{function.name}` makes Atari envs ({evidence}): since Gymnasium 1.0 they need `import ale_py`; "
+                f"`{maker}` makes Atari envs ({evidence}): since Gymnasium 1.0 they need `import ale_py`; "
                 "added it with `register_envs(ale_py)`"
             )
             kind = FixKind.AUTO
         else:
             message = (
-                f"`{function.name}` may make Atari envs ({evidence}, under a condition): since Gymnasium 1.0 they need "
+                f"`{maker}` may make Atari envs ({evidence}, under a condition): since Gymnasium 1.0 they need "
                 "`import ale_py`; added it with `register_envs(ale_py)`: drop it if this project never makes Atari envs here"
             )
             kind = FixKind.ASSIST
