@@ -32,6 +32,7 @@ class CallSummary:
     # Arguments that are env ids (``"PongNoFrameskip-v4"``, or a module constant bound once to
     # one): (position as a string, or the keyword, the id). What ids a factory is given.
     ids: tuple[tuple[str, str], ...] = ()
+    line: int = 0  # where the call is (a message naming the module that passes an env)
 
 
 @dataclass(frozen=True)

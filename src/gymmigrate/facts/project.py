@@ -155,6 +155,10 @@ class ProjectFacts:
     # passed there ("" for its default, None for no id literal), for the defs another
     # module calls (``CallSummary.ids``). GM106 settles an Atari helper from them.
     passed_ids: dict[tuple[str, str, str], tuple[str | None, ...]] = field(default_factory=dict)
+    # (path, qualname, parameter) -> (caller path, line) of each call in another module that
+    # passes a Gym env there: where that env is made, for a message (a render whose make
+    # is in the run script).
+    gym_env_callers: dict[tuple[str, str, str], tuple[tuple[str, int], ...]] = field(default_factory=dict)
     # (path, top-level name) another module reads as a value, not called (``handed_on``)
     handed_on: set[tuple[str, str]] = field(default_factory=set)
 

@@ -47,7 +47,11 @@ class ParamJoin:
                 if caller == path:
                     continue
                 for param, kind in self._passed(signature, call):
-                    external[(path, qualname, param)].append(self._resolve(kind, caller))
+                    resolved = self._resolve(kind, caller)
+                    external[(path, qualname, param)].append(resolved)
+                    if resolved is EnvKind.GYM_ENV:
+                        key = (path, qualname, param)
+                        self.facts.gym_env_callers[key] = (*self.facts.gym_env_callers.get(key, ()), (caller, call.line))
             if outside and not signature.is_method:
                 for param in signature.params:
                     self.facts.passed_ids[(path, qualname, param)] = tuple(self._id_passed(signature, call, param) for call in outside)

@@ -61,6 +61,14 @@ class ProjectView:
         split = self.facts._split(qualified, self.path)
         return split is not None and split in self.facts.made
 
+    def gym_env_callers(self, qualname: str, param: str) -> list[str]:
+        """``run.py:18`` for each call in another module that passes a Gym env to ``param``
+        of this file's ``qualname`` (``ProjectFacts.gym_env_callers``)."""
+        return [
+            f"{os.path.relpath(path, os.path.dirname(self.path))}:{line}"
+            for path, line in self.facts.gym_env_callers.get((self.path, qualname, param), ())
+        ]
+
     def passed_ids(self, function: str, param: str) -> tuple[str | None, ...]:
         """For a top-level def of this file, the env id each call in another module passes to
         ``param`` ("" its default, None no id literal); () when no other module calls it

@@ -419,7 +419,7 @@ class _Summarizer:
                 keywords.append((keyword.arg, self._kind(keyword.value)))
         ids = [(str(i), text) for i, a in enumerate(call.args) if (text := self._env_id(a)) is not None]
         ids += [(k.arg, text) for k in call.keywords if k.arg is not None and (text := self._env_id(k.value)) is not None]
-        return CallSummary(target, tuple(args), tuple(keywords), open_ended, tuple(ids))
+        return CallSummary(target, tuple(args), tuple(keywords), open_ended, tuple(ids), getattr(call, "lineno", 0))
 
     def _env_id(self, argument: ast.expr) -> str | None:
         """An env id the argument certainly is: a literal ``"Name-v4"``, or a module-level

@@ -31,7 +31,7 @@ _PLAIN = (ast.Compare, ast.BoolOp, ast.UnaryOp, ast.Constant, ast.Name, ast.Attr
 Guard = tuple[ast.AST, bool]
 
 
-def render_condition(facts: ModuleFacts, render: ast.Call, make: ast.Call, home: ast.AST | None = None) -> list[Guard]:
+def render_condition(facts: ModuleFacts, render: ast.Call, make: ast.AST, home: ast.AST | None = None) -> list[Guard]:
     """The guards of ``render`` that do not guard ``make``: the tests of the ``if``
     statements and expressions, and the operands of ``and``/``or`` before it, between the
     render call and the nearest node that also encloses the make."""
@@ -124,6 +124,17 @@ def schedule(facts: ModuleFacts, renders: list[ast.Call], make: ast.Call, home: 
     if len(texts) == 1 and all(fixed_at_creation(facts, test, make) for test, _ in conditions[0]):
         return "fixed", first
     return "varies", first
+
+
+def local_condition(facts: ModuleFacts, render: ast.Call) -> str | None:
+    """The condition under which ``render`` runs within its own function (``self.args.render``
+    in an agent's method), or None when it runs on every call of it: a render whose make is
+    in another module, where only the flag can be named."""
+    function = facts.enclosing_function(render)
+    if function is None:
+        return None
+    guards = render_condition(facts, render, function, home=function)
+    return " and ".join(_text(facts, guard) for guard in guards) or None
 
 
 def _text(facts: ModuleFacts, guard: Guard) -> str:

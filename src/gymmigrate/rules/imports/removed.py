@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import ast
 
+from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.imports.common import ImportsBase
 from gymmigrate.rules.imports.table import (
     LEGACY_WRAPPER_MODULES,
@@ -43,6 +44,24 @@ class RemovedAttributes(ImportsBase):
             hint = REMOVED_MODULES[removed]
             self._report_removed(node, f"`gym.{removed}` was removed: {hint}", hint)  # type: ignore[arg-type]
 
+    def _remove_no_op_call(self, node: ast.Attribute) -> bool:
+        """``gym.undo_logger_setup()`` as a statement: gym stopped installing a log
+        handler and kept this as a no-op (later removed); Gymnasium installs none, so deleting
+        the statement is the whole port. Inside an expression its value is used: reported."""
+        call = self.facts.parent(node)
+        statement = self.facts.parent(call) if isinstance(call, ast.Call) and call.func is node else None
+        if not (isinstance(statement, ast.Expr) and not call.args and not call.keywords):  # type: ignore[union-attr]
+            return False
+        self.plan.remove(statement, keep_comments=True)
+        self.report(
+            call,  # type: ignore[arg-type]
+            "GM105",
+            "`gym.undo_logger_setup()` removed: later gym releases kept it only as a deprecated no-op (gym stopped configuring logging), and Gymnasium installs no log handler",
+            FixKind.AUTO,
+            tier=Tier.NOTE,
+        )
+        return True
+
     def _missing_module_attributes(self) -> None:
         """GM105 on ``gym.utils.reraise(...)`` read through the gym module: after ``import gym``
         becomes ``import gymnasium as gym`` the read raises AttributeError, so the name is
@@ -58,6 +77,8 @@ class RemovedAttributes(ImportsBase):
                     path = f"{rest}.{attr}" if rest else attr
                     if (rest, attr) in REMOVED_NAMES or removed_module_hint(path, unknown=False) is not None:
                         continue  # reported as a removed module
+                    if rest == "" and attr == "undo_logger_setup" and self._remove_no_op_call(node):
+                        break
                     hint = missing_name_hint(rest, attr, renamed_elsewhere=True)
                     if hint is not None:
                         self._report_removed(node, f"`{module}.{attr}` does not exist in Gymnasium: {hint}", hint)  # type: ignore[arg-type]

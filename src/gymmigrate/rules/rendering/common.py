@@ -78,6 +78,7 @@ class RenderingBase(RuleFamily):
     _noted: dict[int, str]  # modes another family gives a make in this run
     _scheduled: dict[int, str]  # id(make) -> the creation-time condition of its renders
     _unscheduled: dict[int, str]  # id(make) -> the run-time condition of its renders
+    _switched_off: dict[int, str]  # id(make) -> the constant that keeps all its renders from running
     _mode_dropped: set[int]  # render calls that lose their mode argument
     _has_legacy_mode_calls: bool  # some render() call of the file still passes a mode
     _makes_by_id: dict[int, ast.Call]  # the makes of the sites, by id
@@ -141,8 +142,23 @@ class RenderingBase(RuleFamily):
     def _stepped_the_legacy_way(self, receiver: ast.expr, traced: bool = True) -> bool:
         """A file that never names gym but steps this env the legacy way (four values):
         an env another module of the run made and passed in, so its bare render() is a
-        legacy human render too. ``traced=False``: any receiver, a Gym env or not."""
-        if not isinstance(receiver, ast.Name) or (traced and self.receivers.kind_of(receiver) is not EnvKind.GYM_ENV):
+        legacy human render too. ``traced=False``: any receiver, a Gym env or not. ``self.env``
+        (an agent storing the env it is given): the ``self.env.step`` calls of the same class."""
+        if traced and self.receivers.kind_of(receiver) is not EnvKind.GYM_ENV:
+            return False
+        if isinstance(receiver, ast.Attribute) and isinstance(receiver.value, ast.Name) and self.receivers.is_self(receiver.value):
+            classdef = self.facts.enclosing_class(receiver)
+            return classdef is not None and any(
+                unpacks_four(self.facts, call)
+                for call in self.facts.attribute_calls.get("step", ())
+                if isinstance(call.func, ast.Attribute)
+                and isinstance(owner := call.func.value, ast.Attribute)
+                and owner.attr == receiver.attr
+                and isinstance(owner.value, ast.Name)
+                and self.receivers.is_self(owner.value)
+                and self.facts.enclosing_class(call) is classdef
+            )
+        if not isinstance(receiver, ast.Name):
             return False
         bindings = self.facts.bindings_of(receiver)
         return any(unpacks_four(self.facts, call) for call in self._steps_of(receiver.id, lambda read: self.facts.bindings_of(read) == bindings))

@@ -52,6 +52,7 @@ class Rendering(RenderSites, SitePlanning):
         self._noted = dict(self._added)  # modes another family gives a make in this run
         self._scheduled: dict[int, str] = {}  # id(make) -> the creation-time condition of its renders
         self._unscheduled: dict[int, str] = {}  # id(make) -> the run-time condition of its renders
+        self._switched_off: dict[int, str] = {}  # id(make) -> the constant that keeps its renders off
         self._mode_dropped: set[int] = set()  # render calls that lose their mode argument
         render_calls = self.facts.attribute_calls.get("render", [])
         # A file that still passes modes to render() is legacy code even once its imports

@@ -14,7 +14,7 @@ from gymmigrate.facts.decisions import Action
 from gymmigrate.facts.module import full_name, keyword, string_value
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.render_calls import without_mode_argument
-from gymmigrate.rules.render_schedule import schedule
+from gymmigrate.rules.render_schedule import local_condition, render_condition, schedule
 from gymmigrate.rules.rendering.common import (
     HUMAN,
     LEGACY_SINGLE_FRAME,
@@ -95,9 +95,25 @@ class SitePlanning(MakeEdits):
             final_mode[key] = None
             self._unscheduled[key] = f"the watch loop runs (the env is also {trained}, where nothing renders)"
             return True
-        how, condition = schedule(self.facts, [site.node for site in sites], make, self._stepping_function(make))
+        home = self._stepping_function(make)
+        how, condition = schedule(self.facts, [site.node for site in sites], make, home)
+        if how == "always":
+            mixed = self._mixed_schedules(make, sites, home)
+            if mixed is not None:
+                # A demo loop that draws every step and a training loop that draws only
+                # once the agent is good: human mode would draw every training step too.
+                final_mode[key] = None
+                self._unscheduled[key] = mixed
+                return True
         if how == "always" or condition is None:  # the condition is None only "always"
             return False
+        off = [self._switched_off_by(site.node, make, home) for site in sites]
+        if all(off):
+            # ``render = False`` at the top of the script: nothing draws as the code stands,
+            # and nothing needs deciding until someone turns it on.
+            final_mode[key] = None
+            self._switched_off[key] = str(off[0])
+            return True
         if how == "fixed":
             quote = self._quote_style(make, sites)
             final_mode[key] = HUMAN
@@ -110,6 +126,45 @@ class SitePlanning(MakeEdits):
         self._unscheduled[key] = condition
         return True
 
+    def _switched_off_by(self, render: ast.Call, make: ast.Call, home: ast.AST | None) -> str | None:
+        """``if worker == 0 and render:`` with ``render = False`` bound once at module level:
+        the render never runs. The constant, as ``render (False, line 3)``, or None."""
+        for test, negated in render_condition(self.facts, render, make, home):
+            if negated:
+                continue
+            operands = test.values if isinstance(test, ast.BoolOp) and isinstance(test.op, ast.And) else [test]
+            for operand in operands:
+                if not isinstance(operand, ast.Name):
+                    continue
+                bindings = self.facts.bindings_of(operand)
+                if len(bindings) != 1 or not isinstance(bindings[0], ast.Name) or self.facts.enclosing_function(bindings[0]) is not None:
+                    continue
+                statement = self.facts.parent(bindings[0])
+                if (
+                    isinstance(statement, ast.Assign)
+                    and statement.targets == [bindings[0]]
+                    and isinstance(statement.value, ast.Constant)
+                    and statement.value.value in (False, None, 0)
+                    and not isinstance(statement.value.value, float)
+                ):
+                    return (
+                        f"`{operand.id}` is bound once, to {statement.value.value!r}, at line {statement.lineno}; if you "
+                        f'turn it on, pass render_mode="human" if {self.facts.segment(test)} else None to {self._call_summary(make)}'
+                    )
+        return None
+
+    def _mixed_schedules(self, make: ast.Call, sites: list[RenderSite], home: ast.AST | None) -> str | None:
+        """The renders of one env on different schedules, some on every pass and some under
+        a condition: ``"<condition> at line N (the render at line M runs on every pass)"``,
+        or None."""
+        conditional = [(site, guards) for site in sites if (guards := render_condition(self.facts, site.node, make, home))]
+        always = [site for site in sites if not render_condition(self.facts, site.node, make, home)]
+        if not conditional or not always:
+            return None
+        site, guards = conditional[0]
+        _, text = schedule(self.facts, [site.node], make, home)
+        return f"{text} at line {site.node.lineno} (the render at line {always[0].node.lineno} runs on every pass)"
+
     def _plan_site(
         self,
         site: RenderSite,
@@ -119,6 +174,8 @@ class SitePlanning(MakeEdits):
     ) -> None:
         code, call = site.code, site.node
         target = f"render_mode={site.mode}" if site.variable else f'render_mode="{site.mode}"'
+        if not site.creation.found and code == "GM402" and self._report_made_elsewhere(site):
+            return
         if not site.creation.found:
             where = site.creation.gap or "no gym.make was found"
             self.report(
@@ -137,6 +194,11 @@ class SitePlanning(MakeEdits):
 
         if code == "GM402" and all(keyword(makes[k], "render_mode") is not None for k in keys):
             return  # the make already chose a mode: this bare render() is Gymnasium's API
+        off = [self._switched_off[k] for k in keys if k in self._switched_off]
+        if off:
+            # nothing changes (FLAG), and nothing needs deciding now (a note)
+            self.report(call, code, f"not rewritten: this render never runs as the code stands ({off[0]})", FixKind.FLAG, tier=Tier.NOTE)
+            return
         unscheduled = [self._unscheduled[k] for k in keys if k in self._unscheduled]
         if unscheduled:
             choice = (
@@ -232,6 +294,68 @@ class SitePlanning(MakeEdits):
             self.report(call, code, message, tier=Tier.NOTE if exact else None, question=question("moved"))
         else:
             self.report(call, code, f"{where} already has {target}; render() takes no arguments", FixKind.AUTO)
+
+    def _report_made_elsewhere(self, site: RenderSite) -> bool:
+        """A bare render of an env another module of the run makes and passes in (``Agent(env,
+        args)`` in run.py, ``self.env = env`` here): the make is out of this file's reach, so
+        the item names where the env comes from and, for a render under a flag, the
+        conditional mode that keeps its schedule."""
+        func = site.node.func
+        if not isinstance(func, ast.Attribute):
+            return False
+        callers = self._gym_env_callers(func.value)
+        if not callers:
+            return False
+        receiver = self.facts.segment(func.value)
+        condition = local_condition(self.facts, site.node)
+        mode = (
+            f'render_mode="human" if <{condition}, as it is known there> else None'
+            if condition is not None
+            else 'render_mode="human"'
+        )
+        runs = f"; here it runs only when {condition}" if condition is not None else ""
+        self.report(
+            site.node,
+            "GM402",
+            f"`{receiver}` is the Gym env passed in at {', '.join(callers)}: render() draws only when that env is made "
+            f"with a render_mode now{runs}: pass {mode} to the gym.make there",
+            FixKind.FLAG,
+            question=("render-made-elsewhere", tuple(callers), condition),
+        )
+        return True
+
+    def _gym_env_callers(self, receiver: ast.expr) -> list[str]:
+        """``run.py:18``: the calls in other modules that pass the Gym env ``receiver`` holds,
+        a parameter of its function or, through ``self.x = x``, of its class's ``__init__``."""
+        project = self.receivers.project
+        if project is None:
+            return []
+        if isinstance(receiver, ast.Attribute) and isinstance(receiver.value, ast.Name) and self.receivers.is_self(receiver.value):
+            values = self.receivers.self_attribute_values(receiver, receiver.attr)
+        elif isinstance(receiver, ast.Name):
+            values = [receiver]
+        else:
+            return []
+        callers: list[str] = []
+        for value in values:
+            if not isinstance(value, ast.Name):
+                return []
+            bindings = self.facts.bindings_of(value)
+            if len(bindings) != 1 or not isinstance(bindings[0], ast.arg):
+                return []
+            function = self.facts.enclosing_function(bindings[0])
+            if not isinstance(function, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                return []
+            classdef = self.facts.parent(function)
+            if isinstance(classdef, ast.ClassDef):
+                names = [f"{classdef.name}.{function.name}"] + ([classdef.name] if function.name == "__init__" else [])
+            else:
+                names = [function.name]
+            found = [c for name in names for c in project.gym_env_callers(name, bindings[0].arg)]
+            if not found:
+                return []
+            callers.extend(c for c in found if c not in callers)
+        return callers
 
     def _untraced_question(self, site: RenderSite, where: str) -> Hashable | None:
         """The renders and recorders of one untraced env ask one question: where it is made,
