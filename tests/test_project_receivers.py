@@ -399,3 +399,31 @@ def test_a_holder_one_caller_builds_with_a_project_object_is_asked_about(tmp_pat
     result = runner.invoke(app, ["rewrite", str(project)])
     assert result.exit_code == 0, result.output
     assert (project / "arcade" / "holder.py").read_bytes() == before
+
+
+def test_a_class_imported_in_alternative_branches_gets_the_env_in_each(tmp_path: Path) -> None:
+    """``fixtures/project_alternatives/``: ``train.py`` imports ``Learner`` from one module
+    or the other by a condition, then ``Learner(gym.make(...), ...)``: each binding may be
+    the class called, so both ``self.env`` are that env and both loops are rewritten. With a
+    VecEnv passed instead, neither is: the same call feeds both."""
+    project = _copy("project_alternatives", tmp_path)
+    result = runner.invoke(app, ["rewrite", str(project)])
+    assert result.exit_code == 0, result.output
+    greedy = (project / "learners" / "greedy.py").read_text()
+    assert "obs, info = self.env.reset()" in greedy
+    assert "following, reward, terminated, truncated, _ = self.env.step(action)" in greedy
+    assert "_, reward, terminated, truncated, _ = self.env.step(" in (project / "learners" / "wander.py").read_text()
+    again = runner.invoke(app, ["rewrite", str(project)])
+    assert again.exit_code == 0 and "rewrote 0 of" in again.output
+
+    vec = _copy("project_alternatives", tmp_path / "vec")
+    script = vec / "train.py"
+    script.write_text(
+        script.read_text()
+        .replace("import gym\n", "import gym\nfrom stable_baselines3.common.vec_env import DummyVecEnv\n")
+        .replace('env = gym.make("CartPole-v1")', 'env = DummyVecEnv([lambda: gym.make("CartPole-v1")])')
+    )
+    learners = {name: (vec / "learners" / name).read_bytes() for name in ("greedy.py", "wander.py")}
+    result = runner.invoke(app, ["rewrite", str(vec)])
+    assert result.exit_code == 0, result.output
+    assert {name: (vec / "learners" / name).read_bytes() for name in learners} == learners

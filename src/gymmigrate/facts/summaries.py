@@ -114,7 +114,7 @@ class _Summarizer:
                 env_classes.add(name)
                 if env.takes_render_mode(classdef) and id(classdef) not in render_kept_classes(self.facts, self.receivers):
                     render_mode.add(name)
-        calls = [c for c in (self._call(call) for calls in self.facts.calls_by_name.values() for call in calls) if c]
+        calls = [c for calls in self.facts.calls_by_name.values() for call in calls for c in self._name_calls(call)]
         calls += [c for call in (c for calls in self.facts.attribute_calls.values() for c in calls) for c in self._method_calls(call)]
         return ModuleSummary(
             self.path,
@@ -323,6 +323,20 @@ class _Summarizer:
             kinds = {*summary.args, *(k for _, k in summary.keywords)}
             return summary if kinds & GUARD_KINDS else None
         return summary
+
+    def _name_calls(self, call: ast.Call) -> list[CallSummary]:
+        """``Agent(env)``; with ``Agent`` imported from several modules of the run
+        (``from agents.dqn import Agent`` in one branch, ``from agents.a2c import Agent`` in
+        another), one call of each: every binding may be the one called."""
+        found = self._call(call)
+        if found is not None:
+            return [found]
+        if self._own_target(call.func) is not None:
+            return []
+        targets = sorted({q for q in self.facts.qualified_names(call.func) if not _is_library(q)})
+        if len(targets) < 2 or len(targets) != len(self.facts.qualified_names(call.func)):
+            return []  # a library binding among them: not all of the run's
+        return [self._arguments(call, target) for target in targets]
 
     def _method_calls(self, call: ast.Call) -> list[CallSummary]:
         """``x.fit(env)``; with ``x`` bound to instances of several classes of the run
