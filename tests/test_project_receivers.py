@@ -427,3 +427,36 @@ def test_a_class_imported_in_alternative_branches_gets_the_env_in_each(tmp_path:
     result = runner.invoke(app, ["rewrite", str(vec)])
     assert result.exit_code == 0, result.output
     assert {name: (vec / "learners" / name).read_bytes() for name in learners} == learners
+
+
+def test_an_instance_of_an_env_class_a_caller_hands_in_is_a_gym_env(tmp_path: Path) -> None:
+    """``fixtures/project_class_params/``: ``backtest(env_class=Exchange)`` builds
+    ``env_class(quotes)`` and passes it to ``replay`` of another module: every call of
+    ``backtest`` hands in the run's gym.Env subclass, so ``replay``'s loop is rewritten, as is
+    ``smoke``'s on its own instance. With a plain class of the project handed in by a second
+    call, ``replay`` is left alone."""
+    project = _copy("project_class_params", tmp_path)
+    result = runner.invoke(app, ["rewrite", str(project)])
+    assert result.exit_code == 0, result.output
+    replay = (project / "markets" / "replay.py").read_text()
+    assert "    obs, info = environment.reset()\n" in replay
+    assert "obs, gain, terminated, truncated, _ = environment.step(policy(obs))" in replay
+    assert "    obs, gain, terminated, truncated, _ = market.step(1)\n" in (project / "backtest.py").read_text()
+    again = runner.invoke(app, ["rewrite", str(project)])
+    assert again.exit_code == 0 and "rewrote 0 of" in again.output
+
+    mixed = _copy("project_class_params", tmp_path / "mixed")
+    (mixed / "markets" / "ledger.py").write_text(
+        "class Ledger:\n    def __init__(self, quotes):\n        self.quotes = quotes\n\n    def reset(self):\n        return 0\n\n"
+        "    def step(self, action):\n        return 0, 0.0, True, {}\n"
+    )
+    script = mixed / "backtest.py"
+    script.write_text(
+        script.read_text()
+        .replace("from markets.replay", "from markets.ledger import Ledger\nfrom markets.replay")
+        .replace("    print(backtest(", "    print(backtest(env_class=Ledger, quotes=[1.0]))\n    print(backtest(")
+    )
+    before = (mixed / "markets" / "replay.py").read_bytes()
+    result = runner.invoke(app, ["rewrite", str(mixed)])
+    assert result.exit_code == 0, result.output
+    assert (mixed / "markets" / "replay.py").read_bytes() == before

@@ -468,10 +468,44 @@ class _Summarizer:
             parameter = self._parameter_of_def(argument)
             if parameter is not None:
                 return parameter
-            made = self._made_by_run_call(argument)
+            made = self._made_by_run_call(argument) or self._made_by_passed_class(argument)
             if made is not None:
                 return NEW + made  # ``env = pkg.make_benchmark(...)``; ``run(env)``
         return kind
+
+    def _made_by_passed_class(self, name: ast.Name) -> str | None:
+        """``env_instance = env_class(config)`` in a top-level def that this module's every
+        call passes classes imported from the run for ``env_class`` (``test(env_class=
+        TradeEnv)``): those classes' names, joined by ``|``, for the join to resolve."""
+        bindings = self.facts.bindings_of(name)
+        if len(bindings) != 1 or not isinstance(bindings[0], ast.Name):
+            return None
+        statement = self.facts.parent(bindings[0])
+        if not (isinstance(statement, ast.Assign) and statement.targets == [bindings[0]] and isinstance(statement.value, ast.Call)):
+            return None
+        func = statement.value.func
+        params = self.facts.bindings_of(func) if isinstance(func, ast.Name) else []
+        if len(params) != 1 or not isinstance(params[0], ast.arg):
+            return None
+        param = params[0]
+        function = self.facts.parent(self.facts.parent(param))
+        if not isinstance(function, FUNCTIONS) or self.facts.functions.get(function.name) is not function:
+            return None  # a top-level def: its call sites are this module's own
+        if function.args.vararg is not None or function.args.kwarg is not None:
+            return None
+        positional = [*function.args.posonlyargs, *function.args.args]
+        position = next((i for i, p in enumerate(positional) if p is param), None)
+        found: set[str] = set()
+        calls = self.receivers.call_sites(function, None)
+        for call in calls:
+            argument = call_argument(call, position, param.arg)
+            if argument is None:
+                return None
+            qualified = [q for q in self.facts.qualified_names(argument) if not _is_library(q)]
+            if len(qualified) != 1 or "." not in qualified[0]:
+                return None
+            found.add(qualified[0])
+        return "|".join(sorted(found)) if found else None
 
     def _made_by_run_call(self, name: ast.Name) -> str | None:
         """The names of the run (imported, no library's) the bindings of ``name`` call,
