@@ -488,6 +488,29 @@ class Receivers(ClassKinds, ParameterKinds, MadeObjects):
                 # ``env, agent = env_agent_config(cfg)`` where the def ends ``return env, agent``:
                 # the item at this place of every tuple it returns.
                 return self.returned_item_kind(local, index, len(container.elts))
+            if local is None and isinstance(value, ast.Call) and not any(isinstance(el, ast.Starred) for el in container.elts):
+                return self._named_methods_item_kind(value, index, len(container.elts))
+        return EnvKind.UNKNOWN
+
+    def _named_methods_item_kind(self, call: ast.Call, index: int, width: int) -> EnvKind:
+        """``venv, obs = environment.get_sb_env()`` on an owner not traced, where every
+        method of that name in the module's classes returns a vector env at this place
+        (``return DummyVecEnv([lambda: self]), obs``): that vector env, which keeps its
+        batch API; any other answer is no answer."""
+        if not isinstance(call.func, ast.Attribute) or call.func.attr.startswith("__"):
+            return EnvKind.UNKNOWN
+        name = call.func.attr
+        methods = [
+            statement
+            for classdef in self.facts.classes.values()
+            for statement in classdef.body
+            if isinstance(statement, FUNCTIONS) and statement.name == name
+        ]
+        if not methods:
+            return EnvKind.UNKNOWN
+        kinds = {self.returned_item_kind(method, index, width) for method in methods}
+        if len(kinds) == 1 and kinds <= {EnvKind.SB3_VEC, EnvKind.GYM_VEC}:
+            return kinds.pop()
         return EnvKind.UNKNOWN
 
     def returned_item_kind(self, function: ast.AST, index: int, width: int) -> EnvKind:
