@@ -460,3 +460,31 @@ def test_an_instance_of_an_env_class_a_caller_hands_in_is_a_gym_env(tmp_path: Pa
     result = runner.invoke(app, ["rewrite", str(mixed)])
     assert result.exit_code == 0, result.output
     assert (mixed / "markets" / "replay.py").read_bytes() == before
+
+
+def test_an_env_from_a_factory_that_makes_then_wraps_in_two_helpers_is_a_gym_env(tmp_path: Path) -> None:
+    """``fixtures/project_wrap_steps/``: ``make_game`` calls ``raw`` (``gym.make``) and then
+    ``dress``, which returns its argument, maybe in a Gym wrapper (``env = ScaleReward(env)``
+    read back through itself); ``Player(env=make_game(...))`` in another module is that env
+    and its seed/reset/step are rewritten. With ``dress`` wrapping in a class of an unknown
+    package instead, nothing says what ``self.env`` is: left alone."""
+    project = _copy("project_wrap_steps", tmp_path)
+    result = runner.invoke(app, ["rewrite", str(project)])
+    assert result.exit_code == 0, result.output
+    player = (project / "arcade" / "player.py").read_text()
+    assert "frame, info = self.env.reset()" in player
+    assert "frame, reward, terminated, truncated, _ = self.env.step(" in player
+    again = runner.invoke(app, ["rewrite", str(project)])
+    assert again.exit_code == 0 and "rewrote 0 of" in again.output
+
+    plain = _copy("project_wrap_steps", tmp_path / "plain")
+    build = plain / "arcade" / "build.py"
+    build.write_text(
+        build.read_text()
+        .replace("import gym\n", "import gym\nfrom tapes import Recorder\n")
+        .replace("env = ScaleReward(env)", "env = Recorder(env)")
+    )
+    before = (plain / "arcade" / "player.py").read_bytes()
+    result = runner.invoke(app, ["rewrite", str(plain)])
+    assert result.exit_code == 0, result.output
+    assert (plain / "arcade" / "player.py").read_bytes() == before
