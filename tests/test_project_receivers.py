@@ -488,3 +488,30 @@ def test_an_env_from_a_factory_that_makes_then_wraps_in_two_helpers_is_a_gym_env
     result = runner.invoke(app, ["rewrite", str(plain)])
     assert result.exit_code == 0, result.output
     assert (plain / "arcade" / "player.py").read_bytes() == before
+
+
+def test_an_env_handed_to_an_instance_call_feeds_the_classes_call_method(tmp_path: Path) -> None:
+    """``fixtures/project_callable_objects/``: ``judge = Judge(3)`` is passed to ``session``,
+    which calls ``judge(env, ...)`` with a ``gym.make`` env: a call of an instance runs
+    ``Judge.__call__`` in another module, whose loop is rewritten. Handed a VecEnv instead, it
+    is left alone."""
+    project = _copy("project_callable_objects", tmp_path)
+    result = runner.invoke(app, ["rewrite", str(project)])
+    assert result.exit_code == 0, result.output
+    judge = (project / "judge.py").read_text()
+    assert "            seen, info = env.reset()\n" in judge
+    assert "seen, reward, terminated, truncated, _ = env.step(pick(seen))" in judge
+    again = runner.invoke(app, ["rewrite", str(project)])
+    assert again.exit_code == 0 and "rewrote 0 of" in again.output
+
+    vec = _copy("project_callable_objects", tmp_path / "vec")
+    script = vec / "session.py"
+    script.write_text(
+        script.read_text()
+        .replace("import gym\n", "import gym\nfrom stable_baselines3.common.vec_env import DummyVecEnv\n")
+        .replace('env = gym.make("CartPole-v1")', 'env = DummyVecEnv([lambda: gym.make("CartPole-v1")])')
+    )
+    before = (vec / "judge.py").read_bytes()
+    result = runner.invoke(app, ["rewrite", str(vec)])
+    assert result.exit_code == 0, result.output
+    assert (vec / "judge.py").read_bytes() == before

@@ -361,6 +361,8 @@ class _Summarizer:
         if qualified:
             found = sorted(q for q in qualified if not _is_library(q))
             return found[0] if len(found) == 1 else None
+        if isinstance(func, ast.Name):
+            return self._instance_call_target(func)
         if not isinstance(func, ast.Attribute):
             return None
         owner = func.value
@@ -370,6 +372,29 @@ class _Summarizer:
         if cls is not None:
             return f"{cls}.{func.attr}" if not _is_library(cls) else None
         return UNRESOLVED + func.attr
+
+    def _instance_call_target(self, func: ast.Name) -> str | None:
+        """``Evaluator.__call__`` (qualified through the imports) for ``evaluate(env)``,
+        where ``evaluate`` holds an instance of a class of the run every way it is bound
+        (``evaluate = Evaluator(3)``, or passed so to the def whose parameter it is)."""
+        values = self.receivers.called_instances(func)
+        classes = set()
+        for value in values:
+            if not isinstance(value, ast.Call):
+                return None
+            local = self.receivers.local_class(value.func)
+            if local is not None:
+                if self.facts.classes.get(local.name) is not local:
+                    return None
+                classes.add(OWN + local.name)
+                continue
+            found = [q for q in self.facts.qualified_names(value.func) if not _is_library(q)]
+            if len(found) != 1 or "." not in found[0]:
+                return None
+            classes.add(found[0])
+        if len(classes) != 1:
+            return None
+        return f"{classes.pop()}.__call__"
 
     def _own_target(self, func: ast.expr) -> str | None:
         function = self.receivers.local_function(func)
