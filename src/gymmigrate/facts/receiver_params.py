@@ -208,7 +208,7 @@ class ParameterKinds(_Facade):
         if name == "__call__":
             # ``evaluate(env, policy)`` where ``evaluate`` holds an instance of the class (bound
             # to ``Evaluator(...)``, or a parameter every call of its def passes one).
-            instances = self.facts.memo(("instance-calls", id(classdef)), lambda: self._instance_calls(classdef))
+            instances: list[ast.Call] = self.facts.memo(("instance-calls", id(classdef)), lambda: self._instance_calls(classdef))
         else:
             instances = []
         # ``self.train(env)`` in the class, and ``Agent().train(env)`` or ``algo.train(env)``
@@ -257,7 +257,7 @@ class ParameterKinds(_Facade):
         return self._assigned_calls(func)
 
     def _assigned_calls(self, name: ast.Name) -> list[ast.expr]:
-        values = []
+        values: list[ast.expr] = []
         for binding in self.facts.bindings_of(name):
             assign = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
             if not (isinstance(assign, ast.Assign) and assign.targets == [binding] and isinstance(assign.value, ast.Call)):
