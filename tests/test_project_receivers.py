@@ -399,3 +399,119 @@ def test_a_holder_one_caller_builds_with_a_project_object_is_asked_about(tmp_pat
     result = runner.invoke(app, ["rewrite", str(project)])
     assert result.exit_code == 0, result.output
     assert (project / "arcade" / "holder.py").read_bytes() == before
+
+
+def test_a_class_imported_in_alternative_branches_gets_the_env_in_each(tmp_path: Path) -> None:
+    """``fixtures/project_alternatives/``: ``train.py`` imports ``Learner`` from one module
+    or the other by a condition, then ``Learner(gym.make(...), ...)``: each binding may be
+    the class called, so both ``self.env`` are that env and both loops are rewritten. With a
+    VecEnv passed instead, neither is: the same call feeds both."""
+    project = _copy("project_alternatives", tmp_path)
+    result = runner.invoke(app, ["rewrite", str(project)])
+    assert result.exit_code == 0, result.output
+    greedy = (project / "learners" / "greedy.py").read_text()
+    assert "obs, info = self.env.reset()" in greedy
+    assert "following, reward, terminated, truncated, _ = self.env.step(action)" in greedy
+    assert "_, reward, terminated, truncated, _ = self.env.step(" in (project / "learners" / "wander.py").read_text()
+    again = runner.invoke(app, ["rewrite", str(project)])
+    assert again.exit_code == 0 and "rewrote 0 of" in again.output
+
+    vec = _copy("project_alternatives", tmp_path / "vec")
+    script = vec / "train.py"
+    script.write_text(
+        script.read_text()
+        .replace("import gym\n", "import gym\nfrom stable_baselines3.common.vec_env import DummyVecEnv\n")
+        .replace('env = gym.make("CartPole-v1")', 'env = DummyVecEnv([lambda: gym.make("CartPole-v1")])')
+    )
+    learners = {name: (vec / "learners" / name).read_bytes() for name in ("greedy.py", "wander.py")}
+    result = runner.invoke(app, ["rewrite", str(vec)])
+    assert result.exit_code == 0, result.output
+    assert {name: (vec / "learners" / name).read_bytes() for name in learners} == learners
+
+
+def test_an_instance_of_an_env_class_a_caller_hands_in_is_a_gym_env(tmp_path: Path) -> None:
+    """``fixtures/project_class_params/``: ``backtest(env_class=Exchange)`` builds
+    ``env_class(quotes)`` and passes it to ``replay`` of another module: every call of
+    ``backtest`` hands in the run's gym.Env subclass, so ``replay``'s loop is rewritten, as is
+    ``smoke``'s on its own instance. With a plain class of the project handed in by a second
+    call, ``replay`` is left alone."""
+    project = _copy("project_class_params", tmp_path)
+    result = runner.invoke(app, ["rewrite", str(project)])
+    assert result.exit_code == 0, result.output
+    replay = (project / "markets" / "replay.py").read_text()
+    assert "    obs, info = environment.reset()\n" in replay
+    assert "obs, gain, terminated, truncated, _ = environment.step(policy(obs))" in replay
+    assert "    obs, gain, terminated, truncated, _ = market.step(1)\n" in (project / "backtest.py").read_text()
+    again = runner.invoke(app, ["rewrite", str(project)])
+    assert again.exit_code == 0 and "rewrote 0 of" in again.output
+
+    mixed = _copy("project_class_params", tmp_path / "mixed")
+    (mixed / "markets" / "ledger.py").write_text(
+        "class Ledger:\n    def __init__(self, quotes):\n        self.quotes = quotes\n\n    def reset(self):\n        return 0\n\n"
+        "    def step(self, action):\n        return 0, 0.0, True, {}\n"
+    )
+    script = mixed / "backtest.py"
+    script.write_text(
+        script.read_text()
+        .replace("from markets.replay", "from markets.ledger import Ledger\nfrom markets.replay")
+        .replace("    print(backtest(", "    print(backtest(env_class=Ledger, quotes=[1.0]))\n    print(backtest(")
+    )
+    before = (mixed / "markets" / "replay.py").read_bytes()
+    result = runner.invoke(app, ["rewrite", str(mixed)])
+    assert result.exit_code == 0, result.output
+    assert (mixed / "markets" / "replay.py").read_bytes() == before
+
+
+def test_an_env_from_a_factory_that_makes_then_wraps_in_two_helpers_is_a_gym_env(tmp_path: Path) -> None:
+    """``fixtures/project_wrap_steps/``: ``make_game`` calls ``raw`` (``gym.make``) and then
+    ``dress``, which returns its argument, maybe in a Gym wrapper (``env = ScaleReward(env)``
+    read back through itself); ``Player(env=make_game(...))`` in another module is that env
+    and its seed/reset/step are rewritten. With ``dress`` wrapping in a class of an unknown
+    package instead, nothing says what ``self.env`` is: left alone."""
+    project = _copy("project_wrap_steps", tmp_path)
+    result = runner.invoke(app, ["rewrite", str(project)])
+    assert result.exit_code == 0, result.output
+    player = (project / "arcade" / "player.py").read_text()
+    assert "frame, info = self.env.reset()" in player
+    assert "frame, reward, terminated, truncated, _ = self.env.step(" in player
+    again = runner.invoke(app, ["rewrite", str(project)])
+    assert again.exit_code == 0 and "rewrote 0 of" in again.output
+
+    plain = _copy("project_wrap_steps", tmp_path / "plain")
+    build = plain / "arcade" / "build.py"
+    build.write_text(
+        build.read_text()
+        .replace("import gym\n", "import gym\nfrom tapes import Recorder\n")
+        .replace("env = ScaleReward(env)", "env = Recorder(env)")
+    )
+    before = (plain / "arcade" / "player.py").read_bytes()
+    result = runner.invoke(app, ["rewrite", str(plain)])
+    assert result.exit_code == 0, result.output
+    assert (plain / "arcade" / "player.py").read_bytes() == before
+
+
+def test_an_env_handed_to_an_instance_call_feeds_the_classes_call_method(tmp_path: Path) -> None:
+    """``fixtures/project_callable_objects/``: ``judge = Judge(3)`` is passed to ``session``,
+    which calls ``judge(env, ...)`` with a ``gym.make`` env: a call of an instance runs
+    ``Judge.__call__`` in another module, whose loop is rewritten. Handed a VecEnv instead, it
+    is left alone."""
+    project = _copy("project_callable_objects", tmp_path)
+    result = runner.invoke(app, ["rewrite", str(project)])
+    assert result.exit_code == 0, result.output
+    judge = (project / "judge.py").read_text()
+    assert "            seen, info = env.reset()\n" in judge
+    assert "seen, reward, terminated, truncated, _ = env.step(pick(seen))" in judge
+    again = runner.invoke(app, ["rewrite", str(project)])
+    assert again.exit_code == 0 and "rewrote 0 of" in again.output
+
+    vec = _copy("project_callable_objects", tmp_path / "vec")
+    script = vec / "session.py"
+    script.write_text(
+        script.read_text()
+        .replace("import gym\n", "import gym\nfrom stable_baselines3.common.vec_env import DummyVecEnv\n")
+        .replace('env = gym.make("CartPole-v1")', 'env = DummyVecEnv([lambda: gym.make("CartPole-v1")])')
+    )
+    before = (vec / "judge.py").read_bytes()
+    result = runner.invoke(app, ["rewrite", str(vec)])
+    assert result.exit_code == 0, result.output
+    assert (vec / "judge.py").read_bytes() == before

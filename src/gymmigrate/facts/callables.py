@@ -85,6 +85,10 @@ class CallableKinds:
         if self.receivers.qualified_names(callee):
             # An imported callable bound again (``make = gym.make``): what it returns.
             kinds = [k for k in (self.receivers.kind_from_qualified(q, _NO_ARGUMENTS) for q in self.receivers.qualified_names(callee)) if k is not None]
+            if not kinds and self.project is not None:
+                # ``run(env_class=TradeEnv)`` with the class imported from another module of
+                # the run: what its instances are (``ProjectFacts.call_kinds``).
+                kinds = [k for k in (self.project.call_kind(q) for q in self.receivers.qualified_names(callee)) if k is not None]
             return join_kinds(kinds) if kinds else EnvKind.UNKNOWN
         bindings = self.facts.bindings_of(callee)
         if not bindings:

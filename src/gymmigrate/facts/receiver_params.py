@@ -205,6 +205,12 @@ class ParameterKinds(_Facade):
             return [c for c in calls if self.local_function(c.func) is function]
         if name == "__init__":
             return list(self.facts.calls_by_name.get(classdef.name, []))
+        if name == "__call__":
+            # ``evaluate(env, policy)`` where ``evaluate`` holds an instance of the class (bound
+            # to ``Evaluator(...)``, or a parameter every call of its def passes one).
+            instances: list[ast.Call] = self.facts.memo(("instance-calls", id(classdef)), lambda: self._instance_calls(classdef))
+        else:
+            instances = []
         # ``self.train(env)`` in the class, and ``Agent().train(env)`` or ``algo.train(env)``
         # with ``algo = Agent()`` in the module: the instances the module makes itself.
         return [
@@ -213,7 +219,52 @@ class ParameterKinds(_Facade):
             if (isinstance(c.func.value, ast.Name) and self.is_self(c.func.value))  # type: ignore[attr-defined]
             or self._made_instance_of(c.func.value, classdef, name)  # type: ignore[attr-defined]
             or self._unwrapped_of(c.func.value, classdef)  # type: ignore[attr-defined]
-        ]
+        ] + instances
+
+    def _instance_calls(self, classdef: ast.ClassDef) -> list[ast.Call]:
+        found = []
+        for calls in self.facts.calls_by_name.values():
+            for call in calls:
+                values = self.called_instances(call.func)
+                if values and all(self._made_instance_of(v, classdef, "__call__") for v in values):
+                    found.append(call)
+        return found
+
+    def called_instances(self, func: ast.expr) -> list[ast.expr]:
+        """What a called name holds, where that is a construction: the values of a name
+        every binding of which is an assignment of a call (``evaluate = Evaluator(3)``), or,
+        for a parameter of a top-level def, those of the name (or the call) every call of the
+        def in the module passes there (``train(env, evaluate)``). Empty when unclear."""
+        if not isinstance(func, ast.Name):
+            return []
+        bindings = self.facts.bindings_of(func)
+        if len(bindings) == 1 and isinstance(bindings[0], ast.arg):
+            param = bindings[0]
+            function = self.facts.parent(self.facts.parent(param))
+            if not isinstance(function, FUNCTIONS) or self.facts.functions.get(function.name) is not function:
+                return []
+            positional = [*function.args.posonlyargs, *function.args.args]
+            position = next((i for i, p in enumerate(positional) if p is param), None)
+            values: list[ast.expr] = []
+            for call in self.call_sites(function, None):
+                argument = call_argument(call, position, param.arg)
+                if argument is None:
+                    return []
+                found = self._assigned_calls(argument) if isinstance(argument, ast.Name) else [argument]
+                if not found or not all(isinstance(v, ast.Call) for v in found):
+                    return []
+                values.extend(found)
+            return values
+        return self._assigned_calls(func)
+
+    def _assigned_calls(self, name: ast.Name) -> list[ast.expr]:
+        values: list[ast.expr] = []
+        for binding in self.facts.bindings_of(name):
+            assign = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
+            if not (isinstance(assign, ast.Assign) and assign.targets == [binding] and isinstance(assign.value, ast.Call)):
+                return []
+            values.append(assign.value)
+        return values
 
     def _unwrapped_of(self, owner: ast.AST, classdef: ast.ClassDef) -> bool:
         """``x.unwrapped.set_top(self)`` with ``set_top`` a method of this module's Gym env

@@ -75,6 +75,7 @@ class Receivers(ClassKinds, ParameterKinds, MadeObjects):
         self.project = project  # the run's facts across files (facts/project.py), if any
         self._cache: dict[ast.AST, EnvKind] = {}
         self._in_progress: set[ast.AST] = set()
+        self._cuts = 0  # answers cut short by a cycle (or the depth bound) so far
         self._name_kinds: dict[int, EnvKind] = {}  # id(bindings list) -> kind, see _classify_name
         self._mixed: set[int] = set()  # bindings lists whose kinds disagree
         # parameters whose callers pass a Gym env and another kind of env: (gym kinds, others)
@@ -107,14 +108,21 @@ class Receivers(ClassKinds, ParameterKinds, MadeObjects):
         if cached is not None:
             return cached
         if expr in self._in_progress or self.depth > MAX_DEPTH:
+            self._cuts += 1
             return EnvKind.UNKNOWN  # a cycle such as ``env = wrap(env)``: no new evidence
         self._in_progress.add(expr)
         self.depth += 1
+        cuts = self._cuts
         try:
             kind = self._classify(expr)
         finally:
             self.depth -= 1
             self._in_progress.discard(expr)
+        if kind is EnvKind.UNKNOWN and self._cuts != cuts and self._in_progress:
+            # "Unknown" only because a question still open above was cut short (``env =
+            # wrap(env, clip)`` asked while ``wrap``'s parameter is): the open question may
+            # settle it, so it is asked again later rather than kept.
+            return kind
         self._cache[expr] = kind
         return kind
 
@@ -404,7 +412,7 @@ class Receivers(ClassKinds, ParameterKinds, MadeObjects):
         values = [r.value for r in own_returns(function)]
         return bool(values) and all(v is not None and self._hands_on_param(v, positional[0], function, 0) for v in values)
 
-    def _hands_on_param(self, value: ast.expr, param: ast.arg, function: ast.AST, depth: int) -> bool:
+    def _hands_on_param(self, value: ast.expr, param: ast.arg, function: ast.AST, depth: int, seen: frozenset[int] = frozenset()) -> bool:
         if depth > MAX_DEPTH:
             return False
         if isinstance(value, ast.Call):
@@ -412,7 +420,7 @@ class Receivers(ClassKinds, ParameterKinds, MadeObjects):
                 return False
             local = self.local_function(value.func)
             hands_on = self._makes_gym_wrapper(value) or (local is not None and local is not function and self.wraps_argument(local))
-            return hands_on and self._hands_on_param(value.args[0], param, function, depth + 1)
+            return hands_on and self._hands_on_param(value.args[0], param, function, depth + 1, seen)
         if not (isinstance(value, ast.Name) and value.id == param.arg):
             return False
         for binding in self.facts.bindings_of(value):
@@ -423,7 +431,9 @@ class Receivers(ClassKinds, ParameterKinds, MadeObjects):
                 return False
             if self.facts.enclosing_function(assign) is not function:
                 return False
-            if not self._hands_on_param(assign.value, param, function, depth + 1):
+            if id(assign) in seen:
+                continue  # ``env = Clip(env)`` read back through itself: no other value
+            if not self._hands_on_param(assign.value, param, function, depth + 1, seen | {id(assign)}):
                 return False
         return True
 
@@ -488,6 +498,29 @@ class Receivers(ClassKinds, ParameterKinds, MadeObjects):
                 # ``env, agent = env_agent_config(cfg)`` where the def ends ``return env, agent``:
                 # the item at this place of every tuple it returns.
                 return self.returned_item_kind(local, index, len(container.elts))
+            if local is None and isinstance(value, ast.Call) and not any(isinstance(el, ast.Starred) for el in container.elts):
+                return self._named_methods_item_kind(value, index, len(container.elts))
+        return EnvKind.UNKNOWN
+
+    def _named_methods_item_kind(self, call: ast.Call, index: int, width: int) -> EnvKind:
+        """``venv, obs = environment.get_sb_env()`` on an owner not traced, where every
+        method of that name in the module's classes returns a vector env at this place
+        (``return DummyVecEnv([lambda: self]), obs``): that vector env, which keeps its
+        batch API; any other answer is no answer."""
+        if not isinstance(call.func, ast.Attribute) or call.func.attr.startswith("__"):
+            return EnvKind.UNKNOWN
+        name = call.func.attr
+        methods = [
+            statement
+            for classdef in self.facts.classes.values()
+            for statement in classdef.body
+            if isinstance(statement, FUNCTIONS) and statement.name == name
+        ]
+        if not methods:
+            return EnvKind.UNKNOWN
+        kinds = {self.returned_item_kind(method, index, width) for method in methods}
+        if len(kinds) == 1 and kinds <= {EnvKind.SB3_VEC, EnvKind.GYM_VEC}:
+            return kinds.pop()
         return EnvKind.UNKNOWN
 
     def returned_item_kind(self, function: ast.AST, index: int, width: int) -> EnvKind:

@@ -114,7 +114,7 @@ class _Summarizer:
                 env_classes.add(name)
                 if env.takes_render_mode(classdef) and id(classdef) not in render_kept_classes(self.facts, self.receivers):
                     render_mode.add(name)
-        calls = [c for c in (self._call(call) for calls in self.facts.calls_by_name.values() for call in calls) if c]
+        calls = [c for calls in self.facts.calls_by_name.values() for call in calls for c in self._name_calls(call)]
         calls += [c for call in (c for calls in self.facts.attribute_calls.values() for c in calls) for c in self._method_calls(call)]
         return ModuleSummary(
             self.path,
@@ -324,6 +324,20 @@ class _Summarizer:
             return summary if kinds & GUARD_KINDS else None
         return summary
 
+    def _name_calls(self, call: ast.Call) -> list[CallSummary]:
+        """``Agent(env)``; with ``Agent`` imported from several modules of the run
+        (``from agents.dqn import Agent`` in one branch, ``from agents.a2c import Agent`` in
+        another), one call of each: every binding may be the one called."""
+        found = self._call(call)
+        if found is not None:
+            return [found]
+        if self._own_target(call.func) is not None:
+            return []
+        targets = sorted({q for q in self.facts.qualified_names(call.func) if not _is_library(q)})
+        if len(targets) < 2 or len(targets) != len(self.facts.qualified_names(call.func)):
+            return []  # a library binding among them: not all of the run's
+        return [self._arguments(call, target) for target in targets]
+
     def _method_calls(self, call: ast.Call) -> list[CallSummary]:
         """``x.fit(env)``; with ``x`` bound to instances of several classes of the run
         (``algo = DDQN(...)`` in one branch, ``algo = A2C(...)`` in another), one call of
@@ -347,6 +361,8 @@ class _Summarizer:
         if qualified:
             found = sorted(q for q in qualified if not _is_library(q))
             return found[0] if len(found) == 1 else None
+        if isinstance(func, ast.Name):
+            return self._instance_call_target(func)
         if not isinstance(func, ast.Attribute):
             return None
         owner = func.value
@@ -356,6 +372,29 @@ class _Summarizer:
         if cls is not None:
             return f"{cls}.{func.attr}" if not _is_library(cls) else None
         return UNRESOLVED + func.attr
+
+    def _instance_call_target(self, func: ast.Name) -> str | None:
+        """``Evaluator.__call__`` (qualified through the imports) for ``evaluate(env)``,
+        where ``evaluate`` holds an instance of a class of the run every way it is bound
+        (``evaluate = Evaluator(3)``, or passed so to the def whose parameter it is)."""
+        values = self.receivers.called_instances(func)
+        classes = set()
+        for value in values:
+            if not isinstance(value, ast.Call):
+                return None
+            local = self.receivers.local_class(value.func)
+            if local is not None:
+                if self.facts.classes.get(local.name) is not local:
+                    return None
+                classes.add(OWN + local.name)
+                continue
+            found = [q for q in self.facts.qualified_names(value.func) if not _is_library(q)]
+            if len(found) != 1 or "." not in found[0]:
+                return None
+            classes.add(found[0])
+        if len(classes) != 1:
+            return None
+        return f"{classes.pop()}.__call__"
 
     def _own_target(self, func: ast.expr) -> str | None:
         function = self.receivers.local_function(func)
@@ -454,10 +493,44 @@ class _Summarizer:
             parameter = self._parameter_of_def(argument)
             if parameter is not None:
                 return parameter
-            made = self._made_by_run_call(argument)
+            made = self._made_by_run_call(argument) or self._made_by_passed_class(argument)
             if made is not None:
                 return NEW + made  # ``env = pkg.make_benchmark(...)``; ``run(env)``
         return kind
+
+    def _made_by_passed_class(self, name: ast.Name) -> str | None:
+        """``env_instance = env_class(config)`` in a top-level def that this module's every
+        call passes classes imported from the run for ``env_class`` (``test(env_class=
+        TradeEnv)``): those classes' names, joined by ``|``, for the join to resolve."""
+        bindings = self.facts.bindings_of(name)
+        if len(bindings) != 1 or not isinstance(bindings[0], ast.Name):
+            return None
+        statement = self.facts.parent(bindings[0])
+        if not (isinstance(statement, ast.Assign) and statement.targets == [bindings[0]] and isinstance(statement.value, ast.Call)):
+            return None
+        func = statement.value.func
+        params = self.facts.bindings_of(func) if isinstance(func, ast.Name) else []
+        if len(params) != 1 or not isinstance(params[0], ast.arg):
+            return None
+        param = params[0]
+        function = self.facts.parent(self.facts.parent(param))
+        if not isinstance(function, FUNCTIONS) or self.facts.functions.get(function.name) is not function:
+            return None  # a top-level def: its call sites are this module's own
+        if function.args.vararg is not None or function.args.kwarg is not None:
+            return None
+        positional = [*function.args.posonlyargs, *function.args.args]
+        position = next((i for i, p in enumerate(positional) if p is param), None)
+        found: set[str] = set()
+        calls = self.receivers.call_sites(function, None)
+        for call in calls:
+            argument = call_argument(call, position, param.arg)
+            if argument is None:
+                return None
+            qualified = [q for q in self.facts.qualified_names(argument) if not _is_library(q)]
+            if len(qualified) != 1 or "." not in qualified[0]:
+                return None
+            found.add(qualified[0])
+        return "|".join(sorted(found)) if found else None
 
     def _made_by_run_call(self, name: ast.Name) -> str | None:
         """The names of the run (imported, no library's) the bindings of ``name`` call,
