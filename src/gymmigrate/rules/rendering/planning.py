@@ -6,13 +6,14 @@ condition (``render_schedule.py``), and each site's finding and edit."""
 from __future__ import annotations
 
 import ast
+import os
 from collections import defaultdict
 from collections.abc import Hashable
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.decisions import Action
 from gymmigrate.facts.module import full_name, keyword, string_value
-from gymmigrate.findings import FixKind, Tier
+from gymmigrate.findings import RUN_QUESTION, FixKind, Tier
 from gymmigrate.rules.render_calls import without_mode_argument
 from gymmigrate.rules.render_schedule import local_condition, render_condition, schedule
 from gymmigrate.rules.rendering.common import (
@@ -320,9 +321,20 @@ class SitePlanning(MakeEdits):
             f"`{receiver}` is the Gym env passed in at {', '.join(callers)}: render() draws only when that env is made "
             f"with a render_mode now{runs}: pass {mode} to the gym.make there",
             FixKind.FLAG,
-            question=("render-made-elsewhere", tuple(callers), condition),
+            question=self._made_elsewhere_question(callers, condition),
         )
         return True
+
+    def _made_elsewhere_question(self, callers: list[str], condition: str | None) -> Hashable:
+        """One question for the run: the agents of several modules that render the env one
+        make passes them (``Agent(env, args)`` in run.py) ask where to choose its mode once."""
+        project = self.receivers.project
+        if project is None:
+            return ("render-made-elsewhere", tuple(callers), condition)
+        here = os.path.dirname(project.path)
+        places = sorted({os.path.normpath(os.path.join(here, caller)) for caller in callers})
+        home = places[0].rsplit(":", 1)[0]
+        return (RUN_QUESTION, "render-made-elsewhere", home, tuple(places), condition or "")
 
     def _gym_env_callers(self, receiver: ast.expr) -> list[str]:
         """``run.py:18``: the calls in other modules that pass the Gym env ``receiver`` holds,
