@@ -415,8 +415,51 @@ class DoneReadUses(NextStateReads):
                     and self.facts.enclosing_function(statement) is function
                     and statement.value is not None
                     and not (loaded_names(statement.value) & step_values)
+                    and not self._from_before_the_step(statement.value, step)
                 ):
                     return True
+        return False
+
+    def _from_before_the_step(self, value: ast.expr, step: DoneStep) -> bool:
+        """``v = self.vf(torch.Tensor(obs))`` after the step, ``obs`` still the state the step
+        started from: every name the value reads was last bound before the step and nothing
+        after it changes them in place, and it reads nothing of the stepped env (``self.env.x``
+        may be its new state): the value cannot be the next state."""
+        receiver = step.assign.value.func.value if isinstance(step.assign.value, ast.Call) and isinstance(step.assign.value.func, ast.Attribute) else None
+        if receiver is None:
+            return False
+        env = self.facts.segment(receiver)
+        observation = step.target.elts[0]
+        for node in ast.walk(value):
+            if isinstance(node, ast.Attribute) and self.facts.segment(node).startswith(env):
+                return False
+            if not (isinstance(node, ast.Name) and isinstance(node.ctx, ast.Load)):
+                continue
+            if isinstance(observation, ast.Name) and node.id == observation.id:
+                return False
+            binding = self.flow.last_binding_of(node)
+            if binding is not None and start(binding) > end(step.assign):
+                return False
+            if self._changed_after(node.id, step):
+                return False
+        return True
+
+    def _changed_after(self, name: str, step: DoneStep) -> bool:
+        """``frames.append(next_obs)`` or ``buf[i] = x`` after the step: ``name`` changed in place."""
+        function = self.facts.enclosing_function(step.assign) or self.facts.tree
+        for node in ast.walk(function):
+            if not hasattr(node, "lineno") or start(node) <= end(step.assign):
+                continue
+            if (
+                isinstance(node, ast.Call)
+                and isinstance(node.func, ast.Attribute)
+                and isinstance(node.func.value, ast.Name)
+                and node.func.value.id == name
+                and node.func.attr in _IN_PLACE_CHANGES
+            ):
+                return True
+            if isinstance(node, ast.Subscript) and isinstance(node.ctx, ast.Store) and isinstance(node.value, ast.Name) and node.value.id == name:
+                return True
         return False
 
     def _declared_outside(self, node: ast.AST, name: str) -> bool:
@@ -572,3 +615,8 @@ def _constant(node: ast.AST) -> bool:
     if isinstance(node, ast.UnaryOp):
         node = node.operand
     return isinstance(node, ast.Constant)
+
+
+# Methods that change their object in place (``frames.append(next_obs)``): a name changed so
+# after the step may hold the next state whatever it was bound to.
+_IN_PLACE_CHANGES = frozenset({"append", "extend", "insert", "appendleft", "extendleft", "update", "add", "put", "push", "copy_", "fill_", "__setitem__"})
