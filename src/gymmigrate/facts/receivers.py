@@ -34,6 +34,7 @@ from gymmigrate.facts.env_specs import is_spec_make
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import MAX_DEPTH, EnvKind, join_kinds
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, call_argument, own_returns
+from gymmigrate.facts.narrowing import Narrowing
 from gymmigrate.facts.receiver_classes import ClassKinds
 from gymmigrate.facts.receiver_origins import MadeObjects
 from gymmigrate.facts.receiver_params import ParameterKinds
@@ -81,6 +82,7 @@ class Receivers(ClassKinds, ParameterKinds, MadeObjects):
         self._mixed_params: dict[ast.arg, tuple[list[str], list[str]]] = {}
         self.depth = 0  # shared with the helpers: one bound on the whole chain of questions
         self.callables = CallableKinds(self, project)
+        self.narrowing = Narrowing(facts, lambda value: self.kind_of(value) is EnvKind.GYM_ENV)
         self.attributes = SelfAttributes(self)
 
     # -- the helpers' answers, under the names rules ask ----------------------------------
@@ -303,6 +305,10 @@ class Receivers(ClassKinds, ParameterKinds, MadeObjects):
         bindings = self.facts.bindings_of(name)
         if not bindings:
             return EnvKind.UNKNOWN  # a builtin or a name this module never binds
+        if self.narrowing.is_env(name):
+            # ``if isinstance(env, str): env = make(env)`` / ``assert isinstance(env, gym.Env)``
+            # before the read: whatever the bindings hold, the code has checked or made a Gym env
+            return EnvKind.GYM_ENV
         # Every read that sees the same bindings has the same kind: n reads of a name
         # rebound n times cost n, not n * n. Only an answer computed with nothing else in
         # progress is shared (deeper ones may be partial, cut short by a cycle).

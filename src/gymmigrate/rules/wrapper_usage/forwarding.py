@@ -213,6 +213,8 @@ class WrapperForwarding(RuleFamily):
             origin = None
         if origin in (None, RAW) and self._gym_envs_from_elsewhere(receiver, origin):
             origin = WRAPPED  # bare or made: get_wrapper_attr reads both (a Gymnasium Env has it too)
+        if origin is None and isinstance(receiver, ast.Name) and self.receivers.narrowing.is_env(receiver):
+            origin = WRAPPED  # ``isinstance(env, gym.Env)`` checked it: bare or wrapped, get_wrapper_attr reads both
         if origin == RAW:
             return
         if name in self._outer_attributes(receiver):
