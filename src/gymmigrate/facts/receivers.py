@@ -302,13 +302,18 @@ class Receivers(ClassKinds, ParameterKinds, MadeObjects):
         return EnvKind.GYM_ENV if kinds == {EnvKind.GYM_ENV} else EnvKind.UNKNOWN
 
     def _classify_name(self, name: ast.Name) -> EnvKind:
+        kind = self._classify_bindings(name)
+        if kind is EnvKind.UNKNOWN and self.narrowing.is_env(name):
+            # ``if isinstance(env, str): env = make(env)`` / ``assert isinstance(env, gym.Env)``
+            # before the read: what the bindings could not tell, the code has checked or made.
+            # A kind they do tell stays (gym's VectorEnv passed ``isinstance(x, gym.Env)``).
+            return EnvKind.GYM_ENV
+        return kind
+
+    def _classify_bindings(self, name: ast.Name) -> EnvKind:
         bindings = self.facts.bindings_of(name)
         if not bindings:
             return EnvKind.UNKNOWN  # a builtin or a name this module never binds
-        if self.narrowing.is_env(name):
-            # ``if isinstance(env, str): env = make(env)`` / ``assert isinstance(env, gym.Env)``
-            # before the read: whatever the bindings hold, the code has checked or made a Gym env
-            return EnvKind.GYM_ENV
         # Every read that sees the same bindings has the same kind: n reads of a name
         # rebound n times cost n, not n * n. Only an answer computed with nothing else in
         # progress is shared (deeper ones may be partial, cut short by a cycle).
