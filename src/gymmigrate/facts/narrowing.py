@@ -24,7 +24,7 @@ from collections.abc import Callable
 from enum import Enum
 
 from gymmigrate.facts import names as N
-from gymmigrate.facts.module import FUNCTIONS, LOOPS, ModuleFacts
+from gymmigrate.facts.module import COMPREHENSIONS, FUNCTIONS, LOOPS, ModuleFacts
 
 # Gym's env classes: ``isinstance(x, <one of these>)`` is true only of a Gym env
 _GYM_ENV_CLASSES = frozenset(
@@ -61,6 +61,8 @@ class Narrowing:
     def is_env(self, read: ast.Name) -> bool:
         """Every path to ``read`` has made or checked its name a Gym env."""
         scope = self.facts.scope_of(read)
+        while isinstance(scope.node, COMPREHENSIONS) and read.id not in scope.bindings and scope.parent is not None:
+            scope = scope.parent  # ``[copy.deepcopy(env) for _ in range(n)]`` runs in the frame around it
         if (id(scope), read.id) not in self._tested_names():
             return False
         bound_in, _ = self.facts.resolve(read.id, scope)

@@ -156,6 +156,13 @@ class Receivers(ClassKinds, ParameterKinds, MadeObjects):
         # spec.make() on one of the registry's EnvSpecs
         if is_spec_make(self.facts, self.project, call):
             return EnvKind.GYM_ENV
+        if (
+            len(call.args) == 1
+            and not call.keywords
+            and not isinstance(call.args[0], ast.Starred)
+            and self.qualified_names(func) & {"copy.deepcopy", "copy.copy"}
+        ):
+            return self.kind_of(call.args[0])  # a copy of an env is an env of the same kind
         kinds = [k for k in (self.kind_from_qualified(q, call) for q in self.qualified_names(func)) if k is not None]
         if kinds:
             return join_kinds(kinds)
