@@ -8,7 +8,9 @@ never again" (``Env.reset`` docstring). So:
   of the same env that follows it in the same block (statements in between must leave
   the env alone), keeping the comments above it; otherwise it becomes
   ``env.reset(seed=s)`` in place. A seed is never moved into a loop. A ``seed()`` whose
-  result is used, that has no single seed, or that sits in a ``seed()`` method is reported.
+  result is used, that has no single seed, or that sits in a ``seed()`` method is reported;
+  in a project's own ``seed()`` (a plain class's) on envs ``make`` built, while env classes
+  of the run keep their seed() (GM503), it becomes ``env.unwrapped.seed(s)``.
 * GM206 a numpy scalar seed is wrapped in ``int()`` (``Seed must be a python integer``).
 * GM204 a seed that is the same on every iteration of a loop is reported.
 * GM205 ``space.seed(s)`` stays, but it returns an int (a dict for Dict spaces), not
