@@ -57,6 +57,7 @@ class Narrowing:
         self.value_is_env = value_is_env
         self._tested: set[tuple[int, str]] | None = None
         self._bound: dict[tuple[int, str], bool] = {}
+        self._afters: dict[tuple[int, State, str], State] = {}
 
     def is_env(self, read: ast.Name) -> bool:
         """Every path to ``read`` has made or checked its name a Gym env."""
@@ -128,6 +129,14 @@ class Narrowing:
         return state
 
     def _after(self, statement: ast.stmt, state: State, name: str) -> State:
+        # every read after a long ``if`` asks about it again: one answer per state
+        key = (id(statement), state, name)
+        found = self._afters.get(key)
+        if found is None:
+            found = self._afters[key] = self._compute_after(statement, state, name)
+        return found
+
+    def _compute_after(self, statement: ast.stmt, state: State, name: str) -> State:
         if isinstance(statement, _ENDS):
             return State.DEAD
         if isinstance(statement, ast.If):
