@@ -21,8 +21,7 @@ from __future__ import annotations
 
 import ast
 
-import libcst as cst
-
+from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import names as N
 from gymmigrate.facts.creation import Creation, CreationFinder
 from gymmigrate.facts.decisions import Action, Decision, receiver_text
