@@ -150,6 +150,54 @@ def test_seed_is_kept_while_another_module_of_the_run_may_call_it(tmp_path: Path
     assert first == second, "both dice were seeded with 3"
 
 
+def test_a_projects_own_seed_method_seeds_made_envs_through_unwrapped(tmp_path: Path) -> None:
+    """``Batch.seed()`` (a plain class's, not Gym's hook) seeds ``gym.make("Coin-v0")`` envs:
+    Coin keeps its seed() for that call, which reaches it through ``.unwrapped`` (Gymnasium's
+    wrappers have no seed); the id is registered for Coin, so it is certain (a note)."""
+    folder = tmp_path / "coins"
+    shutil.copytree(FIXTURES / "project_seed_made", folder)
+    result = runner.invoke(app, ["rewrite", str(folder)])
+    assert result.exit_code == 0, result.output
+    assert "def seed(self, seed=None):" in (folder / "tasks.py").read_text()
+    assert "env.unwrapped.seed(seed + i)" in (folder / "batch.py").read_text()
+    assert "batch.py:14: GM203" not in result.stderr  # a note, not a question
+    assert _run_main(folder, "batch") == "True"
+    migrated = {path.name: path.read_bytes() for path in folder.glob("*.py")}
+    assert runner.invoke(app, ["rewrite", str(folder)]).exit_code == 0
+    assert {path.name: path.read_bytes() for path in folder.glob("*.py")} == migrated
+
+
+def test_a_projects_own_seed_method_on_envs_of_any_id_is_rewritten_for_review(tmp_path: Path) -> None:
+    """The same with an id the run cannot see (a parameter): rewritten, and the GM203 item
+    stays (an env of another package seeds through reset(seed=...))."""
+    folder = tmp_path / "coins"
+    shutil.copytree(FIXTURES / "project_seed_made", folder)
+    batch = folder / "batch.py"
+    batch.write_text(
+        batch.read_text()
+        .replace("def __init__(self, size):", "def __init__(self, size, env_id):")
+        .replace('gym.make("Coin-v0")', "gym.make(env_id)")
+        .replace("Batch(3)", 'Batch(3, "Coin-v0")')
+    )
+    result = runner.invoke(app, ["rewrite", str(folder)])
+    assert result.exit_code == 0, result.output
+    assert "env.unwrapped.seed(seed + i)" in batch.read_text()
+    assert "batch.py:14: GM203 (rewritten)" in result.stderr
+    assert _run_main(folder, "batch") == "True"
+
+
+def test_a_projects_own_seed_method_is_left_when_no_env_class_of_the_run_keeps_seed(tmp_path: Path) -> None:
+    folder = tmp_path / "coins"
+    shutil.copytree(FIXTURES / "project_seed_made", folder)
+    (folder / "tasks.py").unlink()
+    batch = folder / "batch.py"
+    batch.write_text(batch.read_text().replace("import tasks  # noqa: F401  (registers Coin-v0)\n", "").replace("Coin-v0", "CartPole-v1"))
+    result = runner.invoke(app, ["rewrite", str(folder)])
+    assert result.exit_code == 0, result.output
+    assert "env.seed(seed + i)" in batch.read_text()
+    assert "inside a seed() method" in result.stderr
+
+
 def test_seed_goes_when_every_caller_in_the_run_is_migrated(tmp_path: Path) -> None:
     folder = tmp_path / "dice"
     shutil.copytree(FIXTURES / "project_seed", folder)

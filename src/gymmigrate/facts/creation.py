@@ -173,6 +173,16 @@ class CreationFinder:
             return result
         if isinstance(container, (ast.ListComp, ast.GeneratorExp)):
             return self._follow(container.elt, self._expr)
+        if isinstance(container, ast.Attribute) and isinstance(container.value, ast.Name) and container.value.id == "self":
+            # ``self.envs = [gym.make(...) for _ in range(n)]`` in the class, and never changed
+            # in place (an ``append`` there may add anything)
+            values = self.receivers.self_attribute_values(container, container.attr)
+            classdef = self.facts.enclosing_class(container)
+            if not values or classdef is None or _changed_in_place(classdef, container.attr):
+                result.fail(f"`{self.facts.segment(container)}` is not a list built here")
+            for value in values:
+                result.merge(self._items(value))
+            return result
         if isinstance(container, ast.Name):
             bindings = self.facts.bindings_of(container)
             if not bindings:
@@ -371,6 +381,9 @@ class CreationFinder:
                 return self._follow(parent.context_expr, self._expr)
             if isinstance(parent, (ast.For, ast.AsyncFor, ast.comprehension)) and parent.target is binding:
                 return self._items(parent.iter)
+            enumerated = _enumerated(self.facts, binding)
+            if enumerated is not None:
+                return self._items(enumerated)  # ``for i, env in enumerate(envs)``
             if isinstance(parent, ast.Delete):
                 return Creation()  # ``del env`` creates nothing
         result = Creation()
@@ -645,3 +658,33 @@ def _nested_function(function: ast.AST, value: ast.AST) -> ast.FunctionDef | ast
         if isinstance(statement, FUNCTIONS) and statement.name == value.id:
             return statement
     return None
+
+
+def _enumerated(facts: ModuleFacts, binding: ast.Name) -> ast.expr | None:
+    """``envs`` for ``env`` of ``for i, env in enumerate(envs)`` (the builtin's one argument)."""
+    target = facts.parent(binding)
+    loop = facts.parent(target) if isinstance(target, ast.Tuple) else None
+    if not (isinstance(target, ast.Tuple) and len(target.elts) == 2 and target.elts[1] is binding):
+        return None
+    if not (isinstance(loop, (ast.For, ast.AsyncFor, ast.comprehension)) and loop.target is target):
+        return None
+    call = loop.iter
+    if not (isinstance(call, ast.Call) and isinstance(call.func, ast.Name) and call.func.id == "enumerate"):
+        return None
+    if len(call.args) != 1 or call.keywords or isinstance(call.args[0], ast.Starred):
+        return None
+    scope, _ = facts.resolve("enumerate", facts.scope_of(call.func))
+    return call.args[0] if scope is None else None
+
+
+def _changed_in_place(classdef: ast.ClassDef, name: str) -> bool:
+    """``self.<name>.append(...)`` (any method call on it) or ``self.<name>[i] = ...`` in the class."""
+    for node in ast.walk(classdef):
+        held = None
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute):
+            held = node.func.value
+        elif isinstance(node, ast.Subscript) and not isinstance(node.ctx, ast.Load):
+            held = node.value
+        if isinstance(held, ast.Attribute) and held.attr == name and isinstance(held.value, ast.Name) and held.value.id == "self":
+            return True
+    return False

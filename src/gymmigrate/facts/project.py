@@ -52,6 +52,7 @@ from gymmigrate.facts.project_contracts import (
     NonSpaces,
     class_methods,
     legacy_steps,
+    seed_keepers,
     thread_render_mode,
 )
 from gymmigrate.facts.project_exports import Exports, reexport_wrappers
@@ -132,6 +133,11 @@ class ProjectFacts:
     # ``render_mode`` (its ``__init__`` cannot hand it on): id (None: not a literal) -> class.
     # ``gymnasium.make(id, render_mode=...)`` of one would raise TypeError.
     no_render_mode_ids: dict[str | None, str] = field(default_factory=dict)
+    # Env classes of the run that keep their own seed() (GM503: a module of the run calls
+    # ``x.seed(...)`` on what it cannot trace), as (path, class), and the literal ids the run
+    # registers for one of them: id -> class.
+    seed_classes: frozenset[tuple[str, str]] = frozenset()
+    seed_ids: dict[str, str] = field(default_factory=dict)
     # path -> the top-level packages the module imports, with those of the run's modules it
     # imports and of those that import it (one step each way): a project's neighbourhood,
     # not every project of a run over several.
@@ -258,6 +264,7 @@ class ProjectFacts:
                 if resolved is not None:
                     facts.handed_on.add(resolved)
         facts.class_methods = class_methods(facts, by_path)
+        facts.seed_classes, facts.seed_ids = seed_keepers(facts, by_path)
         NonSpaces(facts, by_path).run()
         reexport_wrappers(facts, by_path)
         facts.legacy_steps = legacy_steps(facts, by_path)

@@ -132,6 +132,28 @@ def thread_render_mode(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -
     facts.render_mode_classes = {path: frozenset(found.get(path, ())) for path in set(facts.render_mode_classes) | set(found)}
 
 
+def seed_keepers(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> tuple[frozenset[tuple[str, str]], dict[str, str]]:
+    """The env classes of the run whose seed() GM503 keeps because another module calls
+    ``x.seed(...)`` on what it cannot trace (``facts.seed_called``), and the literal ids the
+    run registers for one of them (``register(id="Task-v0", entry_point="pkg.tasks:Task")``)."""
+    classes = frozenset(
+        (path, name)
+        for path in facts.seed_called
+        if path not in facts.blocked
+        for name in facts.env_classes.get(path, ())
+        if "seed" in facts.class_methods.get((path, name), ())
+    )
+    ids: dict[str, str] = {}
+    for summary in by_path.values():
+        for env_id, entry in summary.registrations:
+            module, _, name = entry.partition(":")
+            where = facts.modules.get(module)
+            definer = _definer(facts, by_path, where, name) if where else None
+            if env_id is not None and definer in classes:
+                ids.setdefault(env_id, definer[1])
+    return classes, ids
+
+
 def legacy_steps(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> frozenset[tuple[str, str]]:
     """Every (path, name) of the run that calls a class whose step keeps the legacy
     contract: the class itself, its re-exports and subclasses that define no step."""

@@ -34,6 +34,14 @@ class ProjectView:
         imports this module's env classes: their seed() may be what it calls."""
         return self.path in self.facts.seed_called
 
+    def seed_classes(self) -> list[str]:
+        """The env classes of the run that keep their own seed() (GM503), by name."""
+        return sorted({name for _, name in self.facts.seed_classes})
+
+    def seed_class_of_id(self, env_id: str) -> str | None:
+        """The class of the run that keeps seed() which the run registers ``env_id`` for."""
+        return self.facts.seed_ids.get(env_id)
+
     def render_called_elsewhere(self) -> bool:
         """The same for ``x.render(mode)``: this module's env classes keep render(mode)."""
         return self.path in self.facts.render_called

@@ -34,6 +34,7 @@ from gymmigrate.facts.env_specs import is_spec_make
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import MAX_DEPTH, EnvKind, join_kinds
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, call_argument, own_returns
+from gymmigrate.facts.narrowing import Narrowing
 from gymmigrate.facts.receiver_classes import ClassKinds
 from gymmigrate.facts.receiver_origins import MadeObjects
 from gymmigrate.facts.receiver_params import ParameterKinds
@@ -82,6 +83,7 @@ class Receivers(ClassKinds, ParameterKinds, MadeObjects):
         self._mixed_params: dict[ast.arg, tuple[list[str], list[str]]] = {}
         self.depth = 0  # shared with the helpers: one bound on the whole chain of questions
         self.callables = CallableKinds(self, project)
+        self.narrowing = Narrowing(facts, lambda value: self.kind_of(value) is EnvKind.GYM_ENV)
         self.attributes = SelfAttributes(self)
 
     # -- the helpers' answers, under the names rules ask ----------------------------------
@@ -162,6 +164,13 @@ class Receivers(ClassKinds, ParameterKinds, MadeObjects):
         # spec.make() on one of the registry's EnvSpecs
         if is_spec_make(self.facts, self.project, call):
             return EnvKind.GYM_ENV
+        if (
+            len(call.args) == 1
+            and not call.keywords
+            and not isinstance(call.args[0], ast.Starred)
+            and self.qualified_names(func) & {"copy.deepcopy", "copy.copy"}
+        ):
+            return self.kind_of(call.args[0])  # a copy of an env is an env of the same kind
         kinds = [k for k in (self.kind_from_qualified(q, call) for q in self.qualified_names(func)) if k is not None]
         if kinds:
             return join_kinds(kinds)
@@ -308,6 +317,15 @@ class Receivers(ClassKinds, ParameterKinds, MadeObjects):
         return EnvKind.GYM_ENV if kinds == {EnvKind.GYM_ENV} else EnvKind.UNKNOWN
 
     def _classify_name(self, name: ast.Name) -> EnvKind:
+        kind = self._classify_bindings(name)
+        if kind is EnvKind.UNKNOWN and self.narrowing.is_env(name):
+            # ``if isinstance(env, str): env = make(env)`` / ``assert isinstance(env, gym.Env)``
+            # before the read: what the bindings could not tell, the code has checked or made.
+            # A kind they do tell stays (gym's VectorEnv passed ``isinstance(x, gym.Env)``).
+            return EnvKind.GYM_ENV
+        return kind
+
+    def _classify_bindings(self, name: ast.Name) -> EnvKind:
         bindings = self.facts.bindings_of(name)
         if not bindings:
             return EnvKind.UNKNOWN  # a builtin or a name this module never binds

@@ -276,6 +276,11 @@ class _Summarizer:
                     # construction takes the mode, GM401) from a def, where no mode can move
                     self.render_makers.add(made_by)
                     continue
+            if method == "seed" and kind is EnvKind.GYM_ENV and self._in_own_seed_method(call):
+                # ``def seed(self, s): for env in self.envs: env.seed(s)`` of a plain class: the
+                # seed rules leave it (or send it to ``env.unwrapped.seed``), so the env classes
+                # it may build keep their seed()
+                return True
             if kind is not EnvKind.UNKNOWN:
                 continue
             if method == "seed" and self._seed_call_rewritten_here(call):
@@ -298,6 +303,17 @@ class _Summarizer:
 
         finder = facts.memo(("summary-make-finder", 0), lambda: CreationFinder(facts, receivers, is_creation))
         return finder.find(receiver).found
+
+    def _in_own_seed_method(self, call: ast.Call) -> bool:
+        """``call`` sits in a ``seed()`` of a plain class (or a def): the project's own, not
+        the Gym hook of an env or wrapper class."""
+        function = self.facts.enclosing_function(call)
+        if function is None or function.name != "seed":
+            return False
+        classdef = self.facts.enclosing_class(function)
+        return classdef is None or not (
+            self.receivers.class_kind(classdef) is EnvKind.GYM_ENV or self.receivers.is_gym_wrapper_class(classdef)
+        )
 
     def _seed_call_rewritten_here(self, call: ast.Call) -> bool:
         """``env.seed(s)`` as a statement, with one seed, on an untraced receiver that GM203

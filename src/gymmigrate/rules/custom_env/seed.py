@@ -49,7 +49,8 @@ def decide_seed(decision: ClassDecision) -> None:
             seed_method,
             "GM503",
             "seed() kept: another module of this run imports this class and calls `.seed(...)` on an object that "
-            "could not be traced, which may be an instance of it; once that call seeds through reset(seed=...), "
+            "could not be traced (or seeds made envs in a seed() method of its own), which may be an instance of it; "
+            "once that call seeds through reset(seed=...), "
             "remove this method",
             FixKind.FLAG,
         )

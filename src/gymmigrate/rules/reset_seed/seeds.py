@@ -8,7 +8,9 @@ never again" (``Env.reset`` docstring). So:
   of the same env that follows it in the same block (statements in between must leave
   the env alone), keeping the comments above it; otherwise it becomes
   ``env.reset(seed=s)`` in place. A seed is never moved into a loop. A ``seed()`` whose
-  result is used, that has no single seed, or that sits in a ``seed()`` method is reported.
+  result is used, that has no single seed, or that sits in a ``seed()`` method is reported;
+  in a project's own ``seed()`` (a plain class's) on envs ``make`` built, while env classes
+  of the run keep their seed() (GM503), it becomes ``env.unwrapped.seed(s)``.
 * GM206 a numpy scalar seed is wrapped in ``int()`` (``Seed must be a python integer``).
 * GM204 a seed that is the same on every iteration of a loop is reported.
 * GM205 ``space.seed(s)`` stays, but it returns an int (a dict for Dict spaces), not
@@ -19,8 +21,12 @@ from __future__ import annotations
 
 import ast
 
-from gymmigrate.facts.decisions import Action, receiver_text
-from gymmigrate.facts.module import COMPOUND_STATEMENTS, statement_lines
+from gymmigrate.edits.lazy import cst
+from gymmigrate.facts import names as N
+from gymmigrate.facts.creation import Creation, CreationFinder
+from gymmigrate.facts.decisions import Action, Decision, receiver_text
+from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.module import COMPOUND_STATEMENTS, statement_lines, string_value
 from gymmigrate.facts.reset_flow import line_before, segment
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.reset_seed.call_edits import SeedValue
@@ -56,6 +62,8 @@ class SeedCalls(ResetSeedBase):
             return
         function = self.facts.enclosing_function(call)
         if function is not None and function.name == "seed":
+            if self._seed_through_unwrapped(call, function, decision, code, name):
+                return
             self.report(
                 call,
                 code,
@@ -130,6 +138,73 @@ class SeedCalls(ResetSeedBase):
             tier=Tier.NOTE if decision.action is Action.REWRITE else None,  # it explains the rewrite: nothing to decide
             question=self.receiver_question(receiver, decision),
         )
+
+    def _seed_through_unwrapped(
+        self, call: ast.Call, function: ast.FunctionDef | ast.AsyncFunctionDef, decision: Decision, code: str, name: str
+    ) -> bool:
+        """``env.seed(s)`` in a project's own ``seed()`` (a plain class's, not Gym's hook) on
+        an env ``make`` built, while env classes of the run keep their seed() (GM503): the
+        make's wrappers have no ``seed`` in Gymnasium (AttributeError), ``env.unwrapped.seed(s)``
+        reaches the class's own. Certain (a note) when every make behind ``env`` names an id
+        the run registers for such a class; else rewritten and listed for review: an env of
+        another package has no seed() either way, and seeds through ``reset(seed=...)``."""
+        project = self.receivers.project
+        receiver = call.func.value  # type: ignore[attr-defined]
+        if project is None or decision.action not in (Action.REWRITE, Action.REWRITE_FOR_REVIEW):
+            return False
+        if isinstance(receiver, ast.Attribute) and receiver.attr == "unwrapped":
+            return False
+        classdef = self.facts.enclosing_class(function)
+        if classdef is not None and (
+            self.receivers.class_kind(classdef) is EnvKind.GYM_ENV or self.receivers.is_gym_wrapper_class(classdef)
+        ):
+            return False  # Gym's own seed() hook of an env or wrapper class: GM503 decides it
+        keepers = project.seed_classes()
+        makes = self._makes_behind(receiver)
+        if not keepers or not makes.calls:
+            return False
+        classes = {self._seed_class_made(make) for make in makes.calls}
+        self.plan.replace(call.func, _through_unwrapped)
+        if makes.complete and None not in classes:
+            self.report(
+                call,
+                code,
+                f"`{name}.seed(s)` -> `{name}.unwrapped.seed(s)`: this seed() is the project's own, and `{name}` is "
+                f"made as {', '.join(sorted(c for c in classes if c))}, which keeps its seed() (GM503) behind "
+                "wrappers that have none in Gymnasium",
+                FixKind.AUTO,
+                tier=Tier.NOTE,
+            )
+            return True
+        self.report(
+            call,
+            code,
+            f"`{name}.seed(s)` -> `{name}.unwrapped.seed(s)` inside this project's own seed(): Gymnasium's wrappers "
+            f"have no seed(), the env classes of the run keep theirs ({', '.join(keepers)}, GM503); if `{name}` may "
+            "be an env of another package, seed it through reset(seed=...) instead",
+            FixKind.ASSIST,
+            question=("seed() method", function.lineno),
+        )
+        return True
+
+    def _makes_behind(self, receiver: ast.expr) -> Creation:
+        project = self.receivers.project
+
+        def is_make(made: ast.Call) -> bool:
+            return any(
+                N.strip_gym_prefix(q) in N.GYM_ENV_FACTORIES or (project is not None and project.returns_made(q))
+                for q in self.facts.qualified_names(made.func)
+            )
+
+        finder = self.facts.memo(("seed-make-finder", 0), lambda: CreationFinder(self.facts, self.receivers, is_make))
+        return finder.find(receiver)
+
+    def _seed_class_made(self, make: ast.Call) -> str | None:
+        """The class of the run keeping seed() that ``make("Id-v0")`` builds, if the id is a
+        literal the run registers for one."""
+        project = self.receivers.project
+        env_id = string_value(make.args[0]) if make.args and project is not None else None
+        return project.seed_class_of_id(env_id) if env_id is not None and project is not None else None
 
     def _check_space_seed(self, call: ast.Call) -> None:
         parent = self.facts.parent(call)
@@ -226,6 +301,11 @@ class SeedCalls(ResetSeedBase):
         if value.args or any(kw.arg is None or kw.arg == "seed" for kw in value.keywords):
             return None
         return value
+
+
+def _through_unwrapped(node: cst.Attribute) -> cst.Attribute:
+    """``env.seed`` -> ``env.unwrapped.seed``."""
+    return node.with_changes(value=cst.Attribute(value=node.value, attr=cst.Name("unwrapped")))
 
 
 def _seed_argument(call: ast.Call) -> ast.expr | None:

@@ -213,6 +213,8 @@ class WrapperForwarding(RuleFamily):
             origin = None
         if origin in (None, RAW) and self._gym_envs_from_elsewhere(receiver, origin):
             origin = WRAPPED  # bare or made: get_wrapper_attr reads both (a Gymnasium Env has it too)
+        if origin is None and isinstance(receiver, ast.Name) and self.receivers.narrowing.is_env(receiver):
+            origin = WRAPPED  # ``isinstance(env, gym.Env)`` checked it: bare or wrapped, get_wrapper_attr reads both
         if origin == RAW:
             return
         if name in self._outer_attributes(receiver):
@@ -736,10 +738,32 @@ class WrapperForwarding(RuleFamily):
             if isinstance(expr, ast.Attribute):
                 return self._attribute_origin(expr)
             if isinstance(expr, ast.Name):
-                return self._name_origin(expr)
+                origin = self._name_origin(expr)
+                if origin in (None, CYCLE) and self.receivers.narrowing.is_env(expr):
+                    return WRAPPED  # ``isinstance(env, gym.Env)`` checked it: bare or wrapped
+                return origin
+            if isinstance(expr, ast.Subscript):
+                return self._items_origin(expr.value)
             return None
         finally:
             self._depth -= 1
+
+    def _items_origin(self, container: ast.expr) -> Origin:
+        """``self.envs[i]`` with ``self.envs = [gym.make(...) for _ in ...]`` stored in the class:
+        what its items are."""
+        values: list[ast.expr] = [container]
+        if isinstance(container, ast.Attribute) and isinstance(container.value, ast.Name) and container.value.id == "self":
+            classdef = self.facts.enclosing_class(container)
+            values = self.receivers.self_stores(classdef).get(container.attr, []) if classdef is not None else []
+        origins: list[Origin] = []
+        for value in values:
+            if isinstance(value, (ast.ListComp, ast.GeneratorExp)):
+                origins.append(self._origin(value.elt))
+            elif isinstance(value, (ast.List, ast.Tuple)) and value.elts:
+                origins.extend(self._origin(item) for item in value.elts)
+            else:
+                return None
+        return join_origins(origins) if origins else None
 
     def _attribute_origin(self, expr: ast.Attribute) -> Origin:
         if expr.attr == "unwrapped":
@@ -754,6 +778,8 @@ class WrapperForwarding(RuleFamily):
         return None
 
     def _call_origin(self, call: ast.Call) -> Origin:
+        if len(call.args) == 1 and self.facts.qualified_names(call.func) & {"copy.deepcopy", "copy.copy"}:
+            return self._origin(call.args[0])  # a copy of the env, as made or wrapped as it is
         for q in self.facts.qualified_names(call.func):
             rest = N.strip_gym_prefix(q)
             if rest is None:

@@ -1,0 +1,224 @@
+"""What an ``isinstance`` check the code states proves about a name, read by read.
+
+``def run(env): if isinstance(env, str): env = make_env(env) else: if not isinstance(env,
+gym.Env): raise ValueError(...)`` and then ``env.step(a)``: the parameter may be an id or
+anything, but every path that reaches the step has made ``env`` a Gym env, or checked that
+it is one. The bindings alone cannot say so (the parameter reaches the read), so this
+module follows the statements of the read's frame in order, with one of three states per
+point: the name certainly holds a Gym env (``GYM``), it may hold anything (``OTHER``), or
+the point is never reached (``DEAD``: after ``raise``/``return``/``continue``/``break``).
+
+What makes a Gym env: ``isinstance(x, gym.Env)`` (or Gym's ``Wrapper`` classes, or a tuple
+of them) true in an ``if``/``assert``; ``not isinstance(...)`` in an ``if`` makes its
+``else`` (and what follows a body that cannot fall through) one; an assignment of a value
+the receiver analysis calls a Gym env (``env = make_env(env)``). Anything else that binds
+the name makes it ``OTHER``; loops, ``with`` and ``try`` that rebind it make their bodies
+``OTHER``. Only names some ``isinstance`` call of their scope tests are followed, never a
+variable by its spelling.
+"""
+
+from __future__ import annotations
+
+import ast
+from collections.abc import Callable
+from enum import Enum
+
+from gymmigrate.facts import names as N
+from gymmigrate.facts.module import COMPREHENSIONS, FUNCTIONS, LOOPS, ModuleFacts
+
+# Gym's env classes: ``isinstance(x, <one of these>)`` is true only of a Gym env
+_GYM_ENV_CLASSES = frozenset(
+    f"{prefix}{name}"
+    for prefix in ("", "core.")
+    for name in ("Env", "Wrapper", "ObservationWrapper", "ActionWrapper", "RewardWrapper")
+)
+_ENDS = (ast.Raise, ast.Return, ast.Continue, ast.Break)
+
+
+class State(Enum):
+    GYM = "gym"
+    OTHER = "other"
+    DEAD = "dead"
+
+
+def _join(first: State, second: State) -> State:
+    if first is State.DEAD:
+        return second
+    if second is State.DEAD:
+        return first
+    return State.GYM if first is second is State.GYM else State.OTHER
+
+
+class Narrowing:
+    """One per file. ``value_is_env``: the receiver analysis's answer for an assigned value."""
+
+    def __init__(self, facts: ModuleFacts, value_is_env: Callable[[ast.expr], bool]) -> None:
+        self.facts = facts
+        self.value_is_env = value_is_env
+        self._tested: set[tuple[int, str]] | None = None
+        self._bound: dict[tuple[int, str], bool] = {}
+        self._afters: dict[tuple[int, State, str], State] = {}
+
+    def is_env(self, read: ast.Name) -> bool:
+        """Every path to ``read`` has made or checked its name a Gym env."""
+        scope = self.facts.scope_of(read)
+        while isinstance(scope.node, COMPREHENSIONS) and read.id not in scope.bindings and scope.parent is not None:
+            scope = scope.parent  # ``[copy.deepcopy(env) for _ in range(n)]`` runs in the frame around it
+        if (id(scope), read.id) not in self._tested_names():
+            return False
+        bound_in, _ = self.facts.resolve(read.id, scope)
+        if bound_in is not scope or read.id in scope.declared_global or read.id in scope.declared_nonlocal:
+            return False  # a name of another frame: its statements do not run in order here
+        return self._before(self.facts.statement_of(read), read.id) is State.GYM
+
+    # -- which names ------------------------------------------------------------------------
+
+    def _tested_names(self) -> set[tuple[int, str]]:
+        if self._tested is None:
+            self._tested = set()
+            for call in self.facts.calls_by_name.get("isinstance", ()):
+                if len(call.args) == 2 and isinstance(call.args[0], ast.Name):
+                    self._tested.add((id(self.facts.scope_of(call.args[0])), call.args[0].id))
+        return self._tested
+
+    # -- states ----------------------------------------------------------------------------
+
+    def _before(self, statement: ast.stmt, name: str) -> State:
+        """The state just before ``statement`` runs."""
+        parent = self.facts.parent(statement)
+        if parent is None:
+            return State.OTHER
+        block, field = None, ""
+        for field in ("body", "orelse", "finalbody", "handlers"):
+            items = getattr(parent, field, None)
+            if isinstance(items, list) and any(item is statement for item in items):
+                block = items
+                break
+        if block is None:
+            return State.OTHER
+        state = self._at_start(parent, field, name)
+        for earlier in block:
+            if earlier is statement:
+                break
+            state = self._after(earlier, state, name)
+        return State.OTHER if state is State.DEAD else state
+
+    def _at_start(self, holder: ast.AST, field: str, name: str) -> State:
+        """The state where the block ``holder.field`` starts."""
+        if isinstance(holder, ast.If):
+            body, orelse = self._split(holder.test, self._before(holder, name), name)
+            return body if field == "body" else orelse
+        if isinstance(holder, ast.ExceptHandler):
+            handled = self.facts.parent(holder)
+            if handled is None:
+                return State.OTHER
+            holder, field = handled, "handlers"
+        if isinstance(holder, (*LOOPS, ast.With, ast.AsyncWith)):
+            return State.OTHER if self._binds(holder, name) else self._before(holder, name)
+        if isinstance(holder, ast.Try) or type(holder).__name__ == "TryStar":
+            if field != "body" and self._binds(holder, name):
+                return State.OTHER  # a handler may start after any binding of the body
+            return self._before(holder, name)  # type: ignore[arg-type]
+        return State.OTHER  # a def, the module, a class body, a match case
+
+    def _run(self, block: list[ast.stmt], state: State, name: str) -> State:
+        for statement in block:
+            state = self._after(statement, state, name)
+            if state is State.DEAD:
+                break
+        return state
+
+    def _after(self, statement: ast.stmt, state: State, name: str) -> State:
+        # every read after a long ``if`` asks about it again: one answer per state
+        key = (id(statement), state, name)
+        found = self._afters.get(key)
+        if found is None:
+            found = self._afters[key] = self._compute_after(statement, state, name)
+        return found
+
+    def _compute_after(self, statement: ast.stmt, state: State, name: str) -> State:
+        if isinstance(statement, _ENDS):
+            return State.DEAD
+        if isinstance(statement, ast.If):
+            body, orelse = self._split(statement.test, state, name)
+            return _join(self._run(statement.body, body, name), self._run(statement.orelse, orelse, name))
+        if isinstance(statement, ast.Assert) and self._checks(statement.test, name) is True:
+            return State.GYM
+        if not self._binds(statement, name):
+            return state
+        if (
+            isinstance(statement, ast.Assign)
+            and len(statement.targets) == 1
+            and isinstance(statement.targets[0], ast.Name)
+            and statement.targets[0].id == name
+            and not self._binds(statement.value, name)
+        ):
+            return State.GYM if self.value_is_env(statement.value) else State.OTHER
+        return State.OTHER
+
+    def _split(self, test: ast.expr, state: State, name: str) -> tuple[State, State]:
+        """The states where the body and the else of ``if test:`` start."""
+        if self._binds(test, name):
+            return State.OTHER, State.OTHER
+        checked = self._checks(test, name)
+        if checked is None:
+            return state, state
+        # ``isinstance(x, str)``: its branch holds no env (until it rebinds the name)
+        narrowed = State.GYM if checked else State.OTHER
+        negated = isinstance(test, ast.UnaryOp) and isinstance(test.op, ast.Not)
+        return (state, narrowed) if negated else (narrowed, state)
+
+    def _checks(self, test: ast.expr, name: str) -> bool | None:
+        """``isinstance(name, <Gym env class>)`` (or ``not`` it): True; ``isinstance(name,
+        str)``: False; anything else: None."""
+        if isinstance(test, ast.UnaryOp) and isinstance(test.op, ast.Not):
+            test = test.operand
+        if not (
+            isinstance(test, ast.Call)
+            and isinstance(test.func, ast.Name)
+            and test.func.id == "isinstance"
+            and len(test.args) == 2
+            and not test.keywords
+            and isinstance(test.args[0], ast.Name)
+            and test.args[0].id == name
+        ):
+            return None
+        if not self._is_builtin(test.func, "isinstance"):
+            return None
+        classes = test.args[1]
+        if isinstance(classes, ast.Name) and classes.id == "str" and self._is_builtin(classes, "str"):
+            return False
+        items = classes.elts if isinstance(classes, ast.Tuple) else [classes]
+        if items and all(self._is_gym_env_class(item) for item in items):
+            return True
+        return None
+
+    def _is_gym_env_class(self, node: ast.expr) -> bool:
+        found = self.facts.qualified_names(node)
+        return bool(found) and all(N.strip_gym_prefix(q) in _GYM_ENV_CLASSES for q in found)
+
+    def _is_builtin(self, node: ast.Name, builtin: str) -> bool:
+        scope, _ = self.facts.resolve(builtin, self.facts.scope_of(node))
+        return scope is None
+
+    def _binds(self, node: ast.AST, name: str) -> bool:
+        """A binding of ``name`` lies inside ``node`` (one in a nested def too: cautious)."""
+        key = (id(node), name)
+        found = self._bound.get(key)
+        if found is None:
+            found = self._bound[key] = self._walk_binds(node, name)
+        return found
+
+    @staticmethod
+    def _walk_binds(node: ast.AST, name: str) -> bool:
+        for inner in ast.walk(node):
+            if isinstance(inner, ast.Name) and inner.id == name and not isinstance(inner.ctx, ast.Load):
+                return True
+            if isinstance(inner, (*FUNCTIONS, ast.ClassDef)) and inner.name == name:
+                return True
+            if isinstance(inner, ast.alias) and (inner.asname or inner.name.split(".", 1)[0]) == name:
+                return True
+            if isinstance(inner, ast.ExceptHandler) and inner.name == name:
+                return True
+        return False
+
