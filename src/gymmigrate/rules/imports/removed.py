@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import ast
 
+from gymmigrate.edits.lazy import cst
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.imports.common import ImportsBase
 from gymmigrate.rules.imports.table import (
@@ -52,7 +53,15 @@ class RemovedAttributes(ImportsBase):
         statement = self.facts.parent(call) if isinstance(call, ast.Call) and call.func is node else None
         if not (isinstance(statement, ast.Expr) and not call.args and not call.keywords):  # type: ignore[union-attr]
             return False
-        self.plan.remove(statement, keep_comments=True)
+        block = self.facts.parent(statement)
+        alone = not isinstance(block, ast.Module) and any(
+            getattr(block, field, None) == [statement] for field in ("body", "orelse", "finalbody")
+        )
+        if alone:
+            # the only statement of its block: ``pass`` takes its place, under its comments
+            self.plan.replace(statement, lambda _: cst.Pass())
+        else:
+            self.plan.remove(statement, keep_comments=True)
         self.report(
             call,  # type: ignore[arg-type]
             "GM105",
