@@ -161,12 +161,19 @@ class ProjectView:
         resolved = self.facts._resolve(qualified, self.path)
         if resolved is not None:
             return self.facts.bootstrap_masks.get(resolved, ((), frozenset()))
-        parts = qualified.split(".")  # a module with no Gym code (absolute imports only)
+        split = self._split_in_module_without_gym(qualified)
+        return self.facts.bootstrap_masks.get(split) if split is not None else None
+
+    def _split_in_module_without_gym(self, qualified: str) -> tuple[str, str] | None:
+        """``("/run/pkg/memory.py", "Transition")`` for ``pkg.memory.Transition`` where that
+        module has no Gym code (only its masks and records are summarised, so ``_split`` does
+        not know it); absolute imports only."""
+        parts = qualified.split(".")
         for cut in range(len(parts) - 1, 0, -1):
             paths = self.facts.mask_modules.get(".".join(parts[:cut]), ())
             path = nearest_root(paths, cut, self.path) if paths else None
             if path:
-                return self.facts.bootstrap_masks.get((path, ".".join(parts[cut:])))
+                return path, ".".join(parts[cut:])
         return None
 
     def is_record_class(self, qualified: str) -> bool:
@@ -175,14 +182,9 @@ class ProjectView:
         split = self.facts._split(qualified, self.path)
         if split is not None and split[1] in self.facts.record_classes.get(split[0], ()):
             return True
-        # a module with no Gym code (absolute imports only), which ``_split`` does not know:
-        # ``pkg.memory.Transition`` splits at ``pkg/__init__.py`` there
-        parts = qualified.split(".")
-        if len(parts) < 2:
-            return False
-        paths = self.facts.mask_modules.get(".".join(parts[:-1]), ())
-        path = nearest_root(paths, len(parts) - 1, self.path) if paths else None
-        return path is not None and parts[-1] in self.facts.record_classes.get(path, ())
+        # ``_split`` stops at ``pkg/__init__.py`` for a module with no Gym code
+        split = self._split_in_module_without_gym(qualified)
+        return split is not None and split[1] in self.facts.record_classes.get(split[0], ())
 
     def defines(self, qualified: str) -> bool:
         """The name comes from a module of the run (its own code, not a library's)."""
