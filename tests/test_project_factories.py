@@ -1,5 +1,5 @@
 """A def of the run that returns ``make(...)`` results is a Gym env factory in every module
-that calls it (``facts/summaries.py`` ``made_factories``, joined in ``facts/project.py``).
+that calls it (``facts/summaries/defs.py`` ``made_factories``, joined in ``facts/project.py``).
 
 ``fixtures/project_factories/`` is a ``tools`` package whose ``make_env`` seeds a
 ``gym.make`` env and returns it, and whose ``make_short`` wraps one in ``TimeLimit``; a

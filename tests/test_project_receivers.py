@@ -1,4 +1,4 @@
-"""Know the receiver across the run, never guess it (facts/summaries.py exports, joined in
+"""Know the receiver across the run, never guess it (facts/summaries/exports.py, joined in
 facts/project.py ``call_kinds``).
 
 ``fixtures/project_receivers/`` is a package driven by a script that never says where its

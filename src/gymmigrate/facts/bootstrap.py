@@ -10,7 +10,7 @@ gamma * value(next_state)``, ``next_v = zeros if done else self.forward(new_stat
 and GM302 passes ``terminated`` there.
 
 Pure: one def's ``ast`` in, pairs ``(flag parameter, next-state parameter)`` out, read
-from the body alone. The summary of a module (``facts/summaries.py``) records them per
+from the body alone. The summary of a module (``facts/summaries/``) records them per
 def, so a caller in another module of the run can ask (``ProjectView.bootstrap_masks``).
 """
 

@@ -1,5 +1,5 @@
 """What the run knows of one module: the small picklable ``ModuleSummary`` that
-``facts/summaries.py`` makes of each file and ``facts/project.py`` joins, and the
+``facts/summaries/`` makes of each file and ``facts/project.py`` joins, and the
 conventions of the names it holds (a kind not yet resolved: ``new:``, ``ref:``, ``param:``,
 ``@`` for a def of the module itself, ``?.`` for a call whose owner is unknown).
 """

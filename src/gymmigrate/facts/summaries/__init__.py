@@ -1,0 +1,151 @@
+"""One module's summary for the facts across the run (``facts/project.py`` joins it; the
+record is ``facts/module_summary.py``): its defs, its env classes, and the ``EnvKind`` of
+each argument it passes into other modules.
+
+Pure: text in, ``ModuleSummary`` out. Reading the files of a run, and mapping this over
+them on the worker pool, is the runner's.
+
+This module puts the summary together; each part is asked of its own module:
+``calls`` (the calls into the run and what they pass), ``untraced`` (seed and render
+calls on receivers the module cannot trace), ``exports`` (what its top-level names give),
+``defs`` (its top-level defs and names) and ``classes`` (its top-level classes).
+"""
+
+from __future__ import annotations
+
+import ast
+import os
+from collections.abc import Mapping
+from dataclasses import replace
+
+from gymmigrate.facts import pz_wrappers
+from gymmigrate.facts.creation import render_kept_classes
+from gymmigrate.facts.done_uses import top_level_records
+from gymmigrate.facts.env_classes import EnvClasses
+from gymmigrate.facts.env_specs import module_spec_lists
+from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
+from gymmigrate.facts.module_summary import ModuleSummary, Signature
+from gymmigrate.facts.receiver_classes import renders_nothing
+from gymmigrate.facts.receivers import Receivers
+from gymmigrate.facts.summaries.calls import CallSummarizer
+from gymmigrate.facts.summaries.classes import (
+    done_methods,
+    held_params,
+    plain_classes,
+    render_mode_heirs,
+    space_calls,
+    subclasses,
+)
+from gymmigrate.facts.summaries.defs import (
+    bootstrap_masks,
+    handed_on,
+    made_factories,
+    masks_of,
+    registrations,
+    signature,
+)
+from gymmigrate.facts.summaries.exports import Exports
+from gymmigrate.facts.summaries.untraced import UntracedCalls
+from gymmigrate.source_text import first_statement_line
+from gymmigrate.suppressions import skips_file
+
+__all__ = ["plain_classes", "space_calls", "summarize", "summarize_masks"]
+
+
+def summarize(path: str, text: str) -> ModuleSummary | None:
+    """The summary of one module's text (already screened by its reader), or None when it
+    does not parse."""
+    try:
+        tree = ast.parse(text)
+        facts = ModuleFacts(tree, text)
+        summary = _summary(facts, Receivers(facts), os.path.realpath(path))
+        return replace(summary, skips_file=True) if skips_file(text, first_statement_line(tree)) else summary
+    except Exception:  # noqa: BLE001  (the file's own run reports why; it just adds no facts)
+        return None
+
+
+def summarize_masks(path: str, text: str) -> ModuleSummary | None:
+    """The summary of a module with no Gym code: only the defs that mask bootstrapping
+    with a flag parameter (an agent's ``learn``, a memory's ``store``), for the callers of
+    the run (``facts/bootstrap.py``), and its record classes (a memory's ``Transition``).
+    None when it has neither or does not parse."""
+    try:
+        tree = ast.parse(text)
+    except (SyntaxError, ValueError):
+        return None
+    # Only the module's defs are read: no ModuleFacts (its indexes cost more than the parse).
+    functions = {s.name: s for s in tree.body if isinstance(s, FUNCTIONS)}
+    classes = {s.name: s for s in tree.body if isinstance(s, ast.ClassDef)}
+    masks = masks_of(functions, classes)
+    records = top_level_records(tree)
+    if not masks and not records:
+        return None
+    defs = {name: signature(_named(functions, classes, name), is_method="." in name) for name in masks}
+    return ModuleSummary(
+        os.path.realpath(path), defs, frozenset(), frozenset(), (), bootstrap_masks=masks, masks_only=True, record_classes=records
+    )
+
+
+def _named(
+    functions: Mapping[str, ast.FunctionDef | ast.AsyncFunctionDef], classes: Mapping[str, ast.ClassDef], qualname: str
+) -> ast.FunctionDef | ast.AsyncFunctionDef:
+    if "." not in qualname:
+        return functions[qualname]
+    owner, name = qualname.split(".", 1)
+    return next(s for s in classes[owner].body if isinstance(s, FUNCTIONS) and s.name == name)
+
+
+def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSummary:
+    defs: dict[str, Signature] = {}
+    for name, function in facts.functions.items():
+        defs[name] = signature(function, is_method=False)
+    env = EnvClasses.of(facts, receivers)
+    env_classes, render_mode = set(), set()
+    for name, classdef in facts.classes.items():
+        for statement in classdef.body:
+            if isinstance(statement, FUNCTIONS):
+                defs[f"{name}.{statement.name}"] = signature(statement, is_method=True)
+        if receivers.class_kind(classdef) is EnvKind.GYM_ENV or env.is_custom_env(classdef):
+            env_classes.add(name)
+            if env.takes_render_mode(classdef) and id(classdef) not in render_kept_classes(facts, receivers):
+                render_mode.add(name)
+    calls = CallSummarizer(facts, receivers)
+    untraced = UntracedCalls(calls)
+    exports = Exports(facts, receivers)
+    return ModuleSummary(
+        path,
+        defs,
+        frozenset(env_classes),
+        frozenset(render_mode),
+        tuple(calls.calls()),
+        untraced_seed_call=untraced.has_untraced_call("seed"),
+        untraced_render_call=untraced.has_untraced_call("render"),
+        render_makers=frozenset(untraced.render_makers),  # filled by the line above
+        imported=tuple(sorted(set(facts.imports.values()))),
+        exports=exports.exports(env_classes),
+        aliases=exports.aliases(),
+        star_imports=tuple(
+            "." * s.level + (s.module or "") for s in facts.tree.body if isinstance(s, ast.ImportFrom) and any(a.name == "*" for a in s.names)
+        ),
+        subclasses=subclasses(facts),
+        wrapper_classes=frozenset(name for name, classdef in facts.classes.items() if receivers.is_gym_wrapper_class(classdef)),
+        wrapping_helpers=frozenset(name for name, function in facts.functions.items() if receivers.wraps_argument(function)),
+        pz_wrappers=pz_wrappers.summarize(facts),
+        plain_classes=plain_classes(facts),
+        space_calls=space_calls(facts, receivers),
+        spec_lists=module_spec_lists(facts),
+        made_factories=made_factories(facts, receivers),
+        classes=frozenset(facts.classes),
+        bootstrap_masks=bootstrap_masks(facts),
+        record_classes=top_level_records(facts.tree),
+        done_methods=done_methods(facts),
+        render_mode_heirs=render_mode_heirs(facts, receivers),
+        registrations=registrations(facts),
+        held_params=held_params(facts, receivers),
+        handed_on=handed_on(facts),
+        silent_renders=frozenset(name for name, classdef in facts.classes.items() if renders_nothing(facts, classdef)),
+        legacy_steps=frozenset(
+            name for name, classdef in facts.classes.items() if name in env_classes and receivers.class_keeps_legacy_step(classdef)
+        ),
+    )

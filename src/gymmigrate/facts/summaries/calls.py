@@ -1,0 +1,338 @@
+"""The calls a module makes into other modules of the run, with the ``EnvKind`` of each
+argument (``CallSummary``): what the join (``facts/project.py``) needs to tell the kinds a
+run's defs are passed. The callee is a qualified name of the run, ``@name`` for a def of
+this module, or ``?.name`` for a method of an unknown owner; an argument it cannot classify
+here is a reference (``new:``, ``param:``) the join resolves.
+"""
+
+from __future__ import annotations
+
+import ast
+import re
+
+from gymmigrate.facts import names as N
+from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.module import (
+    FUNCTIONS,
+    ModuleFacts,
+    call_argument,
+    own_returns,
+    string_value,
+)
+from gymmigrate.facts.module_summary import (
+    GUARD_KINDS,
+    NEW,
+    OWN,
+    PARAM,
+    UNRESOLVED,
+    CallSummary,
+    Kind,
+)
+from gymmigrate.facts.receivers import Receivers
+
+# ``PongNoFrameskip-v4``, ``ALE/Pong-v5``, ``mod:Name-v0``: what the summaries keep of string arguments.
+_ENV_ID = re.compile(r"(?:[\w.]+:)?(?:\w+/)?[\w.-]+-v\d+")
+
+
+class CallSummarizer:
+    """The calls of one module into the run, and what they pass."""
+
+    def __init__(self, facts: ModuleFacts, receivers: Receivers) -> None:
+        self.facts = facts
+        self.receivers = receivers
+
+    def calls(self) -> list[CallSummary]:
+        """Every call of a name, then every call of an attribute, in the module's index order."""
+        calls = [c for calls in self.facts.calls_by_name.values() for call in calls for c in self._name_calls(call)]
+        calls += [c for call in (c for calls in self.facts.attribute_calls.values() for c in calls) for c in self._method_calls(call)]
+        return calls
+
+    def _call(self, call: ast.Call) -> CallSummary | None:
+        target = self._target(call.func)
+        if target is None:
+            return None
+        summary = self._arguments(call, target)
+        if target.startswith(UNRESOLVED):
+            kinds = {*summary.args, *(k for _, k in summary.keywords)}
+            return summary if kinds & GUARD_KINDS else None
+        return summary
+
+    def _name_calls(self, call: ast.Call) -> list[CallSummary]:
+        """``Agent(env)``; with ``Agent`` imported from several modules of the run
+        (``from agents.dqn import Agent`` in one branch, ``from agents.a2c import Agent`` in
+        another), one call of each: every binding may be the one called."""
+        found = self._call(call)
+        if found is not None:
+            return [found]
+        if self._own_target(call.func) is not None:
+            return []
+        targets = sorted({q for q in self.facts.qualified_names(call.func) if not N.is_library(q)})
+        if len(targets) < 2 or len(targets) != len(self.facts.qualified_names(call.func)):
+            return []  # a library binding among them: not all of the run's
+        return [self._arguments(call, target) for target in targets]
+
+    def _method_calls(self, call: ast.Call) -> list[CallSummary]:
+        """``x.fit(env)``; with ``x`` bound to instances of several classes of the run
+        (``algo = DDQN(...)`` in one branch, ``algo = A2C(...)`` in another), one call of
+        each class's method."""
+        found = self._call(call)
+        if found is not None or not isinstance(call.func, ast.Attribute) or not isinstance(call.func.value, ast.Name):
+            return [found] if found is not None else []
+        made = self._made_by_run_call(call.func.value)
+        if made is None or "|" not in made:
+            return []
+        return [self._arguments(call, f"{cls}.{call.func.attr}") for cls in made.split("|")]
+
+    def _target(self, func: ast.expr) -> str | None:
+        """The qualified callee in another module, ``@name`` for a def of this module
+        (``@Agent.fit`` for ``self.fit(...)``), ``?.name`` for a method of an unknown
+        owner, None for library calls."""
+        own = self._own_target(func)
+        if own is not None:
+            return own
+        qualified = self.facts.qualified_names(func)
+        if qualified:
+            found = sorted(q for q in qualified if not N.is_library(q))
+            return found[0] if len(found) == 1 else None
+        if isinstance(func, ast.Name):
+            return self._instance_call_target(func)
+        if not isinstance(func, ast.Attribute):
+            return None
+        owner = func.value
+        if isinstance(owner, ast.Name) and self.receivers.is_self(owner):
+            return None  # a method the class does not define (inherited)
+        cls = self.instance_class(owner)
+        if cls is not None:
+            return f"{cls}.{func.attr}" if not N.is_library(cls) else None
+        return UNRESOLVED + func.attr
+
+    def _instance_call_target(self, func: ast.Name) -> str | None:
+        """``Evaluator.__call__`` (qualified through the imports) for ``evaluate(env)``,
+        where ``evaluate`` holds an instance of a class of the run every way it is bound
+        (``evaluate = Evaluator(3)``, or passed so to the def whose parameter it is)."""
+        values = self.receivers.called_instances(func)
+        classes = set()
+        for value in values:
+            if not isinstance(value, ast.Call):
+                return None
+            local = self.receivers.local_class(value.func)
+            if local is not None:
+                if self.facts.classes.get(local.name) is not local:
+                    return None
+                classes.add(OWN + local.name)
+                continue
+            found = [q for q in self.facts.qualified_names(value.func) if not N.is_library(q)]
+            if len(found) != 1 or "." not in found[0]:
+                return None
+            classes.add(found[0])
+        if len(classes) != 1:
+            return None
+        return f"{classes.pop()}.__call__"
+
+    def _own_target(self, func: ast.expr) -> str | None:
+        function = self.receivers.local_function(func)
+        if function is not None:
+            return OWN + function.name
+        classdef = self.receivers.local_class(func)
+        if classdef is not None:
+            return OWN + f"{classdef.name}.__init__"
+        method = self.receivers.own_method(func)
+        if method is not None:
+            owner = self.facts.parent(method)
+            # own_method takes the def from the class body, so owner is always that ClassDef
+            if isinstance(owner, ast.ClassDef) and self.facts.parent(owner) is self.facts.tree:
+                return OWN + f"{owner.name}.{method.name}"
+        return None
+
+    def instance_class(self, owner: ast.expr) -> str | None:
+        """``Agent`` (qualified through the imports) for ``Agent(...)``, a name or a
+        ``self.x`` every binding of which is ``Agent(...)``; None otherwise."""
+        if isinstance(owner, ast.Call):
+            found = self.facts.qualified_names(owner.func)
+            return next(iter(found)) if len(found) == 1 else None
+        if isinstance(owner, ast.Name):
+            # One answer per set of bindings: a name read n times is resolved once.
+            bindings = self.facts.bindings_of(owner)
+            if not bindings:
+                return None  # (an empty list is a fresh object: its id is no key)
+            return self.facts.memo(("instance-class", id(bindings)), lambda: self._class_of_bindings(bindings))
+        if isinstance(owner, ast.Attribute) and isinstance(owner.value, ast.Name) and self.receivers.is_self(owner.value):
+            values = list(self.receivers.self_attribute_values(owner, owner.attr))
+        else:
+            return None
+        return self._class_of_values(values)
+
+    def _class_of_bindings(self, bindings: list[ast.AST]) -> str | None:
+        values = []
+        for binding in bindings:
+            parent = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
+            if not isinstance(parent, ast.Assign):
+                return None
+            values.append(parent.value)
+        return self._class_of_values(values)
+
+    def _class_of_values(self, values: list[ast.expr]) -> str | None:
+        classes = {self.instance_class(v) if isinstance(v, ast.Call) else None for v in values}
+        return classes.pop() if len(classes) == 1 else None
+
+    def _arguments(self, call: ast.Call, target: str) -> CallSummary:
+        args: list[Kind] = []
+        open_ended = False
+        for argument in call.args:
+            if isinstance(argument, ast.Starred):
+                open_ended = True
+                break
+            args.append(self._kind(argument))
+        keywords = []
+        for keyword in call.keywords:
+            if keyword.arg is None:
+                open_ended = True
+            else:
+                keywords.append((keyword.arg, self._kind(keyword.value)))
+        ids = [(str(i), text) for i, a in enumerate(call.args) if (text := self._env_id(a)) is not None]
+        ids += [(k.arg, text) for k in call.keywords if k.arg is not None and (text := self._env_id(k.value)) is not None]
+        return CallSummary(target, tuple(args), tuple(keywords), open_ended, tuple(ids), getattr(call, "lineno", 0))
+
+    def _env_id(self, argument: ast.expr) -> str | None:
+        """An env id the argument certainly is: a literal ``"Name-v4"``, or a module-level
+        name bound once to one (``ENV = "PongNoFrameskip-v4"``)."""
+        if isinstance(argument, ast.Name):
+            bindings = self.facts.module_scope.bindings.get(argument.id, [])
+            if self.facts.bindings_of(argument) != bindings or len(bindings) != 1:
+                return None
+            assign = self.facts.parent(bindings[0])
+            if not (isinstance(assign, ast.Assign) and assign.targets == [bindings[0]]):
+                return None
+            argument = assign.value
+        text = string_value(argument) if isinstance(argument, ast.Constant) else None
+        return text if text is not None and _ENV_ID.fullmatch(text) else None
+
+    def _kind(self, argument: ast.expr) -> Kind:
+        """The argument's kind; ``new:agent.GridEnv`` for an instance of a class this
+        module imports, which the join resolves against the env classes of the run."""
+        kind = self.receivers.kind_of(argument)
+        if kind is EnvKind.NOT_ENV and self._env_like_instance(argument, 0):
+            # The project's own reset/step object (``Holder(Board())``): not NOT_ENV, which
+            # a Gym env passed by another caller outweighs in the join; the def is asked about.
+            return EnvKind.OWN_API
+        if kind is EnvKind.UNKNOWN and isinstance(argument, ast.Call):
+            found = [q for q in self.facts.qualified_names(argument.func) if not N.is_library(q)]
+            if len(found) == 1:
+                return NEW + found[0]
+            own = self._own_factory(argument.func)
+            if own is not None:
+                return NEW + own  # ``Holder(create_env(name))``: what the run says ``create_env`` gives
+        if kind is EnvKind.UNKNOWN and isinstance(argument, ast.Name):
+            parameter = self._parameter_of_def(argument)
+            if parameter is not None:
+                return parameter
+            made = self._made_by_run_call(argument) or self._made_by_passed_class(argument)
+            if made is not None:
+                return NEW + made  # ``env = pkg.make_benchmark(...)``; ``run(env)``
+        return kind
+
+    def _made_by_passed_class(self, name: ast.Name) -> str | None:
+        """``env_instance = env_class(config)`` in a top-level def that this module's every
+        call passes classes imported from the run for ``env_class`` (``test(env_class=
+        TradeEnv)``): those classes' names, joined by ``|``, for the join to resolve."""
+        bindings = self.facts.bindings_of(name)
+        if len(bindings) != 1 or not isinstance(bindings[0], ast.Name):
+            return None
+        statement = self.facts.parent(bindings[0])
+        if not (isinstance(statement, ast.Assign) and statement.targets == [bindings[0]] and isinstance(statement.value, ast.Call)):
+            return None
+        func = statement.value.func
+        params = self.facts.bindings_of(func) if isinstance(func, ast.Name) else []
+        if len(params) != 1 or not isinstance(params[0], ast.arg):
+            return None
+        param = params[0]
+        function = self.facts.parent(self.facts.parent(param))
+        if not isinstance(function, FUNCTIONS) or self.facts.functions.get(function.name) is not function:
+            return None  # a top-level def: its call sites are this module's own
+        if function.args.vararg is not None or function.args.kwarg is not None:
+            return None
+        positional = [*function.args.posonlyargs, *function.args.args]
+        position = next((i for i, p in enumerate(positional) if p is param), None)
+        found: set[str] = set()
+        calls = self.receivers.call_sites(function, None)
+        for call in calls:
+            argument = call_argument(call, position, param.arg)
+            if argument is None:
+                return None
+            qualified = [q for q in self.facts.qualified_names(argument) if not N.is_library(q)]
+            if len(qualified) != 1 or "." not in qualified[0]:
+                return None
+            found.add(qualified[0])
+        return "|".join(sorted(found)) if found else None
+
+    def _made_by_run_call(self, name: ast.Name) -> str | None:
+        """The names of the run (imported, no library's) the bindings of ``name`` call,
+        joined by ``|``: ``env = nasim.make_benchmark(...)``, or ``env = AtariEnvironment(args)``
+        in one branch and ``env = Environment(gym.make(id))`` in the other; None when a
+        binding calls anything else."""
+        bindings = self.facts.bindings_of(name)
+        found: set[str] = set()
+        for binding in bindings:
+            statement = self.facts.parent(binding)
+            if not (isinstance(binding, ast.Name) and isinstance(statement, ast.Assign) and statement.targets == [binding]):
+                return None
+            value = statement.value
+            if not isinstance(value, ast.Call):
+                return None
+            qualified = [q for q in self.facts.qualified_names(value.func) if not N.is_library(q)]
+            if len(qualified) != 1 or "." not in qualified[0]:
+                own = self._own_factory(value.func)
+                if own is None:
+                    return None
+                qualified = [own]
+            found.add(qualified[0])
+        return "|".join(sorted(found)) if found else None
+
+    def _env_like_instance(self, value: ast.expr, depth: int) -> bool:
+        """An instance of a plain class of this module with a reset or step of its own:
+        ``Board()``, a name bound to one, or a def of this module returning one."""
+        if depth > 4:
+            return False
+        if isinstance(value, ast.Name):
+            bindings = self.facts.bindings_of(value)
+            statements = [self.facts.parent(b) for b in bindings if isinstance(b, ast.Name)]
+            values = [s.value for s in statements if isinstance(s, ast.Assign)]
+            return bool(values) and len(values) == len(bindings) and any(self._env_like_instance(v, depth + 1) for v in values)
+        if not isinstance(value, ast.Call):
+            return False
+        classdef = self.receivers.local_class(value.func)
+        if classdef is not None:
+            return self.receivers.class_kind(classdef) is EnvKind.NOT_ENV and any(
+                isinstance(s, FUNCTIONS) and s.name in ("reset", "step") for s in classdef.body
+            )
+        function = self.receivers.local_function(value.func)
+        return function is not None and any(
+            r.value is not None and self._env_like_instance(r.value, depth + 1) for r in own_returns(function)
+        )
+
+    def _own_factory(self, func: ast.expr) -> str | None:
+        """``@create_env`` for a top-level def of this module whose returns its own module
+        cannot classify (``return wrappers.wrap(wrappers.make_atari(name))``, calls of
+        another module of the run): the join knows what calling it gives (``call_kinds``)."""
+        function = self.receivers.local_function(func)
+        if function is None or self.facts.functions.get(function.name) is not function:
+            return None
+        return OWN + function.name
+
+    def _parameter_of_def(self, name: ast.Name) -> str | None:
+        """``param:Agent.fit:env`` when ``name`` is only ever the parameter ``env`` of a def
+        the summary lists: the join gives it the kinds the run passes there."""
+        bindings = self.facts.bindings_of(name)
+        if len(bindings) != 1 or not isinstance(bindings[0], ast.arg):
+            return None
+        function = self.facts.parent(self.facts.parent(bindings[0]))
+        if not isinstance(function, FUNCTIONS):
+            return None
+        holder = self.facts.parent(function)
+        if holder is self.facts.tree:
+            qualname = function.name
+        elif isinstance(holder, ast.ClassDef) and self.facts.parent(holder) is self.facts.tree:
+            qualname = f"{holder.name}.{function.name}"
+        else:
+            return None
+        return f"{PARAM}{qualname}:{name.id}"

@@ -1,0 +1,146 @@
+"""What a module's top-level classes tell the run: the space classes their ``action_space``
+and ``observation_space`` are made of, which certainly are no Spaces, the attributes a
+plain class holds from its constructor, the subclasses of the run's classes with what
+they override, hand on (``render_mode``) and say of their done values."""
+
+from __future__ import annotations
+
+import ast
+
+from gymmigrate.facts import names as N
+from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.limits import Cause, DoneCause, DoneTracer
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
+from gymmigrate.facts.module_summary import OWN
+from gymmigrate.facts.receivers import Receivers
+
+_SPACE_ATTRIBUTES = ("action_space", "observation_space")
+
+
+def space_calls(facts: ModuleFacts, receivers: Receivers) -> dict[str, tuple[tuple[str, str], ...]]:
+    """``self.action_space = C(...)`` / ``self.observation_space = C(...)`` in the methods
+    of each top-level class: (attribute, ``C`` qualified, or ``@C`` for a class here)."""
+    found: dict[str, tuple[tuple[str, str], ...]] = {}
+    for name, classdef in facts.classes.items():
+        stores = receivers.self_stores(classdef)
+        calls = []
+        for attribute in _SPACE_ATTRIBUTES:
+            for value in stores.get(attribute, ()):
+                if not isinstance(value, ast.Call):
+                    continue
+                local = receivers.local_class(value.func)
+                if local is not None:
+                    calls.append((attribute, OWN + local.name))
+                    continue
+                qualified = [q for q in facts.qualified_names(value.func) if not N.is_library(q)]
+                if len(qualified) == 1:
+                    calls.append((attribute, qualified[0]))
+        if calls:
+            found[name] = tuple(calls)
+    return found
+
+
+_PLAIN_BASES = frozenset({"list", "tuple", "dict", "object"})
+
+
+def plain_classes(facts: ModuleFacts) -> dict[str, str]:
+    """Top-level classes that certainly are not Spaces: no base, or only builtin
+    containers (``class MultiAgentActionSpace(list)``), with what they derive from."""
+    found = {}
+    for name, classdef in facts.classes.items():
+        if classdef.keywords or classdef.decorator_list:
+            continue  # a metaclass or a decorator may make it anything
+        bases = []
+        for base in classdef.bases:
+            if not (isinstance(base, ast.Name) and base.id in _PLAIN_BASES and not facts.module_scope.bindings.get(base.id)):
+                break
+            bases.append(base.id)
+        else:
+            found[name] = ", ".join(bases) or "object"
+    return found
+
+
+def held_params(facts: ModuleFacts, receivers: Receivers) -> dict[str, dict[str, str]]:
+    """``ModuleSummary.held_params``: per top-level plain class, the attributes its methods
+    store only from a parameter of its ``__init__`` that nothing rebinds."""
+    found: dict[str, dict[str, str]] = {}
+    for name, classdef in facts.classes.items():
+        init = next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == "__init__"), None)
+        if init is None or receivers.class_kind(classdef) is not EnvKind.NOT_ENV:
+            continue
+        params = {a.arg for a in (*init.args.posonlyargs, *init.args.args[1:], *init.args.kwonlyargs)}
+        held = {}
+        for attribute, values in receivers.self_stores(classdef).items():
+            if len(values) != 1 or not isinstance(values[0], ast.Name) or values[0].id not in params:
+                continue
+            bindings = facts.bindings_of(values[0])
+            if len(bindings) == 1 and isinstance(bindings[0], ast.arg) and facts.enclosing_function(values[0]) is init:
+                held[attribute] = values[0].id
+        if held:
+            found[name] = held
+    return found
+
+
+def render_mode_heirs(facts: ModuleFacts, receivers: Receivers) -> tuple[tuple[str, tuple[str, ...], bool], ...]:
+    """Top-level classes with a base of the run (imported, or ``@Name`` of this module):
+    (name, bases, whether its constructor hands ``render_mode`` on once its base takes it:
+    no ``__init__`` of its own, ``**kwargs``, or one ``__init__`` call of a base that
+    custom_env/render.py gives ``render_mode=render_mode``)."""
+    found = []
+    for name, classdef in facts.classes.items():
+        bases = []
+        for base in classdef.bases:
+            local = receivers.local_class(base)
+            if local is not None and local is not classdef:
+                bases.append(OWN + local.name)
+            else:
+                bases.extend(q for q in facts.qualified_names(base) if not N.is_library(q))
+        if not bases:
+            continue
+        init = next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == "__init__"), None)
+        if "gym" not in facts.text:
+            passes_on = False  # the env-class rules never run here (EnvClassFamily.may_fire)
+        elif init is None or init.args.kwarg is not None:
+            passes_on = True
+        else:
+            calls = [n for n in ast.walk(init) if isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute) and n.func.attr == "__init__"]
+            passes_on = len(calls) == 1 and all(k.arg is not None for k in calls[0].keywords)
+        found.append((name, tuple(sorted(bases)), passes_on))
+    return tuple(found)
+
+
+def subclasses(facts: ModuleFacts) -> tuple[tuple[str, tuple[str, ...], tuple[str, ...]], ...]:
+    """Top-level classes with an imported base: (name, the bases' qualified names, the
+    methods it defines). The join finds which methods of the run's classes are overridden
+    in other modules (method contracts follow their class: rules/custom_env/hooks.py)."""
+    found = []
+    for name, classdef in facts.classes.items():
+        bases = tuple(sorted(q for base in classdef.bases for q in facts.qualified_names(base) if not N.is_library(q)))
+        if bases:
+            methods = tuple(s.name for s in classdef.body if isinstance(s, FUNCTIONS))
+            found.append((name, bases, methods))
+    return tuple(found)
+
+
+def done_methods(facts: ModuleFacts) -> dict[str, dict[str, DoneCause]]:
+    """For each class with an imported base, why its self-only methods' values are True:
+    a subclass's ``def _computeDone(self): return self.t > self.T`` tells its base class in
+    another module that the done of its ``step`` is a step limit (facts/limits.py)."""
+    found: dict[str, dict[str, DoneCause]] = {}
+    for name, classdef in facts.classes.items():
+        if not any(not N.is_library(q) for base in classdef.bases for q in facts.qualified_names(base)):
+            continue
+        tracer = DoneTracer(facts, classdef)
+        methods = {}
+        for statement in classdef.body:
+            if not isinstance(statement, FUNCTIONS) or len(statement.args.args) != 1 or statement.args.vararg or statement.args.kwonlyargs:
+                continue
+            if not any(r.value is not None for r in own_returns(statement)):
+                continue
+            try:
+                methods[statement.name] = tracer.returns_cause(statement, 0)
+            except RecursionError:  # a pathological nesting: the override counts as untraced
+                methods[statement.name] = DoneCause(Cause.UNKNOWN)
+        if methods:
+            found[name] = methods
+    return found

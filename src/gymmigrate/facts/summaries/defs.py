@@ -1,0 +1,145 @@
+"""What a module's top-level defs and names tell the run: each def's signature, the defs
+that mask bootstrapping with a flag parameter, the defs that return a ``make(...)``
+result, the imported names of the run it hands on uncalled, and its ``register`` calls."""
+
+from __future__ import annotations
+
+import ast
+from collections.abc import Mapping
+
+from gymmigrate.facts import names as N
+from gymmigrate.facts.bootstrap import next_state_masks
+from gymmigrate.facts.module import (
+    FUNCTIONS,
+    ModuleFacts,
+    call_argument,
+    own_returns,
+    string_value,
+)
+from gymmigrate.facts.module_summary import Signature
+from gymmigrate.facts.receivers import Receivers
+
+
+def signature(function: ast.FunctionDef | ast.AsyncFunctionDef, is_method: bool) -> Signature:
+    args = function.args
+    positional = [*args.posonlyargs, *args.args]
+    with_default = positional[len(positional) - len(args.defaults) :]
+    defaults = {a.arg for a in with_default}
+    defaults |= {a.arg for a, d in zip(args.kwonlyargs, args.kw_defaults) if d is not None}
+    params = tuple(a.arg for a in (*positional, *args.kwonlyargs))
+    return Signature(params, frozenset(defaults), is_method)
+
+
+def bootstrap_masks(facts: ModuleFacts) -> dict[str, frozenset[tuple[str, str]]]:
+    """Top-level defs and methods of top-level classes whose flag parameter masks
+    bootstrapping from a next-state parameter (``facts/bootstrap.py``)."""
+    return masks_of(facts.functions, facts.classes)
+
+
+def masks_of(
+    functions: Mapping[str, ast.FunctionDef | ast.AsyncFunctionDef], classes: Mapping[str, ast.ClassDef]
+) -> dict[str, frozenset[tuple[str, str]]]:
+    found: dict[str, frozenset[tuple[str, str]]] = {}
+    defs = list(functions.items())
+    defs += [
+        (f"{name}.{statement.name}", statement)
+        for name, classdef in classes.items()
+        for statement in classdef.body
+        if isinstance(statement, FUNCTIONS)
+    ]
+    for qualname, function in defs:
+        masks = next_state_masks(function)
+        if masks:
+            found[qualname] = masks
+    return found
+
+
+def made_factories(facts: ModuleFacts, receivers: Receivers | None = None) -> frozenset[str]:
+    """Top-level defs every return of which is a ``make(...)`` result, maybe wrapped in Gym
+    wrappers and kept in a local name first (``env = gym.make(key); env.seed(s); return env``);
+    with ``receivers``, the module's own Gym wrapper classes around a made env count as Gym
+    wrappers too (``env = FireReset(env)``)."""
+    found = set()
+    for name, function in facts.functions.items():
+        values = [r.value for r in own_returns(function)]
+        if values and all(v is not None and _made(facts, v, function, 0, receivers) for v in values):
+            found.add(name)
+    return frozenset(found)
+
+
+def _made(facts: ModuleFacts, value: ast.expr, function: ast.AST, depth: int, receivers: Receivers | None = None) -> bool:
+    if depth > 8:
+        return False
+    if isinstance(value, ast.Call):
+        for q in facts.qualified_names(value.func):
+            rest = N.strip_gym_prefix(q)
+            if rest in N.GYM_ENV_FACTORIES:
+                return True
+        if _is_gym_wrapper(facts, value.func, receivers) and value.args:
+            return _made(facts, value.args[0], function, depth + 1, receivers)  # a wrapper around a made env
+        return False
+    if not isinstance(value, ast.Name):
+        return False
+    bindings = facts.bindings_of(value)
+    if not bindings:
+        return False
+    for binding in bindings:
+        assign = facts.parent(binding) if isinstance(binding, ast.Name) else None
+        if not (isinstance(assign, ast.Assign) and assign.targets == [binding]) or facts.enclosing_function(assign) is not function:
+            return False
+        wrapped = assign.value.args[0] if isinstance(assign.value, ast.Call) and assign.value.args else None
+        if isinstance(wrapped, ast.Name) and wrapped.id == value.id and _is_gym_wrapper(facts, assign.value.func, receivers):  # type: ignore[attr-defined]
+            continue  # ``env = TimeLimit(env)``: as made as the env's other values
+        if not _made(facts, assign.value, function, depth + 1, receivers):
+            return False
+    return True
+
+
+def _is_gym_wrapper(facts: ModuleFacts, func: ast.expr, receivers: Receivers | None = None) -> bool:
+    if receivers is not None:
+        local = receivers.local_class(func)
+        if local is not None:
+            return receivers.is_gym_wrapper_class(local)
+    for q in facts.qualified_names(func):
+        rest = N.strip_gym_prefix(q)
+        if rest is not None and rest.startswith("wrappers.") and not rest.startswith("wrappers.vector."):
+            return True
+    return False
+
+
+def handed_on(facts: ModuleFacts) -> frozenset[str]:
+    """``ModuleSummary.handed_on``: imported names of the run (``make_env``, ``wrappers.make_env``)
+    read anywhere in the module other than as the callee of a call."""
+    imported = {}
+    for name, bindings in facts.module_scope.bindings.items():
+        if len(bindings) == 1 and isinstance(bindings[0], ast.alias):
+            qualified = facts.imports.get(bindings[0])
+            if qualified is not None and not N.is_library(qualified):
+                imported[name] = qualified
+    found = set()
+    for scope in facts.scopes.values() if imported else ():
+        for name in imported.keys() & scope.reads.keys():
+            qualified = imported[name]
+            for read in scope.reads[name]:
+                node: ast.AST = read
+                parent = facts.parent(read)
+                shown = qualified
+                if isinstance(parent, ast.Attribute) and parent.value is read:
+                    node, shown = parent, f"{qualified}.{parent.attr}"
+                    parent = facts.parent(parent)
+                if not (isinstance(parent, ast.Call) and parent.func is node):
+                    found.add(shown)
+    return frozenset(found)
+
+
+def registrations(facts: ModuleFacts) -> tuple[tuple[str | None, str], ...]:
+    """``register(id=..., entry_point="pkg.mod:Class")`` calls: (the id if a literal, the entry point)."""
+    found = []
+    for call in (*facts.calls_by_name.get("register", ()), *facts.attribute_calls.get("register", ())):
+        entry = call_argument(call, 1, "entry_point")
+        text = string_value(entry) if entry is not None else None
+        if text is None or ":" not in text:
+            continue
+        env_id = call_argument(call, 0, "id")
+        found.append((string_value(env_id) if env_id is not None else None, text))
+    return tuple(found)

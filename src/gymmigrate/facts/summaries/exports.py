@@ -1,0 +1,122 @@
+"""What the top-level names of a module give to the modules that import them: every
+name's ``Kind`` when called (``ModuleSummary.exports``), and the names bound to a Gym
+callable (``ModuleSummary.aliases``)."""
+
+from __future__ import annotations
+
+import ast
+
+from gymmigrate.facts import names as N
+from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
+from gymmigrate.facts.module_summary import REF, Kind
+from gymmigrate.facts.receiver_classes import duck_wrapper_param
+from gymmigrate.facts.receivers import Receivers
+
+
+class Exports:
+    """The exports and aliases of one module."""
+
+    def __init__(self, facts: ModuleFacts, receivers: Receivers) -> None:
+        self.facts = facts
+        self.receivers = receivers
+
+    def exports(self, env_classes: set[str]) -> dict[str, Kind]:
+        """Every top-level name the module binds with what calling it gives (see
+        ``ModuleSummary.exports``)."""
+        exports: dict[str, Kind] = {}
+        for name, bindings in self.facts.module_scope.bindings.items():
+            kinds = {self._export(name, binding, env_classes) for binding in bindings}
+            kinds.discard(None)
+            if len(kinds) == 1:
+                exports[name] = kinds.pop()  # type: ignore[assignment]
+            elif kinds:
+                exports[name] = EnvKind.UNKNOWN
+        return exports
+
+    def _export(self, name: str, binding: ast.AST, env_classes: set[str]) -> Kind | None:
+        if isinstance(binding, ast.alias):
+            return self._reference(self.facts.imports[binding])
+        if isinstance(binding, ast.ClassDef):
+            kind = self.receivers.class_kind(binding)
+            if name in env_classes and kind is not EnvKind.OWN_API:
+                kind = EnvKind.GYM_ENV
+            if kind is EnvKind.NOT_ENV and duck_wrapper_param(binding) is not None:
+                # A duck wrapper its own module cannot prove (other modules build it): what
+                # its instances are is decided where they are made, never "no env".
+                return EnvKind.UNKNOWN
+            if kind is EnvKind.UNKNOWN:
+                # ``class Hunter(HuntEnv)`` with ``HuntEnv`` from another module of the run.
+                # With several such bases (``class Flock(BaseAviary, MultiAgentEnv)``), the
+                # first one's, as ``class_kind`` takes the first base that says anything.
+                for base in binding.bases:
+                    run_bases = [q for q in self.facts.qualified_names(base) if not N.is_library(q)]
+                    if len(run_bases) == 1:
+                        return REF + run_bases[0]
+                    if run_bases:
+                        break
+            return kind
+        if isinstance(binding, FUNCTIONS):
+            kind = self.receivers.returns_kind(binding)
+            if kind is EnvKind.UNKNOWN:
+                # ``def make_benchmark(...): return NASimEnv(scenario, **kwargs)`` with the class
+                # imported from another module of the run: what calling that name gives
+                made = self._returned_run_call(binding)
+                if made is not None:
+                    return REF + made
+            return kind
+        if isinstance(binding, ast.Name):
+            parent = self.facts.parent(binding)
+            if isinstance(parent, ast.Assign) and len(parent.targets) == 1 and parent.targets[0] is binding:
+                value = parent.value
+                if isinstance(value, (ast.Name, ast.Attribute)):
+                    qualified = self.facts.qualified_names(value)
+                    if len(qualified) == 1:
+                        return self._reference(qualified.pop())  # ``make = gym.make``
+                    return self.receivers.returned_kind(value)
+                if isinstance(value, ast.Call):
+                    # ``parallel_env = parallel_wrapper_fn(env)``: a factory made by a factory.
+                    if any(q.endswith(".parallel_wrapper_fn") for q in self.facts.qualified_names(value.func)):
+                        return EnvKind.PZ_PARALLEL
+                    return self.receivers.returned_kind(value)
+        return EnvKind.UNKNOWN
+
+    def _returned_run_call(self, function: ast.FunctionDef | ast.AsyncFunctionDef) -> str | None:
+        """The one imported name every return of ``function`` calls (``return Env(...)``),
+        when it is no library's; else None."""
+        found: set[str] = set()
+        for ret in own_returns(function):
+            value = ret.value
+            if not (isinstance(value, ast.Call) and isinstance(value.func, (ast.Name, ast.Attribute))):
+                return None
+            qualified = self.facts.qualified_names(value.func)
+            if len(qualified) != 1:
+                return None
+            name = next(iter(qualified))
+            if N.is_library(name) or "." not in name:
+                return None  # a library's, or a name of this module (``returns_kind`` judged it)
+            found.add(name)
+        return found.pop() if len(found) == 1 else None
+
+    def aliases(self) -> dict[str, str]:
+        """Top-level names bound to a Gym callable: ``make = gym.make``, ``from gym import make``."""
+        found: dict[str, str] = {}
+        for name, bindings in self.facts.module_scope.bindings.items():
+            if len(bindings) != 1:
+                continue
+            binding = bindings[0]
+            if isinstance(binding, ast.alias):
+                qualified = {self.facts.imports[binding]}
+            elif isinstance(binding, ast.Name) and isinstance(assign := self.facts.parent(binding), ast.Assign) and isinstance(assign.value, (ast.Name, ast.Attribute)):
+                qualified = self.facts.qualified_names(assign.value)
+            else:
+                continue
+            if len(qualified) == 1 and N.strip_gym_prefix(next(iter(qualified))) is not None:
+                found[name] = qualified.pop()
+        return found
+
+    def _reference(self, qualified: str) -> Kind:
+        if not N.is_library(qualified):
+            return REF + qualified
+        kind = self.receivers.kind_from_qualified(qualified, ast.Call(func=ast.Name(id="_"), args=[], keywords=[]))
+        return kind if kind is not None else EnvKind.UNKNOWN

@@ -1,0 +1,112 @@
+"""``x.seed(...)`` / ``x.render(mode)`` calls a module makes on receivers it cannot trace:
+the join keeps the ``seed`` and ``render(mode)`` of the run's env classes that such a call
+may reach (``ModuleSummary.untraced_seed_call``, ``untraced_render_call``,
+``render_makers``).
+"""
+
+from __future__ import annotations
+
+import ast
+
+from gymmigrate.facts import names as N
+from gymmigrate.facts.creation import CreationFinder, passes_mode
+from gymmigrate.facts.decisions import Action, decide
+from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.profile import FileProfile
+from gymmigrate.facts.summaries.calls import CallSummarizer
+
+
+class UntracedCalls:
+    """Asks of one module's seed and render calls, with the classes its call summaries
+    resolve (``CallSummarizer.instance_class``)."""
+
+    def __init__(self, calls: CallSummarizer) -> None:
+        self.render_makers: set[str] = set()  # what made the receivers of render(mode) calls (run names)
+        self.calls = calls
+        self.facts = calls.facts
+        self.receivers = calls.receivers
+
+    def has_untraced_call(self, method: str) -> bool:
+        """``x.seed(...)`` / ``x.render(mode)`` on a receiver this module cannot trace."""
+        for call in self.facts.attribute_calls.get(method, ()):
+            receiver = call.func.value  # type: ignore[attr-defined]
+            if isinstance(receiver, ast.Name) and receiver.id == "self":
+                continue  # a class's own call: decided with that class
+            if isinstance(receiver, ast.Call) and isinstance(receiver.func, ast.Name) and receiver.func.id == "super":
+                continue
+            if method == "render" and not passes_mode(call, self.facts):
+                continue  # a bare render() (the Gymnasium call), or a render method forwarding
+            kind = self.receivers.kind_of(receiver)
+            if method == "render" and kind is EnvKind.GYM_ENV and _keeps_mode(call):
+                return True  # a Gym env the rendering rules leave passing its mode: any class's render
+            if method == "render" and kind in (EnvKind.GYM_ENV, EnvKind.UNKNOWN):
+                made_by = self.calls.instance_class(receiver)
+                if made_by is not None and not N.is_library(made_by) and not self._made_here(receiver):
+                    # ``env = pkg.make_board()``: the join tells a class of the run (its
+                    # construction takes the mode, GM401) from a def, where no mode can move
+                    self.render_makers.add(made_by)
+                    continue
+            if method == "seed" and kind is EnvKind.GYM_ENV and self._in_own_seed_method(call):
+                # ``def seed(self, s): for env in self.envs: env.seed(s)`` of a plain class: the
+                # seed rules leave it (or send it to ``env.unwrapped.seed``), so the env classes
+                # it may build keep their seed()
+                return True
+            if kind is not EnvKind.UNKNOWN:
+                continue
+            if method == "seed" and self._seed_call_rewritten_here(call):
+                continue  # GM203 makes it reset(seed=...) in this run: no seed() caller is left
+            made_by = self.calls.instance_class(receiver)
+            if made_by is not None and not N.is_library(made_by):
+                continue  # an instance of a class it imports: the run knows that class
+            return True
+        return False
+
+    def _made_here(self, receiver: ast.AST) -> bool:
+        """``receiver`` goes back to a ``make`` (or a construction of an env class of this
+        module): where the rendering rules move a literal mode to (GM401)."""
+        facts, receivers = self.facts, self.receivers
+
+        def is_creation(call: ast.Call) -> bool:
+            return receivers.local_class(call.func) is not None or any(
+                N.strip_gym_prefix(q) in N.GYM_ENV_FACTORIES for q in facts.qualified_names(call.func)
+            )
+
+        finder = facts.memo(("summary-make-finder", 0), lambda: CreationFinder(facts, receivers, is_creation))
+        return finder.find(receiver).found
+
+    def _in_own_seed_method(self, call: ast.Call) -> bool:
+        """``call`` sits in a ``seed()`` of a plain class (or a def): the project's own, not
+        the Gym hook of an env or wrapper class."""
+        function = self.facts.enclosing_function(call)
+        if function is None or function.name != "seed":
+            return False
+        classdef = self.facts.enclosing_class(function)
+        return classdef is None or not (
+            self.receivers.class_kind(classdef) is EnvKind.GYM_ENV or self.receivers.is_gym_wrapper_class(classdef)
+        )
+
+    def _seed_call_rewritten_here(self, call: ast.Call) -> bool:
+        """``env.seed(s)`` as a statement, with one seed, on an untraced receiver that GM203
+        rewrites anyway (an env-like name in a file that uses only Gym). Counting it as a
+        caller kept a class's seed() in one run and removed it in the next."""
+        if not isinstance(self.facts.parent(call), ast.Expr) or len(call.args) + len(call.keywords) != 1:
+            return False
+        if (call.args and isinstance(call.args[0], ast.Starred)) or (call.keywords and call.keywords[0].arg != "seed"):
+            return False
+        function = self.facts.enclosing_function(call)
+        if function is not None and function.name == "seed":
+            return False
+        receiver = call.func.value  # type: ignore[attr-defined]
+        profile = FileProfile.from_source(self.facts.text)
+        return decide(EnvKind.UNKNOWN, receiver, profile).action is Action.REWRITE_FOR_REVIEW
+
+
+def _keeps_mode(call: ast.Call) -> bool:
+    """A render call on a Gym env that the rendering rules report and leave passing its
+    mode (GM401): a mode that is not a string literal, or other arguments beside it
+    (``env.render(mode="rgb_array", tile_size=8)`` on an env class that takes them)."""
+    mode = next((k.value for k in call.keywords if k.arg == "mode"), None)
+    if mode is None and call.args:
+        mode = call.args[0]
+    others = len(call.args) + len(call.keywords) - 1
+    return others > 0 or not (isinstance(mode, ast.Constant) and isinstance(mode.value, str))
