@@ -325,6 +325,24 @@ class ModuleFacts:
     def bindings_of(self, name: ast.Name) -> list[ast.AST]:
         return self.resolve(name.id, self.scope_of(name))[1]
 
+    def assigned_values(self, name: ast.Name, *, sole_target: bool = False) -> list[ast.expr] | None:
+        """The values of every ``name = ...`` binding of ``name``; None when one binds it
+        otherwise (a parameter, a loop or tuple target, an import...).
+
+        ``sole_target``: ``a = b = value`` counts as bound otherwise too. The parameter
+        analysis (``receiver_params.py``) has only ever followed single-target assignments,
+        and taking chained ones there would change what it concludes of a callee.
+        """
+        values: list[ast.expr] = []
+        for binding in self.bindings_of(name):
+            parent = self.parent(binding) if isinstance(binding, ast.Name) else None
+            if not isinstance(parent, ast.Assign):
+                return None
+            if (parent.targets != [binding]) if sole_target else (binding not in parent.targets):
+                return None
+            values.append(parent.value)
+        return values
+
     def qualified_names(self, expr: ast.AST) -> set[str]:
         """Library names ``expr`` stands for through imports: ``gym.make`` -> {"gym.make"}."""
         if isinstance(expr, ast.Name):

@@ -250,21 +250,13 @@ class ParameterKinds(_Facade):
                 argument = call_argument(call, position, param.arg)
                 if argument is None:
                     return []
-                found = self._assigned_calls(argument) if isinstance(argument, ast.Name) else [argument]
+                found = self.facts.assigned_values(argument, sole_target=True) if isinstance(argument, ast.Name) else [argument]
                 if not found or not all(isinstance(v, ast.Call) for v in found):
                     return []
                 values.extend(found)
             return values
-        return self._assigned_calls(func)
-
-    def _assigned_calls(self, name: ast.Name) -> list[ast.expr]:
-        values: list[ast.expr] = []
-        for binding in self.facts.bindings_of(name):
-            assign = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
-            if not (isinstance(assign, ast.Assign) and assign.targets == [binding] and isinstance(assign.value, ast.Call)):
-                return []
-            values.append(assign.value)
-        return values
+        found = self.facts.assigned_values(func, sole_target=True)
+        return found if found is not None and all(isinstance(v, ast.Call) for v in found) else []
 
     def _unwrapped_of(self, owner: ast.AST, classdef: ast.ClassDef) -> bool:
         """``x.unwrapped.set_top(self)`` with ``set_top`` a method of this module's Gym env

@@ -73,7 +73,7 @@ class WrapperStacks:
                     return self._follow(first, "vector-kind", self._vector_kind_step)
             return self.receivers.kind_of(expr)
         if isinstance(expr, ast.Name):
-            values = self._assigned_values(expr)
+            values = self.facts.assigned_values(expr)
             if values is None:
                 return self.receivers.kind_of(expr)
             kinds = [self._follow(v, "vector-kind", self._vector_kind_step) for v in values]
@@ -99,7 +99,7 @@ class WrapperStacks:
                     return self._follow(first, "make-call", self._make_call_step)
             return None
         if isinstance(expr, ast.Name):
-            values = self._assigned_values(expr)
+            values = self.facts.assigned_values(expr)
             if values is None:
                 return None
             found = [self._follow(v, "make-call", self._make_call_step) for v in values]
@@ -126,7 +126,7 @@ class WrapperStacks:
                 return self._follow(first, "creation", self._creation_step) if first is not None else None
             return None
         if isinstance(expr, ast.Name):
-            values = self._assigned_values(expr)
+            values = self.facts.assigned_values(expr)
             if not values:
                 return None
             found = [self._follow(v, "creation", self._creation_step) for v in values]
@@ -142,16 +142,6 @@ class WrapperStacks:
                         makes.setdefault(id(make), make)
             return tuple(makes.values())
         return None
-
-    def _assigned_values(self, name: ast.Name) -> list[ast.expr] | None:
-        """The values of every ``name = ...`` binding of ``name``; None if one is not a plain assignment."""
-        values = []
-        for binding in self.facts.bindings_of(name):
-            parent = self.facts.parent(binding)
-            if not (isinstance(binding, ast.Name) and isinstance(parent, ast.Assign) and binding in parent.targets):
-                return None
-            values.append(parent.value)
-        return values
 
     def _follow(self, expr: ast.AST, fact: str, step: Callable[[ast.AST], object]) -> object:
         """``step(expr)``, memoized per node; a node being computed is a cycle (no evidence).
