@@ -34,6 +34,7 @@ from typing import TypeVar
 
 from gymmigrate.facts.env_classes import identifiers
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
+from gymmigrate.facts.self_attributes import self_stores
 
 # A word that counts steps or time (matched on the lower-cased identifier: ``MAX_STEPS``
 # too). ``cycles``, ``frames`` and ``num_moves`` are how PettingZoo's envs count theirs
@@ -233,22 +234,6 @@ def combine(parts: Iterable[DoneCause]) -> DoneCause:
 def _opaque(found: DoneCause) -> DoneCause:
     """A value that hides what it holds (``not <limit>``, ``a and b``, a dict)."""
     return DoneCause(Cause.UNKNOWN, found.limits) if found.limits else TERMINATION
-
-
-def self_stores(facts: ModuleFacts, classdef: ast.ClassDef, name: str) -> list[ast.expr] | None:
-    """Every value ``self.<name> = value`` stores in ``classdef``'s own methods; None when a
-    store is anything else (an augmented assignment, a tuple target, ...)."""
-    values = []
-    for attr in facts.attributes.get(name, ()):
-        if not isinstance(attr.ctx, ast.Store) or not _is_self(attr.value):
-            continue
-        if facts.enclosing_class(attr) is not classdef:
-            continue
-        holder = facts.parent(attr)
-        if not (isinstance(holder, ast.Assign) and holder.targets == [attr]):
-            return None
-        values.append(holder.value)
-    return values
 
 
 def _is_self(node: ast.AST) -> bool:

@@ -38,7 +38,7 @@ from gymmigrate.facts.narrowing import Narrowing
 from gymmigrate.facts.receiver_classes import ClassKinds
 from gymmigrate.facts.receiver_origins import MadeObjects
 from gymmigrate.facts.receiver_params import ParameterKinds
-from gymmigrate.facts.self_attributes import SelfAttributes
+from gymmigrate.facts.self_attributes import SelfAttributes, class_self_stores
 
 if TYPE_CHECKING:
     from gymmigrate.facts.project_view import ProjectView
@@ -98,7 +98,7 @@ class Receivers(ClassKinds, ParameterKinds, MadeObjects):
         return self.attributes.is_self(name)
 
     def self_stores(self, classdef: ast.ClassDef) -> dict[str, list[ast.expr]]:
-        return self.attributes.self_stores(classdef)
+        return class_self_stores(self.facts, classdef)
 
     def self_attribute_values(self, attr: ast.AST, name: str) -> list[ast.expr]:
         return self.attributes.self_attribute_values(attr, name)

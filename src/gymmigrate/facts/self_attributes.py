@@ -28,7 +28,6 @@ class SelfAttributes:
     def __init__(self, receivers: ReceiverQueries) -> None:
         self.receivers = receivers
         self.facts: ModuleFacts = receivers.facts
-        self._self_stores: dict[ast.ClassDef, dict[str, list[ast.expr]]] = {}
 
     def is_self(self, name: ast.Name) -> bool:
         if name.id not in ("self", "cls"):
@@ -72,7 +71,7 @@ class SelfAttributes:
             local = self.receivers.local_class(base)
             if local is None or local is classdef or id(local) in _seen:
                 continue
-            found += self.self_stores(local).get(name, []) or self.inherited_values(local, name, _seen | {id(classdef)})
+            found += class_self_stores(self.facts, local).get(name, []) or self.inherited_values(local, name, _seen | {id(classdef)})
         return found
 
     def _copies_attribute(self, value: ast.expr, name: str) -> bool:
@@ -120,7 +119,7 @@ class SelfAttributes:
         attribute an inherited ``__init__`` sets: ``AsyncCollector(Collector)`` reads
         ``self.env`` that ``Collector.__init__`` stores), so both read the same object."""
         seen.add(id(classdef))
-        values = self.self_stores(classdef).get(name, [])
+        values = class_self_stores(self.facts, classdef).get(name, [])
         if values:
             return values
         found: list[ast.expr] = []
@@ -130,18 +129,60 @@ class SelfAttributes:
                 found.extend(self._stored_in_hierarchy(local, name, seen))
         return found
 
-    def self_stores(self, classdef: ast.ClassDef) -> dict[str, list[ast.expr]]:
-        """Values stored to ``self.x`` anywhere in a class (not nested classes), by name.
-
-        One walk per class, not per attribute read: env classes read dozens of ``self.x``.
-        """
-        stores = self._self_stores.get(classdef)
-        if stores is None:
-            stores = self._self_stores[classdef] = _collect_self_stores(classdef)
-        return stores
-
     def _is_sb3_callback(self, classdef: ast.ClassDef) -> bool:
         return any(q in N.SB3_CALLBACK_BASES for base in classdef.bases for q in self.receivers.qualified_names(base))
+
+
+def class_self_stores(facts: ModuleFacts, classdef: ast.ClassDef) -> dict[str, list[ast.expr]]:
+    """Values stored to ``self.x`` anywhere in a class (not nested classes), by name, in
+    source order: the values each store pairs with (``self.a, self.b = 1, 2`` stores both;
+    ``self.a, self.b = pair()``, ``self.t += 1`` or ``for self.i in ...`` store none).
+
+    One walk per class, not per attribute read: env classes read dozens of ``self.x``.
+    """
+    return facts.memo(("self-stores", id(classdef)), lambda: _collect_self_stores(classdef))
+
+
+def self_stores(facts: ModuleFacts, classdef: ast.ClassDef, name: str) -> list[ast.expr] | None:
+    """Every value ``self.<name> = value`` stores in ``classdef``'s own methods; None when
+    some store of ``self.<name>`` there is anything else (an augmented assignment, a tuple,
+    chained or annotated target, a loop target).
+
+    ``class_self_stores`` with one difference that matters: the done tracer
+    (``facts/limits.py``) must know that ``self.t = 0`` beside ``self.t += 1`` is a counter,
+    not a constant, where the receiver analysis takes the values it can pair and lets the
+    other stores go.
+    """
+    for attr in facts.attributes.get(name, ()):
+        if isinstance(attr.ctx, ast.Store) and _stored_self_name(attr) is not None and facts.enclosing_class(attr) is classdef:
+            holder = facts.parent(attr)
+            if not (isinstance(holder, ast.Assign) and holder.targets == [attr]):
+                return None
+    return list(class_self_stores(facts, classdef).get(name, []))
+
+
+def binds_self_attribute(classdef: ast.ClassDef, attribute: str) -> bool:
+    """Some code of ``classdef`` (nested classes too) assigns ``self.<attribute>``, or
+    through it: ``self.<attribute>`` anywhere in the target of an assignment, an
+    annotation or an augmented assignment.
+
+    Not ``attribute in class_self_stores(...)``: that keeps the values a store pairs with,
+    and leaves out the writes that give none (``self.env, self.eval_env = make_pair()``,
+    ``self.env += ...``, ``self.env: Env``, ``self.env.seed = ...``). The question here is
+    whether the class has a hand in the attribute at all (``rules/base.py`` pins the
+    decision on ``self.env`` to the class that binds it).
+    """
+    for node in ast.walk(classdef):
+        targets: list[ast.expr] = []
+        if isinstance(node, ast.Assign):
+            targets = list(node.targets)
+        elif isinstance(node, (ast.AnnAssign, ast.AugAssign)):
+            targets = [node.target]
+        for target in targets:
+            for sub in ast.walk(target):
+                if isinstance(sub, ast.Attribute) and sub.attr == attribute and isinstance(sub.value, ast.Name) and sub.value.id == "self":
+                    return True
+    return False
 
 
 def _stored_self_name(target: ast.AST) -> str | None:

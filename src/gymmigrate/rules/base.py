@@ -25,6 +25,7 @@ from gymmigrate.facts.decisions import Action, Decision
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.module import full_name
 from gymmigrate.facts.profile import FileProfile
+from gymmigrate.facts.self_attributes import binds_self_attribute
 from gymmigrate.findings import RUN_QUESTION, FixKind, Tier
 from gymmigrate.options import RewriteOptions
 from gymmigrate.rules.notes import FamilyNotes
@@ -61,21 +62,6 @@ class FileContext:
 
 
 _FAMILIES: list[type[RuleFamily]] = []
-
-
-def _binds_self_attribute(cls: ast.ClassDef, attribute: str) -> bool:
-    """Some method of ``cls`` assigns ``self.<attribute>``."""
-    for node in ast.walk(cls):
-        targets: list[ast.expr] = []
-        if isinstance(node, ast.Assign):
-            targets = list(node.targets)
-        elif isinstance(node, (ast.AnnAssign, ast.AugAssign)):
-            targets = [node.target]
-        for target in targets:
-            for sub in ast.walk(target):
-                if isinstance(sub, ast.Attribute) and sub.attr == attribute and isinstance(sub.value, ast.Name) and sub.value.id == "self":
-                    return True
-    return False
 
 
 class RuleFamily:
@@ -162,7 +148,7 @@ class RuleFamily:
         if project is None or cls not in self.facts.tree.body:
             return None
         attribute = name.split(".")[1] if name.count(".") >= 1 else ""
-        if _binds_self_attribute(cls, attribute):
+        if binds_self_attribute(cls, attribute):
             return (project.path, cls.name)
         # the first base of the run: its ``__init__`` is the one that runs (``class
         # DqnPolicy(Policy, ModelMixin)``: ``Policy`` stores the env)

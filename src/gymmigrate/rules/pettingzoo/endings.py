@@ -31,11 +31,11 @@ from gymmigrate.facts.limits import Cause as DoneCause
 from gymmigrate.facts.limits import (
     DoneTracer,
     is_step_limit,
-    self_stores,
     under_limit,
     unwrap_bool,
 )
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
+from gymmigrate.facts.self_attributes import self_stores
 
 _Node = TypeVar("_Node", bound=ast.AST)
 
