@@ -70,6 +70,7 @@ class ProjectFacts:
     env_classes: dict[str, frozenset[str]] = field(default_factory=dict)  # path -> env classes
     wrapper_classes: dict[str, frozenset[str]] = field(default_factory=dict)  # path -> Gym wrapper classes
     wrapping_helpers: dict[str, frozenset[str]] = field(default_factory=dict)  # path -> defs that wrap their argument
+    gym_only_makers: dict[str, dict[str, str]] = field(default_factory=dict)  # path -> defs making a Gym-only stack's envs
     # path -> its PettingZoo wrapper classes (``ModuleSummary.pz_wrappers``)
     pz_wrappers: dict[str, dict[str, tuple[str, tuple[str, ...]]]] = field(default_factory=dict)
     spec_lists: dict[str, frozenset[str]] = field(default_factory=dict)  # path -> names bound to lists of EnvSpecs
@@ -191,6 +192,8 @@ class ProjectFacts:
             facts.env_classes[summary.path] = frozenset() if left else summary.env_classes
             facts.wrapper_classes[summary.path] = frozenset() if left else summary.wrapper_classes
             facts.wrapping_helpers[summary.path] = frozenset() if left else summary.wrapping_helpers
+            if summary.gym_only_makers:
+                facts.gym_only_makers[summary.path] = summary.gym_only_makers
             facts.pz_wrappers[summary.path] = summary.pz_wrappers
             facts.spec_lists[summary.path] = summary.spec_lists
             facts.render_mode_classes[summary.path] = frozenset() if left else summary.render_mode_classes

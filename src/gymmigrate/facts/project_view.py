@@ -299,6 +299,12 @@ class ProjectView:
         split = self.facts._split(qualified, self.path)
         return split is not None and split[1] in self.facts.wrapping_helpers.get(split[0], ())
 
+    def gym_only_maker(self, qualified: str) -> str | None:
+        """The Gym-only stack (``nes_py``) whose envs an imported def of the run returns
+        (``from src.env import create_env``), or None."""
+        split = self.facts._split(qualified, self.path)
+        return None if split is None else self.facts.gym_only_makers.get(split[0], {}).get(split[1])
+
     def class_of_run(self, qualified: str) -> tuple[str, str] | None:
         """``(path, "Policy")`` for an imported name of the run that is a top-level class with
         methods (``from .base import Policy``): where its attributes are decided."""

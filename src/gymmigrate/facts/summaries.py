@@ -139,6 +139,7 @@ class _Summarizer:
             space_calls=self._space_calls(),
             spec_lists=module_spec_lists(self.facts),
             made_factories=made_factories(self.facts, self.receivers),
+            gym_only_makers=self._gym_only_makers(),
             classes=frozenset(self.facts.classes),
             bootstrap_masks=_bootstrap_masks(self.facts),
             record_classes=top_level_records(self.facts.tree),
@@ -232,6 +233,18 @@ class _Summarizer:
                 return None  # a library's, or a name of this module (``returns_kind`` judged it)
             found.add(name)
         return found.pop() if len(found) == 1 else None
+
+    def _gym_only_makers(self) -> dict[str, str]:
+        """Top-level defs that return envs of a Gym-only stack (``ModuleSummary.gym_only_makers``);
+        only a module that imports such a library can define one."""
+        if not any(q.split(".", 1)[0] in N.GYM_ONLY_PACKAGES for q in self.facts.imports.values()):
+            return {}
+        found = {}
+        for name, function in self.facts.functions.items():
+            stack = self.receivers.returns_gym_only_stack(function)
+            if stack is not None:
+                found[name] = stack
+        return found
 
     def _aliases(self) -> dict[str, str]:
         """Top-level names bound to a Gym callable: ``make = gym.make``, ``from gym import make``."""
