@@ -219,6 +219,13 @@ class ProjectView:
         """Another module of the run derives a class from this file's ``classname``."""
         return (self.path, classname) in self.facts.overrides
 
+    def built_through_super_elsewhere(self, classname: str) -> bool:
+        """Every subclass of this file's ``classname`` in another module runs its
+        ``__init__`` only through its own ``super().__init__(...)``, which the join follows,
+        and is subclassed nowhere else itself: what they pass reaches ``param_kinds``."""
+        subs = self.facts.subclasses_of.get((self.path, classname), [])
+        return bool(subs) and all(sub in self.facts.init_passers and sub not in self.facts.subclasses_of for sub in subs)
+
     def overridden_elsewhere(self, classname: str, method: str) -> list[str]:
         """Subclasses in other modules of the run that override ``classname.method``."""
         return self.facts.overrides.get((self.path, classname), {}).get(method, [])
