@@ -57,6 +57,13 @@ RUN_QUESTION = "run"
 _QUESTION_SEPARATOR = "\n"
 
 
+def gym_only_question(stack: str) -> tuple[str, ...]:
+    """What every place an env of a Gym-only library stack (GM107) asks: how that stack is
+    ported. Its imports, wrappers and the resets and steps of its envs in every module are
+    one decision of the run, asked in the first file by path (no module's code decides it)."""
+    return (RUN_QUESTION, "gym-only-library", "", stack)
+
+
 def run_question_text(question: object) -> str | None:
     """``Finding.question`` for a question key of a rule: its text where the run shares it."""
     if isinstance(question, tuple) and question[:1] == (RUN_QUESTION,):

@@ -26,6 +26,7 @@ class Origins(Protocol):
     def mixed_callers(self, expr: ast.AST) -> str | None: ...
 
     def library_made(self, expr: ast.AST) -> str | None: ...
+    def gym_only_stack(self, expr: ast.AST) -> str | None: ...
 
 # Spellings that name an environment. Used only to decide between reporting and
 # staying silent (or, in a file that uses nothing but Gym, rewriting for review):
@@ -83,6 +84,14 @@ def decide(
     mixed = origins.mixed_callers(receiver) if origins is not None else None
     if mixed is not None:
         return Decision(Action.REPORT, f"`{name}` may not be a Gym env: {mixed}; not rewritten")
+    stack = origins.gym_only_stack(receiver) if (env_like or legacy_shape) and origins is not None else None
+    if stack is not None:
+        # made on a library stack still on gym (GM107), maybe through the project's own
+        # wrappers and factories: it keeps gym's API until that stack is ported, and then
+        # (Shimmy) it is a Gymnasium env; the stack's item decides it, asked at its import
+        return Decision(
+            Action.REPORT, f"`{name}` is an env built on {stack}, a library still on gym (GM107): not rewritten; it becomes a Gymnasium env when that library is ported"
+        )
     if (env_like or legacy_shape) and origins is not None and origins.run_defined(receiver):
         return Decision(Action.REPORT, f"`{name}` holds an object the project makes itself, not shown to be a Gym env; not rewritten")
     library = origins.library_made(receiver) if env_like and profile.gym_only and origins is not None else None

@@ -99,6 +99,14 @@ class ModuleSummary:
     # what they return is a wrapper stack, so attribute reads on it go through forwarding.
     made_factories: frozenset[str] = frozenset()
     classes: frozenset[str] = frozenset()  # top-level class names
+    # Top-level classes whose own ``__init__`` hands its arguments up with
+    # ``super().__init__(...)`` to a first base of another module of the run: that call is
+    # among ``calls`` (target ``<base>.__init__``), so the base sees what they pass.
+    passes_init_up: frozenset[str] = frozenset()
+    # Top-level defs whose every return is an env of a Gym-only library stack (GM107), maybe
+    # in the module's own wrappers: def -> the stack (``nes_py``). Its callers' resets and
+    # steps are that stack's port (``Receivers.gym_only_stack``).
+    gym_only_makers: dict[str, str] = field(default_factory=dict)
     # -- what a flag passed to a def is for (facts/bootstrap.py, GM302) --
     # "Agent.train_model" -> (flag parameter, next-state parameter) pairs: the def masks
     # bootstrapping from the next state with the flag (a target or a stored transition).

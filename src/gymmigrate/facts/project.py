@@ -44,9 +44,11 @@ from gymmigrate.facts.limits import DoneCause
 from gymmigrate.facts.module_summary import (
     NEW,
     OWN,
+    REF,
     UNRESOLVED,
     CallSummary,
     ModuleSummary,
+    is_ref,
 )
 from gymmigrate.facts.project_contracts import (
     NonSpaces,
@@ -70,6 +72,7 @@ class ProjectFacts:
     env_classes: dict[str, frozenset[str]] = field(default_factory=dict)  # path -> env classes
     wrapper_classes: dict[str, frozenset[str]] = field(default_factory=dict)  # path -> Gym wrapper classes
     wrapping_helpers: dict[str, frozenset[str]] = field(default_factory=dict)  # path -> defs that wrap their argument
+    gym_only_makers: dict[str, dict[str, str]] = field(default_factory=dict)  # path -> defs making a Gym-only stack's envs
     # path -> its PettingZoo wrapper classes (``ModuleSummary.pz_wrappers``)
     pz_wrappers: dict[str, dict[str, tuple[str, tuple[str, ...]]]] = field(default_factory=dict)
     spec_lists: dict[str, frozenset[str]] = field(default_factory=dict)  # path -> names bound to lists of EnvSpecs
@@ -110,6 +113,9 @@ class ProjectFacts:
     subclasses_of: dict[tuple[str, str], list[tuple[str, str]]] = field(default_factory=dict)
     done_methods: dict[tuple[str, str], dict[str, DoneCause]] = field(default_factory=dict)
     subclass_methods: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
+    # (path, class) of the classes whose ``__init__`` hands up to a base of another module
+    # with ``super().__init__`` (``ModuleSummary.passes_init_up``): the base sees that call.
+    init_passers: set[tuple[str, str]] = field(default_factory=set)
     # (path, top-level name) of a class of the run (or a re-export of one) -> its methods
     # with those of its bases of the run (``project_contracts.class_methods``).
     class_methods: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
@@ -191,6 +197,8 @@ class ProjectFacts:
             facts.env_classes[summary.path] = frozenset() if left else summary.env_classes
             facts.wrapper_classes[summary.path] = frozenset() if left else summary.wrapper_classes
             facts.wrapping_helpers[summary.path] = frozenset() if left else summary.wrapping_helpers
+            if summary.gym_only_makers:
+                facts.gym_only_makers[summary.path] = summary.gym_only_makers
             facts.pz_wrappers[summary.path] = summary.pz_wrappers
             facts.spec_lists[summary.path] = summary.spec_lists
             facts.render_mode_classes[summary.path] = frozenset() if left else summary.render_mode_classes
@@ -221,7 +229,7 @@ class ProjectFacts:
                     if qualname in summary.defs:
                         calls_to[(summary.path, qualname)].append((summary.path, call))
                     continue
-                resolved = facts._resolve(call.target, summary.path)
+                resolved = facts._resolve(call.target, summary.path) or facts._resolve_reexported(call.target, summary.path, by_path)
                 if resolved is not None:
                     calls_to[resolved].append((summary.path, call))
         imported = {q for summary in summaries for q in summary.imported}
@@ -298,6 +306,7 @@ class ProjectFacts:
                         found.setdefault(method, []).append(f"{summary.path}:{name}")
                     self.subclasses_of.setdefault((path, parts[-1]), []).append((summary.path, name))
                 self.subclass_methods[(summary.path, name)] = frozenset(methods)
+            self.init_passers.update((summary.path, name) for name in summary.passes_init_up)
             for name, methods_done in summary.done_methods.items():
                 self.done_methods[(summary.path, name)] = methods_done
 
@@ -391,6 +400,26 @@ class ProjectFacts:
             path = self._module_path(parts[:cut], level, importer)
             if path and cut < len(parts):
                 return path, ".".join(parts[cut:])
+        return None
+
+    def _resolve_reexported(self, target: str, importer: str, by_path: dict[str, ModuleSummary]) -> tuple[str, str] | None:
+        """``_resolve`` of a target whose first name a package re-exports (``sacd.agent.Agent``
+        with ``from .agent import Agent`` in ``sacd/agent/__init__.py``): the def or
+        ``__init__`` it stands for, each re-export followed once."""
+        split = self._split(target, importer)
+        seen: set[tuple[str, str]] = set()
+        while split is not None and split not in seen and split[0] in by_path:
+            seen.add(split)
+            path, rest = split
+            name, dot, tail = rest.partition(".")
+            export = by_path[path].exports.get(name)
+            if not is_ref(export):
+                return None
+            qualified = export[len(REF) :] + dot + tail  # type: ignore[index]
+            found = self._resolve(qualified, path)
+            if found is not None:
+                return found
+            split = self._split(qualified, path)
         return None
 
     def _resolve(self, target: str, importer: str) -> tuple[str, str] | None:

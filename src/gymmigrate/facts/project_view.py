@@ -219,6 +219,13 @@ class ProjectView:
         """Another module of the run derives a class from this file's ``classname``."""
         return (self.path, classname) in self.facts.overrides
 
+    def built_through_super_elsewhere(self, classname: str) -> bool:
+        """Every subclass of this file's ``classname`` in another module runs its
+        ``__init__`` only through its own ``super().__init__(...)``, which the join follows,
+        and is subclassed nowhere else itself: what they pass reaches ``param_kinds``."""
+        subs = self.facts.subclasses_of.get((self.path, classname), [])
+        return bool(subs) and all(sub in self.facts.init_passers and sub not in self.facts.subclasses_of for sub in subs)
+
     def overridden_elsewhere(self, classname: str, method: str) -> list[str]:
         """Subclasses in other modules of the run that override ``classname.method``."""
         return self.facts.overrides.get((self.path, classname), {}).get(method, [])
@@ -298,6 +305,12 @@ class ProjectView:
         (``from common.wrappers import wrap_deepmind``)."""
         split = self.facts._split(qualified, self.path)
         return split is not None and split[1] in self.facts.wrapping_helpers.get(split[0], ())
+
+    def gym_only_maker(self, qualified: str) -> str | None:
+        """The Gym-only stack (``nes_py``) whose envs an imported def of the run returns
+        (``from src.env import create_env``), or None."""
+        split = self.facts._split(qualified, self.path)
+        return None if split is None else self.facts.gym_only_makers.get(split[0], {}).get(split[1])
 
     def class_of_run(self, qualified: str) -> tuple[str, str] | None:
         """``(path, "Policy")`` for an imported name of the run that is a top-level class with

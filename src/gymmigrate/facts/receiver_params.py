@@ -95,7 +95,12 @@ class ParameterKinds(_Facade):
         their own. The flag says another module of the run subclasses it (its calls are not
         known here)."""
         found: list[tuple[ast.Call, int]] = [(call, 0) for call in self.facts.calls_by_name.get(classdef.name, [])]
-        elsewhere = self.project is not None and self.facts.parent(classdef) is self.facts.tree and self.project.subclassed_elsewhere(classdef.name)
+        elsewhere = (
+            self.project is not None
+            and self.facts.parent(classdef) is self.facts.tree
+            and self.project.subclassed_elsewhere(classdef.name)
+            and not self.project.built_through_super_elsewhere(classdef.name)
+        )
         for sub in self.facts.classes.values():
             if sub is classdef or id(sub) in _seen or not any(self.local_class(b) is classdef for b in sub.bases):
                 continue

@@ -26,7 +26,7 @@ from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.module import full_name
 from gymmigrate.facts.profile import FileProfile
 from gymmigrate.facts.self_attributes import binds_self_attribute
-from gymmigrate.findings import RUN_QUESTION, FixKind, Tier
+from gymmigrate.findings import RUN_QUESTION, FixKind, Tier, gym_only_question
 from gymmigrate.options import RewriteOptions
 from gymmigrate.rules.notes import FamilyNotes
 
@@ -121,9 +121,9 @@ class RuleFamily:
         method called on it, as long as the run answers it the same way (rewrites or not)."""
         if decision.action not in (Action.REWRITE_FOR_REVIEW, Action.REPORT):
             return None
-        library = self._gym_only_origin(receiver)
+        library = self._gym_only_origin(receiver) or self.receivers.gym_only_stack(receiver)
         if library is not None:
-            return ("gym-only-library", library)  # decided by the library's port, asked at its import (GM107)
+            return gym_only_question(library)  # decided by the library's port, asked at its import (GM107)
         # ``[env.reset() for env in self.envs]`` and ``self.envs[i].step(a)``: one collection of envs
         receiver = self._iterated_collection(receiver) or self._fed_collection(receiver) or receiver
         name = full_name(receiver)

@@ -140,7 +140,13 @@ def local_condition(facts: ModuleFacts, render: ast.Call) -> str | None:
 def _text(facts: ModuleFacts, guard: Guard) -> str:
     test, negated = guard
     if isinstance(test, (ast.FunctionDef, ast.AsyncFunctionDef)):
-        return f"{test.name}() is called"
+        owner = facts.enclosing_class(test)
+        if owner is not None and test.name == "render":
+            # ``def render(self): return self.env.render()`` in a class holding the env: the
+            # class's own render() forwards it, so its callers set the schedule ("render()
+            # runs only when render() is called" says nothing)
+            return f"`{owner.name}.render()`, which forwards it, is called"
+        return f"`{owner.name}.{test.name}()` is called" if owner is not None else f"{test.name}() is called"
     if isinstance(test, ast.Lambda):
         return "a lambda is called"
     text = facts.segment(test)

@@ -39,6 +39,7 @@ from gymmigrate.facts.summaries.classes import (
 )
 from gymmigrate.facts.summaries.defs import (
     bootstrap_masks,
+    gym_only_makers,
     handed_on,
     made_factories,
     masks_of,
@@ -136,6 +137,8 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         space_calls=space_calls(facts, receivers),
         spec_lists=module_spec_lists(facts),
         made_factories=made_factories(facts, receivers),
+        gym_only_makers=gym_only_makers(facts, receivers),
+        passes_init_up=calls.passes_init_up(),
         classes=frozenset(facts.classes),
         bootstrap_masks=bootstrap_masks(facts),
         record_classes=top_level_records(facts.tree),

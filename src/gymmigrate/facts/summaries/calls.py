@@ -28,6 +28,7 @@ from gymmigrate.facts.module_summary import (
     CallSummary,
     Kind,
 )
+from gymmigrate.facts.receiver_classes import is_object
 from gymmigrate.facts.receivers import Receivers
 
 # ``PongNoFrameskip-v4``, ``ALE/Pong-v5``, ``mod:Name-v0``: what the summaries keep of string arguments.
@@ -67,9 +68,52 @@ class CallSummarizer:
         if self._own_target(call.func) is not None:
             return []
         targets = sorted({q for q in self.facts.qualified_names(call.func) if not N.is_library(q)})
+        if not targets:
+            chosen = self._chosen_callables(call.func)  # ``Agent = SacAgent if x else SharedAgent``
+            return [self._arguments(call, target) for target in chosen]
         if len(targets) < 2 or len(targets) != len(self.facts.qualified_names(call.func)):
             return []  # a library binding among them: not all of the run's
         return [self._arguments(call, target) for target in targets]
+
+    def _chosen_callables(self, func: ast.expr) -> list[str]:
+        """The run's callables a local name is bound to, every binding an alias of one or a
+        choice between them (``Agent = A if shared else B``, ``Agent = A``): each qualified
+        through the imports; empty when any alternative is something else."""
+        if not isinstance(func, ast.Name):
+            return []
+        bindings = self.facts.bindings_of(func)
+        values: list[ast.expr] = []
+        for binding in bindings:
+            parent = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
+            if not (isinstance(parent, ast.Assign) and parent.targets == [binding]):
+                return []
+            values.append(parent.value)
+        found: set[str] = set()
+        while values:
+            value = values.pop()
+            if isinstance(value, ast.IfExp):
+                values += [value.body, value.orelse]
+                continue
+            if not isinstance(value, (ast.Name, ast.Attribute)):
+                return []
+            qualified = self.facts.qualified_names(value)
+            if len(qualified) != 1 or N.is_library(next(iter(qualified))):
+                return []
+            found |= qualified
+        return sorted(found) if bindings else []
+
+    def passes_init_up(self) -> frozenset[str]:
+        """Top-level classes whose ``__init__`` calls ``super().__init__(...)`` of a base of
+        another module of the run (``ModuleSummary.passes_init_up``)."""
+        found = set()
+        for call in self.facts.attribute_calls.get("__init__", ()):
+            function = self.facts.enclosing_function(call)
+            classdef = self.facts.enclosing_class(call)
+            if function is None or function.name != "__init__" or classdef is None:
+                continue
+            if self._super_base(call.func.value) is not None:  # type: ignore[attr-defined]
+                found.add(classdef.name)
+        return frozenset(found)
 
     def _method_calls(self, call: ast.Call) -> list[CallSummary]:
         """``x.fit(env)``; with ``x`` bound to instances of several classes of the run
@@ -101,10 +145,31 @@ class CallSummarizer:
         owner = func.value
         if isinstance(owner, ast.Name) and self.receivers.is_self(owner):
             return None  # a method the class does not define (inherited)
+        base = self._super_base(owner)
+        if base is not None:
+            return f"{base}.{func.attr}"  # ``super().__init__(env)`` in a subclass of a run's class
         cls = self.instance_class(owner)
         if cls is not None:
             return f"{cls}.{func.attr}" if not N.is_library(cls) else None
         return UNRESOLVED + func.attr
+
+    def _super_base(self, owner: ast.expr) -> str | None:
+        """For ``super()`` (or ``super(Cls, self)``) in a method of a top-level class whose
+        first base is a class of another module of the run (``class SacAgent(BaseAgent)``,
+        ``BaseAgent`` imported): that base, qualified through the imports; else None."""
+        if not (isinstance(owner, ast.Call) and isinstance(owner.func, ast.Name) and owner.func.id == "super" and not owner.keywords):
+            return None
+        if self.facts.bindings_of(owner.func) or len(owner.args) not in (0, 2):
+            return None  # a ``super`` of the module's own
+        function = self.facts.enclosing_function(owner)
+        classdef = self.facts.enclosing_class(owner)
+        if function is None or classdef is None or self.facts.parent(function) is not classdef or self.facts.parent(classdef) is not self.facts.tree:
+            return None
+        if owner.args and not (isinstance(owner.args[0], ast.Name) and owner.args[0].id == classdef.name):
+            return None
+        first = next((b for b in classdef.bases if not is_object(b)), None)
+        qualified = self.facts.qualified_names(first) if first is not None else set()
+        return next(iter(qualified)) if len(qualified) == 1 and not N.is_library(next(iter(qualified))) else None
 
     def _instance_call_target(self, func: ast.Name) -> str | None:
         """``Evaluator.__call__`` (qualified through the imports) for ``evaluate(env)``,

@@ -143,3 +143,16 @@ def registrations(facts: ModuleFacts) -> tuple[tuple[str | None, str], ...]:
         env_id = call_argument(call, 0, "id")
         found.append((string_value(env_id) if env_id is not None else None, text))
     return tuple(found)
+
+
+def gym_only_makers(facts: ModuleFacts, receivers: Receivers) -> dict[str, str]:
+    """Top-level defs that return envs of a Gym-only stack (``ModuleSummary.gym_only_makers``);
+    only a module that imports such a library can define one."""
+    if not any(q.split(".", 1)[0] in N.GYM_ONLY_PACKAGES for q in facts.imports.values()):
+        return {}
+    found = {}
+    for name, function in facts.functions.items():
+        stack = receivers.returns_gym_only_stack(function)
+        if stack is not None:
+            found[name] = stack
+    return found

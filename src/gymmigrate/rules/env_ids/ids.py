@@ -28,7 +28,7 @@ from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.module import call_argument, full_name
-from gymmigrate.findings import FixKind, Tier
+from gymmigrate.findings import FixKind, Tier, gym_only_question
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.env_ids.catalog import (
     ALE,
@@ -580,7 +580,7 @@ class EnvIds(RuleFamily):
             # The import of the plugin package asks the same question (GM107): the file's
             # review list asks it once, at the first of them; where the import's item is
             # silenced (a bare noqa comment on ``import pybullet_envs``), the id's site asks it.
-            question = ("gym-only-library", N.gym_only_stack(plugin)) if plugin is not None else None
+            question = gym_only_question(N.gym_only_stack(plugin)) if plugin is not None else None
             self.report(site.string, "GM805", f"`{site.env_id}` no longer exists: {hint}", question=question)
         final_id = migration.new_id if migration is not None else site.env_id
         package = env_package(final_id)

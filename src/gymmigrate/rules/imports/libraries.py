@@ -11,7 +11,7 @@ import ast
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.module import full_name
-from gymmigrate.findings import FixKind
+from gymmigrate.findings import FixKind, gym_only_question
 from gymmigrate.rules.imports.common import ImportsBase
 from gymmigrate.rules.imports.table import under_gym
 
@@ -259,7 +259,7 @@ class GymOnlyLibraries(ImportsBase):
                 if top in GYM_ONLY_LIBRARIES and top not in reported and not self._of_the_run(top):
                     reported.add(top)
                     # The objects the file makes with the library ask the same question (``receiver_question``).
-                    self.report(node, "GM107", GYM_ONLY_LIBRARIES[top], question=("gym-only-library", N.gym_only_stack(top)))
+                    self.report(node, "GM107", GYM_ONLY_LIBRARIES[top], question=gym_only_question(N.gym_only_stack(top)))
 
     def _of_the_run(self, module: str) -> bool:
         """A package of the project itself that shares a library's name (its own ``multiagent``)."""

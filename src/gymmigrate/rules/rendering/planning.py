@@ -13,7 +13,7 @@ from collections.abc import Hashable
 from gymmigrate.facts import names as N
 from gymmigrate.facts.decisions import Action
 from gymmigrate.facts.module import full_name, keyword, string_value
-from gymmigrate.findings import RUN_QUESTION, FixKind, Tier
+from gymmigrate.findings import RUN_QUESTION, FixKind, Tier, gym_only_question
 from gymmigrate.rules.render_calls import without_mode_argument
 from gymmigrate.rules.render_schedule import local_condition, render_condition, schedule
 from gymmigrate.rules.rendering.common import (
@@ -378,7 +378,7 @@ class SitePlanning(MakeEdits):
         func = site.node.func
         library = self._gym_only_origin(func.value) if isinstance(func, ast.Attribute) else None
         if library is not None:
-            return ("gym-only-library", library)  # an env of a Gym-only stack: ported with it (GM107)
+            return gym_only_question(library)  # an env of a Gym-only stack: ported with it (GM107)
         class_ = self.facts.enclosing_class(site.node)
         if site.creation.gap and " is a parameter of `" in site.creation.gap:
             return ("render-untraced", id(class_ or self.facts.enclosing_function(site.node)), where)

@@ -61,6 +61,19 @@ class ResultRules(StepFamilyBase):
                     FixKind.FLAG,
                 )
                 return
+            if decision.action is Action.REPORT and (self._gym_only_origin(receiver) or self.receivers.gym_only_stack(receiver)):
+                # an env of a stack still on gym (a pipe worker's ``send(self.envs[i].step(a))``):
+                # it returns four values until that stack is ported, so this use is the
+                # stack's decision, asked at its import
+                self.report(
+                    call,
+                    "GM304",
+                    f"{decision.reason}; then this step() result holds five values (index 2 is terminated, "
+                    "3 truncated, 4 info): update this use with it",
+                    FixKind.FLAG,
+                    question=self.receiver_question(receiver, decision),
+                )
+                return
             self.report(
                 call,
                 "GM304",

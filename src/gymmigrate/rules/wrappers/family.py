@@ -9,7 +9,7 @@ from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
 from gymmigrate.facts.module import FUNCTIONS
-from gymmigrate.findings import FixKind
+from gymmigrate.findings import FixKind, gym_only_question
 from gymmigrate.rules.base import FileContext
 from gymmigrate.rules.reset_seed.common import is_space
 from gymmigrate.rules.wrapper_usage.tables import wrapper_rest
@@ -52,7 +52,7 @@ class WrapperClasses(StepOverrides, ResetOverrides):
                     "gymnasium.Env); port them together with that env (Shimmy, or the library's Gymnasium successor)",
                     FixKind.FLAG,
                     # ported with the library's envs: the decision its import asks (GM107)
-                    question=("gym-only-library", N.gym_only_stack(library.split(".", 1)[0])),
+                    question=gym_only_question(N.gym_only_stack(library.split(".", 1)[0])),
                 )
                 continue
             self._check_gone_state(classdef)
