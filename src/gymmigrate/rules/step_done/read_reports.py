@@ -120,8 +120,19 @@ class DoneReadReports(DoneBookkeeping):
             question=("GM302", id(step.assign)),
         )
 
-    def _report_none_mask(self, read: ast.Name, step: DoneStep, masked: str) -> None:
+    def _report_none_mask(self, read: ast.Name, step: DoneStep, masked: str, boundary: str | None = None) -> None:
         names = step.names
+        if boundary is not None:
+            self._report_read(
+                read,
+                f"`{read.id}` sets the next state `{masked}` to None, and `{boundary}` also reads that None as the "
+                f"episode's end (it closes or flushes what the episode gathered): the test stays `{names.terminated} "
+                f"or {names.truncated}`, as legacy `done` was, so a time-limit truncation is still stored as terminal. "
+                f"To bootstrap it, hand the final state on and tell the callee `{names.terminated}` apart from the end",
+                FixKind.FLAG,
+                question=("GM302", id(step.assign)),
+            )
+            return
         self._report_read(
             read,
             f"`{read.id}` decides whether the stored next state `{masked}` is None (no bootstrapping) and also "
