@@ -602,12 +602,50 @@ class DoneBookkeeping(DoneReadUses):
             what = "only resets a running value (an accumulated return or count) where an episode ended"
         elif (callee := self._tests_only_in_callee(read, step)) is not None:
             what = f"is handed to `{callee}`, which only tests it to close an episode's books"
+        elif (flag := self._decides_real_reset(read, statement)) is not None:
+            what = f"is kept in `{flag}`, which the class reads only to choose a real reset of the env"
         if what is None:
             return None
         return (
             f"{what}: it stays `{names.terminated} or {names.truncated}`, the episode's end legacy `done` was; no "
             "next-state value depends on it"
         )
+
+    def _decides_real_reset(self, read: ast.Name, statement: ast.AST | None) -> str | None:
+        """``self.needs_real_reset = done or info.get(...)`` where every read of the attribute
+        in the class is an ``if`` test choosing whether to reset the env (a life-loss wrapper's
+        game-over book): it needs the episode's end, however it ended. Returns the attribute's
+        text; None otherwise."""
+        if not (isinstance(statement, ast.Assign) and len(statement.targets) == 1):
+            return None
+        target = statement.targets[0]
+        value = statement.value
+        operands = value.values if isinstance(value, ast.BoolOp) and isinstance(value.op, ast.Or) else [value]
+        if read not in operands:
+            return None
+        if not (isinstance(target, ast.Attribute) and isinstance(target.value, ast.Name) and target.value.id == "self"):
+            return None
+        classdef = self.facts.enclosing_class(statement)
+        if classdef is None:
+            return None
+        loads = [
+            node
+            for node in self.facts.attributes.get(target.attr, ())
+            if isinstance(node.ctx, ast.Load)
+            and isinstance(node.value, ast.Name)
+            and node.value.id == "self"
+            and self.facts.enclosing_class(node) is classdef
+        ]
+        if not loads:
+            return None
+        for node in loads:
+            test: ast.AST = node
+            parent = self.facts.parent(test)
+            if isinstance(parent, ast.UnaryOp) and isinstance(parent.op, ast.Not):
+                test, parent = parent, self.facts.parent(parent)
+            if not (isinstance(parent, ast.If) and parent.test is test and _resets(parent)):
+                return None
+        return self.facts.segment(target)
 
     def _resets_running_value(self, read: ast.Name, statement: ast.AST | None) -> bool:
         """``self.ret[done] = 0.`` or ``if done: self.ret = 0`` (nothing else in the branch),
