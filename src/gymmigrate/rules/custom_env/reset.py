@@ -249,7 +249,7 @@ def decide_internal_calls(decision: ClassDecision) -> None:
                 decision.report(
                     call,
                     code,
-                    f"{facts.segment(call.func)}() returns (obs, info) now: unpacked as `{held}, _ = {facts.segment(call)}`",
+                    f"{facts.segment(call)} returns (obs, info) now: unpacked as `{held}, _ = {facts.segment(call)}`",
                     FixKind.ASSIST,
                     Tier.NOTE,
                 )
