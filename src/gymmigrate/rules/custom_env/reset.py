@@ -243,7 +243,16 @@ def decide_internal_calls(decision: ClassDecision) -> None:
             ):
                 unpackable = True
                 decision.plan.reset_callers.add(method.name)
-                decision.report(call, code, "self.reset() returns (obs, info) now: unpacked as `obs, _ = self.reset()`", FixKind.ASSIST)
+                # The class's own reset is rebuilt to return the pair, so the unpack is made
+                # and certain: a note naming the target the code has, nothing to decide.
+                held = facts.segment(parent.targets[0])
+                decision.report(
+                    call,
+                    code,
+                    f"{facts.segment(call)} returns (obs, info) now: unpacked as `{held}, _ = {facts.segment(call)}`",
+                    FixKind.ASSIST,
+                    Tier.NOTE,
+                )
             else:
                 what = "(obs, info)" if target == "reset" else "(obs, reward, terminated, truncated, info)"
                 decision.report(call, code, f"self.{target}() returns {what} now: update how its result is used", FixKind.FLAG)

@@ -8,7 +8,9 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.facts import ModuleFacts
-from gymmigrate.facts.module import dotted_name
+from gymmigrate.facts.module import FUNCTIONS, dotted_name
+from gymmigrate.findings import Tier
+from gymmigrate.rules.gymnasium_api import GYMNASIUM_VERSION
 from gymmigrate.rules.imports.common import ImportsBase
 from gymmigrate.rules.imports.table import LEGACY_PACKAGES
 
@@ -69,12 +71,114 @@ class ImportGuards(ImportsBase):
                             self.report(node, "GM108", "sys.modules hack aliasing gym: remove it once the code uses gymnasium")
 
     def _version_checks(self) -> None:
+        """One finding per check: the reads of ``gym.__version__`` under one ``if`` (its test,
+        and a message in its body that prints the version) are one check. A comparison of
+        parsed versions against a literal answers the same on every Gymnasium run, so it is
+        settled with a note naming the answer; other checks remain an item."""
         if "__version__" not in self.facts.text:
             return
-        for node in ast.walk(self.facts.tree):
-            if isinstance(node, ast.Attribute) and node.attr == "__version__":
-                if isinstance(node.value, ast.Name) and node.value.id in self._gym_names:
-                    self.report(node, "GM108", "gym version check: after the migration one branch is dead; delete the legacy one")
+        reads = [
+            node
+            for node in ast.walk(self.facts.tree)
+            if isinstance(node, ast.Attribute)
+            and node.attr == "__version__"
+            and isinstance(node.value, ast.Name)
+            and node.value.id in self._gym_names
+        ]
+        checks: dict[int, ast.AST] = {}
+        for node in sorted(reads, key=lambda n: (n.lineno, n.col_offset)):
+            check = self._version_check_of(node)
+            if check is not None:
+                if id(check) in checks:
+                    continue  # the same check: its first read speaks for it
+                checks[id(check)] = check
+                answer = _settled_comparison(check.test) if isinstance(check, (ast.If, ast.IfExp, ast.Assert)) else None
+                if answer is not None:
+                    compare, value = answer
+                    self.report(
+                        compare,
+                        "GM108",
+                        f"`{self.facts.segment(compare)}` is {value} on Gymnasium {GYMNASIUM_VERSION} (the version "
+                        "imported as gym now): the code takes the same branch on every run, the other one is dead",
+                        tier=Tier.NOTE,
+                    )
+                    continue
+            self.report(node, "GM108", "gym version check: after the migration one branch is dead; delete the legacy one")
+
+    def _version_check_of(self, node: ast.AST) -> ast.AST | None:
+        """The ``if`` (or conditional expression, or assert) whose test reads ``gym.__version__``
+        and holds ``node``, in its test or its body; None when there is none."""
+        for ancestor in self.facts.ancestors(node):
+            if isinstance(ancestor, (ast.If, ast.IfExp, ast.Assert)) and _reads_version(ancestor.test, self._gym_names):
+                return ancestor
+            if isinstance(ancestor, FUNCTIONS + (ast.ClassDef,)):
+                return None
+        return None
+
+
+# Callables that parse a version string into something ordered as versions are.
+_VERSION_PARSERS = frozenset({"parse", "Version", "LooseVersion", "StrictVersion", "parse_version"})
+
+
+def _reads_version(test: ast.AST, gym_names: set[str]) -> bool:
+    return any(
+        isinstance(n, ast.Attribute) and n.attr == "__version__" and isinstance(n.value, ast.Name) and n.value.id in gym_names
+        for n in ast.walk(test)
+    )
+
+
+def _parsed(node: ast.AST) -> ast.AST | None:
+    """``version.parse(x)``, ``LooseVersion(x)``, ``Version(x)``: the argument ``x``."""
+    if not (isinstance(node, ast.Call) and len(node.args) == 1 and not node.keywords):
+        return None
+    name = node.func.attr if isinstance(node.func, ast.Attribute) else node.func.id if isinstance(node.func, ast.Name) else None
+    return node.args[0] if name in _VERSION_PARSERS else None
+
+
+def _release(text: str) -> tuple[int, ...] | None:
+    """``"0.24.0"`` -> (0, 24, 0); None for anything but dotted numbers."""
+    parts = text.split(".")
+    if not parts or not all(part.isdigit() for part in parts):
+        return None
+    return tuple(int(part) for part in parts)
+
+
+def _settled_comparison(test: ast.AST) -> tuple[ast.Compare, bool] | None:
+    """The comparison in ``test`` of the parsed gym version with a parsed legacy (0.x)
+    literal (``version.parse(gym.__version__) >= version.parse("0.24.0")``, under ``not``
+    or in an ``and``/``or`` too) and its value, the same on every Gymnasium 1.x release."""
+    for node in ast.walk(test):
+        if not (isinstance(node, ast.Compare) and len(node.ops) == 1):
+            continue
+        left, right = _parsed(node.left), _parsed(node.comparators[0])
+        if left is None or right is None:
+            continue
+        op = node.ops[0]
+        if isinstance(right, ast.Attribute) and right.attr == "__version__":
+            left, right = right, left
+            op = _MIRRORED.get(type(op), op)
+        if not (isinstance(left, ast.Attribute) and left.attr == "__version__"):
+            continue
+        if not (isinstance(right, ast.Constant) and isinstance(right.value, str)):
+            continue
+        target, other = _release(GYMNASIUM_VERSION), _release(right.value)
+        if target is None or other is None or type(op) not in _COMPARE or other >= (1,):
+            continue  # a 1.x literal may answer differently on another Gymnasium release
+        width = max(len(target), len(other))
+        padded = (target + (0,) * width)[:width], (other + (0,) * width)[:width]
+        return node, _COMPARE[type(op)](*padded)
+    return None
+
+
+_COMPARE = {
+    ast.Lt: lambda a, b: a < b,
+    ast.LtE: lambda a, b: a <= b,
+    ast.Gt: lambda a, b: a > b,
+    ast.GtE: lambda a, b: a >= b,
+    ast.Eq: lambda a, b: a == b,
+    ast.NotEq: lambda a, b: a != b,
+}
+_MIRRORED: dict[type, ast.cmpop] = {ast.Lt: ast.Gt(), ast.LtE: ast.GtE(), ast.Gt: ast.Lt(), ast.GtE: ast.LtE()}
 
 
 def _packages(node: ast.Import | ast.ImportFrom) -> set[str]:

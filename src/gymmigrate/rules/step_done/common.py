@@ -99,6 +99,9 @@ class StepFamilyBase(RuleFamily):
     # Rewritten steps by ``done`` variable (scope id, name); their reads are planned together.
     done_steps: dict[tuple[int, str], list]
     reported_reads: set[int]  # ``done`` reads already reported (by node id)
+    # (callee text, argument) -> the question of the first step whose done it was handed:
+    # other steps handing their done to the same argument join that question.
+    callee_questions: dict[tuple[str, object], tuple[object, ...]]
     result_steps: dict[tuple[int, str], list]  # ``res = x.step(a)`` by variable
     # Four-target step unpacks: a read that one of them dominates belongs to it alone.
     legacy_unpacks: set[ast.Assign]

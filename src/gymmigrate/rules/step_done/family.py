@@ -40,6 +40,7 @@ class StepDone(UnpackRules, TimeLimitRules, ResultRules):
         self.done_steps = {}
         self.result_steps = {}
         self.reported_reads = set()
+        self.callee_questions = {}
         steps = facts.attribute_calls.get("step", [])
         self.forwarded_unpacks = {}
         for call in steps:

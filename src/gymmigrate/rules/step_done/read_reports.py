@@ -120,8 +120,19 @@ class DoneReadReports(DoneBookkeeping):
             question=("GM302", id(step.assign)),
         )
 
-    def _report_none_mask(self, read: ast.Name, step: DoneStep, masked: str) -> None:
+    def _report_none_mask(self, read: ast.Name, step: DoneStep, masked: str, boundary: str | None = None) -> None:
         names = step.names
+        if boundary is not None:
+            self._report_read(
+                read,
+                f"`{read.id}` sets the next state `{masked}` to None, and `{boundary}` also reads that None as the "
+                f"episode's end (it closes or flushes what the episode gathered): the test stays `{names.terminated} "
+                f"or {names.truncated}`, as legacy `done` was, so a time-limit truncation is still stored as terminal. "
+                f"To bootstrap it, hand the final state on and tell the callee `{names.terminated}` apart from the end",
+                FixKind.FLAG,
+                question=("GM302", id(step.assign)),
+            )
+            return
         self._report_read(
             read,
             f"`{read.id}` decides whether the stored next state `{masked}` is None (no bootstrapping) and also "
@@ -167,8 +178,18 @@ class DoneReadReports(DoneBookkeeping):
     def _report_open_read(self, read: ast.Name, step: DoneStep) -> None:
         use = classify_done_read(read, self.facts)
         names = step.names
-        # The reads of one step's done ask one question: what its done should mean.
-        question = ("GM302", id(step.assign))
+        # The reads of one step's done ask one question: what its done should mean. Handed to
+        # a callee (``agent.observe(obs, r, done, reset)``), the question is what that callee
+        # does with the argument, asked once however many loops call it.
+        question: tuple[object, ...] = ("GM302", id(step.assign))
+        call = self.facts.parent(read)
+        argument: tuple[str, object] | None = None
+        if isinstance(call, ast.Call) and read in call.args and not any(isinstance(a, ast.Starred) for a in call.args):
+            argument = (self.facts.segment(call.func), call.args.index(read))
+        elif isinstance(call, ast.keyword) and call.arg is not None and isinstance(caller := self.facts.parent(call), ast.Call):
+            argument = (self.facts.segment(caller.func), call.arg)
+        if argument is not None:
+            question = self.callee_questions.setdefault(argument, question)
         owner = self._dominating_step(read, step.done)
         statement = self.facts.statement_of(read)
         stored = (

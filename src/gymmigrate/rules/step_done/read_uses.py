@@ -102,12 +102,13 @@ class DoneReadUses(NextStateReads):
             return all(isinstance(s, (ast.Assign, ast.AugAssign, ast.AnnAssign, ast.Pass)) for s in [*done_branch, *other])
         return None
 
-    def _none_mask(self, read: ast.Name, step: DoneStep) -> tuple[str, bool] | None:
+    def _none_mask(self, read: ast.Name, step: DoneStep) -> tuple[str, bool, str | None] | None:
         """``next_state = None if done else s2`` or ``if done: next_state = None`` (the PyTorch
         DQN tutorial's terminal transition): the flag decides whether the transition stored
         afterwards has a next state to bootstrap from. Returns the masked name and whether the
         test can simply read ``terminated``: only when the branches do nothing but assign
-        (a ``break`` there is loop control, which must stay ``done``). None: not such a mask."""
+        (a ``break`` there is loop control, which must stay ``done``), and the callee that also
+        reads the None as the episode's end (then the test stays ``done``). None: not such a mask."""
         facts = self.facts
         node: ast.AST = read
         negated = False
@@ -123,7 +124,8 @@ class DoneReadUses(NextStateReads):
             targets = [t.id for t in statement.targets if isinstance(t, ast.Name)]
             if len(targets) != 1 or targets[0] not in next_names or not self._stored_later(statement, targets[0]):
                 return None
-            return targets[0], True
+            boundary = self._none_ends_episode_in_callee(statement, targets[0])
+            return targets[0], boundary is None, boundary
         if isinstance(parent, ast.If) and parent.test is node:
             done_branch, other = (parent.orelse, parent.body) if negated else (parent.body, parent.orelse)
             masked = [
@@ -135,8 +137,48 @@ class DoneReadUses(NextStateReads):
             if not masked:
                 return None
             simple = all(isinstance(s, (ast.Assign, ast.AnnAssign, ast.Pass)) for s in [*done_branch, *other])
-            return masked[0], simple
+            boundary = self._none_ends_episode_in_callee(parent, masked[0])
+            return masked[0], simple and boundary is None, boundary
         return None
+
+    def _none_ends_episode_in_callee(self, statement: ast.stmt, name: str) -> str | None:
+        """A def of the module that ``name`` is handed to after ``statement`` (``agent.train(s,
+        a, r, s2)``) and that also reads its None as the episode's end: the None test joined
+        with another condition (``if s2 is None or len(self.memory) >= n``: flush an n-step
+        buffer), or its None branch resetting the object's state (``self.memory = []``). Then
+        the None is a boundary as well as a mask, and a truncation must set it too. Returns
+        the callee's text; None when no such callee is found."""
+        function = self.facts.enclosing_function(statement) or self.facts.tree
+        for call in ast.walk(function):
+            if not isinstance(call, ast.Call) or call.lineno <= statement.lineno:
+                continue
+            positions = [i for i, arg in enumerate(call.args) if isinstance(arg, ast.Name) and arg.id == name]
+            if not positions or any(isinstance(a, ast.Starred) for a in call.args[: positions[0]]):
+                continue
+            callee = self._module_def(call.func)
+            if callee is None:
+                continue
+            params = [a.arg for a in (*callee.args.posonlyargs, *callee.args.args)]
+            if isinstance(self.facts.parent(callee), ast.ClassDef) and isinstance(call.func, ast.Attribute) and params:
+                params = params[1:]  # ``self``
+            if positions[0] < len(params) and _tests_none_as_boundary(callee, params[positions[0]]):
+                return self.facts.segment(call.func)
+        return None
+
+    def _module_def(self, func: ast.AST) -> ast.FunctionDef | ast.AsyncFunctionDef | None:
+        """The def a call runs, where the module shows it: a function of the module, the
+        class's own method, or ``obj.method`` when one class of the module alone defines it."""
+        found = self.receivers.local_function(func) or self.receivers.own_method(func)
+        if found is not None or not isinstance(func, ast.Attribute):
+            return found
+        methods = [
+            s
+            for node in ast.walk(self.facts.tree)
+            if isinstance(node, ast.ClassDef)
+            for s in node.body
+            if isinstance(s, FUNCTIONS) and s.name == func.attr
+        ]
+        return methods[0] if len(methods) == 1 else None
 
     def _stored_later(self, statement: ast.stmt, name: str) -> bool:
         """``name`` is handed on after ``statement`` in the same function, as an argument
@@ -470,6 +512,38 @@ class DoneReadUses(NextStateReads):
         return name in scope.declared_global or name in scope.declared_nonlocal
 
 
+def _tests_none_as_boundary(function: ast.AST, param: str) -> bool:
+    """``function`` tests ``param is None`` (or ``is not None``) together with another
+    condition, or resets its object's state on the None side (``self.memory = []``,
+    ``self.buffer.clear()``): the None ends something, beyond choosing a stored value."""
+    parents = {id(child): node for node in ast.walk(function) for child in ast.iter_child_nodes(node)}
+    for node in ast.walk(function):
+        if not (
+            isinstance(node, ast.Compare)
+            and isinstance(node.left, ast.Name)
+            and node.left.id == param
+            and len(node.ops) == 1
+            and isinstance(node.ops[0], (ast.Is, ast.IsNot))
+            and _is_none(node.comparators[0])
+        ):
+            continue
+        parent = parents.get(id(node))
+        if isinstance(parent, ast.BoolOp):
+            return True
+        if isinstance(parent, ast.If) and parent.test is node:
+            branch = parent.body if isinstance(node.ops[0], ast.Is) else parent.orelse
+            for statement in branch:
+                for inner in ast.walk(statement):
+                    if isinstance(inner, (ast.Assign, ast.AugAssign)) and any(
+                        isinstance(t, ast.Attribute) and isinstance(t.value, ast.Name) and t.value.id == "self"
+                        for t in (inner.targets if isinstance(inner, ast.Assign) else [inner.target])
+                    ):
+                        return True
+                    if isinstance(inner, ast.Call) and isinstance(inner.func, ast.Attribute) and inner.func.attr == "clear":
+                        return True
+    return False
+
+
 def _joins_done(test: ast.AST, done: str) -> bool:
     """``done and steps != limit``, ``done and not info.get(...)``: ``done`` read together
     with another condition (``done`` alone, or negated, is the flag itself)."""
@@ -528,12 +602,50 @@ class DoneBookkeeping(DoneReadUses):
             what = "only resets a running value (an accumulated return or count) where an episode ended"
         elif (callee := self._tests_only_in_callee(read, step)) is not None:
             what = f"is handed to `{callee}`, which only tests it to close an episode's books"
+        elif (flag := self._decides_real_reset(read, statement)) is not None:
+            what = f"is kept in `{flag}`, which the class reads only to choose a real reset of the env"
         if what is None:
             return None
         return (
             f"{what}: it stays `{names.terminated} or {names.truncated}`, the episode's end legacy `done` was; no "
             "next-state value depends on it"
         )
+
+    def _decides_real_reset(self, read: ast.Name, statement: ast.AST | None) -> str | None:
+        """``self.needs_real_reset = done or info.get(...)`` where every read of the attribute
+        in the class is an ``if`` test choosing whether to reset the env (a life-loss wrapper's
+        game-over book): it needs the episode's end, however it ended. Returns the attribute's
+        text; None otherwise."""
+        if not (isinstance(statement, ast.Assign) and len(statement.targets) == 1):
+            return None
+        target = statement.targets[0]
+        value = statement.value
+        operands = value.values if isinstance(value, ast.BoolOp) and isinstance(value.op, ast.Or) else [value]
+        if read not in operands:
+            return None
+        if not (isinstance(target, ast.Attribute) and isinstance(target.value, ast.Name) and target.value.id == "self"):
+            return None
+        classdef = self.facts.enclosing_class(statement)
+        if classdef is None:
+            return None
+        loads = [
+            node
+            for node in self.facts.attributes.get(target.attr, ())
+            if isinstance(node.ctx, ast.Load)
+            and isinstance(node.value, ast.Name)
+            and node.value.id == "self"
+            and self.facts.enclosing_class(node) is classdef
+        ]
+        if not loads:
+            return None
+        for node in loads:
+            test: ast.AST = node
+            parent = self.facts.parent(test)
+            if isinstance(parent, ast.UnaryOp) and isinstance(parent.op, ast.Not):
+                test, parent = parent, self.facts.parent(parent)
+            if not (isinstance(parent, ast.If) and parent.test is test and _resets(parent)):
+                return None
+        return self.facts.segment(target)
 
     def _resets_running_value(self, read: ast.Name, statement: ast.AST | None) -> bool:
         """``self.ret[done] = 0.`` or ``if done: self.ret = 0`` (nothing else in the branch),

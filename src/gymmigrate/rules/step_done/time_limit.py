@@ -1,7 +1,7 @@
 """GM303: reads of the legacy ``info["TimeLimit.truncated"]`` key.
 
 Gymnasium's ``TimeLimit`` no longer sets the key, so ``info["TimeLimit.truncated"]``
-raises and ``info.get("TimeLimit.truncated", False)`` is silently always false. Where
+raises and ``info.get("TimeLimit.truncated", False)`` is silently always false (``info.pop`` likewise). Where
 the ``info`` comes from a step this family rewrote, the read becomes ``truncated and not
 terminated``, the exact legacy meaning (legacy ``TimeLimit`` stored ``not done`` there,
 and only when the limit was hit); ``"TimeLimit.truncated" in info`` becomes
@@ -16,7 +16,7 @@ import ast
 
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts.module import Scope
-from gymmigrate.findings import FixKind
+from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.step_done.common import (
     TIME_LIMIT_KEY,
     StepFamilyBase,
@@ -29,7 +29,9 @@ _DISCARDED = StepNames("_", "_", vector=False)  # a step whose done target was `
 
 
 def time_limit_reads(facts_strings: list[ast.Constant], parent_of) -> list[ast.expr]:
-    """``info[KEY]``, ``info.get(KEY, ...)`` and ``KEY in info`` nodes, in source order."""
+    """``info[KEY]``, ``info.get(KEY, ...)``, ``info.pop(KEY, ...)`` and ``KEY in info``
+    nodes, in source order. A pop reads the key as a get does (removing a key Gymnasium never
+    writes changes nothing), and ``info.pop(KEY)`` raises where it is now absent."""
     found: list[ast.expr] = []
     for string in facts_strings:
         if string.value != TIME_LIMIT_KEY:
@@ -42,7 +44,7 @@ def time_limit_reads(facts_strings: list[ast.Constant], parent_of) -> list[ast.e
             and parent.args
             and parent.args[0] is string
             and isinstance(parent.func, ast.Attribute)
-            and parent.func.attr == "get"
+            and parent.func.attr in ("get", "pop")
         ):
             found.append(parent)
         elif (
@@ -71,6 +73,17 @@ class TimeLimitRules(StepFamilyBase):
                 FixKind.FLAG,
             )
             return
+        if isinstance(node, ast.Call) and node.func.attr == "pop" and isinstance(self.facts.parent(node), ast.Expr):  # type: ignore[attr-defined]
+            # ``info.pop(KEY, None)`` alone: it only drops a key Gymnasium never writes.
+            if len(node.args) < 2 and not node.keywords:
+                self.report(
+                    node,
+                    "GM303",
+                    f'Gymnasium never sets "{TIME_LIMIT_KEY}", so this pop without a default raises KeyError: '
+                    "remove it (the step's `truncated` flag tells the time limit)",
+                    FixKind.FLAG,
+                )
+            return
         base = _time_limit_base(node)
         names = self._info_step(base) if isinstance(base, ast.Name) else _UNTRACED
         if names is None:
@@ -82,7 +95,9 @@ class TimeLimitRules(StepFamilyBase):
                 if isinstance(node, ast.Compare)
                 else f"`{names.truncated} and not {names.terminated}` (the key held `not done` at the time limit)"
             )
-            self.report(node, "GM303", f'Gymnasium no longer sets "{TIME_LIMIT_KEY}": replaced by {equivalent}; review')
+            # The step that made this info certainly gave the flags read instead: the
+            # replacement is the legacy value itself, nothing is left to decide.
+            self.report(node, "GM303", f'Gymnasium no longer sets "{TIME_LIMIT_KEY}": replaced by {equivalent}', tier=Tier.NOTE)
             return
         if self.context.profile.imports_sb3:
             return  # most likely SB3 VecEnv infos, which still carry the key

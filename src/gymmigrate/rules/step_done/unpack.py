@@ -195,7 +195,7 @@ class UnpackRules(DoneReadReports):
                         self._claim(read, steps[first], none_mask=masked[0])
                         continue
                     if masked is not None:
-                        self._report_none_mask(read, steps[first], masked[0])
+                        self._report_none_mask(read, steps[first], masked[0], masked[2])
                     elif (simple := self._bootstrap_choice(read, steps[first], dominated=True)) is not None:
                         if simple:
                             self._claim(read, steps[first])

@@ -20,13 +20,14 @@ from __future__ import annotations
 
 import ast
 from collections import defaultdict
+from collections.abc import Hashable
 from dataclasses import dataclass, field
 from typing import cast
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.decisions import Action, decide
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.module import keyword, string_value
+from gymmigrate.facts.module import full_name, keyword, string_value
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.step_done.common import looks_vectorised
 from gymmigrate.rules.vector.common import (
@@ -91,6 +92,7 @@ class Infos(VectorFamilyBase):
         by_creation: dict[int, list[InfosReaders]] = defaultdict(list)
         creations: dict[int, ast.Call | None] = {}
         counted: set[int] = set()  # readers whose key strings are in ``handled``
+        untraced: dict[int, tuple[str, Hashable | None]] = {}  # receiver text and question, by key
         for step, infos in self._step_assigns():
             func = step.func
             if not isinstance(func, ast.Attribute):  # ``x.step(...)`` calls only
@@ -114,10 +116,15 @@ class Infos(VectorFamilyBase):
             # infos bindings share their readers, and one decision covers them all.
             key = id(creation) if creation is not None else id(readers)
             creations[key] = creation
+            if decision.action is not Action.REWRITE:
+                # Not shown to be a Gym vector env (a project's own VectorEnv keeps its list of
+                # infos): the read is a question only if it is one, which its step or reset
+                # asks already; the read joins that question rather than ask again.
+                untraced[key] = (full_name(receiver) or self.facts.segment(receiver), self.receiver_question(receiver, decision))
             if not any(use is readers for use in by_creation[key]):
                 by_creation[key].append(readers)
         for key, uses in by_creation.items():
-            self._plan_creation(creations[key], uses)
+            self._plan_creation(creations[key], uses, untraced.get(key))
 
     def _vector_evidence(self, step: ast.Call, readers: InfosReaders) -> bool:
         """An untraced receiver that says it is a vector env: a plural name (``envs``), a
@@ -184,7 +191,9 @@ class Infos(VectorFamilyBase):
             return parent.attr in _VECTOR_WRAPPER_API
         return True
 
-    def _plan_creation(self, creation: ast.Call | None, uses: list[InfosReaders]) -> None:
+    def _plan_creation(
+        self, creation: ast.Call | None, uses: list[InfosReaders], untraced: tuple[str, Hashable | None] | None = None
+    ) -> None:
         positional = [n for r in uses for n in r.positional]
         keyed = [n for r in uses for n in r.keyed]
         final_obs = [n for r in uses for n in r.final_obs]
@@ -214,14 +223,16 @@ class Infos(VectorFamilyBase):
                 caveat = ""
                 if creation is not None and not wrapper_safe.get(id(creation), True):
                     caveat = " (not done here: the env is also used through methods the wrapper does not forward)"
+                condition, question = (f"if `{untraced[0]}` is a Gym vector env, its ", untraced[1]) if untraced else ("", None)
                 for node in positional:
                     self.report(
                         node,
                         "GM705",
-                        "vector infos are one dict of arrays with `_key` masks, so this list-style read breaks "
+                        f"{condition or 'vector '}infos are one dict of arrays with `_key` masks, so this list-style read breaks "
                         "(iterating gives keys): wrap the env in gymnasium.wrappers.vector.DictInfoToList"
                         f'{caveat} or read infos["k"][i] where infos["_k"][i]',
                         FixKind.FLAG,
+                        question=question,
                     )
         same_step = bool(final_obs) and creation is not None and self._can_set_autoreset(creation)
         if same_step and creation is not None:  # ``same_step`` already implies a creation
