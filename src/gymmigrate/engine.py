@@ -43,6 +43,9 @@ class Transformed:
     findings: list[Finding] = field(default_factory=list)
     # The families whose edits made this rewrite (named when a rewrite does not settle).
     changed_by: frozenset[str] = frozenset()
+    # Only methods were renamed (``Plan.renames_first``): the next round's findings are
+    # the file's, review items too.
+    renamed_first: bool = False
 
     @property
     def changed(self) -> bool:
@@ -81,14 +84,20 @@ def lint_source(source: bytes, path: str = "<string>", options: RewriteOptions |
     text, _ = decode(source)
     tree = parse_python(text, source, path)
     plan = plan_file(tree, text, path, options)
+    if plan.renames_first:
+        # What the file needs is decided on the renamed code (the next round).
+        result = transform_source(source, path, options)
+        return sorted(result.findings), result.changed
     return sorted(plan.findings), plan.has_edits
 
 
-def plan_file(tree: ast.Module, text: str, path: str, options: RewriteOptions) -> Plan:
-    """Every rule family decides on the same facts; nothing is changed yet."""
+def plan_file(tree: ast.Module, text: str, path: str, options: RewriteOptions, renames_first: bool = True) -> Plan:
+    """Every rule family decides on the same facts; nothing is changed yet.
+
+    ``renames_first``: a family may ask for a round of its renames alone (``Plan.renames_first``)."""
     facts = ModuleFacts(tree, text)
     context = FileContext(path=path, options=options, profile=FileProfile.from_source(text))
-    plan = Plan(facts)
+    plan = Plan(facts, allow_renames_first=renames_first)
     if skips_file(text, first_statement_line(tree)):
         return plan
     view = options.project.view(path) if options.project is not None else None
@@ -98,16 +107,30 @@ def plan_file(tree: ast.Module, text: str, path: str, options: RewriteOptions) -
     for family in families_for(text, in_a_run=options.project is not None):
         if not _family_selected(family, options.selection) or not family.may_fire(facts, context):
             continue
-        plan.deciding = family.__name__
-        try:
-            family(context, facts, receivers, plan).decide()
-        except RecursionError:
-            raise TransformError(f"internal error in {family.__name__}: the code is nested too deeply to analyse") from None
-        except Exception as exc:  # a rule bug must not lose the user's file or print a traceback
-            raise TransformError(f"internal error in {family.__name__}: {type(exc).__name__}: {exc}") from exc
+        _decide(family, context, facts, receivers, plan)
+        if plan.renames_first:
+            # The other families decided on the old names (a dead ``_step``): this round is
+            # the rename alone, and the next one decides everything on the renamed code.
+            plan = Plan(facts)
+            _decide(family, context, facts, receivers, plan)
+            plan.renames_first = True
+            break
     filter_plan(plan, text, options)  # --select/--ignore and suppression comments
+    if plan.renames_first and not plan.has_edits:
+        # The renames were left out (--ignore GM616, a suppression): decide as usual.
+        return plan_file(tree, text, path, options, renames_first=False)
     plan.ask_once()
     return plan
+
+
+def _decide(family: type[RuleFamily], context: FileContext, facts: ModuleFacts, receivers: Receivers, plan: Plan) -> None:
+    plan.deciding = family.__name__
+    try:
+        family(context, facts, receivers, plan).decide()
+    except RecursionError:
+        raise TransformError(f"internal error in {family.__name__}: the code is nested too deeply to analyse") from None
+    except Exception as exc:  # a rule bug must not lose the user's file or print a traceback
+        raise TransformError(f"internal error in {family.__name__}: {type(exc).__name__}: {exc}") from exc
 
 
 def _family_selected(family: type[RuleFamily], selection: Selection | None) -> bool:
@@ -139,7 +162,14 @@ def _migrate(source: bytes, text: str, encoding: str, tree: ast.Module, path: st
     line_map = LineMap(text, new_text)
     findings = [replace(f, line_after=line_map.forward(f.line)) for f in findings]
     changed_by = frozenset(family for finding, family in zip(plan.findings, plan.finding_families) if finding.is_change)
-    return Transformed(original=source, rewritten=rewritten, encoding=encoding, findings=findings, changed_by=changed_by)
+    return Transformed(
+        original=source,
+        rewritten=rewritten,
+        encoding=encoding,
+        findings=findings,
+        changed_by=changed_by,
+        renamed_first=plan.renames_first,
+    )
 
 
 _UNREPRODUCIBLE = re.compile(r"\r(?!\n)|\f")
@@ -206,7 +236,7 @@ def _settle(first: Transformed, original_text: str, path: str, options: RewriteO
         seen.add(again.rewritten)
         # The later round's own changes, placed in the original by way of the text it read.
         back = LineMap(original_text, text)
-        findings += [replace(f, line=back.backward(f.line)) for f in again.findings if f.is_change]
+        findings += [replace(f, line=back.backward(f.line)) for f in again.findings if f.is_change or current.renamed_first]
         current = again
     raise TransformError(
         f"the rewrite does not settle after {MAX_ROUNDS} rounds ({', '.join(sorted(current.changed_by))} kept changing it); "

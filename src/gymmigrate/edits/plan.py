@@ -53,6 +53,11 @@ class Plan:
     finding_questions: list[Hashable | None] = field(default_factory=list)
     _edits: list[_Edit] = field(default_factory=list)
     partial: bool = False  # some findings were dropped (with their edits)
+    # A family renamed methods every other family must decide on under their new names
+    # (gym < 0.9's ``_step`` -> ``step``, GM616): the engine applies that family's plan alone
+    # and lets the next round decide everything on the renamed code.
+    renames_first: bool = False
+    allow_renames_first: bool = True  # False: the renames were left out, decide as usual
     _seen: set[tuple[int, str, str]] = field(default_factory=set)
 
     @property

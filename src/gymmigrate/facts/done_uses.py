@@ -148,11 +148,11 @@ def _classify(read: ast.Name, facts: ModuleFacts) -> DoneUse:
                 return loop
         if isinstance(parent, ast.keyword):
             call = facts.parent(parent)
-            if isinstance(call, ast.Call) and _builds_record(call, facts):
+            if isinstance(call, ast.Call) and builds_record(call, facts):
                 node, in_container = call, True
                 continue
             return _call_use(call) if isinstance(call, ast.Call) else DoneUse.AMBIGUOUS
-        if isinstance(parent, ast.Call) and parent.func is not node and _builds_record(parent, facts):
+        if isinstance(parent, ast.Call) and parent.func is not node and builds_record(parent, facts):
             node, in_container = parent, True  # ``Experience(s, a, r, done, s2)``: a transition record
             continue
         if isinstance(parent, ast.Call):
@@ -214,7 +214,7 @@ def _call_use(call: ast.Call) -> DoneUse:
 _RECORD_FACTORIES = frozenset({"namedtuple", "NamedTuple"})
 
 
-def _builds_record(call: ast.Call, facts: ModuleFacts) -> bool:
+def builds_record(call: ast.Call, facts: ModuleFacts) -> bool:
     """``Experience(state, action, reward, done, new_state)``: a call of a record class of
     this module, at module level or in a def (a ``namedtuple``, a ``NamedTuple`` or a
     ``@dataclass``), or of another module of the run (``from .memory import Transition``),

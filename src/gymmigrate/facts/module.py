@@ -117,7 +117,7 @@ class ModuleFacts:
         self.import_statements: list[ast.Import | ast.ImportFrom] = []
         self._memo: dict[tuple[str, int], object] = {}
         # Whether a qualified name is a record class of another module of the run (set by the
-        # engine from the run's facts; ``done_uses._builds_record``). None of them outside a run.
+        # engine from the run's facts; ``done_uses.builds_record``). None of them outside a run.
         self.is_run_record: Callable[[str], bool] = _no_record
         self.module_scope = Scope(tree, None)
         self.scopes[tree] = self.module_scope

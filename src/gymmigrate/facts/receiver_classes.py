@@ -125,6 +125,30 @@ class ClassKinds(_Facade):
             return None
         return statement if flow.dominates(statement, read, read) else None
 
+    def base_methods(self, classdef: ast.ClassDef) -> frozenset[str]:
+        """The methods the class's bases of the run define: this module's, at any depth, and
+        other modules' (with their own bases) through the run's facts. gym < 0.9's ``_step``
+        is the project's own hook, not a dead one, where such a base defines ``step``
+        (custom envs, GM504; wrappers, GM616)."""
+        return self.facts.memo(("base-methods", id(classdef)), lambda: self._base_methods(classdef), while_computing=frozenset())
+
+    def _base_methods(self, classdef: ast.ClassDef) -> frozenset[str]:
+        found: set[str] = set()
+        seen = {id(classdef)}
+        todo = [classdef]
+        while todo:
+            for base in todo.pop().bases:
+                local = self.local_class(base)
+                if local is not None:
+                    if id(local) not in seen:
+                        seen.add(id(local))
+                        found.update(s.name for s in local.body if isinstance(s, (ast.FunctionDef, ast.AsyncFunctionDef)))
+                        todo.append(local)
+                elif self.project is not None:
+                    for qualified in self.facts.qualified_names(base):
+                        found |= self.project.class_methods(qualified)
+        return frozenset(found)
+
     def wraps_legacy_step(self, classdef: ast.ClassDef) -> str | None:
         """A Gym wrapper class of this module that a construction here puts around an instance
         of a class whose step keeps its four fields (a batch of envs: ``Stats(Batch(...))``,

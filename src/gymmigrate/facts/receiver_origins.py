@@ -11,6 +11,7 @@ import sys
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts import names as N
+from gymmigrate.facts.done_uses import builds_record
 from gymmigrate.facts.kinds import MAX_DEPTH, EnvKind
 from gymmigrate.facts.module import FUNCTIONS, own_returns
 from gymmigrate.facts.receiver_classes import is_batched_step_return, keeps_legacy_step
@@ -58,7 +59,10 @@ class MadeObjects(_Facade):
             return None
         local = self.local_class(value.func)
         if local is not None:
-            return local.name if self.class_keeps_legacy_step(local) else None
+            # A wrapper of the project's own protocol (``_steps_own_record``): its instances'
+            # step and reset calls read that protocol and stay as they are too.
+            own = self.is_gym_wrapper_class(local) and self._steps_own_record(local)
+            return local.name if own or self.class_keeps_legacy_step(local) else None
         if self.project is not None:
             for qualified in self.qualified_names(value.func):
                 if self.project.keeps_legacy_step(qualified):
@@ -88,12 +92,28 @@ class MadeObjects(_Facade):
         step keeps its legacy contract (``class_keeps_legacy_step``), a Gym wrapper whose own
         step returns a batch's stacked flags, or one put around such a batch. A reset of
         Gymnasium's beside that step would match neither API, and its callers would break."""
+        if self.is_gym_wrapper_class(classdef) and self._steps_own_record(classdef):
+            return True
         if not self.class_keeps_legacy_step(classdef):
             return False
         if not self.is_gym_wrapper_class(classdef) or self.wraps_legacy_step(classdef) is not None:
             return True
         step = next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == "step"), None)
         return step is not None and any(is_batched_step_return(r.value, step) for r in own_returns(step))
+
+    def _steps_own_record(self, classdef: ast.ClassDef) -> bool:
+        """A Gym wrapper that speaks the project's own protocol: its step returns a record of
+        the run (``EnvStep(o, r, d, info)``, never a tuple) and its reset the bare observation
+        (no pair). Its callers read that record and that observation, so only its calls of the
+        wrapped env change; its reset keeps returning the observation."""
+        methods = {s.name: s for s in classdef.body if isinstance(s, FUNCTIONS)}
+        step, reset = methods.get("step"), methods.get("reset")
+        if step is None or reset is None:
+            return False
+        returns = [r.value for r in own_returns(step)]
+        if not returns or not all(isinstance(v, ast.Call) and builds_record(v, self.facts) for v in returns):
+            return False
+        return not any(isinstance(r.value, ast.Tuple) and len(r.value.elts) == 2 for r in own_returns(reset))
 
     def run_defined(self, expr: ast.AST) -> bool:
         """``expr`` holds (or may hold) an object the run itself makes: an instance of a class

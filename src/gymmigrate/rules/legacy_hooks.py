@@ -7,7 +7,10 @@ wrapper's hook is never called and the wrapper silently passes everything throug
 hook is renamed where the class derives from a Gym wrapper and does not define the
 public name too; its own ``self._observation(...)`` calls follow. The old ``_step`` /
 ``_reset`` / ``_render`` / ``_seed`` / ``_close`` of a wrapper change their contract as
-well (five values, ``(obs, info)``): those are reported, to rename and run again.
+well (five values, ``(obs, info)``): where no base of the run defines the public name
+(then ``_step`` is that base's own hook), they are renamed in a round of their own
+(``Plan.renames_first``), and the next round migrates them as the wrapper's ``step`` /
+``reset`` it decides on the renamed code, as it would have with the names written so.
 """
 
 from __future__ import annotations
@@ -63,15 +66,22 @@ class LegacyWrapperHooks(RuleFamily):
                     "GM616",
                     f"gym < 0.9 wrapper hook `{old}` renamed `{new}`: Gymnasium's wrappers call `{new}` only",
                 )
+            base_methods = self.receivers.base_methods(classdef)
             for old, new in API_METHODS.items():
-                if old in methods and new not in methods:
-                    self.report(
-                        methods[old],
-                        "GM616",
-                        f"gym < 0.9 wrapper method `{old}` is never called by Gymnasium: rename it `{new}` and run "
-                        "gymmigrate again to migrate its contract",
-                        FixKind.FLAG,
-                    )
+                if old not in methods or new in methods or new in base_methods:
+                    continue  # not a dead hook: the class's own step, or a base's step calls it
+                if not self.plan.allow_renames_first:
+                    continue  # the rename was left out (--ignore GM616, a suppression comment)
+                self.plan.renames_first = True
+                self.plan.replace(methods[old], lambda node, new=new: node.with_changes(name=node.name.with_changes(value=new)))
+                for call in self._hook_calls(classdef, old):
+                    self.plan.replace(call.func, lambda node, new=new: node.with_changes(attr=node.attr.with_changes(value=new)))
+                self.report(
+                    methods[old],
+                    "GM616",
+                    f"gym < 0.9 wrapper method `{old}` renamed `{new}` (Gymnasium calls `{new}` only), and migrated as "
+                    f"the wrapper's `{new}`",
+                )
 
     def _ancestry(self, classdef: ast.ClassDef) -> tuple[set[str], set[str]]:
         """The Gym wrapper classes ``classdef`` derives from (last name: ``ObservationWrapper``),
@@ -92,6 +102,26 @@ class LegacyWrapperHooks(RuleFamily):
                 for qualified in self.facts.qualified_names(base):
                     bases.add(qualified.rsplit(".", 1)[-1])
         return bases, inherited
+
+    def _hook_calls(self, classdef: ast.ClassDef, name: str) -> list[ast.Call]:
+        """``self._step(a)``, ``super()._step(a)`` and ``self.env._step(a)`` in the class:
+        gym < 0.9's Wrapper._step called the inner env's step, and so does the renamed one."""
+        return [
+            call
+            for call in self.facts.attribute_calls.get(name, ())
+            if isinstance(call.func, ast.Attribute)
+            and self.facts.enclosing_class(call) is classdef
+            and (
+                (isinstance(call.func.value, ast.Name) and call.func.value.id == "self")
+                or (isinstance(call.func.value, ast.Call) and isinstance(call.func.value.func, ast.Name) and call.func.value.func.id == "super")
+                or (
+                    isinstance(call.func.value, ast.Attribute)
+                    and call.func.value.attr == "env"
+                    and isinstance(call.func.value.value, ast.Name)
+                    and call.func.value.value.id == "self"
+                )
+            )
+        ]
 
     def _self_calls(self, classdef: ast.ClassDef, name: str) -> list[ast.Call]:
         return [

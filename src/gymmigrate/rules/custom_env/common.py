@@ -87,24 +87,8 @@ class ClassDecision:
 
 
 def inherited_methods(family: RuleFamily, classdef: ast.ClassDef) -> frozenset[str]:
-    """The methods the class's bases of the run define: this module's, at any depth, and
-    other modules' (with their own bases) through the run's facts."""
-    facts, receivers = family.facts, family.receivers
-    found: set[str] = set()
-    seen = {id(classdef)}
-    todo = [classdef]
-    while todo:
-        for base in todo.pop().bases:
-            local = receivers.local_class(base)
-            if local is not None:
-                if id(local) not in seen:
-                    seen.add(id(local))
-                    found.update(s.name for s in local.body if isinstance(s, (ast.FunctionDef, ast.AsyncFunctionDef)))
-                    todo.append(local)
-            elif receivers.project is not None:
-                for qualified in facts.qualified_names(base):
-                    found |= receivers.project.class_methods(qualified)
-    return frozenset(found)
+    """The methods the class's bases of the run define (``Receivers.base_methods``)."""
+    return family.receivers.base_methods(classdef)
 
 
 def method_of(decision: ClassDecision, node: ast.AST) -> Method | None:

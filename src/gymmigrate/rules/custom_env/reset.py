@@ -103,11 +103,28 @@ def decide_reset(decision: ClassDecision) -> None:
     elif migrates or inserted:
         star_kwarg = function.args.kwarg.arg if function.args.kwarg else None
         extra = [n for n in names[1:] if n not in ("seed", "options", "return_info", star_kwarg)]
-        if extra and not legacy_flag:
+        if extra and not legacy_flag and not _all_defaulted(function, extra):
             decision.report(function, "GM501", f"reset keeps its own parameters ({', '.join(extra)}) before seed/options; Gymnasium code passes such settings in options", FixKind.ASSIST)
+        elif extra and not legacy_flag:
+            # Every one has a default: Gymnasium's callers (keyword seed/options only) and the
+            # project's own positional calls both work as they are, nothing to decide.
+            decision.report(
+                function,
+                "GM501",
+                f"reset takes seed and options (wrappers always pass them) after its own defaulted parameters ({', '.join(extra)})",
+            )
         elif not legacy_flag:
             seeds = ", and calls super().reset(seed=seed) first to seed np_random" if inserted else ""
             decision.report(function, "GM501", f"reset takes seed and options (wrappers always pass them){seeds}")
+
+
+def _all_defaulted(function: ast.AST, names: list[str]) -> bool:
+    """Each of ``names`` (parameters of ``function``) has a default value."""
+    args = function.args  # type: ignore[attr-defined]
+    positional = [*args.posonlyargs, *args.args]
+    defaulted = {a.arg for a in positional[len(positional) - len(args.defaults) :]} if args.defaults else set()
+    defaulted |= {a.arg for a, d in zip(args.kwonlyargs, args.kw_defaults) if d is not None}
+    return all(name in defaulted for name in names)
 
 
 def untested_returns(function: ast.AST) -> list[ast.Return]:
