@@ -223,6 +223,16 @@ class ProjectView:
         """Subclasses in other modules of the run that override ``classname.method``."""
         return self.facts.overrides.get((self.path, classname), {}).get(method, [])
 
+    def hook_followed_elsewhere(self, classname: str, method: str) -> bool:
+        """Every override of ``classname``'s step hook ``method`` in other modules of the run
+        can return five values with it (facts/step_hooks.py): they follow the base."""
+        return method in self.facts.followed_hooks.get((self.path, classname), ())
+
+    def inherited_hooks(self, classname: str) -> frozenset[str]:
+        """The step hooks that bases of ``classname`` in other modules migrate, which its
+        overrides follow."""
+        return self.facts.inherited_hooks.get((self.path, classname), frozenset())
+
     def done_overrides(self, classname: str, method: str) -> list[DoneCause]:
         """Why what ``method`` returns is True in each override of it by subclasses in
         other modules of the run, at any depth (``Base`` <- ``Single`` <- ``Hover``); each

@@ -46,6 +46,7 @@ from gymmigrate.facts.module_summary import (
 from gymmigrate.facts.profile import FileProfile
 from gymmigrate.facts.receiver_classes import duck_wrapper_param, renders_nothing
 from gymmigrate.facts.receivers import Receivers
+from gymmigrate.facts.step_hooks import plain_overrides, step_hooks
 from gymmigrate.source_text import first_statement_line
 from gymmigrate.suppressions import skips_file
 
@@ -143,6 +144,8 @@ class _Summarizer:
             bootstrap_masks=_bootstrap_masks(self.facts),
             record_classes=top_level_records(self.facts.tree),
             done_methods=_done_methods(self.facts),
+            step_hooks=step_hooks(self.facts),
+            plain_overrides=plain_overrides(self.facts),
             render_mode_heirs=_render_mode_heirs(self.facts, self.receivers),
             registrations=_registrations(self.facts),
             held_params=held_params(self.facts, self.receivers),
