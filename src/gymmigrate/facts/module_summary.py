@@ -77,6 +77,9 @@ class ModuleSummary:
     # Top-level Gym wrapper classes (``Wrapper`` subclasses, through local bases): an
     # instance made elsewhere is a wrapper, so what it does not define was forwarded.
     wrapper_classes: frozenset[str] = frozenset()
+    # Top-level Gym wrapper classes (bases of this module or Gym's) -> what they define for
+    # ``self``: a subclass elsewhere that reads another name read a forwarded attribute.
+    wrapper_defined: dict[str, frozenset[str]] = field(default_factory=dict)
     # Top-level defs that return their first argument, maybe in Gym wrappers
     # (``Receivers.wraps_argument``): what they give has the kind of what they take.
     wrapping_helpers: frozenset[str] = frozenset()

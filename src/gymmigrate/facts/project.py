@@ -116,6 +116,9 @@ class ProjectFacts:
     followed_hooks: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
     # (path, class) in another module -> the hooks of its bases it follows.
     inherited_hooks: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
+    # (path, name) of a Gym wrapper class of the run, or of a re-export of one -> what it
+    # and its bases define for ``self`` (facts/wrapper_attributes.py).
+    wrapper_defined: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
     # (path, top-level name) of a class of the run (or a re-export of one) -> its methods
     # with those of its bases of the run (``project_contracts.class_methods``).
     class_methods: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
@@ -270,6 +273,11 @@ class ProjectFacts:
                 if resolved is not None:
                     facts.handed_on.add(resolved)
         facts.class_methods = class_methods(facts, by_path)
+        for path, summary in by_path.items():
+            for name in summary.exports:
+                where = class_definer(facts, by_path, path, name)
+                if where is not None and where[1] in by_path[where[0]].wrapper_defined:
+                    facts.wrapper_defined[(path, name)] = by_path[where[0]].wrapper_defined[where[1]]
         facts.seed_classes, facts.seed_ids = seed_keepers(facts, by_path)
         NonSpaces(facts, by_path).run()
         reexport_wrappers(facts, by_path)

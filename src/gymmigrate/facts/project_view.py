@@ -330,6 +330,12 @@ class ProjectView:
         """An imported name of the run is a Gym wrapper class (``from pkg.wrappers import X``)."""
         split = self.facts._split(qualified, self.path)
         return split is not None and split[1] in self.facts.wrapper_classes.get(split[0], ())
+    def wrapper_defined(self, qualified: str) -> frozenset[str] | None:
+        """For an imported Gym wrapper class of the run (re-exports followed), what it and
+        its bases define for ``self``; None when the run cannot tell."""
+        split = self.facts._split(qualified, self.path)
+        return None if split is None else self.facts.wrapper_defined.get(split)
+
     def non_space_env(self, module: str, name: str) -> tuple[str, str, str] | None:
         """For ``module:name`` as an ``entry_point`` spells it, a class of the run whose
         spaces are not Spaces: (attribute, space class, what that class derives from)."""

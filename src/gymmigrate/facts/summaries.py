@@ -47,6 +47,7 @@ from gymmigrate.facts.profile import FileProfile
 from gymmigrate.facts.receiver_classes import duck_wrapper_param, renders_nothing
 from gymmigrate.facts.receivers import Receivers
 from gymmigrate.facts.step_hooks import plain_overrides, step_hooks
+from gymmigrate.facts.wrapper_attributes import wrapper_defined
 from gymmigrate.source_text import first_statement_line
 from gymmigrate.suppressions import skips_file
 
@@ -134,6 +135,7 @@ class _Summarizer:
             ),
             subclasses=_subclasses(self.facts),
             wrapper_classes=frozenset(name for name, classdef in self.facts.classes.items() if self.receivers.is_gym_wrapper_class(classdef)),
+            wrapper_defined=wrapper_defined(self.facts),
             wrapping_helpers=frozenset(name for name, function in self.facts.functions.items() if self.receivers.wraps_argument(function)),
             pz_wrappers=pz_wrappers.summarize(self.facts),
             plain_classes=plain_classes(self.facts),
