@@ -323,6 +323,8 @@ class ProjectFacts:
         # module of each override then migrates its returns with the base (hooks.py).
         for path, summary in by_path.items():
             for name, hooks in summary.step_hooks.items():
+                if name not in summary.env_classes or name in summary.legacy_steps:
+                    continue  # a step the rules do not migrate: its hook stays as it is
                 heirs: list[tuple[str, str]] = []
                 todo = list(self.subclasses_of.get((path, name), ()))
                 while todo and len(heirs) < 1000:

@@ -510,8 +510,33 @@ class WrapperForwarding(RuleFamily):
         the chain and defined by no method or class-level name: until the statement first
         runs, gym found the read on the wrapped env. ``self.get_wrapper_attr("ob")`` looks
         at the wrapper first, then below it, as forwarding did, whichever call it is.
-        ``self.ob += x`` (in place on the env's value, then stored here) is reported."""
+        ``self.ob += x`` (in place on the env's value, then stored here) is reported. Only
+        where every store of ``ob`` reads it too: a store elsewhere may run first."""
         name = attr.attr
+        for local in chain:
+            for item in local.body:
+                if isinstance(item, (*FUNCTIONS, ast.ClassDef)) and item.name == name:
+                    return
+                if isinstance(item, (ast.Assign, ast.AnnAssign)) and any(
+                    isinstance(n, ast.Name) and n.id == name
+                    for t in (item.targets if isinstance(item, ast.Assign) else [item.target])
+                    for n in ast.walk(t)
+                ):
+                    return
+                if isinstance(item, FUNCTIONS) and item.name == "__init__" and name in self_defined_in(item):
+                    return
+            # every store of it must read it too (``self.n = self.n + 1``, ``self.n += 1``):
+            # one elsewhere (``reset`` setting ``self.n = 0``) may well run first
+            for node in ast.walk(local):
+                if not (isinstance(node, ast.Attribute) and isinstance(node.ctx, ast.Store) and node.attr == name):
+                    continue
+                if not (isinstance(node.value, ast.Name) and node.value.id == "self"):
+                    continue
+                store = next((a for a in self.facts.ancestors(node) if isinstance(a, ast.stmt)), None)
+                if isinstance(store, ast.AugAssign):
+                    continue
+                if not (isinstance(store, ast.Assign) and _reads_self_attribute(store.value, name)):
+                    return
         statement = next((a for a in self.facts.ancestors(attr) if isinstance(a, ast.stmt)), None)
         if isinstance(statement, ast.AugAssign):
             if attr is statement.target:
@@ -530,18 +555,6 @@ class WrapperForwarding(RuleFamily):
             for t in ast.walk(target)
         ):
             return
-        for local in chain:
-            for item in local.body:
-                if isinstance(item, (*FUNCTIONS, ast.ClassDef)) and item.name == name:
-                    return
-                if isinstance(item, (ast.Assign, ast.AnnAssign)) and any(
-                    isinstance(n, ast.Name) and n.id == name
-                    for t in (item.targets if isinstance(item, ast.Assign) else [item.target])
-                    for n in ast.walk(t)
-                ):
-                    return
-                if isinstance(item, FUNCTIONS) and item.name == "__init__" and name in self_defined_in(item):
-                    return
         self.report(
             attr,
             "GM604",
@@ -1059,3 +1072,9 @@ def _defined_attributes(classdef: ast.ClassDef) -> set[str]:
                     names.add(target.attr)
     return names
 
+
+def _reads_self_attribute(node: ast.AST, name: str) -> bool:
+    return any(
+        isinstance(n, ast.Attribute) and n.attr == name and isinstance(n.ctx, ast.Load) and isinstance(n.value, ast.Name) and n.value.id == "self"
+        for n in ast.walk(node)
+    )
