@@ -8,7 +8,8 @@ them the legacy way. Before this change the migrated package raised ``ValueError
 values from the override), and ``FramedBoardEnv().snapshot()`` silently skipped the
 override (the base's own ``self.render(mode)`` went to a helper of the base's old body);
 earlier still, that call raised ``TypeError``. ``project_hooks_elsewhere`` has the step
-hook overridden in another module: nothing of the hook changes, it is reported.
+hook overridden in another module: the override follows the base when its returns can
+(facts/step_hooks.py); else nothing of the hook changes, it is reported.
 """
 
 from __future__ import annotations
@@ -54,20 +55,17 @@ def test_hooks_and_render_follow_their_class_and_the_package_runs(tmp_path: Path
     assert noisy == "[1.0]" and board == "board at 1" and framed == "[board at 0]" and checked == "checked"
 
 
-def test_a_hook_overridden_in_another_module_is_reported_and_left_whole(tmp_path: Path) -> None:
+def test_a_hook_overridden_in_another_module_follows_its_base(tmp_path: Path) -> None:
+    """The override in ``far.py`` returns a four-value literal: it takes five values with
+    the base's hook (an override that cannot is ``project_hooks_reexported_kept``)."""
     project = _copy(tmp_path, "project_hooks_elsewhere")
-    before = {p: p.read_text() for p in (project / "envs").glob("*.py")}
-    report = tmp_path / "report.json"
-    result = runner.invoke(app, ["rewrite", "--report", str(report), str(project)])
+    result = runner.invoke(app, ["rewrite", str(project)])
     assert result.exit_code == 0, result.output
-    core = (project / "envs" / "core.py").read_text()
-    assert "return obs, 0.0, self.pos >= 3, {}" in core  # the base's hook keeps the old contract...
-    assert (project / "envs" / "far.py").read_text() == before[project / "envs" / "far.py"]  # ...with its override
-    review = [f for file in json.loads(report.read_text())["files"] for f in file["review"]]
-    assert any(f["rule"] == "GM504" and "far.py:FarEnv" in f["message"] for f in review), review
-    # Checked alone, core.py cannot see the override: the hook is followed (the run is what knows).
-    alone = runner.invoke(app, ["rewrite", "--diff", str(project / "envs" / "core.py")])
-    assert "False, {}" in alone.output
+    assert "return obs, 0.0, bool(self.pos >= 3), False, {}" in (project / "envs" / "core.py").read_text()
+    assert "return obs, 2.0, bool(self.pos >= 5), False, {}" in (project / "envs" / "far.py").read_text()
+    code = "from envs.far import FarEnv\nenv = FarEnv()\nprint([env.step(1)[1:4] for _ in range(5)][-1])"
+    run = subprocess.run([sys.executable, "-W", "ignore", "-c", code], cwd=project, capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0 and run.stdout.strip() == "(2.0, True, False)", run.stderr
 
 
 def test_hooks_and_wrappers_of_a_base_in_another_module(tmp_path: Path) -> None:
@@ -118,3 +116,36 @@ def test_an_env_holding_a_gym_env_returns_its_reset_and_step_as_they_are() -> No
     assert obs.shape == (4,) and isinstance(info, dict)
     assert len(env.step(0)) == 5
     check_env(env, skip_render_check=True)  # deterministic: the seed reaches the held env
+
+
+def test_a_hook_of_a_reexported_base_is_followed_by_its_overrides_elsewhere(tmp_path: Path) -> None:
+    """``project_hooks_reexported``: ``PhaseEnv.step`` returns ``self.post_step(...)``;
+    ``class DoubledTask(trials.PhaseEnv)`` (``trials/__init__.py`` re-exports the class of
+    ``trials/core.py``) overrides the hook with four values, its subclass returns
+    ``super().post_step(...)``. Before: the re-export hid the override, the base's hook
+    returned five values and the override four (``not enough values to unpack``). Now every
+    override follows the base; ``..._kept``, an override that returns a name, keeps them all
+    and reports the base's step."""
+    project = _copy(tmp_path, "project_hooks_reexported")
+    result = runner.invoke(app, ["rewrite", str(project)])
+    assert result.exit_code == 0, result.output
+    assert "return obs, reward, done, False, info" in (project / "trials" / "tasks.py").read_text()
+    assert "return super().post_step(obs, reward, done, info)" in (project / "trials" / "tasks.py").read_text()
+    code = (
+        "from gymnasium.utils.env_checker import check_env\nfrom trials.tasks import DoubledTask, LabelledTask\n"
+        "for cls in (DoubledTask, LabelledTask):\n    check_env(cls())\n"
+        "env = LabelledTask()\nenv.reset(seed=0)\nprint(env.step(1)[1:])"
+    )
+    run = subprocess.run([sys.executable, "-W", "ignore", "-c", code], cwd=project, capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.splitlines() == ["(1.0, False, False, {'label': 'x'})"]
+
+    kept = _copy(tmp_path, "project_hooks_reexported_kept")
+    before = (kept / "trials" / "tasks.py").read_text()
+    report = tmp_path / "report.json"
+    result = runner.invoke(app, ["rewrite", "--report", str(report), str(kept)])
+    assert result.exit_code == 0, result.output
+    assert "return obs, reward, done, info" in (kept / "trials" / "core.py").read_text()
+    assert (kept / "trials" / "tasks.py").read_text() == before
+    review = [f for file in json.loads(report.read_text())["files"] for f in file["review"]]
+    assert any(f["rule"] == "GM504" and "tasks.py:ClippedTask" in f["message"] for f in review), review

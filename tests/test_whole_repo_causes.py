@@ -231,3 +231,24 @@ def test_render_keeps_its_mode_for_a_package_factory_s_env(tmp_path: Path) -> No
     assert "def render(self, mode=None):" in board and "mode = self.render_mode" in board
     run = _pytest(project, "checks")
     assert run.returncode == 0 and "2 passed" in run.stdout, run.stdout + run.stderr
+
+
+def test_wrappers_derived_from_a_wrapper_class_of_another_module_read_their_env(tmp_path: Path) -> None:
+    """``fixtures/project_wrapper_bases/`` (neurogym's shape): ``ChoiceWrapper(trials.PhaseWrapper)``
+    (re-exported from ``trials/core.py``) reads ``self.choices``, which neither it nor its
+    bases set, inside ``try/except AttributeError``; ``ScaledWrapper.new_trial`` runs
+    ``self.ob = self.ob * 2``, the first read of which gym found on the env. Before: both
+    were left, and Gymnasium 1.4 raised in every construction and trial.
+    ``get_wrapper_attr`` raises AttributeError too: the refusal of an env without choices
+    is kept."""
+    project = tmp_path / "project_wrapper_bases"
+    shutil.copytree(FIXTURES / "project_wrapper_bases", project)
+    result = runner.invoke(app, ["rewrite", str(project)])
+    assert result.exit_code == 0, result.output
+    wrappers = (project / "trials" / "wrappers.py").read_text()
+    assert 'len(self.get_wrapper_attr("choices"))' in wrappers
+    assert 'self.ob = self.get_wrapper_attr("ob") * 2' in wrappers
+    code = "import play\nprint(play.choices(), play.refused(), play.scaled())"
+    run = subprocess.run([sys.executable, "-W", "ignore", "-c", code], cwd=project, capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.strip() == "4 ChoiceWrapper needs an env with choices (16.0, 32.0)"

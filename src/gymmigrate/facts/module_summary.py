@@ -77,6 +77,9 @@ class ModuleSummary:
     # Top-level Gym wrapper classes (``Wrapper`` subclasses, through local bases): an
     # instance made elsewhere is a wrapper, so what it does not define was forwarded.
     wrapper_classes: frozenset[str] = frozenset()
+    # Top-level Gym wrapper classes (bases of this module or Gym's) -> what they define for
+    # ``self``: a subclass elsewhere that reads another name read a forwarded attribute.
+    wrapper_defined: dict[str, frozenset[str]] = field(default_factory=dict)
     # Top-level defs that return their first argument, maybe in Gym wrappers
     # (``Receivers.wraps_argument``): what they give has the kind of what they take.
     wrapping_helpers: frozenset[str] = frozenset()
@@ -122,6 +125,11 @@ class ModuleSummary:
     # Class (with an imported base) -> its methods that take only ``self`` and return a
     # value -> why that value is True (a step limit, the task's end...), traced in the class.
     done_methods: dict[str, dict[str, DoneCause]] = field(default_factory=dict)
+    # -- step hooks across modules (facts/step_hooks.py) --
+    # Class -> the hooks its step returns (``return self.post_step(...)``) that this module
+    # can follow; class -> its methods whose returns can take five values with a base's hook.
+    step_hooks: dict[str, frozenset[str]] = field(default_factory=dict)
+    plain_overrides: dict[str, frozenset[str]] = field(default_factory=dict)
     # -- contracts the run keeps (facts/receiver_classes.py keeps_legacy_step) --
     # Top-level env classes whose step keeps the four-field contract (a batch the rules do
     # not migrate): the callers of their instances keep unpacking four values.

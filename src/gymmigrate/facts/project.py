@@ -52,6 +52,7 @@ from gymmigrate.facts.module_summary import (
 )
 from gymmigrate.facts.project_contracts import (
     NonSpaces,
+    class_definer,
     class_methods,
     legacy_steps,
     seed_keepers,
@@ -116,6 +117,14 @@ class ProjectFacts:
     # (path, class) of the classes whose ``__init__`` hands up to a base of another module
     # with ``super().__init__`` (``ModuleSummary.passes_init_up``): the base sees that call.
     init_passers: set[tuple[str, str]] = field(default_factory=set)
+    # (path, class) -> the step hooks of the class (``return self.post_step(...)`` in its
+    # step) that every override in another module can follow (facts/step_hooks.py).
+    followed_hooks: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
+    # (path, class) in another module -> the hooks of its bases it follows.
+    inherited_hooks: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
+    # (path, name) of a Gym wrapper class of the run, or of a re-export of one -> what it
+    # and its bases define for ``self`` (facts/wrapper_attributes.py).
+    wrapper_defined: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
     # (path, top-level name) of a class of the run (or a re-export of one) -> its methods
     # with those of its bases of the run (``project_contracts.class_methods``).
     class_methods: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
@@ -264,7 +273,7 @@ class ProjectFacts:
         for path in facts.render_called:  # their classes keep render(mode): no render_mode to pass
             facts.render_mode_classes[path] = frozenset()
         thread_render_mode(facts, by_path)
-        facts._join_overrides(summaries)
+        facts._join_overrides(summaries, by_path)
         facts._join_held(by_path, params)
         for summary in summaries:
             for qualified in summary.handed_on:
@@ -272,6 +281,11 @@ class ProjectFacts:
                 if resolved is not None:
                     facts.handed_on.add(resolved)
         facts.class_methods = class_methods(facts, by_path)
+        for path, summary in by_path.items():
+            for name in summary.exports:
+                where = class_definer(facts, by_path, path, name)
+                if where is not None and where[1] in by_path[where[0]].wrapper_defined:
+                    facts.wrapper_defined[(path, name)] = by_path[where[0]].wrapper_defined[where[1]]
         facts.seed_classes, facts.seed_ids = seed_keepers(facts, by_path)
         NonSpaces(facts, by_path).run()
         reexport_wrappers(facts, by_path)
@@ -291,7 +305,7 @@ class ProjectFacts:
                 nearby[split[0]] |= own[summary.path]
         self.nearby_packages = {path: frozenset(tops) for path, tops in nearby.items()}
 
-    def _join_overrides(self, summaries: list[ModuleSummary]) -> None:
+    def _join_overrides(self, summaries: list[ModuleSummary], by_path: dict[str, ModuleSummary]) -> None:
         """Which methods of a run's class are overridden by subclasses in other modules."""
         for summary in summaries:
             for name, bases, methods in summary.subclasses:
@@ -301,14 +315,46 @@ class ProjectFacts:
                     path = self._module_path(parts[:-1], level, summary.path) if len(parts) > 1 else None
                     if not path or path == summary.path:
                         continue
-                    found = self.overrides.setdefault((path, parts[-1]), {})
+                    # ``class Task(pkg.BaseEnv)`` where ``pkg/__init__.py`` re-exports the
+                    # class of ``pkg/core.py``: the override is of the defining module's class.
+                    base = class_definer(self, by_path, path, parts[-1]) or (path, parts[-1])
+                    if base[0] == summary.path:
+                        continue
+                    found = self.overrides.setdefault(base, {})
                     for method in methods:
                         found.setdefault(method, []).append(f"{summary.path}:{name}")
-                    self.subclasses_of.setdefault((path, parts[-1]), []).append((summary.path, name))
+                    self.subclasses_of.setdefault(base, []).append((summary.path, name))
                 self.subclass_methods[(summary.path, name)] = frozenset(methods)
             self.init_passers.update((summary.path, name) for name in summary.passes_init_up)
             for name, methods_done in summary.done_methods.items():
                 self.done_methods[(summary.path, name)] = methods_done
+        # A step hook is followed when every override elsewhere can follow it too; the
+        # module of each override then migrates its returns with the base (hooks.py).
+        for path, summary in by_path.items():
+            for name, hooks in summary.step_hooks.items():
+                if name not in summary.env_classes or name in summary.legacy_steps:
+                    continue  # a step the rules do not migrate: its hook stays as it is
+                heirs: list[tuple[str, str]] = []
+                todo = list(self.subclasses_of.get((path, name), ()))
+                while todo and len(heirs) < 1000:
+                    heir = todo.pop()
+                    if heir not in heirs:
+                        heirs.append(heir)
+                        todo += self.subclasses_of.get(heir, ())
+                followed = frozenset(
+                    hook
+                    for hook in hooks
+                    if all(
+                        hook in by_path[where].plain_overrides.get(sub, ())
+                        for where, sub in heirs
+                        if hook in self.subclass_methods.get((where, sub), ())
+                    )
+                )
+                if not followed:
+                    continue
+                self.followed_hooks[(path, name)] = followed
+                for heir in heirs:
+                    self.inherited_hooks[heir] = self.inherited_hooks.get(heir, frozenset()) | followed
 
     def _join_held(self, by_path: dict[str, ModuleSummary], params: ParamJoin) -> None:
         """``held_kinds``: a holder's attribute is a Gym env when every construction of the

@@ -180,6 +180,25 @@ def legacy_steps(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> froz
     return frozenset(found)
 
 
+def class_definer(facts: ProjectFacts, by_path: dict[str, ModuleSummary], path: str, name: str) -> tuple[str, str] | None:
+    """The module and name of the class of the run that ``name`` of module ``path`` is,
+    re-exports (``from .core import TrialEnv`` in a package's ``__init__``) followed."""
+    for _ in range(MAX_CHAIN):
+        summary = by_path.get(path)
+        if summary is None:
+            return None
+        if name in summary.classes:
+            return path, name
+        kind = summary.exports.get(name)
+        if not is_ref(kind):
+            return None
+        split = facts._split(str(kind)[len(REF) :], path)
+        if split is None or "." in split[1]:
+            return None
+        path, name = split
+    return None
+
+
 def class_methods(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> dict[tuple[str, str], frozenset[str]]:
     """(path, name) -> the methods of the class of the run that ``name`` of module ``path``
     is (re-exports followed), with those of its bases of the run in any module, at any
@@ -192,20 +211,7 @@ def class_methods(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> dic
             bases[(path, name)] = heir_bases
 
     def definer(path: str, name: str) -> tuple[str, str] | None:
-        for _ in range(MAX_CHAIN):
-            summary = by_path.get(path)
-            if summary is None:
-                return None
-            if name in summary.classes:
-                return path, name
-            kind = summary.exports.get(name)
-            if not is_ref(kind):
-                return None
-            split = facts._split(str(kind)[len(REF) :], path)
-            if split is None or "." in split[1]:
-                return None
-            path, name = split
-        return None
+        return class_definer(facts, by_path, path, name)
 
     memo: dict[tuple[str, str], frozenset[str]] = {}
 

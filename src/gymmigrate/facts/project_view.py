@@ -230,6 +230,16 @@ class ProjectView:
         """Subclasses in other modules of the run that override ``classname.method``."""
         return self.facts.overrides.get((self.path, classname), {}).get(method, [])
 
+    def hook_followed_elsewhere(self, classname: str, method: str) -> bool:
+        """Every override of ``classname``'s step hook ``method`` in other modules of the run
+        can return five values with it (facts/step_hooks.py): they follow the base."""
+        return method in self.facts.followed_hooks.get((self.path, classname), ())
+
+    def inherited_hooks(self, classname: str) -> frozenset[str]:
+        """The step hooks that bases of ``classname`` in other modules migrate, which its
+        overrides follow."""
+        return self.facts.inherited_hooks.get((self.path, classname), frozenset())
+
     def done_overrides(self, classname: str, method: str) -> list[DoneCause]:
         """Why what ``method`` returns is True in each override of it by subclasses in
         other modules of the run, at any depth (``Base`` <- ``Single`` <- ``Hover``); each
@@ -333,6 +343,12 @@ class ProjectView:
         """An imported name of the run is a Gym wrapper class (``from pkg.wrappers import X``)."""
         split = self.facts._split(qualified, self.path)
         return split is not None and split[1] in self.facts.wrapper_classes.get(split[0], ())
+    def wrapper_defined(self, qualified: str) -> frozenset[str] | None:
+        """For an imported Gym wrapper class of the run (re-exports followed), what it and
+        its bases define for ``self``; None when the run cannot tell."""
+        split = self.facts._split(qualified, self.path)
+        return None if split is None else self.facts.wrapper_defined.get(split)
+
     def non_space_env(self, module: str, name: str) -> tuple[str, str, str] | None:
         """For ``module:name`` as an ``entry_point`` spells it, a class of the run whose
         spaces are not Spaces: (attribute, space class, what that class derives from)."""

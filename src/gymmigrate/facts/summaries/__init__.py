@@ -28,6 +28,7 @@ from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
 from gymmigrate.facts.module_summary import ModuleSummary, Signature
 from gymmigrate.facts.receiver_classes import renders_nothing
 from gymmigrate.facts.receivers import Receivers
+from gymmigrate.facts.step_hooks import plain_overrides, step_hooks
 from gymmigrate.facts.summaries.calls import CallSummarizer
 from gymmigrate.facts.summaries.classes import (
     done_methods,
@@ -48,6 +49,7 @@ from gymmigrate.facts.summaries.defs import (
 )
 from gymmigrate.facts.summaries.exports import Exports
 from gymmigrate.facts.summaries.untraced import UntracedCalls
+from gymmigrate.facts.wrapper_attributes import wrapper_defined
 from gymmigrate.source_text import first_statement_line
 from gymmigrate.suppressions import skips_file
 
@@ -131,6 +133,7 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         ),
         subclasses=subclasses(facts),
         wrapper_classes=frozenset(name for name, classdef in facts.classes.items() if receivers.is_gym_wrapper_class(classdef)),
+        wrapper_defined=wrapper_defined(facts),
         wrapping_helpers=frozenset(name for name, function in facts.functions.items() if receivers.wraps_argument(function)),
         pz_wrappers=pz_wrappers.summarize(facts),
         plain_classes=plain_classes(facts),
@@ -143,6 +146,8 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         bootstrap_masks=bootstrap_masks(facts),
         record_classes=top_level_records(facts.tree),
         done_methods=done_methods(facts),
+        step_hooks=step_hooks(facts),
+        plain_overrides=plain_overrides(facts),
         render_mode_heirs=render_mode_heirs(facts, receivers),
         registrations=registrations(facts),
         held_params=held_params(facts, receivers),

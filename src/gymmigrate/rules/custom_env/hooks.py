@@ -8,8 +8,10 @@ every override in the run follows with it:
 
 * overrides in subclasses of the same module whose returns the rewrite can carry out
   (four-value literals, or ``return super().post_step(...)``) are migrated with the base;
-* an override the rewrite cannot carry out, or one in another module of the run (its
-  summary lists it, ``ProjectView.overridden_elsewhere``), keeps every one of them on
+* overrides in other modules of the run (their summaries list them, re-exports of the
+  base followed: ``ProjectView.overridden_elsewhere``) are migrated with the base when the
+  join found every one of them plain (facts/step_hooks.py): each module migrates its own;
+* an override the rewrite cannot carry out, here or elsewhere, keeps every one of them on
   the old contract: the base's ``step`` is reported instead.
 
 ``reset`` hooks (``return self._restart()``) are never followed when overridden: the base's
@@ -20,9 +22,8 @@ from __future__ import annotations
 
 import ast
 
-from gymmigrate.facts.env_classes import is_super_method_call
-from gymmigrate.facts.module import own_returns
-from gymmigrate.rules.custom_env.common import ClassDecision, Method, tuple_len
+from gymmigrate.facts.step_hooks import plain_override
+from gymmigrate.rules.custom_env.common import ClassDecision, Method
 
 
 def local_subclasses(decision: ClassDecision) -> list[ast.ClassDef]:
@@ -69,17 +70,9 @@ def overrides(decision: ClassDecision, name: str) -> tuple[list[tuple[ast.ClassD
 
 def step_override_migratable(method: Method) -> bool:
     """Every return of the override is a four-value literal, five already, or the base's own
-    (``return super().post_step(a)``), and it reads the base's result nowhere else."""
-    supers = [n for n in ast.walk(method) if is_super_method_call(n, method.name)]
-    returned = []
-    for ret in own_returns(method):
-        if ret.value is None:
-            return False
-        if is_super_method_call(ret.value, method.name):
-            returned.append(ret.value)
-        elif tuple_len(ret.value) not in (4, 5):
-            return False
-    return len(supers) == len(returned)
+    (``return super().post_step(a)``), and it reads the base's result nowhere else (the
+    same test the run's summaries make of overrides elsewhere)."""
+    return plain_override(method)
 
 
 def where(decision: ClassDecision, local: list[tuple[ast.ClassDef, Method]], elsewhere: list[str]) -> str:

@@ -57,6 +57,14 @@ __all__ = ["decide_step", "is_step_limit", "unwrap_bool"]
 def decide_step(decision: ClassDecision, inherited: dict[int, list[str]]) -> None:
     """``inherited``: per subclass (by id), the hooks a base class of this module migrated,
     which its overrides migrate with (``hooks.py``); filled as the bases are decided."""
+    project = decision.family.receivers.project
+    if project is not None and decision.family.facts.parent(decision.classdef) is decision.family.facts.tree:
+        # a hook a base of another module migrates (``class Task(pkg.BaseEnv)``): this
+        # module's subclasses of the class follow it too
+        for name in sorted(project.inherited_hooks(decision.classdef.name)):
+            for target in (decision.classdef, *local_subclasses(decision)):
+                if name not in inherited.get(id(target), []):
+                    inherited.setdefault(id(target), []).append(name)
     for name in inherited.get(id(decision.classdef), ()):
         override = decision.methods.get(name)
         if override is not None and name not in decision.plan.step_helpers:
@@ -79,7 +87,14 @@ def decide_step(decision: ClassDecision, inherited: dict[int, list[str]]) -> Non
     blocked: dict[str, str] = {}
     for helper in delegates(decision, function):
         local, elsewhere = overrides(decision, helper.name)
-        if elsewhere or not all(step_override_migratable(m) for _, m in local):
+        # overrides in other modules follow only when all of them derive from this class
+        # itself (the join checked each of them: facts/step_hooks.py)
+        followed = not elsewhere or (
+            project is not None
+            and project.hook_followed_elsewhere(decision.classdef.name, helper.name)
+            and len(elsewhere) == len(project.overridden_elsewhere(decision.classdef.name, helper.name))
+        )
+        if not followed or not all(step_override_migratable(m) for _, m in local):
             blocked[helper.name] = where(decision, local, elsewhere)
             continue
         helpers.append(helper)

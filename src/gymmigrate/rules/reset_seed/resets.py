@@ -22,6 +22,7 @@ from __future__ import annotations
 import ast
 from enum import Enum
 
+from gymmigrate.facts.batched_steps import steps_batched
 from gymmigrate.facts.decisions import Action, Decision, receiver_text
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.receiver_classes import per_agent_receivers
@@ -75,6 +76,14 @@ class ResetCalls(ResetSeedBase):
         decision, vector = self._decide(receiver, legacy_shape=self._stepped_the_legacy_way(receiver))
         if decision.action is Action.LEAVE:
             return
+        if decision.action is Action.REWRITE_FOR_REVIEW and isinstance(receiver, ast.Name) and steps_batched(self.facts, receiver):
+            # The step of the same name reads its done flags one per env, so GM301 leaves it
+            # (a vector env maybe): its reset is the same decision, left and reported with it.
+            decision = Decision(
+                Action.REPORT,
+                f"could not trace where `{receiver.id}` comes from, and it may be a vector env (the done flags of its "
+                "step look batched); not rewritten",
+            )
         classdef = self.facts.enclosing_class(call)
         if decision.action is not Action.REWRITE and isinstance(receiver, ast.Name) and classdef is not None:
             if receiver.id in per_agent_receivers(classdef):

@@ -18,6 +18,7 @@ import ast
 from bisect import bisect_left, bisect_right
 
 from gymmigrate.edits.lazy import cst
+from gymmigrate.facts.batched_steps import done_read_per_env
 from gymmigrate.facts.decisions import Action, Decision, receiver_text
 from gymmigrate.facts.done_uses import DoneUse, classify_done_read
 from gymmigrate.facts.flow import bound_names, end, start
@@ -31,25 +32,6 @@ from gymmigrate.rules.step_done.read_reports import DoneReadReports
 
 class UnpackRules(DoneReadReports):
     """GM301, GM302 and GM703 (mixed into the family)."""
-
-    def _done_read_per_env(self, done_target: ast.expr) -> bool:
-        """The done flags are read one per env (``zip(..., dones)``, ``for d in dones``,
-        ``dones[i]``): a batched step, where ``terminated or truncated`` would be wrong."""
-        if not isinstance(done_target, ast.Name):
-            return False
-        for read in self.flow.reads(done_target):
-            parent = self.facts.parent(read)
-            if isinstance(parent, ast.Subscript) and parent.value is read:
-                return True
-            if isinstance(parent, (ast.For, ast.AsyncFor, ast.comprehension)) and parent.iter is read:
-                return True
-            if (
-                isinstance(parent, ast.Call)
-                and isinstance(parent.func, ast.Name)
-                and parent.func.id in ("zip", "enumerate", "len", "any", "all", "sum", "list")
-            ):
-                return True
-        return False
 
     def _done_concatenated(self, done_target: ast.expr) -> bool:
         """The function extends a list it starts empty with ``done`` (``done_n += done``)."""
@@ -91,7 +73,7 @@ class UnpackRules(DoneReadReports):
             )
             return
         if decision.action is Action.REWRITE_FOR_REVIEW and (
-            looks_vectorised(receiver, done_target) or self._done_read_per_env(done_target)
+            looks_vectorised(receiver, done_target) or done_read_per_env(self.facts, done_target, target)
         ):
             decision = Decision(
                 Action.REPORT,

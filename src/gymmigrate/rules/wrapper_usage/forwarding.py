@@ -36,6 +36,11 @@ from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.limits import self_stores
 from gymmigrate.facts.module import FUNCTIONS, call_argument, dotted_name, own_returns
 from gymmigrate.facts.pytest_params import fixture_values, param_fixtures
+from gymmigrate.facts.wrapper_attributes import (
+    self_defined,
+    self_defined_in,
+    takes_lookup_in_hand,
+)
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.repeats import Repeats
@@ -109,6 +114,9 @@ class WrapperForwarding(RuleFamily):
         if project is None:
             return False
         if any(name in facts.text for _, name in project.made):
+            return True
+        # ``class Task(pkg.BaseWrapper)``: a wrapper class of another module of the run
+        if any(name in facts.text for _, name in project.wrapper_defined):
             return True
         # ``def run_agent(env): ... env.flat_actions`` in a file that never names the library,
         # called from other modules of the run with Gym envs
@@ -467,7 +475,9 @@ class WrapperForwarding(RuleFamily):
         private name: gym refused those); ``self.get_wrapper_attr("get_frame")`` searches
         this wrapper, then the ones below it and the base env, as forwarding did."""
         name = attr.attr
-        if not isinstance(attr.ctx, ast.Load) or name.startswith("_") or name in _WRAPPER_OWN:
+        parent = self.facts.parent(attr)
+        augmented = isinstance(parent, ast.AugAssign) and parent.target is attr  # ``self.x += 1`` reads it too
+        if not (isinstance(attr.ctx, ast.Load) or augmented) or name.startswith("_") or name in _WRAPPER_OWN:
             return
         function = self.facts.enclosing_function(attr)
         classdef = self.facts.enclosing_class(attr)
@@ -477,14 +487,80 @@ class WrapperForwarding(RuleFamily):
         static = any(isinstance(d, ast.Name) and d.id in ("staticmethod", "classmethod") for d in function.decorator_list)
         if not args or args[0].arg != "self" or static:
             return
-        chain = self._wrapper_chain(classdef, frozenset())
-        if chain is None or any(name in _self_defined(local) for local in chain):
+        imported: set[str] = set()
+        chain = self._wrapper_chain(classdef, frozenset(), imported)
+        if chain is None or name in imported:
             return
+        if any(name in self_defined(local) for local in chain):
+            self._read_before_own_write(attr, chain)
+            return
+        if augmented:
+            return  # never stored but through ``+=``: reported where it is (_read_before_own_write's case)
         self.report(
             attr,
             "GM604",
             f"attribute forwarding is gone in Gymnasium 1.0: this wrapper class defines no `{name}`, which gym found on "
             f"the wrapped env; `self.get_wrapper_attr(\"{name}\")` searches the wrappers and the base env as forwarding did",
+            tier=Tier.NOTE,
+        )
+        self._replace_with_get_wrapper_attr(attr, name)
+
+    def _read_before_own_write(self, attr: ast.Attribute, chain: list[ast.ClassDef]) -> None:
+        """``self.ob = f(self.ob)`` in a wrapper method, ``ob`` stored by no ``__init__`` of
+        the chain and defined by no method or class-level name: until the statement first
+        runs, gym found the read on the wrapped env. ``self.get_wrapper_attr("ob")`` looks
+        at the wrapper first, then below it, as forwarding did, whichever call it is.
+        ``self.ob += x`` (in place on the env's value, then stored here) is reported. Only
+        where every store of ``ob`` reads it too: a store elsewhere may run first."""
+        name = attr.attr
+        for local in chain:
+            for item in local.body:
+                if isinstance(item, (*FUNCTIONS, ast.ClassDef)) and item.name == name:
+                    return
+                if isinstance(item, (ast.Assign, ast.AnnAssign)) and any(
+                    isinstance(n, ast.Name) and n.id == name
+                    for t in (item.targets if isinstance(item, ast.Assign) else [item.target])
+                    for n in ast.walk(t)
+                ):
+                    return
+                if isinstance(item, FUNCTIONS) and item.name == "__init__" and name in self_defined_in(item):
+                    return
+            # every store of it must read it too (``self.n = self.n + 1``, ``self.n += 1``):
+            # one elsewhere (``reset`` setting ``self.n = 0``) may well run first
+            for node in ast.walk(local):
+                if not (isinstance(node, ast.Attribute) and isinstance(node.ctx, ast.Store) and node.attr == name):
+                    continue
+                if not (isinstance(node.value, ast.Name) and node.value.id == "self"):
+                    continue
+                store = next((a for a in self.facts.ancestors(node) if isinstance(a, ast.stmt)), None)
+                if isinstance(store, ast.AugAssign):
+                    continue
+                if not (isinstance(store, ast.Assign) and _reads_self_attribute(store.value, name)):
+                    return
+        statement = next((a for a in self.facts.ancestors(attr) if isinstance(a, ast.stmt)), None)
+        if isinstance(statement, ast.AugAssign):
+            if attr is statement.target:
+                self.report(
+                    attr,
+                    "GM604",
+                    f"attribute forwarding is gone in Gymnasium 1.0: until this line first runs, `self.{name}` is not "
+                    f"this wrapper's, and gym read (and changed in place) the wrapped env's; read it with "
+                    f'`self.get_wrapper_attr("{name}")` and assign the result, or set `self.{name}` in __init__',
+                    FixKind.FLAG,
+                )
+            return
+        if not isinstance(statement, ast.Assign) or not any(
+            isinstance(t, ast.Attribute) and t.attr == name and isinstance(t.value, ast.Name) and t.value.id == "self"
+            for target in statement.targets
+            for t in ast.walk(target)
+        ):
+            return
+        self.report(
+            attr,
+            "GM604",
+            f"attribute forwarding is gone in Gymnasium 1.0: until this line first runs, the wrapper has no `{name}` "
+            f'of its own and gym read the wrapped env\'s; `self.get_wrapper_attr("{name}")` reads its own once set, '
+            "else the env's, as forwarding did",
             tier=Tier.NOTE,
         )
         self._replace_with_get_wrapper_attr(attr, name)
@@ -502,26 +578,35 @@ class WrapperForwarding(RuleFamily):
             return  # both quotes taken by nested f-strings: the finding stands alone
         self.plan.replace(attr, _get_wrapper_attr(name, quote))
 
-    def _wrapper_chain(self, classdef: ast.ClassDef, seen: frozenset[int]) -> list[ast.ClassDef] | None:
+    def _wrapper_chain(self, classdef: ast.ClassDef, seen: frozenset[int], imported: set[str]) -> list[ast.ClassDef] | None:
         """``classdef`` and the classes of this module it derives from, when every base is
-        one of those or a Gym wrapper base class (``Wrapper``, ``ObservationWrapper``...),
-        at least one is, and none takes attribute lookup in hand; else None."""
+        one of those, a Gym wrapper base class (``Wrapper``, ``ObservationWrapper``...) or a
+        wrapper class of another module of the run whose definitions the run knows (added to
+        ``imported``: ``class Task(TrialWrapper)``), at least one is, and none takes
+        attribute lookup in hand; else None."""
         if id(classdef) in seen or not classdef.bases or classdef.keywords:
             return None
         chain = [classdef]
         gym_base = False
+        view = self.receivers.project
         for base in classdef.bases:
-            names = {N.strip_gym_prefix(q) for q in self.facts.qualified_names(base)}
+            qualified = self.facts.qualified_names(base)
+            names = {N.strip_gym_prefix(q) for q in qualified}
             if names & N.GYM_WRAPPER_BASE_CLASSES:
                 gym_base = True
                 continue
+            known = [view.wrapper_defined(q) for q in qualified] if view is not None else []
+            if len(known) == 1 and known[0] is not None:
+                imported |= known[0]
+                gym_base = True
+                continue
             local = self.receivers.local_class(base)
-            inner = None if local is None else self._wrapper_chain(local, seen | {id(classdef)})
+            inner = None if local is None else self._wrapper_chain(local, seen | {id(classdef)}, imported)
             if inner is None:
                 return None
             chain += inner
             gym_base = True
-        if not gym_base or any(_takes_lookup_in_hand(local) for local in chain):
+        if not gym_base or any(takes_lookup_in_hand(local) for local in chain):
             return None
         return chain
 
@@ -975,36 +1060,6 @@ def _get_wrapper_attr(name: str, quote: str = '"'):
 _WRAPPER_OWN = SAFE_ATTRIBUTES | {"observation", "action", "reward", "reverse_action", "env_is_wrapped"}
 
 
-def _self_defined(classdef: ast.ClassDef) -> set[str]:
-    """What a class defines for ``self``: its methods and class-level names, and every
-    ``self.x`` it stores anywhere (tuple targets, ``for``, ``with ... as`` included)."""
-    names: set[str] = set()
-    for statement in classdef.body:
-        if isinstance(statement, (*FUNCTIONS, ast.ClassDef)):
-            names.add(statement.name)
-        elif isinstance(statement, (ast.Assign, ast.AnnAssign, ast.AugAssign)):
-            targets = statement.targets if isinstance(statement, ast.Assign) else [statement.target]
-            names.update(n.id for target in targets for n in ast.walk(target) if isinstance(n, ast.Name))
-    for node in ast.walk(classdef):
-        if isinstance(node, FUNCTIONS):
-            names.add(node.name)
-        elif isinstance(node, ast.Attribute) and isinstance(node.ctx, ast.Store) and isinstance(node.value, ast.Name) and node.value.id == "self":
-            names.add(node.attr)
-    return names
-
-
-def _takes_lookup_in_hand(classdef: ast.ClassDef) -> bool:
-    """It defines ``__getattr__``/``__getattribute__``, or sets attributes by name."""
-    for node in ast.walk(classdef):
-        if isinstance(node, FUNCTIONS) and node.name in ("__getattr__", "__getattribute__", "__init_subclass__"):
-            return True
-        if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "setattr":
-            return True
-        if isinstance(node, ast.Attribute) and node.attr == "__dict__":
-            return True
-    return False
-
-
 def _defined_attributes(classdef: ast.ClassDef) -> set[str]:
     """Methods (at any depth) and ``self.x = ...`` targets of a class."""
     names: set[str] = set()
@@ -1017,3 +1072,9 @@ def _defined_attributes(classdef: ast.ClassDef) -> set[str]:
                     names.add(target.attr)
     return names
 
+
+def _reads_self_attribute(node: ast.AST, name: str) -> bool:
+    return any(
+        isinstance(n, ast.Attribute) and n.attr == name and isinstance(n.ctx, ast.Load) and isinstance(n.value, ast.Name) and n.value.id == "self"
+        for n in ast.walk(node)
+    )

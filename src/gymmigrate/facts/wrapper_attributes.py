@@ -1,0 +1,83 @@
+"""What a Gym wrapper class defines for ``self`` (GM604, rules/wrapper_usage/forwarding.py):
+a read of ``self.x`` in a wrapper whose class and bases never define ``x`` was legacy
+``Wrapper.__getattr__`` forwarding to the wrapped env. ``wrapper_defined`` is the per-module
+summary of it for the wrapper classes other modules derive from (``class Task(TrialWrapper)``,
+``TrialWrapper`` in ``pkg/core.py``).
+"""
+
+from __future__ import annotations
+
+import ast
+
+from gymmigrate.facts import names as N
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
+
+
+def self_defined(classdef: ast.ClassDef) -> set[str]:
+    """What a class defines for ``self``: its methods and class-level names, and every
+    ``self.x`` it stores anywhere (tuple targets, ``for``, ``with ... as`` included)."""
+    names: set[str] = set()
+    for statement in classdef.body:
+        if isinstance(statement, (*FUNCTIONS, ast.ClassDef)):
+            names.add(statement.name)
+        elif isinstance(statement, (ast.Assign, ast.AnnAssign, ast.AugAssign)):
+            targets = statement.targets if isinstance(statement, ast.Assign) else [statement.target]
+            names.update(n.id for target in targets for n in ast.walk(target) if isinstance(n, ast.Name))
+    for node in ast.walk(classdef):
+        if isinstance(node, FUNCTIONS):
+            names.add(node.name)
+        elif isinstance(node, ast.Attribute) and isinstance(node.ctx, ast.Store) and isinstance(node.value, ast.Name) and node.value.id == "self":
+            names.add(node.attr)
+    return names
+
+
+def self_defined_in(function: ast.AST) -> set[str]:
+    """Every ``self.x`` that ``function`` stores."""
+    return {
+        n.attr
+        for n in ast.walk(function)
+        if isinstance(n, ast.Attribute) and isinstance(n.ctx, ast.Store) and isinstance(n.value, ast.Name) and n.value.id == "self"
+    }
+
+
+def takes_lookup_in_hand(classdef: ast.ClassDef) -> bool:
+    """It defines ``__getattr__``/``__getattribute__``, or sets attributes by name."""
+    for node in ast.walk(classdef):
+        if isinstance(node, FUNCTIONS) and node.name in ("__getattr__", "__getattribute__", "__init_subclass__"):
+            return True
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "setattr":
+            return True
+        if isinstance(node, ast.Attribute) and node.attr == "__dict__":
+            return True
+    return False
+
+
+def local_wrapper_chain(facts: ModuleFacts, classdef: ast.ClassDef, seen: frozenset[int] = frozenset()) -> list[ast.ClassDef] | None:
+    """``classdef`` and the classes of this module it derives from, when every base is one
+    of those or a Gym wrapper base class (``Wrapper``...), and none takes attribute lookup
+    in hand; else None."""
+    if id(classdef) in seen or not classdef.bases or classdef.keywords:
+        return None
+    chain = [classdef]
+    for base in classdef.bases:
+        if {N.strip_gym_prefix(q) for q in facts.qualified_names(base)} & N.GYM_WRAPPER_BASE_CLASSES:
+            continue
+        local = facts.classes.get(base.id) if isinstance(base, ast.Name) else None
+        inner = None if local is None else local_wrapper_chain(facts, local, seen | {id(classdef)})
+        if inner is None:
+            return None
+        chain += inner
+    if any(takes_lookup_in_hand(c) for c in chain):
+        return None
+    return chain
+
+
+def wrapper_defined(facts: ModuleFacts) -> dict[str, frozenset[str]]:
+    """Top-level Gym wrapper classes (bases of this module or Gym's) -> what they and their
+    bases define for ``self``."""
+    found = {}
+    for name, classdef in facts.classes.items():
+        chain = local_wrapper_chain(facts, classdef)
+        if chain is not None:
+            found[name] = frozenset(n for c in chain for n in self_defined(c))
+    return found
