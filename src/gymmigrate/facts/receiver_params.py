@@ -169,7 +169,7 @@ class ParameterKinds(_Facade):
             rest = N.strip_gym_prefix(q)
             if rest in N.GYM_ENV_BASE_CLASSES:
                 return EnvKind.GYM_ENV
-            if rest is not None and rest.startswith("wrappers.") and not rest.startswith("wrappers.vector."):
+            if rest is not None and N.is_wrapper_class_path(rest):
                 return EnvKind.GYM_ENV  # ``env: gym.wrappers.TimeLimit``: a wrapper class is a Gym env
             if rest is not None and rest.startswith("vector.") and rest.endswith("Env"):
                 return EnvKind.GYM_VEC
