@@ -475,11 +475,36 @@ class CreationFinder:
             for value in values:
                 result.merge(self._follow(value, self._expr))
             return result
+        held = self._held_by_own_object(attr)
+        if held:
+            for value in held:
+                result.merge(self._follow(value, self._expr))
+            return result
         if attr.attr in ("env", "unwrapped", "venv"):
             # ``wrapper.env`` / ``env.unwrapped``: the same underlying env
             return self._follow(attr.value, self._expr)
         result.fail(f"`{self.facts.segment(attr)}` is not followed")
         return result
+
+    def _held_by_own_object(self, attr: ast.Attribute) -> list[ast.expr]:
+        """``player.env`` where ``player`` is only ever built by a class of this module that is
+        no env nor wrapper (``Player(model, env)``): what that class stores in ``self.env``
+        (its constructor's parameter, followed to the constructions), not ``player``'s first
+        argument as for a wrapper's ``.env``. Empty when that is not the shape."""
+        if not isinstance(attr.value, ast.Name):
+            return []
+        bindings = self.facts.bindings_of(attr.value)
+        classes = []
+        for binding in bindings:
+            statement = self.facts.parent(binding)
+            if not (isinstance(statement, ast.Assign) and statement.targets == [binding] and isinstance(statement.value, ast.Call)):
+                return []
+            classdef = self.receivers.local_class(statement.value.func)
+            if classdef is None or self.receivers.class_kind(classdef) not in (EnvKind.UNKNOWN, EnvKind.NOT_ENV):
+                return []
+            classes.append(classdef)
+        values = [value for classdef in classes for value in self.receivers.self_stores(classdef).get(attr.attr, [])]
+        return values if classes and len(values) >= len(classes) else []
 
     def _looks_like_wrapper(self, call: ast.Call) -> bool:
         """``SomeWrapper(env, ...)``: a gym wrapper, a wrapper class of this module, or a class."""
