@@ -150,6 +150,8 @@ class ProjectFacts:
     mask_modules: dict[str, tuple[str, ...]] = field(default_factory=dict)
     # path -> its top-level record classes (``ModuleSummary.record_classes``)
     record_classes: dict[str, frozenset[str]] = field(default_factory=dict)
+    # path -> its defs and classes that use what only an Atari env has (``ModuleSummary.atari_users``)
+    atari_users: dict[str, frozenset[str]] = field(default_factory=dict)
     # (path, plain class, attribute) -> the kind every construction of the run passes to the
     # ``__init__`` parameter the attribute holds (``ModuleSummary.held_params``), where all
     # agree on a Gym env: ``holder.gym_env`` of an instance made anywhere is that env.
@@ -191,6 +193,8 @@ class ProjectFacts:
             facts.env_classes[summary.path] = frozenset() if left else summary.env_classes
             facts.wrapper_classes[summary.path] = frozenset() if left else summary.wrapper_classes
             facts.wrapping_helpers[summary.path] = frozenset() if left else summary.wrapping_helpers
+            if summary.atari_users:
+                facts.atari_users[summary.path] = summary.atari_users
             facts.pz_wrappers[summary.path] = summary.pz_wrappers
             facts.spec_lists[summary.path] = summary.spec_lists
             facts.render_mode_classes[summary.path] = frozenset() if left else summary.render_mode_classes

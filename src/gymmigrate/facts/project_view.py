@@ -299,6 +299,12 @@ class ProjectView:
         split = self.facts._split(qualified, self.path)
         return split is not None and split[1] in self.facts.wrapping_helpers.get(split[0], ())
 
+    def uses_atari(self, qualified: str) -> bool:
+        """An imported def or class of the run uses what only an Atari env has
+        (``from utils.atari_wrapper import wrap_deepmind``)."""
+        split = self.facts._split(qualified, self.path)
+        return split is not None and split[1] in self.facts.atari_users.get(split[0], ())
+
     def class_of_run(self, qualified: str) -> tuple[str, str] | None:
         """``(path, "Policy")`` for an imported name of the run that is a top-level class with
         methods (``from .base import Policy``): where its attributes are decided."""

@@ -16,6 +16,7 @@ from dataclasses import replace
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts import pz_wrappers
+from gymmigrate.facts.atari_signs import atari_users
 from gymmigrate.facts.bootstrap import next_state_masks
 from gymmigrate.facts.creation import CreationFinder, passes_mode, render_kept_classes
 from gymmigrate.facts.decisions import Action, decide
@@ -148,6 +149,7 @@ class _Summarizer:
             held_params=held_params(self.facts, self.receivers),
             handed_on=handed_on(self.facts),
             silent_renders=frozenset(name for name, classdef in self.facts.classes.items() if renders_nothing(self.facts, classdef)),
+            atari_users=atari_users(self.facts),
             legacy_steps=frozenset(
                 name for name, classdef in self.facts.classes.items() if name in env_classes and self.receivers.class_keeps_legacy_step(classdef)
             ),
