@@ -429,8 +429,9 @@ class WrapperForwarding(RuleFamily):
 
     def _traced_gym_env(self, receiver: ast.expr) -> bool:
         """``holder.env`` where ``holder`` is only ever an object of a class of this module
-        that is no env (``player = Agent(model, env)``) and the receiver analysis traced the
-        attribute to a Gym env (what the constructor calls pass it): bare or wrapped,
+        that is no env (``player = Agent(model, env)``), or of a plain class of another module
+        of the run that every construction hands a Gym env there (``ProjectView.held_kind``),
+        and the receiver analysis traced the attribute to a Gym env: bare or wrapped,
         ``get_wrapper_attr`` reads the attribute as forwarding did. The origin walk here
         follows ``self.x`` only inside the class."""
         if not (isinstance(receiver, ast.Attribute) and isinstance(receiver.value, ast.Name)):
@@ -438,13 +439,18 @@ class WrapperForwarding(RuleFamily):
         bindings = self.facts.bindings_of(receiver.value)
         if not bindings:
             return False
+        project = self.receivers.project
         for binding in bindings:
             statement = self.facts.parent(binding)
             if not (isinstance(statement, ast.Assign) and statement.targets == [binding] and isinstance(statement.value, ast.Call)):
                 return False
-            holder = self.receivers.local_class(statement.value.func)
-            if holder is None or self.receivers.class_kind(holder) not in (EnvKind.UNKNOWN, EnvKind.NOT_ENV):
-                return False
+            func = statement.value.func
+            holder = self.receivers.local_class(func)
+            if holder is not None:
+                if self.receivers.class_kind(holder) not in (EnvKind.UNKNOWN, EnvKind.NOT_ENV):
+                    return False
+            elif project is None or not any(project.held_kind(q, receiver.attr) is EnvKind.GYM_ENV for q in self.facts.qualified_names(func)):
+                return False  # not a plain class of the run whose every construction passes a Gym env there
         return self.receivers.kind_of(receiver) is EnvKind.GYM_ENV
 
     def _dominating_origin(self, name: ast.Name) -> Origin:
