@@ -104,6 +104,12 @@ class ProjectView:
         split = self.facts._split(qualified, self.path)
         return None if split is None else self.facts.held_kinds.get((*split, attribute))
 
+    def held_slot(self, qualified: str, attribute: str) -> tuple[str, int] | None:
+        """``holder.attribute`` where ``holder`` is an instance of the run's plain class
+        ``qualified``: the constructor parameter it holds and its position in a call."""
+        split = self.facts._split(qualified, self.path)
+        return None if split is None else self.facts.held_slots.get((*split, attribute))
+
     def made_at(self, qualified: str) -> str | None:
         """Where an imported def of the run that returns ``make(...)`` results makes its env,
         as a reader of this file finds it: "the make in `make_env` of wrappers.py" (no line:
