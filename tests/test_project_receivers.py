@@ -386,6 +386,38 @@ def test_a_render_through_the_holders_attribute_is_a_gym_render(tmp_path: Path) 
     assert [(f["rule"], f["kind"], f["line"]) for f in found] == [("GM402", "flag", 19)]
 
 
+def test_an_attribute_read_through_the_holders_env_reads_through_the_wrappers(tmp_path: Path) -> None:
+    """``session.world_env.lives_left`` where ``session`` is an instance of another module's
+    plain holder that every construction of the run hands a Gym env (a wrapper stack): the
+    read goes through ``get_wrapper_attr``, as forwarding did, not asked about."""
+    project = _copy("project_holders", tmp_path)
+    (project / "arcade" / "lives.py").write_text(
+        "import gym\nfrom arcade import stacks\nfrom arcade.holder import Session\n\n\ndef lives(game_id):\n"
+        "    session = Session(stacks.stack(stacks.make_game(game_id)))\n    session.first()\n"
+        "    return session.world_env.lives_left, gym.__version__\n"
+    )
+    result = runner.invoke(app, ["rewrite", str(project)])
+    assert result.exit_code == 0, result.output
+    assert 'session.world_env.get_wrapper_attr("lives_left")' in (project / "arcade" / "lives.py").read_text()
+
+
+def test_the_env_of_another_modules_holder_is_made_where_its_construction_says(tmp_path: Path) -> None:
+    """``coach.env.render()`` with ``coach = Coach(None, gym.make(...))``, ``Coach`` a plain class
+    of another module holding its second parameter: the make is the second argument's (the
+    first, ``None``, is the model), so it gets ``render_mode="human"``."""
+    project = _copy("project_holders", tmp_path)
+    (project / "arcade" / "coach.py").write_text(
+        "class Coach:\n    def __init__(self, model, env):\n        self.model = model\n        self.env = env\n"
+    )
+    (project / "arcade" / "watch.py").write_text(
+        "import gym\nfrom arcade.coach import Coach\n\ncoach = Coach(None, gym.make(\"CartPole-v1\"))\n"
+        "for _ in range(3):\n    coach.env.render()\n"
+    )
+    result = runner.invoke(app, ["rewrite", str(project)])
+    assert result.exit_code == 0, result.output
+    assert 'Coach(None, gym.make("CartPole-v1", render_mode="human"))' in (project / "arcade" / "watch.py").read_text()
+
+
 def test_a_holder_one_caller_builds_with_a_project_object_is_asked_about(tmp_path: Path) -> None:
     """The same shape, where one construction passes the project's own (non-Gym) board:
     the attribute is not known to be a Gym env, so nothing on it is rewritten."""

@@ -475,11 +475,54 @@ class CreationFinder:
             for value in values:
                 result.merge(self._follow(value, self._expr))
             return result
+        held = self._held_by_own_object(attr)
+        if held:
+            for value in held:
+                result.merge(self._follow(value, self._expr))
+            return result
         if attr.attr in ("env", "unwrapped", "venv"):
             # ``wrapper.env`` / ``env.unwrapped``: the same underlying env
             return self._follow(attr.value, self._expr)
         result.fail(f"`{self.facts.segment(attr)}` is not followed")
         return result
+
+    def _held_by_own_object(self, attr: ast.Attribute) -> list[ast.expr]:
+        """``player.env`` where ``player`` is only ever built by a class of this module that is
+        no env nor wrapper (``Player(model, env)``): what that class stores in ``self.env``
+        (its constructor's parameter, followed to the constructions), not ``player``'s first
+        argument as for a wrapper's ``.env``; for a plain class of another module of the run
+        that holds the attribute from a constructor parameter (``ProjectView.held_slot``), the
+        argument the construction passes there. Empty when that is not the shape."""
+        if not isinstance(attr.value, ast.Name):
+            return []
+        bindings = self.facts.bindings_of(attr.value)
+        project = self.receivers.project
+        values: list[ast.expr] = []
+        for binding in bindings:
+            statement = self.facts.parent(binding)
+            if not (isinstance(statement, ast.Assign) and statement.targets == [binding] and isinstance(statement.value, ast.Call)):
+                return []
+            call = statement.value
+            classdef = self.receivers.local_class(call.func)
+            if classdef is not None:
+                if self.receivers.class_kind(classdef) not in (EnvKind.UNKNOWN, EnvKind.NOT_ENV):
+                    return []
+                stored = self.receivers.self_stores(classdef).get(attr.attr, [])
+                if not stored:
+                    return []
+                values.extend(stored)
+                continue
+            # A plain holder class of another module of the run: the argument this very
+            # construction passes for the parameter the attribute holds.
+            slots = {slot for q in self.facts.qualified_names(call.func) if project is not None and (slot := project.held_slot(q, attr.attr))}
+            if len(slots) != 1 or any(isinstance(a, ast.Starred) for a in call.args) or any(k.arg is None for k in call.keywords):
+                return []
+            param, position = slots.pop()
+            argument = _argument_for(call, param, position)
+            if argument is None:
+                return []
+            values.append(argument)
+        return values
 
     def _looks_like_wrapper(self, call: ast.Call) -> bool:
         """``SomeWrapper(env, ...)``: a gym wrapper, a wrapper class of this module, or a class."""

@@ -151,6 +151,9 @@ class ModuleSummary:
     # Imported names of the run read as a value, not called (``partial(wrappers.make_env, i)``,
     # ``fn=make_env``): they may be called with arguments no summary sees.
     handed_on: frozenset[str] = frozenset()
+    # Top-level defs and classes that use what only an Atari env has (``facts/atari_signs.py``):
+    # a module that hands its env to one makes Atari envs (GM106 adds ``import ale_py``).
+    atari_users: frozenset[str] = frozenset()
 
 
 def is_ref(kind: object) -> bool:

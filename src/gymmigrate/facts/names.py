@@ -237,6 +237,16 @@ def strip_gym_prefix(qualified: str) -> str | None:
     return None
 
 
+def is_wrapper_class_path(rest: str) -> bool:
+    """``wrappers.TimeLimit`` (a path under gym/gymnasium, prefix stripped) names a single-env
+    wrapper class; the helpers that live beside the wrappers (``wrappers.monitoring.stats_recorder.
+    StatsRecorder``, ``wrappers.utils.RunningMeanStd``) and the vector wrappers do not."""
+    if not rest.startswith("wrappers.") or rest.startswith("wrappers.vector."):
+        return False
+    *modules, last = rest.split(".")
+    return last not in GYM_NOT_ENV_CLASSES and not GYM_NOT_ENV_MODULES.intersection(modules)
+
+
 def top_package(qualified: str) -> str:
     return qualified.split(".", 1)[0]
 

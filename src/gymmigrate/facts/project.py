@@ -165,10 +165,15 @@ class ProjectFacts:
     mask_modules: dict[str, tuple[str, ...]] = field(default_factory=dict)
     # path -> its top-level record classes (``ModuleSummary.record_classes``)
     record_classes: dict[str, frozenset[str]] = field(default_factory=dict)
+    # path -> its defs and classes that use what only an Atari env has (``ModuleSummary.atari_users``)
+    atari_users: dict[str, frozenset[str]] = field(default_factory=dict)
     # (path, plain class, attribute) -> the kind every construction of the run passes to the
     # ``__init__`` parameter the attribute holds (``ModuleSummary.held_params``), where all
     # agree on a Gym env: ``holder.gym_env`` of an instance made anywhere is that env.
     held_kinds: dict[tuple[str, str, str], EnvKind] = field(default_factory=dict)
+    # (path, plain class, attribute) -> (the ``__init__`` parameter it holds, its position in a
+    # call): where a caller's construction passes what ``holder.attribute`` is (creation sites).
+    held_slots: dict[tuple[str, str, str], tuple[str, int]] = field(default_factory=dict)
     # Modules of the run that import legacy ``gym``: the envs they make are legacy Gym envs,
     # wherever they are rendered (a driver that never names gym).
     legacy_gym: frozenset[str] = frozenset()
@@ -208,6 +213,8 @@ class ProjectFacts:
             facts.wrapping_helpers[summary.path] = frozenset() if left else summary.wrapping_helpers
             if summary.gym_only_makers:
                 facts.gym_only_makers[summary.path] = summary.gym_only_makers
+            if summary.atari_users:
+                facts.atari_users[summary.path] = summary.atari_users
             facts.pz_wrappers[summary.path] = summary.pz_wrappers
             facts.spec_lists[summary.path] = summary.spec_lists
             facts.render_mode_classes[summary.path] = frozenset() if left else summary.render_mode_classes
@@ -366,9 +373,12 @@ class ProjectFacts:
             for name, held in summary.held_params.items():
                 if (path, name) in self.subclasses_of:
                     continue
+                init = summary.defs.get(f"{name}.__init__")
                 for attribute, param in held.items():
                     if params.param_kind(path, f"{name}.__init__", param) is EnvKind.GYM_ENV:
                         self.held_kinds[(path, name, attribute)] = EnvKind.GYM_ENV
+                    if init is not None and param in init.params[1:]:
+                        self.held_slots[(path, name, attribute)] = (param, init.params.index(param) - 1)  # no ``self``
 
     def _imported_env_modules(self, summary: ModuleSummary, declared: dict[str, ModuleSummary] | None = None) -> set[str]:
         """The other modules of the run with env classes that ``summary``'s module imports

@@ -104,6 +104,12 @@ class ProjectView:
         split = self.facts._split(qualified, self.path)
         return None if split is None else self.facts.held_kinds.get((*split, attribute))
 
+    def held_slot(self, qualified: str, attribute: str) -> tuple[str, int] | None:
+        """``holder.attribute`` where ``holder`` is an instance of the run's plain class
+        ``qualified``: the constructor parameter it holds and its position in a call."""
+        split = self.facts._split(qualified, self.path)
+        return None if split is None else self.facts.held_slots.get((*split, attribute))
+
     def made_at(self, qualified: str) -> str | None:
         """Where an imported def of the run that returns ``make(...)`` results makes its env,
         as a reader of this file finds it: "the make in `make_env` of wrappers.py" (no line:
@@ -321,6 +327,12 @@ class ProjectView:
         (``from src.env import create_env``), or None."""
         split = self.facts._split(qualified, self.path)
         return None if split is None else self.facts.gym_only_makers.get(split[0], {}).get(split[1])
+
+    def uses_atari(self, qualified: str) -> bool:
+        """An imported def or class of the run uses what only an Atari env has
+        (``from utils.atari_wrapper import wrap_deepmind``)."""
+        split = self.facts._split(qualified, self.path)
+        return split is not None and split[1] in self.facts.atari_users.get(split[0], ())
 
     def class_of_run(self, qualified: str) -> tuple[str, str] | None:
         """``(path, "Policy")`` for an imported name of the run that is a top-level class with

@@ -197,7 +197,7 @@ class ClassKinds(_Facade):
         for base in classdef.bases:
             for q in self.qualified_names(base):
                 rest = N.strip_gym_prefix(q)
-                if rest is not None and (rest in N.GYM_WRAPPER_BASE_CLASSES or rest.startswith("wrappers.")):
+                if rest is not None and (rest in N.GYM_WRAPPER_BASE_CLASSES or N.is_wrapper_class_path(rest) or rest.startswith("wrappers.vector.")):
                     return True
                 if rest is None and self.project is not None and self.project.is_wrapper_class(q):
                     return True  # a Gym wrapper class of another module of the run (``pkg.TrialWrapper``)
@@ -269,7 +269,7 @@ class ClassKinds(_Facade):
         for q in self.qualified_names(base):
             rest = N.strip_gym_prefix(q)
             if rest is not None:
-                if rest in N.GYM_ENV_BASE_CLASSES or rest.startswith("wrappers."):
+                if rest in N.GYM_ENV_BASE_CLASSES or N.is_wrapper_class_path(rest) or rest.startswith("wrappers.vector."):
                     return EnvKind.GYM_ENV
                 if rest.startswith("vector."):
                     return EnvKind.GYM_VEC

@@ -66,7 +66,7 @@ class ParameterKinds(_Facade):
             values = param_values(self.facts, function, name) if not is_method else None
             if values:
                 return join_kinds(self.kind_of(value) for value in values)
-            return EnvKind.UNKNOWN
+            return EnvKind.GYM_ENV if self._wrapped_in_gym_wrapper(function, param) else EnvKind.UNKNOWN
         defaults = has_default(function, param)
         kinds = list(external)
         for call in calls:
@@ -86,6 +86,18 @@ class ParameterKinds(_Facade):
             self._mixed_params[param] = (sorted(k.value for k in gym), sorted(k.value for k in others))
             return EnvKind.UNKNOWN
         return join_kinds(kinds)
+
+    def _wrapped_in_gym_wrapper(self, function: ast.AST, param: ast.arg) -> bool:
+        """``def prepare(env, seed): env.seed(seed); env = Monitor(env, d)``, called nowhere the
+        run shows: the def hands the parameter to a Gym wrapper class as the env it wraps
+        (first argument or ``env=``), which only a Gym env can be."""
+        for node in ast.walk(function):
+            if not (isinstance(node, ast.Call) and self._makes_gym_wrapper(node)):
+                continue
+            wrapped = node.args[0] if node.args else next((k.value for k in node.keywords if k.arg == "env"), None)
+            if isinstance(wrapped, ast.Name) and wrapped.id == param.arg and param in self.facts.bindings_of(wrapped):
+                return True
+        return False
 
     def constructions(self, classdef: ast.ClassDef, _seen: frozenset[int] = frozenset()) -> tuple[list[tuple[ast.Call, int]], bool]:
         """The calls of this module that run ``classdef.__init__``, each with how far its
@@ -174,7 +186,7 @@ class ParameterKinds(_Facade):
             rest = N.strip_gym_prefix(q)
             if rest in N.GYM_ENV_BASE_CLASSES:
                 return EnvKind.GYM_ENV
-            if rest is not None and rest.startswith("wrappers.") and not rest.startswith("wrappers.vector."):
+            if rest is not None and N.is_wrapper_class_path(rest):
                 return EnvKind.GYM_ENV  # ``env: gym.wrappers.TimeLimit``: a wrapper class is a Gym env
             if rest is not None and rest.startswith("vector.") and rest.endswith("Env"):
                 return EnvKind.GYM_VEC

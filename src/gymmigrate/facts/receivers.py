@@ -394,7 +394,7 @@ class Receivers(ClassKinds, ParameterKinds, MadeObjects):
             return False
         for q in self.qualified_names(value.func):
             rest = N.strip_gym_prefix(q)
-            if rest is not None and (rest in N.GYM_WRAPPER_BASE_CLASSES or (rest.startswith("wrappers.") and not rest.startswith("wrappers.vector."))):
+            if rest is not None and (rest in N.GYM_WRAPPER_BASE_CLASSES or N.is_wrapper_class_path(rest)):
                 return True
             if self.project is not None and self.project.is_wrapper_class(q):
                 return True

@@ -56,7 +56,7 @@ _PZ = ("pettingzoo", "supersuit", "agent_iter")  # a PettingZoo import, or an ag
 PIPELINE = (
     FamilySpec("Imports", "gymmigrate.rules.imports"),
     FamilySpec("RenamedEnvPackages", "gymmigrate.rules.renamed_packages", ("gym_minigrid",)),
-    FamilySpec("EnvIds", "gymmigrate.rules.env_ids.ids", ("-v", "ale.lives", ".ale", "NoFrameskip", "get_action_meanings")),
+    FamilySpec("EnvIds", "gymmigrate.rules.env_ids.ids", ("-v", "ale.lives", ".ale", "NoFrameskip", "get_action_meanings"), follows_the_run=True),
     FamilySpec("EnvPlugins", "gymmigrate.rules.env_ids.plugins", (), follows_the_run=True),
     FamilySpec(
         "RegistryApi",
@@ -64,7 +64,7 @@ PIPELINE = (
         ("registry", "_kwargs", "_env_name", "entry_point", "timestep_limit", "trials", "tags", "max_episode_seconds", "local_only"),
     ),
     FamilySpec("MakeKeywords", "gymmigrate.rules.make_kwargs", ("new_step_api", "autoreset", "apply_api_compatibility", "return_info")),
-    FamilySpec("WrapperRenames", "gymmigrate.rules.wrapper_usage.renames", ("wrappers",)),
+    FamilySpec("WrapperRenames", "gymmigrate.rules.wrapper_usage.renames", ("wrappers", '"Monitor"', "'Monitor'")),
     FamilySpec("Rendering", "gymmigrate.rules.rendering", ("render", "single_rgb_array", "RecordVideo", "play", "VecVideoRecorder", "Monitor")),
     FamilySpec("VectorEnvs", "gymmigrate.rules.vector", ("vector", "VectorEnv", "final_", "terminal_observation")),
     FamilySpec("EnvClassFamily", "gymmigrate.rules.custom_env.env_class", ("class",)),

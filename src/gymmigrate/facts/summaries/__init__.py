@@ -19,6 +19,7 @@ from collections.abc import Mapping
 from dataclasses import replace
 
 from gymmigrate.facts import pz_wrappers
+from gymmigrate.facts.atari_signs import atari_users
 from gymmigrate.facts.creation import render_kept_classes
 from gymmigrate.facts.done_uses import top_level_records
 from gymmigrate.facts.env_classes import EnvClasses
@@ -153,6 +154,7 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         held_params=held_params(facts, receivers),
         handed_on=handed_on(facts),
         silent_renders=frozenset(name for name, classdef in facts.classes.items() if renders_nothing(facts, classdef)),
+        atari_users=atari_users(facts),
         legacy_steps=frozenset(
             name for name, classdef in facts.classes.items() if name in env_classes and receivers.class_keeps_legacy_step(classdef)
         ),

@@ -111,8 +111,15 @@ class EnvIds(RuleFamily):
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
-        # ids, gym's Atari info key, and what only an Atari env has (``_atari_helper``)
-        return "-v" in facts.text or any(sign in facts.text for sign in _ATARI_WORDS)
+        # ids, gym's Atari info key, and what only an Atari env has (``_atari_helper``), here
+        # or in a def or class of another module of the run this one imports
+        if "-v" in facts.text or any(sign in facts.text for sign in _ATARI_WORDS):
+            return True
+        project = context.options.project
+        if project is None or "make" not in facts.text:
+            return False
+        view = project.view(context.path)
+        return any(view.uses_atari(q) for q in facts.imports.values())
 
     def decide(self) -> None:
         self._rename_lives_key()
@@ -394,6 +401,11 @@ class EnvIds(RuleFamily):
             called = self.facts.functions.get(node.func.id) or self.facts.classes.get(node.func.id)
             if called is not None and called is not function and self._has_atari_sign(called):
                 return [f"through `{node.func.id}`"]
+        if isinstance(node, ast.Call) and isinstance(node.func, (ast.Name, ast.Attribute)):
+            # ``wrap_deepmind(env)`` imported from another module of the run that has a sign
+            project = self.receivers.project
+            if project is not None and any(project.uses_atari(q) for q in self.facts.qualified_names(node.func)):
+                return [f"through `{full_name(node.func)}` of another module"]
         return []
 
     def _has_atari_sign(self, definition: ast.AST) -> bool:

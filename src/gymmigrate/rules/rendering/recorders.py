@@ -10,6 +10,7 @@ import ast
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.decisions import Action, receiver_text
+from gymmigrate.facts.import_guards import import_error_guard
 from gymmigrate.facts.module import keyword
 from gymmigrate.facts.receiver_classes import renders_nothing
 from gymmigrate.findings import FixKind
@@ -65,7 +66,7 @@ class RecorderSites(RenderingBase):
                 consumer, accepted = _GYM_RECORDERS[rest]
             elif q in _SB3_RECORDERS:
                 consumer = "VecVideoRecorder"
-            elif rest in _MONITORS:
+            elif rest in _MONITORS and not self._guarded_import(call.func):
                 consumer, monitor = "RecordVideo", True
         if consumer is None or not (call.args or call.keywords):
             return None
@@ -85,6 +86,17 @@ class RecorderSites(RenderingBase):
             if sb3_factory:
                 creation.gap = f"it comes from {sb3_factory}(...): pass env_kwargs={{\"render_mode\": \"rgb_array\"}} to it"
         return RenderSite(call, "GM407", RGB_ARRAY, accepted, Action.REWRITE, creation, consumer=consumer)
+
+    def _guarded_import(self, func: ast.expr) -> bool:
+        """``func`` is a name imported under ``try: ... except ImportError:``: the wrapper
+        family leaves such a Monitor as it is (under Gymnasium the fallback is what runs)."""
+        if not isinstance(func, ast.Name):
+            return False
+        for binding in self.facts.bindings_of(func):
+            statement = self.facts.parent(binding)
+            if isinstance(binding, ast.alias) and isinstance(statement, ast.ImportFrom) and import_error_guard(self.facts, statement):
+                return True
+        return False
 
     def _monitor_env(self, call: ast.Call) -> ast.expr | None:
         """The env of a ``Monitor`` that becomes ``RecordVideo`` (GM611), else None.

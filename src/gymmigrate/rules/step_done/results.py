@@ -47,7 +47,10 @@ class ResultRules(StepFamilyBase):
         if _subscript_index(self.facts.parent(call), call) in _SAME_PLACE:
             return  # ``env.step(0)[0]``: the observation (reward, info) is where it was
         decision, _ = self.decision(receiver, legacy_shape=False)
-        if decision.action is not Action.LEAVE and self.context.profile.imports_gym:
+        profile = self.context.profile
+        # A file that imports neither package may still step the envs others hand it (a
+        # vector env over ``self.envs``); one that imports only gymnasium is migrated already.
+        if decision.action is not Action.LEAVE and (profile.imports_gym or not profile.imports_gymnasium):
             chained = _chained_four(self.facts.parent(call), call)
             if chained is not None:
                 obs, reward, done, info = (self.facts.segment(el) for el in chained.elts)
@@ -74,10 +77,11 @@ class ResultRules(StepFamilyBase):
                     question=self.receiver_question(receiver, decision),
                 )
                 return
+            unsure = f"{decision.reason.removesuffix('; not rewritten')}: if it is, its " if decision.action is Action.REPORT else ""
             self.report(
                 call,
                 "GM304",
-                f"`{receiver_text(receiver)}.step()` result is used without unpacking five values "
+                f"{unsure}`{receiver_text(receiver)}.step()` result is used without unpacking five values "
                 "(index 2 is now terminated, 3 truncated, 4 info): update this use by hand",
                 FixKind.FLAG,
             )

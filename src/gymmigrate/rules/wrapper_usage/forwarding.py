@@ -43,7 +43,6 @@ from gymmigrate.facts.wrapper_attributes import (
 )
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
-from gymmigrate.rules.repeats import Repeats
 from gymmigrate.rules.wrapper_usage.tables import (
     BASE_ENV_ATTRIBUTES,
     OWN_ATTRIBUTES,
@@ -98,7 +97,6 @@ class WrapperForwarding(RuleFamily):
         self._in_progress: set[tuple[int, str]] = set()
         self._param_origins: dict[ast.arg, Origin] = {}
         self._depth = 0
-        self._unknown_receivers = Repeats()  # GM604: one "is it wrapped?" question per object
         self._local_attrs: set[str] | None = None
         self._through_make: set[int] = set()  # ``env.env.state`` rewritten to ``env.unwrapped.state``
         self._class_attrs: dict[ast.ClassDef, set[str]] = {}
@@ -223,6 +221,8 @@ class WrapperForwarding(RuleFamily):
             origin = WRAPPED  # bare or made: get_wrapper_attr reads both (a Gymnasium Env has it too)
         if origin is None and isinstance(receiver, ast.Name) and self.receivers.narrowing.is_env(receiver):
             origin = WRAPPED  # ``isinstance(env, gym.Env)`` checked it: bare or wrapped, get_wrapper_attr reads both
+        if origin is None and self._traced_gym_env(receiver):
+            origin = WRAPPED
         if origin == RAW:
             return
         if name in self._outer_attributes(receiver):
@@ -282,16 +282,16 @@ class WrapperForwarding(RuleFamily):
         text = dotted_name(receiver) or "the env"
         if origin is None:
             # One question per object ("is `self.viewer` wrapped?"): asked at its first
-            # read; its other reads are notes pointing there.
+            # read, which names the lines of the others (the plan's ask_once); those are
+            # notes pointing there, so a person fixing the item sees every read.
             owner = self.facts.enclosing_class(attr) if text.startswith("self.") else self.facts.enclosing_function(attr)
-            tier, same = self._unknown_receivers.tier((id(owner), text), attr, "question")
             self.report(
                 attr,
                 code,
                 f"could not tell whether `{text}` is wrapped: if it is, `.{name}` raises AttributeError on Gymnasium "
-                f"1.x; use `.unwrapped.{name}` or `.get_wrapper_attr(\"{name}\")`{same}",
+                f"1.x; use `.unwrapped.{name}` or `.get_wrapper_attr(\"{name}\")`",
                 kind=FixKind.FLAG,
-                tier=tier,
+                question=("GM604", "wrapped", id(owner), text),
             )
             return
         if name == "_max_episode_steps":
@@ -434,6 +434,32 @@ class WrapperForwarding(RuleFamily):
             return False  # this module's own calls pass something untraced
         kinds = project.param_kinds(function.name, bindings[0].arg)
         return bool(kinds) and all(kind is EnvKind.GYM_ENV for kind in kinds)
+
+    def _traced_gym_env(self, receiver: ast.expr) -> bool:
+        """``holder.env`` where ``holder`` is only ever an object of a class of this module
+        that is no env (``player = Agent(model, env)``), or of a plain class of another module
+        of the run that every construction hands a Gym env there (``ProjectView.held_kind``),
+        and the receiver analysis traced the attribute to a Gym env: bare or wrapped,
+        ``get_wrapper_attr`` reads the attribute as forwarding did. The origin walk here
+        follows ``self.x`` only inside the class."""
+        if not (isinstance(receiver, ast.Attribute) and isinstance(receiver.value, ast.Name)):
+            return False
+        bindings = self.facts.bindings_of(receiver.value)
+        if not bindings:
+            return False
+        project = self.receivers.project
+        for binding in bindings:
+            statement = self.facts.parent(binding)
+            if not (isinstance(statement, ast.Assign) and statement.targets == [binding] and isinstance(statement.value, ast.Call)):
+                return False
+            func = statement.value.func
+            holder = self.receivers.local_class(func)
+            if holder is not None:
+                if self.receivers.class_kind(holder) not in (EnvKind.UNKNOWN, EnvKind.NOT_ENV):
+                    return False
+            elif project is None or not any(project.held_kind(q, receiver.attr) is EnvKind.GYM_ENV for q in self.facts.qualified_names(func)):
+                return False  # not a plain class of the run whose every construction passes a Gym env there
+        return self.receivers.kind_of(receiver) is EnvKind.GYM_ENV
 
     def _dominating_origin(self, name: ast.Name) -> Origin:
         """Where the name's values disagree (``env = gym.make(...)`` in one branch, ``env =

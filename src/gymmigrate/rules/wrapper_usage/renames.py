@@ -33,6 +33,7 @@ from gymmigrate.edits.lazy import cst
 from gymmigrate.edits.syntax import dotted_node
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
+from gymmigrate.facts.import_guards import import_error_guard
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import dotted_name, string_value
 from gymmigrate.findings import FixKind, Tier
@@ -47,6 +48,14 @@ from gymmigrate.rules.wrapper_usage.legacy_imports import (
     removed_import,
 )
 from gymmigrate.rules.wrapper_usage.monitor import plan_monitor
+from gymmigrate.rules.wrapper_usage.monitor_consumers import (
+    MONITOR_NAME,
+    class_uses,
+    derived_class,
+    lines_text,
+    name_lookups,
+    reads_of,
+)
 from gymmigrate.rules.wrapper_usage.stacks import WrapperStacks
 from gymmigrate.rules.wrapper_usage.tables import (
     EXPERIMENTAL_SPECIAL,
@@ -89,14 +98,19 @@ class WrapperRenames(RuleFamily):
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
-        # Every wrapper these rules know is reached through a ``wrappers`` module path.
-        return "wrappers" in facts.text and "gym" in facts.text
+        # Every wrapper these rules know is reached through a ``wrappers`` module path; a
+        # wrapper stack searched for gym's Monitor by name (GM611) need not name it.
+        return "gym" in facts.text and ("wrappers" in facts.text or f'"{MONITOR_NAME}"' in facts.text or f"'{MONITOR_NAME}'" in facts.text)
 
     def decide(self) -> None:
         self._legacy = LegacyImports(self.facts, self.context.profile)
         self._removed_repeats = Repeats()  # GM610: one review item per removed wrapper and file
         self._renamed_locals: dict[str, str] = {}  # imported name -> new name
         self._monitor_locals: set[str] = set()
+        self._monitor_aliases: list[tuple[ast.alias, str]] = []  # plain Monitor imports the rewrite drops
+        self._monitor_calls: set[int] = set()  # ids of the Monitor calls rewritten
+        self._guarded_monitors: set[ast.alias] = set()  # Monitor imports under ``except ImportError``: left alone
+        self._lookup_repeats = Repeats()
         self._import_edits: dict[ast.ImportFrom, ImportEdit] = {}
         self._monitor_imports: list[ImportEdit] = []
         self._names_used: set[str] = set()  # bare names the rewritten Monitor calls use
@@ -120,6 +134,7 @@ class WrapperRenames(RuleFamily):
             elif isinstance(node, ast.Subscript):
                 self._check_final_info_subscript(node)
         self._finish_imports()
+        self._report_monitor_consumers()
 
     # -- imports: GM608, GM611, GM614 --------------------------------------------------------
 
@@ -168,7 +183,10 @@ class WrapperRenames(RuleFamily):
                 if alias.asname is None:
                     self._renamed_locals[bound] = "DictInfoToList"
                 self.report(statement, "GM608", "`VectorListInfo` is now `gymnasium.wrappers.vector.DictInfoToList`")
+            elif name == "Monitor" and rest in ("wrappers", "wrappers.monitor") and import_error_guard(self.facts, statement):
+                self._report_guarded_monitor(statement, alias, bound)
             elif name == "Monitor" and rest in ("wrappers", "wrappers.monitor"):
+                self._monitor_aliases.append((alias, bound))
                 present = {a.name for a in names}
                 edit.added[index] = [r for r in ("RecordEpisodeStatistics", "RecordVideo") if r not in present]
                 edit.dropped.add(index)
@@ -183,6 +201,65 @@ class WrapperRenames(RuleFamily):
                 )
         if edit.changed:
             self._import_edits[statement] = edit
+
+    def _report_guarded_monitor(self, statement: ast.ImportFrom, alias: ast.alias, bound: str) -> None:
+        """``try: from gym.wrappers import Monitor as M / except ImportError: <fallback>``: left as
+        it is (see monitor_consumers); the import and each class derived from ``M`` are items."""
+        self._guarded_monitors.add(alias)
+        reads = reads_of(self.facts, alias, bound)
+        derived = [c for c in (derived_class(self.facts, r) for r in reads) if c is not None]
+        others = sorted({r.lineno for r in reads if derived_class(self.facts, r) is None})
+        used = [f"`{c.name}` (line {c.lineno}) derives from it" for c in derived]
+        if others:
+            used.append(f"it is read at {lines_text(others)}")
+        self.report(
+            statement,
+            "GM611",
+            f"`Monitor` is gone: under Gymnasium this import fails and the `except ImportError` branch runs, as on "
+            f"an install without Monitor; left as it is. Rebuild what uses `{bound}` on RecordVideo and "
+            f"RecordEpisodeStatistics" + (f" ({'; '.join(used)})" if used else ""),
+            kind=FixKind.FLAG,
+        )
+        for classdef in derived:
+            uses = lines_text(class_uses(self.facts, classdef))
+            self.report(
+                classdef,
+                "GM611",
+                f"`{classdef.name}` derives from gym's removed `Monitor` (`{bound}`); under Gymnasium it derives from "
+                f"the `except ImportError` fallback instead: rebuild it on RecordVideo and RecordEpisodeStatistics"
+                + (f" (used at {uses} here, and wherever other modules make it)" if uses else " (and wherever other modules make it)"),
+                kind=FixKind.FLAG,
+            )
+
+    def _report_monitor_consumers(self) -> None:
+        """Reads of a dropped Monitor name that no rewritten call covers, and lookups by name."""
+        for alias, bound in self._monitor_aliases:
+            for read in reads_of(self.facts, alias, bound):
+                if id(read) in self._monitor_calls:
+                    continue
+                classdef = derived_class(self.facts, read)
+                what = f"`{classdef.name}` derives from it" if classdef is not None else "this use is left as it is"
+                spelled = "gym's `Monitor`" + (f" (`{bound}`)" if bound != MONITOR_NAME else "")
+                self.report(
+                    read,
+                    "GM611",
+                    f"{spelled} is gone and its import is replaced: {what}; rebuild it on RecordVideo "
+                    "and RecordEpisodeStatistics",
+                    kind=FixKind.FLAG,
+                )
+        if self.context.profile.imports_sb3:
+            return  # Stable-Baselines' own Monitor is still there
+        for call in name_lookups(self.facts):
+            tier, same = self._lookup_repeats.tier(MONITOR_NAME, call)
+            self.report(
+                call,
+                "GM611",
+                f"`{self.facts.segment(call)}` looks for a wrapper named `{MONITOR_NAME}`: gym's Monitor is gone (it "
+                "becomes RecordEpisodeStatistics/RecordVideo), so the search finds nothing on Gymnasium; "
+                f"RecordEpisodeStatistics keeps `episode_count`, `return_queue`, `length_queue`{same}",
+                kind=FixKind.FLAG,
+                tier=tier,
+            )
 
     def _experimental_import(self, statement: ast.ImportFrom, rest: str) -> None:
         new_module = "gymnasium." + rest.replace("experimental.wrappers", "wrappers", 1).replace(
@@ -317,6 +394,8 @@ class WrapperRenames(RuleFamily):
 
     def _call(self, call: ast.Call) -> None:
         wrapper = self._called_wrapper(call)
+        if wrapper is not None and isinstance(call.func, ast.Name) and self._guarded_monitors.intersection(self.facts.bindings_of(call.func)):
+            return  # under Gymnasium the name is the ImportError fallback's: reported at the import
         if wrapper is None:
             self._check_final_info_get(call)
             return
@@ -325,6 +404,7 @@ class WrapperRenames(RuleFamily):
             rewrite = plan_monitor(self, call)
             if rewrite is not None:
                 self._names_used.update(rewrite.uses)
+                self._monitor_calls.add(id(call.func))
             return
         if new in REMOVED:
             return

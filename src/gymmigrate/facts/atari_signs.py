@@ -1,0 +1,47 @@
+"""Top-level defs and classes of a module that use what only an Atari env has (GM106).
+
+``wrap_deepmind(env)`` in ``atari_wrappers.py`` builds ``NoopResetEnv(env)``, whose
+``__init__`` asserts ``env.unwrapped.get_action_meanings()[0] == "NOOP"``: a module that
+makes an env and hands it there makes Atari envs, which need ``import ale_py`` since
+Gymnasium 1.0. The signs are those ``rules/env_ids/ids.py`` reads in one module: the
+``ale`` interface, ``get_action_meanings()``, a ``"NoFrameskip"`` constant; a def or class
+that calls another of the module with a sign has one too.
+"""
+
+from __future__ import annotations
+
+import ast
+
+from gymmigrate.facts.module import ModuleFacts
+
+_SIGN_ATTRIBUTES = frozenset({"ale", "get_action_meanings"})
+
+
+def has_own_sign(definition: ast.AST) -> bool:
+    for node in ast.walk(definition):
+        if isinstance(node, ast.Attribute) and node.attr in _SIGN_ATTRIBUTES:
+            return True
+        if isinstance(node, ast.Constant) and node.value == "NoFrameskip":
+            return True
+    return False
+
+
+def atari_users(facts: ModuleFacts) -> frozenset[str]:
+    """Names of the top-level defs and classes with a sign, directly or through another."""
+    definitions: dict[str, ast.AST] = {**facts.functions, **facts.classes}
+    definitions = {name: d for name, d in definitions.items() if facts.parent(d) is facts.tree}
+    found = {name for name, d in definitions.items() if has_own_sign(d)}
+    if not found:
+        return frozenset()
+    calls: dict[str, set[str]] = {
+        name: {n.func.id for n in ast.walk(d) if isinstance(n, ast.Call) and isinstance(n.func, ast.Name) and n.func.id in definitions}
+        for name, d in definitions.items()
+    }
+    changed = True
+    while changed:  # the closure: at most one pass per definition
+        changed = False
+        for name, called in calls.items():
+            if name not in found and called & found:
+                found.add(name)
+                changed = True
+    return frozenset(found)
