@@ -162,6 +162,12 @@ class SitePlanning(MakeEdits):
         always = [site for site in sites if not render_condition(self.facts, site.node, make, home)]
         if not conditional or not always:
             return None
+        steps = self._steps_of_make(make) or []
+        drawn = {id(site.node) for site in always}
+        if steps and all(self._loop_renders(call, drawn) for call in steps):
+            # Every step of the env is drawn by a render that runs on every pass (a render
+            # when done only redraws the last frame): human mode draws as the code did.
+            return None
         site, guards = conditional[0]
         _, text = schedule(self.facts, [site.node], make, home)
         return f"{text} at line {site.node.lineno} (the render at line {always[0].node.lineno} runs on every pass)"
@@ -288,7 +294,10 @@ class SitePlanning(MakeEdits):
                 message += "; the env's origin was inferred, check it"
             # A frame or text mode draws nothing by itself: the env renders when render() is
             # called, as before, so the move explains itself. "human" draws every step.
-            exact = not inferred and site.mode != HUMAN and not site.variable
+            every_step = site.mode == HUMAN and not site.variable and self._drawn_every_step(call, keys)
+            if every_step:
+                message += "; it drew every step here, as a human-mode env does inside step()"
+            exact = not inferred and not site.variable and (site.mode != HUMAN or every_step)
             if site.variable:
                 message += f'; the mode is read once per env now: where {site.mode} is "human", that env draws every step inside step()/reset()'
             self._claim_makes(keys)
@@ -444,3 +453,15 @@ class SitePlanning(MakeEdits):
         """The innermost loop around ``call`` holds one of the render sites."""
         loop = next((a for a in self.facts.ancestors(call) if isinstance(a, (ast.For, ast.While, ast.AsyncFor))), None)
         return loop is not None and any(id(node) in rendered for node in ast.walk(loop) if isinstance(node, ast.Call))
+
+    def _drawn_every_step(self, render: ast.Call, keys: list[int]) -> bool:
+        """``render`` runs on every pass of the loop that holds each step of the envs the
+        makes ``keys`` bind: a legacy human render there drew every step, as human mode does."""
+        for key in keys:
+            make = self._makes_by_id.get(key)
+            steps = (self._steps_of_make(make) if make is not None else None) or []
+            if make is None or not steps or render_condition(self.facts, render, make, self._stepping_function(make)):
+                return False
+            if not all(self._loop_renders(call, {id(render)}) for call in steps):
+                return False
+        return True
