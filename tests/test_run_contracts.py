@@ -14,6 +14,12 @@ step unpacks stay as they are, the reset unpacks follow the migrated reset.
 takes ``render_mode`` and passes it on, so ``gymnasium.make(id, render_mode="human")`` of
 the registered subclass builds (it raised TypeError) and ``render()`` draws (it was a
 silent no-op).
+
+``fixtures/project_render_subclass_modes/``: ``BoardEnv.render(mode)`` is kept (and
+reported) while ``SlidingBoardEnv`` in another module asks it for frames with
+``self.render(mode="rgb_array")`` (splitting it made that call a TypeError); ``PlainEnv``,
+whose subclass elsewhere has its own render(), still migrates, and the subclass inherits
+its render_mode without an item.
 """
 
 from __future__ import annotations
@@ -194,3 +200,20 @@ def test_an_env_class_on_an_api_of_its_own_keeps_it_with_its_callers(tmp_path: P
     assert steps == "5"
     (solo,) = _run(project, "from grid.env import JunctionEnv\nenv = JunctionEnv(solo=True)\nprint(env.reset(seed=1), len(env.step(0)))")
     assert solo == "(0, {}) 5"
+
+
+def test_a_subclass_in_another_module_that_renders_with_a_mode_keeps_its_base_render(tmp_path: Path) -> None:
+    project, review = _migrated(tmp_path, "project_render_subclass_modes")
+    board = (project / "boards" / "board.py").read_text()
+    assert 'def render(self, mode="human"):' in board and "_render_frame" not in board and "self.render_mode" not in board
+    assert 'frame = self.render(mode="rgb_array")' in (project / "boards" / "sliding.py").read_text()
+    plain = (project / "boards" / "plain.py").read_text()
+    assert "def render(self):" in plain and 'return self._render_frame(mode="rgb_array"), {}' in plain
+    kept = [f for f in review if f["rule"] == "GM405"]
+    assert len(kept) == 1 and kept[0]["path"].endswith("board.py") and "sliding.py:11" in kept[0]["message"], review
+    code = (
+        "from boards.sliding import SlidingBoardEnv\nfrom boards.painted import PaintedEnv\n"
+        "env = SlidingBoardEnv()\nobs, info = env.reset()\nprint(env.step(1)[0].tolist())\n"
+        "print(PaintedEnv(render_mode='rgb_array').render().tolist())"
+    )
+    assert _run(project, code) == ["[[0, 255, 0, 0, 0, 0]]", "[[7, 7]]"]

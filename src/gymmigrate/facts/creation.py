@@ -544,7 +544,12 @@ def render_kept_classes(facts: ModuleFacts, receivers: Receivers) -> frozenset[i
             )
 
         classes = EnvClasses.of(facts, receivers)
-        if receivers.project is not None and receivers.project.render_called_elsewhere():
+        project = receivers.project
+        # A subclass in another module renders itself with a mode through this render().
+        below = frozenset(
+            id(c) for c in facts.classes.values() if project is not None and project.mode_renders_below(c.name)
+        )
+        if project is not None and project.render_called_elsewhere():
             # Another module of the run passes modes to objects it cannot trace.
             return frozenset(id(c) for c in facts.all_classes if classes.is_custom_env(c))
         finder = CreationFinder(facts, receivers, is_creation)
@@ -558,8 +563,8 @@ def render_kept_classes(facts: ModuleFacts, receivers: Receivers) -> frozenset[i
             if not finder.find(receiver).found:
                 untraced.append(call)
         if not untraced:
-            return frozenset()
-        return frozenset(
+            return below
+        return below | frozenset(
             id(classdef)
             for classdef in facts.all_classes
             if classes.is_custom_env(classdef) and any(facts.enclosing_class(call) is not classdef for call in untraced)

@@ -110,6 +110,9 @@ class ProjectFacts:
     subclasses_of: dict[tuple[str, str], list[tuple[str, str]]] = field(default_factory=dict)
     done_methods: dict[tuple[str, str], dict[str, DoneCause]] = field(default_factory=dict)
     subclass_methods: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
+    # (path, class) -> the ``self.render(mode)`` calls of its subclasses in other modules of
+    # the run, at any depth, as ("pull.py:5", call): its render() keeps ``mode`` for them.
+    mode_renders_below: dict[tuple[str, str], list[tuple[str, str]]] = field(default_factory=dict)
     # (path, top-level name) of a class of the run (or a re-export of one) -> its methods
     # with those of its bases of the run (``project_contracts.class_methods``).
     class_methods: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
@@ -255,8 +258,9 @@ class ProjectFacts:
                 facts.importers.setdefault(provider, set()).add(summary.path)
         for path in facts.render_called:  # their classes keep render(mode): no render_mode to pass
             facts.render_mode_classes[path] = frozenset()
-        thread_render_mode(facts, by_path)
         facts._join_overrides(summaries)
+        facts._join_mode_renders(by_path)
+        thread_render_mode(facts, by_path)
         facts._join_held(by_path, params)
         for summary in summaries:
             for qualified in summary.handed_on:
@@ -300,6 +304,27 @@ class ProjectFacts:
                 self.subclass_methods[(summary.path, name)] = frozenset(methods)
             for name, methods_done in summary.done_methods.items():
                 self.done_methods[(summary.path, name)] = methods_done
+
+    def _join_mode_renders(self, by_path: dict[str, ModuleSummary]) -> None:
+        """``mode_renders_below``: a subclass's ``self.render(mode)`` reaches the render() of
+        the nearest base that defines one; every class above it keeps ``mode`` (and takes no
+        render_mode) so the call still works."""
+        for path, summary in by_path.items():
+            for name, (line, call) in summary.mode_renders.items():
+                where = (f"{os.path.basename(path)}:{line}", call)
+                seen = {(path, name)}
+                todo = [(path, name)]
+                while todo:
+                    current = todo.pop()
+                    for base, subs in self.subclasses_of.items():
+                        if current in subs and base not in seen:
+                            seen.add(base)
+                            self.mode_renders_below.setdefault(base, []).append(where)
+                            if "render" not in self.subclass_methods.get(base, frozenset()):
+                                todo.append(base)  # a render() it does not define is its base's
+        for path, name in self.mode_renders_below:
+            if name in self.render_mode_classes.get(path, ()):
+                self.render_mode_classes[path] = self.render_mode_classes[path] - {name}
 
     def _join_held(self, by_path: dict[str, ModuleSummary], params: ParamJoin) -> None:
         """``held_kinds``: a holder's attribute is a Gym env when every construction of the

@@ -223,6 +223,11 @@ class ProjectView:
         """Subclasses in other modules of the run that override ``classname.method``."""
         return self.facts.overrides.get((self.path, classname), {}).get(method, [])
 
+    def mode_renders_below(self, classname: str) -> list[tuple[str, str]]:
+        """The ``self.render(mode)`` calls of subclasses in other modules of the run that
+        reach ``classname``'s render(), as ("pull.py:5", call)."""
+        return self.facts.mode_renders_below.get((self.path, classname), [])
+
     def done_overrides(self, classname: str, method: str) -> list[DoneCause]:
         """Why what ``method`` returns is True in each override of it by subclasses in
         other modules of the run, at any depth (``Base`` <- ``Single`` <- ``Hover``); each

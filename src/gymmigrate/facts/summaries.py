@@ -20,7 +20,7 @@ from gymmigrate.facts.bootstrap import next_state_masks
 from gymmigrate.facts.creation import CreationFinder, passes_mode, render_kept_classes
 from gymmigrate.facts.decisions import Action, decide
 from gymmigrate.facts.done_uses import top_level_records
-from gymmigrate.facts.env_classes import EnvClasses
+from gymmigrate.facts.env_classes import EnvClasses, is_super_method_call
 from gymmigrate.facts.env_specs import module_spec_lists
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.limits import Cause, DoneCause, DoneTracer
@@ -148,6 +148,7 @@ class _Summarizer:
             held_params=held_params(self.facts, self.receivers),
             handed_on=handed_on(self.facts),
             silent_renders=frozenset(name for name, classdef in self.facts.classes.items() if renders_nothing(self.facts, classdef)),
+            mode_renders=_mode_renders(self.facts),
             legacy_steps=frozenset(
                 name for name, classdef in self.facts.classes.items() if name in env_classes and self.receivers.class_keeps_legacy_step(classdef)
             ),
@@ -861,6 +862,27 @@ def _subclasses(facts: ModuleFacts) -> tuple[tuple[str, tuple[str, ...], tuple[s
             methods = tuple(s.name for s in classdef.body if isinstance(s, FUNCTIONS))
             found.append((name, bases, methods))
     return tuple(found)
+
+
+def _mode_renders(facts: ModuleFacts) -> dict[str, tuple[int, str]]:
+    """Classes with an imported base, no render() of their own, that call
+    ``self.render(mode)`` or ``super().render(mode)``: (line, call) of the first. The join
+    tells the base's module, whose render() keeps ``mode`` for them (custom_env/render.py)."""
+    found: dict[str, tuple[int, str]] = {}
+    for name, classdef in facts.classes.items():
+        if not any(not _is_library(q) for base in classdef.bases for q in facts.qualified_names(base)):
+            continue
+        if any(isinstance(s, FUNCTIONS) and s.name == "render" for s in classdef.body):
+            continue  # its calls reach its own render(), decided with the class
+        for node in ast.walk(classdef):
+            if not (isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "render"):
+                continue
+            receiver = node.func.value
+            own = (isinstance(receiver, ast.Name) and receiver.id == "self") or is_super_method_call(node, "render")
+            if own and facts.enclosing_class(node) is classdef and passes_mode(node, facts):
+                found[name] = (node.lineno, facts.segment(node))
+                break
+    return found
 
 
 def _done_methods(facts: ModuleFacts) -> dict[str, dict[str, DoneCause]]:

@@ -66,8 +66,22 @@ def decide_render(decision: ClassDecision) -> None:
             FixKind.FLAG,
         )
         return
-    blocking = _unmigrated_mode_call(decision)
     project = decision.family.receivers.project
+    top_level = decision.family.facts.classes.get(decision.classdef.name) is decision.classdef
+    below = project.mode_renders_below(decision.classdef.name) if project is not None and top_level else []
+    if below:
+        where, call = below[0]
+        more = f" (and {len(below) - 1} more)" if len(below) > 1 else ""
+        decision.report(
+            function,
+            "GM405",
+            f"render(mode) kept: `{call}` at {where}{more}, a subclass in another module of this run, asks render() for "
+            "a mode, a TypeError once render() takes none; render that mode another way (or drop the argument), then "
+            "run again",
+            FixKind.FLAG,
+        )
+        return
+    blocking = _unmigrated_mode_call(decision)
     elsewhere = blocking is None and project is not None and project.render_called_elsewhere()
     if elsewhere or blocking is not None:
         facts = decision.family.facts
@@ -162,6 +176,14 @@ def _add_init_render_mode(decision: ClassDecision) -> None:
                     "GM405",
                     f"`{inherited}`'s __init__ takes render_mode (Gymnasium's envs do) and stores self.render_mode: "
                     "this class inherits it",
+                    tier=Tier.NOTE,
+                )
+            elif (project := decision.family.receivers.project) is not None and project.takes_render_mode(inherited):
+                decision.report(
+                    decision.classdef,
+                    "GM405",
+                    f"`{inherited}` (a class of this run) takes render_mode in its __init__ once migrated and stores "
+                    "self.render_mode: this class inherits it",
                     tier=Tier.NOTE,
                 )
             else:
