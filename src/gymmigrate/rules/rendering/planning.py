@@ -429,11 +429,27 @@ class SitePlanning(MakeEdits):
         return bool(steps) and all(self._loop_renders(call, self._rendered_nodes) for call in steps)
 
     def _steps_of_make(self, make: ast.Call) -> list[ast.Call] | None:
-        """The steps of the env ``env = make(...)`` binds; None when the make binds no name."""
+        """The steps of the env ``env = make(...)`` binds, or ``self.env = make(...)`` in a
+        method (its class's ``self.env.step(...)`` calls); None when the make binds neither."""
         assign = self.facts.parent(make)
-        if not (isinstance(assign, ast.Assign) and len(assign.targets) == 1 and isinstance(assign.targets[0], ast.Name)):
+        if not (isinstance(assign, ast.Assign) and len(assign.targets) == 1):
             return None
         target = assign.targets[0]
+        if isinstance(target, ast.Attribute):
+            classdef = self.facts.enclosing_class(make)
+            if classdef is None or not (isinstance(target.value, ast.Name) and self.receivers.is_self(target.value)):
+                return None
+            return [
+                call
+                for call in self.facts.attribute_calls.get("step", ())
+                if isinstance(held := call.func.value, ast.Attribute)  # type: ignore[attr-defined]
+                and held.attr == target.attr
+                and isinstance(held.value, ast.Name)
+                and self.receivers.is_self(held.value)
+                and self.facts.enclosing_class(call) is classdef
+            ]
+        if not isinstance(target, ast.Name):
+            return None
         return self._steps_of(target.id, lambda read: target in self.facts.bindings_of(read))
 
     def _stepping_function(self, make: ast.Call) -> ast.AST | None:
