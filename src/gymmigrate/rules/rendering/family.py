@@ -64,7 +64,9 @@ class Rendering(RenderSites, SitePlanning):
             site = self._render_site(call) if is_render(call) else self._recorder_site(call)
             if site is not None:
                 sites.append(site)
+        self._wrapped = self._rendering_wrappers()
         self._plan_sites(sites)
+        self._report_rendering_wrappers()
         self._plan_make_literals()
         # Render calls that still pass a mode after this run: a local env class whose
         # render(mode) they may reach keeps its signature (custom_env/render.py).

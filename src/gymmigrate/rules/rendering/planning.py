@@ -181,7 +181,7 @@ class SitePlanning(MakeEdits):
     ) -> None:
         code, call = site.code, site.node
         target = f"render_mode={site.mode}" if site.variable else f'render_mode="{site.mode}"'
-        if not site.creation.found and code == "GM402" and self._report_made_elsewhere(site):
+        if not site.creation.found and code == "GM402" and (self._rendered_by_wrapper(site) or self._report_made_elsewhere(site)):
             return
         if not site.creation.found:
             where = site.creation.gap or "no gym.make was found"
@@ -481,3 +481,72 @@ class SitePlanning(MakeEdits):
             if not all(self._loop_renders(call, {id(render)}) for call in steps):
                 return False
         return True
+
+    def _rendering_wrappers(self) -> list[tuple[ast.ClassDef, list[str], ast.Call, ast.Call]]:
+        """``env = Show(gym.make(id))`` with a Gym wrapper of this file whose reset/step call
+        ``self.env.render(...)``: (the class, those methods, the build, the make without a
+        render_mode)."""
+        found = []
+        self._wraps_untraced: set[int] = set()  # wrapper classes also built on envs not traced to a make
+        project = self.receivers.project
+        for classdef in self.facts.all_classes:
+            if not self.receivers.is_gym_wrapper_class(classdef):
+                continue
+            methods = sorted(
+                {
+                    function.name
+                    for call in self.facts.attribute_calls.get("render", ())
+                    if isinstance(held := call.func.value, ast.Attribute)  # type: ignore[attr-defined]
+                    and held.attr == "env"
+                    and isinstance(held.value, ast.Name)
+                    and self.receivers.is_self(held.value)
+                    and self.facts.enclosing_class(call) is classdef
+                    and (function := self.facts.enclosing_function(call)) is not None
+                    and function.name not in ("render", "_render")
+                }
+            )
+            if not methods:
+                continue
+            if project is not None and project.built_elsewhere(classdef.name):
+                self._wraps_untraced.add(id(classdef))  # other modules wrap their envs in it too
+            for build in self.facts.calls_by_name.get(classdef.name, ()):
+                if self.receivers.local_class(build.func) is not classdef:
+                    continue
+                wrapped = build.args[0] if build.args else next((k.value for k in build.keywords if k.arg == "env"), None)
+                creation = self.finder.find(wrapped) if wrapped is not None and not isinstance(wrapped, ast.Starred) else None
+                if creation is None or not creation.found:
+                    self._wraps_untraced.add(id(classdef))
+                    continue
+                for make in creation.calls:
+                    if not self._is_gym_make(make) or keyword(make, "render_mode") is not None or any(k.arg is None for k in make.keywords):
+                        continue
+                    found.append((classdef, methods, build, make))
+        return found
+
+    def _report_rendering_wrappers(self) -> None:
+        """Legacy render() in a wrapper's reset/step drew ("human" by default) each time, and
+        an env made without a render_mode draws nothing now: the make is reported. A render
+        there that passes arguments is reported where it is too (GM401: they must go)."""
+        for classdef, methods, build, make in self._wrapped:
+            if id(make) in self._added or keyword(make, "render_mode") is not None:
+                continue
+            calls = " and ".join(f"{m}()" for m in methods)
+            self.report(
+                make,
+                "GM402",
+                f"the env made here is rendered by `{classdef.name}` (line {build.lineno}), whose {calls} "
+                f"call{'s' if len(methods) == 1 else ''} `self.env.render(...)`: legacy render() drew (\"human\" unless "
+                "told otherwise) each time, and an env made without a render_mode draws nothing now: pass the mode it "
+                'renders in (render_mode="human" draws every step) to this gym.make',
+                FixKind.FLAG,
+                question=("render-wrapper", id(make)),
+            )
+
+    def _rendered_by_wrapper(self, site: RenderSite) -> bool:
+        """A bare ``self.env.render()`` in a wrapper built on makes of this file: the mode
+        those makes need is its one question, asked at them (``_report_rendering_wrappers``)."""
+        call = site.node
+        if call.args or call.keywords:
+            return False
+        classdef = self.facts.enclosing_class(call)
+        return id(classdef) not in self._wraps_untraced and any(wrapper is classdef for wrapper, _, _, _ in self._wrapped)
