@@ -126,6 +126,9 @@ class ModuleSummary:
     # (``self.render(mode="rgb_array")``) and define no render(): class -> (line, call). That
     # call reaches the base's render() in another module, which must keep its ``mode``.
     mode_renders: dict[str, tuple[int, str]] = field(default_factory=dict)
+    # Top-level Gym wrapper classes whose reset/step call ``self.env.render(...)``: an env
+    # another module wraps in one was drawn as it ran (rules/rendering/planning.py).
+    rendering_wrappers: frozenset[str] = frozenset()
     # Top-level classes with a base of the run (``@Name`` for one of this module): (class,
     # bases, whether its ``__init__`` hands ``render_mode`` on once a base takes it). The
     # join threads ``render_mode`` down every chain of subclasses (custom_env/render.py).

@@ -42,11 +42,14 @@ from gymmigrate.facts.import_roots import module_names, nearest_root
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.limits import DoneCause
 from gymmigrate.facts.module_summary import (
+    MAX_CHAIN,
     NEW,
     OWN,
+    REF,
     UNRESOLVED,
     CallSummary,
     ModuleSummary,
+    is_ref,
 )
 from gymmigrate.facts.project_contracts import (
     NonSpaces,
@@ -113,6 +116,9 @@ class ProjectFacts:
     # (path, class) -> the ``self.render(mode)`` calls of its subclasses in other modules of
     # the run, at any depth, as ("pull.py:5", call): its render() keeps ``mode`` for them.
     mode_renders_below: dict[tuple[str, str], list[tuple[str, str]]] = field(default_factory=dict)
+    # (path, top-level name) of the run's Gym wrapper classes (or re-exports of one) whose
+    # reset/step render the env they wrap (``ModuleSummary.rendering_wrappers``).
+    rendering_wrappers: frozenset[tuple[str, str]] = frozenset()
     # (path, top-level name) of a class of the run (or a re-export of one) -> its methods
     # with those of its bases of the run (``project_contracts.class_methods``).
     class_methods: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
@@ -272,6 +278,7 @@ class ProjectFacts:
         NonSpaces(facts, by_path).run()
         reexport_wrappers(facts, by_path)
         facts.legacy_steps = legacy_steps(facts, by_path)
+        facts.rendering_wrappers = facts._reexported(by_path, {(p, n) for p, summary in by_path.items() for n in summary.rendering_wrappers})
         facts.silent_renders = frozenset((path, name) for path, summary in by_path.items() for name in summary.silent_renders)
         return facts
 
@@ -304,6 +311,25 @@ class ProjectFacts:
                 self.subclass_methods[(summary.path, name)] = frozenset(methods)
             for name, methods_done in summary.done_methods.items():
                 self.done_methods[(summary.path, name)] = methods_done
+
+    def _reexported(self, by_path: dict[str, ModuleSummary], defined: set[tuple[str, str]]) -> frozenset[tuple[str, str]]:
+        """``defined`` with every name of the run that re-exports one of them."""
+        found = set(defined)
+        for path, summary in by_path.items():
+            for name, export in summary.exports.items():
+                where = (path, name)
+                for _ in range(MAX_CHAIN):
+                    if not is_ref(export):
+                        break
+                    split = self._split(str(export)[len(REF) :], where[0])
+                    if split is None or "." in split[1] or split[0] not in by_path:
+                        break
+                    where = split
+                    if where in defined:
+                        found.add((path, name))
+                        break
+                    export = by_path[where[0]].exports.get(where[1])
+        return frozenset(found)
 
     def _join_mode_renders(self, by_path: dict[str, ModuleSummary]) -> None:
         """``mode_renders_below``: a subclass's ``self.render(mode)`` reaches the render() of

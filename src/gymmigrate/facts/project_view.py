@@ -321,6 +321,12 @@ class ProjectView:
             return frozenset()
         return self.facts.class_methods.get(split, frozenset())
 
+    def renders_wrapped_env(self, qualified: str) -> bool:
+        """An imported name of the run is a Gym wrapper class whose reset/step render the env
+        it wraps."""
+        split = self.facts._split(qualified, self.path)
+        return split is not None and split in self.facts.rendering_wrappers
+
     def is_wrapper_class(self, qualified: str) -> bool:
         """An imported name of the run is a Gym wrapper class (``from pkg.wrappers import X``)."""
         split = self.facts._split(qualified, self.path)

@@ -44,7 +44,7 @@ from gymmigrate.facts.module_summary import (
     Signature,
 )
 from gymmigrate.facts.profile import FileProfile
-from gymmigrate.facts.receiver_classes import duck_wrapper_param, renders_nothing
+from gymmigrate.facts.receiver_classes import duck_wrapper_param, renders_nothing, wrapped_env_renders
 from gymmigrate.facts.receivers import Receivers
 from gymmigrate.source_text import first_statement_line
 from gymmigrate.suppressions import skips_file
@@ -149,6 +149,11 @@ class _Summarizer:
             handed_on=handed_on(self.facts),
             silent_renders=frozenset(name for name, classdef in self.facts.classes.items() if renders_nothing(self.facts, classdef)),
             mode_renders=_mode_renders(self.facts),
+            rendering_wrappers=frozenset(
+                name
+                for name, classdef in self.facts.classes.items()
+                if self.receivers.is_gym_wrapper_class(classdef) and wrapped_env_renders(self.facts, classdef)
+            ),
             legacy_steps=frozenset(
                 name for name, classdef in self.facts.classes.items() if name in env_classes and self.receivers.class_keeps_legacy_step(classdef)
             ),

@@ -36,7 +36,10 @@ class Rendering(RenderSites, SitePlanning):
         if any(call.args or call.keywords for call in renders):
             return True
         if not renders:
-            return False
+            # An env this file makes may be drawn by a wrapper another module of the run
+            # defines (its reset/step render): the make is reported here.
+            project = context.options.project
+            return bool(project is not None and project.rendering_wrappers and context.profile.imports_gym)
         return (
             context.profile.imports_gym
             or imports_legacy_make(facts, context)

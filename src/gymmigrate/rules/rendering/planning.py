@@ -13,6 +13,7 @@ from collections.abc import Hashable
 from gymmigrate.facts import names as N
 from gymmigrate.facts.decisions import Action
 from gymmigrate.facts.module import full_name, keyword, string_value
+from gymmigrate.facts.receiver_classes import wrapped_env_renders
 from gymmigrate.findings import RUN_QUESTION, FixKind, Tier
 from gymmigrate.rules.render_calls import without_mode_argument
 from gymmigrate.rules.render_schedule import local_condition, render_condition, schedule
@@ -482,62 +483,64 @@ class SitePlanning(MakeEdits):
                 return False
         return True
 
-    def _rendering_wrappers(self) -> list[tuple[ast.ClassDef, list[str], ast.Call, ast.Call]]:
-        """``env = Show(gym.make(id))`` with a Gym wrapper of this file whose reset/step call
-        ``self.env.render(...)``: (the class, those methods, the build, the make without a
-        render_mode)."""
-        found = []
+    def _rendering_wrappers(self) -> list[tuple[str, list[str], ast.Call, ast.Call]]:
+        """``env = Show(gym.make(id))`` with a Gym wrapper whose reset/step call
+        ``self.env.render(...)`` (of this file, or of another module of the run): (the
+        wrapper's name, those methods or [] when defined elsewhere, the build, the make
+        without a render_mode)."""
+        found: list[tuple[str, list[str], ast.Call, ast.Call]] = []
         self._wraps_untraced: set[int] = set()  # wrapper classes also built on envs not traced to a make
+        self._local_wrappers: set[int] = set()
         project = self.receivers.project
+        builds: list[tuple[str, list[str], ast.Call, ast.ClassDef | None]] = []
         for classdef in self.facts.all_classes:
             if not self.receivers.is_gym_wrapper_class(classdef):
                 continue
-            methods = sorted(
-                {
-                    function.name
-                    for call in self.facts.attribute_calls.get("render", ())
-                    if isinstance(held := call.func.value, ast.Attribute)  # type: ignore[attr-defined]
-                    and held.attr == "env"
-                    and isinstance(held.value, ast.Name)
-                    and self.receivers.is_self(held.value)
-                    and self.facts.enclosing_class(call) is classdef
-                    and (function := self.facts.enclosing_function(call)) is not None
-                    and function.name not in ("render", "_render")
-                }
-            )
+            methods = wrapped_env_renders(self.facts, classdef)
             if not methods:
                 continue
+            self._local_wrappers.add(id(classdef))
             if project is not None and project.built_elsewhere(classdef.name):
                 self._wraps_untraced.add(id(classdef))  # other modules wrap their envs in it too
-            for build in self.facts.calls_by_name.get(classdef.name, ()):
-                if self.receivers.local_class(build.func) is not classdef:
-                    continue
-                wrapped = build.args[0] if build.args else next((k.value for k in build.keywords if k.arg == "env"), None)
-                creation = self.finder.find(wrapped) if wrapped is not None and not isinstance(wrapped, ast.Starred) else None
-                if creation is None or not creation.found:
+            builds += [
+                (classdef.name, methods, build, classdef)
+                for build in self.facts.calls_by_name.get(classdef.name, ())
+                if self.receivers.local_class(build.func) is classdef
+            ]
+        if project is not None:
+            for call in (*(c for calls in self.facts.calls_by_name.values() for c in calls), *(c for calls in self.facts.attribute_calls.values() for c in calls)):
+                if self.receivers.local_class(call.func) is None and any(project.renders_wrapped_env(q) for q in self.facts.qualified_names(call.func)):
+                    builds.append((self.facts.segment(call.func), [], call, None))
+        for name, methods, build, classdef in builds:
+            wrapped = build.args[0] if build.args else next((k.value for k in build.keywords if k.arg == "env"), None)
+            creation = self.finder.find(wrapped) if wrapped is not None and not isinstance(wrapped, ast.Starred) else None
+            if creation is None or not creation.found:
+                if classdef is not None:
                     self._wraps_untraced.add(id(classdef))
-                    continue
-                for make in creation.calls:
-                    if not self._is_gym_make(make) or keyword(make, "render_mode") is not None or any(k.arg is None for k in make.keywords):
-                        continue
-                    found.append((classdef, methods, build, make))
+                continue
+            for make in creation.calls:
+                if self._is_gym_make(make) and keyword(make, "render_mode") is None and not any(k.arg is None for k in make.keywords):
+                    found.append((name, methods, build, make))
         return found
 
     def _report_rendering_wrappers(self) -> None:
         """Legacy render() in a wrapper's reset/step drew ("human" by default) each time, and
         an env made without a render_mode draws nothing now: the make is reported. A render
         there that passes arguments is reported where it is too (GM401: they must go)."""
-        for classdef, methods, build, make in self._wrapped:
+        for name, methods, build, make in self._wrapped:
             if id(make) in self._added or keyword(make, "render_mode") is not None:
                 continue
-            calls = " and ".join(f"{m}()" for m in methods)
+            if methods:
+                calls = " and ".join(f"{m}()" for m in methods)
+                how = f"whose {calls} call{'s' if len(methods) == 1 else ''} `self.env.render(...)`"
+            else:
+                how = "whose reset/step call `self.env.render(...)` (another module of this run)"
             self.report(
                 make,
                 "GM402",
-                f"the env made here is rendered by `{classdef.name}` (line {build.lineno}), whose {calls} "
-                f"call{'s' if len(methods) == 1 else ''} `self.env.render(...)`: legacy render() drew (\"human\" unless "
-                "told otherwise) each time, and an env made without a render_mode draws nothing now: pass the mode it "
-                'renders in (render_mode="human" draws every step) to this gym.make',
+                f"the env made here is rendered by `{name}` (line {build.lineno}), {how}: legacy render() drew "
+                '("human" unless told otherwise) each time, and an env made without a render_mode draws nothing '
+                'now: pass the mode it renders in (render_mode="human" draws every step) to this gym.make',
                 FixKind.FLAG,
                 question=("render-wrapper", id(make)),
             )
@@ -549,4 +552,6 @@ class SitePlanning(MakeEdits):
         if call.args or call.keywords:
             return False
         classdef = self.facts.enclosing_class(call)
-        return id(classdef) not in self._wraps_untraced and any(wrapper is classdef for wrapper, _, _, _ in self._wrapped)
+        if classdef is None or id(classdef) not in self._local_wrappers or id(classdef) in self._wraps_untraced:
+            return False
+        return any(build.func is not None and self.receivers.local_class(build.func) is classdef for _, _, build, _ in self._wrapped)
