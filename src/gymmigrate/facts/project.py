@@ -316,8 +316,9 @@ class ProjectFacts:
         """``defined`` with every name of the run that re-exports one of them."""
         found = set(defined)
         for path, summary in by_path.items():
-            for name, export in summary.exports.items():
+            for name, first in summary.exports.items():
                 where = (path, name)
+                export: EnvKind | str | None = first
                 for _ in range(MAX_CHAIN):
                     if not is_ref(export):
                         break

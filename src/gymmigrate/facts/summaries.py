@@ -44,7 +44,11 @@ from gymmigrate.facts.module_summary import (
     Signature,
 )
 from gymmigrate.facts.profile import FileProfile
-from gymmigrate.facts.receiver_classes import duck_wrapper_param, renders_nothing, wrapped_env_renders
+from gymmigrate.facts.receiver_classes import (
+    duck_wrapper_param,
+    renders_nothing,
+    wrapped_env_renders,
+)
 from gymmigrate.facts.receivers import Receivers
 from gymmigrate.source_text import first_statement_line
 from gymmigrate.suppressions import skips_file

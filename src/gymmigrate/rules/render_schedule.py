@@ -83,7 +83,7 @@ def fixed_at_creation(facts: ModuleFacts, test: ast.AST, make: ast.Call) -> bool
     if not all(isinstance(node, _PLAIN) for node in ast.walk(test)):
         return False
     function = facts.enclosing_function(make)
-    held = {id(node.value) for node in ast.walk(test) if _set_once_before(facts, node, make)}
+    held = {id(node.value) for node in ast.walk(test) if isinstance(node, ast.Attribute) and _set_once_before(facts, node, make)}
     for node in ast.walk(test):
         if not isinstance(node, ast.Name) or id(node) in held:
             continue
@@ -104,12 +104,12 @@ def fixed_at_creation(facts: ModuleFacts, test: ast.AST, make: ast.Call) -> bool
     return True
 
 
-def _set_once_before(facts: ModuleFacts, node: ast.AST, make: ast.Call) -> bool:
+def _set_once_before(facts: ModuleFacts, node: ast.Attribute, make: ast.Call) -> bool:
     """``self.render`` read in another method of the class whose method makes the env, and
     stored once in the module: in that method's own body, before the make, from a value fixed
     at creation (``self.render = render``, a parameter there). It holds that value on every
     later call, and ``self.render`` reads it at the make already."""
-    if not (isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name)):
+    if not isinstance(node.value, ast.Name):
         return False
     function = facts.enclosing_function(make)
     classdef = facts.enclosing_class(make)

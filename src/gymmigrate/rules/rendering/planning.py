@@ -511,12 +511,12 @@ class SitePlanning(MakeEdits):
             for call in (*(c for calls in self.facts.calls_by_name.values() for c in calls), *(c for calls in self.facts.attribute_calls.values() for c in calls)):
                 if self.receivers.local_class(call.func) is None and any(project.renders_wrapped_env(q) for q in self.facts.qualified_names(call.func)):
                     builds.append((self.facts.segment(call.func), [], call, None))
-        for name, methods, build, classdef in builds:
+        for name, methods, build, wrapper in builds:
             wrapped = build.args[0] if build.args else next((k.value for k in build.keywords if k.arg == "env"), None)
             creation = self.finder.find(wrapped) if wrapped is not None and not isinstance(wrapped, ast.Starred) else None
             if creation is None or not creation.found:
-                if classdef is not None:
-                    self._wraps_untraced.add(id(classdef))
+                if wrapper is not None:
+                    self._wraps_untraced.add(id(wrapper))
                 continue
             for make in creation.calls:
                 if self._is_gym_make(make) and keyword(make, "render_mode") is None and not any(k.arg is None for k in make.keywords):
