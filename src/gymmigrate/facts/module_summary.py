@@ -126,6 +126,12 @@ class ModuleSummary:
     # (``self.render(mode="rgb_array")``) and define no render(): class -> (line, call). That
     # call reaches the base's render() in another module, which must keep its ``mode``.
     mode_renders: dict[str, tuple[int, str]] = field(default_factory=dict)
+    # Top-level classes whose render(mode) cannot keep ``mode`` as an optional parameter
+    # (``mode_can_stay_optional``): kept whole for such callers, they take no render_mode.
+    fixed_mode_renders: frozenset[str] = frozenset()
+    # The module registers envs whose entry points are no literal (read from a data file):
+    # the ids its importers make may name any env class of the run.
+    opaque_registrations: bool = False
     # Top-level Gym wrapper classes whose reset/step call ``self.env.render(...)``: an env
     # another module wraps in one was drawn as it ran (rules/rendering/planning.py).
     rendering_wrappers: frozenset[str] = frozenset()

@@ -248,6 +248,11 @@ class ProjectView:
                 found.append(DoneCause(cause.cause, tuple(Limit(limit.line, limit.text, where, limit.by_counter) for limit in cause.limits)))
             todo += self.facts.subclasses_of.get(sub, ())
         return found
+    def kept_render_behind_registry(self) -> str | None:
+        """A class of the run that keeps its legacy render(mode) and takes no render_mode,
+        where this module imports one that registers envs from data (``opaque_kept_renders``)."""
+        return self.facts.opaque_kept_renders.get(self.path)
+
     def registered_without_render_mode(self, env_id: str | None) -> str | None:
         """The class of the run that ``gymnasium.make(env_id)`` builds (any registered one
         when ``env_id`` is None: not a literal) if its constructor takes no ``render_mode``."""

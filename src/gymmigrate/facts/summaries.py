@@ -20,7 +20,11 @@ from gymmigrate.facts.bootstrap import next_state_masks
 from gymmigrate.facts.creation import CreationFinder, passes_mode, render_kept_classes
 from gymmigrate.facts.decisions import Action, decide
 from gymmigrate.facts.done_uses import top_level_records
-from gymmigrate.facts.env_classes import EnvClasses, is_super_method_call
+from gymmigrate.facts.env_classes import (
+    EnvClasses,
+    is_super_method_call,
+    mode_can_stay_optional,
+)
 from gymmigrate.facts.env_specs import module_spec_lists
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.limits import Cause, DoneCause, DoneTracer
@@ -153,6 +157,16 @@ class _Summarizer:
             handed_on=handed_on(self.facts),
             silent_renders=frozenset(name for name, classdef in self.facts.classes.items() if renders_nothing(self.facts, classdef)),
             mode_renders=_mode_renders(self.facts),
+            opaque_registrations=_opaque_registrations(self.facts),
+            fixed_mode_renders=frozenset(
+                name
+                for name, classdef in self.facts.classes.items()
+                for method in classdef.body
+                if isinstance(method, FUNCTIONS)
+                and method.name == "render"
+                and "mode" in [a.arg for a in method.args.args]
+                and not mode_can_stay_optional(method)
+            ),
             rendering_wrappers=frozenset(
                 name
                 for name, classdef in self.facts.classes.items()
@@ -871,6 +885,18 @@ def _subclasses(facts: ModuleFacts) -> tuple[tuple[str, tuple[str, ...], tuple[s
             methods = tuple(s.name for s in classdef.body if isinstance(s, FUNCTIONS))
             found.append((name, bases, methods))
     return tuple(found)
+
+
+def _opaque_registrations(facts: ModuleFacts) -> bool:
+    """A Gym ``register(id=..., entry_point=...)`` call whose entry point is no literal
+    (``entry_point=env["entry_point"]`` from a JSON file)."""
+    for call in (*facts.calls_by_name.get("register", ()), *facts.attribute_calls.get("register", ())):
+        if not any(q in ("gym.register", "gym.envs.register", "gym.envs.registration.register") for q in facts.qualified_names(call.func)):
+            continue
+        entry = call_argument(call, 1, "entry_point")
+        if entry is not None and string_value(entry) is None and not isinstance(entry, (ast.Name, ast.Attribute)):
+            return True
+    return False
 
 
 def _mode_renders(facts: ModuleFacts) -> dict[str, tuple[int, str]]:
