@@ -14,6 +14,15 @@ step unpacks stay as they are, the reset unpacks follow the migrated reset.
 takes ``render_mode`` and passes it on, so ``gymnasium.make(id, render_mode="human")`` of
 the registered subclass builds (it raised TypeError) and ``render()`` draws (it was a
 silent no-op).
+
+``fixtures/project_render_subclass_modes/``: ``SlidingBoardEnv`` in another module asks
+``BoardEnv.render(mode)`` for frames with ``self.render(mode="rgb_array")`` (splitting it
+made that call a TypeError): ``BoardEnv`` takes render_mode and keeps ``mode`` optional;
+``TileEnv.render(mode, zoom)``, whose mode cannot become optional, is kept whole and takes
+no render_mode (so its subclass passes none); ``PlainEnv``, whose subclass elsewhere has its
+own render(), still migrates, and the subclass inherits its render_mode without an item;
+``play.py`` makes an id ``boards/catalog.py`` registers from a JSON file: it gets no
+render_mode (it may name ``BigTileEnv``), and its render is a review item.
 """
 
 from __future__ import annotations
@@ -194,3 +203,35 @@ def test_an_env_class_on_an_api_of_its_own_keeps_it_with_its_callers(tmp_path: P
     assert steps == "5"
     (solo,) = _run(project, "from grid.env import JunctionEnv\nenv = JunctionEnv(solo=True)\nprint(env.reset(seed=1), len(env.step(0)))")
     assert solo == "(0, {}) 5"
+
+
+def test_a_subclass_in_another_module_that_renders_with_a_mode_keeps_its_base_render(tmp_path: Path) -> None:
+    project, review = _migrated(tmp_path, "project_render_subclass_modes")
+    board = (project / "boards" / "board.py").read_text()
+    assert "def render(self, mode=None):" in board and "_render_frame" not in board
+    assert "def __init__(self, width=4, render_mode=None):" in board
+    sliding = (project / "boards" / "sliding.py").read_text()
+    assert 'frame = self.render(mode="rgb_array")' in sliding and "render_mode=render_mode" in sliding
+    tiles = (project / "boards" / "tiles.py").read_text()
+    assert "def render(self, mode, zoom):" in tiles and "render_mode" not in tiles.replace("render_modes", "")
+    assert "render_mode" not in (project / "boards" / "big_tiles.py").read_text()
+    plain = (project / "boards" / "plain.py").read_text()
+    assert "def render(self):" in plain and 'return self._render_frame(mode="rgb_array"), {}' in plain
+    items = sorted((Path(f["path"]).name, f["kind"]) for f in review if f["rule"] == "GM405")
+    assert items == [("board.py", "assist"), ("tiles.py", "flag")], review
+    assert all("a subclass in another module" in f["message"] for f in review if f["rule"] == "GM405")
+    # play.py makes an id boards/catalog.py registers from data: it may be BigTileEnv, which
+    # takes no render_mode, so the make is left and the render reported.
+    play = (project / "play.py").read_text()
+    assert "gym.make(name)" in play and 'env.render(mode="rgb_array")' in play
+    asked = [f for f in review if Path(f["path"]).name == "play.py"]
+    assert [(f["line"], f["rule"]) for f in asked] == [(11, "GM401")] and "TileEnv" in asked[0]["message"], review
+    code = (
+        "from boards.sliding import SlidingBoardEnv\nfrom boards.painted import PaintedEnv\n"
+        "from boards.big_tiles import BigTileEnv\n"
+        "env = SlidingBoardEnv()\nobs, info = env.reset()\nprint(env.step(1)[0].tolist(), env.render())\n"
+        "print(SlidingBoardEnv(render_mode='rgb_array').render().tolist())\n"
+        "print(PaintedEnv(render_mode='rgb_array').render().tolist())\n"
+        "big = BigTileEnv()\nbig.reset()\nprint(big.step(0)[0].shape)"
+    )
+    assert _run(project, code) == ["[[0, 255, 0, 0, 0, 0]] None", "[[255, 0, 0, 0, 0, 0]]", "[[7, 7]]", "(6, 6)"]

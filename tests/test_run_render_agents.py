@@ -48,3 +48,15 @@ def test_the_migrated_agents_run_with_rendering_off(run: Path) -> None:
         probe = f"from run import main\nlengths = main(['--algo', {algo!r}])\nassert len(lengths) == 3 and min(lengths) > 0\n"
         done = subprocess.run([sys.executable, "-c", probe], cwd=run, capture_output=True, text=True, timeout=120)
         assert done.returncode == 0, done.stderr
+
+
+def test_an_env_drawn_by_a_wrapper_of_another_module_is_reported_where_it_is_made(tmp_path: Path) -> None:
+    """``fixtures/project_render_wrappers``: ``train.py`` wraps its ``gym.make`` env in the
+    package's ``Draw`` (re-exported by ``showing/wrappers/__init__.py``), whose reset/step
+    render it: legacy drew each time, an env made without a render_mode draws nothing."""
+    project = tmp_path / "wrapped"
+    shutil.copytree(FIXTURE.parent / "project_render_wrappers", project)
+    result = runner.invoke(app, ["check", "--output-format", "json", str(project)])
+    renders = [f for f in json.loads(result.stdout) if f["rule"] == "GM402" and Path(f["path"]).name == "train.py"]
+    assert [(f["line"], f["tier"]) for f in renders] == [(10, "review")]
+    assert "rendered by `showing.wrappers.Draw` (line 12)" in renders[0]["message"]

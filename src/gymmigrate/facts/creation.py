@@ -26,7 +26,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from gymmigrate.facts import names as N
-from gymmigrate.facts.env_classes import EnvClasses
+from gymmigrate.facts.env_classes import EnvClasses, mode_can_stay_optional
 from gymmigrate.facts.flow import Flow, contains
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
@@ -587,7 +587,17 @@ def render_kept_classes(facts: ModuleFacts, receivers: Receivers) -> frozenset[i
             )
 
         classes = EnvClasses.of(facts, receivers)
-        if receivers.project is not None and receivers.project.render_called_elsewhere():
+        project = receivers.project
+        # A subclass in another module renders itself with a mode through this render(),
+        # which cannot keep ``mode`` beside render_mode (custom_env/render.py).
+        below = frozenset(
+            id(c)
+            for c in facts.classes.values()
+            if project is not None
+            and project.mode_renders_below(c.name)
+            and any(isinstance(s, FUNCTIONS) and s.name == "render" and not mode_can_stay_optional(s) for s in c.body)
+        )
+        if project is not None and project.render_called_elsewhere():
             # Another module of the run passes modes to objects it cannot trace.
             return frozenset(id(c) for c in facts.all_classes if classes.is_custom_env(c))
         finder = CreationFinder(facts, receivers, is_creation)
@@ -601,8 +611,8 @@ def render_kept_classes(facts: ModuleFacts, receivers: Receivers) -> frozenset[i
             if not finder.find(receiver).found:
                 untraced.append(call)
         if not untraced:
-            return frozenset()
-        return frozenset(
+            return below
+        return below | frozenset(
             id(classdef)
             for classdef in facts.all_classes
             if classes.is_custom_env(classdef) and any(facts.enclosing_class(call) is not classdef for call in untraced)

@@ -319,3 +319,26 @@ def _own_render_mode(methods: dict[str, ast.FunctionDef | ast.AsyncFunctionDef])
             ):
                 return f"`render(mode=None)` falls back to `self.{value.attr}`"
     return None
+
+
+def mode_can_stay_optional(function: ast.FunctionDef | ast.AsyncFunctionDef) -> bool:
+    """``render(self, mode="human", ...)`` can become ``render(self, mode=None, ...)`` in
+    place: a ``mode`` parameter every parameter after which has a default (else the
+    signature would not compile), in a body that hands no ``mode`` on to inner envs
+    (``env.render(mode)``: the plain migration drops it). Callers that still pass a mode
+    then keep working beside Gymnasium's render() without one (custom_env/render.py)."""
+    args = function.args
+    params = args.args
+    mode_index = next((i for i, p in enumerate(params) if p.arg == "mode"), None)
+    if mode_index is None:
+        return False
+    first_default = len(params) - len(args.defaults)
+    if mode_index < first_default and first_default > mode_index + 1:
+        return False
+    for call in ast.walk(function):
+        if not (isinstance(call, ast.Call) and isinstance(call.func, ast.Attribute) and call.func.attr == "render"):
+            continue
+        values = [*call.args, *(k.value for k in call.keywords)]
+        if any(isinstance(v, ast.Name) and v.id == "mode" for v in values):
+            return False
+    return True

@@ -138,6 +138,19 @@ class ModuleSummary:
     # a render() nor asks workers to render: a project's stub (``logger.warn(...)``), whose
     # callers need no render_mode anywhere (rules/rendering/).
     silent_renders: frozenset[str] = frozenset()
+    # Top-level classes with an imported base that render themselves with a mode
+    # (``self.render(mode="rgb_array")``) and define no render(): class -> (line, call). That
+    # call reaches the base's render() in another module, which must keep its ``mode``.
+    mode_renders: dict[str, tuple[int, str]] = field(default_factory=dict)
+    # Top-level classes whose render(mode) cannot keep ``mode`` as an optional parameter
+    # (``mode_can_stay_optional``): kept whole for such callers, they take no render_mode.
+    fixed_mode_renders: frozenset[str] = frozenset()
+    # The module registers envs whose entry points are no literal (read from a data file):
+    # the ids its importers make may name any env class of the run.
+    opaque_registrations: bool = False
+    # Top-level Gym wrapper classes whose reset/step call ``self.env.render(...)``: an env
+    # another module wraps in one was drawn as it ran (rules/rendering/planning.py).
+    rendering_wrappers: frozenset[str] = frozenset()
     # Top-level classes with a base of the run (``@Name`` for one of this module): (class,
     # bases, whether its ``__init__`` hands ``render_mode`` on once a base takes it). The
     # join threads ``render_mode`` down every chain of subclasses (custom_env/render.py).

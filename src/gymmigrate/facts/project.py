@@ -42,6 +42,7 @@ from gymmigrate.facts.import_roots import module_names, nearest_root
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.limits import DoneCause
 from gymmigrate.facts.module_summary import (
+    MAX_CHAIN,
     NEW,
     OWN,
     REF,
@@ -125,6 +126,16 @@ class ProjectFacts:
     # (path, name) of a Gym wrapper class of the run, or of a re-export of one -> what it
     # and its bases define for ``self`` (facts/wrapper_attributes.py).
     wrapper_defined: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
+    # (path, class) -> the ``self.render(mode)`` calls of its subclasses in other modules of
+    # the run, at any depth, as ("pull.py:5", call): its render() keeps ``mode`` for them.
+    mode_renders_below: dict[tuple[str, str], list[tuple[str, str]]] = field(default_factory=dict)
+    # (path, top-level name) of the run's Gym wrapper classes (or re-exports of one) whose
+    # reset/step render the env they wrap (``ModuleSummary.rendering_wrappers``).
+    rendering_wrappers: frozenset[tuple[str, str]] = frozenset()
+    # Modules that import a module of the run registering envs from data (entry points no
+    # literal) -> a class of the run that keeps its legacy render(mode) and takes no
+    # render_mode: a make there may build it, and render_mode= would be a TypeError.
+    opaque_kept_renders: dict[str, str] = field(default_factory=dict)
     # (path, top-level name) of a class of the run (or a re-export of one) -> its methods
     # with those of its bases of the run (``project_contracts.class_methods``).
     class_methods: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
@@ -279,8 +290,9 @@ class ProjectFacts:
                 facts.importers.setdefault(provider, set()).add(summary.path)
         for path in facts.render_called:  # their classes keep render(mode): no render_mode to pass
             facts.render_mode_classes[path] = frozenset()
-        thread_render_mode(facts, by_path)
         facts._join_overrides(summaries, by_path)
+        facts._join_mode_renders(by_path)
+        thread_render_mode(facts, by_path)
         facts._join_held(by_path, params)
         for summary in summaries:
             for qualified in summary.handed_on:
@@ -297,6 +309,8 @@ class ProjectFacts:
         NonSpaces(facts, by_path).run()
         reexport_wrappers(facts, by_path)
         facts.legacy_steps = legacy_steps(facts, by_path)
+        facts._join_opaque_registrations(by_path)
+        facts.rendering_wrappers = facts._reexported(by_path, {(p, n) for p, summary in by_path.items() for n in summary.rendering_wrappers})
         facts.silent_renders = frozenset((path, name) for path, summary in by_path.items() for name in summary.silent_renders)
         return facts
 
@@ -362,6 +376,70 @@ class ProjectFacts:
                 self.followed_hooks[(path, name)] = followed
                 for heir in heirs:
                     self.inherited_hooks[heir] = self.inherited_hooks.get(heir, frozenset()) | followed
+
+    def _join_opaque_registrations(self, by_path: dict[str, ModuleSummary]) -> None:
+        kept = sorted(
+            name
+            for (path, name) in self.mode_renders_below
+            if name in by_path[path].fixed_mode_renders
+        )
+        registrars = {path for path, summary in by_path.items() if summary.opaque_registrations}
+        if not kept or not registrars:
+            return
+        # ``import pkg.catalog`` binds (and records) ``pkg``: a registrar in that package counts.
+        dotted = [name for name, path in self.modules.items() if path in registrars]
+        for summary in by_path.values():
+            for qualified in summary.imported:
+                level = len(qualified) - len(qualified.lstrip("."))
+                parts = qualified.lstrip(".").split(".")
+                reached = {self._module_path(parts[:cut], level, summary.path) for cut in range(1, len(parts) + 1)}
+                inside = level == 0 and any(name == qualified or name.startswith(qualified + ".") for name in dotted)
+                if reached & registrars or inside:
+                    self.opaque_kept_renders[summary.path] = kept[0]
+                    break
+
+    def _reexported(self, by_path: dict[str, ModuleSummary], defined: set[tuple[str, str]]) -> frozenset[tuple[str, str]]:
+        """``defined`` with every name of the run that re-exports one of them."""
+        found = set(defined)
+        for path, summary in by_path.items():
+            for name, first in summary.exports.items():
+                where = (path, name)
+                export: EnvKind | str | None = first
+                for _ in range(MAX_CHAIN):
+                    if not is_ref(export):
+                        break
+                    split = self._split(str(export)[len(REF) :], where[0])
+                    if split is None or "." in split[1] or split[0] not in by_path:
+                        break
+                    where = split
+                    if where in defined:
+                        found.add((path, name))
+                        break
+                    export = by_path[where[0]].exports.get(where[1])
+        return frozenset(found)
+
+    def _join_mode_renders(self, by_path: dict[str, ModuleSummary]) -> None:
+        """``mode_renders_below``: a subclass's ``self.render(mode)`` reaches the render() of
+        the nearest base that defines one; every class above it keeps ``mode`` (optional
+        beside render_mode, or the whole legacy render() where it cannot) so the call still
+        works."""
+        for path, summary in by_path.items():
+            for name, (line, call) in summary.mode_renders.items():
+                where = (f"{os.path.basename(path)}:{line}", call)
+                seen = {(path, name)}
+                todo = [(path, name)]
+                while todo:
+                    current = todo.pop()
+                    for base, subs in self.subclasses_of.items():
+                        if current in subs and base not in seen:
+                            seen.add(base)
+                            self.mode_renders_below.setdefault(base, []).append(where)
+                            if "render" not in self.subclass_methods.get(base, frozenset()):
+                                todo.append(base)  # a render() it does not define is its base's
+        for path, name in self.mode_renders_below:
+            # render(mode) kept whole (its mode cannot become optional): no render_mode either
+            if name in by_path[path].fixed_mode_renders and name in self.render_mode_classes.get(path, ()):
+                self.render_mode_classes[path] = self.render_mode_classes[path] - {name}
 
     def _join_held(self, by_path: dict[str, ModuleSummary], params: ParamJoin) -> None:
         """``held_kinds``: a holder's attribute is a Gym env when every construction of the

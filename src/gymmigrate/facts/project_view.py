@@ -246,6 +246,11 @@ class ProjectView:
         overrides follow."""
         return self.facts.inherited_hooks.get((self.path, classname), frozenset())
 
+    def mode_renders_below(self, classname: str) -> list[tuple[str, str]]:
+        """The ``self.render(mode)`` calls of subclasses in other modules of the run that
+        reach ``classname``'s render(), as ("pull.py:5", call)."""
+        return self.facts.mode_renders_below.get((self.path, classname), [])
+
     def done_overrides(self, classname: str, method: str) -> list[DoneCause]:
         """Why what ``method`` returns is True in each override of it by subclasses in
         other modules of the run, at any depth (``Base`` <- ``Single`` <- ``Hover``); each
@@ -266,6 +271,11 @@ class ProjectView:
                 found.append(DoneCause(cause.cause, tuple(Limit(limit.line, limit.text, where, limit.by_counter) for limit in cause.limits)))
             todo += self.facts.subclasses_of.get(sub, ())
         return found
+    def kept_render_behind_registry(self) -> str | None:
+        """A class of the run that keeps its legacy render(mode) and takes no render_mode,
+        where this module imports one that registers envs from data (``opaque_kept_renders``)."""
+        return self.facts.opaque_kept_renders.get(self.path)
+
     def registered_without_render_mode(self, env_id: str | None) -> str | None:
         """The class of the run that ``gymnasium.make(env_id)`` builds (any registered one
         when ``env_id`` is None: not a literal) if its constructor takes no ``render_mode``."""
@@ -350,6 +360,12 @@ class ProjectView:
         if split is None or "." in split[1]:
             return frozenset()
         return self.facts.class_methods.get(split, frozenset())
+
+    def renders_wrapped_env(self, qualified: str) -> bool:
+        """An imported name of the run is a Gym wrapper class whose reset/step render the env
+        it wraps."""
+        split = self.facts._split(qualified, self.path)
+        return split is not None and split in self.facts.rendering_wrappers
 
     def is_wrapper_class(self, qualified: str) -> bool:
         """An imported name of the run is a Gym wrapper class (``from pkg.wrappers import X``)."""

@@ -632,3 +632,19 @@ def _in_log_call(facts: ModuleFacts, node: ast.AST) -> bool:
             name = ancestor.func.attr if isinstance(ancestor.func, ast.Attribute) else getattr(ancestor.func, "id", "")
             return name in ("warn", "warning", "info", "debug", "print", "error")
     return False
+
+
+def wrapped_env_renders(facts: ModuleFacts, classdef: ast.ClassDef) -> list[str]:
+    """The methods (not render) of ``classdef`` that call ``self.env.render(...)``: a
+    wrapper that draws the env it wraps as it steps or resets it, in sorted order."""
+    methods = set()
+    for call in facts.attribute_calls.get("render", ()):
+        held = call.func.value  # type: ignore[attr-defined]
+        if not (isinstance(held, ast.Attribute) and held.attr == "env" and isinstance(held.value, ast.Name) and held.value.id == "self"):
+            continue
+        function = facts.enclosing_function(call)
+        if function is None or function.name in ("render", "_render") or facts.enclosing_class(call) is not classdef:
+            continue
+        if facts.parent(function) is classdef:
+            methods.add(function.name)
+    return sorted(methods)

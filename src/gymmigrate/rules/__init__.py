@@ -65,7 +65,10 @@ PIPELINE = (
     ),
     FamilySpec("MakeKeywords", "gymmigrate.rules.make_kwargs", ("new_step_api", "autoreset", "apply_api_compatibility", "return_info")),
     FamilySpec("WrapperRenames", "gymmigrate.rules.wrapper_usage.renames", ("wrappers", '"Monitor"', "'Monitor'")),
-    FamilySpec("Rendering", "gymmigrate.rules.rendering", ("render", "single_rgb_array", "RecordVideo", "play", "VecVideoRecorder", "Monitor")),
+    # In a run, an env made here may be drawn by a wrapper of another module (its make is reported).
+    FamilySpec(
+        "Rendering", "gymmigrate.rules.rendering", ("render", "single_rgb_array", "RecordVideo", "play", "VecVideoRecorder", "Monitor"), True
+    ),
     FamilySpec("VectorEnvs", "gymmigrate.rules.vector", ("vector", "VectorEnv", "final_", "terminal_observation")),
     FamilySpec("EnvClassFamily", "gymmigrate.rules.custom_env.env_class", ("class",)),
     FamilySpec("MetadataKeys", "gymmigrate.rules.custom_env.metadata", ("render.modes", "video.frames_per_second")),

@@ -83,8 +83,9 @@ def fixed_at_creation(facts: ModuleFacts, test: ast.AST, make: ast.Call) -> bool
     if not all(isinstance(node, _PLAIN) for node in ast.walk(test)):
         return False
     function = facts.enclosing_function(make)
+    held = {id(node.value) for node in ast.walk(test) if isinstance(node, ast.Attribute) and _set_once_before(facts, node, make)}
     for node in ast.walk(test):
-        if not isinstance(node, ast.Name):
+        if not isinstance(node, ast.Name) or id(node) in held:
             continue
         bindings = facts.bindings_of(node)
         if len(bindings) != 1:
@@ -101,6 +102,42 @@ def fixed_at_creation(facts: ModuleFacts, test: ast.AST, make: ast.Call) -> bool
         elif function is None and binding.lineno >= make.lineno:
             return False  # bound after the env is made
     return True
+
+
+def _set_once_before(facts: ModuleFacts, node: ast.Attribute, make: ast.Call) -> bool:
+    """``self.render`` read in another method of the class whose method makes the env, and
+    stored once in the module: in that method's own body, before the make, from a value fixed
+    at creation (``self.render = render``, a parameter there). It holds that value on every
+    later call, and ``self.render`` reads it at the make already."""
+    if not isinstance(node.value, ast.Name):
+        return False
+    function = facts.enclosing_function(make)
+    classdef = facts.enclosing_class(make)
+    reader = facts.enclosing_function(node)
+    if function is None or classdef is None or reader is None or facts.parent(function) is not classdef:
+        return False
+    if facts.parent(reader) is not classdef or not _first_param_is(reader, node.value.id) or not _first_param_is(function, node.value.id):
+        return False
+    stores = [
+        n for n in ast.walk(facts.tree) if isinstance(n, ast.Attribute) and n.attr == node.attr and isinstance(n.ctx, (ast.Store, ast.Del))
+    ]
+    if len(stores) != 1:
+        return False
+    statement = facts.parent(stores[0])
+    return (
+        isinstance(statement, ast.Assign)
+        and statement.targets == [stores[0]]
+        and isinstance(stores[0].value, ast.Name)
+        and stores[0].value.id == node.value.id
+        and facts.parent(statement) is function
+        and statement.lineno < make.lineno
+        and fixed_at_creation(facts, statement.value, make)
+    )
+
+
+def _first_param_is(function: ast.AST, name: str) -> bool:
+    args = getattr(function, "args", None)
+    return bool(args is not None and args.args and args.args[0].arg == name and not getattr(function, "decorator_list", None))
 
 
 def _bound_once_before(facts: ModuleFacts, binding: ast.Name, make: ast.Call, function: ast.AST) -> bool:

@@ -33,9 +33,12 @@ from gymmigrate.facts.step_hooks import plain_overrides, step_hooks
 from gymmigrate.facts.summaries.calls import CallSummarizer
 from gymmigrate.facts.summaries.classes import (
     done_methods,
+    fixed_mode_renders,
     held_params,
+    mode_renders,
     plain_classes,
     render_mode_heirs,
+    rendering_wrappers,
     space_calls,
     subclasses,
 )
@@ -45,6 +48,7 @@ from gymmigrate.facts.summaries.defs import (
     handed_on,
     made_factories,
     masks_of,
+    opaque_registrations,
     registrations,
     signature,
 )
@@ -155,6 +159,10 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         handed_on=handed_on(facts),
         silent_renders=frozenset(name for name, classdef in facts.classes.items() if renders_nothing(facts, classdef)),
         atari_users=atari_users(facts),
+        mode_renders=mode_renders(facts),
+        opaque_registrations=opaque_registrations(facts),
+        fixed_mode_renders=fixed_mode_renders(facts),
+        rendering_wrappers=rendering_wrappers(facts, receivers),
         legacy_steps=frozenset(
             name for name, classdef in facts.classes.items() if name in env_classes and receivers.class_keeps_legacy_step(classdef)
         ),

@@ -8,10 +8,13 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.facts import names as N
+from gymmigrate.facts.creation import passes_mode
+from gymmigrate.facts.env_classes import is_super_method_call, mode_can_stay_optional
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.limits import Cause, DoneCause, DoneTracer
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
 from gymmigrate.facts.module_summary import OWN
+from gymmigrate.facts.receiver_classes import wrapped_env_renders
 from gymmigrate.facts.receivers import Receivers
 
 _SPACE_ATTRIBUTES = ("action_space", "observation_space")
@@ -144,3 +147,41 @@ def done_methods(facts: ModuleFacts) -> dict[str, dict[str, DoneCause]]:
         if methods:
             found[name] = methods
     return found
+
+
+def mode_renders(facts: ModuleFacts) -> dict[str, tuple[int, str]]:
+    """Classes with an imported base, no render() of their own, that call
+    ``self.render(mode)`` or ``super().render(mode)``: (line, call) of the first. The join
+    tells the base's module, whose render() keeps ``mode`` for them (custom_env/render.py)."""
+    found: dict[str, tuple[int, str]] = {}
+    for name, classdef in facts.classes.items():
+        if not any(not N.is_library(q) for base in classdef.bases for q in facts.qualified_names(base)):
+            continue
+        if any(isinstance(s, FUNCTIONS) and s.name == "render" for s in classdef.body):
+            continue  # its calls reach its own render(), decided with the class
+        for node in ast.walk(classdef):
+            if not (isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "render"):
+                continue
+            receiver = node.func.value
+            own = (isinstance(receiver, ast.Name) and receiver.id == "self") or is_super_method_call(node, "render")
+            if own and facts.enclosing_class(node) is classdef and passes_mode(node, facts):
+                found[name] = (node.lineno, facts.segment(node))
+                break
+    return found
+
+
+def fixed_mode_renders(facts: ModuleFacts) -> frozenset[str]:
+    """Classes whose ``render(self, mode)`` cannot keep ``mode`` as an optional parameter."""
+    return frozenset(
+        name
+        for name, classdef in facts.classes.items()
+        for method in classdef.body
+        if isinstance(method, FUNCTIONS) and method.name == "render" and "mode" in [a.arg for a in method.args.args] and not mode_can_stay_optional(method)
+    )
+
+
+def rendering_wrappers(facts: ModuleFacts, receivers: Receivers) -> frozenset[str]:
+    """The module's Gym wrapper classes whose reset/step render the env they wrap."""
+    return frozenset(
+        name for name, classdef in facts.classes.items() if receivers.is_gym_wrapper_class(classdef) and wrapped_env_renders(facts, classdef)
+    )

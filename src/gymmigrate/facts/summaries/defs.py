@@ -156,3 +156,15 @@ def gym_only_makers(facts: ModuleFacts, receivers: Receivers) -> dict[str, str]:
         if stack is not None:
             found[name] = stack
     return found
+
+
+def opaque_registrations(facts: ModuleFacts) -> bool:
+    """A Gym ``register(id=..., entry_point=...)`` call whose entry point is no literal
+    (``entry_point=env["entry_point"]`` from a JSON file)."""
+    for call in (*facts.calls_by_name.get("register", ()), *facts.attribute_calls.get("register", ())):
+        if not any(q in ("gym.register", "gym.envs.register", "gym.envs.registration.register") for q in facts.qualified_names(call.func)):
+            continue
+        entry = call_argument(call, 1, "entry_point")
+        if entry is not None and string_value(entry) is None and not isinstance(entry, (ast.Name, ast.Attribute)):
+            return True
+    return False

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.creation import CreationFinder, passes_mode
-from gymmigrate.facts.env_classes import is_super_method_call
+from gymmigrate.facts.env_classes import is_super_method_call, mode_can_stay_optional
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import ClassDecision, method_of, param_names
@@ -66,12 +66,18 @@ def decide_render(decision: ClassDecision) -> None:
             FixKind.FLAG,
         )
         return
-    blocking = _unmigrated_mode_call(decision)
     project = decision.family.receivers.project
+    top_level = decision.family.facts.classes.get(decision.classdef.name) is decision.classdef
+    below = project.mode_renders_below(decision.classdef.name) if project is not None and top_level else []
+    blocking = _unmigrated_mode_call(decision)
     elsewhere = blocking is None and project is not None and project.render_called_elsewhere()
-    if elsewhere or blocking is not None:
+    if below or elsewhere or blocking is not None:
         facts = decision.family.facts
-        if elsewhere:
+        if below:
+            where, call = below[0]
+            more = f" (and {len(below) - 1} more)" if len(below) > 1 else ""
+            caller = f"`{call}` at {where}{more}, in a subclass in another module of this run, asks it for a mode"
+        elif elsewhere:
             caller = (
                 "another module of this run imports this class and passes a mode to `.render()` on an object that "
                 "could not be traced, or on a Gym env with a mode or arguments the rendering rules leave (GM401), "
@@ -83,13 +89,13 @@ def decide_render(decision: ClassDecision) -> None:
                 f"`{facts.segment(blocking)}` on line {blocking.lineno} still passes a mode (its env's creation could "
                 "not be followed, so it was not migrated) and may reach this class"
             )
-        if not _can_keep_mode(decision, function, mode_index):
-            decision.report(
-                function,
-                "GM405",
-                f"render(mode) kept: {caller}; give that env its render_mode where it is made, then run again",
-                FixKind.FLAG,
+        if not _can_keep_mode(function):
+            then = (
+                "render that mode another way (or drop the argument), then run again"
+                if below
+                else "give that env its render_mode where it is made, then run again"
             )
+            decision.report(function, "GM405", f"render(mode) kept: {caller}; {then}", FixKind.FLAG)
             return
         # Those callers keep working, and so does Gymnasium's render() without arguments.
         decision.plan.render = True
@@ -127,22 +133,10 @@ def _keeps_mode_already(function: ast.FunctionDef | ast.AsyncFunctionDef, defaul
     )
 
 
-def _can_keep_mode(decision: ClassDecision, function: ast.FunctionDef | ast.AsyncFunctionDef, mode_index: int) -> bool:
-    """``mode`` can become ``mode=None`` in place: every parameter after it has a default
-    (else the signature would not compile), and the body hands no mode on to inner envs
-    (a forwarding render is migrated by the plain rewrite, which drops it)."""
-    args = function.args
-    first_default = len(args.args) - len(args.defaults)
-    if mode_index < first_default and first_default > mode_index + 1:
-        return False
-    for call in decision.function(function).of(ast.Call):
-        func = call.func  # type: ignore[attr-defined]
-        if not (isinstance(func, ast.Attribute) and func.attr == "render"):
-            continue
-        values = [*call.args, *(k.value for k in call.keywords)]  # type: ignore[attr-defined]
-        if any(isinstance(v, ast.Name) and v.id == "mode" for v in values):
-            return False  # ``env.render(mode)``: forwards the mode
-    return True
+def _can_keep_mode(function: ast.FunctionDef | ast.AsyncFunctionDef) -> bool:
+    """``mode`` can become ``mode=None`` in place (``mode_can_stay_optional``; the run's
+    facts decide the same way for a class whose subclasses elsewhere pass a mode)."""
+    return mode_can_stay_optional(function)
 
 
 def _add_init_render_mode(decision: ClassDecision) -> None:
@@ -162,6 +156,14 @@ def _add_init_render_mode(decision: ClassDecision) -> None:
                     "GM405",
                     f"`{inherited}`'s __init__ takes render_mode (Gymnasium's envs do) and stores self.render_mode: "
                     "this class inherits it",
+                    tier=Tier.NOTE,
+                )
+            elif (project := decision.family.receivers.project) is not None and project.takes_render_mode(inherited):
+                decision.report(
+                    decision.classdef,
+                    "GM405",
+                    f"`{inherited}` (a class of this run) takes render_mode in its __init__ once migrated and stores "
+                    "self.render_mode: this class inherits it",
                     tier=Tier.NOTE,
                 )
             else:

@@ -36,7 +36,10 @@ class Rendering(RenderSites, SitePlanning):
         if any(call.args or call.keywords for call in renders):
             return True
         if not renders:
-            return False
+            # An env this file makes may be drawn by a wrapper another module of the run
+            # defines (its reset/step render): the make is reported here.
+            project = context.options.project
+            return bool(project is not None and project.rendering_wrappers and context.profile.imports_gym)
         return (
             context.profile.imports_gym
             or imports_legacy_make(facts, context)
@@ -64,7 +67,9 @@ class Rendering(RenderSites, SitePlanning):
             site = self._render_site(call) if is_render(call) else self._recorder_site(call)
             if site is not None:
                 sites.append(site)
+        self._wrapped = self._rendering_wrappers()
         self._plan_sites(sites)
+        self._report_rendering_wrappers()
         self._plan_make_literals()
         # Render calls that still pass a mode after this run: a local env class whose
         # render(mode) they may reach keeps its signature (custom_env/render.py).

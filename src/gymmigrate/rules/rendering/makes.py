@@ -98,6 +98,11 @@ class MakeEdits(RenderingBase):
             found = project.registered_without_render_mode(string_value(first) if isinstance(first, ast.Constant) else None)
             if found is not None:
                 return found
+            # A module of the run registers envs from a data file (ids not visible), and one
+            # env class of the run keeps render(mode) with no render_mode (custom_env/render.py).
+            kept = project.kept_render_behind_registry()
+            if kept is not None:
+                return f"{kept} (or a subclass; the run registers envs from data it cannot read, and {kept} keeps its legacy render(mode))"
         if first is None or isinstance(first, ast.Constant):
             return None
         env = EnvClasses.of(self.facts, self.receivers)

@@ -13,6 +13,7 @@ from collections.abc import Hashable
 from gymmigrate.facts import names as N
 from gymmigrate.facts.decisions import Action
 from gymmigrate.facts.module import full_name, keyword, string_value
+from gymmigrate.facts.receiver_classes import wrapped_env_renders
 from gymmigrate.findings import RUN_QUESTION, FixKind, Tier, gym_only_question
 from gymmigrate.rules.render_calls import without_mode_argument
 from gymmigrate.rules.render_schedule import local_condition, render_condition, schedule
@@ -162,6 +163,12 @@ class SitePlanning(MakeEdits):
         always = [site for site in sites if not render_condition(self.facts, site.node, make, home)]
         if not conditional or not always:
             return None
+        steps = self._steps_of_make(make) or []
+        drawn = {id(site.node) for site in always}
+        if steps and all(self._loop_renders(call, drawn) for call in steps):
+            # Every step of the env is drawn by a render that runs on every pass (a render
+            # when done only redraws the last frame): human mode draws as the code did.
+            return None
         site, guards = conditional[0]
         _, text = schedule(self.facts, [site.node], make, home)
         return f"{text} at line {site.node.lineno} (the render at line {always[0].node.lineno} runs on every pass)"
@@ -175,7 +182,7 @@ class SitePlanning(MakeEdits):
     ) -> None:
         code, call = site.code, site.node
         target = f"render_mode={site.mode}" if site.variable else f'render_mode="{site.mode}"'
-        if not site.creation.found and code == "GM402" and self._report_made_elsewhere(site):
+        if not site.creation.found and code == "GM402" and (self._rendered_by_wrapper(site) or self._report_made_elsewhere(site)):
             return
         if not site.creation.found:
             where = site.creation.gap or "no gym.make was found"
@@ -288,7 +295,10 @@ class SitePlanning(MakeEdits):
                 message += "; the env's origin was inferred, check it"
             # A frame or text mode draws nothing by itself: the env renders when render() is
             # called, as before, so the move explains itself. "human" draws every step.
-            exact = not inferred and site.mode != HUMAN and not site.variable
+            every_step = site.mode == HUMAN and not site.variable and self._drawn_every_step(call, keys)
+            if every_step:
+                message += "; it drew every step here, as a human-mode env does inside step()"
+            exact = not inferred and not site.variable and (site.mode != HUMAN or every_step)
             if site.variable:
                 message += f'; the mode is read once per env now: where {site.mode} is "human", that env draws every step inside step()/reset()'
             self._claim_makes(keys)
@@ -420,11 +430,27 @@ class SitePlanning(MakeEdits):
         return bool(steps) and all(self._loop_renders(call, self._rendered_nodes) for call in steps)
 
     def _steps_of_make(self, make: ast.Call) -> list[ast.Call] | None:
-        """The steps of the env ``env = make(...)`` binds; None when the make binds no name."""
+        """The steps of the env ``env = make(...)`` binds, or ``self.env = make(...)`` in a
+        method (its class's ``self.env.step(...)`` calls); None when the make binds neither."""
         assign = self.facts.parent(make)
-        if not (isinstance(assign, ast.Assign) and len(assign.targets) == 1 and isinstance(assign.targets[0], ast.Name)):
+        if not (isinstance(assign, ast.Assign) and len(assign.targets) == 1):
             return None
         target = assign.targets[0]
+        if isinstance(target, ast.Attribute):
+            classdef = self.facts.enclosing_class(make)
+            if classdef is None or not (isinstance(target.value, ast.Name) and self.receivers.is_self(target.value)):
+                return None
+            return [
+                call
+                for call in self.facts.attribute_calls.get("step", ())
+                if isinstance(held := call.func.value, ast.Attribute)  # type: ignore[attr-defined]
+                and held.attr == target.attr
+                and isinstance(held.value, ast.Name)
+                and self.receivers.is_self(held.value)
+                and self.facts.enclosing_class(call) is classdef
+            ]
+        if not isinstance(target, ast.Name):
+            return None
         return self._steps_of(target.id, lambda read: target in self.facts.bindings_of(read))
 
     def _stepping_function(self, make: ast.Call) -> ast.AST | None:
@@ -444,3 +470,88 @@ class SitePlanning(MakeEdits):
         """The innermost loop around ``call`` holds one of the render sites."""
         loop = next((a for a in self.facts.ancestors(call) if isinstance(a, (ast.For, ast.While, ast.AsyncFor))), None)
         return loop is not None and any(id(node) in rendered for node in ast.walk(loop) if isinstance(node, ast.Call))
+
+    def _drawn_every_step(self, render: ast.Call, keys: list[int]) -> bool:
+        """``render`` runs on every pass of the loop that holds each step of the envs the
+        makes ``keys`` bind: a legacy human render there drew every step, as human mode does."""
+        for key in keys:
+            make = self._makes_by_id.get(key)
+            steps = (self._steps_of_make(make) if make is not None else None) or []
+            if make is None or not steps or render_condition(self.facts, render, make, self._stepping_function(make)):
+                return False
+            if not all(self._loop_renders(call, {id(render)}) for call in steps):
+                return False
+        return True
+
+    def _rendering_wrappers(self) -> list[tuple[str, list[str], ast.Call, ast.Call]]:
+        """``env = Show(gym.make(id))`` with a Gym wrapper whose reset/step call
+        ``self.env.render(...)`` (of this file, or of another module of the run): (the
+        wrapper's name, those methods or [] when defined elsewhere, the build, the make
+        without a render_mode)."""
+        found: list[tuple[str, list[str], ast.Call, ast.Call]] = []
+        self._wraps_untraced: set[int] = set()  # wrapper classes also built on envs not traced to a make
+        self._local_wrappers: set[int] = set()
+        project = self.receivers.project
+        builds: list[tuple[str, list[str], ast.Call, ast.ClassDef | None]] = []
+        for classdef in self.facts.all_classes:
+            if not self.receivers.is_gym_wrapper_class(classdef):
+                continue
+            methods = wrapped_env_renders(self.facts, classdef)
+            if not methods:
+                continue
+            self._local_wrappers.add(id(classdef))
+            if project is not None and project.built_elsewhere(classdef.name):
+                self._wraps_untraced.add(id(classdef))  # other modules wrap their envs in it too
+            builds += [
+                (classdef.name, methods, build, classdef)
+                for build in self.facts.calls_by_name.get(classdef.name, ())
+                if self.receivers.local_class(build.func) is classdef
+            ]
+        if project is not None:
+            for call in (*(c for calls in self.facts.calls_by_name.values() for c in calls), *(c for calls in self.facts.attribute_calls.values() for c in calls)):
+                if self.receivers.local_class(call.func) is None and any(project.renders_wrapped_env(q) for q in self.facts.qualified_names(call.func)):
+                    builds.append((self.facts.segment(call.func), [], call, None))
+        for name, methods, build, wrapper in builds:
+            wrapped = build.args[0] if build.args else next((k.value for k in build.keywords if k.arg == "env"), None)
+            creation = self.finder.find(wrapped) if wrapped is not None and not isinstance(wrapped, ast.Starred) else None
+            if creation is None or not creation.found:
+                if wrapper is not None:
+                    self._wraps_untraced.add(id(wrapper))
+                continue
+            for make in creation.calls:
+                if self._is_gym_make(make) and keyword(make, "render_mode") is None and not any(k.arg is None for k in make.keywords):
+                    found.append((name, methods, build, make))
+        return found
+
+    def _report_rendering_wrappers(self) -> None:
+        """Legacy render() in a wrapper's reset/step drew ("human" by default) each time, and
+        an env made without a render_mode draws nothing now: the make is reported. A render
+        there that passes arguments is reported where it is too (GM401: they must go)."""
+        for name, methods, build, make in self._wrapped:
+            if id(make) in self._added or keyword(make, "render_mode") is not None:
+                continue
+            if methods:
+                calls = " and ".join(f"{m}()" for m in methods)
+                how = f"whose {calls} call{'s' if len(methods) == 1 else ''} `self.env.render(...)`"
+            else:
+                how = "whose reset/step call `self.env.render(...)` (another module of this run)"
+            self.report(
+                make,
+                "GM402",
+                f"the env made here is rendered by `{name}` (line {build.lineno}), {how}: legacy render() drew "
+                '("human" unless told otherwise) each time, and an env made without a render_mode draws nothing '
+                'now: pass the mode it renders in (render_mode="human" draws every step) to this gym.make',
+                FixKind.FLAG,
+                question=("render-wrapper", id(make)),
+            )
+
+    def _rendered_by_wrapper(self, site: RenderSite) -> bool:
+        """A bare ``self.env.render()`` in a wrapper built on makes of this file: the mode
+        those makes need is its one question, asked at them (``_report_rendering_wrappers``)."""
+        call = site.node
+        if call.args or call.keywords:
+            return False
+        classdef = self.facts.enclosing_class(call)
+        if classdef is None or id(classdef) not in self._local_wrappers or id(classdef) in self._wraps_untraced:
+            return False
+        return any(build.func is not None and self.receivers.local_class(build.func) is classdef for _, _, build, _ in self._wrapped)

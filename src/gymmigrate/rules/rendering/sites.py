@@ -205,6 +205,7 @@ class RenderSites(RecorderSites):
             f"takes no arguments: if `{name}` is a Gym env, pass the mode as render_mode= (and any size) to gym.make "
             f"where it is made and call `{name}.render()` bare",
             FixKind.FLAG,
+            question=self._same_render_call(call, receiver),  # the same call in reset and step: one decision
         )
         return True
 

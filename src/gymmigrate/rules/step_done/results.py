@@ -181,6 +181,8 @@ class ResultRules(StepFamilyBase):
     def _move_index(self, read: ast.Name, step: _ResultStep) -> None:
         """Move the index of a read ``step`` dominates (or report it when it cannot move)."""
         result = step.result
+        if self._passed_through(read, step):
+            return  # the wrapper's step returns its inner env's five values, as Gymnasium's do
         index = self._constant_index(read)
         subscript = self.facts.parent(read)
         if index in (0, 1, -1):
@@ -202,6 +204,28 @@ class ResultRules(StepFamilyBase):
             )
             return
         self._report_by_hand(read, result)
+
+    def _passed_through(self, read: ast.Name, step: _ResultStep) -> bool:
+        """``return res`` in a Gym wrapper's ``step``, ``res`` the wrapped ``self.env.step(a)``:
+        the wrapper hands the inner env's result on unchanged, which is right for any length."""
+        statement = self.facts.parent(read)
+        function = self.facts.enclosing_function(read)
+        receiver = step.receiver
+        classdef = self.facts.enclosing_class(read)
+        return (
+            isinstance(statement, ast.Return)
+            and statement.value is read
+            and isinstance(function, (ast.FunctionDef, ast.AsyncFunctionDef))
+            and function.name == "step"
+            and self.facts.enclosing_function(step.assign) is function
+            and classdef is not None
+            and self.facts.parent(function) is classdef
+            and self.receivers.is_gym_wrapper_class(classdef)
+            and isinstance(receiver, ast.Attribute)
+            and receiver.attr == "env"
+            and isinstance(receiver.value, ast.Name)
+            and self.receivers.is_self(receiver.value)
+        )
 
     def _report_by_hand(self, read: ast.Name, result: ast.Name) -> None:
         self.report(
