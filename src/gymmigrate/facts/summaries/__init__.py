@@ -149,6 +149,8 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         handed_on=handed_on(facts),
         silent_renders=frozenset(name for name, classdef in facts.classes.items() if renders_nothing(facts, classdef)),
         legacy_steps=frozenset(
-            name for name, classdef in facts.classes.items() if name in env_classes and receivers.class_keeps_legacy_step(classdef)
+            name
+            for name, classdef in facts.classes.items()
+            if (name in env_classes and receivers.class_keeps_legacy_step(classdef)) or receivers.own_record_wrapper(classdef)
         ),
     )
