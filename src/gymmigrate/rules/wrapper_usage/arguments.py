@@ -319,7 +319,7 @@ def _made_limit(family: StacksFamily, env: ast.expr | None) -> str | tuple[None,
         return None
     atari = atari_make(family.facts, family.receivers, make)
     if atari is not None:
-        return None, f"`{atari[1]}` is an Atari id, which ale-py registers with no step limit (gym registered one)"
+        return None, f"the make's id is an Atari one (`{atari[1]}`), which ale-py registers with no step limit (gym registered one)"
     return f"{holder.id}.spec.max_episode_steps"
 
 

@@ -102,12 +102,39 @@ def _make_before(facts: ModuleFacts, read: ast.Name, statement: ast.Assign) -> a
 
 
 def atari_make(facts: ModuleFacts, receivers: Receivers, call: ast.Call) -> tuple[Atari, str] | None:
-    """Whether ``call`` (a make) makes Atari envs, with an Atari id it gets, or None."""
+    """Whether ``call`` (a make) makes Atari envs, with an Atari id it gets (or the sign
+    that shows it), or None."""
     ids = _ids(facts, receivers, call_argument(call, 0, "id"))
+    if ids is None:
+        sign = _asserted_atari(facts, call)
+        return (Atari.CERTAIN, sign) if sign is not None else None
     atari = [i for i in ids or () if i is not None and is_atari_id(i)]
     if not atari:
         return None
     return (Atari.CERTAIN if len(atari) == len(ids or ()) else Atari.MAYBE), atari[0]
+
+
+def _asserted_atari(facts: ModuleFacts, call: ast.Call) -> str | None:
+    """An id the def that makes ``call`` asserts is an Atari one, whatever its callers pass
+    (``assert "NoFrameskip" in env.spec.id`` outside any branch): the assertion's text."""
+    function = facts.enclosing_function(call)
+    if function is None:
+        return None
+    for node in ast.walk(function):
+        if not (isinstance(node, ast.Assert) and facts.enclosing_function(node) is function):
+            continue
+        if any(isinstance(n, ast.Constant) and n.value == "NoFrameskip" for n in ast.walk(node.test)) and not _in_branch(facts, node, function):
+            return facts.segment(node)
+    return None
+
+
+def _in_branch(facts: ModuleFacts, node: ast.AST, function: ast.AST) -> bool:
+    for ancestor in facts.ancestors(node):
+        if ancestor is function:
+            return False
+        if isinstance(ancestor, (ast.If, ast.While, ast.For, ast.AsyncFor, ast.Try, ast.With, ast.AsyncWith)):
+            return True
+    return False
 
 
 def _ids(facts: ModuleFacts, receivers: Receivers, argument: ast.expr | None) -> list[str | None] | None:
@@ -184,6 +211,8 @@ def _atari_of(family: Family, receiver: ast.AST) -> tuple[Atari, str, ast.Call] 
 
 
 def _made_from(text: str, atari: Atari, env_id: str) -> str:
+    if env_id.startswith("assert "):
+        return f"`{text}` is made from an Atari id (`{env_id}`)"
     if atari is Atari.CERTAIN:
         return f"`{text}` is made from `{env_id}`, an Atari id"
     return f"if `{text}` is made from an Atari id (its callers pass `{env_id}` among others)"
@@ -265,6 +294,19 @@ def isinstance_time_limit_on_atari(family: Family, call: ast.Call) -> bool:
     if found is None:
         return False
     atari, env_id, _ = found
+    test = family.facts.parent(call)
+    if isinstance(test, (ast.If, ast.IfExp)) and test.test is call:
+        # ``if isinstance(env, TimeLimit): env = env.env``: the branch is skipped, which leaves
+        # the env without a TimeLimit as the unwrapping did: an explanation, no question.
+        family.report(
+            call,
+            "GM606",
+            f"{_made_from(family.facts.segment(call.args[0]), atari, env_id)}: {_NO_LIMIT}, so this test is False on "
+            "Gymnasium and its branch is skipped (the env has no TimeLimit to remove)",
+            kind=FixKind.FLAG,
+            tier=Tier.NOTE,
+        )
+        return True
     family.report(
         call,
         "GM606",
