@@ -132,7 +132,8 @@ class ModuleSummary:
     plain_overrides: dict[str, frozenset[str]] = field(default_factory=dict)
     # -- contracts the run keeps (facts/receiver_classes.py keeps_legacy_step) --
     # Top-level env classes whose step keeps the four-field contract (a batch the rules do
-    # not migrate): the callers of their instances keep unpacking four values.
+    # not migrate), and Gym wrappers of the project's own protocol (a step returning its own
+    # record): the callers of their instances keep that contract, reset included.
     legacy_steps: frozenset[str] = frozenset()
     # Top-level classes whose render() (their own, or a base's of this module) neither calls
     # a render() nor asks workers to render: a project's stub (``logger.warn(...)``), whose

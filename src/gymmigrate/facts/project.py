@@ -192,6 +192,10 @@ class ProjectFacts:
     # passed there ("" for its default, None for no id literal), for the defs another
     # module calls (``CallSummary.ids``). GM106 settles an Atari helper from them.
     passed_ids: dict[tuple[str, str, str], tuple[str | None, ...]] = field(default_factory=dict)
+    # (path, qualname, parameter) -> per call of it in another module, the class of the run
+    # whose step and reset keep their own contract (``legacy_steps``) it passes an instance
+    # of, None for anything else; only parameters some call passes one to.
+    kept_params: dict[tuple[str, str, str], tuple[str | None, ...]] = field(default_factory=dict)
     # (path, qualname, parameter) -> (caller path, line) of each call in another module that
     # passes a Gym env there: where that env is made, for a message (a render whose make
     # is in the run script).
@@ -277,6 +281,8 @@ class ProjectFacts:
             requires.add("imageio")
         facts.requires = frozenset(requires)
         Exports(facts, by_path).run()
+        # before the parameters: an argument made by such a class keeps the def's calls on its contract
+        facts.legacy_steps = legacy_steps(facts, by_path)
         params = ParamJoin(facts, by_path, calls_to)
         params.run()
         for summary in summaries:
@@ -308,7 +314,6 @@ class ProjectFacts:
         facts.seed_classes, facts.seed_ids = seed_keepers(facts, by_path)
         NonSpaces(facts, by_path).run()
         reexport_wrappers(facts, by_path)
-        facts.legacy_steps = legacy_steps(facts, by_path)
         facts._join_opaque_registrations(by_path)
         facts.rendering_wrappers = facts._reexported(by_path, {(p, n) for p, summary in by_path.items() for n in summary.rendering_wrappers})
         facts.silent_renders = frozenset((path, name) for path, summary in by_path.items() for name in summary.silent_renders)

@@ -11,6 +11,7 @@ from gymmigrate.facts.kinds import EnvKind, join_kinds
 from gymmigrate.facts.module_summary import (
     MAX_CHAIN,
     NEW,
+    OWN,
     PARAM,
     CallSummary,
     Kind,
@@ -40,6 +41,7 @@ class ParamJoin:
 
     def run(self) -> None:
         external: dict[tuple[str, str, str], list[EnvKind]] = defaultdict(list)
+        kept: dict[tuple[str, str, str], list[str | None]] = defaultdict(list)
         for (path, qualname), calls in self.calls_to.items():
             signature = self.by_path[path].defs[qualname]
             outside = [call for caller, call in calls if caller != path]  # the file sees its own call sites itself
@@ -49,6 +51,7 @@ class ParamJoin:
                 for param, kind in self._passed(signature, call):
                     resolved = self._resolve(kind, caller)
                     external[(path, qualname, param)].append(resolved)
+                    kept[(path, qualname, param)].append(self._kept_class(kind, caller))
                     if resolved is EnvKind.GYM_ENV:
                         key = (path, qualname, param)
                         self.facts.gym_env_callers[key] = (*self.facts.gym_env_callers.get(key, ()), (caller, call.line))
@@ -56,6 +59,16 @@ class ParamJoin:
                 for param in signature.params:
                     self.facts.passed_ids[(path, qualname, param)] = tuple(self._id_passed(signature, call, param) for call in outside)
         self.facts.param_kinds = dict(external)
+        self.facts.kept_params = {key: tuple(names) for key, names in kept.items() if any(names)}
+
+    def _kept_class(self, kind: Kind, caller: str) -> str | None:
+        """The class whose step and reset the run keeps on their own contract (``legacy_steps``)
+        that an argument of kind ``kind`` is an instance of, or None."""
+        if isinstance(kind, EnvKind) or not kind.startswith(NEW) or "|" in kind:
+            return None
+        made = kind[len(NEW) :]
+        where = (caller, made[len(OWN) :]) if made.startswith(OWN) else self.facts._split(made, caller)
+        return where[1] if where is not None and where in self.facts.legacy_steps else None
 
     @staticmethod
     def _id_passed(signature: Signature, call: CallSummary, param: str) -> str | None:

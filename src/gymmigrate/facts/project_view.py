@@ -296,6 +296,12 @@ class ProjectView:
         split = self.facts._split(qualified, self.path)
         return split is not None and split in self.facts.legacy_steps
 
+    def kept_step_classes(self, qualname: str, param: str) -> tuple[str | None, ...]:
+        """Per call in another module of ``param`` of this file's ``qualname``, the class
+        whose step and reset keep their own contract it passes an instance of (None: anything
+        else); empty when no such call passes one (``ProjectFacts.kept_params``)."""
+        return self.facts.kept_params.get((self.path, qualname, param), ())
+
     def renders_nothing(self, qualified: str) -> bool:
         """An imported class of the run whose render() is a stub (it renders no env)."""
         split = self.facts._split(qualified, self.path)

@@ -39,11 +39,23 @@ class MadeObjects(_Facade):
             last = self._dominating_binding(expr)
             bindings = [last] if last is not None else self.facts.bindings_of(expr)
             values = []
+            kept: set[str] = set()
             for binding in bindings:
+                if isinstance(binding, ast.arg):
+                    # A parameter every caller of the run feeds such an instance (a parameter
+                    # fed one and another env is reported: ``ParameterKinds._param_kind``).
+                    names, other = self.param_kept_classes(binding)
+                    if other or len(names) != 1:
+                        return None
+                    kept |= names
+                    continue
                 parent = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
                 if not (isinstance(parent, (ast.Assign, ast.AnnAssign)) and parent.value is not None):
                     return None
                 values.append(parent.value)
+            if kept:
+                found = {self._legacy_step_maker(value) for value in values} | kept
+                return found.pop() if len(found) == 1 else None
         elif isinstance(expr, ast.Attribute) and isinstance(expr.value, ast.Name) and self.is_self(expr.value):
             classdef = self.facts.enclosing_class(expr)
             if expr.attr == "env" and classdef is not None and (wrapped := self.wraps_legacy_step(classdef)) is not None:
@@ -55,14 +67,15 @@ class MadeObjects(_Facade):
         return found.pop() if len(found) == 1 and values else None
 
     def _legacy_step_maker(self, value: ast.expr) -> str | None:
+        if isinstance(value, ast.Name):
+            return self.legacy_step_class(value)  # ``self.sampler = sampler``: what the name holds
         if not isinstance(value, ast.Call):
             return None
         local = self.local_class(value.func)
         if local is not None:
-            # A wrapper of the project's own protocol (``_steps_own_record``): its instances'
+            # A wrapper of the project's own protocol (``own_record_wrapper``): its instances'
             # step and reset calls read that protocol and stay as they are too.
-            own = self.is_gym_wrapper_class(local) and self._steps_own_record(local)
-            return local.name if own or self.class_keeps_legacy_step(local) else None
+            return local.name if self.own_record_wrapper(local) or self.class_keeps_legacy_step(local) else None
         if self.project is not None:
             for qualified in self.qualified_names(value.func):
                 if self.project.keeps_legacy_step(qualified):
@@ -92,7 +105,7 @@ class MadeObjects(_Facade):
         step keeps its legacy contract (``class_keeps_legacy_step``), a Gym wrapper whose own
         step returns a batch's stacked flags, or one put around such a batch. A reset of
         Gymnasium's beside that step would match neither API, and its callers would break."""
-        if self.is_gym_wrapper_class(classdef) and self._steps_own_record(classdef):
+        if self.own_record_wrapper(classdef):
             return True
         if not self.class_keeps_legacy_step(classdef):
             return False
@@ -100,6 +113,12 @@ class MadeObjects(_Facade):
             return True
         step = next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == "step"), None)
         return step is not None and any(is_batched_step_return(r.value, step) for r in own_returns(step))
+
+    def own_record_wrapper(self, classdef: ast.ClassDef) -> bool:
+        """A Gym wrapper of the project's own protocol (``_steps_own_record``): its instances'
+        step and reset calls read that protocol and stay as they are, wherever the run shows
+        they hold one (a parameter every caller feeds one too: ``ParameterKinds``)."""
+        return self.is_gym_wrapper_class(classdef) and self._steps_own_record(classdef)
 
     def _steps_own_record(self, classdef: ast.ClassDef) -> bool:
         """A Gym wrapper that speaks the project's own protocol: its step returns a record of

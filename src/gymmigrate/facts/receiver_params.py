@@ -85,6 +85,14 @@ class ParameterKinds(_Facade):
             # serves both, so no rewrite is right for all of them; reported (``mixed_callers``).
             self._mixed_params[param] = (sorted(k.value for k in gym), sorted(k.value for k in others))
             return EnvKind.UNKNOWN
+        if gym:
+            kept, other = self.param_kept_classes(param)
+            if kept and other:
+                # Some callers pass an instance of a class whose step and reset the run keeps
+                # on their own contract (``legacy_step_class``), others another env: the calls
+                # here cannot follow both contracts; reported (``mixed_callers``).
+                self._mixed_params[param] = (sorted(k.value for k in gym), [f"{name} (whose step and reset keep their own contract)" for name in sorted(kept)])
+                return EnvKind.UNKNOWN
         return join_kinds(kinds)
 
     def _wrapped_in_gym_wrapper(self, function: ast.AST, param: ast.arg) -> bool:
@@ -98,6 +106,53 @@ class ParameterKinds(_Facade):
             if isinstance(wrapped, ast.Name) and wrapped.id == param.arg and param in self.facts.bindings_of(wrapped):
                 return True
         return False
+
+    def param_kept_classes(self, param: ast.arg) -> tuple[frozenset[str], bool]:
+        """The classes whose step and reset the run keeps on their own contract
+        (``legacy_step_class``: a batch's four fields, a wrapper's own record) that callers
+        of the def (in this module, or in others through ``ProjectView.kept_step_classes``)
+        pass for ``param``; and whether some caller passes anything else, or the callers are
+        not all known. A call of the def itself passing ``param`` on adds nothing."""
+        return self.facts.memo(("param-kept", id(param)), lambda: self._param_kept_classes(param), while_computing=(frozenset(), True))
+
+    def _param_kept_classes(self, param: ast.arg) -> tuple[frozenset[str], bool]:
+        function = self.facts.parent(self.facts.parent(param))
+        if not isinstance(function, FUNCTIONS):
+            return frozenset(), True
+        classdef = self.facts.parent(function)
+        is_method = isinstance(classdef, ast.ClassDef) and self.facts.is_method(function)
+        params = [*function.args.posonlyargs, *function.args.args]
+        position = next((i for i, p in enumerate(params) if p is param), None)
+        if position is not None and is_method:
+            position -= 1
+        if is_method and function.name == "__init__":
+            constructions, elsewhere = self.constructions(classdef)  # type: ignore[arg-type]
+            calls, shifts = [c for c, _ in constructions], {id(c): shift for c, shift in constructions}
+        else:
+            calls, shifts, elsewhere = self.call_sites(function, classdef if is_method else None), {}, False  # type: ignore[arg-type]
+        found: set[str] = set()
+        other = elsewhere
+        defaults = has_default(function, param)
+        for call in calls:
+            argument = call_argument(call, None if position is None else position + shifts.get(id(call), 0), param.arg)
+            if argument is None:
+                other = other or not defaults or any(k.arg is None for k in call.keywords)
+                continue
+            if isinstance(argument, ast.Name) and param in self.facts.bindings_of(argument):
+                continue  # the def passing its own parameter on: what its callers pass
+            kept = self.legacy_step_class(argument)
+            if kept is None:
+                other = True
+            else:
+                found.add(kept)
+        if self.project is not None:
+            qualname = function.name if not is_method else f"{classdef.name}.{function.name}"  # type: ignore[union-attr]
+            for kept in self.project.kept_step_classes(qualname, param.arg):
+                if kept is None:
+                    other = True
+                else:
+                    found.add(kept)
+        return frozenset(found), other or not (calls or found)
 
     def constructions(self, classdef: ast.ClassDef, _seen: frozenset[int] = frozenset()) -> tuple[list[tuple[ast.Call, int]], bool]:
         """The calls of this module that run ``classdef.__init__``, each with how far its

@@ -164,6 +164,8 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         fixed_mode_renders=fixed_mode_renders(facts),
         rendering_wrappers=rendering_wrappers(facts, receivers),
         legacy_steps=frozenset(
-            name for name, classdef in facts.classes.items() if name in env_classes and receivers.class_keeps_legacy_step(classdef)
+            name
+            for name, classdef in facts.classes.items()
+            if (name in env_classes and receivers.class_keeps_legacy_step(classdef)) or receivers.own_record_wrapper(classdef)
         ),
     )

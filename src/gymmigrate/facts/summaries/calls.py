@@ -276,6 +276,12 @@ class CallSummarizer:
         """The argument's kind; ``new:agent.GridEnv`` for an instance of a class this
         module imports, which the join resolves against the env classes of the run."""
         kind = self.receivers.kind_of(argument)
+        kept = self.receivers.legacy_step_class(argument) if kind is EnvKind.GYM_ENV else None
+        if kept is not None and self.facts.classes.get(kept) is not None:
+            # An instance of this module's class whose step and reset keep their own contract:
+            # ``new:@Name`` resolves to the kind the class has, and tells the def it is given
+            # to that its calls keep that contract (``ProjectFacts.kept_params``).
+            return NEW + OWN + kept
         if kind is EnvKind.NOT_ENV and self._env_like_instance(argument, 0):
             # The project's own reset/step object (``Holder(Board())``): not NOT_ENV, which
             # a Gym env passed by another caller outweighs in the join; the def is asked about.

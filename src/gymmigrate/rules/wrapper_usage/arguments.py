@@ -20,9 +20,11 @@ import ast
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
+from gymmigrate.edits.arguments import append_keyword
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts.module import keyword, string_value
 from gymmigrate.findings import FixKind, Tier
+from gymmigrate.rules.wrapper_usage.atari_limits import atari_make, reaching_make
 
 if TYPE_CHECKING:
     from gymmigrate.rules.wrapper_usage.stacks import StacksFamily
@@ -269,15 +271,56 @@ def args_RecordEpisodeStatistics(family: StacksFamily, call: ast.Call) -> CallBu
 
 @handles("TimeLimit")
 def args_TimeLimit(family: StacksFamily, call: ast.Call) -> CallBuild | None:
-    if missing_or_none(call, "max_episode_steps", 1):
+    return time_limit_without_limit(family, call, "TimeLimit")
+
+
+def time_limit_without_limit(family: StacksFamily, call: ast.Call, name: str) -> CallBuild | None:
+    """``TimeLimit(env)``, or a subclass of it that keeps its ``__init__``, built without
+    ``max_episode_steps``: legacy TimeLimit read the limit from the spec of the env it
+    wrapped (the one ``gym.make`` registered); Gymnasium's requires it (TypeError). Where
+    that env is a make result or its ``.env`` (the make certainly reaching the call, no
+    ``max_episode_steps`` given to it, no Atari id), the make's ``spec.max_episode_steps``
+    is that same limit and is passed; anything else is reported. (The inner layers' own
+    spec has no limit on Gymnasium: ``make("Pendulum-v1").env.spec.max_episode_steps`` is
+    None, checked on 1.4.)"""
+    if not missing_or_none(call, "max_episode_steps", 1):
+        return None
+    given = parameter(call, "max_episode_steps", 1)
+    source = None if given is not None else _made_limit(family, parameter(call, "env", 0))
+    if isinstance(source, str):
         family.report(
             call,
             "GM609",
-            "TimeLimit needs max_episode_steps in Gymnasium 1.x (legacy read it from the spec): pass the "
-            "limit, e.g. env.spec.max_episode_steps",
-            kind=FixKind.FLAG,
+            f"{name} needs max_episode_steps in Gymnasium 1.x (legacy read it from the wrapped env's spec, the "
+            f"limit make registered): passed `{source}`, that limit",
+            kind=FixKind.AUTO,
         )
+        return lambda node: append_keyword(node, "max_episode_steps", cst.parse_expression(source))
+    why = f"; {source[1]}" if isinstance(source, tuple) else ""
+    family.report(
+        call,
+        "GM609",
+        f"{name} needs max_episode_steps in Gymnasium 1.x (legacy read it from the spec): pass the "
+        f"limit, e.g. env.spec.max_episode_steps of the make result{why}",
+        kind=FixKind.FLAG,
+    )
     return None
+
+
+def _made_limit(family: StacksFamily, env: ast.expr | None) -> str | tuple[None, str] | None:
+    """``X.spec.max_episode_steps`` for an argument ``X`` or ``X.env`` with ``X`` a name a
+    make call without ``max_episode_steps`` certainly reaches; (None, why) for an Atari
+    make (no limit registered now); None when the argument is anything else."""
+    holder = env.value if isinstance(env, ast.Attribute) and env.attr == "env" else env
+    if not isinstance(holder, ast.Name):
+        return None
+    make = reaching_make(family.facts, holder)
+    if make is None or any(k.arg in ("max_episode_steps", None) for k in make.keywords) or len(make.args) > 1:
+        return None
+    atari = atari_make(family.facts, family.receivers, make)
+    if atari is not None:
+        return None, f"the make's id is an Atari one (`{atari[1]}`), which ale-py registers with no step limit (gym registered one)"
+    return f"{holder.id}.spec.max_episode_steps"
 
 
 @handles("FilterObservation")

@@ -11,11 +11,14 @@ wrappers ``env.x_threshold`` raises ``AttributeError``:
 * GM605 (ASSIST) ``env._max_episode_steps`` on a bare ``make`` result is the outermost
   TimeLimit's own attribute, left as it is (reads and writes work as in gym); under wrappers
   of the code's own it is read from ``env.spec.max_episode_steps`` (a make below them) or
-  with ``env.get_wrapper_attr("_max_episode_steps")``.
+  with ``env.get_wrapper_attr("_max_episode_steps")``. Not on an Atari make, which has no
+  TimeLimit now (``atari_limits.py``): a write right after it becomes ``max_episode_steps=``
+  of the make; other writes and reads (``env.spec.max_episode_steps`` too) are reported.
 * GM606 (FLAG) ``gym.make(id).env`` (legacy: "drop the TimeLimit") becomes ``.unwrapped``;
   other ``env.env.env`` chains are reported: ``make`` now stacks three wrappers.
   ``isinstance(env, TimeLimit)`` answers as before (TimeLimit is still the outermost wrapper
-  ``make`` returns): left alone on a make result, a note on a stack of the code's own.
+  ``make`` returns): left alone on a make result, a note on a stack of the code's own;
+  reported on an Atari make (no TimeLimit there now).
 
 Where an env comes from (its *origin*) decides between those rewrites. Origins are
 memoized per name binding site, and a name whose origin is being computed counts as
@@ -43,6 +46,11 @@ from gymmigrate.facts.wrapper_attributes import (
 )
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
+from gymmigrate.rules.wrapper_usage.atari_limits import (
+    isinstance_time_limit_on_atari,
+    max_episode_steps_on_atari,
+    spec_limit_on_atari,
+)
 from gymmigrate.rules.wrapper_usage.tables import (
     BASE_ENV_ATTRIBUTES,
     OWN_ATTRIBUTES,
@@ -130,6 +138,8 @@ class WrapperForwarding(RuleFamily):
             if isinstance(node, ast.Attribute):
                 self._attribute_access(node)
         for call in self.facts.calls_by_name.get("isinstance", []):
+            if self._tests_time_limit(call) and isinstance_time_limit_on_atari(self, call):
+                continue  # an Atari make has no TimeLimit now
             if self._is_isinstance_timelimit(call):
                 # Gymnasium's make still puts TimeLimit outermost, as gym's did: the test
                 # answers as before (and failed as before under wrappers of the code's own).
@@ -170,6 +180,10 @@ class WrapperForwarding(RuleFamily):
         if name == "env":
             self._check_env_chain(attr)
             return
+        if name == "max_episode_steps" and spec_limit_on_atari(self, attr):
+            return  # ``env.spec.max_episode_steps`` of an Atari make: None now
+        if name == "_max_episode_steps" and max_episode_steps_on_atari(self, attr):
+            return  # no TimeLimit on an Atari make now
         if name in SAFE_ATTRIBUTES or (name.startswith("__") and name.endswith("__")):
             return
         if isinstance(receiver, ast.Name) and receiver.id in ("self", "cls"):
@@ -715,12 +729,15 @@ class WrapperForwarding(RuleFamily):
     def _is_make_call(self, expr: ast.AST) -> bool:
         return isinstance(expr, ast.Call) and any(N.strip_gym_prefix(q) in ("make", "envs.make", "envs.registration.make") for q in self.facts.qualified_names(expr.func))
 
-    def _is_isinstance_timelimit(self, call: ast.Call) -> bool:
+    def _tests_time_limit(self, call: ast.Call) -> bool:
         if len(call.args) != 2 or call.keywords:
             return False
         classes = call.args[1]
         candidates = list(classes.elts) if isinstance(classes, ast.Tuple) else [classes]
-        if not any(wrapper_rest(q) == "TimeLimit" for candidate in candidates for q in self.facts.qualified_names(candidate)):
+        return any(wrapper_rest(q) == "TimeLimit" for candidate in candidates for q in self.facts.qualified_names(candidate))
+
+    def _is_isinstance_timelimit(self, call: ast.Call) -> bool:
+        if not self._tests_time_limit(call):
             return False
         # A make() result itself: TimeLimit is its outermost wrapper in gym and in Gymnasium.
         return not self._bare_make_result(call.args[0])

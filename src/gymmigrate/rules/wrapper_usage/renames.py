@@ -39,7 +39,11 @@ from gymmigrate.facts.module import dotted_name, string_value
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.repeats import Repeats
-from gymmigrate.rules.wrapper_usage.arguments import HANDLERS, positional
+from gymmigrate.rules.wrapper_usage.arguments import (
+    HANDLERS,
+    positional,
+    time_limit_without_limit,
+)
 from gymmigrate.rules.wrapper_usage.import_edits import ImportEdit, import_build
 from gymmigrate.rules.wrapper_usage.legacy_imports import (
     LegacyImports,
@@ -397,6 +401,11 @@ class WrapperRenames(RuleFamily):
         if wrapper is not None and isinstance(call.func, ast.Name) and self._guarded_monitors.intersection(self.facts.bindings_of(call.func)):
             return  # under Gymnasium the name is the ImportError fallback's: reported at the import
         if wrapper is None:
+            subclass = self._time_limit_subclass(call)
+            if subclass is not None:
+                build = time_limit_without_limit(self, call, subclass)
+                if build is not None:
+                    self.plan.replace(call, build)
             self._check_final_info_get(call)
             return
         old, new = wrapper
@@ -421,6 +430,25 @@ class WrapperRenames(RuleFamily):
                 builds.append(build)
         for build in builds:
             self.plan.replace(call, build)
+
+    def _time_limit_subclass(self, call: ast.Call) -> str | None:
+        """The name of the class of this module ``call`` builds when it derives from gym's
+        ``TimeLimit`` (through classes here) and neither it nor a class between defines
+        ``__init__``: TimeLimit's own takes the arguments (``max_episode_steps`` required now)."""
+        classdef = self.receivers.local_class(call.func)
+        name = classdef.name if classdef is not None else None
+        seen: set[int] = set()
+        while classdef is not None and id(classdef) not in seen:
+            seen.add(id(classdef))
+            if any(isinstance(s, (ast.FunctionDef, ast.AsyncFunctionDef)) and s.name == "__init__" for s in classdef.body):
+                return None
+            bases = [b for b in classdef.bases if not (isinstance(b, ast.Name) and b.id == "object")]
+            if len(bases) != 1:
+                return None
+            if any(wrapper_rest(q) == "TimeLimit" for q in self.facts.qualified_names(bases[0])):
+                return name
+            classdef = self.receivers.local_class(bases[0])
+        return None
 
     def _called_wrapper(self, call: ast.Call) -> tuple[str, str] | None:
         """(legacy name, 1.x name) of the gym/gymnasium wrapper class this call constructs."""
