@@ -15,6 +15,7 @@ from gymmigrate.facts.done_uses import builds_record
 from gymmigrate.facts.kinds import MAX_DEPTH, EnvKind
 from gymmigrate.facts.module import FUNCTIONS, own_returns
 from gymmigrate.facts.receiver_classes import is_batched_step_return, keeps_legacy_step
+from gymmigrate.facts.version_checks import settled_test
 
 if TYPE_CHECKING:
     from gymmigrate.facts.kinds import ReceiverFacade as _Facade
@@ -61,7 +62,7 @@ class MadeObjects(_Facade):
         if local is not None:
             # A wrapper of the project's own protocol (``_steps_own_record``): its instances'
             # step and reset calls read that protocol and stay as they are too.
-            own = self.is_gym_wrapper_class(local) and self._steps_own_record(local)
+            own = self.is_gym_wrapper_class(local) and (self._steps_own_record(local) or self.legacy_by_version(local))
             return local.name if own or self.class_keeps_legacy_step(local) else None
         if self.project is not None:
             for qualified in self.qualified_names(value.func):
@@ -94,6 +95,8 @@ class MadeObjects(_Facade):
         Gymnasium's beside that step would match neither API, and its callers would break."""
         if self.is_gym_wrapper_class(classdef) and self._steps_own_record(classdef):
             return True
+        if self.is_gym_wrapper_class(classdef) and self.legacy_by_version(classdef):
+            return True
         if not self.class_keeps_legacy_step(classdef):
             return False
         if not self.is_gym_wrapper_class(classdef) or self.wraps_legacy_step(classdef) is not None:
@@ -114,6 +117,23 @@ class MadeObjects(_Facade):
         if not returns or not all(isinstance(v, ast.Call) and builds_record(v, self.facts) for v in returns):
             return False
         return not any(isinstance(r.value, ast.Tuple) and len(r.value.elts) == 2 for r in own_returns(reset))
+
+    def legacy_by_version(self, classdef: ast.ClassDef) -> bool:
+        """A Gym wrapper that presents the legacy API whatever gym is installed: its step
+        branches on a ``gym.__version__`` check that Gymnasium settles (``settled_test``) and
+        returns four values on every path, and its reset (if any) never returns a pair. Its
+        callers read that API on purpose: its step, its reset and their calls stay as they are
+        (only the branch the check picks runs; GM108 reports the check)."""
+        methods = {s.name: s for s in classdef.body if isinstance(s, FUNCTIONS)}
+        step = methods.get("step")
+        if step is None:
+            return False
+        checks = [n for n in ast.walk(step) if isinstance(n, ast.If) and settled_test(n.test, self.facts) is not None]
+        returns = [r.value for r in own_returns(step)]
+        if not checks or not returns or not all(isinstance(v, ast.Tuple) and len(v.elts) == 4 for v in returns):
+            return False
+        reset = methods.get("reset")
+        return reset is None or not any(isinstance(r.value, ast.Tuple) and len(r.value.elts) == 2 for r in own_returns(reset))
 
     def run_defined(self, expr: ast.AST) -> bool:
         """``expr`` holds (or may hold) an object the run itself makes: an instance of a class
