@@ -31,13 +31,17 @@ _MIRRORED: dict[type, type] = {ast.Lt: ast.Gt, ast.LtE: ast.GtE, ast.Gt: ast.Lt,
 
 
 def gym_module_names(facts: ModuleFacts) -> frozenset[str]:
-    """Names this module binds to the gym (or gymnasium) package itself."""
-    return facts.memo(
-        ("gym-module-names", 0),
-        lambda: frozenset(
-            alias.asname or alias.name for alias, qualified in facts.imports.items() if qualified in ("gym", "gymnasium")
-        ),
-    )
+    """Names this module binds to the gym (or gymnasium) package itself. A name bound to
+    both (``try: import gymnasium as gym / except ImportError: import gym``) is left out:
+    the fallback stays, so the name may still be legacy gym at run time."""
+
+    def compute() -> frozenset[str]:
+        bound: dict[str, set[str]] = {}
+        for alias, qualified in facts.imports.items():
+            bound.setdefault(alias.asname or alias.name.split(".", 1)[0], set()).add(qualified)
+        return frozenset(name for name, packages in bound.items() if len(packages) == 1 and packages <= {"gym", "gymnasium"})
+
+    return facts.memo(("gym-module-names", 0), compute)
 
 
 def settled_test(test: ast.AST, facts: ModuleFacts) -> bool | None:
