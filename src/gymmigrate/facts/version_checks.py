@@ -153,7 +153,7 @@ def _side(node: ast.AST, names: frozenset[str], parameter: tuple[str, tuple[int,
     if leaves:
         return "version", True
     if literals:
-        release = _release(literals[0].value)  # type: ignore[attr-defined]
+        release = _release(str(literals[0].value))
         return (release, True) if release is not None else None
     return parameter[1], True  # type: ignore[index]
 
