@@ -121,7 +121,7 @@ class MadeObjects(_Facade):
     def legacy_by_version(self, classdef: ast.ClassDef) -> bool:
         """A Gym wrapper that presents the legacy API whatever gym is installed: its step
         branches on a ``gym.__version__`` check that Gymnasium settles (``settled_test``) and
-        returns four values on every path, and its reset (if any) never returns a pair. Its
+        returns four values on every path, and its own reset never returns a pair. Its
         callers read that API on purpose: its step, its reset and their calls stay as they are
         (only the branch the check picks runs; GM108 reports the check)."""
         methods = {s.name: s for s in classdef.body if isinstance(s, FUNCTIONS)}
@@ -132,8 +132,8 @@ class MadeObjects(_Facade):
         returns = [r.value for r in own_returns(step)]
         if not checks or not returns or not all(isinstance(v, ast.Tuple) and len(v.elts) == 4 for v in returns):
             return False
-        reset = methods.get("reset")
-        return reset is None or not any(isinstance(r.value, ast.Tuple) and len(r.value.elts) == 2 for r in own_returns(reset))
+        reset = methods.get("reset")  # without one, Gymnasium's inherited reset returns the pair
+        return reset is not None and not any(isinstance(r.value, ast.Tuple) and len(r.value.elts) == 2 for r in own_returns(reset))
 
     def run_defined(self, expr: ast.AST) -> bool:
         """``expr`` holds (or may hold) an object the run itself makes: an instance of a class
