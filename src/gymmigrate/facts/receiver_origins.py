@@ -15,7 +15,7 @@ from gymmigrate.facts.done_uses import builds_record
 from gymmigrate.facts.kinds import MAX_DEPTH, EnvKind
 from gymmigrate.facts.module import FUNCTIONS, own_returns
 from gymmigrate.facts.receiver_classes import is_batched_step_return, keeps_legacy_step
-from gymmigrate.facts.version_checks import settled_test
+from gymmigrate.facts.version_checks import reads_version
 
 if TYPE_CHECKING:
     from gymmigrate.facts.kinds import ReceiverFacade as _Facade
@@ -120,20 +120,30 @@ class MadeObjects(_Facade):
 
     def legacy_by_version(self, classdef: ast.ClassDef) -> bool:
         """A Gym wrapper that presents the legacy API whatever gym is installed: its step
-        branches on a ``gym.__version__`` check that Gymnasium settles (``settled_test``) and
-        returns four values on every path, and its own reset never returns a pair. Its
+        branches on a ``gym.__version__`` check (``reads_version``) and returns four values on
+        every path, and its own reset never returns a pair. Its
         callers read that API on purpose: its step, its reset and their calls stay as they are
         (only the branch the check picks runs; GM108 reports the check)."""
         methods = {s.name: s for s in classdef.body if isinstance(s, FUNCTIONS)}
         step = methods.get("step")
         if step is None:
             return False
-        checks = [n for n in ast.walk(step) if isinstance(n, ast.If) and settled_test(n.test, self.facts) is not None]
+        checks = [n for n in ast.walk(step) if isinstance(n, ast.If) and reads_version(n.test, self.facts)]
         returns = [r.value for r in own_returns(step)]
         if not checks or not returns or not all(isinstance(v, ast.Tuple) and len(v.elts) == 4 for v in returns):
             return False
         reset = methods.get("reset")  # without one, Gymnasium's inherited reset returns the pair
         return reset is not None and not any(isinstance(r.value, ast.Tuple) and len(r.value.elts) == 2 for r in own_returns(reset))
+
+    def in_legacy_by_version_method(self, node: ast.AST) -> bool:
+        """``node`` is in the step or reset of a ``legacy_by_version`` class: both branches of
+        its version check already speak the API of the gym they run on."""
+        function = self.facts.enclosing_function(node)
+        classdef = self.facts.parent(function) if function is not None else None
+        return (
+            function is not None and function.name in ("step", "reset") and isinstance(classdef, ast.ClassDef)
+            and self.is_gym_wrapper_class(classdef) and self.legacy_by_version(classdef)
+        )
 
     def run_defined(self, expr: ast.AST) -> bool:
         """``expr`` holds (or may hold) an object the run itself makes: an instance of a class

@@ -82,7 +82,7 @@ def _value(test: ast.AST, facts: ModuleFacts, names: frozenset[str]) -> bool | N
     if isinstance(test, ast.Compare) and len(test.ops) == 1:
         return _compare(test.left, test.ops[0], test.comparators[0], names, None)
     if isinstance(test, ast.Call) and isinstance(test.func, ast.Name) and len(test.args) == 1 and not test.keywords:
-        literal = test.args[0]
+        literal = _constant_of(test.args[0], facts)
         helper = _helper(test.func.id, facts)
         if helper is not None and isinstance(literal, ast.Constant) and isinstance(literal.value, str):
             function, compare, parameter = helper
@@ -191,3 +191,33 @@ def _release(text: str) -> tuple[int, ...] | None:
     if not parts or not all(part.isdigit() for part in parts):
         return None
     return tuple(int(part) for part in parts)
+
+
+def _constant_of(node: ast.expr, facts: ModuleFacts) -> ast.expr:
+    """A module-level name assigned once, a string (``V_NEW_API = "0.26.0"``): that string."""
+    if not isinstance(node, ast.Name):
+        return node
+    values = [
+        s.value
+        for s in facts.tree.body
+        if isinstance(s, ast.Assign) and any(isinstance(t, ast.Name) and t.id == node.id for t in s.targets)
+    ]
+    stores = [n for n in ast.walk(facts.tree) if isinstance(n, ast.Name) and n.id == node.id and not isinstance(n.ctx, ast.Load)]
+    if len(values) == 1 and len(stores) == 1 and isinstance(values[0], ast.Constant) and isinstance(values[0].value, str):
+        return values[0]
+    return node
+
+
+def reads_version(test: ast.AST, facts: ModuleFacts) -> bool:
+    """``test`` reads the gym version: directly, or by calling a def of this module that
+    reads it (``if gym_at_least("0.26"):``), settled or not."""
+    names = gym_module_names(facts)
+    if not names or "__version__" not in facts.text:
+        return False
+    helpers = {
+        s.name for s in facts.tree.body if isinstance(s, FUNCTIONS) and any(_is_version(n, names) for n in ast.walk(s))
+    }
+    return any(
+        _is_version(n, names) or (isinstance(n, ast.Call) and isinstance(n.func, ast.Name) and n.func.id in helpers)
+        for n in ast.walk(test)
+    )

@@ -69,7 +69,7 @@ class ResetCalls(ResetSeedBase):
         if not isinstance(func, ast.Attribute):  # ``x.method(...)`` calls only
             return
         receiver = func.value
-        if dead_version_branch(call, self.facts) is not None:
+        if dead_version_branch(call, self.facts) is not None or self.receivers.in_legacy_by_version_method(call):
             return  # the legacy branch of a gym version check: it never runs on Gymnasium (GM108)
         if self.receivers.legacy_step_class(receiver) is not None:
             # A class of the run whose step keeps its own four fields (a batch, a wrapper around

@@ -113,9 +113,9 @@ class StepFamilyBase(RuleFamily):
         """What to do with ``receiver.step``, and whether it is a vector env."""
         kind = self.receivers.super_kind(receiver) or self.receivers.kind_of(receiver)
         profile = self.context.profile
-        if dead_version_branch(receiver, self.facts) is not None:
+        if dead_version_branch(receiver, self.facts) is not None or self.receivers.in_legacy_by_version_method(receiver):
             # the legacy branch of a gym version check: it never runs on Gymnasium (GM108)
-            return Decision(Action.LEAVE, "in the branch of a gym version check that never runs on Gymnasium"), False
+            return Decision(Action.LEAVE, "under a gym version check that picks the API of the gym installed"), False
         kept = self.receivers.legacy_step_class(receiver)
         if kept is not None:
             # The run leaves that class's step as it was (GM504 reports it there): its
