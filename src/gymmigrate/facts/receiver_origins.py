@@ -15,6 +15,7 @@ from gymmigrate.facts.done_uses import builds_record
 from gymmigrate.facts.kinds import MAX_DEPTH, EnvKind
 from gymmigrate.facts.module import FUNCTIONS, own_returns
 from gymmigrate.facts.receiver_classes import is_batched_step_return, keeps_legacy_step
+from gymmigrate.facts.version_checks import reads_version
 
 if TYPE_CHECKING:
     from gymmigrate.facts.kinds import ReceiverFacade as _Facade
@@ -107,6 +108,8 @@ class MadeObjects(_Facade):
         Gymnasium's beside that step would match neither API, and its callers would break."""
         if self.own_record_wrapper(classdef):
             return True
+        if self.is_gym_wrapper_class(classdef) and self.legacy_by_version(classdef):
+            return True
         if not self.class_keeps_legacy_step(classdef):
             return False
         if not self.is_gym_wrapper_class(classdef) or self.wraps_legacy_step(classdef) is not None:
@@ -117,8 +120,10 @@ class MadeObjects(_Facade):
     def own_record_wrapper(self, classdef: ast.ClassDef) -> bool:
         """A Gym wrapper of the project's own protocol (``_steps_own_record``): its instances'
         step and reset calls read that protocol and stay as they are, wherever the run shows
-        they hold one (a parameter every caller feeds one too: ``ParameterKinds``)."""
-        return self.is_gym_wrapper_class(classdef) and self._steps_own_record(classdef)
+        they hold one (a parameter every caller feeds one too: ``ParameterKinds``). A wrapper
+        that presents the legacy API on purpose behind a gym version check
+        (``legacy_by_version``) is one too: its callers read four values on Gymnasium as well."""
+        return self.is_gym_wrapper_class(classdef) and (self._steps_own_record(classdef) or self.legacy_by_version(classdef))
 
     def _steps_own_record(self, classdef: ast.ClassDef) -> bool:
         """A Gym wrapper that speaks the project's own protocol: its step returns a record of
@@ -133,6 +138,33 @@ class MadeObjects(_Facade):
         if not returns or not all(isinstance(v, ast.Call) and builds_record(v, self.facts) for v in returns):
             return False
         return not any(isinstance(r.value, ast.Tuple) and len(r.value.elts) == 2 for r in own_returns(reset))
+
+    def legacy_by_version(self, classdef: ast.ClassDef) -> bool:
+        """A Gym wrapper that presents the legacy API whatever gym is installed: its step
+        branches on a ``gym.__version__`` check (``reads_version``) and returns four values on
+        every path, and its own reset never returns a pair. Its
+        callers read that API on purpose: its step, its reset and their calls stay as they are
+        (only the branch the check picks runs; GM108 reports the check)."""
+        methods = {s.name: s for s in classdef.body if isinstance(s, FUNCTIONS)}
+        step = methods.get("step")
+        if step is None:
+            return False
+        checks = [n for n in ast.walk(step) if isinstance(n, ast.If) and reads_version(n.test, self.facts)]
+        returns = [r.value for r in own_returns(step)]
+        if not checks or not returns or not all(isinstance(v, ast.Tuple) and len(v.elts) == 4 for v in returns):
+            return False
+        reset = methods.get("reset")  # without one, Gymnasium's inherited reset returns the pair
+        return reset is not None and not any(isinstance(r.value, ast.Tuple) and len(r.value.elts) == 2 for r in own_returns(reset))
+
+    def in_legacy_by_version_method(self, node: ast.AST) -> bool:
+        """``node`` is in the step or reset of a ``legacy_by_version`` class: both branches of
+        its version check already speak the API of the gym they run on."""
+        function = self.facts.enclosing_function(node)
+        classdef = self.facts.parent(function) if function is not None else None
+        return (
+            function is not None and function.name in ("step", "reset") and isinstance(classdef, ast.ClassDef)
+            and self.is_gym_wrapper_class(classdef) and self.legacy_by_version(classdef)
+        )
 
     def run_defined(self, expr: ast.AST) -> bool:
         """``expr`` holds (or may hold) an object the run itself makes: an instance of a class

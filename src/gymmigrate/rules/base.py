@@ -26,6 +26,7 @@ from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.module import full_name
 from gymmigrate.facts.profile import FileProfile
 from gymmigrate.facts.self_attributes import binds_self_attribute
+from gymmigrate.facts.version_checks import dead_version_branch
 from gymmigrate.findings import RUN_QUESTION, FixKind, Tier, gym_only_question
 from gymmigrate.options import RewriteOptions
 from gymmigrate.rules.notes import FamilyNotes
@@ -112,7 +113,11 @@ class RuleFamily:
     ) -> None:
         """``tier`` only where it differs from what the kind implies (see findings.Tier).
         ``question``: what the item asks, where other items of the file may ask the same
-        (``receiver_question``): the file's review list asks it once (``Plan.ask_once``)."""
+        (``receiver_question``): the file's review list asks it once (``Plan.ask_once``).
+        Code in the branch of a ``gym.__version__`` check that never runs on Gymnasium 1.x
+        raises nothing: GM108 reports the check itself."""
+        if code != "GM108" and dead_version_branch(node, self.facts) is not None:
+            return
         self.plan.report(node, code, kind or self._rules[code].kind, message, tier, question)
 
     def receiver_question(self, receiver: ast.AST, decision: Decision) -> Hashable | None:

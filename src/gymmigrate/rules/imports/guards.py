@@ -9,6 +9,7 @@ import ast
 
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.module import FUNCTIONS, dotted_name
+from gymmigrate.facts.version_checks import settled_test
 from gymmigrate.findings import Tier
 from gymmigrate.rules.gymnasium_api import GYMNASIUM_VERSION
 from gymmigrate.rules.imports.common import ImportsBase
@@ -88,11 +89,26 @@ class ImportGuards(ImportsBase):
         checks: dict[int, ast.AST] = {}
         for node in sorted(reads, key=lambda n: (n.lineno, n.col_offset)):
             check = self._version_check_of(node)
+            if check is None and self._settled_helper(node):
+                function = self.facts.enclosing_function(node)
+                self.report(
+                    node,
+                    "GM108",
+                    f"`{function.name if function else ''}` compares the gym version with a 0.x release, and every "
+                    f"call of it in this file does so with a 0.x literal: on Gymnasium {GYMNASIUM_VERSION} (the version "
+                    "imported as gym now) each check takes the same branch on every run, the other one is dead",
+                    tier=Tier.NOTE,
+                )
+                continue
             if check is not None:
                 if id(check) in checks:
                     continue  # the same check: its first read speaks for it
                 checks[id(check)] = check
                 answer = _settled_comparison(check.test) if isinstance(check, (ast.If, ast.IfExp, ast.Assert)) else None
+                if answer is None and isinstance(check, (ast.If, ast.IfExp)):
+                    # a raw string comparison with a 0.x literal: "1..." sorts after "0..." too
+                    value = settled_test(check.test, self.facts)
+                    answer = None if value is None else (check.test, value)  # type: ignore[assignment]
                 if answer is not None:
                     compare, value = answer
                     self.report(
@@ -104,6 +120,15 @@ class ImportGuards(ImportsBase):
                     )
                     continue
             self.report(node, "GM108", "gym version check: after the migration one branch is dead; delete the legacy one")
+
+    def _settled_helper(self, node: ast.AST) -> bool:
+        """``node`` reads the version in a helper (``def ge(v): return parse(gym.__version__)
+        >= parse(v)``) that this module calls, each time as a check Gymnasium settles."""
+        function = self.facts.enclosing_function(node)
+        if function is None:
+            return False
+        calls = self.facts.calls_by_name.get(function.name, ())
+        return bool(calls) and all(settled_test(call, self.facts) is not None for call in calls)
 
     def _version_check_of(self, node: ast.AST) -> ast.AST | None:
         """The ``if`` (or conditional expression, or assert) whose test reads ``gym.__version__``

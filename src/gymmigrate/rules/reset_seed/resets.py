@@ -27,6 +27,7 @@ from gymmigrate.facts.decisions import Action, Decision, receiver_text
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.receiver_classes import per_agent_receivers
 from gymmigrate.facts.reset_flow import scope_of_expression
+from gymmigrate.facts.version_checks import dead_version_branch
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.reset_seed.call_edits import unpack_builder
 from gymmigrate.rules.reset_seed.common import ResetSeedBase
@@ -68,6 +69,8 @@ class ResetCalls(ResetSeedBase):
         if not isinstance(func, ast.Attribute):  # ``x.method(...)`` calls only
             return
         receiver = func.value
+        if dead_version_branch(call, self.facts) is not None or self.receivers.in_legacy_by_version_method(call):
+            return  # the legacy branch of a gym version check: it never runs on Gymnasium (GM108)
         if self.receivers.legacy_step_class(receiver) is not None:
             # A class of the run whose step keeps its own four fields (a batch, a wrapper around
             # one) keeps its reset with it (GM504/GM602 report the class): the calls on its

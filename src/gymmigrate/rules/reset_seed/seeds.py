@@ -28,6 +28,7 @@ from gymmigrate.facts.decisions import Action, Decision, receiver_text
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import COMPOUND_STATEMENTS, statement_lines, string_value
 from gymmigrate.facts.reset_flow import line_before, segment
+from gymmigrate.facts.version_checks import dead_version_branch
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.reset_seed.call_edits import SeedValue
 from gymmigrate.rules.reset_seed.common import ResetSeedBase, is_space
@@ -43,6 +44,8 @@ class SeedCalls(ResetSeedBase):
         if not isinstance(func, ast.Attribute):  # ``x.method(...)`` calls only
             return
         receiver = func.value
+        if dead_version_branch(call, self.facts) is not None:
+            return  # the legacy branch of a gym version check: it never runs on Gymnasium (GM108)
         if is_space(receiver):
             self._check_space_seed(call)
             return

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 from gymmigrate.facts.decisions import Action, Decision, decide, receiver_text
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.version_checks import dead_version_branch
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import Rule, RuleFamily
 
@@ -112,6 +113,9 @@ class StepFamilyBase(RuleFamily):
         """What to do with ``receiver.step``, and whether it is a vector env."""
         kind = self.receivers.super_kind(receiver) or self.receivers.kind_of(receiver)
         profile = self.context.profile
+        if dead_version_branch(receiver, self.facts) is not None or self.receivers.in_legacy_by_version_method(receiver):
+            # the legacy branch of a gym version check: it never runs on Gymnasium (GM108)
+            return Decision(Action.LEAVE, "under a gym version check that picks the API of the gym installed"), False
         kept = self.receivers.legacy_step_class(receiver)
         if kept is not None:
             # The run leaves that class's step as it was (GM504 reports it there): its

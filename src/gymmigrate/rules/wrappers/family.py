@@ -9,7 +9,7 @@ from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
 from gymmigrate.facts.module import FUNCTIONS
-from gymmigrate.findings import FixKind, gym_only_question
+from gymmigrate.findings import FixKind, Tier, gym_only_question
 from gymmigrate.rules.base import FileContext
 from gymmigrate.rules.reset_seed.common import is_space
 from gymmigrate.rules.wrapper_usage.tables import wrapper_rest
@@ -63,6 +63,17 @@ class WrapperClasses(StepOverrides, ResetOverrides):
                     self._check_init(classdef, statement)
                 elif statement.name == "step":
                     if self._reports_wrapped_batch(classdef, statement):
+                        continue
+                    if self.receivers.legacy_by_version(classdef):
+                        self.report(
+                            statement,
+                            "GM602",
+                            "left as it is: this wrapper presents the legacy API (four values from step, the "
+                            "observation from reset) whatever gym is installed, and the branch of its gym version "
+                            "check that runs on Gymnasium already reads the inner env's new API; its callers stay too",
+                            FixKind.FLAG,
+                            tier=Tier.NOTE,
+                        )
                         continue
                     self._fix_step(statement)
                 elif statement.name == "reset":

@@ -132,9 +132,10 @@ class StepOverrides(RuleFamily):
         unpacks: dict[ast.stmt, StepUnpack | None] = {}
         bound: set[str] = set()
         inner_done: str | None = None  # the legacy unpack's done name, with or without a done line
+        aliases = _inner_aliases(classdef) if isinstance(classdef, ast.ClassDef) else frozenset()
         for index, line in enumerate(lines):
             assign = _single_assign(line)
-            if assign is None or _inner_call(assign.value, "step") is None:
+            if assign is None or (_inner_call(assign.value, "step") is None and not _alias_step(assign.value, aliases)):
                 bound |= _assigned_names(line)
                 continue
             target = assign.targets[0]
@@ -542,3 +543,57 @@ def _cut(node: cst.Tuple, terminated: str) -> list[cst.BaseExpression]:
         right=cst.UnaryOperation(operator=cst.Not(), expression=cst.Name(terminated)),
     )
     return [cst.Name(terminated), cut]
+
+
+def _inner_aliases(classdef: ast.ClassDef) -> frozenset[str]:
+    """Attributes that hold the wrapped env itself: ``__init__`` hands its parameter to the
+    base's ``__init__`` (``super().__init__(env)``, ``gym.Wrapper.__init__(self, env)``) and
+    stores the same parameter (``self._env = env``), so ``self._env`` is ``self.env``."""
+    init = next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == "__init__"), None)
+    if init is None:
+        return frozenset()
+    handed: set[str] = set()
+    stored: dict[str, str] = {}
+    rebound: set[str] = set()
+    for node in ast.walk(init):
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "__init__":
+            base = node.func.value
+            args = node.args
+            if isinstance(base, ast.Call) and isinstance(base.func, ast.Name) and base.func.id == "super":
+                handed |= {a.id for a in args[:1] if isinstance(a, ast.Name)}
+            elif args and isinstance(args[0], ast.Name) and args[0].id == "self":
+                handed |= {a.id for a in args[1:2] if isinstance(a, ast.Name)}
+        elif isinstance(node, ast.Assign):
+            for target in node.targets:
+                if isinstance(target, ast.Name):
+                    rebound.add(target.id)
+                elif (
+                    isinstance(target, ast.Attribute) and isinstance(target.value, ast.Name) and target.value.id == "self"
+                    and isinstance(node.value, ast.Name)
+                ):
+                    stored[target.attr] = node.value.id
+    written_elsewhere = {
+        t.attr
+        for method in classdef.body
+        if isinstance(method, FUNCTIONS) and method is not init
+        for n in ast.walk(method)
+        if isinstance(n, ast.Assign)
+        for t in n.targets
+        if isinstance(t, ast.Attribute) and isinstance(t.value, ast.Name) and t.value.id == "self"
+    }
+    return frozenset(
+        attr for attr, param in stored.items() if param in handed and param not in rebound and attr not in written_elsewhere
+    )
+
+
+def _alias_step(node: ast.AST | None, aliases: frozenset[str]) -> bool:
+    """``self.<alias>.step(...)`` for an attribute ``_inner_aliases`` found."""
+    return (
+        isinstance(node, ast.Call)
+        and isinstance(node.func, ast.Attribute)
+        and node.func.attr == "step"
+        and isinstance(node.func.value, ast.Attribute)
+        and isinstance(node.func.value.value, ast.Name)
+        and node.func.value.value.id == "self"
+        and node.func.value.attr in aliases
+    )

@@ -1,0 +1,223 @@
+"""Which branch of a ``gym.__version__`` check runs once ``gym`` is Gymnasium 1.x.
+
+After the import rewrite ``gym.__version__`` is Gymnasium's ("1.4.0"), so a comparison with
+a 0.x literal gives the same answer on every Gymnasium 1.x release: ``gym.__version__ >=
+"0.26.0"`` (as strings, "1..." sorts after "0..."), ``version.parse(gym.__version__) <
+version.parse("0.24")``, or a helper of this module that compares the parsed version with
+its parameter (``def ge(v): return parse(gym.__version__) >= parse(v)``) called with a 0.x
+literal. The other branch never runs: code there is neither rewritten nor reported (GM108
+reports the check). A 1.x literal may answer differently on another release: unsettled.
+"""
+
+from __future__ import annotations
+
+import ast
+
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
+
+GYMNASIUM_RELEASE = (1, 4, 0)  # the release the migration targets (rules.gymnasium_api.GYMNASIUM_VERSION)
+
+# Names a version parse may call: each keeps the order of releases.
+_PARSERS = frozenset({"parse", "Version", "LooseVersion", "StrictVersion", "parse_version", "int", "tuple", "list", "map", "str"})
+_COMPARE = {
+    ast.Lt: lambda a, b: a < b,
+    ast.LtE: lambda a, b: a <= b,
+    ast.Gt: lambda a, b: a > b,
+    ast.GtE: lambda a, b: a >= b,
+    ast.Eq: lambda a, b: a == b,
+    ast.NotEq: lambda a, b: a != b,
+}
+_MIRRORED: dict[type, type] = {ast.Lt: ast.Gt, ast.LtE: ast.GtE, ast.Gt: ast.Lt, ast.GtE: ast.LtE, ast.Eq: ast.Eq, ast.NotEq: ast.NotEq}
+
+
+def gym_module_names(facts: ModuleFacts) -> frozenset[str]:
+    """Names this module binds to the gym (or gymnasium) package itself. A name bound to
+    both (``try: import gymnasium as gym / except ImportError: import gym``) is left out:
+    the fallback stays, so the name may still be legacy gym at run time."""
+
+    def compute() -> frozenset[str]:
+        bound: dict[str, set[str]] = {}
+        for alias, qualified in facts.imports.items():
+            bound.setdefault(alias.asname or alias.name.split(".", 1)[0], set()).add(qualified)
+        return frozenset(name for name, packages in bound.items() if len(packages) == 1 and packages <= {"gym", "gymnasium"})
+
+    return facts.memo(("gym-module-names", 0), compute)
+
+
+def settled_test(test: ast.AST, facts: ModuleFacts) -> bool | None:
+    """The value of the ``if`` test ``test`` on every Gymnasium 1.x run, or None."""
+    names = gym_module_names(facts)
+    if not names or "__version__" not in facts.text:
+        return None
+    return _value(test, facts, names)
+
+
+def dead_version_branch(node: ast.AST, facts: ModuleFacts) -> ast.If | ast.IfExp | None:
+    """The settled version check (``settled_test``) whose branch that never runs holds ``node``."""
+    if "__version__" not in facts.text:
+        return None
+    child = node
+    for ancestor in facts.ancestors(node):
+        if isinstance(ancestor, (ast.If, ast.IfExp)) and child is not ancestor.test:
+            value = settled_test(ancestor.test, facts)
+            if value is not None:
+                body = ancestor.body if isinstance(ancestor, ast.If) else [ancestor.body]
+                in_body = any(child is statement for statement in body)
+                if in_body is not value:
+                    return ancestor
+        child = ancestor
+    return None
+
+
+def _value(test: ast.AST, facts: ModuleFacts, names: frozenset[str]) -> bool | None:
+    if isinstance(test, ast.UnaryOp) and isinstance(test.op, ast.Not):
+        inner = _value(test.operand, facts, names)
+        return None if inner is None else not inner
+    if isinstance(test, ast.BoolOp):
+        values = [_value(v, facts, names) for v in test.values]
+        decisive = isinstance(test.op, ast.Or)  # ``or``: one True settles it; ``and``: one False
+        if decisive in values:
+            return decisive
+        return None if None in values else not decisive
+    if isinstance(test, ast.Compare) and len(test.ops) == 1:
+        return _compare(test.left, test.ops[0], test.comparators[0], names, None)
+    if isinstance(test, ast.Call) and isinstance(test.func, ast.Name) and len(test.args) == 1 and not test.keywords:
+        literal = _constant_of(test.args[0], facts)
+        helper = _helper(test.func.id, facts)
+        if helper is not None and isinstance(literal, ast.Constant) and isinstance(literal.value, str):
+            function, compare, parameter = helper
+            release = _release(literal.value)
+            if release is None:
+                return None
+            return _compare(compare.left, compare.ops[0], compare.comparators[0], names, (parameter, release))
+    return None
+
+
+def _helper(name: str, facts: ModuleFacts) -> tuple[ast.AST, ast.Compare, str] | None:
+    """A module-level ``def name(p): return <compare of the parsed version with parsed p>``."""
+    for statement in facts.tree.body:
+        if isinstance(statement, FUNCTIONS) and statement.name == name:
+            arguments = statement.args
+            if len(arguments.args) != 1 or arguments.vararg or arguments.kwarg or arguments.kwonlyargs:
+                return None
+            body = [s for s in statement.body if not (isinstance(s, ast.Expr) and isinstance(s.value, ast.Constant))]
+            if len(body) == 1 and isinstance(body[0], ast.Return) and isinstance(body[0].value, ast.Compare):
+                compare = body[0].value
+                if len(compare.ops) == 1:
+                    return statement, compare, arguments.args[0].arg
+            return None
+    return None
+
+
+def _compare(
+    left: ast.AST, op: ast.cmpop, right: ast.AST, names: frozenset[str], parameter: tuple[str, tuple[int, ...]] | None
+) -> bool | None:
+    """``left op right``, one side the gym version and the other a 0.x release, both read the
+    same way (both raw strings, or both parsed)."""
+    left_side, right_side = _side(left, names, parameter), _side(right, names, parameter)
+    if left_side is None or right_side is None:
+        return None
+    (left_kind, left_parsed), (right_kind, right_parsed) = left_side, right_side
+    kind = type(op)
+    if right_kind == "version":
+        left_kind, right_kind, left_parsed, right_parsed = right_kind, left_kind, right_parsed, left_parsed
+        kind = _MIRRORED.get(kind, kind)
+    if left_kind != "version" or not isinstance(right_kind, tuple) or left_parsed != right_parsed or kind not in _COMPARE:
+        return None
+    other = right_kind
+    if not other or other >= (1,):
+        return None  # a 1.x release may answer differently on another Gymnasium release
+    if kind in (ast.Eq, ast.NotEq):
+        return kind is ast.NotEq
+    width = max(len(GYMNASIUM_RELEASE), len(other))
+    target = (GYMNASIUM_RELEASE + (0,) * width)[:width]
+    return bool(_COMPARE[kind](target, (other + (0,) * width)[:width]))
+
+
+def _side(node: ast.AST, names: frozenset[str], parameter: tuple[str, tuple[int, ...]] | None):
+    """("version", parsed) for the gym version, (release, parsed) for a 0.x literal (or the
+    helper's parameter, standing for the literal its call passes); None for anything else.
+    ``parsed``: whether a parse (``version.parse``, ``[int(x) for x in v.split(".")]``) reads it."""
+    if _is_version(node, names):
+        return "version", False
+    if isinstance(node, ast.Constant) and isinstance(node.value, str):
+        release = _release(node.value)
+        return (release, False) if release is not None else None
+    if parameter is not None and isinstance(node, ast.Name) and node.id == parameter[0]:
+        return parameter[1], False
+    leaves = [n for n in ast.walk(node) if _is_version(n, names)]
+    literals = [n for n in ast.walk(node) if isinstance(n, ast.Constant) and isinstance(n.value, str) and _release(n.value)]
+    params = [n for n in ast.walk(node) if parameter is not None and isinstance(n, ast.Name) and n.id == parameter[0]]
+    if len(leaves) + len(literals) + len(params) != 1 or not _order_keeping(node, names, parameter):
+        return None
+    if leaves:
+        return "version", True
+    if literals:
+        release = _release(str(literals[0].value))
+        return (release, True) if release is not None else None
+    return parameter[1], True  # type: ignore[index]
+
+
+def _order_keeping(node: ast.AST, names: frozenset[str], parameter) -> bool:
+    """Only calls of parsers, ``.split(".")``, comprehensions and ``[:n]`` slices: a parse
+    that orders releases as versions are ordered."""
+    local = {n.id for n in ast.walk(node) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Store)}
+    for n in ast.walk(node):
+        if isinstance(n, ast.Subscript):
+            if not (isinstance(n.slice, ast.Slice) and n.slice.lower is None and n.slice.step is None):
+                return False
+        elif isinstance(n, ast.Call):
+            func = n.func
+            name = func.attr if isinstance(func, ast.Attribute) else func.id if isinstance(func, ast.Name) else None
+            if name == "split":
+                if not (len(n.args) == 1 and isinstance(n.args[0], ast.Constant) and n.args[0].value == "."):
+                    return False
+            elif name not in _PARSERS:
+                return False
+        elif isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load):
+            if n.id not in local and n.id not in names and n.id not in _PARSERS and (parameter is None or n.id != parameter[0]):
+                if n.id not in ("version", "packaging", "distutils"):
+                    return False
+    return True
+
+
+def _is_version(node: ast.AST, names: frozenset[str]) -> bool:
+    return isinstance(node, ast.Attribute) and node.attr == "__version__" and isinstance(node.value, ast.Name) and node.value.id in names
+
+
+def _release(text: str) -> tuple[int, ...] | None:
+    """``"0.26.0"`` -> (0, 26, 0); None for anything but dotted numbers."""
+    parts = text.split(".")
+    if not parts or not all(part.isdigit() for part in parts):
+        return None
+    return tuple(int(part) for part in parts)
+
+
+def _constant_of(node: ast.expr, facts: ModuleFacts) -> ast.expr:
+    """A module-level name assigned once, a string (``V_NEW_API = "0.26.0"``): that string."""
+    if not isinstance(node, ast.Name):
+        return node
+    values = [
+        s.value
+        for s in facts.tree.body
+        if isinstance(s, ast.Assign) and any(isinstance(t, ast.Name) and t.id == node.id for t in s.targets)
+    ]
+    stores = [n for n in ast.walk(facts.tree) if isinstance(n, ast.Name) and n.id == node.id and not isinstance(n.ctx, ast.Load)]
+    if len(values) == 1 and len(stores) == 1 and isinstance(values[0], ast.Constant) and isinstance(values[0].value, str):
+        return values[0]
+    return node
+
+
+def reads_version(test: ast.AST, facts: ModuleFacts) -> bool:
+    """``test`` reads the gym version: directly, or by calling a def of this module that
+    reads it (``if gym_at_least("0.26"):``), settled or not."""
+    names = gym_module_names(facts)
+    if not names or "__version__" not in facts.text:
+        return False
+    helpers = {
+        s.name for s in facts.tree.body if isinstance(s, FUNCTIONS) and any(_is_version(n, names) for n in ast.walk(s))
+    }
+    return any(
+        _is_version(n, names) or (isinstance(n, ast.Call) and isinstance(n.func, ast.Name) and n.func.id in helpers)
+        for n in ast.walk(test)
+    )
