@@ -201,6 +201,7 @@ PZ_MOVED_FAMILIES: dict[str, tuple[str, bool]] = {
     "pettingzoo.mpe": ("mpe2", True),
     "pettingzoo.magent": ("magent2", False),
 }
+PZ_MOVED_PACKAGES = frozenset(new for new, _ in PZ_MOVED_FAMILIES.values())
 # In a subclass of these, ``self.env`` is the wrapped PettingZoo env (the base stores it).
 PZ_WRAPPER_BASES = frozenset(name for name in PZ_AEC_BASES | PZ_PARALLEL_BASES if "Wrap" in name)
 

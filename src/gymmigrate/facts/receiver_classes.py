@@ -33,7 +33,8 @@ class ClassKinds(_Facade):
         # ``class VecEnv(ABC)`` with step_async/step_wait is a VecEnv, as without it
         kinds = [self._base_kind(base) for base in classdef.bases if not is_object(base) and not self._abstract_base(base)]
         useful = [k for k in kinds if k not in (EnvKind.UNKNOWN, EnvKind.NOT_ENV)]
-        if useful and useful[0] is EnvKind.GYM_ENV and self.wraps_gym_only(classdef) is not None:
+        if useful and useful[0] is EnvKind.GYM_ENV and (
+                self.wraps_gym_only(classdef) is not None or self.wraps_pz_parallel(classdef)):
             # A wrapper around an object of a Gym-only library (gym_unity's batched envs): that
             # object keeps gym's API, so neither the wrapper nor its callers are Gymnasium code.
             return EnvKind.UNKNOWN
@@ -80,6 +81,26 @@ class ClassKinds(_Facade):
             if found is not None:
                 return found
         return None
+
+    def wraps_pz_parallel(self, classdef: ast.ClassDef) -> bool:
+        """A subclass of a Gym wrapper class that a construction of this module puts around a
+        PettingZoo parallel env (``ListView(pistonball_v6.parallel_env())``): gym's Wrapper took
+        any object, Gymnasium's refuses one that is no ``gymnasium.Env`` (TypeError). Its
+        ``self.env`` is that parallel env (per-agent dicts, PettingZoo's own reset and step),
+        and the class returns what it builds from them: neither it nor its callers are Gym
+        code; the class is reported (``rules/wrappers``)."""
+        return bool(self.facts.memo(("wraps-pz-parallel", id(classdef)), lambda: self._wraps_pz_parallel(classdef),
+                                    while_computing=False))
+
+    def _wraps_pz_parallel(self, classdef: ast.ClassDef) -> bool:
+        if not self.has_gym_wrapper_base(classdef):
+            return False
+        constructions, _ = self.constructions(classdef)
+        wrapped = [call_argument(call, shift, "env") for call, shift in constructions]
+        # every construction the module shows passes one (a Gym env at another would make
+        # the class serve both: left to the Gym rules, which report what they cannot do)
+        return bool(wrapped) and all(
+            value is not None and self.kind_of(value) is EnvKind.PZ_PARALLEL for value in wrapped)
 
     def _gym_only_inside(self, expr: ast.expr | None, depth: int) -> str | None:
         if expr is None or depth > 4:
@@ -232,6 +253,8 @@ class ClassKinds(_Facade):
         if classdef is None:
             return None
         if self.is_gym_wrapper_class(classdef):
+            if self.wraps_pz_parallel(classdef):
+                return None  # the wrapped parallel env: `self.env` says so
             return None if self.wraps_gym_only(classdef) is not None else EnvKind.GYM_ENV
         kind = self.class_kind(classdef)
         if kind is EnvKind.NOT_ENV and any(self._own_api_base(b) for b in classdef.bases):

@@ -44,6 +44,8 @@ class ParameterKinds(_Facade):
         if is_method and params and params[0] is param:
             return EnvKind.NOT_ENV  # self / cls
         if is_method and name == "env" and function.name == "__init__" and self.is_gym_wrapper_class(classdef):  # type: ignore[arg-type]
+            if self.wraps_pz_parallel(classdef):  # type: ignore[arg-type]
+                return EnvKind.PZ_PARALLEL
             return EnvKind.NOT_ENV if self.wraps_gym_only(classdef) is not None else EnvKind.GYM_ENV  # type: ignore[arg-type]
         position = next((i for i, p in enumerate(params) if p is param), None)
         if position is not None and is_method:

@@ -246,6 +246,12 @@ class Receivers(ClassKinds, ParameterKinds, MadeObjects):
             if ".wrappers." in qualified:
                 return EnvKind.PZ_PARALLEL if "Parallel" in qualified.rsplit(".", 1)[-1] else EnvKind.PZ_AEC
             return None
+        if package in N.PZ_MOVED_PACKAGES:
+            # a family that left PettingZoo (``mpe2.simple_v3.parallel_env()``) still makes
+            # PettingZoo envs: the second pass reads the imports PZ111 rewrote
+            if qualified.endswith(N.PZ_PARALLEL_SUFFIXES):
+                return EnvKind.PZ_PARALLEL
+            return EnvKind.PZ_AEC if qualified.endswith(N.PZ_AEC_SUFFIXES) else None
         if package == N.SUPERSUIT_PACKAGE:
             return self._supersuit_kind(qualified, call)
         if package in N.NOT_ENV_PACKAGES:

@@ -25,7 +25,7 @@ from gymmigrate.facts.decisions import Action, Decision
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.module import full_name
 from gymmigrate.facts.profile import FileProfile
-from gymmigrate.facts.self_attributes import binds_self_attribute
+from gymmigrate.facts.self_attributes import binds_self_attribute, class_self_stores
 from gymmigrate.facts.version_checks import dead_version_branch
 from gymmigrate.findings import RUN_QUESTION, FixKind, Tier, gym_only_question
 from gymmigrate.options import RewriteOptions
@@ -136,12 +136,35 @@ class RuleFamily:
             return None
         if name.split(".", 1)[0] == "self":
             owner: ast.AST | None = self.facts.enclosing_class(receiver)
+            if isinstance(owner, ast.ClassDef):
+                owner = self._twin_class(owner, name.split(".")[1] if name.count(".") >= 1 else "")
             decided_by = self._attribute_owner(owner, name) if isinstance(owner, ast.ClassDef) else None
             if decided_by is not None:
                 return (RUN_QUESTION, decision.action, *decided_by, name)
         else:
             owner = self.facts.enclosing_function(receiver)
         return ("receiver", decision.action, id(owner), name)
+
+    def _twin_class(self, cls: ast.ClassDef, attribute: str) -> ast.ClassDef:
+        """The first class of the module that stores the very same values in
+        ``self.<attribute>`` as ``cls``, each made by a call (a local and a remote twin of one
+        env holder, each building its env with the same code): what those values are is one question, asked
+        once for both; ``cls`` itself when no earlier class does."""
+        if not attribute or cls not in self.facts.tree.body:
+            return cls
+        values = class_self_stores(self.facts, cls).get(attribute)
+        if not values or not all(isinstance(v, ast.Call) for v in values):
+            # an env handed in (``self.env = env``) is whatever each class's callers pass
+            return cls
+        shape = [ast.dump(v) for v in values]
+        for other in self.facts.tree.body:
+            if other is cls:
+                break
+            if isinstance(other, ast.ClassDef) and [
+                ast.dump(v) for v in class_self_stores(self.facts, other).get(attribute, ())
+            ] == shape:
+                return other
+        return cls
 
     def _attribute_owner(self, cls: ast.ClassDef, name: str) -> tuple[str, str] | None:
         """The run's class whose code decides ``self.env`` of ``cls``: ``cls`` itself where it

@@ -214,10 +214,12 @@ def _decide_returns(decision: ClassDecision, function: Method, helpers: set[int]
         if isinstance(done, ast.Name) and index.assigns_name(done.id):
             assigned = _single_assignment(index, done.id)
             if assigned is not None and _split_done(assigned, data_ends):
-                decision.report(ret, "GM504", f"`{done.id}` split: the step-limit test became truncated, the rest terminated", FixKind.ASSIST)
+                decision.report(ret, "GM504", f"`{done.id}` split: the step-limit test became truncated, the rest terminated",
+                                FixKind.ASSIST, question=_split_question(assigned))
                 continue
         elif _split_done(done, data_ends):
-            decision.report(ret, "GM504", "done split: the step-limit test became truncated, the rest terminated", FixKind.ASSIST)
+            decision.report(ret, "GM504", "done split: the step-limit test became truncated, the rest terminated",
+                            FixKind.ASSIST, question=_split_question(done))
             continue
         if isinstance(done, ast.Constant) and done.value is False:
             # This return never ends an episode, on a limit or otherwise: nothing to split.
@@ -583,6 +585,12 @@ def _or_operands(expr: ast.AST) -> list[ast.AST]:
     if isinstance(expr, ast.BoolOp) and isinstance(expr.op, ast.Or):
         return [operand for value in expr.values for operand in _or_operands(value)]
     return [expr]
+
+
+def _split_question(expr: ast.AST) -> Hashable:
+    """The split of one done expression: the same wherever a class of the file (a twin
+    subclass's own step) splits the same expression, so the file asks it once."""
+    return ("GM504", "split", ast.dump(unwrap_bool(expr)))
 
 
 def _split_done(expr: ast.AST, data_ends: frozenset[str] = frozenset()) -> bool:

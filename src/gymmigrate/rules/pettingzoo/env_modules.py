@@ -56,6 +56,9 @@ class Bump:
     # (keyword, value source) it means, ("", "") to drop it}; a value not listed, or a
     # keyword mapped to None, has no certain equivalent and is reported
     keywords: dict[str, dict[object, tuple[str, str | None]] | None] = field(default_factory=dict)
+    # envs whose bumps change the same thing (MPE's move to mpe2): one decision for a file
+    # that imports several of them, asked once (the change text differs only in the version)
+    group: str = ""
 
     @property
     def removed_keywords(self) -> tuple[str, ...]:
@@ -71,10 +74,10 @@ FACTORIES = frozenset({"env", "parallel_env", "raw_env"})
 # (family module, env name) -> its bump. Families: the package the env is imported from
 # in PettingZoo 1.21 (``pettingzoo.mpe``'s envs now come from ``mpe2``).
 BUMPS: dict[tuple[str, str], Bump] = {
-    **{("pettingzoo.mpe", name): Bump(3, 2, _MPE_V3.format(old=2)) for name in (
+    **{("pettingzoo.mpe", name): Bump(3, 2, _MPE_V3.format(old=2), group="mpe2") for name in (
         "simple", "simple_adversary", "simple_crypto", "simple_push", "simple_reference",
         "simple_spread", "simple_tag", "simple_world_comm")},
-    ("pettingzoo.mpe", "simple_speaker_listener"): Bump(4, 3, _MPE_V3.format(old=3)),
+    ("pettingzoo.mpe", "simple_speaker_listener"): Bump(4, 3, _MPE_V3.format(old=3), group="mpe2"),
     ("pettingzoo.butterfly", "knights_archers_zombies"): Bump(
         11, 10, "v11 (PettingZoo 1.25.1) is a rewrite with numerous fixes: `spawn_rate` is `spawn_delay`, "
         "`vector_state`, `use_typemasks` and `transformer` became `obs_method` (default \"vector\"), "
@@ -104,6 +107,13 @@ NOT_MAPPED: dict[tuple[str, str], str] = {
     ("pettingzoo.classic", "gin_rummy"): "gin_rummy was removed from PettingZoo; its implementation remains in RLCard",
     ("pettingzoo.sisl", "waterworld"): "waterworld is not in PettingZoo 1.27: check the release you target",
 }
+
+
+def _question(changes: list[str]) -> tuple[str, str] | None:
+    """What the review of these bumps asks: the same for every import of the file that
+    bumps envs of one group (or of one env), so the file asks it once."""
+    groups = {next((b.group or b.change for b in BUMPS.values() if b.change == change), change) for change in changes}
+    return ("PZ111", groups.pop()) if len(groups) == 1 else None
 
 
 def new_module(family: str) -> str:
@@ -185,7 +195,8 @@ class EnvModules(PettingZooFamily):
         bumped = "; ".join(f"{', '.join(pairs)} (the old version raises DeprecatedEnv on PettingZoo 1.27); "
                            f"review: {change}" for change, pairs in notes.items())
         message = "; ".join(part for part in (moved, bumped) if part)
-        self.report(statement, "PZ111", message, FixKind.ASSIST if notes else FixKind.AUTO)
+        self.report(statement, "PZ111", message, FixKind.ASSIST if notes else FixKind.AUTO,
+                    question=_question(list(notes)))
 
     # -- from pettingzoo.mpe.simple_spread_v2 import parallel_env ----------------------------
 
@@ -202,7 +213,8 @@ class EnvModules(PettingZooFamily):
         moved = f"`{statement.module}` is `{target}` now"
         if note:
             moved += f" (the old version raises DeprecatedEnv on PettingZoo 1.27); review: {note}"
-        self.report(statement, "PZ111", moved, FixKind.ASSIST if note else FixKind.AUTO)
+        self.report(statement, "PZ111", moved, FixKind.ASSIST if note else FixKind.AUTO,
+                    question=_question([note] if note else []))
 
     # -- the table ---------------------------------------------------------------------------
 

@@ -536,6 +536,13 @@ class WrapperForwarding(RuleFamily):
             return
         if augmented:
             return  # never stored but through ``+=``: reported where it is (_read_before_own_write's case)
+        if self.receivers.wraps_pz_parallel(classdef):
+            # no Gymnasium wrapper (GM602 at the class): the attribute is the parallel env's, on `self.env`
+            # whatever base the class takes instead
+            self.report(attr, "GM604", f"attribute forwarding is gone: `{name}` is the wrapped parallel env's, "
+                        f"read as `self.env.{name}`", tier=Tier.NOTE)
+            self.plan.replace(attr, lambda node: node.with_changes(value=_self_env()))
+            return
         self.report(
             attr,
             "GM604",
@@ -1121,3 +1128,7 @@ def _reads_self_attribute(node: ast.AST, name: str) -> bool:
         isinstance(n, ast.Attribute) and n.attr == name and isinstance(n.ctx, ast.Load) and isinstance(n.value, ast.Name) and n.value.id == "self"
         for n in ast.walk(node)
     )
+
+
+def _self_env() -> cst.Attribute:
+    return cst.Attribute(value=cst.Name("self"), attr=cst.Name("env"))

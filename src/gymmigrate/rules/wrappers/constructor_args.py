@@ -79,6 +79,8 @@ class WrapperConstructorArgs(RuleFamily):
         for classdef in self.facts.all_classes:
             if not self.receivers.is_gym_wrapper_class(classdef) or self._records_already(classdef):
                 continue
+            if self.receivers.wraps_pz_parallel(classdef):
+                continue  # no Gymnasium wrapper: reported (GM602)
             if self._derives_from_a_helper(classdef):
                 continue
             init = next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == "__init__"), None)

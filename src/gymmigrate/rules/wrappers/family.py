@@ -55,6 +55,17 @@ class WrapperClasses(StepOverrides, ResetOverrides):
                     question=gym_only_question(N.gym_only_stack(library.split(".", 1)[0])),
                 )
                 continue
+            if self.receivers.wraps_pz_parallel(classdef):
+                self.report(
+                    classdef,
+                    "GM602",
+                    f"`{classdef.name}` is a Gym wrapper around a PettingZoo parallel env: gymnasium.Wrapper refuses "
+                    "an env that is no gymnasium.Env (TypeError), so derive it from `object` (store `self.env = env` "
+                    "and read the env's attributes there) or from PettingZoo's `BaseParallelWrapper`; its reset and "
+                    "step keep their own API, with PettingZoo's per-agent terminations and truncations",
+                    FixKind.FLAG,
+                )
+                continue
             self._check_gone_state(classdef)
             for statement in classdef.body:
                 if not isinstance(statement, FUNCTIONS):
