@@ -791,7 +791,7 @@ _ATARI_TEMPLATE_PARTS = ("NoFrameskip", "ALE/")
 
 
 def _atari_template(facts: ModuleFacts, value: ast.expr) -> str | None:
-    """The Atari part of ``'...'.format(...)`` / ``'...' % ...`` / an f-string, or None."""
+    """The Atari part of ``'...'.format(...)`` / ``'...' % ...`` / an f-string / a concatenation, or None."""
     parts: list[str] = []
     if isinstance(value, ast.JoinedStr):
         parts = [v.value for v in value.values if isinstance(v, ast.Constant) and isinstance(v.value, str)]
@@ -805,6 +805,15 @@ def _atari_template(facts: ModuleFacts, value: ast.expr) -> str | None:
         parts = [value.func.value.value]
     elif isinstance(value, ast.BinOp) and isinstance(value.op, ast.Mod) and isinstance(value.left, ast.Constant) and isinstance(value.left.value, str):
         parts = [value.left.value]
+    elif isinstance(value, ast.BinOp) and isinstance(value.op, ast.Add):
+        # ``game + "NoFrameskip-v4"``: the literal operands of the concatenation
+        operands: list[ast.expr] = [value]
+        while operands:
+            operand = operands.pop()
+            if isinstance(operand, ast.BinOp) and isinstance(operand.op, ast.Add):
+                operands += [operand.left, operand.right]
+            elif isinstance(operand, ast.Constant) and isinstance(operand.value, str):
+                parts.append(operand.value)
     for part in parts:
         for sign in _ATARI_TEMPLATE_PARTS:
             if sign in part and (sign != "ALE/" or part.lstrip().startswith("ALE/")):
