@@ -122,6 +122,8 @@ class EnvIds(RuleFamily):
         return any(view.uses_atari(q) for q in facts.imports.values())
 
     def decide(self) -> None:
+        if self.notes.gym_kept_for is not None:
+            return  # the file stays on gym with the library its envs go to: gym registers its ids
         self._rename_lives_key()
         self._planned: set[ast.Constant] = set()
         self._new_keywords: dict[ast.Call, list[tuple[str, str]]] = {}
