@@ -4,6 +4,7 @@ as, and of several candidates the one whose import root is nearest the importer.
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 
@@ -32,3 +33,19 @@ def module_names(path: str) -> list[str]:
     if parts and parts[-1] == "__init__":
         parts.pop()
     return [".".join(parts[i:]) for i in range(len(parts) - 1, -1, -1) if parts[i:]]
+
+
+_TEST_DIRECTORIES = frozenset({"test", "tests", "testing"})
+
+
+def is_test_path(path: str) -> bool:
+    """A module of the project's tests by the conventions pytest and unittest collect:
+    under a ``test``/``tests`` directory, or named ``test_*.py``, ``*_test.py``, ``conftest.py``."""
+    parts = os.path.normpath(path).split(os.sep)
+    name = parts[-1]
+    return (
+        any(part in _TEST_DIRECTORIES for part in parts[:-1])
+        or name.startswith("test_")
+        or name.endswith("_test.py")
+        or name == "conftest.py"
+    )

@@ -200,6 +200,9 @@ class ProjectFacts:
     # passes a Gym env there: where that env is made, for a message (a render whose make
     # is in the run script).
     gym_env_callers: dict[tuple[str, str, str], tuple[tuple[str, int], ...]] = field(default_factory=dict)
+    # the same for the calls that pass an env of another kind (a VecEnv, a test double with
+    # an API of its own): whether those are only tests decides what a made env's reads need.
+    other_env_callers: dict[tuple[str, str, str], tuple[tuple[str, int], ...]] = field(default_factory=dict)
     # (path, top-level name) another module reads as a value, not called (``handed_on``)
     handed_on: set[tuple[str, str]] = field(default_factory=set)
 

@@ -52,9 +52,11 @@ class ParamJoin:
                     resolved = self._resolve(kind, caller)
                     external[(path, qualname, param)].append(resolved)
                     kept[(path, qualname, param)].append(self._kept_class(kind, caller))
+                    key = (path, qualname, param)
                     if resolved is EnvKind.GYM_ENV:
-                        key = (path, qualname, param)
                         self.facts.gym_env_callers[key] = (*self.facts.gym_env_callers.get(key, ()), (caller, call.line))
+                    elif not resolved.is_gym and resolved not in (EnvKind.NOT_ENV, EnvKind.UNKNOWN):
+                        self.facts.other_env_callers[key] = (*self.facts.other_env_callers.get(key, ()), (caller, call.line))
             if outside and not signature.is_method:
                 for param in signature.params:
                     self.facts.passed_ids[(path, qualname, param)] = tuple(self._id_passed(signature, call, param) for call in outside)

@@ -9,7 +9,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from gymmigrate.facts.import_roots import nearest_root
+from gymmigrate.facts.import_roots import is_test_path, nearest_root
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.limits import Cause, DoneCause, Limit
 from gymmigrate.facts.module_summary import MAX_CHAIN, REF
@@ -76,6 +76,15 @@ class ProjectView:
             f"{os.path.relpath(path, os.path.dirname(self.path))}:{line}"
             for path, line in self.facts.gym_env_callers.get((self.path, qualname, param), ())
         ]
+
+    def test_double_callers(self, qualname: str, param: str) -> list[str] | None:
+        """``tests/x_test.py:16`` for each call in another module that passes an env of
+        another kind than a Gym env to ``param`` (a mock with an API of its own), when every
+        such call is in a test module; None when one is not."""
+        callers = self.facts.other_env_callers.get((self.path, qualname, param), ())
+        if not callers or not all(is_test_path(path) for path, _ in callers):
+            return None
+        return [f"{os.path.relpath(path, os.path.dirname(self.path))}:{line}" for path, line in callers]
 
     def passed_ids(self, function: str, param: str) -> tuple[str | None, ...]:
         """For a top-level def of this file, the env id each call in another module passes to
@@ -400,3 +409,4 @@ class ProjectView:
             return None
         name = parts[-1]
         return name in self.facts.env_classes.get(path, ()), name in self.facts.render_mode_classes.get(path, ())
+

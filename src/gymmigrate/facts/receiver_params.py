@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING
 from gymmigrate.facts import names as N
 from gymmigrate.facts.callables import optional_of, parse_annotation, string_names
 from gymmigrate.facts.flow import Flow
+from gymmigrate.facts.import_roots import is_test_path
 from gymmigrate.facts.kinds import EnvKind, join_kinds
 from gymmigrate.facts.module import FUNCTIONS, call_argument
 from gymmigrate.facts.pytest_params import fixture_values, param_fixtures, param_values
@@ -28,6 +29,7 @@ class ParameterKinds(_Facade):
 
     # parameters whose callers pass a Gym env and another kind of env: (gym kinds, others)
     _mixed_params: dict[ast.arg, tuple[list[str], list[str]]]
+    _test_double_params: dict[ast.arg, list[str]]
 
     def _param_kind(self, param: ast.arg) -> EnvKind:
         if param.annotation is not None:
@@ -86,6 +88,14 @@ class ParameterKinds(_Facade):
             # Some callers pass a Gym env, others a VecEnv or a PettingZoo env: the same code
             # serves both, so no rewrite is right for all of them; reported (``mixed_callers``).
             self._mixed_params[param] = (sorted(k.value for k in gym), sorted(k.value for k in others))
+            local = kinds[len(external) :]
+            if self.project is not None and not any(k in others for k in local) and not is_test_path(self.project.path):
+                # every other kind is a test module's double (``MockEnv`` with an ``ale`` of its
+                # own): what a made env needs is still the production path's question
+                qualname = f"{classdef.name}.{function.name}" if is_method else function.name  # type: ignore[union-attr]
+                doubles = self.project.test_double_callers(qualname, name)
+                if doubles:
+                    self._test_double_params[param] = doubles
             return EnvKind.UNKNOWN
         if gym:
             kept, other = self.param_kept_classes(param)
@@ -223,6 +233,33 @@ class ParameterKinds(_Facade):
             if found is not None:
                 return found
         return None
+
+    def test_double_callers(self, expr: ast.AST, _depth: int = 0) -> list[str] | None:
+        """Where test modules pass a double of their own to what ``expr`` (a parameter, ``self.x``
+        stored from one, or a name bound to either) holds, when this module's own calls pass
+        it a Gym env and only tests pass anything else. None when that is not so."""
+        if _depth > 4:
+            return None
+        self.kind_of(expr)  # fills ``_test_double_params`` on the way
+        values: list[ast.AST] = []
+        if isinstance(expr, ast.Attribute) and isinstance(expr.value, ast.Name) and self.is_self(expr.value):
+            values = list(self.self_attribute_values(expr, expr.attr))
+        elif isinstance(expr, ast.Name):
+            for binding in self.facts.bindings_of(expr):
+                if isinstance(binding, ast.arg):
+                    if binding not in self._test_double_params:
+                        return None
+                    return self._test_double_params[binding]
+                parent = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
+                if isinstance(parent, ast.Assign):
+                    values.append(parent.value)
+        found: list[str] = []
+        for value in values:
+            callers = self.test_double_callers(value, _depth + 1)
+            if callers is None:
+                return None
+            found += [c for c in callers if c not in found]
+        return found or None
 
     def annotation_kind(self, annotation: ast.AST) -> EnvKind:
         if isinstance(annotation, ast.Constant) and isinstance(annotation.value, str):

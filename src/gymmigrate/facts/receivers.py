@@ -81,6 +81,8 @@ class Receivers(ClassKinds, ParameterKinds, MadeObjects):
         self._mixed: set[int] = set()  # bindings lists whose kinds disagree
         # parameters whose callers pass a Gym env and another kind of env: (gym kinds, others)
         self._mixed_params: dict[ast.arg, tuple[list[str], list[str]]] = {}
+        # of those, the parameters whose other kinds come only from test modules: their callers there
+        self._test_double_params: dict[ast.arg, list[str]] = {}
         self.depth = 0  # shared with the helpers: one bound on the whole chain of questions
         self.callables = CallableKinds(self, project)
         self.narrowing = Narrowing(facts, lambda value: self.kind_of(value) is EnvKind.GYM_ENV)

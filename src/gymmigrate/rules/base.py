@@ -253,9 +253,15 @@ class RuleFamily:
         statement = self.facts.statement_of(last) if isinstance(last, ast.Name) else None
         if last is not None and isinstance(statement, ast.Assign) and flow.dominates(statement, receiver, receiver):
             bindings = [last]  # the value this read certainly sees
+        else:
+            # ``env = Monitor(env, d)`` in one branch, after ``env = Monitor(gym.make(...), d)``:
+            # the values that may reach the read, not those overwritten before it
+            bindings = flow.reaching(receiver) or bindings
         tops: set[str] = set()
         for binding in bindings:
             assign = self.facts.parent(binding)
+            if isinstance(assign, ast.Assign) and isinstance(assign.value, ast.Constant) and assign.value.value is None:
+                continue  # ``eval_env = None``: a method call on it would fail, so it is not what is asked about
             if not (isinstance(binding, ast.Name) and isinstance(assign, ast.Assign) and isinstance(assign.value, ast.Call)):
                 return None
             packages = self._call_packages(assign.value)

@@ -23,6 +23,9 @@ class FamilyNotes:
     # wrappers family returns the new flags from a wrapper's ``step`` and may withdraw the
     # inserted ``done = ...`` line once its return no longer reads ``done``.
     step_unpacks: dict[ast.Assign, StepUnpack] = field(default_factory=dict)
+    # Imports -> EnvIds: ``import gym`` stays on gym, because every env the file makes goes
+    # to a library still on gym (baselines): the stack's name. Its ids stay gym's too.
+    gym_kept_for: str | None = None
     # EnvIds -> RegistryApi: the registration block already imports gymnasium.
     gymnasium_imported: bool = False
     # WrapperRenames <-> Rendering: the ``render_mode`` added to a make (id of the call ->

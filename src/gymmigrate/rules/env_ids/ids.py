@@ -122,6 +122,8 @@ class EnvIds(RuleFamily):
         return any(view.uses_atari(q) for q in facts.imports.values())
 
     def decide(self) -> None:
+        if self.notes.gym_kept_for is not None:
+            return  # the file stays on gym with the library its envs go to: gym registers its ids
         self._rename_lives_key()
         self._planned: set[ast.Constant] = set()
         self._new_keywords: dict[ast.Call, list[tuple[str, str]]] = {}
@@ -162,6 +164,7 @@ class EnvIds(RuleFamily):
 
     def _id_sites(self) -> list[IdSite]:
         sites: list[IdSite] = []
+        self._option_ids = self._options_read_as_ids()
         for call in _calls_in_source_order(self.facts):
             forwards = self._id_call(call)
             if forwards is None:
@@ -188,6 +191,9 @@ class EnvIds(RuleFamily):
                 else:
                     sites.extend(self._parameter_ids(arg))
                     self._atari_helper(call, arg)
+                    self._formatted_atari_id(arg)
+            elif _atari_template(self.facts, arg) is not None:
+                self._formatted_atari_id(arg)
         sites.extend(self._constants_passed_on())
         sites.extend(self._ids_passed_on())
         return sites
@@ -286,6 +292,56 @@ class EnvIds(RuleFamily):
             if site is not None:
                 sites.append(site)
         return sites
+
+    def _formatted_atari_id(self, arg: ast.expr) -> None:
+        """``gym.make('{}NoFrameskip-{}'.format(game, version))`` (or an f-string, directly or
+        through the name it is assigned to): the literal part of the template names an Atari id
+        (``NoFrameskip``, ``-ramNoFrameskip``, the ``ALE/`` namespace) whatever is filled in, so
+        the module makes Atari envs and needs ``import ale_py``. Where only some of the
+        assignments that may reach the call build such an id, it is for review."""
+        if ALE.module in self._packages:
+            return
+        values: list[ast.expr] = [arg]
+        if isinstance(arg, ast.Name):
+            values = []
+            for binding in self.facts.bindings_of(arg):
+                statement = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
+                if not (isinstance(statement, ast.Assign) and statement.targets == [binding]):
+                    return  # a parameter, a loop variable...: what reaches the call is unknown
+                values.append(statement.value)
+        templates = [(value, _atari_template(self.facts, value)) for value in values]
+        found = [(value, part) for value, part in templates if part is not None]
+        if not found:
+            return
+        value, part = found[0]
+        if len(found) == len(templates):
+            message = (
+                f"the id is built from a template holding `{part}`, an Atari id whatever is filled in: since Gymnasium 1.0 "
+                "Atari envs need `import ale_py`; added it with `register_envs(ale_py)`"
+            )
+            kind = FixKind.AUTO
+        else:
+            message = (
+                f"the id may be built from a template holding `{part}` (an Atari id), other assignments reach the call too: "
+                "since Gymnasium 1.0 Atari envs need `import ale_py`; added it with `register_envs(ale_py)`: drop it if "
+                "this module never makes Atari envs"
+            )
+            kind = FixKind.ASSIST
+        self._packages[ALE.module] = (ALE, value, (message, kind))
+
+    def _options_read_as_ids(self) -> frozenset[str]:
+        """``gym.make(args.game)`` (``str(args.game)``): the attribute names of parsed options that
+        this module hands to a call taking an env id, so ``--game``'s argparse default is an id too."""
+        names = set()
+        for call in _calls_in_source_order(self.facts):
+            if self._id_call(call) is None:
+                continue
+            arg = id_argument(call)
+            if isinstance(arg, ast.Call) and isinstance(arg.func, ast.Name) and arg.func.id == "str" and len(arg.args) == 1:
+                arg = arg.args[0]
+            if isinstance(arg, ast.Attribute) and isinstance(arg.value, ast.Name):
+                names.add(arg.attr)
+        return frozenset(names)
 
     def _atari_helper(self, call: ast.Call, name: ast.Name) -> None:
         """``def make_atari(env_id): env = gym.make(env_id); assert "NoFrameskip" in env.spec.id``:
@@ -534,7 +590,7 @@ class EnvIds(RuleFamily):
         if not (isinstance(call.func, ast.Attribute) and call.func.attr == "add_argument"):
             return []
         flags = [plain_string(self.facts, a) for a in call.args]
-        if not any(flag and _ENV_OPTION.match(flag) for flag in flags):
+        if not any(flag and (_ENV_OPTION.match(flag) or _option_dest(call, flag) in self._option_ids) for flag in flags):
             return []
         sites = []
         for kw in call.keywords:
@@ -718,6 +774,53 @@ class EnvIds(RuleFamily):
         while self.facts.parent(statement) is not tree:
             statement = self.facts.statement_of(self.facts.parent(statement))  # type: ignore[arg-type]
         return statement
+
+
+def _option_dest(call: ast.Call, flag: str) -> str | None:
+    """The attribute ``parse_args()`` stores an option under: ``dest=``, else its long flag
+    without dashes (``--env-name`` -> ``env_name``); None for a short flag."""
+    for kw in call.keywords:
+        if kw.arg == "dest" and isinstance(kw.value, ast.Constant) and isinstance(kw.value.value, str):
+            return kw.value.value
+    if not flag.startswith("--"):
+        return None
+    return flag[2:].replace("-", "_")
+
+
+# What the literal part of a built id names for certain: an Atari id, whatever the
+# placeholders hold (``'{}NoFrameskip-{}'``, ``f"ALE/{game}-v5"``).
+_ATARI_TEMPLATE_PARTS = ("NoFrameskip", "ALE/")
+
+
+def _atari_template(facts: ModuleFacts, value: ast.expr) -> str | None:
+    """The Atari part of ``'...'.format(...)`` / ``'...' % ...`` / an f-string / a concatenation, or None."""
+    parts: list[str] = []
+    if isinstance(value, ast.JoinedStr):
+        parts = [v.value for v in value.values if isinstance(v, ast.Constant) and isinstance(v.value, str)]
+    elif (
+        isinstance(value, ast.Call)
+        and isinstance(value.func, ast.Attribute)
+        and value.func.attr == "format"
+        and isinstance(value.func.value, ast.Constant)
+        and isinstance(value.func.value.value, str)
+    ):
+        parts = [value.func.value.value]
+    elif isinstance(value, ast.BinOp) and isinstance(value.op, ast.Mod) and isinstance(value.left, ast.Constant) and isinstance(value.left.value, str):
+        parts = [value.left.value]
+    elif isinstance(value, ast.BinOp) and isinstance(value.op, ast.Add):
+        # ``game + "NoFrameskip-v4"``: the literal operands of the concatenation
+        operands: list[ast.expr] = [value]
+        while operands:
+            operand = operands.pop()
+            if isinstance(operand, ast.BinOp) and isinstance(operand.op, ast.Add):
+                operands += [operand.left, operand.right]
+            elif isinstance(operand, ast.Constant) and isinstance(operand.value, str):
+                parts.append(operand.value)
+    for part in parts:
+        for sign in _ATARI_TEMPLATE_PARTS:
+            if sign in part and (sign != "ALE/" or part.lstrip().startswith("ALE/")):
+                return sign
+    return None
 
 
 def _calls_in_source_order(facts: ModuleFacts) -> list[ast.Call]:

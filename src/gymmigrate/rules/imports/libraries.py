@@ -10,6 +10,7 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.facts import names as N
+from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.module import full_name
 from gymmigrate.findings import FixKind, gym_only_question
 from gymmigrate.rules.imports.common import ImportsBase
@@ -230,6 +231,66 @@ class GymOnlyLibraries(ImportsBase):
                 return None
             found = found or library
         return found
+
+    def _fed_only_to_gym_only_library(self, node: ast.Import) -> str | None:
+        """``import gym`` read only as ``gym.make(...)``, and every env made so goes only to
+        a library still on gym (``bench.Monitor(env, d)``, ``learn(env=env)`` of baselines):
+        that library's stack, else None. The file is a consumer of that stack."""
+        if len(node.names) != 1:
+            return None
+        alias = node.names[0]
+        name = alias.asname or alias.name
+        stacks: set[str] = set()
+        for read in ast.walk(self.facts.tree):
+            if not (isinstance(read, ast.Name) and read.id == name and isinstance(read.ctx, ast.Load)):
+                continue
+            if alias not in self.facts.bindings_of(read):
+                continue
+            attr = self.facts.parent(read)
+            call = self.facts.parent(attr) if attr is not None else None
+            if not (isinstance(attr, ast.Attribute) and attr.attr == "make" and isinstance(call, ast.Call) and call.func is attr):
+                return None  # gym used for something else (a wrapper, spaces): the file is not only a consumer
+            stack = self._made_env_goes_to(call)
+            if stack is None:
+                return None
+            stacks.add(stack)
+        return stacks.pop() if len(stacks) == 1 else None
+
+    def _made_env_goes_to(self, call: ast.Call) -> str | None:
+        """The Gym-only stack whose call receives what ``call`` makes, directly or through the
+        one name it is assigned to (every read that value reaches is such an argument)."""
+        parent = self.facts.parent(call)
+        if isinstance(parent, ast.keyword):
+            parent = self.facts.parent(parent)
+        if isinstance(parent, ast.Call) and call is not parent.func:
+            return self._gym_only_callee(parent)
+        if not (isinstance(parent, ast.Assign) and parent.value is call and len(parent.targets) == 1 and isinstance(parent.targets[0], ast.Name)):
+            return None
+        target = parent.targets[0]
+        flow = Flow.of(self.facts)
+        stacks: set[str | None] = set()
+        for read in ast.walk(self.facts.tree):
+            if not (isinstance(read, ast.Name) and read.id == target.id and isinstance(read.ctx, ast.Load)):
+                continue
+            if target not in self.facts.bindings_of(read):
+                continue
+            reaching = flow.reaching(read)
+            if reaching is not None and target not in reaching:
+                continue  # ``env = bench.Monitor(env, d)`` rebound it before this read
+            holder = self.facts.parent(read)
+            if isinstance(holder, ast.keyword):
+                holder = self.facts.parent(holder)
+            if not (isinstance(holder, ast.Call) and read is not holder.func):
+                return None  # used as an env here (``env.reset()``): not only the library's
+            stacks.add(self._gym_only_callee(holder))
+        return stacks.pop() if len(stacks) == 1 else None
+
+    def _gym_only_callee(self, call: ast.Call) -> str | None:
+        for qualified in self.facts.qualified_names(call.func):
+            top = qualified.split(".", 1)[0]
+            if top in N.GYM_ONLY_PACKAGES and top in _LEGACY_ENV_BUILDERS and not self._of_the_run(top):
+                return N.gym_only_stack(top)
+        return None
 
     def _legacy_builder_around(self, node: ast.AST) -> str | None:
         """The call of a legacy-gym library whose arguments hold ``node``, as ``tf_agents'

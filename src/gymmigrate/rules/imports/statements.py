@@ -10,9 +10,9 @@ import ast
 from gymmigrate.edits.lazy import cst
 from gymmigrate.edits.syntax import dotted_node
 from gymmigrate.facts import ModuleFacts
-from gymmigrate.findings import FixKind
+from gymmigrate.findings import FixKind, gym_only_question
 from gymmigrate.rules.gymnasium_api import has_name, module_exists
-from gymmigrate.rules.imports.libraries import GymOnlyLibraries
+from gymmigrate.rules.imports.libraries import GYM_ONLY_LIBRARIES, GymOnlyLibraries
 from gymmigrate.rules.imports.table import (
     LEGACY_WRAPPER_MODULES,
     MOVED_NAMES,
@@ -40,6 +40,22 @@ class ImportStatements(GymOnlyLibraries):
             hint = removed_module_hint(rest)
             if hint:
                 self._report_removed(node, f"`{module}` was removed: {hint}", hint)
+                names.append((module, alias.asname))
+                continue
+            library = self._fed_only_to_gym_only_library(node) if rest == "" and not guarded else None
+            if library is not None:
+                # ``env = bench.Monitor(gym.make(...))`` for baselines: a Gymnasium env would meet
+                # baselines' legacy calls (seed(), the four-field step); the file moves with that stack
+                self.notes.gym_kept_for = library
+                self.report(
+                    node,
+                    "GM101",
+                    f"left on gym: every env this file makes with `{alias.asname or 'gym'}.make` goes to `{library}`, which "
+                    f"calls gym's API on it (the obs-only reset, the four-field step); keep the file on gym with it, or port both: "
+                    f"{GYM_ONLY_LIBRARIES.get(library, 'it has no Gymnasium release')}",
+                    FixKind.FLAG,
+                    question=gym_only_question(library),
+                )
                 names.append((module, alias.asname))
                 continue
             changed = True

@@ -195,6 +195,7 @@ class WrapperForwarding(RuleFamily):
         sub_env = self._is_sub_env(receiver)
         known = sub_env or self.receivers.kind_of(receiver) is EnvKind.GYM_ENV
         if not known and not self._outer_is_wrapper(receiver):
+            self._read_past_test_double(attr)
             return
         if name == "monitor" and isinstance(attr.ctx, ast.Load) and self._closes_monitor_of_env(attr):
             # ``env.monitor.close()`` on an env the run made, read no more afterwards: the
@@ -340,6 +341,30 @@ class WrapperForwarding(RuleFamily):
             tier=Tier.NOTE,
         )
         self._replace_with_get_wrapper_attr(attr, name)
+
+    def _read_past_test_double(self, attr: ast.Attribute) -> None:
+        """``self.environment.ale.lives()`` where this module's own calls hand ``environment`` a
+        Gym env and only a test module passes a double of its own (``MockEnv`` that sets
+        ``self.ale``): the double has the attribute, the made env's wrappers do not (forwarding
+        is gone), so the production read raises AttributeError. ``.unwrapped.ale`` would fail
+        on the double, which has no ``unwrapped``: the change is for a person, with both sides named."""
+        name = attr.attr
+        if name not in BASE_ENV_ATTRIBUTES or not isinstance(attr.ctx, ast.Load):
+            return
+        doubles = self.receivers.test_double_callers(attr.value)
+        if not doubles:
+            return
+        text = dotted_name(attr.value) or "the env"
+        owner = self.facts.enclosing_class(attr) if text.startswith("self.") else self.facts.enclosing_function(attr)
+        self.report(
+            attr,
+            "GM604",
+            f"`{text}` is a Gym env where this module makes it, and only tests pass a double of their own "
+            f"({', '.join(doubles)}): on the made env `.{name}` raises AttributeError (its wrappers no longer forward "
+            f"it); read `.unwrapped.{name}`, and give the test double an `unwrapped` that returns itself",
+            kind=FixKind.FLAG,
+            question=("GM604", "test double", id(owner), text),
+        )
 
     def _through_make_layers(self, attr: ast.Attribute) -> bool:
         """``env.env.state`` (read or written) with ``env`` a bare ``gym.make`` result: gym's
