@@ -214,10 +214,22 @@ def _decide_returns(decision: ClassDecision, function: Method, helpers: set[int]
         if isinstance(done, ast.Name) and index.assigns_name(done.id):
             assigned = _single_assignment(index, done.id)
             if assigned is not None and _split_done(assigned, data_ends):
-                decision.report(ret, "GM504", f"`{done.id}` split: the step-limit test became truncated, the rest terminated", FixKind.ASSIST)
+                decision.report(
+                    ret,
+                    "GM504",
+                    f"`{done.id}` split: the step-limit test became truncated, the rest terminated",
+                    FixKind.ASSIST,
+                    tier=_split_tier(tracer.trace(done)),
+                )
                 continue
         elif _split_done(done, data_ends):
-            decision.report(ret, "GM504", "done split: the step-limit test became truncated, the rest terminated", FixKind.ASSIST)
+            decision.report(
+                ret,
+                "GM504",
+                "done split: the step-limit test became truncated, the rest terminated",
+                FixKind.ASSIST,
+                tier=_split_tier(tracer.trace(done)),
+            )
             continue
         if isinstance(done, ast.Constant) and done.value is False:
             # This return never ends an episode, on a limit or otherwise: nothing to split.
@@ -583,6 +595,13 @@ def _or_operands(expr: ast.AST) -> list[ast.AST]:
     if isinstance(expr, ast.BoolOp) and isinstance(expr.op, ast.Or):
         return [operand for value in expr.values for operand in _or_operands(value)]
     return [expr]
+
+
+def _split_tier(traced: DoneCause) -> Tier | None:
+    """A split whose limits are all named as step limits in this module, with no override
+    elsewhere in the run, is settled (``self.current_step >= self.ep_length``): a note, as
+    for a done that is only such a limit (``_report_truncation``)."""
+    return Tier.NOTE if traced.limits and traced.plain() else None
 
 
 def _split_done(expr: ast.AST, data_ends: frozenset[str] = frozenset()) -> bool:
