@@ -30,6 +30,27 @@ from gymmigrate.rules.rendering.makes import MakeEdits
 _INERT_ATTRIBUTES = frozenset({"action_space", "observation_space", "spec", "metadata", "reward_range"})
 
 
+def _literal_mode(make: ast.Call) -> str | None:
+    existing = keyword(make, "render_mode")
+    return string_value(existing.value) if existing is not None else None
+
+
+def _tests_version(test: ast.AST, functions: dict[str, ast.FunctionDef | ast.AsyncFunctionDef]) -> bool:
+    """Reads ``x.__version__``, or calls a function whose name speaks of the version or a
+    def of the module (``functions``) that reads ``x.__version__`` itself."""
+    for node in ast.walk(test):
+        if isinstance(node, ast.Attribute) and node.attr == "__version__":
+            return True
+        if isinstance(node, ast.Call):
+            name = node.func.attr if isinstance(node.func, ast.Attribute) else getattr(node.func, "id", "")
+            if "version" in name.lower():
+                return True
+            local = functions.get(name) if isinstance(node.func, ast.Name) else None
+            if local is not None and any(isinstance(n, ast.Attribute) and n.attr == "__version__" for n in ast.walk(local)):
+                return True
+    return False
+
+
 class SitePlanning(MakeEdits):
     """The sites planned by make (mixed into the family)."""
 
@@ -212,6 +233,24 @@ class SitePlanning(MakeEdits):
             self.report(call, code, f"not rewritten: this render never runs as the code stands ({off[0]})", FixKind.FLAG, tier=Tier.NOTE)
             return
         unscheduled = [self._unscheduled[k] for k in keys if k in self._unscheduled]
+        human = next((makes[k] for k in keys if _literal_mode(makes[k]) == HUMAN), None)
+        if unscheduled and code == "GM402" and human is not None:
+            fallback = [makes[k] for k in keys if keyword(makes[k], "render_mode") is None]
+            flag = next((f for f in map(lambda m: self._version_fallback_flag(m, call), fallback) if f), None)
+            if flag is not None and all(self._version_fallback_flag(m, call) == flag for m in fallback):
+                # ``if <gym version test> and render: make(..., render_mode="human") else: make(...)``
+                # with the render under ``if render:``: the code already picks the human make
+                # whenever it draws on Gymnasium; the other make is the old gym's fallback.
+                self.report(
+                    call,
+                    code,
+                    f'not rewritten: render() runs only when {flag}, and then the env comes from '
+                    f'{self._call_summary(human)}, which already passes render_mode="human" (the make without it is '
+                    "reached with it only when the gym version test fails)",
+                    FixKind.FLAG,
+                    tier=Tier.NOTE,
+                )
+                return
         if unscheduled:
             choice = (
                 f"render() runs only when {unscheduled[0]}, but render_mode=\"human\" would draw every step: keep "
@@ -427,6 +466,30 @@ class SitePlanning(MakeEdits):
                 call = self.facts.parent(parent)
                 if isinstance(call, ast.Call) and call.func is parent and not self._loop_renders(call, rendered):
                     return f"stepped at line {call.lineno}"
+        return None
+
+    def _version_fallback_flag(self, make: ast.Call, render: ast.Call) -> str | None:
+        """``else: env = make(...)`` of an ``if`` whose test is ``<version test> and flag``,
+        where ``flag`` (one binding) also guards ``render`` and is not rebound in between:
+        the flag's name, else None. A version test reads ``gym.__version__`` or calls a
+        function named for the version (``is_gym_version_ge("0.26.0")``)."""
+        statement = self.facts.statement_of(make)
+        branch = self.facts.parent(statement)
+        if not (isinstance(branch, ast.If) and statement in branch.orelse):
+            return None
+        test = branch.test
+        if not (isinstance(test, ast.BoolOp) and isinstance(test.op, ast.And)):
+            return None
+        names = [v for v in test.values if isinstance(v, ast.Name)]
+        if not any(_tests_version(v, self.facts.functions) for v in test.values):
+            return None
+        guards = [g for g, negated in render_condition(self.facts, render, make) if not negated]
+        for name in names:
+            bindings = self.facts.bindings_of(name)
+            if len(bindings) != 1:
+                continue
+            if any(isinstance(g, ast.Name) and g.id == name.id and self.facts.bindings_of(g) == bindings for g in guards):
+                return name.id
         return None
 
     def _reads_only_spaces(self, call: ast.Call, read: ast.Name) -> bool:
