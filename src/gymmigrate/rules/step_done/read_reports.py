@@ -260,6 +260,17 @@ class DoneReadReports(DoneBookkeeping):
                 FixKind.FLAG,
                 Tier.NOTE,
             )
+        elif owner is step.assign and (chooser := self._returned_to_bootstrap_choice(read)) is not None:
+            helper, test = chooser
+            self._report_read(
+                read,
+                f"`{read.id}` is returned by `{helper}`, and its caller tests it at line {test.lineno} to choose "
+                f"whether to bootstrap from the returned next state: it stays `{names.terminated} or "
+                f"{names.truncated}` here; return `{names.terminated}` as well and test that at line {test.lineno}, "
+                f"so that a time-limit truncation still bootstraps (keep `{read.id}` for ending the episode)",
+                FixKind.FLAG,
+                question=question,
+            )
         elif owner is step.assign and (settled := self._only_ends_or_unread(read)) is not None:
             # The code shows what the flag is for: ending a loop, or nothing at all (a note).
             self._report_read(

@@ -395,11 +395,43 @@ class DoneReadUses(NextStateReads):
             flag = target.elts[index]
             if not isinstance(flag, ast.Name):
                 return None
-            if any(
-                classify_done_read(use, self.facts) not in (DoneUse.CONTROL, DoneUse.NEUTRAL) for use in self.flow.reads(flag)
-            ):
+            uses = self.flow.reads(flag)
+            if any(classify_done_read(use, self.facts) not in (DoneUse.CONTROL, DoneUse.NEUTRAL) for use in uses):
+                return None
+            # ``if done: y = r`` / ``else: y = r + gamma * v(s2)`` in the caller is a test too,
+            # but it chooses whether to bootstrap from the next state the helper returned:
+            # no loop exit alone.
+            unpacked = DoneStep(assign, flag, None, target)  # type: ignore[arg-type]
+            if any(self._bootstrap_choice(use, unpacked, dominated=True) is not None for use in uses):
                 return None
         return f"is returned by `{function.name}`, whose callers read it only to end their loop"
+
+    def _returned_to_bootstrap_choice(self, read: ast.Name) -> tuple[str, ast.Name] | None:
+        """``return s2, r, done, info`` from a def of the file, and a caller that unpacks the
+        result and tests the flag to choose a value computed from the returned next state
+        (``if done: y = r`` / ``else: y = r + gamma * v(s2)``): the def's name and that test."""
+        parent = self.facts.parent(read)
+        if not (isinstance(parent, ast.Tuple) and isinstance(self.facts.parent(parent), ast.Return)):
+            return None
+        function = self.facts.enclosing_function(read)
+        if not isinstance(function, FUNCTIONS) or self.facts.enclosing_class(read) is not None:
+            return None
+        index = next(i for i, value in enumerate(parent.elts) if value is read)
+        for call in self.facts.calls_by_name.get(function.name, []):
+            assign = self.facts.parent(call)
+            if not (isinstance(assign, ast.Assign) and assign.value is call and len(assign.targets) == 1):
+                continue
+            target = assign.targets[0]
+            if not isinstance(target, (ast.Tuple, ast.List)) or len(target.elts) != len(parent.elts):
+                continue
+            flag = target.elts[index]
+            if not isinstance(flag, ast.Name):
+                continue
+            unpacked = DoneStep(assign, flag, None, target)  # type: ignore[arg-type]
+            for use in self.flow.reads(flag):
+                if self._bootstrap_choice(use, unpacked, dominated=True) is not None:
+                    return function.name, use
+        return None
 
     def _unread_list(self, name: ast.Name) -> str | None:
         """``episode`` bound only to new lists in a function and only ever appended to."""
