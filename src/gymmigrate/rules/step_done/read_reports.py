@@ -302,6 +302,18 @@ class DoneReadReports(DoneBookkeeping):
                 FixKind.FLAG,
                 question=question,
             )
+        elif owner is step.assign and use is DoneUse.DATA and (episode := self._episode_store_with_tail(read, step)) is not None:
+            container, handed, emptied = episode
+            self._report_read(
+                read,
+                f"`{read.id}` is stored in `{container}`, which holds one episode: at its end `{container}` is handed "
+                f"to `{self.facts.segment(handed.func)}()` with a value of the next state (line {handed.lineno}) and "
+                f"emptied (line {emptied.lineno}), so the last stored flag can only mask that value, a bootstrap. It "
+                f"stays `{names.terminated} or {names.truncated}` here; if the callee masks it with the flag, store "
+                f"`{names.terminated}` so that a time-limit truncation still bootstraps",
+                FixKind.FLAG,
+                question=question,
+            )
         elif (
             owner is step.assign
             and ((use is DoneUse.DATA and stored_in_sequence(read, self.facts)) or self._stores_step_without_next_state(read, step))

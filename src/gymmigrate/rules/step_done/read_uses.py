@@ -433,6 +433,42 @@ class DoneReadUses(NextStateReads):
                     return function.name, use
         return None
 
+    def _episode_store_with_tail(self, read: ast.Name, step: DoneStep) -> tuple[str, ast.Call, ast.AST] | None:
+        """``memory.append((r, done))`` where, under ``if done:``, the code hands ``memory`` on
+        together with a value of the step's next state (``train(memory, critic(s2))``) and
+        empties it (``memory.clear()``, ``memory = []``): the store holds one episode, and
+        its last flag can only mask that final value, a bootstrap. The container's name, the
+        hand-on call and the emptying statement; else None."""
+        node: ast.AST = read
+        parent = self.facts.parent(node)
+        container = None
+        while parent is not None and not isinstance(parent, ast.stmt):
+            if isinstance(parent, ast.Call) and isinstance(parent.func, ast.Attribute) and node is not parent.func:
+                if isinstance(parent.func.value, ast.Name):
+                    container = parent.func.value.id
+                break
+            node, parent = parent, self.facts.parent(parent)
+        if container is None:
+            return None
+        function = self.facts.enclosing_function(step.assign) or self.facts.tree
+        next_names = self._next_state_names(step)
+        if not next_names:
+            return None
+        for test in ast.walk(function):
+            if not (isinstance(test, ast.If) and isinstance(test.test, ast.Name) and test.test.id == step.done.id):
+                continue
+            handed = emptied = None
+            for statement in test.body:
+                for inner in ast.walk(statement):
+                    if isinstance(inner, ast.Call) and any(isinstance(a, ast.Name) and a.id == container for a in inner.args):
+                        if any(not isinstance(a, ast.Name) and self._reads_next_state(a, step, next_names) for a in inner.args):
+                            handed = inner
+                    if _empties(inner, container):
+                        emptied = inner
+            if handed is not None and emptied is not None:
+                return container, handed, emptied
+        return None
+
     def _unread_list(self, name: ast.Name) -> str | None:
         """``episode`` bound only to new lists in a function and only ever appended to."""
         scope = self.flow.binding_scope(name)
@@ -764,3 +800,21 @@ def _constant(node: ast.AST) -> bool:
 # Methods that change their object in place (``frames.append(next_obs)``): a name changed so
 # after the step may hold the next state whatever it was bound to.
 _IN_PLACE_CHANGES = frozenset({"append", "extend", "insert", "appendleft", "extendleft", "update", "add", "put", "push", "copy_", "fill_", "__setitem__"})
+
+
+def _empties(node: ast.AST, container: str) -> bool:
+    """``container.clear()``, ``container = []``, ``del container[:]``."""
+    if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "clear":
+        return isinstance(node.func.value, ast.Name) and node.func.value.id == container and not node.args
+    if isinstance(node, ast.Assign) and len(node.targets) == 1:
+        target = node.targets[0]
+        return isinstance(target, ast.Name) and target.id == container and isinstance(node.value, ast.List) and not node.value.elts
+    if isinstance(node, ast.Delete) and len(node.targets) == 1:
+        target = node.targets[0]
+        return (
+            isinstance(target, ast.Subscript)
+            and isinstance(target.value, ast.Name)
+            and target.value.id == container
+            and isinstance(target.slice, ast.Slice)
+        )
+    return False
