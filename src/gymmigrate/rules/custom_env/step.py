@@ -219,7 +219,7 @@ def _decide_returns(decision: ClassDecision, function: Method, helpers: set[int]
                     "GM504",
                     f"`{done.id}` split: the step-limit test became truncated, the rest terminated",
                     FixKind.ASSIST,
-                    tier=_split_tier(tracer.trace(done)),
+                    tier=_split_tier(tracer.trace(done), assigned, data_ends),
                 )
                 continue
         elif _split_done(done, data_ends):
@@ -228,7 +228,7 @@ def _decide_returns(decision: ClassDecision, function: Method, helpers: set[int]
                 "GM504",
                 "done split: the step-limit test became truncated, the rest terminated",
                 FixKind.ASSIST,
-                tier=_split_tier(tracer.trace(done)),
+                tier=_split_tier(tracer.trace(done), done, data_ends),
             )
             continue
         if isinstance(done, ast.Constant) and done.value is False:
@@ -258,6 +258,20 @@ def _decide_returns(decision: ClassDecision, function: Method, helpers: set[int]
                 "GM504",
                 f"step returns the truncated of the step it calls, and its own end of the task (`{done.id} = True` on "
                 f"line {ends[0].lineno}) as terminated: `bool({done.id}) and not truncated`",
+                FixKind.ASSIST,
+                tier=Tier.NOTE,
+            )
+            continue
+        if isinstance(done, ast.Name) and (limit := _accumulated_limit(function, ret, done.id, data_ends)) is not None:
+            # ``done = task`` ... ``done = done or self.t >= self.max_steps`` right before the
+            # return: the last line adds the step limit to the task's end, so it is the
+            # truncation and the flag before it the termination.
+            decision.plan.accumulated_returns.setdefault(function.name, set()).add(position)
+            decision.report(
+                ret,
+                "GM504",
+                f"`{done.id}` split: its last line (line {limit.lineno}) adds the step limit, which became truncated; "
+                "the value before it is terminated",
                 FixKind.ASSIST,
                 tier=Tier.NOTE,
             )
@@ -597,11 +611,51 @@ def _or_operands(expr: ast.AST) -> list[ast.AST]:
     return [expr]
 
 
-def _split_tier(traced: DoneCause) -> Tier | None:
+def _accumulated_limit(function: ast.AST, ret: ast.Return, name: str, data_ends: frozenset[str]) -> ast.Assign | None:
+    """``name = name or <step limit> [or ...]`` as the statement right before ``ret``, the
+    function's last statement and only return, where every other binding of ``name`` is a
+    plain assignment before it that tests no step limit: that line; else None."""
+    body = getattr(function, "body", [])
+    if len(body) < 3 or body[-1] is not ret or len(own_returns(function)) != 1:  # type: ignore[arg-type]
+        return None
+    last = body[-2]
+    if not (isinstance(last, ast.Assign) and len(last.targets) == 1 and isinstance(last.targets[0], ast.Name) and last.targets[0].id == name):
+        return None
+    value = unwrap_bool(last.value)
+    if not (isinstance(value, ast.BoolOp) and isinstance(value.op, ast.Or)):
+        return None
+    own = [v for v in value.values if isinstance(v, ast.Name) and v.id == name]
+    limits = [v for v in value.values if not (isinstance(v, ast.Name) and v.id == name)]
+    if len(own) != 1 or not limits or not all(is_step_limit(v, data_ends) for v in limits):
+        return None
+    names = [n for n in ast.walk(function) if isinstance(n, ast.Name)]
+    if any(n.id in ("terminated", "truncated") for n in names):
+        return None
+    done = ret.value.elts[2]  # type: ignore[union-attr]
+    if any(n.id == name and n is not done for n in ast.walk(ret.value) if isinstance(n, ast.Name)):  # type: ignore[arg-type]
+        return None  # ``float(done)`` as the reward: it reads the flag with the limit in it
+    stores = [n for n in names if n.id == name and not isinstance(n.ctx, ast.Load)]
+    for store in stores:
+        if store is last.targets[0]:
+            continue
+        statement = next((s for s in ast.walk(function) if isinstance(s, ast.Assign) and store in s.targets), None)
+        if statement is None or statement.lineno >= last.lineno:
+            return None
+        if any(isinstance(n, ast.Compare) and is_step_limit(n, data_ends) for n in ast.walk(statement.value)):
+            return None
+    return last if len(stores) > 1 else None
+
+
+def _split_tier(traced: DoneCause, split: ast.AST, data_ends: frozenset[str]) -> Tier | None:
     """A split whose limits are all named as step limits in this module, with no override
-    elsewhere in the run, is settled (``self.current_step >= self.ep_length``): a note, as
-    for a done that is only such a limit (``_report_truncation``)."""
-    return Tier.NOTE if traced.limits and traced.plain() else None
+    elsewhere in the run, and compared with a bound the env holds rather than a literal, is
+    settled (``self.current_step >= self.ep_length``): a note, as for a done that is only such
+    a limit (``_report_truncation``). ``self.t >= 2`` may be the game's own length: asked."""
+    limits = [op for op in _or_operands(unwrap_bool(split)) if is_step_limit(op, data_ends)]
+    literal = any(
+        isinstance(side, ast.Constant) for op in limits if isinstance(op, ast.Compare) for side in (op.left, *op.comparators)
+    )
+    return Tier.NOTE if traced.limits and traced.plain() and not literal else None
 
 
 def _split_done(expr: ast.AST, data_ends: frozenset[str] = frozenset()) -> bool:
