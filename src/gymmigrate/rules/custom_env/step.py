@@ -616,7 +616,7 @@ def _accumulated_limit(function: ast.AST, ret: ast.Return, name: str, data_ends:
     function's last statement and only return, where every other binding of ``name`` is a
     plain assignment before it that tests no step limit: that line; else None."""
     body = getattr(function, "body", [])
-    if len(body) < 3 or body[-1] is not ret or len(own_returns(function)) != 1:  # type: ignore[arg-type]
+    if len(body) < 3 or body[-1] is not ret or len(own_returns(function)) != 1:
         return None
     last = body[-2]
     if not (isinstance(last, ast.Assign) and len(last.targets) == 1 and isinstance(last.targets[0], ast.Name) and last.targets[0].id == name):
@@ -631,8 +631,8 @@ def _accumulated_limit(function: ast.AST, ret: ast.Return, name: str, data_ends:
     names = [n for n in ast.walk(function) if isinstance(n, ast.Name)]
     if any(n.id in ("terminated", "truncated") for n in names):
         return None
-    done = ret.value.elts[2]  # type: ignore[union-attr]
-    if any(n.id == name and n is not done for n in ast.walk(ret.value) if isinstance(n, ast.Name)):  # type: ignore[arg-type]
+    done = ret.value.elts[2]
+    if any(n.id == name and n is not done for n in ast.walk(ret.value) if isinstance(n, ast.Name)):
         return None  # ``float(done)`` as the reward: it reads the flag with the limit in it
     stores = [n for n in names if n.id == name and not isinstance(n.ctx, ast.Load)]
     for store in stores:

@@ -25,7 +25,6 @@ from gymmigrate.rules.rendering.common import (
 )
 from gymmigrate.rules.rendering.makes import MakeEdits
 
-
 # What an env exposes without running it: reading them neither steps nor draws.
 _INERT_ATTRIBUTES = frozenset({"action_space", "observation_space", "spec", "metadata", "reward_range"})
 
@@ -590,9 +589,9 @@ class SitePlanning(MakeEdits):
             # ``def take_step(a): return env.step(a)``: the step runs where the helper is
             # called; it renders if every call of the helper sits in a loop that renders.
             helper = self.facts.enclosing_function(call)
-            name = getattr(helper, "name", None)
-            if name is None or self.facts.functions.get(name) is not helper or self._sole_caller(helper) is None:
+            if helper is None or self.facts.functions.get(helper.name) is not helper or self._sole_caller(helper) is None:
                 return False
+            name = helper.name
             calls = [c for c in self.facts.calls_by_name.get(name, ()) if helper in self.facts.bindings_of(c.func)]  # type: ignore[arg-type]
             return bool(calls) and all(self._loop_renders(c, rendered) for c in calls if c is not call)
         return any(id(node) in rendered for node in ast.walk(loop) if isinstance(node, ast.Call))

@@ -433,7 +433,7 @@ class DoneReadUses(NextStateReads):
                     return function.name, use
         return None
 
-    def _episode_store_with_tail(self, read: ast.Name, step: DoneStep) -> tuple[str, ast.Call, ast.AST] | None:
+    def _episode_store_with_tail(self, read: ast.Name, step: DoneStep) -> tuple[str, ast.Call, ast.Call | ast.Assign | ast.Delete] | None:
         """``memory.append((r, done))`` where, under ``if done:``, the code hands ``memory`` on
         together with a value of the step's next state (``train(memory, critic(s2))``) and
         empties it (``memory.clear()``, ``memory = []``): the store holds one episode, and
@@ -463,7 +463,7 @@ class DoneReadUses(NextStateReads):
                     if isinstance(inner, ast.Call) and any(isinstance(a, ast.Name) and a.id == container for a in inner.args):
                         if any(not isinstance(a, ast.Name) and self._reads_next_state(a, step, next_names) for a in inner.args):
                             handed = inner
-                    if _empties(inner, container):
+                    if isinstance(inner, (ast.Call, ast.Assign, ast.Delete)) and _empties(inner, container):
                         emptied = inner
             if handed is not None and emptied is not None:
                 return container, handed, emptied
