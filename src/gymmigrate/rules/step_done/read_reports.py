@@ -11,8 +11,7 @@ from __future__ import annotations
 import ast
 from collections.abc import Hashable
 
-import libcst as cst
-
+from gymmigrate.edits.lazy import cst
 from gymmigrate.facts.decisions import Decision
 from gymmigrate.facts.done_uses import DoneUse, classify_done_read, stored_in_sequence
 from gymmigrate.facts.module import own_returns
