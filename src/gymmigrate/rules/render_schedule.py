@@ -43,7 +43,7 @@ def render_condition(facts: ModuleFacts, render: ast.Call, make: ast.AST, home: 
             break
         if isinstance(ancestor, (ast.If, ast.IfExp)) and child is not ancestor.test:
             in_else = child in ancestor.orelse if isinstance(ancestor, ast.If) else child is ancestor.orelse
-            if not (_main_guard(ancestor.test) and not in_else):
+            if not (_main_guard(ancestor.test) and not in_else) and not (not in_else and _always_true(facts, ancestor.test)):
                 guards.append((ancestor.test, in_else))
         elif isinstance(ancestor, ast.BoolOp):
             before = ancestor.values[: next(i for i, v in enumerate(ancestor.values) if v is child)]
@@ -57,6 +57,41 @@ def render_condition(facts: ModuleFacts, render: ast.Call, make: ast.AST, home: 
             break
         child = ancestor
     return guards
+
+
+def _always_true(facts: ModuleFacts, test: ast.AST) -> bool:
+    """``if render:`` where ``render`` is a parameter of a module-level def, never rebound,
+    whose name is read only to call it, and every call passes ``True`` for it (by keyword or
+    by position): the test holds on every run, so it sets no schedule."""
+    if not isinstance(test, ast.Name):
+        return False
+    bindings = facts.bindings_of(test)
+    if len(bindings) != 1 or not isinstance(bindings[0], ast.arg):
+        return False
+    param = bindings[0]
+    function = facts.enclosing_function(test)
+    if function is None or facts.functions.get(function.name) is not function:
+        return False
+    args = function.args
+    positional = [*args.posonlyargs, *args.args]
+    if param not in positional and param not in args.kwonlyargs:
+        return False
+    position = positional.index(param) if param in positional else None
+    reads = [read for scope in facts.scopes.values() for read in scope.reads.get(function.name, ()) if function in facts.bindings_of(read)]
+    if not reads:
+        return False
+    for read in reads:
+        call = facts.parent(read)
+        if not (isinstance(call, ast.Call) and call.func is read):
+            return False
+        if any(isinstance(a, ast.Starred) for a in call.args) or any(k.arg is None for k in call.keywords):
+            return False
+        passed = next((k.value for k in call.keywords if k.arg == param.arg), None)
+        if passed is None and position is not None and position < len(call.args):
+            passed = call.args[position]
+        if not (isinstance(passed, ast.Constant) and passed.value is True):
+            return False
+    return True
 
 
 def _main_guard(test: ast.AST) -> bool:

@@ -249,6 +249,8 @@ class ClassRewrite:
         task_ending = self.plan.task_end_returns.get(self.renamed.get(method_name, method_name), set())
         unpacked = self.plan.unpacked_helper_returns.get(self.renamed.get(method_name, method_name), {})
         kept = self.plan.kept_returns.get(self.renamed.get(method_name, method_name), set())
+        accumulated = self.plan.accumulated_returns.get(self.renamed.get(method_name, method_name), set())
+        accumulating: str | None = None
         for position, ret in enumerate(returns):
             if position in kept:
                 plans.append(None)  # reported: what the base's step returns is not known
@@ -265,6 +267,15 @@ class ClassRewrite:
                 continue
             if position in task_ending and isinstance(done, cst.Name):
                 plans.append(_five(cst.parse_expression(f"bool({done.value}) and not truncated"), cst.Name("truncated")))
+                continue
+            if position in accumulated and isinstance(done, cst.Name):
+                # ``done = done or <step limit>`` right before: that line becomes truncated
+                accumulating = done.value
+                if done.value == "done" and not _declares_global(fn, "done"):
+                    rename_done = True
+                    plans.append(_five(cst.Name("terminated"), cst.Name("truncated")))
+                else:
+                    plans.append(_five(_bool_of([done]), cst.Name("truncated")))
                 continue
             if position in truncating:
                 # The done is only a step limit: terminated=False, truncated=<done>.
@@ -308,6 +319,8 @@ class ClassRewrite:
             fn = fn.with_changes(returns=fn.returns.with_changes(annotation=annotation.with_changes(slice=elements)))
         for name, (task, limit) in splits.items():
             body = visit_suite(body, _DoneSplitter(name, task, limit, keep_done=_reads_name_outside_returns(fn, name)))
+        if accumulating is not None:
+            body = _limit_line_to_truncated(body, accumulating, self.plan.data_end_tests)
         if rename_done:
             body = visit_suite(body, _NameRenamer({"done": "terminated"}))
             body = _bool_wrap_assignments(body, "terminated")
@@ -482,3 +495,22 @@ def _is_inner_reset(value: cst.BaseExpression, receivers: set[str]) -> bool:
         and value.func.attr.value == "reset"
         and cst.Module(body=[]).code_for_node(value.func.value) in receivers
     )
+
+
+def _limit_line_to_truncated(body: cst.BaseSuite, name: str, data_ends: frozenset[str]) -> cst.BaseSuite:
+    """``name = name or <step limit>``, the statement before the return: ``truncated =
+    bool(<step limit>)`` (GM504 checked the shape: ``step._accumulated_limit``)."""
+    if not isinstance(body, cst.IndentedBlock) or len(body.body) < 2:
+        return body
+    line = body.body[-2]
+    if not (isinstance(line, cst.SimpleStatementLine) and len(line.body) == 1 and isinstance(line.body[0], cst.Assign)):
+        return body
+    assign = line.body[0]
+    split = _split_done(assign.value, data_ends)
+    if split is None or len(assign.targets) != 1 or not m.matches(assign.targets[0].target, m.Name(name)):
+        return body
+    _, limit = split
+    new = assign.with_changes(targets=[assign.targets[0].with_changes(target=cst.Name("truncated"))], value=_bool_of(limit))
+    statements = list(body.body)
+    statements[-2] = line.with_changes(body=[new])
+    return body.with_changes(body=statements)

@@ -214,12 +214,24 @@ def _decide_returns(decision: ClassDecision, function: Method, helpers: set[int]
         if isinstance(done, ast.Name) and index.assigns_name(done.id):
             assigned = _single_assignment(index, done.id)
             if assigned is not None and _split_done(assigned, data_ends):
-                decision.report(ret, "GM504", f"`{done.id}` split: the step-limit test became truncated, the rest terminated",
-                                FixKind.ASSIST, question=_split_question(assigned))
+                decision.report(
+                    ret,
+                    "GM504",
+                    f"`{done.id}` split: the step-limit test became truncated, the rest terminated",
+                    FixKind.ASSIST,
+                    tier=_split_tier(tracer.trace(done), assigned, data_ends),
+                    question=_split_question(assigned),
+                )
                 continue
         elif _split_done(done, data_ends):
-            decision.report(ret, "GM504", "done split: the step-limit test became truncated, the rest terminated",
-                            FixKind.ASSIST, question=_split_question(done))
+            decision.report(
+                ret,
+                "GM504",
+                "done split: the step-limit test became truncated, the rest terminated",
+                FixKind.ASSIST,
+                tier=_split_tier(tracer.trace(done), done, data_ends),
+                question=_split_question(done),
+            )
             continue
         if isinstance(done, ast.Constant) and done.value is False:
             # This return never ends an episode, on a limit or otherwise: nothing to split.
@@ -248,6 +260,20 @@ def _decide_returns(decision: ClassDecision, function: Method, helpers: set[int]
                 "GM504",
                 f"step returns the truncated of the step it calls, and its own end of the task (`{done.id} = True` on "
                 f"line {ends[0].lineno}) as terminated: `bool({done.id}) and not truncated`",
+                FixKind.ASSIST,
+                tier=Tier.NOTE,
+            )
+            continue
+        if isinstance(done, ast.Name) and (limit := _accumulated_limit(function, ret, done.id, data_ends)) is not None:
+            # ``done = task`` ... ``done = done or self.t >= self.max_steps`` right before the
+            # return: the last line adds the step limit to the task's end, so it is the
+            # truncation and the flag before it the termination.
+            decision.plan.accumulated_returns.setdefault(function.name, set()).add(position)
+            decision.report(
+                ret,
+                "GM504",
+                f"`{done.id}` split: its last line (line {limit.lineno}) adds the step limit, which became truncated; "
+                "the value before it is terminated",
                 FixKind.ASSIST,
                 tier=Tier.NOTE,
             )
@@ -591,6 +617,53 @@ def _split_question(expr: ast.AST) -> Hashable:
     """The split of one done expression: the same wherever a class of the file (a twin
     subclass's own step) splits the same expression, so the file asks it once."""
     return ("GM504", "split", ast.dump(unwrap_bool(expr)))
+
+
+def _accumulated_limit(function: ast.AST, ret: ast.Return, name: str, data_ends: frozenset[str]) -> ast.Assign | None:
+    """``name = name or <step limit> [or ...]`` as the statement right before ``ret``, the
+    function's last statement and only return, where every other binding of ``name`` is a
+    plain assignment before it that tests no step limit: that line; else None."""
+    body = getattr(function, "body", [])
+    if len(body) < 3 or body[-1] is not ret or len(own_returns(function)) != 1:
+        return None
+    last = body[-2]
+    if not (isinstance(last, ast.Assign) and len(last.targets) == 1 and isinstance(last.targets[0], ast.Name) and last.targets[0].id == name):
+        return None
+    value = unwrap_bool(last.value)
+    if not (isinstance(value, ast.BoolOp) and isinstance(value.op, ast.Or)):
+        return None
+    own = [v for v in value.values if isinstance(v, ast.Name) and v.id == name]
+    limits = [v for v in value.values if not (isinstance(v, ast.Name) and v.id == name)]
+    if len(own) != 1 or not limits or not all(is_step_limit(v, data_ends) for v in limits):
+        return None
+    names = [n for n in ast.walk(function) if isinstance(n, ast.Name)]
+    if any(n.id in ("terminated", "truncated") for n in names):
+        return None
+    done = ret.value.elts[2]
+    if any(n.id == name and n is not done for n in ast.walk(ret.value) if isinstance(n, ast.Name)):
+        return None  # ``float(done)`` as the reward: it reads the flag with the limit in it
+    stores = [n for n in names if n.id == name and not isinstance(n.ctx, ast.Load)]
+    for store in stores:
+        if store is last.targets[0]:
+            continue
+        statement = next((s for s in ast.walk(function) if isinstance(s, ast.Assign) and store in s.targets), None)
+        if statement is None or statement.lineno >= last.lineno:
+            return None
+        if any(isinstance(n, ast.Compare) and is_step_limit(n, data_ends) for n in ast.walk(statement.value)):
+            return None
+    return last if len(stores) > 1 else None
+
+
+def _split_tier(traced: DoneCause, split: ast.AST, data_ends: frozenset[str]) -> Tier | None:
+    """A split whose limits are all named as step limits in this module, with no override
+    elsewhere in the run, and compared with a bound the env holds rather than a literal, is
+    settled (``self.current_step >= self.ep_length``): a note, as for a done that is only such
+    a limit (``_report_truncation``). ``self.t >= 2`` may be the game's own length: asked."""
+    limits = [op for op in _or_operands(unwrap_bool(split)) if is_step_limit(op, data_ends)]
+    literal = any(
+        isinstance(side, ast.Constant) for op in limits if isinstance(op, ast.Compare) for side in (op.left, *op.comparators)
+    )
+    return Tier.NOTE if traced.limits and traced.plain() and not literal else None
 
 
 def _split_done(expr: ast.AST, data_ends: frozenset[str] = frozenset()) -> bool:

@@ -25,6 +25,28 @@ from gymmigrate.rules.rendering.common import (
 )
 from gymmigrate.rules.rendering.makes import MakeEdits
 
+# What an env exposes without running it: reading them neither steps nor draws.
+_INERT_ATTRIBUTES = frozenset({"action_space", "observation_space", "spec", "metadata", "reward_range"})
+
+
+def _literal_mode(make: ast.Call) -> str | None:
+    existing = keyword(make, "render_mode")
+    return string_value(existing.value) if existing is not None else None
+
+
+def _tests_version(test: ast.AST, functions: dict[str, ast.FunctionDef | ast.AsyncFunctionDef]) -> bool:
+    """Reads ``x.__version__``, or calls a def of the module (``functions``) that reads
+    ``x.__version__`` itself (never judged by a name)."""
+    for node in ast.walk(test):
+        if isinstance(node, ast.Attribute) and node.attr == "__version__":
+            return True
+        if isinstance(node, ast.Call):
+            name = node.func.attr if isinstance(node.func, ast.Attribute) else getattr(node.func, "id", "")
+            local = functions.get(name) if isinstance(node.func, ast.Name) else None
+            if local is not None and any(isinstance(n, ast.Attribute) and n.attr == "__version__" for n in ast.walk(local)):
+                return True
+    return False
+
 
 class SitePlanning(MakeEdits):
     """The sites planned by make (mixed into the family)."""
@@ -97,7 +119,7 @@ class SitePlanning(MakeEdits):
             final_mode[key] = None
             self._unscheduled[key] = f"the watch loop runs (the env is also {trained}, where nothing renders)"
             return True
-        home = self._stepping_function(make)
+        home = self._stepping_function(make, [site.node for site in sites])
         how, condition = schedule(self.facts, [site.node for site in sites], make, home)
         if how == "always":
             mixed = self._mixed_schedules(make, sites, home)
@@ -208,6 +230,24 @@ class SitePlanning(MakeEdits):
             self.report(call, code, f"not rewritten: this render never runs as the code stands ({off[0]})", FixKind.FLAG, tier=Tier.NOTE)
             return
         unscheduled = [self._unscheduled[k] for k in keys if k in self._unscheduled]
+        human = next((makes[k] for k in keys if _literal_mode(makes[k]) == HUMAN), None)
+        if unscheduled and code == "GM402" and human is not None:
+            fallback = [makes[k] for k in keys if keyword(makes[k], "render_mode") is None]
+            flag = next((f for f in map(lambda m: self._version_fallback_flag(m, call), fallback) if f), None)
+            if flag is not None and all(self._version_fallback_flag(m, call) == flag for m in fallback):
+                # ``if <gym version test> and render: make(..., render_mode="human") else: make(...)``
+                # with the render under ``if render:``: the code already picks the human make
+                # whenever it draws on Gymnasium; the other make is the old gym's fallback.
+                self.report(
+                    call,
+                    code,
+                    f'not rewritten: render() runs only when {flag}, and then the env comes from '
+                    f'{self._call_summary(human)}, which already passes render_mode="human" (the make without it is '
+                    "reached with it only when the gym version test fails)",
+                    FixKind.FLAG,
+                    tier=Tier.NOTE,
+                )
+                return
         if unscheduled:
             choice = (
                 f"render() runs only when {unscheduled[0]}, but render_mode=\"human\" would draw every step: keep "
@@ -416,12 +456,61 @@ class SitePlanning(MakeEdits):
                 continue
             parent = self.facts.parent(read)
             if isinstance(parent, ast.Call) and read in parent.args and not self._under_gym(parent.func):
+                if self._reads_only_spaces(parent, read):
+                    continue
                 return f"passed to {self.facts.segment(parent.func)}()"
             if isinstance(parent, ast.Attribute) and parent.attr == "step":
                 call = self.facts.parent(parent)
                 if isinstance(call, ast.Call) and call.func is parent and not self._loop_renders(call, rendered):
                     return f"stepped at line {call.lineno}"
         return None
+
+    def _version_fallback_flag(self, make: ast.Call, render: ast.Call) -> str | None:
+        """``else: env = make(...)`` of an ``if`` whose test is ``<version test> and flag``,
+        where ``flag`` (one binding) also guards ``render`` and is not rebound in between:
+        the flag's name, else None. A version test reads ``gym.__version__`` or calls a
+        function named for the version (``is_gym_version_ge("0.26.0")``)."""
+        statement = self.facts.statement_of(make)
+        branch = self.facts.parent(statement)
+        if not (isinstance(branch, ast.If) and statement in branch.orelse):
+            return None
+        test = branch.test
+        if not (isinstance(test, ast.BoolOp) and isinstance(test.op, ast.And)):
+            return None
+        names = [v for v in test.values if isinstance(v, ast.Name)]
+        if not any(_tests_version(v, self.facts.functions) for v in test.values):
+            return None
+        guards = [g for g, negated in render_condition(self.facts, render, make) if not negated]
+        for name in names:
+            bindings = self.facts.bindings_of(name)
+            if len(bindings) != 1:
+                continue
+            if any(isinstance(g, ast.Name) and g.id == name.id and self.facts.bindings_of(g) == bindings for g in guards):
+                return name.id
+        return None
+
+    def _reads_only_spaces(self, call: ast.Call, read: ast.Name) -> bool:
+        """``actions(env)`` where ``def actions(env)`` of this module only reads the env's
+        spaces or spec (``env.action_space.high``): nothing there steps or draws, so the call
+        changes no schedule."""
+        if not isinstance(call.func, ast.Name) or any(isinstance(a, ast.Starred) for a in call.args):
+            return False
+        function = self.facts.functions.get(call.func.id)
+        if function is None or self.facts.bindings_of(call.func) != [function]:
+            return False
+        params = [*function.args.posonlyargs, *function.args.args]
+        position = call.args.index(read)
+        if position >= len(params):
+            return False
+        name = params[position].arg
+        uses = [n for n in ast.walk(function) if isinstance(n, ast.Name) and n.id == name]
+        return all(
+            isinstance(n.ctx, ast.Load)
+            and isinstance(parent := self.facts.parent(n), ast.Attribute)
+            and parent.value is n
+            and parent.attr in _INERT_ATTRIBUTES
+            for n in uses
+        )
 
     def _steps_render(self, key: int) -> bool:
         """Every ``step`` of the env made by ``key`` sits in a loop that renders it."""
@@ -453,14 +542,39 @@ class SitePlanning(MakeEdits):
             return None
         return self._steps_of(target.id, lambda read: target in self.facts.bindings_of(read))
 
-    def _stepping_function(self, make: ast.Call) -> ast.AST | None:
+    def _stepping_function(self, make: ast.Call, renders: list[ast.Call] = []) -> ast.AST | None:  # noqa: B006 (never mutated)
         """The one function (not the make's own) where the env ``make`` binds is stepped, or
-        None: ``env = gym.make(...)`` at the top, ``env.step`` only inside ``main()``."""
+        None: ``env = gym.make(...)`` at the top, ``env.step`` only inside ``main()``. A
+        helper that only steps (``def take_step(a): return env.step(a)``), called only from
+        one function that holds the ``renders``, hands the role on to that function: the env
+        is stepped exactly when it runs."""
         homes = {self.facts.enclosing_function(call) for call in self._steps_of_make(make) or ()}
         if len(homes) != 1:
             return None
         home = next(iter(homes))
+        if home is not None and renders and not any(self.facts.enclosing_function(r) is home for r in renders):
+            caller = self._sole_caller(home)
+            if caller is not None and any(self.facts.enclosing_function(r) is caller for r in renders):
+                home = caller
         return home if home is not None and home is not self.facts.enclosing_function(make) else None
+
+    def _sole_caller(self, function: ast.AST) -> ast.FunctionDef | ast.AsyncFunctionDef | None:
+        """The one function from which a module-level def is called, when its name is read
+        only to call it (never passed on, never rebound) and every call sits in that function."""
+        name = getattr(function, "name", None)
+        if name is None or self.facts.functions.get(name) is not function:
+            return None
+        reads = [read for scope in self.facts.scopes.values() for read in scope.reads.get(name, ()) if function in self.facts.bindings_of(read)]
+        callers = set()
+        for read in reads:
+            call = self.facts.parent(read)
+            if not (isinstance(call, ast.Call) and call.func is read):
+                return None
+            callers.add(self.facts.enclosing_function(call))
+        if len(callers) != 1 or len(self.facts.bindings_of(reads[0])) != 1:
+            return None
+        caller = next(iter(callers))
+        return caller if caller is not None and caller is not function else None
 
     def _under_gym(self, func: ast.expr) -> bool:
         """A gym/gymnasium callable (a wrapper taking the env is no training function)."""
@@ -469,7 +583,16 @@ class SitePlanning(MakeEdits):
     def _loop_renders(self, call: ast.Call, rendered: set[int]) -> bool:
         """The innermost loop around ``call`` holds one of the render sites."""
         loop = next((a for a in self.facts.ancestors(call) if isinstance(a, (ast.For, ast.While, ast.AsyncFor))), None)
-        return loop is not None and any(id(node) in rendered for node in ast.walk(loop) if isinstance(node, ast.Call))
+        if loop is None:
+            # ``def take_step(a): return env.step(a)``: the step runs where the helper is
+            # called; it renders if every call of the helper sits in a loop that renders.
+            helper = self.facts.enclosing_function(call)
+            if helper is None or self.facts.functions.get(helper.name) is not helper or self._sole_caller(helper) is None:
+                return False
+            name = helper.name
+            calls = [c for c in self.facts.calls_by_name.get(name, ()) if helper in self.facts.bindings_of(c.func)]  # type: ignore[arg-type]
+            return bool(calls) and all(self._loop_renders(c, rendered) for c in calls if c is not call)
+        return any(id(node) in rendered for node in ast.walk(loop) if isinstance(node, ast.Call))
 
     def _drawn_every_step(self, render: ast.Call, keys: list[int]) -> bool:
         """``render`` runs on every pass of the loop that holds each step of the envs the
@@ -477,7 +600,7 @@ class SitePlanning(MakeEdits):
         for key in keys:
             make = self._makes_by_id.get(key)
             steps = (self._steps_of_make(make) if make is not None else None) or []
-            if make is None or not steps or render_condition(self.facts, render, make, self._stepping_function(make)):
+            if make is None or not steps or render_condition(self.facts, render, make, self._stepping_function(make, [render])):
                 return False
             if not all(self._loop_renders(call, {id(render)}) for call in steps):
                 return False

@@ -11,6 +11,7 @@ from __future__ import annotations
 import ast
 from collections.abc import Hashable
 
+from gymmigrate.edits.lazy import cst
 from gymmigrate.facts.decisions import Decision
 from gymmigrate.facts.done_uses import DoneUse, classify_done_read, stored_in_sequence
 from gymmigrate.facts.module import own_returns
@@ -163,6 +164,8 @@ class DoneReadReports(DoneBookkeeping):
     def _report_stored_attribute(self, assign: ast.Assign, target: ast.expr, names: StepNames) -> None:
         """``obs, r, self.done, info = env.step(a)`` and ``self.done`` stored as a value elsewhere."""
         for read in self._self_attribute_data_reads(assign, target):
+            if id(read) not in self.reported_reads and self._claim_stored_attribute(assign, target, names, read):
+                continue
             if id(read) not in self.reported_reads:
                 self.reported_reads.add(id(read))
                 self.report(
@@ -174,6 +177,53 @@ class DoneReadReports(DoneBookkeeping):
                     FixKind.FLAG,
                     question=("GM302", id(assign)),
                 )
+
+    def _claim_stored_attribute(self, assign: ast.Assign, target: ast.expr, names: StepNames, read: ast.Attribute) -> bool:
+        """``obs2, r, self.done, info = env.step(a)`` then, in a later statement of the same
+        block with no store of ``self.done`` between, ``memory.append((s, obs2, self.done))``:
+        the read holds this step's flag, and where it masks bootstrapping from the step's next
+        state it reads ``terminated``, as a plain local would (``self.done`` keeps the episode's
+        end for the code that resets on it). True when claimed."""
+        block = self._sibling_block(assign)
+        statement = self.facts.statement_of(read)
+        if block is None or statement not in block or block.index(statement) <= block.index(assign):
+            return False
+        attribute = target.attr  # type: ignore[attr-defined]
+        between = block[block.index(assign) + 1 : block.index(statement) + 1]
+        if any(
+            isinstance(node, ast.Attribute) and node.attr == attribute and not isinstance(node.ctx, ast.Load)
+            for stmt in between
+            for node in ast.walk(stmt)
+        ):
+            return False
+        step = DoneStep(assign, read, names, assign.targets[0])  # type: ignore[arg-type]
+        if not self._masks_next_state(read, step) or self._readers_keep_boundary(read, step):  # type: ignore[arg-type]
+            return False
+        terminated = names.terminated
+        noted = self.notes.step_unpacks.get(assign)
+        if noted is not None:
+            noted.claimed_reads += 1
+        self.plan.replace(read, lambda node: cst.Name(terminated, lpar=node.lpar, rpar=node.rpar))
+        self.reported_reads.add(id(read))
+        self.report(
+            read,
+            "GM302",
+            f"`{self.facts.segment(read)}` is stored with the next state `{self.facts.segment(step.target.elts[0])}`, "
+            f"set by the step on line {assign.lineno}: it now reads `{terminated}`, so a time-limit truncation still "
+            f"bootstraps (`{self.facts.segment(read)}` keeps `{names.terminated} or {names.truncated}` for ending the episode)",
+            FixKind.ASSIST,
+            Tier.NOTE,
+        )
+        return True
+
+    def _sibling_block(self, statement: ast.stmt) -> list[ast.stmt] | None:
+        """The statement list that holds ``statement`` directly."""
+        parent = self.facts.parent(statement)
+        for field in ("body", "orelse", "finalbody"):
+            block = getattr(parent, field, None)
+            if isinstance(block, list) and statement in block:
+                return block
+        return None
 
     def _report_open_read(self, read: ast.Name, step: DoneStep) -> None:
         use = classify_done_read(read, self.facts)
@@ -209,6 +259,17 @@ class DoneReadReports(DoneBookkeeping):
                 FixKind.FLAG,
                 Tier.NOTE,
             )
+        elif owner is step.assign and (chooser := self._returned_to_bootstrap_choice(read)) is not None:
+            helper, test = chooser
+            self._report_read(
+                read,
+                f"`{read.id}` is returned by `{helper}`, and its caller tests it at line {test.lineno} to choose "
+                f"whether to bootstrap from the returned next state: it stays `{names.terminated} or "
+                f"{names.truncated}` here; return `{names.terminated}` as well and test that at line {test.lineno}, "
+                f"so that a time-limit truncation still bootstraps (keep `{read.id}` for ending the episode)",
+                FixKind.FLAG,
+                question=question,
+            )
         elif owner is step.assign and (settled := self._only_ends_or_unread(read)) is not None:
             # The code shows what the flag is for: ending a loop, or nothing at all (a note).
             self._report_read(
@@ -237,6 +298,18 @@ class DoneReadReports(DoneBookkeeping):
                 f"`{read.id}` is kept in `{self.facts.segment(statement.targets[0])}` and stored as a value on line "  # type: ignore[attr-defined]
                 f"{stored[0].lineno}; it means `{names.terminated} or {names.truncated}`: if it masks bootstrapping "
                 f"from the next state, store `{names.terminated}`",
+                FixKind.FLAG,
+                question=question,
+            )
+        elif owner is step.assign and use is DoneUse.DATA and (episode := self._episode_store_with_tail(read, step)) is not None:
+            container, handed, emptied = episode
+            self._report_read(
+                read,
+                f"`{read.id}` is stored in `{container}`, which holds one episode: at its end `{container}` is handed "
+                f"to `{self.facts.segment(handed.func)}()` with a value of the next state (line {handed.lineno}) and "
+                f"emptied (line {emptied.lineno}), so the last stored flag can only mask that value, a bootstrap. It "
+                f"stays `{names.terminated} or {names.truncated}` here; if the callee masks it with the flag, store "
+                f"`{names.terminated}` so that a time-limit truncation still bootstraps",
                 FixKind.FLAG,
                 question=question,
             )

@@ -395,11 +395,79 @@ class DoneReadUses(NextStateReads):
             flag = target.elts[index]
             if not isinstance(flag, ast.Name):
                 return None
-            if any(
-                classify_done_read(use, self.facts) not in (DoneUse.CONTROL, DoneUse.NEUTRAL) for use in self.flow.reads(flag)
-            ):
+            uses = self.flow.reads(flag)
+            if any(classify_done_read(use, self.facts) not in (DoneUse.CONTROL, DoneUse.NEUTRAL) for use in uses):
+                return None
+            # ``if done: y = r`` / ``else: y = r + gamma * v(s2)`` in the caller is a test too,
+            # but it chooses whether to bootstrap from the next state the helper returned:
+            # no loop exit alone.
+            unpacked = DoneStep(assign, flag, None, target)  # type: ignore[arg-type]
+            if any(self._bootstrap_choice(use, unpacked, dominated=True) is not None for use in uses):
                 return None
         return f"is returned by `{function.name}`, whose callers read it only to end their loop"
+
+    def _returned_to_bootstrap_choice(self, read: ast.Name) -> tuple[str, ast.Name] | None:
+        """``return s2, r, done, info`` from a def of the file, and a caller that unpacks the
+        result and tests the flag to choose a value computed from the returned next state
+        (``if done: y = r`` / ``else: y = r + gamma * v(s2)``): the def's name and that test."""
+        parent = self.facts.parent(read)
+        if not (isinstance(parent, ast.Tuple) and isinstance(self.facts.parent(parent), ast.Return)):
+            return None
+        function = self.facts.enclosing_function(read)
+        if not isinstance(function, FUNCTIONS) or self.facts.enclosing_class(read) is not None:
+            return None
+        index = next(i for i, value in enumerate(parent.elts) if value is read)
+        for call in self.facts.calls_by_name.get(function.name, []):
+            assign = self.facts.parent(call)
+            if not (isinstance(assign, ast.Assign) and assign.value is call and len(assign.targets) == 1):
+                continue
+            target = assign.targets[0]
+            if not isinstance(target, (ast.Tuple, ast.List)) or len(target.elts) != len(parent.elts):
+                continue
+            flag = target.elts[index]
+            if not isinstance(flag, ast.Name):
+                continue
+            unpacked = DoneStep(assign, flag, None, target)  # type: ignore[arg-type]
+            for use in self.flow.reads(flag):
+                if self._bootstrap_choice(use, unpacked, dominated=True) is not None:
+                    return function.name, use
+        return None
+
+    def _episode_store_with_tail(self, read: ast.Name, step: DoneStep) -> tuple[str, ast.Call, ast.Call | ast.Assign | ast.Delete] | None:
+        """``memory.append((r, done))`` where, under ``if done:``, the code hands ``memory`` on
+        together with a value of the step's next state (``train(memory, critic(s2))``) and
+        empties it (``memory.clear()``, ``memory = []``): the store holds one episode, and
+        its last flag can only mask that final value, a bootstrap. The container's name, the
+        hand-on call and the emptying statement; else None."""
+        node: ast.AST = read
+        parent = self.facts.parent(node)
+        container = None
+        while parent is not None and not isinstance(parent, ast.stmt):
+            if isinstance(parent, ast.Call) and isinstance(parent.func, ast.Attribute) and node is not parent.func:
+                if isinstance(parent.func.value, ast.Name):
+                    container = parent.func.value.id
+                break
+            node, parent = parent, self.facts.parent(parent)
+        if container is None:
+            return None
+        function = self.facts.enclosing_function(step.assign) or self.facts.tree
+        next_names = self._next_state_names(step)
+        if not next_names:
+            return None
+        for test in ast.walk(function):
+            if not (isinstance(test, ast.If) and isinstance(test.test, ast.Name) and test.test.id == step.done.id):
+                continue
+            handed = emptied = None
+            for statement in test.body:
+                for inner in ast.walk(statement):
+                    if isinstance(inner, ast.Call) and any(isinstance(a, ast.Name) and a.id == container for a in inner.args):
+                        if any(not isinstance(a, ast.Name) and self._reads_next_state(a, step, next_names) for a in inner.args):
+                            handed = inner
+                    if isinstance(inner, (ast.Call, ast.Assign, ast.Delete)) and _empties(inner, container):
+                        emptied = inner
+            if handed is not None and emptied is not None:
+                return container, handed, emptied
+        return None
 
     def _unread_list(self, name: ast.Name) -> str | None:
         """``episode`` bound only to new lists in a function and only ever appended to."""
@@ -732,3 +800,21 @@ def _constant(node: ast.AST) -> bool:
 # Methods that change their object in place (``frames.append(next_obs)``): a name changed so
 # after the step may hold the next state whatever it was bound to.
 _IN_PLACE_CHANGES = frozenset({"append", "extend", "insert", "appendleft", "extendleft", "update", "add", "put", "push", "copy_", "fill_", "__setitem__"})
+
+
+def _empties(node: ast.AST, container: str) -> bool:
+    """``container.clear()``, ``container = []``, ``del container[:]``."""
+    if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "clear":
+        return isinstance(node.func.value, ast.Name) and node.func.value.id == container and not node.args
+    if isinstance(node, ast.Assign) and len(node.targets) == 1:
+        target = node.targets[0]
+        return isinstance(target, ast.Name) and target.id == container and isinstance(node.value, ast.List) and not node.value.elts
+    if isinstance(node, ast.Delete) and len(node.targets) == 1:
+        target = node.targets[0]
+        return (
+            isinstance(target, ast.Subscript)
+            and isinstance(target.value, ast.Name)
+            and target.value.id == container
+            and isinstance(target.slice, ast.Slice)
+        )
+    return False

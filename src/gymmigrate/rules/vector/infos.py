@@ -336,6 +336,10 @@ class Infos(VectorFamilyBase):
         if isinstance(parent, (ast.For, ast.AsyncFor, ast.comprehension)) and parent.iter is node:
             readers.positional.append(node)
         elif isinstance(parent, ast.Subscript) and parent.value is node:
+            if _written(parent, facts.parent(parent)):
+                # ``info["terminal_observation"] = obs``: the code sets the key for its own
+                # readers (a worker of its own VecEnv); no Gym env's key is read here.
+                return
             key = _subscript_key(parent)
             if key is None:
                 outer = facts.parent(parent)
@@ -422,7 +426,7 @@ class Infos(VectorFamilyBase):
         """``x["k"]``, ``"k" in x``, ``x.get("k")``: the string is used as a dict key."""
         parent = self.facts.parent(string)
         if isinstance(parent, ast.Subscript):
-            return parent.slice is string
+            return parent.slice is string and not isinstance(parent.ctx, ast.Store)
         if isinstance(parent, ast.Compare):
             return parent.left is string
         if isinstance(parent, ast.Call):
@@ -430,6 +434,13 @@ class Infos(VectorFamilyBase):
             arguments = arguments_in_order(parent)
             return isinstance(func, ast.Attribute) and func.attr in ("get", "pop") and bool(arguments) and arguments[0] is string
         return False
+
+
+def _written(subscript: ast.Subscript, outer: ast.AST | None) -> bool:
+    """``x["k"] = v`` or ``x[i]["k"] = v``: a store into the dict, which reads no key."""
+    if isinstance(subscript.ctx, ast.Store):
+        return True
+    return isinstance(outer, ast.Subscript) and outer.value is subscript and isinstance(outer.ctx, ast.Store)
 
 
 def _subscript_key(subscript: ast.AST | None) -> str | None:
