@@ -169,6 +169,15 @@ class ProjectView:
         """One of these imported names is a PettingZoo env class or factory of the run."""
         return any(self.call_kind(q) in (EnvKind.PZ_AEC, EnvKind.PZ_PARALLEL) for q in qualified_names)
 
+    def passed_multi_agent(self) -> bool:
+        """Another module of the run passes a PettingZoo env to a def or class of this one
+        (``MarkovVec(par_env)`` with ``par_env`` a parallel env): its calls on that
+        parameter are PettingZoo calls, though this module imports no PettingZoo."""
+        return any(
+            path == self.path and any(k in (EnvKind.PZ_AEC, EnvKind.PZ_PARALLEL) for k in kinds)
+            for (path, _, _), kinds in self.facts.param_kinds.items()
+        )
+
     def bootstrap_masks(self, qualified: str) -> tuple[tuple[str, ...], frozenset[tuple[str, str]]] | None:
         """For a def or method of another module of the run (``agents.Agent.learn``): its
         parameters and which of them mask bootstrapping from which (``facts/bootstrap.py``);

@@ -49,6 +49,9 @@ class ParameterKinds(_Facade):
             if self.wraps_pz_parallel(classdef):  # type: ignore[arg-type]
                 return EnvKind.PZ_PARALLEL
             return EnvKind.NOT_ENV if self.wraps_gym_only(classdef) is not None else EnvKind.GYM_ENV  # type: ignore[arg-type]
+        checked = self._checked_multi_agent_kind(function, name)
+        if checked is not None:
+            return checked  # what the def itself proves outweighs what any caller is said to pass
         position = next((i for i, p in enumerate(params) if p is param), None)
         if position is not None and is_method:
             position -= 1  # calls do not pass self
@@ -106,6 +109,56 @@ class ParameterKinds(_Facade):
                 self._mixed_params[param] = (sorted(k.value for k in gym), [f"{name} (whose step and reset keep their own contract)" for name in sorted(kept)])
                 return EnvKind.UNKNOWN
         return join_kinds(kinds)
+
+    def _checked_multi_agent_kind(self, function: ast.FunctionDef | ast.AsyncFunctionDef, name: str) -> EnvKind | None:
+        """``def to_vec(par_env): assert isinstance(par_env, ParallelEnv); ...`` (or ``if not
+        isinstance(...): raise``) as a leading statement of the def, the parameter never
+        rebound in it: every read past the check holds that PettingZoo kind, whatever the
+        callers are thought to pass. None for any other shape."""
+        if any(isinstance(b, ast.Name) and b.id == name for b in _stored_names(function)):
+            return None
+        for statement in function.body:
+            test: ast.expr | None = None
+            if isinstance(statement, ast.Assert):
+                test = statement.test
+            elif (
+                isinstance(statement, ast.If)
+                and isinstance(statement.test, ast.UnaryOp)
+                and isinstance(statement.test.op, ast.Not)
+                and statement.body
+                and isinstance(statement.body[-1], ast.Raise)
+                and not statement.orelse
+            ):
+                test = statement.test.operand
+            elif isinstance(statement, ast.Expr) and isinstance(statement.value, ast.Constant):
+                continue  # the docstring
+            else:
+                return None  # only checks before anything else runs
+            kind = self._isinstance_multi_agent_kind(test, name)
+            if kind is not None:
+                return kind
+        return None
+
+    def _isinstance_multi_agent_kind(self, test: ast.expr, name: str) -> EnvKind | None:
+        """``isinstance(name, <PettingZoo AEC or parallel class>)`` (a tuple of one family):
+        that kind; anything else: None."""
+        if not (
+            isinstance(test, ast.Call)
+            and isinstance(test.func, ast.Name)
+            and test.func.id == "isinstance"
+            and not self.facts.bindings_of(test.func)
+            and len(test.args) == 2
+            and not test.keywords
+            and isinstance(test.args[0], ast.Name)
+            and test.args[0].id == name
+        ):
+            return None
+        classes = test.args[1]
+        items = classes.elts if isinstance(classes, ast.Tuple) else [classes]
+        kinds = {other_library_class_kind(q) for item in items for q in (self.qualified_names(item) or {""})}
+        if len(kinds) == 1 and kinds <= {EnvKind.PZ_AEC, EnvKind.PZ_PARALLEL}:
+            return kinds.pop()
+        return None
 
     def _wrapped_in_gym_wrapper(self, function: ast.AST, param: ast.arg) -> bool:
         """``def prepare(env, seed): env.seed(seed); env = Monitor(env, d)``, called nowhere the
@@ -418,3 +471,8 @@ def has_default(function: ast.AST, param: ast.arg) -> bool:
     if param in args.kwonlyargs:
         return args.kw_defaults[args.kwonlyargs.index(param)] is not None
     return False
+
+
+def _stored_names(function: ast.AST) -> list[ast.Name]:
+    """The names ``function`` (nested defs included: cautious) assigns or deletes."""
+    return [node for node in ast.walk(function) if isinstance(node, ast.Name) and not isinstance(node.ctx, ast.Load)]

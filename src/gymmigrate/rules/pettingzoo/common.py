@@ -49,14 +49,18 @@ class PettingZooFamily(RuleFamily):
     """Base of the PettingZoo families: gated on the file importing PettingZoo or SuperSuit,
     iterating ``x.agent_iter()`` (a loop over an env passed in from elsewhere), or importing
     a PettingZoo env class or factory another module of the run defines (a driver script
-    of the project's own env)."""
+    of the project's own env), or being passed a PettingZoo env by another module of the run
+    (its receivers are PettingZoo envs: no other family rewrites their calls)."""
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
         if context.profile.imports_pettingzoo or "agent_iter" in facts.attribute_calls:
             return True
         project = context.options.project
-        return project is not None and project.view(context.path).imports_multi_agent(facts.imports.values())
+        if project is None:
+            return False
+        view = project.view(context.path)
+        return view.imports_multi_agent(facts.imports.values()) or view.passed_multi_agent()
 
     @property
     def multi_agent(self) -> MultiAgent:
