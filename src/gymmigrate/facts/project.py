@@ -63,6 +63,9 @@ from gymmigrate.facts.project_exports import Exports, reexport_wrappers
 from gymmigrate.facts.project_params import ParamJoin
 from gymmigrate.facts.project_view import ProjectView
 
+# How many package re-exports one name is followed through (``_resolve_reexported``).
+_MAX_REEXPORT_HOPS = 8
+
 
 @dataclass
 class ProjectFacts:
@@ -550,7 +553,9 @@ class ProjectFacts:
         ``__init__`` it stands for, each re-export followed once."""
         split = self._split(target, importer)
         seen: set[tuple[str, str]] = set()
-        while split is not None and split not in seen and split[0] in by_path:
+        # A re-export may name itself with a longer tail each hop (``pkg.x`` -> ``pkg.x.x``),
+        # which ``seen`` alone never stops: a chain of re-exports is short in real packages.
+        while split is not None and split not in seen and split[0] in by_path and len(seen) < _MAX_REEXPORT_HOPS:
             seen.add(split)
             path, rest = split
             name, dot, tail = rest.partition(".")
