@@ -24,7 +24,6 @@ from gymmigrate.rules.imports.table import (
     under_gym,
 )
 
-
 # the gym package named in prose (``gym==0.23``, "install gym"), not gymnasium or gym_foo
 _NAMES_GYM = re.compile(r"\bgym\b(?![_-])")
 

@@ -355,9 +355,7 @@ def max_episode_steps_on_atari(family: Family, attr: ast.Attribute) -> bool:
                 kind=FixKind.AUTO,
             )
             env = attr.value.id  # type: ignore[attr-defined]
-            family.plan.replace(
-                statement, lambda node: cst.parse_statement(f"{env} = {limit}({env}, max_episode_steps={value})\n").body[0]
-            )
+            family.plan.replace(statement, lambda node: _time_limit_assign(env, limit, value))
             return True
         family.report(
             attr,
@@ -448,6 +446,13 @@ def _right_after_make(facts: ModuleFacts, statement: ast.Assign, make: ast.Call,
             index = block.index(statement)
             return index > 0 and block[index - 1] is above and _plain(statement.value, receiver.id)
     return False
+
+
+def _time_limit_assign(env: str, limit: str, value: str) -> cst.CSTNode:
+    """``env = TimeLimit(env, max_episode_steps=value)``, the assignment that replaces a write."""
+    line = cst.parse_statement(f"{env} = {limit}({env}, max_episode_steps={value})\n")
+    assert isinstance(line, cst.SimpleStatementLine)
+    return line.body[0]
 
 
 def _wraps_in_place(facts: ModuleFacts, statement: ast.Assign, make: ast.Call, receiver: ast.AST) -> bool:
