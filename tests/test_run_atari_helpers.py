@@ -67,3 +67,9 @@ obs = env.reset()
 """
     found, _ = lint_source(source, "maybe.py")
     assert [(f.rule, f.kind.value) for f in found if f.rule == "GM201"] != [("GM201", "auto")]
+
+
+def test_an_id_read_off_an_object_handed_to_another_modules_atari_wrapper_registers_ale_py(findings: list[dict]) -> None:
+    # ``game = settings.game; env = gym.make(game); env = arcade_stack(env)``: the wrapper of
+    # games/lives.py asserts the Atari action meanings, so the make needs ale_py whatever id
+    assert _of(findings, "setup_from_config.py", "GM106") == [(8, "auto")]

@@ -105,8 +105,89 @@ def _helper(name: str, facts: ModuleFacts) -> tuple[ast.AST, ast.Compare, str] |
                 compare = body[0].value
                 if len(compare.ops) == 1:
                     return statement, compare, arguments.args[0].arg
-            return None
+            staged = _staged_compare(body, facts)
+            return None if staged is None else (statement, staged, arguments.args[0].arg)
     return None
+
+
+# ``operator.ge(a, b)`` and its kin, as the comparison they make.
+_OPERATOR_COMPARES: dict[str, type[ast.cmpop]] = {"lt": ast.Lt, "le": ast.LtE, "gt": ast.Gt, "ge": ast.GtE, "eq": ast.Eq, "ne": ast.NotEq}
+
+
+def _staged_compare(body: list[ast.stmt], facts: ModuleFacts) -> ast.Compare | None:
+    """A helper that parses in steps: ``mine = gym.__version__.split(".")``, ``theirs =
+    other.split(".")``, loops that only turn items into numbers (``mine[i] = int(mine[i])``,
+    in a try), then ``return mine >= theirs`` or ``return operator.ge(mine, theirs)``. Both
+    sides go through the same steps, so the comparison is the one of their assigned values
+    (a Compare built from them, for ``_compare``); None for any other shape."""
+    if len(body) < 3 or not isinstance(body[-1], ast.Return):
+        return None
+    returned = body[-1].value
+    if isinstance(returned, ast.Compare) and len(returned.ops) == 1:
+        left, op, right = returned.left, returned.ops[0], returned.comparators[0]
+    elif (
+        isinstance(returned, ast.Call)
+        and isinstance(returned.func, ast.Attribute)
+        and isinstance(returned.func.value, ast.Name)
+        and returned.func.value.id == "operator"
+        and "operator" in facts.imports.values()
+        and returned.func.attr in _OPERATOR_COMPARES
+        and len(returned.args) == 2
+        and not returned.keywords
+    ):
+        left, right = returned.args
+        op = _OPERATOR_COMPARES[returned.func.attr]()
+    else:
+        return None
+    if not (isinstance(left, ast.Name) and isinstance(right, ast.Name)) or left.id == right.id:
+        return None
+    values: dict[str, ast.expr] = {}
+    for statement in body[:-1]:
+        if (
+            isinstance(statement, ast.Assign)
+            and len(statement.targets) == 1
+            and isinstance(statement.targets[0], ast.Name)
+            and statement.targets[0].id in (left.id, right.id)
+            and statement.targets[0].id not in values
+        ):
+            values[statement.targets[0].id] = statement.value
+        elif not (isinstance(statement, ast.For) and _converts_items(statement, (left.id, right.id))):
+            return None
+    if set(values) != {left.id, right.id}:
+        return None
+    return ast.Compare(left=values[left.id], ops=[op], comparators=[values[right.id]])
+
+
+def _converts_items(loop: ast.For, names: tuple[str, str]) -> bool:
+    """``for i in range(...):`` whose only stores are ``x[i] = int(x[i])`` on ``names`` (in a
+    try whose handlers only pass): each item becomes a number or stays, the same way on both
+    sides."""
+    if not isinstance(loop.target, ast.Name) or loop.orelse:
+        return False
+    statements: list[ast.stmt] = []
+    for statement in loop.body:
+        if isinstance(statement, ast.Try) and not statement.orelse and not statement.finalbody:
+            if not all(all(isinstance(s, ast.Pass) for s in handler.body) for handler in statement.handlers):
+                return False
+            statements.extend(statement.body)
+        else:
+            statements.append(statement)
+    for statement in statements:
+        if not (isinstance(statement, ast.Assign) and len(statement.targets) == 1):
+            return False
+        target, value = statement.targets[0], statement.value
+        if not (
+            isinstance(target, ast.Subscript)
+            and isinstance(target.value, ast.Name)
+            and target.value.id in names
+            and isinstance(value, ast.Call)
+            and isinstance(value.func, ast.Name)
+            and value.func.id in _PARSERS
+            and len(value.args) == 1
+            and ast.dump(value.args[0]) == ast.dump(ast.Subscript(value=ast.Name(id=target.value.id, ctx=ast.Load()), slice=target.slice, ctx=ast.Load()))
+        ):
+            return False
+    return True
 
 
 def _compare(

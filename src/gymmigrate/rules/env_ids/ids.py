@@ -351,7 +351,8 @@ class EnvIds(RuleFamily):
         pass: its module needs ``import ale_py``. Where every sign sits under a condition
         (``if "NoFrameskip" in env_id:``), the helper may make other envs too: for review."""
         bindings = self.facts.bindings_of(name)
-        if len(bindings) != 1 or not isinstance(bindings[0], ast.arg):
+        # a parameter, or a local bound once from what the run cannot read (``env_id = task.env_id``)
+        if len(bindings) != 1 or not isinstance(bindings[0], (ast.arg, ast.Name)):
             return
         function = self.facts.enclosing_function(call)
         if function is None or ALE.module in self._packages:
@@ -378,7 +379,7 @@ class EnvIds(RuleFamily):
             if not ("tests for" in sign or _under_condition(self.facts, node, where[id(node)]))
         ]
         evidence = (certain or [sign for sign, _ in signs])[0]
-        given = None if certain else self._ids_given(function, bindings[0])
+        given = None if certain or not isinstance(bindings[0], ast.arg) else self._ids_given(function, bindings[0])
         if given is not None and not any(is_atari_id(i) for i in given):
             return  # every caller of the run passes an id, none an Atari one: no ale_py needed
         if given is not None:

@@ -6,11 +6,12 @@ for class checks moved to ale_py; with the LibCST builds of the new statements."
 from __future__ import annotations
 
 import ast
+import re
 
 from gymmigrate.edits.lazy import cst
 from gymmigrate.edits.syntax import dotted_node
 from gymmigrate.facts import ModuleFacts
-from gymmigrate.findings import FixKind, gym_only_question
+from gymmigrate.findings import FixKind, Tier, gym_only_question
 from gymmigrate.rules.gymnasium_api import has_name, module_exists
 from gymmigrate.rules.imports.libraries import GYM_ONLY_LIBRARIES, GymOnlyLibraries
 from gymmigrate.rules.imports.table import (
@@ -22,6 +23,9 @@ from gymmigrate.rules.imports.table import (
     removed_name_hint,
     under_gym,
 )
+
+# the gym package named in prose (``gym==0.23``, "install gym"), not gymnasium or gym_foo
+_NAMES_GYM = re.compile(r"\bgym\b(?![_-])")
 
 
 class ImportStatements(GymOnlyLibraries):
@@ -62,13 +66,27 @@ class ImportStatements(GymOnlyLibraries):
             if rest == "":
                 names.append(("gymnasium", alias.asname or "gym"))
                 if guarded:
-                    self.report(
-                        node,
-                        "GM101",
-                        "import gym -> import gymnasium as gym inside a try/except ImportError: the guard now "
-                        "asks whether gymnasium is installed",
-                        FixKind.ASSIST,
-                    )
+                    stale = self._handler_text_naming_gym(node)
+                    if stale is None:
+                        # The guard's answer only changes its subject (is gymnasium installed?):
+                        # nothing to decide, the line explains the rewrite.
+                        self.report(
+                            node,
+                            "GM101",
+                            "import gym -> import gymnasium as gym inside a try/except ImportError: the guard now "
+                            "asks whether gymnasium is installed",
+                            FixKind.ASSIST,
+                            tier=Tier.NOTE,
+                        )
+                    else:
+                        self.report(
+                            node,
+                            "GM101",
+                            "import gym -> import gymnasium as gym inside a try/except ImportError: the guard now "
+                            f"asks whether gymnasium is installed, but the text its handler gives at line {stale} still "
+                            "names gym: say gymnasium there (and drop a gym version pin it asks for)",
+                            FixKind.ASSIST,
+                        )
                 else:
                     self.report(node, "GM101", "import gym -> import gymnasium as gym")
                 continue
@@ -81,6 +99,18 @@ class ImportStatements(GymOnlyLibraries):
                 self._plain_gym_import = True
         if changed:
             self.plan.replace(node, lambda import_node: _with_names(import_node, names))
+
+    def _handler_text_naming_gym(self, node: ast.AST) -> int | None:
+        """The line of a string in the guard's except handlers that names the gym package
+        (``"pip install gym==0.23"``): after the rewrite it tells the user the wrong package."""
+        guard = next((a for a in self.facts.ancestors(node) if isinstance(a, ast.Try)), None)
+        if guard is None:
+            return None
+        for handler in guard.handlers:
+            for child in ast.walk(handler):
+                if isinstance(child, ast.Constant) and isinstance(child.value, str) and _NAMES_GYM.search(child.value):
+                    return child.lineno
+        return None
 
     def _splittable(self, node: ast.ImportFrom) -> bool:
         """An import statement on lines of its own (not after ``;``, not a one-line suite's

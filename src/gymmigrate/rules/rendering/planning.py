@@ -138,6 +138,12 @@ class SitePlanning(MakeEdits):
             final_mode[key] = None
             self._switched_off[key] = str(off[0])
             return True
+        if how == "fixed" and all(self._version_fallback_flag(make, site.node) == condition for site in sites):
+            # ``if <gym version test> and show: make(..., render_mode="human") else: make(...)``:
+            # the human make already serves the renders on Gymnasium (the site says so).
+            final_mode[key] = None
+            self._unscheduled[key] = condition
+            return True
         if how == "fixed":
             quote = self._quote_style(make, sites)
             final_mode[key] = HUMAN
@@ -446,23 +452,45 @@ class SitePlanning(MakeEdits):
         assign = self.facts.parent(make)
         if not (isinstance(assign, ast.Assign) and len(assign.targets) == 1 and isinstance(assign.targets[0], ast.Name)):
             return None
-        target = assign.targets[0]
         rendered = {id(site.node) for site in sites}
-        # Every read of that binding, in the functions of the module too (a training
-        # function that steps the module's ``env``): the scopes already index their reads.
-        reads = [read for scope in self.facts.scopes.values() for read in scope.reads.get(target.id, ())]
-        for read in reads:
-            if target not in self.facts.bindings_of(read):
-                continue
-            parent = self.facts.parent(read)
-            if isinstance(parent, ast.Call) and read in parent.args and not self._under_gym(parent.func):
-                if self._reads_only_spaces(parent, read):
+        receivers = [site.node.func.value for site in sites if isinstance(site.node.func, ast.Attribute)]
+        targets = [assign.targets[0]]
+        for target in targets:
+            # Every read of that binding, in the functions of the module too (a training
+            # function that steps the module's ``env``): the scopes already index their reads.
+            reads = [read for scope in self.facts.scopes.values() for read in scope.reads.get(target.id, ())]
+            for read in reads:
+                if target not in self.facts.bindings_of(read):
                     continue
-                return f"passed to {self.facts.segment(parent.func)}()"
-            if isinstance(parent, ast.Attribute) and parent.attr == "step":
-                call = self.facts.parent(parent)
-                if isinstance(call, ast.Call) and call.func is parent and not self._loop_renders(call, rendered):
-                    return f"stepped at line {call.lineno}"
+                parent = self.facts.parent(read)
+                if isinstance(parent, ast.Call) and read in parent.args and not self._under_gym(parent.func):
+                    if self._reads_only_spaces(parent, read):
+                        continue
+                    wrapped = self._rendered_wrapper(parent, receivers)
+                    if wrapped is not None:
+                        # ``env = Shim(env)`` and the renders draw ``env``: the wrapper is the
+                        # env rendered, and its own uses are the ones to look at.
+                        if wrapped not in targets:
+                            targets.append(wrapped)
+                        continue
+                    return f"passed to {self.facts.segment(parent.func)}()"
+                if isinstance(parent, ast.Attribute) and parent.attr == "step":
+                    call = self.facts.parent(parent)
+                    if isinstance(call, ast.Call) and call.func is parent and not self._loop_renders(call, rendered):
+                        return f"stepped at line {call.lineno}"
+        return None
+
+    def _rendered_wrapper(self, call: ast.Call, receivers: list[ast.expr]) -> ast.Name | None:
+        """``env = Shim(env)`` (the call's result bound to a plain name) where that binding
+        is what a render site draws: the new binding, else None."""
+        assign = self.facts.parent(call)
+        if not (isinstance(assign, ast.Assign) and assign.value is call and len(assign.targets) == 1):
+            return None
+        bound = assign.targets[0]
+        if not isinstance(bound, ast.Name):
+            return None
+        if any(isinstance(r, ast.Name) and bound in self.facts.bindings_of(r) for r in receivers):
+            return bound
         return None
 
     def _version_fallback_flag(self, make: ast.Call, render: ast.Call) -> str | None:

@@ -48,7 +48,9 @@ class DoneReadReports(DoneBookkeeping):
                 question=question,
             )
 
-    def _claim(self, read: ast.Name, step: DoneStep, none_mask: str | None = None, callee: str | None = None) -> None:
+    def _claim(
+        self, read: ast.Name, step: DoneStep, none_mask: str | None = None, callee: str | None = None, tail: str | None = None
+    ) -> None:
         terminated = step.names.terminated
         self.notes.step_unpacks[step.assign].claimed_reads += 1
         self.plan.replace(read, lambda node: node.with_changes(value=terminated))
@@ -57,6 +59,11 @@ class DoneReadReports(DoneBookkeeping):
             message = (
                 f"`{read.id}` decides whether the stored next state `{none_mask}` is None (a terminal transition, "
                 f"no bootstrapping): it now reads `{terminated}`, so a time-limit truncation keeps its next state"
+            )
+        elif tail is not None:
+            message = (
+                f"`{read.id}` is stored in {tail}: it now reads `{terminated}`, so a time-limit truncation still "
+                "bootstraps"
             )
         elif callee is not None:
             message = (
@@ -303,6 +310,15 @@ class DoneReadReports(DoneBookkeeping):
             )
         elif owner is step.assign and use is DoneUse.DATA and (episode := self._episode_store_with_tail(read, step)) is not None:
             container, handed, emptied = episode
+            callee = self._callee_masks_tail(handed, container)
+            if callee is not None:
+                self._claim(
+                    read,
+                    step,
+                    tail=f"`{container}`, which `{callee}()` walks back from the value of the next state it is handed "
+                    f"(line {handed.lineno}), masking that value with each stored flag",
+                )
+                return
             self._report_read(
                 read,
                 f"`{read.id}` is stored in `{container}`, which holds one episode: at its end `{container}` is handed "

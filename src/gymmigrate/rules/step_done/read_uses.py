@@ -455,18 +455,63 @@ class DoneReadUses(NextStateReads):
         if not next_names:
             return None
         for test in ast.walk(function):
-            if not (isinstance(test, ast.If) and isinstance(test.test, ast.Name) and test.test.id == step.done.id):
+            if not (isinstance(test, ast.If) and _tests_flag(test.test, step.done.id)):
                 continue
             handed = emptied = None
+            # ``last = critic(next_state)`` in the branch, then ``train(memory, last)``
+            tail_values = {
+                statement.targets[0].id
+                for statement in test.body
+                if isinstance(statement, ast.Assign)
+                and len(statement.targets) == 1
+                and isinstance(statement.targets[0], ast.Name)
+                and self._reads_next_state(statement.value, step, next_names)
+            }
             for statement in test.body:
                 for inner in ast.walk(statement):
                     if isinstance(inner, ast.Call) and any(isinstance(a, ast.Name) and a.id == container for a in inner.args):
-                        if any(not isinstance(a, ast.Name) and self._reads_next_state(a, step, next_names) for a in inner.args):
+                        if any(
+                            (isinstance(a, ast.Name) and a.id in tail_values)
+                            or (not isinstance(a, ast.Name) and self._reads_next_state(a, step, next_names))
+                            for a in inner.args
+                        ):
                             handed = inner
                     if isinstance(inner, (ast.Call, ast.Assign, ast.Delete)) and _empties(inner, container):
                         emptied = inner
             if handed is not None and emptied is not None:
                 return container, handed, emptied
+        return None
+
+    def _callee_masks_tail(self, handed: ast.Call, container: str) -> str | None:
+        """``train(memory, last)`` calls a def of this module that walks ``memory`` (``for
+        i, (_, r, done) in enumerate(memory.reversed())``) and discounts the value it was
+        handed through the stored flags (``q = r + gamma * q * (1.0 - done)``): the stored
+        flag masks bootstrapping from that value. The def's name, or None."""
+        func = handed.func
+        if not isinstance(func, ast.Name) or handed.keywords or any(isinstance(a, ast.Starred) for a in handed.args):
+            return None
+        function = self.facts.functions.get(func.id)
+        if function is None or self.facts.bindings_of(func) != [function]:
+            return None
+        params = [a.arg for a in (*function.args.posonlyargs, *function.args.args)]
+        if len(handed.args) > len(params):
+            return None
+        stores = [params[i] for i, a in enumerate(handed.args) if isinstance(a, ast.Name) and a.id == container]
+        values = {params[i] for i, a in enumerate(handed.args) if not (isinstance(a, ast.Name) and a.id == container)}
+        if len(stores) != 1:
+            return None
+        for loop in ast.walk(function):
+            if not (isinstance(loop, ast.For) and any(isinstance(n, ast.Name) and n.id == stores[0] for n in ast.walk(loop.iter))):
+                continue
+            flags = {n.id for n in ast.walk(loop.target) if isinstance(n, ast.Name)}
+            for statement in ast.walk(loop):
+                if not (isinstance(statement, ast.Assign) and len(statement.targets) == 1 and isinstance(statement.targets[0], ast.Name)):
+                    continue
+                value = statement.targets[0].id
+                if value not in values or not any(isinstance(n, ast.Name) and n.id == value for n in ast.walk(statement.value)):
+                    continue
+                if any(_one_minus(n, flags) for n in ast.walk(statement.value)):
+                    return func.id
         return None
 
     def _unread_list(self, name: ast.Name) -> str | None:
@@ -818,3 +863,22 @@ def _empties(node: ast.AST, container: str) -> bool:
             and isinstance(target.slice, ast.Slice)
         )
     return False
+
+
+def _tests_flag(test: ast.expr, flag: str) -> bool:
+    """``if done:`` or ``if done or steps % n == 0:`` (a flush at the end and between)."""
+    if isinstance(test, ast.Name):
+        return test.id == flag
+    return isinstance(test, ast.BoolOp) and isinstance(test.op, ast.Or) and any(isinstance(v, ast.Name) and v.id == flag for v in test.values)
+
+
+def _one_minus(node: ast.AST, flags: set[str]) -> bool:
+    """``1 - done`` / ``1.0 - done`` on a flag of ``flags``: the mask that zeroes what follows."""
+    return (
+        isinstance(node, ast.BinOp)
+        and isinstance(node.op, ast.Sub)
+        and isinstance(node.left, ast.Constant)
+        and node.left.value == 1
+        and isinstance(node.right, ast.Name)
+        and node.right.id in flags
+    )

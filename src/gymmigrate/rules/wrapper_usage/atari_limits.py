@@ -74,9 +74,57 @@ def reaching_make(facts: ModuleFacts, expr: ast.AST) -> ast.Call | None:
     assign = facts.parent(last) if isinstance(last, ast.Name) else None
     if not (isinstance(last, ast.Name) and isinstance(assign, ast.Assign) and assign.targets == [last]):
         return None
+    if not (isinstance(assign.value, ast.Call) and is_make_call(facts, assign.value)):
+        return _make_past_other_arm(facts, expr)
     if not flow.dominates(assign, expr, last) or not isinstance(assign.value, ast.Call) or not is_make_call(facts, assign.value):
         return None
     return assign.value
+
+
+def _make_past_other_arm(facts: ModuleFacts, read: ast.Name) -> ast.Call | None:
+    """``env = make(id)``, then ``if ...: env = W(env) else: env._max_episode_steps = N``:
+    the read in one arm of an ``if`` sees the make, since every binding between them sits in
+    the other arm of an ``if`` holding both (the flow's last binding is the textual one).
+    Not in a loop. The make, or None."""
+    if any(isinstance(a, (ast.For, ast.AsyncFor, ast.While)) for a in facts.ancestors(read)):
+        return None
+    makes: list[ast.Assign] = []
+    others: list[ast.AST] = []
+    for binding in facts.bindings_of(read):
+        if not isinstance(binding, ast.Name):
+            return None
+        statement = facts.parent(binding)
+        if not is_after(read, binding):
+            continue  # after the read, outside any loop: not seen
+        if isinstance(statement, ast.Assign) and statement.targets == [binding] and isinstance(statement.value, ast.Call) and is_make_call(facts, statement.value):
+            makes.append(statement)
+        else:
+            others.append(binding)
+    if len(makes) != 1 or not others:
+        return None
+    make = makes[0]
+    flow = Flow.of(facts)
+    if not (flow.same_frame(read, facts.scope_of(make.value)) and is_after(read, make)):
+        return None
+    for binding in others:
+        if not is_after(binding, make) or not _other_arm(facts, binding, read):
+            return None
+    holder = facts.parent(make)
+    # the make's block holds the read's ``if`` (no arm of another test skips the make)
+    if not any(facts.parent(a) is holder for a in facts.ancestors(read) if isinstance(a, ast.stmt)):
+        return None
+    return make.value  # type: ignore[return-value]
+
+
+def _other_arm(facts: ModuleFacts, binding: ast.AST, read: ast.AST) -> bool:
+    """``binding`` and ``read`` sit in different arms (body / orelse) of one ``if``."""
+    for ancestor in facts.ancestors(binding):
+        if isinstance(ancestor, ast.If) and contains(ancestor, read):
+            in_body = any(contains(s, binding) for s in ancestor.body)
+            read_in_body = any(contains(s, read) for s in ancestor.body)
+            read_in_else = any(contains(s, read) for s in ancestor.orelse)
+            return (in_body and read_in_else) or (not in_body and read_in_body)
+    return False
 
 
 def _make_before(facts: ModuleFacts, read: ast.Name, statement: ast.Assign) -> ast.Call | None:
@@ -125,15 +173,60 @@ def _asserted_atari(facts: ModuleFacts, call: ast.Call) -> str | None:
             continue
         if any(isinstance(n, ast.Constant) and n.value == "NoFrameskip" for n in ast.walk(node.test)) and not _in_branch(facts, node, function):
             return facts.segment(node)
+    return _atari_call_on_made_env(facts, call, function)
+
+
+# What only an Atari env has: a non-Atari env raises AttributeError on these.
+_ATARI_ONLY = frozenset({"get_action_meanings", "ale"})
+
+
+def _atari_call_on_made_env(facts: ModuleFacts, call: ast.Call, function: ast.AST) -> str | None:
+    """``env = make(env_id)``, then, on every path of the def, ``env.unwrapped.
+    get_action_meanings()`` (or ``.ale``) on that env or on a wrapper of it (``env =
+    Wrapper(env)`` between): whatever id the callers pass, a non-Atari env would raise
+    there, so the make is an Atari one. The read's text, or None."""
+    assign = facts.parent(call)
+    if not (isinstance(assign, ast.Assign) and len(assign.targets) == 1 and isinstance(assign.targets[0], ast.Name)):
+        return None
+    name = assign.targets[0].id
+    for node in ast.walk(function):
+        if not (isinstance(node, ast.Attribute) and node.attr in _ATARI_ONLY and isinstance(node.ctx, ast.Load)):
+            continue
+        held = node.value.value if isinstance(node.value, ast.Attribute) and node.value.attr == "unwrapped" else node.value
+        if not (isinstance(held, ast.Name) and held.id == name) or facts.enclosing_function(node) is not function:
+            continue
+        if _in_branch(facts, node, function) or not is_after(node, assign):
+            continue
+        if all(_made_or_wrapped(facts, binding, assign, name) for binding in facts.bindings_of(held)):
+            return f"reads {facts.segment(node)}"
     return None
 
 
+def _made_or_wrapped(facts: ModuleFacts, binding: ast.AST, make: ast.Assign, name: str) -> bool:
+    """``binding`` of ``name`` is the make's, or ``name = Something(name, ...)``."""
+    statement = facts.parent(binding)
+    if statement is make:
+        return True
+    return (
+        isinstance(statement, ast.Assign)
+        and statement.targets == [binding]
+        and isinstance(statement.value, ast.Call)
+        and any(isinstance(a, ast.Name) and a.id == name for a in statement.value.args)
+    )
+
+
 def _in_branch(facts: ModuleFacts, node: ast.AST, function: ast.AST) -> bool:
+    """``node`` runs only on some paths of ``function`` (an ``if`` test runs on all)."""
+    child = node
     for ancestor in facts.ancestors(node):
         if ancestor is function:
             return False
+        if isinstance(ancestor, (ast.If, ast.While)) and child is ancestor.test:
+            child = ancestor
+            continue
         if isinstance(ancestor, (ast.If, ast.While, ast.For, ast.AsyncFor, ast.Try, ast.With, ast.AsyncWith)):
             return True
+        child = ancestor
     return False
 
 
@@ -213,6 +306,8 @@ def _atari_of(family: Family, receiver: ast.AST) -> tuple[Atari, str, ast.Call] 
 def _made_from(text: str, atari: Atari, env_id: str) -> str:
     if env_id.startswith("assert "):
         return f"`{text}` is made from an Atari id (`{env_id}`)"
+    if env_id.startswith("reads "):
+        return f"`{text}` is made from an Atari id (the def {env_id.split(' ', 1)[0]} `{env_id.split(' ', 1)[1]}` of it)"
     if atari is Atari.CERTAIN:
         return f"`{text}` is made from `{env_id}`, an Atari id"
     return f"if `{text}` is made from an Atari id (its callers pass `{env_id}` among others)"
@@ -245,6 +340,22 @@ def max_episode_steps_on_atari(family: Family, attr: ast.Attribute) -> bool:
             )
             family.plan.replace(make, lambda node: append_keyword(node, "max_episode_steps", cst.parse_expression(value)))
             family.plan.remove(statement)
+            return True
+        if atari is Atari.CERTAIN and _wraps_in_place(family.facts, statement, make, attr.value):
+            # In a branch after the make (``if "NoFrameskip" in env_id: env._max_episode_steps
+            # = a else: ... = b``): the make is shared, so the limit wraps the env there,
+            # with nothing between, as gym's registered TimeLimit sat right on the make.
+            value = family.facts.segment(statement.value)
+            limit = family.plan.ensure_import("gymnasium.wrappers", "TimeLimit")
+            family.report(
+                attr,
+                "GM605",
+                f"{_made_from(text, atari, env_id)}: {_NO_LIMIT}, so this write would cap nothing on Gymnasium: the env is "
+                f"wrapped in `{limit}(..., max_episode_steps=...)` here instead, on the make's result as before",
+                kind=FixKind.AUTO,
+            )
+            env = attr.value.id  # type: ignore[attr-defined]
+            family.plan.replace(statement, lambda node: _time_limit_assign(env, limit, value))
             return True
         family.report(
             attr,
@@ -337,11 +448,43 @@ def _right_after_make(facts: ModuleFacts, statement: ast.Assign, make: ast.Call,
     return False
 
 
+def _time_limit_assign(env: str, limit: str, value: str) -> cst.CSTNode:
+    """``env = TimeLimit(env, max_episode_steps=value)``, the assignment that replaces a write."""
+    line = cst.parse_statement(f"{env} = {limit}({env}, max_episode_steps={value})\n")
+    assert isinstance(line, cst.SimpleStatementLine)
+    return line.body[0]
+
+
+def _wraps_in_place(facts: ModuleFacts, statement: ast.Assign, make: ast.Call, receiver: ast.AST) -> bool:
+    """``env._max_episode_steps = N`` (N plain) where ``env`` still holds the make's result
+    (``reaching_make`` found it through the flow), outside any loop between the two, and the
+    make takes no ``max_episode_steps`` nor ``**kwargs``: rebinding ``env`` there to a
+    TimeLimit runs once, on the made env."""
+    if len(statement.targets) != 1 or not isinstance(receiver, ast.Name) or not _plain(statement.value, receiver.id):
+        return False
+    if any(k.arg in ("max_episode_steps", None) for k in make.keywords) or len(make.args) > 1:
+        return False
+    above = facts.parent(make)
+    if not (isinstance(above, ast.Assign) and len(above.targets) == 1 and isinstance(above.targets[0], ast.Name)):
+        return False
+    if above.targets[0].id != receiver.id:
+        return False
+    home = facts.parent(above)
+    for ancestor in facts.ancestors(statement):
+        if ancestor is home:
+            return True
+        if isinstance(ancestor, (ast.For, ast.AsyncFor, ast.While, *FUNCTIONS, ast.ClassDef, ast.Lambda)):
+            return False
+    return False
+
+
 def _plain(value: ast.expr, env: str) -> bool:
     if isinstance(value, ast.Constant):
         return isinstance(value.value, int) and not isinstance(value.value, bool)
     if isinstance(value, ast.Name):
         return value.id != env
+    if isinstance(value, ast.Attribute):  # ``args.max_episode_length``
+        return isinstance(value.ctx, ast.Load) and _plain(value.value, env) and not isinstance(value.value, ast.Constant)
     if isinstance(value, ast.UnaryOp):
         return _plain(value.operand, env)
     if isinstance(value, ast.BinOp):
