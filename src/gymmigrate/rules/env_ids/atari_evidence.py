@@ -9,7 +9,7 @@ and uses what only Atari envs have (``.ale``, ``get_action_meanings()``, a
 from __future__ import annotations
 
 import ast
-from typing import TYPE_CHECKING
+from collections.abc import Callable
 
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.module import call_argument, full_name
@@ -22,9 +22,6 @@ from gymmigrate.rules.env_ids.syntax import (
     split_module_prefix,
 )
 
-if TYPE_CHECKING:
-    from gymmigrate.rules.env_ids.id_sites import IdSites
-
 # What says a module makes Atari envs: the node to report at, the message and the fix kind.
 Evidence = tuple[ast.expr, str, FixKind]
 
@@ -32,10 +29,10 @@ Evidence = tuple[ast.expr, str, FixKind]
 class AtariEvidence:
     """The Atari signs of one module's id reads."""
 
-    def __init__(self, facts: ModuleFacts, receivers: Receivers, sites: IdSites) -> None:
+    def __init__(self, facts: ModuleFacts, receivers: Receivers, literal_of: Callable[[ast.Name], ast.Constant | None]) -> None:
         self.facts = facts
         self.receivers = receivers
-        self.sites = sites
+        self.literal_of = literal_of  # ``IdSites.literal_of``: the literal a name holds where it is read
 
     def formatted_id(self, arg: ast.expr) -> Evidence | None:
         """``gym.make('{}NoFrameskip-{}'.format(game, version))`` (or an f-string, directly or
@@ -156,7 +153,7 @@ class AtariEvidence:
             if argument is None:
                 value = default_id
             elif isinstance(argument, ast.Name):
-                literal = self.sites.literal_of(argument)
+                literal = self.literal_of(argument)
                 value = plain_string(self.facts, literal) if literal is not None else None
             else:
                 value = plain_string(self.facts, argument) if isinstance(argument, ast.Constant) else None

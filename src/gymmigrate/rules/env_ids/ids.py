@@ -110,7 +110,7 @@ class EnvIds(RuleFamily):
         found = sites.find()
         # the Atari signs of the reads ``find`` noted, in its order: the first one decides
         # what the ale_py registration says
-        atari = AtariEvidence(self.facts, self.receivers, sites)
+        atari = AtariEvidence(self.facts, self.receivers, sites.literal_of)
         for call, value in sites.atari_reads:
             if ALE.module in self._packages:
                 break
