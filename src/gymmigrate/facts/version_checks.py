@@ -289,16 +289,42 @@ def _constant_of(node: ast.expr, facts: ModuleFacts) -> ast.expr:
     return node
 
 
-def reads_version(test: ast.AST, facts: ModuleFacts) -> bool:
+def reads_version(test: ast.AST, facts: ModuleFacts, *, any_module: bool = False) -> bool:
     """``test`` reads the gym version: directly, or by calling a def of this module that
-    reads it (``if gym_at_least("0.26"):``), settled or not."""
-    names = gym_module_names(facts)
-    if not names or "__version__" not in facts.text:
+    reads it (``if gym_at_least("0.26"):``), settled or not.
+
+    ``any_module=True`` accepts any ``x.__version__`` (and a def of the module's scope that
+    reads one, found by the name called): the render rules (``rendering/planning.py``)
+    only need to know that ``if <version test> and flag:`` switches between two render
+    APIs, whichever module's version it reads; the receiver rules
+    (``receiver_origins.py``) keep the default, for which only gym's own version says that
+    the branch it guards serves legacy gym's step API.
+    """
+    if "__version__" not in facts.text:
         return False
-    helpers = {
-        s.name for s in facts.tree.body if isinstance(s, FUNCTIONS) and any(_is_version(n, names) for n in ast.walk(s))
-    }
+    if any_module:
+
+        def is_version(node: ast.AST) -> bool:
+            return isinstance(node, ast.Attribute) and node.attr == "__version__"
+
+        def is_helper(name: str) -> bool:
+            local = facts.functions.get(name)
+            return local is not None and any(is_version(n) for n in ast.walk(local))
+
+    else:
+        names = gym_module_names(facts)
+        if not names:
+            return False
+
+        def is_version(node: ast.AST) -> bool:
+            return _is_version(node, names)
+
+        helpers = {s.name for s in facts.tree.body if isinstance(s, FUNCTIONS) and any(is_version(n) for n in ast.walk(s))}
+
+        def is_helper(name: str) -> bool:
+            return name in helpers
+
     return any(
-        _is_version(n, names) or (isinstance(n, ast.Call) and isinstance(n.func, ast.Name) and n.func.id in helpers)
+        is_version(n) or (isinstance(n, ast.Call) and isinstance(n.func, ast.Name) and is_helper(n.func.id))
         for n in ast.walk(test)
     )

@@ -1,9 +1,11 @@
 """Environment ids, third-party registration and the registry API (GM106, GM802-GM806).
 
-    catalog.py   what retired, Atari and removed-family ids become (tables, no syntax)
-    syntax.py    which calls take an id, which literals can be rewritten, the registry
-    ids.py       GM803-GM805 id strings and GM106 registration imports   [20]
-    registry.py  GM802 registry API and GM806 EnvSpec attributes          [21]
+    catalog.py         what retired, Atari and removed-family ids become (tables, no syntax)
+    syntax.py          which calls take an id, which literals can be rewritten, the registry
+    ids.py             GM803-GM805 id strings and GM106 registration imports   [20]
+    id_sites.py        where ids are: the literals id-taking calls receive, directly or not
+    atari_evidence.py  Atari envs made without a literal id (GM106's ale_py import)
+    registry.py        GM802 registry API and GM806 EnvSpec attributes          [21]
 """
 
 from gymmigrate.rules.env_ids import ids, registry  # noqa: F401  (imported to register their families)

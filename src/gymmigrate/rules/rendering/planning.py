@@ -14,6 +14,7 @@ from gymmigrate.facts import names as N
 from gymmigrate.facts.decisions import Action
 from gymmigrate.facts.module import full_name, keyword, string_value
 from gymmigrate.facts.receiver_classes import wrapped_env_renders
+from gymmigrate.facts.version_checks import reads_version
 from gymmigrate.findings import RUN_QUESTION, FixKind, Tier, gym_only_question
 from gymmigrate.rules.render_calls import without_mode_argument
 from gymmigrate.rules.render_schedule import local_condition, render_condition, schedule
@@ -32,20 +33,6 @@ _INERT_ATTRIBUTES = frozenset({"action_space", "observation_space", "spec", "met
 def _literal_mode(make: ast.Call) -> str | None:
     existing = keyword(make, "render_mode")
     return string_value(existing.value) if existing is not None else None
-
-
-def _tests_version(test: ast.AST, functions: dict[str, ast.FunctionDef | ast.AsyncFunctionDef]) -> bool:
-    """Reads ``x.__version__``, or calls a def of the module (``functions``) that reads
-    ``x.__version__`` itself (never judged by a name)."""
-    for node in ast.walk(test):
-        if isinstance(node, ast.Attribute) and node.attr == "__version__":
-            return True
-        if isinstance(node, ast.Call):
-            name = node.func.attr if isinstance(node.func, ast.Attribute) else getattr(node.func, "id", "")
-            local = functions.get(name) if isinstance(node.func, ast.Name) else None
-            if local is not None and any(isinstance(n, ast.Attribute) and n.attr == "__version__" for n in ast.walk(local)):
-                return True
-    return False
 
 
 class SitePlanning(MakeEdits):
@@ -506,7 +493,7 @@ class SitePlanning(MakeEdits):
         if not (isinstance(test, ast.BoolOp) and isinstance(test.op, ast.And)):
             return None
         names = [v for v in test.values if isinstance(v, ast.Name)]
-        if not any(_tests_version(v, self.facts.functions) for v in test.values):
+        if not any(reads_version(v, self.facts, any_module=True) for v in test.values):
             return None
         guards = [g for g, negated in render_condition(self.facts, render, make) if not negated]
         for name in names:

@@ -10,7 +10,11 @@ Two families, both deciding on the original source:
   ``import_edits.py`` rewrites import lists, and ``legacy_imports.py`` tells which gym
   imports the imports rules leave alone in the same run.
 * ``forwarding.WrapperForwarding`` (GM604-GM606): what legacy code read through
-  ``Wrapper.__getattr__``.
+  ``Wrapper.__getattr__``. ``origins.py`` tells where an env comes from and which
+  wrapper is outermost, ``bare_make.py`` which names hold a bare make result,
+  ``self_forwarding.py`` decides ``self.x`` in a wrapper's own methods, and
+  ``forwarding_edits.py`` builds the rewrites; ``atari_limits.py`` answers the Atari
+  time-limit questions of GM605, GM606 and GM609.
 
 ``tables.py`` holds what Gymnasium 1.x did to each wrapper, shared by both.
 """

@@ -1,0 +1,255 @@
+"""Atari envs made where no literal id says so (GM106): a module that makes them needs
+``import ale_py`` + ``gym.register_envs(ale_py)``. ``ids.py`` asks about the id reads
+``IdSites.find`` noted: an id built from a template whose literal part names an Atari id
+(``'{}NoFrameskip-v4'.format(game)``), and a helper that makes its env from a parameter
+and uses what only Atari envs have (``.ale``, ``get_action_meanings()``, a
+``NoFrameskip`` check), unless every caller of the run passes non-Atari ids.
+"""
+
+from __future__ import annotations
+
+import ast
+from collections.abc import Callable
+
+from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts.module import call_argument, full_name
+from gymmigrate.facts.receivers import Receivers
+from gymmigrate.findings import FixKind
+from gymmigrate.rules.env_ids.catalog import is_atari_id
+from gymmigrate.rules.env_ids.syntax import (
+    param_default,
+    plain_string,
+    split_module_prefix,
+)
+
+# What says a module makes Atari envs: the node to report at, the message and the fix kind.
+Evidence = tuple[ast.expr, str, FixKind]
+
+
+class AtariEvidence:
+    """The Atari signs of one module's id reads."""
+
+    def __init__(self, facts: ModuleFacts, receivers: Receivers, literal_of: Callable[[ast.Name], ast.Constant | None]) -> None:
+        self.facts = facts
+        self.receivers = receivers
+        self.literal_of = literal_of  # ``IdSites.literal_of``: the literal a name holds where it is read
+
+    def formatted_id(self, arg: ast.expr) -> Evidence | None:
+        """``gym.make('{}NoFrameskip-{}'.format(game, version))`` (or an f-string, directly or
+        through the name it is assigned to): the literal part of the template names an Atari id
+        (``NoFrameskip``, ``-ramNoFrameskip``, the ``ALE/`` namespace) whatever is filled in, so
+        the module makes Atari envs and needs ``import ale_py``. Where only some of the
+        assignments that may reach the call build such an id, it is for review."""
+        values: list[ast.expr] = [arg]
+        if isinstance(arg, ast.Name):
+            values = []
+            for binding in self.facts.bindings_of(arg):
+                statement = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
+                if not (isinstance(statement, ast.Assign) and statement.targets == [binding]):
+                    return None  # a parameter, a loop variable...: what reaches the call is unknown
+                values.append(statement.value)
+        templates = [(value, atari_template(self.facts, value)) for value in values]
+        found = [(value, part) for value, part in templates if part is not None]
+        if not found:
+            return None
+        value, part = found[0]
+        if len(found) == len(templates):
+            message = (
+                f"the id is built from a template holding `{part}`, an Atari id whatever is filled in: since Gymnasium 1.0 "
+                "Atari envs need `import ale_py`; added it with `register_envs(ale_py)`"
+            )
+            kind = FixKind.AUTO
+        else:
+            message = (
+                f"the id may be built from a template holding `{part}` (an Atari id), other assignments reach the call too: "
+                "since Gymnasium 1.0 Atari envs need `import ale_py`; added it with `register_envs(ale_py)`: drop it if "
+                "this module never makes Atari envs"
+            )
+            kind = FixKind.ASSIST
+        return value, message, kind
+
+    def helper(self, call: ast.Call, name: ast.Name) -> Evidence | None:
+        """``def make_atari(env_id): env = gym.make(env_id); assert "NoFrameskip" in env.spec.id``:
+        a helper that makes its env from a parameter and uses what only Atari envs have (the
+        ``ale`` interface, ``get_action_meanings()``, a ``NoFrameskip`` check, directly or in
+        a def or class of this module it calls) makes Atari envs, whatever id its callers
+        pass: its module needs ``import ale_py``. Where every sign sits under a condition
+        (``if "NoFrameskip" in env_id:``), the helper may make other envs too: for review."""
+        bindings = self.facts.bindings_of(name)
+        # a parameter, or a local bound once from what the run cannot read (``env_id = task.env_id``)
+        if len(bindings) != 1 or not isinstance(bindings[0], (ast.arg, ast.Name)):
+            return None
+        function = self.facts.enclosing_function(call)
+        if function is None:
+            return None
+        signs = [(sign, node) for node in ast.walk(function) for sign in self._atari_signs(node, function)]
+        signs.sort(key=lambda found: found[0].startswith("through"))  # its own signs first
+        where = {id(node): function for _, node in signs}
+        owner = self.facts.parent(function)
+        if not signs and isinstance(owner, ast.ClassDef):
+            # ``self.env = gym.make(env_id)`` in ``__init__``, and ``self.env.unwrapped.ale.lives()``
+            # in another method: the class holds an env that has what only Atari envs have.
+            for method in owner.body:
+                if isinstance(method, (ast.FunctionDef, ast.AsyncFunctionDef)) and method is not function:
+                    for node in ast.walk(method):
+                        for sign in self._atari_signs(node, method):
+                            signs.append((sign.replace("it ", f"its class `{owner.name}` ", 1), node))
+                            where[id(node)] = method
+            signs.sort(key=lambda found: found[0].startswith("through"))
+        if not signs:
+            return None
+        certain = [
+            sign
+            for sign, node in signs
+            if not ("tests for" in sign or _under_condition(self.facts, node, where[id(node)]))
+        ]
+        evidence = (certain or [sign for sign, _ in signs])[0]
+        given = None if certain or not isinstance(bindings[0], ast.arg) else self._ids_given(function, bindings[0])
+        if given is not None and not any(is_atari_id(i) for i in given):
+            return None  # every caller of the run passes an id, none an Atari one: no ale_py needed
+        if given is not None:
+            atari = next(i for i in given if is_atari_id(i))
+            certain = [f"{evidence}, and its callers in the run pass Atari ids such as `{atari}`"]
+            evidence = certain[0]
+        maker = f"{owner.name}.{function.name}" if isinstance(owner, ast.ClassDef) else function.name
+        if certain:
+            message = (
+                f"`{maker}` makes Atari envs ({evidence}): since Gymnasium 1.0 they need `import ale_py`; "
+                "added it with `register_envs(ale_py)`"
+            )
+            kind = FixKind.AUTO
+        else:
+            message = (
+                f"`{maker}` may make Atari envs ({evidence}, under a condition): since Gymnasium 1.0 they need "
+                "`import ale_py`; added it with `register_envs(ale_py)`: drop it if this project never makes Atari envs here"
+            )
+            kind = FixKind.ASSIST
+        return name, message, kind
+
+    def _ids_given(self, function: ast.AST, param: ast.arg) -> list[str] | None:
+        """The env ids every call of the run gives ``param`` of the top-level def
+        ``function``: the calls of this module and of the others (``ProjectView.passed_ids``),
+        a default where a call passes none. None when a call passes something else, when the
+        def is read as a value anywhere (it may be called unseen), or when nobody calls it."""
+        project = self.receivers.project
+        if project is None or not isinstance(function, (ast.FunctionDef, ast.AsyncFunctionDef)):
+            return None
+        if self.facts.parent(function) is not self.facts.tree or project.handed_on(function.name):
+            return None
+        params = [*function.args.posonlyargs, *function.args.args]
+        if param not in params:
+            return None
+        position = params.index(param)
+        default = param_default(function, param)
+        default_id = plain_string(self.facts, default) if isinstance(default, ast.Constant) else None
+        found: list[str] = []
+        reads = [read for scope in self.facts.scopes.values() for read in scope.reads.get(function.name, ())]
+        for read in reads:
+            call = self.facts.parent(read)
+            if not (isinstance(call, ast.Call) and call.func is read) or self.facts.bindings_of(read) != [function]:
+                return None  # handed on as a value (or another binding of the name)
+            if any(isinstance(a, ast.Starred) for a in call.args) or any(k.arg is None for k in call.keywords):
+                return None
+            argument = call_argument(call, position, param.arg)
+            if argument is None:
+                value = default_id
+            elif isinstance(argument, ast.Name):
+                literal = self.literal_of(argument)
+                value = plain_string(self.facts, literal) if literal is not None else None
+            else:
+                value = plain_string(self.facts, argument) if isinstance(argument, ast.Constant) else None
+            if value is None:
+                return None
+            found.append(split_module_prefix(value)[1])
+        for value in project.passed_ids(function.name, param.arg):
+            value = default_id if value == "" else value
+            if value is None:
+                return None
+            found.append(split_module_prefix(value)[1])
+        return found or None
+
+    def _atari_signs(self, node: ast.AST, function: ast.AST) -> list[str]:
+        """What in ``node`` only an Atari env has: ``.ale``, ``get_action_meanings()``, a
+        ``"NoFrameskip"`` check; or a call of a def or class of this module that has one."""
+        if isinstance(node, ast.Attribute) and node.attr == "ale":
+            return ["it uses `.ale`"]
+        if isinstance(node, ast.Attribute) and node.attr == "get_action_meanings":
+            return ["it calls `get_action_meanings()`"]
+        if isinstance(node, ast.Constant) and node.value == "NoFrameskip":
+            # ``assert "NoFrameskip" in env.spec.id`` says what it makes; an ``if`` on the id
+            # says that it sometimes does
+            return ['it asserts `"NoFrameskip"`'] if self.facts.enclosing(node, ast.Assert) else ['it tests for `"NoFrameskip"`']
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Name):
+            called = self.facts.functions.get(node.func.id) or self.facts.classes.get(node.func.id)
+            if called is not None and called is not function and self._has_atari_sign(called):
+                return [f"through `{node.func.id}`"]
+        if isinstance(node, ast.Call) and isinstance(node.func, (ast.Name, ast.Attribute)):
+            # ``wrap_deepmind(env)`` imported from another module of the run that has a sign
+            project = self.receivers.project
+            if project is not None and any(project.uses_atari(q) for q in self.facts.qualified_names(node.func)):
+                return [f"through `{full_name(node.func)}` of another module"]
+        return []
+
+    def _has_atari_sign(self, definition: ast.AST) -> bool:
+        def compute() -> bool:
+            for node in ast.walk(definition):
+                if isinstance(node, ast.Attribute) and node.attr in ("ale", "get_action_meanings"):
+                    return True
+                if isinstance(node, ast.Constant) and node.value == "NoFrameskip":
+                    return True
+            return False
+
+        return bool(self.facts.memo(("atari-sign", id(definition)), compute))
+
+
+# What the literal part of a built id names for certain: an Atari id, whatever the
+# placeholders hold (``'{}NoFrameskip-{}'``, ``f"ALE/{game}-v5"``).
+_ATARI_TEMPLATE_PARTS = ("NoFrameskip", "ALE/")
+
+
+def atari_template(facts: ModuleFacts, value: ast.expr) -> str | None:
+    """The Atari part of ``'...'.format(...)`` / ``'...' % ...`` / an f-string / a concatenation, or None."""
+    parts: list[str] = []
+    if isinstance(value, ast.JoinedStr):
+        parts = [v.value for v in value.values if isinstance(v, ast.Constant) and isinstance(v.value, str)]
+    elif (
+        isinstance(value, ast.Call)
+        and isinstance(value.func, ast.Attribute)
+        and value.func.attr == "format"
+        and isinstance(value.func.value, ast.Constant)
+        and isinstance(value.func.value.value, str)
+    ):
+        parts = [value.func.value.value]
+    elif isinstance(value, ast.BinOp) and isinstance(value.op, ast.Mod) and isinstance(value.left, ast.Constant) and isinstance(value.left.value, str):
+        parts = [value.left.value]
+    elif isinstance(value, ast.BinOp) and isinstance(value.op, ast.Add):
+        # ``game + "NoFrameskip-v4"``: the literal operands of the concatenation
+        operands: list[ast.expr] = [value]
+        while operands:
+            operand = operands.pop()
+            if isinstance(operand, ast.BinOp) and isinstance(operand.op, ast.Add):
+                operands += [operand.left, operand.right]
+            elif isinstance(operand, ast.Constant) and isinstance(operand.value, str):
+                parts.append(operand.value)
+    for part in parts:
+        for sign in _ATARI_TEMPLATE_PARTS:
+            if sign in part and (sign != "ALE/" or part.lstrip().startswith("ALE/")):
+                return sign
+    return None
+
+
+def _under_condition(facts: ModuleFacts, node: ast.AST, function: ast.AST) -> bool:
+    """``node`` runs only on one branch of a test inside ``function`` (the body of an ``if``,
+    a branch of a conditional expression or of ``and``/``or``); a test itself always runs."""
+    child = node
+    for ancestor in facts.ancestors(node):
+        if ancestor is function:
+            return False
+        if isinstance(ancestor, (ast.If, ast.IfExp, ast.While)) and child is not ancestor.test:
+            return True
+        if isinstance(ancestor, ast.BoolOp) and child is not ancestor.values[0]:
+            return True
+        if isinstance(ancestor, ast.ExceptHandler):
+            return True
+        child = ancestor
+    return False

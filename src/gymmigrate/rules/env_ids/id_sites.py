@@ -1,0 +1,406 @@
+"""Where a module's env ids are (GM106, GM803-GM805, ``ids.py``): the string literals an
+id-taking call receives, directly or through a constant, a list item, a parameter (its
+default and what the module's calls pass, a few hops deep), an argparse default, or handed
+on to a function of the project. ``IdSites.find`` lists them in source order and notes
+the reads ``atari_evidence.py`` looks at for Atari signs.
+"""
+
+from __future__ import annotations
+
+import ast
+import re
+from dataclasses import dataclass
+
+from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts import names as N
+from gymmigrate.facts.flow import Flow
+from gymmigrate.facts.module import call_argument, full_name
+from gymmigrate.facts.receivers import Receivers
+from gymmigrate.rules.env_ids.atari_evidence import atari_template
+from gymmigrate.rules.env_ids.catalog import env_package
+from gymmigrate.rules.env_ids.syntax import (
+    FORWARDS_KWARGS,
+    ID_FUNCTIONS,
+    SB3_ID_FUNCTIONS,
+    id_argument,
+    is_registry,
+    param_default,
+    plain_string,
+    split_module_prefix,
+)
+
+_ENV_OPTION = re.compile(r"^--?env", re.IGNORECASE)
+
+
+@dataclass
+class IdSite:
+    """One string literal used as an env id, and the call that receives it (if known)."""
+
+    string: ast.Constant
+    env_id: str
+    module_prefix: str  # "ale_py:" in "ale_py:ALE/Pong-v5"
+    call: ast.Call | None
+    forwards_kwargs: bool
+    via: str = ""  # how the string reaches the call ("the constant ENV_ID"), for messages
+    report_only: bool = False  # handed to another module's code from a file without Gym: say so, add nothing
+    conditional: bool = False  # one branch of ``a if c else b``: keywords would hit both
+
+
+# how many functions an id parameter is followed through to the literal its callers pass
+_PARAMETER_HOPS = 4
+
+# Libraries with no Gymnasium release whose factories make envs through legacy gym's own
+# registry: registering ale_py with Gymnasium does nothing for them.
+_LEGACY_GYM_LIBRARIES = frozenset({"baselines", "stable_baselines", "ptan"})
+
+
+
+class IdSites:
+    """The id sites of one module (one per ``EnvIds`` decision)."""
+
+    def __init__(self, facts: ModuleFacts, receivers: Receivers) -> None:
+        self.facts = facts
+        self.receivers = receivers
+        self._option_ids: frozenset[str] = frozenset()
+        # what ``find`` hands an id call that is no literal, in source order: (the call, a
+        # name) for a helper's parameter, (None, the value) for a name or a built id
+        self.atari_reads: list[tuple[ast.Call | None, ast.expr]] = []
+
+    def find(self) -> list[IdSite]:
+        sites: list[IdSite] = []
+        self._option_ids = self._options_read_as_ids()
+        for call in _calls_in_source_order(self.facts):
+            forwards = self._id_call(call)
+            if forwards is None:
+                sites.extend(self._argparse_default(call))
+                continue
+            arg = id_argument(call)
+            if arg is None:
+                continue
+            # ``gym.make("A-v0" if continuous else "B-v0")``: both branches are ids.
+            branches = [arg.body, arg.orelse] if isinstance(arg, ast.IfExp) else [arg]
+            for branch in branches:
+                site = self._site(branch, call, forwards)
+                if site is not None:
+                    site.conditional = len(branches) > 1
+                    sites.append(site)
+            if isinstance(arg, ast.Subscript):
+                sites.extend(self._listed_ids(arg))
+            if isinstance(arg, ast.Name):
+                literal = self.literal_of(arg)
+                if literal is not None:
+                    site = self._site(literal, None, False, via=f"the constant `{arg.id}`")
+                    if site is not None:
+                        sites.append(site)
+                else:
+                    sites.extend(self._parameter_ids(arg))
+                    self.atari_reads += [(call, arg), (None, arg)]
+            elif atari_template(self.facts, arg) is not None:
+                self.atari_reads.append((None, arg))
+        sites.extend(self._constants_passed_on())
+        sites.extend(self._ids_passed_on())
+        return sites
+
+    def literal_of(self, name: ast.Name) -> ast.Constant | None:
+        """The string literal ``name`` holds where it is read: the one literal a constant is
+        ever assigned, or the literal of the assignment that certainly reaches the read
+        (``env_id = "CartPole-v0"`` ... ``env_id = "PongNoFrameskip-v4"; make_atari(env_id)``)."""
+        literal = self._single_literal_constant(name)
+        if literal is not None:
+            return literal
+        flow = Flow.of(self.facts)
+        last = flow.last_binding_of(name)
+        statement = self.facts.parent(last) if isinstance(last, ast.Name) else None
+        if not (isinstance(last, ast.Name) and isinstance(statement, ast.Assign) and statement.targets == [last]):
+            return None
+        if not flow.dominates(statement, name, last):
+            return None  # another value may reach the read (a branch, a loop)
+        value = statement.value
+        return value if isinstance(value, ast.Constant) and isinstance(value.value, str) else None
+
+    def _listed_ids(self, subscript: ast.Subscript, via: str = "") -> list[IdSite]:
+        """``env_names = ['CartPole-v1', 'LunarLander-v2']`` ... ``gym.make(env_names[i])``: every
+        string of the list or tuple literal a name is bound to once (and never changed in
+        place) is an id the call may receive."""
+        name = subscript.value
+        if not isinstance(name, ast.Name):
+            return []
+        bindings = self.facts.bindings_of(name)
+        if len(bindings) != 1 or not isinstance(bindings[0], ast.Name):
+            return []
+        statement = self.facts.parent(bindings[0])
+        if not (isinstance(statement, ast.Assign) and statement.targets == [bindings[0]]):
+            return []
+        value = statement.value
+        if not isinstance(value, (ast.List, ast.Tuple)) or not value.elts:
+            return []
+        if not all(isinstance(e, ast.Constant) and isinstance(e.value, str) for e in value.elts):
+            return []
+        where = f"an item of `{name.id}`" + (f", {via}" if via else "")
+        sites = []
+        for element in value.elts:
+            site = self._site(element, None, False, via=where)
+            if site is not None:
+                sites.append(site)
+        return sites
+
+    def _parameter_ids(self, name: ast.Name, seen: frozenset[ast.arg] = frozenset()) -> list[IdSite]:
+        """``def make_env(env_id="PongNoFrameskip-v4"): return gym.make(env_id)``: the id is a
+        parameter of the function around the call; its default and what the module's calls of
+        that function pass (string literals, or constants bound once to one) are ids. A call
+        that passes a parameter of its own function on (``Task(name)`` calling
+        ``make_env(name)``, whose thunk makes ``gym.make(env_id)``) is followed to that
+        function's callers in turn, a few hops deep."""
+        bindings = self.facts.bindings_of(name)
+        if len(bindings) != 1 or not isinstance(bindings[0], ast.arg):
+            return []
+        param = bindings[0]
+        if param in seen or len(seen) >= _PARAMETER_HOPS:
+            return []
+        seen = seen | {param}
+        function = self.facts.parent(self.facts.parent(param))
+        if not isinstance(function, (ast.FunctionDef, ast.AsyncFunctionDef)):
+            return []
+        values: list[tuple[ast.expr, str]] = []
+        default = param_default(function, param)
+        if default is not None:
+            values.append((default, f"the default of `{param.arg}`"))
+        params = [*function.args.posonlyargs, *function.args.args]
+        position = params.index(param) if param in params else None
+        owner = self.facts.parent(function)
+        callee: str | None = None
+        if owner is self.facts.tree:
+            callee = function.name
+        elif isinstance(owner, ast.ClassDef) and function.name == "__init__" and self.facts.parent(owner) is self.facts.tree:
+            # ``Task("Hopper-v2")`` with ``self.env = gym.make(name)`` in ``Task.__init__``
+            callee = owner.name
+            position = position - 1 if position else None  # ``self`` is not passed
+        for call in self.facts.calls_by_name.get(callee, []) if callee else []:
+            argument = call_argument(call, position, param.arg)
+            if argument is not None:
+                values.append((argument, f"an argument of `{callee}(...)`"))
+        sites = []
+        for value, via in values:
+            if isinstance(value, ast.Subscript):
+                sites.extend(self._listed_ids(value, via))
+                continue
+            if isinstance(value, ast.Name):
+                literal = self.literal_of(value)
+                if literal is None:
+                    sites.extend(self._parameter_ids(value, seen))
+                    continue
+                via = f"the constant `{value.id}`, {via}"
+                value = literal
+            site = self._site(value, None, False, via=via)
+            if site is not None:
+                sites.append(site)
+        return sites
+
+    def _options_read_as_ids(self) -> frozenset[str]:
+        """``gym.make(args.game)`` (``str(args.game)``): the attribute names of parsed options that
+        this module hands to a call taking an env id, so ``--game``'s argparse default is an id too."""
+        names = set()
+        for call in _calls_in_source_order(self.facts):
+            if self._id_call(call) is None:
+                continue
+            arg = id_argument(call)
+            if isinstance(arg, ast.Call) and isinstance(arg.func, ast.Name) and arg.func.id == "str" and len(arg.args) == 1:
+                arg = arg.args[0]
+            if isinstance(arg, ast.Attribute) and isinstance(arg.value, ast.Name):
+                names.add(arg.attr)
+        return frozenset(names)
+
+    def _constants_passed_on(self) -> list[IdSite]:
+        """A module constant holding the id of a plugin package (``ENV = "PongNoFrameskip-v4"``)
+        handed to a function of the project (``make_env(ENV)``, ``def train(env_id=ENV)``,
+        ``parser.add_argument("--env", default=ENV)``): the make call is elsewhere, but the id
+        is unmistakable, and Gymnasium only finds it once its package is imported."""
+        sites = []
+        for statement in self.facts.tree.body:
+            if not (isinstance(statement, ast.Assign) and len(statement.targets) == 1 and isinstance(statement.targets[0], ast.Name)):
+                continue
+            target = statement.targets[0]
+            literal = self._single_literal_constant(target)
+            if literal is None:
+                continue
+            text = plain_string(self.facts, literal)
+            if text is None or env_package(split_module_prefix(text)[1]) is None:
+                continue
+            reads = (
+                node
+                for node in ast.walk(self.facts.tree)
+                if isinstance(node, ast.Name) and node.id == target.id and isinstance(node.ctx, ast.Load) and target in self.facts.bindings_of(node)
+            )
+            for read in reads:
+                if self._hands_on(read):
+                    site = self._site(literal, None, False, via=f"the constant `{target.id}`")
+                    if site is not None:
+                        site.report_only = not ({"gym", "gymnasium"} & imported_modules(self.facts.tree, self.facts))
+                        sites.append(site)
+                    break
+        return sites
+
+    def _ids_passed_on(self) -> list[IdSite]:
+        """An id of a plugin package handed to a function of the project as an argument: a
+        literal (``make_atari("PongNoFrameskip-v4")``, the make call in another module of the
+        run) or a name the literal certainly reaches the call through (``env_id`` assigned
+        ``"CartPole-v0"`` first, then ``"PongNoFrameskip-v4"``). Constants bound once are
+        ``_constants_passed_on``'s."""
+        sites = []
+        without_gym = not ({"gym", "gymnasium"} & imported_modules(self.facts.tree, self.facts))
+        for call in _calls_in_source_order(self.facts):
+            if self._id_call(call) is not None or not self._project_callee(call):
+                continue
+            callee = full_name(call.func) or "the project's function"
+            for passed in (*call.args, *(kw.value for kw in call.keywords)):
+                via = f"an argument of `{callee}(...)`"
+                argument: ast.expr = passed
+                if isinstance(passed, ast.Name):
+                    if self._single_literal_constant(passed) is not None:
+                        continue  # a constant: ``_constants_passed_on``
+                    literal = self.literal_of(passed)
+                    if literal is None:
+                        continue
+                    argument, via = literal, f"`{passed.id}`, {via}"
+                text = plain_string(self.facts, argument)
+                if text is None or env_package(split_module_prefix(text)[1]) is None:
+                    continue
+                site = self._site(argument, None, False, via=via)
+                if site is not None:
+                    site.report_only = without_gym
+                    sites.append(site)
+        return sites
+
+    def _hands_on(self, read: ast.AST) -> bool:
+        """The constant is passed on as an id: an argument of a function of the project (a
+        def of this module, a relative import, a name another module of the run defines), a
+        parameter default, or the default of an argparse option. A library's call
+        (``os.path.join(log_dir, env_id)``) is not one, nor a Gym-only library's factory."""
+        parent = self.facts.parent(read)
+        if isinstance(parent, ast.keyword):
+            parent = self.facts.parent(parent)
+        if isinstance(parent, ast.arguments):
+            return True
+        if not (isinstance(parent, ast.Call) and read is not parent.func):
+            return False
+        if isinstance(parent.func, ast.Attribute) and parent.func.attr == "add_argument":
+            return True  # ``parser.add_argument("--env", default=ENV)``
+        return self._project_callee(parent)
+
+    def _project_callee(self, call: ast.Call) -> bool:
+        """``call`` calls a function of the project (a def of this module, a relative import,
+        a name another module of the run defines), not a library's nor a Gym-only library's
+        factory."""
+        if self.receivers.local_function(call.func) is not None:
+            return True
+        called = self.facts.qualified_names(call.func)
+        project = self.receivers.project
+        aliases = {a for a in (project.library_alias(q) for q in called) if a is not None} if project is not None else set()
+        if any(q.split(".", 1)[0] in _LEGACY_GYM_LIBRARIES for q in called | aliases):
+            return False  # ``make_atari(env_id)`` of baselines makes it with legacy gym (GM107 says so)
+        return any(q.startswith(".") or (project is not None and project.defines(q)) for q in called)
+
+    def _site(self, string: ast.AST, call: ast.Call | None, forwards: bool, via: str = "") -> IdSite | None:
+        text = plain_string(self.facts, string)
+        if text is None or not isinstance(string, ast.Constant):  # a text comes only from a Constant
+            return None
+        prefix, env_id = split_module_prefix(text)
+        return IdSite(string, env_id, prefix, call, forwards, via)
+
+    def _id_call(self, call: ast.Call) -> bool | None:
+        """Does ``call`` take an env id? True if it also forwards keywords to the env, None if no id."""
+        for qualified in self.facts.qualified_names(call.func):
+            rest = N.strip_gym_prefix(qualified)
+            if rest in ID_FUNCTIONS:
+                return rest in FORWARDS_KWARGS
+            if qualified in SB3_ID_FUNCTIONS:
+                return False
+        func = call.func
+        if isinstance(func, ast.Attribute) and func.attr in ("spec", "make") and is_registry(self.facts, func.value):
+            return func.attr == "make"
+        return None
+
+    def _argparse_default(self, call: ast.Call) -> list[IdSite]:
+        """``parser.add_argument("--env-id", default="LunarLander-v2")``: the default is an id."""
+        if not (isinstance(call.func, ast.Attribute) and call.func.attr == "add_argument"):
+            return []
+        flags = [plain_string(self.facts, a) for a in call.args]
+        if not any(flag and (_ENV_OPTION.match(flag) or _option_dest(call, flag) in self._option_ids) for flag in flags):
+            return []
+        sites = []
+        for kw in call.keywords:
+            if kw.arg == "default":
+                value, via = kw.value, "this argparse default"
+                if isinstance(value, ast.Name):
+                    # ``default=DEFAULT_ENV_NAME``: the constant's one literal
+                    literal = self._single_literal_constant(value)
+                    value, via = (literal, f"the constant `{value.id}`, an argparse default") if literal is not None else (value, via)
+                site = self._site(value, None, False, via=via)
+                if site is not None:
+                    sites.append(site)
+        return sites
+
+    def _single_literal_constant(self, name: ast.Name) -> ast.Constant | None:
+        """The literal of ``ENV_ID = "..."`` when that is the name's only assignment."""
+        bindings = self.facts.bindings_of(name)
+        if len(bindings) != 1 or not isinstance(bindings[0], ast.Name):
+            return None
+        target = bindings[0]
+        statement = self.facts.parent(target)
+        value: ast.expr | None
+        if isinstance(statement, ast.Assign) and statement.targets == [target]:
+            value = statement.value
+        elif isinstance(statement, ast.AnnAssign) and statement.target is target:
+            value = statement.value
+        else:
+            return None
+        return value if isinstance(value, ast.Constant) and isinstance(value.value, str) else None
+
+
+def _option_dest(call: ast.Call, flag: str) -> str | None:
+    """The attribute ``parse_args()`` stores an option under: ``dest=``, else its long flag
+    without dashes (``--env-name`` -> ``env_name``); None for a short flag."""
+    for kw in call.keywords:
+        if kw.arg == "dest" and isinstance(kw.value, ast.Constant) and isinstance(kw.value.value, str):
+            return kw.value.value
+    if not flag.startswith("--"):
+        return None
+    return flag[2:].replace("-", "_")
+
+
+def _calls_in_source_order(facts: ModuleFacts) -> list[ast.Call]:
+    """Every call whose callee is a name or an attribute, outer calls before the calls inside them.
+
+    The order decides which string a shared constant's finding names and which id a
+    package's registration finding points at, as a walk of the tree would.
+    """
+    calls = [call for index in (facts.calls_by_name, facts.attribute_calls) for found in index.values() for call in found]
+    calls.sort(key=lambda c: (c.lineno, c.col_offset, -(c.end_lineno or 0), -(c.end_col_offset or 0)))
+    return calls
+
+
+def imported_modules(tree: ast.Module, facts: ModuleFacts) -> set[str]:
+    """Top-level package of every absolute import in the module (any scope, star imports too)."""
+    found: set[str] = set()
+    statements = {facts.parent(alias) for alias in facts.imports}
+    statements.update(_star_imports(tree.body))
+    for statement in statements:
+        if isinstance(statement, ast.Import):
+            found.update(alias.name.split(".")[0] for alias in statement.names)
+        elif isinstance(statement, ast.ImportFrom) and statement.module and not statement.level:
+            found.add(statement.module.split(".")[0])
+    return found
+
+
+def _star_imports(body: list[ast.stmt]) -> list[ast.ImportFrom]:
+    """``from m import *`` (module level only, but possibly under ``if`` / ``try``)."""
+    found = []
+    for statement in body:
+        if isinstance(statement, ast.ImportFrom) and statement.names[0].name == "*":
+            found.append(statement)
+        elif isinstance(statement, (ast.If, ast.Try, ast.With, ast.For, ast.While)):
+            for block in ("body", "orelse", "finalbody"):
+                found.extend(_star_imports(getattr(statement, block, [])))
+            for handler in getattr(statement, "handlers", []):
+                found.extend(_star_imports(handler.body))
+    return found

@@ -1,0 +1,84 @@
+"""Which expressions hold what ``gym.make`` returned with no wrapper of any kind around it,
+on every path: the forwarding rules (``forwarding.py``) leave a make result's own TimeLimit
+attribute alone (GM605), rewrite ``env.env.state`` below make's layers (GM604) and keep
+``isinstance(env, TimeLimit)`` (GM606) there.
+"""
+
+from __future__ import annotations
+
+import ast
+
+from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts.limits import self_stores
+from gymmigrate.facts.module import FUNCTIONS, call_argument
+from gymmigrate.facts.receivers import Receivers
+from gymmigrate.rules.wrapper_usage.atari_limits import is_make_call
+
+
+def bare_make_result(facts: ModuleFacts, expr: ast.AST) -> bool:
+    """A ``make`` call, or a name every binding of which assigns one directly."""
+    if is_make_call(facts, expr):
+        return True
+    if not isinstance(expr, ast.Name):
+        return False
+    values = []
+    for binding in facts.bindings_of(expr):
+        statement = facts.parent(binding)
+        if not (isinstance(statement, ast.Assign) and binding in statement.targets):
+            return False
+        values.append(statement.value)
+    return bool(values) and all(is_make_call(facts, value) for value in values)
+
+
+def bare_make(facts: ModuleFacts, receivers: Receivers, expr: ast.expr, seen: frozenset[int]) -> bool:
+    """``expr`` is, on every path, what ``gym.make(...)`` returned with no wrapper of any
+    kind around it: the call itself, a name or ``self.x`` every binding of which is one
+    (``x = y`` followed), a parameter of a module function every call here passes one."""
+    if is_make_call(facts, expr):
+        return True
+    if id(expr) in seen:
+        return False
+    seen |= {id(expr)}
+    if isinstance(expr, ast.Attribute) and isinstance(expr.value, ast.Name) and expr.value.id == "self":
+        classdef = facts.enclosing_class(expr)
+        if classdef is None or receivers.is_gym_wrapper_class(classdef):
+            return False  # a wrapper's ``self.env`` is whatever it wraps
+        values = self_stores(facts, classdef, expr.attr)
+        if not values:
+            return False
+        return all(bare_make(facts, receivers, value, seen) for value in values)
+    if not isinstance(expr, ast.Name):
+        return False
+    bindings = facts.bindings_of(expr)
+    if not bindings:
+        return False
+    for binding in bindings:
+        if id(binding) in seen:
+            return False
+        if isinstance(binding, ast.arg):
+            if not param_bare_make(facts, receivers, binding, seen | {id(binding)}):
+                return False
+            continue
+        statement = facts.parent(binding)
+        if not (isinstance(statement, ast.Assign) and statement.targets == [binding]):
+            return False
+        if not bare_make(facts, receivers, statement.value, seen | {id(binding)}):
+            return False
+    return True
+
+
+def param_bare_make(facts: ModuleFacts, receivers: Receivers, param: ast.arg, seen: frozenset[int]) -> bool:
+    arguments = facts.parent(param)
+    function = facts.parent(arguments) if arguments is not None else None
+    if not isinstance(function, FUNCTIONS) or facts.enclosing_class(function) is not None:
+        return False
+    params = [*function.args.posonlyargs, *function.args.args]
+    position = next((i for i, p in enumerate(params) if p is param), None)
+    calls = receivers.call_sites(function, None)
+    if not calls:
+        return False
+    for call in calls:
+        argument = call_argument(call, position, param.arg)
+        if argument is None or not bare_make(facts, receivers, argument, seen):
+            return False
+    return True

@@ -1,0 +1,88 @@
+"""How the forwarding rules (GM604-GM606, ``forwarding.py``) rewrite a read or a write: the
+LibCST builders the plan applies, and the quoting of ``get_wrapper_attr("name")`` inside
+f-strings."""
+
+from __future__ import annotations
+
+import ast
+from typing import TYPE_CHECKING
+
+from gymmigrate.edits.lazy import cst
+from gymmigrate.facts import ModuleFacts
+
+if TYPE_CHECKING:
+    from gymmigrate.edits.plan import Plan
+
+
+def replace_with_get_wrapper_attr(facts: ModuleFacts, plan: Plan, attr: ast.Attribute, name: str) -> None:
+    """``x.get_wrapper_attr("name")``, quoted so that it can stand inside the f-strings
+    around it (before Python 3.12 an f-string cannot hold its own quote)."""
+    used = set()
+    for ancestor in facts.ancestors(attr):
+        if isinstance(ancestor, ast.JoinedStr):
+            text = facts.segment(ancestor).lstrip("rRbBfFuU")
+            used.add(text[:1])
+    quote = next((q for q in ('"', "'") if q not in used), None)
+    if quote is None:
+        return  # both quotes taken by nested f-strings: the finding stands alone
+    plan.replace(attr, get_wrapper_attr(name, quote))
+
+
+def unwrapped_below(depth: int):
+    """``env.env.env.state`` (``depth`` ``.env``) -> ``env.unwrapped.state``."""
+
+    def build(node: cst.Attribute) -> cst.BaseExpression:
+        value: cst.BaseExpression = node.value
+        for _ in range(depth):
+            assert isinstance(value, cst.Attribute)
+            value = value.value
+        return node.with_changes(value=cst.Attribute(value=value, attr=cst.Name("unwrapped")))
+
+    return build
+
+
+def set_wrapper_attr(name: str):
+    """``env.foo = value`` -> ``env.set_wrapper_attr("foo", value)``."""
+
+    def build(node: cst.Assign) -> cst.BaseSmallStatement:
+        target = node.targets[0].target
+        assert isinstance(target, cst.Attribute)
+        call = cst.Call(
+            func=cst.Attribute(value=target.value, attr=cst.Name("set_wrapper_attr")),
+            args=[
+                cst.Arg(value=cst.SimpleString(f'"{name}"'), comma=cst.Comma(whitespace_after=cst.SimpleWhitespace(" "))),
+                cst.Arg(value=node.value),
+            ],
+        )
+        return cst.Expr(call, semicolon=node.semicolon)
+
+    return build
+
+
+def through(*attrs: str):
+    """``env.foo`` -> ``env.<attrs...>`` (``env.unwrapped.foo``, ``env.spec.max_episode_steps``)."""
+
+    def build(node: cst.Attribute) -> cst.BaseExpression:
+        value: cst.BaseExpression = node.value
+        for name in attrs[:-1]:
+            value = cst.Attribute(value=value, attr=cst.Name(name))
+        return node.with_changes(value=value, attr=cst.Name(attrs[-1]))
+
+    return build
+
+
+def get_wrapper_attr(name: str, quote: str = '"'):
+    def build(node: cst.Attribute) -> cst.BaseExpression:
+        return cst.Call(
+            func=cst.Attribute(value=node.value, attr=cst.Name("get_wrapper_attr")),
+            args=[cst.Arg(value=cst.SimpleString(f"{quote}{name}{quote}"))],
+            lpar=node.lpar,
+            rpar=node.rpar,
+        )
+
+    return build
+
+
+def self_env() -> cst.Attribute:
+    return cst.Attribute(value=cst.Name("self"), attr=cst.Name("env"))
+

@@ -1,0 +1,457 @@
+"""Where an env comes from, and what its outermost wrapper defines: what the forwarding
+rules (GM604-GM606, ``forwarding.py``) know of a receiver before they decide.
+
+An origin is MADE (a ``gym.make`` result, maybe wrapped further), WRAPPED (wrapper
+constructors around something else), INNER (a wrapper's ``self.env``) or RAW (an env
+class's constructor, ``.unwrapped``). ``EnvOrigins`` holds one file's answers: origins are
+memoized per name binding site, and a name whose origin is being computed counts as
+"no evidence" (CYCLE) when reached again, so the classic ``env = Wrapper(env)``
+preprocessing stack costs one visit per assignment instead of one per path through them.
+It also tells the wrapper class outermost on a read and what that class defines.
+"""
+
+from __future__ import annotations
+
+import ast
+import bisect
+
+from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts import names as N
+from gymmigrate.facts.flow import Flow
+from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.module import FUNCTIONS, call_argument, own_returns
+from gymmigrate.facts.pytest_params import fixture_values, param_fixtures
+from gymmigrate.facts.receivers import Receivers
+from gymmigrate.rules.wrapper_usage.tables import (
+    OWN_ATTRIBUTES,
+    current_name,
+    wrapper_rest,
+)
+
+# Where an env came from.
+MADE = "made"  # gym.make (+ wrappers): a wrapper stack with a spec
+WRAPPED = "wrapped"  # wrapper constructors around something else: a stack, maybe no spec
+INNER = "inner"  # a wrapper's ``self.env`` / ``env`` argument: almost always a make() result
+RAW = "raw"  # an env class's constructor or ``.unwrapped``: no wrapper in between
+# Reached a name whose origin is being computed (``env = Wrapper(env)``): no evidence
+# either way; the other bindings decide.
+CYCLE = "cycle"
+# Deeper than any real chain of distinct names; beyond it the origin is unknown (reported).
+MAX_DEPTH = 20
+
+Origin = str | None
+_SYNC_VECTOR_ENVS = frozenset({"vector.SyncVectorEnv", "vector.sync_vector_env.SyncVectorEnv"})
+
+
+def join_origins(origins: list[Origin]) -> Origin:
+    found = set(origins)
+    found.discard(CYCLE)
+    if not found:
+        return CYCLE if origins else None
+    if None in found:
+        return None
+    if len(found) == 1:
+        return found.pop()
+    if RAW in found:
+        return None
+    return WRAPPED if WRAPPED in found or INNER in found else MADE
+
+
+class EnvOrigins:
+    """One file's origins and wrapper knowledge, memoized (one per ``WrapperForwarding``)."""
+
+    def __init__(self, facts: ModuleFacts, receivers: Receivers) -> None:
+        self.facts = facts
+        self.receivers = receivers
+        self._name_origins: dict[tuple[int, str], Origin] = {}
+        self._in_progress: set[tuple[int, str]] = set()
+        self._param_origins: dict[ast.arg, Origin] = {}
+        self._depth = 0
+        self._local_attrs: set[str] | None = None
+        self._class_attrs: dict[ast.ClassDef, set[str]] = {}
+        # (scope, name) -> (lines, values) of its assignments, sorted by line; None if one is not ``x = ...``
+        self._assign_lines: dict[tuple[int, str], tuple[list[int], list[ast.expr]] | None] = {}
+
+    def origin(self, expr: ast.AST | None) -> Origin:
+        """MADE / WRAPPED / INNER / RAW, CYCLE, or None when it cannot be told."""
+        if expr is None or self._depth > MAX_DEPTH:
+            return None
+        self._depth += 1
+        try:
+            if isinstance(expr, ast.Call):
+                return self._call_origin(expr)
+            if isinstance(expr, ast.Attribute):
+                return self._attribute_origin(expr)
+            if isinstance(expr, ast.Name):
+                origin = self._name_origin(expr)
+                if origin in (None, CYCLE) and self.receivers.narrowing.is_env(expr):
+                    return WRAPPED  # ``isinstance(env, gym.Env)`` checked it: bare or wrapped
+                return origin
+            if isinstance(expr, ast.Subscript):
+                return self._items_origin(expr.value)
+            return None
+        finally:
+            self._depth -= 1
+
+    def _items_origin(self, container: ast.expr) -> Origin:
+        """``self.envs[i]`` with ``self.envs = [gym.make(...) for _ in ...]`` stored in the class:
+        what its items are."""
+        values: list[ast.expr] = [container]
+        if isinstance(container, ast.Attribute) and isinstance(container.value, ast.Name) and container.value.id == "self":
+            classdef = self.facts.enclosing_class(container)
+            values = self.receivers.self_stores(classdef).get(container.attr, []) if classdef is not None else []
+        origins: list[Origin] = []
+        for value in values:
+            if isinstance(value, (ast.ListComp, ast.GeneratorExp)):
+                origins.append(self.origin(value.elt))
+            elif isinstance(value, (ast.List, ast.Tuple)) and value.elts:
+                origins.extend(self.origin(item) for item in value.elts)
+            else:
+                return None
+        return join_origins(origins) if origins else None
+
+    def _attribute_origin(self, expr: ast.Attribute) -> Origin:
+        if expr.attr == "unwrapped":
+            return RAW
+        if isinstance(expr.value, ast.Name) and expr.value.id == "self":
+            classdef = self.facts.enclosing_class(expr)
+            if classdef is None:
+                return None
+            if expr.attr == "env" and self.receivers.is_gym_wrapper_class(classdef):
+                return INNER
+            return join_origins([self.origin(v) for v in self.receivers.self_stores(classdef).get(expr.attr, [])])
+        return None
+
+    def _call_origin(self, call: ast.Call) -> Origin:
+        if len(call.args) == 1 and self.facts.qualified_names(call.func) & {"copy.deepcopy", "copy.copy"}:
+            return self.origin(call.args[0])  # a copy of the env, as made or wrapped as it is
+        for q in self.facts.qualified_names(call.func):
+            rest = N.strip_gym_prefix(q)
+            if rest is None:
+                continue
+            if rest in N.GYM_ENV_FACTORIES:
+                return MADE
+            if rest.startswith("wrappers.") and not rest.startswith("wrappers.vector."):
+                return self._wrapped(call)
+            if rest.startswith("envs."):
+                return RAW
+        if self.is_run_wrapper_class(call.func):
+            return self._wrapped(call)
+        local = self.receivers.local_class(call.func)
+        if local is not None:
+            if self.receivers.is_gym_wrapper_class(local):
+                return self._wrapped(call)
+            if self.receivers.class_kind(local) is EnvKind.GYM_ENV:
+                return RAW
+        function = self.receivers.local_function(call.func)
+        if function is not None:
+            key = (id(function), "<returns>")
+            if key in self._in_progress:
+                return CYCLE
+            if key not in self._name_origins:
+                self._in_progress.add(key)
+                try:
+                    values = [r.value for r in own_returns(function) if r.value is not None]
+                    origin = join_origins([self.origin(v) for v in values])
+                finally:
+                    self._in_progress.discard(key)
+                if origin == CYCLE:
+                    return CYCLE
+                self._name_origins[key] = origin
+            return self._name_origins[key]
+        view = self.receivers.project
+        if view is not None:
+            qualified = self.facts.qualified_names(call.func)
+            if any(view.returns_made(q) for q in qualified):
+                return MADE  # a def of another module of the run that returns make() results
+            if any(view.makes_bare_env(q) for q in qualified):
+                return RAW  # an env class of another module of the run: the env itself
+        return None
+
+    def _wrapped(self, call: ast.Call) -> Origin:
+        """A wrapper around its first argument: as made as what it wraps, or merely wrapped."""
+        first = call.args[0] if call.args else (call.keywords[0].value if call.keywords else None)
+        inner = self.origin(first) if first is not None else None
+        if inner == CYCLE:
+            return CYCLE
+        return MADE if inner == MADE else WRAPPED
+
+    def _name_origin(self, name: ast.Name) -> Origin:
+        scope, bindings = self.facts.resolve(name.id, self.facts.scope_of(name))
+        if scope is None:
+            return None
+        key = (id(scope), name.id)
+        if key in self._name_origins:
+            return self._name_origins[key]
+        if key in self._in_progress:
+            return CYCLE  # ``env = Wrapper(env)``: the other bindings decide
+        self._in_progress.add(key)
+        try:
+            origin = self._bindings_origin(bindings)
+        finally:
+            self._in_progress.discard(key)
+        if origin != CYCLE:  # a cycle is an answer only from inside it
+            self._name_origins[key] = origin
+        return origin
+
+    def _bindings_origin(self, bindings: list[ast.AST]) -> Origin:
+        origins: list[Origin] = []
+        for binding in bindings:
+            if isinstance(binding, ast.arg):
+                origins.append(self._param_origin(binding))
+                continue
+            parent = self.facts.parent(binding)
+            if isinstance(binding, ast.Name) and isinstance(parent, ast.Assign) and binding in parent.targets:
+                origins.append(self.origin(parent.value))
+                continue
+            if isinstance(binding, ast.Name) and isinstance(parent, ast.AnnAssign) and parent.value is not None:
+                origins.append(self.origin(parent.value))
+                continue
+            return None
+        return join_origins(origins)
+
+    def _param_origin(self, param: ast.arg) -> Origin:
+        if param in self._param_origins:
+            return self._param_origins[param]
+        arguments = self.facts.parent(param)
+        function = self.facts.parent(arguments) if arguments is not None else None  # arg -> arguments -> def
+        if not isinstance(function, FUNCTIONS):
+            return None
+        classdef = self.facts.enclosing_class(function)
+        if classdef is not None:
+            if function.name == "__init__" and param.arg == "env" and self.receivers.is_gym_wrapper_class(classdef):
+                return INNER
+            return None
+        if param.annotation is not None and any(
+            wrapper_rest(q) == "TimeLimit" for q in self.facts.qualified_names(param.annotation)
+        ):
+            return MADE  # ``env: gym.wrappers.TimeLimit``: what make returns, its outermost layer
+        # A module function: the env is whatever its callers in this module pass.
+        params = [*function.args.posonlyargs, *function.args.args]
+        position = next((i for i, p in enumerate(params) if p is param), None)
+        calls = self.receivers.call_sites(function, None)
+        if not calls:
+            fixtures = param_fixtures(self.facts, function, param.arg)
+            if not fixtures:
+                return None
+            # A test's parameter named after a pytest fixture of the module (or parametrized
+            # over fixtures with ``fixture_ref``) gets what the fixtures yield or return.
+            self._param_origins[param] = None
+            result = join_origins([self.origin(value) for fixture in fixtures for value in fixture_values(self.facts, fixture)])
+            self._param_origins[param] = result
+            return result
+        self._param_origins[param] = None  # a recursive call adds no evidence
+        origins: list[Origin] = []
+        for call in calls:
+            argument = call_argument(call, position, param.arg)
+            origin = self.origin(argument) if argument is not None else None
+            origins.append(None if origin == CYCLE else origin)
+        result = join_origins(origins)
+        self._param_origins[param] = result
+        return result
+
+    def dominating(self, name: ast.Name) -> Origin:
+        """Where the name's values disagree (``env = gym.make(...)`` in one branch, ``env =
+        TakeoffAviary(...)`` later): the origin of the one assignment every path to this
+        read passes last, if there is one (and it does not rebind the name from itself)."""
+        flow = Flow.of(self.facts)
+        last = flow.last_binding_of(name)
+        statement = self.facts.statement_of(last) if isinstance(last, ast.Name) else None
+        if not (isinstance(statement, ast.Assign) and statement.targets == [last]):
+            return None
+        if not flow.dominates(statement, name, name):
+            return None
+        if isinstance(statement.value, ast.Attribute) and statement.value.attr == "unwrapped":
+            return RAW  # ``env = env.unwrapped``: the base env, whatever the name held before
+        if any(isinstance(n, ast.Name) and n.id == name.id for n in ast.walk(statement.value)):
+            return None  # ``env = Wrapper(env)``: its origin rests on the earlier values too
+        origin = self.origin(statement.value)
+        return None if origin == CYCLE else origin
+
+    def above(self, name: ast.Name) -> Origin:
+        """The origin of what ``name`` holds where the other bindings disagree: in ``env =
+        env.env`` the assignment just above in the same block (``env = gym.make(id)``),
+        elsewhere the one assignment every path to the read passes last."""
+        statement = self.facts.statement_of(name)
+        if isinstance(statement, ast.Assign) and any(isinstance(t, ast.Name) and t.id == name.id for t in statement.targets):
+            above = Flow.of(self.facts).binding_above(name, statement)
+            holder = self.facts.statement_of(above) if isinstance(above, ast.Name) else None
+            if not (isinstance(holder, ast.Assign) and holder.targets == [above]):
+                return None
+            if any(isinstance(n, ast.Name) and n.id == name.id for n in ast.walk(holder.value)):
+                return None
+            origin = self.origin(holder.value)
+            return None if origin == CYCLE else origin
+        return self.dominating(name)
+
+    def nearest_assignment(self, name: ast.Name) -> ast.expr | None:
+        scope, bindings = self.facts.resolve(name.id, self.facts.scope_of(name))
+        if scope is None:
+            return None
+        key = (id(scope), name.id)
+        if key not in self._assign_lines:
+            found: list[tuple[int, ast.expr]] = []
+            for binding in bindings:
+                parent = self.facts.parent(binding)
+                if not (isinstance(parent, ast.Assign) and binding in parent.targets):
+                    self._assign_lines[key] = None
+                    break
+                found.append((parent.lineno, parent.value))
+            else:
+                found.sort(key=lambda item: item[0])  # stable: the first of a line stays first
+                self._assign_lines[key] = ([line for line, _ in found], [value for _, value in found])
+        table = self._assign_lines[key]
+        if not table:
+            return None
+        lines, values = table
+        before = bisect.bisect_left(lines, name.lineno)  # assignments on lines above the read
+        if before == 0:
+            return None
+        return values[bisect.bisect_left(lines, lines[before - 1])]  # the first one on the nearest line
+
+    def gym_envs_from_elsewhere(self, receiver: ast.expr, origin: Origin) -> bool:
+        """``env``, a parameter of a module function that every call from other modules of
+        the run passes a Gym env, a bare one or a wrapper stack (``run_agent(gym.make(...))``
+        in one test, ``run_agent(MyEnv())`` in another), and that this module's own calls
+        (its ``__main__`` block) pass the bare env (``origin`` RAW), or never make."""
+        project = self.receivers.project
+        if project is None or not isinstance(receiver, ast.Name):
+            return False
+        bindings = self.facts.bindings_of(receiver)
+        if len(bindings) != 1 or not isinstance(bindings[0], ast.arg):
+            return False
+        arguments = self.facts.parent(bindings[0])
+        function = self.facts.parent(arguments) if arguments is not None else None
+        if not isinstance(function, FUNCTIONS) or self.facts.functions.get(function.name) is not function:
+            return False
+        if origin is None and self.receivers.call_sites(function, None):
+            return False  # this module's own calls pass something untraced
+        kinds = project.param_kinds(function.name, bindings[0].arg)
+        return bool(kinds) and all(kind is EnvKind.GYM_ENV for kind in kinds)
+
+    def traced_gym_env(self, receiver: ast.expr) -> bool:
+        """``holder.env`` where ``holder`` is only ever an object of a class of this module
+        that is no env (``player = Agent(model, env)``), or of a plain class of another module
+        of the run that every construction hands a Gym env there (``ProjectView.held_kind``),
+        and the receiver analysis traced the attribute to a Gym env: bare or wrapped,
+        ``get_wrapper_attr`` reads the attribute as forwarding did. The origin walk here
+        follows ``self.x`` only inside the class."""
+        if not (isinstance(receiver, ast.Attribute) and isinstance(receiver.value, ast.Name)):
+            return False
+        bindings = self.facts.bindings_of(receiver.value)
+        if not bindings:
+            return False
+        project = self.receivers.project
+        for binding in bindings:
+            statement = self.facts.parent(binding)
+            if not (isinstance(statement, ast.Assign) and statement.targets == [binding] and isinstance(statement.value, ast.Call)):
+                return False
+            func = statement.value.func
+            holder = self.receivers.local_class(func)
+            if holder is not None:
+                if self.receivers.class_kind(holder) not in (EnvKind.UNKNOWN, EnvKind.NOT_ENV):
+                    return False
+            elif project is None or not any(project.held_kind(q, receiver.attr) is EnvKind.GYM_ENV for q in self.facts.qualified_names(func)):
+                return False  # not a plain class of the run whose every construction passes a Gym env there
+        return self.receivers.kind_of(receiver) is EnvKind.GYM_ENV
+
+    def is_sub_env(self, receiver: ast.expr) -> bool:
+        """``self.envs[i]`` in a subclass of Gym's ``SyncVectorEnv``, which never rebinds
+        ``envs``: one of the envs its ``env_fns`` made."""
+        if not (
+            isinstance(receiver, ast.Subscript)
+            and isinstance(receiver.value, ast.Attribute)
+            and receiver.value.attr == "envs"
+            and isinstance(receiver.value.value, ast.Name)
+            and receiver.value.value.id == "self"
+        ):
+            return False
+        classdef = self.facts.enclosing_class(receiver)
+        if classdef is None or "envs" in self.receivers.self_stores(classdef):
+            return False
+        return any(
+            N.strip_gym_prefix(q) in _SYNC_VECTOR_ENVS for base in classdef.bases for q in self.facts.qualified_names(base)
+        )
+
+    def outer_wrapper(self, expr: ast.expr) -> str | None:
+        """The wrapper class that is the outermost layer of ``expr`` where it is read.
+
+        For a name, the binding is the nearest assignment above the read in the same scope
+        (``env = RecordEpisodeStatistics(env)`` then ``env.return_queue``): straight-line
+        script code, which is where such reads live.
+        """
+        value: ast.expr | None = expr
+        if isinstance(expr, ast.Name):
+            value = self.nearest_assignment(expr)
+            annotation = self._annotated_wrapper(expr) if value is None else None
+            if annotation is not None:  # ``env: gym.wrappers.TimeLimit``
+                named = {rest for q in self.facts.qualified_names(annotation) if (rest := wrapper_rest(q)) is not None}
+                return current_name(named.pop()) if len(named) == 1 else None
+        if not isinstance(value, ast.Call):
+            return None
+        names = {rest for q in self.facts.qualified_names(value.func) if (rest := wrapper_rest(q)) is not None}
+        if len(names) == 1:
+            # Its 1.x name: ``FrameStack`` is becoming FrameStackObservation in the same run.
+            return current_name(names.pop())
+        local = self.receivers.local_class(value.func)
+        if local is not None and self.receivers.is_gym_wrapper_class(local):
+            return local.name
+        return None
+
+    def _annotated_wrapper(self, name: ast.Name) -> ast.expr | None:
+        """The annotation of the parameter ``name`` is, when it is its only binding."""
+        bindings = self.facts.bindings_of(name)
+        if len(bindings) == 1 and isinstance(bindings[0], ast.arg) and bindings[0].annotation is not None:
+            return bindings[0].annotation
+        return None
+
+    def is_run_wrapper_class(self, func: ast.expr) -> bool:
+        """A Gym wrapper class another module of the run defines."""
+        view = self.receivers.project
+        return view is not None and any(view.is_wrapper_class(q) for q in self.facts.qualified_names(func))
+
+    def outer_is_wrapper(self, expr: ast.expr) -> bool:
+        """``expr`` is, where it is read, a Gym wrapper made by a constructor call: Gymnasium's
+        wrappers, this module's wrapper classes, or another module's of the run."""
+        if self.outer_wrapper(expr) is not None:
+            return True
+        value = self.nearest_assignment(expr) if isinstance(expr, ast.Name) else expr
+        return isinstance(value, ast.Call) and self.is_run_wrapper_class(value.func)
+
+    def outer_attributes(self, expr: ast.expr) -> set[str]:
+        """Attributes the outermost wrapper of ``expr`` defines itself (gymnasium's or this module's)."""
+        owner = self.outer_wrapper(expr)
+        if owner is None:
+            return set()
+        if owner in OWN_ATTRIBUTES:
+            return OWN_ATTRIBUTES[owner]
+        local = self.facts.classes.get(owner)
+        return self.defined_attributes(local) if local is not None else set()
+
+    def local_wrapper_attributes(self) -> set[str]:
+        """Attributes and methods defined by wrapper classes of this module (they shadow the base env's)."""
+        if self._local_attrs is None:
+            attrs: set[str] = set()
+            for classdef in self.facts.classes.values():
+                if self.receivers.is_gym_wrapper_class(classdef):
+                    attrs |= self.defined_attributes(classdef)
+            self._local_attrs = attrs
+        return self._local_attrs
+
+    def defined_attributes(self, classdef: ast.ClassDef) -> set[str]:
+        names = self._class_attrs.get(classdef)
+        if names is None:
+            names = self._class_attrs[classdef] = _defined_attributes(classdef)
+        return names
+
+def _defined_attributes(classdef: ast.ClassDef) -> set[str]:
+    """Methods (at any depth) and ``self.x = ...`` targets of a class."""
+    names: set[str] = set()
+    for node in ast.walk(classdef):
+        if isinstance(node, FUNCTIONS):
+            names.add(node.name)
+        elif isinstance(node, ast.Assign):
+            for target in node.targets:
+                if isinstance(target, ast.Attribute) and isinstance(target.value, ast.Name) and target.value.id == "self":
+                    names.add(target.attr)
+    return names
