@@ -192,8 +192,8 @@ def reexport_wrappers(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) ->
         if path in facts.blocked:
             continue
         for name in exports.star_names(summary):
-            where = None if name in summary.exports else exports.origin(path, name, set())
-            if where is not None and where[1] in facts.wrapper_classes.get(where[0], ()):
+            origin = None if name in summary.exports else exports.origin(path, name, set())
+            if origin is not None and origin[1] in facts.wrapper_classes.get(origin[0], ()):
                 added[path].add(name)
     for path, names in added.items():
         facts.wrapper_classes[path] = facts.wrapper_classes.get(path, frozenset()) | names
