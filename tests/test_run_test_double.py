@@ -49,3 +49,20 @@ def test_the_same_double_outside_the_tests_is_no_test_double(tmp_path: Path) -> 
     (run / "tests" / "test_screens.py").rename(run / "demo.py")
     findings = _findings(run)
     assert not [f for f in findings if f["rule"] == "GM604" and "double" in f["message"]]
+
+
+def test_the_receiver_question_names_the_tests_double(tmp_path: Path) -> None:
+    findings = _findings(_copy(tmp_path))
+    found = [f for f in findings if f["path"] == "arcade/screens.py" and f["rule"] in ("GM201", "GM301")]
+    assert [(f["line"], f["rule"], f["kind"]) for f in found] == [(17, "GM201", "flag"), (22, "GM301", "flag")]
+    assert "only tests pass a double" in found[0]["message"]
+    assert "tests/test_screens.py:22" in found[0]["message"]
+    assert "port that double's reset and step" in found[0]["message"]
+
+
+def test_the_same_double_outside_the_tests_is_a_plain_mixed_question(tmp_path: Path) -> None:
+    run = _copy(tmp_path)
+    (run / "tests" / "test_screens.py").rename(run / "demo.py")
+    found = [f for f in _findings(run) if f["rule"] == "GM201"]
+    assert [f["line"] for f in found] == [17]
+    assert "at some sites" in found[0]["message"] and "double" not in found[0]["message"]

@@ -135,6 +135,10 @@ class ModuleSummary:
     # not migrate), and Gym wrappers of the project's own protocol (a step returning its own
     # record): the callers of their instances keep that contract, reset included.
     legacy_steps: frozenset[str] = frozenset()
+    # Top-level Gym wrapper classes every construction here puts around, and factories that
+    # return on every path, an instance of one imported name (the import as written): they
+    # keep that name's contract when the run keeps it (``project_contracts.legacy_steps``).
+    legacy_if: dict[str, str] = field(default_factory=dict)
     # Top-level classes whose render() (their own, or a base's of this module) neither calls
     # a render() nor asks workers to render: a project's stub (``logger.warn(...)``), whose
     # callers need no render_mode anywhere (rules/rendering/).

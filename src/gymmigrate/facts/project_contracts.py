@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING
 
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module_summary import MAX_CHAIN, OWN, REF, ModuleSummary, is_ref
+from gymmigrate.facts.project_exports import Exports
 
 if TYPE_CHECKING:
     from gymmigrate.facts.project import ProjectFacts
@@ -156,7 +157,33 @@ def seed_keepers(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> tupl
 
 def legacy_steps(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> frozenset[tuple[str, str]]:
     """Every (path, name) of the run that calls a class whose step keeps the legacy
-    contract: the class itself, its re-exports and subclasses that define no step."""
+    contract: the class itself, its re-exports and subclasses that define no step, and the
+    wrapper classes and factories of the run that give such an instance
+    (``ModuleSummary.legacy_if``, followed until nothing is added)."""
+    exports = Exports(facts, by_path)
+    kept = {(path, name) for path, summary in by_path.items() if path not in facts.blocked for name in summary.legacy_steps}
+    found = _kept_names(facts, by_path, exports, kept)
+    for _ in range(MAX_CHAIN):
+        more = set()
+        for path, summary in by_path.items():
+            if path in facts.blocked:
+                continue
+            for name, imported in summary.legacy_if.items():
+                split = facts._split(imported, path)
+                if split is not None and (split in found or exports.origin(*split, set()) in found):
+                    more.add((path, name))
+        if more <= kept:
+            break
+        kept |= more
+        found = _kept_names(facts, by_path, exports, kept)
+    return frozenset(found)
+
+
+def _kept_names(
+    facts: ProjectFacts, by_path: dict[str, ModuleSummary], exports: Exports, kept: set[tuple[str, str]]
+) -> set[tuple[str, str]]:
+    """``kept`` with the names of the run that re-export one (star imports too) and the
+    subclasses of one that define no step."""
     found = set()
     for path, summary in by_path.items():
         if path in facts.blocked:
@@ -169,7 +196,7 @@ def legacy_steps(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> froz
                 here = by_path.get(where[0])
                 if here is None:
                     break
-                if where[1] in here.legacy_steps:
+                if where in kept:
                     found.add((path, name))
                     break
                 kind = here.exports.get(where[1])
@@ -177,7 +204,15 @@ def legacy_steps(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> froz
                     break  # its own step, or not a name of the run to follow
                 split = facts._split(str(kind)[len(REF) :], where[0])
                 where = split if split is not None and "." not in split[1] else None
-    return frozenset(found)
+    # ``from .wrappers import *`` in a package's ``__init__``: ``from pkg import Kept`` makes
+    # the same instances (star chains followed to the module that defines the name)
+    for path, summary in by_path.items():
+        if path in facts.blocked:
+            continue
+        for name in exports.star_names(summary):
+            if name not in summary.exports and exports.origin(path, name, set()) in found:
+                found.add((path, name))
+    return found
 
 
 def class_definer(facts: ProjectFacts, by_path: dict[str, ModuleSummary], path: str, name: str) -> tuple[str, str] | None:

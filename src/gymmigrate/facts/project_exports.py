@@ -76,6 +76,10 @@ class Exports:
         split = self.facts._split(kind[len(REF) :], path)
         return None if split is None or "." in split[1] else self.origin(*split, seen, trail)
 
+    def star_names(self, summary: ModuleSummary) -> set[str]:
+        """The public names ``summary``'s star imports bring in (``_star_names``)."""
+        return self._star_names(summary, set())
+
     def _star_names(self, summary: ModuleSummary, seen: set[str]) -> set[str]:
         """The public names a module's star imports bring in (star chains followed once)."""
         seen.add(summary.path)
@@ -182,5 +186,14 @@ def reexport_wrappers(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) ->
                     added[path].add(name)
                     break
                 export = by_path[where[0]].exports.get(where[1])
+    # ``from .wrappers import *`` in a package's ``__init__`` re-exports its wrapper classes too
+    exports = Exports(facts, by_path)
+    for path, summary in by_path.items():
+        if path in facts.blocked:
+            continue
+        for name in exports.star_names(summary):
+            origin = None if name in summary.exports else exports.origin(path, name, set())
+            if origin is not None and origin[1] in facts.wrapper_classes.get(origin[0], ()):
+                added[path].add(name)
     for path, names in added.items():
         facts.wrapper_classes[path] = facts.wrapper_classes.get(path, frozenset()) | names

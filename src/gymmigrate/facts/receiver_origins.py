@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 from gymmigrate.facts import names as N
 from gymmigrate.facts.done_uses import builds_record
 from gymmigrate.facts.kinds import MAX_DEPTH, EnvKind
-from gymmigrate.facts.module import FUNCTIONS, own_returns
+from gymmigrate.facts.module import FUNCTIONS, call_argument, own_returns
 from gymmigrate.facts.receiver_classes import is_batched_step_return, keeps_legacy_step
 from gymmigrate.facts.version_checks import reads_version
 
@@ -38,6 +38,12 @@ class MadeObjects(_Facade):
             values = [expr]
         elif isinstance(expr, ast.Name):
             last = self._dominating_binding(expr)
+            reaching = self.values_reaching(expr) if last is None else None
+            if reaching is not None:
+                # ``env = Outer(env)`` after ``env = Kept(env)``, or after ``if ...: env = Skip(env)``:
+                # every value that may reach the read (the nearest one above names the class)
+                found = {self._legacy_step_maker(value) for value in reaching}
+                return None if None in found else self._legacy_step_maker(reaching[0])
             bindings = [last] if last is not None else self.facts.bindings_of(expr)
             values = []
             kept: set[str] = set()
@@ -46,8 +52,8 @@ class MadeObjects(_Facade):
                     # A parameter every caller of the run feeds such an instance (a parameter
                     # fed one and another env is reported: ``ParameterKinds._param_kind``).
                     names, other = self.param_kept_classes(binding)
-                    if other or len(names) != 1:
-                        return None
+                    if other or not names:
+                        return None  # several such classes are all kept: still their contract
                     kept |= names
                     continue
                 parent = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
@@ -56,7 +62,7 @@ class MadeObjects(_Facade):
                 values.append(parent.value)
             if kept:
                 found = {self._legacy_step_maker(value) for value in values} | kept
-                return found.pop() if len(found) == 1 else None
+                return None if None in found else min(found)  # type: ignore[type-var]
         elif isinstance(expr, ast.Attribute) and isinstance(expr.value, ast.Name) and self.is_self(expr.value):
             classdef = self.facts.enclosing_class(expr)
             if expr.attr == "env" and classdef is not None and (wrapped := self.wraps_legacy_step(classdef)) is not None:
@@ -65,7 +71,7 @@ class MadeObjects(_Facade):
         else:
             return None
         found = {self._legacy_step_maker(value) for value in values}
-        return found.pop() if len(found) == 1 and values else None
+        return min(found) if values and None not in found else None  # type: ignore[type-var]
 
     def _legacy_step_maker(self, value: ast.expr) -> str | None:
         if isinstance(value, ast.Name):
@@ -77,11 +83,124 @@ class MadeObjects(_Facade):
             # A wrapper of the project's own protocol (``own_record_wrapper``): its instances'
             # step and reset calls read that protocol and stay as they are too.
             return local.name if self.own_record_wrapper(local) or self.class_keeps_legacy_step(local) else None
+        function = self.local_function(value.func)
+        if function is not None:
+            # a factory of this module (``wrap(env)``) returning such an instance on every path
+            returned = [r.value for r in own_returns(function)]
+            found = {self.legacy_step_class(r) if r is not None else None for r in returned}
+            return found.pop() if len(found) == 1 and returned else None
         if self.project is not None:
             for qualified in self.qualified_names(value.func):
                 if self.project.keeps_legacy_step(qualified):
                     return qualified.rsplit(".", 1)[-1]
         return None
+
+    def legacy_dependencies(self) -> dict[str, str]:
+        """``ModuleSummary.legacy_if``: for each top-level Gym wrapper class whose every
+        construction here wraps, and each top-level def whose every return is, an instance
+        of one imported name (through wrapper classes and defs of this module, ``env =
+        Outer(env)`` chains followed), that name as imported. Whether it keeps its legacy
+        contract is known only across the run."""
+        found: dict[str, str] = {}
+        for name, classdef in self.facts.classes.items():
+            calls = self.facts.calls_by_name.get(name, [])
+            if calls and self.is_gym_wrapper_class(classdef):
+                inner = {self.imported_maker(a) if (a := call_argument(call, 0, "env")) is not None else None for call in calls}
+                if len(inner) == 1 and None not in inner:
+                    found[name] = inner.pop()  # type: ignore[assignment]
+        for name, function in self.facts.functions.items():
+            returned = {self.imported_maker(r.value) if r.value is not None else None for r in own_returns(function)}
+            if len(returned) == 1 and None not in returned:
+                found[name] = returned.pop()  # type: ignore[assignment]
+        return found
+
+    def imported_maker(self, expr: ast.expr) -> str | None:
+        """The imported name (as imported, not Gym's) whose instance ``expr`` certainly holds,
+        through Gym wrapper classes and defs of this module put around it."""
+        return self.facts.memo(("imported-maker", id(expr)), lambda: self._imported_maker(expr), while_computing=None)
+
+    def _imported_maker(self, expr: ast.expr) -> str | None:
+        values: list[ast.expr] | None
+        if isinstance(expr, ast.Name):
+            last = self._dominating_binding(expr)
+            statement = self.facts.statement_of(last) if last is not None else None
+            if isinstance(statement, ast.Assign) and len(statement.targets) == 1:
+                values = [statement.value]
+            else:
+                values = self.values_reaching(expr) if last is None else None
+        elif isinstance(expr, ast.Call):
+            local = self.local_class(expr.func)
+            function = self.local_function(expr.func)
+            if local is not None:
+                inner = call_argument(expr, 0, "env") if self.is_gym_wrapper_class(local) else None
+                values = [inner] if inner is not None else None
+            elif function is not None:
+                values = [r.value for r in own_returns(function) if r.value is not None] or None
+                if values is not None and len(values) != len(own_returns(function)):
+                    return None
+            else:
+                names = {q for q in self.qualified_names(expr.func) if N.strip_gym_prefix(q) is None}
+                return names.pop() if len(names) == 1 else None
+        else:
+            return None
+        if not values:
+            return None
+        found = {self.imported_maker(value) for value in values}
+        return found.pop() if len(found) == 1 and None not in found else None
+
+    def values_reaching(self, read: ast.Name) -> list[ast.expr] | None:
+        """The values of ``read``'s variable that may reach it, nearest first, in straight code
+        of one function: walking back through the statement lists that enclose the read, the
+        nearest plain assignment above, and every assignment inside the compound statements
+        passed on the way (``if ...: env = Skip(env)``, which may or may not run). A read in
+        the value of an assignment that rebinds it (``env = Outer(env)``) sees the values
+        above. None when a binding on the way is no plain assignment (a parameter, a loop
+        target), a loop around the read rebinds it, or no assignment above dominates."""
+        return self.facts.memo(("values-reaching", id(read)), lambda: self._values_reaching(read), while_computing=None)
+
+    def _values_reaching(self, read: ast.Name) -> list[ast.expr] | None:
+        scope = self.facts.scope_of(read)
+        values: list[ast.expr] = []
+        node: ast.AST = self.facts.statement_of(read)
+        for _ in range(64):
+            holder = self.facts.parent(node)
+            if holder is None or isinstance(holder, (ast.Lambda, ast.ClassDef, ast.ExceptHandler)):
+                return None
+            if isinstance(holder, (ast.For, ast.AsyncFor, ast.While)) and self._binds_in(holder, read.id, scope) != []:
+                return None  # a value of the previous iteration may reach the read
+            block = next((b for b in ("body", "orelse", "finalbody") if node in (getattr(holder, b, None) or ())), None)
+            if block is None:
+                return None
+            statements = getattr(holder, block)
+            for statement in reversed(statements[: statements.index(node)]):
+                targets = statement.targets if isinstance(statement, ast.Assign) else None
+                if targets and len(targets) == 1 and isinstance(targets[0], ast.Name) and targets[0].id == read.id:
+                    values.append(statement.value)
+                    return values
+                inner = self._binds_in(statement, read.id, scope)
+                if inner is None:
+                    return None
+                values.extend(inner)
+            if isinstance(holder, (*FUNCTIONS, ast.Module)):
+                return None  # the top of the function: no assignment above dominates
+            node = holder
+        return None
+
+    def _binds_in(self, statement: ast.AST, name: str, scope: object) -> list[ast.expr] | None:
+        """The values assigned to ``name`` (of ``scope``) inside ``statement``, or None when
+        one of its bindings there is no plain single-target assignment."""
+        values: list[ast.expr] = []
+        for node in ast.walk(statement):
+            if isinstance(node, ast.Name) and node.id == name and isinstance(node.ctx, ast.Store) and self.facts.scope_of(node) is scope:
+                parent = self.facts.parent(node)
+                if not (isinstance(parent, ast.Assign) and parent.targets == [node]):
+                    return None
+                values.append(parent.value)
+            elif isinstance(node, (*FUNCTIONS, ast.ClassDef)) and node.name == name:
+                return None
+            elif isinstance(node, ast.alias) and (node.asname or node.name.split(".")[0]) == name:
+                return None
+        return values
 
     def class_keeps_legacy_step(self, classdef: ast.ClassDef, seen: frozenset[int] = frozenset()) -> bool:
         """The step ``classdef``'s instances run keeps its legacy contract: its own, or the

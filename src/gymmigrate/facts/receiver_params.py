@@ -277,6 +277,14 @@ class ParameterKinds(_Facade):
             for binding in self.facts.bindings_of(expr):
                 if isinstance(binding, ast.arg) and binding in self._mixed_params:
                     gym, others = self._mixed_params[binding]
+                    doubles = self._test_double_params.get(binding)
+                    if doubles:
+                        # the only other feed is a test's stand-in: say so, and what porting needs
+                        return (
+                            f"its callers here pass a {' or '.join(gym)}, and only tests pass a double with an API of "
+                            f"its own ({', '.join(doubles)}): to migrate these calls, port that double's reset and step "
+                            "(or the mock's configured returns) with them"
+                        )
                     return f"its callers pass a {' or '.join(gym)} at some sites and a {' or '.join(others)} at others"
                 parent = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
                 if isinstance(parent, ast.Assign):

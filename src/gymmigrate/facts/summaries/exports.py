@@ -87,6 +87,11 @@ class Exports:
         found: set[str] = set()
         for ret in own_returns(function):
             value = ret.value
+            if isinstance(value, ast.Name):
+                # ``env = make(...); env.seed(s); env = dress(env); return env``: the call the
+                # returned name holds on every path (``dress`` of another module of the run)
+                reaching = self.receivers.values_reaching(value)
+                value = reaching[0] if reaching is not None and len(reaching) == 1 else None
             if not (isinstance(value, ast.Call) and isinstance(value.func, (ast.Name, ast.Attribute))):
                 return None
             qualified = self.facts.qualified_names(value.func)

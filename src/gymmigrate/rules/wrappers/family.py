@@ -107,6 +107,19 @@ class WrapperClasses(StepOverrides, ResetOverrides):
         batch = self.receivers.wraps_legacy_step(classdef)
         if batch is None:
             return False
+        if self._names_legacy_wrapper(batch):
+            # a wrapper of the run kept on the legacy API on purpose (``CompatWrapper``-like):
+            # the chain above it keeps that API, no batch to port
+            self.report(
+                function,
+                "GM602",
+                f"left as it is: `{classdef.name}` is put around `{batch}` here, a wrapper of this project that keeps "
+                "the legacy API (four values from step, the observation from reset): this step and reset keep it "
+                "too, and so do the calls of it this run can trace",
+                FixKind.FLAG,
+                tier=Tier.NOTE,
+            )
+            return True
         self.report(
             function,
             "GM602",
@@ -116,6 +129,28 @@ class WrapperClasses(StepOverrides, ResetOverrides):
             FixKind.FLAG,
         )
         return True
+
+    def _names_legacy_wrapper(self, name: str) -> bool:
+        """``name`` (what ``wraps_legacy_step`` gives) is a Gym wrapper of the run kept on the
+        legacy API (behind a version check, or of the project's own record, or put around
+        one), not a batch of envs: such a class or a def of this module, or a name this module
+        imports that the run knows as a wrapper class."""
+        for _ in range(16):
+            local = self.facts.classes.get(name)
+            if local is None:
+                break
+            if self.receivers.legacy_by_version(local) or self.receivers.own_record_wrapper(local):
+                return True
+            inner = self.receivers.wraps_legacy_step(local)  # a batch of this module is none
+            if inner is None or not self.receivers.is_gym_wrapper_class(local):
+                return False
+            name = inner
+        if name in self.facts.functions:
+            return True
+        project = self.receivers.project
+        return project is not None and any(
+            project.is_wrapper_class(q) for q in self.facts.imports.values() if q.rsplit(".", 1)[-1] == name
+        )
 
     # -- seed() and render(mode, ...) overrides: Gymnasium calls neither that way ----------------
 
