@@ -351,6 +351,10 @@ class EnvIds(RuleFamily):
         pass: its module needs ``import ale_py``. Where every sign sits under a condition
         (``if "NoFrameskip" in env_id:``), the helper may make other envs too: for review."""
         bindings = self.facts.bindings_of(name)
+        assign = self.facts.parent(bindings[0]) if len(bindings) == 1 else None
+        read = assign.value if isinstance(assign, ast.Assign) and assign.targets == bindings else None
+        if isinstance(read, ast.Attribute) and isinstance(read.value, ast.Name):  # ``env_id = task.env_id``
+            bindings = self.facts.bindings_of(read.value)
         if len(bindings) != 1 or not isinstance(bindings[0], ast.arg):
             return
         function = self.facts.enclosing_function(call)
@@ -378,7 +382,7 @@ class EnvIds(RuleFamily):
             if not ("tests for" in sign or _under_condition(self.facts, node, where[id(node)]))
         ]
         evidence = (certain or [sign for sign, _ in signs])[0]
-        given = None if certain else self._ids_given(function, bindings[0])
+        given = None if certain or read is not None else self._ids_given(function, bindings[0])
         if given is not None and not any(is_atari_id(i) for i in given):
             return  # every caller of the run passes an id, none an Atari one: no ale_py needed
         if given is not None:
