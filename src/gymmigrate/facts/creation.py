@@ -345,7 +345,7 @@ class CreationFinder:
             and (rebinding or flow.dominates(statement, name, name))
         ):
             return self._follow(last, self._binding)
-        reaching = flow.reaching(name)
+        reaching = flow.reaching(name) if same_tests.guards(self.facts, name) else None
         if reaching:
             # ``if MODE == "cart": env = gym.make(...)`` read under the same unchanged test
             # later: the branches that test it the other way bind nothing this read sees.
