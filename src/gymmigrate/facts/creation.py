@@ -26,6 +26,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from gymmigrate.facts import names as N
+from gymmigrate.facts import same_tests
 from gymmigrate.facts.env_classes import EnvClasses, mode_can_stay_optional
 from gymmigrate.facts.flow import Flow, contains
 from gymmigrate.facts.kinds import EnvKind
@@ -344,6 +345,13 @@ class CreationFinder:
             and (rebinding or flow.dominates(statement, name, name))
         ):
             return self._follow(last, self._binding)
+        reaching = flow.reaching(name) if same_tests.guards(self.facts, name) else None
+        if reaching:
+            # ``if MODE == "cart": env = gym.make(...)`` read under the same unchanged test
+            # later: the branches that test it the other way bind nothing this read sees.
+            cut = same_tests.excluded(self.facts, name, reaching)
+            if cut:
+                return self._bindings(name, [b for b in reaching if id(b) not in cut])
         # Every read that resolves to the same bindings has the same answer: one
         # computation per (scope, name), not per read (a chain of n rebindings has n reads).
         bindings = self.facts.bindings_of(name)

@@ -29,6 +29,7 @@ import ast
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts import names as N
+from gymmigrate.facts import same_tests
 from gymmigrate.facts.callables import CallableKinds
 from gymmigrate.facts.env_specs import is_spec_make
 from gymmigrate.facts.flow import Flow
@@ -348,7 +349,7 @@ class Receivers(ClassKinds, ParameterKinds, MadeObjects):
                 kind = self.binding_kind(binding)
                 if kind is not None:
                     kinds.add(kind)
-            shared = join_kinds(kinds)
+            shared = self._join_bindings(bindings, kinds)
             if len(kinds) > 1:
                 self._mixed.add(key)
             if self.depth == 1:
@@ -364,11 +365,54 @@ class Receivers(ClassKinds, ParameterKinds, MadeObjects):
             # Else only the bindings that may reach it: ``env = lib.make(...)`` overwritten by
             # ``env = ClipAction(env)`` before the read, ``env = Mask(env)`` after it.
             reaching = Flow.of(self.facts).reaching(name)
+            if reaching:
+                # ``if MODE == "arm": env = Arm() elif ...: env = gym.make(...)``, read again under
+                # the same unchanged tests: the bindings of the other branches cannot reach it.
+                cut = same_tests.excluded(self.facts, name, reaching)
+                reaching = [b for b in reaching if id(b) not in cut]
             if reaching and len(reaching) < len(bindings):
                 kinds = {k for k in (self._reaching_kind(b) for b in reaching) if k is not None}
                 if kinds:
-                    return join_kinds(kinds)
+                    return self._join_bindings(reaching, kinds)
         return shared
+
+    def _join_bindings(self, bindings: list[ast.AST], kinds: set[EnvKind]) -> EnvKind:
+        """``join_kinds``, except that an object of a class the run defines (not a Gym env)
+        is no placeholder like ``env = None``: next to a Gym env it leaves the kind unknown,
+        so calls that may reach the project's own ``reset``/``step`` are never rewritten."""
+        joined = join_kinds(kinds)
+        if joined is EnvKind.UNKNOWN or EnvKind.NOT_ENV not in kinds or len(kinds) == 1:
+            return joined
+        return EnvKind.UNKNOWN if any(self._own_object(b) is not None for b in bindings) else joined
+
+    def _own_object(self, binding: ast.AST) -> ast.Call | None:
+        """The call of the run's own code (not a Gym env) that ``binding`` stores, if any."""
+        statement = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
+        value = statement.value if isinstance(statement, (ast.Assign, ast.AnnAssign, ast.NamedExpr)) else None
+        if isinstance(value, ast.Call) and self.binding_kind(binding) is EnvKind.NOT_ENV and self.run_defined(value):
+            return value
+        return None
+
+    def mixed_callers(self, expr: ast.AST, _depth: int = 0) -> str | None:
+        """Also: ``expr`` a name bound to a Gym env in one place and to an object of the
+        project's own class in another, both reaching this read (``_join_bindings``)."""
+        if isinstance(expr, ast.Name) and self.kind_of(expr) is EnvKind.UNKNOWN:
+            bindings = self.facts.bindings_of(expr)
+            reaching = Flow.of(self.facts).reaching(expr)
+            if reaching:
+                cut = same_tests.excluded(self.facts, expr, reaching)
+                bindings = [b for b in reaching if id(b) not in cut]
+            gym = [b for b in bindings if self.binding_kind(b) in (EnvKind.GYM_ENV, EnvKind.GYM_VEC)]
+            own = [(b, call) for b in bindings if (call := self._own_object(b)) is not None]
+            if gym and own:
+                made = self.facts.segment(own[0][1].func)
+                kind = self.binding_kind(gym[0])
+                assert kind is not None
+                return (
+                    f"it holds a {kind.value} (line {gym[0].lineno}) or an object of the project's own "  # type: ignore[attr-defined]
+                    f"`{made}` (line {own[0][0].lineno}), and no test repeated around this call tells which"  # type: ignore[attr-defined]
+                )
+        return super().mixed_callers(expr, _depth)
 
     def _reaching_kind(self, binding: ast.AST) -> EnvKind | None:
         """A binding's kind, where it decides a read alone: ``env = Recorder(env)`` of a plain

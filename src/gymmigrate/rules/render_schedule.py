@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import ast
 
-from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts import ModuleFacts, same_tests
 
 # Expressions a creation-time condition may be built of: comparisons, boolean logic,
 # constants, names and attribute reads of names (``args.render``); no calls, no
@@ -36,6 +36,9 @@ def render_condition(facts: ModuleFacts, render: ast.Call, make: ast.AST, home: 
     statements and expressions, and the operands of ``and``/``or`` before it, between the
     render call and the nearest node that also encloses the make."""
     around_make = {id(node) for node in facts.ancestors(make)}
+    # ``if MODE == "cart": env = gym.make(...)`` and ``if MODE == "cart": env.render()``
+    # later, the test unchanged: it already holds wherever the make runs.
+    settled = same_tests.guards(facts, make)
     guards: list[Guard] = []
     child: ast.AST = render
     for ancestor in facts.ancestors(render):
@@ -43,7 +46,9 @@ def render_condition(facts: ModuleFacts, render: ast.Call, make: ast.AST, home: 
             break
         if isinstance(ancestor, (ast.If, ast.IfExp)) and child is not ancestor.test:
             in_else = child in ancestor.orelse if isinstance(ancestor, ast.If) else child is ancestor.orelse
-            if not (_main_guard(ancestor.test) and not in_else) and not (not in_else and _always_true(facts, ancestor.test)):
+            if (same_tests.test_key(facts, ancestor.test), not in_else) in settled:
+                pass
+            elif not (_main_guard(ancestor.test) and not in_else) and not (not in_else and _always_true(facts, ancestor.test)):
                 guards.append((ancestor.test, in_else))
         elif isinstance(ancestor, ast.BoolOp):
             before = ancestor.values[: next(i for i, v in enumerate(ancestor.values) if v is child)]

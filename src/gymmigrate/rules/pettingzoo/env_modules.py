@@ -6,9 +6,11 @@ several envs. On PettingZoo 1.27:
 - ``pettingzoo.mpe`` only raises ``ImportError`` ("MPE has been moved into its own package:
   MPE2"): the envs live in the ``mpe2`` package (``from mpe2 import simple_spread_v3``),
   ``pettingzoo.magent`` likewise in ``magent2``.
-- a superseded version still imports, but its ``env()`` / ``parallel_env()`` raise
-  ``DeprecatedEnv: knights_archers_zombies_v10 is now deprecated, use
-  knights_archers_zombies_v11 instead``; an env removed outright raises on import.
+- a superseded version still imports from its family, but its ``env()`` / ``parallel_env()``
+  raise ``DeprecatedEnv: knights_archers_zombies_v10 is now deprecated, use
+  knights_archers_zombies_v11 instead`` (so only an older version the file reads is a
+  question; one per statement names them all); importing from the old env module itself
+  (``from pettingzoo.atari.pong_v1 import env``) fails; an env removed outright raises on import.
 
 A version bump is a change of behaviour, so the table below says, per env, which old
 version is the known predecessor of the current one and what changed between them (read
@@ -100,6 +102,26 @@ BUMPS: dict[tuple[str, str], Bump] = {
     ("pettingzoo.sisl", "pursuit"): Bump(5, 4, "v5 (PettingZoo 1.27.0) adds `state()` and a state space"),
 }
 
+# The env modules of PettingZoo 1.27's own families and their current versions (read from
+# its package). An older version still imports from the family (``from pettingzoo.atari
+# import pong_v2`` binds a ``DeprecatedModule``) and raises ``DeprecatedEnv`` only when
+# its ``env()``/``parallel_env()`` is called: an import never read decides nothing.
+CURRENT: dict[str, dict[str, int]] = {
+    "pettingzoo.atari": {
+        "basketball_pong": 3, "boxing": 2, "combat_plane": 2, "combat_tank": 2, "double_dunk": 3,
+        "entombed_competitive": 3, "entombed_cooperative": 3, "flag_capture": 2, "foozpong": 3,
+        "ice_hockey": 2, "joust": 3, "mario_bros": 3, "maze_craze": 3, "othello": 3, "pong": 3,
+        "quadrapong": 4, "space_invaders": 2, "space_war": 2, "surround": 2, "tennis": 3,
+        "video_checkers": 4, "volleyball_pong": 3, "warlords": 3, "wizard_of_wor": 3,
+    },
+    "pettingzoo.butterfly": {"cooperative_pong": 6, "knights_archers_zombies": 11, "pistonball": 6},
+    "pettingzoo.classic": {
+        "chess": 6, "connect_four": 3, "go": 5, "hanabi": 5, "leduc_holdem": 4, "rps": 2,
+        "texas_holdem_no_limit": 6, "texas_holdem": 4, "tictactoe": 3,
+    },
+    "pettingzoo.sisl": {"multiwalker": 9, "pursuit": 5},
+}
+
 # Envs whose successor is not a drop-in: reported with the reason.
 NOT_MAPPED: dict[tuple[str, str], str] = {
     ("pettingzoo.classic", "hanabi"): "hanabi_v5 (PettingZoo 1.23) runs on OpenSpiel through Shimmy "
@@ -155,8 +177,9 @@ class EnvModules(PettingZooFamily):
             return
         renames: dict[str, str] = {}
         notes: dict[str, list[str]] = {}  # what changed -> the renames it applies to
+        superseded: list[str] = []  # the statement's older versions that the file uses
         for alias in statement.names:
-            decided = self._decide(family, alias.name, statement)
+            decided = self._decide(family, alias.name, statement, superseded=(superseded, alias))
             if decided is None:
                 if family in MOVED_FAMILIES:
                     return  # reported: the statement keeps its module, so none of it moves
@@ -172,6 +195,10 @@ class EnvModules(PettingZooFamily):
                 renames[alias.name] = new_name
             if note:
                 notes.setdefault(note, []).append(f"`{alias.name}` -> `{new_name}`")
+        if superseded:
+            self.report(statement, "PZ111", f"{'; '.join(superseded)}: PettingZoo 1.27 raises DeprecatedEnv when "
+                        f"{'it is' if len(superseded) == 1 else 'they are'} called, and the changes were not "
+                        "checked: port by hand", FixKind.FLAG)
         target = new_module(family)
         if not renames and target == family:
             return
@@ -219,8 +246,12 @@ class EnvModules(PettingZooFamily):
     # -- the table ---------------------------------------------------------------------------
 
     def _decide(self, family: str, imported: str, statement: ast.ImportFrom,
-                bound: list[str] | None = None) -> tuple[str, str] | None:
-        """The env module's current name and what changed ("" for nothing), or None (reported)."""
+                bound: list[str] | None = None,
+                superseded: tuple[list[str], ast.alias] | None = None) -> tuple[str, str] | None:
+        """The env module's current name and what changed ("" for nothing), or None (reported).
+        ``superseded``: for ``from family import x_vN``, where an older version that the file
+        reads is listed for one item of the statement (one never read is no question); without
+        it (``from family.x_vN import env`` fails on import) the version is reported here."""
         match = _ENV_NAME.match(imported)
         if match is None:
             if family in MOVED_FAMILIES:
@@ -233,18 +264,22 @@ class EnvModules(PettingZooFamily):
             return None
         moved, checked = MOVED_FAMILIES.get(family, (family, True))
         bump = BUMPS.get((family, env))
+        current = bump.current if bump is not None else CURRENT.get(family, {}).get(env)
+        if current is not None and version < current and (bump is None or version != bump.previous):
+            text = f"`{imported}` is superseded by `{env}_v{current}`"
+            if superseded is None or family in MOVED_FAMILIES:  # the import itself fails
+                self.report(statement, "PZ111", f"{text} (on PettingZoo 1.27 this import fails), and the changes since "
+                            f"v{version} were not checked: port it by hand", FixKind.FLAG)
+            elif self._reads(superseded[1]):
+                superseded[0].append(text)
+            return None
         if bump is None or not checked:
             if moved != family:
                 self.report(statement, "PZ111", f"`{family}` moved to the `{moved}` package (PettingZoo 1.27 raises "
                             f"ImportError); `{imported}` was not checked against it: change the import by hand", FixKind.FLAG)
             return None
-        if version == bump.current:
-            return imported, ""
-        if version != bump.previous:
-            self.report(statement, "PZ111", f"`{imported}` is superseded by `{env}_v{bump.current}` (PettingZoo 1.27 "
-                        f"raises DeprecatedEnv), and the changes since v{version} were not checked: port it by hand",
-                        FixKind.FLAG)
-            return None
+        if version == bump.current or version != bump.previous:
+            return imported, ""  # a version above the current one is not PettingZoo's: left
         self._report_removed_keywords(imported, bump, statement, bound)
         return f"{env}_v{bump.current}", bump.change
 
@@ -330,7 +365,7 @@ class EnvModules(PettingZooFamily):
 
 
 # PettingZoo's own env families: their envs stay in PettingZoo, some at a new version.
-_FAMILIES = frozenset({"pettingzoo.butterfly", "pettingzoo.classic", "pettingzoo.sisl"})
+_FAMILIES = frozenset(CURRENT)
 
 
 def _rewrite_keywords(node: cst.Call, changes: dict[str, tuple[str, str | None]]) -> cst.Call:
