@@ -98,8 +98,8 @@ class ModuleSummary:
     # Top-level class -> (attribute, setter) pairs: its reset steps ``self.<attribute>``,
     # which the class's method ``setter`` stores from a parameter ("": stored from outside).
     reset_steps: dict[str, tuple[tuple[str, str], ...]] = field(default_factory=dict)
-    # What the methods of the module's classes hand ``self`` to: ``m`` for ``x.m(self)``,
-    # ``=a`` for ``x.a = self``.
+    # What the methods of the module's wrapper classes (or subclasses of a class of another
+    # module) hand ``self`` to: ``m`` for ``x.m(self)``, ``=a`` for ``x.a = self``.
     self_handoffs: frozenset[str] = frozenset()
     # Top-level names bound once to a list of the registry's EnvSpecs
     # (``[spec for spec in gym.envs.registry.values() if ...]``): ``spec.make(...)`` on one

@@ -12,15 +12,20 @@ check, older gyms no checker.
 Per module: each top-level class's attributes that its ``reset`` (or a method of the class
 that ``reset`` calls as ``self.m(...)``, at any depth) steps as ``self.<attribute>.step(...)``,
 with the methods of the class that store that attribute from one of their parameters; and
-what the module's methods hand ``self`` to (``x.m(self)``, ``x.a = self``). The join
+what the module's wrapper classes hand ``self`` to (``x.m(self)``, ``x.a = self``). The join
 (``project_contracts.wrapper_steppers``) matches the two across the run.
 """
 
 from __future__ import annotations
 
 import ast
+from typing import TYPE_CHECKING
 
+from gymmigrate.facts import names as N
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
+
+if TYPE_CHECKING:
+    from gymmigrate.facts.receivers import Receivers
 
 # ``ModuleSummary.self_handoffs``: ``x.a = self`` is spelled ``=a``, ``x.m(self)`` is ``m``.
 STORED = "="
@@ -89,11 +94,25 @@ def module_reset_steps(facts: ModuleFacts) -> dict[str, tuple[tuple[str, str], .
     return found
 
 
-def self_handoffs(facts: ModuleFacts) -> frozenset[str]:
-    """What the methods of the module's classes hand their own instance to: ``m`` for
-    ``x.m(..., self, ...)``, ``=a`` for ``x.a = self`` (``x`` anything but ``self`` itself)."""
+def _may_be_wrapper(facts: ModuleFacts, receivers: Receivers, classdef: ast.ClassDef) -> bool:
+    """A Gym wrapper class, or a subclass of a class of another module of the run (which
+    may be one: ``class Block(TrialWrapper)``). A plain class handing itself on (``child.parent
+    = self``) is no wrapper: the env's step through it meets no checker."""
+    if receivers.is_gym_wrapper_class(classdef):
+        return True
+    for base in classdef.bases:
+        if receivers.local_class(base) is None and (qualified := facts.qualified_names(base)) and not any(N.is_library(q) for q in qualified):
+            return True
+    return False
+
+
+def self_handoffs(facts: ModuleFacts, receivers: Receivers) -> frozenset[str]:
+    """What the methods of the module's wrapper classes hand their own instance to: ``m``
+    for ``x.m(..., self, ...)``, ``=a`` for ``x.a = self`` (``x`` anything but ``self``)."""
     found: set[str] = set()
     for classdef in facts.all_classes:
+        if not _may_be_wrapper(facts, receivers, classdef):
+            continue
         for method in classdef.body:
             if not isinstance(method, FUNCTIONS) or (this := _self_name(method)) is None:
                 continue

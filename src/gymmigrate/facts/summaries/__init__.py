@@ -145,7 +145,7 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         plain_classes=plain_classes(facts),
         space_calls=space_calls(facts, receivers),
         reset_steps=module_reset_steps(facts),
-        self_handoffs=self_handoffs(facts),
+        self_handoffs=self_handoffs(facts, receivers),
         spec_lists=module_spec_lists(facts),
         made_factories=made_factories(facts, receivers),
         gym_only_makers=gym_only_makers(facts, receivers),

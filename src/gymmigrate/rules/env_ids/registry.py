@@ -30,6 +30,7 @@ Source: gym 0.21 ``envs/registration.py`` against Gymnasium 1.4 ``envs/registrat
 from __future__ import annotations
 
 import ast
+from typing import TYPE_CHECKING
 
 from gymmigrate.edits.arguments import append_keyword
 from gymmigrate.edits.lazy import cst
@@ -41,6 +42,9 @@ from gymmigrate.facts.wrapper_steps import reset_steps, self_handoffs, steps_its
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.env_ids.syntax import gym_alias, is_registry
+
+if TYPE_CHECKING:
+    from gymmigrate.facts.receivers import Receivers
 
 RULES = (
     Rule("GM802", "registry API", FixKind.AUTO, "`registry.env_specs/all()/spec()/make()` become `gym.registry` and `gym.spec/make`."),
@@ -198,7 +202,7 @@ class RegistryApi(RuleFamily):
         where the run cannot tell) for an entry point the run resolves to such a class, or one it
         cannot resolve in a run that has such a class; None otherwise."""
         project = self.receivers.project
-        local = self.facts.memo(("wrapper-steppers", 0), lambda: _local_wrapper_steppers(self.facts))
+        local = self.facts.memo(("wrapper-steppers", 0), lambda: _local_wrapper_steppers(self.facts, self.receivers))
         target = string_value(value)
         if target is not None and target.count(":") == 1:
             module, _, name = target.partition(":")
@@ -402,10 +406,10 @@ class RegistryApi(RuleFamily):
         return True
 
 
-def _local_wrapper_steppers(facts: ModuleFacts) -> dict[str, str]:
+def _local_wrapper_steppers(facts: ModuleFacts, receivers: Receivers) -> dict[str, str]:
     """In a run of one file: its classes whose reset steps the wrapper around them, with
     their subclasses in the file (class -> the class that defines that reset)."""
-    handoffs = self_handoffs(facts)
+    handoffs = self_handoffs(facts, receivers)
     own = {name for name, classdef in facts.classes.items() if steps_its_wrapper(reset_steps(classdef), handoffs)}
     found: dict[str, str] = {name: name for name in own}
     changed = True
