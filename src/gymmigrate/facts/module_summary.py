@@ -94,6 +94,13 @@ class ModuleSummary:
     # ``self.action_space = C(...)`` / ``self.observation_space = C(...)`` in its methods;
     # ``@C`` for a class of the module itself.
     space_calls: dict[str, tuple[tuple[str, str], ...]] = field(default_factory=dict)
+    # -- envs whose reset steps their own wrappers (facts/wrapper_steps.py, GM808) --
+    # Top-level class -> (attribute, setter) pairs: its reset steps ``self.<attribute>``,
+    # which the class's method ``setter`` stores from a parameter ("": stored from outside).
+    reset_steps: dict[str, tuple[tuple[str, str], ...]] = field(default_factory=dict)
+    # What the methods of the module's wrapper classes (or subclasses of a class of another
+    # module) hand ``self`` to: ``m`` for ``x.m(self)``, ``=a`` for ``x.a = self``.
+    self_handoffs: frozenset[str] = frozenset()
     # Top-level names bound once to a list of the registry's EnvSpecs
     # (``[spec for spec in gym.envs.registry.values() if ...]``): ``spec.make(...)`` on one
     # of them makes an env (``facts/env_specs.py``).

@@ -58,6 +58,7 @@ from gymmigrate.facts.project_contracts import (
     legacy_steps,
     seed_keepers,
     thread_render_mode,
+    wrapper_steppers,
 )
 from gymmigrate.facts.project_exports import Exports, reexport_wrappers
 from gymmigrate.facts.project_params import ParamJoin
@@ -154,6 +155,10 @@ class ProjectFacts:
     # class (or a re-export of one) that sets a space to an instance of a class of the run
     # that is not a ``gymnasium.spaces.Space``: Gymnasium 1.x's env checker rejects it.
     non_space_envs: dict[tuple[str, str], tuple[str, str, str]] = field(default_factory=dict)
+    # (path, top-level name) of a class of the run (or a subclass at any depth, or a
+    # re-export of one) -> the class whose reset steps the wrapper its instance was handed
+    # (``project_contracts.wrapper_steppers``): Gymnasium 1.x's env checker raises on it.
+    wrapper_steppers: dict[tuple[str, str], str] = field(default_factory=dict)
     # (path, top-level name) of a class (or a re-export of one) whose step keeps the legacy
     # four-field contract after the run.
     legacy_steps: frozenset[tuple[str, str]] = frozenset()
@@ -319,6 +324,7 @@ class ProjectFacts:
                     facts.wrapper_defined[(path, name)] = by_path[where[0]].wrapper_defined[where[1]]
         facts.seed_classes, facts.seed_ids = seed_keepers(facts, by_path)
         NonSpaces(facts, by_path).run()
+        facts.wrapper_steppers = wrapper_steppers(facts, by_path)
         reexport_wrappers(facts, by_path)
         facts._join_opaque_registrations(by_path)
         facts.rendering_wrappers = facts._reexported(by_path, {(p, n) for p, summary in by_path.items() for n in summary.rendering_wrappers})

@@ -1,7 +1,8 @@
 """Class contracts across the modules of the run, passes of ``ProjectFacts.join``: env
 classes whose spaces are not Spaces (GM807), ``render_mode`` threaded down every chain of
 subclasses (custom_env/render.py), the classes whose step keeps the legacy four-field
-contract, and the methods each class of the run has from its bases of the run.
+contract, the methods each class of the run has from its bases of the run, and the
+classes whose reset steps the wrapper around them (GM808).
 """
 
 from __future__ import annotations
@@ -12,6 +13,7 @@ from typing import TYPE_CHECKING
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module_summary import MAX_CHAIN, OWN, REF, ModuleSummary, is_ref
 from gymmigrate.facts.project_exports import Exports
+from gymmigrate.facts.wrapper_steps import steps_its_wrapper
 
 if TYPE_CHECKING:
     from gymmigrate.facts.project import ProjectFacts
@@ -277,4 +279,51 @@ def class_methods(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> dic
                 where = definer(path, name)
                 if where is not None:
                     result[(path, name)] = methods(where, 0)
+    return result
+
+
+def wrapper_steppers(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> dict[tuple[str, str], str]:
+    """(path, name) -> the class of the run whose reset steps the wrapper its instance was
+    handed (``facts/wrapper_steps.py``: ``self._top.step(...)``, where a class of the run
+    calls ``env.unwrapped.set_top(self)``), for that class, every subclass of it at any
+    depth and every name re-exporting one. A subclass that overrides reset counts too: it
+    may call the base's (``super().reset()``), and counting it costs only the checker."""
+    handoffs = frozenset().union(*(summary.self_handoffs for summary in by_path.values()))
+    own = {
+        (path, name)
+        for path, summary in by_path.items()
+        for name, steps in summary.reset_steps.items()
+        if steps_its_wrapper(steps, handoffs)
+    }
+    if not own:
+        return {}
+    bases: dict[tuple[str, str], tuple[str, ...]] = {}
+    for path, summary in by_path.items():
+        for name, heir_bases, _ in summary.render_mode_heirs:
+            bases[(path, name)] = heir_bases
+    memo: dict[tuple[str, str], str | None] = {}
+
+    def stepper(key: tuple[str, str], depth: int) -> str | None:
+        if key in memo:
+            return memo[key]
+        memo[key] = None  # a cycle of bases adds nothing
+        found = key[1] if key in own else None
+        for base in bases.get(key, ()) if depth < MAX_CHAIN and found is None else ():
+            if base.startswith(OWN):
+                where: tuple[str, str] | None = (key[0], base[len(OWN) :])
+            else:
+                split = facts._split(base, key[0])
+                where = class_definer(facts, by_path, *split) if split is not None and "." not in split[1] else None
+            if where is not None and where[1] in by_path[where[0]].classes:
+                found = found or stepper(where, depth + 1)
+        memo[key] = found
+        return found
+
+    result: dict[tuple[str, str], str] = {}
+    for path, summary in by_path.items():
+        for name in summary.classes | set(summary.exports):
+            where = (path, name) if name in summary.classes else class_definer(facts, by_path, path, name)
+            found = stepper(where, 0) if where is not None else None
+            if found is not None:
+                result[(path, name)] = found
     return result

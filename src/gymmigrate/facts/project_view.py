@@ -407,6 +407,26 @@ class ProjectView:
         path = self.facts.modules.get(module)
         return self.facts.non_space_envs.get((path, name)) if path else None
 
+    def wrapper_stepper(self, module: str, name: str) -> str | None:
+        """For ``module:name`` as an ``entry_point`` spells it, the class of the run whose
+        reset steps the wrapper around it (that class, or a base of it)."""
+        path = self.facts.modules.get(module)
+        return self.facts.wrapper_steppers.get((path, name)) if path else None
+
+    def wrapper_stepper_here(self, name: str) -> str | None:
+        """``wrapper_stepper`` for a class of this module."""
+        return self.facts.wrapper_steppers.get((self.path, name))
+
+    def wrapper_stepper_of(self, qualified: str) -> str | None:
+        """``wrapper_stepper`` for a name this module imports (``from .tasks import Task``)."""
+        split = self.facts._split(qualified, self.path)
+        return None if split is None else self.facts.wrapper_steppers.get(split)
+
+    def any_wrapper_stepper(self) -> str | None:
+        """A class of the run whose reset steps the wrapper around it, if any: what an
+        ``entry_point`` the run cannot resolve may name."""
+        return min(self.facts.wrapper_steppers.values(), default=None)
+
     def imported_class(self, qualified: str) -> tuple[bool, bool] | None:
         """For an imported class of the run: (is an env class, takes render_mode)."""
         level = len(qualified) - len(qualified.lstrip("."))

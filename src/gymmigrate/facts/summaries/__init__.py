@@ -55,6 +55,7 @@ from gymmigrate.facts.summaries.defs import (
 from gymmigrate.facts.summaries.exports import Exports
 from gymmigrate.facts.summaries.untraced import UntracedCalls
 from gymmigrate.facts.wrapper_attributes import wrapper_defined
+from gymmigrate.facts.wrapper_steps import module_reset_steps, self_handoffs
 from gymmigrate.source_text import first_statement_line
 from gymmigrate.suppressions import skips_file
 
@@ -143,6 +144,8 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         pz_wrappers=pz_wrappers.summarize(facts),
         plain_classes=plain_classes(facts),
         space_calls=space_calls(facts, receivers),
+        reset_steps=module_reset_steps(facts),
+        self_handoffs=self_handoffs(facts, receivers),
         spec_lists=module_spec_lists(facts),
         made_factories=made_factories(facts, receivers),
         gym_only_makers=gym_only_makers(facts, receivers),

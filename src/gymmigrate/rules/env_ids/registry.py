@@ -1,4 +1,5 @@
-"""The registry API (GM802) and ``EnvSpec``'s private attributes (GM806).
+"""The registry API (GM802), ``EnvSpec``'s private attributes (GM806), and registrations
+that turn the env checker off (GM807, GM808).
 
 * GM802 gym 0.21's ``EnvRegistry`` object became the plain dict ``gym.registry``
   (``dict[str, EnvSpec]``) in gym 0.24/0.26: ``registry.env_specs`` is the registry
@@ -17,6 +18,11 @@
   ``disable_env_checker=True`` (ASSIST: a ``gymnasium.spaces.Tuple`` of the per-agent
   spaces would let the checker run). Only in a run of several files, which knows the class
   behind the ``entry_point`` string.
+* GM808 ``register(...)`` of a class whose ``reset`` steps the wrapper that handed itself
+  to it (``self._top.step(...)`` after ``env.unwrapped.set_top(self)``;
+  facts/wrapper_steps.py), or of an entry point the run cannot resolve in a run with such a
+  class: Gymnasium 1.x's checker, between those wrappers and the env, raises TypeError on
+  that step inside its own reset. The call gets ``disable_env_checker=True`` (ASSIST).
 
 Source: gym 0.21 ``envs/registration.py`` against Gymnasium 1.4 ``envs/registration.py``.
 """
@@ -24,6 +30,7 @@ Source: gym 0.21 ``envs/registration.py`` against Gymnasium 1.4 ``envs/registrat
 from __future__ import annotations
 
 import ast
+from typing import TYPE_CHECKING
 
 from gymmigrate.edits.arguments import append_keyword
 from gymmigrate.edits.lazy import cst
@@ -31,9 +38,13 @@ from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
 from gymmigrate.facts.module import full_name, keyword, string_value
 from gymmigrate.facts.summaries import plain_classes, space_calls
+from gymmigrate.facts.wrapper_steps import reset_steps, self_handoffs, steps_its_wrapper
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.env_ids.syntax import gym_alias, is_registry
+
+if TYPE_CHECKING:
+    from gymmigrate.facts.receivers import Receivers
 
 RULES = (
     Rule("GM802", "registry API", FixKind.AUTO, "`registry.env_specs/all()/spec()/make()` become `gym.registry` and `gym.spec/make`."),
@@ -49,6 +60,13 @@ RULES = (
         "spaces that are not Spaces",
         FixKind.ASSIST,
         "`register(...)` of an env whose spaces are the run's own non-`Space` classes (a `list` of spaces) gets `disable_env_checker=True`.",
+    ),
+    Rule(
+        "GM808",
+        "envs whose reset steps their wrappers",
+        FixKind.ASSIST,
+        "`register(...)` of an env whose reset steps the wrapper that handed itself to it (or of an entry point the run "
+        "cannot resolve, in a run with such an env) gets `disable_env_checker=True`.",
     ),
 )
 _REGISTER_FUNCTIONS = frozenset({"register", "envs.register", "envs.registration.register"})
@@ -110,20 +128,23 @@ class RegistryApi(RuleFamily):
                         )
         calls = [*self.facts.calls_by_name.get("register", ()), *self.facts.attribute_calls.get("register", ())]
         for call in calls:
-            self._decide_non_space_register(call)
+            if not any(N.strip_gym_prefix(q) in _REGISTER_FUNCTIONS for q in self.facts.qualified_names(call.func)):
+                continue
+            if any(kw.arg == "disable_env_checker" or _sets_checker(kw) for kw in call.keywords):
+                continue  # set already
+            if not self._decide_non_space_register(call):
+                self._decide_wrapper_stepper(call)
 
     # -- GM807 -------------------------------------------------------------------------------
 
-    def _decide_non_space_register(self, call: ast.Call) -> None:
-        if not any(N.strip_gym_prefix(q) in _REGISTER_FUNCTIONS for q in self.facts.qualified_names(call.func)):
-            return
-        if any(kw.arg is None or kw.arg == "disable_env_checker" for kw in call.keywords):
-            return  # set already, or maybe in ``**kwargs``
+    def _decide_non_space_register(self, call: ast.Call) -> bool:
+        if any(kw.arg is None for kw in call.keywords):
+            return False  # maybe in ``**kwargs``
         entry = keyword(call, "entry_point")
         value = entry.value if entry is not None else (call.args[1] if len(call.args) > 1 else None)
         found = self._non_space_entry(value)
         if found is None:
-            return
+            return False
         name, attribute, space, base = found
         self.report(
             call,
@@ -133,6 +154,74 @@ class RegistryApi(RuleFamily):
             "(a `gymnasium.spaces.Tuple` of the per-agent spaces would let the checker run)",
         )
         self.plan.replace(call, lambda node: append_keyword(node, "disable_env_checker", cst.Name("True")))
+        return True
+
+    # -- GM808 -------------------------------------------------------------------------------
+
+    def _decide_wrapper_stepper(self, call: ast.Call) -> None:
+        """``register(...)`` of a class whose reset steps the wrapper around it, or of an
+        entry point the run cannot resolve (``register(id=id, **kwargs)`` in a helper, an
+        entry point from a loop) in a run that has such a class: ``disable_env_checker=True``.
+        Where ``**kwargs`` may carry the keyword too, it goes into a dict before them (a
+        caller's own choice wins; a second keyword would be a TypeError)."""
+        if any(isinstance(arg, ast.Starred) for arg in call.args):
+            return  # positional arguments the call does not show may reach the parameter
+        starred = [kw for kw in call.keywords if kw.arg is None]
+        if len(starred) > 1:
+            return
+        entry = keyword(call, "entry_point")
+        value = entry.value if entry is not None else (call.args[1] if len(call.args) > 1 else None)
+        if value is None and not starred:
+            return  # no entry point: not a registration Gymnasium makes
+        found = self._stepping_entry(value)
+        if found is None:
+            return
+        stepper, named = found
+        if named == stepper:
+            what = f"`{stepper}`"
+        elif named is not None:
+            what = f"`{named}`, a subclass of `{stepper}` (its reset is that class's, or may call it)"
+        else:
+            what = f"an entry point the run cannot resolve here, which may name `{stepper}` or a subclass"
+        self.report(
+            call,
+            "GM808",
+            f"this registers {what}: `{stepper}`'s reset steps an attribute that the run's wrappers set to themselves "
+            "(the outermost wrapper), so with `gymnasium.make` the env checker between those wrappers and the env sees a step "
+            "before its own reset has returned, and Gymnasium 1.x's checker raises TypeError there (gym 0.24's passed it); "
+            "registered with `disable_env_checker=True`, which loses only the checker's warnings",
+            question=("GM808", stepper),
+        )
+        if starred:
+            self.plan.replace(starred[0].value, _checker_off_before)
+        else:
+            self.plan.replace(call, lambda node: append_keyword(node, "disable_env_checker", cst.Name("True")))
+
+    def _stepping_entry(self, value: ast.expr | None) -> tuple[str, str | None] | None:
+        """(the class whose reset steps its wrapper, the class the entry point names: None
+        where the run cannot tell) for an entry point the run resolves to such a class, or one it
+        cannot resolve in a run that has such a class; None otherwise."""
+        project = self.receivers.project
+        local = self.facts.memo(("wrapper-steppers", 0), lambda: _local_wrapper_steppers(self.facts, self.receivers))
+        target = string_value(value)
+        if target is not None and target.count(":") == 1:
+            module, _, name = target.partition(":")
+        elif isinstance(value, ast.Name) and (classdef := self.receivers.local_class(value)) is not None:
+            module, name = "", classdef.name
+        elif isinstance(value, ast.Name) and (qualified := self.facts.qualified_names(value)):
+            imported = project.wrapper_stepper_of(min(qualified)) if project is not None and len(qualified) == 1 else None
+            return None if imported is None else (imported, value.id)  # else a class of another library
+        elif target is not None or isinstance(value, (ast.Lambda, ast.Attribute)):
+            return None  # ``"pkg.mod.Class"``, a callable of another library...
+        else:
+            anything = project.any_wrapper_stepper() if project is not None else min(local.values(), default=None)
+            return None if anything is None else (anything, None)
+        here = module in ("", "__main__") or (project is not None and project.facts.modules.get(module) == project.path)
+        if project is not None:
+            stepper = project.wrapper_stepper(module, name) if not here else project.wrapper_stepper_here(name)
+        else:
+            stepper = local.get(name) if here else None
+        return None if stepper is None else (stepper, name)
 
     def _decide_entry_point_text(self, attribute: ast.Attribute) -> None:
         """``"gym.envs" in spec.entry_point`` / ``spec.entry_point.startswith(...)``: Gymnasium
@@ -315,6 +404,42 @@ class RegistryApi(RuleFamily):
             else:
                 return False
         return True
+
+
+def _local_wrapper_steppers(facts: ModuleFacts, receivers: Receivers) -> dict[str, str]:
+    """In a run of one file: its classes whose reset steps the wrapper around them, with
+    their subclasses in the file (class -> the class that defines that reset)."""
+    handoffs = self_handoffs(facts, receivers)
+    own = {name for name, classdef in facts.classes.items() if steps_its_wrapper(reset_steps(classdef), handoffs)}
+    found: dict[str, str] = {name: name for name in own}
+    changed = True
+    while changed:
+        changed = False
+        for name, classdef in facts.classes.items():
+            if name in found:
+                continue
+            for base in classdef.bases:
+                if isinstance(base, ast.Name) and base.id in found:
+                    found[name] = found[base.id]
+                    changed = True
+                    break
+    return found
+
+
+def _sets_checker(kw: ast.keyword) -> bool:
+    """``**{"disable_env_checker": ..., **kwargs}``: GM808's own spelling."""
+    return kw.arg is None and isinstance(kw.value, ast.Dict) and any(string_value(key) == "disable_env_checker" for key in kw.value.keys)
+
+
+def _checker_off_before(node: cst.BaseExpression) -> cst.BaseExpression:
+    """``**kwargs`` -> ``**{"disable_env_checker": True, **kwargs}``: a caller that passes
+    the keyword keeps its own choice."""
+    return cst.Dict(
+        [
+            cst.DictElement(cst.SimpleString('"disable_env_checker"'), cst.Name("True")),
+            cst.StarredDictElement(node),
+        ]
+    )
 
 
 def _renamed_gym_envs(node: cst.BaseExpression) -> cst.BaseExpression:
