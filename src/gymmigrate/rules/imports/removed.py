@@ -114,12 +114,21 @@ class RemovedAttributes(ImportsBase):
             elif isinstance(node, ast.Dict):
                 values = [v for k, v in zip(node.keys, node.values) if isinstance(k, ast.Constant) and k.value == "entry_point"]
             for value in values:
-                if not (isinstance(value, ast.Constant) and isinstance(value.value, str)):
-                    continue
-                match = _GYM_ENTRY_POINT.fullmatch(value.value.strip())
+                text = _plain_string(value)
+                match = _GYM_ENTRY_POINT.fullmatch(text.strip()) if text is not None else None
                 if match is None:
                     continue
                 rest, name = match.group(1), match.group(2)
                 hint = removed_module_hint(rest) or removed_name_hint(rest, name)
                 if hint is not None:
-                    self._report_removed(value, f"the entry point `{value.value}` names what Gymnasium lacks: {hint}; register that class and check its keyword arguments", hint)  # type: ignore[arg-type]
+                    self._report_removed(value, f"the entry point `{text}` names what Gymnasium lacks: {hint}; register that class and check its keyword arguments", hint)  # type: ignore[arg-type]
+
+
+def _plain_string(value: ast.expr) -> str | None:
+    """A string literal's text, also written as an f-string with nothing to format
+    (``f'gym.envs.mujoco.swimmer_v3:SwimmerEnv'``)."""
+    if isinstance(value, ast.Constant) and isinstance(value.value, str):
+        return value.value
+    if isinstance(value, ast.JoinedStr) and all(isinstance(v, ast.Constant) and isinstance(v.value, str) for v in value.values):
+        return "".join(v.value for v in value.values)  # type: ignore[attr-defined]
+    return None
