@@ -209,7 +209,7 @@ class SitePlanning(MakeEdits):
         if not site.creation.found:
             func = call.func
             library = self._gym_only_library(func.value) if isinstance(func, ast.Attribute) else None
-            if library is not None:
+            if library is not None and isinstance(func, ast.Attribute):
                 # an env of a library still on gym (MPE's MultiAgentEnv): its render(mode) is
                 # that library's own API and stays; the library's port (GM107) decides it
                 self.report(
