@@ -6,7 +6,7 @@ Where a rule lives (families decide in the order of ``PIPELINE`` below):
     GM106, GM803-GM805         env ids, Atari registration ..... env_ids/ids.py
     GM112                      renamed env packages (gym_minigrid) renamed_packages.py
     GM802, GM806, GM807        registry API, EnvSpec ........... env_ids/registry.py
-    GM808                      ids built from parts ............ env_ids/composed.py
+    GM809                      ids built from parts ............ env_ids/composed.py
     GM305, GM801               removed make() keywords ......... make_kwargs.py
     GM608-GM615                renamed/removed wrappers ........ wrapper_usage/
     GM401-GM403, GM406, GM407  rendering at call sites ......... rendering/

@@ -1,4 +1,4 @@
-"""Env ids built from parts (GM808).
+"""Env ids built from parts (GM809).
 
 ``def make(domain, task): return gym.make(f"{domain}-{task}")`` called as
 ``make("Swimmer", "v3")``: no literal holds the id, so the id rules (GM803/GM805) never see
@@ -22,7 +22,7 @@ from gymmigrate.rules.env_ids.syntax import ID_FUNCTIONS, id_argument
 
 RULES = (
     Rule(
-        "GM808",
+        "GM809",
         "ids built from parts",
         FixKind.FLAG,
         "An id a make builds from a def's parameters (`f\"{domain}-{task}\"`) whose parts are literals at a call of that def "
@@ -81,11 +81,11 @@ class ComposedIds(RuleFamily):
             built = f"this call builds the id `{env_id}` (`{template}` on line {make.lineno})"
             migration = migration_for(env_id)
             if migration is not None:
-                self.report(site, "GM808", f"{built}: it is `{migration.new_id}` now ({migration.reason}); change the parts by hand")
+                self.report(site, "GM809", f"{built}: it is `{migration.new_id}` now ({migration.reason}); change the parts by hand")
                 continue
             hint = removed_family(env_id)
             if hint is not None:
-                self.report(site, "GM808", f"{built}, which no longer exists: {hint}")
+                self.report(site, "GM809", f"{built}, which no longer exists: {hint}")
 
 
 def _parts(value: ast.expr | None) -> list[ast.expr] | None:
