@@ -335,12 +335,22 @@ class ProjectFacts:
         own = {s.path: frozenset(q.split(".", 1)[0] for q in s.imported if not q.startswith(".")) for s in summaries}
         nearby = {path: set(tops) for path, tops in own.items()}
         for summary in summaries:
+            imports: set[str] = set()
             for qualified in summary.imported:
                 split = self._split(qualified, summary.path)
                 if split is None or split[0] == summary.path or split[0] not in own:
                     continue
+                imports.add(split[0])
                 nearby[summary.path] |= own[split[0]]
                 nearby[split[0]] |= own[summary.path]
+            # A script importing a factory of one module and the agent of another hands what
+            # the one makes to the other (``env = make_env(); Agent.init_from_env(env)``): two
+            # modules it imports are next to each other. A package's ``__init__`` only
+            # re-exports its modules, it hands nothing between them.
+            if os.path.basename(summary.path) != "__init__.py" and len(imports) > 1:
+                siblings = set().union(*(own[path] for path in imports))
+                for path in imports:
+                    nearby[path] |= siblings
         self.nearby_packages = {path: frozenset(tops) for path, tops in nearby.items()}
 
     def _join_overrides(self, summaries: list[ModuleSummary], by_path: dict[str, ModuleSummary]) -> None:

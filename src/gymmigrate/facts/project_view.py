@@ -224,8 +224,9 @@ class ProjectView:
         return self.facts.plugin_calls.get(self.path, ())
 
     def imported_packages(self) -> frozenset[str]:
-        """The top-level packages this module imports, and the run's modules it imports or that
-        import it (``multiagent`` imported by the script that builds this module's agents)."""
+        """The top-level packages this module imports, and the run's modules it imports, that
+        import it, or that a script imports along with it (``multiagent`` imported by the
+        script that builds this module's agents, or by the factory that script calls)."""
         return self.facts.nearby_packages.get(self.path, frozenset())
 
     def is_module(self, dotted: str) -> bool:

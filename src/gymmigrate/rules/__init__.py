@@ -6,6 +6,7 @@ Where a rule lives (families decide in the order of ``PIPELINE`` below):
     GM106, GM803-GM805         env ids, Atari registration ..... env_ids/ids.py
     GM112                      renamed env packages (gym_minigrid) renamed_packages.py
     GM802, GM806, GM807, GM808 registry API, EnvSpec ........... env_ids/registry.py
+    GM809                      ids built from parts ............ env_ids/composed.py
     GM305, GM801               removed make() keywords ......... make_kwargs.py
     GM608-GM615                renamed/removed wrappers ........ wrapper_usage/
     GM401-GM403, GM406, GM407  rendering at call sites ......... rendering/
@@ -58,6 +59,7 @@ PIPELINE = (
     FamilySpec("RenamedEnvPackages", "gymmigrate.rules.renamed_packages", ("gym_minigrid",)),
     FamilySpec("EnvIds", "gymmigrate.rules.env_ids.ids", ("-v", "ale.lives", ".ale", "NoFrameskip", "get_action_meanings"), follows_the_run=True),
     FamilySpec("EnvPlugins", "gymmigrate.rules.env_ids.plugins", (), follows_the_run=True),
+    FamilySpec("ComposedIds", "gymmigrate.rules.env_ids.composed", ("make",)),
     FamilySpec(
         "RegistryApi",
         "gymmigrate.rules.env_ids.registry",

@@ -101,9 +101,10 @@ def render_mode_heirs(facts: ModuleFacts, receivers: Receivers) -> tuple[tuple[s
         if not bases:
             continue
         init = next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == "__init__"), None)
-        if "gym" not in facts.text:
-            passes_on = False  # the env-class rules never run here (EnvClassFamily.may_fire)
-        elif init is None or init.args.kwarg is not None:
+        # A module that never names gym is decided too when a base is an env class of
+        # another module of the run (EnvClassFamily.may_fire); the join only follows such
+        # bases (``thread_render_mode``), so the text of this module does not decide.
+        if init is None or init.args.kwarg is not None:
             passes_on = True
         else:
             calls = [n for n in ast.walk(init) if isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute) and n.func.attr == "__init__"]

@@ -52,3 +52,4 @@ class Imports(ImportStatements, ImportGuards, RemovedAttributes):
         self._gym_only_libraries()
         self._removed_module_attributes()
         self._missing_module_attributes()
+        self._removed_entry_points()

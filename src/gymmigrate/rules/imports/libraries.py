@@ -157,7 +157,7 @@ class GymOnlyLibraries(ImportsBase):
                                 checks.setdefault(statement, []).append(expr)
         kept: dict[ast.ImportFrom, str] = {}
         why = (
-            f"the envs of `{package}` (a Gym-only package imported here or next to this module) carry gym's space classes, and "
+            f"the envs of `{package}` (a Gym-only package imported here, next to this module, or by a module one script imports with it) carry gym's space classes, and "
             f"Gymnasium's are other classes"
         )
         for statement, exprs in sorted(checks.items(), key=lambda item: item[0].lineno):  # type: ignore[attr-defined]
@@ -182,7 +182,8 @@ class GymOnlyLibraries(ImportsBase):
 
     def _gym_only_env_packages(self) -> set[str]:
         """Gym-only env packages imported by this file or (in a run) by a module of the run it
-        imports or that imports it."""
+        imports, that imports it, or that a script imports along with it (the factory whose
+        envs the script hands to this module's code)."""
         tops = {q.split(".", 1)[0] for q in self.facts.imports.values()}
         project = self.receivers.project
         if project is not None:

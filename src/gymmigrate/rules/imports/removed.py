@@ -6,6 +6,7 @@ attribute of ``gym``, reported as its import would be. Imports of them are repor
 from __future__ import annotations
 
 import ast
+import re
 
 from gymmigrate.edits.lazy import cst
 from gymmigrate.findings import FixKind, Tier
@@ -16,8 +17,12 @@ from gymmigrate.rules.imports.table import (
     REMOVED_NAMES,
     missing_name_hint,
     removed_module_hint,
+    removed_name_hint,
     under_gym,
 )
+
+# ``"gym.envs.mujoco.swimmer_v3:SwimmerEnv"``: an entry point naming a module of gym.
+_GYM_ENTRY_POINT = re.compile(r"gym\.([\w.]+):(\w+)")
 
 
 class RemovedAttributes(ImportsBase):
@@ -92,3 +97,38 @@ class RemovedAttributes(ImportsBase):
                     if hint is not None:
                         self._report_removed(node, f"`{module}.{attr}` does not exist in Gymnasium: {hint}", hint)  # type: ignore[arg-type]
                         break
+
+    def _removed_entry_points(self) -> None:
+        """GM105 on an entry point string naming a gym module Gymnasium lacks, given to a
+        register call (``entry_point="gym.envs.mujoco.swimmer_v3:SwimmerEnv"``) or kept in a
+        dict of specs registered later (``{"entry_point": ...}``, ``register(**spec)``):
+        ``make`` imports it and fails (gym is not installed, and gym's mujoco-py *_v3 modules
+        have no Gymnasium counterpart). Reported with the replacement: the class to register
+        takes other arguments, so the string is never renamed silently."""
+        if "entry_point" not in self.facts.text:
+            return
+        for node in ast.walk(self.facts.tree):
+            values: list[ast.expr] = []
+            if isinstance(node, ast.Call):
+                values = [k.value for k in node.keywords if k.arg == "entry_point"]
+            elif isinstance(node, ast.Dict):
+                values = [v for k, v in zip(node.keys, node.values) if isinstance(k, ast.Constant) and k.value == "entry_point"]
+            for value in values:
+                text = _plain_string(value)
+                match = _GYM_ENTRY_POINT.fullmatch(text.strip()) if text is not None else None
+                if match is None:
+                    continue
+                rest, name = match.group(1), match.group(2)
+                hint = removed_module_hint(rest) or removed_name_hint(rest, name)
+                if hint is not None:
+                    self._report_removed(value, f"the entry point `{text}` names what Gymnasium lacks: {hint}; register that class and check its keyword arguments", hint)  # type: ignore[arg-type]
+
+
+def _plain_string(value: ast.expr) -> str | None:
+    """A string literal's text, also written as an f-string with nothing to format
+    (``f'gym.envs.mujoco.swimmer_v3:SwimmerEnv'``)."""
+    if isinstance(value, ast.Constant) and isinstance(value.value, str):
+        return value.value
+    if isinstance(value, ast.JoinedStr) and all(isinstance(v, ast.Constant) and isinstance(v.value, str) for v in value.values):
+        return "".join(v.value for v in value.values)  # type: ignore[attr-defined]
+    return None

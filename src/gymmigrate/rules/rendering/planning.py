@@ -200,6 +200,21 @@ class SitePlanning(MakeEdits):
         if not site.creation.found and code == "GM402" and (self._rendered_by_wrapper(site) or self._report_made_elsewhere(site)):
             return
         if not site.creation.found:
+            func = call.func
+            library = self._gym_only_library(func.value) if isinstance(func, ast.Attribute) else None
+            if library is not None and isinstance(func, ast.Attribute):
+                # an env of a library still on gym (MPE's MultiAgentEnv): its render(mode) is
+                # that library's own API and stays; the library's port (GM107) decides it
+                self.report(
+                    call,
+                    code,
+                    f"not rewritten: `{self.facts.segment(func.value)}` is an env built on {library}, a library still on gym "
+                    "(GM107): its render keeps its own signature until that library is ported",
+                    FixKind.FLAG,
+                    tier=Tier.NOTE,
+                    question=gym_only_question(library),
+                )
+                return
             where = site.creation.gap or "no gym.make was found"
             self.report(
                 call,
@@ -412,6 +427,11 @@ class SitePlanning(MakeEdits):
             callers.extend(c for c in found if c not in callers)
         return callers
 
+    def _gym_only_library(self, receiver: ast.AST) -> str | None:
+        """The Gym-only library stack every value of ``receiver`` comes from (a call of that
+        library here, or the run's own factories and wrappers around its envs), or None."""
+        return self._gym_only_origin(receiver) or self.receivers.gym_only_stack(receiver)
+
     def _untraced_question(self, site: RenderSite, where: str) -> Hashable | None:
         """The renders and recorders of one untraced env ask one question: where it is made,
         and in which mode. One env is one spelling in one function (``self.x``: one class),
@@ -419,7 +439,7 @@ class SitePlanning(MakeEdits):
         parameter of ``Evaluation``), that parameter in one class: a recorder built on ``env``
         and ``self.env.render()``."""
         func = site.node.func
-        library = self._gym_only_origin(func.value) if isinstance(func, ast.Attribute) else None
+        library = self._gym_only_library(func.value) if isinstance(func, ast.Attribute) else None
         if library is not None:
             return gym_only_question(library)  # an env of a Gym-only stack: ported with it (GM107)
         class_ = self.facts.enclosing_class(site.node)

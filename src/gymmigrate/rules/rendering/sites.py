@@ -191,9 +191,11 @@ class RenderSites(RecorderSites):
         if not (any(isinstance(a, ast.Starred) for a in call.args) or any(k.arg is None for k in call.keywords)):
             return False
         function = self.facts.enclosing_function(call)
-        if function is not None and function.name == "render":
+        if function is not None and function.name == "render" and not self._plain_class_method(function):
             return True  # a render method handing its own arguments on: the Env/Wrapper rules own it
         kind = self.receivers.kind_of(receiver)
+        if function is not None and function.name == "render" and kind is not EnvKind.GYM_ENV:
+            return True  # an adapter's render() handing on to what is not shown to be a Gym env
         decision = decide(kind, receiver, self.context.profile, legacy_shape=True, origins=self.receivers)
         if decision.action is Action.LEAVE:
             return True
@@ -205,9 +207,23 @@ class RenderSites(RecorderSites):
             f"takes no arguments: if `{name}` is a Gym env, pass the mode as render_mode= (and any size) to gym.make "
             f"where it is made and call `{name}.render()` bare",
             FixKind.FLAG,
-            question=self._same_render_call(call, receiver),  # the same call in reset and step: one decision
+            # the same call in reset and step: one decision; an adapter's render() forwarding
+            # in several branches: one decision, its own signature with the make's
+            question=("render-forward", id(function)) if function is not None and function.name == "render" else self._same_render_call(call, receiver),
         )
         return True
+
+    def _plain_class_method(self, function: ast.AST) -> bool:
+        """A method of a class that is neither an env nor a wrapper (an adapter holding an
+        env, maybe on a base of the project's own): no Env/Wrapper rule looks at its
+        render(), so what it hands on to the env's render() is reported here."""
+        classdef = self.facts.parent(function)
+        if not isinstance(classdef, ast.ClassDef):
+            return False
+        if self.receivers.is_gym_wrapper_class(classdef) or EnvClasses.of(self.facts, self.receivers).is_custom_env(classdef):
+            return False
+        names = [q for base in classdef.bases for q in self.facts.qualified_names(base)]
+        return not any(q.split(".", 1)[0] in ("gym", "gymnasium") for q in names)
 
     def _same_render_call(self, call: ast.Call, receiver: ast.expr) -> Hashable:
         """The same render call written at several places of the file (``env.render("pyglet",

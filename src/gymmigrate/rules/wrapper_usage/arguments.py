@@ -342,16 +342,44 @@ def args_ClipAction(family: StacksFamily, call: ast.Call) -> CallBuild | None:
     facts = family.facts
     reads_bounds = any(facts.attributes.get(name) for name in ("low", "high", "bounded_below", "bounded_above", "is_bounded"))
     samples = bool(facts.attribute_calls.get("sample"))
+    handed = _action_spaces_handed_on(family)
+    if handed:
+        lines = ", ".join(str(line) for line in handed)
+        why = f"; the action space itself leaves this code on line(s) {lines} (stored, returned or passed on), where its bounds may be read"
+    else:
+        why = "" if reads_bounds or samples else "; nothing in this module reads a space's bounds or samples one"
     family.report(
         call,
         "GM609",
         "ClipAction now exposes action_space Box(-inf, inf): code or agents that read the bounds or sample "
-        "from this env's action_space must use the inner env's space"
-        + ("" if reads_bounds or samples else "; nothing in this module reads a space's bounds or samples one"),
+        "from this env's action_space must use the inner env's space" + why,
         kind=FixKind.FLAG,
-        tier=None if reads_bounds or samples else Tier.NOTE,
+        tier=None if reads_bounds or samples or handed else Tier.NOTE,
     )
     return None
+
+
+def _action_spaces_handed_on(family: StacksFamily) -> list[int]:
+    """Lines where ``x.action_space`` itself is a value (``self._space = env.action_space``,
+    ``return env.action_space``, ``Agent(env.action_space)``) rather than read here for its
+    shape or class: whoever receives it (an adapter's ``action_space`` property, a policy)
+    may read the bounds ClipAction widened, beyond what this module shows."""
+    facts = family.facts
+    lines: set[int] = set()
+    for node in facts.attributes.get("action_space", []):
+        if not isinstance(node.ctx, ast.Load):
+            continue
+        parent = facts.parent(node)
+        if isinstance(parent, ast.Attribute) and parent.value is node:
+            continue  # ``.shape``, ``.n``, ``.__class__``: read here
+        if isinstance(parent, ast.Subscript) and parent.value is node:
+            continue  # one agent's space of a list, read here
+        if isinstance(parent, ast.Call) and isinstance(parent.func, ast.Name) and parent.func.id in ("isinstance", "type", "len", "print"):
+            continue
+        if isinstance(parent, ast.Compare):
+            continue
+        lines.add(node.lineno)
+    return sorted(lines)
 
 
 @handles("AtariPreprocessing")
