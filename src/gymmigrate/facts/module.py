@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import ast
 import io
+import weakref
 from collections import defaultdict
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
@@ -492,6 +493,18 @@ def statement_lines(statements: list[ast.stmt], start: int = 0) -> Iterator[list
 
 def own_returns(function: ast.AST) -> list[ast.Return]:
     """Return statements of ``function`` itself, not of nested defs, lambdas or classes."""
+    # Asked again for every call of the def the receiver analysis classifies: walked once
+    # per def (a tree is never changed once parsed), a fresh list each time.
+    found = _OWN_RETURNS.get(function)
+    if found is None:
+        found = _OWN_RETURNS[function] = _own_returns(function)
+    return list(found)
+
+
+_OWN_RETURNS: weakref.WeakKeyDictionary[ast.AST, list[ast.Return]] = weakref.WeakKeyDictionary()
+
+
+def _own_returns(function: ast.AST) -> list[ast.Return]:
     found: list[ast.Return] = []
     stack = list(getattr(function, "body", []))
     while stack:

@@ -115,7 +115,7 @@ class ParameterKinds(_Facade):
         isinstance(...): raise``) as a leading statement of the def, the parameter never
         rebound in it: every read past the check holds that PettingZoo kind, whatever the
         callers are thought to pass. None for any other shape."""
-        if any(isinstance(b, ast.Name) and b.id == name for b in _stored_names(function)):
+        if name in self._stored_names(function):
             return None
         for statement in function.body:
             test: ast.expr | None = None
@@ -164,13 +164,23 @@ class ParameterKinds(_Facade):
         """``def prepare(env, seed): env.seed(seed); env = Monitor(env, d)``, called nowhere the
         run shows: the def hands the parameter to a Gym wrapper class as the env it wraps
         (first argument or ``env=``), which only a Gym env can be."""
-        for node in ast.walk(function):
-            if not (isinstance(node, ast.Call) and self._makes_gym_wrapper(node)):
-                continue
+        # The def's calls are walked once: every parameter of every use asks this again.
+        calls = self.facts.memo(("calls-in", id(function)), lambda: [n for n in ast.walk(function) if isinstance(n, ast.Call)])
+        for node in calls:
             wrapped = node.args[0] if node.args else next((k.value for k in node.keywords if k.arg == "env"), None)
-            if isinstance(wrapped, ast.Name) and wrapped.id == param.arg and param in self.facts.bindings_of(wrapped):
+            if not (isinstance(wrapped, ast.Name) and wrapped.id == param.arg):
+                continue
+            if self._makes_gym_wrapper(node) and param in self.facts.bindings_of(wrapped):
                 return True
         return False
+
+    def _stored_names(self, function: ast.AST) -> frozenset[str]:
+        """The names ``function`` (nested defs included: cautious) assigns or deletes; walked
+        once per def, not once per parameter use."""
+        return self.facts.memo(
+            ("stored-names", id(function)),
+            lambda: frozenset(n.id for n in ast.walk(function) if isinstance(n, ast.Name) and not isinstance(n.ctx, ast.Load)),
+        )
 
     def param_kept_classes(self, param: ast.arg) -> tuple[frozenset[str], bool]:
         """The classes whose step and reset the run keeps on their own contract
@@ -480,7 +490,3 @@ def has_default(function: ast.AST, param: ast.arg) -> bool:
         return args.kw_defaults[args.kwonlyargs.index(param)] is not None
     return False
 
-
-def _stored_names(function: ast.AST) -> list[ast.Name]:
-    """The names ``function`` (nested defs included: cautious) assigns or deletes."""
-    return [node for node in ast.walk(function) if isinstance(node, ast.Name) and not isinstance(node.ctx, ast.Load)]

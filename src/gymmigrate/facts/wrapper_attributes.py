@@ -8,6 +8,7 @@ summary of it for the wrapper classes other modules derive from (``class Task(Tr
 from __future__ import annotations
 
 import ast
+import weakref
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
@@ -16,6 +17,19 @@ from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
 def self_defined(classdef: ast.ClassDef) -> set[str]:
     """What a class defines for ``self``: its methods and class-level names, and every
     ``self.x`` it stores anywhere (tuple targets, ``for``, ``with ... as`` included)."""
+    # GM604 asks this for every ``self.x`` read in the class: the class is walked once (a
+    # tree never changes once parsed), and each caller gets a set of its own.
+    names = _SELF_DEFINED.get(classdef)
+    if names is None:
+        names = _SELF_DEFINED[classdef] = _self_defined(classdef)
+    return set(names)
+
+
+_SELF_DEFINED: weakref.WeakKeyDictionary[ast.ClassDef, set[str]] = weakref.WeakKeyDictionary()
+_TAKES_LOOKUP_IN_HAND: weakref.WeakKeyDictionary[ast.ClassDef, bool] = weakref.WeakKeyDictionary()
+
+
+def _self_defined(classdef: ast.ClassDef) -> set[str]:
     names: set[str] = set()
     for statement in classdef.body:
         if isinstance(statement, (*FUNCTIONS, ast.ClassDef)):
@@ -42,6 +56,13 @@ def self_defined_in(function: ast.AST) -> set[str]:
 
 def takes_lookup_in_hand(classdef: ast.ClassDef) -> bool:
     """It defines ``__getattr__``/``__getattribute__``, or sets attributes by name."""
+    taken = _TAKES_LOOKUP_IN_HAND.get(classdef)
+    if taken is None:
+        taken = _TAKES_LOOKUP_IN_HAND[classdef] = _takes_lookup_in_hand(classdef)
+    return taken
+
+
+def _takes_lookup_in_hand(classdef: ast.ClassDef) -> bool:
     for node in ast.walk(classdef):
         if isinstance(node, FUNCTIONS) and node.name in ("__getattr__", "__getattribute__", "__init_subclass__"):
             return True
