@@ -485,8 +485,15 @@ def bench_repo(repo: Repo, args) -> dict:
             # the interpreter's own gymmigrate may be another checkout's editable install)
             shutil.rmtree(tree, ignore_errors=True)
             shutil.copytree(legacy_tree, tree, symlinks=True)
-            run([sys.executable, "-m", "gymmigrate", "rewrite", "."], cwd=tree, logf=logf,
-                env=dict(os.environ, PYTHONPATH=str(ROOT / "src")))
+            rc = run([sys.executable, "-m", "gymmigrate", "rewrite", "."], cwd=tree, logf=logf,
+                     env=dict(os.environ, PYTHONPATH=str(ROOT / "src")))
+            if rc not in (0, 1):  # 1: review items left; anything else: the migration did not run
+                # without it the venv would install the legacy dependency files and the
+                # figures would measure legacy code: stop this stage, loudly
+                log(f"{repo.name}/{stage}: the first migration failed (exit {rc}, see {logf}): "
+                    "run this script with the interpreter gymmigrate's dependencies are installed in")
+                result["stages"][stage] = {"error": f"first migration failed (exit {rc})", "log": str(logf)}
+                continue
             venv, facts = prepare_venv(repo, stage, tree, args, logf)
             facts["migration"] = migrate(repo, legacy_tree, tree, venv, logf)
         else:
@@ -500,7 +507,7 @@ def bench_repo(repo: Repo, args) -> dict:
         result["stages"][stage] = facts
     legacy = result["stages"].get("legacy")
     migrated = result["stages"].get("gymmigrate")
-    if legacy and migrated:
+    if legacy and migrated and "cases" in legacy and "cases" in migrated:
         # errors of tests (or whole modules, when collecting fails) legacy never had
         result["new_errors"] = {
             tid: v for tid, v in migrated["cases"].items()
@@ -521,6 +528,9 @@ def print_table(results: list[dict], stages: list[str]) -> None:
             s = r["stages"].get(stage)
             if s is None:
                 print(f"{r['repo']:<13} {stage:<11} {'-':<9} {'(no tree)':>6}")
+                continue
+            if "error" in s:
+                print(f"{r['repo']:<13} {stage:<11} {'-':<9} ERROR: {s['error']} ({s['log']})")
                 continue
             deps = "yes" if s["declared"] else ("fallback" if s["fallback"] else "NO")
             c = s["counts"]
