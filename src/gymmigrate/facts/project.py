@@ -55,6 +55,7 @@ from gymmigrate.facts.project_contracts import (
     NonSpaces,
     class_definer,
     class_methods,
+    forwarding_wrappers,
     legacy_steps,
     seed_keepers,
     thread_render_mode,
@@ -162,6 +163,9 @@ class ProjectFacts:
     # (path, top-level name) of a class (or a re-export of one) whose step keeps the legacy
     # four-field contract after the run.
     legacy_steps: frozenset[tuple[str, str]] = frozenset()
+    # (path, name) of a Gym wrapper class (or a re-export of one) whose step and reset hand on
+    # the wrapped env's results: around an instance of ``legacy_steps`` it keeps that contract.
+    forwarding_wrappers: frozenset[tuple[str, str]] = frozenset()
     silent_renders: frozenset[tuple[str, str]] = frozenset()  # (path, class) whose render() is a stub
     # Ids the run registers for an env class of the run whose constructor will not take
     # ``render_mode`` (its ``__init__`` cannot hand it on): id (None: not a literal) -> class.
@@ -294,6 +298,7 @@ class ProjectFacts:
         Exports(facts, by_path).run()
         # before the parameters: an argument made by such a class keeps the def's calls on its contract
         facts.legacy_steps = legacy_steps(facts, by_path)
+        facts.forwarding_wrappers = forwarding_wrappers(facts, by_path)
         params = ParamJoin(facts, by_path, calls_to)
         params.run()
         for summary in summaries:

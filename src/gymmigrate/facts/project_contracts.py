@@ -181,11 +181,24 @@ def legacy_steps(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> froz
     return frozenset(found)
 
 
+def forwarding_wrappers(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> frozenset[tuple[str, str]]:
+    """Every (path, name) of the run that calls a Gym wrapper class whose step and reset hand
+    on the wrapped env's results (``ModuleSummary.forwarding_wrappers``): the class, its
+    re-exports (star imports too) and subclasses that define neither step nor reset."""
+    exports = Exports(facts, by_path)
+    own = {(path, name) for path, summary in by_path.items() if path not in facts.blocked for name in summary.forwarding_wrappers}
+    return frozenset(_kept_names(facts, by_path, exports, own, ("step", "reset")))
+
+
 def _kept_names(
-    facts: ProjectFacts, by_path: dict[str, ModuleSummary], exports: Exports, kept: set[tuple[str, str]]
+    facts: ProjectFacts,
+    by_path: dict[str, ModuleSummary],
+    exports: Exports,
+    kept: set[tuple[str, str]],
+    methods: tuple[str, ...] = ("step",),
 ) -> set[tuple[str, str]]:
     """``kept`` with the names of the run that re-export one (star imports too) and the
-    subclasses of one that define no step."""
+    subclasses of one that define none of ``methods``."""
     found = set()
     for path, summary in by_path.items():
         if path in facts.blocked:
@@ -202,7 +215,7 @@ def _kept_names(
                     found.add((path, name))
                     break
                 kind = here.exports.get(where[1])
-                if f"{where[1]}.step" in here.defs or not is_ref(kind):
+                if any(f"{where[1]}.{method}" in here.defs for method in methods) or not is_ref(kind):
                     break  # its own step, or not a name of the run to follow
                 split = facts._split(str(kind)[len(REF) :], where[0])
                 where = split if split is not None and "." not in split[1] else None

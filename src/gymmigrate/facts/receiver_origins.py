@@ -82,7 +82,9 @@ class MadeObjects(_Facade):
         if local is not None:
             # A wrapper of the project's own protocol (``own_record_wrapper``): its instances'
             # step and reset calls read that protocol and stay as they are too.
-            return local.name if self.own_record_wrapper(local) or self.class_keeps_legacy_step(local) else None
+            if self.own_record_wrapper(local) or self.class_keeps_legacy_step(local):
+                return local.name
+            return self._forwarded_legacy(value) if self.is_gym_wrapper_class(local) and self.forwards_inner_contract(local) else None
         function = self.local_function(value.func)
         if function is not None:
             # a factory of this module (``wrap(env)``) returning such an instance on every path
@@ -93,7 +95,15 @@ class MadeObjects(_Facade):
             for qualified in self.qualified_names(value.func):
                 if self.project.keeps_legacy_step(qualified):
                     return qualified.rsplit(".", 1)[-1]
+            if any(self.project.forwards_inner_contract(q) for q in self.qualified_names(value.func)):
+                return self._forwarded_legacy(value)
         return None
+
+    def _forwarded_legacy(self, value: ast.Call) -> str | None:
+        """``Outer(env)``, Outer a Gym wrapper handing on its env's step and reset results
+        (``forwards_inner_contract``): the class kept on the legacy API ``env`` holds, if any."""
+        inner = call_argument(value, 0, "env")
+        return self.legacy_step_class(inner) if inner is not None else None
 
     def legacy_dependencies(self) -> dict[str, str]:
         """``ModuleSummary.legacy_if``: for each top-level Gym wrapper class whose every
