@@ -572,7 +572,10 @@ def _returns_inner(function: ast.AST | None, method: str) -> bool:
 
 # Gym's bases whose step and reset hand on the wrapped env's results (ObservationWrapper and
 # RewardWrapper unpack five values in Gymnasium)
-_FORWARDING_BASES = frozenset({"Wrapper", "core.Wrapper", "ActionWrapper", "core.ActionWrapper"})
+# (``RecordConstructorArgs``, which the migration adds to a wrapper taking arguments, changes neither)
+_FORWARDING_BASES = frozenset(
+    {"Wrapper", "core.Wrapper", "ActionWrapper", "core.ActionWrapper", "utils.RecordConstructorArgs", "utils.ezpickle.RecordConstructorArgs"}
+)
 
 
 def _returns_only_inner(function: ast.AST | None, method: str) -> bool:
