@@ -145,7 +145,12 @@ class ModuleSummary:
     # Top-level Gym wrapper classes every construction here puts around, and factories that
     # return on every path, an instance of one imported name (the import as written): they
     # keep that name's contract when the run keeps it (``project_contracts.legacy_steps``).
+    # Imported names put around it come first: ``a.Outer>b.Kept`` for ``Outer(Kept(env))``.
     legacy_if: dict[str, str] = field(default_factory=dict)
+    # Top-level Gym wrapper classes whose step and reset hand on the wrapped env's results
+    # unchanged (``Receivers.forwards_inner_contract``): put around an instance the run keeps
+    # on the legacy API in any module, they keep it too.
+    forwarding_wrappers: frozenset[str] = frozenset()
     # Top-level classes whose render() (their own, or a base's of this module) neither calls
     # a render() nor asks workers to render: a project's stub (``logger.warn(...)``), whose
     # callers need no render_mode anywhere (rules/rendering/).

@@ -55,6 +55,8 @@ from gymmigrate.facts.project_contracts import (
     NonSpaces,
     class_definer,
     class_methods,
+    forwarding_wrappers,
+    legacy_seeds,
     legacy_steps,
     seed_keepers,
     thread_render_mode,
@@ -162,6 +164,13 @@ class ProjectFacts:
     # (path, top-level name) of a class (or a re-export of one) whose step keeps the legacy
     # four-field contract after the run.
     legacy_steps: frozenset[tuple[str, str]] = frozenset()
+    # (path, name) of a Gym wrapper class (or a re-export of one) whose step and reset hand on
+    # the wrapped env's results: around an instance of ``legacy_steps`` it keeps that contract.
+    forwarding_wrappers: frozenset[tuple[str, str]] = frozenset()
+    # (path, name) of a class of the run defining seed() (or a re-export or subclass of one),
+    # and of what builds an instance holding one in its wrapper chain (``legacy_seeds``)
+    seed_owners: frozenset[tuple[str, str]] = frozenset()
+    seed_chains: frozenset[tuple[str, str]] = frozenset()
     silent_renders: frozenset[tuple[str, str]] = frozenset()  # (path, class) whose render() is a stub
     # Ids the run registers for an env class of the run whose constructor will not take
     # ``render_mode`` (its ``__init__`` cannot hand it on): id (None: not a literal) -> class.
@@ -293,7 +302,9 @@ class ProjectFacts:
         facts.requires = frozenset(requires)
         Exports(facts, by_path).run()
         # before the parameters: an argument made by such a class keeps the def's calls on its contract
+        facts.forwarding_wrappers = forwarding_wrappers(facts, by_path)
         facts.legacy_steps = legacy_steps(facts, by_path)
+        facts.seed_owners, facts.seed_chains = legacy_seeds(facts, by_path)
         params = ParamJoin(facts, by_path, calls_to)
         params.run()
         for summary in summaries:

@@ -162,30 +162,89 @@ def legacy_steps(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> froz
     contract: the class itself, its re-exports and subclasses that define no step, and the
     wrapper classes and factories of the run that give such an instance
     (``ModuleSummary.legacy_if``, followed until nothing is added)."""
-    exports = Exports(facts, by_path)
     kept = {(path, name) for path, summary in by_path.items() if path not in facts.blocked for name in summary.legacy_steps}
-    found = _kept_names(facts, by_path, exports, kept)
+    # a wrapper handing on its env's step and reset results keeps the contract of what it wraps
+    return _through_makers(facts, by_path, kept, ("step",), facts.forwarding_wrappers)
+
+
+def legacy_seeds(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> tuple[frozenset[tuple[str, str]], frozenset[tuple[str, str]]]:
+    """The (path, name) of the run that call a class defining ``seed()`` (its re-exports and
+    subclasses too), and those whose instances hold one somewhere in their wrapper chain: the
+    former with the wrapper classes and factories of the run that give an instance of one
+    (``ModuleSummary.legacy_if``). Gymnasium's wrappers have no ``seed()`` to forward, but
+    ``get_wrapper_attr("seed")`` reaches the one in the chain."""
+    own = {
+        (path, name)
+        for path, summary in by_path.items()
+        if path not in facts.blocked
+        for name in summary.classes
+        if f"{name}.seed" in summary.defs
+    }
+    owners = frozenset(_kept_names(facts, by_path, Exports(facts, by_path), own, ()))
+    wrappers = {(path, name) for path, names in facts.wrapper_classes.items() for name in names}
+    return owners, _through_makers(facts, by_path, own, (), wrappers)
+
+
+def _through_makers(
+    facts: ProjectFacts,
+    by_path: dict[str, ModuleSummary],
+    kept: set[tuple[str, str]],
+    methods: tuple[str, ...],
+    through: frozenset[tuple[str, str]] | set[tuple[str, str]],
+) -> frozenset[tuple[str, str]]:
+    """``kept`` with its re-exports and subclasses (``_kept_names``), and the wrapper classes
+    and factories whose instances are built around one (``legacy_if``: imported classes of
+    ``through`` put around it on the way), until nothing is added."""
+    exports = Exports(facts, by_path)
+
+    def reaches(chain: str, path: str) -> bool:
+        # ``a.Outer>b.Kept``: ``Outer(Kept(...))``, outermost first
+        for link in chain.split(">"):
+            split = facts._split(link, path)
+            if split is None:
+                return False
+            origin = exports.origin(*split, set())
+            if split in found or origin in found:
+                return True
+            if split not in through and origin not in through:
+                return False
+        return False
+
+    kept = set(kept)
+    found = _kept_names(facts, by_path, exports, kept, methods)
     for _ in range(MAX_CHAIN):
         more = set()
         for path, summary in by_path.items():
             if path in facts.blocked:
                 continue
             for name, imported in summary.legacy_if.items():
-                split = facts._split(imported, path)
-                if split is not None and (split in found or exports.origin(*split, set()) in found):
+                if reaches(imported, path):
                     more.add((path, name))
         if more <= kept:
             break
         kept |= more
-        found = _kept_names(facts, by_path, exports, kept)
+        found = _kept_names(facts, by_path, exports, kept, methods)
     return frozenset(found)
 
 
+def forwarding_wrappers(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> frozenset[tuple[str, str]]:
+    """Every (path, name) of the run that calls a Gym wrapper class whose step and reset hand
+    on the wrapped env's results (``ModuleSummary.forwarding_wrappers``): the class, its
+    re-exports (star imports too) and subclasses that define neither step nor reset."""
+    exports = Exports(facts, by_path)
+    own = {(path, name) for path, summary in by_path.items() if path not in facts.blocked for name in summary.forwarding_wrappers}
+    return frozenset(_kept_names(facts, by_path, exports, own, ("step", "reset")))
+
+
 def _kept_names(
-    facts: ProjectFacts, by_path: dict[str, ModuleSummary], exports: Exports, kept: set[tuple[str, str]]
+    facts: ProjectFacts,
+    by_path: dict[str, ModuleSummary],
+    exports: Exports,
+    kept: set[tuple[str, str]],
+    methods: tuple[str, ...] = ("step",),
 ) -> set[tuple[str, str]]:
     """``kept`` with the names of the run that re-export one (star imports too) and the
-    subclasses of one that define no step."""
+    subclasses of one that define none of ``methods``."""
     found = set()
     for path, summary in by_path.items():
         if path in facts.blocked:
@@ -202,7 +261,7 @@ def _kept_names(
                     found.add((path, name))
                     break
                 kind = here.exports.get(where[1])
-                if f"{where[1]}.step" in here.defs or not is_ref(kind):
+                if any(f"{where[1]}.{method}" in here.defs for method in methods) or not is_ref(kind):
                     break  # its own step, or not a name of the run to follow
                 split = facts._split(str(kind)[len(REF) :], where[0])
                 where = split if split is not None and "." not in split[1] else None

@@ -315,6 +315,20 @@ class ProjectView:
         split = self.facts._split(qualified, self.path)
         return split is not None and split in self.facts.legacy_steps
 
+    def forwards_inner_contract(self, qualified: str) -> bool:
+        """An imported Gym wrapper class of the run whose step and reset hand on the wrapped
+        env's results unchanged (``ProjectFacts.forwarding_wrappers``)."""
+        split = self.facts._split(qualified, self.path)
+        return split is not None and split in self.facts.forwarding_wrappers
+
+    def seed_holder(self, qualified: str) -> str | None:
+        """For an imported name of the run: "own" when it is a class defining seed(), "inner"
+        when its instances hold one in their wrapper chain (``ProjectFacts.seed_chains``)."""
+        split = self.facts._split(qualified, self.path)
+        if split is None:
+            return None
+        return "own" if split in self.facts.seed_owners else "inner" if split in self.facts.seed_chains else None
+
     def kept_step_classes(self, qualname: str, param: str) -> tuple[str | None, ...]:
         """Per call in another module of ``param`` of this file's ``qualname``, the class
         whose step and reset keep their own contract it passes an instance of (None: anything

@@ -230,6 +230,20 @@ class ClassKinds(_Facade):
 
 
 
+    def forwards_inner_contract(self, classdef: ast.ClassDef) -> bool:
+        """A Gym wrapper whose step and reset hand on what the wrapped env's give, unchanged:
+        derived from Gym's ``Wrapper`` or ``ActionWrapper`` only, and its own ``step`` and
+        ``reset``, where it defines them, return ``self.env.step(...)`` / ``self.env.reset(...)``
+        on every path. Put around an env kept on the legacy API, it keeps that API."""
+        if not classdef.bases or classdef.keywords:
+            return False
+        for base in classdef.bases:
+            names = {N.strip_gym_prefix(q) for q in self.qualified_names(base)}
+            if not names or not names <= _FORWARDING_BASES:
+                return False
+        methods = {s.name: s for s in classdef.body if isinstance(s, FUNCTIONS)}
+        return all(_returns_only_inner(methods.get(name), name) for name in ("step", "reset"))
+
     def local_class(self, func: ast.AST) -> ast.ClassDef | None:
         if not isinstance(func, ast.Name):
             return None
@@ -554,6 +568,22 @@ def _returns_inner(function: ast.AST | None, method: str) -> bool:
                 continue
         return False
     return True
+
+
+# Gym's bases whose step and reset hand on the wrapped env's results (ObservationWrapper and
+# RewardWrapper unpack five values in Gymnasium)
+# (``RecordConstructorArgs``, which the migration adds to a wrapper taking arguments, changes neither)
+_FORWARDING_BASES = frozenset(
+    {"Wrapper", "core.Wrapper", "ActionWrapper", "core.ActionWrapper", "utils.RecordConstructorArgs", "utils.ezpickle.RecordConstructorArgs"}
+)
+
+
+def _returns_only_inner(function: ast.AST | None, method: str) -> bool:
+    """``function`` is absent (Gym's base forwards), or every return of it is ``self.env.<method>(...)``."""
+    if function is None:
+        return True
+    values = [r.value for r in own_returns(function)]
+    return bool(values) and all(_inner_call(value, method) for value in values)
 
 
 def is_object(base: ast.AST) -> bool:

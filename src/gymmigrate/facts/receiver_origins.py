@@ -82,7 +82,9 @@ class MadeObjects(_Facade):
         if local is not None:
             # A wrapper of the project's own protocol (``own_record_wrapper``): its instances'
             # step and reset calls read that protocol and stay as they are too.
-            return local.name if self.own_record_wrapper(local) or self.class_keeps_legacy_step(local) else None
+            if self.own_record_wrapper(local) or self.class_keeps_legacy_step(local):
+                return local.name
+            return self._forwarded_legacy(value) if self.is_gym_wrapper_class(local) and self.forwards_inner_contract(local) else None
         function = self.local_function(value.func)
         if function is not None:
             # a factory of this module (``wrap(env)``) returning such an instance on every path
@@ -93,13 +95,66 @@ class MadeObjects(_Facade):
             for qualified in self.qualified_names(value.func):
                 if self.project.keeps_legacy_step(qualified):
                     return qualified.rsplit(".", 1)[-1]
+            if any(self.project.forwards_inner_contract(q) for q in self.qualified_names(value.func)):
+                return self._forwarded_legacy(value)
         return None
+
+    def _forwarded_legacy(self, value: ast.Call) -> str | None:
+        """``Outer(env)``, Outer a Gym wrapper handing on its env's step and reset results
+        (``forwards_inner_contract``): the class kept on the legacy API ``env`` holds, if any."""
+        inner = call_argument(value, 0, "env")
+        return self.legacy_step_class(inner) if inner is not None else None
+
+    def seed_holder(self, expr: ast.expr) -> str | None:
+        """Where the object ``expr`` holds gets a ``seed()`` method: "own" when the outermost
+        class defines it, "inner" when a class inside its Gym wrapper chain does (Gymnasium's
+        wrappers forward no ``seed``: ``get_wrapper_attr("seed")`` reaches it), None when the
+        run cannot show one on every value that reaches ``expr``."""
+        return self.facts.memo(("seed-holder", id(expr)), lambda: self._seed_holder(expr), while_computing=None)
+
+    def _seed_holder(self, expr: ast.expr) -> str | None:
+        values: list[ast.expr] | None = None
+        if isinstance(expr, ast.Name):
+            last = self._dominating_binding(expr)
+            statement = self.facts.statement_of(last) if last is not None else None
+            if isinstance(statement, ast.Assign) and len(statement.targets) == 1:
+                values = [statement.value]
+            elif last is None:
+                values = self.values_reaching(expr)
+        elif isinstance(expr, ast.Call):
+            local = self.local_class(expr.func)
+            function = self.local_function(expr.func)
+            if local is not None:
+                if any(isinstance(s, FUNCTIONS) and s.name == "seed" for s in local.body):
+                    return "own"
+                return self._seed_inside(expr) if self.is_gym_wrapper_class(local) else None
+            if function is not None:
+                values = [r.value for r in own_returns(function) if r.value is not None]
+                if len(values) != len(own_returns(function)):
+                    return None
+            elif self.project is not None:
+                for qualified in self.qualified_names(expr.func):
+                    holder = self.project.seed_holder(qualified)
+                    if holder is not None:
+                        return holder
+                    if self.project.is_wrapper_class(qualified):
+                        return self._seed_inside(expr)
+        if not values:
+            return None
+        found = {self.seed_holder(value) for value in values}
+        return None if None in found else "own" if found == {"own"} else "inner"
+
+    def _seed_inside(self, call: ast.Call) -> str | None:
+        """``Outer(env)``: "inner" when ``env`` holds a seed() somewhere."""
+        inner = call_argument(call, 0, "env")
+        return "inner" if inner is not None and self.seed_holder(inner) is not None else None
 
     def legacy_dependencies(self) -> dict[str, str]:
         """``ModuleSummary.legacy_if``: for each top-level Gym wrapper class whose every
         construction here wraps, and each top-level def whose every return is, an instance
         of one imported name (through wrapper classes and defs of this module, ``env =
-        Outer(env)`` chains followed), that name as imported. Whether it keeps its legacy
+        Outer(env)`` chains followed), that name as imported (imported names put around it
+        first: ``a.Outer>b.Kept``). Whether it keeps its legacy
         contract is known only across the run."""
         found: dict[str, str] = {}
         for name, classdef in self.facts.classes.items():
@@ -140,7 +195,13 @@ class MadeObjects(_Facade):
                     return None
             else:
                 names = {q for q in self.qualified_names(expr.func) if N.strip_gym_prefix(q) is None}
-                return names.pop() if len(names) == 1 else None
+                if len(names) != 1:
+                    return None
+                # ``Outer(Kept(env))`` with both imported: ``a.Outer>b.Kept``, whether Outer hands
+                # on what Kept gives is known only across the run (``project_contracts``)
+                inner = call_argument(expr, 0, "env")
+                deeper = self.imported_maker(inner) if inner is not None else None
+                return f"{names.pop()}>{deeper}" if deeper is not None else names.pop()
         else:
             return None
         if not values:

@@ -172,4 +172,9 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
             if (name in env_classes and receivers.class_keeps_legacy_step(classdef)) or receivers.own_record_wrapper(classdef)
         ),
         legacy_if=receivers.legacy_dependencies(),
+        forwarding_wrappers=frozenset(
+            name
+            for name, classdef in facts.classes.items()
+            if receivers.is_gym_wrapper_class(classdef) and receivers.forwards_inner_contract(classdef)
+        ),
     )

@@ -10,7 +10,9 @@ never again" (``Env.reset`` docstring). So:
   ``env.reset(seed=s)`` in place. A seed is never moved into a loop. A ``seed()`` whose
   result is used, that has no single seed, or that sits in a ``seed()`` method is reported;
   in a project's own ``seed()`` (a plain class's) on envs ``make`` built, while env classes
-  of the run keep their seed() (GM503), it becomes ``env.unwrapped.seed(s)``.
+  of the run keep their seed() (GM503), it becomes ``env.unwrapped.seed(s)``. On an env the
+  run keeps on the legacy API whose wrapper chain holds a class of the run defining seed(),
+  it is left (on that class) or becomes ``env.get_wrapper_attr("seed")(s)``.
 * GM206 a numpy scalar seed is wrapped in ``int()`` (``Seed must be a python integer``).
 * GM204 a seed that is the same on every iteration of a loop is reported.
 * GM205 ``space.seed(s)`` stays, but it returns an int (a dict for Dict spaces), not
@@ -48,6 +50,8 @@ class SeedCalls(ResetSeedBase):
             return  # the legacy branch of a gym version check: it never runs on Gymnasium (GM108)
         if is_space(receiver):
             self._check_space_seed(call)
+            return
+        if self._seed_in_kept_chain(call, receiver):
             return
         decision, vector = self._decide(receiver)
         if decision.action is Action.LEAVE:
@@ -141,6 +145,42 @@ class SeedCalls(ResetSeedBase):
             tier=Tier.NOTE if decision.action is Action.REWRITE else None,  # it explains the rewrite: nothing to decide
             question=self.receiver_question(receiver, decision),
         )
+
+    def _seed_in_kept_chain(self, call: ast.Call, receiver: ast.expr) -> bool:
+        """``env.seed(s)`` on an env the run keeps on the legacy API (``legacy_step_class``)
+        whose wrapper chain holds a class of the run defining ``seed()`` (a compat wrapper
+        storing the seed for its resets): that seed() is the project's API and stays. Called on
+        the class itself, the call is left; through Gym wrappers put around it, which forward
+        no ``seed`` in Gymnasium (AttributeError), it becomes ``env.get_wrapper_attr("seed")(s)``,
+        which reaches the same method. A reset(seed=s) would bypass it, and a kept reset of
+        the chain may take no seed."""
+        if self.receivers.legacy_step_class(receiver) is None:
+            return False
+        holder = self.receivers.seed_holder(receiver)
+        if holder is None:
+            return False
+        name = receiver_text(receiver)
+        if holder == "own":
+            self.report(
+                call,
+                "GM203",
+                f"left as it is: `{name}` is a wrapper of this project kept on the legacy API, and its own seed() "
+                "stays its API",
+                FixKind.FLAG,
+                tier=Tier.NOTE,
+            )
+            return True
+        self.plan.replace(call.func, _through_wrapper_attr)
+        self.report(
+            call,
+            "GM203",
+            f"`{name}.seed(s)` -> `{name}.get_wrapper_attr(\"seed\")(s)`: `{name}` is kept on the legacy API, and the "
+            "seed() it calls is a wrapper's of this project inside it; Gymnasium's wrappers around that one forward "
+            "no seed()",
+            FixKind.AUTO,
+            tier=Tier.NOTE,
+        )
+        return True
 
     def _seed_through_unwrapped(
         self, call: ast.Call, function: ast.FunctionDef | ast.AsyncFunctionDef, decision: Decision, code: str, name: str
@@ -309,6 +349,14 @@ class SeedCalls(ResetSeedBase):
 def _through_unwrapped(node: cst.Attribute) -> cst.Attribute:
     """``env.seed`` -> ``env.unwrapped.seed``."""
     return node.with_changes(value=cst.Attribute(value=node.value, attr=cst.Name("unwrapped")))
+
+
+def _through_wrapper_attr(node: cst.Attribute) -> cst.Call:
+    """``env.seed`` -> ``env.get_wrapper_attr("seed")``."""
+    return cst.Call(
+        func=cst.Attribute(value=node.value, attr=cst.Name("get_wrapper_attr")),
+        args=[cst.Arg(value=cst.SimpleString(f'"{node.attr.value}"'))],
+    )
 
 
 def _seed_argument(call: ast.Call) -> ast.expr | None:
