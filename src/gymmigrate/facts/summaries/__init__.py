@@ -29,6 +29,7 @@ from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
 from gymmigrate.facts.module_summary import ModuleSummary, Signature
 from gymmigrate.facts.receiver_classes import renders_nothing
 from gymmigrate.facts.receivers import Receivers
+from gymmigrate.facts.reset_contract import sites as reset_sites
 from gymmigrate.facts.step_hooks import plain_overrides, step_hooks
 from gymmigrate.facts.summaries.calls import CallSummarizer
 from gymmigrate.facts.summaries.classes import (
@@ -172,4 +173,5 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
             if (name in env_classes and receivers.class_keeps_legacy_step(classdef)) or receivers.own_record_wrapper(classdef)
         ),
         legacy_if=receivers.legacy_dependencies(),
+        reset_sites=reset_sites(facts, lambda classdef: receivers.class_kind(classdef) is EnvKind.GYM_ENV),
     )
