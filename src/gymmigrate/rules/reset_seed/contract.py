@@ -100,8 +100,9 @@ class ResetContractSites(ResetSeedBase):
         self.report(
             reset,
             "GM207",
-            f"Gymnasium's wrappers pass only seed= and options= to a reset, so the run's {shown} now travel in `options`: "
-            "this reset reads them from there (its parameters stay for direct callers)",
+            f"Gymnasium's wrappers pass only seed= and options= to a reset, so the run's {shown} "
+            f"{'travel' if len(moved) > 1 else 'travels'} in `options` now: this reset reads "
+            f"{'them' if len(moved) > 1 else 'it'} from there (the parameters stay for direct callers)",
             FixKind.AUTO,
         )
 
