@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.limits import DoneCause
+from gymmigrate.facts.reset_contract import ResetSites
 
 # Kinds an unresolved ``x.fit(venv)`` still reports against every ``fit`` of the run.
 GUARD_KINDS = frozenset({EnvKind.SB3_VEC, EnvKind.GYM_VEC, EnvKind.PZ_AEC, EnvKind.PZ_PARALLEL})
@@ -172,6 +173,10 @@ class ModuleSummary:
     # bases, whether its ``__init__`` hands ``render_mode`` on once a base takes it). The
     # join threads ``render_mode`` down every chain of subclasses (custom_env/render.py).
     render_mode_heirs: tuple[tuple[str, tuple[str, ...], bool], ...] = ()
+    # -- a reset contract of the run (facts/reset_contract.py, GM207) --
+    # The extra reset keywords its env classes take, its reset calls pass, and the sites
+    # the rewrite cannot carry.
+    reset_sites: ResetSites = field(default_factory=ResetSites)
     # ``register(id, entry_point="pkg.mod:Class")``: (the id if a literal, the entry point).
     registrations: tuple[tuple[str | None, str], ...] = ()
     # Top-level plain classes (no env, no wrapper) -> {attribute: ``__init__`` parameter} for

@@ -65,6 +65,8 @@ from gymmigrate.facts.project_contracts import (
 from gymmigrate.facts.project_exports import Exports, reexport_wrappers
 from gymmigrate.facts.project_params import ParamJoin
 from gymmigrate.facts.project_view import ProjectView
+from gymmigrate.facts.reset_contract import Contract
+from gymmigrate.facts.reset_contract import join as join_reset_sites
 
 # How many package re-exports one name is followed through (``_resolve_reexported``).
 _MAX_REEXPORT_HOPS = 8
@@ -161,6 +163,9 @@ class ProjectFacts:
     # re-export of one) -> the class whose reset steps the wrapper its instance was handed
     # (``project_contracts.wrapper_steppers``): Gymnasium 1.x's env checker raises on it.
     wrapper_steppers: dict[tuple[str, str], str] = field(default_factory=dict)
+    # The env reset keywords the run's wrappers and callers pass down a chain: they move
+    # into ``options`` at every site (``reset_contract.join``, GM207).
+    reset_contract: Contract | None = None
     # (path, top-level name) of a class (or a re-export of one) whose step keeps the legacy
     # four-field contract after the run.
     legacy_steps: frozenset[tuple[str, str]] = frozenset()
@@ -336,6 +341,7 @@ class ProjectFacts:
         facts.seed_classes, facts.seed_ids = seed_keepers(facts, by_path)
         NonSpaces(facts, by_path).run()
         facts.wrapper_steppers = wrapper_steppers(facts, by_path)
+        facts.reset_contract = join_reset_sites([(path, s.reset_sites) for path, s in by_path.items() if path not in facts.blocked])
         reexport_wrappers(facts, by_path)
         facts._join_opaque_registrations(by_path)
         facts.rendering_wrappers = facts._reexported(by_path, {(p, n) for p, summary in by_path.items() for n in summary.rendering_wrappers})

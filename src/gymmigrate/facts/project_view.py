@@ -16,6 +16,7 @@ from gymmigrate.facts.module_summary import MAX_CHAIN, REF
 
 if TYPE_CHECKING:
     from gymmigrate.facts.project import ProjectFacts
+    from gymmigrate.facts.reset_contract import Contract
 
 
 @dataclass(frozen=True)
@@ -421,6 +422,10 @@ class ProjectView:
         spaces are not Spaces: (attribute, space class, what that class derives from)."""
         path = self.facts.modules.get(module)
         return self.facts.non_space_envs.get((path, name)) if path else None
+
+    def reset_contract(self) -> Contract | None:
+        """The env reset keywords the run passes down its wrapper chains (GM207)."""
+        return self.facts.reset_contract
 
     def wrapper_stepper(self, module: str, name: str) -> str | None:
         """For ``module:name`` as an ``entry_point`` spells it, the class of the run whose

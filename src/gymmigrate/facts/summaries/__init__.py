@@ -29,6 +29,7 @@ from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
 from gymmigrate.facts.module_summary import ModuleSummary, Signature
 from gymmigrate.facts.receiver_classes import renders_nothing
 from gymmigrate.facts.receivers import Receivers
+from gymmigrate.facts.reset_contract import sites as reset_sites
 from gymmigrate.facts.step_hooks import plain_overrides, step_hooks
 from gymmigrate.facts.summaries.calls import CallSummarizer
 from gymmigrate.facts.summaries.classes import (
@@ -177,4 +178,5 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
             for name, classdef in facts.classes.items()
             if receivers.is_gym_wrapper_class(classdef) and receivers.forwards_inner_contract(classdef)
         ),
+        reset_sites=reset_sites(facts, lambda classdef: receivers.class_kind(classdef) is EnvKind.GYM_ENV),
     )

@@ -33,23 +33,26 @@ from gymmigrate.facts import ModuleFacts
 from gymmigrate.rules.base import FileContext
 from gymmigrate.rules.reset_seed.catalog import RULES
 from gymmigrate.rules.reset_seed.cli_seed import CliSeed
+from gymmigrate.rules.reset_seed.contract import ResetContractSites
 from gymmigrate.rules.reset_seed.resets import ResetCalls
 from gymmigrate.rules.reset_seed.seeds import SeedCalls
 
 __all__ = ["RULES", "ResetSeed"]
 
 
-class ResetSeed(ResetCalls, SeedCalls, CliSeed):
+class ResetSeed(ResetCalls, SeedCalls, CliSeed, ResetContractSites):
     RULES = RULES
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
-        return bool(facts.attribute_calls.get("reset") or facts.attribute_calls.get("seed"))
+        # ``def reset``: an env class of a reset contract the run's wrappers pass keywords to (GM207)
+        return bool(facts.attribute_calls.get("reset") or facts.attribute_calls.get("seed")) or "def reset" in facts.text
 
     def decide(self) -> None:
         self._start()
         seeds: list[ast.Call] = self.facts.attribute_calls.get("seed", [])
         resets: list[ast.Call] = self.facts.attribute_calls.get("reset", [])
+        self.contract_keywords = self._plan_contract()
         for call in seeds:
             self._decide_seed(call)
         for call in resets:

@@ -24,6 +24,12 @@ class CallEdit:
     add_seed: Callable[[], cst.BaseExpression | None] | None = None
     int_seed: bool = False
     index_result: bool = False  # env.reset() -> env.reset()[0]
+    # Keywords of the run's reset contract that move into ``options`` (GM207), merged into
+    # the call's own ``options=`` or, when it has none, into ``options_base`` (the options
+    # of the enclosing reset); ``seed_name`` hands that reset's seed on too.
+    to_options: tuple[str, ...] = ()
+    options_base: str | None = None
+    seed_name: str | None = None
 
     def build(self, call: cst.Call) -> cst.BaseExpression:
         result: cst.BaseExpression = _apply(call, self)
@@ -138,7 +144,43 @@ def _apply(call: cst.Call, edit: CallEdit) -> cst.Call:
             arg.with_changes(value=int_call(arg.value)) if arg.keyword is not None and arg.keyword.value == "seed" else arg
             for arg in args
         ]
+    if edit.to_options:
+        args = _into_options(args, edit)
     return call.with_changes(func=func, args=args)
+
+
+def _into_options(args: list[cst.Arg], edit: CallEdit) -> list[cst.Arg]:
+    """``reset(step_fn=f)`` -> ``reset(options={"step_fn": f})``, merged into options there are."""
+    moved = [a for a in args if a.keyword is not None and a.keyword.value in edit.to_options]
+    if not moved:
+        return args
+    entries: list[cst.BaseDictElement] = [
+        cst.DictElement(cst.SimpleString(f'"{a.keyword.value}"'), a.value, comma=_comma())  # type: ignore[union-attr]
+        for a in moved
+    ]
+    entries[-1] = entries[-1].with_changes(comma=cst.MaybeSentinel.DEFAULT)
+    own = next((a for a in args if a.keyword is not None and a.keyword.value == "options"), None)
+    base = own.value if own is not None else (cst.Name(edit.options_base) if edit.options_base else None)
+    if base is not None:
+        merged = cst.BooleanOperation(base, cst.Or(), cst.Dict([]), lpar=[cst.LeftParen()], rpar=[cst.RightParen()])
+        entries.insert(0, cst.StarredDictElement(merged, comma=_comma()))
+    value = cst.Dict(entries)
+    equal = cst.AssignEqual(whitespace_before=cst.SimpleWhitespace(""), whitespace_after=cst.SimpleWhitespace(""))
+    last_comma = args[-1].comma
+    result: list[cst.Arg] = []
+    for arg in args:
+        if arg is own:
+            result.append(arg.with_changes(value=value))
+        elif arg is moved[0]:
+            if edit.seed_name is not None:
+                result.append(cst.Arg(cst.Name(edit.seed_name), keyword=cst.Name("seed"), equal=equal, comma=_comma()))
+            if own is None:
+                result.append(cst.Arg(value, keyword=cst.Name("options"), equal=equal, comma=_comma()))
+        elif arg not in moved:
+            result.append(arg)
+    result = [a if isinstance(a.comma, cst.Comma) else a.with_changes(comma=_comma()) for a in result]
+    result[-1] = result[-1].with_changes(comma=last_comma)
+    return result
 
 
 def _appended(args: list[cst.Arg], new: cst.Arg, call: cst.Call) -> list[cst.Arg]:

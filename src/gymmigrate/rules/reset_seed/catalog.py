@@ -46,7 +46,9 @@ RULES = (
         "GM207",
         "custom reset keywords",
         FixKind.FLAG,
-        "Arguments other than seed=/options= passed to `reset()` are reported: they belong in `options={...}`.",
+        "Arguments other than seed=/options= passed to `reset()` are reported: they belong in `options={...}`. "
+        "Where an env class of the run takes such keywords and the run's wrappers or callers pass them, they move "
+        "into `options` at every site (the env's and wrappers' resets read them from there), or at none.",
     ),
     Rule(
         "GM208",

@@ -28,6 +28,7 @@ class ResetSeedBase(RuleFamily):
 
     def _start(self) -> None:
         self._edits: dict[ast.Call, CallEdit] = {}
+        self.contract_keywords: frozenset[str] = frozenset()  # moved into options (GM207, contract.py)
         self.info_names = InfoNames(self.facts)
         self.numpy_seeds = NumpySeeds(self.facts)
 

@@ -98,7 +98,7 @@ class ResetCalls(ResetSeedBase):
         use, assign, index = self._use_of(call)
         keywords = {kw.arg: kw for kw in call.keywords if kw.arg is not None}
         if decision.action is Action.REPORT:
-            custom = set(keywords) - {"seed", "options"}
+            custom = set(keywords) - {"seed", "options"} - self.contract_keywords
             if use not in _SETTLED or custom:
                 self.report(
                     call,
@@ -148,7 +148,7 @@ class ResetCalls(ResetSeedBase):
 
     def _check_custom_arguments(self, call: ast.Call, name: str, keywords: dict[str, ast.keyword]) -> None:
         """GM207: reset() takes only seed= and options= (and, until 0.25, return_info=)."""
-        custom = [key for key in keywords if key not in RESET_KEYWORDS]
+        custom = [key for key in keywords if key not in RESET_KEYWORDS and key not in self.contract_keywords]
         positional = any(not isinstance(arg, ast.Starred) for arg in call.args)
         if custom or positional:
             shown = ", ".join(f"`{key}=`" for key in custom) or "positional arguments"

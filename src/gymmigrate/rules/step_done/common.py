@@ -106,11 +106,15 @@ class StepFamilyBase(RuleFamily):
     result_steps: dict[tuple[int, str], list]  # ``res = x.step(a)`` by variable
     # Four-target step unpacks: a read that one of them dominates belongs to it alone.
     legacy_unpacks: set[ast.Assign]
+    step_callables: set[int]  # ids of reset-contract step callables called in an env's reset
     forwarded_unpacks: dict[int, ast.Assign]  # id of ``res = x.step(a)`` -> ``obs, r, done, info = res``
     numpy_name: str | None
 
     def decision(self, receiver: ast.expr, legacy_shape: bool) -> tuple[Decision, bool]:
         """What to do with ``receiver.step``, and whether it is a vector env."""
+        if id(receiver) in self.step_callables:
+            # a reset-contract step callable: the run hands it only wrappers' own steps
+            return Decision(Action.REWRITE, "the run's wrappers pass their own step here"), False
         kind = self.receivers.super_kind(receiver) or self.receivers.kind_of(receiver)
         profile = self.context.profile
         if dead_version_branch(receiver, self.facts) is not None or self.receivers.in_legacy_by_version_method(receiver):

@@ -13,7 +13,11 @@ import ast
 
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.flow import Flow
+from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import FUNCTIONS
+from gymmigrate.facts.reset_contract import extra_params, own_reset
+from gymmigrate.facts.reset_contract import join as join_contract
+from gymmigrate.facts.reset_contract import sites as reset_sites
 from gymmigrate.rules.base import FileContext
 from gymmigrate.rules.step_done.common import RULES, TIME_LIMIT_KEY
 from gymmigrate.rules.step_done.results import ResultRules
@@ -29,7 +33,11 @@ class StepDone(UnpackRules, TimeLimitRules, ResultRules):
         if TIME_LIMIT_KEY in facts.text:
             return True
         # Steps already unpacked into five names are migrated: nothing to do for them.
-        return any(not _five_targets(facts.parent(call), call) for call in facts.attribute_calls.get("step", ()))
+        # ``def reset``: a step callable of the run's reset contract called in an env's reset
+        # (an env module: it says ``step`` somewhere, the family's word)
+        return ("def reset" in facts.text and "step" in facts.text) or any(
+            not _five_targets(facts.parent(call), call) for call in facts.attribute_calls.get("step", ())
+        )
 
     def decide(self) -> None:
         facts = self.facts
@@ -43,6 +51,7 @@ class StepDone(UnpackRules, TimeLimitRules, ResultRules):
         self.callee_questions = {}
         steps = facts.attribute_calls.get("step", [])
         self.forwarded_unpacks = {}
+        self.step_callables = set()
         for call in steps:
             parent = facts.parent(call)
             if isinstance(parent, ast.Assign) and parent.value is call and len(parent.targets) == 1:
@@ -54,6 +63,7 @@ class StepDone(UnpackRules, TimeLimitRules, ResultRules):
         } | set(self.forwarded_unpacks.values())
         for call in steps:
             self._plan_step(call)
+        self._plan_step_callables()
         self.finish_done_reads()
         self.finish_results()
         if TIME_LIMIT_KEY in facts.text:
@@ -86,6 +96,28 @@ class StepDone(UnpackRules, TimeLimitRules, ResultRules):
         if isinstance(parent, ast.Expr) or self._returned_from_step_method(call, parent):
             return  # result unused, or passed through by a wrapper's step (the wrapper rules' job)
         self.report_unpacked_use(call, receiver)
+
+    def _plan_step_callables(self) -> None:
+        """``ob, r, done, info = step_fn(a)`` in an env's reset, where the run's wrappers hand
+        ``step_fn`` only their own ``self.step`` (facts/reset_contract.py): a step result."""
+        project = self.receivers.project
+        if project is not None:
+            contract = project.reset_contract()
+        else:
+            contract = join_contract([("", reset_sites(self.facts, lambda c: self.receivers.class_kind(c) is EnvKind.GYM_ENV))])
+        if contract is None or not contract.step_callables:
+            return
+        for classdef in [n for n in ast.walk(self.facts.tree) if isinstance(n, ast.ClassDef)]:
+            reset = own_reset(classdef)
+            if reset is None or self.receivers.is_gym_wrapper_class(classdef):
+                continue
+            params = {a.arg for a in extra_params(reset)} & contract.step_callables
+            for node in ast.walk(reset):
+                if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id in params:
+                    parent = self.facts.parent(node)
+                    if isinstance(parent, ast.Assign) and parent.value is node and _four_targets(parent):
+                        self.step_callables.add(id(node.func))
+                        self.plan_unpack(parent, parent.targets[0], node.func)  # type: ignore[arg-type]
 
     def _forwarded_unpack(self, assign: ast.Assign, target: ast.expr) -> ast.Assign | None:
         """``obs, r, done, info = res`` where ``res = x.step(a)`` (``assign``) is the only

@@ -1,0 +1,156 @@
+"""GM207 across the run: an env's own reset keywords that its wrappers pass down move into ``options``.
+
+``facts/reset_contract.py`` joins the run: the keywords some Gym env class's reset takes
+beyond seed/options and some ``reset(...)`` call of the run passes. Gymnasium's wrappers
+(and the ``OrderEnforcing``/``PassiveEnvChecker`` of ``make``) take only ``seed`` and
+``options``, so each such keyword travels in ``options`` instead, at every site:
+
+* a reset of a Gym env or wrapper class that takes the keyword reads it from ``options``
+  first (``step_fn = (options or {}).get("step_fn", step_fn)``: its parameter stays, with
+  its default, for direct callers); a wrapper's reset without ``options`` gets
+  ``*, seed=None, options=None`` (only ``options`` beside its own ``**kwargs``);
+* every call passing it puts it into ``options``, merged into the options the call or
+  the enclosing reset already has (``options={**(options or {}), "step_fn": step_fn}``),
+  and a wrapper's reset hands its seed on.
+
+When one site of the run cannot be carried (the keyword positional, a required parameter,
+a call whose ``**kwargs`` may already hold ``options``), no site is: the env class's reset
+gets one review item naming the places, and the calls keep their GM207 report.
+"""
+
+from __future__ import annotations
+
+import ast
+
+from gymmigrate.edits.lazy import cst
+from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.reset_contract import (
+    Contract,
+    extra_params,
+    join,
+    own_reset,
+    sites,
+)
+from gymmigrate.findings import FixKind
+from gymmigrate.rules.reset_seed.common import ResetSeedBase
+
+
+class ResetContractSites(ResetSeedBase):
+    """GM207 (mixed into the family)."""
+
+    def _contract(self) -> Contract | None:
+        project = self.receivers.project
+        if project is not None:
+            return project.reset_contract()
+        return join([("this file", sites(self.facts, lambda c: self.receivers.class_kind(c) is EnvKind.GYM_ENV))])
+
+    def _plan_contract(self) -> frozenset[str]:
+        """Plans the contract's edits in this module; the keywords it moved (the calls'
+        GM207 reports skip them)."""
+        contract = self._contract()
+        if contract is None:
+            return frozenset()
+        resets = [
+            (classdef, reset)
+            for classdef in ast.walk(self.facts.tree)
+            if isinstance(classdef, ast.ClassDef) and (reset := own_reset(classdef)) is not None
+        ]
+        if contract.blockers:
+            for classdef, reset in resets:
+                moved = [a.arg for a in extra_params(reset) if a.arg in contract.keywords]
+                if moved and self.receivers.class_kind(classdef) is EnvKind.GYM_ENV:
+                    shown = ", ".join(f"`{k}=`" for k in moved)
+                    self.report(
+                        reset,
+                        "GM207",
+                        f"the run passes {shown} down its wrappers to this reset, which Gymnasium's wrappers and the "
+                        "checkers of make() refuse (they take only seed= and options=); not moved into options, because "
+                        f"these places cannot be rewritten: {', '.join(contract.blockers)}",
+                        FixKind.FLAG,
+                    )
+            return frozenset()
+        for classdef, reset in resets:
+            wrapper = self.receivers.is_gym_wrapper_class(classdef)
+            if wrapper or self.receivers.class_kind(classdef) is EnvKind.GYM_ENV:
+                self._read_from_options(reset, contract, env=not wrapper)
+        for call in self.facts.attribute_calls.get("reset", []):
+            passed = tuple(kw.arg for kw in call.keywords if kw.arg is not None and kw.arg in contract.keywords)
+            if passed:
+                self._move_into_options(call, passed)
+        return contract.keywords
+
+    def _read_from_options(self, reset: ast.FunctionDef | ast.AsyncFunctionDef, contract: Contract, env: bool) -> None:
+        text = self.facts.segment(reset) or ""
+        # a reset already reading a keyword from options (a second round, a hand port) keeps it
+        moved = [a.arg for a in extra_params(reset) if a.arg in contract.keywords and f'.get("{a.arg}"' not in text]
+        if not moved:
+            return
+        args = reset.args
+        names = {a.arg for a in (*args.posonlyargs, *args.args, *args.kwonlyargs)}
+        if "options" not in names and not env:  # an env's signature is the custom env rules' (GM502)
+            added = ["options"] if args.kwarg is not None or "seed" in names else ["seed", "options"]
+            self.plan.replace(reset, lambda node, added=added: _keyword_params(node, added))
+        lines = [f'{k} = (options or {{}}).get("{k}", {k})' for k in moved]
+        body = reset.body
+        if _is_docstring(body[0]) and len(body) > 1:
+            self.plan.insert_after(body[0], *lines)
+        else:
+            self.plan.insert_before(body[0], *lines)
+        shown = ", ".join(f"`{k}`" for k in moved)
+        self.report(
+            reset,
+            "GM207",
+            f"Gymnasium's wrappers pass only seed= and options= to a reset, so the run's {shown} "
+            f"{'travel' if len(moved) > 1 else 'travels'} in `options` now: this reset reads "
+            f"{'them' if len(moved) > 1 else 'it'} from there (the parameters stay for direct callers)",
+            FixKind.AUTO,
+        )
+
+    def _move_into_options(self, call: ast.Call, moved: tuple[str, ...]) -> None:
+        function = self.facts.enclosing_function(call)
+        own = {a.arg for a in (*function.args.posonlyargs, *function.args.args, *function.args.kwonlyargs)} if function else set()
+        in_moving_reset = (
+            function is not None
+            and function.name == "reset"
+            and (classdef := self.facts.enclosing_class(function)) is not None
+            and own_reset(classdef) is function
+            and any(a.arg in moved for a in extra_params(function))
+        )
+        edit = self._edit(call)
+        edit.to_options = moved
+        passed = {kw.arg for kw in call.keywords}
+        if in_moving_reset and "options" not in passed:
+            # the enclosing reset has (or is given) ``options``: a caller's options go on down
+            edit.options_base = "options"
+            if "seed" not in passed and None not in passed and ("seed" in own or function.args.kwarg is None):  # type: ignore[union-attr]
+                edit.seed_name = "seed"
+        shown = ", ".join(f"`{k}=`" for k in moved)
+        self.report(
+            call,
+            "GM207",
+            f"{shown} moved into `options`: Gymnasium's wrappers and the checkers of make() pass only seed= and options= "
+            "down to the env, whose reset reads them from there",
+            FixKind.AUTO,
+        )
+
+
+def _is_docstring(statement: ast.stmt) -> bool:
+    return isinstance(statement, ast.Expr) and isinstance(statement.value, ast.Constant) and isinstance(statement.value.value, str)
+
+
+def _keyword_params(node: cst.FunctionDef, added: list[str]) -> cst.FunctionDef:
+    """``def reset(self, step_fn=None)`` -> ``def reset(self, step_fn=None, *, seed=None, options=None)``."""
+    params = node.params
+    equal = cst.AssignEqual(cst.SimpleWhitespace(""), cst.SimpleWhitespace(""))
+    comma = cst.Comma(whitespace_after=cst.SimpleWhitespace(" "))
+    new = [cst.Param(name=cst.Name(name), default=cst.Name("None"), equal=equal) for name in added]
+    kwonly = [p.with_changes(comma=comma) for p in params.kwonly_params] + [p.with_changes(comma=comma) for p in new]
+    if params.star_kwarg is None:
+        kwonly[-1] = kwonly[-1].with_changes(comma=cst.MaybeSentinel.DEFAULT)
+    positional = list(params.params)
+    if positional:
+        positional[-1] = positional[-1].with_changes(comma=comma)
+    star = params.star_arg
+    if not isinstance(star, cst.Param) and not isinstance(star, cst.ParamStar):
+        star = cst.ParamStar(comma=comma)
+    return node.with_changes(params=params.with_changes(params=positional, star_arg=star, kwonly_params=kwonly))

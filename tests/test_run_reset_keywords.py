@@ -1,0 +1,54 @@
+"""An env whose reset takes keywords of its own that the project's wrappers pass down
+(``fixtures/project_reset_keywords``), migrated by one ``gymmigrate rewrite`` and run on
+Gymnasium 1.4 (GM207).
+
+``chain/core.py``: ``Task.reset(..., step_fn=None, quiet=False)`` takes its first
+observation from ``step_fn``, which ``Layer`` and ``Scaled`` set to their own ``self.step``
+and hand down with ``self.env.reset(step_fn=...)``; ``chain/use.py`` passes ``quiet=``.
+Gymnasium's wrappers take only ``seed`` and ``options``: the keywords now travel in
+``options`` at every site, and ``step_fn``'s result unpacks five values.
+"""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+from typer.testing import CliRunner
+
+from gymmigrate.cli import app
+from tests.fixture_cases import FIXTURES
+
+runner = CliRunner()
+
+_RUN = """
+import gymnasium as gym
+from chain.core import Layer, Scaled, Task
+from chain.use import first
+
+ob, quiet = first()
+assert ob[0] == 10.0, ob  # the first observation went through Scaled's step
+gym.register("Chain-v0", entry_point="chain.core:Task", disable_env_checker=True)
+for env in (Layer(Scaled(gym.make("Chain-v0"))), gym.wrappers.TimeLimit(Layer(Scaled(Task())), 5)):
+    obs, info = env.reset(seed=0)
+    assert obs[0] == 10.0, obs
+obs, info = Layer(Scaled(Task())).reset(options={"quiet": True})
+print("ok")
+"""
+
+
+def test_reset_keywords_travel_in_options_down_the_wrappers(tmp_path: Path) -> None:
+    project = tmp_path / "project"
+    shutil.copytree(FIXTURES / "project_reset_keywords", project)
+    result = runner.invoke(app, ["rewrite", str(project)])
+    assert result.exit_code == 0, result.output
+    again = runner.invoke(app, ["rewrite", str(project)])
+    assert "rewrote 0 of" in again.output, again.output
+    core = (project / "chain" / "core.py").read_text()
+    assert 'return self.env.reset(seed=seed, options={**(options or {}), "step_fn": step_fn})' in core
+    assert "ob, _, _, _, _ = step_fn(" in core
+    run = subprocess.run([sys.executable, "-W", "ignore", "-c", _RUN], cwd=project, capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.split() == ["ok"]
