@@ -191,6 +191,12 @@ class ParameterKinds(_Facade):
         return self.facts.memo(("param-kept", id(param)), lambda: self._param_kept_classes(param), while_computing=(frozenset(), True))
 
     def _param_kept_classes(self, param: ast.arg) -> tuple[frozenset[str], bool]:
+        annotated = self.annotation_kept_class(param.annotation) if param.annotation is not None else None
+        if annotated is not None:
+            # ``def __init__(self, env: MultiEnv)``: the project declares the parameter an
+            # instance of its own class kept on its four-field API, whoever builds it (its
+            # callers are often outside the run: tests, scripts, another package).
+            return frozenset({annotated}), False
         function = self.facts.parent(self.facts.parent(param))
         if not isinstance(function, FUNCTIONS):
             return frozenset(), True
@@ -220,6 +226,15 @@ class ParameterKinds(_Facade):
                 other = True
             else:
                 found.add(kept)
+        if not calls and not is_method:
+            # A test fed by a pytest fixture of this module (``def env(): return
+            # MultiEnv(...)``) or a parametrization: what the fixture returns on every path.
+            fixtures = param_fixtures(self.facts, function, param.arg)
+            values = [v for fixture in fixtures for v in fixture_values(self.facts, fixture)] if fixtures else param_values(self.facts, function, param.arg)
+            if values:
+                made = {self.legacy_step_class(value) for value in values}
+                if None not in made:
+                    return frozenset(made), False  # type: ignore[arg-type]
         if self.project is not None:
             qualname = function.name if not is_method else f"{classdef.name}.{function.name}"  # type: ignore[union-attr]
             for kept in self.project.kept_step_classes(qualname, param.arg):
@@ -345,6 +360,30 @@ class ParameterKinds(_Facade):
             # that is no env (``model_env: ModelEnv``) is the project's own object: left alone.
             return self.class_kind(local)
         return self.annotation_names_kind(self.qualified_names(annotation))
+
+    def annotation_kept_class(self, annotation: ast.AST) -> str | None:
+        """The class of the run an annotation names (``MultiEnv``, ``"MultiEnv"``,
+        ``Optional[envs.MultiEnv]``) when its step keeps the four-field contract
+        (``legacy_step_class``), else None."""
+        if isinstance(annotation, ast.Constant) and isinstance(annotation.value, str):
+            parsed = parse_annotation(annotation.value)
+            if isinstance(parsed, ast.Name) and parsed.id in self.facts.classes:
+                local = self.facts.classes[parsed.id]
+                return local.name if self.class_keeps_legacy_step(local) else None
+            names = string_names(self.facts, parsed) if parsed is not None else set()
+        else:
+            optional = optional_of(annotation, self.qualified_names)
+            if optional is not None:
+                return self.annotation_kept_class(optional)
+            local = self.local_class(annotation)
+            if local is not None:
+                return local.name if self.class_keeps_legacy_step(local) else None
+            names = self.qualified_names(annotation)
+        if self.project is not None:
+            for qualified in names:
+                if self.project.keeps_legacy_step(qualified):
+                    return qualified.rsplit(".", 1)[-1]
+        return None
 
     def annotation_names_kind(self, names: set[str]) -> EnvKind:
         for q in names:
