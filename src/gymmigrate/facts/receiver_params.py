@@ -226,9 +226,10 @@ class ParameterKinds(_Facade):
                 other = True
             else:
                 found.add(kept)
-        if not calls and not is_method:
+        if not calls and (not is_method or _pytest_test_method(function, classdef, param.arg)):  # type: ignore[arg-type]
             # A test fed by a pytest fixture of this module (``def env(): return
             # MultiEnv(...)``) or a parametrization: what the fixture returns on every path.
+            # A ``test_*`` method of a ``Test*`` class gets the module's fixtures too.
             fixtures = param_fixtures(self.facts, function, param.arg)
             values = [v for fixture in fixtures for v in fixture_values(self.facts, fixture)] if fixtures else param_values(self.facts, function, param.arg)
             if values:
@@ -517,6 +518,16 @@ class ParameterKinds(_Facade):
     def _fixture_kind(self, fixture: ast.FunctionDef | ast.AsyncFunctionDef) -> EnvKind:
         values = fixture_values(self.facts, fixture)
         return join_kinds(self.kind_of(value) for value in values) if values else EnvKind.NOT_ENV
+
+
+def _pytest_test_method(function: ast.FunctionDef | ast.AsyncFunctionDef, classdef: ast.ClassDef, name: str) -> bool:
+    """``function`` is a pytest test method (``Test*.test_*``) whose class does not define a
+    fixture of its own called ``name`` (which would shadow the module's)."""
+    return (
+        classdef.name.startswith("Test")
+        and function.name.startswith("test")
+        and not any(isinstance(s, FUNCTIONS) and s.name == name for s in classdef.body)
+    )
 
 
 def has_default(function: ast.AST, param: ast.arg) -> bool:
