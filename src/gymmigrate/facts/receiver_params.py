@@ -368,9 +368,9 @@ class ParameterKinds(_Facade):
         (``legacy_step_class``), else None."""
         if isinstance(annotation, ast.Constant) and isinstance(annotation.value, str):
             parsed = parse_annotation(annotation.value)
-            if isinstance(parsed, ast.Name) and parsed.id in self.facts.classes:
-                local = self.facts.classes[parsed.id]
-                return local.name if self.class_keeps_legacy_step(local) else None
+            named = self.facts.classes.get(parsed.id) if isinstance(parsed, ast.Name) else None
+            if named is not None:
+                return named.name if self.class_keeps_legacy_step(named) else None
             names = string_names(self.facts, parsed) if parsed is not None else set()
         else:
             optional = optional_of(annotation, self.qualified_names)

@@ -13,7 +13,12 @@ from collections.abc import Hashable
 
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts.decisions import Decision
-from gymmigrate.facts.done_uses import DoneUse, classify_done_read, loaded_names, stored_in_sequence
+from gymmigrate.facts.done_uses import (
+    DoneUse,
+    classify_done_read,
+    loaded_names,
+    stored_in_sequence,
+)
 from gymmigrate.facts.module import own_returns
 from gymmigrate.facts.receiver_classes import is_batched_step_return, keeps_legacy_step
 from gymmigrate.findings import FixKind, Tier
@@ -442,7 +447,7 @@ class DoneReadReports(DoneBookkeeping):
         statement = self.facts.statement_of(read)
         if block is None or statement not in block:
             return False
-        between = block[block.index(step.assign) + 1 : block.index(statement)]  # type: ignore[arg-type]
+        between = block[block.index(step.assign) + 1 : block.index(statement)]
         if any(observation in _assigned_names(s) for s in between if not _resets_on_done(s, step.done.id, observation)):
             return False
         return any(_resets_on_done(s, step.done.id, observation) for s in between)
@@ -465,7 +470,7 @@ class DoneReadReports(DoneBookkeeping):
         statement = self.facts.statement_of(read)
         if block is None or statement not in block:
             return False
-        between = block[block.index(step.assign) + 1 : block.index(statement)]  # type: ignore[arg-type]
+        between = block[block.index(step.assign) + 1 : block.index(statement)]
         flag = other.operand.id
         binders = [s for s in between if flag in _assigned_names(s)]
         if len(binders) != 1 or not isinstance(binders[0], ast.Assign) or len(binders[0].targets) != 1:

@@ -153,7 +153,7 @@ class WrapperForwarding(RuleFamily):
                         return True
             return False
 
-        return self.facts.memo(("records-with-gym-monitor",), scan)
+        return bool(self.facts.memo(("records-with-gym-monitor", id(self.facts.tree)), scan))
 
     def _closes_monitor_of_env(self, attr: ast.Attribute) -> bool:
         """``env.monitor.close()`` as a statement, ``env`` a name the run shows is a Gym env
