@@ -16,7 +16,7 @@ import ast
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts.kinds import MAX_DEPTH, EnvKind, ReceiverQueries, join_kinds
-from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, call_argument
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, call_argument, own_returns
 
 if TYPE_CHECKING:
     from gymmigrate.facts.project_view import ProjectView
@@ -121,11 +121,28 @@ class CallableKinds:
         parent = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
         if isinstance(parent, (ast.Assign, ast.NamedExpr)) or (isinstance(parent, ast.AnnAssign) and parent.value is not None):
             return self.returned_kind(parent.value)  # type: ignore[arg-type]
+        if isinstance(parent, ast.Tuple) and not any(isinstance(e, ast.Starred) for e in parent.elts):
+            assign = self.facts.parent(parent)
+            if isinstance(assign, ast.Assign) and assign.targets == [parent]:
+                return self._unpacked_returned_kind(assign.value, parent.elts.index(binding), len(parent.elts))  # type: ignore[arg-type]
         if isinstance(parent, ast.AnnAssign):
             return self.callable_annotation_kind(parent.annotation)
         if isinstance(parent, (ast.For, ast.comprehension)) and parent.target is binding:
             return self._item_returned_kind(parent.iter)
         return EnvKind.UNKNOWN
+
+    def _unpacked_returned_kind(self, value: ast.expr, index: int, size: int) -> EnvKind:
+        """``make_env_fn, kargs = get_make_env_fn(...)`` where the def of this module returns
+        ``inner_fn, kargs`` on every path: what calling the ``index``-th item returns."""
+        if not isinstance(value, ast.Call):
+            return EnvKind.UNKNOWN
+        function = self.receivers.local_function(value.func)
+        if function is None:
+            return EnvKind.UNKNOWN
+        returned = [r.value for r in own_returns(function)]
+        if not returned or not all(isinstance(r, ast.Tuple) and len(r.elts) == size for r in returned):
+            return EnvKind.UNKNOWN
+        return join_kinds(self.returned_kind(r.elts[index]) for r in returned)  # type: ignore[union-attr]
 
     def _item_returned_kind(self, container: ast.expr) -> EnvKind:
         """``for fn in env_fns`` with ``env_fns: List[Callable[[], gym.Env]]`` a parameter:

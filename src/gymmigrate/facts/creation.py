@@ -156,6 +156,11 @@ class CreationFinder:
             return self._follow(expr.value, self._expr)
         if isinstance(expr, ast.Subscript):
             return self._items(expr.value)
+        if isinstance(expr, ast.Constant) and expr.value is None:
+            # ``env = None`` before ``if env is None: env = gym.make(...)``: a sentinel no
+            # env method can be called on, so it creates nothing the search has to find
+            # (a name that is only ever None is reported by ``_bindings``).
+            return result
         result.fail(f"`{self.facts.segment(expr)}` is not a call or a name")
         return result
 
@@ -371,6 +376,8 @@ class CreationFinder:
                 result.fail(f"`{name.id}` is imported or a builtin")
                 continue
             result.merge(self._follow(binding, self._binding))
+        if result.complete and not result.calls:
+            result.fail(f"`{name.id}` is never bound to a call here")
         return result
 
     def _binding(self, binding: ast.AST) -> Creation:

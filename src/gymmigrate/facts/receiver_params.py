@@ -191,6 +191,12 @@ class ParameterKinds(_Facade):
         return self.facts.memo(("param-kept", id(param)), lambda: self._param_kept_classes(param), while_computing=(frozenset(), True))
 
     def _param_kept_classes(self, param: ast.arg) -> tuple[frozenset[str], bool]:
+        annotated = self.annotation_kept_class(param.annotation) if param.annotation is not None else None
+        if annotated is not None:
+            # ``def __init__(self, env: MultiEnv)``: the project declares the parameter an
+            # instance of its own class kept on its four-field API, whoever builds it (its
+            # callers are often outside the run: tests, scripts, another package).
+            return frozenset({annotated}), False
         function = self.facts.parent(self.facts.parent(param))
         if not isinstance(function, FUNCTIONS):
             return frozenset(), True
@@ -220,6 +226,16 @@ class ParameterKinds(_Facade):
                 other = True
             else:
                 found.add(kept)
+        if not calls and (not is_method or _pytest_test_method(function, classdef, param.arg)):  # type: ignore[arg-type]
+            # A test fed by a pytest fixture of this module (``def env(): return
+            # MultiEnv(...)``) or a parametrization: what the fixture returns on every path.
+            # A ``test_*`` method of a ``Test*`` class gets the module's fixtures too.
+            fixtures = param_fixtures(self.facts, function, param.arg)
+            values = [v for fixture in fixtures for v in fixture_values(self.facts, fixture)] if fixtures else param_values(self.facts, function, param.arg)
+            if values:
+                made = {self.legacy_step_class(value) for value in values}
+                if None not in made:
+                    return frozenset(made), False  # type: ignore[arg-type]
         if self.project is not None:
             qualname = function.name if not is_method else f"{classdef.name}.{function.name}"  # type: ignore[union-attr]
             for kept in self.project.kept_step_classes(qualname, param.arg):
@@ -345,6 +361,30 @@ class ParameterKinds(_Facade):
             # that is no env (``model_env: ModelEnv``) is the project's own object: left alone.
             return self.class_kind(local)
         return self.annotation_names_kind(self.qualified_names(annotation))
+
+    def annotation_kept_class(self, annotation: ast.AST) -> str | None:
+        """The class of the run an annotation names (``MultiEnv``, ``"MultiEnv"``,
+        ``Optional[envs.MultiEnv]``) when its step keeps the four-field contract
+        (``legacy_step_class``), else None."""
+        if isinstance(annotation, ast.Constant) and isinstance(annotation.value, str):
+            parsed = parse_annotation(annotation.value)
+            named = self.facts.classes.get(parsed.id) if isinstance(parsed, ast.Name) else None
+            if named is not None:
+                return named.name if self.class_keeps_legacy_step(named) else None
+            names = string_names(self.facts, parsed) if parsed is not None else set()
+        else:
+            optional = optional_of(annotation, self.qualified_names)
+            if optional is not None:
+                return self.annotation_kept_class(optional)
+            local = self.local_class(annotation)
+            if local is not None:
+                return local.name if self.class_keeps_legacy_step(local) else None
+            names = self.qualified_names(annotation)
+        if self.project is not None:
+            for qualified in names:
+                if self.project.keeps_legacy_step(qualified):
+                    return qualified.rsplit(".", 1)[-1]
+        return None
 
     def annotation_names_kind(self, names: set[str]) -> EnvKind:
         for q in names:
@@ -478,6 +518,16 @@ class ParameterKinds(_Facade):
     def _fixture_kind(self, fixture: ast.FunctionDef | ast.AsyncFunctionDef) -> EnvKind:
         values = fixture_values(self.facts, fixture)
         return join_kinds(self.kind_of(value) for value in values) if values else EnvKind.NOT_ENV
+
+
+def _pytest_test_method(function: ast.FunctionDef | ast.AsyncFunctionDef, classdef: ast.ClassDef, name: str) -> bool:
+    """``function`` is a pytest test method (``Test*.test_*``) whose class does not define a
+    fixture of its own called ``name`` (which would shadow the module's)."""
+    return (
+        classdef.name.startswith("Test")
+        and function.name.startswith("test")
+        and not any(isinstance(s, FUNCTIONS) and s.name == name for s in classdef.body)
+    )
 
 
 def has_default(function: ast.AST, param: ast.arg) -> bool:

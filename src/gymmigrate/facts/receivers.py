@@ -199,6 +199,12 @@ class Receivers(ClassKinds, ParameterKinds, MadeObjects):
         own = self.own_method(func)
         if own is not None:
             return self.facts.memo(("returned-kind", id(own)), lambda: self.returns_kind(own), while_computing=EnvKind.UNKNOWN)
+        if isinstance(func, ast.Attribute) and isinstance(func.value, ast.Name) and self.is_self(func.value):
+            # ``self.make_env_fn(...)`` with ``self.make_env_fn = make_env_fn`` stored from a
+            # parameter or a factory: what calling each stored callable returns.
+            stored = self.self_attribute_values(func, func.attr)
+            if stored:
+                return join_kinds(self.returned_kind(value) for value in stored)
         if isinstance(func, ast.Name):
             # ``make_env = lambda: gym.make(...)``, a nested ``def thunk()``, an ``env_fn``
             # parameter: what calling the name returns.

@@ -102,7 +102,11 @@ class EnvClassFamily(RuleFamily):
                 decide_seed(decision)
                 decide_reset(decision)
             decide_step(decision, inherited)
-            decide_render(decision)
+            if not kept:
+                # render(mode) belongs to that same own API: its callers (``Runner.run``
+                # calling ``self.env.render()``, the 'human' default) keep it, and no
+                # gymnasium.make ever passes the class a render_mode.
+                decide_render(decision)
             decide_subclass_render_mode(decision)
             if not kept:
                 decide_internal_calls(decision)

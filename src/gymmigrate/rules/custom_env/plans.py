@@ -104,12 +104,16 @@ def truncated_false_message(limit_hint: str | None) -> str:
 BATCHED_STEP_QUESTION = "batches of envs of this module"
 
 
-def batched_step_message(class_name: str, keeps_reset: bool = False) -> str:
+def batched_step_message(class_name: str, keeps_reset: bool = False, keeps_render: bool = False) -> str:
     """The one item on a batch of envs whose step returns stacked per-env flags (GM504 on an
     env class, GM602 on a wrapper), whose contract the run keeps; an env class keeps its
-    reset with it (``keeps_reset``), so the item names both."""
+    reset (``keeps_reset``) and its ``render(mode)`` (``keeps_render``) with it, so the item
+    names them."""
     if keeps_reset:
-        kept = "its step keeps its own four fields and its reset its bare observations (no seed/options)"
+        own = "its reset its bare observations (no seed/options)"
+        if keeps_render:
+            own += ", its render its mode argument"
+        kept = f"its step keeps its own four fields and {own}"
         calls = "the calls of them"
         api = "return stacked terminated and truncated arrays from step and (obs, info) from reset"
     else:

@@ -170,11 +170,19 @@ def _decide_returns(decision: ClassDecision, function: Method, helpers: set[int]
             # flag. Its contract is kept (and its callers' with it); one item per class.
             decision.plan.batched_step = True
             if not any(is_batched_step_return(r.value, function) for r in returns[:position]):
+                # Kept whole (reset, step, render(mode) and the calls on its instances the
+                # run traces), the batch works on Gymnasium as it did: an explanation, not a
+                # question (an untraced caller is asked about at its own call).
                 decision.report(
                     ret,
                     "GM504",
-                    batched_step_message(decision.classdef.name, keeps_reset="reset" in decision.methods),
+                    batched_step_message(
+                        decision.classdef.name,
+                        keeps_reset="reset" in decision.methods,
+                        keeps_render="render" in decision.methods,
+                    ),
                     FixKind.FLAG,
+                    tier=Tier.NOTE,
                     question=BATCHED_STEP_QUESTION,
                 )
             continue

@@ -95,6 +95,8 @@ class IdSites:
                 else:
                     sites.extend(self._parameter_ids(arg))
                     self.atari_reads += [(call, arg), (None, arg)]
+            elif isinstance(arg, ast.Attribute) and isinstance(arg.value, ast.Name) and arg.value.id == "self":
+                sites.extend(self._stored_ids(arg))
             elif atari_template(self.facts, arg) is not None:
                 self.atari_reads.append((None, arg))
         sites.extend(self._constants_passed_on())
@@ -142,6 +144,20 @@ class IdSites:
             site = self._site(element, None, False, via=where)
             if site is not None:
                 sites.append(site)
+        return sites
+
+    def _stored_ids(self, attribute: ast.Attribute) -> list[IdSite]:
+        """``make(self.env_id)`` with ``self.env_id = env_id`` stored by ``__init__`` (or a
+        literal stored): the literals the class's constructions here pass for that parameter
+        (``Worker("Pendulum-v0")``), as for a parameter of the function around the call."""
+        sites: list[IdSite] = []
+        for value in self.receivers.self_attribute_values(attribute, attribute.attr):
+            if isinstance(value, ast.Name):
+                sites.extend(self._parameter_ids(value))
+            else:
+                site = self._site(value, None, False, via=f"`self.{attribute.attr}`")
+                if site is not None:
+                    sites.append(site)
         return sites
 
     def _parameter_ids(self, name: ast.Name, seen: frozenset[ast.arg] = frozenset()) -> list[IdSite]:

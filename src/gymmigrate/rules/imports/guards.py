@@ -10,7 +10,7 @@ import ast
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.module import FUNCTIONS, dotted_name
 from gymmigrate.facts.version_checks import settled_test
-from gymmigrate.findings import Tier
+from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.gymnasium_api import GYMNASIUM_VERSION
 from gymmigrate.rules.imports.common import ImportsBase
 from gymmigrate.rules.imports.table import LEGACY_PACKAGES
@@ -119,7 +119,48 @@ class ImportGuards(ImportsBase):
                         tier=Tier.NOTE,
                     )
                     continue
+            if check is None and self._drop_legacy_demand(node):
+                continue
             self.report(node, "GM108", "gym version check: after the migration one branch is dead; delete the legacy one")
+
+    def _drop_legacy_demand(self, node: ast.AST) -> bool:
+        """``minor = int(gym.__version__.split('.')[1])`` read only by guards that stop the
+        program on a newer gym (``if minor >= 19: exit("install gym 0.19")``): they exist to
+        demand the legacy API this run has just replaced, and on Gymnasium they would test its
+        own version. The assignment and the guards are deleted (a note)."""
+        statement = self.facts.statement_of(node)
+        if not (
+            isinstance(statement, ast.Assign)
+            and len(statement.targets) == 1
+            and isinstance(statement.targets[0], ast.Name)
+        ):
+            return False
+        target = statement.targets[0]
+        scope = self.facts.scope_of(target)
+        if len(scope.bindings.get(target.id, ())) != 1:
+            return False
+        reads = [r for r in scope.reads.get(target.id, ()) if isinstance(r, ast.Name)]
+        guards: list[ast.If] = []
+        for read in reads:
+            guard = self.facts.parent(self.facts.parent(read))
+            if not (isinstance(guard, ast.If) and _exits_on_newer(guard, read)):
+                return False
+            guards.append(guard)
+        if not guards:
+            return False
+        for guard in guards:
+            self.plan.remove(guard)
+        self.plan.remove(statement)
+        self.report(
+            statement,
+            "GM108",
+            f"`{target.id}` is the gym version, read only to stop the program on a newer gym (line "
+            f"{', '.join(str(g.lineno) for g in guards)}): that guard demanded the legacy API this migration replaced, "
+            "and would now test Gymnasium's own version; deleted with it",
+            FixKind.AUTO,
+            tier=Tier.NOTE,
+        )
+        return True
 
     def _settled_helper(self, node: ast.AST) -> bool:
         """``node`` reads the version in a helper (``def ge(v): return parse(gym.__version__)
@@ -231,3 +272,28 @@ def _catches_import_error(handler: ast.ExceptHandler) -> bool:
     caught = handler.type.elts if isinstance(handler.type, ast.Tuple) else [handler.type]
     names = {dotted_name(item) for item in caught}
     return bool(names & {"ImportError", "ModuleNotFoundError", "Exception", "BaseException"})
+
+
+_EXITS = frozenset({"exit", "quit", "sys.exit", "os._exit"})
+
+
+def _exits_on_newer(guard: ast.If, read: ast.Name) -> bool:
+    """``if read >= 19: exit(...)`` (or ``>``, or ``19 <= read``), with no else: the body
+    only prints and stops the program."""
+    test = guard.test
+    if guard.orelse or not (isinstance(test, ast.Compare) and len(test.ops) == 1):
+        return False
+    left, op, right = test.left, test.ops[0], test.comparators[0]
+    newer = (left is read and isinstance(op, (ast.GtE, ast.Gt)) and isinstance(right, ast.Constant)) or (
+        right is read and isinstance(op, (ast.LtE, ast.Lt)) and isinstance(left, ast.Constant)
+    )
+    if not newer:
+        return False
+    *before, last = guard.body
+    stops = isinstance(last, ast.Raise) or (
+        isinstance(last, ast.Expr) and isinstance(last.value, ast.Call) and dotted_name(last.value.func) in _EXITS
+    )
+    prints = all(
+        isinstance(s, ast.Expr) and isinstance(s.value, ast.Call) and dotted_name(s.value.func) == "print" for s in before
+    )
+    return stops and prints

@@ -59,6 +59,11 @@ class RenderSites(RecorderSites):
             return None  # a render method forwarding to its env: the Env/Wrapper rules own it
         if mode_arg is not None and self._class_keeps_its_mode(receiver):
             return None  # ``render(mode)`` of a class that chooses its mode itself is kept (GM405 says so)
+        if self.receivers.legacy_step_class(receiver) is not None:
+            # An instance of a class of the run kept on its own API (a batch of envs whose
+            # step and reset stay legacy): its render(mode='human') stays with them (GM405
+            # leaves it), so the call draws as before and no make of it exists to take a mode.
+            return None
         if self._reached_from_other_library(receiver):
             return None  # ``tf_env.pyenv.envs[0].render(mode="rgb_array")``: tf_agents' API, not Gym's
         kind = self.receivers.kind_of(receiver)

@@ -13,7 +13,12 @@ from collections.abc import Hashable
 
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts.decisions import Decision
-from gymmigrate.facts.done_uses import DoneUse, classify_done_read, stored_in_sequence
+from gymmigrate.facts.done_uses import (
+    DoneUse,
+    classify_done_read,
+    loaded_names,
+    stored_in_sequence,
+)
 from gymmigrate.facts.module import own_returns
 from gymmigrate.facts.receiver_classes import is_batched_step_return, keeps_legacy_step
 from gymmigrate.findings import FixKind, Tier
@@ -365,6 +370,28 @@ class DoneReadReports(DoneBookkeeping):
                 FixKind.FLAG,
                 Tier.NOTE,
             )
+        elif owner is step.assign and self._sent_with_reset_observation(read, step):
+            # ``if done: obs = env.reset()`` then ``pipe.send((obs, reward, done, ...))``: the
+            # receiver gets the next episode's first observation, never the final one, so
+            # the flag can only end the episode (a note).
+            self._report_read(
+                read,
+                f"`{read.id}` is handed on with the observation of the reset that follows the episode's end, never "
+                f"the final one, so no receiver can bootstrap from it: it stays `{names.terminated} or "
+                f"{names.truncated}`, the episode's end",
+                FixKind.FLAG,
+                Tier.NOTE,
+            )
+        elif owner is step.assign and self._and_not_truncation(read, step):
+            # ``done and not <info's TimeLimit.truncated>``: with the run's rewrite of that
+            # key it is exactly ``terminated`` (a note).
+            self._report_read(
+                read,
+                f"`{read.id} and not {self.facts.segment(self.facts.parent(read).values[1].operand)}` is "  # type: ignore[union-attr]
+                f"`{names.terminated}` once the time-limit key is the step's truncated: nothing to change",
+                FixKind.FLAG,
+                Tier.NOTE,
+            )
         elif use is DoneUse.AMBIGUOUS and owner is step.assign and self._hands_step_on(read, step):
             self._report_read(
                 read,
@@ -397,6 +424,60 @@ class DoneReadReports(DoneBookkeeping):
                 FixKind.FLAG,
                 question=question,
             )
+
+    def _sent_with_reset_observation(self, read: ast.Name, step: DoneStep) -> bool:
+        """``pipe.send((obs, reward, done, info, total))`` after
+        ``if done: obs = env.reset()`` in the same block as the step: the observation sent
+        with a true flag is the new episode's, so no receiver can bootstrap from the final
+        one. No other element may read the observation."""
+        site = self.facts.parent(read)
+        holder = self.facts.parent(site) if isinstance(site, ast.Tuple) else None
+        # a call's only argument (a return of the step's values is a step of its own: GM504)
+        if not isinstance(holder, ast.Call) or holder.args != [site] or holder.keywords:
+            return False
+        first = step.target.elts[0] if step.target.elts else None
+        if not isinstance(first, ast.Name):
+            return False
+        observation = first.id
+        if not any(isinstance(e, ast.Name) and e.id == observation for e in site.elts):  # type: ignore[union-attr]
+            return False
+        if any(observation in loaded_names(e) for e in site.elts if not (isinstance(e, ast.Name) and e.id == observation)):  # type: ignore[union-attr]
+            return False
+        block = self._sibling_block(step.assign)
+        statement = self.facts.statement_of(read)
+        if block is None or statement not in block:
+            return False
+        between = block[block.index(step.assign) + 1 : block.index(statement)]
+        if any(observation in _assigned_names(s) for s in between if not _resets_on_done(s, step.done.id, observation)):
+            return False
+        return any(_resets_on_done(s, step.done.id, observation) for s in between)
+
+    def _and_not_truncation(self, read: ast.Name, step: DoneStep) -> bool:
+        """``failure = done and not limited`` where ``limited`` is bound once, after the step
+        in its block, from the step's info's ``'TimeLimit.truncated'`` alone: the run turns
+        that into the step's truncated (without terminated), so the expression is exactly
+        ``terminated``."""
+        parent = self.facts.parent(read)
+        if not (isinstance(parent, ast.BoolOp) and isinstance(parent.op, ast.And) and len(parent.values) == 2 and parent.values[0] is read):
+            return False
+        other = parent.values[1]
+        if not (isinstance(other, ast.UnaryOp) and isinstance(other.op, ast.Not) and isinstance(other.operand, ast.Name)):
+            return False
+        info = step.target.elts[-1] if step.target.elts else None
+        if not isinstance(info, ast.Name):
+            return False
+        block = self._sibling_block(step.assign)
+        statement = self.facts.statement_of(read)
+        if block is None or statement not in block:
+            return False
+        between = block[block.index(step.assign) + 1 : block.index(statement)]
+        flag = other.operand.id
+        binders = [s for s in between if flag in _assigned_names(s)]
+        if len(binders) != 1 or not isinstance(binders[0], ast.Assign) or len(binders[0].targets) != 1:
+            return False
+        if any(read.id in _assigned_names(s) for s in between):
+            return False
+        return _only_time_limit_key(binders[0].value, info.id)
 
     def _in_kept_batch_return(self, read: ast.Name) -> bool:
         """``read`` is in a stacked return of a step that keeps its four fields (a batch)."""
@@ -443,3 +524,79 @@ class DoneReadReports(DoneBookkeeping):
         if id(read) not in self.reported_reads:
             self.reported_reads.add(id(read))
             self.report(read, "GM302", message, kind, tier, question=question)
+
+
+def _assigned_names(statement: ast.stmt) -> set[str]:
+    """The names a statement (and the statements inside it) binds."""
+    return {
+        node.id for node in ast.walk(statement) if isinstance(node, ast.Name) and isinstance(node.ctx, ast.Store)
+    }
+
+
+def _resets_on_done(statement: ast.stmt, done: str, observation: str) -> bool:
+    """``if done: observation = env.reset()`` (or ``env.reset()[0]``, or the first of an unpack)."""
+    if not (isinstance(statement, ast.If) and isinstance(statement.test, ast.Name) and statement.test.id == done):
+        return False
+    for inner in statement.body:
+        if not isinstance(inner, ast.Assign) or len(inner.targets) != 1:
+            continue
+        target, value = inner.targets[0], inner.value
+        if isinstance(target, ast.Tuple) and target.elts:
+            target = target.elts[0]
+        if isinstance(value, ast.Subscript):
+            value = value.value
+        if (
+            isinstance(target, ast.Name)
+            and target.id == observation
+            and isinstance(value, ast.Call)
+            and isinstance(value.func, ast.Attribute)
+            and value.func.attr == "reset"
+        ):
+            return True
+    return False
+
+
+_TIME_LIMIT_KEY = "TimeLimit.truncated"
+
+
+def _only_time_limit_key(value: ast.expr, info: str) -> bool:
+    """``info['TimeLimit.truncated']``, ``info.get('TimeLimit.truncated', False)``, or
+    ``'TimeLimit.truncated' in info and`` one of them: a lookup of that key of ``info``,
+    which GM303 replaces by ``truncated and not terminated`` (a bare membership test
+    becomes ``truncated`` alone, and ``done and not truncated`` is not ``terminated``)."""
+    if isinstance(value, ast.BoolOp) and isinstance(value.op, ast.And):
+        parts = value.values
+        return any(_time_limit_lookup(p, info) for p in parts) and all(
+            _time_limit_lookup(p, info) or _time_limit_membership(p, info) for p in parts
+        )
+    return _time_limit_lookup(value, info)
+
+
+def _is_key(node: ast.AST) -> bool:
+    return isinstance(node, ast.Constant) and node.value == _TIME_LIMIT_KEY
+
+
+def _time_limit_lookup(node: ast.expr, info: str) -> bool:
+    if isinstance(node, ast.Subscript):
+        return isinstance(node.value, ast.Name) and node.value.id == info and _is_key(node.slice)
+    return (
+        isinstance(node, ast.Call)
+        and isinstance(node.func, ast.Attribute)
+        and node.func.attr == "get"
+        and isinstance(node.func.value, ast.Name)
+        and node.func.value.id == info
+        and bool(node.args)
+        and _is_key(node.args[0])
+        and all(isinstance(a, ast.Constant) and a.value in (False, None) for a in node.args[1:])
+    )
+
+
+def _time_limit_membership(node: ast.expr, info: str) -> bool:
+    return (
+        isinstance(node, ast.Compare)
+        and len(node.ops) == 1
+        and isinstance(node.ops[0], ast.In)
+        and _is_key(node.left)
+        and isinstance(node.comparators[0], ast.Name)
+        and node.comparators[0].id == info
+    )

@@ -379,10 +379,13 @@ class DoneReadUses(NextStateReads):
 
     def _returned_for_loop_exit(self, read: ast.Name, values: ast.Tuple) -> str | None:
         function = self.facts.enclosing_function(read)
-        if not isinstance(function, FUNCTIONS) or self.facts.enclosing_class(read) is not None:
+        if not isinstance(function, FUNCTIONS):
             return None
         index = next(i for i, value in enumerate(values.elts) if value is read)
-        calls = self.facts.calls_by_name.get(function.name, [])
+        if self.facts.enclosing_class(read) is not None:
+            calls = self._own_method_calls(function)
+        else:
+            calls = self.facts.calls_by_name.get(function.name, [])
         if not calls:
             return None
         for call in calls:
@@ -405,6 +408,30 @@ class DoneReadUses(NextStateReads):
             if any(self._bootstrap_choice(use, unpacked, dominated=True) is not None for use in uses):
                 return None
         return f"is returned by `{function.name}`, whose callers read it only to end their loop"
+
+    def _own_method_calls(self, function: ast.AST) -> list[ast.Call]:
+        """``self.<method>(...)`` in the class that defines ``function`` (a method of it), when
+        nothing else in the module calls a method of that name (``agent.<method>(...)``
+        could not be told apart); empty otherwise."""
+        classdef = self.facts.parent(function)
+        if not isinstance(classdef, ast.ClassDef):
+            return []
+        name = function.name  # type: ignore[attr-defined]
+        found: list[ast.Call] = []
+        for node in ast.walk(self.facts.tree):
+            if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == name:
+                owner = node.func.value
+                caller = self.facts.enclosing_class(node)
+                if not (isinstance(owner, ast.Name) and owner.id == "self" and caller is not None):
+                    return []
+                if caller is not classdef:
+                    if any(isinstance(s, FUNCTIONS) and s.name == name for s in caller.body):
+                        continue  # another class's own method of that name (``self`` is that class)
+                    return []
+                found.append(node)
+            elif isinstance(node, ast.Attribute) and node.attr == name and not isinstance(self.facts.parent(node), ast.Call):
+                return []  # the bound method handed on (a callback): its callers are unknown
+        return found
 
     def _returned_to_bootstrap_choice(self, read: ast.Name) -> tuple[str, ast.Name] | None:
         """``return s2, r, done, info`` from a def of the file, and a caller that unpacks the

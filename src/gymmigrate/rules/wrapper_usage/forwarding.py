@@ -34,6 +34,7 @@ import ast
 
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts import names as N
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import dotted_name
 from gymmigrate.findings import FixKind, Tier
@@ -82,6 +83,11 @@ _MAKE_LAYER_ATTRIBUTES = frozenset(
     {"has_reset", "checked_reset", "checked_step", "checked_render", "checked_data_reuse", "close_called"}
 )
 
+
+
+# Attributes of gym's Monitor itself that no Gymnasium wrapper has: ``videos`` (the
+# (video, metadata) paths it wrote).
+_MONITOR_ONLY_ATTRIBUTES = frozenset({"videos"})
 
 class WrapperForwarding(RuleFamily):
     """GM604-GM606. In the pipeline after the wrapper subclass rules, as the LibCST pass it replaced."""
@@ -133,6 +139,22 @@ class WrapperForwarding(RuleFamily):
                     tier=Tier.NOTE,
                 )
 
+    def _records_with_gym_monitor(self) -> bool:
+        """This module wraps an env in gym's ``Monitor`` or in the ``RecordVideo`` that replaces
+        it (a later pass of the run, or a second run, sees that one)."""
+
+        def scan() -> bool:
+            for node in self.facts.parents:
+                if isinstance(node, ast.Call) and isinstance(node.func, (ast.Name, ast.Attribute)):
+                    last = node.func.id if isinstance(node.func, ast.Name) else node.func.attr
+                    if last in ("Monitor", "RecordVideo") and any(
+                        (N.strip_gym_prefix(q) or "").startswith("wrappers.") for q in self.facts.qualified_names(node.func)
+                    ):
+                        return True
+            return False
+
+        return bool(self.facts.memo(("records-with-gym-monitor", id(self.facts.tree)), scan))
+
     def _closes_monitor_of_env(self, attr: ast.Attribute) -> bool:
         """``env.monitor.close()`` as a statement, ``env`` a name the run shows is a Gym env
         and that nothing in its scope reads after this line (``close`` closes the env too)."""
@@ -176,6 +198,19 @@ class WrapperForwarding(RuleFamily):
         known = sub_env or self.receivers.kind_of(receiver) is EnvKind.GYM_ENV
         if not known and not self.origins.outer_is_wrapper(receiver):
             self._read_past_test_double(attr)
+            return
+        if name in _MONITOR_ONLY_ATTRIBUTES and isinstance(attr.ctx, ast.Load) and self._records_with_gym_monitor():
+            # gym's Monitor kept the list of the videos it wrote; RecordVideo, which the run
+            # puts in its place (GM611), keeps none, so no forwarding can reach one.
+            self.report(
+                attr,
+                "GM604",
+                f"`{dotted_name(attr) or name}` was gym Monitor's list of (video, metadata) file pairs; RecordVideo, "
+                "which replaces the Monitor here, keeps no such list (AttributeError on Gymnasium, through "
+                "`get_wrapper_attr` too): list the .mp4 files it writes in its video_folder instead (it writes no "
+                "metadata json)",
+                kind=FixKind.FLAG,
+            )
             return
         if name == "monitor" and isinstance(attr.ctx, ast.Load) and self._closes_monitor_of_env(attr):
             # ``env.monitor.close()`` on an env the run made, read no more afterwards: the

@@ -67,12 +67,17 @@ def plan_monitor(family: StacksFamily, call: ast.Call) -> MonitorRewrite | None:
     trigger = values.get("video_callable")
     # ``force`` cleared the folder's old monitor files; RecordVideo writes over what is there
     # (with a warning), so dropping it keeps the behaviour: no question, only the note.
-    dropped = sorted(k for k in values if k in _DROPPED and k != "force")
+    # ``mode`` ("training"/"evaluation") only labelled the episodes in the Monitor's own
+    # statistics files, which nothing in Gymnasium writes: dropping it changes nothing the
+    # program can see, so it is explained, not asked (as ``force``).
+    dropped = sorted(k for k in values if k in _DROPPED and k not in ("force", "mode"))
     note = ""
     if dropped:
         listed = ", ".join(f"`{k}`" for k in dropped)
         note = f"; {listed} {'has' if len(dropped) == 1 else 'have'} no equivalent and {'was' if len(dropped) == 1 else 'were'} dropped"
     explained = "; `force` was dropped (RecordVideo writes over the folder's files)" if "force" in values else ""
+    if "mode" in values:
+        explained += "; `mode` was dropped (it only labelled the Monitor's statistics files, which Gymnasium does not write)"
     # Where each value sits in the call, to find its LibCST counterpart in the build.
     where = {name: _argument_slot(call, value) for name, value in values.items()}
 
