@@ -60,7 +60,7 @@ class MetadataKeys(RuleFamily):
         parent = self.facts.parent(string)
         if isinstance(parent, ast.Dict):
             return False  # a key being declared, not read
-        new = LEGACY_METADATA_KEYS[string.value]
+        new = LEGACY_METADATA_KEYS[str(string.value)]
         current: ast.AST = string
         statement = self.facts.statement_of(string)
         compound = (ast.If, ast.Try, ast.For, ast.AsyncFor, ast.While, ast.With, ast.AsyncWith)
