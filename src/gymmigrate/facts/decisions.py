@@ -27,6 +27,7 @@ class Origins(Protocol):
 
     def library_made(self, expr: ast.AST) -> str | None: ...
     def gym_only_stack(self, expr: ast.AST) -> str | None: ...
+    def own_api_holder(self, expr: ast.AST) -> str | None: ...
 
 # Spellings that name an environment. Used only to decide between reporting and
 # staying silent (or, in a file that uses nothing but Gym, rewriting for review):
@@ -94,6 +95,11 @@ def decide(
         )
     if (env_like or legacy_shape) and origins is not None and origins.run_defined(receiver):
         return Decision(Action.REPORT, f"`{name}` holds an object the project makes itself, not shown to be a Gym env; not rewritten")
+    holder = origins.own_api_holder(receiver) if (env_like or legacy_shape) and origins is not None else None
+    if holder is not None:
+        # a wrapper of an env API other than Gym's forwarding its own reset/step: what it
+        # holds follows that API as likely as Gym's, so the file's imports settle nothing
+        return Decision(Action.REPORT, f"`{name}` is held by {holder}; not shown to be a Gym env, not rewritten")
     library = origins.library_made(receiver) if env_like and profile.gym_only and origins is not None else None
     if library is not None:
         return Decision(Action.REPORT, f"`{name}` is made by `{library}`, a library other than Gym, not shown to be a Gym env; not rewritten")

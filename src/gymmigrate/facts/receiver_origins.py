@@ -390,6 +390,67 @@ class MadeObjects(_Facade):
         finally:
             self.depth -= 1
 
+    def own_api_holder(self, expr: ast.AST) -> str | None:
+        """``self.X.reset()`` (or ``step``...) inside the same-named method (``reset`` or its
+        hook ``_reset``) of a class that is no Gym class and derives from a base with an env
+        API of its own: a class of the run that is not a Gym env and declares that method
+        (``class Wrapper(Environment)`` where ``Environment.reset`` returns the states
+        only), or a class of a library with its own env API (tf_agents' ``PyEnvironment``
+        wrappers, whose reset gives a TimeStep). Such a method forwards its own contract to
+        the object it holds, so ``self.X`` is not shown to be a Gym env: a description for
+        the message, else None."""
+        if not (isinstance(expr, ast.Attribute) and isinstance(expr.value, ast.Name) and self.is_self(expr.value)):
+            return None
+        called = self.facts.parent(expr)
+        function = self.facts.enclosing_function(expr)
+        classdef = self.facts.enclosing_class(expr)
+        if not (
+            isinstance(called, ast.Attribute) and called.value is expr
+            and function is not None and classdef is not None and self.facts.parent(function) is classdef
+            and function.name.lstrip("_") == called.attr.lstrip("_")
+        ):
+            return None
+        if self.is_gym_wrapper_class(classdef) or self._known_kind(classdef) not in (EnvKind.UNKNOWN, EnvKind.NOT_ENV):
+            return None
+        base = self._own_api_base_name(classdef, called.attr)
+        if base is None:
+            return None
+        return f"`{classdef.name}`, whose `{function.name}` forwards to it and which derives from `{base}`, an env API other than Gym's"
+
+    def _known_kind(self, classdef: ast.ClassDef) -> EnvKind:
+        return self.facts.memo(("class-kind", id(classdef)), lambda: self.class_kind(classdef), while_computing=EnvKind.UNKNOWN)
+
+    def _own_api_base_name(self, classdef: ast.ClassDef, method: str) -> str | None:
+        """The first base (through the module's classes) that shows an env API other than
+        Gym's with ``method`` (``_own_api_holder``), or None."""
+        wanted = {method.lstrip("_"), "_" + method.lstrip("_")}
+        seen = {id(classdef)}
+        todo = [classdef]
+        while todo:
+            for base in todo.pop().bases:
+                if self._own_api_base(base):
+                    return self.facts.segment(base)
+                local = self.local_class(base)
+                if local is not None:
+                    if id(local) in seen or self.is_gym_wrapper_class(local):
+                        continue
+                    seen.add(id(local))
+                    if self._known_kind(local) not in (EnvKind.UNKNOWN, EnvKind.NOT_ENV):
+                        continue
+                    if any(isinstance(s, FUNCTIONS) and s.name in wanted for s in local.body):
+                        return local.name
+                    todo.append(local)
+                elif self.project is not None:
+                    for qualified in self.qualified_names(base):
+                        if (
+                            self._from_run(qualified)
+                            and self.project.call_kind(qualified) in (None, EnvKind.UNKNOWN, EnvKind.NOT_ENV)
+                            and not self.project.is_wrapper_class(qualified)
+                            and self.project.class_methods(qualified) & wanted
+                        ):
+                            return self.facts.segment(base)
+        return None
+
     def _items_stored(self, container: ast.expr) -> list[ast.expr]:
         """Values written into the list ``container`` (``envs[i] = X``) under any name that
         holds the same list: ``self.envs = envs = [...]`` followed by ``envs[i] = X`` puts X

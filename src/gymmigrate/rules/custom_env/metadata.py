@@ -34,7 +34,7 @@ class MetadataKeys(RuleFamily):
         sites: dict[str, list[ast.Constant]] = {}
         for string in self.facts.strings:
             value = string.value
-            if value in LEGACY_METADATA_KEYS and self._is_metadata_key(string):
+            if value in LEGACY_METADATA_KEYS and self._is_metadata_key(string) and not self._fallback_read(string):
                 sites.setdefault(value, []).append(string)
         for value, strings in sites.items():
             # One finding per key and file, however many envs and reads spell it.
@@ -50,6 +50,33 @@ class MetadataKeys(RuleFamily):
         for statement in self._metadata_stores():
             if isinstance(statement.value, ast.Dict):
                 self._add_render_fps(statement.value)
+
+    def _fallback_read(self, string: ast.Constant) -> bool:
+        """A read of the legacy key that only runs for an env declaring no new key: in the
+        statement that reads the new key first (``m.get("render_modes", m.get("render.modes"))``,
+        a conditional expression), in the ``except`` of a ``try`` reading the new key, or in
+        the ``else`` of an ``if`` testing it. It serves envs still on the legacy key (which
+        Gymnasium's own checker only warns about); renamed, it would read the new key twice."""
+        parent = self.facts.parent(string)
+        if isinstance(parent, ast.Dict):
+            return False  # a key being declared, not read
+        new = LEGACY_METADATA_KEYS[str(string.value)]
+        current: ast.AST = string
+        statement = self.facts.statement_of(string)
+        compound = (ast.If, ast.Try, ast.For, ast.AsyncFor, ast.While, ast.With, ast.AsyncWith)
+        if not isinstance(statement, compound) and _names_key(statement, new):
+            return True
+        while True:
+            parent = self.facts.parent(current)
+            if parent is None or isinstance(parent, (*FUNCTIONS, ast.ClassDef)):
+                return False
+            if isinstance(parent, ast.Try) and any(current is handler for handler in parent.handlers):
+                if any(_names_key(node, new) for node in parent.body):
+                    return True
+            elif isinstance(parent, ast.If) and any(current is node for node in parent.orelse):
+                if _names_key(parent.test, new):
+                    return True
+            current = parent
 
     def _modern_twin(self, string: ast.Constant, new: str) -> ast.Dict | None:
         """The dict literal holding ``string`` as a key when it already has the new key too:
@@ -201,3 +228,8 @@ def _with_render_fps(node: cst.Dict) -> cst.Dict:
     quote = first_key.quote if first_key is not None else '"'
     element = cst.DictElement(key=cst.SimpleString(f"{quote}render_fps{quote}"), value=cst.Integer(str(DEFAULT_RENDER_FPS)))
     return node.with_changes(elements=_append_element(elements, element))
+
+
+def _names_key(node: ast.AST, key: str) -> bool:
+    """``node`` spells the string ``key`` somewhere."""
+    return any(isinstance(sub, ast.Constant) and sub.value == key for sub in ast.walk(node))

@@ -42,7 +42,6 @@ class ImportsBase(RuleFamily):
     """The state ``Imports.decide`` sets up for one file, and what its parts share."""
 
     _removed_advice: Repeats  # GM105: one review item per move and file
-    _plain_gym_import: bool  # a plain ``import gym`` binds ``gym`` (``import gym.x`` needs no alias)
     _gym_names: set[str]  # the names the file binds to gym (or gymnasium)
     _kept_space_imports: dict[ast.ImportFrom, str]  # imports left on gym for class checks, with their messages
 

@@ -14,7 +14,6 @@ from gymmigrate.rules.imports.guards import ImportGuards, innermost_guard
 from gymmigrate.rules.imports.libraries import GYM_ONLY_LIBRARIES
 from gymmigrate.rules.imports.removed import RemovedAttributes
 from gymmigrate.rules.imports.statements import ImportStatements
-from gymmigrate.rules.imports.table import LEGACY_PACKAGES
 from gymmigrate.rules.repeats import Repeats
 
 
@@ -29,13 +28,6 @@ class Imports(ImportStatements, ImportGuards, RemovedAttributes):
 
     def decide(self) -> None:
         self._removed_advice = Repeats()  # GM105: one review item per move and file
-        # Does a plain ``import gym`` bind the name ``gym`` (so ``import gym.x`` needs no alias)?
-        self._plain_gym_import = any(
-            (alias.asname or alias.name) == "gym" and alias.name in LEGACY_PACKAGES
-            for node in self._imports()
-            if isinstance(node, ast.Import)
-            for alias in node.names
-        )
         self._gym_names = set()
         self._kept_space_imports = self._space_checks_of_gym_only_envs()
         guards = self._guards()

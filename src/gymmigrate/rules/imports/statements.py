@@ -93,12 +93,37 @@ class ImportStatements(GymOnlyLibraries):
             new_module = "gymnasium." + migrated_path(rest)
             names.append((new_module, alias.asname))
             self.report(node, "GM103", f"{module} -> {new_module}")
-            if alias.asname is None and not self._plain_gym_import:
-                # ``import gym.spaces`` bound ``gym``; keep that name working.
+            if alias.asname is None and not self._gym_bound_before(node):
+                # ``import gym.spaces`` bound ``gym`` in its scope (a function's own local when
+                # the import is inside it); ``import gymnasium.spaces`` binds ``gymnasium``
+                # only, so keep that name working in the same scope.
                 names.append(("gymnasium", "gym"))
-                self._plain_gym_import = True
         if changed:
             self.plan.replace(node, lambda import_node: _with_names(import_node, names))
+
+    def _gym_bound_before(self, node: ast.Import) -> bool:
+        """Does an earlier import bind ``gym`` wherever ``node`` runs: a statement of the same
+        scope before it in its own block or in a block around it (a plain ``import gym``,
+        or an ``import gym.x`` that keeps or gets that name)? Another function's import
+        binds only that function's local, and one inside an ``if`` does not bind on the
+        other path."""
+        scope = self.facts.scope_of(node).node
+        current: ast.AST = node
+        while current is not scope:
+            parent = self.facts.parent(current)
+            if parent is None:
+                return False
+            for field in ("body", "orelse", "finalbody", "handlers"):
+                block = getattr(parent, field, None)
+                if isinstance(block, list) and current in block:
+                    for earlier in block[: block.index(current)]:
+                        if isinstance(earlier, ast.Import) and any(
+                            (alias.asname or alias.name.split(".")[0]) == "gym" and under_gym(alias.name) is not None
+                            for alias in earlier.names
+                        ):
+                            return True
+            current = parent
+        return False
 
     def _handler_text_naming_gym(self, node: ast.AST) -> int | None:
         """The line of a string in the guard's except handlers that names the gym package

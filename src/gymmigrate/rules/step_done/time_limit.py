@@ -15,6 +15,7 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.edits.lazy import cst
+from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import Scope
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.step_done.common import (
@@ -65,6 +66,20 @@ class TimeLimitRules(StepFamilyBase):
             # A legacy TimeLimit-style wrapper *writing* the key: a store cannot become a
             # `truncated and not terminated` expression, and the wrapper must now report
             # the limit through the truncated flag it returns.
+            classdef = self.facts.enclosing_class(node)
+            if classdef is not None and self._own_info_publisher(classdef):
+                # A class that is no Gym env (an adapter to the project's own env API) filling
+                # the key into the info it hands its own callers: that is the project's
+                # contract, which the migration does not change.
+                self.report(
+                    node,
+                    "GM303",
+                    f'`{classdef.name}` is no Gym env: the "{TIME_LIMIT_KEY}" key it sets is read by its own '
+                    "callers, so it is kept; Gymnasium code reads the step's `truncated` flag instead",
+                    FixKind.FLAG,
+                    tier=Tier.NOTE,
+                )
+                return
             self.report(
                 node,
                 "GM303",
@@ -90,9 +105,13 @@ class TimeLimitRules(StepFamilyBase):
             return  # SB3 VecEnv infos keep the key (SB104)
         if isinstance(names, StepNames) and not names.vector:
             self._replace_read(node, names)
+            default = _truthy_default(node)
             equivalent = (
                 f"`{names.truncated}` (the key was present exactly when the time limit was hit)"
                 if isinstance(node, ast.Compare)
+                else f"`not {names.terminated}` when `{names.truncated}` (the key held `not done` at the time limit), "
+                f"else the default `{self.facts.segment(default)}` as before"
+                if default is not None
                 else f"`{names.truncated} and not {names.terminated}` (the key held `not done` at the time limit)"
             )
             # The step that made this info certainly gave the flags read instead: the
@@ -107,6 +126,22 @@ class TimeLimitRules(StepFamilyBase):
             f'Gymnasium\'s TimeLimit no longer sets "{TIME_LIMIT_KEY}", so this read is always false: '
             "use `truncated and not terminated` from the step that produced this info",
             FixKind.FLAG,
+        )
+
+    def _own_info_publisher(self, classdef: ast.ClassDef) -> bool:
+        """The class derives from bases that are none of Gym's (through the module's classes)
+        and is not a wrapper the run proves: its step's info goes to the project's callers."""
+        if not classdef.bases or self.receivers.is_gym_wrapper_class(classdef):
+            return False
+        kind = self.receivers.class_kind(classdef)
+        if kind is EnvKind.NOT_ENV:
+            return True
+        # unknown: only when every base is the run's own code (a library base may be Gym's)
+        project = self.receivers.project
+        return kind is EnvKind.UNKNOWN and all(
+            self.receivers.local_class(base) is not None
+            or any(q.startswith(".") or (project is not None and project.defines(q)) for q in self.facts.qualified_names(base))
+            for base in classdef.bases
         )
 
     def _info_step(self, base: ast.Name) -> object:
@@ -188,6 +223,21 @@ class TimeLimitRules(StepFamilyBase):
             self.plan.replace(node, membership)
             return
         bare = stands_alone(node, self.facts.parent(node))
+        default = _truthy_default(node)
+        if default is not None:
+            # ``info.get(KEY, True)``: the key held ``not done`` when the time limit was hit
+            # and was absent otherwise, when the default was the value (a project's own time
+            # limit filling the key in): both cases kept.
+            text = f"(not {names.terminated}) if {names.truncated} else {self.facts.segment(default)}"
+
+            def conditional(cst_node: cst.BaseExpression) -> cst.BaseExpression:
+                expression = cst.parse_expression(text)
+                if cst_node.lpar:
+                    return expression.with_changes(lpar=cst_node.lpar, rpar=cst_node.rpar)
+                return expression if bare else expression.with_changes(lpar=[cst.LeftParen()], rpar=[cst.RightParen()])
+
+            self.plan.replace(node, conditional)
+            return
 
         def lookup(cst_node: cst.BaseExpression) -> cst.BaseExpression:
             expression = cst.BooleanOperation(
@@ -202,6 +252,18 @@ class TimeLimitRules(StepFamilyBase):
             return expression.with_changes(lpar=[cst.LeftParen()], rpar=[cst.RightParen()])
 
         self.plan.replace(node, lookup)
+
+
+def _truthy_default(node: ast.expr) -> ast.expr | None:
+    """The default of ``info.get(KEY, d)`` / ``info.pop(KEY, d)`` unless it is a falsy
+    constant (``None``, ``False``, ``0``), for which ``truncated and not terminated`` is
+    already the legacy value."""
+    if not (isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute)):
+        return None
+    default = node.args[1] if len(node.args) > 1 else next((k.value for k in node.keywords if k.arg == "default"), None)
+    if default is None or (isinstance(default, ast.Constant) and not default.value):
+        return None
+    return default
 
 
 def _time_limit_base(node: ast.expr) -> ast.expr:

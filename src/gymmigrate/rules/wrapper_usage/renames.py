@@ -97,6 +97,12 @@ _AUTORESET_MESSAGE = (
 _REMOVED_SUFFIXES = tuple(REMOVED)
 
 
+# gym's Monitor by its attribute path (``gym.wrappers.Monitor``), before and after GM101
+_GYM_MONITORS = frozenset(
+    f"{package}.wrappers{sub}.Monitor" for package in ("gym", "gymnasium") for sub in ("", ".monitor")
+)
+
+
 class WrapperRenames(RuleFamily):
     RULES = RULES
 
@@ -251,6 +257,7 @@ class WrapperRenames(RuleFamily):
                     "and RecordEpisodeStatistics",
                     kind=FixKind.FLAG,
                 )
+        self._report_monitor_attributes()
         if self.context.profile.imports_sb3:
             return  # Stable-Baselines' own Monitor is still there
         for call in name_lookups(self.facts):
@@ -263,6 +270,25 @@ class WrapperRenames(RuleFamily):
                 f"RecordEpisodeStatistics keeps `episode_count`, `return_queue`, `length_queue`{same}",
                 kind=FixKind.FLAG,
                 tier=tier,
+            )
+
+    def _report_monitor_attributes(self) -> None:
+        """``gym.wrappers.Monitor`` read other than as the call it constructs (an
+        ``isinstance`` test, a base, a stored class): the attribute is gone from Gymnasium's
+        wrappers, so the read raises AttributeError; what replaces the test is a person's call."""
+        for attribute in self.facts.attributes.get("Monitor", ()):
+            parent = self.facts.parent(attribute)
+            if isinstance(parent, ast.Call) and parent.func is attribute:
+                continue  # a construction: planned (or asked about) by the Monitor rewrite
+            if not self.facts.qualified_names(attribute) & _GYM_MONITORS or self._legacy.binds_legacy(attribute):
+                continue
+            self.report(
+                attribute,
+                "GM611",
+                f"`{self.facts.segment(attribute)}` is gone (AttributeError on Gymnasium): videos and statistics come "
+                "from RecordVideo and RecordEpisodeStatistics now (it keeps `episode_count`, `return_queue`, "
+                "`length_queue`); test for those or drop this use",
+                kind=FixKind.FLAG,
             )
 
     def _experimental_import(self, statement: ast.ImportFrom, rest: str) -> None:

@@ -50,26 +50,31 @@ GONE_WRAPPER_STATE: dict[str, frozenset[str]] = {
 
 
 
-def _is_inner_env(node: ast.expr) -> bool:
-    """``self.env`` or ``super()`` / ``super(Cls, self)``: what an override delegates to."""
+# What a wrapper delegates to when the class keeps no other name for it.
+INNER = ("env",)
+
+
+def _is_inner_env(node: ast.expr, inner: Sequence[str] = INNER) -> bool:
+    """``self.env`` (or another attribute in ``inner``, ``inner_env_names``) or ``super()`` /
+    ``super(Cls, self)``: what an override delegates to."""
     if isinstance(node, ast.Attribute):
-        return isinstance(node.value, ast.Name) and node.value.id == "self" and node.attr == "env"
+        return isinstance(node.value, ast.Name) and node.value.id == "self" and node.attr in inner
     return isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "super"
 
 
-def _inner_call(node: ast.AST | None, method: str) -> ast.Call | None:
+def _inner_call(node: ast.AST | None, method: str, inner: Sequence[str] = INNER) -> ast.Call | None:
     """``node`` if it is ``self.env.<method>(...)`` or ``super().<method>(...)``."""
     if (
         isinstance(node, ast.Call)
         and isinstance(node.func, ast.Attribute)
         and node.func.attr == method
-        and _is_inner_env(node.func.value)
+        and _is_inner_env(node.func.value, inner)
     ):
         return node
     return None
 
 
-def _inner_calls(root: ast.AST, method: str) -> list[ast.Call]:
+def _inner_calls(root: ast.AST, method: str, inner: Sequence[str] = INNER) -> list[ast.Call]:
     """Inner ``method`` calls under ``root``, not inside lambdas, in source order."""
     found: list[ast.Call] = []
     stack = [root]
@@ -77,12 +82,61 @@ def _inner_calls(root: ast.AST, method: str) -> list[ast.Call]:
         node = stack.pop()
         if isinstance(node, ast.Lambda):
             continue
-        inner = _inner_call(node, method)  # ``node`` itself, as a Call
-        if inner is not None:
-            found.append(inner)
+        call = _inner_call(node, method, inner)  # ``node`` itself, as a Call
+        if call is not None:
+            found.append(call)
         stack.extend(ast.iter_child_nodes(node))
     found.sort(key=lambda call: (call.lineno, call.col_offset))
     return found
+
+
+def inner_env_names(classdef: ast.ClassDef) -> tuple[str, ...]:
+    """``env`` and the attributes a wrapper keeps the same inner env in: ``self._env = env``
+    in an ``__init__`` that hands that very parameter (never rebound) to
+    ``super().__init__``, or ``self._env = self.env``, where no other line of the class
+    stores the attribute. A reset delegating through such a name delegates to the inner env."""
+    init = next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == "__init__"), None)
+    if init is None:
+        return INNER
+    params = [a.arg for a in (*init.args.posonlyargs, *init.args.args)][1:]
+    handed: set[str] = set()
+    rebound: set[str] = set()
+    for node in ast.walk(init):
+        if (
+            isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "__init__"
+            and isinstance(node.func.value, ast.Call) and isinstance(node.func.value.func, ast.Name)
+            and node.func.value.func.id == "super"
+        ):
+            first = node.args[0] if node.args else next((k.value for k in node.keywords if k.arg == "env"), None)
+            if isinstance(first, ast.Name) and first.id in params:
+                handed.add(first.id)
+        elif isinstance(node, ast.Name) and isinstance(node.ctx, (ast.Store, ast.Del)):
+            rebound.add(node.id)
+    handed -= rebound
+    in_init = {id(node) for node in ast.walk(init)}
+    stores: dict[str, list[ast.expr | None]] = {}
+    for node in ast.walk(classdef):
+        targets: list[ast.expr] = []
+        value: ast.expr | None = None
+        if isinstance(node, ast.Assign):
+            targets, value = node.targets, node.value
+        elif isinstance(node, (ast.AnnAssign, ast.AugAssign)):
+            targets, value = [node.target], None
+        for target in targets:
+            if isinstance(target, ast.Attribute) and isinstance(target.value, ast.Name) and target.value.id == "self":
+                # a parameter's name means that parameter only in ``__init__`` itself
+                kept = value if len(targets) == 1 and (id(node) in in_init or not isinstance(value, ast.Name)) else None
+                stores.setdefault(target.attr, []).append(kept)
+    names = list(INNER)
+    for attr, values in stores.items():
+        if attr in INNER:
+            continue
+        if values and all(
+            (isinstance(v, ast.Name) and v.id in handed) or (isinstance(v, ast.Attribute) and _is_inner_env(v))
+            for v in values
+        ):
+            names.append(attr)
+    return tuple(names)
 
 
 def _statements(body: list[ast.stmt]) -> Iterator[ast.stmt]:

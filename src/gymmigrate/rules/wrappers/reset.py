@@ -10,12 +10,14 @@ Gymnasium's ``*, seed=None, options=None``, which outer wrappers always pass.
 from __future__ import annotations
 
 import ast
+from collections.abc import Sequence
 
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts.module import own_returns
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import RuleFamily
 from gymmigrate.rules.wrappers.common import (
+    INNER,
     _assigned_names,
     _fresh,
     _inner_call,
@@ -26,6 +28,7 @@ from gymmigrate.rules.wrappers.common import (
     _statements,
     _target_names,
     _tuple,
+    inner_env_names,
 )
 
 
@@ -33,12 +36,13 @@ class ResetOverrides(RuleFamily):
     """GM601 (mixed into the family; no ``RULES``, so not registered itself)."""
 
     def _fix_reset(self, classdef: ast.ClassDef, function: ast.FunctionDef | ast.AsyncFunctionDef) -> None:
+        inner = inner_env_names(classdef)  # ``self._env`` kept beside ``self.env``
         noted_info = self.notes.reset_info_names.get(f"{classdef.name}.{function.name}")
         info_name: str | None = None
         completed: set[ast.stmt] = set()  # one-name resets the reset family unpacks into ``obs, info``
         for line in _statements(function.body):
             assign = _single_assign(line)
-            if assign is None or _inner_call(assign.value, "reset") is None:
+            if assign is None or _inner_call(assign.value, "reset", inner) is None:
                 continue
             target = assign.targets[0]
             targets = _target_names(target)
@@ -47,18 +51,18 @@ class ResetOverrides(RuleFamily):
             elif isinstance(target, ast.Name) and noted_info is not None:
                 info_name = info_name or noted_info
                 completed.add(assign)
-        fixed_signature = self._fix_reset_signature(function)
+        fixed_signature = self._fix_reset_signature(function, inner)
         taken = _names_in(function)
         needs_info_default = False
         for ret in own_returns(function):
             value = ret.value
-            if value is None or _inner_call(value, "reset") is not None:
+            if value is None or _inner_call(value, "reset", inner) is not None:
                 continue  # a pass-through already returns (obs, info)
             if _already_pair(value, info_name):
                 continue
-            inner = _inner_calls(value, "reset")
-            if inner:
-                self._hoist_reset(ret, inner, taken, fixed_signature)
+            calls = _inner_calls(value, "reset", inner)
+            if calls:
+                self._hoist_reset(ret, calls, taken, fixed_signature)
                 continue
             info_code = "{}"
             if info_name is not None:
@@ -92,22 +96,27 @@ class ResetOverrides(RuleFamily):
             else:
                 self.plan.insert_before(body[0], f"{info_name} = {{}}")
 
-    def _fix_reset_signature(self, function: ast.FunctionDef | ast.AsyncFunctionDef) -> bool:
+    def _fix_reset_signature(self, function: ast.FunctionDef | ast.AsyncFunctionDef, inner: Sequence[str] = INNER) -> bool:
         """``def reset(self)`` cannot take the seed/options that every outer wrapper passes."""
         args = function.args
         if len(args.args) != 1 or args.posonlyargs or args.kwonlyargs or args.kwarg or args.vararg:
             return False
         # The edits first, then the finding they carry out (how the plan ties an edit to the
         # finding it serves when the run leaves GM601 out: the pass-on must go with it).
-        for call in _inner_calls(function, "reset"):
+        calls = _inner_calls(function, "reset", inner)
+        for call in calls:
             if not call.args and not call.keywords:
                 self.plan.replace(call, _pass_seed_and_options)
         self.plan.replace(function, _keyword_seed_and_options)
         self.report(
             function,
             "GM601",
-            "reset now takes keyword-only `seed` and `options` (outer wrappers always pass them); they are "
-            "passed on to the inner reset",
+            "reset now takes keyword-only `seed` and `options` (outer wrappers always pass them); "
+            + (
+                "they are passed on to the inner reset"
+                if calls
+                else "this override calls no reset of the env it wraps, so they are not used (as the legacy reset took none)"
+            ),
             tier=Tier.NOTE,  # what Gymnasium's own Wrapper.reset does
         )
         return True
