@@ -224,6 +224,20 @@ class StepOverrides(RuleFamily):
                 )
                 self.plan.replace(value, lambda node, t=terminated: _five(node, _cut(node, t)))
                 self._settle_key_writes(function)
+            elif done_name not in _names(done) and inner_done not in _names(done) and _only_own_step_limit(function, done, flags):
+                # ``done = False; if self.t >= self.t_max: done = True`` returned, the inner
+                # step's done read for something else (a penalty): the wrapper hides the inner
+                # end and ends the episode only at its own step count, which is truncation.
+                # Passing the inner flags on would end episodes the wrapper kept going.
+                self.report(
+                    ret,
+                    "GM602",
+                    "this step override returns only its own step limit as `done` (the inner step's end is not passed "
+                    "on, as before): returned as truncated, with terminated False",
+                    kind=FixKind.ASSIST,
+                    tier=Tier.NOTE,
+                )
+                self.plan.replace(value, lambda node: _five(node, [cst.Name("False"), node.elements[2].value]))
             elif isinstance(done, ast.Constant) and (done.value is None or isinstance(done.value, bool)):
                 # ``return obs, reward, False, info``: the override's own constant end.
                 self.report(
@@ -373,6 +387,44 @@ def _reduces_per_agent(function: ast.AST, name: str, flags: set[str]) -> bool:
         ):
             return True
     return False
+
+
+def _names(expr: ast.AST) -> set[str]:
+    return {node.id for node in ast.walk(expr) if isinstance(node, ast.Name)}
+
+
+def _only_own_step_limit(function: ast.AST, done: ast.expr, flags: tuple[str, str]) -> bool:
+    """``self.t >= self.t_max`` returned as done, or a local whose every assignment in
+    ``function`` is an initializer (``False``/``None``), a step-limit comparison, or ``True``
+    alone under ``if <step limit>:`` (at least one of the last two), none reading the inner
+    flags: the override's done is its own step count and nothing else."""
+    if is_step_limit(done):
+        return not (_names(done) & set(flags))
+    if not isinstance(done, ast.Name):
+        return False
+    name, limits = done.id, 0
+    parents = {child: node for node in ast.walk(function) for child in ast.iter_child_nodes(node)}
+    for node in ast.walk(function):
+        if isinstance(node, (ast.AugAssign, ast.AnnAssign, ast.NamedExpr, ast.For, ast.AsyncFor, ast.With, ast.AsyncWith)):
+            targets = [node.target] if not isinstance(node, (ast.With, ast.AsyncWith)) else [
+                item.optional_vars for item in node.items if item.optional_vars is not None
+            ]
+            if any(name in _names(target) for target in targets):
+                return False
+        elif isinstance(node, (ast.Name,)) and isinstance(node.ctx, ast.Del) and node.id == name:
+            return False
+        elif isinstance(node, ast.Assign) and any(name in _names(target) for target in node.targets):
+            if not (len(node.targets) == 1 and isinstance(node.targets[0], ast.Name)):
+                return False
+            if _is_initializer(node, name):
+                continue
+            if _names(node.value) & set(flags):
+                return False
+            if is_step_limit(node.value) or _set_alone_when(node, parents.get(node), is_step_limit):
+                limits += 1
+                continue
+            return False
+    return limits > 0
 
 
 def _is_done_line(statement: ast.stmt, flags: tuple[str, str]) -> bool:
