@@ -12,6 +12,7 @@ import ast
 from collections.abc import Callable
 
 from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts.atari_signs import has_own_sign, reads_atari_interface, self_stored
 from gymmigrate.facts.module import call_argument, full_name
 from gymmigrate.facts.receivers import Receivers
 from gymmigrate.findings import FixKind
@@ -171,10 +172,8 @@ class AtariEvidence:
     def _atari_signs(self, node: ast.AST, function: ast.AST) -> list[str]:
         """What in ``node`` only an Atari env has: ``.ale``, ``get_action_meanings()``, a
         ``"NoFrameskip"`` check; or a call of a def or class of this module that has one."""
-        if isinstance(node, ast.Attribute) and node.attr == "ale":
-            return ["it uses `.ale`"]
-        if isinstance(node, ast.Attribute) and node.attr == "get_action_meanings":
-            return ["it calls `get_action_meanings()`"]
+        if isinstance(node, ast.Attribute) and reads_atari_interface(node, self_stored(self.facts.enclosing_class(node))):
+            return ["it uses `.ale`"] if node.attr == "ale" else ["it calls `get_action_meanings()`"]
         if isinstance(node, ast.Constant) and node.value == "NoFrameskip":
             # ``assert "NoFrameskip" in env.spec.id`` says what it makes; an ``if`` on the id
             # says that it sometimes does
@@ -191,15 +190,7 @@ class AtariEvidence:
         return []
 
     def _has_atari_sign(self, definition: ast.AST) -> bool:
-        def compute() -> bool:
-            for node in ast.walk(definition):
-                if isinstance(node, ast.Attribute) and node.attr in ("ale", "get_action_meanings"):
-                    return True
-                if isinstance(node, ast.Constant) and node.value == "NoFrameskip":
-                    return True
-            return False
-
-        return bool(self.facts.memo(("atari-sign", id(definition)), compute))
+        return bool(self.facts.memo(("atari-sign", id(definition)), lambda: has_own_sign(definition)))
 
 
 # What the literal part of a built id names for certain: an Atari id, whatever the
