@@ -128,6 +128,26 @@ class DoneReadReports(DoneBookkeeping):
             question=("GM302", id(step.assign)),
         )
 
+    def _discount_test(self, read: ast.expr) -> bool:
+        """``if done: return ts.termination(obs, r)`` (or a 0 where the other return has the
+        discount): the test of ``read`` chooses the transition's discount."""
+        test: ast.AST = read
+        parent = self.facts.parent(test)
+        if isinstance(parent, ast.UnaryOp) and isinstance(parent.op, ast.Not):
+            test, parent = parent, self.facts.parent(parent)
+        return isinstance(parent, ast.If) and parent.test is test and _chooses_discount(parent, self.facts.enclosing_function(parent))
+
+    def _report_discount_choice(self, read: ast.Name, step: DoneStep) -> None:
+        names = step.names
+        self._report_read(
+            read,
+            f"`{read.id}` chooses the discount of the transition here (0: no bootstrapping from the next state), and "
+            f"it now means `{names.terminated} or {names.truncated}`: test `{names.terminated}` for the terminal "
+            "transition, and end a truncated one with its discount kept",
+            FixKind.FLAG,
+            question=("GM302", id(step.assign)),
+        )
+
     def _report_none_mask(self, read: ast.Name, step: DoneStep, masked: str, boundary: str | None = None) -> None:
         names = step.names
         if boundary is not None:
@@ -207,11 +227,7 @@ class DoneReadReports(DoneBookkeeping):
                 and id(node) not in self.reported_reads
             ):
                 continue
-            test: ast.AST = node
-            parent = self.facts.parent(test)
-            if isinstance(parent, ast.UnaryOp) and isinstance(parent.op, ast.Not):
-                test, parent = parent, self.facts.parent(parent)
-            if not (isinstance(parent, ast.If) and parent.test is test and _chooses_discount(parent, self.facts.enclosing_function(parent))):
+            if not self._discount_test(node):
                 continue
             self.reported_reads.add(id(node))
             self.report(
