@@ -781,7 +781,7 @@ def _from_unknown_base_step(decision: ClassDecision, index: FunctionIndex, name:
     that base's text, else None."""
     ends = frozenset(id(e) for e in _task_ends(decision, index, name))
     value = _done_unpacked_from(index, name, ends)
-    if not is_super_method_call(value, "step"):
+    if value is None or not is_super_method_call(value, "step"):
         return None
     if decision.env.base_step_migrates(decision.classdef) and _step_family_unpacks_super(decision, value):
         return None

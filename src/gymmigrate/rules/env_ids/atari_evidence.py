@@ -12,7 +12,11 @@ import ast
 from collections.abc import Callable
 
 from gymmigrate.facts import ModuleFacts
-from gymmigrate.facts.atari_signs import has_own_sign, reads_atari_interface, self_stored
+from gymmigrate.facts.atari_signs import (
+    has_own_sign,
+    reads_atari_interface,
+    self_stored,
+)
 from gymmigrate.facts.module import call_argument, full_name
 from gymmigrate.facts.receivers import Receivers
 from gymmigrate.findings import FixKind
@@ -236,7 +240,7 @@ def _parameter_alone(facts: ModuleFacts, read: ast.Name, bindings: list[ast.AST]
     """The parameter of ``bindings`` when it is the only one that can reach ``read``: every
     other binding is a plain assignment in the statement of the read (``env = make(env)``)
     or after it, and no loop of ``function`` runs the read again. Else ``bindings``."""
-    params = [b for b in bindings if isinstance(b, ast.arg)]
+    params: list[ast.AST] = [b for b in bindings if isinstance(b, ast.arg)]
     if len(params) != 1:
         return bindings
     statement = facts.statement_of(read)
