@@ -204,7 +204,7 @@ def _decide_returns(decision: ClassDecision, function: Method, helpers: set[int]
             decision.report(
                 ret,
                 "GM504",
-                f"step returns the done of super().step(...), and the run does not show what the step of `{base}` returns: if it "
+                f"step returns the done of super().step(...), and {_unknown_base_text(decision, base)}: if its step "
                 f"returns Gymnasium's five values, return `bool({done.id}) and not truncated, truncated` (its "
                 "truncation stays one); if it keeps four, keep this step's unpack and return as they were; not rewritten",
                 FixKind.FLAG,
@@ -720,6 +720,12 @@ def _unpacked_from_inner_step(decision: ClassDecision, index: FunctionIndex, nam
         # would name flags the unpack never binds
         return decision.env.base_step_migrates(decision.classdef) is True and _step_family_unpacks_super(decision, value)
     return inner_gym_env_call(decision, value, "step")
+
+
+def _unknown_base_text(decision: ClassDecision, base: str) -> str:
+    if decision.env.base_step_migrates(decision.classdef):
+        return f"the step family cannot tell that `{base}` is a Gym env"  # it leaves the unpack as it is
+    return f"`{base}` is no env class this run holds"
 
 
 def _step_family_unpacks_super(decision: ClassDecision, call: ast.expr) -> bool:
