@@ -17,9 +17,34 @@ from gymmigrate.facts.module import ModuleFacts
 _SIGN_ATTRIBUTES = frozenset({"ale", "get_action_meanings"})
 
 
+def self_stored(classdef: ast.AST | None) -> frozenset[str]:
+    """The attributes a class stores on ``self`` (``self.ale = self.game.player``)."""
+    if not isinstance(classdef, ast.ClassDef):
+        return frozenset()
+    return frozenset(
+        node.attr
+        for node in ast.walk(classdef)
+        if isinstance(node, ast.Attribute)
+        and isinstance(node.ctx, ast.Store)
+        and isinstance(node.value, ast.Name)
+        and node.value.id == "self"
+    )
+
+
+def reads_atari_interface(node: ast.AST, own: frozenset[str]) -> bool:
+    """``env.unwrapped.ale``, ``self.env.get_action_meanings``: a read of what only an Atari
+    env has. Not a store, and not ``self.ale`` in a class that stores ``self.ale`` itself
+    (``own``): an attribute of the class's own (a game keeping an ``ale`` alias for
+    ``lives()``) says nothing about the Arcade Learning Environment."""
+    if not (isinstance(node, ast.Attribute) and node.attr in _SIGN_ATTRIBUTES and isinstance(node.ctx, ast.Load)):
+        return False
+    return not (isinstance(node.value, ast.Name) and node.value.id == "self" and node.attr in own)
+
+
 def has_own_sign(definition: ast.AST) -> bool:
+    own = frozenset().union(*(self_stored(n) for n in ast.walk(definition) if isinstance(n, ast.ClassDef)))
     for node in ast.walk(definition):
-        if isinstance(node, ast.Attribute) and node.attr in _SIGN_ATTRIBUTES:
+        if reads_atari_interface(node, own):
             return True
         if isinstance(node, ast.Constant) and node.value == "NoFrameskip":
             return True

@@ -310,6 +310,9 @@ class ClassKinds(_Facade):
                     return EnvKind.GYM_ENV
                 if rest.startswith("vector."):
                     return EnvKind.GYM_VEC
+                if rest.startswith("envs.") and rest.rsplit(".", 1)[-1][:1].isupper() and rest.endswith("Env"):
+                    # one of Gym's own env classes (``cartpole.CartPoleEnv``): a Gym env
+                    return EnvKind.GYM_ENV
             other = other_library_class_kind(q)
             if other is not None:
                 return other

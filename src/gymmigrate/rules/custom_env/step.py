@@ -212,7 +212,7 @@ def _decide_returns(decision: ClassDecision, function: Method, helpers: set[int]
             decision.report(
                 ret,
                 "GM504",
-                f"step returns the done of super().step(...), and `{base}` is no env class this run holds: if its step "
+                f"step returns the done of super().step(...), and {_unknown_base_text(decision, base)}: if its step "
                 f"returns Gymnasium's five values, return `bool({done.id}) and not truncated, truncated` (its "
                 "truncation stays one); if it keeps four, keep this step's unpack and return as they were; not rewritten",
                 FixKind.FLAG,
@@ -724,8 +724,23 @@ def _unpacked_from_inner_step(decision: ClassDecision, index: FunctionIndex, nam
     if value is None:
         return False
     if is_super_method_call(value, "step"):
-        return decision.env.base_step_migrates(decision.classdef) is True  # five values after the run
+        # five values after the run, and the step family unpacks them: both, or the return
+        # would name flags the unpack never binds
+        return decision.env.base_step_migrates(decision.classdef) is True and _step_family_unpacks_super(decision, value)
     return inner_gym_env_call(decision, value, "step")
+
+
+def _unknown_base_text(decision: ClassDecision, base: str) -> str:
+    if decision.env.base_step_migrates(decision.classdef):
+        return f"the step family cannot tell that `{base}` is a Gym env"  # it leaves the unpack as it is
+    return f"`{base}` is no env class this run holds"
+
+
+def _step_family_unpacks_super(decision: ClassDecision, call: ast.expr) -> bool:
+    """The step family takes ``super().step(a)`` here for a Gym env's (``super_kind``), so it
+    unpacks five values: the same fact the two halves of the step body must share."""
+    kind = decision.env.receivers.super_kind(call.func.value)  # type: ignore[attr-defined]
+    return kind is not None and kind.is_gym
 
 
 def _done_unpacked_from(index: FunctionIndex, name: str, besides: frozenset[int] = frozenset()) -> ast.expr | None:
@@ -780,7 +795,9 @@ def _from_unknown_base_step(decision: ClassDecision, index: FunctionIndex, name:
     that base's text, else None."""
     ends = frozenset(id(e) for e in _task_ends(decision, index, name))
     value = _done_unpacked_from(index, name, ends)
-    if not is_super_method_call(value, "step") or decision.env.base_step_migrates(decision.classdef):
+    if value is None or not is_super_method_call(value, "step"):
+        return None
+    if decision.env.base_step_migrates(decision.classdef) and _step_family_unpacks_super(decision, value):
         return None
     bases = [b for b in decision.classdef.bases if not (isinstance(b, ast.Name) and b.id == "object")]
     return decision.family.facts.segment(bases[0]) if bases else None

@@ -12,6 +12,11 @@ import ast
 from collections.abc import Callable
 
 from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts.atari_signs import (
+    has_own_sign,
+    reads_atari_interface,
+    self_stored,
+)
 from gymmigrate.facts.module import call_argument, full_name
 from gymmigrate.facts.receivers import Receivers
 from gymmigrate.findings import FixKind
@@ -76,11 +81,14 @@ class AtariEvidence:
         pass: its module needs ``import ale_py``. Where every sign sits under a condition
         (``if "NoFrameskip" in env_id:``), the helper may make other envs too: for review."""
         bindings = self.facts.bindings_of(name)
-        # a parameter, or a local bound once from what the run cannot read (``env_id = task.env_id``)
-        if len(bindings) != 1 or not isinstance(bindings[0], (ast.arg, ast.Name)):
-            return None
         function = self.facts.enclosing_function(call)
         if function is None:
+            return None
+        if len(bindings) > 1:
+            # ``env = gym.make(env)``: the parameter rebound by the make itself (and later)
+            bindings = _parameter_alone(self.facts, name, bindings, function)
+        # a parameter, or a local bound once from what the run cannot read (``env_id = task.env_id``)
+        if len(bindings) != 1 or not isinstance(bindings[0], (ast.arg, ast.Name)):
             return None
         signs = [(sign, node) for node in ast.walk(function) for sign in self._atari_signs(node, function)]
         signs.sort(key=lambda found: found[0].startswith("through"))  # its own signs first
@@ -171,10 +179,8 @@ class AtariEvidence:
     def _atari_signs(self, node: ast.AST, function: ast.AST) -> list[str]:
         """What in ``node`` only an Atari env has: ``.ale``, ``get_action_meanings()``, a
         ``"NoFrameskip"`` check; or a call of a def or class of this module that has one."""
-        if isinstance(node, ast.Attribute) and node.attr == "ale":
-            return ["it uses `.ale`"]
-        if isinstance(node, ast.Attribute) and node.attr == "get_action_meanings":
-            return ["it calls `get_action_meanings()`"]
+        if isinstance(node, ast.Attribute) and reads_atari_interface(node, self_stored(self.facts.enclosing_class(node))):
+            return ["it uses `.ale`"] if node.attr == "ale" else ["it calls `get_action_meanings()`"]
         if isinstance(node, ast.Constant) and node.value == "NoFrameskip":
             # ``assert "NoFrameskip" in env.spec.id`` says what it makes; an ``if`` on the id
             # says that it sometimes does
@@ -191,15 +197,7 @@ class AtariEvidence:
         return []
 
     def _has_atari_sign(self, definition: ast.AST) -> bool:
-        def compute() -> bool:
-            for node in ast.walk(definition):
-                if isinstance(node, ast.Attribute) and node.attr in ("ale", "get_action_meanings"):
-                    return True
-                if isinstance(node, ast.Constant) and node.value == "NoFrameskip":
-                    return True
-            return False
-
-        return bool(self.facts.memo(("atari-sign", id(definition)), compute))
+        return bool(self.facts.memo(("atari-sign", id(definition)), lambda: has_own_sign(definition)))
 
 
 # What the literal part of a built id names for certain: an Atari id, whatever the
@@ -236,6 +234,32 @@ def atari_template(facts: ModuleFacts, value: ast.expr) -> str | None:
             if sign in part and (sign != "ALE/" or part.lstrip().startswith("ALE/")):
                 return sign
     return None
+
+
+def _parameter_alone(facts: ModuleFacts, read: ast.Name, bindings: list[ast.AST], function: ast.AST) -> list[ast.AST]:
+    """The parameter of ``bindings`` when it is the only one that can reach ``read``: every
+    other binding is a plain assignment in the statement of the read (``env = make(env)``)
+    or after it, and no loop of ``function`` runs the read again. Else ``bindings``."""
+    params: list[ast.AST] = [b for b in bindings if isinstance(b, ast.arg)]
+    if len(params) != 1:
+        return bindings
+    statement = facts.statement_of(read)
+    for ancestor in facts.ancestors(read):
+        if ancestor is function:
+            break
+        if isinstance(ancestor, (ast.For, ast.AsyncFor, ast.While)):
+            return bindings
+    for binding in bindings:
+        if binding is params[0]:
+            continue
+        if not isinstance(binding, ast.Name):
+            return bindings
+        bound = facts.statement_of(binding)
+        if bound is None or facts.enclosing_function(binding) is not function:
+            return bindings
+        if bound is not statement and (bound.lineno, bound.col_offset) <= (read.lineno, read.col_offset):
+            return bindings
+    return params
 
 
 def _under_condition(facts: ModuleFacts, node: ast.AST, function: ast.AST) -> bool:

@@ -127,7 +127,49 @@ class StepFamilyBase(RuleFamily):
             return Decision(Action.LEAVE, f"`{receiver_text(receiver)}` is a {kept}, whose step keeps four fields"), False
         if kind is EnvKind.GYM_VEC:
             return decide(kind, receiver, profile, legacy_shape=legacy_shape, expected=EnvKind.GYM_VEC, origins=self.receivers), True
+        own = self._own_step_of_wrapper(receiver)
+        if own is not None:
+            return own, False
         return decide(kind, receiver, profile, legacy_shape=legacy_shape, origins=self.receivers), False
+
+    def _own_step_of_wrapper(self, receiver: ast.expr) -> Decision | None:
+        """``self.step(a)`` inside a Gym wrapper class of this module runs the wrapper's own
+        step. With no ``step`` of its own, or one that only returns the inner step (``return
+        self.env.step(action)``), that is the inner Gym env's five values: rewritten. Any
+        other ``step`` of its own is migrated (or not) by the wrappers family, decided
+        there: reported, not left silently on four fields. None: not such a call."""
+        if not (isinstance(receiver, ast.Name) and receiver.id == "self"):
+            return None
+        function = self.facts.enclosing_function(receiver)
+        classdef = self.facts.parent(function) if function is not None else None
+        if not isinstance(classdef, ast.ClassDef) or self.receivers.class_kind(classdef) is not EnvKind.GYM_ENV:
+            return None
+        if not self.receivers.is_gym_wrapper_class(classdef):
+            return None
+        params = [*function.args.posonlyargs, *function.args.args]  # type: ignore[union-attr]
+        if not params or params[0].arg != "self":
+            return None
+        step = next((s for s in classdef.body if isinstance(s, (ast.FunctionDef, ast.AsyncFunctionDef)) and s.name == "step"), None)
+        if step is None or _only_returns_inner_step(step):
+            return Decision(Action.REWRITE, "`self` is this Gym wrapper, whose step hands on the inner step's five values")
+        return Decision(
+            Action.REPORT,
+            "`self.step()` runs this wrapper's own step, which returns five values once migrated (GM602); not rewritten",
+        )
+
+
+def _only_returns_inner_step(step: ast.FunctionDef | ast.AsyncFunctionDef) -> bool:
+    """The body is ``return self.env.step(...)`` (or ``super().step(...)``), docstring aside."""
+    body = [s for s in step.body if not (isinstance(s, ast.Expr) and isinstance(s.value, ast.Constant))]
+    if len(body) != 1 or not isinstance(body[0], ast.Return):
+        return False
+    value = body[0].value
+    if not (isinstance(value, ast.Call) and isinstance(value.func, ast.Attribute) and value.func.attr == "step"):
+        return False
+    inner = value.func.value
+    if isinstance(inner, ast.Call) and isinstance(inner.func, ast.Name) and inner.func.id == "super":
+        return True
+    return isinstance(inner, ast.Attribute) and inner.attr == "env" and isinstance(inner.value, ast.Name) and inner.value.id == "self"
 
 
 def looks_vectorised(receiver: ast.expr, done_target: ast.expr) -> bool:

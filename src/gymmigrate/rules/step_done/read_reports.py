@@ -133,6 +133,26 @@ class DoneReadReports(DoneBookkeeping):
             question=("GM302", id(step.assign)),
         )
 
+    def _discount_test(self, read: ast.expr) -> bool:
+        """``if done: return ts.termination(obs, r)`` (or a 0 where the other return has the
+        discount): the test of ``read`` chooses the transition's discount."""
+        test: ast.AST = read
+        parent = self.facts.parent(test)
+        if isinstance(parent, ast.UnaryOp) and isinstance(parent.op, ast.Not):
+            test, parent = parent, self.facts.parent(parent)
+        return isinstance(parent, ast.If) and parent.test is test and _chooses_discount(parent, self.facts.enclosing_function(parent))
+
+    def _report_discount_choice(self, read: ast.Name, step: DoneStep) -> None:
+        names = step.names
+        self._report_read(
+            read,
+            f"`{read.id}` chooses the discount of the transition here (0: no bootstrapping from the next state), and "
+            f"it now means `{names.terminated} or {names.truncated}`: test `{names.terminated}` for the terminal "
+            "transition, and end a truncated one with its discount kept",
+            FixKind.FLAG,
+            question=("GM302", id(step.assign)),
+        )
+
     def _report_none_mask(self, read: ast.Name, step: DoneStep, masked: str, boundary: str | None = None) -> None:
         names = step.names
         if boundary is not None:
@@ -174,7 +194,9 @@ class DoneReadReports(DoneBookkeeping):
         ]
 
     def _report_stored_attribute(self, assign: ast.Assign, target: ast.expr, names: StepNames) -> None:
-        """``obs, r, self.done, info = env.step(a)`` and ``self.done`` stored as a value elsewhere."""
+        """``obs, r, self.done, info = env.step(a)`` and ``self.done`` stored as a value
+        elsewhere, or tested by an ``if`` that chooses the discount (``_report_discount_tests``)."""
+        self._report_discount_tests(assign, target, names)
         for read in self._self_attribute_data_reads(assign, target):
             if id(read) not in self.reported_reads and self._claim_stored_attribute(assign, target, names, read):
                 continue
@@ -189,6 +211,39 @@ class DoneReadReports(DoneBookkeeping):
                     FixKind.FLAG,
                     question=("GM302", id(assign)),
                 )
+
+    def _report_discount_tests(self, assign: ast.Assign, target: ast.expr, names: StepNames) -> None:
+        """``if self._done: return ts.termination(obs, r)`` / ``return obs, r, 0.0`` against
+        ``return obs, r, self._discount``: the test of the stored done chooses the discount
+        of the transition (0: no bootstrapping from the next state), so a time-limit
+        truncation now drops it too. A question, as for any value that masks bootstrapping."""
+        if not (isinstance(target, ast.Attribute) and isinstance(target.value, ast.Name) and target.value.id == "self"):
+            return
+        classdef = self.facts.enclosing_class(assign)
+        if classdef is None:
+            return
+        for node in self.facts.attributes.get(target.attr, ()):
+            if not (
+                isinstance(node, ast.Attribute)
+                and isinstance(node.ctx, ast.Load)
+                and isinstance(node.value, ast.Name)
+                and node.value.id == "self"
+                and self.facts.enclosing_class(node) is classdef
+                and id(node) not in self.reported_reads
+            ):
+                continue
+            if not self._discount_test(node):
+                continue
+            self.reported_reads.add(id(node))
+            self.report(
+                node,
+                "GM302",
+                f"`{self.facts.segment(node)}` is set by the step on line {assign.lineno} to `{names.terminated} or "
+                f"{names.truncated}` and chooses the discount here (0: no bootstrapping from the next state): test "
+                f"`{names.terminated}` for the terminal transition, and end a truncated one with its discount kept",
+                FixKind.FLAG,
+                question=("GM302", id(assign)),
+            )
 
     def _claim_stored_attribute(self, assign: ast.Assign, target: ast.expr, names: StepNames, read: ast.Attribute) -> bool:
         """``obs2, r, self.done, info = env.step(a)`` then, in a later statement of the same
@@ -600,3 +655,32 @@ def _time_limit_membership(node: ast.expr, info: str) -> bool:
         and isinstance(node.comparators[0], ast.Name)
         and node.comparators[0].id == info
     )
+def _chooses_discount(branch: ast.If, function: ast.AST | None) -> bool:
+    """One side of ``branch`` ends the transition without a discount: a ``termination(...)``
+    call (dm_env, tf_agents), a ``discount``-named store of 0, or a returned tuple with 0
+    where another return of ``function`` puts a ``discount``-named value."""
+    discount_slots = {
+        index
+        for ret in (own_returns(function) if function is not None else [])
+        if isinstance(ret.value, ast.Tuple)
+        for index, element in enumerate(ret.value.elts)
+        if any("discount" in _word(n).lower() for n in ast.walk(element))
+    }
+    for statement in [*branch.body, *branch.orelse]:
+        for node in ast.walk(statement):
+            if isinstance(node, ast.Call) and _word(node.func) == "termination":
+                return True
+            if isinstance(node, ast.Assign) and _zero(node.value) and any("discount" in _word(t).lower() for t in node.targets):
+                return True
+            if isinstance(node, ast.Return) and isinstance(node.value, ast.Tuple):
+                if any(_zero(e) and i in discount_slots for i, e in enumerate(node.value.elts)):
+                    return True
+    return False
+
+
+def _word(node: ast.AST) -> str:
+    return node.id if isinstance(node, ast.Name) else node.attr if isinstance(node, ast.Attribute) else ""
+
+
+def _zero(node: ast.AST) -> bool:
+    return isinstance(node, ast.Constant) and not isinstance(node.value, bool) and node.value == 0

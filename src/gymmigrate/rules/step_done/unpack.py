@@ -183,6 +183,8 @@ class UnpackRules(DoneReadReports):
                             self._claim(read, steps[first])
                             continue
                         self._report_bootstrap_choice(read, steps[first])
+                    elif self._discount_test(read):
+                        self._report_discount_choice(read, steps[first])
             if not flow.same_frame(read, scope):
                 stop = len(steps)  # a nested function may run after any of them
             else:

@@ -64,6 +64,24 @@ class StepOverrides(RuleFamily):
             if finding.rule == "GM302" and finding.line in writes and finding.needs_review and not isinstance(node, ast.stmt):
                 self.plan.findings[index] = replace(finding, message=f"{finding.message} (the value of the leftover key)", tier=Tier.NOTE)
 
+    def _settle_merged_reads(self, function: ast.AST, name: str, done_name: str) -> None:
+        """The StepDone family's GM302 items on reads of ``done_name`` in ``name = done_name
+        or <lost life>``: the return splits ``name`` into terminated and truncated, so what
+        those reads asked is answered; a note of why the merged done stays there."""
+        lines = {
+            node.lineno
+            for node in ast.walk(function)
+            if isinstance(node, ast.Assign) and any(isinstance(t, ast.Name) and t.id == name for t in node.targets)
+        }
+        for index, finding in enumerate(self.plan.findings):
+            if finding.rule == "GM302" and finding.line in lines and finding.needs_review:
+                self.plan.findings[index] = replace(
+                    finding,
+                    message=f"{finding.message.split(';', 1)[0]}: kept, `{name}` is the old done here and the step's "
+                    "return splits it",
+                    tier=Tier.NOTE,
+                )
+
     @staticmethod
     def _done_changes(
         lines: list[ast.stmt], name: str, done_line: ast.stmt | None, unpacks: dict[ast.stmt, StepUnpack | None]
@@ -224,6 +242,20 @@ class StepOverrides(RuleFamily):
                 )
                 self.plan.replace(value, lambda node, t=terminated: _five(node, _cut(node, t)))
                 self._settle_key_writes(function)
+            elif done_name not in _names(done) and inner_done not in _names(done) and _only_own_step_limit(function, done, flags):
+                # ``done = False; if self.t >= self.t_max: done = True`` returned, the inner
+                # step's done read for something else (a penalty): the wrapper hides the inner
+                # end and ends the episode only at its own step count, which is truncation.
+                # Passing the inner flags on would end episodes the wrapper kept going.
+                self.report(
+                    ret,
+                    "GM602",
+                    "this step override returns only its own step limit as `done` (the inner step's end is not passed "
+                    "on, as before): returned as truncated, with terminated False",
+                    kind=FixKind.ASSIST,
+                    tier=Tier.NOTE,
+                )
+                self.plan.replace(value, lambda node: _five(node, [cst.Name("False"), node.elements[2].value]))
             elif isinstance(done, ast.Constant) and (done.value is None or isinstance(done.value, bool)):
                 # ``return obs, reward, False, info``: the override's own constant end.
                 self.report(
@@ -281,6 +313,34 @@ class StepOverrides(RuleFamily):
                 for life_loss in life_losses:
                     self.plan.insert_after(life_loss, f"{terminated} = True")
                 self.plan.replace(value, lambda node, t=terminated, u=truncated: _five(node, [cst.Name(t), cst.Name(u)]))
+            elif (
+                isinstance(done, ast.Name)
+                and done_name is not None
+                and done.id != done_name
+                and not done_modified
+                and _merges_life_loss(function, done.id, done_name, flags)
+            ):
+                # ``if self.terminal_on_life_loss: end = done or lives < self.lives else: end =
+                # done``: the inner done, or it with a lost life, under a name of the override's
+                # own. The name keeps the old done for the reads before the return (a frame-skip
+                # loop's ``break``); the return splits it: a lost life or the inner end is
+                # terminated, the inner truncation stays truncated.
+                self.report(
+                    ret,
+                    "GM602",
+                    f"this step override ends the episode on a lost life (merged into `{done.id}` with the inner done): "
+                    f"that end is returned as `{terminated}`, as Stable-Baselines3 does, the inner step's `{truncated}` as "
+                    "it was (a life lost on the very step a time limit cuts counts as the cut)",
+                    kind=FixKind.ASSIST,
+                    tier=Tier.NOTE,
+                )
+                self._settle_merged_reads(function, done.id, done_name)
+                self.plan.replace(
+                    value,
+                    lambda node, t=terminated, u=truncated: _five(
+                        node, [cst.parse_expression(f"({_code(node.elements[2].value)} and not {u}) or {t}"), cst.Name(u)]
+                    ),
+                )
             elif isinstance(done, ast.Name) and done_name is not None and done.id == done_name and self._task_end_sets(
                 lines, done_name, done_line, unpacks
             ):
@@ -373,6 +433,79 @@ def _reduces_per_agent(function: ast.AST, name: str, flags: set[str]) -> bool:
         ):
             return True
     return False
+
+
+def _names(expr: ast.AST) -> set[str]:
+    return {node.id for node in ast.walk(expr) if isinstance(node, ast.Name)}
+
+
+def _only_own_step_limit(function: ast.AST, done: ast.expr, flags: tuple[str, str]) -> bool:
+    """``self.t >= self.t_max`` returned as done, or a local whose every assignment in
+    ``function`` is an initializer (``False``/``None``), a step-limit comparison, or ``True``
+    alone under ``if <step limit>:`` (at least one of the last two), none reading the inner
+    flags: the override's done is its own step count and nothing else."""
+    if is_step_limit(done):
+        return not (_names(done) & set(flags))
+    if not isinstance(done, ast.Name):
+        return False
+    name, limits = done.id, 0
+    parents = {child: node for node in ast.walk(function) for child in ast.iter_child_nodes(node)}
+    for node in ast.walk(function):
+        if isinstance(node, (ast.AugAssign, ast.AnnAssign, ast.NamedExpr, ast.For, ast.AsyncFor, ast.With, ast.AsyncWith)):
+            targets = [node.target] if not isinstance(node, (ast.With, ast.AsyncWith)) else [
+                item.optional_vars for item in node.items if item.optional_vars is not None
+            ]
+            if any(name in _names(target) for target in targets):
+                return False
+        elif isinstance(node, (ast.Name,)) and isinstance(node.ctx, ast.Del) and node.id == name:
+            return False
+        elif isinstance(node, ast.Assign) and any(name in _names(target) for target in node.targets):
+            if not (len(node.targets) == 1 and isinstance(node.targets[0], ast.Name)):
+                return False
+            if _is_initializer(node, name):
+                continue
+            if _names(node.value) & set(flags):
+                return False
+            if is_step_limit(node.value) or _set_alone_when(node, parents.get(node), is_step_limit):
+                limits += 1
+                continue
+            return False
+    return limits > 0
+
+
+def _code(node: cst.BaseExpression) -> str:
+    return cst.Module(body=[]).code_for_node(node)
+
+
+def _merges_life_loss(function: ast.AST, name: str, done_name: str, flags: tuple[str, str]) -> bool:
+    """Every assignment of ``name`` in ``function`` is ``name = done_name`` or ``name =
+    done_name or <a test of lives>`` (at least one of the latter), none reading the flags:
+    ``name`` is the inner done, or it with a lost life."""
+    lives = 0
+    for node in ast.walk(function):
+        if isinstance(node, (ast.AugAssign, ast.AnnAssign, ast.NamedExpr, ast.For, ast.AsyncFor)):
+            if name in _names(node.target):
+                return False
+        elif isinstance(node, (ast.With, ast.AsyncWith)):
+            if any(item.optional_vars is not None and name in _names(item.optional_vars) for item in node.items):
+                return False
+        elif isinstance(node, ast.Assign) and any(name in _names(target) for target in node.targets):
+            if not (len(node.targets) == 1 and isinstance(node.targets[0], ast.Name)):
+                return False
+            value = node.value
+            if _names(value) & set(flags):
+                return False
+            if isinstance(value, ast.Name) and value.id == done_name:
+                continue
+            if not (isinstance(value, ast.BoolOp) and isinstance(value.op, ast.Or)):
+                return False
+            rest = [v for v in value.values if not (isinstance(v, ast.Name) and v.id == done_name)]
+            if len(rest) != len(value.values) - 1 or done_name in {n for r in rest for n in _names(r)}:
+                return False
+            if not all(any(_LIFE_WORDS.search(_identifier(n)) for n in ast.walk(r)) for r in rest):
+                return False
+            lives += 1
+    return lives > 0
 
 
 def _is_done_line(statement: ast.stmt, flags: tuple[str, str]) -> bool:
