@@ -228,8 +228,6 @@ class ClassKinds(_Facade):
                     return True
         return False
 
-
-
     def forwards_inner_contract(self, classdef: ast.ClassDef) -> bool:
         """A Gym wrapper whose step and reset hand on what the wrapped env's give, unchanged:
         derived from Gym's ``Wrapper`` or ``ActionWrapper`` only, and its own ``step`` and

@@ -22,7 +22,7 @@ from gymmigrate.facts.done_uses import (
 from gymmigrate.facts.module import own_returns
 from gymmigrate.facts.receiver_classes import is_batched_step_return, keeps_legacy_step
 from gymmigrate.findings import FixKind, Tier
-from gymmigrate.rules.step_done.common import StepNames
+from gymmigrate.rules.step_done.common import TIME_LIMIT_KEY, StepNames
 from gymmigrate.rules.step_done.next_state import DoneStep
 from gymmigrate.rules.step_done.read_uses import DoneBookkeeping
 
@@ -611,9 +611,6 @@ def _resets_on_done(statement: ast.stmt, done: str, observation: str) -> bool:
     return False
 
 
-_TIME_LIMIT_KEY = "TimeLimit.truncated"
-
-
 def _only_time_limit_key(value: ast.expr, info: str) -> bool:
     """``info['TimeLimit.truncated']``, ``info.get('TimeLimit.truncated', False)``, or
     ``'TimeLimit.truncated' in info and`` one of them: a lookup of that key of ``info``,
@@ -628,7 +625,7 @@ def _only_time_limit_key(value: ast.expr, info: str) -> bool:
 
 
 def _is_key(node: ast.AST) -> bool:
-    return isinstance(node, ast.Constant) and node.value == _TIME_LIMIT_KEY
+    return isinstance(node, ast.Constant) and node.value == TIME_LIMIT_KEY
 
 
 def _time_limit_lookup(node: ast.expr, info: str) -> bool:
@@ -655,6 +652,8 @@ def _time_limit_membership(node: ast.expr, info: str) -> bool:
         and isinstance(node.comparators[0], ast.Name)
         and node.comparators[0].id == info
     )
+
+
 def _chooses_discount(branch: ast.If, function: ast.AST | None) -> bool:
     """One side of ``branch`` ends the transition without a discount: a ``termination(...)``
     call (dm_env, tf_agents), a ``discount``-named store of 0, or a returned tuple with 0
