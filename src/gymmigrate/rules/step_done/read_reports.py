@@ -503,7 +503,7 @@ class DoneReadReports(DoneBookkeeping):
         if block is None or statement not in block:
             return False
         between = block[block.index(step.assign) + 1 : block.index(statement)]
-        if any(observation in _assigned_names(s) for s in between if not _resets_on_done(s, step.done.id, observation)):
+        if any(observation in _names_bound_within(s) for s in between if not _resets_on_done(s, step.done.id, observation)):
             return False
         return any(_resets_on_done(s, step.done.id, observation) for s in between)
 
@@ -527,10 +527,10 @@ class DoneReadReports(DoneBookkeeping):
             return False
         between = block[block.index(step.assign) + 1 : block.index(statement)]
         flag = other.operand.id
-        binders = [s for s in between if flag in _assigned_names(s)]
+        binders = [s for s in between if flag in _names_bound_within(s)]
         if len(binders) != 1 or not isinstance(binders[0], ast.Assign) or len(binders[0].targets) != 1:
             return False
-        if any(read.id in _assigned_names(s) for s in between):
+        if any(read.id in _names_bound_within(s) for s in between):
             return False
         return _only_time_limit_key(binders[0].value, info.id)
 
@@ -581,7 +581,7 @@ class DoneReadReports(DoneBookkeeping):
             self.report(read, "GM302", message, kind, tier, question=question)
 
 
-def _assigned_names(statement: ast.stmt) -> set[str]:
+def _names_bound_within(statement: ast.stmt) -> set[str]:
     """The names a statement (and the statements inside it) binds."""
     return {
         node.id for node in ast.walk(statement) if isinstance(node, ast.Name) and isinstance(node.ctx, ast.Store)
