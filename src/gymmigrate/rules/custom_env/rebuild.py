@@ -533,7 +533,8 @@ def _limit_flag_to_truncated(body: cst.BaseSuite, name: str, data_ends: frozense
             continue
         assign = cst.Assign(targets=[cst.AssignTarget(cst.Name("truncated"))], value=_bool_of([statement.test]))
         # the comment of the ``if`` line (else of its one line) stays on the line that replaces them
-        header = statement.body.header if isinstance(statement.body, cst.IndentedBlock) else statement.body.trailing_whitespace
+        suite = statement.body
+        header = suite.header if isinstance(suite, cst.IndentedBlock) else suite.trailing_whitespace  # type: ignore[attr-defined]
         trailing = inner[0].trailing_whitespace if isinstance(inner[0], cst.SimpleStatementLine) else header
         comment = header if header.comment is not None else trailing
         statements[i] = cst.SimpleStatementLine(body=[assign], leading_lines=statement.leading_lines, trailing_whitespace=comment)
