@@ -64,6 +64,13 @@ def gym_only_question(stack: str) -> tuple[str, ...]:
     return (RUN_QUESTION, "gym-only-library", "", stack)
 
 
+def recorder_mode_question(line: int, column: int) -> tuple[object, ...]:
+    """What a Monitor call turned RecordVideo asks wherever it keeps a question: the mode its
+    env is made with (GM407, creation site not found) and the arguments it dropped (GM611),
+    at one call, are one review item; the other points at it."""
+    return ("recorder-call", line, column)
+
+
 def run_question_text(question: object) -> str | None:
     """``Finding.question`` for a question key of a rule: its text where the run shares it."""
     if isinstance(question, tuple) and question[:1] == (RUN_QUESTION,):

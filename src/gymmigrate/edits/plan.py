@@ -113,7 +113,8 @@ class Plan:
         for indexes in groups.values():
             if len(indexes) < 2:
                 continue
-            indexes.sort(key=lambda i: (self.findings[i].line, self.findings[i].column))
+            # at one place, the item left for a person (not rewritten) asks, the rewrite points at it
+            indexes.sort(key=lambda i: (self.findings[i].line, self.findings[i].column, self.findings[i].kind is not FixKind.FLAG))
             first, *others = indexes
             lines = sorted({self.findings[i].line for i in others} - {self.findings[first].line})
             if lines:

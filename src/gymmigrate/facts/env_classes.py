@@ -252,6 +252,14 @@ class EnvClasses:
             return True
         return None
 
+    def builtin_env_base(self, classdef: ast.ClassDef) -> bool:
+        """The first base, the one ``super()`` reaches first, is one of Gym's own env classes
+        (``CartPoleEnv``): its reset returns (obs, info) in Gymnasium, whatever the run does."""
+        base = _first_base(classdef)
+        if base is None or self.receivers.local_class(base) is not None:
+            return False
+        return any(_is_builtin_env_class(q) for q in self.facts.qualified_names(base))
+
     def has_run_env_base(self, classdef: ast.ClassDef) -> bool:
         """The first base is an env class of another module of the run whose step the run
         migrates (such a base may count steps for the class); Gym's own env classes, such

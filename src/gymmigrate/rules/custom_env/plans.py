@@ -81,6 +81,9 @@ class ClassPlan:
     # method -> positions of returns whose done last took ``done = done or <step limit>``
     # right before them: that line becomes ``truncated = bool(<step limit>)``
     accumulated_returns: dict[str, set[int]] = field(default_factory=dict)
+    # method -> positions of returns whose done is a flag set True by one ``if <step limit>:``
+    # of the body and by the task's own ends: that ``if`` becomes ``truncated = bool(<limit>)``
+    flagged_limit_returns: dict[str, set[int]] = field(default_factory=dict)
     # method -> position of ``return self._observe()`` (a helper of four values that other
     # code reads too) -> the names it is unpacked into before returning five
     unpacked_helper_returns: dict[str, dict[int, tuple[str, ...]]] = field(default_factory=dict)

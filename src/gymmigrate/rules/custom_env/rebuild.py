@@ -31,6 +31,7 @@ from gymmigrate.rules.custom_env.cst_edits import (
     _insert_after_super_init,
     _insert_after_super_reset,
     _insert_at_top,
+    _is_step_limit,
     _is_tuple_annotation,
     _ModeReader,
     _modern_reset_params,
@@ -250,7 +251,9 @@ class ClassRewrite:
         unpacked = self.plan.unpacked_helper_returns.get(self.renamed.get(method_name, method_name), {})
         kept = self.plan.kept_returns.get(self.renamed.get(method_name, method_name), set())
         accumulated = self.plan.accumulated_returns.get(self.renamed.get(method_name, method_name), set())
+        flagged = self.plan.flagged_limit_returns.get(self.renamed.get(method_name, method_name), set())
         accumulating: str | None = None
+        flagging: str | None = None
         for position, ret in enumerate(returns):
             if position in kept:
                 plans.append(None)  # reported: what the base's step returns is not known
@@ -271,6 +274,15 @@ class ClassRewrite:
             if position in accumulated and isinstance(done, cst.Name):
                 # ``done = done or <step limit>`` right before: that line becomes truncated
                 accumulating = done.value
+                if done.value == "done" and not _declares_global(fn, "done"):
+                    rename_done = True
+                    plans.append(_five(cst.Name("terminated"), cst.Name("truncated")))
+                else:
+                    plans.append(_five(_bool_of([done]), cst.Name("truncated")))
+                continue
+            if position in flagged and isinstance(done, cst.Name):
+                # ``if <step limit>: done = True`` in the body: that line becomes truncated
+                flagging = done.value
                 if done.value == "done" and not _declares_global(fn, "done"):
                     rename_done = True
                     plans.append(_five(cst.Name("terminated"), cst.Name("truncated")))
@@ -321,6 +333,8 @@ class ClassRewrite:
             body = visit_suite(body, _DoneSplitter(name, task, limit, keep_done=_reads_name_outside_returns(fn, name)))
         if accumulating is not None:
             body = _limit_line_to_truncated(body, accumulating, self.plan.data_end_tests)
+        if flagging is not None:
+            body = _limit_flag_to_truncated(body, flagging, self.plan.data_end_tests)
         if rename_done:
             body = visit_suite(body, _NameRenamer({"done": "terminated"}))
             body = _bool_wrap_assignments(body, "terminated")
@@ -495,6 +509,37 @@ def _is_inner_reset(value: cst.BaseExpression, receivers: set[str]) -> bool:
         and value.func.attr.value == "reset"
         and cst.Module(body=[]).code_for_node(value.func.value) in receivers
     )
+
+
+def _limit_flag_to_truncated(body: cst.BaseSuite, name: str, data_ends: frozenset[str]) -> cst.BaseSuite:
+    """``if <step limit>: name = True``, a statement of the body: ``truncated = bool(<step
+    limit>)`` in its place (GM504 checked the shape: ``step._flagged_limit``)."""
+    if not isinstance(body, cst.IndentedBlock):
+        return body
+    statements = list(body.body)
+    for i, statement in enumerate(statements):
+        if not (isinstance(statement, cst.If) and statement.orelse is None and _is_step_limit(statement.test, data_ends)):
+            continue
+        inner = statement.body.body
+        line = inner[0] if len(inner) == 1 else None
+        if isinstance(line, cst.SimpleStatementLine):
+            line = line.body[0] if len(line.body) == 1 else None
+        if not (
+            isinstance(line, cst.Assign)
+            and len(line.targets) == 1
+            and m.matches(line.targets[0].target, m.Name(name))
+            and m.matches(line.value, m.Name("True"))
+        ):
+            continue
+        assign = cst.Assign(targets=[cst.AssignTarget(cst.Name("truncated"))], value=_bool_of([statement.test]))
+        # the comment of the ``if`` line (else of its one line) stays on the line that replaces them
+        suite = statement.body
+        header = suite.header if isinstance(suite, cst.IndentedBlock) else suite.trailing_whitespace  # type: ignore[attr-defined]
+        trailing = inner[0].trailing_whitespace if isinstance(inner[0], cst.SimpleStatementLine) else header
+        comment = header if header.comment is not None else trailing
+        statements[i] = cst.SimpleStatementLine(body=[assign], leading_lines=statement.leading_lines, trailing_whitespace=comment)
+        return body.with_changes(body=statements)
+    return body
 
 
 def _limit_line_to_truncated(body: cst.BaseSuite, name: str, data_ends: frozenset[str]) -> cst.BaseSuite:

@@ -198,7 +198,14 @@ def _unpack_super_reset(decision: ClassDecision, function: ast.AST) -> str | Non
         parent = facts.parent(call)
         if isinstance(parent, ast.Assign) and len(parent.targets) == 1 and isinstance(parent.targets[0], ast.Name) and info_name is None:
             info_name = "info" if "info" not in index.names else "base_info"
-            decision.report(call, "GM501", f"super().reset() returns (obs, info) now: unpacked, and reset returns that {info_name}", FixKind.ASSIST)
+            decision.report(
+                call,
+                "GM501",
+                f"super().reset() returns (obs, info) now: unpacked, and reset returns that {info_name}",
+                FixKind.ASSIST,
+                # a base of Gym's own returns the pair in Gymnasium: nothing to decide
+                Tier.NOTE if decision.env.builtin_env_base(decision.classdef) else None,
+            )
         elif not isinstance(parent, (ast.Expr, ast.Return)):
             decision.report(call, "GM501", "super().reset(...) returns (obs, info) now: unpack it where its result is used", FixKind.FLAG)
     return info_name
@@ -231,7 +238,8 @@ def _return_info_pairs(decision: ClassDecision, function: ast.AST, base_info: st
                 held = decision.family.facts.segment(ret.value.func.value)  # type: ignore[attr-defined]
                 decision.report(ret, "GM501", f"reset returns {held}.reset(), (obs, info) in Gymnasium: passed seed and options")
             continue
-        decision.report(ret, "GM501", f"reset {why}", kind)
+        tier = Tier.NOTE if base_info is not None and decision.env.builtin_env_base(decision.classdef) else None
+        decision.report(ret, "GM501", f"reset {why}", kind, tier)
 
 
 def decide_internal_calls(decision: ClassDecision) -> None:

@@ -286,6 +286,21 @@ def _decide_returns(decision: ClassDecision, function: Method, helpers: set[int]
                 tier=Tier.NOTE,
             )
             continue
+        if isinstance(done, ast.Name) and (flag := _flagged_limit(function, done.id, data_ends)) is not None:
+            # ``done = False`` ... ``if self.t >= self.t_limit: done = True`` beside the task's
+            # own ``if <end>: done = True``: that one ``if`` is the truncation, the rest of the
+            # flag the termination, and nothing else reads or resets the flag.
+            decision.plan.flagged_limit_returns.setdefault(function.name, set()).add(position)
+            decision.report(
+                ret,
+                "GM504",
+                f"`{done.id}` split: its step-limit line (line {flag.lineno}) became "
+                f"`truncated = bool({decision.family.facts.segment(flag.test)})`, the task's own ends terminated",
+                FixKind.ASSIST,
+                tier=_split_tier(tracer.trace(done), flag.test, data_ends),
+                question=_split_question(flag.test),
+            )
+            continue
         traced = tracer.trace(done)
         if traced.cause is Cause.TRUNCATION:
             decision.plan.truncating_returns.setdefault(function.name, set()).add(position)
@@ -660,6 +675,70 @@ def _accumulated_limit(function: ast.AST, ret: ast.Return, name: str, data_ends:
         if any(isinstance(n, ast.Compare) and is_step_limit(n, data_ends) for n in ast.walk(statement.value)):
             return None
     return last if len(stores) > 1 else None
+
+
+def _flagged_limit(function: ast.AST, name: str, data_ends: frozenset[str]) -> ast.If | None:
+    """The one ``if <step limit>: name = True`` of a step whose ``name`` is a flag: set
+    ``False`` once by a statement of the body, then ``True`` only by that ``if`` (a statement of
+    the body after it, with no ``else``) and by ``if``s that test no step limit; read only as
+    the done of returns that all come after that ``if``. Then ``truncated = bool(<limit>)`` in
+    its place and the flag as terminated is legacy ``done`` split exactly. Else None."""
+    body = getattr(function, "body", None)
+    returns = own_returns(function)
+    if not body or not returns:
+        return None
+    done_slots = set()
+    for ret in returns:
+        if not (isinstance(ret.value, ast.Tuple) and len(ret.value.elts) == 4):
+            return None
+        slot = ret.value.elts[2]
+        if not (isinstance(slot, ast.Name) and slot.id == name):
+            return None
+        done_slots.add(id(slot))
+    stores: list[ast.Assign] = []
+    for node in ast.walk(function):
+        if isinstance(node, (ast.Global, ast.Nonlocal)) and name in node.names:
+            return None
+        if isinstance(node, ast.Name) and node.id in ("terminated", "truncated"):
+            return None
+        if isinstance(node, ast.Name) and node.id == name:
+            if isinstance(node.ctx, ast.Load):
+                if id(node) not in done_slots:
+                    return None  # read as something else (``float(done)``): it would lose the limit
+                continue
+            statement = _statement_of(function, node)
+            if not (
+                isinstance(statement, ast.Assign)
+                and statement.targets == [node]
+                and isinstance(statement.value, ast.Constant)
+                and isinstance(statement.value.value, bool)
+            ):
+                return None
+            stores.append(statement)
+    falses = [s for s in stores if s.value.value is False]  # type: ignore[attr-defined]
+    if len(falses) != 1 or falses[0] not in body:
+        return None
+    limits = [
+        s
+        for s in body
+        if isinstance(s, ast.If) and not s.orelse and len(s.body) == 1 and s.body[0] in stores and is_step_limit(s.test, data_ends)
+    ]
+    if len(limits) != 1 or body.index(limits[0]) < body.index(falses[0]):
+        return None
+    limit = limits[0]
+    for store in stores:
+        if store is falses[0] or store is limit.body[0]:
+            continue
+        parent = next((n for n in ast.walk(function) if isinstance(n, ast.If) and (store in n.body or store in n.orelse)), None)
+        if parent is None or any(isinstance(n, ast.Compare) and is_step_limit(n, data_ends) for n in ast.walk(parent.test)):
+            return None
+    if any(ret.lineno <= (limit.end_lineno or limit.lineno) for ret in returns):
+        return None
+    return limit
+
+
+def _statement_of(function: ast.AST, target: ast.Name) -> ast.AST | None:
+    return next((s for s in ast.walk(function) if isinstance(s, ast.Assign) and target in s.targets), None)
 
 
 def _split_tier(traced: DoneCause, split: ast.AST, data_ends: frozenset[str]) -> Tier | None:

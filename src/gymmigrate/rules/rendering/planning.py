@@ -15,7 +15,13 @@ from gymmigrate.facts.decisions import Action
 from gymmigrate.facts.module import full_name, keyword, string_value
 from gymmigrate.facts.receiver_classes import wrapped_env_renders
 from gymmigrate.facts.version_checks import reads_version
-from gymmigrate.findings import RUN_QUESTION, FixKind, Tier, gym_only_question
+from gymmigrate.findings import (
+    RUN_QUESTION,
+    FixKind,
+    Tier,
+    gym_only_question,
+    recorder_mode_question,
+)
 from gymmigrate.rules.render_calls import without_mode_argument
 from gymmigrate.rules.render_schedule import local_condition, render_condition, schedule
 from gymmigrate.rules.rendering.common import (
@@ -222,7 +228,8 @@ class SitePlanning(MakeEdits):
                 f"{site.consumer} needs the env created with {target}, but its creation site was not found "
                 f"({where}); add it there by hand",
                 FixKind.FLAG,
-                question=self._untraced_question(site, where),
+                question=self._untraced_question(site, where)
+                or (recorder_mode_question(call.lineno, call.col_offset) if code == "GM407" else None),
             )
             return
         keys = [id(m) for m in site.creation.calls]

@@ -28,7 +28,7 @@ from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.receiver_classes import per_agent_receivers
 from gymmigrate.facts.reset_flow import scope_of_expression
 from gymmigrate.facts.version_checks import dead_version_branch
-from gymmigrate.findings import FixKind
+from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.reset_seed.call_edits import unpack_builder
 from gymmigrate.rules.reset_seed.common import ResetSeedBase
 
@@ -115,7 +115,8 @@ class ResetCalls(ResetSeedBase):
             self._check_seed_in_loop(call, seed.value, f"`{name}.reset(seed=...)`")
             if self.numpy_seeds.is_numpy(seed.value):
                 self._edit(call).int_seed = True
-                self.report(seed.value, "GM206", "numpy seed wrapped in int(): Gymnasium accepts only Python ints as seeds")
+                # int() of a numpy integer is the same seed legacy gym took: nothing to decide, a note
+                self.report(seed.value, "GM206", "numpy seed wrapped in int(): Gymnasium accepts only Python ints as seeds", tier=Tier.NOTE)
         if shape is Shape.EITHER:
             if self.context.profile.imports_gym and use in (Use.ASSIGN, Use.OBS_TUPLE, Use.IN_TUPLE, Use.EXPRESSION):
                 # Still importing legacy gym: the code was written for a reset that returned

@@ -101,7 +101,8 @@ class SeedCalls(ResetSeedBase):
             return
         numpy = self.numpy_seeds.is_numpy(seed)
         if numpy:
-            self.report(seed, "GM206", "numpy seed wrapped in int(): Gymnasium accepts only Python ints as seeds")
+            # int() of a numpy integer is the same seed legacy gym took: nothing to decide, a note
+            self.report(seed, "GM206", "numpy seed wrapped in int(): Gymnasium accepts only Python ints as seeds", tier=Tier.NOTE)
         self._check_seed_in_loop(call, seed, f"`{name}.seed(...)`")
         merged, setup = self._next_reset(statement, receiver)
         why = self._why(decision)

@@ -27,7 +27,7 @@ from gymmigrate.edits.lazy import cst
 from gymmigrate.edits.syntax import dotted_node
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.module import dotted_name, keyword
-from gymmigrate.findings import FixKind, Tier
+from gymmigrate.findings import FixKind, Tier, recorder_mode_question
 from gymmigrate.rules.wrapper_usage.arguments import positional
 
 if TYPE_CHECKING:
@@ -123,6 +123,7 @@ def plan_monitor(family: StacksFamily, call: ast.Call) -> MonitorRewrite | None:
         "GM611",
         f"Monitor is {what}: the env must be made with render_mode=\"rgb_array\" for videos{note}{explained}",
         tier=None if note else Tier.NOTE,  # dropped arguments are a question; the rest explains the rewrite
+        question=recorder_mode_question(call.lineno, call.col_offset) if note else None,
     )
     family.plan.replace(call, record_video)
     _plan_render_mode(family, call, env)

@@ -11,7 +11,7 @@ rebindings of a preprocessing function cost one visit each, not one per path.
 from __future__ import annotations
 
 import ast
-from collections.abc import Callable
+from collections.abc import Callable, Hashable
 from typing import TYPE_CHECKING, Protocol
 
 from gymmigrate.facts import ModuleFacts
@@ -37,7 +37,13 @@ class StacksFamily(Protocol):
     stacks: WrapperStacks
 
     def report(
-        self, node: ast.AST, code: str, message: str, kind: FixKind | None = None, tier: Tier | None = None
+        self,
+        node: ast.AST,
+        code: str,
+        message: str,
+        kind: FixKind | None = None,
+        tier: Tier | None = None,
+        question: Hashable | None = None,
     ) -> None: ...
 
 # Deeper than any real chain of distinct names; beyond it the answer is "unknown".
