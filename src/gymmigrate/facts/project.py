@@ -186,6 +186,9 @@ class ProjectFacts:
     # registers for one of them: id -> class.
     seed_classes: frozenset[tuple[str, str]] = frozenset()
     seed_ids: dict[str, str] = field(default_factory=dict)
+    # Gym wrapper classes of the run with a seed() of their own or of a base of the run, as
+    # (path, class) where each is defined: Gymnasium's reset(seed=...) never calls it.
+    seed_wrappers: frozenset[tuple[str, str]] = frozenset()
     # path -> the top-level packages the module imports, with those of the run's modules it
     # imports and of those that import it (one step each way): a project's neighbourhood,
     # not every project of a run over several.
@@ -339,6 +342,13 @@ class ProjectFacts:
                 if where is not None and where[1] in by_path[where[0]].wrapper_defined:
                     facts.wrapper_defined[(path, name)] = by_path[where[0]].wrapper_defined[where[1]]
         facts.seed_classes, facts.seed_ids = seed_keepers(facts, by_path)
+        facts.seed_wrappers = frozenset(
+            (path, name)
+            for path, summary in by_path.items()
+            if path not in facts.blocked
+            for name in summary.wrapper_classes
+            if "seed" in facts.class_methods.get((path, name), ())
+        )
         NonSpaces(facts, by_path).run()
         facts.wrapper_steppers = wrapper_steppers(facts, by_path)
         facts.reset_contract = join_reset_sites([(path, s.reset_sites) for path, s in by_path.items() if path not in facts.blocked])
