@@ -1,7 +1,7 @@
 """A wrapper class of the project with a seed() of its own (``fixtures/project_seed_wrapper``),
 migrated by one ``gymmigrate rewrite`` and run on Gymnasium 1.4 (GM203).
 
-``tasks.py``: ``Alternate(gym.Wrapper)`` rolls one of several ``Die`` envs, picked by its own
+``tasks.py``: ``Alternate(Layer)`` (``Layer`` a ``gym.Wrapper`` of ``base.py``) rolls one of several ``Die`` envs, picked by its own
 generator; its seed() seeds every die and that generator, its reset picks a die and resets it
 bare. ``two_dice`` is registered as ``TwoDice-v0``. ``play.py``: ``env.seed(seed);
 env.reset()`` on ``gym.make(env_id)``, and a plain class seeding made envs. Merged into

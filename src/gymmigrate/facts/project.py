@@ -342,17 +342,18 @@ class ProjectFacts:
                 if where is not None and where[1] in by_path[where[0]].wrapper_defined:
                     facts.wrapper_defined[(path, name)] = by_path[where[0]].wrapper_defined[where[1]]
         facts.seed_classes, facts.seed_ids = seed_keepers(facts, by_path)
-        facts.seed_wrappers = frozenset(
-            (path, name)
-            for path, summary in by_path.items()
-            if path not in facts.blocked
-            for name in summary.wrapper_classes
-            if "seed" in facts.class_methods.get((path, name), ())
-        )
         NonSpaces(facts, by_path).run()
         facts.wrapper_steppers = wrapper_steppers(facts, by_path)
         facts.reset_contract = join_reset_sites([(path, s.reset_sites) for path, s in by_path.items() if path not in facts.blocked])
         reexport_wrappers(facts, by_path)
+        # where each is defined (re-exports and factories of one are not the class)
+        facts.seed_wrappers = frozenset(
+            (path, name)
+            for path, names in facts.wrapper_classes.items()
+            if path not in facts.blocked and path in by_path
+            for name in names
+            if name in by_path[path].classes and "seed" in facts.class_methods.get((path, name), ())
+        )
         facts._join_opaque_registrations(by_path)
         facts.rendering_wrappers = facts._reexported(by_path, {(p, n) for p, summary in by_path.items() for n in summary.rendering_wrappers})
         facts.silent_renders = frozenset((path, name) for path, summary in by_path.items() for name in summary.silent_renders)
