@@ -186,6 +186,9 @@ class ProjectFacts:
     # registers for one of them: id -> class.
     seed_classes: frozenset[tuple[str, str]] = frozenset()
     seed_ids: dict[str, str] = field(default_factory=dict)
+    # Gym wrapper classes of the run with a seed() of their own or of a base of the run, as
+    # (path, class) where each is defined: Gymnasium's reset(seed=...) never calls it.
+    seed_wrappers: frozenset[tuple[str, str]] = frozenset()
     # path -> the top-level packages the module imports, with those of the run's modules it
     # imports and of those that import it (one step each way): a project's neighbourhood,
     # not every project of a run over several.
@@ -343,6 +346,14 @@ class ProjectFacts:
         facts.wrapper_steppers = wrapper_steppers(facts, by_path)
         facts.reset_contract = join_reset_sites([(path, s.reset_sites) for path, s in by_path.items() if path not in facts.blocked])
         reexport_wrappers(facts, by_path)
+        # where each is defined (re-exports and factories of one are not the class)
+        facts.seed_wrappers = frozenset(
+            (path, name)
+            for path, names in facts.wrapper_classes.items()
+            if path not in facts.blocked and path in by_path
+            for name in names
+            if name in by_path[path].classes and "seed" in facts.class_methods.get((path, name), ())
+        )
         facts._join_opaque_registrations(by_path)
         facts.rendering_wrappers = facts._reexported(by_path, {(p, n) for p, summary in by_path.items() for n in summary.rendering_wrappers})
         facts.silent_renders = frozenset((path, name) for path, summary in by_path.items() for name in summary.silent_renders)

@@ -39,6 +39,12 @@ class ProjectView:
         """The env classes of the run that keep their own seed() (GM503), by name."""
         return sorted({name for _, name in self.facts.seed_classes})
 
+    def seed_wrappers(self) -> list[str]:
+        """The Gym wrapper classes of the run that define (or inherit from a base of the run)
+        a seed() of their own, by name: gym's ``env.seed(s)`` reached the outermost one of a
+        chain, Gymnasium's ``reset(seed=s)`` never calls it."""
+        return sorted({name for _, name in self.facts.seed_wrappers})
+
     def seed_class_of_id(self, env_id: str) -> str | None:
         """The class of the run that keeps seed() which the run registers ``env_id`` for."""
         return self.facts.seed_ids.get(env_id)

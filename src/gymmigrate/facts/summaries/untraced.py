@@ -12,6 +12,7 @@ from gymmigrate.facts import names as N
 from gymmigrate.facts.creation import CreationFinder, passes_mode
 from gymmigrate.facts.decisions import Action, decide
 from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.module import string_value
 from gymmigrate.facts.profile import FileProfile
 from gymmigrate.facts.summaries.calls import CallSummarizer
 
@@ -28,6 +29,8 @@ class UntracedCalls:
 
     def has_untraced_call(self, method: str) -> bool:
         """``x.seed(...)`` / ``x.render(mode)`` on a receiver this module cannot trace."""
+        if method == "seed" and self._seeds_through_wrapper_attr():
+            return True
         for call in self.facts.attribute_calls.get(method, ()):
             receiver = call.func.value  # type: ignore[attr-defined]
             if isinstance(receiver, ast.Name) and receiver.id == "self":
@@ -59,6 +62,17 @@ class UntracedCalls:
             if made_by is not None and not N.is_library(made_by):
                 continue  # an instance of a class it imports: the run knows that class
             return True
+        return False
+
+    def _seeds_through_wrapper_attr(self) -> bool:
+        """``x.get_wrapper_attr("seed")(s)`` (a migrated ``x.seed(s)``, GM203): it reaches the
+        seed() of whichever class of the chain defines one, so the run's env classes keep
+        theirs, on a second run as on the first."""
+        for call in self.facts.attribute_calls.get("get_wrapper_attr", ()):
+            if len(call.args) == 1 and string_value(call.args[0]) == "seed":
+                parent = self.facts.parent(call)
+                if isinstance(parent, ast.Call) and parent.func is call:
+                    return True
         return False
 
     def _made_here(self, receiver: ast.AST) -> bool:

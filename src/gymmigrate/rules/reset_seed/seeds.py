@@ -12,7 +12,11 @@ never again" (``Env.reset`` docstring). So:
   in a project's own ``seed()`` (a plain class's) on envs ``make`` built, while env classes
   of the run keep their seed() (GM503), it becomes ``env.unwrapped.seed(s)``. On an env the
   run keeps on the legacy API whose wrapper chain holds a class of the run defining seed(),
-  it is left (on that class) or becomes ``env.get_wrapper_attr("seed")(s)``.
+  it is left (on that class) or becomes ``env.get_wrapper_attr("seed")(s)``. Where a Gym
+  wrapper class of the run defines a seed() of its own (which reset(seed=...) never calls)
+  and the env classes keep theirs, ``env.seed(s)`` on a made env, in a plain class's seed()
+  or in that wrapper's seed() becomes ``env.get_wrapper_attr("seed")(s)``: the seed() gym's
+  forwarding reached, not merged into a reset.
 * GM206 a numpy scalar seed is wrapped in ``int()`` (``Seed must be a python integer``).
 * GM204 a seed that is the same on every iteration of a loop is reported.
 * GM205 ``space.seed(s)`` stays, but it returns an int (a dict for Dict spaces), not
@@ -71,6 +75,8 @@ class SeedCalls(ResetSeedBase):
         if function is not None and function.name == "seed":
             if self._seed_through_unwrapped(call, function, decision, code, name):
                 return
+            if self._seed_in_wrapper_seed(call, function, decision, code, name):
+                return
             self.report(
                 call,
                 code,
@@ -98,6 +104,8 @@ class SeedCalls(ResetSeedBase):
                 f"`{name}.reset(seed=s)` (with no seed Gymnasium draws one from entropy); then delete this call",
                 FixKind.FLAG,
             )
+            return
+        if not vector and self._seed_through_chain(call, receiver, decision, code, name):
             return
         numpy = self.numpy_seeds.is_numpy(seed)
         if numpy:
@@ -208,12 +216,17 @@ class SeedCalls(ResetSeedBase):
         if not keepers or not makes.calls:
             return False
         classes = {self._seed_class_made(make) for make in makes.calls}
-        self.plan.replace(call.func, _through_unwrapped)
+        # A wrapper class of the run with a seed() of its own may sit in the chain (a make of
+        # a factory id): gym's forwarding reached the outermost seed(), the wrapper's, which
+        # ``.unwrapped`` would skip; ``get_wrapper_attr`` finds it as forwarding did.
+        through = _through_wrapper_attr if project.seed_wrappers() else _through_unwrapped
+        new = f'{name}.get_wrapper_attr("seed")(s)' if project.seed_wrappers() else f"{name}.unwrapped.seed(s)"
+        self.plan.replace(call.func, through)
         if makes.complete and None not in classes:
             self.report(
                 call,
                 code,
-                f"`{name}.seed(s)` -> `{name}.unwrapped.seed(s)`: this seed() is the project's own, and `{name}` is "
+                f"`{name}.seed(s)` -> `{new}`: this seed() is the project's own, and `{name}` is "
                 f"made as {', '.join(sorted(c for c in classes if c))}, which keeps its seed() (GM503) behind "
                 "wrappers that have none in Gymnasium",
                 FixKind.AUTO,
@@ -223,11 +236,87 @@ class SeedCalls(ResetSeedBase):
         self.report(
             call,
             code,
-            f"`{name}.seed(s)` -> `{name}.unwrapped.seed(s)` inside this project's own seed(): Gymnasium's wrappers "
+            f"`{name}.seed(s)` -> `{new}` inside this project's own seed(): Gymnasium's wrappers "
             f"have no seed(), the env classes of the run keep theirs ({', '.join(keepers)}, GM503); if `{name}` may "
             "be an env of another package, seed it through reset(seed=...) instead",
             FixKind.ASSIST,
             question=("seed() method", function.lineno),
+        )
+        return True
+
+    def _seed_in_wrapper_seed(
+        self, call: ast.Call, function: ast.FunctionDef | ast.AsyncFunctionDef, decision: Decision, code: str, name: str
+    ) -> bool:
+        """``env.seed(s)`` in the seed() of a Gym wrapper class of the run (its wrapped or
+        scheduled envs), while env classes of the run keep their seed() (GM503): that seed()
+        is still called (``get_wrapper_attr("seed")``, ``_seed_through_chain``), and gym's
+        wrappers forwarded ``env.seed`` down to the first class defining it, which
+        ``get_wrapper_attr("seed")`` reaches in Gymnasium. Listed for review: an env of
+        another package has no seed() and seeds through ``reset(seed=...)``."""
+        project = self.receivers.project
+        receiver = call.func.value  # type: ignore[attr-defined]
+        classdef = self.facts.enclosing_class(function)
+        if (
+            project is None
+            or decision.action not in (Action.REWRITE, Action.REWRITE_FOR_REVIEW)
+            or classdef is None
+            or not self.receivers.is_gym_wrapper_class(classdef)
+            or classdef.name not in project.seed_wrappers()
+            or not project.seed_classes()
+            or (isinstance(receiver, ast.Attribute) and receiver.attr == "unwrapped")
+        ):
+            return False
+        self.plan.replace(call.func, _through_wrapper_attr)
+        self.report(
+            call,
+            code,
+            f"`{name}.seed(s)` -> `{name}.get_wrapper_attr(\"seed\")(s)` in the seed() of {classdef.name}, a wrapper "
+            f"of this project that callers still seed through: Gymnasium's wrappers forward no seed(), the env "
+            f"classes of the run keep theirs ({', '.join(project.seed_classes())}, GM503); if `{name}` may be an env "
+            "of another package, seed it through reset(seed=...) instead",
+            FixKind.ASSIST,
+            question=("seed() method", function.lineno),
+        )
+        return True
+
+    def _seed_through_chain(self, call: ast.Call, receiver: ast.expr, decision: Decision, code: str, name: str) -> bool:
+        """``env.seed(s)`` on an env ``make`` built, in a run whose env classes keep their
+        seed() (GM503) and where a Gym wrapper class of the run defines a seed() of its own
+        (a wrapper over several envs that seeds them all and its scheduler): a make of a
+        factory id may return that wrapper, whose reset(seed=s) (Gym's, or the project's
+        handing ``**kwargs`` on) does not do what its seed() did. Merging the seed into the
+        next reset loses that seeding; ``env.get_wrapper_attr("seed")(s)`` calls the seed()
+        gym's forwarding reached, and the reset after it stays as it was. Certain (a note)
+        when every make names an id the run registers for a class keeping seed(); else
+        listed for review (an env of another package has no seed())."""
+        project = self.receivers.project
+        if project is None or decision.action not in (Action.REWRITE, Action.REWRITE_FOR_REVIEW):
+            return False
+        if isinstance(receiver, ast.Attribute) and receiver.attr == "unwrapped":
+            return False
+        wrappers = project.seed_wrappers()
+        keepers = project.seed_classes()
+        if not wrappers or not keepers:
+            return False
+        makes = self._makes_behind(receiver)
+        if not makes.calls:
+            return False
+        classes = {self._seed_class_made(make) for make in makes.calls}
+        self.plan.replace(call.func, _through_wrapper_attr)
+        said = (
+            f"`{name}.seed(s)` -> `{name}.get_wrapper_attr(\"seed\")(s)`, not merged into a reset: the run's wrappers "
+            f"{', '.join(wrappers)} define a seed() that reset(seed=...) does not call, and the env classes keep theirs "
+            f"({', '.join(keepers)}, GM503); gym's `{name}.seed(s)` reached the outermost of them"
+        )
+        if makes.complete and None not in classes:
+            self.report(call, code, said, FixKind.AUTO, tier=Tier.NOTE)
+            return True
+        self.report(
+            call,
+            code,
+            f"{said}; if `{name}` may be an env of another package, seed it through reset(seed=...) instead",
+            FixKind.ASSIST,
+            question=self.receiver_question(receiver, decision),
         )
         return True
 
