@@ -391,31 +391,45 @@ class MadeObjects(_Facade):
             self.depth -= 1
 
     def own_api_holder(self, expr: ast.AST) -> str | None:
-        """``self.X.reset()`` (or ``step``...) inside the same-named method (``reset`` or its
-        hook ``_reset``) of a class that is no Gym class and derives from a base with an env
-        API of its own: a class of the run that is not a Gym env and declares that method
-        (``class Wrapper(Environment)`` where ``Environment.reset`` returns the states
-        only), or a class of a library with its own env API (tf_agents' ``PyEnvironment``
-        wrappers, whose reset gives a TimeStep). Such a method forwards its own contract to
-        the object it holds, so ``self.X`` is not shown to be a Gym env: a description for
-        the message, else None."""
+        """``self.X`` of a class that is no Gym class, derives from a base with an env API of
+        its own, and forwards that API to ``self.X``: some method of the class named like a
+        method of that base (``reset`` or its hook ``_reset``) calls the same method on
+        ``self.X``. The base is a class of the run that is not a Gym env and declares that
+        method (``class Wrapper(Environment)`` where ``Environment.reset`` returns the
+        states only), or a class of a library with its own env API (tf_agents'
+        ``PyEnvironment`` wrappers, whose reset gives a TimeStep). What such a class holds
+        is not shown to be a Gym env by the file's imports: a description for the message,
+        else None.
+
+        A fact of the receiver (the class and the attribute), not of the call: every call on
+        ``self.X`` in the class gets the same answer, so ``reset`` is never left while
+        ``step`` is rewritten on the "this file uses only Gym" guess. ``decide`` asks it
+        only for a receiver whose kind is unknown: proved a Gym env, it is rewritten."""
         if not (isinstance(expr, ast.Attribute) and isinstance(expr.value, ast.Name) and self.is_self(expr.value)):
             return None
-        called = self.facts.parent(expr)
-        function = self.facts.enclosing_function(expr)
         classdef = self.facts.enclosing_class(expr)
-        if not (
-            isinstance(called, ast.Attribute) and called.value is expr
-            and function is not None and classdef is not None and self.facts.parent(function) is classdef
-            and function.name.lstrip("_") == called.attr.lstrip("_")
-        ):
+        if classdef is None:
             return None
+        return self.facts.memo(("own-api-holder", id(classdef), expr.attr), lambda: self._own_api_holder(classdef, expr.attr))
+
+    def _own_api_holder(self, classdef: ast.ClassDef, attribute: str) -> str | None:
         if self.is_gym_wrapper_class(classdef) or self._known_kind(classdef) not in (EnvKind.UNKNOWN, EnvKind.NOT_ENV):
             return None
-        base = self._own_api_base_name(classdef, called.attr)
-        if base is None:
-            return None
-        return f"`{classdef.name}`, whose `{function.name}` forwards to it and which derives from `{base}`, an env API other than Gym's"
+        for held in self.facts.attributes.get(attribute, ()):
+            called = self.facts.parent(held)
+            function = self.facts.enclosing_function(held)
+            if not (
+                isinstance(held.value, ast.Name) and self.is_self(held.value)
+                and isinstance(called, ast.Attribute) and called.value is held
+                and isinstance(self.facts.parent(called), ast.Call) and self.facts.parent(called).func is called  # type: ignore[union-attr]
+                and function is not None and self.facts.parent(function) is classdef
+                and function.name.lstrip("_") == called.attr.lstrip("_")
+            ):
+                continue
+            base = self._own_api_base_name(classdef, called.attr)
+            if base is not None:
+                return f"`{classdef.name}`, whose `{function.name}` forwards to it and which derives from `{base}`, an env API other than Gym's"
+        return None
 
     def _known_kind(self, classdef: ast.ClassDef) -> EnvKind:
         return self.facts.memo(("class-kind", id(classdef)), lambda: self.class_kind(classdef), while_computing=EnvKind.UNKNOWN)
