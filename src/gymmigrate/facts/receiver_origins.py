@@ -410,7 +410,8 @@ class MadeObjects(_Facade):
         classdef = self.facts.enclosing_class(expr)
         if classdef is None:
             return None
-        return self.facts.memo(("own-api-holder", id(classdef), expr.attr), lambda: self._own_api_holder(classdef, expr.attr))
+        attribute = expr.attr
+        return self.facts.memo((f"own-api-holder:{attribute}", id(classdef)), lambda: self._own_api_holder(classdef, attribute))
 
     def _own_api_holder(self, classdef: ast.ClassDef, attribute: str) -> str | None:
         if self.is_gym_wrapper_class(classdef) or self._known_kind(classdef) not in (EnvKind.UNKNOWN, EnvKind.NOT_ENV):
