@@ -33,8 +33,10 @@ class CallableKinds:
         self.project = project
 
     def own_method(self, func: ast.AST) -> ast.FunctionDef | ast.AsyncFunctionDef | None:
-        """``self.make_env`` in a method: the class's own ``def make_env``."""
-        if not (isinstance(func, ast.Attribute) and isinstance(func.value, ast.Name) and self.receivers.is_self(func.value)):
+        """``self.make_env`` in a method (also ``self.__class__.make_env``,
+        ``type(self).make_env``: a classmethod or staticmethod reached through the class of
+        ``self``): the class's own ``def make_env``."""
+        if not (isinstance(func, ast.Attribute) and self._is_self_or_its_class(func.value)):
             return None
         classdef = self.facts.enclosing_class(func)
         if classdef is None:
@@ -43,6 +45,20 @@ class CallableKinds:
             ("own-methods", id(classdef)), lambda: {s.name: s for s in classdef.body if isinstance(s, FUNCTIONS)}
         )
         return methods.get(func.attr)
+
+    def _is_self_or_its_class(self, node: ast.expr) -> bool:
+        if isinstance(node, ast.Attribute) and node.attr == "__class__":
+            node = node.value
+        elif (
+            isinstance(node, ast.Call)
+            and isinstance(node.func, ast.Name)
+            and node.func.id == "type"
+            and len(node.args) == 1
+            and not node.keywords
+            and self.facts.resolve("type", self.facts.scope_of(node.func))[0] is None
+        ):
+            node = node.args[0]
+        return isinstance(node, ast.Name) and self.receivers.is_self(node)
 
     def external_param_kinds(self, function: ast.AST, classdef: ast.ClassDef | None, param: str) -> list[EnvKind]:
         """What the other modules of the run pass for ``param`` (none when checked alone)."""

@@ -14,7 +14,10 @@ of them) true in an ``if``/``assert``; ``not isinstance(...)`` in an ``if`` make
 the receiver analysis calls a Gym env (``env = make_env(env)``). Anything else that binds
 the name makes it ``OTHER``; loops, ``with`` and ``try`` that rebind it make their bodies
 ``OTHER``. Only names some ``isinstance`` call of their scope tests are followed, never a
-variable by its spelling.
+variable by its spelling. ``and`` in an ``if`` narrows its body by any of its operands.
+
+A second instance follows ``issubclass`` the same way (``check="issubclass"``): where
+``issubclass(cls, gym.Env)`` holds on every path, ``cls(...)`` makes a Gym env.
 """
 
 from __future__ import annotations
@@ -50,11 +53,14 @@ def _join(first: State, second: State) -> State:
 
 
 class Narrowing:
-    """One per file. ``value_is_env``: the receiver analysis's answer for an assigned value."""
+    """One per file and check. ``value_is_env``: the receiver analysis's answer for an
+    assigned value. ``check``: the builtin that states the fact (``isinstance``: the name
+    holds a Gym env; ``issubclass``: it holds a Gym env class)."""
 
-    def __init__(self, facts: ModuleFacts, value_is_env: Callable[[ast.expr], bool]) -> None:
+    def __init__(self, facts: ModuleFacts, value_is_env: Callable[[ast.expr], bool], check: str = "isinstance") -> None:
         self.facts = facts
         self.value_is_env = value_is_env
+        self.check = check
         self._tested: set[tuple[int, str]] | None = None
         self._bound: dict[tuple[int, str], bool] = {}
         self._afters: dict[tuple[int, State, str], State] = {}
@@ -76,7 +82,7 @@ class Narrowing:
     def _tested_names(self) -> set[tuple[int, str]]:
         if self._tested is None:
             self._tested = set()
-            for call in self.facts.calls_by_name.get("isinstance", ()):
+            for call in self.facts.calls_by_name.get(self.check, ()):
                 if len(call.args) == 2 and isinstance(call.args[0], ast.Name):
                     self._tested.add((id(self.facts.scope_of(call.args[0])), call.args[0].id))
         return self._tested
@@ -162,6 +168,12 @@ class Narrowing:
             return State.OTHER, State.OTHER
         checked = self._checks(test, name)
         if checked is None:
+            if isinstance(test, ast.BoolOp) and isinstance(test.op, ast.And) and any(
+                not isinstance(v, ast.UnaryOp) and self._checks(v, name) is True for v in test.values
+            ):
+                # ``isinstance(x, type) and issubclass(x, gym.Env)``: the body runs only where
+                # every operand holds; the else learns nothing
+                return State.GYM, state
             return state, state
         # ``isinstance(x, str)``: its branch holds no env (until it rebinds the name)
         narrowed = State.GYM if checked else State.OTHER
@@ -169,24 +181,24 @@ class Narrowing:
         return (state, narrowed) if negated else (narrowed, state)
 
     def _checks(self, test: ast.expr, name: str) -> bool | None:
-        """``isinstance(name, <Gym env class>)`` (or ``not`` it): True; ``isinstance(name,
-        str)``: False; anything else: None."""
+        """``isinstance(name, <Gym env class>)`` (or ``not`` it; ``issubclass`` for that
+        check): True; ``isinstance(name, str)``: False; anything else: None."""
         if isinstance(test, ast.UnaryOp) and isinstance(test.op, ast.Not):
             test = test.operand
         if not (
             isinstance(test, ast.Call)
             and isinstance(test.func, ast.Name)
-            and test.func.id == "isinstance"
+            and test.func.id == self.check
             and len(test.args) == 2
             and not test.keywords
             and isinstance(test.args[0], ast.Name)
             and test.args[0].id == name
         ):
             return None
-        if not self._is_builtin(test.func, "isinstance"):
+        if not self._is_builtin(test.func, self.check):
             return None
         classes = test.args[1]
-        if isinstance(classes, ast.Name) and classes.id == "str" and self._is_builtin(classes, "str"):
+        if self.check == "isinstance" and isinstance(classes, ast.Name) and classes.id == "str" and self._is_builtin(classes, "str"):
             return False
         items = classes.elts if isinstance(classes, ast.Tuple) else [classes]
         if items and all(self._is_gym_env_class(item) for item in items):

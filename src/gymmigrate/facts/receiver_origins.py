@@ -391,31 +391,59 @@ class MadeObjects(_Facade):
             self.depth -= 1
 
     def own_api_holder(self, expr: ast.AST) -> str | None:
-        """``self.X.reset()`` (or ``step``...) inside the same-named method (``reset`` or its
-        hook ``_reset``) of a class that is no Gym class and derives from a base with an env
-        API of its own: a class of the run that is not a Gym env and declares that method
-        (``class Wrapper(Environment)`` where ``Environment.reset`` returns the states
-        only), or a class of a library with its own env API (tf_agents' ``PyEnvironment``
-        wrappers, whose reset gives a TimeStep). Such a method forwards its own contract to
-        the object it holds, so ``self.X`` is not shown to be a Gym env: a description for
-        the message, else None."""
+        """``self.X`` of a class that is no Gym class, derives from a base with an env API of
+        its own, and forwards that API to ``self.X``: a method of the class named like a
+        method of that base (``reset`` or its hook ``_reset``) calls the same method on
+        ``self.X``. The base is a class of the run that is not a Gym env and declares that
+        method (``class Wrapper(Environment)`` where ``Environment.reset`` returns the
+        states only), or a class of a library with its own env API (tf_agents'
+        ``PyEnvironment`` wrappers, whose reset gives a TimeStep). What such a class holds
+        is not shown to be a Gym env by the file's imports: a description for the message,
+        else None.
+
+        A fact of the receiver, not of the call: where the class forwards its ``reset`` or
+        ``step`` so, every call on ``self.X`` in it gets the same answer (``reset`` is never
+        left while ``step`` is rewritten on the "this file uses only Gym" guess); another
+        method (``close``, ``render``) forwarded so speaks for its own call only. ``decide``
+        asks it only for a receiver whose kind is unknown: proved a Gym env, it is rewritten."""
         if not (isinstance(expr, ast.Attribute) and isinstance(expr.value, ast.Name) and self.is_self(expr.value)):
             return None
+        classdef = self.facts.enclosing_class(expr)
+        if classdef is None:
+            return None
+        attribute = expr.attr
+        forwarded = self.facts.memo((f"own-api-forwarded:{attribute}", id(classdef)), lambda: self._own_api_forwarded(classdef, attribute))
         called = self.facts.parent(expr)
         function = self.facts.enclosing_function(expr)
-        classdef = self.facts.enclosing_class(expr)
-        if not (
-            isinstance(called, ast.Attribute) and called.value is expr
-            and function is not None and classdef is not None and self.facts.parent(function) is classdef
-            and function.name.lstrip("_") == called.attr.lstrip("_")
-        ):
+        own = next((f for f in forwarded if f[0] is function and isinstance(called, ast.Attribute) and f[1] == called.attr), None)
+        found = own or next((f for f in forwarded if f[1].lstrip("_") in ("reset", "step")), None)
+        if found is None:
             return None
+        return f"`{classdef.name}`, whose `{found[0].name}` forwards to it and which derives from `{found[2]}`, an env API other than Gym's"
+
+    def _own_api_forwarded(self, classdef: ast.ClassDef, attribute: str) -> list[tuple[ast.AST, str, str]]:
+        """(method, forwarded method, base) for each method of ``classdef`` that calls its
+        namesake on ``self.<attribute>`` where a base shows that method with an env API
+        other than Gym's (``_own_api_base_name``), in source order."""
         if self.is_gym_wrapper_class(classdef) or self._known_kind(classdef) not in (EnvKind.UNKNOWN, EnvKind.NOT_ENV):
-            return None
-        base = self._own_api_base_name(classdef, called.attr)
-        if base is None:
-            return None
-        return f"`{classdef.name}`, whose `{function.name}` forwards to it and which derives from `{base}`, an env API other than Gym's"
+            return []
+        found: list[tuple[ast.AST, str, str]] = []
+        for held in self.facts.attributes.get(attribute, ()):
+            called = self.facts.parent(held)
+            function = self.facts.enclosing_function(held)
+            call = self.facts.parent(called) if called is not None else None
+            if not (
+                isinstance(held.value, ast.Name) and self.is_self(held.value)
+                and isinstance(called, ast.Attribute) and called.value is held
+                and isinstance(call, ast.Call) and call.func is called
+                and function is not None and self.facts.parent(function) is classdef
+                and function.name.lstrip("_") == called.attr.lstrip("_")
+            ):
+                continue
+            base = self._own_api_base_name(classdef, called.attr)
+            if base is not None:
+                found.append((function, called.attr, base))
+        return sorted(found, key=lambda f: (f[0].lineno, f[1]))  # type: ignore[attr-defined]
 
     def _known_kind(self, classdef: ast.ClassDef) -> EnvKind:
         return self.facts.memo(("class-kind", id(classdef)), lambda: self.class_kind(classdef), while_computing=EnvKind.UNKNOWN)

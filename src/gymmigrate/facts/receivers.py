@@ -87,6 +87,7 @@ class Receivers(ClassKinds, ParameterKinds, MadeObjects):
         self.depth = 0  # shared with the helpers: one bound on the whole chain of questions
         self.callables = CallableKinds(self, project)
         self.narrowing = Narrowing(facts, lambda value: self.kind_of(value) is EnvKind.GYM_ENV)
+        self.class_narrowing = Narrowing(facts, lambda value: False, check="issubclass")
         self.attributes = SelfAttributes(self)
 
     # -- the helpers' answers, under the names rules ask ----------------------------------
@@ -208,7 +209,12 @@ class Receivers(ClassKinds, ParameterKinds, MadeObjects):
         if isinstance(func, ast.Name):
             # ``make_env = lambda: gym.make(...)``, a nested ``def thunk()``, an ``env_fn``
             # parameter: what calling the name returns.
-            return self.returned_kind(func)
+            kind = self.returned_kind(func)
+            if kind is EnvKind.UNKNOWN and self.class_narrowing.is_env(func):
+                # ``if issubclass(env_cls, gym.Env): env = env_cls(**kwargs)``: an instance
+                # of a class the code has checked is a Gym env class
+                return EnvKind.GYM_ENV
+            return kind
         # ``VecNormalize.load(...)`` is a classmethod call on a known class.
         if isinstance(func, ast.Attribute):
             owner = self.qualified_names(func.value)
