@@ -191,7 +191,14 @@ class IdSites:
             # ``Task("Hopper-v2")`` with ``self.env = gym.make(name)`` in ``Task.__init__``
             callee = owner.name
             position = position - 1 if position else None  # ``self`` is not passed
-        for call in self.facts.calls_by_name.get(callee, []) if callee else []:
+        calls = self.facts.calls_by_name.get(callee, []) if callee else []
+        if isinstance(owner, ast.ClassDef) and function.name != "__init__" and self.facts.parent(owner) is self.facts.tree:
+            # a test helper method, ``self.check(level="LunarLander-v2")`` with ``def check(self,
+            # level): ... make(level)``: its calls through ``self`` in the class pass the id
+            callee = f"self.{function.name}"
+            position = position - 1 if position else None
+            calls = [c for c in self.facts.attribute_calls.get(function.name, []) if self.receivers.own_method(c.func) is function]
+        for call in calls:
             argument = call_argument(call, position, param.arg)
             if argument is not None:
                 values.append((argument, f"an argument of `{callee}(...)`"))
