@@ -93,6 +93,12 @@ class ProjectView:
         (``ProjectFacts.passed_ids``)."""
         return self.facts.passed_ids.get((self.path, function, param), ())
 
+    def passes_id_to_make(self, line: int, key: str) -> bool:
+        """The call of this file at ``line`` passes, as argument ``key`` (a position or a
+        keyword), an env id literal that a def of the run hands to a Gym id call
+        (``ProjectFacts.id_slots``)."""
+        return (line, key) in self.facts.id_slots.get(self.path, ())
+
     def handed_on(self, function: str) -> bool:
         """Another module of the run reads this file's ``function`` as a value (``partial(f)``)."""
         return (self.path, function) in self.facts.handed_on

@@ -22,6 +22,7 @@ from gymmigrate.facts import pz_wrappers
 from gymmigrate.facts.atari_signs import atari_users
 from gymmigrate.facts.creation import render_kept_classes
 from gymmigrate.facts.done_uses import top_level_records
+from gymmigrate.facts.id_params import id_parameters
 from gymmigrate.facts.env_classes import EnvClasses
 from gymmigrate.facts.env_specs import module_spec_lists
 from gymmigrate.facts.kinds import EnvKind
@@ -163,6 +164,8 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         handed_on=handed_on(facts),
         silent_renders=frozenset(name for name, classdef in facts.classes.items() if renders_nothing(facts, classdef)),
         atari_users=atari_users(facts),
+        id_params=id_parameters(facts, receivers),
+        inherited_id_calls=tuple(calls.inherited_id_calls()),
         mode_renders=mode_renders(facts),
         opaque_registrations=opaque_registrations(facts),
         fixed_mode_renders=fixed_mode_renders(facts),

@@ -101,6 +101,9 @@ class IdSites:
                 self.atari_reads.append((None, arg))
         sites.extend(self._constants_passed_on())
         sites.extend(self._ids_passed_on())
+        # a call of this module's own def is found both ways: one site per literal
+        known = {id(site.string) for site in sites}
+        sites.extend(site for site in self._ids_made_elsewhere() if id(site.string) not in known)
         return sites
 
     def literal_of(self, name: ast.Name) -> ast.Constant | None:
@@ -291,6 +294,25 @@ class IdSites:
                 site = self._site(argument, None, False, via=via)
                 if site is not None:
                     site.report_only = without_gym
+                    sites.append(site)
+        return sites
+
+    def _ids_made_elsewhere(self) -> list[IdSite]:
+        """``MultiEnv("Pendulum-v0", 8)`` with ``make(self.env_id)`` in the module of the run
+        that defines ``MultiEnv`` (``ProjectView.passes_id_to_make``): the literal is an id."""
+        project = self.receivers.project
+        if project is None:
+            return []
+        sites = []
+        for call in _calls_in_source_order(self.facts):
+            line = getattr(call, "lineno", 0)
+            passed = [(str(i), a) for i, a in enumerate(call.args)] + [(k.arg, k.value) for k in call.keywords if k.arg is not None]
+            for key, argument in passed:
+                if not isinstance(argument, ast.Constant) or not project.passes_id_to_make(line, key):
+                    continue
+                callee = full_name(call.func) or "the project's function"
+                site = self._site(argument, None, False, via=f"an argument of `{callee}(...)`, which makes it")
+                if site is not None:
                     sites.append(site)
         return sites
 
