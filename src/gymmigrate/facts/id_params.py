@@ -19,6 +19,8 @@ Function = ast.FunctionDef | ast.AsyncFunctionDef
 # ``gym.make(id)``, ``gym.spec(id)``...: the calls whose first argument (or ``id=``) is an id.
 GYM_ID_FUNCTIONS = frozenset({"make", "make_vec", "vector.make", "spec", "envs.make", "envs.spec", "envs.registration.make", "envs.registration.spec"})
 ID_KEYWORDS = ("id", "env_id")
+# builtins that read a value and hand on none of it
+_INSPECTING_BUILTINS = frozenset({"print", "len", "isinstance", "hash", "id", "type", "bool"})
 # how many defs a parameter is followed back through (as ``IdSites`` does within a module)
 _HOPS = 4
 
@@ -29,7 +31,7 @@ def id_parameters(facts: ModuleFacts, receivers: Receivers) -> dict[str, frozens
     work: list[tuple[Function, str, int]] = []
 
     def add(function: Function, param: str, depth: int) -> None:
-        qualname = _qualname(facts, function)
+        qualname = def_qualname(facts, function)
         if qualname is not None and param not in found[qualname] and depth <= _HOPS:
             found[qualname].add(param)
             work.append((function, param, depth))
@@ -80,7 +82,7 @@ def _params_behind(facts: ModuleFacts, receivers: Receivers, value: ast.expr | N
     return []
 
 
-def _qualname(facts: ModuleFacts, function: Function) -> str | None:
+def def_qualname(facts: ModuleFacts, function: Function) -> str | None:
     owner = facts.parent(function)
     if owner is facts.tree:
         return function.name
@@ -103,3 +105,46 @@ def _callers(facts: ModuleFacts, receivers: Receivers, function: Function, param
     if function.name == "__init__":
         return [(call, position) for call in facts.calls_by_name.get(owner.name, [])]
     return [(call, position) for call in facts.attribute_calls.get(function.name, []) if receivers.own_method(call.func) is function]
+
+
+def escaping_parameters(facts: ModuleFacts) -> dict[str, frozenset[str]]:
+    """``{"Helper.check": {"environment"}}``: per def and method, its parameters whose value
+    goes on somewhere (an argument of a call, stored, returned or yielded as it is, put in a
+    container, bound to another name). Any other parameter is only used where it is
+    (``"runs of " + label``): a literal passed there never reaches a make."""
+    found: dict[str, frozenset[str]] = {}
+    for function in [*facts.functions.values(), *(s for c in facts.classes.values() for s in c.body if isinstance(s, FUNCTIONS))]:
+        qualname = def_qualname(facts, function)
+        if qualname is None:
+            continue
+        params = {a.arg: a for a in (*function.args.posonlyargs, *function.args.args, *function.args.kwonlyargs)}
+        going = set()
+        for node in ast.walk(function):
+            if isinstance(node, ast.Name) and isinstance(node.ctx, ast.Load) and node.id in params and node.id not in going:
+                if _goes_on(facts, node):
+                    going.add(node.id)
+        found[qualname] = frozenset(going)
+    return found
+
+
+def _goes_on(facts: ModuleFacts, read: ast.Name) -> bool:
+    parent = facts.parent(read)
+    if isinstance(parent, ast.keyword):
+        return True
+    if isinstance(parent, ast.Call):
+        func = parent.func
+        if isinstance(func, ast.Name) and func.id in _INSPECTING_BUILTINS and not facts.bindings_of(func):
+            return False  # ``print(title)``, ``len(title)``: the text goes no further
+        return read is not func
+    if isinstance(parent, (ast.Starred, ast.List, ast.Tuple, ast.Set, ast.Dict, ast.Return, ast.Yield, ast.YieldFrom, ast.IfExp, ast.NamedExpr)):
+        return True
+    if isinstance(parent, (ast.Assign, ast.AnnAssign, ast.AugAssign)):
+        return read is parent.value
+    if isinstance(parent, (ast.Lambda, ast.comprehension)):
+        return True
+    if isinstance(parent, ast.Attribute):  # ``name.strip()`` may hand on the same text
+        return isinstance(facts.parent(parent), ast.Call)
+    if isinstance(parent, ast.FormattedValue):  # ``f"{name}"`` alone is the same text
+        joined = facts.parent(parent)
+        return isinstance(joined, ast.JoinedStr) and len(joined.values) == 1
+    return False

@@ -196,6 +196,9 @@ class ModuleSummary:
     # ``self.check(environment="LunarLander-v2")`` calling a method the class inherits from
     # a base of another module: seen by that join only (``CallSummarizer.inherited_id_calls``).
     inherited_id_calls: tuple[CallSummary, ...] = ()
+    # Defs and methods -> their parameters whose value goes on (``id_params.escaping_parameters``):
+    # a retired id passed to any other parameter of a def of the run reaches no make.
+    escaping_params: dict[str, frozenset[str]] = field(default_factory=dict)
 
 
 def is_ref(kind: object) -> bool:

@@ -229,6 +229,10 @@ class ProjectFacts:
     # caller path -> (line, argument position or keyword) of its calls that pass an env id
     # literal to a def of the run that makes it (``facts/project_ids.py``)
     id_slots: dict[str, frozenset[tuple[int, str]]] = field(default_factory=dict)
+    # (path, qualname) -> the parameters whose value goes on (``ModuleSummary.escaping_params``),
+    # and every def's parameters (``Signature.params``), to place a call's arguments
+    escaping_params: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
+    def_params: dict[tuple[str, str], tuple[str, ...]] = field(default_factory=dict)
     # (path, top-level name) another module reads as a value, not called (``handed_on``)
     handed_on: set[tuple[str, str]] = field(default_factory=set)
 
@@ -323,6 +327,8 @@ class ProjectFacts:
                 if resolved is not None:
                     id_calls_to.setdefault(resolved, []).append((summary.path, call))
         facts.id_slots = id_slots(by_path, id_calls_to)
+        facts.escaping_params = {(path, q): names for path, summary in by_path.items() for q, names in summary.escaping_params.items()}
+        facts.def_params = {(path, q): signature.params for path, summary in by_path.items() for q, signature in summary.defs.items()}
         for summary in summaries:
             if summary.untraced_seed_call:
                 facts.seed_called.update(facts._imported_env_modules(summary))
