@@ -257,11 +257,20 @@ class WrapperForwarding(RuleFamily):
         if self._through_make_layers(attr):
             return
         sub_env = self.origins.is_sub_env(receiver)
-        known = sub_env or self.receivers.kind_of(receiver) is EnvKind.GYM_ENV
-        if not known and not self.origins.outer_is_wrapper(receiver):
+        kind = self.receivers.kind_of(receiver)
+        known = sub_env or kind is EnvKind.GYM_ENV
+        # ``env.videos`` in a module that records with Monitor, on an env the run cannot trace
+        # (made by a factory handed around): no other object there is shown to have videos
+        monitor_read = (
+            name in _MONITOR_ONLY_ATTRIBUTES
+            and isinstance(attr.ctx, ast.Load)
+            and (known or kind is EnvKind.UNKNOWN or self.origins.outer_is_wrapper(receiver))
+            and self._records_with_gym_monitor()
+        )
+        if not known and not monitor_read and not self.origins.outer_is_wrapper(receiver):
             self._read_past_test_double(attr)
             return
-        if name in _MONITOR_ONLY_ATTRIBUTES and isinstance(attr.ctx, ast.Load) and self._records_with_gym_monitor():
+        if monitor_read:
             # gym's Monitor kept the list of the videos it wrote; RecordVideo, which the run
             # puts in its place (GM611), keeps none, so no forwarding can reach one.
             self.report(
