@@ -189,6 +189,16 @@ class ModuleSummary:
     # Top-level defs and classes that use what only an Atari env has (``facts/atari_signs.py``):
     # a module that hands its env to one makes Atari envs (GM106 adds ``import ale_py``).
     atari_users: frozenset[str] = frozenset()
+    # Defs and methods (``Worker.__init__``) -> their parameters that carry an env id to a Gym
+    # id call of this module (``facts/id_params.py``): a literal another module passes there
+    # is an id (GM803-GM805 rename it at that call).
+    id_params: dict[str, frozenset[str]] = field(default_factory=dict)
+    # ``self.check(environment="LunarLander-v2")`` calling a method the class inherits from
+    # a base of another module: seen by that join only (``CallSummarizer.inherited_id_calls``).
+    inherited_id_calls: tuple[CallSummary, ...] = ()
+    # Defs and methods -> their parameters whose value goes on (``id_params.escaping_parameters``):
+    # a retired id passed to any other parameter of a def of the run reaches no make.
+    escaping_params: dict[str, frozenset[str]] = field(default_factory=dict)
 
 
 def is_ref(kind: object) -> bool:

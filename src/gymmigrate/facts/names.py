@@ -71,6 +71,7 @@ GYM_VEC_PREFIXES = ("wrappers.vector.",)
 # (``rules/imports/libraries.py`` GYM_ONLY_LIBRARIES), and an object they make is decided by that port.
 GYM_ONLY_PACKAGES = frozenset(
     {
+        "akro",
         "atari_py",
         "baselines",
         "colabgymrender",

@@ -63,6 +63,7 @@ from gymmigrate.facts.project_contracts import (
     wrapper_steppers,
 )
 from gymmigrate.facts.project_exports import Exports, reexport_wrappers
+from gymmigrate.facts.project_ids import id_slots
 from gymmigrate.facts.project_params import ParamJoin
 from gymmigrate.facts.project_view import ProjectView
 from gymmigrate.facts.reset_contract import Contract
@@ -228,6 +229,13 @@ class ProjectFacts:
     # the same for the calls that pass an env of another kind (a VecEnv, a test double with
     # an API of its own): whether those are only tests decides what a made env's reads need.
     other_env_callers: dict[tuple[str, str, str], tuple[tuple[str, int], ...]] = field(default_factory=dict)
+    # caller path -> (line, argument position or keyword) of its calls that pass an env id
+    # literal to a def of the run that makes it (``facts/project_ids.py``)
+    id_slots: dict[str, frozenset[tuple[int, str]]] = field(default_factory=dict)
+    # (path, qualname) -> the parameters whose value goes on (``ModuleSummary.escaping_params``),
+    # and every def's parameters (``Signature.params``), to place a call's arguments
+    escaping_params: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
+    def_params: dict[tuple[str, str], tuple[str, ...]] = field(default_factory=dict)
     # (path, top-level name) another module reads as a value, not called (``handed_on``)
     handed_on: set[tuple[str, str]] = field(default_factory=set)
 
@@ -315,6 +323,15 @@ class ProjectFacts:
         facts.seed_owners, facts.seed_chains = legacy_seeds(facts, by_path)
         params = ParamJoin(facts, by_path, calls_to)
         params.run()
+        id_calls_to = {key: list(calls) for key, calls in calls_to.items()}
+        for summary in summaries:
+            for call in summary.inherited_id_calls:
+                resolved = facts._resolve(call.target, summary.path) or facts._resolve_reexported(call.target, summary.path, by_path)
+                if resolved is not None:
+                    id_calls_to.setdefault(resolved, []).append((summary.path, call))
+        facts.id_slots = id_slots(by_path, id_calls_to)
+        facts.escaping_params = {(path, q): names for path, summary in by_path.items() for q, names in summary.escaping_params.items()}
+        facts.def_params = {(path, q): signature.params for path, summary in by_path.items() for q, signature in summary.defs.items()}
         for summary in summaries:
             if summary.untraced_seed_call:
                 facts.seed_called.update(facts._imported_env_modules(summary))

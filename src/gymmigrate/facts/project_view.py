@@ -99,6 +99,24 @@ class ProjectView:
         (``ProjectFacts.passed_ids``)."""
         return self.facts.passed_ids.get((self.path, function, param), ())
 
+    def passes_id_to_make(self, line: int, key: str) -> bool:
+        """The call of this file at ``line`` passes, as argument ``key`` (a position or a
+        keyword), an env id literal that a def of the run hands to a Gym id call
+        (``ProjectFacts.id_slots``)."""
+        return (line, key) in self.facts.id_slots.get(self.path, ())
+
+    def keeps_argument(self, qualified: str, key: str) -> bool:
+        """The def (or class, its ``__init__``) of the run that ``qualified`` names uses the
+        argument ``key`` (a position, ``self`` not counted, or a keyword) only where it is:
+        it hands it to no call and stores it nowhere (``ModuleSummary.escaping_params``)."""
+        found = self.facts._resolve(qualified, self.path)
+        if found is None or found not in self.facts.escaping_params:
+            return False
+        params = self.facts.def_params.get(found, ())
+        positional = params[1:] if "." in found[1] else params
+        param = positional[int(key)] if key.isdigit() and int(key) < len(positional) else key
+        return param in params and param not in self.facts.escaping_params[found]
+
     def handed_on(self, function: str) -> bool:
         """Another module of the run reads this file's ``function`` as a value (``partial(f)``)."""
         return (self.path, function) in self.facts.handed_on

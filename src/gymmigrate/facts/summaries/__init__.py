@@ -24,6 +24,7 @@ from gymmigrate.facts.creation import render_kept_classes
 from gymmigrate.facts.done_uses import top_level_records
 from gymmigrate.facts.env_classes import EnvClasses
 from gymmigrate.facts.env_specs import module_spec_lists
+from gymmigrate.facts.id_params import escaping_parameters, id_parameters
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
 from gymmigrate.facts.module_summary import ModuleSummary, Signature
@@ -163,6 +164,9 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         handed_on=handed_on(facts),
         silent_renders=frozenset(name for name, classdef in facts.classes.items() if renders_nothing(facts, classdef)),
         atari_users=atari_users(facts),
+        id_params=id_parameters(facts, receivers),
+        inherited_id_calls=tuple(calls.inherited_id_calls()),
+        escaping_params=escaping_parameters(facts),
         mode_renders=mode_renders(facts),
         opaque_registrations=opaque_registrations(facts),
         fixed_mode_renders=fixed_mode_renders(facts),

@@ -48,6 +48,29 @@ class CallSummarizer:
         calls += [c for call in (c for calls in self.facts.attribute_calls.values() for c in calls) for c in self._method_calls(call)]
         return calls
 
+    def inherited_id_calls(self) -> list[CallSummary]:
+        """``self.check(environment="LunarLander-v2")`` in a class that does not define
+        ``check``, whose first base of the run (imported) may: the call with its env id
+        literals, for ``ModuleSummary.inherited_id_calls`` only (no other join sees it, so
+        what the run knows of the base's parameters is unchanged)."""
+        found = []
+        for calls in self.facts.attribute_calls.values():
+            for call in calls:
+                func = call.func
+                if not isinstance(func, ast.Attribute) or not isinstance(func.value, ast.Name) or not self.receivers.is_self(func.value):
+                    continue
+                classdef = self.facts.enclosing_class(call)
+                if classdef is None or self.facts.parent(classdef) is not self.facts.tree or self.receivers.own_method(func) is not None:
+                    continue
+                for base in classdef.bases:
+                    qualified = self.facts.qualified_names(base)
+                    if len(qualified) == 1 and not N.is_library(name := next(iter(qualified))):
+                        summary = self._arguments(call, f"{name}.{func.attr}")
+                        if summary.ids:
+                            found.append(summary)
+                        break
+        return found
+
     def _call(self, call: ast.Call) -> CallSummary | None:
         target = self._target(call.func)
         if target is None:

@@ -14,10 +14,11 @@ from dataclasses import dataclass
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
 from gymmigrate.facts.flow import Flow
-from gymmigrate.facts.module import call_argument, full_name
+from gymmigrate.facts.id_params import def_qualname, escaping_parameters
+from gymmigrate.facts.module import FUNCTIONS, call_argument, full_name
 from gymmigrate.facts.receivers import Receivers
 from gymmigrate.rules.env_ids.atari_evidence import atari_template
-from gymmigrate.rules.env_ids.catalog import env_package
+from gymmigrate.rules.env_ids.catalog import env_package, migration_for, removed_family
 from gymmigrate.rules.env_ids.syntax import (
     FORWARDS_KWARGS,
     ID_FUNCTIONS,
@@ -44,6 +45,7 @@ class IdSite:
     via: str = ""  # how the string reaches the call ("the constant ENV_ID"), for messages
     report_only: bool = False  # handed to another module's code from a file without Gym: say so, add nothing
     conditional: bool = False  # one branch of ``a if c else b``: keywords would hit both
+    untraced: bool = False  # a known retired id handed to the project's code the run cannot follow to a make
 
 
 # how many functions an id parameter is followed through to the literal its callers pass
@@ -101,6 +103,11 @@ class IdSites:
                 self.atari_reads.append((None, arg))
         sites.extend(self._constants_passed_on())
         sites.extend(self._ids_passed_on())
+        # a call of this module's own def is found both ways: one site per literal
+        known = {id(site.string) for site in sites}
+        sites.extend(site for site in self._ids_made_elsewhere() if id(site.string) not in known)
+        known = {id(site.string) for site in sites}
+        sites.extend(site for site in self._retired_ids_handed_on() if id(site.string) not in known)
         return sites
 
     def literal_of(self, name: ast.Name) -> ast.Constant | None:
@@ -191,7 +198,14 @@ class IdSites:
             # ``Task("Hopper-v2")`` with ``self.env = gym.make(name)`` in ``Task.__init__``
             callee = owner.name
             position = position - 1 if position else None  # ``self`` is not passed
-        for call in self.facts.calls_by_name.get(callee, []) if callee else []:
+        calls = self.facts.calls_by_name.get(callee, []) if callee else []
+        if isinstance(owner, ast.ClassDef) and function.name != "__init__" and self.facts.parent(owner) is self.facts.tree:
+            # a test helper method, ``self.check(level="LunarLander-v2")`` with ``def check(self,
+            # level): ... make(level)``: its calls through ``self`` in the class pass the id
+            callee = f"self.{function.name}"
+            position = position - 1 if position else None
+            calls = [c for c in self.facts.attribute_calls.get(function.name, []) if self.receivers.own_method(c.func) is function]
+        for call in calls:
             argument = call_argument(call, position, param.arg)
             if argument is not None:
                 values.append((argument, f"an argument of `{callee}(...)`"))
@@ -286,6 +300,89 @@ class IdSites:
                     site.report_only = without_gym
                     sites.append(site)
         return sites
+
+    def _ids_made_elsewhere(self) -> list[IdSite]:
+        """``MultiEnv("Pendulum-v0", 8)`` with ``make(self.env_id)`` in the module of the run
+        that defines ``MultiEnv`` (``ProjectView.passes_id_to_make``): the literal is an id."""
+        project = self.receivers.project
+        if project is None:
+            return []
+        sites = []
+        for call in _calls_in_source_order(self.facts):
+            line = getattr(call, "lineno", 0)
+            passed = [(str(i), a) for i, a in enumerate(call.args)] + [(k.arg, k.value) for k in call.keywords if k.arg is not None]
+            for key, argument in passed:
+                if not isinstance(argument, ast.Constant) or not project.passes_id_to_make(line, key):
+                    continue
+                callee = full_name(call.func) or "the project's function"
+                site = self._site(argument, None, False, via=f"an argument of `{callee}(...)`, which makes it")
+                if site is not None:
+                    sites.append(site)
+        return sites
+
+    def _retired_ids_handed_on(self) -> list[IdSite]:
+        """``self.unittest(environment="LunarLander-v2")`` in a module that uses Gym, where the
+        helper (the project's: a method of the class or of a base of the run, a def of the
+        run) passes it on in ways the run cannot follow (rebound, dispatched by a registry):
+        a literal that is exactly a Gym id Gymnasium retired or removed is asked about there,
+        never rewritten (the run has not seen it reach a make)."""
+        if not ({"gym", "gymnasium"} & imported_modules(self.facts.tree, self.facts)):
+            return []
+        sites = []
+        for call in _calls_in_source_order(self.facts):
+            if self._id_call(call) is not None or not (self._project_callee(call) or self._run_method(call)):
+                continue
+            callee = full_name(call.func) or "the project's function"
+            passed_on = [(str(i), a) for i, a in enumerate(call.args)] + [(k.arg or "", k.value) for k in call.keywords]
+            for key, passed in passed_on:
+                text = plain_string(self.facts, passed)
+                if text is None or not (migration_for(text) or removed_family(text)) or self._kept_there(call, key):
+                    continue
+                site = self._site(passed, None, False, via=f"handed to `{callee}(...)`")
+                if site is not None and not site.module_prefix:
+                    site.untraced = True
+                    sites.append(site)
+        return sites
+
+    def _kept_there(self, call: ast.Call, key: str) -> bool:
+        """The project's callee uses argument ``key`` only where it is (a label, a log line):
+        it hands it to no call and stores it nowhere, so it never reaches a make."""
+        function = self.receivers.local_function(call.func) or self.receivers.own_method(call.func)
+        local_class = self.receivers.local_class(call.func) if function is None else None
+        if local_class is not None:
+            function = next((s for s in local_class.body if isinstance(s, FUNCTIONS) and s.name == "__init__"), None)
+        if function is not None:
+            qualname = def_qualname(self.facts, function)
+            escaping = self.facts.memo(("escaping-params", 0), lambda: escaping_parameters(self.facts))
+            params = [a.arg for a in (*function.args.posonlyargs, *function.args.args)]
+            if isinstance(self.facts.parent(function), ast.ClassDef):
+                params = params[1:]
+            param = params[int(key)] if key.isdigit() and int(key) < len(params) else key
+            return qualname in escaping and param in params and param not in escaping[qualname]
+        project = self.receivers.project
+        if project is None:
+            return False
+        names = set(self.facts.qualified_names(call.func))
+        func = call.func
+        classdef = self.facts.enclosing_class(call)
+        if isinstance(func, ast.Attribute) and classdef is not None and self._run_method(call):
+            names |= {f"{q}.{func.attr}" for base in classdef.bases for q in self.facts.qualified_names(base)}
+        return any(project.keeps_argument(q, key) for q in names)
+
+    def _run_method(self, call: ast.Call) -> bool:
+        """``self.m(...)`` on a method of the class, or inherited from a base the run defines."""
+        func = call.func
+        if not (isinstance(func, ast.Attribute) and isinstance(func.value, ast.Name) and self.receivers.is_self(func.value)):
+            return False
+        if self.receivers.own_method(func) is not None:
+            return True
+        classdef = self.facts.enclosing_class(call)
+        project = self.receivers.project
+        if classdef is None or project is None:
+            return False
+        return any(
+            q.startswith(".") or project.defines(q) for base in classdef.bases for q in self.facts.qualified_names(base)
+        )
 
     def _hands_on(self, read: ast.AST) -> bool:
         """The constant is passed on as an id: an argument of a function of the project (a

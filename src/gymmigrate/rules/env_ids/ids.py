@@ -165,6 +165,9 @@ class EnvIds(RuleFamily):
                 kind=FixKind.FLAG,
             )
             return
+        if site.untraced:
+            self._ask_untraced(site)
+            return
         migration = migration_for(site.env_id)
         if migration is not None:
             self._decide_migration(site, migration)
@@ -180,6 +183,22 @@ class EnvIds(RuleFamily):
         package = env_package(final_id)
         if package is not None and not site.module_prefix and package.module not in self._packages:
             self._packages[package.module] = (package, site.string, None)
+
+    def _ask_untraced(self, site: IdSite) -> None:
+        """A retired id whose way to a make the run could not follow: one question, no rewrite."""
+        migration = migration_for(site.env_id)
+        if migration is not None:
+            keywords = ", ".join(f"{k}={v}" for k, v in migration.kwargs)
+            target = f"`{migration.new_id}`" + (f" with {keywords}" if keywords else "")
+            rule, what = migration.rule, f"Gymnasium 1.4 makes {target} instead ({migration.reason})"
+        else:
+            rule, what = "GM805", f"it no longer exists: {removed_family(site.env_id)}"
+        self.report(
+            site.string,
+            rule,
+            f"`{site.env_id}` is {site.via}, which the run could not follow to a make; if it reaches gym.make, {what}",
+            kind=FixKind.FLAG,
+        )
 
     def _decide_migration(self, site: IdSite, migration: IdMigration) -> None:
         old, new = site.env_id, migration.new_id

@@ -18,6 +18,13 @@ from gymmigrate.rules.imports.table import under_gym
 
 # Top-level packages that have no Gymnasium release, with what their users move to.
 GYM_ONLY_LIBRARIES = {
+    # garage's spaces library: its classes subclass legacy ``gym.spaces`` (last released for gym).
+    "akro": (
+        "akro's spaces subclass legacy gym.spaces and akro has no Gymnasium release: they are not "
+        "gymnasium Spaces, so gymnasium.make's env checker rejects an env that declares them (\"does not inherit "
+        "from `gymnasium.spaces.Space`\") and Gymnasium's wrappers and vector envs do not know them; declare "
+        "gymnasium.spaces in their place, or port the akro helpers the code uses"
+    ),
     "stable_baselines": (
         "stable_baselines 2.x (TF) has no Gymnasium release: move to Stable-Baselines3 "
         "(its VecEnv loops keep the four-field step and the obs-only reset and are left as they are)"

@@ -42,6 +42,18 @@ class RenderSites(RecorderSites):
         classdef = self.facts.parent(function)
         return isinstance(classdef, ast.ClassDef) and self.receivers.class_kind(classdef) is EnvKind.NOT_ENV
 
+    def _adapter_render(self, function: ast.AST, receiver: ast.expr) -> bool:
+        """``render(self, mode)`` of a class that is no Gym env or wrapper (an env of another
+        API's base, garage's ``Environment``) forwarding to a Gym env it holds
+        (``self._env.render(mode)``): no Env/Wrapper rule owns it, and on Gymnasium the call
+        is a TypeError, so it is a call site like any other."""
+        classdef = self.facts.parent(function)
+        if not isinstance(classdef, ast.ClassDef) or self.receivers.is_gym_wrapper_class(classdef):
+            return False
+        if self.receivers.class_kind(classdef) is not EnvKind.UNKNOWN or EnvClasses.of(self.facts, self.receivers).is_custom_env(classdef):
+            return False
+        return self.receivers.kind_of(receiver) is EnvKind.GYM_ENV
+
     def _render_site(self, call: ast.Call) -> RenderSite | None:
         func = call.func
         if not isinstance(func, ast.Attribute):  # ``x.method(...)`` calls only
@@ -55,7 +67,7 @@ class RenderSites(RecorderSites):
             self._report_other_signature(call, receiver)
             return None
         function = self.facts.enclosing_function(call)
-        if function is not None and function.name == "render" and not self._helper_method(function):
+        if function is not None and function.name == "render" and not (self._helper_method(function) or self._adapter_render(function, receiver)):
             return None  # a render method forwarding to its env: the Env/Wrapper rules own it
         if mode_arg is not None and self._class_keeps_its_mode(receiver):
             return None  # ``render(mode)`` of a class that chooses its mode itself is kept (GM405 says so)

@@ -125,6 +125,8 @@ class WrapperForwarding(RuleFamily):
         for node in self.facts.parents:  # every node once, in source order
             if isinstance(node, ast.Attribute):
                 self._attribute_access(node)
+        for call in self.facts.calls_by_name.get("getattr", []):
+            self._getattr_forwarding(call)
         for call in self.facts.calls_by_name.get("isinstance", []):
             if self._tests_time_limit(call) and isinstance_time_limit_on_atari(self, call):
                 continue  # an Atari make has no TimeLimit now
@@ -138,6 +140,66 @@ class WrapperForwarding(RuleFamily):
                     "test answers as it did; `env.spec.max_episode_steps` also works under wrappers of your own",
                     tier=Tier.NOTE,
                 )
+
+    def _getattr_forwarding(self, call: ast.Call) -> None:
+        """``def __getattr__(self, name): return getattr(self._env, name)`` with ``self._env``
+        a make result or a wrapper stack: legacy gym's wrappers forwarded the lookup on to the
+        base env, Gymnasium's do not, so what only the base env (or an inner wrapper) has now
+        raises AttributeError through this class. One question at the lookup: the fix
+        (``get_wrapper_attr``, ``.unwrapped``) depends on what callers read through it."""
+        if self.facts.bindings_of(call.func) or len(call.args) != 2 or call.keywords:  # type: ignore[arg-type]
+            return
+        function = self.facts.enclosing_function(call)
+        classdef = self.facts.enclosing_class(call)
+        if function is None or classdef is None or self.facts.parent(function) is not classdef:
+            return
+        params = [*function.args.posonlyargs, *function.args.args]
+        if function.name not in ("__getattr__", "__getattribute__") or len(params) != 2:
+            return
+        target, looked_up = call.args
+        if not (isinstance(looked_up, ast.Name) and looked_up.id == params[1].arg and self.facts.bindings_of(looked_up) == [params[1]]):
+            return
+        held = dotted_name(target)
+        stored = self._looked_up_attribute(target)
+        values: list[ast.expr] = [target]
+        if stored is not None:
+            held = f"self.{stored}"
+            values = self.receivers.self_stores(classdef).get(stored, [])
+        if not values or held is None:
+            return
+        # a make result or wrappers; or a Gym env by type (an isinstance test, an annotation),
+        # which callers make with make: a raw env has its attributes itself, an unknown
+        # target is not asked about
+        origins = [self.origins.origin(v) for v in values]
+        if not (any(o in (MADE, WRAPPED) for o in origins) or any(self.receivers.kind_of(v) is EnvKind.GYM_ENV for v in values)):
+            return
+        if any(o == RAW for o in origins):
+            return
+        self.report(
+            call,
+            "GM604",
+            f"`{classdef.name}.{function.name}` forwards unknown attributes to `{held}`, a Gym env made with make or "
+            "wrappers: Gymnasium's wrappers no longer forward attribute reads to the env below them, so what only the "
+            f"base env or an inner wrapper defines now raises AttributeError here; forward with "
+            f"`{held}.get_wrapper_attr({looked_up.id})` (every layer, as gym's forwarding did) or read `{held}.unwrapped`",
+            kind=FixKind.FLAG,
+        )
+
+    def _looked_up_attribute(self, target: ast.expr) -> str | None:
+        """``x`` for a name bound once to ``super().__getattribute__("x")`` or
+        ``object.__getattribute__(self, "x")`` (how a ``__getattr__`` reads its own slot
+        without recursing), else None."""
+        if not isinstance(target, ast.Name):
+            return None
+        bindings = self.facts.bindings_of(target)
+        statement = self.facts.parent(bindings[0]) if len(bindings) == 1 else None
+        if not (isinstance(statement, ast.Assign) and statement.targets == bindings and isinstance(statement.value, ast.Call)):
+            return None
+        call = statement.value
+        if not (isinstance(call.func, ast.Attribute) and call.func.attr == "__getattribute__") or call.keywords or not call.args:
+            return None
+        name = call.args[-1]
+        return name.value if isinstance(name, ast.Constant) and isinstance(name.value, str) and len(call.args) <= 2 else None
 
     def _records_with_gym_monitor(self) -> bool:
         """This module wraps an env in gym's ``Monitor`` or in the ``RecordVideo`` that replaces
@@ -195,11 +257,20 @@ class WrapperForwarding(RuleFamily):
         if self._through_make_layers(attr):
             return
         sub_env = self.origins.is_sub_env(receiver)
-        known = sub_env or self.receivers.kind_of(receiver) is EnvKind.GYM_ENV
-        if not known and not self.origins.outer_is_wrapper(receiver):
+        kind = self.receivers.kind_of(receiver)
+        known = sub_env or kind is EnvKind.GYM_ENV
+        # ``env.videos`` in a module that records with Monitor, on an env the run cannot trace
+        # (made by a factory handed around): no other object there is shown to have videos
+        monitor_read = (
+            name in _MONITOR_ONLY_ATTRIBUTES
+            and isinstance(attr.ctx, ast.Load)
+            and (known or kind is EnvKind.UNKNOWN or self.origins.outer_is_wrapper(receiver))
+            and self._records_with_gym_monitor()
+        )
+        if not known and not monitor_read and not self.origins.outer_is_wrapper(receiver):
             self._read_past_test_double(attr)
             return
-        if name in _MONITOR_ONLY_ATTRIBUTES and isinstance(attr.ctx, ast.Load) and self._records_with_gym_monitor():
+        if monitor_read:
             # gym's Monitor kept the list of the videos it wrote; RecordVideo, which the run
             # puts in its place (GM611), keeps none, so no forwarding can reach one.
             self.report(
