@@ -188,8 +188,10 @@ def _plan_render_mode(family: StacksFamily, consumer: ast.Call, env: ast.expr) -
             given[id(make)] = RGB_ARRAY
             family.plan.replace(make, _add_render_mode(_quote_of(facts.segment(make))))
             summary = _call_summary(facts, make)
+            # reported at the consumer's env argument, not at the consumer call that GM611
+            # rebuilds: leaving out one of the two rules leaves out its own edit only
             family.plan.report(
-                consumer,
+                env,
                 "GM407",
                 FixKind.ASSIST,
                 f'added render_mode="{RGB_ARRAY}" to {summary} so RecordVideo gets frames',
