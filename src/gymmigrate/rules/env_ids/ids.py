@@ -210,7 +210,7 @@ class EnvIds(RuleFamily):
             if not site.forwards_kwargs or clash or site.call is None or site.conditional:
                 if clash:
                     why = f"the call already passes {', '.join(clash)}"
-                elif site.via:
+                elif site.via and not site.keywords_at_call:
                     why = f"the id comes from {site.via}"
                 elif site.conditional:
                     why = "the id is one branch of a conditional"
