@@ -46,6 +46,7 @@ class IdSite:
     report_only: bool = False  # handed to another module's code from a file without Gym: say so, add nothing
     conditional: bool = False  # one branch of ``a if c else b``: keywords would hit both
     untraced: bool = False  # a known retired id handed to the project's code the run cannot follow to a make
+    keywords_at_call: bool = False  # via a constant only ``call`` reads: new keywords go to that call
 
 
 # how many functions an id parameter is followed through to the literal its callers pass
@@ -91,8 +92,10 @@ class IdSites:
             if isinstance(arg, ast.Name):
                 literal = self.literal_of(arg)
                 if literal is not None:
-                    site = self._site(literal, None, False, via=f"the constant `{arg.id}`")
+                    sole = self._only_read(literal) is arg
+                    site = self._site(literal, call if sole else None, forwards if sole else False, via=f"the constant `{arg.id}`")
                     if site is not None:
+                        site.keywords_at_call = sole
                         sites.append(site)
                 else:
                     sites.extend(self._parameter_ids(arg))
@@ -126,6 +129,27 @@ class IdSites:
             return None  # another value may reach the read (a branch, a loop)
         value = statement.value
         return value if isinstance(value, ast.Constant) and isinstance(value.value, str) else None
+
+    def _only_read(self, literal: ast.Constant) -> ast.Name | None:
+        """The one read of the name that ``literal`` is assigned to (``ENV = "..."``), when
+        the module reads it exactly once and binds it nowhere else: a keyword the new id
+        needs can go to the call that read passes it to."""
+        statement = self.facts.parent(literal)
+        if not (isinstance(statement, ast.Assign) and len(statement.targets) == 1 and isinstance(statement.targets[0], ast.Name)):
+            return None
+        target = statement.targets[0]
+        reads = []
+        for node in ast.walk(self.facts.tree):
+            if isinstance(node, ast.Name) and node.id == target.id:
+                if isinstance(node.ctx, ast.Load):
+                    reads.append(node)
+                elif node is not target:
+                    return None  # rebound somewhere: another value may reach some read
+            elif isinstance(node, (ast.Global, ast.Nonlocal)) and target.id in node.names:
+                return None
+        if len(reads) != 1 or target not in self.facts.bindings_of(reads[0]):
+            return None
+        return reads[0]
 
     def _listed_ids(self, subscript: ast.Subscript, via: str = "") -> list[IdSite]:
         """``env_names = ['CartPole-v1', 'LunarLander-v2']`` ... ``gym.make(env_names[i])``: every

@@ -210,7 +210,7 @@ class EnvIds(RuleFamily):
             if not site.forwards_kwargs or clash or site.call is None or site.conditional:
                 if clash:
                     why = f"the call already passes {', '.join(clash)}"
-                elif site.via:
+                elif site.via and not site.keywords_at_call:
                     why = f"the id comes from {site.via}"
                 elif site.conditional:
                     why = "the id is one branch of a conditional"
@@ -299,6 +299,17 @@ class EnvIds(RuleFamily):
         calls = [f"{alias}.register_envs({package})" for package in packages]
         calls[0] = "\n" + calls[0]
         last_import = next((s for s in reversed(body[:first_use]) if isinstance(s, (ast.Import, ast.ImportFrom))), None)
+        binding = _binding_statement(body, alias)
+        if binding is not None and (last_import is None or body.index(binding) > body.index(last_import)):
+            # the id is written before gym is imported (a constant at the top of a script,
+            # a notebook's first cell): the call needs the name bound, and no make runs
+            # before the import anyway
+            last_import = binding
+            following = body[body.index(binding) + 1 :]
+            for statement in following:  # and after the imports that follow it
+                if not isinstance(statement, (ast.Import, ast.ImportFrom)):
+                    break
+                last_import = statement
         if last_import is not None:
             self.plan.insert_after(last_import, *lines, *calls)
             return
@@ -317,6 +328,20 @@ class EnvIds(RuleFamily):
         while self.facts.parent(statement) is not tree:
             statement = self.facts.statement_of(self.facts.parent(statement))  # type: ignore[arg-type]
         return statement
+
+
+def _binding_statement(body: list[ast.stmt], alias: str) -> ast.stmt | None:
+    """The first top-level statement that imports ``alias`` (directly, or in an ``if`` or
+    ``try`` at module level), None when the module does not bind it at top level."""
+    for statement in body:
+        if isinstance(statement, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+            continue
+        for node in ast.walk(statement):
+            if isinstance(node, (ast.Import, ast.ImportFrom)) and any(
+                (name.asname or name.name.split(".")[0]) == alias for name in node.names
+            ):
+                return statement
+    return None
 
 
 def _is_docstring(statement: ast.stmt) -> bool:

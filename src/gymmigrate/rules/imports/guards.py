@@ -16,6 +16,19 @@ from gymmigrate.rules.imports.common import ImportsBase
 from gymmigrate.rules.imports.table import LEGACY_PACKAGES
 
 
+# Calls that only show a value: printing, logging, notebook display, string building.
+_SHOWING_CALLS = frozenset({"print", "display", "str", "repr", "format", "info", "debug", "warning", "warn", "write", "log"})
+
+
+def _call_name(call: ast.Call) -> str | None:
+    func = call.func
+    if isinstance(func, ast.Name):
+        return func.id
+    if isinstance(func, ast.Attribute):
+        return func.attr
+    return None
+
+
 class ImportGuards(ImportsBase):
     """GM108 (mixed into the family)."""
 
@@ -121,7 +134,25 @@ class ImportGuards(ImportsBase):
                     continue
             if check is None and self._drop_legacy_demand(node):
                 continue
+            if check is None and self._only_shown(node):
+                continue  # printed or displayed: it shows Gymnasium's version now, nothing branches on it
             self.report(node, "GM108", "gym version check: after the migration one branch is dead; delete the legacy one")
+
+    def _only_shown(self, node: ast.AST) -> bool:
+        """The read is an expression statement of its own (a notebook cell displaying it),
+        or an argument of one (``print(gym.__version__)``, ``log.info(...)``), with no
+        comparison or test between them: nothing chooses a branch by it."""
+        statement = self.facts.statement_of(node)
+        if not isinstance(statement, ast.Expr):
+            return False
+        current: ast.AST = node
+        while current is not statement:
+            current = self.facts.parent(current)
+            if isinstance(current, ast.Call) and _call_name(current) not in _SHOWING_CALLS:
+                return False  # a def of the project may check what it is given
+            if isinstance(current, (ast.Compare, ast.BoolOp, ast.IfExp, ast.Subscript, ast.Lambda)):
+                return False
+        return True
 
     def _drop_legacy_demand(self, node: ast.AST) -> bool:
         """``minor = int(gym.__version__.split('.')[1])`` read only by guards that stop the
