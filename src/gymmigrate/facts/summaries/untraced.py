@@ -9,11 +9,12 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.facts import names as N
-from gymmigrate.facts.creation import CreationFinder, passes_mode
+from gymmigrate.facts.creation import CreationFinder
 from gymmigrate.facts.decisions import Action, decide
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import string_value
 from gymmigrate.facts.profile import FileProfile
+from gymmigrate.facts.render_modes import passes_mode
 from gymmigrate.facts.summaries.calls import CallSummarizer
 
 

@@ -513,7 +513,7 @@ def _is_inner_reset(value: cst.BaseExpression, receivers: set[str]) -> bool:
 
 def _limit_flag_to_truncated(body: cst.BaseSuite, name: str, data_ends: frozenset[str]) -> cst.BaseSuite:
     """``if <step limit>: name = True``, a statement of the body: ``truncated = bool(<step
-    limit>)`` in its place (GM504 checked the shape: ``step._flagged_limit``)."""
+    limit>)`` in its place (GM504 checked the shape: ``step_limits.flagged_limit``)."""
     if not isinstance(body, cst.IndentedBlock):
         return body
     statements = list(body.body)
@@ -544,7 +544,7 @@ def _limit_flag_to_truncated(body: cst.BaseSuite, name: str, data_ends: frozense
 
 def _limit_line_to_truncated(body: cst.BaseSuite, name: str, data_ends: frozenset[str]) -> cst.BaseSuite:
     """``name = name or <step limit>``, the statement before the return: ``truncated =
-    bool(<step limit>)`` (GM504 checked the shape: ``step._accumulated_limit``)."""
+    bool(<step limit>)`` (GM504 checked the shape: ``step_limits.accumulated_limit``)."""
     if not isinstance(body, cst.IndentedBlock) or len(body.body) < 2:
         return body
     line = body.body[-2]

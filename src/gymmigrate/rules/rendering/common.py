@@ -11,15 +11,14 @@ from dataclasses import dataclass
 
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
-from gymmigrate.facts.creation import (
-    Creation,
-    CreationFinder,
-    local_env_class_takes_render_mode,
-    not_a_mode_call,
-)
+from gymmigrate.facts.creation import Creation, CreationFinder
 from gymmigrate.facts.decisions import Action
 from gymmigrate.facts.env_specs import is_spec_make
 from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.render_modes import (
+    local_env_class_takes_render_mode,
+    not_a_mode_call,
+)
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.render_calls import arguments_in_order, mode_argument

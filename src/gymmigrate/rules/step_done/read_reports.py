@@ -22,9 +22,9 @@ from gymmigrate.facts.done_uses import (
 from gymmigrate.facts.module import own_returns
 from gymmigrate.facts.receiver_classes import is_batched_step_return, keeps_legacy_step
 from gymmigrate.findings import FixKind, Tier
+from gymmigrate.rules.step_done.bookkeeping import DoneBookkeeping
 from gymmigrate.rules.step_done.common import TIME_LIMIT_KEY, StepNames
 from gymmigrate.rules.step_done.next_state import DoneStep
-from gymmigrate.rules.step_done.read_uses import DoneBookkeeping
 
 
 class DoneReadReports(DoneBookkeeping):

@@ -4,8 +4,10 @@ Beyond the masks of ``next_state``: the flag choosing a bootstrap target
 (``R = 0.0 if done else v(s2)``), the None mask of the PyTorch DQN tutorial
 (``next_state = None if done else s2``), a separate bootstrap flag computed from it
 (``dw = done and not truncated``), the step's result handed on whole (an env-like
-reply), a rollout store without the next state, and a flag only ever used to end a
-loop. Each answers a question; ``read_reports`` turns the answers into findings.
+reply), and a flag only ever used to end a loop. Where the flag is stored (a rollout
+store without the next state, an episode's store) is ``read_stores``; a read that only
+keeps an episode's books is ``bookkeeping``. Each answers a question; ``read_reports``
+turns the answers into findings.
 """
 
 from __future__ import annotations
@@ -16,12 +18,10 @@ from gymmigrate.facts.done_uses import (
     DoneUse,
     classify_done_read,
     loaded_names,
-    value_site,
 )
 from gymmigrate.facts.flow import bound_names, end, start
 from gymmigrate.facts.module import FUNCTIONS
-from gymmigrate.facts.stored_readers import Reader, stored_flag_readers
-from gymmigrate.rules.step_done.next_state import DoneStep, NextStateReads, says_next
+from gymmigrate.rules.step_done.next_state import DoneStep, NextStateReads
 
 
 class DoneReadUses(NextStateReads):
@@ -77,14 +77,14 @@ class DoneReadUses(NextStateReads):
         if isinstance(parent, ast.IfExp) and parent.test is node:
             when_done, otherwise = (parent.orelse, parent.body) if negated else (parent.body, parent.orelse)
             # ``state = env.reset() if done else obs``: the next state itself, or a new episode
-            if isinstance(otherwise, ast.Name) or _is_none(when_done) or _resets(when_done):
+            if isinstance(otherwise, ast.Name) or _is_none(when_done) or resets(when_done):
                 return None
             if not reads([otherwise]) or reads([when_done]):
                 return None
             return True
         if isinstance(parent, ast.If) and parent.test is node:
             done_branch, other = (parent.orelse, parent.body) if negated else (parent.body, parent.orelse)
-            if any(isinstance(s, ast.Assign) and _is_none(s.value) for s in done_branch) or any(map(_resets, done_branch)):
+            if any(isinstance(s, ast.Assign) and _is_none(s.value) for s in done_branch) or any(map(resets, done_branch)):
                 return None  # ``if done: next_state = None`` (the None mask), ``if done: obs = env.reset()``
             # One target chosen both ways (``if done: y = r`` / ``else: y = r + gamma * q(s2)``), or
             # only added to when not done (``if not done: y += gamma * q(s2)``): a value, not a
@@ -199,46 +199,6 @@ class DoneReadUses(NextStateReads):
                 stored = True
         return stored
 
-    def _stored_flag_readers(self, read: ast.Name) -> list[Reader]:
-        """The readers this module shows of the flag ``read`` stores: in a record or tuple
-        built here (``memories.append(Memory(..., done=done))``), or by the callee of this
-        module it is passed to (``agent.add(s, a, s2, r, done)`` whose body stores it). They
-        say whether the stored flag masks a next-state value or marks the episode boundary
-        (``facts/stored_readers.py``); empty when none is visible."""
-        found = stored_flag_readers(read, self.facts)
-        if found:
-            return found
-        call = self.facts.parent(read)
-        if isinstance(call, ast.keyword):
-            call = self.facts.parent(call)
-        if not isinstance(call, ast.Call) or call.func is read or any(isinstance(a, ast.Starred) for a in call.args):
-            return []
-        function = self.receivers.local_function(call.func) or self.receivers.own_method(call.func)
-        method = function is not None and isinstance(self.facts.parent(function), ast.ClassDef)
-        if function is None and isinstance(call.func, ast.Attribute) and isinstance(call.func.value, ast.Name):
-            classes = self._instance_classes(call.func.value)
-            classdef = next(iter(classes)) if len(classes) == 1 else None
-            if isinstance(classdef, ast.ClassDef):
-                function = next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == call.func.attr), None)
-                method = True
-        if function is None:
-            return []
-        params = [a.arg for a in (*function.args.posonlyargs, *function.args.args)]
-        params = params[1:] if method else params
-        if read in call.args:
-            index = call.args.index(read)
-            flag = params[index] if index < len(params) else None
-        else:
-            flag = next((k.arg for k in call.keywords if k.value is read), None)
-        if flag is None:
-            return []
-        return [
-            reader
-            for node in ast.walk(function)
-            if isinstance(node, ast.Name) and node.id == flag and isinstance(node.ctx, ast.Load)
-            for reader in stored_flag_readers(node, self.facts)
-        ]
-
     def _beside_bootstrap_flag(self, read: ast.Name, step: DoneStep) -> str | None:
         """``store_transition(s, a, r, s2, terminal, done)`` where ``terminal`` (or ``dw``) is
         computed from ``done`` after the step together with something else (``if done and
@@ -335,25 +295,6 @@ class DoneReadUses(NextStateReads):
             ):
                 return True
         return False
-
-    def _stores_step_without_next_state(self, read: ast.Name, step: DoneStep) -> bool:
-        """``memory.store_memory(obs, value, reward, done)``: a call that hands on the step's
-        reward and flag but no next state (``obs`` still holds the state the step started
-        from). Whatever the callee does, it cannot bootstrap from the next state with this
-        flag: a rollout store, where the flag is the episode boundary."""
-        call = self.facts.parent(read)
-        if isinstance(call, ast.keyword):
-            call = self.facts.parent(call)
-        if not isinstance(call, ast.Call) or call.func is read or any(isinstance(a, ast.Starred) for a in call.args):
-            return False
-        reward = step.target.elts[1] if len(step.target.elts) > 1 else None
-        if not isinstance(reward, ast.Name):
-            return False
-        arguments = [*call.args, *(k.value for k in call.keywords)]
-        if not any(isinstance(a, ast.Name) and a.id == reward.id for a in arguments):
-            return False
-        next_names = self._next_state_names(step)
-        return not any(a is not read and self._reads_next_state(a, step, next_names) for a in arguments)
 
     def _only_ends_or_unread(self, read: ast.Name) -> str | None:
         """What the code shows the flag is for, when that settles it: returned by a def of the
@@ -460,87 +401,6 @@ class DoneReadUses(NextStateReads):
                     return function.name, use
         return None
 
-    def _episode_store_with_tail(self, read: ast.Name, step: DoneStep) -> tuple[str, ast.Call, ast.Call | ast.Assign | ast.Delete] | None:
-        """``memory.append((r, done))`` where, under ``if done:``, the code hands ``memory`` on
-        together with a value of the step's next state (``train(memory, critic(s2))``) and
-        empties it (``memory.clear()``, ``memory = []``): the store holds one episode, and
-        its last flag can only mask that final value, a bootstrap. The container's name, the
-        hand-on call and the emptying statement; else None."""
-        node: ast.AST = read
-        parent = self.facts.parent(node)
-        container = None
-        while parent is not None and not isinstance(parent, ast.stmt):
-            if isinstance(parent, ast.Call) and isinstance(parent.func, ast.Attribute) and node is not parent.func:
-                if isinstance(parent.func.value, ast.Name):
-                    container = parent.func.value.id
-                break
-            node, parent = parent, self.facts.parent(parent)
-        if container is None:
-            return None
-        function = self.facts.enclosing_function(step.assign) or self.facts.tree
-        next_names = self._next_state_names(step)
-        if not next_names:
-            return None
-        for test in ast.walk(function):
-            if not (isinstance(test, ast.If) and _tests_flag(test.test, step.done.id)):
-                continue
-            handed = emptied = None
-            # ``last = critic(next_state)`` in the branch, then ``train(memory, last)``
-            tail_values = {
-                statement.targets[0].id
-                for statement in test.body
-                if isinstance(statement, ast.Assign)
-                and len(statement.targets) == 1
-                and isinstance(statement.targets[0], ast.Name)
-                and self._reads_next_state(statement.value, step, next_names)
-            }
-            for statement in test.body:
-                for inner in ast.walk(statement):
-                    if isinstance(inner, ast.Call) and any(isinstance(a, ast.Name) and a.id == container for a in inner.args):
-                        if any(
-                            (isinstance(a, ast.Name) and a.id in tail_values)
-                            or (not isinstance(a, ast.Name) and self._reads_next_state(a, step, next_names))
-                            for a in inner.args
-                        ):
-                            handed = inner
-                    if isinstance(inner, (ast.Call, ast.Assign, ast.Delete)) and _empties(inner, container):
-                        emptied = inner
-            if handed is not None and emptied is not None:
-                return container, handed, emptied
-        return None
-
-    def _callee_masks_tail(self, handed: ast.Call, container: str) -> str | None:
-        """``train(memory, last)`` calls a def of this module that walks ``memory`` (``for
-        i, (_, r, done) in enumerate(memory.reversed())``) and discounts the value it was
-        handed through the stored flags (``q = r + gamma * q * (1.0 - done)``): the stored
-        flag masks bootstrapping from that value. The def's name, or None."""
-        func = handed.func
-        if not isinstance(func, ast.Name) or handed.keywords or any(isinstance(a, ast.Starred) for a in handed.args):
-            return None
-        function = self.facts.functions.get(func.id)
-        if function is None or self.facts.bindings_of(func) != [function]:
-            return None
-        params = [a.arg for a in (*function.args.posonlyargs, *function.args.args)]
-        if len(handed.args) > len(params):
-            return None
-        stores = [params[i] for i, a in enumerate(handed.args) if isinstance(a, ast.Name) and a.id == container]
-        values = {params[i] for i, a in enumerate(handed.args) if not (isinstance(a, ast.Name) and a.id == container)}
-        if len(stores) != 1:
-            return None
-        for loop in ast.walk(function):
-            if not (isinstance(loop, ast.For) and any(isinstance(n, ast.Name) and n.id == stores[0] for n in ast.walk(loop.iter))):
-                continue
-            flags = {n.id for n in ast.walk(loop.target) if isinstance(n, ast.Name)}
-            for statement in ast.walk(loop):
-                if not (isinstance(statement, ast.Assign) and len(statement.targets) == 1 and isinstance(statement.targets[0], ast.Name)):
-                    continue
-                value = statement.targets[0].id
-                if value not in values or not any(isinstance(n, ast.Name) and n.id == value for n in ast.walk(statement.value)):
-                    continue
-                if any(_one_minus(n, flags) for n in ast.walk(statement.value)):
-                    return func.id
-        return None
-
     def _unread_list(self, name: ast.Name) -> str | None:
         """``episode`` bound only to new lists in a function and only ever appended to."""
         scope = self.flow.binding_scope(name)
@@ -568,81 +428,6 @@ class DoneReadUses(NextStateReads):
             ):
                 return None
         return f"is stored in `{name.id}`, which nothing reads"
-
-    def _may_store_next_state(self, read: ast.Name, step: DoneStep) -> bool:
-        """The store beside ``read`` holds a value that may be the step's next state in a way
-        not followed (``frames.append(obs)``, then ``state = np.stack(frames)``): a name that
-        says so (``next_state``, ``s_``), or one bound after the step
-        from something else than its reward, flag or info. Then "stored without the next
-        state" would be a guess: the read is a question, not a note."""
-        site = value_site(read, self.facts)
-        if isinstance(site, ast.Call):
-            values: list[ast.AST] = [*site.args, *(k.value for k in site.keywords)]
-        else:
-            values = [site]
-        step_values = {e.id for e in step.target.elts[1:] if isinstance(e, ast.Name)}
-        function = self.facts.enclosing_function(step.assign)
-        for value in values:
-            for node in ast.walk(value):
-                if not (isinstance(node, ast.Name) and isinstance(node.ctx, ast.Load)) or node.id == read.id:
-                    continue
-                if says_next(node.id):
-                    return True
-                binding = self.flow.last_binding_of(node)
-                statement = self.facts.statement_of(binding) if binding is not None else None
-                if (
-                    isinstance(statement, (ast.Assign, ast.AnnAssign, ast.AugAssign))
-                    and statement is not step.assign
-                    and start(statement) > end(step.assign)
-                    and self.facts.enclosing_function(statement) is function
-                    and statement.value is not None
-                    and not (loaded_names(statement.value) & step_values)
-                    and not self._from_before_the_step(statement.value, step)
-                ):
-                    return True
-        return False
-
-    def _from_before_the_step(self, value: ast.expr, step: DoneStep) -> bool:
-        """``v = self.vf(torch.Tensor(obs))`` after the step, ``obs`` still the state the step
-        started from: every name the value reads was last bound before the step and nothing
-        after it changes them in place, and it reads nothing of the stepped env (``self.env.x``
-        may be its new state): the value cannot be the next state."""
-        receiver = step.assign.value.func.value if isinstance(step.assign.value, ast.Call) and isinstance(step.assign.value.func, ast.Attribute) else None
-        if receiver is None:
-            return False
-        env = self.facts.segment(receiver)
-        observation = step.target.elts[0]
-        for node in ast.walk(value):
-            if isinstance(node, ast.Attribute) and self.facts.segment(node).startswith(env):
-                return False
-            if not (isinstance(node, ast.Name) and isinstance(node.ctx, ast.Load)):
-                continue
-            if isinstance(observation, ast.Name) and node.id == observation.id:
-                return False
-            binding = self.flow.last_binding_of(node)
-            if binding is not None and start(binding) > end(step.assign):
-                return False
-            if self._changed_after(node.id, step):
-                return False
-        return True
-
-    def _changed_after(self, name: str, step: DoneStep) -> bool:
-        """``frames.append(next_obs)`` or ``buf[i] = x`` after the step: ``name`` changed in place."""
-        function = self.facts.enclosing_function(step.assign) or self.facts.tree
-        for node in ast.walk(function):
-            if not hasattr(node, "lineno") or start(node) <= end(step.assign):
-                continue
-            if (
-                isinstance(node, ast.Call)
-                and isinstance(node.func, ast.Attribute)
-                and isinstance(node.func.value, ast.Name)
-                and node.func.value.id == name
-                and node.func.attr in _IN_PLACE_CHANGES
-            ):
-                return True
-            if isinstance(node, ast.Subscript) and isinstance(node.ctx, ast.Store) and isinstance(node.value, ast.Name) and node.value.id == name:
-                return True
-        return False
 
     def _declared_outside(self, node: ast.AST, name: str) -> bool:
         function = self.facts.enclosing_function(node)
@@ -708,204 +493,10 @@ def _assigned(statement: ast.Assign | ast.AnnAssign) -> set[str]:
     return {name for target in targets for name in bound_names(target)}
 
 
-def _resets(node: ast.AST) -> bool:
+def resets(node: ast.AST) -> bool:
     """``node`` calls some ``x.reset(...)``: the flag starts a new episode there."""
     return any(isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute) and n.func.attr == "reset" for n in ast.walk(node))
 
 
 def _is_none(node: ast.AST) -> bool:
     return isinstance(node, ast.Constant) and node.value is None
-
-
-class DoneBookkeeping(DoneReadUses):
-    """Reads of ``done`` that only keep the books of an episode (mixed into the family):
-    they need the episode's end, whatever ended it, and never meet a next-state value, so
-    ``terminated or truncated`` is what they should read and nothing is to decide."""
-
-    def _bookkeeping(self, read: ast.Name, step: DoneStep, owned: bool) -> str | None:
-        """What the read does, where the code shows it only keeps the books; else None.
-        ``owned``: the step certainly binds the value read (else only a dead hook's return
-        counts: whatever its value, Gymnasium never reads it)."""
-        statement = self.facts.statement_of(read)
-        function = self.facts.enclosing_function(read)
-        names = step.names
-        if isinstance(statement, ast.Return) and function is not None and function.name == "_step":
-            if isinstance(self.facts.parent(function), ast.ClassDef):
-                return (
-                    "is returned by `_step`, a gym < 0.9 hook Gymnasium never calls: what it returns is decided with "
-                    "the hook (GM616: renamed `step`, a second run migrates its contract)"
-                )
-        if not owned:
-            return None
-        what = None
-        if self._resets_running_value(read, statement):
-            what = "only resets a running value (an accumulated return or count) where an episode ended"
-        elif (callee := self._tests_only_in_callee(read, step)) is not None:
-            what = f"is handed to `{callee}`, which only tests it to close an episode's books"
-        elif (flag := self._decides_real_reset(read, statement)) is not None:
-            what = f"is kept in `{flag}`, which the class reads only to choose a real reset of the env"
-        if what is None:
-            return None
-        return (
-            f"{what}: it stays `{names.terminated} or {names.truncated}`, the episode's end legacy `done` was; no "
-            "next-state value depends on it"
-        )
-
-    def _decides_real_reset(self, read: ast.Name, statement: ast.AST | None) -> str | None:
-        """``self.needs_real_reset = done or info.get(...)`` where every read of the attribute
-        in the class is an ``if`` test choosing whether to reset the env (a life-loss wrapper's
-        game-over book): it needs the episode's end, however it ended. Returns the attribute's
-        text; None otherwise."""
-        if not (isinstance(statement, ast.Assign) and len(statement.targets) == 1):
-            return None
-        target = statement.targets[0]
-        value = statement.value
-        operands = value.values if isinstance(value, ast.BoolOp) and isinstance(value.op, ast.Or) else [value]
-        if read not in operands:
-            return None
-        if not (isinstance(target, ast.Attribute) and isinstance(target.value, ast.Name) and target.value.id == "self"):
-            return None
-        classdef = self.facts.enclosing_class(statement)
-        if classdef is None:
-            return None
-        loads = [
-            node
-            for node in self.facts.attributes.get(target.attr, ())
-            if isinstance(node.ctx, ast.Load)
-            and isinstance(node.value, ast.Name)
-            and node.value.id == "self"
-            and self.facts.enclosing_class(node) is classdef
-        ]
-        if not loads:
-            return None
-        for node in loads:
-            test: ast.AST = node
-            parent = self.facts.parent(test)
-            if isinstance(parent, ast.UnaryOp) and isinstance(parent.op, ast.Not):
-                test, parent = parent, self.facts.parent(parent)
-            if not (isinstance(parent, ast.If) and parent.test is test and _resets(parent)):
-                return None
-        return self.facts.segment(target)
-
-    def _resets_running_value(self, read: ast.Name, statement: ast.AST | None) -> bool:
-        """``self.ret[done] = 0.`` or ``if done: self.ret = 0`` (nothing else in the branch),
-        where the target accumulates elsewhere in the class or function (``self.ret =
-        self.ret * gamma + r``, ``total += r``): a bootstrap value is computed, not summed."""
-        if isinstance(statement, ast.Assign) and len(statement.targets) == 1:
-            target = statement.targets[0]
-            if isinstance(target, ast.Subscript) and target.slice is read and _constant(statement.value):
-                return self._accumulates(target.value, statement)
-            return False
-        if isinstance(statement, ast.If) and statement.test is read and not statement.orelse:
-            return all(
-                isinstance(child, ast.Assign)
-                and len(child.targets) == 1
-                and _constant(child.value)
-                and self._accumulates(child.targets[0], statement)
-                for child in statement.body
-            )
-        return False
-
-    def _accumulates(self, target: ast.expr, near: ast.AST) -> bool:
-        """``target`` (a name or ``self.x``) is summed into in the class (or function) of ``near``."""
-        text = self.facts.segment(target)
-        if not text or not isinstance(target, (ast.Name, ast.Attribute)):
-            return False
-        scope = self.facts.enclosing_class(near) or self.facts.enclosing_function(near)
-        if scope is None:
-            return False
-        for node in ast.walk(scope):
-            if isinstance(node, ast.AugAssign) and self.facts.segment(node.target) == text:
-                return True
-            if (
-                isinstance(node, ast.Assign)
-                and len(node.targets) == 1
-                and self.facts.segment(node.targets[0]) == text
-                and isinstance(node.value, ast.BinOp)
-                and any(self.facts.segment(n) == text for n in ast.walk(node.value) if isinstance(n, (ast.Name, ast.Attribute)))
-            ):
-                return True
-        return False
-
-    def _tests_only_in_callee(self, read: ast.Name, step: DoneStep) -> str | None:
-        """``self.update(ob, rew, done, info)`` where the method (a def of the module) reads
-        its flag parameter only as an ``if`` test and never reads the parameter that gets
-        the next observation: an episode-statistics hook."""
-        call = self.facts.parent(read)
-        if not isinstance(call, ast.Call) or read not in call.args or any(isinstance(a, ast.Starred) for a in call.args):
-            return None
-        function = self.receivers.local_function(call.func) or self.receivers.own_method(call.func)
-        if function is None:
-            return None
-        params = [a.arg for a in (*function.args.posonlyargs, *function.args.args)]
-        if isinstance(self.facts.parent(function), ast.ClassDef) and params and isinstance(call.func, ast.Attribute):
-            params = params[1:]  # ``self``
-        index = call.args.index(read)
-        if index >= len(params):
-            return None
-        flag = params[index]
-        observation = step.target.elts[0]
-        next_params = {
-            params[i]
-            for i, argument in enumerate(call.args)
-            if i < len(params) and isinstance(argument, ast.Name) and isinstance(observation, ast.Name) and argument.id == observation.id
-        }
-        if any(isinstance(n, ast.Name) and n.id in next_params for n in ast.walk(function)):
-            return None  # it reads the next observation: a target may be computed from it
-        reads = [n for n in ast.walk(function) if isinstance(n, ast.Name) and n.id == flag]
-        if not reads or any(not isinstance(n.ctx, ast.Load) for n in reads):
-            return None
-        for node in reads:
-            test = self.facts.parent(node)
-            if not (isinstance(test, ast.If) and test.test is node):
-                return None
-        return self.facts.segment(call.func)
-
-
-def _constant(node: ast.AST) -> bool:
-    """``0``, ``0.``, ``False``, ``None``, ``-1``."""
-    if isinstance(node, ast.UnaryOp):
-        node = node.operand
-    return isinstance(node, ast.Constant)
-
-
-# Methods that change their object in place (``frames.append(next_obs)``): a name changed so
-# after the step may hold the next state whatever it was bound to.
-_IN_PLACE_CHANGES = frozenset({"append", "extend", "insert", "appendleft", "extendleft", "update", "add", "put", "push", "copy_", "fill_", "__setitem__"})
-
-
-def _empties(node: ast.AST, container: str) -> bool:
-    """``container.clear()``, ``container = []``, ``del container[:]``."""
-    if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "clear":
-        return isinstance(node.func.value, ast.Name) and node.func.value.id == container and not node.args
-    if isinstance(node, ast.Assign) and len(node.targets) == 1:
-        target = node.targets[0]
-        return isinstance(target, ast.Name) and target.id == container and isinstance(node.value, ast.List) and not node.value.elts
-    if isinstance(node, ast.Delete) and len(node.targets) == 1:
-        target = node.targets[0]
-        return (
-            isinstance(target, ast.Subscript)
-            and isinstance(target.value, ast.Name)
-            and target.value.id == container
-            and isinstance(target.slice, ast.Slice)
-        )
-    return False
-
-
-def _tests_flag(test: ast.expr, flag: str) -> bool:
-    """``if done:`` or ``if done or steps % n == 0:`` (a flush at the end and between)."""
-    if isinstance(test, ast.Name):
-        return test.id == flag
-    return isinstance(test, ast.BoolOp) and isinstance(test.op, ast.Or) and any(isinstance(v, ast.Name) and v.id == flag for v in test.values)
-
-
-def _one_minus(node: ast.AST, flags: set[str]) -> bool:
-    """``1 - done`` / ``1.0 - done`` on a flag of ``flags``: the mask that zeroes what follows."""
-    return (
-        isinstance(node, ast.BinOp)
-        and isinstance(node.op, ast.Sub)
-        and isinstance(node.left, ast.Constant)
-        and node.left.value == 1
-        and isinstance(node.right, ast.Name)
-        and node.right.id in flags
-    )
