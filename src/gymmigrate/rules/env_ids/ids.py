@@ -298,7 +298,7 @@ class EnvIds(RuleFamily):
         lines += [f"import {package}" for package in packages]
         calls = [f"{alias}.register_envs({package})" for package in packages]
         calls[0] = "\n" + calls[0]
-        last_import = next((s for s in reversed(body[:first_use]) if isinstance(s, (ast.Import, ast.ImportFrom))), None)
+        last_import: ast.stmt | None = next((s for s in reversed(body[:first_use]) if isinstance(s, (ast.Import, ast.ImportFrom))), None)
         binding = _binding_statement(body, alias)
         if binding is not None and (last_import is None or body.index(binding) > body.index(last_import)):
             # the id is written before gym is imported (a constant at the top of a script,

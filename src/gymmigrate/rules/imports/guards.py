@@ -15,7 +15,6 @@ from gymmigrate.rules.gymnasium_api import GYMNASIUM_VERSION
 from gymmigrate.rules.imports.common import ImportsBase
 from gymmigrate.rules.imports.table import LEGACY_PACKAGES
 
-
 # Calls that only show a value: printing, logging, notebook display, string building.
 _SHOWING_CALLS = frozenset({"print", "display", "str", "repr", "format", "info", "debug", "warning", "warn", "write", "log"})
 
@@ -147,7 +146,10 @@ class ImportGuards(ImportsBase):
             return False
         current: ast.AST = node
         while current is not statement:
-            current = self.facts.parent(current)
+            parent = self.facts.parent(current)
+            if parent is None:
+                return False
+            current = parent
             if isinstance(current, ast.Call) and _call_name(current) not in _SHOWING_CALLS:
                 return False  # a def of the project may check what it is given
             if isinstance(current, (ast.Compare, ast.BoolOp, ast.IfExp, ast.Subscript, ast.Lambda)):
