@@ -81,6 +81,9 @@ TEST_FUNCTIONS = frozenset({"any", "all", "nonzero", "flatnonzero", "where", "bo
 # Counting finished episodes (``finished += dones.sum()``) is bookkeeping, not a target.
 COUNTING_METHODS = frozenset({"sum", "count_nonzero"})
 DISPLAY_FUNCTIONS = frozenset({"print", "str", "repr", "format", "pprint", "isinstance", "type"})
+# Attributes that describe what the flag is (its class, dtype, shape), never its value: a
+# test on them picks a code path, as ``isinstance(done, bool)`` does.
+_TYPE_ATTRIBUTES = frozenset({"__class__", "dtype", "shape", "ndim"})
 DISPLAY_METHODS = frozenset({"debug", "info", "warning", "warn", "log", "write", "add_scalar", "set_postfix", "format"})
 
 
@@ -160,6 +163,8 @@ def _classify(read: ast.Name, facts: ModuleFacts) -> DoneUse:
         if isinstance(parent, ast.Subscript) and parent.value is node:
             node = parent  # ``dones[i]``: one env's flag is still the flag
             continue
+        if isinstance(parent, ast.Attribute) and parent.value is node and parent.attr in _TYPE_ATTRIBUTES:
+            return DoneUse.NEUTRAL  # ``done.__class__.__name__``, ``dones.dtype``: its type, not its value
         if isinstance(parent, ast.Attribute) and parent.value is node:
             return _method_use(parent, facts)
         if isinstance(parent, ast.Assign) and parent.value is node:

@@ -189,10 +189,32 @@ class DoneStoreReads(DoneReadUses):
                     and self.facts.enclosing_function(statement) is function
                     and statement.value is not None
                     and not (loaded_names(statement.value) & step_values)
+                    and not self._flag_of_other_things(statement.value, step)
                     and not self._from_before_the_step(statement.value, step)
                 ):
                     return True
         return False
+
+    def _flag_of_other_things(self, value: ast.expr, step: DoneStep) -> bool:
+        """``lost = lives_now < lives_before``, ``not alive``: a comparison or a negation (a
+        flag stored beside the done, e.g. a lost life) that reads neither the step's
+        observation nor a name bound from it (``frame > 128`` may be a binarized next
+        state): a truth value about something else, not the next state."""
+        if not (isinstance(value, ast.Compare) or (isinstance(value, ast.UnaryOp) and isinstance(value.op, ast.Not))):
+            return False
+        observation = step.target.elts[0]
+        if not isinstance(observation, ast.Name):
+            return False
+        for node in ast.walk(value):
+            if not (isinstance(node, ast.Name) and isinstance(node.ctx, ast.Load)):
+                continue
+            if node.id == observation.id:
+                return False
+            binding = self.flow.last_binding_of(node)
+            statement = self.facts.statement_of(binding) if binding is not None else None
+            if statement is not None and start(statement) > end(step.assign) and observation.id in loaded_names(statement):
+                return False
+        return True
 
     def _from_before_the_step(self, value: ast.expr, step: DoneStep) -> bool:
         """``v = self.vf(torch.Tensor(obs))`` after the step, ``obs`` still the state the step

@@ -199,7 +199,7 @@ class StepOverrides(RuleFamily):
                 if flags is not None and flags != found:
                     consistent = False
                 flags = flags or found
-        done_modified = done_name is not None and _has_other_assignments(lines, done_name, done_line, unpacks, inserted)
+        done_modified = done_name is not None and _has_other_assignments(lines, done_name, done_line, unpacks, inserted, flags if consistent else None)
         replaced_done_reads = 0
         for ret in own_returns(function):
             value = ret.value
@@ -395,6 +395,10 @@ class StepOverrides(RuleFamily):
                     self.plan.withdraw(inserted[0], inserted[1].done_line)
                 else:
                     self.plan.remove(done_line)
+                for line, noted in unpacks.items():
+                    # a later inner step's ``done = ...`` line, unread as well
+                    if noted is not None and noted.done_line is not None and line is not done_line and done_name in _assigned_names(line):
+                        self.plan.withdraw(line, noted.done_line)
 
 
 _COLLECTIONS = (ast.List, ast.Tuple, ast.Set, ast.Dict, ast.ListComp, ast.SetComp, ast.DictComp, ast.GeneratorExp)
@@ -603,6 +607,7 @@ def _has_other_assignments(
     done_line: ast.stmt | None,
     unpacks: dict[ast.stmt, StepUnpack | None],
     inserted: tuple[ast.Assign, StepUnpack] | None,
+    flags: tuple[str, str] | None = None,
 ) -> bool:
     """Is ``name`` changed anywhere but by the unpack, its ``done = ...`` line or an initializer?"""
     seen_unpack = False
@@ -610,9 +615,12 @@ def _has_other_assignments(
         if line in unpacks:
             seen_unpack = True
             noted = unpacks[line]
-            # another unpack after which the step family keeps ``done`` too assigns it again
+            # another unpack after which the step family keeps ``done`` too assigns it again,
+            # unless it is a later inner step (``obs, _, done, _ = self.env.step(1)`` after a
+            # lost life) binding ``name`` as its done together with the same two flags: then
+            # ``name`` is still ``terminated or truncated`` of the step that ran last
             if noted is not None and noted.done_line is not None and (inserted is None or line is not inserted[0]):
-                if name in _assigned_names(line):
+                if name in _assigned_names(line) and not _rebinds_flags_with_done(line, noted, name, flags):
                     return True
             continue
         if line is done_line:
@@ -625,6 +633,27 @@ def _has_other_assignments(
             continue
         return True
     return False
+
+
+def _rebinds_flags_with_done(line: ast.stmt, noted: StepUnpack, name: str, flags: tuple[str, str] | None) -> bool:
+    """``line`` is a legacy inner-step unpack whose done target is ``name`` and which the step
+    family split into the same two flags (``flags``) as the override's other unpacks."""
+    assign = _single_assign(line)
+    if assign is None or flags is None or noted.discarded:
+        return False
+    target = assign.targets[0]
+    return (
+        isinstance(target, (ast.Tuple, ast.List))
+        and len(target.elts) == 4
+        and isinstance(target.elts[2], ast.Name)
+        and target.elts[2].id == name
+        and name not in _assigned_names_except(target, 2)
+        and (noted.names.terminated, noted.names.truncated) == flags
+    )
+
+
+def _assigned_names_except(target: ast.Tuple | ast.List, index: int) -> set[str]:
+    return {e.id for i, e in enumerate(target.elts) if i != index and isinstance(e, ast.Name)}
 
 
 def _five(node: cst.Tuple, flags: list[cst.BaseExpression]) -> cst.Tuple:
