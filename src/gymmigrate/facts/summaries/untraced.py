@@ -112,7 +112,10 @@ class UntracedCalls:
             return False
         receiver = call.func.value  # type: ignore[attr-defined]
         profile = FileProfile.from_source(self.facts.text)
-        return decide(EnvKind.UNKNOWN, receiver, profile).action is Action.REWRITE_FOR_REVIEW
+        if decide(EnvKind.UNKNOWN, receiver, profile).action is not Action.REWRITE_FOR_REVIEW:
+            return False
+        # the same fallback GM203 takes with the receiver analysis at hand (``decide``'s origins)
+        return self.receivers.handles_gym_envs() and self.receivers.annotated_class(receiver) is None
 
 
 def _keeps_mode(call: ast.Call) -> bool:
