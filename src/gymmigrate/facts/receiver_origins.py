@@ -645,16 +645,11 @@ class MadeObjects(_Facade):
         return self.project is not None and self.project.defines(qualified)
 
     def handles_gym_envs(self) -> bool:
-        """The module handles Gym envs (``gym_use.handles_gym_envs``), or defines a class the
-        run shows to be a Gym env or wrapper (``class Arena(BaseArena)`` where ``BaseArena``,
-        of another module, derives ``gym.Env``). Only then may the "this file uses only Gym"
-        fallback guess that an untraced env-like name holds a Gym env."""
-        return self.facts.memo(("handles-gym-envs-run", 0), self._handles_gym_envs, while_computing=False)
-
-    def _handles_gym_envs(self) -> bool:
-        if handles_gym_envs(self.facts):
-            return True
-        return any(self._known_kind(c) in (EnvKind.GYM_ENV, EnvKind.GYM_VEC) or self.is_gym_wrapper_class(c) for c in self.facts.all_classes)
+        """The module handles Gym envs (``gym_use.handles_gym_envs``): only then may the "this
+        file uses only Gym" fallback guess that an untraced env-like name holds a Gym env. A
+        fact of the module alone, not of the run: the module summaries (``untraced``) decide
+        the same fallback without the run, and both must agree on a second run as on the first."""
+        return handles_gym_envs(self.facts)
 
     def annotated_class(self, expr: ast.AST) -> str | None:
         """The annotation, as written, of a binding that reaches ``expr`` (``def __init__(self,
