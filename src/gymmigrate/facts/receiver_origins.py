@@ -645,11 +645,19 @@ class MadeObjects(_Facade):
         return self.project is not None and self.project.defines(qualified)
 
     def handles_gym_envs(self) -> bool:
-        """The module handles Gym envs (``gym_use.handles_gym_envs``): only then may the "this
-        file uses only Gym" fallback guess that an untraced env-like name holds a Gym env. A
-        fact of the module alone, not of the run: the module summaries (``untraced``) decide
-        the same fallback without the run, and both must agree on a second run as on the first."""
-        return handles_gym_envs(self.facts)
+        """The module handles Gym envs (``gym_use.handles_gym_envs``), or defines a class the
+        run shows to be a Gym env or wrapper (``class Schedule(TrialWrapper)`` where
+        ``TrialWrapper``, of another module, derives ``gym.Wrapper``): only then may the "this
+        file uses only Gym" fallback guess that an untraced env-like name holds a Gym env.
+        (The seed summaries, which know no other module, ask the module fact alone: they
+        differ only for a seed call outside a seed() method of such a module, where the
+        first run keeps the env classes' seed() with a GM503 item.)"""
+        return self.facts.memo(("handles-gym-envs-run", 0), self._handles_gym_envs, while_computing=False)
+
+    def _handles_gym_envs(self) -> bool:
+        if handles_gym_envs(self.facts):
+            return True
+        return any(self.is_gym_wrapper_class(c) or self._known_kind(c) in (EnvKind.GYM_ENV, EnvKind.GYM_VEC) for c in self.facts.all_classes)
 
     def annotated_class(self, expr: ast.AST) -> str | None:
         """The annotation, as written, of a binding that reaches ``expr`` (``def __init__(self,
@@ -693,7 +701,7 @@ class MadeObjects(_Facade):
                     return found
         return None
 
-    def _names_other_class(self, annotation: ast.expr) -> bool:
+    def _names_other_class(self, annotation: ast.AST) -> bool:
         """``annotation`` names a class not shown to be a Gym env: not Gym's own, not ``Any``
         or another ``typing`` form, not ``object``."""
         if self.annotation_kind(annotation) in (EnvKind.GYM_ENV, EnvKind.GYM_VEC):
@@ -701,7 +709,7 @@ class MadeObjects(_Facade):
         optional = optional_of(annotation, self.qualified_names)
         if optional is not None:
             return self._names_other_class(optional)  # ``Optional[VecEnv]``
-        target: ast.expr | None = annotation
+        target: ast.AST | None = annotation
         string = isinstance(annotation, ast.Constant) and isinstance(annotation.value, str)
         if string:
             target = parse_annotation(annotation.value)  # type: ignore[attr-defined]  # ``env: "MyEnv"``
