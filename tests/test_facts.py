@@ -168,3 +168,26 @@ def test_a_long_rebinding_chain_is_linear_and_cannot_overflow() -> None:
     receivers = Receivers(facts)
     assert receivers.kind_of(name_reads(facts, "env")[-1]) is EnvKind.GYM_ENV
     assert len(receivers._cache) < 5000
+
+
+@pytest.mark.parametrize(
+    ("code", "handles"),
+    [
+        ("import gym\nenv = gym.make('CartPole-v1')\n", True),
+        ("from gym import make\n", True),
+        ("import gymnasium as gym\nclass W(gym.ObservationWrapper):\n    pass\n", True),
+        ("import gym\ndef f(env):\n    return gym.wrappers.TimeLimit(env, 10)\n", True),
+        ("from gym.envs.registration import register\n", True),
+        ("def f():\n    import gym\n    return gym.vector.SyncVectorEnv([])\n", True),
+        ("from gym.envs.classic_control import CartPoleEnv\n", True),
+        ("import gym\n", False),
+        ("from gym import spaces, error\nfrom gym.utils import seeding\n", False),
+        ("import gym\nprint(gym.__version__)\ngym.logger.set_level(40)\n", False),
+        ("def view():\n    from gym.envs.classic_control import rendering\n    return rendering.SimpleImageViewer()\n", False),
+        ("import gym\nimport gym.wrappers.monitoring.video_recorder as vr\n", False),
+    ],
+)
+def test_handles_gym_envs(code: str, handles: bool) -> None:
+    from gymmigrate.facts.gym_use import handles_gym_envs
+
+    assert handles_gym_envs(facts_of(code)) is handles

@@ -507,11 +507,11 @@ def test_a_hand_edited_notebook_with_crlf_line_ends_keeps_them(case: str) -> Non
 def test_of_two_cells_lists_the_last_is_migrated_and_the_first_kept() -> None:
     """``json.loads`` (so Jupyter) keeps the last of a repeated key: that list is the notebook."""
     first = '"cells": [{"cell_type": "code", "metadata": {}, "outputs": [], "source": ["obs = env.reset()"]}]'
-    last = '"cells": [{"cell_type": "code", "metadata": {}, "outputs": [], "source": ["import gym\\n", "obs = env.reset()"]}]'
+    last = '"cells": [{"cell_type": "code", "metadata": {}, "outputs": [], "source": ["import gym\\n", "env = gym.make(\\"CartPole-v1\\")\\n", "obs = env.reset()"]}]'
     source = f'{{\n {first},\n {last},\n "metadata": {{}}, "nbformat": 4, "nbformat_minor": 5\n}}\n'
     rewritten = _rewrite(source.encode()).decode()
     assert rewritten == source.replace(last, last.replace("import gym", "import gymnasium as gym").replace("obs = env", "obs, info = env"))
-    assert json.loads(rewritten)["cells"][0]["source"] == ["import gymnasium as gym\n", "obs, info = env.reset()"]
+    assert json.loads(rewritten)["cells"][0]["source"] == ["import gymnasium as gym\n", 'env = gym.make("CartPole-v1")\n', "obs, info = env.reset()"]
 
 
 def test_of_two_sources_of_a_cell_the_last_is_migrated() -> None:

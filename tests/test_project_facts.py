@@ -278,7 +278,7 @@ def test_a_refused_env_module_blocks_what_its_importers_would_assume(tmp_path: P
 
 
 def test_a_seed_caller_the_run_rewrites_does_not_keep_seed_and_a_second_run_changes_nothing(tmp_path: Path) -> None:
-    """worker.py seeds an env it cannot trace, in a file that uses only Gym: GM203 makes
+    """worker.py seeds an env it cannot trace, in a file that makes Gym envs: GM203 makes
     that call reset(seed=3) in this run, so it is no seed() caller left. Counting it kept
     Dice.seed() in the first run and removed it in the second."""
     folder = tmp_path / "dice"

@@ -146,12 +146,11 @@ def test_an_inherited_self_attribute_is_decided_like_the_base_class_reads_it(tmp
     assert "obs = self.env.reset()" in collector and "obs_reset = self.env.reset(finished)" in collector
     reports = sorted((Path(f["path"]).name, f["line"]) for f in review if f["rule"] == "GM201")
     assert ("collector.py", 13) in reports and ("collector.py", 22) in reports, review
-    code = (
-        "import gymnasium as gym\nfrom rollouts.collector import AsyncCollector, Collector\n"
-        "print(Collector(gym.make('CartPole-v1')).reset_env().shape)\n"
-        "print(AsyncCollector(gym.make('CartPole-v1')).collect([0]).shape)"
-    )
-    assert _run(project, code) == ["(1, 4)", "(1, 4)"]
+    # venvs.py makes, wraps and subclasses no Gym env (an unused ``import gym``): the envs its
+    # thunks make are not followed, so their reset is asked about and left, not guessed
+    venvs = (project / "rollouts" / "venvs.py").read_text()
+    assert "obs = [self.envs[i].reset() for i in self._ids(id)]" in venvs
+    assert ("venvs.py", 15) in reports, review
 
 
 def test_a_reset_mode_the_flag_never_reached_returns_the_pair_too() -> None:

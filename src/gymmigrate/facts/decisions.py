@@ -28,6 +28,8 @@ class Origins(Protocol):
     def library_made(self, expr: ast.AST) -> str | None: ...
     def gym_only_stack(self, expr: ast.AST) -> str | None: ...
     def own_api_holder(self, expr: ast.AST) -> str | None: ...
+    def handles_gym_envs(self) -> bool: ...
+    def annotated_class(self, expr: ast.AST) -> str | None: ...
 
 # Spellings that name an environment. Used only to decide between reporting and
 # staying silent (or, in a file that uses nothing but Gym, rewriting for review):
@@ -74,7 +76,10 @@ def decide(
     not look like an env. ``expected`` is the kind the rule rewrites (GYM_ENV or GYM_VEC).
     ``origins``: the receiver analysis; with it, an object the run itself makes (a class or
     a def of the run, a name imported from one of its modules) is never rewritten on the
-    "this file uses only Gym" fallback: the run knows that code, so it reports instead.
+    "this file uses only Gym" fallback: the run knows that code, so it reports instead. Nor
+    is a receiver annotated with a class not shown to be a Gym env, nor one in a file that
+    makes, wraps and subclasses no Gym env (``Origins.handles_gym_envs``): its Gym use (spaces,
+    a viewer) says nothing of what its env-like names hold.
     """
     name = receiver_text(receiver)
     if kind is expected:
@@ -100,10 +105,20 @@ def decide(
         # a wrapper of an env API other than Gym's forwarding its own reset/step: what it
         # holds follows that API as likely as Gym's, so the file's imports settle nothing
         return Decision(Action.REPORT, f"`{name}` is held by {holder}; not shown to be a Gym env, not rewritten")
-    library = origins.library_made(receiver) if env_like and profile.gym_only and origins is not None else None
+    fallback = env_like and profile.gym_only
+    library = origins.library_made(receiver) if fallback and origins is not None else None
     if library is not None:
         return Decision(Action.REPORT, f"`{name}` is made by `{library}`, a library other than Gym, not shown to be a Gym env; not rewritten")
-    if env_like and profile.gym_only:
+    annotated = origins.annotated_class(receiver) if fallback and origins is not None else None
+    if annotated is not None:
+        # the code says what it holds, and that is no Gym class the run knows: a file's
+        # imports do not outweigh it (``environment: VecEnv`` of the project's own vec env)
+        return Decision(Action.REPORT, f"`{name}` is annotated `{annotated}`, a class not shown to be a Gym env; not rewritten")
+    if fallback and origins is not None and not origins.handles_gym_envs():
+        # Gym's spaces, errors, a viewer or seeding utils only: the file makes, wraps and
+        # subclasses no Gym env, so its env-like names may hold any env (a project's own)
+        return Decision(Action.REPORT, f"could not tell whether `{name}` is a Gym env (this file makes, wraps and subclasses none); not rewritten")
+    if fallback:
         return Decision(
             Action.REWRITE_FOR_REVIEW,
             f"could not trace where `{name}` comes from; rewritten because this file uses only Gym",

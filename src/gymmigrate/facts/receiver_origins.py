@@ -11,7 +11,9 @@ import sys
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts import names as N
+from gymmigrate.facts.callables import optional_of, parse_annotation, string_names
 from gymmigrate.facts.done_uses import builds_record
+from gymmigrate.facts.gym_use import handles_gym_envs
 from gymmigrate.facts.kinds import MAX_DEPTH, EnvKind
 from gymmigrate.facts.module import FUNCTIONS, call_argument, own_returns
 from gymmigrate.facts.receiver_classes import is_batched_step_return, keeps_legacy_step
@@ -641,3 +643,79 @@ class MadeObjects(_Facade):
         if qualified.startswith("."):
             return True  # a relative import: a module of the project
         return self.project is not None and self.project.defines(qualified)
+
+    def handles_gym_envs(self) -> bool:
+        """The module handles Gym envs (``gym_use.handles_gym_envs``), or defines a class the
+        run shows to be a Gym env or wrapper (``class Schedule(TrialWrapper)`` where
+        ``TrialWrapper``, of another module, derives ``gym.Wrapper``): only then may the "this
+        file uses only Gym" fallback guess that an untraced env-like name holds a Gym env.
+        (The seed summaries, which know no other module, ask the module fact alone: they
+        differ only for a seed call outside a seed() method of such a module, where the
+        first run keeps the env classes' seed() with a GM503 item.)"""
+        return self.facts.memo(("handles-gym-envs-run", 0), self._handles_gym_envs, while_computing=False)
+
+    def _handles_gym_envs(self) -> bool:
+        if handles_gym_envs(self.facts):
+            return True
+        return any(self.is_gym_wrapper_class(c) or self._known_kind(c) in (EnvKind.GYM_ENV, EnvKind.GYM_VEC) for c in self.facts.all_classes)
+
+    def annotated_class(self, expr: ast.AST) -> str | None:
+        """The annotation, as written, of a binding that reaches ``expr`` (``def __init__(self,
+        environment: VecEnv)`` then ``self.environment = environment``; ``env: MyEnv = ...``)
+        when it names a class the run does not show to be a Gym env (a project class that is
+        no ``gym.Env``, a name of an unknown module). The code says what the object is, and
+        it is not Gym's: a file's imports do not outweigh that. None without one."""
+        return self.facts.memo(("annotated-class", id(expr)), lambda: self._annotated_class(expr, 0), while_computing=None)
+
+    def _annotated_class(self, expr: ast.AST, depth: int) -> str | None:
+        if depth > 4:
+            return None
+        annotations: list[ast.expr] = []
+        values: list[ast.expr] = []
+        if isinstance(expr, ast.Name):
+            for binding in self.facts.bindings_of(expr):
+                if isinstance(binding, ast.arg) and binding.annotation is not None:
+                    annotations.append(binding.annotation)
+                parent = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
+                if isinstance(parent, ast.AnnAssign) and parent.target is binding:
+                    annotations.append(parent.annotation)
+                elif isinstance(parent, ast.Assign) and binding in parent.targets:
+                    values.append(parent.value)
+        elif isinstance(expr, ast.Attribute) and isinstance(expr.value, ast.Name) and self.is_self(expr.value):
+            classdef = self.facts.enclosing_class(expr)
+            for node in self.facts.attributes.get(expr.attr, ()):
+                parent = self.facts.parent(node)
+                if (
+                    isinstance(parent, ast.AnnAssign) and parent.target is node and isinstance(node.value, ast.Name)
+                    and self.is_self(node.value) and self.facts.enclosing_class(node) is classdef
+                ):
+                    annotations.append(parent.annotation)  # ``self.env: VecEnv = env``
+            values = self.self_attribute_values(expr, expr.attr)
+        for annotation in annotations:
+            if self._names_other_class(annotation):
+                return self.facts.segment(annotation)
+        for value in values:
+            if isinstance(value, (ast.Name, ast.Attribute)):
+                found = self._annotated_class(value, depth + 1)
+                if found is not None:
+                    return found
+        return None
+
+    def _names_other_class(self, annotation: ast.AST) -> bool:
+        """``annotation`` names a class not shown to be a Gym env: not Gym's own, not ``Any``
+        or another ``typing`` form, not ``object``."""
+        if self.annotation_kind(annotation) in (EnvKind.GYM_ENV, EnvKind.GYM_VEC):
+            return False
+        optional = optional_of(annotation, self.qualified_names)
+        if optional is not None:
+            return self._names_other_class(optional)  # ``Optional[VecEnv]``
+        target: ast.AST | None = annotation
+        string = isinstance(annotation, ast.Constant) and isinstance(annotation.value, str)
+        if string:
+            target = parse_annotation(annotation.value)  # type: ignore[attr-defined]  # ``env: "MyEnv"``
+        if not isinstance(target, (ast.Name, ast.Attribute)):
+            return False  # ``Optional[...]``, ``Union[...]``, a string that is not a dotted name
+        names = string_names(self.facts, target) if string else self.qualified_names(target)
+        if any(N.strip_gym_prefix(q) is not None or q.split(".", 1)[0] in ("typing", "typing_extensions", "builtins") for q in names):
+            return False
+        return not (isinstance(target, ast.Name) and target.id in ("object", "Any") and not names)

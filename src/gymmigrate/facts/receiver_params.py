@@ -351,6 +351,9 @@ class ParameterKinds(_Facade):
     def annotation_kind(self, annotation: ast.AST) -> EnvKind:
         if isinstance(annotation, ast.Constant) and isinstance(annotation.value, str):
             parsed = parse_annotation(annotation.value)  # ``env: "gym.Env"``
+            named = self.facts.classes.get(parsed.id) if isinstance(parsed, ast.Name) else None
+            if named is not None:
+                return self.class_kind(named)  # ``env: "Board"``, a class of this module, as below
             return self.annotation_names_kind(string_names(self.facts, parsed)) if parsed is not None else EnvKind.UNKNOWN
         optional = optional_of(annotation, self.qualified_names)
         if optional is not None:

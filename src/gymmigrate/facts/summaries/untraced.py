@@ -11,6 +11,7 @@ import ast
 from gymmigrate.facts import names as N
 from gymmigrate.facts.creation import CreationFinder
 from gymmigrate.facts.decisions import Action, decide
+from gymmigrate.facts.gym_use import handles_gym_envs
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import string_value
 from gymmigrate.facts.profile import FileProfile
@@ -113,7 +114,14 @@ class UntracedCalls:
             return False
         receiver = call.func.value  # type: ignore[attr-defined]
         profile = FileProfile.from_source(self.facts.text)
-        return decide(EnvKind.UNKNOWN, receiver, profile).action is Action.REWRITE_FOR_REVIEW
+        if decide(EnvKind.UNKNOWN, receiver, profile).action is not Action.REWRITE_FOR_REVIEW:
+            return False
+        # the fallback needs a module that handles Gym envs, as GM203's ``decide`` asks
+        # (``MadeObjects.handles_gym_envs``, which also counts the run's classes). (A
+        # receiver annotated with a class not shown to be Gym's is reported there too, but
+        # this summary knows no other module's classes; such a receiver holds no Gym env
+        # class of the run, so whether it counts changes no env class's seed().)
+        return handles_gym_envs(self.facts)
 
 
 def _keeps_mode(call: ast.Call) -> bool:
