@@ -88,6 +88,9 @@ class CallableKinds:
             return self.receivers.returns_kind(callee)
         if isinstance(callee, ast.Call) and any(q in ("functools.partial",) for q in self.receivers.qualified_names(callee.func)) and callee.args:
             return self.kind_of_call_to(callee.args[0], callee)
+        if isinstance(callee, ast.Subscript):
+            # ``self.env_fns[i]()``: what calling an item of the sequence returns
+            return self._item_returned_kind(callee.value)
         if isinstance(callee, ast.Attribute):
             # ``make = gym.make`` then ``make(...)``: what the library callable returns.
             return self.kind_of_call_to(callee, _NO_ARGUMENTS) if self.receivers.qualified_names(callee) else EnvKind.UNKNOWN
@@ -163,11 +166,20 @@ class CallableKinds:
     def _item_returned_kind(self, container: ast.expr) -> EnvKind:
         """``for fn in env_fns`` with ``env_fns: List[Callable[[], gym.Env]]`` a parameter:
         what calling one of its items returns."""
+        if isinstance(container, ast.Attribute) and isinstance(container.value, ast.Name) and self.receivers.is_self(container.value):
+            # ``for fn in self.env_fns`` with ``self.env_fns = env_fns`` stored from a parameter
+            stored = self.receivers.self_attribute_values(container, container.attr)
+            if not stored or not all(isinstance(value, ast.Name) for value in stored):
+                return EnvKind.UNKNOWN
+            return join_kinds(self._item_returned_kind(value) for value in stored)
         if not isinstance(container, ast.Name):
             return EnvKind.UNKNOWN
         bindings = self.facts.bindings_of(container)
-        if len(bindings) != 1 or not isinstance(bindings[0], ast.arg) or bindings[0].annotation is None:
+        if len(bindings) != 1 or not isinstance(bindings[0], ast.arg):
             return EnvKind.UNKNOWN
+        if bindings[0].annotation is None:
+            # ``env_fns`` unannotated: the thunks this module's calls pass
+            return self.receivers.thunks_returned_kind(bindings[0])
         annotation = bindings[0].annotation
         if not isinstance(annotation, ast.Subscript):
             return EnvKind.UNKNOWN

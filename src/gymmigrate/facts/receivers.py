@@ -206,6 +206,8 @@ class Receivers(ClassKinds, ParameterKinds, MadeObjects):
             stored = self.self_attribute_values(func, func.attr)
             if stored:
                 return join_kinds(self.returned_kind(value) for value in stored)
+        if isinstance(func, ast.Subscript):
+            return self.returned_kind(func)  # ``self.env_fns[i]()``: an item of a list of thunks
         if isinstance(func, ast.Name):
             # ``make_env = lambda: gym.make(...)``, a nested ``def thunk()``, an ``env_fn``
             # parameter: what calling the name returns.
