@@ -217,6 +217,10 @@ class Receivers(ClassKinds, ParameterKinds, MadeObjects):
                 # of a class the code has checked is a Gym env class
                 return EnvKind.GYM_ENV
             return kind
+        if isinstance(func, ast.Attribute) and isinstance(func.value, ast.Name):
+            held = self.callables.held_callable_kind(func)  # ``env_fn_wrapper.x()`` in a worker
+            if held is not EnvKind.UNKNOWN:
+                return held
         # ``VecNormalize.load(...)`` is a classmethod call on a known class.
         if isinstance(func, ast.Attribute):
             owner = self.qualified_names(func.value)
