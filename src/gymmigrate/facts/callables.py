@@ -88,6 +88,9 @@ class CallableKinds:
             return self.receivers.returns_kind(callee)
         if isinstance(callee, ast.Call) and any(q in ("functools.partial",) for q in self.receivers.qualified_names(callee.func)) and callee.args:
             return self.kind_of_call_to(callee.args[0], callee)
+        if isinstance(callee, ast.Subscript):
+            # ``self.env_fns[i]()``: what calling an item of the sequence returns
+            return self._item_returned_kind(callee.value)
         if isinstance(callee, ast.Attribute):
             # ``make = gym.make`` then ``make(...)``: what the library callable returns.
             return self.kind_of_call_to(callee, _NO_ARGUMENTS) if self.receivers.qualified_names(callee) else EnvKind.UNKNOWN
@@ -145,7 +148,107 @@ class CallableKinds:
             return self.callable_annotation_kind(parent.annotation)
         if isinstance(parent, (ast.For, ast.comprehension)) and parent.target is binding:
             return self._item_returned_kind(parent.iter)
+        if isinstance(parent, ast.Tuple) and not any(isinstance(e, ast.Starred) for e in parent.elts):
+            # ``for remote, fn in zip(remotes, env_fns)``: an item of the zipped sequence
+            loop = self.facts.parent(parent)
+            if isinstance(loop, (ast.For, ast.comprehension)) and loop.target is parent:
+                iterable, index = loop.iter, parent.elts.index(binding)  # type: ignore[arg-type]
+                if (
+                    isinstance(iterable, ast.Call)
+                    and isinstance(iterable.func, ast.Name)
+                    and iterable.func.id == "zip"
+                    and not self.facts.bindings_of(iterable.func)
+                    and not iterable.keywords
+                    and index < len(iterable.args)
+                    and not any(isinstance(a, ast.Starred) for a in iterable.args)
+                ):
+                    return self._item_returned_kind(iterable.args[index])
         return EnvKind.UNKNOWN
+
+    def held_callable_kind(self, attr: ast.Attribute) -> EnvKind:
+        """``env = env_fn_wrapper.x()`` in ``def worker(remote, env_fn_wrapper)``, a def this
+        module only hands to ``Process(target=worker, args=(..., Holder(fn)))`` (or calls):
+        what calling the callable that a class of the module stores on ``x`` from its
+        constructor parameter returns, for every such call. Unknown otherwise."""
+        holder = attr.value
+        if not isinstance(holder, ast.Name):
+            return EnvKind.UNKNOWN
+        bindings = self.facts.bindings_of(holder)
+        if len(bindings) != 1 or not isinstance(bindings[0], ast.arg):
+            return EnvKind.UNKNOWN
+        param = bindings[0]
+        function = self.facts.parent(self.facts.parent(param))
+        if not isinstance(function, FUNCTIONS) or self.facts.parent(function) is not self.facts.tree:
+            return EnvKind.UNKNOWN
+        if self.external_param_kinds(function, None, param.arg):
+            return EnvKind.UNKNOWN  # called from other modules too
+        params = [*function.args.posonlyargs, *function.args.args]
+        if param not in params:
+            return EnvKind.UNKNOWN
+        position = params.index(param)
+        arguments: list[ast.expr | None] = [call_argument(c, position, param.arg) for c in self.receivers.call_sites(function, None)]
+        for spawn in self._spawns_of(function):
+            handed = next(k.value for k in spawn.keywords if k.arg == "args")
+            if not isinstance(handed, ast.Tuple) or any(isinstance(e, ast.Starred) for e in handed.elts):
+                return EnvKind.UNKNOWN
+            arguments.append(handed.elts[position] if position < len(handed.elts) else None)
+        if not arguments:
+            return EnvKind.UNKNOWN
+        kinds = []
+        for argument in arguments:
+            stored = self._stored_by_holder(argument, attr.attr)
+            if stored is None:
+                return EnvKind.UNKNOWN
+            kinds.append(self.returned_kind(stored))
+        return join_kinds(kinds) if EnvKind.UNKNOWN not in kinds else EnvKind.UNKNOWN
+
+    def _spawns_of(self, function: ast.AST) -> list[ast.Call]:
+        """Calls handing ``function`` on as ``target=`` with its arguments as ``args=``
+        (``Process(target=worker, args=(...))``, ``Thread(...)``); the module's calls are
+        walked once per def."""
+        return self.facts.memo(("spawns-of", id(function)), lambda: self._find_spawns(function))
+
+    def _find_spawns(self, function: ast.AST) -> list[ast.Call]:
+        found = []
+        for calls in self.facts.calls_by_name.values():
+            for call in calls:
+                target = next((k.value for k in call.keywords if k.arg == "target"), None)
+                if target is None or self.receivers.local_function(target) is not function:
+                    continue
+                if not any(k.arg == "args" for k in call.keywords):
+                    continue
+                found.append(call)
+        return found
+
+    def _stored_by_holder(self, argument: ast.expr | None, attribute: str) -> ast.expr | None:
+        """``Holder(fn)`` with ``Holder.__init__`` storing that parameter on ``self.<attribute>``
+        unchanged: ``fn``. None for anything else."""
+        if not isinstance(argument, ast.Call):
+            return None
+        classdef = self.receivers.local_class(argument.func)
+        if classdef is None:
+            return None
+        init = next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == "__init__"), None)
+        if init is None:
+            return None
+        stores = [
+            target
+            for node in ast.walk(init)
+            if isinstance(node, (ast.Assign, ast.AnnAssign, ast.AugAssign))
+            for target in (node.targets if isinstance(node, ast.Assign) else [node.target])
+            if isinstance(target, ast.Attribute) and target.attr == attribute
+        ]
+        if len(stores) != 1:
+            return None
+        assign = self.facts.parent(stores[0])
+        value = assign.value if isinstance(assign, ast.Assign) and assign.targets == [stores[0]] else None
+        if not (isinstance(value, ast.Name) and isinstance(stores[0].value, ast.Name) and stores[0].value.id == "self"):
+            return None
+        params = [*init.args.posonlyargs, *init.args.args]
+        param = next((p for p in params[1:] if p.arg == value.id and p in self.facts.bindings_of(value)), None)
+        if param is None:
+            return None
+        return call_argument(argument, params.index(param) - 1, param.arg)
 
     def _unpacked_returned_kind(self, value: ast.expr, index: int, size: int) -> EnvKind:
         """``make_env_fn, kargs = get_make_env_fn(...)`` where the def of this module returns
@@ -163,11 +266,20 @@ class CallableKinds:
     def _item_returned_kind(self, container: ast.expr) -> EnvKind:
         """``for fn in env_fns`` with ``env_fns: List[Callable[[], gym.Env]]`` a parameter:
         what calling one of its items returns."""
+        if isinstance(container, ast.Attribute) and isinstance(container.value, ast.Name) and self.receivers.is_self(container.value):
+            # ``for fn in self.env_fns`` with ``self.env_fns = env_fns`` stored from a parameter
+            stored = self.receivers.self_attribute_values(container, container.attr)
+            if not stored or not all(isinstance(value, ast.Name) for value in stored):
+                return EnvKind.UNKNOWN
+            return join_kinds(self._item_returned_kind(value) for value in stored)
         if not isinstance(container, ast.Name):
             return EnvKind.UNKNOWN
         bindings = self.facts.bindings_of(container)
-        if len(bindings) != 1 or not isinstance(bindings[0], ast.arg) or bindings[0].annotation is None:
+        if len(bindings) != 1 or not isinstance(bindings[0], ast.arg):
             return EnvKind.UNKNOWN
+        if bindings[0].annotation is None:
+            # ``env_fns`` unannotated: the thunks this module's calls pass
+            return self.receivers.thunks_returned_kind(bindings[0])
         annotation = bindings[0].annotation
         if not isinstance(annotation, ast.Subscript):
             return EnvKind.UNKNOWN

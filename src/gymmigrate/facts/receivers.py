@@ -206,6 +206,8 @@ class Receivers(ClassKinds, ParameterKinds, MadeObjects):
             stored = self.self_attribute_values(func, func.attr)
             if stored:
                 return join_kinds(self.returned_kind(value) for value in stored)
+        if isinstance(func, ast.Subscript):
+            return self.returned_kind(func)  # ``self.env_fns[i]()``: an item of a list of thunks
         if isinstance(func, ast.Name):
             # ``make_env = lambda: gym.make(...)``, a nested ``def thunk()``, an ``env_fn``
             # parameter: what calling the name returns.
@@ -215,6 +217,10 @@ class Receivers(ClassKinds, ParameterKinds, MadeObjects):
                 # of a class the code has checked is a Gym env class
                 return EnvKind.GYM_ENV
             return kind
+        if isinstance(func, ast.Attribute) and isinstance(func.value, ast.Name):
+            held = self.callables.held_callable_kind(func)  # ``env_fn_wrapper.x()`` in a worker
+            if held is not EnvKind.UNKNOWN:
+                return held
         # ``VecNormalize.load(...)`` is a classmethod call on a known class.
         if isinstance(func, ast.Attribute):
             owner = self.qualified_names(func.value)
