@@ -404,7 +404,35 @@ class ParameterKinds(_Facade):
                         found.append((call, 0))
                 elif isinstance(owner, ast.Name) and self.local_class(owner) is classdef:
                     found.append((call, 1))  # ``Base.__init__(self, env)``
-        return found, elsewhere
+        # ``Wrapper = DummyVecEnv`` ... ``Wrapper(envs)``, ``make(cls=DummyVecEnv)``: the class
+        # is built under another name too, with arguments the calls by its name do not show
+        return found, elsewhere or self._class_escapes(classdef)
+
+    def _class_escapes(self, classdef: ast.ClassDef) -> bool:
+        """The module reads the class's name as a value other than a call, a base, an
+        ``isinstance``/``issubclass`` argument, an attribute owner or an annotation."""
+        return bool(self.facts.memo(("class-escapes", id(classdef)), lambda: self._escapes(classdef)))
+
+    def _escapes(self, classdef: ast.ClassDef) -> bool:
+        facts = self.facts
+        for node in ast.walk(facts.tree):
+            if not (isinstance(node, ast.Name) and node.id == classdef.name and isinstance(node.ctx, ast.Load)):
+                continue
+            parent = facts.parent(node)
+            if isinstance(parent, ast.Call) and parent.func is node:
+                continue
+            if isinstance(parent, ast.ClassDef) and node in parent.bases:
+                continue
+            if isinstance(parent, ast.Attribute):  # ``DummyVecEnv.__init__(self, ...)``, class constants
+                continue
+            if isinstance(parent, (ast.Tuple, ast.Call)):
+                call = facts.parent(parent) if isinstance(parent, ast.Tuple) else parent
+                if isinstance(call, ast.Call) and isinstance(call.func, ast.Name) and call.func.id in ("isinstance", "issubclass", "type"):
+                    continue
+            if _in_annotation(node, facts):
+                continue
+            return True
+        return False
 
     def mixed_callers(self, expr: ast.AST, _depth: int = 0) -> str | None:
         """Why ``expr`` (a parameter, ``self.x`` stored from one, or a name bound to either)
@@ -663,3 +691,16 @@ def has_default(function: ast.AST, param: ast.arg) -> bool:
         return args.kw_defaults[args.kwonlyargs.index(param)] is not None
     return False
 
+
+def _in_annotation(node: ast.AST, facts) -> bool:
+    """``node`` sits in an annotation (of an argument, a return or an assignment)."""
+    child, parent = node, facts.parent(node)
+    while parent is not None and not isinstance(parent, ast.stmt):
+        if isinstance(parent, ast.arg) and parent.annotation is child:
+            return True
+        child, parent = parent, facts.parent(parent)
+    if isinstance(parent, ast.AnnAssign) and parent.annotation is child:
+        return True
+    if isinstance(parent, (ast.FunctionDef, ast.AsyncFunctionDef)) and parent.returns is child:
+        return True
+    return False
