@@ -326,6 +326,14 @@ class ModuleFacts:
     def bindings_of(self, name: ast.Name) -> list[ast.AST]:
         return self.resolve(name.id, self.scope_of(name))[1]
 
+    def reads_of(self, name: str, binding: ast.AST | None = None) -> list[ast.Name]:
+        """Every read of ``name`` in the module, in every scope (from the index the walk
+        built, no second walk); with ``binding``, only the reads it may reach."""
+        reads = [read for scope in self.scopes.values() for read in scope.reads.get(name, ())]
+        if binding is None:
+            return reads
+        return [read for read in reads if binding in self.bindings_of(read)]
+
     def assigned_values(self, name: ast.Name, *, sole_target: bool = False) -> list[ast.expr] | None:
         """The values of every ``name = ...`` binding of ``name``; None when one binds it
         otherwise (a parameter, a loop or tuple target, an import...).

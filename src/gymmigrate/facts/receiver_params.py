@@ -415,9 +415,7 @@ class ParameterKinds(_Facade):
 
     def _escapes(self, classdef: ast.ClassDef) -> bool:
         facts = self.facts
-        for node in ast.walk(facts.tree):
-            if not (isinstance(node, ast.Name) and node.id == classdef.name and isinstance(node.ctx, ast.Load)):
-                continue
+        for node in facts.reads_of(classdef.name):
             parent = facts.parent(node)
             if isinstance(parent, ast.Call) and parent.func is node:
                 continue

@@ -82,7 +82,7 @@ def _always_true(facts: ModuleFacts, test: ast.AST) -> bool:
     if param not in positional and param not in args.kwonlyargs:
         return False
     position = positional.index(param) if param in positional else None
-    reads = [read for scope in facts.scopes.values() for read in scope.reads.get(function.name, ()) if function in facts.bindings_of(read)]
+    reads = facts.reads_of(function.name, function)
     if not reads:
         return False
     for read in reads:

@@ -27,7 +27,7 @@ def drop_unused_seeding_import(facts: ModuleFacts, plan: Plan, deleted: list[ast
         if not isinstance(statement, ast.ImportFrom):
             continue
         bound = alias.asname or alias.name
-        reads = [read for scope in facts.scopes.values() for read in scope.reads.get(bound, ()) if alias in facts.bindings_of(read)]
+        reads = facts.reads_of(bound, alias)
         if any(not any(a in deleted_set for a in facts.ancestors(read)) for read in reads):
             continue
         dropped[statement].add(bound)

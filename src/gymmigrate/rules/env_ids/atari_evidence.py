@@ -151,7 +151,7 @@ class AtariEvidence:
         default = param_default(function, param)
         default_id = plain_string(self.facts, default) if isinstance(default, ast.Constant) else None
         found: list[str] = []
-        reads = [read for scope in self.facts.scopes.values() for read in scope.reads.get(function.name, ())]
+        reads = self.facts.reads_of(function.name)
         for read in reads:
             call = self.facts.parent(read)
             if not (isinstance(call, ast.Call) and call.func is read) or self.facts.bindings_of(read) != [function]:

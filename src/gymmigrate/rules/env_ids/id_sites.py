@@ -138,15 +138,12 @@ class IdSites:
         if not (isinstance(statement, ast.Assign) and len(statement.targets) == 1 and isinstance(statement.targets[0], ast.Name)):
             return None
         target = statement.targets[0]
-        reads = []
-        for node in ast.walk(self.facts.tree):
-            if isinstance(node, ast.Name) and node.id == target.id:
-                if isinstance(node.ctx, ast.Load):
-                    reads.append(node)
-                elif node is not target:
-                    return None  # rebound somewhere: another value may reach some read
-            elif isinstance(node, (ast.Global, ast.Nonlocal)) and target.id in node.names:
+        for scope in self.facts.scopes.values():
+            if any(isinstance(b, ast.Name) and b is not target for b in scope.bindings.get(target.id, ())):
+                return None  # rebound somewhere: another value may reach some read
+            if target.id in scope.declared_global or target.id in scope.declared_nonlocal:
                 return None
+        reads = self.facts.reads_of(target.id)
         if len(reads) != 1 or target not in self.facts.bindings_of(reads[0]):
             return None
         return reads[0]

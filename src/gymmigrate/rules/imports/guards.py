@@ -20,6 +20,7 @@ _SHOWING_CALLS = frozenset({"print", "display", "str", "repr", "format", "info",
 
 
 def _call_name(call: ast.Call) -> str | None:
+    """The called name: ``print`` in ``print(x)``, ``info`` in ``log.info(x)``."""
     func = call.func
     if isinstance(func, ast.Name):
         return func.id
@@ -230,8 +231,7 @@ def _parsed(node: ast.AST) -> ast.AST | None:
     """``version.parse(x)``, ``LooseVersion(x)``, ``Version(x)``: the argument ``x``."""
     if not (isinstance(node, ast.Call) and len(node.args) == 1 and not node.keywords):
         return None
-    name = node.func.attr if isinstance(node.func, ast.Attribute) else node.func.id if isinstance(node.func, ast.Name) else None
-    return node.args[0] if name in _VERSION_PARSERS else None
+    return node.args[0] if _call_name(node) in _VERSION_PARSERS else None
 
 
 def _release(text: str) -> tuple[int, ...] | None:

@@ -168,13 +168,12 @@ class RenderingBase(RuleFamily):
         """The ``name.step(...)`` calls of the module whose ``name`` passes ``same`` (it reads
         the binding in question), in any function: the scopes already index their reads."""
         steps = []
-        for scope in self.facts.scopes.values():
-            for read in scope.reads.get(name, ()):
-                attribute = self.facts.parent(read)
-                if isinstance(attribute, ast.Attribute) and attribute.attr == "step" and same(read):
-                    call = self.facts.parent(attribute)
-                    if isinstance(call, ast.Call) and call.func is attribute:
-                        steps.append(call)
+        for read in self.facts.reads_of(name):
+            attribute = self.facts.parent(read)
+            if isinstance(attribute, ast.Attribute) and attribute.attr == "step" and same(read):
+                call = self.facts.parent(attribute)
+                if isinstance(call, ast.Call) and call.func is attribute:
+                    steps.append(call)
         return steps
 
 

@@ -472,7 +472,7 @@ class SitePlanning(MakeEdits):
         for target in targets:
             # Every read of that binding, in the functions of the module too (a training
             # function that steps the module's ``env``): the scopes already index their reads.
-            reads = [read for scope in self.facts.scopes.values() for read in scope.reads.get(target.id, ())]
+            reads = self.facts.reads_of(target.id)
             for read in reads:
                 if target not in self.facts.bindings_of(read):
                     continue
@@ -606,7 +606,7 @@ class SitePlanning(MakeEdits):
         name = getattr(function, "name", None)
         if name is None or self.facts.functions.get(name) is not function:
             return None
-        reads = [read for scope in self.facts.scopes.values() for read in scope.reads.get(name, ()) if function in self.facts.bindings_of(read)]
+        reads = self.facts.reads_of(name, function)
         callers = set()
         for read in reads:
             call = self.facts.parent(read)

@@ -279,16 +279,15 @@ def _given(facts: ModuleFacts, receivers: Receivers, param: ast.arg) -> list[str
     offset = len(params) - len(defaults)
     default = _literal(facts, defaults[position - offset]) if position >= offset else None
     found: list[str | None] = []
-    for scope in facts.scopes.values():
-        for read in scope.reads.get(function.name, ()):
-            call = facts.parent(read)
-            if not (isinstance(call, ast.Call) and call.func is read) or facts.bindings_of(read) != [function]:
-                return None  # handed on as a value: called where the run cannot see
-            if any(isinstance(a, ast.Starred) for a in call.args) or any(k.arg is None for k in call.keywords):
-                found.append(None)
-                continue
-            argument = call_argument(call, position, param.arg)
-            found.append(default if argument is None else _literal(facts, argument))
+    for read in facts.reads_of(function.name):
+        call = facts.parent(read)
+        if not (isinstance(call, ast.Call) and call.func is read) or facts.bindings_of(read) != [function]:
+            return None  # handed on as a value: called where the run cannot see
+        if any(isinstance(a, ast.Starred) for a in call.args) or any(k.arg is None for k in call.keywords):
+            found.append(None)
+            continue
+        argument = call_argument(call, position, param.arg)
+        found.append(default if argument is None else _literal(facts, argument))
     if project is not None:
         found += [default if value == "" else value for value in project.passed_ids(function.name, param.arg)]
     return found or None

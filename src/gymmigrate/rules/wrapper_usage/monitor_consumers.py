@@ -29,14 +29,7 @@ def reads_of(facts: ModuleFacts, alias: ast.alias, name: str) -> list[ast.Name]:
     but not those in the ``except ImportError`` branch around it (the fallback's own)."""
     statement = facts.parent(alias)
     guard = import_error_guard(facts, statement) if isinstance(statement, ast.stmt) else None
-    reads = [
-        read
-        for scope in facts.scopes.values()
-        for read in scope.reads.get(name, ())
-        if isinstance(read, ast.Name)
-        and alias in facts.bindings_of(read)
-        and not (guard is not None and in_handler_of(facts, read, guard))
-    ]
+    reads = [read for read in facts.reads_of(name, alias) if not (guard is not None and in_handler_of(facts, read, guard))]
     return sorted(reads, key=lambda n: (n.lineno, n.col_offset))
 
 
@@ -47,13 +40,7 @@ def derived_class(facts: ModuleFacts, read: ast.Name) -> ast.ClassDef | None:
 
 def class_uses(facts: ModuleFacts, classdef: ast.ClassDef) -> list[int]:
     """Lines of this module that read the class's name (constructions, tests, subclasses)."""
-    lines = {
-        read.lineno
-        for scope in facts.scopes.values()
-        for read in scope.reads.get(classdef.name, ())
-        if isinstance(read, ast.Name) and classdef in facts.bindings_of(read)
-    }
-    return sorted(lines)
+    return sorted({read.lineno for read in facts.reads_of(classdef.name, classdef)})
 
 
 def lines_text(lines: list[int]) -> str:

@@ -339,11 +339,7 @@ class WrapperRenames(RuleFamily):
     def _other_reads(self, alias: ast.alias, name: str) -> bool:
         """Does any read of ``name`` bound by ``alias`` stay in the output?"""
         removed = {id(func) for func in self._unused_after}
-        for scope in self.facts.scopes.values():
-            for read in scope.reads.get(name, ()):
-                if id(read) not in removed and alias in self.facts.bindings_of(read):
-                    return True
-        return False
+        return any(id(read) not in removed for read in self.facts.reads_of(name, alias))
 
     # -- names and attribute paths: GM608, GM610, GM612, GM614 ----------------------------------
 
