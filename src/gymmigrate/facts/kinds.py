@@ -88,7 +88,8 @@ class ReceiverQueries(Protocol):
 
 class ReceiverFacade(ReceiverQueries, Protocol):
     """What the families mixed into ``Receivers`` (``receiver_classes.py``,
-    ``receiver_params.py``, ``receiver_origins.py``) ask of the whole: type-checking only,
+    ``receiver_params.py``, ``receiver_callers.py``, ``receiver_thunks.py``,
+    ``receiver_origins.py``) ask of the whole: type-checking only,
     each mixin derives from it under ``TYPE_CHECKING`` and from ``object`` at run time."""
 
     project: ProjectView | None

@@ -1,30 +1,27 @@
 """What a parameter of a def holds: its annotation, the arguments at every call site of
 the module (constructions of a class through its subclasses too) and of the run
 (``ProjectView.param_kinds``), or the pytest fixtures and parametrizations that feed a
-test (``ParameterKinds``, mixed into ``Receivers``).
+test (``ParameterKinds``, mixed into ``Receivers``). Which calls reach a def is
+``receiver_callers.py``; what the thunks passed for a parameter return is
+``receiver_thunks.py``; both are mixed in here.
 """
 
 from __future__ import annotations
 
 import ast
-from typing import TYPE_CHECKING
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.callables import optional_of, parse_annotation, string_names
-from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.import_roots import is_test_path
 from gymmigrate.facts.kinds import EnvKind, join_kinds
-from gymmigrate.facts.module import FUNCTIONS, call_argument, own_returns
+from gymmigrate.facts.module import FUNCTIONS, call_argument
 from gymmigrate.facts.pytest_params import fixture_values, param_fixtures, param_values
-from gymmigrate.facts.receiver_classes import is_object, other_library_class_kind
-
-if TYPE_CHECKING:
-    from gymmigrate.facts.kinds import ReceiverFacade as _Facade
-else:
-    _Facade = object
+from gymmigrate.facts.receiver_callers import CallerSites
+from gymmigrate.facts.receiver_classes import other_library_class_kind
+from gymmigrate.facts.receiver_thunks import ThunkKinds
 
 
-class ParameterKinds(_Facade):
+class ParameterKinds(CallerSites, ThunkKinds):
     """The kinds of parameters (part of ``Receivers``)."""
 
     # parameters whose callers pass a Gym env and another kind of env: (gym kinds, others)
@@ -245,193 +242,6 @@ class ParameterKinds(_Facade):
                     found.add(kept)
         return frozenset(found), other or not (calls or found)
 
-    def thunks_returned_kind(self, param: ast.arg) -> EnvKind:
-        """``def __init__(self, env_fns): self.envs = [fn() for fn in env_fns]``: what calling
-        an item of the sequence ``param`` holds returns, when every call of the def in this
-        module (every construction, for ``__init__``) passes a list of thunks this module
-        defines (a lambda, a def, ``functools.partial``, or a call of a def of the module
-        returning one of those: ``[make_env(i) for i in range(n)]``) and every such thunk
-        returns the same kind. A thunk returning an instance of a class whose step keeps the
-        four-field contract, a call the module cannot follow, or callers in other modules:
-        unknown (the calls are left alone)."""
-        return self.facts.memo(("thunks-returned-kind", id(param)), lambda: self._thunks_returned_kind(param), while_computing=EnvKind.UNKNOWN)
-
-    def _thunks_returned_kind(self, param: ast.arg) -> EnvKind:
-        function = self.facts.parent(self.facts.parent(param))
-        if not isinstance(function, FUNCTIONS):
-            return EnvKind.UNKNOWN
-        classdef = self.facts.parent(function)
-        is_method = isinstance(classdef, ast.ClassDef) and self.facts.is_method(function)
-        params = [*function.args.posonlyargs, *function.args.args]
-        position = next((i for i, p in enumerate(params) if p is param), None)
-        if position is not None and is_method:
-            if position == 0:
-                return EnvKind.UNKNOWN
-            position -= 1
-        if self.callables.external_param_kinds(function, classdef if is_method else None, param.arg):  # type: ignore[arg-type]
-            return EnvKind.UNKNOWN  # other modules of the run pass thunks this one cannot see
-        if is_method and function.name == "__init__":
-            constructions, elsewhere = self.constructions(classdef)  # type: ignore[arg-type]
-            if elsewhere or (self.project is not None and self.project.built_elsewhere(classdef.name)):  # type: ignore[union-attr]
-                return EnvKind.UNKNOWN
-            calls, shifts = [c for c, _ in constructions], {id(c): shift for c, shift in constructions}
-        else:
-            calls, shifts = self.call_sites(function, classdef if is_method else None), {}  # type: ignore[arg-type]
-        if not calls:
-            return EnvKind.UNKNOWN
-        returned: list[ast.expr | EnvKind] = []
-        for call in calls:
-            argument = call_argument(call, None if position is None else position + shifts.get(id(call), 0), param.arg)
-            thunks = self._passed_thunks(argument)
-            if thunks is None:
-                return EnvKind.UNKNOWN
-            for thunk in thunks:
-                values = self._thunk_returns(thunk, 0)
-                if values is None:
-                    return EnvKind.UNKNOWN
-                returned += values
-        if not returned or any(not isinstance(value, EnvKind) and self.legacy_step_class(value) is not None for value in returned):
-            return EnvKind.UNKNOWN
-        kinds = {value if isinstance(value, EnvKind) else self.kind_of(value) for value in returned}
-        return kinds.pop() if len(kinds) == 1 else EnvKind.UNKNOWN
-
-    def _passed_thunks(self, argument: ast.expr | None) -> list[ast.expr] | None:
-        """The items of a list passed as a sequence of thunks: a display, a comprehension's
-        item, or a name bound once to either. None for anything else."""
-        if isinstance(argument, ast.Name):
-            values = self.facts.assigned_values(argument, sole_target=True)
-            if not values or len(values) != 1:
-                return None
-            argument = values[0]
-        if isinstance(argument, (ast.List, ast.Tuple)) and argument.elts and not any(isinstance(e, ast.Starred) for e in argument.elts):
-            return list(argument.elts)
-        if isinstance(argument, (ast.ListComp, ast.GeneratorExp)):
-            return [argument.elt]
-        return None
-
-    def _thunk_returns(self, thunk: ast.expr, depth: int) -> list[ast.expr | EnvKind] | None:
-        """What calling ``thunk`` returns, as the expressions of this module that make it: a
-        lambda's body, the returns of a def (a name bound to it), or, for a call of a def of
-        the module that returns a thunk (``make_env(rank)``), what that thunk returns. None
-        when a return cannot be followed; a library callable's kind stands for its call."""
-        if depth > 3:
-            return None
-        if isinstance(thunk, ast.Lambda):
-            return [thunk.body]
-        if isinstance(thunk, ast.Name):
-            bindings = self.facts.bindings_of(thunk)
-            if len(bindings) != 1:
-                return None
-            binding = bindings[0]
-            if isinstance(binding, FUNCTIONS):
-                return self._def_returns(binding)
-            if isinstance(binding, ast.Name):
-                values = self.facts.assigned_values(thunk, sole_target=True)
-                if values is not None and len(values) == 1:
-                    return self._thunk_returns(values[0], depth + 1)
-            return None
-        if isinstance(thunk, ast.Call):
-            if "functools.partial" in self.qualified_names(thunk.func):
-                if not thunk.args:
-                    return None
-                inner = thunk.args[0]
-                if self.local_class(inner) is not None:
-                    return None  # ``partial(Board, size=3)``: the project's own class, left alone
-                if self.qualified_names(inner):
-                    # ``partial(gym.make, env_id)``: what the library callable returns
-                    return [self.callables.returned_kind(thunk)]
-                return self._thunk_returns(inner, depth + 1)
-            function = self.local_function(thunk.func)
-            if function is None:
-                return None
-            made = self._def_returns(function)
-            if made is None:
-                return None
-            found: list[ast.expr | EnvKind] = []
-            for value in made:
-                if isinstance(value, EnvKind):
-                    return None
-                inner_values = self._thunk_returns(value, depth + 1)
-                if inner_values is None:
-                    return None
-                found += inner_values
-            return found
-        return None
-
-    @staticmethod
-    def _def_returns(function: ast.FunctionDef | ast.AsyncFunctionDef) -> list[ast.expr | EnvKind] | None:
-        values = [r.value for r in own_returns(function)]
-        if not values or any(v is None for v in values):
-            return None
-        return values  # type: ignore[return-value]
-
-    def constructions(self, classdef: ast.ClassDef, _seen: frozenset[int] = frozenset()) -> tuple[list[tuple[ast.Call, int]], bool]:
-        """The calls of this module that run ``classdef.__init__``, each with how far its
-        positional arguments are shifted (1 for ``Base.__init__(self, env)``): the class's own
-        calls, the calls of subclasses here that inherit ``__init__``, and the
-        ``super().__init__(...)`` / ``Base.__init__(self, ...)`` of subclasses that define
-        their own. The flag says another module of the run subclasses it (its calls are not
-        known here)."""
-        found: list[tuple[ast.Call, int]] = [(call, 0) for call in self.facts.calls_by_name.get(classdef.name, [])]
-        elsewhere = (
-            self.project is not None
-            and self.facts.parent(classdef) is self.facts.tree
-            and self.project.subclassed_elsewhere(classdef.name)
-            and not self.project.built_through_super_elsewhere(classdef.name)
-        )
-        for sub in self.facts.classes.values():
-            if sub is classdef or id(sub) in _seen or not any(self.local_class(b) is classdef for b in sub.bases):
-                continue
-            own_init = any(isinstance(s, FUNCTIONS) and s.name == "__init__" for s in sub.body)
-            if not own_init:
-                inherited, far = self.constructions(sub, _seen | {id(classdef)})
-                found += inherited
-                # A subclass built in another module (or, with no run to ask, one never built
-                # here: other modules may build it) passes arguments this module cannot see.
-                if self.project is None:
-                    far = far or not inherited
-                else:
-                    far = far or self.project.built_elsewhere(sub.name)
-                elsewhere = elsewhere or far
-                continue
-            first_base = next((b for b in sub.bases if not is_object(b)), None)
-            for call in self.facts.attribute_calls.get("__init__", []):
-                if self.facts.enclosing_class(call) is not sub:
-                    continue
-                owner = call.func.value  # type: ignore[attr-defined]
-                if isinstance(owner, ast.Call) and isinstance(owner.func, ast.Name) and owner.func.id == "super":
-                    if first_base is not None and self.local_class(first_base) is classdef:
-                        found.append((call, 0))
-                elif isinstance(owner, ast.Name) and self.local_class(owner) is classdef:
-                    found.append((call, 1))  # ``Base.__init__(self, env)``
-        # ``Wrapper = DummyVecEnv`` ... ``Wrapper(envs)``, ``make(cls=DummyVecEnv)``: the class
-        # is built under another name too, with arguments the calls by its name do not show
-        return found, elsewhere or self._class_escapes(classdef)
-
-    def _class_escapes(self, classdef: ast.ClassDef) -> bool:
-        """The module reads the class's name as a value other than a call, a base, an
-        ``isinstance``/``issubclass`` argument, an attribute owner or an annotation."""
-        return bool(self.facts.memo(("class-escapes", id(classdef)), lambda: self._escapes(classdef)))
-
-    def _escapes(self, classdef: ast.ClassDef) -> bool:
-        facts = self.facts
-        for node in facts.reads_of(classdef.name):
-            parent = facts.parent(node)
-            if isinstance(parent, ast.Call) and parent.func is node:
-                continue
-            if isinstance(parent, ast.ClassDef) and node in parent.bases:
-                continue
-            if isinstance(parent, ast.Attribute):  # ``DummyVecEnv.__init__(self, ...)``, class constants
-                continue
-            if isinstance(parent, (ast.Tuple, ast.Call)):
-                call = facts.parent(parent) if isinstance(parent, ast.Tuple) else parent
-                if isinstance(call, ast.Call) and isinstance(call.func, ast.Name) and call.func.id in ("isinstance", "issubclass", "type"):
-                    continue
-            if _in_annotation(node, facts):
-                continue
-            return True
-        return False
-
     def mixed_callers(self, expr: ast.AST, _depth: int = 0) -> str | None:
         """Why ``expr`` (a parameter, ``self.x`` stored from one, or a name bound to either)
         has no single kind: its callers pass a Gym env at some sites and another kind of env
@@ -553,116 +363,6 @@ class ParameterKinds(_Facade):
                     return found
         return EnvKind.UNKNOWN
 
-    def call_sites(self, function: ast.AST, classdef: ast.ClassDef | None) -> list[ast.Call]:
-        """Calls in this module that reach ``function`` (a method when ``classdef`` is given)."""
-        name = function.name  # type: ignore[attr-defined]
-        if classdef is None:
-            calls = self.facts.calls_by_name.get(name, [])
-            module = self.facts.module_scope
-            defs = [b for b in module.bindings.get(name, ()) if isinstance(b, FUNCTIONS)]
-            if self.facts.parent(function) is self.facts.tree and (len(defs) > 1 or self.facts.functions.get(name) is not function):
-                # A def the module defines again (a notebook's cells, run in order): a call of
-                # the module's own code reaches the def bound where it runs, the one above it
-                # in the text; a call inside a def runs whenever that def is called, so it may
-                # reach any of them (``worker()`` calling ``run_episode`` defined in two cells).
-                flow = Flow.of(self.facts)
-                return [
-                    c
-                    for c in calls
-                    if isinstance(c.func, ast.Name)
-                    and self.facts.resolve(name, self.facts.scope_of(c.func))[0] is module
-                    and (flow.last_binding_of(c.func) is function or not flow.same_frame(c.func, module))
-                ]
-            return [c for c in calls if self.local_function(c.func) is function]
-        if name == "__init__":
-            return list(self.facts.calls_by_name.get(classdef.name, []))
-        if name == "__call__":
-            # ``evaluate(env, policy)`` where ``evaluate`` holds an instance of the class (bound
-            # to ``Evaluator(...)``, or a parameter every call of its def passes one).
-            instances: list[ast.Call] = self.facts.memo(("instance-calls", id(classdef)), lambda: self._instance_calls(classdef))
-        else:
-            instances = []
-        # ``self.train(env)`` in the class, and ``Agent().train(env)`` or ``algo.train(env)``
-        # with ``algo = Agent()`` in the module: the instances the module makes itself.
-        return [
-            c
-            for c in self.facts.attribute_calls.get(name, [])
-            if (isinstance(c.func.value, ast.Name) and self.is_self(c.func.value))  # type: ignore[attr-defined]
-            or self._made_instance_of(c.func.value, classdef, name)  # type: ignore[attr-defined]
-            or self._unwrapped_of(c.func.value, classdef)  # type: ignore[attr-defined]
-        ] + instances
-
-    def _instance_calls(self, classdef: ast.ClassDef) -> list[ast.Call]:
-        found = []
-        for calls in self.facts.calls_by_name.values():
-            for call in calls:
-                values = self.called_instances(call.func)
-                if values and all(self._made_instance_of(v, classdef, "__call__") for v in values):
-                    found.append(call)
-        return found
-
-    def called_instances(self, func: ast.expr) -> list[ast.expr]:
-        """What a called name holds, where that is a construction: the values of a name
-        every binding of which is an assignment of a call (``evaluate = Evaluator(3)``), or,
-        for a parameter of a top-level def, those of the name (or the call) every call of the
-        def in the module passes there (``train(env, evaluate)``). Empty when unclear."""
-        if not isinstance(func, ast.Name):
-            return []
-        bindings = self.facts.bindings_of(func)
-        if len(bindings) == 1 and isinstance(bindings[0], ast.arg):
-            param = bindings[0]
-            function = self.facts.parent(self.facts.parent(param))
-            if not isinstance(function, FUNCTIONS) or self.facts.functions.get(function.name) is not function:
-                return []
-            positional = [*function.args.posonlyargs, *function.args.args]
-            position = next((i for i, p in enumerate(positional) if p is param), None)
-            values: list[ast.expr] = []
-            for call in self.call_sites(function, None):
-                argument = call_argument(call, position, param.arg)
-                if argument is None:
-                    return []
-                found = self.facts.assigned_values(argument, sole_target=True) if isinstance(argument, ast.Name) else [argument]
-                if not found or not all(isinstance(v, ast.Call) for v in found):
-                    return []
-                values.extend(found)
-            return values
-        found = self.facts.assigned_values(func, sole_target=True)
-        return found if found is not None and all(isinstance(v, ast.Call) for v in found) else []
-
-    def _unwrapped_of(self, owner: ast.AST, classdef: ast.ClassDef) -> bool:
-        """``x.unwrapped.set_top(self)`` with ``set_top`` a method of this module's Gym env
-        class: ``unwrapped`` is the env under every wrapper, and a method only the run's env
-        classes define is theirs (a wrapper registering itself with the env it wraps)."""
-        return (
-            isinstance(owner, ast.Attribute)
-            and owner.attr == "unwrapped"
-            and not self.is_gym_wrapper_class(classdef)
-            and self.class_kind(classdef) is EnvKind.GYM_ENV
-        )
-
-    def _made_instance_of(self, owner: ast.AST, classdef: ast.ClassDef, method: str) -> bool:
-        """``owner`` is ``Cls(...)`` or a name every binding of which is ``Cls(...)``, with
-        ``Cls`` this module's ``classdef`` or a subclass here that inherits ``method``."""
-        if isinstance(owner, ast.Name):
-            bindings = self.facts.bindings_of(owner)
-            values = []
-            for binding in bindings:
-                assign = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
-                if not (isinstance(assign, ast.Assign) and assign.targets == [binding]):
-                    return False
-                values.append(assign.value)
-            return bool(values) and all(self._made_instance_of(v, classdef, method) for v in values)
-        if not isinstance(owner, ast.Call):
-            return False
-        made = self.local_class(owner.func)
-        seen: set[int] = set()
-        while made is not None and made is not classdef and id(made) not in seen:
-            seen.add(id(made))
-            if any(isinstance(st, FUNCTIONS) and st.name == method for st in made.body):
-                return False  # the subclass has a method of its own
-            bases = [b for b in made.bases if not is_object(b)]
-            made = self.local_class(bases[0]) if len(bases) == 1 else None
-        return made is classdef
 
     def _fixture_kind(self, fixture: ast.FunctionDef | ast.AsyncFunctionDef) -> EnvKind:
         values = fixture_values(self.facts, fixture)
@@ -687,18 +387,4 @@ def has_default(function: ast.AST, param: ast.arg) -> bool:
         return positional.index(param) >= len(positional) - len(args.defaults)
     if param in args.kwonlyargs:
         return args.kw_defaults[args.kwonlyargs.index(param)] is not None
-    return False
-
-
-def _in_annotation(node: ast.AST, facts) -> bool:
-    """``node`` sits in an annotation (of an argument, a return or an assignment)."""
-    child, parent = node, facts.parent(node)
-    while parent is not None and not isinstance(parent, ast.stmt):
-        if isinstance(parent, ast.arg) and parent.annotation is child:
-            return True
-        child, parent = parent, facts.parent(parent)
-    if isinstance(parent, ast.AnnAssign) and parent.annotation is child:
-        return True
-    if isinstance(parent, (ast.FunctionDef, ast.AsyncFunctionDef)) and parent.returns is child:
-        return True
     return False

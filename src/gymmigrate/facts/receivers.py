@@ -17,8 +17,10 @@ times) cost linear time.
 This module holds the façade, ``Receivers``, and the classification of expressions. The
 families of questions it also answers are mixed in from their own modules:
 ``receiver_classes.py`` (what a class of the module is, from its bases and its shape),
-``receiver_params.py`` (what a parameter holds), ``receiver_origins.py`` (who made an
-object: a legacy-step class, the run itself, another library); ``pytest_params.py`` reads
+``receiver_params.py`` (what a parameter holds; with ``receiver_callers.py``, which calls
+reach a def, and ``receiver_thunks.py``, what passed thunks return),
+``receiver_origins.py`` (who made an object: a legacy-step class, the run itself, another
+library); ``pytest_params.py`` reads
 what pytest passes a test. Two helpers it owns answer narrower questions:
 ``callables.py`` (what calling a factory returns) and ``self_attributes.py`` (``self.x``).
 """
