@@ -8,17 +8,18 @@ except a lost life (baselines' ``EpisodicLifeEnv``): that sets ``terminated``, a
 Stable-Baselines3's port does. The
 ``done = terminated or truncated`` line the step family inserts is withdrawn when the
 return was its last reader.
+
+What the override's lines say on their own is read in ``step_ends.py`` (the end
+conditions it adds to ``done``) and ``step_inner.py`` (its inner step: aliases of the
+wrapped env, per-agent flags, other changes of ``done``); this module decides and edits.
 """
 
 from __future__ import annotations
 
 import ast
-import re
-from collections.abc import Callable
 from dataclasses import replace
 
 from gymmigrate.edits.lazy import cst
-from gymmigrate.facts.limits import if_setting_true
 from gymmigrate.facts.module import FUNCTIONS, own_returns
 from gymmigrate.facts.receiver_classes import is_batched_step_return, keeps_legacy_step
 from gymmigrate.findings import FixKind, Tier
@@ -27,7 +28,6 @@ from gymmigrate.rules.custom_env.plans import (
     BATCHED_STEP_QUESTION,
     batched_step_message,
 )
-from gymmigrate.rules.custom_env.step import is_step_limit
 from gymmigrate.rules.step_done.common import StepUnpack
 from gymmigrate.rules.wrappers.common import (
     _assigned_names,
@@ -36,6 +36,23 @@ from gymmigrate.rules.wrappers.common import (
     _single_assign,
     _statements,
     _tuple,
+)
+from gymmigrate.rules.wrappers.step_ends import (
+    _ends_on_task_end,
+    _is_initializer,
+    _merges_life_loss,
+    _names,
+    _only_own_step_limit,
+    _sets_done_on_life_loss,
+    _sets_done_on_limit,
+)
+from gymmigrate.rules.wrappers.step_inner import (
+    _alias_step,
+    _has_other_assignments,
+    _inner_aliases,
+    _is_done_line,
+    _reads_per_agent,
+    _reduces_per_agent,
 )
 
 
@@ -404,256 +421,8 @@ class StepOverrides(RuleFamily):
 _COLLECTIONS = (ast.List, ast.Tuple, ast.Set, ast.Dict, ast.ListComp, ast.SetComp, ast.DictComp, ast.GeneratorExp)
 
 
-def _reads_per_agent(expr: ast.expr, names: set[str]) -> bool:
-    """``all(done)``, ``any(dones)``, ``done.values()``, ``done[i]`` or a comprehension over
-    ``done``: the inner step's done (or flags) is a collection of per-agent flags."""
-    def is_flag(node: ast.AST) -> bool:
-        return isinstance(node, ast.Name) and node.id in names
-
-    for node in ast.walk(expr):
-        if isinstance(node, ast.Call):
-            func = node.func
-            if isinstance(func, ast.Name) and func.id in ("all", "any", "list", "sum", "len") and any(is_flag(a) for a in node.args):
-                return True
-            if isinstance(func, ast.Attribute) and func.attr in ("values", "items", "keys") and is_flag(func.value):
-                return True
-        elif isinstance(node, ast.Subscript) and is_flag(node.value):
-            return True
-        elif isinstance(node, ast.comprehension) and is_flag(node.iter):
-            return True
-    return False
-
-
-def _reduces_per_agent(function: ast.AST, name: str, flags: set[str]) -> bool:
-    """``done = all(done)`` (or ``any``, ``.values()``, a comprehension) somewhere in
-    ``function``: ``name`` holds a reduction of the inner step's per-agent flags."""
-    for node in ast.walk(function):
-        if (
-            isinstance(node, ast.Assign)
-            and len(node.targets) == 1
-            and isinstance(node.targets[0], ast.Name)
-            and node.targets[0].id == name
-            and _reads_per_agent(node.value, flags)
-        ):
-            return True
-    return False
-
-
-def _names(expr: ast.AST) -> set[str]:
-    return {node.id for node in ast.walk(expr) if isinstance(node, ast.Name)}
-
-
-def _only_own_step_limit(function: ast.AST, done: ast.expr, flags: tuple[str, str]) -> bool:
-    """``self.t >= self.t_max`` returned as done, or a local whose every assignment in
-    ``function`` is an initializer (``False``/``None``), a step-limit comparison, or ``True``
-    alone under ``if <step limit>:`` (at least one of the last two), none reading the inner
-    flags: the override's done is its own step count and nothing else."""
-    if is_step_limit(done):
-        return not (_names(done) & set(flags))
-    if not isinstance(done, ast.Name):
-        return False
-    name, limits = done.id, 0
-    parents = {child: node for node in ast.walk(function) for child in ast.iter_child_nodes(node)}
-    for node in ast.walk(function):
-        if isinstance(node, (ast.AugAssign, ast.AnnAssign, ast.NamedExpr, ast.For, ast.AsyncFor, ast.With, ast.AsyncWith)):
-            targets = [node.target] if not isinstance(node, (ast.With, ast.AsyncWith)) else [
-                item.optional_vars for item in node.items if item.optional_vars is not None
-            ]
-            if any(name in _names(target) for target in targets):
-                return False
-        elif isinstance(node, (ast.Name,)) and isinstance(node.ctx, ast.Del) and node.id == name:
-            return False
-        elif isinstance(node, ast.Assign) and any(name in _names(target) for target in node.targets):
-            if not (len(node.targets) == 1 and isinstance(node.targets[0], ast.Name)):
-                return False
-            if _is_initializer(node, name):
-                continue
-            if _names(node.value) & set(flags):
-                return False
-            if is_step_limit(node.value) or _set_alone_when(node, parents.get(node), is_step_limit):
-                limits += 1
-                continue
-            return False
-    return limits > 0
-
-
 def _code(node: cst.BaseExpression) -> str:
     return cst.Module(body=[]).code_for_node(node)
-
-
-def _merges_life_loss(function: ast.AST, name: str, done_name: str, flags: tuple[str, str]) -> bool:
-    """Every assignment of ``name`` in ``function`` is ``name = done_name`` or ``name =
-    done_name or <a test of lives>`` (at least one of the latter), none reading the flags:
-    ``name`` is the inner done, or it with a lost life."""
-    lives = 0
-    for node in ast.walk(function):
-        if isinstance(node, (ast.AugAssign, ast.AnnAssign, ast.NamedExpr, ast.For, ast.AsyncFor)):
-            if name in _names(node.target):
-                return False
-        elif isinstance(node, (ast.With, ast.AsyncWith)):
-            if any(item.optional_vars is not None and name in _names(item.optional_vars) for item in node.items):
-                return False
-        elif isinstance(node, ast.Assign) and any(name in _names(target) for target in node.targets):
-            if not (len(node.targets) == 1 and isinstance(node.targets[0], ast.Name)):
-                return False
-            value = node.value
-            if _names(value) & set(flags):
-                return False
-            if isinstance(value, ast.Name) and value.id == done_name:
-                continue
-            if not (isinstance(value, ast.BoolOp) and isinstance(value.op, ast.Or)):
-                return False
-            rest = [v for v in value.values if not (isinstance(v, ast.Name) and v.id == done_name)]
-            if len(rest) != len(value.values) - 1 or done_name in {n for r in rest for n in _names(r)}:
-                return False
-            if not all(any(_LIFE_WORDS.search(_identifier(n)) for n in ast.walk(r)) for r in rest):
-                return False
-            lives += 1
-    return lives > 0
-
-
-def _is_done_line(statement: ast.stmt, flags: tuple[str, str]) -> bool:
-    """``done = terminated or truncated`` right after a five-target step unpack."""
-    assign = _single_assign(statement)
-    if assign is None or not isinstance(assign.targets[0], ast.Name):
-        return False
-    value = assign.value
-    return (
-        isinstance(value, ast.BoolOp)
-        and isinstance(value.op, ast.Or)
-        and len(value.values) == 2
-        and all(isinstance(v, ast.Name) for v in value.values)
-        and tuple(v.id for v in value.values if isinstance(v, ast.Name)) == flags  # all Names (above)
-    )
-
-
-def _is_initializer(statement: ast.stmt, name: str) -> bool:
-    """``done = None`` / ``done = False`` before a loop (or ``frames, total, done = [], 0.0,
-    False``): not a change of the inner result."""
-    assign = _single_assign(statement)
-    if assign is None:
-        return False
-    target, value = assign.targets[0], assign.value
-    if isinstance(target, ast.Tuple) and isinstance(value, ast.Tuple) and len(target.elts) == len(value.elts):
-        pairs = [(t, v) for t, v in zip(target.elts, value.elts, strict=True) if isinstance(t, ast.Name) and t.id == name]
-        if len(pairs) != 1:
-            return False
-        value = pairs[0][1]
-    return isinstance(value, ast.Constant) and (value.value is None or value.value is False)
-
-
-def _sets_done_on_limit(line: ast.stmt, name: str, parent: ast.AST | None) -> bool:
-    """``if self._elapsed_steps >= self._max_episode_steps: done = True`` or
-    ``done = done or self.t >= self.limit``: ``name`` is set only by a step-limit test."""
-    return _sets_done_when(line, name, parent, is_step_limit)
-
-
-def _sets_done_when(line: ast.stmt, name: str, parent: ast.AST | None, test: Callable[[ast.AST], bool]) -> bool:
-    """``if <test>: done = True`` (alone in the ``if``, no ``else``) or ``done = done or
-    <test>``: ``name`` is set only where ``test`` holds of the condition."""
-    if not (isinstance(line, ast.Assign) and len(line.targets) == 1 and isinstance(line.targets[0], ast.Name)):
-        return False
-    value = line.value
-    if isinstance(value, ast.Constant) and value.value is True:
-        return _set_alone_when(line, parent, test)
-    if isinstance(value, ast.BoolOp) and isinstance(value.op, ast.Or):
-        rest = [v for v in value.values if not (isinstance(v, ast.Name) and v.id == name)]
-        return len(rest) == len(value.values) - 1 and all(test(v) for v in rest)
-    return False
-
-
-# ``lives``, ``self.lives``, ``lives_before > lives_after``, ``n_lives``, ``ale.lives()``, ``life_lost``
-_LIFE_WORDS = re.compile(r"(?:^|_)lives?(?:_|$)|life", re.IGNORECASE)
-
-
-def _sets_done_on_life_loss(line: ast.stmt, parent: ast.AST | None) -> bool:
-    """``done = True`` alone in an ``if`` that tests the number of lives."""
-    return _set_alone_when(line, parent, lambda test: any(_LIFE_WORDS.search(_identifier(node)) for node in ast.walk(test)))
-
-
-def _set_alone_when(line: ast.stmt, parent: ast.AST | None, test: Callable[[ast.AST], bool]) -> bool:
-    """``if <test>: done = True`` with no ``else``."""
-    branch = if_setting_true(line, parent)
-    return branch is not None and line in branch.body and not branch.orelse and test(branch.test)
-
-
-# what a task's own end is called: ``info["is_success"]``, ``reached_goal``, ``self.crashed``
-_TASK_END_WORDS = re.compile(r"success|goal|solved|reached|\bwon\b|\bwin\b|crash|collision|collided|fail", re.IGNORECASE)
-
-
-def _ends_on_task_end(line: ast.stmt, name: str, parent: ast.AST | None) -> bool:
-    """``done = done or <task end>`` / ``done = <task end> or done``, or ``done = True`` alone
-    in an ``if`` that tests a task end."""
-    return _sets_done_when(line, name, parent, _names_task_end)
-
-
-def _names_task_end(expr: ast.AST) -> bool:
-    return any(_TASK_END_WORDS.search(_identifier(node)) for node in ast.walk(expr))
-
-
-def _identifier(node: ast.AST) -> str:
-    if isinstance(node, ast.Name):
-        return node.id
-    if isinstance(node, ast.Attribute):
-        return node.attr
-    if isinstance(node, ast.Constant) and isinstance(node.value, str):
-        return node.value
-    return ""
-
-
-def _has_other_assignments(
-    lines: list[ast.stmt],
-    name: str,
-    done_line: ast.stmt | None,
-    unpacks: dict[ast.stmt, StepUnpack | None],
-    inserted: tuple[ast.Assign, StepUnpack] | None,
-    flags: tuple[str, str] | None = None,
-) -> bool:
-    """Is ``name`` changed anywhere but by the unpack, its ``done = ...`` line or an initializer?"""
-    seen_unpack = False
-    for line in lines:
-        if line in unpacks:
-            seen_unpack = True
-            noted = unpacks[line]
-            # another unpack after which the step family keeps ``done`` too assigns it again,
-            # unless it is a later inner step (``obs, _, done, _ = self.env.step(1)`` after a
-            # lost life) binding ``name`` as its done together with the same two flags: then
-            # ``name`` is still ``terminated or truncated`` of the step that ran last
-            if noted is not None and noted.done_line is not None and (inserted is None or line is not inserted[0]):
-                if name in _assigned_names(line) and not _rebinds_flags_with_done(line, noted, name, flags):
-                    return True
-            continue
-        if line is done_line:
-            continue
-        if name not in _assigned_names(line):
-            if isinstance(line, ast.AugAssign) and isinstance(line.target, ast.Name) and line.target.id == name:
-                return True
-            continue
-        if not seen_unpack and _is_initializer(line, name):
-            continue
-        return True
-    return False
-
-
-def _rebinds_flags_with_done(line: ast.stmt, noted: StepUnpack, name: str, flags: tuple[str, str] | None) -> bool:
-    """``line`` is a legacy inner-step unpack whose done target is ``name`` and which the step
-    family split into the same two flags (``flags``) as the override's other unpacks."""
-    assign = _single_assign(line)
-    if assign is None or flags is None or noted.discarded:
-        return False
-    target = assign.targets[0]
-    return (
-        isinstance(target, (ast.Tuple, ast.List))
-        and len(target.elts) == 4
-        and isinstance(target.elts[2], ast.Name)
-        and target.elts[2].id == name
-        and name not in _assigned_names_except(target, 2)
-        and (noted.names.terminated, noted.names.truncated) == flags
-    )
-
-
-def _assigned_names_except(target: ast.Tuple | ast.List, index: int) -> set[str]:
-    return {e.id for i, e in enumerate(target.elts) if i != index and isinstance(e, ast.Name)}
 
 
 def _five(node: cst.Tuple, flags: list[cst.BaseExpression]) -> cst.Tuple:
@@ -705,57 +474,3 @@ def _cut(node: cst.Tuple, terminated: str) -> list[cst.BaseExpression]:
         right=cst.UnaryOperation(operator=cst.Not(), expression=cst.Name(terminated)),
     )
     return [cst.Name(terminated), cut]
-
-
-def _inner_aliases(classdef: ast.ClassDef) -> frozenset[str]:
-    """Attributes that hold the wrapped env itself: ``__init__`` hands its parameter to the
-    base's ``__init__`` (``super().__init__(env)``, ``gym.Wrapper.__init__(self, env)``) and
-    stores the same parameter (``self._env = env``), so ``self._env`` is ``self.env``."""
-    init = next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == "__init__"), None)
-    if init is None:
-        return frozenset()
-    handed: set[str] = set()
-    stored: dict[str, str] = {}
-    rebound: set[str] = set()
-    for node in ast.walk(init):
-        if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "__init__":
-            base = node.func.value
-            args = node.args
-            if isinstance(base, ast.Call) and isinstance(base.func, ast.Name) and base.func.id == "super":
-                handed |= {a.id for a in args[:1] if isinstance(a, ast.Name)}
-            elif args and isinstance(args[0], ast.Name) and args[0].id == "self":
-                handed |= {a.id for a in args[1:2] if isinstance(a, ast.Name)}
-        elif isinstance(node, ast.Assign):
-            for target in node.targets:
-                if isinstance(target, ast.Name):
-                    rebound.add(target.id)
-                elif (
-                    isinstance(target, ast.Attribute) and isinstance(target.value, ast.Name) and target.value.id == "self"
-                    and isinstance(node.value, ast.Name)
-                ):
-                    stored[target.attr] = node.value.id
-    written_elsewhere = {
-        t.attr
-        for method in classdef.body
-        if isinstance(method, FUNCTIONS) and method is not init
-        for n in ast.walk(method)
-        if isinstance(n, ast.Assign)
-        for t in n.targets
-        if isinstance(t, ast.Attribute) and isinstance(t.value, ast.Name) and t.value.id == "self"
-    }
-    return frozenset(
-        attr for attr, param in stored.items() if param in handed and param not in rebound and attr not in written_elsewhere
-    )
-
-
-def _alias_step(node: ast.AST | None, aliases: frozenset[str]) -> bool:
-    """``self.<alias>.step(...)`` for an attribute ``_inner_aliases`` found."""
-    return (
-        isinstance(node, ast.Call)
-        and isinstance(node.func, ast.Attribute)
-        and node.func.attr == "step"
-        and isinstance(node.func.value, ast.Attribute)
-        and isinstance(node.func.value.value, ast.Name)
-        and node.func.value.value.id == "self"
-        and node.func.value.attr in aliases
-    )

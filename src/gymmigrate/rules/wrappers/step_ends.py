@@ -1,0 +1,164 @@
+"""GM602: which end conditions a wrapper's ``step`` override adds to the inner ``done``.
+
+Its own step limit (``if self.t >= self.t_max: done = True``), a lost life (baselines'
+``EpisodicLifeEnv``: ``done = True`` under a test of the lives, or ``done = done or
+lives < self.lives``), or the task's own end (``done = done or info.get("is_success")``),
+and which assignments are only initializers. ``step.py`` decides from these what the
+override returns as ``terminated`` and what as ``truncated``.
+
+Separate from ``step.py`` because these are questions about the override's lines alone
+(the ``ast``, no plan and no rewrite), read the same way by every case of the rewrite.
+"""
+
+from __future__ import annotations
+
+import ast
+import re
+from collections.abc import Callable
+
+from gymmigrate.facts.limits import if_setting_true
+from gymmigrate.rules.custom_env.step import is_step_limit
+from gymmigrate.rules.wrappers.common import _single_assign
+
+
+def _names(expr: ast.AST) -> set[str]:
+    return {node.id for node in ast.walk(expr) if isinstance(node, ast.Name)}
+
+
+def _only_own_step_limit(function: ast.AST, done: ast.expr, flags: tuple[str, str]) -> bool:
+    """``self.t >= self.t_max`` returned as done, or a local whose every assignment in
+    ``function`` is an initializer (``False``/``None``), a step-limit comparison, or ``True``
+    alone under ``if <step limit>:`` (at least one of the last two), none reading the inner
+    flags: the override's done is its own step count and nothing else."""
+    if is_step_limit(done):
+        return not (_names(done) & set(flags))
+    if not isinstance(done, ast.Name):
+        return False
+    name, limits = done.id, 0
+    parents = {child: node for node in ast.walk(function) for child in ast.iter_child_nodes(node)}
+    for node in ast.walk(function):
+        if isinstance(node, (ast.AugAssign, ast.AnnAssign, ast.NamedExpr, ast.For, ast.AsyncFor, ast.With, ast.AsyncWith)):
+            targets = [node.target] if not isinstance(node, (ast.With, ast.AsyncWith)) else [
+                item.optional_vars for item in node.items if item.optional_vars is not None
+            ]
+            if any(name in _names(target) for target in targets):
+                return False
+        elif isinstance(node, (ast.Name,)) and isinstance(node.ctx, ast.Del) and node.id == name:
+            return False
+        elif isinstance(node, ast.Assign) and any(name in _names(target) for target in node.targets):
+            if not (len(node.targets) == 1 and isinstance(node.targets[0], ast.Name)):
+                return False
+            if _is_initializer(node, name):
+                continue
+            if _names(node.value) & set(flags):
+                return False
+            if is_step_limit(node.value) or _set_alone_when(node, parents.get(node), is_step_limit):
+                limits += 1
+                continue
+            return False
+    return limits > 0
+
+
+def _merges_life_loss(function: ast.AST, name: str, done_name: str, flags: tuple[str, str]) -> bool:
+    """Every assignment of ``name`` in ``function`` is ``name = done_name`` or ``name =
+    done_name or <a test of lives>`` (at least one of the latter), none reading the flags:
+    ``name`` is the inner done, or it with a lost life."""
+    lives = 0
+    for node in ast.walk(function):
+        if isinstance(node, (ast.AugAssign, ast.AnnAssign, ast.NamedExpr, ast.For, ast.AsyncFor)):
+            if name in _names(node.target):
+                return False
+        elif isinstance(node, (ast.With, ast.AsyncWith)):
+            if any(item.optional_vars is not None and name in _names(item.optional_vars) for item in node.items):
+                return False
+        elif isinstance(node, ast.Assign) and any(name in _names(target) for target in node.targets):
+            if not (len(node.targets) == 1 and isinstance(node.targets[0], ast.Name)):
+                return False
+            value = node.value
+            if _names(value) & set(flags):
+                return False
+            if isinstance(value, ast.Name) and value.id == done_name:
+                continue
+            if not (isinstance(value, ast.BoolOp) and isinstance(value.op, ast.Or)):
+                return False
+            rest = [v for v in value.values if not (isinstance(v, ast.Name) and v.id == done_name)]
+            if len(rest) != len(value.values) - 1 or done_name in {n for r in rest for n in _names(r)}:
+                return False
+            if not all(any(_LIFE_WORDS.search(_identifier(n)) for n in ast.walk(r)) for r in rest):
+                return False
+            lives += 1
+    return lives > 0
+
+
+def _is_initializer(statement: ast.stmt, name: str) -> bool:
+    """``done = None`` / ``done = False`` before a loop (or ``frames, total, done = [], 0.0,
+    False``): not a change of the inner result."""
+    assign = _single_assign(statement)
+    if assign is None:
+        return False
+    target, value = assign.targets[0], assign.value
+    if isinstance(target, ast.Tuple) and isinstance(value, ast.Tuple) and len(target.elts) == len(value.elts):
+        pairs = [(t, v) for t, v in zip(target.elts, value.elts, strict=True) if isinstance(t, ast.Name) and t.id == name]
+        if len(pairs) != 1:
+            return False
+        value = pairs[0][1]
+    return isinstance(value, ast.Constant) and (value.value is None or value.value is False)
+
+
+def _sets_done_on_limit(line: ast.stmt, name: str, parent: ast.AST | None) -> bool:
+    """``if self._elapsed_steps >= self._max_episode_steps: done = True`` or
+    ``done = done or self.t >= self.limit``: ``name`` is set only by a step-limit test."""
+    return _sets_done_when(line, name, parent, is_step_limit)
+
+
+def _sets_done_when(line: ast.stmt, name: str, parent: ast.AST | None, test: Callable[[ast.AST], bool]) -> bool:
+    """``if <test>: done = True`` (alone in the ``if``, no ``else``) or ``done = done or
+    <test>``: ``name`` is set only where ``test`` holds of the condition."""
+    if not (isinstance(line, ast.Assign) and len(line.targets) == 1 and isinstance(line.targets[0], ast.Name)):
+        return False
+    value = line.value
+    if isinstance(value, ast.Constant) and value.value is True:
+        return _set_alone_when(line, parent, test)
+    if isinstance(value, ast.BoolOp) and isinstance(value.op, ast.Or):
+        rest = [v for v in value.values if not (isinstance(v, ast.Name) and v.id == name)]
+        return len(rest) == len(value.values) - 1 and all(test(v) for v in rest)
+    return False
+
+
+# ``lives``, ``self.lives``, ``lives_before > lives_after``, ``n_lives``, ``ale.lives()``, ``life_lost``
+_LIFE_WORDS = re.compile(r"(?:^|_)lives?(?:_|$)|life", re.IGNORECASE)
+
+
+def _sets_done_on_life_loss(line: ast.stmt, parent: ast.AST | None) -> bool:
+    """``done = True`` alone in an ``if`` that tests the number of lives."""
+    return _set_alone_when(line, parent, lambda test: any(_LIFE_WORDS.search(_identifier(node)) for node in ast.walk(test)))
+
+
+def _set_alone_when(line: ast.stmt, parent: ast.AST | None, test: Callable[[ast.AST], bool]) -> bool:
+    """``if <test>: done = True`` with no ``else``."""
+    branch = if_setting_true(line, parent)
+    return branch is not None and line in branch.body and not branch.orelse and test(branch.test)
+
+
+# what a task's own end is called: ``info["is_success"]``, ``reached_goal``, ``self.crashed``
+_TASK_END_WORDS = re.compile(r"success|goal|solved|reached|\bwon\b|\bwin\b|crash|collision|collided|fail", re.IGNORECASE)
+
+
+def _ends_on_task_end(line: ast.stmt, name: str, parent: ast.AST | None) -> bool:
+    """``done = done or <task end>`` / ``done = <task end> or done``, or ``done = True`` alone
+    in an ``if`` that tests a task end."""
+    return _sets_done_when(line, name, parent, _names_task_end)
+
+
+def _names_task_end(expr: ast.AST) -> bool:
+    return any(_TASK_END_WORDS.search(_identifier(node)) for node in ast.walk(expr))
+
+
+def _identifier(node: ast.AST) -> str:
+    if isinstance(node, ast.Name):
+        return node.id
+    if isinstance(node, ast.Attribute):
+        return node.attr
+    if isinstance(node, ast.Constant) and isinstance(node.value, str):
+        return node.value
+    return ""
