@@ -1,39 +1,37 @@
 """Planning the sites make by make: the mode each make ends with (its own, another
 family's, or the one its sites agree on), the makes that cannot take one (two modes,
 ``**kwargs``, a registered class without ``render_mode``), human renders that run on a
-condition (``render_schedule.py``), and each site's finding and edit."""
+condition (``render_schedule.py``), and each site's finding and edit.
+
+What the made env's uses say (where it is stepped, whether its loops render) is read in
+``env_uses.py``; the renders of envs made out of this file's reach are reported from
+``untraced.py``; both are mixed in here."""
 
 from __future__ import annotations
 
 import ast
-import os
 from collections import defaultdict
-from collections.abc import Hashable
 
-from gymmigrate.facts import names as N
 from gymmigrate.facts.decisions import Action
-from gymmigrate.facts.module import full_name, keyword, string_value
+from gymmigrate.facts.module import keyword, string_value
 from gymmigrate.facts.receiver_classes import wrapped_env_renders
 from gymmigrate.facts.version_checks import reads_version
 from gymmigrate.findings import (
-    RUN_QUESTION,
     FixKind,
     Tier,
     gym_only_question,
     recorder_mode_question,
 )
 from gymmigrate.rules.render_calls import without_mode_argument
-from gymmigrate.rules.render_schedule import local_condition, render_condition, schedule
+from gymmigrate.rules.render_schedule import render_condition, schedule
 from gymmigrate.rules.rendering.common import (
     HUMAN,
     LEGACY_SINGLE_FRAME,
     RGB_ARRAY,
     RenderSite,
 )
-from gymmigrate.rules.rendering.makes import MakeEdits
-
-# What an env exposes without running it: reading them neither steps nor draws.
-_INERT_ATTRIBUTES = frozenset({"action_space", "observation_space", "spec", "metadata", "reward_range"})
+from gymmigrate.rules.rendering.env_uses import EnvUses
+from gymmigrate.rules.rendering.untraced import UntracedEnvs
 
 
 def _literal_mode(make: ast.Call) -> str | None:
@@ -41,7 +39,7 @@ def _literal_mode(make: ast.Call) -> str | None:
     return string_value(existing.value) if existing is not None else None
 
 
-class SitePlanning(MakeEdits):
+class SitePlanning(EnvUses, UntracedEnvs):
     """The sites planned by make (mixed into the family)."""
 
     def _plan_sites(self, sites: list[RenderSite]) -> None:
@@ -361,152 +359,6 @@ class SitePlanning(MakeEdits):
         else:
             self.report(call, code, f"{where} already has {target}; render() takes no arguments", FixKind.AUTO)
 
-    def _report_made_elsewhere(self, site: RenderSite) -> bool:
-        """A bare render of an env another module of the run makes and passes in (``Agent(env,
-        args)`` in run.py, ``self.env = env`` here): the make is out of this file's reach, so
-        the item names where the env comes from and, for a render under a flag, the
-        conditional mode that keeps its schedule."""
-        func = site.node.func
-        if not isinstance(func, ast.Attribute):
-            return False
-        callers = self._gym_env_callers(func.value)
-        if not callers:
-            return False
-        receiver = self.facts.segment(func.value)
-        condition = local_condition(self.facts, site.node)
-        mode = (
-            f'render_mode="human" if <{condition}, as it is known there> else None'
-            if condition is not None
-            else 'render_mode="human"'
-        )
-        runs = f"; here it runs only when {condition}" if condition is not None else ""
-        self.report(
-            site.node,
-            "GM402",
-            f"`{receiver}` is the Gym env passed in at {', '.join(callers)}: render() draws only when that env is made "
-            f"with a render_mode now{runs}: pass {mode} to the gym.make there",
-            FixKind.FLAG,
-            question=self._made_elsewhere_question(callers, condition),
-        )
-        return True
-
-    def _made_elsewhere_question(self, callers: list[str], condition: str | None) -> Hashable:
-        """One question for the run: the agents of several modules that render the env one
-        make passes them (``Agent(env, args)`` in run.py) ask where to choose its mode once."""
-        project = self.receivers.project
-        if project is None:
-            return ("render-made-elsewhere", tuple(callers), condition)
-        here = os.path.dirname(project.path)
-        places = sorted({os.path.normpath(os.path.join(here, caller)) for caller in callers})
-        home = places[0].rsplit(":", 1)[0]
-        return (RUN_QUESTION, "render-made-elsewhere", home, tuple(places), condition or "")
-
-    def _gym_env_callers(self, receiver: ast.expr) -> list[str]:
-        """``run.py:18``: the calls in other modules that pass the Gym env ``receiver`` holds,
-        a parameter of its function or, through ``self.x = x``, of its class's ``__init__``."""
-        project = self.receivers.project
-        if project is None:
-            return []
-        if isinstance(receiver, ast.Attribute) and isinstance(receiver.value, ast.Name) and self.receivers.is_self(receiver.value):
-            values = self.receivers.self_attribute_values(receiver, receiver.attr)
-        elif isinstance(receiver, ast.Name):
-            values = [receiver]
-        else:
-            return []
-        callers: list[str] = []
-        for value in values:
-            if not isinstance(value, ast.Name):
-                return []
-            bindings = self.facts.bindings_of(value)
-            if len(bindings) != 1 or not isinstance(bindings[0], ast.arg):
-                return []
-            function = self.facts.enclosing_function(bindings[0])
-            if not isinstance(function, (ast.FunctionDef, ast.AsyncFunctionDef)):
-                return []
-            classdef = self.facts.parent(function)
-            if isinstance(classdef, ast.ClassDef):
-                names = [f"{classdef.name}.{function.name}"] + ([classdef.name] if function.name == "__init__" else [])
-            else:
-                names = [function.name]
-            found = [c for name in names for c in project.gym_env_callers(name, bindings[0].arg)]
-            if not found:
-                return []
-            callers.extend(c for c in found if c not in callers)
-        return callers
-
-    def _gym_only_library(self, receiver: ast.AST) -> str | None:
-        """The Gym-only library stack every value of ``receiver`` comes from (a call of that
-        library here, or the run's own factories and wrappers around its envs), or None."""
-        return self._gym_only_origin(receiver) or self.receivers.gym_only_stack(receiver)
-
-    def _untraced_question(self, site: RenderSite, where: str) -> Hashable | None:
-        """The renders and recorders of one untraced env ask one question: where it is made,
-        and in which mode. One env is one spelling in one function (``self.x``: one class),
-        or, where the finder stopped at a named constructor or function parameter (``env`` is a
-        parameter of ``Evaluation``), that parameter in one class: a recorder built on ``env``
-        and ``self.env.render()``."""
-        func = site.node.func
-        library = self._gym_only_library(func.value) if isinstance(func, ast.Attribute) else None
-        if library is not None:
-            return gym_only_question(library)  # an env of a Gym-only stack: ported with it (GM107)
-        class_ = self.facts.enclosing_class(site.node)
-        if site.creation.gap and " is a parameter of `" in site.creation.gap:
-            return ("render-untraced", id(class_ or self.facts.enclosing_function(site.node)), where)
-        name = full_name(func.value) if isinstance(func, ast.Attribute) else None
-        if not name:
-            return None
-        owner = class_ if name.split(".", 1)[0] == "self" else self.facts.enclosing_function(func)
-        return ("render-untraced", site.mode, id(owner), name, where)
-
-    def _used_where_nothing_renders(self, make: ast.Call, sites: list[RenderSite]) -> str | None:
-        """How the env made by ``make`` (``env = gym.make(...)``) is used away from its renders:
-        ``"stepped at line N"`` in a loop without a render call, ``"passed to f()"`` (a
-        training function, an agent) — or None when every use renders as it goes (a
-        legacy script that watches what it runs, where human mode draws as before)."""
-        assign = self.facts.parent(make)
-        if not (isinstance(assign, ast.Assign) and len(assign.targets) == 1 and isinstance(assign.targets[0], ast.Name)):
-            return None
-        rendered = {id(site.node) for site in sites}
-        receivers = [site.node.func.value for site in sites if isinstance(site.node.func, ast.Attribute)]
-        targets = [assign.targets[0]]
-        for target in targets:
-            # Every read of that binding, in the functions of the module too (a training
-            # function that steps the module's ``env``): the scopes already index their reads.
-            reads = self.facts.reads_of(target.id)
-            for read in reads:
-                if target not in self.facts.bindings_of(read):
-                    continue
-                parent = self.facts.parent(read)
-                if isinstance(parent, ast.Call) and read in parent.args and not self._under_gym(parent.func):
-                    if self._reads_only_spaces(parent, read):
-                        continue
-                    wrapped = self._rendered_wrapper(parent, receivers)
-                    if wrapped is not None:
-                        # ``env = Shim(env)`` and the renders draw ``env``: the wrapper is the
-                        # env rendered, and its own uses are the ones to look at.
-                        if wrapped not in targets:
-                            targets.append(wrapped)
-                        continue
-                    return f"passed to {self.facts.segment(parent.func)}()"
-                if isinstance(parent, ast.Attribute) and parent.attr == "step":
-                    call = self.facts.parent(parent)
-                    if isinstance(call, ast.Call) and call.func is parent and not self._loop_renders(call, rendered):
-                        return f"stepped at line {call.lineno}"
-        return None
-
-    def _rendered_wrapper(self, call: ast.Call, receivers: list[ast.expr]) -> ast.Name | None:
-        """``env = Shim(env)`` (the call's result bound to a plain name) where that binding
-        is what a render site draws: the new binding, else None."""
-        assign = self.facts.parent(call)
-        if not (isinstance(assign, ast.Assign) and assign.value is call and len(assign.targets) == 1):
-            return None
-        bound = assign.targets[0]
-        if not isinstance(bound, ast.Name):
-            return None
-        if any(isinstance(r, ast.Name) and bound in self.facts.bindings_of(r) for r in receivers):
-            return bound
-        return None
-
     def _version_fallback_flag(self, make: ast.Call, render: ast.Call) -> str | None:
         """``else: env = make(...)`` of an ``if`` whose test is ``<version test> and flag``,
         where ``flag`` (one binding) also guards ``render`` and is not rebound in between:
@@ -530,123 +382,6 @@ class SitePlanning(MakeEdits):
             if any(isinstance(g, ast.Name) and g.id == name.id and self.facts.bindings_of(g) == bindings for g in guards):
                 return name.id
         return None
-
-    def _reads_only_spaces(self, call: ast.Call, read: ast.Name) -> bool:
-        """``actions(env)`` where ``def actions(env)`` of this module only reads the env's
-        spaces or spec (``env.action_space.high``): nothing there steps or draws, so the call
-        changes no schedule."""
-        if not isinstance(call.func, ast.Name) or any(isinstance(a, ast.Starred) for a in call.args):
-            return False
-        function = self.facts.functions.get(call.func.id)
-        if function is None or self.facts.bindings_of(call.func) != [function]:
-            return False
-        params = [*function.args.posonlyargs, *function.args.args]
-        position = call.args.index(read)
-        if position >= len(params):
-            return False
-        name = params[position].arg
-        uses = [n for n in ast.walk(function) if isinstance(n, ast.Name) and n.id == name]
-        return all(
-            isinstance(n.ctx, ast.Load)
-            and isinstance(parent := self.facts.parent(n), ast.Attribute)
-            and parent.value is n
-            and parent.attr in _INERT_ATTRIBUTES
-            for n in uses
-        )
-
-    def _steps_render(self, key: int) -> bool:
-        """Every ``step`` of the env made by ``key`` sits in a loop that renders it."""
-        make = self._makes_by_id.get(key)
-        steps = (self._steps_of_make(make) if make is not None else None) or []
-        return bool(steps) and all(self._loop_renders(call, self._rendered_nodes) for call in steps)
-
-    def _steps_of_make(self, make: ast.Call) -> list[ast.Call] | None:
-        """The steps of the env ``env = make(...)`` binds, or ``self.env = make(...)`` in a
-        method (its class's ``self.env.step(...)`` calls); None when the make binds neither."""
-        assign = self.facts.parent(make)
-        if not (isinstance(assign, ast.Assign) and len(assign.targets) == 1):
-            return None
-        target = assign.targets[0]
-        if isinstance(target, ast.Attribute):
-            classdef = self.facts.enclosing_class(make)
-            if classdef is None or not (isinstance(target.value, ast.Name) and self.receivers.is_self(target.value)):
-                return None
-            return [
-                call
-                for call in self.facts.attribute_calls.get("step", ())
-                if isinstance(held := call.func.value, ast.Attribute)  # type: ignore[attr-defined]
-                and held.attr == target.attr
-                and isinstance(held.value, ast.Name)
-                and self.receivers.is_self(held.value)
-                and self.facts.enclosing_class(call) is classdef
-            ]
-        if not isinstance(target, ast.Name):
-            return None
-        return self._steps_of(target.id, lambda read: target in self.facts.bindings_of(read))
-
-    def _stepping_function(self, make: ast.Call, renders: list[ast.Call] = []) -> ast.AST | None:  # noqa: B006 (never mutated)
-        """The one function (not the make's own) where the env ``make`` binds is stepped, or
-        None: ``env = gym.make(...)`` at the top, ``env.step`` only inside ``main()``. A
-        helper that only steps (``def take_step(a): return env.step(a)``), called only from
-        one function that holds the ``renders``, hands the role on to that function: the env
-        is stepped exactly when it runs."""
-        homes = {self.facts.enclosing_function(call) for call in self._steps_of_make(make) or ()}
-        if len(homes) != 1:
-            return None
-        home = next(iter(homes))
-        if home is not None and renders and not any(self.facts.enclosing_function(r) is home for r in renders):
-            caller = self._sole_caller(home)
-            if caller is not None and any(self.facts.enclosing_function(r) is caller for r in renders):
-                home = caller
-        return home if home is not None and home is not self.facts.enclosing_function(make) else None
-
-    def _sole_caller(self, function: ast.AST) -> ast.FunctionDef | ast.AsyncFunctionDef | None:
-        """The one function from which a module-level def is called, when its name is read
-        only to call it (never passed on, never rebound) and every call sits in that function."""
-        name = getattr(function, "name", None)
-        if name is None or self.facts.functions.get(name) is not function:
-            return None
-        reads = self.facts.reads_of(name, function)
-        callers = set()
-        for read in reads:
-            call = self.facts.parent(read)
-            if not (isinstance(call, ast.Call) and call.func is read):
-                return None
-            callers.add(self.facts.enclosing_function(call))
-        if len(callers) != 1 or len(self.facts.bindings_of(reads[0])) != 1:
-            return None
-        caller = next(iter(callers))
-        return caller if caller is not None and caller is not function else None
-
-    def _under_gym(self, func: ast.expr) -> bool:
-        """A gym/gymnasium callable (a wrapper taking the env is no training function)."""
-        return any(N.strip_gym_prefix(q) is not None for q in self.facts.qualified_names(func))
-
-    def _loop_renders(self, call: ast.Call, rendered: set[int]) -> bool:
-        """The innermost loop around ``call`` holds one of the render sites."""
-        loop = next((a for a in self.facts.ancestors(call) if isinstance(a, (ast.For, ast.While, ast.AsyncFor))), None)
-        if loop is None:
-            # ``def take_step(a): return env.step(a)``: the step runs where the helper is
-            # called; it renders if every call of the helper sits in a loop that renders.
-            helper = self.facts.enclosing_function(call)
-            if helper is None or self.facts.functions.get(helper.name) is not helper or self._sole_caller(helper) is None:
-                return False
-            name = helper.name
-            calls = [c for c in self.facts.calls_by_name.get(name, ()) if helper in self.facts.bindings_of(c.func)]  # type: ignore[arg-type]
-            return bool(calls) and all(self._loop_renders(c, rendered) for c in calls if c is not call)
-        return any(id(node) in rendered for node in ast.walk(loop) if isinstance(node, ast.Call))
-
-    def _drawn_every_step(self, render: ast.Call, keys: list[int]) -> bool:
-        """``render`` runs on every pass of the loop that holds each step of the envs the
-        makes ``keys`` bind: a legacy human render there drew every step, as human mode does."""
-        for key in keys:
-            make = self._makes_by_id.get(key)
-            steps = (self._steps_of_make(make) if make is not None else None) or []
-            if make is None or not steps or render_condition(self.facts, render, make, self._stepping_function(make, [render])):
-                return False
-            if not all(self._loop_renders(call, {id(render)}) for call in steps):
-                return False
-        return True
 
     def _rendering_wrappers(self) -> list[tuple[str, list[str], ast.Call, ast.Call]]:
         """``env = Show(gym.make(id))`` with a Gym wrapper whose reset/step call

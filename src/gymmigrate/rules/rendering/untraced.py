@@ -1,0 +1,122 @@
+"""Renders of an env whose make this file cannot reach: an env another module of the run
+makes and passes in (``Agent(env, args)`` in run.py), reported with where it comes from
+and the mode to give it there; an env of a Gym-only library stack; and the one question
+the renders and recorders of one untraced env share.
+
+Separate from ``planning.py`` because no make here can take these envs' mode: the
+finding names the other place (a module, a library's stack) where it is chosen, and
+its question joins the run's sites that ask it.
+"""
+
+from __future__ import annotations
+
+import ast
+import os
+from collections.abc import Hashable
+
+from gymmigrate.facts.module import full_name
+from gymmigrate.findings import RUN_QUESTION, FixKind, gym_only_question
+from gymmigrate.rules.render_schedule import local_condition
+from gymmigrate.rules.rendering.common import RenderSite
+from gymmigrate.rules.rendering.makes import MakeEdits
+
+
+class UntracedEnvs(MakeEdits):
+    """The renders of envs made out of this file's reach (mixed into the family)."""
+
+    def _report_made_elsewhere(self, site: RenderSite) -> bool:
+        """A bare render of an env another module of the run makes and passes in (``Agent(env,
+        args)`` in run.py, ``self.env = env`` here): the make is out of this file's reach, so
+        the item names where the env comes from and, for a render under a flag, the
+        conditional mode that keeps its schedule."""
+        func = site.node.func
+        if not isinstance(func, ast.Attribute):
+            return False
+        callers = self._gym_env_callers(func.value)
+        if not callers:
+            return False
+        receiver = self.facts.segment(func.value)
+        condition = local_condition(self.facts, site.node)
+        mode = (
+            f'render_mode="human" if <{condition}, as it is known there> else None'
+            if condition is not None
+            else 'render_mode="human"'
+        )
+        runs = f"; here it runs only when {condition}" if condition is not None else ""
+        self.report(
+            site.node,
+            "GM402",
+            f"`{receiver}` is the Gym env passed in at {', '.join(callers)}: render() draws only when that env is made "
+            f"with a render_mode now{runs}: pass {mode} to the gym.make there",
+            FixKind.FLAG,
+            question=self._made_elsewhere_question(callers, condition),
+        )
+        return True
+
+    def _made_elsewhere_question(self, callers: list[str], condition: str | None) -> Hashable:
+        """One question for the run: the agents of several modules that render the env one
+        make passes them (``Agent(env, args)`` in run.py) ask where to choose its mode once."""
+        project = self.receivers.project
+        if project is None:
+            return ("render-made-elsewhere", tuple(callers), condition)
+        here = os.path.dirname(project.path)
+        places = sorted({os.path.normpath(os.path.join(here, caller)) for caller in callers})
+        home = places[0].rsplit(":", 1)[0]
+        return (RUN_QUESTION, "render-made-elsewhere", home, tuple(places), condition or "")
+
+    def _gym_env_callers(self, receiver: ast.expr) -> list[str]:
+        """``run.py:18``: the calls in other modules that pass the Gym env ``receiver`` holds,
+        a parameter of its function or, through ``self.x = x``, of its class's ``__init__``."""
+        project = self.receivers.project
+        if project is None:
+            return []
+        if isinstance(receiver, ast.Attribute) and isinstance(receiver.value, ast.Name) and self.receivers.is_self(receiver.value):
+            values = self.receivers.self_attribute_values(receiver, receiver.attr)
+        elif isinstance(receiver, ast.Name):
+            values = [receiver]
+        else:
+            return []
+        callers: list[str] = []
+        for value in values:
+            if not isinstance(value, ast.Name):
+                return []
+            bindings = self.facts.bindings_of(value)
+            if len(bindings) != 1 or not isinstance(bindings[0], ast.arg):
+                return []
+            function = self.facts.enclosing_function(bindings[0])
+            if not isinstance(function, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                return []
+            classdef = self.facts.parent(function)
+            if isinstance(classdef, ast.ClassDef):
+                names = [f"{classdef.name}.{function.name}"] + ([classdef.name] if function.name == "__init__" else [])
+            else:
+                names = [function.name]
+            found = [c for name in names for c in project.gym_env_callers(name, bindings[0].arg)]
+            if not found:
+                return []
+            callers.extend(c for c in found if c not in callers)
+        return callers
+
+    def _gym_only_library(self, receiver: ast.AST) -> str | None:
+        """The Gym-only library stack every value of ``receiver`` comes from (a call of that
+        library here, or the run's own factories and wrappers around its envs), or None."""
+        return self._gym_only_origin(receiver) or self.receivers.gym_only_stack(receiver)
+
+    def _untraced_question(self, site: RenderSite, where: str) -> Hashable | None:
+        """The renders and recorders of one untraced env ask one question: where it is made,
+        and in which mode. One env is one spelling in one function (``self.x``: one class),
+        or, where the finder stopped at a named constructor or function parameter (``env`` is a
+        parameter of ``Evaluation``), that parameter in one class: a recorder built on ``env``
+        and ``self.env.render()``."""
+        func = site.node.func
+        library = self._gym_only_library(func.value) if isinstance(func, ast.Attribute) else None
+        if library is not None:
+            return gym_only_question(library)  # an env of a Gym-only stack: ported with it (GM107)
+        class_ = self.facts.enclosing_class(site.node)
+        if site.creation.gap and " is a parameter of `" in site.creation.gap:
+            return ("render-untraced", id(class_ or self.facts.enclosing_function(site.node)), where)
+        name = full_name(func.value) if isinstance(func, ast.Attribute) else None
+        if not name:
+            return None
+        owner = class_ if name.split(".", 1)[0] == "self" else self.facts.enclosing_function(func)
+        return ("render-untraced", site.mode, id(owner), name, where)
