@@ -89,8 +89,9 @@ class ReceiverQueries(Protocol):
 class ReceiverFacade(ReceiverQueries, Protocol):
     """What the families mixed into ``Receivers`` (``receiver_classes.py``,
     ``receiver_params.py``, ``receiver_callers.py``, ``receiver_thunks.py``,
-    ``receiver_origins.py``) ask of the whole: type-checking only,
-    each mixin derives from it under ``TYPE_CHECKING`` and from ``object`` at run time."""
+    ``receiver_origins.py``, ``receiver_foreign.py``, ``receiver_gym_only.py``) ask of the
+    whole: type-checking only, each mixin derives from it under ``TYPE_CHECKING`` and from
+    ``object`` at run time."""
 
     project: ProjectView | None
     callables: CallableKinds

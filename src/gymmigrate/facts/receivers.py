@@ -20,7 +20,8 @@ families of questions it also answers are mixed in from their own modules:
 ``receiver_params.py`` (what a parameter holds; with ``receiver_callers.py``, which calls
 reach a def, and ``receiver_thunks.py``, what passed thunks return),
 ``receiver_origins.py`` (who made an object: a legacy-step class, the run itself, another
-library); ``pytest_params.py`` reads
+library; with ``receiver_foreign.py``, what shows an object is not Gym's, and
+``receiver_gym_only.py``, the Gym-only library stacks); ``pytest_params.py`` reads
 what pytest passes a test. Two helpers it owns answer narrower questions:
 ``callables.py`` (what calling a factory returns) and ``self_attributes.py`` (``self.x``).
 """
