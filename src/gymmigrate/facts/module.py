@@ -339,8 +339,9 @@ class ModuleFacts:
         otherwise (a parameter, a loop or tuple target, an import...).
 
         ``sole_target``: ``a = b = value`` counts as bound otherwise too. The parameter
-        analysis (``receiver_params.py``) has only ever followed single-target assignments,
-        and taking chained ones there would change what it concludes of a callee.
+        analysis (``receiver_params.py`` with ``receiver_callers.py`` and
+        ``receiver_thunks.py``) has only ever followed single-target assignments, and taking
+        chained ones there would change what it concludes of a callee.
         """
         values: list[ast.expr] = []
         for binding in self.bindings_of(name):

@@ -41,6 +41,9 @@ Where each part lives:
 * ``recorders.py``: GM407, RecordVideo, ``play``, ``VecVideoRecorder``, a recording
   ``Monitor``, and the frames of SB3 VecEnvs.
 * ``planning.py``: the sites planned make by make, each site's finding.
+* ``env_uses.py``: where the env a make builds is stepped, drawn and passed.
+* ``untraced.py``: renders of envs made out of the file's reach (another module, a
+  Gym-only stack).
 * ``makes.py``: the edits of make calls (``render_mode=``, its quotes, ``make``
   aliases, GM403 at a make).
 * ``common.py``: catalog entries, modes, ``RenderSite`` and the shared state.
