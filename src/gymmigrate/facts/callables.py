@@ -186,9 +186,16 @@ class CallableKinds:
         if param not in params:
             return EnvKind.UNKNOWN
         position = params.index(param)
-        arguments: list[ast.expr | None] = [call_argument(c, position, param.arg) for c in self.receivers.call_sites(function, None)]
-        for spawn in self._spawns_of(function):
-            handed = next(k.value for k in spawn.keywords if k.arg == "args")
+        direct = self.receivers.call_sites(function, None)
+        spawns = self._spawns_of(function)
+        # Every read of the def is one of those calls or spawns: a def handed elsewhere
+        # (``pool.map(worker, ...)``, ``Process(target=worker, kwargs=...)``) gets arguments
+        # the module does not show.
+        uses = {id(c.func) for c in direct} | {id(target) for _, target, _ in spawns}
+        if any(id(read) not in uses for read in self.facts.reads_of(function.name, function)):
+            return EnvKind.UNKNOWN
+        arguments: list[ast.expr | None] = [call_argument(c, position, param.arg) for c in direct]
+        for _, _, handed in spawns:
             if not isinstance(handed, ast.Tuple) or any(isinstance(e, ast.Starred) for e in handed.elts):
                 return EnvKind.UNKNOWN
             arguments.append(handed.elts[position] if position < len(handed.elts) else None)
@@ -202,23 +209,46 @@ class CallableKinds:
             kinds.append(self.returned_kind(stored))
         return join_kinds(kinds) if EnvKind.UNKNOWN not in kinds else EnvKind.UNKNOWN
 
-    def _spawns_of(self, function: ast.AST) -> list[ast.Call]:
-        """Calls handing ``function`` on as ``target=`` with its arguments as ``args=``
-        (``Process(target=worker, args=(...))``, ``Thread(...)``); the module's calls are
-        walked once per def."""
+    def _spawns_of(self, function: ast.AST) -> list[tuple[ast.Call, ast.expr, ast.expr | None]]:
+        """Calls handing ``function`` on as the target of a process or thread, each with the
+        read of the def and what it passes as the target's arguments (None when not a
+        tuple the call shows): ``Process(target=worker, args=(...))`` (any callee: these two
+        keywords), and ``Process(None, worker, None, (...))`` on ``multiprocessing``'s or
+        ``threading``'s own classes (``ctx.Process`` of ``get_context(...)`` too). The
+        module's calls are walked once per def."""
         return self.facts.memo(("spawns-of", id(function)), lambda: self._find_spawns(function))
 
-    def _find_spawns(self, function: ast.AST) -> list[ast.Call]:
+    def _find_spawns(self, function: ast.AST) -> list[tuple[ast.Call, ast.expr, ast.expr | None]]:
         found = []
-        for calls in self.facts.calls_by_name.values():
+        # ``Process(...)`` and ``mp.Process(...)``/``ctx.Process(...)`` alike
+        for calls in (*self.facts.calls_by_name.values(), *self.facts.attribute_calls.values()):
             for call in calls:
+                positional = self._spawner(call.func) and not any(isinstance(a, ast.Starred) for a in call.args)
                 target = next((k.value for k in call.keywords if k.arg == "target"), None)
+                if target is None and positional and len(call.args) > 1:
+                    target = call.args[1]
                 if target is None or self.receivers.local_function(target) is not function:
                     continue
-                if not any(k.arg == "args" for k in call.keywords):
-                    continue
-                found.append(call)
+                handed = next((k.value for k in call.keywords if k.arg == "args"), None)
+                if handed is None and positional and len(call.args) > 3:
+                    handed = call.args[3]
+                if handed is None and not positional and not any(k.arg == "kwargs" for k in call.keywords):
+                    continue  # ``target=`` of a call of no known signature, no ``args=``: not a spawn
+                found.append((call, target, handed))
         return found
+
+    def _spawner(self, func: ast.expr) -> bool:
+        """``Process``/``Thread`` of ``multiprocessing``, ``torch.multiprocessing`` or
+        ``threading`` (``group, target, name, args`` by position), or ``ctx.Process`` with
+        ``ctx`` bound only to ``multiprocessing.get_context(...)``."""
+        if self.receivers.qualified_names(func) & _SPAWNERS:
+            return True
+        if not (isinstance(func, ast.Attribute) and func.attr == "Process" and isinstance(func.value, ast.Name)):
+            return False
+        values = self.facts.assigned_values(func.value, sole_target=True)
+        return bool(values) and all(
+            isinstance(v, ast.Call) and self.receivers.qualified_names(v.func) & _CONTEXTS for v in values  # type: ignore[union-attr]
+        )
 
     def _stored_by_holder(self, argument: ast.expr | None, attribute: str) -> ast.expr | None:
         """``Holder(fn)`` with ``Holder.__init__`` storing that parameter on ``self.<attribute>``
@@ -366,6 +396,12 @@ class CallableKinds:
         return self.receivers.annotation_names_kind(string_names(self.facts, returned)) if parsed else self.receivers.annotation_kind(returned)
 
 
+
+# Classes whose constructor takes ``group, target, name, args`` by position.
+_SPAWNERS = frozenset(
+    {"multiprocessing.Process", "multiprocessing.context.Process", "torch.multiprocessing.Process", "threading.Thread"}
+)
+_CONTEXTS = frozenset({"multiprocessing.get_context", "torch.multiprocessing.get_context"})
 
 # ``List[...]``, ``Sequence[...]``, ``list[...]``: a parameter that holds items of one type.
 _SEQUENCES = frozenset(
