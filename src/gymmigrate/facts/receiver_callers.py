@@ -68,33 +68,73 @@ class CallerSites(_Facade):
                         found.append((call, 0))
                 elif isinstance(owner, ast.Name) and self.local_class(owner) is classdef:
                     found.append((call, 1))  # ``Base.__init__(self, env)``
-        # ``Wrapper = DummyVecEnv`` ... ``Wrapper(envs)``, ``make(cls=DummyVecEnv)``: the class
-        # is built under another name too, with arguments the calls by its name do not show
-        return found, elsewhere or self._class_escapes(classdef)
+        # ``Wrapper = DummyVecEnv`` in a def, then only ``Wrapper(envs)``: those calls build it
+        # too. ``make(cls=DummyVecEnv)``, an alias passed on or kept at module level: the
+        # class is built with arguments the module does not show.
+        aliased = self._alias_constructions(classdef)
+        if aliased is None:
+            return found, True
+        return found + [(call, 0) for call in aliased if all(call is not c for c, _ in found)], elsewhere
 
-    def _class_escapes(self, classdef: ast.ClassDef) -> bool:
-        """The module reads the class's name as a value other than a call, a base, an
-        ``isinstance``/``issubclass`` argument, an attribute owner or an annotation."""
-        return bool(self.facts.memo(("class-escapes", id(classdef)), lambda: self._escapes(classdef)))
+    def _alias_constructions(self, classdef: ast.ClassDef) -> list[ast.Call] | None:
+        """The calls of the class under a def's local alias (``Wrapper = DummyVecEnv``, or
+        ``Wrapper = DummyVecEnv if one else SubprocVecEnv``, every read of ``Wrapper`` that
+        binding reaches a call of it); None when the module reads the class's name as any
+        other value than such an alias, a call, a base, an ``isinstance``/``issubclass``
+        argument, an attribute owner or an annotation."""
+        return self.facts.memo(("class-alias-calls", id(classdef)), lambda: self._aliases(classdef))
 
-    def _escapes(self, classdef: ast.ClassDef) -> bool:
+    def _aliases(self, classdef: ast.ClassDef) -> list[ast.Call] | None:
         facts = self.facts
+        calls: list[ast.Call] = []
         for node in facts.reads_of(classdef.name):
-            parent = facts.parent(node)
-            if isinstance(parent, ast.Call) and parent.func is node:
+            alias = self._local_alias_calls(node)
+            if alias is not None:
+                calls += alias
                 continue
-            if isinstance(parent, ast.ClassDef) and node in parent.bases:
-                continue
-            if isinstance(parent, ast.Attribute):  # ``DummyVecEnv.__init__(self, ...)``, class constants
-                continue
-            if isinstance(parent, (ast.Tuple, ast.Call)):
-                call = facts.parent(parent) if isinstance(parent, ast.Tuple) else parent
-                if isinstance(call, ast.Call) and isinstance(call.func, ast.Name) and call.func.id in ("isinstance", "issubclass", "type"):
-                    continue
-            if _in_annotation(node, facts):
-                continue
-            return True
-        return False
+            if self._read_escapes(node):
+                return None
+        return calls
+
+    def _local_alias_calls(self, node: ast.Name) -> list[ast.Call] | None:
+        """``Alias = node`` (maybe as a branch of a conditional value) assigned alone to a
+        name local to a def, every read of which that binding reaches is the callee of a
+        call: those calls. None for any other read."""
+        facts = self.facts
+        value: ast.AST = node
+        parent = facts.parent(node)
+        if isinstance(parent, ast.IfExp) and node is not parent.test:
+            value, parent = parent, facts.parent(parent)
+        if not (isinstance(parent, ast.Assign) and parent.value is value and len(parent.targets) == 1 and isinstance(parent.targets[0], ast.Name)):
+            return None
+        target = parent.targets[0]
+        if facts.enclosing_function(target) is None or facts.scope_of(target) is facts.module_scope:
+            return None  # a module-level alias: other modules may import it and build the class
+        if facts.resolve(target.id, facts.scope_of(target))[0] is not facts.scope_of(target):
+            return None  # ``global`` or ``nonlocal``: bound in another scope
+        calls = []
+        for read in facts.reads_of(target.id, target):
+            call = facts.parent(read)
+            if not (isinstance(call, ast.Call) and call.func is read):
+                return None
+            calls.append(call)
+        return calls
+
+    def _read_escapes(self, node: ast.Name) -> bool:
+        facts = self.facts
+        parent = facts.parent(node)
+        if isinstance(parent, ast.Call) and parent.func is node:
+            return False
+        if isinstance(parent, ast.ClassDef) and node in parent.bases:
+            return False
+        if isinstance(parent, ast.Attribute):  # ``DummyVecEnv.__init__(self, ...)``, class constants
+            return False
+        if isinstance(parent, (ast.Tuple, ast.Call)):
+            call = facts.parent(parent) if isinstance(parent, ast.Tuple) else parent
+            if isinstance(call, ast.Call) and isinstance(call.func, ast.Name) and call.func.id in ("isinstance", "issubclass", "type"):
+                return False
+        return not _in_annotation(node, facts)
+
     def call_sites(self, function: ast.AST, classdef: ast.ClassDef | None) -> list[ast.Call]:
         """Calls in this module that reach ``function`` (a method when ``classdef`` is given)."""
         name = function.name  # type: ignore[attr-defined]
