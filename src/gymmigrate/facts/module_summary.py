@@ -34,6 +34,10 @@ class CallSummary:
     # one): (position as a string, or the keyword, the id). What ids a factory is given.
     ids: tuple[tuple[str, str], ...] = ()
     line: int = 0  # where the call is (a message naming the module that passes an env)
+    # Arguments that are lists of thunks (``[make_env(i) for i in range(n)]``): (position as a
+    # string, or the keyword, what calling every item returns: ``thunk_list_kind``).
+    # ``ref:<qualified>`` for one whose items are all calls of one imported def of the run.
+    thunks: tuple[tuple[str, Kind], ...] = ()
 
 
 @dataclass(frozen=True)
@@ -199,6 +203,9 @@ class ModuleSummary:
     # Defs and methods -> their parameters whose value goes on (``id_params.escaping_parameters``):
     # a retired id passed to any other parameter of a def of the run reaches no make.
     escaping_params: dict[str, frozenset[str]] = field(default_factory=dict)
+    # Top-level defs that return a thunk on every path (``make_env`` returning a nested def
+    # around ``gym.make``) -> what calling that thunk returns (``factory_thunk_kind``).
+    thunk_factories: dict[str, EnvKind] = field(default_factory=dict)
 
 
 def is_ref(kind: object) -> bool:

@@ -222,6 +222,13 @@ class ProjectFacts:
     # whose step and reset keep their own contract (``legacy_steps``) it passes an instance
     # of, None for anything else; only parameters some call passes one to.
     kept_params: dict[tuple[str, str, str], tuple[str | None, ...]] = field(default_factory=dict)
+    # (path, qualname, parameter) -> per call of it in another module (as ``param_kinds``),
+    # what calling each item of the list of thunks passed there returns (``CallSummary.thunks``;
+    # unknown for any other argument).
+    thunk_kinds: dict[tuple[str, str, str], list[EnvKind]] = field(default_factory=dict)
+    # path -> its top-level defs returning a thunk -> what that thunk returns (modules left
+    # as they are give none: their thunks keep the old API)
+    thunk_factories: dict[str, dict[str, EnvKind]] = field(default_factory=dict)
     # (path, qualname, parameter) -> (caller path, line) of each call in another module that
     # passes a Gym env there: where that env is made, for a message (a render whose make
     # is in the run script).
@@ -264,6 +271,8 @@ class ProjectFacts:
             facts.wrapping_helpers[summary.path] = frozenset() if left else summary.wrapping_helpers
             if summary.gym_only_makers:
                 facts.gym_only_makers[summary.path] = summary.gym_only_makers
+            if summary.thunk_factories and not left:
+                facts.thunk_factories[summary.path] = summary.thunk_factories
             if summary.atari_users:
                 facts.atari_users[summary.path] = summary.atari_users
             facts.pz_wrappers[summary.path] = summary.pz_wrappers
@@ -595,6 +604,12 @@ class ProjectFacts:
         # of its own): no call on its instances is rewritten. Not NOT_ENV, which a join lets
         # a Gym env of another caller outweigh: a def given both is asked about.
         return EnvKind.OWN_API if found is EnvKind.NOT_ENV else EnvKind.UNKNOWN
+
+    def thunk_factory(self, qualified: str, importer: str) -> EnvKind | None:
+        """What the thunk returned by the def of the run ``qualified`` names (as ``importer``
+        imports it) returns; None when it is no such def."""
+        split = self._split(qualified, importer)
+        return None if split is None else self.thunk_factories.get(split[0], {}).get(split[1])
 
     def _split(self, qualified: str, importer: str) -> tuple[str, str] | None:
         """``("/run/pkg/utils.py", "make")`` for ``pkg.utils.make`` (or ``.utils.make``)."""

@@ -13,6 +13,7 @@ from gymmigrate.facts.module_summary import (
     NEW,
     OWN,
     PARAM,
+    REF,
     CallSummary,
     Kind,
     ModuleSummary,
@@ -48,8 +49,15 @@ class ParamJoin:
             for caller, call in calls:
                 if caller == path:
                     continue
+                thunks = dict(call.thunks)
+                positional = list(signature.params[1:] if signature.is_method else signature.params)
                 for param, kind in self._passed(signature, call):
                     resolved = self._resolve(kind, caller)
+                    # what calling each item of a list of thunks passed there returns (unknown
+                    # for anything else), aligned with ``param_kinds``
+                    index = positional.index(param)
+                    slot = str(index) if index < len(call.args) else param
+                    self.facts.thunk_kinds.setdefault((path, qualname, param), []).append(self._thunks_kind(thunks.get(slot), caller))
                     external[(path, qualname, param)].append(resolved)
                     kept[(path, qualname, param)].append(self._kept_class(kind, caller))
                     key = (path, qualname, param)
@@ -62,6 +70,20 @@ class ParamJoin:
                     self.facts.passed_ids[(path, qualname, param)] = tuple(self._id_passed(signature, call, param) for call in outside)
         self.facts.param_kinds = dict(external)
         self.facts.kept_params = {key: tuple(names) for key, names in kept.items() if any(names)}
+
+    def _thunks_kind(self, kind: Kind | None, caller: str) -> EnvKind:
+        """What the items of a list of thunks a call passes return: the kind the caller found,
+        or for ``ref:<qualified>`` (calls of a def it imports) what that def's thunks return
+        (``ModuleSummary.thunk_factories``). Unknown for a module left as it is (its thunks
+        keep the old API) and for anything else."""
+        if kind is None or caller in self.facts.blocked:
+            return EnvKind.UNKNOWN
+        if isinstance(kind, EnvKind):
+            return kind
+        if not kind.startswith(REF):
+            return EnvKind.UNKNOWN
+        found = self.facts.thunk_factory(kind[len(REF) :], caller)
+        return found if found is not None else EnvKind.UNKNOWN
 
     def _kept_class(self, kind: Kind, caller: str) -> str | None:
         """The class whose step and reset the run keeps on their own contract (``legacy_steps``)

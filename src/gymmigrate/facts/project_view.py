@@ -360,6 +360,17 @@ class ProjectView:
         else); empty when no such call passes one (``ProjectFacts.kept_params``)."""
         return self.facts.kept_params.get((self.path, qualname, param), ())
 
+    def thunk_factory_kind(self, qualified: str) -> EnvKind | None:
+        """What the thunk an imported def of the run returns returns (``from envs import
+        make_env``; ``ProjectFacts.thunk_factories``); None when it is no such def."""
+        return self.facts.thunk_factory(qualified, self.path)
+
+    def thunk_kinds(self, qualname: str, param: str) -> list[EnvKind]:
+        """Per call in another module of ``param`` of this file's ``qualname`` (as
+        ``param_kinds``), what calling each item of the list of thunks it passes returns
+        (unknown where it passes anything else; ``ProjectFacts.thunk_kinds``)."""
+        return self.facts.thunk_kinds.get((self.path, qualname, param), [])
+
     def renders_nothing(self, qualified: str) -> bool:
         """An imported class of the run whose render() is a stub (it renders no env)."""
         split = self.facts._split(qualified, self.path)

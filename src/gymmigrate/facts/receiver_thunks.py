@@ -14,6 +14,7 @@ from __future__ import annotations
 import ast
 from typing import TYPE_CHECKING
 
+from gymmigrate.facts.flow import Flow, is_after
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import FUNCTIONS, call_argument, own_returns
 
@@ -49,32 +50,152 @@ class ThunkKinds(_Facade):
             if position == 0:
                 return EnvKind.UNKNOWN
             position -= 1
-        if self.callables.external_param_kinds(function, classdef if is_method else None, param.arg):  # type: ignore[arg-type]
-            return EnvKind.UNKNOWN  # other modules of the run pass thunks this one cannot see
+        qualname = f"{classdef.name}.{function.name}" if is_method else function.name  # type: ignore[union-attr]
+        external = self.callables.external_param_kinds(function, classdef if is_method else None, param.arg)  # type: ignore[arg-type]
+        kinds: list[EnvKind] = []
+        if external:
+            # Other modules of the run pass it too: each such call's list of thunks, as the
+            # caller's module follows it (``CallSummary.thunks``); one it cannot follow, or
+            # fewer followed than passed, leaves the items unknown.
+            assert self.project is not None
+            followed = self.project.thunk_kinds(qualname, param.arg)
+            if len(followed) != len(external) or EnvKind.UNKNOWN in followed:
+                return EnvKind.UNKNOWN
+            kinds += followed
+        if self.project is not None and (self.project.handed_on(qualname) or (is_method and self.project.handed_on(classdef.name))):  # type: ignore[union-attr]
+            return EnvKind.UNKNOWN  # read as a value in another module: called with arguments no summary shows
         if is_method and function.name == "__init__":
             constructions, elsewhere = self.constructions(classdef)  # type: ignore[arg-type]
-            if elsewhere or (self.project is not None and self.project.built_elsewhere(classdef.name)):  # type: ignore[union-attr]
+            if elsewhere or (not external and self.project is not None and self.project.built_elsewhere(classdef.name)):  # type: ignore[union-attr]
                 return EnvKind.UNKNOWN
             calls, shifts = [c for c, _ in constructions], {id(c): shift for c, shift in constructions}
         else:
             calls, shifts = self.call_sites(function, classdef if is_method else None), {}  # type: ignore[arg-type]
-        if not calls:
+        if not calls and not kinds:
             return EnvKind.UNKNOWN
-        returned: list[ast.expr | EnvKind] = []
         for call in calls:
             argument = call_argument(call, None if position is None else position + shifts.get(id(call), 0), param.arg)
-            thunks = self._passed_thunks(argument)
-            if thunks is None:
+            kinds.append(self.thunk_list_kind(argument))
+        found = set(kinds)
+        return found.pop() if len(found) == 1 else EnvKind.UNKNOWN
+
+    def thunk_list_kind(self, argument: ast.expr | None) -> EnvKind:
+        """What calling every item of ``argument``, a list of thunks this module defines
+        (``_passed_thunks``), returns, when they all return the same kind and none an
+        instance of a class whose step keeps the four-field contract; unknown otherwise.
+        Also what a module tells the run of the thunks it passes to another's def
+        (``CallSummary.thunks``)."""
+        thunks = self._passed_thunks(argument)
+        if thunks is None:
+            return EnvKind.UNKNOWN
+        returned: list[ast.expr | EnvKind] = []
+        for thunk in thunks:
+            values = self._thunk_returns(thunk, 0)
+            if values is None:
                 return EnvKind.UNKNOWN
-            for thunk in thunks:
-                values = self._thunk_returns(thunk, 0)
-                if values is None:
-                    return EnvKind.UNKNOWN
-                returned += values
+            returned += values
         if not returned or any(not isinstance(value, EnvKind) and self.legacy_step_class(value) is not None for value in returned):
             return EnvKind.UNKNOWN
         kinds = {value if isinstance(value, EnvKind) else self.kind_of(value) for value in returned}
         return kinds.pop() if len(kinds) == 1 else EnvKind.UNKNOWN
+
+    def _mixed_thunks(self, expr: ast.AST) -> str | None:
+        """``self.envs[i]`` (or ``env`` in ``for env in self.envs``) with ``self.envs = [fn()
+        for fn in env_fns]``, where the thunks this module's constructions pass return a Gym
+        env on some paths and something not shown to be one on others (a library's own
+        wrapper around it): which, and where. None when that is not the reason."""
+        if isinstance(expr, ast.Subscript):
+            expr = expr.value
+        if isinstance(expr, ast.Name):
+            bindings = self.facts.bindings_of(expr)
+            loop = self.facts.parent(bindings[0]) if len(bindings) == 1 else None
+            if not (isinstance(loop, (ast.For, ast.comprehension)) and loop.target is bindings[0]):
+                return None
+            expr = loop.iter
+        if not (isinstance(expr, ast.Attribute) and isinstance(expr.value, ast.Name) and self.is_self(expr.value)):
+            return None
+        stored = self.self_attribute_values(expr, expr.attr)
+        if len(stored) != 1 or not isinstance(stored[0], ast.ListComp) or len(stored[0].generators) != 1:
+            return None
+        comp = stored[0]
+        made, loop_ = comp.elt, comp.generators[0]
+        if not (isinstance(made, ast.Call) and not made.args and not made.keywords and isinstance(made.func, ast.Name)):
+            return None
+        if not (isinstance(loop_.target, ast.Name) and loop_.target.id == made.func.id and isinstance(loop_.iter, ast.Name)):
+            return None
+        params = self.facts.bindings_of(loop_.iter)
+        if len(params) != 1 or not isinstance(params[0], ast.arg):
+            return None
+        return self.facts.memo(("mixed-thunks", id(params[0])), lambda: self._thunk_mix(params[0]))
+
+    def _thunk_mix(self, param: ast.arg) -> str | None:
+        function = self.facts.parent(self.facts.parent(param))
+        classdef = self.facts.parent(function)
+        if not (isinstance(function, FUNCTIONS) and function.name == "__init__" and isinstance(classdef, ast.ClassDef)):
+            return None
+        params = [*function.args.posonlyargs, *function.args.args]
+        if param not in params[1:]:
+            return None
+        position = params.index(param) - 1
+        constructions, _ = self.constructions(classdef)
+        gym: list[ast.expr] = []
+        other: list[ast.expr] = []
+        for call, shift in constructions:
+            for thunk in self._passed_thunks(call_argument(call, position + shift, param.arg)) or []:
+                for value in self._thunk_returns(thunk, 0) or []:
+                    if isinstance(value, EnvKind):
+                        continue
+                    # ``return env``: each binding of it that reaches the return
+                    reaching = _returned_bindings(self.facts, value) if isinstance(value, ast.Name) else None
+                    for made in [self.facts.parent(b).value for b in reaching] if reaching else [value]:  # type: ignore[union-attr]
+                        kind = self.kind_of(made)
+                        if kind.is_gym:
+                            gym.append(made)
+                        elif kind is not EnvKind.UNKNOWN or isinstance(made, ast.Call):
+                            # another kind, or a call the run cannot classify (a library's
+                            # wrapper); a name passed through (``lambda: env``) says nothing
+                            other.append(made)
+        if not gym or not other:
+            return None
+        return (
+            f"the thunks its constructions pass return a Gym env on some paths (`{self.facts.segment(gym[0])}`, line "
+            f"{gym[0].lineno}) and on others something not shown to be one (`{self.facts.segment(other[0])}`, line "
+            f"{other[0].lineno}), so no one API serves both"
+        )
+
+    def factory_thunk_kind(self, function: ast.FunctionDef | ast.AsyncFunctionDef) -> EnvKind:
+        """What calling the thunk a def returns on every path returns (``make_env(i)``
+        returning a nested def around ``gym.make``): one kind, else unknown."""
+        values = self._def_returns(function)
+        if values is None or any(isinstance(v, EnvKind) for v in values):
+            return EnvKind.UNKNOWN
+        returned: list[ast.expr | EnvKind] = []
+        for value in values:
+            inner = self._thunk_returns(value, 1)  # type: ignore[arg-type]
+            if inner is None:
+                return EnvKind.UNKNOWN
+            returned += inner
+        if not returned or any(not isinstance(value, EnvKind) and self.legacy_step_class(value) is not None for value in returned):
+            return EnvKind.UNKNOWN
+        kinds = {value if isinstance(value, EnvKind) else self.kind_of(value) for value in returned}
+        return kinds.pop() if len(kinds) == 1 else EnvKind.UNKNOWN
+
+    def imported_thunk_factory(self, argument: ast.expr) -> str | None:
+        """The qualified name of the one def imported from another module whose calls are
+        every item of a list of thunks (``[make_env(i) for i in range(n)]`` with ``make_env``
+        imported): what the items return is that module's to say. None otherwise."""
+        thunks = self._passed_thunks(argument)
+        if not thunks or not all(isinstance(t, ast.Call) and self.local_function(t.func) is None for t in thunks):
+            return None
+        names = {frozenset(self.qualified_names(t.func)) for t in thunks}  # type: ignore[attr-defined]
+        if len(names) != 1:
+            return None
+        found = names.pop()
+        return next(iter(found)) if len(found) == 1 else None
+
+    def is_thunk_list(self, argument: ast.expr) -> bool:
+        """``argument`` is a list of callables as ``thunk_list_kind`` reads one."""
+        return self._passed_thunks(argument) is not None
 
     def _passed_thunks(self, argument: ast.expr | None) -> list[ast.expr] | None:
         """The items of a list passed as a sequence of thunks: a display, a comprehension's
@@ -124,7 +245,10 @@ class ThunkKinds(_Facade):
                 return self._thunk_returns(inner, depth + 1)
             function = self.local_function(thunk.func)
             if function is None:
-                return None
+                # ``make_env(i)`` imported from another module of the run: the kind its
+                # thunks return there (``ModuleSummary.thunk_factories``)
+                kinds = {self.project.thunk_factory_kind(q) for q in self.qualified_names(thunk.func)} if self.project is not None else set()
+                return [kinds.pop()] if len(kinds) == 1 and None not in kinds else None  # type: ignore[list-item]
             made = self._def_returns(function)
             if made is None:
                 return None
@@ -145,3 +269,29 @@ class ThunkKinds(_Facade):
         if not values or any(v is None for v in values):
             return None
         return values  # type: ignore[return-value]
+
+
+def _returned_bindings(facts, read: ast.Name) -> list[ast.AST] | None:
+    """The assignments of ``read`` (``return env``) that may reach it: ``Flow.reaching``,
+    less those inside a branch that a later assignment of an enclosing block overwrites
+    (``if dm: env = dm.make(...)`` then ``env = Wrapper(env)``). None when one is no plain
+    single-target assignment."""
+    flow = Flow.of(facts)
+    reaching = flow.reaching(read)
+    if not reaching:
+        return None
+    found = []
+    for binding in reaching:
+        parent = facts.parent(binding) if isinstance(binding, ast.Name) else None
+        if not (isinstance(parent, ast.Assign) and parent.targets == [binding]):
+            return None
+        statement: ast.AST | None = parent
+        overwritten = False
+        while isinstance(statement, ast.stmt) and not isinstance(statement, (*FUNCTIONS, ast.ClassDef)):
+            if is_after(read, statement) and flow._overwritten(statement, read):
+                overwritten = True
+                break
+            statement = facts.parent(statement)
+        if not overwritten:
+            found.append(binding)
+    return found

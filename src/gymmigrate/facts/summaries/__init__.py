@@ -167,6 +167,9 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         id_params=id_parameters(facts, receivers),
         inherited_id_calls=tuple(calls.inherited_id_calls()),
         escaping_params=escaping_parameters(facts),
+        thunk_factories={
+            name: kind for name, function in facts.functions.items() if (kind := receivers.factory_thunk_kind(function)) is not EnvKind.UNKNOWN
+        },
         mode_renders=mode_renders(facts),
         opaque_registrations=opaque_registrations(facts),
         fixed_mode_renders=fixed_mode_renders(facts),

@@ -24,6 +24,7 @@ from gymmigrate.facts.module_summary import (
     NEW,
     OWN,
     PARAM,
+    REF,
     UNRESOLVED,
     CallSummary,
     Kind,
@@ -279,7 +280,15 @@ class CallSummarizer:
                 keywords.append((keyword.arg, self._kind(keyword.value)))
         ids = [(str(i), text) for i, a in enumerate(call.args) if (text := self._env_id(a)) is not None]
         ids += [(k.arg, text) for k in call.keywords if k.arg is not None and (text := self._env_id(k.value)) is not None]
-        return CallSummary(target, tuple(args), tuple(keywords), open_ended, tuple(ids), getattr(call, "lineno", 0))
+        thunks = [(str(i), self._thunks_kind(a)) for i, a in enumerate(call.args) if self.receivers.is_thunk_list(a)]
+        thunks += [(k.arg, self._thunks_kind(k.value)) for k in call.keywords if k.arg is not None and self.receivers.is_thunk_list(k.value)]
+        return CallSummary(target, tuple(args), tuple(keywords), open_ended, tuple(ids), getattr(call, "lineno", 0), tuple(thunks))
+
+    def _thunks_kind(self, argument: ast.expr) -> Kind:
+        """What calling each item of a list of thunks returns; ``ref:<qualified>`` when they
+        are all calls of one def imported from the run, which the join asks."""
+        imported = self.receivers.imported_thunk_factory(argument)
+        return REF + imported if imported is not None and not N.is_library(imported) else self.receivers.thunk_list_kind(argument)
 
     def _env_id(self, argument: ast.expr) -> str | None:
         """An env id the argument certainly is: a literal ``"Name-v4"``, or a module-level
