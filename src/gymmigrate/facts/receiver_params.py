@@ -248,6 +248,9 @@ class ParameterKinds(CallerSites, ThunkKinds):
         at others. None when that is not the reason."""
         if _depth > 4:
             return None
+        thunks = self._mixed_thunks(expr)
+        if thunks is not None:
+            return thunks
         self.kind_of(expr)  # fills ``_mixed_params`` on the way
         values: list[ast.AST] = []
         if isinstance(expr, ast.Attribute) and isinstance(expr.value, ast.Name) and self.is_self(expr.value):
