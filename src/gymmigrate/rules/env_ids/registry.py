@@ -20,9 +20,11 @@ that turn the env checker off (GM807, GM808).
   behind the ``entry_point`` string.
 * GM808 ``register(...)`` of a class whose ``reset`` steps the wrapper that handed itself
   to it (``self._top.step(...)`` after ``env.unwrapped.set_top(self)``;
-  facts/wrapper_steps.py), or of an entry point the run cannot resolve in a run with such a
-  class: Gymnasium 1.x's checker, between those wrappers and the env, raises TypeError on
-  that step inside its own reset. The call gets ``disable_env_checker=True`` (ASSIST).
+  facts/wrapper_steps.py), or of an entry point the call does not resolve but whose values
+  in the module name a module or class of the run (facts/entry_sources.py), in a run with
+  such a class: Gymnasium 1.x's checker, between those wrappers and the env, raises TypeError
+  on that step inside its own reset. The call gets ``disable_env_checker=True`` (ASSIST); an
+  entry point nothing ties to the run (read from a file, the command line) is reported once.
 
 Source: gym 0.21 ``envs/registration.py`` against Gymnasium 1.4 ``envs/registration.py``.
 """
@@ -36,6 +38,7 @@ from gymmigrate.edits.arguments import append_keyword
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
+from gymmigrate.facts.entry_sources import entry_from_run
 from gymmigrate.facts.module import full_name, keyword, string_value
 from gymmigrate.facts.summaries import plain_classes, space_calls
 from gymmigrate.facts.wrapper_steps import reset_steps, self_handoffs, steps_its_wrapper
@@ -65,8 +68,8 @@ RULES = (
         "GM808",
         "envs whose reset steps their wrappers",
         FixKind.ASSIST,
-        "`register(...)` of an env whose reset steps the wrapper that handed itself to it (or of an entry point the run "
-        "cannot resolve, in a run with such an env) gets `disable_env_checker=True`.",
+        "`register(...)` of an env whose reset steps the wrapper that handed itself to it (or of an entry point the module "
+        "traces only to the run's own modules and classes, in a run with such an env) gets `disable_env_checker=True`.",
     ),
 )
 _REGISTER_FUNCTIONS = frozenset({"register", "envs.register", "envs.registration.register"})
@@ -177,6 +180,18 @@ class RegistryApi(RuleFamily):
         if found is None:
             return
         stepper, named = found
+        if named is None and not self._entry_from_run(call, value):
+            # nothing the module shows ties this entry point to the run: the checker stays on
+            self.report(
+                call,
+                "GM808",
+                f"this registers an entry point the run cannot resolve here; if it names `{stepper}` (or a subclass), "
+                "whose reset steps an attribute that the run's wrappers set to themselves, Gymnasium 1.x's env checker "
+                "raises TypeError inside that reset: then register it with `disable_env_checker=True`",
+                FixKind.FLAG,
+                question=("GM808 unresolved", stepper),
+            )
+            return
         if named == stepper:
             what = f"`{stepper}`"
         elif named is not None:
@@ -196,6 +211,22 @@ class RegistryApi(RuleFamily):
             self.plan.replace(starred[0].value, _checker_off_before)
         else:
             self.plan.replace(call, lambda node: append_keyword(node, "disable_env_checker", cst.Name("True")))
+
+    def _entry_from_run(self, call: ast.Call, value: ast.expr | None) -> bool:
+        """The entry point the call does not resolve is still shown to be the run's (a string
+        naming a module of the run, a class of the run flows into it: facts/entry_sources.py)."""
+        project = self.receivers.project
+
+        def names_run_module(module: str) -> bool:
+            return module in ("", "__main__") or (project is not None and module in project.facts.modules)
+
+        def is_run_class(name: ast.Name) -> bool:
+            if self.receivers.local_class(name) is not None:
+                return True
+            qualified = self.facts.qualified_names(name)
+            return any(names_run_module(q.rpartition(".")[0]) for q in qualified if "." in q) and project is not None
+
+        return entry_from_run(self.facts, call, value, names_run_module, is_run_class)
 
     def _stepping_entry(self, value: ast.expr | None) -> tuple[str, str | None] | None:
         """(the class whose reset steps its wrapper, the class the entry point names: None

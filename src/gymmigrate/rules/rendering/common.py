@@ -82,6 +82,9 @@ class RenderingBase(RuleFamily):
     _has_legacy_mode_calls: bool  # some render() call of the file still passes a mode
     _makes_by_id: dict[int, ast.Call]  # the makes of the sites, by id
     _rendered_nodes: set[int]  # the render and recorder calls of the sites, by id
+    _drawn_by_forward: set[int]  # id(make) whose env a render forward's callers draw every step
+    _forwarded_sites: list[RenderSite]  # the callers of a render forward (sites.py)
+    _forwards: list[tuple[ast.Call, list[int]]]  # (the forward, the makes of its env)
     # (wrapper name, its rendering methods, the build, the make) for envs a wrapper renders
     _wrapped: list[tuple[str, list[str], ast.Call, ast.Call]]
     _class_finder: CreationFinder  # set on first use: the local env class an env is made from

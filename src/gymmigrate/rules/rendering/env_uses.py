@@ -98,6 +98,8 @@ class EnvUses(MakeEdits):
 
     def _steps_render(self, key: int) -> bool:
         """Every ``step`` of the env made by ``key`` sits in a loop that renders it."""
+        if key in self._drawn_by_forward:
+            return True  # stepped and drawn through a class of the run holding it (sites.py)
         make = self._makes_by_id.get(key)
         steps = (self._steps_of_make(make) if make is not None else None) or []
         return bool(steps) and all(self._loop_renders(call, self._rendered_nodes) for call in steps)

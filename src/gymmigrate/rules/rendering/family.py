@@ -63,12 +63,17 @@ class Rendering(RenderSites, SitePlanning):
         # calls still mean "human", so a second run decides the same way.
         self._has_legacy_mode_calls = any(self._mode_argument(call) is not None for call in render_calls)
         sites: list[RenderSite] = []
+        self._forwarded_sites = []
+        self._forwards = []
+        self._drawn_by_forward = set()
         for call in in_source_order([*render_calls, *self._recorder_candidates()]):
             site = self._render_site(call) if is_render(call) else self._recorder_site(call)
             if site is not None:
                 sites.append(site)
+        sites.extend(self._forwarded_sites)
         self._wrapped = self._rendering_wrappers()
         self._plan_sites(sites)
+        self._plan_forwards()
         self._report_rendering_wrappers()
         self._plan_make_literals()
         # Render calls that still pass a mode after this run: a local env class whose

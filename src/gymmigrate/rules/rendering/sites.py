@@ -14,7 +14,7 @@ from gymmigrate.facts.decisions import Action, decide, receiver_text
 from gymmigrate.facts.env_classes import EnvClasses
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import full_name, keyword, string_value
-from gymmigrate.findings import FixKind
+from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.render_calls import arguments_in_order, close_call
 from gymmigrate.rules.render_schedule import same_value_at_make
 from gymmigrate.rules.rendering.common import (
@@ -210,6 +210,8 @@ class RenderSites(RecorderSites):
         function = self.facts.enclosing_function(call)
         if function is not None and function.name == "render" and not self._plain_class_method(function):
             return True  # a render method handing its own arguments on: the Env/Wrapper rules own it
+        if function is not None and function.name == "render" and self._forward_of_bare_callers(call, receiver, function):
+            return True  # its callers' renders decide the make's mode, as a direct render does
         kind = self.receivers.kind_of(receiver)
         if function is not None and function.name == "render" and kind is not EnvKind.GYM_ENV:
             return True  # an adapter's render() handing on to what is not shown to be a Gym env
@@ -229,6 +231,85 @@ class RenderSites(RecorderSites):
             question=("render-forward", id(function)) if function is not None and function.name == "render" else self._same_render_call(call, receiver),
         )
         return True
+
+    def _forward_of_bare_callers(self, call: ast.Call, receiver: ast.expr, function: ast.AST) -> bool:
+        """``def render(self, *arg): self.env.render(*arg)`` in a plain class of the run
+        holding an env this module makes with ``gym.make``, where every render call of the
+        module passes nothing and only this module builds the class: what the forward hands
+        on is always nothing, so each caller's ``x.render()`` is a bare render of that env.
+        Those callers become the sites (their schedule moves to the make, as for a direct
+        ``env.render()``), and the forward drops its arguments once the make has a mode."""
+        classdef = self.facts.parent(function)
+        if not isinstance(classdef, ast.ClassDef) or not isinstance(function, (ast.FunctionDef, ast.AsyncFunctionDef)):
+            return False
+        args = function.args
+        if args.posonlyargs or args.args[1:] or args.kwonlyargs or len(args.args) != 1:
+            return False  # only ``self`` and the packed arguments it hands on
+        own = {a.arg for a in (args.vararg, args.kwarg) if a is not None}
+        handed = [a.value for a in call.args if isinstance(a, ast.Starred)] + [k.value for k in call.keywords if k.arg is None]
+        if not handed or len(handed) != len(call.args) + len(call.keywords):
+            return False  # only ``*arg`` / ``**kw`` handed on, nothing of its own
+        if not all(isinstance(h, ast.Name) and h.id in own for h in handed):
+            return False
+        project = self.receivers.project
+        if project is not None and (
+            project.built_elsewhere(classdef.name) or project.subclassed_elsewhere(classdef.name) or project.render_called_elsewhere()
+        ):
+            return False  # callers the module does not show may pass a mode
+        creation = self.finder.find(receiver)
+        if not (creation.found and creation.complete and all(self._is_gym_make(make) for make in creation.calls)):
+            return False
+        callers: list[ast.Call] = []
+        instances = CreationFinder(self.facts, self.receivers, lambda c: self.receivers.local_class(c.func) is classdef)
+        for render in self.facts.attribute_calls.get("render", []):
+            if render is call:
+                continue
+            if render.args or render.keywords:
+                return False  # some render of the module passes a mode: it may reach this forward
+            inner = render.func.value  # type: ignore[attr-defined]
+            if self.receivers.is_self(inner) and self.facts.enclosing_class(render) is classdef:
+                callers.append(render)
+                continue
+            made = instances.find(inner)
+            if made.found and made.calls and all(self.receivers.local_class(c.func) is classdef for c in made.calls):
+                callers.append(render)
+        if not callers:
+            return False
+        if self._steps_drawn(instances, classdef, callers):
+            self._drawn_by_forward.update(id(make) for make in creation.calls)
+        for caller in callers:
+            self._forwarded_sites.append(RenderSite(caller, "GM402", HUMAN, (), Action.REWRITE, creation))
+        self._forwards.append((call, [id(make) for make in creation.calls]))
+        return True
+
+    def _steps_drawn(self, instances: CreationFinder, classdef: ast.ClassDef, callers: list[ast.Call]) -> bool:
+        """Every ``x.step(...)`` of the class's instances sits in a loop that holds one of the
+        ``callers``: the legacy code drew each step, as a human-mode env does."""
+        drawn = {id(caller) for caller in callers}
+        steps = [
+            step
+            for step in self.facts.attribute_calls.get("step", [])
+            if (made := instances.find(step.func.value)).found  # type: ignore[attr-defined]
+            and all(self.receivers.local_class(c.func) is classdef for c in made.calls)
+        ]
+        for step in steps:
+            loop = next((a for a in self.facts.ancestors(step) if isinstance(a, (ast.For, ast.While, ast.AsyncFor))), None)
+            if loop is None or not any(id(node) in drawn for node in ast.walk(loop)):
+                return False
+        return bool(steps)
+
+    def _plan_forwards(self) -> None:
+        """The forwards whose make was given a mode hand on nothing now (``render()`` bare)."""
+        for call, keys in self._forwards:
+            if keys and all(key in self._added for key in keys):
+                self.plan.replace(call, lambda node: node.with_changes(args=()))
+                self.report(
+                    call,
+                    "GM401",
+                    "every render() that reaches this forward passes nothing, so it hands on nothing: called bare, "
+                    "with the mode at the make",
+                    tier=Tier.NOTE,
+                )
 
     def _plain_class_method(self, function: ast.AST) -> bool:
         """A method of a class that is neither an env nor a wrapper (an adapter holding an

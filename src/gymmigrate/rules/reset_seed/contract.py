@@ -23,6 +23,7 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.edits.lazy import cst
+from gymmigrate.facts.decisions import Action, Decision, receiver_text
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.reset_contract import (
     Contract,
@@ -75,9 +76,35 @@ class ResetContractSites(ResetSeedBase):
                 self._read_from_options(reset, contract, env=not wrapper)
         for call in self.facts.attribute_calls.get("reset", []):
             passed = tuple(kw.arg for kw in call.keywords if kw.arg is not None and kw.arg in contract.keywords)
-            if passed:
-                self._move_into_options(call, passed)
+            if not passed:
+                continue
+            decision = self._contract_decision(call)
+            if decision.action is Action.LEAVE:
+                continue  # another API's reset (an SB3 VecEnv, a PettingZoo env, a class of the run) takes it
+            if decision.action is Action.REPORT:
+                shown = ", ".join(f"`{k}=`" for k in passed)
+                self.report(
+                    call,
+                    "GM207",
+                    f"{decision.reason}: if it is a Gym env, pass {shown} in options={{...}} (Gymnasium's wrappers and "
+                    "the checkers of make() pass only seed= and options= down to the env, whose reset reads them from there)",
+                    FixKind.FLAG,
+                    question=self.receiver_question(call.func.value, decision),  # type: ignore[attr-defined]
+                )
+                continue
+            self._move_into_options(call, passed, decision)
         return contract.keywords
+
+    def _contract_decision(self, call: ast.Call) -> Decision:
+        """Whose reset the call reaches: the keyword is the contract's only on a Gym env (or
+        where the file's fallback says so); a receiver the run shows to be something else
+        keeps its own keyword, and one nobody can tell is asked about once."""
+        receiver = call.func.value  # type: ignore[attr-defined]
+        decision, _ = self._decide(receiver, legacy_shape=True)
+        if decision.action is Action.LEAVE and self._receiver_kind(receiver) is EnvKind.UNKNOWN:
+            # not env-like by name, but it passes a keyword of an env's reset of the run
+            return Decision(Action.REPORT, f"could not tell whether `{receiver_text(receiver)}` is a Gym env; not rewritten")
+        return decision
 
     def _read_from_options(self, reset: ast.FunctionDef | ast.AsyncFunctionDef, contract: Contract, env: bool) -> None:
         text = self.facts.segment(reset) or ""
@@ -106,7 +133,7 @@ class ResetContractSites(ResetSeedBase):
             FixKind.AUTO,
         )
 
-    def _move_into_options(self, call: ast.Call, moved: tuple[str, ...]) -> None:
+    def _move_into_options(self, call: ast.Call, moved: tuple[str, ...], decision: Decision) -> None:
         function = self.facts.enclosing_function(call)
         own = {a.arg for a in (*function.args.posonlyargs, *function.args.args, *function.args.kwonlyargs)} if function else set()
         in_moving_reset = (
@@ -129,8 +156,9 @@ class ResetContractSites(ResetSeedBase):
             call,
             "GM207",
             f"{shown} moved into `options`: Gymnasium's wrappers and the checkers of make() pass only seed= and options= "
-            "down to the env, whose reset reads them from there",
-            FixKind.AUTO,
+            f"down to the env, whose reset reads them from there{self._why(decision)}",
+            self._kind(decision, FixKind.AUTO),
+            question=self.receiver_question(call.func.value, decision),  # type: ignore[attr-defined]
         )
 
 
