@@ -26,6 +26,40 @@ MUJOCO_BASES = frozenset({"envs.mujoco.MujocoEnv", "envs.mujoco.mujoco_env.Mujoc
 DIRECT_ENV_BASES = frozenset({"Env", "core.Env", "GoalEnv", "core.GoalEnv"})
 
 
+# The API methods gym <= 0.9 spelled with a leading underscore (``_reset`` for ``reset``).
+HOOK_NAMES = frozenset({"step", "reset", "seed", "render", "close", "configure"})
+
+
+def class_level_bindings(
+    classdef: ast.ClassDef, methods: dict[str, ast.FunctionDef | ast.AsyncFunctionDef]
+) -> tuple[dict[str, ast.Assign], frozenset[str]]:
+    """The class body's aliases of gym < 0.9 hooks (``reset = _reset``: public name -> that
+    assignment, naming a hook of the class), at its top level or under an ``if`` / ``try``
+    there; and every public API name bound in those nested blocks (a ``def reset`` under
+    ``if``, as custom_env writes it): such a name is the class's own, no hook may be
+    renamed onto it. With such aliases the hooks keep their names (custom_env/reset.py)."""
+    aliases: dict[str, ast.Assign] = {}
+    bound: set[str] = set()
+
+    def visit(statements: list[ast.stmt], nested: bool) -> None:
+        for statement in statements:
+            if isinstance(statement, ast.Assign) and isinstance(statement.value, ast.Name):
+                hook = statement.value.id
+                for target in statement.targets:
+                    if isinstance(target, ast.Name) and target.id in HOOK_NAMES and hook == "_" + target.id and hook in methods:
+                        aliases[target.id] = statement
+            elif nested and isinstance(statement, (ast.FunctionDef, ast.AsyncFunctionDef)) and statement.name in HOOK_NAMES:
+                bound.add(statement.name)
+            elif isinstance(statement, (ast.If, ast.Try)):
+                for block in (statement.body, statement.orelse, getattr(statement, "finalbody", [])):
+                    visit(block, True)
+                for handler in getattr(statement, "handlers", []):
+                    visit(handler.body, True)
+
+    visit(classdef.body, False)
+    return aliases, frozenset(bound | set(aliases))
+
+
 def identifiers(node: ast.AST) -> list[str]:
     """Every identifier spelled in ``node``: variables, attribute and keyword names,
     parameters, def/class names. What a LibCST ``Name`` search finds, on ``ast``."""
@@ -201,6 +235,8 @@ class EnvClasses:
         render = methods.get("render") or methods.get("_render")
         if render is None or not any(a.arg == "mode" for a in render.args.args):
             return False
+        if "render" not in methods and class_level_bindings(classdef, methods)[0]:
+            return False  # ``render = _render`` keeps render(mode), reported (custom_env/reset.py)
         if self.own_render_mode(classdef) is not None:
             return False  # its render(mode) is kept (GM405): no render_mode to give it
         return init is not None or not self.has_local_env_base(classdef)

@@ -7,7 +7,7 @@ from collections.abc import Hashable
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts.decisions import Action, decide
-from gymmigrate.facts.env_classes import ClassIndex, EnvClasses, FunctionIndex
+from gymmigrate.facts.env_classes import ClassIndex, EnvClasses, FunctionIndex, class_level_bindings
 from gymmigrate.facts.module import own_returns
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import Rule
@@ -48,16 +48,22 @@ class ClassDecision:
         self.index: ClassIndex = env.index(classdef)
         self.methods = self.index.methods
         self.plan = ClassPlan()
-        olds = [old for old in UNDERSCORE_METHODS if old in self.methods]
+        # ``reset = _reset`` in the class body (often under a gym version test): the hooks
+        # keep their names, which subclasses call (``Base._reset(self)``); only the public
+        # names change contract (``reset.py``). Renaming the hooks would leave the aliases
+        # naming nothing: NameError when the class body runs.
+        self.aliases, bound = class_level_bindings(classdef, self.methods)
+        self.plan.published = {new: alias.value.id for new, alias in self.aliases.items()}  # type: ignore[attr-defined]
+        olds = [old for old in UNDERSCORE_METHODS if old in self.methods] if not self.plan.published else []
         inherited = inherited_methods(family, classdef) if olds else frozenset()
         for old in olds:
             new = UNDERSCORE_METHODS[old]
-            if new not in self.methods and new not in inherited:
+            if new not in self.methods and new not in inherited and new not in bound:
                 self.plan.renamed[new] = old
         # ``def seed(self, seed=None): return self._seed(seed)``: seeding moves into reset,
         # so the helper is the method to migrate and the forwarding one goes with it.
         public, helper = self.methods.get("seed"), self.methods.get("_seed")
-        if public is not None and helper is not None and _forwards(public, "_seed"):
+        if public is not None and helper is not None and not self.plan.published and _forwards(public, "_seed"):
             self.plan.renamed["seed"] = "_seed"
             self.plan.dropped.add("seed")
         self.removed: set[str] = set()  # methods (by their source name) the build deletes

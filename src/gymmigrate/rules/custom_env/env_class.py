@@ -38,7 +38,7 @@ from gymmigrate.rules.custom_env.render import (
     decide_render,
     decide_subclass_render_mode,
 )
-from gymmigrate.rules.custom_env.reset import decide_internal_calls, decide_reset
+from gymmigrate.rules.custom_env.reset import decide_internal_calls, decide_published, decide_reset
 from gymmigrate.rules.custom_env.seed import decide_seed
 from gymmigrate.rules.custom_env.seeding_import import drop_unused_seeding_import
 from gymmigrate.rules.custom_env.step import decide_step
@@ -84,6 +84,9 @@ class EnvClassFamily(RuleFamily):
                 _report_own_api(decision)
                 decide_float64_observations(decision)
                 continue
+            if decision.plan.published and decide_published(decision):
+                decide_float64_observations(decision)
+                continue  # reported once, left whole
             for new, old in decision.renamed.items():
                 why = "; Gymnasium never calls it: call `env.unwrapped.configure(...)`" if new == "configure" else ""
                 # an explanation of the rename; the migrated method's own findings follow
@@ -128,6 +131,7 @@ class EnvClassFamily(RuleFamily):
             or plan.pass_render_mode
             or plan.unpack_self_reset
             or plan.reset
+            or plan.reset_alias
             or plan.step
         )
 

@@ -39,6 +39,15 @@ class SeedPlan:
 class ClassPlan:
     renamed: dict[str, str] = field(default_factory=dict)  # new name -> gym < 0.9 name
     dropped: set[str] = field(default_factory=set)  # public methods that only forwarded to a renamed one
+    # ``reset = _reset`` and the like in the class body: public name -> the hook it names;
+    # the hooks keep their names (subclasses call them)
+    published: dict[str, str] = field(default_factory=dict)
+    # the ``reset = <hook>`` alias becomes a reset taking seed and options that calls the
+    # hook: (hook, seed hook or None, whether it calls super().reset(seed=seed) first)
+    reset_alias: tuple[str, str | None, bool] | None = None
+    # a subclass's reset that calls its base's private reset hook (``Base._reset(self)``):
+    # the base's seed hook it calls when given a seed, as legacy ``seed(n); reset()`` did
+    reset_seed_hook: str | None = None
     seed: SeedPlan | None = None
     # returns of a reset with ``return_info`` that no ``return_info`` test guards (the
     # other mode of a two-mode env): they return ``(obs, {})`` like the kept branches

@@ -103,7 +103,10 @@ class ClassRewrite:
             self._pass_render_mode()
         if self.plan.unpack_self_reset:
             self._unpack_self_reset()
-        return self._rebuild()
+        rebuilt = self._rebuild()
+        if self.plan.reset_alias is not None:
+            rebuilt = _replace_reset_alias(rebuilt, *self.plan.reset_alias)
+        return rebuilt
 
     def _rebuild(self) -> cst.ClassDef:
         body = self.updated.body
@@ -191,6 +194,9 @@ class ClassRewrite:
             fn, _ = _ensure_super_reset(fn)
         if self.seed_folded:
             fn = _insert_after_super_reset(fn, self.seed_folded)
+        if self.plan.reset_seed_hook is not None:
+            hook = cst.parse_statement(f"if seed is not None:\n    self.{self.plan.reset_seed_hook}(seed)\n")
+            fn = fn.with_changes(body=_insert_at_top(fn.body, [hook]))
         self.set_method("reset", fn)
 
     def _return_info_pairs(
@@ -559,3 +565,56 @@ def _limit_line_to_truncated(body: cst.BaseSuite, name: str, data_ends: frozense
     statements = list(body.body)
     statements[-2] = line.with_changes(body=[new])
     return body.with_changes(body=statements)
+
+
+def _replace_reset_alias(classdef: cst.ClassDef, hook: str, seed_hook: str | None, calls_super: bool) -> cst.ClassDef:
+    """``reset = <hook>`` in the class body (at its top level or under an ``if``/``try``
+    there) -> a reset taking seed and options that seeds and returns the hook's observation
+    with an empty info; the hook itself stays as it is for the code that calls it."""
+    lines = ["def reset(self, *, seed=None, options=None):"]
+    if calls_super:
+        lines.append("    super().reset(seed=seed)")
+    if seed_hook is not None:
+        lines += ["    if seed is not None:", f"        self.{seed_hook}(seed)"]
+    lines.append(f"    return self.{hook}(), {{}}")
+    method = cst.parse_statement("\n".join(lines) + "\n")
+    alias = m.SimpleStatementLine(body=[m.Assign(targets=[m.AssignTarget(target=m.Name("reset"))], value=m.Name(hook))])
+
+    def replace(statements: Sequence[cst.BaseStatement]) -> list[cst.BaseStatement]:
+        out: list[cst.BaseStatement] = []
+        for statement in statements:
+            if m.matches(statement, alias):
+                assert isinstance(statement, cst.SimpleStatementLine)
+                out.append(method.with_changes(leading_lines=statement.leading_lines))
+            elif isinstance(statement, (cst.If, cst.Try)):
+                out.append(_replace_in_blocks(statement, replace))
+            else:
+                out.append(statement)
+        return out
+
+    body = classdef.body
+    if not isinstance(body, cst.IndentedBlock):
+        return classdef
+    return classdef.with_changes(body=body.with_changes(body=replace(body.body)))
+
+
+def _replace_in_blocks(
+    statement: cst.If | cst.Try, replace: Callable[[Sequence[cst.BaseStatement]], list[cst.BaseStatement]]
+) -> cst.BaseStatement:
+    """``statement`` with ``replace`` applied to each of its indented blocks (an ``elif``
+    chain, ``else``, handlers and ``finally`` included)."""
+
+    def suite(block: cst.BaseSuite) -> cst.BaseSuite:
+        return block.with_changes(body=replace(block.body)) if isinstance(block, cst.IndentedBlock) else block
+
+    if isinstance(statement, cst.If):
+        orelse = statement.orelse
+        if isinstance(orelse, cst.If):
+            orelse = _replace_in_blocks(orelse, replace)  # type: ignore[assignment]
+        elif isinstance(orelse, cst.Else):
+            orelse = orelse.with_changes(body=suite(orelse.body))
+        return statement.with_changes(body=suite(statement.body), orelse=orelse)
+    handlers = [h.with_changes(body=suite(h.body)) for h in statement.handlers]
+    orelse_try = statement.orelse.with_changes(body=suite(statement.orelse.body)) if statement.orelse else None
+    final = statement.finalbody.with_changes(body=suite(statement.finalbody.body)) if statement.finalbody else None
+    return statement.with_changes(body=suite(statement.body), handlers=handlers, orelse=orelse_try, finalbody=final)

@@ -68,10 +68,19 @@ def decide_reset(decision: ClassDecision) -> None:
     inner_only = forwards and not super_resets
     decision.plan.reset_super_seeds = not inner_only and decision.env.extends_gym_env_directly(decision.classdef)
     inserted = False
+    hook = None if inner_only or decision.plan.reset_super_seeds or super_resets else private_reset_seed_hook(decision, function)
+    hooked = hook if not modern else None
     if inner_only:
         pass
     elif decision.plan.reset_super_seeds or super_resets:
         inserted = not super_resets
+    elif hooked:
+        # the base's reset would reset a second time; its seed hook is what legacy
+        # ``env.seed(n)`` ran before this reset
+        decision.plan.reset_seed_hook = hooked
+        decision.report(function, "GM501", f"reset calls the base's private reset hook, not its reset: it seeds through the base's `{hooked}` when given a seed, as legacy seed(seed) did")
+    elif hook is not None and any(is_self_call(c, {hook}) for c in decision.function(function).of(ast.Call)):
+        pass  # seeds through the base's hook already (as this rule writes it)
     elif "np_random" not in decision.family.facts.text:
         # Nothing of the module draws from np_random (a batch seeds its envs inside, say):
         # leaving it unseeded changes nothing here, so this is not a decision.
@@ -94,6 +103,7 @@ def decide_reset(decision: ClassDecision) -> None:
     decision.plan.reset = (
         migrates
         or inserted
+        or bool(hooked)
         or decision.plan.seed is not None and (bool(decision.plan.seed.moved) or decision.plan.seed.keep)
         or any(_super_reset_needs_seed(c) for s in function.body for c in ast.walk(s))
     )
@@ -291,3 +301,85 @@ def _super_reset_needs_seed(node: ast.AST) -> bool:
     keywords = {k.arg for k in node.keywords}  # type: ignore[attr-defined]
     starred = None in keywords or any(isinstance(a, ast.Starred) for a in node.args)  # type: ignore[attr-defined]
     return "return_info" in keywords or ("seed" not in keywords and not starred)
+
+
+def decide_published(decision: ClassDecision) -> bool:
+    """A class that publishes gym < 0.9 hooks by class-level aliases (``reset = _reset``,
+    often under ``if parse_version(gym.__version__) >= ...``): the hooks keep their names
+    (the project's own API: subclasses call ``Base._reset(self)`` and expect the bare
+    observation), and the ``reset`` alias becomes a real ``reset(self, *, seed=None,
+    options=None)`` that seeds (``super().reset(seed=seed)``, then the seed hook as legacy
+    ``seed(n)`` did) and returns ``(self._reset(), {})``. ``close``/``seed``/``configure``
+    aliases keep working as they are; a ``render`` alias keeps render(mode) (one item).
+    A class whose aliases this cannot make whole (``step = _step``, a reset hook that
+    needs arguments, a public ``seed`` beside them) is left and reported once; True then."""
+    published = decision.plan.published
+    classdef = decision.classdef
+    methods = decision.methods
+    hook = published.get("reset")
+    seed_hook = published.get("seed") or ("_seed" if "_seed" in methods else None)
+    fits = "step" not in published
+    if hook is not None:
+        fits = fits and "seed" not in methods and "reset" not in methods and callable_without_arguments(methods[hook])
+        if seed_hook is not None:
+            params = param_names(methods[seed_hook])
+            fits = fits and (len(params) >= 2 or methods[seed_hook].args.vararg is not None)
+    if not fits:
+        names = ", ".join(f"`{new} = {old}`" for new, old in published.items())
+        decision.report(
+            classdef,
+            "GM504" if "step" in published else "GM501",
+            f"`{classdef.name}` publishes its gym < 0.9 hooks by class-level aliases ({names}): left as they are (the hooks "
+            "keep their names, which subclasses may call); give the public names Gymnasium's contracts by hand",
+            FixKind.FLAG,
+        )
+        return True
+    direct = decision.env.extends_gym_env_directly(classdef)
+    if hook is not None:
+        decision.plan.reset_alias = (hook, seed_hook, direct)
+        seeds = f", seeds through `{seed_hook}` when given a seed" if seed_hook else ""
+        first = "calls super().reset(seed=seed)" if direct else "does not call the base's reset"
+        decision.report(
+            decision.aliases["reset"],
+            "GM501",
+            f"`reset = {hook}` becomes a reset taking seed and options that {first}{seeds} and returns "
+            f"`(self.{hook}(), {{}})`; `{hook}` keeps its name and its bare observation for the code that calls it",
+        )
+        if not direct and seed_hook is None and "np_random" in decision.family.facts.text:
+            decision.report(
+                decision.aliases["reset"],
+                "GM501",
+                "reset() must seed np_random, but super().reset() here would also run the base env's own reset; call Env.reset(self, seed=seed) first by hand",
+                FixKind.FLAG,
+            )
+    if "render" in published:
+        decision.report(
+            decision.aliases["render"],
+            "GM405",
+            f"`render = {published['render']}` keeps gym's render(mode): Gymnasium calls render() without arguments and takes "
+            f"the mode from `render_mode` given at construction; make `{published['render']}` read `self.render_mode` "
+            "(set in `__init__`) by hand",
+            FixKind.FLAG,
+        )
+    return False
+
+
+def private_reset_seed_hook(decision: ClassDecision, function: ast.AST) -> str | None:
+    """``reset`` calls its base's private reset hook (``Base._reset(self)``,
+    ``super()._reset()``) rather than the base's reset, so no seed reaches the base: the
+    base's seed hook (``_seed``, kept beside its aliases) to call when given one."""
+    inherited = decision.family.receivers.base_methods(decision.classdef)
+    if "_reset" not in inherited or "_seed" not in inherited or "seed" in decision.methods or "_seed" in decision.methods:
+        return None
+    bases = {b.id for b in decision.classdef.bases if isinstance(b, ast.Name)} | {
+        b.attr for b in decision.classdef.bases if isinstance(b, ast.Attribute)
+    }
+    for call in decision.function(function).of(ast.Call):
+        func = call.func
+        if not (isinstance(func, ast.Attribute) and func.attr == "_reset"):
+            continue
+        owner = func.value
+        explicit = isinstance(owner, ast.Name) and owner.id in bases and len(call.args) == 1
+        if explicit or is_super_method_call(call, "_reset"):
+            return "_seed"
+    return None
