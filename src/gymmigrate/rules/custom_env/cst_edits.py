@@ -26,6 +26,22 @@ def is_super_method_call(node: cst.CSTNode, method: str) -> bool:
     return m.matches(node, m.Call(func=m.Attribute(value=m.Call(func=m.Name("super")), attr=m.Name(method))))
 
 
+def is_base_reset(node: cst.CSTNode, bases: frozenset[str]) -> bool:
+    """``super().reset(...)``, or ``Base.reset(self, ...)`` for a base in ``bases``
+    (``reset.is_base_reset``, decided on ``ast``)."""
+    if is_super_method_call(node, "reset"):
+        return True
+    return (
+        isinstance(node, cst.Call)
+        and m.matches(node.func, m.Attribute(value=m.Name(), attr=m.Name("reset")))
+        and node.func.value.value in bases  # type: ignore[attr-defined]
+        and bool(node.args)
+        and node.args[0].keyword is None
+        and not node.args[0].star
+        and m.matches(node.args[0].value, m.Name("self"))
+    )
+
+
 def _identifiers(node: cst.CSTNode) -> list[str]:
     return [n.value for n in m.findall(node, m.Name())]  # type: ignore[attr-defined]
 
@@ -144,18 +160,18 @@ def _is_tuple_annotation(annotation: cst.BaseExpression, length: int) -> bool:
     )
 
 
-def _calls_super_reset(fn: cst.FunctionDef) -> bool:
-    return any(is_super_method_call(c, "reset") for c in _index(fn).calls)
+def _calls_super_reset(fn: cst.FunctionDef, bases: frozenset[str] = frozenset()) -> bool:
+    return any(is_base_reset(c, bases) for c in _index(fn).calls)
 
 
-def _ensure_super_reset(fn: cst.FunctionDef) -> tuple[cst.FunctionDef, bool]:
+def _ensure_super_reset(fn: cst.FunctionDef, bases: frozenset[str] = frozenset()) -> tuple[cst.FunctionDef, bool]:
     """Insert ``super().reset(seed=seed)`` first, or add ``seed=seed`` to an existing call."""
-    if _calls_super_reset(fn):
-        return fn.with_changes(body=fn.body.visit(_SuperResetFixer())), False
+    if _calls_super_reset(fn, bases):
+        return fn.with_changes(body=fn.body.visit(_SuperResetFixer(bases))), False
     return fn.with_changes(body=_insert_at_top(fn.body, [cst.parse_statement(SUPER_RESET)])), True
 
 
-def _insert_after_super_reset(fn: cst.FunctionDef, statements: list[cst.BaseStatement]) -> cst.FunctionDef:
+def _insert_after_super_reset(fn: cst.FunctionDef, statements: list[cst.BaseStatement], bases: frozenset[str] = frozenset()) -> cst.FunctionDef:
     body = fn.body
     if not isinstance(body, cst.IndentedBlock):
         return fn
@@ -165,7 +181,7 @@ def _insert_after_super_reset(fn: cst.FunctionDef, statements: list[cst.BaseStat
         body=cst.IndentedBlock([s.with_changes(leading_lines=[]) if i == 0 else s for i, s in enumerate(statements)]),
     )
     for index, stmt in enumerate(existing):
-        if any(is_super_method_call(c, "reset") for c in m.findall(stmt, m.Call())):
+        if any(is_base_reset(c, bases) for c in m.findall(stmt, m.Call())):
             return fn.with_changes(body=body.with_changes(body=[*existing[: index + 1], guard, *existing[index + 1 :]]))
     return fn.with_changes(body=_insert_at_top(body, [guard]))
 
@@ -466,10 +482,14 @@ class _ModeReader(cst.CSTTransformer):
 
 
 class _SuperResetFixer(cst.CSTTransformer):
-    """An existing ``super().reset(...)``: pass ``seed=seed`` and drop ``return_info``."""
+    """An existing ``super().reset(...)`` (or ``Base.reset(self)``): pass ``seed=seed`` and drop ``return_info``."""
+
+    def __init__(self, bases: frozenset[str] = frozenset()) -> None:
+        super().__init__()
+        self.bases = bases
 
     def leave_Call(self, original_node: cst.Call, updated_node: cst.Call) -> cst.Call:
-        if not is_super_method_call(original_node, "reset"):
+        if not is_base_reset(original_node, self.bases):
             return updated_node
         args = [a for a in updated_node.args if not (a.keyword is not None and m.matches(a.keyword, m.Name("return_info")))]
         changed = len(args) != len(updated_node.args)

@@ -48,6 +48,8 @@ class ClassPlan:
     # a subclass's reset that calls its base's private reset hook (``Base._reset(self)``):
     # the base's seed hook it calls when given a seed, as legacy ``seed(n); reset()`` did
     reset_seed_hook: str | None = None
+    # bases named plainly: ``Base.reset(self)`` in reset is handled like ``super().reset()``
+    reset_bases: frozenset[str] = frozenset()
     seed: SeedPlan | None = None
     # returns of a reset with ``return_info`` that no ``return_info`` test guards (the
     # other mode of a two-mode env): they return ``(obs, {})`` like the kept branches

@@ -45,6 +45,7 @@ from gymmigrate.rules.custom_env.cst_edits import (
     _SelfSeedCallRemover,
     _split_done,
     _tuple_len,
+    is_base_reset,
     is_super_method_call,
     pair_untested_returns,
     visit_suite,
@@ -181,7 +182,7 @@ class ClassRewrite:
                 fn = pair_untested_returns(fn)
             fn = _drop_return_info(fn)
         elif not modern and not self.plan.reset_returns_pairs:
-            fn, base_info = _unpack_super_reset(fn)
+            fn, base_info = _unpack_super_reset(fn, self.plan.reset_bases)
             fn = self._return_info_pairs(fn, base_info, frozenset(self.plan.reset_helpers), own=True)
             for helper in self.plan.reset_helpers:
                 helper_fn = self.method(helper)
@@ -190,10 +191,11 @@ class ClassRewrite:
             if fn.returns is not None and not _is_tuple_annotation(fn.returns.annotation, 2):
                 pair = cst.parse_expression(f"tuple[{_code(fn.returns.annotation).strip()}, dict]")
                 fn = fn.with_changes(returns=fn.returns.with_changes(annotation=pair))
-        if self.plan.reset_super_seeds or _calls_super_reset(fn):
-            fn, _ = _ensure_super_reset(fn)
+        bases = self.plan.reset_bases
+        if self.plan.reset_super_seeds or _calls_super_reset(fn, bases):
+            fn, _ = _ensure_super_reset(fn, bases)
         if self.seed_folded:
-            fn = _insert_after_super_reset(fn, self.seed_folded)
+            fn = _insert_after_super_reset(fn, self.seed_folded, bases)
         if self.plan.reset_seed_hook is not None:
             hook = cst.parse_statement(f"if seed is not None:\n    self.{self.plan.reset_seed_hook}(seed)\n")
             fn = fn.with_changes(body=_insert_at_top(fn.body, [hook]))
@@ -214,7 +216,7 @@ class ClassRewrite:
         retries = frozenset({"reset", self.renamed.get("reset", "reset")}) if own else frozenset()
 
         def pair(ret: cst.Return) -> cst.Return:
-            if ret.value is None or is_super_method_call(ret.value, "reset"):
+            if ret.value is None or is_base_reset(ret.value, self.plan.reset_bases):
                 return ret  # the base reset already returns (obs, info)
             if _is_self_call(ret.value, helpers | retries):
                 return ret  # a helper, or a retry of reset itself, that now returns (obs, info)
@@ -480,10 +482,10 @@ def _class_methods(classdef: cst.ClassDef) -> dict[str, cst.FunctionDef]:
     return {stmt.name.value: stmt for stmt in body.body if isinstance(stmt, cst.FunctionDef)}
 
 
-def _unpack_super_reset(fn: cst.FunctionDef) -> tuple[cst.FunctionDef, str | None]:
-    """``obs = super().reset()`` -> ``obs, info = super().reset()``: the base env is migrated too."""
+def _unpack_super_reset(fn: cst.FunctionDef, bases: frozenset[str]) -> tuple[cst.FunctionDef, str | None]:
+    """``obs = super().reset()`` (or ``Base.reset(self)``) -> ``obs, info = ...``: the base env is migrated too."""
     assigned = [
-        a for assigns in _index(fn).single_assigns.values() for a in assigns if is_super_method_call(a.value, "reset")
+        a for assigns in _index(fn).single_assigns.values() for a in assigns if is_base_reset(a.value, bases)
     ]
     if not assigned:
         return fn, None
@@ -491,7 +493,7 @@ def _unpack_super_reset(fn: cst.FunctionDef) -> tuple[cst.FunctionDef, str | Non
 
     class Unpack(cst.CSTTransformer):
         def leave_Assign(self, original_node: cst.Assign, updated_node: cst.Assign) -> cst.Assign:
-            if not is_super_method_call(updated_node.value, "reset") or not isinstance(updated_node.targets[0].target, cst.Name):
+            if not is_base_reset(updated_node.value, bases) or not isinstance(updated_node.targets[0].target, cst.Name):
                 return updated_node
             target = cst.Tuple([cst.Element(updated_node.targets[0].target), cst.Element(cst.Name(name))], lpar=[], rpar=[])
             return updated_node.with_changes(targets=[updated_node.targets[0].with_changes(target=target)])

@@ -62,7 +62,9 @@ def decide_reset(decision: ClassDecision) -> None:
         _return_info_pairs(decision, function, base_info, set(decision.plan.reset_helpers))
         for helper in helpers:
             _return_info_pairs(decision, helper, None, set())
-    super_resets = any(is_super_method_call(c, "reset") for s in function.body for c in ast.walk(s) if isinstance(c, ast.Call))
+    bases = reset_bases(decision)
+    decision.plan.reset_bases = bases
+    super_resets = any(is_base_reset(c, bases) for s in function.body for c in ast.walk(s) if isinstance(c, ast.Call))
     # Only an inner env's reset gets the keywords: that env seeds itself, and this class
     # has no ``seed`` name of its own to seed np_random with.
     inner_only = forwards and not super_resets
@@ -105,7 +107,7 @@ def decide_reset(decision: ClassDecision) -> None:
         or inserted
         or bool(hooked)
         or decision.plan.seed is not None and (bool(decision.plan.seed.moved) or decision.plan.seed.keep)
-        or any(_super_reset_needs_seed(c) for s in function.body for c in ast.walk(s))
+        or any(_super_reset_needs_seed(c, bases) for s in function.body for c in ast.walk(s))
     )
     if forwards and migrates:
         where = "the inner env's reset()" if inner_only else "super().reset()"
@@ -184,7 +186,7 @@ def _forwards_keywords(decision: ClassDecision, function: ast.AST) -> bool:
         c
         for s in function.body  # type: ignore[attr-defined]
         for c in ast.walk(s)
-        if isinstance(c, ast.Call) and (is_super_method_call(c, "reset") or inner_gym_env_call(decision, c, "reset"))
+        if isinstance(c, ast.Call) and (is_base_reset(c, reset_bases(decision)) or inner_gym_env_call(decision, c, "reset"))
     ]
     return bool(calls) and all(
         any(k.arg is None and isinstance(k.value, ast.Name) and k.value.id == kwarg for k in call.keywords) for call in calls
@@ -203,7 +205,7 @@ def _unpack_super_reset(decision: ClassDecision, function: ast.AST) -> str | Non
     index = decision.function(function)
     info_name: str | None = None
     for call in index.of(ast.Call):
-        if not is_super_method_call(call, "reset"):
+        if not is_base_reset(call, reset_bases(decision)):
             continue
         parent = facts.parent(call)
         if isinstance(parent, ast.Assign) and len(parent.targets) == 1 and isinstance(parent.targets[0], ast.Name) and info_name is None:
@@ -211,13 +213,13 @@ def _unpack_super_reset(decision: ClassDecision, function: ast.AST) -> str | Non
             decision.report(
                 call,
                 "GM501",
-                f"super().reset() returns (obs, info) now: unpacked, and reset returns that {info_name}",
+                f"{_spelled(call)} returns (obs, info) now: unpacked, and reset returns that {info_name}",
                 FixKind.ASSIST,
                 # a base of Gym's own returns the pair in Gymnasium: nothing to decide
                 Tier.NOTE if decision.env.builtin_env_base(decision.classdef) else None,
             )
         elif not isinstance(parent, (ast.Expr, ast.Return)):
-            decision.report(call, "GM501", "super().reset(...) returns (obs, info) now: unpack it where its result is used", FixKind.FLAG)
+            decision.report(call, "GM501", f"{_spelled(call)} returns (obs, info) now: unpack it where its result is used", FixKind.FLAG)
     return info_name
 
 
@@ -225,7 +227,7 @@ def _return_info_pairs(decision: ClassDecision, function: ast.AST, base_info: st
     kind = FixKind.AUTO
     why = "returns (obs, {})"
     if base_info is not None:
-        kind, why = FixKind.ASSIST, f"returns (obs, {base_info}) with the info of super().reset()"
+        kind, why = FixKind.ASSIST, f"returns (obs, {base_info}) with the info of the base's reset"
     elif decision.function(function).assigns_name("info"):
         kind, why = FixKind.ASSIST, "returns (obs, info) with the info dict reset() already builds"
     elif "_get_info" in decision.methods:
@@ -238,7 +240,7 @@ def _return_info_pairs(decision: ClassDecision, function: ast.AST, base_info: st
             why = "returns (obs, {}): _get_info() needs arguments reset() does not have, so it is not called"
     retries = {"reset", decision.renamed.get("reset", "reset")}  # ``return self.reset()``: the retry's pair
     for ret in own_returns(function):
-        if ret.value is None or is_super_method_call(ret.value, "reset") or is_self_call(ret.value, helpers | retries):
+        if ret.value is None or is_base_reset(ret.value, reset_bases(decision)) or is_self_call(ret.value, helpers | retries):
             continue
         if inner_gym_env_call(decision, ret.value, "reset"):
             # ``return self.env.reset()``: the inner env's reset returns (obs, info) now and
@@ -294,9 +296,9 @@ def decide_internal_calls(decision: ClassDecision) -> None:
     decision.plan.unpack_self_reset = unpackable
 
 
-def _super_reset_needs_seed(node: ast.AST) -> bool:
+def _super_reset_needs_seed(node: ast.AST, bases: frozenset[str]) -> bool:
     """An existing ``super().reset(...)`` that the build passes ``seed=seed`` (or drops ``return_info``)."""
-    if not is_super_method_call(node, "reset"):
+    if not is_base_reset(node, bases):
         return False
     keywords = {k.arg for k in node.keywords}  # type: ignore[attr-defined]
     starred = None in keywords or any(isinstance(a, ast.Starred) for a in node.args)  # type: ignore[attr-defined]
@@ -383,3 +385,33 @@ def private_reset_seed_hook(decision: ClassDecision, function: ast.AST) -> str |
         if explicit or is_super_method_call(call, "_reset"):
             return "_seed"
     return None
+
+
+def _spelled(call: ast.Call) -> str:
+    """How a base reset call is named in a message."""
+    owner = call.func.value  # type: ignore[attr-defined]
+    return f"{owner.id}.reset(self)" if isinstance(owner, ast.Name) else "super().reset()"
+
+
+def reset_bases(decision: ClassDecision) -> frozenset[str]:
+    """The class's bases named plainly (``class Child(Base)``): ``Base.reset(self)`` in its
+    reset is the base's reset, like ``super().reset()`` (its result is a pair once migrated,
+    and it takes the seed)."""
+    return frozenset(b.id for b in decision.classdef.bases if isinstance(b, ast.Name))
+
+
+def is_base_reset(node: ast.AST | None, bases: frozenset[str]) -> bool:
+    """``super().reset(...)``, or ``Base.reset(self, ...)`` for a base in ``bases``
+    (``cst_edits.is_base_reset`` on the build's side)."""
+    if is_super_method_call(node, "reset"):
+        return True
+    return (
+        isinstance(node, ast.Call)
+        and isinstance(node.func, ast.Attribute)
+        and node.func.attr == "reset"
+        and isinstance(node.func.value, ast.Name)
+        and node.func.value.id in bases
+        and bool(node.args)
+        and isinstance(node.args[0], ast.Name)
+        and node.args[0].id == "self"
+    )
