@@ -7,7 +7,12 @@ from collections.abc import Hashable
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts.decisions import Action, decide
-from gymmigrate.facts.env_classes import ClassIndex, EnvClasses, FunctionIndex, class_level_bindings
+from gymmigrate.facts.env_classes import (
+    ClassIndex,
+    EnvClasses,
+    FunctionIndex,
+    class_level_bindings,
+)
 from gymmigrate.facts.module import own_returns
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import Rule

@@ -38,7 +38,11 @@ from gymmigrate.rules.custom_env.render import (
     decide_render,
     decide_subclass_render_mode,
 )
-from gymmigrate.rules.custom_env.reset import decide_internal_calls, decide_published, decide_reset
+from gymmigrate.rules.custom_env.reset import (
+    decide_internal_calls,
+    decide_published,
+    decide_reset,
+)
 from gymmigrate.rules.custom_env.seed import decide_seed
 from gymmigrate.rules.custom_env.seeding_import import drop_unused_seeding_import
 from gymmigrate.rules.custom_env.step import decide_step

@@ -46,7 +46,6 @@ from gymmigrate.rules.custom_env.cst_edits import (
     _split_done,
     _tuple_len,
     is_base_reset,
-    is_super_method_call,
     pair_untested_returns,
     visit_suite,
 )

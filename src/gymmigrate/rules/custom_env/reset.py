@@ -377,17 +377,17 @@ def private_reset_seed_hook(decision: ClassDecision, function: ast.AST) -> str |
         b.attr for b in decision.classdef.bases if isinstance(b, ast.Attribute)
     }
     for call in decision.function(function).of(ast.Call):
-        func = call.func
+        func = call.func  # type: ignore[attr-defined]
         if not (isinstance(func, ast.Attribute) and func.attr == "_reset"):
             continue
         owner = func.value
-        explicit = isinstance(owner, ast.Name) and owner.id in bases and len(call.args) == 1
+        explicit = isinstance(owner, ast.Name) and owner.id in bases and len(call.args) == 1  # type: ignore[attr-defined]
         if explicit or is_super_method_call(call, "_reset"):
             return "_seed"
     return None
 
 
-def _spelled(call: ast.Call) -> str:
+def _spelled(call: ast.AST) -> str:
     """How a base reset call is named in a message."""
     owner = call.func.value  # type: ignore[attr-defined]
     return f"{owner.id}.reset(self)" if isinstance(owner, ast.Name) else "super().reset()"
