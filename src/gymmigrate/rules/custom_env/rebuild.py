@@ -196,8 +196,9 @@ class ClassRewrite:
         if self.seed_folded:
             fn = _insert_after_super_reset(fn, self.seed_folded, bases)
         if self.plan.reset_seed_hook is not None:
-            hook = cst.parse_statement(f"if seed is not None:\n    self.{self.plan.reset_seed_hook}(seed)\n")
-            fn = fn.with_changes(body=_insert_at_top(fn.body, [hook]))
+            # after super().reset(seed=seed), so what the hook seeds is what reset draws from
+            call = cst.parse_statement(f"self.{self.plan.reset_seed_hook}(seed)\n")
+            fn = _insert_after_super_reset(fn, [call], bases)
         self.set_method("reset", fn)
 
     def _return_info_pairs(

@@ -102,6 +102,13 @@ def decide_reset(decision: ClassDecision) -> None:
             FixKind.FLAG,
         )
     migrates = not modern and not (forwards and decision.plan.reset_returns_pairs)
+    methods = decision.methods
+    if not modern and not inner_only and decision.plan.published and "_seed" in methods and "seed" not in methods:
+        # ``seed = _seed`` beside a public legacy reset: the hook keeps its name, and
+        # reset(seed=n) runs it as legacy ``seed(n)`` did (it may seed more than np_random)
+        hooked = "_seed"
+        decision.plan.reset_seed_hook = hooked
+        decision.report(function, "GM501", "reset seeds through the class's `_seed` hook when given a seed, as legacy seed(seed) did")
     decision.plan.reset = (
         migrates
         or inserted
