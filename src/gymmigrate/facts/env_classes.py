@@ -235,7 +235,7 @@ class EnvClasses:
         render = methods.get("render") or methods.get("_render")
         if render is None or not any(a.arg == "mode" for a in render.args.args):
             return False
-        if "render" not in methods and class_level_bindings(classdef, methods)[0]:
+        if "render" in class_level_bindings(classdef, methods)[0]:
             return False  # ``render = _render`` keeps render(mode), reported (custom_env/reset.py)
         if self.own_render_mode(classdef) is not None:
             return False  # its render(mode) is kept (GM405): no render_mode to give it

@@ -59,7 +59,13 @@ class ClassDecision:
         # naming nothing: NameError when the class body runs.
         self.aliases, bound = class_level_bindings(classdef, self.methods)
         self.plan.published = {new: alias.value.id for new, alias in self.aliases.items()}  # type: ignore[attr-defined]
-        olds = [old for old in UNDERSCORE_METHODS if old in self.methods] if not self.plan.published else []
+        kept = set(self.plan.published.values())
+        reset = self.methods.get("reset")
+        if "reset" in self.plan.published or (reset is not None and _seeds_through_hook(reset)):
+            # the reset written at the alias seeds through it (and so does that reset once
+            # written, on the next pass): ``_seed`` is the class's own helper then
+            kept.add("_seed")
+        olds = [old for old in UNDERSCORE_METHODS if old in self.methods and old not in kept]
         inherited = inherited_methods(family, classdef) if olds else frozenset()
         for old in olds:
             new = UNDERSCORE_METHODS[old]
@@ -111,6 +117,16 @@ def method_of(decision: ClassDecision, node: ast.AST) -> Method | None:
     return None
 
 
+
+
+def _seeds_through_hook(reset: Method) -> bool:
+    """A Gymnasium reset (keyword ``seed`` and ``options``) that calls ``self._seed(seed)``."""
+    if not {"seed", "options"} <= {a.arg for a in reset.args.kwonlyargs}:
+        return False
+    return any(
+        is_self_call(node, {"_seed"}) and [a.id for a in node.args if isinstance(a, ast.Name)] == ["seed"]  # type: ignore[attr-defined]
+        for node in ast.walk(reset)
+    )
 
 
 def _forwards(function: Method, helper: str) -> bool:
