@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import ast
 
-from gymmigrate.facts.done_uses import DISPLAY_FUNCTIONS, DISPLAY_METHODS
+from gymmigrate.facts.done_uses import DISPLAY_FUNCTIONS, DISPLAY_METHODS, multiplies_bare
 from gymmigrate.facts.module import FUNCTIONS, full_name
 
 Masks = frozenset[tuple[str, str]]
@@ -50,6 +50,25 @@ def next_state_masks(function: ast.FunctionDef | ast.AsyncFunctionDef) -> Masks:
             if flag == next_param or flag in derived:
                 continue
             if body.masks(flag, derived):
+                found.add((flag, next_param))
+    return frozenset(found)
+
+
+def next_state_factors(function: ast.FunctionDef | ast.AsyncFunctionDef) -> Masks:
+    """``(flag, next_state)`` parameter pairs where ``flag`` is only ever a bare factor of a
+    value computed from ``next_state`` (``reward + gamma * q(next_state) * done``): an
+    inverted mask, which bootstraps only at the episode's end (``_Body._only_factor``)."""
+    params = [a.arg for a in (*function.args.posonlyargs, *function.args.args, *function.args.kwonlyargs)]
+    params = [p for p in params if p not in ("self", "cls")]
+    body = _Body(function)
+    found: set[tuple[str, str]] = set()
+    for next_param in params:
+        derived = body.derived(next_param)
+        for flag in params:
+            if flag == next_param or flag in derived or flag in body.stored:
+                continue
+            values = [node for node, kind, reads in body.checks if kind == "value" and flag in reads and reads & derived]
+            if values and all(body._only_factor(node, flag) for node in values):
                 found.add((flag, next_param))
     return frozenset(found)
 
@@ -105,9 +124,17 @@ class _Body:
                     loads = self._branch_loads[id(node)] = [_loads(branch) for branch in branches]
                 if any(branch & derived for branch in loads):
                     return True
-            elif reads & derived:
+            elif reads & derived and not self._only_factor(node, flag):
                 return True  # ``memory.append((s, a, r, next_state, done))``, ``(1 - done) * v(next_state)``
         return False
+
+
+    def _only_factor(self, node: ast.AST, flag: str) -> bool:
+        """Every read of ``flag`` in this value is a bare factor (``q * gamma * done``): an
+        inverted mask (``done_uses.multiplies_bare``), not one to pass ``terminated`` to."""
+        parents = {id(child): parent for parent in ast.walk(node) for child in ast.iter_child_nodes(parent)}
+        reads = [n for n in ast.walk(node) if isinstance(n, ast.Name) and n.id == flag and isinstance(n.ctx, ast.Load)]
+        return bool(reads) and all(multiplies_bare(n, lambda child: parents.get(id(child))) for n in reads)
 
 
 def _walk_own(function: ast.AST):

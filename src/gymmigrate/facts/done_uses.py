@@ -313,6 +313,31 @@ def _is_bookkeeping(target: ast.expr) -> bool:
     return any(word in name for word in _BOOKKEEPING_WORDS)
 
 
+def multiplies_bare(read: ast.expr, parent_of) -> bool:
+    """``q_next * gamma * done``: the flag itself (or one element of it, or it as a number:
+    ``dones[i]``, ``float(done)``, ``done.float()``) is a factor. That is no mask, which reads
+    ``1 - done`` / ``~done`` / ``not done``: the legacy code bootstraps only when the episode
+    ends, and ``terminated`` there would drop the bootstrap on a time-limit truncation.
+    ``parent_of`` gives a node's parent."""
+    node: ast.AST = read
+    while True:
+        parent = parent_of(node)
+        if isinstance(parent, ast.Subscript) and parent.value is node:
+            node = parent
+        elif isinstance(parent, ast.Call) and parent.args[:1] == [node] and not parent.keywords[1:]:
+            last = (full_name(parent.func) or "").rsplit(".", 1)[-1]
+            if last not in NUMBER_BUILTINS and last not in TENSOR_FACTORIES:
+                return False
+            node = parent
+        elif isinstance(parent, ast.Attribute) and parent.value is node and parent.attr in CONVERSION_METHODS:
+            call = parent_of(parent)
+            if not (isinstance(call, ast.Call) and call.func is parent):
+                return False
+            node = call
+        else:
+            return isinstance(parent, ast.BinOp) and isinstance(parent.op, (ast.Mult, ast.MatMult))
+
+
 def value_site(read: ast.AST, facts: ModuleFacts) -> ast.AST:
     """The one value ``read`` is part of: the whole expression up to its statement (a TD
     target, a stored transition, the arguments of a store call), or one element of a

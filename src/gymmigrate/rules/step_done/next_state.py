@@ -15,10 +15,11 @@ import ast
 import re
 from dataclasses import dataclass
 
-from gymmigrate.facts.bootstrap import next_state_masks
+from gymmigrate.facts.bootstrap import next_state_factors, next_state_masks
 from gymmigrate.facts.done_uses import (
     STORE_METHODS,
     loaded_names,
+    multiplies_bare,
     stored_in_sequence,
     value_site,
 )
@@ -75,6 +76,8 @@ class NextStateReads(StepFamilyBase):
         if not next_names:
             return False
         facts = self.facts
+        if multiplies_bare(read, facts.parent):
+            return False  # ``q(s2) * gamma * done``: an inverted mask (``_bare_factor``)
         site = value_site(read, facts)
         if _repacks_step(facts.parent(read), read, step):
             return False  # ``(obs, reward, done, info)`` passed on: the step's own result, not a transition
@@ -136,6 +139,47 @@ class NextStateReads(StepFamilyBase):
         if flag is None or not any((flag, param_of(argument)) in masks for argument in passed_next):
             return None
         return self.facts.segment(call.func)
+
+    def _bare_factor(self, read: ast.Name, step: DoneStep) -> str | None:
+        """Where ``read`` is a bare factor of a value of the step's next state, the text that
+        says so (``reward + q(s2) * gamma * done``, or a def of the file that computes that
+        from its arguments): the legacy code bootstraps only at an episode's end, and
+        ``terminated`` there would stop it bootstrapping on a time-limit truncation. None
+        otherwise."""
+        next_names = self._next_state_names(step)
+        if not next_names:
+            return None
+        facts = self.facts
+        if multiplies_bare(read, facts.parent):
+            site = value_site(read, facts)
+            if self._reads_next_state(site, step, next_names):
+                return f"multiplies a value of the next state `{facts.segment(step.target.elts[0])}` here"
+            return None
+        call = facts.parent(read)
+        if not isinstance(call, ast.Call) or read not in call.args or any(isinstance(a, ast.Starred) for a in call.args):
+            return None
+        function = self.receivers.local_function(call.func) or self.receivers.own_method(call.func)
+        if function is None:
+            return None
+        params = tuple(a.arg for a in (*function.args.posonlyargs, *function.args.args))
+        if isinstance(facts.parent(function), ast.ClassDef):
+            params = params[1:]
+        index = call.args.index(read)
+        if index >= len(params):
+            return None
+        factors = next_state_factors(function)
+        for position, argument in enumerate(call.args):
+            if (
+                position < len(params)
+                and argument is not read
+                and self._reads_next_state(argument, step, next_names)
+                and (params[index], params[position]) in factors
+            ):
+                return (
+                    f"is passed with the next state to `{facts.segment(call.func)}`, which multiplies a value of that "
+                    f"state by it (line {function.lineno})"
+                )
+        return None
 
     def _callee_signature(self, func: ast.expr) -> tuple[tuple[str, ...], frozenset[tuple[str, str]]] | None:
         """The parameters a call binds by position (``self`` left out) and the callee's

@@ -326,6 +326,17 @@ class DoneReadReports(DoneBookkeeping):
                 FixKind.FLAG,
                 Tier.NOTE,
             )
+        elif owner is step.assign and (factor := self._bare_factor(read, step)) is not None:
+            # ``q(s2) * gamma * done``: no mask (that reads ``1 - done``); keeping the episode's
+            # end computes what the legacy code did, ``terminated`` would not.
+            self._report_read(
+                read,
+                f"`{read.id}` {factor}, not `1 - {read.id}`: the legacy code bootstraps only when the episode ends. "
+                f"It stays `{names.terminated} or {names.truncated}`, which computes the same; if the factor was meant "
+                f"as a mask, write `(1 - {names.terminated})` there",
+                FixKind.FLAG,
+                question=question,
+            )
         elif owner is step.assign and (chooser := self._returned_to_bootstrap_choice(read)) is not None:
             helper, test = chooser
             self._report_read(
