@@ -65,16 +65,28 @@ RULES = (
 # ``notes.gymnasium_imported`` is set when the registration block imports ``gymnasium`` itself, so the
 # registry family does not import it a second time.
 
-# What loading an earlier run's policy, weights or normaliser looks like.
-_LOADS_SAVED_STATE = re.compile(
-    r"\b(load_state_dict|load_weights|load_model|from_pretrained|restore|load_from_checkpoint)\s*\(|(\w*)\.load\s*\("
-)
+# What loading an earlier run's policy, weights or normaliser looks like: the called name.
+_LOADS_SAVED_STATE = frozenset({"load_state_dict", "load_weights", "load_model", "from_pretrained", "restore", "load_from_checkpoint"})
 
 
-def _loads_saved_state(text: str) -> bool:
-    """Does the program load what an earlier run saved? tf_agents' ``suite_gym.load("CartPole-v1")``
-    (``suite_atari``, ``suite_mujoco``...) makes an env: it loads nothing."""
-    return any(not (match.group(2) or "").startswith("suite_") for match in _LOADS_SAVED_STATE.finditer(text))
+def _loads_saved_state(tree: ast.AST) -> bool:
+    """Does the program load what an earlier run saved? Calls only: a commented-out
+    ``torch.load`` (a notebook's old cell) or one quoted in a docstring loads nothing.
+    tf_agents' ``suite_gym.load("CartPole-v1")`` (``suite_atari``, ``suite_mujoco``...)
+    makes an env: it loads nothing either."""
+    for node in ast.walk(tree):
+        if not isinstance(node, ast.Call):
+            continue
+        func = node.func
+        name = func.attr if isinstance(func, ast.Attribute) else func.id if isinstance(func, ast.Name) else ""
+        if name in _LOADS_SAVED_STATE:
+            return True
+        if isinstance(func, ast.Attribute) and name == "load":
+            owner = func.value
+            owner_name = owner.attr if isinstance(owner, ast.Attribute) else owner.id if isinstance(owner, ast.Name) else ""
+            if not owner_name.startswith("suite_"):
+                return True
+    return False
 
 
 _ALE_LIVES = "ale.lives"
@@ -234,7 +246,7 @@ class EnvIds(RuleFamily):
             self._bumped.setdefault(old, (new, site.string))
         # A new version is a question for a program that loads what an earlier run saved
         # (a policy, a normaliser); one that trains from scratch just gets the current env.
-        settled = migration.kind is FixKind.ASSIST and not _loads_saved_state(self.facts.text)
+        settled = migration.kind is FixKind.ASSIST and not _loads_saved_state(self.facts.tree)
         self.report(
             site.string,
             migration.rule,
