@@ -33,9 +33,11 @@ from gymmigrate.facts.creation import Creation, CreationFinder
 from gymmigrate.facts.decisions import Action, Decision, receiver_text
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import COMPOUND_STATEMENTS, statement_lines, string_value
+from gymmigrate.facts.multi_agent import MultiAgent
 from gymmigrate.facts.reset_flow import line_before, segment
 from gymmigrate.facts.version_checks import dead_version_branch
 from gymmigrate.findings import FixKind, Tier
+from gymmigrate.rules.pettingzoo.common import PettingZooFamily
 from gymmigrate.rules.reset_seed.call_edits import SeedValue
 from gymmigrate.rules.reset_seed.common import ResetSeedBase, is_space
 
@@ -57,6 +59,8 @@ class SeedCalls(ResetSeedBase):
             return
         if self._seed_in_kept_chain(call, receiver):
             return
+        if self._pettingzoo_seed(receiver):
+            return  # PZ106 rewrites it: there is no Gym question left
         decision, vector = self._decide(receiver)
         if decision.action is Action.LEAVE:
             return
@@ -154,6 +158,15 @@ class SeedCalls(ResetSeedBase):
             tier=Tier.NOTE if decision.action is Action.REWRITE else None,  # it explains the rewrite: nothing to decide
             question=self.receiver_question(receiver, decision),
         )
+
+    def _pettingzoo_seed(self, receiver: ast.expr) -> bool:
+        """``self._env.seed(s)`` on a PettingZoo env, under the same conditions on which PZ106
+        (``rules/pettingzoo/seed_render.py``) rewrites it."""
+        if isinstance(receiver, ast.Name) and receiver.id == "self":
+            return False
+        if not PettingZooFamily.may_fire(self.facts, self.context):
+            return False
+        return MultiAgent.of(self.facts, self.receivers).kind(receiver) is not None
 
     def _seed_in_kept_chain(self, call: ast.Call, receiver: ast.expr) -> bool:
         """``env.seed(s)`` on an env the run keeps on the legacy API (``legacy_step_class``)
