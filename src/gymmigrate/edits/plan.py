@@ -29,6 +29,11 @@ if TYPE_CHECKING:
 Build = Callable[..., Any]  # called with that one node; a lambda may bind values as defaults
 
 
+# Items that join another's question but are named apart in it, with what they are.
+# The suffix keeps no parentheses inside it (``report._SAME_IN_FILE`` strips it whole).
+_NAMED_APART = {"GM302": "where the step's done decides bootstrapping: read `terminated` there once the step gives five values"}
+
+
 @dataclass
 class Plan:
     """Findings and edits for one file, in the order the rules produced them."""
@@ -116,10 +121,23 @@ class Plan:
             # at one place, the item left for a person (not rewritten) asks, the rewrite points at it
             indexes.sort(key=lambda i: (self.findings[i].line, self.findings[i].column, self.findings[i].kind is not FixKind.FLAG))
             first, *others = indexes
-            lines = sorted({self.findings[i].line for i in others} - {self.findings[first].line})
-            if lines:
-                where = "line" if len(lines) == 1 else "lines"
-                also = f" (the same question at {where} {', '.join(map(str, lines))})"
+            # the reads of a step's done that decide bootstrapping (GM302) are named apart: they
+            # are what must change beyond the API if the answer is "a Gym env"
+            head = self.findings[first]
+            apart = {
+                rule: {self.findings[i].line for i in others if self.findings[i].rule == rule} - {head.line}
+                for rule in _NAMED_APART
+                if rule != head.rule
+            }
+            named = set().union(*apart.values())
+            lines = sorted({self.findings[i].line for i in others} - {head.line} - named)
+            parts = [f"{'line' if len(lines) == 1 else 'lines'} {', '.join(map(str, lines))}"] if lines else []
+            for rule, rule_lines in apart.items():
+                if rule_lines:
+                    where = "line" if len(rule_lines) == 1 else "lines"
+                    parts.append(f"{'and at ' if parts else ''}{where} {', '.join(map(str, sorted(rule_lines)))}, {_NAMED_APART[rule]}")
+            if parts:
+                also = f" (the same question at {'; '.join(parts)})"
                 self.findings[first] = replace(self.findings[first], message=self.findings[first].message + also)
             for i in others:
                 finding = self.findings[i]

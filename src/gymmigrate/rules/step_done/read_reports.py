@@ -17,14 +17,18 @@ from gymmigrate.facts.done_uses import (
     DoneUse,
     classify_done_read,
     loaded_names,
+    multiplies_bare,
     stored_in_sequence,
+    value_site,
 )
+from gymmigrate.facts.flow import bound_names
 from gymmigrate.facts.module import own_returns
 from gymmigrate.facts.receiver_classes import is_batched_step_return, keeps_legacy_step
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.step_done.bookkeeping import DoneBookkeeping
 from gymmigrate.rules.step_done.common import TIME_LIMIT_KEY, StepNames
 from gymmigrate.rules.step_done.next_state import DoneStep
+from gymmigrate.rules.step_done.read_uses import resets
 
 
 class DoneReadReports(DoneBookkeeping):
@@ -32,26 +36,66 @@ class DoneReadReports(DoneBookkeeping):
 
     def _report_untraced_masks(self, step: DoneStep, decision: Decision, question: Hashable | None) -> None:
         """The step is left (its receiver is not shown to be a Gym env), but its ``done``
-        masks bootstrapping from the next state (``memory.push(s, a, r, s2, done)``): the
-        same question names that read, so whoever decides the receiver decides the mask
-        with it (``terminated`` there once the step gives five values)."""
+        decides bootstrapping from the next state (``memory.push(s, a, r, s2, done)``,
+        ``if done: s2 = zeros``, ``R = 0.0 if done else v(s)``): the same question names
+        those reads, so whoever decides the receiver decides them with it (``terminated``
+        there once the step gives five values). Loop control and display are not named."""
         for read in self.flow.reads(step.done):
             if self._dominating_step(read, step.done) is not step.assign:
                 continue
-            if classify_done_read(read, self.facts) is not DoneUse.DATA:
+            what = self._untraced_bootstrap_use(read, step)
+            if what is None:
                 continue
-            if not (self._masks_next_state(read, step) or self._callee_masks(read, step) is not None):
-                continue
-            next_state = self.facts.segment(step.target.elts[0])
             self.report(
                 read,
                 "GM302",
-                f"{decision.reason}: if it is a Gym env, `{read.id}` masks bootstrapping from the next state "
-                f"`{next_state}` here: read `terminated` once the step gives five values, so a time-limit truncation "
-                "still bootstraps",
+                f"{decision.reason}: if it is a Gym env, `{read.id}` {what} here: read `terminated` once the step "
+                "gives five values, so a time-limit truncation still bootstraps",
                 FixKind.FLAG,
                 question=question,
             )
+
+    def _untraced_bootstrap_use(self, read: ast.Name, step: DoneStep) -> str | None:
+        """What ``read`` decides about bootstrapping, for a step left unrewritten (reported,
+        never rewritten, so the next state is any name computed from the observation)."""
+        next_state = self.facts.segment(step.target.elts[0])
+        use = classify_done_read(read, self.facts)
+        if use is DoneUse.DATA:
+            if multiplies_bare(read, self.facts.parent):
+                return None  # ``q(s2) * done``: no mask (the factor keeps ``done``)
+            derived = self._derived_names(step)
+            if (
+                self._masks_next_state(read, step)
+                or self._callee_masks(read, step) is not None
+                or loaded_names(value_site(read, self.facts)) & derived
+            ):
+                return f"masks bootstrapping from the next state `{next_state}`"
+            return None
+        node: ast.AST = read
+        parent = self.facts.parent(node)
+        negated = isinstance(parent, ast.UnaryOp) and isinstance(parent.op, ast.Not)
+        if negated:
+            node, parent = parent, self.facts.parent(parent)
+        if self._bootstrap_choice(read, step, dominated=False) is not None:
+            return "chooses whether to bootstrap from the next state"
+        if isinstance(parent, ast.IfExp) and parent.test is node:
+            when_done, otherwise = (parent.orelse, parent.body) if negated else (parent.body, parent.orelse)
+            # ``final_value = 0.0 if done else value(s)``: no value past the episode's end
+            if _zero(when_done) and any(isinstance(n, ast.Call) for n in ast.walk(otherwise)) and not resets(otherwise):
+                return "zeroes the value bootstrapped from the next state"
+            return None
+        if isinstance(parent, ast.If) and parent.test is node:
+            done_branch = parent.orelse if negated else parent.body
+            derived = self._derived_names(step)
+            for statement in done_branch:
+                if (
+                    isinstance(statement, ast.Assign)
+                    and not resets(statement.value)
+                    and any(name in derived for target in statement.targets for name in bound_names(target))
+                ):
+                    # ``if done: next_state = [0] * n`` (or None): a terminal transition
+                    return f"decides whether the next state `{next_state}` is kept (replaced when the episode ends)"
+        return None
 
     def _claim(
         self, read: ast.Name, step: DoneStep, none_mask: str | None = None, callee: str | None = None, tail: str | None = None
