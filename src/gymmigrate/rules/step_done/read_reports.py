@@ -401,6 +401,16 @@ class DoneReadReports(DoneBookkeeping):
                 FixKind.FLAG,
                 Tier.NOTE,
             )
+        elif (unwrapped := self._unwrapped_for_loop_exit(read)) is not None:
+            # ``done = done[0] if isinstance(done, list) else done`` then ``while not done``:
+            # whichever step bound it, the flag only ends a loop (a note).
+            self._report_read(
+                read,
+                f"`{read.id}` {unwrapped}: it stays `{names.terminated} or {names.truncated}`, the episode's end "
+                "legacy `done` was",
+                FixKind.FLAG,
+                Tier.NOTE,
+            )
         elif (books := self._bookkeeping(read, step, owner is step.assign)) is not None:
             # The code shows the flag only keeps an episode's books: the episode's end is
             # what it needs, however the episode ended (a note).

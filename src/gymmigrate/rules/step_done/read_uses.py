@@ -318,6 +318,28 @@ class DoneReadUses(NextStateReads):
             node, parent = parent, self.facts.parent(parent)
         return None
 
+    def _unwrapped_for_loop_exit(self, read: ast.Name) -> str | None:
+        """``done = done[0] if isinstance(done, list) else done``: the flag rebound to itself
+        or one element of it (no arithmetic, nothing else read), and every other read of the
+        name in the function only ends a loop or shows it (``while not done:``), so whatever
+        it holds is the episode's end. None otherwise."""
+        statement = self.facts.statement_of(read)
+        if not _unwraps(statement, read.id):
+            return None
+        uses = [
+            use for use in self.flow.reads(statement.targets[0])  # type: ignore[union-attr]
+            if not _unwraps(self.facts.statement_of(use), read.id)
+        ]
+        if not uses or any(classify_done_read(use, self.facts) not in (DoneUse.CONTROL, DoneUse.NEUTRAL) for use in uses):
+            return None
+        for use in uses:
+            holder = self.facts.parent(use)
+            if isinstance(holder, ast.UnaryOp):
+                holder = self.facts.parent(holder)
+            if not isinstance(holder, ast.While) and classify_done_read(use, self.facts) is DoneUse.CONTROL:
+                return None  # an ``if`` may choose a value (a bootstrap): only loop tests here
+        return "is only unwrapped here, and the name is read only to end a loop"
+
     def _returned_for_loop_exit(self, read: ast.Name, values: ast.Tuple) -> str | None:
         function = self.facts.enclosing_function(read)
         if not isinstance(function, FUNCTIONS):
@@ -486,6 +508,26 @@ def _passes(argument: ast.expr, name: str) -> bool:
     if isinstance(argument, (ast.Tuple, ast.List)):
         return any(_passes(element, name) for element in argument.elts)
     return isinstance(argument, ast.Name) and argument.id == name
+
+
+# Names a flag's unwrapping may call besides the flag itself (``done[0] if isinstance(done, list) else done``).
+_SHAPE_NAMES = frozenset({"isinstance", "list", "tuple", "bool", "len", "any", "all"})
+
+
+def _unwraps(statement: ast.AST | None, name: str) -> bool:
+    """``name = name[0] if isinstance(name, list) else name``: the flag rebound to itself or
+    an element of it, reading nothing else but a few shape tests."""
+    if not (
+        isinstance(statement, ast.Assign)
+        and len(statement.targets) == 1
+        and isinstance(statement.targets[0], ast.Name)
+        and statement.targets[0].id == name
+    ):
+        return False
+    value = statement.value
+    if any(isinstance(n, (ast.BinOp, ast.Lambda, ast.NamedExpr, ast.Attribute)) for n in ast.walk(value)):
+        return False
+    return name in loaded_names(value) and not loaded_names(value) - {name, *_SHAPE_NAMES}
 
 
 def _assigned(statement: ast.Assign | ast.AnnAssign) -> set[str]:
