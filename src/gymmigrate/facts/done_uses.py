@@ -338,6 +338,37 @@ def multiplies_bare(read: ast.expr, parent_of) -> bool:
             return isinstance(parent, ast.BinOp) and isinstance(parent.op, (ast.Mult, ast.MatMult))
 
 
+def falsy_constant(node: ast.AST) -> bool:
+    return isinstance(node, ast.Constant) and not node.value and not isinstance(node.value, str)
+
+
+def always_false_here(read: ast.Name, facts: ModuleFacts) -> bool:
+    """``if done: obs = env.reset(); done = False`` right before the statement of ``read``
+    (``return obs, done``): whichever way the ``if`` went, the name holds a false value
+    there (it was false, or the branch set it so). A constant false also counts."""
+    statement = facts.statement_of(read)
+    holder = facts.parent(statement)
+    block = next(
+        (b for field in ("body", "orelse", "finalbody") if isinstance(b := getattr(holder, field, None), list) and statement in b),
+        None,
+    )
+    if block is None or block.index(statement) == 0:
+        return False
+    before = block[block.index(statement) - 1]
+    return (
+        isinstance(before, ast.If)
+        and not before.orelse
+        and isinstance(before.test, ast.Name)
+        and before.test.id == read.id
+        and isinstance(last := before.body[-1], ast.Assign)
+        and len(last.targets) == 1
+        and isinstance(last.targets[0], ast.Name)
+        and last.targets[0].id == read.id
+        and falsy_constant(last.value)
+        and not any(isinstance(n, (ast.Return, ast.Break, ast.Continue, ast.Raise)) for n in ast.walk(before))
+    )
+
+
 def value_site(read: ast.AST, facts: ModuleFacts) -> ast.AST:
     """The one value ``read`` is part of: the whole expression up to its statement (a TD
     target, a stored transition, the arguments of a store call), or one element of a

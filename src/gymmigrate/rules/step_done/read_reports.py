@@ -15,6 +15,7 @@ from gymmigrate.edits.lazy import cst
 from gymmigrate.facts.decisions import Decision
 from gymmigrate.facts.done_uses import (
     DoneUse,
+    always_false_here,
     classify_done_read,
     loaded_names,
     multiplies_bare,
@@ -359,7 +360,17 @@ class DoneReadReports(DoneBookkeeping):
             else []
         )
         beside = self._beside_bootstrap_flag(read, step) if owner is step.assign else None
-        if beside is not None:
+        if always_false_here(read, self.facts):
+            # ``if done: obs = env.reset(); done = False`` just above: a false flag ends
+            # nothing and masks nothing (a note).
+            self._report_read(
+                read,
+                f"`{read.id}` is always false here (the `if {read.id}:` just above sets it false): it decides nothing "
+                "about the episode's end or bootstrapping",
+                FixKind.FLAG,
+                Tier.NOTE,
+            )
+        elif beside is not None:
             # Nothing to decide: both flags keep what they meant (a note).
             self._report_read(
                 read,

@@ -20,6 +20,7 @@ import ast
 from dataclasses import replace
 
 from gymmigrate.edits.lazy import cst
+from gymmigrate.facts.done_uses import always_false_here, falsy_constant
 from gymmigrate.facts.module import FUNCTIONS, own_returns
 from gymmigrate.facts.receiver_classes import is_batched_step_return, keeps_legacy_step
 from gymmigrate.findings import FixKind, Tier
@@ -389,6 +390,25 @@ class StepOverrides(RuleFamily):
                 )
                 replaced_done_reads += reshaped == done_name
                 self.plan.replace(value, lambda node, t=terminated, u=truncated: _five(node, _reshaped_flags(node, t, u)))
+            elif (
+                isinstance(done, ast.Name)
+                and done.id == done_name
+                and isinstance(classdef, ast.ClassDef)
+                and (source := _never_ends(self._done_changes(lines, done_name, done_line, unpacks), done_name, classdef, self.facts))
+                is not None
+            ):
+                # ``obs, done = self.fire()`` where ``fire`` only ever returns a false flag: the
+                # override adds no end of its own, the cut below keeps the inner step's flags.
+                self.report(
+                    ret,
+                    "GM602",
+                    f"this step override sets `{done_name}` from {source}, which is always false: it adds no end of its "
+                    f"own, so the step returns the inner `{terminated}` and `{done_name} and not {terminated}` as "
+                    "truncated (the inner truncation)",
+                    kind=FixKind.ASSIST,
+                    tier=Tier.NOTE,
+                )
+                self.plan.replace(value, lambda node, t=terminated: _five(node, _cut(node, t)))
             else:
                 self.report(
                     ret,
@@ -419,6 +439,46 @@ class StepOverrides(RuleFamily):
 
 
 _COLLECTIONS = (ast.List, ast.Tuple, ast.Set, ast.Dict, ast.ListComp, ast.SetComp, ast.DictComp, ast.GeneratorExp)
+
+
+def _never_ends(changes: list[ast.stmt], name: str, classdef: ast.ClassDef, facts) -> str | None:
+    """Where every line that changes ``name`` in the override sets it false (``done =
+    False``, or ``obs, done = self.fire()`` with ``fire`` a method of the class whose every
+    return puts a false value there): the text naming the source; None otherwise."""
+    if not changes:
+        return None
+    sources = []
+    for line in changes:
+        if not isinstance(line, ast.Assign) or len(line.targets) != 1:
+            return None
+        target = line.targets[0]
+        if isinstance(target, ast.Name) and target.id == name and falsy_constant(line.value):
+            sources.append(f"`{facts.segment(line.value)}`")
+            continue
+        value = line.value
+        if not (
+            isinstance(target, ast.Tuple)
+            and isinstance(value, ast.Call)
+            and isinstance(value.func, ast.Attribute)
+            and isinstance(value.func.value, ast.Name)
+            and value.func.value.id == "self"
+        ):
+            return None
+        index = next((i for i, e in enumerate(target.elts) if isinstance(e, ast.Name) and e.id == name), None)
+        method = next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == value.func.attr), None)
+        if index is None or method is None:
+            return None
+        returns = own_returns(method)
+        if not returns:
+            return None
+        for ret in returns:
+            if not (isinstance(ret.value, ast.Tuple) and len(ret.value.elts) == len(target.elts)):
+                return None
+            flag = ret.value.elts[index]
+            if not (falsy_constant(flag) or (isinstance(flag, ast.Name) and always_false_here(flag, facts))):
+                return None
+        sources.append(f"`self.{method.name}()`")
+    return ", ".join(dict.fromkeys(sources))
 
 
 def _code(node: cst.BaseExpression) -> str:
