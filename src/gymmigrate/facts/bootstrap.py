@@ -18,7 +18,11 @@ from __future__ import annotations
 
 import ast
 
-from gymmigrate.facts.done_uses import DISPLAY_FUNCTIONS, DISPLAY_METHODS, multiplies_bare
+from gymmigrate.facts.done_uses import (
+    DISPLAY_FUNCTIONS,
+    DISPLAY_METHODS,
+    multiplies_bare,
+)
 from gymmigrate.facts.module import FUNCTIONS, full_name
 
 Masks = frozenset[tuple[str, str]]

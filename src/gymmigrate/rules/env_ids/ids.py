@@ -24,7 +24,6 @@ envs (a built id, a helper that uses what only Atari envs have).
 from __future__ import annotations
 
 import ast
-import re
 
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import ModuleFacts

@@ -75,7 +75,7 @@ class DoneReadReports(DoneBookkeeping):
         node: ast.AST = read
         parent = self.facts.parent(node)
         negated = isinstance(parent, ast.UnaryOp) and isinstance(parent.op, ast.Not)
-        if negated:
+        if negated and parent is not None:
             node, parent = parent, self.facts.parent(parent)
         if self._bootstrap_choice(read, step, dominated=False) is not None:
             return "chooses whether to bootstrap from the next state"

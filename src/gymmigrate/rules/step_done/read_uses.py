@@ -324,12 +324,12 @@ class DoneReadUses(NextStateReads):
         name in the function only ends a loop or shows it (``while not done:``), so whatever
         it holds is the episode's end. None otherwise."""
         statement = self.facts.statement_of(read)
-        if not _unwraps(statement, read.id):
+        if not (isinstance(statement, ast.Assign) and _unwraps(statement, read.id)):
             return None
-        uses = [
-            use for use in self.flow.reads(statement.targets[0])  # type: ignore[union-attr]
-            if not _unwraps(self.facts.statement_of(use), read.id)
-        ]
+        target = statement.targets[0]
+        if not isinstance(target, ast.Name):
+            return None
+        uses = [use for use in self.flow.reads(target) if not _unwraps(self.facts.statement_of(use), read.id)]
         if not uses or any(classify_done_read(use, self.facts) not in (DoneUse.CONTROL, DoneUse.NEUTRAL) for use in uses):
             return None
         for use in uses:
