@@ -42,7 +42,10 @@ class DoneReadReports(DoneBookkeeping):
         those reads, so whoever decides the receiver decides them with it (``terminated``
         there once the step gives five values). Loop control and display are not named."""
         for read in self.flow.reads(step.done):
-            if self._dominating_step(read, step.done) is not step.assign:
+            # the step binds the value read, also past a loop that may not run (an n-step
+            # rollout's ``if done: R = 0.0`` after its ``for``): only named, never rewritten
+            binding = self.flow.last_binding_before(read, step.done)
+            if binding is None or self.facts.statement_of(binding) is not step.assign:
                 continue
             what = self._untraced_bootstrap_use(read, step)
             if what is None:
@@ -86,7 +89,23 @@ class DoneReadReports(DoneBookkeeping):
                 return "zeroes the value bootstrapped from the next state"
             return None
         if isinstance(parent, ast.If) and parent.test is node:
-            done_branch = parent.orelse if negated else parent.body
+            done_branch, other = (parent.orelse, parent.body) if negated else (parent.body, parent.orelse)
+            # ``if done: R = 0.0`` / ``else: R = value(s)``: no value past the episode's end
+            zeroed = {
+                name
+                for statement in done_branch
+                if isinstance(statement, ast.Assign) and _zero(statement.value)
+                for target in statement.targets
+                for name in bound_names(target)
+            }
+            if any(
+                isinstance(statement, ast.Assign)
+                and zeroed & {name for target in statement.targets for name in bound_names(target)}
+                and any(isinstance(n, ast.Call) for n in ast.walk(statement.value))
+                and not resets(statement.value)
+                for statement in other
+            ):
+                return "zeroes the value bootstrapped from the next state"
             derived = self._derived_names(step)
             for statement in done_branch:
                 if (
