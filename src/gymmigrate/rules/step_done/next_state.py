@@ -79,7 +79,7 @@ class NextStateReads(StepFamilyBase):
         if multiplies_bare(read, facts.parent):
             return False  # ``q(s2) * gamma * done``: an inverted mask (``_bare_factor``)
         site = value_site(read, facts)
-        if _repacks_step(facts.parent(read), read, step):
+        if repacks_step(facts.parent(read), read, step):
             return False  # ``(obs, reward, done, info)`` passed on: the step's own result, not a transition
         if self._reads_next_state(site, step, next_names):
             return True
@@ -340,7 +340,7 @@ def says_next(name: str) -> bool:
     return bool(_NEXT_WORDS.search(last)) or last.endswith("2")
 
 
-def _repacks_step(site: ast.AST | None, read: ast.Name, step: DoneStep) -> bool:
+def repacks_step(site: ast.AST | None, read: ast.Name, step: DoneStep) -> bool:
     """``(obs, reward, done, info)`` with the step's own four targets in their places: the
     legacy step result handed on (a worker's reply), whose done is the episode's end."""
     if not (isinstance(site, ast.Tuple) and len(site.elts) == len(step.target.elts) == 4 and site.elts[2] is read):

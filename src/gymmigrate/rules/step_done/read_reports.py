@@ -28,7 +28,7 @@ from gymmigrate.facts.receiver_classes import is_batched_step_return, keeps_lega
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.step_done.bookkeeping import DoneBookkeeping
 from gymmigrate.rules.step_done.common import TIME_LIMIT_KEY, StepNames
-from gymmigrate.rules.step_done.next_state import DoneStep
+from gymmigrate.rules.step_done.next_state import DoneStep, repacks_step
 from gymmigrate.rules.step_done.read_uses import resets
 
 
@@ -67,6 +67,8 @@ class DoneReadReports(DoneBookkeeping):
         if use is DoneUse.DATA:
             if multiplies_bare(read, self.facts.parent):
                 return None  # ``q(s2) * done``: no mask (the factor keeps ``done``)
+            if repacks_step(self.facts.parent(read), read, step):
+                return None  # ``(obs, reward, done, info)`` handed on: the step's own reply
             derived = self._derived_names(step)
             if (
                 self._masks_next_state(read, step)
