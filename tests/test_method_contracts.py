@@ -167,3 +167,19 @@ def test_a_hook_only_subclasses_elsewhere_define_follows_the_step(tmp_path: Path
     )
     run = subprocess.run([sys.executable, "-W", "ignore", "-c", code], cwd=project, capture_output=True, text=True, timeout=120)
     assert run.returncode == 0 and run.stdout.strip() == "(1.0, False, False) (1.0, False, False) (1.0, True, False)", run.stderr + run.stdout
+
+
+def test_a_generator_handed_to_a_class_of_another_module_gets_its_api(tmp_path: Path) -> None:
+    """``WalkerEnv.seed`` hands its ``seeding.np_random`` Generator to ``Legs`` (legs.py),
+    which never sets np_random itself: its ``randint`` becomes ``integers`` (before, legs.py
+    was left and the first reset raised AttributeError)."""
+    project = _copy(tmp_path, "project_rng_handed_over")
+    result = runner.invoke(app, ["rewrite", str(project)])
+    assert result.exit_code == 0, result.output
+    assert "return int(self.np_random.integers(4))" in (project / "envs" / "legs.py").read_text()
+    code = (
+        "from envs.walker import WalkerEnv\nenv = WalkerEnv()\na = env.reset(seed=3)\nb = env.reset(seed=3)\n"
+        "print(a == b, env.step(0)[2:4])"
+    )
+    run = subprocess.run([sys.executable, "-W", "ignore", "-c", code], cwd=project, capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0 and run.stdout.strip() == "True (False, False)", run.stderr + run.stdout
