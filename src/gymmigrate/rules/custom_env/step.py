@@ -30,8 +30,8 @@ from gymmigrate.facts.limits import (
     unwrap_bool,
 )
 from gymmigrate.facts.module import own_returns
-from gymmigrate.facts.step_hooks import ENV_API
 from gymmigrate.facts.receiver_classes import is_batched_step_return, keeps_legacy_step
+from gymmigrate.facts.step_hooks import ENV_API
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import (
     ClassDecision,
@@ -188,7 +188,7 @@ def _absent_hooks(decision: ClassDecision, function: Method) -> set[str]:
 
 
 def _decide_returns(
-    decision: ClassDecision, function: Method, helpers: set[int], blocked: dict[str, str] | None = None, absent: set[str] = frozenset()
+    decision: ClassDecision, function: Method, helpers: set[int], blocked: dict[str, str] | None = None, absent: frozenset[str] | set[str] = frozenset()
 ) -> None:
     returns = own_returns(function)
     if any(tuple_len(r.value) == 5 or returns_five_from_helper(r, decision) for r in returns):
