@@ -149,3 +149,37 @@ def test_a_hook_of_a_reexported_base_is_followed_by_its_overrides_elsewhere(tmp_
     assert (kept / "trials" / "tasks.py").read_text() == before
     review = [f for file in json.loads(report.read_text())["files"] for f in file["review"]]
     assert any(f["rule"] == "GM504" and "tasks.py:ClippedTask" in f["message"] for f in review), review
+
+
+def test_a_hook_only_subclasses_elsewhere_define_follows_the_step(tmp_path: Path) -> None:
+    """``OldStyleEnv.step`` only returns ``self._step(...)``, which it does not define; the
+    subclass in ``hopper.py`` does: its returns take five values, the base's step is left
+    (a note, no question)."""
+    project = _copy(tmp_path, "project_hook_absent_in_base")
+    result = runner.invoke(app, ["rewrite", str(project)])
+    assert result.exit_code == 0, result.output
+    assert "return self._step(*args, **kwargs)" in (project / "envs" / "base.py").read_text()
+    assert "1.0, bool(self.height < 0), False, {}" in (project / "envs" / "hopper.py").read_text()
+    assert "base.py:12: GM504" not in result.output  # the pass-through asks nothing
+    code = (
+        "import gymnasium as gym\nfrom envs.hopper import HopEnv\ngym.register('Hop-v0', entry_point=HopEnv)\n"
+        "env = gym.make('Hop-v0')\nenv.reset(seed=1)\nprint(env.step(1)[1:4], env.step(0)[1:4], env.step(0)[1:4])"
+    )
+    run = subprocess.run([sys.executable, "-W", "ignore", "-c", code], cwd=project, capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0 and run.stdout.strip() == "(1.0, False, False) (1.0, False, False) (1.0, True, False)", run.stderr + run.stdout
+
+
+def test_a_generator_handed_to_a_class_of_another_module_gets_its_api(tmp_path: Path) -> None:
+    """``WalkerEnv.seed`` hands its ``seeding.np_random`` Generator to ``Legs`` (legs.py),
+    which never sets np_random itself: its ``randint`` becomes ``integers`` (before, legs.py
+    was left and the first reset raised AttributeError)."""
+    project = _copy(tmp_path, "project_rng_handed_over")
+    result = runner.invoke(app, ["rewrite", str(project)])
+    assert result.exit_code == 0, result.output
+    assert "return int(self.np_random.integers(4))" in (project / "envs" / "legs.py").read_text()
+    code = (
+        "from envs.walker import WalkerEnv\nenv = WalkerEnv()\na = env.reset(seed=3)\nb = env.reset(seed=3)\n"
+        "print(a == b, env.step(0)[2:4])"
+    )
+    run = subprocess.run([sys.executable, "-W", "ignore", "-c", code], cwd=project, capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0 and run.stdout.strip() == "True (False, False)", run.stderr + run.stdout

@@ -142,6 +142,10 @@ class ModuleSummary:
     # can follow; class -> its methods whose returns can take five values with a base's hook.
     step_hooks: dict[str, frozenset[str]] = field(default_factory=dict)
     plain_overrides: dict[str, frozenset[str]] = field(default_factory=dict)
+    # Stores of ``np_random`` (``facts/rng_handovers.py``): (line, to another object than
+    # ``self``, the value is a Generator). A class elsewhere that only reads its np_random
+    # follows the run's handovers when every store is a Generator (GM505).
+    rng_stores: tuple[tuple[int, bool, bool], ...] = ()
     # -- contracts the run keeps (facts/receiver_classes.py keeps_legacy_step) --
     # Top-level env classes whose step keeps the four-field contract (a batch the rules do
     # not migrate), and Gym wrappers of the project's own protocol (a step returning its own

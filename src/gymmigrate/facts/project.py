@@ -130,6 +130,8 @@ class ProjectFacts:
     # (path, class) -> the step hooks of the class (``return self.post_step(...)`` in its
     # step) that every override in another module can follow (facts/step_hooks.py).
     followed_hooks: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
+    # every store of ``np_random`` in the run: (path, line, handed to another object, a Generator)
+    rng_stores: list[tuple[str, int, bool, bool]] = field(default_factory=list)
     # (path, class) in another module -> the hooks of its bases it follows.
     inherited_hooks: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
     # (path, name) of a Gym wrapper class of the run, or of a re-export of one -> what it
@@ -342,6 +344,7 @@ class ProjectFacts:
         facts.escaping_params = {(path, q): names for path, summary in by_path.items() for q, names in summary.escaping_params.items()}
         facts.def_params = {(path, q): signature.params for path, summary in by_path.items() for q, signature in summary.defs.items()}
         for summary in summaries:
+            facts.rng_stores.extend((summary.path, *store) for store in summary.rng_stores)
             if summary.untraced_seed_call:
                 facts.seed_called.update(facts._imported_env_modules(summary))
             if summary.untraced_render_call or any(facts._made_by_def(maker, summary.path, by_path) for maker in summary.render_makers):

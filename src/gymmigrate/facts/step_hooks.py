@@ -16,7 +16,8 @@ from __future__ import annotations
 
 import ast
 
-from gymmigrate.facts.env_classes import is_super_method_call
+from gymmigrate.facts import names as N
+from gymmigrate.facts.env_classes import DIRECT_ENV_BASES, is_super_method_call
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
 
 
@@ -24,6 +25,15 @@ def _tuple_len(value: ast.AST | None) -> int | None:
     if isinstance(value, ast.Tuple) and not any(isinstance(e, ast.Starred) for e in value.elts):
         return len(value.elts)
     return None
+
+
+# What gym.Env (or Gymnasium's) defines: a step returning one of these is no hook of the class.
+ENV_API = frozenset({"step", "reset", "render", "close", "seed", "unwrapped", "get_wrapper_attr", "set_wrapper_attr", "has_wrapper_attr"})
+
+
+def _extends_env_alone(facts: ModuleFacts, classdef: ast.ClassDef) -> bool:
+    """The class's one base is gym.Env itself: a method it does not define comes from no base."""
+    return len(classdef.bases) == 1 and any(N.strip_gym_prefix(q) in DIRECT_ENV_BASES for q in facts.qualified_names(classdef.bases[0]))
 
 
 def plain_override(method: ast.FunctionDef | ast.AsyncFunctionDef) -> bool:
@@ -77,12 +87,18 @@ def step_hooks(facts: ModuleFacts) -> dict[str, frozenset[str]]:
                 continue
             if not (isinstance(call.func.value, ast.Name) and call.func.value.id == "self"):
                 continue
-            hook = methods.get(call.func.attr)
-            if hook is None or hook is step or not any(r.value is not None for r in own_returns(hook)):
+            hook_name = call.func.attr
+            hook = methods.get(hook_name)
+            if hook is None:
+                # a hook only subclasses define, under a class of gym.Env alone
+                # (rules/custom_env/step.py ``_absent_hooks``): followed the same way
+                if hook_name in ENV_API or not _extends_env_alone(facts, classdef):
+                    continue
+            elif hook is step or not any(r.value is not None for r in own_returns(hook)):
                 continue
             calls = [
                 n for m in methods.values() if m is not step for n in ast.walk(m)
-                if isinstance(n, ast.Attribute) and n.attr == hook.name and isinstance(n.value, ast.Name) and n.value.id == "self"
+                if isinstance(n, ast.Attribute) and n.attr == hook_name and isinstance(n.value, ast.Name) and n.value.id == "self"
             ]
             if calls:
                 continue
@@ -92,8 +108,8 @@ def step_hooks(facts: ModuleFacts) -> dict[str, frozenset[str]]:
                 if sub not in subs:
                     subs.append(sub)
                     todo += children.get(sub.name, ())
-            if all(hook.name not in _methods(s) or plain_override(_methods(s)[hook.name]) for s in subs):
-                hooks.add(hook.name)
+            if all(hook_name not in _methods(s) or plain_override(_methods(s)[hook_name]) for s in subs):
+                hooks.add(hook_name)
         if hooks:
             found[name] = frozenset(hooks)
     return found

@@ -29,6 +29,7 @@ Sources: gym 0.22 release notes (``np_random`` is a Generator); gym 0.26 release
 from __future__ import annotations
 
 import ast
+import os
 
 from gymmigrate.edits.lazy import cst
 from gymmigrate.edits.lazy import matchers as m  # loaded by the first edit that matches
@@ -37,6 +38,7 @@ from gymmigrate.facts.decisions import receiver_text
 from gymmigrate.facts.env_classes import EnvClasses, is_self_attribute
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import ModuleFacts, full_name
+from gymmigrate.facts.rng_handovers import rng_stores
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.repeats import Repeats
@@ -202,12 +204,41 @@ class GeneratorApi(RuleFamily):
         if all(self.env.is_seeding_np_random(value) for value in stores):
             if stores or self.env.is_custom_env(classdef) or self.receivers.class_kind(classdef).is_gym:
                 return "GM505", FixKind.AUTO, ""
+            decided, handed = self._handed_over()
+            if decided:
+                return handed
             if self._gym_file:
                 return "GM505", FixKind.ASSIST, "this class's np_random is inherited from a base the module does not define; it is a Generator if that base is a gym/gymnasium class"
             return None
         if self._gym_file:
             return "GM505", FixKind.FLAG, "self.np_random is set from a value this module does not create (an env's np_random passed in is a Generator now)"
         return None
+
+    def _handed_over(self) -> tuple[bool, Verdict | None]:
+        """A class that never sets its np_random gets it from outside: where the run hands
+        objects an ``np_random`` (``self.robot.np_random = self.np_random``, this module or
+        another), it is a Gym env's Generator when every store of the run is one. (False,
+        None): the run hands none, the other evidence decides; (True, None): it hands only
+        other values (a RandomState), whose methods stay."""
+        project = self.receivers.project
+        stores = (
+            [(os.path.basename(path), line, handed, generator) for path, line, handed, generator in project.facts.rng_stores]
+            if project is not None
+            else [("", line, handed, generator) for line, handed, generator in rng_stores(self.facts, self.receivers)]
+        )
+        handovers = sorted((path, line) for path, line, handed, generator in stores if handed and generator)
+        if not handovers:
+            return any(handed for _, _, handed, _ in stores), None
+        path, line = handovers[0]
+        where = f"{path}:{line}" if path else f"line {line}"
+        if all(generator for *_, generator in stores):
+            return True, (
+                "GM505",
+                FixKind.ASSIST,
+                f"this class never sets np_random: it is handed one from outside, and the run hands only Generators "
+                f"(`.np_random = ...` at {where}); if a base whose module the run does not read sets a RandomState, undo this",
+            )
+        return True, ("GM505", FixKind.FLAG, f"this class never sets np_random; the run hands a Generator to `.np_random` at {where} but stores other values too")
 
     def _name_from_seeding(self, name: ast.Name) -> bool:
         bindings = self.facts.bindings_of(name)

@@ -13,7 +13,7 @@ from gymmigrate.facts.env_classes import (
     FunctionIndex,
     class_level_bindings,
 )
-from gymmigrate.facts.module import own_returns
+from gymmigrate.facts.module import full_name, own_returns
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import Rule
 from gymmigrate.rules.custom_env.plans import ClassPlan
@@ -227,3 +227,22 @@ def inner_gym_env_call(decision: ClassDecision, node: ast.AST, method: str) -> b
     family = decision.family
     kind = family.receivers.kind_of(receiver)
     return decide(kind, receiver, family.context.profile).action in (Action.REWRITE, Action.REWRITE_FOR_REVIEW)
+
+
+def random_state_np_random(decision: ClassDecision) -> ast.expr | None:
+    """The ``np.random.RandomState(...)`` the class (or a base of this module) assigns to
+    ``self.np_random``."""
+    receivers = decision.family.receivers
+    seen: set[int] = set()
+    todo = [decision.classdef]
+    while todo:
+        classdef = todo.pop()
+        if id(classdef) in seen:
+            continue
+        seen.add(id(classdef))
+        index = decision.env.index(classdef)
+        for value in index.stores_to_self("np_random") + index.stores_to_self("_np_random"):
+            if isinstance(value, ast.Call) and (full_name(value.func) or "").endswith("RandomState"):
+                return value
+        todo.extend(base for b in classdef.bases if (base := receivers.local_class(b)) is not None)
+    return None

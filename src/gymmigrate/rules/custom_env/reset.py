@@ -23,6 +23,7 @@ from gymmigrate.rules.custom_env.common import (
     is_self_call,
     method_of,
     param_names,
+    random_state_np_random,
 )
 from gymmigrate.rules.custom_env.hooks import overrides
 
@@ -40,16 +41,29 @@ def decide_reset(decision: ClassDecision) -> None:
     forwards = not modern and not legacy_flag and _forwards_keywords(decision, function)
     decision.plan.reset_forwards_keywords = forwards
     if legacy_flag:
-        decision.report(function, "GM502", "return_info removed: reset() always returns (obs, info) now; check callers that expected a bare observation")
+        # A flag the body never reads (gym 0.22-0.25 signatures often took it unused) had
+        # one mode only: dropping it and returning the pair is the whole migration, a note.
+        read = _reads_name(function, "return_info")
+        decision.report(
+            function,
+            "GM502",
+            "return_info removed: reset() always returns (obs, info) now; check callers that expected a bare observation"
+            if read
+            else "return_info removed (reset() never read it): reset() returns (obs, info) now",
+            tier=None if read else Tier.NOTE,
+        )
         for ret in untested_returns(function):
             decision.plan.reset_pairs_untested = True
-            decision.report(
-                ret,
-                "GM502",
-                "this return tests no return_info (another mode of the env): it returns (obs, {}) now like the others, "
-                "so every caller of reset(), migrated to unpack (obs, info), gets the pair in either mode",
-                FixKind.ASSIST,
-            )
+            if read:
+                decision.report(
+                    ret,
+                    "GM502",
+                    "this return tests no return_info (another mode of the env): it returns (obs, {}) now like the others, "
+                    "so every caller of reset(), migrated to unpack (obs, info), gets the pair in either mode",
+                    FixKind.ASSIST,
+                )
+            else:
+                decision.report(ret, "GM502", "reset returns (obs, {})", FixKind.ASSIST, Tier.NOTE)
     elif not modern and _returns_pairs(function):
         # gym 0.26: ``def reset(self, seed=None): ... return obs, {}``: already the pair.
         decision.plan.reset_returns_pairs = True
@@ -70,9 +84,27 @@ def decide_reset(decision: ClassDecision) -> None:
     inner_only = forwards and not super_resets
     decision.plan.reset_super_seeds = not inner_only and decision.env.extends_gym_env_directly(decision.classdef)
     inserted = False
-    hook = None if inner_only or decision.plan.reset_super_seeds or super_resets else private_reset_seed_hook(decision, function)
+    random_state = random_state_np_random(decision)
+    kept_random_state = random_state is not None and not super_resets and decision.plan.reset_super_seeds
+    if kept_random_state:
+        # ``self.np_random = np.random.RandomState()`` seeded by the class's own seed():
+        # Env.reset(seed=s) would replace it by a Generator, and the RandomState calls
+        # (``self.np_random.seed(s)``, ``randint``) would raise. Left unseeded by the base,
+        # the class seeds as it did; moving to Env's Generator is a change of every draw.
+        decision.plan.reset_super_seeds = False
+        if not modern:  # a reset already written for gym 0.26 / Gymnasium chose this itself
+            decision.report(
+                function,
+                "GM501",
+                f"reset() does not call super().reset(seed=seed): np_random is the class's own RandomState (line {random_state.lineno}), "  # type: ignore[union-attr]
+                "which Env.reset would replace by a Generator its RandomState calls fail on; it keeps seeding as before. "
+                "To use Gymnasium's seeding, drop the RandomState (and seed()), call super().reset(seed=seed) and use the "
+                "Generator methods (randint -> integers)",
+                FixKind.FLAG,
+            )
+    hook = None if kept_random_state or inner_only or decision.plan.reset_super_seeds or super_resets else private_reset_seed_hook(decision, function)
     hooked = hook if not modern else None
-    if inner_only:
+    if kept_random_state or inner_only:
         pass
     elif decision.plan.reset_super_seeds or super_resets:
         inserted = not super_resets
@@ -135,6 +167,10 @@ def decide_reset(decision: ClassDecision) -> None:
         elif not legacy_flag:
             seeds = ", and calls super().reset(seed=seed) first to seed np_random" if inserted else ""
             decision.report(function, "GM501", f"reset takes seed and options (wrappers always pass them){seeds}")
+
+
+def _reads_name(function: ast.AST, name: str) -> bool:
+    return any(isinstance(node, ast.Name) and node.id == name and isinstance(node.ctx, ast.Load) for node in ast.walk(function))
 
 
 def _all_defaulted(function: ast.AST, names: list[str]) -> bool:

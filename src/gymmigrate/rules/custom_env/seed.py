@@ -20,13 +20,14 @@ from gymmigrate.facts.env_classes import (
     is_super_method_call,
 )
 from gymmigrate.facts.module import full_name, statement_lines
-from gymmigrate.findings import FixKind
+from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import (
     ClassDecision,
     inner_gym_env_call,
     is_docstring,
     method_of,
     param_names,
+    random_state_np_random,
 )
 from gymmigrate.rules.custom_env.plans import SeedPlan
 from gymmigrate.rules.reset_seed.common import is_space
@@ -64,6 +65,11 @@ def decide_seed(decision: ClassDecision) -> None:
             "remove this method",
             FixKind.FLAG,
         )
+        return
+    if random_state_np_random(decision) is not None and _reset_calls_seed(decision, seed_method):
+        # ``self.np_random = np.random.RandomState()`` seeded by this seed(), which reset()
+        # calls already: it keeps working as it is (reset() does not let Env.reset replace
+        # the RandomState, GM501 says so there), nothing to move.
         return
     if any(not isinstance(facts.parent(call), ast.Expr) for call in calls):
         decision.report(seed_method, "GM503", "seed() is gone in Gymnasium but its result is used in this class; seed through reset(seed=...) and rewrite those uses", FixKind.FLAG)
@@ -257,11 +263,7 @@ def _keep_as_helper(decision: ClassDecision, seed_method: ast.FunctionDef | ast.
     if reset is None:
         decision.report(seed_method, "GM503", "seed() does more than seed np_random and this class has no reset(); call it from reset() under `if seed is not None:`", FixKind.FLAG)
         return
-    if any(
-        isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == seed_method.name
-        and isinstance(node.func.value, ast.Name) and node.func.value.id == "self"
-        for node in ast.walk(reset)
-    ):
+    if _reset_calls_seed(decision, seed_method):
         return  # reset() calls it already (migrated)
     decision.plan.seed = SeedPlan(keep=True)
     decision.report(
@@ -269,6 +271,17 @@ def _keep_as_helper(decision: ClassDecision, seed_method: ast.FunctionDef | ast.
         "GM503",
         f"seed() kept as a helper: {why}; reset() now calls it when given a seed, as `env.seed(s)` before reset() did",
         FixKind.ASSIST,
+        # the rewrite keeps what `env.seed(s); env.reset()` did, nothing is left to decide
+        Tier.NOTE,
+    )
+
+
+def _reset_calls_seed(decision: ClassDecision, seed_method: ast.FunctionDef | ast.AsyncFunctionDef) -> bool:
+    reset = decision.method("reset")
+    return reset is not None and any(
+        isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == seed_method.name
+        and isinstance(node.func.value, ast.Name) and node.func.value.id == "self"
+        for node in ast.walk(reset)
     )
 
 

@@ -31,12 +31,15 @@ from gymmigrate.facts.limits import (
 )
 from gymmigrate.facts.module import own_returns
 from gymmigrate.facts.receiver_classes import is_batched_step_return, keeps_legacy_step
+from gymmigrate.facts.step_hooks import ENV_API
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import (
     ClassDecision,
     Method,
     delegates,
     inner_gym_env_call,
+    is_self_call,
+    method_of,
     tuple_len,
 )
 from gymmigrate.rules.custom_env.hooks import (
@@ -121,11 +124,72 @@ def decide_step(decision: ClassDecision, inherited: dict[int, list[str]]) -> Non
         for subclass, _ in local:
             inherited.setdefault(id(subclass), []).append(helper.name)
     decision.plan.step_helpers += [h.name for h in helpers if h.name not in decision.plan.step_helpers]
+    absent = _absent_hooks(decision, function)
+    for name in absent:
+        # ``def step(self, *a, **k): return self._step(*a, **k)`` in a class of gym.Env
+        # alone that does not define ``_step``: only its subclasses do, so the step is
+        # what they return. Settled when every override in the run follows (plain ones);
+        # with none in the run, whoever defines it elsewhere must return five values.
+        local, elsewhere = overrides(decision, name)
+        followed = not elsewhere or (
+            project is not None
+            and project.hook_followed_elsewhere(decision.classdef.name, name)
+            and len(elsewhere) == len(project.overridden_elsewhere(decision.classdef.name, name))
+        )
+        if not followed or not all(step_override_migratable(m) for _, m in local):
+            blocked[name] = where(decision, local, elsewhere)
+            continue
+        for subclass, _ in local:
+            inherited.setdefault(id(subclass), []).append(name)
+    for ret in own_returns(function):
+        call = ret.value
+        if isinstance(call, ast.Call) and isinstance(call.func, ast.Attribute) and call.func.attr in absent and call.func.attr not in blocked:
+            local, elsewhere = overrides(decision, call.func.attr)
+            if local or elsewhere:
+                decision.report(
+                    ret,
+                    "GM504",
+                    f"step returns self.{call.func.attr}(...), which this class does not define: its overrides in the run "
+                    f"({where(decision, local, elsewhere)}) return (obs, reward, terminated, truncated, info) with it",
+                    FixKind.ASSIST,
+                    Tier.NOTE,
+                )
+            else:
+                decision.report(
+                    ret,
+                    "GM504",
+                    f"step returns self.{call.func.attr}(...), which no class of this run defines: a subclass elsewhere "
+                    "that defines it must return (obs, reward, terminated, truncated, info)",
+                    FixKind.FLAG,
+                )
     for step_function in (function, *helpers):
-        _decide_returns(decision, step_function, {id(h) for h in helpers}, blocked)
+        _decide_returns(decision, step_function, {id(h) for h in helpers}, blocked, absent)
 
 
-def _decide_returns(decision: ClassDecision, function: Method, helpers: set[int], blocked: dict[str, str] | None = None) -> None:
+def _absent_hooks(decision: ClassDecision, function: Method) -> set[str]:
+    """``return self.<hook>(...)`` in the step, for a hook the class does not define, nor its
+    one base (gym.Env itself), and that no other method of the class calls."""
+    if len(decision.classdef.bases) != 1 or not decision.env.extends_gym_env_directly(decision.classdef):
+        return set()
+    found = set()
+    for ret in own_returns(function):
+        call = ret.value
+        if not (isinstance(call, ast.Call) and isinstance(call.func, ast.Attribute)):
+            continue
+        if not (isinstance(call.func.value, ast.Name) and call.func.value.id == "self"):
+            continue
+        name = call.func.attr
+        if name in decision.methods or name in ENV_API or name in decision.renamed.values():
+            continue
+        callers = decision.index.self_calls.get(name, ())
+        if all(method_of(decision, c) is function for c in callers):
+            found.add(name)
+    return found
+
+
+def _decide_returns(
+    decision: ClassDecision, function: Method, helpers: set[int], blocked: dict[str, str] | None = None, absent: frozenset[str] | set[str] = frozenset()
+) -> None:
     returns = own_returns(function)
     if any(tuple_len(r.value) == 5 or returns_five_from_helper(r, decision) for r in returns):
         return  # already the five-value API
@@ -146,6 +210,8 @@ def _decide_returns(decision: ClassDecision, function: Method, helpers: set[int]
             continue
         if returns_helper(ret, decision, helpers) or is_super_method_call(ret.value, function.name):
             continue  # the helper's (or the base's own hook's) returns carry the contract
+        if is_self_call(ret.value, set(absent) - set(blocked or {})):
+            continue  # a hook only subclasses define: reported in decide_step
         if inner_gym_env_call(decision, ret.value, "step"):
             continue  # a Gym env the class holds: its step() returns the five values in Gymnasium
         hook = _blocked_hook(ret, blocked or {})

@@ -39,42 +39,60 @@ def counts_toward_a_limit(decision: ClassDecision) -> bool:
     facts = decision.family.facts
 
     def compute() -> bool:
-        if decision.env.has_local_env_base(decision.classdef) or decision.env.has_run_env_base(decision.classdef):
-            return True  # the base class (in this file, or another of the run) may count steps for it
-        # A name moved by a constant both ways (``pos -= 1`` for one action, ``pos += 1``
-        # for another) is a position, not a count: it cannot run up to a limit by itself.
-        directions: dict[str, set[bool]] = {}
-        for node in ast.walk(decision.classdef):
-            if isinstance(node, ast.AugAssign) and isinstance(node.op, (ast.Add, ast.Sub)) and _is_number(node.value):
-                up = isinstance(node.op, ast.Add) == (node.value.value >= 0)  # type: ignore[attr-defined]
-                directions.setdefault(facts.segment(node.target), set()).add(up)
-        for node in ast.walk(decision.classdef):
-            if isinstance(node, ast.AugAssign) and isinstance(node.op, (ast.Add, ast.Sub)):
-                counted = (
-                    _is_number(node.value)
-                    and not isinstance(node.target, ast.Subscript)
-                    and len(directions.get(facts.segment(node.target), ())) < 2
-                )
-                if counted or any(STEP_LIMIT_WORD.search(w) for w in identifiers(node.target)):
-                    if not _idle_attribute(decision, node.target):
-                        return True  # `self.steps += 1`, `self.t += self.dt`; not `self.pos[1] += 1`
-            if isinstance(node, ast.Compare) and is_step_limit(node, class_data_ends(decision)):
-                return True  # a step-limit test in a helper (`def _done(self): return self.t > 200`)
-            if (
-                isinstance(node, ast.Assign)
-                and len(node.targets) == 1
-                and isinstance(node.value, ast.BinOp)
-                and isinstance(node.value.op, (ast.Add, ast.Sub))
-                and _is_number(node.value.right)
-                and facts.segment(node.value.left) == facts.segment(node.targets[0])
-            ):
-                return True  # `self.t = self.t + 1`
+        # The class and its bases of this file, each read the same way (a base that counts
+        # nothing adds no limit); a base of another module of the run may count steps for it.
+        receivers = decision.family.receivers
+        seen: set[int] = set()
+        todo = [decision.classdef]
+        while todo:
+            classdef = todo.pop()
+            if id(classdef) in seen:
+                continue
+            seen.add(id(classdef))
+            if decision.env.has_run_env_base(classdef) or _counts_in(decision, classdef):
+                return True
+            todo.extend(base for b in classdef.bases if (base := receivers.local_class(b)) is not None)
         return False
 
     return facts.memo(("counts-by-constant", id(decision.classdef)), compute)
 
 
-def _idle_attribute(decision: ClassDecision, target: ast.expr) -> bool:
+def _counts_in(decision: ClassDecision, classdef: ast.ClassDef) -> bool:
+    """``classdef`` itself (its own body) counts something or tests a step limit."""
+    facts = decision.family.facts
+    data_ends = data_end_attributes(facts, classdef)
+    # A name moved by a constant both ways (``pos -= 1`` for one action, ``pos += 1``
+    # for another) is a position, not a count: it cannot run up to a limit by itself.
+    directions: dict[str, set[bool]] = {}
+    for node in ast.walk(classdef):
+        if isinstance(node, ast.AugAssign) and isinstance(node.op, (ast.Add, ast.Sub)) and _is_number(node.value):
+            up = isinstance(node.op, ast.Add) == (node.value.value >= 0)  # type: ignore[attr-defined]
+            directions.setdefault(facts.segment(node.target), set()).add(up)
+    for node in ast.walk(classdef):
+        if isinstance(node, ast.AugAssign) and isinstance(node.op, (ast.Add, ast.Sub)):
+            counted = (
+                _is_number(node.value)
+                and not isinstance(node.target, ast.Subscript)
+                and len(directions.get(facts.segment(node.target), ())) < 2
+            )
+            if counted or any(STEP_LIMIT_WORD.search(w) for w in identifiers(node.target)):
+                if not _idle_attribute(decision, node.target, classdef):
+                    return True  # `self.steps += 1`, `self.t += self.dt`; not `self.pos[1] += 1`
+        if isinstance(node, ast.Compare) and is_step_limit(node, data_ends):
+            return True  # a step-limit test in a helper (`def _done(self): return self.t > 200`)
+        if (
+            isinstance(node, ast.Assign)
+            and len(node.targets) == 1
+            and isinstance(node.value, ast.BinOp)
+            and isinstance(node.value.op, (ast.Add, ast.Sub))
+            and _is_number(node.value.right)
+            and facts.segment(node.value.left) == facts.segment(node.targets[0])
+        ):
+            return True  # `self.t = self.t + 1`
+    return False
+
+
+def _idle_attribute(decision: ClassDecision, target: ast.expr, classdef: ast.ClassDef) -> bool:
     """``self.<name>`` that cannot limit an episode: the module never reads it
     but to count it, or it also moves it the other way or back from its own value
     (a position). Only attributes of the class itself; anything else may count."""
@@ -83,7 +101,6 @@ def _idle_attribute(decision: ClassDecision, target: ast.expr) -> bool:
     facts = decision.family.facts
     directions: set[type] = set()
     reads = 0
-    classdef = decision.classdef
     for attr in facts.attributes.get(target.attr, ()):
         holder = facts.parent(attr)
         if isinstance(attr.ctx, ast.Load):
