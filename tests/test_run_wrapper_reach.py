@@ -47,3 +47,10 @@ def test_without_such_a_wrapper_the_base_envs_method_is_read_through_unwrapped(t
     main.write_text("".join(line for line in main.read_text().splitlines(keepends=True) if "KeyMap" not in line))
     text = _rewrite(run)
     assert "return env.unwrapped.get_action_meanings()" in text
+
+
+def test_a_base_env_attribute_of_a_held_gym_env_is_read_through_unwrapped(tmp_path: Path) -> None:
+    """Wrapped or not, ``unwrapped`` reaches it (a bare env's is itself): no question."""
+    run = _copy(tmp_path)
+    runner.invoke(app, ["rewrite", str(run)])
+    assert "return self._machine.unwrapped.x_threshold" in (run / "console" / "panel.py").read_text()

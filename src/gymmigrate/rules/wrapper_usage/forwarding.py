@@ -381,6 +381,25 @@ class WrapperForwarding(RuleFamily):
                 )
             return
         text = dotted_name(receiver) or "the env"
+        if (
+            origin is None
+            and kind is EnvKind.GYM_ENV
+            and self._base_only(name)
+            and not (isinstance(receiver, ast.Attribute) and receiver.attr == "env")
+        ):
+            # A Gym env, wrapped or not: ``unwrapped`` of a bare env is the env itself, so
+            # ``.unwrapped.ale`` reads what ``.ale`` read either way; no wrapper of the run
+            # defines the name to be found first. (Through an ``.env`` chain the question is
+            # which layer it meant: GM606 asks it with this read.)
+            self.report(
+                attr,
+                code,
+                f"attribute forwarding is gone in Gymnasium 1.0: `{name}` belongs to the base env, read it through "
+                "`.unwrapped` (the env itself when it is not wrapped)",
+                tier=Tier.NOTE,
+            )
+            self.plan.replace(attr, through("unwrapped", name))
+            return
         if origin is None:
             # One question per object ("is `self.viewer` wrapped?"): asked at its first
             # read, which names the lines of the others (the plan's ask_once); those are
@@ -409,7 +428,7 @@ class WrapperForwarding(RuleFamily):
             )
             replace_with_get_wrapper_attr(self.facts, self.plan, attr, name)
             return
-        if name in BASE_ENV_ATTRIBUTES and name not in self.origins.local_wrapper_attributes():
+        if self._base_only(name):
             self.report(
                 attr,
                 code,
@@ -427,6 +446,10 @@ class WrapperForwarding(RuleFamily):
             tier=Tier.NOTE,
         )
         replace_with_get_wrapper_attr(self.facts, self.plan, attr, name)
+
+    def _base_only(self, name: str) -> bool:
+        """State or a method of the base envs that no wrapper class of the run defines."""
+        return name in BASE_ENV_ATTRIBUTES and name not in self.origins.local_wrapper_attributes()
 
     def _read_past_test_double(self, attr: ast.Attribute) -> None:
         """``self.environment.ale.lives()`` where this module's own calls hand ``environment`` a
