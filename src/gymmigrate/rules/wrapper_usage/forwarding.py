@@ -89,6 +89,20 @@ _MAKE_LAYER_ATTRIBUTES = frozenset(
 # (video, metadata) paths it wrote).
 _MONITOR_ONLY_ATTRIBUTES = frozenset({"videos"})
 
+def _get_wrapper_attr_of():
+    """``getattr(target, name)`` -> ``target.get_wrapper_attr(name)``."""
+
+    def build(node: cst.Call) -> cst.BaseExpression:
+        return cst.Call(
+            func=cst.Attribute(value=node.args[0].value, attr=cst.Name("get_wrapper_attr")),
+            args=[cst.Arg(value=node.args[1].value)],
+            lpar=node.lpar,
+            rpar=node.rpar,
+        )
+
+    return build
+
+
 class WrapperForwarding(RuleFamily):
     """GM604-GM606. In the pipeline after the wrapper subclass rules, as the LibCST pass it replaced."""
 
@@ -175,12 +189,28 @@ class WrapperForwarding(RuleFamily):
             return
         if any(o == RAW for o in origins):
             return
+        if all(o in (MADE, WRAPPED) or self.receivers.kind_of(v) is EnvKind.GYM_ENV for o, v in zip(origins, values)):
+            # Every object it can hold is a Gym env: ``get_wrapper_attr`` looks the name up
+            # on each layer down to the base env, as gym's forwarding did, and raises
+            # AttributeError for a name none has (checked on gymnasium 1.4), so ``hasattr``
+            # and ``getattr(x, name, default)`` on this class answer as they did.
+            self.report(
+                call,
+                "GM604",
+                f"`{classdef.name}.{function.name}` forwards unknown attributes to `{held}`, a Gym env: Gymnasium's "
+                f"wrappers no longer forward them to the env below, `{held}.get_wrapper_attr({looked_up.id})` looks "
+                "through every layer as gym's forwarding did",
+                tier=Tier.NOTE,
+            )
+            self.plan.replace(call, _get_wrapper_attr_of())
+            return
         self.report(
             call,
             "GM604",
-            f"`{classdef.name}.{function.name}` forwards unknown attributes to `{held}`, a Gym env made with make or "
-            "wrappers: Gymnasium's wrappers no longer forward attribute reads to the env below them, so what only the "
-            f"base env or an inner wrapper defines now raises AttributeError here; forward with "
+            f"`{classdef.name}.{function.name}` forwards unknown attributes to `{held}`, which holds a Gym env made "
+            "with make or wrappers (and, at other stores, objects not shown to be Gym envs): Gymnasium's wrappers "
+            "no longer forward attribute reads to the env below them, so what only the base env or an inner "
+            "wrapper defines now raises AttributeError here; forward with "
             f"`{held}.get_wrapper_attr({looked_up.id})` (every layer, as gym's forwarding did) or read `{held}.unwrapped`",
             kind=FixKind.FLAG,
         )
