@@ -10,7 +10,6 @@ would skip it. Without such a wrapper in the run the base env's method is read t
 
 from __future__ import annotations
 
-import json
 import shutil
 from pathlib import Path
 
