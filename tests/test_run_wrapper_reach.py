@@ -10,6 +10,7 @@ would skip it. Without such a wrapper in the run the base env's method is read t
 
 from __future__ import annotations
 
+import json
 import shutil
 from pathlib import Path
 
@@ -53,3 +54,14 @@ def test_a_base_env_attribute_of_a_held_gym_env_is_read_through_unwrapped(tmp_pa
     run = _copy(tmp_path)
     runner.invoke(app, ["rewrite", str(run)])
     assert "return self._machine.unwrapped.x_threshold" in (run / "console" / "panel.py").read_text()
+
+
+def test_a_render_of_an_env_built_by_a_run_class_elsewhere_names_its_constructor(tmp_path: Path) -> None:
+    """``replay(env, 10)`` in main.py passes ``Machine()``: the mode goes to that constructor
+    (it takes render_mode once migrated), not to a gym.make the run never calls."""
+    run = _copy(tmp_path)
+    result = runner.invoke(app, ["check", "--output-format", "json", str(run)])
+    found = [f for f in json.loads(result.stdout) if f["rule"] == "GM402"]
+    assert [(Path(f["path"]).name, f["line"], f["kind"]) for f in found] == [("replay.py", 5, "flag")]
+    assert "main.py:11" in found[0]["message"]
+    assert "constructor of its env class" in found[0]["message"]
