@@ -512,7 +512,9 @@ class CreationFinder:
         argument the construction passes there. Empty when that is not the shape."""
         if not isinstance(attr.value, ast.Name):
             return []
-        bindings = self.facts.bindings_of(attr.value)
+        # the bindings that reach the read (``env = make(...)`` then ``env = Holder(env)``
+        # at module level: the holder), or every one when the flow cannot say
+        bindings = Flow.of(self.facts).reaching(attr.value) or self.facts.bindings_of(attr.value)
         project = self.receivers.project
         values: list[ast.expr] = []
         for binding in bindings:
@@ -524,7 +526,8 @@ class CreationFinder:
             if classdef is not None:
                 if self.receivers.class_kind(classdef) not in (EnvKind.UNKNOWN, EnvKind.NOT_ENV):
                     return []
-                stored = self.receivers.self_stores(classdef).get(attr.attr, [])
+                stores = self.receivers.self_stores(classdef)
+                stored = stores.get(attr.attr) or stores.get(_property_slot(classdef, attr.attr) or "", [])
                 if not stored:
                     return []
                 values.extend(stored)
@@ -561,6 +564,23 @@ _MAX_NESTING = 3  # constructor arguments followed through constructors
 
 
 # -- helpers ---------------------------------------------------------------------------
+
+
+def _property_slot(classdef: ast.ClassDef, name: str) -> str | None:
+    """``x`` for ``@property def <name>(self): return self.x`` in ``classdef``'s body (an
+    adapter handing out the env it holds), else None."""
+    for statement in classdef.body:
+        if not (isinstance(statement, ast.FunctionDef) and statement.name == name):
+            continue
+        decorated = [d for d in statement.decorator_list if isinstance(d, ast.Name) and d.id == "property"]
+        params = statement.args.args
+        if len(decorated) != 1 or len(statement.decorator_list) != 1 or len(params) != 1 or len(statement.body) != 1:
+            return None
+        returned = statement.body[0].value if isinstance(statement.body[0], ast.Return) else None
+        if isinstance(returned, ast.Attribute) and isinstance(returned.value, ast.Name) and returned.value.id == params[0].arg:
+            return returned.attr
+        return None
+    return None
 
 
 def _argument_for(call: ast.Call, name: str, position: int | None) -> ast.expr | None:

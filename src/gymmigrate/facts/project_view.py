@@ -446,6 +446,11 @@ class ProjectView:
         """An imported name of the run is a Gym wrapper class (``from pkg.wrappers import X``)."""
         split = self.facts._split(qualified, self.path)
         return split is not None and split[1] in self.facts.wrapper_classes.get(split[0], ())
+    def run_wrapper_attributes(self) -> frozenset[str]:
+        """What any Gym wrapper class of the run defines for ``self``: an env handed around
+        the run may be one of them, and its own ``x`` shadows the base env's."""
+        return frozenset().union(*self.facts.wrapper_defined.values())
+
     def wrapper_defined(self, qualified: str) -> frozenset[str] | None:
         """For an imported Gym wrapper class of the run (re-exports followed), what it and
         its bases define for ``self``; None when the run cannot tell."""

@@ -220,3 +220,54 @@ def imports_legacy_gym_module(facts: ModuleFacts, context: FileContext) -> bool:
 
 def _is_legacy_gym_make(alias: str | None) -> bool:
     return alias is not None and alias.split(".", 1)[0] == "gym" and N.strip_gym_prefix(alias) in N.GYM_ENV_FACTORIES
+
+
+def forwards_to_first_argument(classdef: ast.ClassDef) -> bool:
+    """A plain class (no bases) without render() whose ``__init__(self, env)`` stores ``env``
+    as ``self.x`` and whose ``__getattr__(self, name)`` returns ``getattr(self.x, name)`` (or
+    ``self.x.get_wrapper_attr(name)``): ``adapter.render`` is the held env's render."""
+    if classdef.bases or classdef.keywords:
+        return False
+    methods = {s.name: s for s in classdef.body if isinstance(s, ast.FunctionDef)}
+    init, lookup = methods.get("__init__"), methods.get("__getattr__")
+    if init is None or lookup is None or "render" in methods or any(isinstance(s, ast.Assign) for s in classdef.body):
+        return False
+    params = init.args.args
+    if len(params) != 2 or init.args.vararg or init.args.kwonlyargs or init.args.kwarg:
+        return False
+    held = {
+        target.attr
+        for s in init.body
+        if isinstance(s, ast.Assign) and isinstance(s.value, ast.Name) and s.value.id == params[1].arg
+        for target in s.targets
+        if isinstance(target, ast.Attribute) and isinstance(target.value, ast.Name) and target.value.id == params[0].arg
+    }
+    stored_elsewhere = {
+        n.attr
+        for n in ast.walk(classdef)
+        if isinstance(n, ast.Attribute) and isinstance(n.ctx, ast.Store) and n.attr in held
+    }
+    if len(held) != 1 or len(stored_elsewhere) != 1:
+        return False
+    slot = held.pop()
+    lookup_params = lookup.args.args
+    if len(lookup_params) != 2 or len(lookup.body) != 1 or not isinstance(lookup.body[0], ast.Return):
+        return False
+    value = lookup.body[0].value
+    if not (isinstance(value, ast.Call) and len(value.args) in (1, 2) and not value.keywords):
+        return False
+    name = value.args[-1]
+    if not (isinstance(name, ast.Name) and name.id == lookup_params[1].arg):
+        return False
+    if isinstance(value.func, ast.Name) and value.func.id == "getattr" and len(value.args) == 2:
+        target = value.args[0]
+    elif isinstance(value.func, ast.Attribute) and value.func.attr == "get_wrapper_attr" and len(value.args) == 1:
+        target = value.func.value
+    else:
+        return False
+    return (
+        isinstance(target, ast.Attribute)
+        and target.attr == slot
+        and isinstance(target.value, ast.Name)
+        and target.value.id == lookup_params[0].arg
+    )

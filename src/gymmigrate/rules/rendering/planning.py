@@ -13,6 +13,7 @@ import ast
 from collections import defaultdict
 
 from gymmigrate.facts.decisions import Action
+from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.module import keyword, string_value
 from gymmigrate.facts.receiver_classes import wrapped_env_renders
 from gymmigrate.facts.version_checks import reads_version
@@ -29,6 +30,7 @@ from gymmigrate.rules.rendering.common import (
     LEGACY_SINGLE_FRAME,
     RGB_ARRAY,
     RenderSite,
+    forwards_to_first_argument,
 )
 from gymmigrate.rules.rendering.env_uses import EnvUses
 from gymmigrate.rules.rendering.untraced import UntracedEnvs
@@ -343,7 +345,9 @@ class SitePlanning(EnvUses, UntracedEnvs):
             )
         if added:
             message = f"render mode moved to {where} ({target}); render() takes no arguments"
-            inferred = site.decision is Action.REWRITE_FOR_REVIEW or site.decision is Action.REPORT
+            inferred = (
+                site.decision is Action.REWRITE_FOR_REVIEW or site.decision is Action.REPORT
+            ) and not self._forwarded_from_make_in_scope(call, site)
             if inferred:
                 message += "; the env's origin was inferred, check it"
             # A frame or text mode draws nothing by itself: the env renders when render() is
@@ -358,6 +362,38 @@ class SitePlanning(EnvUses, UntracedEnvs):
             self.report(call, code, message, tier=Tier.NOTE if exact else None, question=question("moved"))
         else:
             self.report(call, code, f"{where} already has {target}; render() takes no arguments", FixKind.AUTO)
+
+    def _forwarded_from_make_in_scope(self, call: ast.Call, site: RenderSite) -> bool:
+        """``env = gym.make(...)``; ``env = Adapter(env)``; ``env.render(mode)`` in one scope,
+        each adapter a class of this module with no render() of its own whose ``__getattr__``
+        forwards to the env its constructor stores: the render reached is the make's env's, a
+        fact and not an inference (no receiver question to check)."""
+        if len(site.creation.calls) != 1 or not site.creation.complete or not isinstance(call.func, ast.Attribute):
+            return False
+        make = site.creation.calls[0]
+        scope = self.facts.enclosing_function(call)
+        if self.facts.enclosing_function(make) is not scope:
+            return False
+        expr: ast.expr = call.func.value
+        for _ in range(_MAX_ADAPTERS + 1):
+            if not isinstance(expr, ast.Name):
+                return False
+            bindings = Flow.of(self.facts).reaching(expr)
+            statement = self.facts.parent(bindings[0]) if bindings is not None and len(bindings) == 1 else None
+            if not (isinstance(statement, ast.Assign) and statement.targets == bindings):
+                return False
+            if self.facts.enclosing_function(statement) is not scope:
+                return False
+            value = statement.value
+            if value is make:
+                return True
+            if not (isinstance(value, ast.Call) and len(value.args) == 1 and not value.keywords):
+                return False
+            classdef = self.receivers.local_class(value.func)
+            if classdef is None or not forwards_to_first_argument(classdef):
+                return False
+            expr = value.args[0]
+        return False
 
     def _version_fallback_flag(self, make: ast.Call, render: ast.Call) -> str | None:
         """``else: env = make(...)`` of an ``if`` whose test is ``<version test> and flag``,
@@ -455,3 +491,7 @@ class SitePlanning(EnvUses, UntracedEnvs):
         if classdef is None or id(classdef) not in self._local_wrappers or id(classdef) in self._wraps_untraced:
             return False
         return any(build.func is not None and self.receivers.local_class(build.func) is classdef for _, _, build, _ in self._wrapped)
+
+
+# Adapters followed from a render back to the make (``Outer(Adapter(env))``).
+_MAX_ADAPTERS = 3

@@ -10,7 +10,7 @@ import ast
 from collections.abc import Hashable
 
 from gymmigrate.facts.creation import CreationFinder
-from gymmigrate.facts.decisions import Action, decide, receiver_text
+from gymmigrate.facts.decisions import Action, Decision, decide, receiver_text
 from gymmigrate.facts.env_classes import EnvClasses
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import full_name, keyword, string_value
@@ -22,6 +22,7 @@ from gymmigrate.rules.rendering.common import (
     LEGACY_SINGLE_FRAME,
     RGB_ARRAY,
     RenderSite,
+    forwards_to_first_argument,
     imports_legacy_gym_module,
     imports_legacy_make,
 )
@@ -67,7 +68,12 @@ class RenderSites(RecorderSites):
             self._report_other_signature(call, receiver)
             return None
         function = self.facts.enclosing_function(call)
-        if function is not None and function.name == "render" and not (self._helper_method(function) or self._adapter_render(function, receiver)):
+        if (
+            function is not None
+            and function.name == "render"
+            and isinstance(self.facts.parent(function), ast.ClassDef)  # a module's ``def render(env)`` is a caller
+            and not (self._helper_method(function) or self._adapter_render(function, receiver))
+        ):
             return None  # a render method forwarding to its env: the Env/Wrapper rules own it
         if mode_arg is not None and self._class_keeps_its_mode(receiver):
             return None  # ``render(mode)`` of a class that chooses its mode itself is kept (GM405 says so)
@@ -80,6 +86,18 @@ class RenderSites(RecorderSites):
             return None  # ``tf_env.pyenv.envs[0].render(mode="rgb_array")``: tf_agents' API, not Gym's
         kind = self.receivers.kind_of(receiver)
         decision = decide(kind, receiver, self.context.profile, legacy_shape=mode_arg is not None or close is not None, origins=self.receivers)
+        if decision.action is Action.LEAVE and mode_arg is not None and close is None:
+            adapter = self._forwarding_adapter(receiver)
+            if adapter is not None:
+                # ``Logged(gym.make(...)).render(mode=...)``: the adapter has no render() of its
+                # own and forwards every attribute to the env it holds, so this is that env's
+                # render, a TypeError with ``mode`` on Gymnasium; rewritten as for the env, and
+                # listed (the env is reached through the adapter).
+                decision = Decision(
+                    Action.REWRITE_FOR_REVIEW,
+                    f"`{receiver_text(receiver)}` is a `{adapter}`, which forwards attribute reads (render included) "
+                    "to the env it holds",
+                )
         if decision.action is Action.LEAVE:
             if kind is EnvKind.SB3_VEC and mode_arg is None and close is None and not self.receivers.run_defined(receiver):
                 self._check_vec_frames(call, receiver)
@@ -168,6 +186,21 @@ class RenderSites(RecorderSites):
             return False
         library = self.receivers.library_made(root)
         return library is not None and library.split(".", 1)[0] in _NON_GYM_ENV_LIBRARIES
+
+    def _forwarding_adapter(self, receiver: ast.expr) -> str | None:
+        """The name of the class of this module every construction of ``receiver`` builds,
+        when it has no render() and forwards attribute reads to the env its constructor takes
+        (``forwards_to_first_argument``); else None."""
+        if not hasattr(self, "_class_finder"):
+            self._class_finder = CreationFinder(self.facts, self.receivers, lambda call: self.receivers.local_class(call.func) is not None)
+        creation = self._class_finder.find(receiver)
+        if not (creation.found and creation.complete):
+            return None
+        made = {self.receivers.local_class(call.func) for call in creation.calls}
+        if len(made) != 1:
+            return None
+        classdef = made.pop()
+        return classdef.name if classdef is not None and forwards_to_first_argument(classdef) else None
 
     def _class_keeps_its_mode(self, receiver: ast.expr) -> bool:
         """``env = MyEnv()`` whose class chooses its render mode itself (``set_render_mode``):

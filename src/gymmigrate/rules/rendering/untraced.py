@@ -47,7 +47,8 @@ class UntracedEnvs(MakeEdits):
             site.node,
             "GM402",
             f"`{receiver}` is the Gym env passed in at {', '.join(callers)}: render() draws only when that env is made "
-            f"with a render_mode now{runs}: pass {mode} to the gym.make there",
+            f"with a render_mode now{runs}: pass {mode} where it is made there (to its gym.make, or to the "
+            "constructor of its env class, which takes render_mode once migrated)",
             FixKind.FLAG,
             question=self._made_elsewhere_question(callers, condition),
         )

@@ -89,6 +89,20 @@ _MAKE_LAYER_ATTRIBUTES = frozenset(
 # (video, metadata) paths it wrote).
 _MONITOR_ONLY_ATTRIBUTES = frozenset({"videos"})
 
+def _get_wrapper_attr_of():
+    """``getattr(target, name)`` -> ``target.get_wrapper_attr(name)``."""
+
+    def build(node: cst.Call) -> cst.BaseExpression:
+        return cst.Call(
+            func=cst.Attribute(value=node.args[0].value, attr=cst.Name("get_wrapper_attr")),
+            args=[cst.Arg(value=node.args[1].value)],
+            lpar=node.lpar,
+            rpar=node.rpar,
+        )
+
+    return build
+
+
 class WrapperForwarding(RuleFamily):
     """GM604-GM606. In the pipeline after the wrapper subclass rules, as the LibCST pass it replaced."""
 
@@ -175,12 +189,28 @@ class WrapperForwarding(RuleFamily):
             return
         if any(o == RAW for o in origins):
             return
+        if all(o in (MADE, WRAPPED) or self.receivers.kind_of(v) is EnvKind.GYM_ENV for o, v in zip(origins, values)):
+            # Every object it can hold is a Gym env: ``get_wrapper_attr`` looks the name up
+            # on each layer down to the base env, as gym's forwarding did, and raises
+            # AttributeError for a name none has (checked on gymnasium 1.4), so ``hasattr``
+            # and ``getattr(x, name, default)`` on this class answer as they did.
+            self.report(
+                call,
+                "GM604",
+                f"`{classdef.name}.{function.name}` forwards unknown attributes to `{held}`, a Gym env: Gymnasium's "
+                f"wrappers no longer forward them to the env below, `{held}.get_wrapper_attr({looked_up.id})` looks "
+                "through every layer as gym's forwarding did",
+                tier=Tier.NOTE,
+            )
+            self.plan.replace(call, _get_wrapper_attr_of())
+            return
         self.report(
             call,
             "GM604",
-            f"`{classdef.name}.{function.name}` forwards unknown attributes to `{held}`, a Gym env made with make or "
-            "wrappers: Gymnasium's wrappers no longer forward attribute reads to the env below them, so what only the "
-            f"base env or an inner wrapper defines now raises AttributeError here; forward with "
+            f"`{classdef.name}.{function.name}` forwards unknown attributes to `{held}`, which holds a Gym env made "
+            "with make or wrappers (and, at other stores, objects not shown to be Gym envs): Gymnasium's wrappers "
+            "no longer forward attribute reads to the env below them, so what only the base env or an inner "
+            "wrapper defines now raises AttributeError here; forward with "
             f"`{held}.get_wrapper_attr({looked_up.id})` (every layer, as gym's forwarding did) or read `{held}.unwrapped`",
             kind=FixKind.FLAG,
         )
@@ -381,6 +411,25 @@ class WrapperForwarding(RuleFamily):
                 )
             return
         text = dotted_name(receiver) or "the env"
+        if (
+            origin is None
+            and kind is EnvKind.GYM_ENV
+            and self._base_only(name)
+            and not (isinstance(receiver, ast.Attribute) and receiver.attr == "env")
+        ):
+            # A Gym env, wrapped or not: ``unwrapped`` of a bare env is the env itself, so
+            # ``.unwrapped.ale`` reads what ``.ale`` read either way; no wrapper of the run
+            # defines the name to be found first. (Through an ``.env`` chain the question is
+            # which layer it meant: GM606 asks it with this read.)
+            self.report(
+                attr,
+                code,
+                f"attribute forwarding is gone in Gymnasium 1.0: `{name}` belongs to the base env, read it through "
+                "`.unwrapped` (the env itself when it is not wrapped)",
+                tier=Tier.NOTE,
+            )
+            self.plan.replace(attr, through("unwrapped", name))
+            return
         if origin is None:
             # One question per object ("is `self.viewer` wrapped?"): asked at its first
             # read, which names the lines of the others (the plan's ask_once); those are
@@ -409,7 +458,7 @@ class WrapperForwarding(RuleFamily):
             )
             replace_with_get_wrapper_attr(self.facts, self.plan, attr, name)
             return
-        if name in BASE_ENV_ATTRIBUTES and name not in self.origins.local_wrapper_attributes():
+        if self._base_only(name):
             self.report(
                 attr,
                 code,
@@ -427,6 +476,10 @@ class WrapperForwarding(RuleFamily):
             tier=Tier.NOTE,
         )
         replace_with_get_wrapper_attr(self.facts, self.plan, attr, name)
+
+    def _base_only(self, name: str) -> bool:
+        """State or a method of the base envs that no wrapper class of the run defines."""
+        return name in BASE_ENV_ATTRIBUTES and name not in self.origins.local_wrapper_attributes()
 
     def _read_past_test_double(self, attr: ast.Attribute) -> None:
         """``self.environment.ale.lives()`` where this module's own calls hand ``environment`` a

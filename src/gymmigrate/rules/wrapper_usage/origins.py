@@ -429,12 +429,15 @@ class EnvOrigins:
         return self.defined_attributes(local) if local is not None else set()
 
     def local_wrapper_attributes(self) -> set[str]:
-        """Attributes and methods defined by wrapper classes of this module (they shadow the base env's)."""
+        """Attributes and methods defined by wrapper classes of this module or of another
+        module of the run (they shadow the base env's: ``play(env)`` may get one of them)."""
         if self._local_attrs is None:
             attrs: set[str] = set()
             for classdef in self.facts.classes.values():
                 if self.receivers.is_gym_wrapper_class(classdef):
                     attrs |= self.defined_attributes(classdef)
+            if self.receivers.project is not None:
+                attrs |= self.receivers.project.run_wrapper_attributes()
             self._local_attrs = attrs
         return self._local_attrs
 
