@@ -28,6 +28,7 @@ import ast
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
+from gymmigrate.facts.import_guards import catches_import_error
 from gymmigrate.findings import FixKind, Tier, gym_only_question
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.env_ids.atari_evidence import AtariEvidence
@@ -301,6 +302,16 @@ class EnvIds(RuleFamily):
         body = self.facts.tree.body
         first_use = min(body.index(self._top_level_statement(s)) for s in strings)
         alias = gym_alias(self.facts)
+        guarded = _guarded_gym_import(body) if alias is None else None
+        if guarded is not None:
+            # gym is an optional import here (``try: import gym / except ImportError:``, a
+            # test module that skips without it): the registration goes into the same guard,
+            # so a missing ale_py (or gymnasium) still takes the except branch instead of
+            # failing the module's import
+            statement, alias = guarded
+            self.plan.insert_after(statement, *[f"import {package}" for package in packages])
+            self.plan.insert_after(statement, *[f"{alias}.register_envs({package})" for package in packages])
+            return
         lines = []
         if alias is None:
             alias = "gymnasium"
@@ -339,6 +350,20 @@ class EnvIds(RuleFamily):
         while self.facts.parent(statement) is not tree:
             statement = self.facts.statement_of(self.facts.parent(statement))  # type: ignore[arg-type]
         return statement
+
+
+def _guarded_gym_import(body: list[ast.stmt]) -> tuple[ast.Import, str] | None:
+    """``import gym`` (``import gymnasium as gym``) directly in the body of a top-level ``try``
+    one of whose handlers catches ImportError, with the name it binds."""
+    for statement in body:
+        if not isinstance(statement, ast.Try) or not any(catches_import_error(h) for h in statement.handlers):
+            continue
+        for inner in statement.body:
+            if isinstance(inner, ast.Import):
+                for name in inner.names:
+                    if name.name in ("gym", "gymnasium"):
+                        return inner, name.asname or name.name
+    return None
 
 
 def _binding_statement(body: list[ast.stmt], alias: str) -> ast.stmt | None:
