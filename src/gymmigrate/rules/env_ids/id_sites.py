@@ -31,6 +31,9 @@ from gymmigrate.rules.env_ids.syntax import (
 )
 
 _ENV_OPTION = re.compile(r"^--?env", re.IGNORECASE)
+# absl's flag definitions whose second argument (``default=``) is the flag's value unless the
+# command line sets it
+_ABSL_DEFINES = frozenset({"absl.flags.DEFINE_string", "absl.flags.DEFINE_enum"})
 
 
 @dataclass
@@ -76,6 +79,7 @@ class IdSites:
             forwards = self._id_call(call)
             if forwards is None:
                 sites.extend(self._argparse_default(call))
+                sites.extend(self._absl_flag_default(call))
                 continue
             arg = id_argument(call)
             if arg is None:
@@ -473,6 +477,32 @@ class IdSites:
                 if site is not None:
                     sites.append(site)
         return sites
+
+    def _absl_flag_default(self, call: ast.Call) -> list[IdSite]:
+        """``flags.DEFINE_string("level", "PongNoFrameskip-v4", ...)`` read back as ``FLAGS.level``
+        by a call taking an env id (or a flag named ``env...``): absl's default is an id, as an
+        argparse option's is."""
+        if not any(q in _ABSL_DEFINES for q in self.facts.qualified_names(call.func)):
+            return []
+        name = call_argument(call, 0, "name")
+        flag = plain_string(self.facts, name) if name is not None else None
+        if not flag or not (_ENV_OPTION.match(flag) or flag.lower().startswith("env") or flag in self._option_ids):
+            return []
+        value = call_argument(call, 1, "default")
+        if value is None:
+            return []
+        via = f"the default of the absl flag `{flag}`"
+        if isinstance(value, ast.Name):
+            literal = self._single_literal_constant(value)
+            if literal is None:
+                return []
+            value, via = literal, f"the constant `{value.id}`, {via}"
+        sites = [self._site(value, None, False, via=via)]
+        choices = call_argument(call, 2, "enum_values")
+        if any(q.endswith("DEFINE_enum") for q in self.facts.qualified_names(call.func)) and isinstance(choices, (ast.List, ast.Tuple)):
+            # absl rejects a default that is not one of the choices: a bumped id is bumped in both
+            sites += [self._site(choice, None, False, via=f"a choice of the absl flag `{flag}`") for choice in choices.elts]
+        return [site for site in sites if site is not None]
 
     def _single_literal_constant(self, name: ast.Name) -> ast.Constant | None:
         """The literal of ``ENV_ID = "..."`` when that is the name's only assignment."""
