@@ -31,6 +31,8 @@ from gymmigrate.rules.env_ids.syntax import (
 )
 
 _ENV_OPTION = re.compile(r"^--?env", re.IGNORECASE)
+# The registry's ``register`` under gym/gymnasium, whose first argument (``id=``) is the id registered.
+_REGISTER_FUNCTIONS = frozenset({"register", "envs.register", "envs.registration.register"})
 # absl's flag definitions whose second argument (``default=``) is the flag's value unless the
 # command line sets it
 _ABSL_DEFINES = frozenset({"absl.flags.DEFINE_string", "absl.flags.DEFINE_enum"})
@@ -377,6 +379,8 @@ class IdSites:
         if local_class is not None:
             function = next((s for s in local_class.body if isinstance(s, FUNCTIONS) and s.name == "__init__"), None)
         if function is not None:
+            if self._registers(function, key):
+                return True  # the project's own id, registered with the registry this module imports
             qualname = def_qualname(self.facts, function)
             escaping = self.facts.memo(("escaping-params", 0), lambda: escaping_parameters(self.facts))
             params = [a.arg for a in (*function.args.posonlyargs, *function.args.args)]
@@ -393,6 +397,26 @@ class IdSites:
         if isinstance(func, ast.Attribute) and classdef is not None and self._run_method(call):
             names |= {f"{q}.{func.attr}" for base in classdef.bases for q in self.facts.qualified_names(base)}
         return any(project.keeps_argument(q, key) for q in names)
+
+    def _registers(self, function: ast.FunctionDef | ast.AsyncFunctionDef, key: str) -> bool:
+        """``def _register_env(id, **kwargs): gym.envs.registration.register(id=id, ...)``: the
+        helper hands argument ``key`` to the registry's ``register`` as the id, so the literal
+        is an id this run registers (with Gymnasium once the import is rewritten), not a make."""
+        params = [a.arg for a in (*function.args.posonlyargs, *function.args.args)]
+        if isinstance(self.facts.parent(function), ast.ClassDef):
+            params = params[1:]
+        param = params[int(key)] if key.isdigit() and int(key) < len(params) else key
+        for node in ast.walk(function):
+            if not isinstance(node, ast.Call):
+                continue
+            if not any(N.strip_gym_prefix(q) in _REGISTER_FUNCTIONS for q in self.facts.qualified_names(node.func)):
+                continue
+            argument = id_argument(node)
+            if isinstance(argument, ast.Name) and argument.id == param:
+                bindings = self.facts.bindings_of(argument)
+                if len(bindings) == 1 and isinstance(bindings[0], ast.arg) and bindings[0].arg == param:
+                    return True
+        return False
 
     def _run_method(self, call: ast.Call) -> bool:
         """``self.m(...)`` on a method of the class, or inherited from a base the run defines."""
