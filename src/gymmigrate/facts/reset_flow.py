@@ -19,6 +19,7 @@ import ast
 import re
 from bisect import bisect_left, bisect_right
 
+from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.module import (
     COMPREHENSIONS,
     FUNCTIONS,
@@ -120,6 +121,22 @@ def guarded_to_run_once(facts: ModuleFacts, node: ast.AST, loop: ast.AST) -> boo
             return True
         child, parent = parent, facts.parent(parent)
     return False
+
+
+def made_anew_in(facts: ModuleFacts, receiver: ast.expr, loop: ast.AST) -> bool:
+    """``for name in names: env = gym.make(name); env.seed(7)``: the receiver is a name that a
+    call's result is assigned to inside ``loop`` before the read, on every path: each
+    iteration seeds an object of its own once, which reseeds nothing."""
+    if not isinstance(receiver, ast.Name):
+        return False
+    flow = Flow.of(facts)
+    binding = flow.last_binding_of(receiver)
+    statement = facts.parent(binding) if isinstance(binding, ast.Name) else None
+    if not (isinstance(binding, ast.Name) and isinstance(statement, ast.Assign) and statement.targets == [binding]):
+        return False
+    if not isinstance(statement.value, ast.Call) or not any(a is loop for a in facts.ancestors(statement)):
+        return False
+    return flow.dominates(statement, receiver, binding)
 
 
 def _in_list(node: ast.AST, items: list[ast.AST]) -> bool:

@@ -17,6 +17,7 @@ from gymmigrate.facts.reset_flow import (
     enclosing_loops,
     guarded_to_run_once,
     is_iteration_invariant,
+    made_anew_in,
 )
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import RuleFamily
@@ -93,7 +94,10 @@ class ResetSeedBase(RuleFamily):
         """GM204: a seed that is the same on every iteration of a loop resets the RNG each time."""
         if isinstance(seed, ast.Constant) and seed.value is None:
             return
+        receiver = call.func.value if isinstance(call.func, ast.Attribute) else None
         for loop in enclosing_loops(self.facts, call):
+            if receiver is not None and made_anew_in(self.facts, receiver, loop):
+                continue  # a new env each iteration, seeded once: no reseed
             if is_iteration_invariant(self.facts, seed, loop) and not guarded_to_run_once(self.facts, call, loop):
                 self.report(
                     call,
