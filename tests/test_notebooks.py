@@ -570,6 +570,41 @@ def test_an_install_line_in_a_notebook_gets_the_new_requirements(tmp_path: Path)
     assert again.exit_code == 0 and again.stdout == ""
 
 
+def test_a_shell_line_continued_with_a_backslash_is_hidden_with_its_continuation(tmp_path: Path) -> None:
+    """``!apt-get install -y \\`` and its indented next line (IPython joins them) inside an
+    ``if``: both are IPython's, so the cell parses and its ``!pip install gym`` is migrated."""
+    path = tmp_path / "setup.ipynb"
+    path.write_bytes(
+        _notebook(
+            ("code", "backend = 'gym'\nif backend == 'mujoco':\n    !apt-get install -y \\\n        libglew-dev patchelf\nelse:\n    !pip install gym\n"),
+            ("code", "import gym\nenv = gym.make('Acrobot-v1')\n"),
+        )
+    )
+    check = runner.invoke(app, ["check", "--output-format", "json", str(path)])
+    assert [(f["cell"], f["line"], f["rule"]) for f in json.loads(check.stdout) if f["rule"] in ("GM001", "GM109")] == [(0, 6, "GM109")]
+    result = runner.invoke(app, ["rewrite", str(path)])
+    assert result.exit_code == 0, result.stderr
+    cells = json.loads(path.read_bytes())["cells"]
+    assert "".join(cells[0]["source"]) == (
+        "backend = 'gym'\nif backend == 'mujoco':\n    !apt-get install -y \\\n        libglew-dev patchelf\nelse:\n    !pip install \"gymnasium>=1.0\"\n"
+    )
+
+
+def test_an_install_line_in_a_cell_that_does_not_parse_is_left_and_said_so(tmp_path: Path) -> None:
+    """The cell is left byte for byte, so no GM109 note may say its install line was migrated:
+    GM001 says the line is left and asks for it by hand."""
+    path = tmp_path / "exercise.ipynb"
+    source = _notebook(("code", "!pip install gym\nanswer = <YOUR CODE>\n"), ("code", "import gym\n"))
+    path.write_bytes(source)
+    check = runner.invoke(app, ["check", "--output-format", "json", str(path)])
+    found = [f for f in json.loads(check.stdout) if f["cell"] == 0]
+    assert [(f["rule"], f["tier"]) for f in found] == [("GM001", "review")]
+    assert "install line" in found[0]["message"]
+    result = runner.invoke(app, ["rewrite", str(path)])
+    assert result.exit_code == 0, result.stderr
+    assert json.loads(path.read_bytes())["cells"][0]["source"] == json.loads(source)["cells"][0]["source"]
+
+
 def test_install_lines_that_only_describe_the_pin_rewrite_are_notes(tmp_path: Path) -> None:
     """``%pip install -U gym~=0.21.0`` and the next line's ``gym[atari,accept-rom-license]``:
     the notebook's own code is migrated in the same run, so nothing is left to decide (audit F);

@@ -72,9 +72,14 @@ class Magics:
             out.extend(lines[:head])  # blank lines: kept, so lines keep their numbers
             out.append(self._placeholder("", lines[head]))
             lines = lines[head + 1 :]
-        for line, starts_statement in _statement_starts(lines):
-            if starts_statement and _MAGIC_LINE.match(line):
+        indent = ""
+        for line, magic in _magic_lines(lines):
+            if magic == _MAGIC:
                 indent = line[: len(line) - len(line.lstrip(" \t"))]
+                out.append(self._placeholder(indent, line))
+            elif magic == _MAGIC_CONTINUED:
+                # ``!apt-get install -y \`` goes on on the next line, which IPython joins to
+                # it: hidden as well, at the magic's indentation, one placeholder per line
                 out.append(self._placeholder(indent, line))
             else:
                 out.append(line)
@@ -104,6 +109,24 @@ class Magics:
             raise TransformError("the rewrite lost an IPython magic line; notebook left unchanged")
 
 
+_PYTHON, _MAGIC, _MAGIC_CONTINUED = 0, 1, 2
+
+
+def _magic_lines(lines: list[str]):
+    """Each line, and whether it is Python, an IPython line, or a line an IPython line ending
+    in a backslash continues onto."""
+    continues = False
+    for line, starts in _statement_starts(lines):
+        if continues:
+            kind = _MAGIC_CONTINUED
+        elif starts and _MAGIC_LINE.match(line):
+            kind = _MAGIC
+        else:
+            kind = _PYTHON
+        continues = kind != _PYTHON and line.rstrip("\r\n").endswith("\\")
+        yield line, kind
+
+
 def _statement_starts(lines: list[str]):
     """Each line, and whether it starts a statement (not inside brackets, a string or a
     backslash continuation). A small scanner: cells are short and this runs only on
@@ -111,11 +134,14 @@ def _statement_starts(lines: list[str]):
     depth = 0
     string: str | None = None  # the open quote, while inside a string
     continued = False
+    magic_continues = False
     for line in lines:
-        starts = depth == 0 and string is None and not continued
+        starts = depth == 0 and string is None and not continued and not magic_continues
         yield line, starts
-        if starts and _MAGIC_LINE.match(line):
-            continue  # its quotes and brackets are not Python's
+        if magic_continues or (starts and _MAGIC_LINE.match(line)):
+            # its quotes and brackets are not Python's, nor those of the lines it goes on to
+            magic_continues = line.rstrip("\r\n").endswith("\\")
+            continue
         continued = False
         i, end = 0, len(line.rstrip("\r\n"))
         while i < end:

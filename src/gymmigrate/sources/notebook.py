@@ -88,7 +88,6 @@ class Notebook:
         self.install_cells: set[int] = set()
         if segments:
             self._plan_install_lines(segments)
-        self.changes_outside_code = bool(self.install_cells)
         # A cell that does not parse (an exercise's `<YOUR CODE>`, half-written code) is
         # reported and left byte for byte; the other cells are still one program.
         parsed = []
@@ -98,7 +97,20 @@ class Notebook:
                 parsed.append(segment)
                 continue
             line, detail = problem
-            self.notes.append(unparsed_cell_finding(segment.code, line, detail, segment.start.cell))
+            index = segment.start.cell
+            finding = unparsed_cell_finding(segment.code, line, detail, index)
+            if index in self.install_cells:
+                # its install lines stay as they are with the rest of it: no note may say
+                # they changed, and the old requirement left in it is to be moved by hand
+                self.install_cells.discard(index)
+                self.notes = [note for note in self.notes if note.cell != index]
+                finding = replace(
+                    finding,
+                    message=f"{finding.message}; its install line, which names gym's packages, is left as well: update it by hand",
+                    tier=None,
+                )
+            self.notes.append(finding)
+        self.changes_outside_code = bool(self.install_cells)
         self.programs = [parsed] if parsed else []
 
     def _plan_install_lines(self, segments: list[Segment]) -> None:
