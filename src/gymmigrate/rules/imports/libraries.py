@@ -103,6 +103,23 @@ GYM_ONLY_LIBRARIES = {
     ),
 }
 
+# Gym-only modules of libraries that are not Gym-only as a whole (GM107 at their import):
+# tensorforce's gym adapter, ``contrib.openai_gym`` (0.4) and ``environments.openai_gym`` (0.5
+# to 0.6.5, the last release), imports gym, makes envs through gym's registry and steps them
+# with the four-field step.
+_TENSORFORCE_GYM = (
+    "tensorforce has no Gymnasium release (the last is 0.6.5): its OpenAIGym adapter makes envs with legacy "
+    "gym (`gym.make`, gym's registry) and steps them the old way, so ids registered with Gymnasium are not found "
+    "and Gymnasium envs handed to it are stepped wrong; adapt the Gymnasium env to tensorforce's Environment "
+    "yourself, or keep this code on gym"
+)
+GYM_ONLY_MODULES = {
+    "tensorforce.contrib.openai_gym": ("tensorforce", _TENSORFORCE_GYM),
+    "tensorforce.environments.openai_gym": ("tensorforce", _TENSORFORCE_GYM),
+    "tensorforce.contrib.OpenAIGym": ("tensorforce", _TENSORFORCE_GYM),
+    "tensorforce.environments.OpenAIGym": ("tensorforce", _TENSORFORCE_GYM),
+}
+
 # Gym-only packages whose Gymnasium successor is imported under the same name (stable-retro
 # installs ``retro``): the import is the legacy package only in a file that uses gym.
 _SUCCESSOR_KEEPS_NAME = frozenset({"retro"})
@@ -321,7 +338,14 @@ class GymOnlyLibraries(ImportsBase):
                 modules = [alias.name for alias in node.names]
             else:
                 modules = [node.module] if node.module and not node.level else []
+            if isinstance(node, ast.ImportFrom) and node.module and not node.level:
+                modules += [f"{node.module}.{alias.name}" for alias in node.names]
             for module in modules:
+                gym_only = GYM_ONLY_MODULES.get(module)
+                if gym_only is not None and gym_only[0] not in reported and not self._of_the_run(gym_only[0]):
+                    reported.add(gym_only[0])
+                    self.report(node, "GM107", gym_only[1], question=gym_only_question(gym_only[0]))
+                    continue
                 top = module.split(".", 1)[0]
                 if top in _SUCCESSOR_KEEPS_NAME and not self.context.profile.imports_gym:
                     continue  # ``import retro`` next to Gymnasium alone: stable-retro already
