@@ -208,6 +208,34 @@ class DoneReadReports(DoneBookkeeping):
             test, parent = parent, self.facts.parent(parent)
         return isinstance(parent, ast.If) and parent.test is test and _chooses_discount(parent, self.facts.enclosing_function(parent))
 
+    def _split_by_time_limit(self, read: ast.Name, step: DoneStep) -> bool:
+        """``if done:`` whose body tells a time-limit end apart from a terminal one by the
+        step's ``info["TimeLimit.truncated"]`` (directly, or through a name bound from it
+        alone in that body) before choosing the discount: GM303 makes that test
+        ``truncated and not terminated``, so the body already ends a truncated transition with
+        its discount kept and a terminated one without: nothing is left to decide."""
+        branch = self.facts.parent(read)
+        info = step.target.elts[-1] if step.target.elts else None
+        if not (isinstance(branch, ast.If) and branch.test is read and isinstance(info, ast.Name)):
+            return False
+        flags: set[str] = set()
+        for statement in branch.body:
+            if (
+                isinstance(statement, ast.Assign)
+                and len(statement.targets) == 1
+                and isinstance(statement.targets[0], ast.Name)
+                and _only_time_limit_key(statement.value, info.id)
+            ):
+                flags.add(statement.targets[0].id)
+                continue
+            if isinstance(statement, ast.If):
+                test = statement.test
+                if (isinstance(test, ast.Name) and test.id in flags) or _only_time_limit_key(test, info.id):
+                    return True
+            if any(name in flags or name == info.id for name in _names_bound_within(statement)):
+                return False  # the flag (or info) changes before the test
+        return False
+
     def _report_discount_choice(self, read: ast.Name, step: DoneStep) -> None:
         names = step.names
         self._report_read(

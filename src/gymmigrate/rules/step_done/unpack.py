@@ -183,7 +183,7 @@ class UnpackRules(DoneReadReports):
                             self._claim(read, steps[first])
                             continue
                         self._report_bootstrap_choice(read, steps[first])
-                    elif self._discount_test(read):
+                    elif self._discount_test(read) and not self._split_by_time_limit(read, steps[first]):
                         self._report_discount_choice(read, steps[first])
             if not flow.same_frame(read, scope):
                 stop = len(steps)  # a nested function may run after any of them
