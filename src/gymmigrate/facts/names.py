@@ -211,7 +211,7 @@ PZ_WRAPPER_BASES = frozenset(name for name in PZ_AEC_BASES | PZ_PARALLEL_BASES i
 # Libraries whose environments have an API of their own (tf_agents' PyEnvironment: reset and
 # step return a TimeStep): what they make, and a class deriving one of their classes, is
 # left alone, with no question asked.
-OWN_ENV_API_PACKAGES = ("tf_agents",)
+OWN_ENV_API_PACKAGES = ("tf_agents", "dm_env")
 
 NOT_ENV_PACKAGES = (
     *OWN_ENV_API_PACKAGES,

@@ -276,8 +276,21 @@ class ClassKinds(_Facade):
             return kind  # a class on a contract of its own: its super() calls stay as they are
         return kind if kind.is_gym else None
 
-    def _own_api_base(self, base: ast.AST) -> bool:
-        return any(N.top_package(q) in N.OWN_ENV_API_PACKAGES for q in self.qualified_names(base))
+    def derives_own_api(self, classdef: ast.ClassDef) -> bool:
+        """The class derives from a library class with an env API of its own (a dm_env
+        adapter of the project): its instances are that API's envs, whatever they hold."""
+        return any(self._own_api_base(b) for b in classdef.bases)
+
+    def _own_api_base(self, base: ast.AST, depth: int = 0) -> bool:
+        """A class of a library with an env API of its own (``dm_env.Environment``), or a
+        class of this module derived from one (``class Adapter(Wrapper)`` with ``class
+        Wrapper(dm_env.Environment)``)."""
+        if any(N.top_package(q) in N.OWN_ENV_API_PACKAGES for q in self.qualified_names(base)):
+            return True
+        local = self.local_class(base)
+        if local is None or depth > 4:
+            return False
+        return any(self._own_api_base(b, depth + 1) for b in local.bases)
 
     def _explicit_base_kind(self, receiver: ast.AST) -> EnvKind | None:
         if not isinstance(receiver, (ast.Name, ast.Attribute)):

@@ -456,9 +456,21 @@ class Receivers(ClassKinds, ParameterKinds, MadeObjects):
         if not (isinstance(statement, (ast.Assign, ast.AnnAssign)) and statement.value is not None):
             return None
         rebinds = any(isinstance(n, ast.Name) and n.id == name.id for n in ast.walk(statement.value))
-        if rebinds and not (self._makes_gym_wrapper(statement.value) or self.wrapped_argument(statement.value) is not None):
+        if rebinds and not (
+            self._makes_gym_wrapper(statement.value)
+            or self.wrapped_argument(statement.value) is not None
+            or self._makes_own_api_env(statement.value)
+        ):
             return None  # ``env = wrap(env)``: its kind rests on the earlier values too
         return last if flow.dominates(statement, name, name) else None
+
+    def _makes_own_api_env(self, value: ast.expr) -> bool:
+        """``Adapter(env)`` with a class of this module that derives from a library class with
+        an env API of its own (``dm_env.Environment``): an env of that API whatever ``env`` was."""
+        if not isinstance(value, ast.Call):
+            return False
+        local = self.local_class(value.func)
+        return local is not None and self.derives_own_api(local)
 
     def _makes_gym_wrapper(self, value: ast.expr) -> bool:
         """``Wrapper(env, ...)`` with a Gym wrapper class (Gymnasium's, this module's, or

@@ -41,7 +41,7 @@ class Exports:
             kind = self.receivers.class_kind(binding)
             if name in env_classes and kind is not EnvKind.OWN_API:
                 kind = EnvKind.GYM_ENV
-            if kind is EnvKind.NOT_ENV and duck_wrapper_param(binding) is not None:
+            if kind is EnvKind.NOT_ENV and duck_wrapper_param(binding) is not None and not self.receivers.derives_own_api(binding):
                 # A duck wrapper its own module cannot prove (other modules build it): what
                 # its instances are is decided where they are made, never "no env".
                 return EnvKind.UNKNOWN
