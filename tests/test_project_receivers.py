@@ -547,3 +547,24 @@ def test_an_env_handed_to_an_instance_call_feeds_the_classes_call_method(tmp_pat
     result = runner.invoke(app, ["rewrite", str(vec)])
     assert result.exit_code == 0, result.output
     assert (vec / "judge.py").read_bytes() == before
+
+
+def test_a_registered_subclass_of_a_library_env_is_a_gym_env_where_it_is_constructed(tmp_path: Path) -> None:
+    """``class Level(CoreEnv)`` of another package's base, registered by the package's
+    ``__init__`` as an entry point: constructed directly in a test module, its step is a Gym
+    env's (as ``make`` of its id is); a class nobody registers stays a question."""
+    files = {
+        "pkg/__init__.py": 'import gym\nfrom pkg.levels import Level\n\ngym.register(id="Level-v0", entry_point="pkg.levels:Level")\n',
+        "pkg/levels.py": "from arcade_core import CoreEnv\n\n\nclass Level(CoreEnv):\n    pass\n\n\nclass Sandbox(CoreEnv):\n    pass\n",
+        "pkg/test_levels.py": (
+            "from pkg.levels import Level, Sandbox\n\n"
+            "env = Level()\nobs, reward, done, info = env.step(0)\n"
+            "box = Sandbox()\nobs, reward, done, info = box.step(0)\n"
+        ),
+    }
+    facts = _join(files, tmp_path)
+    assert facts.call_kinds[(str(tmp_path / "pkg/levels.py"), "Level")] is EnvKind.GYM_ENV
+    assert facts.call_kinds[(str(tmp_path / "pkg/levels.py"), "Sandbox")] is EnvKind.UNKNOWN
+    found = _findings([tmp_path / "pkg"], tmp_path)
+    steps = sorted((f["line"], f["kind"]) for f in found if f["rule"] == "GM301" and str(f["path"]).endswith("test_levels.py"))
+    assert steps == [(4, "auto"), (6, "flag")]

@@ -540,6 +540,22 @@ def string_value(node: ast.AST | None) -> str | None:
     return None
 
 
+def own_entry_point(entry: ast.expr | None) -> str | None:
+    """``__name__ + ":Class"``: an entry point in the registering module itself, spelled
+    ``":Class"`` (no module: the join resolves it to the module that registers it)."""
+    if (
+        isinstance(entry, ast.BinOp)
+        and isinstance(entry.op, ast.Add)
+        and isinstance(entry.left, ast.Name)
+        and entry.left.id == "__name__"
+        and isinstance(entry.right, ast.Constant)
+        and isinstance(entry.right.value, str)
+        and entry.right.value.startswith(":")
+    ):
+        return entry.right.value
+    return None
+
+
 def call_argument(call: ast.Call, position: int | None, name: str) -> ast.expr | None:
     """The argument ``call`` passes for parameter ``name`` at ``position`` (None if unclear)."""
     for kw in call.keywords:

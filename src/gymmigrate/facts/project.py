@@ -247,6 +247,9 @@ class ProjectFacts:
     def_params: dict[tuple[str, str], tuple[str, ...]] = field(default_factory=dict)
     # (path, top-level name) another module reads as a value, not called (``handed_on``)
     handed_on: set[tuple[str, str]] = field(default_factory=set)
+    # (path, class) the run registers as an ``entry_point`` with the Gym registry: a Gym env
+    # class, however it is constructed
+    registered_classes: set[tuple[str, str]] = field(default_factory=set)
 
     @classmethod
     def join(cls, summaries: list[ModuleSummary], blocked: dict[str, str] | None = None) -> ProjectFacts:
@@ -327,6 +330,7 @@ class ProjectFacts:
         if any(q.split(".")[:3] in (["gym", "envs", "mujoco"], ["gymnasium", "envs", "mujoco"]) for q in imported):
             requires.add("imageio")
         facts.requires = frozenset(requires)
+        facts._join_registered_classes(by_path)
         Exports(facts, by_path).run()
         # before the parameters: an argument made by such a class keeps the def's calls on its contract
         facts.forwarding_wrappers = forwarding_wrappers(facts, by_path)
@@ -387,6 +391,19 @@ class ProjectFacts:
         facts.rendering_wrappers = facts._reexported(by_path, {(p, n) for p, summary in by_path.items() for n in summary.rendering_wrappers})
         facts.silent_renders = frozenset((path, name) for path, summary in by_path.items() for name in summary.silent_renders)
         return facts
+
+    def _join_registered_classes(self, by_path: dict[str, ModuleSummary]) -> None:
+        """``register(id, entry_point="pkg.envs:Task")`` (``__name__ + ":Task"``): the class
+        the entry point names, where it is defined."""
+        for path, summary in by_path.items():
+            for _, entry in summary.registrations:
+                module, _, name = entry.partition(":")
+                where = self.modules.get(module) if module else path
+                if where is None or not name or "." in name:
+                    continue
+                definer = class_definer(self, by_path, where, name)
+                if definer is not None:
+                    self.registered_classes.add(definer)
 
     def _join_nearby_packages(self, summaries: list[ModuleSummary]) -> None:
         own = {s.path: frozenset(q.split(".", 1)[0] for q in s.imported if not q.startswith(".")) for s in summaries}

@@ -142,6 +142,10 @@ class Exports:
                 found = EnvKind.UNKNOWN if path in self.facts.blocked and kind is not EnvKind.NOT_ENV else kind
             else:
                 found = self._follow(kind[len(REF) :], path)
+            if found is EnvKind.UNKNOWN and key in self.facts.registered_classes and path not in self.facts.blocked:
+                # a class of a library base (``class Game(NESEnv)``) the run registers with
+                # Gym's registry: a Gym env, as ``make`` of its id gives one
+                found = EnvKind.GYM_ENV
         finally:
             self.depth -= 1
         self.facts.call_kinds[key] = found

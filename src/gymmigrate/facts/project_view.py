@@ -457,6 +457,10 @@ class ProjectView:
         split = self.facts._split(qualified, self.path)
         return None if split is None else self.facts.wrapper_defined.get(split)
 
+    def registered_here(self, name: str) -> bool:
+        """A class of this module that the run registers as an ``entry_point``."""
+        return (self.path, name) in self.facts.registered_classes
+
     def non_space_env(self, module: str, name: str) -> tuple[str, str, str] | None:
         """For ``module:name`` as an ``entry_point`` spells it, a class of the run whose
         spaces are not Spaces: (attribute, space class, what that class derives from)."""

@@ -37,7 +37,13 @@ from gymmigrate.facts.callables import CallableKinds
 from gymmigrate.facts.env_specs import is_spec_make
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import MAX_DEPTH, EnvKind, join_kinds
-from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, call_argument, own_returns
+from gymmigrate.facts.module import (
+    FUNCTIONS,
+    ModuleFacts,
+    call_argument,
+    own_entry_point,
+    own_returns,
+)
 from gymmigrate.facts.narrowing import Narrowing
 from gymmigrate.facts.receiver_classes import ClassKinds
 from gymmigrate.facts.receiver_origins import MadeObjects
@@ -196,7 +202,12 @@ class Receivers(ClassKinds, ParameterKinds, MadeObjects):
                     return star
         local_class = self.local_class(func)
         if local_class is not None:
-            return self.class_kind(local_class)
+            kind = self.class_kind(local_class)
+            if kind is EnvKind.UNKNOWN and self._registered_class(local_class):
+                # a class of a library base (``class Game(NESEnv)``) the run registers with
+                # Gym's registry: a Gym env, as ``make`` of its id gives one
+                return EnvKind.GYM_ENV
+            return kind
         local_function = self.local_function(func)
         if local_function is not None:
             return self.returns_kind(local_function)
@@ -463,6 +474,18 @@ class Receivers(ClassKinds, ParameterKinds, MadeObjects):
         ):
             return None  # ``env = wrap(env)``: its kind rests on the earlier values too
         return last if flow.dominates(statement, name, name) else None
+
+    def _registered_class(self, classdef: ast.ClassDef) -> bool:
+        """The run registers ``classdef`` as an ``entry_point`` with the Gym registry (a file
+        checked alone: ``register(..., entry_point=__name__ + ":Class")`` in this module)."""
+        if self.project is not None:
+            return self.project.registered_here(classdef.name)
+        for call in (*self.facts.calls_by_name.get("register", ()), *self.facts.attribute_calls.get("register", ())):
+            if not any(N.strip_gym_prefix(q) in ("register", "envs.register", "envs.registration.register") for q in self.qualified_names(call.func)):
+                continue
+            if own_entry_point(call_argument(call, 1, "entry_point")) == ":" + classdef.name:
+                return True
+        return False
 
     def _makes_own_api_env(self, value: ast.expr) -> bool:
         """``Adapter(env)`` with a class of this module that derives from a library class with

@@ -13,6 +13,7 @@ from gymmigrate.facts.module import (
     FUNCTIONS,
     ModuleFacts,
     call_argument,
+    own_entry_point,
     own_returns,
     string_value,
 )
@@ -137,7 +138,7 @@ def registrations(facts: ModuleFacts) -> tuple[tuple[str | None, str], ...]:
     found = []
     for call in (*facts.calls_by_name.get("register", ()), *facts.attribute_calls.get("register", ())):
         entry = call_argument(call, 1, "entry_point")
-        text = string_value(entry) if entry is not None else None
+        text = string_value(entry) if entry is not None else own_entry_point(entry)
         if text is None or ":" not in text:
             continue
         env_id = call_argument(call, 0, "id")
