@@ -97,13 +97,13 @@ class Notebook:
                 parsed.append(segment)
                 continue
             line, detail = problem
-            index = segment.start.cell
-            finding = unparsed_cell_finding(segment.code, line, detail, index)
-            if index in self.install_cells:
+            cell_index = segment.start.cell
+            finding = unparsed_cell_finding(segment.code, line, detail, cell_index)
+            if cell_index in self.install_cells:
                 # its install lines stay as they are with the rest of it: no note may say
                 # they changed, and the old requirement left in it is to be moved by hand
-                self.install_cells.discard(index)
-                self.notes = [note for note in self.notes if note.cell != index]
+                self.install_cells.discard(cell_index)
+                self.notes = [note for note in self.notes if note.cell != cell_index]
                 finding = replace(
                     finding,
                     message=f"{finding.message}; its install line, which names gym's packages, is left as well: update it by hand",

@@ -520,7 +520,8 @@ class IdSites:
             literal = self._single_literal_constant(value)
             if literal is None:
                 return []
-            value, via = literal, f"the constant `{value.id}`, {via}"
+            via = f"the constant `{value.id}`, {via}"
+            value = literal
         sites = [self._site(value, None, False, via=via)]
         choices = call_argument(call, 2, "enum_values")
         if any(q.endswith("DEFINE_enum") for q in self.facts.qualified_names(call.func)) and isinstance(choices, (ast.List, ast.Tuple)):

@@ -308,9 +308,9 @@ class EnvIds(RuleFamily):
             # test module that skips without it): the registration goes into the same guard,
             # so a missing ale_py (or gymnasium) still takes the except branch instead of
             # failing the module's import
-            statement, alias = guarded
-            self.plan.insert_after(statement, *[f"import {package}" for package in packages])
-            self.plan.insert_after(statement, *[f"{alias}.register_envs({package})" for package in packages])
+            guard_import, alias = guarded
+            self.plan.insert_after(guard_import, *[f"import {package}" for package in packages])
+            self.plan.insert_after(guard_import, *[f"{alias}.register_envs({package})" for package in packages])
             return
         lines = []
         if alias is None:
