@@ -568,3 +568,41 @@ def test_a_registered_subclass_of_a_library_env_is_a_gym_env_where_it_is_constru
     found = _findings([tmp_path / "pkg"], tmp_path)
     steps = sorted((f["line"], f["kind"]) for f in found if f["rule"] == "GM301" and str(f["path"]).endswith("test_levels.py"))
     assert steps == [(4, "auto"), (6, "flag")]
+
+
+def test_a_notebook_with_outputs_past_a_modules_size_limit_still_counts_as_a_caller(tmp_path: Path) -> None:
+    """A notebook whose file is over 1 MiB only because of its outputs (an image): its code
+    cells are a few lines, so its calls still say what the helpers' parameters are. The
+    ``gym.make`` env it hands ``play`` makes that loop certain; the project's own ``Pool``
+    (its own four-value step) it hands ``collect`` leaves that loop alone, unasked."""
+    (tmp_path / "helpers.py").write_text(
+        "import numpy as np\n\n\nclass Pool:\n    def __init__(self, n):\n        self.n = n\n\n"
+        "    def reset(self):\n        return np.zeros(self.n)\n\n"
+        "    def step(self, actions):\n        return np.zeros(self.n), np.zeros(self.n), np.zeros(self.n, bool), {}\n\n\n"
+        "def play(env):\n    env.reset()\n    obs, reward, over, _ = env.step(0)\n    return over\n\n\n"
+        "def collect(pool):\n    pool.reset()\n    obs, reward, over, _ = pool.step([0] * pool.n)\n    return over\n"
+    )
+    picture = {"output_type": "display_data", "metadata": {}, "data": {"image/png": "A" * (1536 * 1024)}}
+    cells = [
+        "import gym\nimport helpers\n\nenv = gym.make('CartPole-v1')\n",
+        "helpers.play(env)\n",
+        "helpers.collect(helpers.Pool(2))\n",
+    ]
+    notebook = {
+        "cells": [
+            {"cell_type": "code", "execution_count": 1, "metadata": {}, "outputs": [picture] if i == 1 else [], "source": s}
+            for i, s in enumerate(cells)
+        ],
+        "metadata": {"kernelspec": {"language": "python", "name": "python3", "display_name": "Python 3"}},
+        "nbformat": 4,
+        "nbformat_minor": 5,
+    }
+    (tmp_path / "run.ipynb").write_text(json.dumps(notebook, indent=1))
+    assert (tmp_path / "run.ipynb").stat().st_size > 1024 * 1024
+    found = _findings([tmp_path], tmp_path)
+    assert [f for f in found if f["tier"] == "review" and f["rule"] != "GM302"] == []  # GM302: `return over`
+    result = runner.invoke(app, ["rewrite", str(tmp_path)])
+    assert result.exit_code == 0, result.output
+    helpers = (tmp_path / "helpers.py").read_text()
+    assert "obs, reward, terminated, truncated, _ = env.step(0)" in helpers
+    assert "obs, reward, over, _ = pool.step([0] * pool.n)" in helpers

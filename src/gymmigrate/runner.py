@@ -39,7 +39,7 @@ from gymmigrate.process import (
     migrate_file,
     process_file,
 )
-from gymmigrate.safety import Refused, read_source, screen
+from gymmigrate.safety import MAX_SOURCE_BYTES, Refused, read_source, screen
 from gymmigrate.source_text import TransformError, decode, may_hold_gym_code
 from gymmigrate.sources import adapter_for
 from gymmigrate.sources.programs import join as join_segments
@@ -268,10 +268,13 @@ def summarize_path(path: Path) -> ModuleSummary | None:
         # ``__init__`` and a star import are read whatever they say: they re-export names
         # (``from .utils import make``) the rest of the run calls.
         relevant = _may_reexport if Path(path).name == "__init__.py" else _may_matter_to_the_run
-        source = read_source(Path(path), relevant)
+        notebook = adapter_for(Path(path)) if Path(path).suffix == ".ipynb" else None
+        # A notebook's file size is mostly its outputs (images, logs): it is read up to its own
+        # run's limit, and only its code cells count against a module's (in _notebook_summary).
+        source = read_source(Path(path), relevant, limit=notebook.max_bytes) if notebook else read_source(Path(path), relevant)
         if source is None:
             return None
-        if Path(path).suffix == ".ipynb":
+        if notebook is not None:
             return _notebook_summary(path, source)
         if not screen(source, relevant):
             if not screen(source, _may_mask_bootstrapping):
@@ -298,6 +301,8 @@ def _notebook_summary(path: Path, source: bytes) -> ModuleSummary | None:
     if not programs:
         return None
     text, _ = join_segments([segment.code for segment in programs[0]])
+    if len(text.encode("utf-8")) > MAX_SOURCE_BYTES:  # its code alone is past a module's limit
+        return None
     return summarize(str(path), text)
 
 

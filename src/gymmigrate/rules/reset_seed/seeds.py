@@ -16,7 +16,9 @@ never again" (``Env.reset`` docstring). So:
   wrapper class of the run defines a seed() of its own (which reset(seed=...) never calls)
   and the env classes keep theirs, ``env.seed(s)`` on a made env, in a plain class's seed()
   or in that wrapper's seed() becomes ``env.get_wrapper_attr("seed")(s)``: the seed() gym's
-  forwarding reached, not merged into a reset.
+  forwarding reached, not merged into a reset. In the seed() of a plain class of the
+  project (an adapter deriving its own base), which the project calls itself, it becomes
+  ``env.reset(seed=s)`` in place, listed once for review (it also resets the env).
 * GM206 a numpy scalar seed is wrapped in ``int()`` (``Seed must be a python integer``).
 * GM204 a seed that is the same on every iteration of a loop is reported.
 * GM205 ``space.seed(s)`` stays, but it returns an int (a dict for Dict spaces), not
@@ -80,6 +82,8 @@ class SeedCalls(ResetSeedBase):
             if self._seed_through_unwrapped(call, function, decision, code, name):
                 return
             if self._seed_in_wrapper_seed(call, function, decision, code, name):
+                return
+            if self._seed_in_own_seed(call, function, decision, code, name):
                 return
             self.report(
                 call,
@@ -255,6 +259,64 @@ class SeedCalls(ResetSeedBase):
             FixKind.ASSIST,
             question=("seed() method", function.lineno),
         )
+        return True
+
+    def _seed_in_own_seed(
+        self, call: ast.Call, function: ast.FunctionDef | ast.AsyncFunctionDef, decision: Decision, code: str, name: str
+    ) -> bool:
+        """``self._env.seed(s)`` in the seed() of a plain class (a project's adapter around a
+        Gym env, deriving its own base) or a plain function: the project calls it, not Gym,
+        and ``env.seed`` raises AttributeError in Gymnasium. It becomes ``reset(seed=s)`` in
+        place, which also starts an episode: harmless when the project seeds before its
+        first reset (the later resets continue the seeded stream, as legacy seed() then
+        reset() did), an episode restarted when it seeds mid-episode. The run cannot see
+        when it is called, so the rewrite is listed once for review."""
+        if decision.action not in (Action.REWRITE, Action.REWRITE_FOR_REVIEW):
+            return False
+        receiver = call.func.value  # type: ignore[attr-defined]
+        project = self.receivers.project
+        if isinstance(receiver, ast.Attribute) and receiver.attr == "unwrapped":
+            return False  # an env class's own seed(), reached on purpose (``_seed_through_unwrapped``)
+        if project is not None and project.seed_classes():
+            return False  # env classes of the run keep a seed(): the env may have one
+        classdef = self.facts.enclosing_class(function)
+        if classdef is not None and not self._own_plain_class(classdef, set()):
+            return False  # an env class's own seed() hook (GM503 decides it), or a base from elsewhere
+        statement = self.facts.parent(call)
+        seed = _seed_argument(call)
+        if not isinstance(statement, ast.Expr) or seed is None:
+            return False
+        edit = self._edit(call)
+        edit.to_reset = True
+        edit.int_seed = self.numpy_seeds.is_numpy(seed)
+        owner = f"`{classdef.name}.seed()`" if classdef is not None else "this seed()"
+        self.report(
+            call,
+            code,
+            f"`{name}.seed(s)` -> `{name}.reset(seed=s)` in {owner}, which this project calls itself (Gymnasium has "
+            f"no env.seed()): this also resets `{name}`; if the project calls it mid-episode, that episode now "
+            "restarts here",
+            FixKind.ASSIST,
+            question=("seed() method", function.lineno),
+        )
+        return True
+
+    def _own_plain_class(self, classdef: ast.ClassDef, seen: set[str]) -> bool:
+        """A class whose bases are ``object`` or plain classes of this module, none a Gym env
+        or wrapper class: its methods are called by the project alone."""
+        if classdef.name in seen or classdef.keywords:
+            return False
+        seen.add(classdef.name)
+        if self.receivers.class_kind(classdef) not in (EnvKind.UNKNOWN, EnvKind.NOT_ENV):
+            return False
+        if self.receivers.is_gym_wrapper_class(classdef):
+            return False
+        for base in classdef.bases:
+            if isinstance(base, ast.Name) and base.id == "object":
+                continue
+            local = self.receivers.local_class(base)
+            if local is None or not self._own_plain_class(local, seen):
+                return False
         return True
 
     def _seed_in_wrapper_seed(
