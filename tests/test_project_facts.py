@@ -356,3 +356,14 @@ def test_a_bare_render_in_a_module_without_gym_is_reported_when_the_run_proves_t
     assert "state, reward, terminated, truncated, _ = env.step(" in (folder / "rollout.py").read_text()
     assert "env.render()" in (folder / "rollout.py").read_text()
     float(_run_main(folder, "train"))  # runs on Gymnasium 1.4 and prints the return
+
+
+def test_a_helper_of_the_run_that_only_wraps_leads_the_recorder_to_the_make(tmp_path: Path) -> None:
+    """``env = shape(env)`` with ``shape`` in another module returning its argument in Gym
+    wrappers: the env was made by the ``gym.make`` before it, which gets the recorder's mode."""
+    folder = tmp_path / "wrap"
+    shutil.copytree(FIXTURES / "project_wrap_helper", folder)
+    result = runner.invoke(app, ["rewrite", str(folder)])
+    assert result.exit_code == 0, result.output
+    assert 'gym.make("CartPole-v1", render_mode="rgb_array")' in (folder / "film.py").read_text()
+    assert "Review" not in result.output, result.output

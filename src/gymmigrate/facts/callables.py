@@ -170,21 +170,40 @@ class CallableKinds:
         module only hands to ``Process(target=worker, args=(..., Holder(fn)))`` (or calls):
         what calling the callable that a class of the module stores on ``x`` from its
         constructor parameter returns, for every such call. Unknown otherwise."""
+        stored = self.held_values(attr)
+        if stored is None:
+            return EnvKind.UNKNOWN
+        kinds = [self.returned_kind(value) for value in stored]
+        return join_kinds(kinds) if EnvKind.UNKNOWN not in kinds else EnvKind.UNKNOWN
+
+    def held_value_kind(self, attr: ast.Attribute) -> EnvKind:
+        """``env = env_fn_wrapper.x`` in such a worker, where the holder carries the env itself
+        (``Process(target=worker, args=(..., Holder(gym.make(...))))``): the kind of what every
+        spawn or call stores there. Unknown otherwise."""
+        stored = self.held_values(attr)
+        if stored is None:
+            return EnvKind.UNKNOWN
+        kinds = [self.receivers.kind_of(value) for value in stored]
+        return join_kinds(kinds) if EnvKind.UNKNOWN not in kinds else EnvKind.UNKNOWN
+
+    def held_values(self, attr: ast.Attribute) -> list[ast.expr] | None:
+        """What the holder parameter of such a worker carries on ``attr``, for every call or
+        spawn of the worker (``held_callable_kind``); None when one is not shown."""
         holder = attr.value
         if not isinstance(holder, ast.Name):
-            return EnvKind.UNKNOWN
+            return None
         bindings = self.facts.bindings_of(holder)
         if len(bindings) != 1 or not isinstance(bindings[0], ast.arg):
-            return EnvKind.UNKNOWN
+            return None
         param = bindings[0]
         function = self.facts.parent(self.facts.parent(param))
         if not isinstance(function, FUNCTIONS) or self.facts.parent(function) is not self.facts.tree:
-            return EnvKind.UNKNOWN
+            return None
         if self.external_param_kinds(function, None, param.arg):
-            return EnvKind.UNKNOWN  # called from other modules too
+            return None  # called from other modules too
         params = [*function.args.posonlyargs, *function.args.args]
         if param not in params:
-            return EnvKind.UNKNOWN
+            return None
         position = params.index(param)
         direct = self.receivers.call_sites(function, None)
         spawns = self._spawns_of(function)
@@ -193,21 +212,21 @@ class CallableKinds:
         # the module does not show.
         uses = {id(c.func) for c in direct} | {id(target) for _, target, _ in spawns}
         if any(id(read) not in uses for read in self.facts.reads_of(function.name, function)):
-            return EnvKind.UNKNOWN
+            return None
         arguments: list[ast.expr | None] = [call_argument(c, position, param.arg) for c in direct]
         for _, _, handed in spawns:
             if not isinstance(handed, ast.Tuple) or any(isinstance(e, ast.Starred) for e in handed.elts):
-                return EnvKind.UNKNOWN
+                return None
             arguments.append(handed.elts[position] if position < len(handed.elts) else None)
         if not arguments:
-            return EnvKind.UNKNOWN
-        kinds = []
+            return None
+        found = []
         for argument in arguments:
             stored = self._stored_by_holder(argument, attr.attr)
             if stored is None:
-                return EnvKind.UNKNOWN
-            kinds.append(self.returned_kind(stored))
-        return join_kinds(kinds) if EnvKind.UNKNOWN not in kinds else EnvKind.UNKNOWN
+                return None
+            found.append(stored)
+        return found
 
     def _spawns_of(self, function: ast.AST) -> list[tuple[ast.Call, ast.expr, ast.expr | None]]:
         """Calls handing ``function`` on as the target of a process or thread, each with the

@@ -224,6 +224,11 @@ class CreationFinder:
         own = self.receivers.own_method(call.func)  # ``self.env = self.make_env()``
         if own is not None:
             return self._follow(own, self._returns)
+        handed_on = self.receivers.wrapped_argument(call)
+        if handed_on is not None:
+            # ``env = make_env(env)`` with a def of the run that only wraps its argument and
+            # returns it: the env was created where that argument was.
+            return self._follow(handed_on, self._expr)
         project = self.receivers.project
         for qualified in self.facts.qualified_names(call.func) if project is not None else ():
             where = project.made_at(qualified)  # type: ignore[union-attr]

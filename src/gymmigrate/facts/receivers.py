@@ -337,6 +337,11 @@ class Receivers(ClassKinds, ParameterKinds, MadeObjects):
         ``__init__`` parameter: a Gym env when every construction passes one (this module's
         class: its stores' kinds; the run's: ``ProjectView.held_kind``). Else unknown."""
         bindings = self.facts.bindings_of(holder)
+        if len(bindings) == 1 and isinstance(bindings[0], ast.arg):
+            # ``env = env_fn_wrapper.x`` in a worker the module spawns with
+            # ``Process(target=worker, args=(..., Holder(gym.make(...))))``
+            parent = self.facts.parent(holder)
+            return self.callables.held_value_kind(parent) if isinstance(parent, ast.Attribute) and parent.attr == name else EnvKind.UNKNOWN
         calls = []
         for binding in bindings:
             statement = self.facts.parent(binding) if isinstance(binding, ast.Name) else None

@@ -9,7 +9,7 @@ from typing import Any
 
 from gymmigrate.edits.arguments import append_keyword, remove_args
 from gymmigrate.edits.lazy import cst
-from gymmigrate.facts.module import keyword
+from gymmigrate.facts.module import keyword, own_returns
 
 RGB_ARRAY = "rgb_array"  # the mode recorders need (also ``rendering.RGB_ARRAY``)
 
@@ -86,3 +86,32 @@ def with_keyword(node: Any, func: str, name: str, literal: str) -> Any:
 
 def single_frame_fixed(node: Any) -> Any:
     return node.with_changes(value=f"{node.prefix}{node.quote}{RGB_ARRAY}{node.quote}")
+
+
+def fetched_render(facts: Any, receivers: Any, call: ast.Call) -> ast.Call | None:
+    """``render_func()`` with ``render_func`` bound once, to ``get_render_func(env)``: a call of
+    a def of the module whose every return is a render method it fetches (``return
+    venv.envs[0].render``), a call of itself (``get_render_func(venv.venv)``) or None. That
+    call of the def; None for anything else."""
+    if not isinstance(call.func, ast.Name) or call.args or call.keywords:
+        return None
+    bindings = facts.bindings_of(call.func)
+    statement = facts.parent(bindings[0]) if len(bindings) == 1 and isinstance(bindings[0], ast.Name) else None
+    if not (isinstance(statement, ast.Assign) and statement.targets == bindings and isinstance(statement.value, ast.Call)):
+        return None
+    getter = statement.value
+    function = receivers.local_function(getter.func)
+    if function is None:
+        return None
+    values = [r.value for r in own_returns(function)]
+    fetched = False
+    for value in values:
+        if isinstance(value, ast.Attribute) and value.attr == "render":
+            fetched = True
+        elif not (
+            (isinstance(value, ast.Constant) and value.value is None)
+            or value is None
+            or (isinstance(value, ast.Call) and isinstance(value.func, ast.Name) and receivers.local_function(value.func) is function)
+        ):
+            return None
+    return getter if fetched else None

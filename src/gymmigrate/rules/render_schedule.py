@@ -68,35 +68,70 @@ def _always_true(facts: ModuleFacts, test: ast.AST) -> bool:
     """``if render:`` where ``render`` is a parameter of a module-level def, never rebound,
     whose name is read only to call it, and every call passes ``True`` for it (by keyword or
     by position): the test holds on every run, so it sets no schedule."""
+    passed = _flag_values(facts, test, default=False)
+    return passed is not None and all(isinstance(v, ast.Constant) and v.value is True for v in passed)
+
+
+def never_run_guard(facts: ModuleFacts, call: ast.AST) -> ast.Name | None:
+    """``if render: env.render()`` where ``render`` is such a parameter and every call of the
+    def passes ``False`` for it or leaves its default ``False``: the test that keeps the
+    call from ever running (``_flag_values``). None otherwise."""
+    child: ast.AST = call
+    for ancestor in facts.ancestors(call):
+        if isinstance(ancestor, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda, ast.ClassDef)):
+            return None
+        if isinstance(ancestor, ast.If) and child in ancestor.body and isinstance(ancestor.test, ast.Name):
+            passed = _flag_values(facts, ancestor.test, default=True)
+            if passed and all(isinstance(v, ast.Constant) and v.value is False for v in passed):
+                return ancestor.test
+        child = ancestor
+    return None
+
+
+def _flag_values(facts: ModuleFacts, test: ast.AST, default: bool) -> list[ast.expr] | None:
+    """What every call of a module-level def passes for the parameter ``test`` reads (never
+    rebound; the def's name read only to call it), by keyword or by position, or, with
+    ``default``, the parameter's default where a call leaves it out. None when one call
+    shows nothing or the def is not called."""
     if not isinstance(test, ast.Name):
-        return False
+        return None
     bindings = facts.bindings_of(test)
     if len(bindings) != 1 or not isinstance(bindings[0], ast.arg):
-        return False
+        return None
     param = bindings[0]
     function = facts.enclosing_function(test)
     if function is None or facts.functions.get(function.name) is not function:
-        return False
+        return None
     args = function.args
     positional = [*args.posonlyargs, *args.args]
     if param not in positional and param not in args.kwonlyargs:
-        return False
+        return None
     position = positional.index(param) if param in positional else None
+    if position is not None:
+        defaults = args.defaults
+        offset = position - (len(positional) - len(defaults))
+        fallback = defaults[offset] if offset >= 0 else None
+    else:
+        fallback = args.kw_defaults[args.kwonlyargs.index(param)]
     reads = facts.reads_of(function.name, function)
     if not reads:
-        return False
+        return None
+    found: list[ast.expr] = []
     for read in reads:
         call = facts.parent(read)
         if not (isinstance(call, ast.Call) and call.func is read):
-            return False
+            return None
         if any(isinstance(a, ast.Starred) for a in call.args) or any(k.arg is None for k in call.keywords):
-            return False
+            return None
         passed = next((k.value for k in call.keywords if k.arg == param.arg), None)
         if passed is None and position is not None and position < len(call.args):
             passed = call.args[position]
-        if not (isinstance(passed, ast.Constant) and passed.value is True):
-            return False
-    return True
+        if passed is None and default:
+            passed = fallback
+        if passed is None:
+            return None
+        found.append(passed)
+    return found
 
 
 def _main_guard(test: ast.AST) -> bool:

@@ -7,8 +7,9 @@ from __future__ import annotations
 
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.creation import CreationFinder
+from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext
-from gymmigrate.rules.render_calls import in_source_order, is_render
+from gymmigrate.rules.render_calls import fetched_render, in_source_order, is_render
 from gymmigrate.rules.rendering.common import (
     LEGACY_SINGLE_FRAME,
     RULES,
@@ -39,7 +40,11 @@ class Rendering(RenderSites, SitePlanning):
             # An env this file makes may be drawn by a wrapper another module of the run
             # defines (its reset/step render): the make is reported here.
             project = context.options.project
-            return bool(project is not None and project.rendering_wrappers and context.profile.imports_gym)
+            if project is not None and project.rendering_wrappers and context.profile.imports_gym:
+                return True
+            # ``return venv.envs[0].render``: a render method fetched and called by name
+            # (``_report_fetched_renders``)
+            return context.profile.imports_gym and ".render" in text and bool(facts.calls_by_name)
         return (
             context.profile.imports_gym
             or imports_legacy_make(facts, context)
@@ -76,6 +81,7 @@ class Rendering(RenderSites, SitePlanning):
         self._plan_forwards()
         self._report_rendering_wrappers()
         self._plan_make_literals()
+        self._report_fetched_renders()
         # Render calls that still pass a mode after this run: a local env class whose
         # render(mode) they may reach keeps its signature (custom_env/render.py).
         # (Calls inside a render method forward its mode: the Env/Wrapper rules own them.)
@@ -86,3 +92,27 @@ class Rendering(RenderSites, SitePlanning):
             and id(call) not in self._mode_dropped
             and getattr(self.facts.enclosing_function(call), "name", None) != "render"
         ]
+
+    def _report_fetched_renders(self) -> None:
+        """``render_func = get_render_func(env)`` then ``render_func()``, where a def of this
+        module returns the render method of what it is given (``return venv.envs[0].render``):
+        a legacy render that drew a window by default, out of reach of the sites above
+        (no ``x.render()`` call). The env's make is not followed through the def, so the
+        call is named for a person to give that make render_mode="human"."""
+        if not self.context.profile.imports_gym:
+            return
+        for name, calls in self.facts.calls_by_name.items():
+            for call in calls:
+                getter = fetched_render(self.facts, self.receivers, call)
+                if getter is None:
+                    continue
+                self.report(
+                    call,
+                    "GM401",
+                    f"not rewritten: `{name}()` calls the render method that `{self.facts.segment(getter)}` returns; legacy "
+                    'render() drew a window by default, Gymnasium\'s draws only when the env is made with render_mode="human": '
+                    "pass it where that env is made",
+                    FixKind.FLAG,
+                    question=("GM401", "fetched render", self.facts.segment(getter)),
+                )
+

@@ -16,7 +16,7 @@ from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import full_name, keyword, string_value
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.render_calls import arguments_in_order, close_call
-from gymmigrate.rules.render_schedule import same_value_at_make
+from gymmigrate.rules.render_schedule import never_run_guard, same_value_at_make
 from gymmigrate.rules.rendering.common import (
     HUMAN,
     LEGACY_SINGLE_FRAME,
@@ -140,6 +140,20 @@ class RenderSites(RecorderSites):
                         question=self.receiver_question(receiver, decision),
                     )
                 return None  # code already written for Gymnasium: a bare render() is its API
+            off = never_run_guard(self.facts, call)
+            if off is not None:
+                # ``if render: env.render()`` with every call of the def passing False (or
+                # leaving a False default): the call never runs, so it asks no render_mode of
+                # the make (a recorder's "rgb_array" may take it); said, in case it is turned on.
+                self.report(
+                    call,
+                    "GM402",
+                    f"not rewritten: this render() never runs (every call of `{self.facts.enclosing_function(call).name}` "  # type: ignore[union-attr]
+                    f'passes `{off.id}` False); if you turn it on, it draws only when the env is made with render_mode="human"',
+                    FixKind.FLAG,
+                    tier=Tier.NOTE,
+                )
+                return None
             return RenderSite(call, "GM402", HUMAN, (), decision.action, self.finder.find(receiver))
         extra = [a for a in arguments_in_order(call) if a is not mode_arg and a is not close]
         if extra:
