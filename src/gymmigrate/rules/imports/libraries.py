@@ -342,7 +342,7 @@ class GymOnlyLibraries(ImportsBase):
                 modules += [f"{node.module}.{alias.name}" for alias in node.names]
             for module in modules:
                 gym_only = GYM_ONLY_MODULES.get(module)
-                if gym_only is not None and gym_only[0] not in reported and not self._of_the_run(gym_only[0]):
+                if gym_only is not None and gym_only[0] not in reported and not self._module_of_the_run(module):
                     reported.add(gym_only[0])
                     self.report(node, "GM107", gym_only[1], question=gym_only_question(gym_only[0]))
                     continue
@@ -353,6 +353,13 @@ class GymOnlyLibraries(ImportsBase):
                     reported.add(top)
                     # The objects the file makes with the library ask the same question (``receiver_question``).
                     self.report(node, "GM107", GYM_ONLY_LIBRARIES[top], question=gym_only_question(N.gym_only_stack(top)))
+
+    def _module_of_the_run(self, module: str) -> bool:
+        """The adapter module itself (or, for ``from pkg.mod import Name``, its module) is one of
+        the run's: a folder of examples named after the library (``examples/tensorforce/``) is
+        not the library, so its own name alone does not silence the report."""
+        parent = module.rsplit(".", 1)[0]
+        return self._of_the_run(module) or ("." in parent and self._of_the_run(parent))
 
     def _of_the_run(self, module: str) -> bool:
         """A package of the project itself that shares a library's name (its own ``multiagent``)."""
