@@ -15,6 +15,7 @@ from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.multi_agent import MultiAgent
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
+from gymmigrate.rules.multi_agent_gate import pettingzoo_in_reach
 
 PZ101 = Rule("PZ101", "AEC `last()` returns termination and truncation", FixKind.AUTO,
              "`obs, rew, done, info = env.last()` -> `obs, rew, termination, truncation, info = env.last()`")
@@ -54,13 +55,7 @@ class PettingZooFamily(RuleFamily):
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
-        if context.profile.imports_pettingzoo or "agent_iter" in facts.attribute_calls:
-            return True
-        project = context.options.project
-        if project is None:
-            return False
-        view = project.view(context.path)
-        return view.imports_multi_agent(facts.imports.values()) or view.passed_multi_agent()
+        return pettingzoo_in_reach(facts, context)
 
     @property
     def multi_agent(self) -> MultiAgent:

@@ -39,7 +39,7 @@ from gymmigrate.facts.multi_agent import MultiAgent
 from gymmigrate.facts.reset_flow import line_before, segment
 from gymmigrate.facts.version_checks import dead_version_branch
 from gymmigrate.findings import FixKind, Tier
-from gymmigrate.rules.pettingzoo.common import PettingZooFamily
+from gymmigrate.rules.multi_agent_gate import pettingzoo_in_reach
 from gymmigrate.rules.reset_seed.call_edits import SeedValue
 from gymmigrate.rules.reset_seed.common import ResetSeedBase, is_space
 
@@ -168,7 +168,7 @@ class SeedCalls(ResetSeedBase):
         (``rules/pettingzoo/seed_render.py``) rewrites it."""
         if isinstance(receiver, ast.Name) and receiver.id == "self":
             return False
-        if not PettingZooFamily.may_fire(self.facts, self.context):
+        if not pettingzoo_in_reach(self.facts, self.context):
             return False
         return MultiAgent.of(self.facts, self.receivers).kind(receiver) is not None
 
