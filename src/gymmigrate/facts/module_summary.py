@@ -146,6 +146,10 @@ class ModuleSummary:
     # ``self``, the value is a Generator). A class elsewhere that only reads its np_random
     # follows the run's handovers when every store is a Generator (GM505).
     rng_stores: tuple[tuple[int, bool, bool], ...] = ()
+    # Top-level classes with a base: (their own body counts steps, bases of this module,
+    # other bases' qualified names) (``facts/step_counts.py``): a subclass in another module
+    # whose bases count nothing cannot end episodes on a limit of its own (GM504).
+    step_counting: dict[str, tuple[bool, tuple[str, ...], tuple[str, ...]]] = field(default_factory=dict)
     # -- contracts the run keeps (facts/receiver_classes.py keeps_legacy_step) --
     # Top-level env classes whose step keeps the four-field contract (a batch the rules do
     # not migrate), and Gym wrappers of the project's own protocol (a step returning its own

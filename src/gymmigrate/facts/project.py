@@ -132,6 +132,9 @@ class ProjectFacts:
     followed_hooks: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
     # every store of ``np_random`` in the run: (path, line, handed to another object, a Generator)
     rng_stores: list[tuple[str, int, bool, bool]] = field(default_factory=list)
+    # (path, class) of the run (and names re-exporting one) that counts no steps, nor does
+    # any base of it, all of which the run defines (facts/step_counts.py; GM504).
+    quiet_classes: frozenset[tuple[str, str]] = frozenset()
     # (path, class) in another module -> the hooks of its bases it follows.
     inherited_hooks: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
     # (path, name) of a Gym wrapper class of the run, or of a re-export of one -> what it
@@ -390,7 +393,36 @@ class ProjectFacts:
         facts._join_opaque_registrations(by_path)
         facts.rendering_wrappers = facts._reexported(by_path, {(p, n) for p, summary in by_path.items() for n in summary.rendering_wrappers})
         facts.silent_renders = frozenset((path, name) for path, summary in by_path.items() for name in summary.silent_renders)
+        facts.quiet_classes = facts._reexported(by_path, facts._quiet_classes(by_path))
         return facts
+
+    def _quiet_classes(self, by_path: dict[str, ModuleSummary]) -> set[tuple[str, str]]:
+        """The classes of the run that count no steps and whose bases, of any module of
+        the run, count none either: a base the run does not define may count, so it keeps
+        its subclasses out, as does a cycle."""
+        memo: dict[tuple[str, str], bool] = {}
+
+        def quiet(key: tuple[str, str]) -> bool:
+            if key in memo:
+                return memo[key]
+            memo[key] = False  # while it is read (a cycle of bases proves nothing)
+            entry = by_path[key[0]].step_counting.get(key[1]) if key[0] in by_path else None
+            if entry is None:
+                return False
+            counts, local, other = entry
+            found = not counts and all(quiet((key[0], base)) for base in local)
+            for qualified in other if found else ():
+                level = len(qualified) - len(qualified.lstrip("."))
+                parts = qualified.lstrip(".").split(".")
+                path = self._module_path(parts[:-1], level, key[0]) if len(parts) > 1 else None
+                base = class_definer(self, by_path, path, parts[-1]) if path else None
+                if base is None or not quiet(base):
+                    found = False
+                    break
+            memo[key] = found
+            return found
+
+        return {(path, name) for path, summary in by_path.items() for name in summary.step_counting if quiet((path, name))}
 
     def _join_registered_classes(self, by_path: dict[str, ModuleSummary]) -> None:
         """``register(id, entry_point="pkg.envs:Task")`` (``__name__ + ":Task"``): the class

@@ -334,6 +334,12 @@ class ProjectView:
         split = self.facts._split(qualified, self.path)
         return split is not None and split[1] in self.facts.render_mode_classes.get(split[0], ())
 
+    def counts_no_steps(self, qualified: str) -> bool:
+        """An imported class of the run that counts no steps, nor does any base of it
+        (``ProjectFacts.quiet_classes``): it cannot end a subclass's episodes on a limit."""
+        split = self.facts._split(qualified, self.path)
+        return split is not None and split in self.facts.quiet_classes
+
     def keeps_legacy_step(self, qualified: str) -> bool:
         """An imported name of the run makes instances whose step keeps the four-field
         contract (the run does not migrate that step): their callers keep it too."""

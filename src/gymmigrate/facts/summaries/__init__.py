@@ -32,6 +32,7 @@ from gymmigrate.facts.receivers import Receivers
 from gymmigrate.facts.render_modes import render_kept_classes
 from gymmigrate.facts.reset_contract import sites as reset_sites
 from gymmigrate.facts.rng_handovers import rng_stores
+from gymmigrate.facts.step_counts import step_counting
 from gymmigrate.facts.step_hooks import plain_overrides, step_hooks
 from gymmigrate.facts.summaries.calls import CallSummarizer
 from gymmigrate.facts.summaries.classes import (
@@ -160,6 +161,7 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         step_hooks=step_hooks(facts),
         plain_overrides=plain_overrides(facts),
         rng_stores=rng_stores(facts, receivers),
+        step_counting=step_counting(facts, receivers),
         render_mode_heirs=render_mode_heirs(facts, receivers),
         registrations=registrations(facts),
         held_params=held_params(facts, receivers),

@@ -1,0 +1,39 @@
+"""Facts of one module that another module's rewrite needs, joined across the run.
+
+``fixtures/project_cross_step_counts/``: a subclass's step returns ``truncated=False``; its
+base in another module counts no steps (a note), or counts them (a review item).
+"""
+
+from __future__ import annotations
+
+import shutil
+from pathlib import Path
+
+from typer.testing import CliRunner
+
+from gymmigrate.cli import app
+from tests.fixture_cases import FIXTURES
+
+runner = CliRunner()
+
+
+def _copy(name: str, tmp_path: Path) -> Path:
+    target = tmp_path / name
+    shutil.copytree(FIXTURES / name, target)
+    return target
+
+
+def _review(output: str) -> str:
+    return output.partition("Review (")[2]
+
+
+def test_truncated_false_is_a_note_when_the_base_elsewhere_counts_no_steps(tmp_path: Path) -> None:
+    """``Hopper(RobotBase)``: RobotBase (base.py) counts nothing, so the step cannot end on
+    a limit of its own; ``Runner(TimedBase)``: TimedBase counts steps, the item stays."""
+    project = _copy("project_cross_step_counts", tmp_path)
+    result = runner.invoke(app, ["rewrite", str(project)])
+    assert result.exit_code == 0, result.output
+    assert "return obs, 1.0, fell, False, {}" in (project / "envs" / "hopper.py").read_text()
+    review = _review(result.output)
+    assert "hopper.py:10: GM504" not in review
+    assert "runner.py:8: GM504" in review
