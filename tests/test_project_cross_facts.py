@@ -37,3 +37,20 @@ def test_truncated_false_is_a_note_when_the_base_elsewhere_counts_no_steps(tmp_p
     review = _review(result.output)
     assert "hopper.py:10: GM504" not in review
     assert "runner.py:8: GM504" in review
+
+
+def test_an_own_api_adapter_of_another_module_is_no_gym_env(tmp_path: Path) -> None:
+    """``env = adapters.CartAdapter(env)`` and ``Stacker(env)`` (stacking.py, a subclass of
+    ``adapters.Adapter(dm_env.Environment)``): TimeStep envs, whatever they hold. Their
+    reset/step calls are left with no item; only the import and the adapter's own Gym calls
+    change, and stacking.py, which holds no Gym code, is left as it is."""
+    project = _copy("project_cross_own_api", tmp_path)
+    before = (project / "pkg" / "stacking.py").read_text()
+    result = runner.invoke(app, ["rewrite", str(project)])
+    assert result.exit_code == 0, result.output
+    test = (project / "pkg" / "adapters_test.py").read_text()
+    assert "import gymnasium as gym" in test
+    assert "timestep = env.reset()\n" in test and "_ = env.step(0)\n" in test
+    assert (project / "pkg" / "stacking.py").read_text() == before
+    review = _review(result.output)
+    assert "adapters_test.py" not in review and "stacking.py" not in review

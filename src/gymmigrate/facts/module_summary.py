@@ -150,6 +150,10 @@ class ModuleSummary:
     # other bases' qualified names) (``facts/step_counts.py``): a subclass in another module
     # whose bases count nothing cannot end episodes on a limit of its own (GM504).
     step_counting: dict[str, tuple[bool, tuple[str, ...], tuple[str, ...]]] = field(default_factory=dict)
+    # Top-level classes deriving a library class with an env API of its own (``class
+    # Adapter(dm_env.Environment)``, directly or through a class of this module): the join
+    # adds their subclasses in other modules (``ProjectFacts.own_api_classes``).
+    own_api_classes: frozenset[str] = frozenset()
     # -- contracts the run keeps (facts/receiver_classes.py keeps_legacy_step) --
     # Top-level env classes whose step keeps the four-field contract (a batch the rules do
     # not migrate), and Gym wrappers of the project's own protocol (a step returning its own

@@ -135,6 +135,9 @@ class ProjectFacts:
     # (path, class) of the run (and names re-exporting one) that counts no steps, nor does
     # any base of it, all of which the run defines (facts/step_counts.py; GM504).
     quiet_classes: frozenset[tuple[str, str]] = frozenset()
+    # (path, class) of the run (and names re-exporting one) deriving a library class with
+    # an env API of its own, in any module (``class Stacker(adapters.Adapter)``).
+    own_api_classes: frozenset[tuple[str, str]] = frozenset()
     # (path, class) in another module -> the hooks of its bases it follows.
     inherited_hooks: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
     # (path, name) of a Gym wrapper class of the run, or of a re-export of one -> what it
@@ -394,7 +397,30 @@ class ProjectFacts:
         facts.rendering_wrappers = facts._reexported(by_path, {(p, n) for p, summary in by_path.items() for n in summary.rendering_wrappers})
         facts.silent_renders = frozenset((path, name) for path, summary in by_path.items() for name in summary.silent_renders)
         facts.quiet_classes = facts._reexported(by_path, facts._quiet_classes(by_path))
+        facts.own_api_classes = facts._reexported(by_path, facts._own_api_classes(by_path))
         return facts
+
+    def _own_api_classes(self, by_path: dict[str, ModuleSummary]) -> set[tuple[str, str]]:
+        """The classes of the run deriving a library class with an env API of its own, their
+        subclasses in other modules added until none is left (a chain is short)."""
+        found = {(path, name) for path, summary in by_path.items() for name in summary.own_api_classes}
+        for _ in range(MAX_CHAIN):
+            added = False
+            for path, summary in by_path.items():
+                for name, bases, _methods in summary.subclasses:
+                    if (path, name) in found:
+                        continue
+                    for qualified in bases:
+                        level = len(qualified) - len(qualified.lstrip("."))
+                        parts = qualified.lstrip(".").split(".")
+                        where = self._module_path(parts[:-1], level, path) if len(parts) > 1 else None
+                        if where and class_definer(self, by_path, where, parts[-1]) in found:
+                            found.add((path, name))
+                            added = True
+                            break
+            if not added:
+                break
+        return found
 
     def _quiet_classes(self, by_path: dict[str, ModuleSummary]) -> set[tuple[str, str]]:
         """The classes of the run that count no steps and whose bases, of any module of

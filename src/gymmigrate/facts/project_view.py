@@ -334,6 +334,13 @@ class ProjectView:
         split = self.facts._split(qualified, self.path)
         return split is not None and split[1] in self.facts.render_mode_classes.get(split[0], ())
 
+    def derives_own_api(self, qualified: str) -> bool:
+        """An imported class of the run that derives a library class with an env API of its
+        own (``dm_env.Environment``), in its module or through another's: its instances are
+        that API's envs whatever they hold (``ProjectFacts.own_api_classes``)."""
+        split = self.facts._split(qualified, self.path)
+        return split is not None and split in self.facts.own_api_classes
+
     def counts_no_steps(self, qualified: str) -> bool:
         """An imported class of the run that counts no steps, nor does any base of it
         (``ProjectFacts.quiet_classes``): it cannot end a subclass's episodes on a limit."""

@@ -142,6 +142,7 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
             "." * s.level + (s.module or "") for s in facts.tree.body if isinstance(s, ast.ImportFrom) and any(a.name == "*" for a in s.names)
         ),
         subclasses=subclasses(facts),
+        own_api_classes=frozenset(n for n, c in facts.classes.items() if receivers.derives_own_api(c)),
         wrapper_classes=frozenset(name for name, classdef in facts.classes.items() if receivers.is_gym_wrapper_class(classdef)),
         wrapper_defined=wrapper_defined(facts),
         wrapping_helpers=frozenset(name for name, function in facts.functions.items() if receivers.wraps_argument(function)),
