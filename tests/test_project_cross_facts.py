@@ -2,11 +2,16 @@
 
 ``fixtures/project_cross_step_counts/``: a subclass's step returns ``truncated=False``; its
 base in another module counts no steps (a note), or counts them (a review item).
+``fixtures/project_cross_own_api/``: dm_env adapters of one module used in others.
+``fixtures/project_cross_render_ctor/``: an env built by a run class in one module and
+rendered bare in another.
 """
 
 from __future__ import annotations
 
 import shutil
+import subprocess
+import sys
 from pathlib import Path
 
 from typer.testing import CliRunner
@@ -54,3 +59,26 @@ def test_an_own_api_adapter_of_another_module_is_no_gym_env(tmp_path: Path) -> N
     assert (project / "pkg" / "stacking.py").read_text() == before
     review = _review(result.output)
     assert "adapters_test.py" not in review and "stacking.py" not in review
+
+
+def test_a_constructor_of_another_module_gets_the_mode_its_bare_renders_need(tmp_path: Path) -> None:
+    """``env = Console(cartridge)`` then ``play(env, n)`` (cli.py), where ``play`` (play.py)
+    only calls ``env.render()`` bare: the constructor, whose migrated ``__init__`` takes
+    render_mode, gets ``render_mode="human"`` and the render is a note; ``replay`` is also
+    given an env built inline, so its constructors are left as they are."""
+    project = _copy("project_cross_render_ctor", tmp_path)
+    result = runner.invoke(app, ["rewrite", str(project)])
+    assert result.exit_code == 0, result.output
+    cli = (project / "arcade" / "cli.py").read_text()
+    assert cli.count('render_mode="human"') == 1
+    assert '    env = Console(cartridge, render_mode="human")\n    play(env, episodes)' in cli
+    assert "replay(Console(cartridge), 3)" in cli
+    assert "play.py:7: GM402" not in _review(result.output)
+    run = subprocess.run(
+        [sys.executable, "-W", "ignore", "-c", "from arcade.cli import main\nprint(main('x', 2) > 0)"],
+        cwd=project,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert run.returncode == 0 and run.stdout.strip() == "True", run.stderr + run.stdout

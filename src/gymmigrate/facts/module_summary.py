@@ -154,6 +154,11 @@ class ModuleSummary:
     # Adapter(dm_env.Environment)``, directly or through a class of this module): the join
     # adds their subclasses in other modules (``ProjectFacts.own_api_classes``).
     own_api_classes: frozenset[str] = frozenset()
+    # GM402 across modules (``facts/render_handovers.py``): (def, parameter) rendered bare
+    # and handed nowhere; calls passing an env built right there by an imported class:
+    # (call line, slot, class, construction line, column).
+    bare_render_params: frozenset[tuple[str, str]] = frozenset()
+    handed_constructions: tuple[tuple[int, str, str, int, int], ...] = ()
     # -- contracts the run keeps (facts/receiver_classes.py keeps_legacy_step) --
     # Top-level env classes whose step keeps the four-field contract (a batch the rules do
     # not migrate), and Gym wrappers of the project's own protocol (a step returning its own

@@ -66,6 +66,7 @@ from gymmigrate.facts.project_exports import Exports, reexport_wrappers
 from gymmigrate.facts.project_ids import id_slots
 from gymmigrate.facts.project_params import ParamJoin
 from gymmigrate.facts.project_view import ProjectView
+from gymmigrate.facts.render_handovers import join as join_render_handovers
 from gymmigrate.facts.reset_contract import Contract
 from gymmigrate.facts.reset_contract import join as join_reset_sites
 
@@ -138,6 +139,11 @@ class ProjectFacts:
     # (path, class) of the run (and names re-exporting one) deriving a library class with
     # an env API of its own, in any module (``class Stacker(adapters.Adapter)``).
     own_api_classes: frozenset[tuple[str, str]] = frozenset()
+    # constructors of a run class (path, line, column) that get render_mode="human" for the
+    # bare renders of a def of another module every call of which passes their env, and
+    # (path, def, parameter) of those renders -> the constructors (facts/render_handovers.py)
+    render_mode_constructions: set[tuple[str, int, int]] = field(default_factory=set)
+    settled_renders: dict[tuple[str, str, str], tuple[tuple[str, int, int], ...]] = field(default_factory=dict)
     # (path, class) in another module -> the hooks of its bases it follows.
     inherited_hooks: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
     # (path, name) of a Gym wrapper class of the run, or of a re-export of one -> what it
@@ -344,6 +350,7 @@ class ProjectFacts:
         facts.seed_owners, facts.seed_chains = legacy_seeds(facts, by_path)
         params = ParamJoin(facts, by_path, calls_to)
         params.run()
+        join_render_handovers(facts, by_path, calls_to)
         id_calls_to = {key: list(calls) for key, calls in calls_to.items()}
         for summary in summaries:
             for call in summary.inherited_id_calls:

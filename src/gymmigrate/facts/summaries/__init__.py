@@ -29,6 +29,7 @@ from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
 from gymmigrate.facts.module_summary import ModuleSummary, Signature
 from gymmigrate.facts.receiver_classes import renders_nothing
 from gymmigrate.facts.receivers import Receivers
+from gymmigrate.facts.render_handovers import bare_render_params, handed_constructions
 from gymmigrate.facts.render_modes import render_kept_classes
 from gymmigrate.facts.reset_contract import sites as reset_sites
 from gymmigrate.facts.rng_handovers import rng_stores
@@ -126,12 +127,15 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
     calls = CallSummarizer(facts, receivers)
     untraced = UntracedCalls(calls)
     exports = Exports(facts, receivers)
+    call_summaries = tuple(calls.calls())
     return ModuleSummary(
         path,
         defs,
         frozenset(env_classes),
         frozenset(render_mode),
-        tuple(calls.calls()),
+        call_summaries,
+        bare_render_params=bare_render_params(facts),
+        handed_constructions=handed_constructions(facts, call_summaries),
         untraced_seed_call=untraced.has_untraced_call("seed"),
         untraced_render_call=untraced.has_untraced_call("render"),
         render_makers=frozenset(untraced.render_makers),  # filled by the line above
