@@ -146,6 +146,19 @@ class ModuleSummary:
     # ``self``, the value is a Generator). A class elsewhere that only reads its np_random
     # follows the run's handovers when every store is a Generator (GM505).
     rng_stores: tuple[tuple[int, bool, bool], ...] = ()
+    # Top-level classes with a base: (their own body counts steps, bases of this module,
+    # other bases' qualified names) (``facts/step_counts.py``): a subclass in another module
+    # whose bases count nothing cannot end episodes on a limit of its own (GM504).
+    step_counting: dict[str, tuple[bool, tuple[str, ...], tuple[str, ...]]] = field(default_factory=dict)
+    # Top-level classes deriving a library class with an env API of its own (``class
+    # Adapter(dm_env.Environment)``, directly or through a class of this module): the join
+    # adds their subclasses in other modules (``ProjectFacts.own_api_classes``).
+    own_api_classes: frozenset[str] = frozenset()
+    # GM402 across modules (``facts/render_handovers.py``): (def, parameter) rendered bare
+    # and handed nowhere; calls passing an env built right there by an imported class:
+    # (call line, slot, class, construction line, column).
+    bare_render_params: frozenset[tuple[str, str]] = frozenset()
+    handed_constructions: tuple[tuple[int, str, str, int, int], ...] = ()
     # -- contracts the run keeps (facts/receiver_classes.py keeps_legacy_step) --
     # Top-level env classes whose step keeps the four-field contract (a batch the rules do
     # not migrate), and Gym wrappers of the project's own protocol (a step returning its own

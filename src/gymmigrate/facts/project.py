@@ -66,6 +66,7 @@ from gymmigrate.facts.project_exports import Exports, reexport_wrappers
 from gymmigrate.facts.project_ids import id_slots
 from gymmigrate.facts.project_params import ParamJoin
 from gymmigrate.facts.project_view import ProjectView
+from gymmigrate.facts.render_handovers import join as join_render_handovers
 from gymmigrate.facts.reset_contract import Contract
 from gymmigrate.facts.reset_contract import join as join_reset_sites
 
@@ -132,6 +133,17 @@ class ProjectFacts:
     followed_hooks: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
     # every store of ``np_random`` in the run: (path, line, handed to another object, a Generator)
     rng_stores: list[tuple[str, int, bool, bool]] = field(default_factory=list)
+    # (path, class) of the run (and names re-exporting one) that counts no steps, nor does
+    # any base of it, all of which the run defines (facts/step_counts.py; GM504).
+    quiet_classes: frozenset[tuple[str, str]] = frozenset()
+    # (path, class) of the run (and names re-exporting one) deriving a library class with
+    # an env API of its own, in any module (``class Stacker(adapters.Adapter)``).
+    own_api_classes: frozenset[tuple[str, str]] = frozenset()
+    # constructors of a run class (path, line, column) that get render_mode="human" for the
+    # bare renders of a def of another module every call of which passes their env, and
+    # (path, def, parameter) of those renders -> the constructors (facts/render_handovers.py)
+    render_mode_constructions: set[tuple[str, int, int]] = field(default_factory=set)
+    settled_renders: dict[tuple[str, str, str], tuple[tuple[str, int, int], ...]] = field(default_factory=dict)
     # (path, class) in another module -> the hooks of its bases it follows.
     inherited_hooks: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
     # (path, name) of a Gym wrapper class of the run, or of a re-export of one -> what it
@@ -338,6 +350,7 @@ class ProjectFacts:
         facts.seed_owners, facts.seed_chains = legacy_seeds(facts, by_path)
         params = ParamJoin(facts, by_path, calls_to)
         params.run()
+        join_render_handovers(facts, by_path, calls_to)
         id_calls_to = {key: list(calls) for key, calls in calls_to.items()}
         for summary in summaries:
             for call in summary.inherited_id_calls:
@@ -390,7 +403,59 @@ class ProjectFacts:
         facts._join_opaque_registrations(by_path)
         facts.rendering_wrappers = facts._reexported(by_path, {(p, n) for p, summary in by_path.items() for n in summary.rendering_wrappers})
         facts.silent_renders = frozenset((path, name) for path, summary in by_path.items() for name in summary.silent_renders)
+        facts.quiet_classes = facts._reexported(by_path, facts._quiet_classes(by_path))
+        facts.own_api_classes = facts._reexported(by_path, facts._own_api_classes(by_path))
         return facts
+
+    def _own_api_classes(self, by_path: dict[str, ModuleSummary]) -> set[tuple[str, str]]:
+        """The classes of the run deriving a library class with an env API of its own, their
+        subclasses in other modules added until none is left (a chain is short)."""
+        found = {(path, name) for path, summary in by_path.items() for name in summary.own_api_classes}
+        for _ in range(MAX_CHAIN):
+            added = False
+            for path, summary in by_path.items():
+                for name, bases, _methods in summary.subclasses:
+                    if (path, name) in found:
+                        continue
+                    for qualified in bases:
+                        level = len(qualified) - len(qualified.lstrip("."))
+                        parts = qualified.lstrip(".").split(".")
+                        where = self._module_path(parts[:-1], level, path) if len(parts) > 1 else None
+                        if where and class_definer(self, by_path, where, parts[-1]) in found:
+                            found.add((path, name))
+                            added = True
+                            break
+            if not added:
+                break
+        return found
+
+    def _quiet_classes(self, by_path: dict[str, ModuleSummary]) -> set[tuple[str, str]]:
+        """The classes of the run that count no steps and whose bases, of any module of
+        the run, count none either: a base the run does not define may count, so it keeps
+        its subclasses out, as does a cycle."""
+        memo: dict[tuple[str, str], bool] = {}
+
+        def quiet(key: tuple[str, str]) -> bool:
+            if key in memo:
+                return memo[key]
+            memo[key] = False  # while it is read (a cycle of bases proves nothing)
+            entry = by_path[key[0]].step_counting.get(key[1]) if key[0] in by_path else None
+            if entry is None:
+                return False
+            counts, local, other = entry
+            found = not counts and all(quiet((key[0], base)) for base in local)
+            for qualified in other if found else ():
+                level = len(qualified) - len(qualified.lstrip("."))
+                parts = qualified.lstrip(".").split(".")
+                path = self._module_path(parts[:-1], level, key[0]) if len(parts) > 1 else None
+                base = class_definer(self, by_path, path, parts[-1]) if path else None
+                if base is None or not quiet(base):
+                    found = False
+                    break
+            memo[key] = found
+            return found
+
+        return {(path, name) for path, summary in by_path.items() for name in summary.step_counting if quiet((path, name))}
 
     def _join_registered_classes(self, by_path: dict[str, ModuleSummary]) -> None:
         """``register(id, entry_point="pkg.envs:Task")`` (``__name__ + ":Task"``): the class

@@ -4,6 +4,7 @@ analysis and the rules ask of the other modules of the run.
 
 from __future__ import annotations
 
+import ast
 import os
 from collections.abc import Iterable
 from dataclasses import dataclass
@@ -83,6 +84,24 @@ class ProjectView:
             f"{os.path.relpath(path, os.path.dirname(self.path))}:{line}"
             for path, line in self.facts.gym_env_callers.get((self.path, qualname, param), ())
         ]
+
+    def settled_render(self, qualname: str, param: str) -> list[str]:
+        """``cli.py:5`` for each constructor in another module that gets ``render_mode="human"``
+        for the bare renders of ``param`` of this file's ``qualname``, when every call of the
+        def passes an env it builds (``ProjectFacts.settled_renders``); empty otherwise."""
+        return [
+            f"{os.path.relpath(path, os.path.dirname(self.path))}:{line}"
+            for path, line, _ in self.facts.settled_renders.get((self.path, qualname, param), ())
+        ]
+
+    def gives_render_modes(self) -> bool:
+        """This file has a constructor that ``gets_render_mode``."""
+        return any(path == self.path for path, _, _ in self.facts.render_mode_constructions)
+
+    def gets_render_mode(self, call: ast.Call) -> bool:
+        """``call`` of this file is a constructor that gets ``render_mode="human"`` for the bare
+        renders of a def of another module it is passed to (``settled_render``)."""
+        return (self.path, call.lineno, call.col_offset) in self.facts.render_mode_constructions
 
     def test_double_callers(self, qualname: str, param: str) -> list[str] | None:
         """``tests/x_test.py:16`` for each call in another module that passes an env of
@@ -333,6 +352,19 @@ class ProjectView:
         (its own, or threaded down from a base: ``thread_render_mode``)."""
         split = self.facts._split(qualified, self.path)
         return split is not None and split[1] in self.facts.render_mode_classes.get(split[0], ())
+
+    def derives_own_api(self, qualified: str) -> bool:
+        """An imported class of the run that derives a library class with an env API of its
+        own (``dm_env.Environment``), in its module or through another's: its instances are
+        that API's envs whatever they hold (``ProjectFacts.own_api_classes``)."""
+        split = self.facts._split(qualified, self.path)
+        return split is not None and split in self.facts.own_api_classes
+
+    def counts_no_steps(self, qualified: str) -> bool:
+        """An imported class of the run that counts no steps, nor does any base of it
+        (``ProjectFacts.quiet_classes``): it cannot end a subclass's episodes on a limit."""
+        split = self.facts._split(qualified, self.path)
+        return split is not None and split in self.facts.quiet_classes
 
     def keeps_legacy_step(self, qualified: str) -> bool:
         """An imported name of the run makes instances whose step keeps the four-field

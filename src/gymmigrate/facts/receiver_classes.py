@@ -51,8 +51,10 @@ class ClassKinds(_Facade):
             return EnvKind.GYM_ENV  # a plain class around a Gym env that forwards to it
         if all(k is EnvKind.NOT_ENV for k in kinds) and is_vec_env_shaped(classdef):
             return EnvKind.SB3_VEC
-        if kinds and all(k is EnvKind.NOT_ENV for k in kinds) and any(self._own_api_base(b) for b in classdef.bases):
-            return EnvKind.NOT_ENV  # ``class Preprocess(AtariPreprocessing)`` of tf_agents
+        if kinds and any(self._own_api_base(b) for b in classdef.bases):
+            # ``class Preprocess(AtariPreprocessing)`` of tf_agents, ``class Stacker(Adapter)``
+            # of a dm_env adapter of another module of the run: that API's env, not Gym's
+            return EnvKind.NOT_ENV
         return EnvKind.NOT_ENV if not kinds else EnvKind.UNKNOWN
 
     def _abstract_base(self, base: ast.AST) -> bool:
@@ -283,12 +285,16 @@ class ClassKinds(_Facade):
 
     def _own_api_base(self, base: ast.AST, depth: int = 0) -> bool:
         """A class of a library with an env API of its own (``dm_env.Environment``), or a
-        class of this module derived from one (``class Adapter(Wrapper)`` with ``class
-        Wrapper(dm_env.Environment)``)."""
+        class of this module or of another module of the run derived from one (``class
+        Adapter(Wrapper)`` with ``class Wrapper(dm_env.Environment)``)."""
         if any(N.top_package(q) in N.OWN_ENV_API_PACKAGES for q in self.qualified_names(base)):
             return True
         local = self.local_class(base)
-        if local is None or depth > 4:
+        if local is None:
+            # a class of another module of the run that derives one (``adapters.Adapter``)
+            project = self.project
+            return project is not None and any(project.derives_own_api(q) for q in self.qualified_names(base))
+        if depth > 4:
             return False
         return any(self._own_api_base(b, depth + 1) for b in local.bases)
 

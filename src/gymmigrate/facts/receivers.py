@@ -493,12 +493,16 @@ class Receivers(ClassKinds, ParameterKinds, MadeObjects):
         return False
 
     def _makes_own_api_env(self, value: ast.expr) -> bool:
-        """``Adapter(env)`` with a class of this module that derives from a library class with
-        an env API of its own (``dm_env.Environment``): an env of that API whatever ``env`` was."""
+        """``Adapter(env)`` with a class of this module or another of the run that derives from
+        a library class with an env API of its own (``dm_env.Environment``): an env of that API whatever ``env`` was."""
         if not isinstance(value, ast.Call):
             return False
         local = self.local_class(value.func)
-        return local is not None and self.derives_own_api(local)
+        if local is not None:
+            return self.derives_own_api(local)
+        # ``gym_wrapper.GymAdapter(env)`` with the class in another module of the run
+        project = self.project
+        return project is not None and any(project.derives_own_api(q) for q in self.qualified_names(value.func))
 
     def _makes_gym_wrapper(self, value: ast.expr) -> bool:
         """``Wrapper(env, ...)`` with a Gym wrapper class (Gymnasium's, this module's, or

@@ -29,9 +29,11 @@ from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
 from gymmigrate.facts.module_summary import ModuleSummary, Signature
 from gymmigrate.facts.receiver_classes import renders_nothing
 from gymmigrate.facts.receivers import Receivers
+from gymmigrate.facts.render_handovers import bare_render_params, handed_constructions
 from gymmigrate.facts.render_modes import render_kept_classes
 from gymmigrate.facts.reset_contract import sites as reset_sites
 from gymmigrate.facts.rng_handovers import rng_stores
+from gymmigrate.facts.step_counts import step_counting
 from gymmigrate.facts.step_hooks import plain_overrides, step_hooks
 from gymmigrate.facts.summaries.calls import CallSummarizer
 from gymmigrate.facts.summaries.classes import (
@@ -125,12 +127,15 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
     calls = CallSummarizer(facts, receivers)
     untraced = UntracedCalls(calls)
     exports = Exports(facts, receivers)
+    call_summaries = tuple(calls.calls())
     return ModuleSummary(
         path,
         defs,
         frozenset(env_classes),
         frozenset(render_mode),
-        tuple(calls.calls()),
+        call_summaries,
+        bare_render_params=bare_render_params(facts),
+        handed_constructions=handed_constructions(facts, call_summaries),
         untraced_seed_call=untraced.has_untraced_call("seed"),
         untraced_render_call=untraced.has_untraced_call("render"),
         render_makers=frozenset(untraced.render_makers),  # filled by the line above
@@ -141,6 +146,7 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
             "." * s.level + (s.module or "") for s in facts.tree.body if isinstance(s, ast.ImportFrom) and any(a.name == "*" for a in s.names)
         ),
         subclasses=subclasses(facts),
+        own_api_classes=frozenset(n for n, c in facts.classes.items() if receivers.derives_own_api(c)),
         wrapper_classes=frozenset(name for name, classdef in facts.classes.items() if receivers.is_gym_wrapper_class(classdef)),
         wrapper_defined=wrapper_defined(facts),
         wrapping_helpers=frozenset(name for name, function in facts.functions.items() if receivers.wraps_argument(function)),
@@ -160,6 +166,7 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         step_hooks=step_hooks(facts),
         plain_overrides=plain_overrides(facts),
         rng_stores=rng_stores(facts, receivers),
+        step_counting=step_counting(facts, receivers),
         render_mode_heirs=render_mode_heirs(facts, receivers),
         registrations=registrations(facts),
         held_params=held_params(facts, receivers),

@@ -12,7 +12,7 @@ from __future__ import annotations
 import ast
 from collections.abc import Hashable
 
-from gymmigrate.facts.env_classes import identifiers
+from gymmigrate.facts import names as N
 from gymmigrate.facts.limits import (
     DoneCause,
     data_end_attributes,
@@ -20,9 +20,9 @@ from gymmigrate.facts.limits import (
     unwrap_bool,
 )
 from gymmigrate.facts.module import own_returns
+from gymmigrate.facts.step_counts import counts_in
 from gymmigrate.findings import Tier
 from gymmigrate.rules.custom_env.common import ClassDecision
-from gymmigrate.rules.custom_env.plans import STEP_LIMIT_WORD
 
 
 def class_data_ends(decision: ClassDecision) -> frozenset[str]:
@@ -30,17 +30,14 @@ def class_data_ends(decision: ClassDecision) -> frozenset[str]:
 
 
 def counts_toward_a_limit(decision: ClassDecision) -> bool:
-    """The class counts something (``self.steps += 1``, ``self.rounds -= 1``, ``t = t + 1``,
-    ``self.time += self.dt``) or tests a step limit anywhere: that may end episodes on a
-    limit, so a person decides. Physics updates (``self.x += dx``) are not counts, nor is
-    an attribute the class never reads (``self.steps += 1`` kept for statistics) or one it
-    moves both ways (``self.index += 1`` and ``self.index = max(self.index - 1, 0)``: a
-    position, not a count)."""
+    """The class counts something or tests a step limit anywhere (``facts/step_counts.py``),
+    or a base of it does: that may end episodes on a limit, so a person decides."""
     facts = decision.family.facts
 
     def compute() -> bool:
         # The class and its bases of this file, each read the same way (a base that counts
-        # nothing adds no limit); a base of another module of the run may count steps for it.
+        # nothing adds no limit); a base of another module of the run is read from its
+        # module's summary: one that counts nothing, with all its bases, adds no limit either.
         receivers = decision.family.receivers
         seen: set[int] = set()
         todo = [decision.classdef]
@@ -49,7 +46,9 @@ def counts_toward_a_limit(decision: ClassDecision) -> bool:
             if id(classdef) in seen:
                 continue
             seen.add(id(classdef))
-            if decision.env.has_run_env_base(classdef) or _counts_in(decision, classdef):
+            if decision.env.has_run_env_base(classdef) and not _run_bases_quiet(decision, classdef):
+                return True
+            if counts_in(facts, classdef):
                 return True
             todo.extend(base for b in classdef.bases if (base := receivers.local_class(b)) is not None)
         return False
@@ -57,83 +56,20 @@ def counts_toward_a_limit(decision: ClassDecision) -> bool:
     return facts.memo(("counts-by-constant", id(decision.classdef)), compute)
 
 
-def _counts_in(decision: ClassDecision, classdef: ast.ClassDef) -> bool:
-    """``classdef`` itself (its own body) counts something or tests a step limit."""
+def _run_bases_quiet(decision: ClassDecision, classdef: ast.ClassDef) -> bool:
+    """Every base of ``classdef`` from another module is a class of the run that counts
+    nothing, nor does any base of it (``ProjectFacts.quiet_classes``)."""
     facts = decision.family.facts
-    data_ends = data_end_attributes(facts, classdef)
-    # A name moved by a constant both ways (``pos -= 1`` for one action, ``pos += 1``
-    # for another) is a position, not a count: it cannot run up to a limit by itself.
-    directions: dict[str, set[bool]] = {}
-    for node in ast.walk(classdef):
-        if isinstance(node, ast.AugAssign) and isinstance(node.op, (ast.Add, ast.Sub)) and _is_number(node.value):
-            up = isinstance(node.op, ast.Add) == (node.value.value >= 0)  # type: ignore[attr-defined]
-            directions.setdefault(facts.segment(node.target), set()).add(up)
-    for node in ast.walk(classdef):
-        if isinstance(node, ast.AugAssign) and isinstance(node.op, (ast.Add, ast.Sub)):
-            counted = (
-                _is_number(node.value)
-                and not isinstance(node.target, ast.Subscript)
-                and len(directions.get(facts.segment(node.target), ())) < 2
-            )
-            if counted or any(STEP_LIMIT_WORD.search(w) for w in identifiers(node.target)):
-                if not _idle_attribute(decision, node.target, classdef):
-                    return True  # `self.steps += 1`, `self.t += self.dt`; not `self.pos[1] += 1`
-        if isinstance(node, ast.Compare) and is_step_limit(node, data_ends):
-            return True  # a step-limit test in a helper (`def _done(self): return self.t > 200`)
-        if (
-            isinstance(node, ast.Assign)
-            and len(node.targets) == 1
-            and isinstance(node.value, ast.BinOp)
-            and isinstance(node.value.op, (ast.Add, ast.Sub))
-            and _is_number(node.value.right)
-            and facts.segment(node.value.left) == facts.segment(node.targets[0])
-        ):
-            return True  # `self.t = self.t + 1`
-    return False
-
-
-def _idle_attribute(decision: ClassDecision, target: ast.expr, classdef: ast.ClassDef) -> bool:
-    """``self.<name>`` that cannot limit an episode: the module never reads it
-    but to count it, or it also moves it the other way or back from its own value
-    (a position). Only attributes of the class itself; anything else may count."""
-    if not (isinstance(target, ast.Attribute) and isinstance(target.value, ast.Name) and target.value.id == "self"):
+    project = decision.family.receivers.project
+    if project is None:
         return False
-    facts = decision.family.facts
-    directions: set[type] = set()
-    reads = 0
-    for attr in facts.attributes.get(target.attr, ()):
-        holder = facts.parent(attr)
-        if isinstance(attr.ctx, ast.Load):
-            if not _self_update(holder, target.attr):
-                reads += 1  # a read anywhere in the module (``env.steps`` in a script) may limit
+    for base in classdef.bases:
+        if decision.family.receivers.local_class(base) is not None:
             continue
-        if not classdef.lineno <= attr.lineno <= (classdef.end_lineno or attr.lineno):
-            continue  # another class's writes of the same name (its position is not this count)
-        if isinstance(holder, ast.AugAssign):
-            directions.add(type(holder.op))
-        elif isinstance(holder, ast.Assign) and any(
-            isinstance(n, ast.Attribute) and n.attr == target.attr and isinstance(n.value, ast.Name) and n.value.id == "self"
-            for n in ast.walk(holder.value)
-        ) and not _self_update(holder.value, target.attr):
-            return True  # ``self.index = max(self.index - 1, 0)``: moved back, a position
-    if len(directions) > 1:
-        return True  # ``+=`` and ``-=``: a position
-    return reads == 0
-
-
-def _self_update(value: ast.AST | None, name: str) -> bool:
-    """``self.<name> + <number>`` (the right side of ``self.n = self.n + 1``)."""
-    return (
-        isinstance(value, ast.BinOp)
-        and isinstance(value.op, (ast.Add, ast.Sub))
-        and isinstance(value.left, ast.Attribute)
-        and value.left.attr == name
-        and _is_number(value.right)
-    )
-
-
-def _is_number(node: ast.AST) -> bool:
-    return isinstance(node, ast.Constant) and isinstance(node.value, (int, float)) and not isinstance(node.value, bool)
+        names = [q for q in facts.qualified_names(base) if not N.is_library(q)]
+        if names and not any(project.counts_no_steps(q) for q in names):
+            return False
+    return True
 
 
 def step_limit_text(decision: ClassDecision, function: ast.AST) -> str | None:

@@ -30,6 +30,9 @@ class Rendering(RenderSites, SitePlanning):
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
         text = facts.text
+        project = context.options.project
+        if project is not None and project.view(context.path).gives_render_modes():
+            return True  # a constructor here gets the mode another module's renders need
         if LEGACY_SINGLE_FRAME in text or any(word in text for word in RECORDER_ATTRIBUTES):
             return True
         renders = facts.attribute_calls.get("render", [])
@@ -39,7 +42,6 @@ class Rendering(RenderSites, SitePlanning):
         if not renders:
             # An env this file makes may be drawn by a wrapper another module of the run
             # defines (its reset/step render): the make is reported here.
-            project = context.options.project
             if project is not None and project.rendering_wrappers and context.profile.imports_gym:
                 return True
             # ``return venv.envs[0].render``: a render method fetched and called by name
@@ -78,6 +80,7 @@ class Rendering(RenderSites, SitePlanning):
         sites.extend(self._forwarded_sites)
         self._wrapped = self._rendering_wrappers()
         self._plan_sites(sites)
+        self._plan_handed_constructions()
         self._plan_forwards()
         self._report_rendering_wrappers()
         self._plan_make_literals()

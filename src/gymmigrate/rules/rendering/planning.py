@@ -203,7 +203,9 @@ class SitePlanning(EnvUses, UntracedEnvs):
     ) -> None:
         code, call = site.code, site.node
         target = f"render_mode={site.mode}" if site.variable else f'render_mode="{site.mode}"'
-        if not site.creation.found and code == "GM402" and (self._rendered_by_wrapper(site) or self._report_made_elsewhere(site)):
+        if not site.creation.found and code == "GM402" and (
+            self._rendered_by_wrapper(site) or self._settled_elsewhere(site) or self._report_made_elsewhere(site)
+        ):
             return
         if not site.creation.found:
             func = call.func

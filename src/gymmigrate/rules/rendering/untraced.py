@@ -15,7 +15,7 @@ import os
 from collections.abc import Hashable
 
 from gymmigrate.facts.module import full_name
-from gymmigrate.findings import RUN_QUESTION, FixKind, gym_only_question
+from gymmigrate.findings import RUN_QUESTION, FixKind, Tier, gym_only_question
 from gymmigrate.rules.render_schedule import local_condition
 from gymmigrate.rules.rendering.common import RenderSite
 from gymmigrate.rules.rendering.makes import MakeEdits
@@ -53,6 +53,54 @@ class UntracedEnvs(MakeEdits):
             question=self._made_elsewhere_question(callers, condition),
         )
         return True
+
+    def _settled_elsewhere(self, site: RenderSite) -> bool:
+        """A bare render of a parameter whose every caller, in other modules, builds the env
+        with a run class that takes ``render_mode``: that module gives the constructor
+        ``render_mode="human"`` (``_plan_handed_constructions``), so this render is a note."""
+        func = site.node.func
+        project = self.receivers.project
+        if project is None or not isinstance(func, ast.Attribute) or not isinstance(func.value, ast.Name):
+            return False
+        if local_condition(self.facts, site.node) is not None:
+            return False
+        bindings = self.facts.bindings_of(func.value)
+        if len(bindings) != 1 or not isinstance(bindings[0], ast.arg):
+            return False
+        function = self.facts.enclosing_function(bindings[0])
+        if not isinstance(function, (ast.FunctionDef, ast.AsyncFunctionDef)) or self.facts.parent(function) is not self.facts.tree:
+            return False
+        places = project.settled_render(function.name, bindings[0].arg)
+        if not places:
+            return False
+        self.report(
+            site.node,
+            "GM402",
+            f'`{func.value.id}` is made with render_mode="human" now, by its constructor in another module '
+            f'({", ".join(places)}): a human-mode env draws inside step()/reset(), so this call is redundant',
+            FixKind.FLAG,
+            tier=Tier.NOTE,
+        )
+        return True
+
+    def _plan_handed_constructions(self) -> None:
+        """``env = Game(rom)`` passed to a def of another module that renders it bare (every
+        call of that def passes such an env, ``facts/render_handovers.py``): the constructor,
+        whose migrated ``__init__`` takes ``render_mode``, gets ``render_mode="human"``, the
+        mode legacy ``render()`` drew in."""
+        project = self.receivers.project
+        if project is None or not project.gives_render_modes():
+            return
+        for node in ast.walk(self.facts.tree):
+            if isinstance(node, ast.Call) and project.gets_render_mode(node) and id(node) not in self._added:
+                self._add_mode(node, "human", self._quote_style(node, []))
+                self.report(
+                    node,
+                    "GM402",
+                    f'added render_mode="human" to {self.facts.segment(node)}: the def of another module it is '
+                    'passed to renders this env with a bare render(), which drew in "human" mode',
+                    tier=Tier.NOTE,
+                )
 
     def _made_elsewhere_question(self, callers: list[str], condition: str | None) -> Hashable:
         """One question for the run: the agents of several modules that render the env one

@@ -1,0 +1,122 @@
+"""Which classes count something that could end an episode on a step limit (GM504).
+
+A custom env's step that returns ``truncated=False`` is a review item unless the class
+cannot end episodes on a limit of its own: it counts nothing by a constant (no
+``self.steps += 1``, ``self.rounds -= 1``, ``t = t + 1``) and tests no step limit, nor do
+its bases. ``counts_in`` reads one class's own body; each module's summary records it per
+top-level class with the class's bases, so a subclass in another module can read a base
+of the run the same way (``ProjectFacts.quiet_classes``, the classes of the run that
+count nothing, with every base they have).
+"""
+
+from __future__ import annotations
+
+import ast
+
+from gymmigrate.facts import names as N
+from gymmigrate.facts.env_classes import identifiers
+from gymmigrate.facts.limits import STEP_LIMIT_WORD, data_end_attributes, is_step_limit
+from gymmigrate.facts.module import ModuleFacts
+from gymmigrate.facts.receivers import Receivers
+
+# class -> (its own body counts, its bases of this module, the qualified names of its
+# other bases that are no library's)
+Counting = dict[str, tuple[bool, tuple[str, ...], tuple[str, ...]]]
+
+
+def step_counting(facts: ModuleFacts, receivers: Receivers) -> Counting:
+    """For each top-level class: whether its own body counts (``counts_in``)
+    and its bases, for the join to read a class across modules."""
+    found: Counting = {}
+    for name, classdef in facts.classes.items():
+        local: list[str] = []
+        other: list[str] = []
+        for base in classdef.bases:
+            own = receivers.local_class(base)
+            if own is not None:
+                local.append(own.name)
+                continue
+            other.extend(q for q in facts.qualified_names(base) if not N.is_library(q))
+        found[name] = (counts_in(facts, classdef), tuple(local), tuple(sorted(set(other))))
+    return found
+
+
+def counts_in(facts: ModuleFacts, classdef: ast.ClassDef) -> bool:
+    """``classdef`` itself (its own body) counts something (``self.steps += 1``,
+    ``self.rounds -= 1``, ``t = t + 1``, ``self.time += self.dt``) or tests a step limit.
+    Physics updates (``self.x += dx``) are not counts, nor is an attribute the class never
+    reads (``self.steps += 1`` kept for statistics) or one it moves both ways
+    (``self.index += 1`` and ``self.index = max(self.index - 1, 0)``: a position)."""
+    data_ends = data_end_attributes(facts, classdef)
+    # A name moved by a constant both ways (``pos -= 1`` for one action, ``pos += 1``
+    # for another) is a position, not a count: it cannot run up to a limit by itself.
+    directions: dict[str, set[bool]] = {}
+    for node in ast.walk(classdef):
+        if isinstance(node, ast.AugAssign) and isinstance(node.op, (ast.Add, ast.Sub)) and _is_number(node.value):
+            up = isinstance(node.op, ast.Add) == (node.value.value >= 0)  # type: ignore[attr-defined]
+            directions.setdefault(facts.segment(node.target), set()).add(up)
+    for node in ast.walk(classdef):
+        if isinstance(node, ast.AugAssign) and isinstance(node.op, (ast.Add, ast.Sub)):
+            counted = (
+                _is_number(node.value)
+                and not isinstance(node.target, ast.Subscript)
+                and len(directions.get(facts.segment(node.target), ())) < 2
+            )
+            if counted or any(STEP_LIMIT_WORD.search(w) for w in identifiers(node.target)):
+                if not _idle_attribute(facts, node.target, classdef):
+                    return True  # `self.steps += 1`, `self.t += self.dt`; not `self.pos[1] += 1`
+        if isinstance(node, ast.Compare) and is_step_limit(node, data_ends):
+            return True  # a step-limit test in a helper (`def _done(self): return self.t > 200`)
+        if (
+            isinstance(node, ast.Assign)
+            and len(node.targets) == 1
+            and isinstance(node.value, ast.BinOp)
+            and isinstance(node.value.op, (ast.Add, ast.Sub))
+            and _is_number(node.value.right)
+            and facts.segment(node.value.left) == facts.segment(node.targets[0])
+        ):
+            return True  # `self.t = self.t + 1`
+    return False
+
+
+def _idle_attribute(facts: ModuleFacts, target: ast.expr, classdef: ast.ClassDef) -> bool:
+    """``self.<name>`` that cannot limit an episode: the module never reads it
+    but to count it, or it also moves it the other way or back from its own value
+    (a position). Only attributes of the class itself; anything else may count."""
+    if not (isinstance(target, ast.Attribute) and isinstance(target.value, ast.Name) and target.value.id == "self"):
+        return False
+    directions: set[type] = set()
+    reads = 0
+    for attr in facts.attributes.get(target.attr, ()):
+        holder = facts.parent(attr)
+        if isinstance(attr.ctx, ast.Load):
+            if not _self_update(holder, target.attr):
+                reads += 1  # a read anywhere in the module (``env.steps`` in a script) may limit
+            continue
+        if not classdef.lineno <= attr.lineno <= (classdef.end_lineno or attr.lineno):
+            continue  # another class's writes of the same name (its position is not this count)
+        if isinstance(holder, ast.AugAssign):
+            directions.add(type(holder.op))
+        elif isinstance(holder, ast.Assign) and any(
+            isinstance(n, ast.Attribute) and n.attr == target.attr and isinstance(n.value, ast.Name) and n.value.id == "self"
+            for n in ast.walk(holder.value)
+        ) and not _self_update(holder.value, target.attr):
+            return True  # ``self.index = max(self.index - 1, 0)``: moved back, a position
+    if len(directions) > 1:
+        return True  # ``+=`` and ``-=``: a position
+    return reads == 0
+
+
+def _self_update(value: ast.AST | None, name: str) -> bool:
+    """``self.<name> + <number>`` (the right side of ``self.n = self.n + 1``)."""
+    return (
+        isinstance(value, ast.BinOp)
+        and isinstance(value.op, (ast.Add, ast.Sub))
+        and isinstance(value.left, ast.Attribute)
+        and value.left.attr == name
+        and _is_number(value.right)
+    )
+
+
+def _is_number(node: ast.AST) -> bool:
+    return isinstance(node, ast.Constant) and isinstance(node.value, (int, float)) and not isinstance(node.value, bool)
