@@ -237,15 +237,17 @@ class Plan:
             if self.findings[index].is_change:
                 by_function[family, id(self.facts.enclosing_function(node))].append(index)
         serves: dict[tuple[int, int, object], set[int]] = defaultdict(set)
-        edits: dict[tuple[int, int, object], _Edit] = {}
+        edits: dict[tuple[int, int, object], list[_Edit]] = defaultdict(list)
         for edit in self._edits:
-            # An import line is one edit however many findings asked for it.
+            # An import line is one edit however many findings asked for it; two edits
+            # that share a key (the same change asked for twice) go or stay together.
             key = (id(edit.container), id(edit.anchor), edit.item if edit.container is self.imports else id(edit.item))
-            edits[key] = edit
+            edits[key].append(edit)
             serves[key].update(self._served_by(edit, by_node, by_statement, by_function, changes))
         for key, served in serves.items():
             if served and served <= dropped:
-                edits[key].undo()
+                for edit in edits[key]:
+                    edit.undo()
         self.findings = [f for i, f in enumerate(self.findings) if i not in dropped]
         self.finding_nodes = [n for i, n in enumerate(self.finding_nodes) if i not in dropped]
         self.finding_families = [f for i, f in enumerate(self.finding_families) if i not in dropped]
