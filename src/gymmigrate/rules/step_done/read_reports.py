@@ -12,6 +12,7 @@ import ast
 from collections.abc import Hashable
 
 from gymmigrate.edits.lazy import cst
+from gymmigrate.facts.class_shapes import is_batched_step_return, keeps_legacy_step
 from gymmigrate.facts.decisions import Decision
 from gymmigrate.facts.done_uses import (
     DoneUse,
@@ -24,7 +25,6 @@ from gymmigrate.facts.done_uses import (
 )
 from gymmigrate.facts.flow import bound_names
 from gymmigrate.facts.module import own_returns
-from gymmigrate.facts.receiver_classes import is_batched_step_return, keeps_legacy_step
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.step_done.bookkeeping import DoneBookkeeping
 from gymmigrate.rules.step_done.common import TIME_LIMIT_KEY, StepNames
