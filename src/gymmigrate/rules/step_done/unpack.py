@@ -27,10 +27,10 @@ from gymmigrate.facts.module import LOOPS, Scope
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.step_done.common import StepNames, StepUnpack, looks_vectorised
 from gymmigrate.rules.step_done.next_state import DoneStep
-from gymmigrate.rules.step_done.read_reports import DoneReadReports
+from gymmigrate.rules.step_done.read_attributes import DoneAttributeReports
 
 
-class UnpackRules(DoneReadReports):
+class UnpackRules(DoneAttributeReports):
     """GM301, GM302 and GM703 (mixed into the family)."""
 
     def _done_concatenated(self, done_target: ast.expr) -> bool:
