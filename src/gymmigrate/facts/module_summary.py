@@ -159,7 +159,7 @@ class ModuleSummary:
     # (call line, slot, class, construction line, column).
     bare_render_params: frozenset[tuple[str, str]] = frozenset()
     handed_constructions: tuple[tuple[int, str, str, int, int], ...] = ()
-    # -- contracts the run keeps (facts/receiver_classes.py keeps_legacy_step) --
+    # -- contracts the run keeps (facts/class_shapes.py keeps_legacy_step) --
     # Top-level env classes whose step keeps the four-field contract (a batch the rules do
     # not migrate), and Gym wrappers of the project's own protocol (a step returning its own
     # record): the callers of their instances keep that contract, reset included.

@@ -8,7 +8,7 @@ or its callers to unpack Gymnasium's tuples, breaks the mode it was not written 
 run proves the class is not on the plain Gym API, so it and its callers are left as they
 are and the class is reported once (``rules/custom_env/env_class.py``).
 
-Decided from the class body alone, like ``receiver_classes.keeps_legacy_step``.
+Decided from the class body alone, like ``class_shapes.keeps_legacy_step``.
 """
 
 from __future__ import annotations

@@ -1,8 +1,9 @@
 """What a class of the module is: its instances' ``EnvKind`` from its bases
 (``ClassKinds``, mixed into ``Receivers``: Gym wrappers, a wrapper around a Gym-only
-library's object, ``super()`` calls), and the shape predicates that decide from its body
-alone (a VecEnv-shaped class, a reset that returns bare observations, a step that keeps
-the legacy four-field contract).
+library's object, ``super()`` calls), and the duck wrappers it proves from a class's
+forwarding to ``self.env``. The shape predicates that decide from a class's body alone (a
+VecEnv-shaped class, a reset that returns bare observations, a step that keeps the legacy
+four-field contract) are in ``class_shapes.py``.
 """
 
 from __future__ import annotations
@@ -11,9 +12,10 @@ import ast
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts import names as N
+from gymmigrate.facts.class_shapes import is_vec_env_shaped, keeps_bare_reset
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, call_argument, own_returns
+from gymmigrate.facts.module import FUNCTIONS, call_argument, own_returns
 from gymmigrate.facts.own_api import own_api_shape
 
 if TYPE_CHECKING:
@@ -346,173 +348,6 @@ class ClassKinds(_Facade):
         return EnvKind.UNKNOWN
 
 
-def keeps_bare_reset(classdef: ast.ClassDef) -> bool:
-    """The class defines ``reset`` and one of its returns is a bare value: not a tuple,
-    not ``None``, not another env's ``reset(...)`` passed through."""
-    for statement in classdef.body:
-        if isinstance(statement, FUNCTIONS) and statement.name == "reset":
-            for ret in own_returns(statement):
-                value = ret.value
-                if value is None or isinstance(value, ast.Tuple) or (isinstance(value, ast.Constant) and value.value is None):
-                    continue
-                if isinstance(value, ast.Call) and isinstance(value.func, ast.Attribute) and value.func.attr == "reset":
-                    continue
-                return True
-    return False
-
-
-def keeps_legacy_step(classdef: ast.ClassDef) -> bool:
-    """The class's own ``step`` returns what no rule migrates: every value it returns is a
-    name, a container built in the method, or a call of a plain function (``return
-    results`` with ``results = zip(*per_env)``: a batch; GM504 reports it, changes
-    nothing). Its step keeps the four-field contract after the run, so the callers whose
-    receiver is an instance of it keep unpacking four values: the run is the unit."""
-    step = next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == "step"), None)
-    if step is None:
-        return False
-    values = [r.value for r in own_returns(step) if r.value is not None]
-    if not values:
-        return False
-    for value in values:
-        if isinstance(value, ast.Call) and isinstance(value.func, ast.Name) and value.func.id != "super":
-            continue  # ``zip(*results)``, ``tuple(batch)``
-        if is_batched_step_return(value, step):
-            continue  # ``np.stack(obs), np.stack(rews), np.stack(dones), infos``
-        if not isinstance(value, (ast.Name, ast.ListComp, ast.GeneratorExp, ast.List)):
-            return False  # a tuple literal the rules migrate, a helper's or an inner env's result
-    return True
-
-
-# NumPy functions that put per-env values side by side (or give one env's value a batch
-# axis): what they return is an array with one entry per env, never one env's flag.
-_BATCHING_FUNCTIONS = frozenset({"stack", "vstack", "hstack", "concatenate", "expand_dims", "atleast_1d"})
-# ``np.array(x)`` batches only a list of per-env values; of one flag it makes a 0-d array.
-_ARRAY_FUNCTIONS = frozenset({"array", "asarray"})
-
-
-def is_batched_step_return(value: ast.AST | None, step: ast.AST) -> bool:
-    """A four-field return whose reward and done are both per-env batches: ``np.stack(rews),
-    np.stack(dones)``, ``np.expand_dims(done, 0)``, ``rew[None]``, ``np.array(dones)`` of a
-    list filled in the method. Such a step is a batch of envs with its own API (stacked flags,
-    no place for a scalar ``truncated``): the rules leave its contract, and its callers',
-    as they are (GM504/GM602 report the class once)."""
-    if not (isinstance(value, ast.Tuple) and len(value.elts) == 4):
-        return False
-    lists = _lists_filled_in(step)
-    return all(_is_batched(element, lists) for element in value.elts[1:3])
-
-
-def _is_batched(expr: ast.expr, lists: frozenset[str]) -> bool:
-    # A bare ``[done]`` is not enough: wrappers that make an env look multi-agent return
-    # per-agent lists, which GM602 migrates as such.
-    if isinstance(expr, ast.Subscript) and _adds_axis(expr.slice):
-        return True  # ``rew[None]``
-    if isinstance(expr, ast.Name):
-        return expr.id in lists
-    if not (isinstance(expr, ast.Call) and expr.args):
-        return False
-    func = expr.func
-    name = func.attr if isinstance(func, ast.Attribute) else func.id if isinstance(func, ast.Name) else None
-    if name in _BATCHING_FUNCTIONS:
-        return True
-    if name in _ARRAY_FUNCTIONS:
-        first = expr.args[0]
-        return isinstance(first, (ast.List, ast.ListComp)) or (isinstance(first, ast.Name) and first.id in lists)
-    return False
-
-
-def _adds_axis(index: ast.expr) -> bool:
-    parts = index.elts if isinstance(index, ast.Tuple) else [index]
-    return any(
-        (isinstance(p, ast.Constant) and p.value is None) or (isinstance(p, ast.Attribute) and p.attr == "newaxis")
-        for p in parts
-    )
-
-
-def _lists_filled_in(function: ast.AST) -> frozenset[str]:
-    """Names the method fills with one value per env: ``dones.append(done)``, a target
-    of ``obs, rews, dones, infos = zip(*results)``, or a list the method starts empty and
-    extends (``done_n = []``, then ``done_n += done`` or ``done_n.extend(done)`` for each
-    env of a batch of multi-agent envs)."""
-    found: set[str] = set(concatenated_lists(function))
-    for node in ast.walk(function):
-        if (
-            isinstance(node, ast.Call)
-            and isinstance(node.func, ast.Attribute)
-            and node.func.attr == "append"
-            and isinstance(node.func.value, ast.Name)
-        ):
-            found.add(node.func.value.id)
-        elif (
-            isinstance(node, ast.Assign)
-            and isinstance(node.value, ast.Call)
-            and isinstance(node.value.func, ast.Name)
-            and node.value.func.id == "zip"
-        ):
-            for target in node.targets:
-                if isinstance(target, (ast.Tuple, ast.List)):
-                    found |= {e.id for e in target.elts if isinstance(e, ast.Name)}
-    return frozenset(found)
-
-
-def concatenated_lists(function: ast.AST) -> dict[str, list[ast.expr]]:
-    """Lists ``function`` binds to a list display and extends (``xs += value``,
-    ``xs.extend(value)``): each such name -> the values it is extended with. Those values
-    are iterables (``list += bool`` raises), so per-agent or per-env collections."""
-    displays: set[str] = set()
-    extended: dict[str, list[ast.expr]] = {}
-    for node in ast.walk(function):
-        if isinstance(node, ast.Assign):
-            targets = [t for target in node.targets for t in _paired_targets(target, node.value)]
-            displays |= {name for name, value in targets if isinstance(value, ast.List)}
-        elif isinstance(node, ast.AugAssign) and isinstance(node.op, ast.Add) and isinstance(node.target, ast.Name):
-            extended.setdefault(node.target.id, []).append(node.value)
-        elif (
-            isinstance(node, ast.Call)
-            and isinstance(node.func, ast.Attribute)
-            and node.func.attr == "extend"
-            and isinstance(node.func.value, ast.Name)
-            and len(node.args) == 1
-        ):
-            extended.setdefault(node.func.value.id, []).append(node.args[0])
-    return {name: values for name, values in extended.items() if name in displays}
-
-
-def per_agent_receivers(classdef: ast.ClassDef) -> frozenset[str]:
-    """Names a method of the class steps with four targets and whose done it concatenates into
-    a list (``obs, reward, done, _ = env.step(a)``, then ``done_n += done``): per-agent envs
-    on their own four-field API, whose reset keeps its own return too."""
-    found: set[str] = set()
-    for method in classdef.body:
-        if not isinstance(method, FUNCTIONS):
-            continue
-        extended = {v.id for values in concatenated_lists(method).values() for v in values if isinstance(v, ast.Name)}
-        for node in ast.walk(method):
-            if not (isinstance(node, ast.Assign) and len(node.targets) == 1 and isinstance(node.value, ast.Call)):
-                continue
-            target, func = node.targets[0], node.value.func
-            if (
-                isinstance(target, (ast.Tuple, ast.List))
-                and len(target.elts) == 4
-                and isinstance(target.elts[2], ast.Name)
-                and target.elts[2].id in extended
-                and isinstance(func, ast.Attribute)
-                and func.attr == "step"
-                and isinstance(func.value, ast.Name)
-            ):
-                found.add(func.value.id)
-    return frozenset(found)
-
-
-def _paired_targets(target: ast.expr, value: ast.expr) -> list[tuple[str, ast.expr]]:
-    """``a, b = [], []`` -> ``[("a", []), ("b", [])]``; ``a = []`` -> ``[("a", [])]``."""
-    if isinstance(target, ast.Name):
-        return [(target.id, value)]
-    if isinstance(target, (ast.Tuple, ast.List)) and isinstance(value, (ast.Tuple, ast.List)) and len(target.elts) == len(value.elts):
-        return [pair for t, v in zip(target.elts, value.elts) for pair in _paired_targets(t, v)]
-    return []
-
-
 def duck_wrapper_param(classdef: ast.ClassDef) -> ast.arg | None:
     """The ``__init__`` parameter a plain class stores in ``self.env`` (its only store
     there) when the class forwards to it: ``__getattr__`` returns ``getattr(self.env,
@@ -603,55 +438,6 @@ def is_object(base: ast.AST) -> bool:
     return isinstance(base, ast.Name) and base.id == "object"
 
 
-_VEC_METHODS = frozenset({"step_async", "step_wait"})
-# ``self.num_envs = len(env_fns)``: baselines and SB3 spell it ``num_envs``, tianshou-style
-# vector envs ``env_num``; a class that counts its envs so steps them all at once.
-_ENV_COUNTS = frozenset({"num_envs", "env_num", "n_envs"})
-# ``step(self, action, id=None)``: a vector env steps (or resets) the envs it is told.
-_ENV_ID_PARAMS = frozenset({"id", "ids", "env_id", "env_ids", "indices"})
-
-
-def is_vec_env_shaped(classdef: ast.ClassDef) -> bool:
-    """Defines ``step_async`` and ``step_wait`` (the VecEnv protocol of baselines and SB3), or
-    ``step`` in a class that counts its envs (``num_envs``, ``env_num``: its results are
-    stacked per env), or ``step`` and ``reset`` that both take the ids of the envs to act
-    on in a class made from a list of env factories (``__init__(self, env_fns)``)."""
-    methods = {s.name: s for s in classdef.body if isinstance(s, FUNCTIONS)}
-    if _VEC_METHODS <= set(methods):
-        return True
-    if "step" not in methods:
-        return False
-    if _counts_envs(classdef):
-        return True
-    init = methods.get("__init__")
-    return (
-        init is not None
-        and "reset" in methods
-        and any(a.arg in ("env_fns", "envs") for a in _params(init))
-        and all(any(a.arg in _ENV_ID_PARAMS for a in _params(methods[m])) for m in ("step", "reset"))
-    )
-
-
-def _params(function: ast.FunctionDef | ast.AsyncFunctionDef) -> list[ast.arg]:
-    args = function.args
-    return [*args.posonlyargs, *args.args, *args.kwonlyargs]
-
-
-def _counts_envs(classdef: ast.ClassDef) -> bool:
-    """``num_envs`` (or ``env_num``) is a class attribute or is stored on ``self`` in ``__init__``."""
-    for statement in classdef.body:
-        if isinstance(statement, (ast.Assign, ast.AnnAssign)):
-            targets = statement.targets if isinstance(statement, ast.Assign) else [statement.target]
-            if any(isinstance(t, ast.Name) and t.id in _ENV_COUNTS for t in targets):
-                return True
-        if isinstance(statement, FUNCTIONS) and statement.name == "__init__":
-            for inner in ast.walk(statement):
-                if isinstance(inner, ast.Attribute) and inner.attr in _ENV_COUNTS and isinstance(inner.ctx, ast.Store):
-                    if isinstance(inner.value, ast.Name) and inner.value.id == "self":
-                        return True
-    return False
-
-
 def other_library_class_kind(qualified: str) -> EnvKind | None:
     """Kind of an SB3, PettingZoo or tf_agents class named in an annotation or a base list."""
     if N.top_package(qualified) in N.OWN_ENV_API_PACKAGES:
@@ -663,54 +449,3 @@ def other_library_class_kind(qualified: str) -> EnvKind | None:
     if qualified in N.PZ_PARALLEL_BASES:
         return EnvKind.PZ_PARALLEL
     return None
-
-
-def renders_nothing(facts: ModuleFacts, classdef: ast.ClassDef, _depth: int = 0) -> bool:
-    """The class's render() (its own, else the first base of this module that has one)
-    calls no ``render`` and names no ``"render"`` (a worker's command): a stub that logs
-    or does nothing, so its callers render no env. False where no render() is found."""
-    methods = {s.name: s for s in classdef.body if isinstance(s, FUNCTIONS)}
-    render = methods.get("render")
-    if render is None:
-        if _depth > 4:
-            return False
-        for base in classdef.bases:
-            local = facts.classes.get(base.id) if isinstance(base, ast.Name) else None
-            if local is not None and local is not classdef:
-                return renders_nothing(facts, local, _depth + 1)
-        return False
-    for node in ast.walk(render):
-        if isinstance(node, ast.Attribute) and node.attr == "render":
-            return False
-        if isinstance(node, ast.Constant) and isinstance(node.value, str) and "render" in node.value.lower():
-            if not _in_log_call(facts, node):
-                return False
-        if isinstance(node, (ast.Return, ast.Yield)) and getattr(node, "value", None) is not None:
-            if not (isinstance(node.value, ast.Constant) and node.value.value is None):
-                return False  # it hands something back (a frame)
-    return True
-
-
-def _in_log_call(facts: ModuleFacts, node: ast.AST) -> bool:
-    """``logger.warn('Render not defined for %s' % self)``: the word in a message."""
-    for ancestor in facts.ancestors(node):
-        if isinstance(ancestor, ast.Call):
-            name = ancestor.func.attr if isinstance(ancestor.func, ast.Attribute) else getattr(ancestor.func, "id", "")
-            return name in ("warn", "warning", "info", "debug", "print", "error")
-    return False
-
-
-def wrapped_env_renders(facts: ModuleFacts, classdef: ast.ClassDef) -> list[str]:
-    """The methods (not render) of ``classdef`` that call ``self.env.render(...)``: a
-    wrapper that draws the env it wraps as it steps or resets it, in sorted order."""
-    methods = set()
-    for call in facts.attribute_calls.get("render", ()):
-        held = call.func.value  # type: ignore[attr-defined]
-        if not (isinstance(held, ast.Attribute) and held.attr == "env" and isinstance(held.value, ast.Name) and held.value.id == "self"):
-            continue
-        function = facts.enclosing_function(call)
-        if function is None or function.name in ("render", "_render") or facts.enclosing_class(call) is not classdef:
-            continue
-        if facts.parent(function) is classdef:
-            methods.add(function.name)
-    return sorted(methods)

@@ -12,10 +12,10 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.facts import names as N
+from gymmigrate.facts.class_shapes import is_batched_step_return, keeps_legacy_step
 from gymmigrate.facts.done_uses import builds_record
 from gymmigrate.facts.kinds import MAX_DEPTH, EnvKind
 from gymmigrate.facts.module import FUNCTIONS, call_argument, own_returns
-from gymmigrate.facts.receiver_classes import is_batched_step_return, keeps_legacy_step
 from gymmigrate.facts.receiver_foreign import ForeignObjects
 from gymmigrate.facts.receiver_gym_only import GymOnlyStacks
 from gymmigrate.facts.version_checks import reads_version

@@ -16,7 +16,9 @@ times) cost linear time.
 
 This module holds the façade, ``Receivers``, and the classification of expressions. The
 families of questions it also answers are mixed in from their own modules:
-``receiver_classes.py`` (what a class of the module is, from its bases and its shape),
+``receiver_bindings.py`` (what a name holds, from its bindings), ``receiver_wrapping.py``
+(which calls hand on the env they are given), ``receiver_classes.py`` (what a class of
+the module is, from its bases; its shape alone is ``class_shapes.py``),
 ``receiver_params.py`` (what a parameter holds; with ``receiver_callers.py``, which calls
 reach a def, and ``receiver_thunks.py``, what passed thunks return),
 ``receiver_origins.py`` (who made an object: a legacy-step class, the run itself, another
@@ -38,16 +40,17 @@ from gymmigrate.facts.env_specs import is_spec_make
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import MAX_DEPTH, EnvKind, join_kinds
 from gymmigrate.facts.module import (
-    FUNCTIONS,
     ModuleFacts,
     call_argument,
     own_entry_point,
     own_returns,
 )
 from gymmigrate.facts.narrowing import Narrowing
+from gymmigrate.facts.receiver_bindings import BindingKinds
 from gymmigrate.facts.receiver_classes import ClassKinds
 from gymmigrate.facts.receiver_origins import MadeObjects
 from gymmigrate.facts.receiver_params import ParameterKinds
+from gymmigrate.facts.receiver_wrapping import WrappingCalls
 from gymmigrate.facts.self_attributes import SelfAttributes, class_self_stores
 
 if TYPE_CHECKING:
@@ -73,7 +76,7 @@ _NOT_ENV_EXPRESSIONS = (
 )
 
 
-class Receivers(ClassKinds, ParameterKinds, MadeObjects):
+class Receivers(BindingKinds, WrappingCalls, ClassKinds, ParameterKinds, MadeObjects):
     """Classifies expressions of one module. One per file, shared by every rule.
 
     Two helpers answer the narrower questions and ask this object back for kinds:
@@ -362,74 +365,6 @@ class Receivers(ClassKinds, ParameterKinds, MadeObjects):
             kinds.add(found or EnvKind.UNKNOWN)
         return EnvKind.GYM_ENV if kinds == {EnvKind.GYM_ENV} else EnvKind.UNKNOWN
 
-    def _classify_name(self, name: ast.Name) -> EnvKind:
-        kind = self._classify_bindings(name)
-        if kind is EnvKind.UNKNOWN and self.narrowing.is_env(name):
-            # ``if isinstance(env, str): env = make(env)`` / ``assert isinstance(env, gym.Env)``
-            # before the read: what the bindings could not tell, the code has checked or made.
-            # A kind they do tell stays (gym's VectorEnv passed ``isinstance(x, gym.Env)``).
-            return EnvKind.GYM_ENV
-        return kind
-
-    def _classify_bindings(self, name: ast.Name) -> EnvKind:
-        bindings = self.facts.bindings_of(name)
-        if not bindings:
-            return EnvKind.UNKNOWN  # a builtin or a name this module never binds
-        # Every read that sees the same bindings has the same kind: n reads of a name
-        # rebound n times cost n, not n * n. Only an answer computed with nothing else in
-        # progress is shared (deeper ones may be partial, cut short by a cycle).
-        key = id(bindings)
-        shared = self._name_kinds.get(key)
-        if shared is None:
-            kinds = set()
-            for binding in bindings:
-                kind = self.binding_kind(binding)
-                if kind is not None:
-                    kinds.add(kind)
-            shared = self._join_bindings(bindings, kinds)
-            if len(kinds) > 1:
-                self._mixed.add(key)
-            if self.depth == 1:
-                self._name_kinds[key] = shared
-        if key in self._mixed:
-            # The bindings disagree (``env`` a VecEnv first, a Gym env later): a read that
-            # only the last binding before it can reach has that binding's kind.
-            last = self._dominating_binding(name)
-            if last is not None:
-                kind = self.binding_kind(last)
-                if kind is not None and kind is not EnvKind.UNKNOWN:
-                    return kind
-            # Else only the bindings that may reach it: ``env = lib.make(...)`` overwritten by
-            # ``env = ClipAction(env)`` before the read, ``env = Mask(env)`` after it.
-            reaching = Flow.of(self.facts).reaching(name)
-            if reaching:
-                # ``if MODE == "arm": env = Arm() elif ...: env = gym.make(...)``, read again under
-                # the same unchanged tests: the bindings of the other branches cannot reach it.
-                cut = same_tests.excluded(self.facts, name, reaching)
-                reaching = [b for b in reaching if id(b) not in cut]
-            if reaching and len(reaching) < len(bindings):
-                kinds = {k for k in (self._reaching_kind(b) for b in reaching) if k is not None}
-                if kinds:
-                    return self._join_bindings(reaching, kinds)
-        return shared
-
-    def _join_bindings(self, bindings: list[ast.AST], kinds: set[EnvKind]) -> EnvKind:
-        """``join_kinds``, except that an object of a class the run defines (not a Gym env)
-        is no placeholder like ``env = None``: next to a Gym env it leaves the kind unknown,
-        so calls that may reach the project's own ``reset``/``step`` are never rewritten."""
-        joined = join_kinds(kinds)
-        if joined is EnvKind.UNKNOWN or EnvKind.NOT_ENV not in kinds or len(kinds) == 1:
-            return joined
-        return EnvKind.UNKNOWN if any(self._own_object(b) is not None for b in bindings) else joined
-
-    def _own_object(self, binding: ast.AST) -> ast.Call | None:
-        """The call of the run's own code (not a Gym env) that ``binding`` stores, if any."""
-        statement = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
-        value = statement.value if isinstance(statement, (ast.Assign, ast.AnnAssign, ast.NamedExpr)) else None
-        if isinstance(value, ast.Call) and self.binding_kind(binding) is EnvKind.NOT_ENV and self.run_defined(value):
-            return value
-        return None
-
     def mixed_callers(self, expr: ast.AST, _depth: int = 0) -> str | None:
         """Also: ``expr`` a name bound to a Gym env in one place and to an object of the
         project's own class in another, both reaching this read (``_join_bindings``)."""
@@ -451,34 +386,6 @@ class Receivers(ClassKinds, ParameterKinds, MadeObjects):
                 )
         return super().mixed_callers(expr, _depth)
 
-    def _reaching_kind(self, binding: ast.AST) -> EnvKind | None:
-        """A binding's kind, where it decides a read alone: ``env = Recorder(env)`` of a plain
-        class proves nothing about what it holds (UNKNOWN); a Gym wrapper around it does, and
-        so does any other kind the class settles (``envs = VecScale(envs)`` of an SB3
-        ``VecEnvWrapper`` is a VecEnv)."""
-        kind = self.binding_kind(binding)
-        statement = self.facts.statement_of(binding)
-        if isinstance(binding, ast.Name) and isinstance(statement, ast.Assign) and kind is EnvKind.NOT_ENV:
-            if any(isinstance(n, ast.Name) and n.id == binding.id for n in ast.walk(statement.value)):
-                return EnvKind.UNKNOWN
-        return kind
-
-    def _dominating_binding(self, name: ast.Name) -> ast.AST | None:
-        flow = Flow.of(self.facts)
-        last = flow.last_binding_of(name)
-        if not isinstance(last, ast.Name):
-            return None
-        statement = self.facts.statement_of(last)
-        if not (isinstance(statement, (ast.Assign, ast.AnnAssign)) and statement.value is not None):
-            return None
-        rebinds = any(isinstance(n, ast.Name) and n.id == name.id for n in ast.walk(statement.value))
-        if rebinds and not (
-            self._makes_gym_wrapper(statement.value)
-            or self.wrapped_argument(statement.value) is not None
-            or self._makes_own_api_env(statement.value)
-        ):
-            return None  # ``env = wrap(env)``: its kind rests on the earlier values too
-        return last if flow.dominates(statement, name, name) else None
 
     def _registered_class(self, classdef: ast.ClassDef) -> bool:
         """The run registers ``classdef`` as an ``entry_point`` with the Gym registry (a file
@@ -492,234 +399,8 @@ class Receivers(ClassKinds, ParameterKinds, MadeObjects):
                 return True
         return False
 
-    def _makes_own_api_env(self, value: ast.expr) -> bool:
-        """``Adapter(env)`` with a class of this module or another of the run that derives from
-        a library class with an env API of its own (``dm_env.Environment``): an env of that API whatever ``env`` was."""
-        if not isinstance(value, ast.Call):
-            return False
-        local = self.local_class(value.func)
-        if local is not None:
-            return self.derives_own_api(local)
-        # ``gym_wrapper.GymAdapter(env)`` with the class in another module of the run
-        project = self.project
-        return project is not None and any(project.derives_own_api(q) for q in self.qualified_names(value.func))
-
-    def _makes_gym_wrapper(self, value: ast.expr) -> bool:
-        """``Wrapper(env, ...)`` with a Gym wrapper class (Gymnasium's, this module's, or
-        another module's of the run): a Gym env whatever ``env`` was."""
-        if not isinstance(value, ast.Call):
-            return False
-        for q in self.qualified_names(value.func):
-            rest = N.strip_gym_prefix(q)
-            if rest is not None and (rest in N.GYM_WRAPPER_BASE_CLASSES or N.is_wrapper_class_path(rest)):
-                return True
-            if self.project is not None and self.project.is_wrapper_class(q):
-                return True
-        if isinstance(value.func, ast.Name) and self.project is not None and not self.facts.bindings_of(value.func):
-            return self.project.star_wrapper_class(value.func.id, self.facts.star_imports)
-        local = self.local_class(value.func)
-        return local is not None and self.is_gym_wrapper_class(local)
-
-    def wrapped_argument(self, value: ast.AST) -> ast.expr | None:
-        """The env ``value`` hands on: its first argument, where it calls a def of the run
-        that returns that argument or Gym wrappers around it (``def wrap_deepmind(env):
-        if clip: env = ClipReward(env); return env``; ``ProjectView.wraps_argument``)."""
-        if not (isinstance(value, ast.Call) and value.args and not isinstance(value.args[0], ast.Starred)):
-            return None
-        local = self.local_function(value.func)
-        if local is not None:
-            return value.args[0] if self.wraps_argument(local) else None
-        if self.project is not None and any(self.project.wraps_argument(q) for q in self.qualified_names(value.func)):
-            return value.args[0]
-        return None
-
-    def wraps_argument(self, function: ast.AST) -> bool:
-        """Every return of the top-level def ``function`` is its first parameter, maybe
-        rebound to Gym wrappers around it (or to what another such def of the module gives)."""
-        return bool(self.facts.memo(("wraps-argument", id(function)), lambda: self._wraps_argument(function), while_computing=False))
-
-    def _wraps_argument(self, function: ast.AST) -> bool:
-        if not isinstance(function, FUNCTIONS) or self.facts.parent(function) is not self.facts.tree:
-            return False
-        positional = [*function.args.posonlyargs, *function.args.args]
-        if not positional:
-            return False
-        values = [r.value for r in own_returns(function)]
-        return bool(values) and all(v is not None and self._hands_on_param(v, positional[0], function, 0) for v in values)
-
-    def _hands_on_param(self, value: ast.expr, param: ast.arg, function: ast.AST, depth: int, seen: frozenset[int] = frozenset()) -> bool:
-        if depth > MAX_DEPTH:
-            return False
-        if isinstance(value, ast.Call):
-            if not value.args or isinstance(value.args[0], ast.Starred):
-                return False
-            local = self.local_function(value.func)
-            hands_on = self._makes_gym_wrapper(value) or (local is not None and local is not function and self.wraps_argument(local))
-            return hands_on and self._hands_on_param(value.args[0], param, function, depth + 1, seen)
-        if not (isinstance(value, ast.Name) and value.id == param.arg):
-            return False
-        for binding in self.facts.bindings_of(value):
-            if binding is param:
-                continue
-            assign = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
-            if not (isinstance(assign, ast.Assign) and assign.targets == [binding]):
-                return False
-            if self.facts.enclosing_function(assign) is not function:
-                return False
-            if id(assign) in seen:
-                continue  # ``env = Clip(env)`` read back through itself: no other value
-            if not self._hands_on_param(assign.value, param, function, depth + 1, seen | {id(assign)}):
-                return False
-        return True
-
-    def binding_kind(self, binding: ast.AST) -> EnvKind | None:
-        """The kind of value one binding stores (None: it adds no evidence, e.g. ``+=``)."""
-        if isinstance(binding, (ast.alias, *FUNCTIONS, ast.ClassDef, ast.ExceptHandler)):
-            return EnvKind.NOT_ENV  # modules, functions, classes, exceptions
-        if isinstance(binding, ast.arg):
-            return self._param_kind(binding)
-        if not isinstance(binding, ast.Name):
-            return EnvKind.UNKNOWN
-        parent = self.facts.parent(binding)
-        if isinstance(parent, ast.Assign):
-            inner = self._kind_keeping_inner(parent.value)
-            if isinstance(inner, ast.Name) and inner.id == binding.id:
-                return None  # ``env = supersuit.dtype_v0(env, ...)``: env keeps its kind, no new evidence
-            value = parent.value
-            if isinstance(value, ast.Attribute) and value.attr == "unwrapped" and isinstance(value.value, ast.Name) and value.value.id == binding.id:
-                return None  # ``env = env.unwrapped``: the same env, its kind unchanged
-            return self.kind_of(parent.value)
-        if isinstance(parent, ast.AnnAssign):
-            if parent.value is not None:
-                return self.kind_of(parent.value)
-            return self.annotation_kind(parent.annotation)
-        if isinstance(parent, ast.NamedExpr):
-            return self.kind_of(parent.value)
-        if isinstance(parent, ast.withitem):
-            return self.kind_of(parent.context_expr)
-        if isinstance(parent, (ast.For, ast.AsyncFor, ast.comprehension)) and parent.target is binding:
-            return self._element_kind(parent.iter)
-        if isinstance(parent, (ast.Tuple, ast.List)):
-            return self._unpacked_kind(binding, parent)
-        if isinstance(parent, (ast.AugAssign, ast.Delete)):
-            return None  # ``del env`` unbinds: it adds no value of another kind
-        return EnvKind.UNKNOWN
-
-    def _unpacked_kind(self, target: ast.Name, container: ast.Tuple | ast.List) -> EnvKind:
-        index = next(i for i, el in enumerate(container.elts) if el is target)
-        holder = self.facts.parent(container)
-        value: ast.AST | None = None
-        if isinstance(holder, ast.Assign):
-            value = holder.value
-        elif isinstance(holder, (ast.For, ast.AsyncFor, ast.comprehension)) and holder.target is container:
-            # ``for i, env in enumerate(envs)`` and ``for env, name in zip(envs, names)``
-            iterable = holder.iter
-            if isinstance(iterable, ast.Call) and isinstance(iterable.func, ast.Name):
-                if iterable.func.id == "enumerate" and index == 1 and iterable.args:
-                    return self._element_kind(iterable.args[0])
-                if iterable.func.id == "zip" and index < len(iterable.args):
-                    return self._element_kind(iterable.args[index])
-            return EnvKind.UNKNOWN
-        if isinstance(value, (ast.Tuple, ast.List)) and len(value.elts) == len(container.elts):
-            if not any(isinstance(el, ast.Starred) for el in value.elts):
-                return self.kind_of(value.elts[index])
-        if value is not None and not isinstance(value, (ast.Tuple, ast.List)):
-            # ``obs, info = env.reset()``: the targets are values returned by a call, not envs
-            # unless the call is a local function returning a tuple of envs.
-            local = self.local_function(value.func) if isinstance(value, ast.Call) else None
-            if local is None and isinstance(value, ast.Call) and _is_env_method_call(value):
-                return EnvKind.NOT_ENV
-            if isinstance(local, FUNCTIONS) and not any(isinstance(el, ast.Starred) for el in container.elts):
-                # ``env, agent = env_agent_config(cfg)`` where the def ends ``return env, agent``:
-                # the item at this place of every tuple it returns.
-                return self.returned_item_kind(local, index, len(container.elts))
-            if local is None and isinstance(value, ast.Call) and not any(isinstance(el, ast.Starred) for el in container.elts):
-                return self._named_methods_item_kind(value, index, len(container.elts))
-        return EnvKind.UNKNOWN
-
-    def _named_methods_item_kind(self, call: ast.Call, index: int, width: int) -> EnvKind:
-        """``venv, obs = environment.get_sb_env()`` on an owner not traced, where every
-        method of that name in the module's classes returns a vector env at this place
-        (``return DummyVecEnv([lambda: self]), obs``): that vector env, which keeps its
-        batch API; any other answer is no answer."""
-        if not isinstance(call.func, ast.Attribute) or call.func.attr.startswith("__"):
-            return EnvKind.UNKNOWN
-        name = call.func.attr
-        methods = [
-            statement
-            for classdef in self.facts.classes.values()
-            for statement in classdef.body
-            if isinstance(statement, FUNCTIONS) and statement.name == name
-        ]
-        if not methods:
-            return EnvKind.UNKNOWN
-        kinds = {self.returned_item_kind(method, index, width) for method in methods}
-        if len(kinds) == 1 and kinds <= {EnvKind.SB3_VEC, EnvKind.GYM_VEC}:
-            return kinds.pop()
-        return EnvKind.UNKNOWN
-
-    def returned_item_kind(self, function: ast.AST, index: int, width: int) -> EnvKind:
-        """The kind of item ``index`` of what ``function`` returns, when every return is a
-        tuple display of ``width`` items (anything else: unknown)."""
-        values = [r.value for r in own_returns(function)]
-        if not values:
-            return EnvKind.UNKNOWN
-        items = []
-        for value in values:
-            if not (isinstance(value, (ast.Tuple, ast.List)) and len(value.elts) == width):
-                return EnvKind.UNKNOWN
-            if any(isinstance(el, ast.Starred) for el in value.elts):
-                return EnvKind.UNKNOWN
-            items.append(value.elts[index])
-        return join_kinds(self.kind_of(item) for item in items)
-
-    def _element_kind(self, container: ast.AST) -> EnvKind:
-        """Kind of the items of a list/tuple of envs (``envs[i]``, ``for env in envs``)."""
-        if isinstance(container, (ast.List, ast.Tuple, ast.Set)):
-            return join_kinds(self.kind_of(el) for el in container.elts if not isinstance(el, ast.Starred))
-        if isinstance(container, (ast.ListComp, ast.GeneratorExp, ast.SetComp)):
-            return self.kind_of(container.elt)
-        if isinstance(container, ast.Name):
-            bindings = self.facts.bindings_of(container)
-            if not bindings:
-                return EnvKind.UNKNOWN
-            kinds = []
-            for binding in bindings:
-                parent = self.facts.parent(binding)
-                if isinstance(binding, ast.Name) and isinstance(parent, ast.Assign):
-                    kinds.append(self._element_kind_memo(parent.value))
-                else:
-                    kinds.append(EnvKind.UNKNOWN)
-            return join_kinds(kinds)
-        if isinstance(container, ast.Attribute) and isinstance(container.value, ast.Name):
-            if self.is_self(container.value):
-                values = self.self_attribute_values(container, container.attr)
-                return join_kinds(self._element_kind_memo(v) for v in values) if values else EnvKind.UNKNOWN
-        return EnvKind.UNKNOWN
-
-    def _element_kind_memo(self, container: ast.AST) -> EnvKind:
-        key = ("element-kind", id(container))
-        cached = self.facts.peek(key)
-        if cached is not None:
-            return cached  # type: ignore[return-value]
-        if self.depth > MAX_DEPTH:
-            return EnvKind.UNKNOWN  # not memoized: a shallower question may still answer it
-
-        def compute() -> EnvKind:
-            self.depth += 1
-            try:
-                return self._element_kind(container)
-            finally:
-                self.depth -= 1
-
-        return self.facts.memo(key, compute, while_computing=EnvKind.UNKNOWN)
-
     def returns_kind(self, function: ast.AST) -> EnvKind:
         values = [r.value for r in own_returns(function) if r.value is not None]
         if not values:
             return EnvKind.NOT_ENV
         return join_kinds(self.kind_of(value) for value in values)
-
-
-def _is_env_method_call(call: ast.Call) -> bool:
-    return isinstance(call.func, ast.Attribute) and call.func.attr in ("reset", "step", "last")

@@ -20,6 +20,7 @@ from dataclasses import replace
 
 from gymmigrate.facts import pz_wrappers
 from gymmigrate.facts.atari_signs import atari_users
+from gymmigrate.facts.class_shapes import renders_nothing
 from gymmigrate.facts.done_uses import top_level_records
 from gymmigrate.facts.env_classes import EnvClasses
 from gymmigrate.facts.env_specs import module_spec_lists
@@ -27,7 +28,6 @@ from gymmigrate.facts.id_params import escaping_parameters, id_parameters
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
 from gymmigrate.facts.module_summary import ModuleSummary, Signature
-from gymmigrate.facts.receiver_classes import renders_nothing
 from gymmigrate.facts.receivers import Receivers
 from gymmigrate.facts.render_handovers import bare_render_params, handed_constructions
 from gymmigrate.facts.render_modes import render_kept_classes

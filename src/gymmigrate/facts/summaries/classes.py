@@ -8,12 +8,12 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.facts import names as N
+from gymmigrate.facts.class_shapes import wrapped_env_renders
 from gymmigrate.facts.env_classes import is_super_method_call, mode_can_stay_optional
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.limits import Cause, DoneCause, DoneTracer
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
 from gymmigrate.facts.module_summary import OWN
-from gymmigrate.facts.receiver_classes import wrapped_env_renders
 from gymmigrate.facts.receivers import Receivers
 from gymmigrate.facts.render_modes import passes_mode
 

@@ -17,6 +17,7 @@ import ast
 import re
 from collections.abc import Hashable
 
+from gymmigrate.facts.class_shapes import is_batched_step_return, keeps_legacy_step
 from gymmigrate.facts.env_classes import (
     is_super_method_call,
 )
@@ -30,7 +31,6 @@ from gymmigrate.facts.limits import (
     unwrap_bool,
 )
 from gymmigrate.facts.module import own_returns
-from gymmigrate.facts.receiver_classes import is_batched_step_return, keeps_legacy_step
 from gymmigrate.facts.step_hooks import ENV_API
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import (

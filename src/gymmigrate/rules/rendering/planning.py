@@ -12,10 +12,10 @@ from __future__ import annotations
 import ast
 from collections import defaultdict
 
+from gymmigrate.facts.class_shapes import wrapped_env_renders
 from gymmigrate.facts.decisions import Action
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.module import keyword, string_value
-from gymmigrate.facts.receiver_classes import wrapped_env_renders
 from gymmigrate.facts.version_checks import reads_version
 from gymmigrate.findings import (
     FixKind,

@@ -9,10 +9,10 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.facts import names as N
+from gymmigrate.facts.class_shapes import renders_nothing
 from gymmigrate.facts.decisions import Action, receiver_text
 from gymmigrate.facts.import_guards import import_error_guard
 from gymmigrate.facts.module import keyword
-from gymmigrate.facts.receiver_classes import renders_nothing
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.render_calls import first_argument
 from gymmigrate.rules.rendering.common import RGB_ARRAY, RenderingBase, RenderSite

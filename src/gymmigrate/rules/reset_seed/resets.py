@@ -23,9 +23,9 @@ import ast
 from enum import Enum
 
 from gymmigrate.facts.batched_steps import steps_batched
+from gymmigrate.facts.class_shapes import per_agent_receivers
 from gymmigrate.facts.decisions import Action, Decision, receiver_text
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.receiver_classes import per_agent_receivers
 from gymmigrate.facts.reset_flow import scope_of_expression
 from gymmigrate.facts.version_checks import dead_version_branch
 from gymmigrate.findings import FixKind, Tier

@@ -11,8 +11,10 @@ episode was cut (usually by ``TimeLimit``). The legacy ``done`` was their ``or``
   ``terminated``; the reads of ``done`` it plans are judged in ``next_state`` (what the
   step's next state is, which reads mask bootstrapping from it), ``read_uses`` (what else
   a read is for, where the code shows it), ``read_stores`` (where a read stores the flag),
-  ``bookkeeping`` (reads that only keep an episode's books) and ``read_reports`` (the
-  GM302 findings).
+  ``bookkeeping`` (reads that only keep an episode's books), ``read_settled`` (what the
+  code around a read settles by its shape) and ``read_reports`` (the GM302 findings; with
+  ``read_untraced``, for a step left unrewritten, and ``read_attributes``, for a ``done``
+  stored in ``self``).
 * ``time_limit``: GM303 ``info["TimeLimit.truncated"]`` -> ``truncated and not terminated``.
 * ``results``: GM304 step results that are not unpacked.
 * ``family``: the ``RuleFamily`` that finds the call sites and dispatches them;

@@ -19,18 +19,18 @@ from bisect import bisect_left, bisect_right
 
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts.batched_steps import done_read_per_env
+from gymmigrate.facts.class_shapes import concatenated_lists
 from gymmigrate.facts.decisions import Action, Decision, receiver_text
 from gymmigrate.facts.done_uses import DoneUse, classify_done_read
 from gymmigrate.facts.flow import bound_names, end, start
 from gymmigrate.facts.module import LOOPS, Scope
-from gymmigrate.facts.receiver_classes import concatenated_lists
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.step_done.common import StepNames, StepUnpack, looks_vectorised
 from gymmigrate.rules.step_done.next_state import DoneStep
-from gymmigrate.rules.step_done.read_reports import DoneReadReports
+from gymmigrate.rules.step_done.read_attributes import DoneAttributeReports
 
 
-class UnpackRules(DoneReadReports):
+class UnpackRules(DoneAttributeReports):
     """GM301, GM302 and GM703 (mixed into the family)."""
 
     def _done_concatenated(self, done_target: ast.expr) -> bool:

@@ -20,9 +20,9 @@ import ast
 from dataclasses import replace
 
 from gymmigrate.edits.lazy import cst
+from gymmigrate.facts.class_shapes import is_batched_step_return, keeps_legacy_step
 from gymmigrate.facts.done_uses import always_false_here, falsy_constant
 from gymmigrate.facts.module import FUNCTIONS, own_returns
-from gymmigrate.facts.receiver_classes import is_batched_step_return, keeps_legacy_step
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import RuleFamily
 from gymmigrate.rules.custom_env.plans import (

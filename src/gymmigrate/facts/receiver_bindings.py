@@ -1,0 +1,273 @@
+"""What a name holds, from its bindings (``BindingKinds``, mixed into ``Receivers``): the
+kind each binding stores (an assignment, a loop over a list of envs, an unpacked tuple a
+def returns), how the kinds of a name's bindings join, and which bindings a read can see
+where they disagree (the last binding before it, those that reach it), with the items of
+lists and tuples of envs.
+
+Separate from ``receivers.py`` because it answers one question of the façade's, what a
+name is, from the flow of its bindings; ``Receivers`` classifies the other expressions
+(calls, attributes) and asks this back for names. First of ``Receivers``' bases, so its
+methods resolve as they did when ``Receivers`` defined them.
+"""
+
+from __future__ import annotations
+
+import ast
+from typing import TYPE_CHECKING
+
+from gymmigrate.facts import same_tests
+from gymmigrate.facts.flow import Flow
+from gymmigrate.facts.kinds import MAX_DEPTH, EnvKind, join_kinds
+from gymmigrate.facts.module import FUNCTIONS, own_returns
+
+if TYPE_CHECKING:
+    from gymmigrate.facts.kinds import ReceiverFacade as _Facade
+else:
+    _Facade = object
+
+
+class BindingKinds(_Facade):
+    """The kinds of names from their bindings (part of ``Receivers``)."""
+
+    def _classify_name(self, name: ast.Name) -> EnvKind:
+        kind = self._classify_bindings(name)
+        if kind is EnvKind.UNKNOWN and self.narrowing.is_env(name):
+            # ``if isinstance(env, str): env = make(env)`` / ``assert isinstance(env, gym.Env)``
+            # before the read: what the bindings could not tell, the code has checked or made.
+            # A kind they do tell stays (gym's VectorEnv passed ``isinstance(x, gym.Env)``).
+            return EnvKind.GYM_ENV
+        return kind
+
+    def _classify_bindings(self, name: ast.Name) -> EnvKind:
+        bindings = self.facts.bindings_of(name)
+        if not bindings:
+            return EnvKind.UNKNOWN  # a builtin or a name this module never binds
+        # Every read that sees the same bindings has the same kind: n reads of a name
+        # rebound n times cost n, not n * n. Only an answer computed with nothing else in
+        # progress is shared (deeper ones may be partial, cut short by a cycle).
+        key = id(bindings)
+        shared = self._name_kinds.get(key)
+        if shared is None:
+            kinds = set()
+            for binding in bindings:
+                kind = self.binding_kind(binding)
+                if kind is not None:
+                    kinds.add(kind)
+            shared = self._join_bindings(bindings, kinds)
+            if len(kinds) > 1:
+                self._mixed.add(key)
+            if self.depth == 1:
+                self._name_kinds[key] = shared
+        if key in self._mixed:
+            # The bindings disagree (``env`` a VecEnv first, a Gym env later): a read that
+            # only the last binding before it can reach has that binding's kind.
+            last = self._dominating_binding(name)
+            if last is not None:
+                kind = self.binding_kind(last)
+                if kind is not None and kind is not EnvKind.UNKNOWN:
+                    return kind
+            # Else only the bindings that may reach it: ``env = lib.make(...)`` overwritten by
+            # ``env = ClipAction(env)`` before the read, ``env = Mask(env)`` after it.
+            reaching = Flow.of(self.facts).reaching(name)
+            if reaching:
+                # ``if MODE == "arm": env = Arm() elif ...: env = gym.make(...)``, read again under
+                # the same unchanged tests: the bindings of the other branches cannot reach it.
+                cut = same_tests.excluded(self.facts, name, reaching)
+                reaching = [b for b in reaching if id(b) not in cut]
+            if reaching and len(reaching) < len(bindings):
+                kinds = {k for k in (self._reaching_kind(b) for b in reaching) if k is not None}
+                if kinds:
+                    return self._join_bindings(reaching, kinds)
+        return shared
+
+    def _join_bindings(self, bindings: list[ast.AST], kinds: set[EnvKind]) -> EnvKind:
+        """``join_kinds``, except that an object of a class the run defines (not a Gym env)
+        is no placeholder like ``env = None``: next to a Gym env it leaves the kind unknown,
+        so calls that may reach the project's own ``reset``/``step`` are never rewritten."""
+        joined = join_kinds(kinds)
+        if joined is EnvKind.UNKNOWN or EnvKind.NOT_ENV not in kinds or len(kinds) == 1:
+            return joined
+        return EnvKind.UNKNOWN if any(self._own_object(b) is not None for b in bindings) else joined
+
+    def _own_object(self, binding: ast.AST) -> ast.Call | None:
+        """The call of the run's own code (not a Gym env) that ``binding`` stores, if any."""
+        statement = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
+        value = statement.value if isinstance(statement, (ast.Assign, ast.AnnAssign, ast.NamedExpr)) else None
+        if isinstance(value, ast.Call) and self.binding_kind(binding) is EnvKind.NOT_ENV and self.run_defined(value):
+            return value
+        return None
+
+    def _reaching_kind(self, binding: ast.AST) -> EnvKind | None:
+        """A binding's kind, where it decides a read alone: ``env = Recorder(env)`` of a plain
+        class proves nothing about what it holds (UNKNOWN); a Gym wrapper around it does, and
+        so does any other kind the class settles (``envs = VecScale(envs)`` of an SB3
+        ``VecEnvWrapper`` is a VecEnv)."""
+        kind = self.binding_kind(binding)
+        statement = self.facts.statement_of(binding)
+        if isinstance(binding, ast.Name) and isinstance(statement, ast.Assign) and kind is EnvKind.NOT_ENV:
+            if any(isinstance(n, ast.Name) and n.id == binding.id for n in ast.walk(statement.value)):
+                return EnvKind.UNKNOWN
+        return kind
+
+    def _dominating_binding(self, name: ast.Name) -> ast.AST | None:
+        flow = Flow.of(self.facts)
+        last = flow.last_binding_of(name)
+        if not isinstance(last, ast.Name):
+            return None
+        statement = self.facts.statement_of(last)
+        if not (isinstance(statement, (ast.Assign, ast.AnnAssign)) and statement.value is not None):
+            return None
+        rebinds = any(isinstance(n, ast.Name) and n.id == name.id for n in ast.walk(statement.value))
+        if rebinds and not (
+            self._makes_gym_wrapper(statement.value)
+            or self.wrapped_argument(statement.value) is not None
+            or self._makes_own_api_env(statement.value)
+        ):
+            return None  # ``env = wrap(env)``: its kind rests on the earlier values too
+        return last if flow.dominates(statement, name, name) else None
+
+    def binding_kind(self, binding: ast.AST) -> EnvKind | None:
+        """The kind of value one binding stores (None: it adds no evidence, e.g. ``+=``)."""
+        if isinstance(binding, (ast.alias, *FUNCTIONS, ast.ClassDef, ast.ExceptHandler)):
+            return EnvKind.NOT_ENV  # modules, functions, classes, exceptions
+        if isinstance(binding, ast.arg):
+            return self._param_kind(binding)
+        if not isinstance(binding, ast.Name):
+            return EnvKind.UNKNOWN
+        parent = self.facts.parent(binding)
+        if isinstance(parent, ast.Assign):
+            inner = self._kind_keeping_inner(parent.value)
+            if isinstance(inner, ast.Name) and inner.id == binding.id:
+                return None  # ``env = supersuit.dtype_v0(env, ...)``: env keeps its kind, no new evidence
+            value = parent.value
+            if isinstance(value, ast.Attribute) and value.attr == "unwrapped" and isinstance(value.value, ast.Name) and value.value.id == binding.id:
+                return None  # ``env = env.unwrapped``: the same env, its kind unchanged
+            return self.kind_of(parent.value)
+        if isinstance(parent, ast.AnnAssign):
+            if parent.value is not None:
+                return self.kind_of(parent.value)
+            return self.annotation_kind(parent.annotation)
+        if isinstance(parent, ast.NamedExpr):
+            return self.kind_of(parent.value)
+        if isinstance(parent, ast.withitem):
+            return self.kind_of(parent.context_expr)
+        if isinstance(parent, (ast.For, ast.AsyncFor, ast.comprehension)) and parent.target is binding:
+            return self._element_kind(parent.iter)
+        if isinstance(parent, (ast.Tuple, ast.List)):
+            return self._unpacked_kind(binding, parent)
+        if isinstance(parent, (ast.AugAssign, ast.Delete)):
+            return None  # ``del env`` unbinds: it adds no value of another kind
+        return EnvKind.UNKNOWN
+
+    def _unpacked_kind(self, target: ast.Name, container: ast.Tuple | ast.List) -> EnvKind:
+        index = next(i for i, el in enumerate(container.elts) if el is target)
+        holder = self.facts.parent(container)
+        value: ast.AST | None = None
+        if isinstance(holder, ast.Assign):
+            value = holder.value
+        elif isinstance(holder, (ast.For, ast.AsyncFor, ast.comprehension)) and holder.target is container:
+            # ``for i, env in enumerate(envs)`` and ``for env, name in zip(envs, names)``
+            iterable = holder.iter
+            if isinstance(iterable, ast.Call) and isinstance(iterable.func, ast.Name):
+                if iterable.func.id == "enumerate" and index == 1 and iterable.args:
+                    return self._element_kind(iterable.args[0])
+                if iterable.func.id == "zip" and index < len(iterable.args):
+                    return self._element_kind(iterable.args[index])
+            return EnvKind.UNKNOWN
+        if isinstance(value, (ast.Tuple, ast.List)) and len(value.elts) == len(container.elts):
+            if not any(isinstance(el, ast.Starred) for el in value.elts):
+                return self.kind_of(value.elts[index])
+        if value is not None and not isinstance(value, (ast.Tuple, ast.List)):
+            # ``obs, info = env.reset()``: the targets are values returned by a call, not envs
+            # unless the call is a local function returning a tuple of envs.
+            local = self.local_function(value.func) if isinstance(value, ast.Call) else None
+            if local is None and isinstance(value, ast.Call) and _is_env_method_call(value):
+                return EnvKind.NOT_ENV
+            if isinstance(local, FUNCTIONS) and not any(isinstance(el, ast.Starred) for el in container.elts):
+                # ``env, agent = env_agent_config(cfg)`` where the def ends ``return env, agent``:
+                # the item at this place of every tuple it returns.
+                return self.returned_item_kind(local, index, len(container.elts))
+            if local is None and isinstance(value, ast.Call) and not any(isinstance(el, ast.Starred) for el in container.elts):
+                return self._named_methods_item_kind(value, index, len(container.elts))
+        return EnvKind.UNKNOWN
+
+    def _named_methods_item_kind(self, call: ast.Call, index: int, width: int) -> EnvKind:
+        """``venv, obs = environment.get_sb_env()`` on an owner not traced, where every
+        method of that name in the module's classes returns a vector env at this place
+        (``return DummyVecEnv([lambda: self]), obs``): that vector env, which keeps its
+        batch API; any other answer is no answer."""
+        if not isinstance(call.func, ast.Attribute) or call.func.attr.startswith("__"):
+            return EnvKind.UNKNOWN
+        name = call.func.attr
+        methods = [
+            statement
+            for classdef in self.facts.classes.values()
+            for statement in classdef.body
+            if isinstance(statement, FUNCTIONS) and statement.name == name
+        ]
+        if not methods:
+            return EnvKind.UNKNOWN
+        kinds = {self.returned_item_kind(method, index, width) for method in methods}
+        if len(kinds) == 1 and kinds <= {EnvKind.SB3_VEC, EnvKind.GYM_VEC}:
+            return kinds.pop()
+        return EnvKind.UNKNOWN
+
+    def returned_item_kind(self, function: ast.AST, index: int, width: int) -> EnvKind:
+        """The kind of item ``index`` of what ``function`` returns, when every return is a
+        tuple display of ``width`` items (anything else: unknown)."""
+        values = [r.value for r in own_returns(function)]
+        if not values:
+            return EnvKind.UNKNOWN
+        items = []
+        for value in values:
+            if not (isinstance(value, (ast.Tuple, ast.List)) and len(value.elts) == width):
+                return EnvKind.UNKNOWN
+            if any(isinstance(el, ast.Starred) for el in value.elts):
+                return EnvKind.UNKNOWN
+            items.append(value.elts[index])
+        return join_kinds(self.kind_of(item) for item in items)
+
+    def _element_kind(self, container: ast.AST) -> EnvKind:
+        """Kind of the items of a list/tuple of envs (``envs[i]``, ``for env in envs``)."""
+        if isinstance(container, (ast.List, ast.Tuple, ast.Set)):
+            return join_kinds(self.kind_of(el) for el in container.elts if not isinstance(el, ast.Starred))
+        if isinstance(container, (ast.ListComp, ast.GeneratorExp, ast.SetComp)):
+            return self.kind_of(container.elt)
+        if isinstance(container, ast.Name):
+            bindings = self.facts.bindings_of(container)
+            if not bindings:
+                return EnvKind.UNKNOWN
+            kinds = []
+            for binding in bindings:
+                parent = self.facts.parent(binding)
+                if isinstance(binding, ast.Name) and isinstance(parent, ast.Assign):
+                    kinds.append(self._element_kind_memo(parent.value))
+                else:
+                    kinds.append(EnvKind.UNKNOWN)
+            return join_kinds(kinds)
+        if isinstance(container, ast.Attribute) and isinstance(container.value, ast.Name):
+            if self.is_self(container.value):
+                values = self.self_attribute_values(container, container.attr)
+                return join_kinds(self._element_kind_memo(v) for v in values) if values else EnvKind.UNKNOWN
+        return EnvKind.UNKNOWN
+
+    def _element_kind_memo(self, container: ast.AST) -> EnvKind:
+        key = ("element-kind", id(container))
+        cached = self.facts.peek(key)
+        if cached is not None:
+            return cached  # type: ignore[return-value]
+        if self.depth > MAX_DEPTH:
+            return EnvKind.UNKNOWN  # not memoized: a shallower question may still answer it
+
+        def compute() -> EnvKind:
+            self.depth += 1
+            try:
+                return self._element_kind(container)
+            finally:
+                self.depth -= 1
+
+        return self.facts.memo(key, compute, while_computing=EnvKind.UNKNOWN)
+
+
+def _is_env_method_call(call: ast.Call) -> bool:
+    return isinstance(call.func, ast.Attribute) and call.func.attr in ("reset", "step", "last")

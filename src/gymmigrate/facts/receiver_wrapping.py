@@ -1,0 +1,108 @@
+"""Which calls hand on the env they are given (``WrappingCalls``, mixed into
+``Receivers``): a Gym wrapper class (Gymnasium's, this module's or another module's of the
+run), a def of the run that returns its first argument or Gym wrappers around it
+(``wrap_deepmind(env)``), an adapter deriving from a library with its own env API.
+
+Separate from ``receivers.py`` because it decides from a callee's definition, not from
+the expression being classified: ``Receivers`` asks it what a call returns, and
+``BindingKinds`` whether ``env = wrap(env)`` rebinds a name to the same env. Second of
+``Receivers``' bases, so its methods resolve as they did when ``Receivers`` defined them.
+"""
+
+from __future__ import annotations
+
+import ast
+from typing import TYPE_CHECKING
+
+from gymmigrate.facts import names as N
+from gymmigrate.facts.kinds import MAX_DEPTH
+from gymmigrate.facts.module import FUNCTIONS, own_returns
+
+if TYPE_CHECKING:
+    from gymmigrate.facts.kinds import ReceiverFacade as _Facade
+else:
+    _Facade = object
+
+
+class WrappingCalls(_Facade):
+    """The calls that return the env they are given (part of ``Receivers``)."""
+
+    def _makes_own_api_env(self, value: ast.expr) -> bool:
+        """``Adapter(env)`` with a class of this module or another of the run that derives from
+        a library class with an env API of its own (``dm_env.Environment``): an env of that API whatever ``env`` was."""
+        if not isinstance(value, ast.Call):
+            return False
+        local = self.local_class(value.func)
+        if local is not None:
+            return self.derives_own_api(local)
+        # ``gym_wrapper.GymAdapter(env)`` with the class in another module of the run
+        project = self.project
+        return project is not None and any(project.derives_own_api(q) for q in self.qualified_names(value.func))
+
+    def _makes_gym_wrapper(self, value: ast.expr) -> bool:
+        """``Wrapper(env, ...)`` with a Gym wrapper class (Gymnasium's, this module's, or
+        another module's of the run): a Gym env whatever ``env`` was."""
+        if not isinstance(value, ast.Call):
+            return False
+        for q in self.qualified_names(value.func):
+            rest = N.strip_gym_prefix(q)
+            if rest is not None and (rest in N.GYM_WRAPPER_BASE_CLASSES or N.is_wrapper_class_path(rest)):
+                return True
+            if self.project is not None and self.project.is_wrapper_class(q):
+                return True
+        if isinstance(value.func, ast.Name) and self.project is not None and not self.facts.bindings_of(value.func):
+            return self.project.star_wrapper_class(value.func.id, self.facts.star_imports)
+        local = self.local_class(value.func)
+        return local is not None and self.is_gym_wrapper_class(local)
+
+    def wrapped_argument(self, value: ast.AST) -> ast.expr | None:
+        """The env ``value`` hands on: its first argument, where it calls a def of the run
+        that returns that argument or Gym wrappers around it (``def wrap_deepmind(env):
+        if clip: env = ClipReward(env); return env``; ``ProjectView.wraps_argument``)."""
+        if not (isinstance(value, ast.Call) and value.args and not isinstance(value.args[0], ast.Starred)):
+            return None
+        local = self.local_function(value.func)
+        if local is not None:
+            return value.args[0] if self.wraps_argument(local) else None
+        if self.project is not None and any(self.project.wraps_argument(q) for q in self.qualified_names(value.func)):
+            return value.args[0]
+        return None
+
+    def wraps_argument(self, function: ast.AST) -> bool:
+        """Every return of the top-level def ``function`` is its first parameter, maybe
+        rebound to Gym wrappers around it (or to what another such def of the module gives)."""
+        return bool(self.facts.memo(("wraps-argument", id(function)), lambda: self._wraps_argument(function), while_computing=False))
+
+    def _wraps_argument(self, function: ast.AST) -> bool:
+        if not isinstance(function, FUNCTIONS) or self.facts.parent(function) is not self.facts.tree:
+            return False
+        positional = [*function.args.posonlyargs, *function.args.args]
+        if not positional:
+            return False
+        values = [r.value for r in own_returns(function)]
+        return bool(values) and all(v is not None and self._hands_on_param(v, positional[0], function, 0) for v in values)
+
+    def _hands_on_param(self, value: ast.expr, param: ast.arg, function: ast.AST, depth: int, seen: frozenset[int] = frozenset()) -> bool:
+        if depth > MAX_DEPTH:
+            return False
+        if isinstance(value, ast.Call):
+            if not value.args or isinstance(value.args[0], ast.Starred):
+                return False
+            local = self.local_function(value.func)
+            hands_on = self._makes_gym_wrapper(value) or (local is not None and local is not function and self.wraps_argument(local))
+            return hands_on and self._hands_on_param(value.args[0], param, function, depth + 1, seen)
+        if not (isinstance(value, ast.Name) and value.id == param.arg):
+            return False
+        for binding in self.facts.bindings_of(value):
+            if binding is param:
+                continue
+            assign = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
+            if not (isinstance(assign, ast.Assign) and assign.targets == [binding]):
+                return False
+            if self.facts.enclosing_function(assign) is not function:
+                return False
+            if id(assign) in seen:
+                continue  # ``env = Clip(env)`` read back through itself: no other value
+            if not self._hands_on_param(assign.value, param, function, depth + 1, seen | {id(assign)}):
+                return False
+        return True

@@ -1,0 +1,115 @@
+"""The GM302 questions on reads of ``done`` for a step left unrewritten because its
+receiver is not shown to be a Gym env: where the flag decides bootstrapping from the next
+state, the receiver's question names the read, so whoever decides one decides both.
+
+Separate from ``read_reports.py`` because these reads are only named, never rewritten:
+the next state is any name computed from the observation. ``DoneUntracedReports`` sits
+between ``DoneReadReports`` and ``DoneSettledReads`` in the family's resolution order.
+"""
+
+from __future__ import annotations
+
+import ast
+from collections.abc import Hashable
+
+from gymmigrate.facts.decisions import Decision
+from gymmigrate.facts.done_uses import (
+    DoneUse,
+    classify_done_read,
+    loaded_names,
+    multiplies_bare,
+    value_site,
+)
+from gymmigrate.facts.flow import bound_names
+from gymmigrate.findings import FixKind
+from gymmigrate.rules.step_done.next_state import DoneStep, repacks_step
+from gymmigrate.rules.step_done.read_settled import DoneSettledReads, _zero
+from gymmigrate.rules.step_done.read_uses import resets
+
+
+class DoneUntracedReports(DoneSettledReads):
+    """The GM302 questions on reads of an unrewritten step's ``done`` (mixed into the family)."""
+
+    def _report_untraced_masks(self, step: DoneStep, decision: Decision, question: Hashable | None) -> None:
+        """The step is left (its receiver is not shown to be a Gym env), but its ``done``
+        decides bootstrapping from the next state (``memory.push(s, a, r, s2, done)``,
+        ``if done: s2 = zeros``, ``R = 0.0 if done else v(s)``): the same question names
+        those reads, so whoever decides the receiver decides them with it (``terminated``
+        there once the step gives five values). Loop control and display are not named."""
+        for read in self.flow.reads(step.done):
+            # the step binds the value read, also past a loop that may not run (an n-step
+            # rollout's ``if done: R = 0.0`` after its ``for``): only named, never rewritten
+            binding = self.flow.last_binding_before(read, step.done)
+            if binding is None or self.facts.statement_of(binding) is not step.assign:
+                continue
+            what = self._untraced_bootstrap_use(read, step)
+            if what is None:
+                continue
+            self.report(
+                read,
+                "GM302",
+                f"{decision.reason}: if it is a Gym env, `{read.id}` {what} here: read `terminated` once the step "
+                "gives five values, so a time-limit truncation still bootstraps",
+                FixKind.FLAG,
+                question=question,
+            )
+
+    def _untraced_bootstrap_use(self, read: ast.Name, step: DoneStep) -> str | None:
+        """What ``read`` decides about bootstrapping, for a step left unrewritten (reported,
+        never rewritten, so the next state is any name computed from the observation)."""
+        next_state = self.facts.segment(step.target.elts[0])
+        use = classify_done_read(read, self.facts)
+        if use is DoneUse.DATA:
+            if multiplies_bare(read, self.facts.parent):
+                return None  # ``q(s2) * done``: no mask (the factor keeps ``done``)
+            if repacks_step(self.facts.parent(read), read, step):
+                return None  # ``(obs, reward, done, info)`` handed on: the step's own reply
+            derived = self._derived_names(step)
+            if (
+                self._masks_next_state(read, step)
+                or self._callee_masks(read, step) is not None
+                or loaded_names(value_site(read, self.facts)) & derived
+            ):
+                return f"masks bootstrapping from the next state `{next_state}`"
+            return None
+        node: ast.AST = read
+        parent = self.facts.parent(node)
+        negated = isinstance(parent, ast.UnaryOp) and isinstance(parent.op, ast.Not)
+        if negated and parent is not None:
+            node, parent = parent, self.facts.parent(parent)
+        if self._bootstrap_choice(read, step, dominated=False) is not None:
+            return "chooses whether to bootstrap from the next state"
+        if isinstance(parent, ast.IfExp) and parent.test is node:
+            when_done, otherwise = (parent.orelse, parent.body) if negated else (parent.body, parent.orelse)
+            # ``final_value = 0.0 if done else value(s)``: no value past the episode's end
+            if _zero(when_done) and any(isinstance(n, ast.Call) for n in ast.walk(otherwise)) and not resets(otherwise):
+                return "zeroes the value bootstrapped from the next state"
+            return None
+        if isinstance(parent, ast.If) and parent.test is node:
+            done_branch, other = (parent.orelse, parent.body) if negated else (parent.body, parent.orelse)
+            # ``if done: R = 0.0`` / ``else: R = value(s)``: no value past the episode's end
+            zeroed = {
+                name
+                for statement in done_branch
+                if isinstance(statement, ast.Assign) and _zero(statement.value)
+                for target in statement.targets
+                for name in bound_names(target)
+            }
+            if any(
+                isinstance(statement, ast.Assign)
+                and zeroed & {name for target in statement.targets for name in bound_names(target)}
+                and any(isinstance(n, ast.Call) for n in ast.walk(statement.value))
+                and not resets(statement.value)
+                for statement in other
+            ):
+                return "zeroes the value bootstrapped from the next state"
+            derived = self._derived_names(step)
+            for statement in done_branch:
+                if (
+                    isinstance(statement, ast.Assign)
+                    and not resets(statement.value)
+                    and any(name in derived for target in statement.targets for name in bound_names(target))
+                ):
+                    # ``if done: next_state = [0] * n`` (or None): a terminal transition
+                    return f"decides whether the next state `{next_state}` is kept (replaced when the episode ends)"
+        return None
