@@ -61,6 +61,19 @@ def test_an_own_api_adapter_of_another_module_is_no_gym_env(tmp_path: Path) -> N
     assert "adapters_test.py" not in review and "stacking.py" not in review
 
 
+def test_an_own_api_adapter_that_forwards_attributes_still_reaches_the_gym_env(tmp_path: Path) -> None:
+    """``adapters.CartForwarding`` (a dm_env adapter whose base hands what it lacks to the
+    Gym env it holds, ``__getattr__``): ``env.render("rgb_array")`` reaches the Gym env, so
+    it is not left as another API's call (a TypeError on Gymnasium): the mode moves to the
+    make; the adapter's own reset (a TimeStep) is left."""
+    project = _copy("project_cross_own_api", tmp_path)
+    result = runner.invoke(app, ["rewrite", str(project)])
+    assert result.exit_code == 0, result.output
+    test = (project / "pkg" / "forwarding_test.py").read_text()
+    assert 'gym.make("CartPole-v1", render_mode="rgb_array")' in test
+    assert "frame = env.render()\n" in test and "    env.reset()\n" in test
+
+
 def test_a_constructor_of_another_module_gets_the_mode_its_bare_renders_need(tmp_path: Path) -> None:
     """``env = Console(cartridge)`` then ``play(env, n)`` (cli.py), where ``play`` (play.py)
     only calls ``env.render()`` bare: the constructor, whose migrated ``__init__`` takes

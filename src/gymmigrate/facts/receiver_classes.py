@@ -282,8 +282,22 @@ class ClassKinds(_Facade):
 
     def derives_own_api(self, classdef: ast.ClassDef) -> bool:
         """The class derives from a library class with an env API of its own (a dm_env
-        adapter of the project): its instances are that API's envs, whatever they hold."""
-        return any(self._own_api_base(b) for b in classdef.bases)
+        adapter of the project): its instances are that API's envs, whatever they hold.
+        Not one that forwards unknown attributes (``__getattr__``, its own or a base's of
+        this module): ``adapter.render(mode)`` then reaches the Gym env it holds, so other
+        modules must not take its instances for another API's envs and leave such calls."""
+        return any(self._own_api_base(b) for b in classdef.bases) and not self._forwards_attributes(classdef)
+
+    def _forwards_attributes(self, classdef: ast.ClassDef, depth: int = 0) -> bool:
+        if any(isinstance(s, ast.FunctionDef) and s.name == "__getattr__" for s in classdef.body):
+            return True
+        if depth > 4:
+            return False
+        for base in classdef.bases:
+            local = self.local_class(base)
+            if local is not None and self._forwards_attributes(local, depth + 1):
+                return True
+        return False
 
     def _own_api_base(self, base: ast.AST, depth: int = 0) -> bool:
         """A class of a library with an env API of its own (``dm_env.Environment``), or a
