@@ -40,6 +40,36 @@ def test_a_method_a_run_wrapper_defines_is_read_with_get_wrapper_attr(tmp_path: 
     assert ".unwrapped" not in text
 
 
+def test_a_second_run_keeps_the_decision_once_the_wrapper_records_its_arguments(tmp_path: Path) -> None:
+    """The migration gives the run's wrapper a second base (``RecordConstructorArgs``, a
+    mixin that defines nothing an env forwards): the second run must still see a wrapper
+    defining the method, and change nothing."""
+    run = _copy(tmp_path)
+    keymap = run / "console" / "keymap.py"
+    keymap.write_text(
+        keymap.read_text().replace(
+            '    """Keeps two of the machine\'s actions."""\n',
+            '    """Keeps two of the machine\'s actions."""\n\n'
+            "    def __init__(self, env, keep=2):\n        super().__init__(env)\n        self.keep = keep\n",
+        )
+    )
+    first = _rewrite(run)
+    assert "RecordConstructorArgs" in keymap.read_text()
+    assert 'return env.get_wrapper_attr("get_action_meanings")()' in first
+    again = runner.invoke(app, ["rewrite", str(run)])
+    assert again.exit_code in (0, 1), again.output
+    assert "rewrote 0 of" in again.output
+    assert (run / "console" / "show.py").read_text() == first
+
+
+def test_a_wrapper_with_a_mixin_base_still_defines_what_it_defines(tmp_path: Path) -> None:
+    run = _copy(tmp_path)
+    keymap = run / "console" / "keymap.py"
+    keymap.write_text(keymap.read_text().replace("(gym.Wrapper)", "(gym.Wrapper, gym.utils.EzPickle)"))
+    text = _rewrite(run)
+    assert 'return env.get_wrapper_attr("get_action_meanings")()' in text
+
+
 def test_without_such_a_wrapper_the_base_envs_method_is_read_through_unwrapped(tmp_path: Path) -> None:
     run = _copy(tmp_path)
     (run / "console" / "keymap.py").unlink()
