@@ -25,8 +25,11 @@ This module holds ``ProjectFacts`` (the joined data, the join's order, and how a
 name resolves to a module of the run). The rest, by family: ``module_summary.py`` (what a
 module tells the run), ``import_roots.py`` (which file a dotted name names),
 ``project_exports.py`` (what calling a name of the run gives, re-exports followed),
-``project_params.py`` (the kinds passed to each parameter), ``project_contracts.py``
-(non-Space spaces, ``render_mode`` down subclasses, legacy steps) and ``project_view.py``
+``project_params.py`` (the kinds passed to each parameter, and to what a holder
+holds), ``project_contracts.py`` (non-Space spaces, ``render_mode`` down subclasses,
+legacy steps), ``project_classes.py`` (class hierarchies across modules: overrides,
+hooks, quiet and own-API classes, re-exports of them), ``project_imports.py`` (which
+modules reach which, and the packages the run needs) and ``project_view.py``
 (``ProjectView``: the facts as one file sees them).
 """
 
@@ -37,12 +40,10 @@ from collections import defaultdict
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from gymmigrate.facts import names as N
 from gymmigrate.facts.import_roots import module_names, nearest_root
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.limits import DoneCause
 from gymmigrate.facts.module_summary import (
-    MAX_CHAIN,
     NEW,
     OWN,
     REF,
@@ -50,6 +51,14 @@ from gymmigrate.facts.module_summary import (
     CallSummary,
     ModuleSummary,
     is_ref,
+)
+from gymmigrate.facts.project_classes import (
+    join_mode_renders,
+    join_overrides,
+    join_registered_classes,
+    own_api_classes,
+    quiet_classes,
+    reexported,
 )
 from gymmigrate.facts.project_contracts import (
     NonSpaces,
@@ -64,7 +73,16 @@ from gymmigrate.facts.project_contracts import (
 )
 from gymmigrate.facts.project_exports import Exports, reexport_wrappers
 from gymmigrate.facts.project_ids import id_slots
-from gymmigrate.facts.project_params import ParamJoin
+from gymmigrate.facts.project_imports import (
+    env_modules_through_packages,
+    imported_env_modules,
+    imports_env_checker,
+    join_nearby_packages,
+    join_opaque_registrations,
+    made_by_def,
+    required_packages,
+)
+from gymmigrate.facts.project_params import ParamJoin, join_held
 from gymmigrate.facts.project_view import ProjectView
 from gymmigrate.facts.render_handovers import join as join_render_handovers
 from gymmigrate.facts.reset_contract import Contract
@@ -328,21 +346,9 @@ class ProjectFacts:
         imported = {q for summary in summaries for q in summary.imported}
         facts.checks_envs = any(imports_env_checker(q) for q in imported)
         facts.legacy_gym = frozenset(s.path for s in summaries if any(q == "gym" or q.startswith("gym.") for q in s.imported))
-        facts._join_nearby_packages(summaries)
-        requires = {
-            package
-            for family, (package, rewritten) in N.PZ_MOVED_FAMILIES.items()
-            if rewritten and any(
-                q == family or q.startswith(family + ".") or q == package or q.startswith(package + ".")
-                for q in imported
-            )
-        }
-        # Gymnasium 1.x's ``envs/mujoco/__init__.py`` imports its renderer, which imports
-        # imageio: any import under ``gym.envs.mujoco`` (``gymnasium.envs.mujoco``) needs it.
-        if any(q.split(".")[:3] in (["gym", "envs", "mujoco"], ["gymnasium", "envs", "mujoco"]) for q in imported):
-            requires.add("imageio")
-        facts.requires = frozenset(requires)
-        facts._join_registered_classes(by_path)
+        join_nearby_packages(facts, summaries)
+        facts.requires = required_packages(imported)
+        join_registered_classes(facts, by_path)
         Exports(facts, by_path).run()
         # before the parameters: an argument made by such a class keeps the def's calls on its contract
         facts.forwarding_wrappers = forwarding_wrappers(facts, by_path)
@@ -363,19 +369,19 @@ class ProjectFacts:
         for summary in summaries:
             facts.rng_stores.extend((summary.path, *store) for store in summary.rng_stores)
             if summary.untraced_seed_call:
-                facts.seed_called.update(facts._imported_env_modules(summary))
-            if summary.untraced_render_call or any(facts._made_by_def(maker, summary.path, by_path) for maker in summary.render_makers):
+                facts.seed_called.update(imported_env_modules(facts, summary))
+            if summary.untraced_render_call or any(made_by_def(facts, maker, summary.path, by_path) for maker in summary.render_makers):
                 # ``import pkg`` reaches the env classes ``pkg/__init__.py`` imports too
                 # (``env = pkg.make_benchmark(...)``; ``env.render(mode="readable")``)
-                facts.render_called.update(facts._env_modules_through_packages(summary, by_path))
-            for provider in facts._imported_env_modules(summary, declared=by_path):
+                facts.render_called.update(env_modules_through_packages(facts, summary, by_path))
+            for provider in imported_env_modules(facts, summary, declared=by_path):
                 facts.importers.setdefault(provider, set()).add(summary.path)
         for path in facts.render_called:  # their classes keep render(mode): no render_mode to pass
             facts.render_mode_classes[path] = frozenset()
-        facts._join_overrides(summaries, by_path)
-        facts._join_mode_renders(by_path)
+        join_overrides(facts, summaries, by_path)
+        join_mode_renders(facts, by_path)
         thread_render_mode(facts, by_path)
-        facts._join_held(by_path, params)
+        join_held(facts, by_path, params)
         for summary in summaries:
             for qualified in summary.handed_on:
                 resolved = facts._resolve(qualified, summary.path)
@@ -400,274 +406,12 @@ class ProjectFacts:
             for name in names
             if name in by_path[path].classes and "seed" in facts.class_methods.get((path, name), ())
         )
-        facts._join_opaque_registrations(by_path)
-        facts.rendering_wrappers = facts._reexported(by_path, {(p, n) for p, summary in by_path.items() for n in summary.rendering_wrappers})
+        join_opaque_registrations(facts, by_path)
+        facts.rendering_wrappers = reexported(facts, by_path, {(p, n) for p, summary in by_path.items() for n in summary.rendering_wrappers})
         facts.silent_renders = frozenset((path, name) for path, summary in by_path.items() for name in summary.silent_renders)
-        facts.quiet_classes = facts._reexported(by_path, facts._quiet_classes(by_path))
-        facts.own_api_classes = facts._reexported(by_path, facts._own_api_classes(by_path))
+        facts.quiet_classes = reexported(facts, by_path, quiet_classes(facts, by_path))
+        facts.own_api_classes = reexported(facts, by_path, own_api_classes(facts, by_path))
         return facts
-
-    def _own_api_classes(self, by_path: dict[str, ModuleSummary]) -> set[tuple[str, str]]:
-        """The classes of the run deriving a library class with an env API of its own, their
-        subclasses in other modules added until none is left (a chain is short)."""
-        found = {(path, name) for path, summary in by_path.items() for name in summary.own_api_classes}
-        for _ in range(MAX_CHAIN):
-            added = False
-            for path, summary in by_path.items():
-                for name, bases, _methods in summary.subclasses:
-                    if (path, name) in found:
-                        continue
-                    for qualified in bases:
-                        level = len(qualified) - len(qualified.lstrip("."))
-                        parts = qualified.lstrip(".").split(".")
-                        where = self._module_path(parts[:-1], level, path) if len(parts) > 1 else None
-                        if where and class_definer(self, by_path, where, parts[-1]) in found:
-                            found.add((path, name))
-                            added = True
-                            break
-            if not added:
-                break
-        return found
-
-    def _quiet_classes(self, by_path: dict[str, ModuleSummary]) -> set[tuple[str, str]]:
-        """The classes of the run that count no steps and whose bases, of any module of
-        the run, count none either: a base the run does not define may count, so it keeps
-        its subclasses out, as does a cycle."""
-        memo: dict[tuple[str, str], bool] = {}
-
-        def quiet(key: tuple[str, str]) -> bool:
-            if key in memo:
-                return memo[key]
-            memo[key] = False  # while it is read (a cycle of bases proves nothing)
-            entry = by_path[key[0]].step_counting.get(key[1]) if key[0] in by_path else None
-            if entry is None:
-                return False
-            counts, local, other = entry
-            found = not counts and all(quiet((key[0], base)) for base in local)
-            for qualified in other if found else ():
-                level = len(qualified) - len(qualified.lstrip("."))
-                parts = qualified.lstrip(".").split(".")
-                path = self._module_path(parts[:-1], level, key[0]) if len(parts) > 1 else None
-                base = class_definer(self, by_path, path, parts[-1]) if path else None
-                if base is None or not quiet(base):
-                    found = False
-                    break
-            memo[key] = found
-            return found
-
-        return {(path, name) for path, summary in by_path.items() for name in summary.step_counting if quiet((path, name))}
-
-    def _join_registered_classes(self, by_path: dict[str, ModuleSummary]) -> None:
-        """``register(id, entry_point="pkg.envs:Task")`` (``__name__ + ":Task"``): the class
-        the entry point names, where it is defined."""
-        for path, summary in by_path.items():
-            for _, entry in summary.registrations:
-                module, _, name = entry.partition(":")
-                where = self.modules.get(module) if module else path
-                if where is None or not name or "." in name:
-                    continue
-                definer = class_definer(self, by_path, where, name)
-                if definer is not None:
-                    self.registered_classes.add(definer)
-
-    def _join_nearby_packages(self, summaries: list[ModuleSummary]) -> None:
-        own = {s.path: frozenset(q.split(".", 1)[0] for q in s.imported if not q.startswith(".")) for s in summaries}
-        nearby = {path: set(tops) for path, tops in own.items()}
-        for summary in summaries:
-            imports: set[str] = set()
-            for qualified in summary.imported:
-                split = self._split(qualified, summary.path)
-                if split is None or split[0] == summary.path or split[0] not in own:
-                    continue
-                imports.add(split[0])
-                nearby[summary.path] |= own[split[0]]
-                nearby[split[0]] |= own[summary.path]
-            # A script importing a factory of one module and the agent of another hands what
-            # the one makes to the other (``env = make_env(); Agent.init_from_env(env)``): two
-            # modules it imports are next to each other. A package's ``__init__`` only
-            # re-exports its modules, it hands nothing between them.
-            if os.path.basename(summary.path) != "__init__.py" and len(imports) > 1:
-                siblings = set().union(*(own[path] for path in imports))
-                for path in imports:
-                    nearby[path] |= siblings
-        self.nearby_packages = {path: frozenset(tops) for path, tops in nearby.items()}
-
-    def _join_overrides(self, summaries: list[ModuleSummary], by_path: dict[str, ModuleSummary]) -> None:
-        """Which methods of a run's class are overridden by subclasses in other modules."""
-        for summary in summaries:
-            for name, bases, methods in summary.subclasses:
-                for qualified in bases:
-                    level = len(qualified) - len(qualified.lstrip("."))
-                    parts = qualified.lstrip(".").split(".")
-                    path = self._module_path(parts[:-1], level, summary.path) if len(parts) > 1 else None
-                    if not path or path == summary.path:
-                        continue
-                    # ``class Task(pkg.BaseEnv)`` where ``pkg/__init__.py`` re-exports the
-                    # class of ``pkg/core.py``: the override is of the defining module's class.
-                    base = class_definer(self, by_path, path, parts[-1]) or (path, parts[-1])
-                    if base[0] == summary.path:
-                        continue
-                    found = self.overrides.setdefault(base, {})
-                    for method in methods:
-                        found.setdefault(method, []).append(f"{summary.path}:{name}")
-                    self.subclasses_of.setdefault(base, []).append((summary.path, name))
-                self.subclass_methods[(summary.path, name)] = frozenset(methods)
-            self.init_passers.update((summary.path, name) for name in summary.passes_init_up)
-            for name, methods_done in summary.done_methods.items():
-                self.done_methods[(summary.path, name)] = methods_done
-        # A step hook is followed when every override elsewhere can follow it too; the
-        # module of each override then migrates its returns with the base (hooks.py).
-        for path, summary in by_path.items():
-            for name, hooks in summary.step_hooks.items():
-                if name not in summary.env_classes or name in summary.legacy_steps:
-                    continue  # a step the rules do not migrate: its hook stays as it is
-                heirs: list[tuple[str, str]] = []
-                todo = list(self.subclasses_of.get((path, name), ()))
-                while todo and len(heirs) < 1000:
-                    heir = todo.pop()
-                    if heir not in heirs:
-                        heirs.append(heir)
-                        todo += self.subclasses_of.get(heir, ())
-                followed = frozenset(
-                    hook
-                    for hook in hooks
-                    if all(
-                        hook in by_path[where].plain_overrides.get(sub, ())
-                        for where, sub in heirs
-                        if hook in self.subclass_methods.get((where, sub), ())
-                    )
-                )
-                if not followed:
-                    continue
-                self.followed_hooks[(path, name)] = followed
-                for heir in heirs:
-                    self.inherited_hooks[heir] = self.inherited_hooks.get(heir, frozenset()) | followed
-
-    def _join_opaque_registrations(self, by_path: dict[str, ModuleSummary]) -> None:
-        kept = sorted(
-            name
-            for (path, name) in self.mode_renders_below
-            if name in by_path[path].fixed_mode_renders
-        )
-        registrars = {path for path, summary in by_path.items() if summary.opaque_registrations}
-        if not kept or not registrars:
-            return
-        # ``import pkg.catalog`` binds (and records) ``pkg``: a registrar in that package counts.
-        dotted = [name for name, path in self.modules.items() if path in registrars]
-        for summary in by_path.values():
-            for qualified in summary.imported:
-                level = len(qualified) - len(qualified.lstrip("."))
-                parts = qualified.lstrip(".").split(".")
-                reached = {self._module_path(parts[:cut], level, summary.path) for cut in range(1, len(parts) + 1)}
-                inside = level == 0 and any(name == qualified or name.startswith(qualified + ".") for name in dotted)
-                if reached & registrars or inside:
-                    self.opaque_kept_renders[summary.path] = kept[0]
-                    break
-
-    def _reexported(self, by_path: dict[str, ModuleSummary], defined: set[tuple[str, str]]) -> frozenset[tuple[str, str]]:
-        """``defined`` with every name of the run that re-exports one of them."""
-        found = set(defined)
-        for path, summary in by_path.items():
-            for name, first in summary.exports.items():
-                where = (path, name)
-                export: EnvKind | str | None = first
-                for _ in range(MAX_CHAIN):
-                    if not is_ref(export):
-                        break
-                    split = self._split(str(export)[len(REF) :], where[0])
-                    if split is None or "." in split[1] or split[0] not in by_path:
-                        break
-                    where = split
-                    if where in defined:
-                        found.add((path, name))
-                        break
-                    export = by_path[where[0]].exports.get(where[1])
-        return frozenset(found)
-
-    def _join_mode_renders(self, by_path: dict[str, ModuleSummary]) -> None:
-        """``mode_renders_below``: a subclass's ``self.render(mode)`` reaches the render() of
-        the nearest base that defines one; every class above it keeps ``mode`` (optional
-        beside render_mode, or the whole legacy render() where it cannot) so the call still
-        works."""
-        for path, summary in by_path.items():
-            for name, (line, call) in summary.mode_renders.items():
-                where = (f"{os.path.basename(path)}:{line}", call)
-                seen = {(path, name)}
-                todo = [(path, name)]
-                while todo:
-                    current = todo.pop()
-                    for base, subs in self.subclasses_of.items():
-                        if current in subs and base not in seen:
-                            seen.add(base)
-                            self.mode_renders_below.setdefault(base, []).append(where)
-                            if "render" not in self.subclass_methods.get(base, frozenset()):
-                                todo.append(base)  # a render() it does not define is its base's
-        for path, name in self.mode_renders_below:
-            # render(mode) kept whole (its mode cannot become optional): no render_mode either
-            if name in by_path[path].fixed_mode_renders and name in self.render_mode_classes.get(path, ()):
-                self.render_mode_classes[path] = self.render_mode_classes[path] - {name}
-
-    def _join_held(self, by_path: dict[str, ModuleSummary], params: ParamJoin) -> None:
-        """``held_kinds``: a holder's attribute is a Gym env when every construction of the
-        run (its own module's included) passes one; a class subclassed in another module is
-        built there too, through calls this join does not follow: left out."""
-        for path, summary in by_path.items():
-            if path in self.blocked:
-                continue
-            for name, held in summary.held_params.items():
-                if (path, name) in self.subclasses_of:
-                    continue
-                init = summary.defs.get(f"{name}.__init__")
-                for attribute, param in held.items():
-                    if params.param_kind(path, f"{name}.__init__", param) is EnvKind.GYM_ENV:
-                        self.held_kinds[(path, name, attribute)] = EnvKind.GYM_ENV
-                    if init is not None and param in init.params[1:]:
-                        self.held_slots[(path, name, attribute)] = (param, init.params.index(param) - 1)  # no ``self``
-
-    def _imported_env_modules(self, summary: ModuleSummary, declared: dict[str, ModuleSummary] | None = None) -> set[str]:
-        """The other modules of the run with env classes that ``summary``'s module imports
-        (``declared``: by the classes each module declares, blocked or not)."""
-        found = set()
-        for qualified in summary.imported:
-            level = len(qualified) - len(qualified.lstrip("."))
-            parts = qualified.lstrip(".").split(".")
-            for module in (parts, parts[:-1]):  # `import envs` / `from envs import Dice`
-                path = self._module_path(module, level, summary.path) if module else None
-                if path and path != summary.path and (
-                    self.env_classes.get(path) or (declared is not None and path in declared and declared[path].env_classes)
-                ):
-                    found.add(path)
-        return found
-
-    def _made_by_def(self, qualified: str, importer: str, by_path: dict[str, ModuleSummary]) -> bool:
-        """``pkg.make_board`` names a def of the run (not a class, whose construction the
-        rendering rules give a ``render_mode``), followed through re-exports."""
-        resolved = self._resolve(qualified, importer)
-        if resolved is None:
-            return False
-        path, name = resolved
-        summary = by_path.get(path)
-        return summary is not None and "." not in name and name in summary.defs and name not in summary.classes
-
-    def _env_modules_through_packages(self, summary: ModuleSummary, by_path: dict[str, ModuleSummary]) -> set[str]:
-        """``_imported_env_modules``, and those of every package ``__init__`` of the run it
-        imports, followed through the ``__init__`` modules those import."""
-        found = self._imported_env_modules(summary)
-        seen = {summary.path}
-        queue = [summary]
-        while queue:
-            current = queue.pop()
-            for qualified in current.imported:
-                level = len(qualified) - len(qualified.lstrip("."))
-                parts = qualified.lstrip(".").split(".")
-                for module in (parts, parts[:-1]):
-                    path = self._module_path(module, level, current.path) if module else None
-                    if path is None or path in seen or os.path.basename(path) != "__init__.py" or path not in by_path:
-                        continue
-                    seen.add(path)
-                    found |= self._imported_env_modules(by_path[path])
-                    queue.append(by_path[path])
-        return found
 
     def _class_kind(self, kind: str, importer: str) -> EnvKind:
         """``new:envs.GridEnv`` is a Gym env when ``GridEnv`` is an env class of the run (or
@@ -769,9 +513,3 @@ class ProjectFacts:
 
     def view(self, path: str) -> ProjectView:
         return ProjectView(self, os.path.realpath(path))
-
-
-def imports_env_checker(qualified: str) -> bool:
-    """``gym.utils.env_checker.check_env`` or its module, under Gym or Gymnasium."""
-    parts = qualified.split(".")
-    return parts[0] in ("gym", "gymnasium") and parts[1:4] in (["utils", "env_checker"], ["utils", "env_checker", "check_env"])

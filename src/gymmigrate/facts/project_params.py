@@ -148,3 +148,21 @@ class ParamJoin:
             elif call.open_ended or param not in signature.defaults:
                 found.append((param, EnvKind.UNKNOWN))  # may be passed unseen, or the call would fail
         return found
+
+
+def join_held(facts: ProjectFacts, by_path: dict[str, ModuleSummary], params: ParamJoin) -> None:
+    """``held_kinds``: a holder's attribute is a Gym env when every construction of the
+    run (its own module's included) passes one; a class subclassed in another module is
+    built there too, through calls this join does not follow: left out."""
+    for path, summary in by_path.items():
+        if path in facts.blocked:
+            continue
+        for name, held in summary.held_params.items():
+            if (path, name) in facts.subclasses_of:
+                continue
+            init = summary.defs.get(f"{name}.__init__")
+            for attribute, param in held.items():
+                if params.param_kind(path, f"{name}.__init__", param) is EnvKind.GYM_ENV:
+                    facts.held_kinds[(path, name, attribute)] = EnvKind.GYM_ENV
+                if init is not None and param in init.params[1:]:
+                    facts.held_slots[(path, name, attribute)] = (param, init.params.index(param) - 1)  # no ``self``

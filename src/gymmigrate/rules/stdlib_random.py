@@ -39,7 +39,7 @@ from gymmigrate.edits.lazy import cst
 from gymmigrate.facts.env_classes import EnvClasses
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
-from gymmigrate.facts.project import imports_env_checker
+from gymmigrate.facts.project_imports import imports_env_checker
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 

@@ -1,0 +1,183 @@
+"""Class hierarchies across the modules of the run, passes of ``ProjectFacts.join``: the
+methods subclasses in other modules override and the step hooks they can follow, the
+``self.render(mode)`` calls that reach a base's render(), the classes an ``entry_point``
+registers, the classes that count no steps or derive a library API of their own, and the
+names of the run that re-export any of them.
+"""
+
+from __future__ import annotations
+
+import os
+from typing import TYPE_CHECKING
+
+from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.module_summary import MAX_CHAIN, REF, ModuleSummary, is_ref
+from gymmigrate.facts.project_contracts import class_definer
+
+if TYPE_CHECKING:
+    from gymmigrate.facts.project import ProjectFacts
+
+
+def join_registered_classes(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> None:
+    """``register(id, entry_point="pkg.envs:Task")`` (``__name__ + ":Task"``): the class
+    the entry point names, where it is defined."""
+    for path, summary in by_path.items():
+        for _, entry in summary.registrations:
+            module, _, name = entry.partition(":")
+            where = facts.modules.get(module) if module else path
+            if where is None or not name or "." in name:
+                continue
+            definer = class_definer(facts, by_path, where, name)
+            if definer is not None:
+                facts.registered_classes.add(definer)
+
+
+def join_overrides(facts: ProjectFacts, summaries: list[ModuleSummary], by_path: dict[str, ModuleSummary]) -> None:
+    """Which methods of a run's class are overridden by subclasses in other modules."""
+    for summary in summaries:
+        for name, bases, methods in summary.subclasses:
+            for qualified in bases:
+                level = len(qualified) - len(qualified.lstrip("."))
+                parts = qualified.lstrip(".").split(".")
+                path = facts._module_path(parts[:-1], level, summary.path) if len(parts) > 1 else None
+                if not path or path == summary.path:
+                    continue
+                # ``class Task(pkg.BaseEnv)`` where ``pkg/__init__.py`` re-exports the
+                # class of ``pkg/core.py``: the override is of the defining module's class.
+                base = class_definer(facts, by_path, path, parts[-1]) or (path, parts[-1])
+                if base[0] == summary.path:
+                    continue
+                found = facts.overrides.setdefault(base, {})
+                for method in methods:
+                    found.setdefault(method, []).append(f"{summary.path}:{name}")
+                facts.subclasses_of.setdefault(base, []).append((summary.path, name))
+            facts.subclass_methods[(summary.path, name)] = frozenset(methods)
+        facts.init_passers.update((summary.path, name) for name in summary.passes_init_up)
+        for name, methods_done in summary.done_methods.items():
+            facts.done_methods[(summary.path, name)] = methods_done
+    # A step hook is followed when every override elsewhere can follow it too; the
+    # module of each override then migrates its returns with the base (hooks.py).
+    for path, summary in by_path.items():
+        for name, hooks in summary.step_hooks.items():
+            if name not in summary.env_classes or name in summary.legacy_steps:
+                continue  # a step the rules do not migrate: its hook stays as it is
+            heirs: list[tuple[str, str]] = []
+            todo = list(facts.subclasses_of.get((path, name), ()))
+            while todo and len(heirs) < 1000:
+                heir = todo.pop()
+                if heir not in heirs:
+                    heirs.append(heir)
+                    todo += facts.subclasses_of.get(heir, ())
+            followed = frozenset(
+                hook
+                for hook in hooks
+                if all(
+                    hook in by_path[where].plain_overrides.get(sub, ())
+                    for where, sub in heirs
+                    if hook in facts.subclass_methods.get((where, sub), ())
+                )
+            )
+            if not followed:
+                continue
+            facts.followed_hooks[(path, name)] = followed
+            for heir in heirs:
+                facts.inherited_hooks[heir] = facts.inherited_hooks.get(heir, frozenset()) | followed
+
+
+def join_mode_renders(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> None:
+    """``mode_renders_below``: a subclass's ``self.render(mode)`` reaches the render() of
+    the nearest base that defines one; every class above it keeps ``mode`` (optional
+    beside render_mode, or the whole legacy render() where it cannot) so the call still
+    works."""
+    for path, summary in by_path.items():
+        for name, (line, call) in summary.mode_renders.items():
+            where = (f"{os.path.basename(path)}:{line}", call)
+            seen = {(path, name)}
+            todo = [(path, name)]
+            while todo:
+                current = todo.pop()
+                for base, subs in facts.subclasses_of.items():
+                    if current in subs and base not in seen:
+                        seen.add(base)
+                        facts.mode_renders_below.setdefault(base, []).append(where)
+                        if "render" not in facts.subclass_methods.get(base, frozenset()):
+                            todo.append(base)  # a render() it does not define is its base's
+    for path, name in facts.mode_renders_below:
+        # render(mode) kept whole (its mode cannot become optional): no render_mode either
+        if name in by_path[path].fixed_mode_renders and name in facts.render_mode_classes.get(path, ()):
+            facts.render_mode_classes[path] = facts.render_mode_classes[path] - {name}
+
+
+def own_api_classes(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> set[tuple[str, str]]:
+    """The classes of the run deriving a library class with an env API of its own, their
+    subclasses in other modules added until none is left (a chain is short)."""
+    found = {(path, name) for path, summary in by_path.items() for name in summary.own_api_classes}
+    for _ in range(MAX_CHAIN):
+        added = False
+        for path, summary in by_path.items():
+            for name, bases, _methods in summary.subclasses:
+                if (path, name) in found:
+                    continue
+                for qualified in bases:
+                    level = len(qualified) - len(qualified.lstrip("."))
+                    parts = qualified.lstrip(".").split(".")
+                    where = facts._module_path(parts[:-1], level, path) if len(parts) > 1 else None
+                    if where and class_definer(facts, by_path, where, parts[-1]) in found:
+                        found.add((path, name))
+                        added = True
+                        break
+        if not added:
+            break
+    return found
+
+
+def quiet_classes(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> set[tuple[str, str]]:
+    """The classes of the run that count no steps and whose bases, of any module of
+    the run, count none either: a base the run does not define may count, so it keeps
+    its subclasses out, as does a cycle."""
+    memo: dict[tuple[str, str], bool] = {}
+
+    def quiet(key: tuple[str, str]) -> bool:
+        if key in memo:
+            return memo[key]
+        memo[key] = False  # while it is read (a cycle of bases proves nothing)
+        entry = by_path[key[0]].step_counting.get(key[1]) if key[0] in by_path else None
+        if entry is None:
+            return False
+        counts, local, other = entry
+        found = not counts and all(quiet((key[0], base)) for base in local)
+        for qualified in other if found else ():
+            level = len(qualified) - len(qualified.lstrip("."))
+            parts = qualified.lstrip(".").split(".")
+            path = facts._module_path(parts[:-1], level, key[0]) if len(parts) > 1 else None
+            base = class_definer(facts, by_path, path, parts[-1]) if path else None
+            if base is None or not quiet(base):
+                found = False
+                break
+        memo[key] = found
+        return found
+
+    return {(path, name) for path, summary in by_path.items() for name in summary.step_counting if quiet((path, name))}
+
+
+def reexported(facts: ProjectFacts, by_path: dict[str, ModuleSummary], defined: set[tuple[str, str]]) -> frozenset[tuple[str, str]]:
+    """``defined`` with every name of the run that re-exports one of them."""
+    found = set(defined)
+    for path, summary in by_path.items():
+        for name, first in summary.exports.items():
+            where = (path, name)
+            export: EnvKind | str | None = first
+            for _ in range(MAX_CHAIN):
+                if not is_ref(export):
+                    break
+                split = facts._split(str(export)[len(REF) :], where[0])
+                if split is None or "." in split[1] or split[0] not in by_path:
+                    break
+                where = split
+                if where in defined:
+                    found.add((path, name))
+                    break
+                export = by_path[where[0]].exports.get(where[1])
+    return frozenset(found)
+
+
