@@ -26,222 +26,44 @@ it found, so that a report can name them.
 from __future__ import annotations
 
 import ast
-import enum
 import re
-from collections.abc import Callable, Collection, Iterable
-from dataclasses import dataclass
-from typing import TypeVar
+from collections.abc import Callable
 
-from gymmigrate.facts.env_classes import identifiers
+from gymmigrate.facts.done_causes import (
+    NEVER,
+    TERMINATION,
+    Cause,
+    DoneCause,
+    Limit,
+    combine,
+)
+from gymmigrate.facts.limit_tests import (
+    LIMIT_OPS,
+    data_end_attributes,
+    is_dm_env_last,
+    is_end_of_data,
+    is_periodic,
+    is_self,
+    is_step_limit,
+    self_attribute,
+    under_limit,
+    unwrap_bool,
+)
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
 from gymmigrate.facts.self_attributes import self_stores
 
-# A word that counts steps or time (matched on the lower-cased identifier: ``MAX_STEPS``
-# too). ``cycles``, ``frames`` and ``num_moves`` are how PettingZoo's envs count theirs
-# (``self.frames >= self.max_cycles``); a bare ``moves`` is often a list of legal moves.
-STEP_LIMIT_WORD = re.compile(
-    r"(^|_)(t|ts|step|steps|timestep|timesteps|tick|ticks|iter|iters|iteration|iterations|horizon|"
-    r"time|time_limit|ep_len|episode_len|episode_length|counter|cycle|cycles|frame|frames|num_moves|n_moves)(_|$)"
-)
 # An attribute named as a place or an amount (``self.agent_pos += 1``) that reaches a bound is
 # the task's goal even when step advances it every call: not taken for a step count.
 _PLACE_WORD = re.compile(
     r"(^|_)(pos|position|loc|location|coord|coords|x|y|z|dist|distance|height|depth|level|score|"
     r"energy|health|fuel|money|balance|cash|stock|inventory)(_|$)"
 )
-_LIMIT_OPS = (ast.Gt, ast.GtE, ast.Lt, ast.LtE, ast.Eq)
 _MAX_DEPTH = 8
-
-
-def is_periodic(expr: ast.AST) -> bool:
-    """``self.t % FREQ == 0``: a test that comes true every so many steps, not a limit."""
-    return any(isinstance(node, ast.BinOp) and isinstance(node.op, ast.Mod) for node in ast.walk(expr))
-
-
-def is_step_limit(expr: ast.AST, data_ends: Collection[str] = ()) -> bool:
-    """A comparison that names a step or time counter (``self.steps >= self.max_steps``),
-    unless it tests the end of the env's data (``is_end_of_data``; ``data_ends``: the
-    class's attributes bound to its data's length)."""
-    if not isinstance(expr, ast.Compare) or not all(isinstance(op, _LIMIT_OPS) for op in expr.ops):
-        return False
-    if is_periodic(expr) or is_end_of_data(expr, data_ends):
-        return False
-    return any(STEP_LIMIT_WORD.search(word.lower()) and "beyond" not in word for word in identifiers(expr))
-
-
-def _minus_constant(expr: ast.AST) -> ast.AST:
-    """``x - 1`` (or ``x + 1``) -> ``x``: an index's offset from a length."""
-    while isinstance(expr, ast.BinOp) and isinstance(expr.op, (ast.Add, ast.Sub)) and _number(expr.right):
-        expr = expr.left
-    return expr
-
-
-def _number(expr: ast.AST) -> bool:
-    return isinstance(expr, ast.Constant) and isinstance(expr.value, (int, float)) and not isinstance(expr.value, bool)
-
-
-def is_data_length(expr: ast.AST) -> bool:
-    """``len(x)``, ``x.shape[0]``, either minus a constant (``len(self.df.index.unique()) - 1``):
-    the length of something the env holds, here the end of its data, not a step budget."""
-    expr = _minus_constant(expr)
-    if isinstance(expr, ast.Call):
-        return isinstance(expr.func, ast.Name) and expr.func.id == "len" and len(expr.args) == 1 and not expr.keywords
-    return (
-        isinstance(expr, ast.Subscript)
-        and isinstance(expr.value, ast.Attribute)
-        and expr.value.attr == "shape"
-        and isinstance(expr.slice, ast.Constant)
-        and expr.slice.value == 0
-    )
-
-
-def is_end_of_data(expr: ast.AST, data_ends: Collection[str] = ()) -> bool:
-    """``self.day == self.max_step`` where the class binds ``self.max_step`` only to a data
-    length (``data_ends``), or ``self.t >= len(self.prices) - 1``: the counter reaches the
-    last row of the env's data, after which the episode cannot go on. A terminal state (legacy
-    learners did not bootstrap there), not a time limit, whatever the names say. Not when the
-    other side is itself a budget (``len(self.history) >= self.max_steps``, ``>= 200``)."""
-    if not isinstance(expr, ast.Compare) or len(expr.ops) != 1 or not isinstance(expr.ops[0], _LIMIT_OPS):
-        return False
-
-    def bound(side: ast.AST) -> bool:
-        name = _self_attribute(_minus_constant(side))
-        return is_data_length(side) or (name is not None and name in data_ends)
-
-    sides = (expr.left, expr.comparators[0])
-    return any(bound(a) and not bound(b) and not is_data_length(b) and not _is_bound_name(b) for a, b in (sides, sides[::-1]))
-
-
-def data_end_attributes(facts: ModuleFacts, classdef: ast.ClassDef) -> frozenset[str]:
-    """The attributes every store of which in ``classdef`` is a data length
-    (``self.max_step = self.price_ary.shape[0] - 1``): the end of the env's data, whatever
-    the attribute is called. One store of anything else (a parameter, a constant) and the
-    attribute may be a step budget: it is not one of these."""
-
-    def compute() -> frozenset[str]:
-        found = set()
-        for name, attrs in facts.attributes.items():
-            if not any(isinstance(a.ctx, ast.Store) and _is_self(a.value) and facts.enclosing_class(a) is classdef for a in attrs):
-                continue
-            values = self_stores(facts, classdef, name)
-            if values and all(is_data_length(v) for v in values):
-                found.add(name)
-        return frozenset(found)
-
-    return facts.memo(("data-end-attributes", id(classdef)), compute)
-
-
-def if_setting_true(line: ast.AST, parent: ast.AST | None) -> ast.If | None:
-    """The ``if`` of ``if <test>: done = True`` (a plain name set to ``True`` in a branch of
-    ``parent``): what the "done is set when ..." checks of the step rules share (a task's own
-    end in an env's step, a step limit or a lost life in a wrapper's), each with its own test
-    and its own demand on the other branch. None for any other line."""
-    if not (
-        isinstance(line, ast.Assign)
-        and len(line.targets) == 1
-        and isinstance(line.targets[0], ast.Name)
-        and isinstance(line.value, ast.Constant)
-        and line.value.value is True
-        and isinstance(parent, ast.If)
-        and (line in parent.body or line in parent.orelse)
-    ):
-        return None
-    return parent
-
-
-_AnyNode = TypeVar("_AnyNode", bound=ast.AST)
-
-
-def unwrap_bool(expr: _AnyNode) -> _AnyNode | ast.expr:
-    """``bool(x)`` -> ``x``; anything else as it is."""
-    if (
-        isinstance(expr, ast.Call)
-        and isinstance(expr.func, ast.Name)
-        and expr.func.id == "bool"
-        and len(expr.args) == 1
-        and not expr.keywords
-        and not isinstance(expr.args[0], ast.Starred)
-    ):
-        return expr.args[0]
-    return expr
-
-
-def or_operands(expr: ast.expr) -> list[ast.expr]:
-    if isinstance(expr, ast.BoolOp) and isinstance(expr.op, ast.Or):
-        return [operand for value in expr.values for operand in or_operands(value)]
-    return [expr]
-
-
-class Cause(enum.Enum):
-    NEVER = "never"  # ``False``: ends nothing
-    TERMINATION = "termination"
-    TRUNCATION = "truncation"
-    MIXED = "mixed"  # some causes a limit, some the task's end
-    UNKNOWN = "unknown"  # a limit mixed in some other way, or not a flag (a dict)
-
-
-@dataclass(frozen=True)
-class Limit:
-    line: int
-    text: str
-    where: str = ""  # another module of the run ("HoverAviary.py"); "" for this one
-    by_counter: bool = False  # found as a count ``step`` advances, not by its name
-
-    def place(self) -> str:
-        return f"{self.where}:{self.line}" if self.where else f"line {self.line}"
-
-
-@dataclass(frozen=True)
-class DoneCause:
-    cause: Cause
-    limits: tuple[Limit, ...] = ()
-    # tests of the end of the env's data among the causes (``is_end_of_data``): terminations
-    ends_of_data: tuple[Limit, ...] = ()
-
-    def elsewhere(self) -> bool:
-        return any(limit.where for limit in self.limits)
-
-    def plain(self) -> bool:
-        """Every limit is named as one and in this module: settled, not a question."""
-        return not any(limit.where or limit.by_counter for limit in self.limits)
-
-
-NEVER = DoneCause(Cause.NEVER)
-TERMINATION = DoneCause(Cause.TERMINATION)
-
-
-def combine(parts: Iterable[DoneCause]) -> DoneCause:
-    """The cause of a value that is true when any of ``parts`` is (an ``or``, or the
-    alternatives: several returns, several stores)."""
-    parts = list(parts)
-    limits: list[Limit] = []
-    ends: list[Limit] = []
-    for part in parts:
-        limits += [limit for limit in part.limits if limit not in limits]
-        ends += [end for end in part.ends_of_data if end not in ends]
-    causes = {part.cause for part in parts} - {Cause.NEVER}
-    if not causes:
-        return DoneCause(Cause.NEVER, tuple(limits), tuple(ends))
-    if Cause.UNKNOWN in causes:
-        cause = Cause.UNKNOWN
-    elif len(causes) == 1:
-        cause = causes.pop()
-    else:
-        cause = Cause.MIXED
-    return DoneCause(cause, tuple(limits), tuple(ends))
 
 
 def _opaque(found: DoneCause) -> DoneCause:
     """A value that hides what it holds (``not <limit>``, ``a and b``, a dict)."""
     return DoneCause(Cause.UNKNOWN, found.limits) if found.limits else TERMINATION
-
-
-def _is_self(node: ast.AST) -> bool:
-    return isinstance(node, ast.Name) and node.id == "self"
-
-
-def _self_attribute(node: ast.AST) -> str | None:
-    return node.attr if isinstance(node, ast.Attribute) and _is_self(node.value) else None
 
 
 Method = ast.FunctionDef | ast.AsyncFunctionDef
@@ -279,17 +101,17 @@ class DoneTracer:
             step = self.methods.get("step") or self.methods.get("_step")
             for statement in step.body if step is not None else ():
                 if isinstance(statement, ast.AugAssign) and isinstance(statement.op, (ast.Add, ast.Sub)):
-                    name = _self_attribute(statement.target)
+                    name = self_attribute(statement.target)
                     if name is not None and _fixed(statement.value) and not _PLACE_WORD.search(name):
                         found.add(name)
                 elif isinstance(statement, ast.Assign) and len(statement.targets) == 1:
-                    name = _self_attribute(statement.targets[0])
+                    name = self_attribute(statement.targets[0])
                     value = statement.value
                     if (
                         name is not None
                         and isinstance(value, ast.BinOp)
                         and isinstance(value.op, (ast.Add, ast.Sub))
-                        and _self_attribute(value.left) == name
+                        and self_attribute(value.left) == name
                         and _fixed(value.right)
                         and not _PLACE_WORD.search(name)
                     ):
@@ -301,7 +123,7 @@ class DoneTracer:
         """A comparison of a step or time counter with a bound (not the end of the data)."""
         if is_step_limit(expr, self.data_ends):
             return True
-        if not isinstance(expr, ast.Compare) or len(expr.ops) != 1 or not isinstance(expr.ops[0], _LIMIT_OPS):
+        if not isinstance(expr, ast.Compare) or len(expr.ops) != 1 or not isinstance(expr.ops[0], LIMIT_OPS):
             return False
         if is_end_of_data(expr, self.data_ends):
             return False
@@ -313,7 +135,7 @@ class DoneTracer:
     def _counter(self, expr: ast.AST) -> bool:
         while isinstance(expr, ast.BinOp) and isinstance(expr.op, (ast.Div, ast.FloorDiv, ast.Mult)):
             expr = expr.left  # ``self.step_counter / self.SIM_FREQ``: seconds of a step count
-        name = _self_attribute(expr)
+        name = self_attribute(expr)
         return name is not None and name in self.counters
 
     # -- tracing --------------------------------------------------------------------------
@@ -339,7 +161,7 @@ class DoneTracer:
             return _opaque(combine([self._inside(expr.test, depth), self.trace(expr.body, depth + 1), self.trace(expr.orelse, depth + 1)]))
         if isinstance(expr, ast.Name):
             return self._local(expr, depth)
-        if isinstance(expr, ast.Attribute) and isinstance(expr.ctx, ast.Load) and _is_self(expr.value):
+        if isinstance(expr, ast.Attribute) and isinstance(expr.ctx, ast.Load) and is_self(expr.value):
             return self._attribute(expr.attr, depth)
         if isinstance(expr, ast.Call):
             if is_dm_env_last(self.facts, expr):
@@ -439,7 +261,7 @@ class DoneTracer:
         if call.args or call.keywords or not isinstance(call.func, ast.Attribute):
             return None
         owner, name = call.func.value, call.func.attr
-        if _is_self(owner):
+        if is_self(owner):
             tracer = self
         else:
             inner = self._instance_class(owner)
@@ -513,12 +335,12 @@ class DoneTracer:
 
     def _instance_class(self, owner: ast.AST) -> ast.ClassDef | None:
         """``self.inner`` that the class only ever sets to ``C(...)``, ``C`` a class of the module."""
-        name = _self_attribute(owner)
+        name = self_attribute(owner)
         if name is None:
             return None
         found: ast.ClassDef | None = None
         for attr in self.facts.attributes.get(name, ()):
-            if not isinstance(attr.ctx, ast.Store) or not _is_self(attr.value) or self.facts.enclosing_class(attr) is not self.classdef:
+            if not isinstance(attr.ctx, ast.Store) or not is_self(attr.value) or self.facts.enclosing_class(attr) is not self.classdef:
                 continue
             holder = self.facts.parent(attr)
             value = holder.value if isinstance(holder, ast.Assign) and holder.targets == [attr] else None
@@ -631,29 +453,10 @@ def _fixed(value: ast.expr) -> bool:
     return isinstance(value, ast.Constant) and isinstance(value.value, (int, float)) and not isinstance(value.value, bool) and value.value > 0
 
 
+
 def _bound(expr: ast.AST) -> bool:
     """A limit a counter is compared with: a number, a name or attribute (no call)."""
     return all(isinstance(node, (ast.Constant, ast.Name, ast.Attribute, ast.BinOp, ast.operator, ast.expr_context)) for node in ast.walk(expr))
-
-
-def under_limit(test: ast.AST) -> bool:
-    """``counter < limit`` (or ``limit > counter``): true while the episode (or match) goes on."""
-    if not (isinstance(test, ast.Compare) and len(test.ops) == 1):
-        return False
-    left_is_limit = _is_bound_name(test.left)
-    if isinstance(test.ops[0], (ast.Lt, ast.LtE)):
-        return not left_is_limit
-    if isinstance(test.ops[0], (ast.Gt, ast.GtE)):
-        return left_is_limit
-    return False
-
-
-def _is_bound_name(expr: ast.AST) -> bool:
-    """A limit rather than a counter: a number, a CONSTANT, or a name that says max/limit."""
-    if isinstance(expr, ast.Constant):
-        return True
-    name = expr.attr if isinstance(expr, ast.Attribute) else expr.id if isinstance(expr, ast.Name) else ""
-    return name.isupper() or any(word in name.lower() for word in ("max", "limit", "horizon"))
 
 
 def _is_true(expr: ast.AST) -> bool:
@@ -662,15 +465,3 @@ def _is_true(expr: ast.AST) -> bool:
 
 def _is_false(expr: ast.AST) -> bool:
     return isinstance(expr, ast.Constant) and expr.value is False
-
-
-def is_dm_env_last(facts: ModuleFacts, call: ast.Call) -> bool:
-    """``time_step.last()`` in a module that uses dm_control or dm_env: the ``TimeStep``'s
-    end of episode, which dm_control's environments also signal at their time limit."""
-    return (
-        isinstance(call.func, ast.Attribute)
-        and call.func.attr == "last"
-        and not call.args
-        and not call.keywords
-        and ("dm_control" in facts.text or "dm_env" in facts.text)
-    )

@@ -8,8 +8,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from gymmigrate.facts.done_causes import DoneCause
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.limits import DoneCause
 from gymmigrate.facts.reset_contract import ResetSites
 
 # Kinds an unresolved ``x.fit(venv)`` still reports against every ``fit`` of the run.

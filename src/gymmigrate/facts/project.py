@@ -40,9 +40,9 @@ from collections import defaultdict
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from gymmigrate.facts.done_causes import DoneCause
 from gymmigrate.facts.import_roots import module_names, nearest_root
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.limits import DoneCause
 from gymmigrate.facts.module_summary import (
     NEW,
     OWN,

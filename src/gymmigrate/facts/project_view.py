@@ -10,9 +10,9 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from gymmigrate.facts.done_causes import Cause, DoneCause, Limit
 from gymmigrate.facts.import_roots import is_test_path, nearest_root
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.limits import Cause, DoneCause, Limit
 from gymmigrate.facts.module_summary import MAX_CHAIN, REF
 
 if TYPE_CHECKING:

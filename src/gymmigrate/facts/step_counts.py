@@ -15,7 +15,11 @@ import ast
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.env_classes import identifiers
-from gymmigrate.facts.limits import STEP_LIMIT_WORD, data_end_attributes, is_step_limit
+from gymmigrate.facts.limit_tests import (
+    STEP_LIMIT_WORD,
+    data_end_attributes,
+    is_step_limit,
+)
 from gymmigrate.facts.module import ModuleFacts
 from gymmigrate.facts.receivers import Receivers
 

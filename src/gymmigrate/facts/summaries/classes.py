@@ -9,9 +9,10 @@ import ast
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.class_shapes import wrapped_env_renders
+from gymmigrate.facts.done_causes import Cause, DoneCause
 from gymmigrate.facts.env_classes import is_super_method_call, mode_can_stay_optional
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.limits import Cause, DoneCause, DoneTracer
+from gymmigrate.facts.limits import DoneTracer
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
 from gymmigrate.facts.module_summary import OWN
 from gymmigrate.facts.receivers import Receivers

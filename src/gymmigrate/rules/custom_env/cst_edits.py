@@ -250,7 +250,7 @@ def _tuple_len(value: cst.BaseExpression | None) -> int | None:
 
 
 def _is_step_limit(expr: cst.BaseExpression, data_ends: frozenset[str] = frozenset()) -> bool:
-    """``facts.limits.is_step_limit`` on LibCST: a comparison that names a step counter,
+    """``facts.limit_tests.is_step_limit`` on LibCST: a comparison that names a step counter,
     not a period (``self.t % FREQ == 0``) nor one of the class's tests of the end of its
     data (``data_ends``, whitespace-free source, as the decision found them)."""
     if not isinstance(expr, cst.Comparison) or not all(isinstance(t.operator, _LIMIT_OPS) for t in expr.comparisons):

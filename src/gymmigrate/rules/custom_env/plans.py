@@ -9,7 +9,7 @@ from dataclasses import dataclass, field
 
 # Identifiers that count steps or time (``self.steps >= self.max_steps``, ``self.t > 200``),
 # shared with the builds.
-from gymmigrate.facts.limits import STEP_LIMIT_WORD
+from gymmigrate.facts.limit_tests import STEP_LIMIT_WORD
 
 SUPER_RESET = "super().reset(seed=seed)"
 

@@ -18,18 +18,12 @@ import re
 from collections.abc import Hashable
 
 from gymmigrate.facts.class_shapes import is_batched_step_return, keeps_legacy_step
+from gymmigrate.facts.done_causes import Cause, DoneCause, Limit
 from gymmigrate.facts.env_classes import (
     is_super_method_call,
 )
-from gymmigrate.facts.limits import (
-    Cause,
-    DoneCause,
-    DoneTracer,
-    Limit,
-    is_end_of_data,
-    is_step_limit,
-    unwrap_bool,
-)
+from gymmigrate.facts.limit_tests import is_end_of_data, is_step_limit, unwrap_bool
+from gymmigrate.facts.limits import DoneTracer
 from gymmigrate.facts.module import own_returns
 from gymmigrate.facts.step_hooks import ENV_API
 from gymmigrate.findings import FixKind, Tier

@@ -11,7 +11,7 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.facts.env_classes import FunctionIndex, is_super_method_call
-from gymmigrate.facts.limits import if_setting_true, is_step_limit
+from gymmigrate.facts.limit_tests import if_setting_true, is_step_limit
 from gymmigrate.facts.module import own_returns
 from gymmigrate.rules.custom_env.common import (
     ClassDecision,

@@ -27,13 +27,9 @@ import enum
 from dataclasses import dataclass, field
 from typing import TypeVar
 
-from gymmigrate.facts.limits import Cause as DoneCause
-from gymmigrate.facts.limits import (
-    DoneTracer,
-    is_step_limit,
-    under_limit,
-    unwrap_bool,
-)
+from gymmigrate.facts.done_causes import Cause as DoneCause
+from gymmigrate.facts.limit_tests import is_step_limit, under_limit, unwrap_bool
+from gymmigrate.facts.limits import DoneTracer
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
 from gymmigrate.facts.self_attributes import self_stores
 

@@ -9,9 +9,9 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.facts import ModuleFacts
-from gymmigrate.facts.limits import self_stores
 from gymmigrate.facts.module import FUNCTIONS, call_argument
 from gymmigrate.facts.receivers import Receivers
+from gymmigrate.facts.self_attributes import self_stores
 from gymmigrate.rules.wrapper_usage.atari_limits import is_make_call
 
 

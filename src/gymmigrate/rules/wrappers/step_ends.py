@@ -16,7 +16,7 @@ import ast
 import re
 from collections.abc import Callable
 
-from gymmigrate.facts.limits import if_setting_true
+from gymmigrate.facts.limit_tests import if_setting_true
 from gymmigrate.rules.custom_env.step import is_step_limit
 from gymmigrate.rules.wrappers.common import _single_assign
 

@@ -1,0 +1,185 @@
+"""What a test of a step or time limit looks like, on one expression: a comparison of a
+step or time counter with a bound (``STEP_LIMIT_WORD``, ``is_step_limit``), not a period nor
+the end of the env's data (``is_end_of_data``, ``data_end_attributes``), and the small
+shapes the step rules and ``DoneTracer`` (limits.py) share around it (``if <test>: done =
+True``, ``bool(x)``, ``counter < limit``, dm_env's ``time_step.last()``).
+"""
+
+from __future__ import annotations
+
+import ast
+import re
+from collections.abc import Collection
+from typing import TypeVar
+
+from gymmigrate.facts.env_classes import identifiers
+from gymmigrate.facts.module import ModuleFacts
+from gymmigrate.facts.self_attributes import self_stores
+
+# A word that counts steps or time (matched on the lower-cased identifier: ``MAX_STEPS``
+# too). ``cycles``, ``frames`` and ``num_moves`` are how PettingZoo's envs count theirs
+# (``self.frames >= self.max_cycles``); a bare ``moves`` is often a list of legal moves.
+STEP_LIMIT_WORD = re.compile(
+    r"(^|_)(t|ts|step|steps|timestep|timesteps|tick|ticks|iter|iters|iteration|iterations|horizon|"
+    r"time|time_limit|ep_len|episode_len|episode_length|counter|cycle|cycles|frame|frames|num_moves|n_moves)(_|$)"
+)
+LIMIT_OPS = (ast.Gt, ast.GtE, ast.Lt, ast.LtE, ast.Eq)
+
+
+def is_periodic(expr: ast.AST) -> bool:
+    """``self.t % FREQ == 0``: a test that comes true every so many steps, not a limit."""
+    return any(isinstance(node, ast.BinOp) and isinstance(node.op, ast.Mod) for node in ast.walk(expr))
+
+
+def is_step_limit(expr: ast.AST, data_ends: Collection[str] = ()) -> bool:
+    """A comparison that names a step or time counter (``self.steps >= self.max_steps``),
+    unless it tests the end of the env's data (``is_end_of_data``; ``data_ends``: the
+    class's attributes bound to its data's length)."""
+    if not isinstance(expr, ast.Compare) or not all(isinstance(op, LIMIT_OPS) for op in expr.ops):
+        return False
+    if is_periodic(expr) or is_end_of_data(expr, data_ends):
+        return False
+    return any(STEP_LIMIT_WORD.search(word.lower()) and "beyond" not in word for word in identifiers(expr))
+
+
+def _minus_constant(expr: ast.AST) -> ast.AST:
+    """``x - 1`` (or ``x + 1``) -> ``x``: an index's offset from a length."""
+    while isinstance(expr, ast.BinOp) and isinstance(expr.op, (ast.Add, ast.Sub)) and _number(expr.right):
+        expr = expr.left
+    return expr
+
+
+def _number(expr: ast.AST) -> bool:
+    return isinstance(expr, ast.Constant) and isinstance(expr.value, (int, float)) and not isinstance(expr.value, bool)
+
+
+def is_data_length(expr: ast.AST) -> bool:
+    """``len(x)``, ``x.shape[0]``, either minus a constant (``len(self.df.index.unique()) - 1``):
+    the length of something the env holds, here the end of its data, not a step budget."""
+    expr = _minus_constant(expr)
+    if isinstance(expr, ast.Call):
+        return isinstance(expr.func, ast.Name) and expr.func.id == "len" and len(expr.args) == 1 and not expr.keywords
+    return (
+        isinstance(expr, ast.Subscript)
+        and isinstance(expr.value, ast.Attribute)
+        and expr.value.attr == "shape"
+        and isinstance(expr.slice, ast.Constant)
+        and expr.slice.value == 0
+    )
+
+
+def is_end_of_data(expr: ast.AST, data_ends: Collection[str] = ()) -> bool:
+    """``self.day == self.max_step`` where the class binds ``self.max_step`` only to a data
+    length (``data_ends``), or ``self.t >= len(self.prices) - 1``: the counter reaches the
+    last row of the env's data, after which the episode cannot go on. A terminal state (legacy
+    learners did not bootstrap there), not a time limit, whatever the names say. Not when the
+    other side is itself a budget (``len(self.history) >= self.max_steps``, ``>= 200``)."""
+    if not isinstance(expr, ast.Compare) or len(expr.ops) != 1 or not isinstance(expr.ops[0], LIMIT_OPS):
+        return False
+
+    def bound(side: ast.AST) -> bool:
+        name = self_attribute(_minus_constant(side))
+        return is_data_length(side) or (name is not None and name in data_ends)
+
+    sides = (expr.left, expr.comparators[0])
+    return any(bound(a) and not bound(b) and not is_data_length(b) and not _is_bound_name(b) for a, b in (sides, sides[::-1]))
+
+
+def data_end_attributes(facts: ModuleFacts, classdef: ast.ClassDef) -> frozenset[str]:
+    """The attributes every store of which in ``classdef`` is a data length
+    (``self.max_step = self.price_ary.shape[0] - 1``): the end of the env's data, whatever
+    the attribute is called. One store of anything else (a parameter, a constant) and the
+    attribute may be a step budget: it is not one of these."""
+
+    def compute() -> frozenset[str]:
+        found = set()
+        for name, attrs in facts.attributes.items():
+            if not any(isinstance(a.ctx, ast.Store) and is_self(a.value) and facts.enclosing_class(a) is classdef for a in attrs):
+                continue
+            values = self_stores(facts, classdef, name)
+            if values and all(is_data_length(v) for v in values):
+                found.add(name)
+        return frozenset(found)
+
+    return facts.memo(("data-end-attributes", id(classdef)), compute)
+
+
+def if_setting_true(line: ast.AST, parent: ast.AST | None) -> ast.If | None:
+    """The ``if`` of ``if <test>: done = True`` (a plain name set to ``True`` in a branch of
+    ``parent``): what the "done is set when ..." checks of the step rules share (a task's own
+    end in an env's step, a step limit or a lost life in a wrapper's), each with its own test
+    and its own demand on the other branch. None for any other line."""
+    if not (
+        isinstance(line, ast.Assign)
+        and len(line.targets) == 1
+        and isinstance(line.targets[0], ast.Name)
+        and isinstance(line.value, ast.Constant)
+        and line.value.value is True
+        and isinstance(parent, ast.If)
+        and (line in parent.body or line in parent.orelse)
+    ):
+        return None
+    return parent
+
+
+_AnyNode = TypeVar("_AnyNode", bound=ast.AST)
+
+
+def unwrap_bool(expr: _AnyNode) -> _AnyNode | ast.expr:
+    """``bool(x)`` -> ``x``; anything else as it is."""
+    if (
+        isinstance(expr, ast.Call)
+        and isinstance(expr.func, ast.Name)
+        and expr.func.id == "bool"
+        and len(expr.args) == 1
+        and not expr.keywords
+        and not isinstance(expr.args[0], ast.Starred)
+    ):
+        return expr.args[0]
+    return expr
+
+
+def or_operands(expr: ast.expr) -> list[ast.expr]:
+    if isinstance(expr, ast.BoolOp) and isinstance(expr.op, ast.Or):
+        return [operand for value in expr.values for operand in or_operands(value)]
+    return [expr]
+
+
+def is_self(node: ast.AST) -> bool:
+    return isinstance(node, ast.Name) and node.id == "self"
+
+
+def self_attribute(node: ast.AST) -> str | None:
+    return node.attr if isinstance(node, ast.Attribute) and is_self(node.value) else None
+
+
+def under_limit(test: ast.AST) -> bool:
+    """``counter < limit`` (or ``limit > counter``): true while the episode (or match) goes on."""
+    if not (isinstance(test, ast.Compare) and len(test.ops) == 1):
+        return False
+    left_is_limit = _is_bound_name(test.left)
+    if isinstance(test.ops[0], (ast.Lt, ast.LtE)):
+        return not left_is_limit
+    if isinstance(test.ops[0], (ast.Gt, ast.GtE)):
+        return left_is_limit
+    return False
+
+
+def _is_bound_name(expr: ast.AST) -> bool:
+    """A limit rather than a counter: a number, a CONSTANT, or a name that says max/limit."""
+    if isinstance(expr, ast.Constant):
+        return True
+    name = expr.attr if isinstance(expr, ast.Attribute) else expr.id if isinstance(expr, ast.Name) else ""
+    return name.isupper() or any(word in name.lower() for word in ("max", "limit", "horizon"))
+
+
+def is_dm_env_last(facts: ModuleFacts, call: ast.Call) -> bool:
+    """``time_step.last()`` in a module that uses dm_control or dm_env: the ``TimeStep``'s
+    end of episode, which dm_control's environments also signal at their time limit."""
+    return (
+        isinstance(call.func, ast.Attribute)
+        and call.func.attr == "last"
+        and not call.args
+        and not call.keywords
+        and ("dm_control" in facts.text or "dm_env" in facts.text)
+    )
