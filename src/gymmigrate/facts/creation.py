@@ -30,9 +30,20 @@ from dataclasses import dataclass, field
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts import same_tests
+from gymmigrate.facts.creation_shapes import (
+    argument_for,
+    changed_in_place,
+    enumerated_iterable,
+    first_argument,
+    last_name,
+    nested_function,
+    property_slot,
+    return_values,
+    wrapped_env_argument,
+)
 from gymmigrate.facts.flow import Flow, contains
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
 from gymmigrate.facts.receivers import Receivers
 
 # SB3 / baselines / Gym VecEnv constructors that take a list of env factories.
@@ -186,7 +197,7 @@ class CreationFinder:
             # in place (an ``append`` there may add anything)
             values = self.receivers.self_attribute_values(container, container.attr)
             classdef = self.facts.enclosing_class(container)
-            if not values or classdef is None or _changed_in_place(classdef, container.attr):
+            if not values or classdef is None or changed_in_place(classdef, container.attr):
                 result.fail(f"`{self.facts.segment(container)}` is not a list built here")
             for value in values:
                 result.merge(self._items(value))
@@ -211,12 +222,12 @@ class CreationFinder:
             result.add(call)
             return result
         first = first_argument(call)
-        if _last_name(call.func) in ENV_FN_LIST_CONSTRUCTORS and first is not None:
+        if last_name(call.func) in ENV_FN_LIST_CONSTRUCTORS and first is not None:
             return self._env_fn_list(first)
         function = self.receivers.local_function(call.func)
         if function is not None:
             return self._follow(function, self._returns)
-        inner = _wrapped_env_argument(call)
+        inner = wrapped_env_argument(call)
         if inner is not None and self._looks_like_wrapper(call):
             return self._follow(inner, self._expr)
         if isinstance(call.func, ast.Name) and not self.facts.qualified_names(call.func) and self.facts.bindings_of(call.func):
@@ -279,7 +290,7 @@ class CreationFinder:
         if not calls:
             result.fail(f"`{param.arg}` is a parameter of `{function.name}`, which is not called here")
         for call in calls:
-            argument = _argument_for(call, param.arg, position)
+            argument = argument_for(call, param.arg, position)
             if argument is None:
                 result.fail(f"`{param.arg}` is not passed at every call of `{function.name}`")
             else:
@@ -312,14 +323,14 @@ class CreationFinder:
 
     def _thunk_factory(self, function: ast.FunctionDef | ast.AsyncFunctionDef) -> Creation:
         result = Creation()
-        returned = _return_values(function)
+        returned = return_values(function)
         if not returned:
             result.fail(f"`{function.name}` returns nothing")
         for value in returned:
             if isinstance(value, ast.Lambda):
                 result.merge(self._follow(value.body, self._expr))
                 continue
-            inner = _nested_function(function, value)
+            inner = nested_function(function, value)
             if inner is None:
                 result.fail(f"`{function.name}` does not return an env factory")
             else:
@@ -328,7 +339,7 @@ class CreationFinder:
 
     def _returns(self, function: ast.AST) -> Creation:
         result = Creation()
-        values = _return_values(function)
+        values = return_values(function)
         if not values:
             result.fail(f"`{function.name}` returns nothing")  # type: ignore[attr-defined]
         for value in values:
@@ -403,7 +414,7 @@ class CreationFinder:
                 return self._follow(parent.context_expr, self._expr)
             if isinstance(parent, (ast.For, ast.AsyncFor, ast.comprehension)) and parent.target is binding:
                 return self._items(parent.iter)
-            enumerated = _enumerated(self.facts, binding)
+            enumerated = enumerated_iterable(self.facts, binding)
             if enumerated is not None:
                 return self._items(enumerated)  # ``for i, env in enumerate(envs)``
             if isinstance(parent, ast.Delete):
@@ -433,7 +444,7 @@ class CreationFinder:
             result.fail(f"`{label}` is a parameter of `{function.name}`, which is not called here")
             return result
         for call in calls:
-            argument = _argument_for(call, label, position)
+            argument = argument_for(call, label, position)
             if argument is None:
                 result.fail(f"`{label}` is not passed at every call of `{function.name}`")
             else:
@@ -473,7 +484,7 @@ class CreationFinder:
             return result
         arguments = CreationFinder(self.facts, self.receivers, self._is_creation, self._nesting + 1)
         for call, shift in calls:
-            argument = _argument_for(call, label, None if position is None else position + shift)
+            argument = argument_for(call, label, None if position is None else position + shift)
             if argument is None or any(isinstance(a, ast.Starred) for a in call.args) or any(k.arg is None for k in call.keywords):
                 result.fail(f"`{label}` is not passed at every construction of `{classdef.name}`")
             else:
@@ -532,7 +543,7 @@ class CreationFinder:
                 if self.receivers.class_kind(classdef) not in (EnvKind.UNKNOWN, EnvKind.NOT_ENV):
                     return []
                 stores = self.receivers.self_stores(classdef)
-                stored = stores.get(attr.attr) or stores.get(_property_slot(classdef, attr.attr) or "", [])
+                stored = stores.get(attr.attr) or stores.get(property_slot(classdef, attr.attr) or "", [])
                 if not stored:
                     return []
                 values.extend(stored)
@@ -543,7 +554,7 @@ class CreationFinder:
             if len(slots) != 1 or any(isinstance(a, ast.Starred) for a in call.args) or any(k.arg is None for k in call.keywords):
                 return []
             param, position = slots.pop()
-            argument = _argument_for(call, param, position)
+            argument = argument_for(call, param, position)
             if argument is None:
                 return []
             values.append(argument)
@@ -561,107 +572,8 @@ class CreationFinder:
                 return False
         if self.receivers.local_class(call.func) is not None:
             return True
-        name = _last_name(call.func)
+        name = last_name(call.func)
         return name[:1].isupper() and not name.isupper()
 
 
 _MAX_NESTING = 3  # constructor arguments followed through constructors
-
-
-# -- helpers ---------------------------------------------------------------------------
-
-
-def _property_slot(classdef: ast.ClassDef, name: str) -> str | None:
-    """``x`` for ``@property def <name>(self): return self.x`` in ``classdef``'s body (an
-    adapter handing out the env it holds), else None."""
-    for statement in classdef.body:
-        if not (isinstance(statement, ast.FunctionDef) and statement.name == name):
-            continue
-        decorated = [d for d in statement.decorator_list if isinstance(d, ast.Name) and d.id == "property"]
-        params = statement.args.args
-        if len(decorated) != 1 or len(statement.decorator_list) != 1 or len(params) != 1 or len(statement.body) != 1:
-            return None
-        returned = statement.body[0].value if isinstance(statement.body[0], ast.Return) else None
-        if isinstance(returned, ast.Attribute) and isinstance(returned.value, ast.Name) and returned.value.id == params[0].arg:
-            return returned.attr
-        return None
-    return None
-
-
-def _argument_for(call: ast.Call, name: str, position: int | None) -> ast.expr | None:
-    """What ``call`` passes for the parameter ``name`` at ``position``: its keyword, else its
-    positional argument (None after a ``*args``, which may have shifted it)."""
-    argument = next((k.value for k in call.keywords if k.arg == name), None)
-    if argument is None and position is not None and position < len(call.args) and not any(isinstance(a, ast.Starred) for a in call.args):
-        argument = call.args[position]
-    return argument
-
-
-def first_argument(call: ast.Call) -> ast.expr | None:
-    """The first argument in source order (LibCST's ``call.args[0]``), keyword or not."""
-    candidates: list[ast.expr] = [a.value if isinstance(a, ast.Starred) else a for a in call.args]
-    if call.keywords:
-        first_keyword = min(call.keywords, key=lambda k: (k.lineno, k.col_offset))
-        if not candidates or (first_keyword.lineno, first_keyword.col_offset) < (call.args[0].lineno, call.args[0].col_offset):
-            return first_keyword.value
-    return candidates[0] if candidates else None
-
-
-def _last_name(func: ast.AST) -> str:
-    """``Wrapper`` for ``gym.wrappers.Wrapper`` (and for ``Wrapper``); "" for other callees."""
-    if isinstance(func, ast.Attribute):
-        return func.attr
-    return func.id if isinstance(func, ast.Name) else ""
-
-
-def _wrapped_env_argument(call: ast.Call) -> ast.expr | None:
-    for kw in call.keywords:
-        if kw.arg in ("env", "venv"):
-            return kw.value
-    if call.args and not isinstance(call.args[0], ast.Starred) and first_argument(call) is call.args[0]:
-        return call.args[0]
-    return None
-
-
-def _return_values(function: ast.AST) -> list[ast.expr]:
-    """The values a function returns (bare ``return`` left out)."""
-    return [r.value for r in own_returns(function) if r.value is not None]
-
-
-def _nested_function(function: ast.AST, value: ast.AST) -> ast.FunctionDef | ast.AsyncFunctionDef | None:
-    if not isinstance(value, ast.Name):
-        return None
-    for statement in getattr(function, "body", ()):
-        if isinstance(statement, FUNCTIONS) and statement.name == value.id:
-            return statement
-    return None
-
-
-def _enumerated(facts: ModuleFacts, binding: ast.Name) -> ast.expr | None:
-    """``envs`` for ``env`` of ``for i, env in enumerate(envs)`` (the builtin's one argument)."""
-    target = facts.parent(binding)
-    loop = facts.parent(target) if isinstance(target, ast.Tuple) else None
-    if not (isinstance(target, ast.Tuple) and len(target.elts) == 2 and target.elts[1] is binding):
-        return None
-    if not (isinstance(loop, (ast.For, ast.AsyncFor, ast.comprehension)) and loop.target is target):
-        return None
-    call = loop.iter
-    if not (isinstance(call, ast.Call) and isinstance(call.func, ast.Name) and call.func.id == "enumerate"):
-        return None
-    if len(call.args) != 1 or call.keywords or isinstance(call.args[0], ast.Starred):
-        return None
-    scope, _ = facts.resolve("enumerate", facts.scope_of(call.func))
-    return call.args[0] if scope is None else None
-
-
-def _changed_in_place(classdef: ast.ClassDef, name: str) -> bool:
-    """``self.<name>.append(...)`` (any method call on it) or ``self.<name>[i] = ...`` in the class."""
-    for node in ast.walk(classdef):
-        held = None
-        if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute):
-            held = node.func.value
-        elif isinstance(node, ast.Subscript) and not isinstance(node.ctx, ast.Load):
-            held = node.value
-        if isinstance(held, ast.Attribute) and held.attr == name and isinstance(held.value, ast.Name) and held.value.id == "self":
-            return True
-    return False

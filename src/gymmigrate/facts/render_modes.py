@@ -13,7 +13,8 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.facts import names as N
-from gymmigrate.facts.creation import CreationFinder, first_argument
+from gymmigrate.facts.creation import CreationFinder
+from gymmigrate.facts.creation_shapes import first_argument
 from gymmigrate.facts.env_classes import EnvClasses, mode_can_stay_optional
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import EnvKind
