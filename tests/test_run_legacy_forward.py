@@ -65,3 +65,19 @@ def test_the_migrated_run_plays_on_gymnasium(run: Path) -> None:
     done = subprocess.run([sys.executable, "-c", probe], cwd=run, capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr
     assert float(done.stdout) > 0
+
+
+def test_a_gym_mixin_base_keeps_the_wrapper_forwarding(run: Path, tmp_path: Path) -> None:
+    """``Clip`` also derived from ``gym.utils.EzPickle`` (Gym's mixin, which defines no step or
+    reset) still hands on its env's results: the run decides as it does without the mixin."""
+    plain = tmp_path / "plain_run"
+    shutil.copytree(FIXTURE, plain)
+    shape = run / "hold/shape.py"
+    text = shape.read_text()
+    assert "class Clip(gym.Wrapper):" in text
+    shape.write_text(text.replace("class Clip(gym.Wrapper):", "class Clip(gym.Wrapper, gym.utils.EzPickle):", 1))
+    for tree in (run, plain):
+        result = runner.invoke(app, ["rewrite", str(tree)])
+        assert result.exit_code in (0, 1), result.output
+    assert (run / "train.py").read_text() == (plain / "train.py").read_text()
+    assert (run / "hold/make.py").read_text() == (plain / "hold/make.py").read_text()

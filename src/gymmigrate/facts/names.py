@@ -53,6 +53,24 @@ GYM_WRAPPER_BASE_CLASSES = frozenset(
     name for name in GYM_ENV_BASE_CLASSES if "Wrapper" in name
 )
 
+# Gym's mixin classes (paths under gym/gymnasium, prefix stripped): a Gym env or wrapper class
+# may add them to its bases without changing what it is. They define no env attribute and no
+# step or reset (EzPickle only __getstate__/__setstate__, RecordConstructorArgs only the record
+# of its constructor's arguments), and the migration itself adds RecordConstructorArgs to a
+# wrapper taking arguments (rules/wrappers/constructor_args.py), so a second run must decide
+# about the class as the first did. EzPickle is in gym/utils/ezpickle.py (legacy gym and
+# Gymnasium), RecordConstructorArgs in gymnasium/utils/record_constructor.py (Gymnasium only;
+# gymnasium.core imports it too); gym.utils and gymnasium.utils export both they have.
+GYM_MIXIN_CLASSES = frozenset(
+    {
+        "utils.EzPickle",
+        "utils.ezpickle.EzPickle",
+        "utils.RecordConstructorArgs",
+        "utils.record_constructor.RecordConstructorArgs",
+        "core.RecordConstructorArgs",
+    }
+)
+
 GYM_VEC_FACTORIES = frozenset(
     {
         "vector.make",

@@ -441,11 +441,9 @@ def _returns_inner(function: ast.AST | None, method: str) -> bool:
 
 
 # Gym's bases whose step and reset hand on the wrapped env's results (ObservationWrapper and
-# RewardWrapper unpack five values in Gymnasium)
-# (``RecordConstructorArgs``, which the migration adds to a wrapper taking arguments, changes neither)
-_FORWARDING_BASES = frozenset(
-    {"Wrapper", "core.Wrapper", "ActionWrapper", "core.ActionWrapper", "utils.RecordConstructorArgs", "utils.ezpickle.RecordConstructorArgs"}
-)
+# RewardWrapper unpack five values in Gymnasium), and Gym's mixins, which change neither
+# (``RecordConstructorArgs`` is what the migration adds to a wrapper taking arguments)
+_FORWARDING_BASES = frozenset({"Wrapper", "core.Wrapper", "ActionWrapper", "core.ActionWrapper"}) | N.GYM_MIXIN_CLASSES
 
 
 def is_object(base: ast.AST) -> bool:

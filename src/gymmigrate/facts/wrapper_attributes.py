@@ -73,12 +73,6 @@ def _takes_lookup_in_hand(classdef: ast.ClassDef) -> bool:
     return False
 
 
-# Gym's mixins a wrapper may also derive: they define no attribute an env forwards, so the
-# class is still a wrapper of this module's chain (and stays one after the migration adds
-# ``gym.utils.RecordConstructorArgs`` to it: a second run must decide as the first did).
-_MIXINS = frozenset({"utils.RecordConstructorArgs", "utils.EzPickle", "utils.ezpickle.EzPickle", "utils.record_constructor.RecordConstructorArgs"})
-
-
 def local_wrapper_chain(facts: ModuleFacts, classdef: ast.ClassDef, seen: frozenset[int] = frozenset()) -> list[ast.ClassDef] | None:
     """``classdef`` and the classes of this module it derives from, when every base is one
     of those or a Gym wrapper base class (``Wrapper``...), and none takes attribute lookup
@@ -90,8 +84,10 @@ def local_wrapper_chain(facts: ModuleFacts, classdef: ast.ClassDef, seen: frozen
         names = {N.strip_gym_prefix(q) for q in facts.qualified_names(base)}
         if names & N.GYM_WRAPPER_BASE_CLASSES:
             continue
-        if names & _MIXINS:
-            continue  # defines no env attribute (the migration adds RecordConstructorArgs itself)
+        if names & N.GYM_MIXIN_CLASSES:
+            # defines no env attribute: the class is still a wrapper of this module's chain
+            # (and stays one once the migration adds RecordConstructorArgs to it)
+            continue
         local = facts.classes.get(base.id) if isinstance(base, ast.Name) else None
         inner = None if local is None else local_wrapper_chain(facts, local, seen | {id(classdef)})
         if inner is None:
