@@ -10,6 +10,7 @@ import pytest
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.module import call_argument, full_name, own_returns
 from gymmigrate.facts.receivers import EnvKind, Receivers
+from gymmigrate.facts.wrapper_attributes import lookup_forwarded_to
 
 
 def facts_of(code: str) -> ModuleFacts:
@@ -191,3 +192,20 @@ def test_handles_gym_envs(code: str, handles: bool) -> None:
     from gymmigrate.facts.gym_use import handles_gym_envs
 
     assert handles_gym_envs(facts_of(code)) is handles
+
+
+@pytest.mark.parametrize(
+    ("body", "slot"),
+    [
+        ("return getattr(self.env, name)", "env"),
+        ("return getattr(self._inner, name, None)", "_inner"),
+        ("return self.env.get_wrapper_attr(name)", "env"),  # what GM604 writes: a second run agrees
+        ("return getattr(self.env, 'seed')", None),  # not the looked-up name
+        ("return getattr(other.env, name)", None),
+        ("if name == 'x':\n        return getattr(self.a, name)\n    return getattr(self.b, name)", None),
+        ("if name.startswith('_'):\n        raise AttributeError(name)\n    return getattr(self.env, name)", "env"),
+    ],
+)
+def test_lookup_forwarded_to(body: str, slot: str | None) -> None:
+    function = ast.parse(f"def __getattr__(self, name):\n    {body}\n").body[0]
+    assert lookup_forwarded_to(function) == slot

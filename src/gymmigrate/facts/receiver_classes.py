@@ -17,6 +17,7 @@ from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import FUNCTIONS, call_argument, own_returns
 from gymmigrate.facts.own_api import own_api_shape
+from gymmigrate.facts.wrapper_attributes import defines_getattr, lookup_forwarded_to
 
 if TYPE_CHECKING:
     from gymmigrate.facts.kinds import ReceiverFacade as _Facade
@@ -289,7 +290,9 @@ class ClassKinds(_Facade):
         return any(self._own_api_base(b) for b in classdef.bases) and not self._forwards_attributes(classdef)
 
     def _forwards_attributes(self, classdef: ast.ClassDef, depth: int = 0) -> bool:
-        if any(isinstance(s, ast.FunctionDef) and s.name == "__getattr__" for s in classdef.body):
+        """It or a base of this module defines ``__getattr__``, wherever that leads (the
+        questions about lookup side by side: ``facts/wrapper_attributes.py``)."""
+        if defines_getattr(classdef):
             return True
         if depth > 4:
             return False
@@ -385,7 +388,7 @@ def duck_wrapper_param(classdef: ast.ClassDef) -> ast.arg | None:
     param = next((p for p in params if p.arg == stores[0].value.id), None)
     if param is None or _enclosing_def(classdef, stores[0]) is not init:
         return None
-    if _forwards_getattr(methods.get("__getattr__")) or _returns_inner(methods.get("step"), "step") or _returns_inner(methods.get("reset"), "reset"):
+    if lookup_forwarded_to(methods.get("__getattr__")) == "env" or _returns_inner(methods.get("step"), "step") or _returns_inner(methods.get("reset"), "reset"):
         return param
     return None
 
@@ -403,17 +406,6 @@ def _enclosing_def(classdef: ast.ClassDef, node: ast.AST) -> ast.AST | None:
 
 def _inner_call(value: ast.AST | None, method: str) -> bool:
     return isinstance(value, ast.Call) and isinstance(value.func, ast.Attribute) and value.func.attr == method and _is_self_env(value.func.value)
-
-
-def _forwards_getattr(function: ast.AST | None) -> bool:
-    """``def __getattr__(self, name): return getattr(self.env, name)``."""
-    if function is None:
-        return False
-    values = [r.value for r in own_returns(function)]
-    return bool(values) and all(
-        isinstance(v, ast.Call) and isinstance(v.func, ast.Name) and v.func.id == "getattr" and len(v.args) >= 2 and _is_self_env(v.args[0])
-        for v in values
-    )
 
 
 def _returns_inner(function: ast.AST | None, method: str) -> bool:

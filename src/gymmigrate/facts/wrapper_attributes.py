@@ -11,7 +11,7 @@ import ast
 import weakref
 
 from gymmigrate.facts import names as N
-from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
 
 
 def self_defined(classdef: ast.ClassDef) -> set[str]:
@@ -54,6 +54,22 @@ def self_defined_in(function: ast.AST) -> set[str]:
     }
 
 
+# Three questions about attribute lookup on a class, side by side because they sound alike and
+# must not be mixed up (each caller needs the one it asks):
+# - ``takes_lookup_in_hand``: can what ``self`` has be listed from the class body? Not when the
+#   class hooks lookup (``__getattr__``, ``__getattribute__``, ``__init_subclass__``), calls
+#   ``setattr`` or touches ``__dict__``: GM604 then never calls a ``self.x`` read forwarding.
+# - ``defines_getattr``: may a read of a name the class lacks still answer? Any ``__getattr__``
+#   of its own, whatever it returns (where it may lead, a call there is not left as another
+#   API's: ``ReceiverClasses.derives_own_api``).
+# - ``lookup_forwarded_to``: does every lookup the class cannot answer go on to one object it
+#   holds, and which (``self.env``)? Proof enough to take the class for a stand-in of that
+#   object (a duck wrapper, ``receiver_classes.duck_wrapper_param``; a render adapter,
+#   ``rules/rendering/common.forwards_to_first_argument``).
+# GM604's check of ``getattr(self._env, name)`` in a ``__getattr__`` (rules/wrapper_usage/
+# forwarding.py) asks about one call, not a class: which call to rewrite, whatever it reads.
+
+
 def takes_lookup_in_hand(classdef: ast.ClassDef) -> bool:
     """It defines ``__getattr__``/``__getattribute__``, or sets attributes by name."""
     taken = _TAKES_LOOKUP_IN_HAND.get(classdef)
@@ -71,6 +87,42 @@ def _takes_lookup_in_hand(classdef: ast.ClassDef) -> bool:
         if isinstance(node, ast.Attribute) and node.attr == "__dict__":
             return True
     return False
+
+
+def defines_getattr(classdef: ast.ClassDef) -> bool:
+    """The class body defines ``__getattr__`` (whatever it returns)."""
+    return any(isinstance(s, ast.FunctionDef) and s.name == "__getattr__" for s in classdef.body)
+
+
+def lookup_forwarded_to(lookup: ast.AST | None) -> str | None:
+    """``x`` when ``lookup`` is a ``__getattr__(self, name)`` every return of which hands the
+    name on to ``self.x``: ``getattr(self.x, name)`` (a default allowed) as legacy code wrote
+    it, or ``self.x.get_wrapper_attr(name)`` as the migration writes it for a Gym env (GM604),
+    so that a second run decides as the first did. None for any other function."""
+    if not isinstance(lookup, FUNCTIONS):
+        return None
+    params = [*lookup.args.posonlyargs, *lookup.args.args]
+    if len(params) != 2:
+        return None
+    owner, name = params[0].arg, params[1].arg
+    slots = {_forwarded_slot(r.value, owner, name) for r in own_returns(lookup)}
+    return slots.pop() if len(slots) == 1 else None  # (a None among them: not every return forwards)
+
+
+def _forwarded_slot(value: ast.AST | None, owner: str, name: str) -> str | None:
+    if not isinstance(value, ast.Call) or value.keywords:
+        return None
+    if isinstance(value.func, ast.Name) and value.func.id == "getattr" and len(value.args) in (2, 3):
+        held, looked_up = value.args[0], value.args[1]
+    elif isinstance(value.func, ast.Attribute) and value.func.attr == "get_wrapper_attr" and len(value.args) == 1:
+        held, looked_up = value.func.value, value.args[0]
+    else:
+        return None
+    if not (isinstance(looked_up, ast.Name) and looked_up.id == name):
+        return None
+    if isinstance(held, ast.Attribute) and isinstance(held.value, ast.Name) and held.value.id == owner:
+        return held.attr
+    return None
 
 
 def local_wrapper_chain(facts: ModuleFacts, classdef: ast.ClassDef, seen: frozenset[int] = frozenset()) -> list[ast.ClassDef] | None:

@@ -19,6 +19,7 @@ from gymmigrate.facts.render_modes import (
     local_env_class_takes_render_mode,
     not_a_mode_call,
 )
+from gymmigrate.facts.wrapper_attributes import lookup_forwarded_to
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.render_calls import arguments_in_order, mode_argument
@@ -249,25 +250,8 @@ def forwards_to_first_argument(classdef: ast.ClassDef) -> bool:
     }
     if len(held) != 1 or len(stored_elsewhere) != 1:
         return False
-    slot = held.pop()
-    lookup_params = lookup.args.args
-    if len(lookup_params) != 2 or len(lookup.body) != 1 or not isinstance(lookup.body[0], ast.Return):
+    # one statement: a ``__getattr__`` that first tests the name (``if name == "render": raise``)
+    # may not let ``render`` through
+    if len(lookup.body) != 1 or not isinstance(lookup.body[0], ast.Return):
         return False
-    value = lookup.body[0].value
-    if not (isinstance(value, ast.Call) and len(value.args) in (1, 2) and not value.keywords):
-        return False
-    name = value.args[-1]
-    if not (isinstance(name, ast.Name) and name.id == lookup_params[1].arg):
-        return False
-    if isinstance(value.func, ast.Name) and value.func.id == "getattr" and len(value.args) == 2:
-        target = value.args[0]
-    elif isinstance(value.func, ast.Attribute) and value.func.attr == "get_wrapper_attr" and len(value.args) == 1:
-        target = value.func.value
-    else:
-        return False
-    return (
-        isinstance(target, ast.Attribute)
-        and target.attr == slot
-        and isinstance(target.value, ast.Name)
-        and target.value.id == lookup_params[0].arg
-    )
+    return lookup_forwarded_to(lookup) == held.pop()
