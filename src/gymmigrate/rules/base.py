@@ -200,10 +200,12 @@ class RuleFamily:
         collection: ast.expr | None = None
         if isinstance(holder, (ast.comprehension, ast.For)) and holder.target is bindings[0]:
             collection = holder.iter
-        elif isinstance(holder, ast.Tuple) and isinstance(self.facts.parent(holder), (ast.comprehension, ast.For)):
+        elif isinstance(holder, ast.Tuple):
             loop = self.facts.parent(holder)
-            if loop.target is holder:  # type: ignore[union-attr]
-                collection = _zipped_part(loop.iter, holder.elts.index(bindings[0]))  # type: ignore[union-attr, arg-type]
+            if isinstance(loop, (ast.comprehension, ast.For)) and loop.target is holder:
+                # ``for env, action in zip(self.envs, actions)``, ``for i, env in enumerate(self.envs)``
+                position = next(i for i, element in enumerate(holder.elts) if element is bindings[0])
+                collection = _zipped_part(loop.iter, position)
         if collection is not None:
             if isinstance(collection, ast.Subscript) and isinstance(collection.slice, ast.Slice):
                 collection = collection.value  # ``for env in self.envs[1:]``: part of the same envs
