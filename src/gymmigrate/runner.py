@@ -277,9 +277,10 @@ def summarize_path(path: Path) -> ModuleSummary | None:
         if notebook is not None:
             return _notebook_summary(path, source)
         if not screen(source, relevant):
-            if not screen(source, _may_mask_bootstrapping):
+            if not screen(source, _may_mask_bootstrapping) and not screen(source, _may_define_plain_root):
                 return None
-            # no Gym code, but maybe the agent whose ``learn`` masks bootstrapping (GM302)
+            # no Gym code, but maybe the agent whose ``learn`` masks bootstrapping (GM302), or
+            # the project's own interface its env adapters derive (``class Environment(ABC)``)
             return summarize_masks(str(path), decode(source)[0])
         text, _ = decode(source)
     except (OSError, Refused, TransformError):
@@ -321,6 +322,14 @@ def _may_mask_bootstrapping(source: bytes) -> bool:
 
 
 _RECORD_CLASS = re.compile(rb"namedtuple|NamedTuple|@dataclass")
+
+# ``class Environment(ABC):`` / ``(object)`` / ``(metaclass=ABCMeta)`` at the top level
+_PLAIN_ROOT = re.compile(rb"^class\s+\w+\s*\((?:object|ABC|abc\.ABC|metaclass=(?:abc\.)?ABCMeta)\)\s*:", re.MULTILINE)
+
+
+def _may_define_plain_root(source: bytes) -> bool:
+    """A top-level class deriving only ``object`` or ``abc.ABC`` (``plain_roots``)."""
+    return b"class" in source and _PLAIN_ROOT.search(source) is not None
 
 
 def _may_reexport(source: bytes) -> bool:

@@ -133,6 +133,9 @@ class ModuleSummary:
     # ``@dataclass``): a module that builds one imported from here stores its fields as a
     # tuple would (GM302 reads a ``done`` given to it as stored data).
     record_classes: frozenset[str] = frozenset()
+    # Top-level classes deriving only ``object`` or ``abc.ABC`` (``plain_roots``): a project's
+    # own interface, no env of any library, whose seed() only the project calls (GM203).
+    plain_roots: frozenset[str] = frozenset()
     # -- done values across modules (facts/limits.py) --
     # Class (with an imported base) -> its methods that take only ``self`` and return a
     # value -> why that value is True (a step limit, the task's end...), traced in the class.

@@ -234,6 +234,8 @@ class ProjectFacts:
     mask_modules: dict[str, tuple[str, ...]] = field(default_factory=dict)
     # path -> its top-level record classes (``ModuleSummary.record_classes``)
     record_classes: dict[str, frozenset[str]] = field(default_factory=dict)
+    # path -> its top-level classes deriving only object or abc.ABC (``ModuleSummary.plain_roots``)
+    plain_roots: dict[str, frozenset[str]] = field(default_factory=dict)
     # path -> its defs and classes that use what only an Atari env has (``ModuleSummary.atari_users``)
     atari_users: dict[str, frozenset[str]] = field(default_factory=dict)
     # (path, plain class, attribute) -> the kind every construction of the run passes to the
@@ -293,6 +295,8 @@ class ProjectFacts:
                 facts.bootstrap_masks[(summary.path, qualname)] = (summary.defs[qualname].params, masks)
             if summary.record_classes:
                 facts.record_classes[summary.path] = summary.record_classes
+            if summary.plain_roots:
+                facts.plain_roots[summary.path] = summary.plain_roots
             if summary.masks_only:
                 for name in module_names(summary.path):
                     facts.mask_modules[name] = (*facts.mask_modules.get(name, ()), summary.path)

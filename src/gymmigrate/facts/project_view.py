@@ -244,6 +244,30 @@ class ProjectView:
                 return path, ".".join(parts[cut:])
         return None
 
+    def is_plain_root(self, qualified: str) -> bool:
+        """An imported name of the run is a top-level class deriving only ``object`` or
+        ``abc.ABC`` (``from ._environment import Environment``), in a module with Gym code or
+        without (``ModuleSummary.plain_roots``)."""
+        split = self.facts._split(qualified, self.path)
+        if split is None or split[0] not in self.facts.plain_roots:
+            split = self._split_in_module_without_gym(qualified) if not qualified.startswith(".") else self._split_relative(qualified)
+        return split is not None and split[1] in self.facts.plain_roots.get(split[0], ())
+
+    def _split_relative(self, qualified: str) -> tuple[str, str] | None:
+        """``_split`` of a relative name (``._environment.Environment``) into a module with
+        plain roots that has no Gym code (which ``_split`` does not know)."""
+        level = len(qualified) - len(qualified.lstrip("."))
+        parts = qualified.lstrip(".").split(".")
+        base = os.path.dirname(self.path)
+        for _ in range(level - 1):
+            base = os.path.dirname(base)
+        for cut in range(len(parts) - 1, 0, -1):
+            stem = os.path.join(base, *parts[:cut])
+            for path in (f"{stem}.py", os.path.join(stem, "__init__.py")):
+                if path in self.facts.plain_roots:
+                    return path, ".".join(parts[cut:])
+        return None
+
     def is_record_class(self, qualified: str) -> bool:
         """An imported name of the run is a record class (``from .memory import Transition``,
         a ``namedtuple`` of a module with no Gym code too)."""

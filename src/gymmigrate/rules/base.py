@@ -197,8 +197,16 @@ class RuleFamily:
         if len(bindings) != 1:
             return None
         holder = self.facts.parent(bindings[0])
+        collection: ast.expr | None = None
         if isinstance(holder, (ast.comprehension, ast.For)) and holder.target is bindings[0]:
             collection = holder.iter
+        elif isinstance(holder, ast.Tuple):
+            loop = self.facts.parent(holder)
+            if isinstance(loop, (ast.comprehension, ast.For)) and loop.target is holder:
+                # ``for env, action in zip(self.envs, actions)``, ``for i, env in enumerate(self.envs)``
+                position = next(i for i, element in enumerate(holder.elts) if element is bindings[0])
+                collection = _zipped_part(loop.iter, position)
+        if collection is not None:
             if isinstance(collection, ast.Subscript) and isinstance(collection.slice, ast.Slice):
                 collection = collection.value  # ``for env in self.envs[1:]``: part of the same envs
             if isinstance(collection, (ast.Name, ast.Attribute)) and full_name(collection):
@@ -317,6 +325,20 @@ class FamilySpec(NamedTuple):
         if found is None:
             raise RuntimeError(f"rules/__init__.py PIPELINE: {self.module} defines no family {self.name}")
         return found
+
+
+def _zipped_part(iterated: ast.expr, position: int) -> ast.expr | None:
+    """What the ``position``-th name of a tuple loop target runs over: ``zip(self.envs,
+    actions)`` gives ``self.envs`` at 0, ``enumerate(self.envs)`` gives it at 1; else None."""
+    if not isinstance(iterated, ast.Call) or not isinstance(iterated.func, ast.Name):
+        return None
+    if any(isinstance(a, ast.Starred) for a in iterated.args):
+        return None
+    if iterated.func.id == "zip" and position < len(iterated.args):
+        return iterated.args[position]
+    if iterated.func.id == "enumerate" and position == 1 and iterated.args:
+        return iterated.args[0]
+    return None
 
 
 def _by_name() -> dict[str, type[RuleFamily]]:

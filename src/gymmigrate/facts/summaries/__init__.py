@@ -42,6 +42,7 @@ from gymmigrate.facts.summaries.classes import (
     held_params,
     mode_renders,
     plain_classes,
+    plain_roots,
     render_mode_heirs,
     rendering_wrappers,
     space_calls,
@@ -82,8 +83,9 @@ def summarize(path: str, text: str) -> ModuleSummary | None:
 def summarize_masks(path: str, text: str) -> ModuleSummary | None:
     """The summary of a module with no Gym code: only the defs that mask bootstrapping
     with a flag parameter (an agent's ``learn``, a memory's ``store``), for the callers of
-    the run (``facts/bootstrap.py``), and its record classes (a memory's ``Transition``).
-    None when it has neither or does not parse."""
+    the run (``facts/bootstrap.py``), its record classes (a memory's ``Transition``) and its
+    plain root classes (``class Environment(ABC)``, ``plain_roots``). None when it has none
+    of these or does not parse."""
     try:
         tree = ast.parse(text)
     except (SyntaxError, ValueError):
@@ -93,11 +95,20 @@ def summarize_masks(path: str, text: str) -> ModuleSummary | None:
     classes = {s.name: s for s in tree.body if isinstance(s, ast.ClassDef)}
     masks = masks_of(functions, classes)
     records = top_level_records(tree)
-    if not masks and not records:
+    roots = plain_roots(tree)
+    if not masks and not records and not roots:
         return None
     defs = {name: signature(_named(functions, classes, name), is_method="." in name) for name in masks}
     return ModuleSummary(
-        os.path.realpath(path), defs, frozenset(), frozenset(), (), bootstrap_masks=masks, masks_only=True, record_classes=records
+        os.path.realpath(path),
+        defs,
+        frozenset(),
+        frozenset(),
+        (),
+        bootstrap_masks=masks,
+        masks_only=True,
+        record_classes=records,
+        plain_roots=roots,
     )
 
 
@@ -162,6 +173,7 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         classes=frozenset(facts.classes),
         bootstrap_masks=bootstrap_masks(facts),
         record_classes=top_level_records(facts.tree),
+        plain_roots=plain_roots(facts.tree),
         done_methods=done_methods(facts),
         step_hooks=step_hooks(facts),
         plain_overrides=plain_overrides(facts),

@@ -64,6 +64,36 @@ def plain_classes(facts: ModuleFacts) -> dict[str, str]:
     return found
 
 
+def plain_roots(tree: ast.Module) -> frozenset[str]:
+    """Top-level classes whose bases are only ``object`` or ``abc.ABC`` (or with the
+    ``ABCMeta`` metaclass), undecorated: an interface of the project, no library's class.
+    Read from the bare tree: a module with no Gym code has no ``ModuleFacts``."""
+    abc_names: dict[str, str] = {}  # local name -> "ABC" / "ABCMeta" / "abc"
+    for statement in tree.body:
+        if isinstance(statement, ast.ImportFrom) and statement.module == "abc" and not statement.level:
+            abc_names.update((a.asname or a.name, a.name) for a in statement.names if a.name in ("ABC", "ABCMeta"))
+        elif isinstance(statement, ast.Import):
+            abc_names.update((a.asname or a.name, "abc") for a in statement.names if a.name == "abc")
+
+    def is_abc(node: ast.expr, name: str) -> bool:
+        if isinstance(node, ast.Name):
+            return abc_names.get(node.id) == name
+        return (
+            isinstance(node, ast.Attribute) and node.attr == name
+            and isinstance(node.value, ast.Name) and abc_names.get(node.value.id) == "abc"
+        )
+
+    found = set()
+    for statement in tree.body:
+        if not isinstance(statement, ast.ClassDef) or statement.decorator_list:
+            continue
+        if any(k.arg != "metaclass" or not is_abc(k.value, "ABCMeta") for k in statement.keywords):
+            continue
+        if all((isinstance(b, ast.Name) and b.id == "object") or is_abc(b, "ABC") for b in statement.bases):
+            found.add(statement.name)
+    return frozenset(found)
+
+
 def held_params(facts: ModuleFacts, receivers: Receivers) -> dict[str, dict[str, str]]:
     """``ModuleSummary.held_params``: per top-level plain class, the attributes its methods
     store only from a parameter of its ``__init__`` that nothing rebinds."""

@@ -43,12 +43,19 @@ def decide_reset(decision: ClassDecision) -> None:
     if legacy_flag:
         # A flag the body never reads (gym 0.22-0.25 signatures often took it unused) had
         # one mode only: dropping it and returning the pair is the whole migration, a note.
-        read = _reads_name(function, "return_info")
+        # Handed on only as ``return_info=`` to an inner ``reset()`` (dropped there too): the
+        # inner env had the modes, and its Gymnasium reset returns the pair; nothing is left
+        # to decide here either.
+        read = _reads_name(function, "return_info", skip=_handed_to_reset(function))
+        handed = not read and _reads_name(function, "return_info")
         decision.report(
             function,
             "GM502",
             "return_info removed: reset() always returns (obs, info) now; check callers that expected a bare observation"
             if read
+            else "return_info removed (reset() only handed it on to an inner reset(), which returns (obs, info) in "
+            "Gymnasium): reset() returns (obs, info) now"
+            if handed
             else "return_info removed (reset() never read it): reset() returns (obs, info) now",
             tier=None if read else Tier.NOTE,
         )
@@ -169,8 +176,23 @@ def decide_reset(decision: ClassDecision) -> None:
             decision.report(function, "GM501", f"reset takes seed and options (wrappers always pass them){seeds}")
 
 
-def _reads_name(function: ast.AST, name: str) -> bool:
-    return any(isinstance(node, ast.Name) and node.id == name and isinstance(node.ctx, ast.Load) for node in ast.walk(function))
+def _reads_name(function: ast.AST, name: str, skip: frozenset[int] = frozenset()) -> bool:
+    return any(
+        isinstance(node, ast.Name) and node.id == name and isinstance(node.ctx, ast.Load) and id(node) not in skip
+        for node in ast.walk(function)
+    )
+
+
+def _handed_to_reset(function: ast.AST) -> frozenset[int]:
+    """The ``return_info`` names passed as ``return_info=return_info`` to a ``.reset(...)``
+    call in ``function`` (the rewrite drops that keyword)."""
+    return frozenset(
+        id(keyword.value)
+        for node in ast.walk(function)
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "reset"
+        for keyword in node.keywords
+        if keyword.arg == "return_info" and isinstance(keyword.value, ast.Name) and keyword.value.id == "return_info"
+    )
 
 
 def _all_defaulted(function: ast.AST, names: list[str]) -> bool:

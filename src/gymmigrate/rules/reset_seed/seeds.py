@@ -314,6 +314,12 @@ class SeedCalls(ResetSeedBase):
         for base in classdef.bases:
             if isinstance(base, ast.Name) and base.id == "object":
                 continue
+            names = self.facts.qualified_names(base)
+            if any(q in ("abc.ABC", "abc.ABCMeta") for q in names):
+                continue  # an abstract interface of the project says nothing Gym would call
+            project = self.receivers.project
+            if project is not None and any(project.is_plain_root(q) for q in names):
+                continue  # ``from ._environment import Environment``, the project's own ``class Environment(ABC)``
             local = self.receivers.local_class(base)
             if local is None or not self._own_plain_class(local, seen):
                 return False

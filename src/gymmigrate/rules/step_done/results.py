@@ -101,6 +101,8 @@ class ResultRules(StepFamilyBase):
                 f"{unsure}`{receiver_text(receiver)}.step()` result is used without unpacking five values "
                 "(index 2 is now terminated, 3 truncated, 4 info): update this use by hand",
                 FixKind.FLAG,
+                # "is it a Gym env?" is the question; its other uses in the function (or class) ask it too
+                question=self.receiver_question(receiver, decision) if decision.action is Action.REPORT else None,
             )
 
     def _discarded(self, call: ast.Call) -> bool:
