@@ -97,6 +97,9 @@ class StepFamilyBase(RuleFamily):
     # SB3 VecEnv steps (scope id, name): GM303 reads resolve against them.
     info_steps: dict[ast.Assign, StepNames]
     guarded_infos: set[tuple[int, str]]
+    # The ``info`` variables of steps left for review because the receiver may not be a Gym
+    # env (scope id, name) -> the receiver's text: an SB3 VecEnv's infos still carry the key.
+    unsure_infos: dict[tuple[int, str], str]
     # Rewritten steps by ``done`` variable (scope id, name); their reads are planned together.
     done_steps: dict[tuple[int, str], list]
     reported_reads: set[int]  # ``done`` reads already reported (by node id)

@@ -45,6 +45,7 @@ class StepDone(UnpackRules, TimeLimitRules, ResultRules):
         self.numpy_name = _numpy_name(facts.tree)
         self.info_steps = {}
         self.guarded_infos = set()
+        self.unsure_infos = {}
         self.done_steps = {}
         self.result_steps = {}
         self.reported_reads = set()

@@ -26,6 +26,15 @@ from gymmigrate.rules.step_done.common import (
 )
 
 _UNTRACED = object()  # a read whose info dict comes from no known step
+
+
+class _UnsureStep:
+    """The info comes from a step left for review: its receiver may be an SB3 VecEnv."""
+
+    def __init__(self, receiver: str) -> None:
+        self.receiver = receiver
+
+
 _DISCARDED = StepNames("_", "_", vector=False)  # a step whose done target was ``_``
 
 
@@ -103,6 +112,19 @@ class TimeLimitRules(StepFamilyBase):
         names = self._info_step(base) if isinstance(base, ast.Name) else _UNTRACED
         if names is None:
             return  # SB3 VecEnv infos keep the key (SB104)
+        if isinstance(names, _UnsureStep):
+            # The step is left for review (its receiver may be no Gym env): an SB3 VecEnv
+            # still sets the key, so "always false" would be a guess. The read is told only
+            # in the terms of that question.
+            self.report(
+                node,
+                "GM303",
+                f'if `{names.receiver}` is a Gym env, its TimeLimit no longer sets "{TIME_LIMIT_KEY}" and this read '
+                "is always false (use `truncated and not terminated` from its step); an SB3 VecEnv still sets the key: "
+                "then keep it",
+                FixKind.FLAG,
+            )
+            return
         if isinstance(names, StepNames) and not names.vector:
             self._replace_read(node, names)
             default = _truthy_default(node)
@@ -162,11 +184,37 @@ class TimeLimitRules(StepFamilyBase):
         scope, _ = self.facts.resolve(base.id, self.facts.scope_of(base))
         if scope is not None and (id(scope), base.id) in self.guarded_infos:
             return None
+        if scope is not None and (id(scope), base.id) in self.unsure_infos:
+            return _UnsureStep(self.unsure_infos[(id(scope), base.id)])
+        infos = self._iterated_infos(base)
+        if infos is not None:
+            # ``for info in infos`` over a vector step's infos: the list's step decides.
+            outer, _ = self.facts.resolve(infos.id, self.facts.scope_of(infos))
+            if outer is not None and (id(outer), infos.id) in self.guarded_infos:
+                return None
+            if outer is not None and (id(outer), infos.id) in self.unsure_infos:
+                return _UnsureStep(self.unsure_infos[(id(outer), infos.id)])
         if scope is not None:
             names = self._only_step_infos(scope, base)
             if names is not None:
                 return names
         return _UNTRACED
+
+    def _iterated_infos(self, base: ast.Name) -> ast.Name | None:
+        """The list ``base`` iterates over, when the read sits in a ``for`` loop or a
+        comprehension whose target is ``base`` itself and whose iterable is a plain name."""
+        for ancestor in self.facts.ancestors(base):
+            generators: list[ast.comprehension | ast.For | ast.AsyncFor] = []
+            if isinstance(ancestor, (ast.ListComp, ast.SetComp, ast.GeneratorExp, ast.DictComp)):
+                generators = list(ancestor.generators)
+            elif isinstance(ancestor, (ast.For, ast.AsyncFor)) and any(base is n for s in ancestor.body for n in ast.walk(s)):
+                generators = [ancestor]
+            for generator in generators:
+                if isinstance(generator.target, ast.Name) and generator.target.id == base.id:
+                    return generator.iter if isinstance(generator.iter, ast.Name) else None
+            if isinstance(ancestor, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda, ast.ClassDef)):
+                return None
+        return None
 
     def _only_step_infos(self, scope: Scope, base: ast.Name) -> StepNames | None:
         """The flags of the steps that alone bind ``base``'s info, when the read cannot

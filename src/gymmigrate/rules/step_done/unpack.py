@@ -81,6 +81,7 @@ class UnpackRules(DoneAttributeReports):
                 "flags look batched); not rewritten",
             )
         if decision.action is Action.REPORT:
+            self.note_unsure_info(target.elts[3], receiver)
             question = self.receiver_question(receiver, decision)
             self.report(
                 assign,
@@ -234,6 +235,13 @@ class UnpackRules(DoneAttributeReports):
             scope = self.flow.binding_scope(info_target)
             if scope is not None:
                 self.guarded_infos.add((id(scope), info_target.id))
+
+    def note_unsure_info(self, info_target: ast.expr, receiver: ast.expr) -> None:
+        """A step left for review: its infos may be an SB3 VecEnv's, which keep the key."""
+        if isinstance(info_target, ast.Name):
+            scope = self.flow.binding_scope(info_target)
+            if scope is not None:
+                self.unsure_infos[(id(scope), info_target.id)] = receiver_text(receiver)
 
     # -- names --------------------------------------------------------------------------------
 
