@@ -103,6 +103,21 @@ def _get_wrapper_attr_of():
     return build
 
 
+def _has_wrapper_attr():
+    """``hasattr(x, "name")`` -> ``x.has_wrapper_attr("name")``."""
+
+    def build(node: cst.Call) -> cst.BaseExpression:
+        receiver, key = node.args
+        return cst.Call(
+            func=cst.Attribute(value=receiver.value, attr=cst.Name("has_wrapper_attr")),
+            args=[key.with_changes(comma=cst.MaybeSentinel.DEFAULT)],
+            lpar=node.lpar,
+            rpar=node.rpar,
+        )
+
+    return build
+
+
 class WrapperForwarding(RuleFamily):
     """GM604-GM606. In the pipeline after the wrapper subclass rules, as the LibCST pass it replaced."""
 
@@ -112,6 +127,9 @@ class WrapperForwarding(RuleFamily):
         super().__init__(*args, **kwargs)
         self.origins = EnvOrigins(self.facts, self.receivers)
         self._through_make: set[int] = set()  # ``env.env.state`` rewritten to ``env.unwrapped.state``
+        # (owner id, receiver text, name) of reads rewritten to get_wrapper_attr: a
+        # ``hasattr`` of the same name on the same receiver rests on the same proof.
+        self._wrapped_reads: set[tuple[int, str, str]] = set()
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
@@ -141,6 +159,8 @@ class WrapperForwarding(RuleFamily):
                 self._attribute_access(node)
         for call in self.facts.calls_by_name.get("getattr", []):
             self._getattr_forwarding(call)
+        for call in self.facts.calls_by_name.get("hasattr", []):
+            self._hasattr_through_wrappers(call)
         for call in self.facts.calls_by_name.get("isinstance", []):
             if self._tests_time_limit(call) and isinstance_time_limit_on_atari(self, call):
                 continue  # an Atari make has no TimeLimit now
@@ -154,6 +174,45 @@ class WrapperForwarding(RuleFamily):
                     "test answers as it did; `env.spec.max_episode_steps` also works under wrappers of your own",
                     tier=Tier.NOTE,
                 )
+
+    def _read_owner(self, node: ast.AST, text: str) -> ast.AST | None:
+        """What one receiver text names the same object in: the class for ``self.x``, else
+        the function (or module) the read sits in."""
+        if text.startswith("self."):
+            return self.facts.enclosing_class(node)
+        return self.facts.enclosing_function(node) or self.facts.tree
+
+    def _note_wrapped_read(self, attr: ast.Attribute, name: str) -> None:
+        text = dotted_name(attr.value)
+        owner = self._read_owner(attr, text) if text else None
+        if text and owner is not None:
+            self._wrapped_reads.add((id(owner), text, name))
+
+    def _hasattr_through_wrappers(self, call: ast.Call) -> None:
+        """``hasattr(env, "x")`` guarding a read ``env.x`` the run rewrote to
+        ``get_wrapper_attr``: the same proof says ``env`` is wrapped, and without
+        forwarding the test is False for what only an inner layer has, so the guarded
+        branch would be dead. ``has_wrapper_attr`` looks through every layer (gymnasium
+        1.4: a Wrapper asks itself, then its env; an Env itself), as legacy forwarding
+        answered for public names (gym refused to forward ``_private`` ones: left alone)."""
+        if self.facts.bindings_of(call.func) or len(call.args) != 2 or call.keywords:  # type: ignore[arg-type]
+            return
+        receiver, key = call.args
+        if not (isinstance(key, ast.Constant) and isinstance(key.value, str)) or key.value.startswith("_"):
+            return
+        text = dotted_name(receiver)
+        owner = self._read_owner(call, text) if text else None
+        if not text or owner is None or (id(owner), text, key.value) not in self._wrapped_reads:
+            return
+        self.report(
+            call,
+            "GM604",
+            f"attribute forwarding is gone in Gymnasium 1.0, so `hasattr` is False for what only the env below the "
+            f"wrappers has: `{text}.has_wrapper_attr(\"{key.value}\")` looks through every layer, as the "
+            f"`get_wrapper_attr(\"{key.value}\")` read it guards does",
+            tier=Tier.NOTE,
+        )
+        self.plan.replace(call, _has_wrapper_attr())
 
     def _getattr_forwarding(self, call: ast.Call) -> None:
         """``def __getattr__(self, name): return getattr(self._env, name)`` with ``self._env``
@@ -457,6 +516,7 @@ class WrapperForwarding(RuleFamily):
                 tier=Tier.NOTE,  # the same attribute forwarding reached: an explanation
             )
             replace_with_get_wrapper_attr(self.facts, self.plan, attr, name)
+            self._note_wrapped_read(attr, name)
             return
         if self._base_only(name):
             self.report(
@@ -476,6 +536,7 @@ class WrapperForwarding(RuleFamily):
             tier=Tier.NOTE,
         )
         replace_with_get_wrapper_attr(self.facts, self.plan, attr, name)
+        self._note_wrapped_read(attr, name)
 
     def _base_only(self, name: str) -> bool:
         """State or a method of the base envs that no wrapper class of the run defines."""
