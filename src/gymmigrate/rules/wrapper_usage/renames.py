@@ -38,9 +38,12 @@ from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import dotted_name, string_value
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
+from gymmigrate.rules.env_ids.syntax import gym_alias
 from gymmigrate.rules.repeats import Repeats
 from gymmigrate.rules.wrapper_usage.arguments import (
     HANDLERS,
+    missing_or_none,
+    parameter,
     positional,
     time_limit_without_limit,
 )
@@ -423,6 +426,7 @@ class WrapperRenames(RuleFamily):
         if wrapper is not None and isinstance(call.func, ast.Name) and self._guarded_monitors.intersection(self.facts.bindings_of(call.func)):
             return  # under Gymnasium the name is the ImportError fallback's: reported at the import
         if wrapper is None:
+            self._time_limit_super_init(call)
             subclass = self._time_limit_subclass(call)
             if subclass is not None:
                 build = time_limit_without_limit(self, call, subclass)
@@ -452,6 +456,69 @@ class WrapperRenames(RuleFamily):
                 builds.append(build)
         for build in builds:
             self.plan.replace(call, build)
+
+    def _time_limit_super_init(self, call: ast.Call) -> None:
+        """``super().__init__(env)`` in the ``__init__`` of a subclass of gym's ``TimeLimit``,
+        without ``max_episode_steps``: legacy defaulted it to the wrapped env's
+        ``spec.max_episode_steps`` (None without a spec), Gymnasium's requires a positive int
+        (TypeError). Where the ``__init__`` itself sets ``self._max_episode_steps`` and
+        ``self._elapsed_steps`` afterwards (it decides the limit, as gym's body did) and its
+        arguments are on record (GM617, or its own ``RecordConstructorArgs``), what TimeLimit's
+        ``__init__`` did is all done by the subclass save ``Wrapper.__init__``: the call
+        becomes that (its reset and step are TimeLimit's, reading those attributes). Anything
+        else is reported."""
+        func = call.func
+        if not (
+            isinstance(func, ast.Attribute)
+            and func.attr == "__init__"
+            and isinstance(func.value, ast.Call)
+            and isinstance(func.value.func, ast.Name)
+            and func.value.func.id == "super"
+        ):
+            return
+        init = self.facts.enclosing_function(call)
+        classdef = self.facts.parent(init) if init is not None else None
+        if init is None or init.name != "__init__" or not isinstance(classdef, ast.ClassDef):
+            return
+        bases = [b for b in classdef.bases if not (isinstance(b, ast.Name) and b.id == "object")]
+        if len(bases) != 1 or not any(
+            wrapper_rest(q) == "TimeLimit" and q.startswith("gym.") for q in self.facts.qualified_names(bases[0])
+        ):
+            return
+        if not missing_or_none(call, "max_episode_steps", 1):
+            return
+        env = parameter(call, "env", 0)
+        statement = self.facts.parent(call)
+        alias = gym_alias(self.facts)
+        if (
+            isinstance(statement, ast.Expr)
+            and statement in init.body
+            and env is not None
+            and len(call.args) + len(call.keywords) == 1
+            and alias is not None
+            and _sets_after(init, statement, ("_max_episode_steps", "_elapsed_steps"))
+            and _arguments_recorded(classdef, init)
+        ):
+            env_text = self.facts.segment(env)
+            self.report(
+                call,
+                "GM609",
+                f"`{classdef.name}` sets `_max_episode_steps` and `_elapsed_steps` itself, but Gymnasium's TimeLimit "
+                "requires max_episode_steps (TypeError without it; gym read the spec's): "
+                f"`{alias}.Wrapper.__init__(self, {env_text})` does the rest of what TimeLimit's __init__ did",
+                kind=FixKind.AUTO,
+                tier=Tier.NOTE,
+            )
+            self.plan.replace(call, lambda node: cst.parse_expression(f"{alias}.Wrapper.__init__(self, {env_text})"))
+            return
+        self.report(
+            call,
+            "GM609",
+            f"`{classdef.name}` subclasses TimeLimit, whose __init__ requires max_episode_steps in Gymnasium 1.x "
+            "(a positive int, TypeError without it; gym took the wrapped env's spec.max_episode_steps, None without "
+            "a spec): compute the limit before this call and pass it",
+            kind=FixKind.FLAG,
+        )
 
     def _time_limit_subclass(self, call: ast.Call) -> str | None:
         """The name of the class of this module ``call`` builds when it derives from gym's
@@ -590,3 +657,36 @@ def _dotted_build(text: str):
         return dotted_node(text).with_changes(lpar=node.lpar, rpar=node.rpar)
 
     return build
+
+
+def _sets_after(init: ast.FunctionDef | ast.AsyncFunctionDef, statement: ast.stmt, names: tuple[str, ...]) -> bool:
+    """Every ``self.<name> = ...`` is a statement of the ``__init__`` body itself (not under
+    a branch) after ``statement``."""
+    after = init.body[init.body.index(statement) + 1 :]
+    set_here = {
+        target.attr
+        for s in after
+        if isinstance(s, (ast.Assign, ast.AnnAssign))
+        for target in (s.targets if isinstance(s, ast.Assign) else [s.target])
+        if isinstance(target, ast.Attribute) and isinstance(target.value, ast.Name) and target.value.id == "self"
+    }
+    return set(names) <= set_here
+
+
+def _arguments_recorded(classdef: ast.ClassDef, init: ast.FunctionDef | ast.AsyncFunctionDef) -> bool:
+    """``RecordConstructorArgs`` gets this wrapper's arguments without TimeLimit's __init__:
+    the class calls it itself, or GM617 adds the call (arguments besides the env, none in
+    ``*args``). Gymnasium's ``Wrapper.spec`` reads ``_saved_kwargs`` of a TimeLimit."""
+    named = {n.attr if isinstance(n, ast.Attribute) else n.id for n in ast.walk(classdef) if isinstance(n, (ast.Attribute, ast.Name))}
+    if "EzPickle" in named:
+        return False
+    if "RecordConstructorArgs" in named:
+        return True
+    args = init.args
+    positional = [*args.posonlyargs, *args.args]
+    return (
+        not args.posonlyargs
+        and args.vararg is None
+        and len(positional) >= 2
+        and bool(positional[2:] or args.kwonlyargs or args.kwarg)
+    )
