@@ -20,6 +20,7 @@ from gymmigrate.facts.done_uses import (
     stored_in_sequence,
 )
 from gymmigrate.findings import FixKind, Tier
+from gymmigrate.rules.step_done.common import TIME_LIMIT_KEY
 from gymmigrate.rules.step_done.next_state import DoneStep
 from gymmigrate.rules.step_done.read_untraced import DoneUntracedReports
 
@@ -163,7 +164,21 @@ class DoneReadReports(DoneUntracedReports):
             else []
         )
         beside = self._beside_bootstrap_flag(read, step) if owner is step.assign else None
-        if always_false_here(read, self.facts):
+        info_key = self._stored_in_step_info(read, step) if owner is step.assign else None
+        if info_key is not None:
+            # ``info["done"] = done`` after the step: the key's readers are beyond this
+            # code (a trainer's replay), and the flag now ends at truncations in its own
+            # right; the store is where the choice is made.
+            self._report_read(
+                read,
+                f"`{read.id}` is stored in the step's info as {info_key}: it stays `{names.terminated} or "
+                f"{names.truncated}`, true at a time-limit truncation as legacy `done` was; Gymnasium tells the two "
+                f"apart, so if readers of that key take it as the episode's real end (a replay's terminal flag), "
+                f"store `{names.terminated}` there",
+                FixKind.FLAG,
+                question=question,
+            )
+        elif always_false_here(read, self.facts):
             # ``if done: obs = env.reset(); done = False`` just above: a false flag ends
             # nothing and masks nothing (a note).
             self._report_read(
@@ -358,6 +373,38 @@ class DoneReadReports(DoneUntracedReports):
                 FixKind.FLAG,
                 question=question,
             )
+
+    def _stored_in_step_info(self, read: ast.Name, step: DoneStep) -> str | None:
+        """The key text of ``info["key"] = done`` where ``info`` is the step's own info
+        target, a plain string key, and the function returns that info; else None."""
+        statement = self.facts.parent(read)
+        if not (isinstance(statement, ast.Assign) and statement.value is read and len(statement.targets) == 1):
+            return None
+        target = statement.targets[0]
+        unpack = step.assign.targets[0]
+        info = unpack.elts[3] if isinstance(unpack, (ast.Tuple, ast.List)) and len(unpack.elts) == 4 else None
+        if not (
+            isinstance(target, ast.Subscript)
+            and isinstance(target.value, ast.Name)
+            and isinstance(info, ast.Name)
+            and target.value.id == info.id
+            and isinstance(target.slice, ast.Constant)
+            and isinstance(target.slice.value, str)
+            and target.slice.value != TIME_LIMIT_KEY
+        ):
+            return None
+        # The info goes back to callers (a wrapper's or adapter's step returns it): the
+        # key's readers are theirs, beyond what this function shows.
+        function = self.facts.enclosing_function(read)
+        if function is None or not any(
+            isinstance(node, ast.Return)
+            and node.value is not None
+            and any(isinstance(n, ast.Name) and n.id == info.id for n in ast.walk(node.value))
+            and self.facts.enclosing_function(node) is function
+            for node in ast.walk(function)
+        ):
+            return None
+        return f"`{self.facts.segment(target)}`"
 
     def _report_read(
         self, read: ast.Name, message: str, kind: FixKind, tier: Tier | None = None, question: Hashable | None = None
