@@ -66,6 +66,13 @@ class StepNames:
     # The code reads ``done`` as one flag or as per-env flags (``isinstance(done, bool)``,
     # ``done[i]``): ``|`` is ``or`` on two bools and elementwise on arrays, where ``or`` raises.
     elementwise: bool = False
+    # The code reads ``done`` as a list of per-agent flags (``all(done)``, ``zip(obs, done)``,
+    # facts/per_agent_flags.py): ``or`` would return the terminated list and ``|`` raises on
+    # lists, so the flags are joined agent by agent; ``guard`` is the code's own type test
+    # when it handles one flag too (``isinstance(done, Iterable)``).
+    per_agent: bool = False
+    guard: str | None = None
+    by_name: bool = False  # a dict of agents' flags (``done["__all__"]``)
 
     @property
     def code(self) -> str:
@@ -74,9 +81,21 @@ class StepNames:
     def joined(self) -> str:
         if self.vector:
             return f"{self.numpy}.logical_or({self.terminated}, {self.truncated})"
+        if self.per_agent and self.by_name:
+            return f"{{agent: {self.terminated}[agent] or {self.truncated}[agent] for agent in {self.terminated}}}"
+        if self.per_agent:
+            joined = self.per_agent_join(self.terminated, self.truncated)
+            if self.guard is not None:
+                return f"{joined} if isinstance({self.terminated}, {self.guard}) else {self.terminated} or {self.truncated}"
+            return joined
         if self.elementwise:
             return f"{self.terminated} | {self.truncated}"
         return f"{self.terminated} or {self.truncated}"
+
+    @staticmethod
+    def per_agent_join(terminated: str, truncated: str) -> str:
+        """``done`` agent by agent: a list of ``terminated or truncated`` of each agent."""
+        return f"[term or trunc for term, trunc in zip({terminated}, {truncated})]"
 
 
 @dataclass
