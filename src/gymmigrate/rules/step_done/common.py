@@ -68,8 +68,11 @@ class StepNames:
     elementwise: bool = False
     # The code reads ``done`` as a list of per-agent flags (``all(done)``, ``zip(obs, done)``,
     # facts/per_agent_flags.py): ``or`` would return the terminated list and ``|`` raises on
-    # lists, so the flags are joined agent by agent; ``guard`` is the code's own type test
-    # when it handles one flag too (``isinstance(done, Iterable)``).
+    # lists, so the flags are joined agent by agent with ``np.logical_or(...).tolist()``, which
+    # also takes one bool ``truncated`` (a per-agent env migrated by this run returns ``False``
+    # there) or two bools (Gymnasium releases of such envs), and gives a list or a bool back.
+    # ``guard`` is the code's own type test when it handles one flag too (``isinstance(done,
+    # Iterable)``), used where the flags are cut agent by agent (rules/wrappers/step.py).
     per_agent: bool = False
     guard: str | None = None
     by_name: bool = False  # a dict of agents' flags (``done["__all__"]``)
@@ -84,18 +87,10 @@ class StepNames:
         if self.per_agent and self.by_name:
             return f"{{agent: {self.terminated}[agent] or {self.truncated}[agent] for agent in {self.terminated}}}"
         if self.per_agent:
-            joined = self.per_agent_join(self.terminated, self.truncated)
-            if self.guard is not None:
-                return f"{joined} if isinstance({self.terminated}, {self.guard}) else {self.terminated} or {self.truncated}"
-            return joined
+            return f"{self.numpy}.logical_or({self.terminated}, {self.truncated}).tolist()"
         if self.elementwise:
             return f"{self.terminated} | {self.truncated}"
         return f"{self.terminated} or {self.truncated}"
-
-    @staticmethod
-    def per_agent_join(terminated: str, truncated: str) -> str:
-        """``done`` agent by agent: a list of ``terminated or truncated`` of each agent."""
-        return f"[term or trunc for term, trunc in zip({terminated}, {truncated})]"
 
 
 @dataclass

@@ -118,7 +118,7 @@ class UnpackRules(DoneAttributeReports):
 
     def _keep_done(self, assign: ast.Assign, done_target: ast.expr, names: StepNames) -> None:
         """``done = terminated or truncated`` right after the step (``np.logical_or`` for vectors)."""
-        if names.vector and self.numpy_name is None:
+        if (names.vector or (names.per_agent and not names.by_name)) and self.numpy_name is None:
             self.plan.add_import("import numpy as np")
         line = f"{self.facts.segment(done_target)} = {names.joined()}"
         self.plan.insert_after(assign, line)
@@ -265,7 +265,7 @@ class UnpackRules(DoneAttributeReports):
             return None
         scope = self.facts.enclosing_function(assign) or self.facts.scope_of(assign).node
         name = target.elts[2].id
-        return self.facts.memo(("per-agent-done", id(scope), name), lambda: per_agent_done(scope, name))
+        return self.facts.memo((f"per-agent-done:{name}", id(scope)), lambda: per_agent_done(scope, name))
 
     def _reads_batched_done(self, assign: ast.Assign) -> bool:
         """The function of ``obs, r, done, info = x.step(a)`` handles ``done`` as per-env

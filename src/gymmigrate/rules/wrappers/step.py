@@ -258,7 +258,7 @@ class StepOverrides(RuleFamily):
             elif (
                 isinstance(done, ast.Name)
                 and done.id == done_name
-                and self._only_step_limits(lines, done_name, done_line, unpacks, per_agent)
+                and self._only_step_limits(lines, done_name, done_line, unpacks, bool(per_agent))
             ):
                 # The TimeLimit pattern: the override ends episodes only on a step count,
                 # which is truncation by definition. An explanation, not a question.
@@ -329,14 +329,13 @@ class StepOverrides(RuleFamily):
                     ret,
                     "GM602",
                     f"this step override reduces per-agent `done` flags with {reduced}(): it returns {reduced}() of the "
-                    f"inner `{terminated}` as terminated and the rest of the old done as truncated",
+                    f"inner `{terminated}` as terminated, and the old done when that is false as truncated",
                     kind=FixKind.ASSIST,
                     tier=Tier.NOTE,
                 )
-                replaced_done_reads += reduced == "any"  # ``any`` reads the flags only
                 self.plan.replace(
                     value,
-                    lambda node, t=terminated, u=truncated, r=reduced, d=done_name: _five(node, _reduced_flags(r, d, t, u)),
+                    lambda node, t=terminated, r=reduced, d=done_name: _five(node, _reduced_flags(r, d, t)),
                 )
             elif _reads_per_agent(done, agent_flags := {name for name in (done_name, *flags) if name is not None}) or (
                 isinstance(done, ast.Name) and _reduces_per_agent(function, done.id, agent_flags)
@@ -590,12 +589,11 @@ def _reduction_of(done: ast.expr, done_name: str | None) -> str | None:
     return None
 
 
-def _reduced_flags(reduced: str, done: str, terminated: str, truncated: str) -> list[cst.BaseExpression]:
-    """``any(terminated), any(truncated)``; ``all(terminated), all(done) and not all(terminated)``
-    (an agent may end by termination, another by truncation, on the same step)."""
-    if reduced == "any":
-        return [cst.parse_expression(f"any({terminated})"), cst.parse_expression(f"any({truncated})")]
-    return [cst.parse_expression(f"all({terminated})"), cst.parse_expression(f"all({done}) and not all({terminated})")]
+def _reduced_flags(reduced: str, done: str, terminated: str) -> list[cst.BaseExpression]:
+    """``all(terminated), all(done) and not all(terminated)`` (an agent may end by termination,
+    another by truncation, on the same step); the same with ``any``. ``truncated`` is not
+    reduced itself: a per-agent env migrated by this run returns one ``False`` there."""
+    return [cst.parse_expression(f"{reduced}({terminated})"), cst.parse_expression(f"{reduced}({done}) and not {reduced}({terminated})")]
 
 
 def _cut(node: cst.Tuple, terminated: str, per_agent: bool | str = False) -> list[cst.BaseExpression]:
@@ -604,10 +602,10 @@ def _cut(node: cst.Tuple, terminated: str, per_agent: bool | str = False) -> lis
     handles one flag too, ``isinstance(done, Iterable)``)."""
     done = node.elements[2].value
     if per_agent:
-        cut = f"[end and not term for end, term in zip({_code(done)}, {terminated})]"
+        each = f"[end and not term for end, term in zip({_code(done)}, {terminated})]"
         if isinstance(per_agent, str):
-            cut = f"({cut} if isinstance({terminated}, {per_agent}) else {_code(_parenthesized(done))} and not {terminated})"
-        return [cst.Name(terminated), cst.parse_expression(cut)]
+            each = f"({each} if isinstance({terminated}, {per_agent}) else {_code(_parenthesized(done))} and not {terminated})"
+        return [cst.Name(terminated), cst.parse_expression(each)]
     cut = cst.BooleanOperation(
         left=_parenthesized(done),
         operator=cst.And(),
