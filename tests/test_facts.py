@@ -9,6 +9,7 @@ import pytest
 
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.module import call_argument, full_name, own_returns
+from gymmigrate.facts.per_agent_flags import PerAgent, per_agent_done
 from gymmigrate.facts.receivers import EnvKind, Receivers
 from gymmigrate.facts.wrapper_attributes import lookup_forwarded_to
 
@@ -209,3 +210,22 @@ def test_handles_gym_envs(code: str, handles: bool) -> None:
 def test_lookup_forwarded_to(body: str, slot: str | None) -> None:
     function = ast.parse(f"def __getattr__(self, name):\n    {body}\n").body[0]
     assert lookup_forwarded_to(function) == slot
+
+
+@pytest.mark.parametrize(
+    ("body", "expected"),
+    [
+        ("if all(done): pass", PerAgent()),
+        ("for agent, d in zip(obs, done): pass", PerAgent()),
+        ("x = done[0] if isinstance(done, (list, tuple)) else done", PerAgent("(list, tuple)")),
+        ("if t > 9: done = len(obs) * [True]", PerAgent()),
+        ('x = done["__all__"]', PerAgent(by_name=True)),
+        ("if done: pass", None),
+        ("x = all(done) if done.any() else 0", None),  # an array
+        ("x = [done] if isinstance(done, bool) else done[0]", None),  # one flag or an array
+        ("if isinstance(info, list): done = done[0]", None),  # a VecEnv's branch, not agents
+    ],
+)
+def test_per_agent_done(body: str, expected) -> None:
+    function = ast.parse(f"def step(obs, done, info, t):\n    {body}\n").body[0]
+    assert per_agent_done(function, "done") == expected

@@ -66,6 +66,16 @@ class StepNames:
     # The code reads ``done`` as one flag or as per-env flags (``isinstance(done, bool)``,
     # ``done[i]``): ``|`` is ``or`` on two bools and elementwise on arrays, where ``or`` raises.
     elementwise: bool = False
+    # The code reads ``done`` as a list of per-agent flags (``all(done)``, ``zip(obs, done)``,
+    # facts/per_agent_flags.py): ``or`` would return the terminated list and ``|`` raises on
+    # lists, so the flags are joined agent by agent with ``np.logical_or(...).tolist()``, which
+    # also takes one bool ``truncated`` (a per-agent env migrated by this run returns ``False``
+    # there) or two bools (Gymnasium releases of such envs), and gives a list or a bool back.
+    # ``guard`` is the code's own type test when it handles one flag too (``isinstance(done,
+    # Iterable)``), used where the flags are cut agent by agent (rules/wrappers/step.py).
+    per_agent: bool = False
+    guard: str | None = None
+    by_name: bool = False  # a dict of agents' flags (``done["__all__"]``)
 
     @property
     def code(self) -> str:
@@ -74,6 +84,10 @@ class StepNames:
     def joined(self) -> str:
         if self.vector:
             return f"{self.numpy}.logical_or({self.terminated}, {self.truncated})"
+        if self.per_agent and self.by_name:
+            return f"{{agent: {self.terminated}[agent] or {self.truncated}[agent] for agent in {self.terminated}}}"
+        if self.per_agent:
+            return f"{self.numpy}.logical_or({self.terminated}, {self.truncated}).tolist()"
         if self.elementwise:
             return f"{self.terminated} | {self.truncated}"
         return f"{self.terminated} or {self.truncated}"

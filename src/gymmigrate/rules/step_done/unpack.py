@@ -24,6 +24,7 @@ from gymmigrate.facts.decisions import Action, Decision, receiver_text
 from gymmigrate.facts.done_uses import DoneUse, classify_done_read
 from gymmigrate.facts.flow import bound_names, end, start
 from gymmigrate.facts.module import LOOPS, Scope
+from gymmigrate.facts.per_agent_flags import PerAgent, per_agent_done
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.step_done.common import StepNames, StepUnpack, looks_vectorised
 from gymmigrate.rules.step_done.next_state import DoneStep
@@ -118,7 +119,7 @@ class UnpackRules(DoneAttributeReports):
 
     def _keep_done(self, assign: ast.Assign, done_target: ast.expr, names: StepNames) -> None:
         """``done = terminated or truncated`` right after the step (``np.logical_or`` for vectors)."""
-        if names.vector and self.numpy_name is None:
+        if (names.vector or (names.per_agent and not names.by_name)) and self.numpy_name is None:
             self.plan.add_import("import numpy as np")
         line = f"{self.facts.segment(done_target)} = {names.joined()}"
         self.plan.insert_after(assign, line)
@@ -249,14 +250,30 @@ class UnpackRules(DoneAttributeReports):
         base = ("terminations", "truncations") if vector else ("terminated", "truncated")
         numpy = self.numpy_name or "np"
         elementwise = not vector and self._reads_batched_done(assign)
+        agents = None if vector else self._per_agent_done(assign)
+        shape = {
+            "per_agent": agents is not None,
+            "guard": agents.guard if agents is not None else None,
+            "by_name": agents is not None and agents.by_name,
+        }
         if not any(name in self.facts.text for name in base):
             # A name the file never spells is free: no walk of the scope for the names it uses.
-            return StepNames(*base, vector=vector, numpy=numpy, elementwise=elementwise)
+            return StepNames(*base, vector=vector, numpy=numpy, elementwise=elementwise, **shape)  # type: ignore[arg-type]
         scope = self.facts.scope_of(assign)
         taken = self.flow.names_used_in(scope)
         compatible = self._step_flag_names(scope) if any(name in taken for name in base) else set()
         terminated, truncated = (_fresh(name, taken, compatible) for name in base)
-        return StepNames(terminated, truncated, vector=vector, numpy=numpy, elementwise=elementwise)
+        return StepNames(terminated, truncated, vector=vector, numpy=numpy, elementwise=elementwise, **shape)  # type: ignore[arg-type]
+
+    def _per_agent_done(self, assign: ast.Assign) -> PerAgent | None:
+        """The function (or module) of ``obs, r, done, info = x.step(a)`` uses ``done`` as a
+        list of per-agent flags (``all(done)``, ``zip(obs, done)``)."""
+        target = assign.targets[0]
+        if not isinstance(target, (ast.Tuple, ast.List)) or len(target.elts) != 4 or not isinstance(target.elts[2], ast.Name):
+            return None
+        scope = self.facts.enclosing_function(assign) or self.facts.scope_of(assign).node
+        name = target.elts[2].id
+        return self.facts.memo((f"per-agent-done:{name}", id(scope)), lambda: per_agent_done(scope, name))
 
     def _reads_batched_done(self, assign: ast.Assign) -> bool:
         """The function of ``obs, r, done, info = x.step(a)`` handles ``done`` as per-env

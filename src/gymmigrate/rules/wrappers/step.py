@@ -69,7 +69,10 @@ class StepOverrides(RuleFamily):
         for index, node in enumerate(self.plan.finding_nodes):
             finding = self.plan.findings[index]
             if finding.rule == "GM303" and isinstance(node, ast.Subscript) and first <= finding.line <= last and finding.needs_review:
-                writes.add(finding.line)
+                # the whole statement: ``info[KEY] = (`` may span lines, its value's reads too
+                statement = self.facts.statement_of(node)
+                last_line = getattr(statement, "end_lineno", None) or finding.line
+                writes.update(range(finding.line, last_line + 1))
                 self.plan.findings[index] = replace(
                     finding,
                     message=f"{finding.message.split(':', 1)[0]}: the step now returns its time limit as `truncated`, so the "
@@ -113,11 +116,16 @@ class StepOverrides(RuleFamily):
         ]
 
     def _only_step_limits(
-        self, lines: list[ast.stmt], name: str, done_line: ast.stmt | None, unpacks: dict[ast.stmt, StepUnpack | None]
+        self,
+        lines: list[ast.stmt],
+        name: str,
+        done_line: ast.stmt | None,
+        unpacks: dict[ast.stmt, StepUnpack | None],
+        per_agent: bool = False,
     ) -> bool:
         """Every change of ``name`` after the inner step is a step-limit test setting it."""
         changes = self._done_changes(lines, name, done_line, unpacks)
-        return bool(changes) and all(_sets_done_on_limit(line, name, self.facts.parent(line)) for line in changes)
+        return bool(changes) and all(_sets_done_on_limit(line, name, self.facts.parent(line), per_agent) for line in changes)
 
     def _life_loss_sets(
         self, lines: list[ast.stmt], name: str, done_line: ast.stmt | None, unpacks: dict[ast.stmt, StepUnpack | None]
@@ -217,6 +225,10 @@ class StepOverrides(RuleFamily):
                 if flags is not None and flags != found:
                     consistent = False
                 flags = flags or found
+        # The inner done is a list of per-agent flags (facts/per_agent_flags.py): its own end is
+        # cut against ``terminated`` agent by agent, ``done and not terminated`` is always false.
+        agents = [noted.names for noted in unpacks.values() if noted is not None and noted.names.per_agent and not noted.names.by_name]
+        per_agent: bool | str = bool(agents) and (agents[0].guard or True)
         done_modified = done_name is not None and _has_other_assignments(lines, done_name, done_line, unpacks, inserted, flags if consistent else None)
         replaced_done_reads = 0
         for ret in own_returns(function):
@@ -246,7 +258,7 @@ class StepOverrides(RuleFamily):
             elif (
                 isinstance(done, ast.Name)
                 and done.id == done_name
-                and self._only_step_limits(lines, done_name, done_line, unpacks)
+                and self._only_step_limits(lines, done_name, done_line, unpacks, bool(per_agent))
             ):
                 # The TimeLimit pattern: the override ends episodes only on a step count,
                 # which is truncation by definition. An explanation, not a question.
@@ -254,11 +266,16 @@ class StepOverrides(RuleFamily):
                     ret,
                     "GM602",
                     "this step override ends episodes only on a step limit (the TimeLimit pattern): that end is "
-                    f"returned as truncation (`... and not {terminated}`)",
+                    + (
+                        f"returned as truncation agent by agent (`done and not {terminated}` of each agent: the flags are "
+                        "per-agent lists)"
+                        if per_agent
+                        else f"returned as truncation (`... and not {terminated}`)"
+                    ),
                     kind=FixKind.ASSIST,
                     tier=Tier.NOTE,
                 )
-                self.plan.replace(value, lambda node, t=terminated: _five(node, _cut(node, t)))
+                self.plan.replace(value, lambda node, t=terminated: _five(node, _cut(node, t, per_agent)))
                 self._settle_key_writes(function)
             elif done_name not in _names(done) and inner_done not in _names(done) and _only_own_step_limit(function, done, flags):
                 # ``done = False; if self.t >= self.t_max: done = True`` returned, the inner
@@ -299,8 +316,29 @@ class StepOverrides(RuleFamily):
                     kind=FixKind.ASSIST,
                 )
                 self.plan.replace(value, lambda node: _five(node, [node.elements[2].value, cst.Name("False")]))
-            elif _reads_per_agent(done, per_agent := {name for name in (done_name, *flags) if name is not None}) or (
-                isinstance(done, ast.Name) and _reduces_per_agent(function, done.id, per_agent)
+            elif (
+                per_agent
+                and not done_modified
+                and (reduced := _reduction_of(done, done_name)) is not None
+            ):
+                # ``return obs, reward, all(done), info`` over per-agent lists (a wrapper that
+                # squashes them for a single-agent learner): each flag is reduced on its own.
+                # ``any`` splits exactly; for ``all``, the episode ends when every agent is done
+                # (as before), and it is terminated only when every agent terminated.
+                self.report(
+                    ret,
+                    "GM602",
+                    f"this step override reduces per-agent `done` flags with {reduced}(): it returns {reduced}() of the "
+                    f"inner `{terminated}` as terminated, and the old done when that is false as truncated",
+                    kind=FixKind.ASSIST,
+                    tier=Tier.NOTE,
+                )
+                self.plan.replace(
+                    value,
+                    lambda node, t=terminated, r=reduced, d=done_name: _five(node, _reduced_flags(r, d, t)),
+                )
+            elif _reads_per_agent(done, agent_flags := {name for name in (done_name, *flags) if name is not None}) or (
+                isinstance(done, ast.Name) and _reduces_per_agent(function, done.id, agent_flags)
             ):
                 # ``all(done)``, ``list(done.values())``, or ``done = all(done)`` returned: the
                 # inner flags are per agent; cutting the result against ``terminated`` (a
@@ -408,7 +446,18 @@ class StepOverrides(RuleFamily):
                     kind=FixKind.ASSIST,
                     tier=Tier.NOTE,
                 )
-                self.plan.replace(value, lambda node, t=terminated: _five(node, _cut(node, t)))
+                self.plan.replace(value, lambda node, t=terminated: _five(node, _cut(node, t, per_agent)))
+            elif per_agent:
+                self.report(
+                    ret,
+                    "GM602",
+                    "this step override decides its per-agent `done` list itself; its own end condition is now "
+                    f"returned as truncation agent by agent (`done and not {terminated}` of each agent): if it really "
+                    f"ends an agent's episode, return it in `{terminated}` instead (Gymnasium releases of multi-agent "
+                    "envs may return one bool per step: then use `or` and `and not` on the flags themselves)",
+                    kind=FixKind.ASSIST,
+                )
+                self.plan.replace(value, lambda node, t=terminated: _five(node, _cut(node, t, per_agent)))
             else:
                 self.report(
                     ret,
@@ -525,9 +574,38 @@ def _reshaped_flags(node: cst.Tuple, terminated: str, truncated: str) -> list[cs
     ]
 
 
-def _cut(node: cst.Tuple, terminated: str) -> list[cst.BaseExpression]:
-    """The override's own ``done`` becomes truncation: ``terminated, done and not terminated``."""
+def _reduction_of(done: ast.expr, done_name: str | None) -> str | None:
+    """``all(done)`` / ``any(done)`` of the inner step's done: the builtin's name."""
+    if (
+        isinstance(done, ast.Call)
+        and isinstance(done.func, ast.Name)
+        and done.func.id in ("all", "any")
+        and len(done.args) == 1
+        and not done.keywords
+        and isinstance(done.args[0], ast.Name)
+        and done.args[0].id == done_name
+    ):
+        return done.func.id
+    return None
+
+
+def _reduced_flags(reduced: str, done: str, terminated: str) -> list[cst.BaseExpression]:
+    """``all(terminated), all(done) and not all(terminated)`` (an agent may end by termination,
+    another by truncation, on the same step); the same with ``any``. ``truncated`` is not
+    reduced itself: a per-agent env migrated by this run returns one ``False`` there."""
+    return [cst.parse_expression(f"{reduced}({terminated})"), cst.parse_expression(f"{reduced}({done}) and not {reduced}({terminated})")]
+
+
+def _cut(node: cst.Tuple, terminated: str, per_agent: bool | str = False) -> list[cst.BaseExpression]:
+    """The override's own ``done`` becomes truncation: ``terminated, done and not terminated``
+    (per-agent lists: that of each agent; ``per_agent`` is the code's own type test when it
+    handles one flag too, ``isinstance(done, Iterable)``)."""
     done = node.elements[2].value
+    if per_agent:
+        each = f"[end and not term for end, term in zip({_code(done)}, {terminated})]"
+        if isinstance(per_agent, str):
+            each = f"({each} if isinstance({terminated}, {per_agent}) else {_code(_parenthesized(done))} and not {terminated})"
+        return [cst.Name(terminated), cst.parse_expression(each)]
     cut = cst.BooleanOperation(
         left=_parenthesized(done),
         operator=cst.And(),

@@ -17,6 +17,7 @@ import re
 from collections.abc import Callable
 
 from gymmigrate.facts.limit_tests import if_setting_true
+from gymmigrate.facts.per_agent_flags import true_list
 from gymmigrate.rules.custom_env.step import is_step_limit
 from gymmigrate.rules.wrappers.common import _single_assign
 
@@ -105,9 +106,20 @@ def _is_initializer(statement: ast.stmt, name: str) -> bool:
     return isinstance(value, ast.Constant) and (value.value is None or value.value is False)
 
 
-def _sets_done_on_limit(line: ast.stmt, name: str, parent: ast.AST | None) -> bool:
+def _sets_done_on_limit(line: ast.stmt, name: str, parent: ast.AST | None, per_agent: bool = False) -> bool:
     """``if self._elapsed_steps >= self._max_episode_steps: done = True`` or
-    ``done = done or self.t >= self.limit``: ``name`` is set only by a step-limit test."""
+    ``done = done or self.t >= self.limit``: ``name`` is set only by a step-limit test.
+    With per-agent flags, ``done = len(obs) * [True]`` there too."""
+    if per_agent and isinstance(line, ast.Assign) and len(line.targets) == 1 and true_list(line.value):
+        target = line.targets[0]
+        return (
+            isinstance(target, ast.Name)
+            and target.id == name
+            and isinstance(parent, ast.If)
+            and line in parent.body
+            and not parent.orelse
+            and is_step_limit(parent.test)
+        )
     return _sets_done_when(line, name, parent, is_step_limit)
 
 

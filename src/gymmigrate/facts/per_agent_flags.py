@@ -1,0 +1,131 @@
+"""A step's ``done`` that is a list of per-agent flags, proven by how its own scope uses it.
+
+Multi-agent envs of the Gym era (rware, lbforaging, ma-gym) return ``done`` as one flag
+per agent, and code over them says so: ``all(done)``, ``any(done)``, ``zip(obs, done)``,
+``for d in done``, ``done[i]``, ``isinstance(done, Iterable)`` or ``done = len(obs) *
+[True]``; a dict of agents' flags by its string keys (``done["__all__"]``). Once such a step returns terminated and truncated, ``terminated or truncated``
+is the terminated list (the truncation is dropped), ``terminated | truncated`` raises on
+lists and ``done and not terminated`` is always false: the flags must be combined agent
+by agent (rules/step_done/unpack.py, rules/wrappers/step.py).
+
+Signs of something else keep the name out: an attribute of it (``done.any()``: an array;
+``done.values()``: a dict, proven only by its keys), arithmetic on it (``1 - done``, ``~done``: an array), or a type test for another class
+(``isinstance(done, bool)``, ``isinstance(done, np.ndarray)``).
+"""
+
+from __future__ import annotations
+
+import ast
+from dataclasses import dataclass
+
+# Type tests that say "a list of flags" (``isinstance(done, Iterable)``).
+_LIST_TYPES = frozenset({"list", "tuple", "Iterable", "Sequence", "Collection", "MutableSequence"})
+
+
+@dataclass(frozen=True)
+class PerAgent:
+    """``done`` is per-agent; ``guard`` is the code's own type test (``Iterable``,
+    ``(list, tuple)``) when it also handles a single flag, else None; ``by_name``: a dict
+    of agents' flags (``done["__all__"]``, RLlib's shape), not a list."""
+
+    guard: str | None = None
+    by_name: bool = False
+
+
+def _type_names(node: ast.expr) -> list[str]:
+    elements = node.elts if isinstance(node, ast.Tuple) else [node]
+    names = []
+    for element in elements:
+        if isinstance(element, ast.Name):
+            names.append(element.id)
+        elif isinstance(element, ast.Attribute):
+            names.append(element.attr)
+        else:
+            names.append("")
+    return names
+
+
+def _true_list(value: ast.expr) -> bool:
+    """``len(obs) * [True]``, ``[True] * n``, ``[True for _ in obs]``, ``[True, True]``."""
+    if isinstance(value, ast.BinOp) and isinstance(value.op, ast.Mult):
+        return any(_true_list(side) for side in (value.left, value.right))
+    if isinstance(value, ast.List):
+        return bool(value.elts) and all(isinstance(e, ast.Constant) and e.value is True for e in value.elts)
+    if isinstance(value, ast.ListComp):
+        return isinstance(value.elt, ast.Constant) and value.elt.value is True
+    return False
+
+
+def true_list(value: ast.expr) -> bool:
+    """A list of ``True`` flags, one per agent (``len(obs) * [True]``)."""
+    return _true_list(value)
+
+
+def per_agent_done(scope: ast.AST, name: str) -> PerAgent | None:
+    """How ``scope`` (a function or module) uses ``name``: per-agent flags (``PerAgent``)
+    or not shown (None)."""
+    evidence = False
+    by_name = False
+    guard: str | None = None
+    for node in _walk_unguarded(scope, name):
+        if isinstance(node, ast.Attribute) and _is(node.value, name):
+            return None  # ``done.any()``, ``done.values()``: an array or a dict
+        if isinstance(node, ast.Subscript) and _is(node.value, name):
+            key = node.slice
+            if isinstance(key, ast.Constant) and isinstance(key.value, str):
+                by_name = True  # ``done["__all__"]``: a dict of agents
+            else:
+                evidence = True
+        elif isinstance(node, ast.BinOp) and (_is(node.left, name) or _is(node.right, name)):
+            return None  # ``1 - done``: an array
+        elif isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.Invert) and _is(node.operand, name):
+            return None
+        elif isinstance(node, ast.Call) and isinstance(node.func, ast.Name):
+            called, args = node.func.id, node.args
+            if called == "isinstance" and len(args) == 2 and _is(args[0], name):
+                types = _type_names(args[1])
+                if not all(t in _LIST_TYPES for t in types):
+                    return None  # ``isinstance(done, bool)``: one flag or an array
+                guard = ast.unparse(args[1])
+                evidence = True
+            elif called in ("all", "any", "enumerate") and len(args) == 1 and _is(args[0], name):
+                evidence = True
+            elif called == "zip" and any(_is(a, name) for a in args):
+                evidence = True
+        elif isinstance(node, (ast.For, ast.comprehension)) and _is(node.iter, name):
+            evidence = True
+        elif isinstance(node, ast.Assign) and any(_is(t, name) for t in node.targets) and _true_list(node.value):
+            evidence = True
+    if by_name:
+        # a dict of agents: read by index or type-tested too is a shape not known here
+        return PerAgent(by_name=True) if not evidence and guard is None else None
+    return PerAgent(guard) if evidence else None
+
+
+def _walk_unguarded(scope: ast.AST, name: str):
+    """The nodes of ``scope``, but not the body of ``if isinstance(info, list):`` (a test of
+    another name: a branch for a batch of envs, as an SB3 VecEnv's list of infos, where
+    ``done[0]`` is env 0's flag, not an agent's)."""
+    pending = [scope]
+    while pending:
+        node = pending.pop()
+        yield node
+        if isinstance(node, ast.If) and _tests_other_type(node.test, name):
+            pending.append(node.test)
+            pending.extend(node.orelse)
+            continue
+        pending.extend(ast.iter_child_nodes(node))
+
+
+def _tests_other_type(test: ast.expr, name: str) -> bool:
+    return (
+        isinstance(test, ast.Call)
+        and isinstance(test.func, ast.Name)
+        and test.func.id == "isinstance"
+        and len(test.args) == 2
+        and not _is(test.args[0], name)
+    )
+
+
+def _is(node: ast.AST, name: str) -> bool:
+    return isinstance(node, ast.Name) and node.id == name
