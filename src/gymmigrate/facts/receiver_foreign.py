@@ -19,7 +19,12 @@ import sys
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts import names as N
-from gymmigrate.facts.callables import optional_of, parse_annotation, string_names, union_members
+from gymmigrate.facts.callables import (
+    optional_of,
+    parse_annotation,
+    string_names,
+    union_members,
+)
 from gymmigrate.facts.gym_use import handles_gym_envs
 from gymmigrate.facts.kinds import MAX_DEPTH, EnvKind
 from gymmigrate.facts.module import FUNCTIONS

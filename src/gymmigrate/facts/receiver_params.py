@@ -11,7 +11,12 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.facts import names as N
-from gymmigrate.facts.callables import optional_of, parse_annotation, string_names, union_members
+from gymmigrate.facts.callables import (
+    optional_of,
+    parse_annotation,
+    string_names,
+    union_members,
+)
 from gymmigrate.facts.import_roots import is_test_path
 from gymmigrate.facts.kinds import EnvKind, join_kinds
 from gymmigrate.facts.module import FUNCTIONS, call_argument
