@@ -460,3 +460,16 @@ def optional_of(annotation: ast.AST, qualified_names) -> ast.AST | None:
     if isinstance(annotation, ast.Subscript) and "typing.Optional" in qualified_names(annotation.value):
         return annotation.slice
     return None
+
+def union_members(annotation: ast.AST, qualified_names) -> list[ast.AST] | None:
+    """The members of ``Union[X, Y]`` or ``X | Y`` (``None`` left out), else None."""
+    if isinstance(annotation, ast.BinOp) and isinstance(annotation.op, ast.BitOr):
+        members: list[ast.AST] = []
+        for side in (annotation.left, annotation.right):
+            inner = union_members(side, qualified_names) if isinstance(side, ast.BinOp) else None
+            members += inner if inner is not None else [side]
+        return [m for m in members if not (isinstance(m, ast.Constant) and m.value is None)]
+    if isinstance(annotation, ast.Subscript) and "typing.Union" in qualified_names(annotation.value):
+        items = annotation.slice.elts if isinstance(annotation.slice, ast.Tuple) else [annotation.slice]
+        return [m for m in items if not (isinstance(m, ast.Constant) and m.value is None)]
+    return None

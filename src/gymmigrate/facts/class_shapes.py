@@ -219,8 +219,13 @@ def _params(function: ast.FunctionDef | ast.AsyncFunctionDef) -> list[ast.arg]:
 
 
 def _counts_envs(classdef: ast.ClassDef) -> bool:
-    """``num_envs`` (or ``env_num``) is a class attribute or is stored on ``self`` in ``__init__``."""
+    """``num_envs`` (or ``env_num``, ``n_envs``) is a class attribute, a property, or is stored
+    on ``self`` in ``__init__``."""
     for statement in classdef.body:
+        if isinstance(statement, FUNCTIONS) and statement.name in _ENV_COUNTS and any(
+            isinstance(d, ast.Name) and d.id == "property" for d in statement.decorator_list
+        ):
+            return True  # ``@property def n_envs(self): return self._n_envs``
         if isinstance(statement, (ast.Assign, ast.AnnAssign)):
             targets = statement.targets if isinstance(statement, ast.Assign) else [statement.target]
             if any(isinstance(t, ast.Name) and t.id in _ENV_COUNTS for t in targets):

@@ -113,7 +113,7 @@ def decide(
     if annotated is not None:
         # the code says what it holds, and that is no Gym class the run knows: a file's
         # imports do not outweigh it (``environment: VecEnv`` of the project's own vec env)
-        return Decision(Action.REPORT, f"`{name}` is annotated `{annotated}`, a class not shown to be a Gym env; not rewritten")
+        return Decision(Action.REPORT, f"`{name}` is annotated {annotated}; not rewritten")
     if fallback and origins is not None and not origins.handles_gym_envs():
         # Gym's spaces, errors, a viewer or seeding utils only: the file makes, wraps and
         # subclasses no Gym env, so its env-like names may hold any env (a project's own)

@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING
 from gymmigrate.facts import same_tests
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import MAX_DEPTH, EnvKind, join_kinds
-from gymmigrate.facts.module import FUNCTIONS, own_returns
+from gymmigrate.facts.module import FUNCTIONS, call_argument, own_returns
 
 if TYPE_CHECKING:
     from gymmigrate.facts.kinds import ReceiverFacade as _Facade
@@ -242,6 +242,8 @@ class BindingKinds(_Facade):
                 parent = self.facts.parent(binding)
                 if isinstance(binding, ast.Name) and isinstance(parent, ast.Assign):
                     kinds.append(self._element_kind_memo(parent.value))
+                elif isinstance(binding, ast.arg):
+                    kinds.append(self._param_element_kind(binding))
                 else:
                     kinds.append(EnvKind.UNKNOWN)
             return join_kinds(kinds)
@@ -250,6 +252,115 @@ class BindingKinds(_Facade):
                 values = self.self_attribute_values(container, container.attr)
                 return join_kinds(self._element_kind_memo(v) for v in values) if values else EnvKind.UNKNOWN
         return EnvKind.UNKNOWN
+
+    def _param_element_kind(self, param: ast.arg) -> EnvKind:
+        """The items of the list a parameter holds (``def __init__(self, envs)`` then
+        ``self.envs = envs``), from what every call of its def in this module passes
+        (``SerialVecEnv([Wrapper(gym.make(i)) for i in ids])``). Unknown when a call passes
+        none, or another module calls the def: what that one passes is not seen here."""
+        arguments = self._param_arguments(param)
+        if arguments is None:
+            return EnvKind.UNKNOWN
+        return join_kinds(EnvKind.UNKNOWN if a is None else self._element_kind_memo(a) for a in arguments)
+
+    def loop_item_values(self, binding: ast.Name, _depth: int = 0) -> list[ast.expr] | None:
+        """The expressions that make the items a loop variable takes (``for env in
+        self.envs``, ``for i, env in enumerate(envs)``, comprehensions too), where the run
+        shows every one; None otherwise."""
+        parent = self.facts.parent(binding)
+        iterable: ast.AST | None = None
+        if isinstance(parent, (ast.For, ast.AsyncFor, ast.comprehension)) and parent.target is binding:
+            iterable = parent.iter
+        elif isinstance(parent, ast.Tuple):
+            holder = self.facts.parent(parent)
+            if isinstance(holder, (ast.For, ast.AsyncFor, ast.comprehension)) and holder.target is parent:
+                call = holder.iter
+                index = next(i for i, el in enumerate(parent.elts) if el is binding)
+                if isinstance(call, ast.Call) and isinstance(call.func, ast.Name) and call.func.id == "enumerate" and index == 1 and call.args:
+                    iterable = call.args[0]
+        return self.item_values(iterable, _depth) if iterable is not None else None
+
+    def item_values(self, container: ast.AST, _depth: int = 0) -> list[ast.expr] | None:
+        """The expressions that make the items of a list (as ``_element_kind`` follows it:
+        a display, a comprehension's item, a name or ``self.x`` bound to one, a parameter
+        every call of its def in this module passes one); None where one is not shown."""
+        if _depth > 6:
+            return None
+        if isinstance(container, (ast.List, ast.Tuple, ast.Set)):
+            if any(isinstance(el, ast.Starred) for el in container.elts):
+                return None
+            return list(container.elts) or None
+        if isinstance(container, (ast.ListComp, ast.GeneratorExp, ast.SetComp)):
+            return [container.elt]
+        values: list[ast.expr] = []
+        if isinstance(container, ast.Name):
+            bindings = self.facts.bindings_of(container)
+            if not bindings:
+                return None
+            for binding in bindings:
+                parent = self.facts.parent(binding)
+                if isinstance(binding, ast.Name) and isinstance(parent, ast.Assign) and parent.targets == [binding]:
+                    found = self.item_values(parent.value, _depth + 1)
+                elif isinstance(binding, ast.arg):
+                    found = self._param_item_values(binding, _depth)
+                else:
+                    found = None
+                if found is None:
+                    return None
+                values += found
+            return values
+        if isinstance(container, ast.Attribute) and isinstance(container.value, ast.Name) and self.is_self(container.value):
+            stored = self.self_attribute_values(container, container.attr)
+            if not stored:
+                return None
+            for value in stored:
+                found = self.item_values(value, _depth + 1)
+                if found is None:
+                    return None
+                values += found
+            return values
+        return None
+
+    def _param_item_values(self, param: ast.arg, _depth: int) -> list[ast.expr] | None:
+        calls = self._param_arguments(param)
+        if calls is None:
+            return None
+        values: list[ast.expr] = []
+        for argument in calls:
+            found = self.item_values(argument, _depth + 1) if argument is not None else None
+            if found is None:
+                return None
+            values += found
+        return values
+
+    def _param_arguments(self, param: ast.arg) -> list[ast.expr | None] | None:
+        """What every call of the def of ``param`` in this module passes for it (None for a
+        call that passes nothing); None when a call elsewhere, or none at all, is known."""
+        function = self.facts.parent(self.facts.parent(param))  # arg -> arguments -> def
+        if not isinstance(function, FUNCTIONS):
+            return None
+        classdef = self.facts.parent(function)
+        is_method = isinstance(classdef, ast.ClassDef) and self.facts.is_method(function)
+        params = [*function.args.posonlyargs, *function.args.args]
+        position = next((i for i, p in enumerate(params) if p is param), None)
+        if position is None or (is_method and position == 0):
+            return None
+        if is_method:
+            position -= 1  # calls do not pass self
+        if self.callables.external_param_kinds(function, classdef if is_method else None, param.arg):  # type: ignore[arg-type]
+            return None
+        if is_method and function.name == "__init__":
+            constructions, elsewhere = self.constructions(classdef)  # type: ignore[arg-type]
+            if elsewhere:
+                return None
+            calls = list(constructions)
+        elif is_method:
+            return None
+        else:
+            calls = [(call, 0) for call in self.call_sites(function, None)]
+        if not calls:
+            return None
+        return [call_argument(call, position + shift, param.arg) for call, shift in calls]
 
     def _element_kind_memo(self, container: ast.AST) -> EnvKind:
         key = ("element-kind", id(container))

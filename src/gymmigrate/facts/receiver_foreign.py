@@ -19,7 +19,12 @@ import sys
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts import names as N
-from gymmigrate.facts.callables import optional_of, parse_annotation, string_names
+from gymmigrate.facts.callables import (
+    optional_of,
+    parse_annotation,
+    string_names,
+    union_members,
+)
 from gymmigrate.facts.gym_use import handles_gym_envs
 from gymmigrate.facts.kinds import MAX_DEPTH, EnvKind
 from gymmigrate.facts.module import FUNCTIONS
@@ -219,8 +224,14 @@ class ForeignObjects(_Facade):
                     annotations.append(parent.annotation)  # ``self.env: VecEnv = env``
             values = self.self_attribute_values(expr, expr.attr)
         for annotation in annotations:
-            if self._names_other_class(annotation):
-                return self.facts.segment(annotation)
+            other = self._other_class_named(annotation)
+            if other is not None:
+                whole = self.facts.segment(annotation)
+                if other is annotation or other is optional_of(annotation, self.qualified_names):
+                    return f"`{whole}`, a class not shown to be a Gym env"
+                # ``Union[gym.Env, VecEnv]``: one member is Gym's, but the code says the
+                # object may as well be the other, so the Gym member proves nothing
+                return f"`{whole}`, which admits `{self.facts.segment(other)}`, a class not shown to be a Gym env"
         for value in values:
             if isinstance(value, (ast.Name, ast.Attribute)):
                 found = self._annotated_class(value, depth + 1)
@@ -228,14 +239,26 @@ class ForeignObjects(_Facade):
                     return found
         return None
 
+    def _other_class_named(self, annotation: ast.AST) -> ast.AST | None:
+        """The part of ``annotation`` that names a class not shown to be a Gym env (the
+        annotation itself, or a member of a ``Union``/``|``), else None."""
+        optional = optional_of(annotation, self.qualified_names)
+        if optional is not None:
+            return self._other_class_named(optional)  # ``Optional[VecEnv]``
+        members = union_members(annotation, self.qualified_names)
+        if members is not None:
+            for member in members:
+                other = self._other_class_named(member)
+                if other is not None:
+                    return other
+            return None
+        return annotation if self._names_other_class(annotation) else None
+
     def _names_other_class(self, annotation: ast.AST) -> bool:
         """``annotation`` names a class not shown to be a Gym env: not Gym's own, not ``Any``
         or another ``typing`` form, not ``object``."""
         if self.annotation_kind(annotation) in (EnvKind.GYM_ENV, EnvKind.GYM_VEC):
             return False
-        optional = optional_of(annotation, self.qualified_names)
-        if optional is not None:
-            return self._names_other_class(optional)  # ``Optional[VecEnv]``
         target: ast.AST | None = annotation
         string = isinstance(annotation, ast.Constant) and isinstance(annotation.value, str)
         if string:
@@ -246,3 +269,4 @@ class ForeignObjects(_Facade):
         if any(N.strip_gym_prefix(q) is not None or q.split(".", 1)[0] in ("typing", "typing_extensions", "builtins") for q in names):
             return False
         return not (isinstance(target, ast.Name) and target.id in ("object", "Any") and not names)
+

@@ -119,6 +119,11 @@ class MadeObjects(ForeignObjects, GymOnlyStacks):
                 values = [statement.value]
             elif last is None:
                 values = self.values_reaching(expr)
+                bindings = self.facts.bindings_of(expr)
+                if values is None and len(bindings) == 1 and isinstance(bindings[0], ast.Name):
+                    values = self.loop_item_values(bindings[0])  # ``for i, env in enumerate(self.envs)``
+            elif isinstance(last, ast.Name):
+                values = self.loop_item_values(last)  # ``for env in self.envs:``
         elif isinstance(expr, ast.Call):
             local = self.local_class(expr.func)
             function = self.local_function(expr.func)

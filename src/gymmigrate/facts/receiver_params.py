@@ -11,7 +11,12 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.facts import names as N
-from gymmigrate.facts.callables import optional_of, parse_annotation, string_names
+from gymmigrate.facts.callables import (
+    optional_of,
+    parse_annotation,
+    string_names,
+    union_members,
+)
 from gymmigrate.facts.import_roots import is_test_path
 from gymmigrate.facts.kinds import EnvKind, join_kinds
 from gymmigrate.facts.module import FUNCTIONS, call_argument
@@ -317,6 +322,12 @@ class ParameterKinds(CallerSites, ThunkKinds):
         optional = optional_of(annotation, self.qualified_names)
         if optional is not None:
             return self.annotation_kind(optional)
+        members = union_members(annotation, self.qualified_names)
+        if members is not None:
+            # ``Union[gym.Env, gym.Wrapper]``: a Gym env whichever member it is; one member
+            # of another kind (the project's own vec env) leaves the kind unknown
+            kinds = {self.annotation_kind(m) for m in members}
+            return kinds.pop() if len(kinds) == 1 and EnvKind.UNKNOWN not in kinds else EnvKind.UNKNOWN
         local = self.local_class(annotation)
         if local is not None:
             # ``def test_x(env: Warehouse)`` with Warehouse defined here; a class of the run

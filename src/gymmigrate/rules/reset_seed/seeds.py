@@ -79,6 +79,8 @@ class SeedCalls(ResetSeedBase):
             return
         function = self.facts.enclosing_function(call)
         if function is not None and function.name == "seed":
+            if self._seed_reaches_own_seed(call, function, receiver, name):
+                return
             if self._seed_through_unwrapped(call, function, decision, code, name):
                 return
             if self._seed_in_wrapper_seed(call, function, decision, code, name):
@@ -258,6 +260,29 @@ class SeedCalls(ResetSeedBase):
             "be an env of another package, seed it through reset(seed=...) instead",
             FixKind.ASSIST,
             question=("seed() method", function.lineno),
+        )
+        return True
+
+    def _seed_reaches_own_seed(self, call: ast.Call, function: ast.FunctionDef | ast.AsyncFunctionDef, receiver: ast.expr, name: str) -> bool:
+        """``[env.seed(s + i) for i, env in enumerate(self.envs)]`` in the seed() of the
+        project's own class (a vector env of its own, a plain class: no Gym env or wrapper),
+        where every env it holds is an instance of a class of the run that defines seed()
+        itself (``seed_holder``: "own"): the call reaches that method, which Gymnasium keeps
+        as any method; what it does inside is that method's own item. Left, with a note."""
+        classdef = self.facts.enclosing_class(function)
+        if classdef is None or self.facts.parent(function) is not classdef:
+            return False
+        if self.receivers.class_kind(classdef).is_gym or self.receivers.is_gym_wrapper_class(classdef):
+            return False  # an env's own seed() hook: GM503 and the rules below decide it
+        if self.receivers.seed_holder(receiver) != "own":
+            return False
+        self.report(
+            call,
+            "GM203",
+            f"left as it is: every `{name}` here is an instance of a class of this project that defines seed() "
+            f"itself, and `{classdef.name}.seed()` is this project's own API",
+            FixKind.FLAG,
+            tier=Tier.NOTE,
         )
         return True
 

@@ -37,14 +37,15 @@ class _ResultStep:
     vector: bool
 
 
-def _unpacked_into_more_than_five(parent: ast.AST | None, call: ast.Call) -> bool:
-    """``a, b, c, d, e, f = x.step(...)``: one plain target of six names or more, none starred."""
+def _unpacked_into_no_gym_count(parent: ast.AST | None, call: ast.Call) -> bool:
+    """``a, b, c, d, e, f = x.step(...)`` or ``reward, done, info = x.step(...)``: one plain
+    target of a count of names no Gym step returns (neither four nor five), none starred."""
     return (
         isinstance(parent, ast.Assign)
         and parent.value is call
         and len(parent.targets) == 1
         and isinstance(parent.targets[0], (ast.Tuple, ast.List))
-        and len(parent.targets[0].elts) > 5
+        and len(parent.targets[0].elts) not in (4, 5)
         and not any(isinstance(element, ast.Starred) for element in parent.targets[0].elts)
     )
 
@@ -58,10 +59,11 @@ class ResultRules(StepFamilyBase):
             return  # ``[env.step(a) for a in actions]`` as a statement: nothing reads the result
         if _subscript_index(self.facts.parent(call), call) in _SAME_PLACE:
             return  # ``env.step(0)[0]``: the observation (reward, info) is where it was
-        if _unpacked_into_more_than_five(self.facts.parent(call), call):
-            # ``ob, s_ob, reward, done, info, avail = env.step(a)``: no Gym env, legacy (four)
-            # or Gymnasium (five), returns six values, so the legacy code would have raised
-            # on one; the receiver has a protocol of its own, nothing to port here
+        if _unpacked_into_no_gym_count(self.facts.parent(call), call):
+            # ``ob, s_ob, reward, done, info, avail = env.step(a)``, ``reward, terminated,
+            # env_info = env.step(a)`` (SMAC's multi-agent API): no Gym env, legacy (four) or
+            # Gymnasium (five), returns six or three values, so the legacy code would have
+            # raised on one; the receiver has a protocol of its own, nothing to port here
             return
         decision, _ = self.decision(receiver, legacy_shape=False)
         profile = self.context.profile
