@@ -505,7 +505,9 @@ class CreationFinder:
             if classdef is None:
                 result.fail("`self` outside a class")
                 return result
-            values = self.receivers.self_stores(classdef).get(attr.attr, [])
+            # where the class stores none, what a base class of this module stores: the
+            # inherited ``__init__`` set it (``DQNAgent(Agent)`` reads Agent's ``self.env``)
+            values = self.receivers.self_stores(classdef).get(attr.attr, []) or self.receivers.self_attribute_values(attr, attr.attr)
             if not values:
                 result.fail(f"`self.{attr.attr}` is never assigned in the class")
             for value in values:

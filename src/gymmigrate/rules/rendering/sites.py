@@ -75,6 +75,8 @@ class RenderSites(RecorderSites):
             and not (self._helper_method(function) or self._adapter_render(function, receiver))
         ):
             return None  # a render method forwarding to its env: the Env/Wrapper rules own it
+        if mode_arg is None and close is None and self._report_own_forward(call, receiver):
+            return None
         if mode_arg is not None and self._class_keeps_its_mode(receiver):
             return None  # ``render(mode)`` of a class that chooses its mode itself is kept (GM405 says so)
         if self.receivers.legacy_step_class(receiver) is not None:
@@ -357,6 +359,42 @@ class RenderSites(RecorderSites):
                     "with the mode at the make",
                     tier=Tier.NOTE,
                 )
+
+    def _report_own_forward(self, call: ast.Call, receiver: ast.expr) -> bool:
+        """``holder.render()`` on an instance of a plain class of this module whose own
+        ``render()`` forwards to the env it holds (``self.env.render()``): that forward is
+        the render site, and its make's mode is decided there; this call repeats the
+        decision, so it is a note pointing at it, not a second question."""
+        statement = self.receivers.statement_seen(receiver) if isinstance(receiver, ast.Name) else None
+        value = statement.value if isinstance(statement, ast.Assign) and len(statement.targets) == 1 else None
+        classdef = self.receivers.local_class(value.func) if isinstance(value, ast.Call) else None
+        if classdef is None:
+            return False
+        method = next((m for m in classdef.body if isinstance(m, (ast.FunctionDef, ast.AsyncFunctionDef)) and m.name == "render"), None)
+        if method is None:
+            return False
+        forwards = [
+            c
+            for c in self.facts.attribute_calls.get("render", [])
+            if self.facts.enclosing_function(c) is method
+            and isinstance(c.func, ast.Attribute)
+            and isinstance(c.func.value, ast.Attribute)
+            and isinstance(c.func.value.value, ast.Name)
+            and c.func.value.value.id == "self"
+            and not (c.args or c.keywords)  # a forward of its callers' arguments makes them the sites
+            and (self._helper_method(method) or self._adapter_render(method, c.func.value))
+        ]
+        if not forwards:
+            return False
+        self.report(
+            call,
+            "GM402",
+            f"not rewritten: `{self.facts.segment(call)}` calls `{classdef.name}.render()`, which forwards to the env it holds "
+            f"(line {forwards[0].lineno}): the render mode is decided there",
+            FixKind.FLAG,
+            tier=Tier.NOTE,
+        )
+        return True
 
     def _plain_class_method(self, function: ast.AST) -> bool:
         """A method of a class that is neither an env nor a wrapper (an adapter holding an
