@@ -337,8 +337,8 @@ class ModuleFacts:
         if scope is not self.module_scope or len(bindings) < 2:
             return bindings
         at = self._import_time_index(name)
-        key = ("reaching-bindings", id(bindings), -1 if at is None else at)
-        found = self._memo.get(key)
+        by_position = cast("dict[int, list[ast.AST]]", self._memo.setdefault(("reaching-bindings", id(bindings)), {}))
+        found = by_position.get(-1 if at is None else at)
         if found is None:
             ordered = [(binding, self._import_time_index(binding)) for binding in bindings]
             if at is not None:  # read while the module runs: only what ran before it
@@ -348,8 +348,8 @@ class ModuleFacts:
                 default=None,
             )
             kept = [b for b, i in ordered if replaced is None or i is None or i >= replaced]
-            found = self._memo[key] = kept or bindings
-        return cast("list[ast.AST]", found)  # only this code stores under the key
+            found = by_position[-1 if at is None else at] = kept or bindings
+        return found
 
     def _import_time_index(self, node: ast.AST) -> int | None:
         """The index in the module body of the statement ``node`` runs in when it runs as

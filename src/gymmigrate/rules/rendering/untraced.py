@@ -179,8 +179,8 @@ class UntracedEnvs(MakeEdits):
             return gym_only_question(library)  # an env of a Gym-only stack: ported with it (GM107)
         class_ = self.facts.enclosing_class(site.node)
         if site.creation.gap and " is a parameter of `" in site.creation.gap:
-            owner = self._parameter_owner(class_, site.creation.gap) if class_ is not None else None
-            return ("render-untraced", id(owner or class_ or self.facts.enclosing_function(site.node)), where)
+            base = self._parameter_owner(class_, site.creation.gap) if class_ is not None else None
+            return ("render-untraced", id(base or class_ or self.facts.enclosing_function(site.node)), where)
         name = full_name(func.value) if isinstance(func, ast.Attribute) else None
         if not name:
             return None
