@@ -14,6 +14,7 @@ from gymmigrate.facts.decisions import Action, Decision, decide, receiver_text
 from gymmigrate.facts.env_classes import EnvClasses
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import full_name, keyword, string_value
+from gymmigrate.facts.summaries.classes import held_env_render_forward
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.render_calls import arguments_in_order, close_call
 from gymmigrate.rules.render_schedule import never_run_guard, same_value_at_make
@@ -361,36 +362,30 @@ class RenderSites(RecorderSites):
                 )
 
     def _report_own_forward(self, call: ast.Call, receiver: ast.expr) -> bool:
-        """``holder.render()`` on an instance of a plain class of this module whose own
-        ``render()`` forwards to the env it holds (``self.env.render()``): that forward is
-        the render site, and its make's mode is decided there; this call repeats the
-        decision, so it is a note pointing at it, not a second question."""
+        """``holder.render()`` on an instance of a plain class (of this module or of the
+        run) whose own ``render()`` forwards bare to the env it holds (``self.env.render()``):
+        that forward is the render site, and its make's mode is decided there; this call
+        repeats the decision, so it is a note pointing at it, not a second question."""
         statement = self.receivers.statement_seen(receiver) if isinstance(receiver, ast.Name) else None
         value = statement.value if isinstance(statement, ast.Assign) and len(statement.targets) == 1 else None
-        classdef = self.receivers.local_class(value.func) if isinstance(value, ast.Call) else None
-        if classdef is None:
+        if not isinstance(value, ast.Call):
             return False
-        method = next((m for m in classdef.body if isinstance(m, (ast.FunctionDef, ast.AsyncFunctionDef)) and m.name == "render"), None)
-        if method is None:
-            return False
-        forwards = [
-            c
-            for c in self.facts.attribute_calls.get("render", [])
-            if self.facts.enclosing_function(c) is method
-            and isinstance(c.func, ast.Attribute)
-            and isinstance(c.func.value, ast.Attribute)
-            and isinstance(c.func.value.value, ast.Name)
-            and c.func.value.value.id == "self"
-            and not (c.args or c.keywords)  # a forward of its callers' arguments makes them the sites
-            and (self._helper_method(method) or self._adapter_render(method, c.func.value))
-        ]
-        if not forwards:
+        classdef = self.receivers.local_class(value.func)
+        where: str | None = None
+        if classdef is not None:
+            forward = held_env_render_forward(self.facts, self.receivers, classdef)
+            where = f"line {forward.lineno}" if forward is not None else None
+        elif self.receivers.project is not None:
+            found = {f for q in self.facts.qualified_names(value.func) if (f := self.receivers.project.render_forward(q)) is not None}
+            if len(found) == 1:
+                where = f"in {found.pop()}"
+        if where is None:
             return False
         self.report(
             call,
             "GM402",
-            f"not rewritten: `{self.facts.segment(call)}` calls `{classdef.name}.render()`, which forwards to the env it holds "
-            f"(line {forwards[0].lineno}): the render mode is decided there",
+            f"not rewritten: `{self.facts.segment(call)}` calls `{self.facts.segment(value.func)}.render()`, which forwards "
+            f"to the env it holds ({where}): the render mode is decided there",
             FixKind.FLAG,
             tier=Tier.NOTE,
         )
