@@ -206,8 +206,14 @@ class WrapperRenames(RuleFamily):
                 elif rest != "wrappers":
                     edit.module = "wrappers"
                 self._monitor_imports.append(edit)
+                shadowed = not reads_of(self.facts, alias, bound) and bool(self.facts.reads_of(bound))
                 self.report(
-                    statement, "GM611", "`Monitor` is gone: it is replaced by RecordVideo and RecordEpisodeStatistics", tier=Tier.NOTE
+                    statement,
+                    "GM611",
+                    f"`Monitor` is gone: its import is dropped; a later binding of `{bound}` replaces it before any use"
+                    if shadowed
+                    else "`Monitor` is gone: it is replaced by RecordVideo and RecordEpisodeStatistics",
+                    tier=Tier.NOTE,
                 )
         if edit.changed:
             self._import_edits[statement] = edit
