@@ -5,6 +5,8 @@ base in another module counts no steps (a note), or counts them (a review item).
 ``fixtures/project_cross_own_api/``: dm_env adapters of one module used in others.
 ``fixtures/project_cross_render_ctor/``: an env built by a run class in one module and
 rendered bare in another.
+``fixtures/project_cross_render_holder/``: a holder class whose render() forwards to its env,
+rendered from another module.
 """
 
 from __future__ import annotations
@@ -95,3 +97,16 @@ def test_a_constructor_of_another_module_gets_the_mode_its_bare_renders_need(tmp
         timeout=120,
     )
     assert run.returncode == 0 and run.stdout.strip() == "True", run.stderr + run.stdout
+
+
+def test_a_holder_render_of_another_module_points_at_its_forward(tmp_path: Path) -> None:
+    """``sim.render()`` (run.py) on ``Simulator`` (sim/holder.py, re-exported by the
+    package), whose own render() forwards bare to the env it makes: the decision is asked
+    at that forward, and the script's call is a note pointing there, not a second question."""
+    project = _copy("project_cross_render_holder", tmp_path)
+    result = runner.invoke(app, ["check", str(project)])
+    review = _review(result.output)
+    assert "holder.py:15: GM402" in review
+    assert "run.py:7: GM402" not in review
+    assert "run.py:7:5: GM402 [flag] not rewritten: `sim.render()` calls `Simulator.render()`" in result.output
+    assert "(in sim/holder.py)" in result.output

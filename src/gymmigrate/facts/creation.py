@@ -228,8 +228,11 @@ class CreationFinder:
         if function is not None:
             return self._follow(function, self._returns)
         inner = wrapped_env_argument(call)
-        if inner is not None and self._looks_like_wrapper(call):
+        if inner is not None and self._looks_like_wrapper(call.func):
             return self._follow(inner, self._expr)
+        looped = self._loop_wrapped(call)
+        if looped is not None:
+            return self._follow(looped, self._expr)
         if isinstance(call.func, ast.Name) and not self.facts.qualified_names(call.func) and self.facts.bindings_of(call.func):
             return self._follow(call.func, self._called)
         own = self.receivers.own_method(call.func)  # ``self.env = self.make_env()``
@@ -502,7 +505,9 @@ class CreationFinder:
             if classdef is None:
                 result.fail("`self` outside a class")
                 return result
-            values = self.receivers.self_stores(classdef).get(attr.attr, [])
+            # where the class stores none, what a base class of this module stores: the
+            # inherited ``__init__`` set it (``DQNAgent(Agent)`` reads Agent's ``self.env``)
+            values = self.receivers.self_stores(classdef).get(attr.attr, []) or self.receivers.self_attribute_values(attr, attr.attr)
             if not values:
                 result.fail(f"`self.{attr.attr}` is never assigned in the class")
             for value in values:
@@ -560,9 +565,46 @@ class CreationFinder:
             values.append(argument)
         return values
 
-    def _looks_like_wrapper(self, call: ast.Call) -> bool:
-        """``SomeWrapper(env, ...)``: a gym wrapper, a wrapper class of this module, or a class."""
-        for q in self.facts.qualified_names(call.func):
+    def _loop_wrapped(self, call: ast.Call) -> ast.Name | None:
+        """``for wrapper in wrappers: env = wrapper(env)``: the env that goes through the
+        loop, whose creation is the creation of what comes out (each pass hands the
+        wrapped env on). Only when the loop variable is bound by that loop alone, the call
+        rebinds the very name it is given. A list written here must hold only wrapper
+        classes (``[TimeLimit, FrameStack]``), not functions that may make another env; a
+        list handed in (a parameter) is followed: whatever it holds is given the env and
+        its result goes on, so the make before the loop is where that env was created."""
+        func, inner = call.func, wrapped_env_argument(call)
+        assign = self.facts.parent(call)
+        if not (
+            isinstance(func, ast.Name)
+            and isinstance(inner, ast.Name)
+            and isinstance(assign, ast.Assign)
+            and assign.value is call
+            and [t.id for t in assign.targets if isinstance(t, ast.Name)] == [inner.id]
+            and len(assign.targets) == 1
+        ):
+            return None
+        bindings = self.facts.bindings_of(func)
+        loop = self.facts.parent(bindings[0]) if len(bindings) == 1 else None
+        if not (isinstance(loop, (ast.For, ast.AsyncFor)) and loop.target is bindings[0]):
+            return None
+        if not any(ancestor is loop for ancestor in self.facts.ancestors(call)):
+            return None
+        items = loop.iter
+        if isinstance(items, ast.Name):
+            values = self.facts.assigned_values(items)
+            items = values[0] if values is not None and len(values) == 1 else items
+        if isinstance(items, (ast.List, ast.Tuple)) and not all(
+            isinstance(element, (ast.Name, ast.Attribute)) and self._looks_like_wrapper(element)
+            for element in items.elts
+        ):
+            return None
+        return inner
+
+    def _looks_like_wrapper(self, func: ast.expr) -> bool:
+        """``SomeWrapper`` of ``SomeWrapper(env, ...)``: a gym wrapper, a wrapper class of
+        this module, or a class."""
+        for q in self.facts.qualified_names(func):
             rest = N.strip_gym_prefix(q)
             if rest is not None:
                 return rest.startswith("wrappers.")
@@ -570,9 +612,9 @@ class CreationFinder:
                 return q.rsplit(".", 1)[-1][:1].isupper()
             if N.top_package(q) in N.NOT_ENV_PACKAGES:
                 return False
-        if self.receivers.local_class(call.func) is not None:
+        if self.receivers.local_class(func) is not None:
             return True
-        name = last_name(call.func)
+        name = last_name(func)
         return name[:1].isupper() and not name.isupper()
 
 

@@ -326,13 +326,69 @@ class ModuleFacts:
     def bindings_of(self, name: ast.Name) -> list[ast.AST]:
         return self.resolve(name.id, self.scope_of(name))[1]
 
+    def reaching_bindings(self, name: ast.Name) -> list[ast.AST]:
+        """The bindings of ``name`` that may still hold when it is read: ``bindings_of``
+        without the module-level ones a later unconditional module-level binding replaces
+        (``from gym.wrappers import Monitor`` then ``from wrappers import Monitor``: only
+        the second reaches a read after it, or in a function, which runs once the module
+        has run). Bindings under ``if``/``try`` or in a loop replace nothing: which one
+        holds is not known, so all of them stay."""
+        scope, bindings = self.resolve(name.id, self.scope_of(name))
+        if scope is not self.module_scope or len(bindings) < 2:
+            return bindings
+        at = self._import_time_index(name)
+        by_position = cast("dict[int, list[ast.AST]]", self._memo.setdefault(("reaching-bindings", id(bindings)), {}))
+        found = by_position.get(-1 if at is None else at)
+        if found is None:
+            ordered = [(binding, self._import_time_index(binding)) for binding in bindings]
+            if at is not None:  # read while the module runs: only what ran before it
+                ordered = [(b, i) for b, i in ordered if i is None or i <= at]
+            replaced = max(
+                (i for b, i in ordered if i is not None and (at is None or i < at) and self._binds_unconditionally(b)),
+                default=None,
+            )
+            kept = [b for b, i in ordered if replaced is None or i is None or i >= replaced]
+            found = by_position[-1 if at is None else at] = kept or bindings
+        return found
+
+    def _import_time_index(self, node: ast.AST) -> int | None:
+        """The index in the module body of the statement ``node`` runs in when it runs as
+        the module is imported; None when it runs in a function or lambda (called later)."""
+        scope: Scope | None = self._scope_of.get(node) or self.scope_of(node)
+        while scope is not None:
+            if scope.is_function:
+                return None
+            scope = scope.parent
+        top: ast.AST = node
+        for ancestor in self.ancestors(node):
+            if ancestor is self.tree:
+                break
+            top = ancestor
+        return self._top_index().get(top)
+
+    def _top_index(self) -> dict[ast.AST, int]:
+        found = self._memo.get(("top-index", 0))
+        if found is None:
+            found = self._memo[("top-index", 0)] = {statement: i for i, statement in enumerate(self.tree.body)}
+        return cast("dict[ast.AST, int]", found)
+
+    def _binds_unconditionally(self, binding: ast.AST) -> bool:
+        """A binding made by a statement of the module body itself (an import, assignment,
+        def or class outside any ``if``, ``try``, ``with`` or loop): it always runs."""
+        statement = binding if isinstance(binding, ast.stmt) else self.statement_of(binding)
+        if isinstance(statement, ast.AnnAssign) and statement.value is None:
+            return False  # ``name: T`` binds nothing when it runs
+        return self.parent(statement) is self.tree and isinstance(
+            statement, (ast.Import, ast.ImportFrom, ast.Assign, ast.AnnAssign, *FUNCTIONS, ast.ClassDef)
+        )
+
     def reads_of(self, name: str, binding: ast.AST | None = None) -> list[ast.Name]:
         """Every read of ``name`` in the module, in every scope (from the index the walk
         built, no second walk); with ``binding``, only the reads it may reach."""
         reads = [read for scope in self.scopes.values() for read in scope.reads.get(name, ())]
         if binding is None:
             return reads
-        return [read for read in reads if binding in self.bindings_of(read)]
+        return [read for read in reads if binding in self.reaching_bindings(read)]
 
     def assigned_values(self, name: ast.Name, *, sole_target: bool = False) -> list[ast.expr] | None:
         """The values of every ``name = ...`` binding of ``name``; None when one binds it
@@ -356,7 +412,7 @@ class ModuleFacts:
     def qualified_names(self, expr: ast.AST) -> set[str]:
         """Library names ``expr`` stands for through imports: ``gym.make`` -> {"gym.make"}."""
         if isinstance(expr, ast.Name):
-            bindings = self.bindings_of(expr)
+            bindings = self.reaching_bindings(expr)
             if not bindings:
                 return set()
             # One answer per set of bindings, not per read: a name rebound n times is read

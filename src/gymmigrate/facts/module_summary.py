@@ -180,6 +180,8 @@ class ModuleSummary:
     # a render() nor asks workers to render: a project's stub (``logger.warn(...)``), whose
     # callers need no render_mode anywhere (rules/rendering/).
     silent_renders: frozenset[str] = frozenset()
+    # classes whose render() forwards bare to the env they hold -> line of that forward
+    render_forwards: dict[str, int] = field(default_factory=dict)
     # Top-level classes with an imported base that render themselves with a mode
     # (``self.render(mode="rgb_array")``) and define no render(): class -> (line, call). That
     # call reaches the base's render() in another module, which must keep its ``mode``.

@@ -210,6 +210,9 @@ class ProjectFacts:
     seed_owners: frozenset[tuple[str, str]] = frozenset()
     seed_chains: frozenset[tuple[str, str]] = frozenset()
     silent_renders: frozenset[tuple[str, str]] = frozenset()  # (path, class) whose render() is a stub
+    # (path, class) whose render() forwards bare to the env it holds, under each name re-exporting
+    # it -> (path, line) of that forward
+    render_forwards: dict[tuple[str, str], tuple[str, int]] = field(default_factory=dict)
     # Ids the run registers for an env class of the run whose constructor will not take
     # ``render_mode`` (its ``__init__`` cannot hand it on): id (None: not a literal) -> class.
     # ``gymnasium.make(id, render_mode=...)`` of one would raise TypeError.
@@ -413,6 +416,13 @@ class ProjectFacts:
         join_opaque_registrations(facts, by_path)
         facts.rendering_wrappers = reexported(facts, by_path, {(p, n) for p, summary in by_path.items() for n in summary.rendering_wrappers})
         facts.silent_renders = frozenset((path, name) for path, summary in by_path.items() for name in summary.silent_renders)
+        # each forward under every name of the run that re-exports its class (few classes have one)
+        facts.render_forwards = {
+            alias: (path, line)
+            for path, summary in by_path.items()
+            for name, line in summary.render_forwards.items()
+            for alias in reexported(facts, by_path, {(path, name)})
+        }
         facts.quiet_classes = reexported(facts, by_path, quiet_classes(facts, by_path))
         facts.own_api_classes = reexported(facts, by_path, own_api_classes(facts, by_path))
         return facts

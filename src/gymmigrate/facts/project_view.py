@@ -432,6 +432,16 @@ class ProjectView:
         split = self.facts._split(qualified, self.path)
         return split is not None and split in self.facts.silent_renders
 
+    def render_forward(self, qualified: str) -> str | None:
+        """For an imported class of the run whose render() forwards bare to the env it holds
+        (``ModuleSummary.render_forwards``), the module of that forward as a reader of this
+        file finds it (no line: the run may move it, adding imports above it)."""
+        split = self.facts._split(qualified, self.path)
+        found = self.facts.render_forwards.get(split) if split is not None else None
+        if found is None or found[0] == self.path:
+            return None
+        return os.path.relpath(found[0], os.path.dirname(self.path))
+
     def is_spec_list(self, qualified: str) -> bool:
         """An imported name of the run is bound to a list of the registry's EnvSpecs."""
         split = self.facts._split(qualified, self.path)

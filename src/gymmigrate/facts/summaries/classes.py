@@ -10,7 +10,11 @@ import ast
 from gymmigrate.facts import names as N
 from gymmigrate.facts.class_shapes import wrapped_env_renders
 from gymmigrate.facts.done_causes import Cause, DoneCause
-from gymmigrate.facts.env_classes import is_super_method_call, mode_can_stay_optional
+from gymmigrate.facts.env_classes import (
+    EnvClasses,
+    is_super_method_call,
+    mode_can_stay_optional,
+)
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.limits import DoneTracer
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
@@ -217,3 +221,42 @@ def rendering_wrappers(facts: ModuleFacts, receivers: Receivers) -> frozenset[st
     return frozenset(
         name for name, classdef in facts.classes.items() if receivers.is_gym_wrapper_class(classdef) and wrapped_env_renders(facts, classdef)
     )
+
+
+def held_env_render_forward(facts: ModuleFacts, receivers: Receivers, classdef: ast.ClassDef) -> ast.Call | None:
+    """The bare ``self.<x>.render()`` the class's own render() makes, when the class is
+    no Gym env nor wrapper (a holder of an env: ``self.env = gym.make(...)``): that
+    forward is the render site whose make gets (or is asked) the mode, so a caller's
+    ``holder.render()`` repeats its decision. None for any other shape."""
+    render = next((m for m in classdef.body if isinstance(m, FUNCTIONS) and m.name == "render"), None)
+    if render is None or receivers.is_gym_wrapper_class(classdef):
+        return None
+    kind = receivers.class_kind(classdef)
+    if kind not in (EnvKind.NOT_ENV, EnvKind.UNKNOWN):
+        return None
+    if kind is EnvKind.UNKNOWN and EnvClasses.of(facts, receivers).is_custom_env(classdef):
+        return None
+    for call in facts.attribute_calls.get("render", []):
+        func = call.func
+        if (
+            facts.enclosing_function(call) is render
+            and not (call.args or call.keywords)  # a forward of its callers' arguments makes them the sites
+            and isinstance(func, ast.Attribute)
+            and isinstance(func.value, ast.Attribute)
+            and isinstance(func.value.value, ast.Name)
+            and func.value.value.id == "self"
+            and (kind is EnvKind.NOT_ENV or receivers.kind_of(func.value) is EnvKind.GYM_ENV)
+        ):
+            return call
+    return None
+
+
+def render_forwards(facts: ModuleFacts, receivers: Receivers) -> dict[str, int]:
+    """The module's classes whose render() forwards bare to the env they hold, with the
+    line of that forward (``held_env_render_forward``)."""
+    found: dict[str, int] = {}
+    for name, classdef in facts.classes.items():
+        call = held_env_render_forward(facts, receivers, classdef)
+        if call is not None:
+            found[name] = call.lineno
+    return found

@@ -60,7 +60,8 @@ class RecorderSites(RenderingBase):
         consumer: str | None = None
         accepted: tuple[str, ...] = (RGB_ARRAY,)
         monitor = False
-        for q in self.facts.qualified_names(call.func):
+        qualified = self.facts.qualified_names(call.func)
+        for q in qualified:
             rest = N.strip_gym_prefix(q)
             if rest in _GYM_RECORDERS:
                 consumer, accepted = _GYM_RECORDERS[rest]
@@ -68,6 +69,8 @@ class RecorderSites(RenderingBase):
                 consumer = "VecVideoRecorder"
             elif rest in _MONITORS and not self._guarded_import(call.func):
                 consumer, monitor = "RecordVideo", True
+        if monitor and not all(N.strip_gym_prefix(q) in _MONITORS for q in qualified):
+            return None  # maybe the project's own Monitor: the wrapper family leaves it, asking (GM611)
         if consumer is None or not (call.args or call.keywords):
             return None
         env: ast.AST | None

@@ -14,6 +14,7 @@ from gymmigrate.facts.decisions import Action, Decision, decide, receiver_text
 from gymmigrate.facts.env_classes import EnvClasses
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import full_name, keyword, string_value
+from gymmigrate.facts.summaries.classes import held_env_render_forward
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.render_calls import arguments_in_order, close_call
 from gymmigrate.rules.render_schedule import never_run_guard, same_value_at_make
@@ -75,6 +76,8 @@ class RenderSites(RecorderSites):
             and not (self._helper_method(function) or self._adapter_render(function, receiver))
         ):
             return None  # a render method forwarding to its env: the Env/Wrapper rules own it
+        if mode_arg is None and close is None and self._report_own_forward(call, receiver):
+            return None
         if mode_arg is not None and self._class_keeps_its_mode(receiver):
             return None  # ``render(mode)`` of a class that chooses its mode itself is kept (GM405 says so)
         if self.receivers.legacy_step_class(receiver) is not None:
@@ -357,6 +360,36 @@ class RenderSites(RecorderSites):
                     "with the mode at the make",
                     tier=Tier.NOTE,
                 )
+
+    def _report_own_forward(self, call: ast.Call, receiver: ast.expr) -> bool:
+        """``holder.render()`` on an instance of a plain class (of this module or of the
+        run) whose own ``render()`` forwards bare to the env it holds (``self.env.render()``):
+        that forward is the render site, and its make's mode is decided there; this call
+        repeats the decision, so it is a note pointing at it, not a second question."""
+        statement = self.receivers.statement_seen(receiver) if isinstance(receiver, ast.Name) else None
+        value = statement.value if isinstance(statement, ast.Assign) and len(statement.targets) == 1 else None
+        if not isinstance(value, ast.Call):
+            return False
+        classdef = self.receivers.local_class(value.func)
+        where: str | None = None
+        if classdef is not None:
+            forward = held_env_render_forward(self.facts, self.receivers, classdef)
+            where = f"line {forward.lineno}" if forward is not None else None
+        elif self.receivers.project is not None:
+            found = {f for q in self.facts.qualified_names(value.func) if (f := self.receivers.project.render_forward(q)) is not None}
+            if len(found) == 1:
+                where = f"in {found.pop()}"
+        if where is None:
+            return False
+        self.report(
+            call,
+            "GM402",
+            f"not rewritten: `{self.facts.segment(call)}` calls `{self.facts.segment(value.func)}.render()`, which forwards "
+            f"to the env it holds ({where}): the render mode is decided there",
+            FixKind.FLAG,
+            tier=Tier.NOTE,
+        )
+        return True
 
     def _plain_class_method(self, function: ast.AST) -> bool:
         """A method of a class that is neither an env nor a wrapper (an adapter holding an

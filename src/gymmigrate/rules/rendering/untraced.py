@@ -151,6 +151,22 @@ class UntracedEnvs(MakeEdits):
         library here, or the run's own factories and wrappers around its envs), or None."""
         return self._gym_only_origin(receiver) or self.receivers.gym_only_stack(receiver)
 
+    def _parameter_owner(self, classdef: ast.ClassDef, gap: str) -> ast.ClassDef | None:
+        """The base class of this module (``classdef`` itself or an ancestor) whose
+        constructor parameter the finder stopped at (the gap names it): a subclass that
+        inherits ``self.env`` from ``Agent.__init__`` asks Agent's question, not one of its own."""
+        seen: set[int] = set()
+        pending = [classdef]
+        while pending:
+            current = pending.pop()
+            if id(current) in seen:
+                continue
+            seen.add(id(current))
+            if f" is a parameter of `{current.name}`," in gap:
+                return current
+            pending.extend(base for base in (self.receivers.local_class(b) for b in current.bases) if base is not None)
+        return None
+
     def _untraced_question(self, site: RenderSite, where: str) -> Hashable | None:
         """The renders and recorders of one untraced env ask one question: where it is made,
         and in which mode. One env is one spelling in one function (``self.x``: one class),
@@ -163,7 +179,8 @@ class UntracedEnvs(MakeEdits):
             return gym_only_question(library)  # an env of a Gym-only stack: ported with it (GM107)
         class_ = self.facts.enclosing_class(site.node)
         if site.creation.gap and " is a parameter of `" in site.creation.gap:
-            return ("render-untraced", id(class_ or self.facts.enclosing_function(site.node)), where)
+            base = self._parameter_owner(class_, site.creation.gap) if class_ is not None else None
+            return ("render-untraced", id(base or class_ or self.facts.enclosing_function(site.node)), where)
         name = full_name(func.value) if isinstance(func, ast.Attribute) else None
         if not name:
             return None

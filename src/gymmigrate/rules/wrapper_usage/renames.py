@@ -209,8 +209,14 @@ class WrapperRenames(RuleFamily):
                 elif rest != "wrappers":
                     edit.module = "wrappers"
                 self._monitor_imports.append(edit)
+                shadowed = not reads_of(self.facts, alias, bound) and bool(self.facts.reads_of(bound))
                 self.report(
-                    statement, "GM611", "`Monitor` is gone: it is replaced by RecordVideo and RecordEpisodeStatistics", tier=Tier.NOTE
+                    statement,
+                    "GM611",
+                    f"`Monitor` is gone: its import is dropped; a later binding of `{bound}` replaces it before any use"
+                    if shadowed
+                    else "`Monitor` is gone: it is replaced by RecordVideo and RecordEpisodeStatistics",
+                    tier=Tier.NOTE,
                 )
         if edit.changed:
             self._import_edits[statement] = edit
@@ -543,7 +549,15 @@ class WrapperRenames(RuleFamily):
         """(legacy name, 1.x name) of the gym/gymnasium wrapper class this call constructs."""
         func = call.func
         if isinstance(func, ast.Name) and func.id in self._monitor_locals:
-            return func.id, "Monitor"
+            # By the binding that reaches the call, not by its spelling: a later import of
+            # the project's own ``Monitor`` replaces gym's.
+            reaching = self.facts.reaching_bindings(func)
+            dropped = {alias for alias, _ in self._monitor_aliases}
+            if dropped.issuperset(reaching):
+                return func.id, "Monitor"
+            if dropped.intersection(reaching):
+                self._report_unsure_monitor(call, [b for b in reaching if b not in dropped])
+                return None
         qualified = self.facts.qualified_names(func)
         if not qualified:
             return None
@@ -561,6 +575,20 @@ class WrapperRenames(RuleFamily):
                 return name, experimental_name(name) or name
             return name, RENAMED.get(name, name)
         return None
+
+    def _report_unsure_monitor(self, call: ast.Call, others: list[ast.AST]) -> None:
+        """A ``Monitor`` name bound both to gym's Monitor and to something else, where which
+        binding holds at the call is not known (one is under ``if``, in a loop...)."""
+        assert isinstance(call.func, ast.Name)
+        lines = lines_text(sorted({getattr(other, "lineno", None) or self.facts.statement_of(other).lineno for other in others}))
+        self.report(
+            call,
+            "GM611",
+            f"not rewritten: `{call.func.id}` here is gym's removed `Monitor` or what {lines} bind{'s' if len(others) == 1 else ''} it to, and which "
+            "one holds at this call is not known; if it is gym's, rebuild it on RecordVideo and RecordEpisodeStatistics",
+            kind=FixKind.FLAG,
+        )
+        self._monitor_calls.add(id(call.func))  # asked here: not asked again as an uncovered read
 
     # GM613
 
