@@ -112,12 +112,13 @@ class AtariEvidence:
             if not ("tests for" in sign or _under_condition(self.facts, node, where[id(node)]))
         ]
         evidence = (certain or [sign for sign, _ in signs])[0]
-        given = None if certain or not isinstance(bindings[0], ast.arg) else self._ids_given(function, bindings[0])
-        if given is not None and not any(is_atari_id(i) for i in given):
+        given, complete = ([], False) if certain or not isinstance(bindings[0], ast.arg) else self._ids_given(function, bindings[0])
+        if complete and given and not any(is_atari_id(i) for i in given):
             return None  # every caller of the run passes an id, none an Atari one: no ale_py needed
-        if given is not None:
+        if any(is_atari_id(i) for i in given):
+            # one call of the run that passes an Atari id is enough: the helper makes Atari envs
             atari = next(i for i in given if is_atari_id(i))
-            certain = [f"{evidence}, and its callers in the run pass Atari ids such as `{atari}`"]
+            certain = [f"{evidence}, and a call of the run passes it the Atari id `{atari}`"]
             evidence = certain[0]
         maker = f"{owner.name}.{function.name}" if isinstance(owner, ast.ClassDef) else function.name
         if certain:
@@ -134,19 +135,19 @@ class AtariEvidence:
             kind = FixKind.ASSIST
         return name, message, kind
 
-    def _ids_given(self, function: ast.AST, param: ast.arg) -> list[str] | None:
-        """The env ids every call of the run gives ``param`` of the top-level def
-        ``function``: the calls of this module and of the others (``ProjectView.passed_ids``),
-        a default where a call passes none. None when a call passes something else, when the
-        def is read as a value anywhere (it may be called unseen), or when nobody calls it."""
+    def _ids_given(self, function: ast.AST, param: ast.arg) -> tuple[list[str], bool]:
+        """The env ids the calls of the run give ``param`` of the top-level def ``function``:
+        the calls of this module and of the others (``ProjectView.passed_ids``), a default
+        where a call passes none; and whether that is every call. Not every call when one
+        passes something else, when the def is read as a value anywhere (it may be called
+        unseen), when nobody calls it, or when the other modules of the run are not read."""
         project = self.receivers.project
-        if project is None or not isinstance(function, (ast.FunctionDef, ast.AsyncFunctionDef)):
-            return None
-        if self.facts.parent(function) is not self.facts.tree or project.handed_on(function.name):
-            return None
+        if not isinstance(function, (ast.FunctionDef, ast.AsyncFunctionDef)) or self.facts.parent(function) is not self.facts.tree:
+            return [], False
         params = [*function.args.posonlyargs, *function.args.args]
         if param not in params:
-            return None
+            return [], False
+        complete = project is not None and not project.handed_on(function.name)
         position = params.index(param)
         default = param_default(function, param)
         default_id = plain_string(self.facts, default) if isinstance(default, ast.Constant) else None
@@ -155,9 +156,11 @@ class AtariEvidence:
         for read in reads:
             call = self.facts.parent(read)
             if not (isinstance(call, ast.Call) and call.func is read) or self.facts.bindings_of(read) != [function]:
-                return None  # handed on as a value (or another binding of the name)
+                complete = False  # handed on as a value (or another binding of the name)
+                continue
             if any(isinstance(a, ast.Starred) for a in call.args) or any(k.arg is None for k in call.keywords):
-                return None
+                complete = False
+                continue
             argument = call_argument(call, position, param.arg)
             if argument is None:
                 value = default_id
@@ -167,14 +170,16 @@ class AtariEvidence:
             else:
                 value = plain_string(self.facts, argument) if isinstance(argument, ast.Constant) else None
             if value is None:
-                return None
+                complete = False
+                continue
             found.append(split_module_prefix(value)[1])
-        for value in project.passed_ids(function.name, param.arg):
-            value = default_id if value == "" else value
-            if value is None:
-                return None
-            found.append(split_module_prefix(value)[1])
-        return found or None
+        for passed in project.passed_ids(function.name, param.arg) if project is not None else ():
+            passed = default_id if passed == "" else passed
+            if passed is None:
+                complete = False
+                continue
+            found.append(split_module_prefix(passed)[1])
+        return found, complete and bool(found)
 
     def _atari_signs(self, node: ast.AST, function: ast.AST) -> list[str]:
         """What in ``node`` only an Atari env has: ``.ale``, ``get_action_meanings()``, a
