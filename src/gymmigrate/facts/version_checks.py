@@ -14,6 +14,7 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
+from gymmigrate.facts.self_attributes import self_stores
 
 GYMNASIUM_RELEASE = (1, 4, 0)  # the release the migration targets (rules.gymnasium_api.GYMNASIUM_VERSION)
 
@@ -81,6 +82,10 @@ def _value(test: ast.AST, facts: ModuleFacts, names: frozenset[str]) -> bool | N
         return None if None in values else not decisive
     if isinstance(test, ast.Compare) and len(test.ops) == 1:
         return _compare(test.left, test.ops[0], test.comparators[0], names, None)
+    stored = _stored_flag(test, facts)
+    if stored:
+        values = {_value(value, facts, names) for value in stored}
+        return values.pop() if len(values) == 1 else None
     if isinstance(test, ast.Call) and isinstance(test.func, ast.Name) and len(test.args) == 1 and not test.keywords:
         literal = _constant_of(test.args[0], facts)
         helper = _helper(test.func.id, facts)
@@ -91,6 +96,25 @@ def _value(test: ast.AST, facts: ModuleFacts, names: frozenset[str]) -> bool | N
                 return None
             return _compare(compare.left, compare.ops[0], compare.comparators[0], names, (parameter, release))
     return None
+
+
+def _stored_flag(test: ast.AST, facts: ModuleFacts) -> list[ast.expr]:
+    """``if self._legacy_api:`` where every store of ``self._legacy_api`` in this module is a
+    plain assignment in the class of the read (``self._legacy_api = parse(gym.__version__) <
+    parse("0.25")`` in ``__init__``): the values stored, else []. A stored value that is
+    itself a flag is not followed (no chains, no loops)."""
+    if not (isinstance(test, ast.Attribute) and isinstance(test.ctx, ast.Load) and isinstance(test.value, ast.Name) and test.value.id == "self"):
+        return []
+    classdef = facts.enclosing_class(test)
+    if classdef is None:
+        return []
+    for attr in facts.attributes.get(test.attr, ()):
+        if isinstance(attr.ctx, (ast.Store, ast.Del)) and facts.enclosing_class(attr) is not classdef:
+            return []  # another class of the module stores it too
+    stored = self_stores(facts, classdef, test.attr)
+    if not stored or any(isinstance(value, (ast.Attribute, ast.Name)) for value in stored):
+        return []
+    return stored
 
 
 def _helper(name: str, facts: ModuleFacts) -> tuple[ast.AST, ast.Compare, str] | None:
