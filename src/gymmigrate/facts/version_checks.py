@@ -251,14 +251,15 @@ def _side(node: ast.AST, names: frozenset[str], parameter: tuple[str, tuple[int,
     if parameter is not None and isinstance(node, ast.Name) and node.id == parameter[0]:
         return parameter[1], False
     leaves = [n for n in ast.walk(node) if _is_version(n, names)]
-    literals = [n for n in ast.walk(node) if isinstance(n, ast.Constant) and isinstance(n.value, str) and _release(n.value)]
+    # a parse strips surrounding blanks (``version.parse(" 0.25.0")`` is 0.25.0)
+    literals = [n for n in ast.walk(node) if isinstance(n, ast.Constant) and isinstance(n.value, str) and _release(n.value.strip())]
     params = [n for n in ast.walk(node) if parameter is not None and isinstance(n, ast.Name) and n.id == parameter[0]]
     if len(leaves) + len(literals) + len(params) != 1 or not _order_keeping(node, names, parameter):
         return None
     if leaves:
         return "version", True
     if literals:
-        release = _release(str(literals[0].value))
+        release = _release(str(literals[0].value).strip())
         return (release, True) if release is not None else None
     return parameter[1], True  # type: ignore[index]
 

@@ -260,7 +260,7 @@ def _settled_comparison(test: ast.AST) -> tuple[ast.Compare, bool] | None:
             continue
         if not (isinstance(right, ast.Constant) and isinstance(right.value, str)):
             continue
-        target, other = _release(GYMNASIUM_VERSION), _release(right.value)
+        target, other = _release(GYMNASIUM_VERSION), _release(right.value.strip())  # a parse strips blanks
         if target is None or other is None or type(op) not in _COMPARE or other >= (1,):
             continue  # a 1.x literal may answer differently on another Gymnasium release
         width = max(len(target), len(other))
