@@ -28,6 +28,7 @@ class Origins(Protocol):
     def library_made(self, expr: ast.AST) -> str | None: ...
     def gym_only_stack(self, expr: ast.AST) -> str | None: ...
     def own_api_holder(self, expr: ast.AST) -> str | None: ...
+    def dispatched_from_gym(self, expr: ast.AST) -> str | None: ...
     def handles_gym_envs(self) -> bool: ...
     def annotated_class(self, expr: ast.AST) -> str | None: ...
 
@@ -101,6 +102,11 @@ def decide(
     if (env_like or legacy_shape) and origins is not None and origins.run_defined(receiver):
         return Decision(Action.REPORT, f"`{name}` holds an object the project makes itself, not shown to be a Gym env; not rewritten")
     holder = origins.own_api_holder(receiver) if (env_like or legacy_shape) and origins is not None else None
+    if holder is not None and origins is not None:
+        dispatcher = origins.dispatched_from_gym(receiver)
+        if dispatcher is not None:
+            # ``wrap_env`` sends Gym envs to another class first: this one wraps another API
+            return Decision(Action.LEAVE, f"`{name}` is held by {holder}, which `{dispatcher}` builds only for envs that are not Gym's")
     if holder is not None:
         # a wrapper of an env API other than Gym's forwarding its own reset/step: what it
         # holds follows that API as likely as Gym's, so the file's imports settle nothing

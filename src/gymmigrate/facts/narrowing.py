@@ -40,6 +40,7 @@ _ENDS = (ast.Raise, ast.Return, ast.Continue, ast.Break)
 
 class State(Enum):
     GYM = "gym"
+    NOT_GYM = "not gym"
     OTHER = "other"
     DEAD = "dead"
 
@@ -49,7 +50,7 @@ def _join(first: State, second: State) -> State:
         return second
     if second is State.DEAD:
         return first
-    return State.GYM if first is second is State.GYM else State.OTHER
+    return first if first is second else State.OTHER
 
 
 class Narrowing:
@@ -67,15 +68,30 @@ class Narrowing:
 
     def is_env(self, read: ast.Name) -> bool:
         """Every path to ``read`` has made or checked its name a Gym env."""
+        return self._state(read) is State.GYM
+
+    def is_not_env(self, read: ast.Name) -> bool:
+        """Every path to ``read`` has passed an ``isinstance(name, gym.Env)`` check that sent
+        the Gym envs elsewhere (``if isinstance(env, gym.Env): return GymWrapper(env)``, then
+        ``return OtherWrapper(env)``): with legacy Gym, whose vector envs were ``gym.Env``
+        too, no Gym env reaches it."""
+        return self.check == "isinstance" and self._state(read) is State.NOT_GYM
+
+    def checks_gym_env(self, test: ast.expr, name: str) -> bool:
+        """``test`` is true only where ``name`` holds a Gym env (``isinstance(name, gym.Env)``,
+        or of Gym's wrapper classes, ``or`` of such checks)."""
+        return not (isinstance(test, ast.UnaryOp) and isinstance(test.op, ast.Not)) and self._checks(test, name) is True
+
+    def _state(self, read: ast.Name) -> State:
         scope = self.facts.scope_of(read)
         while isinstance(scope.node, COMPREHENSIONS) and read.id not in scope.bindings and scope.parent is not None:
             scope = scope.parent  # ``[copy.deepcopy(env) for _ in range(n)]`` runs in the frame around it
         if (id(scope), read.id) not in self._tested_names():
-            return False
+            return State.OTHER
         bound_in, _ = self.facts.resolve(read.id, scope)
         if bound_in is not scope or read.id in scope.declared_global or read.id in scope.declared_nonlocal:
-            return False  # a name of another frame: its statements do not run in order here
-        return self._before(self.facts.statement_of(read), read.id) is State.GYM
+            return State.OTHER  # a name of another frame: its statements do not run in order here
+        return self._before(self.facts.statement_of(read), read.id)
 
     # -- which names ------------------------------------------------------------------------
 
@@ -177,14 +193,21 @@ class Narrowing:
             return state, state
         # ``isinstance(x, str)``: its branch holds no env (until it rebinds the name)
         narrowed = State.GYM if checked else State.OTHER
+        # where a Gym env check fails, a name that was not known to be one is certainly none
+        other = State.NOT_GYM if checked and state is State.OTHER else state
         negated = isinstance(test, ast.UnaryOp) and isinstance(test.op, ast.Not)
-        return (state, narrowed) if negated else (narrowed, state)
+        return (other, narrowed) if negated else (narrowed, other)
 
     def _checks(self, test: ast.expr, name: str) -> bool | None:
         """``isinstance(name, <Gym env class>)`` (or ``not`` it; ``issubclass`` for that
         check): True; ``isinstance(name, str)``: False; anything else: None."""
         if isinstance(test, ast.UnaryOp) and isinstance(test.op, ast.Not):
             test = test.operand
+        if isinstance(test, ast.BoolOp) and isinstance(test.op, ast.Or):
+            # ``isinstance(x, gym.Env) or isinstance(x, gym.Wrapper)``: true only of a Gym env
+            # when every operand checks for Gym env classes
+            found = [self._checks(value, name) if not isinstance(value, ast.UnaryOp) else None for value in test.values]
+            return True if found and all(f is True for f in found) else None
         if not (
             isinstance(test, ast.Call)
             and isinstance(test.func, ast.Name)

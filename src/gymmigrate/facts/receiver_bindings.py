@@ -36,6 +36,12 @@ class BindingKinds(_Facade):
             # before the read: what the bindings could not tell, the code has checked or made.
             # A kind they do tell stays (gym's VectorEnv passed ``isinstance(x, gym.Env)``).
             return EnvKind.GYM_ENV
+        if kind in (EnvKind.UNKNOWN, EnvKind.GYM_ENV, EnvKind.GYM_VEC) and self.narrowing.is_not_env(name):
+            # ``if isinstance(env, gym.Env): return GymWrapper(env)`` before the read: the
+            # legacy code sent every Gym env (its vector envs too) elsewhere, so what reaches
+            # here is no Gym env, whatever the callers pass now (GM708 reports the check a
+            # Gymnasium vector env fails)
+            return EnvKind.NOT_ENV
         return kind
 
     def _classify_bindings(self, name: ast.Name) -> EnvKind:

@@ -69,6 +69,73 @@ class ForeignObjects(_Facade):
             return None
         return f"`{classdef.name}`, whose `{found[0].name}` forwards to it and which derives from `{found[2]}`, an env API other than Gym's"
 
+    def dispatched_from_gym(self, expr: ast.AST) -> str | None:
+        """``self.X`` of a class that every construction of this module builds in a def that
+        sends Gym envs to another class first (``if isinstance(env, gym.Env): return
+        GymWrapper(env)`` ... ``return IsaacWrapper(env)``, or ``elif ...: return
+        DeepMindWrapper(env)``): the code says this class is for envs that are not Gym's.
+        Asked with ``own_api_holder`` only, so the class also forwards an API of its own. The
+        dispatching def's name, or None."""
+        if not (isinstance(expr, ast.Attribute) and isinstance(expr.value, ast.Name) and self.is_self(expr.value)):
+            return None
+        classdef = self.facts.enclosing_class(expr)
+        if classdef is None:
+            return None
+        return self.facts.memo(("dispatched-from-gym", id(classdef)), lambda: self._dispatched_from_gym(classdef), while_computing=None)
+
+    def _dispatched_from_gym(self, classdef: ast.ClassDef) -> str | None:
+        calls = self.facts.calls_by_name.get(classdef.name, [])
+        if not calls or (self.project is not None and self.project.built_elsewhere(classdef.name)):
+            return None
+        found = None
+        for call in calls:
+            dispatch = self._gym_dispatch(call, classdef)
+            if dispatch is None or dispatch[1]:
+                return None
+            found = dispatch[0]
+        return found
+
+    def sent_past_gym_check(self, call: ast.Call, classdef: ast.ClassDef) -> bool:
+        """``call`` builds ``classdef`` in a def that sends Gym envs to another class of this
+        module, outside that branch (``_gym_dispatch``)."""
+        dispatch = self._gym_dispatch(call, classdef)
+        return dispatch is not None and not dispatch[1]
+
+    def built_for_gym_by(self, classdef: ast.ClassDef) -> str | None:
+        """Some construction of ``classdef`` sits where an ``isinstance(env, gym.Env)`` check
+        holds, in a def that sends other envs to other classes (``if isinstance(env,
+        gym.Env): return GymWrapper(env)``): the class wraps Gym envs, whatever else its
+        other constructions pass. The dispatching def's name, or None."""
+        for call in self.facts.calls_by_name.get(classdef.name, []):
+            dispatch = self._gym_dispatch(call, classdef)
+            if dispatch is not None and dispatch[1]:
+                return dispatch[0]
+        return None
+
+    def _gym_dispatch(self, call: ast.Call, classdef: ast.ClassDef) -> tuple[str, bool] | None:
+        """``call`` builds ``classdef`` from a name of a def that has an ``if`` checking that
+        name for a Gym env and building another class of this module from it in that branch:
+        the def's name, and whether ``call`` sits in that branch. None for any other shape."""
+        function = self.facts.enclosing_function(call)
+        held = call.args[0] if call.args and isinstance(call.args[0], ast.Name) else None
+        if not isinstance(function, FUNCTIONS) or held is None or self.local_class(call.func) is not classdef:
+            return None
+        ancestors = {id(a) for a in self.facts.ancestors(call)}
+        for node in ast.walk(function):
+            if not (isinstance(node, ast.If) and self.narrowing.checks_gym_env(node.test, held.id)):
+                continue
+            inside = any(id(s) in ancestors for s in node.body)
+            built = [
+                c
+                for s in node.body
+                for c in ast.walk(s)
+                if isinstance(c, ast.Call) and c.args and isinstance(c.args[0], ast.Name) and c.args[0].id == held.id
+                and self.local_class(c.func) is not None
+            ]
+            if inside or any(self.local_class(c.func) is not classdef for c in built):
+                return function.name, inside
+        return None
+
     def _own_api_forwarded(self, classdef: ast.ClassDef, attribute: str) -> list[tuple[ast.AST, str, str]]:
         """(method, forwarded method, base) for each method of ``classdef`` that calls its
         namesake on ``self.<attribute>`` where a base shows that method with an env API

@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.kinds import EnvKind, ReceiverQueries, join_kinds
-from gymmigrate.facts.module import statements_in
+from gymmigrate.facts.module import FUNCTIONS, call_argument, statements_in
 
 if TYPE_CHECKING:
     from gymmigrate.facts.module import ModuleFacts
@@ -57,6 +57,9 @@ class SelfAttributes:
         # ``saved = self.env`` ... ``self.env = saved`` (a wrapper put on for a while and taken
         # off again) stores back a value the attribute already held: no new evidence.
         values = [v for v in self.self_attribute_values(attr, name) if not self._copies_attribute(v, name)]
+        own = self._own_constructions_kind(classdef, name, values)
+        if own is not None:
+            return own
         values = values or [v for v in self.inherited_values(classdef, name) if not self._copies_attribute(v, name)]
         if not values:
             if name == "env" and self._is_pettingzoo_wrapper(classdef):
@@ -91,6 +94,52 @@ class SelfAttributes:
             if not (isinstance(statement, ast.Assign) and statement.targets == [binding] and self._is_self_attribute(statement.value, name)):
                 return False
         return True
+
+    def _own_constructions_kind(self, classdef: ast.ClassDef, name: str, values: list[ast.expr]) -> EnvKind | None:
+        """``self._env`` in a subclass with no ``__init__`` of its own, where a base of this
+        module stores the parameter of its ``__init__`` (``class IsaacWrapper(Wrapper)``,
+        ``Wrapper.__init__`` storing ``self._env = env``): what this subclass's own
+        constructions pass, not what every subclass's do. A dispatcher that builds
+        ``GymWrapper(env)`` for Gym envs and ``IsaacWrapper(env)`` for the rest gives each
+        its own; a construction in such a def outside the Gym branch (``if isinstance(env,
+        gym.Env): return GymWrapper(env)``, then ``return IsaacWrapper(env)``, or under
+        ``wrapper == "isaac"``) gets no Gym env: its legacy callers sent them elsewhere. Only a settled "no Gym env" is answered (every construction passes what
+        is no env: ``NOT_ENV``); None where that is not the shape, some construction is not
+        seen, or they pass anything else (the stores' join answers then)."""
+        if not values or name in class_self_stores(self.facts, classdef):
+            return None  # the class stores it itself
+        if any(isinstance(s, FUNCTIONS) and s.name == "__init__" for s in classdef.body):
+            return None
+        positions: set[tuple[int, str]] = set()
+        for value in values:
+            bindings = self.facts.bindings_of(value) if isinstance(value, ast.Name) else []
+            if len(bindings) != 1 or not isinstance(bindings[0], ast.arg):
+                return None
+            init = self.facts.enclosing_function(value)
+            params = [*init.args.posonlyargs, *init.args.args] if isinstance(init, FUNCTIONS) and init.name == "__init__" else []
+            if bindings[0] not in params:
+                return None
+            positions.add((params.index(bindings[0]) - 1, bindings[0].arg))
+        if len(positions) != 1:
+            return None
+        position, param = positions.pop()
+        project = getattr(self.receivers, "project", None)
+        if project is not None and project.built_elsewhere(classdef.name):
+            return None
+        calls, elsewhere = self.receivers.constructions(classdef)
+        if elsewhere or not calls or any(shift for _, shift in calls):
+            return None
+        kinds = []
+        for call, _ in calls:
+            if self.receivers.sent_past_gym_check(call, classdef):
+                # ``wrap(env)`` sends Gym envs to another class: this one gets the others
+                kinds.append(EnvKind.NOT_ENV)
+                continue
+            argument = call_argument(call, position, param)
+            if argument is None:
+                return None
+            kinds.append(self.receivers.kind_of(argument))
+        return EnvKind.NOT_ENV if all(k is EnvKind.NOT_ENV for k in kinds) else None
 
     def _is_self_attribute(self, value: ast.AST, name: str) -> bool:
         return isinstance(value, ast.Attribute) and value.attr == name and isinstance(value.value, ast.Name) and self.is_self(value.value)
