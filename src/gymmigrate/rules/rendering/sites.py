@@ -263,17 +263,29 @@ class RenderSites(RecorderSites):
         if function is not None and function.name == "render" and self._forward_of_bare_callers(call, receiver, function):
             return True  # its callers' renders decide the make's mode, as a direct render does
         kind = self.receivers.kind_of(receiver)
+        dispatcher = None
         if function is not None and function.name == "render" and kind is not EnvKind.GYM_ENV:
-            return True  # an adapter's render() handing on to what is not shown to be a Gym env
+            classdef = self.facts.parent(function)
+            dispatcher = self.receivers.built_for_gym_by(classdef) if isinstance(classdef, ast.ClassDef) else None
+            if dispatcher is None:
+                return True  # an adapter's render() handing on to what is not shown to be a Gym env
         decision = decide(kind, receiver, self.context.profile, legacy_shape=True, origins=self.receivers)
-        if decision.action is Action.LEAVE:
+        if decision.action is Action.LEAVE and dispatcher is None:
             return True
         name = receiver_text(receiver)
+        # ``wrap_env`` builds this class for the envs its ``isinstance(env, gym.Env)`` check
+        # passes: it forwards to Gym envs, and a bare ``render()`` drew a window with legacy Gym
+        which = (
+            f"`{name}` is a Gym env where `{dispatcher}` builds this class for Gym envs; legacy render() drew a window, "
+            "a Gymnasium env draws only when made with render_mode=\"human\": "
+            if dispatcher is not None
+            else f"if `{name}` is a Gym env, "
+        )
         self.report(
             call,
             "GM401",
             f"`{self.facts.segment(call)}` passes on what its callers give (legacy: mode=...), and Gymnasium's render() "
-            f"takes no arguments: if `{name}` is a Gym env, pass the mode as render_mode= (and any size) to gym.make "
+            f"takes no arguments: {which}pass the mode as render_mode= (and any size) to gym.make "
             f"where it is made and call `{name}.render()` bare",
             FixKind.FLAG,
             # the same call in reset and step: one decision; an adapter's render() forwarding

@@ -101,6 +101,7 @@ class VectorEnvs(Construction, Infos, VectorWrappers, RuleFamily):
         self.plan_infos(handled)
         self.flag_stray_final_keys(handled)
         self.plan_vector_wrappers()
+        self.plan_wrapper_autoreset()
         for call in self.decisions.vector_makes.values():
             self.report_vector_make(call)
         self._edit_creations()

@@ -19,14 +19,18 @@ from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import names as N
 from gymmigrate.facts.decisions import receiver_text
 from gymmigrate.facts.flow import Flow
+from gymmigrate.facts.self_attributes import class_self_stores
+from gymmigrate.facts.version_checks import dead_version_branch
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.findings import FixKind
-from gymmigrate.rules.vector.common import VectorFamilyBase, gym_rest
+from gymmigrate.rules.vector.common import VECTOR_CLASSES, VectorFamilyBase, gym_rest
 
 LEGACY_NAME = "VectorEnvWrapper"
 NEW_NAME = "VectorWrapper"
 _VECTOR_WRAPPER_BASES = frozenset({"vector.VectorEnvWrapper", "vector.vector_env.VectorEnvWrapper"})
 _VECTOR_MODULES = ("gym.vector", "gymnasium.vector", "gym.vector.vector_env", "gymnasium.vector.vector_env")
+# Gym's vector env classes: a class that tests what it holds against one wraps vector envs
+_VECTOR_ENV_CLASSES = frozenset({"vector.VectorEnv", "vector.vector_env.VectorEnv"}) | VECTOR_CLASSES
 _OVERRIDES = ("step_wait", "reset_wait", "step_async", "reset_async")
 # Single-env utilities (under gym/gymnasium) that reject vector envs.
 _SINGLE_ENV_UTILITIES = frozenset(
@@ -90,12 +94,21 @@ class VectorWrappers(VectorFamilyBase):
             classes = call.args[1]
             candidates = list(classes.elts) if isinstance(classes, ast.Tuple) else [classes]
             if any(gym_rest(self.facts, c) & N.GYM_ENV_BASE_CLASSES for c in candidates):
-                if self.receivers.kind_of(call.args[0]) is EnvKind.GYM_VEC:
+                tested = call.args[0]
+                if self.receivers.kind_of(tested) is EnvKind.GYM_VEC:
                     self.report(
                         call,
                         "GM708",
                         "a Gymnasium vector env is not a gym.Env any more, so this is False: test for "
                         "gymnasium.vector.VectorEnv",
+                    )
+                elif self._vector_passed_in(tested):
+                    self.report(
+                        call,
+                        "GM708",
+                        f"a call of the run passes `{receiver_text(tested)}` a Gymnasium vector env, which is not a gym.Env "
+                        "any more, so this is False for it (legacy vector envs were gym.Env): add gymnasium.vector.VectorEnv "
+                        "to the classes tested",
                     )
             return
         if not call.args or isinstance(call.args[0], ast.Starred):
@@ -124,6 +137,113 @@ class VectorWrappers(VectorFamilyBase):
                 "GM708",
                 f"`{receiver_text(call.args[0])}` is a vector env, which is not a gym.Env in Gymnasium 1.x: {what}",
             )
+
+    def plan_wrapper_autoreset(self) -> None:
+        """GM706 for a plain class that wraps Gym vector envs (it tests what it holds with
+        ``isinstance(env, gym.vector.SyncVectorEnv)``) and hands on each ``self._env.step``:
+        Gymnasium resets a finished sub-env on the next step, whose result (the reset
+        observation, reward 0, not done) is no transition; whoever stores what this step
+        returns stores those too. One item at the step, once per class."""
+        if "vector" not in self.facts.text:
+            return
+        for classdef in self.facts.all_classes:
+            if self.receivers.is_gym_wrapper_class(classdef):
+                continue  # a gym.Wrapper on a vector env is GM708's (check_single_env_use)
+            held = self._vector_tested_attributes(classdef)
+            if not held:
+                continue
+            for method in classdef.body:
+                if not (isinstance(method, (ast.FunctionDef, ast.AsyncFunctionDef)) and method.name == "step"):
+                    continue
+                steps = [
+                    call
+                    for call in ast.walk(method)
+                    if isinstance(call, ast.Call)
+                    and isinstance(call.func, ast.Attribute)
+                    and call.func.attr == "step"
+                    and isinstance(call.func.value, ast.Attribute)
+                    and call.func.value.attr in held
+                    and isinstance(call.func.value.value, ast.Name)
+                    and self.receivers.is_self(call.func.value.value)
+                    and dead_version_branch(call, self.facts) is None
+                ]
+                if steps:
+                    tested, check = held[steps[0].func.value.attr]  # type: ignore[attr-defined]
+                    self.report(
+                        steps[0],
+                        "GM706",
+                        f"`{classdef.name}` wraps vector envs (it tests `{self.facts.segment(check)}`): a Gymnasium vector "
+                        "env resets a finished sub-env on the next step, which returns its reset observation with reward 0 "
+                        "and not done; what this step returns then is no transition. Skip those steps where they are "
+                        "stored (the sub-envs done on the step before), or make the vector env with "
+                        "vector_kwargs={\"autoreset_mode\": gym.vector.AutoresetMode.SAME_STEP}",
+                        FixKind.FLAG,
+                        question=("GM706", "autoreset"),  # the file's one autoreset question (infos.py)
+                    )
+                break
+
+    def _vector_tested_attributes(self, classdef: ast.ClassDef) -> dict[str, tuple[str, ast.Call]]:
+        """``self.X`` the class tests for a Gym vector env class, directly or through the
+        ``__init__`` parameter it stores there: X -> (what is tested, the check)."""
+        found: dict[str, tuple[str, ast.Call]] = {}
+        for call in ast.walk(classdef):
+            if not (isinstance(call, ast.Call) and isinstance(call.func, ast.Name) and call.func.id == "isinstance" and len(call.args) == 2):
+                continue
+            classes = call.args[1]
+            candidates = list(classes.elts) if isinstance(classes, ast.Tuple) else [classes]
+            if not any(gym_rest(self.facts, c) & _VECTOR_ENV_CLASSES for c in candidates):
+                continue
+            tested = call.args[0]
+            if isinstance(tested, ast.Attribute) and isinstance(tested.value, ast.Name) and self.receivers.is_self(tested.value):
+                found.setdefault(tested.attr, (tested.attr, call))
+            elif isinstance(tested, ast.Name):
+                bindings = self.facts.bindings_of(tested)
+                if len(bindings) != 1 or not isinstance(bindings[0], ast.arg):
+                    continue
+                for attribute, values in class_self_stores(self.facts, classdef).items():
+                    if any(isinstance(v, ast.Name) and self.facts.bindings_of(v) == bindings for v in values):
+                        found.setdefault(attribute, (tested.id, call))
+                # ``super().__init__(env)`` storing it in a base of this module
+                for base in classdef.bases:
+                    local = self.receivers.local_class(base)
+                    if local is not None and self._passed_up(call, tested):
+                        for attribute, values in class_self_stores(self.facts, local).items():
+                            if any(isinstance(v, ast.Name) and v.id == tested.id for v in values):
+                                found.setdefault(attribute, (tested.id, call))
+        return found
+
+    def _passed_up(self, check: ast.Call, tested: ast.Name) -> bool:
+        """The def of ``check`` hands ``tested`` to ``super().__init__`` first."""
+        function = self.facts.enclosing_function(check)
+        if function is None:
+            return False
+        for call in ast.walk(function):
+            if (
+                isinstance(call, ast.Call)
+                and isinstance(call.func, ast.Attribute)
+                and call.func.attr == "__init__"
+                and call.args
+                and isinstance(call.args[0], ast.Name)
+                and call.args[0].id == tested.id
+            ):
+                return True
+        return False
+
+    def _vector_passed_in(self, tested: ast.expr) -> bool:
+        """``tested`` is a parameter of a def that some call of another module of the run
+        passes a Gym vector env (``ProjectView.param_kinds``), though others pass other envs."""
+        if not isinstance(tested, ast.Name):
+            return False
+        bindings = self.facts.bindings_of(tested)
+        if len(bindings) != 1 or not isinstance(bindings[0], ast.arg):
+            return False
+        function = self.facts.enclosing_function(tested)
+        if function is None or bindings[0] not in function.args.args + function.args.posonlyargs + function.args.kwonlyargs:
+            return False
+        classdef = self.facts.parent(function)
+        method = isinstance(classdef, ast.ClassDef)
+        kinds = self.receivers.callables.external_param_kinds(function, classdef if method else None, bindings[0].arg)  # type: ignore[arg-type]
+        return EnvKind.GYM_VEC in kinds
 
     def _wrapped_kind(self, call: ast.Call) -> EnvKind:
         """The kind of the env ``call`` wraps; in ``envs = Wrapper(envs)``, the value the
