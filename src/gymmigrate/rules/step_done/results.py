@@ -50,6 +50,10 @@ def _unpacked_into_no_gym_count(parent: ast.AST | None, call: ast.Call) -> bool:
     )
 
 
+# What a tuple has: a step result read through anything else is no Gym step result
+_TUPLE_ATTRIBUTES = frozenset({"count", "index"}) | frozenset(a for a in dir(tuple) if a.startswith("__"))
+
+
 class ResultRules(StepFamilyBase):
     """GM304 (mixed into the family)."""
 
@@ -122,9 +126,26 @@ class ResultRules(StepFamilyBase):
         decision, vector = self.decision(receiver, legacy_shape=False)
         if decision.action is Action.LEAVE:
             return
+        if decision.action is Action.REPORT and self._read_as_object(result):
+            # ``timestep.observation``, ``timestep.last()``: a dm_env TimeStep or the like; no
+            # Gym step result (a tuple, legacy or Gymnasium) has such attributes
+            return
         scope = self.flow.binding_scope(result)
         group = (id(scope), result.id) if scope is not None else (id(assign), result.id)
         self.result_steps.setdefault(group, []).append(_ResultStep(assign, result, receiver, decision, vector))
+
+    def _read_as_object(self, result: ast.Name) -> bool:
+        """Some read of ``result`` takes an attribute a tuple lacks, and none indexes it."""
+        attributes = False
+        for read in self.flow.reads(result):
+            parent = self.facts.parent(read)
+            if isinstance(parent, ast.Subscript) and parent.value is read:
+                return False
+            if isinstance(parent, ast.Attribute) and parent.value is read:
+                if parent.attr in _TUPLE_ATTRIBUTES:
+                    return False
+                attributes = True
+        return attributes
 
     def finish_results(self) -> None:
         for steps in self.result_steps.values():
