@@ -84,8 +84,8 @@ def _value(test: ast.AST, facts: ModuleFacts, names: frozenset[str]) -> bool | N
         return _compare(test.left, test.ops[0], test.comparators[0], names, None)
     stored = _stored_flag(test, facts)
     if stored:
-        values = {_value(value, facts, names) for value in stored}
-        return values.pop() if len(values) == 1 else None
+        answers = {_value(value, facts, names) for value in stored}
+        return answers.pop() if len(answers) == 1 else None
     if isinstance(test, ast.Call) and isinstance(test.func, ast.Name) and len(test.args) == 1 and not test.keywords:
         literal = _constant_of(test.args[0], facts)
         helper = _helper(test.func.id, facts)

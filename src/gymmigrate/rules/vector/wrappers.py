@@ -19,9 +19,9 @@ from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import names as N
 from gymmigrate.facts.decisions import receiver_text
 from gymmigrate.facts.flow import Flow
+from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.self_attributes import class_self_stores
 from gymmigrate.facts.version_checks import dead_version_branch
-from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.vector.common import VECTOR_CLASSES, VectorFamilyBase, gym_rest
 
