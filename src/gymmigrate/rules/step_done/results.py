@@ -126,9 +126,10 @@ class ResultRules(StepFamilyBase):
         decision, vector = self.decision(receiver, legacy_shape=False)
         if decision.action is Action.LEAVE:
             return
-        if decision.action is Action.REPORT and self._read_as_object(result):
-            # ``timestep.observation``, ``timestep.last()``: a dm_env TimeStep or the like; no
-            # Gym step result (a tuple, legacy or Gymnasium) has such attributes
+        if decision.action is Action.REPORT and self.receivers.own_api_holder(receiver) is not None and self._read_as_object(result):
+            # a wrapper of another env API forwarding its own step, whose result it reads as
+            # ``timestep.observation``, ``timestep.last()`` (a dm_env TimeStep): no Gym step
+            # result (a tuple, legacy or Gymnasium) has such attributes
             return
         scope = self.flow.binding_scope(result)
         group = (id(scope), result.id) if scope is not None else (id(assign), result.id)
