@@ -221,6 +221,21 @@ class DoneReadReports(DoneUntracedReports):
                 FixKind.FLAG,
                 question=question,
             )
+        elif owner is step.assign and (stored_by := self._returned_to_store(read)) is not None:
+            # The caller stores the returned flag with the returned next state (a replay
+            # memory): that store masks bootstrapping, but the flag also leaves the helper for
+            # the caller's other reads (loop control), so one item, at the store.
+            helper, store, next_state = stored_by
+            self.reported_reads.add(id(read))
+            self._report_read(
+                store,
+                f"`{store.id}` is stored with the next state `{next_state}`, both returned by `{helper}`: the flag is "
+                f"the step's `{read.id}` there (line {read.lineno}), now `{names.terminated} or "
+                f"{names.truncated}`, so a time-limit truncation is stored as terminal. Return `{names.terminated}` "
+                f"from `{helper}` as well and store it here (keep `{store.id}` for ending the episode)",
+                FixKind.FLAG,
+                question=question,
+            )
         elif owner is step.assign and (settled := self._only_ends_or_unread(read)) is not None:
             # The code shows what the flag is for: ending a loop, or nothing at all (a note).
             self._report_read(
