@@ -79,6 +79,17 @@ class DoneReadUses(NextStateReads):
             # ``state = env.reset() if done else obs``: the next state itself, or a new episode
             if isinstance(otherwise, ast.Name) or _is_none(when_done) or resets(when_done):
                 return None
+            statement = facts.statement_of(parent)
+            if (
+                isinstance(statement, ast.Assign)
+                and statement.value is parent
+                and (carried := {t.id for t in statement.targets if isinstance(t, ast.Name)})
+                and carried & loaded_names(otherwise)
+                and not carried & loaded_names(when_done)
+            ):
+                # ``hx = zeros if done else hx.detach()``: the value carried from the previous
+                # step (a recurrent state, a running sum) restarts with the episode, no target
+                return None
             if not reads([otherwise]) or reads([when_done]):
                 return None
             return True
@@ -475,8 +486,8 @@ class DoneReadUses(NextStateReads):
             if not isinstance(first, ast.Name):
                 continue
             for use in self.flow.reads(unpacked.done):
-                if classify_done_read(use, self.facts) is DoneUse.CONTROL:
-                    continue
+                if classify_done_read(use, self.facts) is DoneUse.CONTROL or isinstance(self.facts.statement_of(use), ast.Return):
+                    continue  # loop control, or handed on again (a step's own result): not a store
                 if self._masks_next_state(use, unpacked) or self._callee_masks(use, unpacked) is not None:
                     return function.name, use, first.id
         return None
