@@ -221,6 +221,21 @@ class DoneReadReports(DoneUntracedReports):
                 FixKind.FLAG,
                 question=question,
             )
+        elif owner is step.assign and (stored_by := self._returned_to_store(read)) is not None:
+            # The caller stores the returned flag with the returned next state (a replay
+            # memory): that store masks bootstrapping, but the flag also leaves the helper for
+            # the caller's other reads (loop control), so one item, at the store.
+            helper, store, next_state = stored_by
+            self.reported_reads.add(id(read))
+            self._report_read(
+                store,
+                f"`{store.id}` is stored with the next state `{next_state}`, both returned by `{helper}`: the flag is "
+                f"the step's `{read.id}` there (line {read.lineno}), now `{names.terminated} or "
+                f"{names.truncated}`, so a time-limit truncation is stored as terminal. Return `{names.terminated}` "
+                f"from `{helper}` as well and store it here (keep `{store.id}` for ending the episode)",
+                FixKind.FLAG,
+                question=question,
+            )
         elif owner is step.assign and (settled := self._only_ends_or_unread(read)) is not None:
             # The code shows what the flag is for: ending a loop, or nothing at all (a note).
             self._report_read(
@@ -250,7 +265,24 @@ class DoneReadReports(DoneUntracedReports):
                 Tier.NOTE,
             )
         elif owner is not step.assign and self._bootstrap_choice(read, step, dominated=False) is not None:
-            self._report_bootstrap_choice(read, step, dominated=False)
+            after_reset = self._valued_after_reset(read, step)
+            if after_reset is None:
+                self._report_bootstrap_choice(read, step, dominated=False)
+                return
+            # ``if done: state = env.reset()`` ends each episode in the loop: with the flag
+            # true here, ``state`` is the next episode's first state, which no bootstrap may
+            # value. Legacy ``done`` guarded exactly that (a note).
+            valued, reset = after_reset
+            self._report_read(
+                read,
+                f"`{read.id}` chooses whether a value is computed from `{valued}`, but when it is true `{valued}` "
+                f"was already replaced by the reset on line {reset.lineno} (the next episode's first state): it "
+                f"stays `{names.terminated} or {names.truncated}`, as legacy `done` was; testing `{names.terminated}` "
+                f"would value the new episode's state. To bootstrap a time-limit truncation, keep the final "
+                f"observation before that reset and value it when `{names.truncated}`",
+                FixKind.FLAG,
+                Tier.NOTE,
+            )
         elif stored and any(id(node) in self.reported_reads for node in stored):
             self.reported_reads.add(id(read))  # the stored value is reported already: one item
         elif stored:

@@ -92,6 +92,44 @@ class DoneSettledReads(DoneBookkeeping):
                 return block
         return None
 
+    def _valued_after_reset(self, read: ast.Name, step: DoneStep) -> tuple[str, ast.If] | None:
+        """``R = 0.0 if done else v(state)`` after the step's loop, whose body ends the episode
+        with ``if done: state = env.reset()`` (nothing after it rebinding either name): when
+        the flag read is true, the state a bootstrap would value is the next episode's first
+        one, so only the episode's end can guard it. The valued name and that ``if``; None
+        when the code does not show it."""
+        facts = self.facts
+        node: ast.AST = read
+        parent = facts.parent(node)
+        negated = False
+        if isinstance(parent, ast.UnaryOp) and isinstance(parent.op, ast.Not):
+            node, negated, parent = parent, True, facts.parent(parent)
+        if isinstance(parent, ast.IfExp) and parent.test is node:
+            valued: list[ast.AST] = [parent.body if negated else parent.orelse]
+        elif isinstance(parent, ast.If) and parent.test is node:
+            valued = list(parent.body if negated else parent.orelse)
+        else:
+            return None
+        derived = self._derived_names(step)
+        names = {n.id for part in valued for n in ast.walk(part) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load)}
+        names &= derived
+        block = self._sibling_block(step.assign)
+        holder = facts.parent(step.assign)
+        if not names or block is None or not isinstance(holder, (ast.For, ast.While, ast.AsyncFor)):
+            return None
+        if any(ancestor is holder for ancestor in facts.ancestors(read)):
+            return None  # read inside the step's loop: the flag may come from before the reset
+        later = block[block.index(step.assign) + 1 :]
+        # Any input of the value replaced is enough: the value is then not the final state's
+        # (``model((state, hx))`` with ``state`` reset; ``hx`` is the recurrent memory).
+        for name in sorted(names):
+            for index, statement in enumerate(later):
+                if _replaces_on_done(statement, step.done.id, name):
+                    if any({step.done.id, name} & _names_bound_within(s) for s in later[index + 1 :]):
+                        break
+                    return name, statement  # type: ignore[return-value]
+        return None
+
     def _sent_with_reset_observation(self, read: ast.Name, step: DoneStep) -> bool:
         """``pipe.send((obs, reward, done, info, total))`` after
         ``if done: obs = env.reset()`` in the same block as the step: the observation sent
@@ -191,6 +229,24 @@ def _names_bound_within(statement: ast.stmt) -> set[str]:
     return {
         node.id for node in ast.walk(statement) if isinstance(node, ast.Name) and isinstance(node.ctx, ast.Store)
     }
+
+
+def _replaces_on_done(statement: ast.stmt, done: str, name: str) -> bool:
+    """``if done: ...; name = prepro(env.reset())``: the body binds ``name`` (alone, or first of
+    an unpack) from a value that calls some ``x.reset(...)``, unconditionally."""
+    if not (isinstance(statement, ast.If) and isinstance(statement.test, ast.Name) and statement.test.id == done):
+        return False
+    for inner in statement.body:
+        if not isinstance(inner, ast.Assign) or len(inner.targets) != 1:
+            continue
+        target = inner.targets[0]
+        if isinstance(target, (ast.Tuple, ast.List)) and target.elts:
+            target = target.elts[0]
+        if isinstance(target, ast.Name) and target.id == name and any(
+            isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute) and n.func.attr == "reset" for n in ast.walk(inner.value)
+        ):
+            return True
+    return False
 
 
 def _resets_on_done(statement: ast.stmt, done: str, observation: str) -> bool:

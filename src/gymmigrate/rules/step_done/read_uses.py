@@ -79,6 +79,17 @@ class DoneReadUses(NextStateReads):
             # ``state = env.reset() if done else obs``: the next state itself, or a new episode
             if isinstance(otherwise, ast.Name) or _is_none(when_done) or resets(when_done):
                 return None
+            statement = facts.statement_of(parent)
+            if (
+                isinstance(statement, ast.Assign)
+                and statement.value is parent
+                and (carried := {t.id for t in statement.targets if isinstance(t, ast.Name)})
+                and carried & loaded_names(otherwise)
+                and not carried & loaded_names(when_done)
+            ):
+                # ``hx = zeros if done else hx.detach()``: the value carried from the previous
+                # step (a recurrent state, a running sum) restarts with the episode, no target
+                return None
             if not reads([otherwise]) or reads([when_done]):
                 return None
             return True
@@ -344,33 +355,84 @@ class DoneReadUses(NextStateReads):
         function = self.facts.enclosing_function(read)
         if not isinstance(function, FUNCTIONS):
             return None
-        index = next(i for i, value in enumerate(values.elts) if value is read)
-        if self.facts.enclosing_class(read) is not None:
-            calls = self._own_method_calls(function)
-        else:
-            calls = self.facts.calls_by_name.get(function.name, [])
-        if not calls:
+        unpacks = self._caller_unpacks(read)
+        if unpacks is None or not unpacks[1] or not unpacks[0]:
             return None
-        for call in calls:
-            assign = self.facts.parent(call)
-            if not (isinstance(assign, ast.Assign) and assign.value is call and len(assign.targets) == 1):
-                return None
-            target = assign.targets[0]
-            if not isinstance(target, (ast.Tuple, ast.List)) or len(target.elts) != len(values.elts):
-                return None
-            flag = target.elts[index]
-            if not isinstance(flag, ast.Name):
-                return None
-            uses = self.flow.reads(flag)
+        for unpacked in unpacks[1]:
+            uses = self.flow.reads(unpacked.done)
             if any(classify_done_read(use, self.facts) not in (DoneUse.CONTROL, DoneUse.NEUTRAL) for use in uses):
                 return None
             # ``if done: y = r`` / ``else: y = r + gamma * v(s2)`` in the caller is a test too,
             # but it chooses whether to bootstrap from the next state the helper returned:
             # no loop exit alone.
-            unpacked = DoneStep(assign, flag, None, target)  # type: ignore[arg-type]
             if any(self._bootstrap_choice(use, unpacked, dominated=True) is not None for use in uses):
                 return None
         return f"is returned by `{function.name}`, whose callers read it only to end their loop"
+
+    def _caller_unpacks(self, read: ast.Name) -> tuple[bool, list[DoneStep]] | None:
+        """``return s2, r, done, info`` (in any order) from a def of the file: each call of it
+        in the file (``self.<method>(...)`` for a method, see ``_own_method_calls``) that
+        unpacks the result into as many names, seen as a step whose done is the name in the
+        flag's place and whose next state (its target's first element) is the name in the
+        place of the returned observation. Whether every call is such an unpack, and those
+        unpacks; None when ``read`` is not returned in a tuple by a def."""
+        parent = self.facts.parent(read)
+        if not (isinstance(parent, ast.Tuple) and isinstance(self.facts.parent(parent), ast.Return)):
+            return None
+        function = self.facts.enclosing_function(read)
+        if not isinstance(function, FUNCTIONS):
+            return None
+        values = parent
+
+        def compute() -> tuple[bool, list[DoneStep]]:
+            index = next(i for i, value in enumerate(values.elts) if value is read)
+            step = self._step_binding(read)
+            observation = self._returned_observation(values, read, step) if step is not None else None
+            if self.facts.enclosing_class(read) is not None:
+                calls = self._own_method_calls(function)
+            else:
+                calls = self.facts.calls_by_name.get(function.name, [])
+            every = True
+            found: list[DoneStep] = []
+            for call in calls:
+                assign = self.facts.parent(call)
+                target = assign.targets[0] if isinstance(assign, ast.Assign) and assign.value is call and len(assign.targets) == 1 else None
+                if not isinstance(target, (ast.Tuple, ast.List)) or len(target.elts) != len(values.elts):
+                    every = False
+                    continue
+                flag = target.elts[index]
+                if not isinstance(flag, ast.Name):
+                    every = False
+                    continue
+                if observation:  # the returned observation first, where a step's next state is
+                    elements = list(target.elts)
+                    elements[0], elements[observation] = elements[observation], elements[0]
+                    target = ast.Tuple(elts=elements, ctx=ast.Store())
+                found.append(DoneStep(assign, flag, None, target))  # type: ignore[arg-type]
+            return every, found
+
+        return self.facts.memo(("caller-unpacks", id(read)), compute)
+
+    def _step_binding(self, read: ast.Name) -> DoneStep | None:
+        """The rewritten step whose ``done`` certainly binds ``read``, as a ``DoneStep``."""
+        owner = self._dominating_step(read, read)
+        if owner is None:
+            return None
+        target = owner.targets[0]
+        if not isinstance(target, (ast.Tuple, ast.List)) or not isinstance(target.elts[2], ast.Name):
+            return None
+        return DoneStep(owner, target.elts[2], None, target)  # type: ignore[arg-type]
+
+    def _returned_observation(self, values: ast.Tuple, read: ast.Name, step: DoneStep) -> int | None:
+        """Where ``return r, done, s2, info`` puts the step's next state: the index of the one
+        element that reads it, if exactly one does."""
+        next_names = self._next_state_names(step)
+        found = [
+            i
+            for i, value in enumerate(values.elts)
+            if value is not read and isinstance(value, ast.Name) and self._reads_next_state(value, step, next_names)
+        ]
+        return found[0] if len(found) == 1 else None
 
     def _own_method_calls(self, function: ast.AST) -> list[ast.Call]:
         """``self.<method>(...)`` in the class that defines ``function`` (a method of it), when
@@ -400,27 +462,34 @@ class DoneReadUses(NextStateReads):
         """``return s2, r, done, info`` from a def of the file, and a caller that unpacks the
         result and tests the flag to choose a value computed from the returned next state
         (``if done: y = r`` / ``else: y = r + gamma * v(s2)``): the def's name and that test."""
-        parent = self.facts.parent(read)
-        if not (isinstance(parent, ast.Tuple) and isinstance(self.facts.parent(parent), ast.Return)):
-            return None
+        unpacks = self._caller_unpacks(read)
         function = self.facts.enclosing_function(read)
-        if not isinstance(function, FUNCTIONS) or self.facts.enclosing_class(read) is not None:
+        if unpacks is None or not isinstance(function, FUNCTIONS) or self.facts.enclosing_class(read) is not None:
             return None
-        index = next(i for i, value in enumerate(parent.elts) if value is read)
-        for call in self.facts.calls_by_name.get(function.name, []):
-            assign = self.facts.parent(call)
-            if not (isinstance(assign, ast.Assign) and assign.value is call and len(assign.targets) == 1):
-                continue
-            target = assign.targets[0]
-            if not isinstance(target, (ast.Tuple, ast.List)) or len(target.elts) != len(parent.elts):
-                continue
-            flag = target.elts[index]
-            if not isinstance(flag, ast.Name):
-                continue
-            unpacked = DoneStep(assign, flag, None, target)  # type: ignore[arg-type]
-            for use in self.flow.reads(flag):
+        for unpacked in unpacks[1]:
+            for use in self.flow.reads(unpacked.done):
                 if self._bootstrap_choice(use, unpacked, dominated=True) is not None:
                     return function.name, use
+        return None
+
+    def _returned_to_store(self, read: ast.Name) -> tuple[str, ast.Name, str] | None:
+        """``return r, done, s2, info`` from a def of the file, and a caller that unpacks the
+        result and stores the flag with the returned next state (``memory.add(s, a, r, s2,
+        done)``) or hands both to a def that masks one with the other: the def's name, the
+        caller's read of the flag and the caller's name of the next state."""
+        unpacks = self._caller_unpacks(read)
+        function = self.facts.enclosing_function(read)
+        if unpacks is None or not isinstance(function, FUNCTIONS):
+            return None
+        for unpacked in unpacks[1]:
+            first = unpacked.target.elts[0]
+            if not isinstance(first, ast.Name):
+                continue
+            for use in self.flow.reads(unpacked.done):
+                if classify_done_read(use, self.facts) is DoneUse.CONTROL or isinstance(self.facts.statement_of(use), ast.Return):
+                    continue  # loop control, or handed on again (a step's own result): not a store
+                if self._masks_next_state(use, unpacked) or self._callee_masks(use, unpacked) is not None:
+                    return function.name, use, first.id
         return None
 
     def _unread_list(self, name: ast.Name) -> str | None:
