@@ -79,6 +79,9 @@ class ModuleSummary:
     # Each top-level class with a base imported from elsewhere: (class, qualified base
     # names as the imports spell them, the methods the class defines).
     subclasses: tuple[tuple[str, tuple[str, ...], tuple[str, ...]], ...] = ()
+    # Top-level class -> the names its methods call as ``self.<name>(...)``: a helper a
+    # subclass elsewhere defines may be called by its base here, so its return is shared.
+    self_calls: dict[str, frozenset[str]] = field(default_factory=dict)
     # Top-level Gym wrapper classes (``Wrapper`` subclasses, through local bases): an
     # instance made elsewhere is a wrapper, so what it does not define was forwarded.
     wrapper_classes: frozenset[str] = frozenset()

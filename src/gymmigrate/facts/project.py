@@ -143,6 +143,8 @@ class ProjectFacts:
     subclasses_of: dict[tuple[str, str], list[tuple[str, str]]] = field(default_factory=dict)
     done_methods: dict[tuple[str, str], dict[str, DoneCause]] = field(default_factory=dict)
     subclass_methods: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
+    # (path, class) -> the ``self.<name>(...)`` its methods call (``ModuleSummary.self_calls``).
+    self_calls: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
     # (path, class) of the classes whose ``__init__`` hands up to a base of another module
     # with ``super().__init__`` (``ModuleSummary.passes_init_up``): the base sees that call.
     init_passers: set[tuple[str, str]] = field(default_factory=set)

@@ -35,6 +35,7 @@ def join_registered_classes(facts: ProjectFacts, by_path: dict[str, ModuleSummar
 def join_overrides(facts: ProjectFacts, summaries: list[ModuleSummary], by_path: dict[str, ModuleSummary]) -> None:
     """Which methods of a run's class are overridden by subclasses in other modules."""
     for summary in summaries:
+        facts.self_calls.update(((summary.path, name), called) for name, called in summary.self_calls.items())
         for name, bases, methods in summary.subclasses:
             for qualified in bases:
                 level = len(qualified) - len(qualified.lstrip("."))

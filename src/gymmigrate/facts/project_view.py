@@ -323,6 +323,30 @@ class ProjectView:
         """Subclasses in other modules of the run that override ``classname.method``."""
         return self.facts.overrides.get((self.path, classname), {}).get(method, [])
 
+    def called_in_hierarchy_elsewhere(self, classname: str, method: str) -> list[str]:
+        """Classes of other modules of the run above or below ``classname`` (bases it
+        imports, subclasses, at any depth) whose methods call ``self.<method>(...)``: the
+        base's ``step`` reading a helper its subclass defines, as ("pkg/base.py:Base")."""
+        start = (self.path, classname)
+        below: dict[tuple[str, str], list[tuple[str, str]]] = self.facts.subclasses_of
+        above: dict[tuple[str, str], list[tuple[str, str]]] = {}
+        for base, subs in below.items():
+            for sub in subs:
+                above.setdefault(sub, []).append(base)
+        found: list[str] = []
+        for links in (above, below):
+            seen = {start}
+            todo = list(links.get(start, ()))
+            while todo:
+                other = todo.pop(0)
+                if other in seen:
+                    continue
+                seen.add(other)
+                if other[0] != self.path and method in self.facts.self_calls.get(other, ()):
+                    found.append(f"{other[0]}:{other[1]}")
+                todo += links.get(other, ())
+        return found
+
     def hook_followed_elsewhere(self, classname: str, method: str) -> bool:
         """Every override of ``classname``'s step hook ``method`` in other modules of the run
         can return five values with it (facts/step_hooks.py): they follow the base."""

@@ -47,6 +47,7 @@ from gymmigrate.facts.summaries.classes import (
     render_mode_heirs,
     rendering_wrappers,
     space_calls,
+    self_calls,
     subclasses,
 )
 from gymmigrate.facts.summaries.defs import (
@@ -158,6 +159,7 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
             "." * s.level + (s.module or "") for s in facts.tree.body if isinstance(s, ast.ImportFrom) and any(a.name == "*" for a in s.names)
         ),
         subclasses=subclasses(facts),
+        self_calls=self_calls(facts),
         own_api_classes=frozenset(n for n, c in facts.classes.items() if receivers.derives_own_api(c)),
         wrapper_classes=frozenset(name for name, classdef in facts.classes.items() if receivers.is_gym_wrapper_class(classdef)),
         wrapper_defined=wrapper_defined(facts),

@@ -161,6 +161,26 @@ def subclasses(facts: ModuleFacts) -> tuple[tuple[str, tuple[str, ...], tuple[st
     return tuple(found)
 
 
+def self_calls(facts: ModuleFacts) -> dict[str, frozenset[str]]:
+    """``ModuleSummary.self_calls``: per top-level class, the ``self.<name>(...)`` its
+    methods call (nested defs included: a closure's ``self`` is the instance too)."""
+    found: dict[str, frozenset[str]] = {}
+    for name, classdef in facts.classes.items():
+        called = frozenset(
+            node.func.attr
+            for statement in classdef.body
+            if isinstance(statement, FUNCTIONS)
+            for node in ast.walk(statement)
+            if isinstance(node, ast.Call)
+            and isinstance(node.func, ast.Attribute)
+            and isinstance(node.func.value, ast.Name)
+            and node.func.value.id == "self"
+        )
+        if called:
+            found[name] = called
+    return found
+
+
 def done_methods(facts: ModuleFacts) -> dict[str, dict[str, DoneCause]]:
     """For each class with an imported base, why its self-only methods' values are True:
     a subclass's ``def _computeDone(self): return self.t > self.T`` tells its base class in

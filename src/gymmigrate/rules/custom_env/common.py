@@ -143,6 +143,62 @@ def _forwards(function: Method, helper: str) -> bool:
     )
 
 
+def local_subclasses(decision: ClassDecision) -> list[ast.ClassDef]:
+    """Classes of this module that extend the decided class, directly or through others."""
+    facts = decision.family.facts
+    receivers = decision.family.receivers
+
+    def compute() -> dict[int, list[ast.ClassDef]]:
+        children: dict[int, list[ast.ClassDef]] = {}
+        for classdef in facts.all_classes:
+            for base in classdef.bases:
+                parent = receivers.local_class(base)
+                if parent is not None and parent is not classdef:
+                    children.setdefault(id(parent), []).append(classdef)
+        return children
+
+    children: dict[int, list[ast.ClassDef]] = facts.memo(("local-subclasses", 0), compute)
+    found: list[ast.ClassDef] = []
+    todo = [decision.classdef]
+    while todo:
+        for child in children.get(id(todo.pop()), ()):
+            if child not in found and child is not decision.classdef:
+                found.append(child)
+                todo.append(child)
+    return found
+
+
+def local_bases(decision: ClassDecision) -> list[ast.ClassDef]:
+    """Classes of this module the decided class extends, directly or through others."""
+    found: list[ast.ClassDef] = []
+    todo = [decision.classdef]
+    while todo:
+        for base in todo.pop().bases:
+            parent = decision.family.receivers.local_class(base)
+            if parent is not None and parent is not decision.classdef and parent not in found:
+                found.append(parent)
+                todo.append(parent)
+    return found
+
+
+def called_in_hierarchy(decision: ClassDecision, name: str) -> bool:
+    """A class above or below the decided one (in this module, or another of the run)
+    calls ``self.<name>(...)``: ``RobotEnv.step`` reading ``self._get_observation()``
+    that its subclass defines gets what that method returns."""
+    related = [*local_bases(decision), *local_subclasses(decision)]
+    if any(decision.env.index(classdef).self_calls.get(name) for classdef in related):
+        return True
+    project = decision.family.receivers.project
+    if project is None:
+        return False
+    facts = decision.family.facts
+    return any(
+        project.called_in_hierarchy_elsewhere(classdef.name, name)
+        for classdef in (decision.classdef, *related)
+        if facts.parent(classdef) is facts.tree
+    )
+
+
 def delegates(decision: ClassDecision, function: Method) -> list[Method]:
     """The class's helpers that ``function`` returns the result of (``return self._step(a)``).
 
@@ -162,6 +218,8 @@ def delegates(decision: ClassDecision, function: Method) -> list[Method]:
         if not any(r.value is not None for r in own_returns(helper)):
             continue  # abstract (``raise NotImplementedError``): subclasses return, nothing here to follow
         callers = decision.index.self_calls.get(name, ())
+        if called_in_hierarchy(decision, name):
+            continue  # another class's method reads the helper's value: its contract stays
         if all(method_of(decision, c) is function for c in callers) and name not in decision.renamed.values():
             found.append(helper)
     return found

@@ -23,32 +23,7 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.facts.step_hooks import plain_override
-from gymmigrate.rules.custom_env.common import ClassDecision, Method
-
-
-def local_subclasses(decision: ClassDecision) -> list[ast.ClassDef]:
-    """Classes of this module that extend the decided class, directly or through others."""
-    facts = decision.family.facts
-    receivers = decision.family.receivers
-
-    def compute() -> dict[int, list[ast.ClassDef]]:
-        children: dict[int, list[ast.ClassDef]] = {}
-        for classdef in facts.all_classes:
-            for base in classdef.bases:
-                parent = receivers.local_class(base)
-                if parent is not None and parent is not classdef:
-                    children.setdefault(id(parent), []).append(classdef)
-        return children
-
-    children: dict[int, list[ast.ClassDef]] = facts.memo(("local-subclasses", 0), compute)
-    found: list[ast.ClassDef] = []
-    todo = [decision.classdef]
-    while todo:
-        for child in children.get(id(todo.pop()), ()):
-            if child not in found and child is not decision.classdef:
-                found.append(child)
-                todo.append(child)
-    return found
+from gymmigrate.rules.custom_env.common import ClassDecision, Method, local_subclasses
 
 
 def overrides(decision: ClassDecision, name: str) -> tuple[list[tuple[ast.ClassDef, Method]], list[str]]:

@@ -76,9 +76,13 @@ def decide_reset(decision: ClassDecision) -> None:
         decision.plan.reset_returns_pairs = True
     elif not modern:
         base_info = _unpack_super_reset(decision, function)
-        # ``def reset(self): return self._reset()``: the helper returns the pair instead.
-        # A hook subclasses override is not followed: `(self._restart(), {})` is right for each.
-        helpers = [h for h in delegates(decision, function) if overrides(decision, h.name) == ([], [])]
+        # ``def reset(self): return self._reset()`` gets ``(self._reset(), {})``; only a
+        # helper that itself returns a reset's result (``return self.env.reset()``, a pair
+        # now) returns the pair instead, when reset is its only caller. A hook subclasses
+        # override is not followed either: `(self._restart(), {})` is right for each.
+        helpers = [
+            h for h in delegates(decision, function) if overrides(decision, h.name) == ([], []) and _returns_a_reset(decision, h)
+        ]
         decision.plan.reset_helpers = [h.name for h in helpers]
         _return_info_pairs(decision, function, base_info, set(decision.plan.reset_helpers))
         for helper in helpers:
@@ -286,6 +290,17 @@ def _unpack_super_reset(decision: ClassDecision, function: ast.AST) -> str | Non
         elif not isinstance(parent, (ast.Expr, ast.Return)):
             decision.report(call, "GM501", f"{_spelled(call)} returns (obs, info) now: unpack it where its result is used", FixKind.FLAG)
     return info_name
+
+
+def _returns_a_reset(decision: ClassDecision, helper: ast.AST) -> bool:
+    """A return of ``helper`` is some reset's result (the base's, an inner env's, a retry
+    of this one): a pair in Gymnasium, which ``(self.helper(), {})`` would nest."""
+    retries = {"reset", decision.renamed.get("reset", "reset")}
+    return any(
+        is_base_reset(ret.value, reset_bases(decision)) or is_self_call(ret.value, retries) or inner_gym_env_call(decision, ret.value, "reset")
+        for ret in own_returns(helper)
+        if ret.value is not None
+    )
 
 
 def _return_info_pairs(decision: ClassDecision, function: ast.AST, base_info: str | None, helpers: set[str]) -> None:
