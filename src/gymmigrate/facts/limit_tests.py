@@ -42,6 +42,29 @@ def is_step_limit(expr: ast.AST, data_ends: Collection[str] = ()) -> bool:
     return any(STEP_LIMIT_WORD.search(word.lower()) and "beyond" not in word for word in identifiers(expr))
 
 
+def is_local_sign_test(facts: ModuleFacts, test: ast.Compare) -> bool:
+    """``time_to_sleep > 0`` on a name only the enclosing function assigns: a value of
+    this one call (a delay, a margin), not a counter, which a step limit needs to keep
+    from step to step on the instance, whatever the name says."""
+    if len(test.ops) != 1:
+        return False
+    left, right = test.left, test.comparators[0]
+    name = left if _is_zero(right) else right if _is_zero(left) else None
+    if not isinstance(name, ast.Name):
+        return False
+    function = facts.enclosing_function(test)
+    bindings = facts.bindings_of(name)
+    return (
+        function is not None
+        and bool(bindings)
+        and all(not isinstance(b, ast.arg) and facts.enclosing_function(b) is function for b in bindings)
+    )
+
+
+def _is_zero(expr: ast.AST) -> bool:
+    return isinstance(expr, ast.Constant) and isinstance(expr.value, (int, float)) and not isinstance(expr.value, bool) and expr.value == 0
+
+
 def _minus_constant(expr: ast.AST) -> ast.AST:
     """``x - 1`` (or ``x + 1``) -> ``x``: an index's offset from a length."""
     while isinstance(expr, ast.BinOp) and isinstance(expr.op, (ast.Add, ast.Sub)) and _number(expr.right):

@@ -18,6 +18,7 @@ from gymmigrate.facts.env_classes import identifiers
 from gymmigrate.facts.limit_tests import (
     STEP_LIMIT_WORD,
     data_end_attributes,
+    is_local_sign_test,
     is_step_limit,
 )
 from gymmigrate.facts.module import ModuleFacts
@@ -69,7 +70,7 @@ def counts_in(facts: ModuleFacts, classdef: ast.ClassDef) -> bool:
             if counted or any(STEP_LIMIT_WORD.search(w) for w in identifiers(node.target)):
                 if not _idle_attribute(facts, node.target, classdef):
                     return True  # `self.steps += 1`, `self.t += self.dt`; not `self.pos[1] += 1`
-        if isinstance(node, ast.Compare) and is_step_limit(node, data_ends):
+        if isinstance(node, ast.Compare) and is_step_limit(node, data_ends) and not is_local_sign_test(facts, node):
             return True  # a step-limit test in a helper (`def _done(self): return self.t > 200`)
         if (
             isinstance(node, ast.Assign)

@@ -14,7 +14,7 @@ from collections.abc import Hashable
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.done_causes import DoneCause
-from gymmigrate.facts.limit_tests import data_end_attributes, is_step_limit, unwrap_bool
+from gymmigrate.facts.limit_tests import data_end_attributes, is_local_sign_test, is_step_limit, unwrap_bool
 from gymmigrate.facts.module import own_returns
 from gymmigrate.facts.step_counts import counts_in
 from gymmigrate.findings import Tier
@@ -70,7 +70,12 @@ def _run_bases_quiet(decision: ClassDecision, classdef: ast.ClassDef) -> bool:
 
 def step_limit_text(decision: ClassDecision, function: ast.AST) -> str | None:
     data_ends = class_data_ends(decision)
-    found = [c for s in function.body for c in ast.walk(s) if isinstance(c, ast.Compare) and is_step_limit(c, data_ends)]  # type: ignore[attr-defined]
+    found = [
+        c
+        for s in function.body  # type: ignore[attr-defined]
+        for c in ast.walk(s)
+        if isinstance(c, ast.Compare) and is_step_limit(c, data_ends) and not is_local_sign_test(decision.family.facts, c)
+    ]
     if not found:
         return None
     first = min(found, key=lambda c: (c.lineno, c.col_offset, -(c.end_lineno or 0), -(c.end_col_offset or 0)))
