@@ -24,6 +24,7 @@ import ast
 
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts.decisions import Action, Decision, receiver_text
+from gymmigrate.facts.env_classes import is_super_method_call
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.reset_contract import (
     Contract,
@@ -78,6 +79,8 @@ class ResetContractSites(ResetSeedBase):
             passed = tuple(kw.arg for kw in call.keywords if kw.arg is not None and kw.arg in contract.keywords)
             if not passed:
                 continue
+            if self._parent_reset_takes(call, passed):
+                continue  # ``super().reset(step_fn=...)``: no wrapper in between, the parent's parameters stay
             decision = self._contract_decision(call)
             if decision.action is Action.LEAVE:
                 continue  # another API's reset (an SB3 VecEnv, a PettingZoo env, a class of the run) takes it
@@ -94,6 +97,61 @@ class ResetContractSites(ResetSeedBase):
                 continue
             self._move_into_options(call, passed, decision)
         return contract.keywords
+
+    def _parent_reset_takes(self, call: ast.Call, passed: tuple[str, ...]) -> bool:
+        """``super().reset(k=...)`` (or ``Base.reset(self, k=...)``) in a method of a class
+        whose nearest reset above it is a class of the run's own that takes every keyword
+        passed as a parameter: a direct call, which no wrapper sits in; that reset keeps
+        its parameters (``_read_from_options``)."""
+        func = call.func
+        if not isinstance(func, ast.Attribute):
+            return False
+        function = self.facts.enclosing_function(call)
+        classdef = self.facts.enclosing_class(function) if function is not None else None
+        if classdef is None:
+            return False
+        if is_super_method_call(call, "reset"):
+            bases = list(classdef.bases)
+        elif (
+            isinstance(func.value, ast.Name)
+            and any(isinstance(b, ast.Name) and b.id == func.value.id for b in classdef.bases)
+            and call.args
+            and isinstance(call.args[0], ast.Name)
+            and call.args[0].id == "self"
+        ):
+            bases = [func.value]
+        else:
+            return False
+        seen: set[int] = set()
+        while bases:
+            base = bases.pop(0)
+            local = self.receivers.local_class(base)
+            if local is not None:
+                if id(local) in seen:
+                    continue
+                seen.add(id(local))
+                reset = own_reset(local)
+                if reset is None:
+                    bases.extend(local.bases)
+                    continue
+                names = {a.arg for a in extra_params(reset)}
+                return reset.args.kwarg is not None or set(passed) <= names
+            return self._run_reset_takes(base, passed)
+        return False
+
+    def _run_reset_takes(self, base: ast.expr, passed: tuple[str, ...]) -> bool:
+        """An imported base that is a class of the run defining ``reset`` with every keyword
+        passed among its parameters."""
+        project = self.receivers.project
+        if project is None:
+            return False
+        for qualified in self.facts.qualified_names(base):
+            where = project.class_of_run(qualified)
+            if where is None:
+                continue
+            params = project.facts.def_params.get((where[0], f"{where[1]}.reset"))
+            return params is not None and set(passed) <= set(params)
+        return False
 
     def _contract_decision(self, call: ast.Call) -> Decision:
         """Whose reset the call reaches: the keyword is the contract's only on a Gym env (or
