@@ -100,6 +100,8 @@ def _idle_attribute(facts: ModuleFacts, target: ast.expr, classdef: ast.ClassDef
             continue
         if not classdef.lineno <= attr.lineno <= (classdef.end_lineno or attr.lineno):
             continue  # another class's writes of the same name (its position is not this count)
+        if _wraps(facts, holder, target.attr):
+            return True  # ``if self.i > len(self.data) - 1: self.i = 0``: it cycles, it never runs out
         if isinstance(holder, ast.AugAssign):
             directions.add(type(holder.op))
         elif isinstance(holder, ast.Assign) and any(
@@ -110,6 +112,21 @@ def _idle_attribute(facts: ModuleFacts, target: ast.expr, classdef: ast.ClassDef
     if len(directions) > 1:
         return True  # ``+=`` and ``-=``: a position
     return reads == 0
+
+
+def _wraps(facts: ModuleFacts, holder: ast.AST | None, name: str) -> bool:
+    """``if <test of self.<name>>: self.<name> = <number>`` and nothing else in that branch:
+    the count starts over where it would run out, so it cannot end an episode itself (a
+    branch that also ends the episode, ``done = True``, is no wrap)."""
+    if not (isinstance(holder, ast.Assign) and len(holder.targets) == 1 and _is_number(holder.value)):
+        return False
+    branch = facts.parent(holder)
+    return (
+        isinstance(branch, ast.If)
+        and branch.body == [holder]
+        and not branch.orelse
+        and any(isinstance(n, ast.Attribute) and n.attr == name and isinstance(n.value, ast.Name) and n.value.id == "self" for n in ast.walk(branch.test))
+    )
 
 
 def _self_update(value: ast.AST | None, name: str) -> bool:
