@@ -176,6 +176,9 @@ class StepOverrides(RuleFamily):
         unpacks: dict[ast.stmt, StepUnpack | None] = {}
         bound: set[str] = set()
         inner_done: str | None = None  # the legacy unpack's done name, with or without a done line
+        # ``..., self.done, info = self.env.step(a)`` at the top level of the body: the
+        # attribute and that unpack (the step family keeps it as ``terminated or truncated``)
+        done_attribute: tuple[str, ast.stmt] | None = None
         aliases = _inner_aliases(classdef) if isinstance(classdef, ast.ClassDef) else frozenset()
         for index, line in enumerate(lines):
             assign = _single_assign(line)
@@ -206,6 +209,9 @@ class StepOverrides(RuleFamily):
                     bound.update(named - {targets[2]})
                     bound.update(found)
                     inner_done = inner_done or targets[2]
+                    held = target.elts[2]
+                    if isinstance(held, ast.Attribute) and _is_self(held.value) and line in function.body and done_attribute is None:
+                        done_attribute = (held.attr, line)
                     if noted.done_line is not None and targets[2] is not None:
                         bound.add(targets[2])
                         if done_name is None:
@@ -251,7 +257,12 @@ class StepOverrides(RuleFamily):
             plain_done = isinstance(done, ast.Name) and (
                 (done.id == done_name and not done_modified) or done.id not in bound
             )
-            if plain_done and isinstance(done, ast.Name):  # ``plain_done`` implies a Name
+            if done_attribute is not None and _only_inner_done(classdef, function, done, done_attribute, ret):
+                # ``self.done`` set only by the unpack above: the inner flags themselves (the
+                # attribute keeps ``terminated or truncated``), no end of the override's own.
+                self.report(ret, "GM602", "step returns (obs, reward, terminated, truncated, info)")
+                self.plan.replace(value, lambda node, t=terminated, u=truncated: _five(node, [cst.Name(t), cst.Name(u)]))
+            elif plain_done and isinstance(done, ast.Name):  # ``plain_done`` implies a Name
                 replaced_done_reads += done.id == done_name
                 self.report(ret, "GM602", "step returns (obs, reward, terminated, truncated, info)")
                 self.plan.replace(value, lambda node, t=terminated, u=truncated: _five(node, [cst.Name(t), cst.Name(u)]))
@@ -612,3 +623,26 @@ def _cut(node: cst.Tuple, terminated: str, per_agent: bool | str = False) -> lis
         right=cst.UnaryOperation(operator=cst.Not(), expression=cst.Name(terminated)),
     )
     return [cst.Name(terminated), cut]
+
+
+def _is_self(node: ast.AST) -> bool:
+    return isinstance(node, ast.Name) and node.id == "self"
+
+
+def _only_inner_done(classdef: ast.AST | None, function: ast.AST, done: ast.expr, held: tuple[str, ast.stmt], ret: ast.Return) -> bool:
+    """``return ..., self.done, ...`` after ``..., self.done, ... = self.env.step(a)`` at
+    the top level of the body, with no other store of ``self.done`` in the class but in
+    ``__init__`` and ``reset`` (nor ``del``): what it returns is the inner step's done,
+    nothing the override decided."""
+    attribute, unpack = held
+    if not (isinstance(done, ast.Attribute) and done.attr == attribute and _is_self(done.value)):
+        return False
+    if ret.lineno <= (unpack.end_lineno or unpack.lineno) or not isinstance(classdef, ast.ClassDef):
+        return False  # a return before the unpack reads the previous step's value
+    others = [s for s in classdef.body if isinstance(s, FUNCTIONS) and s is not function and s.name not in ("__init__", "reset")]
+    for node in (n for scope in (function, *others) for n in ast.walk(scope)):
+        if isinstance(node, ast.Attribute) and node.attr == attribute and _is_self(node.value) and not isinstance(node.ctx, ast.Load):
+            if not any(node is t for t in ast.walk(unpack)):
+                return False
+    return True
+
