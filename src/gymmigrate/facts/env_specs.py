@@ -123,3 +123,21 @@ def is_spec_make(facts: ModuleFacts, project: ProjectView | None, call: ast.Call
         and isinstance(func.value, ast.Name)
         and is_env_spec(facts, project, func.value)
     )
+
+
+def recreates_from_spec(facts: ModuleFacts) -> bool:
+    """``ModuleSummary.recreates_from_spec``: a ``make(x.spec)`` or ``x.spec.make()`` call."""
+    if ".spec" not in facts.text:
+        return False
+    for node in ast.walk(facts.tree):
+        if not isinstance(node, ast.Call):
+            continue
+        func = node.func
+        name = func.attr if isinstance(func, ast.Attribute) else func.id if isinstance(func, ast.Name) else None
+        if name != "make":
+            continue
+        if isinstance(func, ast.Attribute) and isinstance(func.value, ast.Attribute) and func.value.attr == "spec":
+            return True  # ``env.spec.make()``
+        if node.args and isinstance(node.args[0], ast.Attribute) and node.args[0].attr == "spec":
+            return True  # ``gym.make(env.spec)``
+    return False

@@ -82,6 +82,9 @@ class ModuleSummary:
     # Top-level class -> the names its methods call as ``self.<name>(...)``: a helper a
     # subclass elsewhere defines may be called by its base here, so its return is shared.
     self_calls: dict[str, frozenset[str]] = field(default_factory=dict)
+    # ``make(env.spec)`` or ``env.spec.make()``: Gymnasium rebuilds the wrappers of the spec
+    # from their recorded constructor arguments (GM617).
+    recreates_from_spec: bool = False
     # Top-level Gym wrapper classes (``Wrapper`` subclasses, through local bases): an
     # instance made elsewhere is a wrapper, so what it does not define was forwarded.
     wrapper_classes: frozenset[str] = frozenset()

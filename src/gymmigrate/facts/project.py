@@ -116,6 +116,8 @@ class ProjectFacts:
     # Some module imports Gym's (or Gymnasium's) ``check_env``, which tests in Gymnasium 1.x
     # that a seeded reset makes the steps reproducible (GM510).
     checks_envs: bool = False
+    # Some module calls ``make(x.spec)`` or ``x.spec.make()`` (``ModuleSummary.recreates_from_spec``).
+    recreates_from_spec: bool = False
     # Modules with env classes, and the modules of the run that import them.
     importers: dict[str, set[str]] = field(default_factory=dict)
     # Modules the run leaves as they are (refused, skip-file), with the reason: their
@@ -354,6 +356,7 @@ class ProjectFacts:
                     calls_to[resolved].append((summary.path, call))
         imported = {q for summary in summaries for q in summary.imported}
         facts.checks_envs = any(imports_env_checker(q) for q in imported)
+        facts.recreates_from_spec = any(s.recreates_from_spec for s in summaries)
         facts.legacy_gym = frozenset(s.path for s in summaries if any(q == "gym" or q.startswith("gym.") for q in s.imported))
         join_nearby_packages(facts, summaries)
         facts.requires = required_packages(imported)

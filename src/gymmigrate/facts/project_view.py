@@ -58,6 +58,11 @@ class ProjectView:
         """A module of the run imports Gym's or Gymnasium's ``check_env`` (or its module)."""
         return self.facts.checks_envs
 
+    def recreates_envs(self) -> bool:
+        """A module of the run imports ``check_env`` or calls ``make(x.spec)`` /
+        ``x.spec.make()``: Gymnasium rebuilds wrapped envs from their spec there."""
+        return self.facts.checks_envs or self.facts.recreates_from_spec
+
     def call_kind(self, qualified: str) -> EnvKind | None:
         """What calling an imported name of the run gives (``from hunt import HuntEnv``:
         a PettingZoo parallel env; ``pkg.make``: a Gym env). ``EnvKind.UNKNOWN`` for a name

@@ -23,7 +23,7 @@ from gymmigrate.facts.atari_signs import atari_users
 from gymmigrate.facts.class_shapes import renders_nothing
 from gymmigrate.facts.done_uses import top_level_records
 from gymmigrate.facts.env_classes import EnvClasses
-from gymmigrate.facts.env_specs import module_spec_lists
+from gymmigrate.facts.env_specs import module_spec_lists, recreates_from_spec
 from gymmigrate.facts.id_params import escaping_parameters, id_parameters
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
@@ -46,8 +46,8 @@ from gymmigrate.facts.summaries.classes import (
     render_forwards,
     render_mode_heirs,
     rendering_wrappers,
-    space_calls,
     self_calls,
+    space_calls,
     subclasses,
 )
 from gymmigrate.facts.summaries.defs import (
@@ -160,6 +160,7 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         ),
         subclasses=subclasses(facts),
         self_calls=self_calls(facts),
+        recreates_from_spec=recreates_from_spec(facts),
         own_api_classes=frozenset(n for n, c in facts.classes.items() if receivers.derives_own_api(c)),
         wrapper_classes=frozenset(name for name, classdef in facts.classes.items() if receivers.is_gym_wrapper_class(classdef)),
         wrapper_defined=wrapper_defined(facts),

@@ -14,7 +14,12 @@ from collections.abc import Hashable
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.done_causes import DoneCause
-from gymmigrate.facts.limit_tests import data_end_attributes, is_local_sign_test, is_step_limit, unwrap_bool
+from gymmigrate.facts.limit_tests import (
+    data_end_attributes,
+    is_local_sign_test,
+    is_step_limit,
+    unwrap_bool,
+)
 from gymmigrate.facts.module import own_returns
 from gymmigrate.facts.step_counts import counts_in
 from gymmigrate.findings import Tier

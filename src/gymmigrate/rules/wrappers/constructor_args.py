@@ -41,8 +41,10 @@ import ast
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
+from gymmigrate.facts.env_specs import recreates_from_spec
 from gymmigrate.facts.module import FUNCTIONS
-from gymmigrate.findings import FixKind
+from gymmigrate.facts.project_imports import imports_env_checker
+from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.env_ids.syntax import gym_alias
 
@@ -87,6 +89,14 @@ class WrapperConstructorArgs(RuleFamily):
             if init is not None:
                 self._record(classdef, init)
 
+    def _recreates_envs(self) -> bool:
+        """The run (or this file, alone) calls ``check_env`` or ``make(x.spec)`` /
+        ``x.spec.make()``: Gymnasium rebuilds wrapped envs from their spec there."""
+        project = self.receivers.project
+        if project is not None:
+            return project.recreates_envs()
+        return any(imports_env_checker(q) for q in self.facts.imports.values()) or recreates_from_spec(self.facts)
+
     def _derives_from_a_helper(self, classdef: ast.ClassDef) -> bool:
         """A base under ``gym.wrappers`` that is no wrapper: the monitoring recorders, the
         video encoder, the normalize statistics."""
@@ -115,13 +125,18 @@ class WrapperConstructorArgs(RuleFamily):
         if len(positional) < 2 or args.posonlyargs:
             return  # no env parameter, or positional-only ones: not a wrapper constructor we can read
         if args.vararg is not None:
+            # Gym could not recreate a wrapper at all: only a run that rebuilds envs from
+            # their spec (``check_env``, ``make(env.spec)``) meets the ValueError.
+            recreates = self._recreates_envs()
             self.report(
                 init,
                 "GM617",
                 f"`{classdef.name}.__init__` takes `*{args.vararg.arg}`, which `RecordConstructorArgs` cannot record by "
                 "name: `make(env.spec)` and `check_env` cannot recreate this wrapper until its arguments are recorded "
-                f"(`gymnasium.utils.RecordConstructorArgs.__init__(self, name=value, ...)`)",
+                f"(`gymnasium.utils.RecordConstructorArgs.__init__(self, name=value, ...)`)"
+                + ("" if recreates else "; the run calls neither, so nothing recreates it now"),
                 FixKind.FLAG,
+                tier=None if recreates else Tier.NOTE,
             )
             return
         recorded = [*positional[2:], *args.kwonlyargs]
