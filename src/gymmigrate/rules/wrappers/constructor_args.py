@@ -22,7 +22,8 @@ the first call wins, so the subclass's arguments, not its base's, are on record.
 anything (no annotation, or not a plain value type, and no literal default) could be an
 object ``deepcopy`` cannot copy (a lock, a file, another env with a window), so where
 one does the call passes ``_disable_deepcopy=True``. ``*args`` cannot be recorded by
-name: such a wrapper is reported. A wrapper without ``__init__``, or whose ``__init__``
+name: such a wrapper is reported, as a question where the run recreates envs from their
+spec (``check_env``, ``make(x.spec)``), as a note elsewhere (gym recreated none). A wrapper without ``__init__``, or whose ``__init__``
 takes only the env, is left as it is (its recreation still raises, as gym-era wrappers'
 did under any recreation; Gymnasium's own env-only wrappers record nothing either).
 
