@@ -225,7 +225,8 @@ def _counts_envs(classdef: ast.ClassDef) -> bool:
         if isinstance(statement, FUNCTIONS) and statement.name in _ENV_COUNTS and any(
             isinstance(d, ast.Name) and d.id == "property" for d in statement.decorator_list
         ):
-            return True  # ``@property def n_envs(self): return self._n_envs``
+            if _returns_own_count(statement):
+                return True  # ``@property def n_envs(self): return self._n_envs``
         if isinstance(statement, (ast.Assign, ast.AnnAssign)):
             targets = statement.targets if isinstance(statement, ast.Assign) else [statement.target]
             if any(isinstance(t, ast.Name) and t.id in _ENV_COUNTS for t in targets):
@@ -236,6 +237,23 @@ def _counts_envs(classdef: ast.ClassDef) -> bool:
                     if isinstance(inner.value, ast.Name) and inner.value.id == "self":
                         return True
     return False
+
+
+def _returns_own_count(function: ast.FunctionDef | ast.AsyncFunctionDef) -> bool:
+    """The property returns a count the class keeps itself (``self._n_envs``,
+    ``len(self.envs)``). A wrapper that hands on the count of what it holds
+    (``return self._env.num_envs if hasattr(self._env, "num_envs") else 1``) wraps one env
+    or a batch alike, so it says nothing about stepping several envs at once."""
+    returns = [s for s in ast.walk(function) if isinstance(s, ast.Return) and s.value is not None]
+    if not returns:
+        return False
+    for statement in returns:
+        value = statement.value
+        if isinstance(value, ast.Call) and isinstance(value.func, ast.Name) and value.func.id == "len" and value.args:
+            value = value.args[0]
+        if not (isinstance(value, ast.Attribute) and isinstance(value.value, ast.Name) and value.value.id == "self"):
+            return False
+    return True
 
 
 def renders_nothing(facts: ModuleFacts, classdef: ast.ClassDef, _depth: int = 0) -> bool:
