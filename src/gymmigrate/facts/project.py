@@ -37,6 +37,7 @@ from __future__ import annotations
 
 import os
 from collections import defaultdict
+from collections.abc import Container
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -511,7 +512,10 @@ class ProjectFacts:
             return None
         return None
 
-    def _module_path(self, module: list[str], level: int, importer: str) -> str | None:
+    def _module_path(self, module: list[str], level: int, importer: str, known: Container[str] | None = None) -> str | None:
+        """The path of the module an import of ``importer`` names; a relative one is looked
+        up among ``known`` paths (default: the modules with Gym code, ``defs``)."""
+        known = self.defs if known is None else known
         if level == 0:
             dotted = ".".join(module)
             found = self.modules.get(dotted)
@@ -524,9 +528,9 @@ class ProjectFacts:
         candidate = base.joinpath(*module)
         if not module:  # ``from . import x``: the package itself
             path = str(base / "__init__.py")
-            return path if path in self.defs else None
+            return path if path in known else None
         for path in (f"{candidate}.py", str(candidate / "__init__.py")):
-            if path in self.defs:
+            if path in known:
                 return path
         return None
 

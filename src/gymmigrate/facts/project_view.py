@@ -263,14 +263,10 @@ class ProjectView:
         plain roots that has no Gym code (which ``_split`` does not know)."""
         level = len(qualified) - len(qualified.lstrip("."))
         parts = qualified.lstrip(".").split(".")
-        base = os.path.dirname(self.path)
-        for _ in range(level - 1):
-            base = os.path.dirname(base)
         for cut in range(len(parts) - 1, 0, -1):
-            stem = os.path.join(base, *parts[:cut])
-            for path in (f"{stem}.py", os.path.join(stem, "__init__.py")):
-                if path in self.facts.plain_roots:
-                    return path, ".".join(parts[cut:])
+            path = self.facts._module_path(parts[:cut], level, self.path, known=self.facts.plain_roots)
+            if path:
+                return path, ".".join(parts[cut:])
         return None
 
     def is_record_class(self, qualified: str) -> bool:
