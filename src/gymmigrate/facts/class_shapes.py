@@ -244,7 +244,7 @@ def _returns_own_count(function: ast.FunctionDef | ast.AsyncFunctionDef) -> bool
     ``len(self.envs)``). A wrapper that hands on the count of what it holds
     (``return self._env.num_envs if hasattr(self._env, "num_envs") else 1``) wraps one env
     or a batch alike, so it says nothing about stepping several envs at once."""
-    returns = [s for s in ast.walk(function) if isinstance(s, ast.Return) and s.value is not None]
+    returns = [s for s in own_returns(function) if s.value is not None]
     if not returns:
         return False
     for statement in returns:
