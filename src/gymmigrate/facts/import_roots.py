@@ -1,11 +1,21 @@
-"""Which file of the run a dotted import name may name: every name a file may be imported
-as, and of several candidates the one whose import root is nearest the importer.
+"""Which file of the run a dotted import name may name: a relative name's level and
+dotted parts, every name a file may be imported as, and of several candidates the one whose
+import root is nearest the importer.
 """
 
 from __future__ import annotations
 
 import os
 from pathlib import Path
+
+
+def import_parts(qualified: str) -> tuple[int, list[str]]:
+    """The level of an import name (its leading dots; 0 for an absolute one) and the dotted
+    names after them: ``..pkg.Base`` gives ``(2, ["pkg", "Base"])``. A bare ``.`` (``from .
+    import *``) gives no names, not one empty name: ``ProjectFacts._module_path`` reads an
+    empty module as the package's own ``__init__.py``."""
+    names = qualified.lstrip(".")
+    return len(qualified) - len(names), names.split(".") if names else []
 
 
 def nearest_root(paths: tuple[str, ...], depth: int, importer: str) -> str | None:
