@@ -10,6 +10,7 @@ from __future__ import annotations
 import os
 from typing import TYPE_CHECKING
 
+from gymmigrate.facts.import_roots import import_parts
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module_summary import MAX_CHAIN, REF, ModuleSummary, is_ref
 from gymmigrate.facts.project_contracts import class_definer
@@ -38,8 +39,7 @@ def join_overrides(facts: ProjectFacts, summaries: list[ModuleSummary], by_path:
         facts.self_calls.update(((summary.path, name), called) for name, called in summary.self_calls.items())
         for name, bases, methods in summary.subclasses:
             for qualified in bases:
-                level = len(qualified) - len(qualified.lstrip("."))
-                parts = qualified.lstrip(".").split(".")
+                level, parts = import_parts(qualified)
                 path = facts._module_path(parts[:-1], level, summary.path) if len(parts) > 1 else None
                 if not path or path == summary.path:
                     continue
@@ -120,8 +120,7 @@ def own_api_classes(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> s
                 if (path, name) in found:
                     continue
                 for qualified in bases:
-                    level = len(qualified) - len(qualified.lstrip("."))
-                    parts = qualified.lstrip(".").split(".")
+                    level, parts = import_parts(qualified)
                     where = facts._module_path(parts[:-1], level, path) if len(parts) > 1 else None
                     if where and class_definer(facts, by_path, where, parts[-1]) in found:
                         found.add((path, name))
@@ -148,8 +147,7 @@ def quiet_classes(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> set
         counts, local, other = entry
         found = not counts and all(quiet((key[0], base)) for base in local)
         for qualified in other if found else ():
-            level = len(qualified) - len(qualified.lstrip("."))
-            parts = qualified.lstrip(".").split(".")
+            level, parts = import_parts(qualified)
             path = facts._module_path(parts[:-1], level, key[0]) if len(parts) > 1 else None
             base = class_definer(facts, by_path, path, parts[-1]) if path else None
             if base is None or not quiet(base):
