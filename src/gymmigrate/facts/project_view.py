@@ -11,7 +11,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts.done_causes import Cause, DoneCause, Limit
-from gymmigrate.facts.import_roots import is_test_path, nearest_root
+from gymmigrate.facts.import_roots import import_parts, is_test_path, nearest_root
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module_summary import MAX_CHAIN, REF
 
@@ -148,8 +148,7 @@ class ProjectView:
     def imports_legacy_gym(self, qualified: str) -> bool:
         """``qualified`` (an import of this file: ``pkg.wrappers`` or ``pkg.wrappers.make_env``)
         names a module of the run that imports legacy ``gym``."""
-        level = len(qualified) - len(qualified.lstrip("."))
-        parts = qualified.lstrip(".").split(".")
+        level, parts = import_parts(qualified)
         for module in (parts, parts[:-1]):
             path = self.facts._module_path(module, level, self.path) if module else None
             if path and path != self.path and path in self.facts.legacy_gym:
@@ -202,8 +201,8 @@ class ProjectView:
     def _star_paths(self, stars: tuple[str, ...]) -> list[str]:
         found = []
         for module in stars:
-            level = len(module) - len(module.lstrip("."))
-            path = self.facts._module_path(module.lstrip(".").split(".") if module.strip(".") else [], level, self.path)
+            level, parts = import_parts(module)
+            path = self.facts._module_path(parts, level, self.path)
             if path and path != self.path:
                 found.append(path)
         return found
@@ -261,8 +260,7 @@ class ProjectView:
     def _split_relative(self, qualified: str) -> tuple[str, str] | None:
         """``_split`` of a relative name (``._environment.Environment``) into a module with
         plain roots that has no Gym code (which ``_split`` does not know)."""
-        level = len(qualified) - len(qualified.lstrip("."))
-        parts = qualified.lstrip(".").split(".")
+        level, parts = import_parts(qualified)
         for cut in range(len(parts) - 1, 0, -1):
             path = self.facts._module_path(parts[:cut], level, self.path, known=self.facts.plain_roots)
             if path:
@@ -584,8 +582,7 @@ class ProjectView:
 
     def imported_class(self, qualified: str) -> tuple[bool, bool] | None:
         """For an imported class of the run: (is an env class, takes render_mode)."""
-        level = len(qualified) - len(qualified.lstrip("."))
-        parts = qualified.lstrip(".").split(".")
+        level, parts = import_parts(qualified)
         if len(parts) < 2:
             return None
         path = self.facts._module_path(parts[:-1], level, self.path)
