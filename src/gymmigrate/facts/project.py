@@ -42,7 +42,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from gymmigrate.facts.done_causes import DoneCause
-from gymmigrate.facts.import_roots import module_names, nearest_root
+from gymmigrate.facts.import_roots import import_parts, module_names, nearest_root
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module_summary import (
     NEW,
@@ -496,8 +496,7 @@ class ProjectFacts:
 
     def _resolve(self, target: str, importer: str) -> tuple[str, str] | None:
         """``("/run/agent.py", "Agent.fit")`` for ``agent.Agent.fit``; a class called is its ``__init__``."""
-        level = len(target) - len(target.lstrip("."))
-        parts = target.lstrip(".").split(".")
+        level, parts = import_parts(target)
         for cut in range(len(parts) - 1, 0, -1):
             module, rest = parts[:cut], parts[cut:]
             path = self._module_path(module, level, importer)
