@@ -462,8 +462,13 @@ class ProjectFacts:
 
     def _split(self, qualified: str, importer: str) -> tuple[str, str] | None:
         """``("/run/pkg/utils.py", "make")`` for ``pkg.utils.make`` (or ``.utils.make``)."""
-        level = len(qualified) - len(qualified.lstrip("."))
-        parts = qualified.lstrip(".").split(".")
+        level, parts = import_parts(qualified)
+        if level and not parts:
+            # A bare package name (``.``) has always split into the package's ``__init__.py``
+            # and an empty name, which ``defines`` and ``call_kind`` tell from None. No caller
+            # passes one today (star imports go to ``_module_path``), but the answer is kept.
+            path = self._module_path([], level, importer)
+            return (path, "") if path else None
         for cut in range(len(parts) - 1, -1, -1):
             if cut == 0 and level == 0:
                 break
