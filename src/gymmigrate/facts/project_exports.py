@@ -8,6 +8,7 @@ from __future__ import annotations
 from collections import defaultdict
 from typing import TYPE_CHECKING
 
+from gymmigrate.facts.import_roots import import_parts
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module_summary import MAX_CHAIN, REF, ModuleSummary, is_ref
 
@@ -95,8 +96,8 @@ class Exports:
     def _star_paths(self, summary: ModuleSummary) -> list[str]:
         found = []
         for module in summary.star_imports:
-            level = len(module) - len(module.lstrip("."))
-            path = self.facts._module_path(module.lstrip(".").split(".") if module.strip(".") else [], level, summary.path)
+            level, parts = import_parts(module)
+            path = self.facts._module_path(parts, level, summary.path)
             if path and path != summary.path and path in self.by_path:
                 found.append(path)
         return found
