@@ -10,6 +10,7 @@ import os
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts import names as N
+from gymmigrate.facts.import_roots import import_parts
 from gymmigrate.facts.module_summary import ModuleSummary
 
 if TYPE_CHECKING:
@@ -52,8 +53,7 @@ def join_opaque_registrations(facts: ProjectFacts, by_path: dict[str, ModuleSumm
     dotted = [name for name, path in facts.modules.items() if path in registrars]
     for summary in by_path.values():
         for qualified in summary.imported:
-            level = len(qualified) - len(qualified.lstrip("."))
-            parts = qualified.lstrip(".").split(".")
+            level, parts = import_parts(qualified)
             reached = {facts._module_path(parts[:cut], level, summary.path) for cut in range(1, len(parts) + 1)}
             inside = level == 0 and any(name == qualified or name.startswith(qualified + ".") for name in dotted)
             if reached & registrars or inside:
@@ -66,8 +66,7 @@ def imported_env_modules(facts: ProjectFacts, summary: ModuleSummary, declared: 
     (``declared``: by the classes each module declares, blocked or not)."""
     found = set()
     for qualified in summary.imported:
-        level = len(qualified) - len(qualified.lstrip("."))
-        parts = qualified.lstrip(".").split(".")
+        level, parts = import_parts(qualified)
         for module in (parts, parts[:-1]):  # `import envs` / `from envs import Dice`
             path = facts._module_path(module, level, summary.path) if module else None
             if path and path != summary.path and (
@@ -97,8 +96,7 @@ def env_modules_through_packages(facts: ProjectFacts, summary: ModuleSummary, by
     while queue:
         current = queue.pop()
         for qualified in current.imported:
-            level = len(qualified) - len(qualified.lstrip("."))
-            parts = qualified.lstrip(".").split(".")
+            level, parts = import_parts(qualified)
             for module in (parts, parts[:-1]):
                 path = facts._module_path(module, level, current.path) if module else None
                 if path is None or path in seen or os.path.basename(path) != "__init__.py" or path not in by_path:
