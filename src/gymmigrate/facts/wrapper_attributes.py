@@ -67,7 +67,7 @@ def self_defined_in(function: ast.AST) -> set[str]:
 #   object (a duck wrapper, ``receiver_classes.duck_wrapper_param``; a render adapter,
 #   ``rules/rendering/common.forwards_to_first_argument``).
 # GM604's check of ``getattr(self._env, name)`` in a ``__getattr__`` (rules/wrapper_usage/
-# forwarding.py) asks about one call, not a class: which call to rewrite, whatever it reads.
+# getattr_hasattr.py) asks about one call, not a class: which call to rewrite, whatever it reads.
 
 
 def takes_lookup_in_hand(classdef: ast.ClassDef) -> bool:

@@ -20,7 +20,7 @@ Where a rule lives (families decide in the order of ``PIPELINE`` below):
     GM604-GM606                attribute forwarding ............ wrapper_usage/
     GM616                      gym < 0.9 wrapper hooks ......... legacy_hooks.py
     GM902, GM904, GM906-GM908  spaces, logger, errors, utils ... spaces_logger.py
-    GM903, GM905, GM909, GM910 space drift (ints, dicts, sizes, ==) spaces/drift.py
+    GM903, GM905, GM909, GM910 space drift (ints, dicts, sizes, ==) spaces/
     PZ101-PZ112                PettingZoo APIs and env modules . pettingzoo/
     GM109, GM110, SB110        dependency declarations ......... dependency_files.py (carried
                                out by gymmigrate.dependencies, not a family)

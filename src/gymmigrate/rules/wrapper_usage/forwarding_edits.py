@@ -86,3 +86,31 @@ def get_wrapper_attr(name: str, quote: str = '"'):
 def self_env() -> cst.Attribute:
     return cst.Attribute(value=cst.Name("self"), attr=cst.Name("env"))
 
+
+def get_wrapper_attr_of():
+    """``getattr(target, name)`` -> ``target.get_wrapper_attr(name)``."""
+
+    def build(node: cst.Call) -> cst.BaseExpression:
+        return cst.Call(
+            func=cst.Attribute(value=node.args[0].value, attr=cst.Name("get_wrapper_attr")),
+            args=[cst.Arg(value=node.args[1].value)],
+            lpar=node.lpar,
+            rpar=node.rpar,
+        )
+
+    return build
+
+
+def has_wrapper_attr():
+    """``hasattr(x, "name")`` -> ``x.has_wrapper_attr("name")``."""
+
+    def build(node: cst.Call) -> cst.BaseExpression:
+        receiver, key = node.args
+        return cst.Call(
+            func=cst.Attribute(value=receiver.value, attr=cst.Name("has_wrapper_attr")),
+            args=[key.with_changes(comma=cst.MaybeSentinel.DEFAULT)],
+            lpar=node.lpar,
+            rpar=node.rpar,
+        )
+
+    return build

@@ -1,6 +1,6 @@
 """Edits of one ``from ... import`` statement: renamed, dropped and added names, a new module.
 
-Decided by the renames family, carried out by one build per statement so renames,
+Decided in ``wrapper_imports.py``, carried out by one build per statement so renames,
 Monitor's replacements and the names GM613 left unused compose.
 """
 

@@ -8,6 +8,7 @@ forwarding family (GM604-GM606), plus the helpers that read a qualified name as 
 from __future__ import annotations
 
 from gymmigrate.facts import names as N
+from gymmigrate.findings import FixKind
 
 RENAMED = {
     "AutoResetWrapper": "Autoreset",
@@ -98,6 +99,17 @@ def experimental_name(name: str) -> str | None:
         if name.endswith(suffix) and name[:1].isupper():
             return name[: -len(suffix)]
     return None
+
+
+def rename_code(old: str) -> tuple[str, FixKind | None]:
+    """The rule a legacy wrapper's rename is reported under, and its fix kind where it is not
+    the rule's: Autoreset resets on another step (GM612); AddRenderObservation needs a render
+    mode and takes other arguments (GM608, ASSIST)."""
+    if old == "AutoResetWrapper":
+        return "GM612", None
+    if old == "PixelObservationWrapper":
+        return "GM608", FixKind.ASSIST
+    return "GM608", None
 
 
 def current_name(name: str) -> str:

@@ -45,9 +45,11 @@ migration guide "Step API" and "Reset".
 Wrapper *usage* (attribute forwarding, renamed and removed wrappers, Monitor...) lives in
 the ``wrapper_usage`` package, which ``rules/__init__.py`` imports so that its families register.
 
-Modules: ``common`` (catalog entries, syntax helpers), ``step`` (GM602), ``reset``
-(GM601), ``episode_state`` (GM618's restoration), ``family`` (the ``RuleFamily``: finds
-wrapper classes, GM603, GM618).
+Modules: ``common`` (catalog entries, syntax helpers), ``step`` (GM602's decision, with
+``step_inner``: what the override does with its inner step, ``step_ends``: the end
+conditions it adds, and ``step_returns``: the returns built), ``reset`` (GM601),
+``episode_state`` (GM618's restoration), ``family`` (the ``RuleFamily``: finds wrapper
+classes, GM603, GM618).
 """
 
 from gymmigrate.rules.wrappers.common import RULES

@@ -10,8 +10,9 @@ Stable-Baselines3's port does. The
 return was its last reader.
 
 What the override's lines say on their own is read in ``step_ends.py`` (the end
-conditions it adds to ``done``) and ``step_inner.py`` (its inner step: aliases of the
-wrapped env, per-agent flags, other changes of ``done``); this module decides and edits.
+conditions it adds to ``done``) and ``step_inner.py`` (its inner step unpacks: their
+flags, aliases of the wrapped env, per-agent flags, other changes of ``done``); this
+module decides, and ``step_returns.py`` builds the returns it decides on.
 """
 
 from __future__ import annotations
@@ -21,7 +22,6 @@ from dataclasses import replace
 
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts.class_shapes import is_batched_step_return, keeps_legacy_step
-from gymmigrate.facts.done_uses import always_false_here, falsy_constant
 from gymmigrate.facts.module import FUNCTIONS, own_returns
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import RuleFamily
@@ -29,32 +29,35 @@ from gymmigrate.rules.custom_env.plans import (
     BATCHED_STEP_QUESTION,
     batched_step_message,
 )
-from gymmigrate.rules.step_done.common import StepUnpack
-from gymmigrate.rules.wrappers.common import (
-    _assigned_names,
-    _inner_call,
-    _parenthesized,
-    _single_assign,
-    _statements,
-    _tuple,
-)
+from gymmigrate.rules.wrappers.common import _assigned_names
 from gymmigrate.rules.wrappers.step_ends import (
-    _ends_on_task_end,
-    _is_initializer,
+    _done_changes,
+    _life_loss_sets,
     _merges_life_loss,
     _names,
+    _never_ends,
     _only_own_step_limit,
-    _sets_done_on_life_loss,
-    _sets_done_on_limit,
+    _only_step_limits,
+    _task_end_sets,
 )
 from gymmigrate.rules.wrappers.step_inner import (
-    _alias_step,
-    _has_other_assignments,
-    _inner_aliases,
-    _is_done_line,
+    _only_inner_done,
+    _read_inner_step,
     _reads_per_agent,
     _reduces_per_agent,
+    _reduction_of,
+    _reshapes,
 )
+from gymmigrate.rules.wrappers.step_returns import (
+    _code,
+    _cut,
+    _five,
+    _reduced_flags,
+    _reshaped_flags,
+)
+
+# A returned ``done`` built as a collection: per-agent flags, not one bool.
+_COLLECTIONS = (ast.List, ast.Tuple, ast.Set, ast.Dict, ast.ListComp, ast.SetComp, ast.DictComp, ast.GeneratorExp)
 
 
 class StepOverrides(RuleFamily):
@@ -103,48 +106,6 @@ class StepOverrides(RuleFamily):
                     tier=Tier.NOTE,
                 )
 
-    @staticmethod
-    def _done_changes(
-        lines: list[ast.stmt], name: str, done_line: ast.stmt | None, unpacks: dict[ast.stmt, StepUnpack | None]
-    ) -> list[ast.stmt]:
-        """The lines that change ``name`` after the inner step: not the unpack, its ``done =
-        ...`` line or an initializer."""
-        return [
-            line
-            for line in lines
-            if line not in unpacks and line is not done_line and name in _assigned_names(line) and not _is_initializer(line, name)
-        ]
-
-    def _only_step_limits(
-        self,
-        lines: list[ast.stmt],
-        name: str,
-        done_line: ast.stmt | None,
-        unpacks: dict[ast.stmt, StepUnpack | None],
-        per_agent: bool = False,
-    ) -> bool:
-        """Every change of ``name`` after the inner step is a step-limit test setting it."""
-        changes = self._done_changes(lines, name, done_line, unpacks)
-        return bool(changes) and all(_sets_done_on_limit(line, name, self.facts.parent(line), per_agent) for line in changes)
-
-    def _life_loss_sets(
-        self, lines: list[ast.stmt], name: str, done_line: ast.stmt | None, unpacks: dict[ast.stmt, StepUnpack | None]
-    ) -> list[ast.Assign]:
-        """The ``done = True`` lines of baselines' ``EpisodicLifeEnv`` pattern (``if lives <
-        self.lives and lives > 0: done = True``), when they are the only changes of ``name``
-        after the inner step; else nothing."""
-        changes = self._done_changes(lines, name, done_line, unpacks)
-        if changes and all(_sets_done_on_life_loss(line, self.facts.parent(line)) for line in changes):
-            return changes  # type: ignore[return-value]
-        return []
-
-    def _task_end_sets(
-        self, lines: list[ast.stmt], name: str, done_line: ast.stmt | None, unpacks: dict[ast.stmt, StepUnpack | None]
-    ) -> bool:
-        """Every change of ``name`` after the inner step ends the episode on the task's own end:
-        ``done = done or info.get("is_success")``, ``if reached_goal: done = True``."""
-        changes = self._done_changes(lines, name, done_line, unpacks)
-        return bool(changes) and all(_ends_on_task_end(line, name, self.facts.parent(line)) for line in changes)
 
     def _fix_step(self, function: ast.FunctionDef | ast.AsyncFunctionDef) -> None:
         """Return the inner step's terminated/truncated instead of ``done``.
@@ -166,76 +127,10 @@ class StepOverrides(RuleFamily):
                     question=BATCHED_STEP_QUESTION,
                 )
                 return
-        noted_unpacks: dict[ast.Assign, StepUnpack] = self.notes.step_unpacks
-        lines = list(_statements(function.body))
-        flags: tuple[str, str] | None = None
-        done_name: str | None = None
-        done_line: ast.stmt | None = None  # an existing ``done = ...`` line, or the unpack it is inserted after
-        inserted: tuple[ast.Assign, StepUnpack] | None = None
-        consistent = True
-        unpacks: dict[ast.stmt, StepUnpack | None] = {}
-        bound: set[str] = set()
-        inner_done: str | None = None  # the legacy unpack's done name, with or without a done line
-        # ``..., self.done, info = self.env.step(a)`` at the top level of the body: the
-        # attribute and that unpack (the step family keeps it as ``terminated or truncated``)
-        done_attribute: tuple[str, ast.stmt] | None = None
-        aliases = _inner_aliases(classdef) if isinstance(classdef, ast.ClassDef) else frozenset()
-        for index, line in enumerate(lines):
-            assign = _single_assign(line)
-            if assign is None or (_inner_call(assign.value, "step") is None and not _alias_step(assign.value, aliases)):
-                bound |= _assigned_names(line)
-                continue
-            target = assign.targets[0]
-            if (
-                not isinstance(target, (ast.Tuple, ast.List))
-                or len(target.elts) not in (4, 5)
-                or any(isinstance(element, ast.Starred) for element in target.elts)
-            ):
-                bound |= _assigned_names(line)
-                continue
-            # Targets may be attributes or subscripts (``obs, reward, self.done, info = ...``):
-            # only the plain names among them are bound names of the override.
-            targets = [element.id if isinstance(element, ast.Name) else None for element in target.elts]
-            named = {name for name in targets if name is not None}
-            noted = noted_unpacks.get(assign) if len(targets) == 4 else None
-            found: tuple[str, str] | None
-            if len(targets) == 4:
-                if noted is None:  # a legacy step the step family left: nothing to return
-                    found, consistent = None, False
-                    bound.update(named)
-                else:
-                    names = noted.names
-                    found = ("_", "_") if noted.discarded else (names.terminated, names.truncated)
-                    bound.update(named - {targets[2]})
-                    bound.update(found)
-                    inner_done = inner_done or targets[2]
-                    held = target.elts[2]
-                    if isinstance(held, ast.Attribute) and _is_self(held.value) and line in function.body and done_attribute is None:
-                        done_attribute = (held.attr, line)
-                    if noted.done_line is not None and targets[2] is not None:
-                        bound.add(targets[2])
-                        if done_name is None:
-                            done_name, done_line, inserted = targets[2], assign, (assign, noted)
-            elif targets[2] is None or targets[3] is None:
-                # ``obs, reward, self.terminated, self.truncated, info``: no names to return
-                found, consistent = None, False
-                bound.update(named)
-            else:
-                found = (targets[2], targets[3])
-                bound.update(named)
-                following = lines[index + 1] if index + 1 < len(lines) else None
-                if following is not None and _is_done_line(following, found):
-                    done_line, done_name = following, following.targets[0].id  # type: ignore[attr-defined]
-            unpacks[line] = noted
-            if found is not None:
-                if flags is not None and flags != found:
-                    consistent = False
-                flags = flags or found
-        # The inner done is a list of per-agent flags (facts/per_agent_flags.py): its own end is
-        # cut against ``terminated`` agent by agent, ``done and not terminated`` is always false.
-        agents = [noted.names for noted in unpacks.values() if noted is not None and noted.names.per_agent and not noted.names.by_name]
-        per_agent: bool | str = bool(agents) and (agents[0].guard or True)
-        done_modified = done_name is not None and _has_other_assignments(lines, done_name, done_line, unpacks, inserted, flags if consistent else None)
+        inner = _read_inner_step(function, classdef, self.notes.step_unpacks)
+        lines, unpacks, flags, consistent = inner.lines, inner.unpacks, inner.flags, inner.consistent
+        done_name, done_line, inserted, inner_done = inner.done_name, inner.done_line, inner.inserted, inner.inner_done
+        bound, done_attribute, per_agent, done_modified = inner.bound, inner.done_attribute, inner.per_agent, inner.done_modified
         replaced_done_reads = 0
         for ret in own_returns(function):
             value = ret.value
@@ -269,7 +164,7 @@ class StepOverrides(RuleFamily):
             elif (
                 isinstance(done, ast.Name)
                 and done.id == done_name
-                and self._only_step_limits(lines, done_name, done_line, unpacks, bool(per_agent))
+                and _only_step_limits(self.facts, lines, done_name, done_line, unpacks, bool(per_agent))
             ):
                 # The TimeLimit pattern: the override ends episodes only on a step count,
                 # which is truncation by definition. An explanation, not a question.
@@ -365,7 +260,7 @@ class StepOverrides(RuleFamily):
                 )
                 self.plan.replace(value, lambda node: _five(node, [node.elements[2].value, cst.Name("False")]))
             elif isinstance(done, ast.Name) and done_name is not None and done.id == done_name and (
-                life_losses := self._life_loss_sets(lines, done_name, done_line, unpacks)
+                life_losses := _life_loss_sets(self.facts, lines, done_name, done_line, unpacks)
             ):
                 # A lost life ends the agent's episode: Stable-Baselines3's EpisodicLifeEnv
                 # returns it as ``terminated=True`` and keeps ``truncated`` from the inner step.
@@ -408,8 +303,8 @@ class StepOverrides(RuleFamily):
                         node, [cst.parse_expression(f"({_code(node.elements[2].value)} and not {u}) or {t}"), cst.Name(u)]
                     ),
                 )
-            elif isinstance(done, ast.Name) and done_name is not None and done.id == done_name and self._task_end_sets(
-                lines, done_name, done_line, unpacks
+            elif isinstance(done, ast.Name) and done_name is not None and done.id == done_name and _task_end_sets(
+                self.facts, lines, done_name, done_line, unpacks
             ):
                 # ``done = done or info["is_success"]``: the wrapper's own condition is the task
                 # ending (success, a goal, a crash), which Gymnasium calls terminated; the inner
@@ -443,7 +338,7 @@ class StepOverrides(RuleFamily):
                 isinstance(done, ast.Name)
                 and done.id == done_name
                 and isinstance(classdef, ast.ClassDef)
-                and (source := _never_ends(self._done_changes(lines, done_name, done_line, unpacks), done_name, classdef, self.facts))
+                and (source := _never_ends(_done_changes(lines, done_name, done_line, unpacks), done_name, classdef, self.facts))
                 is not None
             ):
                 # ``obs, done = self.fire()`` where ``fire`` only ever returns a false flag: the
@@ -497,152 +392,4 @@ class StepOverrides(RuleFamily):
                     if noted is not None and noted.done_line is not None and line is not done_line and done_name in _assigned_names(line):
                         self.plan.withdraw(line, noted.done_line)
 
-
-_COLLECTIONS = (ast.List, ast.Tuple, ast.Set, ast.Dict, ast.ListComp, ast.SetComp, ast.DictComp, ast.GeneratorExp)
-
-
-def _never_ends(changes: list[ast.stmt], name: str, classdef: ast.ClassDef, facts) -> str | None:
-    """Where every line that changes ``name`` in the override sets it false (``done =
-    False``, or ``obs, done = self.fire()`` with ``fire`` a method of the class whose every
-    return puts a false value there): the text naming the source; None otherwise."""
-    if not changes:
-        return None
-    sources = []
-    for line in changes:
-        if not isinstance(line, ast.Assign) or len(line.targets) != 1:
-            return None
-        target = line.targets[0]
-        if isinstance(target, ast.Name) and target.id == name and falsy_constant(line.value):
-            sources.append(f"`{facts.segment(line.value)}`")
-            continue
-        value = line.value
-        if not (
-            isinstance(target, ast.Tuple)
-            and isinstance(value, ast.Call)
-            and isinstance(value.func, ast.Attribute)
-            and isinstance(value.func.value, ast.Name)
-            and value.func.value.id == "self"
-        ):
-            return None
-        index = next((i for i, e in enumerate(target.elts) if isinstance(e, ast.Name) and e.id == name), None)
-        method = next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == value.func.attr), None)
-        if index is None or method is None:
-            return None
-        returns = own_returns(method)
-        if not returns:
-            return None
-        for ret in returns:
-            if not (isinstance(ret.value, ast.Tuple) and len(ret.value.elts) == len(target.elts)):
-                return None
-            flag = ret.value.elts[index]
-            if not (falsy_constant(flag) or (isinstance(flag, ast.Name) and always_false_here(flag, facts))):
-                return None
-        sources.append(f"`self.{method.name}()`")
-    return ", ".join(dict.fromkeys(sources))
-
-
-def _code(node: cst.BaseExpression) -> str:
-    return cst.Module(body=[]).code_for_node(node)
-
-
-def _five(node: cst.Tuple, flags: list[cst.BaseExpression]) -> cst.Tuple:
-    """``obs, reward, done, info`` -> ``obs, reward, <flags>, info``."""
-    obs, reward, _, info = (element.value for element in node.elements)
-    return _tuple([obs, reward, *flags, info], node if node.lpar else None)
-
-
-# Calls that only convert or reshape a flag (elementwise): ``f(terminated) or f(truncated)``
-# is ``f(terminated or truncated)``.
-_RESHAPING = frozenset({"bool", "asarray", "array", "expand_dims", "atleast_1d", "reshape", "bool_"})
-
-
-def _reshapes(done: ast.expr, name: str, terminated: str) -> bool:
-    """``np.expand_dims(done, 0)``, ``bool(done)``: a reshaping call whose first argument is
-    the inner ``done`` (which the step family may have made ``terminated``) and whose other
-    arguments do not read it."""
-    if not (isinstance(done, ast.Call) and done.args and not any(isinstance(a, ast.Starred) for a in done.args)):
-        return False
-    func = done.func
-    called = func.attr if isinstance(func, ast.Attribute) else func.id if isinstance(func, ast.Name) else None
-    first = done.args[0]
-    rest = [*done.args[1:], *(k.value for k in done.keywords)]
-    return (
-        called in _RESHAPING
-        and isinstance(first, ast.Name)
-        and first.id == name
-        and name != terminated
-        and not any(isinstance(n, ast.Name) and n.id == name for r in rest for n in ast.walk(r))
-    )
-
-
-def _reshaped_flags(node: cst.Tuple, terminated: str, truncated: str) -> list[cst.BaseExpression]:
-    call = node.elements[2].value
-    assert isinstance(call, cst.Call)  # ``_reshapes`` checked the ast side
-    first = call.args[0]
-    return [
-        call.with_changes(args=[first.with_changes(value=cst.Name(flag)), *call.args[1:]])
-        for flag in (terminated, truncated)
-    ]
-
-
-def _reduction_of(done: ast.expr, done_name: str | None) -> str | None:
-    """``all(done)`` / ``any(done)`` of the inner step's done: the builtin's name."""
-    if (
-        isinstance(done, ast.Call)
-        and isinstance(done.func, ast.Name)
-        and done.func.id in ("all", "any")
-        and len(done.args) == 1
-        and not done.keywords
-        and isinstance(done.args[0], ast.Name)
-        and done.args[0].id == done_name
-    ):
-        return done.func.id
-    return None
-
-
-def _reduced_flags(reduced: str, done: str, terminated: str) -> list[cst.BaseExpression]:
-    """``all(terminated), all(done) and not all(terminated)`` (an agent may end by termination,
-    another by truncation, on the same step); the same with ``any``. ``truncated`` is not
-    reduced itself: a per-agent env migrated by this run returns one ``False`` there."""
-    return [cst.parse_expression(f"{reduced}({terminated})"), cst.parse_expression(f"{reduced}({done}) and not {reduced}({terminated})")]
-
-
-def _cut(node: cst.Tuple, terminated: str, per_agent: bool | str = False) -> list[cst.BaseExpression]:
-    """The override's own ``done`` becomes truncation: ``terminated, done and not terminated``
-    (per-agent lists: that of each agent; ``per_agent`` is the code's own type test when it
-    handles one flag too, ``isinstance(done, Iterable)``)."""
-    done = node.elements[2].value
-    if per_agent:
-        each = f"[end and not term for end, term in zip({_code(done)}, {terminated})]"
-        if isinstance(per_agent, str):
-            each = f"({each} if isinstance({terminated}, {per_agent}) else {_code(_parenthesized(done))} and not {terminated})"
-        return [cst.Name(terminated), cst.parse_expression(each)]
-    cut = cst.BooleanOperation(
-        left=_parenthesized(done),
-        operator=cst.And(),
-        right=cst.UnaryOperation(operator=cst.Not(), expression=cst.Name(terminated)),
-    )
-    return [cst.Name(terminated), cut]
-
-
-def _is_self(node: ast.AST) -> bool:
-    return isinstance(node, ast.Name) and node.id == "self"
-
-
-def _only_inner_done(classdef: ast.AST | None, function: ast.AST, done: ast.expr, held: tuple[str, ast.stmt], ret: ast.Return) -> bool:
-    """``return ..., self.done, ...`` after ``..., self.done, ... = self.env.step(a)`` at
-    the top level of the body, with no other store of ``self.done`` in the class but in
-    ``__init__`` and ``reset`` (nor ``del``): what it returns is the inner step's done,
-    nothing the override decided."""
-    attribute, unpack = held
-    if not (isinstance(done, ast.Attribute) and done.attr == attribute and _is_self(done.value)):
-        return False
-    if ret.lineno <= (unpack.end_lineno or unpack.lineno) or not isinstance(classdef, ast.ClassDef):
-        return False  # a return before the unpack reads the previous step's value
-    others = [s for s in classdef.body if isinstance(s, FUNCTIONS) and s is not function and s.name not in ("__init__", "reset")]
-    for node in (n for scope in (function, *others) for n in ast.walk(scope)):
-        if isinstance(node, ast.Attribute) and node.attr == attribute and _is_self(node.value) and not isinstance(node.ctx, ast.Load):
-            if not any(node is t for t in ast.walk(unpack)):
-                return False
-    return True
 

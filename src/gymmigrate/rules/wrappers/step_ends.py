@@ -3,8 +3,9 @@
 Its own step limit (``if self.t >= self.t_max: done = True``), a lost life (baselines'
 ``EpisodicLifeEnv``: ``done = True`` under a test of the lives, or ``done = done or
 lives < self.lives``), or the task's own end (``done = done or info.get("is_success")``),
-and which assignments are only initializers. ``step.py`` decides from these what the
-override returns as ``terminated`` and what as ``truncated``.
+or none (every change sets it false: ``done = False``, a method of the class whose every
+return puts False there); which assignments are only initializers. ``step.py`` decides
+from these what the override returns as ``terminated`` and what as ``truncated``.
 
 Separate from ``step.py`` because these are questions about the override's lines alone
 (the ``ast``, no plan and no rewrite), read the same way by every case of the rewrite.
@@ -16,10 +17,14 @@ import ast
 import re
 from collections.abc import Callable
 
+from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts.done_uses import always_false_here, falsy_constant
 from gymmigrate.facts.limit_tests import if_setting_true
+from gymmigrate.facts.module import FUNCTIONS, own_returns
 from gymmigrate.facts.per_agent_flags import true_list
 from gymmigrate.rules.custom_env.step import is_step_limit
-from gymmigrate.rules.wrappers.common import _single_assign
+from gymmigrate.rules.step_done.common import StepUnpack
+from gymmigrate.rules.wrappers.common import _assigned_names, _single_assign
 
 
 def _names(expr: ast.AST) -> set[str]:
@@ -174,3 +179,89 @@ def _identifier(node: ast.AST) -> str:
     if isinstance(node, ast.Constant) and isinstance(node.value, str):
         return node.value
     return ""
+
+
+def _done_changes(
+    lines: list[ast.stmt], name: str, done_line: ast.stmt | None, unpacks: dict[ast.stmt, StepUnpack | None]
+) -> list[ast.stmt]:
+    """The lines that change ``name`` after the inner step: not the unpack, its ``done =
+    ...`` line or an initializer."""
+    return [
+        line
+        for line in lines
+        if line not in unpacks and line is not done_line and name in _assigned_names(line) and not _is_initializer(line, name)
+    ]
+
+
+def _only_step_limits(
+    facts: ModuleFacts,
+    lines: list[ast.stmt],
+    name: str,
+    done_line: ast.stmt | None,
+    unpacks: dict[ast.stmt, StepUnpack | None],
+    per_agent: bool = False,
+) -> bool:
+    """Every change of ``name`` after the inner step is a step-limit test setting it."""
+    changes = _done_changes(lines, name, done_line, unpacks)
+    return bool(changes) and all(_sets_done_on_limit(line, name, facts.parent(line), per_agent) for line in changes)
+
+
+def _life_loss_sets(
+    facts: ModuleFacts, lines: list[ast.stmt], name: str, done_line: ast.stmt | None, unpacks: dict[ast.stmt, StepUnpack | None]
+) -> list[ast.Assign]:
+    """The ``done = True`` lines of baselines' ``EpisodicLifeEnv`` pattern (``if lives <
+    self.lives and lives > 0: done = True``), when they are the only changes of ``name``
+    after the inner step; else nothing."""
+    changes = _done_changes(lines, name, done_line, unpacks)
+    if changes and all(_sets_done_on_life_loss(line, facts.parent(line)) for line in changes):
+        return changes  # type: ignore[return-value]
+    return []
+
+
+def _task_end_sets(
+    facts: ModuleFacts, lines: list[ast.stmt], name: str, done_line: ast.stmt | None, unpacks: dict[ast.stmt, StepUnpack | None]
+) -> bool:
+    """Every change of ``name`` after the inner step ends the episode on the task's own end:
+    ``done = done or info.get("is_success")``, ``if reached_goal: done = True``."""
+    changes = _done_changes(lines, name, done_line, unpacks)
+    return bool(changes) and all(_ends_on_task_end(line, name, facts.parent(line)) for line in changes)
+
+
+def _never_ends(changes: list[ast.stmt], name: str, classdef: ast.ClassDef, facts: ModuleFacts) -> str | None:
+    """Where every line that changes ``name`` in the override sets it false (``done =
+    False``, or ``obs, done = self.fire()`` with ``fire`` a method of the class whose every
+    return puts a false value there): the text naming the source; None otherwise."""
+    if not changes:
+        return None
+    sources = []
+    for line in changes:
+        if not isinstance(line, ast.Assign) or len(line.targets) != 1:
+            return None
+        target = line.targets[0]
+        if isinstance(target, ast.Name) and target.id == name and falsy_constant(line.value):
+            sources.append(f"`{facts.segment(line.value)}`")
+            continue
+        value = line.value
+        if not (
+            isinstance(target, ast.Tuple)
+            and isinstance(value, ast.Call)
+            and isinstance(value.func, ast.Attribute)
+            and isinstance(value.func.value, ast.Name)
+            and value.func.value.id == "self"
+        ):
+            return None
+        index = next((i for i, e in enumerate(target.elts) if isinstance(e, ast.Name) and e.id == name), None)
+        method = next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == value.func.attr), None)
+        if index is None or method is None:
+            return None
+        returns = own_returns(method)
+        if not returns:
+            return None
+        for ret in returns:
+            if not (isinstance(ret.value, ast.Tuple) and len(ret.value.elts) == len(target.elts)):
+                return None
+            flag = ret.value.elts[index]
+            if not (falsy_constant(flag) or (isinstance(flag, ast.Name) and always_false_here(flag, facts))):
+                return None
+        sources.append(f"`self.{method.name}()`")
+    return ", ".join(dict.fromkeys(sources))

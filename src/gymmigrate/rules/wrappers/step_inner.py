@@ -6,17 +6,27 @@ inner ``done`` is a collection of per-agent flags (``all(done)``, ``done[i]``), 
 line is the ``done = terminated or truncated`` the step family inserts, and whether the
 override changes ``done`` anywhere but by its unpacks.
 
-Separate from ``step.py`` because these read the override's lines alone (the ``ast``,
-no plan and no rewrite); ``step.py`` holds the decision and the edits built from them.
+``InnerStep`` gathers what the inner step unpacks give the override (their flags, the
+line that keeps ``done``), as the step family rewrote them (``notes.step_unpacks``).
+
+Separate from ``step.py`` because these read the override's lines alone (the ``ast`` and
+the notes, no plan and no rewrite); ``step.py`` holds the decision and the edits built
+from them.
 """
 
 from __future__ import annotations
 
 import ast
+from dataclasses import dataclass
 
 from gymmigrate.facts.module import FUNCTIONS
 from gymmigrate.rules.step_done.common import StepUnpack
-from gymmigrate.rules.wrappers.common import _assigned_names, _single_assign
+from gymmigrate.rules.wrappers.common import (
+    _assigned_names,
+    _inner_call,
+    _single_assign,
+    _statements,
+)
 from gymmigrate.rules.wrappers.step_ends import _is_initializer
 
 
@@ -177,3 +187,174 @@ def _alias_step(node: ast.AST | None, aliases: frozenset[str]) -> bool:
         and node.func.value.value.id == "self"
         and node.func.value.attr in aliases
     )
+
+
+@dataclass(frozen=True)
+class InnerStep:
+    """What a step override's inner step unpacks give it, read from its lines and from how
+    the step family rewrote them (``notes.step_unpacks``)."""
+
+    lines: list[ast.stmt]  # the override's simple statements, in order, inside its blocks too
+    unpacks: dict[ast.stmt, StepUnpack | None]  # each inner step unpack; its note, if the step family rewrote it
+    flags: tuple[str, str] | None  # the names of terminated and truncated
+    consistent: bool  # every unpack gives the same flags, each by a name
+    done_name: str | None  # the name of the old done, kept by a ``done = ...`` line
+    done_line: ast.stmt | None  # an existing ``done = ...`` line, or the unpack it is inserted after
+    inserted: tuple[ast.Assign, StepUnpack] | None  # the unpack whose ``done = ...`` line the step family inserts
+    inner_done: str | None  # the legacy unpack's done name, with or without a done line
+    bound: set[str]  # the names the override binds, as they stand after the step family's rewrite
+    # ``..., self.done, info = self.env.step(a)`` at the top level of the body: the
+    # attribute and that unpack (the step family keeps it as ``terminated or truncated``)
+    done_attribute: tuple[str, ast.stmt] | None
+    per_agent: bool | str  # per-agent flags; the code's own type test when it handles one flag too
+    done_modified: bool  # the override changes the old done other than by its unpacks
+
+
+def _read_inner_step(
+    function: ast.FunctionDef | ast.AsyncFunctionDef, classdef: ast.AST | None, noted_unpacks: dict[ast.Assign, StepUnpack]
+) -> InnerStep:
+    """The inner step unpacks of ``function``, a step override of ``classdef``."""
+    lines = list(_statements(function.body))
+    flags: tuple[str, str] | None = None
+    done_name: str | None = None
+    done_line: ast.stmt | None = None  # an existing ``done = ...`` line, or the unpack it is inserted after
+    inserted: tuple[ast.Assign, StepUnpack] | None = None
+    consistent = True
+    unpacks: dict[ast.stmt, StepUnpack | None] = {}
+    bound: set[str] = set()
+    inner_done: str | None = None  # the legacy unpack's done name, with or without a done line
+    # ``..., self.done, info = self.env.step(a)`` at the top level of the body: the
+    # attribute and that unpack (the step family keeps it as ``terminated or truncated``)
+    done_attribute: tuple[str, ast.stmt] | None = None
+    aliases = _inner_aliases(classdef) if isinstance(classdef, ast.ClassDef) else frozenset()
+    for index, line in enumerate(lines):
+        assign = _single_assign(line)
+        if assign is None or (_inner_call(assign.value, "step") is None and not _alias_step(assign.value, aliases)):
+            bound |= _assigned_names(line)
+            continue
+        target = assign.targets[0]
+        if (
+            not isinstance(target, (ast.Tuple, ast.List))
+            or len(target.elts) not in (4, 5)
+            or any(isinstance(element, ast.Starred) for element in target.elts)
+        ):
+            bound |= _assigned_names(line)
+            continue
+        # Targets may be attributes or subscripts (``obs, reward, self.done, info = ...``):
+        # only the plain names among them are bound names of the override.
+        targets = [element.id if isinstance(element, ast.Name) else None for element in target.elts]
+        named = {name for name in targets if name is not None}
+        noted = noted_unpacks.get(assign) if len(targets) == 4 else None
+        found: tuple[str, str] | None
+        if len(targets) == 4:
+            if noted is None:  # a legacy step the step family left: nothing to return
+                found, consistent = None, False
+                bound.update(named)
+            else:
+                names = noted.names
+                found = ("_", "_") if noted.discarded else (names.terminated, names.truncated)
+                bound.update(named - {targets[2]})
+                bound.update(found)
+                inner_done = inner_done or targets[2]
+                held = target.elts[2]
+                if isinstance(held, ast.Attribute) and _is_self(held.value) and line in function.body and done_attribute is None:
+                    done_attribute = (held.attr, line)
+                if noted.done_line is not None and targets[2] is not None:
+                    bound.add(targets[2])
+                    if done_name is None:
+                        done_name, done_line, inserted = targets[2], assign, (assign, noted)
+        elif targets[2] is None or targets[3] is None:
+            # ``obs, reward, self.terminated, self.truncated, info``: no names to return
+            found, consistent = None, False
+            bound.update(named)
+        else:
+            found = (targets[2], targets[3])
+            bound.update(named)
+            following = lines[index + 1] if index + 1 < len(lines) else None
+            if following is not None and _is_done_line(following, found):
+                done_line, done_name = following, following.targets[0].id  # type: ignore[attr-defined]
+        unpacks[line] = noted
+        if found is not None:
+            if flags is not None and flags != found:
+                consistent = False
+            flags = flags or found
+    # The inner done is a list of per-agent flags (facts/per_agent_flags.py): its own end is
+    # cut against ``terminated`` agent by agent, ``done and not terminated`` is always false.
+    agents = [noted.names for noted in unpacks.values() if noted is not None and noted.names.per_agent and not noted.names.by_name]
+    per_agent: bool | str = bool(agents) and (agents[0].guard or True)
+    done_modified = done_name is not None and _has_other_assignments(lines, done_name, done_line, unpacks, inserted, flags if consistent else None)
+    return InnerStep(
+        lines=lines,
+        unpacks=unpacks,
+        flags=flags,
+        consistent=consistent,
+        done_name=done_name,
+        done_line=done_line,
+        inserted=inserted,
+        inner_done=inner_done,
+        bound=bound,
+        done_attribute=done_attribute,
+        per_agent=per_agent,
+        done_modified=done_modified,
+    )
+
+
+# Calls that only convert or reshape a flag (elementwise): ``f(terminated) or f(truncated)``
+# is ``f(terminated or truncated)``.
+_RESHAPING = frozenset({"bool", "asarray", "array", "expand_dims", "atleast_1d", "reshape", "bool_"})
+
+
+def _reshapes(done: ast.expr, name: str, terminated: str) -> bool:
+    """``np.expand_dims(done, 0)``, ``bool(done)``: a reshaping call whose first argument is
+    the inner ``done`` (which the step family may have made ``terminated``) and whose other
+    arguments do not read it."""
+    if not (isinstance(done, ast.Call) and done.args and not any(isinstance(a, ast.Starred) for a in done.args)):
+        return False
+    func = done.func
+    called = func.attr if isinstance(func, ast.Attribute) else func.id if isinstance(func, ast.Name) else None
+    first = done.args[0]
+    rest = [*done.args[1:], *(k.value for k in done.keywords)]
+    return (
+        called in _RESHAPING
+        and isinstance(first, ast.Name)
+        and first.id == name
+        and name != terminated
+        and not any(isinstance(n, ast.Name) and n.id == name for r in rest for n in ast.walk(r))
+    )
+
+
+def _reduction_of(done: ast.expr, done_name: str | None) -> str | None:
+    """``all(done)`` / ``any(done)`` of the inner step's done: the builtin's name."""
+    if (
+        isinstance(done, ast.Call)
+        and isinstance(done.func, ast.Name)
+        and done.func.id in ("all", "any")
+        and len(done.args) == 1
+        and not done.keywords
+        and isinstance(done.args[0], ast.Name)
+        and done.args[0].id == done_name
+    ):
+        return done.func.id
+    return None
+
+
+def _is_self(node: ast.AST) -> bool:
+    return isinstance(node, ast.Name) and node.id == "self"
+
+
+def _only_inner_done(classdef: ast.AST | None, function: ast.AST, done: ast.expr, held: tuple[str, ast.stmt], ret: ast.Return) -> bool:
+    """``return ..., self.done, ...`` after ``..., self.done, ... = self.env.step(a)`` at
+    the top level of the body, with no other store of ``self.done`` in the class but in
+    ``__init__`` and ``reset`` (nor ``del``): what it returns is the inner step's done,
+    nothing the override decided."""
+    attribute, unpack = held
+    if not (isinstance(done, ast.Attribute) and done.attr == attribute and _is_self(done.value)):
+        return False
+    if ret.lineno <= (unpack.end_lineno or unpack.lineno) or not isinstance(classdef, ast.ClassDef):
+        return False  # a return before the unpack reads the previous step's value
+    others = [s for s in classdef.body if isinstance(s, FUNCTIONS) and s is not function and s.name not in ("__init__", "reset")]
+    for node in (n for scope in (function, *others) for n in ast.walk(scope)):
+        if isinstance(node, ast.Attribute) and node.attr == attribute and _is_self(node.value) and not isinstance(node.ctx, ast.Load):
+            if not any(node is t for t in ast.walk(unpack)):
+                return False
+    return True
