@@ -52,3 +52,19 @@ def test_reset_keywords_travel_in_options_down_the_wrappers(tmp_path: Path) -> N
     run = subprocess.run([sys.executable, "-W", "ignore", "-c", _RUN], cwd=project, capture_output=True, text=True, timeout=120)
     assert run.returncode == 0, run.stderr
     assert run.stdout.split() == ["ok"]
+
+
+def test_blocked_contract_names_its_places_relative_to_the_reporting_module(tmp_path: Path) -> None:
+    # A positional pass elsewhere in the run blocks the move: the env's reset gets one item
+    # naming that place, as a path relative to the module (not the checkout's location).
+    project = tmp_path / "project"
+    shutil.copytree(FIXTURES / "project_reset_keywords", project)
+    (project / "chain" / "extra").mkdir()
+    (project / "chain" / "extra" / "blocker.py").write_text(
+        "import gym\n\n\nclass Other(gym.Env):\n    def reset(self, step_fn):\n        return 0\n"
+    )
+    result = runner.invoke(app, ["check", str(project)])
+    places = [line.split("cannot be rewritten:")[1] for line in result.output.splitlines() if "cannot be rewritten:" in line]
+    assert places, result.output
+    assert all(str(tmp_path) not in shown for shown in places), places
+    assert any("extra/blocker.py:5 (`step_fn=`)" in shown for shown in places), places

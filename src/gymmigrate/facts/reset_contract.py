@@ -53,7 +53,7 @@ class Contract:
 
     keywords: frozenset[str]
     step_callables: frozenset[str]
-    blockers: tuple[str, ...]  # "path:line (`keyword=`)" of sites no rewrite can carry
+    blockers: tuple[tuple[str, int, str], ...]  # (path, line, keyword) of sites no rewrite can carry
 
 
 def extra_params(function: ast.FunctionDef | ast.AsyncFunctionDef) -> list[ast.arg]:
@@ -148,6 +148,6 @@ def join(parts: list[tuple[str, ResetSites]]) -> Contract | None:
     step = frozenset().union(*(s.step_values for _, s in parts))
     other = frozenset().union(*(s.other_values for _, s in parts))
     blockers = tuple(
-        f"{path}:{line} (`{keyword}=`)" for path, s in parts for keyword, line in s.blockers if keyword in keywords
+        (path, line, keyword) for path, s in parts for keyword, line in s.blockers if keyword in keywords
     )
     return Contract(keywords, frozenset(k for k in keywords if k in step and k not in other), blockers)

@@ -21,6 +21,7 @@ gets one review item naming the places, and the calls keep their GM207 report.
 from __future__ import annotations
 
 import ast
+import os
 
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts.decisions import Action, Decision, receiver_text
@@ -46,6 +47,13 @@ class ResetContractSites(ResetSeedBase):
             return project.reset_contract()
         return join([("this file", sites(self.facts, lambda c: self.receivers.class_kind(c) is EnvKind.GYM_ENV))])
 
+    def _shown_path(self, path: str) -> str:
+        # Like the run's other cross-module items: relative to this module, never the
+        # checkout's absolute location (the report must read the same wherever it runs).
+        if path == "this file" or not os.path.isabs(path):
+            return path
+        return os.path.relpath(path, os.path.dirname(os.path.abspath(self.context.path)))
+
     def _plan_contract(self) -> frozenset[str]:
         """Plans the contract's edits in this module; the keywords it moved (the calls'
         GM207 reports skip them)."""
@@ -62,12 +70,13 @@ class ResetContractSites(ResetSeedBase):
                 moved = [a.arg for a in extra_params(reset) if a.arg in contract.keywords]
                 if moved and self.receivers.class_kind(classdef) is EnvKind.GYM_ENV:
                     shown = ", ".join(f"`{k}=`" for k in moved)
+                    places = ", ".join(f"{self._shown_path(path)}:{line} (`{keyword}=`)" for path, line, keyword in contract.blockers)
                     self.report(
                         reset,
                         "GM207",
                         f"the run passes {shown} down its wrappers to this reset, which Gymnasium's wrappers and the "
                         "checkers of make() refuse (they take only seed= and options=); not moved into options, because "
-                        f"these places cannot be rewritten: {', '.join(contract.blockers)}",
+                        f"these places cannot be rewritten: {places}",
                         FixKind.FLAG,
                     )
             return frozenset()
