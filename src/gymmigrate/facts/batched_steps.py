@@ -9,6 +9,12 @@ from __future__ import annotations
 
 import ast
 
+from gymmigrate.facts.collection_reads import (
+    CollectionRead,
+    Shape,
+    collection_read,
+    same_node,
+)
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.module import ModuleFacts
 
@@ -47,13 +53,25 @@ def done_read_per_env(facts: ModuleFacts, done_target: ast.expr, unpacked: ast.T
         if fields and under_batch_check(facts, read, fields):
             continue
         parent = facts.parent(read)
-        if isinstance(parent, ast.Subscript) and parent.value is read:
-            return True
-        if isinstance(parent, (ast.For, ast.AsyncFor, ast.comprehension)) and parent.iter is read:
-            return True
-        if isinstance(parent, ast.Call) and isinstance(parent.func, ast.Name) and parent.func.id in ("zip", "enumerate", "len", "any", "all", "sum", "list"):
+        if parent is not None and _per_env(collection_read(parent, same_node(read))):
             return True
     return False
+
+
+# Builtins that raise on one flag (``len(True)``): only an iterable of flags goes through.
+_ITERABLE_BUILTINS = frozenset({"zip", "enumerate", "len", "any", "all", "sum", "list"})
+
+
+def _per_env(read: CollectionRead | None) -> bool:
+    """A read that one env's flag (a bool) would raise on: indexed, keyed, iterated or
+    handed to an iterable builtin. A yes leaves the step unrewritten, so the reads one flag
+    may take too do not count: a type test (``isinstance(done, bool)``) or an array's
+    method (NumPy's ``bool_`` has ``.any()``)."""
+    if read is None:
+        return False
+    if read.shape is Shape.PASSED:
+        return read.callee in _ITERABLE_BUILTINS
+    return read.shape in (Shape.INDEXED, Shape.KEYED, Shape.ITERATED)
 
 
 def steps_batched(facts: ModuleFacts, receiver: ast.Name) -> bool:

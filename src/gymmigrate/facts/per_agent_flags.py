@@ -18,8 +18,19 @@ from __future__ import annotations
 import ast
 from dataclasses import dataclass
 
+from gymmigrate.facts.collection_reads import (
+    CollectionRead,
+    Shape,
+    collection_read,
+    named,
+)
+
 # Type tests that say "a list of flags" (``isinstance(done, Iterable)``).
 _LIST_TYPES = frozenset({"list", "tuple", "Iterable", "Sequence", "Collection", "MutableSequence"})
+# Builtins that take the flags alone (``all(done)``, ``enumerate(done)``); ``zip`` counts with
+# the agents' other values beside them (``zip(obs, done)``). Narrower than a batch's set
+# (facts/batched_steps.py): a yes here joins the flags with NumPy agent by agent.
+_REDUCTIONS = frozenset({"all", "any", "enumerate"})
 
 
 @dataclass(frozen=True)
@@ -45,6 +56,10 @@ def _type_names(node: ast.expr) -> list[str]:
     return names
 
 
+def _takes_agents(read: CollectionRead) -> bool:
+    return read.callee == "zip" or (read.callee in _REDUCTIONS and read.only_argument)
+
+
 def _true_list(value: ast.expr) -> bool:
     """``len(obs) * [True]``, ``[True] * n``, ``[True for _ in obs]``, ``[True, True]``."""
     if isinstance(value, ast.BinOp) and isinstance(value.op, ast.Mult):
@@ -67,34 +82,30 @@ def per_agent_done(scope: ast.AST, name: str) -> PerAgent | None:
     evidence = False
     by_name = False
     guard: str | None = None
+    is_done = named(name)
     for node in _walk_unguarded(scope, name):
         if isinstance(node, ast.Attribute) and _is(node.value, name):
             return None  # ``done.any()``, ``done.values()``: an array or a dict
-        if isinstance(node, ast.Subscript) and _is(node.value, name):
-            key = node.slice
-            if isinstance(key, ast.Constant) and isinstance(key.value, str):
-                by_name = True  # ``done["__all__"]``: a dict of agents
-            else:
-                evidence = True
-        elif isinstance(node, ast.BinOp) and (_is(node.left, name) or _is(node.right, name)):
+        if isinstance(node, ast.BinOp) and (_is(node.left, name) or _is(node.right, name)):
             return None  # ``1 - done``: an array
-        elif isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.Invert) and _is(node.operand, name):
+        if isinstance(node, ast.UnaryOp) and isinstance(node.op, ast.Invert) and _is(node.operand, name):
             return None
-        elif isinstance(node, ast.Call) and isinstance(node.func, ast.Name):
-            called, args = node.func.id, node.args
-            if called == "isinstance" and len(args) == 2 and _is(args[0], name):
-                types = _type_names(args[1])
-                if not all(t in _LIST_TYPES for t in types):
-                    return None  # ``isinstance(done, bool)``: one flag or an array
-                guard = ast.unparse(args[1])
-                evidence = True
-            elif called in ("all", "any", "enumerate") and len(args) == 1 and _is(args[0], name):
-                evidence = True
-            elif called == "zip" and any(_is(a, name) for a in args):
-                evidence = True
-        elif isinstance(node, (ast.For, ast.comprehension)) and _is(node.iter, name):
+        if isinstance(node, ast.Assign) and any(_is(t, name) for t in node.targets) and _true_list(node.value):
             evidence = True
-        elif isinstance(node, ast.Assign) and any(_is(t, name) for t in node.targets) and _true_list(node.value):
+            continue
+        read = collection_read(node, is_done)
+        if read is None:
+            continue
+        if read.shape is Shape.KEYED:
+            by_name = True  # ``done["__all__"]``: a dict of agents
+        elif read.shape is Shape.TYPE_TEST:
+            if read.types is None:
+                continue
+            if not all(t in _LIST_TYPES for t in _type_names(read.types)):
+                return None  # ``isinstance(done, bool)``: one flag or an array
+            guard = ast.unparse(read.types)
+            evidence = True
+        elif read.shape in (Shape.INDEXED, Shape.ITERATED) or (read.shape is Shape.PASSED and _takes_agents(read)):
             evidence = True
     if by_name:
         # a dict of agents: read by index or type-tested too is a shape not known here

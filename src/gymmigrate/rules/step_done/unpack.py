@@ -20,6 +20,12 @@ from bisect import bisect_left, bisect_right
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts.batched_steps import done_read_per_env
 from gymmigrate.facts.class_shapes import concatenated_lists
+from gymmigrate.facts.collection_reads import (
+    CollectionRead,
+    Shape,
+    collection_read,
+    named,
+)
 from gymmigrate.facts.decisions import Action, Decision, receiver_text
 from gymmigrate.facts.done_uses import DoneUse, classify_done_read
 from gymmigrate.facts.flow import bound_names, end, start
@@ -345,20 +351,16 @@ _ELEMENTWISE_CALLS = frozenset({"any", "all", "logical_or", "logical_and", "logi
 
 def reads_as_batch(function: ast.AST, name: str) -> bool:
     """``function`` reads ``name`` as a collection of per-env flags somewhere."""
+    is_done = named(name)
+    return any(_batch_read(collection_read(node, is_done)) for node in ast.walk(function))
 
-    def is_name(node: ast.AST) -> bool:
-        return isinstance(node, ast.Name) and node.id == name
 
-    for node in ast.walk(function):
-        if isinstance(node, ast.Call):
-            func = node.func
-            if isinstance(func, ast.Name) and func.id == "isinstance" and node.args and is_name(node.args[0]):
-                return True  # ``isinstance(done, bool)``: a bool or something else (a batch)
-            if isinstance(func, ast.Attribute) and func.attr in _ELEMENTWISE_CALLS:
-                if is_name(func.value) or any(is_name(a) for a in node.args):
-                    return True
-        elif isinstance(node, ast.Subscript) and is_name(node.value):
-            return True
-        elif isinstance(node, (ast.comprehension, ast.For)) and is_name(node.iter):
-            return True
-    return False
+def _batch_read(read: CollectionRead | None) -> bool:
+    """Indexed, iterated, read element by element by NumPy, or type-tested at all
+    (``isinstance(done, bool)``: a bool or something else, a batch). A yes only turns ``or``
+    into ``|``, the same on two bools, so a test that also lets one flag through counts."""
+    if read is None:
+        return False
+    if read.shape in (Shape.METHOD, Shape.ARRAY_CALL):
+        return read.callee in _ELEMENTWISE_CALLS
+    return read.shape in (Shape.INDEXED, Shape.KEYED, Shape.ITERATED, Shape.TYPE_TEST)
