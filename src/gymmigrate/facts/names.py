@@ -98,6 +98,7 @@ GYM_ONLY_PACKAGES = frozenset(
         "gym_super_mario_bros",
         "gym_tetris",
         "gym_unity",
+        "marl_baselines3",
         "mujoco_py",
         "multiagent",
         "nes_py",
