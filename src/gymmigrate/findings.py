@@ -64,6 +64,13 @@ def gym_only_question(stack: str) -> tuple[str, ...]:
     return (RUN_QUESTION, "gym-only-library", "", stack)
 
 
+def rllib_question() -> tuple[str, ...]:
+    """What every module importing RLlib next to gym asks (GM107): the ray release, and
+    with it the multi-agent env API, the project's RLlib code moves to. One decision of the
+    run, asked in the first file by path."""
+    return (RUN_QUESTION, "rllib-era", "", "ray")
+
+
 def recorder_mode_question(line: int, column: int) -> tuple[object, ...]:
     """What a Monitor call turned RecordVideo asks wherever it keeps a question: the mode its
     env is made with (GM407, creation site not found) and the arguments it dropped (GM611),

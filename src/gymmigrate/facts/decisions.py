@@ -107,12 +107,13 @@ def decide(
         if dispatcher is not None:
             # ``wrap_env`` sends Gym envs to another class first: this one wraps another API
             return Decision(Action.LEAVE, f"`{name}` is held by {holder}, which `{dispatcher}` builds only for envs that are not Gym's")
-    if holder is not None:
+    fallback = env_like and profile.gym_only
+    library = origins.library_made(receiver) if (fallback or holder is not None) and origins is not None else None
+    if holder is not None and library is None:
         # a wrapper of an env API other than Gym's forwarding its own reset/step: what it
         # holds follows that API as likely as Gym's, so the file's imports settle nothing
+        # (the library that made what it holds, where the code shows one, says more: below)
         return Decision(Action.REPORT, f"`{name}` is held by {holder}; not shown to be a Gym env, not rewritten")
-    fallback = env_like and profile.gym_only
-    library = origins.library_made(receiver) if fallback and origins is not None else None
     if library is not None:
         return Decision(Action.REPORT, f"`{name}` is made by `{library}`, a library other than Gym, not shown to be a Gym env; not rewritten")
     annotated = origins.annotated_class(receiver) if fallback and origins is not None else None

@@ -215,6 +215,11 @@ class ModuleSummary:
     # each attribute only ever stored from that parameter (``self.gym_env = gym_env``): an
     # instance's attribute is what every construction of the run passes there.
     held_params: dict[str, dict[str, str]] = field(default_factory=dict)
+    # Top-level classes -> {attribute: kind} for each attribute the class resets or steps
+    # (``self.env.step(a)``) and stores only from constructions this module settles
+    # (``self.env = ParallelPettingZooEnv(...)``): a subclass in another module that never
+    # stores it holds the same object (``ProjectFacts.driven_kinds``).
+    driven_kinds: dict[str, dict[str, EnvKind]] = field(default_factory=dict)
     # Imported names of the run read as a value, not called (``partial(wrappers.make_env, i)``,
     # ``fn=make_env``): they may be called with arguments no summary sees.
     handed_on: frozenset[str] = frozenset()
@@ -234,6 +239,11 @@ class ModuleSummary:
     # Top-level defs that return a thunk on every path (``make_env`` returning a nested def
     # around ``gym.make``) -> what calling that thunk returns (``factory_thunk_kind``).
     thunk_factories: dict[str, EnvKind] = field(default_factory=dict)
+    # Top-level defs whose thunks, on every path, return a call of a name another module of
+    # the run defines (``def creator(_): return Orchard(n)`` with ``Orchard`` imported) ->
+    # those names: the join gives the def the one kind their calls give there
+    # (``ProjectFacts.thunk_factories``), which this module alone cannot know.
+    thunk_factory_refs: dict[str, frozenset[str]] = field(default_factory=dict)
 
 
 def is_ref(kind: object) -> bool:

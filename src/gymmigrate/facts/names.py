@@ -98,6 +98,7 @@ GYM_ONLY_PACKAGES = frozenset(
         "gym_super_mario_bros",
         "gym_tetris",
         "gym_unity",
+        "marl_baselines3",
         "mujoco_py",
         "multiagent",
         "nes_py",
@@ -230,6 +231,38 @@ PZ_WRAPPER_BASES = frozenset(name for name in PZ_AEC_BASES | PZ_PARALLEL_BASES i
 # step return a TimeStep): what they make, and a class deriving one of their classes, is
 # left alone, with no question asked.
 OWN_ENV_API_PACKAGES = ("tf_agents", "dm_env")
+
+# The same for single classes of a library whose other classes may be Gym's (RLlib's atari
+# wrappers are Gym wrappers): RLlib's ``MultiAgentEnv`` and its wrappers around PettingZoo,
+# Unity and grouped agents take and return per-agent dicts (``dones["__all__"]``), with gym
+# (ray < 2.3: reset gives the obs dict, step four dicts) or with Gymnasium (ray >= 2.3: reset
+# gives (obs, infos) dicts, step five, ``terminateds``/``truncateds``). Which one follows the
+# ray release, not Gym's API: a call on one of them is never rewritten as a Gym env's
+# (``rules/imports/rllib.py`` asks the ray decision). ``ray.rllib.env`` re-exports them all;
+# before ray 1.4 the wrappers sat in ``ray.rllib.env`` itself, not in ``env.wrappers``.
+OWN_ENV_API_CLASSES = frozenset(
+    {
+        "ray.rllib.MultiAgentEnv",
+        "ray.rllib.env.MultiAgentEnv",
+        "ray.rllib.env.multi_agent_env.MultiAgentEnv",
+        *(
+            f"ray.rllib.env.{where}{name}"
+            for name, module in (
+                ("PettingZooEnv", "pettingzoo_env"),
+                ("ParallelPettingZooEnv", "pettingzoo_env"),
+                ("GroupAgentsWrapper", "group_agents_wrapper"),
+                ("Unity3DEnv", "unity3d_env"),
+            )
+            for where in ("", f"{module}.", f"wrappers.{module}.")
+        ),
+    }
+)
+
+
+def has_own_env_api(qualified: str) -> bool:
+    """``qualified`` is a class (or callable) of a library whose envs have an API of their
+    own (``OWN_ENV_API_PACKAGES``, ``OWN_ENV_API_CLASSES``)."""
+    return top_package(qualified) in OWN_ENV_API_PACKAGES or qualified in OWN_ENV_API_CLASSES
 
 NOT_ENV_PACKAGES = (
     *OWN_ENV_API_PACKAGES,

@@ -72,7 +72,11 @@ from gymmigrate.facts.project_contracts import (
     thread_render_mode,
     wrapper_steppers,
 )
-from gymmigrate.facts.project_exports import Exports, reexport_wrappers
+from gymmigrate.facts.project_exports import (
+    Exports,
+    join_thunk_factory_refs,
+    reexport_wrappers,
+)
 from gymmigrate.facts.project_ids import id_slots
 from gymmigrate.facts.project_imports import (
     env_modules_through_packages,
@@ -250,6 +254,9 @@ class ProjectFacts:
     # ``__init__`` parameter the attribute holds (``ModuleSummary.held_params``), where all
     # agree on a Gym env: ``holder.gym_env`` of an instance made anywhere is that env.
     held_kinds: dict[tuple[str, str, str], EnvKind] = field(default_factory=dict)
+    # (path, name of a class of the run, re-exports followed) -> the kinds of the attributes
+    # the class resets or steps and settles itself (``ModuleSummary.driven_kinds``)
+    driven_kinds: dict[tuple[str, str], dict[str, EnvKind]] = field(default_factory=dict)
     # (path, plain class, attribute) -> (the ``__init__`` parameter it holds, its position in a
     # call): where a caller's construction passes what ``holder.attribute`` is (creation sites).
     held_slots: dict[tuple[str, str, str], tuple[str, int]] = field(default_factory=dict)
@@ -363,6 +370,7 @@ class ProjectFacts:
         facts.requires = required_packages(imported)
         join_registered_classes(facts, by_path)
         Exports(facts, by_path).run()
+        join_thunk_factory_refs(facts, by_path)
         # before the parameters: an argument made by such a class keeps the def's calls on its contract
         facts.forwarding_wrappers = forwarding_wrappers(facts, by_path)
         facts.legacy_steps = legacy_steps(facts, by_path)
@@ -406,6 +414,8 @@ class ProjectFacts:
                 where = class_definer(facts, by_path, path, name)
                 if where is not None and where[1] in by_path[where[0]].wrapper_defined:
                     facts.wrapper_defined[(path, name)] = by_path[where[0]].wrapper_defined[where[1]]
+                if where is not None and where[0] not in facts.blocked and where[1] in by_path[where[0]].driven_kinds:
+                    facts.driven_kinds[(path, name)] = by_path[where[0]].driven_kinds[where[1]]
         facts.seed_classes, facts.seed_ids = seed_keepers(facts, by_path)
         NonSpaces(facts, by_path).run()
         facts.wrapper_steppers = wrapper_steppers(facts, by_path)

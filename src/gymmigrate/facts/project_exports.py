@@ -202,3 +202,23 @@ def reexport_wrappers(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) ->
                 added[path].add(name)
     for path, names in added.items():
         facts.wrapper_classes[path] = facts.wrapper_classes.get(path, frozenset()) | names
+
+
+def join_thunk_factory_refs(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> None:
+    """A def whose thunks call names of other modules of the run (``def creator(_): return
+    Orchard(n)``, ``ModuleSummary.thunk_factory_refs``): its thunks return what those calls
+    give (``call_kinds``), when every name gives the same kind and the run knows it."""
+    for path, summary in by_path.items():
+        if path in facts.blocked or not summary.thunk_factory_refs:
+            continue
+        found: dict[str, EnvKind] = {}
+        for name, refs in summary.thunk_factory_refs.items():
+            kinds = set()
+            for ref in refs:
+                split = facts._split(ref, path)
+                kinds.add(facts.call_kinds.get(split) if split is not None and "." not in split[1] else None)
+            kind = kinds.pop() if len(kinds) == 1 else None
+            if kind is not None and kind is not EnvKind.UNKNOWN:
+                found[name] = kind
+        if found:
+            facts.thunk_factories[path] = {**facts.thunk_factories.get(path, {}), **found}

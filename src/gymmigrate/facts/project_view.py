@@ -161,6 +161,13 @@ class ProjectView:
         split = self.facts._split(qualified, self.path)
         return None if split is None else self.facts.held_kinds.get((*split, attribute))
 
+    def driven_kind(self, qualified: str, attribute: str) -> EnvKind | None:
+        """``self.<attribute>`` of a class deriving the run's class ``qualified`` and never
+        storing it: what that class stores there and resets or steps, where its module
+        settles it (``ProjectFacts.driven_kinds``); None otherwise."""
+        split = self.facts._split(qualified, self.path)
+        return None if split is None else self.facts.driven_kinds.get(split, {}).get(attribute)
+
     def held_slot(self, qualified: str, attribute: str) -> tuple[str, int] | None:
         """``holder.attribute`` where ``holder`` is an instance of the run's plain class
         ``qualified``: the constructor parameter it holds and its position in a call."""

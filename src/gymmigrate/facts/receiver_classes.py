@@ -306,7 +306,7 @@ class ClassKinds(_Facade):
         """A class of a library with an env API of its own (``dm_env.Environment``), or a
         class of this module or of another module of the run derived from one (``class
         Adapter(Wrapper)`` with ``class Wrapper(dm_env.Environment)``)."""
-        if any(N.top_package(q) in N.OWN_ENV_API_PACKAGES for q in self.qualified_names(base)):
+        if any(N.has_own_env_api(q) for q in self.qualified_names(base)):
             return True
         local = self.local_class(base)
         if local is None:
@@ -443,8 +443,8 @@ def is_object(base: ast.AST) -> bool:
 
 
 def other_library_class_kind(qualified: str) -> EnvKind | None:
-    """Kind of an SB3, PettingZoo or tf_agents class named in an annotation or a base list."""
-    if N.top_package(qualified) in N.OWN_ENV_API_PACKAGES:
+    """Kind of an SB3, PettingZoo, tf_agents or RLlib class named in an annotation or a base list."""
+    if N.has_own_env_api(qualified):
         return EnvKind.NOT_ENV
     if qualified.startswith(N.SB3_VEC_PREFIXES):
         return EnvKind.SB3_VEC

@@ -14,6 +14,7 @@ from __future__ import annotations
 import ast
 from typing import TYPE_CHECKING
 
+from gymmigrate.facts import names as N
 from gymmigrate.facts.flow import Flow, is_after
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import FUNCTIONS, call_argument, own_returns
@@ -180,6 +181,44 @@ class ThunkKinds(_Facade):
         kinds = {value if isinstance(value, EnvKind) else self.kind_of(value) for value in returned}
         return kinds.pop() if len(kinds) == 1 else EnvKind.UNKNOWN
 
+    def factory_thunk_refs(self, function: ast.FunctionDef | ast.AsyncFunctionDef) -> frozenset[str] | None:
+        """The names of other modules of the run that the thunks a def returns call on every
+        path (``def creator(_): return Orchard(n)`` with ``Orchard`` imported), when that is
+        all they return and this module cannot tell their kind; None otherwise. The join
+        gives the def what those calls give (``ModuleSummary.thunk_factory_refs``)."""
+        values = self._def_returns(function)
+        if values is None or any(isinstance(v, EnvKind) for v in values):
+            return None
+        names: set[str] = set()
+        for value in values:
+            returned = self._thunk_returns(value, 1)  # type: ignore[arg-type]
+            if not returned:
+                return None
+            for made in returned:
+                if not (isinstance(made, ast.Call) and isinstance(made.func, (ast.Name, ast.Attribute))):
+                    return None
+                if self.kind_of(made) is not EnvKind.UNKNOWN:
+                    return None  # this module knows what it makes (``factory_thunk_kind`` says it)
+                qualified = self.qualified_names(made.func)
+                name = next(iter(qualified)) if len(qualified) == 1 else ""
+                if "." not in name or N.is_library(name):
+                    return None  # a name of this module, or a library's
+                names.add(name)
+        return frozenset(names) or None
+
+    def called_factory_kind(self, factory_call: ast.Call) -> EnvKind:
+        """``get_creator(name)(config)``: what calling the thunk that ``factory_call`` returns
+        gives, for a def of this module (``factory_thunk_kind``) or of another module of the
+        run (``ModuleSummary.thunk_factories``). Unknown for anything else."""
+        function = self.local_function(factory_call.func)
+        if function is not None:
+            return self.facts.memo(("factory-thunk-kind", id(function)), lambda: self.factory_thunk_kind(function), while_computing=EnvKind.UNKNOWN)
+        if self.project is None:
+            return EnvKind.UNKNOWN
+        kinds = {self.project.thunk_factory_kind(q) for q in self.qualified_names(factory_call.func)}
+        found = kinds.pop() if len(kinds) == 1 else None
+        return found if found is not None else EnvKind.UNKNOWN
+
     def imported_thunk_factory(self, argument: ast.expr) -> str | None:
         """The qualified name of the one def imported from another module whose calls are
         every item of a list of thunks (``[make_env(i) for i in range(n)]`` with ``make_env``
@@ -222,6 +261,16 @@ class ThunkKinds(_Facade):
             return [thunk.body]
         if isinstance(thunk, ast.Name):
             bindings = self.facts.bindings_of(thunk)
+            if len(bindings) > 1 and all(isinstance(b, FUNCTIONS) for b in bindings):
+                # ``if name == "a": def creator(): ...`` / ``else: def creator(): ...`` then
+                # ``return creator``: what every def of that name returns (one kind is asked of them)
+                every: list[ast.expr | EnvKind] = []
+                for binding in bindings:
+                    returned = self._def_returns(binding)  # type: ignore[arg-type]
+                    if returned is None:
+                        return None
+                    every += returned
+                return every
             if len(bindings) != 1:
                 return None
             binding = bindings[0]

@@ -225,6 +225,8 @@ class Receivers(BindingKinds, WrappingCalls, ClassKinds, ParameterKinds, MadeObj
                 return join_kinds(self.returned_kind(value) for value in stored)
         if isinstance(func, ast.Subscript):
             return self.returned_kind(func)  # ``self.env_fns[i]()``: an item of a list of thunks
+        if isinstance(func, ast.Call):
+            return self.called_factory_kind(func)  # ``get_creator(name)(config)``: what its thunk returns
         if isinstance(func, ast.Name):
             # ``make_env = lambda: gym.make(...)``, a nested ``def thunk()``, an ``env_fn``
             # parameter: what calling the name returns.
@@ -292,8 +294,8 @@ class Receivers(BindingKinds, WrappingCalls, ClassKinds, ParameterKinds, MadeObj
             return EnvKind.PZ_AEC if qualified.endswith(N.PZ_AEC_SUFFIXES) else None
         if package == N.SUPERSUIT_PACKAGE:
             return self._supersuit_kind(qualified, call)
-        if package in N.NOT_ENV_PACKAGES:
-            return EnvKind.NOT_ENV
+        if package in N.NOT_ENV_PACKAGES or qualified in N.OWN_ENV_API_CLASSES:
+            return EnvKind.NOT_ENV  # (RLlib's multi-agent envs: per-agent dicts, never Gym's API)
         return None
 
     def _kind_keeping_inner(self, value: ast.expr) -> ast.expr | None:

@@ -64,8 +64,23 @@ class SelfAttributes:
         if not values:
             if name == "env" and self._is_pettingzoo_wrapper(classdef):
                 return self.receivers.class_kind(classdef)
-            return EnvKind.UNKNOWN
+            return self._driven_by_run_base(classdef, name)
         return join_kinds([self._value_kind(value, classdef) for value in values])
+
+    def _driven_by_run_base(self, classdef: ast.ClassDef, name: str) -> EnvKind:
+        """``self.env.step(a)`` in ``class Shared(RLlibMPE)`` that never stores ``self.env``,
+        with ``RLlibMPE`` of another module of the run storing and stepping it: what that
+        module settles it to be (``ProjectView.driven_kind``), the one base that says."""
+        project = getattr(self.receivers, "project", None)
+        if project is None:
+            return EnvKind.UNKNOWN
+        kinds = {
+            kind
+            for base in classdef.bases
+            for q in self.receivers.qualified_names(base)
+            if (kind := project.driven_kind(q, name)) is not None
+        }
+        return kinds.pop() if len(kinds) == 1 else EnvKind.UNKNOWN
 
     def inherited_values(self, classdef: ast.ClassDef, name: str, _seen: frozenset[int] = frozenset()) -> list[ast.expr]:
         """Values stored to ``self.<name>`` by the classes of this module that ``classdef``

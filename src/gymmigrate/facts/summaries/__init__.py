@@ -38,6 +38,7 @@ from gymmigrate.facts.step_hooks import plain_overrides, step_hooks
 from gymmigrate.facts.summaries.calls import CallSummarizer
 from gymmigrate.facts.summaries.classes import (
     done_methods,
+    driven_kinds,
     fixed_mode_renders,
     held_params,
     mode_renders,
@@ -186,6 +187,7 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         render_mode_heirs=render_mode_heirs(facts, receivers),
         registrations=registrations(facts),
         held_params=held_params(facts, receivers),
+        driven_kinds=driven_kinds(facts, receivers),
         handed_on=handed_on(facts),
         silent_renders=frozenset(name for name, classdef in facts.classes.items() if renders_nothing(facts, classdef)),
         render_forwards=render_forwards(facts, receivers),
@@ -195,6 +197,9 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         escaping_params=escaping_parameters(facts),
         thunk_factories={
             name: kind for name, function in facts.functions.items() if (kind := receivers.factory_thunk_kind(function)) is not EnvKind.UNKNOWN
+        },
+        thunk_factory_refs={
+            name: refs for name, function in facts.functions.items() if (refs := receivers.factory_thunk_refs(function))
         },
         mode_renders=mode_renders(facts),
         opaque_registrations=opaque_registrations(facts),

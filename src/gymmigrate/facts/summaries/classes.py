@@ -119,6 +119,31 @@ def held_params(facts: ModuleFacts, receivers: Receivers) -> dict[str, dict[str,
     return found
 
 
+_DRIVING_METHODS = ("reset", "step")
+
+
+def driven_kinds(facts: ModuleFacts, receivers: Receivers) -> dict[str, dict[str, EnvKind]]:
+    """``ModuleSummary.driven_kinds``: per top-level class, the attributes it resets or
+    steps whose every store in the class is a call this module classifies: not a name or
+    an attribute, whose object a subclass's construction may choose."""
+    found: dict[str, dict[str, EnvKind]] = {}
+    for method in _DRIVING_METHODS:
+        for call in facts.attribute_calls.get(method, ()):
+            held = call.func.value if isinstance(call.func, ast.Attribute) else None
+            if not (isinstance(held, ast.Attribute) and isinstance(held.value, ast.Name) and receivers.is_self(held.value)):
+                continue
+            classdef = facts.enclosing_class(call)
+            if classdef is None or facts.classes.get(classdef.name) is not classdef or held.attr in found.get(classdef.name, {}):
+                continue
+            values = receivers.self_stores(classdef).get(held.attr, [])
+            if not values or not all(isinstance(v, ast.Call) for v in values):
+                continue
+            kind = receivers.kind_of(held)
+            if kind is not EnvKind.UNKNOWN:
+                found.setdefault(classdef.name, {})[held.attr] = kind
+    return found
+
+
 def render_mode_heirs(facts: ModuleFacts, receivers: Receivers) -> tuple[tuple[str, tuple[str, ...], bool], ...]:
     """Top-level classes with a base of the run (imported, or ``@Name`` of this module):
     (name, bases, whether its constructor hands ``render_mode`` on once its base takes it:

@@ -26,7 +26,8 @@ RULES = (
         "libraries still on Gym",
         FixKind.FLAG,
         "An import of a library with no Gymnasium release (`stable_baselines` 2.x, env plugins that register "
-        "with gym only such as `pybullet_envs`) is reported once per file, with its route.",
+        "with gym only such as `pybullet_envs`) is reported once per file, with its route; an import of RLlib "
+        "next to gym asks once per run for ray 2.3+ and its Gymnasium-era MultiAgentEnv API.",
         once_per_run=True,
     ),
     Rule(

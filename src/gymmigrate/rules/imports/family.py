@@ -13,11 +13,12 @@ from gymmigrate.rules.imports.common import RULES
 from gymmigrate.rules.imports.guards import ImportGuards, innermost_guard
 from gymmigrate.rules.imports.libraries import GYM_ONLY_LIBRARIES
 from gymmigrate.rules.imports.removed import RemovedAttributes
+from gymmigrate.rules.imports.rllib import RllibEra
 from gymmigrate.rules.imports.statements import ImportStatements
 from gymmigrate.rules.repeats import Repeats
 
 
-class Imports(ImportStatements, ImportGuards, RemovedAttributes):
+class Imports(ImportStatements, ImportGuards, RemovedAttributes, RllibEra):
     RULES = RULES
 
     @classmethod
@@ -42,6 +43,7 @@ class Imports(ImportStatements, ImportGuards, RemovedAttributes):
         self._sys_modules_hacks()
         self._version_checks()
         self._gym_only_libraries()
+        self._rllib_era()
         self._removed_module_attributes()
         self._missing_module_attributes()
         self._removed_entry_points()

@@ -95,6 +95,14 @@ GYM_ONLY_LIBRARIES = {
         "reset/step on the envs it is given) and ptan 0.8 pins stable-baselines3==2.3.2 (gymnasium<0.30); "
         "envs handed to it keep the old API: port the ptan parts this code uses, or keep it on gym"
     ),
+    # marl-baselines3: never released to PyPI (installed from its repository), built on gym and
+    # Stable-Baselines3 1.x: ``independent_ppo.py`` imports ``gym.spaces`` and derives ``gym.Env``.
+    "marl_baselines3": (
+        "marl_baselines3 (marl-baselines3) has no Gymnasium release: it is built on gym and Stable-Baselines3 1.x, "
+        "tests the action space against gym's `Box`/`Discrete` and builds `gym.Env` dummies for its per-agent "
+        "policies, so Gymnasium spaces silently skip its Discrete action handling and Stable-Baselines3 2.x refuses "
+        "its dummies; port the classes this code uses to gymnasium (or replace them), or keep this code on gym"
+    ),
     # openai/multiagent-particle-envs: never released, imports gym, MultiAgentEnv returns lists.
     "multiagent": (
         "multiagent (openai's multiagent-particle-envs) has no Gymnasium release: its MultiAgentEnv keeps gym's "

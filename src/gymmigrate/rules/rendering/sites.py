@@ -37,12 +37,17 @@ _NON_GYM_ENV_LIBRARIES = frozenset({"tf_agents", "dm_control", "dm_env"})
 class RenderSites(RecorderSites):
     """The render call sites (mixed into the family)."""
 
-    def _helper_method(self, function: ast.AST) -> bool:
+    def _helper_method(self, function: ast.AST, receiver: ast.expr) -> bool:
         """``render`` is a method of a plain class of the run (muzero's ``Game`` owning a
         ``gym.make`` env), not of an env or wrapper: its forwarded ``self.env.render()`` is a
-        call site like any other, and the make gets the mode."""
+        call site like any other, and the make gets the mode. An env class of another API
+        (deriving RLlib's ``MultiAgentEnv``, a dm_env base) is an env: its render is that
+        API's, and what it forwards to is a Gym call site only where the run proves a Gym env
+        there (as ``_adapter_render`` says of a class of unknown kind)."""
         classdef = self.facts.parent(function)
-        return isinstance(classdef, ast.ClassDef) and self.receivers.class_kind(classdef) is EnvKind.NOT_ENV
+        if not (isinstance(classdef, ast.ClassDef) and self.receivers.class_kind(classdef) is EnvKind.NOT_ENV):
+            return False
+        return not self.receivers.derives_own_api(classdef) or self.receivers.kind_of(receiver) is EnvKind.GYM_ENV
 
     def _adapter_render(self, function: ast.AST, receiver: ast.expr) -> bool:
         """``render(self, mode)`` of a class that is no Gym env or wrapper (an env of another
@@ -73,7 +78,7 @@ class RenderSites(RecorderSites):
             function is not None
             and function.name == "render"
             and isinstance(self.facts.parent(function), ast.ClassDef)  # a module's ``def render(env)`` is a caller
-            and not (self._helper_method(function) or self._adapter_render(function, receiver))
+            and not (self._helper_method(function, receiver) or self._adapter_render(function, receiver))
         ):
             return None  # a render method forwarding to its env: the Env/Wrapper rules own it
         if mode_arg is None and close is None and self._report_own_forward(call, receiver):
