@@ -5,13 +5,18 @@ from __future__ import annotations
 
 import ast
 import builtins
+import io
+import symtable
+import tokenize
+from functools import cache
 from pathlib import Path
 
 import pytest
 from typer.testing import CliRunner
 
 from gymmigrate.cli import app
-from gymmigrate.engine import lint_source, transform_source
+from gymmigrate.engine import Transformed, lint_source, transform_source
+from gymmigrate.findings import FixKind
 from gymmigrate.options import RewriteOptions
 from gymmigrate.rules import all_rules
 from gymmigrate.selection import Selection, SelectionError
@@ -90,24 +95,43 @@ def test_family_without_selected_rule_is_not_run() -> None:
     assert findings == [] and not would_change
 
 
-def _unbound_names(source: bytes) -> set[str]:
-    """Names read that nothing in the module binds (a crude, scope-blind check: enough to
-    catch a kept edit that reads a name only a dropped edit would have made)."""
+# Names a module has without binding them.
+_MODULE_NAMES = frozenset(dir(builtins)) | {"__file__", "__name__", "__doc__", "__spec__", "__loader__", "__package__", "__builtins__", "__path__"}
+
+
+def _unbound_names(source: bytes) -> set[tuple[str, str]]:
+    """``(scope, name)`` of each name a scope reads that nothing it can see binds: not the
+    scope itself, an enclosing function, the module or the builtins (by ``symtable``, as
+    Python resolves them; a method does not see its class body). A kept edit that reads a
+    name only a left-out edit makes (``options``, a parameter another rule adds to the
+    signature) shows here, whatever other scope binds the name. A star import binds
+    anything: such a module is not checked."""
     tree = ast.parse(source)
-    bound = set(dir(builtins))
-    read = set()
-    for node in ast.walk(tree):
-        if isinstance(node, ast.Name):
-            (read if isinstance(node.ctx, ast.Load) else bound).add(node.id)
-        elif isinstance(node, ast.arg):
-            bound.add(node.arg)
-        elif isinstance(node, ast.alias):
-            bound.add((node.asname or node.name).split(".")[0])
-        elif isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
-            bound.add(node.name)
-        elif isinstance(node, ast.ExceptHandler) and node.name:
-            bound.add(node.name)
-    return read - bound
+    if any(isinstance(node, ast.ImportFrom) and node.names[0].name == "*" for node in ast.walk(tree)):
+        return set()
+    encoding, _ = tokenize.detect_encoding(io.BytesIO(source).readline)
+    module = symtable.symtable(source.decode(encoding), "<fixture>", "exec")
+    tables = [module]
+    for table in tables:
+        tables.extend(table.get_children())
+    bound = set(_MODULE_NAMES)
+    for table in tables:
+        for symbol in table.get_symbols():
+            if table is module and (symbol.is_assigned() or symbol.is_imported() or symbol.is_namespace()):
+                bound.add(symbol.get_name())
+            elif symbol.is_declared_global() and symbol.is_assigned():
+                bound.add(symbol.get_name())
+    unbound = set()
+
+    def visit(table: symtable.SymbolTable, scope: str) -> None:
+        for symbol in table.get_symbols():
+            if symbol.is_referenced() and (table is module or symbol.is_global()) and symbol.get_name() not in bound:
+                unbound.add((scope, symbol.get_name()))
+        for child in table.get_children():
+            visit(child, f"{scope}.{child.get_name()}" if scope else child.get_name())
+
+    visit(module, "")
+    return unbound
 
 
 # Changes that another rule's edit carries out (PZ109: the spaces import moves with
@@ -115,32 +139,83 @@ def _unbound_names(source: bytes) -> set[str]:
 CARRIED_BY_OTHERS = {"PZ109"}
 
 
+@cache
+def _migrated(path: Path) -> tuple[bytes, Transformed, frozenset[tuple[str, str]]]:
+    """A fixture's input, its whole migration, and the names either leaves unbound (a name
+    the whole migration leaves unbound, reported, is not the selection's doing)."""
+    source = path.read_bytes()
+    full = transform_source(source, str(path))
+    return source, full, frozenset(_unbound_names(source) | _unbound_names(full.rewritten))
+
+
+def _alone(case, selectors: dict[str, list[str]]) -> Transformed | None:
+    """The fixture migrated under ``selectors``; None where the half-migrated result would
+    change again and is refused, file unchanged."""
+    try:
+        return transform_source(case.source.read_bytes(), str(case.source), options(**selectors))
+    except TransformError as exc:
+        assert "oscillates" in str(exc) or "does not settle" in str(exc), f"{selectors}: {exc}"
+        return None
+
+
 @pytest.mark.parametrize("case", collect_cases(), ids=lambda case: case.id)
-def test_each_rule_alone_and_each_rule_left_out(case) -> None:
-    """On every fixture: selecting one rule reports only it and changes the file exactly
-    when it makes a change; leaving one rule out reports none of it, and the file changes
-    exactly when another rule does; no kept edit reads a name only a dropped one makes.
-    This holds the attribution of edits to findings (``Plan.drop_findings``) and the
-    coupled families (``edits.filtering.COUPLED_FAMILIES``) to every rule's real decisions.
-    A half-migrated result the rules would change again is refused, file unchanged."""
-    source = case.source.read_bytes()
-    full = transform_source(source, str(case.source))
-    unbound = _unbound_names(source) | _unbound_names(full.rewritten)
+def test_each_rule_alone_leaves_no_name_unbound(case) -> None:
+    """On every fixture, each rule selected alone (``--select CODE``): the output parses,
+    reports only that rule, changes the file exactly when the rule makes a change, and
+    reads no name unbound in its scope that the input (and the whole migration) did not.
+    A change that only makes sense beside a change of a rule left out (a body reading the
+    ``options`` another rule adds to the signature) is left out with it and reported as
+    not rewritten (``edits.filtering``): never half made."""
+    _, full, unbound = _migrated(case.source)
     for rule in sorted({f.rule for f in full.findings}):
-        for selectors in ({"select": [rule]}, {"ignore": [rule]}):
-            try:
-                result = transform_source(source, str(case.source), options(**selectors))
-            except TransformError as exc:
-                assert "oscillates" in str(exc) or "does not settle" in str(exc), f"{selectors}: {exc}"
-                continue
-            rules = {f.rule for f in result.findings}
-            assert rules <= {rule} if "select" in selectors else rule not in rules
-            changes = any(f.is_change for f in result.findings)
-            if rule in CARRIED_BY_OTHERS and "select" in selectors:
-                assert not result.changed or changes, selectors
-            else:
-                assert result.changed == changes, selectors
-            assert not _unbound_names(result.rewritten) - unbound, selectors
+        result = _alone(case, {"select": [rule]})
+        if result is None:
+            continue
+        ast.parse(result.rewritten)
+        assert {f.rule for f in result.findings} <= {rule}
+        changes = any(f.is_change for f in result.findings)
+        if rule in CARRIED_BY_OTHERS:
+            assert not result.changed or changes, rule
+        else:
+            assert result.changed == changes, rule
+        assert not _unbound_names(result.rewritten) - unbound, rule
+
+
+@pytest.mark.parametrize("case", collect_cases(), ids=lambda case: case.id)
+def test_each_rule_left_out(case) -> None:
+    """On every fixture, each rule left out (``--ignore CODE``): none of it is reported, the
+    file changes exactly when another rule changes it, and no kept edit reads a name only a
+    dropped one makes. With the test above, this holds the attribution of edits to findings
+    (``Plan.drop_findings``) and the couplings (``edits.filtering``) to every rule's real
+    decisions."""
+    _, full, unbound = _migrated(case.source)
+    for rule in sorted({f.rule for f in full.findings}):
+        result = _alone(case, {"ignore": [rule]})
+        if result is None:
+            continue
+        assert rule not in {f.rule for f in result.findings}
+        assert result.changed == any(f.is_change for f in result.findings), rule
+        assert not _unbound_names(result.rewritten) - unbound, rule
+
+
+def test_a_reset_reading_options_goes_with_the_signature_that_gives_them() -> None:
+    """``--select GM207`` on an env whose reset gets ``seed``/``options`` from GM501: the
+    reads from ``options`` would be a NameError without GM501's signature, so the reset and,
+    with it, every move of the file's contract are left as they are and reported; selected
+    together, both are made."""
+    path = Path(__file__).resolve().parent.parent / "fixtures/rules/GM207/env_reset_gets_options.py"
+    source = path.read_bytes()
+    alone = transform_source(source, str(path), options(select=["GM207"]))
+    assert alone.rewritten == source
+    assert {(f.line, f.kind) for f in alone.findings} == {(line, FixKind.FLAG) for line in (6, 13, 20, 21)}
+    reset = next(f for f in alone.findings if f.line == 6)
+    assert reset.message.startswith(
+        "left as it is: it reads the `seed` and `options` parameters GM501 gives this env's reset, which this run leaves out"
+    )
+    assert "GM207's changes at lines 6, 20, 21" in next(f for f in alone.findings if f.line == 13).message
+    both = transform_source(source, str(path), options(select=["GM207", "GM501"]))
+    assert b'def reset(self, level=0, *, seed=None, options=None):\n        super().reset(seed=seed)\n        level = (options or {}).get("level", level)' in both.rewritten
+    assert {f.kind for f in both.findings} == {FixKind.AUTO}
 
 
 def test_every_code_and_family_prefix_is_accepted() -> None:

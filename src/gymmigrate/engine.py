@@ -104,8 +104,12 @@ def plan_file(tree: ast.Module, text: str, path: str, options: RewriteOptions, r
     if view is not None:
         facts.is_run_record = view.is_record_class
     receivers = Receivers(facts, view)
+    left_out: set[str] = set()
     for family in families_for(text, in_a_run=options.project is not None):
-        if not _family_selected(family, options.selection) or not family.may_fire(facts, context):
+        if not _family_selected(family, options.selection):
+            left_out.add(family.__name__)
+            continue
+        if not family.may_fire(facts, context):
             continue
         _decide(family, context, facts, receivers, plan)
         if plan.renames_first:
@@ -115,7 +119,8 @@ def plan_file(tree: ast.Module, text: str, path: str, options: RewriteOptions, r
             _decide(family, context, facts, receivers, plan)
             plan.renames_first = True
             break
-    filter_plan(plan, text, options)  # --select/--ignore and suppression comments
+    plan.left_out_families = left_out
+    filter_plan(plan, text, options)  # --select/--ignore, suppression comments, the changes that go with them
     if plan.renames_first and not plan.has_edits:
         # The renames were left out (--ignore GM616, a suppression): decide as usual.
         return plan_file(tree, text, path, options, renames_first=False)

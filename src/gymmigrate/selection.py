@@ -6,7 +6,8 @@ For each rule the most specific selector that matches it decides (ignore wins a 
 a rule no selector matches is on when nothing was selected (every rule runs by default).
 A deselected rule neither reports nor fixes: ``edits.filtering.filter_plan`` drops its
 findings together with their edits, and does the same for findings silenced by a
-suppression comment.
+suppression comment; a selected rule's change that only makes sense beside a left-out one
+goes with it, reported as left as it is.
 """
 
 from __future__ import annotations

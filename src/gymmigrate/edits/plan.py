@@ -29,6 +29,19 @@ if TYPE_CHECKING:
 Build = Callable[..., Any]  # called with that one node; a lambda may bind values as defaults
 
 
+@dataclass(frozen=True)
+class Need:
+    """What a change reads that only another family's edit makes: a parameter that family
+    adds to a signature (GM207 reads the ``options`` GM501 gives an env's reset). The
+    change is kept only while an edit of ``family`` on ``node``, or on a class or function
+    around it, is kept (``edits.filtering``); else it is reported, not made. ``what``
+    names that edit in the report."""
+
+    family: str
+    node: ast.AST
+    what: str
+
+
 # Items that join another's question but are named apart in it, with what they are.
 # The suffix keeps no parentheses inside it (``report._SAME_IN_FILE`` strips it whole).
 _NAMED_APART = {"GM302": "where the step's done decides bootstrapping: read `terminated` there once the step gives five values"}
@@ -56,6 +69,13 @@ class Plan:
     # The question each review item asks, where rules name one (``ask_once``): items of one
     # file asking the same question (is this receiver a Gym env?) are one decision.
     finding_questions: list[Hashable | None] = field(default_factory=list)
+    finding_needs: list[Need | None] = field(default_factory=list)  # see ``Need``
+    # Changes of one file that are made at every place or at none (GM207's reset contract):
+    # findings with the same key are kept or left out together (``edits.filtering``).
+    finding_groups: list[Hashable | None] = field(default_factory=list)
+    # Families the engine did not run because the selection leaves out every rule of theirs:
+    # a change that needs one of their edits is left out with them.
+    left_out_families: set[str] = field(default_factory=set)
     _edits: list[_Edit] = field(default_factory=list)
     partial: bool = False  # some findings were dropped (with their edits)
     # A family renamed methods every other family must decide on under their new names
@@ -79,6 +99,8 @@ class Plan:
         message: str,
         tier: Tier | None = None,
         question: Hashable | None = None,
+        needs: Need | None = None,
+        together: Hashable | None = None,
     ) -> None:
         line = node.lineno  # type: ignore[attr-defined]
         column = self.facts.column(node)
@@ -91,6 +113,8 @@ class Plan:
         self.finding_nodes.append(node)
         self.finding_families.append(self.deciding)
         self.finding_questions.append(question)
+        self.finding_needs.append(needs)
+        self.finding_groups.append(together)
         end_line, end_column = self.facts.end(node)
         self.findings.append(
             Finding(
@@ -208,8 +232,11 @@ class Plan:
     def _record(self, node: ast.AST | None, container: Any, anchor: Any, item: Any) -> None:
         self._edits.append(_Edit(self.deciding, node, len(self.findings), container, anchor, item))
 
-    def drop_findings(self, dropped: set[int]) -> None:
+    def drop_findings(self, dropped: set[int], flagged: dict[int, str] | None = None) -> None:
         """Drop the findings at these indexes and every edit that only carries them out.
+
+        ``flagged``: findings among ``dropped`` that stay, as items not rewritten, with
+        the message given (a change left out because one it goes with is).
 
         Rules do not say which finding an edit serves, so it is read from how they
         decide. Only findings of the family that made the edit, and only changes (a flag
@@ -224,6 +251,34 @@ class Plan:
         if not dropped:
             return
         self.partial = True
+        for edits, served in self._edit_groups():
+            if served and served <= dropped:
+                for edit in edits:
+                    edit.undo()
+        flagged = flagged or {}
+        for index, message in flagged.items():
+            # "not rewritten": a review item of its own, asked of nobody else
+            self.findings[index] = replace(self.findings[index], kind=FixKind.FLAG, tier=None, message=message)
+            self.finding_questions[index] = None
+            self.finding_needs[index] = None
+            self.finding_groups[index] = None
+        gone = dropped - flagged.keys()
+        self.findings = [f for i, f in enumerate(self.findings) if i not in gone]
+        self.finding_nodes = [n for i, n in enumerate(self.finding_nodes) if i not in gone]
+        self.finding_families = [f for i, f in enumerate(self.finding_families) if i not in gone]
+        self.finding_questions = [q for i, q in enumerate(self.finding_questions) if i not in gone]
+        self.finding_needs = [n for i, n in enumerate(self.finding_needs) if i not in gone]
+        self.finding_groups = [g for i, g in enumerate(self.finding_groups) if i not in gone]
+        self._edits = []
+
+    def kept_edits(self, dropped: set[int]) -> set[tuple[str, int]]:
+        """``(family, id(node))`` of each edit ``drop_findings(dropped)`` would keep (nothing
+        is changed yet); an import line's node is None."""
+        return {(edit.family, id(edit.node)) for edits, served in self._edit_groups() if not (served and served <= dropped) for edit in edits}
+
+    def _edit_groups(self) -> list[tuple[list[_Edit], set[int]]]:
+        """The recorded edits, grouped where they are one change, each group with the
+        findings it serves (``drop_findings``)."""
         by_node: dict[tuple[str, int], list[int]] = defaultdict(list)
         by_statement: dict[tuple[str, int], list[int]] = defaultdict(list)
         changes: dict[str, list[int]] = defaultdict(list)  # by family, in report order
@@ -244,15 +299,7 @@ class Plan:
             key = (id(edit.container), id(edit.anchor), edit.item if edit.container is self.imports else id(edit.item))
             edits[key].append(edit)
             serves[key].update(self._served_by(edit, by_node, by_statement, by_function, changes))
-        for key, served in serves.items():
-            if served and served <= dropped:
-                for edit in edits[key]:
-                    edit.undo()
-        self.findings = [f for i, f in enumerate(self.findings) if i not in dropped]
-        self.finding_nodes = [n for i, n in enumerate(self.finding_nodes) if i not in dropped]
-        self.finding_families = [f for i, f in enumerate(self.finding_families) if i not in dropped]
-        self.finding_questions = [q for i, q in enumerate(self.finding_questions) if i not in dropped]
-        self._edits = []
+        return [(edits[key], serves[key]) for key in edits]
 
     def _served_by(
         self, edit: _Edit, by_node: dict, by_statement: dict, by_function: dict, changes: dict[str, list[int]]

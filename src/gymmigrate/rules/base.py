@@ -32,7 +32,7 @@ from gymmigrate.options import RewriteOptions
 from gymmigrate.rules.notes import FamilyNotes
 
 if TYPE_CHECKING:
-    from gymmigrate.edits.plan import Plan
+    from gymmigrate.edits.plan import Need, Plan
     from gymmigrate.facts import ModuleFacts
     from gymmigrate.facts.receivers import Receivers
 
@@ -110,15 +110,19 @@ class RuleFamily:
         kind: FixKind | None = None,
         tier: Tier | None = None,
         question: Hashable | None = None,
+        needs: Need | None = None,
+        together: Hashable | None = None,
     ) -> None:
         """``tier`` only where it differs from what the kind implies (see findings.Tier).
         ``question``: what the item asks, where other items of the file may ask the same
         (``receiver_question``): the file's review list asks it once (``Plan.ask_once``).
+        ``needs``: another family's edit this change reads a name of (``edits.plan.Need``);
+        ``together``: changes of the file with this key are made at every place or at none.
         Code in the branch of a ``gym.__version__`` check that never runs on Gymnasium 1.x
         raises nothing: GM108 reports the check itself."""
         if code != "GM108" and dead_version_branch(node, self.facts) is not None:
             return
-        self.plan.report(node, code, kind or self._rules[code].kind, message, tier, question)
+        self.plan.report(node, code, kind or self._rules[code].kind, message, tier, question, needs, together)
 
     def receiver_question(self, receiver: ast.AST, decision: Decision) -> Hashable | None:
         """The question an item on an untraced receiver asks: "is `env` a Gym env?". The

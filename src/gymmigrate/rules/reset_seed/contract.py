@@ -15,7 +15,10 @@ beyond seed/options and some ``reset(...)`` call of the run passes. Gymnasium's 
 
 When one site of the run cannot be carried (the keyword positional, a required parameter,
 a call whose ``**kwargs`` may already hold ``options``), no site is: the env class's reset
-gets one review item naming the places, and the calls keep their GM207 report.
+gets one review item naming the places, and the calls keep their GM207 report. Under rule
+selection or a suppression comment the same holds within a file: its sites are kept or
+left out together (``together=``), and an env's reset without ``options`` is read from
+there only with the signature GM501 gives it (``Need``).
 """
 
 from __future__ import annotations
@@ -24,6 +27,7 @@ import ast
 import os
 
 from gymmigrate.edits.lazy import cst
+from gymmigrate.edits.plan import Need
 from gymmigrate.facts.decisions import Action, Decision, receiver_text
 from gymmigrate.facts.env_classes import is_super_method_call
 from gymmigrate.facts.kinds import EnvKind
@@ -36,6 +40,10 @@ from gymmigrate.facts.reset_contract import (
 )
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.reset_seed.common import ResetSeedBase
+
+# The contract's changes of a file are made at every place or at none: a keyword moved into
+# options at one call and not read from there by the reset it reaches is lost.
+_CONTRACT = "GM207 reset contract"
 
 
 class ResetContractSites(ResetSeedBase):
@@ -181,7 +189,10 @@ class ResetContractSites(ResetSeedBase):
             return
         args = reset.args
         names = {a.arg for a in (*args.posonlyargs, *args.args, *args.kwonlyargs)}
-        if "options" not in names and not env:  # an env's signature is the custom env rules' (GM502)
+        needs = None
+        if "options" not in names and env:
+            needs = _env_signature(reset)  # an env's signature is the custom env rules'
+        elif "options" not in names:
             added = ["options"] if args.kwarg is not None or "seed" in names else ["seed", "options"]
             self.plan.replace(reset, lambda node, added=added: _keyword_params(node, added))
         lines = [f'{k} = (options or {{}}).get("{k}", {k})' for k in moved]
@@ -198,26 +209,35 @@ class ResetContractSites(ResetSeedBase):
             f"{'travel' if len(moved) > 1 else 'travels'} in `options` now: this reset reads "
             f"{'them' if len(moved) > 1 else 'it'} from there (the parameters stay for direct callers)",
             FixKind.AUTO,
+            needs=needs,
+            together=_CONTRACT,
         )
 
     def _move_into_options(self, call: ast.Call, moved: tuple[str, ...], decision: Decision) -> None:
         function = self.facts.enclosing_function(call)
         own = {a.arg for a in (*function.args.posonlyargs, *function.args.args, *function.args.kwonlyargs)} if function else set()
+        classdef = self.facts.enclosing_class(function) if function is not None else None
         in_moving_reset = (
             function is not None
             and function.name == "reset"
-            and (classdef := self.facts.enclosing_class(function)) is not None
+            and classdef is not None
             and own_reset(classdef) is function
             and any(a.arg in moved for a in extra_params(function))
         )
         edit = self._edit(call)
         edit.to_options = moved
         passed = {kw.arg for kw in call.keywords}
+        needs = None
         if in_moving_reset and "options" not in passed:
             # the enclosing reset has (or is given) ``options``: a caller's options go on down
             edit.options_base = "options"
             if "seed" not in passed and None not in passed and ("seed" in own or function.args.kwarg is None):  # type: ignore[union-attr]
                 edit.seed_name = "seed"
+            if function is not None and classdef is not None and ("options" not in own or (edit.seed_name and "seed" not in own)):
+                # given by the signature edit of that reset: this family's for a wrapper
+                # (``_read_from_options``), the custom env rules' for an env
+                wrapper = self.receivers.is_gym_wrapper_class(classdef)
+                needs = _wrapper_signature(function) if wrapper else _env_signature(function)
         shown = ", ".join(f"`{k}=`" for k in moved)
         self.report(
             call,
@@ -226,7 +246,17 @@ class ResetContractSites(ResetSeedBase):
             f"down to the env, whose reset reads them from there{self._why(decision)}",
             self._kind(decision, FixKind.AUTO),
             question=self.receiver_question(call.func.value, decision),  # type: ignore[attr-defined]
+            needs=needs,
+            together=_CONTRACT,
         )
+
+
+def _env_signature(reset: ast.FunctionDef | ast.AsyncFunctionDef) -> Need:
+    return Need("EnvClassFamily", reset, "the `seed` and `options` parameters GM501 gives this env's reset")
+
+
+def _wrapper_signature(reset: ast.FunctionDef | ast.AsyncFunctionDef) -> Need:
+    return Need("ResetSeed", reset, "the `seed` and `options` parameters GM207 gives this wrapper's reset")
 
 
 def _is_docstring(statement: ast.stmt) -> bool:
