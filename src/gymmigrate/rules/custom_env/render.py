@@ -20,7 +20,7 @@ from gymmigrate.facts import names as N
 from gymmigrate.facts.creation import CreationFinder
 from gymmigrate.facts.env_classes import is_super_method_call, mode_can_stay_optional
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.render_modes import own_object_render, passes_mode
+from gymmigrate.facts.render_modes import own_object, own_object_render, passes_mode
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import ClassDecision, method_of, param_names
 from gymmigrate.rules.custom_env.hooks import local_subclasses
@@ -327,7 +327,8 @@ def _plan_internal_renders(decision: ClassDecision, function: ast.FunctionDef | 
 def _report_forwarded_modes(decision: ClassDecision, function: ast.AST) -> None:
     """``env.render(mode, close)`` to inner envs loses its ``mode`` argument (the build
     drops it: Gymnasium's render() takes none); the inner envs then render in the mode
-    they were made with, and any other argument must still be one they accept."""
+    they were made with, and any other argument must still be one they accept. An object
+    of the project's own that is no Gym env keeps getting a mode: ``self.render_mode``."""
     for call in decision.function(function).of(ast.Call):
         func = call.func  # type: ignore[attr-defined]
         if not (isinstance(func, ast.Attribute) and func.attr == "render") or _is_super(func.value):
@@ -335,6 +336,18 @@ def _report_forwarded_modes(decision: ClassDecision, function: ast.AST) -> None:
         passes_mode = [a for a in call.args if isinstance(a, ast.Name) and a.id == "mode"]  # type: ignore[attr-defined]
         passes_mode += [k for k in call.keywords if k.arg == "mode" and isinstance(k.value, ast.Name) and k.value.id == "mode"]  # type: ignore[attr-defined]
         if not passes_mode:
+            continue
+        if isinstance(call, ast.Call) and own_object(decision.family.receivers, call):
+            # The project's own object, no Gym env: it still takes a mode, and gets the one
+            # the env is made with (the build hands it self.render_mode).
+            decision.plan.render_mode_receivers.add(decision.family.facts.segment(func.value))
+            decision.report(
+                call,
+                "GM405",
+                f"{decision.family.facts.segment(func.value)}.render() is handed self.render_mode, the mode the env is "
+                "made with: it is an object of the project's own, no Gym env, and takes the mode as before",
+                tier=Tier.NOTE,
+            )
             continue
         others = len(call.args) + len(call.keywords) - len(passes_mode)  # type: ignore[attr-defined]
         rest = " and the arguments left must be ones its render() accepts (Gymnasium's takes none)" if others else ""
