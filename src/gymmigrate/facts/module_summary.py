@@ -205,6 +205,11 @@ class ModuleSummary:
     # bases, whether its ``__init__`` hands ``render_mode`` on once a base takes it). The
     # join threads ``render_mode`` down every chain of subclasses (custom_env/render.py).
     render_mode_heirs: tuple[tuple[str, tuple[str, ...], bool], ...] = ()
+    # Top-level env classes whose render(self, mode="human") only hands its mode on to
+    # objects that are no Gym env, and that no render call of this module passes a mode to
+    # (``render_modes.own_object_render``): (class, what made each of those objects: "" where
+    # this module shows it is its own, else the qualified class the join checks).
+    own_renders: tuple[tuple[str, tuple[str, ...]], ...] = ()
     # -- a reset contract of the run (facts/reset_contract.py, GM207) --
     # The extra reset keywords its env classes take, its reset calls pass, and the sites
     # the rewrite cannot carry.

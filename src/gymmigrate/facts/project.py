@@ -68,6 +68,7 @@ from gymmigrate.facts.project_contracts import (
     forwarding_wrappers,
     legacy_seeds,
     legacy_steps,
+    own_renders,
     seed_keepers,
     thread_render_mode,
     wrapper_steppers,
@@ -211,6 +212,11 @@ class ProjectFacts:
     # (path, top-level name) of a class (or a re-export of one) whose step keeps the legacy
     # four-field contract after the run.
     legacy_steps: frozenset[tuple[str, str]] = frozenset()
+    # (path, name) of an env class (or a re-export of one) whose render(mode) hands its mode
+    # to an object of the project's own and that no render call of the run passes a mode to
+    # nor a registration makes ``make`` reach (``project_contracts.own_renders``): it keeps
+    # that render and takes no render_mode.
+    own_renders: frozenset[tuple[str, str]] = frozenset()
     # (path, name) of a Gym wrapper class (or a re-export of one) whose step and reset hand on
     # the wrapped env's results: around an instance of ``legacy_steps`` it keeps that contract.
     forwarding_wrappers: frozenset[tuple[str, str]] = frozenset()
@@ -371,6 +377,9 @@ class ProjectFacts:
         join_registered_classes(facts, by_path)
         Exports(facts, by_path).run()
         join_thunk_factory_refs(facts, by_path)
+        facts.own_renders = own_renders(facts, by_path)
+        for path, name in facts.own_renders:  # they keep render(mode): no render_mode to pass
+            facts.render_mode_classes[path] = facts.render_mode_classes.get(path, frozenset()) - {name}
         # before the parameters: an argument made by such a class keeps the def's calls on its contract
         facts.forwarding_wrappers = forwarding_wrappers(facts, by_path)
         facts.legacy_steps = legacy_steps(facts, by_path)

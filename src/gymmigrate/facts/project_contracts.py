@@ -1,7 +1,7 @@
 """Class contracts across the modules of the run, passes of ``ProjectFacts.join``: env
 classes whose spaces are not Spaces (GM807), ``render_mode`` threaded down every chain of
-subclasses (custom_env/render.py), the classes whose step keeps the legacy four-field
-contract, the methods each class of the run has from its bases of the run, and the
+subclasses (custom_env/render.py), the classes whose render(mode) stays the project's
+own, the classes whose step keeps the legacy four-field contract, the methods each class of the run has from its bases of the run, and the
 classes whose reset steps the wrapper around them (GM808).
 """
 
@@ -165,6 +165,37 @@ def legacy_steps(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> froz
     kept = {(path, name) for path, summary in by_path.items() if path not in facts.blocked for name in summary.legacy_steps}
     # a wrapper handing on its env's step and reset results keeps the contract of what it wraps
     return _through_makers(facts, by_path, kept, ("step",), facts.forwarding_wrappers)
+
+
+def own_renders(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> frozenset[tuple[str, str]]:
+    """The env classes whose render(mode) only hands its mode on to objects of the project's
+    own (``ModuleSummary.own_renders``, each object's class checked here to be a class of the
+    run that is no env), with their re-exports and the subclasses that define no render():
+    every such render stays the project's API (``render_modes.own_object_render``). Not one
+    that a module of the run renders with a mode on an instance it made (``render_makers``),
+    nor one the run registers: ``make`` reaches it, and takes its render mode there."""
+    exports = Exports(facts, by_path)
+    made_with_mode = set()
+    for summary in by_path.values():
+        for maker in summary.render_makers:
+            split = facts._split(maker, summary.path)
+            if split is not None:
+                made_with_mode.add(split)
+    found: set[tuple[str, str]] = set()
+    for path, summary in by_path.items():
+        if path in facts.blocked or not summary.own_renders:
+            continue
+        view = facts.view(path)
+        for name, makers in summary.own_renders:
+            if (path, name) in facts.registered_classes:
+                continue
+            if not all(maker == "" or view.call_kind(maker) is EnvKind.NOT_ENV for maker in makers):
+                continue
+            reach = _kept_names(facts, by_path, exports, {(path, name)}, ("render",)) | {(path, name)}
+            if reach & made_with_mode or reach & facts.registered_classes:
+                continue
+            found |= reach
+    return frozenset(found)
 
 
 def legacy_seeds(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> tuple[frozenset[tuple[str, str]], frozenset[tuple[str, str]]]:

@@ -553,6 +553,16 @@ class ProjectView:
         split = self.facts._split(qualified, self.path)
         return None if split is None else self.facts.wrapper_defined.get(split)
 
+    def own_render_here(self, name: str) -> bool:
+        """A class of this module whose render(mode) stays the project's own
+        (``ProjectFacts.own_renders``): it takes no render_mode."""
+        return (self.path, name) in self.facts.own_renders
+
+    def own_render(self, qualified: str) -> bool:
+        """``own_render_here`` for a name this module imports (re-exports followed)."""
+        split = self.facts._split(qualified, self.path)
+        return split is not None and split in self.facts.own_renders
+
     def registered_here(self, name: str) -> bool:
         """A class of this module that the run registers as an ``entry_point``."""
         return (self.path, name) in self.facts.registered_classes

@@ -6,6 +6,11 @@ Where such a call's receiver cannot be traced to its creation (``creation.Creati
 the module's env classes keep ``render(self, mode)`` and take no ``render_mode``
 (``render_kept_classes``), so constructing one is no creation site for the render rules
 (``local_env_class_takes_render_mode``).
+
+An env class whose ``render(self, mode="human")`` only hands its mode on to an object of
+the project's own that is no Gym env (``self._engine.render(mode=mode)``), and that no
+render call passes a mode to, keeps that render as the project's API
+(``own_object_render``): it takes no ``render_mode`` either.
 """
 
 from __future__ import annotations
@@ -18,7 +23,7 @@ from gymmigrate.facts.creation_shapes import first_argument
 from gymmigrate.facts.env_classes import EnvClasses, mode_can_stay_optional
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, call_argument, string_value
 from gymmigrate.facts.receivers import Receivers
 
 
@@ -32,8 +37,10 @@ def local_env_class_takes_render_mode(facts: ModuleFacts, receivers: Receivers, 
         return project is not None and any(
             (found := project.imported_class(q)) is not None and found[1] for q in facts.qualified_names(call.func)
         )
-    return EnvClasses.of(facts, receivers).takes_render_mode(classdef) and id(classdef) not in render_kept_classes(
-        facts, receivers
+    return (
+        EnvClasses.of(facts, receivers).takes_render_mode(classdef)
+        and id(classdef) not in render_kept_classes(facts, receivers)
+        and own_object_render(facts, receivers, classdef) is None
     )
 
 
@@ -137,4 +144,129 @@ def _not_a_string(value: ast.AST, facts: ModuleFacts, depth: int) -> bool:
         if not (isinstance(statement, ast.Assign) and len(statement.targets) == 1 and statement.targets[0] is binding):
             return False
         return flow.dominates(statement, value, value) and _not_a_string(statement.value, facts, depth + 1)
+    return False
+
+
+def own_object_render(facts: ModuleFacts, receivers: Receivers, classdef: ast.ClassDef) -> ast.Call | None:
+    """The call by which an env class's ``render(self, mode="human")`` hands its mode on to an
+    object of the project's own that is no Gym env (``self._engine.render(mode=mode)``, an
+    engine class of the run), when that is all the render does with ``mode`` and no render
+    call that passes a mode may reach the class; None for any other class.
+
+    Such a render is the project's API, not Gym's: its callers call it bare (often to switch
+    the engine's drawing on), and so do Gymnasium's wrappers, which keeps its default. A
+    migration to ``render_mode`` would turn those calls into no-ops (Gymnasium's render()
+    draws nothing without a mode) and call the engine without the mode it needs, so the
+    class keeps its render and takes no ``render_mode``. In a run of several files the join
+    decides (``ProjectView.own_render_here``): it also knows the render calls and the
+    registrations of the other modules. Alone, the module's own calls decide."""
+    return facts.memo(("own-object-render", id(classdef)), lambda: _own_object_render(facts, receivers, classdef))
+
+
+def _own_object_render(facts: ModuleFacts, receivers: Receivers, classdef: ast.ClassDef) -> ast.Call | None:
+    calls = mode_handed_on(facts, classdef)
+    if not calls or not EnvClasses.of(facts, receivers).is_custom_env(classdef):
+        return None
+    project = receivers.project
+    if project is not None:
+        top_level = facts.classes.get(classdef.name) is classdef
+        return calls[0] if top_level and project.own_render_here(classdef.name) else None
+    if not all(own_object(receivers, call) for call in calls) or mode_may_reach(facts, receivers, classdef):
+        return None
+    return calls[0]
+
+
+def mode_handed_on(facts: ModuleFacts, classdef: ast.ClassDef) -> list[ast.Call] | None:
+    """The calls to which the class's own ``render(self, mode=...)`` hands ``mode``, when that
+    is all it does with it: every read of ``mode`` is an argument of a method call on some
+    object (``x.render(mode=mode)``, not ``super()``'s), nothing rebinds it, and ``mode`` and
+    every parameter after ``self`` have defaults (Gymnasium's wrappers call render() bare).
+    None for any other render: one that compares its mode, returns per mode, or has none."""
+    render = next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == "render"), None)
+    if render is None:
+        return None
+    args = render.args
+    if args.posonlyargs or len(args.args) < 2 or args.args[1].arg != "mode":
+        return None
+    if len(args.defaults) < len(args.args) - 1 or any(d is None for d in args.kw_defaults):
+        return None
+    calls: list[ast.Call] = []
+    for node in ast.walk(render):
+        if isinstance(node, (ast.Lambda, *FUNCTIONS)) and node is not render:
+            return None  # a nested def may read ``mode`` some other way
+        if not (isinstance(node, ast.Name) and node.id == "mode"):
+            continue
+        holder = facts.parent(node)
+        call = facts.parent(holder) if isinstance(holder, ast.keyword) else holder
+        if not (
+            isinstance(node.ctx, ast.Load)
+            and isinstance(call, ast.Call)
+            and (node in call.args or (isinstance(holder, ast.keyword) and holder.arg is not None and holder in call.keywords))
+            and isinstance(call.func, ast.Attribute)
+            and not (isinstance(call.func.value, ast.Call) and isinstance(call.func.value.func, ast.Name) and call.func.value.func.id == "super")
+        ):
+            return None
+        calls.append(call)
+    return calls or None
+
+
+def own_object(receivers: Receivers, call: ast.Call) -> bool:
+    """The object whose method ``call`` calls is the project's own and no Gym env."""
+    receiver = call.func.value  # type: ignore[attr-defined]
+    return receivers.kind_of(receiver) is EnvKind.NOT_ENV and receivers.run_defined(receiver)
+
+
+def mode_may_reach(facts: ModuleFacts, receivers: Receivers, classdef: ast.ClassDef) -> bool:
+    """A render mode may reach ``classdef`` (or a subclass of it here) from this module: a
+    ``register(...)`` names it (``make`` takes a render_mode), or a render call that passes a
+    mode (``passes_mode``) has a receiver not shown to be made by other constructions only
+    (``self.render("rgb_array")`` in the class itself reaches it)."""
+    if _registered_here(facts, receivers, classdef):
+        return True
+    family = {id(classdef)}
+    changed = True
+    while changed:
+        changed = False
+        for other in facts.all_classes:
+            if id(other) not in family and any((base := receivers.local_class(b)) is not None and id(base) in family for b in other.bases):
+                family.add(id(other))
+                changed = True
+
+    def is_creation(call: ast.Call) -> bool:
+        return receivers.local_class(call.func) is not None or any(
+            N.strip_gym_prefix(q) in N.GYM_ENV_FACTORIES for q in facts.qualified_names(call.func)
+        )
+
+    finder = facts.memo(("own-render-finder", 0), lambda: CreationFinder(facts, receivers, is_creation))
+    for call in facts.attribute_calls.get("render", []):
+        if not passes_mode(call, facts):
+            continue
+        receiver = call.func.value  # type: ignore[attr-defined]
+        holder = facts.enclosing_class(call)
+        if isinstance(receiver, ast.Name) and receivers.is_self(receiver) and holder is not None and id(holder) in family:
+            return True  # the class (or a subclass here) renders itself with a mode
+        if receivers.kind_of(receiver) not in (EnvKind.GYM_ENV, EnvKind.UNKNOWN):
+            continue
+        creation = finder.find(receiver)
+        made = [receivers.local_class(c.func) for c in creation.calls]
+        if creation.found and creation.complete and not any(m is not None and id(m) in family for m in made):
+            continue  # made by other constructions (gym.make, another class) only
+        return True
+    return False
+
+
+def _registered_here(facts: ModuleFacts, receivers: Receivers, classdef: ast.ClassDef) -> bool:
+    """A ``register(...)`` call of the module names the class as its entry point: the class
+    itself, or a string ending in ``:Name``."""
+    for call in (*facts.calls_by_name.get("register", ()), *facts.attribute_calls.get("register", ())):
+        entry = call_argument(call, 1, "entry_point")
+        if entry is None:
+            continue
+        if receivers.local_class(entry) is classdef:
+            return True
+        text = string_value(entry)
+        if text is None and isinstance(entry, ast.BinOp):
+            text = string_value(entry.right)  # ``__name__ + ":Sim"``
+        if text is not None and text.rpartition(":")[2] == classdef.name:
+            return True
     return False

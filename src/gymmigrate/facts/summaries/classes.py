@@ -1,7 +1,8 @@
 """What a module's top-level classes tell the run: the space classes their ``action_space``
 and ``observation_space`` are made of, which certainly are no Spaces, the attributes a
 plain class holds from its constructor, the subclasses of the run's classes with what
-they override, hand on (``render_mode``) and say of their done values."""
+they override, hand on (``render_mode``) and say of their done values, and the env
+classes whose render(mode) may stay the project's own."""
 
 from __future__ import annotations
 
@@ -20,7 +21,13 @@ from gymmigrate.facts.limits import DoneTracer
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
 from gymmigrate.facts.module_summary import OWN
 from gymmigrate.facts.receivers import Receivers
-from gymmigrate.facts.render_modes import passes_mode
+from gymmigrate.facts.render_modes import (
+    mode_handed_on,
+    mode_may_reach,
+    own_object,
+    passes_mode,
+)
+from gymmigrate.facts.summaries.calls import CallSummarizer
 
 _SPACE_ATTRIBUTES = ("action_space", "observation_space")
 
@@ -259,6 +266,29 @@ def fixed_mode_renders(facts: ModuleFacts) -> frozenset[str]:
         for method in classdef.body
         if isinstance(method, FUNCTIONS) and method.name == "render" and "mode" in [a.arg for a in method.args.args] and not mode_can_stay_optional(method)
     )
+
+
+def own_renders(facts: ModuleFacts, receivers: Receivers, calls: CallSummarizer) -> tuple[tuple[str, tuple[str, ...]], ...]:
+    """``ModuleSummary.own_renders``: the top-level env classes whose render(mode) only hands
+    its mode on (``mode_handed_on``) and that no render call here passes a mode to, with
+    what made each object it hands the mode to: "" for one this module shows to be its own
+    and no env, else the class of the run every store of it builds (the join checks it)."""
+    found = []
+    env = EnvClasses.of(facts, receivers)
+    for name, classdef in facts.classes.items():
+        handed = mode_handed_on(facts, classdef)
+        if handed is None or not env.is_custom_env(classdef) or mode_may_reach(facts, receivers, classdef):
+            continue
+        makers = []
+        for call in handed:
+            receiver = call.func.value  # type: ignore[attr-defined]
+            maker = "" if own_object(receivers, call) else calls.instance_class(receiver)
+            if maker is None or (maker and N.is_library(maker)):
+                break
+            makers.append(maker)
+        else:
+            found.append((name, tuple(makers)))
+    return tuple(found)
 
 
 def rendering_wrappers(facts: ModuleFacts, receivers: Receivers) -> frozenset[str]:

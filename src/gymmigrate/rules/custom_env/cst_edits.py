@@ -447,7 +447,13 @@ def _passes_mode(arg: cst.Arg) -> bool:
 
 
 class _ModeReader(cst.CSTTransformer):
-    """``mode`` -> ``self.render_mode`` in a render body; ``super().render(mode)`` loses its argument."""
+    """``mode`` -> ``self.render_mode`` in a render body; ``super().render(mode)`` loses its
+    argument, and so does an inner env's ``env.render(mode)``, but not the render of an
+    object of ``kept`` (its source text: the project's own object, which still takes it)."""
+
+    def __init__(self, kept: frozenset[str] = frozenset()) -> None:
+        super().__init__()
+        self.kept = kept
 
     def visit_FunctionDef(self, node: cst.FunctionDef) -> bool:
         return False
@@ -466,7 +472,11 @@ class _ModeReader(cst.CSTTransformer):
     def leave_Call(self, original_node: cst.Call, updated_node: cst.Call) -> cst.Call:
         if is_super_method_call(original_node, "render"):
             return updated_node.with_changes(args=[])
-        if isinstance(original_node.func, cst.Attribute) and original_node.func.attr.value == "render":
+        if (
+            isinstance(original_node.func, cst.Attribute)
+            and original_node.func.attr.value == "render"
+            and _code(original_node.func.value) not in self.kept
+        ):
             # A forwarding `env.render(mode, ...)` to an inner env: Gymnasium's render()
             # takes no mode (the inner env renders in the mode it was made with).
             args = [

@@ -61,6 +61,9 @@ class ClassPlan:
     render_helper: str | None = None  # keeps the old render(mode) body for the class's own mode calls
     render_keeps_mode: bool = False  # render(self, mode=None, ...): a mode passed wins, else self.render_mode
     render_helper_callers: set[str] = field(default_factory=set)  # methods that call self.render(mode)
+    # objects of the project's own (as written: ``self._engine``) whose render(mode) render()
+    # keeps handing the mode to, as self.render_mode
+    render_mode_receivers: set[str] = field(default_factory=set)
     info_helper: bool = False  # reset returns self._get_info() (it takes no arguments)
     local_env_base: bool = False  # __init__ comes from a base (of the module, or a library): none is added
     unpack_self_reset: bool = False

@@ -390,7 +390,7 @@ class ClassRewrite:
         if _rebinds_name(fn, "mode"):
             body = _insert_at_top(fn.body, [cst.parse_statement("mode = self.render_mode")])
         else:
-            body = visit_suite(fn.body, _ModeReader())
+            body = visit_suite(fn.body, _ModeReader(frozenset(self.plan.render_mode_receivers)))
         if not _checks_is_none(body, "render_mode"):
             body = _insert_at_top(body, [cst.parse_statement("if self.render_mode is None:\n    return None\n")])
         self.set_method("render", fn.with_changes(params=new_params, body=body))

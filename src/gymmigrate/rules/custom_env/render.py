@@ -5,7 +5,9 @@
 draws nothing (Gymnasium's convention). No caller is left broken: a forwarding
 ``env.render(mode, ...)`` to inner envs stops passing the mode (reviewed), and the
 signature is kept (reported) while a render call elsewhere in the file still passes a
-mode and may reach an instance of the class.
+mode and may reach an instance of the class. A render that only hands its mode on to an
+object of the project's own that is no Gym env, and that no render call passes a mode to,
+is the project's API and stays as it is (``render_modes.own_object_render``).
 """
 
 from __future__ import annotations
@@ -18,7 +20,7 @@ from gymmigrate.facts import names as N
 from gymmigrate.facts.creation import CreationFinder
 from gymmigrate.facts.env_classes import is_super_method_call, mode_can_stay_optional
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.render_modes import passes_mode
+from gymmigrate.facts.render_modes import own_object, own_object_render, passes_mode
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import ClassDecision, method_of, param_names
 from gymmigrate.rules.custom_env.hooks import local_subclasses
@@ -108,6 +110,23 @@ def decide_render(decision: ClassDecision) -> None:
             f"optional parameter: {caller}; once every caller passes none, remove the parameter{old_default}",
         )
         _add_init_render_mode(decision)
+        return
+    handed = own_object_render(decision.family.facts, decision.family.receivers, decision.classdef)
+    if handed is not None:
+        # Its callers call render() bare (a switch that turns the engine's drawing on), and so
+        # do Gymnasium's wrappers: the default mode keeps them working as they did, where
+        # Gymnasium's render() would draw nothing without a render_mode and call the engine
+        # without the mode it takes.
+        where = "of the run" if decision.family.receivers.project is not None else "of this file"
+        decision.report(
+            function,
+            "GM405",
+            f"render(mode) kept: it only hands `mode` on to `{decision.family.facts.segment(handed)}`, an object of the "
+            f"project's own that is no Gym env, and no render call {where} passes it a mode: bare calls (its callers', "
+            "Gymnasium's wrappers') keep its default as before; the class takes no render_mode",
+            FixKind.FLAG,
+            tier=Tier.NOTE,
+        )
         return
     decision.plan.render = True
     _plan_internal_renders(decision, function)
@@ -262,7 +281,7 @@ def _ancestor_takes_render_mode(decision: ClassDecision, classdef: ast.ClassDef,
         seen.add(id(base))
         methods = {s.name: s for s in base.body if isinstance(s, (ast.FunctionDef, ast.AsyncFunctionDef))}
         render, init = methods.get("render"), methods.get("__init__")
-        if render is not None and "mode" in param_names(render):
+        if render is not None and "mode" in param_names(render) and own_object_render(decision.family.facts, receivers, base) is None:
             return True  # its migration adds render_mode to its __init__
         if init is not None:
             if "render_mode" in param_names(init):
@@ -308,7 +327,8 @@ def _plan_internal_renders(decision: ClassDecision, function: ast.FunctionDef | 
 def _report_forwarded_modes(decision: ClassDecision, function: ast.AST) -> None:
     """``env.render(mode, close)`` to inner envs loses its ``mode`` argument (the build
     drops it: Gymnasium's render() takes none); the inner envs then render in the mode
-    they were made with, and any other argument must still be one they accept."""
+    they were made with, and any other argument must still be one they accept. An object
+    of the project's own that is no Gym env keeps getting a mode: ``self.render_mode``."""
     for call in decision.function(function).of(ast.Call):
         func = call.func  # type: ignore[attr-defined]
         if not (isinstance(func, ast.Attribute) and func.attr == "render") or _is_super(func.value):
@@ -316,6 +336,18 @@ def _report_forwarded_modes(decision: ClassDecision, function: ast.AST) -> None:
         passes_mode = [a for a in call.args if isinstance(a, ast.Name) and a.id == "mode"]  # type: ignore[attr-defined]
         passes_mode += [k for k in call.keywords if k.arg == "mode" and isinstance(k.value, ast.Name) and k.value.id == "mode"]  # type: ignore[attr-defined]
         if not passes_mode:
+            continue
+        if isinstance(call, ast.Call) and own_object(decision.family.receivers, call):
+            # The project's own object, no Gym env: it still takes a mode, and gets the one
+            # the env is made with (the build hands it self.render_mode).
+            decision.plan.render_mode_receivers.add(decision.family.facts.segment(func.value))
+            decision.report(
+                call,
+                "GM405",
+                f"{decision.family.facts.segment(func.value)}.render() is handed self.render_mode, the mode the env is "
+                "made with: it is an object of the project's own, no Gym env, and takes the mode as before",
+                tier=Tier.NOTE,
+            )
             continue
         others = len(call.args) + len(call.keywords) - len(passes_mode)  # type: ignore[attr-defined]
         rest = " and the arguments left must be ones its render() accepts (Gymnasium's takes none)" if others else ""

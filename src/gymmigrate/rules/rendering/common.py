@@ -89,6 +89,7 @@ class RenderingBase(RuleFamily):
     # (wrapper name, its rendering methods, the build, the make) for envs a wrapper renders
     _wrapped: list[tuple[str, list[str], ast.Call, ast.Call]]
     _class_finder: CreationFinder  # set on first use: the local env class an env is made from
+    _own_render_finder: CreationFinder  # set on first use: the classes whose render(mode) stays the project's own
 
     def _mode_argument(self, call: ast.Call) -> ast.AST | None:
         """The mode a legacy render call passes; None when its argument is certainly no mode

@@ -10,10 +10,12 @@ import ast
 from collections.abc import Hashable
 
 from gymmigrate.facts.creation import CreationFinder
+from gymmigrate.facts.creation_shapes import wrapped_env_argument
 from gymmigrate.facts.decisions import Action, Decision, decide, receiver_text
 from gymmigrate.facts.env_classes import EnvClasses
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import full_name, keyword, string_value
+from gymmigrate.facts.render_modes import own_object_render
 from gymmigrate.facts.summaries.classes import held_env_render_forward
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.render_calls import arguments_in_order, close_call
@@ -85,6 +87,10 @@ class RenderSites(RecorderSites):
             return None
         if mode_arg is not None and self._class_keeps_its_mode(receiver):
             return None  # ``render(mode)`` of a class that chooses its mode itself is kept (GM405 says so)
+        if mode_arg is None and close is None and self._own_render_instance(receiver):
+            # An instance of a class whose render(mode) stays the project's own (GM405 keeps
+            # it): a bare call still runs it with its default mode, as it did.
+            return None
         if self.receivers.legacy_step_class(receiver) is not None:
             # An instance of a class of the run kept on its own API (a batch of envs whose
             # step and reset stay legacy): its render(mode='human') stays with them (GM405
@@ -235,6 +241,64 @@ class RenderSites(RecorderSites):
         classes = EnvClasses.of(self.facts, self.receivers)
         made = [self.receivers.local_class(call.func) for call in creation.calls]
         return all(c is not None and classes.own_render_mode(c) is not None for c in made)
+
+    def _own_render_instance(self, receiver: ast.expr, depth: int = 0) -> bool:
+        """Every value ``receiver`` may hold is built by a class (of this module or of the run)
+        whose render(mode) stays the project's own (``own_object_render``), or by a subclass
+        that inherits that render, maybe inside Gym wrappers of the run that hand a bare
+        render() on. A name is followed through the values that may reach this read
+        (``values_reaching``: a wrapper put on in another branch does not count), anything
+        else through its creation."""
+        if isinstance(receiver, ast.Call) and depth < 8:
+            if self._builds_own_render(receiver):
+                return True
+            inner = wrapped_env_argument(receiver)
+            return inner is not None and self._hands_bare_render_on(receiver.func) and self._own_render_instance(inner, depth + 1)
+        reaching = self.receivers.values_reaching(receiver) if isinstance(receiver, ast.Name) and depth < 8 else None
+        if reaching:
+            return all(self._own_render_instance(value, depth + 1) for value in reaching)
+        if not hasattr(self, "_own_render_finder"):
+            self._own_render_finder = CreationFinder(self.facts, self.receivers, self._builds_own_render)
+        creation = self._own_render_finder.find(receiver)
+        return creation.found and creation.complete
+
+    def _hands_bare_render_on(self, func: ast.expr) -> bool:
+        """``func`` is a Gym wrapper class of the run that defines no render() (nor do its bases
+        of this module): Gymnasium's ``Wrapper.render()`` calls the env's render() bare."""
+        local = self.receivers.local_class(func)
+        if local is not None:
+            if not self.receivers.is_gym_wrapper_class(local):
+                return False
+            chain, seen = [local], set()
+            while chain:
+                classdef = chain.pop()
+                if id(classdef) in seen:
+                    continue
+                seen.add(id(classdef))
+                if any(isinstance(s, (ast.FunctionDef, ast.AsyncFunctionDef)) and s.name == "render" for s in classdef.body):
+                    return False
+                chain.extend(b for b in map(self.receivers.local_class, classdef.bases) if b is not None)
+            return True
+        project = self.receivers.project
+        return project is not None and any(
+            project.is_wrapper_class(q) and (defined := project.wrapper_defined(q)) is not None and "render" not in defined
+            for q in self.facts.qualified_names(func)
+        )
+
+    def _builds_own_render(self, call: ast.Call) -> bool:
+        local = classdef = self.receivers.local_class(call.func)
+        seen: set[int] = set()
+        while classdef is not None and id(classdef) not in seen:
+            seen.add(id(classdef))
+            if any(isinstance(s, (ast.FunctionDef, ast.AsyncFunctionDef)) and s.name == "render" for s in classdef.body):
+                return own_object_render(self.facts, self.receivers, classdef) is not None
+            classdef = next((b for b in map(self.receivers.local_class, classdef.bases) if b is not None), None)
+        project = self.receivers.project
+        if project is None:
+            return False
+        if local is not None:  # its render() comes from a base of another module of the run
+            return self.facts.classes.get(local.name) is local and project.own_render_here(local.name)
+        return any(project.own_render(q) for q in self.facts.qualified_names(call.func))
 
     def _report_other_signature(self, call: ast.Call, receiver: ast.expr) -> None:
         if not self.context.profile.imports_gym:
