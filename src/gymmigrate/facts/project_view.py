@@ -546,6 +546,11 @@ class ProjectView:
         split = self.facts._split(qualified, self.path)
         return None if split is None else self.facts.wrapper_defined.get(split)
 
+    def unset_spaces(self, name: str) -> frozenset[str]:
+        """The spaces a class of this module leaves unset with its bases, where an entry point
+        of the run makes it (the class itself, or a registered def that constructs it)."""
+        return self.facts.unset_spaces.get((self.path, name), frozenset())
+
     def registered_here(self, name: str) -> bool:
         """A class of this module that the run registers as an ``entry_point``."""
         return (self.path, name) in self.facts.registered_classes
