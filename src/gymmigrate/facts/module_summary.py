@@ -105,6 +105,16 @@ class ModuleSummary:
     # ``self.action_space = C(...)`` / ``self.observation_space = C(...)`` in its methods;
     # ``@C`` for a class of the module itself.
     space_calls: dict[str, tuple[tuple[str, str], ...]] = field(default_factory=dict)
+    # -- spaces an env leaves unset (facts/space_setters.py, GM511) --
+    # Top-level class -> (the spaces its own code leaves unset once constructed, its bases
+    # of the run, ``@Name`` for one of this module); a class that sets both, or whose code
+    # cannot show it, is not listed.
+    unset_spaces: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = field(default_factory=dict)
+    # Top-level def -> the classes it may construct (``@Name``, or the qualified name of a
+    # name of the run), through the defs of the module it calls: what a registered def makes.
+    def_builds: dict[str, tuple[str, ...]] = field(default_factory=dict)
+    # The literal entry points of its ``register(...)`` calls that leave the env checker on.
+    checked_entries: tuple[str, ...] = ()
     # -- envs whose reset steps their own wrappers (facts/wrapper_steps.py, GM808) --
     # Top-level class -> (attribute, setter) pairs: its reset steps ``self.<attribute>``,
     # which the class's method ``setter`` stores from a parameter ("": stored from outside).

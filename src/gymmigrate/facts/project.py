@@ -57,6 +57,7 @@ from gymmigrate.facts.project_classes import (
     join_mode_renders,
     join_overrides,
     join_registered_classes,
+    join_unset_spaces,
     own_api_classes,
     quiet_classes,
     reexported,
@@ -303,6 +304,9 @@ class ProjectFacts:
     # (path, class) the run registers as an ``entry_point`` with the Gym registry: a Gym env
     # class, however it is constructed
     registered_classes: set[tuple[str, str]] = field(default_factory=set)
+    # (path, class) an entry point makes (the class, or one a registered def constructs)
+    # -> the spaces it leaves unset with its bases: ``gymnasium.make``'s env checker raises
+    unset_spaces: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
 
     @classmethod
     def join(cls, summaries: list[ModuleSummary], blocked: dict[str, str] | None = None) -> ProjectFacts:
@@ -375,6 +379,7 @@ class ProjectFacts:
         join_nearby_packages(facts, summaries)
         facts.requires = required_packages(imported)
         join_registered_classes(facts, by_path)
+        join_unset_spaces(facts, by_path)
         Exports(facts, by_path).run()
         join_thunk_factory_refs(facts, by_path)
         facts.own_renders = own_renders(facts, by_path)

@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 
 from gymmigrate.facts.import_roots import import_parts
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.module_summary import MAX_CHAIN, REF, ModuleSummary, is_ref
+from gymmigrate.facts.module_summary import MAX_CHAIN, OWN, REF, ModuleSummary, is_ref
 from gymmigrate.facts.project_contracts import class_definer
 
 if TYPE_CHECKING:
@@ -31,6 +31,71 @@ def join_registered_classes(facts: ProjectFacts, by_path: dict[str, ModuleSummar
             definer = class_definer(facts, by_path, where, name)
             if definer is not None:
                 facts.registered_classes.add(definer)
+
+
+def join_unset_spaces(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> None:
+    """``ProjectFacts.unset_spaces``: the classes an entry point of the run makes with the env
+    checker on (the class it names, re-exports followed, or those a def it names constructs)
+    with the spaces they leave unset together with every base (``ModuleSummary.unset_spaces``).
+    A base the run cannot follow, or that sets a space, leaves that space out."""
+    memo: dict[tuple[str, str], frozenset[str]] = {}
+
+    def unset(key: tuple[str, str], depth: int) -> frozenset[str]:
+        if key in memo:
+            return memo[key]
+        memo[key] = frozenset()  # a cycle of bases adds nothing
+        summary = by_path.get(key[0])
+        entry = summary.unset_spaces.get(key[1]) if summary is not None else None
+        if entry is None or depth > MAX_CHAIN:
+            return frozenset()
+        spaces, bases = entry
+        found = frozenset(spaces)
+        for base in bases:
+            where = _class_named(facts, by_path, base, key[0])
+            found &= unset(where, depth + 1) if where is not None else frozenset()
+        memo[key] = found
+        return found
+
+    for path, summary in by_path.items():
+        for entry in summary.checked_entries:
+            module, _, name = entry.partition(":")
+            where = facts.modules.get(module) if module else path
+            if where is None or not name or "." in name:
+                continue
+            for made in _entry_makes(facts, by_path, where, name):
+                spaces = unset(made, 0)
+                if spaces:
+                    facts.unset_spaces[made] = spaces
+
+
+def _entry_makes(facts: ProjectFacts, by_path: dict[str, ModuleSummary], path: str, name: str) -> list[tuple[str, str]]:
+    """The classes an entry point ``name`` of module ``path`` makes: the class it names, or
+    those the def it names constructs (re-exports followed to the def)."""
+    for _ in range(MAX_CHAIN):
+        summary = by_path.get(path)
+        if summary is None:
+            return []
+        if name in summary.classes:
+            return [(path, name)]
+        if name in summary.defs:
+            built = (_class_named(facts, by_path, b, path) for b in summary.def_builds.get(name, ()))
+            return [where for where in built if where is not None]
+        kind = summary.exports.get(name)
+        if not is_ref(kind):
+            return []
+        split = facts._split(str(kind)[len(REF) :], path)
+        if split is None or "." in split[1]:
+            return []
+        path, name = split
+    return []
+
+
+def _class_named(facts: ProjectFacts, by_path: dict[str, ModuleSummary], spelled: str, path: str) -> tuple[str, str] | None:
+    """The class of the run a module spells ``spelled`` (``@Name`` for its own)."""
+    if spelled.startswith(OWN):
+        return path, spelled[len(OWN) :]
+    split = facts._split(spelled, path)
+    return None if split is None or "." in split[1] else class_definer(facts, by_path, *split)
 
 
 def join_overrides(facts: ProjectFacts, summaries: list[ModuleSummary], by_path: dict[str, ModuleSummary]) -> None:

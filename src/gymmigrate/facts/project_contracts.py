@@ -72,13 +72,17 @@ class NonSpaces:
 
 
 def _definer(facts: ProjectFacts, by_path: dict[str, ModuleSummary], path: str, name: str) -> tuple[str, str] | None:
-    """The module and name of the class ``name`` of module ``path`` is, re-exports followed."""
+    """The module and name of the class ``name`` of module ``path`` is, re-exports followed.
+    None for a def that returns the class's instances: it takes its own parameters, so
+    whether a ``render_mode`` given to it reaches the class is not the class's to say."""
     for _ in range(MAX_CHAIN):
         summary = by_path.get(path)
         if summary is None:
             return None
         if name in summary.env_classes or any(heir[0] == name for heir in summary.render_mode_heirs):
             return path, name
+        if name in summary.defs:
+            return None
         kind = summary.exports.get(name)
         if not is_ref(kind):
             return (path, name) if kind is not None else None

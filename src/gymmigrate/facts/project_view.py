@@ -562,6 +562,10 @@ class ProjectView:
         """``own_render_here`` for a name this module imports (re-exports followed)."""
         split = self.facts._split(qualified, self.path)
         return split is not None and split in self.facts.own_renders
+    def unset_spaces(self, name: str) -> frozenset[str]:
+        """The spaces a class of this module leaves unset with its bases, where an entry point
+        of the run makes it (the class itself, or a registered def that constructs it)."""
+        return self.facts.unset_spaces.get((self.path, name), frozenset())
 
     def registered_here(self, name: str) -> bool:
         """A class of this module that the run registers as an ``entry_point``."""

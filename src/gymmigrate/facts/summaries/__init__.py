@@ -33,6 +33,11 @@ from gymmigrate.facts.render_handovers import bare_render_params, handed_constru
 from gymmigrate.facts.render_modes import render_kept_classes
 from gymmigrate.facts.reset_contract import sites as reset_sites
 from gymmigrate.facts.rng_handovers import rng_stores
+from gymmigrate.facts.space_setters import (
+    checked_entries,
+    def_builds,
+    module_unset_spaces,
+)
 from gymmigrate.facts.step_counts import step_counting
 from gymmigrate.facts.step_hooks import plain_overrides, step_hooks
 from gymmigrate.facts.summaries.calls import CallSummarizer
@@ -170,6 +175,9 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         pz_wrappers=pz_wrappers.summarize(facts),
         plain_classes=plain_classes(facts),
         space_calls=space_calls(facts, receivers),
+        unset_spaces=module_unset_spaces(facts, receivers),
+        def_builds=def_builds(facts, receivers),
+        checked_entries=checked_entries(facts),
         reset_steps=module_reset_steps(facts),
         self_handoffs=self_handoffs(facts, receivers),
         spec_lists=module_spec_lists(facts),

@@ -83,7 +83,12 @@ class Exports:
 
     def _returned_run_call(self, function: ast.FunctionDef | ast.AsyncFunctionDef) -> str | None:
         """The one imported name every return of ``function`` calls (``return Env(...)``),
-        when it is no library's; else None."""
+        when it is no library's, through the defs of this module the returns call
+        (``return _dress(env)`` with ``_dress`` returning ``wrappers.Logged(env)``); else None.
+        A def met again while its own answer is computed (recursion) adds nothing."""
+        return self.facts.memo(("returned-run-call", id(function)), lambda: self._compute_returned_run_call(function), while_computing=None)
+
+    def _compute_returned_run_call(self, function: ast.FunctionDef | ast.AsyncFunctionDef) -> str | None:
         found: set[str] = set()
         for ret in own_returns(function):
             value = ret.value
@@ -94,6 +99,16 @@ class Exports:
                 value = reaching[0] if reaching is not None and len(reaching) == 1 else None
             if not (isinstance(value, ast.Call) and isinstance(value.func, (ast.Name, ast.Attribute))):
                 return None
+            local = self.receivers.local_function(value.func)
+            if local is not None:
+                # A def of this module whose returns ``returns_kind`` could not judge either:
+                # one that hands on what a name of another module makes (``_dress`` putting
+                # wrappers of the run around the env it is given) makes what that name makes.
+                called = self._returned_run_call(local)
+                if called is None:
+                    return None
+                found.add(called)
+                continue
             qualified = self.facts.qualified_names(value.func)
             if len(qualified) != 1:
                 return None

@@ -1,4 +1,4 @@
-"""Custom ``Env`` subclasses (GM404, GM405, GM501-GM504, GM507-GM509).
+"""Custom ``Env`` subclasses (GM404, GM405, GM501-GM504, GM507-GM509, GM511).
 
 * ``metadata.py``      GM404 metadata keys (and a missing ``render_fps``)
 * ``reward_range.py``  GM507 reads of the removed ``reward_range``
@@ -6,7 +6,7 @@
   ``seed.py`` (GM503), ``reset.py`` (GM501, GM502), ``step.py`` (GM504; the
   step limits in a done in ``step_limits.py``, a done from another step in
   ``step_delegates.py``),
-  ``render.py`` (GM405) and ``observations.py`` (GM508, GM509), with ``hooks.py`` (a
+  ``render.py`` (GM405), ``observations.py`` (GM508, GM509) and ``spaces.py`` (GM511), with ``hooks.py`` (a
   hook ``step``/``reset`` returns migrates with its overrides, or none does); ``rebuild.py`` and
   ``cst_edits.py`` carry the decisions out on the class's LibCST node.
 """

@@ -29,6 +29,12 @@ CLASS_RULES = (
     Rule("GM504", "custom step", FixKind.ASSIST, "`step` returns `(obs, reward, terminated, truncated, info)`."),
     Rule("GM508", "mujoco-py MujocoEnv", FixKind.FLAG, "Subclasses of the mujoco-py `MujocoEnv` are reported for a manual port."),
     Rule("GM509", "float64 observations", FixKind.FLAG, "`np.array(...)` observations for a float32 `Box` are reported."),
+    Rule(
+        "GM511",
+        "spaces never set",
+        FixKind.FLAG,
+        "An env class an entry point makes that never sets `action_space` or `observation_space` is reported (make's env checker raises).",
+    ),
 )
 
 # gym <= 0.9 spelled the API methods with a leading underscore: its ``Env.step`` called

@@ -159,7 +159,9 @@ class WrapperForwarding(RuleFamily):
         else:
             origin = self.origins.origin(receiver)
             if origin is None and isinstance(receiver, ast.Name):
-                origin = self.origins.dominating(receiver)
+                # what the read sees where the bindings disagree: ``env = Arena()`` just above
+                # ``env = dress(env, env.size)`` is the bare env the size is read from
+                origin = self.origins.above(receiver)
             if origin in (None, CYCLE, RAW) and (not known or self.origins.outer_is_wrapper(receiver)):
                 origin = WRAPPED  # whatever else the name held, where it is read it is a wrapper
         if origin == CYCLE:

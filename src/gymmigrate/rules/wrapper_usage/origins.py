@@ -271,10 +271,16 @@ class EnvOrigins:
     def above(self, name: ast.Name) -> Origin:
         """The origin of what ``name`` holds where the other bindings disagree: in ``env =
         env.env`` the assignment just above in the same block (``env = gym.make(id)``),
-        elsewhere the one assignment every path to the read passes last."""
+        elsewhere the one assignment every path to the read passes last. A read in the value
+        of the assignment (``env = dress(env, env.size)``) sees the assignment above, unless
+        a lambda or def there defers it past the rebinding."""
         statement = self.facts.statement_of(name)
         if isinstance(statement, ast.Assign) and any(isinstance(t, ast.Name) and t.id == name.id for t in statement.targets):
-            above = Flow.of(self.facts).binding_above(name, statement)
+            flow = Flow.of(self.facts)
+            scope, _ = self.facts.resolve(name.id, self.facts.scope_of(name))
+            if scope is None or not flow.same_frame(name, scope):
+                return None
+            above = flow.binding_above(name, statement)
             holder = self.facts.statement_of(above) if isinstance(above, ast.Name) else None
             if not (isinstance(holder, ast.Assign) and holder.targets == [above]):
                 return None

@@ -1,0 +1,79 @@
+"""GM511: an env class an entry point makes that leaves a space unset. Gymnasium's ``make``
+raises in its env checker where gym 0.21's Env gave ``None`` (``fixtures/project_unset_spaces``,
+``fixtures/rules/GM511``).
+
+In the package, a registered def of one module builds a class of a third module whose base
+sets only the action space: asked at that class. A class registered by name that sets both
+with its base, and one only an unregistered factory builds, are not.
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from gymmigrate.cli import app
+
+FIXTURES = Path(__file__).resolve().parent.parent / "fixtures"
+runner = CliRunner()
+
+
+@pytest.fixture
+def run(tmp_path: Path) -> Path:
+    shutil.copytree(FIXTURES / "project_unset_spaces", tmp_path / "run")
+    return tmp_path / "run"
+
+
+def test_the_class_the_registered_factory_builds_is_asked_about(run: Path) -> None:
+    result = runner.invoke(app, ["check", "--output-format", "json", str(run)])
+    assert result.exit_code in (0, 1), result.output
+    findings = [{**f, "path": Path(f["path"]).relative_to(run).as_posix()} for f in json.loads(result.stdout)]
+    asked = [(f["path"], f["line"], f["rule"]) for f in findings if f["rule"] == "GM511"]
+    assert asked == [("orchard/trees.py", 10, "GM511")]
+    assert "`observation_space`" in next(f["message"] for f in findings if f["rule"] == "GM511")
+
+
+def _make(cwd: Path, setup: str, env_id: str) -> subprocess.CompletedProcess[str]:
+    probe = f"{setup}\nimport gymnasium\nenv = gymnasium.make({env_id!r})\nprint(env.reset(seed=0)[0])\n"
+    return subprocess.run([sys.executable, "-W", "ignore", "-c", probe], cwd=cwd, capture_output=True, text=True, timeout=120)
+
+
+def test_what_is_asked_is_what_make_rejects(run: Path) -> None:
+    pytest.importorskip("gymnasium")
+    result = runner.invoke(app, ["rewrite", str(run)])
+    assert result.exit_code in (0, 1), result.output
+    rejected = _make(run, "import orchard", "Orchard-v0")
+    assert rejected.returncode != 0
+    assert "must specify an observation space" in rejected.stderr
+    assert _make(run, "import orchard", "Vineyard-v0").stdout.strip() == "0"
+
+
+@pytest.mark.parametrize(
+    ("case", "env_id", "rejected"),
+    [
+        ("registered_class", "Kettle-v0", "observation"),
+        ("registered_class", "Dryer-v0", "action"),
+        ("registered_factory", "Sprinkler-v0", "action"),
+        ("spaces_set_in_construction", "Heater-v0", None),
+        ("spaces_set_in_construction", "Fan-v0", None),
+        ("spaces_set_in_construction", "Lamp-v0", None),
+    ],
+)
+def test_the_single_file_cases_on_gymnasium(tmp_path: Path, case: str, env_id: str, rejected: str | None) -> None:
+    pytest.importorskip("gymnasium")
+    # the migrated fixture as a module (its ``__main__`` entry points name the running script)
+    shutil.copy(FIXTURES / "rules" / "GM511" / f"{case}.expected.py", tmp_path / "case.py")
+    script = (tmp_path / "case.py").read_text().replace('"__main__:', '"case:')
+    (tmp_path / "case.py").write_text(script)
+    done = _make(tmp_path, "import case", env_id)
+    if rejected is None:
+        assert done.returncode == 0, done.stderr
+    else:
+        assert done.returncode != 0
+        assert f"must specify an {rejected} space" in done.stderr
