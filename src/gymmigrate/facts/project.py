@@ -303,6 +303,8 @@ class ProjectFacts:
     # (path, class) the run registers as an ``entry_point`` with the Gym registry: a Gym env
     # class, however it is constructed
     registered_classes: set[tuple[str, str]] = field(default_factory=set)
+    # the ids the run registers with the Gym registry (None: one it registers is no literal)
+    registered_ids: set[str | None] = field(default_factory=set)
 
     @classmethod
     def join(cls, summaries: list[ModuleSummary], blocked: dict[str, str] | None = None) -> ProjectFacts:
