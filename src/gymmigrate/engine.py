@@ -106,12 +106,14 @@ def plan_file(tree: ast.Module, text: str, path: str, options: RewriteOptions, r
     receivers = Receivers(facts, view)
     left_out: set[str] = set()
     for family in families_for(text, in_a_run=options.project is not None):
-        if not _family_selected(family, options.selection):
+        if not (family.decides_the_module or _family_selected(family, options.selection)):
             left_out.add(family.__name__)
             continue
         if not family.may_fire(facts, context):
             continue
         _decide(family, context, facts, receivers, plan)
+        if context.notes.module_kept_for is not None:
+            break  # the module stays on gym as it is (a Gym-only plugin makes its envs): its item is all
         if plan.renames_first:
             # The other families decided on the old names (a dead ``_step``): this round is
             # the rename alone, and the next one decides everything on the renamed code.
@@ -139,7 +141,8 @@ def _decide(family: type[RuleFamily], context: FileContext, facts: ModuleFacts, 
 
 
 def _family_selected(family: type[RuleFamily], selection: Selection | None) -> bool:
-    """Whether any rule of ``family`` is on: a family with none is not even run."""
+    """Whether any rule of ``family`` is on: a family with none is not even run (unless it
+    decides whether the module is migrated at all, ``RuleFamily.decides_the_module``)."""
     return selection is None or any(selection.allows(rule.code) for rule in family.RULES)
 
 

@@ -226,6 +226,8 @@ class ModuleSummary:
     reset_sites: ResetSites = field(default_factory=ResetSites)
     # ``register(id, entry_point="pkg.mod:Class")``: (the id if a literal, the entry point).
     registrations: tuple[tuple[str | None, str], ...] = ()
+    # The ids of every Gym ``register(...)`` call, whatever its entry point (None: no literal).
+    registered_ids: tuple[str | None, ...] = ()
     # Top-level plain classes (no env, no wrapper) -> {attribute: ``__init__`` parameter} for
     # each attribute only ever stored from that parameter (``self.gym_env = gym_env``): an
     # instance's attribute is what every construction of the run passes there.

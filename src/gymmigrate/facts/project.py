@@ -307,6 +307,8 @@ class ProjectFacts:
     # (path, class) an entry point makes (the class, or one a registered def constructs)
     # -> the spaces it leaves unset with its bases: ``gymnasium.make``'s env checker raises
     unset_spaces: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
+    # the ids the run registers with the Gym registry (None: one it registers is no literal)
+    registered_ids: set[str | None] = field(default_factory=set)
 
     @classmethod
     def join(cls, summaries: list[ModuleSummary], blocked: dict[str, str] | None = None) -> ProjectFacts:

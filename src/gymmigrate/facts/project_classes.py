@@ -21,8 +21,9 @@ if TYPE_CHECKING:
 
 def join_registered_classes(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> None:
     """``register(id, entry_point="pkg.envs:Task")`` (``__name__ + ":Task"``): the class
-    the entry point names, where it is defined."""
+    the entry point names, where it is defined; and the ids the run registers."""
     for path, summary in by_path.items():
+        facts.registered_ids.update(summary.registered_ids)
         for _, entry in summary.registrations:
             module, _, name = entry.partition(":")
             where = facts.modules.get(module) if module else path

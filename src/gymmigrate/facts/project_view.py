@@ -567,6 +567,12 @@ class ProjectView:
         of the run makes it (the class itself, or a registered def that constructs it)."""
         return self.facts.unset_spaces.get((self.path, name), frozenset())
 
+    def may_register(self, env_id: str) -> bool:
+        """The run may register ``env_id`` with the Gym registry: it registers that literal,
+        or ids it does not spell as literals."""
+        ids = self.facts.registered_ids
+        return env_id in ids or None in ids
+
     def registered_here(self, name: str) -> bool:
         """A class of this module that the run registers as an ``entry_point``."""
         return (self.path, name) in self.facts.registered_classes

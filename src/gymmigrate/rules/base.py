@@ -80,6 +80,9 @@ class RuleFamily:
     CARRIES_OUT: ClassVar[tuple[str, ...]] = ()
     # Families whose notes this one reads (``rules/notes.py``): the pipeline runs them first.
     after: ClassVar[tuple[str, ...]] = ()
+    # Decides whether the module is migrated at all (``FamilyNotes.module_kept_for``): it
+    # runs whatever rules are selected, and its findings are filtered afterwards as any.
+    decides_the_module: ClassVar[bool] = False
 
     def __init_subclass__(cls, **kwargs: object) -> None:
         super().__init_subclass__(**kwargs)

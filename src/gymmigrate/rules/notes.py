@@ -26,6 +26,9 @@ class FamilyNotes:
     # Imports -> EnvIds: ``import gym`` stays on gym, because every env the file makes goes
     # to a library still on gym (baselines): the stack's name. Its ids stay gym's too.
     gym_kept_for: str | None = None
+    # Imports -> the engine: every env the module makes comes from a Gym-only plugin (its
+    # name), so the module stays on gym as it is: no later family decides anything in it.
+    module_kept_for: str | None = None
     # EnvIds -> RegistryApi: the registration block already imports gymnasium.
     gymnasium_imported: bool = False
     # WrapperRenames <-> Rendering: the ``render_mode`` added to a make (id of the call ->

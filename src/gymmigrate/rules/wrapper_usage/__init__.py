@@ -17,7 +17,8 @@ Two families, both deciding on the original source:
   ``make_layers.py`` decides ``.env`` chains and ``isinstance(env, TimeLimit)`` (GM606),
   ``self_forwarding.py`` ``self.x`` in a wrapper's own methods, ``getattr_hasattr.py``
   lookups by a name held in a value, ``monitor_attributes.py`` ``env.videos`` and
-  ``env.monitor``; ``forwarding_edits.py`` builds the rewrites, and
+  ``env.monitor``, ``builtin_attributes.py`` what Gymnasium's built-in envs no longer
+  have; ``forwarding_edits.py`` builds the rewrites, and
   ``atari_limits.py`` answers the Atari time-limit questions of GM605, GM606 and GM609.
 
 ``tables.py`` holds what Gymnasium 1.x did to each wrapper, shared by both.

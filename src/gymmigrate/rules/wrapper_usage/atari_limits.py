@@ -152,7 +152,7 @@ def _make_before(facts: ModuleFacts, read: ast.Name, statement: ast.Assign) -> a
 def atari_make(facts: ModuleFacts, receivers: Receivers, call: ast.Call) -> tuple[Atari, str] | None:
     """Whether ``call`` (a make) makes Atari envs, with an Atari id it gets (or the sign
     that shows it), or None."""
-    ids = _ids(facts, receivers, call_argument(call, 0, "id"))
+    ids = make_ids(facts, receivers, call)
     if ids is None:
         sign = _asserted_atari(facts, call)
         return (Atari.CERTAIN, sign) if sign is not None else None
@@ -228,6 +228,12 @@ def _in_branch(facts: ModuleFacts, node: ast.AST, function: ast.AST) -> bool:
             return True
         child = ancestor
     return False
+
+
+def make_ids(facts: ModuleFacts, receivers: Receivers, call: ast.Call) -> list[str | None] | None:
+    """The ids a make call gets: its literal, a constant's, or what every call of the run
+    passes the parameter it reads (None: not known; a None item: one call not known)."""
+    return _ids(facts, receivers, call_argument(call, 0, "id"))
 
 
 def _ids(facts: ModuleFacts, receivers: Receivers, argument: ast.expr | None) -> list[str | None] | None:

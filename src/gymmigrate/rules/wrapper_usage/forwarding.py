@@ -8,6 +8,8 @@ wrappers ``env.x_threshold`` raises ``AttributeError``:
   what forwarding did). Writes are reported (forwarding never applied to them). A raw env
   built by its own constructor never had the problem. ``env.env.state`` on a bare make
   result becomes ``env.unwrapped.state``: make's layers have no ``state`` to shadow it.
+  What Gymnasium's class of a built-in env no longer has (CarRacing's pyglet ``viewer``,
+  ``builtin_attributes.py``) is reported on that env whatever the layer, not rewritten.
 * GM605 (ASSIST) ``env._max_episode_steps`` on a bare ``make`` result is the outermost
   TimeLimit's own attribute, left as it is (reads and writes work as in gym); under wrappers
   of the code's own it is read from ``env.spec.max_episode_steps`` (a make below them) or
@@ -26,7 +28,8 @@ comes from, which wrapper is outermost and what it defines), ``bare_make.py`` (w
 hold a bare make result), ``make_layers.py`` (``.env`` chains through make's layers and
 ``isinstance(env, TimeLimit)``), ``self_forwarding.py`` (``self.x`` in a wrapper class's
 own methods), ``getattr_hasattr.py`` (a class's ``__getattr__`` handing lookups on, and
-``hasattr`` guards), ``monitor_attributes.py`` (``env.videos``, ``env.monitor``) and
+``hasattr`` guards), ``monitor_attributes.py`` (``env.videos``, ``env.monitor``),
+``builtin_attributes.py`` (attributes Gymnasium's built-in envs lost) and
 ``forwarding_edits.py`` (the LibCST builders of the rewrites).
 """
 
@@ -44,6 +47,7 @@ from gymmigrate.rules.wrapper_usage.atari_limits import (
     spec_limit_on_atari,
 )
 from gymmigrate.rules.wrapper_usage.bare_make import bare_make_result
+from gymmigrate.rules.wrapper_usage.builtin_attributes import gone_from_builtin
 from gymmigrate.rules.wrapper_usage.forwarding_edits import (
     replace_with_get_wrapper_attr,
     set_wrapper_attr,
@@ -138,6 +142,9 @@ class WrapperForwarding(RuleFamily):
         if isinstance(receiver, ast.Name) and receiver.id in ("self", "cls"):
             if receiver.id == "self":
                 self_forwarding(self, attr)
+            return
+        if gone_from_builtin(self, attr):
+            self._make_layers.no_layer_has(attr)
             return
         if self._make_layers.read_through(attr):
             return

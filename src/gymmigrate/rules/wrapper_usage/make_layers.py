@@ -5,8 +5,9 @@ TimeLimit, OrderEnforcing and PassiveEnvChecker. Code that reached through those
 by ``.env`` meant an env they no longer give: ``gym.make(id).env`` (the env without its
 time limit) becomes ``.unwrapped``, ``env.env.state`` on a bare make result (the base
 env's state, which forwarding reached) becomes ``env.unwrapped.state``, other ``.env``
-chains are reported. ``isinstance(env, TimeLimit)`` still answers as before on a make
-result. Part of ``forwarding.WrapperForwarding``.
+chains are reported, except under a read of what no layer has (an attribute Gymnasium's
+built-in env lost, ``builtin_attributes.py``). ``isinstance(env, TimeLimit)`` still answers
+as before on a make result. Part of ``forwarding.WrapperForwarding``.
 """
 
 from __future__ import annotations
@@ -47,6 +48,7 @@ class MakeLayers:
         self.family = family
         self.facts = family.facts
         self._read_through: set[int] = set()  # ``env.env.state`` rewritten to ``env.unwrapped.state``
+        self._gone: set[int] = set()  # reads of what Gymnasium's built-in env no longer has
 
     def isinstance_time_limit(self, call: ast.Call) -> None:
         """``isinstance(env, TimeLimit)``."""
@@ -99,12 +101,19 @@ class MakeLayers:
         self._read_through.add(id(attr))
         return True
 
+    def no_layer_has(self, attr: ast.Attribute) -> None:
+        """GM604 reported ``attr`` as an attribute Gymnasium's built-in env lost
+        (``builtin_attributes.py``): the ``.env`` chain it is read through asks nothing."""
+        self._gone.add(id(attr))
+
     def env_chain(self, attr: ast.Attribute) -> None:
         parent = self.facts.parent(attr)
         if isinstance(parent, ast.Attribute) and parent.value is attr and parent.attr == "env":
             return  # report the outermost ``.env`` of a chain once
         if isinstance(parent, ast.Attribute) and parent.value is attr and id(parent) in self._read_through:
             return  # GM604 rewrote the read through it to ``.unwrapped``: the chain is gone
+        if isinstance(parent, ast.Attribute) and parent.value is attr and id(parent) in self._gone:
+            return  # no layer has what is read through it (GM604's item): which one it names does not matter
         receiver = attr.value
         depth = 1
         while isinstance(receiver, ast.Attribute) and receiver.attr == "env":
