@@ -36,18 +36,9 @@ from gymmigrate.rules.pettingzoo.common import (
 )
 from gymmigrate.rules.pettingzoo.dones_split import DonesSplit, is_empty_dict
 from gymmigrate.rules.pettingzoo.endings import Endings, Traced, joined
+from gymmigrate.rules.pettingzoo.renamed_names import plan_renamed_names
 
 RENAMED_HELPERS = {"_was_done_step": "_was_dead_step", "_dones_step_first": "_deads_step_first"}
-
-
-# PettingZoo <= 1.22's spelling of the parallel wrapper base class.
-MISSPELLED_WRAPPER = "BaseParallelWraper"
-
-
-def _exports_wrappers(module: str) -> bool:
-    """``pettingzoo.utils`` re-exports the wrapper classes of ``pettingzoo.utils.wrappers``
-    (both spellings in their own releases)."""
-    return module == "pettingzoo.utils" or module.startswith("pettingzoo.utils.wrappers")
 
 
 class EnvClasses(PettingZooFamily):
@@ -64,12 +55,7 @@ class EnvClasses(PettingZooFamily):
         for statement in facts.import_statements:
             if isinstance(statement, ast.ImportFrom) and statement.module == "pettingzoo.utils" and statement.level == 0:
                 self._plan_agent_selector(statement)
-            if isinstance(statement, ast.ImportFrom) and statement.level == 0 and _exports_wrappers(statement.module or ""):
-                self._plan_wrapper_spelling(statement)
-        for attr in facts.attributes.get(MISSPELLED_WRAPPER, ()):
-            if any(q.startswith("pettingzoo.") for q in facts.qualified_names(attr)):
-                self.rename_attribute(attr, "BaseParallelWrapper")
-                self.report(attr, "PZ108", f"`{MISSPELLED_WRAPPER}` is spelled `BaseParallelWrapper` in current PettingZoo")
+        plan_renamed_names(self)
         self.classes = {id(c): kind for c in facts.all_classes if (kind := self.multi_agent.class_kind(c)) is not None}
         if not self.classes:
             return
@@ -144,29 +130,6 @@ class EnvClasses(PettingZooFamily):
             for base in classdef.bases
             for qualified in self.facts.qualified_names(base)
         )
-
-    def _plan_wrapper_spelling(self, statement: ast.ImportFrom) -> None:
-        """``from pettingzoo.utils.wrappers import BaseParallelWraper`` (the 1.20 spelling) is an
-        ImportError now: import ``BaseParallelWrapper`` under the old name, so no use changes."""
-        if not any(alias.name == MISSPELLED_WRAPPER for alias in statement.names):
-            return
-        self.changed()
-
-        def build(node: cst.ImportFrom) -> cst.ImportFrom:
-            assert not isinstance(node.names, cst.ImportStar)  # it names the class
-            names = [
-                alias.with_changes(
-                    name=cst.Name("BaseParallelWrapper"),
-                    asname=alias.asname or cst.AsName(name=cst.Name(MISSPELLED_WRAPPER)),
-                )
-                if isinstance(alias.name, cst.Name) and alias.name.value == MISSPELLED_WRAPPER
-                else alias
-                for alias in node.names
-            ]
-            return node.with_changes(names=names)
-
-        self.plan.replace(statement, build)
-        self.report(statement, "PZ108", f"`{MISSPELLED_WRAPPER}` is spelled `BaseParallelWrapper` in current PettingZoo")
 
     def _plan_agent_selector(self, statement: ast.ImportFrom) -> None:
         """``from pettingzoo.utils import agent_selector`` is the module since 1.24 (the class is
