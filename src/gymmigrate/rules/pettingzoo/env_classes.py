@@ -26,7 +26,7 @@ from gymmigrate.facts import names as N
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import FUNCTIONS, own_returns
-from gymmigrate.findings import FixKind
+from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.pettingzoo.common import (
     AGENT,
     PZ108,
@@ -70,7 +70,7 @@ class EnvClasses(PettingZooFamily):
                 continue
             methods = {m.name: m for m in classdef.body if isinstance(m, FUNCTIONS)}
             if "reset" in methods:
-                self._plan_reset(methods["reset"], kind, "seed" in methods)
+                self._plan_reset(methods["reset"], kind, methods.get("seed"))
             if kind is EnvKind.PZ_PARALLEL and "step" in methods:
                 self._plan_parallel_step(classdef, methods["step"])
             if kind is EnvKind.PZ_AEC:
@@ -338,7 +338,7 @@ class EnvClasses(PettingZooFamily):
 
     # -- reset ----------------------------------------------------------------------------
 
-    def _plan_reset(self, reset: ast.FunctionDef | ast.AsyncFunctionDef, kind: EnvKind, seeds_itself: bool) -> None:
+    def _plan_reset(self, reset: ast.FunctionDef | ast.AsyncFunctionDef, kind: EnvKind, seed: ast.FunctionDef | ast.AsyncFunctionDef | None) -> None:
         self._dropped: list[ast.If] = []
         args = reset.args
         names = [a.arg for a in (*args.posonlyargs, *args.args, *args.kwonlyargs)]
@@ -356,10 +356,17 @@ class EnvClasses(PettingZooFamily):
             self.plan.replace(reset, lambda node: _reset_signature(node, missing))
             self.report(reset, "PZ105", "`reset` takes `seed=None, options=None` (PettingZoo 1.23 dropped `return_info`)",
                         FixKind.AUTO)
-        if "seed" in missing and seeds_itself:
-            _insert_first(self.plan, reset, "if seed is not None:\n    self.seed(seed)")
-            self.report(reset, "PZ106", "the env seeds itself in `seed()`, which PettingZoo no longer calls: "
-                        "`reset(seed=...)` calls it now; review", FixKind.ASSIST)
+        if "seed" in missing and seed is not None:
+            doubt = _seed_doubt(seed)
+            if doubt is None:
+                # ``env.seed(s); env.reset()`` ran the same two bodies in the same order.
+                _insert_first(self.plan, reset, "if seed is not None:\n    self.seed(seed)")
+                self.report(reset, "PZ106", "the env seeds itself in `seed()`, which PettingZoo no longer calls: "
+                            "`reset(seed=...)` calls it first, as `env.seed(s)` before `env.reset()` did",
+                            FixKind.ASSIST, tier=Tier.NOTE)
+            else:
+                self.report(reset, "PZ106", "the env seeds itself in `seed()`, which PettingZoo no longer calls, "
+                            f"and {doubt}: seed the env from `reset(seed=...)` by hand", FixKind.FLAG)
         if kind is EnvKind.PZ_PARALLEL:
             for returned in own_returns(reset):
                 value = returned.value
@@ -550,6 +557,27 @@ def _insert_first(plan, function: ast.FunctionDef | ast.AsyncFunctionDef, code: 
         plan.insert_after(first, code)
     else:
         plan.insert_before(first, code)
+
+
+def _seed_doubt(seed: ast.FunctionDef | ast.AsyncFunctionDef) -> str | None:
+    """Why ``self.seed(seed)`` at the top of ``reset`` may not do what a caller's
+    ``env.seed(s)`` before ``env.reset()`` did; None when it does."""
+    args = seed.args
+    positional = [*args.posonlyargs, *args.args][1:]  # after ``self``
+    required = len(positional) - len(args.defaults)
+    if not positional and args.vararg is None:
+        return "its `seed()` takes no seed by position"
+    if required > 1 or any(default is None for default in args.kw_defaults):
+        return "its `seed()` takes more than the seed"
+    if isinstance(seed, ast.AsyncFunctionDef):
+        return "its `seed()` is a coroutine"
+    for node in ast.walk(seed):
+        if (
+            isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "reset"
+            and isinstance(node.func.value, ast.Name) and node.func.value.id == "self"
+        ):
+            return "its `seed()` calls `self.reset()` (calling it from `reset` would loop)"
+    return None
 
 
 def _is_docstring(statement: ast.stmt) -> bool:
