@@ -190,6 +190,25 @@ def test_conversions_under_their_old_names_import_on_pettingzoo_1_27() -> None:
     assert namespace["from_parallel"] is conversions.parallel_to_aec
 
 
+@pytest.mark.parametrize("fixture", ["PZ108/inner_game_dones.py", "PZ104/inner_game_local_dones.py"])
+def test_dones_of_a_held_game_are_terminations_beside_the_cycle_limit(fixture: str) -> None:
+    """fixtures/rules/PZ108/inner_game_dones, PZ104/inner_game_local_dones: the dones a
+    parallel env unpacks from a track of its module that counts nothing are terminations;
+    the env's own ``max_cycles`` truncates the others. The migrated env passes PettingZoo's
+    parallel API test, and on the limit step a runner that crossed the line stays terminated."""
+    module = rewritten(fixture)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        parallel_api_test(module.RaceEnv(), num_cycles=4)
+    env = module.RaceEnv(max_cycles=3)
+    env.reset(seed=0)
+    for _ in range(3):
+        _, _, terminations, truncations, _ = env.step({"hare": 2, "tortoise": 1})
+    assert terminations == {"hare": True, "tortoise": False}
+    assert truncations == {"hare": False, "tortoise": True}
+    assert env.agents == []
+
+
 def test_mpe_imports_moved_to_mpe2_run_on_pettingzoo_1_27() -> None:
     """fixtures/rules/PZ111/mpe_family_import: ``pettingzoo.mpe`` raises ImportError on
     PettingZoo 1.27; the migrated module imports the same envs from mpe2 and runs them."""

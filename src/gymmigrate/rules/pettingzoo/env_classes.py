@@ -36,6 +36,13 @@ from gymmigrate.rules.pettingzoo.common import (
 )
 from gymmigrate.rules.pettingzoo.dones_split import DonesSplit, is_empty_dict
 from gymmigrate.rules.pettingzoo.endings import Endings, Traced, joined
+from gymmigrate.rules.pettingzoo.inner_dones import (
+    dones_question,
+    inner_step_unpack,
+    plan_inner_dones,
+    settled,
+    trailing_dels,
+)
 from gymmigrate.rules.pettingzoo.renamed_names import plan_renamed_names
 
 RENAMED_HELPERS = {"_was_done_step": "_was_dead_step", "_dones_step_first": "_deads_step_first"}
@@ -60,9 +67,21 @@ class EnvClasses(PettingZooFamily):
         if not self.classes:
             return
         self._plan_wrapper_rng()
-        for attr in facts.attributes.get("dones", ()):
-            classdef = facts.enclosing_class(attr)
-            if classdef is not None and id(classdef) in self.classes and isinstance(attr.value, ast.Name) and self.receivers.is_self(attr.value):
+        # Classes whose ``self.dones`` a person splits (one question each), and those whose
+        # stores were all split: only these return both dicts in place of ``self.dones``.
+        self._dones_left: set[int] = set()
+        self._dones_split: set[int] = set()
+        own_dones = [
+            attr
+            for attr in facts.attributes.get("dones", ())
+            if (classdef := facts.enclosing_class(attr)) is not None and id(classdef) in self.classes
+            and isinstance(attr.value, ast.Name) and self.receivers.is_self(attr.value)
+        ]
+        taken: set[int] = set()  # the uses an unpack from an inner step decided with it
+        for attr in own_dones:
+            taken |= self._plan_unpacked_self_dones(attr)
+        for attr in own_dones:
+            if id(attr) not in taken:
                 self._plan_self_dones(attr)
         for classdef in facts.all_classes:
             kind = self.classes.get(id(classdef))
@@ -153,6 +172,22 @@ class EnvClasses(PettingZooFamily):
 
     # -- self.dones -----------------------------------------------------------------------
 
+    def _plan_unpacked_self_dones(self, attr: ast.Attribute) -> set[int]:
+        """``obs, rews, self.dones, infos = self.<held>.step(actions)``: the ``self.dones`` uses
+        decided with it (inner_dones.py), none when it is no such unpack."""
+        unpack = inner_step_unpack(self, attr)
+        if unpack is None or self.multi_agent.kind(unpack[1]) is not None:
+            return set()  # a PettingZoo env's step: its dones are split already
+        assign, held = unpack
+        classdef = self.facts.enclosing_class(attr)
+        assert classdef is not None
+        dels = trailing_dels(self, assign, "self.dones")
+        if plan_inner_dones(self, classdef, assign, held, "self.dones", lambda new: self.rename_attribute(attr, new), dels):
+            self._dones_split.add(id(classdef))
+            return {id(attr)} | {id(target.value) for statement in dels for target in statement.targets}  # type: ignore[attr-defined]
+        self._dones_left.add(id(classdef))
+        return {id(attr)}
+
     def _plan_self_dones(self, attr: ast.Attribute) -> None:
         parent = self.facts.parent(attr)
         classdef = self.facts.enclosing_class(attr)
@@ -160,7 +195,10 @@ class EnvClasses(PettingZooFamily):
         split = DonesSplit(self, classdef, "self.terminations", "self.truncations", lambda new: self.rename_attribute(attr, new))
         if isinstance(parent, ast.Assign) and parent.targets == [attr]:
             split.whole(parent, owned=True)
+            self._dones_split.add(id(classdef))
             return
+        if self._returned_by_parallel_step(attr, classdef):
+            return  # the returned dict: PZ104's (``_plan_parallel_step``)
         if isinstance(parent, ast.Subscript) and parent.value is attr:
             statement = self.facts.parent(parent)
             if isinstance(parent.ctx, ast.Store) and isinstance(statement, ast.Assign) and statement.targets == [parent]:
@@ -170,8 +208,20 @@ class EnvClasses(PettingZooFamily):
                 self._read_both(parent, "self.terminations", "self.truncations")
                 return
         if not self._aggregate_both(attr, "self.terminations", "self.truncations"):
+            self._dones_left.add(id(classdef))
             self.report(attr, "PZ108", "`self.dones` was replaced by `self.terminations` and `self.truncations` in "
-                        "PettingZoo 1.21: change this use by hand", FixKind.FLAG)
+                        "PettingZoo 1.21: change this use by hand", FixKind.FLAG, question=dones_question(classdef))
+
+    def _returned_by_parallel_step(self, attr: ast.Attribute, classdef: ast.ClassDef) -> bool:
+        """``return obs, rews, self.dones, infos`` in a parallel env's own ``step``."""
+        holder = self.facts.parent(attr)
+        function = self.facts.enclosing_function(attr)
+        return (
+            self.classes.get(id(classdef)) is EnvKind.PZ_PARALLEL
+            and isinstance(holder, ast.Tuple) and len(holder.elts) == 4 and holder.elts[2] is attr
+            and isinstance(self.facts.parent(holder), ast.Return)
+            and function is not None and function.name == "step" and self.facts.parent(function) is classdef
+        )
 
     def _read_both(self, subscript: ast.Subscript, terminations: str, truncations: str) -> None:
         index = self.facts.segment(subscript.slice)
@@ -455,9 +505,22 @@ class EnvClasses(PettingZooFamily):
                 self.split_target(value, 2, "terminations", "truncations")
                 self.report(returned, "PZ104", "a parallel `step` returns terminations and truncations since PettingZoo "
                             "1.21", FixKind.AUTO)
+            elif self._split_self_dones(classdef, dones):
+                # every store of ``self.dones`` in the class went to one dict, with the other beside it
+                self.split_target(value, 2, "self.terminations", "self.truncations")
+                self.report(returned, "PZ104", "a parallel `step` returns terminations and truncations since PettingZoo "
+                            "1.21", FixKind.AUTO)
             else:
                 self.report(returned, "PZ104", "a parallel `step` returns five dicts since PettingZoo 1.21: split "
-                            f"`{self.facts.segment(dones)}` into terminations and truncations", FixKind.FLAG)
+                            f"`{self.facts.segment(dones)}` into terminations and truncations", FixKind.FLAG,
+                            question=dones_question(classdef))
+
+    def _split_self_dones(self, classdef: ast.ClassDef, dones: ast.expr) -> bool:
+        return (
+            isinstance(dones, ast.Attribute) and dones.attr == "dones"
+            and isinstance(dones.value, ast.Name) and self.receivers.is_self(dones.value)
+            and id(classdef) in self._dones_split and id(classdef) not in self._dones_left
+        )
 
     def _local_dones(self, classdef: ast.ClassDef, step: ast.FunctionDef | ast.AsyncFunctionDef, name: str) -> bool:
         """Split the local ``dones`` of a parallel ``step``: each whole store and item store by
@@ -465,18 +528,36 @@ class EnvClasses(PettingZooFamily):
         plain ``dones = ...``."""
         scope = self.facts.scopes[step]
         bindings = [b for b in scope.bindings[name] if isinstance(b, ast.Name)]
-        if len(bindings) != len(scope.bindings[name]) or not all(_plain_assign(self.facts.parent(b), b) for b in bindings):
+        # ``obs, rews, dones, infos = self.<held>.step(actions)``: the dones of what the env drives
+        unpacks = {id(b): u for b in bindings if (u := inner_step_unpack(self, b)) is not None and self.multi_agent.kind(u[1]) is None}
+        if len(bindings) != len(scope.bindings[name]) or not all(
+            id(b) in unpacks or _plain_assign(self.facts.parent(b), b) for b in bindings
+        ):
             return False
+        dels = {id(b): trailing_dels(self, unpacks[id(b)][0], name) for b in bindings if id(b) in unpacks}
+        unsettled = [b for b in bindings if id(b) in unpacks and settled(self, *unpacks[id(b)], dels[id(b)])[0] is None]
+        for binding in unsettled or [b for b in bindings if id(b) in unpacks]:
+            # an unsettled unpack is asked about there, and nothing of the step is planned
+            plan_inner_dones(self, classdef, *unpacks[id(binding)], name, partial(self.rename, binding), dels[id(binding)])
+        if unsettled:
+            return False
+        taken = {id(target.value) for found in dels.values() for statement in found for target in statement.targets}  # type: ignore[attr-defined]
         flow = Flow.of(self.facts)
-        reads = list({id(r): r for b in bindings for r in flow.reads(b)}.values())
+        reads = [r for r in {id(r): r for b in bindings for r in flow.reads(b)}.values() if id(r) not in taken]
+        bindings = [b for b in bindings if id(b) not in unpacks]
         empty = any(is_empty_dict(self.facts.parent(b).value) for b in bindings)  # type: ignore[union-attr]
         splits: list[DonesSplit] = []
         item_stores: list[tuple[ast.Assign, ast.Subscript, DonesSplit]] = []
         other_reads: list[ast.Name] = []
+        # An unpack at the top of the step binds both dicts before any later store: such a
+        # store keeps an agent that terminated on the step terminated, as ``self.dones`` does.
+        bound = [unpacks[key][0] for key in unpacks if unpacks[key][0] in step.body]
         for binding in bindings:
             split = DonesSplit(self, classdef, "terminations", "truncations", partial(self.rename, binding), empty)
             splits.append(split)
-            split.whole(self.facts.parent(binding), owned=False)  # type: ignore[arg-type]
+            store = self.facts.parent(binding)
+            owned = any(assign.lineno < binding.lineno for assign in bound)
+            split.whole(store, owned=owned)  # type: ignore[arg-type]
         for read in reads:
             subscript = self.facts.parent(read)
             statement = self.facts.parent(subscript) if subscript is not None else None
