@@ -9,6 +9,8 @@ the custom envs pass PettingZoo's own conformance tests.
 
 from __future__ import annotations
 
+import contextlib
+import importlib
 import subprocess
 import sys
 import types
@@ -20,6 +22,7 @@ from typer.testing import CliRunner
 
 from gymmigrate.cli import app
 from gymmigrate.engine import transform_source
+from gymmigrate.rules.pettingzoo.renamed_names import RENAMED
 
 pettingzoo = pytest.importorskip("pettingzoo")
 from pettingzoo.test import api_test, parallel_api_test  # noqa: E402
@@ -156,6 +159,54 @@ def test_the_old_spelling_through_pettingzoo_utils_imports_on_pettingzoo_1_27() 
     from pettingzoo.utils import BaseParallelWrapper
 
     assert issubclass(namespace["Repeat"], BaseParallelWrapper)
+
+
+def test_every_rename_target_imports_from_pettingzoo_1_27() -> None:
+    """Each name the PZ108 rename table gives is in its module on the installed
+    PettingZoo, and the legacy name is gone there or only an alias that warns."""
+    for module_name, names in RENAMED.items():
+        module = importlib.import_module(module_name)
+        for old, (new, _release) in names.items():
+            exec(f"from {module_name} import {new}", {})
+            legacy = getattr(module, old, None)
+            if legacy is not None:  # the deprecated alias warns, naming the new name, before it converts
+                with pytest.warns(UserWarning, match=new), contextlib.suppress(AttributeError):
+                    legacy(None)
+
+
+def test_conversions_under_their_old_names_import_on_pettingzoo_1_27() -> None:
+    """fixtures/rules/PZ108/conversions_old_names: the pre-1.15 names are an ImportError on
+    current PettingZoo; the migrated module binds the same names to the current objects."""
+    import runpy
+
+    from pettingzoo.utils import conversions
+
+    legacy = FIXTURES / "PZ108" / "conversions_old_names.py"
+    with pytest.raises(ImportError):
+        runpy.run_path(str(legacy))
+    namespace = runpy.run_path(str(legacy.with_suffix(".expected.py")))
+    assert namespace["from_parallel_wrapper"] is conversions.parallel_to_aec_wrapper
+    assert namespace["as_parallel"] is conversions.aec_to_parallel_wrapper
+    assert namespace["from_parallel"] is conversions.parallel_to_aec
+
+
+@pytest.mark.parametrize("fixture", ["PZ108/inner_game_dones.py", "PZ104/inner_game_local_dones.py"])
+def test_dones_of_a_held_game_are_terminations_beside_the_cycle_limit(fixture: str) -> None:
+    """fixtures/rules/PZ108/inner_game_dones, PZ104/inner_game_local_dones: the dones a
+    parallel env unpacks from a track of its module that counts nothing are terminations;
+    the env's own ``max_cycles`` truncates the others. The migrated env passes PettingZoo's
+    parallel API test, and on the limit step a runner that crossed the line stays terminated."""
+    module = rewritten(fixture)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        parallel_api_test(module.RaceEnv(), num_cycles=4)
+    env = module.RaceEnv(max_cycles=3)
+    env.reset(seed=0)
+    for _ in range(3):
+        _, _, terminations, truncations, _ = env.step({"hare": 2, "tortoise": 1})
+    assert terminations == {"hare": True, "tortoise": False}
+    assert truncations == {"hare": False, "tortoise": True}
+    assert env.agents == []
 
 
 def test_mpe_imports_moved_to_mpe2_run_on_pettingzoo_1_27() -> None:

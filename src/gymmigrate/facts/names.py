@@ -166,17 +166,27 @@ PETTINGZOO_PACKAGE = "pettingzoo"
 SUPERSUIT_PACKAGE = "supersuit"
 PZ_PARALLEL_SUFFIXES = (".parallel_env",)
 PZ_AEC_SUFFIXES = (".env", ".raw_env")
+# The conversions, with their names before PettingZoo 1.15 (``to_parallel``, the wrapper
+# classes ``to_parallel_wrapper`` / ``from_parallel_wrapper``) and the wrapper classes the
+# functions build, which some code calls directly.
 PZ_PARALLEL_FACTORIES = frozenset(
     {
         "pettingzoo.utils.conversions.aec_to_parallel",
         "pettingzoo.utils.aec_to_parallel",
         "pettingzoo.utils.conversions.to_parallel",
+        "pettingzoo.utils.to_parallel",
+        "pettingzoo.utils.conversions.aec_to_parallel_wrapper",
+        "pettingzoo.utils.conversions.to_parallel_wrapper",
     }
 )
 PZ_AEC_FACTORIES = frozenset(
     {
         "pettingzoo.utils.conversions.parallel_to_aec",
         "pettingzoo.utils.parallel_to_aec",
+        "pettingzoo.utils.conversions.from_parallel",
+        "pettingzoo.utils.from_parallel",
+        "pettingzoo.utils.conversions.parallel_to_aec_wrapper",
+        "pettingzoo.utils.conversions.from_parallel_wrapper",
     }
 )
 PZ_AEC_BASES = frozenset(

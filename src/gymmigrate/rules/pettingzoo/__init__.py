@@ -11,6 +11,9 @@
 ``endings.py`` traces why a custom env's ``dones`` value is True (a game over or a
 step limit) for PZ104 and PZ108, with the single-agent step-limit test (GM504's);
 ``dones_split.py`` sends each store of a custom env's ``dones`` where that says.
+``inner_dones.py`` decides a parallel env's ``dones`` unpacked from the step of a simulation
+it holds. ``renamed_names.py`` holds the names of ``pettingzoo.utils`` that current PettingZoo spells
+differently (PZ108 renames them).
 
 Every family asks ``facts.multi_agent`` what a receiver is: the PettingZoo rules act
 only on PettingZoo envs, and the Gym rules leave them alone (their kinds are guards).

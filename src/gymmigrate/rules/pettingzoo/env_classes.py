@@ -26,7 +26,7 @@ from gymmigrate.facts import names as N
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import FUNCTIONS, own_returns
-from gymmigrate.findings import FixKind
+from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.pettingzoo.common import (
     AGENT,
     PZ108,
@@ -36,18 +36,16 @@ from gymmigrate.rules.pettingzoo.common import (
 )
 from gymmigrate.rules.pettingzoo.dones_split import DonesSplit, is_empty_dict
 from gymmigrate.rules.pettingzoo.endings import Endings, Traced, joined
+from gymmigrate.rules.pettingzoo.inner_dones import (
+    dones_question,
+    inner_step_unpack,
+    plan_inner_dones,
+    settled,
+    trailing_dels,
+)
+from gymmigrate.rules.pettingzoo.renamed_names import plan_renamed_names
 
 RENAMED_HELPERS = {"_was_done_step": "_was_dead_step", "_dones_step_first": "_deads_step_first"}
-
-
-# PettingZoo <= 1.22's spelling of the parallel wrapper base class.
-MISSPELLED_WRAPPER = "BaseParallelWraper"
-
-
-def _exports_wrappers(module: str) -> bool:
-    """``pettingzoo.utils`` re-exports the wrapper classes of ``pettingzoo.utils.wrappers``
-    (both spellings in their own releases)."""
-    return module == "pettingzoo.utils" or module.startswith("pettingzoo.utils.wrappers")
 
 
 class EnvClasses(PettingZooFamily):
@@ -64,19 +62,26 @@ class EnvClasses(PettingZooFamily):
         for statement in facts.import_statements:
             if isinstance(statement, ast.ImportFrom) and statement.module == "pettingzoo.utils" and statement.level == 0:
                 self._plan_agent_selector(statement)
-            if isinstance(statement, ast.ImportFrom) and statement.level == 0 and _exports_wrappers(statement.module or ""):
-                self._plan_wrapper_spelling(statement)
-        for attr in facts.attributes.get(MISSPELLED_WRAPPER, ()):
-            if any(q.startswith("pettingzoo.") for q in facts.qualified_names(attr)):
-                self.rename_attribute(attr, "BaseParallelWrapper")
-                self.report(attr, "PZ108", f"`{MISSPELLED_WRAPPER}` is spelled `BaseParallelWrapper` in current PettingZoo")
+        plan_renamed_names(self)
         self.classes = {id(c): kind for c in facts.all_classes if (kind := self.multi_agent.class_kind(c)) is not None}
         if not self.classes:
             return
         self._plan_wrapper_rng()
-        for attr in facts.attributes.get("dones", ()):
-            classdef = facts.enclosing_class(attr)
-            if classdef is not None and id(classdef) in self.classes and isinstance(attr.value, ast.Name) and self.receivers.is_self(attr.value):
+        # Classes whose ``self.dones`` a person splits (one question each), and those whose
+        # stores were all split: only these return both dicts in place of ``self.dones``.
+        self._dones_left: set[int] = set()
+        self._dones_split: set[int] = set()
+        own_dones = [
+            attr
+            for attr in facts.attributes.get("dones", ())
+            if (classdef := facts.enclosing_class(attr)) is not None and id(classdef) in self.classes
+            and isinstance(attr.value, ast.Name) and self.receivers.is_self(attr.value)
+        ]
+        taken: set[int] = set()  # the uses an unpack from an inner step decided with it
+        for attr in own_dones:
+            taken |= self._plan_unpacked_self_dones(attr)
+        for attr in own_dones:
+            if id(attr) not in taken:
                 self._plan_self_dones(attr)
         for classdef in facts.all_classes:
             kind = self.classes.get(id(classdef))
@@ -84,7 +89,7 @@ class EnvClasses(PettingZooFamily):
                 continue
             methods = {m.name: m for m in classdef.body if isinstance(m, FUNCTIONS)}
             if "reset" in methods:
-                self._plan_reset(methods["reset"], kind, "seed" in methods)
+                self._plan_reset(methods["reset"], kind, methods.get("seed"))
             if kind is EnvKind.PZ_PARALLEL and "step" in methods:
                 self._plan_parallel_step(classdef, methods["step"])
             if kind is EnvKind.PZ_AEC:
@@ -145,29 +150,6 @@ class EnvClasses(PettingZooFamily):
             for qualified in self.facts.qualified_names(base)
         )
 
-    def _plan_wrapper_spelling(self, statement: ast.ImportFrom) -> None:
-        """``from pettingzoo.utils.wrappers import BaseParallelWraper`` (the 1.20 spelling) is an
-        ImportError now: import ``BaseParallelWrapper`` under the old name, so no use changes."""
-        if not any(alias.name == MISSPELLED_WRAPPER for alias in statement.names):
-            return
-        self.changed()
-
-        def build(node: cst.ImportFrom) -> cst.ImportFrom:
-            assert not isinstance(node.names, cst.ImportStar)  # it names the class
-            names = [
-                alias.with_changes(
-                    name=cst.Name("BaseParallelWrapper"),
-                    asname=alias.asname or cst.AsName(name=cst.Name(MISSPELLED_WRAPPER)),
-                )
-                if isinstance(alias.name, cst.Name) and alias.name.value == MISSPELLED_WRAPPER
-                else alias
-                for alias in node.names
-            ]
-            return node.with_changes(names=names)
-
-        self.plan.replace(statement, build)
-        self.report(statement, "PZ108", f"`{MISSPELLED_WRAPPER}` is spelled `BaseParallelWrapper` in current PettingZoo")
-
     def _plan_agent_selector(self, statement: ast.ImportFrom) -> None:
         """``from pettingzoo.utils import agent_selector`` is the module since 1.24 (the class is
         ``AgentSelector``): calling it raises ``TypeError: 'module' object is not callable``."""
@@ -190,6 +172,22 @@ class EnvClasses(PettingZooFamily):
 
     # -- self.dones -----------------------------------------------------------------------
 
+    def _plan_unpacked_self_dones(self, attr: ast.Attribute) -> set[int]:
+        """``obs, rews, self.dones, infos = self.<held>.step(actions)``: the ``self.dones`` uses
+        decided with it (inner_dones.py), none when it is no such unpack."""
+        unpack = inner_step_unpack(self, attr)
+        if unpack is None or self.multi_agent.kind(unpack[1]) is not None:
+            return set()  # a PettingZoo env's step: its dones are split already
+        assign, held = unpack
+        classdef = self.facts.enclosing_class(attr)
+        assert classdef is not None
+        dels = trailing_dels(self, assign, "self.dones")
+        if plan_inner_dones(self, classdef, assign, held, "self.dones", lambda new: self.rename_attribute(attr, new), dels):
+            self._dones_split.add(id(classdef))
+            return {id(attr)} | {id(target.value) for statement in dels for target in statement.targets}  # type: ignore[attr-defined]
+        self._dones_left.add(id(classdef))
+        return {id(attr)}
+
     def _plan_self_dones(self, attr: ast.Attribute) -> None:
         parent = self.facts.parent(attr)
         classdef = self.facts.enclosing_class(attr)
@@ -197,7 +195,10 @@ class EnvClasses(PettingZooFamily):
         split = DonesSplit(self, classdef, "self.terminations", "self.truncations", lambda new: self.rename_attribute(attr, new))
         if isinstance(parent, ast.Assign) and parent.targets == [attr]:
             split.whole(parent, owned=True)
+            self._dones_split.add(id(classdef))
             return
+        if self._returned_by_parallel_step(attr, classdef):
+            return  # the returned dict: PZ104's (``_plan_parallel_step``)
         if isinstance(parent, ast.Subscript) and parent.value is attr:
             statement = self.facts.parent(parent)
             if isinstance(parent.ctx, ast.Store) and isinstance(statement, ast.Assign) and statement.targets == [parent]:
@@ -207,8 +208,20 @@ class EnvClasses(PettingZooFamily):
                 self._read_both(parent, "self.terminations", "self.truncations")
                 return
         if not self._aggregate_both(attr, "self.terminations", "self.truncations"):
+            self._dones_left.add(id(classdef))
             self.report(attr, "PZ108", "`self.dones` was replaced by `self.terminations` and `self.truncations` in "
-                        "PettingZoo 1.21: change this use by hand", FixKind.FLAG)
+                        "PettingZoo 1.21: change this use by hand", FixKind.FLAG, question=dones_question(classdef))
+
+    def _returned_by_parallel_step(self, attr: ast.Attribute, classdef: ast.ClassDef) -> bool:
+        """``return obs, rews, self.dones, infos`` in a parallel env's own ``step``."""
+        holder = self.facts.parent(attr)
+        function = self.facts.enclosing_function(attr)
+        return (
+            self.classes.get(id(classdef)) is EnvKind.PZ_PARALLEL
+            and isinstance(holder, ast.Tuple) and len(holder.elts) == 4 and holder.elts[2] is attr
+            and isinstance(self.facts.parent(holder), ast.Return)
+            and function is not None and function.name == "step" and self.facts.parent(function) is classdef
+        )
 
     def _read_both(self, subscript: ast.Subscript, terminations: str, truncations: str) -> None:
         index = self.facts.segment(subscript.slice)
@@ -375,7 +388,7 @@ class EnvClasses(PettingZooFamily):
 
     # -- reset ----------------------------------------------------------------------------
 
-    def _plan_reset(self, reset: ast.FunctionDef | ast.AsyncFunctionDef, kind: EnvKind, seeds_itself: bool) -> None:
+    def _plan_reset(self, reset: ast.FunctionDef | ast.AsyncFunctionDef, kind: EnvKind, seed: ast.FunctionDef | ast.AsyncFunctionDef | None) -> None:
         self._dropped: list[ast.If] = []
         args = reset.args
         names = [a.arg for a in (*args.posonlyargs, *args.args, *args.kwonlyargs)]
@@ -393,10 +406,17 @@ class EnvClasses(PettingZooFamily):
             self.plan.replace(reset, lambda node: _reset_signature(node, missing))
             self.report(reset, "PZ105", "`reset` takes `seed=None, options=None` (PettingZoo 1.23 dropped `return_info`)",
                         FixKind.AUTO)
-        if "seed" in missing and seeds_itself:
-            _insert_first(self.plan, reset, "if seed is not None:\n    self.seed(seed)")
-            self.report(reset, "PZ106", "the env seeds itself in `seed()`, which PettingZoo no longer calls: "
-                        "`reset(seed=...)` calls it now; review", FixKind.ASSIST)
+        if "seed" in missing and seed is not None:
+            doubt = _seed_doubt(seed)
+            if doubt is None:
+                # ``env.seed(s); env.reset()`` ran the same two bodies in the same order.
+                _insert_first(self.plan, reset, "if seed is not None:\n    self.seed(seed)")
+                self.report(reset, "PZ106", "the env seeds itself in `seed()`, which PettingZoo no longer calls: "
+                            "`reset(seed=...)` calls it first, as `env.seed(s)` before `env.reset()` did",
+                            FixKind.ASSIST, tier=Tier.NOTE)
+            else:
+                self.report(reset, "PZ106", "the env seeds itself in `seed()`, which PettingZoo no longer calls, "
+                            f"and {doubt}: seed the env from `reset(seed=...)` by hand", FixKind.FLAG)
         if kind is EnvKind.PZ_PARALLEL:
             for returned in own_returns(reset):
                 value = returned.value
@@ -485,9 +505,22 @@ class EnvClasses(PettingZooFamily):
                 self.split_target(value, 2, "terminations", "truncations")
                 self.report(returned, "PZ104", "a parallel `step` returns terminations and truncations since PettingZoo "
                             "1.21", FixKind.AUTO)
+            elif self._split_self_dones(classdef, dones):
+                # every store of ``self.dones`` in the class went to one dict, with the other beside it
+                self.split_target(value, 2, "self.terminations", "self.truncations")
+                self.report(returned, "PZ104", "a parallel `step` returns terminations and truncations since PettingZoo "
+                            "1.21", FixKind.AUTO)
             else:
                 self.report(returned, "PZ104", "a parallel `step` returns five dicts since PettingZoo 1.21: split "
-                            f"`{self.facts.segment(dones)}` into terminations and truncations", FixKind.FLAG)
+                            f"`{self.facts.segment(dones)}` into terminations and truncations", FixKind.FLAG,
+                            question=dones_question(classdef))
+
+    def _split_self_dones(self, classdef: ast.ClassDef, dones: ast.expr) -> bool:
+        return (
+            isinstance(dones, ast.Attribute) and dones.attr == "dones"
+            and isinstance(dones.value, ast.Name) and self.receivers.is_self(dones.value)
+            and id(classdef) in self._dones_split and id(classdef) not in self._dones_left
+        )
 
     def _local_dones(self, classdef: ast.ClassDef, step: ast.FunctionDef | ast.AsyncFunctionDef, name: str) -> bool:
         """Split the local ``dones`` of a parallel ``step``: each whole store and item store by
@@ -495,18 +528,36 @@ class EnvClasses(PettingZooFamily):
         plain ``dones = ...``."""
         scope = self.facts.scopes[step]
         bindings = [b for b in scope.bindings[name] if isinstance(b, ast.Name)]
-        if len(bindings) != len(scope.bindings[name]) or not all(_plain_assign(self.facts.parent(b), b) for b in bindings):
+        # ``obs, rews, dones, infos = self.<held>.step(actions)``: the dones of what the env drives
+        unpacks = {id(b): u for b in bindings if (u := inner_step_unpack(self, b)) is not None and self.multi_agent.kind(u[1]) is None}
+        if len(bindings) != len(scope.bindings[name]) or not all(
+            id(b) in unpacks or _plain_assign(self.facts.parent(b), b) for b in bindings
+        ):
             return False
+        dels = {id(b): trailing_dels(self, unpacks[id(b)][0], name) for b in bindings if id(b) in unpacks}
+        unsettled = [b for b in bindings if id(b) in unpacks and settled(self, *unpacks[id(b)], dels[id(b)])[0] is None]
+        for binding in unsettled or [b for b in bindings if id(b) in unpacks]:
+            # an unsettled unpack is asked about there, and nothing of the step is planned
+            plan_inner_dones(self, classdef, *unpacks[id(binding)], name, partial(self.rename, binding), dels[id(binding)])
+        if unsettled:
+            return False
+        taken = {id(target.value) for found in dels.values() for statement in found for target in statement.targets}  # type: ignore[attr-defined]
         flow = Flow.of(self.facts)
-        reads = list({id(r): r for b in bindings for r in flow.reads(b)}.values())
+        reads = [r for r in {id(r): r for b in bindings for r in flow.reads(b)}.values() if id(r) not in taken]
+        bindings = [b for b in bindings if id(b) not in unpacks]
         empty = any(is_empty_dict(self.facts.parent(b).value) for b in bindings)  # type: ignore[union-attr]
         splits: list[DonesSplit] = []
         item_stores: list[tuple[ast.Assign, ast.Subscript, DonesSplit]] = []
         other_reads: list[ast.Name] = []
+        # An unpack at the top of the step binds both dicts before any later store: such a
+        # store keeps an agent that terminated on the step terminated, as ``self.dones`` does.
+        bound = [unpacks[key][0] for key in unpacks if unpacks[key][0] in step.body]
         for binding in bindings:
             split = DonesSplit(self, classdef, "terminations", "truncations", partial(self.rename, binding), empty)
             splits.append(split)
-            split.whole(self.facts.parent(binding), owned=False)  # type: ignore[arg-type]
+            store = self.facts.parent(binding)
+            owned = any(assign.lineno < binding.lineno for assign in bound)
+            split.whole(store, owned=owned)  # type: ignore[arg-type]
         for read in reads:
             subscript = self.facts.parent(read)
             statement = self.facts.parent(subscript) if subscript is not None else None
@@ -587,6 +638,27 @@ def _insert_first(plan, function: ast.FunctionDef | ast.AsyncFunctionDef, code: 
         plan.insert_after(first, code)
     else:
         plan.insert_before(first, code)
+
+
+def _seed_doubt(seed: ast.FunctionDef | ast.AsyncFunctionDef) -> str | None:
+    """Why ``self.seed(seed)`` at the top of ``reset`` may not do what a caller's
+    ``env.seed(s)`` before ``env.reset()`` did; None when it does."""
+    args = seed.args
+    positional = [*args.posonlyargs, *args.args][1:]  # after ``self``
+    required = len(positional) - len(args.defaults)
+    if not positional and args.vararg is None:
+        return "its `seed()` takes no seed by position"
+    if required > 1 or any(default is None for default in args.kw_defaults):
+        return "its `seed()` takes more than the seed"
+    if isinstance(seed, ast.AsyncFunctionDef):
+        return "its `seed()` is a coroutine"
+    for node in ast.walk(seed):
+        if (
+            isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "reset"
+            and isinstance(node.func.value, ast.Name) and node.func.value.id == "self"
+        ):
+            return "its `seed()` calls `self.reset()` (calling it from `reset` would loop)"
+    return None
 
 
 def _is_docstring(statement: ast.stmt) -> bool:
