@@ -8,6 +8,7 @@ import textwrap
 import pytest
 
 from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.module import call_argument, full_name, own_returns
 from gymmigrate.facts.per_agent_flags import PerAgent, per_agent_done
 from gymmigrate.facts.receivers import EnvKind, Receivers
@@ -229,3 +230,39 @@ def test_lookup_forwarded_to(body: str, slot: str | None) -> None:
 def test_per_agent_done(body: str, expected) -> None:
     function = ast.parse(f"def step(obs, done, info, t):\n    {body}\n").body[0]
     assert per_agent_done(function, "done") == expected
+
+
+@pytest.mark.parametrize(
+    ("body", "may", "always"),
+    [
+        pytest.param("a()\nb()", True, True, id="straight line"),
+        pytest.param("b()\na()", False, False, id="later in the text"),
+        pytest.param("a()\nfor _ in n:\n    if c:\n        b()", True, True, id="in a later block"),
+        pytest.param("if c:\n    a()\nb()", True, False, id="a on one path"),
+        pytest.param("if c:\n    a()\nelse:\n    b()", False, False, id="two arms of an if"),
+        pytest.param("if c:\n    return a()\nb()", False, False, id="a returns"),
+        pytest.param("if c:\n    a()\n    raise E\nb()", False, False, id="a raises"),
+        pytest.param("try:\n    x()\nexcept E:\n    a()\nexcept F:\n    b()", False, False, id="two handlers"),
+        pytest.param("x = y if c else a()\nb()", True, False, id="a in a conditional value"),
+        pytest.param("while c:\n    b()\n    a()", True, False, id="a loop comes round"),
+        pytest.param("while c:\n    b()\n    a()\n    break", False, False, id="a loop that breaks"),
+        pytest.param("while c:\n    b()\n    for _ in n:\n        a()\n        break", True, False, id="an inner break"),
+    ],
+)
+def test_may_run_before_and_always_before(body: str, may: bool, always: bool) -> None:
+    source = "def f():\n" + textwrap.indent(body, "    ") + "\n"
+    facts = ModuleFacts(ast.parse(source), source)
+    function = facts.functions["f"]
+    calls = {c.func.id: c for c in ast.walk(function) if isinstance(c, ast.Call) and isinstance(c.func, ast.Name)}
+    flow = Flow(facts)
+    assert flow.may_run_before(calls["a"], calls["b"], function) is may
+    assert flow.always_before(calls["a"], calls["b"]) is always
+
+
+def test_a_loop_runs_a_call_again_before_itself() -> None:
+    source = "def f():\n    while c:\n        a()\n        if d:\n            return\n    b()\n"
+    facts = ModuleFacts(ast.parse(source), source)
+    function = facts.functions["f"]
+    call = next(c for c in ast.walk(function) if isinstance(c, ast.Call) and getattr(c.func, "id", "") == "a")
+    assert Flow(facts).may_run_before(call, call, function)
+    assert not Flow(facts).always_before(call, call)

@@ -196,6 +196,70 @@ class Flow:
                     return False  # rebound later in a loop that runs the read again
         return True
 
+    def may_run_before(self, first: ast.AST, second: ast.AST, function: ast.AST) -> bool:
+        """In one call of ``function``, ``first`` may run before ``second``: it comes earlier
+        in the text, or a loop of the function runs both and comes round to ``second`` again
+        after ``first``; never from the other arm of an ``if``/``match``/``except`` that
+        ``second`` is in, nor where a ``return``/``raise`` after ``first`` leaves before
+        ``second`` is reached (a ``break`` of that loop too, for the loop's next turn)."""
+        facts = self.facts
+        above_first = {id(a) for a in facts.ancestors(first)}
+        common = next((a for a in facts.ancestors(second) if id(a) in above_first), None)
+        if common is None or not contains(function, common):
+            return False
+        if _alternatives(common, _child_toward(facts, common, first), _child_toward(facts, common, second)):
+            return False
+        if start(first) < start(second) and not self._leaves(first, common, (ast.Return, ast.Raise), before=second):
+            return True
+        for loop in [common, *facts.ancestors(common)]:
+            if loop is function or not contains(function, loop):
+                break
+            if (
+                isinstance(loop, LOOPS)
+                and any(contains(s, first) for s in loop.body)
+                and any(contains(s, second) for s in loop.body)
+                and not self._leaves(first, loop, (ast.Return, ast.Raise, ast.Break))
+            ):
+                return True
+        return False
+
+    def always_before(self, first: ast.AST, second: ast.AST) -> bool:
+        """Wherever ``second`` runs, ``first`` has run before it: ``first`` is evaluated
+        whenever its statement runs (not in one arm of a conditional value or of ``and``/
+        ``or``, nor in a comprehension or lambda), and ``second`` sits in a later statement of
+        the same block."""
+        statement = self.facts.statement_of(first)
+        child = first
+        for ancestor in self.facts.ancestors(first):
+            if ancestor is statement:
+                break
+            if isinstance(ancestor, (ast.Lambda, *COMPREHENSIONS)):
+                return False
+            if isinstance(ancestor, ast.IfExp) and child is not ancestor.test:
+                return False
+            if isinstance(ancestor, ast.BoolOp) and child is not ancestor.values[0]:
+                return False
+            child = ancestor
+        return self._follows_in_block(statement, second)
+
+    def _leaves(self, node: ast.AST, outer: ast.AST, exits: tuple[type[ast.stmt], ...], before: ast.AST | None = None) -> bool:
+        """Below ``outer``, a statement of an ``exits`` kind follows ``node`` in a block that
+        holds it (or is ``node``'s own statement), ahead of ``before`` when given: the run
+        never gets from ``node`` past that block. A ``break`` counts only where it leaves
+        ``outer`` (no loop nearer)."""
+        for ancestor in [node, *self.facts.ancestors(node)]:
+            if ancestor is outer:
+                return False
+            if not isinstance(ancestor, ast.stmt):
+                continue
+            loop = next((a for a in self.facts.ancestors(ancestor) if isinstance(a, LOOPS)), None)
+            kinds = tuple(k for k in exits if k is not ast.Break or loop is outer)
+            block = self.block_of(ancestor)
+            later = [s for s in block[0][block[1] + 1 :] if before is None or end(s) <= start(before)] if block is not None else []
+            if isinstance(ancestor, kinds) or any(isinstance(s, kinds) for s in later):
+                return True
+        return False
+
     def reaching(self, read: ast.Name) -> list[ast.AST] | None:
         """The bindings of the variable ``read`` reads whose value may reach it: not those
         the read cannot observe (later in the text, outside any loop around the read), nor
@@ -314,6 +378,36 @@ def _identifiers(node: ast.AST, around: Scope, facts: ModuleFacts) -> Iterator[t
     elif isinstance(node, (ast.Global, ast.Nonlocal)):
         for name in node.names:
             yield name, around
+
+
+def _child_toward(facts: ModuleFacts, holder: ast.AST, node: ast.AST) -> ast.AST:
+    """The child of ``holder`` that ``node`` sits in (``node`` itself when it is one)."""
+    return next((a for a in [node, *facts.ancestors(node)] if facts.parent(a) is holder), node)
+
+
+def _alternatives(holder: ast.AST, one: ast.AST, other: ast.AST) -> bool:
+    """``one`` and ``other`` (children of ``holder``) sit in arms of ``holder`` of which one
+    call runs one at most: the body and the else of an ``if`` (or of a conditional value),
+    two handlers of a ``try`` (or a handler and its else), two cases of a ``match``."""
+    if isinstance(holder, (ast.If, ast.IfExp)):
+        arms: list[list[ast.AST]] = [_as_list(holder.body), _as_list(holder.orelse)]
+    elif isinstance(holder, _TRIES):
+        arms = [[handler] for handler in holder.handlers] + [list(holder.orelse)]  # type: ignore[attr-defined]
+    elif _MATCH is not None and isinstance(holder, _MATCH):
+        arms = [[case] for case in holder.cases]  # type: ignore[attr-defined]
+    else:
+        return False
+    one_arm = next((i for i, arm in enumerate(arms) if any(item is one for item in arm)), None)
+    other_arm = next((i for i, arm in enumerate(arms) if any(item is other for item in arm)), None)
+    return one_arm is not None and other_arm is not None and one_arm != other_arm
+
+
+def _as_list(arm: ast.AST | list[ast.stmt]) -> list[ast.AST]:
+    return list(arm) if isinstance(arm, list) else [arm]
+
+
+_TRIES: tuple[type[ast.AST], ...] = tuple(t for t in (ast.Try, getattr(ast, "TryStar", None)) if t is not None)
+_MATCH: type[ast.AST] | None = getattr(ast, "Match", None)
 
 
 def bound_names(target: ast.AST) -> set[str]:

@@ -309,6 +309,9 @@ class ProjectFacts:
     unset_spaces: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
     # the ids the run registers with the Gym registry (None: one it registers is no literal)
     registered_ids: set[str | None] = field(default_factory=set)
+    # Some module registers envs whose entry points are no literal (``opaque_registrations``):
+    # an id made anywhere may then build any env class of the run.
+    registers_from_data: bool = False
 
     @classmethod
     def join(cls, summaries: list[ModuleSummary], blocked: dict[str, str] | None = None) -> ProjectFacts:
@@ -382,6 +385,7 @@ class ProjectFacts:
         facts.requires = required_packages(imported)
         join_registered_classes(facts, by_path)
         join_unset_spaces(facts, by_path)
+        facts.registers_from_data = any(summary.opaque_registrations for summary in summaries)
         Exports(facts, by_path).run()
         join_thunk_factory_refs(facts, by_path)
         facts.own_renders = own_renders(facts, by_path)

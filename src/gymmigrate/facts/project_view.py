@@ -577,6 +577,12 @@ class ProjectView:
         """A class of this module that the run registers as an ``entry_point``."""
         return (self.path, name) in self.facts.registered_classes
 
+    def reached_from_outside(self, name: str) -> bool:
+        """Code of the run beyond this module may get hold of its env class ``name``:
+        another module imports this one, or registers ``name`` (or any class, from
+        entry points that are no literal) for ``make`` to build."""
+        return bool(self.facts.importers.get(self.path)) or self.registered_here(name) or self.facts.registers_from_data
+
     def non_space_env(self, module: str, name: str) -> tuple[str, str, str] | None:
         """For ``module:name`` as an ``entry_point`` spells it, a class of the run whose
         spaces are not Spaces: (attribute, space class, what that class derives from)."""

@@ -3,7 +3,8 @@
 * ``metadata.py``      GM404 metadata keys (and a missing ``render_fps``)
 * ``reward_range.py``  GM507 reads of the removed ``reward_range``
 * ``env_class.py``     the family that migrates each env class's methods, deciding with
-  ``seed.py`` (GM503), ``reset.py`` (GM501, GM502), ``step.py`` (GM504; the
+  ``seed.py`` (GM503), ``reset.py`` (GM501, GM502; a reset that returns nothing on some
+  path in ``reset_none.py``), ``step.py`` (GM504; the
   step limits in a done in ``step_limits.py``, a done from another step in
   ``step_delegates.py``),
   ``render.py`` (GM405), ``observations.py`` (GM508, GM509) and ``spaces.py`` (GM511), with ``hooks.py`` (a

@@ -43,6 +43,7 @@ from gymmigrate.rules.custom_env.reset import (
     decide_published,
     decide_reset,
 )
+from gymmigrate.rules.custom_env.reset_none import decide_reset_without_observation
 from gymmigrate.rules.custom_env.seed import decide_seed
 from gymmigrate.rules.custom_env.seeding_import import drop_unused_seeding_import
 from gymmigrate.rules.custom_env.spaces import decide_unset_spaces
@@ -110,6 +111,7 @@ class EnvClassFamily(RuleFamily):
             if not kept:
                 decide_seed(decision)
                 decide_reset(decision)
+                decide_reset_without_observation(decision)
             decide_step(decision, inherited)
             if not kept:
                 # render(mode) belongs to that same own API: its callers (``Runner.run``

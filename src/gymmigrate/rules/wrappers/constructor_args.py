@@ -10,7 +10,9 @@ raises ``ValueError: <Name> wrapper does not inherit from
 gym had no such recreation.
 
 A wrapper class whose own ``__init__(self, env, ...)`` takes arguments besides the env records them the way
-Gymnasium's own wrappers do: its first statement becomes
+Gymnasium's own wrappers do (the env is the parameter named ``env`` wherever it stands,
+``__init__(self, shape, env=None)`` included, since the recreation passes it as
+``env=``; without one, the first parameter after ``self``): its first statement becomes
 ``gym.utils.RecordConstructorArgs.__init__(self, weight=weight, ...)`` (before anything
 can rebind a parameter), and a class that derives directly from ``Wrapper``,
 ``ObservationWrapper``, ``ActionWrapper`` or ``RewardWrapper`` gains
@@ -123,8 +125,11 @@ class WrapperConstructorArgs(RuleFamily):
     def _record(self, classdef: ast.ClassDef, init: ast.FunctionDef | ast.AsyncFunctionDef) -> None:
         args = init.args
         positional = [*args.posonlyargs, *args.args]
-        if len(positional) < 2 or args.posonlyargs:
-            return  # no env parameter, or positional-only ones: not a wrapper constructor we can read
+        if args.posonlyargs:
+            return  # positional-only parameters cannot be recorded by name
+        env = _env_param(init)
+        if env is None:
+            return  # no env parameter: not a wrapper constructor we can read
         if args.vararg is not None:
             # Gym could not recreate a wrapper at all: only a run that rebuilds envs from
             # their spec (``check_env``, ``make(env.spec)``) meets the ValueError.
@@ -140,7 +145,7 @@ class WrapperConstructorArgs(RuleFamily):
                 tier=None if recreates else Tier.NOTE,
             )
             return
-        recorded = [*positional[2:], *args.kwonlyargs]
+        recorded = [a for a in (*positional[1:], *args.kwonlyargs) if a is not env]
         if not recorded and args.kwarg is None:
             return  # only the env: left as it is (nothing of its own to record)
         defaults = dict(zip([a.arg for a in positional][len(positional) - len(args.defaults) :], args.defaults))
@@ -179,6 +184,17 @@ class WrapperConstructorArgs(RuleFamily):
             + ": Gymnasium 1.x recreates wrappers from `env.spec` (`make(env.spec)`, `check_env`) and raises ValueError "
             f"for one that does not{copy}",
         )
+
+
+def _env_param(init: ast.FunctionDef | ast.AsyncFunctionDef) -> ast.arg | None:
+    """The parameter that takes the wrapped env: the one named ``env`` wherever it stands
+    (``__init__(self, shape, env=None)``), as Gymnasium's recreation passes it
+    (``wrapper(env=env, **kwargs)``); without one, the first after ``self``."""
+    args = init.args
+    named = next((a for a in (*args.args[1:], *args.kwonlyargs) if a.arg == "env"), None)
+    if named is not None:
+        return named
+    return args.args[1] if len(args.args) >= 2 else None
 
 
 def _plain(arg: ast.arg, default: ast.expr | None) -> bool:

@@ -4,7 +4,9 @@
 reset family unpacked the inner reset into (``notes.reset_info_names``), or
 ``{}`` when the override has none; ``return f(self.env.reset(**kw))`` gets the inner
 reset hoisted into ``obs, info = ...``. Pass-throughs stay. ``def reset(self)`` takes
-Gymnasium's ``*, seed=None, options=None``, which outer wrappers always pass.
+Gymnasium's ``*, seed=None, options=None``, which outer wrappers always pass, and hands
+them on to its inner resets: the seed to the first only (a reset again after another, a
+no-op loop's, gets the options; a retry loop drops the seed once used).
 """
 
 from __future__ import annotations
@@ -13,6 +15,7 @@ import ast
 from collections.abc import Sequence
 
 from gymmigrate.edits.lazy import cst
+from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.module import own_returns
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import RuleFamily
@@ -51,7 +54,7 @@ class ResetOverrides(RuleFamily):
             elif isinstance(target, ast.Name) and noted_info is not None:
                 info_name = info_name or noted_info
                 completed.add(assign)
-        fixed_signature = self._fix_reset_signature(function, inner)
+        passed_on = self._fix_reset_signature(function, inner)
         taken = _names_in(function)
         needs_info_default = False
         for ret in own_returns(function):
@@ -62,7 +65,7 @@ class ResetOverrides(RuleFamily):
                 continue
             calls = _inner_calls(value, "reset", inner)
             if calls:
-                self._hoist_reset(ret, calls, taken, fixed_signature)
+                self._hoist_reset(ret, calls, taken, passed_on)
                 continue
             info_code = "{}"
             if info_name is not None:
@@ -96,32 +99,41 @@ class ResetOverrides(RuleFamily):
             else:
                 self.plan.insert_before(body[0], f"{info_name} = {{}}")
 
-    def _fix_reset_signature(self, function: ast.FunctionDef | ast.AsyncFunctionDef, inner: Sequence[str] = INNER) -> bool:
-        """``def reset(self)`` cannot take the seed/options that every outer wrapper passes."""
+    def _fix_reset_signature(self, function: ast.FunctionDef | ast.AsyncFunctionDef, inner: Sequence[str] = INNER) -> set[int] | None:
+        """``def reset(self)`` cannot take the seed/options that every outer wrapper passes.
+        The new signature's seed and options go on to the inner resets: the ids of those that
+        reset again after another (options only) where the signature is new, else None."""
         args = function.args
         if len(args.args) != 1 or args.posonlyargs or args.kwonlyargs or args.kwarg or args.vararg:
-            return False
+            return None
         # The edits first, then the finding they carry out (how the plan ties an edit to the
         # finding it serves when the run leaves GM601 out: the pass-on must go with it).
         calls = _inner_calls(function, "reset", inner)
-        for call in calls:
-            if not call.args and not call.keywords:
-                self.plan.replace(call, _pass_seed_and_options)
+        bare = [c for c in calls if not c.args and not c.keywords]
+        again, reseeded = self._resets_again(function, calls, bare)
+        for call in bare:
+            self.plan.replace(call, _pass_options if id(call) in again else _pass_seed_and_options)
+        for call in reseeded:
+            self.plan.insert_after(self.facts.statement_of(call), "seed = None")
         self.plan.replace(function, _keyword_seed_and_options)
-        self.report(
-            function,
-            "GM601",
-            "reset now takes keyword-only `seed` and `options` (outer wrappers always pass them); "
-            + (
-                "they are passed on to the inner reset"
-                if calls
-                else "this override calls no reset of the env it wraps, so they are not used (as the legacy reset took none)"
-            ),
-            tier=Tier.NOTE,  # what Gymnasium's own Wrapper.reset does
-        )
-        return True
+        self.report(function, "GM601", _signature_message(calls, [c for c in bare if id(c) in again], reseeded), tier=Tier.NOTE)
+        return again
 
-    def _hoist_reset(self, ret: ast.Return, calls: list[ast.Call], taken: set[str], fixed_signature: bool) -> None:
+    def _resets_again(self, function: ast.AST, calls: list[ast.Call], bare: list[ast.Call]) -> tuple[set[int], list[ast.Call]]:
+        """Which of the ``bare`` inner resets (no arguments yet) run only after another inner
+        reset (``obs = self.env.reset()``, then ``if done: self.env.reset()`` in a no-op
+        loop): their ids, for the options alone; and which of those given the seed may run
+        before a reset given it too, their own loop's next turn included (a retry loop): the
+        seed is dropped after them. The legacy env, seeded once by ``env.seed()``, went on to
+        a new episode at each further reset; the seed passed again would restart the very
+        episode it seeded."""
+        flow = Flow.of(self.facts)
+        again = {id(c) for c in bare if any(o is not c and flow.always_before(o, c) for o in calls)}
+        seeded = [c for c in bare if id(c) not in again]
+        reseeded = [c for c in seeded if any(flow.may_run_before(c, o, function) for o in seeded)]
+        return again, reseeded
+
+    def _hoist_reset(self, ret: ast.Return, calls: list[ast.Call], taken: set[str], passed_on: set[int] | None) -> None:
         """``return f(self.env.reset(**kw))`` -> ``obs, info = self.env.reset(**kw)`` + ``return f(obs), info``."""
         if len(calls) != 1 or self._shares_line(ret):
             self.report(ret, "GM601", "reset must return (obs, info): rewrite this return by hand", kind=FixKind.FLAG)
@@ -131,8 +143,9 @@ class ResetOverrides(RuleFamily):
         # The same function of the same observation, and the inner reset's own info: exact.
         self.report(ret, "GM601", f"reset returns (obs, info): the inner reset is unpacked into `{obs_name}, {info_name}`", tier=Tier.NOTE)
         call_text = self.facts.segment(call)
-        if fixed_signature and not call.args and not call.keywords:
-            call_text = call_text[: call_text.rindex("(") + 1] + "seed=seed, options=options)"
+        if passed_on is not None and not call.args and not call.keywords:
+            keywords = "options=options" if id(call) in passed_on else "seed=seed, options=options"
+            call_text = call_text[: call_text.rindex("(") + 1] + keywords + ")"
         self.plan.insert_before(ret, f"{obs_name}, {info_name} = {call_text}")
 
         def rewrite(node: cst.Return) -> cst.Return:
@@ -179,6 +192,22 @@ class ResetOverrides(RuleFamily):
         return False
 
 
+def _signature_message(calls: list[ast.Call], again: list[ast.Call], reseeded: list[ast.Call]) -> str:
+    said = "reset now takes keyword-only `seed` and `options` (outer wrappers always pass them); "
+    if not calls:
+        return said + "this override calls no reset of the env it wraps, so they are not used (as the legacy reset took none)"
+    said += "they are passed on to the inner reset"
+    if again:
+        lines = ", ".join(str(line) for line in sorted({c.lineno for c in again}))
+        said += f"; the reset that runs again after it (line {lines}) gets the options only"
+    if reseeded:
+        lines = ", ".join(str(line) for line in sorted({c.lineno for c in reseeded}))
+        said += f"; the seed is dropped after the reset that may run again (line {lines})"
+    if again or reseeded:
+        said += ": a seed starts one episode, not the same one again"
+    return said
+
+
 def _already_pair(value: ast.expr, info_name: str | None) -> bool:
     """``obs, info`` / ``obs, {}``: a reset return that already has Gymnasium's shape."""
     if not isinstance(value, ast.Tuple) or len(value.elts) != 2:
@@ -216,6 +245,15 @@ def _pass_seed_and_options(node: cst.BaseExpression) -> cst.BaseExpression:
             cst.Arg(keyword=cst.Name("options"), value=cst.Name("options"), equal=_assign_equal()),
         ]
     )
+
+
+def _pass_options(node: cst.BaseExpression) -> cst.BaseExpression:
+    """A reset after the first: the options again, not the seed (see ``_resets_again``)."""
+    if isinstance(node, cst.Subscript):
+        return node.with_changes(value=_pass_options(node.value))
+    if not isinstance(node, cst.Call) or node.args:
+        return node
+    return node.with_changes(args=[cst.Arg(keyword=cst.Name("options"), value=cst.Name("options"), equal=_assign_equal())])
 
 
 def _keyword_seed_and_options(node: cst.FunctionDef) -> cst.FunctionDef:

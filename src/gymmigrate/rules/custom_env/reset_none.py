@@ -1,0 +1,140 @@
+"""GM501: a custom env's ``reset`` that returns nothing, on every path or on some.
+
+Some legacy envs reset their state and return nothing (``def reset(self): self.h =
+zeros(...)``): their own code never read the result, and gym never checked it. GM501 gives
+such a reset Gymnasium's signature and seeding, but Gymnasium's reset must return ``(obs,
+info)``: ``make()``'s env checker asserts it, every wrapper and vector env unpacks it, and
+``None`` raises there. The class has no observation at hand to return (what it would be is
+a decision about its contract, with its ``step``), so this is one item at the reset; a
+reset that returns a value on some paths names the others (a bare ``return``, the end of
+its body).
+
+Only where the run proves the class is used directly (built in its own module, each
+instance only asked for its attributes, its reset's result never read; no other module
+imports that module, and nothing registers it for ``make``) is that a note: no wrapper,
+checker or ``make`` ever meets the ``None``.
+"""
+
+from __future__ import annotations
+
+import ast
+
+from gymmigrate.facts.fall_through import may_fall_off
+from gymmigrate.facts.module import ModuleFacts, own_returns
+from gymmigrate.findings import FixKind, Tier
+from gymmigrate.rules.custom_env.common import (
+    ClassDecision,
+    Method,
+    is_docstring,
+    local_subclasses,
+)
+from gymmigrate.rules.custom_env.hooks import overrides
+
+
+def decide_reset_without_observation(decision: ClassDecision) -> None:
+    function = decision.method("reset")
+    if function is None or not _legacy(function) or _abstract(decision, function):
+        return
+    bare = [ret for ret in own_returns(function) if _returns_none(ret)]
+    valued = [ret for ret in own_returns(function) if not _returns_none(ret)]
+    falls = may_fall_off(function.body)
+    if not bare and not falls:
+        return
+    if valued:
+        places = [f"line {ret.lineno} (a bare `return`)" for ret in bare] + (["the end of its body"] if falls else [])
+        what = (
+            f"reset returns nothing at {' and at '.join(places)}, an observation elsewhere: Gymnasium's reset must "
+            "return `(obs, info)` on every path"
+        )
+        todo = "return the observation with an info dict there too, by hand"
+    else:
+        what = "reset returns nothing: Gymnasium's reset must return `(obs, info)`"
+        todo = "there is no observation at hand here, so returning one with an info dict is a decision to take with what step() returns"
+    name = decision.classdef.name
+    direct = _used_directly(decision)
+    decision.report(
+        function,
+        "GM501",
+        f"{what}, which `make()`'s env checker, every wrapper and the vector envs unpack (a TypeError on None); {todo}"
+        + (
+            f"; the run uses `{name}` only directly (built in this module, never handed on, wrapped, registered or "
+            "imported elsewhere, its reset's result unread), where nothing unpacks it"
+            if direct
+            else ""
+        ),
+        FixKind.FLAG,
+        tier=Tier.NOTE if direct else None,
+    )
+
+
+def _legacy(function: Method) -> bool:
+    """A gym-era signature the family migrates: no ``seed``/``options`` pair yet, no
+    ``return_info`` (whose resets return a value in either mode), not a generator."""
+    args = function.args
+    names = {a.arg for a in (*args.posonlyargs, *args.args, *args.kwonlyargs)}
+    if "return_info" in names or {"seed", "options"} <= names:
+        return False
+    return not any(isinstance(node, (ast.Yield, ast.YieldFrom)) for node in ast.walk(function))
+
+
+def _abstract(decision: ClassDecision, function: Method) -> bool:
+    """A placeholder for subclasses: ``@abstractmethod``, or a body of only a docstring,
+    ``pass`` and ``...`` that subclasses (here or elsewhere in the run) override."""
+    for decorator in function.decorator_list:
+        name = decorator.attr if isinstance(decorator, ast.Attribute) else decorator.id if isinstance(decorator, ast.Name) else ""
+        if name == "abstractmethod":
+            return True
+    body = function.body[1:] if is_docstring(function.body[:1]) else function.body
+    placeholder = all(
+        isinstance(s, ast.Pass) or (isinstance(s, ast.Expr) and isinstance(s.value, ast.Constant) and s.value.value is Ellipsis)
+        for s in body
+    )
+    local, elsewhere = overrides(decision, "reset")
+    return placeholder and bool(local or elsewhere)
+
+
+def _returns_none(ret: ast.Return) -> bool:
+    return ret.value is None or (isinstance(ret.value, ast.Constant) and ret.value.value is None)
+
+
+def _used_directly(decision: ClassDecision) -> bool:
+    """The run proves no wrapper, checker or ``make`` reaches an instance: the class is
+    reached from no other module (``ProjectView.reached_from_outside``), nothing here
+    derives from it, and each read of its name builds an instance that is bound to a name
+    (or asked for an attribute at once) whose every read asks it for an attribute, without
+    reading what its reset returns."""
+    family = decision.family
+    project = family.receivers.project
+    classdef = decision.classdef
+    facts = family.facts
+    if project is None or facts.parent(classdef) is not facts.tree or project.reached_from_outside(classdef.name):
+        return False
+    if local_subclasses(decision):
+        return False
+    reads = facts.reads_of(classdef.name)
+    if not reads:
+        return False
+    for read in reads:
+        call = facts.parent(read)
+        if not (isinstance(call, ast.Call) and call.func is read):
+            return False
+        holder = facts.parent(call)
+        if isinstance(holder, ast.Attribute) and _only_asked(facts, holder):
+            continue
+        if not (isinstance(holder, ast.Assign) and holder.value is call and len(holder.targets) == 1 and isinstance(holder.targets[0], ast.Name)):
+            return False
+        target = holder.targets[0]
+        uses = facts.reads_of(target.id, target)
+        for use in uses:
+            owner = facts.parent(use)
+            if not (isinstance(owner, ast.Attribute) and _only_asked(facts, owner)):
+                return False
+    return True
+
+
+def _only_asked(facts: ModuleFacts, attribute: ast.Attribute) -> bool:
+    """``x.attr`` read or called; a ``reset()`` called only for its effect."""
+    if attribute.attr != "reset":
+        return True
+    call = facts.parent(attribute)
+    return isinstance(call, ast.Call) and call.func is attribute and isinstance(facts.parent(call), ast.Expr)

@@ -1,0 +1,78 @@
+"""A custom env's reset that returns nothing (rules/custom_env/reset_none.py), across a run.
+
+Gymnasium's reset must return ``(obs, info)``: the item at such a reset is a note only
+where the run proves nothing unpacks it, the class built in its own module and each
+instance only asked for attributes, its reset called for its effect; another module
+importing the class's module, a wrapper around an instance, or a read of what reset
+returns keeps it a review item.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from gymmigrate.cli import app
+
+runner = CliRunner()
+
+ENV = '''import gym
+import numpy as np
+
+
+class Pendulum2(gym.Env):
+    def __init__(self):
+        self.observation_space = gym.spaces.Box(-1.0, 1.0, (2,), np.float32)
+        self.action_space = gym.spaces.Box(-1.0, 1.0, (1,), np.float32)
+
+    def reset(self):
+        self.theta = 0.0
+
+    def step(self, action):
+        self.theta += float(action[0])
+        return np.array([np.cos(self.theta), np.sin(self.theta)], np.float32), 0.0, abs(self.theta) > 3.0, {}
+
+
+if __name__ == "__main__":
+    env = Pendulum2()
+{use}
+'''
+DIRECT = "    env.reset()\n    obs, reward, done, info = env.step(env.action_space.sample())\n"
+OTHER = 'import gym\n\nenv = gym.make("CartPole-v1")\nenv.reset()\n'
+
+
+def _reset_item(tmp_path: Path, use: str, other: str = OTHER) -> dict[str, object]:
+    (tmp_path / "pendulum2.py").write_text(ENV.replace("{use}", use))
+    (tmp_path / "train.py").write_text(other)
+    result = runner.invoke(app, ["check", "--output-format", "json", str(tmp_path)])
+    found = [
+        f
+        for f in json.loads(result.stdout)
+        if Path(f["path"]).name == "pendulum2.py" and f["rule"] == "GM501" and "returns nothing" in f["message"]
+    ]
+    assert len(found) == 1, found
+    return found[0]
+
+
+def test_a_class_the_run_uses_only_directly_gets_a_note(tmp_path: Path) -> None:
+    item = _reset_item(tmp_path, DIRECT)
+    assert item["line"] == 10
+    assert item["tier"] == "note"
+    assert "the run uses `Pendulum2` only directly" in str(item["message"])
+
+
+@pytest.mark.parametrize(
+    ("use", "other"),
+    [
+        pytest.param(DIRECT, "import gym\nfrom pendulum2 import Pendulum2\n\nenv = Pendulum2()\n", id="imported elsewhere"),
+        pytest.param("    env = gym.wrappers.TimeLimit(env, 100)\n    env.reset()\n", OTHER, id="wrapped"),
+        pytest.param("    first = env.reset()\n", OTHER, id="reset result read"),
+    ],
+)
+def test_any_other_use_keeps_the_review_item(tmp_path: Path, use: str, other: str) -> None:
+    item = _reset_item(tmp_path, use, other)
+    assert item["tier"] == "review"
+    assert "only directly" not in str(item["message"])
