@@ -2,8 +2,8 @@
 through the names and ``self`` attributes it is bound to, the tables (dicts, lists, tuples)
 that hold it, the items read from them and the loops over them, and the returns of the
 module's defs. The env id rules (GM803-GM805, GM809) ask it about a retired id that no
-call taking an id receives directly: ``{"scenario": "Ant-v2"}`` in a table whose entry is
-handed to another library's ``MujocoMulti(env_args=...)`` reaches a make there.
+call taking an id receives directly: ``{"task": "Ant-v2"}`` in a table whose entry is
+handed to another library's ``Simulator(settings=...)`` reaches a make there.
 
 A value is tracked with the containers that hold it, outermost first: reading an item
 (``table[k]``, ``table.get(k)``) or looping over a list or tuple takes the outermost one
@@ -83,7 +83,7 @@ def _steps(facts: ModuleFacts, receivers: Receivers, node: ast.AST, held: tuple[
     elif isinstance(parent, ast.keyword):
         call = facts.parent(parent)
         if isinstance(call, ast.Call):
-            if _builds_dict(facts, call):  # ``dict(scenario="Ant-v2")``
+            if _builds_dict(facts, call):  # ``dict(task="Ant-v2")``
                 yield (call, (_DICT, *held), 0, table)
             else:
                 yield Handover(call, parent.arg or "**", bool(held), table)

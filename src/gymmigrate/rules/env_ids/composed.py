@@ -8,8 +8,8 @@ removed id is reported at the call, since the parts may serve other ids too (a v
 shared by several domains) and are not rewritten. Parts that come from elsewhere (a loop
 over a table, another module) are not followed.
 
-``ENV_NAME + "-v2"`` (or ``f"{ENV_NAME}-v2"``) where every name is bound once to a literal
-(``ENV_NAME = "Swimmer"``) is an id the module builds whatever calls it: it is computed, and
+``ROBOT + "-v2"`` (or ``f"{ROBOT}-v2"``) where every name is bound once to a literal
+(``ROBOT = "Swimmer"``) is an id the module builds whatever calls it: it is computed, and
 where it goes is followed as a literal's is (``facts.handovers``). One that reaches a make,
 or another library's or the project's code the run cannot follow, is reported where it is
 built; several builds of the same id are one question.
@@ -35,7 +35,7 @@ RULES = (
         "ids built from parts",
         FixKind.FLAG,
         "An id a make builds from a def's parameters (`f\"{domain}-{task}\"`) whose parts are literals at a call of that def, "
-        "or from names bound to literals (`ENV_NAME + \"-v2\"`), is checked like a literal id: a retired or removed one is reported.",
+        "or from names bound to literals (`ROBOT + \"-v2\"`), is checked like a literal id: a retired or removed one is reported.",
     ),
 )
 
@@ -64,7 +64,7 @@ class ComposedIds(RuleFamily):
         self._check_built_ids()
 
     def _check_built_ids(self) -> None:
-        """``gym.make(ENV_NAME + "-v2")`` with ``ENV_NAME = "Swimmer"``: the id the module
+        """``gym.make(ROBOT + "-v2")`` with ``ROBOT = "Swimmer"``: the id the module
         builds, checked where it goes."""
         sites = IdSites(self.facts, self.receivers)
         for built in _built_strings(self.facts):
@@ -150,7 +150,7 @@ def _constant_part(facts: ModuleFacts, part: ast.expr) -> ast.expr:
 def _built_strings(facts: ModuleFacts) -> list[ast.expr]:
     """The outermost ``+`` chains and f-strings with a part that may end an id: a literal
     holding ``-v`` (``"-v2"``, ``f"{name}-v{version}"``) or a read of a name bound to one
-    (``f"{ENV_NAME}{VERSION}"``), in source order."""
+    (``f"{ROBOT}{VERSION}"``), in source order."""
     found: list[ast.expr] = []
     seen: set[int] = set()
     for string in facts.strings:

@@ -388,8 +388,8 @@ class IdSites:
 
         * ``for env_id in ["Hopper-v3", ...]: gym.make(env_id)`` (a branch's assignment, an
           item of a dict): it reaches a make, so it is an id site like any other;
-        * ``{"scenario": "Ant-v2", ...}`` in a table whose entry is handed to another
-          library (``MujocoMulti(env_args=table[name])``) or to the project's code that does
+        * ``{"task": "Ant-v2", ...}`` in a table whose entry is handed to another
+          library (``Simulator(settings=table[name])``) or to the project's code that does
           not keep it where it is: asked, not rewritten (the run has not seen it reach a
           make). Every literal handed on by one argument of one call is one question.
 

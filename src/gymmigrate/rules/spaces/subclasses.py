@@ -1,6 +1,6 @@
 """Space subclasses whose ``__init__`` skips the space's own (GM911). Part of ``drift.SpaceDrift``.
 
-``class SmallDiscrete(Discrete)`` setting ``self.n`` itself and calling
+``class ByteActions(Discrete)`` setting ``self.n`` itself and calling
 ``super(Discrete, self).__init__((), dtype)`` ran gym 0.21's ``Space.__init__`` only, to
 keep a dtype gym's ``Discrete`` overrode. Gymnasium 1.4's ``Discrete`` also reads
 ``start``, which only its ``__init__`` sets: ``sample()``, ``contains()``, ``repr()``,
