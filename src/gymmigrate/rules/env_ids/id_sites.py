@@ -9,11 +9,14 @@ from __future__ import annotations
 
 import ast
 import re
+import sys
+from collections.abc import Hashable
 from dataclasses import dataclass
 
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
 from gymmigrate.facts.flow import Flow
+from gymmigrate.facts.handovers import Handover, handovers
 from gymmigrate.facts.id_params import def_qualname, escaping_parameters
 from gymmigrate.facts.module import FUNCTIONS, call_argument, full_name
 from gymmigrate.facts.receivers import Receivers
@@ -22,6 +25,7 @@ from gymmigrate.rules.env_ids.catalog import env_package, migration_for, removed
 from gymmigrate.rules.env_ids.syntax import (
     FORWARDS_KWARGS,
     ID_FUNCTIONS,
+    ID_KEYWORDS,
     SB3_ID_FUNCTIONS,
     id_argument,
     is_registry,
@@ -52,6 +56,7 @@ class IdSite:
     conditional: bool = False  # one branch of ``a if c else b``: keywords would hit both
     untraced: bool = False  # a known retired id handed to the project's code the run cannot follow to a make
     keywords_at_call: bool = False  # via a constant only ``call`` reads: new keywords go to that call
+    question: Hashable | None = None  # what an untraced item asks, where other items ask the same
 
 
 # how many functions an id parameter is followed through to the literal its callers pass
@@ -60,6 +65,9 @@ _PARAMETER_HOPS = 4
 # Libraries with no Gymnasium release whose factories make envs through legacy gym's own
 # registry: registering ale_py with Gymnasium does nothing for them.
 _LEGACY_GYM_LIBRARIES = frozenset({"baselines", "stable_baselines", "ptan"})
+# Packages whose other calls never make an env from an id they are handed: Gym's own API
+# (its id-taking calls are ``_id_call``'s) and the legacy-Gym libraries above.
+_NEVER_MAKES = _LEGACY_GYM_LIBRARIES | {"gym", "gymnasium"}
 
 
 
@@ -117,6 +125,8 @@ class IdSites:
         sites.extend(site for site in self._ids_made_elsewhere() if id(site.string) not in known)
         known = {id(site.string) for site in sites}
         sites.extend(site for site in self._retired_ids_handed_on() if id(site.string) not in known)
+        known = {id(site.string) for site in sites}
+        sites.extend(self._retired_ids_passed_along(known))
         return sites
 
     def literal_of(self, name: ast.Name) -> ast.Constant | None:
@@ -370,6 +380,78 @@ class IdSites:
                     site.untraced = True
                     sites.append(site)
         return sites
+
+    def _retired_ids_passed_along(self, known: set[int]) -> list[IdSite]:
+        """A literal that is exactly a Gym id Gymnasium retired or removed, which no call
+        taking an id receives directly, followed through the names, ``self`` attributes,
+        tables and loops of the module (``facts.handovers``) to the calls that receive it:
+
+        * ``for env_id in ["Hopper-v3", ...]: gym.make(env_id)`` (a branch's assignment, an
+          item of a dict): it reaches a make, so it is an id site like any other;
+        * ``{"task": "Ant-v2", ...}`` in a table whose entry is handed to another
+          library (``Simulator(settings=table[name])``) or to the project's code that does
+          not keep it where it is: asked, not rewritten (the run has not seen it reach a
+          make). Every literal handed on by one argument of one call is one question.
+
+        A literal only printed, logged, joined into a path, compared or used as a dict key
+        reaches no make: nothing is said."""
+        sites = []
+        for string in self.facts.strings:
+            if id(string) in known or "-v" not in str(string.value):
+                continue
+            text = plain_string(self.facts, string)
+            if text is None:
+                continue
+            prefix, env_id = split_module_prefix(text)
+            if not (migration_for(env_id) or removed_family(env_id)):
+                continue
+            for handover in handovers(self.facts, self.receivers, string):
+                reaches = self.reaches(handover)
+                if reaches is None or (reaches == "code" and prefix):
+                    continue
+                callee = full_name(handover.call.func) or "a call"
+                held = f"an item of `{handover.table}`" if handover.table else "an item of a table" if handover.held else ""
+                if reaches == "make":
+                    site = self._site(string, None, False, via=f"{held + ', ' if held else ''}reaching `{callee}(...)` on line {handover.call.lineno}")
+                else:
+                    site = self._site(string, None, False, via=f"{held + ', ' if held else ''}handed to `{callee}(...)`")
+                    if site is not None:
+                        site.untraced = True
+                        site.question = ("GM803 handed on", handover.call.lineno, handover.call.col_offset, handover.key)
+                if site is not None:
+                    sites.append(site)
+                break
+        return sites
+
+    def reaches(self, handover: Handover) -> str | None:
+        """Where the call that receives a retired id takes it: ``"make"`` for a call taking
+        an id that receives it as its id; ``"code"``, from a module that uses Gym, for the
+        project's code that the run cannot follow, or for a library's code handed a table
+        that holds the id; None where it never reaches a make (a builtin, the standard
+        library, Gym's other API, a Gym-only library's factory, a method of an object the
+        module does not name, a def of the project that only uses it where it is, a string
+        handed to a library as it is), or where the module does not use Gym at all."""
+        call = handover.call
+        if self._id_call(call) is not None:
+            takes_id = handover.key in ID_KEYWORDS or (handover.key == "0" and not any(k.arg in ID_KEYWORDS for k in call.keywords))
+            return "make" if takes_id and not handover.held else None
+        func = call.func
+        if isinstance(func, ast.Name) and not self.facts.bindings_of(func):
+            return None  # a builtin: ``print``, ``str``, ``sorted``...
+        if not self.facts.memo(("imports-gym", 0), lambda: bool({"gym", "gymnasium"} & imported_modules(self.facts.tree, self.facts))):
+            return None
+        if self._project_callee(call) or self._run_method(call):
+            return None if self._kept_there(call, handover.key) else "code"
+        if not handover.held:
+            # ``other.make("Pendulum-v0")``: a library reads a string it is handed by its own
+            # conventions (its own registry); a table of settings is handed on to be used
+            return None
+        called = self.facts.qualified_names(func)
+        if not called or any(q.split(".", 1)[0] in _NEVER_MAKES for q in called) or any(
+            q.split(".", 1)[0] in sys.stdlib_module_names for q in called
+        ):
+            return None
+        return "code"
 
     def _kept_there(self, call: ast.Call, key: str) -> bool:
         """The project's callee uses argument ``key`` only where it is (a label, a log line):

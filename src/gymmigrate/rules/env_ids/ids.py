@@ -210,6 +210,7 @@ class EnvIds(RuleFamily):
             rule,
             f"`{site.env_id}` is {site.via}, which the run could not follow to a make; if it reaches gym.make, {what}",
             kind=FixKind.FLAG,
+            question=site.question,
         )
 
     def _decide_migration(self, site: IdSite, migration: IdMigration) -> None:

@@ -1,4 +1,4 @@
-"""Space drift: what Gymnasium 1.x's spaces build, return and compare differently (GM903, GM905, GM909, GM910).
+"""Space drift: what Gymnasium 1.x's spaces build, return and compare differently (GM903, GM905, GM909-GM911).
 
 Each claim was checked against the installed Gymnasium 1.4.0 (``docs/rules/<CODE>.md``
 has the script):
@@ -29,14 +29,19 @@ has the script):
   bounds were meant for is the author's choice.
 * GM910 ``Box.__eq__`` compares ``dtype`` (gym 0.21 compared shape and bounds only):
   ``box_a == box_b`` is False now for a float32 and a float64 Box. Reported.
+* GM911 a space subclass whose ``__init__`` skips its space's (``super(Discrete,
+  self).__init__(...)`` runs ``Space.__init__`` only) lacks what only that ``__init__``
+  sets in Gymnasium 1.4 (``Discrete.start``): ``sample()``, ``contains()``, ``repr()``
+  raise AttributeError. Reported; a ``Discrete`` subclass that skipped it to keep a
+  dtype calls it with ``dtype=`` (``subclasses.py``).
 
 Sources: Gymnasium 1.4.0 ``spaces/discrete.py``, ``spaces/multi_binary.py``,
 ``spaces/box.py``, ``spaces/dict.py``; gym 0.21 ``spaces/`` (catalog GM903, GM905).
 
 This module is the family (it finds the calls and compares, and decides GM910); the
 rules' decisions are ``type_checks.py`` (GM903, GM905: isinstance and type()),
-``json_writes.py`` (GM903: json) and ``sizes.py`` (GM909), on what ``values.py`` says an
-expression is.
+``json_writes.py`` (GM903: json), ``sizes.py`` (GM909) and ``subclasses.py`` (GM911), on
+what ``values.py`` says an expression is.
 """
 
 from __future__ import annotations
@@ -48,6 +53,7 @@ from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.spaces.json_writes import JSON_WRITERS, decide_json
 from gymmigrate.rules.spaces.sizes import decide_box_bounds, decide_size
+from gymmigrate.rules.spaces.subclasses import decide_subclass
 from gymmigrate.rules.spaces.type_checks import decide_isinstance, type_check
 from gymmigrate.rules.spaces.values import SpaceValues, space_class_of
 
@@ -67,6 +73,13 @@ RULES = (
         "a `MultiBinary(n)` whose int size can be 0 gets an empty `Box` for 0.",
     ),
     Rule("GM910", "Box equality compares dtype", FixKind.FLAG, "`box == other_space` is False across dtypes in Gymnasium 1.x: reported."),
+    Rule(
+        "GM911",
+        "space subclasses that skip the space's __init__",
+        FixKind.ASSIST,
+        "A space subclass whose `__init__` skips its space's and never sets what Gymnasium 1.4's space reads (`Discrete.start`) "
+        "is reported; a `Discrete` subclass that skipped it only to keep a dtype calls it with `dtype=`.",
+    ),
 )
 
 
@@ -78,7 +91,7 @@ class SpaceDrift(RuleFamily):
         profile = context.profile
         if not (profile.imports_gym or profile.imports_gymnasium):
             return False
-        return any(word in facts.text for word in ("isinstance", "type(", "json", "MultiBinary", "Discrete", "==", "Box"))
+        return any(word in facts.text for word in ("isinstance", "type(", "json", "MultiBinary", "Discrete", "==", "Box", "__init__"))
 
     def decide(self) -> None:
         self.spaces = SpaceValues(self.facts, self.receivers)
@@ -99,6 +112,8 @@ class SpaceDrift(RuleFamily):
         for call in [*self.facts.calls_by_name.get("Box", ()), *self.facts.attribute_calls.get("Box", ())]:
             if space_class_of(self.facts.qualified_names(call.func)) == "Box":
                 decide_box_bounds(self, call)
+        for classdef in self.facts.all_classes:
+            decide_subclass(self, classdef)
 
     def _compares(self) -> list[ast.Compare]:
         return self.facts.memo(("space-drift-compares", 0), lambda: [n for n in ast.walk(self.facts.tree) if isinstance(n, ast.Compare)])
