@@ -164,11 +164,10 @@ class WrapperForwarding(RuleFamily):
         if sub_env:
             origin = INNER  # what the env_fns built: make() results, maybe wrapped
         else:
-            origin = self.origins.origin(receiver)
-            if origin is None and isinstance(receiver, ast.Name):
-                # what the read sees where the bindings disagree: ``env = Arena()`` just above
-                # ``env = dress(env, env.size)`` is the bare env the size is read from
-                origin = self.origins.above(receiver)
+            # what the read sees where the bindings disagree, or the name may hold its env
+            # bare or wrapped: ``env = Arena()`` just above ``env = dress(env, env.size)``
+            # is the bare env the size is read from
+            origin = self.origins.at_read(receiver)
             if origin in (None, CYCLE, RAW) and (not known or self.origins.outer_is_wrapper(receiver)):
                 origin = WRAPPED  # whatever else the name held, where it is read it is a wrapper
         if origin == CYCLE:

@@ -123,9 +123,7 @@ class MakeLayers:
             return
         if self.family.receivers.kind_of(receiver) is not EnvKind.GYM_ENV:
             return
-        origin = self.family.origins.origin(receiver)
-        if origin is None and isinstance(receiver, ast.Name):
-            origin = self.family.origins.above(receiver)
+        origin = self.family.origins.at_read(receiver)
         if depth == 1 and is_make_call(self.facts, receiver):
             # gym 0.21's make returned TimeLimit(env): ``gym.make(id).env`` was the env
             # itself, without its time limit. Gymnasium's make adds layers under the

@@ -7,6 +7,10 @@ class's constructor, ``.unwrapped``). ``EnvOrigins`` holds one file's answers: o
 memoized per name binding site, and a name whose origin is being computed counts as
 "no evidence" (CYCLE) when reached again, so the classic ``env = Wrapper(env)``
 preprocessing stack costs one visit per assignment instead of one per path through them.
+The wrapper met around such a name is not dropped with it: the name may hold its other
+values wrapped (``env = Tank()``, then ``if noisy: env = Gauge(env)``), which its answer
+takes in once all its bindings are known. An answer that rests on a name still being
+computed is not kept as final: that open question may still change it.
 It also tells the wrapper class outermost on a read and what that class defines.
 """
 
@@ -14,6 +18,7 @@ from __future__ import annotations
 
 import ast
 import bisect
+from collections.abc import Callable
 
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
@@ -40,6 +45,8 @@ CYCLE = "cycle"
 MAX_DEPTH = 20
 
 Origin = str | None
+# What an answer is memoized under: (scope, name), (def, "<returns>"), (parameter, "<param>").
+_Key = tuple[int, str]
 _SYNC_VECTOR_ENVS = frozenset({"vector.SyncVectorEnv", "vector.sync_vector_env.SyncVectorEnv"})
 
 
@@ -57,15 +64,36 @@ def join_origins(origins: list[Origin]) -> Origin:
     return WRAPPED if WRAPPED in found or INNER in found else MADE
 
 
+def _with_own_wrappers(origin: Origin) -> Origin:
+    """What a name holds whose bindings give ``origin`` and that is also rebound to a
+    wrapper around itself (``env = Tank()``, then ``if noisy: env = Gauge(env)``): a made
+    env stays made (wrappers over make keep its spec); any other env may or may not sit
+    under the wrapper where it is read, and get_wrapper_attr reads the bare env and the
+    stack alike."""
+    if origin in (RAW, INNER, WRAPPED):
+        return WRAPPED
+    return origin
+
+
 class EnvOrigins:
     """One file's origins and wrapper knowledge, memoized (one per ``WrapperForwarding``)."""
 
     def __init__(self, facts: ModuleFacts, receivers: Receivers) -> None:
         self.facts = facts
         self.receivers = receivers
-        self._name_origins: dict[tuple[int, str], Origin] = {}
-        self._in_progress: set[tuple[int, str]] = set()
-        self._param_origins: dict[ast.arg, Origin] = {}
+        self._final: dict[_Key, Origin] = {}
+        # The answers being computed, as a stack: a key's index in it, and per entry the
+        # lowest index its computation reached while that key was open (an answer that rests
+        # on an open key below its own is provisional), whether a wrapper around the entry's
+        # own key was met, and the provisional answers to drop when the entry closes.
+        self._open: dict[_Key, int] = {}
+        self._lows: list[int] = []
+        self._rewrapped: list[bool] = []
+        self._provisional: dict[_Key, tuple[Origin, int]] = {}
+        self._provisional_at: list[list[_Key]] = []
+        # names that hold an env of their own class, bare on one path and wrapped around
+        # themselves on another: what one read sees may still be told (``at_read``)
+        self._bare_or_wrapped: set[_Key] = set()
         self._depth = 0
         self._local_attrs: set[str] | None = None
         self._class_attrs: dict[ast.ClassDef, set[str]] = {}
@@ -145,20 +173,8 @@ class EnvOrigins:
                 return RAW
         function = self.receivers.local_function(call.func)
         if function is not None:
-            key = (id(function), "<returns>")
-            if key in self._in_progress:
-                return CYCLE
-            if key not in self._name_origins:
-                self._in_progress.add(key)
-                try:
-                    values = [r.value for r in own_returns(function) if r.value is not None]
-                    origin = join_origins([self.origin(v) for v in values])
-                finally:
-                    self._in_progress.discard(key)
-                if origin == CYCLE:
-                    return CYCLE
-                self._name_origins[key] = origin
-            return self._name_origins[key]
+            values = [r.value for r in own_returns(function) if r.value is not None]
+            return self._memo((id(function), "<returns>"), lambda: join_origins([self.origin(v) for v in values]))
         view = self.receivers.project
         if view is not None:
             qualified = self.facts.qualified_names(call.func)
@@ -171,8 +187,14 @@ class EnvOrigins:
     def _wrapped(self, call: ast.Call) -> Origin:
         """A wrapper around its first argument: as made as what it wraps, or merely wrapped."""
         first = call.args[0] if call.args else (call.keywords[0].value if call.keywords else None)
-        inner = self.origin(first) if first is not None else None
+        if first is None:
+            return WRAPPED
+        inner, reached = self._reaching(lambda: self.origin(first))
         if inner == CYCLE:
+            if reached is not None:
+                # A wrapper around a name still being computed (``env = Gauge(env)``): no
+                # evidence of what is inside, but evidence that the name may hold it wrapped.
+                self._rewrapped[reached] = True
             return CYCLE
         return MADE if inner == MADE else WRAPPED
 
@@ -180,19 +202,8 @@ class EnvOrigins:
         scope, bindings = self.facts.resolve(name.id, self.facts.scope_of(name))
         if scope is None:
             return None
-        key = (id(scope), name.id)
-        if key in self._name_origins:
-            return self._name_origins[key]
-        if key in self._in_progress:
-            return CYCLE  # ``env = Wrapper(env)``: the other bindings decide
-        self._in_progress.add(key)
-        try:
-            origin = self._bindings_origin(bindings)
-        finally:
-            self._in_progress.discard(key)
-        if origin != CYCLE:  # a cycle is an answer only from inside it
-            self._name_origins[key] = origin
-        return origin
+        # reached again while open (``env = Wrapper(env)``): CYCLE, the other bindings decide
+        return self._memo((id(scope), name.id), lambda: self._bindings_origin(bindings))
 
     def _bindings_origin(self, bindings: list[ast.AST]) -> Origin:
         origins: list[Origin] = []
@@ -211,8 +222,10 @@ class EnvOrigins:
         return join_origins(origins)
 
     def _param_origin(self, param: ast.arg) -> Origin:
-        if param in self._param_origins:
-            return self._param_origins[param]
+        origin = self._memo((id(param), "<param>"), lambda: self._callers_origin(param))
+        return None if origin == CYCLE else origin  # a recursive call adds no evidence: unknown
+
+    def _callers_origin(self, param: ast.arg) -> Origin:
         arguments = self.facts.parent(param)
         function = self.facts.parent(arguments) if arguments is not None else None  # arg -> arguments -> def
         if not isinstance(function, FUNCTIONS):
@@ -236,19 +249,95 @@ class EnvOrigins:
                 return None
             # A test's parameter named after a pytest fixture of the module (or parametrized
             # over fixtures with ``fixture_ref``) gets what the fixtures yield or return.
-            self._param_origins[param] = None
-            result = join_origins([self.origin(value) for fixture in fixtures for value in fixture_values(self.facts, fixture)])
-            self._param_origins[param] = result
-            return result
-        self._param_origins[param] = None  # a recursive call adds no evidence
+            return join_origins([self.origin(value) for fixture in fixtures for value in fixture_values(self.facts, fixture)])
         origins: list[Origin] = []
         for call in calls:
             argument = call_argument(call, position, param.arg)
             origin = self.origin(argument) if argument is not None else None
             origins.append(None if origin == CYCLE else origin)
-        result = join_origins(origins)
-        self._param_origins[param] = result
-        return result
+        return join_origins(origins)
+
+    def _memo(self, key: _Key, compute: Callable[[], Origin]) -> Origin:
+        """``compute()``, kept for ``key`` unless it rests on an answer still being computed.
+
+        Reached again while open, ``key`` answers CYCLE. An answer whose computation reached
+        an open key below its own is provisional: reused only until that key closes (so a
+        web of names still costs one visit each), then asked again. A key that closes with
+        a wrapper met around itself takes it in (``_with_own_wrappers``)."""
+        if key in self._final:
+            return self._final[key]
+        index = self._open.get(key)
+        if index is not None:
+            self._reach(index)
+            return CYCLE
+        if key in self._provisional:
+            origin, low = self._provisional[key]
+            self._reach(low)
+            return origin
+        index = self._push()
+        self._open[key] = index
+        try:
+            origin = compute()
+        finally:
+            del self._open[key]
+            low, rewrapped = self._pop()
+        if rewrapped and origin == RAW:
+            self._bare_or_wrapped.add(key)
+        else:
+            self._bare_or_wrapped.discard(key)
+        if rewrapped:
+            origin = _with_own_wrappers(origin)
+        if low < index:
+            self._provisional[key] = (origin, low)
+            self._provisional_at[low].append(key)
+        elif origin != CYCLE:  # a cycle is an answer only from inside it
+            self._final[key] = origin
+        return origin
+
+    def _reaching(self, compute: Callable[[], Origin]) -> tuple[Origin, int | None]:
+        """``compute()`` and the lowest entry open before it that it reached, if any."""
+        index = self._push()
+        try:
+            origin = compute()
+        finally:
+            low, _ = self._pop()
+        return origin, (low if low < index else None)
+
+    def _push(self) -> int:
+        index = len(self._lows)
+        self._lows.append(index)
+        self._rewrapped.append(False)
+        self._provisional_at.append([])
+        return index
+
+    def _pop(self) -> tuple[int, bool]:
+        low = self._lows.pop()
+        rewrapped = self._rewrapped.pop()
+        for key in self._provisional_at.pop():
+            self._provisional.pop(key, None)  # rested on this entry, which is settled now
+        self._reach(low)
+        return low, rewrapped
+
+    def _reach(self, index: int) -> None:
+        """The computation on top of the stack rests on the open entry ``index``."""
+        if self._lows and index < self._lows[-1]:
+            self._lows[-1] = index
+
+    def at_read(self, receiver: ast.expr) -> Origin:
+        """The origin of what ``receiver`` holds where it is read: a name's bindings joined,
+        and where they disagree, or where the name holds an env of its own class that it
+        wraps on some path (``_with_own_wrappers``), what the read itself sees if that can
+        be told (``above``: ``env = Arena()`` just above ``env = dress(env, env.size)``)."""
+        origin = self.origin(receiver)
+        if isinstance(receiver, ast.Name) and (origin is None or self._bare_or_wrapped_name(receiver)):
+            seen = self.above(receiver)
+            if seen is not None:
+                origin = seen
+        return origin
+
+    def _bare_or_wrapped_name(self, name: ast.Name) -> bool:
+        scope, _ = self.facts.resolve(name.id, self.facts.scope_of(name))
+        return scope is not None and (id(scope), name.id) in self._bare_or_wrapped
 
     def dominating(self, name: ast.Name) -> Origin:
         """Where the name's values disagree (``env = gym.make(...)`` in one branch, ``env =
