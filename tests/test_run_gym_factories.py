@@ -5,10 +5,11 @@ thunk bound in two branches, each returning a made env (one inside ``TimeLimit``
 ``get_mixed_creator`` returns a made env in one branch and the project's own ``Board`` in
 the other. ``scripts/rollout.py`` steps what calling the factory's thunk gives, directly and
 through a constructor argument. ``envs/runner.py``'s ``Runner`` stores ``gym.make(...)`` in
-``self.env`` and steps it; ``scripts/runners.py``'s ``FastRunner`` never stores ``self.env``
-and steps it; ``OwnRunner`` stores a constructor argument of its own there. What the run proves
+``self.env`` and steps it; ``scripts/runners.py``'s ``FastRunner`` and ``scripts/deep.py``'s
+``DeepRunner`` (a subclass of it) never store ``self.env`` and step it; ``OwnRunner`` stores
+a constructor argument of its own there, and ``OwnTail`` derives it. What the run proves
 made by ``gym.make`` is migrated and runs on Gymnasium; the mixed factory and the class that
-stores its own env stay asked about.
+stores its own env (and its subclass) stay asked about.
 """
 
 from __future__ import annotations
@@ -49,6 +50,9 @@ def test_what_the_run_proves_made_is_migrated_and_the_rest_asked(tmp_path: Path)
     runners = (project / "scripts" / "runners.py").read_text()
     assert "obs, reward, terminated, truncated, info = self.env.step(self.env.action_space.sample())" in runners
     assert "obs, reward, done, info = self.env.step(0)" in runners  # ``OwnRunner`` stores its own
+    deep = (project / "scripts" / "deep.py").read_text()
+    assert "obs, reward, terminated, truncated, info = self.env.step(0)" in deep
+    assert "obs, reward, done, info = self.env.step(1)" in deep  # ``OwnTail`` holds OwnRunner's
     assert review == [("scripts/rollout.py", 35, "GM201"), ("scripts/runners.py", 20, "GM201")]
 
 
@@ -57,10 +61,12 @@ def test_the_migrated_code_runs_on_gymnasium(tmp_path: Path) -> None:
     code = (
         "from scripts.rollout import rollout, drive\n"
         "from scripts.runners import FastRunner\n"
+        "from scripts.deep import DeepRunner\n"
         "print(rollout('cart', 30) > 0, rollout('car', 30) < 0)\n"
         "print(drive('cart', 5).shape)\n"
         "print(FastRunner('CartPole-v1').run(30).shape, FastRunner('CartPole-v1').warm_up().shape)\n"
+        "print(DeepRunner('MountainCar-v0').again().shape)\n"
     )
     run = subprocess.run([sys.executable, "-W", "ignore", "-c", code], cwd=project, capture_output=True, text=True, timeout=120)
     assert run.returncode == 0, run.stderr
-    assert run.stdout.split("\n")[:3] == ["True True", "(4,)", "(4,) (4,)"]
+    assert run.stdout.split("\n")[:4] == ["True True", "(4,)", "(4,) (4,)", "(2,)"]

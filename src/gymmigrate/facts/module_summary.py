@@ -220,6 +220,10 @@ class ModuleSummary:
     # (``self.env = ParallelPettingZooEnv(...)``): a subclass in another module that never
     # stores it holds the same object (``ProjectFacts.driven_kinds``).
     driven_kinds: dict[str, dict[str, EnvKind]] = field(default_factory=dict)
+    # Top-level classes with an imported base of the run -> the attributes they (or their
+    # bases of this module) store on ``self``: another attribute they hold is a base's, so
+    # what a base of any depth drives there is theirs too (``inherit_driven_kinds``).
+    stored_attributes: dict[str, frozenset[str]] = field(default_factory=dict)
     # Imported names of the run read as a value, not called (``partial(wrappers.make_env, i)``,
     # ``fn=make_env``): they may be called with arguments no summary sees.
     handed_on: frozenset[str] = frozenset()

@@ -54,6 +54,7 @@ from gymmigrate.facts.module_summary import (
     is_ref,
 )
 from gymmigrate.facts.project_classes import (
+    inherit_driven_kinds,
     join_mode_renders,
     join_overrides,
     join_registered_classes,
@@ -409,13 +410,14 @@ class ProjectFacts:
                 if resolved is not None:
                     facts.handed_on.add(resolved)
         facts.class_methods = class_methods(facts, by_path)
+        driven = inherit_driven_kinds(facts, by_path)
         for path, summary in by_path.items():
             for name in summary.exports:
                 where = class_definer(facts, by_path, path, name)
                 if where is not None and where[1] in by_path[where[0]].wrapper_defined:
                     facts.wrapper_defined[(path, name)] = by_path[where[0]].wrapper_defined[where[1]]
-                if where is not None and where[0] not in facts.blocked and where[1] in by_path[where[0]].driven_kinds:
-                    facts.driven_kinds[(path, name)] = by_path[where[0]].driven_kinds[where[1]]
+                if where is not None and where in driven:
+                    facts.driven_kinds[(path, name)] = driven[where]
         facts.seed_classes, facts.seed_ids = seed_keepers(facts, by_path)
         NonSpaces(facts, by_path).run()
         facts.wrapper_steppers = wrapper_steppers(facts, by_path)

@@ -49,6 +49,7 @@ from gymmigrate.facts.summaries.classes import (
     rendering_wrappers,
     self_calls,
     space_calls,
+    stored_attributes,
     subclasses,
 )
 from gymmigrate.facts.summaries.defs import (
@@ -188,6 +189,7 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         registrations=registrations(facts),
         held_params=held_params(facts, receivers),
         driven_kinds=driven_kinds(facts, receivers),
+        stored_attributes=stored_attributes(facts, receivers),
         handed_on=handed_on(facts),
         silent_renders=frozenset(name for name, classdef in facts.classes.items() if renders_nothing(facts, classdef)),
         render_forwards=render_forwards(facts, receivers),

@@ -144,6 +144,28 @@ def driven_kinds(facts: ModuleFacts, receivers: Receivers) -> dict[str, dict[str
     return found
 
 
+def stored_attributes(facts: ModuleFacts, receivers: Receivers) -> dict[str, frozenset[str]]:
+    """``ModuleSummary.stored_attributes``: per top-level class with an imported base of the
+    run, the attributes it stores on ``self``, with those its bases of this module store
+    (their ``__init__`` may be the one that runs)."""
+    found: dict[str, frozenset[str]] = {}
+    for name, classdef in facts.classes.items():
+        if not any(not N.is_library(q) for base in classdef.bases for q in facts.qualified_names(base)):
+            continue
+        stored: set[str] = set()
+        seen: set[int] = set()
+        todo = [classdef]
+        while todo:
+            current = todo.pop()
+            if id(current) in seen:
+                continue
+            seen.add(id(current))
+            stored.update(receivers.self_stores(current))
+            todo += [local for base in current.bases if (local := receivers.local_class(base)) is not None]
+        found[name] = frozenset(stored)
+    return found
+
+
 def render_mode_heirs(facts: ModuleFacts, receivers: Receivers) -> tuple[tuple[str, tuple[str, ...], bool], ...]:
     """Top-level classes with a base of the run (imported, or ``@Name`` of this module):
     (name, bases, whether its constructor hands ``render_mode`` on once its base takes it:
