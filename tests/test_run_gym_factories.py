@@ -7,9 +7,12 @@ the other. ``scripts/rollout.py`` steps what calling the factory's thunk gives, 
 through a constructor argument. ``envs/runner.py``'s ``Runner`` stores ``gym.make(...)`` in
 ``self.env`` and steps it; ``scripts/runners.py``'s ``FastRunner`` and ``scripts/deep.py``'s
 ``DeepRunner`` (a subclass of it) never store ``self.env`` and step it; ``OwnRunner`` stores
-a constructor argument of its own there, and ``OwnTail`` derives it. What the run proves
-made by ``gym.make`` is migrated and runs on Gymnasium; the mixed factory and the class that
-stores its own env (and its subclass) stay asked about.
+a constructor argument of its own there, and ``OwnTail`` derives it. ``Holder`` stores a
+made env it never steps, and ``scripts/players.py``'s ``Player`` steps it; ``Watcher``
+resets what ``Keeper`` stores from a constructor argument. What the run proves
+made by ``gym.make`` is migrated and runs on Gymnasium; the mixed factory, the class that
+stores its own env (and its subclass) and the subclass of a holder of an argument stay asked
+about.
 """
 
 from __future__ import annotations
@@ -53,7 +56,9 @@ def test_what_the_run_proves_made_is_migrated_and_the_rest_asked(tmp_path: Path)
     deep = (project / "scripts" / "deep.py").read_text()
     assert "obs, reward, terminated, truncated, info = self.env.step(0)" in deep
     assert "obs, reward, done, info = self.env.step(1)" in deep  # ``OwnTail`` holds OwnRunner's
-    assert review == [("scripts/rollout.py", 35, "GM201"), ("scripts/runners.py", 20, "GM201")]
+    players = (project / "scripts" / "players.py").read_text()
+    assert "obs, reward, terminated, truncated, info = self.env.step(self.actions - 1)" in players
+    assert review == [("scripts/players.py", 16, "GM201"), ("scripts/rollout.py", 35, "GM201"), ("scripts/runners.py", 20, "GM201")]
 
 
 def test_the_migrated_code_runs_on_gymnasium(tmp_path: Path) -> None:
@@ -62,11 +67,12 @@ def test_the_migrated_code_runs_on_gymnasium(tmp_path: Path) -> None:
         "from scripts.rollout import rollout, drive\n"
         "from scripts.runners import FastRunner\n"
         "from scripts.deep import DeepRunner\n"
+        "from scripts.players import Player\n"
         "print(rollout('cart', 30) > 0, rollout('car', 30) < 0)\n"
         "print(drive('cart', 5).shape)\n"
         "print(FastRunner('CartPole-v1').run(30).shape, FastRunner('CartPole-v1').warm_up().shape)\n"
-        "print(DeepRunner('MountainCar-v0').again().shape)\n"
+        "print(DeepRunner('MountainCar-v0').again().shape, Player('CartPole-v1').play(10).shape)\n"
     )
     run = subprocess.run([sys.executable, "-W", "ignore", "-c", code], cwd=project, capture_output=True, text=True, timeout=120)
     assert run.returncode == 0, run.stderr
-    assert run.stdout.split("\n")[:4] == ["True True", "(4,)", "(4,) (4,)", "(2,)"]
+    assert run.stdout.split("\n")[:4] == ["True True", "(4,)", "(4,) (4,)", "(2,) (4,)"]

@@ -216,9 +216,10 @@ class ModuleSummary:
     # instance's attribute is what every construction of the run passes there.
     held_params: dict[str, dict[str, str]] = field(default_factory=dict)
     # Top-level classes -> {attribute: kind} for each attribute the class resets or steps
-    # (``self.env.step(a)``) and stores only from constructions this module settles
-    # (``self.env = ParallelPettingZooEnv(...)``): a subclass in another module that never
-    # stores it holds the same object (``ProjectFacts.driven_kinds``).
+    # (``self.env.step(a)``), or holds an env of a known API in, and stores only from
+    # constructions this module settles (``self.env = ParallelPettingZooEnv(...)``,
+    # ``self.env = gym.make(env_id)``): a subclass in another module that never stores it
+    # holds the same object (``ProjectFacts.driven_kinds``).
     driven_kinds: dict[str, dict[str, EnvKind]] = field(default_factory=dict)
     # Top-level classes with an imported base of the run -> the attributes they (or their
     # bases of this module) store on ``self``: another attribute they hold is a base's, so
