@@ -1,6 +1,6 @@
 """What the run knows of one module: the small picklable ``ModuleSummary`` that
 ``facts/summaries/`` makes of each file and ``facts/project.py`` joins, and the
-conventions of the names it holds (a kind not yet resolved: ``new:``, ``ref:``, ``param:``,
+conventions of the names it holds (a kind not yet resolved: ``new:``, ``ref:``, ``param:``, ``held:``,
 ``@`` for a def of the module itself, ``?.`` for a call whose owner is unknown).
 """
 
@@ -19,9 +19,12 @@ NEW = "new:"
 REF = "ref:"
 OWN = "@"  # a def of the calling module itself
 PARAM = "param:"
+# ``held:Trainer.__init__:test_env``: ``self.test_env`` of a plain class of the calling module,
+# stored only from that ``__init__`` parameter: what every construction of the run passes there.
+HELD = "held:"
 # Beyond this many parameters passed on from call to call the join stops following.
 MAX_CHAIN = 50
-Kind = EnvKind | str  # a kind, or ``new:<class>[|<class>...]`` / ``param:<def>:<name>`` until the join resolves it
+Kind = EnvKind | str  # a kind, or ``new:<class>[|<class>...]`` / ``param:<def>:<name>`` / ``held:...`` until the join resolves it
 
 
 @dataclass(frozen=True)

@@ -131,6 +131,14 @@ def own_api_classes(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> s
     return found
 
 
+def imported_class(facts: ProjectFacts, by_path: dict[str, ModuleSummary], path: str, qualified: str) -> tuple[str, str] | None:
+    """The class of the run (its module and name, re-exports followed) that the base
+    ``qualified`` of a class of module ``path`` names as that module's imports spell it."""
+    level, parts = import_parts(qualified)
+    where = facts._module_path(parts[:-1], level, path) if len(parts) > 1 else None
+    return class_definer(facts, by_path, where, parts[-1]) if where else None
+
+
 def inherit_driven_kinds(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> dict[tuple[str, str], dict[str, EnvKind]]:
     """(path, class) -> the attributes it drives or holds as its bases drive them: a class
     of the run that never stores ``self.env`` (``ModuleSummary.stored_attributes``) holds
@@ -155,9 +163,7 @@ def inherit_driven_kinds(facts: ProjectFacts, by_path: dict[str, ModuleSummary])
                     continue
                 offered: dict[str, set[EnvKind]] = {}
                 for qualified in bases:
-                    level, parts = import_parts(qualified)
-                    where = facts._module_path(parts[:-1], level, path) if len(parts) > 1 else None
-                    base = class_definer(facts, by_path, where, parts[-1]) if where else None
+                    base = imported_class(facts, by_path, path, qualified)
                     for attribute, kind in found.get(base, {}).items() if base is not None else ():
                         if attribute not in stored:
                             offered.setdefault(attribute, set()).add(kind)

@@ -21,6 +21,7 @@ from gymmigrate.facts.module import (
 )
 from gymmigrate.facts.module_summary import (
     GUARD_KINDS,
+    HELD,
     NEW,
     OWN,
     PARAM,
@@ -31,6 +32,7 @@ from gymmigrate.facts.module_summary import (
 )
 from gymmigrate.facts.receiver_classes import is_object
 from gymmigrate.facts.receivers import Receivers
+from gymmigrate.facts.summaries.classes import held_params
 
 # ``PongNoFrameskip-v4``, ``ALE/Pong-v5``, ``mod:Name-v0``: what the summaries keep of string arguments.
 _ENV_ID = re.compile(r"(?:[\w.]+:)?(?:\w+/)?[\w.-]+-v\d+")
@@ -325,6 +327,10 @@ class CallSummarizer:
             own = self._own_factory(argument.func)
             if own is not None:
                 return NEW + own  # ``Holder(create_env(name))``: what the run says ``create_env`` gives
+        if kind is EnvKind.UNKNOWN and isinstance(argument, ast.Attribute):
+            held = self._held_attribute(argument)
+            if held is not None:
+                return held  # ``evaluate(policy, self.test_env)``: what the class's constructions pass
         if kind is EnvKind.UNKNOWN and isinstance(argument, ast.Name):
             parameter = self._parameter_of_def(argument)
             if parameter is not None:
@@ -421,6 +427,28 @@ class CallSummarizer:
         if function is None or self.facts.functions.get(function.name) is not function:
             return None
         return OWN + function.name
+
+    def _held_attribute(self, attribute: ast.Attribute) -> str | None:
+        """``held:Trainer.__init__:test_env`` for ``self.test_env`` read in a method of a
+        top-level plain class that stores it only from that ``__init__`` parameter
+        (``ModuleSummary.held_params``), when ``self`` is an instance of that class alone: no
+        class here derives from it and the module hands the class on nowhere (its
+        constructions are the calls the join sees). The join gives it what those pass."""
+        owner = attribute.value
+        if not (isinstance(owner, ast.Name) and self.receivers.is_self(owner)):
+            return None
+        classdef = self.facts.enclosing_class(attribute)
+        if classdef is None or self.facts.classes.get(classdef.name) is not classdef:
+            return None
+        held = self.facts.memo(("held-params", 0), lambda: held_params(self.facts, self.receivers))
+        param = held.get(classdef.name, {}).get(attribute.attr)
+        if param is None:
+            return None
+        if any(self.receivers.local_class(base) is classdef for other in self.facts.all_classes for base in other.bases):
+            return None  # a subclass here may be built with arguments the join does not see
+        if self.receivers.constructions(classdef)[1]:
+            return None  # the class escapes under another name
+        return f"{HELD}{classdef.name}.__init__:{param}"
 
     def _parameter_of_def(self, name: ast.Name) -> str | None:
         """``param:Agent.fit:env`` when ``name`` is only ever the parameter ``env`` of a def
