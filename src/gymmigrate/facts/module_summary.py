@@ -19,6 +19,9 @@ NEW = "new:"
 REF = "ref:"
 OWN = "@"  # a def of the calling module itself
 PARAM = "param:"
+# In a ``new:`` union, a kind the calling module settles itself (``new:envs.Reacher|=GYM_ENV``:
+# a name bound to ``Reacher()`` in one branch and ``gym.make(...)`` in another).
+KNOWN = "="
 # ``held:Trainer.__init__:test_env``: ``self.test_env`` of a plain class of the calling module,
 # stored only from that ``__init__`` parameter: what every construction of the run passes there.
 HELD = "held:"

@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING
 from gymmigrate.facts.kinds import EnvKind, join_kinds
 from gymmigrate.facts.module_summary import (
     HELD,
+    KNOWN,
     MAX_CHAIN,
     NEW,
     OWN,
@@ -145,8 +146,12 @@ class ParamJoin:
         if isinstance(kind, EnvKind):
             return kind
         if kind.startswith(NEW):
-            # ``new:a.Env|b.Other``: a name bound to instances of several classes of the run
-            return join_kinds(self.facts._class_kind(NEW + made, caller) for made in kind[len(NEW) :].split("|"))
+            # ``new:a.Env|b.Other``: a name bound to instances of several classes of the run,
+            # and maybe to what the caller settled itself (``=GYM_ENV``)
+            return join_kinds(
+                EnvKind[made[len(KNOWN) :]] if made.startswith(KNOWN) else self.facts._class_kind(NEW + made, caller)
+                for made in kind[len(NEW) :].split("|")
+            )
         if kind.startswith(HELD):
             # ``self.test_env`` held from a constructor parameter: what every construction of
             # the class passes there, unless another module derives a class from it (its

@@ -22,6 +22,7 @@ from gymmigrate.facts.module import (
 from gymmigrate.facts.module_summary import (
     GUARD_KINDS,
     HELD,
+    KNOWN,
     NEW,
     OWN,
     PARAM,
@@ -335,7 +336,7 @@ class CallSummarizer:
             parameter = self._parameter_of_def(argument)
             if parameter is not None:
                 return parameter
-            made = self._made_by_run_call(argument) or self._made_by_passed_class(argument)
+            made = self._made_by_run_call(argument) or self._made_by_passed_class(argument) or self._made_here_or_by_run(argument)
             if made is not None:
                 return NEW + made  # ``env = pkg.make_benchmark(...)``; ``run(env)``
         return kind
@@ -396,6 +397,32 @@ class CallSummarizer:
                 qualified = [own]
             found.add(qualified[0])
         return "|".join(sorted(found)) if found else None
+
+    def _made_here_or_by_run(self, name: ast.Name) -> str | None:
+        """``env = gym.make(...)`` in some branches and ``env = Reacher()`` (a class of
+        another module of the run) in others: the run's names joined by ``|`` with the kinds
+        this module settles itself (``=GYM_ENV``), for the join to resolve as one; None when
+        a binding is anything else, or when no binding calls a name of the run."""
+        bindings = self.facts.bindings_of(name)
+        made: set[str] = set()
+        known: set[str] = set()
+        for binding in bindings:
+            statement = self.facts.parent(binding)
+            if not (isinstance(binding, ast.Name) and isinstance(statement, ast.Assign) and statement.targets == [binding]):
+                return None
+            value = statement.value
+            kind = self.receivers.kind_of(value)
+            if kind is not EnvKind.UNKNOWN:
+                known.add(KNOWN + kind.name)
+                continue
+            if not isinstance(value, ast.Call):
+                return None
+            qualified = [q for q in self.facts.qualified_names(value.func) if not N.is_library(q)]
+            own = self._own_factory(value.func) if len(qualified) != 1 or "." not in qualified[0] else None
+            if own is None and (len(qualified) != 1 or "." not in qualified[0]):
+                return None
+            made.add(own or qualified[0])
+        return "|".join(sorted(made) + sorted(known)) if made and known else None
 
     def _env_like_instance(self, value: ast.expr, depth: int) -> bool:
         """An instance of a plain class of this module with a reset or step of its own:
