@@ -30,6 +30,13 @@ MAX_CHAIN = 50
 Kind = EnvKind | str  # a kind, or ``new:<class>[|<class>...]`` / ``param:<def>:<name>`` / ``held:...`` until the join resolves it
 
 
+# An argument made right there by ``gym.make`` and handed only to calls of the run
+# (``facts/mode_handovers.py``): (its slot: position or keyword, the make's line and column,
+# its id when a literal, how many calls of the run the module hands that env to, its name
+# when bound at module level, whether the call's result is only the owner of method calls).
+HandedMake = tuple[str, int, int, str | None, int, str, bool]
+
+
 @dataclass(frozen=True)
 class CallSummary:
     target: str  # "agent.Agent.fit", ".agent.train", "?.fit" (owner unknown)
@@ -44,6 +51,7 @@ class CallSummary:
     # string, or the keyword, what calling every item returns: ``thunk_list_kind``).
     # ``ref:<qualified>`` for one whose items are all calls of one imported def of the run.
     thunks: tuple[tuple[str, Kind], ...] = ()
+    made: tuple[HandedMake, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -174,6 +182,10 @@ class ModuleSummary:
     # (call line, slot, class, construction line, column).
     bare_render_params: frozenset[tuple[str, str]] = frozenset()
     handed_constructions: tuple[tuple[int, str, str, int, int], ...] = ()
+    # GM401 across modules (``facts/mode_handovers.py``): (def or ``Class.__init__``,
+    # parameter, the one literal frame mode its env is rendered in, "" for none) for each
+    # parameter whose env goes nowhere else.
+    param_renders: tuple[tuple[str, str, str], ...] = ()
     # -- contracts the run keeps (facts/class_shapes.py keeps_legacy_step) --
     # Top-level env classes whose step keeps the four-field contract (a batch the rules do
     # not migrate), and Gym wrappers of the project's own protocol (a step returning its own

@@ -26,6 +26,7 @@ from gymmigrate.facts.env_classes import EnvClasses
 from gymmigrate.facts.env_specs import module_spec_lists, recreates_from_spec
 from gymmigrate.facts.id_params import escaping_parameters, id_parameters
 from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.mode_handovers import param_renders
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
 from gymmigrate.facts.module_summary import ModuleSummary, Signature
 from gymmigrate.facts.receivers import Receivers
@@ -188,6 +189,7 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         render_mode_heirs=render_mode_heirs(facts, receivers),
         registrations=registrations(facts),
         held_params=held_params(facts, receivers),
+        param_renders=param_renders(facts, receivers),
         driven_kinds=driven_kinds(facts, receivers),
         stored_attributes=stored_attributes(facts, receivers),
         handed_on=handed_on(facts),

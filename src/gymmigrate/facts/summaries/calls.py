@@ -12,6 +12,7 @@ import re
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.mode_handovers import handed_make
 from gymmigrate.facts.module import (
     FUNCTIONS,
     ModuleFacts,
@@ -285,7 +286,17 @@ class CallSummarizer:
         ids += [(k.arg, text) for k in call.keywords if k.arg is not None and (text := self._env_id(k.value)) is not None]
         thunks = [(str(i), self._thunks_kind(a)) for i, a in enumerate(call.args) if self.receivers.is_thunk_list(a)]
         thunks += [(k.arg, self._thunks_kind(k.value)) for k in call.keywords if k.arg is not None and self.receivers.is_thunk_list(k.value)]
-        return CallSummary(target, tuple(args), tuple(keywords), open_ended, tuple(ids), getattr(call, "lineno", 0), tuple(thunks))
+        slots = [(str(i), a) for i, a in enumerate(call.args[: len(args)])] + [(k.arg, k.value) for k in call.keywords if k.arg is not None]
+        made = [(slot, *found) for slot, value in slots if (found := handed_make(self.facts, value, call, self._is_run_call)) is not None]
+        return CallSummary(
+            target, tuple(args), tuple(keywords), open_ended, tuple(ids), getattr(call, "lineno", 0), tuple(thunks), tuple(made)
+        )
+
+    def _is_run_call(self, call: ast.Call) -> bool:
+        """A call of another module of the run that the join resolves (not this module's own
+        def, not a method of an unknown owner)."""
+        target = self._target(call.func)
+        return target is not None and not target.startswith((OWN, UNRESOLVED))
 
     def _thunks_kind(self, argument: ast.expr) -> Kind:
         """What calling each item of a list of thunks returns; ``ref:<qualified>`` when they

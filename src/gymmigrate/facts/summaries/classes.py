@@ -133,15 +133,15 @@ def driven_kinds(facts: ModuleFacts, receivers: Receivers) -> dict[str, dict[str
     module classifies: not a name or an attribute, whose object a subclass's construction
     may choose."""
     found: dict[str, dict[str, EnvKind]] = {}
-    for name, classdef in facts.classes.items():
-        for attribute, values in receivers.self_stores(classdef).items():
+    for name, holder in facts.classes.items():
+        for attribute, values in receivers.self_stores(holder).items():
             if not values or not all(isinstance(v, ast.Call) for v in values):
                 continue
             node = next(
                 (
                     a
                     for a in facts.attributes.get(attribute, ())
-                    if isinstance(a.value, ast.Name) and receivers.is_self(a.value) and facts.enclosing_class(a) is classdef
+                    if isinstance(a.value, ast.Name) and receivers.is_self(a.value) and facts.enclosing_class(a) is holder
                 ),
                 None,
             )
