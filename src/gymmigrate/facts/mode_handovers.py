@@ -123,6 +123,8 @@ def _hands_self_on(facts: ModuleFacts, classdef: ast.ClassDef) -> bool:
     for method in classdef.body:
         if not isinstance(method, FUNCTIONS) or not method.args.args:
             continue
+        if any(isinstance(d, ast.Name) and d.id in ("staticmethod", "classmethod") for d in method.decorator_list):
+            continue  # its first parameter is no instance
         first = method.args.args[0]
         if any(not isinstance(facts.parent(read), ast.Attribute) for read in facts.reads_of(first.arg, first)):
             return True
