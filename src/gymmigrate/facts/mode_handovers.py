@@ -29,7 +29,7 @@ from typing import TYPE_CHECKING
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, keyword, string_value
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, Scope, keyword, string_value
 
 if TYPE_CHECKING:
     from gymmigrate.facts.module_summary import CallSummary, HandedMake, ModuleSummary
@@ -85,7 +85,7 @@ def param_renders(facts: ModuleFacts, receivers: Receivers) -> tuple[tuple[str, 
     found: list[tuple[str, str, str]] = []
     for name, function in facts.functions.items():
         for arg in (*function.args.posonlyargs, *function.args.args):
-            reads = facts.reads_of(arg.arg, arg)
+            reads = _reads_of_param(facts, function, arg)
             if any(facts.bindings_of(read) != [arg] for read in reads):
                 continue  # rebound somewhere: another object under the same name
             mode = _only_rendered_in(facts, reads)
@@ -101,15 +101,18 @@ def param_renders(facts: ModuleFacts, receivers: Receivers) -> tuple[tuple[str, 
             init = next(s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == "__init__")
             arg = next(a for a in init.args.args if a.arg == param)
             stored = receivers.self_stores(classdef)[attribute][0]
-            if any(read is not stored and not _attribute_owner(facts, read) for read in facts.reads_of(param, arg)):
+            if any(read is not stored and not _attribute_owner(facts, read) for read in _reads_of_param(facts, init, arg)):
                 continue  # the argument itself goes somewhere else too
             if _hands_self_on(facts, classdef):
                 break  # what the instance holds may be rendered wherever it goes
-            # every ``x.<attribute>`` read in the class, a closure's ``self.env`` included
+            # every ``x.<attribute>`` read of the module (an instance's ``player.env`` too, a
+            # closure's ``self.env``) but another class's own ``self.<attribute>``
             held_reads = [
                 a
                 for a in facts.attributes.get(attribute, ())
-                if isinstance(a.value, ast.Name) and facts.enclosing_class(a) is classdef and not isinstance(a.ctx, ast.Store)
+                if isinstance(a.value, ast.Name)
+                and not isinstance(a.ctx, ast.Store)
+                and not (receivers.is_self(a.value) and facts.enclosing_class(a) is not classdef)
             ]
             mode = _only_rendered_in(facts, held_reads)
             if mode is not None:
@@ -126,9 +129,31 @@ def _hands_self_on(facts: ModuleFacts, classdef: ast.ClassDef) -> bool:
         if any(isinstance(d, ast.Name) and d.id in ("staticmethod", "classmethod") for d in method.decorator_list):
             continue  # its first parameter is no instance
         first = method.args.args[0]
-        if any(not isinstance(facts.parent(read), ast.Attribute) for read in facts.reads_of(first.arg, first)):
+        if any(not isinstance(facts.parent(read), ast.Attribute) for read in _reads_of_param(facts, method, first)):
             return True
     return False
+
+
+def _reads_of_param(facts: ModuleFacts, function: ast.FunctionDef | ast.AsyncFunctionDef, arg: ast.arg) -> list[ast.Name]:
+    """The reads of ``arg`` that may see it: in the scope of ``function`` and the scopes
+    nested in it (closures), never elsewhere, so a module with many defs of one parameter
+    name is not read once per def."""
+    children: dict[int, list[Scope]] = facts.memo(("child-scopes", 0), lambda: _child_scopes(facts))
+    found: list[ast.Name] = []
+    todo = [facts.scopes[function]] if function in facts.scopes else []
+    while todo:
+        scope = todo.pop()
+        found += [read for read in scope.reads.get(arg.arg, ()) if arg in facts.bindings_of(read)]
+        todo += children.get(id(scope), ())
+    return found
+
+
+def _child_scopes(facts: ModuleFacts) -> dict[int, list[Scope]]:
+    children: dict[int, list[Scope]] = defaultdict(list)
+    for scope in facts.scopes.values():
+        if scope.parent is not None:
+            children[id(scope.parent)].append(scope)
+    return children
 
 
 def _attribute_owner(facts: ModuleFacts, read: ast.expr) -> bool:
@@ -179,17 +204,16 @@ def handed_make(
     attribute reads other than itself (``env.observation_space``, ``env.reset()``) and calls
     of the run (``is_run_call``): no render or recorder of this module can ask the make a
     mode. None otherwise."""
-    reads: Sequence[ast.expr]
+    reads: Sequence[ast.expr] = [argument]
+    binding: ast.AST | None = None
     if isinstance(argument, ast.Call):
-        make, reads = argument, [argument]
-        name = ""
+        make, name = argument, ""
     elif isinstance(argument, ast.Name):
         bindings = facts.bindings_of(argument)
         statement = facts.parent(bindings[0]) if len(bindings) == 1 else None
         if not (isinstance(statement, ast.Assign) and statement.targets == bindings and isinstance(statement.value, ast.Call)):
             return None
-        make = statement.value
-        reads = facts.reads_of(argument.id, bindings[0])
+        make, binding = statement.value, bindings[0]
         name = argument.id if facts.enclosing_function(statement) is None else ""
     else:
         return None
@@ -197,6 +221,8 @@ def handed_make(
         return None
     if keyword(make, "render_mode") is not None or any(k.arg is None for k in make.keywords) or any(isinstance(a, ast.Starred) for a in make.args):
         return None
+    if isinstance(argument, ast.Name):
+        reads = facts.reads_of(argument.id, binding)
     handings = 0
     for read in reads:
         parent = facts.parent(read)
