@@ -9,8 +9,8 @@ proves each a Gym env now, and the migrated code runs on Gymnasium.
 
 The near cases stay asked: ``Prober`` is built once with a made env and once with the
 project's ``Board`` (``probe``); ``main.tally`` binds a made env in one branch and a
-``Board`` in the other (``score``); ``Auditor`` is built only with a made env, but
-``loud.py`` derives ``LoudAuditor`` from it and builds that over a ``Board`` (``inspect``).
+``Board`` in the other (``score``); ``Examiner`` is built only with a made env, but
+``loud.py`` derives ``LoudExaminer`` from it and builds that over a ``Board`` (``inspect``).
 """
 
 from __future__ import annotations
