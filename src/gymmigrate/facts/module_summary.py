@@ -1,6 +1,6 @@
 """What the run knows of one module: the small picklable ``ModuleSummary`` that
 ``facts/summaries/`` makes of each file and ``facts/project.py`` joins, and the
-conventions of the names it holds (a kind not yet resolved: ``new:``, ``ref:``, ``param:``,
+conventions of the names it holds (a kind not yet resolved: ``new:``, ``ref:``, ``param:``, ``held:``,
 ``@`` for a def of the module itself, ``?.`` for a call whose owner is unknown).
 """
 
@@ -19,9 +19,22 @@ NEW = "new:"
 REF = "ref:"
 OWN = "@"  # a def of the calling module itself
 PARAM = "param:"
+# In a ``new:`` union, a kind the calling module settles itself (``new:envs.Reacher|=GYM_ENV``:
+# a name bound to ``Reacher()`` in one branch and ``gym.make(...)`` in another).
+KNOWN = "="
+# ``held:Trainer.__init__:test_env``: ``self.test_env`` of a plain class of the calling module,
+# stored only from that ``__init__`` parameter: what every construction of the run passes there.
+HELD = "held:"
 # Beyond this many parameters passed on from call to call the join stops following.
 MAX_CHAIN = 50
-Kind = EnvKind | str  # a kind, or ``new:<class>[|<class>...]`` / ``param:<def>:<name>`` until the join resolves it
+Kind = EnvKind | str  # a kind, or ``new:<class>[|<class>...]`` / ``param:<def>:<name>`` / ``held:...`` until the join resolves it
+
+
+# An argument made right there by ``gym.make`` and handed only to calls of the run
+# (``facts/mode_handovers.py``): (its slot: position or keyword, the make's line and column,
+# its id when a literal, how many calls of the run the module hands that env to, its name
+# when bound at module level, whether the call's result is only the owner of method calls).
+HandedMake = tuple[str, int, int, str | None, int, str, bool]
 
 
 @dataclass(frozen=True)
@@ -38,6 +51,7 @@ class CallSummary:
     # string, or the keyword, what calling every item returns: ``thunk_list_kind``).
     # ``ref:<qualified>`` for one whose items are all calls of one imported def of the run.
     thunks: tuple[tuple[str, Kind], ...] = ()
+    made: tuple[HandedMake, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -178,6 +192,10 @@ class ModuleSummary:
     # (call line, slot, class, construction line, column).
     bare_render_params: frozenset[tuple[str, str]] = frozenset()
     handed_constructions: tuple[tuple[int, str, str, int, int], ...] = ()
+    # GM401 across modules (``facts/mode_handovers.py``): (def or ``Class.__init__``,
+    # parameter, the one literal frame mode its env is rendered in, "" for none) for each
+    # parameter whose env goes nowhere else.
+    param_renders: tuple[tuple[str, str, str], ...] = ()
     # -- contracts the run keeps (facts/class_shapes.py keeps_legacy_step) --
     # Top-level env classes whose step keeps the four-field contract (a batch the rules do
     # not migrate), and Gym wrappers of the project's own protocol (a step returning its own
@@ -233,10 +251,15 @@ class ModuleSummary:
     # instance's attribute is what every construction of the run passes there.
     held_params: dict[str, dict[str, str]] = field(default_factory=dict)
     # Top-level classes -> {attribute: kind} for each attribute the class resets or steps
-    # (``self.env.step(a)``) and stores only from constructions this module settles
-    # (``self.env = ParallelPettingZooEnv(...)``): a subclass in another module that never
-    # stores it holds the same object (``ProjectFacts.driven_kinds``).
+    # (``self.env.step(a)``), or holds an env of a known API in, and stores only from
+    # constructions this module settles (``self.env = ParallelPettingZooEnv(...)``,
+    # ``self.env = gym.make(env_id)``): a subclass in another module that never stores it
+    # holds the same object (``ProjectFacts.driven_kinds``).
     driven_kinds: dict[str, dict[str, EnvKind]] = field(default_factory=dict)
+    # Top-level classes with an imported base of the run -> the attributes they (or their
+    # bases of this module) store on ``self``: another attribute they hold is a base's, so
+    # what a base of any depth drives there is theirs too (``inherit_driven_kinds``).
+    stored_attributes: dict[str, frozenset[str]] = field(default_factory=dict)
     # Imported names of the run read as a value, not called (``partial(wrappers.make_env, i)``,
     # ``fn=make_env``): they may be called with arguments no summary sees.
     handed_on: frozenset[str] = frozenset()

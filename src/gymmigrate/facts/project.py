@@ -44,6 +44,7 @@ from pathlib import Path
 from gymmigrate.facts.done_causes import DoneCause
 from gymmigrate.facts.import_roots import import_parts, module_names, nearest_root
 from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.mode_handovers import join as join_mode_handovers
 from gymmigrate.facts.module_summary import (
     NEW,
     OWN,
@@ -54,6 +55,7 @@ from gymmigrate.facts.module_summary import (
     is_ref,
 )
 from gymmigrate.facts.project_classes import (
+    inherit_driven_kinds,
     join_mode_renders,
     join_overrides,
     join_registered_classes,
@@ -173,6 +175,11 @@ class ProjectFacts:
     # (path, def, parameter) of those renders -> the constructors (facts/render_handovers.py)
     render_mode_constructions: set[tuple[str, int, int]] = field(default_factory=set)
     settled_renders: dict[tuple[str, str, str], tuple[tuple[str, int, int], ...]] = field(default_factory=dict)
+    # (path, line, column) of each ``gym.make`` handed only to calls whose renders ask one frame
+    # mode in other modules -> that mode; (path, def, parameter) of those renders -> the mode
+    # and the makes every call of the def passes (facts/mode_handovers.py)
+    handed_render_modes: dict[tuple[str, int, int], str] = field(default_factory=dict)
+    settled_mode_renders: dict[tuple[str, str, str], tuple[str, tuple[tuple[str, int, int], ...]]] = field(default_factory=dict)
     # (path, class) in another module -> the hooks of its bases it follows.
     inherited_hooks: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
     # (path, name) of a Gym wrapper class of the run, or of a re-export of one -> what it
@@ -429,13 +436,14 @@ class ProjectFacts:
                 if resolved is not None:
                     facts.handed_on.add(resolved)
         facts.class_methods = class_methods(facts, by_path)
+        driven = inherit_driven_kinds(facts, by_path)
         for path, summary in by_path.items():
             for name in summary.exports:
                 where = class_definer(facts, by_path, path, name)
                 if where is not None and where[1] in by_path[where[0]].wrapper_defined:
                     facts.wrapper_defined[(path, name)] = by_path[where[0]].wrapper_defined[where[1]]
-                if where is not None and where[0] not in facts.blocked and where[1] in by_path[where[0]].driven_kinds:
-                    facts.driven_kinds[(path, name)] = by_path[where[0]].driven_kinds[where[1]]
+                if where is not None and where in driven:
+                    facts.driven_kinds[(path, name)] = driven[where]
         facts.seed_classes, facts.seed_ids = seed_keepers(facts, by_path)
         NonSpaces(facts, by_path).run()
         facts.wrapper_steppers = wrapper_steppers(facts, by_path)
@@ -461,6 +469,8 @@ class ProjectFacts:
         }
         facts.quiet_classes = reexported(facts, by_path, quiet_classes(facts, by_path))
         facts.own_api_classes = reexported(facts, by_path, own_api_classes(facts, by_path))
+        # after the registrations: a make that may build a class taking no render_mode gets none
+        join_mode_handovers(facts, by_path, calls_to, set(facts.subclasses_of))
         return facts
 
     def _class_kind(self, kind: str, importer: str) -> EnvKind:

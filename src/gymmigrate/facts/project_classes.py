@@ -197,6 +197,52 @@ def own_api_classes(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> s
     return found
 
 
+def imported_class(facts: ProjectFacts, by_path: dict[str, ModuleSummary], path: str, qualified: str) -> tuple[str, str] | None:
+    """The class of the run (its module and name, re-exports followed) that the base
+    ``qualified`` of a class of module ``path`` names as that module's imports spell it."""
+    level, parts = import_parts(qualified)
+    where = facts._module_path(parts[:-1], level, path) if len(parts) > 1 else None
+    return class_definer(facts, by_path, where, parts[-1]) if where else None
+
+
+def inherit_driven_kinds(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> dict[tuple[str, str], dict[str, EnvKind]]:
+    """(path, class) -> the attributes it drives or holds as its bases drive them: a class
+    of the run that never stores ``self.env`` (``ModuleSummary.stored_attributes``) holds
+    what its bases of other modules store and step there, at any depth (``class
+    Deep(Fast)`` with ``Fast(Runner)`` storing nothing and ``Runner`` storing
+    ``gym.make(...)``), when the bases that drive it agree. A module left as it is drives
+    nothing."""
+    found: dict[tuple[str, str], dict[str, EnvKind]] = {
+        (path, name): dict(kinds)
+        for path, summary in by_path.items()
+        if path not in facts.blocked
+        for name, kinds in summary.driven_kinds.items()
+    }
+    for _ in range(MAX_CHAIN):
+        added = False
+        for path, summary in by_path.items():
+            if path in facts.blocked:
+                continue
+            for name, bases, _methods in summary.subclasses:
+                stored = summary.stored_attributes.get(name)
+                if stored is None:
+                    continue
+                offered: dict[str, set[EnvKind]] = {}
+                for qualified in bases:
+                    base = imported_class(facts, by_path, path, qualified)
+                    for attribute, kind in found.get(base, {}).items() if base is not None else ():
+                        if attribute not in stored:
+                            offered.setdefault(attribute, set()).add(kind)
+                own = found.setdefault((path, name), {})
+                for attribute, kinds in offered.items():
+                    if len(kinds) == 1 and attribute not in own:
+                        own[attribute] = next(iter(kinds))
+                        added = True
+        if not added:
+            break
+    return {key: kinds for key, kinds in found.items() if kinds}
+
+
 def quiet_classes(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> set[tuple[str, str]]:
     """The classes of the run that count no steps and whose bases, of any module of
     the run, count none either: a base the run does not define may count, so it keeps

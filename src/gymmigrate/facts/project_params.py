@@ -9,6 +9,8 @@ from typing import TYPE_CHECKING
 
 from gymmigrate.facts.kinds import EnvKind, join_kinds
 from gymmigrate.facts.module_summary import (
+    HELD,
+    KNOWN,
     MAX_CHAIN,
     NEW,
     OWN,
@@ -19,6 +21,7 @@ from gymmigrate.facts.module_summary import (
     ModuleSummary,
     Signature,
 )
+from gymmigrate.facts.project_classes import imported_class
 
 if TYPE_CHECKING:
     from gymmigrate.facts.project import ProjectFacts
@@ -39,6 +42,7 @@ class ParamJoin:
         self.calls_to = calls_to
         self.memo: dict[tuple[str, str, str], EnvKind] = {}
         self.depth = 0
+        self.subclassed: set[tuple[str, str]] | None = None
 
     def run(self) -> None:
         external: dict[tuple[str, str, str], list[EnvKind]] = defaultdict(list)
@@ -106,6 +110,19 @@ class ParamJoin:
             return ids.get(param)
         return None if call.open_ended else ""
 
+    def _subclassed(self) -> set[tuple[str, str]]:
+        """The classes of the run that a class of another module derives from (computed once,
+        the first time a held attribute asks)."""
+        if self.subclassed is None:
+            self.subclassed = {
+                base
+                for path, summary in self.by_path.items()
+                for _name, bases, _methods in summary.subclasses
+                for qualified in bases
+                if (base := imported_class(self.facts, self.by_path, path, qualified)) is not None and base[0] != path
+            }
+        return self.subclassed
+
     def param_kind(self, path: str, qualname: str, param: str) -> EnvKind:
         key = (path, qualname, param)
         known = self.memo.get(key)
@@ -129,8 +146,20 @@ class ParamJoin:
         if isinstance(kind, EnvKind):
             return kind
         if kind.startswith(NEW):
-            # ``new:a.Env|b.Other``: a name bound to instances of several classes of the run
-            return join_kinds(self.facts._class_kind(NEW + made, caller) for made in kind[len(NEW) :].split("|"))
+            # ``new:a.Env|b.Other``: a name bound to instances of several classes of the run,
+            # and maybe to what the caller settled itself (``=GYM_ENV``)
+            return join_kinds(
+                EnvKind[made[len(KNOWN) :]] if made.startswith(KNOWN) else self.facts._class_kind(NEW + made, caller)
+                for made in kind[len(NEW) :].split("|")
+            )
+        if kind.startswith(HELD):
+            # ``self.test_env`` held from a constructor parameter: what every construction of
+            # the class passes there, unless another module derives a class from it (its
+            # instances are built with arguments no call of the class shows)
+            qualname, _, param = kind[len(HELD) :].rpartition(":")
+            if (caller, qualname.split(".", 1)[0]) in self._subclassed():
+                return EnvKind.UNKNOWN
+            return self.param_kind(caller, qualname, param)
         qualname, _, param = kind[len(PARAM) :].rpartition(":")
         return self.param_kind(caller, qualname, param)
 

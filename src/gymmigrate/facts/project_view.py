@@ -108,6 +108,25 @@ class ProjectView:
         renders of a def of another module it is passed to (``settled_render``)."""
         return (self.path, call.lineno, call.col_offset) in self.facts.render_mode_constructions
 
+    def handed_render_mode(self, call: ast.Call) -> str | None:
+        """The frame mode ``call``, a ``gym.make`` of this file, gets for the renders of the
+        calls of other modules it is handed to (``ProjectFacts.handed_render_modes``)."""
+        return self.facts.handed_render_modes.get((self.path, call.lineno, call.col_offset))
+
+    def gives_handed_modes(self) -> bool:
+        """This file has a make that gets a ``handed_render_mode``."""
+        return any(path == self.path for path, _, _ in self.facts.handed_render_modes)
+
+    def settled_mode_render(self, qualname: str, param: str) -> tuple[str, list[str]] | None:
+        """(mode, ``main.py:32`` for each make) where every call of the run passes ``param`` of
+        this file's ``qualname`` an env made in another module that gets the one frame mode
+        its renders ask (``ProjectFacts.settled_mode_renders``); None otherwise."""
+        found = self.facts.settled_mode_renders.get((self.path, qualname, param))
+        if found is None:
+            return None
+        mode, makes = found
+        return mode, sorted({f"{os.path.relpath(path, os.path.dirname(self.path))}:{line}" for path, line, _ in makes})
+
     def test_double_callers(self, qualname: str, param: str) -> list[str] | None:
         """``tests/x_test.py:16`` for each call in another module that passes an env of
         another kind than a Gym env to ``param`` (a mock with an API of its own), when every

@@ -26,6 +26,7 @@ from gymmigrate.facts.env_classes import EnvClasses
 from gymmigrate.facts.env_specs import module_spec_lists, recreates_from_spec
 from gymmigrate.facts.id_params import escaping_parameters, id_parameters
 from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.mode_handovers import param_renders
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
 from gymmigrate.facts.module_summary import ModuleSummary, Signature
 from gymmigrate.facts.receivers import Receivers
@@ -55,6 +56,7 @@ from gymmigrate.facts.summaries.classes import (
     rendering_wrappers,
     self_calls,
     space_calls,
+    stored_attributes,
     subclasses,
 )
 from gymmigrate.facts.summaries.defs import (
@@ -199,7 +201,9 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         registrations=registrations(facts),
         registered_ids=registered_ids(facts),
         held_params=held_params(facts, receivers),
+        param_renders=param_renders(facts, receivers),
         driven_kinds=driven_kinds(facts, receivers),
+        stored_attributes=stored_attributes(facts, receivers),
         handed_on=handed_on(facts),
         silent_renders=frozenset(name for name, classdef in facts.classes.items() if renders_nothing(facts, classdef)),
         render_forwards=render_forwards(facts, receivers),

@@ -12,6 +12,7 @@ import re
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.mode_handovers import handed_make
 from gymmigrate.facts.module import (
     FUNCTIONS,
     ModuleFacts,
@@ -21,6 +22,8 @@ from gymmigrate.facts.module import (
 )
 from gymmigrate.facts.module_summary import (
     GUARD_KINDS,
+    HELD,
+    KNOWN,
     NEW,
     OWN,
     PARAM,
@@ -31,6 +34,7 @@ from gymmigrate.facts.module_summary import (
 )
 from gymmigrate.facts.receiver_classes import is_object
 from gymmigrate.facts.receivers import Receivers
+from gymmigrate.facts.summaries.classes import held_params
 
 # ``PongNoFrameskip-v4``, ``ALE/Pong-v5``, ``mod:Name-v0``: what the summaries keep of string arguments.
 _ENV_ID = re.compile(r"(?:[\w.]+:)?(?:\w+/)?[\w.-]+-v\d+")
@@ -282,7 +286,17 @@ class CallSummarizer:
         ids += [(k.arg, text) for k in call.keywords if k.arg is not None and (text := self._env_id(k.value)) is not None]
         thunks = [(str(i), self._thunks_kind(a)) for i, a in enumerate(call.args) if self.receivers.is_thunk_list(a)]
         thunks += [(k.arg, self._thunks_kind(k.value)) for k in call.keywords if k.arg is not None and self.receivers.is_thunk_list(k.value)]
-        return CallSummary(target, tuple(args), tuple(keywords), open_ended, tuple(ids), getattr(call, "lineno", 0), tuple(thunks))
+        slots = [(str(i), a) for i, a in enumerate(call.args[: len(args)])] + [(k.arg, k.value) for k in call.keywords if k.arg is not None]
+        made = [(slot, *found) for slot, value in slots if (found := handed_make(self.facts, value, call, self._is_run_call)) is not None]
+        return CallSummary(
+            target, tuple(args), tuple(keywords), open_ended, tuple(ids), getattr(call, "lineno", 0), tuple(thunks), tuple(made)
+        )
+
+    def _is_run_call(self, call: ast.Call) -> bool:
+        """A call of another module of the run that the join resolves (not this module's own
+        def, not a method of an unknown owner)."""
+        target = self._target(call.func)
+        return target is not None and not target.startswith((OWN, UNRESOLVED))
 
     def _thunks_kind(self, argument: ast.expr) -> Kind:
         """What calling each item of a list of thunks returns; ``ref:<qualified>`` when they
@@ -325,11 +339,15 @@ class CallSummarizer:
             own = self._own_factory(argument.func)
             if own is not None:
                 return NEW + own  # ``Holder(create_env(name))``: what the run says ``create_env`` gives
+        if kind is EnvKind.UNKNOWN and isinstance(argument, ast.Attribute):
+            held = self._held_attribute(argument)
+            if held is not None:
+                return held  # ``evaluate(policy, self.test_env)``: what the class's constructions pass
         if kind is EnvKind.UNKNOWN and isinstance(argument, ast.Name):
             parameter = self._parameter_of_def(argument)
             if parameter is not None:
                 return parameter
-            made = self._made_by_run_call(argument) or self._made_by_passed_class(argument)
+            made = self._made_by_run_call(argument) or self._made_by_passed_class(argument) or self._made_here_or_by_run(argument)
             if made is not None:
                 return NEW + made  # ``env = pkg.make_benchmark(...)``; ``run(env)``
         return kind
@@ -391,6 +409,32 @@ class CallSummarizer:
             found.add(qualified[0])
         return "|".join(sorted(found)) if found else None
 
+    def _made_here_or_by_run(self, name: ast.Name) -> str | None:
+        """``env = gym.make(...)`` in some branches and ``env = Reacher()`` (a class of
+        another module of the run) in others: the run's names joined by ``|`` with the kinds
+        this module settles itself (``=GYM_ENV``), for the join to resolve as one; None when
+        a binding is anything else, or when no binding calls a name of the run."""
+        bindings = self.facts.bindings_of(name)
+        made: set[str] = set()
+        known: set[str] = set()
+        for binding in bindings:
+            statement = self.facts.parent(binding)
+            if not (isinstance(binding, ast.Name) and isinstance(statement, ast.Assign) and statement.targets == [binding]):
+                return None
+            value = statement.value
+            kind = self.receivers.kind_of(value)
+            if kind is not EnvKind.UNKNOWN:
+                known.add(KNOWN + kind.name)
+                continue
+            if not isinstance(value, ast.Call):
+                return None
+            qualified = [q for q in self.facts.qualified_names(value.func) if not N.is_library(q)]
+            own = self._own_factory(value.func) if len(qualified) != 1 or "." not in qualified[0] else None
+            if own is None and (len(qualified) != 1 or "." not in qualified[0]):
+                return None
+            made.add(own or qualified[0])
+        return "|".join(sorted(made) + sorted(known)) if made and known else None
+
     def _env_like_instance(self, value: ast.expr, depth: int) -> bool:
         """An instance of a plain class of this module with a reset or step of its own:
         ``Board()``, a name bound to one, or a def of this module returning one."""
@@ -421,6 +465,28 @@ class CallSummarizer:
         if function is None or self.facts.functions.get(function.name) is not function:
             return None
         return OWN + function.name
+
+    def _held_attribute(self, attribute: ast.Attribute) -> str | None:
+        """``held:Trainer.__init__:test_env`` for ``self.test_env`` read in a method of a
+        top-level plain class that stores it only from that ``__init__`` parameter
+        (``ModuleSummary.held_params``), when ``self`` is an instance of that class alone: no
+        class here derives from it and the module hands the class on nowhere (its
+        constructions are the calls the join sees). The join gives it what those pass."""
+        owner = attribute.value
+        if not (isinstance(owner, ast.Name) and self.receivers.is_self(owner)):
+            return None
+        classdef = self.facts.enclosing_class(attribute)
+        if classdef is None or self.facts.classes.get(classdef.name) is not classdef:
+            return None
+        held = self.facts.memo(("held-params", 0), lambda: held_params(self.facts, self.receivers))
+        param = held.get(classdef.name, {}).get(attribute.attr)
+        if param is None:
+            return None
+        if any(self.receivers.local_class(base) is classdef for other in self.facts.all_classes for base in other.bases):
+            return None  # a subclass here may be built with arguments the join does not see
+        if self.receivers.constructions(classdef)[1]:
+            return None  # the class escapes under another name
+        return f"{HELD}{classdef.name}.__init__:{param}"
 
     def _parameter_of_def(self, name: ast.Name) -> str | None:
         """``param:Agent.fit:env`` when ``name`` is only ever the parameter ``env`` of a def

@@ -129,11 +129,32 @@ def held_params(facts: ModuleFacts, receivers: Receivers) -> dict[str, dict[str,
 _DRIVING_METHODS = ("reset", "step")
 
 
+# What an attribute holds that a subclass may drive without the base driving it: an env of
+# a known API (a base's ``self.env = gym.make(env_id)`` that only its subclasses step).
+_ENV_KINDS = frozenset({EnvKind.GYM_ENV, EnvKind.GYM_VEC, EnvKind.SB3_VEC, EnvKind.PZ_AEC, EnvKind.PZ_PARALLEL, EnvKind.OWN_API})
+
+
 def driven_kinds(facts: ModuleFacts, receivers: Receivers) -> dict[str, dict[str, EnvKind]]:
     """``ModuleSummary.driven_kinds``: per top-level class, the attributes it resets or
-    steps whose every store in the class is a call this module classifies: not a name or
-    an attribute, whose object a subclass's construction may choose."""
+    steps, or holds an env of a known API in, whose every store in the class is a call this
+    module classifies: not a name or an attribute, whose object a subclass's construction
+    may choose."""
     found: dict[str, dict[str, EnvKind]] = {}
+    for name, holder in facts.classes.items():
+        for attribute, values in receivers.self_stores(holder).items():
+            if not values or not all(isinstance(v, ast.Call) for v in values):
+                continue
+            node = next(
+                (
+                    a
+                    for a in facts.attributes.get(attribute, ())
+                    if isinstance(a.value, ast.Name) and receivers.is_self(a.value) and facts.enclosing_class(a) is holder
+                ),
+                None,
+            )
+            kind = receivers.kind_of(node) if node is not None else EnvKind.UNKNOWN
+            if kind in _ENV_KINDS:
+                found.setdefault(name, {})[attribute] = kind
     for method in _DRIVING_METHODS:
         for call in facts.attribute_calls.get(method, ()):
             held = call.func.value if isinstance(call.func, ast.Attribute) else None
@@ -148,6 +169,28 @@ def driven_kinds(facts: ModuleFacts, receivers: Receivers) -> dict[str, dict[str
             kind = receivers.kind_of(held)
             if kind is not EnvKind.UNKNOWN:
                 found.setdefault(classdef.name, {})[held.attr] = kind
+    return found
+
+
+def stored_attributes(facts: ModuleFacts, receivers: Receivers) -> dict[str, frozenset[str]]:
+    """``ModuleSummary.stored_attributes``: per top-level class with an imported base of the
+    run, the attributes it stores on ``self``, with those its bases of this module store
+    (their ``__init__`` may be the one that runs)."""
+    found: dict[str, frozenset[str]] = {}
+    for name, classdef in facts.classes.items():
+        if not any(not N.is_library(q) for base in classdef.bases for q in facts.qualified_names(base)):
+            continue
+        stored: set[str] = set()
+        seen: set[int] = set()
+        todo = [classdef]
+        while todo:
+            current = todo.pop()
+            if id(current) in seen:
+                continue
+            seen.add(id(current))
+            stored.update(receivers.self_stores(current))
+            todo += [local for base in current.bases if (local := receivers.local_class(base)) is not None]
+        found[name] = frozenset(stored)
     return found
 
 

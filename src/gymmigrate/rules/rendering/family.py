@@ -31,8 +31,8 @@ class Rendering(RenderSites, SitePlanning):
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
         text = facts.text
         project = context.options.project
-        if project is not None and project.view(context.path).gives_render_modes():
-            return True  # a constructor here gets the mode another module's renders need
+        if project is not None and (project.view(context.path).gives_render_modes() or project.view(context.path).gives_handed_modes()):
+            return True  # a constructor or a make here gets the mode another module's renders need
         if LEGACY_SINGLE_FRAME in text or any(word in text for word in RECORDER_ATTRIBUTES):
             return True
         renders = facts.attribute_calls.get("render", [])
@@ -81,6 +81,7 @@ class Rendering(RenderSites, SitePlanning):
         self._wrapped = self._rendering_wrappers()
         self._plan_sites(sites)
         self._plan_handed_constructions()
+        self._plan_handed_makes()
         self._plan_forwards()
         self._report_rendering_wrappers()
         self._plan_make_literals()

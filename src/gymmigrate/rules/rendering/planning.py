@@ -207,6 +207,8 @@ class SitePlanning(EnvUses, UntracedEnvs):
             self._rendered_by_wrapper(site) or self._settled_elsewhere(site) or self._report_made_elsewhere(site)
         ):
             return
+        if not site.creation.found and self._moved_to_handed_make(site):
+            return
         if not site.creation.found:
             func = call.func
             library = self._gym_only_library(func.value) if isinstance(func, ast.Attribute) else None

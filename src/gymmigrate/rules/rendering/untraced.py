@@ -1,7 +1,8 @@
 """Renders of an env whose make this file cannot reach: an env another module of the run
 makes and passes in (``Agent(env, args)`` in run.py), reported with where it comes from
-and the mode to give it there; an env of a Gym-only library stack; and the one question
-the renders and recorders of one untraced env share.
+and the mode to give it there, or, for a frame mode every such make takes now, moved
+there; an env of a Gym-only library stack; and the one question the renders and recorders
+of one untraced env share.
 
 Separate from ``planning.py`` because no make here can take these envs' mode: the
 finding names the other place (a module, a library's stack) where it is chosen, and
@@ -14,8 +15,10 @@ import ast
 import os
 from collections.abc import Hashable
 
-from gymmigrate.facts.module import full_name
+from gymmigrate.facts.mode_handovers import rendered_param
+from gymmigrate.facts.module import full_name, keyword
 from gymmigrate.findings import RUN_QUESTION, FixKind, Tier, gym_only_question
+from gymmigrate.rules.render_calls import without_mode_argument
 from gymmigrate.rules.render_schedule import local_condition
 from gymmigrate.rules.rendering.common import RenderSite
 from gymmigrate.rules.rendering.makes import MakeEdits
@@ -101,6 +104,50 @@ class UntracedEnvs(MakeEdits):
                     'passed to renders this env with a bare render(), which drew in "human" mode',
                     tier=Tier.NOTE,
                 )
+
+    def _plan_handed_makes(self) -> None:
+        """``env = gym.make(id)`` handed only to calls of other modules whose renders ask one
+        frame mode (``Player(env)`` with ``self.env.render(mode="rgb_array")`` in player.py,
+        ``facts/mode_handovers.py``): the make gets that mode, where the render module drops it."""
+        project = self.receivers.project
+        if project is None or not project.gives_handed_modes():
+            return
+        for node in ast.walk(self.facts.tree):
+            mode = project.handed_render_mode(node) if isinstance(node, ast.Call) else None
+            if mode is None or not isinstance(node, ast.Call) or id(node) in self._added or keyword(node, "render_mode") is not None:
+                continue
+            self._add_mode(node, mode, self._quote_style(node, []))
+            self.report(
+                node,
+                "GM401",
+                f'added render_mode="{mode}" to {self.facts.segment(node)}: the calls of other modules this env is handed '
+                f'to render it with render(mode="{mode}"), which takes no mode now',
+                tier=Tier.NOTE,
+            )
+
+    def _moved_to_handed_make(self, site: RenderSite) -> bool:
+        """``self.env.render(mode="rgb_array")`` where every construction of the run passes a
+        ``gym.make`` of another module that gets this mode (``_plan_handed_makes`` there):
+        the mode goes, a note says where it went."""
+        project = self.receivers.project
+        func = site.node.func
+        if project is None or site.variable or site.code != "GM401" or not isinstance(func, ast.Attribute):
+            return False
+        param = rendered_param(self.facts, self.receivers, func.value)
+        settled = project.settled_mode_render(*param) if param is not None else None
+        if settled is None or settled[0] != site.mode:
+            return False
+        mode, places = settled
+        self.plan.replace(site.node, without_mode_argument)
+        self._mode_dropped.add(id(site.node))
+        self.report(
+            site.node,
+            "GM401",
+            f'render mode moved to where this env is made, in another module ({", ".join(places)}: render_mode="{mode}"); '
+            "render() takes no arguments",
+            tier=Tier.NOTE,
+        )
+        return True
 
     def _made_elsewhere_question(self, callers: list[str], condition: str | None) -> Hashable:
         """One question for the run: the agents of several modules that render the env one
