@@ -7,6 +7,7 @@ classes whose render(mode) may stay the project's own."""
 from __future__ import annotations
 
 import ast
+from typing import TYPE_CHECKING
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.class_shapes import wrapped_env_renders
@@ -27,7 +28,9 @@ from gymmigrate.facts.render_modes import (
     own_object,
     passes_mode,
 )
-from gymmigrate.facts.summaries.calls import CallSummarizer
+
+if TYPE_CHECKING:  # the calls summarizer reads this module's held_params: a type only here
+    from gymmigrate.facts.summaries.calls import CallSummarizer
 
 _SPACE_ATTRIBUTES = ("action_space", "observation_space")
 
