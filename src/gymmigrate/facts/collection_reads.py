@@ -13,12 +13,17 @@ flags does not):
   Builtins and type tests for a list only; an array's methods are a sign against.
 - ``rules/step_done/unpack.py`` (``reads_as_batch``): must ``done`` be joined element by
   element? Indexing, iteration, any type test, and NumPy's element-wise calls.
+- ``rules/wrappers/step_inner.py`` (``_reads_per_agent``): does a wrapper's step return a
+  reduction of its inner step's per-agent flags? Indexing, iteration, the reducing builtins,
+  and a dict's own views (``done.values()``).
+- ``facts/own_api.py`` (``_per_agent_flags``): does a step return RLlib's dict of agents'
+  flags? Only the all-agents key (``done["__all__"]``).
 """
 
 from __future__ import annotations
 
 import ast
-from collections.abc import Callable
+from collections.abc import Callable, Collection
 from dataclasses import dataclass
 from enum import Enum
 
@@ -38,12 +43,14 @@ class CollectionRead:
     """One read of ``done`` as a collection. ``callee``: the called name for PASSED, METHOD
     and ARRAY_CALL (``all``, ``tolist``, ``logical_or``); ``only_argument``: ``done`` is the
     call's one positional argument (``all(done)``, not ``all(done, x)``); ``types``:
-    ``isinstance``'s second argument, None when the call does not have exactly two."""
+    ``isinstance``'s second argument, None when the call does not have exactly two;
+    ``key``: the name a KEYED read takes (``__all__``)."""
 
     shape: Shape
     callee: str = ""
     only_argument: bool = False
     types: ast.expr | None = None
+    key: str = ""
 
 
 def named(name: str) -> Callable[[ast.AST], bool]:
@@ -53,6 +60,16 @@ def named(name: str) -> Callable[[ast.AST], bool]:
         return isinstance(node, ast.Name) and node.id == name
 
     return is_name
+
+
+def named_in(names: Collection[str]) -> Callable[[ast.AST], bool]:
+    """Whether a node is one of the variables ``names``: a done and the flags split from
+    it (``done``, ``terminated``, ``truncated``) asked about together."""
+
+    def is_one(node: ast.AST) -> bool:
+        return isinstance(node, ast.Name) and node.id in names
+
+    return is_one
 
 
 def same_node(read: ast.AST) -> Callable[[ast.AST], bool]:
@@ -72,8 +89,9 @@ def collection_read(node: ast.AST, is_done: Callable[[ast.AST], bool]) -> Collec
         if not is_done(node.value):
             return None
         key = node.slice
-        keyed = isinstance(key, ast.Constant) and isinstance(key.value, str)
-        return CollectionRead(Shape.KEYED if keyed else Shape.INDEXED)
+        if isinstance(key, ast.Constant) and isinstance(key.value, str):
+            return CollectionRead(Shape.KEYED, key=key.value)
+        return CollectionRead(Shape.INDEXED)
     if isinstance(node, (ast.For, ast.AsyncFor, ast.comprehension)):
         return CollectionRead(Shape.ITERATED) if is_done(node.iter) else None
     if not isinstance(node, ast.Call):

@@ -16,6 +16,7 @@ from __future__ import annotations
 import ast
 from collections.abc import Mapping
 
+from gymmigrate.facts.collection_reads import Shape, collection_read, named
 from gymmigrate.facts.module import FUNCTIONS, own_returns
 
 # RLlib's MultiAgentEnv (and the projects written after it) ends an episode for every
@@ -79,8 +80,11 @@ def _per_agent_flags(done: ast.expr, step: ast.AST, methods: Mapping[str, ast.AS
         return _has_all_key(done)
     if not isinstance(done, ast.Name):
         return False
+    is_done = named(done.id)
     for node in ast.walk(step):
-        if isinstance(node, ast.Subscript) and isinstance(node.value, ast.Name) and node.value.id == done.id and _is_all_key(node.slice):
+        # only the all-agents key: a dict read by other names (``done["agent_0"]``) is no
+        # proof of RLlib's contract, which this report names
+        if (read := collection_read(node, is_done)) is not None and read.shape is Shape.KEYED and read.key == ALL_AGENTS_KEY:
             return True
         if isinstance(node, ast.Assign) and any(isinstance(t, ast.Name) and t.id == done.id for t in node.targets):
             value = node.value

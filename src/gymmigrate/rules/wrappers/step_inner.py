@@ -19,6 +19,12 @@ from __future__ import annotations
 import ast
 from dataclasses import dataclass
 
+from gymmigrate.facts.collection_reads import (
+    CollectionRead,
+    Shape,
+    collection_read,
+    named_in,
+)
 from gymmigrate.facts.module import FUNCTIONS
 from gymmigrate.rules.step_done.common import StepUnpack
 from gymmigrate.rules.wrappers.common import (
@@ -29,25 +35,33 @@ from gymmigrate.rules.wrappers.common import (
 )
 from gymmigrate.rules.wrappers.step_ends import _is_initializer
 
+# The builtins a wrapper's step reduces (or lists) its inner per-agent flags with. Each
+# raises on one flag (``all(True)``), so a single env's done is never taken for agents'.
+_AGENT_BUILTINS = frozenset({"all", "any", "list", "sum", "len"})
+# A dict of agents' flags read through its views (``done.values()``): a bool has none.
+# facts/per_agent_flags.py takes any attribute as a sign against (an array's ``done.any()``);
+# here a view is a sign for, and other methods, NumPy's calls and type tests, which one
+# flag may pass too (``np.any(True)``, ``isinstance(done, bool)``), are no sign.
+_DICT_VIEWS = frozenset({"values", "items", "keys"})
+
 
 def _reads_per_agent(expr: ast.expr, names: set[str]) -> bool:
     """``all(done)``, ``any(dones)``, ``done.values()``, ``done[i]`` or a comprehension over
     ``done``: the inner step's done (or flags) is a collection of per-agent flags."""
-    def is_flag(node: ast.AST) -> bool:
-        return isinstance(node, ast.Name) and node.id in names
+    is_flag = named_in(names)
+    return any(_per_agent_read(collection_read(node, is_flag)) for node in ast.walk(expr))
 
-    for node in ast.walk(expr):
-        if isinstance(node, ast.Call):
-            func = node.func
-            if isinstance(func, ast.Name) and func.id in ("all", "any", "list", "sum", "len") and any(is_flag(a) for a in node.args):
-                return True
-            if isinstance(func, ast.Attribute) and func.attr in ("values", "items", "keys") and is_flag(func.value):
-                return True
-        elif isinstance(node, ast.Subscript) and is_flag(node.value):
-            return True
-        elif isinstance(node, ast.comprehension) and is_flag(node.iter):
-            return True
-    return False
+
+def _per_agent_read(read: CollectionRead | None) -> bool:
+    """A read one flag raises on: indexed, iterated, a reducing builtin's, a dict's view."""
+    if read is None:
+        return False
+    if read.shape is Shape.PASSED:
+        return read.callee in _AGENT_BUILTINS
+    if read.shape is Shape.METHOD:
+        return read.callee in _DICT_VIEWS
+    # ``expr`` is an expression, so ITERATED is a comprehension's ``for`` (no loop statement)
+    return read.shape in (Shape.INDEXED, Shape.KEYED, Shape.ITERATED)
 
 
 def _reduces_per_agent(function: ast.AST, name: str, flags: set[str]) -> bool:
