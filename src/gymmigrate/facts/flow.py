@@ -196,6 +196,18 @@ class Flow:
                     return False  # rebound later in a loop that runs the read again
         return True
 
+    def left_by_loop(self, statement: ast.stmt, read: ast.Name) -> bool:
+        """Is ``read`` certain to see the value ``statement`` bound, the last one of a loop
+        around ``statement`` that the read comes after? That holds when no other binding of the
+        name can reach the read: a loop may run no time at all, so a binding above the loop
+        (``done = False``) reaches the read as well, and the loop's last value is then one of
+        two. Without one, a loop that never ran leaves the name unbound: the read fails
+        rather than see anything else."""
+        if not any(isinstance(loop, LOOPS) and is_after(read, loop) for loop in self.facts.ancestors(statement)):
+            return False
+        reaching = self.reaching(read)
+        return bool(reaching) and all(contains(statement, binding) for binding in reaching or ())
+
     def reaching(self, read: ast.Name) -> list[ast.AST] | None:
         """The bindings of the variable ``read`` reads whose value may reach it: not those
         the read cannot observe (later in the text, outside any loop around the read), nor
