@@ -197,6 +197,9 @@ class ProjectFacts:
     # file's path -> entry target -> (the module that calls it, as shown, or None; why not).
     plugin_calls: dict[str, tuple[tuple[str, str | None], ...]] = field(default_factory=dict)
     plugin_routes: dict[str, dict[str, tuple[str | None, str]]] = field(default_factory=dict)
+    # The Python programs of the run (modules and notebooks, realpaths), Gym code or not: a
+    # dependency file's ``gym`` pin moves with the code beside it when the run holds it (GM109).
+    programs: frozenset[str] = frozenset()
     # (path, top-level name) -> (space attribute, space class, what it derives from) for a
     # class (or a re-export of one) that sets a space to an instance of a class of the run
     # that is not a ``gymnasium.spaces.Space``: Gymnasium 1.x's env checker rejects it.
