@@ -104,3 +104,26 @@ def test_a_subclass_module_checked_alone_asks_its_own_question(tmp_path: Path) -
     shutil.copytree(POLICIES, run)
     result = runner.invoke(app, ["check", "--output-format", "json", str(run / "policies" / "dqn.py")])
     assert _review(json.loads(result.stdout)) == [("dqn.py", 8, "GM201")]
+
+
+# -- parameters the run feeds the same env ---------------------------------------------
+
+FED = Path(__file__).resolve().parent.parent / "fixtures" / "project_fed_params"
+
+
+def test_defs_fed_the_same_variable_ask_one_question() -> None:
+    """``fixtures/project_fed_params``: ``main.py`` hands one untraceable env to two scorers of
+    ``scoring.py``: whether it is a Gym env is asked once, at the first; a scorer fed another
+    variable asks its own question."""
+    result = runner.invoke(app, ["check", "--output-format", "json", str(FED)])
+    findings = json.loads(result.stdout)
+    assert _review(findings) == [("scoring.py", 2, "GM201"), ("scoring.py", 14, "GM201")]
+    first = next(f for f in findings if f["tier"] == "review" and f["line"] == 2)
+    assert first["message"].endswith("(the same question at lines 3, 8, 9)")
+    pointed = sorted(f["line"] for f in findings if f["message"].endswith("(asked once, at line 2)"))
+    assert pointed == [3, 8, 9]
+
+
+def test_defs_checked_without_their_callers_ask_each_their_own_question() -> None:
+    result = runner.invoke(app, ["check", "--output-format", "json", str(FED / "scoring.py")])
+    assert _review(json.loads(result.stdout)) == [("scoring.py", 2, "GM201"), ("scoring.py", 8, "GM201"), ("scoring.py", 14, "GM201")]

@@ -229,6 +229,19 @@ class Flow:
             found.append(binding)
         return found
 
+    def source_of(self, read: ast.Name) -> str | None:
+        """The variable ``read`` reads, as text that is the same for every read that can see
+        only the same bindings of it: its name and where those bindings are (``env@12:4,15:4``).
+        Two calls that hand on reads with one source pass the same values. The bindings that
+        reach the read where the flow tells them apart (``reaching``), else every binding of
+        the variable (a read in a nested def). None for a name nothing here binds."""
+        bindings = self.reaching(read)
+        if not bindings:
+            bindings = self.facts.bindings_of(read)
+        if not bindings:
+            return None
+        return f"{read.id}@" + ",".join(f"{line}:{column}" for line, column in sorted(start(b) for b in bindings))
+
     def _overwritten(self, statement: ast.stmt, read: ast.Name) -> bool:
         """A later statement of ``statement``'s block assigns ``read``'s name unconditionally
         before the read runs (the read is not in it, nor in a loop that returns above it)."""

@@ -38,6 +38,9 @@ class CallSummary:
     # string, or the keyword, what calling every item returns: ``thunk_list_kind``).
     # ``ref:<qualified>`` for one whose items are all calls of one imported def of the run.
     thunks: tuple[tuple[str, Kind], ...] = ()
+    # Arguments that are names: (position as a string, or the keyword, ``Flow.source_of``):
+    # which variable of the caller each hands on (two defs fed the same one hold the same values).
+    sources: tuple[tuple[str, str], ...] = ()
 
 
 @dataclass(frozen=True)

@@ -103,6 +103,9 @@ class ProjectFacts:
 
     # (path, "Agent.fit", "env") -> the kinds other modules pass there
     param_kinds: dict[tuple[str, str, str], list[EnvKind]] = field(default_factory=dict)
+    # ...and per call, the variable it hands on there ("caller path|Flow.source_of"), None for
+    # anything else (an expression, the default): defs fed the same variables hold the same values
+    param_sources: dict[tuple[str, str, str], tuple[str | None, ...]] = field(default_factory=dict)
     defs: dict[str, frozenset[str]] = field(default_factory=dict)  # path -> qualnames defined
     env_classes: dict[str, frozenset[str]] = field(default_factory=dict)  # path -> env classes
     wrapper_classes: dict[str, frozenset[str]] = field(default_factory=dict)  # path -> Gym wrapper classes
