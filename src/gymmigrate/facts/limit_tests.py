@@ -143,6 +143,8 @@ def streak_attributes(facts: ModuleFacts, classdef: ast.ClassDef) -> frozenset[s
     def compute() -> frozenset[str]:
         found = set()
         for node in ast.walk(classdef):
+            test: ast.expr
+            stores: dict[str, tuple[ast.AST, ast.AST]]
             if isinstance(node, ast.Assign) and len(node.targets) == 1 and isinstance(node.value, ast.IfExp):
                 name = self_attribute(node.targets[0])
                 test, stores = node.value.test, {name: (node.value.body, node.value.orelse)} if name is not None else {}
