@@ -8,7 +8,9 @@ byte the same) and one ``findings`` file (``LINE RULE KIND`` per finding, over a
 
 from __future__ import annotations
 
+import json
 import re
+import shutil
 import sys
 from pathlib import Path
 
@@ -400,3 +402,34 @@ def test_a_run_that_imports_mujoco_envs_declares_imageio(tmp_path: Path) -> None
     assert "from gymnasium.envs.mujoco.half_cheetah_v4 import HalfCheetahEnv" in (tmp_path / "cheetah.py").read_text()
     again = CliRunner().invoke(app, ["rewrite", str(tmp_path)])
     assert again.exit_code == 0 and (tmp_path / "pyproject.toml").read_text() == expected
+
+
+# -- gym's own pin where the run migrates the code beside it
+
+PIN_WITH_CODE = Path(__file__).resolve().parent.parent / "fixtures" / "project_pin_with_code"
+
+
+def _gym_pin(arguments: list[str]) -> dict:
+    check = CliRunner().invoke(app, ["check", "--output-format", "json", *arguments])
+    return next(f for f in json.loads(check.stdout) if f["rule"] == "GM109")
+
+
+def test_the_pin_of_a_package_the_run_migrates_is_a_note() -> None:
+    """``fixtures/project_pin_with_code``: the package's modules are in the run, so "the code
+    must be migrated with it" is what the run does: a note that says so."""
+    pin = _gym_pin([str(PIN_WITH_CODE)])
+    assert pin["tier"] == "note"
+    assert pin["message"] == "`gym` -> `gymnasium>=1.0`: the code beside it is migrated with it in the same run (imports, reset/step API)"
+
+
+def test_the_pin_stays_a_question_where_the_code_is_not_migrated_with_it(tmp_path: Path) -> None:
+    """Alone, with a module of the package left as it is, or with a rule that moves the code
+    left out, the code must still be migrated with the pin: a review item."""
+    assert _gym_pin([str(PIN_WITH_CODE / "setup.py")])["tier"] == "review"
+    assert _gym_pin(["--ignore", "GM301", str(PIN_WITH_CODE)])["tier"] == "review"
+    run = tmp_path / "run"
+    shutil.copytree(PIN_WITH_CODE, run)
+    pad = run / "hoverpad" / "pad.py"
+    pad.write_text("# gymmigrate: skip-file\n" + pad.read_text())
+    pin = _gym_pin([str(run)])
+    assert pin["tier"] == "review" and "the code must be migrated with it" in pin["message"]

@@ -2,8 +2,9 @@
 
 ``fixtures/project_decisions``: three scripts that load a saved policy bump the same env id and import the same
 Gym-only library. Each decision is one review item, in the first file by path, naming
-the other places; those are notes pointing at it. A decision only one file makes stays
-its own item, and ``check`` still exits 1 (findings) with every place listed.
+the other places; those are notes pointing at it. Another id whose bump is the same
+change (the same version step of the catalog) joins it; a decision only one file makes
+stays its own item, and ``check`` still exits 1 (findings) with every place listed.
 """
 
 from __future__ import annotations
@@ -40,10 +41,15 @@ def test_check_asks_each_run_wide_decision_once_and_lists_every_place(run: Path)
     assert len(hopper) == 3  # every place is still listed
     first = next(f for f in hopper if f["tier"] == "review")
     assert first["message"].endswith(
-        f"(the same decision at 2 other places: {run / 'scripts' / 'test.py'}:8, {run / 'scripts' / 'train.py'}:8)"
+        f"(the same question at line 13) (the same decision at 2 other places: {run / 'scripts' / 'test.py'}:8, "
+        f"{run / 'scripts' / 'train.py'}:8)"
     )
     for note in (f for f in hopper if f["tier"] == "note"):
         assert note["message"].endswith(f"(decided once, at {run / 'scripts' / 'evaluate.py'}:7)")
+    # Walker2d-v2 takes Hopper-v2's version step (the same change): it joins that decision;
+    # LunarLander-v2's change is another one, asked at line 12 on its own
+    walker = next(f for f in findings if f["rule"] == "GM803" and "Walker2d-v2" in f["message"])
+    assert (walker["line"], walker["tier"]) == (13, "note") and walker["message"].endswith("(asked once, at line 7)")
     roboschool = [f for f in findings if f["rule"] == "GM107"]
     assert [f["tier"] for f in sorted(roboschool, key=lambda f: f["path"])] == ["review", "note"]
 
@@ -98,3 +104,26 @@ def test_a_subclass_module_checked_alone_asks_its_own_question(tmp_path: Path) -
     shutil.copytree(POLICIES, run)
     result = runner.invoke(app, ["check", "--output-format", "json", str(run / "policies" / "dqn.py")])
     assert _review(json.loads(result.stdout)) == [("dqn.py", 8, "GM201")]
+
+
+# -- parameters the run feeds the same env ---------------------------------------------
+
+FED = Path(__file__).resolve().parent.parent / "fixtures" / "project_fed_params"
+
+
+def test_defs_fed_the_same_variable_ask_one_question() -> None:
+    """``fixtures/project_fed_params``: ``main.py`` hands one untraceable env to two scorers of
+    ``scoring.py``: whether it is a Gym env is asked once, at the first; a scorer fed another
+    variable asks its own question."""
+    result = runner.invoke(app, ["check", "--output-format", "json", str(FED)])
+    findings = json.loads(result.stdout)
+    assert _review(findings) == [("scoring.py", 2, "GM201"), ("scoring.py", 14, "GM201")]
+    first = next(f for f in findings if f["tier"] == "review" and f["line"] == 2)
+    assert first["message"].endswith("(the same question at lines 3, 8, 9)")
+    pointed = sorted(f["line"] for f in findings if f["message"].endswith("(asked once, at line 2)"))
+    assert pointed == [3, 8, 9]
+
+
+def test_defs_checked_without_their_callers_ask_each_their_own_question() -> None:
+    result = runner.invoke(app, ["check", "--output-format", "json", str(FED / "scoring.py")])
+    assert _review(json.loads(result.stdout)) == [("scoring.py", 2, "GM201"), ("scoring.py", 8, "GM201"), ("scoring.py", 14, "GM201")]

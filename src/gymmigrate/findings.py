@@ -71,6 +71,15 @@ def rllib_question() -> tuple[str, ...]:
     return (RUN_QUESTION, "rllib-era", "", "ray")
 
 
+def id_version_question(rule: str, change: str) -> tuple[str, ...]:
+    """What every bump of a retired env id to a version that behaves differently asks: does
+    the program accept that change (a policy or normaliser saved on the old version)? The
+    change is the catalog's reason for the step (``env_ids/catalog.py``): ids whose bump
+    gives the same one (every MuJoCo ``-v3`` -> ``-v4``) ask one decision, wherever they
+    are in the run, asked in the first file by path."""
+    return (RUN_QUESTION, "id-version", "", rule, change)
+
+
 def recorder_mode_question(line: int, column: int) -> tuple[object, ...]:
     """What a Monitor call turned RecordVideo asks wherever it keeps a question: the mode its
     env is made with (GM407, creation site not found) and the arguments it dropped (GM611),

@@ -76,7 +76,7 @@ def migrate_bytes(
             requires = options.project.requires if options.project is not None else frozenset()
             routes = None if options.project is None else options.project.plugin_routes.get(os.path.realpath(path), {})
             rewritten, found = migrate_dependency_file(
-                path, source, selection=options.selection, requires=requires, plugins=routes
+                path, source, selection=options.selection, requires=requires, plugins=routes, code_migrated=_code_beside_migrates(path, options)
             )
             transformed = Transformed(original=source, rewritten=rewritten, encoding="utf-8", findings=list(found))
         elif lint:
@@ -97,6 +97,26 @@ def migrate_bytes(
     status = Status.CHANGED if transformed.changed else Status.UNCHANGED
     result = FileResult(shown, status, findings=tuple(transformed.findings))
     return result, None if lint else transformed
+
+
+# The rules that move a program's code to Gymnasium with its ``gym`` pin: its imports, its
+# resets and its steps (what GM109's "the code must be migrated with it" asks for).
+_CODE_RULES = ("GM101", "GM102", "GM103", "GM201", "GM301")
+
+
+def _code_beside_migrates(path: Path, options: RewriteOptions) -> bool:
+    """The run holds the Python programs of the folder a dependency file declares (its own,
+    or the one above a ``requirements/`` folder), leaves none of them as it is, and applies
+    the rules that move code to Gymnasium: the file's ``gym`` pin moves with that code. A
+    dependency file migrated alone (no program of its folder in the run) keeps its item."""
+    project = options.project
+    if project is None or (options.selection is not None and not all(options.selection.allows(code) for code in _CODE_RULES)):
+        return False
+    folder = os.path.dirname(os.path.realpath(path))
+    if os.path.basename(folder).lower() == "requirements":
+        folder = os.path.dirname(folder)
+    beside = [program for program in project.programs if program.startswith(folder + os.sep)]
+    return bool(beside) and not any(program in project.blocked for program in beside)
 
 
 def process_file(

@@ -52,6 +52,9 @@ if TYPE_CHECKING:
 # finding of the run itself, not a rule of the table).
 BLOCKED_BY_MODULE = "GM002"
 
+# The files of a run that hold a Python program of their own: modules and notebooks.
+PROGRAM_SUFFIXES = (".py", ".pyw", ".ipynb")
+
 # Below this many files a pool costs more (worker start-up, imports) than it saves.
 PARALLEL_THRESHOLD = 16
 
@@ -85,7 +88,7 @@ def run_files(
         # One cheap pass over every module (on the workers too), joined once.
         pool = (lambda python: _run_parallel(python, _Summarize(), workers)) if workers > 1 else None  # noqa: E731
         summaries = run_summaries(list(paths), pool)
-        project = _with_plugins(ProjectFacts.join(summaries), summaries, paths)
+        project = _run_facts(summaries, paths)
         if lint:
             results = _computed(list(paths), _Task(replace(options, project=project), write, want_diff, True), workers)
         else:
@@ -120,7 +123,7 @@ def run_summaries(paths: list[Path], summaries: Callable[[list[Path]], Iterable[
     # either, but they call the run's modules (``rl_utils.train(env, agent)`` with a
     # ``gym.make`` env): their calls count as call sites (``ProjectFacts.join`` keeps them
     # out of the module names).
-    python = [path for path in paths if Path(path).suffix in (".py", ".pyw", ".ipynb")]
+    python = [path for path in paths if Path(path).suffix in PROGRAM_SUFFIXES]
     found = summaries(python) if summaries is not None else map(summarize_path, python)
     return [summary for summary in found if isinstance(summary, ModuleSummary)]
 
@@ -165,7 +168,7 @@ def _providers_first(
     if refused:
         if stream is not None:
             stream.close()  # computed with the facts the refusal changes
-        project = _with_plugins(ProjectFacts.join(summaries, blocked={**project.blocked, **refused}), summaries, paths)
+        project = _run_facts(summaries, paths, blocked={**project.blocked, **refused})
         return project, _computed(list(paths), _Task(replace(options, project=project), write, want_diff), workers)
     if stream is None:
         stream = _computed(rest, _Task(run_options, write, want_diff), workers)
@@ -179,6 +182,15 @@ def _result_of(answer: FileResult | PendingWrite) -> FileResult:
 
 def _finished(answer: FileResult | PendingWrite) -> FileResult:
     return answer.write() if isinstance(answer, PendingWrite) else answer
+
+
+def _run_facts(summaries: list[ModuleSummary], paths: Sequence[Path], blocked: dict[str, str] | None = None) -> ProjectFacts:
+    """The run's joined facts, with its entry points resolved and its programs listed."""
+    project = _with_plugins(ProjectFacts.join(summaries, blocked=blocked), summaries, paths)
+    project.programs = frozenset(
+        os.path.realpath(path) for path in paths if Path(path).suffix in PROGRAM_SUFFIXES and kind_of(path) is None  # not setup.py
+    )
+    return project
 
 
 def _with_plugins(project: ProjectFacts, summaries: list[ModuleSummary], paths: Sequence[Path]) -> ProjectFacts:

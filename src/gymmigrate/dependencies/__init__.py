@@ -91,13 +91,16 @@ def migrate_dependency_file(
     selection: Selection | None = None,
     requires: frozenset[str] = frozenset(),
     plugins: Mapping[str, Route] | None = None,
+    code_migrated: bool = False,
 ) -> DependencyResult:
     """The migrated bytes of a dependency file and what was changed or must be reviewed.
 
     Raises DependencyError when the file cannot be read as its kind, or when the rewrite
     would not be stable (a second run would change it again).
     """
-    return _formats().migrate_dependency_file(path, source, selection=selection, requires=requires, plugins=plugins)
+    return _formats().migrate_dependency_file(
+        path, source, selection=selection, requires=requires, plugins=plugins, code_migrated=code_migrated
+    )
 
 
 def migrate_page_commands(path: Path | str, source: bytes, *, selection: Selection | None = None) -> DependencyResult:

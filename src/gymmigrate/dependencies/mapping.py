@@ -210,6 +210,8 @@ def decide(requirement: Requirement) -> Decision:
 
 
 MIGRATE_WITH_IT = "the code must be migrated with it (imports, reset/step API)"
+# ...and what it says where the same run migrates the code beside the file.
+MIGRATED_WITH_IT = "the code beside it is migrated with it in the same run (imports, reset/step API)"
 ROMS_SHIP_WITH_ALE = "`accept-rom-license` is gone: the ROMs ship with ale-py"
 
 

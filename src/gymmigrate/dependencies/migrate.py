@@ -16,12 +16,18 @@ from gymmigrate.dependencies.lines import (
     migrate_requirements,
     migrate_setup_cfg,
 )
+from gymmigrate.dependencies.mapping import (
+    GYM_PACKAGE,
+    MIGRATE_WITH_IT,
+    MIGRATED_WITH_IT,
+    only_describes_gym_pin,
+)
 from gymmigrate.dependencies.plugins import plugin_findings
 from gymmigrate.dependencies.pyproject import PyprojectError, migrate_pyproject
 from gymmigrate.dependencies.setup_py import SetupPyError, migrate_setup_py
 from gymmigrate.dependencies.shell import migrate_dockerfile, migrate_page
 from gymmigrate.engine import LineMap
-from gymmigrate.findings import Finding
+from gymmigrate.findings import Finding, FixKind, Tier
 
 if TYPE_CHECKING:
     from collections.abc import Mapping
@@ -120,12 +126,16 @@ def migrate_dependency_file(
     selection: Selection | None = None,
     requires: frozenset[str] = frozenset(),
     plugins: Mapping[str, Route] | None = None,
+    code_migrated: bool = False,
 ) -> DependencyResult:
     """The migrated bytes of a dependency file and what was changed or must be reviewed.
     ``requires``: packages the run's migrated code imports (``ProjectFacts.requires``).
 
     ``plugins``: what the run did with each ``gym.envs`` entry point of the file (GM111,
     ``plugins.py``), by target; None for a file migrated on its own.
+
+    ``code_migrated``: the same run migrates the code the file declares (its Python
+    programs): the move of gym's own pin asks nothing more, and is a note.
 
     Raises DependencyError when the file cannot be read as its kind, or when the rewrite
     would not be stable (a second run would change it again).
@@ -139,7 +149,18 @@ def migrate_dependency_file(
     result = _run(handler, source, selection, requires)
     if result.rewritten != source and _run(handler, result.rewritten, selection, requires).rewritten != result.rewritten:
         raise DependencyError("the dependency rewrite is not stable (a second run would change it again); file left unchanged")
+    if code_migrated:
+        return replace(result, findings=[_moved_with_the_code(finding) for finding in result.findings])
     return result
+
+
+def _moved_with_the_code(finding: Finding) -> Finding:
+    """GM109's item on gym's own pin, whose every reason describes the rewrite, where the run
+    migrates the code beside the file: what it asks ("the code must be migrated with it") is
+    done, so it is a note saying so. Any other finding as it is."""
+    if finding.rule == GYM_PACKAGE and finding.kind is FixKind.ASSIST and only_describes_gym_pin(finding.message):
+        return replace(finding, tier=Tier.NOTE, message=finding.message.replace(MIGRATE_WITH_IT, MIGRATED_WITH_IT))
+    return finding
 
 
 def _reporting_plugins(handler: Callable, kind: str, plugins: Mapping[str, Route] | None) -> Callable:

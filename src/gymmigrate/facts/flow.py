@@ -259,6 +259,17 @@ class Flow:
             if isinstance(ancestor, kinds) or any(isinstance(s, kinds) for s in later):
                 return True
         return False
+    def left_by_loop(self, statement: ast.stmt, read: ast.Name) -> bool:
+        """Is ``read`` certain to see the value ``statement`` bound, the last one of a loop
+        around ``statement`` that the read comes after? That holds when no other binding of the
+        name can reach the read: a loop may run no time at all, so a binding above the loop
+        (``done = False``) reaches the read as well, and the loop's last value is then one of
+        two. Without one, a loop that never ran leaves the name unbound: the read fails
+        rather than see anything else."""
+        if not any(isinstance(loop, LOOPS) and is_after(read, loop) for loop in self.facts.ancestors(statement)):
+            return False
+        reaching = self.reaching(read)
+        return bool(reaching) and all(contains(statement, binding) for binding in reaching or ())
 
     def reaching(self, read: ast.Name) -> list[ast.AST] | None:
         """The bindings of the variable ``read`` reads whose value may reach it: not those
@@ -280,6 +291,19 @@ class Flow:
                 continue
             found.append(binding)
         return found
+
+    def source_of(self, read: ast.Name) -> str | None:
+        """The variable ``read`` reads, as text that is the same for every read that can see
+        only the same bindings of it: its name and where those bindings are (``env@12:4,15:4``).
+        Two calls that hand on reads with one source pass the same values. The bindings that
+        reach the read where the flow tells them apart (``reaching``), else every binding of
+        the variable (a read in a nested def). None for a name nothing here binds."""
+        bindings = self.reaching(read)
+        if not bindings:
+            bindings = self.facts.bindings_of(read)
+        if not bindings:
+            return None
+        return f"{read.id}@" + ",".join(f"{line}:{column}" for line, column in sorted(start(b) for b in bindings))
 
     def _overwritten(self, statement: ast.stmt, read: ast.Name) -> bool:
         """A later statement of ``statement``'s block assigns ``read``'s name unconditionally

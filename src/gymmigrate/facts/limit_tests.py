@@ -13,7 +13,7 @@ from collections.abc import Collection
 from typing import TypeVar
 
 from gymmigrate.facts.env_classes import identifiers
-from gymmigrate.facts.module import ModuleFacts
+from gymmigrate.facts.module import ModuleFacts, own_returns
 from gymmigrate.facts.self_attributes import self_stores
 
 # A word that counts steps or time (matched on the lower-cased identifier: ``MAX_STEPS``
@@ -31,13 +31,16 @@ def is_periodic(expr: ast.AST) -> bool:
     return any(isinstance(node, ast.BinOp) and isinstance(node.op, ast.Mod) for node in ast.walk(expr))
 
 
-def is_step_limit(expr: ast.AST, data_ends: Collection[str] = ()) -> bool:
+def is_step_limit(expr: ast.AST, data_ends: Collection[str] = (), streaks: Collection[str] = ()) -> bool:
     """A comparison that names a step or time counter (``self.steps >= self.max_steps``),
     unless it tests the end of the env's data (``is_end_of_data``; ``data_ends``: the
-    class's attributes bound to its data's length)."""
+    class's attributes bound to its data's length) or a run of consecutive steps
+    (``streaks``: the class's counters that start over, ``streak_attributes``)."""
     if not isinstance(expr, ast.Compare) or not all(isinstance(op, LIMIT_OPS) for op in expr.ops):
         return False
     if is_periodic(expr) or is_end_of_data(expr, data_ends):
+        return False
+    if streaks and any(self_attribute(_minus_constant(side)) in streaks for side in (expr.left, *expr.comparators)):
         return False
     return any(STEP_LIMIT_WORD.search(word.lower()) and "beyond" not in word for word in identifiers(expr))
 
@@ -125,6 +128,86 @@ def data_end_attributes(facts: ModuleFacts, classdef: ast.ClassDef) -> frozenset
         return frozenset(found)
 
     return facts.memo(("data-end-attributes", id(classdef)), compute)
+
+
+def streak_attributes(facts: ModuleFacts, classdef: ast.ClassDef) -> frozenset[str]:
+    """The attributes ``classdef`` counts only while something holds and starts over when it
+    does not: ``self.n = self.n + 1 if landed else 0``, or ``if landed: self.n += 1`` with
+    ``else: self.n = 0``. Such a count is a run of consecutive steps (legs on the pad for a
+    second, a goal held), not the episode's steps: reaching its bound is something the task
+    did, never a time limit, whatever the attribute is called. A count that every step
+    advances is no streak, nor one that starts over only at a bound of its own (a wrap,
+    ``if self.t >= T: self.t = 0``) or at the episode's end (``if done: self.t = 0``, the
+    test reading what the method returns as its done)."""
+
+    def compute() -> frozenset[str]:
+        found = set()
+        for node in ast.walk(classdef):
+            test: ast.expr
+            stores: dict[str, tuple[ast.AST, ast.AST]]
+            if isinstance(node, ast.Assign) and len(node.targets) == 1 and isinstance(node.value, ast.IfExp):
+                name = self_attribute(node.targets[0])
+                test, stores = node.value.test, {name: (node.value.body, node.value.orelse)} if name is not None else {}
+            elif isinstance(node, ast.If) and node.orelse:
+                counted, otherwise = _block_stores(node.body), _block_stores(node.orelse)
+                test, stores = node.test, {name: (counted[name], otherwise[name]) for name in counted.keys() & otherwise.keys()}
+            else:
+                continue
+            for name, values in stores.items():
+                if _reads_attribute(test, name) or _reads_done(facts, node, test):
+                    continue
+                if _counts_or_restarts(values, name):
+                    found.add(name)
+        return frozenset(found)
+
+    return facts.memo(("streak-attributes", id(classdef)), compute)
+
+
+def _reads_attribute(test: ast.AST, name: str) -> bool:
+    return any(self_attribute(node) == name for node in ast.walk(test))
+
+
+def _reads_done(facts: ModuleFacts, node: ast.AST, test: ast.AST) -> bool:
+    """``test`` reads a name or ``self`` attribute that the method holding ``node`` returns
+    as its done (the third of four values): the episode's end."""
+    function = facts.enclosing_function(node)
+    if function is None:
+        return False
+    returned = {
+        part.id if isinstance(part, ast.Name) else self_attribute(part)
+        for ret in own_returns(function)
+        if isinstance(ret.value, ast.Tuple) and len(ret.value.elts) == 4
+        for part in ast.walk(ret.value.elts[2])
+    } - {None}
+    return any((n.id if isinstance(n, ast.Name) else self_attribute(n)) in returned for n in ast.walk(test))
+
+
+def _counts_or_restarts(values: tuple[ast.AST, ast.AST], name: str) -> bool:
+    """One value advances ``self.<name>`` by a number, the other is a number (a restart)."""
+    first, second = values
+    return any(_advances(a, name) and _number(b) for a, b in ((first, second), (second, first)))
+
+
+def _advances(value: ast.AST, name: str) -> bool:
+    """``self.<name> + 1`` (or minus a number): the value of a count one step on."""
+    return (
+        isinstance(value, ast.BinOp)
+        and isinstance(value.op, (ast.Add, ast.Sub))
+        and self_attribute(value.left) == name
+        and _number(value.right)
+    )
+
+
+def _block_stores(block: list[ast.stmt]) -> dict[str, ast.AST]:
+    """The ``self`` attributes the statements of ``block`` store to, each with the value its
+    last store gives it (``self.n += 1`` gives ``self.n + 1``)."""
+    found: dict[str, ast.AST] = {}
+    for statement in block:
+        if isinstance(statement, ast.AugAssign) and (name := self_attribute(statement.target)) is not None:
+            found[name] = ast.BinOp(left=statement.target, op=statement.op, right=statement.value)
+        elif isinstance(statement, ast.Assign) and len(statement.targets) == 1 and (name := self_attribute(statement.targets[0])) is not None:
+            found[name] = statement.value
+    return found
 
 
 def if_setting_true(line: ast.AST, parent: ast.AST | None) -> ast.If | None:

@@ -46,6 +46,7 @@ from gymmigrate.facts.limit_tests import (
     is_self,
     is_step_limit,
     self_attribute,
+    streak_attributes,
     under_limit,
     unwrap_bool,
 )
@@ -81,6 +82,7 @@ class DoneTracer:
         self.methods: dict[str, Method] = {m.name: m for m in classdef.body if isinstance(m, FUNCTIONS)}
         self._counters: set[str] | None = None
         self.data_ends = data_end_attributes(facts, classdef)
+        self.streaks = streak_attributes(facts, classdef)
         self._subclasses: list[ast.ClassDef] | None = None
         self._busy: set[tuple[str, int]] = set()
 
@@ -121,7 +123,7 @@ class DoneTracer:
 
     def is_limit(self, expr: ast.AST) -> bool:
         """A comparison of a step or time counter with a bound (not the end of the data)."""
-        if is_step_limit(expr, self.data_ends):
+        if is_step_limit(expr, self.data_ends, self.streaks):
             return True
         if not isinstance(expr, ast.Compare) or len(expr.ops) != 1 or not isinstance(expr.ops[0], LIMIT_OPS):
             return False
@@ -148,7 +150,7 @@ class DoneTracer:
             return NEVER if expr.value in (False, None, 0) else TERMINATION
         if isinstance(expr, ast.Compare):
             if self.is_limit(expr):
-                limit = Limit(expr.lineno, self.facts.segment(expr), by_counter=not is_step_limit(expr, self.data_ends))
+                limit = Limit(expr.lineno, self.facts.segment(expr), by_counter=not is_step_limit(expr, self.data_ends, self.streaks))
                 return DoneCause(Cause.TRUNCATION, (limit,))
             if is_end_of_data(expr, self.data_ends):
                 return DoneCause(Cause.TERMINATION, ends_of_data=(Limit(expr.lineno, self.facts.segment(expr)),))

@@ -52,6 +52,9 @@ class CallSummary:
     # ``ref:<qualified>`` for one whose items are all calls of one imported def of the run.
     thunks: tuple[tuple[str, Kind], ...] = ()
     made: tuple[HandedMake, ...] = ()
+    # Arguments that are names: (position as a string, or the keyword, ``Flow.source_of``):
+    # which variable of the caller each hands on (two defs fed the same one hold the same values).
+    sources: tuple[tuple[str, str], ...] = ()
 
 
 @dataclass(frozen=True)

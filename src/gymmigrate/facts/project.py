@@ -107,6 +107,9 @@ class ProjectFacts:
 
     # (path, "Agent.fit", "env") -> the kinds other modules pass there
     param_kinds: dict[tuple[str, str, str], list[EnvKind]] = field(default_factory=dict)
+    # ...and per call, the variable it hands on there ("caller path|Flow.source_of"), None for
+    # anything else (an expression, the default): defs fed the same variables hold the same values
+    param_sources: dict[tuple[str, str, str], tuple[str | None, ...]] = field(default_factory=dict)
     defs: dict[str, frozenset[str]] = field(default_factory=dict)  # path -> qualnames defined
     env_classes: dict[str, frozenset[str]] = field(default_factory=dict)  # path -> env classes
     wrapper_classes: dict[str, frozenset[str]] = field(default_factory=dict)  # path -> Gym wrapper classes
@@ -206,6 +209,9 @@ class ProjectFacts:
     # file's path -> entry target -> (the module that calls it, as shown, or None; why not).
     plugin_calls: dict[str, tuple[tuple[str, str | None], ...]] = field(default_factory=dict)
     plugin_routes: dict[str, dict[str, tuple[str | None, str]]] = field(default_factory=dict)
+    # The Python programs of the run (modules and notebooks, realpaths), Gym code or not: a
+    # dependency file's ``gym`` pin moves with the code beside it when the run holds it (GM109).
+    programs: frozenset[str] = frozenset()
     # (path, top-level name) -> (space attribute, space class, what it derives from) for a
     # class (or a re-export of one) that sets a space to an instance of a class of the run
     # that is not a ``gymnasium.spaces.Space``: Gymnasium 1.x's env checker rejects it.

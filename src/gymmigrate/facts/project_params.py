@@ -47,6 +47,7 @@ class ParamJoin:
     def run(self) -> None:
         external: dict[tuple[str, str, str], list[EnvKind]] = defaultdict(list)
         kept: dict[tuple[str, str, str], list[str | None]] = defaultdict(list)
+        sources: dict[tuple[str, str, str], list[str | None]] = defaultdict(list)
         for (path, qualname), calls in self.calls_to.items():
             signature = self.by_path[path].defs[qualname]
             outside = [call for caller, call in calls if caller != path]  # the file sees its own call sites itself
@@ -55,6 +56,8 @@ class ParamJoin:
                     continue
                 thunks = dict(call.thunks)
                 positional = list(signature.params[1:] if signature.is_method else signature.params)
+                for param, source in self._sources(positional, call):
+                    sources[(path, qualname, param)].append(f"{caller}|{source}" if source is not None else None)
                 for param, kind in self._passed(signature, call):
                     resolved = self._resolve(kind, caller)
                     # what calling each item of a list of thunks passed there returns (unknown
@@ -73,6 +76,7 @@ class ParamJoin:
                 for param in signature.params:
                     self.facts.passed_ids[(path, qualname, param)] = tuple(self._id_passed(signature, call, param) for call in outside)
         self.facts.param_kinds = dict(external)
+        self.facts.param_sources = {key: tuple(found) for key, found in sources.items()}
         self.facts.kept_params = {key: tuple(names) for key, names in kept.items() if any(names)}
 
     def _thunks_kind(self, kind: Kind | None, caller: str) -> EnvKind:
@@ -97,6 +101,17 @@ class ParamJoin:
         made = kind[len(NEW) :]
         where = (caller, made[len(OWN) :]) if made.startswith(OWN) else self.facts._split(made, caller)
         return where[1] if where is not None and where in self.facts.legacy_steps else None
+
+    @staticmethod
+    def _sources(positional: list[str], call: CallSummary) -> list[tuple[str, str | None]]:
+        """(parameter, the variable ``call`` hands on there, or None) for every parameter."""
+        given = dict(call.sources)
+        keywords = {name for name, _ in call.keywords}
+        found: list[tuple[str, str | None]] = []
+        for index, param in enumerate(positional):
+            slot = str(index) if index < len(call.args) else param if param in keywords else None
+            found.append((param, given.get(slot) if slot is not None else None))
+        return found
 
     @staticmethod
     def _id_passed(signature: Signature, call: CallSummary, param: str) -> str | None:

@@ -31,6 +31,11 @@ class ProjectView:
         """What other modules of the run pass for ``param`` of this file's ``qualname``."""
         return self.facts.param_kinds.get((self.path, qualname, param), [])
 
+    def param_sources(self, qualname: str, param: str) -> tuple[str | None, ...]:
+        """Per call from another module of the run, the variable it hands on for ``param``
+        of this file's ``qualname`` (``ProjectFacts.param_sources``)."""
+        return self.facts.param_sources.get((self.path, qualname, param), ())
+
     def seed_called_elsewhere(self) -> bool:
         """Another module of the run calls ``x.seed(...)`` on something it cannot trace and
         imports this module's env classes: their seed() may be what it calls."""

@@ -174,6 +174,43 @@ class CallerSites(_Facade):
             or self._unwrapped_of(c.func.value, classdef)  # type: ignore[attr-defined]
         ] + instances
 
+    def argument_sources(self, param: ast.arg) -> frozenset[str] | None:
+        """The variables the calls of the run hand on for ``param`` (``Flow.source_of``, each
+        with its module), when every call hands on one; None when a call passes anything else
+        or leaves the parameter to its default, or when no call is known. Parameters fed only
+        the same variables hold the same values: what those are is one question."""
+        return self.facts.memo(("argument-sources", id(param)), lambda: self._argument_sources(param))
+
+    def _argument_sources(self, param: ast.arg) -> frozenset[str] | None:
+        function = self.facts.parent(self.facts.parent(param))  # arg -> arguments -> def
+        if not isinstance(function, FUNCTIONS):
+            return None
+        classdef = self.facts.parent(function)
+        is_method = isinstance(classdef, ast.ClassDef) and self.facts.is_method(function)
+        params = [*function.args.posonlyargs, *function.args.args]
+        position = next((i for i, p in enumerate(params) if p is param), None)
+        if position is None or (is_method and (position == 0 or function.name == "__init__")):
+            return None  # self; a constructor's calls are every construction of its class
+        if is_method:
+            position -= 1  # calls do not pass self
+        flow = Flow.of(self.facts)
+        here = self.project.path if self.project is not None else ""
+        found = set()
+        for call in self.call_sites(function, classdef if is_method else None):  # type: ignore[arg-type]
+            argument = call_argument(call, position, param.arg)
+            source = flow.source_of(argument) if isinstance(argument, ast.Name) else None
+            if source is None:
+                return None
+            found.add(f"{here}|{source}")
+        owner = classdef if is_method else function
+        if self.project is not None and self.facts.parent(owner) is self.facts.tree:
+            qualname = f"{classdef.name}.{function.name}" if is_method else function.name  # type: ignore[union-attr]
+            external = self.project.param_sources(qualname, param.arg)
+            if None in external:
+                return None
+            found.update(source for source in external if source is not None)
+        return frozenset(found) or None
+
     def _instance_calls(self, classdef: ast.ClassDef) -> list[ast.Call]:
         found = []
         for calls in self.facts.calls_by_name.values():

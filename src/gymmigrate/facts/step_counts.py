@@ -20,8 +20,10 @@ from gymmigrate.facts.limit_tests import (
     data_end_attributes,
     is_local_sign_test,
     is_step_limit,
+    self_attribute,
+    streak_attributes,
 )
-from gymmigrate.facts.module import ModuleFacts
+from gymmigrate.facts.module import FUNCTIONS, LOOPS, ModuleFacts
 from gymmigrate.facts.receivers import Receivers
 
 # class -> (its own body counts, its bases of this module, the qualified names of its
@@ -50,9 +52,13 @@ def counts_in(facts: ModuleFacts, classdef: ast.ClassDef) -> bool:
     """``classdef`` itself (its own body) counts something (``self.steps += 1``,
     ``self.rounds -= 1``, ``t = t + 1``, ``self.time += self.dt``) or tests a step limit.
     Physics updates (``self.x += dx``) are not counts, nor is an attribute the class never
-    reads (``self.steps += 1`` kept for statistics) or one it moves both ways
-    (``self.index += 1`` and ``self.index = max(self.index - 1, 0)``: a position)."""
+    reads (``self.steps += 1`` kept for statistics) or reads only as a phase
+    (``self.steps % 10``), one it moves both ways
+    (``self.index += 1`` and ``self.index = max(self.index - 1, 0)``: a position), or one
+    that starts over whenever it does not count (a run of consecutive steps,
+    ``limit_tests.streak_attributes``)."""
     data_ends = data_end_attributes(facts, classdef)
+    streaks = streak_attributes(facts, classdef)  # runs of consecutive steps, no episode's count
     # A name moved by a constant both ways (``pos -= 1`` for one action, ``pos += 1``
     # for another) is a position, not a count: it cannot run up to a limit by itself.
     directions: dict[str, set[bool]] = {}
@@ -61,16 +67,16 @@ def counts_in(facts: ModuleFacts, classdef: ast.ClassDef) -> bool:
             up = isinstance(node.op, ast.Add) == (node.value.value >= 0)  # type: ignore[attr-defined]
             directions.setdefault(facts.segment(node.target), set()).add(up)
     for node in ast.walk(classdef):
-        if isinstance(node, ast.AugAssign) and isinstance(node.op, (ast.Add, ast.Sub)):
+        if isinstance(node, ast.AugAssign) and isinstance(node.op, (ast.Add, ast.Sub)) and self_attribute(node.target) not in streaks:
             counted = (
                 _is_number(node.value)
                 and not isinstance(node.target, ast.Subscript)
                 and len(directions.get(facts.segment(node.target), ())) < 2
             )
             if counted or any(STEP_LIMIT_WORD.search(w) for w in identifiers(node.target)):
-                if not _idle_attribute(facts, node.target, classdef):
+                if not _idle_attribute(facts, node.target, classdef) and not _moved_once_per_call(facts, node.target):
                     return True  # `self.steps += 1`, `self.t += self.dt`; not `self.pos[1] += 1`
-        if isinstance(node, ast.Compare) and is_step_limit(node, data_ends) and not is_local_sign_test(facts, node):
+        if isinstance(node, ast.Compare) and is_step_limit(node, data_ends, streaks) and not is_local_sign_test(facts, node):
             return True  # a step-limit test in a helper (`def _done(self): return self.t > 200`)
         if (
             isinstance(node, ast.Assign)
@@ -79,6 +85,8 @@ def counts_in(facts: ModuleFacts, classdef: ast.ClassDef) -> bool:
             and isinstance(node.value.op, (ast.Add, ast.Sub))
             and _is_number(node.value.right)
             and facts.segment(node.value.left) == facts.segment(node.targets[0])
+            and self_attribute(node.targets[0]) not in streaks
+            and not _moved_once_per_call(facts, node.targets[0])
         ):
             return True  # `self.t = self.t + 1`
     return False
@@ -95,7 +103,7 @@ def _idle_attribute(facts: ModuleFacts, target: ast.expr, classdef: ast.ClassDef
     for attr in facts.attributes.get(target.attr, ()):
         holder = facts.parent(attr)
         if isinstance(attr.ctx, ast.Load):
-            if not _self_update(holder, target.attr):
+            if not _self_update(holder, target.attr) and not _period_of(holder, attr):
                 reads += 1  # a read anywhere in the module (``env.steps`` in a script) may limit
             continue
         if not classdef.lineno <= attr.lineno <= (classdef.end_lineno or attr.lineno):
@@ -112,6 +120,34 @@ def _idle_attribute(facts: ModuleFacts, target: ast.expr, classdef: ast.ClassDef
     if len(directions) > 1:
         return True  # ``+=`` and ``-=``: a position
     return reads == 0
+
+
+def _moved_once_per_call(facts: ModuleFacts, target: ast.expr) -> bool:
+    """A local of a method moved outside any loop of it (``if angle > 1: angle -= 2``) and
+    never stored whole elsewhere: it moves once per call and starts afresh at the next, a
+    correction of a value rather than a count, which must persist from step to step (an
+    attribute, a global) or run in a loop."""
+    if not isinstance(target, ast.Name):
+        return False
+    scope = facts.scope_of(target)
+    if target.id in scope.declared_global or target.id in scope.declared_nonlocal:
+        return False
+    for ancestor in facts.ancestors(target):
+        if isinstance(ancestor, LOOPS):
+            return False
+        if isinstance(ancestor, FUNCTIONS):
+            # ``t = self.t; t += 1; self.t = t``: the attribute persists what the local counts
+            return not any(
+                isinstance(node, ast.Assign) and isinstance(node.value, ast.Name) and node.value.id == target.id
+                for node in ast.walk(ancestor)
+            )
+    return False  # a class body or the module: a count of its own
+
+
+def _period_of(holder: ast.AST | None, attr: ast.Attribute) -> bool:
+    """``self.n % k``: the count read as a phase (every k-th step draws a particle), which
+    comes round again and again and so can end nothing."""
+    return isinstance(holder, ast.BinOp) and isinstance(holder.op, ast.Mod) and holder.left is attr
 
 
 def _wraps(facts: ModuleFacts, holder: ast.AST | None, name: str) -> bool:

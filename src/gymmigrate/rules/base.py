@@ -141,6 +141,9 @@ class RuleFamily:
         name = full_name(receiver)
         if not name:
             return None
+        fed = self._fed_question(receiver)
+        if fed is not None:
+            return ("fed", decision.action, fed)
         if name.split(".", 1)[0] == "self":
             owner: ast.AST | None = self.facts.enclosing_class(receiver)
             if isinstance(owner, ast.ClassDef):
@@ -151,6 +154,18 @@ class RuleFamily:
         else:
             owner = self.facts.enclosing_function(receiver)
         return ("receiver", decision.action, id(owner), name)
+
+    def _fed_question(self, receiver: ast.AST) -> frozenset[str] | None:
+        """A parameter the def never rebinds, every call of which (in the run) hands on the
+        same variables (``Receivers.argument_sources``): whether it is a Gym env is whether
+        those are, one question for every def they feed (``evaluate(env)`` and
+        ``evaluate_rtg(env)`` called with one ``env``). None for any other receiver."""
+        if not isinstance(receiver, ast.Name):
+            return None
+        bindings = self.facts.bindings_of(receiver)
+        if len(bindings) != 1 or not isinstance(bindings[0], ast.arg):
+            return None
+        return self.receivers.argument_sources(bindings[0])
 
     def _twin_class(self, cls: ast.ClassDef, attribute: str) -> ast.ClassDef:
         """The first class of the module that stores the very same values in

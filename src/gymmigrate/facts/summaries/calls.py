@@ -11,6 +11,7 @@ import ast
 import re
 
 from gymmigrate.facts import names as N
+from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.mode_handovers import handed_make
 from gymmigrate.facts.module import (
@@ -286,10 +287,21 @@ class CallSummarizer:
         ids += [(k.arg, text) for k in call.keywords if k.arg is not None and (text := self._env_id(k.value)) is not None]
         thunks = [(str(i), self._thunks_kind(a)) for i, a in enumerate(call.args) if self.receivers.is_thunk_list(a)]
         thunks += [(k.arg, self._thunks_kind(k.value)) for k in call.keywords if k.arg is not None and self.receivers.is_thunk_list(k.value)]
-        slots = [(str(i), a) for i, a in enumerate(call.args[: len(args)])] + [(k.arg, k.value) for k in call.keywords if k.arg is not None]
+        flow = Flow.of(self.facts)
+        positional = [(str(i), a) for i, a in enumerate(call.args[: len(args)])]  # up to a starred one
+        slots = positional + [(k.arg, k.value) for k in call.keywords if k.arg is not None]
         made = [(slot, *found) for slot, value in slots if (found := handed_make(self.facts, value, call, self._is_run_call)) is not None]
+        sources = [(slot, source) for slot, a in slots if isinstance(a, ast.Name) and (source := flow.source_of(a)) is not None]
         return CallSummary(
-            target, tuple(args), tuple(keywords), open_ended, tuple(ids), getattr(call, "lineno", 0), tuple(thunks), tuple(made)
+            target,
+            tuple(args),
+            tuple(keywords),
+            open_ended,
+            tuple(ids),
+            getattr(call, "lineno", 0),
+            tuple(thunks),
+            made=tuple(made),
+            sources=tuple(sources),
         )
 
     def _is_run_call(self, call: ast.Call) -> bool:

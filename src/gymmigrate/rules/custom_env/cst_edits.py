@@ -251,8 +251,9 @@ def _tuple_len(value: cst.BaseExpression | None) -> int | None:
 
 def _is_step_limit(expr: cst.BaseExpression, data_ends: frozenset[str] = frozenset()) -> bool:
     """``facts.limit_tests.is_step_limit`` on LibCST: a comparison that names a step counter,
-    not a period (``self.t % FREQ == 0``) nor one of the class's tests of the end of its
-    data (``data_ends``, whitespace-free source, as the decision found them)."""
+    not a period (``self.t % FREQ == 0``) nor one of the class's tests that are no step limit
+    (``data_ends``: of the end of its data or of a run of consecutive steps, whitespace-free
+    source, as the decision found them: ``ClassPlan.non_limit_tests``)."""
     if not isinstance(expr, cst.Comparison) or not all(isinstance(t.operator, _LIMIT_OPS) for t in expr.comparisons):
         return False
     if data_ends and "".join(_code(expr.with_changes(lpar=[], rpar=[])).split()) in data_ends:

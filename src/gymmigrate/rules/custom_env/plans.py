@@ -81,9 +81,11 @@ class ClassPlan:
     # Method (source name) -> positions among its returns whose done is only a step limit:
     # they return ``False, <done>`` (terminated, truncated).
     truncating_returns: dict[str, set[int]] = field(default_factory=dict)
-    # The class's tests of the end of its data (whitespace-free source): never a step limit
-    # when the rewrite splits a done (``self.day == self.max_step``, max_step = len(data) - 1).
-    data_end_tests: frozenset[str] = frozenset()
+    # The class's tests that name a counter but are no step limit (whitespace-free source):
+    # the end of its data (``self.day == self.max_step``, max_step = len(data) - 1) and a run
+    # of consecutive steps (``self.landed_ticks == FPS``); never truncated when the rewrite
+    # splits a done.
+    non_limit_tests: frozenset[str] = frozenset()
     # method -> positions of returns that hand on an inner step's terminated and truncated
     passthrough_returns: dict[str, set[int]] = field(default_factory=dict)
     # method -> positions of returns whose done is an inner step's or'ed with the class's own

@@ -303,7 +303,7 @@ class ClassRewrite:
                 continue
             if isinstance(done, cst.Name) and _assigns_name(fn, done.value):
                 assigned = _single_assignment(fn, done.value)
-                split = _split_done(assigned, self.plan.data_end_tests) if assigned is not None else None
+                split = _split_done(assigned, self.plan.non_limit_tests) if assigned is not None else None
                 if split is not None:
                     splits[done.value] = split
                     plans.append(_five(cst.Name("terminated"), cst.Name("truncated")))
@@ -314,7 +314,7 @@ class ClassRewrite:
                 else:
                     plans.append(_five(done, cst.Name("False")))
                 continue
-            split = _split_done(done, self.plan.data_end_tests)
+            split = _split_done(done, self.plan.non_limit_tests)
             if split is not None:
                 task, limit = split
                 plans.append(_five(_bool_of(task), _bool_of(limit)))
@@ -340,9 +340,9 @@ class ClassRewrite:
         for name, (task, limit) in splits.items():
             body = visit_suite(body, _DoneSplitter(name, task, limit, keep_done=_reads_name_outside_returns(fn, name)))
         if accumulating is not None:
-            body = _limit_line_to_truncated(body, accumulating, self.plan.data_end_tests)
+            body = _limit_line_to_truncated(body, accumulating, self.plan.non_limit_tests)
         if flagging is not None:
-            body = _limit_flag_to_truncated(body, flagging, self.plan.data_end_tests)
+            body = _limit_flag_to_truncated(body, flagging, self.plan.non_limit_tests)
         if rename_done:
             body = visit_suite(body, _NameRenamer({"done": "terminated"}))
             body = _bool_wrap_assignments(body, "terminated")

@@ -60,6 +60,7 @@ from gymmigrate.rules.custom_env.step_delegates import (
 from gymmigrate.rules.custom_env.step_limits import (
     accumulated_limit,
     class_data_ends,
+    class_streaks,
     counts_toward_a_limit,
     flagged_limit,
     split_done,
@@ -90,13 +91,16 @@ def decide_step(decision: ClassDecision, inherited: dict[int, list[str]]) -> Non
     function = decision.method("step")
     if function is None:
         return
-    # The class's tests of the end of its data, as text, for the rewrite's own split
-    # (``cst_edits._split_done``): they stay in terminated, whatever their names say.
+    # The class's tests of the end of its data and of a run of consecutive steps, as text, for
+    # the rewrite's own split (``cst_edits._split_done``): they stay in terminated, whatever
+    # their names say.
     facts = decision.family.facts
-    decision.plan.data_end_tests = frozenset(
+    data_ends, streaks = class_data_ends(decision), class_streaks(decision)
+    decision.plan.non_limit_tests = frozenset(
         "".join(facts.segment(node).split())
         for node in ast.walk(decision.classdef)
-        if isinstance(node, ast.Compare) and is_end_of_data(node, class_data_ends(decision))
+        if isinstance(node, ast.Compare)
+        and (is_end_of_data(node, data_ends) or (is_step_limit(node, data_ends) and not is_step_limit(node, data_ends, streaks)))
     )
     # ``def step(self, a): return self._step(a)`` (gym <= 0.9's own base class did
     # this): the helper's returns are the step's, so they get the five fields.
@@ -196,7 +200,7 @@ def _decide_returns(
         return  # already the five-value API
     index = decision.function(function)
     limit_hint = step_limit_text(decision, function)
-    data_ends = class_data_ends(decision)
+    data_ends, streaks = class_data_ends(decision), class_streaks(decision)
     facts = decision.family.facts
     # No step limit is possible when the class counts nothing: truncated=False is then
     # exact (TimeLimit truncates), an explanation rather than a question.
@@ -308,23 +312,23 @@ def _decide_returns(
         decision.plan.step = True
         if isinstance(done, ast.Name) and index.assigns_name(done.id):
             assigned = single_assignment(index, done.id)
-            if assigned is not None and split_done(assigned, data_ends):
+            if assigned is not None and split_done(assigned, data_ends, streaks):
                 decision.report(
                     ret,
                     "GM504",
                     f"`{done.id}` split: the step-limit test became truncated, the rest terminated",
                     FixKind.ASSIST,
-                    tier=split_tier(tracer.trace(done), assigned, data_ends),
+                    tier=split_tier(tracer.trace(done), assigned, data_ends, streaks),
                     question=split_question(assigned),
                 )
                 continue
-        elif split_done(done, data_ends):
+        elif split_done(done, data_ends, streaks):
             decision.report(
                 ret,
                 "GM504",
                 "done split: the step-limit test became truncated, the rest terminated",
                 FixKind.ASSIST,
-                tier=split_tier(tracer.trace(done), done, data_ends),
+                tier=split_tier(tracer.trace(done), done, data_ends, streaks),
                 question=split_question(done),
             )
             continue
@@ -359,7 +363,7 @@ def _decide_returns(
                 tier=Tier.NOTE,
             )
             continue
-        if isinstance(done, ast.Name) and (limit := accumulated_limit(function, ret, done.id, data_ends)) is not None:
+        if isinstance(done, ast.Name) and (limit := accumulated_limit(function, ret, done.id, data_ends, streaks)) is not None:
             # ``done = task`` ... ``done = done or self.t >= self.max_steps`` right before the
             # return: the last line adds the step limit to the task's end, so it is the
             # truncation and the flag before it the termination.
@@ -373,7 +377,7 @@ def _decide_returns(
                 tier=Tier.NOTE,
             )
             continue
-        if isinstance(done, ast.Name) and (flag := flagged_limit(function, done.id, data_ends)) is not None:
+        if isinstance(done, ast.Name) and (flag := flagged_limit(function, done.id, data_ends, streaks)) is not None:
             # ``done = False`` ... ``if self.t >= self.t_limit: done = True`` beside the task's
             # own ``if <end>: done = True``: that one ``if`` is the truncation, the rest of the
             # flag the termination, and nothing else reads or resets the flag.
@@ -384,7 +388,7 @@ def _decide_returns(
                 f"`{done.id}` split: its step-limit line (line {flag.lineno}) became "
                 f"`truncated = bool({decision.family.facts.segment(flag.test)})`, the task's own ends terminated",
                 FixKind.ASSIST,
-                tier=split_tier(tracer.trace(done), flag.test, data_ends),
+                tier=split_tier(tracer.trace(done), flag.test, data_ends, streaks),
                 question=split_question(flag.test),
             )
             continue

@@ -19,7 +19,7 @@ from gymmigrate.rules.custom_env.common import (
     inner_gym_env_call,
     tuple_len,
 )
-from gymmigrate.rules.custom_env.step_limits import class_data_ends
+from gymmigrate.rules.custom_env.step_limits import class_data_ends, class_streaks
 
 _UNPACKED_NAMES = ("obs", "reward", "terminated", "info")
 
@@ -94,7 +94,7 @@ def task_ends(decision: ClassDecision, index: FunctionIndex, name: str) -> list[
         if (
             parent is not None
             and not _assigns_in(parent.orelse if assign in parent.body else parent.body, name)
-            and not any(isinstance(n, ast.Compare) and is_step_limit(n, class_data_ends(decision)) for n in ast.walk(parent.test))
+            and not any(isinstance(n, ast.Compare) and is_step_limit(n, class_data_ends(decision), class_streaks(decision)) for n in ast.walk(parent.test))
         ):
             ends.append(assign)
     return ends  # type: ignore[return-value]

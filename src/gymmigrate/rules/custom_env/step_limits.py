@@ -18,6 +18,7 @@ from gymmigrate.facts.limit_tests import (
     data_end_attributes,
     is_local_sign_test,
     is_step_limit,
+    streak_attributes,
     unwrap_bool,
 )
 from gymmigrate.facts.module import own_returns
@@ -28,6 +29,10 @@ from gymmigrate.rules.custom_env.common import ClassDecision
 
 def class_data_ends(decision: ClassDecision) -> frozenset[str]:
     return data_end_attributes(decision.family.facts, decision.classdef)
+
+
+def class_streaks(decision: ClassDecision) -> frozenset[str]:
+    return streak_attributes(decision.family.facts, decision.classdef)
 
 
 def counts_toward_a_limit(decision: ClassDecision) -> bool:
@@ -74,12 +79,12 @@ def _run_bases_quiet(decision: ClassDecision, classdef: ast.ClassDef) -> bool:
 
 
 def step_limit_text(decision: ClassDecision, function: ast.AST) -> str | None:
-    data_ends = class_data_ends(decision)
+    data_ends, streaks = class_data_ends(decision), class_streaks(decision)
     found = [
         c
         for s in function.body  # type: ignore[attr-defined]
         for c in ast.walk(s)
-        if isinstance(c, ast.Compare) and is_step_limit(c, data_ends) and not is_local_sign_test(decision.family.facts, c)
+        if isinstance(c, ast.Compare) and is_step_limit(c, data_ends, streaks) and not is_local_sign_test(decision.family.facts, c)
     ]
     if not found:
         return None
@@ -121,7 +126,9 @@ def split_question(expr: ast.AST) -> Hashable:
     return ("GM504", "split", ast.dump(unwrap_bool(expr)))
 
 
-def accumulated_limit(function: ast.AST, ret: ast.Return, name: str, data_ends: frozenset[str]) -> ast.Assign | None:
+def accumulated_limit(
+    function: ast.AST, ret: ast.Return, name: str, data_ends: frozenset[str], streaks: frozenset[str]
+) -> ast.Assign | None:
     """``name = name or <step limit> [or ...]`` as the statement right before ``ret``, the
     function's last statement and only return, where every other binding of ``name`` is a
     plain assignment before it that tests no step limit: that line; else None."""
@@ -136,7 +143,7 @@ def accumulated_limit(function: ast.AST, ret: ast.Return, name: str, data_ends: 
         return None
     own = [v for v in value.values if isinstance(v, ast.Name) and v.id == name]
     limits = [v for v in value.values if not (isinstance(v, ast.Name) and v.id == name)]
-    if len(own) != 1 or not limits or not all(is_step_limit(v, data_ends) for v in limits):
+    if len(own) != 1 or not limits or not all(is_step_limit(v, data_ends, streaks) for v in limits):
         return None
     names = [n for n in ast.walk(function) if isinstance(n, ast.Name)]
     if any(n.id in ("terminated", "truncated") for n in names):
@@ -151,12 +158,12 @@ def accumulated_limit(function: ast.AST, ret: ast.Return, name: str, data_ends: 
         statement = next((s for s in ast.walk(function) if isinstance(s, ast.Assign) and store in s.targets), None)
         if statement is None or statement.lineno >= last.lineno:
             return None
-        if any(isinstance(n, ast.Compare) and is_step_limit(n, data_ends) for n in ast.walk(statement.value)):
+        if any(isinstance(n, ast.Compare) and is_step_limit(n, data_ends, streaks) for n in ast.walk(statement.value)):
             return None
     return last if len(stores) > 1 else None
 
 
-def flagged_limit(function: ast.AST, name: str, data_ends: frozenset[str]) -> ast.If | None:
+def flagged_limit(function: ast.AST, name: str, data_ends: frozenset[str], streaks: frozenset[str]) -> ast.If | None:
     """The one ``if <step limit>: name = True`` of a step whose ``name`` is a flag: set
     ``False`` once by a statement of the body, then ``True`` only by that ``if`` (a statement of
     the body after it, with no ``else``) and by ``if``s that test no step limit; read only as
@@ -200,7 +207,7 @@ def flagged_limit(function: ast.AST, name: str, data_ends: frozenset[str]) -> as
     limits = [
         s
         for s in body
-        if isinstance(s, ast.If) and not s.orelse and len(s.body) == 1 and s.body[0] in stores and is_step_limit(s.test, data_ends)
+        if isinstance(s, ast.If) and not s.orelse and len(s.body) == 1 and s.body[0] in stores and is_step_limit(s.test, data_ends, streaks)
     ]
     if len(limits) != 1 or body.index(limits[0]) < body.index(falses[0]):
         return None
@@ -209,7 +216,7 @@ def flagged_limit(function: ast.AST, name: str, data_ends: frozenset[str]) -> as
         if store is falses[0] or store is limit.body[0]:
             continue
         parent = next((n for n in ast.walk(function) if isinstance(n, ast.If) and (store in n.body or store in n.orelse)), None)
-        if parent is None or any(isinstance(n, ast.Compare) and is_step_limit(n, data_ends) for n in ast.walk(parent.test)):
+        if parent is None or any(isinstance(n, ast.Compare) and is_step_limit(n, data_ends, streaks) for n in ast.walk(parent.test)):
             return None
     if any(ret.lineno <= (limit.end_lineno or limit.lineno) for ret in returns):
         return None
@@ -220,18 +227,18 @@ def _statement_of(function: ast.AST, target: ast.Name) -> ast.AST | None:
     return next((s for s in ast.walk(function) if isinstance(s, ast.Assign) and target in s.targets), None)
 
 
-def split_tier(traced: DoneCause, split: ast.AST, data_ends: frozenset[str]) -> Tier | None:
+def split_tier(traced: DoneCause, split: ast.AST, data_ends: frozenset[str], streaks: frozenset[str]) -> Tier | None:
     """A split whose limits are all named as step limits in this module, with no override
     elsewhere in the run, and compared with a bound the env holds rather than a literal, is
     settled (``self.current_step >= self.ep_length``): a note, as for a done that is only such
     a limit (``step._report_truncation``). ``self.t >= 2`` may be the game's own length: asked."""
-    limits = [op for op in _or_operands(unwrap_bool(split)) if is_step_limit(op, data_ends)]
+    limits = [op for op in _or_operands(unwrap_bool(split)) if is_step_limit(op, data_ends, streaks)]
     literal = any(
         isinstance(side, ast.Constant) for op in limits if isinstance(op, ast.Compare) for side in (op.left, *op.comparators)
     )
     return Tier.NOTE if traced.limits and traced.plain() and not literal else None
 
 
-def split_done(expr: ast.AST, data_ends: frozenset[str] = frozenset()) -> bool:
+def split_done(expr: ast.AST, data_ends: frozenset[str], streaks: frozenset[str]) -> bool:
     """``bool(task or self.steps >= self.max_steps)`` has a clear step-limit test."""
-    return any(is_step_limit(op, data_ends) for op in _or_operands(unwrap_bool(expr)))
+    return any(is_step_limit(op, data_ends, streaks) for op in _or_operands(unwrap_bool(expr)))

@@ -29,7 +29,7 @@ from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
 from gymmigrate.facts.import_guards import catches_import_error
-from gymmigrate.findings import FixKind, Tier, gym_only_question
+from gymmigrate.findings import FixKind, Tier, gym_only_question, id_version_question
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.env_ids.atari_evidence import AtariEvidence
 from gymmigrate.rules.env_ids.catalog import (
@@ -254,8 +254,9 @@ class EnvIds(RuleFamily):
             f"`{old}` -> {new_text}{where}: {migration.reason}" + ("; nothing here loads a saved model" if settled else ""),
             kind=migration.kind,
             tier=Tier.NOTE if settled else None,
-            # the same bump at several places of a file (notebook cells) is one decision
-            question=None if settled or migration.kind is FixKind.AUTO else (migration.rule, old, new),
+            # the same change at several places of the run (several ids of one family of
+            # envs, one id in several notebook cells or scripts) is one decision
+            question=None if settled or migration.kind is FixKind.AUTO else id_version_question(migration.rule, migration.reason),
         )
 
     def _bump_comparisons(self) -> None:

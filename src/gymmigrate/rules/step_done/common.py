@@ -120,6 +120,9 @@ class StepFamilyBase(RuleFamily):
     # (callee text, argument) -> the question of the first step whose done it was handed:
     # other steps handing their done to the same argument join that question.
     callee_questions: dict[tuple[str, object], tuple[object, ...]]
+    # Steps whose flag a read stores per step as a rollout's episode boundary (the note that
+    # it stays ``terminated or truncated``) -> that read: the run's decision for the rollout.
+    rollout_stores: dict[ast.Assign, ast.Name]
     result_steps: dict[tuple[int, str], list]  # ``res = x.step(a)`` by variable
     # Four-target step unpacks: a read that one of them dominates belongs to it alone.
     legacy_unpacks: set[ast.Assign]

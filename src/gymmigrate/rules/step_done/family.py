@@ -50,6 +50,7 @@ class StepDone(UnpackRules, TimeLimitRules, ResultRules):
         self.result_steps = {}
         self.reported_reads = set()
         self.callee_questions = {}
+        self.rollout_stores = {}
         steps = facts.attribute_calls.get("step", [])
         self.forwarded_unpacks = {}
         self.step_callables = set()

@@ -188,6 +188,19 @@ class DoneReadReports(DoneUntracedReports):
                 FixKind.FLAG,
                 Tier.NOTE,
             )
+        elif (store := self._rollout_tail(read, step)) is not None:
+            # ``values.append(v(s2) * (1 - done))`` after the rollout's loop: the flag of its last
+            # step, which the rollout stores as its boundary; the read follows that decision.
+            self._report_read(
+                read,
+                f"`{read.id}` after the loop is the flag of its last step (line {step.assign.lineno}), which the "
+                f"rollout stores per step as the episode boundary (line {store.lineno}): it stays "
+                f"`{names.terminated} or {names.truncated}` here too, as legacy `done` was. To bootstrap time-limit "
+                f"truncations, mask with `{names.terminated}` both here and where the stored flags mask values (store "
+                f"it beside them)",
+                FixKind.FLAG,
+                Tier.NOTE,
+            )
         elif beside is not None:
             # Nothing to decide: both flags keep what they meant (a note).
             self._report_read(
@@ -321,6 +334,7 @@ class DoneReadReports(DoneUntracedReports):
             and not self._may_store_next_state(read, step)
         ):
             # Nothing to decide: the boundary means what legacy ``done`` meant (a note).
+            self.rollout_stores.setdefault(step.assign, read)
             self._report_read(
                 read,
                 f"`{read.id}` is stored per step without the next state (a rollout or a log): it stays "
@@ -405,6 +419,15 @@ class DoneReadReports(DoneUntracedReports):
                 FixKind.FLAG,
                 question=question,
             )
+
+    def _rollout_tail(self, read: ast.Name, step: DoneStep) -> ast.Name | None:
+        """The read storing ``step``'s flag as its rollout's episode boundary, when ``read``
+        comes after the loop of that rollout and can only see the flag of its last step
+        (``Flow.left_by_loop``); else None."""
+        store = self.rollout_stores.get(step.assign)
+        if store is None or not self.flow.left_by_loop(step.assign, read):
+            return None
+        return store
 
     def _stored_in_step_info(self, read: ast.Name, step: DoneStep) -> str | None:
         """The key text of ``info["key"] = done`` where ``info`` is the step's own info

@@ -40,7 +40,7 @@ class DoneReadUses(NextStateReads):
         if (
             step in self.legacy_unpacks
             and any(done.id in bound_names(t) for t in step.targets)
-            and self.flow.dominates(step, read, done)
+            and (self.flow.dominates(step, read, done) or self.flow.left_by_loop(step, read))
         ):
             return step
         return None

@@ -171,6 +171,8 @@ class UnpackRules(DoneAttributeReports):
                 first = index_of.get(id(owner), bisect_left(starts, end(owner)))
                 if first < len(steps) and steps[first].assign is owner and self._beside_bootstrap_flag(read, steps[first]):
                     pass  # ``store(s, a, r, s2, terminal, done)``: the boundary stays (reported below)
+                elif first < len(steps) and steps[first].assign is owner and self._rollout_tail(read, steps[first]) is not None:
+                    pass  # after the loop of a rollout that stores the flag as its boundary (reported below)
                 elif first < len(steps) and steps[first].assign is owner:
                     if classify_done_read(read, self.facts) is DoneUse.DATA and self._masks_next_state(read, steps[first]):
                         if not self._readers_keep_boundary(read, steps[first]):
