@@ -60,7 +60,7 @@ PIPELINE = (
     FamilySpec("RenamedEnvPackages", "gymmigrate.rules.renamed_packages", ("gym_minigrid",)),
     FamilySpec("EnvIds", "gymmigrate.rules.env_ids.ids", ("-v", "ale.lives", ".ale", "NoFrameskip", "get_action_meanings"), follows_the_run=True),
     FamilySpec("EnvPlugins", "gymmigrate.rules.env_ids.plugins", (), follows_the_run=True),
-    FamilySpec("ComposedIds", "gymmigrate.rules.env_ids.composed", ("make",)),
+    FamilySpec("ComposedIds", "gymmigrate.rules.env_ids.composed", ("make", "-v")),
     FamilySpec(
         "RegistryApi",
         "gymmigrate.rules.env_ids.registry",
@@ -90,7 +90,11 @@ PIPELINE = (
     FamilySpec("WrapperForwarding", "gymmigrate.rules.wrapper_usage.forwarding", ("gym",), follows_the_run=True),
     FamilySpec("LegacyWrapperHooks", "gymmigrate.rules.legacy_hooks", ("def _",)),
     FamilySpec("SpacesLogger", "gymmigrate.rules.spaces_logger", ("logger", "error", "check_env", "Box", "seed")),
-    FamilySpec("SpaceDrift", "gymmigrate.rules.spaces.drift", ("isinstance", "type(", "json", "MultiBinary", "Discrete", "==", "Box")),
+    FamilySpec(
+        "SpaceDrift",
+        "gymmigrate.rules.spaces.drift",
+        ("isinstance", "type(", "json", "==", "Box", "Discrete", "MultiBinary", "Space", "Tuple", "Dict", "Text", "Graph", "Sequence", "OneOf"),
+    ),
     FamilySpec("EnvModules", "gymmigrate.rules.pettingzoo.env_modules", ("pettingzoo",)),
     FamilySpec("SpacesAndMake", "gymmigrate.rules.pettingzoo.spaces_make", _PZ, follows_the_run=True),
 )

@@ -83,6 +83,14 @@ RULES = (
 )
 
 
+# Words one of which every module the family decides on holds (rules/__init__.py's
+# PIPELINE loads the family on the same words): checks and comparisons of spaces, their JSON,
+# and (GM911) subclasses of a space class, named in their bases.
+_WORDS = (
+    "isinstance", "type(", "json", "==",
+    "Box", "Discrete", "MultiBinary", "Space", "Tuple", "Dict", "Text", "Graph", "Sequence", "OneOf",
+)
+
 class SpaceDrift(RuleFamily):
     RULES = RULES
 
@@ -91,7 +99,7 @@ class SpaceDrift(RuleFamily):
         profile = context.profile
         if not (profile.imports_gym or profile.imports_gymnasium):
             return False
-        return any(word in facts.text for word in ("isinstance", "type(", "json", "MultiBinary", "Discrete", "==", "Box", "__init__"))
+        return any(word in facts.text for word in _WORDS)
 
     def decide(self) -> None:
         self.spaces = SpaceValues(self.facts, self.receivers)
