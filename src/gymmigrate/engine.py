@@ -269,6 +269,7 @@ class LineMap:
     def __init__(self, before: str, after: str) -> None:
         a = before.splitlines()
         b = after.splitlines()
+        self._lines = (a, b)
         # autojunk: in files of 200+ lines, very frequent lines (blank lines, `done = ...` in a
         # generated loop) stop anchoring matches; without it matching is quadratic there.
         self._ops = difflib.SequenceMatcher(None, a, b, autojunk=True).get_opcodes()
@@ -296,10 +297,40 @@ class LineMap:
         lo, hi, tlo, thi = (i1, i2, j1, j2) if forward else (j1, j2, i1, i2)
         if thi == tlo:  # deleted lines map to where they were
             target = tlo
+        elif tag == "replace":
+            target = self._likeliest(index, lo, hi, tlo, thi, forward)
         else:
             target = tlo + min(index - lo, thi - tlo - 1)
         limit = self._len_b if forward else self._len_a
         return max(1, min(target + 1, max(limit, 1)))
+
+
+    def _likeliest(self, index: int, lo: int, hi: int, tlo: int, thi: int, forward: bool) -> int:
+        """Where a line of a replaced run went: the line of the other side's run that reads
+        most like it (`obs = env.reset()` -> `obs, info = env.reset()`), not its offset in the
+        run, which a rule's added line (`done = terminated or truncated`) pushes off by one.
+        Among equally alike lines, the one nearest its offset; by offset alone where nothing
+        reads alike (a statement rewritten beyond recognition)."""
+        source, target = self._lines if forward else self._lines[::-1]
+        offset = tlo + min(index - lo, thi - tlo - 1)
+        # a long run is searched near the offset only: each look costs a comparison per line
+        window = range(max(tlo, offset - _REPLACED_WINDOW), min(thi, offset + _REPLACED_WINDOW + 1))
+        text = source[index].strip()
+        best, best_ratio = offset, _ALIKE
+        for candidate in window:
+            matcher = difflib.SequenceMatcher(None, text, target[candidate].strip(), autojunk=False)
+            if matcher.real_quick_ratio() < best_ratio or matcher.quick_ratio() < best_ratio:
+                continue
+            ratio = matcher.ratio()
+            if ratio > best_ratio or (ratio == best_ratio and abs(candidate - offset) < abs(best - offset)):
+                best, best_ratio = candidate, ratio
+        return best
+
+
+# How alike (difflib's ratio) a line of a replaced run must read to be taken for a rewritten
+# one, and how far from its offset in the run it is looked for.
+_ALIKE = 0.6
+_REPLACED_WINDOW = 20
 
 
 def unified_diff(path: str, transformed: Transformed) -> str:
