@@ -21,7 +21,7 @@ from gymmigrate.edits.plan import Plan
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.profile import FileProfile
 from gymmigrate.facts.receivers import Receivers
-from gymmigrate.findings import Finding
+from gymmigrate.findings import Finding, renumber_lines
 from gymmigrate.options import RewriteOptions
 from gymmigrate.rules import families_for
 from gymmigrate.rules.base import FileContext, RuleFamily
@@ -168,7 +168,7 @@ def _migrate(source: bytes, text: str, encoding: str, tree: ast.Module, path: st
         return Transformed(original=source, rewritten=source, encoding=encoding, findings=findings)
     # Findings are placed in the original; place them in the output too.
     line_map = LineMap(text, new_text)
-    findings = [replace(f, line_after=line_map.forward(f.line)) for f in findings]
+    findings = [f.placed(line_map.forward) for f in findings]
     changed_by = frozenset(family for finding, family in zip(plan.findings, plan.finding_families) if finding.is_change)
     return Transformed(
         original=source,
@@ -244,7 +244,13 @@ def _settle(first: Transformed, original_text: str, path: str, options: RewriteO
         seen.add(again.rewritten)
         # The later round's own changes, placed in the original by way of the text it read.
         back = LineMap(original_text, text)
-        findings += [replace(f, line=back.backward(f.line)) for f in again.findings if f.is_change or current.renamed_first]
+        # Its message names lines of that text too ("the same question at line 12"): they
+        # follow the same way, so the item reads the original throughout.
+        findings += [
+            replace(f, line=back.backward(f.line), message=renumber_lines(f.message, back.backward))
+            for f in again.findings
+            if f.is_change or current.renamed_first
+        ]
         current = again
     raise TransformError(
         f"the rewrite does not settle after {MAX_ROUNDS} rounds ({', '.join(sorted(current.changed_by))} kept changing it); "
@@ -260,7 +266,7 @@ def _text_of(data: bytes, encoding: str) -> str:
 def _placed(findings: list[Finding], original: str, final: str) -> list[Finding]:
     """Every finding with its line in the original and in the final output."""
     forward = LineMap(original, final)
-    return sorted(replace(f, line_after=forward.forward(f.line)) for f in findings)
+    return sorted(f.placed(forward.forward) for f in findings)
 
 
 class LineMap:
