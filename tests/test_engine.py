@@ -71,6 +71,21 @@ def test_positions_map_back_to_the_original_after_lines_are_inserted() -> None:
     assert line_map.backward(3) in (2, 3)
 
 
+def test_a_line_of_a_replaced_run_maps_to_the_line_that_reads_like_it() -> None:
+    """A step unpacked anew gains `done = terminated or truncated` below it, and the reset
+    after it changes too: difflib sees one replaced run of two lines becoming three. The
+    reset is the third line of that run, not the second."""
+    before = "while not done:\n    obs, reward, done, info = env.step(a)\nobs = env.reset()\nend()\n"
+    after = (
+        "while not done:\n    obs, reward, terminated, truncated, info = env.step(a)\n"
+        "    done = terminated or truncated\nobs, info = env.reset()\nend()\n"
+    )
+    line_map = LineMap(before, after)
+    assert [line_map.forward(n) for n in (1, 2, 3, 4)] == [1, 2, 4, 5]
+    assert [line_map.backward(n) for n in (1, 2, 4, 5)] == [1, 2, 3, 4]
+    assert line_map.backward(3) in (2, 3), "an added line maps next to where it was added"
+
+
 def test_process_file_writes_atomically_and_keeps_the_mode(tmp_path: Path) -> None:
     script = tmp_path / "train.py"
     script.write_bytes(b"#!/usr/bin/env python\nimport gym\n")

@@ -21,7 +21,7 @@ from gymmigrate.edits.plan import Plan
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.profile import FileProfile
 from gymmigrate.facts.receivers import Receivers
-from gymmigrate.findings import Finding
+from gymmigrate.findings import Finding, renumber_lines
 from gymmigrate.options import RewriteOptions
 from gymmigrate.rules import families_for
 from gymmigrate.rules.base import FileContext, RuleFamily
@@ -168,7 +168,7 @@ def _migrate(source: bytes, text: str, encoding: str, tree: ast.Module, path: st
         return Transformed(original=source, rewritten=source, encoding=encoding, findings=findings)
     # Findings are placed in the original; place them in the output too.
     line_map = LineMap(text, new_text)
-    findings = [replace(f, line_after=line_map.forward(f.line)) for f in findings]
+    findings = [f.placed(line_map.forward) for f in findings]
     changed_by = frozenset(family for finding, family in zip(plan.findings, plan.finding_families) if finding.is_change)
     return Transformed(
         original=source,
@@ -244,7 +244,13 @@ def _settle(first: Transformed, original_text: str, path: str, options: RewriteO
         seen.add(again.rewritten)
         # The later round's own changes, placed in the original by way of the text it read.
         back = LineMap(original_text, text)
-        findings += [replace(f, line=back.backward(f.line)) for f in again.findings if f.is_change or current.renamed_first]
+        # Its message names lines of that text too ("the same question at line 12"): they
+        # follow the same way, so the item reads the original throughout.
+        findings += [
+            replace(f, line=back.backward(f.line), message=renumber_lines(f.message, back.backward))
+            for f in again.findings
+            if f.is_change or current.renamed_first
+        ]
         current = again
     raise TransformError(
         f"the rewrite does not settle after {MAX_ROUNDS} rounds ({', '.join(sorted(current.changed_by))} kept changing it); "
@@ -260,7 +266,7 @@ def _text_of(data: bytes, encoding: str) -> str:
 def _placed(findings: list[Finding], original: str, final: str) -> list[Finding]:
     """Every finding with its line in the original and in the final output."""
     forward = LineMap(original, final)
-    return sorted(replace(f, line_after=forward.forward(f.line)) for f in findings)
+    return sorted(f.placed(forward.forward) for f in findings)
 
 
 class LineMap:
@@ -269,6 +275,7 @@ class LineMap:
     def __init__(self, before: str, after: str) -> None:
         a = before.splitlines()
         b = after.splitlines()
+        self._lines = (a, b)
         # autojunk: in files of 200+ lines, very frequent lines (blank lines, `done = ...` in a
         # generated loop) stop anchoring matches; without it matching is quadratic there.
         self._ops = difflib.SequenceMatcher(None, a, b, autojunk=True).get_opcodes()
@@ -296,10 +303,40 @@ class LineMap:
         lo, hi, tlo, thi = (i1, i2, j1, j2) if forward else (j1, j2, i1, i2)
         if thi == tlo:  # deleted lines map to where they were
             target = tlo
+        elif tag == "replace":
+            target = self._likeliest(index, lo, hi, tlo, thi, forward)
         else:
             target = tlo + min(index - lo, thi - tlo - 1)
         limit = self._len_b if forward else self._len_a
         return max(1, min(target + 1, max(limit, 1)))
+
+
+    def _likeliest(self, index: int, lo: int, hi: int, tlo: int, thi: int, forward: bool) -> int:
+        """Where a line of a replaced run went: the line of the other side's run that reads
+        most like it (`obs = env.reset()` -> `obs, info = env.reset()`), not its offset in the
+        run, which a rule's added line (`done = terminated or truncated`) pushes off by one.
+        Among equally alike lines, the one nearest its offset; by offset alone where nothing
+        reads alike (a statement rewritten beyond recognition)."""
+        source, target = self._lines if forward else self._lines[::-1]
+        offset = tlo + min(index - lo, thi - tlo - 1)
+        # a long run is searched near the offset only: each look costs a comparison per line
+        window = range(max(tlo, offset - _REPLACED_WINDOW), min(thi, offset + _REPLACED_WINDOW + 1))
+        text = source[index].strip()
+        best, best_ratio = offset, _ALIKE
+        for candidate in window:
+            matcher = difflib.SequenceMatcher(None, text, target[candidate].strip(), autojunk=False)
+            if matcher.real_quick_ratio() < best_ratio or matcher.quick_ratio() < best_ratio:
+                continue
+            ratio = matcher.ratio()
+            if ratio > best_ratio or (ratio == best_ratio and abs(candidate - offset) < abs(best - offset)):
+                best, best_ratio = candidate, ratio
+        return best
+
+
+# How alike (difflib's ratio) a line of a replaced run must read to be taken for a rewritten
+# one, and how far from its offset in the run it is looked for.
+_ALIKE = 0.6
+_REPLACED_WINDOW = 20
 
 
 def unified_diff(path: str, transformed: Transformed) -> str:

@@ -14,7 +14,9 @@ is a note.
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, field, fields
+import re
+from collections.abc import Callable
+from dataclasses import asdict, dataclass, field, fields, replace
 from enum import Enum
 
 
@@ -104,7 +106,9 @@ def deciding_module(question: str) -> str:
 class Finding:
     """One change or review item, positioned in the original source (1-based line, 0-based column).
 
-    ``line_after`` is the same place in the rewritten source, when the file changed.
+    ``line_after`` is the same place in the rewritten source, when the file changed, and
+    ``message_after`` the message naming the rewritten source's lines (``placed``): a
+    person reading a rewritten file reads both, so one item never mixes the two versions.
     ``end_line``/``end_column`` close the span of the node reported (SARIF, editors).
     ``cell`` is the notebook cell (0-based) when the file is a notebook; ``line`` is
     then counted within that cell.
@@ -123,6 +127,9 @@ class Finding:
     tier: Tier | None = None
     # A question the files of a run share (see RUN_QUESTION), spelled as text; not reported.
     question: str | None = field(default=None, compare=False, metadata={"internal": True})
+    # The message with the lines it names in the rewritten source, set with ``line_after``; not
+    # reported (the JSON's message, like its ``line``, reads the source).
+    message_after: str | None = field(default=None, compare=False, metadata={"internal": True})
 
     def __post_init__(self) -> None:
         if self.tier is None:
@@ -136,12 +143,34 @@ class Finding:
     def needs_review(self) -> bool:
         return self.tier is Tier.REVIEW
 
+    def placed(self, forward: Callable[[int], int]) -> Finding:
+        """This finding placed in the rewritten source too, by ``forward`` (a source line to
+        the rewritten one): its own line, and every line its message names."""
+        return replace(self, line_after=forward(self.line), message_after=renumber_lines(self.message, forward))
+
     def to_json(self) -> dict[str, object]:
         """Every field but the internal ones (``metadata={"internal": True}``)."""
         data = {key: value for key, value in asdict(self).items() if not _INTERNAL.get(key)}
         data["kind"] = self.kind.value
         data["tier"] = self.tier.value  # type: ignore[union-attr]
         return data
+
+
+# How a message names lines of its own file: "line 48", "lines 10, 12" (another file's are
+# "path:line"). Every rule spells them so, which lets the lines follow the file when it is
+# rewritten (``renumber_lines``) or split into a notebook's cells (``sources.programs``).
+NAMED_LINES = re.compile(r"\blines? (\d+(?:, \d+)*)")
+
+
+def renumber_lines(message: str, renumber: Callable[[int], int]) -> str:
+    """``message`` with each line of its own file it names passed through ``renumber``. Two
+    lines that fall on one (a statement rewritten as one line) are named once."""
+
+    def renumbered(match: re.Match[str]) -> str:
+        lines = list(dict.fromkeys(renumber(int(number)) for number in match[1].split(", ")))
+        return f"{'line' if len(lines) == 1 else 'lines'} {', '.join(map(str, lines))}"
+
+    return NAMED_LINES.sub(renumbered, message)
 
 
 _INTERNAL = {f.name: bool(f.metadata.get("internal")) for f in fields(Finding)}

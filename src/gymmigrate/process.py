@@ -241,7 +241,7 @@ def _with_page_commands(adapter: Adapter, path: Path | None, transformed: Transf
     findings = list(before.findings)
     if rewritten != transformed.original:
         line_map = LineMap(transformed.original.decode("utf-8"), rewritten.decode("utf-8"))
-        findings = [replace(f, line_after=line_map.forward(f.line)) for f in findings]
+        findings = [f.placed(line_map.forward) for f in findings]
     else:
-        findings = [replace(f, line_after=None) for f in findings]
+        findings = [replace(f, line_after=None, message_after=None) for f in findings]
     return replace(transformed, rewritten=rewritten, findings=sorted([*transformed.findings, *findings], key=_order))

@@ -119,17 +119,49 @@ def decide_once(results: Sequence[FileResult]) -> list[FileResult]:
             )
         )
         (r0, f0), others = places[0], places[1:]
+        # Each place named twice over: in the sources (the message: `check`, the JSON) and in
+        # the files as the run leaves them (``message_after``: the review list of a rewrite).
         first = findings[r0][f0]
-        here = location(results[r0].path, first, first.line)
+        here, here_after = location(results[r0].path, first, first.line), _location_as_left(results[r0], first)
         named = [location(results[r].path, findings[r][f], findings[r][f].line) for r, f in others]
-        more = f" and {len(named) - _PLACES_NAMED} more" if len(named) > _PLACES_NAMED else ""
-        where = "place" if len(named) == 1 else "places"
-        findings[r0][f0] = replace(
-            first, message=f"{first.message} (the same decision at {len(named)} other {where}: {', '.join(named[:_PLACES_NAMED])}{more})"
-        )
+        named_after = [_location_as_left(results[r], findings[r][f]) for r, f in others]
+        findings[r0][f0] = _with_suffix(first, _other_places(named), _other_places(named_after))
         for r, f in others:
-            findings[r][f] = replace(findings[r][f], message=f"{findings[r][f].message} (decided once, at {here})", tier=Tier.NOTE)
+            findings[r][f] = replace(
+                _with_suffix(findings[r][f], f" (decided once, at {here})", f" (decided once, at {here_after})"), tier=Tier.NOTE
+            )
     return [replace(result, findings=tuple(found)) for result, found in zip(results, findings)]
+
+
+def _other_places(named: list[str]) -> str:
+    more = f" and {len(named) - _PLACES_NAMED} more" if len(named) > _PLACES_NAMED else ""
+    where = "place" if len(named) == 1 else "places"
+    return f" (the same decision at {len(named)} other {where}: {', '.join(named[:_PLACES_NAMED])}{more})"
+
+
+def _with_suffix(finding: Finding, suffix: str, suffix_after: str) -> Finding:
+    """``finding`` naming other files' places: ``suffix`` in their sources, ``suffix_after``
+    in the files as the run leaves them."""
+    after = finding.message_after if finding.message_after is not None else finding.message
+    return replace(finding, message=finding.message + suffix, message_after=after + suffix_after)
+
+
+def _location_as_left(result: FileResult, finding: Finding) -> str:
+    """Where a person finds ``finding`` once the run is over: in the rewritten file where it
+    was written, else in the source (which is then what is on disk)."""
+    return location(result.path, finding, finding.line_after if result.written and finding.line_after else finding.line)
+
+
+def _as_read(result: FileResult, finding: Finding, *, wrote: bool) -> tuple[int, str]:
+    """The line and message of a review item in the version of the file a person opens:
+    after a rewrite, the file as written (both the item's line and every line its message
+    names, of its file and of others: ``Finding.message_after``); else the source."""
+    if wrote and (result.written or finding.line_after is None):
+        # a file left unchanged reads the same in both versions; its message may still name
+        # places in files that were rewritten (``decide_once``)
+        line = finding.line_after or finding.line
+        return line, finding.message_after if finding.message_after is not None else finding.message
+    return finding.line, finding.message
 
 
 # One line of the summary: pieces of text, each with a rich style ("" for none).
@@ -154,9 +186,9 @@ def print_summary(results: Sequence[FileResult], *, wrote: bool, stream: TextIO 
     if review:
         lines.append([("\n", ""), (f"Review ({len(review)})", "bold yellow"), (": places where a person must decide", "")])
         for result, finding in review:
-            line = finding.line_after if (wrote and result.written and finding.line_after) else finding.line
+            line, message = _as_read(result, finding, wrote=wrote)
             tag = "rewritten" if finding.is_change else "not rewritten"
-            lines.append([(f"  {location(result.path, finding, line)}: ", ""), (finding.rule, "bold"), (f" ({tag}) {finding.message}", "")])
+            lines.append([(f"  {location(result.path, finding, line)}: ", ""), (finding.rule, "bold"), (f" ({tag}) {message}", "")])
     if notes:
         lines.append([(f"{notes} note{'s' if notes != 1 else ''} on rewrites already applied (listed by `check` and in --report)", "")])
     for result in errors:

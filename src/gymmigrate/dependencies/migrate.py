@@ -5,7 +5,7 @@ parsers: ``packaging``, the TOML scanner)."""
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from pathlib import Path, PurePath
 from typing import TYPE_CHECKING
 
@@ -116,7 +116,7 @@ def _run(handler: Callable, source: bytes, selection: Selection | None = None,
     if rewritten == source:
         return DependencyResult(source, findings)
     line_map = LineMap(text, new_text)
-    return DependencyResult(rewritten, [replace(f, line_after=line_map.forward(f.line)) for f in findings])
+    return DependencyResult(rewritten, [f.placed(line_map.forward) for f in findings])
 
 
 def migrate_dependency_file(

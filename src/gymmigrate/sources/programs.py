@@ -15,7 +15,7 @@ from bisect import bisect_right
 from dataclasses import replace
 
 from gymmigrate.engine import Transformed, lint_source, transform_source, unified_diff
-from gymmigrate.findings import Finding
+from gymmigrate.findings import NAMED_LINES, Finding
 from gymmigrate.options import RewriteOptions
 from gymmigrate.source_text import TransformError, may_hold_gym_code
 from gymmigrate.sources import Adapter, Document, Location, Segment, lines_of
@@ -116,7 +116,7 @@ def migrate(
                 continue
             transformed = transform_source(data, path, options)
         except TransformError as exc:
-            raise TransformError(_in_file_terms(str(exc), starts, program)) from None
+            raise TransformError(_in_file_terms(str(exc), starts, _origins(program))) from None
         after_starts = starts
         if transformed.changed:
             new_codes[index] = split(transformed.rewritten.decode(transformed.encoding), len(program), code)
@@ -133,20 +133,21 @@ def migrate(
             # A program left as it was still moves when an earlier block of the page grew.
             line_after = finding.line_after if finding.line_after is not None else finding.line
             where = _locate(line_after, after_starts, segment_starts_after[index])
-            moved = replace(moved, line_after=where.line)
+            # the lines its message names, like its own, in the rewritten file's terms
+            message_after = finding.message_after if finding.message_after is not None else finding.message
+            moved = replace(
+                moved, line_after=where.line, message_after=_in_file_terms(message_after, after_starts, segment_starts_after[index])
+            )
         else:
-            moved = replace(moved, line_after=None)
+            moved = replace(moved, line_after=None, message_after=None)
         findings.append(moved)
     return sorted(findings, key=_order), rewritten != source, rewritten
 
 
-_PROGRAM_LINE = re.compile(r"\blines? (\d+(?:, \d+)*)")
-
-
-def _in_file_terms(message: str, starts: list[int], program: list[Segment]) -> str:
+def _in_file_terms(message: str, starts: list[int], origins: list[Location]) -> str:
     """An engine message names lines of the joined program ("line 48", "lines 10, 12");
-    name the file's instead (a notebook's "cell 3 line 4")."""
-    origins = [segment.start for segment in program]
+    name the file's instead (a notebook's "cell 3 line 4"), where its segments start at
+    ``origins``."""
 
     def where(match: re.Match[str]) -> str:
         locations = [_locate(int(number), starts, origins) for number in match[1].split(", ")]
@@ -158,20 +159,24 @@ def _in_file_terms(message: str, starts: list[int], program: list[Segment]) -> s
             for location in locations
         )
 
-    return _PROGRAM_LINE.sub(where, message)
+    return NAMED_LINES.sub(where, message)
 
 
 def _order(finding: Finding) -> tuple[int, int, int, str]:
     return (finding.cell if finding.cell is not None else -1, finding.line, finding.column, finding.rule)
 
 
+def _origins(program: list[Segment]) -> list[Location]:
+    return [segment.start for segment in program]
+
+
 def _placed(finding: Finding, starts: list[int], program: list[Segment]) -> Finding:
-    origins = [segment.start for segment in program]
+    origins = _origins(program)
     where = _locate(finding.line, starts, origins)
     end_line = finding.end_line
     if end_line is not None:
         end_line = _locate(end_line, starts, origins).line
-    message = _in_file_terms(finding.message, starts, program)
+    message = _in_file_terms(finding.message, starts, origins)
     return replace(finding, line=where.line, cell=where.cell, end_line=end_line, message=message)
 
 
