@@ -32,8 +32,8 @@ has the script):
 * GM911 a space subclass whose ``__init__`` skips its space's (``super(Discrete,
   self).__init__(...)`` runs ``Space.__init__`` only) lacks what only that ``__init__``
   sets in Gymnasium 1.4 (``Discrete.start``): ``sample()``, ``contains()``, ``repr()``
-  raise AttributeError. Reported; a ``Discrete`` subclass that skipped it to keep a
-  dtype calls it with ``dtype=`` (``subclasses.py``).
+  raise AttributeError. Reported; for a ``Discrete`` subclass that skipped it to keep a
+  dtype, the item names the two calls to choose between (``subclasses.py``).
 
 Sources: Gymnasium 1.4.0 ``spaces/discrete.py``, ``spaces/multi_binary.py``,
 ``spaces/box.py``, ``spaces/dict.py``; gym 0.21 ``spaces/`` (catalog GM903, GM905).
@@ -76,9 +76,10 @@ RULES = (
     Rule(
         "GM911",
         "space subclasses that skip the space's __init__",
-        FixKind.ASSIST,
+        FixKind.FLAG,
         "A space subclass whose `__init__` skips its space's and never sets what Gymnasium 1.4's space reads (`Discrete.start`) "
-        "is reported; a `Discrete` subclass that skipped it only to keep a dtype calls it with `dtype=`.",
+        "is reported; for a `Discrete` subclass that skipped it only to keep a dtype, the item names the call with `dtype=` "
+        "(whose `contains` refuses other integer types) and the one without (int64).",
     ),
 )
 

@@ -8,18 +8,20 @@ keep a dtype gym's ``Discrete`` overrode. Gymnasium 1.4's ``Discrete`` also read
 own (``_READS``); a subclass whose ``__init__`` runs no ``__init__`` of its space class
 (only ``Space.__init__``, or none) and never sets one of them is reported at the class.
 
-Where the skip only kept a dtype: a ``Discrete`` subclass that sets ``self.n`` to a
-parameter and calls ``Space.__init__`` with the shape ``()`` and a dtype, the call becomes
-``Discrete.__init__(self, n, dtype=dtype)``, since Gymnasium's ``Discrete`` takes
-``dtype=``. For review: it raises for ``n`` below 1 or a dtype that is no integer type,
-and ``n`` and ``start`` become integers of that dtype.
+Where the skip only kept a dtype (a ``Discrete`` subclass that sets ``self.n`` to a
+parameter and calls ``Space.__init__`` with the shape ``()`` and a dtype), the item names
+the two calls a person chooses between, and neither is written: Gymnasium's ``Discrete``
+takes ``dtype=``, but with it ``contains`` refuses actions of an integer type that cannot
+be cast to that dtype (an ``np.int64`` from ``argmax`` in a ``uint8`` space), which gym
+0.21's ``Discrete.contains`` accepted, and PettingZoo's and Gymnasium's checkers assert
+``contains``; ``Discrete.__init__(self, n)`` keeps gym's membership, but the space's dtype
+becomes ``int64``. Which one the project's actions need is its own knowledge.
 """
 
 from __future__ import annotations
 
 import ast
 
-from gymmigrate.edits.lazy import cst
 from gymmigrate.facts.module import FUNCTIONS
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import RuleFamily
@@ -135,14 +137,17 @@ def decide_subclass(family: RuleFamily, classdef: ast.ClassDef) -> None:
         f"reads: {', '.join(raising)} raise AttributeError"
     )
     if space == "Discrete" and missing == ["start"] and len(calls) == 1:
-        rewritten = _discrete_call(family, init, calls[0], base)
-        if rewritten is not None:
-            family.plan.replace(calls[0], lambda node, text=rewritten: cst.parse_expression(text))
+        choices = _discrete_calls(family, init, calls[0], base)
+        if choices is not None:
+            with_dtype, without = choices
             family.report(
                 calls[0],
                 "GM911",
-                f"{why}; Gymnasium's `{space}` takes `dtype=`, so `{classdef.name}` runs its `__init__` now: `{rewritten}`. "
-                "It raises for `n` below 1 or a dtype that is no integer type, and `n` becomes an integer of that dtype",
+                f"{why}. Gymnasium's `{space}` takes `dtype=`: `{with_dtype}` keeps the dtype, but its `contains` then "
+                "refuses actions of an integer type that cannot be cast to it (an `np.int64` from `argmax`), which gym's "
+                f"accepted and the env checkers assert; `{without}` keeps gym's membership, but the dtype becomes int64. "
+                "Choose by the actions the project passes",
+                FixKind.FLAG,
             )
             return
     family.report(
@@ -212,10 +217,13 @@ def _stored_names(classdef: ast.ClassDef) -> frozenset[str] | None:
     return frozenset(names)
 
 
-def _discrete_call(family: RuleFamily, init: ast.FunctionDef | ast.AsyncFunctionDef, call: ast.Call, base: ast.expr) -> str | None:
-    """``Discrete.__init__(self, n, dtype=dtype)`` for a skip that kept a dtype: the call
-    is a statement of its own with the shape ``()`` and a dtype (a seed too, maybe), and
-    ``self.n`` is set once, in ``__init__``'s own body, to a parameter it never rebinds."""
+def _discrete_calls(
+    family: RuleFamily, init: ast.FunctionDef | ast.AsyncFunctionDef, call: ast.Call, base: ast.expr
+) -> tuple[str, str] | None:
+    """``Discrete.__init__(self, n, dtype=dtype)`` and ``Discrete.__init__(self, n)`` (a
+    seed kept in both) for a skip that kept a dtype: the call is a statement of its own with
+    the shape ``()`` and a dtype (a seed too, maybe), and ``self.n`` is set once, in
+    ``__init__``'s own body, to a parameter it never rebinds."""
     facts = family.facts
     statement = facts.statement_of(call)
     if not isinstance(statement, ast.Expr) or statement.value is not call:
@@ -238,8 +246,9 @@ def _discrete_call(family: RuleFamily, init: ast.FunctionDef | ast.AsyncFunction
         return None
     this = init.args.args[0].arg
     seed = passed.get("seed")
-    keywords = f", dtype={facts.segment(dtype)}" + (f", seed={facts.segment(seed)}" if seed is not None else "")
-    return f"{facts.segment(base)}.__init__({this}, {size.id}{keywords})"
+    seeded = f", seed={facts.segment(seed)}" if seed is not None else ""
+    head = f"{facts.segment(base)}.__init__({this}, {size.id}"
+    return f"{head}, dtype={facts.segment(dtype)}{seeded})", f"{head}{seeded})"
 
 
 def _sole_store(init: ast.FunctionDef | ast.AsyncFunctionDef, attribute: str) -> ast.expr | None:
