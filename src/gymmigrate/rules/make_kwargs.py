@@ -28,6 +28,7 @@ from collections.abc import Sequence
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
+from gymmigrate.facts.env_classes import is_super_method_call
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 
@@ -119,14 +120,7 @@ class MakeKeywords(RuleFamily):
 
     def _is_wrapper_super_init(self, call: ast.Call) -> bool:
         """``super().__init__(env, new_step_api=...)`` inside a Gym wrapper subclass."""
-        func = call.func
-        if not (
-            isinstance(func, ast.Attribute)
-            and func.attr == "__init__"
-            and isinstance(func.value, ast.Call)
-            and isinstance(func.value.func, ast.Name)
-            and func.value.func.id == "super"
-        ):
+        if not is_super_method_call(call, "__init__"):
             return False
         classdef = self.facts.enclosing_class(call)
         return classdef is not None and self.receivers.is_gym_wrapper_class(classdef)

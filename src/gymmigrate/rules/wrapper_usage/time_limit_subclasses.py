@@ -14,6 +14,7 @@ import ast
 from typing import TYPE_CHECKING
 
 from gymmigrate.edits.lazy import cst
+from gymmigrate.facts.env_classes import is_super_method_call
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.env_ids.syntax import gym_alias
 from gymmigrate.rules.wrapper_usage.arguments import (
@@ -48,14 +49,7 @@ def _super_init(family: StacksFamily, call: ast.Call) -> None:
     ``__init__`` did is all done by the subclass save ``Wrapper.__init__``: the call
     becomes that (its reset and step are TimeLimit's, reading those attributes). Anything
     else is reported."""
-    func = call.func
-    if not (
-        isinstance(func, ast.Attribute)
-        and func.attr == "__init__"
-        and isinstance(func.value, ast.Call)
-        and isinstance(func.value.func, ast.Name)
-        and func.value.func.id == "super"
-    ):
+    if not is_super_method_call(call, "__init__"):
         return
     init = family.facts.enclosing_function(call)
     classdef = family.facts.parent(init) if init is not None else None
