@@ -17,28 +17,16 @@ from gymmigrate.facts.collection_reads import (
 )
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.module import ModuleFacts
+from gymmigrate.facts.narrowing import isinstance_guards
 
 
 def under_batch_check(facts: ModuleFacts, node: ast.AST, fields: set[str]) -> bool:
     """``node`` is in the body of ``if isinstance(<one of fields>, list)`` (or ``tuple``):
     the code tells a batched result from one env's there."""
-    child, parent = node, facts.parent(node)
-    while parent is not None and not isinstance(parent, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda, ast.Module)):
-        if isinstance(parent, ast.If) and any(child is s for s in parent.body):
-            test = parent.test
-            if (
-                isinstance(test, ast.Call)
-                and isinstance(test.func, ast.Name)
-                and test.func.id == "isinstance"
-                and len(test.args) == 2
-                and isinstance(test.args[0], ast.Name)
-                and test.args[0].id in fields
-                and isinstance(test.args[1], ast.Name)
-                and test.args[1].id in ("list", "tuple")
-            ):
-                return True
-        child, parent = parent, facts.parent(parent)
-    return False
+    return any(
+        tested in fields and isinstance(classes, ast.Name) and classes.id in ("list", "tuple")
+        for _, tested, classes in isinstance_guards(facts, node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda, ast.Module))
+    )
 
 
 def done_read_per_env(facts: ModuleFacts, done_target: ast.expr, unpacked: ast.Tuple | ast.List | None = None) -> bool:

@@ -18,12 +18,15 @@ variable by its spelling. ``and`` in an ``if`` narrows its body by any of its op
 
 A second instance follows ``issubclass`` the same way (``check="issubclass"``): where
 ``issubclass(cls, gym.Env)`` holds on every path, ``cls(...)`` makes a Gym env.
+
+``isinstance_guards`` is the plainer question the space and batched-step analyses ask:
+which ``if isinstance(name, classes):`` bodies a node sits in.
 """
 
 from __future__ import annotations
 
 import ast
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from enum import Enum
 
 from gymmigrate.facts import names as N
@@ -257,3 +260,24 @@ class Narrowing:
                 return True
         return False
 
+
+def isinstance_guards(
+    facts: ModuleFacts, node: ast.AST, frame_ends: tuple[type[ast.AST], ...]
+) -> Iterator[tuple[ast.If, str, ast.expr]]:
+    """The ``if isinstance(name, classes):`` statements whose body holds ``node``, innermost
+    first, each with the tested name and the classes' expression; the walk stops at the
+    first of ``frame_ends`` around ``node`` (each caller says where a check stops holding
+    for what it asks)."""
+    child, parent = node, facts.parent(node)
+    while parent is not None and not isinstance(parent, frame_ends):
+        if isinstance(parent, ast.If) and any(child is statement for statement in parent.body):
+            test = parent.test
+            if (
+                isinstance(test, ast.Call)
+                and isinstance(test.func, ast.Name)
+                and test.func.id == "isinstance"
+                and len(test.args) == 2
+                and isinstance(test.args[0], ast.Name)
+            ):
+                yield parent, test.args[0].id, test.args[1]
+        child, parent = parent, facts.parent(parent)

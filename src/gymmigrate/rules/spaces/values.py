@@ -13,11 +13,14 @@ import ast
 
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
+from gymmigrate.facts.narrowing import isinstance_guards
 from gymmigrate.facts.receivers import Receivers
 
 SPACE_ATTRIBUTES = frozenset({"action_space", "observation_space", "single_action_space", "single_observation_space"})
 SPACE_INT_ATTRIBUTES = frozenset({"n", "start"})
 UNKNOWN = "?"  # a space of a class not known here
+# A narrowing check holds up to the def or class around the name.
+_NARROWING_ENDS = (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef, ast.Module)
 
 
 def space_class_of(qualified: set[str]) -> str | None:
@@ -61,24 +64,11 @@ class SpaceValues:
     def _narrowed(self, name: ast.Name) -> str | None:
         """The space class an enclosing ``if isinstance(name, spaces.X):`` proves (a helper
         that walks a space of any class: ``def f(space): if isinstance(space, Dict): ...``)."""
-        child: ast.AST = name
-        parent = self.facts.parent(child)
-        while parent is not None and not isinstance(parent, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef, ast.Module)):
-            if isinstance(parent, ast.If) and any(child is statement for statement in parent.body):
-                test = parent.test
-                if (
-                    isinstance(test, ast.Call)
-                    and isinstance(test.func, ast.Name)
-                    and test.func.id == "isinstance"
-                    and len(test.args) == 2
-                    and isinstance(test.args[0], ast.Name)
-                    and test.args[0].id == name.id
-                    and not isinstance(test.args[1], ast.Tuple)
-                ):
-                    if any(self._inside(binding, parent) for binding in self.facts.bindings_of(name)):
-                        return None  # rebound under the check
-                    return space_class_of(self.facts.qualified_names(test.args[1]))
-            child, parent = parent, self.facts.parent(parent)
+        for guard, tested, classes in isinstance_guards(self.facts, name, _NARROWING_ENDS):
+            if tested == name.id and not isinstance(classes, ast.Tuple):
+                if any(self._inside(binding, guard) for binding in self.facts.bindings_of(name)):
+                    return None  # rebound under the check
+                return space_class_of(self.facts.qualified_names(classes))
         return None
 
     def _inside(self, node: ast.AST, ancestor: ast.AST) -> bool:
