@@ -17,7 +17,7 @@ import weakref
 from collections import defaultdict
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
-from typing import cast
+from typing import NamedTuple, cast
 
 FUNCTIONS = (ast.FunctionDef, ast.AsyncFunctionDef)
 COMPREHENSIONS = (ast.ListComp, ast.SetComp, ast.DictComp, ast.GeneratorExp)
@@ -290,6 +290,21 @@ class ModuleFacts:
     def is_method(self, function: ast.AST) -> bool:
         parent = self.parents.get(function)
         return isinstance(parent, ast.ClassDef) and function in parent.body
+
+    def parameter_slot(self, param: ast.arg) -> ParameterSlot | None:
+        """Where the calls of its def pass ``param``; None for ``self`` (a method's first
+        parameter), a lambda's parameter, and one passed only by keyword or in ``*args``."""
+        function = self.parent(self.parent(param))  # arg -> arguments -> def
+        if not isinstance(function, FUNCTIONS):
+            return None
+        params = [*function.args.posonlyargs, *function.args.args]
+        position = next((i for i, p in enumerate(params) if p is param), None)
+        if position is None:
+            return None
+        classdef = self.parent(function)
+        if isinstance(classdef, ast.ClassDef) and self.is_method(function):
+            return ParameterSlot(function, classdef, position - 1) if position > 0 else None  # calls do not pass self
+        return ParameterSlot(function, None, position)
 
     # -- names ----------------------------------------------------------------------------
 
@@ -610,6 +625,16 @@ def own_entry_point(entry: ast.expr | None) -> str | None:
     ):
         return entry.right.value
     return None
+
+
+class ParameterSlot(NamedTuple):
+    """A parameter as its def's calls pass it: ``position`` among a call's positional
+    arguments (``self`` not counted); ``classdef`` is the class of a method, None for a
+    function."""
+
+    function: ast.FunctionDef | ast.AsyncFunctionDef
+    classdef: ast.ClassDef | None
+    position: int
 
 
 def call_argument(call: ast.Call, position: int | None, name: str) -> ast.expr | None:

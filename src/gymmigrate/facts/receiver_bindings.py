@@ -342,25 +342,18 @@ class BindingKinds(_Facade):
     def _param_arguments(self, param: ast.arg) -> list[ast.expr | None] | None:
         """What every call of the def of ``param`` in this module passes for it (None for a
         call that passes nothing); None when a call elsewhere, or none at all, is known."""
-        function = self.facts.parent(self.facts.parent(param))  # arg -> arguments -> def
-        if not isinstance(function, FUNCTIONS):
+        slot = self.facts.parameter_slot(param)
+        if slot is None:
             return None
-        classdef = self.facts.parent(function)
-        is_method = isinstance(classdef, ast.ClassDef) and self.facts.is_method(function)
-        params = [*function.args.posonlyargs, *function.args.args]
-        position = next((i for i, p in enumerate(params) if p is param), None)
-        if position is None or (is_method and position == 0):
+        function, classdef, position = slot
+        if self.callables.external_param_kinds(function, classdef, param.arg):
             return None
-        if is_method:
-            position -= 1  # calls do not pass self
-        if self.callables.external_param_kinds(function, classdef if is_method else None, param.arg):  # type: ignore[arg-type]
-            return None
-        if is_method and function.name == "__init__":
-            constructions, elsewhere = self.constructions(classdef)  # type: ignore[arg-type]
+        if classdef is not None and function.name == "__init__":
+            constructions, elsewhere = self.constructions(classdef)
             if elsewhere:
                 return None
             calls = list(constructions)
-        elif is_method:
+        elif classdef is not None:
             return None
         else:
             calls = [(call, 0) for call in self.call_sites(function, None)]

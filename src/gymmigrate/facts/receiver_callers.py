@@ -182,29 +182,24 @@ class CallerSites(_Facade):
         return self.facts.memo(("argument-sources", id(param)), lambda: self._argument_sources(param))
 
     def _argument_sources(self, param: ast.arg) -> frozenset[str] | None:
-        function = self.facts.parent(self.facts.parent(param))  # arg -> arguments -> def
-        if not isinstance(function, FUNCTIONS):
+        slot = self.facts.parameter_slot(param)
+        if slot is None:
             return None
-        classdef = self.facts.parent(function)
-        is_method = isinstance(classdef, ast.ClassDef) and self.facts.is_method(function)
-        params = [*function.args.posonlyargs, *function.args.args]
-        position = next((i for i, p in enumerate(params) if p is param), None)
-        if position is None or (is_method and (position == 0 or function.name == "__init__")):
-            return None  # self; a constructor's calls are every construction of its class
-        if is_method:
-            position -= 1  # calls do not pass self
+        function, classdef, position = slot
+        if classdef is not None and function.name == "__init__":
+            return None  # a constructor's calls are every construction of its class
         flow = Flow.of(self.facts)
         here = self.project.path if self.project is not None else ""
         found = set()
-        for call in self.call_sites(function, classdef if is_method else None):  # type: ignore[arg-type]
+        for call in self.call_sites(function, classdef):
             argument = call_argument(call, position, param.arg)
             source = flow.source_of(argument) if isinstance(argument, ast.Name) else None
             if source is None:
                 return None
             found.add(f"{here}|{source}")
-        owner = classdef if is_method else function
+        owner = classdef if classdef is not None else function
         if self.project is not None and self.facts.parent(owner) is self.facts.tree:
-            qualname = f"{classdef.name}.{function.name}" if is_method else function.name  # type: ignore[union-attr]
+            qualname = f"{classdef.name}.{function.name}" if classdef is not None else function.name
             external = self.project.param_sources(qualname, param.arg)
             if None in external:
                 return None
