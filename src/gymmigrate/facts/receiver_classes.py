@@ -9,6 +9,7 @@ four-field contract) are in ``class_shapes.py``.
 from __future__ import annotations
 
 import ast
+from collections.abc import Callable, Iterator
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts import names as N
@@ -258,6 +259,23 @@ class ClassKinds(_Facade):
         # ``TaskEnv()`` below): the one class statement that binds the name where it is read.
         bindings = self.facts.bindings_of(func)
         return bindings[0] if len(bindings) == 1 and isinstance(bindings[0], ast.ClassDef) else None
+
+    def local_lineage(
+        self, classdef: ast.ClassDef, follows: Callable[[ast.ClassDef], bool] | None = None
+    ) -> Iterator[ast.ClassDef]:
+        """``classdef`` and the classes of this module it derives from, each once (depth
+        first, a class before its bases). ``follows``: whether to go on to the bases of a
+        class (GM503: one that defines its own ``seed()`` hides those above it)."""
+        seen: set[int] = set()
+        pending = [classdef]
+        while pending:
+            current = pending.pop()
+            if id(current) in seen:
+                continue
+            seen.add(id(current))
+            yield current
+            if follows is None or follows(current):
+                pending.extend(base for b in current.bases if (base := self.local_class(b)) is not None)
 
     def local_function(self, func: ast.AST) -> ast.FunctionDef | ast.AsyncFunctionDef | None:
         return self.facts.functions.get(func.id) if isinstance(func, ast.Name) else None

@@ -183,17 +183,7 @@ def stored_attributes(facts: ModuleFacts, receivers: Receivers) -> dict[str, fro
     for name, classdef in facts.classes.items():
         if not any(not N.is_library(q) for base in classdef.bases for q in facts.qualified_names(base)):
             continue
-        stored: set[str] = set()
-        seen: set[int] = set()
-        todo = [classdef]
-        while todo:
-            current = todo.pop()
-            if id(current) in seen:
-                continue
-            seen.add(id(current))
-            stored.update(receivers.self_stores(current))
-            todo += [local for base in current.bases if (local := receivers.local_class(base)) is not None]
-        found[name] = frozenset(stored)
+        found[name] = frozenset(attr for current in receivers.local_lineage(classdef) for attr in receivers.self_stores(current))
     return found
 
 

@@ -314,20 +314,12 @@ def _untraced_seed_call(decision: ClassDecision) -> ast.Call | None:
 def _inherits_seed(decision: ClassDecision, classdef: ast.ClassDef) -> bool:
     """``classdef`` derives from the decided class through local classes, none of which
     (``classdef`` included) defines its own seed() in between."""
-    receivers = decision.family.receivers
-    seen: set[int] = set()
-    todo = [classdef]
-    while todo:
-        current = todo.pop()
-        if id(current) in seen:
-            continue
-        seen.add(id(current))
-        if current is decision.classdef:
-            return True
-        if any(isinstance(s, (ast.FunctionDef, ast.AsyncFunctionDef)) and s.name in ("seed", "_seed") for s in current.body):
-            continue
-        todo.extend(base for b in current.bases if (base := receivers.local_class(b)) is not None)
-    return False
+    lineage = decision.family.receivers.local_lineage(classdef, follows=lambda current: not _defines_seed(current))
+    return any(current is decision.classdef for current in lineage)
+
+
+def _defines_seed(classdef: ast.ClassDef) -> bool:
+    return any(isinstance(s, (ast.FunctionDef, ast.AsyncFunctionDef)) and s.name in ("seed", "_seed") for s in classdef.body)
 
 
 def _seed_call_sites(decision: ClassDecision) -> list[ast.Call]:

@@ -202,17 +202,7 @@ class UntracedEnvs(MakeEdits):
         """The base class of this module (``classdef`` itself or an ancestor) whose
         constructor parameter the finder stopped at (the gap names it): a subclass that
         inherits ``self.env`` from ``Agent.__init__`` asks Agent's question, not one of its own."""
-        seen: set[int] = set()
-        pending = [classdef]
-        while pending:
-            current = pending.pop()
-            if id(current) in seen:
-                continue
-            seen.add(id(current))
-            if f" is a parameter of `{current.name}`," in gap:
-                return current
-            pending.extend(base for base in (self.receivers.local_class(b) for b in current.bases) if base is not None)
-        return None
+        return next((current for current in self.receivers.local_lineage(classdef) if f" is a parameter of `{current.name}`," in gap), None)
 
     def _untraced_question(self, site: RenderSite, where: str) -> Hashable | None:
         """The renders and recorders of one untraced env ask one question: where it is made,
