@@ -403,13 +403,11 @@ class CallSummarizer:
         joined by ``|``: ``env = nasim.make_benchmark(...)``, or ``env = AtariEnvironment(args)``
         in one branch and ``env = Environment(gym.make(id))`` in the other; None when a
         binding calls anything else."""
-        bindings = self.facts.bindings_of(name)
+        values = self.facts.assigned_values(name, sole_target=True)
+        if values is None:
+            return None
         found: set[str] = set()
-        for binding in bindings:
-            statement = self.facts.parent(binding)
-            if not (isinstance(binding, ast.Name) and isinstance(statement, ast.Assign) and statement.targets == [binding]):
-                return None
-            value = statement.value
+        for value in values:
             if not isinstance(value, ast.Call):
                 return None
             qualified = [q for q in self.facts.qualified_names(value.func) if not N.is_library(q)]
@@ -426,14 +424,12 @@ class CallSummarizer:
         another module of the run) in others: the run's names joined by ``|`` with the kinds
         this module settles itself (``=GYM_ENV``), for the join to resolve as one; None when
         a binding is anything else, or when no binding calls a name of the run."""
-        bindings = self.facts.bindings_of(name)
+        values = self.facts.assigned_values(name, sole_target=True)
+        if values is None:
+            return None
         made: set[str] = set()
         known: set[str] = set()
-        for binding in bindings:
-            statement = self.facts.parent(binding)
-            if not (isinstance(binding, ast.Name) and isinstance(statement, ast.Assign) and statement.targets == [binding]):
-                return None
-            value = statement.value
+        for value in values:
             kind = self.receivers.kind_of(value)
             if kind is not EnvKind.UNKNOWN:
                 known.add(KNOWN + kind.name)

@@ -81,13 +81,7 @@ class SpaceValues:
 
     def values(self, name: ast.Name) -> list[ast.expr]:
         """What every binding of ``name`` assigns (empty when one is not a plain assignment)."""
-        values = []
-        for binding in self.facts.bindings_of(name):
-            statement = self.facts.parent(binding)
-            if not (isinstance(binding, ast.Name) and isinstance(statement, ast.Assign) and binding in statement.targets):
-                return []
-            values.append(statement.value)
-        return values
+        return self.facts.assigned_values(name) or []
 
     def space_value(self, expr: ast.AST, what: frozenset[str], depth: int = 0) -> str | None:
         """For ``<space>.n`` / ``<space>.sample()`` (the members in ``what``: "n", "start",
