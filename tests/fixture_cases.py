@@ -1,4 +1,5 @@
-"""Read the before/after fixture pairs under ``fixtures/rules/<RULE>/``.
+"""Read the before/after fixture pairs under ``fixtures/rules/<RULE>/``; migrate a copy of a
+fixture project (``migrated_project``).
 
 Each case is ``<name>.py`` (the input), an optional ``<name>.expected.py`` (the expected
 output; when absent the case is a no-op and the output must equal the input byte for
@@ -10,8 +11,14 @@ none. TIER (note/review) is written only where it differs from what the kind imp
 
 from __future__ import annotations
 
+import json
+import shutil
 from dataclasses import dataclass
 from pathlib import Path
+
+from typer.testing import CliRunner
+
+from gymmigrate.cli import app
 
 FIXTURES = Path(__file__).resolve().parent.parent / "fixtures"
 RULE_FIXTURES = FIXTURES / "rules"
@@ -69,3 +76,20 @@ def collect_cases() -> list[Case]:
             )
         )
     return cases
+
+
+def migrated_project(tmp_path: Path, name: str) -> tuple[Path, list[tuple[str, int, str]]]:
+    """A copy of ``fixtures/<name>`` (``tmp_path/project``) after one ``rewrite --report`` in
+    this process, with its review items as ``(path in the project, line, rule)``, sorted:
+    the fixture itself stays the legacy input of every test."""
+    project = tmp_path / "project"
+    shutil.copytree(FIXTURES / name, project)
+    report = tmp_path / "report.json"
+    result = CliRunner().invoke(app, ["rewrite", "--report", str(report), str(project)])
+    assert result.exit_code == 0, result.output
+    review = [
+        (Path(file["path"]).relative_to(project).as_posix(), f["line"], f["rule"])
+        for file in json.loads(report.read_text())["files"]
+        for f in file["review"]
+    ]
+    return project, sorted(review)

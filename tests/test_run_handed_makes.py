@@ -15,8 +15,6 @@ instance (and so the env it holds) to a list.
 
 from __future__ import annotations
 
-import json
-import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -24,23 +22,13 @@ from pathlib import Path
 from typer.testing import CliRunner
 
 from gymmigrate.cli import app
-from tests.fixture_cases import FIXTURES
+from tests.fixture_cases import migrated_project
 
 runner = CliRunner()
 
 
 def _migrated(tmp_path: Path) -> tuple[Path, list[tuple[str, int, str]]]:
-    project = tmp_path / "project"
-    shutil.copytree(FIXTURES / "project_handed_makes", project)
-    report = tmp_path / "report.json"
-    result = runner.invoke(app, ["rewrite", "--report", str(report), str(project)])
-    assert result.exit_code == 0, result.output
-    review = [
-        (Path(file["path"]).relative_to(project).as_posix(), f["line"], f["rule"])
-        for file in json.loads(report.read_text())["files"]
-        for f in file["review"]
-    ]
-    return project, sorted(review)
+    return migrated_project(tmp_path, "project_handed_makes")
 
 
 def test_the_mode_moves_to_the_makes_of_another_module(tmp_path: Path) -> None:

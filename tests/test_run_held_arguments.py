@@ -15,32 +15,15 @@ project's ``Board`` (``probe``); ``main.tally`` binds a made env in one branch a
 
 from __future__ import annotations
 
-import json
-import shutil
 import subprocess
 import sys
 from pathlib import Path
 
-from typer.testing import CliRunner
-
-from gymmigrate.cli import app
-from tests.fixture_cases import FIXTURES
-
-runner = CliRunner()
+from tests.fixture_cases import migrated_project
 
 
 def _migrated(tmp_path: Path) -> tuple[Path, list[tuple[str, int, str]]]:
-    project = tmp_path / "project"
-    shutil.copytree(FIXTURES / "project_held_arguments", project)
-    report = tmp_path / "report.json"
-    result = runner.invoke(app, ["rewrite", "--report", str(report), str(project)])
-    assert result.exit_code == 0, result.output
-    review = [
-        (Path(file["path"]).relative_to(project).as_posix(), f["line"], f["rule"])
-        for file in json.loads(report.read_text())["files"]
-        for f in file["review"]
-    ]
-    return project, sorted(review)
+    return migrated_project(tmp_path, "project_held_arguments")
 
 
 def test_held_and_branch_bound_envs_are_traced_and_the_near_cases_asked(tmp_path: Path) -> None:
