@@ -241,6 +241,9 @@ class ModuleSummary:
     # (``render_modes.own_object_render``): (class, what made each of those objects: "" where
     # this module shows it is its own, else the qualified class the join checks).
     own_renders: tuple[tuple[str, tuple[str, ...]], ...] = ()
+    # Top-level env classes whose render(self) draws the same whatever render mode they are
+    # made with (``render_modes.modeless_render``): a bare render() of one asks for none.
+    modeless_renders: frozenset[str] = frozenset()
     # -- a reset contract of the run (facts/reset_contract.py, GM207) --
     # The extra reset keywords its env classes take, its reset calls pass, and the sites
     # the rewrite cannot carry.

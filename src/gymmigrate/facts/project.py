@@ -71,6 +71,7 @@ from gymmigrate.facts.project_contracts import (
     forwarding_wrappers,
     legacy_seeds,
     legacy_steps,
+    modeless_renders,
     own_renders,
     seed_keepers,
     thread_render_mode,
@@ -231,6 +232,10 @@ class ProjectFacts:
     # nor a registration makes ``make`` reach (``project_contracts.own_renders``): it keeps
     # that render and takes no render_mode.
     own_renders: frozenset[tuple[str, str]] = frozenset()
+    # (path, name) of an env class (or a re-export of one, or a subclass that defines no
+    # render()) whose render() no render mode changes and that the run does not register
+    # (``project_contracts.modeless_renders``): a bare render() of one asks for none.
+    modeless_renders: frozenset[tuple[str, str]] = frozenset()
     # (path, name) of a Gym wrapper class (or a re-export of one) whose step and reset hand on
     # the wrapped env's results: around an instance of ``legacy_steps`` it keeps that contract.
     forwarding_wrappers: frozenset[tuple[str, str]] = frozenset()
@@ -402,6 +407,7 @@ class ProjectFacts:
         Exports(facts, by_path).run()
         join_thunk_factory_refs(facts, by_path)
         facts.own_renders = own_renders(facts, by_path)
+        facts.modeless_renders = modeless_renders(facts, by_path)
         for path, name in facts.own_renders:  # they keep render(mode): no render_mode to pass
             facts.render_mode_classes[path] = facts.render_mode_classes.get(path, frozenset()) - {name}
         # before the parameters: an argument made by such a class keeps the def's calls on its contract

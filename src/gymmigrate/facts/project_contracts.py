@@ -202,6 +202,22 @@ def own_renders(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> froze
     return frozenset(found)
 
 
+def modeless_renders(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> frozenset[tuple[str, str]]:
+    """The env classes whose render() no render mode changes (``ModuleSummary.modeless_renders``),
+    with their re-exports and the subclasses that define no render(): not one the run
+    registers, whose ``make`` may hand it on through wrappers that ask for a mode."""
+    kept = {
+        (path, name)
+        for path, summary in by_path.items()
+        if path not in facts.blocked
+        for name in summary.modeless_renders
+    }
+    if not kept:
+        return frozenset()
+    reach = _kept_names(facts, by_path, Exports(facts, by_path), kept, ("render",)) | kept
+    return frozenset(reach - facts.registered_classes)
+
+
 def legacy_seeds(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> tuple[frozenset[tuple[str, str]], frozenset[tuple[str, str]]]:
     """The (path, name) of the run that call a class defining ``seed()`` (its re-exports and
     subclasses too), and those whose instances hold one somewhere in their wrapper chain: the

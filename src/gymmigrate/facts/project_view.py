@@ -586,6 +586,16 @@ class ProjectView:
         """``own_render_here`` for a name this module imports (re-exports followed)."""
         split = self.facts._split(qualified, self.path)
         return split is not None and split in self.facts.own_renders
+
+    def modeless_render_here(self, name: str) -> bool:
+        """A class of this module whose render() no render mode changes
+        (``ProjectFacts.modeless_renders``)."""
+        return (self.path, name) in self.facts.modeless_renders
+
+    def modeless_render(self, qualified: str) -> bool:
+        """``modeless_render_here`` for a name this module imports (re-exports followed)."""
+        split = self.facts._split(qualified, self.path)
+        return split is not None and split in self.facts.modeless_renders
     def unset_spaces(self, name: str) -> frozenset[str]:
         """The spaces a class of this module leaves unset with its bases, where an entry point
         of the run makes it (the class itself, or a registered def that constructs it)."""

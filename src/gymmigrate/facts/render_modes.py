@@ -10,7 +10,9 @@ the module's env classes keep ``render(self, mode)`` and take no ``render_mode``
 An env class whose ``render(self, mode="human")`` only hands its mode on to an object of
 the project's own that is no Gym env (``self._engine.render(mode=mode)``), and that no
 render call passes a mode to, keeps that render as the project's API
-(``own_object_render``): it takes no ``render_mode`` either.
+(``own_object_render``): it takes no ``render_mode`` either. An env class whose own
+``render(self)`` takes no mode, hands no render on and never meets ``render_mode``
+(``modeless_render``) draws the same whatever the env is made with.
 """
 
 from __future__ import annotations
@@ -20,7 +22,11 @@ import ast
 from gymmigrate.facts import names as N
 from gymmigrate.facts.creation import CreationFinder
 from gymmigrate.facts.creation_shapes import first_argument
-from gymmigrate.facts.env_classes import EnvClasses, mode_can_stay_optional
+from gymmigrate.facts.env_classes import (
+    DIRECT_ENV_BASES,
+    EnvClasses,
+    mode_can_stay_optional,
+)
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, call_argument, string_value
@@ -253,6 +259,60 @@ def mode_may_reach(facts: ModuleFacts, receivers: Receivers, classdef: ast.Class
             continue  # made by other constructions (gym.make, another class) only
         return True
     return False
+
+
+def modeless_render(facts: ModuleFacts, receivers: Receivers, classdef: ast.ClassDef) -> bool:
+    """The render() a bare call on an instance of env class ``classdef`` runs is the
+    project's own drawing, which no render mode can change: the class or a base of this
+    module defines it with no parameter but ``self``, it hands no render on
+    (``self.viewer.render()``, ``super().render()``: what those draw may hang on a mode),
+    and neither the class nor a base of this module mentions ``render_mode`` (a helper of
+    the render may read it). No ``register(...)`` here names the class: ``make`` would
+    reach it. Gymnasium's render_mode only tells an env's render what to draw; this one
+    ignores it, so a bare call made on an instance built by its constructor asks for none."""
+    return facts.memo(("modeless-render", id(classdef)), lambda: _modeless_render(facts, receivers, classdef))
+
+
+def _modeless_render(facts: ModuleFacts, receivers: Receivers, classdef: ast.ClassDef) -> bool:
+    if not EnvClasses.of(facts, receivers).is_custom_env(classdef) or _registered_here(facts, receivers, classdef):
+        return False
+    lineage = list(receivers.local_lineage(classdef))
+    for current in lineage:
+        for base in current.bases:
+            # a base of no module here (a library's env, a mix-in) may define the render
+            # that runs, or what it calls
+            if not (
+                receivers.local_class(base) is not None
+                or (isinstance(base, ast.Name) and base.id == "object")
+                or any(N.strip_gym_prefix(q) in DIRECT_ENV_BASES for q in facts.qualified_names(base))
+            ):
+                return False
+        if any(_names_render_mode(node) for node in ast.walk(current)):
+            return False
+    render = next(
+        (s for current in lineage for s in current.body if isinstance(s, FUNCTIONS) and s.name == "render"),
+        None,
+    )
+    if render is None:
+        return False
+    args = render.args
+    if args.posonlyargs or args.vararg or args.kwarg or args.kwonlyargs or len(args.args) != 1:
+        return False
+    return not any(
+        isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "render"
+        for node in ast.walk(render)
+    )
+
+
+def _names_render_mode(node: ast.AST) -> bool:
+    """``render_mode`` as a name, attribute, parameter or string (``getattr(self, "render_mode")``)."""
+    if isinstance(node, ast.Name):
+        return node.id == "render_mode"
+    if isinstance(node, ast.Attribute):
+        return node.attr == "render_mode"
+    if isinstance(node, ast.arg):
+        return node.arg == "render_mode"
+    return isinstance(node, ast.Constant) and node.value == "render_mode"
 
 
 def _registered_here(facts: ModuleFacts, receivers: Receivers, classdef: ast.ClassDef) -> bool:

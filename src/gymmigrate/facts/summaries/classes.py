@@ -25,6 +25,7 @@ from gymmigrate.facts.receivers import Receivers
 from gymmigrate.facts.render_modes import (
     mode_handed_on,
     mode_may_reach,
+    modeless_render,
     own_object,
     passes_mode,
 )
@@ -325,6 +326,12 @@ def own_renders(facts: ModuleFacts, receivers: Receivers, calls: CallSummarizer)
         else:
             found.append((name, tuple(makers)))
     return tuple(found)
+
+
+def modeless_renders(facts: ModuleFacts, receivers: Receivers) -> frozenset[str]:
+    """``ModuleSummary.modeless_renders``: the top-level env classes whose render() no render
+    mode changes (``modeless_render``)."""
+    return frozenset(name for name, classdef in facts.classes.items() if modeless_render(facts, receivers, classdef))
 
 
 def rendering_wrappers(facts: ModuleFacts, receivers: Receivers) -> frozenset[str]:

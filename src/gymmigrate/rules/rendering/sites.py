@@ -15,7 +15,7 @@ from gymmigrate.facts.decisions import Action, Decision, decide, receiver_text
 from gymmigrate.facts.env_classes import EnvClasses
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import full_name, keyword, string_value
-from gymmigrate.facts.render_modes import own_object_render
+from gymmigrate.facts.render_modes import modeless_render, own_object_render
 from gymmigrate.facts.summaries.classes import held_env_render_forward
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.render_calls import arguments_in_order, close_call
@@ -89,7 +89,9 @@ class RenderSites(RecorderSites):
             return None  # ``render(mode)`` of a class that chooses its mode itself is kept (GM405 says so)
         if mode_arg is None and close is None and self._own_render_instance(receiver):
             # An instance of a class whose render(mode) stays the project's own (GM405 keeps
-            # it): a bare call still runs it with its default mode, as it did.
+            # it): a bare call still runs it with its default mode, as it did. Or of a class
+            # whose render() takes no mode and ignores render_mode: it draws as it did, and
+            # no render_mode would change that.
             return None
         if self.receivers.legacy_step_class(receiver) is not None:
             # An instance of a class of the run kept on its own API (a batch of envs whose
@@ -244,8 +246,9 @@ class RenderSites(RecorderSites):
 
     def _own_render_instance(self, receiver: ast.expr, depth: int = 0) -> bool:
         """Every value ``receiver`` may hold is built by a class (of this module or of the run)
-        whose render(mode) stays the project's own (``own_object_render``), or by a subclass
-        that inherits that render, maybe inside Gym wrappers of the run that hand a bare
+        whose render(mode) stays the project's own (``own_object_render``) or whose render()
+        no render mode changes (``modeless_render``), or by a subclass that inherits that
+        render, maybe inside Gym wrappers of the run that hand a bare
         render() on. A name is followed through the values that may reach this read
         (``values_reaching``: a wrapper put on in another branch does not count), anything
         else through its creation."""
@@ -287,18 +290,30 @@ class RenderSites(RecorderSites):
 
     def _builds_own_render(self, call: ast.Call) -> bool:
         local = classdef = self.receivers.local_class(call.func)
+        project = self.receivers.project
         seen: set[int] = set()
         while classdef is not None and id(classdef) not in seen:
             seen.add(id(classdef))
             if any(isinstance(s, (ast.FunctionDef, ast.AsyncFunctionDef)) and s.name == "render" for s in classdef.body):
-                return own_object_render(self.facts, self.receivers, classdef) is not None
+                if own_object_render(self.facts, self.receivers, classdef) is not None:
+                    return True
+                return local is not None and self._modeless_instance(local)
             classdef = next((b for b in map(self.receivers.local_class, classdef.bases) if b is not None), None)
-        project = self.receivers.project
         if project is None:
             return False
         if local is not None:  # its render() comes from a base of another module of the run
-            return self.facts.classes.get(local.name) is local and project.own_render_here(local.name)
-        return any(project.own_render(q) for q in self.facts.qualified_names(call.func))
+            top_level = self.facts.classes.get(local.name) is local
+            return top_level and (project.own_render_here(local.name) or project.modeless_render_here(local.name))
+        return any(project.own_render(q) or project.modeless_render(q) for q in self.facts.qualified_names(call.func))
+
+    def _modeless_instance(self, classdef: ast.ClassDef) -> bool:
+        """An instance of ``classdef`` renders with a render() no render mode changes
+        (``modeless_render``), and no module of the run registers the class: a ``make`` of
+        it would be another creation, with its own question."""
+        project = self.receivers.project
+        if project is not None and self.facts.classes.get(classdef.name) is classdef and project.registered_here(classdef.name):
+            return False
+        return modeless_render(self.facts, self.receivers, classdef)
 
     def _report_other_signature(self, call: ast.Call, receiver: ast.expr) -> None:
         if not self.context.profile.imports_gym:
