@@ -4,6 +4,8 @@
     syntax.py          which calls take an id, which literals can be rewritten, the registry
     ids.py             GM803-GM805 id strings and GM106 registration imports   [20]
     id_sites.py        where ids are: the literals id-taking calls receive, directly or not
+    handed_on_ids.py   ids the project's code makes: passed on, made elsewhere, retired
+    id_literals.py     IdSite, the literal a name holds, which calls take an id
     atari_evidence.py  Atari envs made without a literal id (GM106's ale_py import)
     registry.py        GM802 registry API and GM806 EnvSpec attributes          [21]
 """

@@ -16,7 +16,8 @@
   linters from deleting an import that looks unused); MiniGrid and highway-env ids get
   their package import (ASSIST).
 
-This module decides; ``id_sites.py`` finds the id strings (``IdSites``), and
+This module decides; ``id_sites.py`` finds the id strings (``IdSites``, with
+``handed_on_ids.py`` for those the project's code makes), and
 ``atari_evidence.py`` tells, where no literal id does, whether the module makes Atari
 envs (a built id, a helper that uses what only Atari envs have).
 """
@@ -41,7 +42,8 @@ from gymmigrate.rules.env_ids.catalog import (
     plugin_of,
     removed_family,
 )
-from gymmigrate.rules.env_ids.id_sites import IdSite, IdSites, imported_modules
+from gymmigrate.rules.env_ids.id_literals import IdSite, imported_modules
+from gymmigrate.rules.env_ids.id_sites import IdSites
 from gymmigrate.rules.env_ids.syntax import gym_alias
 
 RULES = (
