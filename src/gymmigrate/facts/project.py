@@ -30,7 +30,8 @@ holds), ``project_contracts.py`` (non-Space spaces, ``render_mode`` down subclas
 legacy steps), ``project_classes.py`` (class hierarchies across modules: overrides,
 hooks, quiet and own-API classes, re-exports of them), ``project_imports.py`` (which
 modules reach which, and the packages the run needs) and ``project_view.py``
-(``ProjectView``: the facts as one file sees them).
+(``ProjectView``: the facts as one file sees them; its renders, imported classes, class
+hierarchies and registrations in ``project_view_*.py``).
 """
 
 from __future__ import annotations

@@ -1,0 +1,102 @@
+"""What one file asks of the run about its classes' subclasses and bases in other modules
+(``HierarchyView``, a part of ``ProjectView``): overrides, construction, step hooks, done causes.
+"""
+
+from __future__ import annotations
+
+import os
+from typing import TYPE_CHECKING
+
+from gymmigrate.facts.done_causes import Cause, DoneCause, Limit
+
+if TYPE_CHECKING:
+    from gymmigrate.facts.project import ProjectFacts
+
+
+class HierarchyView:
+    """The run's class hierarchies as one file sees them (``facts`` and ``path`` are
+    ``ProjectView``'s)."""
+
+    facts: ProjectFacts
+    path: str
+
+    def built_elsewhere(self, classname: str) -> bool:
+        """Another module of the run calls this file's class ``classname``."""
+        return any(
+            path == self.path and qualname in (classname, f"{classname}.__init__") for path, qualname, _ in self.facts.param_kinds
+        )
+
+    def subclassed_elsewhere(self, classname: str) -> bool:
+        """Another module of the run derives a class from this file's ``classname``."""
+        return (self.path, classname) in self.facts.overrides
+
+    def built_through_super_elsewhere(self, classname: str) -> bool:
+        """Every subclass of this file's ``classname`` in another module runs its
+        ``__init__`` only through its own ``super().__init__(...)``, which the join follows,
+        and is subclassed nowhere else itself: what they pass reaches ``param_kinds``."""
+        subs = self.facts.subclasses_of.get((self.path, classname), [])
+        return bool(subs) and all(sub in self.facts.init_passers and sub not in self.facts.subclasses_of for sub in subs)
+
+    def overridden_elsewhere(self, classname: str, method: str) -> list[str]:
+        """Subclasses in other modules of the run that override ``classname.method``."""
+        return self.facts.overrides.get((self.path, classname), {}).get(method, [])
+
+    def called_in_hierarchy_elsewhere(self, classname: str, method: str) -> list[str]:
+        """Classes of other modules of the run above or below ``classname`` (bases it
+        imports, subclasses, at any depth) whose methods call ``self.<method>(...)``: the
+        base's ``step`` reading a helper its subclass defines, as ("pkg/base.py:Base")."""
+        start = (self.path, classname)
+        below: dict[tuple[str, str], list[tuple[str, str]]] = self.facts.subclasses_of
+        above: dict[tuple[str, str], list[tuple[str, str]]] = {}
+        for base, subs in below.items():
+            for sub in subs:
+                above.setdefault(sub, []).append(base)
+        found: list[str] = []
+        for links in (above, below):
+            seen = {start}
+            todo = list(links.get(start, ()))
+            while todo:
+                other = todo.pop(0)
+                if other in seen:
+                    continue
+                seen.add(other)
+                if other[0] != self.path and method in self.facts.self_calls.get(other, ()):
+                    found.append(f"{other[0]}:{other[1]}")
+                todo += links.get(other, ())
+        return found
+
+    def hook_followed_elsewhere(self, classname: str, method: str) -> bool:
+        """Every override of ``classname``'s step hook ``method`` in other modules of the run
+        can return five values with it (facts/step_hooks.py): they follow the base."""
+        return method in self.facts.followed_hooks.get((self.path, classname), ())
+
+    def inherited_hooks(self, classname: str) -> frozenset[str]:
+        """The step hooks that bases of ``classname`` in other modules migrate, which its
+        overrides follow."""
+        return self.facts.inherited_hooks.get((self.path, classname), frozenset())
+
+    def mode_renders_below(self, classname: str) -> list[tuple[str, str]]:
+        """The ``self.render(mode)`` calls of subclasses in other modules of the run that
+        reach ``classname``'s render(), as ("pull.py:5", call)."""
+        return self.facts.mode_renders_below.get((self.path, classname), [])
+
+    def done_overrides(self, classname: str, method: str) -> list[DoneCause]:
+        """Why what ``method`` returns is True in each override of it by subclasses in
+        other modules of the run, at any depth (``Base`` <- ``Single`` <- ``Hover``); each
+        limit names the module it is in."""
+        found: list[DoneCause] = []
+        seen: set[tuple[str, str]] = set()
+        todo = list(self.facts.subclasses_of.get((self.path, classname), ()))
+        while todo:
+            sub = todo.pop(0)
+            if sub in seen:
+                continue
+            seen.add(sub)
+            cause = self.facts.done_methods.get(sub, {}).get(method)
+            if cause is None and method in self.facts.subclass_methods.get(sub, ()):
+                cause = DoneCause(Cause.UNKNOWN)  # an override that takes arguments, or returns nothing
+            if cause is not None:
+                where = os.path.basename(sub[0])
+                found.append(DoneCause(cause.cause, tuple(Limit(limit.line, limit.text, where, limit.by_counter) for limit in cause.limits)))
+            todo += self.facts.subclasses_of.get(sub, ())
+        return found

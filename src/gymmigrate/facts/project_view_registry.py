@@ -1,0 +1,73 @@
+"""What one file asks of the run about registration (``RegistryView``, a part of
+``ProjectView``): the ids and entry points the run registers, and what their classes need.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from gymmigrate.facts.project import ProjectFacts
+
+
+class RegistryView:
+    """The run's registrations as one file sees them (``facts`` and ``path`` are ``ProjectView``'s)."""
+
+    facts: ProjectFacts
+    path: str
+
+    def seed_class_of_id(self, env_id: str) -> str | None:
+        """The class of the run that keeps seed() which the run registers ``env_id`` for."""
+        return self.facts.seed_ids.get(env_id)
+
+    def plugin_calls(self) -> tuple[tuple[str, str | None], ...]:
+        """The register functions of ``gym.envs`` entry points this module must call on
+        import, each with the namespace gym registered its ids in (None: the root)."""
+        return self.facts.plugin_calls.get(self.path, ())
+
+    def unset_spaces(self, name: str) -> frozenset[str]:
+        """The spaces a class of this module leaves unset with its bases, where an entry point
+        of the run makes it (the class itself, or a registered def that constructs it)."""
+        return self.facts.unset_spaces.get((self.path, name), frozenset())
+
+    def may_register(self, env_id: str) -> bool:
+        """The run may register ``env_id`` with the Gym registry: it registers that literal,
+        or ids it does not spell as literals."""
+        ids = self.facts.registered_ids
+        return env_id in ids or None in ids
+
+    def registered_here(self, name: str) -> bool:
+        """A class of this module that the run registers as an ``entry_point``."""
+        return (self.path, name) in self.facts.registered_classes
+
+    def reached_from_outside(self, name: str) -> bool:
+        """Code of the run beyond this module may get hold of its env class ``name``:
+        another module imports this one, or registers ``name`` (or any class, from
+        entry points that are no literal) for ``make`` to build."""
+        return bool(self.facts.importers.get(self.path)) or self.registered_here(name) or self.facts.registers_from_data
+
+    def non_space_env(self, module: str, name: str) -> tuple[str, str, str] | None:
+        """For ``module:name`` as an ``entry_point`` spells it, a class of the run whose
+        spaces are not Spaces: (attribute, space class, what that class derives from)."""
+        path = self.facts.modules.get(module)
+        return self.facts.non_space_envs.get((path, name)) if path else None
+
+    def wrapper_stepper(self, module: str, name: str) -> str | None:
+        """For ``module:name`` as an ``entry_point`` spells it, the class of the run whose
+        reset steps the wrapper around it (that class, or a base of it)."""
+        path = self.facts.modules.get(module)
+        return self.facts.wrapper_steppers.get((path, name)) if path else None
+
+    def wrapper_stepper_here(self, name: str) -> str | None:
+        """``wrapper_stepper`` for a class of this module."""
+        return self.facts.wrapper_steppers.get((self.path, name))
+
+    def wrapper_stepper_of(self, qualified: str) -> str | None:
+        """``wrapper_stepper`` for a name this module imports (``from .tasks import Task``)."""
+        split = self.facts._split(qualified, self.path)
+        return None if split is None else self.facts.wrapper_steppers.get(split)
+
+    def any_wrapper_stepper(self) -> str | None:
+        """A class of the run whose reset steps the wrapper around it, if any: what an
+        ``entry_point`` the run cannot resolve may name."""
+        return min(self.facts.wrapper_steppers.values(), default=None)

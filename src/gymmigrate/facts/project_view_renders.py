@@ -1,0 +1,120 @@
+"""What one file asks of the run about renders (``RenderView``, a part of ``ProjectView``):
+which constructors of the run get a render mode, and which classes keep render(mode).
+"""
+
+from __future__ import annotations
+
+import ast
+import os
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from gymmigrate.facts.project import ProjectFacts
+
+
+class RenderView:
+    """The run's render facts as one file sees them (``facts`` and ``path`` are ``ProjectView``'s)."""
+
+    facts: ProjectFacts
+    path: str
+
+    def render_called_elsewhere(self) -> bool:
+        """The same for ``x.render(mode)``: this module's env classes keep render(mode)."""
+        return self.path in self.facts.render_called
+
+    def settled_render(self, qualname: str, param: str) -> list[str]:
+        """``cli.py:5`` for each constructor in another module that gets ``render_mode="human"``
+        for the bare renders of ``param`` of this file's ``qualname``, when every call of the
+        def passes an env it builds (``ProjectFacts.settled_renders``); empty otherwise."""
+        return [
+            f"{os.path.relpath(path, os.path.dirname(self.path))}:{line}"
+            for path, line, _ in self.facts.settled_renders.get((self.path, qualname, param), ())
+        ]
+
+    def gives_render_modes(self) -> bool:
+        """This file has a constructor that ``gets_render_mode``."""
+        return any(path == self.path for path, _, _ in self.facts.render_mode_constructions)
+
+    def gets_render_mode(self, call: ast.Call) -> bool:
+        """``call`` of this file is a constructor that gets ``render_mode="human"`` for the bare
+        renders of a def of another module it is passed to (``settled_render``)."""
+        return (self.path, call.lineno, call.col_offset) in self.facts.render_mode_constructions
+
+    def handed_render_mode(self, call: ast.Call) -> str | None:
+        """The frame mode ``call``, a ``gym.make`` of this file, gets for the renders of the
+        calls of other modules it is handed to (``ProjectFacts.handed_render_modes``)."""
+        return self.facts.handed_render_modes.get((self.path, call.lineno, call.col_offset))
+
+    def gives_handed_modes(self) -> bool:
+        """This file has a make that gets a ``handed_render_mode``."""
+        return any(path == self.path for path, _, _ in self.facts.handed_render_modes)
+
+    def settled_mode_render(self, qualname: str, param: str) -> tuple[str, list[str]] | None:
+        """(mode, ``main.py:32`` for each make) where every call of the run passes ``param`` of
+        this file's ``qualname`` an env made in another module that gets the one frame mode
+        its renders ask (``ProjectFacts.settled_mode_renders``); None otherwise."""
+        found = self.facts.settled_mode_renders.get((self.path, qualname, param))
+        if found is None:
+            return None
+        mode, makes = found
+        return mode, sorted({f"{os.path.relpath(path, os.path.dirname(self.path))}:{line}" for path, line, _ in makes})
+
+    def kept_render_behind_registry(self) -> str | None:
+        """A class of the run that keeps its legacy render(mode) and takes no render_mode,
+        where this module imports one that registers envs from data (``opaque_kept_renders``)."""
+        return self.facts.opaque_kept_renders.get(self.path)
+
+    def registered_without_render_mode(self, env_id: str | None) -> str | None:
+        """The class of the run that ``gymnasium.make(env_id)`` builds (any registered one
+        when ``env_id`` is None: not a literal) if its constructor takes no ``render_mode``."""
+        ids = self.facts.no_render_mode_ids
+        if env_id is not None:
+            return ids.get(env_id)
+        return next(iter(sorted(ids.values())), None)
+
+    def takes_render_mode(self, qualified: str) -> bool:
+        """An imported class of the run whose constructor takes ``render_mode`` once migrated
+        (its own, or threaded down from a base: ``thread_render_mode``)."""
+        split = self.facts._split(qualified, self.path)
+        return split is not None and split[1] in self.facts.render_mode_classes.get(split[0], ())
+
+    def renders_nothing(self, qualified: str) -> bool:
+        """An imported class of the run whose render() is a stub (it renders no env)."""
+        split = self.facts._split(qualified, self.path)
+        return split is not None and split in self.facts.silent_renders
+
+    def render_forward(self, qualified: str) -> str | None:
+        """For an imported class of the run whose render() forwards bare to the env it holds
+        (``ModuleSummary.render_forwards``), the module of that forward as a reader of this
+        file finds it (no line: the run may move it, adding imports above it)."""
+        split = self.facts._split(qualified, self.path)
+        found = self.facts.render_forwards.get(split) if split is not None else None
+        if found is None or found[0] == self.path:
+            return None
+        return os.path.relpath(found[0], os.path.dirname(self.path))
+
+    def renders_wrapped_env(self, qualified: str) -> bool:
+        """An imported name of the run is a Gym wrapper class whose reset/step render the env
+        it wraps."""
+        split = self.facts._split(qualified, self.path)
+        return split is not None and split in self.facts.rendering_wrappers
+
+    def own_render_here(self, name: str) -> bool:
+        """A class of this module whose render(mode) stays the project's own
+        (``ProjectFacts.own_renders``): it takes no render_mode."""
+        return (self.path, name) in self.facts.own_renders
+
+    def own_render(self, qualified: str) -> bool:
+        """``own_render_here`` for a name this module imports (re-exports followed)."""
+        split = self.facts._split(qualified, self.path)
+        return split is not None and split in self.facts.own_renders
+
+    def modeless_render_here(self, name: str) -> bool:
+        """A class of this module whose render() no render mode changes
+        (``ProjectFacts.modeless_renders``)."""
+        return (self.path, name) in self.facts.modeless_renders
+
+    def modeless_render(self, qualified: str) -> bool:
+        """``modeless_render_here`` for a name this module imports (re-exports followed)."""
+        split = self.facts._split(qualified, self.path)
+        return split is not None and split in self.facts.modeless_renders
