@@ -134,3 +134,42 @@ def values_call(dones: ast.AST, facts: ModuleFacts) -> tuple[ast.Call, str] | No
         if len(outer.args) == 1 and not outer.keywords:
             return outer, outer.func.id
     return None
+
+
+def without_param(node: cst.FunctionDef, name: str) -> cst.FunctionDef:
+    params = node.params
+    kept = [p for p in params.params if p.name.value != name]
+    if len(kept) != len(params.params) and kept:
+        kept[-1] = kept[-1].with_changes(comma=params.params[-1].comma)
+    return node.with_changes(params=params.with_changes(params=kept))
+
+
+def with_params(node: cst.FunctionDef, missing: list[str]) -> cst.FunctionDef:
+    params = node.params
+    kept = list(params.params)
+    comma = cst.Comma(whitespace_after=cst.SimpleWhitespace(" "))
+    for name in missing:
+        if kept:
+            kept[-1] = kept[-1].with_changes(comma=comma)
+        kept.append(
+            cst.Param(
+                name=cst.Name(name),
+                default=cst.Name("None"),
+                equal=cst.AssignEqual(whitespace_before=cst.SimpleWhitespace(""), whitespace_after=cst.SimpleWhitespace("")),
+            )
+        )
+    return node.with_changes(params=params.with_changes(params=kept))
+
+
+def insert_first(plan, function: ast.FunctionDef | ast.AsyncFunctionDef, code: str) -> None:
+    """``code`` as the first statement of ``function`` (after its docstring)."""
+    first = function.body[0]
+    if is_docstring(first) and len(function.body) > 1:
+        plan.insert_after(first, code)
+    else:
+        plan.insert_before(first, code)
+
+
+
+def is_docstring(statement: ast.stmt) -> bool:
+    return isinstance(statement, ast.Expr) and isinstance(statement.value, ast.Constant) and isinstance(statement.value.value, str)

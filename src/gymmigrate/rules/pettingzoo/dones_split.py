@@ -121,7 +121,7 @@ class DonesSplit:
             self.limited = True
         other = self.trunc if stored == "terminations" else self.term
         mine = self.term if stored == "terminations" else self.trunc
-        if not self.family._own_line(statement):
+        if not self.family.own_line(statement):
             self._untraced(statement, "it shares its line with other code")
             return
         self.rename(stored)
@@ -135,7 +135,7 @@ class DonesSplit:
         self._report(statement, f"goes to `{mine}` ({why})")
 
     def _split_whole(self, statement: ast.Assign, elements: _Elements, traced: Traced) -> None:
-        if not self.family._own_line(statement):
+        if not self.family.own_line(statement):
             self._untraced(statement, "it shares its line with other code")
             return
         key = elements.key or AGENT
@@ -185,7 +185,7 @@ class DonesSplit:
             self.limited = True
         mine, other = (self.term, self.trunc) if stored == "terminations" else (self.trunc, self.term)
         if self.empty:
-            if not self.family._own_line(statement):
+            if not self.family.own_line(statement):
                 self._untraced(statement, "it shares its line with other code")
                 return
             self.family.plan.insert_after(statement, f"{other}.setdefault({index}, False)")
@@ -193,7 +193,7 @@ class DonesSplit:
         self._report(statement, f"goes to `{mine}` ({why})")
 
     def _split_item(self, statement: ast.Assign, index: str, traced: Traced) -> None:
-        if not self.family._own_line(statement):
+        if not self.family.own_line(statement):
             self._untraced(statement, "it shares its line with other code")
             return
         if traced.name is not None:
@@ -221,7 +221,7 @@ class DonesSplit:
         self.rename("terminations")
         if self.empty or isinstance(statement.targets[0], (ast.Name, ast.Attribute)):
             mine = self.term
-            if self.family._own_line(statement):
+            if self.family.own_line(statement):
                 partner = f"{self.trunc} = {{}}" if self.empty and is_empty_dict(statement.value) else (
                     f"{self.trunc}.setdefault({self.facts.segment(statement.targets[0].slice)}, False)"
                     if isinstance(statement.targets[0], ast.Subscript)

@@ -150,7 +150,7 @@ def settled(family: EnvClasses, assign: ast.Assign, held: ast.expr, dels: list[a
     """``game_ends_only``, where the unpack and its dels can also be rewritten in place."""
     inner, why = game_ends_only(family, held)
     last = dels[-1] if dels else assign
-    if inner is not None and not (family._own_line(assign) and family._own_line(last)):
+    if inner is not None and not (family.own_line(assign) and family.own_line(last)):
         return None, "the unpack shares its line with other code"
     return inner, why
 

@@ -128,7 +128,7 @@ class ParallelCalls(PettingZooFamily):
         parent = self.facts.parent(call)
         if return_info is not None and self._passes_own_parameter(call, return_info.value):
             # A wrapper's ``reset`` handing its ``return_info`` on: its own reset now always
-            # returns the pair (env_classes.py), and so does the wrapped env's.
+            # returns the pair (class_reset.py), and so does the wrapped env's.
             self.changed()
             self.plan.replace(call, lambda node: remove_args(node, lambda arg: arg.keyword is not None and arg.keyword.value == "return_info"))
             self.report(call, "PZ105", "`return_info` was removed in PettingZoo 1.23")
