@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import ast
 
-from gymmigrate.facts.module import ModuleFacts
+from gymmigrate.facts.module import ModuleFacts, walk
 
 _SIGN_ATTRIBUTES = frozenset({"ale", "get_action_meanings"})
 
@@ -23,7 +23,7 @@ def self_stored(classdef: ast.AST | None) -> frozenset[str]:
         return frozenset()
     return frozenset(
         node.attr
-        for node in ast.walk(classdef)
+        for node in walk(classdef)
         if isinstance(node, ast.Attribute)
         and isinstance(node.ctx, ast.Store)
         and isinstance(node.value, ast.Name)
@@ -42,8 +42,8 @@ def reads_atari_interface(node: ast.AST, own: frozenset[str]) -> bool:
 
 
 def has_own_sign(definition: ast.AST) -> bool:
-    own = frozenset().union(*(self_stored(n) for n in ast.walk(definition) if isinstance(n, ast.ClassDef)))
-    for node in ast.walk(definition):
+    own = frozenset().union(*(self_stored(n) for n in walk(definition) if isinstance(n, ast.ClassDef)))
+    for node in walk(definition):
         if reads_atari_interface(node, own):
             return True
         if isinstance(node, ast.Constant) and node.value == "NoFrameskip":
@@ -59,7 +59,7 @@ def atari_users(facts: ModuleFacts) -> frozenset[str]:
     if not found:
         return frozenset()
     calls: dict[str, set[str]] = {
-        name: {n.func.id for n in ast.walk(d) if isinstance(n, ast.Call) and isinstance(n.func, ast.Name) and n.func.id in definitions}
+        name: {n.func.id for n in walk(d) if isinstance(n, ast.Call) and isinstance(n.func, ast.Name) and n.func.id in definitions}
         for name, d in definitions.items()
     }
     changed = True

@@ -23,7 +23,7 @@ from gymmigrate.facts.done_uses import (
     DISPLAY_METHODS,
     multiplies_bare,
 )
-from gymmigrate.facts.module import FUNCTIONS, full_name
+from gymmigrate.facts.module import FUNCTIONS, full_name, walk
 
 Masks = frozenset[tuple[str, str]]
 _LEAVES = (ast.Return, ast.Break, ast.Continue, ast.Raise)
@@ -121,7 +121,7 @@ class _Body:
                 continue
             if kind == "test":
                 branches = [node.body, node.orelse] if isinstance(node, ast.IfExp) else [*node.body, *node.orelse]  # type: ignore[attr-defined]
-                if isinstance(node, ast.If) and any(isinstance(n, _LEAVES) for s in branches for n in ast.walk(s)):
+                if isinstance(node, ast.If) and any(isinstance(n, _LEAVES) for s in branches for n in walk(s)):
                     return False  # ``if done: return``: the flag ends something, it is control
                 loads = self._branch_loads.get(id(node))
                 if loads is None:
@@ -136,8 +136,8 @@ class _Body:
     def _only_factor(self, node: ast.AST, flag: str) -> bool:
         """Every read of ``flag`` in this value is a bare factor (``q * gamma * done``): an
         inverted mask (``done_uses.multiplies_bare``), not one to pass ``terminated`` to."""
-        parents = {id(child): parent for parent in ast.walk(node) for child in ast.iter_child_nodes(parent)}
-        reads = [n for n in ast.walk(node) if isinstance(n, ast.Name) and n.id == flag and isinstance(n.ctx, ast.Load)]
+        parents = {id(child): parent for parent in walk(node) for child in ast.iter_child_nodes(parent)}
+        reads = [n for n in walk(node) if isinstance(n, ast.Name) and n.id == flag and isinstance(n.ctx, ast.Load)]
         return bool(reads) and all(multiplies_bare(n, lambda child: parents.get(id(child))) for n in reads)
 
 
@@ -153,7 +153,7 @@ def _walk_own(function: ast.AST):
 
 
 def _loads(node: ast.AST) -> set[str]:
-    return {n.id for n in ast.walk(node) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load)}
+    return {n.id for n in walk(node) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load)}
 
 
 def _displays(value: ast.AST) -> bool:

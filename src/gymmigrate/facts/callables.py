@@ -16,7 +16,13 @@ import ast
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts.kinds import MAX_DEPTH, EnvKind, ReceiverQueries, join_kinds
-from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, call_argument, own_returns
+from gymmigrate.facts.module import (
+    FUNCTIONS,
+    ModuleFacts,
+    call_argument,
+    own_returns,
+    walk,
+)
 
 if TYPE_CHECKING:
     from gymmigrate.facts.project_view import ProjectView
@@ -282,7 +288,7 @@ class CallableKinds:
             return None
         stores = [
             target
-            for node in ast.walk(init)
+            for node in walk(init)
             if isinstance(node, (ast.Assign, ast.AnnAssign, ast.AugAssign))
             for target in (node.targets if isinstance(node, ast.Assign) else [node.target])
             if isinstance(target, ast.Attribute) and target.attr == attribute

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import ast
 
-from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns, walk
 
 
 def keeps_bare_reset(classdef: ast.ClassDef) -> bool:
@@ -106,7 +106,7 @@ def _lists_filled_in(function: ast.AST) -> frozenset[str]:
     extends (``done_n = []``, then ``done_n += done`` or ``done_n.extend(done)`` for each
     env of a batch of multi-agent envs)."""
     found: set[str] = set(concatenated_lists(function))
-    for node in ast.walk(function):
+    for node in walk(function):
         if (
             isinstance(node, ast.Call)
             and isinstance(node.func, ast.Attribute)
@@ -132,7 +132,7 @@ def concatenated_lists(function: ast.AST) -> dict[str, list[ast.expr]]:
     are iterables (``list += bool`` raises), so per-agent or per-env collections."""
     displays: set[str] = set()
     extended: dict[str, list[ast.expr]] = {}
-    for node in ast.walk(function):
+    for node in walk(function):
         if isinstance(node, ast.Assign):
             targets = [t for target in node.targets for t in _paired_targets(target, node.value)]
             displays |= {name for name, value in targets if isinstance(value, ast.List)}
@@ -158,7 +158,7 @@ def per_agent_receivers(classdef: ast.ClassDef) -> frozenset[str]:
         if not isinstance(method, FUNCTIONS):
             continue
         extended = {v.id for values in concatenated_lists(method).values() for v in values if isinstance(v, ast.Name)}
-        for node in ast.walk(method):
+        for node in walk(method):
             if not (isinstance(node, ast.Assign) and len(node.targets) == 1 and isinstance(node.value, ast.Call)):
                 continue
             target, func = node.targets[0], node.value.func
@@ -232,7 +232,7 @@ def _counts_envs(classdef: ast.ClassDef) -> bool:
             if any(isinstance(t, ast.Name) and t.id in _ENV_COUNTS for t in targets):
                 return True
         if isinstance(statement, FUNCTIONS) and statement.name == "__init__":
-            for inner in ast.walk(statement):
+            for inner in walk(statement):
                 if isinstance(inner, ast.Attribute) and inner.attr in _ENV_COUNTS and isinstance(inner.ctx, ast.Store):
                     if isinstance(inner.value, ast.Name) and inner.value.id == "self":
                         return True
@@ -270,7 +270,7 @@ def renders_nothing(facts: ModuleFacts, classdef: ast.ClassDef, _depth: int = 0)
             if local is not None and local is not classdef:
                 return renders_nothing(facts, local, _depth + 1)
         return False
-    for node in ast.walk(render):
+    for node in walk(render):
         if isinstance(node, ast.Attribute) and node.attr == "render":
             return False
         if isinstance(node, ast.Constant) and isinstance(node.value, str) and "render" in node.value.lower():

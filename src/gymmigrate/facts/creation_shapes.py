@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import ast
 
-from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns, walk
 
 
 def property_slot(classdef: ast.ClassDef, name: str) -> str | None:
@@ -96,7 +96,7 @@ def enumerated_iterable(facts: ModuleFacts, binding: ast.Name) -> ast.expr | Non
 
 def changed_in_place(classdef: ast.ClassDef, name: str) -> bool:
     """``self.<name>.append(...)`` (any method call on it) or ``self.<name>[i] = ...`` in the class."""
-    for node in ast.walk(classdef):
+    for node in walk(classdef):
         held = None
         if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute):
             held = node.func.value

@@ -16,7 +16,7 @@ from __future__ import annotations
 import ast
 from enum import Enum
 
-from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, full_name
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, full_name, walk
 
 
 class DoneUse(str, Enum):
@@ -185,7 +185,7 @@ def _loop_variable_use(loop: ast.For, target: ast.expr, facts: ModuleFacts) -> D
     reads = [
         node
         for statement in loop.body
-        for node in ast.walk(statement)
+        for node in walk(statement)
         if isinstance(node, ast.Name) and node.id == target.id
     ]
     if not reads or any(not isinstance(node.ctx, ast.Load) for node in reads):
@@ -254,7 +254,7 @@ def _record_classes(facts: ModuleFacts) -> frozenset[str]:
     def compute() -> frozenset[str]:
         names: set[str] = set()
         # module level or local to a def (``Transition = namedtuple(...)`` inside ``train``)
-        for statement in ast.walk(facts.tree):
+        for statement in walk(facts.tree):
             if isinstance(statement, ast.Assign) and _is_record_factory_call(statement.value):
                 names.update(t.id for t in statement.targets if isinstance(t, ast.Name))
             elif isinstance(statement, ast.ClassDef) and _is_record_class(statement):
@@ -365,7 +365,7 @@ def always_false_here(read: ast.Name, facts: ModuleFacts) -> bool:
         and isinstance(last.targets[0], ast.Name)
         and last.targets[0].id == read.id
         and falsy_constant(last.value)
-        and not any(isinstance(n, (ast.Return, ast.Break, ast.Continue, ast.Raise)) for n in ast.walk(before))
+        and not any(isinstance(n, (ast.Return, ast.Break, ast.Continue, ast.Raise)) for n in walk(before))
     )
 
 
@@ -406,12 +406,12 @@ def stored_in_sequence(read: ast.AST, facts: ModuleFacts) -> bool:
     if isinstance(statement, ast.Assign):
         if any(isinstance(t, ast.Subscript) for t in statement.targets):
             return True
-        return not any(isinstance(n, (ast.BinOp, ast.UnaryOp)) for n in ast.walk(site))
+        return not any(isinstance(n, (ast.BinOp, ast.UnaryOp)) for n in walk(site))
     return False
 
 
 def loaded_names(node: ast.AST) -> set[str]:
-    return {n.id for n in ast.walk(node) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load)}
+    return {n.id for n in walk(node) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load)}
 
 
 def _in_step_method(node: ast.AST, facts: ModuleFacts) -> bool:

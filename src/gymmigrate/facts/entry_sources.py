@@ -15,7 +15,7 @@ from __future__ import annotations
 import ast
 from collections.abc import Callable
 
-from gymmigrate.facts.module import ModuleFacts
+from gymmigrate.facts.module import ModuleFacts, walk
 
 # how many expressions one question may visit: a registration's table is short, a
 # module's whole data flow is not worth following
@@ -38,7 +38,7 @@ def entry_from_run(
         if id(node) in seen:
             continue
         seen.add(id(node))
-        for part in ast.walk(node):
+        for part in walk(node):
             if isinstance(part, ast.Constant) and isinstance(part.value, str) and _names_module(part.value, names_run_module):
                 return True
             if isinstance(part, ast.Name) and isinstance(part.ctx, ast.Load):
@@ -105,6 +105,6 @@ def _calls_of(facts: ModuleFacts, function: ast.FunctionDef | ast.AsyncFunctionD
         return []
     return [
         node
-        for node in ast.walk(facts.tree)
+        for node in walk(facts.tree)
         if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == function.name
     ]

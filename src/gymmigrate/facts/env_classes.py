@@ -18,7 +18,7 @@ from collections.abc import Iterable
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, walk
 from gymmigrate.facts.receivers import Receivers
 
 # Qualified names (without the gym/gymnasium prefix) of the mujoco-py era base class.
@@ -64,7 +64,7 @@ def identifiers(node: ast.AST) -> list[str]:
     """Every identifier spelled in ``node``: variables, attribute and keyword names,
     parameters, def/class names. What a LibCST ``Name`` search finds, on ``ast``."""
     found: list[str] = []
-    for child in ast.walk(node):
+    for child in walk(node):
         if isinstance(child, ast.Name):
             found.append(child.id)
         elif isinstance(child, ast.Attribute):
@@ -107,7 +107,7 @@ class FunctionIndex:
     def __init__(self, function: ast.AST) -> None:
         self.function = function
         self.nodes: dict[type, list[ast.AST]] = defaultdict(list)
-        for node in ast.walk(function):
+        for node in walk(function):
             self.nodes[type(node)].append(node)
         for found in self.nodes.values():
             found.sort(key=lambda n: (getattr(n, "lineno", 0), getattr(n, "col_offset", 0)))
@@ -146,7 +146,7 @@ class ClassIndex:
         self.self_calls: dict[str, list[ast.Call]] = defaultdict(list)  # self.<name>(...)
         self.assigns: list[ast.Assign] = []
         self.nodes: dict[type, list[ast.AST]] = defaultdict(list)
-        for node in ast.walk(classdef):
+        for node in walk(classdef):
             self.nodes[type(node)].append(node)
             if isinstance(node, ast.Call) and is_self_attribute(node.func):
                 self.self_calls[node.func.attr].append(node)  # type: ignore[attr-defined]
@@ -379,7 +379,7 @@ def mode_can_stay_optional(function: ast.FunctionDef | ast.AsyncFunctionDef) -> 
     first_default = len(params) - len(args.defaults)
     if mode_index < first_default and first_default > mode_index + 1:
         return False
-    for call in ast.walk(function):
+    for call in walk(function):
         if not (isinstance(call, ast.Call) and isinstance(call.func, ast.Attribute) and call.func.attr == "render"):
             continue
         values = [*call.args, *(k.value for k in call.keywords)]

@@ -21,7 +21,7 @@ import ast
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts import names as N
-from gymmigrate.facts.module import ModuleFacts, string_value
+from gymmigrate.facts.module import ModuleFacts, string_value, walk
 
 if TYPE_CHECKING:
     from gymmigrate.facts.project_view import ProjectView
@@ -129,7 +129,7 @@ def recreates_from_spec(facts: ModuleFacts) -> bool:
     """``ModuleSummary.recreates_from_spec``: a ``make(x.spec)`` or ``x.spec.make()`` call."""
     if ".spec" not in facts.text:
         return False
-    for node in ast.walk(facts.tree):
+    for node in walk(facts.tree):
         if not isinstance(node, ast.Call):
             continue
         func = node.func

@@ -11,7 +11,7 @@ import ast
 from collections import defaultdict
 
 from gymmigrate.facts import names as N
-from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, call_argument
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, call_argument, walk
 from gymmigrate.facts.receivers import Receivers
 
 Function = ast.FunctionDef | ast.AsyncFunctionDef
@@ -36,7 +36,7 @@ def id_parameters(facts: ModuleFacts, receivers: Receivers) -> dict[str, frozens
             found[qualname].add(param)
             work.append((function, param, depth))
 
-    for node in ast.walk(facts.tree):
+    for node in walk(facts.tree):
         if isinstance(node, ast.Call) and _takes_id(facts, node):
             argument = _id_argument(node)
             for function, param in _params_behind(facts, receivers, argument):
@@ -119,7 +119,7 @@ def escaping_parameters(facts: ModuleFacts) -> dict[str, frozenset[str]]:
             continue
         params = {a.arg: a for a in (*function.args.posonlyargs, *function.args.args, *function.args.kwonlyargs)}
         going = set()
-        for node in ast.walk(function):
+        for node in walk(function):
             if isinstance(node, ast.Name) and isinstance(node.ctx, ast.Load) and node.id in params and node.id not in going:
                 if _goes_on(facts, node):
                     going.add(node.id)

@@ -13,7 +13,7 @@ from collections.abc import Collection
 from typing import TypeVar
 
 from gymmigrate.facts.env_classes import identifiers
-from gymmigrate.facts.module import ModuleFacts, own_returns
+from gymmigrate.facts.module import ModuleFacts, own_returns, walk
 from gymmigrate.facts.self_attributes import self_stores
 
 # A word that counts steps or time (matched on the lower-cased identifier: ``MAX_STEPS``
@@ -28,7 +28,7 @@ LIMIT_OPS = (ast.Gt, ast.GtE, ast.Lt, ast.LtE, ast.Eq)
 
 def is_periodic(expr: ast.AST) -> bool:
     """``self.t % FREQ == 0``: a test that comes true every so many steps, not a limit."""
-    return any(isinstance(node, ast.BinOp) and isinstance(node.op, ast.Mod) for node in ast.walk(expr))
+    return any(isinstance(node, ast.BinOp) and isinstance(node.op, ast.Mod) for node in walk(expr))
 
 
 def is_step_limit(expr: ast.AST, data_ends: Collection[str] = (), streaks: Collection[str] = ()) -> bool:
@@ -142,7 +142,7 @@ def streak_attributes(facts: ModuleFacts, classdef: ast.ClassDef) -> frozenset[s
 
     def compute() -> frozenset[str]:
         found = set()
-        for node in ast.walk(classdef):
+        for node in walk(classdef):
             test: ast.expr
             stores: dict[str, tuple[ast.AST, ast.AST]]
             if isinstance(node, ast.Assign) and len(node.targets) == 1 and isinstance(node.value, ast.IfExp):
@@ -164,7 +164,7 @@ def streak_attributes(facts: ModuleFacts, classdef: ast.ClassDef) -> frozenset[s
 
 
 def _reads_attribute(test: ast.AST, name: str) -> bool:
-    return any(self_attribute(node) == name for node in ast.walk(test))
+    return any(self_attribute(node) == name for node in walk(test))
 
 
 def _reads_done(facts: ModuleFacts, node: ast.AST, test: ast.AST) -> bool:
@@ -177,9 +177,9 @@ def _reads_done(facts: ModuleFacts, node: ast.AST, test: ast.AST) -> bool:
         part.id if isinstance(part, ast.Name) else self_attribute(part)
         for ret in own_returns(function)
         if isinstance(ret.value, ast.Tuple) and len(ret.value.elts) == 4
-        for part in ast.walk(ret.value.elts[2])
+        for part in walk(ret.value.elts[2])
     } - {None}
-    return any((n.id if isinstance(n, ast.Name) else self_attribute(n)) in returned for n in ast.walk(test))
+    return any((n.id if isinstance(n, ast.Name) else self_attribute(n)) in returned for n in walk(test))
 
 
 def _counts_or_restarts(values: tuple[ast.AST, ast.AST], name: str) -> bool:

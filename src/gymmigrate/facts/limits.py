@@ -50,7 +50,7 @@ from gymmigrate.facts.limit_tests import (
     under_limit,
     unwrap_bool,
 )
-from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns, walk
 from gymmigrate.facts.self_attributes import self_stores
 
 # An attribute named as a place or an amount (``self.agent_pos += 1``) that reaches a bound is
@@ -185,7 +185,7 @@ class DoneTracer:
         """Something the tracer does not see through: a termination, unless a limit is in it."""
         limits = [
             Limit(node.lineno, self.facts.segment(node))
-            for node in ast.walk(expr)
+            for node in walk(expr)
             if isinstance(node, ast.Compare) and self.is_limit(node)
         ]
         return DoneCause(Cause.UNKNOWN, tuple(limits)) if limits else TERMINATION
@@ -413,7 +413,7 @@ def _key_stores(facts: ModuleFacts, function: ast.AST, name: str, created: ast.e
     values = _literal_values(created, key)
     if values is None:
         return None
-    for node in ast.walk(function):
+    for node in walk(function):
         if isinstance(node, ast.Name) and node.id == name and isinstance(node.ctx, ast.Load):
             parent = facts.parent(node)
             if isinstance(parent, ast.Subscript) and isinstance(parent.ctx, ast.Store):
@@ -458,7 +458,7 @@ def _fixed(value: ast.expr) -> bool:
 
 def _bound(expr: ast.AST) -> bool:
     """A limit a counter is compared with: a number, a name or attribute (no call)."""
-    return all(isinstance(node, (ast.Constant, ast.Name, ast.Attribute, ast.BinOp, ast.operator, ast.expr_context)) for node in ast.walk(expr))
+    return all(isinstance(node, (ast.Constant, ast.Name, ast.Attribute, ast.BinOp, ast.operator, ast.expr_context)) for node in walk(expr))
 
 
 def _is_true(expr: ast.AST) -> bool:

@@ -30,7 +30,7 @@ from collections.abc import Callable, Iterator
 from enum import Enum
 
 from gymmigrate.facts import names as N
-from gymmigrate.facts.module import COMPREHENSIONS, FUNCTIONS, LOOPS, ModuleFacts
+from gymmigrate.facts.module import COMPREHENSIONS, FUNCTIONS, LOOPS, ModuleFacts, walk
 
 # Gym's env classes: ``isinstance(x, <one of these>)`` is true only of a Gym env
 _GYM_ENV_CLASSES = frozenset(
@@ -249,7 +249,7 @@ class Narrowing:
 
     @staticmethod
     def _walk_binds(node: ast.AST, name: str) -> bool:
-        for inner in ast.walk(node):
+        for inner in walk(node):
             if isinstance(inner, ast.Name) and inner.id == name and not isinstance(inner.ctx, ast.Load):
                 return True
             if isinstance(inner, (*FUNCTIONS, ast.ClassDef)) and inner.name == name:

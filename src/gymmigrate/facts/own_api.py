@@ -17,7 +17,7 @@ import ast
 from collections.abc import Mapping
 
 from gymmigrate.facts.collection_reads import Shape, collection_read, named
-from gymmigrate.facts.module import FUNCTIONS, own_returns
+from gymmigrate.facts.module import FUNCTIONS, own_returns, walk
 
 # RLlib's MultiAgentEnv (and the projects written after it) ends an episode for every
 # agent with this key of the per-agent done dict.
@@ -81,7 +81,7 @@ def _per_agent_flags(done: ast.expr, step: ast.AST, methods: Mapping[str, ast.AS
     if not isinstance(done, ast.Name):
         return False
     is_done = named(done.id)
-    for node in ast.walk(step):
+    for node in walk(step):
         # only the all-agents key: a dict read by other names (``done["agent_0"]``) is no
         # proof of RLlib's contract, which this report names
         if (read := collection_read(node, is_done)) is not None and read.shape is Shape.KEYED and read.key == ALL_AGENTS_KEY:
@@ -103,7 +103,7 @@ def _per_agent_flags(done: ast.expr, step: ast.AST, methods: Mapping[str, ast.AS
 
 
 def _builds_all_key(function: ast.AST) -> bool:
-    for node in ast.walk(function):
+    for node in walk(function):
         if isinstance(node, ast.Subscript) and isinstance(node.ctx, ast.Store) and _is_all_key(node.slice):
             return True
         if isinstance(node, ast.Dict) and _has_all_key(node):

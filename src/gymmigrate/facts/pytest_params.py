@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import ast
 
-from gymmigrate.facts.module import ModuleFacts, own_returns, string_value
+from gymmigrate.facts.module import ModuleFacts, own_returns, string_value, walk
 
 
 def pytest_fixture(facts: ModuleFacts, name: str) -> ast.FunctionDef | ast.AsyncFunctionDef | None:
@@ -123,7 +123,7 @@ def _subscript_stores(facts: ModuleFacts) -> frozenset[str]:
     """Names of this module written through a subscript (``xs[0] = v``, ``del xs[0]``)."""
     return frozenset(
         node.value.id
-        for node in ast.walk(facts.tree)
+        for node in walk(facts.tree)
         if isinstance(node, ast.Subscript) and isinstance(node.ctx, (ast.Store, ast.Del)) and isinstance(node.value, ast.Name)
     )
 
@@ -131,7 +131,7 @@ def fixture_values(facts: ModuleFacts, fixture: ast.FunctionDef | ast.AsyncFunct
     """What a fixture gives its tests: what it yields, else what it returns."""
     yielded = [
         node.value
-        for node in ast.walk(fixture)
+        for node in walk(fixture)
         if isinstance(node, ast.Yield) and node.value is not None and facts.enclosing_function(node) is fixture
     ]
     return yielded or [r.value for r in own_returns(fixture) if r.value is not None]

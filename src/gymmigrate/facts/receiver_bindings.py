@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING
 from gymmigrate.facts import same_tests
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import MAX_DEPTH, EnvKind, join_kinds
-from gymmigrate.facts.module import FUNCTIONS, call_argument, own_returns
+from gymmigrate.facts.module import FUNCTIONS, call_argument, own_returns, walk
 
 if TYPE_CHECKING:
     from gymmigrate.facts.kinds import ReceiverFacade as _Facade
@@ -111,7 +111,7 @@ class BindingKinds(_Facade):
         kind = self.binding_kind(binding)
         statement = self.facts.statement_of(binding)
         if isinstance(binding, ast.Name) and isinstance(statement, ast.Assign) and kind is EnvKind.NOT_ENV:
-            if any(isinstance(n, ast.Name) and n.id == binding.id for n in ast.walk(statement.value)):
+            if any(isinstance(n, ast.Name) and n.id == binding.id for n in walk(statement.value)):
                 return EnvKind.UNKNOWN
         return kind
 
@@ -123,7 +123,7 @@ class BindingKinds(_Facade):
         statement = self.facts.statement_of(last)
         if not (isinstance(statement, (ast.Assign, ast.AnnAssign)) and statement.value is not None):
             return None
-        rebinds = any(isinstance(n, ast.Name) and n.id == name.id for n in ast.walk(statement.value))
+        rebinds = any(isinstance(n, ast.Name) and n.id == name.id for n in walk(statement.value))
         if rebinds and not (
             self._makes_gym_wrapper(statement.value)
             or self.wrapped_argument(statement.value) is not None

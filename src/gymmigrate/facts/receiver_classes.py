@@ -16,7 +16,7 @@ from gymmigrate.facts import names as N
 from gymmigrate.facts.class_shapes import is_vec_env_shaped, keeps_bare_reset
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.module import FUNCTIONS, call_argument, own_returns
+from gymmigrate.facts.module import FUNCTIONS, call_argument, own_returns, walk
 from gymmigrate.facts.own_api import own_api_shape
 from gymmigrate.facts.wrapper_attributes import defines_getattr, lookup_forwarded_to
 
@@ -397,7 +397,7 @@ def duck_wrapper_param(classdef: ast.ClassDef) -> ast.arg | None:
     params = [*init.args.posonlyargs, *init.args.args][1:]
     stores = [
         node
-        for node in ast.walk(classdef)
+        for node in walk(classdef)
         if isinstance(node, (ast.Assign, ast.AnnAssign, ast.AugAssign))
         and any(_is_self_env(t) for t in (node.targets if isinstance(node, ast.Assign) else [node.target]))
     ]
@@ -417,7 +417,7 @@ def _is_self_env(node: ast.AST) -> bool:
 
 def _enclosing_def(classdef: ast.ClassDef, node: ast.AST) -> ast.AST | None:
     for statement in classdef.body:
-        if isinstance(statement, FUNCTIONS) and any(inner is node for inner in ast.walk(statement)):
+        if isinstance(statement, FUNCTIONS) and any(inner is node for inner in walk(statement)):
             return statement
     return None
 
@@ -432,7 +432,7 @@ def _returns_inner(function: ast.AST | None, method: str) -> bool:
     if function is None:
         return False
     unpacked: set[str] = set()
-    for node in ast.walk(function):
+    for node in walk(function):
         if isinstance(node, ast.Assign) and _inner_call(node.value, method) and len(node.targets) == 1:
             target = node.targets[0]
             if isinstance(target, (ast.Tuple, ast.List)) and len(target.elts) == 4:

@@ -27,7 +27,7 @@ from gymmigrate.facts.callables import (
 )
 from gymmigrate.facts.gym_use import handles_gym_envs
 from gymmigrate.facts.kinds import MAX_DEPTH, EnvKind
-from gymmigrate.facts.module import FUNCTIONS
+from gymmigrate.facts.module import FUNCTIONS, walk
 
 if TYPE_CHECKING:
     from gymmigrate.facts.kinds import ReceiverFacade as _Facade
@@ -121,14 +121,14 @@ class ForeignObjects(_Facade):
         if not isinstance(function, FUNCTIONS) or held is None or self.local_class(call.func) is not classdef:
             return None
         ancestors = {id(a) for a in self.facts.ancestors(call)}
-        for node in ast.walk(function):
+        for node in walk(function):
             if not (isinstance(node, ast.If) and self.narrowing.checks_gym_env(node.test, held.id)):
                 continue
             inside = any(id(s) in ancestors for s in node.body)
             built = [
                 c
                 for s in node.body
-                for c in ast.walk(s)
+                for c in walk(s)
                 if isinstance(c, ast.Call) and c.args and isinstance(c.args[0], ast.Name) and c.args[0].id == held.id
                 and self.local_class(c.func) is not None
             ]

@@ -15,7 +15,7 @@ from gymmigrate.facts import names as N
 from gymmigrate.facts.class_shapes import is_batched_step_return, keeps_legacy_step
 from gymmigrate.facts.done_uses import builds_record
 from gymmigrate.facts.kinds import MAX_DEPTH, EnvKind
-from gymmigrate.facts.module import FUNCTIONS, call_argument, own_returns
+from gymmigrate.facts.module import FUNCTIONS, call_argument, own_returns, walk
 from gymmigrate.facts.receiver_foreign import ForeignObjects
 from gymmigrate.facts.receiver_gym_only import GymOnlyStacks
 from gymmigrate.facts.version_checks import reads_version
@@ -254,7 +254,7 @@ class MadeObjects(ForeignObjects, GymOnlyStacks):
         """The values assigned to ``name`` (of ``scope``) inside ``statement``, or None when
         one of its bindings there is no plain single-target assignment."""
         values: list[ast.expr] = []
-        for node in ast.walk(statement):
+        for node in walk(statement):
             if isinstance(node, ast.Name) and node.id == name and isinstance(node.ctx, ast.Store) and self.facts.scope_of(node) is scope:
                 parent = self.facts.parent(node)
                 if not (isinstance(parent, ast.Assign) and parent.targets == [node]):
@@ -332,7 +332,7 @@ class MadeObjects(ForeignObjects, GymOnlyStacks):
         step = methods.get("step")
         if step is None:
             return False
-        checks = [n for n in ast.walk(step) if isinstance(n, ast.If) and reads_version(n.test, self.facts)]
+        checks = [n for n in walk(step) if isinstance(n, ast.If) and reads_version(n.test, self.facts)]
         returns = [r.value for r in own_returns(step)]
         if not checks or not returns or not all(isinstance(v, ast.Tuple) and len(v.elts) == 4 for v in returns):
             return False
@@ -422,7 +422,7 @@ class MadeObjects(ForeignObjects, GymOnlyStacks):
 
         def compute() -> dict[str, list[ast.Subscript]]:
             out: dict[str, list[ast.Subscript]] = {}
-            for node in ast.walk(self.facts.tree):
+            for node in walk(self.facts.tree):
                 if isinstance(node, ast.Assign):
                     for target in node.targets:
                         if isinstance(target, ast.Subscript) and isinstance(target.value, ast.Name):

@@ -19,7 +19,7 @@ from gymmigrate.facts.callables import (
 )
 from gymmigrate.facts.import_roots import is_test_path
 from gymmigrate.facts.kinds import EnvKind, join_kinds
-from gymmigrate.facts.module import FUNCTIONS, call_argument
+from gymmigrate.facts.module import FUNCTIONS, call_argument, walk
 from gymmigrate.facts.pytest_params import fixture_values, param_fixtures, param_values
 from gymmigrate.facts.receiver_callers import CallerSites
 from gymmigrate.facts.receiver_classes import other_library_class_kind
@@ -167,7 +167,7 @@ class ParameterKinds(CallerSites, ThunkKinds):
         run shows: the def hands the parameter to a Gym wrapper class as the env it wraps
         (first argument or ``env=``), which only a Gym env can be."""
         # The def's calls are walked once: every parameter of every use asks this again.
-        calls = self.facts.memo(("calls-in", id(function)), lambda: [n for n in ast.walk(function) if isinstance(n, ast.Call)])
+        calls = self.facts.memo(("calls-in", id(function)), lambda: [n for n in walk(function) if isinstance(n, ast.Call)])
         for node in calls:
             wrapped = node.args[0] if node.args else next((k.value for k in node.keywords if k.arg == "env"), None)
             if not (isinstance(wrapped, ast.Name) and wrapped.id == param.arg):
@@ -181,7 +181,7 @@ class ParameterKinds(CallerSites, ThunkKinds):
         once per def, not once per parameter use."""
         return self.facts.memo(
             ("stored-names", id(function)),
-            lambda: frozenset(n.id for n in ast.walk(function) if isinstance(n, ast.Name) and not isinstance(n.ctx, ast.Load)),
+            lambda: frozenset(n.id for n in walk(function) if isinstance(n, ast.Name) and not isinstance(n.ctx, ast.Load)),
         )
 
     def param_kept_classes(self, param: ast.arg) -> tuple[frozenset[str], bool]:

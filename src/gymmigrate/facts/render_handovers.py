@@ -18,7 +18,7 @@ import ast
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts import names as N
-from gymmigrate.facts.module import ModuleFacts
+from gymmigrate.facts.module import ModuleFacts, walk
 
 if TYPE_CHECKING:
     from gymmigrate.facts.module_summary import CallSummary, ModuleSummary
@@ -46,7 +46,7 @@ def bare_render_params(facts: ModuleFacts) -> frozenset[tuple[str, str]]:
 
 def _rendered_bare_only(facts: ModuleFacts, function: ast.FunctionDef | ast.AsyncFunctionDef, param: str) -> bool:
     renders = 0
-    for node in ast.walk(function):
+    for node in walk(function):
         if not (isinstance(node, ast.Name) and node.id == param):
             continue
         if not isinstance(node.ctx, ast.Load):
@@ -82,7 +82,7 @@ def handed_constructions(facts: ModuleFacts, calls: tuple[CallSummary, ...]) -> 
     the name read nowhere else but for attributes other than ``render``."""
     lines = {call.line for call in calls}
     found: list[Handed] = []
-    for node in ast.walk(facts.tree):
+    for node in walk(facts.tree):
         if not (isinstance(node, ast.Call) and node.lineno in lines):
             continue
         slots: list[tuple[str, ast.expr]] = []
@@ -119,7 +119,7 @@ def _construction(facts: ModuleFacts, value: ast.expr, call: ast.Call) -> tuple[
     names = [q for q in facts.qualified_names(made.func) if not N.is_library(q)]
     if len(names) != 1:
         return None
-    for node in ast.walk(function):
+    for node in walk(function):
         if isinstance(node, ast.Name) and node.id == value.id and isinstance(node.ctx, ast.Load) and node is not value:
             holder = facts.parent(node)
             if not (isinstance(holder, ast.Attribute) and holder.attr != "render"):

@@ -29,7 +29,13 @@ from gymmigrate.facts.env_classes import (
 )
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, call_argument, string_value
+from gymmigrate.facts.module import (
+    FUNCTIONS,
+    ModuleFacts,
+    call_argument,
+    string_value,
+    walk,
+)
 from gymmigrate.facts.receivers import Receivers
 
 
@@ -197,7 +203,7 @@ def mode_handed_on(facts: ModuleFacts, classdef: ast.ClassDef) -> list[ast.Call]
     if len(args.defaults) < len(args.args) - 1 or any(d is None for d in args.kw_defaults):
         return None
     calls: list[ast.Call] = []
-    for node in ast.walk(render):
+    for node in walk(render):
         if isinstance(node, (ast.Lambda, *FUNCTIONS)) and node is not render:
             return None  # a nested def may read ``mode`` some other way
         if not (isinstance(node, ast.Name) and node.id == "mode"):
@@ -287,7 +293,7 @@ def _modeless_render(facts: ModuleFacts, receivers: Receivers, classdef: ast.Cla
                 or any(N.strip_gym_prefix(q) in DIRECT_ENV_BASES for q in facts.qualified_names(base))
             ):
                 return False
-        if any(_names_render_mode(node) for node in ast.walk(current)):
+        if any(_names_render_mode(node) for node in walk(current)):
             return False
     render = next(
         (s for current in lineage for s in current.body if isinstance(s, FUNCTIONS) and s.name == "render"),
@@ -300,7 +306,7 @@ def _modeless_render(facts: ModuleFacts, receivers: Receivers, classdef: ast.Cla
         return False
     return not any(
         isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "render"
-        for node in ast.walk(render)
+        for node in walk(render)
     )
 
 

@@ -28,7 +28,7 @@ import ast
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, walk
 
 STANDARD = frozenset({"self", "seed", "options", "return_info"})
 
@@ -85,10 +85,10 @@ def is_step_value(facts: ModuleFacts, value: ast.expr, keyword: str) -> bool:
         return False
     assigned = [
         node.value
-        for node in ast.walk(function)
+        for node in walk(function)
         if isinstance(node, ast.Assign) and any(isinstance(t, ast.Name) and t.id == keyword for t in node.targets)
     ]
-    others = [node for node in ast.walk(function) if isinstance(node, (ast.AugAssign, ast.AnnAssign, ast.NamedExpr, ast.For))]
+    others = [node for node in walk(function) if isinstance(node, (ast.AugAssign, ast.AnnAssign, ast.NamedExpr, ast.For))]
     if any(isinstance(target := getattr(n, "target", None), ast.Name) and target.id == keyword for n in others):
         return False
     return bool(assigned) and all(_self_step(a) for a in assigned)
@@ -115,7 +115,7 @@ def sites(facts: ModuleFacts, is_env_class: Callable[[ast.ClassDef], bool]) -> R
     """``is_env_class(classdef)``: a Gym env class (the receivers' answer)."""
     env_params: set[str] = set()
     blockers: list[tuple[str, int]] = []
-    for classdef in [n for n in ast.walk(facts.tree) if isinstance(n, ast.ClassDef)]:
+    for classdef in [n for n in walk(facts.tree) if isinstance(n, ast.ClassDef)]:
         reset = own_reset(classdef)
         if reset is None:
             continue

@@ -27,6 +27,7 @@ from gymmigrate.facts.module import (
     Scope,
     dotted_name,
     parenthesized_if_needed,
+    walk,
 )
 
 Position = tuple[int, int]
@@ -171,7 +172,7 @@ def is_iteration_invariant(facts: ModuleFacts, expr: ast.expr, loop: ast.AST) ->
     It does unless it calls something (``rng.integers()`` may vary) or reads a name or
     attribute the loop binds (its target, an assignment in its body).
     """
-    if any(isinstance(node, ast.Call) for node in ast.walk(expr)):
+    if any(isinstance(node, ast.Call) for node in walk(expr)):
         return False
     bound = facts.memo(("reset-flow-bound", id(loop)), lambda: _bound_names(loop))
     return not (read_names(expr) & bound)
@@ -192,7 +193,7 @@ def _bound_names(code: ast.AST) -> set[str]:
             if name:
                 names.add(name)
 
-    for node in ast.walk(code):
+    for node in walk(code):
         if isinstance(node, ast.Assign):
             for target in node.targets:
                 add(target)
@@ -205,7 +206,7 @@ def read_names(expr: ast.AST) -> set[str]:
     """Every identifier spelled in ``expr`` and every dotted chain (``a.b.c`` gives a, b, c,
     a.b and a.b.c): attribute and keyword names count, as a reader sees them."""
     names: set[str] = set()
-    for node in ast.walk(expr):
+    for node in walk(expr):
         if isinstance(node, ast.Name):
             names.add(node.id)
         elif isinstance(node, ast.Attribute):

@@ -14,7 +14,7 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.facts.env_classes import EnvClasses, is_self_attribute
-from gymmigrate.facts.module import ModuleFacts
+from gymmigrate.facts.module import ModuleFacts, walk
 from gymmigrate.facts.receivers import Receivers
 
 NP_RANDOM = ("np_random", "_np_random")
@@ -27,7 +27,7 @@ def rng_stores(facts: ModuleFacts, receivers: Receivers) -> tuple[Store, ...]:
         return ()
     env = EnvClasses.of(facts, receivers)
     found: list[Store] = []
-    for node in ast.walk(facts.tree):
+    for node in walk(facts.tree):
         if not isinstance(node, ast.Assign):
             continue
         for target in node.targets:

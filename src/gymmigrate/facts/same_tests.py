@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import ast
 
-from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, walk
 
 Guard = tuple[str, bool]  # (the test's tree, the branch taken)
 
@@ -90,7 +90,7 @@ def _stored_attributes(facts: ModuleFacts) -> frozenset[str]:
 
     def compute() -> frozenset[str]:
         return frozenset(
-            node.attr for node in ast.walk(facts.tree) if isinstance(node, ast.Attribute) and isinstance(node.ctx, (ast.Store, ast.Del))
+            node.attr for node in walk(facts.tree) if isinstance(node, ast.Attribute) and isinstance(node.ctx, (ast.Store, ast.Del))
         )
 
     return facts.memo(("stored-attributes", id(facts.tree)), compute)

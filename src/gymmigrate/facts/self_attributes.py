@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.kinds import EnvKind, ReceiverQueries, join_kinds
-from gymmigrate.facts.module import FUNCTIONS, call_argument, statements_in
+from gymmigrate.facts.module import FUNCTIONS, call_argument, statements_in, walk
 
 if TYPE_CHECKING:
     from gymmigrate.facts.module import ModuleFacts
@@ -238,14 +238,14 @@ def binds_self_attribute(classdef: ast.ClassDef, attribute: str) -> bool:
     whether the class has a hand in the attribute at all (``rules/base.py`` pins the
     decision on ``self.env`` to the class that binds it).
     """
-    for node in ast.walk(classdef):
+    for node in walk(classdef):
         targets: list[ast.expr] = []
         if isinstance(node, ast.Assign):
             targets = list(node.targets)
         elif isinstance(node, (ast.AnnAssign, ast.AugAssign)):
             targets = [node.target]
         for target in targets:
-            for sub in ast.walk(target):
+            for sub in walk(target):
                 if isinstance(sub, ast.Attribute) and sub.attr == attribute and isinstance(sub.value, ast.Name) and sub.value.id == "self":
                     return True
     return False

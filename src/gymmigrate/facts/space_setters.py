@@ -26,6 +26,7 @@ from gymmigrate.facts.module import (
     call_argument,
     own_entry_point,
     string_value,
+    walk,
 )
 from gymmigrate.facts.module_summary import OWN
 from gymmigrate.facts.receivers import Receivers
@@ -103,7 +104,7 @@ def _class_level_names(statement: ast.stmt) -> set[str]:
         targets = list(statement.targets)
     elif isinstance(statement, (ast.AnnAssign, ast.AugAssign)):
         targets = [statement.target]
-    names = {n.id for t in targets for n in ast.walk(t) if isinstance(n, ast.Name)}
+    names = {n.id for t in targets for n in walk(t) if isinstance(n, ast.Name)}
     if isinstance(statement, (ast.If, ast.Try, ast.With)):
         for child in ast.iter_child_nodes(statement):
             if isinstance(child, ast.stmt):
@@ -122,7 +123,7 @@ def _construction(methods: dict[str, ast.FunctionDef | ast.AsyncFunctionDef]) ->
             continue
         seen.add(name)
         yield method
-        for node in ast.walk(method):
+        for node in walk(method):
             if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and isinstance(node.func.value, ast.Name) and node.func.value.id == "self":
                 todo.append(node.func.attr)
 
@@ -133,7 +134,7 @@ def _stored(method: ast.FunctionDef | ast.AsyncFunctionDef) -> set[str] | None:
     (``setattr`` with a computed name, ``__dict__``, ``vars(self)``, ``self`` handed to
     code that is no base's ``__init__``)."""
     found: set[str] = set()
-    for node in ast.walk(method):
+    for node in walk(method):
         if isinstance(node, ast.Attribute):
             if node.attr in _ALL and isinstance(node.ctx, (ast.Store, ast.Del)):
                 found.add(node.attr)
@@ -206,7 +207,7 @@ def def_builds(facts: ModuleFacts, receivers: Receivers) -> dict[str, tuple[str,
         memo[name] = None  # a cycle of defs adds nothing
         function = facts.functions[name]
         found: set[str] = set()
-        for node in ast.walk(function):
+        for node in walk(function):
             if isinstance(node, ast.Attribute) and node.attr in _ALL and isinstance(node.ctx, ast.Store):
                 memo[name] = frozenset()
                 return frozenset()

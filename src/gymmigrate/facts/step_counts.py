@@ -23,7 +23,7 @@ from gymmigrate.facts.limit_tests import (
     self_attribute,
     streak_attributes,
 )
-from gymmigrate.facts.module import FUNCTIONS, LOOPS, ModuleFacts
+from gymmigrate.facts.module import FUNCTIONS, LOOPS, ModuleFacts, walk
 from gymmigrate.facts.receivers import Receivers
 
 # class -> (its own body counts, its bases of this module, the qualified names of its
@@ -62,11 +62,11 @@ def counts_in(facts: ModuleFacts, classdef: ast.ClassDef) -> bool:
     # A name moved by a constant both ways (``pos -= 1`` for one action, ``pos += 1``
     # for another) is a position, not a count: it cannot run up to a limit by itself.
     directions: dict[str, set[bool]] = {}
-    for node in ast.walk(classdef):
+    for node in walk(classdef):
         if isinstance(node, ast.AugAssign) and isinstance(node.op, (ast.Add, ast.Sub)) and _is_number(node.value):
             up = isinstance(node.op, ast.Add) == (node.value.value >= 0)  # type: ignore[attr-defined]
             directions.setdefault(facts.segment(node.target), set()).add(up)
-    for node in ast.walk(classdef):
+    for node in walk(classdef):
         if isinstance(node, ast.AugAssign) and isinstance(node.op, (ast.Add, ast.Sub)) and self_attribute(node.target) not in streaks:
             counted = (
                 _is_number(node.value)
@@ -114,7 +114,7 @@ def _idle_attribute(facts: ModuleFacts, target: ast.expr, classdef: ast.ClassDef
             directions.add(type(holder.op))
         elif isinstance(holder, ast.Assign) and any(
             isinstance(n, ast.Attribute) and n.attr == target.attr and isinstance(n.value, ast.Name) and n.value.id == "self"
-            for n in ast.walk(holder.value)
+            for n in walk(holder.value)
         ) and not _self_update(holder.value, target.attr):
             return True  # ``self.index = max(self.index - 1, 0)``: moved back, a position
     if len(directions) > 1:
@@ -139,7 +139,7 @@ def _moved_once_per_call(facts: ModuleFacts, target: ast.expr) -> bool:
             # ``t = self.t; t += 1; self.t = t``: the attribute persists what the local counts
             return not any(
                 isinstance(node, ast.Assign) and isinstance(node.value, ast.Name) and node.value.id == target.id
-                for node in ast.walk(ancestor)
+                for node in walk(ancestor)
             )
     return False  # a class body or the module: a count of its own
 
@@ -161,7 +161,7 @@ def _wraps(facts: ModuleFacts, holder: ast.AST | None, name: str) -> bool:
         isinstance(branch, ast.If)
         and branch.body == [holder]
         and not branch.orelse
-        and any(isinstance(n, ast.Attribute) and n.attr == name and isinstance(n.value, ast.Name) and n.value.id == "self" for n in ast.walk(branch.test))
+        and any(isinstance(n, ast.Attribute) and n.attr == name and isinstance(n.value, ast.Name) and n.value.id == "self" for n in walk(branch.test))
     )
 
 

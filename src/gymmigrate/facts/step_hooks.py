@@ -18,7 +18,7 @@ import ast
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.env_classes import DIRECT_ENV_BASES, is_super_method_call
-from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns, walk
 
 
 def _tuple_len(value: ast.AST | None) -> int | None:
@@ -39,7 +39,7 @@ def _extends_env_alone(facts: ModuleFacts, classdef: ast.ClassDef) -> bool:
 def plain_override(method: ast.FunctionDef | ast.AsyncFunctionDef) -> bool:
     """Every return is a four- or five-value literal or ``super().<name>(...)``, and the
     base's result is read nowhere else."""
-    supers = [n for n in ast.walk(method) if is_super_method_call(n, method.name)]
+    supers = [n for n in walk(method) if is_super_method_call(n, method.name)]
     returned = []
     for ret in own_returns(method):
         if ret.value is None:
@@ -97,7 +97,7 @@ def step_hooks(facts: ModuleFacts) -> dict[str, frozenset[str]]:
             elif hook is step or not any(r.value is not None for r in own_returns(hook)):
                 continue
             calls = [
-                n for m in methods.values() if m is not step for n in ast.walk(m)
+                n for m in methods.values() if m is not step for n in walk(m)
                 if isinstance(n, ast.Attribute) and n.attr == hook_name and isinstance(n.value, ast.Name) and n.value.id == "self"
             ]
             if calls:

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 from typing import Literal
 
 from gymmigrate.facts.done_uses import STORE_METHODS, DoneUse, classify_done_read
-from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, full_name
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, full_name, walk
 
 ReaderUse = Literal["boundary", "mask"]
 _LEAVES = (ast.Break, ast.Return, ast.Continue, ast.Raise)
@@ -72,7 +72,7 @@ def _record_fields(func: ast.expr, facts: ModuleFacts) -> list[str] | None:
     fields, or a ``NamedTuple``/``@dataclass`` class of this module. None: not such a record."""
     if not isinstance(func, ast.Name):
         return None
-    for node in ast.walk(facts.tree):
+    for node in walk(facts.tree):
         if (
             isinstance(node, ast.Assign)
             and any(isinstance(t, ast.Name) and t.id == func.id for t in node.targets)
@@ -136,7 +136,7 @@ def _tuple_readers(store: str, index: int, size: int, scope: ast.AST, facts: Mod
     ``obs, a, s2, r, done = self.buffer[i]`` (also ``for ... in``, over the store or a name
     taken from it, like ``batch = random.sample(self.buffer, n)``), and ``self.buffer[i][4]``."""
     readers: list[Reader] = []
-    functions: list[ast.AST] = [n for n in ast.walk(scope) if isinstance(n, FUNCTIONS)]
+    functions: list[ast.AST] = [n for n in walk(scope) if isinstance(n, FUNCTIONS)]
     if isinstance(scope, ast.Module):
         functions.append(scope)  # module-level code too
     for function in functions:
@@ -180,7 +180,7 @@ def _tuple_readers(store: str, index: int, size: int, scope: ast.AST, facts: Mod
 
 
 def _mentions(node: ast.AST, names: set[str]) -> bool:
-    return any(isinstance(n, (ast.Name, ast.Attribute)) and full_name(n) in names for n in ast.walk(node))
+    return any(isinstance(n, (ast.Name, ast.Attribute)) and full_name(n) in names for n in walk(node))
 
 
 def reader_use(node: ast.expr, facts: ModuleFacts) -> ReaderUse | None:
@@ -201,10 +201,10 @@ def reader_use(node: ast.expr, facts: ModuleFacts) -> ReaderUse | None:
     if isinstance(parent, (ast.If, ast.IfExp)) and parent.test is current:
         if isinstance(parent, ast.If):
             done_branch = parent.orelse if negated else parent.body
-            if any(isinstance(n, _LEAVES) for s in done_branch for n in ast.walk(s)):
+            if any(isinstance(n, _LEAVES) for s in done_branch for n in walk(s)):
                 return "boundary"  # ``if done: break``: the flag cuts the sum there
         branches = [parent.body, parent.orelse] if isinstance(parent, ast.IfExp) else [*parent.body, *parent.orelse]
-        if any(_neighbour(n) for b in branches for n in ast.walk(b)):
+        if any(_neighbour(n) for b in branches for n in walk(b)):
             return "boundary"  # ``m[t + 1].value``: the next record, a new episode after a reset
         return "mask"
     if classify_done_read(node, facts) is DoneUse.NEUTRAL:  # type: ignore[arg-type]

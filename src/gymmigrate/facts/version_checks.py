@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import ast
 
-from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, walk
 from gymmigrate.facts.self_attributes import self_stores
 
 GYMNASIUM_RELEASE = (1, 4, 0)  # the release the migration targets (rules.gymnasium_api.GYMNASIUM_VERSION)
@@ -250,10 +250,10 @@ def _side(node: ast.AST, names: frozenset[str], parameter: tuple[str, tuple[int,
         return (release, False) if release is not None else None
     if parameter is not None and isinstance(node, ast.Name) and node.id == parameter[0]:
         return parameter[1], False
-    leaves = [n for n in ast.walk(node) if _is_version(n, names)]
+    leaves = [n for n in walk(node) if _is_version(n, names)]
     # a parse strips surrounding blanks (``version.parse(" 0.25.0")`` is 0.25.0)
-    literals = [n for n in ast.walk(node) if isinstance(n, ast.Constant) and isinstance(n.value, str) and _release(n.value.strip())]
-    params = [n for n in ast.walk(node) if parameter is not None and isinstance(n, ast.Name) and n.id == parameter[0]]
+    literals = [n for n in walk(node) if isinstance(n, ast.Constant) and isinstance(n.value, str) and _release(n.value.strip())]
+    params = [n for n in walk(node) if parameter is not None and isinstance(n, ast.Name) and n.id == parameter[0]]
     if len(leaves) + len(literals) + len(params) != 1 or not _order_keeping(node, names, parameter):
         return None
     if leaves:
@@ -267,8 +267,8 @@ def _side(node: ast.AST, names: frozenset[str], parameter: tuple[str, tuple[int,
 def _order_keeping(node: ast.AST, names: frozenset[str], parameter) -> bool:
     """Only calls of parsers, ``.split(".")``, comprehensions and ``[:n]`` slices: a parse
     that orders releases as versions are ordered."""
-    local = {n.id for n in ast.walk(node) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Store)}
-    for n in ast.walk(node):
+    local = {n.id for n in walk(node) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Store)}
+    for n in walk(node):
         if isinstance(n, ast.Subscript):
             if not (isinstance(n.slice, ast.Slice) and n.slice.lower is None and n.slice.step is None):
                 return False
@@ -308,7 +308,7 @@ def _constant_of(node: ast.expr, facts: ModuleFacts) -> ast.expr:
         for s in facts.tree.body
         if isinstance(s, ast.Assign) and any(isinstance(t, ast.Name) and t.id == node.id for t in s.targets)
     ]
-    stores = [n for n in ast.walk(facts.tree) if isinstance(n, ast.Name) and n.id == node.id and not isinstance(n.ctx, ast.Load)]
+    stores = [n for n in walk(facts.tree) if isinstance(n, ast.Name) and n.id == node.id and not isinstance(n.ctx, ast.Load)]
     if len(values) == 1 and len(stores) == 1 and isinstance(values[0], ast.Constant) and isinstance(values[0].value, str):
         return values[0]
     return node
@@ -334,7 +334,7 @@ def reads_version(test: ast.AST, facts: ModuleFacts, *, any_module: bool = False
 
         def is_helper(name: str) -> bool:
             local = facts.functions.get(name)
-            return local is not None and any(is_version(n) for n in ast.walk(local))
+            return local is not None and any(is_version(n) for n in walk(local))
 
     else:
         names = gym_module_names(facts)
@@ -344,12 +344,12 @@ def reads_version(test: ast.AST, facts: ModuleFacts, *, any_module: bool = False
         def is_version(node: ast.AST) -> bool:
             return _is_version(node, names)
 
-        helpers = {s.name for s in facts.tree.body if isinstance(s, FUNCTIONS) and any(is_version(n) for n in ast.walk(s))}
+        helpers = {s.name for s in facts.tree.body if isinstance(s, FUNCTIONS) and any(is_version(n) for n in walk(s))}
 
         def is_helper(name: str) -> bool:
             return name in helpers
 
     return any(
         is_version(n) or (isinstance(n, ast.Call) and isinstance(n.func, ast.Name) and is_helper(n.func.id))
-        for n in ast.walk(test)
+        for n in walk(test)
     )

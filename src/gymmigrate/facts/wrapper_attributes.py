@@ -11,7 +11,7 @@ import ast
 import weakref
 
 from gymmigrate.facts import names as N
-from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns, walk
 
 
 def self_defined(classdef: ast.ClassDef) -> set[str]:
@@ -36,8 +36,8 @@ def _self_defined(classdef: ast.ClassDef) -> set[str]:
             names.add(statement.name)
         elif isinstance(statement, (ast.Assign, ast.AnnAssign, ast.AugAssign)):
             targets = statement.targets if isinstance(statement, ast.Assign) else [statement.target]
-            names.update(n.id for target in targets for n in ast.walk(target) if isinstance(n, ast.Name))
-    for node in ast.walk(classdef):
+            names.update(n.id for target in targets for n in walk(target) if isinstance(n, ast.Name))
+    for node in walk(classdef):
         if isinstance(node, FUNCTIONS):
             names.add(node.name)
         elif isinstance(node, ast.Attribute) and isinstance(node.ctx, ast.Store) and isinstance(node.value, ast.Name) and node.value.id == "self":
@@ -49,7 +49,7 @@ def self_defined_in(function: ast.AST) -> set[str]:
     """Every ``self.x`` that ``function`` stores."""
     return {
         n.attr
-        for n in ast.walk(function)
+        for n in walk(function)
         if isinstance(n, ast.Attribute) and isinstance(n.ctx, ast.Store) and isinstance(n.value, ast.Name) and n.value.id == "self"
     }
 
@@ -79,7 +79,7 @@ def takes_lookup_in_hand(classdef: ast.ClassDef) -> bool:
 
 
 def _takes_lookup_in_hand(classdef: ast.ClassDef) -> bool:
-    for node in ast.walk(classdef):
+    for node in walk(classdef):
         if isinstance(node, FUNCTIONS) and node.name in ("__getattr__", "__getattribute__", "__init_subclass__"):
             return True
         if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "setattr":

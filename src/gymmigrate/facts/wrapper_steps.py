@@ -22,7 +22,7 @@ import ast
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts import names as N
-from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, walk
 
 if TYPE_CHECKING:
     from gymmigrate.facts.receivers import Receivers
@@ -61,7 +61,7 @@ def reset_steps(classdef: ast.ClassDef) -> tuple[tuple[str, str], ...]:
         this = _self_name(methods[name])
         if this is None:
             continue
-        for node in ast.walk(methods[name]):
+        for node in walk(methods[name]):
             if not (isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute)):
                 continue
             owner = node.func.value
@@ -75,7 +75,7 @@ def reset_steps(classdef: ast.ClassDef) -> tuple[tuple[str, str], ...]:
         if this is None:
             continue
         params = {a.arg for a in (*method.args.posonlyargs, *method.args.args, *method.args.kwonlyargs)} - {this}
-        for node in ast.walk(method):
+        for node in walk(method):
             if not isinstance(node, ast.Assign) or not (isinstance(node.value, ast.Name) and node.value.id in params):
                 continue
             for target in node.targets:
@@ -116,7 +116,7 @@ def self_handoffs(facts: ModuleFacts, receivers: Receivers) -> frozenset[str]:
         for method in classdef.body:
             if not isinstance(method, FUNCTIONS) or (this := _self_name(method)) is None:
                 continue
-            for node in ast.walk(method):
+            for node in walk(method):
                 if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and not _is_name(node.func.value, this):
                     if any(_is_name(arg, this) for arg in node.args) or any(_is_name(k.value, this) for k in node.keywords):
                         found.add(node.func.attr)

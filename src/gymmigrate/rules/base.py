@@ -23,7 +23,7 @@ from typing import TYPE_CHECKING, ClassVar, NamedTuple
 from gymmigrate.facts import names as N
 from gymmigrate.facts.decisions import Action, Decision
 from gymmigrate.facts.flow import Flow
-from gymmigrate.facts.module import full_name
+from gymmigrate.facts.module import full_name, walk
 from gymmigrate.facts.profile import FileProfile
 from gymmigrate.facts.self_attributes import binds_self_attribute, class_self_stores
 from gymmigrate.facts.version_checks import dead_version_branch
@@ -247,7 +247,7 @@ class RuleFamily:
             return None
         position = params.index(receiver.id)
         fed: list[ast.expr] = []
-        for node in ast.walk(self.facts.tree):
+        for node in walk(self.facts.tree):
             if not isinstance(node, ast.Call):
                 continue
             if isinstance(node.func, ast.Name) and node.func.id == function.name:
@@ -312,7 +312,7 @@ class RuleFamily:
         function = self.facts.functions.get(call.func.id)
         if function is None:
             return set()
-        returns = [n for n in ast.walk(function) if isinstance(n, ast.Return) and self.facts.enclosing_function(n) is function]
+        returns = [n for n in walk(function) if isinstance(n, ast.Return) and self.facts.enclosing_function(n) is function]
         for ret in returns:
             if not isinstance(ret.value, ast.Call):
                 return set()  # it may return something else: not the library's alone

@@ -21,6 +21,7 @@ import ast
 from gymmigrate.edits.lazy import cst
 from gymmigrate.edits.syntax import dotted_node
 from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts.module import walk
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 
@@ -129,7 +130,7 @@ class RenamedEnvPackages(RuleFamily):
         return True
 
     def _name_read(self, name: str) -> bool:
-        return any(isinstance(node, ast.Name) and node.id == name for node in ast.walk(self.facts.tree))
+        return any(isinstance(node, ast.Name) and node.id == name for node in walk(self.facts.tree))
 
     def _moved_message(self, moved: list[ast.stmt]) -> str:
         names = sorted(

@@ -19,6 +19,7 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.facts import ModuleFacts, same_tests
+from gymmigrate.facts.module import walk
 
 # Expressions a creation-time condition may be built of: comparisons, boolean logic,
 # constants, names and attribute reads of names (``args.render``); no calls, no
@@ -155,11 +156,11 @@ def _plain(node: ast.AST) -> str:
 
 def fixed_at_creation(facts: ModuleFacts, test: ast.AST, make: ast.Call) -> bool:
     """``test`` has the same value when ``make`` runs as when the render call runs."""
-    if not all(isinstance(node, _PLAIN) for node in ast.walk(test)):
+    if not all(isinstance(node, _PLAIN) for node in walk(test)):
         return False
     function = facts.enclosing_function(make)
-    held = {id(node.value) for node in ast.walk(test) if isinstance(node, ast.Attribute) and _set_once_before(facts, node, make)}
-    for node in ast.walk(test):
+    held = {id(node.value) for node in walk(test) if isinstance(node, ast.Attribute) and _set_once_before(facts, node, make)}
+    for node in walk(test):
         if not isinstance(node, ast.Name) or id(node) in held:
             continue
         bindings = facts.bindings_of(node)
@@ -194,7 +195,7 @@ def _set_once_before(facts: ModuleFacts, node: ast.Attribute, make: ast.Call) ->
     if facts.parent(reader) is not classdef or not _first_param_is(reader, node.value.id) or not _first_param_is(function, node.value.id):
         return False
     stores = [
-        n for n in ast.walk(facts.tree) if isinstance(n, ast.Attribute) and n.attr == node.attr and isinstance(n.ctx, (ast.Store, ast.Del))
+        n for n in walk(facts.tree) if isinstance(n, ast.Attribute) and n.attr == node.attr and isinstance(n.ctx, (ast.Store, ast.Del))
     ]
     if len(stores) != 1:
         return False

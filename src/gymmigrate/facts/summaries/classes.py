@@ -19,7 +19,7 @@ from gymmigrate.facts.env_classes import (
 )
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.limits import DoneTracer
-from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns, walk
 from gymmigrate.facts.module_summary import OWN
 from gymmigrate.facts.receivers import Receivers
 from gymmigrate.facts.render_modes import (
@@ -211,7 +211,7 @@ def render_mode_heirs(facts: ModuleFacts, receivers: Receivers) -> tuple[tuple[s
         if init is None or init.args.kwarg is not None:
             passes_on = True
         else:
-            calls = [n for n in ast.walk(init) if isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute) and n.func.attr == "__init__"]
+            calls = [n for n in walk(init) if isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute) and n.func.attr == "__init__"]
             passes_on = len(calls) == 1 and all(k.arg is not None for k in calls[0].keywords)
         found.append((name, tuple(sorted(bases)), passes_on))
     return tuple(found)
@@ -239,7 +239,7 @@ def self_calls(facts: ModuleFacts) -> dict[str, frozenset[str]]:
             node.func.attr
             for statement in classdef.body
             if isinstance(statement, FUNCTIONS)
-            for node in ast.walk(statement)
+            for node in walk(statement)
             if isinstance(node, ast.Call)
             and isinstance(node.func, ast.Attribute)
             and isinstance(node.func.value, ast.Name)
@@ -284,7 +284,7 @@ def mode_renders(facts: ModuleFacts) -> dict[str, tuple[int, str]]:
             continue
         if any(isinstance(s, FUNCTIONS) and s.name == "render" for s in classdef.body):
             continue  # its calls reach its own render(), decided with the class
-        for node in ast.walk(classdef):
+        for node in walk(classdef):
             if not (isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "render"):
                 continue
             receiver = node.func.value

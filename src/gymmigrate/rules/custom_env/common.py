@@ -13,7 +13,7 @@ from gymmigrate.facts.env_classes import (
     FunctionIndex,
     class_level_bindings,
 )
-from gymmigrate.facts.module import full_name, own_returns
+from gymmigrate.facts.module import full_name, own_returns, walk
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import Rule
 from gymmigrate.rules.custom_env.plans import ClassPlan
@@ -131,7 +131,7 @@ def _seeds_through_hook(reset: Method) -> bool:
         return False
     return any(
         is_self_call(node, {"_seed"}) and [a.id for a in node.args if isinstance(a, ast.Name)] == ["seed"]  # type: ignore[attr-defined]
-        for node in ast.walk(reset)
+        for node in walk(reset)
     )
 
 

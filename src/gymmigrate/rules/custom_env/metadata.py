@@ -11,7 +11,7 @@ import ast
 from collections.abc import Sequence
 
 from gymmigrate.edits.lazy import cst
-from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, string_value
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, string_value, walk
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.repeats import Repeats
@@ -232,4 +232,4 @@ def _with_render_fps(node: cst.Dict) -> cst.Dict:
 
 def _names_key(node: ast.AST, key: str) -> bool:
     """``node`` spells the string ``key`` somewhere."""
-    return any(isinstance(sub, ast.Constant) and sub.value == key for sub in ast.walk(node))
+    return any(isinstance(sub, ast.Constant) and sub.value == key for sub in walk(node))

@@ -20,6 +20,7 @@ from gymmigrate.facts import names as N
 from gymmigrate.facts.creation import CreationFinder
 from gymmigrate.facts.env_classes import is_super_method_call, mode_can_stay_optional
 from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.module import walk
 from gymmigrate.facts.render_modes import own_object, own_object_render, passes_mode
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import ClassDecision, method_of, param_names
@@ -247,7 +248,7 @@ def decide_subclass_render_mode(decision: ClassDecision) -> None:
         return
     calls = [
         node
-        for node in ast.walk(init)
+        for node in walk(init)
         if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "__init__"
     ]
     if len(calls) != 1 or any(k.arg is None for k in calls[0].keywords):
@@ -308,7 +309,7 @@ def _plan_internal_renders(decision: ClassDecision, function: ast.FunctionDef | 
     ]
     if not calls:
         return
-    taken = set(decision.methods) | {n.attr for node in ast.walk(decision.classdef) for n in [node] if isinstance(n, ast.Attribute)}
+    taken = set(decision.methods) | {n.attr for node in walk(decision.classdef) for n in [node] if isinstance(n, ast.Attribute)}
     helper, number = "_render_frame", 2
     while helper in taken:
         helper, number = f"_render_frame{number}", number + 1

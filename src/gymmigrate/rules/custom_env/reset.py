@@ -12,7 +12,7 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.facts.env_classes import is_super_method_call
-from gymmigrate.facts.module import own_returns
+from gymmigrate.facts.module import own_returns, walk
 from gymmigrate.facts.own_api import is_info_pair
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import (
@@ -89,7 +89,7 @@ def decide_reset(decision: ClassDecision) -> None:
             _return_info_pairs(decision, helper, None, set())
     bases = reset_bases(decision)
     decision.plan.reset_bases = bases
-    super_resets = any(is_base_reset(c, bases) for s in function.body for c in ast.walk(s) if isinstance(c, ast.Call))
+    super_resets = any(is_base_reset(c, bases) for s in function.body for c in walk(s) if isinstance(c, ast.Call))
     # Only an inner env's reset gets the keywords: that env seeds itself, and this class
     # has no ``seed`` name of its own to seed np_random with.
     inner_only = forwards and not super_resets
@@ -157,7 +157,7 @@ def decide_reset(decision: ClassDecision) -> None:
         or inserted
         or bool(hooked)
         or decision.plan.seed is not None and (bool(decision.plan.seed.moved) or decision.plan.seed.keep)
-        or any(_super_reset_needs_seed(c, bases) for s in function.body for c in ast.walk(s))
+        or any(_super_reset_needs_seed(c, bases) for s in function.body for c in walk(s))
     )
     if forwards and migrates:
         where = "the inner env's reset()" if inner_only else "super().reset()"
@@ -183,7 +183,7 @@ def decide_reset(decision: ClassDecision) -> None:
 def _reads_name(function: ast.AST, name: str, skip: frozenset[int] = frozenset()) -> bool:
     return any(
         isinstance(node, ast.Name) and node.id == name and isinstance(node.ctx, ast.Load) and id(node) not in skip
-        for node in ast.walk(function)
+        for node in walk(function)
     )
 
 
@@ -192,7 +192,7 @@ def _handed_to_reset(function: ast.AST) -> frozenset[int]:
     call in ``function`` (the rewrite drops that keyword)."""
     return frozenset(
         id(keyword.value)
-        for node in ast.walk(function)
+        for node in walk(function)
         if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "reset"
         for keyword in node.keywords
         if keyword.arg == "return_info" and isinstance(keyword.value, ast.Name) and keyword.value.id == "return_info"
@@ -254,7 +254,7 @@ def _forwards_keywords(decision: ClassDecision, function: ast.AST) -> bool:
     calls = [
         c
         for s in function.body  # type: ignore[attr-defined]
-        for c in ast.walk(s)
+        for c in walk(s)
         if isinstance(c, ast.Call) and (is_base_reset(c, reset_bases(decision)) or inner_gym_env_call(decision, c, "reset"))
     ]
     return bool(calls) and all(

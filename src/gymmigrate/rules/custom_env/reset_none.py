@@ -20,7 +20,7 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.facts.fall_through import may_fall_off
-from gymmigrate.facts.module import ModuleFacts, own_returns
+from gymmigrate.facts.module import ModuleFacts, own_returns, walk
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import (
     ClassDecision,
@@ -74,7 +74,7 @@ def _legacy(function: Method) -> bool:
     names = {a.arg for a in (*args.posonlyargs, *args.args, *args.kwonlyargs)}
     if "return_info" in names or {"seed", "options"} <= names:
         return False
-    return not any(isinstance(node, (ast.Yield, ast.YieldFrom)) for node in ast.walk(function))
+    return not any(isinstance(node, (ast.Yield, ast.YieldFrom)) for node in walk(function))
 
 
 def _abstract(decision: ClassDecision, function: Method) -> bool:

@@ -19,7 +19,7 @@ from gymmigrate.facts.env_classes import (
     is_self_attribute,
     is_super_method_call,
 )
-from gymmigrate.facts.module import full_name, statement_lines
+from gymmigrate.facts.module import full_name, statement_lines, walk
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import (
     ClassDecision,
@@ -97,7 +97,7 @@ def decide_seed(decision: ClassDecision) -> None:
             continue
         moved.append(index)
     moved = _without_dead_returns(groups, moved)
-    if any(inner_gym_env_call(decision, node, "seed") for i in moved for s in groups[i] for node in ast.walk(s)):
+    if any(inner_gym_env_call(decision, node, "seed") for i in moved for s in groups[i] for node in walk(s)):
         # Moved into reset(), `self.inner.seed(seed)` would be rewritten by the call-site
         # rule on the next run (a reset of the inner env inside this reset): by hand.
         decision.report(
@@ -108,7 +108,7 @@ def decide_seed(decision: ClassDecision) -> None:
             FixKind.FLAG,
         )
         return
-    if any(isinstance(node, ast.Return) for i in moved for s in groups[i] for node in ast.walk(s)):
+    if any(isinstance(node, ast.Return) for i in moved for s in groups[i] for node in walk(s)):
         decision.report(seed_method, "GM503", "seed() returns from the middle of its body; move its seeding into reset() under `if seed is not None:` by hand", FixKind.FLAG)
         return
     if moved and decision.method("reset") is None:
@@ -155,7 +155,7 @@ def decide_seed(decision: ClassDecision) -> None:
     decision.deleted_statements.extend(deleted)
     kept = set(moved) | set(setup)
     decision.family.context.notes.dropped_statements.update(
-        node for index, group in enumerate(groups) if index not in kept for statement in group for node in ast.walk(statement) if isinstance(node, ast.stmt)
+        node for index, group in enumerate(groups) if index not in kept for statement in group for node in walk(statement) if isinstance(node, ast.stmt)
     )
     if not moved:
         decision.report(seed_method, "GM503", "seed() removed: super().reset(seed=seed) in reset() seeds self.np_random")
@@ -174,7 +174,7 @@ def _state_only_seed_builds(statements: list[ast.stmt], init: ast.AST | None) ->
     assigned = {
         target.attr
         for statement in statements
-        for node in ast.walk(statement)
+        for node in walk(statement)
         if isinstance(node, (ast.Assign, ast.AnnAssign))
         for target in (node.targets if isinstance(node, ast.Assign) else [node.target])
         if isinstance(target, ast.Attribute) and isinstance(target.value, ast.Name) and target.value.id == "self"
@@ -182,7 +182,7 @@ def _state_only_seed_builds(statements: list[ast.stmt], init: ast.AST | None) ->
     if init is not None:
         assigned -= {
             node.attr
-            for node in ast.walk(init)
+            for node in walk(init)
             if isinstance(node, ast.Attribute) and isinstance(node.ctx, ast.Store) and isinstance(node.value, ast.Name) and node.value.id == "self"
         }
     return assigned
@@ -204,13 +204,13 @@ def _needs_the_method(groups: list[list[ast.stmt]], moved: list[int], setup: lis
     local: dict[str, set[int]] = {}
     for index, group in enumerate(groups):
         for statement in group:
-            for node in ast.walk(statement):
+            for node in walk(statement):
                 if isinstance(node, ast.Name) and isinstance(node.ctx, ast.Store):
                     local.setdefault(node.id, set()).add(index)
     for index in carried:
         together = set(setup) if index in setup else set(moved)
         for statement in groups[index]:
-            for node in ast.walk(statement):
+            for node in walk(statement):
                 if index in setup and is_self_attribute(node, NP_RANDOM):
                     return True
                 if isinstance(node, ast.Name) and isinstance(node.ctx, ast.Load) and node.id in local and node.id not in seed_names:
@@ -241,7 +241,7 @@ def _without_dead_returns(groups: list[list[ast.stmt]], moved: list[int]) -> lis
             for other, statements in enumerate(groups[:-1])
             if other != index
             for statement in statements
-            for node in ast.walk(statement)
+            for node in walk(statement)
         )
         if not read_elsewhere:
             dead.append(index)
@@ -252,7 +252,7 @@ def _calls_removed_helpers(function: ast.AST) -> bool:
     """``seeding.hash_seed(...)`` and the like (GM506): calling this seed() would fail."""
     return any(
         isinstance(node, ast.Attribute) and node.attr in REMOVED_SEEDING_HELPERS and full_name(node.value) == "seeding"
-        for node in ast.walk(function)
+        for node in walk(function)
     )
 
 
@@ -281,7 +281,7 @@ def _reset_calls_seed(decision: ClassDecision, seed_method: ast.FunctionDef | as
     return reset is not None and any(
         isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == seed_method.name
         and isinstance(node.func.value, ast.Name) and node.func.value.id == "self"
-        for node in ast.walk(reset)
+        for node in walk(reset)
     )
 
 
@@ -351,7 +351,7 @@ def _is_seeding_statement(group: list[ast.stmt], seed_names: set[str]) -> bool:
     for statement in group:
         if seed_names & set(identifiers(statement)):
             return True
-        for node in ast.walk(statement):
+        for node in walk(statement):
             if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and "seed" in node.func.attr:
                 return True
     return False

@@ -24,7 +24,7 @@ from gymmigrate.facts.env_classes import (
 )
 from gymmigrate.facts.limit_tests import is_end_of_data, is_step_limit, unwrap_bool
 from gymmigrate.facts.limits import DoneTracer
-from gymmigrate.facts.module import own_returns
+from gymmigrate.facts.module import own_returns, walk
 from gymmigrate.facts.step_hooks import ENV_API
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import (
@@ -98,7 +98,7 @@ def decide_step(decision: ClassDecision, inherited: dict[int, list[str]]) -> Non
     data_ends, streaks = class_data_ends(decision), class_streaks(decision)
     decision.plan.non_limit_tests = frozenset(
         "".join(facts.segment(node).split())
-        for node in ast.walk(decision.classdef)
+        for node in walk(decision.classdef)
         if isinstance(node, ast.Compare)
         and (is_end_of_data(node, data_ends) or (is_step_limit(node, data_ends) and not is_step_limit(node, data_ends, streaks)))
     )
@@ -528,7 +528,7 @@ def _bound_text(decision: ClassDecision, end: Limit) -> str:
     compares with is bound to the data's length; "" when the test spells the length."""
     facts = decision.family.facts
     data_ends = class_data_ends(decision)
-    for node in ast.walk(decision.classdef):
+    for node in walk(decision.classdef):
         if not (isinstance(node, ast.Assign) and len(node.targets) == 1 and isinstance(node.targets[0], ast.Attribute)):
             continue
         target = node.targets[0]

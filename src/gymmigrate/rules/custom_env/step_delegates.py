@@ -12,7 +12,7 @@ import ast
 
 from gymmigrate.facts.env_classes import FunctionIndex, is_super_method_call
 from gymmigrate.facts.limit_tests import if_setting_true, is_step_limit
-from gymmigrate.facts.module import own_returns
+from gymmigrate.facts.module import own_returns, walk
 from gymmigrate.rules.custom_env.common import (
     ClassDecision,
     Method,
@@ -51,8 +51,8 @@ def unpacked_helper_names(decision: ClassDecision, function: Method, ret: ast.Re
     rest = facts.lines[ret.end_lineno - 1].encode()[ret.end_col_offset or 0 :].strip()
     if rest and not rest.startswith(b"#"):
         return None  # ``return self._observe(); ...``
-    used = {n.id for n in ast.walk(function) if isinstance(n, ast.Name)}
-    used |= {a.arg for a in ast.walk(function) if isinstance(a, ast.arg)}
+    used = {n.id for n in walk(function) if isinstance(n, ast.Name)}
+    used |= {a.arg for a in walk(function) if isinstance(a, ast.arg)}
     names = []
     for name in _UNPACKED_NAMES:
         while name in used:
@@ -94,7 +94,7 @@ def task_ends(decision: ClassDecision, index: FunctionIndex, name: str) -> list[
         if (
             parent is not None
             and not _assigns_in(parent.orelse if assign in parent.body else parent.body, name)
-            and not any(isinstance(n, ast.Compare) and is_step_limit(n, class_data_ends(decision), class_streaks(decision)) for n in ast.walk(parent.test))
+            and not any(isinstance(n, ast.Compare) and is_step_limit(n, class_data_ends(decision), class_streaks(decision)) for n in walk(parent.test))
         ):
             ends.append(assign)
     return ends  # type: ignore[return-value]
@@ -106,7 +106,7 @@ def _assigns_in(statements: list[ast.stmt], name: str) -> bool:
     return any(
         isinstance(node, ast.Name) and node.id == name and isinstance(node.ctx, ast.Store)
         for statement in statements
-        for node in ast.walk(statement)
+        for node in walk(statement)
     )
 
 

@@ -21,7 +21,7 @@ from gymmigrate.facts.limit_tests import (
     streak_attributes,
     unwrap_bool,
 )
-from gymmigrate.facts.module import own_returns
+from gymmigrate.facts.module import own_returns, walk
 from gymmigrate.facts.step_counts import counts_in
 from gymmigrate.findings import Tier
 from gymmigrate.rules.custom_env.common import ClassDecision
@@ -83,7 +83,7 @@ def step_limit_text(decision: ClassDecision, function: ast.AST) -> str | None:
     found = [
         c
         for s in function.body  # type: ignore[attr-defined]
-        for c in ast.walk(s)
+        for c in walk(s)
         if isinstance(c, ast.Compare) and is_step_limit(c, data_ends, streaks) and not is_local_sign_test(decision.family.facts, c)
     ]
     if not found:
@@ -145,20 +145,20 @@ def accumulated_limit(
     limits = [v for v in value.values if not (isinstance(v, ast.Name) and v.id == name)]
     if len(own) != 1 or not limits or not all(is_step_limit(v, data_ends, streaks) for v in limits):
         return None
-    names = [n for n in ast.walk(function) if isinstance(n, ast.Name)]
+    names = [n for n in walk(function) if isinstance(n, ast.Name)]
     if any(n.id in ("terminated", "truncated") for n in names):
         return None
     done = ret.value.elts[2]
-    if any(n.id == name and n is not done for n in ast.walk(ret.value) if isinstance(n, ast.Name)):
+    if any(n.id == name and n is not done for n in walk(ret.value) if isinstance(n, ast.Name)):
         return None  # ``float(done)`` as the reward: it reads the flag with the limit in it
     stores = [n for n in names if n.id == name and not isinstance(n.ctx, ast.Load)]
     for store in stores:
         if store is last.targets[0]:
             continue
-        statement = next((s for s in ast.walk(function) if isinstance(s, ast.Assign) and store in s.targets), None)
+        statement = next((s for s in walk(function) if isinstance(s, ast.Assign) and store in s.targets), None)
         if statement is None or statement.lineno >= last.lineno:
             return None
-        if any(isinstance(n, ast.Compare) and is_step_limit(n, data_ends, streaks) for n in ast.walk(statement.value)):
+        if any(isinstance(n, ast.Compare) and is_step_limit(n, data_ends, streaks) for n in walk(statement.value)):
             return None
     return last if len(stores) > 1 else None
 
@@ -182,7 +182,7 @@ def flagged_limit(function: ast.AST, name: str, data_ends: frozenset[str], strea
             return None
         done_slots.add(id(slot))
     stores: list[ast.Assign] = []
-    for node in ast.walk(function):
+    for node in walk(function):
         if isinstance(node, (ast.Global, ast.Nonlocal)) and name in node.names:
             return None
         if isinstance(node, ast.Name) and node.id in ("terminated", "truncated"):
@@ -215,8 +215,8 @@ def flagged_limit(function: ast.AST, name: str, data_ends: frozenset[str], strea
     for store in stores:
         if store is falses[0] or store is limit.body[0]:
             continue
-        parent = next((n for n in ast.walk(function) if isinstance(n, ast.If) and (store in n.body or store in n.orelse)), None)
-        if parent is None or any(isinstance(n, ast.Compare) and is_step_limit(n, data_ends, streaks) for n in ast.walk(parent.test)):
+        parent = next((n for n in walk(function) if isinstance(n, ast.If) and (store in n.body or store in n.orelse)), None)
+        if parent is None or any(isinstance(n, ast.Compare) and is_step_limit(n, data_ends, streaks) for n in walk(parent.test)):
             return None
     if any(ret.lineno <= (limit.end_lineno or limit.lineno) for ret in returns):
         return None
@@ -224,7 +224,7 @@ def flagged_limit(function: ast.AST, name: str, data_ends: frozenset[str], strea
 
 
 def _statement_of(function: ast.AST, target: ast.Name) -> ast.AST | None:
-    return next((s for s in ast.walk(function) if isinstance(s, ast.Assign) and target in s.targets), None)
+    return next((s for s in walk(function) if isinstance(s, ast.Assign) and target in s.targets), None)
 
 
 def split_tier(traced: DoneCause, split: ast.AST, data_ends: frozenset[str], streaks: frozenset[str]) -> Tier | None:

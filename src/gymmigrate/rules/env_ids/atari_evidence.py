@@ -17,7 +17,7 @@ from gymmigrate.facts.atari_signs import (
     reads_atari_interface,
     self_stored,
 )
-from gymmigrate.facts.module import call_argument, full_name
+from gymmigrate.facts.module import call_argument, full_name, walk
 from gymmigrate.facts.receivers import Receivers
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.env_ids.catalog import is_atari_id
@@ -90,7 +90,7 @@ class AtariEvidence:
         # a parameter, or a local bound once from what the run cannot read (``env_id = task.env_id``)
         if len(bindings) != 1 or not isinstance(bindings[0], (ast.arg, ast.Name)):
             return None
-        signs = [(sign, node) for node in ast.walk(function) for sign in self._atari_signs(node, function)]
+        signs = [(sign, node) for node in walk(function) for sign in self._atari_signs(node, function)]
         signs.sort(key=lambda found: found[0].startswith("through"))  # its own signs first
         where = {id(node): function for _, node in signs}
         owner = self.facts.parent(function)
@@ -99,7 +99,7 @@ class AtariEvidence:
             # in another method: the class holds an env that has what only Atari envs have.
             for method in owner.body:
                 if isinstance(method, (ast.FunctionDef, ast.AsyncFunctionDef)) and method is not function:
-                    for node in ast.walk(method):
+                    for node in walk(method):
                         for sign in self._atari_signs(node, method):
                             signs.append((sign.replace("it ", f"its class `{owner.name}` ", 1), node))
                             where[id(node)] = method

@@ -22,7 +22,7 @@ import ast
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
 from gymmigrate.facts.handovers import handovers
-from gymmigrate.facts.module import full_name
+from gymmigrate.facts.module import full_name, walk
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.env_ids.catalog import migration_for, removed_family
@@ -69,7 +69,7 @@ class ComposedIds(RuleFamily):
         sites = IdSites(self.facts, self.receivers)
         for built in _built_strings(self.facts):
             value = _built_value(self.facts, built)
-            if value is None or not any(isinstance(n, ast.Name) for n in ast.walk(built)):
+            if value is None or not any(isinstance(n, ast.Name) for n in walk(built)):
                 continue  # ``f"Pendulum-v0"`` is a literal written oddly: nothing is built from names
             migration = migration_for(value)
             hint = removed_family(value)
@@ -79,7 +79,7 @@ class ComposedIds(RuleFamily):
                 reaches = sites.reaches(handover)
                 if reaches is None:
                     continue
-                names = sorted({f"`{n.id}` is `{_literal_of(self.facts, n)}`" for n in ast.walk(built) if isinstance(n, ast.Name)})
+                names = sorted({f"`{n.id}` is `{_literal_of(self.facts, n)}`" for n in walk(built) if isinstance(n, ast.Name)})
                 built_text = f"`{self.facts.segment(built)}` builds the id `{value}` ({', '.join(names)})"
                 callee = full_name(handover.call.func) or "a call"
                 now = f"it is `{migration.new_id}` now ({migration.reason})" if migration is not None else f"it no longer exists: {hint}"
@@ -92,7 +92,7 @@ class ComposedIds(RuleFamily):
 
     def _id_calls(self) -> list[ast.Call]:
         found = []
-        for node in ast.walk(self.facts.tree):
+        for node in walk(self.facts.tree):
             if isinstance(node, ast.Call) and any(N.strip_gym_prefix(q) in ID_FUNCTIONS for q in self.facts.qualified_names(node.func)):
                 if any(q.split(".", 1)[0] in ("gym", "gymnasium") for q in self.facts.qualified_names(node.func)):
                     found.append(node)
@@ -106,7 +106,7 @@ class ComposedIds(RuleFamily):
         if not names <= set(params) | {a.arg for a in function.args.kwonlyargs}:
             return  # a part that is not a parameter: not followed
         for name in names:  # a parameter rebound in the def is not what the callers pass
-            if any(isinstance(n, ast.Name) and n.id == name and isinstance(n.ctx, ast.Store) for n in ast.walk(function)):
+            if any(isinstance(n, ast.Name) and n.id == name and isinstance(n.ctx, ast.Store) for n in walk(function)):
                 return
         classdef = self.facts.parent(function)
         method = isinstance(classdef, ast.ClassDef)

@@ -14,7 +14,7 @@ import sys
 from gymmigrate.facts import names as N
 from gymmigrate.facts.handovers import Handover, handovers
 from gymmigrate.facts.id_params import def_qualname, escaping_parameters
-from gymmigrate.facts.module import FUNCTIONS, full_name
+from gymmigrate.facts.module import FUNCTIONS, full_name, walk
 from gymmigrate.rules.env_ids.catalog import env_package, migration_for, removed_family
 from gymmigrate.rules.env_ids.id_literals import (
     IdLiterals,
@@ -61,7 +61,7 @@ class HandedOnIds(IdLiterals):
                 continue
             reads = (
                 node
-                for node in ast.walk(self.facts.tree)
+                for node in walk(self.facts.tree)
                 if isinstance(node, ast.Name) and node.id == target.id and isinstance(node.ctx, ast.Load) and target in self.facts.bindings_of(node)
             )
             for read in reads:
@@ -254,7 +254,7 @@ class HandedOnIds(IdLiterals):
         if isinstance(self.facts.parent(function), ast.ClassDef):
             params = params[1:]
         param = params[int(key)] if key.isdigit() and int(key) < len(params) else key
-        for node in ast.walk(function):
+        for node in walk(function):
             if not isinstance(node, ast.Call):
                 continue
             if not any(N.strip_gym_prefix(q) in _REGISTER_FUNCTIONS for q in self.facts.qualified_names(node.func)):

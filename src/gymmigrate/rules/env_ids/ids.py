@@ -30,6 +30,7 @@ from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
 from gymmigrate.facts.import_guards import catches_import_error
+from gymmigrate.facts.module import walk
 from gymmigrate.findings import FixKind, Tier, gym_only_question, id_version_question
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.env_ids.atari_evidence import AtariEvidence
@@ -76,7 +77,7 @@ def _loads_saved_state(tree: ast.AST) -> bool:
     ``torch.load`` (a notebook's old cell) or one quoted in a docstring loads nothing.
     tf_agents' ``suite_gym.load("CartPole-v1")`` (``suite_atari``, ``suite_mujoco``...)
     makes an env: it loads nothing either."""
-    for node in ast.walk(tree):
+    for node in walk(tree):
         if not isinstance(node, ast.Call):
             continue
         func = node.func
@@ -376,7 +377,7 @@ def _binding_statement(body: list[ast.stmt], alias: str) -> ast.stmt | None:
     for statement in body:
         if isinstance(statement, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
             continue
-        for node in ast.walk(statement):
+        for node in walk(statement):
             if isinstance(node, (ast.Import, ast.ImportFrom)) and any(
                 (name.asname or name.name.split(".")[0]) == alias for name in node.names
             ):

@@ -8,7 +8,7 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.facts import ModuleFacts
-from gymmigrate.facts.module import FUNCTIONS, dotted_name
+from gymmigrate.facts.module import FUNCTIONS, dotted_name, walk
 from gymmigrate.facts.version_checks import settled_test
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.gymnasium_api import GYMNASIUM_VERSION
@@ -74,7 +74,7 @@ class ImportGuards(ImportsBase):
     def _sys_modules_hacks(self) -> None:
         if "sys.modules" not in self.facts.text:
             return
-        for node in ast.walk(self.facts.tree):
+        for node in walk(self.facts.tree):
             if not isinstance(node, ast.Assign):
                 continue
             for target in node.targets:
@@ -93,7 +93,7 @@ class ImportGuards(ImportsBase):
             return
         reads = [
             node
-            for node in ast.walk(self.facts.tree)
+            for node in walk(self.facts.tree)
             if isinstance(node, ast.Attribute)
             and node.attr == "__version__"
             and isinstance(node.value, ast.Name)
@@ -223,7 +223,7 @@ _VERSION_PARSERS = frozenset({"parse", "Version", "LooseVersion", "StrictVersion
 def _reads_version(test: ast.AST, gym_names: set[str]) -> bool:
     return any(
         isinstance(n, ast.Attribute) and n.attr == "__version__" and isinstance(n.value, ast.Name) and n.value.id in gym_names
-        for n in ast.walk(test)
+        for n in walk(test)
     )
 
 
@@ -246,7 +246,7 @@ def _settled_comparison(test: ast.AST) -> tuple[ast.Compare, bool] | None:
     """The comparison in ``test`` of the parsed gym version with a parsed legacy (0.x)
     literal (``version.parse(gym.__version__) >= version.parse("0.24.0")``, under ``not``
     or in an ``and``/``or`` too) and its value, the same on every Gymnasium 1.x release."""
-    for node in ast.walk(test):
+    for node in walk(test):
         if not (isinstance(node, ast.Compare) and len(node.ops) == 1):
             continue
         left, right = _parsed(node.left), _parsed(node.comparators[0])

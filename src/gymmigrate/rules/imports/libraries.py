@@ -11,7 +11,7 @@ import ast
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.flow import Flow
-from gymmigrate.facts.module import full_name
+from gymmigrate.facts.module import full_name, walk
 from gymmigrate.findings import FixKind, Tier, gym_only_question
 from gymmigrate.rules.imports.common import ImportsBase
 from gymmigrate.rules.imports.table import under_gym
@@ -226,7 +226,7 @@ class GymOnlyLibraries(ImportsBase):
         """Every read of a name this import binds is a class in an isinstance/issubclass check."""
         aliases = {id(alias) for alias in statement.names}
         names = {alias.asname or alias.name for alias in statement.names}
-        for node in ast.walk(self.facts.tree):
+        for node in walk(self.facts.tree):
             if not (isinstance(node, ast.Name) and node.id in names and isinstance(node.ctx, ast.Load)):
                 continue
             if not any(id(b) in aliases for b in self.facts.bindings_of(node)):
@@ -254,7 +254,7 @@ class GymOnlyLibraries(ImportsBase):
         aliases = {id(alias) for alias in statement.names}
         names = {alias.asname or alias.name for alias in statement.names}
         found: str | None = None
-        for node in ast.walk(self.facts.tree):
+        for node in walk(self.facts.tree):
             if not (isinstance(node, ast.Name) and node.id in names and isinstance(node.ctx, ast.Load)):
                 continue
             if not any(id(b) in aliases for b in self.facts.bindings_of(node)):
@@ -274,7 +274,7 @@ class GymOnlyLibraries(ImportsBase):
         alias = node.names[0]
         name = alias.asname or alias.name
         stacks: set[str] = set()
-        for read in ast.walk(self.facts.tree):
+        for read in walk(self.facts.tree):
             if not (isinstance(read, ast.Name) and read.id == name and isinstance(read.ctx, ast.Load)):
                 continue
             if alias not in self.facts.bindings_of(read):
@@ -302,7 +302,7 @@ class GymOnlyLibraries(ImportsBase):
         target = parent.targets[0]
         flow = Flow.of(self.facts)
         stacks: set[str | None] = set()
-        for read in ast.walk(self.facts.tree):
+        for read in walk(self.facts.tree):
             if not (isinstance(read, ast.Name) and read.id == target.id and isinstance(read.ctx, ast.Load)):
                 continue
             if target not in self.facts.bindings_of(read):

@@ -9,6 +9,7 @@ import ast
 import re
 
 from gymmigrate.edits.lazy import cst
+from gymmigrate.facts.module import walk
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.imports.common import ImportsBase
 from gymmigrate.rules.imports.table import (
@@ -107,7 +108,7 @@ class RemovedAttributes(ImportsBase):
         takes other arguments, so the string is never renamed silently."""
         if "entry_point" not in self.facts.text:
             return
-        for node in ast.walk(self.facts.tree):
+        for node in walk(self.facts.tree):
             values: list[ast.expr] = []
             if isinstance(node, ast.Call):
                 values = [k.value for k in node.keywords if k.arg == "entry_point"]

@@ -13,7 +13,7 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.facts import names as N
-from gymmigrate.facts.module import FUNCTIONS, own_returns
+from gymmigrate.facts.module import FUNCTIONS, own_returns, walk
 from gymmigrate.findings import FixKind, rllib_question
 from gymmigrate.rules.imports.common import ImportsBase
 
@@ -45,7 +45,7 @@ class RllibEra(ImportsBase):
         """The module already speaks ray 2.3+'s multi-agent API: it names ``terminateds`` or
         ``truncateds``, or an RLlib env class of it returns five values from ``step`` or takes
         ``seed``/``options`` in ``reset``."""
-        for node in ast.walk(self.facts.tree):
+        for node in walk(self.facts.tree):
             name = node.id if isinstance(node, ast.Name) else node.arg if isinstance(node, ast.arg) else None
             if name in _GYMNASIUM_ERA_NAMES:
                 return True

@@ -11,6 +11,7 @@ import re
 from gymmigrate.edits.lazy import cst
 from gymmigrate.edits.syntax import dotted_node
 from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts.module import walk
 from gymmigrate.findings import FixKind, Tier, gym_only_question
 from gymmigrate.rules.gymnasium_api import has_name, module_exists
 from gymmigrate.rules.imports.libraries import GYM_ONLY_LIBRARIES, GymOnlyLibraries
@@ -132,7 +133,7 @@ class ImportStatements(GymOnlyLibraries):
         if guard is None:
             return None
         for handler in guard.handlers:
-            for child in ast.walk(handler):
+            for child in walk(handler):
                 if isinstance(child, ast.Constant) and isinstance(child.value, str) and _NAMES_GYM.search(child.value):
                     return child.lineno
         return None
@@ -257,7 +258,7 @@ class ImportStatements(GymOnlyLibraries):
             via_module = True
         else:
             return False
-        reads = [n for n in ast.walk(self.facts.tree) if isinstance(n, ast.Name) and n.id == bound]
+        reads = [n for n in walk(self.facts.tree) if isinstance(n, ast.Name) and n.id == bound]
         if not reads or any(not isinstance(n.ctx, ast.Load) for n in reads):
             return False
         for read in reads:

@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING
 from gymmigrate.edits.arguments import remove_args
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.module import own_returns
+from gymmigrate.facts.module import own_returns, walk
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.pettingzoo.common import (
     AGENT,
@@ -132,7 +132,7 @@ def _seed_doubt(seed: ast.FunctionDef | ast.AsyncFunctionDef) -> str | None:
         return "its `seed()` takes more than the seed"
     if isinstance(seed, ast.AsyncFunctionDef):
         return "its `seed()` is a coroutine"
-    for node in ast.walk(seed):
+    for node in walk(seed):
         if (
             isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "reset"
             and isinstance(node.func.value, ast.Name) and node.func.value.id == "self"

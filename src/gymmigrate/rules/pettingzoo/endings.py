@@ -30,7 +30,7 @@ from typing import TypeVar
 from gymmigrate.facts.done_causes import Cause as DoneCause
 from gymmigrate.facts.limit_tests import is_step_limit, under_limit, unwrap_bool
 from gymmigrate.facts.limits import DoneTracer
-from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns, walk
 from gymmigrate.facts.self_attributes import self_stores
 
 _Node = TypeVar("_Node", bound=ast.AST)
@@ -101,7 +101,7 @@ class Endings:
 
     def mentions_limit(self, expr: ast.AST) -> bool:
         kinds = (ast.Compare, ast.Call, ast.Name, ast.Attribute)
-        return any(self.is_limit(node) for node in ast.walk(expr) if isinstance(node, kinds))
+        return any(self.is_limit(node) for node in walk(expr) if isinstance(node, kinds))
 
     def _self_method(self, func: ast.AST) -> ast.FunctionDef | ast.AsyncFunctionDef | None:
         if isinstance(func, ast.Attribute) and isinstance(func.value, ast.Name) and func.value.id == "self":

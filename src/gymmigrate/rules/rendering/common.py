@@ -15,6 +15,7 @@ from gymmigrate.facts.creation import Creation, CreationFinder
 from gymmigrate.facts.decisions import Action
 from gymmigrate.facts.env_specs import is_spec_make
 from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.module import walk
 from gymmigrate.facts.render_modes import (
     local_env_class_takes_render_mode,
     not_a_mode_call,
@@ -246,7 +247,7 @@ def forwards_to_first_argument(classdef: ast.ClassDef) -> bool:
     }
     stored_elsewhere = {
         n.attr
-        for n in ast.walk(classdef)
+        for n in walk(classdef)
         if isinstance(n, ast.Attribute) and isinstance(n.ctx, ast.Store) and n.attr in held
     }
     if len(held) != 1 or len(stored_elsewhere) != 1:

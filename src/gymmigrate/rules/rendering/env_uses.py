@@ -13,6 +13,7 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.facts import names as N
+from gymmigrate.facts.module import walk
 from gymmigrate.rules.render_schedule import render_condition
 from gymmigrate.rules.rendering.common import RenderSite
 from gymmigrate.rules.rendering.makes import MakeEdits
@@ -87,7 +88,7 @@ class EnvUses(MakeEdits):
         if position >= len(params):
             return False
         name = params[position].arg
-        uses = [n for n in ast.walk(function) if isinstance(n, ast.Name) and n.id == name]
+        uses = [n for n in walk(function) if isinstance(n, ast.Name) and n.id == name]
         return all(
             isinstance(n.ctx, ast.Load)
             and isinstance(parent := self.facts.parent(n), ast.Attribute)
@@ -178,7 +179,7 @@ class EnvUses(MakeEdits):
             name = helper.name
             calls = [c for c in self.facts.calls_by_name.get(name, ()) if helper in self.facts.bindings_of(c.func)]  # type: ignore[arg-type]
             return bool(calls) and all(self._loop_renders(c, rendered) for c in calls if c is not call)
-        return any(id(node) in rendered for node in ast.walk(loop) if isinstance(node, ast.Call))
+        return any(id(node) in rendered for node in walk(loop) if isinstance(node, ast.Call))
 
     def _drawn_every_step(self, render: ast.Call, keys: list[int]) -> bool:
         """``render`` runs on every pass of the loop that holds each step of the envs the

@@ -14,7 +14,7 @@ from gymmigrate.facts.creation_shapes import wrapped_env_argument
 from gymmigrate.facts.decisions import Action, Decision, decide, receiver_text
 from gymmigrate.facts.env_classes import EnvClasses
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.module import full_name, keyword, string_value
+from gymmigrate.facts.module import full_name, keyword, string_value, walk
 from gymmigrate.facts.render_modes import modeless_render, own_object_render
 from gymmigrate.facts.summaries.classes import held_env_render_forward
 from gymmigrate.findings import FixKind, Tier
@@ -440,7 +440,7 @@ class RenderSites(RecorderSites):
         ]
         for step in steps:
             loop = next((a for a in self.facts.ancestors(step) if isinstance(a, (ast.For, ast.While, ast.AsyncFor))), None)
-            if loop is None or not any(id(node) in drawn for node in ast.walk(loop)):
+            if loop is None or not any(id(node) in drawn for node in walk(loop)):
                 return False
         return bool(steps)
 

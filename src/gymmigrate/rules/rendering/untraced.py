@@ -16,7 +16,7 @@ import os
 from collections.abc import Hashable
 
 from gymmigrate.facts.mode_handovers import rendered_param
-from gymmigrate.facts.module import full_name, keyword
+from gymmigrate.facts.module import full_name, keyword, walk
 from gymmigrate.findings import RUN_QUESTION, FixKind, Tier, gym_only_question
 from gymmigrate.rules.render_calls import without_mode_argument
 from gymmigrate.rules.render_schedule import local_condition
@@ -94,7 +94,7 @@ class UntracedEnvs(MakeEdits):
         project = self.receivers.project
         if project is None or not project.gives_render_modes():
             return
-        for node in ast.walk(self.facts.tree):
+        for node in walk(self.facts.tree):
             if isinstance(node, ast.Call) and project.gets_render_mode(node) and id(node) not in self._added:
                 self._add_mode(node, "human", self._quote_style(node, []))
                 self.report(
@@ -112,7 +112,7 @@ class UntracedEnvs(MakeEdits):
         project = self.receivers.project
         if project is None or not project.gives_handed_modes():
             return
-        for node in ast.walk(self.facts.tree):
+        for node in walk(self.facts.tree):
             mode = project.handed_render_mode(node) if isinstance(node, ast.Call) else None
             if mode is None or not isinstance(node, ast.Call) or id(node) in self._added or keyword(node, "render_mode") is not None:
                 continue

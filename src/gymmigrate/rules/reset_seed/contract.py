@@ -31,6 +31,7 @@ from gymmigrate.edits.plan import Need
 from gymmigrate.facts.decisions import Action, Decision, receiver_text
 from gymmigrate.facts.env_classes import is_super_method_call
 from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.module import walk
 from gymmigrate.facts.reset_contract import (
     Contract,
     extra_params,
@@ -70,7 +71,7 @@ class ResetContractSites(ResetSeedBase):
             return frozenset()
         resets = [
             (classdef, reset)
-            for classdef in ast.walk(self.facts.tree)
+            for classdef in walk(self.facts.tree)
             if isinstance(classdef, ast.ClassDef) and (reset := own_reset(classdef)) is not None
         ]
         if contract.blockers:

@@ -34,7 +34,12 @@ from gymmigrate.facts import names as N
 from gymmigrate.facts.creation import Creation, CreationFinder
 from gymmigrate.facts.decisions import Action, Decision, receiver_text
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.module import COMPOUND_STATEMENTS, statement_lines, string_value
+from gymmigrate.facts.module import (
+    COMPOUND_STATEMENTS,
+    statement_lines,
+    string_value,
+    walk,
+)
 from gymmigrate.facts.multi_agent import MultiAgent
 from gymmigrate.facts.reset_flow import line_before, segment
 from gymmigrate.facts.version_checks import dead_version_branch
@@ -503,7 +508,7 @@ class SeedCalls(ResetSeedBase):
         if call.func.attr in _NOT_SETUP or segment(self.facts, owner) != receiver_code:
             return None
         for argument in [*call.args, *(kw.value for kw in call.keywords)]:
-            for node in ast.walk(argument):
+            for node in walk(argument):
                 if isinstance(node, ast.NamedExpr) or (isinstance(node, ast.Name) and node.id == root):
                     return None
         return call
@@ -591,7 +596,7 @@ def _independent_of(line: list[ast.stmt], root: str | None) -> bool:
                 bound.add(name)
 
     for statement in line:
-        for node in ast.walk(statement):
+        for node in walk(statement):
             if isinstance(node, ast.Assign):
                 for target in node.targets:
                     bind(target)

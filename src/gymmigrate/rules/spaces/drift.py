@@ -49,6 +49,7 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts.module import walk
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.spaces.json_writes import JSON_WRITERS, decide_json
@@ -125,7 +126,7 @@ class SpaceDrift(RuleFamily):
             decide_subclass(self, classdef)
 
     def _compares(self) -> list[ast.Compare]:
-        return self.facts.memo(("space-drift-compares", 0), lambda: [n for n in ast.walk(self.facts.tree) if isinstance(n, ast.Compare)])
+        return self.facts.memo(("space-drift-compares", 0), lambda: [n for n in walk(self.facts.tree) if isinstance(n, ast.Compare)])
 
     # -- compares: ``type(x) is int`` (GM903, GM905) or ``box == other`` (GM910) ------------
 

@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import ast
 
-from gymmigrate.facts.module import FUNCTIONS
+from gymmigrate.facts.module import FUNCTIONS, walk
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import RuleFamily
 from gymmigrate.rules.spaces.values import space_class_of
@@ -165,7 +165,7 @@ def _what_runs(family: RuleFamily, classdef: ast.ClassDef, init: ast.FunctionDef
     facts = family.facts
     this = init.args.args[0].arg
     runs, skipping = _NOTHING, []
-    for node in ast.walk(init):
+    for node in walk(init):
         if not (isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "__init__"):
             continue
         owner = node.func.value
@@ -206,7 +206,7 @@ def _stored_names(classdef: ast.ClassDef) -> frozenset[str] | None:
         if not isinstance(method, FUNCTIONS) or not method.args.args:
             continue
         this = method.args.args[0].arg
-        for node in ast.walk(method):
+        for node in walk(method):
             if isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name) and node.value.id == this:
                 if not isinstance(node.ctx, ast.Load):
                     names.add(node.attr)
@@ -255,7 +255,7 @@ def _sole_store(init: ast.FunctionDef | ast.AsyncFunctionDef, attribute: str) ->
     """The value of the one ``self.<attribute> = value`` statement of ``init``'s own body."""
     this = init.args.args[0].arg
     values = []
-    for node in ast.walk(init):
+    for node in walk(init):
         if isinstance(node, ast.Attribute) and node.attr == attribute and isinstance(node.value, ast.Name) and node.value.id == this:
             if isinstance(node.ctx, ast.Load):
                 continue
@@ -269,7 +269,7 @@ def _sole_store(init: ast.FunctionDef | ast.AsyncFunctionDef, attribute: str) ->
 
 
 def _rebinds(init: ast.FunctionDef | ast.AsyncFunctionDef, name: str) -> bool:
-    return any(isinstance(n, ast.Name) and n.id == name and not isinstance(n.ctx, ast.Load) for n in ast.walk(init))
+    return any(isinstance(n, ast.Name) and n.id == name and not isinstance(n.ctx, ast.Load) for n in walk(init))
 
 
 def _maybe_none(init: ast.FunctionDef | ast.AsyncFunctionDef, dtype: ast.expr) -> bool:

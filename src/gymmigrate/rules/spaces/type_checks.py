@@ -14,6 +14,7 @@ import ast
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.module import walk
 from gymmigrate.rules.base import RuleFamily
 from gymmigrate.rules.spaces.values import UNKNOWN, SpaceValues, space_class_of
 
@@ -99,7 +100,7 @@ def _discrete_action(family: RuleFamily, value: ast.AST) -> bool:
         return False
     spaces = [
         node.value
-        for node in ast.walk(classdef)
+        for node in walk(classdef)
         if isinstance(node, ast.Assign)
         and any(isinstance(t, ast.Attribute) and t.attr == "action_space" for t in node.targets)
     ]

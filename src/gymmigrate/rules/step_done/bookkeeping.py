@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import ast
 
+from gymmigrate.facts.module import walk
 from gymmigrate.rules.step_done.next_state import DoneStep
 from gymmigrate.rules.step_done.read_stores import DoneStoreReads
 from gymmigrate.rules.step_done.read_uses import resets
@@ -111,7 +112,7 @@ class DoneBookkeeping(DoneStoreReads):
         scope = self.facts.enclosing_class(near) or self.facts.enclosing_function(near)
         if scope is None:
             return False
-        for node in ast.walk(scope):
+        for node in walk(scope):
             if isinstance(node, ast.AugAssign) and self.facts.segment(node.target) == text:
                 return True
             if (
@@ -119,7 +120,7 @@ class DoneBookkeeping(DoneStoreReads):
                 and len(node.targets) == 1
                 and self.facts.segment(node.targets[0]) == text
                 and isinstance(node.value, ast.BinOp)
-                and any(self.facts.segment(n) == text for n in ast.walk(node.value) if isinstance(n, (ast.Name, ast.Attribute)))
+                and any(self.facts.segment(n) == text for n in walk(node.value) if isinstance(n, (ast.Name, ast.Attribute)))
             ):
                 return True
         return False
@@ -147,9 +148,9 @@ class DoneBookkeeping(DoneStoreReads):
             for i, argument in enumerate(call.args)
             if i < len(params) and isinstance(argument, ast.Name) and isinstance(observation, ast.Name) and argument.id == observation.id
         }
-        if any(isinstance(n, ast.Name) and n.id in next_params for n in ast.walk(function)):
+        if any(isinstance(n, ast.Name) and n.id in next_params for n in walk(function)):
             return None  # it reads the next observation: a target may be computed from it
-        reads = [n for n in ast.walk(function) if isinstance(n, ast.Name) and n.id == flag]
+        reads = [n for n in walk(function) if isinstance(n, ast.Name) and n.id == flag]
         if not reads or any(not isinstance(n.ctx, ast.Load) for n in reads):
             return None
         for node in reads:

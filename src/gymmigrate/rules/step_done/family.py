@@ -14,7 +14,7 @@ import ast
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.module import FUNCTIONS
+from gymmigrate.facts.module import FUNCTIONS, walk
 from gymmigrate.facts.reset_contract import extra_params, own_reset
 from gymmigrate.facts.reset_contract import join as join_contract
 from gymmigrate.facts.reset_contract import sites as reset_sites
@@ -109,12 +109,12 @@ class StepDone(UnpackRules, TimeLimitRules, ResultRules):
             contract = join_contract([("", reset_sites(self.facts, lambda c: self.receivers.class_kind(c) is EnvKind.GYM_ENV))])
         if contract is None or not contract.step_callables:
             return
-        for classdef in [n for n in ast.walk(self.facts.tree) if isinstance(n, ast.ClassDef)]:
+        for classdef in [n for n in walk(self.facts.tree) if isinstance(n, ast.ClassDef)]:
             reset = own_reset(classdef)
             if reset is None or self.receivers.is_gym_wrapper_class(classdef):
                 continue
             params = {a.arg for a in extra_params(reset)} & contract.step_callables
-            for node in ast.walk(reset):
+            for node in walk(reset):
                 if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id in params:
                     parent = self.facts.parent(node)
                     if isinstance(parent, ast.Assign) and parent.value is node and _four_targets(parent):

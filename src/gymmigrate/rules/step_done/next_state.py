@@ -24,7 +24,7 @@ from gymmigrate.facts.done_uses import (
     value_site,
 )
 from gymmigrate.facts.flow import bound_names, start
-from gymmigrate.facts.module import FUNCTIONS, LOOPS, full_name
+from gymmigrate.facts.module import FUNCTIONS, LOOPS, full_name, walk
 from gymmigrate.rules.step_done.common import StepFamilyBase, StepNames
 
 
@@ -52,7 +52,7 @@ class NextStateReads(StepFamilyBase):
             names = {first.id}
             function = self.facts.enclosing_function(step.assign) or self.facts.tree
             assigns = sorted(
-                (n for n in ast.walk(function) if isinstance(n, ast.Assign) and n is not step.assign),
+                (n for n in walk(function) if isinstance(n, ast.Assign) and n is not step.assign),
                 key=lambda n: (n.lineno, n.col_offset),
             )
             for assign in assigns:
@@ -96,7 +96,7 @@ class NextStateReads(StepFamilyBase):
             # separate lists: ``next_states.append(s2)`` beside ``dones.append(done)``
             return facts.memo(
                 ("stores-next-state", id(step.assign)),
-                lambda: any(self._stores_next_state(node, step, next_names) for node in ast.walk(function)),
+                lambda: any(self._stores_next_state(node, step, next_names) for node in walk(function)),
             )
         return False
 
@@ -234,7 +234,7 @@ class NextStateReads(StepFamilyBase):
         the read comes after the step. ``remember(obs, a, r, done)`` before ``obs = obs_`` reads
         the state the step started from (an on-policy rollout), not the next one."""
         steps_after = self._next_state_bindings(step)
-        for node in ast.walk(site):
+        for node in walk(site):
             if isinstance(node, ast.Name) and node.id in next_names and isinstance(node.ctx, ast.Load):
                 binding = self.flow.last_binding_of(node)
                 if binding is not None and id(self.facts.statement_of(binding)) in steps_after:
@@ -275,12 +275,12 @@ class NextStateReads(StepFamilyBase):
         def after_step(value: ast.AST, statement: ast.stmt) -> bool:  # reads this step's observation, not an earlier one
             return any(
                 isinstance(node, ast.Name) and node.id in names and isinstance(node.ctx, ast.Load) and sees_step(node, statement)
-                for node in ast.walk(value)
+                for node in walk(value)
             )
 
         # in source order, so a chain of reassignments is followed link by link
         assigns = sorted(
-            (node for node in ast.walk(function) if isinstance(node, ast.Assign)), key=lambda node: start(node)
+            (node for node in walk(function) if isinstance(node, ast.Assign)), key=lambda node: start(node)
         )
         for node in assigns:
             if node is not step.assign and len(node.targets) == 1:
@@ -299,7 +299,7 @@ class NextStateReads(StepFamilyBase):
         def compute() -> dict[int, set[str]]:
             return {
                 id(node): loaded_names(node)
-                for node in ast.walk(function)
+                for node in walk(function)
                 if isinstance(node, ast.stmt) and not isinstance(node, (*LOOPS, ast.If, ast.With, ast.Try, *FUNCTIONS))
             }
 
@@ -322,7 +322,7 @@ class NextStateReads(StepFamilyBase):
         if not isinstance(first, ast.Name):
             return False  # then ``next_names`` is empty: nothing below could match
         for value in values:
-            for name in ast.walk(value):
+            for name in walk(value):
                 if isinstance(name, ast.Name) and name.id in next_names and isinstance(name.ctx, ast.Load):
                     if not (says_next(name.id) or says_next(full_name(store) or "")):
                         continue

@@ -13,6 +13,7 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.edits.lazy import cst
+from gymmigrate.facts.module import walk
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.step_done.common import StepNames
 from gymmigrate.rules.step_done.next_state import DoneStep
@@ -89,7 +90,7 @@ class DoneAttributeReports(DoneReadReports):
         if any(
             isinstance(node, ast.Attribute) and node.attr == attribute and not isinstance(node.ctx, ast.Load)
             for stmt in between
-            for node in ast.walk(stmt)
+            for node in walk(stmt)
         ):
             return False
         step = DoneStep(assign, read, names, assign.targets[0])  # type: ignore[arg-type]

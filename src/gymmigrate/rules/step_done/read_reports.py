@@ -19,6 +19,7 @@ from gymmigrate.facts.done_uses import (
     classify_done_read,
     stored_in_sequence,
 )
+from gymmigrate.facts.module import walk
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.step_done.common import TIME_LIMIT_KEY
 from gymmigrate.rules.step_done.next_state import DoneStep
@@ -454,9 +455,9 @@ class DoneReadReports(DoneUntracedReports):
         if function is None or not any(
             isinstance(node, ast.Return)
             and node.value is not None
-            and any(isinstance(n, ast.Name) and n.id == info.id for n in ast.walk(node.value))
+            and any(isinstance(n, ast.Name) and n.id == info.id for n in walk(node.value))
             and self.facts.enclosing_function(node) is function
-            for node in ast.walk(function)
+            for node in walk(function)
         ):
             return None
         return f"`{self.facts.segment(target)}`"

@@ -19,7 +19,7 @@ from gymmigrate.facts.done_uses import (
     classify_done_read,
     loaded_names,
 )
-from gymmigrate.facts.module import own_returns
+from gymmigrate.facts.module import own_returns, walk
 from gymmigrate.rules.step_done.bookkeeping import DoneBookkeeping
 from gymmigrate.rules.step_done.common import TIME_LIMIT_KEY
 from gymmigrate.rules.step_done.next_state import DoneStep
@@ -111,7 +111,7 @@ class DoneSettledReads(DoneBookkeeping):
         else:
             return None
         derived = self._derived_names(step)
-        names = {n.id for part in valued for n in ast.walk(part) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load)}
+        names = {n.id for part in valued for n in walk(part) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load)}
         names &= derived
         block = self._sibling_block(step.assign)
         holder = facts.parent(step.assign)
@@ -227,7 +227,7 @@ class DoneSettledReads(DoneBookkeeping):
 def _names_bound_within(statement: ast.stmt) -> set[str]:
     """The names a statement (and the statements inside it) binds."""
     return {
-        node.id for node in ast.walk(statement) if isinstance(node, ast.Name) and isinstance(node.ctx, ast.Store)
+        node.id for node in walk(statement) if isinstance(node, ast.Name) and isinstance(node.ctx, ast.Store)
     }
 
 
@@ -243,7 +243,7 @@ def _replaces_on_done(statement: ast.stmt, done: str, name: str) -> bool:
         if isinstance(target, (ast.Tuple, ast.List)) and target.elts:
             target = target.elts[0]
         if isinstance(target, ast.Name) and target.id == name and any(
-            isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute) and n.func.attr == "reset" for n in ast.walk(inner.value)
+            isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute) and n.func.attr == "reset" for n in walk(inner.value)
         ):
             return True
     return False
@@ -324,10 +324,10 @@ def _chooses_discount(branch: ast.If, function: ast.AST | None) -> bool:
         for ret in (own_returns(function) if function is not None else [])
         if isinstance(ret.value, ast.Tuple)
         for index, element in enumerate(ret.value.elts)
-        if any("discount" in _word(n).lower() for n in ast.walk(element))
+        if any("discount" in _word(n).lower() for n in walk(element))
     }
     for statement in [*branch.body, *branch.orelse]:
-        for node in ast.walk(statement):
+        for node in walk(statement):
             if isinstance(node, ast.Call) and _word(node.func) == "termination":
                 return True
             if isinstance(node, ast.Assign) and _zero(node.value) and any("discount" in _word(t).lower() for t in node.targets):

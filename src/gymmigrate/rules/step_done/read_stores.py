@@ -12,7 +12,7 @@ import ast
 
 from gymmigrate.facts.done_uses import loaded_names, value_site
 from gymmigrate.facts.flow import end, start
-from gymmigrate.facts.module import FUNCTIONS
+from gymmigrate.facts.module import FUNCTIONS, walk
 from gymmigrate.facts.stored_readers import Reader, stored_flag_readers
 from gymmigrate.rules.step_done.next_state import DoneStep, says_next
 from gymmigrate.rules.step_done.read_uses import DoneReadUses
@@ -56,7 +56,7 @@ class DoneStoreReads(DoneReadUses):
             return []
         return [
             reader
-            for node in ast.walk(function)
+            for node in walk(function)
             if isinstance(node, ast.Name) and node.id == flag and isinstance(node.ctx, ast.Load)
             for reader in stored_flag_readers(node, self.facts)
         ]
@@ -101,7 +101,7 @@ class DoneStoreReads(DoneReadUses):
         next_names = self._next_state_names(step)
         if not next_names:
             return None
-        for test in ast.walk(function):
+        for test in walk(function):
             if not (isinstance(test, ast.If) and _tests_flag(test.test, step.done.id)):
                 continue
             handed = emptied = None
@@ -115,7 +115,7 @@ class DoneStoreReads(DoneReadUses):
                 and self._reads_next_state(statement.value, step, next_names)
             }
             for statement in test.body:
-                for inner in ast.walk(statement):
+                for inner in walk(statement):
                     if isinstance(inner, ast.Call) and any(isinstance(a, ast.Name) and a.id == container for a in inner.args):
                         if any(
                             (isinstance(a, ast.Name) and a.id in tail_values)
@@ -147,17 +147,17 @@ class DoneStoreReads(DoneReadUses):
         values = {params[i] for i, a in enumerate(handed.args) if not (isinstance(a, ast.Name) and a.id == container)}
         if len(stores) != 1:
             return None
-        for loop in ast.walk(function):
-            if not (isinstance(loop, ast.For) and any(isinstance(n, ast.Name) and n.id == stores[0] for n in ast.walk(loop.iter))):
+        for loop in walk(function):
+            if not (isinstance(loop, ast.For) and any(isinstance(n, ast.Name) and n.id == stores[0] for n in walk(loop.iter))):
                 continue
-            flags = {n.id for n in ast.walk(loop.target) if isinstance(n, ast.Name)}
-            for statement in ast.walk(loop):
+            flags = {n.id for n in walk(loop.target) if isinstance(n, ast.Name)}
+            for statement in walk(loop):
                 if not (isinstance(statement, ast.Assign) and len(statement.targets) == 1 and isinstance(statement.targets[0], ast.Name)):
                     continue
                 value = statement.targets[0].id
-                if value not in values or not any(isinstance(n, ast.Name) and n.id == value for n in ast.walk(statement.value)):
+                if value not in values or not any(isinstance(n, ast.Name) and n.id == value for n in walk(statement.value)):
                     continue
-                if any(_one_minus(n, flags) for n in ast.walk(statement.value)):
+                if any(_one_minus(n, flags) for n in walk(statement.value)):
                     return func.id
         return None
 
@@ -175,7 +175,7 @@ class DoneStoreReads(DoneReadUses):
         step_values = {e.id for e in step.target.elts[1:] if isinstance(e, ast.Name)}
         function = self.facts.enclosing_function(step.assign)
         for value in values:
-            for node in ast.walk(value):
+            for node in walk(value):
                 if not (isinstance(node, ast.Name) and isinstance(node.ctx, ast.Load)) or node.id == read.id:
                     continue
                 if says_next(node.id):
@@ -205,7 +205,7 @@ class DoneStoreReads(DoneReadUses):
         observation = step.target.elts[0]
         if not isinstance(observation, ast.Name):
             return False
-        for node in ast.walk(value):
+        for node in walk(value):
             if not (isinstance(node, ast.Name) and isinstance(node.ctx, ast.Load)):
                 continue
             if node.id == observation.id:
@@ -226,7 +226,7 @@ class DoneStoreReads(DoneReadUses):
             return False
         env = self.facts.segment(receiver)
         observation = step.target.elts[0]
-        for node in ast.walk(value):
+        for node in walk(value):
             if isinstance(node, ast.Attribute) and self.facts.segment(node).startswith(env):
                 return False
             if not (isinstance(node, ast.Name) and isinstance(node.ctx, ast.Load)):
@@ -243,7 +243,7 @@ class DoneStoreReads(DoneReadUses):
     def _changed_after(self, name: str, step: DoneStep) -> bool:
         """``frames.append(next_obs)`` or ``buf[i] = x`` after the step: ``name`` changed in place."""
         function = self.facts.enclosing_function(step.assign) or self.facts.tree
-        for node in ast.walk(function):
+        for node in walk(function):
             if not hasattr(node, "lineno") or start(node) <= end(step.assign):
                 continue
             if (

@@ -21,6 +21,7 @@ from gymmigrate.facts.done_uses import (
     value_site,
 )
 from gymmigrate.facts.flow import bound_names
+from gymmigrate.facts.module import walk
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.step_done.next_state import DoneStep, repacks_step
 from gymmigrate.rules.step_done.read_settled import DoneSettledReads, _zero
@@ -82,7 +83,7 @@ class DoneUntracedReports(DoneSettledReads):
         if isinstance(parent, ast.IfExp) and parent.test is node:
             when_done, otherwise = (parent.orelse, parent.body) if negated else (parent.body, parent.orelse)
             # ``final_value = 0.0 if done else value(s)``: no value past the episode's end
-            if _zero(when_done) and any(isinstance(n, ast.Call) for n in ast.walk(otherwise)) and not resets(otherwise):
+            if _zero(when_done) and any(isinstance(n, ast.Call) for n in walk(otherwise)) and not resets(otherwise):
                 return "zeroes the value bootstrapped from the next state"
             return None
         if isinstance(parent, ast.If) and parent.test is node:
@@ -98,7 +99,7 @@ class DoneUntracedReports(DoneSettledReads):
             if any(
                 isinstance(statement, ast.Assign)
                 and zeroed & {name for target in statement.targets for name in bound_names(target)}
-                and any(isinstance(n, ast.Call) for n in ast.walk(statement.value))
+                and any(isinstance(n, ast.Call) for n in walk(statement.value))
                 and not resets(statement.value)
                 for statement in other
             ):

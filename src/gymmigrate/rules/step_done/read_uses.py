@@ -20,7 +20,7 @@ from gymmigrate.facts.done_uses import (
     loaded_names,
 )
 from gymmigrate.facts.flow import bound_names, end, start
-from gymmigrate.facts.module import FUNCTIONS
+from gymmigrate.facts.module import FUNCTIONS, walk
 from gymmigrate.rules.step_done.next_state import DoneStep, NextStateReads
 
 
@@ -70,7 +70,7 @@ class DoneReadUses(NextStateReads):
             next_names = self._derived_names(step)
 
             def reads(parts: list[ast.AST]) -> bool:
-                return any(n.id in next_names for part in parts for n in ast.walk(part) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load))
+                return any(n.id in next_names for part in parts for n in walk(part) if isinstance(n, ast.Name) and isinstance(n.ctx, ast.Load))
 
         if not next_names:
             return None
@@ -160,7 +160,7 @@ class DoneReadUses(NextStateReads):
         the None is a boundary as well as a mask, and a truncation must set it too. Returns
         the callee's text; None when no such callee is found."""
         function = self.facts.enclosing_function(statement) or self.facts.tree
-        for call in ast.walk(function):
+        for call in walk(function):
             if not isinstance(call, ast.Call) or call.lineno <= statement.lineno:
                 continue
             positions = [i for i, arg in enumerate(call.args) if isinstance(arg, ast.Name) and arg.id == name]
@@ -184,7 +184,7 @@ class DoneReadUses(NextStateReads):
             return found
         methods = [
             s
-            for node in ast.walk(self.facts.tree)
+            for node in walk(self.facts.tree)
             if isinstance(node, ast.ClassDef)
             for s in node.body
             if isinstance(s, FUNCTIONS) and s.name == func.attr
@@ -198,7 +198,7 @@ class DoneReadUses(NextStateReads):
         terminal transition)."""
         function = self.facts.enclosing_function(statement) or self.facts.tree
         stored = False
-        for node in ast.walk(function):
+        for node in walk(function):
             if isinstance(node, (ast.If, ast.While, ast.IfExp)) and name in loaded_names(node.test):
                 return False
             if (
@@ -242,7 +242,7 @@ class DoneReadUses(NextStateReads):
             if (self.facts.enclosing_function(statement) or self.facts.tree) is not function:
                 continue
             value = getattr(statement, "value", None)
-            if value is not None and any(_joins_done(node, done) for node in ast.walk(value)):
+            if value is not None and any(_joins_done(node, done) for node in walk(value)):
                 return True  # ``dw = done and steps != limit``, ``terminal = True if done and ... else False``
             for ancestor in self.facts.ancestors(binding):
                 if ancestor is function:
@@ -276,7 +276,7 @@ class DoneReadUses(NextStateReads):
         observation, reward = elements[0].id, elements[1].id  # type: ignore[attr-defined]
         function = self.facts.enclosing_function(step.assign) or self.facts.tree
         derived = {observation: {observation}, reward: {reward}}
-        for node in ast.walk(function):
+        for node in walk(function):
             if isinstance(node, ast.Assign) and len(node.targets) == 1 and isinstance(node.targets[0], ast.Name):
                 for names in derived.values():
                     if loaded_names(node.value) & names:
@@ -291,7 +291,7 @@ class DoneReadUses(NextStateReads):
 
     def _from_step(self, value: ast.expr, step: DoneStep) -> bool:
         step_names = {e.id for e in step.target.elts if isinstance(e, ast.Name)}
-        for node in ast.walk(value):
+        for node in walk(value):
             if not (isinstance(node, ast.Name) and isinstance(node.ctx, ast.Load)):
                 continue
             binding = self.flow.last_binding_of(node)
@@ -443,7 +443,7 @@ class DoneReadUses(NextStateReads):
             return []
         name = function.name  # type: ignore[attr-defined]
         found: list[ast.Call] = []
-        for node in ast.walk(self.facts.tree):
+        for node in walk(self.facts.tree):
             if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == name:
                 owner = node.func.value
                 caller = self.facts.enclosing_class(node)
@@ -532,8 +532,8 @@ def _tests_none_as_boundary(function: ast.AST, param: str) -> bool:
     """``function`` tests ``param is None`` (or ``is not None``) together with another
     condition, or resets its object's state on the None side (``self.memory = []``,
     ``self.buffer.clear()``): the None ends something, beyond choosing a stored value."""
-    parents = {id(child): node for node in ast.walk(function) for child in ast.iter_child_nodes(node)}
-    for node in ast.walk(function):
+    parents = {id(child): node for node in walk(function) for child in ast.iter_child_nodes(node)}
+    for node in walk(function):
         if not (
             isinstance(node, ast.Compare)
             and isinstance(node.left, ast.Name)
@@ -549,7 +549,7 @@ def _tests_none_as_boundary(function: ast.AST, param: str) -> bool:
         if isinstance(parent, ast.If) and parent.test is node:
             branch = parent.body if isinstance(node.ops[0], ast.Is) else parent.orelse
             for statement in branch:
-                for inner in ast.walk(statement):
+                for inner in walk(statement):
                     if isinstance(inner, (ast.Assign, ast.AugAssign)) and any(
                         isinstance(t, ast.Attribute) and isinstance(t.value, ast.Name) and t.value.id == "self"
                         for t in (inner.targets if isinstance(inner, ast.Assign) else [inner.target])
@@ -594,7 +594,7 @@ def _unwraps(statement: ast.AST | None, name: str) -> bool:
     ):
         return False
     value = statement.value
-    if any(isinstance(n, (ast.BinOp, ast.Lambda, ast.NamedExpr, ast.Attribute)) for n in ast.walk(value)):
+    if any(isinstance(n, (ast.BinOp, ast.Lambda, ast.NamedExpr, ast.Attribute)) for n in walk(value)):
         return False
     return name in loaded_names(value) and not loaded_names(value) - {name, *_SHAPE_NAMES}
 
@@ -606,7 +606,7 @@ def _assigned(statement: ast.Assign | ast.AnnAssign) -> set[str]:
 
 def resets(node: ast.AST) -> bool:
     """``node`` calls some ``x.reset(...)``: the flag starts a new episode there."""
-    return any(isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute) and n.func.attr == "reset" for n in ast.walk(node))
+    return any(isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute) and n.func.attr == "reset" for n in walk(node))
 
 
 def _is_none(node: ast.AST) -> bool:

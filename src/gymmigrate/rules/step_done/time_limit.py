@@ -16,7 +16,7 @@ import ast
 
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.module import Scope
+from gymmigrate.facts.module import Scope, walk
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.step_done.common import (
     TIME_LIMIT_KEY,
@@ -207,7 +207,7 @@ class TimeLimitRules(StepFamilyBase):
             generators: list[ast.comprehension | ast.For | ast.AsyncFor] = []
             if isinstance(ancestor, (ast.ListComp, ast.SetComp, ast.GeneratorExp, ast.DictComp)):
                 generators = list(ancestor.generators)
-            elif isinstance(ancestor, (ast.For, ast.AsyncFor)) and any(base is n for s in ancestor.body for n in ast.walk(s)):
+            elif isinstance(ancestor, (ast.For, ast.AsyncFor)) and any(base is n for s in ancestor.body for n in walk(s)):
                 generators = [ancestor]
             for generator in generators:
                 if isinstance(generator.target, ast.Name) and generator.target.id == base.id:

@@ -29,7 +29,7 @@ from gymmigrate.facts.collection_reads import (
 from gymmigrate.facts.decisions import Action, Decision, receiver_text
 from gymmigrate.facts.done_uses import DoneUse, classify_done_read
 from gymmigrate.facts.flow import bound_names, end, start
-from gymmigrate.facts.module import LOOPS, Scope
+from gymmigrate.facts.module import LOOPS, Scope, walk
 from gymmigrate.facts.per_agent_flags import PerAgent, per_agent_done
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.step_done.common import StepNames, StepUnpack, looks_vectorised
@@ -225,9 +225,9 @@ class UnpackRules(DoneAttributeReports):
         if statement in self.legacy_unpacks or statement.value is None:
             return False
         value = statement.value
-        if any(isinstance(n, ast.Name) and n.id == done.id for n in ast.walk(value)):
+        if any(isinstance(n, ast.Name) and n.id == done.id for n in walk(value)):
             return False  # ``done = done or stuck``: the step's flag flows on
-        if any(isinstance(n, ast.Attribute) and n.attr == "step" for n in ast.walk(value)):
+        if any(isinstance(n, ast.Attribute) and n.attr == "step" for n in walk(value)):
             return False  # ``done = env.step(a)[2]``: a step's flag after all
         return self.flow.dominates(statement, read, done)
 
@@ -313,7 +313,7 @@ def _collect_flag_names(root: ast.AST) -> set[str]:
     """Names bound as the flags of a five-target step in ``root``, and nowhere else."""
     flags: set[str] = set()
     other: set[str] = set()
-    for node in ast.walk(root):
+    for node in walk(root):
         if isinstance(node, ast.Assign):
             value = node.value
             is_step = isinstance(value, ast.Call) and isinstance(value.func, ast.Attribute) and value.func.attr == "step"
@@ -354,7 +354,7 @@ _ELEMENTWISE_CALLS = frozenset({"any", "all", "logical_or", "logical_and", "logi
 def reads_as_batch(function: ast.AST, name: str) -> bool:
     """``function`` reads ``name`` as a collection of per-env flags somewhere."""
     is_done = named(name)
-    return any(_batch_read(collection_read(node, is_done)) for node in ast.walk(function))
+    return any(_batch_read(collection_read(node, is_done)) for node in walk(function))
 
 
 def _batch_read(read: CollectionRead | None) -> bool:

@@ -20,6 +20,7 @@ from gymmigrate.facts import names as N
 from gymmigrate.facts.decisions import receiver_text
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.module import walk
 from gymmigrate.facts.self_attributes import class_self_stores
 from gymmigrate.facts.version_checks import dead_version_branch
 from gymmigrate.findings import FixKind
@@ -56,7 +57,7 @@ class VectorWrappers(VectorFamilyBase):
         for classdef, indexes in renamed_bases.items():
             self.plan.replace(classdef, lambda node, indexes=indexes: _with_renamed_bases(node, indexes))
         # Every other spelling of the legacy class: annotations, isinstance checks...
-        for node in ast.walk(self.facts.tree):
+        for node in walk(self.facts.tree):
             if id(node) in in_bases:
                 continue
             if isinstance(node, ast.Attribute) and node.attr == LEGACY_NAME and self._is_legacy_base(node):
@@ -157,7 +158,7 @@ class VectorWrappers(VectorFamilyBase):
                     continue
                 steps = [
                     call
-                    for call in ast.walk(method)
+                    for call in walk(method)
                     if isinstance(call, ast.Call)
                     and isinstance(call.func, ast.Attribute)
                     and call.func.attr == "step"
@@ -186,7 +187,7 @@ class VectorWrappers(VectorFamilyBase):
         """``self.X`` the class tests for a Gym vector env class, directly or through the
         ``__init__`` parameter it stores there: X -> (what is tested, the check)."""
         found: dict[str, tuple[str, ast.Call]] = {}
-        for call in ast.walk(classdef):
+        for call in walk(classdef):
             if not (isinstance(call, ast.Call) and isinstance(call.func, ast.Name) and call.func.id == "isinstance" and len(call.args) == 2):
                 continue
             classes = call.args[1]
@@ -217,7 +218,7 @@ class VectorWrappers(VectorFamilyBase):
         function = self.facts.enclosing_function(check)
         if function is None:
             return False
-        for call in ast.walk(function):
+        for call in walk(function):
             if (
                 isinstance(call, ast.Call)
                 and isinstance(call.func, ast.Attribute)

@@ -27,7 +27,7 @@ from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
 from gymmigrate.facts.flow import Flow, contains, is_after
-from gymmigrate.facts.module import FUNCTIONS, call_argument
+from gymmigrate.facts.module import FUNCTIONS, call_argument, walk
 from gymmigrate.facts.receivers import Receivers
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.env_ids.catalog import is_atari_id
@@ -168,10 +168,10 @@ def _asserted_atari(facts: ModuleFacts, call: ast.Call) -> str | None:
     function = facts.enclosing_function(call)
     if function is None:
         return None
-    for node in ast.walk(function):
+    for node in walk(function):
         if not (isinstance(node, ast.Assert) and facts.enclosing_function(node) is function):
             continue
-        if any(isinstance(n, ast.Constant) and n.value == "NoFrameskip" for n in ast.walk(node.test)) and not _in_branch(facts, node, function):
+        if any(isinstance(n, ast.Constant) and n.value == "NoFrameskip" for n in walk(node.test)) and not _in_branch(facts, node, function):
             return facts.segment(node)
     return _atari_call_on_made_env(facts, call, function)
 
@@ -189,7 +189,7 @@ def _atari_call_on_made_env(facts: ModuleFacts, call: ast.Call, function: ast.AS
     if not (isinstance(assign, ast.Assign) and len(assign.targets) == 1 and isinstance(assign.targets[0], ast.Name)):
         return None
     name = assign.targets[0].id
-    for node in ast.walk(function):
+    for node in walk(function):
         if not (isinstance(node, ast.Attribute) and node.attr in _ATARI_ONLY and isinstance(node.ctx, ast.Load)):
             continue
         held = node.value.value if isinstance(node.value, ast.Attribute) and node.value.attr == "unwrapped" else node.value

@@ -12,6 +12,7 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts.module import walk
 from gymmigrate.facts.profile import FileProfile
 from gymmigrate.rules.imports.table import (
     LEGACY_WRAPPER_MODULES,
@@ -71,7 +72,7 @@ class LegacyImports:
         """A gym-or-gymnasium fallback, or a "is legacy gym installed?" detector in a gymnasium file."""
         if node not in self._guards:
             packages: set[str] = set()
-            for inner in ast.walk(node):
+            for inner in walk(node):
                 if isinstance(inner, ast.Import):
                     packages.update(alias.name.split(".")[0] for alias in inner.names)
                 elif isinstance(inner, ast.ImportFrom) and inner.module and not inner.level:

@@ -23,6 +23,7 @@ from typing import TYPE_CHECKING
 
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.import_guards import import_error_guard, in_handler_of
+from gymmigrate.facts.module import walk
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.repeats import Repeats
 
@@ -65,7 +66,7 @@ def lines_text(lines: list[int]) -> str:
 def name_lookups(facts: ModuleFacts) -> list[ast.Call]:
     """Calls handed the string ``"Monitor"``: a search of a wrapper stack by class name."""
     found = []
-    for node in ast.walk(facts.tree):
+    for node in walk(facts.tree):
         if isinstance(node, ast.Call):
             values = [*node.args, *(k.value for k in node.keywords)]
             if any(isinstance(v, ast.Constant) and v.value == MONITOR_NAME for v in values):

@@ -24,7 +24,7 @@ from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.module import FUNCTIONS, call_argument, own_returns
+from gymmigrate.facts.module import FUNCTIONS, call_argument, own_returns, walk
 from gymmigrate.facts.pytest_params import fixture_values, param_fixtures
 from gymmigrate.facts.receivers import Receivers
 from gymmigrate.rules.wrapper_usage.tables import (
@@ -352,7 +352,7 @@ class EnvOrigins:
             return None
         if isinstance(statement.value, ast.Attribute) and statement.value.attr == "unwrapped":
             return RAW  # ``env = env.unwrapped``: the base env, whatever the name held before
-        if any(isinstance(n, ast.Name) and n.id == name.id for n in ast.walk(statement.value)):
+        if any(isinstance(n, ast.Name) and n.id == name.id for n in walk(statement.value)):
             return None  # ``env = Wrapper(env)``: its origin rests on the earlier values too
         origin = self.origin(statement.value)
         return None if origin == CYCLE else origin
@@ -373,7 +373,7 @@ class EnvOrigins:
             holder = self.facts.statement_of(above) if isinstance(above, ast.Name) else None
             if not (isinstance(holder, ast.Assign) and holder.targets == [above]):
                 return None
-            if any(isinstance(n, ast.Name) and n.id == name.id for n in ast.walk(holder.value)):
+            if any(isinstance(n, ast.Name) and n.id == name.id for n in walk(holder.value)):
                 return None
             origin = self.origin(holder.value)
             return None if origin == CYCLE else origin
@@ -545,7 +545,7 @@ class EnvOrigins:
 def _defined_attributes(classdef: ast.ClassDef) -> set[str]:
     """Methods (at any depth) and ``self.x = ...`` targets of a class."""
     names: set[str] = set()
-    for node in ast.walk(classdef):
+    for node in walk(classdef):
         if isinstance(node, FUNCTIONS):
             names.add(node.name)
         elif isinstance(node, ast.Assign):

@@ -10,7 +10,7 @@ import ast
 from typing import Protocol
 
 from gymmigrate.facts import names as N
-from gymmigrate.facts.module import FUNCTIONS
+from gymmigrate.facts.module import FUNCTIONS, walk
 from gymmigrate.facts.wrapper_attributes import (
     self_defined,
     self_defined_in,
@@ -95,14 +95,14 @@ def read_before_own_write(family: ForwardingFamily, attr: ast.Attribute, chain: 
             if isinstance(item, (ast.Assign, ast.AnnAssign)) and any(
                 isinstance(n, ast.Name) and n.id == name
                 for t in (item.targets if isinstance(item, ast.Assign) else [item.target])
-                for n in ast.walk(t)
+                for n in walk(t)
             ):
                 return
             if isinstance(item, FUNCTIONS) and item.name == "__init__" and name in self_defined_in(item):
                 return
         # every store of it must read it too (``self.n = self.n + 1``, ``self.n += 1``):
         # one elsewhere (``reset`` setting ``self.n = 0``) may well run first
-        for node in ast.walk(local):
+        for node in walk(local):
             if not (isinstance(node, ast.Attribute) and isinstance(node.ctx, ast.Store) and node.attr == name):
                 continue
             if not (isinstance(node.value, ast.Name) and node.value.id == "self"):
@@ -127,7 +127,7 @@ def read_before_own_write(family: ForwardingFamily, attr: ast.Attribute, chain: 
     if not isinstance(statement, ast.Assign) or not any(
         isinstance(t, ast.Attribute) and t.attr == name and isinstance(t.value, ast.Name) and t.value.id == "self"
         for target in statement.targets
-        for t in ast.walk(target)
+        for t in walk(target)
     ):
         return
     family.report(
@@ -144,7 +144,7 @@ def read_before_own_write(family: ForwardingFamily, attr: ast.Attribute, chain: 
 def _reads_self_attribute(node: ast.AST, name: str) -> bool:
     return any(
         isinstance(n, ast.Attribute) and n.attr == name and isinstance(n.ctx, ast.Load) and isinstance(n.value, ast.Name) and n.value.id == "self"
-        for n in ast.walk(node)
+        for n in walk(node)
     )
 
 

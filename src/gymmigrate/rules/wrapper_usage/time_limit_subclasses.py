@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING
 
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts.env_classes import is_super_method_call
+from gymmigrate.facts.module import walk
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.env_ids.syntax import gym_alias
 from gymmigrate.rules.wrapper_usage.arguments import (
@@ -134,7 +135,7 @@ def _arguments_recorded(classdef: ast.ClassDef, init: ast.FunctionDef | ast.Asyn
     """``RecordConstructorArgs`` gets this wrapper's arguments without TimeLimit's __init__:
     the class calls it itself, or GM617 adds the call (arguments besides the env, none in
     ``*args``). Gymnasium's ``Wrapper.spec`` reads ``_saved_kwargs`` of a TimeLimit."""
-    named = {n.attr if isinstance(n, ast.Attribute) else n.id for n in ast.walk(classdef) if isinstance(n, (ast.Attribute, ast.Name))}
+    named = {n.attr if isinstance(n, ast.Attribute) else n.id for n in walk(classdef) if isinstance(n, (ast.Attribute, ast.Name))}
     if "EzPickle" in named:
         return False
     if "RecordConstructorArgs" in named:

@@ -8,7 +8,7 @@ import ast
 from collections.abc import Iterator, Sequence
 
 from gymmigrate.edits.lazy import cst
-from gymmigrate.facts.module import FUNCTIONS
+from gymmigrate.facts.module import FUNCTIONS, walk
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import Rule
 
@@ -101,7 +101,7 @@ def inner_env_names(classdef: ast.ClassDef) -> tuple[str, ...]:
     params = [a.arg for a in (*init.args.posonlyargs, *init.args.args)][1:]
     handed: set[str] = set()
     rebound: set[str] = set()
-    for node in ast.walk(init):
+    for node in walk(init):
         if (
             isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "__init__"
             and isinstance(node.func.value, ast.Call) and isinstance(node.func.value.func, ast.Name)
@@ -113,9 +113,9 @@ def inner_env_names(classdef: ast.ClassDef) -> tuple[str, ...]:
         elif isinstance(node, ast.Name) and isinstance(node.ctx, (ast.Store, ast.Del)):
             rebound.add(node.id)
     handed -= rebound
-    in_init = {id(node) for node in ast.walk(init)}
+    in_init = {id(node) for node in walk(init)}
     stores: dict[str, list[ast.expr | None]] = {}
-    for node in ast.walk(classdef):
+    for node in walk(classdef):
         targets: list[ast.expr] = []
         value: ast.expr | None = None
         if isinstance(node, ast.Assign):
@@ -186,7 +186,7 @@ def _assigned_names(statement: ast.stmt) -> set[str]:
 def _names_in(function: ast.AST) -> set[str]:
     """Every name a function binds or reads (parameters included): fresh names avoid them."""
     names: set[str] = {function.name} if isinstance(function, FUNCTIONS) else set()
-    for node in ast.walk(function):
+    for node in walk(function):
         if isinstance(node, ast.Name):
             names.add(node.id)
         elif isinstance(node, ast.arg):

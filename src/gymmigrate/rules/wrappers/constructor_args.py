@@ -45,7 +45,7 @@ from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
 from gymmigrate.facts.env_specs import recreates_from_spec
-from gymmigrate.facts.module import FUNCTIONS
+from gymmigrate.facts.module import FUNCTIONS, walk
 from gymmigrate.facts.project_imports import imports_env_checker
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
@@ -116,7 +116,7 @@ class WrapperConstructorArgs(RuleFamily):
     def _records_already(self, classdef: ast.ClassDef) -> bool:
         """A base or a call names ``RecordConstructorArgs`` (or ``EzPickle``, its gym-era cousin
         some wrappers used for pickling): the class decided how it records itself."""
-        for node in ast.walk(classdef):
+        for node in walk(classdef):
             name = node.attr if isinstance(node, ast.Attribute) else node.id if isinstance(node, ast.Name) else None
             if name in (_RECORD, "EzPickle"):
                 return True
@@ -207,8 +207,8 @@ def _plain(arg: ast.arg, default: ast.expr | None) -> bool:
                 annotation = ast.parse(annotation.value, mode="eval").body
             except SyntaxError:
                 return False
-        names = {n.id for n in ast.walk(annotation) if isinstance(n, ast.Name)}
-        names |= {n.attr for n in ast.walk(annotation) if isinstance(n, ast.Attribute)}
+        names = {n.id for n in walk(annotation) if isinstance(n, ast.Name)}
+        names |= {n.attr for n in walk(annotation) if isinstance(n, ast.Attribute)}
         return bool(names) and names <= _PLAIN_ANNOTATIONS
     if default is None:
         return False

@@ -39,7 +39,7 @@ from __future__ import annotations
 import ast
 from dataclasses import dataclass
 
-from gymmigrate.facts.module import FUNCTIONS
+from gymmigrate.facts.module import FUNCTIONS, walk
 
 BASE = "RecordEpisodeStatistics"
 # What gym 0.26's __init__ set that Gymnasium 1.x's does not, as 0.26 computed it.
@@ -120,7 +120,7 @@ def reset_method(names: tuple[str, ...], np_name: str) -> str:
 def _self_reads(classdef: ast.ClassDef) -> set[str]:
     return {
         node.attr
-        for node in ast.walk(classdef)
+        for node in walk(classdef)
         if isinstance(node, ast.Attribute)
         and isinstance(node.value, ast.Name)
         and node.value.id == "self"
@@ -146,7 +146,7 @@ def _base_call(node: ast.AST, method: str) -> bool:
 
 
 def _calls_base(function: ast.AST, method: str) -> bool:
-    return any(_base_call(node, method) for node in ast.walk(function))
+    return any(_base_call(node, method) for node in walk(function))
 
 
 def _is_base_call(statement: ast.stmt, method: str) -> bool:

@@ -8,7 +8,7 @@ import ast
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
-from gymmigrate.facts.module import FUNCTIONS
+from gymmigrate.facts.module import FUNCTIONS, walk
 from gymmigrate.findings import FixKind, Tier, gym_only_question
 from gymmigrate.rules.base import FileContext
 from gymmigrate.rules.reset_seed.common import is_space
@@ -161,7 +161,7 @@ class WrapperClasses(StepOverrides, ResetOverrides):
             return
         spaces = [
             node.func.value
-            for node in ast.walk(function)
+            for node in walk(function)
             if isinstance(node, ast.Call)
             and isinstance(node.func, ast.Attribute)
             and node.func.attr == "seed"
@@ -193,7 +193,7 @@ class WrapperClasses(StepOverrides, ResetOverrides):
             return  # ``render(self)`` or ``render(self, *args, **kwargs)``: Gymnasium's call works
         forwarded = [
             node
-            for node in ast.walk(function)
+            for node in walk(function)
             if isinstance(node, ast.Call)
             and isinstance(node.func, ast.Attribute)
             and node.func.attr == "render"
@@ -230,7 +230,7 @@ class WrapperClasses(StepOverrides, ResetOverrides):
         read = sorted(
             {
                 node.attr
-                for node in ast.walk(classdef)
+                for node in walk(classdef)
                 if isinstance(node, ast.Attribute)
                 and isinstance(node.ctx, ast.Load)
                 and node.attr in gone
@@ -284,7 +284,7 @@ class WrapperClasses(StepOverrides, ResetOverrides):
     # -- GM603 ------------------------------------------------------------------------------
 
     def _check_init(self, classdef: ast.ClassDef, init: ast.FunctionDef | ast.AsyncFunctionDef) -> None:
-        if not any(_is_super_init(node) for node in ast.walk(init)):
+        if not any(_is_super_init(node) for node in walk(init)):
             self.report(
                 init,
                 "GM603",

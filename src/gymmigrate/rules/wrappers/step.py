@@ -22,7 +22,7 @@ from dataclasses import replace
 
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts.class_shapes import is_batched_step_return, keeps_legacy_step
-from gymmigrate.facts.module import FUNCTIONS, own_returns
+from gymmigrate.facts.module import FUNCTIONS, own_returns, walk
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import RuleFamily
 from gymmigrate.rules.custom_env.plans import (
@@ -94,7 +94,7 @@ class StepOverrides(RuleFamily):
         those reads asked is answered; a note of why the merged done stays there."""
         lines = {
             node.lineno
-            for node in ast.walk(function)
+            for node in walk(function)
             if isinstance(node, ast.Assign) and any(isinstance(t, ast.Name) and t.id == name for t in node.targets)
         }
         for index, finding in enumerate(self.plan.findings):
@@ -378,7 +378,7 @@ class StepOverrides(RuleFamily):
             claimed = sum(noted.claimed_reads for noted in unpacks.values() if noted is not None)
             reads = sum(
                 1
-                for node in ast.walk(function)
+                for node in walk(function)
                 if isinstance(node, ast.Name) and node.id == done_name and isinstance(node.ctx, ast.Load)
             )
             if reads - claimed - replaced_done_reads <= 0:

@@ -20,7 +20,7 @@ from collections.abc import Callable
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.done_uses import always_false_here, falsy_constant
 from gymmigrate.facts.limit_tests import if_setting_true
-from gymmigrate.facts.module import FUNCTIONS, own_returns
+from gymmigrate.facts.module import FUNCTIONS, own_returns, walk
 from gymmigrate.facts.per_agent_flags import true_list
 from gymmigrate.rules.custom_env.step import is_step_limit
 from gymmigrate.rules.step_done.common import StepUnpack
@@ -28,7 +28,7 @@ from gymmigrate.rules.wrappers.common import _assigned_names, _single_assign
 
 
 def _names(expr: ast.AST) -> set[str]:
-    return {node.id for node in ast.walk(expr) if isinstance(node, ast.Name)}
+    return {node.id for node in walk(expr) if isinstance(node, ast.Name)}
 
 
 def _only_own_step_limit(function: ast.AST, done: ast.expr, flags: tuple[str, str]) -> bool:
@@ -41,8 +41,8 @@ def _only_own_step_limit(function: ast.AST, done: ast.expr, flags: tuple[str, st
     if not isinstance(done, ast.Name):
         return False
     name, limits = done.id, 0
-    parents = {child: node for node in ast.walk(function) for child in ast.iter_child_nodes(node)}
-    for node in ast.walk(function):
+    parents = {child: node for node in walk(function) for child in ast.iter_child_nodes(node)}
+    for node in walk(function):
         if isinstance(node, (ast.AugAssign, ast.AnnAssign, ast.NamedExpr, ast.For, ast.AsyncFor, ast.With, ast.AsyncWith)):
             targets = [node.target] if not isinstance(node, (ast.With, ast.AsyncWith)) else [
                 item.optional_vars for item in node.items if item.optional_vars is not None
@@ -70,7 +70,7 @@ def _merges_life_loss(function: ast.AST, name: str, done_name: str, flags: tuple
     done_name or <a test of lives>`` (at least one of the latter), none reading the flags:
     ``name`` is the inner done, or it with a lost life."""
     lives = 0
-    for node in ast.walk(function):
+    for node in walk(function):
         if isinstance(node, (ast.AugAssign, ast.AnnAssign, ast.NamedExpr, ast.For, ast.AsyncFor)):
             if name in _names(node.target):
                 return False
@@ -90,7 +90,7 @@ def _merges_life_loss(function: ast.AST, name: str, done_name: str, flags: tuple
             rest = [v for v in value.values if not (isinstance(v, ast.Name) and v.id == done_name)]
             if len(rest) != len(value.values) - 1 or done_name in {n for r in rest for n in _names(r)}:
                 return False
-            if not all(any(_LIFE_WORDS.search(_identifier(n)) for n in ast.walk(r)) for r in rest):
+            if not all(any(_LIFE_WORDS.search(_identifier(n)) for n in walk(r)) for r in rest):
                 return False
             lives += 1
     return lives > 0
@@ -148,7 +148,7 @@ _LIFE_WORDS = re.compile(r"(?:^|_)lives?(?:_|$)|life", re.IGNORECASE)
 
 def _sets_done_on_life_loss(line: ast.stmt, parent: ast.AST | None) -> bool:
     """``done = True`` alone in an ``if`` that tests the number of lives."""
-    return _set_alone_when(line, parent, lambda test: any(_LIFE_WORDS.search(_identifier(node)) for node in ast.walk(test)))
+    return _set_alone_when(line, parent, lambda test: any(_LIFE_WORDS.search(_identifier(node)) for node in walk(test)))
 
 
 def _set_alone_when(line: ast.stmt, parent: ast.AST | None, test: Callable[[ast.AST], bool]) -> bool:
@@ -168,7 +168,7 @@ def _ends_on_task_end(line: ast.stmt, name: str, parent: ast.AST | None) -> bool
 
 
 def _names_task_end(expr: ast.AST) -> bool:
-    return any(_TASK_END_WORDS.search(_identifier(node)) for node in ast.walk(expr))
+    return any(_TASK_END_WORDS.search(_identifier(node)) for node in walk(expr))
 
 
 def _identifier(node: ast.AST) -> str:

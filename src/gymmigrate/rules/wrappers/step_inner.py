@@ -25,7 +25,7 @@ from gymmigrate.facts.collection_reads import (
     collection_read,
     named_in,
 )
-from gymmigrate.facts.module import FUNCTIONS
+from gymmigrate.facts.module import FUNCTIONS, walk
 from gymmigrate.rules.step_done.common import StepUnpack
 from gymmigrate.rules.wrappers.common import (
     _assigned_names,
@@ -49,7 +49,7 @@ def _reads_per_agent(expr: ast.expr, names: set[str]) -> bool:
     """``all(done)``, ``any(dones)``, ``done.values()``, ``done[i]`` or a comprehension over
     ``done``: the inner step's done (or flags) is a collection of per-agent flags."""
     is_flag = named_in(names)
-    return any(_per_agent_read(collection_read(node, is_flag)) for node in ast.walk(expr))
+    return any(_per_agent_read(collection_read(node, is_flag)) for node in walk(expr))
 
 
 def _per_agent_read(read: CollectionRead | None) -> bool:
@@ -67,7 +67,7 @@ def _per_agent_read(read: CollectionRead | None) -> bool:
 def _reduces_per_agent(function: ast.AST, name: str, flags: set[str]) -> bool:
     """``done = all(done)`` (or ``any``, ``.values()``, a comprehension) somewhere in
     ``function``: ``name`` holds a reduction of the inner step's per-agent flags."""
-    for node in ast.walk(function):
+    for node in walk(function):
         if (
             isinstance(node, ast.Assign)
             and len(node.targets) == 1
@@ -159,7 +159,7 @@ def _inner_aliases(classdef: ast.ClassDef) -> frozenset[str]:
     handed: set[str] = set()
     stored: dict[str, str] = {}
     rebound: set[str] = set()
-    for node in ast.walk(init):
+    for node in walk(init):
         if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "__init__":
             base = node.func.value
             args = node.args
@@ -180,7 +180,7 @@ def _inner_aliases(classdef: ast.ClassDef) -> frozenset[str]:
         t.attr
         for method in classdef.body
         if isinstance(method, FUNCTIONS) and method is not init
-        for n in ast.walk(method)
+        for n in walk(method)
         if isinstance(n, ast.Assign)
         for t in n.targets
         if isinstance(t, ast.Attribute) and isinstance(t.value, ast.Name) and t.value.id == "self"
@@ -333,7 +333,7 @@ def _reshapes(done: ast.expr, name: str, terminated: str) -> bool:
         and isinstance(first, ast.Name)
         and first.id == name
         and name != terminated
-        and not any(isinstance(n, ast.Name) and n.id == name for r in rest for n in ast.walk(r))
+        and not any(isinstance(n, ast.Name) and n.id == name for r in rest for n in walk(r))
     )
 
 
@@ -367,8 +367,8 @@ def _only_inner_done(classdef: ast.AST | None, function: ast.AST, done: ast.expr
     if ret.lineno <= (unpack.end_lineno or unpack.lineno) or not isinstance(classdef, ast.ClassDef):
         return False  # a return before the unpack reads the previous step's value
     others = [s for s in classdef.body if isinstance(s, FUNCTIONS) and s is not function and s.name not in ("__init__", "reset")]
-    for node in (n for scope in (function, *others) for n in ast.walk(scope)):
+    for node in (n for scope in (function, *others) for n in walk(scope)):
         if isinstance(node, ast.Attribute) and node.attr == attribute and _is_self(node.value) and not isinstance(node.ctx, ast.Load):
-            if not any(node is t for t in ast.walk(unpack)):
+            if not any(node is t for t in walk(unpack)):
                 return False
     return True
