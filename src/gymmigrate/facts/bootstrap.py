@@ -98,6 +98,10 @@ class _Body:
                 self.checks.append((node, "value", _value_loads(node.value)))
         self.tested_or_valued = set().union(*(reads for _, _, reads in self.checks)) if self.checks else set()
         self._branch_loads: dict[int, list[set[str]]] = {}
+        # ``next_state_factors`` asks ``_only_factor`` of the same value for every parameter
+        # pair: the answer depends only on the value and the flag, the parents only on the value.
+        self._factor_only: dict[tuple[int, str], bool] = {}
+        self._value_parents: dict[int, dict[int, ast.AST]] = {}
 
     def derived(self, name: str) -> set[str]:
         """``name`` and the names assigned from it (``next_value = critic(next_state)``),
@@ -136,7 +140,18 @@ class _Body:
     def _only_factor(self, node: ast.AST, flag: str) -> bool:
         """Every read of ``flag`` in this value is a bare factor (``q * gamma * done``): an
         inverted mask (``done_uses.multiplies_bare``), not one to pass ``terminated`` to."""
-        parents = {id(child): parent for parent in walk(node) for child in ast.iter_child_nodes(parent)}
+        key = (id(node), flag)
+        found = self._factor_only.get(key)
+        if found is None:
+            found = self._factor_only[key] = self._compute_only_factor(node, flag)
+        return found
+
+    def _compute_only_factor(self, node: ast.AST, flag: str) -> bool:
+        parents = self._value_parents.get(id(node))
+        if parents is None:
+            parents = self._value_parents[id(node)] = {
+                id(child): parent for parent in walk(node) for child in ast.iter_child_nodes(parent)
+            }
         reads = [n for n in walk(node) if isinstance(n, ast.Name) and n.id == flag and isinstance(n.ctx, ast.Load)]
         return bool(reads) and all(multiplies_bare(n, lambda child: parents.get(id(child))) for n in reads)
 
