@@ -6,6 +6,7 @@ import root is nearest the importer.
 from __future__ import annotations
 
 import os
+from functools import lru_cache
 from pathlib import Path
 
 
@@ -18,6 +19,10 @@ def import_parts(qualified: str) -> tuple[int, list[str]]:
     return len(qualified) - len(names), names.split(".") if names else []
 
 
+# Asked again for each name an importer reads from an ambiguous module (thousands of times a
+# run), and each answer builds Paths: a pure function of strings, so kept. Bounded, since one
+# process may make many runs (the API, the tests).
+@lru_cache(maxsize=4096)
 def nearest_root(paths: tuple[str, ...], depth: int, importer: str) -> str | None:
     """Of the files a dotted name of ``depth`` parts may name, the one whose import root (the
     folder the name is taken from) is the nearest folder above ``importer``: Python finds
