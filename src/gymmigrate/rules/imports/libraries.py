@@ -32,7 +32,9 @@ GYM_ONLY_LIBRARIES = {
     # OpenAI Baselines: in maintenance mode, built on gym and never released for Gymnasium.
     "baselines": (
         "OpenAI baselines has no Gymnasium release (it is in maintenance mode and imports gym): move to "
-        "Stable-Baselines3 or CleanRL (its VecEnv loops keep the four-field step and the obs-only reset and are left as they are)"
+        "Stable-Baselines3 or CleanRL (its VecEnv loops keep the four-field step and the obs-only reset and are left as they are; "
+        "its single-env wrappers, `atari_wrappers` and `bench.Monitor`, are gym.Wrappers that a Gymnasium env cannot pass "
+        "through: use Stable-Baselines3's)"
     ),
     # Env packages imported for their side effect: they register their ids with gym only, so
     # after the migration ``gymnasium.make`` of those ids fails (NameNotFound).
