@@ -196,7 +196,7 @@ class ClassRewrite:
         if self.plan.reset_rehands:
             # the object __init__ handed the generator to gets the one the seed just made
             # (first, so it ends up after whatever else is inserted after the super call)
-            rehands = [cst.parse_statement(f"{text}\n") for text in self.plan.reset_rehands]
+            rehands: list[cst.BaseStatement] = [cst.parse_statement(f"{text}\n") for text in self.plan.reset_rehands]
             fn = _insert_after_super_reset(fn, rehands, bases)
         if self.seed_folded:
             fn = _insert_after_super_reset(fn, self.seed_folded, bases)

@@ -202,7 +202,7 @@ def _handed_np_random(decision: ClassDecision, reset: ast.AST) -> None:
         if not isinstance(target, ast.Attribute) or target.attr not in NP_RANDOM_NAMES or is_self_attribute(target):
             continue
         function = facts.enclosing_function(node)
-        if function is reset and node in reset.body:  # type: ignore[attr-defined]
+        if function is reset and node in reset.body:
             continue  # reset hands it on itself, after the seeding
         if kept_seed is not None and function is kept_seed:
             continue  # the kept seed() reset calls with the seed hands it on again
