@@ -56,6 +56,9 @@ class ClassPlan:
     reset_pairs_untested: bool = False
     reset_forwards_keywords: bool = False  # reset(**kwargs) passes seed/options to super().reset(**kwargs)
     reset_super_seeds: bool = True  # super().reset(seed=seed) may be called (else only reported)
+    # ``self.scene.np_random = self.np_random`` of __init__ (source): reset repeats it after
+    # super().reset(seed=seed), which replaces self.np_random
+    reset_rehands: list[str] = field(default_factory=list)
     render: bool = False
     pass_render_mode: bool = False  # a subclass __init__ takes render_mode and passes it to the base
     render_helper: str | None = None  # keeps the old render(mode) body for the class's own mode calls

@@ -193,6 +193,11 @@ class ClassRewrite:
         bases = self.plan.reset_bases
         if self.plan.reset_super_seeds or _calls_super_reset(fn, bases):
             fn, _ = _ensure_super_reset(fn, bases)
+        if self.plan.reset_rehands:
+            # the object __init__ handed the generator to gets the one the seed just made
+            # (first, so it ends up after whatever else is inserted after the super call)
+            rehands: list[cst.BaseStatement] = [cst.parse_statement(f"{text}\n") for text in self.plan.reset_rehands]
+            fn = _insert_after_super_reset(fn, rehands, bases)
         if self.seed_folded:
             fn = _insert_after_super_reset(fn, self.seed_folded, bases)
         if self.plan.reset_seed_hook is not None:

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import ast
 
-from gymmigrate.facts.env_classes import is_super_method_call
+from gymmigrate.facts.env_classes import is_self_attribute, is_super_method_call
 from gymmigrate.facts.module import own_returns, walk
 from gymmigrate.facts.own_api import is_info_pair
 from gymmigrate.findings import FixKind, Tier
@@ -144,6 +144,8 @@ def decide_reset(decision: ClassDecision) -> None:
             "reset() must seed np_random, but super().reset() here would also run the base env's own reset; call Env.reset(self, seed=seed) first by hand",
             FixKind.FLAG,
         )
+    if inserted and not modern:
+        _handed_np_random(decision, function)
     migrates = not modern and not (forwards and decision.plan.reset_returns_pairs)
     methods = decision.methods
     if not modern and not inner_only and decision.plan.published and "_seed" in methods and "seed" not in methods:
@@ -178,6 +180,78 @@ def decide_reset(decision: ClassDecision) -> None:
         elif not legacy_flag:
             seeds = ", and calls super().reset(seed=seed) first to seed np_random" if inserted else ""
             decision.report(function, "GM501", f"reset takes seed and options (wrappers always pass them){seeds}")
+
+
+def _handed_np_random(decision: ClassDecision, reset: ast.AST) -> None:
+    """``self.scene.np_random = self.np_random``: the class hands its generator to another
+    object once. The ``super().reset(seed=seed)`` the migrated reset calls first replaces
+    ``self.np_random`` by a new Generator whenever it is given a seed, and that object keeps
+    drawing from the old one, so a seeded reset no longer reseeds what it draws. Handed in
+    ``__init__`` to ``self.<attr>``, an object set once before it and never rebound, the same
+    object is there in every reset: reset hands it the new generator again. Anywhere else
+    (a local built in a helper, an attribute that may be None or rebound) which object
+    reset would reach is not known: reported."""
+    seed_method = decision.method("seed")
+    kept_seed = seed_method if decision.plan.seed is not None and decision.plan.seed.keep else None
+    init = decision.methods.get("__init__")
+    facts = decision.family.facts
+    for node in walk(decision.classdef):
+        if not (isinstance(node, ast.Assign) and len(node.targets) == 1 and is_self_attribute(node.value, NP_RANDOM_NAMES)):
+            continue
+        target = node.targets[0]
+        if not isinstance(target, ast.Attribute) or target.attr not in NP_RANDOM_NAMES or is_self_attribute(target):
+            continue
+        function = facts.enclosing_function(node)
+        if function is reset and node in reset.body:
+            continue  # reset hands it on itself, after the seeding
+        if kept_seed is not None and function is kept_seed:
+            continue  # the kept seed() reset calls with the seed hands it on again
+        if function is init and init is not None and _set_once_before(decision, init, node, target.value):
+            decision.plan.reset_rehands.append(facts.segment(node))
+            decision.report(
+                node,
+                "GM501",
+                f"reset(seed=...) replaces self.np_random; reset now hands the new generator to "
+                f"`{facts.segment(target.value)}` again after super().reset(seed=seed), as this line did once",
+                FixKind.ASSIST,
+                Tier.NOTE,
+            )
+            continue
+        decision.report(
+            node,
+            "GM501",
+            f"`{facts.segment(node)}` hands this env's generator to another object once; reset(seed=...) now replaces "
+            "self.np_random (super().reset(seed=seed)) and that object keeps drawing from the old one, so a seeded "
+            "reset does not reseed it: hand it the new generator in reset() after super().reset(seed=seed)",
+            FixKind.FLAG,
+        )
+
+
+NP_RANDOM_NAMES = ("np_random", "_np_random")
+
+
+def _set_once_before(decision: ClassDecision, init: ast.AST, handoff: ast.stmt, receiver: ast.expr) -> bool:
+    """``receiver`` is ``self.<attr>``, assigned by a statement of ``__init__``'s own body
+    before ``handoff`` (itself one of that body's statements), and nowhere else in the class:
+    every later reset finds that same object there."""
+    if not is_self_attribute(receiver):
+        return False
+    body = init.body  # type: ignore[attr-defined]
+    if handoff not in body:
+        return False
+    name = receiver.attr  # type: ignore[attr-defined]
+    stores = [
+        node
+        for node in walk(decision.classdef)
+        if is_self_attribute(node, (name,)) and isinstance(node.ctx, (ast.Store, ast.Del))  # type: ignore[attr-defined]
+    ]
+    if len(stores) != 1:
+        return False
+    before = body[: body.index(handoff)]
+    return any(
+        isinstance(statement, ast.Assign) and len(statement.targets) == 1 and statement.targets[0] is stores[0]
+        for statement in before
+    )
 
 
 def _reads_name(function: ast.AST, name: str, skip: frozenset[int] = frozenset()) -> bool:

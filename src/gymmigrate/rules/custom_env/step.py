@@ -20,11 +20,12 @@ from collections.abc import Hashable
 from gymmigrate.facts.class_shapes import is_batched_step_return, keeps_legacy_step
 from gymmigrate.facts.done_causes import Cause, DoneCause, Limit
 from gymmigrate.facts.env_classes import (
+    is_self_attribute,
     is_super_method_call,
 )
 from gymmigrate.facts.limit_tests import is_end_of_data, is_step_limit, unwrap_bool
 from gymmigrate.facts.limits import DoneTracer
-from gymmigrate.facts.module import own_returns, walk
+from gymmigrate.facts.module import ModuleFacts, own_returns, walk
 from gymmigrate.facts.step_hooks import ENV_API
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import (
@@ -440,9 +441,75 @@ def _decide_returns(
                 question=("step-done", id(function), facts.segment(done)),
             )
             continue
+        status = _simulator_status_end(decision, function, done) if limit_hint is None else None
+        if status is not None:
+            decision.report(
+                ret,
+                "GM504",
+                f"step returns `{facts.segment(done)}` as terminated with truncated=False, but it ends the episode on "
+                f"{status}: whatever this class counts, the simulator decides, and an end on its own time or step "
+                "limit (one it applies itself or one this class configures) is a truncation: return that status as "
+                "truncated, not terminated",
+                FixKind.ASSIST,
+                question=("step-done", id(function), facts.segment(done)),
+            )
+            continue
         _report_truncated_false(
             decision, ret, limit_hint, plain if no_counter else None, ("step-done", id(function), facts.segment(done))
         )
+
+
+# Modules whose upper-case constants are no simulator's statuses.
+_NOT_A_SIMULATOR = frozenset({"gym", "gymnasium", "numpy", "math", "sys", "os"})
+# A status named as a time-out, one a simulator ends an episode on when its clock runs out.
+_TIME_OUT_STATUS = re.compile(r"TIME_?OUT|OUT_OF_TIME|TIME_?LIMIT|TIME_?UP|TRUNCAT|EXPIRED", re.IGNORECASE)
+
+
+def _simulator_status_end(decision: ClassDecision, function: Method, done: ast.expr) -> str | None:
+    """The statuses of a library outside Gym the done is compared with (``status !=
+    hfo.IN_GAME``, ``status in (sim.GOAL, sim.OUT_OF_TIME)``), as words for the item, where
+    they may hold a limit: a test that ends on every status but the ones it names (the rest
+    are the simulator's, unseen here), or one naming a time-out among its statuses. None
+    for a done the class computes itself, or one that names only its task's ends."""
+    facts = decision.family.facts
+    sources: list[ast.AST] = [done]
+    if isinstance(done, ast.Name) or is_self_attribute(done):
+        text = facts.segment(done)
+        sources += [
+            node.value
+            for node in walk(function)
+            if isinstance(node, ast.Assign) and len(node.targets) == 1 and facts.segment(node.targets[0]) == text
+        ]
+    for source in sources:
+        for node in walk(source):
+            if not isinstance(node, ast.Compare):
+                continue
+            if not all(isinstance(op, (ast.Eq, ast.NotEq, ast.In, ast.NotIn, ast.Is, ast.IsNot)) for op in node.ops):
+                continue
+            constants = [c for operand in (node.left, *node.comparators) for c in _foreign_constants(facts, operand)]
+            if not constants:
+                continue
+            named = ", ".join(f"`{facts.segment(c)}`" for c in constants)
+            if any(isinstance(op, (ast.NotEq, ast.NotIn, ast.IsNot)) for op in node.ops):
+                return f"every status of the simulator other than {named} (`{facts.segment(node)}`), statuses this code never names"
+            timed = [c for c in constants if _TIME_OUT_STATUS.search(c.attr)]
+            if timed:
+                return f"the simulator's `{facts.segment(timed[0])}` (`{facts.segment(node)}`), a time-out by its name"
+    return None
+
+
+def _foreign_constants(facts: ModuleFacts, operand: ast.expr) -> list[ast.Attribute]:
+    """``hfo_py.IN_GAME`` (alone, or in a tuple, list or set): upper-case constants of a
+    module imported from outside the project and outside Gym."""
+    items = operand.elts if isinstance(operand, (ast.Tuple, ast.List, ast.Set)) else [operand]
+    found = []
+    for item in items:
+        if not (isinstance(item, ast.Attribute) and item.attr.isupper()):
+            continue
+        roots = {name.split(".", 1)[0] for name in facts.qualified_names(item.value)}
+        if roots and all(root and root not in _NOT_A_SIMULATOR for root in roots):
+            found.append(item)
+    return found
 
 
 def done_tracer(decision: ClassDecision) -> DoneTracer:
