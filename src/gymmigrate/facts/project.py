@@ -40,6 +40,7 @@ import os
 from collections import defaultdict
 from collections.abc import Container
 from dataclasses import dataclass, field
+from functools import cached_property
 from pathlib import Path
 
 from gymmigrate.facts.done_causes import DoneCause
@@ -593,3 +594,10 @@ class ProjectFacts:
 
     def view(self, path: str) -> ProjectView:
         return ProjectView(self, os.path.realpath(path))
+
+    @cached_property
+    def multi_agent_passed(self) -> frozenset[str]:
+        """The modules that another module of the run passes a PettingZoo env
+        (``ProjectView.passed_multi_agent``): asked by every file, listed once."""
+        multi_agent = (EnvKind.PZ_AEC, EnvKind.PZ_PARALLEL)
+        return frozenset(path for (path, _, _), kinds in self.param_kinds.items() if any(k in multi_agent for k in kinds))

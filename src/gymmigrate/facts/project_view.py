@@ -187,10 +187,7 @@ class ProjectView(ClassView, HierarchyView, RegistryView, RenderView):
         """Another module of the run passes a PettingZoo env to a def or class of this one
         (``MarkovVec(par_env)`` with ``par_env`` a parallel env): its calls on that
         parameter are PettingZoo calls, though this module imports no PettingZoo."""
-        return any(
-            path == self.path and any(k in (EnvKind.PZ_AEC, EnvKind.PZ_PARALLEL) for k in kinds)
-            for (path, _, _), kinds in self.facts.param_kinds.items()
-        )
+        return self.path in self.facts.multi_agent_passed
 
     def bootstrap_masks(self, qualified: str) -> tuple[tuple[str, ...], frozenset[tuple[str, str]]] | None:
         """For a def or method of another module of the run (``agents.Agent.learn``): its
