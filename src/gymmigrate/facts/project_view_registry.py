@@ -4,7 +4,10 @@
 
 from __future__ import annotations
 
+import os
 from typing import TYPE_CHECKING
+
+from gymmigrate.facts.kinds import EnvKind
 
 if TYPE_CHECKING:
     from gymmigrate.facts.project import ProjectFacts
@@ -15,6 +18,20 @@ class RegistryView:
 
     facts: ProjectFacts
     path: str
+
+    def env_classes_named(self, name: str) -> list[str]:
+        """The modules of the run that define a Gym env class ``name`` (paths relative to this
+        module's folder): what an entry point naming ``name`` in a module gym lacked meant."""
+        here = os.path.dirname(self.path)
+        methods = name + "."
+        return sorted(
+            os.path.relpath(path, here)
+            for (path, bound), kind in self.facts.call_kinds.items()
+            if bound == name
+            and kind in (EnvKind.GYM_ENV, EnvKind.OWN_API)
+            # defined there (a Gym env class of its own, or a subclass of one with methods), not re-exported
+            and (name in self.facts.env_classes.get(path, ()) or any(d.startswith(methods) for d in self.facts.defs.get(path, ())))
+        )
 
     def seed_class_of_id(self, env_id: str) -> str | None:
         """The class of the run that keeps seed() which the run registers ``env_id`` for."""

@@ -31,6 +31,7 @@ from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
 from gymmigrate.facts.import_guards import catches_import_error
 from gymmigrate.facts.module import walk
+from gymmigrate.facts.summaries import registered_ids
 from gymmigrate.findings import FixKind, Tier, gym_only_question, id_version_question
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.env_ids.atari_evidence import AtariEvidence
@@ -193,11 +194,33 @@ class EnvIds(RuleFamily):
             # review list asks it once, at the first of them; where the import's item is
             # silenced (a bare noqa comment on ``import pybullet_envs``), the id's site asks it.
             question = gym_only_question(N.gym_only_stack(plugin)) if plugin is not None else None
-            self.report(site.string, "GM805", f"`{site.env_id}` no longer exists: {hint}", question=question)
+            if self._registered_by_run(site.env_id):
+                # The project registers this id for a class of its own: the id resolves under
+                # Gymnasium as it did under gym. What may remain is that class's dependency on
+                # the plugin package whose ids share the name; without one, nothing to decide.
+                if plugin is not None:
+                    reason = hint.partition(":")[0]
+                    self.report(
+                        site.string,
+                        "GM805",
+                        f"`{site.env_id}` is registered by this project (a register() call of the run), so the id stays; "
+                        f"the decision is the registered env's dependency on {plugin}: {reason}; replace what it uses of "
+                        f"{plugin}, or keep that env on legacy gym",
+                        question=question,
+                    )
+            else:
+                self.report(site.string, "GM805", f"`{site.env_id}` no longer exists: {hint}", question=question)
         final_id = migration.new_id if migration is not None else site.env_id
         package = env_package(final_id)
         if package is not None and not site.module_prefix and package.module not in self._packages:
             self._packages[package.module] = (package, site.string, None)
+
+    def _registered_by_run(self, env_id: str) -> bool:
+        """The run registers this very id (a literal ``register(id=...)`` in one of its modules)."""
+        project = self.context.options.project
+        if project is not None:
+            return env_id in project.registered_ids
+        return env_id in self.facts.memo(("registered-ids", 0), lambda: registered_ids(self.facts))
 
     def _ask_untraced(self, site: IdSite) -> None:
         """A retired id whose way to a make the run could not follow: one question, no rewrite."""

@@ -10,6 +10,8 @@ that turn the env checker off (GM807, GM808).
   ``timestep_limit`` is ``max_episode_steps``; ``trials``, ``tags``... are gone and reported): rewritten where
   the object is an ``EnvSpec`` (``x.spec``, ``gym.spec(...)``, an item of the registry,
   a name only ever bound to one of those).
+  The same keywords of gym 0.9's ``register(...)`` / ``EnvSpec(...)``: ``timestep_limit=N``
+  (or ``tags`` holding only the time-limit tag) is ``max_episode_steps=N``; the others are reported.
 * GM807 ``register(...)`` of a class of the run whose ``action_space`` or
   ``observation_space`` is an instance of a class of the run that certainly is not a
   ``Space`` (``class MultiAgentActionSpace(list)``, the multi-agent lists of spaces of
@@ -56,7 +58,8 @@ RULES = (
         "EnvSpec attributes",
         FixKind.AUTO,
         "`spec._kwargs` / `spec._env_name` / `spec.timestep_limit` become `spec.kwargs` / `spec.name` / "
-        "`spec.max_episode_steps`; removed ones (`trials`, `tags`...) are reported.",
+        "`spec.max_episode_steps`; removed ones (`trials`, `tags`...) are reported. gym 0.9's `register(timestep_limit=N)` "
+        "(or a time-limit tag) becomes `max_episode_steps=N`; its other keywords are reported.",
     ),
     Rule(
         "GM807",
@@ -84,6 +87,19 @@ REMOVED_SPEC_ATTRIBUTES = {
     "local_only": "gone with the scoreboard: drop it",
 }
 _SPEC_FUNCTIONS = frozenset({"spec", "envs.spec", "envs.registration.spec"})
+_SPEC_CONSTRUCTORS = _REGISTER_FUNCTIONS | {"envs.registration.EnvSpec", "envs.EnvSpec", "EnvSpec"}
+# gym 0.9's EnvSpec keywords that Gymnasium's register()/EnvSpec() do not take.
+LEGACY_SPEC_KEYWORDS = frozenset({"timestep_limit", "tags", "trials", "max_episode_seconds", "local_only"})
+_TIME_LIMIT_TAG = "wrapper_config.TimeLimit.max_episode_steps"
+_LEGACY_KEYWORD_HINTS = {
+    "timestep_limit": "`timestep_limit` was gym 0.9's spelling of `max_episode_steps` and overrode it there: "
+    "keep the one limit you mean as `max_episode_steps=`",
+    "tags": "the tags are gone (a `wrapper_config.TimeLimit.max_episode_steps` tag is `max_episode_steps=`); "
+    "drop them, after moving what the code reads of `spec.tags` elsewhere",
+    "trials": "gym 0.9's number of trials for the reward threshold is gone: drop it",
+    "max_episode_seconds": "the time limit in seconds is gone: drop it, or keep a step limit in `max_episode_steps=`",
+    "local_only": "gone with the scoreboard: drop it",
+}
 # How far ``spec = specs[i]; s = spec`` chains are followed: enough for real code, and
 # it bounds the work per attribute.
 _MAX_SPEC_DEPTH = 3
@@ -129,6 +145,9 @@ class RegistryApi(RuleFamily):
                         self.report(
                             attribute, "GM806", f"`EnvSpec.{removed}` does not exist in Gymnasium (AttributeError): {hint}", FixKind.FLAG
                         )
+        if self.context.profile.imports_gym:
+            for spec_call in self._spec_constructions():
+                self._decide_legacy_spec_keywords(spec_call)
         calls = [*self.facts.calls_by_name.get("register", ()), *self.facts.attribute_calls.get("register", ())]
         for call in calls:
             if not any(N.strip_gym_prefix(q) in _REGISTER_FUNCTIONS for q in self.facts.qualified_names(call.func)):
@@ -137,6 +156,60 @@ class RegistryApi(RuleFamily):
                 continue  # set already
             if not self._decide_non_space_register(call):
                 self._decide_wrapper_stepper(call)
+
+    # -- GM806: gym 0.9's register()/EnvSpec() keywords ------------------------------------
+
+    def _spec_constructions(self) -> list[ast.Call]:
+        """The calls that build an ``EnvSpec``: ``register(...)`` (any spelling under gym,
+        ``registry.register(...)`` included) and ``EnvSpec(...)``."""
+        found: list[ast.Call] = []
+        for name in ("register", "EnvSpec"):
+            for call in (*self.facts.calls_by_name.get(name, ()), *self.facts.attribute_calls.get(name, ())):
+                func = call.func
+                if any(N.strip_gym_prefix(q) in _SPEC_CONSTRUCTORS for q in self.facts.qualified_names(func)) or (
+                    name == "register" and isinstance(func, ast.Attribute) and is_registry(self.facts, func.value)
+                ):
+                    found.append(call)
+        return found
+
+    def _decide_legacy_spec_keywords(self, call: ast.Call) -> None:
+        """gym <= 0.9's ``timestep_limit=N`` and ``tags={"wrapper_config.TimeLimit.max_episode_steps": N}``
+        were the spellings of ``max_episode_steps=N``; Gymnasium's ``register``/``EnvSpec`` take
+        neither (TypeError where the module is imported), so the limit moves to
+        ``max_episode_steps=`` where nothing else sets it. Any other legacy keyword (``tags``
+        with other keys, ``trials``, ``max_episode_seconds``, ``local_only``) holds what
+        Gymnasium has no place for: reported, one item per call."""
+        legacy = [kw for kw in call.keywords if kw.arg in LEGACY_SPEC_KEYWORDS]
+        if not legacy:
+            return
+        given = {kw.arg for kw in call.keywords}
+        # ``**kwargs`` may set the limit too, and positional arguments past the entry point
+        # meant other parameters in gym 0.9: then the limit's spelling is not the call's to settle.
+        open_call = None in given or len(call.args) > 2 or any(isinstance(arg, ast.Starred) for arg in call.args)
+        limits = [kw for kw in legacy if kw.arg == "timestep_limit" or _limit_tag(kw) is not None]
+        renamed = limits[0] if len(limits) == 1 and "max_episode_steps" not in given and not open_call else None
+        rest = [kw for kw in legacy if kw is not renamed]
+        what = "`register(...)`" if _called_name(call) == "register" else "`EnvSpec(...)`"
+        if renamed is not None:
+            spelled = "`timestep_limit=`" if renamed.arg == "timestep_limit" else "the `wrapper_config.TimeLimit.max_episode_steps` tag"
+            # the edit and its finding sit on the call: the keyword itself is no node an edit can replace
+            self.plan.replace(call, lambda node, keyword=renamed.arg: _limit_as_max_episode_steps(node, keyword))
+            self.report(
+                call,
+                "GM806",
+                f"{spelled} -> `max_episode_steps=`: gym 0.9's spelling of the same step limit; Gymnasium's {what} "
+                "takes no such keyword (TypeError)",
+            )
+        if rest:
+            arguments = list(dict.fromkeys(kw.arg for kw in rest if kw.arg is not None))
+            names = ", ".join(f"`{arg}=`" for arg in arguments)
+            hints = "; ".join(_LEGACY_KEYWORD_HINTS[arg] for arg in arguments)
+            self.report(
+                call,
+                "GM806",
+                f"Gymnasium's {what} takes no {names} (TypeError where this runs): {hints}",
+                FixKind.FLAG,
+            )
 
     # -- GM807 -------------------------------------------------------------------------------
 
@@ -490,3 +563,33 @@ def _renamed_gym_envs(node: cst.BaseExpression) -> cst.BaseExpression:
     if isinstance(node, cst.Call):
         return node.with_changes(args=[arg.with_changes(value=_renamed_gym_envs(arg.value)) for arg in node.args])
     return node
+
+
+def _called_name(call: ast.Call) -> str:
+    func = call.func
+    return func.attr if isinstance(func, ast.Attribute) else func.id if isinstance(func, ast.Name) else ""
+
+
+def _limit_tag(kw: ast.keyword) -> ast.expr | None:
+    """The value of ``tags={"wrapper_config.TimeLimit.max_episode_steps": N}``, a dict
+    literal whose one key is the time-limit tag; None for any other ``tags``."""
+    value = kw.value
+    if kw.arg != "tags" or not isinstance(value, ast.Dict) or len(value.keys) != 1:
+        return None
+    key = value.keys[0]
+    return value.values[0] if key is not None and string_value(key) == _TIME_LIMIT_TAG else None
+
+
+def _limit_as_max_episode_steps(node: cst.BaseExpression, keyword: str) -> cst.BaseExpression:
+    """The call with its ``timestep_limit=N`` (or time-limit ``tags``) spelled ``max_episode_steps=N``."""
+    if not isinstance(node, cst.Call):
+        return node
+    args = []
+    for arg in node.args:
+        if arg.keyword is not None and arg.keyword.value == keyword:
+            value = arg.value
+            if keyword == "tags" and isinstance(value, cst.Dict) and isinstance(element := value.elements[0], cst.DictElement):
+                value = element.value
+            arg = arg.with_changes(keyword=cst.Name("max_episode_steps"), value=value)
+        args.append(arg)
+    return node.with_changes(args=args)

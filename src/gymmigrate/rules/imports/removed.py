@@ -121,8 +121,50 @@ class RemovedAttributes(ImportsBase):
                     continue
                 rest, name = match.group(1), match.group(2)
                 hint = removed_module_hint(rest) or removed_name_hint(rest, name)
-                if hint is not None:
+                if hint is None:
+                    continue
+                own = self._own_entry_class(name)
+                if own is not None:
+                    # the grouping stays the gym module's (the same move), only the advice names the class
+                    lacks = hint.split(": ", 1)[0]
+                    self._report_removed(value, f"the entry point `{text}` names what Gymnasium lacks ({lacks}); {own}", hint)  # type: ignore[arg-type]
+                else:
                     self._report_removed(value, f"the entry point `{text}` names what Gymnasium lacks: {hint}; register that class and check its keyword arguments", hint)  # type: ignore[arg-type]
+
+    def _own_entry_class(self, name: str) -> str | None:
+        """Advice for an entry point into a gym module that names ``name`` where the run defines
+        a Gym env class of that name. Which class the legacy string reached depended on the gym
+        installed (a fork that held the class, or none), so the string is not rewritten; the
+        item names the class, and a module this file already registers from that exports it."""
+        project = self.receivers.project
+        found = project.env_classes_named(name) if project is not None else []
+        if not found:
+            return None
+        if len(found) > 1:
+            return f"this project defines env classes named `{name}` in {', '.join(found)}: register the one meant, from its own module"
+        exporters = sorted(
+            {
+                module
+                for module in self._entry_modules()
+                if not module.startswith("gym.") and project is not None and project.call_kind(f"{module}.{name}") is not None
+            }
+        )
+        where = (
+            f"as `entry_point=\"{exporters[0]}:{name}\"` (`{exporters[0]}`, which this module's other entry points name, exports it)"
+            if exporters
+            else "from its own module"
+        )
+        return f"this project defines the env class `{name}` ({found[0]}): if that is the class meant, register it {where}"
+
+    def _entry_modules(self) -> list[str]:
+        """The modules this file's ``entry_point="module:Class"`` strings name."""
+        found = []
+        for call in (*self.facts.calls_by_name.get("register", ()), *self.facts.attribute_calls.get("register", ())):
+            for keyword in call.keywords:
+                text = _plain_string(keyword.value) if keyword.arg == "entry_point" else None
+                if text is not None and text.count(":") == 1:
+                    found.append(text.partition(":")[0].strip())
+        return found
 
 
 def _plain_string(value: ast.expr) -> str | None:
