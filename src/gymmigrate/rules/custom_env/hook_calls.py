@@ -24,6 +24,7 @@ from gymmigrate.rules.custom_env.common import (
     UNDERSCORE_METHODS,
     UNDERSCORE_RULE,
     ClassDecision,
+    Method,
 )
 
 Renames = dict[int, tuple[ast.ClassDef, dict[str, str]]]  # id(classdef) -> (class, old -> new)
@@ -35,13 +36,16 @@ def rename_hook_calls_first(family: RuleFamily, env: EnvClasses) -> bool:
     if not family.plan.allow_renames_first:
         return False
     renames: Renames = {}
+    defs: dict[int, dict[str, Method]] = {}  # the methods of each class, as the family indexes them
     for classdef in family.facts.all_classes:
         if not env.is_custom_env(classdef) or family.receivers.class_kind(classdef) is EnvKind.OWN_API:
             continue
         decision = ClassDecision(family, env, classdef)
         if decision.plan.published:
             continue  # ``reset = _reset``: the hooks keep their names (``common.ClassDecision``)
-        renames[id(classdef)] = (classdef, {old: new for new, old in decision.renamed.items()})
+        own = {old: new for new, old in decision.renamed.items() if old in decision.methods}
+        renames[id(classdef)] = (classdef, own)
+        defs[id(classdef)] = decision.methods
     calls = [
         (call, new)
         for classdef, own in renames.values()
@@ -51,7 +55,7 @@ def rename_hook_calls_first(family: RuleFamily, env: EnvClasses) -> bool:
         return False
     family.plan.renames_first = True
     for classdef, own in renames.values():
-        methods = {s.name: s for s in classdef.body if isinstance(s, (ast.FunctionDef, ast.AsyncFunctionDef))}
+        methods = defs[id(classdef)]
         for old, new in own.items():
             family.plan.replace(methods[old], lambda node, new=new: node.with_changes(name=node.name.with_changes(value=new)))
             family.report(methods[old], UNDERSCORE_RULE[new], f"gym < 0.9 method `{old}` renamed `{new}`", tier=Tier.NOTE)
