@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import ast
 import re
+from collections.abc import Callable
 
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import ModuleFacts
@@ -288,21 +289,69 @@ class SpacesLogger(RuleFamily):
     # -- GM904: Box ----------------------------------------------------------------------
 
     def _decide_box(self, call: ast.Call) -> None:
+        builds = [build for build in (self._decide_box_shape(call), self._decide_box_bounds(call)) if build is not None]
+        if builds:
+            self.plan.replace(call, _applying(builds))
+
+    def _decide_box_shape(self, call: ast.Call) -> Callable[[cst.Call], cst.Call] | None:
+        """gym's Box took ``shape=1``; Gymnasium's iterates the shape (TypeError on an int).
+        Rewritten where the value is an int for certain (a literal, ``len(...)``, a name bound
+        only to such); reported where the source parenthesises a value that is not a tuple
+        (``shape=(n)``: meant as a tuple, an int if ``n`` is one)."""
+        keyword = next((kw for kw in call.keywords if kw.arg == "shape"), None)
+        positional = [a for a in call.args if not isinstance(a, ast.Starred)]
+        if keyword is not None:
+            shape: ast.expr | None = keyword.value
+        elif len(positional) >= 3 and len(positional) == len(call.args):
+            shape = positional[2]
+        else:
+            return None
+        if shape is None or isinstance(shape, (ast.Tuple, ast.List)):
+            return None
+        if self._is_int(shape, 3):
+            self.report(call, "GM904", "`Box(shape=<int>)` raises TypeError in Gymnasium (it iterates the shape): written as a one-element tuple")
+            return _tuple_shape
+        if keyword is not None and self.facts.segment(keyword).split("=", 1)[-1].lstrip().startswith("("):
+            self.report(
+                call,
+                "GM904",
+                "`Box` shape is parenthesised but not a tuple: Gymnasium raises TypeError on an int shape; if it is an int, "
+                "write `(n,)`",
+                kind=FixKind.FLAG,
+            )
+        return None
+
+    def _is_int(self, node: ast.expr, depth: int) -> bool:
+        """A Python int for certain: an int literal, ``len(...)``/``int(...)`` (the builtins, not
+        shadowed), or a name every binding of which assigns one."""
+        if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
+            node = node.operand
+        if isinstance(node, ast.Constant):
+            return isinstance(node.value, int) and not isinstance(node.value, bool)
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id in ("len", "int"):
+            return not self.facts.bindings_of(node.func) and len(node.args) == 1 and not node.keywords
+        if isinstance(node, ast.Name) and depth > 0:
+            bindings = self.facts.bindings_of(node)
+            values = [self._assigned_value(binding) for binding in bindings]
+            return bool(values) and all(value is not None and self._is_int(value, depth - 1) for value in values)
+        return False
+
+    def _decide_box_bounds(self, call: ast.Call) -> Callable[[cst.Call], cst.Call] | None:
         positional = [a for a in call.args if not isinstance(a, ast.Starred)]
         dtype = next((kw.value for kw in call.keywords if kw.arg == "dtype"), None)
         if dtype is None and len(positional) >= 4:
             dtype = positional[3]
         if isinstance(dtype, ast.Constant) and dtype.value is None:
             self.report(call, "GM904", "`Box(dtype=None)` raises in Gymnasium 1.x: give the dtype explicitly (np.float32 was the default)", kind=FixKind.FLAG)
-            return
+            return None
         literal = [value for value in _bounds(call) if isinstance(value, (ast.List, ast.Tuple))]
         if not literal:
-            return
+            return None
         dtype_text = full_name(dtype) if dtype is not None else "np.float32"
         dtype_string = self._one_string(dtype)
         if dtype is not None and dtype_text is None and dtype_string is None:
             self.report(call, "GM904", "`Box` low/high must be arrays or scalars (a list raises): wrap them in `np.array(...)`", kind=FixKind.FLAG)
-            return
+            return None
         is_float = dtype_text in FLOAT_DTYPES or (dtype_string is not None and "float" in dtype_string)
         if not is_float and any("inf" in self.facts.segment(value) for value in literal):
             self.report(
@@ -312,11 +361,11 @@ class SpacesLogger(RuleFamily):
                 "float: use the dtype's limits in an `np.array(...)`",
                 kind=FixKind.FLAG,
             )
-            return
+            return None
         self.report(call, "GM904", "`Box` low/high lists raise in Gymnasium 1.x: wrapped in `np.array(..., dtype=...)` with the Box dtype")
         if not self._numpy_imported_as_np():
             self.plan.add_import("import numpy as np")
-        self.plan.replace(call, _wrap_bounds)
+        return _wrap_bounds
 
     def _one_string(self, node: ast.AST | None) -> str | None:
         """The source of a single string literal (quotes included), else None."""
@@ -418,6 +467,29 @@ def _is_bound(arg: cst.Arg, index: int) -> bool:
     if arg.keyword is not None:
         return arg.keyword.value in ("low", "high")
     return not arg.star and index < 2
+
+
+def _applying(builds: list[Callable[[cst.Call], cst.Call]]) -> Callable[[cst.Call], cst.Call]:
+    """One replacement of the Box call that makes each of its changes in turn."""
+
+    def build(call: cst.Call) -> cst.Call:
+        for each in builds:
+            call = each(call)
+        return call
+
+    return build
+
+
+def _tuple_shape(call: cst.Call) -> cst.Call:
+    """``shape=1`` -> ``shape=(1,)`` (keyword, or the third positional argument)."""
+    args = list(call.args)
+    positional = [i for i, a in enumerate(args) if a.keyword is None and not a.star]
+    index = next((i for i, a in enumerate(args) if a.keyword is not None and a.keyword.value == "shape"), None)
+    if index is None:
+        index = positional[2]
+    value = args[index].value.with_changes(lpar=[], rpar=[])
+    args[index] = args[index].with_changes(value=cst.Tuple([cst.Element(value, comma=cst.Comma())]))
+    return call.with_changes(args=args)
 
 
 def _wrap_bounds(call: cst.Call) -> cst.Call:

@@ -313,6 +313,10 @@ def _five(terminated: cst.BaseExpression, truncated: cst.BaseExpression) -> Call
             third.with_changes(value=terminated, comma=cst.Comma(whitespace_after=cst.SimpleWhitespace(" "))),
             cst.Element(truncated, comma=third.comma),
         ]
+        if m.matches(elements[-1].value, m.Name("None")):
+            # gym passed a step's info through as it came; Gymnasium's env checker (which make
+            # puts around the env) asserts a dict, so a literal None info is the empty one
+            elements[-1] = elements[-1].with_changes(value=cst.Dict([]))
         return ret.with_changes(value=value.with_changes(elements=elements))
 
     return rewrite

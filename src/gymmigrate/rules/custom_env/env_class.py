@@ -29,6 +29,7 @@ from gymmigrate.rules.custom_env.common import (
     ClassDecision,
     method_of,
 )
+from gymmigrate.rules.custom_env.hook_calls import rename_hook_calls_first
 from gymmigrate.rules.custom_env.observations import (
     decide_float64_observations,
     decide_mujoco,
@@ -75,6 +76,8 @@ class EnvClassFamily(RuleFamily):
 
     def decide(self) -> None:
         env = EnvClasses.of(self.facts, self.receivers)
+        if rename_hook_calls_first(self, env):
+            return  # the next round decides on the renamed code
         deleted: list[ast.stmt] = []
         removed_seed = False
         inherited: dict[int, list[str]] = {}  # subclass -> step hooks its bases migrated (hooks.py)

@@ -1,4 +1,4 @@
-"""Space drift: what Gymnasium 1.x's spaces build, return and compare differently (GM903, GM905, GM909-GM911).
+"""Space drift: what Gymnasium 1.x's spaces build, return and compare differently (GM903, GM905, GM909-GM912).
 
 Each claim was checked against the installed Gymnasium 1.4.0 (``docs/rules/<CODE>.md``
 has the script):
@@ -34,6 +34,9 @@ has the script):
   sets in Gymnasium 1.4 (``Discrete.start``): ``sample()``, ``contains()``, ``repr()``
   raise AttributeError. Reported; for a ``Discrete`` subclass that skipped it to keep a
   dtype, the item names the two calls to choose between (``subclasses.py``).
+* GM912 gym 0.9's ``MultiDiscrete.low`` / ``.high`` do not exist in Gymnasium: under an
+  isinstance check they become ``start`` / ``start + nvec - 1``; on a space built here
+  (gym 0.9's ``[[low, high], ...]``) reported (``multi_discrete.py``).
 
 Sources: Gymnasium 1.4.0 ``spaces/discrete.py``, ``spaces/multi_binary.py``,
 ``spaces/box.py``, ``spaces/dict.py``; gym 0.21 ``spaces/`` (catalog GM903, GM905).
@@ -53,6 +56,7 @@ from gymmigrate.facts.module import walk
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.spaces.json_writes import JSON_WRITERS, decide_json
+from gymmigrate.rules.spaces.multi_discrete import decide_bounds_read
 from gymmigrate.rules.spaces.sizes import decide_box_bounds, decide_size
 from gymmigrate.rules.spaces.subclasses import decide_subclass
 from gymmigrate.rules.spaces.type_checks import decide_isinstance, type_check
@@ -73,6 +77,13 @@ RULES = (
         "`MultiBinary(0)`, `Discrete(0)`, `Discrete(<float>)` and `Box` bounds outside an integer dtype raise in Gymnasium 1.x: reported; "
         "a `MultiBinary(n)` whose int size can be 0 gets an empty `Box` for 0.",
     ),
+    Rule(
+        "GM912",
+        "MultiDiscrete low/high",
+        FixKind.AUTO,
+        "gym's `MultiDiscrete.low` / `.high` become `start` / `start + nvec - 1` on a space known to be a `MultiDiscrete`; "
+        "other receivers are reported.",
+    ),
     Rule("GM910", "Box equality compares dtype", FixKind.FLAG, "`box == other_space` is False across dtypes in Gymnasium 1.x: reported."),
     Rule(
         "GM911",
@@ -90,7 +101,7 @@ RULES = (
 # and (GM911) subclasses of a space class, named in their bases.
 _WORDS = (
     "isinstance", "type(", "json", "==",
-    "Box", "Discrete", "MultiBinary", "Space", "Tuple", "Dict", "Text", "Graph", "Sequence", "OneOf",
+    "Box", "Discrete", "MultiBinary", "MultiDiscrete", "Space", "Tuple", "Dict", "Text", "Graph", "Sequence", "OneOf",
 )
 
 class SpaceDrift(RuleFamily):
@@ -124,6 +135,9 @@ class SpaceDrift(RuleFamily):
                 decide_box_bounds(self, call)
         for classdef in self.facts.all_classes:
             decide_subclass(self, classdef)
+        for name in ("low", "high"):
+            for attribute in self.facts.attributes.get(name, ()):
+                decide_bounds_read(self, self.spaces, attribute)
 
     def _compares(self) -> list[ast.Compare]:
         return self.facts.memo(("space-drift-compares", 0), lambda: [n for n in walk(self.facts.tree) if isinstance(n, ast.Compare)])

@@ -61,6 +61,10 @@ class SpaceValues:
             return found.pop() if len(found) == 1 else (UNKNOWN if None not in found else None)
         return None
 
+    def narrowed(self, expr: ast.AST) -> str | None:
+        """The space class an enclosing isinstance check proves for a name, else None."""
+        return self._narrowed(expr) if isinstance(expr, ast.Name) else None
+
     def _narrowed(self, name: ast.Name) -> str | None:
         """The space class an enclosing ``if isinstance(name, spaces.X):`` proves (a helper
         that walks a space of any class: ``def f(space): if isinstance(space, Dict): ...``)."""

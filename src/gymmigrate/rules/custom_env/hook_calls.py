@@ -1,0 +1,125 @@
+"""gym < 0.9 hooks called across a class hierarchy follow their rename.
+
+A subclass of the run's own env calls its base's old hook by name: ``super()._reset()``,
+``Base._step(self, a)``, or ``self._seed(s)`` where only a base defines ``_seed``. The
+base's ``_reset`` becomes ``reset`` in the same run, so a call left on the old name raises
+AttributeError on every reset. Renaming the call alone is not enough either: the renamed
+base returns ``(obs, info)`` (five step values), so the caller's use of the result must
+follow the new contract too. That is what the family already does for the same code
+written with the public names (``return super().reset()``, ``ob, r, d, i =
+super().step(a)``), so the renames are made in a round of their own
+(``Plan.renames_first``) and the next round migrates the renamed code as it would have
+with the names written so.
+"""
+
+from __future__ import annotations
+
+import ast
+
+from gymmigrate.facts.env_classes import EnvClasses
+from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.findings import Tier
+from gymmigrate.rules.base import RuleFamily
+from gymmigrate.rules.custom_env.common import (
+    UNDERSCORE_METHODS,
+    UNDERSCORE_RULE,
+    ClassDecision,
+    Method,
+)
+
+Renames = dict[int, tuple[ast.ClassDef, dict[str, str]]]  # id(classdef) -> (class, old -> new)
+
+
+def rename_hook_calls_first(family: RuleFamily, env: EnvClasses) -> bool:
+    """Where a class calls a renamed hook of a base of the run, rename every hook of the
+    module and those calls alone (a first round); True when it did."""
+    if not family.plan.allow_renames_first:
+        return False
+    renames: Renames = {}
+    defs: dict[int, dict[str, Method]] = {}  # the methods of each class, as the family indexes them
+    for classdef in family.facts.all_classes:
+        if not env.is_custom_env(classdef) or family.receivers.class_kind(classdef) is EnvKind.OWN_API:
+            continue
+        decision = ClassDecision(family, env, classdef)
+        if decision.plan.published:
+            continue  # ``reset = _reset``: the hooks keep their names (``common.ClassDecision``)
+        own = {old: new for new, old in decision.renamed.items() if old in decision.methods}
+        renames[id(classdef)] = (classdef, own)
+        defs[id(classdef)] = decision.methods
+    calls = [
+        (call, new)
+        for classdef, own in renames.values()
+        for call, new in _base_hook_calls(family, classdef, own, _renamed_above(family, classdef, renames))
+    ]
+    if not calls:
+        return False
+    family.plan.renames_first = True
+    for classdef, own in renames.values():
+        methods = defs[id(classdef)]
+        for old, new in own.items():
+            family.plan.replace(methods[old], lambda node, new=new: node.with_changes(name=node.name.with_changes(value=new)))
+            family.report(methods[old], UNDERSCORE_RULE[new], f"gym < 0.9 method `{old}` renamed `{new}`", tier=Tier.NOTE)
+            calls.extend((call, new) for call in _self_calls(family, classdef, old))
+    for call, new in calls:
+        family.plan.replace(call.func, lambda node, new=new: node.with_changes(attr=node.attr.with_changes(value=new)))
+    return True
+
+
+def _renamed_above(family: RuleFamily, classdef: ast.ClassDef, renames: Renames) -> set[str]:
+    """The hooks that this module's bases of the class rename (at any depth)."""
+    found: set[str] = set()
+    seen = {id(classdef)}
+    todo = [classdef]
+    while todo:
+        for base in todo.pop().bases:
+            local = family.receivers.local_class(base)
+            if local is None or id(local) in seen:
+                continue
+            seen.add(id(local))
+            found.update(renames.get(id(local), (local, {}))[1])
+            todo.append(local)
+    return found
+
+
+def _base_hook_calls(family: RuleFamily, classdef: ast.ClassDef, own: dict[str, str], above: set[str]) -> list[tuple[ast.Call, str]]:
+    """The class's calls of a base's gym < 0.9 hook that the run renames: ``super()._reset()``
+    and ``Base._reset(self)`` from a hook the class renames itself, and ``self._step(a)`` on a
+    hook a base of this module renames. A base renames its hook under the class's own
+    condition (no public name above it), so the class's rename stands for the base's; a hook
+    the class does not define follows only a rename seen here (a base may publish its hook
+    under the public name, ``reset = _reset``, and keep it)."""
+    inherited = family.receivers.base_methods(classdef)
+    bases = {ast.unparse(base) for base in classdef.bases}
+    found: list[tuple[ast.Call, str]] = []
+    for old, new in UNDERSCORE_METHODS.items():
+        if old not in inherited:
+            continue
+        through_base = old in own
+        through_self = old not in own and old in above and not _defines(classdef, old, new)
+        for call in family.facts.attribute_calls.get(old, ()):
+            func = call.func
+            if not isinstance(func, ast.Attribute) or family.facts.enclosing_class(call) is not classdef:
+                continue
+            target = func.value
+            is_super = isinstance(target, ast.Call) and isinstance(target.func, ast.Name) and target.func.id == "super"
+            is_base = isinstance(target, (ast.Name, ast.Attribute)) and ast.unparse(target) in bases
+            is_self = isinstance(target, ast.Name) and target.id == "self"
+            if (through_base and (is_super or is_base)) or (through_self and is_self):
+                found.append((call, new))
+    return found
+
+
+def _defines(classdef: ast.ClassDef, *names: str) -> bool:
+    return any(isinstance(s, (ast.FunctionDef, ast.AsyncFunctionDef)) and s.name in names for s in classdef.body)
+
+
+def _self_calls(family: RuleFamily, classdef: ast.ClassDef, old: str) -> list[ast.Call]:
+    """``self._reset()`` in the class whose own ``_reset`` is renamed."""
+    return [
+        call
+        for call in family.facts.attribute_calls.get(old, ())
+        if isinstance(call.func, ast.Attribute)
+        and isinstance(call.func.value, ast.Name)
+        and call.func.value.id == "self"
+        and family.facts.enclosing_class(call) is classdef
+    ]
