@@ -199,3 +199,18 @@ def test_a_step_helper_another_module_calls_keeps_its_four_values(tmp_path: Path
     run = subprocess.run([sys.executable, "-W", "ignore", "-c", code], cwd=project, capture_output=True, text=True, timeout=120)
     assert run.returncode == 0, run.stderr
     assert run.stdout.strip() == "(0.5, False, 0.0)"
+
+
+def test_a_proxy_of_the_project_is_migrated_with_its_env_or_asked_about(tmp_path: Path) -> None:
+    """``project_proxy_holders``: ``StepLogger`` (a plain class, ``super(StepLogger,
+    self).__init__()``) forwards reset and step to the env it holds, and its one construction
+    passes a ``CarEnv`` the run migrates, through ``env = StepLogger(env)``: it is migrated
+    with that env. ``Driver`` holds a ``StepLogger`` in one module and an SB3 VecEnv in
+    another: its calls are asked about, not left in silence as a VecEnv's."""
+    project = _copy(tmp_path, "project_proxy_holders")
+    before = (project / "driver.py").read_text()
+    result = runner.invoke(app, ["rewrite", str(project)])
+    assert result.exit_code == 0, result.output
+    assert "obs, reward, terminated, truncated, info = self.env.step(action)" in (project / "logger.py").read_text()
+    assert (project / "driver.py").read_text() == before
+    assert "driver.py:13: GM201" in result.output and "project's own object (`StepLogger`)" in result.output
