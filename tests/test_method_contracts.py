@@ -183,3 +183,34 @@ def test_a_generator_handed_to_a_class_of_another_module_gets_its_api(tmp_path: 
     )
     run = subprocess.run([sys.executable, "-W", "ignore", "-c", code], cwd=project, capture_output=True, text=True, timeout=120)
     assert run.returncode == 0 and run.stdout.strip() == "True (False, False)", run.stderr + run.stdout
+
+
+def test_a_step_helper_another_module_calls_keeps_its_four_values(tmp_path: Path) -> None:
+    """``project_helper_callers``: ``KartEnv.step`` returns ``self.shape(...)``, and
+    ``drive.py`` calls ``env.shape(...)`` itself on an instance it asserts is a ``KartEnv``,
+    unpacking four values. Before, the helper was widened to five and that unpack raised
+    ValueError; now step unpacks the helper's four values and builds the five itself."""
+    project = _copy(tmp_path, "project_helper_callers")
+    result = runner.invoke(app, ["rewrite", str(project)])
+    assert result.exit_code == 0, result.output
+    kart = (project / "envs" / "kart.py").read_text()
+    assert "return obs, reward, done, info" in kart and "return obs, reward, terminated, False, info" in kart
+    code = "import drive\nprint(drive.drive())"
+    run = subprocess.run([sys.executable, "-W", "ignore", "-c", code], cwd=project, capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.strip() == "(0.5, False, 0.0)"
+
+
+def test_a_proxy_of_the_project_is_migrated_with_its_env_or_asked_about(tmp_path: Path) -> None:
+    """``project_proxy_holders``: ``StepLogger`` (a plain class, ``super(StepLogger,
+    self).__init__()``) forwards reset and step to the env it holds, and its one construction
+    passes a ``CarEnv`` the run migrates, through ``env = StepLogger(env)``: it is migrated
+    with that env. ``Driver`` holds a ``StepLogger`` in one module and an SB3 VecEnv in
+    another: its calls are asked about, not left in silence as a VecEnv's."""
+    project = _copy(tmp_path, "project_proxy_holders")
+    before = (project / "driver.py").read_text()
+    result = runner.invoke(app, ["rewrite", str(project)])
+    assert result.exit_code == 0, result.output
+    assert "obs, reward, terminated, truncated, info = self.env.step(action)" in (project / "logger.py").read_text()
+    assert (project / "driver.py").read_text() == before
+    assert "driver.py:13: GM201" in result.output and "project's own object (`StepLogger`)" in result.output

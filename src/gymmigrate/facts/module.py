@@ -518,6 +518,12 @@ class ModuleFacts:
         return value
 
 
+    def computing(self, key: tuple[str, int]) -> bool:
+        """``memo`` is computing ``key`` now, asked with ``while_computing=None`` (a fact whose
+        answers are never None): a recursive question about it is inside that computation."""
+        return key in self._memo and self._memo[key] is None
+
+
 def dotted_name(expr: ast.AST) -> str | None:
     """``a.b.c`` for a chain of attributes on a name, else None."""
     parts = []

@@ -99,6 +99,10 @@ class ModuleSummary:
     # Top-level class -> the names its methods call as ``self.<name>(...)``: a helper a
     # subclass elsewhere defines may be called by its base here, so its return is shared.
     self_calls: dict[str, frozenset[str]] = field(default_factory=dict)
+    # The methods the module calls on another receiver than ``self`` or ``super()``
+    # (``env.postprocess(...)``): a helper of a class elsewhere that step returns keeps
+    # its own return when this module may call it directly (``common.delegates``).
+    instance_calls: frozenset[str] = frozenset()
     # ``make(env.spec)`` or ``env.spec.make()``: Gymnasium rebuilds the wrappers of the spec
     # from their recorded constructor arguments (GM617).
     recreates_from_spec: bool = False

@@ -162,6 +162,9 @@ class ProjectFacts:
     subclass_methods: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
     # (path, class) -> the ``self.<name>(...)`` its methods call (``ModuleSummary.self_calls``).
     self_calls: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
+    # method name -> the modules of the run that call it on a receiver other than ``self``
+    # (``ModuleSummary.instance_calls``).
+    instance_calls: dict[str, list[str]] = field(default_factory=dict)
     # (path, class) of the classes whose ``__init__`` hands up to a base of another module
     # with ``super().__init__`` (``ModuleSummary.passes_init_up``): the base sees that call.
     init_passers: set[tuple[str, str]] = field(default_factory=set)

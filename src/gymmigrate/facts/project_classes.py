@@ -103,6 +103,8 @@ def join_overrides(facts: ProjectFacts, summaries: list[ModuleSummary], by_path:
     """Which methods of a run's class are overridden by subclasses in other modules."""
     for summary in summaries:
         facts.self_calls.update(((summary.path, name), called) for name, called in summary.self_calls.items())
+        for name in summary.instance_calls:
+            facts.instance_calls.setdefault(name, []).append(summary.path)
         for name, bases, methods in summary.subclasses:
             for qualified in bases:
                 level, parts = import_parts(qualified)

@@ -65,6 +65,11 @@ class HierarchyView:
                 todo += links.get(other, ())
         return found
 
+    def called_on_instances_elsewhere(self, method: str) -> list[str]:
+        """Other modules of the run that call ``x.<method>(...)`` on a receiver other than
+        ``self``: one of them may be an instance of this file's class."""
+        return sorted(path for path in self.facts.instance_calls.get(method, ()) if path != self.path)
+
     def hook_followed_elsewhere(self, classname: str, method: str) -> bool:
         """Every override of ``classname``'s step hook ``method`` in other modules of the run
         can return five values with it (facts/step_hooks.py): they follow the base."""

@@ -19,6 +19,7 @@ from gymmigrate.facts import same_tests
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import MAX_DEPTH, EnvKind, join_kinds
 from gymmigrate.facts.module import FUNCTIONS, call_argument, own_returns, walk
+from gymmigrate.facts.receiver_classes import duck_wrapper_param
 
 if TYPE_CHECKING:
     from gymmigrate.facts.kinds import ReceiverFacade as _Facade
@@ -132,6 +133,25 @@ class BindingKinds(_Facade):
             return None  # ``env = wrap(env)``: its kind rests on the earlier values too
         return last if flow.dominates(statement, name, name) else None
 
+    def _duck_rewrap(self, value: ast.expr, name: str) -> bool:
+        """``env = Recorder(env)``: ``name`` rebound to an instance of a class of this module
+        shaped as a duck wrapper (``duck_wrapper_param``) built around ``name`` itself, which
+        the run proves to be one (or is proving now: this very binding is then one of the
+        constructions it asks about, and adds no evidence of its own). It holds that env,
+        migrated with it, so the name keeps the env's kind."""
+        if not isinstance(value, ast.Call):
+            return False
+        classdef = self.local_class(value.func)
+        param = duck_wrapper_param(classdef) if classdef is not None else None
+        if classdef is None or param is None:
+            return False
+        init = next(s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == "__init__")
+        position = [*init.args.posonlyargs, *init.args.args].index(param) - 1  # calls pass no ``self``
+        argument = call_argument(value, position, param.arg)
+        if not (isinstance(argument, ast.Name) and argument.id == name):
+            return False
+        return self.facts.computing(("duck-wrapper", id(classdef))) or self.is_duck_wrapper(classdef)
+
     def binding_kind(self, binding: ast.AST) -> EnvKind | None:
         """The kind of value one binding stores (None: it adds no evidence, e.g. ``+=``)."""
         if isinstance(binding, (ast.alias, *FUNCTIONS, ast.ClassDef, ast.ExceptHandler)):
@@ -146,6 +166,8 @@ class BindingKinds(_Facade):
             if isinstance(inner, ast.Name) and inner.id == binding.id:
                 return None  # ``env = supersuit.dtype_v0(env, ...)``: env keeps its kind, no new evidence
             value = parent.value
+            if self._duck_rewrap(value, binding.id):
+                return None  # ``env = Recorder(env)``: a proxy the run proves, around the same env
             if isinstance(value, ast.Attribute) and value.attr == "unwrapped" and isinstance(value.value, ast.Name) and value.value.id == binding.id:
                 return None  # ``env = env.unwrapped``: the same env, its kind unchanged
             return self.kind_of(parent.value)

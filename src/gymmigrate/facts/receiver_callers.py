@@ -133,6 +133,14 @@ class CallerSites(_Facade):
             call = facts.parent(parent) if isinstance(parent, ast.Tuple) else parent
             if isinstance(call, ast.Call) and isinstance(call.func, ast.Name) and call.func.id in ("isinstance", "issubclass", "type"):
                 return False
+            if (
+                isinstance(parent, ast.Call)
+                and isinstance(parent.func, ast.Name)
+                and parent.func.id == "super"
+                and not facts.bindings_of(parent.func)
+                and parent.args[:1] == [node]
+            ):
+                return False  # ``super(Recorder, self).__init__()``: names where lookup starts, builds nothing
         return not _in_annotation(node, facts)
 
     def call_sites(self, function: ast.AST, classdef: ast.ClassDef | None) -> list[ast.Call]:

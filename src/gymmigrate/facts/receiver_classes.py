@@ -207,7 +207,7 @@ class ClassKinds(_Facade):
         or a ``step``/``reset`` returning what ``self.env.step``/``self.env.reset`` give),
         where every construction of the run passes a Gym env: it is a Gym wrapper in all
         but name, and is migrated as one with its callers (the run is the unit)."""
-        return bool(self.facts.memo(("duck-wrapper", id(classdef)), lambda: self._is_duck_wrapper(classdef), while_computing=False))
+        return bool(self.facts.memo(("duck-wrapper", id(classdef)), lambda: self._is_duck_wrapper(classdef), while_computing=None))
 
     def _is_duck_wrapper(self, classdef: ast.ClassDef) -> bool:
         param = duck_wrapper_param(classdef)

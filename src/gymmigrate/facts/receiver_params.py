@@ -17,6 +17,7 @@ from gymmigrate.facts.callables import (
     string_names,
     union_members,
 )
+from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.import_roots import is_test_path
 from gymmigrate.facts.kinds import EnvKind, join_kinds
 from gymmigrate.facts.module import FUNCTIONS, call_argument, walk
@@ -78,6 +79,7 @@ class ParameterKinds(CallerSites, ThunkKinds):
             return EnvKind.GYM_ENV if self._wrapped_in_gym_wrapper(function, param) else EnvKind.UNKNOWN
         defaults = has_default(function, param)
         kinds = list(external)
+        own_objects: list[str] = []  # arguments of unknown kind that the project itself makes
         for call in calls:
             shift = shifts.get(id(call), 0)
             argument = call_argument(call, None if position is None else position + shift, name)
@@ -87,7 +89,17 @@ class ParameterKinds(CallerSites, ThunkKinds):
                 kinds.append(EnvKind.UNKNOWN)  # not passed (or maybe in ``**kwargs``)
             else:
                 kinds.append(self.kind_of(argument))
+                if kinds[-1] is EnvKind.UNKNOWN and self.run_defined(argument):
+                    own_objects.append(self._made_by(argument))
         gym = {k for k in kinds if k.is_gym}
+        if EnvKind.SB3_VEC in kinds and own_objects and not gym:
+            # A VecEnv at some sites, an object of the project's own at others (a proxy around
+            # an env the run migrates, as likely as not): a VecEnv at one site proves nothing of
+            # the others, so the calls are reported (``mixed_callers``), not left in silence.
+            shown = ", ".join(f"`{text}`" for text in sorted(set(own_objects)))
+            self._mixed_params[param] = ([f"project's own object ({shown})"], [EnvKind.SB3_VEC.value])
+            return EnvKind.UNKNOWN
+
         others = {k for k in kinds if k not in (EnvKind.NOT_ENV, EnvKind.UNKNOWN) and not k.is_gym}
         if gym and others:
             # Some callers pass a Gym env, others a VecEnv or a PettingZoo env: the same code
@@ -111,6 +123,17 @@ class ParameterKinds(CallerSites, ThunkKinds):
                 self._mixed_params[param] = (sorted(k.value for k in gym), [f"{name} (whose step and reset keep their own contract)" for name in sorted(kept)])
                 return EnvKind.UNKNOWN
         return join_kinds(kinds)
+
+    def _made_by(self, argument: ast.expr) -> str:
+        """What an argument is made by, as the code spells it: ``Recorder`` for ``env`` bound
+        (where it is read) only to ``Recorder(...)``; else the argument's own text."""
+        value: ast.AST = argument
+        if isinstance(argument, ast.Name):
+            reaching = Flow.of(self.facts).reaching(argument)
+            parents = [self.facts.parent(b) for b in reaching or ()]
+            if len(parents) == 1 and isinstance(parents[0], ast.Assign):
+                value = parents[0].value
+        return self.facts.segment(value.func if isinstance(value, ast.Call) else value)
 
     def _checked_multi_agent_kind(self, function: ast.FunctionDef | ast.AsyncFunctionDef, name: str) -> EnvKind | None:
         """``def to_vec(par_env): assert isinstance(par_env, ParallelEnv); ...`` (or ``if not

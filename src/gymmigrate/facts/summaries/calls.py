@@ -403,7 +403,7 @@ class CallSummarizer:
         joined by ``|``: ``env = nasim.make_benchmark(...)``, or ``env = AtariEnvironment(args)``
         in one branch and ``env = Environment(gym.make(id))`` in the other; None when a
         binding calls anything else."""
-        values = self.facts.assigned_values(name, sole_target=True)
+        values = self._reaching_values(name)
         if values is None:
             return None
         found: set[str] = set()
@@ -419,12 +419,28 @@ class CallSummarizer:
             found.add(qualified[0])
         return "|".join(sorted(found)) if found else None
 
+    def _reaching_values(self, name: ast.Name) -> list[ast.expr] | None:
+        """The values of the ``name = ...`` bindings that may reach this read of ``name``
+        (``env = Car()`` then ``env = Recorder(env)``: the read in ``Recorder(env)`` gets the
+        car, a read after it the recorder); every binding's where the flow cannot tell them
+        apart; None when one binds it otherwise."""
+        reaching = Flow.of(self.facts).reaching(name)
+        if not reaching:
+            return self.facts.assigned_values(name, sole_target=True)
+        values: list[ast.expr] = []
+        for binding in reaching:
+            parent = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
+            if not (isinstance(parent, ast.Assign) and parent.targets == [binding]):
+                return None
+            values.append(parent.value)
+        return values
+
     def _made_here_or_by_run(self, name: ast.Name) -> str | None:
         """``env = gym.make(...)`` in some branches and ``env = Reacher()`` (a class of
         another module of the run) in others: the run's names joined by ``|`` with the kinds
         this module settles itself (``=GYM_ENV``), for the join to resolve as one; None when
         a binding is anything else, or when no binding calls a name of the run."""
-        values = self.facts.assigned_values(name, sole_target=True)
+        values = self._reaching_values(name)
         if values is None:
             return None
         made: set[str] = set()

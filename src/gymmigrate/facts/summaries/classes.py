@@ -230,6 +230,21 @@ def subclasses(facts: ModuleFacts) -> tuple[tuple[str, tuple[str, ...], tuple[st
     return tuple(found)
 
 
+def instance_calls(facts: ModuleFacts) -> frozenset[str]:
+    """``ModuleSummary.instance_calls``: the methods the module calls on a receiver that
+    is neither ``self`` nor ``super()`` (``env.postprocess(...)``, ``self.env.observe()``):
+    whatever object that is, a class of the run defining the name may be the one called."""
+    return frozenset(
+        name
+        for name, calls in facts.attribute_calls.items()
+        if any(
+            not (isinstance(call.func.value, ast.Name) and call.func.value.id == "self")  # type: ignore[attr-defined]
+            and not is_super_method_call(call, name)
+            for call in calls
+        )
+    )
+
+
 def self_calls(facts: ModuleFacts) -> dict[str, frozenset[str]]:
     """``ModuleSummary.self_calls``: per top-level class, the ``self.<name>(...)`` its
     methods call (nested defs included: a closure's ``self`` is the instance too)."""

@@ -12,6 +12,7 @@ from gymmigrate.facts.env_classes import (
     EnvClasses,
     FunctionIndex,
     class_level_bindings,
+    is_super_method_call,
 )
 from gymmigrate.facts.module import full_name, own_returns, walk
 from gymmigrate.findings import FixKind, Tier
@@ -205,6 +206,22 @@ def called_in_hierarchy(decision: ClassDecision, name: str) -> bool:
     )
 
 
+def called_on_instances(decision: ClassDecision, name: str) -> bool:
+    """Some code of the run calls ``x.<name>(...)`` on another receiver than ``self`` or
+    ``super()``, in this module or another: it may hold an instance of the class (an
+    ``isinstance`` check or a construction shows it), and reads what the method returns
+    as it is. Any such call counts: the run cannot widen a return it does not see used."""
+    facts = decision.family.facts
+    if any(
+        not (isinstance(call.func.value, ast.Name) and call.func.value.id == "self")  # type: ignore[attr-defined]
+        and not is_super_method_call(call, name)
+        for call in facts.attribute_calls.get(name, ())
+    ):
+        return True
+    project = decision.family.receivers.project
+    return project is not None and bool(project.called_on_instances_elsewhere(name))
+
+
 def delegates(decision: ClassDecision, function: Method) -> list[Method]:
     """The class's helpers that ``function`` returns the result of (``return self._step(a)``).
 
@@ -226,6 +243,8 @@ def delegates(decision: ClassDecision, function: Method) -> list[Method]:
         callers = decision.index.self_calls.get(name, ())
         if called_in_hierarchy(decision, name):
             continue  # another class's method reads the helper's value: its contract stays
+        if called_on_instances(decision, name):
+            continue  # ``env.postprocess(...)`` elsewhere may be this class's: it reads four values
         if all(method_of(decision, c) is function for c in callers) and name not in decision.renamed.values():
             found.append(helper)
     return found
