@@ -248,6 +248,10 @@ class ModuleSummary:
     # Top-level env classes whose render(self) draws the same whatever render mode they are
     # made with (``render_modes.modeless_render``): a bare render() of one asks for none.
     modeless_renders: frozenset[str] = frozenset()
+    # Top-level env classes whose drawing is their render() alone: step() and reset() call no
+    # render() (``render_modes.draws_only_in_render``). Made in human mode, they still draw
+    # only when render() is called.
+    render_only_classes: frozenset[str] = frozenset()
     # -- a reset contract of the run (facts/reset_contract.py, GM207) --
     # The extra reset keywords its env classes take, its reset calls pass, and the sites
     # the rewrite cannot carry.

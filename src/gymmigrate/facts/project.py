@@ -75,6 +75,7 @@ from gymmigrate.facts.project_contracts import (
     legacy_steps,
     modeless_renders,
     own_renders,
+    render_only_ids,
     seed_keepers,
     thread_render_mode,
     wrapper_steppers,
@@ -261,6 +262,9 @@ class ProjectFacts:
     # registers for one of them: id -> class.
     seed_classes: frozenset[tuple[str, str]] = frozenset()
     seed_ids: dict[str, str] = field(default_factory=dict)
+    # Literal ids the run registers for an env class whose drawing is its render() alone
+    # (``ModuleSummary.render_only_classes``): id -> class.
+    render_only_ids: dict[str, str] = field(default_factory=dict)
     # Gym wrapper classes of the run with a seed() of their own or of a base of the run, as
     # (path, class) where each is defined: Gymnasium's reset(seed=...) never calls it.
     seed_wrappers: frozenset[tuple[str, str]] = frozenset()
@@ -462,6 +466,7 @@ class ProjectFacts:
                 if where is not None and where in driven:
                     facts.driven_kinds[(path, name)] = driven[where]
         facts.seed_classes, facts.seed_ids = seed_keepers(facts, by_path)
+        facts.render_only_ids = render_only_ids(facts, by_path)
         NonSpaces(facts, by_path).run()
         facts.wrapper_steppers = wrapper_steppers(facts, by_path)
         facts.reset_contract = join_reset_sites([(path, s.reset_sites) for path, s in by_path.items() if path not in facts.blocked])

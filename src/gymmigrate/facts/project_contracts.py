@@ -161,6 +161,20 @@ def seed_keepers(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> tupl
     return classes, ids
 
 
+def render_only_ids(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> dict[str, str]:
+    """The literal ids the run registers with an entry point naming an env class whose
+    drawing is its render() alone (``ModuleSummary.render_only_classes``), re-exports followed."""
+    ids: dict[str, str] = {}
+    for summary in by_path.values():
+        for env_id, entry in summary.registrations:
+            module, _, name = entry.partition(":")
+            where = facts.modules.get(module)
+            definer = _definer(facts, by_path, where, name) if where else None
+            if env_id is not None and definer is not None and definer[0] not in facts.blocked and definer[1] in by_path[definer[0]].render_only_classes:
+                ids.setdefault(env_id, definer[1])
+    return ids
+
+
 def legacy_steps(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> frozenset[tuple[str, str]]:
     """Every (path, name) of the run that calls a class whose step keeps the legacy
     contract: the class itself, its re-exports and subclasses that define no step, and the

@@ -72,6 +72,12 @@ class RenderView:
             return ids.get(env_id)
         return next(iter(sorted(ids.values())), None)
 
+    def draws_only_in_render(self, env_id: str) -> bool:
+        """``gymnasium.make(env_id)`` builds an env class of the run whose drawing is its
+        render() alone (``ProjectFacts.render_only_ids``); ``module:id`` names the id after
+        the colon."""
+        return env_id.rpartition(":")[2] in self.facts.render_only_ids
+
     def takes_render_mode(self, qualified: str) -> bool:
         """An imported class of the run whose constructor takes ``render_mode`` once migrated
         (its own, or threaded down from a base: ``thread_render_mode``)."""

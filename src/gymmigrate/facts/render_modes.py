@@ -336,3 +336,49 @@ def _registered_here(facts: ModuleFacts, receivers: Receivers, classdef: ast.Cla
         if text is not None and text.rpartition(":")[2] == classdef.name:
             return True
     return False
+
+
+def draws_only_in_render(facts: ModuleFacts, receivers: Receivers, classdef: ast.ClassDef) -> bool:
+    """An env class of the module whose drawing is its render() alone: the class or a base of
+    this module defines render() and step(), no base comes from elsewhere (but Gym's Env),
+    nothing in them mentions ``render_mode``, and neither step() nor reset(), nor a method of
+    the class they call on ``self``, calls a render(). Gymnasium's human mode draws inside
+    step() only where step() calls render(): made with ``render_mode="human"``, an instance of
+    this class still draws only when render() is called, as before."""
+    return facts.memo(("render-only", id(classdef)), lambda: _draws_only_in_render(facts, receivers, classdef))
+
+
+def _draws_only_in_render(facts: ModuleFacts, receivers: Receivers, classdef: ast.ClassDef) -> bool:
+    if not EnvClasses.of(facts, receivers).is_custom_env(classdef):
+        return False
+    lineage = list(receivers.local_lineage(classdef))
+    for current in lineage:
+        for base in current.bases:
+            if not (
+                receivers.local_class(base) is not None
+                or (isinstance(base, ast.Name) and base.id == "object")
+                or any(N.strip_gym_prefix(q) in DIRECT_ENV_BASES for q in facts.qualified_names(base))
+            ):
+                return False
+        if any(_names_render_mode(node) for node in walk(current)):
+            return False
+    methods: dict[str, ast.FunctionDef | ast.AsyncFunctionDef] = {}
+    for current in lineage:
+        for statement in current.body:
+            if isinstance(statement, FUNCTIONS):
+                methods.setdefault(statement.name, statement)
+    if "render" not in methods or "step" not in methods:
+        return False
+    pending: list[str] = [name for name in ("step", "reset") if name in methods]
+    seen = set(pending)
+    while pending:
+        for node in walk(methods[pending.pop()]):
+            if not (isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute)):
+                continue
+            if node.func.attr == "render":
+                return False
+            called = node.func.attr
+            if isinstance(node.func.value, ast.Name) and node.func.value.id == "self" and called in methods and called not in seen:
+                seen.add(called)
+                pending.append(called)
+    return True

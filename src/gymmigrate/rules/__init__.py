@@ -17,6 +17,7 @@ Where a rule lives (families decide in the order of ``PIPELINE`` below):
     GM510                      stdlib random in env methods .... stdlib_random.py
     GM201-GM208, GM704         reset and seeding at call sites . reset_seed/
     GM301-GM304, GM703         step and done at call sites ..... step_done/
+    GM209                      step or render before reset ..... reset_order.py
     GM601-GM603, GM617, GM618  wrapper subclasses .............. wrappers/
     GM604-GM606                attribute forwarding ............ wrapper_usage/
     GM616                      gym < 0.9 wrapper hooks ......... legacy_hooks.py
@@ -81,6 +82,7 @@ PIPELINE = (
     FamilySpec("StdlibRandom", "gymmigrate.rules.stdlib_random", ("random",)),
     FamilySpec("ResetSeed", "gymmigrate.rules.reset_seed", ("reset", "seed")),
     FamilySpec("StepDone", "gymmigrate.rules.step_done.family", ("step", "TimeLimit.truncated")),
+    FamilySpec("ResetOrder", "gymmigrate.rules.reset_order", ("make",)),
     FamilySpec("AecLoop", "gymmigrate.rules.pettingzoo.aec_loop", _PZ, follows_the_run=True),
     FamilySpec("ParallelCalls", "gymmigrate.rules.pettingzoo.parallel", _PZ, follows_the_run=True),
     FamilySpec("SeedRender", "gymmigrate.rules.pettingzoo.seed_render", _PZ, follows_the_run=True),

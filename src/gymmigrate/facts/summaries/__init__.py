@@ -31,7 +31,7 @@ from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
 from gymmigrate.facts.module_summary import ModuleSummary, Signature
 from gymmigrate.facts.receivers import Receivers
 from gymmigrate.facts.render_handovers import bare_render_params, handed_constructions
-from gymmigrate.facts.render_modes import render_kept_classes
+from gymmigrate.facts.render_modes import draws_only_in_render, render_kept_classes
 from gymmigrate.facts.reset_contract import sites as reset_sites
 from gymmigrate.facts.rng_handovers import rng_stores
 from gymmigrate.facts.space_setters import (
@@ -202,6 +202,7 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         render_mode_heirs=render_mode_heirs(facts, receivers),
         own_renders=own_renders(facts, receivers, calls),
         modeless_renders=modeless_renders(facts, receivers),
+        render_only_classes=frozenset(name for name, classdef in facts.classes.items() if draws_only_in_render(facts, receivers, classdef)),
         registrations=registrations(facts),
         registered_ids=registered_ids(facts),
         held_params=held_params(facts, receivers),

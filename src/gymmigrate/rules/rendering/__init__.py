@@ -12,7 +12,9 @@ found through ``gymmigrate.facts.creation``.
   envs, e.g. a training env and an eval env).
 * GM402 bare ``env.render()`` (legacy default ``"human"``) -> ``render_mode="human"`` at
   the make. The call stays: "human" envs now draw inside ``step()``/``reset()``, so the
-  call is redundant, and the review item says so.
+  call is redundant, and the review item says so; but an env class of the run that draws
+  in ``render()`` alone (``ProjectView.draws_only_in_render``) still draws only there, and
+  the note says the call is what draws.
 * GM403 gym 0.25's ``"single_rgb_array"`` -> ``"rgb_array"``; in a file written for 0.25
   a ``"rgb_array"`` render returned a list of frames, and is reported.
 * GM406 ``env.render(close=True)`` -> ``env.close()``.

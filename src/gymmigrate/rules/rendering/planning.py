@@ -81,7 +81,14 @@ class SitePlanning(EnvUses, UntracedEnvs):
                 )
                 continue
             wanted = {s.mode for s in make_sites}
-            if wanted == {HUMAN} and not any(s.variable for s in make_sites) and self._keeps_schedule(make, make_sites, final_mode, blocked):
+            # An env whose class draws in render() alone draws only where render() is called, in
+            # human mode too: its renders keep their schedule by themselves.
+            if (
+                wanted == {HUMAN}
+                and not any(s.variable for s in make_sites)
+                and not self._draws_only_in_render([key], makes)
+                and self._keeps_schedule(make, make_sites, final_mode, blocked)
+            ):
                 continue
             if len(wanted) == 1:
                 mode = final_mode[key] = wanted.pop()
@@ -330,6 +337,17 @@ class SitePlanning(EnvUses, UntracedEnvs):
                 # does now, so the line only explains the rewrite.
                 per_step = all(self._steps_render(k) for k in keys)
                 self._claim_makes(keys)
+                if self._draws_only_in_render(keys, makes):
+                    # the env's class draws in render() alone: human mode adds no drawing to
+                    # step(), and the call draws as it did
+                    self.report(
+                        call,
+                        code,
+                        f'legacy render() meant "human": added {target} to {where}; the env\'s class draws only in '
+                        "render() (its step() and reset() call none), so this call is still what draws",
+                        tier=Tier.NOTE,
+                    )
+                    return
                 self.report(
                     call,
                     code,
@@ -356,16 +374,34 @@ class SitePlanning(EnvUses, UntracedEnvs):
                 message += "; the env's origin was inferred, check it"
             # A frame or text mode draws nothing by itself: the env renders when render() is
             # called, as before, so the move explains itself. "human" draws every step.
-            every_step = site.mode == HUMAN and not site.variable and self._drawn_every_step(call, keys)
-            if every_step:
+            # An env whose class draws in render() alone draws only when render() is called, in
+            # human mode as in any: the call keeps drawing as it did.
+            render_only = site.mode == HUMAN and not site.variable and self._draws_only_in_render(keys, makes)
+            every_step = site.mode == HUMAN and not site.variable and not render_only and self._drawn_every_step(call, keys)
+            if render_only:
+                message += "; the env's class draws only in render() (its step() and reset() call none), so this call is still what draws"
+            elif every_step:
                 message += "; it drew every step here, as a human-mode env does inside step()"
-            exact = not inferred and not site.variable and (site.mode != HUMAN or every_step)
+            exact = not inferred and not site.variable and (site.mode != HUMAN or every_step or render_only)
             if site.variable:
                 message += f'; the mode is read once per env now: where {site.mode} is "human", that env draws every step inside step()/reset()'
             self._claim_makes(keys)
             self.report(call, code, message, tier=Tier.NOTE if exact else None, question=question("moved"))
         else:
             self.report(call, code, f"{where} already has {target}; render() takes no arguments", FixKind.AUTO)
+
+    def _draws_only_in_render(self, keys: list[int], makes: dict[int, ast.Call]) -> bool:
+        """Every make of ``keys`` builds, by a literal id the run registers, an env class of
+        the run whose drawing is its render() alone (``ProjectView.draws_only_in_render``)."""
+        project = self.receivers.project
+        if project is None:
+            return False
+        for key in keys:
+            first = makes[key].args[0] if makes[key].args else keyword(makes[key], "id")
+            env_id = string_value(first) if first is not None else None
+            if env_id is None or not project.draws_only_in_render(env_id):
+                return False
+        return True
 
     def _forwarded_from_make_in_scope(self, call: ast.Call, site: RenderSite) -> bool:
         """``env = gym.make(...)``; ``env = Adapter(env)``; ``env.render(mode)`` in one scope,
