@@ -307,6 +307,7 @@ class CallSummarizer:
         slots = positional + [(k.arg, k.value) for k in call.keywords if k.arg is not None]
         made = [(slot, *found) for slot, value in slots if (found := handed_make(self.facts, value, call, self._is_run_call)) is not None]
         sources = [(slot, source) for slot, a in slots if isinstance(a, ast.Name) and (source := flow.source_of(a)) is not None]
+        items = [(slot, kind) for slot, a in slots if (kind := self._items_kind(a)) is not None]
         return CallSummary(
             target,
             tuple(args),
@@ -317,7 +318,22 @@ class CallSummarizer:
             tuple(thunks),
             made=tuple(made),
             sources=tuple(sources),
+            items=tuple(items),
         )
+
+    def _items_kind(self, argument: ast.expr) -> Kind | None:
+        """The one kind of every item of a list argument the module shows (``[Vec(fns) for
+        l in range(n)]``, or ``self.envs`` bound to it); None for anything else, items of
+        several kinds, or items that are no env at all (a list of thunks says what calling
+        them gives: ``CallSummary.thunks``)."""
+        if self.receivers.kind_of(argument) is not EnvKind.NOT_ENV:
+            return None
+        values = self.receivers.item_values(argument)
+        if not values:
+            return None
+        kinds = {self._kind(value) for value in values}
+        kind = kinds.pop() if len(kinds) == 1 else None
+        return None if kind in (None, EnvKind.NOT_ENV, EnvKind.UNKNOWN) else kind
 
     def _is_run_call(self, call: ast.Call) -> bool:
         """A call of another module of the run that the join resolves (not this module's own
