@@ -620,10 +620,10 @@ def test_a_def_called_through_a_star_import_knows_its_callers(tmp_path: Path) ->
 
 
 def test_a_list_of_envs_handed_to_another_module_gives_its_items_kind(tmp_path: Path) -> None:
-    """``fixtures/project_list_items``: ``agent.py`` hands ``rollouts.py`` its lists of envs.
+    """``fixtures/project_list_items``: ``agent.py`` hands ``collectors.py`` its lists of envs.
     Items of the project's own vector env class (step_async/step_wait) are left with no
     question; items made by ``gym.make`` are Gym envs, and their reset is rewritten."""
     project = _copy("project_list_items", tmp_path)
     found = _findings([project], tmp_path)
-    resets = sorted((f["line"], f["tier"]) for f in found if str(f["path"]).endswith("rollouts.py") and f["rule"] == "GM201")
+    resets = sorted((f["line"], f["tier"]) for f in found if str(f["path"]).endswith("collectors.py") and f["rule"] == "GM201")
     assert resets == [(15, "note")]
