@@ -606,3 +606,24 @@ def test_a_notebook_with_outputs_past_a_modules_size_limit_still_counts_as_a_cal
     helpers = (tmp_path / "helpers.py").read_text()
     assert "obs, reward, terminated, truncated, _ = env.step(0)" in helpers
     assert "obs, reward, over, _ = pool.step([0] * pool.n)" in helpers
+
+
+def test_a_def_called_through_a_star_import_knows_its_callers(tmp_path: Path) -> None:
+    """``fixtures/project_star_callers``: ``train.py`` calls the helpers of ``stats.py``
+    through ``from stats import *``. The helper given only a ``gym.make`` env is rewritten
+    without a question; the one given only the project's own ``World`` is still asked
+    about, as an explicit import would leave it."""
+    project = _copy("project_star_callers", tmp_path)
+    found = _findings([project], tmp_path)
+    stats = sorted((f["line"], f["rule"], f["tier"]) for f in found if str(f["path"]).endswith("stats.py"))
+    assert stats == [(4, "GM201", "note"), (7, "GM301", "note"), (16, "GM301", "review")]
+
+
+def test_a_list_of_envs_handed_to_another_module_gives_its_items_kind(tmp_path: Path) -> None:
+    """``fixtures/project_list_items``: ``agent.py`` hands ``collectors.py`` its lists of envs.
+    Items of the project's own vector env class (step_async/step_wait) are left with no
+    question; items made by ``gym.make`` are Gym envs, and their reset is rewritten."""
+    project = _copy("project_list_items", tmp_path)
+    found = _findings([project], tmp_path)
+    resets = sorted((f["line"], f["tier"]) for f in found if str(f["path"]).endswith("collectors.py") and f["rule"] == "GM201")
+    assert resets == [(15, "note")]

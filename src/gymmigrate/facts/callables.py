@@ -79,6 +79,16 @@ class CallableKinds:
             return []
         return self.project.param_kinds(f"{classdef.name}.{name}", param)
 
+    def external_item_kinds(self, function: ast.AST, classdef: ast.ClassDef | None, param: str) -> list[EnvKind]:
+        """Per call from another module of the run, the kind of every item of the list it
+        passes for ``param`` (``ProjectView.item_kinds``; none when checked alone)."""
+        if self.project is None:
+            return []
+        name = function.name  # type: ignore[attr-defined]
+        if classdef is None:
+            return self.project.item_kinds(name, param) if self.facts.parent(function) is self.facts.tree else []
+        return self.project.item_kinds(f"{classdef.name}.{name}", param) if self.facts.parent(classdef) is self.facts.tree else []
+
     def returned_kind(self, callee: ast.AST) -> EnvKind:
         """The kind of what calling ``callee`` returns: a lambda's body, the returns of a
         def, through names bound to either, and through parameters annotated

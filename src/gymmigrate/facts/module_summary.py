@@ -55,6 +55,10 @@ class CallSummary:
     # Arguments that are names: (position as a string, or the keyword, ``Flow.source_of``):
     # which variable of the caller each hands on (two defs fed the same one hold the same values).
     sources: tuple[tuple[str, str], ...] = ()
+    # Arguments that are lists of envs the module shows every item of (``[OwnVecEnv(fns)
+    # for _ in range(n)]``, a name or ``self.x`` bound to one): (position as a string, or the
+    # keyword, the one kind every item has). What ``envs[i]`` holds in the def given it.
+    items: tuple[tuple[str, Kind], ...] = ()
 
 
 @dataclass(frozen=True)

@@ -154,6 +154,13 @@ SB3_PACKAGES = ("stable_baselines3", "sb3_contrib", "stable_baselines", "baselin
 SB3_ENV_WRAPPER_PREFIXES = ("stable_baselines3.common.atari_wrappers.",)
 SB3_ENV_WRAPPERS = frozenset({"stable_baselines3.common.monitor.Monitor"})
 SB3_MODEL_CLASSES = frozenset({"HER", "RecurrentPPO", "MaskablePPO", "QRDQN", "TQC", "TRPO", "ARS"})
+# Bases of an algorithm or a rollout runner of those libraries (``class MySAC(SAC)``,
+# ``class Runner(AbstractEnvRunner)``): the library's ``__init__`` stores ``self.env``, a
+# VecEnv of its own (or SB2's single-env ``_UnvecWrapper``, same legacy API), and a
+# runner's ``self.model``, the algorithm. Upper-case names (``PPO2``, ``DDPG``) and
+# ``SB3_MODEL_CLASSES`` are algorithms too.
+SB_ALGORITHM_BASE_SUFFIXES = ("Algorithm", "RLModel")
+SB_RUNNER_BASE_SUFFIX = "Runner"
 SB3_CALLBACK_BASES = frozenset(
     {
         "stable_baselines3.common.callbacks.BaseCallback",

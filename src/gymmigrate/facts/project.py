@@ -309,6 +309,10 @@ class ProjectFacts:
     # what calling each item of the list of thunks passed there returns (``CallSummary.thunks``;
     # unknown for any other argument).
     thunk_kinds: dict[tuple[str, str, str], list[EnvKind]] = field(default_factory=dict)
+    # (path, qualname, parameter) -> per call of it in another module (as ``param_kinds``),
+    # the kind of every item of the list passed there (``CallSummary.items``; unknown for
+    # any other argument).
+    item_kinds: dict[tuple[str, str, str], list[EnvKind]] = field(default_factory=dict)
     # path -> its top-level defs returning a thunk -> what that thunk returns (modules left
     # as they are give none: their thunks keep the old API)
     thunk_factories: dict[str, dict[str, EnvKind]] = field(default_factory=dict)

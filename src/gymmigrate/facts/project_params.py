@@ -55,6 +55,7 @@ class ParamJoin:
                 if caller == path:
                     continue
                 thunks = dict(call.thunks)
+                items = dict(call.items)
                 positional = list(signature.params[1:] if signature.is_method else signature.params)
                 for param, source in self._sources(positional, call):
                     sources[(path, qualname, param)].append(f"{caller}|{source}" if source is not None else None)
@@ -65,6 +66,8 @@ class ParamJoin:
                     index = positional.index(param)
                     slot = str(index) if index < len(call.args) else param
                     self.facts.thunk_kinds.setdefault((path, qualname, param), []).append(self._thunks_kind(thunks.get(slot), caller))
+                    item = items.get(slot)
+                    self.facts.item_kinds.setdefault((path, qualname, param), []).append(EnvKind.UNKNOWN if item is None else self._resolve(item, caller))
                     external[(path, qualname, param)].append(resolved)
                     kept[(path, qualname, param)].append(self._kept_class(kind, caller))
                     key = (path, qualname, param)

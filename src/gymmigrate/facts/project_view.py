@@ -230,6 +230,12 @@ class ProjectView(ClassView, HierarchyView, RegistryView, RenderView):
         make_env``; ``ProjectFacts.thunk_factories``); None when it is no such def."""
         return self.facts.thunk_factory(qualified, self.path)
 
+    def item_kinds(self, qualname: str, param: str) -> list[EnvKind]:
+        """Per call in another module of ``param`` of this file's ``qualname`` (as
+        ``param_kinds``), the kind of every item of the list it passes (unknown where it
+        passes anything else; ``ProjectFacts.item_kinds``)."""
+        return self.facts.item_kinds.get((self.path, qualname, param), [])
+
     def thunk_kinds(self, qualname: str, param: str) -> list[EnvKind]:
         """Per call in another module of ``param`` of this file's ``qualname`` (as
         ``param_kinds``), what calling each item of the list of thunks it passes returns

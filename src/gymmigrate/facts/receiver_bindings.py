@@ -288,8 +288,28 @@ class BindingKinds(_Facade):
         none, or another module calls the def: what that one passes is not seen here."""
         arguments = self._param_arguments(param)
         if arguments is None:
-            return EnvKind.UNKNOWN
+            return self._external_element_kind(param)
         return join_kinds(EnvKind.UNKNOWN if a is None else self._element_kind_memo(a) for a in arguments)
+
+    def _external_element_kind(self, param: ast.arg) -> EnvKind:
+        """The items of the list a parameter holds where only other modules of the run call
+        its def (``Rollout(envs=self.envs)`` with ``self.envs = [OwnVecEnv(fns) for ...]``):
+        the kind every one of those calls shows its items have; unknown where one shows none
+        or the module calls the def itself too."""
+        slot = self.facts.parameter_slot(param)
+        if slot is None:
+            return EnvKind.UNKNOWN
+        function, classdef, _ = slot
+        kinds = self.callables.external_item_kinds(function, classdef, param.arg)
+        if not kinds or EnvKind.UNKNOWN in kinds:
+            return EnvKind.UNKNOWN
+        if classdef is not None and function.name == "__init__":
+            local = bool(self.constructions(classdef)[0])
+        elif classdef is None:
+            local = bool(self.call_sites(function, None))
+        else:
+            return EnvKind.UNKNOWN
+        return EnvKind.UNKNOWN if local else join_kinds(kinds)
 
     def loop_item_values(self, binding: ast.Name, _depth: int = 0) -> list[ast.expr] | None:
         """The expressions that make the items a loop variable takes (``for env in

@@ -64,8 +64,36 @@ class SelfAttributes:
         if not values:
             if name == "env" and self._is_pettingzoo_wrapper(classdef):
                 return self.receivers.class_kind(classdef)
+            library = self._set_by_library_base(classdef, name)
+            if library is not None:
+                return library
             return self._driven_by_run_base(classdef, name)
         return join_kinds([self._value_kind(value, classdef) for value in values])
+
+    def _set_by_library_base(self, classdef: ast.ClassDef, name: str) -> EnvKind | None:
+        """``self.env`` (and a runner's ``self.model``) that neither the class nor a base of
+        the module stores, in a subclass of a Stable-Baselines or baselines algorithm or
+        runner (``class MySAC(SAC)``, ``class Runner(AbstractEnvRunner)``): that library's
+        ``__init__`` stored it, so it is the library's VecEnv (its own legacy API, decided
+        once by the library's item) and the runner's model. None for any other attribute
+        or base."""
+        if name not in ("env", "model"):
+            return None
+        roles: set[str] = set()
+        for base in classdef.bases:
+            for q in self.receivers.qualified_names(base):
+                if N.top_package(q) not in N.SB3_PACKAGES:
+                    continue
+                last = q.rsplit(".", 1)[-1]
+                if last.endswith(N.SB_RUNNER_BASE_SUFFIX):
+                    roles.add("runner")
+                elif last.isupper() or last in N.SB3_MODEL_CLASSES or last.endswith(N.SB_ALGORITHM_BASE_SUFFIXES):
+                    roles.add("algorithm")
+        if name == "env" and roles:
+            return EnvKind.SB3_VEC
+        if name == "model" and roles == {"runner"}:
+            return EnvKind.SB3_MODEL
+        return None
 
     def _driven_by_run_base(self, classdef: ast.ClassDef, name: str) -> EnvKind:
         """``self.env.step(a)`` in ``class Shared(RLlibMPE)`` that never stores ``self.env``,

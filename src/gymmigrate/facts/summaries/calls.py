@@ -8,6 +8,7 @@ here is a reference (``new:``, ``param:``) the join resolves.
 from __future__ import annotations
 
 import ast
+import builtins
 import re
 
 from gymmigrate.facts import names as N
@@ -36,6 +37,8 @@ from gymmigrate.facts.module_summary import (
 from gymmigrate.facts.receiver_classes import is_object
 from gymmigrate.facts.receivers import Receivers
 from gymmigrate.facts.summaries.classes import held_params
+
+_BUILTINS = frozenset(dir(builtins))
 
 # ``PongNoFrameskip-v4``, ``ALE/Pong-v5``, ``mod:Name-v0``: what the summaries keep of string arguments.
 _ENV_ID = re.compile(r"(?:[\w.]+:)?(?:\w+/)?[\w.-]+-v\d+")
@@ -168,7 +171,7 @@ class CallSummarizer:
             found = sorted(q for q in qualified if not N.is_library(q))
             return found[0] if len(found) == 1 else None
         if isinstance(func, ast.Name):
-            return self._instance_call_target(func)
+            return self._instance_call_target(func) or self._star_target(func)
         if not isinstance(func, ast.Attribute):
             return None
         owner = func.value
@@ -199,6 +202,18 @@ class CallSummarizer:
         first = next((b for b in classdef.bases if not is_object(b)), None)
         qualified = self.facts.qualified_names(first) if first is not None else set()
         return next(iter(qualified)) if len(qualified) == 1 and not N.is_library(next(iter(qualified))) else None
+
+    def _star_target(self, func: ast.Name) -> str | None:
+        """``calc(env)`` where ``calc`` is bound in this module by nothing but one star import
+        of a module of the run (``from helpers import *``): ``helpers.calc``, which the join
+        resolves to that module's def (or finds undefined there, and drops). Builtins, and
+        a name several star imports may bring, have no target."""
+        if func.id in _BUILTINS or self.facts.bindings_of(func):
+            return None
+        stars = [star for star in self.facts.star_imports if star.strip(".") and not N.is_library(star.lstrip("."))]
+        if len(stars) != 1 or len(self.facts.star_imports) != 1:
+            return None
+        return f"{stars[0]}.{func.id}"
 
     def _instance_call_target(self, func: ast.Name) -> str | None:
         """``Evaluator.__call__`` (qualified through the imports) for ``evaluate(env)``,
@@ -292,6 +307,7 @@ class CallSummarizer:
         slots = positional + [(k.arg, k.value) for k in call.keywords if k.arg is not None]
         made = [(slot, *found) for slot, value in slots if (found := handed_make(self.facts, value, call, self._is_run_call)) is not None]
         sources = [(slot, source) for slot, a in slots if isinstance(a, ast.Name) and (source := flow.source_of(a)) is not None]
+        items = [(slot, kind) for slot, a in slots if (kind := self._items_kind(a)) is not None]
         return CallSummary(
             target,
             tuple(args),
@@ -302,7 +318,22 @@ class CallSummarizer:
             tuple(thunks),
             made=tuple(made),
             sources=tuple(sources),
+            items=tuple(items),
         )
+
+    def _items_kind(self, argument: ast.expr) -> Kind | None:
+        """The one kind of every item of a list argument the module shows (``[Vec(fns) for
+        l in range(n)]``, or ``self.envs`` bound to it); None for anything else, items of
+        several kinds, or items that are no env at all (a list of thunks says what calling
+        them gives: ``CallSummary.thunks``)."""
+        if self.receivers.kind_of(argument) is not EnvKind.NOT_ENV:
+            return None
+        values = self.receivers.item_values(argument)
+        if not values:
+            return None
+        kinds = {self._kind(value) for value in values}
+        kind = kinds.pop() if len(kinds) == 1 else None
+        return None if kind in (None, EnvKind.NOT_ENV, EnvKind.UNKNOWN) else kind
 
     def _is_run_call(self, call: ast.Call) -> bool:
         """A call of another module of the run that the join resolves (not this module's own

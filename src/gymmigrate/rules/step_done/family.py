@@ -77,6 +77,11 @@ class StepDone(UnpackRules, TimeLimitRules, ResultRules):
         if not isinstance(func, ast.Attribute):  # ``x.method(...)`` calls only
             return
         receiver = func.value
+        if not call.args and not call.keywords and not self.receivers.kind_of(receiver).is_gym:
+            # Gym's step takes the action, legacy or new: ``status = sim.step()`` on an object
+            # not proven a Gym env (a simulator's handle advancing a frame) is no env step,
+            # so there is nothing to migrate and nothing to ask
+            return
         parent = self.facts.parent(call)
         if isinstance(parent, ast.Assign) and parent.value is call and len(parent.targets) == 1:
             target = parent.targets[0]
