@@ -39,7 +39,7 @@ from gymmigrate.facts.env_classes import EnvClasses, is_self_attribute
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import ModuleFacts, full_name
 from gymmigrate.facts.rng_handovers import rng_stores
-from gymmigrate.findings import FixKind, Tier
+from gymmigrate.findings import FixKind, Tier, removed_helper_question
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.repeats import Repeats
 
@@ -306,7 +306,13 @@ class GeneratorApi(RuleFamily):
                     # The line goes with the seed() method the rewrite removes: nothing to replace.
                     self.report(node, "GM506", f"seeding.{helper} was removed in gym 0.26; this line goes with the removed seed()", tier=Tier.NOTE)
                     return
-                self.report(node, "GM506", f"seeding.{helper} was removed in gym 0.26: derive seeds with np.random.SeedSequence or draw from np_random")
+                # with its import (GM105), one decision: what replaces the helper
+                self.report(
+                    node,
+                    "GM506",
+                    f"seeding.{helper} was removed in gym 0.26: derive seeds with np.random.SeedSequence or draw from np_random",
+                    question=removed_helper_question("utils.seeding", helper),
+                )
                 return
 
 
