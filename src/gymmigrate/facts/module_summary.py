@@ -76,6 +76,9 @@ class ModuleSummary:
     untraced_seed_call: bool = False
     # ``x.render(mode)`` likewise: an env class it imports must keep render(mode).
     untraced_render_call: bool = False
+    # ``x.configure(...)`` on anything but ``self`` / ``super()``: a caller of the gym < 0.9
+    # hook renamed from ``_configure`` that the class itself does not decide (GM405).
+    calls_configure: bool = False
     # qualified names of the run that made the receivers of ``x.render(mode)`` calls no make
     # of the module created (``pkg.make_board``): a def among them leaves the mode in place
     render_makers: frozenset[str] = frozenset()

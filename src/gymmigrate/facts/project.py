@@ -126,6 +126,8 @@ class ProjectFacts:
     ambiguous: dict[str, tuple[str, ...]] = field(default_factory=dict)
     # Modules whose env classes an untraced ``x.seed(...)`` elsewhere in the run may reach.
     seed_called: set[str] = field(default_factory=set)
+    # a module of the run calls ``x.configure(...)`` / ``x._configure(...)`` on other than self
+    configure_called: bool = False
     render_called: set[str] = field(default_factory=set)  # ...and an untraced ``x.render(mode)``
     # Some module imports Gym's (or Gymnasium's) ``check_env``, which tests in Gymnasium 1.x
     # that a seeded reset makes the steps reproducible (GM510).
@@ -431,6 +433,7 @@ class ProjectFacts:
             facts.rng_stores.extend((summary.path, *store) for store in summary.rng_stores)
             if summary.untraced_seed_call:
                 facts.seed_called.update(imported_env_modules(facts, summary))
+            facts.configure_called = facts.configure_called or summary.calls_configure
             if summary.untraced_render_call or any(made_by_def(facts, maker, summary.path, by_path) for maker in summary.render_makers):
                 # ``import pkg`` reaches the env classes ``pkg/__init__.py`` imports too
                 # (``env = pkg.make_benchmark(...)``; ``env.render(mode="readable")``)

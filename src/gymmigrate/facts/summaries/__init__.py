@@ -72,7 +72,7 @@ from gymmigrate.facts.summaries.defs import (
     signature,
 )
 from gymmigrate.facts.summaries.exports import Exports
-from gymmigrate.facts.summaries.untraced import UntracedCalls
+from gymmigrate.facts.summaries.untraced import UntracedCalls, calls_from_outside
 from gymmigrate.facts.wrapper_attributes import wrapper_defined
 from gymmigrate.facts.wrapper_steps import module_reset_steps, self_handoffs
 from gymmigrate.source_text import first_statement_line
@@ -162,6 +162,7 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         handed_constructions=handed_constructions(facts, call_summaries),
         untraced_seed_call=untraced.has_untraced_call("seed"),
         untraced_render_call=untraced.has_untraced_call("render"),
+        calls_configure=calls_from_outside(facts, "configure"),
         render_makers=frozenset(untraced.render_makers),  # filled by the line above
         imported=tuple(sorted(set(facts.imports.values()))),
         exports=exports.exports(env_classes),
