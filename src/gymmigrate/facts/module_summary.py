@@ -182,9 +182,9 @@ class ModuleSummary:
     step_hooks: dict[str, frozenset[str]] = field(default_factory=dict)
     plain_overrides: dict[str, frozenset[str]] = field(default_factory=dict)
     # Stores of ``np_random`` (``facts/rng_handovers.py``): (line, to another object than
-    # ``self``, the value is a Generator). A class elsewhere that only reads its np_random
+    # ``self``, the value is a Generator, the class built into that object just before). A class elsewhere that only reads its np_random
     # follows the run's handovers when every store is a Generator (GM505).
-    rng_stores: tuple[tuple[int, bool, bool], ...] = ()
+    rng_stores: tuple[tuple[int, bool, bool, str], ...] = ()
     # Top-level classes with a base: (their own body counts steps, bases of this module,
     # other bases' qualified names) (``facts/step_counts.py``): a subclass in another module
     # whose bases count nothing cannot end episodes on a limit of its own (GM504).

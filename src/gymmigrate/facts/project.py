@@ -169,8 +169,8 @@ class ProjectFacts:
     # (path, class) -> the step hooks of the class (``return self.post_step(...)`` in its
     # step) that every override in another module can follow (facts/step_hooks.py).
     followed_hooks: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
-    # every store of ``np_random`` in the run: (path, line, handed to another object, a Generator)
-    rng_stores: list[tuple[str, int, bool, bool]] = field(default_factory=list)
+    # every store of ``np_random`` in the run: (path, line, handed to another object, a Generator, class built just before)
+    rng_stores: list[tuple[str, int, bool, bool, str]] = field(default_factory=list)
     # (path, class) of the run (and names re-exporting one) that counts no steps, nor does
     # any base of it, all of which the run defines (facts/step_counts.py; GM504).
     quiet_classes: frozenset[tuple[str, str]] = frozenset()
