@@ -12,7 +12,12 @@ from gymmigrate.edits.lazy import cst
 from gymmigrate.edits.syntax import dotted_node
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.module import walk
-from gymmigrate.findings import FixKind, Tier, gym_only_question, removed_helper_question
+from gymmigrate.findings import (
+    FixKind,
+    Tier,
+    gym_only_question,
+    removed_helper_question,
+)
 from gymmigrate.rules.gymnasium_api import has_name, module_exists
 from gymmigrate.rules.imports.libraries import GYM_ONLY_LIBRARIES, GymOnlyLibraries
 from gymmigrate.rules.imports.table import (
