@@ -255,6 +255,11 @@ class ModuleSummary:
     registrations: tuple[tuple[str | None, str], ...] = ()
     # The ids of every Gym ``register(...)`` call, whatever its entry point (None: no literal).
     registered_ids: tuple[str | None, ...] = ()
+    # Env-id-shaped strings of the module besides its register() ids (``pkg:`` dropped), and
+    # whether a Gym make() of it passes an id that is no literal (``summaries.defs.named_ids``):
+    # a registered id no module names is made by nothing of the run (GM511).
+    named_ids: frozenset[str] = frozenset()
+    opaque_make: bool = False
     # Top-level plain classes (no env, no wrapper) -> {attribute: ``__init__`` parameter} for
     # each attribute only ever stored from that parameter (``self.gym_env = gym_env``): an
     # instance's attribute is what every construction of the run passes there.

@@ -60,6 +60,7 @@ from gymmigrate.facts.project_classes import (
     join_mode_renders,
     join_overrides,
     join_registered_classes,
+    join_unmade_classes,
     join_unset_spaces,
     own_api_classes,
     quiet_classes,
@@ -328,6 +329,9 @@ class ProjectFacts:
     # (path, class) an entry point makes (the class, or one a registered def constructs)
     # -> the spaces it leaves unset with its bases: ``gymnasium.make``'s env checker raises
     unset_spaces: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
+    # those of them whose every registration has a literal id that no module of the run
+    # names, where every make() of the run passes a literal id: nothing of the run makes them
+    unmade_classes: set[tuple[str, str]] = field(default_factory=set)
     # the ids the run registers with the Gym registry (None: one it registers is no literal)
     registered_ids: set[str | None] = field(default_factory=set)
     # Some module registers envs whose entry points are no literal (``opaque_registrations``):
@@ -406,6 +410,7 @@ class ProjectFacts:
         facts.requires = required_packages(imported)
         join_registered_classes(facts, by_path)
         join_unset_spaces(facts, by_path)
+        join_unmade_classes(facts, by_path)
         facts.registers_from_data = any(summary.opaque_registrations for summary in summaries)
         Exports(facts, by_path).run()
         join_thunk_factory_refs(facts, by_path)

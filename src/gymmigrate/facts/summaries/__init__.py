@@ -66,6 +66,7 @@ from gymmigrate.facts.summaries.defs import (
     handed_on,
     made_factories,
     masks_of,
+    named_ids,
     opaque_registrations,
     registered_ids,
     registrations,
@@ -152,6 +153,7 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
     untraced = UntracedCalls(calls)
     exports = Exports(facts, receivers)
     call_summaries = tuple(calls.calls())
+    named = named_ids(facts)
     return ModuleSummary(
         path,
         defs,
@@ -203,6 +205,8 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         modeless_renders=modeless_renders(facts, receivers),
         registrations=registrations(facts),
         registered_ids=registered_ids(facts),
+        named_ids=named[0],
+        opaque_make=named[1],
         held_params=held_params(facts, receivers),
         param_renders=param_renders(facts, receivers),
         driven_kinds=driven_kinds(facts, receivers),
