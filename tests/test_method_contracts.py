@@ -214,3 +214,52 @@ def test_a_proxy_of_the_project_is_migrated_with_its_env_or_asked_about(tmp_path
     assert "obs, reward, terminated, truncated, info = self.env.step(action)" in (project / "logger.py").read_text()
     assert (project / "driver.py").read_text() == before
     assert "driver.py:13: GM201" in result.output and "project's own object (`StepLogger`)" in result.output
+
+
+_COURT_MODULE = '''import gym
+import numpy as np
+from gym.utils import seeding
+from scenelib import BaseScene
+
+
+class {name}(BaseScene):
+    def serve(self):
+        return self.np_random.randint(2)
+
+
+class {name}Env(gym.Env):
+    def __init__(self):
+        self.action_space = gym.spaces.Discrete(2)
+        self.observation_space = gym.spaces.Box(0, 1, (2,))
+        self.seed()
+
+    def seed(self, seed=None):
+        self.np_random, seed = seeding.np_random(seed)
+        return [seed]
+
+    def build(self):{pad}
+        scene = {name}()
+        scene.np_random = self.np_random
+        return scene
+
+    def reset(self):
+        self.build().serve()
+        return np.zeros(2)
+
+    def step(self, action):
+        return np.zeros(2), 0.0, False, {{}}
+'''
+
+
+def test_a_class_handed_a_generator_right_after_it_is_built_cites_its_own_module(tmp_path: Path) -> None:
+    """Two modules each build their scene (whose unread base might set a RandomState) and
+    hand it the env's Generator in the next statement: each randint -> integers is a note
+    (the base's value is replaced before any draw) citing the handover of its own module,
+    never a line of the other file."""
+    (tmp_path / "a.py").write_text(_COURT_MODULE.format(name="Hockey", pad=""))
+    (tmp_path / "b.py").write_text(_COURT_MODULE.format(name="Pong", pad="\n        self.built = True"))
+    result = runner.invoke(app, ["check", "--output-format", "json", str(tmp_path)])
+    findings = [f for f in json.loads(result.stdout) if f["rule"] == "GM505" and "integers" in f["message"]]
+    assert sorted((Path(f["path"]).name, f["tier"]) for f in findings) == [("a.py", "note"), ("b.py", "note")], findings
+    by_file = {Path(f["path"]).name: f["message"] for f in findings}
+    assert "(line 24)" in by_file["a.py"] and "(line 25)" in by_file["b.py"], by_file

@@ -77,3 +77,35 @@ def test_the_single_file_cases_on_gymnasium(tmp_path: Path, case: str, env_id: s
     else:
         assert done.returncode != 0
         assert f"must specify an {rejected} space" in done.stderr
+
+
+def _stub_package(root: Path, main: str) -> None:
+    (root / "boards" / "envs").mkdir(parents=True)
+    (root / "boards" / "__init__.py").write_text(
+        "from gym.envs.registration import register\n"
+        'register(id="board-v0", entry_point="boards.envs:Board")\n'
+        'register(id="board-hard-v0", entry_point="boards.envs:HardBoard")\n'
+    )
+    (root / "boards" / "envs" / "__init__.py").write_text("from boards.envs.board import Board\nfrom boards.envs.hard import HardBoard\n")
+    (root / "boards" / "envs" / "board.py").write_text(
+        "import gym\nimport numpy as np\n\n\nclass Board(gym.Env):\n    def __init__(self):\n"
+        "        self.action_space = gym.spaces.Discrete(2)\n        self.observation_space = gym.spaces.Box(0, 1, (2,))\n\n"
+        "    def reset(self):\n        return np.zeros(2)\n\n    def step(self, action):\n        return np.zeros(2), 0.0, False, {}\n"
+    )
+    (root / "boards" / "envs" / "hard.py").write_text("import gym\n\n\nclass HardBoard(gym.Env):\n    pass\n")
+    (root / "main.py").write_text(main)
+
+
+@pytest.mark.parametrize(
+    ("main", "tier"),
+    [
+        ('import gym\nimport boards\nenv = gym.make("boards:board-v0")\n', "note"),  # only the sibling is made
+        ('import gym\nimport boards\nenv = gym.make("boards:board-hard-v0")\n', "review"),
+        ("import sys\nimport gym\nimport boards\nenv = gym.make(sys.argv[1])\n", "review"),  # any id may be made
+    ],
+)
+def test_a_registered_stub_no_make_of_the_run_names_is_a_note(tmp_path: Path, main: str, tier: str) -> None:
+    _stub_package(tmp_path, main)
+    result = runner.invoke(app, ["check", "--output-format", "json", str(tmp_path)])
+    [finding] = [f for f in json.loads(result.stdout) if f["rule"] == "GM511"]
+    assert finding["path"].endswith("hard.py") and finding["tier"] == tier, finding

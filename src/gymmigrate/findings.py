@@ -66,6 +66,20 @@ def gym_only_question(stack: str) -> tuple[str, ...]:
     return (RUN_QUESTION, "gym-only-library", "", stack)
 
 
+def removed_helper_question(module: str, name: str) -> tuple[str, ...]:
+    """What the import of a name Gymnasium removed (GM105) and every use of it in the file
+    (GM506 ``hash_seed(...)``) ask: what replaces it. One decision per file, asked at the
+    first of those lines; the others are listed as notes pointing at it."""
+    return ("removed-helper", module, name)
+
+
+def configure_hook_question() -> tuple[str, ...]:
+    """What every env class whose gym < 0.9 ``_configure`` hook was renamed ``configure``
+    asks where the run calls ``x.configure(...)``: how those callers reach it now. One
+    decision of the run, asked in the first file by path."""
+    return (RUN_QUESTION, "configure-hook", "", "configure")
+
+
 def rllib_question() -> tuple[str, ...]:
     """What every module importing RLlib next to gym asks (GM107): the ray release, and
     with it the multi-agent env API, the project's RLlib code moves to. One decision of the

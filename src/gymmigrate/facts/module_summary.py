@@ -80,6 +80,9 @@ class ModuleSummary:
     untraced_seed_call: bool = False
     # ``x.render(mode)`` likewise: an env class it imports must keep render(mode).
     untraced_render_call: bool = False
+    # ``x.configure(...)`` on anything but ``self`` / ``super()``: a caller of the gym < 0.9
+    # hook renamed from ``_configure`` that the class itself does not decide (GM405).
+    calls_configure: bool = False
     # qualified names of the run that made the receivers of ``x.render(mode)`` calls no make
     # of the module created (``pkg.make_board``): a def among them leaves the mode in place
     render_makers: frozenset[str] = frozenset()
@@ -187,9 +190,9 @@ class ModuleSummary:
     step_hooks: dict[str, frozenset[str]] = field(default_factory=dict)
     plain_overrides: dict[str, frozenset[str]] = field(default_factory=dict)
     # Stores of ``np_random`` (``facts/rng_handovers.py``): (line, to another object than
-    # ``self``, the value is a Generator). A class elsewhere that only reads its np_random
+    # ``self``, the value is a Generator, the class built into that object just before). A class elsewhere that only reads its np_random
     # follows the run's handovers when every store is a Generator (GM505).
-    rng_stores: tuple[tuple[int, bool, bool], ...] = ()
+    rng_stores: tuple[tuple[int, bool, bool, str], ...] = ()
     # Top-level classes with a base: (their own body counts steps, bases of this module,
     # other bases' qualified names) (``facts/step_counts.py``): a subclass in another module
     # whose bases count nothing cannot end episodes on a limit of its own (GM504).
@@ -264,6 +267,11 @@ class ModuleSummary:
     registrations: tuple[tuple[str | None, str], ...] = ()
     # The ids of every Gym ``register(...)`` call, whatever its entry point (None: no literal).
     registered_ids: tuple[str | None, ...] = ()
+    # Env-id-shaped strings of the module besides its register() ids (``pkg:`` dropped), and
+    # whether a Gym make() of it passes an id that is no literal (``summaries.defs.named_ids``):
+    # a registered id no module names is made by nothing of the run (GM511).
+    named_ids: frozenset[str] = frozenset()
+    opaque_make: bool = False
     # Top-level plain classes (no env, no wrapper) -> {attribute: ``__init__`` parameter} for
     # each attribute only ever stored from that parameter (``self.gym_env = gym_env``): an
     # instance's attribute is what every construction of the run passes there.

@@ -61,6 +61,7 @@ from gymmigrate.facts.project_classes import (
     join_mode_renders,
     join_overrides,
     join_registered_classes,
+    join_unmade_classes,
     join_unset_spaces,
     own_api_classes,
     quiet_classes,
@@ -128,6 +129,8 @@ class ProjectFacts:
     ambiguous: dict[str, tuple[str, ...]] = field(default_factory=dict)
     # Modules whose env classes an untraced ``x.seed(...)`` elsewhere in the run may reach.
     seed_called: set[str] = field(default_factory=set)
+    # a module of the run calls ``x.configure(...)`` / ``x._configure(...)`` on other than self
+    configure_called: bool = False
     render_called: set[str] = field(default_factory=set)  # ...and an untraced ``x.render(mode)``
     # Some module imports Gym's (or Gymnasium's) ``check_env``, which tests in Gymnasium 1.x
     # that a seeded reset makes the steps reproducible (GM510).
@@ -172,8 +175,8 @@ class ProjectFacts:
     # (path, class) -> the step hooks of the class (``return self.post_step(...)`` in its
     # step) that every override in another module can follow (facts/step_hooks.py).
     followed_hooks: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
-    # every store of ``np_random`` in the run: (path, line, handed to another object, a Generator)
-    rng_stores: list[tuple[str, int, bool, bool]] = field(default_factory=list)
+    # every store of ``np_random`` in the run: (path, line, handed to another object, a Generator, class built just before)
+    rng_stores: list[tuple[str, int, bool, bool, str]] = field(default_factory=list)
     # (path, class) of the run (and names re-exporting one) that counts no steps, nor does
     # any base of it, all of which the run defines (facts/step_counts.py; GM504).
     quiet_classes: frozenset[tuple[str, str]] = frozenset()
@@ -338,6 +341,9 @@ class ProjectFacts:
     # (path, class) an entry point makes (the class, or one a registered def constructs)
     # -> the spaces it leaves unset with its bases: ``gymnasium.make``'s env checker raises
     unset_spaces: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
+    # those of them whose every registration has a literal id that no module of the run
+    # names, where every make() of the run passes a literal id: nothing of the run makes them
+    unmade_classes: set[tuple[str, str]] = field(default_factory=set)
     # the ids the run registers with the Gym registry (None: one it registers is no literal)
     registered_ids: set[str | None] = field(default_factory=set)
     # Some module registers envs whose entry points are no literal (``opaque_registrations``):
@@ -416,6 +422,7 @@ class ProjectFacts:
         facts.requires = required_packages(imported)
         join_registered_classes(facts, by_path)
         join_unset_spaces(facts, by_path)
+        join_unmade_classes(facts, by_path)
         facts.registers_from_data = any(summary.opaque_registrations for summary in summaries)
         Exports(facts, by_path).run()
         join_thunk_factory_refs(facts, by_path)
@@ -443,6 +450,7 @@ class ProjectFacts:
             facts.rng_stores.extend((summary.path, *store) for store in summary.rng_stores)
             if summary.untraced_seed_call:
                 facts.seed_called.update(imported_env_modules(facts, summary))
+            facts.configure_called = facts.configure_called or summary.calls_configure
             if summary.untraced_render_call or any(made_by_def(facts, maker, summary.path, by_path) for maker in summary.render_makers):
                 # ``import pkg`` reaches the env classes ``pkg/__init__.py`` imports too
                 # (``env = pkg.make_benchmark(...)``; ``env.render(mode="readable")``)

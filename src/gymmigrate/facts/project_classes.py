@@ -69,6 +69,31 @@ def join_unset_spaces(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) ->
                     facts.unset_spaces[made] = spaces
 
 
+def join_unmade_classes(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> None:
+    """``ProjectFacts.unmade_classes``: of the classes GM511 would report, those every
+    registration of which has a literal id no module of the run names, in a run that names
+    some other id it registers (its users are in it), whose every Gym make() passes a literal
+    id and whose registrations are all read."""
+    if not facts.unset_spaces or any(s.opaque_make or s.opaque_registrations for s in by_path.values()):
+        return
+    named = frozenset().union(*(s.named_ids for s in by_path.values()))
+    if not named & {env_id for s in by_path.values() for env_id in s.registered_ids}:
+        return  # the run makes none of its own ids: its users are elsewhere (a library)
+    ids: dict[tuple[str, str], set[str | None]] = {}
+    for path, summary in by_path.items():
+        for env_id, entry in summary.registrations:
+            module, _, name = entry.partition(":")
+            where = facts.modules.get(module) if module else path
+            if where is None or not name or "." in name:
+                continue
+            for made in _entry_makes(facts, by_path, where, name):
+                ids.setdefault(made, set()).add(env_id)
+    for made in facts.unset_spaces:
+        registered = ids.get(made)
+        if registered and None not in registered and not (registered & named):
+            facts.unmade_classes.add(made)
+
+
 def _entry_makes(facts: ProjectFacts, by_path: dict[str, ModuleSummary], path: str, name: str) -> list[tuple[str, str]]:
     """The classes an entry point ``name`` of module ``path`` makes: the class it names, or
     those the def it names constructs (re-exports followed to the def)."""

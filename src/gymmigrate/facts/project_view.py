@@ -45,6 +45,11 @@ class ProjectView(ClassView, HierarchyView, RegistryView, RenderView):
         imports this module's env classes: their seed() may be what it calls."""
         return self.path in self.facts.seed_called
 
+    def configure_called(self) -> bool:
+        """Some module of the run calls ``x.configure(...)`` (or ``x._configure``) on other
+        than ``self``: an env's renamed gym < 0.9 ``configure`` hook may be what it calls."""
+        return self.facts.configure_called
+
     def seed_classes(self) -> list[str]:
         """The env classes of the run that keep their own seed() (GM503), by name."""
         return sorted({name for _, name in self.facts.seed_classes})

@@ -47,6 +47,12 @@ class RegistryView:
         of the run makes it (the class itself, or a registered def that constructs it)."""
         return self.facts.unset_spaces.get((self.path, name), frozenset())
 
+    def made_by_nothing(self, name: str) -> bool:
+        """A class of this module whose spaces are unset (``unset_spaces``) that every
+        registration names by a literal id no module of the run names, while every make() of
+        the run passes a literal id: nothing of the run makes it."""
+        return (self.path, name) in self.facts.unmade_classes
+
     def may_register(self, env_id: str) -> bool:
         """The run may register ``env_id`` with the Gym registry: it registers that literal,
         or ids it does not spell as literals."""

@@ -18,8 +18,10 @@ from gymmigrate.facts.module import ModuleFacts, walk
 from gymmigrate.facts.receivers import Receivers
 
 NP_RANDOM = ("np_random", "_np_random")
-# (line, to another object rather than ``self``, the value is a Generator)
-Store = tuple[int, bool, bool]
+# (line, to another object rather than ``self``, the value is a Generator, the class whose
+# instance the statement just before built into that object: ``s = Scene()`` then
+# ``s.np_random = self.np_random`` gives "Scene"; "" for any other store)
+Store = tuple[int, bool, bool, str]
 
 
 def rng_stores(facts: ModuleFacts, receivers: Receivers) -> tuple[Store, ...]:
@@ -40,8 +42,37 @@ def rng_stores(facts: ModuleFacts, receivers: Receivers) -> tuple[Store, ...]:
                     generator = position == 0 and env.is_seeding_np_random(node.value)
                 else:
                     generator = _generator_value(facts, receivers, env, node.value)
-                found.append((node.lineno, handover, generator))
+                built = _built_just_before(facts, node, slot.value) if handover else ""
+                found.append((node.lineno, handover, generator, built))
     return tuple(found)
+
+
+def _built_just_before(facts: ModuleFacts, store: ast.Assign, receiver: ast.expr) -> str:
+    """The class name ``Name(...)`` in ``receiver = Name(...)``, where that is the statement
+    right before ``store`` in the same block: nothing ran on the new object in between, so
+    its methods first draw from the value handed over (whatever a base set in __init__)."""
+    if not isinstance(receiver, ast.Name):
+        return ""
+    parent = facts.parent(store)
+    for field in ("body", "orelse", "finalbody"):
+        block = getattr(parent, field, None)
+        if isinstance(block, list) and store in block:
+            index = block.index(store)
+            if index == 0:
+                return ""
+            before = block[index - 1]
+            if (
+                isinstance(before, ast.Assign)
+                and len(before.targets) == 1
+                and isinstance(before.targets[0], ast.Name)
+                and before.targets[0].id == receiver.id
+                and isinstance(before.value, ast.Call)
+                and isinstance(before.value.func, (ast.Name, ast.Attribute))
+            ):
+                func = before.value.func
+                return func.id if isinstance(func, ast.Name) else func.attr
+            return ""
+    return ""
 
 
 def _generator_value(facts: ModuleFacts, receivers: Receivers, env: EnvClasses, value: ast.expr) -> bool:

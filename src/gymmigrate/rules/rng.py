@@ -37,9 +37,9 @@ from gymmigrate.facts import names as N
 from gymmigrate.facts.decisions import receiver_text
 from gymmigrate.facts.env_classes import EnvClasses, is_self_attribute
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.module import ModuleFacts, full_name
+from gymmigrate.facts.module import ModuleFacts, full_name, walk
 from gymmigrate.facts.rng_handovers import rng_stores
-from gymmigrate.findings import FixKind, Tier
+from gymmigrate.findings import FixKind, Tier, removed_helper_question
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.repeats import Repeats
 
@@ -141,7 +141,11 @@ class GeneratorApi(RuleFamily):
             self.report(call, code, f"np_random.{method}(...) on a Generator: {reason}", FixKind.FLAG, question=("GM505", method, id(owner)))
             return
         tier = None
-        if kind is not FixKind.AUTO and why:
+        if kind is FixKind.AUTO and why:
+            # what the run shows about the class, said at its first call
+            first, _ = self._asked.tier((id(self.facts.enclosing_class(call)), why), call, "note")
+            message = f"{message}; {why}" if first is None else message
+        elif kind is not FixKind.AUTO and why:
             # One question per class (is its base a gym class?): asked at the first call,
             # the class's other calls are notes that point there.
             tier, same = self._asked.tier((id(self.facts.enclosing_class(call)), why), call, "question")
@@ -204,7 +208,7 @@ class GeneratorApi(RuleFamily):
         if all(self.env.is_seeding_np_random(value) for value in stores):
             if stores or self.env.is_custom_env(classdef) or self.receivers.class_kind(classdef).is_gym:
                 return "GM505", FixKind.AUTO, ""
-            decided, handed = self._handed_over()
+            decided, handed = self._handed_over(classdef)
             if decided:
                 return handed
             if self._gym_file:
@@ -214,24 +218,38 @@ class GeneratorApi(RuleFamily):
             return "GM505", FixKind.FLAG, "self.np_random is set from a value this module does not create (an env's np_random passed in is a Generator now)"
         return None
 
-    def _handed_over(self) -> tuple[bool, Verdict | None]:
+    def _handed_over(self, classdef: ast.ClassDef) -> tuple[bool, Verdict | None]:
         """A class that never sets its np_random gets it from outside: where the run hands
         objects an ``np_random`` (``self.robot.np_random = self.np_random``, this module or
         another), it is a Gym env's Generator when every store of the run is one. (False,
         None): the run hands none, the other evidence decides; (True, None): it hands only
         other values (a RandomState), whose methods stay."""
         project = self.receivers.project
+        here = os.path.realpath(self.context.path)
         stores = (
-            [(os.path.basename(path), line, handed, generator) for path, line, handed, generator in project.facts.rng_stores]
+            list(project.facts.rng_stores)
             if project is not None
-            else [("", line, handed, generator) for line, handed, generator in rng_stores(self.facts, self.receivers)]
+            else [(here, line, handed, generator, built) for line, handed, generator, built in rng_stores(self.facts, self.receivers)]
         )
-        handovers = sorted((path, line) for path, line, handed, generator in stores if handed and generator)
+        # a handover of this module first: a bare line number would read as one of this file
+        handovers = sorted((path != here, path, line, built) for path, line, handed, generator, built in stores if handed and generator)
         if not handovers:
-            return any(handed for _, _, handed, _ in stores), None
-        path, line = handovers[0]
-        where = f"{path}:{line}" if path else f"line {line}"
-        if all(generator for *_, generator in stores):
+            return any(handed for _, _, handed, _, _ in stores), None
+        _, path, line, _ = handovers[0]
+        where = f"line {line}" if path == here else f"{os.path.basename(path)}:{line}"
+        if all(generator for _, _, _, generator, _ in stores):
+            built_here = [(p != here, p, n) for p, n, handed, generator, built in stores if handed and built == classdef.name]
+            if built_here and not self._init_reads_np_random(classdef):
+                # ``s = Scene()`` then ``s.np_random = self.np_random``: whatever a base set in
+                # __init__ is replaced before any method of the class draws from it
+                _, path, line = min(built_here)
+                where = f"line {line}" if path == here else f"{os.path.basename(path)}:{line}"
+                return True, (
+                    "GM505",
+                    FixKind.AUTO,
+                    f"the run hands this class a Generator as `.np_random` right after building it ({where}), "
+                    f"over whatever a base set",
+                )
             return True, (
                 "GM505",
                 FixKind.ASSIST,
@@ -239,6 +257,19 @@ class GeneratorApi(RuleFamily):
                 f"(`.np_random = ...` at {where}); if a base whose module the run does not read sets a RandomState, undo this",
             )
         return True, ("GM505", FixKind.FLAG, f"this class never sets np_random; the run hands a Generator to `.np_random` at {where} but stores other values too")
+
+    def _init_reads_np_random(self, classdef: ast.ClassDef) -> bool:
+        """The class's own ``__init__`` reads np_random or calls its own methods: something
+        may draw before the object is handed its Generator."""
+        init = next((n for n in classdef.body if isinstance(n, (ast.FunctionDef, ast.AsyncFunctionDef)) and n.name == "__init__"), None)
+        if init is None:
+            return False
+        for node in walk(init):
+            if isinstance(node, ast.Attribute) and node.attr in ("np_random", "_np_random"):
+                return True
+            if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and isinstance(node.func.value, ast.Name) and node.func.value.id == "self":
+                return True
+        return False
 
     def _name_from_seeding(self, name: ast.Name) -> bool:
         bindings = self.facts.bindings_of(name)
@@ -306,7 +337,13 @@ class GeneratorApi(RuleFamily):
                     # The line goes with the seed() method the rewrite removes: nothing to replace.
                     self.report(node, "GM506", f"seeding.{helper} was removed in gym 0.26; this line goes with the removed seed()", tier=Tier.NOTE)
                     return
-                self.report(node, "GM506", f"seeding.{helper} was removed in gym 0.26: derive seeds with np.random.SeedSequence or draw from np_random")
+                # with its import (GM105), one decision: what replaces the helper
+                self.report(
+                    node,
+                    "GM506",
+                    f"seeding.{helper} was removed in gym 0.26: derive seeds with np.random.SeedSequence or draw from np_random",
+                    question=removed_helper_question("utils.seeding", helper),
+                )
                 return
 
 

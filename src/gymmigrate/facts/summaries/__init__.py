@@ -67,13 +67,14 @@ from gymmigrate.facts.summaries.defs import (
     handed_on,
     made_factories,
     masks_of,
+    named_ids,
     opaque_registrations,
     registered_ids,
     registrations,
     signature,
 )
 from gymmigrate.facts.summaries.exports import Exports
-from gymmigrate.facts.summaries.untraced import UntracedCalls
+from gymmigrate.facts.summaries.untraced import UntracedCalls, calls_from_outside
 from gymmigrate.facts.wrapper_attributes import wrapper_defined
 from gymmigrate.facts.wrapper_steps import module_reset_steps, self_handoffs
 from gymmigrate.source_text import first_statement_line
@@ -153,6 +154,7 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
     untraced = UntracedCalls(calls)
     exports = Exports(facts, receivers)
     call_summaries = tuple(calls.calls())
+    named = named_ids(facts)
     return ModuleSummary(
         path,
         defs,
@@ -163,6 +165,7 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         handed_constructions=handed_constructions(facts, call_summaries),
         untraced_seed_call=untraced.has_untraced_call("seed"),
         untraced_render_call=untraced.has_untraced_call("render"),
+        calls_configure=calls_from_outside(facts, "configure"),
         render_makers=frozenset(untraced.render_makers),  # filled by the line above
         imported=tuple(sorted(set(facts.imports.values()))),
         exports=exports.exports(env_classes),
@@ -205,6 +208,8 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         render_only_classes=frozenset(name for name, classdef in facts.classes.items() if draws_only_in_render(facts, receivers, classdef)),
         registrations=registrations(facts),
         registered_ids=registered_ids(facts),
+        named_ids=named[0],
+        opaque_make=named[1],
         held_params=held_params(facts, receivers),
         param_renders=param_renders(facts, receivers),
         driven_kinds=driven_kinds(facts, receivers),

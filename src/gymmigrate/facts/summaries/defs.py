@@ -5,6 +5,7 @@ result, the imported names of the run it hands on uncalled, and its ``register``
 from __future__ import annotations
 
 import ast
+import re
 from collections.abc import Mapping
 
 from gymmigrate.facts import names as N
@@ -161,6 +162,34 @@ def registered_ids(facts: ModuleFacts) -> tuple[str | None, ...]:
         env_id = call_argument(call, 0, "id")
         found.append(string_value(env_id) if env_id is not None else None)
     return tuple(found)
+
+
+_ID_SHAPE = re.compile(r"^(?:[\w.]+:)?[\w./-]+-v\d+$")
+_MAKE = frozenset({"make", "envs.make", "envs.registration.make", "make_vec"})
+
+
+def named_ids(facts: ModuleFacts) -> tuple[frozenset[str], bool]:
+    """(the env-id-shaped strings of the module other than the ids its own ``register()``
+    calls pass, without a ``pkg:`` prefix; whether a Gym ``make(...)`` of the module passes
+    an id that is no string literal): what the run may make, for GM511."""
+    registered = {
+        id(argument)
+        for call in (*facts.calls_by_name.get("register", ()), *facts.attribute_calls.get("register", ()))
+        if (argument := call_argument(call, 0, "id")) is not None
+    }
+    named = frozenset(
+        node.value.rsplit(":", 1)[-1]
+        for node in facts.strings
+        if isinstance(node.value, str) and id(node) not in registered and _ID_SHAPE.match(node.value)
+    )
+    opaque = False
+    for call in (*facts.calls_by_name.get("make", ()), *facts.attribute_calls.get("make", ()), *facts.attribute_calls.get("make_vec", ())):
+        if not any(N.strip_gym_prefix(q) in _MAKE for q in facts.qualified_names(call.func)):
+            continue
+        argument = call_argument(call, 0, "id")
+        if argument is None or string_value(argument) is None:
+            opaque = True
+    return named, opaque
 
 
 def gym_only_makers(facts: ModuleFacts, receivers: Receivers) -> dict[str, str]:

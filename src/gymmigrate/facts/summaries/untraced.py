@@ -13,10 +13,24 @@ from gymmigrate.facts.creation import CreationFinder
 from gymmigrate.facts.decisions import Action, decide
 from gymmigrate.facts.gym_use import handles_gym_envs
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.module import string_value
+from gymmigrate.facts.module import ModuleFacts, string_value
 from gymmigrate.facts.profile import FileProfile
 from gymmigrate.facts.render_modes import passes_mode
 from gymmigrate.facts.summaries.calls import CallSummarizer
+
+
+def calls_from_outside(facts: ModuleFacts, method: str) -> bool:
+    """``x.<method>(...)`` or ``x._<method>(...)`` on a receiver other than ``self`` or
+    ``super()``: a call no class decides with its own methods."""
+    for name in (method, "_" + method):
+        for call in facts.attribute_calls.get(name, ()):
+            receiver = call.func.value  # type: ignore[attr-defined]
+            if isinstance(receiver, ast.Name) and receiver.id == "self":
+                continue
+            if isinstance(receiver, ast.Call) and isinstance(receiver.func, ast.Name) and receiver.func.id == "super":
+                continue
+            return True
+    return False
 
 
 class UntracedCalls:

@@ -21,7 +21,8 @@ from gymmigrate.edits.lazy import cst
 from gymmigrate.facts.env_classes import EnvClasses
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import ModuleFacts
-from gymmigrate.findings import FixKind, Tier
+from gymmigrate.facts.summaries.untraced import calls_from_outside
+from gymmigrate.findings import FixKind, Tier, configure_hook_question
 from gymmigrate.rules.base import FileContext, RuleFamily
 from gymmigrate.rules.custom_env.common import (
     CLASS_RULES,
@@ -74,6 +75,12 @@ class EnvClassFamily(RuleFamily):
             for qualified in facts.qualified_names(base)
         )
 
+    def _configure_called(self) -> bool:
+        """A ``x.configure(...)`` / ``x._configure(...)`` call on other than ``self`` in this
+        module or (in a run of several files) in any module of the run."""
+        project = self.receivers.project
+        return calls_from_outside(self.facts, "configure") or (project is not None and project.configure_called())
+
     def decide(self) -> None:
         env = EnvClasses.of(self.facts, self.receivers)
         if rename_hook_calls_first(self, env):
@@ -98,9 +105,24 @@ class EnvClassFamily(RuleFamily):
                 decide_float64_observations(decision)
                 continue  # reported once, left whole
             for new, old in decision.renamed.items():
-                why = "; Gymnasium never calls it: call `env.unwrapped.configure(...)`" if new == "configure" else ""
-                # an explanation of the rename; the migrated method's own findings follow
-                decision.report(decision.methods[old], UNDERSCORE_RULE[new], f"gym < 0.9 method `{old}` renamed `{new}`{why}", tier=None if why else Tier.NOTE)
+                why = ""
+                if new == "configure":
+                    why = (
+                        "; Gymnasium never calls it: call `env.unwrapped.configure(...)`"
+                        if self._configure_called()
+                        # only the class's own ``self._configure()`` calls, renamed with it
+                        else "; nothing in the run calls it but the class's own methods (renamed with it)"
+                    )
+                # an explanation of the rename; the migrated method's own findings follow;
+                # one question for every class of the file: how the run's callers reach it
+                asks = why.startswith("; Gymnasium")
+                decision.report(
+                    decision.methods[old],
+                    UNDERSCORE_RULE[new],
+                    f"gym < 0.9 method `{old}` renamed `{new}`{why}",
+                    tier=None if asks else Tier.NOTE,
+                    question=configure_hook_question() if asks else None,
+                )
                 for call in decision.index.self_calls.get(old, ()):
                     method = method_of(decision, call)
                     if method is not None:

@@ -380,10 +380,13 @@ def _returns_a_reset(decision: ClassDecision, helper: ast.AST) -> bool:
 def _return_info_pairs(decision: ClassDecision, function: ast.AST, base_info: str | None, helpers: set[str]) -> None:
     kind = FixKind.AUTO
     why = "returns (obs, {})"
+    known_dict = False
     if base_info is not None:
         kind, why = FixKind.ASSIST, f"returns (obs, {base_info}) with the info of the base's reset"
     elif decision.function(function).assigns_name("info"):
         kind, why = FixKind.ASSIST, "returns (obs, info) with the info dict reset() already builds"
+        # where every value ``info`` takes is a dict the class writes itself, nothing is asked
+        known_dict = _info_is_own_dict(decision, function)
     elif "_get_info" in decision.methods:
         # Only a helper that takes no arguments can be called here: `_get_info(self, agent)`
         # called as `self._get_info()` would raise TypeError on the first reset.
@@ -404,8 +407,41 @@ def _return_info_pairs(decision: ClassDecision, function: ast.AST, base_info: st
                 held = decision.family.facts.segment(ret.value.func.value)  # type: ignore[attr-defined]
                 decision.report(ret, "GM501", f"reset returns {held}.reset(), (obs, info) in Gymnasium: passed seed and options")
             continue
-        tier = Tier.NOTE if base_info is not None and decision.env.builtin_env_base(decision.classdef) else None
-        decision.report(ret, "GM501", f"reset {why}", kind, tier)
+        tier = Tier.NOTE if (base_info is not None and decision.env.builtin_env_base(decision.classdef)) or known_dict else None
+        # every return of one reset answers the same question (is that info what reset should give?)
+        decision.report(ret, "GM501", f"reset {why}", kind, tier, question=("reset-info", id(function)) if kind is FixKind.ASSIST else None)
+
+
+def _info_is_own_dict(decision: ClassDecision, function: ast.AST) -> bool:
+    """Every binding of ``info`` in ``function`` is a dict display, or the last of the
+    names unpacked from a call of the class's own method whose every return is a tuple
+    ending in a dict display (``obs, reward, done, info = self.observe()``)."""
+    bindings = [node for node in walk(function) if isinstance(node, ast.Name) and node.id == "info" and isinstance(node.ctx, ast.Store)]
+    if not bindings:
+        return False
+    facts = decision.family.facts
+    for name in bindings:
+        parent = facts.parent(name)
+        if isinstance(parent, ast.Assign) and parent.targets == [name]:
+            if not isinstance(parent.value, ast.Dict):
+                return False
+            continue
+        if not (isinstance(parent, ast.Tuple) and parent.elts and parent.elts[-1] is name):
+            return False
+        statement = facts.parent(parent)
+        if not (isinstance(statement, ast.Assign) and statement.targets == [parent] and isinstance(statement.value, ast.Call)):
+            return False
+        func = statement.value.func
+        if not (isinstance(func, ast.Attribute) and isinstance(func.value, ast.Name) and func.value.id == "self"):
+            return False
+        method = decision.methods.get(func.attr)
+        returns = own_returns(method) if method is not None else []
+        if not returns or not all(
+            isinstance(ret.value, ast.Tuple) and len(ret.value.elts) == len(parent.elts) and isinstance(ret.value.elts[-1], ast.Dict)
+            for ret in returns
+        ):
+            return False
+    return True
 
 
 def decide_internal_calls(decision: ClassDecision) -> None:

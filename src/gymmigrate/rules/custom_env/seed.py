@@ -19,7 +19,7 @@ from gymmigrate.facts.env_classes import (
     is_self_attribute,
     is_super_method_call,
 )
-from gymmigrate.facts.module import full_name, statement_lines, walk
+from gymmigrate.facts.module import ModuleFacts, full_name, statement_lines, walk
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import (
     ClassDecision,
@@ -147,7 +147,10 @@ def decide_seed(decision: ClassDecision) -> None:
             else "self.seed() removed: reset(seed=None) picks a random seed itself"
         )
         decision.report(call, "GM503", message, FixKind.ASSIST if given else FixKind.AUTO)
-    if setup:
+    if setup and all(_only_prints(facts, groups[i]) for i in setup):
+        # A message printed or logged changes no state: where it runs now decides nothing.
+        decision.report(init_call, "GM503", "what seed() printed or logged besides seeding now runs here in __init__ instead of the self.seed() call", FixKind.ASSIST, tier=Tier.NOTE)  # type: ignore[arg-type]
+    elif setup:
         decision.report(init_call, "GM503", "the set-up seed() did besides seeding (spaces, objects) now runs here in __init__ instead of the self.seed() call", FixKind.ASSIST)  # type: ignore[arg-type]
     callers = {method.name for call in calls if (method := method_of(decision, call)) is not None}
     decision.plan.seed = SeedPlan(moved=moved, setup=setup, renames={n: "seed" for n in seed_names if n != "seed"}, callers=callers)
@@ -355,6 +358,21 @@ def _is_seeding_statement(group: list[ast.stmt], seed_names: set[str]) -> bool:
             if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and "seed" in node.func.attr:
                 return True
     return False
+
+
+def _only_prints(facts: ModuleFacts, group: list[ast.stmt]) -> bool:
+    """Every statement is a call of the builtin ``print`` or of the ``logging`` module (or
+    gym's ``logger``) as a statement: output only, no state."""
+    for statement in group:
+        if not (isinstance(statement, ast.Expr) and isinstance(statement.value, ast.Call)):
+            return False
+        func = statement.value.func
+        if isinstance(func, ast.Name) and func.id == "print" and not facts.bindings_of(func):
+            continue
+        names = facts.qualified_names(func)
+        if not names or not all(name.startswith(("logging.", "gym.logger.", "gymnasium.logger.")) for name in names):
+            return False
+    return True
 
 
 def _does_nothing(group: list[ast.stmt]) -> bool:

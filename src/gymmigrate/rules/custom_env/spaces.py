@@ -12,9 +12,13 @@ Source: Gymnasium 1.4 ``wrappers/common.py`` (``PassiveEnvChecker.__init__``), `
 
 from __future__ import annotations
 
+import ast
+
 from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.module import ModuleFacts, call_argument, string_value
 from gymmigrate.facts.space_setters import SPACES, local_unset_spaces, registered_here
-from gymmigrate.findings import FixKind
+from gymmigrate.facts.summaries.defs import named_ids
+from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import ClassDecision
 
 
@@ -38,6 +42,19 @@ def decide_unset_spaces(decision: ClassDecision) -> None:
     missing = [space for space in SPACES if space in unset]
     named = " and ".join(f"`{space}`" for space in missing)
     first = missing[0].split("_")[0]
+    if project.made_by_nothing(classdef.name) if project is not None else _made_by_nothing_here(facts, classdef.name):
+        # registered, but no module of the run names its id: no make of the run builds it,
+        # and a make elsewhere met the same unset spaces under gym (its reset raised first)
+        decision.report(
+            classdef,
+            "GM511",
+            f"`{classdef.name}` leaves {named} unset once built; it is registered, but no make of the run names its id: "
+            f"where something else makes it, the env checker `gymnasium.make` puts around it raises AttributeError "
+            f"(\"The environment must specify an {first} space\")",
+            FixKind.FLAG,
+            Tier.NOTE,
+        )
+        return
     decision.report(
         classdef,
         "GM511",
@@ -48,3 +65,31 @@ def decide_unset_spaces(decision: ClassDecision) -> None:
         + " in `__init__`, or register (or make) it with `disable_env_checker=True`",
         FixKind.FLAG,
     )
+
+
+def _made_by_nothing_here(facts: ModuleFacts, name: str) -> bool:
+    """A run of this module alone: every ``register()`` naming class ``name`` as its entry
+    point passes a literal id that no other string of the module names, the module names
+    another id it registers, and every make() of the module passes a literal id
+    (``ProjectFacts.unmade_classes`` for one module)."""
+    named, opaque = named_ids(facts)
+    if opaque:
+        return False
+    ids = []
+    others = False  # the module makes another id it registers: its users are here
+    for call in (*facts.calls_by_name.get("register", ()), *facts.attribute_calls.get("register", ())):
+        entry = call_argument(call, 1, "entry_point")
+        if entry is None:
+            continue
+        text = string_value(entry)
+        if text is None and isinstance(entry, ast.BinOp) and isinstance(entry.right, ast.Constant):
+            text = string_value(entry.right)  # ``__name__ + ":Class"``
+        if text is None and isinstance(entry, ast.Name):
+            text = ":" + entry.id
+        env_id = call_argument(call, 0, "id")
+        literal = string_value(env_id) if env_id is not None else None
+        if text is None or text.rpartition(":")[2] != name:
+            others = others or literal in named
+            continue
+        ids.append(literal)
+    return others and bool(ids) and None not in ids and not (set(ids) & named)

@@ -5,6 +5,7 @@ file's decision with the import statements and GM105's one review item per move.
 from __future__ import annotations
 
 import ast
+from collections.abc import Hashable
 
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import Rule, RuleFamily
@@ -49,11 +50,11 @@ class ImportsBase(RuleFamily):
     def _imports(self) -> list[ast.Import | ast.ImportFrom]:
         return self.facts.import_statements
 
-    def _report_removed(self, node: ast.stmt, message: str, advice: str) -> None:
+    def _report_removed(self, node: ast.stmt, message: str, advice: str, question: Hashable | None = None) -> None:
         """GM105 once per decision: the first import that needs a given move (say, to
         gymnasium_robotics) is a review item; later imports in the same file needing the
         same move are notes pointing at it."""
         # the advice up to its colon names the move (``the mujoco-py envs ... were removed``),
         # whatever module it then names
         tier, same = self._removed_advice.tier(advice.split(": ", 1)[0], node, "move")
-        self.report(node, "GM105", message + same, tier=tier)
+        self.report(node, "GM105", message + same, tier=tier, question=question)

@@ -12,7 +12,12 @@ from gymmigrate.edits.lazy import cst
 from gymmigrate.edits.syntax import dotted_node
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.module import walk
-from gymmigrate.findings import FixKind, Tier, gym_only_question
+from gymmigrate.findings import (
+    FixKind,
+    Tier,
+    gym_only_question,
+    removed_helper_question,
+)
 from gymmigrate.rules.gymnasium_api import has_name, module_exists
 from gymmigrate.rules.imports.libraries import GYM_ONLY_LIBRARIES, GymOnlyLibraries
 from gymmigrate.rules.imports.table import (
@@ -192,18 +197,21 @@ class ImportStatements(GymOnlyLibraries):
         star = any(alias.name == "*" for alias in node.names)
         hint = removed_module_hint(rest)
         advice = hint
+        question = None
         if hint is None and not star:
             for alias in node.names:
                 hint = advice = removed_name_hint(rest, alias.name)
                 if hint:
                     hint = f"`{alias.name}` cannot move to Gymnasium: {hint}"
+                    # the uses of the name in the file (GM506) ask the same: what replaces it
+                    question = removed_helper_question(rest, alias.name)
                     break
         elif hint is not None:
             hint = f"`{module}` was removed: {hint}"
         if hint and self._atari_class_checks_only(node, rest):
             return
         if hint:
-            self._report_removed(node, hint, advice or hint)
+            self._report_removed(node, hint, advice or hint, question)
             return
         new_rest = migrated_path(rest)
         target = "gymnasium" + ("." + new_rest if new_rest else "")

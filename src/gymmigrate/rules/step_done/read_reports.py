@@ -330,8 +330,12 @@ class DoneReadReports(DoneUntracedReports):
                 question=question,
             )
         elif (
-            owner is step.assign
-            and ((use is DoneUse.DATA and stored_in_sequence(read, self.facts)) or self._stores_step_without_next_state(read, step))
+            (
+                (owner is step.assign and ((use is DoneUse.DATA and stored_in_sequence(read, self.facts)) or self._stores_step_without_next_state(read, step)))
+                # carried into the next iteration's slot: only a store of the flag itself
+                # (``news[i] = new``), never a call that also takes the step's observation
+                or (owner is None and use is DoneUse.DATA and self._flag_alone_in_slot(statement, read) and self._step_or_start_flag(read, step))
+            )
             and not self._may_store_next_state(read, step)
         ):
             # Nothing to decide: the boundary means what legacy ``done`` meant (a note).
@@ -420,6 +424,32 @@ class DoneReadReports(DoneUntracedReports):
                 FixKind.FLAG,
                 question=question,
             )
+
+    @staticmethod
+    def _flag_alone_in_slot(statement: ast.AST, read: ast.Name) -> bool:
+        """``news[i] = new``: the flag alone, stored into a slot of a sequence."""
+        return isinstance(statement, ast.Assign) and statement.value is read and all(isinstance(t, ast.Subscript) for t in statement.targets)
+
+    def _step_or_start_flag(self, read: ast.Name, step: DoneStep) -> bool:
+        """Every binding of the flag ``read`` sees is the step's (carried over from the
+        previous iteration) or a bare ``True``/``False`` (``new = True`` before the loop:
+        the first slot starts an episode): the flag is still the episode boundary."""
+        bindings = self.facts.bindings_of(read)
+        if not bindings:
+            return False
+        for binding in bindings:
+            statement = self.facts.statement_of(binding)
+            if statement is step.assign:
+                continue
+            if not (
+                isinstance(statement, ast.Assign)
+                and len(statement.targets) == 1
+                and statement.targets[0] is binding
+                and isinstance(statement.value, ast.Constant)
+                and isinstance(statement.value.value, bool)
+            ):
+                return False
+        return any(self.facts.statement_of(binding) is step.assign for binding in bindings)
 
     def _rollout_tail(self, read: ast.Name, step: DoneStep) -> ast.Name | None:
         """The read storing ``step``'s flag as its rollout's episode boundary, when ``read``
