@@ -204,6 +204,8 @@ def _handed_np_random(decision: ClassDecision, reset: ast.AST) -> None:
         function = facts.enclosing_function(node)
         if function is reset and node in reset.body:
             continue  # reset hands it on itself, after the seeding
+        if reset is not None and _runs_every_reset(decision, reset, function, node):
+            continue  # a helper every reset calls builds the object and hands it on, after the seeding
         if kept_seed is not None and function is kept_seed:
             continue  # the kept seed() reset calls with the seed hands it on again
         if function is init and init is not None and _set_once_before(decision, init, node, target.value):
@@ -225,6 +227,25 @@ def _handed_np_random(decision: ClassDecision, reset: ast.AST) -> None:
             "reset does not reseed it: hand it the new generator in reset() after super().reset(seed=seed)",
             FixKind.FLAG,
         )
+
+
+def _runs_every_reset(decision: ClassDecision, reset: ast.AST, helper: ast.AST | None, statement: ast.stmt) -> bool:
+    """``statement`` is a top-level statement of a method of the class that reset calls as
+    ``self.<method>(...)`` in one of its own top-level, simple statements: every reset runs
+    it, after the seeding the migrated reset does first. A call under a condition (``if
+    self.scene is None:``, a lazy build) is not every reset."""
+    if not isinstance(helper, (ast.FunctionDef, ast.AsyncFunctionDef)) or statement not in helper.body:
+        return False
+    if decision.methods.get(helper.name) is not helper:
+        return False
+    compound = (ast.If, ast.For, ast.AsyncFor, ast.While, ast.With, ast.AsyncWith, ast.Try, ast.FunctionDef, ast.ClassDef)
+    for top in getattr(reset, "body", []):
+        if isinstance(top, compound):
+            continue
+        for node in ast.walk(top):
+            if isinstance(node, ast.Call) and is_self_attribute(node.func, (helper.name,)):
+                return True
+    return False
 
 
 NP_RANDOM_NAMES = ("np_random", "_np_random")
