@@ -17,6 +17,7 @@ Exit codes are ``commands.py``'s: 0 success, 1 pending changes or findings, 2 er
 from __future__ import annotations
 
 import errno
+import gc
 import os
 import stat
 import sys
@@ -42,12 +43,26 @@ EXIT_INTERRUPTED = 130
 
 
 def main() -> None:
+    _collect_garbage_less_often()
     _print_undecodable_names_as_they_are()
     arguments = check_arguments(sys.argv[1:])
     if arguments is None:
         run_typer()
     else:
         sys.exit(check_directly(arguments))
+
+
+# A run allocates millions of small objects (ast and LibCST nodes, facts) that live until
+# their file is done; with CPython's default first-generation threshold (700) the cycle
+# collector ran so often that it took about a tenth of a run's CPU (1.3 s of 10 s over the
+# benchmark's Gym set). Collecting every 20,000 allocations took that down by about 10% for
+# about 10 MiB more peak memory, flat in the size of the run. Worker processes are forked
+# and inherit it.
+GC_THRESHOLDS = (20_000, 50, 100)
+
+
+def _collect_garbage_less_often() -> None:
+    gc.set_threshold(*GC_THRESHOLDS)
 
 
 def run_typer() -> None:
