@@ -20,7 +20,7 @@ from gymmigrate.formats import (
 from gymmigrate.rules import all_rules
 
 runner = CliRunner()
-LOOP = b'import gym\n\nenv = gym.make("CartPole-v1")\nobs, reward, done, info = env.step(0)\n'
+LOOP = b'import gym\n\nenv = gym.make("CartPole-v1")\nenv.reset()\nobs, reward, done, info = env.step(0)\n'
 
 
 @pytest.fixture
@@ -42,7 +42,7 @@ def test_json_lists_every_finding_field(loop_file: Path) -> None:
     assert {item["rule"] for item in items} == {"GM101", "GM301"}
     step = next(item for item in items if item["rule"] == "GM301")
     assert step["path"] == str(loop_file)
-    assert (step["line"], step["column"], step["end_line"]) == (4, 0, 4)
+    assert (step["line"], step["column"], step["end_line"]) == (5, 0, 5)
     assert step["kind"] == "auto" and step["fix_available"] is True
     assert {f.name for f in fields(Finding) if not f.metadata.get("internal")} <= set(step), "every Finding field flows into JSON"
     assert "question" not in step  # the run's question key is internal
@@ -94,7 +94,7 @@ def test_github_annotations(loop_file: Path) -> None:
     assert len(lines) == 2
     step = next(line for line in lines if "title=GM301" in line)
     path = str(loop_file).replace(":", "%3A").replace(",", "%2C")
-    assert step.startswith(f"::warning file={path},line=4,col=1,endLine=4,endColumn=")
+    assert step.startswith(f"::warning file={path},line=5,col=1,endLine=5,endColumn=")
     assert ",title=GM301::GM301 " in step
 
 
