@@ -90,6 +90,8 @@ _SPEC_FUNCTIONS = frozenset({"spec", "envs.spec", "envs.registration.spec"})
 _SPEC_CONSTRUCTORS = _REGISTER_FUNCTIONS | {"envs.registration.EnvSpec", "envs.EnvSpec", "EnvSpec"}
 # gym 0.9's EnvSpec keywords that Gymnasium's register()/EnvSpec() do not take.
 LEGACY_SPEC_KEYWORDS = frozenset({"timestep_limit", "tags", "trials", "max_episode_seconds", "local_only"})
+# The legacy keywords a register call can lose without changing what make builds.
+DROPPED_SPEC_KEYWORDS = frozenset({"tags", "trials", "local_only"})
 _TIME_LIMIT_TAG = "wrapper_config.TimeLimit.max_episode_steps"
 _LEGACY_KEYWORD_HINTS = {
     "timestep_limit": "`timestep_limit` was gym 0.9's spelling of `max_episode_steps` and overrode it there: "
@@ -200,6 +202,25 @@ class RegistryApi(RuleFamily):
                 f"{spelled} -> `max_episode_steps=`: gym 0.9's spelling of the same step limit; Gymnasium's {what} "
                 "takes no such keyword (TypeError)",
             )
+        # Keywords whose value nothing in Gymnasium has a place for and that change nothing a
+        # made env does (the scoreboard's ``trials``/``local_only``, ``tags`` other than the
+        # limit's): kept, the register call raises TypeError; dropped, what is lost was never
+        # read through Gymnasium (a ``spec.tags`` read fails either way and is reported apart).
+        dropped = [
+            kw.arg
+            for kw in rest
+            if kw.arg in DROPPED_SPEC_KEYWORDS and not open_call and not any(isinstance(n, ast.Call) for n in ast.walk(kw.value))
+        ]  # a value that calls something runs code: what it does is not the keyword's to drop
+        if dropped:
+            self.plan.replace(call, lambda node, names=tuple(dropped): _without_keywords(node, names))
+            names = ", ".join(f"`{arg}=`" for arg in dict.fromkeys(dropped))
+            self.report(
+                call,
+                "GM806",
+                f"{names} dropped: Gymnasium's {what} takes no such keyword (TypeError) and keeps nothing of it "
+                "(`env.spec` has no tags, trials or local_only)",
+            )
+            rest = [kw for kw in rest if kw.arg not in dropped]
         if rest:
             arguments = list(dict.fromkeys(kw.arg for kw in rest if kw.arg is not None))
             names = ", ".join(f"`{arg}=`" for arg in arguments)
@@ -578,6 +599,17 @@ def _limit_tag(kw: ast.keyword) -> ast.expr | None:
         return None
     key = value.keys[0]
     return value.values[0] if key is not None and string_value(key) == _TIME_LIMIT_TAG else None
+
+
+def _without_keywords(node: cst.BaseExpression, names: tuple[str, ...]) -> cst.BaseExpression:
+    """The call without its ``names=`` keyword arguments. Where the last argument goes, the
+    one now last takes its comma: none (``f(a, b)``) or the trailing one the call's layout had."""
+    if not isinstance(node, cst.Call) or not node.args:
+        return node
+    kept = [arg for arg in node.args if arg.keyword is None or arg.keyword.value not in names]
+    if kept and kept[-1] is not node.args[-1]:
+        kept[-1] = kept[-1].with_changes(comma=node.args[-1].comma)
+    return node.with_changes(args=kept)
 
 
 def _limit_as_max_episode_steps(node: cst.BaseExpression, keyword: str) -> cst.BaseExpression:
