@@ -271,6 +271,16 @@ class CallSummarizer:
             return None
         return self._class_of_values(values)
 
+    def reaching_instance_class(self, owner: ast.expr) -> str | None:
+        """``instance_class`` of the value a read of a name gets where the flow tells the
+        bindings apart (``env = Car()``, ``env.seed(s)``, then ``env = Monitor(env)``: the
+        seed call gets the car, as the rewriting rules see it); ``instance_class`` otherwise."""
+        if isinstance(owner, ast.Name):
+            values = self._reaching_values(owner)
+            if values:
+                return self._class_of_values(values)
+        return self.instance_class(owner)
+
     def _class_of_bindings(self, bindings: list[ast.AST]) -> str | None:
         values = []
         for binding in bindings:
