@@ -216,6 +216,57 @@ def test_a_proxy_of_the_project_is_migrated_with_its_env_or_asked_about(tmp_path
     assert "driver.py:13: GM201" in result.output and "project's own object (`StepLogger`)" in result.output
 
 
+_LIBRARY_RUNNER = """from stable_baselines import PPO2
+from stable_baselines.common.runners import AbstractEnvRunner
+
+
+class Runner(AbstractEnvRunner):
+    def __init__(self, *, env, model, n_steps):
+        super().__init__(env=env, model=model, n_steps=n_steps)
+
+
+class TunedPPO(PPO2):
+    def make_runner(self):
+        return Runner(env=self.env, model=self, n_steps=self.n_steps)
+"""
+
+
+def test_a_library_base_init_call_hands_its_vec_env_to_no_class_of_the_run(tmp_path: Path) -> None:
+    """``runner.py`` subclasses a library algorithm and runner: the runner's
+    ``super().__init__(env=env)`` gets the algorithm's VecEnv and reaches the library's
+    ``__init__``. Taken as a call of an unknown owner's ``__init__``, it handed that VecEnv
+    to every ``__init__`` of the run, StepLogger's among them, which was then left alone
+    without a word: it is migrated with its env, as without the runner."""
+    project = _copy(tmp_path, "project_proxy_holders")
+    (project / "runner.py").write_text(_LIBRARY_RUNNER)
+    result = runner.invoke(app, ["rewrite", str(project)])
+    assert result.exit_code == 0, result.output
+    assert "obs, reward, terminated, truncated, info = self.env.step(action)" in (project / "logger.py").read_text()
+    assert "driver.py:13: GM201" in result.output and "project's own object (`StepLogger`)" in result.output
+
+
+def test_a_run_base_init_call_still_hands_its_vec_env_to_that_base(tmp_path: Path) -> None:
+    """The same runner on a base of the run (``BaseRunner`` storing ``self.env``): its
+    ``super().__init__`` reaches that base, which gets the VecEnv and keeps the legacy
+    calls; StepLogger, never handed it, is still migrated."""
+    project = _copy(tmp_path, "project_proxy_holders")
+    (project / "base_runner.py").write_text(
+        "class BaseRunner(object):\n    def __init__(self, *, env, model, n_steps):\n        self.env = env\n\n"
+        "    def run(self):\n        obs, reward, done, info = self.env.step(None)\n        return obs\n"
+    )
+    (project / "runner.py").write_text(
+        _LIBRARY_RUNNER.replace("from stable_baselines.common.runners import AbstractEnvRunner", "from base_runner import BaseRunner").replace(
+            "Runner(AbstractEnvRunner)", "Runner(BaseRunner)"
+        )
+    )
+    before = (project / "base_runner.py").read_text()
+    result = runner.invoke(app, ["rewrite", str(project)])
+    assert result.exit_code == 0, result.output
+    assert (project / "base_runner.py").read_text() == before
+    assert "base_runner.py" not in result.output  # a VecEnv's step, known: nothing to ask
+    assert "obs, reward, terminated, truncated, info = self.env.step(action)" in (project / "logger.py").read_text()
+
+
 _COURT_MODULE = '''import gym
 import numpy as np
 from gym.utils import seeding

@@ -306,6 +306,47 @@ def test_a_seed_caller_the_run_rewrites_does_not_keep_seed_and_a_second_run_chan
     assert _run_main(folder, "worker") == _run_main(folder, "worker")
 
 
+def _rewrite_twice(folder: Path) -> dict[str, bytes]:
+    """One run, then a second that must change nothing; the files after the first."""
+    result = runner.invoke(app, ["rewrite", str(folder)])
+    assert result.exit_code == 0, result.output
+    migrated = {path.name: path.read_bytes() for path in folder.glob("*.py")}
+    again = runner.invoke(app, ["rewrite", str(folder)])
+    assert again.exit_code == 0, again.output
+    assert {path.name: path.read_bytes() for path in folder.glob("*.py")} == migrated
+    return migrated
+
+
+def test_a_seed_call_before_the_name_is_rewrapped_is_the_one_the_run_rewrites(tmp_path: Path) -> None:
+    """worker.py seeds ``env = Dice()`` and only then rebinds ``env`` to a library wrapper:
+    the seed call gets the Dice, and GM203 makes it reset(seed=...). Counting the name's
+    every binding made it an untraced seed() caller, kept Dice.seed() in the first run and
+    removed it in the second."""
+    folder = tmp_path / "dice"
+    shutil.copytree(FIXTURES / "project_seed_rewrapped", folder)
+    migrated = _rewrite_twice(folder)
+    assert b"def seed" not in migrated["envs.py"]
+    assert b"env.reset(seed=seed)" in migrated["worker.py"]
+
+
+def test_a_seed_call_after_an_untraced_rewrap_still_keeps_seed(tmp_path: Path) -> None:
+    """The same names, but the seed call comes after ``env = wrap(env)`` with a callable
+    the run cannot see into: it may reach Dice.seed(), so the class keeps it, in both runs."""
+    folder = tmp_path / "dice"
+    shutil.copytree(FIXTURES / "project_seed_rewrapped", folder)
+    worker = folder / "worker.py"
+    worker.write_text(
+        worker.read_text()
+        .replace("def make_env(seed, log_dir):", "def make_env(seed, wrap):")
+        .replace("        env.seed(seed)\n        env = Monitor(env, log_dir)\n", "        env = wrap(env)\n        env.seed(seed)\n")
+        .replace("        return env\n", "        return Monitor(env)\n")
+    )
+    assert "env = wrap(env)\n        env.seed(seed)" in worker.read_text()
+    migrated = _rewrite_twice(folder)
+    assert b"def seed(self, seed=None):" in migrated["envs.py"]
+    assert b"env.seed(seed)" in migrated["worker.py"]
+
+
 def test_render_mode_is_kept_while_a_gym_env_of_another_module_is_rendered_with_a_mode_left(tmp_path: Path) -> None:
     """snap.py renders a Gym env (a parameter annotated ``gym.Env``) with a mode that is no
     literal: the rendering rules cannot move it and leave the call passing it, so GridEnv,

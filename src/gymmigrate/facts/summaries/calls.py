@@ -180,6 +180,8 @@ class CallSummarizer:
         base = self._super_base(owner)
         if base is not None:
             return f"{base}.{func.attr}"  # ``super().__init__(env)`` in a subclass of a run's class
+        if self._super_of_library(owner):
+            return None  # the library's method: no def of the run is called
         cls = self.instance_class(owner)
         if cls is not None:
             return f"{cls}.{func.attr}" if not N.is_library(cls) else None
@@ -202,6 +204,29 @@ class CallSummarizer:
         first = next((b for b in classdef.bases if not is_object(b)), None)
         qualified = self.facts.qualified_names(first) if first is not None else set()
         return next(iter(qualified)) if len(qualified) == 1 and not N.is_library(next(iter(qualified))) else None
+
+    def _super_of_library(self, owner: ast.expr) -> bool:
+        """``super().__init__(env=env)`` in a method of a class whose every base is a
+        library's (``class Runner(AbstractEnvRunner)``) or ``object``: the call reaches that
+        library's method. As an unresolved ``?.__init__`` the join handed its arguments to
+        every ``__init__`` of the run, a VecEnv to a proxy class built around a Gym env."""
+        if not (isinstance(owner, ast.Call) and isinstance(owner.func, ast.Name) and owner.func.id == "super" and not owner.keywords):
+            return False
+        if self.facts.bindings_of(owner.func) or len(owner.args) not in (0, 2):
+            return False  # a ``super`` of the module's own
+        function = self.facts.enclosing_function(owner)
+        classdef = self.facts.enclosing_class(owner)
+        if function is None or classdef is None or self.facts.parent(function) is not classdef:
+            return False
+        if owner.args and not (isinstance(owner.args[0], ast.Name) and owner.args[0].id == classdef.name):
+            return False
+        for base in classdef.bases:
+            if is_object(base):
+                continue
+            qualified = self.facts.qualified_names(base)
+            if not qualified or not all(N.is_library(q) for q in qualified):
+                return False  # a class of the run, or one this module cannot name
+        return True
 
     def _star_target(self, func: ast.Name) -> str | None:
         """``calc(env)`` where ``calc`` is bound in this module by nothing but one star import
@@ -270,6 +295,16 @@ class CallSummarizer:
         else:
             return None
         return self._class_of_values(values)
+
+    def reaching_instance_class(self, owner: ast.expr) -> str | None:
+        """``instance_class`` of the value a read of a name gets where the flow tells the
+        bindings apart (``env = Car()``, ``env.seed(s)``, then ``env = Monitor(env)``: the
+        seed call gets the car, as the rewriting rules see it); ``instance_class`` otherwise."""
+        if isinstance(owner, ast.Name):
+            values = self._reaching_values(owner)
+            if values:
+                return self._class_of_values(values)
+        return self.instance_class(owner)
 
     def _class_of_bindings(self, bindings: list[ast.AST]) -> str | None:
         values = []

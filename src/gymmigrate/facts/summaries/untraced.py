@@ -74,7 +74,10 @@ class UntracedCalls:
                 continue
             if method == "seed" and self._seed_call_rewritten_here(call):
                 continue  # GM203 makes it reset(seed=...) in this run: no seed() caller is left
-            made_by = self.calls.instance_class(receiver)
+            # the value that reaches the call, as GM203 sees it: counting a name's later
+            # ``env = Monitor(env)`` kept a class's seed() that the same run's
+            # reset(seed=...) rewrite left without a caller, and the next run removed it
+            made_by = self.calls.reaching_instance_class(receiver) if method == "seed" else self.calls.instance_class(receiver)
             if made_by is not None and not N.is_library(made_by):
                 continue  # an instance of a class it imports: the run knows that class
             return True
