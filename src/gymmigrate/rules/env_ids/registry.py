@@ -603,12 +603,13 @@ def _limit_tag(kw: ast.keyword) -> ast.expr | None:
 
 def _without_keywords(node: cst.BaseExpression, names: tuple[str, ...]) -> cst.BaseExpression:
     """The call without its ``names=`` keyword arguments. Where the last argument goes, the
-    one now last takes its comma: none (``f(a, b)``) or the trailing one the call's layout had."""
+    one now last takes its comma and the space before ``)``: the call's layout stays."""
     if not isinstance(node, cst.Call) or not node.args:
         return node
     kept = [arg for arg in node.args if arg.keyword is None or arg.keyword.value not in names]
     if kept and kept[-1] is not node.args[-1]:
-        kept[-1] = kept[-1].with_changes(comma=node.args[-1].comma)
+        # the space before ``)`` (a newline in a call laid out one argument a line) goes with it
+        kept[-1] = kept[-1].with_changes(comma=node.args[-1].comma, whitespace_after_arg=node.args[-1].whitespace_after_arg)
     return node.with_changes(args=kept)
 
 
