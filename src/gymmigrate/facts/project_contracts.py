@@ -8,6 +8,7 @@ classes whose reset steps the wrapper around them (GM808).
 from __future__ import annotations
 
 from collections import defaultdict
+from collections.abc import Iterator
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts.kinds import EnvKind
@@ -151,27 +152,31 @@ def seed_keepers(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> tupl
         if "seed" in facts.class_methods.get((path, name), ())
     )
     ids: dict[str, str] = {}
+    for env_id, definer in _registered_definers(facts, by_path):
+        if definer in classes:
+            ids.setdefault(env_id, definer[1])
+    return classes, ids
+
+
+def _registered_definers(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> Iterator[tuple[str, tuple[str, str]]]:
+    """Each literal id the run registers, with the (module path, class name) its entry point
+    names, re-exports followed; ids whose entry point names no class of the run are left out."""
     for summary in by_path.values():
         for env_id, entry in summary.registrations:
             module, _, name = entry.partition(":")
             where = facts.modules.get(module)
             definer = _definer(facts, by_path, where, name) if where else None
-            if env_id is not None and definer in classes:
-                ids.setdefault(env_id, definer[1])
-    return classes, ids
+            if env_id is not None and definer is not None:
+                yield env_id, definer
 
 
 def render_only_ids(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> dict[str, str]:
     """The literal ids the run registers with an entry point naming an env class whose
     drawing is its render() alone (``ModuleSummary.render_only_classes``), re-exports followed."""
     ids: dict[str, str] = {}
-    for summary in by_path.values():
-        for env_id, entry in summary.registrations:
-            module, _, name = entry.partition(":")
-            where = facts.modules.get(module)
-            definer = _definer(facts, by_path, where, name) if where else None
-            if env_id is not None and definer is not None and definer[0] not in facts.blocked and definer[1] in by_path[definer[0]].render_only_classes:
-                ids.setdefault(env_id, definer[1])
+    for env_id, (path, name) in _registered_definers(facts, by_path):
+        if path not in facts.blocked and name in by_path[path].render_only_classes:
+            ids.setdefault(env_id, name)
     return ids
 
 

@@ -279,22 +279,31 @@ def modeless_render(facts: ModuleFacts, receivers: Receivers, classdef: ast.Clas
     return facts.memo(("modeless-render", id(classdef)), lambda: _modeless_render(facts, receivers, classdef))
 
 
-def _modeless_render(facts: ModuleFacts, receivers: Receivers, classdef: ast.ClassDef) -> bool:
-    if not EnvClasses.of(facts, receivers).is_custom_env(classdef) or _registered_here(facts, receivers, classdef):
-        return False
+def _lineage_of_this_module(facts: ModuleFacts, receivers: Receivers, classdef: ast.ClassDef) -> list[ast.ClassDef] | None:
+    """The class and its bases of this module, where every base is one of them, ``object``
+    or Gym's env: a base of no module here (a library's env, a mix-in) may define the
+    render that runs, or what it calls. None where one is not, or where a class of the
+    lineage names ``render_mode`` (it draws by mode already)."""
     lineage = list(receivers.local_lineage(classdef))
     for current in lineage:
         for base in current.bases:
-            # a base of no module here (a library's env, a mix-in) may define the render
-            # that runs, or what it calls
             if not (
                 receivers.local_class(base) is not None
                 or (isinstance(base, ast.Name) and base.id == "object")
                 or any(N.strip_gym_prefix(q) in DIRECT_ENV_BASES for q in facts.qualified_names(base))
             ):
-                return False
+                return None
         if any(_names_render_mode(node) for node in walk(current)):
-            return False
+            return None
+    return lineage
+
+
+def _modeless_render(facts: ModuleFacts, receivers: Receivers, classdef: ast.ClassDef) -> bool:
+    if not EnvClasses.of(facts, receivers).is_custom_env(classdef) or _registered_here(facts, receivers, classdef):
+        return False
+    lineage = _lineage_of_this_module(facts, receivers, classdef)
+    if lineage is None:
+        return False
     render = next(
         (s for current in lineage for s in current.body if isinstance(s, FUNCTIONS) and s.name == "render"),
         None,
@@ -351,17 +360,9 @@ def draws_only_in_render(facts: ModuleFacts, receivers: Receivers, classdef: ast
 def _draws_only_in_render(facts: ModuleFacts, receivers: Receivers, classdef: ast.ClassDef) -> bool:
     if not EnvClasses.of(facts, receivers).is_custom_env(classdef):
         return False
-    lineage = list(receivers.local_lineage(classdef))
-    for current in lineage:
-        for base in current.bases:
-            if not (
-                receivers.local_class(base) is not None
-                or (isinstance(base, ast.Name) and base.id == "object")
-                or any(N.strip_gym_prefix(q) in DIRECT_ENV_BASES for q in facts.qualified_names(base))
-            ):
-                return False
-        if any(_names_render_mode(node) for node in walk(current)):
-            return False
+    lineage = _lineage_of_this_module(facts, receivers, classdef)
+    if lineage is None:
+        return False
     methods: dict[str, ast.FunctionDef | ast.AsyncFunctionDef] = {}
     for current in lineage:
         for statement in current.body:
