@@ -92,6 +92,18 @@ def is_super_method_call(node: ast.AST | None, method: str) -> bool:
     )
 
 
+def self_calls(facts: ModuleFacts, classdef: ast.ClassDef, name: str) -> list[ast.Call]:
+    """``self.<name>(...)`` calls in the methods of ``classdef`` (not of a class nested in it)."""
+    return [
+        call
+        for call in facts.attribute_calls.get(name, ())
+        if isinstance(call.func, ast.Attribute)
+        and isinstance(call.func.value, ast.Name)
+        and call.func.value.id == "self"
+        and facts.enclosing_class(call) is classdef
+    ]
+
+
 def is_self_attribute(node: ast.AST, names: tuple[str, ...] | frozenset[str] | None = None) -> bool:
     return (
         isinstance(node, ast.Attribute)

@@ -18,6 +18,7 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts.env_classes import self_calls
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 
@@ -59,7 +60,7 @@ class LegacyWrapperHooks(RuleFamily):
             }
             for old, new in renames.items():
                 self.plan.replace(methods[old], lambda node, new=new: node.with_changes(name=node.name.with_changes(value=new)))
-                for call in self._self_calls(classdef, old):
+                for call in self_calls(self.facts, classdef, old):
                     self.plan.replace(call.func, lambda node, new=new: node.with_changes(attr=node.attr.with_changes(value=new)))
                 self.report(
                     methods[old],
@@ -123,12 +124,3 @@ class LegacyWrapperHooks(RuleFamily):
             )
         ]
 
-    def _self_calls(self, classdef: ast.ClassDef, name: str) -> list[ast.Call]:
-        return [
-            call
-            for call in self.facts.attribute_calls.get(name, ())
-            if isinstance(call.func, ast.Attribute)
-            and isinstance(call.func.value, ast.Name)
-            and call.func.value.id == "self"
-            and self.facts.enclosing_class(call) is classdef
-        ]

@@ -27,6 +27,7 @@ from __future__ import annotations
 import ast
 from collections.abc import Iterator
 
+from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
@@ -112,12 +113,8 @@ class ResetOrder(RuleFamily):
         return False
 
     def _block_of(self, statement: ast.stmt) -> list[ast.stmt] | None:
-        parent = self.facts.parent(statement)
-        for field in ("body", "orelse", "finalbody"):
-            block = getattr(parent, field, None)
-            if isinstance(block, list) and statement in block:
-                return block
-        return None
+        found = Flow.of(self.facts).block_of(statement)
+        return found[0] if found is not None else None
 
     def _uses(self, statement: ast.stmt, target: ast.expr) -> list[ast.Name]:
         """Reads of the env's name (of ``self``, for ``self.env``) in ``statement``, in source order."""

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import ast
 
-from gymmigrate.facts.env_classes import EnvClasses
+from gymmigrate.facts.env_classes import EnvClasses, self_calls
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.findings import Tier
 from gymmigrate.rules.base import RuleFamily
@@ -59,7 +59,7 @@ def rename_hook_calls_first(family: RuleFamily, env: EnvClasses) -> bool:
         for old, new in own.items():
             family.plan.replace(methods[old], lambda node, new=new: node.with_changes(name=node.name.with_changes(value=new)))
             family.report(methods[old], UNDERSCORE_RULE[new], f"gym < 0.9 method `{old}` renamed `{new}`", tier=Tier.NOTE)
-            calls.extend((call, new) for call in _self_calls(family, classdef, old))
+            calls.extend((call, new) for call in self_calls(family.facts, classdef, old))
     for call, new in calls:
         family.plan.replace(call.func, lambda node, new=new: node.with_changes(attr=node.attr.with_changes(value=new)))
     return True
@@ -111,15 +111,3 @@ def _base_hook_calls(family: RuleFamily, classdef: ast.ClassDef, own: dict[str, 
 
 def _defines(classdef: ast.ClassDef, *names: str) -> bool:
     return any(isinstance(s, (ast.FunctionDef, ast.AsyncFunctionDef)) and s.name in names for s in classdef.body)
-
-
-def _self_calls(family: RuleFamily, classdef: ast.ClassDef, old: str) -> list[ast.Call]:
-    """``self._reset()`` in the class whose own ``_reset`` is renamed."""
-    return [
-        call
-        for call in family.facts.attribute_calls.get(old, ())
-        if isinstance(call.func, ast.Attribute)
-        and isinstance(call.func.value, ast.Name)
-        and call.func.value.id == "self"
-        and family.facts.enclosing_class(call) is classdef
-    ]

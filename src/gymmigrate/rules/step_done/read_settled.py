@@ -19,6 +19,7 @@ from gymmigrate.facts.done_uses import (
     classify_done_read,
     loaded_names,
 )
+from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.module import own_returns, walk
 from gymmigrate.rules.step_done.bookkeeping import DoneBookkeeping
 from gymmigrate.rules.step_done.common import TIME_LIMIT_KEY
@@ -85,12 +86,8 @@ class DoneSettledReads(DoneBookkeeping):
 
     def _sibling_block(self, statement: ast.stmt) -> list[ast.stmt] | None:
         """The statement list that holds ``statement`` directly."""
-        parent = self.facts.parent(statement)
-        for field in ("body", "orelse", "finalbody"):
-            block = getattr(parent, field, None)
-            if isinstance(block, list) and statement in block:
-                return block
-        return None
+        found = Flow.of(self.facts).block_of(statement)
+        return found[0] if found is not None else None
 
     def _valued_after_reset(self, read: ast.Name, step: DoneStep) -> tuple[str, ast.If] | None:
         """``R = 0.0 if done else v(state)`` after the step's loop, whose body ends the episode
