@@ -53,7 +53,8 @@ class ResetOrder(RuleFamily):
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
-        return context.profile.imports_gym and "order_enforce" not in facts.text
+        # only ``gym.make(...)`` envs are followed: no ``.make`` call, nothing to decide
+        return context.profile.imports_gym and bool(facts.attribute_calls.get("make")) and "order_enforce" not in facts.text
 
     def decide(self) -> None:
         for call in self.facts.attribute_calls.get("make", ()):
