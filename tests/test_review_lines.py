@@ -89,6 +89,7 @@ def test_check_names_lines_of_the_source(tmp_path: Path) -> None:
 # different numbers of lines above it (or not at all).
 LOOP = """\
 probe = gym.make("CartPole-v1")
+probe.reset()
 done = False
 while not done:
     obs, reward, done, info = probe.step(0)
@@ -113,7 +114,7 @@ def test_a_run_wide_decision_names_each_other_file_as_written(tmp_path: Path, ho
     [item] = _review(result.stderr)
     assert item["rule"] == "GM805" and Path(item["path"]).name == "a.py"
     places = [(Path(path), int(line)) for path, line in _OTHER_PLACE.findall(item["message"].partition("(the same decision at")[2])]
-    assert [(path.name, line) for path, line in places] == [("b.py", 8), ("c.py", 13)]
+    assert [(path.name, line) for path, line in places] == [("b.py", 9), ("c.py", 15)]
     for path, line in [(Path(item["path"]), int(item["line"])), *places]:
         assert "Striker-v2" in _line(path, line), (path.name, line)
 
@@ -123,8 +124,8 @@ def test_check_names_each_other_file_by_its_source(tmp_path: Path) -> None:
     result = runner.invoke(app, ["check", "--output-format", "json", str(run)])
     assert result.exit_code == 1
     [item] = [f for f in json.loads(result.stdout) if f["tier"] == "review"]
-    assert (Path(item["path"]).name, item["line"]) == ("a.py", 7)
-    assert item["message"].endswith(f"(the same decision at 2 other places: {run / 'b.py'}:7, {run / 'c.py'}:11)")
+    assert (Path(item["path"]).name, item["line"]) == ("a.py", 8)
+    assert item["message"].endswith(f"(the same decision at 2 other places: {run / 'b.py'}:8, {run / 'c.py'}:13)")
 
 
 def test_the_json_report_of_a_rewrite_reads_the_source_like_its_line(tmp_path: Path) -> None:
@@ -134,7 +135,7 @@ def test_the_json_report_of_a_rewrite_reads_the_source_like_its_line(tmp_path: P
     result = runner.invoke(app, ["rewrite", "--report", str(report), str(run)])
     assert result.exit_code == 0, result.output
     [item] = [f for f in json.loads(report.read_text(encoding="utf-8"))["findings"] if f["tier"] == "review"]
-    assert (item["line"], item["line_after"]) == (7, 8)
+    assert (item["line"], item["line_after"]) == (8, 9)
     assert item["message"].endswith(f"(the same decision at 2 other places: {run / 'b.py'}:7, {run / 'c.py'}:11)")
     assert "message_after" not in item
 
