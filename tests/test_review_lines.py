@@ -136,7 +136,7 @@ def test_the_json_report_of_a_rewrite_reads_the_source_like_its_line(tmp_path: P
     assert result.exit_code == 0, result.output
     [item] = [f for f in json.loads(report.read_text(encoding="utf-8"))["findings"] if f["tier"] == "review"]
     assert (item["line"], item["line_after"]) == (8, 9)
-    assert item["message"].endswith(f"(the same decision at 2 other places: {run / 'b.py'}:7, {run / 'c.py'}:11)")
+    assert item["message"].endswith(f"(the same decision at 2 other places: {run / 'b.py'}:8, {run / 'c.py'}:13)")
     assert "message_after" not in item
 
 
