@@ -121,12 +121,16 @@ class GeneratorApi(RuleFamily):
             message = "np_random.random_integers(lo, hi) -> np_random.integers(lo, hi, endpoint=True) (both ends inclusive)"
         elif method in PACKED_SIZE:
             new_name = PACKED_SIZE[method]
-            if call.keywords or any(isinstance(a, ast.Starred) for a in call.args):
+            starred = not call.keywords and len(call.args) == 1 and isinstance(call.args[0], ast.Starred)
+            if not starred and (call.keywords or any(isinstance(a, ast.Starred) for a in call.args)):
                 self.report(call, code, f"np_random.{method}(*dims) takes one size tuple as Generator.{new_name}(size); rewrite by hand", FixKind.FLAG)
                 return
-            self.plan.replace(call, _packed_call(new_name))
+            # ``randn(*x.shape)``: the dimensions are already one sequence, which is the size
+            self.plan.replace(call, _size_of_starred(new_name) if starred else _packed_call(new_name))
             message = f"np_random.{method}(...) -> np_random.{new_name}(...)"
-            if len(call.args) > 1:
+            if starred:
+                message = f"np_random.{method}(*dims) -> np_random.{new_name}(tuple(dims)): the unpacked dimensions became one size tuple"
+            elif len(call.args) > 1:
                 message = f"np_random.{method}(d0, d1, ...) -> np_random.{new_name}((d0, d1, ...)): the dimensions became one size tuple"
                 kind = FixKind.ASSIST if kind is FixKind.AUTO else kind
         elif method == "get_state" and not call.args and not call.keywords:
@@ -401,6 +405,17 @@ def _inclusive_integers(call: cst.Call, func: cst.Attribute) -> cst.Call:
         args[-1] = args[-1].with_changes(comma=cst.MaybeSentinel.DEFAULT)
     args.append(cst.Arg(cst.Name("True"), keyword=cst.Name("endpoint"), equal=cst.AssignEqual(cst.SimpleWhitespace(""), cst.SimpleWhitespace(""))))
     return call.with_changes(func=func.with_changes(attr=cst.Name("integers")), args=args)
+
+
+def _size_of_starred(new_name: str):
+    """``rand(*dims)`` -> ``random(tuple(dims))``: ``tuple`` takes any iterable ``*`` took."""
+
+    def build(node: cst.Call) -> cst.Call:
+        assert isinstance(node.func, cst.Attribute) and node.args and node.args[0].star == "*"
+        size = cst.Call(func=cst.Name("tuple"), args=[cst.Arg(node.args[0].value)])
+        return node.with_changes(func=node.func.with_changes(attr=cst.Name(new_name)), args=[cst.Arg(size)])
+
+    return build
 
 
 def _packed(call: cst.Call, func: cst.Attribute, new_name: str) -> cst.Call:
