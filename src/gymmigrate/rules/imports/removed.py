@@ -90,8 +90,14 @@ class RemovedAttributes(ImportsBase):
                     if rest is None or (rest == "wrappers" and attr in LEGACY_WRAPPER_MODULES):
                         continue  # the legacy wrapper modules: GM104's business
                     path = f"{rest}.{attr}" if rest else attr
-                    if (rest, attr) in REMOVED_NAMES or removed_module_hint(path, unknown=False) is not None:
+                    if removed_module_hint(path, unknown=False) is not None:
                         continue  # reported as a removed module
+                    if (rest, attr) in REMOVED_NAMES:
+                        # a removed class read through the module (``class G(gym.GoalEnv)``):
+                        # its import would be reported, and this read fails the same way
+                        hint = REMOVED_NAMES[(rest, attr)]
+                        self._report_removed(node, f"`{module}.{attr}` does not exist in Gymnasium: {hint}", hint)  # type: ignore[arg-type]
+                        break
                     if rest == "" and attr == "undo_logger_setup" and self._remove_no_op_call(node):
                         break
                     hint = missing_name_hint(rest, attr, renamed_elsewhere=True)
