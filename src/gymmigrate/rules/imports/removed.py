@@ -95,8 +95,8 @@ class RemovedAttributes(ImportsBase):
                     if (rest, attr) in REMOVED_NAMES:
                         # a removed class read through the module (``class G(gym.GoalEnv)``):
                         # its import would be reported, and this read fails the same way
-                        hint = REMOVED_NAMES[(rest, attr)]
-                        self._report_removed(node, f"`{module}.{attr}` does not exist in Gymnasium: {hint}", hint)  # type: ignore[arg-type]
+                        advice = REMOVED_NAMES[(rest, attr)]
+                        self._report_removed(node, f"`{module}.{attr}` does not exist in Gymnasium: {advice}", advice)  # type: ignore[arg-type]
                         break
                     if rest == "" and attr == "undo_logger_setup" and self._remove_no_op_call(node):
                         break
