@@ -356,6 +356,9 @@ def _own_render_mode(methods: dict[str, ast.FunctionDef | ast.AsyncFunctionDef])
     setters = sorted(name for name in methods if "render_mode" in name.lower() and name not in ("render", "_render"))
     if setters:
         return f"`{setters[0]}()` sets it"
+    init = methods.get("__init__")
+    if init is not None and _render_mode_is_a_flag(init):
+        return "its `self.render_mode` is an on/off flag of its own, a bool in `__init__`, not Gymnasium's mode string"
     params = render.args.args
     index = next(i for i, a in enumerate(params) if a.arg == "mode")
     first_default = len(params) - len(render.args.defaults)
@@ -375,6 +378,27 @@ def _own_render_mode(methods: dict[str, ast.FunctionDef | ast.AsyncFunctionDef])
             ):
                 return f"`render(mode=None)` falls back to `self.{value.attr}`"
     return None
+
+
+def _render_mode_is_a_flag(init: ast.FunctionDef | ast.AsyncFunctionDef) -> bool:
+    """``def __init__(self, render_mode=False)`` or ``self.render_mode = True``: the class
+    already has a ``render_mode``, a bool of its own that Gymnasium's (``"human"``,
+    ``"rgb_array"`` or None) would clash with."""
+    params = [*init.args.posonlyargs, *init.args.args]
+    defaults = dict(zip([p.arg for p in params[len(params) - len(init.args.defaults) :]], init.args.defaults))
+    defaults.update({p.arg: d for p, d in zip(init.args.kwonlyargs, init.args.kw_defaults) if d is not None})
+    default = defaults.get("render_mode")
+    if isinstance(default, ast.Constant) and isinstance(default.value, bool):
+        return True
+    for node in walk(init):
+        if (
+            isinstance(node, ast.Assign)
+            and isinstance(node.value, ast.Constant)
+            and isinstance(node.value.value, bool)
+            and any(isinstance(t, ast.Attribute) and t.attr == "render_mode" and isinstance(t.value, ast.Name) and t.value.id == "self" for t in node.targets)
+        ):
+            return True
+    return False
 
 
 def mode_can_stay_optional(function: ast.FunctionDef | ast.AsyncFunctionDef) -> bool:
