@@ -91,12 +91,14 @@ def _plugin_of_id(env_id: str | None, imported: frozenset[str], receivers: Recei
     not known: a parameter, a command-line option)."""
     if env_id is None:
         return None
+    project = receivers.project
     plugin = plugin_of(env_id)
     if plugin is not None:
+        if project is not None and (project.is_module(plugin) or project.may_register(env_id)):
+            return None  # the run is that package (``gfootball``'s own tests), or registers the id itself
         return plugin
     if known_elsewhere(env_id) or len(imported) != 1:
         return None  # Gymnasium's; or no plugin here to have registered it, or several that may have
-    project = receivers.project
     if project is not None and project.may_register(env_id):
         return None  # the run's own id
     return next(iter(imported))
