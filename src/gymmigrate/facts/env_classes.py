@@ -344,9 +344,7 @@ def _first_base(classdef: ast.ClassDef) -> ast.expr | None:
 
 def _is_builtin_env_class(qualified: str) -> bool:
     rest = N.strip_gym_prefix(qualified)
-    if rest is None or not rest.startswith("envs."):
-        return False
-    return rest.rsplit(".", 1)[-1][:1].isupper() and rest.endswith("Env")
+    return rest is not None and N.is_builtin_env_class_path(rest)
 
 
 def _own_render_mode(methods: dict[str, ast.FunctionDef | ast.AsyncFunctionDef]) -> str | None:

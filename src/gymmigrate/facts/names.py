@@ -33,6 +33,20 @@ GYM_NOT_ENV_CLASSES = frozenset(
     }
 )
 
+# Gym's own env classes are named ``...Env`` (``CartPoleEnv``, ``MujocoEnv``, ``AtariEnv``)
+# but for the Box2D ones, which subclasses extend as often (``class Racer(CarRacing)``).
+GYM_BOX2D_ENV_CLASSES = frozenset({"CarRacing", "BipedalWalker", "BipedalWalkerHardcore", "LunarLander", "LunarLanderContinuous"})
+
+
+def is_builtin_env_class_path(rest: str) -> bool:
+    """``envs.classic_control.CartPoleEnv``, ``envs.box2d.car_racing.CarRacing`` (a path
+    with gym's prefix stripped): one of Gym's own env classes."""
+    if not rest.startswith("envs."):
+        return False
+    last = rest.rsplit(".", 1)[-1]
+    return last[:1].isupper() and (last.endswith("Env") or last in GYM_BOX2D_ENV_CLASSES)
+
+
 GYM_ENV_BASE_CLASSES = frozenset(
     {
         "Env",

@@ -365,7 +365,7 @@ class ClassKinds(_Facade):
                     return EnvKind.GYM_ENV
                 if rest.startswith("vector."):
                     return EnvKind.GYM_VEC
-                if rest.startswith("envs.") and rest.rsplit(".", 1)[-1][:1].isupper() and rest.endswith("Env"):
+                if N.is_builtin_env_class_path(rest):
                     # one of Gym's own env classes (``cartpole.CartPoleEnv``): a Gym env
                     return EnvKind.GYM_ENV
             other = other_library_class_kind(q)

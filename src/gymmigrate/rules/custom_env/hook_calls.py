@@ -18,7 +18,7 @@ import ast
 
 from gymmigrate.facts.env_classes import EnvClasses, self_calls
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.findings import Tier
+from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import RuleFamily
 from gymmigrate.rules.custom_env.common import (
     UNDERSCORE_METHODS,
@@ -37,6 +37,7 @@ def rename_hook_calls_first(family: RuleFamily, env: EnvClasses) -> bool:
         return False
     renames: Renames = {}
     defs: dict[int, dict[str, Method]] = {}  # the methods of each class, as the family indexes them
+    builtin: set[int] = set()  # classes whose first base is one of Gym's own env classes
     for classdef in family.facts.all_classes:
         if not env.is_custom_env(classdef) or family.receivers.class_kind(classdef) is EnvKind.OWN_API:
             continue
@@ -46,11 +47,18 @@ def rename_hook_calls_first(family: RuleFamily, env: EnvClasses) -> bool:
         own = {old: new for new, old in decision.renamed.items() if old in decision.methods}
         renames[id(classdef)] = (classdef, own)
         defs[id(classdef)] = decision.methods
+        if env.builtin_env_base(classdef):
+            builtin.add(id(classdef))
     calls = [
         (call, new)
         for classdef, own in renames.values()
-        for call, new in _base_hook_calls(family, classdef, own, _renamed_above(family, classdef, renames))
+        for call, new in _base_hook_calls(
+            family, classdef, own, _renamed_above(family, classdef, renames), builtin=id(classdef) in builtin
+        )
     ]
+    for classdef, own in renames.values():
+        if id(classdef) in builtin:
+            _report_unfollowed_builtin_hooks(family, classdef, own)
     if not calls:
         return False
     family.plan.renames_first = True
@@ -81,7 +89,16 @@ def _renamed_above(family: RuleFamily, classdef: ast.ClassDef, renames: Renames)
     return found
 
 
-def _base_hook_calls(family: RuleFamily, classdef: ast.ClassDef, own: dict[str, str], above: set[str]) -> list[tuple[ast.Call, str]]:
+# gym <= 0.9.5's own envs defined ``_step``/``_reset`` (``Env.step`` called them); Gymnasium's
+# name them ``step``/``reset``, with the new contracts the next round gives the call. Their
+# ``_render``/``_seed`` are not followed: Gymnasium's render takes no mode and seeding moved
+# into reset (CarRacing even has an internal ``_render`` of another signature).
+_BUILTIN_HOOKS = frozenset({"_step", "_reset"})
+
+
+def _base_hook_calls(
+    family: RuleFamily, classdef: ast.ClassDef, own: dict[str, str], above: set[str], *, builtin: bool = False
+) -> list[tuple[ast.Call, str]]:
     """The class's calls of a base's gym < 0.9 hook that the run renames: ``super()._reset()``
     and ``Base._reset(self)`` from a hook the class renames itself, and ``self._step(a)`` on a
     hook a base of this module renames. A base renames its hook under the class's own
@@ -89,6 +106,8 @@ def _base_hook_calls(family: RuleFamily, classdef: ast.ClassDef, own: dict[str, 
     the class does not define follows only a rename seen here (a base may publish its hook
     under the public name, ``reset = _reset``, and keep it)."""
     inherited = family.receivers.base_methods(classdef)
+    if builtin:
+        inherited = inherited | _BUILTIN_HOOKS  # the first base is one of Gym's own env classes
     bases = {ast.unparse(base) for base in classdef.bases}
     found: list[tuple[ast.Call, str]] = []
     for old, new in UNDERSCORE_METHODS.items():
@@ -111,3 +130,27 @@ def _base_hook_calls(family: RuleFamily, classdef: ast.ClassDef, own: dict[str, 
 
 def _defines(classdef: ast.ClassDef, *names: str) -> bool:
     return any(isinstance(s, (ast.FunctionDef, ast.AsyncFunctionDef)) and s.name in names for s in classdef.body)
+
+
+def _report_unfollowed_builtin_hooks(family: RuleFamily, classdef: ast.ClassDef, own: dict[str, str]) -> None:
+    """``super()._render(mode, close)`` (or ``_seed``, ``_close``) of Gym's own env class from
+    a hook the class renames: Gymnasium's class has no such hook (CarRacing's ``_render`` is
+    an internal of another signature), and what replaces it (a render without a mode, a
+    seeded reset) is not the same call. Reported at the call."""
+    for call in family.facts.attribute_calls.get("_render", []) + family.facts.attribute_calls.get("_seed", []) + family.facts.attribute_calls.get("_close", []):
+        func = call.func
+        if not isinstance(func, ast.Attribute) or func.attr not in own or family.facts.enclosing_class(call) is not classdef:
+            continue
+        target = func.value
+        if not (isinstance(target, ast.Call) and isinstance(target.func, ast.Name) and target.func.id == "super"):
+            continue
+        new = own[func.attr]
+        family.report(
+            call,
+            UNDERSCORE_RULE[new],
+            f"`{family.facts.segment(call)}` calls gym 0.9's `{func.attr}` hook of Gym's own env class, which this class's "
+            f"`{func.attr}` now overrides as `{new}`: Gymnasium's class has no such hook (its `{new}` takes other arguments, "
+            "and CarRacing's internal `_render` another signature); call what you mean by hand",
+            FixKind.FLAG,
+        )
+
