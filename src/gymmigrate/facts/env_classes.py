@@ -18,7 +18,7 @@ from collections.abc import Iterable
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, walk
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, is_super_call, walk
 from gymmigrate.facts.receivers import Receivers
 
 # Qualified names (without the gym/gymnasium prefix) of the mujoco-py era base class.
@@ -86,9 +86,7 @@ def is_super_method_call(node: ast.AST | None, method: str) -> bool:
         isinstance(node, ast.Call)
         and isinstance(node.func, ast.Attribute)
         and node.func.attr == method
-        and isinstance(node.func.value, ast.Call)
-        and isinstance(node.func.value.func, ast.Name)
-        and node.func.value.func.id == "super"
+        and is_super_call(node.func.value)
     )
 
 

@@ -17,7 +17,7 @@ import weakref
 from collections import defaultdict
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field
-from typing import NamedTuple, cast
+from typing import NamedTuple, TypeGuard, cast
 
 FUNCTIONS = (ast.FunctionDef, ast.AsyncFunctionDef)
 COMPREHENSIONS = (ast.ListComp, ast.SetComp, ast.DictComp, ast.GeneratorExp)
@@ -629,6 +629,11 @@ def keyword(call: ast.Call, name: str) -> ast.keyword | None:
         if kw.arg == name:
             return kw
     return None
+
+
+def is_super_call(node: ast.AST | None) -> TypeGuard[ast.Call]:
+    """``super()`` or ``super(Cls, self)``: the receiver of a call a class makes of its bases."""
+    return isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "super"
 
 
 def string_value(node: ast.AST | None) -> str | None:

@@ -26,9 +26,10 @@ from __future__ import annotations
 
 import ast
 from collections.abc import Iterator
+from itertools import takewhile
 
 from gymmigrate.facts.flow import Flow
-from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, walk
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 
@@ -170,14 +171,11 @@ class ResetOrder(RuleFamily):
         return False
 
     def _ancestors_within(self, node: ast.AST, statement: ast.stmt) -> Iterator[ast.AST]:
-        current = self.facts.parent(node)
-        while current is not None and current is not statement:
-            yield current
-            current = self.facts.parent(current)
+        return takewhile(lambda ancestor: ancestor is not statement, self.facts.ancestors(node))
 
     def _read_by_a_function(self, target: ast.Name) -> bool:
         """A def or class body of the module reads the module-level name ``target`` binds."""
-        for node in ast.walk(self.facts.tree):
+        for node in walk(self.facts.tree):
             if isinstance(node, ast.Name) and node.id == target.id and isinstance(node.ctx, ast.Load):
                 if self.facts.enclosing_function(node) is None and self.facts.enclosing_class(node) is None:
                     continue

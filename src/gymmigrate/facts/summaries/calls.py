@@ -187,19 +187,27 @@ class CallSummarizer:
             return f"{cls}.{func.attr}" if not N.is_library(cls) else None
         return UNRESOLVED + func.attr
 
-    def _super_base(self, owner: ast.expr) -> str | None:
-        """For ``super()`` (or ``super(Cls, self)``) in a method of a top-level class whose
-        first base is a class of another module of the run (``class SacAgent(BaseAgent)``,
-        ``BaseAgent`` imported): that base, qualified through the imports; else None."""
+    def _super_class(self, owner: ast.expr) -> ast.ClassDef | None:
+        """The class in whose method ``owner`` is ``super()`` (or ``super(Cls, self)``);
+        None for anything else, a ``super`` of the module's own, or one outside a method."""
         if not (isinstance(owner, ast.Call) and isinstance(owner.func, ast.Name) and owner.func.id == "super" and not owner.keywords):
             return None
         if self.facts.bindings_of(owner.func) or len(owner.args) not in (0, 2):
             return None  # a ``super`` of the module's own
         function = self.facts.enclosing_function(owner)
         classdef = self.facts.enclosing_class(owner)
-        if function is None or classdef is None or self.facts.parent(function) is not classdef or self.facts.parent(classdef) is not self.facts.tree:
+        if function is None or classdef is None or self.facts.parent(function) is not classdef:
             return None
         if owner.args and not (isinstance(owner.args[0], ast.Name) and owner.args[0].id == classdef.name):
+            return None
+        return classdef
+
+    def _super_base(self, owner: ast.expr) -> str | None:
+        """For ``super()`` (or ``super(Cls, self)``) in a method of a top-level class whose
+        first base is a class of another module of the run (``class SacAgent(BaseAgent)``,
+        ``BaseAgent`` imported): that base, qualified through the imports; else None."""
+        classdef = self._super_class(owner)
+        if classdef is None or self.facts.parent(classdef) is not self.facts.tree:
             return None
         first = next((b for b in classdef.bases if not is_object(b)), None)
         qualified = self.facts.qualified_names(first) if first is not None else set()
@@ -210,15 +218,8 @@ class CallSummarizer:
         library's (``class Runner(AbstractEnvRunner)``) or ``object``: the call reaches that
         library's method. As an unresolved ``?.__init__`` the join handed its arguments to
         every ``__init__`` of the run, a VecEnv to a proxy class built around a Gym env."""
-        if not (isinstance(owner, ast.Call) and isinstance(owner.func, ast.Name) and owner.func.id == "super" and not owner.keywords):
-            return False
-        if self.facts.bindings_of(owner.func) or len(owner.args) not in (0, 2):
-            return False  # a ``super`` of the module's own
-        function = self.facts.enclosing_function(owner)
-        classdef = self.facts.enclosing_class(owner)
-        if function is None or classdef is None or self.facts.parent(function) is not classdef:
-            return False
-        if owner.args and not (isinstance(owner.args[0], ast.Name) and owner.args[0].id == classdef.name):
+        classdef = self._super_class(owner)
+        if classdef is None:
             return False
         for base in classdef.bases:
             if is_object(base):

@@ -13,7 +13,7 @@ from gymmigrate.facts.creation import CreationFinder
 from gymmigrate.facts.decisions import Action, decide
 from gymmigrate.facts.gym_use import handles_gym_envs
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.module import ModuleFacts, string_value
+from gymmigrate.facts.module import ModuleFacts, is_super_call, string_value
 from gymmigrate.facts.profile import FileProfile
 from gymmigrate.facts.render_modes import passes_mode
 from gymmigrate.facts.summaries.calls import CallSummarizer
@@ -25,11 +25,8 @@ def calls_from_outside(facts: ModuleFacts, method: str) -> bool:
     for name in (method, "_" + method):
         for call in facts.attribute_calls.get(name, ()):
             receiver = call.func.value  # type: ignore[attr-defined]
-            if isinstance(receiver, ast.Name) and receiver.id == "self":
-                continue
-            if isinstance(receiver, ast.Call) and isinstance(receiver.func, ast.Name) and receiver.func.id == "super":
-                continue
-            return True
+            if not (isinstance(receiver, ast.Name) and receiver.id == "self") and not is_super_call(receiver):
+                return True
     return False
 
 
@@ -51,7 +48,7 @@ class UntracedCalls:
             receiver = call.func.value  # type: ignore[attr-defined]
             if isinstance(receiver, ast.Name) and receiver.id == "self":
                 continue  # a class's own call: decided with that class
-            if isinstance(receiver, ast.Call) and isinstance(receiver.func, ast.Name) and receiver.func.id == "super":
+            if is_super_call(receiver):
                 continue
             if method == "render" and not passes_mode(call, self.facts):
                 continue  # a bare render() (the Gymnasium call), or a render method forwarding

@@ -18,6 +18,7 @@ import ast
 
 from gymmigrate.facts.env_classes import EnvClasses, self_calls
 from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.module import is_super_call
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import RuleFamily
 from gymmigrate.rules.custom_env.common import (
@@ -120,7 +121,7 @@ def _base_hook_calls(
             if not isinstance(func, ast.Attribute) or family.facts.enclosing_class(call) is not classdef:
                 continue
             target = func.value
-            is_super = isinstance(target, ast.Call) and isinstance(target.func, ast.Name) and target.func.id == "super"
+            is_super = is_super_call(target)
             is_base = isinstance(target, (ast.Name, ast.Attribute)) and ast.unparse(target) in bases
             is_self = isinstance(target, ast.Name) and target.id == "self"
             if (through_base and (is_super or is_base)) or (through_self and is_self):
@@ -142,7 +143,7 @@ def _report_unfollowed_builtin_hooks(family: RuleFamily, classdef: ast.ClassDef,
         if not isinstance(func, ast.Attribute) or func.attr not in own or family.facts.enclosing_class(call) is not classdef:
             continue
         target = func.value
-        if not (isinstance(target, ast.Call) and isinstance(target.func, ast.Name) and target.func.id == "super"):
+        if not is_super_call(target):
             continue
         new = own[func.attr]
         family.report(

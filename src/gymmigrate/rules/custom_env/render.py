@@ -20,7 +20,7 @@ from gymmigrate.facts import names as N
 from gymmigrate.facts.creation import CreationFinder
 from gymmigrate.facts.env_classes import is_super_method_call, mode_can_stay_optional
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.module import walk
+from gymmigrate.facts.module import is_super_call, walk
 from gymmigrate.facts.render_modes import own_object, own_object_render, passes_mode
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import ClassDecision, method_of, param_names
@@ -332,7 +332,7 @@ def _report_forwarded_modes(decision: ClassDecision, function: ast.AST) -> None:
     of the project's own that is no Gym env keeps getting a mode: ``self.render_mode``."""
     for call in decision.function(function).of(ast.Call):
         func = call.func  # type: ignore[attr-defined]
-        if not (isinstance(func, ast.Attribute) and func.attr == "render") or _is_super(func.value):
+        if not (isinstance(func, ast.Attribute) and func.attr == "render") or is_super_call(func.value):
             continue
         passes_mode = [a for a in call.args if isinstance(a, ast.Name) and a.id == "mode"]  # type: ignore[attr-defined]
         passes_mode += [k for k in call.keywords if k.arg == "mode" and isinstance(k.value, ast.Name) and k.value.id == "mode"]  # type: ignore[attr-defined]
@@ -359,10 +359,6 @@ def _report_forwarded_modes(decision: ClassDecision, function: ast.AST) -> None:
             f"with render_mode=self.render_mode{rest}",
             FixKind.ASSIST,
         )
-
-
-def _is_super(node: ast.AST) -> bool:
-    return isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "super"
 
 
 def _unmigrated_mode_call(decision: ClassDecision) -> ast.Call | None:
