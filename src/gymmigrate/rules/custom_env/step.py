@@ -499,8 +499,10 @@ def _simulator_status_end(decision: ClassDecision, function: Method, done: ast.e
 
 
 def _foreign_constants(facts: ModuleFacts, operand: ast.expr) -> list[ast.Attribute]:
-    """``hfo_py.IN_GAME`` (alone, or in a tuple, list or set): upper-case constants of a
-    module imported from outside the project and outside Gym."""
+    """``hfo_py.IN_GAME`` (alone, or in a tuple, list or set): upper-case constants read
+    through an imported module other than Gym's, NumPy's and a few standard ones
+    (``_NOT_A_SIMULATOR``). The project's own modules are not told apart: a constants module
+    of the project imported by an absolute name counts as a simulator's too."""
     items = operand.elts if isinstance(operand, (ast.Tuple, ast.List, ast.Set)) else [operand]
     found = []
     for item in items:

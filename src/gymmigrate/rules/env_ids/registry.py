@@ -11,7 +11,8 @@ that turn the env checker off (GM807, GM808).
   the object is an ``EnvSpec`` (``x.spec``, ``gym.spec(...)``, an item of the registry,
   a name only ever bound to one of those).
   The same keywords of gym 0.9's ``register(...)`` / ``EnvSpec(...)``: ``timestep_limit=N``
-  (or ``tags`` holding only the time-limit tag) is ``max_episode_steps=N``; the others are reported.
+  (or ``tags`` holding only the time-limit tag) is ``max_episode_steps=N``; ``tags``, ``trials``
+  and ``local_only`` are dropped where their value runs no code; the others are reported.
 * GM807 ``register(...)`` of a class of the run whose ``action_space`` or
   ``observation_space`` is an instance of a class of the run that certainly is not a
   ``Space`` (``class MultiAgentActionSpace(list)``, the multi-agent lists of spaces of
@@ -59,7 +60,8 @@ RULES = (
         FixKind.AUTO,
         "`spec._kwargs` / `spec._env_name` / `spec.timestep_limit` become `spec.kwargs` / `spec.name` / "
         "`spec.max_episode_steps`; removed ones (`trials`, `tags`...) are reported. gym 0.9's `register(timestep_limit=N)` "
-        "(or a time-limit tag) becomes `max_episode_steps=N`; its other keywords are reported.",
+        "(or a time-limit tag) becomes `max_episode_steps=N`; its `tags`, `trials` and `local_only` are dropped "
+        "(reported where their value runs code), its other keywords reported.",
     ),
     Rule(
         "GM807",
@@ -178,9 +180,10 @@ class RegistryApi(RuleFamily):
         """gym <= 0.9's ``timestep_limit=N`` and ``tags={"wrapper_config.TimeLimit.max_episode_steps": N}``
         were the spellings of ``max_episode_steps=N``; Gymnasium's ``register``/``EnvSpec`` take
         neither (TypeError where the module is imported), so the limit moves to
-        ``max_episode_steps=`` where nothing else sets it. Any other legacy keyword (``tags``
-        with other keys, ``trials``, ``max_episode_seconds``, ``local_only``) holds what
-        Gymnasium has no place for: reported, one item per call."""
+        ``max_episode_steps=`` where nothing else sets it. ``tags`` with other keys,
+        ``trials`` and ``local_only`` are dropped (below); what is left (``max_episode_seconds``,
+        a second limit, a value that runs code, a call with ``**kwargs``) is reported, one item
+        per call."""
         legacy = [kw for kw in call.keywords if kw.arg in LEGACY_SPEC_KEYWORDS]
         if not legacy:
             return
