@@ -14,6 +14,7 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.facts.env_classes import EnvClasses, is_self_attribute
+from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.module import ModuleFacts, walk
 from gymmigrate.facts.receivers import Receivers
 
@@ -53,25 +54,21 @@ def _built_just_before(facts: ModuleFacts, store: ast.Assign, receiver: ast.expr
     its methods first draw from the value handed over (whatever a base set in __init__)."""
     if not isinstance(receiver, ast.Name):
         return ""
-    parent = facts.parent(store)
-    for field in ("body", "orelse", "finalbody"):
-        block = getattr(parent, field, None)
-        if isinstance(block, list) and store in block:
-            index = block.index(store)
-            if index == 0:
-                return ""
-            before = block[index - 1]
-            if (
-                isinstance(before, ast.Assign)
-                and len(before.targets) == 1
-                and isinstance(before.targets[0], ast.Name)
-                and before.targets[0].id == receiver.id
-                and isinstance(before.value, ast.Call)
-                and isinstance(before.value.func, (ast.Name, ast.Attribute))
-            ):
-                func = before.value.func
-                return func.id if isinstance(func, ast.Name) else func.attr
-            return ""
+    found = Flow.of(facts).block_of(store)
+    if found is None or found[1] == 0:
+        return ""
+    block, index = found
+    before = block[index - 1]
+    if (
+        isinstance(before, ast.Assign)
+        and len(before.targets) == 1
+        and isinstance(before.targets[0], ast.Name)
+        and before.targets[0].id == receiver.id
+        and isinstance(before.value, ast.Call)
+        and isinstance(before.value.func, (ast.Name, ast.Attribute))
+    ):
+        func = before.value.func
+        return func.id if isinstance(func, ast.Name) else func.attr
     return ""
 
 
