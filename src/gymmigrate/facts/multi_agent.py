@@ -14,7 +14,7 @@ import ast
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.module import ModuleFacts, full_name
+from gymmigrate.facts.module import ModuleFacts, full_name, is_super_call
 from gymmigrate.facts.receivers import Receivers
 
 PETTINGZOO_KINDS = (EnvKind.PZ_AEC, EnvKind.PZ_PARALLEL)
@@ -65,7 +65,7 @@ class MultiAgent:
     def _parallel_wrapper_super(self, expr: ast.AST) -> bool:
         """``super()`` in a method of a subclass of PettingZoo's ``BaseParallelWrapper``: the
         base's methods hand the wrapped parallel env's calls on (``reset`` returns its pair)."""
-        if not (isinstance(expr, ast.Call) and isinstance(expr.func, ast.Name) and expr.func.id == "super"):
+        if not is_super_call(expr):
             return False
         classdef = self.facts.enclosing_class(expr)
         if classdef is None or not any(isinstance(f, ast.FunctionDef | ast.AsyncFunctionDef) for f in self.facts.ancestors(expr)):

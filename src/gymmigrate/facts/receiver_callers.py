@@ -13,11 +13,11 @@ rules that follow a def's arguments all ask it. Part of ``Receivers`` (through
 from __future__ import annotations
 
 import ast
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, cast
 
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.module import FUNCTIONS, call_argument
+from gymmigrate.facts.module import FUNCTIONS, call_argument, is_super_call
 from gymmigrate.facts.receiver_classes import is_object
 
 if TYPE_CHECKING:
@@ -63,7 +63,7 @@ class CallerSites(_Facade):
                 if self.facts.enclosing_class(call) is not sub:
                     continue
                 owner = call.func.value  # type: ignore[attr-defined]
-                if isinstance(owner, ast.Call) and isinstance(owner.func, ast.Name) and owner.func.id == "super":
+                if is_super_call(owner):
                     if first_base is not None and self.local_class(first_base) is classdef:
                         found.append((call, 0))
                 elif isinstance(owner, ast.Name) and self.local_class(owner) is classdef:
@@ -134,10 +134,8 @@ class CallerSites(_Facade):
             if isinstance(call, ast.Call) and isinstance(call.func, ast.Name) and call.func.id in ("isinstance", "issubclass", "type"):
                 return False
             if (
-                isinstance(parent, ast.Call)
-                and isinstance(parent.func, ast.Name)
-                and parent.func.id == "super"
-                and not facts.bindings_of(parent.func)
+                is_super_call(parent)
+                and not facts.bindings_of(cast(ast.Name, parent.func))  # is_super_call saw the name
                 and parent.args[:1] == [node]
             ):
                 return False  # ``super(Recorder, self).__init__()``: names where lookup starts, builds nothing

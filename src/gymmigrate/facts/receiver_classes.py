@@ -16,7 +16,13 @@ from gymmigrate.facts import names as N
 from gymmigrate.facts.class_shapes import is_vec_env_shaped, keeps_bare_reset
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.module import FUNCTIONS, call_argument, own_returns, walk
+from gymmigrate.facts.module import (
+    FUNCTIONS,
+    call_argument,
+    is_super_call,
+    own_returns,
+    walk,
+)
 from gymmigrate.facts.own_api import own_api_shape
 from gymmigrate.facts.wrapper_attributes import defines_getattr, lookup_forwarded_to
 
@@ -283,7 +289,7 @@ class ClassKinds(_Facade):
     def super_kind(self, receiver: ast.AST) -> EnvKind | None:
         """``super().step(a)`` inside a Gym wrapper or env subclass is the wrapped Gym call;
         so is ``Base.step(self, a)`` naming one of the class's own bases."""
-        if not (isinstance(receiver, ast.Call) and isinstance(receiver.func, ast.Name) and receiver.func.id == "super"):
+        if not is_super_call(receiver):
             return self._explicit_base_kind(receiver)
         classdef = self.facts.enclosing_class(receiver)
         if classdef is None:

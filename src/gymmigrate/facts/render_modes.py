@@ -33,6 +33,7 @@ from gymmigrate.facts.module import (
     FUNCTIONS,
     ModuleFacts,
     call_argument,
+    is_super_call,
     string_value,
     walk,
 )
@@ -215,7 +216,7 @@ def mode_handed_on(facts: ModuleFacts, classdef: ast.ClassDef) -> list[ast.Call]
             and isinstance(call, ast.Call)
             and (node in call.args or (isinstance(holder, ast.keyword) and holder.arg is not None and holder in call.keywords))
             and isinstance(call.func, ast.Attribute)
-            and not (isinstance(call.func.value, ast.Call) and isinstance(call.func.value.func, ast.Name) and call.func.value.func.id == "super")
+            and not is_super_call(call.func.value)
         ):
             return None
         calls.append(call)

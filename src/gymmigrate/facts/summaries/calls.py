@@ -10,6 +10,7 @@ from __future__ import annotations
 import ast
 import builtins
 import re
+from typing import cast
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.flow import Flow
@@ -19,6 +20,7 @@ from gymmigrate.facts.module import (
     FUNCTIONS,
     ModuleFacts,
     call_argument,
+    is_super_call,
     own_returns,
     string_value,
 )
@@ -190,9 +192,10 @@ class CallSummarizer:
     def _super_class(self, owner: ast.expr) -> ast.ClassDef | None:
         """The class in whose method ``owner`` is ``super()`` (or ``super(Cls, self)``);
         None for anything else, a ``super`` of the module's own, or one outside a method."""
-        if not (isinstance(owner, ast.Call) and isinstance(owner.func, ast.Name) and owner.func.id == "super" and not owner.keywords):
+        if not (is_super_call(owner) and not owner.keywords):
             return None
-        if self.facts.bindings_of(owner.func) or len(owner.args) not in (0, 2):
+        # is_super_call saw the name ``super``; only its binding is left to ask about
+        if self.facts.bindings_of(cast(ast.Name, owner.func)) or len(owner.args) not in (0, 2):
             return None  # a ``super`` of the module's own
         function = self.facts.enclosing_function(owner)
         classdef = self.facts.enclosing_class(owner)
