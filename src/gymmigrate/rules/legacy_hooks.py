@@ -19,6 +19,7 @@ import ast
 
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.env_classes import self_calls
+from gymmigrate.facts.module import is_super_call
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 
@@ -114,7 +115,7 @@ class LegacyWrapperHooks(RuleFamily):
             and self.facts.enclosing_class(call) is classdef
             and (
                 (isinstance(call.func.value, ast.Name) and call.func.value.id == "self")
-                or (isinstance(call.func.value, ast.Call) and isinstance(call.func.value.func, ast.Name) and call.func.value.func.id == "super")
+                or is_super_call(call.func.value)
                 or (
                     isinstance(call.func.value, ast.Attribute)
                     and call.func.value.attr == "env"

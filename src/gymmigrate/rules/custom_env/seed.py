@@ -19,7 +19,13 @@ from gymmigrate.facts.env_classes import (
     is_self_attribute,
     is_super_method_call,
 )
-from gymmigrate.facts.module import ModuleFacts, full_name, statement_lines, walk
+from gymmigrate.facts.module import (
+    ModuleFacts,
+    full_name,
+    is_super_call,
+    statement_lines,
+    walk,
+)
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import (
     ClassDecision,
@@ -298,7 +304,7 @@ def _untraced_seed_call(decision: ClassDecision) -> ast.Call | None:
         if is_space(receiver):
             continue
         on_self = isinstance(receiver, ast.Name) and receiver.id == "self"
-        on_super = isinstance(receiver, ast.Call) and isinstance(receiver.func, ast.Name) and receiver.func.id == "super"
+        on_super = is_super_call(receiver)
         if on_self or on_super:
             # `self.seed(7)` in a subclass that inherits this seed(): it would lose it.
             # (A subclass's own seed() is decided with that subclass.)

@@ -23,7 +23,7 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.edits.lazy import cst
-from gymmigrate.facts.module import FUNCTIONS
+from gymmigrate.facts.module import FUNCTIONS, is_super_call
 from gymmigrate.facts.pz_wrappers import AEC, wrapper_api
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.pettingzoo.common import PZ112, PettingZooFamily
@@ -125,7 +125,7 @@ class WrapperState(PettingZooFamily):
         if not (isinstance(call, ast.Call) and isinstance(call.func, ast.Attribute) and call.func.attr in _BASE_METHODS):
             return None
         receiver = call.func.value
-        if isinstance(receiver, ast.Call) and isinstance(receiver.func, ast.Name) and receiver.func.id == "super":
+        if is_super_call(receiver):
             return call.func.attr
         if (
             isinstance(receiver, ast.Name)

@@ -11,6 +11,7 @@ import ast
 
 from gymmigrate.facts.decisions import Action, Decision, decide
 from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.module import is_super_call
 from gymmigrate.facts.reset_flow import (
     InfoNames,
     NumpySeeds,
@@ -45,7 +46,7 @@ class ResetSeedBase(RuleFamily):
 
     def _receiver_kind(self, receiver: ast.expr) -> EnvKind:
         # ``super().reset()`` inside a Gym wrapper reaches the wrapped env's reset.
-        if isinstance(receiver, ast.Call) and isinstance(receiver.func, ast.Name) and receiver.func.id == "super":
+        if is_super_call(receiver):
             classdef = self.facts.enclosing_class(receiver)
             if classdef is not None and self.receivers.is_gym_wrapper_class(classdef):
                 return EnvKind.GYM_ENV

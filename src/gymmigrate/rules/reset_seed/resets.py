@@ -26,6 +26,7 @@ from gymmigrate.facts.batched_steps import steps_batched
 from gymmigrate.facts.class_shapes import per_agent_receivers
 from gymmigrate.facts.decisions import Action, Decision, receiver_text
 from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.module import is_super_call
 from gymmigrate.facts.reset_flow import scope_of_expression
 from gymmigrate.facts.version_checks import dead_version_branch
 from gymmigrate.findings import FixKind, Tier
@@ -308,7 +309,7 @@ class ResetCalls(ResetSeedBase):
         inner = (
             isinstance(receiver, ast.Attribute) and isinstance(receiver.value, ast.Name)
             and receiver.value.id == "self" and receiver.attr == "env"
-        ) or (isinstance(receiver, ast.Call) and isinstance(receiver.func, ast.Name) and receiver.func.id == "super")
+        ) or is_super_call(receiver)
         # a reset kept with a batch's own step hands on only the observation: ``[0]`` here
         return inner and self.receivers.is_gym_wrapper_class(classdef) and not self.receivers.keeps_own_reset(classdef)
 

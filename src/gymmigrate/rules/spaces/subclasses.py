@@ -21,8 +21,9 @@ becomes ``int64``. Which one the project's actions need is its own knowledge.
 from __future__ import annotations
 
 import ast
+from typing import cast
 
-from gymmigrate.facts.module import FUNCTIONS, walk
+from gymmigrate.facts.module import FUNCTIONS, is_super_call, walk
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import RuleFamily
 from gymmigrate.rules.spaces.values import space_class_of
@@ -169,7 +170,7 @@ def _what_runs(family: RuleFamily, classdef: ast.ClassDef, init: ast.FunctionDef
         if not (isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "__init__"):
             continue
         owner = node.func.value
-        if isinstance(owner, ast.Call) and isinstance(owner.func, ast.Name) and owner.func.id == "super" and not facts.bindings_of(owner.func):
+        if is_super_call(owner) and not facts.bindings_of(cast(ast.Name, owner.func)):  # is_super_call saw the name
             if not owner.args or (isinstance(owner.args[0], ast.Name) and owner.args[0].id == classdef.name):
                 return _FULL, []  # ``super().__init__``: the one base's
             named = owner.args[0]

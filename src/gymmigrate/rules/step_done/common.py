@@ -14,6 +14,7 @@ from dataclasses import dataclass
 from gymmigrate.facts.decisions import Action, Decision, decide, receiver_text
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.module import is_super_call
 from gymmigrate.facts.version_checks import dead_version_branch
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import Rule, RuleFamily
@@ -187,7 +188,7 @@ def _only_returns_inner_step(step: ast.FunctionDef | ast.AsyncFunctionDef) -> bo
     if not (isinstance(value, ast.Call) and isinstance(value.func, ast.Attribute) and value.func.attr == "step"):
         return False
     inner = value.func.value
-    if isinstance(inner, ast.Call) and isinstance(inner.func, ast.Name) and inner.func.id == "super":
+    if is_super_call(inner):
         return True
     return isinstance(inner, ast.Attribute) and inner.attr == "env" and isinstance(inner.value, ast.Name) and inner.value.id == "self"
 
