@@ -8,7 +8,7 @@ import ast
 from collections.abc import Iterator, Sequence
 
 from gymmigrate.edits.lazy import cst
-from gymmigrate.facts.module import FUNCTIONS, walk
+from gymmigrate.facts.module import FUNCTIONS, is_super_call, walk
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import Rule
 
@@ -59,7 +59,7 @@ def _is_inner_env(node: ast.expr, inner: Sequence[str] = INNER) -> bool:
     ``super(Cls, self)``: what an override delegates to."""
     if isinstance(node, ast.Attribute):
         return isinstance(node.value, ast.Name) and node.value.id == "self" and node.attr in inner
-    return isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "super"
+    return is_super_call(node)
 
 
 def _inner_call(node: ast.AST | None, method: str, inner: Sequence[str] = INNER) -> ast.Call | None:
@@ -104,8 +104,7 @@ def inner_env_names(classdef: ast.ClassDef) -> tuple[str, ...]:
     for node in walk(init):
         if (
             isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "__init__"
-            and isinstance(node.func.value, ast.Call) and isinstance(node.func.value.func, ast.Name)
-            and node.func.value.func.id == "super"
+            and is_super_call(node.func.value)
         ):
             first = node.args[0] if node.args else next((k.value for k in node.keywords if k.arg == "env"), None)
             if isinstance(first, ast.Name) and first.id in params:

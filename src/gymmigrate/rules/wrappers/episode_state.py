@@ -39,7 +39,7 @@ from __future__ import annotations
 import ast
 from dataclasses import dataclass
 
-from gymmigrate.facts.module import FUNCTIONS, walk
+from gymmigrate.facts.module import FUNCTIONS, is_super_call, walk
 
 BASE = "RecordEpisodeStatistics"
 # What gym 0.26's __init__ set that Gymnasium 1.x's does not, as 0.26 computed it.
@@ -130,7 +130,7 @@ def _self_reads(classdef: ast.ClassDef) -> set[str]:
 
 def _is_base(node: ast.AST) -> bool:
     """``super()``, ``super(Cls, self)`` or the base named ``RecordEpisodeStatistics``."""
-    if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "super":
+    if is_super_call(node):
         return True
     name = node.attr if isinstance(node, ast.Attribute) else node.id if isinstance(node, ast.Name) else None
     return name == BASE

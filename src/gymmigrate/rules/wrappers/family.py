@@ -8,7 +8,7 @@ import ast
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
-from gymmigrate.facts.module import FUNCTIONS, walk
+from gymmigrate.facts.module import FUNCTIONS, is_super_call, walk
 from gymmigrate.findings import FixKind, Tier, gym_only_question
 from gymmigrate.rules.base import FileContext
 from gymmigrate.rules.reset_seed.common import is_space
@@ -299,7 +299,7 @@ def _is_super_init(node: ast.AST) -> bool:
     if not (isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "__init__"):
         return False
     owner = node.func.value
-    if isinstance(owner, ast.Call) and isinstance(owner.func, ast.Name) and owner.func.id == "super":
+    if is_super_call(owner):
         return True
     if isinstance(owner, (ast.Name, ast.Attribute)) and node.args:
         first = node.args[0]

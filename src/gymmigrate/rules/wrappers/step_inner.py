@@ -25,7 +25,7 @@ from gymmigrate.facts.collection_reads import (
     collection_read,
     named_in,
 )
-from gymmigrate.facts.module import FUNCTIONS, walk
+from gymmigrate.facts.module import FUNCTIONS, is_super_call, walk
 from gymmigrate.rules.step_done.common import StepUnpack
 from gymmigrate.rules.wrappers.common import (
     _assigned_names,
@@ -163,7 +163,7 @@ def _inner_aliases(classdef: ast.ClassDef) -> frozenset[str]:
         if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "__init__":
             base = node.func.value
             args = node.args
-            if isinstance(base, ast.Call) and isinstance(base.func, ast.Name) and base.func.id == "super":
+            if is_super_call(base):
                 handed |= {a.id for a in args[:1] if isinstance(a, ast.Name)}
             elif args and isinstance(args[0], ast.Name) and args[0].id == "self":
                 handed |= {a.id for a in args[1:2] if isinstance(a, ast.Name)}
