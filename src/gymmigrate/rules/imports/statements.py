@@ -32,6 +32,8 @@ from gymmigrate.rules.imports.table import (
 
 # the gym package named in prose (``gym==0.23``, "install gym"), not gymnasium or gym_foo
 _NAMES_GYM = re.compile(r"\bgym\b(?![_-])")
+# calls that only show a text to the user: print, a logger's levels, warnings.warn, sys.exit
+_SHOWING_CALLS = frozenset({"print", "warn", "warning", "error", "info", "debug", "critical", "exception", "fatal", "exit"})
 
 
 class ImportStatements(GymOnlyLibraries):
@@ -72,7 +74,7 @@ class ImportStatements(GymOnlyLibraries):
             if rest == "":
                 names.append(("gymnasium", alias.asname or "gym"))
                 if guarded:
-                    stale = self._handler_text_naming_gym(node)
+                    stale, shown_only = self._handler_text_naming_gym(node)
                     if stale is None:
                         # The guard's answer only changes its subject (is gymnasium installed?):
                         # nothing to decide, the line explains the rewrite.
@@ -84,13 +86,26 @@ class ImportStatements(GymOnlyLibraries):
                             FixKind.ASSIST,
                             tier=Tier.NOTE,
                         )
+                    elif shown_only:
+                        # A message the handler raises, prints or logs changes nothing the
+                        # program does: worth a line in the notes, not a decision.
+                        self.report(
+                            node,
+                            "GM101",
+                            "import gym -> import gymnasium as gym inside a try/except ImportError: the guard now "
+                            f"asks whether gymnasium is installed; the message its handler gives at line {stale} still "
+                            "names gym (say gymnasium there)",
+                            FixKind.ASSIST,
+                            tier=Tier.NOTE,
+                        )
                     else:
                         self.report(
                             node,
                             "GM101",
                             "import gym -> import gymnasium as gym inside a try/except ImportError: the guard now "
-                            f"asks whether gymnasium is installed, but the text its handler gives at line {stale} still "
-                            "names gym: say gymnasium there (and drop a gym version pin it asks for)",
+                            f"asks whether gymnasium is installed, but its handler uses a text naming gym at line {stale} "
+                            "for more than a message (a command it runs, a value it keeps): make it gymnasium there "
+                            "(and drop a gym version pin it asks for)",
                             FixKind.ASSIST,
                         )
                 else:
@@ -131,17 +146,49 @@ class ImportStatements(GymOnlyLibraries):
             current = parent
         return False
 
-    def _handler_text_naming_gym(self, node: ast.AST) -> int | None:
+    def _handler_text_naming_gym(self, node: ast.AST) -> tuple[int | None, bool]:
         """The line of a string in the guard's except handlers that names the gym package
-        (``"pip install gym==0.23"``): after the rewrite it tells the user the wrong package."""
+        (``"pip install gym==0.23"``): after the rewrite it tells the user the wrong package;
+        and whether every such string is only a message the handler shows (raised, printed,
+        logged, warned), which changes nothing the program does."""
         guard = next((a for a in self.facts.ancestors(node) if isinstance(a, ast.Try)), None)
         if guard is None:
-            return None
+            return None, True
+        first: int | None = None
+        shown_only = True
         for handler in guard.handlers:
             for child in walk(handler):
                 if isinstance(child, ast.Constant) and isinstance(child.value, str) and _NAMES_GYM.search(child.value):
-                    return child.lineno
-        return None
+                    first = child.lineno if first is None else first
+                    shown_only = shown_only and self._shown_message(child)
+        return first, shown_only
+
+    def _shown_message(self, text: ast.Constant) -> bool:
+        """Is ``text`` part of what a ``raise`` gives, or the argument of a call that only
+        shows it (``print``, a logger's level method, ``warnings.warn``, ``sys.exit``)? Text
+        kept in a name or handed to anything else (``subprocess.call([... "gym"])``) may act."""
+        current: ast.AST = text
+        while True:
+            parent = self.facts.parent(current)
+            if isinstance(parent, (ast.JoinedStr, ast.FormattedValue, ast.BinOp)):
+                current = parent
+                continue
+            if isinstance(parent, ast.Call) and isinstance(parent.func, ast.Attribute) and parent.func.value is current:
+                current = parent  # ``"... {}".format(x)``
+                continue
+            if isinstance(parent, ast.keyword):
+                parent = self.facts.parent(parent)
+                if not isinstance(parent, ast.Call):
+                    return False
+            if isinstance(parent, ast.Raise):
+                return True
+            if not isinstance(parent, ast.Call) or current is parent.func:
+                return False
+            if isinstance(self.facts.parent(parent), ast.Raise):
+                return True  # ``raise ImportError("... gym ...")``
+            callee = parent.func.attr if isinstance(parent.func, ast.Attribute) else getattr(parent.func, "id", None)
+            return callee in _SHOWING_CALLS
+
 
     def _splittable(self, node: ast.ImportFrom) -> bool:
         """An import statement on lines of its own (not after ``;``, not a one-line suite's
