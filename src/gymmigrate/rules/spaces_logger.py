@@ -306,7 +306,7 @@ class SpacesLogger(RuleFamily):
             shape = positional[2]
         else:
             return None
-        if shape is None or isinstance(shape, (ast.Tuple, ast.List)):
+        if shape is None or isinstance(shape, (ast.Tuple, ast.List)) or self._never_int(shape):
             return None
         if self._is_int(shape, 3):
             self.report(call, "GM904", "`Box(shape=<int>)` raises TypeError in Gymnasium (it iterates the shape): written as a one-element tuple")
@@ -320,6 +320,19 @@ class SpacesLogger(RuleFamily):
                 kind=FixKind.FLAG,
             )
         return None
+
+    def _never_int(self, node: ast.expr) -> bool:
+        """A value that cannot be an int whatever its names hold: a tuple literal joined or
+        repeated (``shp[:-1] + (k,)``: int + tuple raises TypeError, so it never reaches the
+        Box as an int), or the builtin ``tuple(...)``."""
+        if isinstance(node, ast.BinOp) and isinstance(node.op, (ast.Add, ast.Mult)):
+            return any(isinstance(side, ast.Tuple) or self._never_int(side) for side in (node.left, node.right))
+        return (
+            isinstance(node, ast.Call)
+            and isinstance(node.func, ast.Name)
+            and node.func.id == "tuple"
+            and not self.facts.bindings_of(node.func)
+        )
 
     def _is_int(self, node: ast.expr, depth: int) -> bool:
         """A Python int for certain: an int literal, ``len(...)``/``int(...)`` (the builtins, not
