@@ -63,6 +63,15 @@ _COLLECTIONS = (ast.List, ast.Tuple, ast.Set, ast.Dict, ast.ListComp, ast.SetCom
 class StepOverrides(RuleFamily):
     """GM602 (mixed into the family; no ``RULES``, so not registered itself)."""
 
+    def _between(self, node: ast.AST, function: ast.AST) -> list[ast.AST]:
+        """The nodes around ``node`` inside ``function``."""
+        around: list[ast.AST] = []
+        for ancestor in self.facts.ancestors(node):
+            if ancestor is function:
+                break
+            around.append(ancestor)
+        return around
+
     def _settle_key_writes(self, function: ast.AST) -> None:
         """The override now returns its step limit as truncation: the StepDone family's
         GM303 item on its ``info["TimeLimit.truncated"] = True`` (asking for exactly that)
@@ -131,6 +140,7 @@ class StepOverrides(RuleFamily):
         lines, unpacks, flags, consistent = inner.lines, inner.unpacks, inner.flags, inner.consistent
         done_name, done_line, inserted, inner_done = inner.done_name, inner.done_line, inner.inserted, inner.inner_done
         bound, done_attribute, per_agent, done_modified = inner.bound, inner.done_attribute, inner.per_agent, inner.done_modified
+        loops = (ast.For, ast.AsyncFor, ast.While)
         replaced_done_reads = 0
         for ret in own_returns(function):
             value = ret.value
@@ -152,6 +162,15 @@ class StepOverrides(RuleFamily):
             plain_done = isinstance(done, ast.Name) and (
                 (done.id == done_name and not done_modified) or done.id not in bound
             )
+            if isinstance(done, ast.Name) and done.id == done_name and done_modified and done_line is not None:
+                # ``if done: return obs, reward, done, info`` before the override's own end
+                # (``done = lives == 0`` below): only the inner step's done reaches this
+                # return, so it passes the inner flags on; nothing of its own to ask about.
+                plain_done = (
+                    done_line.lineno < ret.lineno
+                    and all(change.lineno > ret.lineno for change in inner.done_changes)
+                    and not any(isinstance(a, loops) for a in self._between(ret, function))
+                )
             if done_attribute is not None and _only_inner_done(classdef, function, done, done_attribute, ret):
                 # ``self.done`` set only by the unpack above: the inner flags themselves (the
                 # attribute keeps ``terminated or truncated``), no end of the override's own.

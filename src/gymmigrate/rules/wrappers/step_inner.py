@@ -94,15 +94,16 @@ def _is_done_line(statement: ast.stmt, flags: tuple[str, str]) -> bool:
     )
 
 
-def _has_other_assignments(
+def _other_assignments(
     lines: list[ast.stmt],
     name: str,
     done_line: ast.stmt | None,
     unpacks: dict[ast.stmt, StepUnpack | None],
     inserted: tuple[ast.Assign, StepUnpack] | None,
     flags: tuple[str, str] | None = None,
-) -> bool:
-    """Is ``name`` changed anywhere but by the unpack, its ``done = ...`` line or an initializer?"""
+) -> tuple[ast.stmt, ...]:
+    """The statements that change ``name`` other than the unpack, its ``done = ...`` line or an initializer."""
+    changes: list[ast.stmt] = []
     seen_unpack = False
     for line in lines:
         if line in unpacks:
@@ -114,18 +115,18 @@ def _has_other_assignments(
             # ``name`` is still ``terminated or truncated`` of the step that ran last
             if noted is not None and noted.done_line is not None and (inserted is None or line is not inserted[0]):
                 if name in _assigned_names(line) and not _rebinds_flags_with_done(line, noted, name, flags):
-                    return True
+                    changes.append(line)
             continue
         if line is done_line:
             continue
         if name not in _assigned_names(line):
             if isinstance(line, ast.AugAssign) and isinstance(line.target, ast.Name) and line.target.id == name:
-                return True
+                changes.append(line)
             continue
         if not seen_unpack and _is_initializer(line, name):
             continue
-        return True
-    return False
+        changes.append(line)
+    return tuple(changes)
 
 
 def _rebinds_flags_with_done(line: ast.stmt, noted: StepUnpack, name: str, flags: tuple[str, str] | None) -> bool:
@@ -222,6 +223,7 @@ class InnerStep:
     done_attribute: tuple[str, ast.stmt] | None
     per_agent: bool | str  # per-agent flags; the code's own type test when it handles one flag too
     done_modified: bool  # the override changes the old done other than by its unpacks
+    done_changes: tuple[ast.stmt, ...]  # ...the statements that do
 
 
 def _read_inner_step(
@@ -296,7 +298,12 @@ def _read_inner_step(
     # cut against ``terminated`` agent by agent, ``done and not terminated`` is always false.
     agents = [noted.names for noted in unpacks.values() if noted is not None and noted.names.per_agent and not noted.names.by_name]
     per_agent: bool | str = bool(agents) and (agents[0].guard or True)
-    done_modified = done_name is not None and _has_other_assignments(lines, done_name, done_line, unpacks, inserted, flags if consistent else None)
+    done_changes = (
+        _other_assignments(lines, done_name, done_line, unpacks, inserted, flags if consistent else None)
+        if done_name is not None
+        else ()
+    )
+    done_modified = bool(done_changes)
     return InnerStep(
         lines=lines,
         unpacks=unpacks,
@@ -310,6 +317,7 @@ def _read_inner_step(
         done_attribute=done_attribute,
         per_agent=per_agent,
         done_modified=done_modified,
+        done_changes=done_changes,
     )
 
 
