@@ -137,6 +137,18 @@ def decide_reset(decision: ClassDecision) -> None:
             FixKind.FLAG,
             Tier.NOTE,
         )
+    elif (own := _own_class_reset(decision, function)) is not None:
+        # ``Nav.reset(self)`` inside Nav's own reset (legacy recursion, meant as the base's
+        # reset): the body already runs a reset of the hierarchy, and the base's seeds once
+        # it is given the seed; Env.reset by hand beside it would be the wrong advice.
+        decision.report(
+            function,
+            "GM501",
+            f"reset() calls `{own}.reset(self)`, its own class's reset (a base's reset where it is meant): that reset "
+            "seeds np_random once it is given `seed=seed`; where the call is fixed, pass the seed there",
+            FixKind.FLAG,
+            Tier.NOTE,
+        )
     else:
         decision.report(
             function,
@@ -602,6 +614,12 @@ def _spelled(call: ast.AST) -> str:
     """How a base reset call is named in a message."""
     owner = call.func.value  # type: ignore[attr-defined]
     return f"{owner.id}.reset(self)" if isinstance(owner, ast.Name) else "super().reset()"
+
+
+def _own_class_reset(decision: ClassDecision, function: ast.AST) -> str | None:
+    """The class's own name where its reset calls ``Own.reset(self, ...)``."""
+    own = frozenset({decision.classdef.name})
+    return decision.classdef.name if any(is_base_reset(c, own) for c in walk(function) if isinstance(c, ast.Call)) else None
 
 
 def reset_bases(decision: ClassDecision) -> frozenset[str]:

@@ -36,7 +36,7 @@ from gymmigrate.rules.custom_env.common import (
     random_state_np_random,
 )
 from gymmigrate.rules.custom_env.plans import SeedPlan
-from gymmigrate.rules.reset_seed.common import is_space
+from gymmigrate.rules.reset_seed.common import is_space, moving_seed_question
 
 NP_RANDOM = ("np_random", "_np_random")
 # gym.utils.seeding helpers Gymnasium removed (GM506 reports them)
@@ -112,13 +112,14 @@ def decide_seed(decision: ClassDecision) -> None:
             "seed() seeds an env this class holds; Gymnasium seeds it through its reset: pass `seed` to that "
             "env's reset(seed=...) in this class's reset() by hand",
             FixKind.FLAG,
+            question=moving_seed_question(seed_method),
         )
         return
     if any(isinstance(node, ast.Return) for i in moved for s in groups[i] for node in walk(s)):
-        decision.report(seed_method, "GM503", "seed() returns from the middle of its body; move its seeding into reset() under `if seed is not None:` by hand", FixKind.FLAG)
+        decision.report(seed_method, "GM503", "seed() returns from the middle of its body; move its seeding into reset() under `if seed is not None:` by hand", FixKind.FLAG, question=moving_seed_question(seed_method))
         return
     if moved and decision.method("reset") is None:
-        decision.report(seed_method, "GM503", "seed() does more than seed np_random and this class has no reset(); move that code into reset() under `if seed is not None:`", FixKind.FLAG)
+        decision.report(seed_method, "GM503", "seed() does more than seed np_random and this class has no reset(); move that code into reset() under `if seed is not None:`", FixKind.FLAG, question=moving_seed_question(seed_method))
         return
     seed_names = {seed_name} | canonical_names
     setup = [i for i in moved if not _is_seeding_statement(groups[i], seed_names)]
@@ -141,7 +142,7 @@ def decide_seed(decision: ClassDecision) -> None:
         _keep_as_helper(decision, seed_method, why)
         return
     if setup and init_call is None:
-        decision.report(seed_method, "GM503", "seed() also builds state that does not depend on the seed; move it into __init__ and the seeding into reset() by hand", FixKind.FLAG)
+        decision.report(seed_method, "GM503", "seed() also builds state that does not depend on the seed; move it into __init__ and the seeding into reset() by hand", FixKind.FLAG, question=moving_seed_question(seed_method))
         return
     for call in calls:
         if facts.enclosing_function(call) is seed_method or (setup and call is init_call):
@@ -270,7 +271,7 @@ def _keep_as_helper(decision: ClassDecision, seed_method: ast.FunctionDef | ast.
     the seed it is given, as ``env.seed(s); env.reset()`` did."""
     reset = decision.method("reset")
     if reset is None:
-        decision.report(seed_method, "GM503", "seed() does more than seed np_random and this class has no reset(); call it from reset() under `if seed is not None:`", FixKind.FLAG)
+        decision.report(seed_method, "GM503", "seed() does more than seed np_random and this class has no reset(); call it from reset() under `if seed is not None:`", FixKind.FLAG, question=moving_seed_question(seed_method))
         return
     if _reset_calls_seed(decision, seed_method):
         return  # reset() calls it already (migrated)

@@ -8,6 +8,7 @@ call, the names introduced for ``info``); the rule modules (``resets``, ``seeds`
 from __future__ import annotations
 
 import ast
+from collections.abc import Hashable
 
 from gymmigrate.facts.decisions import Action, Decision, decide
 from gymmigrate.facts.kinds import EnvKind
@@ -127,3 +128,10 @@ def is_seeding(call: ast.Call) -> bool:
     """``x.seed(...)`` or ``x.reset(seed=...)``."""
     func = call.func  # an attribute: the calls of ``x.seed`` and ``x.reset`` only
     return (isinstance(func, ast.Attribute) and func.attr == "seed") or any(kw.arg == "seed" for kw in call.keywords)
+
+
+def moving_seed_question(seed_method: ast.FunctionDef | ast.AsyncFunctionDef) -> Hashable:
+    """What an item that asks to move a seed() method's seeding into reset() asks: GM203 at a
+    seed call inside the method, GM205 at a space seeded there and GM503 at the method itself
+    ask it alike, so the file's review list asks it once."""
+    return ("seed() method", seed_method.lineno)

@@ -46,7 +46,7 @@ from gymmigrate.facts.version_checks import dead_version_branch
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.multi_agent_gate import pettingzoo_in_reach
 from gymmigrate.rules.reset_seed.call_edits import SeedValue
-from gymmigrate.rules.reset_seed.common import ResetSeedBase, is_space
+from gymmigrate.rules.reset_seed.common import ResetSeedBase, is_space, moving_seed_question
 
 _BLOCK_FIELDS = ("body", "orelse", "finalbody")
 # methods of an env a seed never moves past: they run or end episodes
@@ -97,7 +97,7 @@ class SeedCalls(ResetSeedBase):
                 code,
                 "inside a seed() method, which Gymnasium never calls: move the seeding into reset(seed=...)",
                 FixKind.FLAG,
-                question=("seed() method", function.lineno),  # a wrapper's space seeding there asks the same (GM205)
+                question=moving_seed_question(function),  # a wrapper's space seeding there asks the same (GM205)
             )
             return
         statement = self.facts.parent(call)
@@ -264,7 +264,7 @@ class SeedCalls(ResetSeedBase):
             f"have no seed(), the env classes of the run keep theirs ({', '.join(keepers)}, GM503); if `{name}` may "
             "be an env of another package, seed it through reset(seed=...) instead",
             FixKind.ASSIST,
-            question=("seed() method", function.lineno),
+            question=moving_seed_question(function),
         )
         return True
 
@@ -327,7 +327,7 @@ class SeedCalls(ResetSeedBase):
             f"no env.seed()): this also resets `{name}`; if the project calls it mid-episode, that episode now "
             "restarts here",
             FixKind.ASSIST,
-            question=("seed() method", function.lineno),
+            question=moving_seed_question(function),
         )
         return True
 
@@ -386,7 +386,7 @@ class SeedCalls(ResetSeedBase):
             f"classes of the run keep theirs ({', '.join(project.seed_classes())}, GM503); if `{name}` may be an env "
             "of another package, seed it through reset(seed=...) instead",
             FixKind.ASSIST,
-            question=("seed() method", function.lineno),
+            question=moving_seed_question(function),
         )
         return True
 

@@ -11,7 +11,7 @@ from gymmigrate.facts import names as N
 from gymmigrate.facts.module import FUNCTIONS, is_super_call, walk
 from gymmigrate.findings import FixKind, Tier, gym_only_question
 from gymmigrate.rules.base import FileContext
-from gymmigrate.rules.reset_seed.common import is_space
+from gymmigrate.rules.reset_seed.common import is_space, moving_seed_question
 from gymmigrate.rules.wrapper_usage.tables import wrapper_rest
 from gymmigrate.rules.wrappers import episode_state
 from gymmigrate.rules.wrappers.common import GONE_WRAPPER_STATE, RULES, _is_inner_env
@@ -177,7 +177,7 @@ class WrapperClasses(StepOverrides, ResetOverrides):
             "longer seeded: seed them in reset (`if seed is not None: self.action_space.seed(seed)`) and hand the seed "
             "on with `self.env.reset(seed=seed, options=options)`",
             FixKind.FLAG,
-            question=("seed() method", function.lineno),
+            question=moving_seed_question(function),
         )
 
     def _check_render(self, classdef: ast.ClassDef, function: ast.FunctionDef | ast.AsyncFunctionDef) -> None:
