@@ -95,7 +95,7 @@ PIPELINE = (
     FamilySpec(
         "SpaceDrift",
         "gymmigrate.rules.spaces.drift",
-        ("isinstance", "type(", "json", "==", "Box", "Discrete", "MultiBinary", "MultiDiscrete", "Space", "Tuple", "Dict", "Text", "Graph", "Sequence", "OneOf"),
+        ("isinstance", "type(", "json", "==", "space.shape", "Box", "Discrete", "MultiBinary", "MultiDiscrete", "Space", "Tuple", "Dict", "Text", "Graph", "Sequence", "OneOf"),
     ),
     FamilySpec("EnvModules", "gymmigrate.rules.pettingzoo.env_modules", ("pettingzoo",)),
     FamilySpec("SpacesAndMake", "gymmigrate.rules.pettingzoo.spaces_make", _PZ, follows_the_run=True),

@@ -57,6 +57,7 @@ from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.spaces.json_writes import JSON_WRITERS, decide_json
 from gymmigrate.rules.spaces.multi_discrete import decide_bounds_read
+from gymmigrate.rules.spaces.shape_writes import decide_shape_write
 from gymmigrate.rules.spaces.sizes import decide_box_bounds, decide_size
 from gymmigrate.rules.spaces.subclasses import decide_subclass
 from gymmigrate.rules.spaces.type_checks import decide_isinstance, type_check
@@ -86,6 +87,13 @@ RULES = (
     ),
     Rule("GM910", "Box equality compares dtype", FixKind.FLAG, "`box == other_space` is False across dtypes in Gymnasium 1.x: reported."),
     Rule(
+        "GM913",
+        "space shape is read-only",
+        FixKind.AUTO,
+        "`space.shape = ...` raises AttributeError in Gymnasium: removed where the next statement rebuilds the space, "
+        "reported elsewhere.",
+    ),
+    Rule(
         "GM911",
         "space subclasses that skip the space's __init__",
         FixKind.FLAG,
@@ -98,9 +106,9 @@ RULES = (
 
 # Words one of which every module the family decides on holds (rules/__init__.py's
 # PIPELINE loads the family on the same words): checks and comparisons of spaces, their JSON,
-# and (GM911) subclasses of a space class, named in their bases.
+# (GM911) subclasses of a space class, named in their bases, and (GM913) writes of a space's shape.
 _WORDS = (
-    "isinstance", "type(", "json", "==",
+    "isinstance", "type(", "json", "==", "space.shape",
     "Box", "Discrete", "MultiBinary", "MultiDiscrete", "Space", "Tuple", "Dict", "Text", "Graph", "Sequence", "OneOf",
 )
 
@@ -138,6 +146,8 @@ class SpaceDrift(RuleFamily):
         for name in ("low", "high"):
             for attribute in self.facts.attributes.get(name, ()):
                 decide_bounds_read(self, self.spaces, attribute)
+        for attribute in self.facts.attributes.get("shape", ()):
+            decide_shape_write(self, self.spaces, attribute)
 
     def _compares(self) -> list[ast.Compare]:
         return self.facts.memo(("space-drift-compares", 0), lambda: [n for n in walk(self.facts.tree) if isinstance(n, ast.Compare)])
