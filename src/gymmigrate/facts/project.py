@@ -346,6 +346,9 @@ class ProjectFacts:
     unmade_classes: set[tuple[str, str]] = field(default_factory=set)
     # the ids the run registers with the Gym registry (None: one it registers is no literal)
     registered_ids: set[str | None] = field(default_factory=set)
+    # literal id -> the class of the run its entry point names (path, class), where every
+    # registration of that id names the same one
+    id_classes: dict[str, tuple[str, str]] = field(default_factory=dict)
     # Some module registers envs whose entry points are no literal (``opaque_registrations``):
     # an id made anywhere may then build any env class of the run.
     registers_from_data: bool = False

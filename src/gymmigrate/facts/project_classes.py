@@ -21,17 +21,20 @@ if TYPE_CHECKING:
 
 def join_registered_classes(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> None:
     """``register(id, entry_point="pkg.envs:Task")`` (``__name__ + ":Task"``): the class
-    the entry point names, where it is defined; and the ids the run registers."""
+    the entry point names, where it is defined; the ids the run registers, and the class
+    each literal id makes."""
+    classes_of: dict[str, set[tuple[str, str] | None]] = {}
     for path, summary in by_path.items():
         facts.registered_ids.update(summary.registered_ids)
-        for _, entry in summary.registrations:
+        for env_id, entry in summary.registrations:
             module, _, name = entry.partition(":")
             where = facts.modules.get(module) if module else path
-            if where is None or not name or "." in name:
-                continue
-            definer = class_definer(facts, by_path, where, name)
+            definer = None if where is None or not name or "." in name else class_definer(facts, by_path, where, name)
             if definer is not None:
                 facts.registered_classes.add(definer)
+            if env_id is not None:
+                classes_of.setdefault(env_id, set()).add(definer)
+    facts.id_classes = {env_id: found.pop() for env_id, found in classes_of.items() if len(found) == 1 and None not in found}  # type: ignore[misc]
 
 
 def join_unset_spaces(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> None:

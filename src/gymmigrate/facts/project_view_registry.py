@@ -33,6 +33,16 @@ class RegistryView:
             and (name in self.facts.env_classes.get(path, ()) or any(d.startswith(methods) for d in self.facts.defs.get(path, ())))
         )
 
+    def step_action_of_id(self, env_id: str) -> str | None:
+        """The name of the action parameter (the first after ``self``) of the ``step`` of the
+        class the run registers ``env_id`` for (``"pkg:Task-v0"`` names ``Task-v0``), where that
+        class defines step itself; None where the run does not tell."""
+        found = self.facts.id_classes.get(env_id.rpartition(":")[2])
+        if found is None:
+            return None
+        params = self.facts.def_params.get((found[0], found[1] + ".step"), ())
+        return params[1] if len(params) > 1 else None
+
     def seed_class_of_id(self, env_id: str) -> str | None:
         """The class of the run that keeps seed() which the run registers ``env_id`` for."""
         return self.facts.seed_ids.get(env_id)

@@ -74,12 +74,19 @@ from gymmigrate.rules.wrapper_usage.origins import (
     Origin,
 )
 from gymmigrate.rules.wrapper_usage.self_forwarding import self_forwarding
+from gymmigrate.rules.wrapper_usage.step_keywords import decide_step_keyword
 from gymmigrate.rules.wrapper_usage.tables import BASE_ENV_ATTRIBUTES, SAFE_ATTRIBUTES
 
 RULES = (
     Rule("GM604", "attribute forwarding removed", FixKind.ASSIST, "`env.foo` -> `env.unwrapped.foo` / `env.get_wrapper_attr(\"foo\")`."),
     Rule("GM605", "env._max_episode_steps", FixKind.ASSIST, "`env._max_episode_steps` under wrappers of your own -> `env.spec.max_episode_steps` or `get_wrapper_attr`."),
-    Rule("GM606", "wrapper-stack assumptions", FixKind.FLAG, "`gym.make(id).env` -> `.unwrapped`; other `.env` chains are reported; `isinstance(env, TimeLimit)` on a stack of your own is noted."),
+    Rule(
+        "GM606",
+        "wrapper-stack assumptions",
+        FixKind.FLAG,
+        "`gym.make(id).env` -> `.unwrapped`; other `.env` chains are reported; `isinstance(env, TimeLimit)` on a stack of "
+        "your own is noted; `env.step(action_dict=a)` on a make result -> `env.step(a)`.",
+    ),
 )
 
 
@@ -126,6 +133,8 @@ class WrapperForwarding(RuleFamily):
             hasattr_through_wrappers(self, self._wrapped_reads, call)
         for call in self.facts.calls_by_name.get("isinstance", []):
             self._make_layers.isinstance_time_limit(call)
+        for call in self.facts.attribute_calls.get("step", []):
+            decide_step_keyword(self, self.origins, call)
 
     def _attribute_access(self, attr: ast.Attribute) -> None:
         name = attr.attr
