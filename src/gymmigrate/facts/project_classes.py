@@ -34,7 +34,10 @@ def join_registered_classes(facts: ProjectFacts, by_path: dict[str, ModuleSummar
                 facts.registered_classes.add(definer)
             if env_id is not None:
                 classes_of.setdefault(env_id, set()).add(definer)
-    facts.id_classes = {env_id: found.pop() for env_id, found in classes_of.items() if len(found) == 1 and None not in found}  # type: ignore[misc]
+    for env_id, found in classes_of.items():
+        only = next(iter(found)) if len(found) == 1 else None
+        if only is not None:
+            facts.id_classes[env_id] = only
 
 
 def join_unset_spaces(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> None:

@@ -46,7 +46,11 @@ from gymmigrate.facts.version_checks import dead_version_branch
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.multi_agent_gate import pettingzoo_in_reach
 from gymmigrate.rules.reset_seed.call_edits import SeedValue
-from gymmigrate.rules.reset_seed.common import ResetSeedBase, is_space, moving_seed_question
+from gymmigrate.rules.reset_seed.common import (
+    ResetSeedBase,
+    is_space,
+    moving_seed_question,
+)
 
 _BLOCK_FIELDS = ("body", "orelse", "finalbody")
 # methods of an env a seed never moves past: they run or end episodes
