@@ -627,3 +627,27 @@ def test_a_list_of_envs_handed_to_another_module_gives_its_items_kind(tmp_path: 
     found = _findings([project], tmp_path)
     resets = sorted((f["line"], f["tier"]) for f in found if str(f["path"]).endswith("collectors.py") and f["rule"] == "GM201")
     assert resets == [(15, "note")]
+
+
+def test_a_table_of_creators_of_another_module_settles_what_a_lookup_makes(tmp_path: Path) -> None:
+    """``fixtures/project_creator_tables``: ``pool.py`` calls through a closed table of
+    ``registry.py`` whose every creator returns a ``make()`` result: its step and reset are
+    rewritten, and what it reads through the wrapper stack goes through the stack. A table
+    of the project's own env classes (``factory.py``) makes no Gym env: ``learner.py``'s reset
+    is left, with no question. A table another module writes into (``extend.py`` fills
+    ``plugins.py``'s) settles nothing: ``host.py``'s step stays a question."""
+    project = _copy("project_creator_tables", tmp_path)
+    found = _findings([project], tmp_path)
+    rows = sorted((str(f["path"]).rsplit("/", 1)[1], f["line"], f["rule"], f["tier"]) for f in found if f["rule"] in ("GM201", "GM301", "GM604"))
+    assert [r for r in rows if r[0] in ("pool.py", "learner.py", "host.py")] == [
+        ("host.py", 9, "GM301", "review"),
+        ("pool.py", 9, "GM301", "note"),
+        ("pool.py", 11, "GM201", "note"),
+        ("pool.py", 15, "GM604", "note"),
+        ("pool.py", 16, "GM604", "note"),
+        ("pool.py", 20, "GM604", "note"),
+    ]
+    runner.invoke(app, ["rewrite", str(project)])
+    pool = (project / "pool.py").read_text()
+    assert 'self.env.has_wrapper_attr("team_size")' in pool
+    assert 'self.env.get_wrapper_attr("legal_moves")()' in pool

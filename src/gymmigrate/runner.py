@@ -27,6 +27,7 @@ from typing import TYPE_CHECKING, overload
 
 from gymmigrate.dependencies import kind_of
 from gymmigrate.dependencies.plugins import PluginEntry, plugin_entries
+from gymmigrate.facts.creator_tables import writes_into_import
 from gymmigrate.facts.module_summary import ModuleSummary
 from gymmigrate.facts.project import ProjectFacts
 from gymmigrate.facts.summaries import summarize, summarize_masks
@@ -289,10 +290,11 @@ def summarize_path(path: Path) -> ModuleSummary | None:
         if notebook is not None:
             return _notebook_summary(path, source)
         if not screen(source, relevant):
-            if not screen(source, _may_mask_bootstrapping) and not screen(source, _may_define_plain_root):
+            if not any(screen(source, test) for test in (_may_mask_bootstrapping, _may_define_plain_root, writes_into_import)):
                 return None
-            # no Gym code, but maybe the agent whose ``learn`` masks bootstrapping (GM302), or
-            # the project's own interface its env adapters derive (``class Environment(ABC)``)
+            # no Gym code, but maybe the agent whose ``learn`` masks bootstrapping (GM302), the
+            # project's own interface its env adapters derive (``class Environment(ABC)``), or
+            # a write into a table of creators another module holds (``creator_tables.py``)
             return summarize_masks(str(path), decode(source)[0])
         text, _ = decode(source)
     except (OSError, Refused, TransformError):

@@ -15,7 +15,14 @@ from __future__ import annotations
 import ast
 from typing import TYPE_CHECKING
 
-from gymmigrate.facts.kinds import MAX_DEPTH, EnvKind, ReceiverQueries, join_kinds
+from gymmigrate.facts.creator_tables import entries, lookup, table_display
+from gymmigrate.facts.kinds import (
+    MAX_DEPTH,
+    EnvKind,
+    ReceiverQueries,
+    agreed_kind,
+    join_kinds,
+)
 from gymmigrate.facts.module import (
     FUNCTIONS,
     ModuleFacts,
@@ -105,6 +112,9 @@ class CallableKinds:
         if isinstance(callee, ast.Call) and any(q in ("functools.partial",) for q in self.receivers.qualified_names(callee.func)) and callee.args:
             return self.kind_of_call_to(callee.args[0], callee)
         if isinstance(callee, ast.Subscript):
+            table = self._table_returned_kind(callee)
+            if table is not None:
+                return table
             # ``self.env_fns[i]()``: what calling an item of the sequence returns
             return self._item_returned_kind(callee.value)
         if isinstance(callee, ast.Attribute):
@@ -130,6 +140,27 @@ class CallableKinds:
             return EnvKind.UNKNOWN
         # One answer per set of bindings, not per call: ``make_env()`` called n times.
         return self.facts.memo(("returned-kind-bindings", id(bindings)), lambda: self._bindings_returned_kind(bindings), while_computing=EnvKind.UNKNOWN)
+
+    def _table_returned_kind(self, callee: ast.Subscript) -> EnvKind | None:
+        """``CREATORS[name](**cfg)``, ``ENVS[key]["make"]()``: what calling every value (or
+        record's field) of a closed table of this module or of another module of the run
+        returns (``facts/creator_tables.py``), when they all agree; None when ``callee`` reads
+        no such table."""
+        found = lookup(self.facts, callee)
+        if found is None:
+            return None
+        table, field = found
+        if isinstance(table, ast.Name):
+            display = table_display(self.facts, table)
+            if display is not None:
+                values = entries(display, field)
+                if values is None or (self.project is not None and self.project.table_altered(table.id)):
+                    return EnvKind.UNKNOWN
+                return agreed_kind(self.returned_kind(value) for value in values)
+        if self.project is None:
+            return None
+        kinds = [k for k in (self.project.table_kind(q, field) for q in self.receivers.qualified_names(table)) if k is not None]
+        return join_kinds(kinds) if kinds else None
 
     def _bindings_returned_kind(self, bindings: list[ast.AST]) -> EnvKind:
         kinds: list[EnvKind] = []

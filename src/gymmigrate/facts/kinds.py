@@ -59,6 +59,14 @@ def join_kinds(kinds: Iterable[EnvKind]) -> EnvKind:
     return EnvKind.UNKNOWN
 
 
+def agreed_kind(kinds: Iterable[EnvKind]) -> EnvKind:
+    """The one kind every value has, else unknown: the objects a table's creators make
+    (``facts/creator_tables.py``), where one that is no env, or an env of another kind,
+    is as likely as any other to be the one a lookup picks."""
+    found = set(kinds)
+    return found.pop() if len(found) == 1 else EnvKind.UNKNOWN
+
+
 class ReceiverQueries(Protocol):
     """What the receiver analysis answers its helpers (``facts.callables``,
     ``facts.self_attributes``): they ask back through this, never import it."""

@@ -99,6 +99,15 @@ class ModuleSummary:
     # Top-level name -> the library callable it is bound to (``make = gym.make``,
     # ``from gym import make``): a creation site of the run that takes ``make``'s keywords.
     aliases: dict[str, str] = field(default_factory=dict)
+    # (top-level name, field) of each closed table of creators (``facts/creator_tables.py``;
+    # field "" for its values themselves) -> what calling each value (or each record's
+    # field) gives, as ``exports``: the modules that call through ``T[k](...)`` read it.
+    tables: dict[tuple[str, str], tuple[Kind, ...]] = field(default_factory=dict)
+    # ...and whether each callable there returns a ``make(...)`` result: ``@`` (shown here),
+    # ``ref:<qualified>`` (a call of a name of the run: made when the run says so), "" (not shown)
+    made_tables: dict[tuple[str, str], tuple[str, ...]] = field(default_factory=dict)
+    # Qualified names of imported names this module writes into (``T[k] = v``): no table.
+    altered: frozenset[str] = frozenset()
     # -- method contracts across modules (rules/custom_env/hooks.py) --
     # Each top-level class with a base imported from elsewhere: (class, qualified base
     # names as the imports spell them, the methods the class defines).

@@ -83,6 +83,7 @@ from gymmigrate.facts.project_contracts import (
 )
 from gymmigrate.facts.project_exports import (
     Exports,
+    join_tables,
     join_thunk_factory_refs,
     reexport_wrappers,
 )
@@ -319,6 +320,13 @@ class ProjectFacts:
     # path -> its top-level defs returning a thunk -> what that thunk returns (modules left
     # as they are give none: their thunks keep the old API)
     thunk_factories: dict[str, dict[str, EnvKind]] = field(default_factory=dict)
+    # (path, table, field) -> what calling through that closed table of creators gives
+    # (``join_tables``; field "" for its values themselves)
+    table_kinds: dict[tuple[str, str, str], EnvKind] = field(default_factory=dict)
+    # ...and those whose every callable there returns a ``make(...)`` result: a wrapper stack
+    made_tables: set[tuple[str, str, str]] = field(default_factory=set)
+    # (path, top-level name) another module writes into (``T[k] = v``): no closed table
+    altered_tables: frozenset[tuple[str, str]] = frozenset()
     # (path, qualname, parameter) -> (caller path, line) of each call in another module that
     # passes a Gym env there: where that env is made, for a message (a render whose make
     # is in the run script).
@@ -370,6 +378,8 @@ class ProjectFacts:
             if summary.masks_only:
                 for name in module_names(summary.path):
                     facts.mask_modules[name] = (*facts.mask_modules.get(name, ()), summary.path)
+        # every module that writes into a name it imports, Gym code or not (``join_tables``)
+        altered = [(s.path, q) for s in summaries for q in s.altered]
         summaries = [s for s in summaries if not s.masks_only]
         by_path = {s.path: s for s in summaries}
         for summary in summaries:
@@ -429,6 +439,7 @@ class ProjectFacts:
         facts.registers_from_data = any(summary.opaque_registrations for summary in summaries)
         Exports(facts, by_path).run()
         join_thunk_factory_refs(facts, by_path)
+        join_tables(facts, by_path, altered)
         facts.own_renders = own_renders(facts, by_path)
         facts.modeless_renders = modeless_renders(facts, by_path)
         for path, name in facts.own_renders:  # they keep render(mode): no render_mode to pass

@@ -9,8 +9,8 @@ from collections import defaultdict
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts.import_roots import import_parts
-from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.module_summary import MAX_CHAIN, REF, ModuleSummary, is_ref
+from gymmigrate.facts.kinds import EnvKind, agreed_kind
+from gymmigrate.facts.module_summary import MAX_CHAIN, OWN, REF, ModuleSummary, is_ref
 
 if TYPE_CHECKING:
     from gymmigrate.facts.project import ProjectFacts
@@ -222,3 +222,42 @@ def join_thunk_factory_refs(facts: ProjectFacts, by_path: dict[str, ModuleSummar
                 found[name] = kind
         if found:
             facts.thunk_factories[path] = {**facts.thunk_factories.get(path, {}), **found}
+
+
+def join_tables(facts: ProjectFacts, by_path: dict[str, ModuleSummary], writes: list[tuple[str, str]]) -> None:
+    """What calling through each closed table of creators of the run gives
+    (``ProjectFacts.table_kinds``; ``ModuleSummary.tables``): the one kind all its
+    callables give, names of other modules followed through ``call_kinds``. A table
+    another module writes into (``writes``: each module and the imported name it writes
+    into, ``ModuleSummary.altered``) holds what the run does not see, and gets no answer
+    (``altered_tables``)."""
+    altered = set()
+    for path, qualified in writes:
+        split = facts._split(qualified, path)
+        if split is not None:
+            altered.add(split)
+    facts.altered_tables = frozenset(altered)
+    for path, summary in by_path.items():
+        if path in facts.blocked:
+            continue  # its creators stay on the old API
+        for (name, field), kinds in summary.tables.items():
+            if (path, name) not in altered:
+                facts.table_kinds[(path, name, field)] = agreed_kind(_resolved(facts, kind, path) for kind in kinds)
+                if all(_made(facts, made, path) for made in summary.made_tables.get((name, field), ("",))):
+                    facts.made_tables.add((path, name, field))
+
+
+def _made(facts: ProjectFacts, made: str, path: str) -> bool:
+    if made == OWN:
+        return True
+    split = facts._split(made[len(REF) :], path) if is_ref(made) else None
+    return split is not None and split in facts.made
+
+
+def _resolved(facts: ProjectFacts, kind: EnvKind | str, path: str) -> EnvKind:
+    if isinstance(kind, EnvKind):
+        return kind
+    split = facts._split(kind[len(REF) :], path) if is_ref(kind) else None
+    if split is None or "." in split[1]:
+        return EnvKind.UNKNOWN
+    return facts.call_kinds.get(split, EnvKind.UNKNOWN)

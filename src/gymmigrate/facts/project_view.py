@@ -82,6 +82,25 @@ class ProjectView(ClassView, HierarchyView, RegistryView, RenderView):
         found = self.facts.call_kinds.get((path, name))
         return found if found is not None else EnvKind.UNKNOWN
 
+    def table_kind(self, qualified: str, field: str | None) -> EnvKind | None:
+        """What calling through an imported table of creators of the run gives
+        (``T[k](...)``, ``T[k]["make"](...)`` with ``field``; ``ProjectFacts.table_kinds``):
+        unknown for a name of the run that is no closed table, None for no name of the run."""
+        split = self.facts._split(qualified, self.path)
+        if split is None or "." in split[1]:
+            return None
+        return self.facts.table_kinds.get((*split, field or ""), EnvKind.UNKNOWN)
+
+    def table_made(self, qualified: str, field: str | None) -> bool:
+        """Every callable of an imported table of creators of the run returns a
+        ``make(...)`` result, maybe wrapped (``ProjectFacts.made_tables``)."""
+        split = self.facts._split(qualified, self.path)
+        return split is not None and (*split, field or "") in self.facts.made_tables
+
+    def table_altered(self, name: str) -> bool:
+        """Another module of the run writes into this module's top-level ``name``."""
+        return (self.path, name) in self.facts.altered_tables
+
     def returns_made(self, qualified: str) -> bool:
         """An imported def of the run that returns ``make(...)`` results (``utils.make_env``):
         a wrapper stack, whatever its caller does with it."""

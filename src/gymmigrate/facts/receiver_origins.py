@@ -13,6 +13,7 @@ import ast
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.class_shapes import is_batched_step_return, keeps_legacy_step
+from gymmigrate.facts.creator_tables import entries, lookup, table_display
 from gymmigrate.facts.done_uses import builds_record
 from gymmigrate.facts.kinds import MAX_DEPTH, EnvKind
 from gymmigrate.facts.module import FUNCTIONS, call_argument, own_returns, walk
@@ -364,6 +365,8 @@ class MadeObjects(ForeignObjects, GymOnlyStacks):
                 func = expr.func
                 if self.local_class(func) is not None or self.local_function(func) is not None or self.own_method(func) is not None:
                     return True
+                if isinstance(func, ast.Subscript):
+                    return self._table_run_defined(func)
                 return any(self._from_run(q) for q in self.qualified_names(func)) or (
                     isinstance(func, ast.Attribute) and self.run_defined(func.value)
                 )
@@ -392,6 +395,22 @@ class MadeObjects(ForeignObjects, GymOnlyStacks):
             return False
         finally:
             self.depth -= 1
+
+    def _table_run_defined(self, callee: ast.Subscript) -> bool:
+        """``MAKERS[key]()`` on a closed table of this module (``facts/creator_tables.py``)
+        one of whose creators is a class or def of the run, or a lambda calling one."""
+        found = lookup(self.facts, callee)
+        display = table_display(self.facts, found[0]) if found is not None and isinstance(found[0], ast.Name) else None
+        values = entries(display, found[1]) if display is not None and found is not None else None
+        for value in values or ():
+            if isinstance(value, ast.Lambda):
+                if self.run_defined(value.body):
+                    return True
+            elif self.local_class(value) is not None or self.local_function(value) is not None:
+                return True
+            elif any(self._from_run(q) for q in self.qualified_names(value)):
+                return True
+        return False
 
     def _items_stored(self, container: ast.expr) -> list[ast.expr]:
         """Values written into the list ``container`` (``envs[i] = X``) under any name that

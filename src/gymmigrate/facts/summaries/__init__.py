@@ -21,6 +21,7 @@ from dataclasses import replace
 from gymmigrate.facts import pz_wrappers
 from gymmigrate.facts.atari_signs import atari_users
 from gymmigrate.facts.class_shapes import renders_nothing
+from gymmigrate.facts.creator_tables import altered_imports, writes_into_import
 from gymmigrate.facts.done_uses import top_level_records
 from gymmigrate.facts.env_classes import EnvClasses
 from gymmigrate.facts.env_specs import module_spec_lists, recreates_from_spec
@@ -111,7 +112,11 @@ def summarize_masks(path: str, text: str) -> ModuleSummary | None:
     masks = masks_of(functions, classes)
     records = top_level_records(tree)
     roots = plain_roots(tree)
-    if not masks and not records and not roots:
+    # A module that writes into a name it imports (``registry.add`` filling a table of
+    # creators) keeps that table open, Gym code or not. Its facts cost a walk: asked only
+    # where the text shows such a write (``runner._may_write_into_import``).
+    altered = altered_imports(ModuleFacts(tree, text)) if writes_into_import(text.encode("utf-8", "surrogateescape")) else frozenset()
+    if not masks and not records and not roots and not altered:
         return None
     defs = {name: signature(_named(functions, classes, name), is_method="." in name) for name in masks}
     return ModuleSummary(
@@ -124,6 +129,7 @@ def summarize_masks(path: str, text: str) -> ModuleSummary | None:
         masks_only=True,
         record_classes=records,
         plain_roots=roots,
+        altered=altered,
     )
 
 
@@ -155,6 +161,7 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
     exports = Exports(facts, receivers)
     call_summaries = tuple(calls.calls())
     named = named_ids(facts)
+    made = made_factories(facts, receivers)
     return ModuleSummary(
         path,
         defs,
@@ -170,6 +177,9 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         imported=tuple(sorted(set(facts.imports.values()))),
         exports=exports.exports(env_classes),
         aliases=exports.aliases(),
+        tables=exports.tables(env_classes),
+        made_tables=exports.made_tables(made),
+        altered=altered_imports(facts),
         star_imports=tuple(
             "." * s.level + (s.module or "") for s in facts.tree.body if isinstance(s, ast.ImportFrom) and any(a.name == "*" for a in s.names)
         ),
@@ -190,7 +200,7 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         reset_steps=module_reset_steps(facts),
         self_handoffs=self_handoffs(facts, receivers),
         spec_lists=module_spec_lists(facts),
-        made_factories=made_factories(facts, receivers),
+        made_factories=made,
         gym_only_makers=gym_only_makers(facts, receivers),
         passes_init_up=calls.passes_init_up(),
         classes=frozenset(facts.classes),

@@ -69,6 +69,12 @@ def made_factories(facts: ModuleFacts, receivers: Receivers | None = None) -> fr
     return frozenset(found)
 
 
+def made_value(facts: ModuleFacts, value: ast.expr, function: ast.AST, receivers: Receivers | None = None) -> bool:
+    """``value``, returned by ``function`` (a def or a lambda), is a ``make(...)`` result,
+    maybe wrapped in Gym wrappers (as ``made_factories``)."""
+    return _made(facts, value, function, 0, receivers)
+
+
 def _made(facts: ModuleFacts, value: ast.expr, function: ast.AST, depth: int, receivers: Receivers | None = None) -> bool:
     if depth > 8:
         return False

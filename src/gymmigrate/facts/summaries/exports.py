@@ -7,11 +7,13 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.facts import names as N
+from gymmigrate.facts.creator_tables import entries, module_table, record_fields
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
-from gymmigrate.facts.module_summary import REF, Kind
+from gymmigrate.facts.module_summary import OWN, REF, Kind
 from gymmigrate.facts.receiver_classes import duck_wrapper_param
 from gymmigrate.facts.receivers import Receivers
+from gymmigrate.facts.summaries.defs import made_value
 
 
 class Exports:
@@ -33,6 +35,75 @@ class Exports:
             elif kinds:
                 exports[name] = EnvKind.UNKNOWN
         return exports
+
+    def tables(self, env_classes: set[str]) -> dict[tuple[str, str], tuple[Kind, ...]]:
+        """The module's closed tables of creators (``ModuleSummary.tables``): per table and
+        field, what calling each of its callables gives."""
+        found: dict[tuple[str, str], tuple[Kind, ...]] = {}
+        for name, bindings in self.facts.module_scope.bindings.items():
+            if len(bindings) != 1 or not isinstance(bindings[0], ast.Name):
+                continue
+            display = module_table(self.facts, bindings[0])
+            if display is None:
+                continue
+            for field in (None, *sorted(record_fields(display))):
+                values = entries(display, field)
+                # only callables: a table of numbers or strings is no table of creators
+                if values is not None and all(isinstance(v, (ast.Lambda, ast.Name, ast.Attribute)) for v in values):
+                    found[(name, field or "")] = tuple(self._called(value, env_classes) for value in values)
+        return found
+
+    def made_tables(self, made_defs: frozenset[str]) -> dict[tuple[str, str], tuple[str, ...]]:
+        """Per closed table of creators and field (as ``tables``), whether each callable
+        returns a ``make(...)`` result (``ModuleSummary.made_tables``): ``@`` when this
+        module shows it (a lambda around ``make``, maybe in Gym wrappers; a def of
+        ``made_defs``), ``ref:<qualified>`` for a call of a name of another module of the
+        run (made when the run says so), "" otherwise."""
+        found: dict[tuple[str, str], tuple[str, ...]] = {}
+        for name, bindings in self.facts.module_scope.bindings.items():
+            if len(bindings) != 1 or not isinstance(bindings[0], ast.Name):
+                continue
+            display = module_table(self.facts, bindings[0])
+            if display is None:
+                continue
+            for field in (None, *sorted(record_fields(display))):
+                values = entries(display, field)
+                if values is not None and all(isinstance(v, (ast.Lambda, ast.Name, ast.Attribute)) for v in values):
+                    found[(name, field or "")] = tuple(self._made(value, made_defs) for value in values)
+        return found
+
+    def _made(self, value: ast.expr, made_defs: frozenset[str]) -> str:
+        if isinstance(value, ast.Lambda):
+            if made_value(self.facts, value.body, value, self.receivers):
+                return OWN
+            if not (isinstance(value.body, ast.Call) and isinstance(value.body.func, (ast.Name, ast.Attribute))):
+                return ""
+            value = value.body.func
+        if isinstance(value, ast.Name) and value.id in made_defs and self.facts.module_scope.bindings.get(value.id) == self.facts.bindings_of(value):
+            return OWN
+        qualified = self.facts.qualified_names(value)
+        if len(qualified) == 1 and not N.is_library(name := next(iter(qualified))):
+            return REF + name
+        return ""
+
+    def _called(self, value: ast.expr, env_classes: set[str]) -> Kind:
+        """What calling a table's value gives, for another module: a lambda's body (a call
+        of a name of the run: what calling that name gives), a top-level name as its export."""
+        if isinstance(value, ast.Lambda):
+            kind = self.receivers.kind_of(value.body)
+            if kind is EnvKind.UNKNOWN and isinstance(value.body, ast.Call) and isinstance(value.body.func, (ast.Name, ast.Attribute)):
+                return self._called(value.body.func, env_classes)
+            return kind
+        if isinstance(value, ast.Name):
+            bindings = self.facts.bindings_of(value)
+            if len(bindings) == 1 and self.facts.module_scope.bindings.get(value.id) == bindings:
+                export = self._export(value.id, bindings[0], env_classes)
+                return EnvKind.UNKNOWN if export is None else export
+        elif isinstance(value, ast.Attribute):
+            qualified = self.facts.qualified_names(value)
+            if len(qualified) == 1:
+                return self._reference(qualified.pop())
+        return self.receivers.returned_kind(value)
 
     def _export(self, name: str, binding: ast.AST, env_classes: set[str]) -> Kind | None:
         if isinstance(binding, ast.alias):

@@ -111,6 +111,9 @@ class WrapperForwarding(RuleFamily):
             return False
         if any(name in facts.text for _, name in project.made):
             return True
+        # ``self.env = CREATORS[name](**cfg)``: a table of another module whose creators make envs
+        if any(name in facts.text for _, name, _ in project.made_tables):
+            return True
         # ``class Task(pkg.BaseWrapper)``: a wrapper class of another module of the run
         if any(name in facts.text for _, name in project.wrapper_defined):
             return True

@@ -22,6 +22,7 @@ from collections.abc import Callable
 
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
+from gymmigrate.facts.creator_tables import entries, lookup, table_display
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import FUNCTIONS, call_argument, own_returns, walk
@@ -171,17 +172,43 @@ class EnvOrigins:
                 return self._wrapped(call)
             if self.receivers.class_kind(local) is EnvKind.GYM_ENV:
                 return RAW
-        function = self.receivers.local_function(call.func)
+        if isinstance(call.func, ast.Subscript):
+            return self._table_origin(call.func)
+        return self._returns_origin(call.func)
+
+    def _returns_origin(self, func: ast.expr) -> Origin:
+        """What calling ``func`` returns, for a def of the module or a name of the run."""
+        function = self.receivers.local_function(func)
         if function is not None:
             values = [r.value for r in own_returns(function) if r.value is not None]
             return self._memo((id(function), "<returns>"), lambda: join_origins([self.origin(v) for v in values]))
         view = self.receivers.project
         if view is not None:
-            qualified = self.facts.qualified_names(call.func)
+            qualified = self.facts.qualified_names(func)
             if any(view.returns_made(q) for q in qualified):
                 return MADE  # a def of another module of the run that returns make() results
             if any(view.makes_bare_env(q) for q in qualified):
                 return RAW  # an env class of another module of the run: the env itself
+        return None
+
+    def _table_origin(self, callee: ast.Subscript) -> Origin:
+        """``CREATORS[name](...)``, ``ENVS[key]["make"](...)`` on a closed table of creators
+        (``facts/creator_tables.py``): what every callable there returns, joined; a table
+        of another module of the run is made when its every callable returns a make()."""
+        found = lookup(self.facts, callee)
+        if found is None:
+            return None
+        table, field = found
+        view = self.receivers.project
+        if isinstance(table, ast.Name):
+            display = table_display(self.facts, table)
+            if display is not None:
+                values = entries(display, field)
+                if values is None or (view is not None and view.table_altered(table.id)):
+                    return None
+                return join_origins([self.origin(v.body) if isinstance(v, ast.Lambda) else self._returns_origin(v) for v in values])
+        if view is not None and any(view.table_made(q, field) for q in self.facts.qualified_names(table)):
+            return MADE
         return None
 
     def _wrapped(self, call: ast.Call) -> Origin:

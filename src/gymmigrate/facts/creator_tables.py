@@ -1,0 +1,163 @@
+"""Tables of creators: a module-level dict (or list, tuple) display whose values are
+callables, called through a lookup: ``CREATORS[name](**cfg)``, ``ENVS[key]["make"]()``,
+or ``cls = CLASSES[kind]; cls(params)``.
+
+What such a call returns is what calling every value of the table (or the named field of
+every record of it) returns, joined: a Gym env only when each of them makes one, an object
+of the project's own only when each does. The table must be closed for that to hold: bound
+once, and never written into, here or in a module that imports it (``T[k] = v``,
+``del T[k]``, ``T.update(...)``, a record's ``T[k]["make"] = f``); a table that a
+``register()`` of the project fills at run time holds what its callers hand it, which the
+run does not see.
+
+``Receivers`` asks ``table_entries`` for a table of its own module; a module's summary
+lists its tables' entries for the modules that import them (``ModuleSummary.tables``) and
+the imported names it writes into (``ModuleSummary.altered``).
+"""
+
+from __future__ import annotations
+
+import ast
+import re
+import sys
+
+from gymmigrate.facts.module import ModuleFacts
+
+# Methods of dicts and lists that change what they hold.
+_MUTATORS = frozenset(
+    {"update", "setdefault", "pop", "popitem", "clear", "__setitem__", "__delitem__", "append", "extend", "insert", "remove"}
+)
+
+Display = ast.Dict | ast.List | ast.Tuple
+
+
+def lookup(facts: ModuleFacts, callee: ast.Subscript) -> tuple[ast.expr, str | None] | None:
+    """``T[k]`` -> (``T``, None); ``T[k]["make"]`` -> (``T``, ``"make"``): the table a called
+    lookup reads, and the field of its records it calls. None for other shapes."""
+    value = callee.value
+    if isinstance(value, ast.Subscript):
+        field = callee.slice
+        if not (isinstance(field, ast.Constant) and isinstance(field.value, str)):
+            return None
+        if isinstance(value.value, (ast.Name, ast.Attribute)):
+            return value.value, field.value
+        return None
+    if isinstance(value, (ast.Name, ast.Attribute)):
+        return value, None
+    return None
+
+
+def table_display(facts: ModuleFacts, name: ast.Name) -> Display | None:
+    """The display a name of this module is bound to, when it is a closed table: one
+    module-level binding ``T = {...}`` (or a list or tuple) that nothing of the module
+    writes into."""
+    bindings = facts.bindings_of(name)
+    if len(bindings) != 1 or not isinstance(bindings[0], ast.Name):
+        return None
+    return module_table(facts, bindings[0])
+
+
+def module_table(facts: ModuleFacts, binding: ast.Name) -> Display | None:
+    """The display of the module-level assignment ``binding`` heads, when it is a closed table."""
+    assign = facts.parent(binding)
+    if not (isinstance(assign, ast.Assign) and assign.targets == [binding] and facts.parent(assign) is facts.tree):
+        return None
+    if len(facts.module_scope.bindings.get(binding.id, ())) != 1:
+        return None
+    value = assign.value
+    if not isinstance(value, (ast.Dict, ast.List, ast.Tuple)):
+        return None
+    altered = facts.memo(("table-altered", id(binding)), lambda: any(written(facts, r) for r in facts.reads_of(binding.id, binding)))
+    return None if altered else value
+
+
+def entries(display: Display, field: str | None) -> list[ast.expr] | None:
+    """The table's values (``field`` None), or the ``field`` of each of its records (dict
+    displays; a record without it cannot be called through it and is skipped). None when a
+    value is not shown (``**other``, ``*more``, a record that is no display) or none is left."""
+    if isinstance(display, ast.Dict):
+        if any(key is None for key in display.keys):
+            return None
+        values = list(display.values)
+    else:
+        if any(isinstance(e, ast.Starred) for e in display.elts):
+            return None
+        values = list(display.elts)
+    if field is None:
+        return values or None
+    found = []
+    for record in values:
+        if not isinstance(record, ast.Dict) or any(key is None for key in record.keys):
+            return None
+        found += [v for k, v in zip(record.keys, record.values) if isinstance(k, ast.Constant) and k.value == field]
+    return found or None
+
+
+def record_fields(display: Display) -> set[str]:
+    """The string keys of the table's records, when every value is a dict display."""
+    values = display.values if isinstance(display, ast.Dict) else display.elts
+    records = [v for v in values if isinstance(v, ast.Dict)]
+    if not values or len(records) != len(values):
+        return set()
+    return {k.value for record in records for k in record.keys if isinstance(k, ast.Constant) and isinstance(k.value, str)}
+
+
+def written(facts: ModuleFacts, read: ast.expr) -> bool:
+    """``read`` (a table, or an item of it through ``[...]``) is written into: the target of
+    a store or a ``del``, or the owner of a mutating method's call."""
+    node: ast.AST = read
+    parent = facts.parent(node)
+    while isinstance(parent, ast.Subscript) and parent.value is node:
+        if not isinstance(parent.ctx, ast.Load):
+            return True
+        node, parent = parent, facts.parent(parent)
+    if isinstance(parent, ast.Attribute) and parent.value is node and parent.attr in _MUTATORS:
+        call = facts.parent(parent)
+        return isinstance(call, ast.Call) and call.func is parent
+    return False
+
+
+def altered_imports(facts: ModuleFacts) -> frozenset[str]:
+    """The qualified names of imported names this module writes into: ``T[k] = v`` on
+    ``from registry import T``, ``registry.T.update(...)`` on ``import registry``."""
+    found: set[str] = set()
+    for alias, qualified in facts.imports.items():
+        for read in facts.reads_of(alias.asname or alias.name.split(".", 1)[0], alias):
+            node: ast.expr = read
+            name = qualified
+            while True:
+                if written(facts, node):
+                    found.add(name)
+                parent = facts.parent(node)
+                if not (isinstance(parent, ast.Attribute) and parent.value is node):
+                    break
+                node, name = parent, f"{name}.{parent.attr}"
+    return frozenset(found)
+
+
+# The names a module imports (``from registry import CREATORS, add``, ``import registry as r``).
+_IMPORTED = re.compile(rb"^[ \t]*(?:from[ \t]+([\w.]+)[ \t]+import[ \t]+\(?([\w ,\t]+)|import[ \t]+([\w., \t]+))", re.MULTILINE)
+# A standard library module holds no table of the run (``os.environ[k] = v``, ``sys.modules[k] = m``).
+_STDLIB = frozenset(name.encode() for name in sys.stdlib_module_names)
+
+
+def writes_into_import(source: bytes) -> bool:
+    """A cheap test of a module's text, before any parse: it may write into a name it imports
+    from outside the standard library (``NAME[k] = v``, ``NAME.attr[k]["f"] = v``,
+    ``del NAME[k]``, ``NAME.update(...)``)."""
+    if b"import" not in source:
+        return False
+    names: set[bytes] = set()
+    for match in _IMPORTED.finditer(source):
+        origin, imported, modules = match.groups()
+        if origin is not None and origin.split(b".")[0] in _STDLIB:
+            continue
+        for part in (imported or modules or b"").split(b","):
+            words = part.split()
+            if words and (origin is not None or words[0].split(b".")[0] not in _STDLIB):
+                names.add(words[-1].split(b".")[0])
+    if not names:
+        return False
+    alternatives = b"|".join(re.escape(n) for n in sorted(names))
+    write = rb"\b(?:" + alternatives + rb")(?:\.\w+)*(?:\[[^\n]*\]\s*=(?!=)|\.(?:" + b"|".join(sorted(m.encode() for m in _MUTATORS)) + rb")\()"
+    return re.search(write, source) is not None or re.search(rb"\bdel[ \t]+(?:" + alternatives + rb")\b", source) is not None
