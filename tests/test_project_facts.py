@@ -223,16 +223,43 @@ def test_seed_goes_when_every_caller_in_the_run_is_migrated(tmp_path: Path) -> N
 
 def test_render_mode_is_kept_while_another_module_of_the_run_may_pass_one(tmp_path: Path) -> None:
     """record.py renders objects it cannot trace with a mode and imports GridEnv: the class
-    keeps an optional mode (``render(self, mode=None)``, else self.render_mode), and no
-    creation site of the run is given a render_mode it does not need."""
+    keeps an optional mode (``render(self, mode=None)``, else self.render_mode), and takes
+    render_mode beside it, so show.py's ``GridEnv()`` is a creation site its render's mode
+    moves to (it was an item asking for that by hand)."""
     folder = tmp_path / "grid"
     shutil.copytree(FIXTURES / "project_render", folder)
     result = runner.invoke(app, ["rewrite", str(folder)])
     assert result.exit_code == 0, result.output
     assert "def render(self, mode=None):" in (folder / "envs.py").read_text()
-    assert "render_mode=" not in (folder / "show.py").read_text()
+    show = (folder / "show.py").read_text()
+    assert 'GridEnv(render_mode="rgb_array")' in show and "env.render().shape" in show
+    assert "render_mode=" not in (folder / "record.py").read_text()
     assert _run_main(folder, "record") == "[(4, 4, 3), (4, 4, 3)]"
     assert _run_main(folder, "show") == "(4, 4, 3)"
+
+
+def test_an_env_class_keeping_an_optional_mode_is_a_creation_site_across_modules(tmp_path: Path) -> None:
+    """overhead.py renders an env it cannot trace with a mode and imports the package whose
+    ``__init__`` re-exports TrackSim, LaneEnv (a subclass handing ``**kwargs`` on) and FixedSim.
+    TrackSim keeps ``mode`` optional and takes render_mode, so drive.py's ``LaneEnv(...)``
+    calls are creation sites: the bare render's "human" and the frame's "rgb_array" move there.
+    FixedSim's ``render(mode, scale)`` cannot keep an optional mode: its construction gets none."""
+    folder = tmp_path / "tracks"
+    shutil.copytree(FIXTURES / "project_render_own_class", folder)
+    result = runner.invoke(app, ["rewrite", str(folder)])
+    assert result.exit_code == 0, result.output
+    assert "def render(self, mode=None):" in (folder / "tracks" / "base.py").read_text()
+    drive = (folder / "drive.py").read_text()
+    assert 'LaneEnv(length=3, render_mode="human")' in drive
+    assert 'LaneEnv(length=2, render_mode="rgb_array")' in drive and "frame = snap.render()" in drive
+    assert "fixed = FixedSim()" in drive and 'fixed.render("rgb_array", 2)' in drive
+    assert "def render(self, mode, scale):" in (folder / "tracks" / "fixed.py").read_text()
+    assert _run_main(folder, "drive").splitlines() == ["lane at 1", "lane at 2", "((2, 2, 3), 'rgb_array x2')"]
+    shown = subprocess.run(
+        [sys.executable, "-c", "import overhead, tracks\ne = tracks.LaneEnv(length=2)\ne.reset()\nprint(overhead.show(e))"],
+        cwd=folder, capture_output=True, text=True, check=False,
+    )
+    assert shown.stdout.strip() == "overhead 0", shown.stderr
 
 
 def test_render_mode_moves_to_the_creation_site_when_every_caller_is_traced(tmp_path: Path) -> None:

@@ -1,7 +1,7 @@
 """Shapes of one call, def or class that ``CreationFinder`` (creation.py) reads: the argument
 a call passes for a parameter (or its first, in source order, or the env it wraps), the
 slot a property hands out, the values and nested defs a function returns, the iterable of
-``enumerate``, and a held attribute changed in place.
+``enumerate``, and a held attribute changed in place (and the items it is given so).
 """
 
 from __future__ import annotations
@@ -92,6 +92,59 @@ def enumerated_iterable(facts: ModuleFacts, binding: ast.Name) -> ast.expr | Non
         return None
     scope, _ = facts.resolve("enumerate", facts.scope_of(call.func))
     return call.args[0] if scope is None else None
+
+
+# Methods of a list that add no item to it.
+_NO_NEW_ITEMS = frozenset({"pop", "clear", "remove", "sort", "reverse", "index", "count", "copy"})
+
+
+def items_added_in_place(classdef: ast.ClassDef, name: str) -> tuple[list[ast.expr], list[ast.expr]] | None:
+    """What ``classdef`` adds in place to the list ``self.<name>``: the items (``v`` of
+    ``self.<name>.append(v)``, ``.insert(i, v)``, ``self.<name>[i] = v``) and the
+    containers whose items it takes (``.extend(c)``, ``self.<name> += c``). None when the
+    class changes it another way (a method whose effect on the items is not known)."""
+    items: list[ast.expr] = []
+    containers: list[ast.expr] = []
+    for node in walk(classdef):
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and _is_self_attribute(node.func.value, name):
+            method, args = node.func.attr, node.args
+            if any(isinstance(a, ast.Starred) for a in args) or node.keywords:
+                return None
+            if method == "append" and len(args) == 1:
+                items.append(args[0])
+            elif method == "insert" and len(args) == 2:
+                items.append(args[1])
+            elif method == "extend" and len(args) == 1:
+                containers.append(args[0])
+            elif method not in _NO_NEW_ITEMS:
+                return None
+        elif isinstance(node, ast.Subscript) and isinstance(node.ctx, ast.Store) and _is_self_attribute(node.value, name):
+            assign = _parent_assign(classdef, node)
+            if assign is None:
+                return None
+            items.append(assign.value)
+        elif isinstance(node, ast.AugAssign) and _is_self_attribute(node.target, name):
+            if not isinstance(node.op, ast.Add):
+                return None
+            containers.append(node.value)
+    return items, containers
+
+
+def holds_no_items(node: ast.AST) -> bool:
+    """``[]``, ``()`` or ``None`` (a list dropped in ``close()``): no item comes from it."""
+    return (isinstance(node, (ast.List, ast.Tuple, ast.Set)) and not node.elts) or (isinstance(node, ast.Constant) and node.value is None)
+
+
+def _is_self_attribute(node: ast.AST, name: str) -> bool:
+    return isinstance(node, ast.Attribute) and node.attr == name and isinstance(node.value, ast.Name) and node.value.id == "self"
+
+
+def _parent_assign(classdef: ast.ClassDef, target: ast.Subscript) -> ast.Assign | None:
+    """The ``self.x[i] = v`` statement whose single target is ``target``."""
+    for node in walk(classdef):
+        if isinstance(node, ast.Assign) and node.targets == [target]:
+            return node
+    return None
 
 
 def changed_in_place(classdef: ast.ClassDef, name: str) -> bool:

@@ -471,8 +471,10 @@ class ProjectFacts:
                 facts.render_called.update(env_modules_through_packages(facts, summary, by_path))
             for provider in imported_env_modules(facts, summary, declared=by_path):
                 facts.importers.setdefault(provider, set()).add(summary.path)
-        for path in facts.render_called:  # their classes keep render(mode): no render_mode to pass
-            facts.render_mode_classes[path] = frozenset()
+        for path in facts.render_called:
+            # Their classes keep render(mode): one whose ``mode`` can become optional takes
+            # render_mode beside it (custom_env/render.py), one whose cannot takes none.
+            facts.render_mode_classes[path] = facts.render_mode_classes.get(path, frozenset()) - by_path[path].fixed_mode_renders
         join_overrides(facts, summaries, by_path)
         join_mode_renders(facts, by_path)
         thread_render_mode(facts, by_path)

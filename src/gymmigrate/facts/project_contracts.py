@@ -114,10 +114,13 @@ def thread_render_mode(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -
     while changed:
         changed = False
         for path, summary in by_path.items():
-            if path in facts.blocked or path in facts.render_called:
+            if path in facts.blocked:
                 continue
+            # where another module passes modes it cannot trace, a render(mode) that must
+            # stay whole takes no render_mode; an optional one takes it beside the mode
+            kept = summary.fixed_mode_renders if path in facts.render_called else frozenset()
             for name, bases, passes_on in summary.render_mode_heirs:
-                if passes_on and (path, name) not in takes and any(resolve(b, path) in takes for b in bases):
+                if passes_on and name not in kept and (path, name) not in takes and any(resolve(b, path) in takes for b in bases):
                     takes.add((path, name))
                     changed = True
     for path, summary in by_path.items():

@@ -16,6 +16,7 @@ import ast
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts import same_tests
+from gymmigrate.facts.creation_shapes import holds_no_items, items_added_in_place
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import MAX_DEPTH, EnvKind, join_kinds
 from gymmigrate.facts.module import FUNCTIONS, call_argument, own_returns, walk
@@ -278,7 +279,16 @@ class BindingKinds(_Facade):
         if isinstance(container, ast.Attribute) and isinstance(container.value, ast.Name):
             if self.is_self(container.value):
                 values = self.self_attribute_values(container, container.attr)
-                return join_kinds(self._element_kind_memo(v) for v in values) if values else EnvKind.UNKNOWN
+                classdef = self.facts.enclosing_class(container)
+                added = items_added_in_place(classdef, container.attr) if classdef is not None else None
+                if not values or added is None or not any(added):
+                    return join_kinds(self._element_kind_memo(v) for v in values) if values else EnvKind.UNKNOWN
+                # ``self.envs = []`` then ``self.envs.append(OwnEnv(...))`` in the class: the items
+                # are what it is given in place (an empty display or None holds none)
+                items, containers = added
+                kinds = [self._element_kind_memo(v) for v in (*values, *containers) if not holds_no_items(v)]
+                kinds += [self.kind_of(item) for item in items]
+                return join_kinds(kinds)
         return EnvKind.UNKNOWN
 
     def _param_element_kind(self, param: ast.arg) -> EnvKind:

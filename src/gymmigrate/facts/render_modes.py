@@ -4,8 +4,9 @@ A legacy ``x.render(mode)`` may reach an env class's ``render(self, mode)``
 (``passes_mode``, unless the argument is certainly no mode string: ``not_a_mode_call``).
 Where such a call's receiver cannot be traced to its creation (``creation.CreationFinder``),
 the module's env classes keep ``render(self, mode)`` and take no ``render_mode``
-(``render_kept_classes``), so constructing one is no creation site for the render rules
-(``local_env_class_takes_render_mode``).
+(``render_kept_classes``) where that mode cannot become optional, so constructing one is no
+creation site for the render rules (``local_env_class_takes_render_mode``); one whose mode
+stays optional takes ``render_mode`` beside it.
 
 An env class whose ``render(self, mode="human")`` only hands its mode on to an object of
 the project's own that is no Gym env (``self._engine.render(mode=mode)``), and that no
@@ -63,7 +64,9 @@ def render_kept_classes(facts: ModuleFacts, receivers: Receivers) -> frozenset[i
     A ``render`` call that passes a mode, on a receiver whose creation cannot be traced,
     may reach an instance of any env class of the module: removing ``mode`` from that
     class's render() would make the call a TypeError (custom_env/render.py keeps it).
-    Such a class takes no ``render_mode``, so ``GridEnv()`` is then no creation site.
+    Where ``mode`` cannot become optional, such a class takes no ``render_mode``, so
+    ``GridEnv()`` is then no creation site; where it can, the class takes ``render_mode``
+    beside it and is not kept here.
     """
 
     def compute() -> frozenset[int]:
@@ -86,7 +89,7 @@ def render_kept_classes(facts: ModuleFacts, receivers: Receivers) -> frozenset[i
         )
         if project is not None and project.render_called_elsewhere():
             # Another module of the run passes modes to objects it cannot trace.
-            return frozenset(id(c) for c in facts.all_classes if classes.is_custom_env(c))
+            return frozenset(id(c) for c in facts.all_classes if classes.is_custom_env(c) and not _mode_stays_optional(c))
         finder = CreationFinder(facts, receivers, is_creation)
         untraced: list[ast.Call] = []
         for call in facts.attribute_calls.get("render", []):
@@ -102,10 +105,19 @@ def render_kept_classes(facts: ModuleFacts, receivers: Receivers) -> frozenset[i
         return below | frozenset(
             id(classdef)
             for classdef in facts.all_classes
-            if classes.is_custom_env(classdef) and any(facts.enclosing_class(call) is not classdef for call in untraced)
+            if classes.is_custom_env(classdef)
+            and not _mode_stays_optional(classdef)
+            and any(facts.enclosing_class(call) is not classdef for call in untraced)
         )
 
     return facts.memo(("render-kept-classes", 0), compute)
+
+
+def _mode_stays_optional(classdef: ast.ClassDef) -> bool:
+    """The class's own ``render(self, mode)`` keeps ``mode`` as an optional parameter beside
+    ``render_mode`` (custom_env/render.py): calls that pass a mode keep working, and its
+    constructor takes ``render_mode`` all the same."""
+    return any(isinstance(s, FUNCTIONS) and s.name == "render" and mode_can_stay_optional(s) for s in classdef.body)
 
 
 def passes_mode(call: ast.Call, facts: ModuleFacts) -> bool:

@@ -151,6 +151,10 @@ class RuleFamily:
             decided_by = self._attribute_owner(owner, name) if isinstance(owner, ast.ClassDef) else None
             if decided_by is not None:
                 return (RUN_QUESTION, decision.action, *decided_by, name)
+            if isinstance(owner, ast.ClassDef):
+                # subclasses of one class of this file that binds the attribute read what it
+                # binds: one question for them all
+                owner = self._local_definer(owner, name.split(".")[1] if name.count(".") >= 1 else "") or owner
         else:
             owner = self.facts.enclosing_function(receiver)
         return ("receiver", decision.action, id(owner), name)
@@ -198,15 +202,40 @@ class RuleFamily:
         if project is None or cls not in self.facts.tree.body:
             return None
         attribute = name.split(".")[1] if name.count(".") >= 1 else ""
-        if binds_self_attribute(cls, attribute):
-            return (project.path, cls.name)
-        # the first base of the run: its ``__init__`` is the one that runs (``class
-        # DqnPolicy(Policy, ModelMixin)``: ``Policy`` stores the env)
-        for base in cls.bases:
-            for qualified in sorted(self.facts.qualified_names(base)):
-                found = project.class_of_run(qualified)
-                if found is not None:
-                    return found
+        seen: set[int] = set()
+        while id(cls) not in seen:
+            seen.add(id(cls))
+            if binds_self_attribute(cls, attribute):
+                return (project.path, cls.name)
+            # the first base of the run: its ``__init__`` is the one that runs (``class
+            # DqnPolicy(Policy, ModelMixin)``: ``Policy`` stores the env); a base of this
+            # module that binds nothing hands the question on to its own bases
+            # (``Learner(Worker)``, ``Worker(Agent)`` with ``Agent`` elsewhere)
+            local = next((held for base in cls.bases if (held := self.receivers.local_class(base)) is not None), None)
+            for base in cls.bases:
+                if local is not None and self.receivers.local_class(base) is local:
+                    break
+                for qualified in sorted(self.facts.qualified_names(base)):
+                    found = project.class_of_run(qualified)
+                    if found is not None:
+                        return found
+            if local is None or local not in self.facts.tree.body:
+                return None
+            cls = local
+        return None
+
+    def _local_definer(self, cls: ast.ClassDef, attribute: str) -> ast.ClassDef | None:
+        """The class of this module that binds ``self.<attribute>`` for ``cls``: ``cls``
+        itself, or the first base of this module up its chain that does (``class
+        Evaluator(Worker)`` reads ``Worker``'s ``self.env``). None when no class of the
+        module binds it on that chain."""
+        seen: set[int] = set()
+        current: ast.ClassDef | None = cls
+        while current is not None and id(current) not in seen:
+            seen.add(id(current))
+            if binds_self_attribute(current, attribute):
+                return current
+            current = next((found for base in current.bases if (found := self.receivers.local_class(base)) is not None), None)
         return None
 
 

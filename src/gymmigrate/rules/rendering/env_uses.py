@@ -171,9 +171,15 @@ class EnvUses(MakeEdits):
         """The innermost loop around ``call`` holds one of the render sites."""
         loop = next((a for a in self.facts.ancestors(call) if isinstance(a, (ast.For, ast.While, ast.AsyncFor))), None)
         if loop is None:
+            helper = self.facts.enclosing_function(call)
+            if helper is not None and any(
+                id(node) in rendered and self.facts.enclosing_function(node) is helper for node in walk(helper) if isinstance(node, ast.Call)
+            ):
+                # ``def update(dt): env.step(a); env.render()``, a callback run once per frame:
+                # each run of the function is one pass, and it renders what it steps.
+                return True
             # ``def take_step(a): return env.step(a)``: the step runs where the helper is
             # called; it renders if every call of the helper sits in a loop that renders.
-            helper = self.facts.enclosing_function(call)
             if helper is None or self.facts.functions.get(helper.name) is not helper or self._sole_caller(helper) is None:
                 return False
             name = helper.name

@@ -206,7 +206,8 @@ class UntracedEnvs(MakeEdits):
 
     def _untraced_question(self, site: RenderSite, where: str) -> Hashable | None:
         """The renders and recorders of one untraced env ask one question: where it is made,
-        and in which mode. One env is one spelling in one function (``self.x``: one class),
+        and in which mode. One env is one spelling read through the same bindings (a module's
+        ``env`` in each of its callbacks; ``self.x``: one class),
         or, where the finder stopped at a named constructor or function parameter (``env`` is a
         parameter of ``Evaluation``), that parameter in one class: a recorder built on ``env``
         and ``self.env.render()``."""
@@ -221,5 +222,14 @@ class UntracedEnvs(MakeEdits):
         name = full_name(func.value) if isinstance(func, ast.Attribute) else None
         if not name:
             return None
-        owner = class_ if name.split(".", 1)[0] == "self" else self.facts.enclosing_function(func)
-        return ("render-untraced", site.mode, id(owner), name, where)
+        if name.split(".", 1)[0] == "self":
+            return ("render-untraced", site.mode, id(class_), name, where)
+        root: ast.expr = func.value if isinstance(func, ast.Attribute) else func
+        while isinstance(root, ast.Attribute):
+            root = root.value
+        bindings = self.facts.bindings_of(root) if isinstance(root, ast.Name) else []
+        if bindings:
+            # One env is what one set of bindings holds: a module's ``env`` read in each of
+            # its callbacks is one env, a local ``env`` of each function another.
+            return ("render-untraced", site.mode, tuple(sorted(id(b) for b in bindings)), name, where)
+        return ("render-untraced", site.mode, id(self.facts.enclosing_function(func)), name, where)

@@ -22,6 +22,7 @@ from collections.abc import Callable
 
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
+from gymmigrate.facts.creation_shapes import holds_no_items, items_added_in_place
 from gymmigrate.facts.creator_tables import entries, lookup, table_display
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import EnvKind
@@ -126,10 +127,17 @@ class EnvOrigins:
         """``self.envs[i]`` with ``self.envs = [gym.make(...) for _ in ...]`` stored in the class:
         what its items are."""
         values: list[ast.expr] = [container]
+        origins: list[Origin] = []
         if isinstance(container, ast.Attribute) and isinstance(container.value, ast.Name) and container.value.id == "self":
             classdef = self.facts.enclosing_class(container)
             values = self.receivers.self_stores(classdef).get(container.attr, []) if classdef is not None else []
-        origins: list[Origin] = []
+            added = items_added_in_place(classdef, container.attr) if classdef is not None else None
+            if added is not None and any(added):
+                # ``self.envs = []`` then ``self.envs.append(OwnEnv(...))``: the items it is
+                # given in place; an empty display (or None, dropped in ``close()``) holds none
+                items, containers = added
+                origins.extend(self.origin(item) for item in items)
+                values = [v for v in (*values, *containers) if not holds_no_items(v)]
         for value in values:
             if isinstance(value, (ast.ListComp, ast.GeneratorExp)):
                 origins.append(self.origin(value.elt))
