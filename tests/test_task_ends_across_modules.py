@@ -4,8 +4,8 @@
 step limit; ``Reach`` and ``Survive`` (``arena/tasks.py``, a module that never names Gym)
 call ``super().step(action)`` and set ``done = True`` when the task is solved or lost.
 Their returns used to come out as ``done, False`` (or not at all): the base's step limit
-was returned as a termination. Now they return ``bool(done) and not truncated, truncated``
-as a subclass in the base's own module does. ``Lab`` (``arena/lab.py``) takes its step from
+was returned as a termination. Now their own ends set ``terminated`` and they return the
+base's ``terminated, truncated``, as a subclass in the base's own module does. ``Lab`` (``arena/lab.py``) takes its step from
 a package the run does not hold: its return is reported, not guessed.
 """
 
@@ -38,7 +38,8 @@ def _migrated(tmp_path: Path) -> tuple[Path, list[dict]]:
 def test_a_subclass_in_another_module_keeps_the_base_truncation(tmp_path: Path) -> None:
     project, review = _migrated(tmp_path)
     tasks = (project / "arena" / "tasks.py").read_text()
-    assert tasks.count("return obs, reward, bool(done) and not truncated, truncated, info") == 2, tasks
+    assert tasks.count("return obs, reward, terminated, truncated, info") == 2, tasks
+    assert "terminated = True" in tasks and "bool(done)" not in tasks, tasks
     code = (
         "from arena.tasks import Reach, Survive\n"
         "def run(env, action):\n"

@@ -18,7 +18,13 @@ from collections.abc import Iterable
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, is_super_call, walk
+from gymmigrate.facts.module import (
+    FUNCTIONS,
+    ModuleFacts,
+    is_super_call,
+    named_class_call,
+    walk,
+)
 from gymmigrate.facts.receivers import Receivers
 
 # Qualified names (without the gym/gymnasium prefix) of the mujoco-py era base class.
@@ -281,13 +287,15 @@ class EnvClasses:
         """The class extends another class of this module (so ``__init__`` comes from there)."""
         return any(self.receivers.local_class(base) is not None for base in classdef.bases)
 
-    def base_step_migrates(self, classdef: ast.ClassDef) -> bool | None:
+    def base_step_migrates(self, classdef: ast.ClassDef, named: ast.expr | None = None) -> bool | None:
         """What ``super().step(a)`` in the class runs after the migration, from its first
-        base (the one ``super()`` reaches first): True when that step returns Gymnasium's
-        five values (an env class of this module, or of another module of the run whose
-        step the run migrates, or one of Gym's own env classes); None when the run does not
-        show it (a class of no module of the run, one whose step keeps four fields)."""
-        base = _first_base(classdef)
+        base (the one ``super()`` reaches first), or ``Named.step(self, a)`` from the class
+        it names (``named``: a base, the class itself or a class of this module it derives
+        from): True when that step returns Gymnasium's five values (an env class of this
+        module, or of another module of the run whose step the run migrates, or one of
+        Gym's own env classes); None when the run does not show it (a class of no module of
+        the run, one whose step keeps four fields)."""
+        base = _first_base(classdef) if named is None else named
         if base is None:
             return None
         local = self.receivers.local_class(base)
@@ -297,6 +305,22 @@ class EnvClasses:
         if any(_is_builtin_env_class(q) for q in names) or self._run_env_class(names):
             return True
         return None
+
+    def base_method_target(self, classdef: ast.ClassDef, node: ast.AST | None, method: str) -> ast.expr | None:
+        """The class a call of a base's ``method`` in a method of ``classdef`` reaches:
+        ``super().step(a)`` its first base, ``Base.step(self, a)`` the base it names, and
+        ``Cls.step(self, a)`` the class itself or a class of this module it derives from
+        (as a ``Name``). None for any other call, and for ``super()`` of a class with no base."""
+        if is_super_method_call(node, method):
+            return _first_base(classdef)
+        function = self.facts.enclosing_function(node) if node is not None else None
+        if function is None or self.facts.parent(function) is not classdef:
+            return None
+        named = named_class_call(node, method, function, classdef.bases)
+        if named is not None:
+            return named
+        lineage = [ast.Name(id=c.name, ctx=ast.Load()) for c in self.receivers.local_lineage(classdef)]
+        return named_class_call(node, method, function, lineage)
 
     def builtin_env_base(self, classdef: ast.ClassDef) -> bool:
         """The first base, the one ``super()`` reaches first, is one of Gym's own env classes

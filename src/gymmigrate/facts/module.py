@@ -636,6 +636,26 @@ def is_super_call(node: ast.AST | None) -> TypeGuard[ast.Call]:
     return isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "super"
 
 
+def named_class_call(
+    call: ast.AST | None, method: str, function: ast.AST | None, classes: Iterable[ast.expr]
+) -> ast.expr | None:
+    """``Base.method(self, ...)`` in ``function``, a method, naming one of ``classes`` as
+    they are spelled (``gym.ObservationWrapper``, ``Simulator``) and handing on the method's
+    own first parameter: the unbound spelling of ``super().method(...)``, which reaches the
+    class it names with this very instance. That entry of ``classes``, else None."""
+    if not (isinstance(call, ast.Call) and isinstance(call.func, ast.Attribute) and call.func.attr == method):
+        return None
+    receiver = call.func.value
+    if not isinstance(receiver, (ast.Name, ast.Attribute)) or not call.args or not isinstance(function, FUNCTIONS):
+        return None
+    params = function.args.posonlyargs + function.args.args
+    first = call.args[0]
+    if not (params and isinstance(first, ast.Name) and first.id == params[0].arg):
+        return None
+    text = ast.dump(receiver)
+    return next((named for named in classes if ast.dump(named) == text), None)
+
+
 def string_value(node: ast.AST | None) -> str | None:
     if isinstance(node, ast.Constant) and isinstance(node.value, str):
         return node.value

@@ -13,13 +13,18 @@ from collections.abc import Callable, Iterator
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts import names as N
-from gymmigrate.facts.class_shapes import is_vec_env_shaped, keeps_bare_reset
+from gymmigrate.facts.class_shapes import (
+    is_vec_env_shaped,
+    keeps_bare_reset,
+    keeps_legacy_step,
+)
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import (
     FUNCTIONS,
     call_argument,
     is_super_call,
+    named_class_call,
     own_returns,
     walk,
 )
@@ -342,25 +347,32 @@ class ClassKinds(_Facade):
         return any(self._own_api_base(b, depth + 1) for b in local.bases)
 
     def _explicit_base_kind(self, receiver: ast.AST) -> EnvKind | None:
+        """``Base.step(self, a)`` naming a base of the method's class, the class itself or a
+        class of this module it derives from (``Cls.step(self, a)``): a call of that class's
+        step on this instance, whose contract is that class's once migrated."""
         if not isinstance(receiver, (ast.Name, ast.Attribute)):
             return None
         method = self.facts.parent(receiver)
         call = self.facts.parent(method) if isinstance(method, ast.Attribute) else None
-        if not (isinstance(call, ast.Call) and call.func is method and call.args):
+        if not (isinstance(call, ast.Call) and call.func is method and isinstance(method, ast.Attribute)):
             return None
-        first = call.args[0]
         function = self.facts.enclosing_function(call)
         classdef = self.facts.enclosing_class(call)
         if function is None or classdef is None or self.facts.parent(function) is not classdef:
             return None
-        params = function.args.posonlyargs + function.args.args
-        if not (params and isinstance(first, ast.Name) and first.id == params[0].arg):
+        base = named_class_call(call, method.attr, function, classdef.bases)
+        if base is not None:
+            kind = self._base_kind(base)
+            return kind if kind.is_gym else None
+        lineage = {c.name: c for c in self.local_lineage(classdef)}
+        spelled = [ast.Name(id=name, ctx=ast.Load()) for name in lineage]
+        named = named_class_call(call, method.attr, function, spelled)
+        if not isinstance(named, ast.Name):
             return None
-        text = ast.dump(receiver)
-        base = next((b for b in classdef.bases if ast.dump(b) == text), None)
-        if base is None:
-            return None
-        kind = self._base_kind(base)
+        local = lineage[named.id]
+        if keeps_legacy_step(local):
+            return None  # that class's step keeps four fields: so does this call of it
+        kind = self.facts.memo(("class-kind", id(local)), lambda: self.class_kind(local), while_computing=EnvKind.UNKNOWN)
         return kind if kind.is_gym else None
 
     def _base_kind(self, base: ast.AST) -> EnvKind:

@@ -267,6 +267,7 @@ class ClassRewrite:
         flagged = self.plan.flagged_limit_returns.get(self.renamed.get(method_name, method_name), set())
         accumulating: str | None = None
         flagging: str | None = None
+        task_ended: str | None = None
         for position, ret in enumerate(returns):
             if position in kept:
                 plans.append(None)  # reported: what the base's step returns is not known
@@ -282,7 +283,10 @@ class ClassRewrite:
                 plans.append(_five(cst.Name("terminated"), cst.Name("truncated")))
                 continue
             if position in task_ending and isinstance(done, cst.Name):
-                plans.append(_five(cst.parse_expression(f"bool({done.value}) and not truncated"), cst.Name("truncated")))
+                # the class's own ends set terminated where they set the done; the step it
+                # calls keeps its truncation, even when both fall on the same step
+                task_ended = done.value
+                plans.append(_five(cst.Name("terminated"), cst.Name("truncated")))
                 continue
             if position in accumulated and isinstance(done, cst.Name):
                 # ``done = done or <step limit>`` right before: that line becomes truncated
@@ -348,6 +352,8 @@ class ClassRewrite:
             body = _limit_line_to_truncated(body, accumulating, self.plan.non_limit_tests)
         if flagging is not None:
             body = _limit_flag_to_truncated(body, flagging, self.plan.non_limit_tests)
+        if task_ended is not None:
+            body = visit_suite(body, _TaskEndsTerminate(task_ended, _reads_beside_task_ends(fn, task_ended)))
         if rename_done:
             body = visit_suite(body, _NameRenamer({"done": "terminated"}))
             body = _bool_wrap_assignments(body, "terminated")
@@ -572,6 +578,100 @@ def _limit_line_to_truncated(body: cst.BaseSuite, name: str, data_ends: frozense
     statements = list(body.body)
     statements[-2] = line.with_changes(body=[new])
     return body.with_changes(body=statements)
+
+
+def _is_task_end(assign: cst.Assign, name: str) -> bool:
+    """``name = True`` or ``name = name or <test>``: GM504 found every such line of the step
+    to be the class's own end of the task (``step_delegates.task_ends``)."""
+    if len(assign.targets) != 1 or not m.matches(assign.targets[0].target, m.Name(name)):
+        return False
+    value = assign.value
+    return m.matches(value, m.Name("True")) or (
+        isinstance(value, cst.BooleanOperation) and isinstance(value.operator, cst.Or) and m.matches(value.left, m.Name(name))
+    )
+
+
+def _reads_beside_task_ends(fn: cst.FunctionDef, name: str) -> bool:
+    """``name`` is read somewhere other than the returns and the ``name or <test>`` of its
+    own task ends (``if done: self.reset_goal()``): it must keep holding the old done."""
+    own = 0
+
+    class Count(cst.CSTVisitor):
+        def visit_Assign(self, node: cst.Assign) -> None:
+            nonlocal own
+            own += _is_task_end(node, name) and not m.matches(node.value, m.Name("True"))
+
+    fn.body.visit(Count())
+    index = _index(fn)
+    in_returns = sum(_index(r).names.get(name, 0) for r in own_returns(fn))
+    return index.names.get(name, 0) - in_returns - index.assign_targets.get(name, 0) - own > 0
+
+
+class _TaskEndsTerminate(cst.CSTTransformer):
+    """``done = True`` -> ``terminated = True`` and ``done = done or <test>`` -> ``terminated =
+    terminated or <test>``: the class's own end is a terminal state on every step, the one a
+    base's step limit truncates too. Where ``done`` is read elsewhere, it keeps the old
+    meaning: ``done = True`` stays beside the new line, ``done = terminated or truncated``
+    follows the other."""
+
+    def __init__(self, name: str, keep: bool) -> None:
+        self.name = name
+        self.keep = keep
+
+    def visit_FunctionDef(self, node: cst.FunctionDef) -> bool:
+        return False
+
+    def visit_ClassDef(self, node: cst.ClassDef) -> bool:
+        return False
+
+    def visit_Lambda(self, node: cst.Lambda) -> bool:
+        return False
+
+    def _terminating(self, assign: cst.Assign) -> list[cst.BaseSmallStatement]:
+        target = [assign.targets[0].with_changes(target=cst.Name("terminated"))]
+        if m.matches(assign.value, m.Name("True")):
+            new = assign.with_changes(targets=target)
+            return [assign, new] if self.keep else [new]
+        value = assign.value
+        assert isinstance(value, cst.BooleanOperation)
+        new = assign.with_changes(targets=target, value=value.with_changes(left=cst.Name("terminated")))
+        if not self.keep:
+            return [new]
+        again = cst.parse_statement(f"{self.name} = terminated or truncated\n")
+        assert isinstance(again, cst.SimpleStatementLine)
+        return [new, again.body[0]]
+
+    def _small_statements(self, statements: Sequence[cst.BaseSmallStatement]) -> list[cst.BaseSmallStatement] | None:
+        """The statements with each task end replaced; None when none is one."""
+        found: list[cst.BaseSmallStatement] = []
+        for statement in statements:
+            if isinstance(statement, cst.Assign) and _is_task_end(statement, self.name):
+                found += self._terminating(statement.with_changes(semicolon=cst.MaybeSentinel.DEFAULT))
+            else:
+                found.append(statement)
+        if len(found) == len(statements) and all(a is b for a, b in zip(found, statements)):
+            return None
+        semicolon = cst.Semicolon(whitespace_after=cst.SimpleWhitespace(" "))
+        return [s.with_changes(semicolon=semicolon) for s in found[:-1]] + [found[-1].with_changes(semicolon=cst.MaybeSentinel.DEFAULT)]
+
+    def leave_SimpleStatementLine(
+        self, original_node: cst.SimpleStatementLine, updated_node: cst.SimpleStatementLine
+    ) -> cst.SimpleStatementLine | cst.FlattenSentinel[cst.SimpleStatementLine]:
+        if len(updated_node.body) == 1 and isinstance(updated_node.body[0], cst.Assign) and _is_task_end(updated_node.body[0], self.name):
+            # a line of its own: the new statements get lines of their own
+            first, *rest = self._terminating(updated_node.body[0])
+            lines = [updated_node.with_changes(body=[first])]
+            lines += [cst.SimpleStatementLine(body=[statement]) for statement in rest]
+            return cst.FlattenSentinel(lines) if rest else lines[0]
+        body = self._small_statements(updated_node.body)
+        return updated_node if body is None else updated_node.with_changes(body=body)
+
+    def leave_SimpleStatementSuite(
+        self, original_node: cst.SimpleStatementSuite, updated_node: cst.SimpleStatementSuite
+    ) -> cst.SimpleStatementSuite:
+        # ``if solved: done = True`` on one line: the new statements stay on it
+        body = self._small_statements(updated_node.body)
+        return updated_node if body is None else updated_node.with_changes(body=body)
 
 
 def _replace_reset_alias(classdef: cst.ClassDef, hook: str, seed_hook: str | None, calls_super: bool) -> cst.ClassDef:

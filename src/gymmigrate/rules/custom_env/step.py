@@ -304,7 +304,7 @@ def _decide_returns(
             decision.report(
                 ret,
                 "GM504",
-                f"step returns the done of super().step(...), and {unknown_base_text(decision, base)}: if its step "
+                f"step returns the done of {base.call}, and {unknown_base_text(decision, base)}: if its step "
                 f"returns Gymnasium's five values, return `bool({done.id}) and not truncated, truncated` (its "
                 "truncation stays one); if it keeps four, keep this step's unpack and return as they were; not rewritten",
                 FixKind.FLAG,
@@ -353,13 +353,15 @@ def _decide_returns(
             decision, index, done.id, frozenset(id(e) for e in ends)
         ):
             # ``obs, r, done, info = super().step(a)`` then ``if solved: done = True``: the
-            # class's own end is a terminal state; the step it calls keeps its truncation.
+            # class's own end is a terminal state, on the step the base truncates too; the
+            # step it calls keeps its truncation.
             decision.plan.task_end_returns.setdefault(function.name, set()).add(position)
+            lines = ", ".join(str(end.lineno) for end in ends)
             decision.report(
                 ret,
                 "GM504",
-                f"step returns the truncated of the step it calls, and its own end of the task (`{done.id} = True` on "
-                f"line {ends[0].lineno}) as terminated: `bool({done.id}) and not truncated`",
+                f"step returns the terminated and truncated of the step it calls, and its own ends of the task "
+                f"(`{facts.segment(ends[0])}`, line{'s' if len(ends) > 1 else ''} {lines}) set terminated instead of `{done.id}`",
                 FixKind.ASSIST,
                 tier=Tier.NOTE,
             )

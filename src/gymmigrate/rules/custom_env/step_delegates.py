@@ -9,6 +9,7 @@ added to it. ``step.py`` decides with them.
 from __future__ import annotations
 
 import ast
+from typing import NamedTuple
 
 from gymmigrate.facts.env_classes import FunctionIndex, is_super_method_call
 from gymmigrate.facts.limit_tests import if_setting_true, is_step_limit
@@ -80,9 +81,11 @@ def returns_five_from_helper(ret: ast.Return, decision: ClassDecision) -> bool:
 
 
 def task_ends(decision: ClassDecision, index: FunctionIndex, name: str) -> list[ast.Assign]:
-    """The ``name = True`` lines in one branch of an ``if`` whose test is no step limit and
-    whose other branch leaves ``name`` as it was (``else: reward = -100; done = True``: the
-    agent died), when every assignment of ``name`` but one is such a line; else nothing."""
+    """The lines that add the class's own end of the task to ``name``: ``name = True`` in one
+    branch of an ``if`` whose test is no step limit and whose other branch leaves ``name`` as
+    it was (``else: reward = -100; done = True``: the agent died), and ``name = name or
+    <test>`` whose test is no step limit; nothing where no line is one. The caller checks
+    that every other assignment of ``name`` but one is such a line."""
     assigns = [
         a
         for a in index.of(ast.Assign)
@@ -91,13 +94,29 @@ def task_ends(decision: ClassDecision, index: FunctionIndex, name: str) -> list[
     ends = []
     for assign in assigns:
         parent = if_setting_true(assign, decision.family.facts.parent(assign))
-        if (
-            parent is not None
-            and not _assigns_in(parent.orelse if assign in parent.body else parent.body, name)
-            and not any(isinstance(n, ast.Compare) and is_step_limit(n, class_data_ends(decision), class_streaks(decision)) for n in walk(parent.test))
-        ):
+        if parent is not None:
+            test: ast.AST = parent.test
+            if _assigns_in(parent.orelse if assign in parent.body else parent.body, name):
+                continue
+        elif is_added_end(assign, name):  # type: ignore[arg-type]
+            test = assign.value  # type: ignore[attr-defined]
+        else:
+            continue
+        if not any(isinstance(n, ast.Compare) and is_step_limit(n, class_data_ends(decision), class_streaks(decision)) for n in walk(test)):
             ends.append(assign)
     return ends  # type: ignore[return-value]
+
+
+def is_added_end(assign: ast.Assign, name: str) -> bool:
+    """``name = name or <test>``: the flag as it was, or one more end."""
+    value = assign.value
+    return (
+        isinstance(value, ast.BoolOp)
+        and isinstance(value.op, ast.Or)
+        and isinstance(value.values[0], ast.Name)
+        and value.values[0].id == name
+        and not any(isinstance(n, ast.Name) and n.id == name for v in value.values[1:] for n in walk(v))
+    )
 
 
 def _assigns_in(statements: list[ast.stmt], name: str) -> bool:
@@ -123,17 +142,17 @@ def unpacked_from_inner_step(decision: ClassDecision, index: FunctionIndex, name
     value = _done_unpacked_from(index, name, besides)
     if value is None:
         return False
-    if is_super_method_call(value, "step"):
+    named = decision.env.base_method_target(decision.classdef, value, "step")
+    if named is not None or is_super_method_call(value, "step"):
         # five values after the run, and the step family unpacks them: both, or the return
         # would name flags the unpack never binds
-        return decision.env.base_step_migrates(decision.classdef) is True and _step_family_unpacks_super(decision, value)
+        return decision.env.base_step_migrates(decision.classdef, named) is True and _step_family_unpacks_super(decision, value)
     return inner_gym_env_call(decision, value, "step")
 
-
-def unknown_base_text(decision: ClassDecision, base: str) -> str:
-    if decision.env.base_step_migrates(decision.classdef):
-        return f"the step family cannot tell that `{base}` is a Gym env"  # it leaves the unpack as it is
-    return f"`{base}` is no env class this run holds"
+def unknown_base_text(decision: ClassDecision, base: UnknownBase) -> str:
+    if decision.env.base_step_migrates(decision.classdef, base.named):
+        return f"the step family cannot tell that `{base.text}` is a Gym env"  # it leaves the unpack as it is
+    return f"`{base.text}` is no env class this run holds"
 
 
 def _step_family_unpacks_super(decision: ClassDecision, call: ast.expr) -> bool:
@@ -189,18 +208,32 @@ def _done_unpacked_from(index: FunctionIndex, name: str, besides: frozenset[int]
     return value
 
 
-def from_unknown_base_step(decision: ClassDecision, index: FunctionIndex, name: str) -> str | None:
-    """``name`` is the done of ``super().step(a)`` (or that done with the class's own task
-    ends) where the run does not show what the first base's step returns once migrated:
-    that base's text, else None."""
+class UnknownBase(NamedTuple):
+    """The base step a done is unpacked from, where the run cannot show what it returns."""
+
+    call: str  # ``super().step(...)`` / ``Base.step(...)``, for the report
+    text: str  # the class as written
+    named: ast.expr | None  # the class ``Base.step(self, a)`` names; None for ``super()``
+
+
+def from_unknown_base_step(decision: ClassDecision, index: FunctionIndex, name: str) -> UnknownBase | None:
+    """``name`` is the done of ``super().step(a)`` or ``Base.step(self, a)`` (or that done
+    with the class's own task ends) where the run does not show what the base it reaches
+    returns once migrated: that base, else None."""
     ends = frozenset(id(e) for e in task_ends(decision, index, name))
     value = _done_unpacked_from(index, name, ends)
-    if value is None or not is_super_method_call(value, "step"):
+    if value is None:
         return None
-    if decision.env.base_step_migrates(decision.classdef) and _step_family_unpacks_super(decision, value):
+    target = decision.env.base_method_target(decision.classdef, value, "step")
+    if target is None:
         return None
-    bases = [b for b in decision.classdef.bases if not (isinstance(b, ast.Name) and b.id == "object")]
-    return decision.family.facts.segment(bases[0]) if bases else None
+    named = None if is_super_method_call(value, "step") else target
+    if decision.env.base_step_migrates(decision.classdef, named) and _step_family_unpacks_super(decision, value):
+        return None
+    facts = decision.family.facts
+    if named is not None:
+        return UnknownBase(f"{facts.segment(named)}.step(...)", facts.segment(named), named)
+    return UnknownBase("super().step(...)", facts.segment(target), None)
 
 
 def single_assignment(index: FunctionIndex, name: str) -> ast.AST | None:

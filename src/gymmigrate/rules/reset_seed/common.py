@@ -12,7 +12,7 @@ from collections.abc import Hashable
 
 from gymmigrate.facts.decisions import Action, Decision, decide
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.module import is_super_call
+from gymmigrate.facts.module import is_super_call, named_class_call
 from gymmigrate.facts.reset_flow import (
     InfoNames,
     NumpySeeds,
@@ -46,12 +46,24 @@ class ResetSeedBase(RuleFamily):
     # -- the receiver ---------------------------------------------------------------------
 
     def _receiver_kind(self, receiver: ast.expr) -> EnvKind:
-        # ``super().reset()`` inside a Gym wrapper reaches the wrapped env's reset.
-        if is_super_call(receiver):
+        # ``super().reset()`` inside a Gym wrapper reaches the wrapped env's reset; so does
+        # ``gym.Wrapper.reset(self)``, naming the base ``super()`` would reach.
+        if is_super_call(receiver) or isinstance(receiver, (ast.Name, ast.Attribute)):
             classdef = self.facts.enclosing_class(receiver)
             if classdef is not None and self.receivers.is_gym_wrapper_class(classdef):
-                return EnvKind.GYM_ENV
+                if is_super_call(receiver) or self.receivers.super_kind(receiver) is EnvKind.GYM_ENV:
+                    return EnvKind.GYM_ENV
         return self.receivers.kind_of(receiver)
+
+    def _names_base(self, call: ast.Call) -> bool:
+        """``Base.reset(self, ...)`` naming a base of the method's class: its first argument
+        is the instance, not an argument of the reset."""
+        function = self.facts.enclosing_function(call)
+        classdef = self.facts.enclosing_class(call)
+        if function is None or classdef is None or self.facts.parent(function) is not classdef:
+            return False
+        method = call.func.attr if isinstance(call.func, ast.Attribute) else ""
+        return named_class_call(call, method, function, classdef.bases) is not None
 
     def _decide(self, receiver: ast.expr, legacy_shape: bool = False) -> tuple[Decision, bool]:
         """The decision for a Gym single-env or vector-env call, and whether it is a vector env."""

@@ -151,7 +151,8 @@ class ResetCalls(ResetSeedBase):
     def _check_custom_arguments(self, call: ast.Call, name: str, keywords: dict[str, ast.keyword]) -> None:
         """GM207: reset() takes only seed= and options= (and, until 0.25, return_info=)."""
         custom = [key for key in keywords if key not in RESET_KEYWORDS and key not in self.contract_keywords]
-        positional = any(not isinstance(arg, ast.Starred) for arg in call.args)
+        arguments = call.args[1:] if self._names_base(call) else call.args  # the instance aside
+        positional = any(not isinstance(arg, ast.Starred) for arg in arguments)
         if custom or positional:
             shown = ", ".join(f"`{key}=`" for key in custom) or "positional arguments"
             self.report(
@@ -309,7 +310,7 @@ class ResetCalls(ResetSeedBase):
         inner = (
             isinstance(receiver, ast.Attribute) and isinstance(receiver.value, ast.Name)
             and receiver.value.id == "self" and receiver.attr == "env"
-        ) or is_super_call(receiver)
+        ) or is_super_call(receiver) or self._names_base(call)
         # a reset kept with a batch's own step hands on only the observation: ``[0]`` here
         return inner and self.receivers.is_gym_wrapper_class(classdef) and not self.receivers.keeps_own_reset(classdef)
 

@@ -62,19 +62,38 @@ def _is_inner_env(node: ast.expr, inner: Sequence[str] = INNER) -> bool:
     return is_super_call(node)
 
 
-def _inner_call(node: ast.AST | None, method: str, inner: Sequence[str] = INNER) -> ast.Call | None:
-    """``node`` if it is ``self.env.<method>(...)`` or ``super().<method>(...)``."""
+def _inner_call(
+    node: ast.AST | None, method: str, inner: Sequence[str] = INNER, bases: Sequence[ast.expr] = ()
+) -> ast.Call | None:
+    """``node`` if it is ``self.env.<method>(...)`` or ``super().<method>(...)``, or
+    ``Base.<method>(self, ...)`` naming one of the class's ``bases``: the wrapper's base
+    class, whose method reaches the wrapped env as ``super()`` does."""
     if (
         isinstance(node, ast.Call)
         and isinstance(node.func, ast.Attribute)
         and node.func.attr == method
-        and _is_inner_env(node.func.value, inner)
+        and (_is_inner_env(node.func.value, inner) or is_base_call(node, bases))
     ):
         return node
     return None
 
 
-def _inner_calls(root: ast.AST, method: str, inner: Sequence[str] = INNER) -> list[ast.Call]:
+def is_base_call(call: ast.Call, bases: Sequence[ast.expr]) -> bool:
+    """``Base.method(self, ...)`` naming one of ``bases`` as the class statement spells it."""
+    receiver = call.func.value if isinstance(call.func, ast.Attribute) else None
+    if not isinstance(receiver, (ast.Name, ast.Attribute)) or not call.args:
+        return False
+    first = call.args[0]
+    text = ast.dump(receiver)
+    return isinstance(first, ast.Name) and first.id == "self" and any(ast.dump(base) == text for base in bases)
+
+
+def arguments_of(call: ast.Call, bases: Sequence[ast.expr]) -> list[ast.expr]:
+    """The arguments a call hands the method, the instance of ``Base.method(self, ...)`` aside."""
+    return call.args[1:] if is_base_call(call, bases) else call.args
+
+
+def _inner_calls(root: ast.AST, method: str, inner: Sequence[str] = INNER, bases: Sequence[ast.expr] = ()) -> list[ast.Call]:
     """Inner ``method`` calls under ``root``, not inside lambdas, in source order."""
     found: list[ast.Call] = []
     stack = [root]
@@ -82,7 +101,7 @@ def _inner_calls(root: ast.AST, method: str, inner: Sequence[str] = INNER) -> li
         node = stack.pop()
         if isinstance(node, ast.Lambda):
             continue
-        call = _inner_call(node, method, inner)  # ``node`` itself, as a Call
+        call = _inner_call(node, method, inner, bases)  # ``node`` itself, as a Call
         if call is not None:
             found.append(call)
         stack.extend(ast.iter_child_nodes(node))

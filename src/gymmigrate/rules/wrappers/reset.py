@@ -31,6 +31,7 @@ from gymmigrate.rules.wrappers.common import (
     _statements,
     _target_names,
     _tuple,
+    arguments_of,
     inner_env_names,
 )
 
@@ -40,12 +41,13 @@ class ResetOverrides(RuleFamily):
 
     def _fix_reset(self, classdef: ast.ClassDef, function: ast.FunctionDef | ast.AsyncFunctionDef) -> None:
         inner = inner_env_names(classdef)  # ``self._env`` kept beside ``self.env``
+        bases = classdef.bases  # ``gym.Wrapper.reset(self)``: the base's reset, as ``super()``'s
         noted_info = self.notes.reset_info_names.get(f"{classdef.name}.{function.name}")
         info_name: str | None = None
         completed: set[ast.stmt] = set()  # one-name resets the reset family unpacks into ``obs, info``
         for line in _statements(function.body):
             assign = _single_assign(line)
-            if assign is None or _inner_call(assign.value, "reset", inner) is None:
+            if assign is None or _inner_call(assign.value, "reset", inner, bases) is None:
                 continue
             target = assign.targets[0]
             targets = _target_names(target)
@@ -54,18 +56,18 @@ class ResetOverrides(RuleFamily):
             elif isinstance(target, ast.Name) and noted_info is not None:
                 info_name = info_name or noted_info
                 completed.add(assign)
-        passed_on = self._fix_reset_signature(function, inner)
+        passed_on = self._fix_reset_signature(function, inner, bases)
         taken = _names_in(function)
         needs_info_default = False
         for ret in own_returns(function):
             value = ret.value
-            if value is None or _inner_call(value, "reset", inner) is not None:
+            if value is None or _inner_call(value, "reset", inner, bases) is not None:
                 continue  # a pass-through already returns (obs, info)
             if _already_pair(value, info_name):
                 continue
-            calls = _inner_calls(value, "reset", inner)
+            calls = _inner_calls(value, "reset", inner, bases)
             if calls:
-                self._hoist_reset(ret, calls, taken, passed_on)
+                self._hoist_reset(ret, calls, taken, passed_on, bases)
                 continue
             info_code = "{}"
             if info_name is not None:
@@ -99,7 +101,9 @@ class ResetOverrides(RuleFamily):
             else:
                 self.plan.insert_before(body[0], f"{info_name} = {{}}")
 
-    def _fix_reset_signature(self, function: ast.FunctionDef | ast.AsyncFunctionDef, inner: Sequence[str] = INNER) -> set[int] | None:
+    def _fix_reset_signature(
+        self, function: ast.FunctionDef | ast.AsyncFunctionDef, inner: Sequence[str] = INNER, bases: Sequence[ast.expr] = ()
+    ) -> set[int] | None:
         """``def reset(self)`` cannot take the seed/options that every outer wrapper passes.
         The new signature's seed and options go on to the inner resets: the ids of those that
         reset again after another (options only) where the signature is new, else None."""
@@ -108,8 +112,8 @@ class ResetOverrides(RuleFamily):
             return None
         # The edits first, then the finding they carry out (how the plan ties an edit to the
         # finding it serves when the run leaves GM601 out: the pass-on must go with it).
-        calls = _inner_calls(function, "reset", inner)
-        bare = [c for c in calls if not c.args and not c.keywords]
+        calls = _inner_calls(function, "reset", inner, bases)
+        bare = [c for c in calls if not arguments_of(c, bases) and not c.keywords]
         again, reseeded = self._resets_again(function, calls, bare)
         for call in bare:
             self.plan.replace(call, _pass_options if id(call) in again else _pass_seed_and_options)
@@ -133,7 +137,9 @@ class ResetOverrides(RuleFamily):
         reseeded = [c for c in seeded if any(flow.may_run_before(c, o, function) for o in seeded)]
         return again, reseeded
 
-    def _hoist_reset(self, ret: ast.Return, calls: list[ast.Call], taken: set[str], passed_on: set[int] | None) -> None:
+    def _hoist_reset(
+        self, ret: ast.Return, calls: list[ast.Call], taken: set[str], passed_on: set[int] | None, bases: Sequence[ast.expr] = ()
+    ) -> None:
         """``return f(self.env.reset(**kw))`` -> ``obs, info = self.env.reset(**kw)`` + ``return f(obs), info``."""
         if len(calls) != 1 or self._shares_line(ret):
             self.report(ret, "GM601", "reset must return (obs, info): rewrite this return by hand", kind=FixKind.FLAG)
@@ -143,17 +149,21 @@ class ResetOverrides(RuleFamily):
         # The same function of the same observation, and the inner reset's own info: exact.
         self.report(ret, "GM601", f"reset returns (obs, info): the inner reset is unpacked into `{obs_name}, {info_name}`", tier=Tier.NOTE)
         call_text = self.facts.segment(call)
-        if passed_on is not None and not call.args and not call.keywords:
+        if passed_on is not None and not arguments_of(call, bases) and not call.keywords:
             keywords = "options=options" if id(call) in passed_on else "seed=seed, options=options"
-            call_text = call_text[: call_text.rindex("(") + 1] + keywords + ")"
+            if call.args:  # ``Base.reset(self)``: after the instance
+                call_text = call_text[: call_text.rindex(")")].rstrip().rstrip(",") + ", " + keywords + ")"
+            else:
+                call_text = call_text[: call_text.rindex("(") + 1] + keywords + ")"
         self.plan.insert_before(ret, f"{obs_name}, {info_name} = {call_text}")
+        spelled = frozenset(self.facts.segment(base) for base in bases)
 
         def rewrite(node: cst.Return) -> cst.Return:
             from gymmigrate.rules.wrappers.cst_builds import (
                 ObservationOf,  # the apply layer: LibCST
             )
 
-            value = node.value.visit(ObservationOf(obs_name))  # type: ignore[union-attr]
+            value = node.value.visit(ObservationOf(obs_name, spelled))  # type: ignore[union-attr]
             return node.with_changes(value=_tuple([_parenthesized(value), cst.Name(info_name)]))  # type: ignore[arg-type]
 
         self.plan.replace(ret, rewrite)
@@ -237,10 +247,11 @@ def _pass_seed_and_options(node: cst.BaseExpression) -> cst.BaseExpression:
     # (its result assigned to one name and used as the observation): seed the call inside.
     if isinstance(node, cst.Subscript):
         return node.with_changes(value=_pass_seed_and_options(node.value))
-    if not isinstance(node, cst.Call) or node.args:
+    if not isinstance(node, cst.Call) or not _bare(node):
         return node
     return node.with_changes(
         args=[
+            *_instance(node),
             cst.Arg(keyword=cst.Name("seed"), value=cst.Name("seed"), equal=_assign_equal(), comma=_comma()),
             cst.Arg(keyword=cst.Name("options"), value=cst.Name("options"), equal=_assign_equal()),
         ]
@@ -251,9 +262,25 @@ def _pass_options(node: cst.BaseExpression) -> cst.BaseExpression:
     """A reset after the first: the options again, not the seed (see ``_resets_again``)."""
     if isinstance(node, cst.Subscript):
         return node.with_changes(value=_pass_options(node.value))
-    if not isinstance(node, cst.Call) or node.args:
+    if not isinstance(node, cst.Call) or not _bare(node):
         return node
-    return node.with_changes(args=[cst.Arg(keyword=cst.Name("options"), value=cst.Name("options"), equal=_assign_equal())])
+    return node.with_changes(
+        args=[*_instance(node), cst.Arg(keyword=cst.Name("options"), value=cst.Name("options"), equal=_assign_equal())]
+    )
+
+
+def _bare(call: cst.Call) -> bool:
+    """No arguments, or only the instance ``Base.reset(self)`` hands on (the rule chose the
+    call on ``ast``: a lone ``self`` there is that instance)."""
+    if not call.args:
+        return True
+    (only, *rest) = call.args
+    return not rest and only.keyword is None and not only.star and isinstance(only.value, cst.Name) and only.value.value == "self"
+
+
+def _instance(call: cst.Call) -> list[cst.Arg]:
+    """``self`` of ``Base.reset(self)``, followed by a comma, or nothing."""
+    return [call.args[0].with_changes(comma=_comma())] if call.args else []
 
 
 def _keyword_seed_and_options(node: cst.FunctionDef) -> cst.FunctionDef:

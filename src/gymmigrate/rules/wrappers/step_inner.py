@@ -243,9 +243,10 @@ def _read_inner_step(
     # attribute and that unpack (the step family keeps it as ``terminated or truncated``)
     done_attribute: tuple[str, ast.stmt] | None = None
     aliases = _inner_aliases(classdef) if isinstance(classdef, ast.ClassDef) else frozenset()
+    bases = classdef.bases if isinstance(classdef, ast.ClassDef) else []  # ``gym.Wrapper.step(self, a)``
     for index, line in enumerate(lines):
         assign = _single_assign(line)
-        if assign is None or (_inner_call(assign.value, "step") is None and not _alias_step(assign.value, aliases)):
+        if assign is None or (_inner_call(assign.value, "step", bases=bases) is None and not _alias_step(assign.value, aliases)):
             bound |= _assigned_names(line)
             continue
         target = assign.targets[0]
