@@ -262,6 +262,7 @@ class ClassRewrite:
         truncating = self.plan.truncating_returns.get(self.renamed.get(method_name, method_name), set())
         passing = self.plan.passthrough_returns.get(self.renamed.get(method_name, method_name), set())
         task_ending = self.plan.task_end_returns.get(self.renamed.get(method_name, method_name), set())
+        foreign = self.plan.foreign_returns.get(self.renamed.get(method_name, method_name), set())
         per_agent = self.plan.per_agent_returns.get(self.renamed.get(method_name, method_name), {})
         per_agent_lines: dict[str, tuple[str, str]] = {}
         unpacked = self.plan.unpacked_helper_returns.get(self.renamed.get(method_name, method_name), {})
@@ -283,6 +284,9 @@ class ClassRewrite:
             done = ret.value.elements[2].value
             if position in passing:
                 plans.append(_five(cst.Name("terminated"), cst.Name("truncated")))
+                continue
+            if position in foreign:
+                plans.append(_five(done, cst.Name("False")))
                 continue
             if position in per_agent:
                 name, terminated, truncated = per_agent[position]

@@ -55,6 +55,7 @@ from gymmigrate.rules.custom_env.step_delegates import (
     single_assignment,
     task_ends,
     unknown_base_text,
+    unpacked_from_foreign_step,
     unpacked_from_inner_step,
     unpacked_helper_names,
 )
@@ -346,6 +347,20 @@ def _decide_returns(
                 ret,
                 "GM504",
                 f"step returns the terminated and truncated of the step it calls (`{done.id}` was their `or`)",
+                FixKind.ASSIST,
+                tier=Tier.NOTE,
+            )
+            continue
+        if isinstance(done, ast.Name) and (foreign := unpacked_from_foreign_step(decision, index, done.id)) is not None:
+            # The step it unpacks is left as it is (its own API, reported there): its done is
+            # all this step knows, so it is terminated, as it was for the legacy learner.
+            decision.plan.foreign_returns.setdefault(function.name, set()).add(position)
+            decision.report(
+                ret,
+                "GM504",
+                f"step returns `{done.id}` as terminated with truncated=False: it comes from "
+                f"`{facts.segment(foreign.func)}(...)` (line {foreign.lineno}), which is no Gym step and is left as "
+                "it is; split it with the port of that env",
                 FixKind.ASSIST,
                 tier=Tier.NOTE,
             )
