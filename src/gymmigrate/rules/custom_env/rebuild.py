@@ -290,6 +290,9 @@ class ClassRewrite:
                 continue
             if position in per_agent:
                 name, terminated, truncated = per_agent[position]
+                if not name:  # the arrangement is the returned value itself
+                    plans.append(_five(cst.parse_expression(terminated), cst.parse_expression(truncated)))
+                    continue
                 per_agent_lines[name] = (terminated, truncated)
                 plans.append(_five(cst.Name("terminated"), cst.Name("truncated")))
                 continue

@@ -365,28 +365,28 @@ def _decide_returns(
                 tier=Tier.NOTE,
             )
             continue
-        if isinstance(done, ast.Name) and (split := per_agent_split(decision, index, done.id)) is not None:
+        if (split := per_agent_split(decision, index, done)) is not None:
             # ``flags = np.stack([done["a"], done["b"]])`` of a PettingZoo parallel step: built
             # from its terminations and from its truncations, so its cut stays a truncation.
             decision.plan.per_agent_returns.setdefault(function.name, {})[position] = split
             decision.report(
                 ret,
                 "GM504",
-                f"step returns `{done.id}` built from the per-agent terminations as terminated and from the per-agent "
+                f"step returns `{facts.segment(done)}` built from the per-agent terminations as terminated and from the per-agent "
                 "truncations as truncated (the PettingZoo parallel step it calls splits its dones): a cut on the "
                 "parallel env's own limit stays a truncation",
                 FixKind.ASSIST,
                 tier=Tier.NOTE,
             )
             continue
-        if isinstance(done, ast.Name) and reads_parallel_dones(decision, index, done.id):
+        if reads_parallel_dones(decision, index, done):
             # ``all(...)``, ``and`` of the agents' flags: no agent keeps its own place, so the
             # two dicts give no terminated and truncated of the same shape; the parallel env
             # may cut the episode (``max_cycles``), so no note may say nothing limits it.
             decision.report(
                 ret,
                 "GM504",
-                f"step returns `{done.id}` as terminated with truncated=False, but it combines the per-agent dones of "
+                f"step returns `{facts.segment(done)}` as terminated with truncated=False, but it combines the per-agent dones of "
                 "a PettingZoo parallel step, which now come as terminations and truncations (the parallel env's own "
                 "cut, such as max_cycles, is a truncation): build terminated from the terminations and truncated from "
                 "the truncations by hand",

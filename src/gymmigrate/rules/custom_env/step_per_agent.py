@@ -42,17 +42,26 @@ class PerAgentSplit(NamedTuple):
     truncated: str
 
 
-def per_agent_split(decision: ClassDecision, index: FunctionIndex, name: str) -> PerAgentSplit | None:
-    """The split of ``name`` where it is assigned once from an arrangement of the per-agent
-    dones of a PettingZoo parallel step unpacked in the same function; else None."""
+def per_agent_split(decision: ClassDecision, index: FunctionIndex, done: ast.expr) -> PerAgentSplit | None:
+    """The split of a returned done that is an arrangement of the per-agent dones of a
+    PettingZoo parallel step unpacked in the same function (``done["a"]``), or a name
+    assigned once from one (``name`` is then that name, else ""); else None."""
     if any(isinstance(n, ast.Name) and n.id in ("terminated", "truncated") for n in index.of(ast.Name)):
         return None
     selection = decision.family.context.options.selection
     if selection is not None and not selection.allows("PZ104"):
         return None  # the parallel unpack stays a four-value one: there are no two dicts to read
-    value = single_assignment(index, name)
+    name = ""
+    value: ast.AST | None = done
+    if isinstance(done, ast.Name):
+        name, value = done.id, single_assignment(index, done.id)
     if not isinstance(value, ast.expr):
         return None
+    split = _split(decision, index, value)
+    return None if split is None else PerAgentSplit(name, *split)
+
+
+def _split(decision: ClassDecision, index: FunctionIndex, value: ast.expr) -> tuple[str, str] | None:
     facts = decision.family.facts
     dones = _parallel_dones(decision, index, value)
     if dones is None:
@@ -82,13 +91,13 @@ def per_agent_split(decision: ClassDecision, index: FunctionIndex, name: str) ->
             reads.append(node)
     if not reads:
         return None
-    return PerAgentSplit(name, _renamed(facts, value, reads, TERMINATIONS), _renamed(facts, value, reads, TRUNCATIONS))
+    return _renamed(facts, value, reads, TERMINATIONS), _renamed(facts, value, reads, TRUNCATIONS)
 
 
-def reads_parallel_dones(decision: ClassDecision, index: FunctionIndex, name: str) -> bool:
-    """``name`` is assigned once from the per-agent dones of a PettingZoo parallel step
-    unpacked in the function, however it combines them."""
-    value = single_assignment(index, name)
+def reads_parallel_dones(decision: ClassDecision, index: FunctionIndex, done: ast.expr) -> bool:
+    """A returned done that reads the per-agent dones of a PettingZoo parallel step unpacked
+    in the function (or a name assigned once from them), however it combines them."""
+    value = single_assignment(index, done.id) if isinstance(done, ast.Name) else done
     return isinstance(value, ast.expr) and _parallel_dones(decision, index, value) is not None
 
 
