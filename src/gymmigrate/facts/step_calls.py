@@ -13,20 +13,32 @@ from __future__ import annotations
 import ast
 from typing import Protocol
 
+from gymmigrate.facts.module import ModuleFacts
+
 
 class _Origins(Protocol):
     def run_defined(self, expr: ast.AST) -> bool: ...
 
 
-def extra_actions(call: ast.Call) -> int:
+def extra_actions(call: ast.Call, facts: ModuleFacts) -> int:
     """How many positional arguments beyond one action ``call`` passes (a starred one
-    counts as none: its length is unknown)."""
-    if any(isinstance(arg, ast.Starred) for arg in call.args):
+    counts as none: its length is unknown). ``Base.step(self, a)`` hands the method's own
+    instance first: that argument is the receiver, not an action."""
+    args = call.args
+    if any(isinstance(arg, ast.Starred) for arg in args):
         return 0
-    return max(len(call.args) - 1, 0)
+    function = facts.enclosing_function(call)
+    if args and function is not None and isinstance(args[0], ast.Name) and _first_parameter(function) == args[0].id:
+        args = args[1:]
+    return max(len(args) - 1, 0)
 
 
-def foreign_step(call: ast.Call, origins: _Origins) -> bool:
+def _first_parameter(function: ast.FunctionDef | ast.AsyncFunctionDef) -> str | None:
+    positional = [*function.args.posonlyargs, *function.args.args]
+    return positional[0].arg if positional else None
+
+
+def foreign_step(call: ast.Call, origins: _Origins, facts: ModuleFacts) -> bool:
     """``receiver.step(a, b)`` on an object the run does not define: not Gym's step."""
     func = call.func
-    return isinstance(func, ast.Attribute) and extra_actions(call) > 0 and not origins.run_defined(func.value)
+    return isinstance(func, ast.Attribute) and extra_actions(call, facts) > 0 and not origins.run_defined(func.value)

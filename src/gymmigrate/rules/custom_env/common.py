@@ -309,7 +309,7 @@ def inner_gym_env_call(decision: ClassDecision, node: ast.AST, method: str) -> b
     if isinstance(receiver, ast.Call):
         return False  # super().<method>(...): the class rules' own business
     family = decision.family
-    if method == "step" and foreign_step(node, family.receivers):
+    if method == "step" and foreign_step(node, family.receivers, family.facts):
         return False  # ``self.sim.step(a, b)``: the held object's own API, left as it is
     kind = family.receivers.kind_of(receiver)
     return decide(kind, receiver, family.context.profile).action in (Action.REWRITE, Action.REWRITE_FOR_REVIEW)

@@ -135,7 +135,7 @@ def unpacked_from_foreign_step(decision: ClassDecision, index: FunctionIndex, na
     """The ``self.sim.step(a, b)`` that ``name`` is unpacked from as its done, where that
     call is no Gym step (``facts/step_calls.py``): the step family leaves it as it is."""
     value = _done_unpacked_from(index, name)
-    if isinstance(value, ast.Call) and foreign_step(value, decision.family.receivers):
+    if isinstance(value, ast.Call) and foreign_step(value, decision.family.receivers, decision.family.facts):
         return value
     return None
 

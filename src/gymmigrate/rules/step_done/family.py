@@ -85,14 +85,14 @@ class StepDone(UnpackRules, TimeLimitRules, ResultRules):
             # so there is nothing to migrate and nothing to ask
             return
         parent = self.facts.parent(call)
-        if foreign_step(call, self.receivers):
+        if foreign_step(call, self.receivers, self.facts):
             # never rewritten; asked about only where the receiver is otherwise a Gym env
             # (a model's ``step(obs, states, dones)`` is no env at all)
             if self.receivers.kind_of(receiver).is_gym and not (isinstance(parent, ast.Expr) or _five_targets(parent, call)):
                 self.report(
                     call,
                     "GM301",
-                    f"`{self.facts.segment(func)}(...)` is called with {1 + extra_actions(call)} actions: Gym's step "
+                    f"`{self.facts.segment(func)}(...)` is called with {1 + extra_actions(call, self.facts)} actions: Gym's step "
                     "takes one, so this is the env's own step API (a package of its own, such as a second player's "
                     "action), not Gym's; its result is left as it is. Through Shimmy's compatibility env step() takes "
                     "one action: port this env by hand, or keep its module on gym",
