@@ -36,9 +36,9 @@ from gymmigrate.rules.custom_env.cst_edits import (
     _ModeReader,
     _modern_reset_params,
     _NameRenamer,
-    _PerAgentSplitter,
     _needs_bool,
     _param_names,
+    _PerAgentSplitter,
     _rename_names,
     _ReturnRewriter,
     _SelfMethodCallRenamer,
@@ -289,11 +289,11 @@ class ClassRewrite:
                 plans.append(_five(done, cst.Name("False")))
                 continue
             if position in per_agent:
-                name, terminated, truncated = per_agent[position]
+                name, terminated_text, truncated_text = per_agent[position]
                 if not name:  # the arrangement is the returned value itself
-                    plans.append(_five(cst.parse_expression(terminated), cst.parse_expression(truncated)))
+                    plans.append(_five(cst.parse_expression(terminated_text), cst.parse_expression(truncated_text)))
                     continue
-                per_agent_lines[name] = (terminated, truncated)
+                per_agent_lines[name] = (terminated_text, truncated_text)
                 plans.append(_five(cst.Name("terminated"), cst.Name("truncated")))
                 continue
             if position in task_ending and isinstance(done, cst.Name):
@@ -359,8 +359,8 @@ class ClassRewrite:
             fn = fn.with_changes(returns=fn.returns.with_changes(annotation=annotation.with_changes(slice=elements)))
         for name, (task, limit) in splits.items():
             body = visit_suite(body, _DoneSplitter(name, task, limit, keep_done=_reads_name_outside_returns(fn, name)))
-        for name, (terminated, truncated) in per_agent_lines.items():
-            body = visit_suite(body, _PerAgentSplitter(name, terminated, truncated, keep=_reads_name_outside_returns(fn, name)))
+        for name, (terminated_text, truncated_text) in per_agent_lines.items():
+            body = visit_suite(body, _PerAgentSplitter(name, terminated_text, truncated_text, keep=_reads_name_outside_returns(fn, name)))
         if accumulating is not None:
             body = _limit_line_to_truncated(body, accumulating, self.plan.non_limit_tests)
         if flagging is not None:

@@ -70,7 +70,10 @@ from gymmigrate.rules.custom_env.step_limits import (
     split_tier,
     step_limit_text,
 )
-from gymmigrate.rules.custom_env.step_per_agent import per_agent_split, reads_parallel_dones
+from gymmigrate.rules.custom_env.step_per_agent import (
+    per_agent_split,
+    reads_parallel_dones,
+)
 
 __all__ = ["decide_step", "is_step_limit", "unwrap_bool"]
 

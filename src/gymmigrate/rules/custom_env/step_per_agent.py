@@ -132,9 +132,9 @@ def _parallel_dones(decision: ClassDecision, index: FunctionIndex, value: ast.ex
 
 
 def _bindings(index: FunctionIndex, name: str) -> int:
-    return sum(
-        1 for node in index.of(ast.Name) if node.id == name and isinstance(node.ctx, (ast.Store, ast.Del))  # type: ignore[attr-defined]
-    ) + sum(1 for node in index.of(ast.arg) if node.arg == name)  # type: ignore[attr-defined]
+    stores = [n for n in index.of(ast.Name) if isinstance(n, ast.Name) and n.id == name and isinstance(n.ctx, (ast.Store, ast.Del))]
+    params = [a for a in index.of(ast.arg) if isinstance(a, ast.arg) and a.arg == name]
+    return len(stores) + len(params)
 
 
 def _aside(node: ast.AST, dones: str) -> list[ast.AST]:
