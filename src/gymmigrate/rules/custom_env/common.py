@@ -15,6 +15,7 @@ from gymmigrate.facts.env_classes import (
     is_super_method_call,
 )
 from gymmigrate.facts.module import full_name, own_returns, walk
+from gymmigrate.facts.step_calls import foreign_step
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import Rule
 from gymmigrate.rules.custom_env.plans import ClassPlan
@@ -308,6 +309,8 @@ def inner_gym_env_call(decision: ClassDecision, node: ast.AST, method: str) -> b
     if isinstance(receiver, ast.Call):
         return False  # super().<method>(...): the class rules' own business
     family = decision.family
+    if method == "step" and foreign_step(node, family.receivers, family.facts):
+        return False  # ``self.sim.step(a, b)``: the held object's own API, left as it is
     kind = family.receivers.kind_of(receiver)
     return decide(kind, receiver, family.context.profile).action in (Action.REWRITE, Action.REWRITE_FOR_REVIEW)
 

@@ -602,6 +602,32 @@ class _DoneSplitter(cst.CSTTransformer):
         return cst.FlattenSentinel(lines)
 
 
+class _PerAgentSplitter(cst.CSTTransformer):
+    """``flags = <arrangement of per-agent dones>`` -> ``terminated = <it over terminations>``
+    / ``truncated = <it over truncations>``, the old line kept first where other code reads it
+    (arrays of flags have no ``or`` to rebuild it from the two)."""
+
+    def __init__(self, name: str, terminated: str, truncated: str, keep: bool) -> None:
+        self.name = name
+        self.terminated = terminated
+        self.truncated = truncated
+        self.keep = keep
+
+    def leave_SimpleStatementLine(
+        self, original_node: cst.SimpleStatementLine, updated_node: cst.SimpleStatementLine
+    ) -> cst.BaseStatement | cst.FlattenSentinel[cst.BaseStatement]:
+        if not m.matches(updated_node, m.SimpleStatementLine([m.Assign(targets=[m.AssignTarget(m.Name(self.name))])])):
+            return updated_node
+        lines: list[cst.BaseStatement] = [
+            updated_node.with_changes(body=[cst.Assign([cst.AssignTarget(cst.Name("terminated"))], cst.parse_expression(self.terminated))]),
+            cst.SimpleStatementLine([cst.Assign([cst.AssignTarget(cst.Name("truncated"))], cst.parse_expression(self.truncated))]),
+        ]
+        if self.keep:
+            lines.insert(0, updated_node)
+            lines[1] = lines[1].with_changes(leading_lines=[])
+        return cst.FlattenSentinel(lines)
+
+
 class _SelfSeedCallRemover(cst.CSTTransformer):
     """Drops ``self.seed(...)`` statements, or puts ``replacement`` statements in their place."""
 

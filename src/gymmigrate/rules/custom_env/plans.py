@@ -91,6 +91,12 @@ class ClassPlan:
     non_limit_tests: frozenset[str] = frozenset()
     # method -> positions of returns that hand on an inner step's terminated and truncated
     passthrough_returns: dict[str, set[int]] = field(default_factory=dict)
+    # method -> positions of returns whose done comes from a step that is no Gym step (two
+    # actions): ``<done>, False``, the name kept as the unpack left as it is binds it
+    foreign_returns: dict[str, set[int]] = field(default_factory=dict)
+    # method -> position -> (name, terminated, truncated): a done assigned once from the
+    # per-agent dones of a PettingZoo parallel step, built again from each of its two dicts
+    per_agent_returns: dict[str, dict[int, tuple[str, str, str]]] = field(default_factory=dict)
     # method -> positions of returns whose done is an inner step's or'ed with the class's own
     # end of the task: ``bool(done) and not truncated, truncated``
     task_end_returns: dict[str, set[int]] = field(default_factory=dict)

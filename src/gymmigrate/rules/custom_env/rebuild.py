@@ -38,6 +38,7 @@ from gymmigrate.rules.custom_env.cst_edits import (
     _NameRenamer,
     _needs_bool,
     _param_names,
+    _PerAgentSplitter,
     _rename_names,
     _ReturnRewriter,
     _SelfMethodCallRenamer,
@@ -261,6 +262,9 @@ class ClassRewrite:
         truncating = self.plan.truncating_returns.get(self.renamed.get(method_name, method_name), set())
         passing = self.plan.passthrough_returns.get(self.renamed.get(method_name, method_name), set())
         task_ending = self.plan.task_end_returns.get(self.renamed.get(method_name, method_name), set())
+        foreign = self.plan.foreign_returns.get(self.renamed.get(method_name, method_name), set())
+        per_agent = self.plan.per_agent_returns.get(self.renamed.get(method_name, method_name), {})
+        per_agent_lines: dict[str, tuple[str, str]] = {}
         unpacked = self.plan.unpacked_helper_returns.get(self.renamed.get(method_name, method_name), {})
         kept = self.plan.kept_returns.get(self.renamed.get(method_name, method_name), set())
         accumulated = self.plan.accumulated_returns.get(self.renamed.get(method_name, method_name), set())
@@ -280,6 +284,17 @@ class ClassRewrite:
                 continue
             done = ret.value.elements[2].value
             if position in passing:
+                plans.append(_five(cst.Name("terminated"), cst.Name("truncated")))
+                continue
+            if position in foreign:
+                plans.append(_five(done, cst.Name("False")))
+                continue
+            if position in per_agent:
+                name, terminated_text, truncated_text = per_agent[position]
+                if not name:  # the arrangement is the returned value itself
+                    plans.append(_five(cst.parse_expression(terminated_text), cst.parse_expression(truncated_text)))
+                    continue
+                per_agent_lines[name] = (terminated_text, truncated_text)
                 plans.append(_five(cst.Name("terminated"), cst.Name("truncated")))
                 continue
             if position in task_ending and isinstance(done, cst.Name):
@@ -348,6 +363,8 @@ class ClassRewrite:
             fn = fn.with_changes(returns=fn.returns.with_changes(annotation=annotation.with_changes(slice=elements)))
         for name, (task, limit) in splits.items():
             body = visit_suite(body, _DoneSplitter(name, task, limit, keep_done=_reads_name_outside_returns(fn, name)))
+        for name, (terminated_text, truncated_text) in per_agent_lines.items():
+            body = visit_suite(body, _PerAgentSplitter(name, terminated_text, truncated_text, keep=_reads_name_outside_returns(fn, name)))
         if accumulating is not None:
             body = _limit_line_to_truncated(body, accumulating, self.plan.non_limit_tests)
         if flagging is not None:

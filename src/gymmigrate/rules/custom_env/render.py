@@ -16,11 +16,14 @@ import ast
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
+from gymmigrate.edits.arguments import append_keyword
+from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import names as N
 from gymmigrate.facts.creation import CreationFinder
 from gymmigrate.facts.env_classes import is_super_method_call, mode_can_stay_optional
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import is_super_call, walk
+from gymmigrate.facts.multi_agent import MultiAgent
 from gymmigrate.facts.render_modes import own_object, own_object_render, passes_mode
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import ClassDecision, method_of, param_names
@@ -352,6 +355,20 @@ def _report_forwarded_modes(decision: ClassDecision, function: ast.AST) -> None:
             continue
         others = len(call.args) + len(call.keywords) - len(passes_mode)  # type: ignore[attr-defined]
         rest = " and the arguments left must be ones its render() accepts (Gymnasium's takes none)" if others else ""
+        made = _made_in_init(decision, func.value)
+        if made is not None and not others:
+            # Made in the __init__ that now takes render_mode: the inner env gets it there,
+            # so it renders in the mode the outer env is made with (PettingZoo envs take it).
+            decision.family.plan.replace(made, lambda node: append_keyword(node, "render_mode", cst.Name("render_mode")))
+            decision.report(
+                call,
+                "GM405",
+                f"the mode is no longer passed on to {decision.family.facts.segment(func.value)}.render(): that env is "
+                f"made in __init__ (line {made.lineno}), which now passes it render_mode, so it renders in the env's mode",
+                FixKind.ASSIST,
+                tier=Tier.NOTE,
+            )
+            continue
         decision.report(
             call,
             "GM405",
@@ -359,6 +376,35 @@ def _report_forwarded_modes(decision: ClassDecision, function: ast.AST) -> None:
             f"with render_mode=self.render_mode{rest}",
             FixKind.ASSIST,
         )
+
+
+def _made_in_init(decision: ClassDecision, held: ast.expr) -> ast.Call | None:
+    """The call that makes ``self.<held>`` where the class stores it only once, directly in
+    its own ``__init__`` (which takes ``render_mode`` once render is migrated), as a
+    PettingZoo env with no ``render_mode`` or ``**`` argument yet; else None."""
+    init = decision.method("__init__")
+    if init is None or not (isinstance(held, ast.Attribute) and isinstance(held.value, ast.Name) and held.value.id == "self"):
+        return None
+    if len(decision.index.stores_to_self(held.attr)) != 1:
+        return None
+    facts = decision.family.facts
+    for statement in init.body:
+        if (
+            isinstance(statement, ast.Assign)
+            and len(statement.targets) == 1
+            and isinstance(statement.targets[0], ast.Attribute)
+            and isinstance(statement.targets[0].value, ast.Name)
+            and statement.targets[0].value.id == "self"
+            and statement.targets[0].attr == held.attr
+        ):
+            made = statement.value
+            if not isinstance(made, ast.Call) or any(k.arg in ("render_mode", None) for k in made.keywords):
+                return None
+            if any(isinstance(a, ast.Starred) for a in made.args):
+                return None
+            kind = MultiAgent.of(facts, decision.family.receivers).kind(made)
+            return made if kind in (EnvKind.PZ_AEC, EnvKind.PZ_PARALLEL) else None
+    return None
 
 
 def _unmigrated_mode_call(decision: ClassDecision) -> ast.Call | None:

@@ -55,6 +55,7 @@ from gymmigrate.rules.custom_env.step_delegates import (
     single_assignment,
     task_ends,
     unknown_base_text,
+    unpacked_from_foreign_step,
     unpacked_from_inner_step,
     unpacked_helper_names,
 )
@@ -68,6 +69,10 @@ from gymmigrate.rules.custom_env.step_limits import (
     split_question,
     split_tier,
     step_limit_text,
+)
+from gymmigrate.rules.custom_env.step_per_agent import (
+    per_agent_split,
+    reads_parallel_dones,
 )
 
 __all__ = ["decide_step", "is_step_limit", "unwrap_bool"]
@@ -347,6 +352,49 @@ def _decide_returns(
                 f"step returns the terminated and truncated of the step it calls (`{done.id}` was their `or`)",
                 FixKind.ASSIST,
                 tier=Tier.NOTE,
+            )
+            continue
+        if isinstance(done, ast.Name) and (foreign := unpacked_from_foreign_step(decision, index, done.id)) is not None:
+            # The step it unpacks is left as it is (its own API, reported there): its done is
+            # all this step knows, so it is terminated, as it was for the legacy learner.
+            decision.plan.foreign_returns.setdefault(function.name, set()).add(position)
+            decision.report(
+                ret,
+                "GM504",
+                f"step returns `{done.id}` as terminated with truncated=False: it comes from "
+                f"`{facts.segment(foreign.func)}(...)` (line {foreign.lineno}), which is no Gym step and is left as "
+                "it is; split it with the port of that env",
+                FixKind.ASSIST,
+                tier=Tier.NOTE,
+            )
+            continue
+        if (split := per_agent_split(decision, index, done)) is not None:
+            # ``flags = np.stack([done["a"], done["b"]])`` of a PettingZoo parallel step: built
+            # from its terminations and from its truncations, so its cut stays a truncation.
+            decision.plan.per_agent_returns.setdefault(function.name, {})[position] = split
+            decision.report(
+                ret,
+                "GM504",
+                f"step returns `{facts.segment(done)}` built from the per-agent terminations as terminated and from the per-agent "
+                "truncations as truncated (the PettingZoo parallel step it calls splits its dones): a cut on the "
+                "parallel env's own limit stays a truncation",
+                FixKind.ASSIST,
+                tier=Tier.NOTE,
+            )
+            continue
+        if reads_parallel_dones(decision, index, done):
+            # ``all(...)``, ``and`` of the agents' flags: no agent keeps its own place, so the
+            # two dicts give no terminated and truncated of the same shape; the parallel env
+            # may cut the episode (``max_cycles``), so no note may say nothing limits it.
+            decision.report(
+                ret,
+                "GM504",
+                f"step returns `{facts.segment(done)}` as terminated with truncated=False, but it combines the per-agent dones of "
+                "a PettingZoo parallel step, which now come as terminations and truncations (the parallel env's own "
+                "cut, such as max_cycles, is a truncation): build terminated from the terminations and truncated from "
+                "the truncations by hand",
+                FixKind.ASSIST,
+                question=("step-done", id(function), facts.segment(done)),
             )
             continue
         if isinstance(done, ast.Name) and (ends := task_ends(decision, index, done.id)) and unpacked_from_inner_step(

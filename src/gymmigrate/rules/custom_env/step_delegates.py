@@ -14,6 +14,7 @@ from typing import NamedTuple
 from gymmigrate.facts.env_classes import FunctionIndex, is_super_method_call
 from gymmigrate.facts.limit_tests import if_setting_true, is_step_limit
 from gymmigrate.facts.module import own_returns, walk
+from gymmigrate.facts.step_calls import foreign_step
 from gymmigrate.rules.custom_env.common import (
     ClassDecision,
     Method,
@@ -148,6 +149,16 @@ def unpacked_from_inner_step(decision: ClassDecision, index: FunctionIndex, name
         # would name flags the unpack never binds
         return decision.env.base_step_migrates(decision.classdef, named) is True and _step_family_unpacks_super(decision, value)
     return inner_gym_env_call(decision, value, "step")
+
+
+def unpacked_from_foreign_step(decision: ClassDecision, index: FunctionIndex, name: str) -> ast.Call | None:
+    """The ``self.sim.step(a, b)`` that ``name`` is unpacked from as its done, where that
+    call is no Gym step (``facts/step_calls.py``): the step family leaves it as it is."""
+    value = _done_unpacked_from(index, name)
+    if isinstance(value, ast.Call) and foreign_step(value, decision.family.receivers, decision.family.facts):
+        return value
+    return None
+
 
 def unknown_base_text(decision: ClassDecision, base: UnknownBase) -> str:
     if decision.env.base_step_migrates(decision.classdef, base.named):

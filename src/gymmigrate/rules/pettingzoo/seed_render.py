@@ -18,6 +18,7 @@ import ast
 from gymmigrate.edits.arguments import append_keyword, remove_args
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts.creation import CreationFinder
+from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import call_argument, full_name, keyword
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.pettingzoo.common import PZ106, PZ107, PettingZooFamily
@@ -96,6 +97,8 @@ class SeedRender(PettingZooFamily):
 
     def _plan_render(self, call: ast.Call) -> None:
         mode = call_argument(call, 0, "mode")
+        if self._gym_class_forwards(call, mode):
+            return  # the Gym env class's render rule (GM405) drops that mode and says where it goes
         if not (isinstance(mode, ast.Constant) and isinstance(mode.value, str)):
             self.report(call, "PZ107", "`render()` takes no mode since PettingZoo 1.22: pass `render_mode=` "
                         "where the env is made", FixKind.FLAG)
@@ -120,6 +123,21 @@ class SeedRender(PettingZooFamily):
         self.plan.replace(call, lambda node: remove_args(node, lambda arg: True))
         self.report(call, "PZ107", f"the render mode {text} moves to where the env is made; review: "
                     "an env renders in one mode only")
+
+    def _gym_class_forwards(self, call: ast.Call, mode: ast.AST | None) -> bool:
+        """``self.env.render(mode)`` in the ``render(self, mode)`` of a Gym env class: the
+        class's own ``mode`` handed on, which the Gym render rule migrates with the class."""
+        function = self.facts.enclosing_function(call)
+        classdef = self.facts.enclosing_class(call)
+        return (
+            isinstance(mode, ast.Name)
+            and function is not None
+            and function.name == "render"
+            and classdef is not None
+            and self.facts.enclosing_class(function) is classdef
+            and any(arg.arg == mode.id for arg in function.args.args)
+            and self.receivers.class_kind(classdef) is EnvKind.GYM_ENV
+        )
 
     def _is_creation(self, call: ast.Call) -> bool:
         for qualified in self.facts.qualified_names(call.func):

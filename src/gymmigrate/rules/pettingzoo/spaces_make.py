@@ -19,7 +19,7 @@ import re
 
 from gymmigrate.facts import names as N
 from gymmigrate.rules.pettingzoo.common import PZ109, PZ110, PettingZooFamily
-from gymmigrate.rules.pettingzoo.env_modules import BUMPS, MOVED_FAMILIES
+from gymmigrate.rules.pettingzoo.env_modules import BUMPS, CURRENT, MOVED_FAMILIES
 
 # ``pettingzoo.classic.rps_v2.env`` -> ("classic", "rps", "2", "env")
 _MODULE_FACTORY = re.compile(r"^pettingzoo\.(\w+)\.(\w+?)_v(\d+)\.(env|parallel_env)$")
@@ -63,6 +63,11 @@ class SpacesAndMake(PettingZooFamily):
             bump = BUMPS.get((f"pettingzoo.{family}", name))
             if bump is not None and int(version) == bump.previous:
                 version = str(bump.current)  # PZ111 bumps the import
+            current = bump.current if bump is not None else CURRENT.get(f"pettingzoo.{family}", {}).get(name)
+            if current is not None and int(version) < current:
+                # superseded and not bumped (PZ111 asks for a port): 1.27 does not register
+                # this version, so the new form would name an env it cannot make
+                return
             api = "parallel" if factory == "parallel_env" else "aec"
             self.report(call, "PZ110", f"PettingZoo 1.27 deprecates module-level creation: "
                         f"`pettingzoo.make(\"{api}\", \"{family}/{name}-v{version}\", ...)` is the new form (1.27 only)")

@@ -18,6 +18,8 @@ from gymmigrate.facts.module import FUNCTIONS, walk
 from gymmigrate.facts.reset_contract import extra_params, own_reset
 from gymmigrate.facts.reset_contract import join as join_contract
 from gymmigrate.facts.reset_contract import sites as reset_sites
+from gymmigrate.facts.step_calls import extra_actions, foreign_step
+from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext
 from gymmigrate.rules.step_done.common import RULES, TIME_LIMIT_KEY
 from gymmigrate.rules.step_done.results import ResultRules
@@ -83,6 +85,20 @@ class StepDone(UnpackRules, TimeLimitRules, ResultRules):
             # so there is nothing to migrate and nothing to ask
             return
         parent = self.facts.parent(call)
+        if foreign_step(call, self.receivers, self.facts):
+            # never rewritten; asked about only where the receiver is otherwise a Gym env
+            # (a model's ``step(obs, states, dones)`` is no env at all)
+            if self.receivers.kind_of(receiver).is_gym and not (isinstance(parent, ast.Expr) or _five_targets(parent, call)):
+                self.report(
+                    call,
+                    "GM301",
+                    f"`{self.facts.segment(func)}(...)` is called with {1 + extra_actions(call, self.facts)} actions: Gym's step "
+                    "takes one, so this is the env's own step API (a package of its own, such as a second player's "
+                    "action), not Gym's; its result is left as it is. Through Shimmy's compatibility env step() takes "
+                    "one action: port this env by hand, or keep its module on gym",
+                    FixKind.FLAG,
+                )
+            return
         if isinstance(parent, ast.Assign) and parent.value is call and len(parent.targets) == 1:
             target = parent.targets[0]
             if isinstance(target, (ast.Tuple, ast.List)) and not _starred(target):

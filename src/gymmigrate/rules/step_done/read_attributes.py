@@ -27,6 +27,7 @@ class DoneAttributeReports(DoneReadReports):
         """``obs, r, self.done, info = env.step(a)`` and ``self.done`` stored as a value
         elsewhere, or tested by an ``if`` that chooses the discount (``_report_discount_tests``)."""
         self._report_discount_tests(assign, target, names)
+        self._report_attribute_left_unread(assign, target, names)
         for read in self._self_attribute_data_reads(assign, target):
             if id(read) not in self.reported_reads and self._claim_stored_attribute(assign, target, names, read):
                 continue
@@ -41,6 +42,33 @@ class DoneAttributeReports(DoneReadReports):
                     FixKind.FLAG,
                     question=("GM302", id(assign)),
                 )
+
+    def _report_attribute_left_unread(self, assign: ast.Assign, target: ast.expr, names: StepNames) -> None:
+        """``obs, r, self.terminal, info = self.env.step(a)`` where nothing in this module reads
+        ``self.terminal``: the flag leaves the class (a base elsewhere packs it into the
+        experience its step returns, a learner reads it from the object), so its readers are
+        beyond what this file shows. It keeps the episode's end, which is right for ending
+        loops, but a learner that masks bootstrapping with it now masks time-limit cuts too:
+        one question for the class, asked at its first such step."""
+        if not (isinstance(target, ast.Attribute) and isinstance(target.value, ast.Name) and target.value.id == "self"):
+            return
+        classdef = self.facts.enclosing_class(assign)
+        if classdef is None or any(
+            isinstance(node, ast.Attribute) and isinstance(node.ctx, ast.Load) for node in self.facts.attributes.get(target.attr, ())
+        ):
+            return  # read in this module: those reads are decided where they are
+        spelled = self.facts.segment(target)
+        self.report(
+            assign,
+            "GM302",
+            f"`{spelled}` keeps `{names.terminated} or {names.truncated}`, the episode's end legacy `done` was, and leaves "
+            f"`{classdef.name}` (nothing in this module reads it: it is stored for code elsewhere, such as an experience "
+            "record the step returns): where a learner uses it as a bootstrap mask (`0 if terminal else 1`, a TD or "
+            f"return target), a time-limit truncation now stops bootstrapping; store `{names.terminated}` beside it for "
+            "the mask",
+            FixKind.FLAG,
+            question=("GM302 stored", id(classdef), target.attr),
+        )
 
     def _report_discount_tests(self, assign: ast.Assign, target: ast.expr, names: StepNames) -> None:
         """``if self._done: return ts.termination(obs, r)`` / ``return obs, r, 0.0`` against

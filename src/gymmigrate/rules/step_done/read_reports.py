@@ -30,7 +30,13 @@ class DoneReadReports(DoneUntracedReports):
     """The GM302 findings on reads of ``done`` (mixed into the family)."""
 
     def _claim(
-        self, read: ast.Name, step: DoneStep, none_mask: str | None = None, callee: str | None = None, tail: str | None = None
+        self,
+        read: ast.Name,
+        step: DoneStep,
+        none_mask: str | None = None,
+        callee: str | None = None,
+        tail: str | None = None,
+        cap: ast.If | None = None,
     ) -> None:
         terminated = step.names.terminated
         self.notes.step_unpacks[step.assign].claimed_reads += 1
@@ -56,6 +62,11 @@ class DoneReadReports(DoneUntracedReports):
             message = (
                 f"`{read.id}` masks bootstrapping from the next state `{next_state}` (a target or stored transition): "
                 f"it now reads `{terminated}`, so a time-limit truncation still bootstraps"
+            )
+        if cap is not None:
+            message += (
+                f"; the loop's own step limit (line {cap.lineno}) sets `{read.id}` only to end the episode, a "
+                "truncation the mask leaves out as well"
             )
         self._report_read(read, message, FixKind.ASSIST, Tier.NOTE)  # the migration guide's own rewrite
 

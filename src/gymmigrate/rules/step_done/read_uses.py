@@ -20,6 +20,7 @@ from gymmigrate.facts.done_uses import (
     loaded_names,
 )
 from gymmigrate.facts.flow import bound_names, end, start
+from gymmigrate.facts.limit_tests import if_setting_true, is_step_limit
 from gymmigrate.facts.module import FUNCTIONS, walk
 from gymmigrate.rules.step_done.next_state import DoneStep, NextStateReads
 
@@ -44,6 +45,23 @@ class DoneReadUses(NextStateReads):
         ):
             return step
         return None
+
+    def _step_past_own_limit(self, read: ast.Name, done: ast.Name) -> tuple[ast.Assign, ast.If] | None:
+        """``obs2, r, done, info = env.step(a)``, then ``if <step limit>: done = True`` (the
+        loop's own cap, alone in its ``if``), then ``read``: the step that dominates the cap
+        and the read, and the cap's ``if``. The cap only ends the episode on a count, a
+        truncation, which a bootstrap mask leaves out as it leaves out the env's own."""
+        binding = self.flow.last_binding_before(read, done)
+        if binding is None:
+            return None
+        line = self.facts.statement_of(binding)
+        cap = if_setting_true(line, self.facts.parent(line))
+        if cap is None or cap.orelse or cap.body != [line] or not is_step_limit(cap.test):
+            return None
+        if not self.flow.dominates(cap, read, done):
+            return None
+        step = self._dominating_step(cap.test, done)  # type: ignore[arg-type]
+        return None if step is None else (step, cap)
 
     def _bootstrap_choice(self, read: ast.Name, step: DoneStep, dominated: bool) -> bool | None:
         """``R = 0.0 if done else v(s2)``, ``if done: y = r`` / ``else: y = r + gamma * q(s2)``,

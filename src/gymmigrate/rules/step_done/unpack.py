@@ -166,6 +166,19 @@ class UnpackRules(DoneAttributeReports):
             owner = self._dominating_step(read, done)
             if owner is None and self._rebound_fresh(read, done):
                 continue  # ``done = float(i == T - 1)`` before it: a new flag, not the step's
+            capped = self._step_past_own_limit(read, done) if owner is None else None
+            if capped is not None and id(capped[0]) in index_of:
+                # ``if t >= cap: done = True`` between the step and a bootstrap mask: the cap
+                # is a truncation, so the mask reads the step's terminated, as it would
+                # without the cap; ``done`` keeps the cap for ending the episode.
+                step = steps[index_of[id(capped[0])]]
+                if (
+                    classify_done_read(read, self.facts) is DoneUse.DATA
+                    and self._masks_next_state(read, step)
+                    and not self._readers_keep_boundary(read, step)
+                ):
+                    self._claim(read, step, cap=capped[1])
+                    continue
             first = 0
             if owner is not None:
                 first = index_of.get(id(owner), bisect_left(starts, end(owner)))

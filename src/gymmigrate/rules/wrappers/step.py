@@ -142,6 +142,7 @@ class StepOverrides(RuleFamily):
         bound, done_attribute, per_agent, done_modified = inner.bound, inner.done_attribute, inner.per_agent, inner.done_modified
         loops = (ast.For, ast.AsyncFor, ast.While)
         replaced_done_reads = 0
+        settled_lives: set[int] = set()
         for ret in own_returns(function):
             value = ret.value
             if not isinstance(value, ast.Tuple) or len(value.elts) != 4:
@@ -279,20 +280,30 @@ class StepOverrides(RuleFamily):
                 )
                 self.plan.replace(value, lambda node: _five(node, [node.elements[2].value, cst.Name("False")]))
             elif isinstance(done, ast.Name) and done_name is not None and done.id == done_name and (
-                life_losses := _life_loss_sets(self.facts, lines, done_name, done_line, unpacks)
+                life_losses := _life_loss_sets(self.facts, lines, done_name, done_line, unpacks, flags)
             ):
                 # A lost life ends the agent's episode: Stable-Baselines3's EpisodicLifeEnv
-                # returns it as ``terminated=True`` and keeps ``truncated`` from the inner step.
+                # returns it as ``terminated=True`` and keeps ``truncated`` from the inner step;
+                # no life left is the game over, a terminal state too.
+                game_over = any(not text.endswith("= True") for _, text in life_losses)
                 self.report(
                     ret,
                     "GM602",
-                    "this step override ends the episode on a lost life (the EpisodicLifeEnv pattern): a lost life "
-                    f"sets `{terminated}` as Stable-Baselines3 does; `{truncated}` stays the inner step's",
+                    (
+                        "this step override ends the episode on a test of the lives (no life left is the game over): "
+                        f"that end sets `{terminated}`, a terminal state as a lost life is for Stable-Baselines3; "
+                        f"`{truncated}` stays the inner step's"
+                        if game_over
+                        else "this step override ends the episode on a lost life (the EpisodicLifeEnv pattern): a lost "
+                        f"life sets `{terminated}` as Stable-Baselines3 does; `{truncated}` stays the inner step's"
+                    ),
                     kind=FixKind.ASSIST,
                     tier=Tier.NOTE,
                 )
-                for life_loss in life_losses:
-                    self.plan.insert_after(life_loss, f"{terminated} = True")
+                for life_loss, text in life_losses:
+                    if id(life_loss) not in settled_lives:  # once for every return that reads it
+                        settled_lives.add(id(life_loss))
+                        self.plan.insert_after(life_loss, text)
                 self.plan.replace(value, lambda node, t=terminated, u=truncated: _five(node, [cst.Name(t), cst.Name(u)]))
             elif (
                 isinstance(done, ast.Name)

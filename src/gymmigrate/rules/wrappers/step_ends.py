@@ -148,7 +148,28 @@ _LIFE_WORDS = re.compile(r"(?:^|_)lives?(?:_|$)|life", re.IGNORECASE)
 
 def _sets_done_on_life_loss(line: ast.stmt, parent: ast.AST | None) -> bool:
     """``done = True`` alone in an ``if`` that tests the number of lives."""
-    return _set_alone_when(line, parent, lambda test: any(_LIFE_WORDS.search(_identifier(node)) for node in walk(test)))
+    return _set_alone_when(line, parent, _tests_lives)
+
+
+def _tests_lives(expr: ast.AST) -> bool:
+    return any(_LIFE_WORDS.search(_identifier(node)) for node in walk(expr))
+
+
+def _is_lives_test(line: ast.stmt, name: str, flags: set[str]) -> bool:
+    """``done = lives == 0`` (game over), ``done = lives < self.lives``: ``name`` set to a
+    comparison of the lives alone, reading neither the old done nor the inner flags."""
+    if not (isinstance(line, ast.Assign) and len(line.targets) == 1 and isinstance(line.targets[0], ast.Name)):
+        return False
+    value = line.value
+    while isinstance(value, ast.UnaryOp) and isinstance(value.op, ast.Not):
+        value = value.operand
+    tests = value.values if isinstance(value, ast.BoolOp) else [value]
+    return (
+        line.targets[0].id == name
+        and all(isinstance(test, ast.Compare) for test in tests)
+        and _tests_lives(value)
+        and not _names(value) & (flags | {name})
+    )
 
 
 def _set_alone_when(line: ast.stmt, parent: ast.AST | None, test: Callable[[ast.AST], bool]) -> bool:
@@ -207,15 +228,30 @@ def _only_step_limits(
 
 
 def _life_loss_sets(
-    facts: ModuleFacts, lines: list[ast.stmt], name: str, done_line: ast.stmt | None, unpacks: dict[ast.stmt, StepUnpack | None]
-) -> list[ast.Assign]:
-    """The ``done = True`` lines of baselines' ``EpisodicLifeEnv`` pattern (``if lives <
-    self.lives and lives > 0: done = True``), when they are the only changes of ``name``
-    after the inner step; else nothing."""
+    facts: ModuleFacts,
+    lines: list[ast.stmt],
+    name: str,
+    done_line: ast.stmt | None,
+    unpacks: dict[ast.stmt, StepUnpack | None],
+    flags: tuple[str, str],
+) -> list[tuple[ast.Assign, str]]:
+    """The lines that end the episode on the lives, each with what sets ``terminated``
+    after it, when they are the only changes of ``name`` after the inner step; else nothing.
+    baselines' ``EpisodicLifeEnv`` (``if lives < self.lives and lives > 0: done = True``)
+    sets it True; a game over (``done = lives == 0``) ors its test into it, which keeps an
+    end of the inner step on the same line (a lost life or no life left is the game's own
+    end, never a time limit)."""
+    terminated = flags[0]
     changes = _done_changes(lines, name, done_line, unpacks)
-    if changes and all(_sets_done_on_life_loss(line, facts.parent(line)) for line in changes):
-        return changes  # type: ignore[return-value]
-    return []
+    found: list[tuple[ast.Assign, str]] = []
+    for line in changes:
+        if _sets_done_on_life_loss(line, facts.parent(line)):
+            found.append((line, f"{terminated} = True"))  # type: ignore[arg-type]
+        elif _is_lives_test(line, name, set(flags)):
+            found.append((line, f"{terminated} = {terminated} or {name}"))  # type: ignore[arg-type]
+        else:
+            return []
+    return found
 
 
 def _task_end_sets(
