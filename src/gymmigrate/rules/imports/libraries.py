@@ -93,6 +93,24 @@ GYM_ONLY_LIBRARIES = {
         "ppaquette_gym_doom (gym 0.9's Doom envs) is abandoned and has no Gymnasium release: use ViZDoom's own "
         "Gymnasium envs (`vizdoom.gymnasium_wrapper`)"
     ),
+    # Procgen's last release (0.10.7) builds on gym3 and registers ``procgen-<game>-v0`` with gym;
+    # procgen-gym is a community port of its Python layer to Gymnasium.
+    "procgen": (
+        "procgen registers its ids (`procgen:procgen-coinrun-v0`) with gym only and has no Gymnasium release (0.10.7 "
+        "builds on gym3): they do not resolve under Gymnasium; wrap its env with Shimmy (`GymV21Environment-v0`, gym "
+        "installed), or move to the community Gymnasium port `procgen-gym` (`import procgen_gym`, ids "
+        "`procgen_gym/procgen-<game>-v0`, Python 3.13+)"
+    ),
+    "slimevolleygym": (
+        "slimevolleygym registers its ids (`SlimeVolley-v0`...) with gym only and has no Gymnasium release: they do "
+        "not resolve under Gymnasium; wrap its env with Shimmy (`gymnasium.make(\"GymV21Environment-v0\", env=...)`, "
+        "gym installed), or port it: its two-player `step(action, other_action)` is not Gymnasium's (Shimmy's step "
+        "passes one action)"
+    ),
+    "dm2gym": (
+        "dm2gym (the `dm2gym:` ids) makes dm_control envs with the legacy Gym API and has no Gymnasium release: use "
+        "Shimmy's dm_control envs (`gymnasium.make(\"dm_control/<domain>-<task>-v0\")`, `shimmy[dm-control]` installed)"
+    ),
     "nes_py": "nes_py has no Gymnasium release: wrap its envs with Shimmy (`GymV21Environment-v0`, gym installed)",
     "atari_py": "atari_py is replaced by ale_py: `import ale_py`, `gymnasium.register_envs(ale_py)`, ids `ALE/Pong-v5`",
     "mujoco_py": "mujoco_py envs were removed in Gymnasium 1.0: use the `mujoco` bindings and the v5 envs",
