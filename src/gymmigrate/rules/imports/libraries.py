@@ -367,10 +367,13 @@ class GymOnlyLibraries(ImportsBase):
         return None
 
     def _gym_only_libraries(self, asked_at: dict[str, int] | None = None) -> None:
-        """One finding per library and file, at its first import (not one per import line).
+        """One finding per library and file, at its first import (not one per import line),
+        and one more for each other function that imports it again: the item asks once and
+        lists every function that uses the library (their findings share its question).
         ``asked_at``: libraries whose question another item of the file asks (the module kept
         on gym with them, at that line): their imports are notes pointing there."""
         reported: set[str] = set()
+        users: set[tuple[str, ast.AST | None]] = set()  # (library, the function importing it)
         for node in self._imports():
             if isinstance(node, ast.Import):
                 modules = [alias.name for alias in node.names]
@@ -387,8 +390,15 @@ class GymOnlyLibraries(ImportsBase):
                 top = module.split(".", 1)[0]
                 if top in _SUCCESSOR_KEEPS_NAME and not self.context.profile.imports_gym:
                     continue  # ``import retro`` next to Gymnasium alone: stable-retro already
+                if top in GYM_ONLY_LIBRARIES and top in reported and (top, self.facts.enclosing_function(node)) not in users:
+                    users.add((top, self.facts.enclosing_function(node)))
+                    if (asked_at or {}).get(top) is None:
+                        # another function of the file uses the library: the same question, listed there
+                        self.report(node, "GM107", GYM_ONLY_LIBRARIES[top], question=gym_only_question(N.gym_only_stack(top)))
+                    continue
                 if top in GYM_ONLY_LIBRARIES and top not in reported and not self._of_the_run(top):
                     reported.add(top)
+                    users.add((top, self.facts.enclosing_function(node)))
                     line = (asked_at or {}).get(top)
                     if line is not None:
                         self.report(node, "GM107", f"{GYM_ONLY_LIBRARIES[top]} (this module stays on gym with it: the item at line {line})", tier=Tier.NOTE)
