@@ -108,6 +108,7 @@ GYM_ONLY_PACKAGES = frozenset(
         "baselines",
         "colabgymrender",
         "d4rl",
+        "dm2gym",
         "dmc2gym",
         "gfootball",
         "gym_super_mario_bros",
@@ -118,12 +119,14 @@ GYM_ONLY_PACKAGES = frozenset(
         "multiagent",
         "nes_py",
         "ppaquette_gym_doom",
+        "procgen",
         "ptan",
         "pybullet_envs",
         "pybulletgym",
         "retro",
         "retro_contest",
         "roboschool",
+        "slimevolleygym",
         "stable_baselines",
     }
 )

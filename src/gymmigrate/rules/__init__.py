@@ -59,7 +59,7 @@ _PZ = ("pettingzoo", "supersuit", "agent_iter")  # a PettingZoo import, or an ag
 PIPELINE = (
     FamilySpec("Imports", "gymmigrate.rules.imports"),
     FamilySpec("RenamedEnvPackages", "gymmigrate.rules.renamed_packages", ("gym_minigrid",)),
-    FamilySpec("EnvIds", "gymmigrate.rules.env_ids.ids", ("-v", "ale.lives", ".ale", "NoFrameskip", "get_action_meanings"), follows_the_run=True),
+    FamilySpec("EnvIds", "gymmigrate.rules.env_ids.ids", ("-v", "ale.lives", ".ale", "NoFrameskip", "get_action_meanings", "Atari", "atari", "dm2gym:", "procgen:", "slimevolleygym:"), follows_the_run=True),
     FamilySpec("EnvPlugins", "gymmigrate.rules.env_ids.plugins", (), follows_the_run=True),
     FamilySpec("ComposedIds", "gymmigrate.rules.env_ids.composed", ("make", "-v")),
     FamilySpec(

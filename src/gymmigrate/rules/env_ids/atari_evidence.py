@@ -9,6 +9,7 @@ and uses what only Atari envs have (``.ale``, ``get_action_meanings()``, a
 from __future__ import annotations
 
 import ast
+import re
 from collections.abc import Callable
 
 from gymmigrate.facts import ModuleFacts
@@ -67,33 +68,37 @@ class AtariEvidence:
         else:
             message = (
                 f"the id may be built from a template holding `{part}` (an Atari id), other assignments reach the call too: "
-                "since Gymnasium 1.0 Atari envs need `import ale_py`; added it with `register_envs(ale_py)`: drop it if "
-                "this module never makes Atari envs"
+                "since Gymnasium 1.0 Atari envs need `import ale_py`; added it with `register_envs(ale_py)`"
             )
             kind = FixKind.ASSIST
         return value, message, kind
 
-    def helper(self, call: ast.Call, name: ast.Name) -> Evidence | None:
+    def helper(self, call: ast.Call, name: ast.Name | ast.Attribute) -> Evidence | None:
         """``def make_atari(env_id): env = gym.make(env_id); assert "NoFrameskip" in env.spec.id``:
         a helper that makes its env from a parameter and uses what only Atari envs have (the
         ``ale`` interface, ``get_action_meanings()``, a ``NoFrameskip`` check, directly or in
         a def or class of this module it calls) makes Atari envs, whatever id its callers
         pass: its module needs ``import ale_py``. Where every sign sits under a condition
         (``if "NoFrameskip" in env_id:``), the helper may make other envs too: for review."""
-        bindings = self.facts.bindings_of(name)
         function = self.facts.enclosing_function(call)
         if function is None:
             return None
-        if len(bindings) > 1:
-            # ``env = gym.make(env)``: the parameter rebound by the make itself (and later)
-            bindings = _parameter_alone(self.facts, name, bindings, function)
-        # a parameter, or a local bound once from what the run cannot read (``env_id = task.env_id``)
-        if len(bindings) != 1 or not isinstance(bindings[0], (ast.arg, ast.Name)):
-            return None
+        bindings: list[ast.AST] = []
+        if isinstance(name, ast.Name):
+            bindings = self.facts.bindings_of(name)
+            if len(bindings) > 1:
+                # ``env = gym.make(env)``: the parameter rebound by the make itself (and later)
+                bindings = _parameter_alone(self.facts, name, bindings, function)
+            # a parameter, or a local bound once from what the run cannot read (``env_id = task.env_id``)
+            if len(bindings) != 1 or not isinstance(bindings[0], (ast.arg, ast.Name)):
+                return None
+        # else ``gym.make(self.game)``: what the instance holds is set elsewhere; only signs can tell
         signs = [(sign, node) for node in walk(function) for sign in self._atari_signs(node, function)]
         signs.sort(key=lambda found: found[0].startswith("through"))  # its own signs first
         where = {id(node): function for _, node in signs}
         owner = self.facts.parent(function)
+        # an env class named for Atari (``class AtariRamEnv``) says what the env it holds is
+        named = isinstance(owner, ast.ClassDef) and _named_for_atari(owner.name)
         if not signs and isinstance(owner, ast.ClassDef):
             # ``self.env = gym.make(env_id)`` in ``__init__``, and ``self.env.unwrapped.ale.lives()``
             # in another method: the class holds an env that has what only Atari envs have.
@@ -104,15 +109,19 @@ class AtariEvidence:
                             signs.append((sign.replace("it ", f"its class `{owner.name}` ", 1), node))
                             where[id(node)] = method
             signs.sort(key=lambda found: found[0].startswith("through"))
+        if not signs and named and isinstance(owner, ast.ClassDef):
+            # ``class AtariRamEnv`` making ``gym.make(self.game)``: the author's word for what it makes
+            signs.append((f"its class `{owner.name}` is {_NAMED}", function))
+            where[id(function)] = function
         if not signs:
             return None
         certain = [
             sign
             for sign, node in signs
-            if not ("tests for" in sign or _under_condition(self.facts, node, where[id(node)]))
+            if not ("tests for" in sign or _NAMED in sign or _under_condition(self.facts, node, where[id(node)]))
         ]
         evidence = (certain or [sign for sign, _ in signs])[0]
-        given, complete = ([], False) if certain or not isinstance(bindings[0], ast.arg) else self._ids_given(function, bindings[0])
+        given, complete = ([], False) if certain or not bindings or not isinstance(bindings[0], ast.arg) else self._ids_given(function, bindings[0])
         if complete and given and not any(is_atari_id(i) for i in given):
             return None  # every caller of the run passes an id, none an Atari one: no ale_py needed
         if any(is_atari_id(i) for i in given):
@@ -128,9 +137,10 @@ class AtariEvidence:
             )
             kind = FixKind.AUTO
         else:
+            condition = "" if _NAMED in evidence else ", under a condition"
             message = (
-                f"`{maker}` may make Atari envs ({evidence}, under a condition): since Gymnasium 1.0 they need "
-                "`import ale_py`; added it with `register_envs(ale_py)`: drop it if this project never makes Atari envs here"
+                f"`{maker}` may make Atari envs ({evidence}{condition}): since Gymnasium 1.0 they need "
+                "`import ale_py`; added it with `register_envs(ale_py)`"
             )
             kind = FixKind.ASSIST
         return name, message, kind
@@ -199,10 +209,25 @@ class AtariEvidence:
             project = self.receivers.project
             if project is not None and any(project.uses_atari(q) for q in self.facts.qualified_names(node.func)):
                 return [f"through `{full_name(node.func)}` of another module"]
+            callee = node.func.id if isinstance(node.func, ast.Name) else node.func.attr
+            if _named_for_atari(callee):
+                # ``preprocessAtari(frame)``, ``AtariPreprocessing(env)``: a helper named for Atari frames
+                return [f"it calls `{callee}`, {_NAMED}"]
         return []
 
     def _has_atari_sign(self, definition: ast.AST) -> bool:
         return bool(self.facts.memo(("atari-sign", id(definition)), lambda: has_own_sign(definition)))
+
+
+# How a sign that is only a name reads: the author's word, not what the code does with the
+# env, so the registration it brings is for review.
+_NAMED = "named for Atari"
+_WORDS = re.compile(r"[A-Z]+(?![a-z])|[A-Z]?[a-z]+|[0-9]+")
+
+
+def _named_for_atari(name: str) -> bool:
+    """``AtariRamEnv``, ``preprocessAtari``, ``make_atari``: one of the name's words is Atari."""
+    return any(word.lower() == "atari" for word in _WORDS.findall(name))
 
 
 # What the literal part of a built id names for certain: an Atari id, whatever the

@@ -94,6 +94,27 @@ RETIRED_IDS: dict[str, IdMigration] = {
     **{f"{name}-v{v}": IdMigration(f"{name}-v4", FixKind.ASSIST, _MUJOCO_OLD) for name in _MUJOCO_IDS["v2"] for v in (0, 1)},
 }
 
+_PROCGEN = (
+    "a procgen id, registered with gym only (procgen 0.10.7 builds on gym3, no Gymnasium release): wrap its env with "
+    "Shimmy (`GymV21Environment-v0`, gym installed) or use the community Gymnasium port `procgen-gym` "
+    "(`import procgen_gym`, ids `procgen_gym/procgen-<game>-v0`)"
+)
+_SLIMEVOLLEY = (
+    "a slimevolleygym id, registered with gym only (no Gymnasium release): wrap its env with Shimmy "
+    "(`gym.make(\"GymV21Environment-v0\", env=...)`, gym installed) or port it"
+)
+# Gym-only packages that ``make`` imports from an id's ``pkg:`` prefix (``"dm2gym:" + name``):
+# the package registers its envs with gym only, so the id does not resolve under Gymnasium,
+# whatever follows the prefix.
+GYM_ONLY_PREFIXES = {
+    "dm2gym": (
+        "dm2gym makes dm_control envs with the legacy Gym API and has no Gymnasium release: use Shimmy's dm_control "
+        "envs (`gym.make(\"dm_control/<domain>-<task>-v0\")`, `shimmy[dm-control]` installed)"
+    ),
+    "procgen": _PROCGEN,
+    "slimevolleygym": _SLIMEVOLLEY,
+}
+
 # GM805: families that are gone from Gymnasium, with what to do instead.
 REMOVED_FAMILIES: tuple[tuple[re.Pattern[str], str], ...] = (
     (
@@ -112,6 +133,8 @@ REMOVED_FAMILIES: tuple[tuple[re.Pattern[str], str], ...] = (
         "a gym_super_mario_bros id, registered with gym only: wrap `gym_super_mario_bros.make(...)` with Shimmy "
         "(`gym.make(\"GymV21Environment-v0\", env=...)`, gym installed)",
     ),
+    (re.compile(r"^procgen-[a-z]+-v\d+$"), _PROCGEN),
+    (re.compile(r"^SlimeVolley[A-Za-z]*-v\d+$"), _SLIMEVOLLEY),
     (
         re.compile(r"^(Copy|DuplicatedInput|RepeatCopy|Reverse|ReversedAddition3?)-v\d+$"),
         "the algorithmic envs were removed in gym 0.20 and have no Gymnasium version; vendor the env",
@@ -220,6 +243,10 @@ PLUGIN_OF_FAMILY: tuple[tuple[re.Pattern[str], str], ...] = (
     # Google Research Football: ``gfootball:GFootball-<scenario>-<representation>-v0`` (make imports
     # ``gfootball``, which registers with gym), or the same ids after ``import gfootball``
     (re.compile(r"^(gfootball:)?GFootball-[A-Za-z0-9_-]+-v\d+$"), "gfootball"),
+    # ``procgen:procgen-coinrun-v0`` (make imports ``procgen``), or ``procgen-coinrun-v0`` after ``import procgen``
+    (re.compile(r"^(procgen:)?procgen-[a-z]+-v\d+$"), "procgen"),
+    # ``SlimeVolley-v0``, ``SlimeVolleyPixel-v0``, ``SlimeVolleyNoFrameskip-v0``... after ``import slimevolleygym``
+    (re.compile(r"^(slimevolleygym:)?SlimeVolley[A-Za-z]*-v\d+$"), "slimevolleygym"),
     # gym 0.9's Doom envs (``ppaquette/DoomBasic-v0``)
     (re.compile(r"^ppaquette/Doom[A-Za-z0-9]*-v\d+$"), "ppaquette_gym_doom"),
     # D4RL's offline datasets (``d4rl/__init__.py`` and its ``locomotion``, ``pointmaze``,

@@ -39,6 +39,9 @@ class IdSite:
     untraced: bool = False  # a known retired id handed to the project's code the run cannot follow to a make
     keywords_at_call: bool = False  # via a constant only ``call`` reads: new keywords go to that call
     question: Hashable | None = None  # what an untraced item asks, where other items ask the same
+    # the call of this module that makes the env from this id, where the id reaches it through a
+    # parameter, a stored attribute or a list (``call`` is None then): its registration goes there
+    made_at: ast.Call | None = None
 
 
 class IdLiterals:

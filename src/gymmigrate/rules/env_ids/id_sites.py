@@ -16,7 +16,12 @@ from gymmigrate.facts.receivers import Receivers
 from gymmigrate.rules.env_ids.atari_evidence import atari_template
 from gymmigrate.rules.env_ids.handed_on_ids import HandedOnIds
 from gymmigrate.rules.env_ids.id_literals import IdSite, calls_in_source_order
-from gymmigrate.rules.env_ids.syntax import id_argument, param_default, plain_string
+from gymmigrate.rules.env_ids.syntax import (
+    id_argument,
+    leading_literal,
+    param_default,
+    plain_string,
+)
 
 _ENV_OPTION = re.compile(r"^--?env", re.IGNORECASE)
 # absl's flag definitions whose second argument (``default=``) is the flag's value unless the
@@ -36,6 +41,9 @@ class IdSites(HandedOnIds):
         # what ``find`` hands an id call that is no literal, in source order: (the call, a
         # name) for a helper's parameter, (None, the value) for a name or a built id
         self.atari_reads: list[tuple[ast.Call | None, ast.expr]] = []
+        # the literal a built id starts with (``"dm2gym:" + name``): its ``pkg:`` prefix names
+        # the package ``make`` imports
+        self.built_prefixes: list[tuple[ast.Constant, str]] = []
 
     def find(self) -> list[IdSite]:
         sites: list[IdSite] = []
@@ -49,6 +57,7 @@ class IdSites(HandedOnIds):
             arg = id_argument(call)
             if arg is None:
                 continue
+            found_here = len(sites)
             # ``gym.make("A-v0" if continuous else "B-v0")``: both branches are ids.
             branches = [arg.body, arg.orelse] if isinstance(arg, ast.IfExp) else [arg]
             for branch in branches:
@@ -73,6 +82,15 @@ class IdSites(HandedOnIds):
                 sites.extend(self._stored_ids(arg))
             elif atari_template(self.facts, arg) is not None:
                 self.atari_reads.append((None, arg))
+            built = self._assigned_value(arg) if isinstance(arg, ast.Name) else arg
+            leading = leading_literal(built) if built is not None else None
+            text = leading.value if leading is not None else None
+            if leading is not None and isinstance(text, str) and ":" in text:
+                self.built_prefixes.append((leading, text))
+            if isinstance(arg, ast.Attribute) and isinstance(arg.value, ast.Name) and arg.value.id == "self":
+                self.atari_reads.append((call, arg))  # ``gym.make(self.game)`` in a class that says what it makes
+            for site in sites[found_here:]:
+                site.made_at = site.made_at or call
         sites.extend(self._constants_passed_on())
         sites.extend(self._ids_passed_on())
         # a call of this module's own def is found both ways: one site per literal
@@ -83,6 +101,14 @@ class IdSites(HandedOnIds):
         known = {id(site.string) for site in sites}
         sites.extend(self._retired_ids_passed_along(known))
         return sites
+
+    def _assigned_value(self, name: ast.Name) -> ast.expr | None:
+        """What ``name`` is assigned where it is its only binding (``name = "dm2gym:" + task``)."""
+        bindings = self.facts.bindings_of(name)
+        statement = self.facts.parent(bindings[0]) if len(bindings) == 1 else None
+        if isinstance(statement, ast.Assign) and statement.targets == bindings:
+            return statement.value
+        return None
 
     def _only_read(self, literal: ast.Constant) -> ast.Name | None:
         """The one read of the name that ``literal`` is assigned to (``ENV = "..."``), when

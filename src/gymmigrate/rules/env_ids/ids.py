@@ -29,6 +29,7 @@ import ast
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
+from gymmigrate.facts.handovers import handovers
 from gymmigrate.facts.import_guards import catches_import_error
 from gymmigrate.facts.module import walk
 from gymmigrate.facts.summaries import registered_ids
@@ -37,6 +38,7 @@ from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.env_ids.atari_evidence import AtariEvidence
 from gymmigrate.rules.env_ids.catalog import (
     ALE,
+    GYM_ONLY_PREFIXES,
     EnvPackage,
     IdMigration,
     env_package,
@@ -94,7 +96,8 @@ def _loads_saved_state(tree: ast.AST) -> bool:
 
 
 _ALE_LIVES = "ale.lives"
-_ATARI_WORDS = (_ALE_LIVES, ".ale", "NoFrameskip", "get_action_meanings")
+# ``Atari``/``atari``: a class, def or helper named for Atari (``atari_evidence._named_for_atari``)
+_ATARI_WORDS = (_ALE_LIVES, ".ale", "NoFrameskip", "get_action_meanings", "Atari", "atari")
 
 
 class EnvIds(RuleFamily):
@@ -106,6 +109,8 @@ class EnvIds(RuleFamily):
         # or in a def or class of another module of the run this one imports
         if "-v" in facts.text or any(sign in facts.text for sign in _ATARI_WORDS):
             return True
+        if any(f"{package}:" in facts.text for package in GYM_ONLY_PREFIXES):
+            return True  # ``"dm2gym:" + name``: an id of a Gym-only package built here
         project = context.options.project
         if project is None or "make" not in facts.text:
             return False
@@ -121,26 +126,32 @@ class EnvIds(RuleFamily):
         # package module -> (package, the first id string that needs it, and for a helper
         # known only by what it does with its env, the message and kind that say why)
         self._packages: dict[str, tuple[EnvPackage, ast.expr, tuple[str, FixKind] | None]] = {}
+        # package module -> where this module makes its envs (a make call, else the id literal
+        # handed on): the registration goes there
+        self._made: dict[str, list[ast.AST]] = {}
         self._bumped: dict[str, tuple[str, ast.Constant]] = {}  # old id -> new id, the first site bumped
         sites = IdSites(self.facts, self.receivers)
         found = sites.find()
         # the Atari signs of the reads ``find`` noted, in its order: the first one decides
-        # what the ale_py registration says
+        # what the ale_py registration says; every make with one needs the registration
         atari = AtariEvidence(self.facts, self.receivers, sites.literal_of)
         for call, value in sites.atari_reads:
-            if ALE.module in self._packages:
-                break
             if call is None:
                 evidence = atari.formatted_id(value)
             else:
-                assert isinstance(value, ast.Name)
+                assert isinstance(value, (ast.Name, ast.Attribute))
                 evidence = atari.helper(call, value)
             if evidence is not None:
                 node, message, kind = evidence
-                self._packages[ALE.module] = (ALE, node, (message, kind))
+                if ALE.module not in self._packages:
+                    self._packages[ALE.module] = (ALE, node, (message, kind))
+                self._made.setdefault(ALE.module, []).append(call if call is not None else value)
         for site in found:
             self._decide_site(site)
+        for literal, text in sites.built_prefixes:
+            self._ask_gym_only_prefix(literal, text.split(":", 1)[0], f"`{text}` + ...")
         self._bump_comparisons()
+        self._ask_stray_ids()
         for call, keywords in self._new_keywords.items():
             self.plan.replace(call, lambda node, keywords=keywords: _append_keywords(node, keywords))
         self._decide_registration()
@@ -184,6 +195,10 @@ class EnvIds(RuleFamily):
         if site.untraced:
             self._ask_untraced(site)
             return
+        prefix = site.module_prefix[:-1]
+        if prefix in GYM_ONLY_PREFIXES and removed_family(site.env_id) is None:
+            self._ask_gym_only_prefix(site.string, prefix, f"`{site.module_prefix}{site.env_id}`")
+            return
         migration = migration_for(site.env_id)
         if migration is not None:
             self._decide_migration(site, migration)
@@ -212,8 +227,25 @@ class EnvIds(RuleFamily):
                 self.report(site.string, "GM805", f"`{site.env_id}` no longer exists: {hint}", question=question)
         final_id = migration.new_id if migration is not None else site.env_id
         package = env_package(final_id)
-        if package is not None and not site.module_prefix and package.module not in self._packages:
-            self._packages[package.module] = (package, site.string, None)
+        if package is not None and not site.module_prefix:
+            if package.module not in self._packages:
+                self._packages[package.module] = (package, site.string, None)
+            self._made.setdefault(package.module, []).append(site.call or site.made_at or site.string)
+
+    def _ask_gym_only_prefix(self, string: ast.Constant, package: str, spelled: str) -> None:
+        """``gym.make("dm2gym:" + name)``: make imports the package of the prefix, which
+        registers its envs with gym only; the id resolves under Gymnasium whatever follows."""
+        hint = GYM_ONLY_PREFIXES.get(package)
+        if hint is None or string in self._planned:
+            return
+        self._planned.add(string)
+        self.report(
+            string,
+            "GM805",
+            f"{spelled}: the `{package}:` prefix makes the env with {package}, not with Gymnasium: {hint}",
+            kind=FixKind.FLAG,
+            question=gym_only_question(N.gym_only_stack(package)),
+        )
 
     def _registered_by_run(self, env_id: str) -> bool:
         """The run registers this very id (a literal ``register(id=...)`` in one of its modules)."""
@@ -231,12 +263,18 @@ class EnvIds(RuleFamily):
             rule, what = migration.rule, f"Gymnasium 1.4 makes {target} instead ({migration.reason})"
         else:
             rule, what = "GM805", f"it no longer exists: {removed_family(site.env_id)}"
+        question = site.question
+        plugin = plugin_of(site.env_id)
+        if question is None and plugin is not None:
+            # the id of a Gym-only package asks what its import asks (GM107): how that
+            # package's envs are ported, once for the run
+            question = gym_only_question(N.gym_only_stack(plugin))
         self.report(
             site.string,
             rule,
             f"`{site.env_id}` is {site.via}, which the run could not follow to a make; if it reaches gym.make, {what}",
             kind=FixKind.FLAG,
-            question=site.question,
+            question=question,
         )
 
     def _decide_migration(self, site: IdSite, migration: IdMigration) -> None:
@@ -308,25 +346,175 @@ class EnvIds(RuleFamily):
                 kind=FixKind.AUTO,
             )
 
+    def _ask_stray_ids(self) -> None:
+        """A literal that is exactly a Gym id Gymnasium retired or removed, which no id site
+        of the module holds, where a program keeps ids as data: compared (``name ==
+        "Pendulum-v0"``, ``name not in ["LunarLander-v2", ...]``) or in a table or constant
+        (``CONFIGS = [["dqn", "atari", "PongDeterministic-v4"], ...]``). The run did not see
+        it reach a make, so nothing is rewritten (a comparison moves only with an id this
+        module bumps, ``_bump_comparisons``); it is asked, in a module that uses legacy gym,
+        or a module of a run that imports no Gym at all (its configuration). A module on
+        Gymnasium already keeps such a string as a label. An id in a message, a path, a
+        dict key or a call's argument is left, and so is one handed only to calls that
+        reach no make (printed, dumped): it names an env, it does not choose one."""
+        if "-v" not in self.facts.text:
+            return
+        profile = self.context.profile
+        if profile.imports_gymnasium or not (profile.imports_gym or self.context.options.project is not None):
+            return
+        for node in self.facts.strings:
+            if node in self._planned or not isinstance(node.value, str):
+                continue
+            migration = migration_for(node.value)
+            hint = removed_family(node.value) if migration is None else None
+            if migration is None and hint is None:
+                continue
+            held = self._held_as_data(node)
+            if held is None or (held != "compared" and handovers(self.facts, self.receivers, node)):
+                continue  # a table's item handed on: ``_retired_ids_passed_along`` followed it to no make
+            self._planned.add(node)
+            if migration is not None:
+                keywords = ", ".join(f"{k}={v}" for k, v in migration.kwargs)
+                target = f"`{migration.new_id}`" + (f" with {keywords}" if keywords else "")
+                rule, what = migration.rule, f"Gymnasium 1.4 makes {target} instead ({migration.reason})"
+            else:
+                rule, what = "GM805", f"it no longer exists: {hint}"
+            plugin = plugin_of(node.value)
+            if held == "compared":
+                message = (
+                    f"`{node.value}` is compared here, and no make of this module bumps it: {what}; "
+                    "keep the test in step with the ids the program makes now"
+                )
+            else:
+                message = f"`{node.value}` is {held}, which the run could not follow to a make; if it reaches gym.make, {what}"
+            # the ids one function compares, or one table holds, are one decision: which ids the
+            # program makes now
+            where = self.facts.enclosing_function(node) if held == "compared" else self.facts.statement_of(node)
+            question: tuple[object, ...] = ("retired ids kept as data", held, getattr(where, "lineno", 0))
+            if plugin is not None:
+                question = gym_only_question(N.gym_only_stack(plugin))
+            self.report(node, rule, message, kind=FixKind.FLAG, question=question)
+
+    def _held_as_data(self, node: ast.Constant) -> str | None:
+        """How a string literal is kept as data, or None: "compared" (an operand of ``==``,
+        ``!=``, ``in``, ``not in``, or an item of the collection tested), "an item of a
+        table" (a list, tuple or set literal, or a dict's value, stored or returned), "a
+        constant" (a name or attribute assigned it)."""
+        child: ast.AST = node
+        parent = self.facts.parent(node)
+        item = False
+        while isinstance(parent, (ast.List, ast.Tuple, ast.Set)) or (isinstance(parent, ast.Dict) and child in parent.values):
+            item = True
+            child, parent = parent, self.facts.parent(parent)
+        if isinstance(parent, ast.Compare):
+            if all(isinstance(op, (ast.Eq, ast.NotEq, ast.In, ast.NotIn)) for op in parent.ops):
+                return "compared"
+            return None
+        if isinstance(parent, (ast.Assign, ast.AnnAssign, ast.Return)) and getattr(parent, "value", None) is child:
+            return "an item of a table" if item else "a constant"
+        return None
+
     def _decide_registration(self) -> None:
+        """The registration goes where the envs are made: into each function that makes
+        them, right before the make, so a module whose makes run only when its functions
+        are called still imports where the package is not installed (ale-py is often an
+        optional extra); at module level only when an env is made at import time (or the
+        id is handed on from there). Where the makes are deferred but no function can
+        hold the lines (a lambda in a module-level table), module level under
+        ``try``/``except ImportError``."""
         if not self._packages:
             return
         imported = imported_modules(self.facts.tree, self.facts)
-        needed = []
+        # gym itself is an optional import here (``try: import gym / except ImportError``):
+        # its guard already keeps the module importable, and the registration joins it
+        optional_gym = gym_alias(self.facts) is None and _guarded_gym_import(self.facts.tree.body) is not None
+        at_top: list[str] = []
+        guarded: list[str] = []
+        in_functions: list[tuple[str, list[ast.stmt]]] = []
         for package, string, why in self._packages.values():
             if package.module in imported:
                 continue
             if package.legacy_module and package.legacy_module in imported:
                 continue  # the gym-era package: GM112 renames its import or reports it
-            needed.append(package)
-            message, kind = why if why is not None else (_registration_message(package), package.kind)
+            statements, deferred = ([], False) if optional_gym else self._where_made(self._made.get(package.module) or [string])
+            makers = sorted({f"`{self.facts.enclosing_function(s).name}`" for s in statements})  # type: ignore[union-attr]
+            if statements:
+                in_functions.append((package.module, statements))
+                where = f" in {_listing(makers)}, right before the make, so an install without {package.module} still imports this module"
+            elif deferred:
+                guarded.append(package.module)
+                where = (
+                    f" at module level under `try`/`except ImportError`: the envs are made later (in a lambda), so an "
+                    f"install without {package.module} still imports this module"
+                )
+            else:
+                at_top.append(package.module)
+                where = ""
+            if why is None:
+                message, kind = _registration_message(package, where), package.kind
+            else:
+                message, kind = why
+                message += where
+                if kind is not FixKind.AUTO:
+                    # what the evidence leaves open: whether the code there makes these envs
+                    message += f": drop it if {_listing(makers, 'or')} never makes these envs" if makers else ": drop it if this module never makes these envs"
             self.report(string, "GM106", message, kind=kind)
-        if needed:
-            self._insert_registration([p.module for p in needed], [s for _, s, _ in self._packages.values()])
+        strings = [s for _, s, _ in self._packages.values()]
+        for module, statements in in_functions:
+            for statement in statements:
+                alias, bound = self._gym_name_at(statement)
+                lines = [f"import {module}", f"{alias}.register_envs({module})"]
+                if not bound:
+                    lines.insert(0, "import gymnasium")
+                self.plan.insert_before(statement, *lines)
+        if at_top:
+            self._insert_registration(at_top, strings)
+        if guarded:
+            self._insert_registration(guarded, strings, guard=True)
 
-    def _insert_registration(self, packages: list[str], strings: list[ast.expr]) -> None:
+    def _where_made(self, made: list[ast.AST]) -> tuple[list[ast.stmt], bool]:
+        """The statements of functions that make the envs (each registration right before
+        its make), when every make is in a function; else no statement, and whether the
+        makes only run later (in a lambda at module level) rather than at import time."""
+        statements: list[ast.stmt] = []
+        deferred = False
+        for node in made:
+            function = self.facts.enclosing_function(node)
+            if function is None or self.facts.statement_of(node) is function:
+                # at module level (or a default of a def's parameter, evaluated there)
+                if self.facts.enclosing(node, ast.Lambda) is None:
+                    return [], False
+                deferred = True
+                continue
+            statement = self.facts.statement_of(node)
+            parent = self.facts.parent(statement)
+            while isinstance(parent, ast.If) and parent.orelse == [statement]:
+                statement, parent = parent, self.facts.parent(parent)  # an ``elif``: before its ``if``
+            if statement not in statements:
+                statements.append(statement)
+        if deferred:
+            return [], True
+        return statements, False
+
+    def _gym_name_at(self, statement: ast.stmt) -> tuple[str, bool]:
+        """The name Gymnasium is called by where ``statement`` runs (the module's top-level
+        import, else one of the function around it: ``try: import gym`` in ``__init__``),
+        and whether it is bound there; else ``gymnasium``, which then needs its import."""
+        alias = gym_alias(self.facts)
+        if alias is not None:
+            return alias, True
+        function = self.facts.enclosing_function(statement)
+        for node in walk(function) if function is not None else ():
+            if isinstance(node, ast.Import) and (node.lineno, node.col_offset) < (statement.lineno, statement.col_offset):
+                for name in node.names:
+                    if name.name in ("gym", "gymnasium"):
+                        return name.asname or name.name, True
+        return "gymnasium", False
+
+    def _insert_registration(self, packages: list[str], strings: list[ast.expr], guard: bool = False) -> None:
         """``import ale_py`` after the last top-level import that comes before the first use
-        of an id, then a blank line and ``gym.register_envs(ale_py)``."""
+        of an id, then a blank line and ``gym.register_envs(ale_py)``; with ``guard``, both
+        in a ``try`` whose ``except ImportError`` passes."""
         body = self.facts.tree.body
         first_use = min(body.index(self._top_level_statement(s)) for s in strings)
         alias = gym_alias(self.facts)
@@ -345,9 +533,14 @@ class EnvIds(RuleFamily):
             alias = "gymnasium"
             lines.append("import gymnasium")
             self.notes.gymnasium_imported = True
-        lines += [f"import {package}" for package in packages]
-        calls = [f"{alias}.register_envs({package})" for package in packages]
-        calls[0] = "\n" + calls[0]
+        if guard:
+            block = "\n".join(["try:", *[f"    import {p}" for p in packages], *[f"    {alias}.register_envs({p})" for p in packages]])
+            lines.append("\n" + block + "\nexcept ImportError:  # the envs that need it are made later; without it they are not found\n    pass")
+            calls = []
+        else:
+            lines += [f"import {package}" for package in packages]
+            calls = [f"{alias}.register_envs({package})" for package in packages]
+            calls[0] = "\n" + calls[0]
         last_import: ast.stmt | None = next((s for s in reversed(body[:first_use]) if isinstance(s, (ast.Import, ast.ImportFrom))), None)
         binding = _binding_statement(body, alias)
         if binding is not None and (last_import is None or body.index(binding) > body.index(last_import)):
@@ -408,16 +601,20 @@ def _binding_statement(body: list[ast.stmt], alias: str) -> ast.stmt | None:
     return None
 
 
+def _listing(names: list[str], last: str = "and") -> str:
+    return names[0] if len(names) == 1 else f"{', '.join(names[:-1])} {last} {names[-1]}"
+
+
 def _is_docstring(statement: ast.stmt) -> bool:
     return isinstance(statement, ast.Expr) and isinstance(statement.value, ast.Constant) and isinstance(statement.value.value, str)
 
 
-def _registration_message(package: EnvPackage) -> str:
+def _registration_message(package: EnvPackage, where: str) -> str:
     if package is ALE:
-        return "Atari ids need `import ale_py` since Gymnasium 1.0 removed plugin auto-registration; added it with `register_envs(ale_py)`"
+        return f"Atari ids need `import ale_py` since Gymnasium 1.0 removed plugin auto-registration; added it with `register_envs(ale_py)`{where}"
     return (
         f"these ids need `import {package.module}` since Gymnasium 1.0 removed plugin auto-registration; "
-        f"added it: check the package is installed and registers the ids on import"
+        f"added it{where}: check the package is installed and registers the ids on import"
     )
 
 

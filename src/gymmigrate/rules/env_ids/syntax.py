@@ -101,3 +101,20 @@ def split_module_prefix(text: str) -> tuple[str, str]:
         module, env_id = text.split(":", 1)
         return module + ":", env_id
     return "", text
+
+
+def leading_literal(value: ast.expr) -> ast.Constant | None:
+    """The string literal a built id starts with: ``"dm2gym:" + name``, ``f"procgen:{game}"``,
+    ``"procgen:procgen-{}-v0".format(game)``; None for anything else."""
+    if isinstance(value, ast.BinOp) and isinstance(value.op, (ast.Add, ast.Mod)):
+        while isinstance(value, ast.BinOp) and isinstance(value.op, ast.Add):
+            value = value.left
+        if isinstance(value, ast.BinOp) and isinstance(value.op, ast.Mod):
+            value = value.left
+    elif isinstance(value, ast.JoinedStr) and value.values:
+        value = value.values[0]
+    elif isinstance(value, ast.Call) and isinstance(value.func, ast.Attribute) and value.func.attr == "format":
+        value = value.func.value
+    else:
+        return None
+    return value if isinstance(value, ast.Constant) and isinstance(value.value, str) else None

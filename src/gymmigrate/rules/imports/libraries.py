@@ -93,6 +93,24 @@ GYM_ONLY_LIBRARIES = {
         "ppaquette_gym_doom (gym 0.9's Doom envs) is abandoned and has no Gymnasium release: use ViZDoom's own "
         "Gymnasium envs (`vizdoom.gymnasium_wrapper`)"
     ),
+    # Procgen's last release (0.10.7) builds on gym3 and registers ``procgen-<game>-v0`` with gym;
+    # procgen-gym is a community port of its Python layer to Gymnasium.
+    "procgen": (
+        "procgen registers its ids (`procgen:procgen-coinrun-v0`) with gym only and has no Gymnasium release (0.10.7 "
+        "builds on gym3): they do not resolve under Gymnasium; wrap its env with Shimmy (`GymV21Environment-v0`, gym "
+        "installed), or move to the community Gymnasium port `procgen-gym` (`import procgen_gym`, ids "
+        "`procgen_gym/procgen-<game>-v0`, Python 3.13+)"
+    ),
+    "slimevolleygym": (
+        "slimevolleygym registers its ids (`SlimeVolley-v0`...) with gym only and has no Gymnasium release: they do "
+        "not resolve under Gymnasium; wrap its env with Shimmy (`gymnasium.make(\"GymV21Environment-v0\", env=...)`, "
+        "gym installed), or port it: its two-player `step(action, other_action)` is not Gymnasium's (Shimmy's step "
+        "passes one action)"
+    ),
+    "dm2gym": (
+        "dm2gym (the `dm2gym:` ids) makes dm_control envs with the legacy Gym API and has no Gymnasium release: use "
+        "Shimmy's dm_control envs (`gymnasium.make(\"dm_control/<domain>-<task>-v0\")`, `shimmy[dm-control]` installed)"
+    ),
     "nes_py": "nes_py has no Gymnasium release: wrap its envs with Shimmy (`GymV21Environment-v0`, gym installed)",
     "atari_py": "atari_py is replaced by ale_py: `import ale_py`, `gymnasium.register_envs(ale_py)`, ids `ALE/Pong-v5`",
     "mujoco_py": "mujoco_py envs were removed in Gymnasium 1.0: use the `mujoco` bindings and the v5 envs",
@@ -349,10 +367,13 @@ class GymOnlyLibraries(ImportsBase):
         return None
 
     def _gym_only_libraries(self, asked_at: dict[str, int] | None = None) -> None:
-        """One finding per library and file, at its first import (not one per import line).
+        """One finding per library and file, at its first import (not one per import line),
+        and one more for each other function that imports it again: the item asks once and
+        lists every function that uses the library (their findings share its question).
         ``asked_at``: libraries whose question another item of the file asks (the module kept
         on gym with them, at that line): their imports are notes pointing there."""
         reported: set[str] = set()
+        users: set[tuple[str, ast.AST | None]] = set()  # (library, the function importing it)
         for node in self._imports():
             if isinstance(node, ast.Import):
                 modules = [alias.name for alias in node.names]
@@ -369,8 +390,15 @@ class GymOnlyLibraries(ImportsBase):
                 top = module.split(".", 1)[0]
                 if top in _SUCCESSOR_KEEPS_NAME and not self.context.profile.imports_gym:
                     continue  # ``import retro`` next to Gymnasium alone: stable-retro already
+                if top in GYM_ONLY_LIBRARIES and top in reported and (top, self.facts.enclosing_function(node)) not in users:
+                    users.add((top, self.facts.enclosing_function(node)))
+                    if (asked_at or {}).get(top) is None:
+                        # another function of the file uses the library: the same question, listed there
+                        self.report(node, "GM107", GYM_ONLY_LIBRARIES[top], question=gym_only_question(N.gym_only_stack(top)))
+                    continue
                 if top in GYM_ONLY_LIBRARIES and top not in reported and not self._of_the_run(top):
                     reported.add(top)
+                    users.add((top, self.facts.enclosing_function(node)))
                     line = (asked_at or {}).get(top)
                     if line is not None:
                         self.report(node, "GM107", f"{GYM_ONLY_LIBRARIES[top]} (this module stays on gym with it: the item at line {line})", tier=Tier.NOTE)
