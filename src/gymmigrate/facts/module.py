@@ -110,6 +110,7 @@ class ModuleFacts:
         self.star_imports: tuple[str, ...] = ()  # modules of ``from M import *`` at module level
         self.calls_by_name: dict[str, list[ast.Call]] = defaultdict(list)
         self.attribute_calls: dict[str, list[ast.Call]] = defaultdict(list)  # x.<attr>(...)
+        self.lookup_calls: list[ast.Call] = []  # x[k](...): a call through a table of creators, maybe
         self.attributes: dict[str, list[ast.Attribute]] = defaultdict(list)  # every x.<attr>, by attr
         self.classes: dict[str, ast.ClassDef] = {}  # module-level classes
         self.functions: dict[str, ast.FunctionDef | ast.AsyncFunctionDef] = {}  # module-level functions
@@ -159,6 +160,8 @@ class ModuleFacts:
                 self.calls_by_name[func.id].append(node)
             elif isinstance(func, ast.Attribute):
                 self.attribute_calls[func.attr].append(node)
+            elif isinstance(func, ast.Subscript):
+                self.lookup_calls.append(node)
             return None
         if isinstance(node, ast.Attribute):
             self.attributes[node.attr].append(node)

@@ -25,6 +25,10 @@ KNOWN = "="
 # ``held:Trainer.__init__:test_env``: ``self.test_env`` of a plain class of the calling module,
 # stored only from that ``__init__`` parameter: what every construction of the run passes there.
 HELD = "held:"
+# ``table:agents.factory.AGENTS``: a lookup in a closed table of creators of another module of
+# the run. As a call's target, the call reaches each class or def the table holds; as what
+# calling an argument gives (``CallSummary.creators``), what calling through the table gives.
+TABLE = "table:"
 # Beyond this many parameters passed on from call to call the join stops following.
 MAX_CHAIN = 50
 Kind = EnvKind | str  # a kind, or ``new:<class>[|<class>...]`` / ``param:<def>:<name>`` / ``held:...`` until the join resolves it
@@ -59,6 +63,11 @@ class CallSummary:
     # for _ in range(n)]``, a name or ``self.x`` bound to one): (position as a string, or the
     # keyword, the one kind every item has). What ``envs[i]`` holds in the def given it.
     items: tuple[tuple[str, Kind], ...] = ()
+    # Arguments that are classes or other creators (``env_class=CartEnv``, ``ENVS[name]``, a
+    # name bound once to either, a parameter of the calling def passed on): (position as a
+    # string, or the keyword, what calling it gives: a kind, ``ref:<qualified>`` for a name of
+    # the run, ``table:<qualified>`` for a lookup in a table of the run, ``param:...``).
+    creators: tuple[tuple[str, Kind], ...] = ()
 
 
 @dataclass(frozen=True)

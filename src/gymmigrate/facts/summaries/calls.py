@@ -13,6 +13,7 @@ import re
 from typing import cast
 
 from gymmigrate.facts import names as N
+from gymmigrate.facts.creator_tables import lookup, table_display
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.mode_handovers import handed_make
@@ -32,6 +33,7 @@ from gymmigrate.facts.module_summary import (
     OWN,
     PARAM,
     REF,
+    TABLE,
     UNRESOLVED,
     CallSummary,
     Kind,
@@ -41,6 +43,9 @@ from gymmigrate.facts.receivers import Receivers
 from gymmigrate.facts.summaries.classes import held_params
 
 _BUILTINS = frozenset(dir(builtins))
+
+# A call with no arguments: what a library creator handed on gives when called.
+_NO_ARGUMENTS = ast.Call(func=ast.Name(id="_", ctx=ast.Load()), args=[], keywords=[])
 
 # ``PongNoFrameskip-v4``, ``ALE/Pong-v5``, ``mod:Name-v0``: what the summaries keep of string arguments.
 _ENV_ID = re.compile(r"(?:[\w.]+:)?(?:\w+/)?[\w.-]+-v\d+")
@@ -57,7 +62,35 @@ class CallSummarizer:
         """Every call of a name, then every call of an attribute, in the module's index order."""
         calls = [c for calls in self.facts.calls_by_name.values() for call in calls for c in self._name_calls(call)]
         calls += [c for call in (c for calls in self.facts.attribute_calls.values() for c in calls) for c in self._method_calls(call)]
+        calls += [c for call in self.facts.lookup_calls for c in self._lookup_calls(call)]
         return calls
+
+    def _lookup_calls(self, call: ast.Call) -> list[CallSummary]:
+        """``AGENTS[kind](params, env_class=...)``: a call through a closed table of creators
+        reaches each class or def the table holds. A table of this module: one call of each of
+        its names (this module's own, ``@``, or another module's of the run); a table imported
+        from the run: one call the join hands to each (``table:<qualified>``)."""
+        found = lookup(self.facts, cast(ast.Subscript, call.func))
+        if found is None or found[1] is not None:
+            return []
+        table = found[0]
+        display = table_display(self.facts, table) if isinstance(table, ast.Name) else None
+        if display is None:
+            qualified = self.facts.qualified_names(table)
+            if len(qualified) != 1 or N.is_library(name := next(iter(qualified))):
+                return []
+            return [self._arguments(call, TABLE + name)]
+        values = display.values if isinstance(display, ast.Dict) else display.elts
+        targets = set()
+        for value in values:
+            if not isinstance(value, (ast.Name, ast.Attribute)):
+                continue
+            own = self._own_target(value)
+            run_names = [q for q in self.facts.qualified_names(value) if not N.is_library(q)]
+            target = own if own is not None else run_names[0] if len(run_names) == 1 else None
+            if target is not None:
+                targets.add(target)
+        return [self._arguments(call, target) for target in sorted(targets)]
 
     def inherited_id_calls(self) -> list[CallSummary]:
         """``self.check(environment="LunarLander-v2")`` in a class that does not define
@@ -347,6 +380,7 @@ class CallSummarizer:
         made = [(slot, *found) for slot, value in slots if (found := handed_make(self.facts, value, call, self._is_run_call)) is not None]
         sources = [(slot, source) for slot, a in slots if isinstance(a, ast.Name) and (source := flow.source_of(a)) is not None]
         items = [(slot, kind) for slot, a in slots if (kind := self._items_kind(a)) is not None]
+        creators = [(slot, kind) for slot, a in slots if (kind := self._creator(a, 0)) is not None]
         return CallSummary(
             target,
             tuple(args),
@@ -358,7 +392,43 @@ class CallSummarizer:
             made=tuple(made),
             sources=tuple(sources),
             items=tuple(items),
+            creators=tuple(creators),
         )
+
+    def _creator(self, argument: ast.expr, depth: int) -> Kind | None:
+        """What calling ``argument`` gives, where it is a creator handed on (``CallSummary.creators``):
+        a class or def (a kind this module settles, ``ref:`` for one of another module of the
+        run), a lookup in a closed table of them (``table:`` for a table of another module), a
+        name bound once to one of those, or a parameter of the calling def (``param:``). None
+        for anything else."""
+        if isinstance(argument, ast.Name):
+            bindings = self.facts.bindings_of(argument)
+            if len(bindings) == 1 and isinstance(bindings[0], ast.arg):
+                return self._parameter_of_def(argument)
+            values = self.facts.assigned_values(argument, sole_target=True)
+            if values is not None and len(values) == 1 and depth < 3:
+                return self._creator(values[0], depth + 1)
+        if isinstance(argument, ast.Subscript):
+            found = lookup(self.facts, argument)
+            if found is None or found[1] is not None:
+                return None
+            if isinstance(found[0], ast.Name) and table_display(self.facts, found[0]) is not None:
+                kind = self.receivers.returned_kind(argument)
+                return kind if kind is not EnvKind.UNKNOWN else None
+            qualified = self.facts.qualified_names(found[0])
+            return TABLE + qualified.pop() if len(qualified) == 1 and not N.is_library(next(iter(qualified))) else None
+        if not isinstance(argument, (ast.Name, ast.Attribute)):
+            return None
+        if self.receivers.local_class(argument) is not None or self.receivers.local_function(argument) is not None:
+            kind = self.receivers.returned_kind(argument)
+            return kind if kind is not EnvKind.UNKNOWN else None
+        qualified = self.facts.qualified_names(argument)
+        if len(qualified) != 1:
+            return None
+        name = next(iter(qualified))
+        if not N.is_library(name):
+            return REF + name
+        return self.receivers.kind_from_qualified(name, _NO_ARGUMENTS)  # ``gym.make``, a Gym env class
 
     def _items_kind(self, argument: ast.expr) -> Kind | None:
         """The one kind of every item of a list argument the module shows (``[Vec(fns) for
