@@ -51,6 +51,7 @@ from gymmigrate.facts.module_summary import (
     NEW,
     OWN,
     REF,
+    TABLE,
     UNRESOLVED,
     CallSummary,
     ModuleSummary,
@@ -317,6 +318,14 @@ class ProjectFacts:
     # the kind of every item of the list passed there (``CallSummary.items``; unknown for
     # any other argument).
     item_kinds: dict[tuple[str, str, str], list[EnvKind]] = field(default_factory=dict)
+    # (path, qualname, parameter) -> per call of it in another module (as ``param_kinds``),
+    # what calling the class or other creator passed there gives (``CallSummary.creators``;
+    # unknown for any other argument).
+    creator_kinds: dict[tuple[str, str, str], list[EnvKind]] = field(default_factory=dict)
+    # (path, class, attribute) -> the ``__init__`` parameter the attribute holds and its
+    # position in a call (``ModuleSummary.held_params``), for every class, subclassed or not:
+    # a subclass elsewhere that hands its own parameter up there holds that in the attribute.
+    init_held: dict[tuple[str, str, str], tuple[str, int]] = field(default_factory=dict)
     # path -> its top-level defs returning a thunk -> what that thunk returns (modules left
     # as they are give none: their thunks keep the old API)
     thunk_factories: dict[str, dict[str, EnvKind]] = field(default_factory=dict)
@@ -418,6 +427,11 @@ class ProjectFacts:
                     # A VecEnv passed to some ``x.fit``: every ``fit`` of the run may get it.
                     for path, qualname in methods_named.get(call.target[len(UNRESOLVED) :], ()):
                         calls_to[(path, qualname)].append((summary.path, call))
+                    continue
+                if call.target.startswith(TABLE):
+                    # ``AGENTS[kind](...)``: a call of each class or def the table holds
+                    for target in facts._table_targets(call.target[len(TABLE) :], summary.path, by_path):
+                        calls_to[target].append((summary.path, call))
                     continue
                 if call.target.startswith(OWN):
                     qualname = call.target[len(OWN) :]
@@ -522,6 +536,21 @@ class ProjectFacts:
         # after the registrations: a make that may build a class taking no render_mode gets none
         join_mode_handovers(facts, by_path, calls_to, set(facts.subclasses_of))
         return facts
+
+    def _table_targets(self, qualified: str, importer: str, by_path: dict[str, ModuleSummary]) -> list[tuple[str, str]]:
+        """The defs (a class: its ``__init__``) of the run that a call through the closed table
+        ``qualified`` (as ``importer`` imports it) may reach: its values that name one."""
+        split = self._split(qualified, importer)
+        summary = by_path.get(split[0]) if split is not None else None
+        if split is None or summary is None:
+            return []
+        found = []
+        for value in summary.tables.get((split[1], ""), ()):
+            if is_ref(value):
+                target = self._resolve(value[len(REF) :], split[0]) or self._resolve_reexported(value[len(REF) :], split[0], by_path)
+                if target is not None and target not in found:
+                    found.append(target)
+        return found
 
     def _class_kind(self, kind: str, importer: str) -> EnvKind:
         """``new:envs.GridEnv`` is a Gym env when ``GridEnv`` is an env class of the run (or

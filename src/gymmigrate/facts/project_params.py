@@ -7,7 +7,7 @@ from __future__ import annotations
 from collections import defaultdict
 from typing import TYPE_CHECKING
 
-from gymmigrate.facts.kinds import EnvKind, join_kinds
+from gymmigrate.facts.kinds import EnvKind, agreed_kind, join_kinds
 from gymmigrate.facts.module_summary import (
     HELD,
     KNOWN,
@@ -16,6 +16,7 @@ from gymmigrate.facts.module_summary import (
     OWN,
     PARAM,
     REF,
+    TABLE,
     CallSummary,
     Kind,
     ModuleSummary,
@@ -41,6 +42,7 @@ class ParamJoin:
         self.by_path = by_path
         self.calls_to = calls_to
         self.memo: dict[tuple[str, str, str], EnvKind] = {}
+        self.creator_memo: dict[tuple[str, str, str], EnvKind] = {}
         self.depth = 0
         self.subclassed: set[tuple[str, str]] | None = None
 
@@ -56,6 +58,7 @@ class ParamJoin:
                     continue
                 thunks = dict(call.thunks)
                 items = dict(call.items)
+                creators = dict(call.creators)
                 positional = list(signature.params[1:] if signature.is_method else signature.params)
                 for param, source in self._sources(positional, call):
                     sources[(path, qualname, param)].append(f"{caller}|{source}" if source is not None else None)
@@ -66,6 +69,8 @@ class ParamJoin:
                     index = positional.index(param)
                     slot = str(index) if index < len(call.args) else param
                     self.facts.thunk_kinds.setdefault((path, qualname, param), []).append(self._thunks_kind(thunks.get(slot), caller))
+                    # what calling the class (or other creator) passed there gives
+                    self.facts.creator_kinds.setdefault((path, qualname, param), []).append(self._creator_kind(creators.get(slot), caller))
                     item = items.get(slot)
                     self.facts.item_kinds.setdefault((path, qualname, param), []).append(EnvKind.UNKNOWN if item is None else self._resolve(item, caller))
                     external[(path, qualname, param)].append(resolved)
@@ -95,6 +100,54 @@ class ParamJoin:
             return EnvKind.UNKNOWN
         found = self.facts.thunk_factory(kind[len(REF) :], caller)
         return found if found is not None else EnvKind.UNKNOWN
+
+    def _creator_kind(self, kind: Kind | None, caller: str) -> EnvKind:
+        """What calling a creator a call passes gives (``CallSummary.creators``): the kind the
+        caller found; for a name of the run, what calling it gives (``call_kinds``); for a
+        lookup in a closed table of the run, what calling through it gives (``table_kinds``);
+        for a parameter of the calling def, what every call of that def passes there gives.
+        Unknown for a module left as it is and for anything else."""
+        if kind is None or caller in self.facts.blocked:
+            return EnvKind.UNKNOWN
+        if isinstance(kind, EnvKind):
+            return kind
+        view = self.facts.view(caller)
+        if kind.startswith(REF):
+            return view.call_kind(kind[len(REF) :]) or EnvKind.UNKNOWN
+        if kind.startswith(TABLE):
+            return view.table_kind(kind[len(TABLE) :], None) or EnvKind.UNKNOWN
+        if kind.startswith(PARAM):
+            qualname, _, param = kind[len(PARAM) :].rpartition(":")
+            return self.creator_param_kind(caller, qualname, param)
+        return EnvKind.UNKNOWN
+
+    def creator_param_kind(self, path: str, qualname: str, param: str) -> EnvKind:
+        """What calling the creator every call of the run passes to ``param`` of ``qualname``
+        gives, where they all agree (``agreed_kind``); a cycle or a chain longer than
+        ``MAX_CHAIN`` is unknown."""
+        key = (path, qualname, param)
+        known = self.creator_memo.get(key)
+        if known is not None:
+            return known
+        if self.depth >= MAX_CHAIN:
+            return EnvKind.UNKNOWN
+        self.creator_memo[key] = EnvKind.UNKNOWN  # a cycle adds no evidence
+        signature = self.by_path[path].defs.get(qualname)
+        calls = self.calls_to.get((path, qualname), ()) if signature is not None else ()
+        kinds: list[EnvKind] = []
+        self.depth += 1
+        try:
+            for caller, call in calls:
+                positional = list(signature.params[1:] if signature.is_method else signature.params)  # type: ignore[union-attr]
+                creators = dict(call.creators)
+                for passed, _ in self._passed(signature, call):  # type: ignore[arg-type]
+                    if passed == param:
+                        index = positional.index(param)
+                        kinds.append(self._creator_kind(creators.get(str(index) if index < len(call.args) else param), caller))
+        finally:
+            self.depth -= 1
+        result = self.creator_memo[key] = agreed_kind(kinds)
+        return result
 
     def _kept_class(self, kind: Kind, caller: str) -> str | None:
         """The class whose step and reset the run keeps on their own contract (``legacy_steps``)
@@ -205,9 +258,12 @@ def join_held(facts: ProjectFacts, by_path: dict[str, ModuleSummary], params: Pa
         if path in facts.blocked:
             continue
         for name, held in summary.held_params.items():
+            init = summary.defs.get(f"{name}.__init__")
+            for attribute, param in held.items():
+                if init is not None and param in init.params[1:]:
+                    facts.init_held[(path, name, attribute)] = (param, init.params.index(param) - 1)
             if (path, name) in facts.subclasses_of:
                 continue
-            init = summary.defs.get(f"{name}.__init__")
             for attribute, param in held.items():
                 if params.param_kind(path, f"{name}.__init__", param) is EnvKind.GYM_ENV:
                     facts.held_kinds[(path, name, attribute)] = EnvKind.GYM_ENV

@@ -266,6 +266,12 @@ class ProjectView(ClassView, HierarchyView, RegistryView, RenderView):
         (unknown where it passes anything else; ``ProjectFacts.thunk_kinds``)."""
         return self.facts.thunk_kinds.get((self.path, qualname, param), [])
 
+    def creator_kinds(self, qualname: str, param: str) -> list[EnvKind]:
+        """Per call in another module of ``param`` of this file's ``qualname`` (as
+        ``param_kinds``), what calling the class or other creator it passes gives (unknown
+        where it passes anything else; ``ProjectFacts.creator_kinds``)."""
+        return self.facts.creator_kinds.get((self.path, qualname, param), [])
+
     def reset_contract(self) -> Contract | None:
         """The env reset keywords the run passes down its wrapper chains (GM207)."""
         return self.facts.reset_contract

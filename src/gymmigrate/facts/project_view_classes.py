@@ -40,6 +40,13 @@ class ClassView:
         split = self.facts._split(qualified, self.path)
         return None if split is None else self.facts.held_slots.get((*split, attribute))
 
+    def init_held(self, qualified: str, attribute: str) -> tuple[str, int] | None:
+        """``self.<attribute>`` that the run's plain class ``qualified`` (a base of this file's
+        class) stores only from a parameter of its ``__init__``: that parameter and its
+        position in a call, subclassed or not (``ProjectFacts.init_held``)."""
+        split = self.facts._split(qualified, self.path)
+        return None if split is None else self.facts.init_held.get((*split, attribute))
+
     def makes_bare_env(self, qualified: str) -> bool:
         """An imported Gym env class of the run that is no wrapper (``TakeoffAviary``): its
         instance is the env itself, whose attributes need no forwarding."""
