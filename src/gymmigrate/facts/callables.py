@@ -402,6 +402,9 @@ class CallableKinds:
             if position == 0:
                 return EnvKind.UNKNOWN
             position -= 1
+        external = self._external_creator_kinds(function, classdef if is_method else None, param.arg)  # type: ignore[arg-type]
+        if external:
+            return self._run_creator_kind(function, classdef if is_method else None, param, position, external)  # type: ignore[arg-type]
         calls = self.receivers.call_sites(function, classdef if is_method else None)  # type: ignore[arg-type]
         kinds = []
         for call in calls:
@@ -410,6 +413,39 @@ class CallableKinds:
                 argument = self._splatted_argument(call, param.arg)
             kinds.append(EnvKind.UNKNOWN if argument is None else self.returned_kind(argument))
         return join_kinds(kinds) if kinds else EnvKind.UNKNOWN
+
+    def _external_creator_kinds(self, function: ast.AST, classdef: ast.ClassDef | None, param: str) -> list[EnvKind]:
+        """What calling the class (or other creator) each call of another module of the run
+        passes for ``param`` gives (``ProjectView.creator_kinds``; none when checked alone)."""
+        if self.project is None:
+            return []
+        name = function.name  # type: ignore[attr-defined]
+        if classdef is None:
+            return self.project.creator_kinds(name, param) if self.facts.parent(function) is self.facts.tree else []
+        return self.project.creator_kinds(f"{classdef.name}.{name}", param) if self.facts.parent(classdef) is self.facts.tree else []
+
+    def _run_creator_kind(
+        self, function: ast.FunctionDef | ast.AsyncFunctionDef, classdef: ast.ClassDef | None, param: ast.arg, position: int | None, external: list[EnvKind]
+    ) -> EnvKind:
+        """``env_class`` (or ``self.env_class`` stored from it) that other modules of the run
+        pass classes to (``Runner(params, env_class=ENVS[name])``): what calling them gives,
+        with this module's own calls (every construction, for an ``__init__``), where all
+        agree: the project's own classes make no env, Gym env classes a Gym env; classes of
+        several kinds, or a call this run does not show, leave it unknown."""
+        kinds = list(external)
+        if classdef is not None and function.name == "__init__":
+            constructions, elsewhere = self.receivers.constructions(classdef)
+            if elsewhere:
+                return EnvKind.UNKNOWN
+            calls = [(call, shift) for call, shift in constructions]
+        else:
+            calls = [(call, 0) for call in self.receivers.call_sites(function, classdef)]
+        for call, shift in calls:
+            argument = call_argument(call, None if position is None else position + shift, param.arg)
+            if isinstance(argument, ast.Name) and param in self.facts.bindings_of(argument):
+                continue  # the def passing its own parameter on: what its callers pass
+            kinds.append(EnvKind.UNKNOWN if argument is None else self.returned_kind(argument))
+        return agreed_kind(kinds)
 
     def _splatted_argument(self, call: ast.Call, name: str) -> ast.expr | None:
         """``f(**kwargs)`` where ``kwargs = dict(name=value, ...)`` (or a dict display with the

@@ -223,6 +223,11 @@ class Receivers(BindingKinds, WrappingCalls, ClassKinds, ParameterKinds, MadeObj
             stored = self.self_attribute_values(func, func.attr)
             if stored:
                 return join_kinds(self.returned_kind(value) for value in stored)
+            handed = self.attributes.handed_up(func)
+            if handed is not None:
+                # ``self.env_class(...)`` stored by a base of another module from what this
+                # class's ``__init__`` hands up: what calling that parameter's values gives
+                return self.returned_kind(handed)
         if isinstance(func, ast.Subscript):
             return self.returned_kind(func)  # ``self.env_fns[i]()``: an item of a list of thunks
         if isinstance(func, ast.Call):
