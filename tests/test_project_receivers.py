@@ -651,3 +651,32 @@ def test_a_table_of_creators_of_another_module_settles_what_a_lookup_makes(tmp_p
     pool = (project / "pool.py").read_text()
     assert 'self.env.has_wrapper_attr("team_size")' in pool
     assert 'self.env.get_wrapper_attr("legal_moves")()' in pool
+
+
+def test_a_class_handed_to_another_module_makes_what_every_caller_hands_in(tmp_path: Path) -> None:
+    """``fixtures/project_passed_classes``: an agent's constructor takes an env class, hands it
+    up to ``Agent.__init__`` of another module (which stores it on ``self.env_class``) and
+    builds its env with ``self.env_class(...)``. Handed only the project's own env classes
+    (through a table of agents, from a table of envs), the agent's reset and step are left with
+    no question; handed only Gym env classes, they are rewritten; handed both, they stay a
+    question."""
+    project = _copy("project_passed_classes", tmp_path)
+    found = _findings([project], tmp_path)
+    rows = sorted(
+        (str(f["path"]).rsplit("/", 1)[1], f["line"], f["rule"], f["tier"])
+        for f in found
+        if "/agents/" in str(f["path"]) and f["rule"] in ("GM201", "GM301")
+    )
+    assert rows == [
+        ("mixed.py", 12, "GM201", "review"),
+        ("mixed.py", 13, "GM301", "note"),
+        ("player.py", 12, "GM201", "note"),
+        ("player.py", 13, "GM301", "note"),
+    ]
+    walker = (project / "kit" / "agents" / "walker.py").read_bytes()
+    result = runner.invoke(app, ["rewrite", str(project)])
+    assert result.exit_code == 0, result.output
+    assert (project / "kit" / "agents" / "walker.py").read_bytes() == walker
+    player = (project / "kit" / "agents" / "player.py").read_text()
+    assert "obs, info = self.env.reset()" in player
+    assert "obs, reward, terminated, truncated, info = self.env.step(0)" in player
