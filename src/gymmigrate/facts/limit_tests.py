@@ -228,6 +228,44 @@ def if_setting_true(line: ast.AST, parent: ast.AST | None) -> ast.If | None:
     return parent
 
 
+def added_end_tests(line: ast.AST, name: str, parent: ast.AST | None) -> list[ast.expr] | None:
+    """The tests of the end of its own that ``line`` adds to the flag ``name``, which it leaves
+    as it was otherwise: ``name = True`` in one branch of an ``if`` whose other branch binds
+    no ``name`` (``[<the if's test>]``), or ``name = name or <a> or <b>``, the flag anywhere
+    in the ``or`` and read nowhere else in it (``[<a>, <b>]``). None for any other line: an
+    ``if`` that sets the flag both ways decides it, it adds no end to it."""
+    branch = if_setting_true(line, parent)
+    if branch is not None:
+        if line.targets[0].id != name:  # type: ignore[attr-defined]
+            return None
+        other = branch.orelse if line in branch.body else branch.body
+        binds = any(isinstance(n, ast.Name) and n.id == name and isinstance(n.ctx, ast.Store) for s in other for n in walk(s))
+        return None if binds else [branch.test]
+    if not (isinstance(line, ast.Assign) and len(line.targets) == 1 and isinstance(line.targets[0], ast.Name)):
+        return None
+    value = line.value
+    if line.targets[0].id != name or not (isinstance(value, ast.BoolOp) and isinstance(value.op, ast.Or)):
+        return None
+    rest = [v for v in value.values if not (isinstance(v, ast.Name) and v.id == name)]
+    if len(rest) != len(value.values) - 1 or any(isinstance(n, ast.Name) and n.id == name for v in rest for n in walk(v)):
+        return None
+    return rest
+
+
+def own_task_end(
+    line: ast.AST, name: str, parent: ast.AST | None, data_ends: Collection[str] = (), streaks: Collection[str] = ()
+) -> list[ast.expr] | None:
+    """The tests of the end of the task that ``line`` adds to the flag ``name``
+    (``added_end_tests``), where none compares a step or time counter with its bound: an
+    end on a step limit or a budget is a truncation, whatever else its test reads, never a
+    terminal state. The step overrides of env classes (GM504) and of wrappers (GM602) share
+    it; a wrapper, which does not define the task, also asks its tests to show the end."""
+    tests = added_end_tests(line, name, parent)
+    if tests is None or any(isinstance(n, ast.Compare) and is_step_limit(n, data_ends, streaks) for t in tests for n in walk(t)):
+        return None
+    return tests
+
+
 _AnyNode = TypeVar("_AnyNode", bound=ast.AST)
 
 

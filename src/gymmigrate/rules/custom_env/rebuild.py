@@ -603,9 +603,26 @@ def _is_task_end(assign: cst.Assign, name: str) -> bool:
     if len(assign.targets) != 1 or not m.matches(assign.targets[0].target, m.Name(name)):
         return False
     value = assign.value
-    return m.matches(value, m.Name("True")) or (
-        isinstance(value, cst.BooleanOperation) and isinstance(value.operator, cst.Or) and m.matches(value.left, m.Name(name))
-    )
+    return m.matches(value, m.Name("True")) or _or_operand_renamed(value, name, "terminated") is not value
+
+
+def _or_operand_renamed(expr: cst.BaseExpression, name: str, new: str) -> cst.BaseExpression:
+    """``<a> or name or <b>`` with ``name`` read as ``new``: the flag as an operand of the
+    ``or`` itself (``facts.limit_tests.added_end_tests``), wherever it stands; ``expr`` itself
+    where it is no such ``or``."""
+    if not (isinstance(expr, cst.BooleanOperation) and isinstance(expr.operator, cst.Or)):
+        return expr
+    left, right = expr.left, expr.right
+    # ``a or b or c`` nests to the left; a parenthesized ``or`` inside is an operand of its own
+    if isinstance(left, cst.Name) and left.value == name:
+        left = left.with_changes(value=new)
+    elif not left.lpar:
+        left = _or_operand_renamed(left, name, new)
+    if isinstance(right, cst.Name) and right.value == name:
+        right = right.with_changes(value=new)
+    if left is expr.left and right is expr.right:
+        return expr
+    return expr.with_changes(left=left, right=right)
 
 
 def _reads_beside_task_ends(fn: cst.FunctionDef, name: str) -> bool:
@@ -649,9 +666,7 @@ class _TaskEndsTerminate(cst.CSTTransformer):
         if m.matches(assign.value, m.Name("True")):
             new = assign.with_changes(targets=target)
             return [assign, new] if self.keep else [new]
-        value = assign.value
-        assert isinstance(value, cst.BooleanOperation)
-        new = assign.with_changes(targets=target, value=value.with_changes(left=cst.Name("terminated")))
+        new = assign.with_changes(targets=target, value=_or_operand_renamed(assign.value, self.name, "terminated"))
         if not self.keep:
             return [new]
         again = cst.parse_statement(f"{self.name} = terminated or truncated\n")

@@ -12,7 +12,7 @@ import ast
 from typing import NamedTuple
 
 from gymmigrate.facts.env_classes import FunctionIndex, is_super_method_call
-from gymmigrate.facts.limit_tests import if_setting_true, is_step_limit
+from gymmigrate.facts.limit_tests import own_task_end
 from gymmigrate.facts.module import own_returns, walk
 from gymmigrate.facts.step_calls import foreign_step
 from gymmigrate.rules.custom_env.common import (
@@ -82,52 +82,18 @@ def returns_five_from_helper(ret: ast.Return, decision: ClassDecision) -> bool:
 
 
 def task_ends(decision: ClassDecision, index: FunctionIndex, name: str) -> list[ast.Assign]:
-    """The lines that add the class's own end of the task to ``name``: ``name = True`` in one
-    branch of an ``if`` whose test is no step limit and whose other branch leaves ``name`` as
-    it was (``else: reward = -100; done = True``: the agent died), and ``name = name or
-    <test>`` whose test is no step limit; nothing where no line is one. The caller checks
-    that every other assignment of ``name`` but one is such a line."""
-    assigns = [
-        a
+    """The lines that add the class's own end of the task to ``name`` (``own_task_end``:
+    ``name = True`` in one branch of an ``if`` whose test is no step limit and whose other
+    branch leaves ``name`` as it was, ``else: reward = -100; done = True``: the agent died;
+    ``name = name or <test>`` whose test is no step limit); nothing where no line is one.
+    The caller checks that every other assignment of ``name`` but one is such a line."""
+    facts = decision.family.facts
+    data_ends, streaks = class_data_ends(decision), class_streaks(decision)
+    return [
+        a  # type: ignore[misc]
         for a in index.of(ast.Assign)
-        if len(a.targets) == 1 and isinstance(a.targets[0], ast.Name) and a.targets[0].id == name  # type: ignore[attr-defined]
+        if own_task_end(a, name, facts.parent(a), data_ends, streaks) is not None
     ]
-    ends = []
-    for assign in assigns:
-        parent = if_setting_true(assign, decision.family.facts.parent(assign))
-        if parent is not None:
-            test: ast.AST = parent.test
-            if _assigns_in(parent.orelse if assign in parent.body else parent.body, name):
-                continue
-        elif is_added_end(assign, name):  # type: ignore[arg-type]
-            test = assign.value  # type: ignore[attr-defined]
-        else:
-            continue
-        if not any(isinstance(n, ast.Compare) and is_step_limit(n, class_data_ends(decision), class_streaks(decision)) for n in walk(test)):
-            ends.append(assign)
-    return ends  # type: ignore[return-value]
-
-
-def is_added_end(assign: ast.Assign, name: str) -> bool:
-    """``name = name or <test>``: the flag as it was, or one more end."""
-    value = assign.value
-    return (
-        isinstance(value, ast.BoolOp)
-        and isinstance(value.op, ast.Or)
-        and isinstance(value.values[0], ast.Name)
-        and value.values[0].id == name
-        and not any(isinstance(n, ast.Name) and n.id == name for v in value.values[1:] for n in walk(v))
-    )
-
-
-def _assigns_in(statements: list[ast.stmt], name: str) -> bool:
-    """A branch binds ``name`` (``if solved: done = True`` / ``else: done = False``): the
-    ``if`` decides done both ways, which is no end of the task added to the step's."""
-    return any(
-        isinstance(node, ast.Name) and node.id == name and isinstance(node.ctx, ast.Store)
-        for statement in statements
-        for node in walk(statement)
-    )
 
 
 def unpacked_from_inner_step(decision: ClassDecision, index: FunctionIndex, name: str, besides: frozenset[int] = frozenset()) -> bool:

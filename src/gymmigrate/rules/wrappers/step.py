@@ -5,7 +5,8 @@ with the flags of the override's inner step unpack, as the step family rewrote i
 (``notes.step_unpacks``) or as it already was (five targets). When the override
 changes ``done`` itself, its own end condition is returned as truncation, for review,
 except a lost life (baselines' ``EpisodicLifeEnv``): that sets ``terminated``, as
-Stable-Baselines3's port does. The
+Stable-Baselines3's port does; and an end of the task (a goal, success, a crash): its line
+sets ``terminated`` instead of ``done``, as an env class's own end does (GM504). The
 ``done = terminated or truncated`` line the step family inserts is withdrawn when the
 return was its last reader.
 
@@ -29,6 +30,7 @@ from gymmigrate.rules.custom_env.plans import (
     BATCHED_STEP_QUESTION,
     batched_step_message,
 )
+from gymmigrate.rules.step_done.common import StepUnpack
 from gymmigrate.rules.wrappers.common import _assigned_names
 from gymmigrate.rules.wrappers.step_ends import (
     _done_changes,
@@ -116,6 +118,53 @@ class StepOverrides(RuleFamily):
                 )
 
 
+    def _task_ends_terminate(
+        self,
+        function: ast.AST,
+        ends: list[ast.Assign],
+        done_name: str,
+        flags: tuple[str, str],
+        unpacks: dict[ast.stmt, StepUnpack | None],
+    ) -> int:
+        """``done = True`` -> ``terminated = True``, ``done = done or <end>`` -> ``terminated =
+        terminated or <end>``: the override's own ends of the task set the inner step's
+        terminated. Where ``done`` is read elsewhere than in those lines and the returns
+        (``if done: break``), it keeps its old meaning: ``done = True`` stays beside the new
+        line, ``done = terminated or truncated`` follows the other. The reads of ``done``
+        this takes away from the lines."""
+        terminated, truncated = flags
+        operands = [
+            value
+            for end in ends
+            if isinstance(end.value, ast.BoolOp)
+            for value in end.value.values
+            if isinstance(value, ast.Name) and value.id == done_name
+        ]
+        returned = [
+            ret.value.elts[2]
+            for ret in own_returns(function)
+            if isinstance(ret.value, ast.Tuple)
+            and len(ret.value.elts) == 4
+            and isinstance(ret.value.elts[2], ast.Name)
+            and ret.value.elts[2].id == done_name
+        ]
+        claimed = sum(noted.claimed_reads for noted in unpacks.values() if noted is not None)
+        reads = sum(1 for node in walk(function) if isinstance(node, ast.Name) and node.id == done_name and isinstance(node.ctx, ast.Load))
+        keep = reads - claimed - len(returned) - len(operands) > 0
+        for end in ends:
+            if isinstance(end.value, ast.BoolOp):
+                self.plan.replace(end.targets[0], lambda node, t=terminated: cst.Name(t))
+                for operand in end.value.values:
+                    if isinstance(operand, ast.Name) and operand.id == done_name:
+                        self.plan.replace(operand, lambda node, t=terminated: node.with_changes(value=t))
+                if keep:
+                    self.plan.insert_after(end, f"{done_name} = {terminated} or {truncated}")
+            elif keep:
+                self.plan.insert_after(end, f"{terminated} = True")
+            else:
+                self.plan.replace(end.targets[0], lambda node, t=terminated: cst.Name(t))
+        return len(operands)
+
     def _fix_step(self, function: ast.FunctionDef | ast.AsyncFunctionDef) -> None:
         """Return the inner step's terminated/truncated instead of ``done``.
 
@@ -143,6 +192,7 @@ class StepOverrides(RuleFamily):
         loops = (ast.For, ast.AsyncFor, ast.While)
         replaced_done_reads = 0
         settled_lives: set[int] = set()
+        settled_task_ends = False
         for ret in own_returns(function):
             value = ret.value
             if not isinstance(value, ast.Tuple) or len(value.elts) != 4:
@@ -333,24 +383,32 @@ class StepOverrides(RuleFamily):
                         node, [cst.parse_expression(f"({_code(node.elements[2].value)} and not {u}) or {t}"), cst.Name(u)]
                     ),
                 )
-            elif isinstance(done, ast.Name) and done_name is not None and done.id == done_name and _task_end_sets(
-                self.facts, lines, done_name, done_line, unpacks
+            elif (
+                isinstance(done, ast.Name)
+                and done_name is not None
+                and done.id == done_name
+                and not per_agent
+                and (task_ends := _task_end_sets(self.facts, lines, done_name, done_line, unpacks))
             ):
                 # ``done = done or info["is_success"]``: the wrapper's own condition is the task
-                # ending (success, a goal, a crash), which Gymnasium calls terminated; the inner
-                # step's truncation stays truncated, so ``terminated or truncated`` is the old done.
+                # ending (success, a goal, a crash), which Gymnasium calls terminated, on the
+                # step a time limit cuts too: the line sets ``terminated`` itself, as an env
+                # class's own end does (GM504), and the inner step's truncation stays truncated.
+                if not settled_task_ends:
+                    settled_task_ends = True
+                    replaced_done_reads += self._task_ends_terminate(function, task_ends, done_name, flags, unpacks)
+                replaced_done_reads += 1
+                ends = ", ".join(str(end.lineno) for end in task_ends)
                 self.report(
                     ret,
                     "GM602",
-                    "this step override ends the episode when the task ends (success, a goal, a failure): that end is "
-                    f"returned as `{terminated}`, the inner step's `{truncated}` as it was (a task end on the very step "
-                    "a time limit cuts counts as the cut)",
+                    "this step override ends the episode when the task ends (success, a goal, a failure): that end "
+                    f"sets `{terminated}` (line{'s' if len(task_ends) > 1 else ''} {ends}), a terminal state even on the "
+                    f"step a time limit cuts; `{truncated}` stays the inner step's",
                     kind=FixKind.ASSIST,
                     tier=Tier.NOTE,
                 )
-                self.plan.replace(
-                    value, lambda node, d=done_name, u=truncated: _five(node, [cst.parse_expression(f"bool({d}) and not {u}"), cst.Name(u)])
-                )
+                self.plan.replace(value, lambda node, t=terminated, u=truncated: _five(node, [cst.Name(t), cst.Name(u)]))
             elif (reshaped := done_name or inner_done) is not None and not done_modified and _reshapes(done, reshaped, terminated):
                 # ``np.asarray(done)``, ``bool(done)``: the inner done only reshaped, no end of
                 # the override's own; the same call on each flag keeps both and the shape.

@@ -19,7 +19,7 @@ from collections.abc import Callable
 
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.done_uses import always_false_here, falsy_constant
-from gymmigrate.facts.limit_tests import if_setting_true
+from gymmigrate.facts.limit_tests import if_setting_true, own_task_end
 from gymmigrate.facts.module import FUNCTIONS, own_returns, walk
 from gymmigrate.facts.per_agent_flags import true_list
 from gymmigrate.rules.custom_env.step import is_step_limit
@@ -182,10 +182,14 @@ def _set_alone_when(line: ast.stmt, parent: ast.AST | None, test: Callable[[ast.
 _TASK_END_WORDS = re.compile(r"success|goal|solved|reached|\bwon\b|\bwin\b|crash|collision|collided|fail", re.IGNORECASE)
 
 
-def _ends_on_task_end(line: ast.stmt, name: str, parent: ast.AST | None) -> bool:
-    """``done = done or <task end>`` / ``done = <task end> or done``, or ``done = True`` alone
-    in an ``if`` that tests a task end."""
-    return _sets_done_when(line, name, parent, _names_task_end)
+def _own_task_end(line: ast.stmt, name: str, parent: ast.AST | None) -> bool:
+    """``done = done or <task end>`` (the flag anywhere in the ``or``), or ``done = True`` in
+    an ``if`` that tests a task end and whose other branch leaves ``done`` as it was: an end
+    of the task an env class's step would return as terminated too (``own_task_end``: no
+    step limit among its tests). A wrapper is not the task's author, so each test must also
+    show the end: a task's own word (success, a goal, a crash) or the lives."""
+    tests = own_task_end(line, name, parent)
+    return tests is not None and all(_names_task_end(test) or _tests_lives(test) for test in tests)
 
 
 def _names_task_end(expr: ast.AST) -> bool:
@@ -256,11 +260,14 @@ def _life_loss_sets(
 
 def _task_end_sets(
     facts: ModuleFacts, lines: list[ast.stmt], name: str, done_line: ast.stmt | None, unpacks: dict[ast.stmt, StepUnpack | None]
-) -> bool:
-    """Every change of ``name`` after the inner step ends the episode on the task's own end:
-    ``done = done or info.get("is_success")``, ``if reached_goal: done = True``."""
+) -> list[ast.Assign]:
+    """The changes of ``name`` after the inner step, when every one ends the episode on the
+    task's own end (``done = done or info.get("is_success")``, ``if reached_goal: done =
+    True``, a test of the lives among them); else nothing."""
     changes = _done_changes(lines, name, done_line, unpacks)
-    return bool(changes) and all(_ends_on_task_end(line, name, facts.parent(line)) for line in changes)
+    if changes and all(_own_task_end(line, name, facts.parent(line)) for line in changes):
+        return changes  # type: ignore[return-value]
+    return []
 
 
 def _never_ends(changes: list[ast.stmt], name: str, classdef: ast.ClassDef, facts: ModuleFacts) -> str | None:
