@@ -9,6 +9,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from gymmigrate.facts.done_causes import DoneCause
+from gymmigrate.facts.init_attributes import ClassStores
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.reset_contract import ResetSites
 
@@ -328,6 +329,11 @@ class ModuleSummary:
     # those names: the join gives the def the one kind their calls give there
     # (``ProjectFacts.thunk_factories``), which this module alone cannot know.
     thunk_factory_refs: dict[str, frozenset[str]] = field(default_factory=dict)
+    # -- what a class's instances certainly hold (facts/init_attributes.py, GM604, GM507) --
+    # Top-level class -> its bases, the names its body binds, and what each of its methods
+    # certainly stores on ``self``, calls on ``self`` and hands up to a base ``__init__``:
+    # the join follows the bases across modules (``ProjectFacts.init_attributes``).
+    class_stores: dict[str, ClassStores] = field(default_factory=dict)
 
 
 def is_ref(kind: object) -> bool:

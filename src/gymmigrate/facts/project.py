@@ -59,6 +59,7 @@ from gymmigrate.facts.module_summary import (
 )
 from gymmigrate.facts.project_classes import (
     inherit_driven_kinds,
+    join_init_attributes,
     join_mode_renders,
     join_overrides,
     join_registered_classes,
@@ -369,6 +370,9 @@ class ProjectFacts:
     # Some module registers envs whose entry points are no literal (``opaque_registrations``):
     # an id made anywhere may then build any env class of the run.
     registers_from_data: bool = False
+    # (path, name of a class of the run, re-exports followed) -> the attributes its instances
+    # certainly hold once constructed (``facts/init_attributes.py``; none: not listed)
+    init_attributes: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
 
     @classmethod
     def join(cls, summaries: list[ModuleSummary], blocked: dict[str, str] | None = None) -> ProjectFacts:
@@ -499,6 +503,7 @@ class ProjectFacts:
                 if resolved is not None:
                     facts.handed_on.add(resolved)
         facts.class_methods = class_methods(facts, by_path)
+        join_init_attributes(facts, by_path)
         driven = inherit_driven_kinds(facts, by_path)
         for path, summary in by_path.items():
             for name in summary.exports:

@@ -11,6 +11,7 @@ import os
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts.import_roots import import_parts
+from gymmigrate.facts.init_attributes import ClassStores, certain_attributes
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module_summary import MAX_CHAIN, OWN, REF, ModuleSummary, is_ref
 from gymmigrate.facts.project_contracts import class_definer
@@ -325,3 +326,29 @@ def reexported(facts: ProjectFacts, by_path: dict[str, ModuleSummary], defined: 
     return frozenset(found)
 
 
+
+
+def join_init_attributes(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> None:
+    """``ProjectFacts.init_attributes``: per name of the run bound to a class (re-exports
+    followed), what its instances certainly hold once constructed, bases of other modules
+    followed (``facts/init_attributes.py``). Classes that certainly hold nothing are left out."""
+    def lookup(key: tuple[str, str]) -> ClassStores | None:
+        summary = by_path.get(key[0])
+        return summary.class_stores.get(key[1]) if summary is not None else None
+
+    def resolve(key: tuple[str, str], base: str) -> tuple[str, str] | None:
+        if base.startswith(OWN):
+            return class_definer(facts, by_path, key[0], base[len(OWN) :])
+        return imported_class(facts, by_path, key[0], base)
+
+    found: dict[tuple[str, str], frozenset[str]] = {}
+    for path, summary in by_path.items():
+        for name in summary.class_stores:
+            attributes = certain_attributes((path, name), lookup, resolve)
+            if attributes:
+                found[(path, name)] = attributes
+    for path, summary in by_path.items():
+        for name in summary.exports:
+            where = class_definer(facts, by_path, path, name)
+            if where is not None and where in found:
+                facts.init_attributes[(path, name)] = found[where]

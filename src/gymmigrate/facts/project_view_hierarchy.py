@@ -105,3 +105,14 @@ class HierarchyView:
                 found.append(DoneCause(cause.cause, tuple(Limit(limit.line, limit.text, where, limit.by_counter) for limit in cause.limits)))
             todo += self.facts.subclasses_of.get(sub, ())
         return found
+
+    def init_attributes(self, qualified: str) -> frozenset[str]:
+        """What an instance of the imported class of the run ``qualified`` certainly holds
+        once constructed, its bases in any module followed (``facts/init_attributes.py``);
+        empty for anything else."""
+        split = self.facts._split(qualified, self.path)
+        return frozenset() if split is None else self.facts.init_attributes.get(split, frozenset())
+
+    def init_attributes_here(self, name: str) -> frozenset[str]:
+        """``init_attributes`` of a class of this module."""
+        return self.facts.init_attributes.get((self.path, name), frozenset())

@@ -43,6 +43,15 @@ class RegistryView:
         params = self.facts.def_params.get((found[0], found[1] + ".step"), ())
         return params[1] if len(params) > 1 else None
 
+    def class_of_id(self, env_id: str) -> tuple[str, str] | None:
+        """(module path, class) of the class of the run that ``make(env_id)`` builds
+        (``"pkg:Task-v0"`` names ``Task-v0``): the run registers that literal id for it, and
+        every registration of the run spells its id and entry point, so no other may
+        replace it. None where the run does not tell."""
+        if None in self.facts.registered_ids or self.facts.registers_from_data:
+            return None
+        return self.facts.id_classes.get(env_id.rpartition(":")[2])
+
     def seed_class_of_id(self, env_id: str) -> str | None:
         """The class of the run that keeps seed() which the run registers ``env_id`` for."""
         return self.facts.seed_ids.get(env_id)

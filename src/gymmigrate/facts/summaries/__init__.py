@@ -26,6 +26,7 @@ from gymmigrate.facts.done_uses import top_level_records
 from gymmigrate.facts.env_classes import EnvClasses
 from gymmigrate.facts.env_specs import module_spec_lists, recreates_from_spec
 from gymmigrate.facts.id_params import escaping_parameters, id_parameters
+from gymmigrate.facts.init_attributes import module_class_stores
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.mode_handovers import param_renders
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
@@ -252,5 +253,6 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
             for name, classdef in facts.classes.items()
             if receivers.is_gym_wrapper_class(classdef) and receivers.forwards_inner_contract(classdef)
         ),
+        class_stores=module_class_stores(facts),
         reset_sites=reset_sites(facts, lambda classdef: receivers.class_kind(classdef) is EnvKind.GYM_ENV),
     )

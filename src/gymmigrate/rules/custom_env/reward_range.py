@@ -14,9 +14,10 @@ from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import names as N
 from gymmigrate.facts.decisions import Action, decide
 from gymmigrate.facts.env_classes import EnvClasses, is_self_attribute
+from gymmigrate.facts.init_attributes import local_init_attributes
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import ModuleFacts
-from gymmigrate.findings import FixKind
+from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 
 
@@ -55,6 +56,16 @@ class RewardRange(RuleFamily):
             elif env.is_custom_env(classdef) and not _defines_reward_range(env, classdef):
                 self.report(node, "GM507", "Env.reward_range was removed in Gymnasium 1.0; define `reward_range` on this class or drop the read")
             return
+        holders = self._constructed_holding(owner)
+        if holders is not None:
+            self.report(
+                node,
+                "GM507",
+                f"`{ast.unparse(owner)}` is an env built by its own class, with no wrapper around it, and "
+                f"{', '.join(holders)} sets `reward_range` when constructed: the read works as it did",
+                tier=Tier.NOTE,
+            )
+            return
         kind = self.receivers.kind_of(owner)
         if kind is EnvKind.GYM_ENV and self._default_range(owner):
             self._replace_with_default(node)
@@ -67,6 +78,40 @@ class RewardRange(RuleFamily):
                 "reward_range was removed from Env and Wrapper in Gymnasium 1.0 (reads through a wrapper raise AttributeError); use `env.unwrapped.reward_range` if the env defines it",
             )
 
+
+    def _constructed_holding(self, owner: ast.expr) -> list[str] | None:
+        """The classes whose constructions ``owner`` holds on every path (``env =
+        Track(...)``, a class of the file or of the run), where each certainly stores
+        ``reward_range`` once constructed (``facts/init_attributes.py``); None otherwise.
+        Gymnasium's Env has no ``reward_range`` any more: only the class's own counts."""
+        if not isinstance(owner, ast.Name):
+            return None
+        bindings = self.facts.bindings_of(owner)
+        if not bindings:
+            return None
+        found: set[str] = set()
+        for binding in bindings:
+            statement = self.facts.parent(binding)
+            if not (isinstance(statement, ast.Assign) and statement.targets == [binding] and isinstance(statement.value, ast.Call)):
+                return None
+            name = self._class_holding(statement.value.func)
+            if name is None:
+                return None
+            found.add(name)
+        return sorted(found)
+
+    def _class_holding(self, func: ast.expr) -> str | None:
+        view = self.receivers.project
+        local = self.receivers.local_class(func)
+        if local is not None:
+            attributes = view.init_attributes_here(local.name) if view is not None else local_init_attributes(self.facts, local)
+            return local.name if "reward_range" in attributes else None
+        if view is None:
+            return None
+        for qualified in self.facts.qualified_names(func):
+            if "reward_range" in view.init_attributes(qualified):
+                return qualified.rsplit(".", 1)[-1]
+        return None
 
     def _default_range(self, owner: ast.expr) -> bool:
         """Every binding of ``owner`` is ``gym.make("<id>")`` of an env that kept gym's

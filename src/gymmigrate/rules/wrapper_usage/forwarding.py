@@ -58,6 +58,7 @@ from gymmigrate.rules.wrapper_usage.getattr_hasattr import (
     getattr_forwarding,
     hasattr_through_wrappers,
 )
+from gymmigrate.rules.wrapper_usage.made_attributes import classes_holding
 from gymmigrate.rules.wrapper_usage.make_layers import MakeLayers
 from gymmigrate.rules.wrapper_usage.monitor_attributes import (
     monitor_api,
@@ -228,6 +229,21 @@ class WrapperForwarding(RuleFamily):
                 and len(statement.targets) == 1
                 and statement.targets[0] is attr
             ):
+                holders = classes_holding(self.facts, self.receivers, receiver, name) if origin == MADE else None
+                if holders is not None:
+                    # Every env the make may build has the name when it is written, and no
+                    # layer make adds has it: set_wrapper_attr lands on the env, as the legacy
+                    # write to the bare env did. Nothing is left to check.
+                    self.report(
+                        attr,
+                        code,
+                        f"writing `{dotted_name(attr) or name}` would set it on the outermost wrapper only (writes never "
+                        f"forwarded): `set_wrapper_attr(\"{name}\", ...)` sets it on the env, as a write to the bare env "
+                        f"did ({', '.join(holders)} sets `{name}` when constructed, and no layer of make has it)",
+                        tier=Tier.NOTE,
+                    )
+                    self.plan.replace(statement, set_wrapper_attr(name))
+                    return
                 self.report(
                     attr,
                     code,

@@ -74,6 +74,20 @@ OWN_ATTRIBUTES = {
     "RecordVideo": {"video_folder", "episode_trigger", "step_trigger", "video_length", "name_prefix", "episode_id"},
 }  # fmt: skip
 
+# What the layers ``gymnasium.make`` may add (1.4: PassiveEnvChecker, OrderEnforcing,
+# TimeLimit, HumanRendering, RenderCollection) have besides ``gymnasium.Wrapper``'s own
+# (``SAFE_ATTRIBUTES``), read from ``vars()`` and ``dir()`` of each: ``set_wrapper_attr``
+# of one of these names stops at that layer.
+MAKE_LAYER_ATTRIBUTES = SAFE_ATTRIBUTES | frozenset(
+    {
+        "_action_space", "_observation_space", "_metadata", "_cached_spec", "_saved_kwargs", "_np_random",
+        "_np_random_seed", "_elapsed_steps", "_max_episode_steps", "_has_reset", "has_reset",
+        "_disable_render_order_enforcing", "_previous_data", "checked_data_reuse", "checked_render",
+        "checked_reset", "checked_step", "close_called", "ACCEPTED_RENDER_MODES", "_render_frame", "clock",
+        "screen_size", "window", "frame_list", "pop_frames", "reset_clean",
+    }
+)  # fmt: skip
+
 FINAL_INFO_KEYS = ("final_observation", "final_info")
 
 
