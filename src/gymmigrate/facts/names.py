@@ -168,6 +168,19 @@ SB3_VEC_FACTORIES = frozenset(
     }
 )
 SB3_PACKAGES = ("stable_baselines3", "sb3_contrib", "stable_baselines", "baselines")
+# The libraries' pickling holders that carry an env function to a worker process
+# (``Process(target=worker, args=(..., CloudpickleWrapper(env_fn)))``): the attribute the
+# worker reads it from (``env_fn_wrapper.x()``) and the constructor parameter (name,
+# position) it is stored from unchanged.
+PICKLING_HOLDERS: dict[str, tuple[str, str, int]] = {
+    "baselines.common.vec_env.CloudpickleWrapper": ("x", "x", 0),
+    "baselines.common.vec_env.vec_env.CloudpickleWrapper": ("x", "x", 0),
+    "baselines.common.vec_env.subproc_vec_env.CloudpickleWrapper": ("x", "x", 0),
+    "stable_baselines.common.vec_env.CloudpickleWrapper": ("var", "var", 0),
+    "stable_baselines.common.vec_env.base_vec_env.CloudpickleWrapper": ("var", "var", 0),
+    "stable_baselines3.common.vec_env.CloudpickleWrapper": ("var", "var", 0),
+    "stable_baselines3.common.vec_env.base_vec_env.CloudpickleWrapper": ("var", "var", 0),
+}
 # Stable-Baselines3 2.x single-env wrappers subclass ``gymnasium.Wrapper``: what they wrap
 # and return is a Gym env (``env = NoopResetEnv(gym.make(...))``; ``Monitor(env)``).
 SB3_ENV_WRAPPER_PREFIXES = ("stable_baselines3.common.atari_wrappers.",)

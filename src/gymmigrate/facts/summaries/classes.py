@@ -119,7 +119,10 @@ def held_params(facts: ModuleFacts, receivers: Receivers) -> dict[str, dict[str,
             continue
         params = {a.arg for a in (*init.args.posonlyargs, *init.args.args[1:], *init.args.kwonlyargs)}
         held = {}
-        for attribute, values in receivers.self_stores(classdef).items():
+        for attribute, stored in receivers.self_stores(classdef).items():
+            # ``__setstate__`` restores what pickling saved (a pickling wrapper's
+            # ``self.x = pickle.loads(ob)``): the same object, not another value
+            values = [v for v in stored if getattr(facts.enclosing_function(v), "name", None) != "__setstate__"]
             if len(values) != 1 or not isinstance(values[0], ast.Name) or values[0].id not in params:
                 continue
             bindings = facts.bindings_of(values[0])
