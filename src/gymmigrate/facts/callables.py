@@ -15,6 +15,8 @@ from __future__ import annotations
 import ast
 from typing import TYPE_CHECKING
 
+from gymmigrate.facts import names as N
+from gymmigrate.facts.creation_shapes import argument_for
 from gymmigrate.facts.creator_tables import entries, lookup, table_display
 from gymmigrate.facts.kinds import (
     MAX_DEPTH,
@@ -193,8 +195,18 @@ class CallableKinds:
                 return self._unpacked_returned_kind(assign.value, parent.elts.index(binding), len(parent.elts))  # type: ignore[arg-type]
         if isinstance(parent, ast.AnnAssign):
             return self.callable_annotation_kind(parent.annotation)
+        container = self.loop_container(binding)
+        if container is not None:
+            return self._item_returned_kind(container)
+        return EnvKind.UNKNOWN
+
+    def loop_container(self, binding: ast.AST) -> ast.expr | None:
+        """The sequence a loop variable takes its items from: ``env_fns`` for ``fn`` in ``for
+        fn in env_fns`` (a comprehension too) and in ``for remote, fn in zip(remotes,
+        env_fns)``. None for any other binding."""
+        parent = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
         if isinstance(parent, (ast.For, ast.comprehension)) and parent.target is binding:
-            return self._item_returned_kind(parent.iter)
+            return parent.iter
         if isinstance(parent, ast.Tuple) and not any(isinstance(e, ast.Starred) for e in parent.elts):
             # ``for remote, fn in zip(remotes, env_fns)``: an item of the zipped sequence
             loop = self.facts.parent(parent)
@@ -209,8 +221,21 @@ class CallableKinds:
                     and index < len(iterable.args)
                     and not any(isinstance(a, ast.Starred) for a in iterable.args)
                 ):
-                    return self._item_returned_kind(iterable.args[index])
-        return EnvKind.UNKNOWN
+                    return iterable.args[index]
+        return None
+
+    def thunk_list_param(self, callee: ast.expr) -> ast.arg | None:
+        """The unannotated parameter holding the list of thunks that ``callee`` is an item of
+        (``fn`` in ``for fn in env_fns``, or zipped with others), where its calls pass lists
+        of thunks (``Receivers.thunks_returned_kind``); None for anything else."""
+        if not isinstance(callee, ast.Name):
+            return None
+        bindings = self.facts.bindings_of(callee)
+        container = self.loop_container(bindings[0]) if len(bindings) == 1 else None
+        if not isinstance(container, ast.Name):
+            return None
+        params = self.facts.bindings_of(container)
+        return params[0] if len(params) == 1 and isinstance(params[0], ast.arg) and params[0].annotation is None else None
 
     def held_callable_kind(self, attr: ast.Attribute) -> EnvKind:
         """``env = env_fn_wrapper.x()`` in ``def worker(remote, env_fn_wrapper)``, a def this
@@ -318,12 +343,16 @@ class CallableKinds:
 
     def _stored_by_holder(self, argument: ast.expr | None, attribute: str) -> ast.expr | None:
         """``Holder(fn)`` with ``Holder.__init__`` storing that parameter on ``self.<attribute>``
-        unchanged: ``fn``. None for anything else."""
+        unchanged: ``fn``. ``Holder`` is a class of this module, a plain class of another
+        module of the run (``ProjectView.held_slot``: the project's own copy of a pickling
+        wrapper) or a library's pickling wrapper (``names.PICKLING_HOLDERS``: baselines'
+        ``CloudpickleWrapper``). None for anything else."""
         if not isinstance(argument, ast.Call):
             return None
         classdef = self.receivers.local_class(argument.func)
         if classdef is None:
-            return None
+            slot = self._holder_slot(argument.func, attribute)
+            return None if slot is None else argument_for(argument, *slot)
         init = next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == "__init__"), None)
         if init is None:
             return None
@@ -345,6 +374,18 @@ class CallableKinds:
         if param is None:
             return None
         return call_argument(argument, params.index(param) - 1, param.arg)
+
+    def _holder_slot(self, func: ast.expr, attribute: str) -> tuple[str, int] | None:
+        """The constructor parameter (name, position) that the imported holder class ``func``
+        stores on ``attribute`` unchanged, when every name it may be agrees; None otherwise."""
+        slots: set[tuple[str, int] | None] = set()
+        for qualified in self.receivers.qualified_names(func):
+            library = N.PICKLING_HOLDERS.get(qualified)
+            if library is not None:
+                slots.add(library[1:] if library[0] == attribute else None)
+            else:
+                slots.add(self.project.held_slot(qualified, attribute) if self.project is not None else None)
+        return slots.pop() if len(slots) == 1 else None
 
     def _unpacked_returned_kind(self, value: ast.expr, index: int, size: int) -> EnvKind:
         """``make_env_fn, kargs = get_make_env_fn(...)`` where the def of this module returns

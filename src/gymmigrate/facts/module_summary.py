@@ -69,6 +69,10 @@ class CallSummary:
     # string, or the keyword, what calling it gives: a kind, ``ref:<qualified>`` for a name of
     # the run, ``table:<qualified>`` for a lookup in a table of the run, ``param:...``).
     creators: tuple[tuple[str, Kind], ...] = ()
+    # Arguments that are lists of thunks whose every item returns an env of one Gym-only
+    # library stack (GM107; ``thunk_list_stack``): (position as a string, or the keyword,
+    # that stack). What the env functions handed to a vec env class make.
+    thunk_stacks: tuple[tuple[str, str], ...] = ()
 
 
 @dataclass(frozen=True)

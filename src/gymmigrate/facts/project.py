@@ -315,6 +315,10 @@ class ProjectFacts:
     # what calling each item of the list of thunks passed there returns (``CallSummary.thunks``;
     # unknown for any other argument).
     thunk_kinds: dict[tuple[str, str, str], list[EnvKind]] = field(default_factory=dict)
+    # (path, qualname, parameter) -> per call of it in another module (as ``thunk_kinds``),
+    # the Gym-only library stack every thunk passed there makes an env of, None where not
+    # one (``CallSummary.thunk_stacks``).
+    thunk_stacks: dict[tuple[str, str, str], list[str | None]] = field(default_factory=dict)
     # (path, qualname, parameter) -> per call of it in another module (as ``param_kinds``),
     # the kind of every item of the list passed there (``CallSummary.items``; unknown for
     # any other argument).

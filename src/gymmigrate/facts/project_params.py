@@ -57,6 +57,7 @@ class ParamJoin:
                 if caller == path:
                     continue
                 thunks = dict(call.thunks)
+                stacks = dict(call.thunk_stacks) if caller not in self.facts.blocked else {}
                 items = dict(call.items)
                 creators = dict(call.creators)
                 positional = list(signature.params[1:] if signature.is_method else signature.params)
@@ -71,6 +72,7 @@ class ParamJoin:
                     self.facts.thunk_kinds.setdefault((path, qualname, param), []).append(self._thunks_kind(thunks.get(slot), caller))
                     # what calling the class (or other creator) passed there gives
                     self.facts.creator_kinds.setdefault((path, qualname, param), []).append(self._creator_kind(creators.get(slot), caller))
+                    self.facts.thunk_stacks.setdefault((path, qualname, param), []).append(self._thunks_stack(stacks.get(slot), caller))
                     item = items.get(slot)
                     self.facts.item_kinds.setdefault((path, qualname, param), []).append(EnvKind.UNKNOWN if item is None else self._resolve(item, caller))
                     external[(path, qualname, param)].append(resolved)
@@ -148,6 +150,15 @@ class ParamJoin:
             self.depth -= 1
         result = self.creator_memo[key] = agreed_kind(kinds)
         return result
+
+    def _thunks_stack(self, stack: str | None, caller: str) -> str | None:
+        """The Gym-only stack the thunks a call passes make envs of: the caller's own answer,
+        or for ``ref:<qualified>`` (every env made by one def it imports) that def's stack
+        (``ModuleSummary.gym_only_makers``). None for anything else."""
+        if stack is None or not stack.startswith(REF):
+            return stack
+        where = self.facts._split(stack[len(REF) :], caller)
+        return None if where is None else self.facts.gym_only_makers.get(where[0], {}).get(where[1])
 
     def _kept_class(self, kind: Kind, caller: str) -> str | None:
         """The class whose step and reset the run keeps on their own contract (``legacy_steps``)

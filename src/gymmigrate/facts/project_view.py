@@ -272,6 +272,12 @@ class ProjectView(ClassView, HierarchyView, RegistryView, RenderView):
         where it passes anything else; ``ProjectFacts.creator_kinds``)."""
         return self.facts.creator_kinds.get((self.path, qualname, param), [])
 
+    def thunk_stacks(self, qualname: str, param: str) -> list[str | None]:
+        """Per call in another module of ``param`` of this file's ``qualname`` (as
+        ``thunk_kinds``), the Gym-only library stack every thunk of the list it passes makes an
+        env of (None where not one; ``ProjectFacts.thunk_stacks``)."""
+        return self.facts.thunk_stacks.get((self.path, qualname, param), [])
+
     def reset_contract(self) -> Contract | None:
         """The env reset keywords the run passes down its wrapper chains (GM207)."""
         return self.facts.reset_contract

@@ -61,6 +61,8 @@ class GymOnlyStacks(_Facade):
                     answers.append(self.gym_only_stack(parent.value))
                 elif isinstance(parent, (ast.For, ast.AsyncFor, ast.comprehension)) and parent.target is binding:
                     answers.append(self.gym_only_stack(parent.iter))  # an item of a list of them
+                elif (zipped := self.callables.loop_container(binding)) is not None:
+                    answers.append(self.gym_only_stack(zipped))  # ``for a, env in zip(actions, self.envs)``
                 else:
                     return [None]  # a parameter, an import, an unpacking: not known here
             return answers or [None]
@@ -82,6 +84,17 @@ class GymOnlyStacks(_Facade):
             return None
         return self._agreed([self.gym_only_stack(r.value) for r in returns if r.value is not None])
 
+    def _called_thunk_stack(self, callee: ast.expr) -> str | None:
+        """``fn()`` for ``fn`` an item of a list of env functions a parameter holds (``self.envs
+        = [fn() for fn in env_fns]``), or ``env_fn_wrapper.x()`` in a worker a process is
+        spawned on with ``Holder(env_fn)``: the stack every env function passed there makes
+        an env of (``thunks_returned_stack``), or None."""
+        if isinstance(callee, ast.Attribute):
+            held = self.callables.held_values(callee)
+            return self._agreed([self._called_thunk_stack(value) for value in held]) if held else None
+        param = self.callables.thunk_list_param(callee)
+        return self.thunks_returned_stack(param) if param is not None else None
+
     def _call_stack(self, call: ast.Call) -> str | None:
         classdef = self.local_class(call.func)
         if classdef is not None:
@@ -91,6 +104,8 @@ class GymOnlyStacks(_Facade):
         function = self.local_function(call.func)
         if function is not None:
             return self.returns_gym_only_stack(function)
+        if not self.qualified_names(call.func):
+            return self._called_thunk_stack(call.func)
         stacks: set[str | None] = set()
         for qualified in self.qualified_names(call.func):
             top = qualified.split(".", 1)[0]

@@ -12,10 +12,11 @@ lambdas, defs and factories of the module. Part of ``Receivers`` (through
 from __future__ import annotations
 
 import ast
-from typing import TYPE_CHECKING
+from collections.abc import Callable, Sequence
+from typing import TYPE_CHECKING, TypeVar
 
 from gymmigrate.facts import names as N
-from gymmigrate.facts.flow import Flow, is_after
+from gymmigrate.facts.flow import Flow, contains, is_after
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import FUNCTIONS, call_argument, own_returns
 
@@ -23,6 +24,9 @@ if TYPE_CHECKING:
     from gymmigrate.facts.kinds import ReceiverFacade as _Facade
 else:
     _Facade = object
+
+# What ``_every_thunk_list`` asks of each list of thunks: a kind, or a Gym-only stack.
+_Answer = TypeVar("_Answer")
 
 
 class ThunkKinds(_Facade):
@@ -40,45 +44,73 @@ class ThunkKinds(_Facade):
         return self.facts.memo(("thunks-returned-kind", id(param)), lambda: self._thunks_returned_kind(param), while_computing=EnvKind.UNKNOWN)
 
     def _thunks_returned_kind(self, param: ast.arg) -> EnvKind:
+        project = self.project
+        return self._every_thunk_list(
+            param, self.thunk_list_kind, (lambda qualname: project.thunk_kinds(qualname, param.arg)) if project is not None else None, EnvKind.UNKNOWN
+        )
+
+    def thunks_returned_stack(self, param: ast.arg) -> str | None:
+        """``env_fns`` as ``thunks_returned_kind`` reads it: the Gym-only library stack (GM107)
+        every thunk that every call passes makes an env of (``thunk_list_stack``), in this
+        module and in the others of the run (``ProjectView.thunk_stacks``); None otherwise."""
+        project = self.project
+        return self.facts.memo(
+            ("thunks-returned-stack", id(param)),
+            lambda: self._every_thunk_list(
+                param, self.thunk_list_stack, (lambda qualname: project.thunk_stacks(qualname, param.arg)) if project is not None else None, None
+            ),
+            while_computing=None,
+        )
+
+    def _every_thunk_list(
+        self,
+        param: ast.arg,
+        answer: Callable[[ast.expr | None], _Answer],
+        elsewhere: Callable[[str], Sequence[_Answer]] | None,
+        unknown: _Answer,
+    ) -> _Answer:
+        """The one ``answer`` every list of thunks passed for ``param`` gives: the lists this
+        module's calls (constructions, for ``__init__``) pass, and ``elsewhere``'s answers for
+        the calls of other modules of the run. ``unknown`` where they differ or a call is
+        not followed."""
         function = self.facts.parent(self.facts.parent(param))
         if not isinstance(function, FUNCTIONS):
-            return EnvKind.UNKNOWN
+            return unknown
         classdef = self.facts.parent(function)
         is_method = isinstance(classdef, ast.ClassDef) and self.facts.is_method(function)
         params = [*function.args.posonlyargs, *function.args.args]
         position = next((i for i, p in enumerate(params) if p is param), None)
         if position is not None and is_method:
             if position == 0:
-                return EnvKind.UNKNOWN
+                return unknown
             position -= 1
         qualname = f"{classdef.name}.{function.name}" if is_method else function.name  # type: ignore[union-attr]
         external = self.callables.external_param_kinds(function, classdef if is_method else None, param.arg)  # type: ignore[arg-type]
-        kinds: list[EnvKind] = []
+        answers: list[_Answer] = []
         if external:
             # Other modules of the run pass it too: each such call's list of thunks, as the
             # caller's module follows it (``CallSummary.thunks``); one it cannot follow, or
             # fewer followed than passed, leaves the items unknown.
-            assert self.project is not None
-            followed = self.project.thunk_kinds(qualname, param.arg)
-            if len(followed) != len(external) or EnvKind.UNKNOWN in followed:
-                return EnvKind.UNKNOWN
-            kinds += followed
+            assert elsewhere is not None
+            followed = elsewhere(qualname)
+            if len(followed) != len(external) or unknown in followed:
+                return unknown
+            answers += followed
         if self.project is not None and (self.project.handed_on(qualname) or (is_method and self.project.handed_on(classdef.name))):  # type: ignore[union-attr]
-            return EnvKind.UNKNOWN  # read as a value in another module: called with arguments no summary shows
+            return unknown  # read as a value in another module: called with arguments no summary shows
         if is_method and function.name == "__init__":
-            constructions, elsewhere = self.constructions(classdef)  # type: ignore[arg-type]
-            if elsewhere or (not external and self.project is not None and self.project.built_elsewhere(classdef.name)):  # type: ignore[union-attr]
-                return EnvKind.UNKNOWN
+            constructions, elsewhere_built = self.constructions(classdef)  # type: ignore[arg-type]
+            if elsewhere_built or (not external and self.project is not None and self.project.built_elsewhere(classdef.name)):  # type: ignore[union-attr]
+                return unknown
             calls, shifts = [c for c, _ in constructions], {id(c): shift for c, shift in constructions}
         else:
             calls, shifts = self.call_sites(function, classdef if is_method else None), {}  # type: ignore[arg-type]
-        if not calls and not kinds:
-            return EnvKind.UNKNOWN
+        if not calls and not answers:
+            return unknown
         for call in calls:
-            argument = call_argument(call, None if position is None else position + shifts.get(id(call), 0), param.arg)
-            kinds.append(self.thunk_list_kind(argument))
-        found = set(kinds)
-        return found.pop() if len(found) == 1 else EnvKind.UNKNOWN
+            answers.append(answer(call_argument(call, None if position is None else position + shifts.get(id(call), 0), param.arg)))
+        found = set(answers)
+        return found.pop() if len(found) == 1 else unknown
 
     def thunk_list_kind(self, argument: ast.expr | None) -> EnvKind:
         """What calling every item of ``argument``, a list of thunks this module defines
@@ -99,6 +131,60 @@ class ThunkKinds(_Facade):
             return EnvKind.UNKNOWN
         kinds = {value if isinstance(value, EnvKind) else self.kind_of(value) for value in returned}
         return kinds.pop() if len(kinds) == 1 else EnvKind.UNKNOWN
+
+    def thunk_list_stack(self, argument: ast.expr | None) -> str | None:
+        """The Gym-only library stack (GM107) that every item of ``argument``, a list of thunks
+        this module defines (``_passed_thunks``), makes an env of when called
+        (``gym_only_stack`` of what each returns: ``lambda: make_particles(name)``); None
+        when one is not shown to. Also what a module tells the run of the thunks it passes to
+        another's def (``CallSummary.thunk_stacks``)."""
+        thunks = self._passed_thunks(argument)
+        if thunks is None:
+            return None
+        stacks: set[str | None] = set()
+        for thunk in thunks:
+            values = self._thunk_returns(thunk, 0)
+            if not values:
+                return None
+            stacks.update(None if isinstance(value, EnvKind) else self.gym_only_stack(value) for value in values)
+        return stacks.pop() if len(stacks) == 1 else None
+
+    def thunk_list_maker(self, argument: ast.expr | None) -> str | None:
+        """The qualified name of the one imported callable that makes every env the items of
+        ``argument``, a list of thunks, return: ``lambda: make_env(name)``, or a closure's
+        ``env = make_env(name)`` then ``return env``, with ``make_env`` imported. What that
+        callable makes is its module's to say. None otherwise."""
+        thunks = self._passed_thunks(argument)
+        if thunks is None:
+            return None
+        names: set[str] = set()
+        for thunk in thunks:
+            values = self._thunk_returns(thunk, 0)
+            if not values:
+                return None
+            for value in values:
+                made = self._made_by_calls(value)
+                if made is None:
+                    return None
+                for call in made:
+                    qualified = self.qualified_names(call.func)
+                    if len(qualified) != 1 or self._thunk_factory_def(call.func) is not None or self.local_class(call.func) is not None:
+                        return None
+                    names |= qualified
+        return names.pop() if len(names) == 1 else None
+
+    def _made_by_calls(self, value: ast.expr | EnvKind) -> list[ast.Call] | None:
+        """The calls that make what a thunk returns: the call itself, or for ``return env``
+        the call every assignment of ``env`` that reaches the return is; None otherwise."""
+        if isinstance(value, ast.Call):
+            return [value]
+        if not isinstance(value, ast.Name):
+            return None
+        reaching = _returned_bindings(self.facts, value)
+        if not reaching:
+            return None
+        calls = [self.facts.parent(binding).value for binding in reaching]  # type: ignore[union-attr]
+        return calls if all(isinstance(call, ast.Call) for call in calls) else None
 
     def _mixed_thunks(self, expr: ast.AST) -> str | None:
         """``self.envs[i]`` (or ``env`` in ``for env in self.envs``) with ``self.envs = [fn()
@@ -238,9 +324,13 @@ class ThunkKinds(_Facade):
 
     def _passed_thunks(self, argument: ast.expr | None) -> list[ast.expr] | None:
         """The items of a list passed as a sequence of thunks: a display, a comprehension's
-        item, or a name bound once to either. None for anything else."""
+        item, or a name bound once to either, or whose one assignment that reaches the call
+        is (``envs = [make_env(i) ...]`` then ``envs = SubprocVecEnv(envs)``). None for
+        anything else."""
         if isinstance(argument, ast.Name):
             values = self.facts.assigned_values(argument, sole_target=True)
+            if not values or len(values) != 1:
+                values = self._reaching_value(argument)
             if not values or len(values) != 1:
                 return None
             argument = values[0]
@@ -249,6 +339,24 @@ class ThunkKinds(_Facade):
         if isinstance(argument, (ast.ListComp, ast.GeneratorExp)):
             return [argument.elt]
         return None
+
+    def _reaching_value(self, read: ast.Name) -> list[ast.expr] | None:
+        """The value of the one plain assignment of ``read`` that reaches it (``Flow.reaching``,
+        less those in the other branch of an ``if`` the read sits in: ``if n > 1: envs =
+        Subproc(envs)`` / ``else: envs = Dummy(envs)``), or None."""
+        reaching = [b for b in Flow.of(self.facts).reaching(read) or [] if not self._other_branch(b, read)]
+        if len(reaching) != 1:
+            return None
+        statement = self.facts.parent(reaching[0])
+        return [statement.value] if isinstance(statement, ast.Assign) and statement.targets == [reaching[0]] else None
+
+    def _other_branch(self, binding: ast.AST, read: ast.AST) -> bool:
+        """``binding`` and ``read`` sit in the two branches of one ``if``: one never sees the other."""
+        for node in self.facts.ancestors(binding):
+            if isinstance(node, ast.If) and contains(node, read):
+                body, orelse = node.body, node.orelse
+                return (_within(body, binding) and _within(orelse, read)) or (_within(orelse, binding) and _within(body, read))
+        return False
 
     def _thunk_returns(self, thunk: ast.expr, depth: int) -> list[ast.expr | EnvKind] | None:
         """What calling ``thunk`` returns, as the expressions of this module that make it: a
@@ -292,7 +400,7 @@ class ThunkKinds(_Facade):
                     # ``partial(gym.make, env_id)``: what the library callable returns
                     return [self.callables.returned_kind(thunk)]
                 return self._thunk_returns(inner, depth + 1)
-            function = self.local_function(thunk.func)
+            function = self._thunk_factory_def(thunk.func)
             if function is None:
                 # ``make_env(i)`` imported from another module of the run: the kind its
                 # thunks return there (``ModuleSummary.thunk_factories``)
@@ -312,12 +420,26 @@ class ThunkKinds(_Facade):
             return found
         return None
 
+    def _thunk_factory_def(self, func: ast.expr) -> ast.FunctionDef | ast.AsyncFunctionDef | None:
+        """The def a call of ``func`` runs: one of the module (``local_function``), or the one
+        def a name is bound to in the scope of the call (``def get_env_fn(rank)`` nested in
+        the function that builds the vec env)."""
+        function = self.local_function(func)
+        if function is not None or not isinstance(func, ast.Name):
+            return function
+        bindings = self.facts.bindings_of(func)
+        return bindings[0] if len(bindings) == 1 and isinstance(bindings[0], FUNCTIONS) else None
+
     @staticmethod
     def _def_returns(function: ast.FunctionDef | ast.AsyncFunctionDef) -> list[ast.expr | EnvKind] | None:
         values = [r.value for r in own_returns(function)]
         if not values or any(v is None for v in values):
             return None
         return values  # type: ignore[return-value]
+
+
+def _within(statements: list[ast.stmt], node: ast.AST) -> bool:
+    return any(contains(statement, node) for statement in statements)
 
 
 def _returned_bindings(facts, read: ast.Name) -> list[ast.AST] | None:

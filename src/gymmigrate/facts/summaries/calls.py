@@ -374,6 +374,8 @@ class CallSummarizer:
         ids += [(k.arg, text) for k in call.keywords if k.arg is not None and (text := self._env_id(k.value)) is not None]
         thunks = [(str(i), self._thunks_kind(a)) for i, a in enumerate(call.args) if self.receivers.is_thunk_list(a)]
         thunks += [(k.arg, self._thunks_kind(k.value)) for k in call.keywords if k.arg is not None and self.receivers.is_thunk_list(k.value)]
+        listed = [(str(i), a) for i, a in enumerate(call.args)] + [(k.arg, k.value) for k in call.keywords if k.arg is not None]
+        stacks = [(slot, stack) for slot, a in listed if self.receivers.is_thunk_list(a) and (stack := self._thunks_stack(a)) is not None]
         flow = Flow.of(self.facts)
         positional = [(str(i), a) for i, a in enumerate(call.args[: len(args)])]  # up to a starred one
         slots = positional + [(k.arg, k.value) for k in call.keywords if k.arg is not None]
@@ -393,6 +395,7 @@ class CallSummarizer:
             sources=tuple(sources),
             items=tuple(items),
             creators=tuple(creators),
+            thunk_stacks=tuple(stacks),
         )
 
     def _creator(self, argument: ast.expr, depth: int) -> Kind | None:
@@ -455,6 +458,16 @@ class CallSummarizer:
         are all calls of one def imported from the run, which the join asks."""
         imported = self.receivers.imported_thunk_factory(argument)
         return REF + imported if imported is not None and not N.is_library(imported) else self.receivers.thunk_list_kind(argument)
+
+    def _thunks_stack(self, argument: ast.expr) -> str | None:
+        """The Gym-only stack every item of a list of thunks makes an env of; ``ref:<qualified>``
+        when every env they return is made by one def of another module of the run, whose
+        stack the join asks (``ModuleSummary.gym_only_makers``)."""
+        stack = self.receivers.thunk_list_stack(argument)
+        if stack is not None:
+            return stack
+        maker = self.receivers.thunk_list_maker(argument)
+        return REF + maker if maker is not None and not N.is_library(maker) else None
 
     def _env_id(self, argument: ast.expr) -> str | None:
         """An env id the argument certainly is: a literal ``"Name-v4"``, or a module-level
