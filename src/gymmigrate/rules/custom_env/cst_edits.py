@@ -552,6 +552,13 @@ def _return_info_branch(original: cst.BaseStatement, stmt: cst.BaseStatement) ->
     return None
 
 
+def _assigns_alone(line: cst.SimpleStatementLine, name: str) -> bool:
+    """``name = value`` as the whole line (not ``a = name = v``, not one of several
+    statements on the line): the line the done splitters replace by the ``terminated`` and
+    ``truncated`` lines."""
+    return m.matches(line, m.SimpleStatementLine([m.Assign(targets=[m.AssignTarget(m.Name(name))])]))
+
+
 class _DoneSplitter(cst.CSTTransformer):
     """``done = bool(task or limit)`` -> ``terminated = bool(task)`` / ``truncated = bool(limit)``."""
 
@@ -564,7 +571,7 @@ class _DoneSplitter(cst.CSTTransformer):
     def leave_SimpleStatementLine(
         self, original_node: cst.SimpleStatementLine, updated_node: cst.SimpleStatementLine
     ) -> cst.BaseStatement | cst.FlattenSentinel[cst.BaseStatement]:
-        if not m.matches(updated_node, m.SimpleStatementLine([m.Assign(targets=[m.AssignTarget(m.Name(self.name))])])):
+        if not _assigns_alone(updated_node, self.name):
             return updated_node
         lines = [
             updated_node.with_changes(body=[cst.Assign([cst.AssignTarget(cst.Name("terminated"))], _bool_of(self.task))]),
@@ -589,7 +596,7 @@ class _PerAgentSplitter(cst.CSTTransformer):
     def leave_SimpleStatementLine(
         self, original_node: cst.SimpleStatementLine, updated_node: cst.SimpleStatementLine
     ) -> cst.BaseStatement | cst.FlattenSentinel[cst.BaseStatement]:
-        if not m.matches(updated_node, m.SimpleStatementLine([m.Assign(targets=[m.AssignTarget(m.Name(self.name))])])):
+        if not _assigns_alone(updated_node, self.name):
             return updated_node
         lines: list[cst.BaseStatement] = [
             updated_node.with_changes(body=[cst.Assign([cst.AssignTarget(cst.Name("terminated"))], cst.parse_expression(self.terminated))]),
