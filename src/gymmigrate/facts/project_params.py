@@ -5,6 +5,7 @@
 from __future__ import annotations
 
 from collections import defaultdict
+from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts.kinds import EnvKind, agreed_kind, join_kinds
@@ -127,18 +128,11 @@ class ParamJoin:
         """What calling the creator every call of the run passes to ``param`` of ``qualname``
         gives, where they all agree (``agreed_kind``); a cycle or a chain longer than
         ``MAX_CHAIN`` is unknown."""
-        key = (path, qualname, param)
-        known = self.creator_memo.get(key)
-        if known is not None:
-            return known
-        if self.depth >= MAX_CHAIN:
-            return EnvKind.UNKNOWN
-        self.creator_memo[key] = EnvKind.UNKNOWN  # a cycle adds no evidence
-        signature = self.by_path[path].defs.get(qualname)
-        calls = self.calls_to.get((path, qualname), ()) if signature is not None else ()
-        kinds: list[EnvKind] = []
-        self.depth += 1
-        try:
+
+        def agreed() -> EnvKind:
+            signature = self.by_path[path].defs.get(qualname)
+            calls = self.calls_to.get((path, qualname), ()) if signature is not None else ()
+            kinds: list[EnvKind] = []
             for caller, call in calls:
                 positional = list(signature.params[1:] if signature.is_method else signature.params)  # type: ignore[union-attr]
                 creators = dict(call.creators)
@@ -146,9 +140,25 @@ class ParamJoin:
                     if passed == param:
                         index = positional.index(param)
                         kinds.append(self._creator_kind(creators.get(str(index) if index < len(call.args) else param), caller))
+            return agreed_kind(kinds)
+
+        return self._chained(self.creator_memo, (path, qualname, param), agreed)
+
+    def _chained(self, memo: dict[tuple[str, str, str], EnvKind], key: tuple[str, str, str], compute: Callable[[], EnvKind]) -> EnvKind:
+        """The answer ``memo`` holds for ``key``, else ``compute()`` one link further down a
+        chain of calls, remembered: unknown past ``MAX_CHAIN`` links, and unknown to a
+        ``compute`` that meets ``key`` again (a cycle adds no evidence)."""
+        known = memo.get(key)
+        if known is not None:
+            return known
+        if self.depth >= MAX_CHAIN:
+            return EnvKind.UNKNOWN
+        memo[key] = EnvKind.UNKNOWN
+        self.depth += 1
+        try:
+            result = memo[key] = compute()
         finally:
             self.depth -= 1
-        result = self.creator_memo[key] = agreed_kind(kinds)
         return result
 
     def _thunks_stack(self, stack: str | None, caller: str) -> str | None:
@@ -206,23 +216,17 @@ class ParamJoin:
         return self.subclassed
 
     def param_kind(self, path: str, qualname: str, param: str) -> EnvKind:
-        key = (path, qualname, param)
-        known = self.memo.get(key)
-        if known is not None:
-            return known
-        if self.depth >= MAX_CHAIN:
-            return EnvKind.UNKNOWN
-        self.memo[key] = EnvKind.UNKNOWN  # a cycle adds no evidence
-        signature = self.by_path[path].defs.get(qualname)
-        kinds: list[EnvKind] = []
-        self.depth += 1
-        try:
+        """The kinds every call of the run passes to ``param`` of ``qualname``, joined
+        (``join_kinds``); a cycle or a chain longer than ``MAX_CHAIN`` is unknown."""
+
+        def joined() -> EnvKind:
+            signature = self.by_path[path].defs.get(qualname)
+            kinds: list[EnvKind] = []
             for caller, call in self.calls_to.get((path, qualname), ()) if signature is not None else ():
                 kinds.extend(self._resolve(k, caller) for p, k in self._passed(signature, call) if p == param)  # type: ignore[arg-type]
-        finally:
-            self.depth -= 1
-        result = self.memo[key] = join_kinds(kinds)
-        return result
+            return join_kinds(kinds)
+
+        return self._chained(self.memo, (path, qualname, param), joined)
 
     def _resolve(self, kind: Kind, caller: str) -> EnvKind:
         if isinstance(kind, EnvKind):

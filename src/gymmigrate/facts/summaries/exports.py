@@ -5,6 +5,7 @@ callable (``ModuleSummary.aliases``)."""
 from __future__ import annotations
 
 import ast
+from collections.abc import Iterator
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.creator_tables import entries, module_table, record_fields
@@ -39,7 +40,20 @@ class Exports:
     def tables(self, env_classes: set[str]) -> dict[tuple[str, str], tuple[Kind, ...]]:
         """The module's closed tables of creators (``ModuleSummary.tables``): per table and
         field, what calling each of its callables gives."""
-        found: dict[tuple[str, str], tuple[Kind, ...]] = {}
+        return {(name, field): tuple(self._called(value, env_classes) for value in values) for name, field, values in self._creator_tables()}
+
+    def made_tables(self, made_defs: frozenset[str]) -> dict[tuple[str, str], tuple[str, ...]]:
+        """Per closed table of creators and field (as ``tables``), whether each callable
+        returns a ``make(...)`` result (``ModuleSummary.made_tables``): ``@`` when this
+        module shows it (a lambda around ``make``, maybe in Gym wrappers; a def of
+        ``made_defs``), ``ref:<qualified>`` for a call of a name of another module of the
+        run (made when the run says so), "" otherwise."""
+        return {(name, field): tuple(self._made(value, made_defs) for value in values) for name, field, values in self._creator_tables()}
+
+    def _creator_tables(self) -> Iterator[tuple[str, str, list[ast.expr]]]:
+        """Every closed table of callables the module binds once at top level, per field
+        ("" for the table's own values): its name, the field and the callables, so that
+        ``tables`` and ``made_tables`` always describe the same tables."""
         for name, bindings in self.facts.module_scope.bindings.items():
             if len(bindings) != 1 or not isinstance(bindings[0], ast.Name):
                 continue
@@ -50,27 +64,7 @@ class Exports:
                 values = entries(display, field)
                 # only callables: a table of numbers or strings is no table of creators
                 if values is not None and all(isinstance(v, (ast.Lambda, ast.Name, ast.Attribute)) for v in values):
-                    found[(name, field or "")] = tuple(self._called(value, env_classes) for value in values)
-        return found
-
-    def made_tables(self, made_defs: frozenset[str]) -> dict[tuple[str, str], tuple[str, ...]]:
-        """Per closed table of creators and field (as ``tables``), whether each callable
-        returns a ``make(...)`` result (``ModuleSummary.made_tables``): ``@`` when this
-        module shows it (a lambda around ``make``, maybe in Gym wrappers; a def of
-        ``made_defs``), ``ref:<qualified>`` for a call of a name of another module of the
-        run (made when the run says so), "" otherwise."""
-        found: dict[tuple[str, str], tuple[str, ...]] = {}
-        for name, bindings in self.facts.module_scope.bindings.items():
-            if len(bindings) != 1 or not isinstance(bindings[0], ast.Name):
-                continue
-            display = module_table(self.facts, bindings[0])
-            if display is None:
-                continue
-            for field in (None, *sorted(record_fields(display))):
-                values = entries(display, field)
-                if values is not None and all(isinstance(v, (ast.Lambda, ast.Name, ast.Attribute)) for v in values):
-                    found[(name, field or "")] = tuple(self._made(value, made_defs) for value in values)
-        return found
+                    yield name, field or "", values
 
     def _made(self, value: ast.expr, made_defs: frozenset[str]) -> str:
         if isinstance(value, ast.Lambda):

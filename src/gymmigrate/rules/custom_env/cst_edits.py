@@ -15,7 +15,7 @@ from typing import cast
 import libcst as cst
 import libcst.matchers as m
 
-from gymmigrate.rules.custom_env.cst_queries import _index
+from gymmigrate.rules.custom_env.cst_queries import OwnBodyOnly, _index
 from gymmigrate.rules.custom_env.plans import STEP_LIMIT_WORD, SUPER_RESET
 
 _LIMIT_OPS = (cst.GreaterThan, cst.GreaterThanEqual, cst.LessThan, cst.LessThanEqual, cst.Equal)
@@ -202,7 +202,7 @@ def _tests_flag(test: cst.BaseExpression) -> bool:
     return m.matches(test, m.Name("return_info"))
 
 
-class _UntestedReturnPairer(cst.CSTTransformer):
+class _UntestedReturnPairer(OwnBodyOnly, cst.CSTTransformer):
     def __init__(self) -> None:
         super().__init__()
         self.after_flag_test: set[int] = set()  # statements after an ``if return_info`` in their block
@@ -218,15 +218,6 @@ class _UntestedReturnPairer(cst.CSTTransformer):
                 self.after_flag_test.update(id(s) for s in node.body[index:])
                 break
         return True
-
-    def visit_FunctionDef(self, node: cst.FunctionDef) -> bool:
-        return False
-
-    def visit_ClassDef(self, node: cst.ClassDef) -> bool:
-        return False
-
-    def visit_Lambda(self, node: cst.Lambda) -> bool:
-        return False
 
     def visit_Match(self, node: cst.Match) -> bool:
         return False
@@ -362,24 +353,15 @@ def _rename_names(node: cst.CSTNodeT, renames: dict[str, str]) -> cst.CSTNodeT:
 # -- transformers ---------------------------------------------------------------------------------
 
 
-class _ReturnRewriter(cst.CSTTransformer):
+class _ReturnRewriter(OwnBodyOnly, cst.CSTTransformer):
     def __init__(self, rewrite: Callable[[cst.Return], cst.Return]) -> None:
         self.rewrite = rewrite
-
-    def visit_FunctionDef(self, node: cst.FunctionDef) -> bool:
-        return False
-
-    def visit_ClassDef(self, node: cst.ClassDef) -> bool:
-        return False
-
-    def visit_Lambda(self, node: cst.Lambda) -> bool:
-        return False
 
     def leave_Return(self, original_node: cst.Return, updated_node: cst.Return) -> cst.Return:
         return self.rewrite(updated_node)
 
 
-class _HelperReturnUnpacker(cst.CSTTransformer):
+class _HelperReturnUnpacker(OwnBodyOnly, cst.CSTTransformer):
     """``return self._observe()`` (the function's return at a planned position) ->
     ``obs, reward, terminated, info = self._observe()`` and
     ``return obs, reward, terminated, False, info``: the helper keeps its four values."""
@@ -388,15 +370,6 @@ class _HelperReturnUnpacker(cst.CSTTransformer):
         self.positions = positions
         self.count = 0
         self.split: dict[int, tuple[str, ...]] = {}  # id of a (left) Return -> its names
-
-    def visit_FunctionDef(self, node: cst.FunctionDef) -> bool:
-        return False
-
-    def visit_ClassDef(self, node: cst.ClassDef) -> bool:
-        return False
-
-    def visit_Lambda(self, node: cst.Lambda) -> bool:
-        return False
 
     def leave_Return(self, original_node: cst.Return, updated_node: cst.Return) -> cst.Return:
         names = self.positions.get(self.count)
@@ -579,6 +552,13 @@ def _return_info_branch(original: cst.BaseStatement, stmt: cst.BaseStatement) ->
     return None
 
 
+def _assigns_alone(line: cst.SimpleStatementLine, name: str) -> bool:
+    """``name = value`` as the whole line (not ``a = name = v``, not one of several
+    statements on the line): the line the done splitters replace by the ``terminated`` and
+    ``truncated`` lines."""
+    return m.matches(line, m.SimpleStatementLine([m.Assign(targets=[m.AssignTarget(m.Name(name))])]))
+
+
 class _DoneSplitter(cst.CSTTransformer):
     """``done = bool(task or limit)`` -> ``terminated = bool(task)`` / ``truncated = bool(limit)``."""
 
@@ -591,7 +571,7 @@ class _DoneSplitter(cst.CSTTransformer):
     def leave_SimpleStatementLine(
         self, original_node: cst.SimpleStatementLine, updated_node: cst.SimpleStatementLine
     ) -> cst.BaseStatement | cst.FlattenSentinel[cst.BaseStatement]:
-        if not m.matches(updated_node, m.SimpleStatementLine([m.Assign(targets=[m.AssignTarget(m.Name(self.name))])])):
+        if not _assigns_alone(updated_node, self.name):
             return updated_node
         lines = [
             updated_node.with_changes(body=[cst.Assign([cst.AssignTarget(cst.Name("terminated"))], _bool_of(self.task))]),
@@ -616,7 +596,7 @@ class _PerAgentSplitter(cst.CSTTransformer):
     def leave_SimpleStatementLine(
         self, original_node: cst.SimpleStatementLine, updated_node: cst.SimpleStatementLine
     ) -> cst.BaseStatement | cst.FlattenSentinel[cst.BaseStatement]:
-        if not m.matches(updated_node, m.SimpleStatementLine([m.Assign(targets=[m.AssignTarget(m.Name(self.name))])])):
+        if not _assigns_alone(updated_node, self.name):
             return updated_node
         lines: list[cst.BaseStatement] = [
             updated_node.with_changes(body=[cst.Assign([cst.AssignTarget(cst.Name("terminated"))], cst.parse_expression(self.terminated))]),

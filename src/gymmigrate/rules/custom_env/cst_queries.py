@@ -11,19 +11,24 @@ from __future__ import annotations
 import libcst as cst
 
 
-class _OwnReturns(cst.CSTVisitor):
-    def __init__(self) -> None:
-        self.returns: list[cst.Return] = []
+class OwnBodyOnly:
+    """Mixed into a LibCST visitor or transformer (before its LibCST base) that reads or
+    rewrites one function's own body: a nested def, class or lambda returns to its own
+    caller and binds its own names, so none of it is entered."""
 
-    # A nested def, lambda or class returns to its own caller, not ours.
     def visit_FunctionDef(self, node: cst.FunctionDef) -> bool:
+        return False
+
+    def visit_ClassDef(self, node: cst.ClassDef) -> bool:
         return False
 
     def visit_Lambda(self, node: cst.Lambda) -> bool:
         return False
 
-    def visit_ClassDef(self, node: cst.ClassDef) -> bool:
-        return False
+
+class _OwnReturns(OwnBodyOnly, cst.CSTVisitor):
+    def __init__(self) -> None:
+        self.returns: list[cst.Return] = []
 
     def visit_Return(self, node: cst.Return) -> None:
         self.returns.append(node)

@@ -51,6 +51,7 @@ from gymmigrate.rules.custom_env.cst_edits import (
     visit_suite,
 )
 from gymmigrate.rules.custom_env.cst_queries import (
+    OwnBodyOnly,
     _assigns_name,
     _checks_is_none,
     _declares_global,
@@ -641,7 +642,7 @@ def _reads_beside_task_ends(fn: cst.FunctionDef, name: str) -> bool:
     return index.names.get(name, 0) - in_returns - index.assign_targets.get(name, 0) - own > 0
 
 
-class _TaskEndsTerminate(cst.CSTTransformer):
+class _TaskEndsTerminate(OwnBodyOnly, cst.CSTTransformer):
     """``done = True`` -> ``terminated = True`` and ``done = done or <test>`` -> ``terminated =
     terminated or <test>``: the class's own end is a terminal state on every step, the one a
     base's step limit truncates too. Where ``done`` is read elsewhere, it keeps the old
@@ -651,15 +652,6 @@ class _TaskEndsTerminate(cst.CSTTransformer):
     def __init__(self, name: str, keep: bool) -> None:
         self.name = name
         self.keep = keep
-
-    def visit_FunctionDef(self, node: cst.FunctionDef) -> bool:
-        return False
-
-    def visit_ClassDef(self, node: cst.ClassDef) -> bool:
-        return False
-
-    def visit_Lambda(self, node: cst.Lambda) -> bool:
-        return False
 
     def _terminating(self, assign: cst.Assign) -> list[cst.BaseSmallStatement]:
         target = [assign.targets[0].with_changes(target=cst.Name("terminated"))]

@@ -256,13 +256,7 @@ class EnvIds(RuleFamily):
 
     def _ask_untraced(self, site: IdSite) -> None:
         """A retired id whose way to a make the run could not follow: one question, no rewrite."""
-        migration = migration_for(site.env_id)
-        if migration is not None:
-            keywords = ", ".join(f"{k}={v}" for k, v in migration.kwargs)
-            target = f"`{migration.new_id}`" + (f" with {keywords}" if keywords else "")
-            rule, what = migration.rule, f"Gymnasium 1.4 makes {target} instead ({migration.reason})"
-        else:
-            rule, what = "GM805", f"it no longer exists: {removed_family(site.env_id)}"
+        rule, what = _if_made(site.env_id, migration_for(site.env_id))
         question = site.question
         plugin = plugin_of(site.env_id)
         if question is None and plugin is not None:
@@ -373,12 +367,7 @@ class EnvIds(RuleFamily):
             if held is None or (held != "compared" and handovers(self.facts, self.receivers, node)):
                 continue  # a table's item handed on: ``_retired_ids_passed_along`` followed it to no make
             self._planned.add(node)
-            if migration is not None:
-                keywords = ", ".join(f"{k}={v}" for k, v in migration.kwargs)
-                target = f"`{migration.new_id}`" + (f" with {keywords}" if keywords else "")
-                rule, what = migration.rule, f"Gymnasium 1.4 makes {target} instead ({migration.reason})"
-            else:
-                rule, what = "GM805", f"it no longer exists: {hint}"
+            rule, what = _if_made(node.value, migration)
             plugin = plugin_of(node.value)
             if held == "compared":
                 message = (
@@ -607,6 +596,17 @@ def _listing(names: list[str], last: str = "and") -> str:
 
 def _is_docstring(statement: ast.stmt) -> bool:
     return isinstance(statement, ast.Expr) and isinstance(statement.value, ast.Constant) and isinstance(statement.value.value, str)
+
+
+def _if_made(env_id: str, migration: IdMigration | None) -> tuple[str, str]:
+    """The rule and the clause saying what ``gym.make`` of a retired id (``migration``) or
+    a removed one gives under Gymnasium 1.4, for an id the run could not follow to a make:
+    the questions about such ids word it alike wherever the id is held."""
+    if migration is not None:
+        keywords = ", ".join(f"{k}={v}" for k, v in migration.kwargs)
+        target = f"`{migration.new_id}`" + (f" with {keywords}" if keywords else "")
+        return migration.rule, f"Gymnasium 1.4 makes {target} instead ({migration.reason})"
+    return "GM805", f"it no longer exists: {removed_family(env_id)}"
 
 
 def _registration_message(package: EnvPackage, where: str) -> str:
