@@ -20,7 +20,7 @@ from __future__ import annotations
 import ast
 from bisect import bisect_left
 from collections import defaultdict
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 
 from gymmigrate.facts.module import (
     COMPREHENSIONS,
@@ -443,3 +443,107 @@ def bound_names(target: ast.AST) -> set[str]:
     if isinstance(target, ast.Starred):
         return bound_names(target.value)
     return set()
+
+
+def bound_on_every_path(
+    function: ast.FunctionDef | ast.AsyncFunctionDef,
+    target: ast.stmt,
+    names: frozenset[str],
+    binds: Callable[[ast.stmt], frozenset[str]],
+) -> frozenset[str] | None:
+    """Which of ``names`` every path from the start of ``function`` to ``target`` binds:
+    a plain binding of the statements on the way, or what ``binds`` says a statement will
+    bind once rewritten (an inner step unpack binds the flags). An ``if`` binds what both
+    arms bind, a ``try``'s handlers only what was bound before it. A loop's body counts as
+    run (a name it binds counts as bound after it, as the legacy names it binds do: a loop
+    that never runs leaves those unbound alike), ended at any ``break``. None where no
+    path reaches ``target``."""
+    walker = _MustBind(target, names, binds)
+    walker.block(function.body, frozenset())
+    return walker.found
+
+
+class _MustBind:
+    """The walk ``bound_on_every_path`` makes: a state is the set of names bound on every
+    path so far, None where no path runs on (after a ``return``, ``raise``, ``break``)."""
+
+    def __init__(self, target: ast.stmt, names: frozenset[str], binds: Callable[[ast.stmt], frozenset[str]]) -> None:
+        self.target, self.names, self.binds = target, names, binds
+        self.found: frozenset[str] | None = None
+        self.breaks: list[list[frozenset[str]]] = []
+
+    def block(self, statements: list[ast.stmt], state: frozenset[str] | None) -> frozenset[str] | None:
+        for statement in statements:
+            if state is None:
+                return None
+            state = self.statement(statement, state)
+        return state
+
+    def statement(self, statement: ast.stmt, state: frozenset[str]) -> frozenset[str] | None:
+        if statement is self.target:
+            self.found = state if self.found is None else self.found & state
+        state = state | (self.binds(statement) & self.names)
+        if isinstance(statement, (ast.Return, ast.Raise, ast.Continue)):
+            return None
+        if isinstance(statement, ast.Break):
+            if self.breaks:
+                self.breaks[-1].append(state)
+            return None
+        if isinstance(statement, ast.If):
+            return _meet(self.block(statement.body, state), self.block(statement.orelse, state))
+        if isinstance(statement, LOOPS):
+            if isinstance(statement, (ast.For, ast.AsyncFor)):
+                state = state | (bound_names(statement.target) & self.names)
+            self.breaks.append([])
+            ran = self.block(statement.body, state)
+            broken = self.breaks.pop()
+            out = self.block(statement.orelse, ran) if ran is not None else None
+            for left in broken:
+                out = _meet(out, left)
+            return out
+        if isinstance(statement, (ast.With, ast.AsyncWith)):
+            for item in statement.items:
+                if item.optional_vars is not None:
+                    state = state | (bound_names(item.optional_vars) & self.names)
+            return self.block(statement.body, state)
+        if isinstance(statement, _TRIES):
+            ran = self.block(statement.body, state)  # type: ignore[attr-defined]
+            out = self.block(statement.orelse, ran) if ran is not None else None  # type: ignore[attr-defined]
+            for handler in statement.handlers:  # type: ignore[attr-defined]
+                out = _meet(out, self.block(handler.body, state))
+            final = statement.finalbody  # type: ignore[attr-defined]
+            if final:
+                self.block(final, state)  # the target there: reached after the body or a handler
+                return self.block(final, out) if out is not None else None
+            return out
+        if _MATCH is not None and isinstance(statement, _MATCH):
+            matched: frozenset[str] | None = state  # no case may match
+            for case in statement.cases:  # type: ignore[attr-defined]
+                matched = _meet(matched, self.block(case.body, state))
+            return matched
+        if isinstance(statement, (*FUNCTIONS, ast.ClassDef)):
+            return state | (frozenset({statement.name}) & self.names)
+        return state | (_plain_bindings(statement) & self.names)
+
+
+def _meet(one: frozenset[str] | None, other: frozenset[str] | None) -> frozenset[str] | None:
+    if one is None:
+        return other
+    if other is None:
+        return one
+    return one & other
+
+
+def _plain_bindings(statement: ast.stmt) -> frozenset[str]:
+    """Names a simple statement binds: assignments' targets, walrus names, imports."""
+    found: set[str] = set()
+    stack: list[ast.AST] = [statement]
+    while stack:
+        node = stack.pop()
+        if isinstance(node, ast.Name) and isinstance(node.ctx, ast.Store):
+            found.add(node.id)
+        elif isinstance(node, ast.alias):
+            found.add((node.asname or node.name).split(".")[0])
+        if not isinstance(node, (ast.Lambda, *COMPREHENSIONS)):  # their names are their own
+            stack.extend(ast.iter_child_nodes(node))
+    return frozenset(found)

@@ -63,6 +63,15 @@ class ResetOverrides(RuleFamily):
             value = ret.value
             if value is None or _inner_call(value, "reset", inner, bases) is not None:
                 continue  # a pass-through already returns (obs, info)
+            if _retries(value, function):
+                # ``return self.reset()`` inside reset (a retry; ``self._reset()`` renamed with
+                # its hook): the retry returns (obs, info) itself, so it is passed on whole. It
+                # resets again after an inner reset given the seed: the options only, as a
+                # reset-again loop's resets get (the seed again would restart the episode).
+                if passed_on is not None and isinstance(value, ast.Call) and not value.args and not value.keywords:
+                    self.plan.replace(value, _pass_options)
+                self.report(ret, "GM601", "reset returns a retry of itself, (obs, info) already: passed on whole, with the options", tier=Tier.NOTE)
+                continue
             if _already_pair(value, info_name):
                 continue
             calls = _inner_calls(value, "reset", inner, bases)
@@ -255,6 +264,17 @@ def _pass_seed_and_options(node: cst.BaseExpression) -> cst.BaseExpression:
             cst.Arg(keyword=cst.Name("seed"), value=cst.Name("seed"), equal=_assign_equal(), comma=_comma()),
             cst.Arg(keyword=cst.Name("options"), value=cst.Name("options"), equal=_assign_equal()),
         ]
+    )
+
+
+def _retries(value: ast.expr, function: ast.FunctionDef | ast.AsyncFunctionDef) -> bool:
+    """``self.reset(...)`` (or ``self.<the override's own name>(...)``): this reset again."""
+    return (
+        isinstance(value, ast.Call)
+        and isinstance(value.func, ast.Attribute)
+        and isinstance(value.func.value, ast.Name)
+        and value.func.value.id == "self"
+        and value.func.attr in ("reset", function.name)
     )
 
 

@@ -23,6 +23,7 @@ from dataclasses import replace
 
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts.class_shapes import is_batched_step_return, keeps_legacy_step
+from gymmigrate.facts.flow import Flow, bound_on_every_path, contains
 from gymmigrate.facts.module import FUNCTIONS, own_returns, walk
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import RuleFamily
@@ -40,6 +41,7 @@ from gymmigrate.rules.wrappers.step_ends import (
     _never_ends,
     _only_own_step_limit,
     _only_step_limits,
+    _own_end_kind,
     _task_end_sets,
 )
 from gymmigrate.rules.wrappers.step_inner import (
@@ -165,6 +167,113 @@ class StepOverrides(RuleFamily):
                 self.plan.replace(end.targets[0], lambda node, t=terminated: cst.Name(t))
         return len(operands)
 
+    def _only_unpacked_steps(self, function: ast.AST, unpacks: dict[ast.stmt, StepUnpack | None]) -> bool:
+        """Every ``step`` call of the override is an inner step unpack the step family
+        rewrote (none already on five targets, none kept whole in a name, no other object's
+        step): where none of them reaches a return, nothing else of a step does."""
+        if not unpacks or any(noted is None for noted in unpacks.values()):
+            return False
+        calls = [n for n in walk(function) if isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute) and n.func.attr == "step"]
+        return all(any(call is line.value for line in unpacks if isinstance(line, ast.Assign)) for call in calls)
+
+    def _ignores_inner_done(self, unpacks: dict[ast.stmt, StepUnpack | None]) -> bool:
+        """No inner step's done is ever read: each unpack's done target is ``_``, or a name
+        every read of which another binding reaches first (``done = info["level"] > n`` right
+        after the unpack). The override decides its episode's end alone."""
+        flow = Flow.of(self.facts)
+        for line, noted in unpacks.items():
+            if noted is None or noted.claimed_reads or not isinstance(line, ast.Assign):
+                return False
+            target = line.targets[0]
+            held = target.elts[2] if isinstance(target, (ast.Tuple, ast.List)) and len(target.elts) == 4 else None
+            if noted.discarded:
+                continue
+            if not isinstance(held, ast.Name):
+                return False
+            for read in flow.reads(held):
+                reaching = flow.reaching(read)
+                if reaching is None or any(binding is held for binding in reaching):
+                    return False
+        return True
+
+    def _reached_by_inner(self, ret: ast.Return, function: ast.AST, unpacks: dict[ast.stmt, StepUnpack | None]) -> bool:
+        flow = Flow.of(self.facts)
+        return any(flow.may_run_before(line, ret, function) for line in unpacks)
+
+    def _return_own_end(
+        self,
+        function: ast.AST,
+        ret: ast.Return,
+        unpacks: dict[ast.stmt, StepUnpack | None],
+        flags: tuple[str, str] | None,
+        ignored: bool,
+    ) -> bool:
+        """``return obs, reward, done, info`` where ``done`` is the override's own end alone:
+        a step count is returned as truncated (terminated False); any other end as terminated
+        with truncated False, so ``terminated or truncated`` is the old done, a note where
+        every test names the task's end or the lives (a terminal state, as GM504 returns an
+        env's own end), an item where it does not say. False where ``done`` reads a flag."""
+        assert isinstance(ret.value, ast.Tuple)
+        done = ret.value.elts[2]
+        if flags is not None and _names(done) & (set(flags) - {"_"}):
+            return False
+        why = (
+            "this step override never reads the inner step's done (it decides the episode's end itself)"
+            if ignored
+            else "no inner step runs on the way to this return (the override builds this transition itself)"
+        )
+        kind = _own_end_kind(self.facts, function, done, set(unpacks))
+        if kind == "limit":
+            self.report(ret, "GM602", f"{why}: its own step limit is returned as truncated, with terminated False", kind=FixKind.ASSIST, tier=Tier.NOTE)
+            self.plan.replace(ret.value, lambda node: _five(node, [cst.Name("False"), node.elements[2].value]))
+            return True
+        if kind == "task":
+            message = f"{why}: its own end names the task's end or the lives, a terminal state: returned as terminated, with truncated False"
+            self.report(ret, "GM602", message, kind=FixKind.ASSIST, tier=Tier.NOTE)
+        else:
+            message = (
+                f"{why}: its own `done` is returned as terminated, with truncated False, and the inner step's flags are "
+                "not passed on, as before; if that end is a cut-off (a time or budget limit), return it as truncated instead"
+            )
+            self.report(ret, "GM602", message, kind=FixKind.ASSIST)
+        self.plan.replace(ret.value, lambda node: _five(node, [node.elements[2].value, cst.Name("False")]))
+        return True
+
+    def _flags_bound(self, function: ast.FunctionDef | ast.AsyncFunctionDef, ret: ast.Return, unpacks: dict[ast.stmt, StepUnpack | None], flags: tuple[str, str]) -> bool:
+        """Every path to ``ret`` binds both flags (an inner step unpack binds them once
+        rewritten)."""
+        names = frozenset(flags)
+        bound = bound_on_every_path(function, ret, names, lambda statement: names if statement in unpacks else frozenset())
+        return bound is None or names <= bound
+
+    def _bind_terminated(
+        self, function: ast.AST, ret: ast.Return, unpacks: dict[ast.stmt, StepUnpack | None], terminated: str, anchored: set[int]
+    ) -> bool:
+        """``terminated = False`` right before the first statement that holds an inner step
+        reaching ``ret``, in the innermost block holding them all and ``ret``: it runs
+        whenever those steps may run (a loop's every turn included), so where no step runs
+        on the way to ``ret`` no step terminated. False where no such block puts it ahead of
+        ``ret``."""
+        flow = Flow.of(self.facts)
+        reaching = [line for line in unpacks if flow.may_run_before(line, ret, function)]
+        for holder in [ret, *self._between(ret, function)]:
+            if not isinstance(holder, ast.stmt):
+                continue
+            block = flow.block_of(holder)
+            if block is None:
+                continue
+            statements, index = block
+            holding = [i for i, s in enumerate(statements) if any(contains(s, line) for line in reaching)]
+            if len(holding) and all(any(contains(statements[i], line) for i in holding) for line in reaching):
+                first = holding[0]
+                if first > index:
+                    return False
+                if id(statements[first]) not in anchored:
+                    anchored.add(id(statements[first]))
+                    self.plan.insert_before(statements[first], f"{terminated} = False")
+                return True
+        return False
+
     def _fix_step(self, function: ast.FunctionDef | ast.AsyncFunctionDef) -> None:
         """Return the inner step's terminated/truncated instead of ``done``.
 
@@ -190,6 +299,9 @@ class StepOverrides(RuleFamily):
         done_name, done_line, inserted, inner_done = inner.done_name, inner.done_line, inner.inserted, inner.inner_done
         bound, done_attribute, per_agent, done_modified = inner.bound, inner.done_attribute, inner.per_agent, inner.done_modified
         loops = (ast.For, ast.AsyncFor, ast.While)
+        own_steps = self._only_unpacked_steps(function, unpacks)
+        ignored = own_steps and self._ignores_inner_done(unpacks)
+        anchored: set[int] = set()  # statements a ``terminated = False`` is bound before
         replaced_done_reads = 0
         settled_lives: set[int] = set()
         settled_task_ends = False
@@ -199,6 +311,12 @@ class StepOverrides(RuleFamily):
                 continue
             if any(isinstance(e, ast.Starred) for e in value.elts):
                 continue
+            if own_steps and (ignored or not self._reached_by_inner(ret, function, unpacks)):
+                # No inner step's done reaches this return: what it returns is the override's
+                # own end (a replayed or synthetic step, or an inner done it never read). The
+                # inner flags are not passed on here, as before, and not read either.
+                if self._return_own_end(function, ret, unpacks, flags, ignored):
+                    continue
             if flags is None or not consistent or "_" in flags:
                 self.report(
                     ret,
@@ -210,6 +328,30 @@ class StepOverrides(RuleFamily):
                 continue
             terminated, truncated = flags
             done = value.elts[2]
+            if not self._flags_bound(function, ret, unpacks, flags):
+                # Some path reaches this return without running an inner step (a branch that
+                # builds its own transition): the flags are unbound there, and a return that
+                # read them would raise UnboundLocalError on that path.
+                if per_agent or _names(done) & set(flags) or not self._bind_terminated(function, ret, unpacks, terminated, anchored):
+                    self.report(
+                        ret,
+                        "GM602",
+                        "this step override returns four values, but not every path to this return runs the inner step, "
+                        "so its terminated/truncated are not bound on all of them: return (obs, reward, terminated, "
+                        "truncated, info) by hand",
+                        kind=FixKind.FLAG,
+                    )
+                    continue
+                self.report(
+                    ret,
+                    "GM602",
+                    f"not every path to this return runs the inner step: where it does not, `{terminated}` is False "
+                    f"(bound before the branches), so the override's own `done` is returned as truncation (`... and not "
+                    f"{terminated}`): if it really ends the episode, return it as terminated instead",
+                    kind=FixKind.ASSIST,
+                )
+                self.plan.replace(value, lambda node, t=terminated: _five(node, _cut(node, t)))
+                continue
             plain_done = isinstance(done, ast.Name) and (
                 (done.id == done_name and not done_modified) or done.id not in bound
             )

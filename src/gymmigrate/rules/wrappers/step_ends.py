@@ -308,3 +308,36 @@ def _never_ends(changes: list[ast.stmt], name: str, classdef: ast.ClassDef, fact
                 return None
         sources.append(f"`self.{method.name}()`")
     return ", ".join(dict.fromkeys(sources))
+
+
+def _own_end_kind(facts: ModuleFacts, function: ast.AST, done: ast.expr, skipped: set[ast.stmt]) -> str:
+    """What the override's own ``done`` tests where no inner step's done reaches it:
+    "limit" (a step count alone: a truncation), "task" (every test names the task's end or
+    the lives: a terminal state), else "unclear". A name is read through its assignments in
+    ``function`` (not ``skipped``, the inner step unpacks, nor an initializer); ``done = True``
+    through the ``if`` around it."""
+    if not isinstance(done, ast.Name):
+        tests: list[ast.AST] = [done]
+    else:
+        tests = []
+        for node in walk(function):
+            if node in skipped or not (isinstance(node, ast.Assign) and done.id in _assigned_names(node)):
+                continue
+            if _is_initializer(node, done.id):
+                continue
+            if len(node.targets) != 1 or not isinstance(node.targets[0], ast.Name):
+                return "unclear"
+            parent = facts.parent(node)
+            if isinstance(node.value, ast.Constant) and node.value.value is True:
+                if not (isinstance(parent, ast.If) and node in parent.body):
+                    return "unclear"
+                tests.append(parent.test)
+            else:
+                tests.append(node.value)
+    if not tests:
+        return "unclear"
+    if all(is_step_limit(test) for test in tests):
+        return "limit"
+    if all(_names_task_end(test) or _tests_lives(test) for test in tests):
+        return "task"
+    return "unclear"
