@@ -120,6 +120,8 @@ GYM_ONLY_PACKAGES: dict[str, str] = {
     "dmc2gym": "a Gym-only env package (Shimmy's dm_control envs replace it)",
     "dm2gym": "a Gym-only env package (Shimmy's dm_control envs replace it)",
     "slimevolleygym": "a Gym-only env package",
+    "universe": "OpenAI universe, abandoned and built on gym 0.9: its wrappers and remote envs keep gym's old API",
+    "safety-gym": "a Gym-only env package (archived; its successor is safety-gymnasium)",
     "pybullet": "if the project uses its bundled envs (pybullet_envs), they register with Gym only",
     "gym-notices": "a dependency of gym only, not needed by Gymnasium: remove it",
     # ptan 0.7 requires gym and atari-py; ptan 0.8.1 requires gymnasium>=0.29 but pins

@@ -119,6 +119,7 @@ GYM_ONLY_PACKAGES = frozenset(
         "multiagent",
         "nes_py",
         "ppaquette_gym_doom",
+        "ppaquette_gym_super_mario",
         "procgen",
         "ptan",
         "pybullet_envs",
@@ -126,8 +127,10 @@ GYM_ONLY_PACKAGES = frozenset(
         "retro",
         "retro_contest",
         "roboschool",
+        "safety_gym",
         "slimevolleygym",
         "stable_baselines",
+        "universe",
     }
 )
 

@@ -34,7 +34,12 @@ class MetadataKeys(RuleFamily):
         sites: dict[str, list[ast.Constant]] = {}
         for string in self.facts.strings:
             value = string.value
-            if value in LEGACY_METADATA_KEYS and self._is_metadata_key(string) and not self._fallback_read(string):
+            if (
+                value in LEGACY_METADATA_KEYS
+                and self._is_metadata_key(string)
+                and not self._fallback_read(string)
+                and not self._read_on_gym_only_env(string)
+            ):
                 sites.setdefault(value, []).append(string)
         for value, strings in sites.items():
             # One finding per key and file, however many envs and reads spell it.
@@ -50,6 +55,25 @@ class MetadataKeys(RuleFamily):
         for statement in self._metadata_stores():
             if isinstance(statement.value, ast.Dict):
                 self._add_render_fps(statement.value)
+
+    def _read_on_gym_only_env(self, string: ast.Constant) -> bool:
+        """A read of the legacy key from the metadata of an env a Gym-only library makes
+        (``Unvectorize(...).metadata["video.frames_per_second"]``): that env stays on gym, whose
+        metadata keeps the legacy keys, so the renamed key would raise KeyError there. Its
+        port is the decision the library's import asks (GM107)."""
+        parent = self.facts.parent(string)
+        if isinstance(parent, ast.Subscript):
+            holder: ast.AST = parent.value
+        elif isinstance(parent, ast.Call) and isinstance(parent.func, ast.Attribute):
+            holder = parent.func.value  # ``env.metadata.get(key)``
+        elif isinstance(parent, ast.Compare) and parent.comparators:
+            holder = parent.comparators[0]  # ``key in env.metadata``
+        else:
+            return False  # a key declared in a dict
+        if not (isinstance(holder, ast.Attribute) and holder.attr == "metadata"):
+            return False
+        receiver = holder.value
+        return bool(self._gym_only_origin(receiver) or self.receivers.gym_only_stack(receiver))
 
     def _fallback_read(self, string: ast.Constant) -> bool:
         """A read of the legacy key that only runs for an env declaring no new key: in the

@@ -136,6 +136,20 @@ REMOVED_FAMILIES: tuple[tuple[re.Pattern[str], str], ...] = (
     (re.compile(r"^procgen-[a-z]+-v\d+$"), _PROCGEN),
     (re.compile(r"^SlimeVolley[A-Za-z]*-v\d+$"), _SLIMEVOLLEY),
     (
+        re.compile(r"^Safexp-[A-Za-z0-9]+-v\d+$"),
+        "a safety_gym id, registered with gym only (Safety Gym is archived): safety-gymnasium registers the same tasks "
+        "as `Safety<Robot><Task><Level>-v0` (`safety_gymnasium.make(\"SafetyPointGoal1-v0\")`)",
+    ),
+    (
+        re.compile(r"^ppaquette/(meta-)?SuperMarioBros-[A-Za-z0-9-]*v\d+$"),
+        "a ppaquette_gym_super_mario id (gym 0.9's Mario envs, abandoned), registered with gym only: move to "
+        "gym_super_mario_bros wrapped with Shimmy (`gym.make(\"GymV21Environment-v0\", env=...)`, gym installed)",
+    ),
+    (
+        re.compile(r"^(flashgames|gym-core|internet|wob)\.[A-Za-z0-9.-]+-v\d+$"),
+        "a universe id (a remote env universe registers with gym only; universe is abandoned): no Gymnasium env serves it",
+    ),
+    (
         re.compile(r"^(Copy|DuplicatedInput|RepeatCopy|Reverse|ReversedAddition3?)-v\d+$"),
         "the algorithmic envs were removed in gym 0.20 and have no Gymnasium version; vendor the env",
     ),
@@ -249,6 +263,13 @@ PLUGIN_OF_FAMILY: tuple[tuple[re.Pattern[str], str], ...] = (
     (re.compile(r"^(slimevolleygym:)?SlimeVolley[A-Za-z]*-v\d+$"), "slimevolleygym"),
     # gym 0.9's Doom envs (``ppaquette/DoomBasic-v0``)
     (re.compile(r"^ppaquette/Doom[A-Za-z0-9]*-v\d+$"), "ppaquette_gym_doom"),
+    # ... and their Mario sibling (``ppaquette/SuperMarioBros-1-1-v0``, ``ppaquette/meta-SuperMarioBros-v0``)
+    (re.compile(r"^ppaquette/(meta-)?SuperMarioBros-[A-Za-z0-9-]*v\d+$"), "ppaquette_gym_super_mario"),
+    # OpenAI Safety Gym's ``Safexp-<Robot><Task><Level>-v0`` (``Safexp-PointGoal1-v0``)
+    (re.compile(r"^Safexp-[A-Za-z0-9]+-v\d+$"), "safety_gym"),
+    # OpenAI universe's remote envs, named ``<runtime>.<game>-vN`` (``flashgames.NeonRace-v0``,
+    # ``gym-core.PongDeterministic-v3``, ``wob.mini.ClickButton-v0``)
+    (re.compile(r"^(flashgames|gym-core|internet|wob)\.[A-Za-z0-9.-]+-v\d+$"), "universe"),
     # D4RL's offline datasets (``d4rl/__init__.py`` and its ``locomotion``, ``pointmaze``,
     # ``hand_manipulation_suite``, ``kitchen``, ``flow``, ``carla``, ``gym_minigrid`` and
     # ``gym_bullet`` registrations): lower-case ids

@@ -42,6 +42,7 @@ from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
 from gymmigrate.facts.entry_sources import entry_from_run
+from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.module import full_name, keyword, string_value
 from gymmigrate.facts.summaries import plain_classes, space_calls
 from gymmigrate.facts.wrapper_steps import reset_steps, self_handoffs, steps_its_wrapper
@@ -131,8 +132,11 @@ class RegistryApi(RuleFamily):
                 func = call.func
                 if isinstance(func, ast.Attribute) and is_registry(self.facts, func.value):
                     self._decide_registry_call(call, method)
+        limit_reads = self._time_limit_tag_reads()
         for private, public in SPEC_ATTRIBUTES.items():
             if not private.startswith("_") and not self.context.profile.imports_gym:
+                if private == "timestep_limit":
+                    self._decide_proven_timestep_limits(limit_reads)
                 continue
             why = "the private attribute was made public" if private.startswith("_") else "gym 0.9's name for the same limit"
             for attribute in self.facts.attributes.get(private, ()):
@@ -145,6 +149,8 @@ class RegistryApi(RuleFamily):
         if self.context.profile.imports_gym:
             for removed, hint in REMOVED_SPEC_ATTRIBUTES.items():
                 for attribute in self.facts.attributes.get(removed, ()):
+                    if attribute in limit_reads:
+                        continue  # the time-limit tag: decided with its read
                     if self._is_env_spec(attribute.value, 0):
                         self.report(
                             attribute, "GM806", f"`EnvSpec.{removed}` does not exist in Gymnasium (AttributeError): {hint}", FixKind.FLAG
@@ -160,6 +166,100 @@ class RegistryApi(RuleFamily):
                 continue  # set already
             if not self._decide_non_space_register(call):
                 self._decide_wrapper_stepper(call)
+
+    # -- GM806: gym 0.9's time-limit tag, read -------------------------------------------
+
+    def _time_limit_tag_reads(self) -> dict[ast.Attribute, ast.expr]:
+        """``spec.tags.get("wrapper_config.TimeLimit.max_episode_steps")`` and
+        ``spec.tags["wrapper_config.TimeLimit.max_episode_steps"]``, each decided here: the
+        ``tags`` attribute -> the whole read. The key is gym's own (gym 0.8 to 0.9 kept the
+        limit under it on every ``EnvSpec``), so it proves the spec even in a module that
+        never imports gym (the env comes from another module); ``spec.max_episode_steps``
+        holds the same value on every gym since 0.8 and on Gymnasium (None where unset, as
+        ``get`` gave)."""
+        reads: dict[ast.Attribute, ast.expr] = {}
+        for attribute in self.facts.attributes.get("tags", ()):
+            read = self._time_limit_read(attribute)
+            if read is None:
+                continue
+            proven = self.context.profile.imports_gym and self._is_env_spec(attribute.value, 0)
+            if not (proven or (isinstance(attribute.value, ast.Attribute) and attribute.value.attr == "spec")):
+                continue
+            reads[attribute] = read
+            stripped = self._stripped_env(attribute.value)
+            if stripped is not None:
+                self.report(
+                    read,
+                    "GM806",
+                    "`EnvSpec.tags` does not exist in Gymnasium (AttributeError): gym 0.9's time-limit tag is the "
+                    f"registered `max_episode_steps`, but `{stripped}` is the env under make's TimeLimit, whose spec "
+                    "has no limit in Gymnasium (`spec.max_episode_steps` is None there): read it from the registry, "
+                    "`gym.spec(<the id made>).max_episode_steps`, or from the env make returned",
+                    FixKind.FLAG,
+                )
+                continue
+            self.report(read, "GM806", "gym 0.9's time-limit tag of `EnvSpec.tags` -> `EnvSpec.max_episode_steps`: the same limit")
+            self.plan.replace(read, _spec_max_episode_steps)
+        return reads
+
+    def _time_limit_read(self, attribute: ast.Attribute) -> ast.expr | None:
+        """The read of the time-limit tag that ``attribute`` (a ``.tags``) starts, if it is one."""
+        if not isinstance(attribute.ctx, ast.Load):
+            return None
+        parent = self.facts.parent(attribute)
+        if isinstance(parent, ast.Subscript) and parent.value is attribute and isinstance(parent.ctx, ast.Load):
+            return parent if string_value(parent.slice) == _TIME_LIMIT_TAG else None
+        call = self.facts.parent(parent) if isinstance(parent, ast.Attribute) else None
+        if (
+            isinstance(parent, ast.Attribute)
+            and parent.attr == "get"
+            and isinstance(call, ast.Call)
+            and call.func is parent
+            and len(call.args) == 1
+            and not call.keywords
+            and string_value(call.args[0]) == _TIME_LIMIT_TAG
+        ):
+            return call  # a default would stand for None: ``get(key, 100)`` is not this
+        return None
+
+    def _stripped_env(self, spec: ast.expr) -> str | None:
+        """``env`` in ``env.spec`` where ``env`` is the env under make's wrappers
+        (``env.env``, ``env.unwrapped``, or a name every value reaching the read was so
+        assigned): the spec there is the inner env's. Its text, or None."""
+        if not isinstance(spec, ast.Attribute):
+            return None
+        owner = spec.value
+        if isinstance(owner, ast.Attribute) and owner.attr in ("env", "unwrapped"):
+            return self.facts.segment(owner)
+        if not isinstance(owner, ast.Name):
+            return None
+        reaching = Flow.of(self.facts).reaching(owner)
+        if not reaching:
+            return None
+        for binding in reaching:
+            assign = self.facts.parent(binding)
+            if not (
+                isinstance(assign, ast.Assign)
+                and isinstance(assign.value, ast.Attribute)
+                and assign.value.attr in ("env", "unwrapped")
+            ):
+                return None
+        return owner.id
+
+    def _decide_proven_timestep_limits(self, limit_reads: dict[ast.Attribute, ast.expr]) -> None:
+        """``env.spec.timestep_limit`` in a module that never imports gym, where the same
+        function reads gym's time-limit tag from the same spec (``env.spec``): the tag proves
+        that spec is gym's, and ``timestep_limit`` was gym 0.9's name for ``max_episode_steps``."""
+        proven = {
+            (id(self.facts.enclosing_function(tags)), self.facts.segment(tags.value))
+            for tags, read in limit_reads.items()
+            if self._stripped_env(tags.value) is None
+        }
+        for attribute in self.facts.attributes.get("timestep_limit", ()):
+            key = (id(self.facts.enclosing_function(attribute)), self.facts.segment(attribute.value))
+            if key in proven and isinstance(attribute.ctx, ast.Load):
+                self.report(attribute, "GM806", "`EnvSpec.timestep_limit` -> `EnvSpec.max_episode_steps`: gym 0.9's name for the same limit")
+                self.plan.replace(attribute, lambda node: node.with_changes(attr=cst.Name("max_episode_steps")))
 
     # -- GM806: gym 0.9's register()/EnvSpec() keywords ------------------------------------
 
@@ -592,6 +692,12 @@ def _renamed_gym_envs(node: cst.BaseExpression) -> cst.BaseExpression:
 def _called_name(call: ast.Call) -> str:
     func = call.func
     return func.attr if isinstance(func, ast.Attribute) else func.id if isinstance(func, ast.Name) else ""
+
+
+def _spec_max_episode_steps(node: cst.BaseExpression) -> cst.BaseExpression:
+    """``<spec>.tags.get(tag)`` / ``<spec>.tags[tag]`` -> ``<spec>.max_episode_steps``."""
+    tags = node.func.value if isinstance(node, cst.Call) else node.value  # type: ignore[attr-defined]
+    return cst.Attribute(value=tags.value, attr=cst.Name("max_episode_steps"), lpar=node.lpar, rpar=node.rpar)
 
 
 def _limit_tag(kw: ast.keyword) -> ast.expr | None:

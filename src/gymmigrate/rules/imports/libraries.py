@@ -11,6 +11,7 @@ import ast
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.flow import Flow
+from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import full_name, walk
 from gymmigrate.findings import FixKind, Tier, gym_only_question
 from gymmigrate.rules.imports.common import ImportsBase
@@ -92,6 +93,32 @@ GYM_ONLY_LIBRARIES = {
     "ppaquette_gym_doom": (
         "ppaquette_gym_doom (gym 0.9's Doom envs) is abandoned and has no Gymnasium release: use ViZDoom's own "
         "Gymnasium envs (`vizdoom.gymnasium_wrapper`)"
+    ),
+    # The Mario sibling of the Doom package: gym 0.9's ``ppaquette/SuperMarioBros-*`` envs on the
+    # FCEUX emulator, abandoned with gym 0.9 (its envs and wrappers define ``_step``/``_reset``).
+    "ppaquette_gym_super_mario": (
+        "ppaquette_gym_super_mario (gym 0.9's Mario envs, `ppaquette/SuperMarioBros-*` ids registered with gym only) is "
+        "abandoned and has no Gymnasium release: its envs and wrappers keep gym 0.9's API, so `gymnasium.make` of its "
+        "ids fails (NameNotFound) and Gymnasium wrappers refuse its envs; move to gym_super_mario_bros (nes_py) wrapped "
+        "with Shimmy (`GymV21Environment-v0`, gym installed), or keep this code on gym"
+    ),
+    # OpenAI Universe: abandoned in 2017, built on gym 0.9 (its ``vectorized`` envs and wrappers,
+    # Vectorize/Unvectorize, keep gym's old API), and registers its VNC and flash-game ids with gym.
+    "universe": (
+        "OpenAI universe is abandoned (archived in 2017) and has no Gymnasium release: its wrappers "
+        "(`Vectorize`, `Unvectorize`, `vectorized.Filter`...) and the VNC envs it registers with gym "
+        "(`flashgames.*`, `gym-core.*`) keep gym 0.9's API and refuse a Gymnasium env; code built on it stays on "
+        "gym: drop the universe layer (make the envs with `gymnasium.make` and wrap them with Gymnasium wrappers) "
+        "before migrating it"
+    ),
+    # OpenAI Safety Gym: archived; ``import safety_gym`` registers ``Safexp-*`` with gym only.
+    # Its maintained successor, safety-gymnasium, registers ``Safety<Robot><Task><Level>-v0``.
+    "safety_gym": (
+        "safety_gym (OpenAI Safety Gym, archived) registers its `Safexp-*` ids with gym only and has no Gymnasium "
+        "release: `gymnasium.make` of them fails (NameNotFound); move to safety-gymnasium (`import safety_gymnasium`, "
+        "`safety_gymnasium.make(\"SafetyPointGoal1-v0\")` for `Safexp-PointGoal1-v0`: its step returns the cost as a "
+        "sixth value, `safety_gymnasium.wrappers.SafetyGymnasium2Gymnasium` puts it back in `info[\"cost\"]`), or "
+        "wrap its env with Shimmy (`GymV21Environment-v0`, gym installed)"
     ),
     # Procgen's last release (0.10.7) builds on gym3 and registers ``procgen-<game>-v0`` with gym;
     # procgen-gym is a community port of its Python layer to Gymnasium.
@@ -405,6 +432,49 @@ class GymOnlyLibraries(ImportsBase):
                         continue
                     # The objects the file makes with the library ask the same question (``receiver_question``).
                     self.report(node, "GM107", GYM_ONLY_LIBRARIES[top], question=gym_only_question(N.gym_only_stack(top)))
+
+    def _gym_envs_handed_to_gym_only(self) -> None:
+        """``Vectorize(env)`` where ``Vectorize`` is a Gym-only library's (universe) and ``env``
+        a Gym env this module migrates: after the migration the library receives a Gymnasium
+        env, which its wrappers (gym's old API) do not take. The call and what it returns are
+        left, and the item asks the library's question (GM107), one decision for every such
+        call of the run. An env the library's own stack makes (``SetPlayingMode(...)(env)`` of
+        a Gym-only env package) is that stack's already. The libraries that build legacy envs
+        around what they are handed (``_LEGACY_ENV_BUILDERS``: baselines, ptan...) are decided
+        at the imports instead: a file that only feeds them stays on gym, and their import's
+        item names the wrappers that refuse a Gymnasium env."""
+        if not any(q.split(".", 1)[0] in N.GYM_ONLY_PACKAGES for q in self.facts.imports.values()):
+            return
+        for calls in (*self.facts.calls_by_name.values(), *self.facts.attribute_calls.values()):
+            for call in calls:
+                if not call.args or isinstance(call.args[0], ast.Starred):
+                    continue
+                library = self._gym_only_callable(call.func)
+                if library is None:
+                    continue
+                handed = call.args[0]
+                if self.receivers.kind_of(handed) not in (EnvKind.GYM_ENV, EnvKind.GYM_VEC):
+                    continue
+                if self._gym_only_origin(handed) or self.receivers.gym_only_stack(handed):
+                    continue
+                self.report(
+                    call,
+                    "GM107",
+                    f"`{full_name(call.func) or library}` belongs to {library}, which stays on gym (no Gymnasium "
+                    f"release), and is handed a Gym env that this migration turns into a Gymnasium env: {library}'s "
+                    "wrappers keep gym's API and do not take it; left as it is, with what it returns: port this code "
+                    f"off {library} (or keep it on gym) as the item at its import says",
+                    FixKind.FLAG,
+                    question=gym_only_question(N.gym_only_stack(library)),
+                )
+
+    def _gym_only_callable(self, func: ast.expr) -> str | None:
+        """The Gym-only package (not one of the run) ``func`` is imported from, if any."""
+        for qualified in self.facts.qualified_names(func):
+            top = qualified.split(".", 1)[0]
+            if top in N.GYM_ONLY_PACKAGES and top not in _LEGACY_ENV_BUILDERS and not self._of_the_run(top):
+                return top
+        return None
 
     def _module_of_the_run(self, module: str) -> bool:
         """The adapter module itself (or, for ``from pkg.mod import Name``, its module) is one of

@@ -36,7 +36,9 @@ has the script):
   dtype, the item names the two calls to choose between (``subclasses.py``).
 * GM912 gym 0.9's ``MultiDiscrete.low`` / ``.high`` do not exist in Gymnasium: under an
   isinstance check they become ``start`` / ``start + nvec - 1``; on a space built here
-  (gym 0.9's ``[[low, high], ...]``) reported (``multi_discrete.py``).
+  (gym 0.9's ``[[low, high], ...]``) reported. That construction itself raises ValueError in
+  Gymnasium: ``[[0, n], ...]`` becomes the counts ``[n + 1, ...]``, other lows are reported
+  (``multi_discrete.py``).
 
 Sources: Gymnasium 1.4.0 ``spaces/discrete.py``, ``spaces/multi_binary.py``,
 ``spaces/box.py``, ``spaces/dict.py``; gym 0.21 ``spaces/`` (catalog GM903, GM905).
@@ -56,7 +58,10 @@ from gymmigrate.facts.module import walk
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.spaces.json_writes import JSON_WRITERS, decide_json
-from gymmigrate.rules.spaces.multi_discrete import decide_bounds_read
+from gymmigrate.rules.spaces.multi_discrete import (
+    decide_bounds_read,
+    decide_pairs_construction,
+)
 from gymmigrate.rules.spaces.shape_writes import decide_shape_write
 from gymmigrate.rules.spaces.sizes import decide_box_bounds, decide_size
 from gymmigrate.rules.spaces.subclasses import decide_subclass
@@ -138,6 +143,9 @@ class SpaceDrift(RuleFamily):
             for call in [*self.facts.calls_by_name.get(name, ()), *self.facts.attribute_calls.get(name, ())]:
                 if space_class_of(self.facts.qualified_names(call.func)) == name:
                     decide_size(self, self.spaces, call, name)
+        for call in [*self.facts.calls_by_name.get("MultiDiscrete", ()), *self.facts.attribute_calls.get("MultiDiscrete", ())]:
+            if space_class_of(self.facts.qualified_names(call.func)) == "MultiDiscrete":
+                decide_pairs_construction(self, call)
         for call in [*self.facts.calls_by_name.get("Box", ()), *self.facts.attribute_calls.get("Box", ())]:
             if space_class_of(self.facts.qualified_names(call.func)) == "Box":
                 decide_box_bounds(self, call)
