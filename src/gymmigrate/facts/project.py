@@ -142,6 +142,9 @@ class ProjectFacts:
     recreates_from_spec: bool = False
     # Modules with env classes, and the modules of the run that import them.
     importers: dict[str, set[str]] = field(default_factory=dict)
+    # (path, name) of the names of a module other modules call that resolve to no def there
+    # (a class with no ``__init__`` of its own): ``ProjectView.built_elsewhere``
+    called_elsewhere: set[tuple[str, str]] = field(default_factory=set)
     # Modules the run leaves as they are (refused, skip-file), with the reason: their
     # classes count as unknown, so no other module is rewritten as if they had migrated.
     blocked: dict[str, str] = field(default_factory=dict)
@@ -449,6 +452,12 @@ class ProjectFacts:
                 resolved = facts._resolve(call.target, summary.path) or facts._resolve_reexported(call.target, summary.path, by_path)
                 if resolved is not None:
                     calls_to[resolved].append((summary.path, call))
+                else:
+                    # a class of another module that defines no ``__init__`` of its own
+                    # (``wrappers.Clip(env)``): built there with what this call passes
+                    split = facts._split(call.target, summary.path)
+                    if split is not None and split[0] != summary.path:
+                        facts.called_elsewhere.add(split)
         imported = {q for summary in summaries for q in summary.imported}
         facts.checks_envs = any(imports_env_checker(q) for q in imported)
         facts.recreates_from_spec = any(s.recreates_from_spec for s in summaries)

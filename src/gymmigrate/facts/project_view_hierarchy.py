@@ -22,6 +22,8 @@ class HierarchyView:
 
     def built_elsewhere(self, classname: str) -> bool:
         """Another module of the run calls this file's class ``classname``."""
+        if (self.path, classname) in self.facts.called_elsewhere:
+            return True  # a class with no ``__init__`` of its own, whose calls pass no parameter
         return any(
             path == self.path and qualname in (classname, f"{classname}.__init__") for path, qualname, _ in self.facts.param_kinds
         )

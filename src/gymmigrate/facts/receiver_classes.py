@@ -53,6 +53,10 @@ class ClassKinds(_Facade):
             # A wrapper around an object of a Gym-only library (gym_unity's batched envs): that
             # object keeps gym's API, so neither the wrapper nor its callers are Gymnasium code.
             return EnvKind.UNKNOWN
+        if useful and useful[0] is EnvKind.GYM_ENV and self.wraps_vec_env(classdef):
+            # A Gym wrapper the run puts only around VecEnvs: its instances answer as the
+            # VecEnv does (four-field step, reset with no seed), and are left as VecEnvs are.
+            return EnvKind.SB3_VEC
         if useful:
             if useful[0] is EnvKind.GYM_VEC and keeps_bare_reset(classdef):
                 # A vector env subclass whose own reset returns the bare observations (no
@@ -118,6 +122,73 @@ class ClassKinds(_Facade):
         # the class serve both: left to the Gym rules, which report what they cannot do)
         return bool(wrapped) and all(
             value is not None and self.kind_of(value) is EnvKind.PZ_PARALLEL for value in wrapped)
+
+    def wraps_vec_env(self, classdef: ast.ClassDef) -> bool:
+        """A subclass of a Gym wrapper class around which the run puts only VecEnvs (baselines'
+        or SB3's, the project's own copy or subclass): every construction the run shows hands
+        its constructor one, or, where the run constructs it nowhere, its own methods take
+        what ``self.env.step_wait()`` gives apart. gym's Wrapper took any object; Gymnasium's
+        refuses one that is no ``gymnasium.Env`` (TypeError). Its ``self.env`` is that VecEnv
+        (four-field step, reset with no seed), so neither the class nor the calls on its
+        instances are Gym code: they are left, and the class is reported (``rules/wrappers``)."""
+        return self._wrapped_vec_env(classdef) == "all"
+
+    def wraps_vec_env_sometimes(self, classdef: ast.ClassDef) -> bool:
+        """Some constructions of the run hand the wrapper class a VecEnv, others a Gym env:
+        one class cannot be both Gymnasium's wrapper and the VecEnv's (reported)."""
+        return self._wrapped_vec_env(classdef) == "some"
+
+    def _wrapped_vec_env(self, classdef: ast.ClassDef) -> str:
+        """``all`` (every construction hands it a VecEnv), ``some`` (others a Gym env), or
+        empty (none does, or some hand what the run cannot tell)."""
+        found = self._vec_wrapped.get(id(classdef))
+        if found is not None:
+            return found
+        if classdef in self._vec_wrapping:
+            self._cuts += 1  # ``env = Stats(env)`` asks its own class back: no evidence, and not kept
+            return ""
+        cuts = self._cuts
+        self._vec_wrapping.add(classdef)
+        try:
+            answer = self._wrapped_vec_kinds(classdef)
+        finally:
+            self._vec_wrapping.discard(classdef)
+        # an answer cut short by a question still open above is asked again (``kind_of``'s rule)
+        if self._cuts == cuts or not (self._in_progress or self._vec_wrapping):
+            self._vec_wrapped[id(classdef)] = answer
+        return answer
+
+    def _wrapped_vec_kinds(self, classdef: ast.ClassDef) -> str:
+        if not self.has_gym_wrapper_base(classdef):
+            return ""
+        init = next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == "__init__"), None)
+        params = [*init.args.posonlyargs, *init.args.args][1:] if init is not None else []
+        name = params[0].arg if params else "env"
+        constructions, elsewhere = self.constructions(classdef)
+        kinds: list[EnvKind] = []
+        # a subclass of this module that is itself a VecEnv wrapper (reported on its own) puts
+        # this class around VecEnvs too, but says nothing of its other constructions
+        through_vec_subclass = 0
+        for call, shift in constructions:
+            sub = self.facts.enclosing_class(call)
+            if sub is not None and any(self.local_class(b) is classdef for b in sub.bases) and self.wraps_vec_env(sub):
+                through_vec_subclass += 1
+                continue
+            argument = call_argument(call, shift, name)
+            kinds.append(self.kind_of(argument) if argument is not None else EnvKind.UNKNOWN)
+        if self.project is not None and self.facts.parent(classdef) is self.facts.tree:
+            kinds += self.project.param_kinds(f"{classdef.name}.__init__", name)
+        if elsewhere:
+            kinds.append(EnvKind.UNKNOWN)  # a subclass built in another module, with what it passes there
+        if not kinds and not through_vec_subclass:
+            # constructed nowhere in the run: its own methods say what it wraps, where they
+            # unpack a VecEnv's step_wait() on ``self.env``
+            return "all" if self.project is not None and _unpacks_inner_step_wait(classdef) else ""
+        if all(k is EnvKind.SB3_VEC for k in kinds):
+            return "all"
+        if EnvKind.SB3_VEC in kinds and any(k.is_gym for k in kinds):
+            return "some"
+        return ""
 
     def _gym_only_inside(self, expr: ast.expr | None, depth: int) -> str | None:
         if expr is None or depth > 4:
@@ -302,6 +373,8 @@ class ClassKinds(_Facade):
         if self.is_gym_wrapper_class(classdef):
             if self.wraps_pz_parallel(classdef):
                 return None  # the wrapped parallel env: `self.env` says so
+            if self.wraps_vec_env(classdef):
+                return EnvKind.SB3_VEC  # the VecEnv every construction wraps
             return None if self.wraps_gym_only(classdef) is not None else EnvKind.GYM_ENV
         kind = self.class_kind(classdef)
         if kind is EnvKind.NOT_ENV and any(self._own_api_base(b) for b in classdef.bases):
@@ -427,6 +500,19 @@ def duck_wrapper_param(classdef: ast.ClassDef) -> ast.arg | None:
     if lookup_forwarded_to(methods.get("__getattr__")) == "env" or _returns_inner(methods.get("step"), "step") or _returns_inner(methods.get("reset"), "reset"):
         return param
     return None
+
+
+def _unpacks_inner_step_wait(classdef: ast.ClassDef) -> bool:
+    """A method of the class itself assigns what ``self.env.step_wait()`` gives to names
+    (``obs, rews, news, infos = self.env.step_wait()``): it reads a VecEnv's results, which
+    only a VecEnv gives (a ``return self.env.step_wait()`` only hands on what it gets)."""
+    for statement in classdef.body:
+        if not isinstance(statement, FUNCTIONS):
+            continue
+        for node in walk(statement):
+            if isinstance(node, ast.Assign) and _inner_call(node.value, "step_wait"):
+                return True
+    return False
 
 
 def _is_self_env(node: ast.AST) -> bool:

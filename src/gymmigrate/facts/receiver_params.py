@@ -51,6 +51,8 @@ class ParameterKinds(CallerSites, ThunkKinds):
         if is_method and name == "env" and function.name == "__init__" and self.is_gym_wrapper_class(classdef):  # type: ignore[arg-type]
             if self.wraps_pz_parallel(classdef):  # type: ignore[arg-type]
                 return EnvKind.PZ_PARALLEL
+            if self.wraps_vec_env(classdef):  # type: ignore[arg-type]
+                return EnvKind.SB3_VEC
             return EnvKind.NOT_ENV if self.wraps_gym_only(classdef) is not None else EnvKind.GYM_ENV  # type: ignore[arg-type]
         checked = self._checked_multi_agent_kind(function, name)
         if checked is not None:

@@ -40,6 +40,7 @@ from gymmigrate.facts.env_specs import is_spec_make
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import MAX_DEPTH, EnvKind, join_kinds
 from gymmigrate.facts.module import (
+    FUNCTIONS,
     ModuleFacts,
     call_argument,
     own_entry_point,
@@ -92,6 +93,8 @@ class Receivers(BindingKinds, WrappingCalls, ClassKinds, ParameterKinds, MadeObj
         self._cuts = 0  # answers cut short by a cycle (or the depth bound) so far
         self._name_kinds: dict[int, EnvKind] = {}  # id(bindings list) -> kind, see _classify_name
         self._mixed: set[int] = set()  # bindings lists whose kinds disagree
+        self._vec_wrapped: dict[int, str] = {}  # id(Gym wrapper class) -> what it wraps (``wraps_vec_env``)
+        self._vec_wrapping: set[ast.ClassDef] = set()  # those being asked now
         # parameters whose callers pass a Gym env and another kind of env: (gym kinds, others)
         self._mixed_params: dict[ast.arg, tuple[list[str], list[str]]] = {}
         # of those, the parameters whose other kinds come only from test modules: their callers there
@@ -191,8 +194,14 @@ class Receivers(BindingKinds, WrappingCalls, ClassKinds, ParameterKinds, MadeObj
         if kinds:
             return join_kinds(kinds)
         wrapped = self.wrapped_argument(call)
-        if wrapped is not None and self.kind_of(wrapped) is EnvKind.GYM_ENV:
-            return EnvKind.GYM_ENV  # ``wrap_deepmind(env)``: the Gym env it takes, maybe in Gym wrappers
+        if wrapped is not None:
+            inner = self.kind_of(wrapped)
+            if inner is EnvKind.GYM_ENV:
+                return EnvKind.GYM_ENV  # ``wrap_deepmind(env)``: the Gym env it takes, maybe in Gym wrappers
+            if inner is EnvKind.SB3_VEC:
+                return EnvKind.SB3_VEC  # a VecEnv, maybe in wrapper classes of the run: they answer as it does
+        if self._run_wrapper_around_vec_env(call):
+            return EnvKind.SB3_VEC
         if self.project is not None:
             # A class or factory of another module of the run (re-exports and subclasses
             # followed): its instances or its returns.
@@ -253,6 +262,33 @@ class Receivers(BindingKinds, WrappingCalls, ClassKinds, ParameterKinds, MadeObj
             if any(q.startswith(N.SB3_PACKAGES) for q in owner) and func.attr == "load":
                 return EnvKind.SB3_MODEL
         return EnvKind.UNKNOWN
+
+    def _closure_self(self, name: ast.Name) -> bool:
+        """``self`` read in a def nested in a method: that method's first parameter."""
+        bindings = self.facts.bindings_of(name)
+        if len(bindings) != 1 or not isinstance(bindings[0], ast.arg):
+            return False
+        function = self.facts.parent(self.facts.parent(bindings[0]))
+        if not (isinstance(function, FUNCTIONS) and self.facts.is_method(function)):
+            return False
+        params = [*function.args.posonlyargs, *function.args.args]
+        return bool(params) and params[0] is bindings[0] and self.facts.enclosing_function(name) is not function
+
+    def _run_wrapper_around_vec_env(self, call: ast.Call) -> bool:
+        """``Stats(venv)``: a Gym wrapper class of the run (this module's or another's) put
+        around a VecEnv. gym's Wrapper took any object and handed on what it gives; the
+        instance answers as that VecEnv does (a four-field step, reset with no seed), whatever
+        the class does elsewhere. Gym's own wrappers are not of the run: not these."""
+        argument = call_argument(call, 0, "env")
+        if argument is None or isinstance(argument, ast.Starred):
+            return False
+        local = self.local_class(call.func)
+        if local is not None:
+            of_run = self.has_gym_wrapper_base(local)
+        else:
+            project = self.project
+            of_run = project is not None and any(project.is_wrapper_class(q) for q in self.qualified_names(call.func))
+        return of_run and self.kind_of(argument) is EnvKind.SB3_VEC
 
     def kind_from_qualified(self, qualified: str, call: ast.Call) -> EnvKind | None:
         rest = N.strip_gym_prefix(qualified)
@@ -329,6 +365,12 @@ class Receivers(BindingKinds, WrappingCalls, ClassKinds, ParameterKinds, MadeObj
             return EnvKind.SB3_VEC
         if isinstance(attr.value, ast.Name) and self.is_self(attr.value):
             return self.attributes.self_attribute_kind(attr, name)
+        if name == "env" and isinstance(attr.value, ast.Name) and self._closure_self(attr.value):
+            classdef = self.facts.enclosing_class(attr)
+            if classdef is not None and self.wraps_vec_env(classdef):
+                # ``def step(action): ... self.env.step(action)`` defined in ``__init__``: the
+                # method's ``self``, whose ``env`` is the VecEnv every construction wraps
+                return EnvKind.SB3_VEC
         if name in ("env", "unwrapped"):
             owner = self.kind_of(attr.value)
             if owner is EnvKind.SB3_MODEL and name == "env":

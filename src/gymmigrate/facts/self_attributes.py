@@ -53,6 +53,8 @@ class SelfAttributes:
             # around a Gym-only library's object (gym_unity) the wrapped env keeps gym's API: left alone (GM602 reports the class)
             if self.receivers.wraps_pz_parallel(classdef):
                 return EnvKind.PZ_PARALLEL  # what every construction wraps (GM602 reports the class)
+            if self.receivers.wraps_vec_env(classdef):
+                return EnvKind.SB3_VEC  # likewise a VecEnv (GM602 reports the class)
             return EnvKind.NOT_ENV if self.receivers.wraps_gym_only(classdef) is not None else EnvKind.GYM_ENV
         if name == "env" and self.receivers.unproved_duck_wrapper(classdef):
             # a duck wrapper the run cannot prove wraps Gym envs: left whole (GM602 reports it)

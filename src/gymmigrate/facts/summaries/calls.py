@@ -217,6 +217,8 @@ class CallSummarizer:
             return f"{base}.{func.attr}"  # ``super().__init__(env)`` in a subclass of a run's class
         if self._super_of_library(owner):
             return None  # the library's method: no def of the run is called
+        if self._super_of_own_class(owner):
+            return None  # a method of a class of this module, which reads its own calls itself
         cls = self.instance_class(owner)
         if cls is not None:
             return f"{cls}.{func.attr}" if not N.is_library(cls) else None
@@ -264,6 +266,17 @@ class CallSummarizer:
             if not qualified or not all(N.is_library(q) for q in qualified):
                 return False  # a class of the run, or one this module cannot name
         return True
+
+    def _super_of_own_class(self, owner: ast.expr) -> bool:
+        """``super().__init__(env)`` (or ``super(Cls, self)``) in a method of a class whose
+        first base is a class of this module: the call reaches that class's method, whose
+        constructions the module reads itself (``Receivers.constructions``). As an unresolved
+        ``?.__init__`` the join handed its arguments to every ``__init__`` of the run."""
+        classdef = self._super_class(owner)
+        if classdef is None:
+            return False
+        first = next((b for b in classdef.bases if not is_object(b)), None)
+        return first is not None and self.receivers.local_class(first) is not None
 
     def _star_target(self, func: ast.Name) -> str | None:
         """``calc(env)`` where ``calc`` is bound in this module by nothing but one star import

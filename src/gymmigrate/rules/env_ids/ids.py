@@ -172,6 +172,9 @@ class EnvIds(RuleFamily):
                 and parent.func.attr in ("get", "pop")
                 and parent.args[:1] == [node]
             )
+            classdef = self.facts.enclosing_class(node)
+            if classdef is not None and self.receivers.wraps_vec_env(classdef):
+                continue  # the infos of the VecEnv the class wraps, left with the class (GM602)
             if keyed or got:
                 self.plan.replace(node, lambda cst_node: _with_string_value(cst_node, "lives"))
                 self.report(node, "GM804", '"ale.lives" -> "lives": ale-py\'s Atari envs name the info key so', FixKind.AUTO)

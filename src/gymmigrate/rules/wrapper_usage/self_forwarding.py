@@ -63,6 +63,8 @@ def self_forwarding(family: ForwardingFamily, attr: ast.Attribute) -> None:
         return
     if augmented:
         return  # never stored but through ``+=``: reported where it is (_read_before_own_write's case)
+    if family.receivers.wraps_vec_env(classdef):
+        return  # no Gymnasium wrapper either (GM602 at the class): what it reads is the VecEnv's, left
     if family.receivers.wraps_pz_parallel(classdef):
         # no Gymnasium wrapper (GM602 at the class): the attribute is the parallel env's, on `self.env`
         # whatever base the class takes instead

@@ -84,7 +84,7 @@ class WrapperConstructorArgs(RuleFamily):
         for classdef in self.facts.all_classes:
             if not self.receivers.is_gym_wrapper_class(classdef) or self._records_already(classdef):
                 continue
-            if self.receivers.wraps_pz_parallel(classdef):
+            if self.receivers.wraps_pz_parallel(classdef) or self.receivers.wraps_vec_env(classdef):
                 continue  # no Gymnasium wrapper: reported (GM602)
             if self._derives_from_a_helper(classdef):
                 continue

@@ -66,6 +66,28 @@ class WrapperClasses(StepOverrides, ResetOverrides):
                     FixKind.FLAG,
                 )
                 continue
+            if self.receivers.wraps_vec_env(classdef):
+                self.report(
+                    classdef,
+                    "GM602",
+                    f"`{classdef.name}` is a Gym wrapper that this run puts only around VecEnvs: gymnasium.Wrapper "
+                    "refuses an env that is no gymnasium.Env (TypeError), so derive it from a VecEnv wrapper base "
+                    "(Stable-Baselines3's `VecEnvWrapper`) or from `object` (store `self.env = venv`); its step and "
+                    "reset, and the calls on its instances, keep the VecEnv's API (four fields, reset with no seed) "
+                    "and are left as they are",
+                    FixKind.FLAG,
+                )
+                continue
+            if self.receivers.wraps_vec_env_sometimes(classdef):
+                self.report(
+                    classdef,
+                    "GM602",
+                    f"`{classdef.name}` is put around a Gym env at some constructions of this run and around a "
+                    "VecEnv at others: migrated as a Gymnasium wrapper, it refuses the VecEnv (gymnasium.Wrapper "
+                    "takes only a gymnasium.Env, TypeError) and its step and reset no longer match the VecEnv's; "
+                    "give the VecEnv constructions a class of their own (a VecEnv wrapper base)",
+                    FixKind.FLAG,
+                )
             self._check_gone_state(classdef)
             for statement in classdef.body:
                 if not isinstance(statement, FUNCTIONS):
