@@ -47,6 +47,9 @@ if TYPE_CHECKING:
     from gymmigrate.rules.wrapper_usage.self_forwarding import ForwardingFamily
 
 ATARI_METHODS = frozenset(ATARI_REPLACED) | frozenset(ATARI_GONE)
+# How a module spells a call of one: where the forwarding family must run though the module
+# never names gym (also ``rules/__init__.py``'s words for it).
+ATARI_METHOD_WORDS = (*(f".{name}(" for name in ATARI_REPLACED), ".unwrapped.seed(")
 
 
 def atari_method_call(family: ForwardingFamily, attr: ast.Attribute, legacy_module: bool) -> bool:

@@ -42,7 +42,10 @@ from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import dotted_name
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
-from gymmigrate.rules.wrapper_usage.atari_api import ATARI_METHODS, atari_method_call
+from gymmigrate.rules.wrapper_usage.atari_api import (
+    ATARI_METHOD_WORDS,
+    atari_method_call,
+)
 from gymmigrate.rules.wrapper_usage.atari_limits import (
     max_episode_steps_on_atari,
     spec_limit_on_atari,
@@ -375,4 +378,6 @@ class WrapperForwarding(RuleFamily):
 
 
 def _calls_atari_methods(facts: ModuleFacts) -> bool:
-    return any(f".{name}(" in facts.text for name in ATARI_METHODS)
+    """The text calls one of gym's AtariEnv's methods (``seed`` only through ``.unwrapped``:
+    every env had one)."""
+    return any(word in facts.text for word in ATARI_METHOD_WORDS)
