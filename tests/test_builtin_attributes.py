@@ -8,13 +8,19 @@ not be installed."""
 from __future__ import annotations
 
 import ast
+import inspect
 from pathlib import Path
 
 import gymnasium
 import pytest
 
 from gymmigrate.rules.env_ids import migration_for
-from gymmigrate.rules.wrapper_usage.builtin_attributes import GONE, class_of_id
+from gymmigrate.rules.wrapper_usage.builtin_attributes import (
+    ATARI_GONE,
+    ATARI_REPLACED,
+    GONE,
+    class_of_id,
+)
 
 # gym 0.21's built-in ids (``gym/envs/__init__.py``) whose classes Gymnasium still has.
 LEGACY_IDS = (
@@ -87,3 +93,18 @@ def test_every_class_of_the_table_is_made_by_an_id() -> None:
     made = {class_of_id(legacy_id) for legacy_id in LEGACY_IDS}
     # The two classes gym 0.21 also exported by name, which Gymnasium folds into a keyword.
     assert set(GONE) - made == {"LunarLanderContinuous", "BipedalWalkerHardcore"}
+
+
+def test_atari_table_against_ale_py() -> None:
+    """Every method the Atari table rewrites or reports is gone from ale-py's AtariEnv, and
+    what replaces it is there, with the keywords the table adds."""
+    ale_py = pytest.importorskip("ale_py")
+    atari_env = ale_py.env.AtariEnv
+    for name in (*ATARI_REPLACED, *ATARI_GONE):
+        assert not hasattr(atari_env, name), name
+    interface = ale_py.ALEInterface
+    for name, (path, keywords, _) in ATARI_REPLACED.items():
+        owner = interface if path[0] == "ale" else atari_env
+        method = getattr(owner, path[-1])
+        if keywords:
+            assert {k for k, _ in keywords} <= set(inspect.signature(method).parameters), name

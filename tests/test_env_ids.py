@@ -147,6 +147,12 @@ ATARI_CASES = [
     ("Pong-ramNoFrameskip-v4", "PongNoFrameskip-v4", {"obs_type": '"ram"'}),
     ("Pong-ramDeterministic-v4", "Pong-v4", {"frameskip": "4", "obs_type": '"ram"'}),
     ("ALE/Pong-ram-v5", "ALE/Pong-v5", {"obs_type": '"ram"'}),
+    # gym 0.9's v3 ids, in every spelling: v4 has their settings
+    ("Pong-v3", "Pong-v4", {}),
+    ("PongDeterministic-v3", "Pong-v4", {"frameskip": "4"}),
+    ("PongNoFrameskip-v3", "PongNoFrameskip-v4", {}),
+    ("Pong-ram-v3", "Pong-v4", {"obs_type": '"ram"'}),
+    ("Pong-ramNoFrameskip-v3", "PongNoFrameskip-v4", {"obs_type": '"ram"'}),
 ]
 
 
@@ -192,7 +198,10 @@ def test_atari_targets_against_ale_py(ale_registry: object) -> None:
     assert {game + "NoFrameskip" for game in LEGACY_ATARI_GAMES} == legacy
     atari_parameters = set(inspect.signature(ale_py.env.AtariEnv.__init__).parameters)  # type: ignore[attr-defined]
     for game in sorted(LEGACY_ATARI_GAMES):
-        for legacy_id in (f"{game}Deterministic-v4", f"{game}-ram-v0", f"{game}-ramNoFrameskip-v4", f"ALE/{game}-ram-v5"):
+        for legacy_id in (
+            f"{game}Deterministic-v4", f"{game}-ram-v0", f"{game}-ramNoFrameskip-v4", f"ALE/{game}-ram-v5",
+            f"{game}-v3", f"{game}Deterministic-v3", f"{game}NoFrameskip-v3", f"{game}-ramDeterministic-v3",
+        ):  # fmt: skip
             migration = atari_migration(legacy_id)
             assert migration is not None
             spec = gymnasium.spec(migration.new_id)

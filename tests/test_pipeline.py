@@ -17,6 +17,7 @@ from gymmigrate.facts.profile import FileProfile
 from gymmigrate.options import RewriteOptions
 from gymmigrate.rules import PIPELINE
 from gymmigrate.rules.base import FileContext
+from gymmigrate.rules.wrapper_usage.atari_api import ATARI_METHOD_WORDS
 
 ROOT = Path(__file__).resolve().parent.parent
 SOURCES = sorted(p for p in (ROOT / "fixtures").rglob("*.py"))
@@ -48,3 +49,10 @@ def test_check_loads_only_the_families_that_may_fire(tmp_path: Path) -> None:
     )
     done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, timeout=120)
     assert done.stderr.strip().splitlines()[-1] == "[]", done.stderr
+
+
+def test_forwarding_words_name_the_atari_methods() -> None:
+    """The forwarding family decides gym's AtariEnv's calls in modules that never name gym:
+    its words must hold every spelling it fires on."""
+    (spec,) = [s for s in PIPELINE if s.name == "WrapperForwarding"]
+    assert set(ATARI_METHOD_WORDS) <= set(spec.words or ())

@@ -70,3 +70,20 @@ def atari_users(facts: ModuleFacts) -> frozenset[str]:
                 found.add(name)
                 changed = True
     return frozenset(found)
+
+
+def under_condition(facts: ModuleFacts, node: ast.AST, function: ast.AST) -> bool:
+    """``node`` runs only on one branch of a test inside ``function`` (the body of an ``if``,
+    a branch of a conditional expression or of ``and``/``or``); a test itself always runs."""
+    child = node
+    for ancestor in facts.ancestors(node):
+        if ancestor is function:
+            return False
+        if isinstance(ancestor, (ast.If, ast.IfExp, ast.While)) and child is not ancestor.test:
+            return True
+        if isinstance(ancestor, ast.BoolOp) and child is not ancestor.values[0]:
+            return True
+        if isinstance(ancestor, ast.ExceptHandler):
+            return True
+        child = ancestor
+    return False

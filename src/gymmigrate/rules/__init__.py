@@ -89,7 +89,13 @@ PIPELINE = (
     FamilySpec("WrapperState", "gymmigrate.rules.pettingzoo.wrapper_state", _PZ, follows_the_run=True),
     FamilySpec("WrapperClasses", "gymmigrate.rules.wrappers.family", ("Wrapper", "wrappers", "self.env")),
     FamilySpec("WrapperConstructorArgs", "gymmigrate.rules.wrappers.constructor_args", ("Wrapper", "wrappers")),
-    FamilySpec("WrapperForwarding", "gymmigrate.rules.wrapper_usage.forwarding", ("gym",), follows_the_run=True),
+    # gym's AtariEnv's methods (``wrapper_usage.atari_api.ATARI_METHOD_WORDS``) on an env of another module
+    FamilySpec(
+        "WrapperForwarding",
+        "gymmigrate.rules.wrapper_usage.forwarding",
+        ("gym", "._get_image(", "._get_ram(", ".clone_full_state(", ".restore_full_state(", ".unwrapped.seed("),
+        follows_the_run=True,
+    ),
     FamilySpec("LegacyWrapperHooks", "gymmigrate.rules.legacy_hooks", ("def _",)),
     FamilySpec("SpacesLogger", "gymmigrate.rules.spaces_logger", ("logger", "error", "check_env", "Box", "seed")),
     FamilySpec(

@@ -17,6 +17,7 @@ from gymmigrate.facts.atari_signs import (
     has_own_sign,
     reads_atari_interface,
     self_stored,
+    under_condition,
 )
 from gymmigrate.facts.module import call_argument, full_name, walk
 from gymmigrate.facts.receivers import Receivers
@@ -118,17 +119,19 @@ class AtariEvidence:
         certain = [
             sign
             for sign, node in signs
-            if not ("tests for" in sign or _NAMED in sign or _under_condition(self.facts, node, where[id(node)]))
+            if not ("tests for" in sign or _NAMED in sign or under_condition(self.facts, node, where[id(node)]))
         ]
         evidence = (certain or [sign for sign, _ in signs])[0]
         given, complete = ([], False) if certain or not bindings or not isinstance(bindings[0], ast.arg) else self._ids_given(function, bindings[0])
         if complete and given and not any(is_atari_id(i) for i in given):
             return None  # every caller of the run passes an id, none an Atari one: no ale_py needed
         if any(is_atari_id(i) for i in given):
-            # one call of the run that passes an Atari id is enough: the helper makes Atari envs
             atari = next(i for i in given if is_atari_id(i))
-            certain = [f"{evidence}, and a call of the run passes it the Atari id `{atari}`"]
-            evidence = certain[0]
+            evidence = f"{evidence}, and a call of the run passes it the Atari id `{atari}`"
+            if complete and all(is_atari_id(i) for i in given):
+                certain = [evidence]  # every id it is given is an Atari one
+            # else other ids reach the make too (another family's, or ones the run cannot
+            # read): it makes Atari envs, not only them
         maker = f"{owner.name}.{function.name}" if isinstance(owner, ast.ClassDef) else function.name
         if certain:
             message = (
@@ -290,20 +293,3 @@ def _parameter_alone(facts: ModuleFacts, read: ast.Name, bindings: list[ast.AST]
         if bound is not statement and (bound.lineno, bound.col_offset) <= (read.lineno, read.col_offset):
             return bindings
     return params
-
-
-def _under_condition(facts: ModuleFacts, node: ast.AST, function: ast.AST) -> bool:
-    """``node`` runs only on one branch of a test inside ``function`` (the body of an ``if``,
-    a branch of a conditional expression or of ``and``/``or``); a test itself always runs."""
-    child = node
-    for ancestor in facts.ancestors(node):
-        if ancestor is function:
-            return False
-        if isinstance(ancestor, (ast.If, ast.IfExp, ast.While)) and child is not ancestor.test:
-            return True
-        if isinstance(ancestor, ast.BoolOp) and child is not ancestor.values[0]:
-            return True
-        if isinstance(ancestor, ast.ExceptHandler):
-            return True
-        child = ancestor
-    return False

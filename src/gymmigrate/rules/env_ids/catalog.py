@@ -178,6 +178,9 @@ LEGACY_ATARI_GAMES = frozenset(
         "VideoPinball", "WizardOfWor", "YarsRevenge", "Zaxxon",
     }
 )  # fmt: skip
+# gym 0.9 registered every game at v0 (sticky actions) and v3 (none); gym 0.10 registered
+# the v3 settings again as v4 and dropped v3, and ale-py registers v0 and v4 only.
+_ATARI_RETIRED_VERSION = "3"
 _ATARI_ID = re.compile(
     r"^(?P<namespace>ALE/)?(?P<game>[A-Z][A-Za-z0-9]*?)(?P<ram>-ram)?(?P<mode>Deterministic|NoFrameskip)?-v(?P<version>\d+)$"
 )
@@ -198,34 +201,43 @@ HIGHWAY = EnvPackage("highway_env", FixKind.ASSIST)
 
 
 def atari_migration(env_id: str) -> IdMigration | None:
-    """Removed ``Deterministic`` / ``-ram`` ids -> base id + keywords (None: keep the id)."""
+    """Removed ``Deterministic`` / ``-ram`` ids -> base id + keywords, gym 0.9's v3 ids -> v4
+    (None: keep the id)."""
     match = _ATARI_ID.match(env_id)
     if match is None or not is_atari_id(env_id):
         return None
     game, ram, mode, version = match["game"], match["ram"], match["mode"], match["version"]
-    if not ram and mode != "Deterministic":
+    retired = not match["namespace"] and version == _ATARI_RETIRED_VERSION
+    if not ram and mode != "Deterministic" and not retired:
         return None
     kwargs: list[tuple[str, str]] = []
     if mode == "Deterministic":
         kwargs.append(("frameskip", "3" if game == "SpaceInvaders" else "4"))
     if ram:
         kwargs.append(("obs_type", '"ram"'))
+    version = "4" if retired else version
     base = f"{match['namespace'] or ''}{game}{'NoFrameskip' if mode == 'NoFrameskip' else ''}-v{version}"
     removed = "Deterministic and -ram ids" if ram and mode == "Deterministic" else "-ram ids" if ram else "Deterministic ids"
     if match["namespace"]:
         # ale-py registered ALE/<Game>-ram-v5 as ALE/<Game>-v5 with obs_type="ram": the same env.
         return IdMigration(base, FixKind.AUTO, f"ale-py 0.11.1 removed {removed}; the keyword selects the same env", tuple(kwargs), "GM804")
-    reason = f"ale-py 0.11.1 removed {removed}; episodes are now capped at 108000 frames by ale-py instead of gym's TimeLimit"
+    change = f"ale-py 0.11.1 removed {removed}"
+    if retired:
+        # gym 0.10 registered the v3 settings (no sticky actions, the same step limit) again as v4
+        change = "gym 0.10 replaced the v3 Atari ids by v4 (the same settings)" + (f" and {change}" if kwargs else "")
+    reason = f"{change}; episodes are now capped at 108000 frames by ale-py instead of gym's TimeLimit"
     return IdMigration(base, FixKind.ASSIST, reason, tuple(kwargs), rule="GM804")
 
 
 def is_atari_id(env_id: str) -> bool:
+    """An id of an Atari game: in the ``ALE/`` namespace, or a legacy game's v0, v3 or v4 in
+    any of gym's spellings (``Deterministic``, ``NoFrameskip``, ``-ram``)."""
     match = _ATARI_ID.match(env_id)
     if match is None:
         return False
     if match["namespace"]:
         return True
-    return match["game"] in LEGACY_ATARI_GAMES and match["version"] in ("0", "4")
+    return match["game"] in LEGACY_ATARI_GAMES and match["version"] in ("0", _ATARI_RETIRED_VERSION, "4")
 
 
 def env_package(env_id: str) -> EnvPackage | None:

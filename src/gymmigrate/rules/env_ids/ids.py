@@ -129,6 +129,8 @@ class EnvIds(RuleFamily):
         # package module -> where this module makes its envs (a make call, else the id literal
         # handed on): the registration goes there
         self._made: dict[str, list[ast.AST]] = {}
+        # the makes the evidence leaves open (``may make Atari envs``): other ids reach them too
+        self._other_ids_too: set[int] = set()
         self._bumped: dict[str, tuple[str, ast.Constant]] = {}  # old id -> new id, the first site bumped
         sites = IdSites(self.facts, self.receivers)
         found = sites.find()
@@ -145,7 +147,10 @@ class EnvIds(RuleFamily):
                 node, message, kind = evidence
                 if ALE.module not in self._packages:
                     self._packages[ALE.module] = (ALE, node, (message, kind))
-                self._made.setdefault(ALE.module, []).append(call if call is not None else value)
+                made = call if call is not None else value
+                self._made.setdefault(ALE.module, []).append(made)
+                if kind is not FixKind.AUTO:
+                    self._other_ids_too.add(id(made))
         for site in found:
             self._decide_site(site)
         for literal, text in sites.built_prefixes:
@@ -422,17 +427,37 @@ class EnvIds(RuleFamily):
         optional_gym = gym_alias(self.facts) is None and _guarded_gym_import(self.facts.tree.body) is not None
         at_top: list[str] = []
         guarded: list[str] = []
-        in_functions: list[tuple[str, list[ast.stmt]]] = []
+        optional: list[str] = []
+        in_functions: list[tuple[str, list[ast.stmt], bool]] = []
         for package, string, why in self._packages.values():
             if package.module in imported:
                 continue
             if package.legacy_module and package.legacy_module in imported:
                 continue  # the gym-era package: GM112 renames its import or reports it
-            statements, deferred = ([], False) if optional_gym else self._where_made(self._made.get(package.module) or [string])
+            made = self._made.get(package.module) or [string]
+            statements, deferred = ([], False) if optional_gym else self._where_made(made)
             makers = sorted({f"`{self.facts.enclosing_function(s).name}`" for s in statements})  # type: ignore[union-attr]
+            # Where other ids may reach every make too (a parameter, ids of several families), an
+            # install without the package must still make those envs, as gym made them without
+            # atari-py: the registration is tried, and an Atari id then fails at the make, as it
+            # did on gym without atari-py. Nothing is left to decide.
+            other_ids_too = why is not None and not optional_gym and all(id(node) in self._other_ids_too for node in made)
+            if why is not None and other_ids_too:
+                why = (why[0], FixKind.AUTO)
             if statements:
-                in_functions.append((package.module, statements))
+                in_functions.append((package.module, statements, other_ids_too))
                 where = f" in {_listing(makers)}, right before the make, so an install without {package.module} still imports this module"
+                if other_ids_too:
+                    where = (
+                        f" in {_listing(makers)}, right before the make, under `try`/`except ImportError`: other ids may reach "
+                        f"it, and their envs need no {package.module}, as they needed no atari-py on gym"
+                    )
+            elif other_ids_too:
+                optional.append(package.module)
+                where = (
+                    f" under `try`/`except ImportError`: other ids may reach the make, and their envs need no {package.module}, "
+                    "as they needed no atari-py on gym"
+                )
             elif deferred:
                 guarded.append(package.module)
                 where = (
@@ -452,17 +477,22 @@ class EnvIds(RuleFamily):
                     message += f": drop it if {_listing(makers, 'or')} never makes these envs" if makers else ": drop it if this module never makes these envs"
             self.report(string, "GM106", message, kind=kind)
         strings = [s for _, s, _ in self._packages.values()]
-        for module, statements in in_functions:
+        for module, statements, tried in in_functions:
             for statement in statements:
                 alias, bound = self._gym_name_at(statement)
                 lines = [f"import {module}", f"{alias}.register_envs({module})"]
                 if not bound:
                     lines.insert(0, "import gymnasium")
+                if tried:
+                    body = "\n".join(f"    {line}" for line in lines)
+                    lines = [f"try:\n{body}\nexcept ImportError:  {_OTHER_IDS_COMMENT}\n    pass"]
                 self.plan.insert_before(statement, *lines)
         if at_top:
             self._insert_registration(at_top, strings)
         if guarded:
             self._insert_registration(guarded, strings, guard=True)
+        if optional:
+            self._insert_registration(optional, strings, guard=True, comment=_OTHER_IDS_COMMENT)
 
     def _where_made(self, made: list[ast.AST]) -> tuple[list[ast.stmt], bool]:
         """The statements of functions that make the envs (each registration right before
@@ -503,7 +533,9 @@ class EnvIds(RuleFamily):
                         return name.asname or name.name, True
         return "gymnasium", False
 
-    def _insert_registration(self, packages: list[str], strings: list[ast.expr], guard: bool = False) -> None:
+    def _insert_registration(
+        self, packages: list[str], strings: list[ast.expr], guard: bool = False, comment: str = "# the envs that need it are made later; without it they are not found"
+    ) -> None:
         """``import ale_py`` after the last top-level import that comes before the first use
         of an id, then a blank line and ``gym.register_envs(ale_py)``; with ``guard``, both
         in a ``try`` whose ``except ImportError`` passes."""
@@ -527,7 +559,7 @@ class EnvIds(RuleFamily):
             self.notes.gymnasium_imported = True
         if guard:
             block = "\n".join(["try:", *[f"    import {p}" for p in packages], *[f"    {alias}.register_envs({p})" for p in packages]])
-            lines.append("\n" + block + "\nexcept ImportError:  # the envs that need it are made later; without it they are not found\n    pass")
+            lines.append("\n" + block + f"\nexcept ImportError:  {comment}\n    pass")
             calls = []
         else:
             lines += [f"import {package}" for package in packages]
@@ -563,6 +595,10 @@ class EnvIds(RuleFamily):
         while self.facts.parent(statement) is not tree:
             statement = self.facts.statement_of(self.facts.parent(statement))  # type: ignore[arg-type]
         return statement
+
+
+# Why a registration tried where other ids may reach the make passes on ImportError.
+_OTHER_IDS_COMMENT = "# only Atari ids need it, as only they needed atari-py"
 
 
 def _guarded_gym_import(body: list[ast.stmt]) -> tuple[ast.Import, str] | None:

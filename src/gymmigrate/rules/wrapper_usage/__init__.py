@@ -18,7 +18,7 @@ Two families, both deciding on the original source:
   ``self_forwarding.py`` ``self.x`` in a wrapper's own methods, ``getattr_hasattr.py``
   lookups by a name held in a value, ``monitor_attributes.py`` ``env.videos`` and
   ``env.monitor``, ``builtin_attributes.py`` what Gymnasium's built-in envs no longer
-  have; ``forwarding_edits.py`` builds the rewrites, and
+  have, ``atari_api.py`` the calls of gym's AtariEnv's methods ale-py's renamed; ``forwarding_edits.py`` builds the rewrites, and
   ``atari_limits.py`` answers the Atari time-limit questions of GM605, GM606 and GM609.
 
 ``tables.py`` holds what Gymnasium 1.x did to each wrapper, shared by both.

@@ -97,6 +97,32 @@ GONE: dict[str, dict[str, str]] = {
     },
 }
 
+# Methods of gym's AtariEnv that ale-py's, which Gymnasium's Atari ids make, no longer has:
+# name -> (the path that replaces it on the env itself, the keywords it adds, how many
+# arguments the legacy method took). gym <= 0.19 kept its own AtariEnv on atari-py
+# (``gym/envs/atari/atari_env.py``: ``_get_image`` was ``ale.getScreenRGB2()``, ``_get_ram``
+# ``to_ram(ale)``, the full state ``cloneSystemState``/``restoreSystemState``); gym 0.20-0.26
+# made ale-py 0.7's (``ale_py/gym/environment.py``), which kept ``clone_full_state``; ale-py
+# 0.9 removed the system state: ``clone_state(include_rng=True)`` holds the RNG, and
+# ``restore_state`` restores whatever the state holds (ale-py 0.12.1 ``ale_py/env.py``).
+# ``tests/test_builtin_attributes.py`` checks the table against the installed ale-py.
+ATARI_REPLACED: dict[str, tuple[tuple[str, ...], tuple[tuple[str, str], ...], int]] = {
+    "_get_image": (("ale", "getScreenRGB"), (), 0),
+    "_get_ram": (("ale", "getRAM"), (), 0),
+    "clone_full_state": (("clone_state",), (("include_rng", "True"),), 0),
+    "restore_full_state": (("restore_state",), (), 1),
+}
+# What has no exact replacement: ``seed(s)`` reseeded the emulator and reloaded the ROM
+# without a reset; ale-py 0.9 seeds only in ``reset(seed=s)`` (``seed_game`` and
+# ``load_game``, then ``reset_game``).
+ATARI_GONE = {
+    "seed": (
+        "ale-py's AtariEnv has no seed(): `env.reset(seed=s)` seeds it (it reseeds the emulator and reloads the ROM, "
+        "then resets the game); where no reset may run there, `env.unwrapped.seed_game(s)` then "
+        "`env.unwrapped.load_game()` is what gym's seed() did"
+    ),
+}
+
 # The class each built-in id name makes (gym 0.21's registry; the name is the id without
 # its version).
 _ID_CLASSES = {

@@ -42,6 +42,10 @@ from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import dotted_name
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
+from gymmigrate.rules.wrapper_usage.atari_api import (
+    ATARI_METHOD_WORDS,
+    atari_method_call,
+)
 from gymmigrate.rules.wrapper_usage.atari_limits import (
     max_episode_steps_on_atari,
     spec_limit_on_atari,
@@ -104,6 +108,12 @@ class WrapperForwarding(RuleFamily):
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
+        # gym's AtariEnv's methods on the env a class works on, in a module that never names
+        # the library (a subclass of another module's wrapper): only those calls are decided
+        return cls._forwarding_may_fire(facts, context) or _calls_atari_methods(facts)
+
+    @classmethod
+    def _forwarding_may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
         if "gym" in facts.text:
             return True
         # ``env = utils.make_env(...)`` in a file that never names the library
@@ -128,6 +138,11 @@ class WrapperForwarding(RuleFamily):
         )
 
     def decide(self) -> None:
+        if not self._forwarding_may_fire(self.facts, self.context):
+            for node in self.facts.parents:
+                if isinstance(node, ast.Attribute):
+                    atari_method_call(self, node, self.context.profile.imports_gym)
+            return
         for node in self.facts.parents:  # every node once, in source order
             if isinstance(node, ast.Attribute):
                 self._attribute_access(node)
@@ -146,6 +161,8 @@ class WrapperForwarding(RuleFamily):
         if name == "env":
             self._make_layers.env_chain(attr)
             return
+        if atari_method_call(self, attr, self.context.profile.imports_gym):
+            return  # gym's AtariEnv's ``_get_image()``, ``clone_full_state()``...: ale-py's has other names
         if name == "max_episode_steps" and spec_limit_on_atari(self, attr):
             return  # ``env.spec.max_episode_steps`` of an Atari make: None now
         if name == "_max_episode_steps" and max_episode_steps_on_atari(self, attr):
@@ -358,3 +375,9 @@ class WrapperForwarding(RuleFamily):
             kind=FixKind.FLAG,
             question=("GM604", "test double", id(owner), text),
         )
+
+
+def _calls_atari_methods(facts: ModuleFacts) -> bool:
+    """The text calls one of gym's AtariEnv's methods (``seed`` only through ``.unwrapped``:
+    every env had one)."""
+    return any(word in facts.text for word in ATARI_METHOD_WORDS)
