@@ -206,14 +206,16 @@ def test_a_proxy_of_the_project_is_migrated_with_its_env_or_asked_about(tmp_path
     self).__init__()``) forwards reset and step to the env it holds, and its one construction
     passes a ``CarEnv`` the run migrates, through ``env = StepLogger(env)``: it is migrated
     with that env. ``Driver`` holds a ``StepLogger`` in one module and an SB3 VecEnv in
-    another: its calls are asked about, not left in silence as a VecEnv's."""
+    another: its calls are asked about, not left in silence as a VecEnv's. The run proves
+    ``StepLogger`` a Gym env, so ``play.py``, which steps one, is migrated with it."""
     project = _copy(tmp_path, "project_proxy_holders")
     before = (project / "driver.py").read_text()
     result = runner.invoke(app, ["rewrite", str(project)])
     assert result.exit_code == 0, result.output
     assert "obs, reward, terminated, truncated, info = self.env.step(action)" in (project / "logger.py").read_text()
     assert (project / "driver.py").read_text() == before
-    assert "driver.py:13: GM201" in result.output and "project's own object (`StepLogger`)" in result.output
+    assert "driver.py:13: GM201" in result.output and "a Gym env at some sites and a VecEnv" in result.output
+    assert "obs, info = env.reset()" in (project / "play.py").read_text()
 
 
 _LIBRARY_RUNNER = """from stable_baselines import PPO2
@@ -242,7 +244,7 @@ def test_a_library_base_init_call_hands_its_vec_env_to_no_class_of_the_run(tmp_p
     result = runner.invoke(app, ["rewrite", str(project)])
     assert result.exit_code == 0, result.output
     assert "obs, reward, terminated, truncated, info = self.env.step(action)" in (project / "logger.py").read_text()
-    assert "driver.py:13: GM201" in result.output and "project's own object (`StepLogger`)" in result.output
+    assert "driver.py:13: GM201" in result.output and "a Gym env at some sites and a VecEnv" in result.output
 
 
 def test_a_run_base_init_call_still_hands_its_vec_env_to_that_base(tmp_path: Path) -> None:

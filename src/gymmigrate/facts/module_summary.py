@@ -139,6 +139,10 @@ class ModuleSummary:
     # Top-level Gym wrapper classes (``Wrapper`` subclasses, through local bases): an
     # instance made elsewhere is a wrapper, so what it does not define was forwarded.
     wrapper_classes: frozenset[str] = frozenset()
+    # Top-level plain classes shaped as duck wrappers (``receiver_classes.duck_wrapper_slot``)
+    # that this module alone cannot prove -> the ``__init__`` parameter they hold: the join
+    # makes their instances Gym envs where every construction of the run passes one there.
+    duck_wrappers: dict[str, str] = field(default_factory=dict)
     # Top-level Gym wrapper classes (bases of this module or Gym's) -> what they define for
     # ``self``: a subclass elsewhere that reads another name read a forwarded attribute.
     wrapper_defined: dict[str, frozenset[str]] = field(default_factory=dict)

@@ -59,6 +59,7 @@ from gymmigrate.facts.module_summary import (
 )
 from gymmigrate.facts.project_classes import (
     inherit_driven_kinds,
+    join_duck_wrappers,
     join_init_attributes,
     join_mode_renders,
     join_overrides,
@@ -481,6 +482,7 @@ class ProjectFacts:
         facts.seed_owners, facts.seed_chains = legacy_seeds(facts, by_path)
         params = ParamJoin(facts, by_path, calls_to)
         params.run()
+        join_duck_wrappers(facts, by_path)
         join_render_handovers(facts, by_path, calls_to)
         id_calls_to = {key: list(calls) for key, calls in calls_to.items()}
         for summary in summaries:

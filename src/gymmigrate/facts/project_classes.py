@@ -328,6 +328,27 @@ def reexported(facts: ProjectFacts, by_path: dict[str, ModuleSummary], defined: 
 
 
 
+def join_duck_wrappers(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> None:
+    """A plain class of the run shaped as a duck wrapper (``ModuleSummary.duck_wrappers``)
+    that every construction in other modules gives a Gym env (``param_kinds``, after the
+    parameters' pass) holds that env and forwards to it: its instances are Gym envs,
+    under every name of the run that re-exports it (``call_kinds``). Its own module, which
+    sees the same parameter kinds, migrates it as a wrapper."""
+    proved: set[tuple[str, str]] = set()
+    for path, summary in by_path.items():
+        if path in facts.blocked:
+            continue
+        for name, param in summary.duck_wrappers.items():
+            kinds = facts.param_kinds.get((path, f"{name}.__init__", param))
+            if kinds and all(kind is EnvKind.GYM_ENV for kind in kinds):
+                proved.add((path, name))
+    if not proved:
+        return
+    for where in reexported(facts, by_path, proved):
+        if facts.call_kinds.get(where) in (None, EnvKind.UNKNOWN):
+            facts.call_kinds[where] = EnvKind.GYM_ENV
+
+
 def join_init_attributes(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> None:
     """``ProjectFacts.init_attributes``: per name of the run bound to a class (re-exports
     followed), what its instances certainly hold once constructed, bases of other modules

@@ -475,10 +475,27 @@ class ClassKinds(_Facade):
 
 
 def duck_wrapper_param(classdef: ast.ClassDef) -> ast.arg | None:
-    """The ``__init__`` parameter a plain class stores in ``self.env`` (its only store
-    there) when the class forwards to it: ``__getattr__`` returns ``getattr(self.env,
-    name)``, or ``step`` returns ``self.env.step(...)`` or the four names it unpacks from
-    it, or ``reset`` returns ``self.env.reset(...)``. None for any other class."""
+    """The ``__init__`` parameter a duck wrapper holds (``duck_wrapper_slot``), or None."""
+    slot = duck_wrapper_slot(classdef)
+    return slot[0] if slot is not None else None
+
+
+def duck_wrapper_attribute(classdef: ast.ClassDef) -> str | None:
+    """The attribute a duck wrapper keeps its env in (``self.env``, ``self.environment``), or None."""
+    slot = duck_wrapper_slot(classdef)
+    return slot[1] if slot is not None else None
+
+
+def duck_wrapper_slot(classdef: ast.ClassDef) -> tuple[ast.arg, str] | None:
+    """The ``__init__`` parameter a plain class stores in an attribute (its only store
+    there), with that attribute, when the class forwards to it: ``__getattr__`` returns
+    ``getattr(self.env, name)``, or ``step`` returns ``self.env.step(...)`` or the four
+    names it unpacks from it, or ``reset`` returns ``self.env.reset(...)``; or, in any
+    attribute, when the class stands for the env it holds: it offers the env's spaces itself
+    and keeps the held env's legacy contract in its place (``_legacy_contract``: a
+    preprocessing class that skips frames and builds its observations itself). A helper
+    with only a reset and a step of its own around an env keeps its own contract. ``env``
+    is asked first. None for any other class."""
     if classdef.keywords or not all(is_object(b) for b in classdef.bases):
         return None
     methods = {s.name: s for s in classdef.body if isinstance(s, FUNCTIONS)}
@@ -486,19 +503,27 @@ def duck_wrapper_param(classdef: ast.ClassDef) -> ast.arg | None:
     if init is None:
         return None
     params = [*init.args.posonlyargs, *init.args.args][1:]
-    stores = [
-        node
-        for node in walk(classdef)
-        if isinstance(node, (ast.Assign, ast.AnnAssign, ast.AugAssign))
-        and any(_is_self_env(t) for t in (node.targets if isinstance(node, ast.Assign) else [node.target]))
-    ]
-    if len(stores) != 1 or not isinstance(stores[0], ast.Assign) or not isinstance(stores[0].value, ast.Name):
-        return None
-    param = next((p for p in params if p.arg == stores[0].value.id), None)
-    if param is None or _enclosing_def(classdef, stores[0]) is not init:
-        return None
-    if lookup_forwarded_to(methods.get("__getattr__")) == "env" or _returns_inner(methods.get("step"), "step") or _returns_inner(methods.get("reset"), "reset"):
-        return param
+    stores: dict[str, list[ast.stmt]] = {}
+    for node in walk(classdef):
+        if isinstance(node, (ast.Assign, ast.AnnAssign, ast.AugAssign)):
+            for target in node.targets if isinstance(node, ast.Assign) else [node.target]:
+                attribute = _self_attribute(target)
+                if attribute is not None:
+                    stores.setdefault(attribute, []).append(node)
+    for attribute in sorted(stores, key=lambda name: name != "env"):
+        found = stores[attribute]
+        if len(found) != 1 or not isinstance(found[0], ast.Assign) or not isinstance(found[0].value, ast.Name):
+            continue
+        param = next((p for p in params if p.arg == found[0].value.id), None)
+        if param is None or _enclosing_def(classdef, found[0]) is not init:
+            continue
+        forwards = attribute == "env" and (
+            lookup_forwarded_to(methods.get("__getattr__")) == attribute
+            or _returns_inner(methods.get("step"), "step", attribute)
+            or _returns_inner(methods.get("reset"), "reset", attribute)
+        )
+        if forwards or (_offers_spaces(classdef, methods) and _legacy_contract(methods.get("step"), methods.get("reset"), attribute)):
+            return param, attribute
     return None
 
 
@@ -515,8 +540,52 @@ def _unpacks_inner_step_wait(classdef: ast.ClassDef) -> bool:
     return False
 
 
-def _is_self_env(node: ast.AST) -> bool:
-    return isinstance(node, ast.Attribute) and node.attr == "env" and isinstance(node.value, ast.Name) and node.value.id == "self"
+
+def _self_attribute(node: ast.AST) -> str | None:
+    if isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name) and node.value.id == "self":
+        return node.attr
+    return None
+
+
+def _legacy_contract(step: ast.AST | None, reset: ast.AST | None, attribute: str) -> bool:
+    """The class keeps the held env's legacy contract without handing its results on as
+    they are: its ``step`` unpacks four values from ``self.<attribute>.step(...)`` and every
+    return of it is four values, and its ``reset`` calls ``self.<attribute>.reset(...)`` and
+    returns a value. Its callers unpack what a Gym env of the old API gives, so it stands for
+    that env; a class with a contract of its own (a step of three values, a reset returning
+    nothing) is not one."""
+    if not isinstance(step, FUNCTIONS) or not isinstance(reset, FUNCTIONS):
+        return False
+    unpacks = any(
+        isinstance(node, ast.Assign) and _inner_call(node.value, "step", attribute) and len(node.targets) == 1
+        and _four(node.targets[0])
+        for node in walk(step)
+    )
+    steps = [r.value for r in own_returns(step)]
+    resets = [r.value for r in own_returns(reset)]
+    return (
+        unpacks and bool(steps) and bool(resets)
+        and all(_four(value) for value in steps)
+        and all(value is not None for value in resets)
+        and any(_inner_call(node, "reset", attribute) for node in walk(reset))
+    )
+
+
+def _offers_spaces(classdef: ast.ClassDef, methods: dict[str, ast.FunctionDef | ast.AsyncFunctionDef]) -> bool:
+    """The class gives its users an env's spaces itself (``action_space`` and
+    ``observation_space`` as methods or properties, or stored on ``self``): it presents an
+    env's whole surface, not a helper's own reset/step contract around one."""
+    stored = {name for node in walk(classdef) if isinstance(node, ast.Attribute) and isinstance(node.ctx, ast.Store)
+              and (name := _self_attribute(node)) is not None}
+    return all(space in methods or space in stored for space in ("action_space", "observation_space"))
+
+
+def _four(node: ast.AST | None) -> bool:
+    return isinstance(node, (ast.Tuple, ast.List)) and len(node.elts) == 4 and not any(isinstance(e, ast.Starred) for e in node.elts)
+
+
+def _is_self_env(node: ast.AST, attribute: str = "env") -> bool:
+    return _self_attribute(node) == attribute
 
 
 def _enclosing_def(classdef: ast.ClassDef, node: ast.AST) -> ast.AST | None:
@@ -526,18 +595,21 @@ def _enclosing_def(classdef: ast.ClassDef, node: ast.AST) -> ast.AST | None:
     return None
 
 
-def _inner_call(value: ast.AST | None, method: str) -> bool:
-    return isinstance(value, ast.Call) and isinstance(value.func, ast.Attribute) and value.func.attr == method and _is_self_env(value.func.value)
+def _inner_call(value: ast.AST | None, method: str, attribute: str = "env") -> bool:
+    return (
+        isinstance(value, ast.Call) and isinstance(value.func, ast.Attribute) and value.func.attr == method
+        and _is_self_env(value.func.value, attribute)
+    )
 
 
-def _returns_inner(function: ast.AST | None, method: str) -> bool:
-    """Every return of ``function`` is ``self.env.<method>(...)``, or (for ``step``) a tuple
-    of four names unpacked from it in the method."""
+def _returns_inner(function: ast.AST | None, method: str, attribute: str = "env") -> bool:
+    """Every return of ``function`` is ``self.<attribute>.<method>(...)``, or (for ``step``) a
+    tuple of four names unpacked from it in the method."""
     if function is None:
         return False
     unpacked: set[str] = set()
     for node in walk(function):
-        if isinstance(node, ast.Assign) and _inner_call(node.value, method) and len(node.targets) == 1:
+        if isinstance(node, ast.Assign) and _inner_call(node.value, method, attribute) and len(node.targets) == 1:
             target = node.targets[0]
             if isinstance(target, (ast.Tuple, ast.List)) and len(target.elts) == 4:
                 unpacked |= {e.id for e in target.elts if isinstance(e, ast.Name)}
@@ -545,7 +617,7 @@ def _returns_inner(function: ast.AST | None, method: str) -> bool:
     if not values:
         return False
     for value in values:
-        if _inner_call(value, method):
+        if _inner_call(value, method, attribute):
             continue
         if method == "step" and isinstance(value, ast.Tuple) and len(value.elts) == 4 and unpacked:
             if all(isinstance(e, ast.Name) and e.id in unpacked for e in value.elts):

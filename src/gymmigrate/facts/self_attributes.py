@@ -23,6 +23,7 @@ from gymmigrate.facts.module import (
     statements_in,
     walk,
 )
+from gymmigrate.facts.receiver_classes import duck_wrapper_attribute
 
 if TYPE_CHECKING:
     from gymmigrate.facts.module import ModuleFacts
@@ -49,14 +50,15 @@ class SelfAttributes:
         classdef = self.facts.enclosing_class(attr)
         if classdef is None:
             return EnvKind.UNKNOWN
-        if name == "env" and self.receivers.is_gym_wrapper_class(classdef):
+        held = _wrapped_attribute(classdef)
+        if name == held and self.receivers.is_gym_wrapper_class(classdef):
             # around a Gym-only library's object (gym_unity) the wrapped env keeps gym's API: left alone (GM602 reports the class)
             if self.receivers.wraps_pz_parallel(classdef):
                 return EnvKind.PZ_PARALLEL  # what every construction wraps (GM602 reports the class)
             if self.receivers.wraps_vec_env(classdef):
                 return EnvKind.SB3_VEC  # likewise a VecEnv (GM602 reports the class)
             return EnvKind.NOT_ENV if self.receivers.wraps_gym_only(classdef) is not None else EnvKind.GYM_ENV
-        if name == "env" and self.receivers.unproved_duck_wrapper(classdef):
+        if name == held and self.receivers.unproved_duck_wrapper(classdef):
             # a duck wrapper the run cannot prove wraps Gym envs: left whole (GM602 reports it)
             return EnvKind.NOT_ENV
         if name == "training_env":
@@ -77,7 +79,15 @@ class SelfAttributes:
             if library is not None:
                 return library
             return self._driven_by_run_base(classdef, name)
-        return join_kinds([self._value_kind(value, classdef) for value in values])
+        kind = join_kinds([self._value_kind(value, classdef) for value in values])
+        if kind is EnvKind.UNKNOWN:
+            # ``self._env = gym.make(id)`` and, lines below in the same method,
+            # ``self._env = Preprocess(self._env.env)``: that read sees the make, whatever
+            # the attribute holds afterwards
+            seen = store_seen(self.facts, attr, name)
+            if seen is not None and self._value_kind(seen, classdef) is EnvKind.GYM_ENV:
+                return EnvKind.GYM_ENV
+        return kind
 
     def _set_by_library_base(self, classdef: ast.ClassDef, name: str) -> EnvKind | None:
         """``self.env`` (and a runner's ``self.model``) that neither the class nor a base of
@@ -285,6 +295,65 @@ class SelfAttributes:
 
     def _is_sb3_callback(self, classdef: ast.ClassDef) -> bool:
         return any(q in N.SB3_CALLBACK_BASES for base in classdef.bases for q in self.receivers.qualified_names(base))
+
+
+_TRIES: tuple[type[ast.AST], ...] = tuple(t for t in (ast.Try, getattr(ast, "TryStar", None)) if t is not None)
+
+
+def store_seen(facts: ModuleFacts, read: ast.Attribute, name: str) -> ast.expr | None:
+    """The value of ``self.<name> = value`` that ``read`` (a load of ``self.<name>``) sees
+    for certain: that assignment stands before the read in the same method, in the read's
+    block or one around it, and nothing between them may store the attribute again (no
+    other store of it, no call of a method of ``self``), nor a loop around the read once
+    more. None when the method shows no such store."""
+    function = facts.enclosing_function(read)
+    if function is None or isinstance(read.ctx, (ast.Store, ast.Del)):
+        return None
+    node: ast.AST | None = facts.statement_of(read)
+    while node is not None and node is not function:
+        parent = facts.parent(node)
+        block = _block_of(parent, node)
+        if parent is None or block is None:
+            return None
+        for statement in reversed(block[: block.index(node)]):
+            if isinstance(statement, ast.Assign) and len(statement.targets) == 1 and _stored_self_name(statement.targets[0]) == name:
+                return statement.value
+            if _may_store(statement, name):
+                return None
+        if isinstance(parent, (ast.For, ast.AsyncFor, ast.While)) and _may_store(parent, name):
+            return None  # the loop's next turn sees its own store
+        if isinstance(parent, _TRIES) and not any(item is node for item in getattr(parent, "body", ())) and _may_store(parent, name):
+            return None  # a handler or a finally may run after part of the try stored it
+        if isinstance(parent, (*FUNCTIONS, ast.ClassDef, ast.Lambda)) and parent is not function:
+            return None
+        node = parent
+    return None
+
+
+def _block_of(parent: ast.AST | None, node: ast.AST) -> list[ast.AST] | None:
+    for field in ("body", "orelse", "finalbody", "handlers"):
+        block = getattr(parent, field, None)
+        if isinstance(block, list) and any(item is node for item in block):
+            return block
+    return None
+
+
+def _may_store(statement: ast.AST, name: str) -> bool:
+    """``statement`` stores ``self.<name>``, or calls a method of ``self``, which might."""
+    for node in walk(statement):
+        if isinstance(node, ast.Attribute) and isinstance(node.ctx, (ast.Store, ast.Del)) and _stored_self_name(node) == name:
+            return True
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and isinstance(node.func.value, ast.Name) and node.func.value.id == "self":
+            return True
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "setattr":
+            return True
+    return False
+
+
+def _wrapped_attribute(classdef: ast.ClassDef) -> str:
+    """Where a wrapper keeps the env it wraps: ``self.env``, or the attribute a duck wrapper
+    holds it in (``self.environment``)."""
+    return duck_wrapper_attribute(classdef) or "env"
 
 
 def class_self_stores(facts: ModuleFacts, classdef: ast.ClassDef) -> dict[str, list[ast.expr]]:

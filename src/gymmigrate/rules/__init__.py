@@ -87,7 +87,7 @@ PIPELINE = (
     FamilySpec("ParallelCalls", "gymmigrate.rules.pettingzoo.parallel", _PZ, follows_the_run=True),
     FamilySpec("SeedRender", "gymmigrate.rules.pettingzoo.seed_render", _PZ, follows_the_run=True),
     FamilySpec("WrapperState", "gymmigrate.rules.pettingzoo.wrapper_state", _PZ, follows_the_run=True),
-    FamilySpec("WrapperClasses", "gymmigrate.rules.wrappers.family", ("Wrapper", "wrappers", "self.env")),
+    FamilySpec("WrapperClasses", "gymmigrate.rules.wrappers.family", ("Wrapper", "wrappers", "self.env", "def step")),
     FamilySpec("WrapperConstructorArgs", "gymmigrate.rules.wrappers.constructor_args", ("Wrapper", "wrappers")),
     # gym's AtariEnv's methods (``wrapper_usage.atari_api.ATARI_METHOD_WORDS``) on an env of another module
     FamilySpec(

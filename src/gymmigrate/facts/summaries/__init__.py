@@ -31,6 +31,7 @@ from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.mode_handovers import param_renders
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
 from gymmigrate.facts.module_summary import ModuleSummary, Signature
+from gymmigrate.facts.receiver_classes import duck_wrapper_param
 from gymmigrate.facts.receivers import Receivers
 from gymmigrate.facts.render_handovers import bare_render_params, handed_constructions
 from gymmigrate.facts.render_modes import draws_only_in_render, render_kept_classes
@@ -143,6 +144,17 @@ def _named(
     return next(s for s in classes[owner].body if isinstance(s, FUNCTIONS) and s.name == name)
 
 
+def unproved_duck_wrappers(facts: ModuleFacts, receivers: Receivers) -> dict[str, str]:
+    """The module's plain classes shaped as duck wrappers that its own constructions do not
+    prove (other modules build them), with the parameter they hold (``duck_wrappers``)."""
+    found: dict[str, str] = {}
+    for name, classdef in facts.classes.items():
+        param = duck_wrapper_param(classdef)
+        if param is not None and not receivers.is_duck_wrapper(classdef) and not receivers.derives_own_api(classdef):
+            found[name] = param.arg
+    return found
+
+
 def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSummary:
     defs: dict[str, Signature] = {}
     for name, function in facts.functions.items():
@@ -190,6 +202,7 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         recreates_from_spec=recreates_from_spec(facts),
         own_api_classes=frozenset(n for n, c in facts.classes.items() if receivers.derives_own_api(c)),
         wrapper_classes=frozenset(name for name, classdef in facts.classes.items() if receivers.is_gym_wrapper_class(classdef)),
+        duck_wrappers=unproved_duck_wrappers(facts, receivers),
         wrapper_defined=wrapper_defined(facts),
         wrapping_helpers=frozenset(name for name, function in facts.functions.items() if receivers.wraps_argument(function)),
         pz_wrappers=pz_wrappers.summarize(facts),

@@ -28,7 +28,9 @@ from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import FUNCTIONS, call_argument, own_returns, walk
 from gymmigrate.facts.pytest_params import fixture_values, param_fixtures
+from gymmigrate.facts.receiver_classes import duck_wrapper_attribute
 from gymmigrate.facts.receivers import Receivers
+from gymmigrate.facts.self_attributes import store_seen
 from gymmigrate.rules.wrapper_usage.tables import (
     OWN_ATTRIBUTES,
     current_name,
@@ -154,7 +156,7 @@ class EnvOrigins:
             classdef = self.facts.enclosing_class(expr)
             if classdef is None:
                 return None
-            if expr.attr == "env" and self.receivers.is_gym_wrapper_class(classdef):
+            if expr.attr in ("env", duck_wrapper_attribute(classdef)) and self.receivers.is_gym_wrapper_class(classdef):
                 return INNER
             return join_origins([self.origin(v) for v in self.receivers.self_stores(classdef).get(expr.attr, [])])
         return None
@@ -366,6 +368,13 @@ class EnvOrigins:
         origin = self.origin(receiver)
         if isinstance(receiver, ast.Name) and (origin is None or self._bare_or_wrapped_name(receiver)):
             seen = self.above(receiver)
+            if seen is not None:
+                origin = seen
+        elif isinstance(receiver, ast.Attribute) and isinstance(receiver.value, ast.Name) and receiver.value.id == "self":
+            # ``self._env = gym.make(id)`` above in the same method: the read sees that store,
+            # whatever the attribute is given afterwards (``self._env = Preproc(self._env.env)``)
+            value = store_seen(self.facts, receiver, receiver.attr)
+            seen = self.origin(value) if value is not None else None
             if seen is not None:
                 origin = seen
         return origin

@@ -9,6 +9,7 @@ from collections.abc import Iterator, Sequence
 
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts.module import FUNCTIONS, is_super_call, walk
+from gymmigrate.facts.receiver_classes import duck_wrapper_attribute
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import Rule
 
@@ -114,6 +115,9 @@ def inner_env_names(classdef: ast.ClassDef) -> tuple[str, ...]:
     in an ``__init__`` that hands that very parameter (never rebound) to
     ``super().__init__``, or ``self._env = self.env``, where no other line of the class
     stores the attribute. A reset delegating through such a name delegates to the inner env."""
+    held = duck_wrapper_attribute(classdef)
+    if held is not None:
+        return (*INNER, held)  # a plain class holds what it wraps in an attribute of its own
     init = next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == "__init__"), None)
     if init is None:
         return INNER

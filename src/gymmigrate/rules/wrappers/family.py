@@ -9,12 +9,18 @@ from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
 from gymmigrate.facts.module import FUNCTIONS, is_super_call, walk
+from gymmigrate.facts.receiver_classes import duck_wrapper_attribute
 from gymmigrate.findings import FixKind, Tier, gym_only_question
 from gymmigrate.rules.base import FileContext
 from gymmigrate.rules.reset_seed.common import is_space, moving_seed_question
 from gymmigrate.rules.wrapper_usage.tables import wrapper_rest
 from gymmigrate.rules.wrappers import episode_state
-from gymmigrate.rules.wrappers.common import GONE_WRAPPER_STATE, RULES, _is_inner_env
+from gymmigrate.rules.wrappers.common import (
+    GONE_WRAPPER_STATE,
+    INNER,
+    RULES,
+    _is_inner_env,
+)
 from gymmigrate.rules.wrappers.reset import ResetOverrides
 from gymmigrate.rules.wrappers.step import StepOverrides
 
@@ -25,7 +31,10 @@ class WrapperClasses(StepOverrides, ResetOverrides):
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
-        return "Wrapper" in facts.text or "wrappers" in facts.text or "self.env" in facts.text
+        if "Wrapper" in facts.text or "wrappers" in facts.text or "self.env" in facts.text:
+            return True
+        # a plain class holding its env under a name of its own (``self.game``)
+        return "def step" in facts.text and any(duck_wrapper_attribute(c) is not None for c in facts.all_classes)
 
     def decide(self) -> None:
         for classdef in self.facts.all_classes:
@@ -34,7 +43,7 @@ class WrapperClasses(StepOverrides, ResetOverrides):
                     self.report(
                         classdef,
                         "GM602",
-                        f"`{classdef.name}` holds an env in `self.env` and forwards to it like a Gym wrapper, but "
+                        f"`{classdef.name}` holds an env in `self.{duck_wrapper_attribute(classdef)}` and forwards to it like a Gym wrapper, but "
                         "the run does not show that every construction of it passes a Gym env: it and its callers "
                         "are left as they are (four-field step, bare reset); migrate them together, or check the "
                         "whole project in one run",
@@ -213,6 +222,7 @@ class WrapperClasses(StepOverrides, ResetOverrides):
         named = [a.arg for a in (*args.posonlyargs, *args.args, *args.kwonlyargs)][1:]  # ``self`` first
         if not named:
             return  # ``render(self)`` or ``render(self, *args, **kwargs)``: Gymnasium's call works
+        held = duck_wrapper_attribute(classdef) or "env"  # a plain class's ``self.environment``
         forwarded = [
             node
             for node in walk(function)
@@ -220,7 +230,7 @@ class WrapperClasses(StepOverrides, ResetOverrides):
             and isinstance(node.func, ast.Attribute)
             and node.func.attr == "render"
             and (node.args or node.keywords)
-            and _is_inner_env(node.func.value)
+            and _is_inner_env(node.func.value, (*INNER, held))
         ]
         where = (
             f": `{self.facts.segment(forwarded[0])}` on line {forwarded[0].lineno} raises TypeError (the inner render() "
@@ -233,7 +243,7 @@ class WrapperClasses(StepOverrides, ResetOverrides):
             "GM405",
             f"`{classdef.name}.render({', '.join(named)})` takes arguments Gymnasium never passes (its wrappers call "
             f"render() bare){where}; pass the mode as render_mode= and the image size (width=, height= for MuJoCo envs) "
-            "to gym.make where the inner env is made, then forward `self.env.render()`",
+            f"to gym.make where the inner env is made, then forward `self.{held}.render()`",
             FixKind.FLAG,
         )
 

@@ -26,6 +26,7 @@ from gymmigrate.facts.collection_reads import (
     named_in,
 )
 from gymmigrate.facts.module import FUNCTIONS, is_super_call, walk
+from gymmigrate.facts.receiver_classes import duck_wrapper_attribute
 from gymmigrate.rules.step_done.common import StepUnpack
 from gymmigrate.rules.wrappers.common import (
     _assigned_names,
@@ -186,9 +187,10 @@ def _inner_aliases(classdef: ast.ClassDef) -> frozenset[str]:
         for t in n.targets
         if isinstance(t, ast.Attribute) and isinstance(t.value, ast.Name) and t.value.id == "self"
     }
+    held = duck_wrapper_attribute(classdef)  # a plain class's ``self.environment``: what it wraps
     return frozenset(
         attr for attr, param in stored.items() if param in handed and param not in rebound and attr not in written_elsewhere
-    )
+    ) | ({held} if held is not None else set())
 
 
 def _alias_step(node: ast.AST | None, aliases: frozenset[str]) -> bool:
