@@ -51,6 +51,20 @@ def decide_reset_without_observation(decision: ClassDecision) -> None:
         what = "reset returns nothing: Gymnasium's reset must return `(obs, info)`"
         todo = "there is no observation at hand here, so returning one with an info dict is a decision to take with what step() returns"
     name = decision.classdef.name
+    step = decision.method("step")
+    if not valued and _placeholder(function) and step is not None and _placeholder(step):
+        # A template: reset and step both only `pass` (behind a docstring), so no observation
+        # exists anywhere yet and legacy returned None too; whoever writes the bodies writes
+        # the contract, and there is nothing to decide about this code as it is.
+        decision.report(
+            function,
+            "GM501",
+            "reset and step are placeholders (no body but a docstring, `pass` or `...`): when they are written, "
+            "reset must return `(obs, info)` and step `(obs, reward, terminated, truncated, info)`",
+            FixKind.FLAG,
+            tier=Tier.NOTE,
+        )
+        return
     direct = _used_directly(decision)
     decision.report(
         function,
@@ -84,13 +98,17 @@ def _abstract(decision: ClassDecision, function: Method) -> bool:
         name = decorator.attr if isinstance(decorator, ast.Attribute) else decorator.id if isinstance(decorator, ast.Name) else ""
         if name == "abstractmethod":
             return True
+    local, elsewhere = overrides(decision, "reset")
+    return _placeholder(function) and bool(local or elsewhere)
+
+
+def _placeholder(function: Method) -> bool:
+    """A body of only a docstring, ``pass`` and ``...``."""
     body = function.body[1:] if is_docstring(function.body[:1]) else function.body
-    placeholder = all(
+    return all(
         isinstance(s, ast.Pass) or (isinstance(s, ast.Expr) and isinstance(s.value, ast.Constant) and s.value.value is Ellipsis)
         for s in body
     )
-    local, elsewhere = overrides(decision, "reset")
-    return placeholder and bool(local or elsewhere)
 
 
 def _returns_none(ret: ast.Return) -> bool:

@@ -193,6 +193,11 @@ def _absent_hooks(decision: ClassDecision, function: Method) -> set[str]:
     return found
 
 
+def _never_set(assigned: ast.AST | None) -> bool:
+    """The one value a flag is given in the step is the literal ``False``."""
+    return isinstance(assigned, ast.Constant) and assigned.value is False
+
+
 def _returns_five(method: Method) -> bool:
     returns = [r for r in own_returns(method) if r.value is not None]
     return bool(returns) and all(tuple_len(r.value) == 5 for r in returns)
@@ -341,6 +346,13 @@ def _decide_returns(
         if isinstance(done, ast.Constant) and done.value is False:
             # This return never ends an episode, on a limit or otherwise: nothing to split.
             decision.report(ret, "GM504", "step returns terminated=False and truncated=False, as its done was False", FixKind.ASSIST, tier=Tier.NOTE)
+            continue
+        if isinstance(done, ast.Name) and _never_set(single_assignment(index, done.id)):
+            # ``done = False`` is the step's only write of the flag: the return is as final as
+            # the literal one above, so there is no end of any kind to ask about.
+            decision.report(
+                ret, "GM504", f"step returns terminated=False and truncated=False, as its `{done.id}` is only ever False", FixKind.ASSIST, tier=Tier.NOTE
+            )
             continue
         if isinstance(done, ast.Name) and unpacked_from_inner_step(decision, index, done.id):
             # The step family unpacks that step's terminated and truncated: return them as they

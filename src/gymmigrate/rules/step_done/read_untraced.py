@@ -65,6 +65,8 @@ class DoneUntracedReports(DoneSettledReads):
                 return None  # ``q(s2) * done``: no mask (the factor keeps ``done``)
             if repacks_step(self.facts.parent(read), read, step):
                 return None  # ``(obs, reward, done, info)`` handed on: the step's own reply
+            if self._beside_bootstrap_flag(read, step) is not None:
+                return None  # passed beside its own bootstrap flag: there it is the episode's end
             derived = self._derived_names(step)
             if (
                 self._masks_next_state(read, step)

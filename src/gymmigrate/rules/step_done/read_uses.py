@@ -580,7 +580,15 @@ def _tests_none_as_boundary(function: ast.AST, param: str) -> bool:
 
 def _joins_done(test: ast.AST, done: str) -> bool:
     """``done and steps != limit``, ``done and not info.get(...)``: ``done`` read together
-    with another condition (``done`` alone, or negated, is the flag itself)."""
+    with another condition (``done`` alone, or negated, is the flag itself); also as a
+    choice, ``float(done) if steps < limit else 0``, which is that ``and`` written out."""
+    if isinstance(test, ast.IfExp):
+        branches = (test.body, test.orelse)
+        return (
+            done not in loaded_names(test.test)
+            and any(done in loaded_names(b) for b in branches)
+            and any(isinstance(b, ast.Constant) and b.value in (False, 0) for b in branches)
+        )
     if not isinstance(test, ast.BoolOp) or not isinstance(test.op, ast.And):
         return False
     return done in loaded_names(test) and any(done not in loaded_names(v) for v in test.values)
