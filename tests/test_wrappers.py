@@ -306,3 +306,21 @@ def test_elementwise_done_of_a_wrapper_that_reads_batched_flags() -> None:
         if terminated or truncated:
             env.reset()
     assert env.count >= 1
+
+
+def test_a_wrapper_forwarding_its_attributes_constructs_once_its_arguments_are_recorded() -> None:
+    """GM617 records the arguments of a wrapper with its own ``__getattr__`` after the base
+    ``__init__``: recorded first, the mixin's ``hasattr`` check reaches ``__getattr__`` before
+    ``self.env`` exists, and that recurses."""
+    namespace = _run_rule_fixture("GM617/forwarding_getattr.py")
+    tasked, counted = namespace["tasked"], namespace["counted"]
+    assert tasked.tasks == 5 and counted.count == 2
+    assert tasked.spec.additional_wrappers[-1].kwargs == {"tasks": 5}
+
+    class RecordedFirst(namespace["Tasked"]):
+        def __init__(self, env, tasks: int = 3):
+            gym.utils.RecordConstructorArgs.__init__(self, tasks=tasks)
+            super().__init__(env, tasks)
+
+    with pytest.raises(RecursionError):
+        RecordedFirst(gym.make("CartPole-v1"))

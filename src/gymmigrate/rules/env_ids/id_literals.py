@@ -42,6 +42,8 @@ class IdSite:
     # the call of this module that makes the env from this id, where the id reaches it through a
     # parameter, a stored attribute or a list (``call`` is None then): its registration goes there
     made_at: ast.Call | None = None
+    # an argparse option's or absl flag's default: the command line may hand the make any other id
+    command_line_default: bool = False
 
 
 class IdLiterals:

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import ast
 import re
+from dataclasses import replace
 
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.module import call_argument
@@ -258,7 +259,7 @@ class IdSites(HandedOnIds):
                     value, via = (literal, f"the constant `{value.id}`, an argparse default") if literal is not None else (value, via)
                 site = self._site(value, None, False, via=via)
                 if site is not None:
-                    sites.append(site)
+                    sites.append(replace(site, command_line_default=True))
         return sites
 
     def _absl_flag_default(self, call: ast.Call) -> list[IdSite]:
@@ -286,7 +287,7 @@ class IdSites(HandedOnIds):
         if any(q.endswith("DEFINE_enum") for q in self.facts.qualified_names(call.func)) and isinstance(choices, (ast.List, ast.Tuple)):
             # absl rejects a default that is not one of the choices: a bumped id is bumped in both
             sites += [self._site(choice, None, False, via=f"a choice of the absl flag `{flag}`") for choice in choices.elts]
-        return [site for site in sites if site is not None]
+        return [replace(site, command_line_default=True) for site in sites if site is not None]
 
 
 def _option_dest(call: ast.Call, flag: str) -> str | None:

@@ -238,7 +238,12 @@ class EnvIds(RuleFamily):
         if package is not None and not site.module_prefix:
             if package.module not in self._packages:
                 self._packages[package.module] = (package, site.string, None)
-            self._made.setdefault(package.module, []).append(site.call or site.made_at or site.string)
+            made = site.call or site.made_at or site.string
+            self._made.setdefault(package.module, []).append(made)
+            if site.command_line_default:
+                # only a default: the command line may name any other id, whose env needs no
+                # such package, as it needed no atari-py on gym
+                self._other_ids_too.add(id(made))
 
     def _ask_gym_only_prefix(self, string: ast.Constant, package: str, spelled: str) -> None:
         """``gym.make("dm2gym:" + name)``: make imports the package of the prefix, which
@@ -441,7 +446,7 @@ class EnvIds(RuleFamily):
             # install without the package must still make those envs, as gym made them without
             # atari-py: the registration is tried, and an Atari id then fails at the make, as it
             # did on gym without atari-py. Nothing is left to decide.
-            other_ids_too = why is not None and not optional_gym and all(id(node) in self._other_ids_too for node in made)
+            other_ids_too = not optional_gym and all(id(node) in self._other_ids_too for node in made)
             if why is not None and other_ids_too:
                 why = (why[0], FixKind.AUTO)
             if statements:

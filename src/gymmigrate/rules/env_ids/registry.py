@@ -108,6 +108,10 @@ _LEGACY_KEYWORD_HINTS = {
 # How far ``spec = specs[i]; s = spec`` chains are followed: enough for real code, and
 # it bounds the work per attribute.
 _MAX_SPEC_DEPTH = 3
+# gym's entry points whose envs Gymnasium's ids make with another class, as the spec now
+# names it: gym's Atari ids were ``gym.envs.atari:AtariEnv``; ale-py registers every
+# Atari id (``ALE/Pong-v5``, ``PongNoFrameskip-v4``) with ``ale_py.env:AtariEnv``.
+_MOVED_ENTRY_POINTS = {"gym.envs.atari:AtariEnv": "ale_py.env:AtariEnv"}
 
 
 class RegistryApi(RuleFamily):
@@ -457,6 +461,9 @@ class RegistryApi(RuleFamily):
         TypeError; the test is guarded with ``isinstance(..., str)``, and gym's own package
         name in it becomes gymnasium's."""
         parent = self.facts.parent(attribute)
+        if isinstance(parent, ast.Compare) and len(parent.ops) == 1 and isinstance(parent.ops[0], (ast.Eq, ast.NotEq)):
+            self._decide_entry_point_equality(parent, attribute)
+            return
         if isinstance(parent, ast.Compare) and len(parent.ops) == 1 and isinstance(parent.ops[0], (ast.In, ast.NotIn)) and parent.comparators[0] is attribute:
             test: ast.expr = parent
             literal: ast.expr | None = parent.left
@@ -490,6 +497,24 @@ class RegistryApi(RuleFamily):
             return guarded.with_changes(right=node)
 
         self.plan.replace(test, build)
+
+    def _decide_entry_point_equality(self, compare: ast.Compare, attribute: ast.Attribute) -> None:
+        """``spec.entry_point == "gym.envs.atari:AtariEnv"``: that string names a gym module;
+        the spec of the same id names ale-py's class now, so the test would always be False.
+        The literal becomes the entry point Gymnasium's spec holds (an equality test on a
+        callable entry point is False, not an error: no guard)."""
+        other = compare.comparators[0] if compare.left is attribute else compare.left
+        value = string_value(other)
+        moved = _MOVED_ENTRY_POINTS.get(value) if value is not None else None
+        if moved is None:
+            return
+        self.report(
+            other,
+            "GM806",
+            f'"{value}" -> "{moved}": the spec of a Gymnasium id names the class that makes its env, and gym\'s '
+            "Atari envs are ale-py's now",
+        )
+        self.plan.replace(other, lambda node, moved=moved: _with_string(node, moved))
 
     def _guarded(self, test: ast.expr) -> bool:
         """The test already follows ``isinstance(<...>.entry_point, str) and``."""
@@ -687,6 +712,14 @@ def _renamed_gym_envs(node: cst.BaseExpression) -> cst.BaseExpression:
     if isinstance(node, cst.Call):
         return node.with_changes(args=[arg.with_changes(value=_renamed_gym_envs(arg.value)) for arg in node.args])
     return node
+
+
+def _with_string(node: cst.BaseExpression, text: str) -> cst.BaseExpression:
+    """The string literal ``node`` holding ``text`` instead, in the same quotes."""
+    if isinstance(node, cst.SimpleString):
+        quote = node.quote
+        return node.with_changes(value=f"{node.prefix}{quote}{text}{quote}")
+    return cst.SimpleString(f'"{text}"', lpar=node.lpar, rpar=node.rpar)  # an implicit concatenation
 
 
 def _called_name(call: ast.Call) -> str:

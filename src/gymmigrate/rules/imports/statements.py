@@ -23,6 +23,7 @@ from gymmigrate.rules.imports.libraries import GYM_ONLY_LIBRARIES, GymOnlyLibrar
 from gymmigrate.rules.imports.table import (
     LEGACY_WRAPPER_MODULES,
     MOVED_NAMES,
+    RENAMED_NAMES,
     home_of,
     migrated_path,
     removed_module_hint,
@@ -242,6 +243,8 @@ class ImportStatements(GymOnlyLibraries):
         if rest is None:
             rest = module[len("gymnasium.") :]
         star = any(alias.name == "*" for alias in node.names)
+        if not star and self._renamed_names(node, rest):
+            return
         hint = removed_module_hint(rest)
         advice = hint
         question = None
@@ -296,6 +299,39 @@ class ImportStatements(GymOnlyLibraries):
         code = "GM102" if rest == "" else "GM104" if new_rest != rest else "GM103"
         self.report(node, code, f"from {module} import ... -> from {new_module} import ...")
         self.plan.replace(node, lambda from_node: from_node.with_changes(module=dotted_node(new_module)))
+
+    def _renamed_names(self, node: ast.ImportFrom, rest: str) -> bool:
+        """``from gym.envs.registration import load``: a name Gymnasium kept under another
+        name, with the same contract (RENAMED_NAMES). Where every name of the import exists in
+        the Gymnasium module once renamed, the import binds the new names to the old ones, so
+        no use changes. True when rewritten."""
+        renamed = {alias.name: RENAMED_NAMES[(rest, alias.name)] for alias in node.names if (rest, alias.name) in RENAMED_NAMES}
+        if not renamed:
+            return False
+        target = "gymnasium." + migrated_path(rest)
+        if not module_exists(target) or not all(has_name(target, renamed.get(a.name, a.name)) for a in node.names):
+            return False
+
+        def rename(from_node: cst.ImportFrom) -> cst.ImportFrom:
+            names = []
+            for alias in from_node.names:  # type: ignore[union-attr]
+                old = alias.evaluated_name
+                if old in renamed:
+                    alias = alias.with_changes(
+                        name=cst.Name(renamed[old]), asname=alias.asname or cst.AsName(name=cst.Name(old))
+                    )
+                names.append(alias)
+            return from_node.with_changes(module=dotted_node(target), names=names)
+
+        self.plan.replace(node, rename)
+        pairs = ", ".join(f"`{old}` -> `{new} as {old}`" for old, new in renamed.items())
+        self.report(
+            node,
+            "GM105",
+            f"from {node.module} import ... -> from {target} import ...: {pairs}, the same contract under Gymnasium's name",
+            FixKind.AUTO,
+        )
+        return True
 
     def _atari_class_checks_only(self, node: ast.ImportFrom, rest: str) -> bool:
         """``from gym.envs.atari import AtariEnv`` (or ``from gym.envs import atari`` read as

@@ -78,6 +78,7 @@ REMOVED_NAMES = {
     ("envs.classic_control", "rendering"): "render with pygame or matplotlib; the rendering module is gone",
     ("envs.toy_text", "discrete"): "subclass gymnasium.Env with Discrete spaces; DiscreteEnv is gone",
     ("envs", "robotics"): "use gymnasium_robotics and gymnasium.register_envs(gymnasium_robotics)",
+    # an import of it is renamed (RENAMED_NAMES); a read through the module is reported
     ("envs.registration", "load"): "use gymnasium.envs.registration.load_env_creator",
     ("envs.registration", "load_env_plugins"): "plugins are gone: import the env package instead",
     ("envs.registration", "EnvRegistry"): "gymnasium.registry is a plain dict of EnvSpec",
@@ -86,6 +87,14 @@ REMOVED_NAMES = {
     ("wrappers", "StepAPICompatibility"): "use gymnasium.utils.step_api_compatibility",
     ("wrappers", "LazyFrames"): "frame stacks are plain numpy arrays now",
     ("wrappers.monitoring", "video_recorder"): "use gymnasium.wrappers.RecordVideo",
+}
+# (module under gym, name) pairs that Gymnasium kept under another name with the same
+# contract: the import binds the new name to the old one (``from
+# gymnasium.envs.registration import load_env_creator as load``), so every use stays.
+# ``load_env_creator("pkg.module:Attr")`` imports the module and returns the attribute, as
+# gym's ``load`` did.
+RENAMED_NAMES = {
+    ("envs.registration", "load"): "load_env_creator",
 }
 # Names gym's modules bound that Gymnasium 1.4's do not, with what to use instead: such an
 # import would raise ImportError once moved, so it is reported and left as it is. Any other

@@ -18,7 +18,11 @@ can rebind a parameter), and a class that derives directly from ``Wrapper``,
 ``ObservationWrapper``, ``ActionWrapper`` or ``RewardWrapper`` gains
 ``RecordConstructorArgs`` as a base. A subclass of a Gymnasium wrapper that records its
 own arguments (``RecordEpisodeStatistics``) or of a wrapper of the run gets the call only:
-the first call wins, so the subclass's arguments, not its base's, are on record.
+the first call wins, so the subclass's arguments, not its base's, are on record. A
+wrapper that forwards attributes itself (``__getattr__``) records them right after its base
+``__init__``: the mixin's ``hasattr`` would run that ``__getattr__`` before ``self.env``
+exists and recurse. Where that is not safe (a parameter rebound first, no base call found,
+a base that records first) it is reported.
 
 ``RecordConstructorArgs`` deep-copies what it records; a parameter that may hold
 anything (no annotation, or not a plain value type, and no literal default) could be an
@@ -113,6 +117,18 @@ class WrapperConstructorArgs(RuleFamily):
                     return True
         return False
 
+    def _forwards_attributes(self, classdef: ast.ClassDef, seen: frozenset[str] = frozenset()) -> bool:
+        """The class, or a base of it defined in this module, defines ``__getattr__`` or
+        ``__getattribute__``: an attribute it lacks is looked up by its own code."""
+        if any(isinstance(s, FUNCTIONS) and s.name in ("__getattr__", "__getattribute__") for s in classdef.body):
+            return True
+        by_name = {c.name: c for c in self.facts.all_classes}
+        for base in classdef.bases:
+            if isinstance(base, ast.Name) and base.id in by_name and base.id not in seen and by_name[base.id] is not classdef:
+                if self._forwards_attributes(by_name[base.id], seen | {classdef.name}):
+                    return True
+        return False
+
     def _records_already(self, classdef: ast.ClassDef) -> bool:
         """A base or a call names ``RecordConstructorArgs`` (or ``EzPickle``, its gym-era cousin
         some wrappers used for pickling): the class decided how it records itself."""
@@ -165,7 +181,36 @@ class WrapperConstructorArgs(RuleFamily):
             keywords.append("_disable_deepcopy=True")
         call = f"{record}.__init__({', '.join(['self', *keywords])})"
         body = init.body
-        if _is_docstring(body[0]) and len(body) == 1:
+        if self._forwards_attributes(classdef):
+            # ``RecordConstructorArgs.__init__`` asks ``hasattr(self, "_saved_kwargs")``; a class
+            # whose ``__getattr__`` forwards to ``self.env`` reads ``self.env`` there, before the
+            # base ``__init__`` set it, and recurses (RecursionError, which hasattr does not
+            # swallow): the arguments are recorded right after the base ``__init__``, as long as
+            # no parameter recorded is rebound before it, and the base is Gymnasium's plain
+            # wrapper (a base that records its own arguments would win: the first call does).
+            base_call = _base_init_call(body)
+            rebound = base_call is not None and _rebinds(body[: body.index(base_call)], {a.arg for a in recorded})
+            if base_call is None or rebound or not direct:
+                why = (
+                    "its base records its own arguments first, and the first call wins"
+                    if not direct
+                    else "a parameter to record is rebound before that call"
+                    if rebound
+                    else "no base `__init__` call was found"
+                )
+                self.report(
+                    classdef,
+                    "GM617",
+                    f"`{classdef.name}` forwards attributes (`__getattr__`), so `RecordConstructorArgs.__init__` (which reads "
+                    f"an attribute) can only run once the base `__init__` has set `self.env`, and {why}"
+                    + f": record the constructor arguments by hand after it (`{call}`) if `make(env.spec)` or `check_env` "
+                    "must recreate this wrapper",
+                    FixKind.FLAG,
+                    tier=None if self._recreates_envs() else Tier.NOTE,
+                )
+                return
+            self.plan.insert_after(base_call, call)
+        elif _is_docstring(body[0]) and len(body) == 1:
             self.plan.insert_after(body[0], call)
         else:
             self.plan.insert_before(body[1] if _is_docstring(body[0]) else body[0], call)
@@ -216,6 +261,33 @@ def _plain(arg: ast.arg, default: ast.expr | None) -> bool:
     if isinstance(literal, (ast.Tuple, ast.List)):
         return all(isinstance(e, ast.Constant) for e in literal.elts) and bool(literal.elts)
     return isinstance(literal, ast.Constant) and literal.value is not None
+
+
+def _base_init_call(body: list[ast.stmt]) -> ast.stmt | None:
+    """The statement of ``body`` that calls the base ``__init__`` (``super().__init__(...)``,
+    ``Base.__init__(self, ...)``), at the top level of the body."""
+    for statement in body:
+        if not (isinstance(statement, ast.Expr) and isinstance(statement.value, ast.Call)):
+            continue
+        func = statement.value.func
+        if isinstance(func, ast.Attribute) and func.attr == "__init__":
+            owner = func.value
+            if isinstance(owner, ast.Call) and isinstance(owner.func, ast.Name) and owner.func.id == "super":
+                return statement
+            first = statement.value.args[:1]
+            if isinstance(owner, (ast.Name, ast.Attribute)) and first and isinstance(first[0], ast.Name) and first[0].id == "self":
+                return statement
+    return None
+
+
+def _rebinds(statements: list[ast.stmt], names: set[str]) -> bool:
+    """A statement among ``statements`` binds one of ``names`` (an assignment, a loop
+    target, a ``with ... as``, ``del``)."""
+    for statement in statements:
+        for node in walk(statement):
+            if isinstance(node, ast.Name) and isinstance(node.ctx, (ast.Store, ast.Del)) and node.id in names:
+                return True
+    return False
 
 
 def _is_docstring(statement: ast.stmt) -> bool:
