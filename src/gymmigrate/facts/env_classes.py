@@ -351,6 +351,23 @@ class EnvClasses:
     def mujoco_base(self, classdef: ast.ClassDef) -> bool:
         return any(N.strip_gym_prefix(q) in MUJOCO_BASES for base in classdef.bases for q in self.facts.qualified_names(base))
 
+    def legacy_mujoco_env_base(self, classdef: ast.ClassDef) -> str | None:
+        """A base that is one of old Gym's own mujoco-py env classes (``gym.envs.mujoco.
+        HalfCheetahEnv``, v2/v3): its qualified name. The import rules retarget it to
+        Gymnasium's v4 class, a different base (mujoco bindings, a fixed observation space)."""
+        for base in classdef.bases:
+            for q in sorted(self.facts.qualified_names(base)):
+                rest = N.strip_gym_prefix(q)
+                if (
+                    q.startswith("gym.")
+                    and rest is not None
+                    and rest.startswith("envs.mujoco.")
+                    and rest not in MUJOCO_BASES
+                    and _is_builtin_env_class(q)
+                ):
+                    return q
+        return None
+
     def is_seeding_np_random(self, call: ast.AST | None) -> bool:
         """A call of ``gym.utils.seeding.np_random`` / ``gymnasium.utils.seeding.np_random``."""
         if not isinstance(call, ast.Call):
