@@ -270,6 +270,14 @@ class EnvClasses:
             N.strip_gym_prefix(q) in DIRECT_ENV_BASES for base in classdef.bases for q in self.facts.qualified_names(base)
         )
 
+    def only_gym_env_bases(self, classdef: ast.ClassDef) -> bool:
+        """Every base is ``gym.Env`` / ``gymnasium.Env`` itself (``object`` aside), and there is
+        one: nothing else the class inherits from may define a method."""
+        bases = [b for b in classdef.bases if not (isinstance(b, ast.Name) and b.id == "object")]
+        return bool(bases) and not classdef.keywords and all(
+            any(N.strip_gym_prefix(q) in DIRECT_ENV_BASES for q in self.facts.qualified_names(base)) for base in bases
+        )
+
     def inherited_init(self, classdef: ast.ClassDef) -> str | None:
         """A base other than ``gym.Env`` itself whose ``__init__`` the class inherits
         (``HalfCheetahEnv``, a mix-in): its qualified name, or the base's text. An
