@@ -270,6 +270,14 @@ class EnvClasses:
             N.strip_gym_prefix(q) in DIRECT_ENV_BASES for base in classdef.bases for q in self.facts.qualified_names(base)
         )
 
+    def only_gym_env_bases(self, classdef: ast.ClassDef) -> bool:
+        """Every base is ``gym.Env`` / ``gymnasium.Env`` itself (``object`` aside), and there is
+        one: nothing else the class inherits from may define a method."""
+        bases = [b for b in classdef.bases if not (isinstance(b, ast.Name) and b.id == "object")]
+        return bool(bases) and not classdef.keywords and all(
+            any(N.strip_gym_prefix(q) in DIRECT_ENV_BASES for q in self.facts.qualified_names(base)) for base in bases
+        )
+
     def inherited_init(self, classdef: ast.ClassDef) -> str | None:
         """A base other than ``gym.Env`` itself whose ``__init__`` the class inherits
         (``HalfCheetahEnv``, a mix-in): its qualified name, or the base's text. An
@@ -350,6 +358,23 @@ class EnvClasses:
 
     def mujoco_base(self, classdef: ast.ClassDef) -> bool:
         return any(N.strip_gym_prefix(q) in MUJOCO_BASES for base in classdef.bases for q in self.facts.qualified_names(base))
+
+    def legacy_mujoco_env_base(self, classdef: ast.ClassDef) -> str | None:
+        """A base that is one of old Gym's own mujoco-py env classes (``gym.envs.mujoco.
+        HalfCheetahEnv``, v2/v3): its qualified name. The import rules retarget it to
+        Gymnasium's v4 class, a different base (mujoco bindings, a fixed observation space)."""
+        for base in classdef.bases:
+            for q in sorted(self.facts.qualified_names(base)):
+                rest = N.strip_gym_prefix(q)
+                if (
+                    q.startswith("gym.")
+                    and rest is not None
+                    and rest.startswith("envs.mujoco.")
+                    and rest not in MUJOCO_BASES
+                    and _is_builtin_env_class(q)
+                ):
+                    return q
+        return None
 
     def is_seeding_np_random(self, call: ast.AST | None) -> bool:
         """A call of ``gym.utils.seeding.np_random`` / ``gymnasium.utils.seeding.np_random``."""

@@ -233,6 +233,11 @@ class ProjectFacts:
     # class (or a re-export of one) that sets a space to an instance of a class of the run
     # that is not a ``gymnasium.spaces.Space``: Gymnasium 1.x's env checker rejects it.
     non_space_envs: dict[tuple[str, str], tuple[str, str, str]] = field(default_factory=dict)
+    # Those of them whose every base, at any depth, is a class of the run that ends in a
+    # plain class of the run (``class Env(object)`` of a copy of another gym): no
+    # gymnasium.Env at all, which ``gymnasium.make`` rejects before any checker runs ->
+    # (that root class, its path).
+    rootless_envs: dict[tuple[str, str], tuple[str, str]] = field(default_factory=dict)
     # (path, top-level name) of a class of the run (or a subclass at any depth, or a
     # re-export of one) -> the class whose reset steps the wrapper its instance was handed
     # (``project_contracts.wrapper_steppers``): Gymnasium 1.x's env checker raises on it.

@@ -63,13 +63,50 @@ class NonSpaces:
                     base = self.by_path[where[0]].plain_classes.get(where[1])
                     if base is not None:
                         found.setdefault((path, classname), (attribute, where[1], base))
-        if not found:
+        rootless: dict[tuple[str, str], tuple[str, str]] = {}
+        for path, summary in self.by_path.items():
+            if path in self.facts.blocked:
+                continue
+            for classname, stores in summary.class_stores.items():
+                root = None if classname in summary.plain_classes or not stores.bases else self.plain_root(path, classname, 0)
+                if root is not None:
+                    rootless[(path, classname)] = (root[1], root[0])
+        if not found and not rootless:
             return
         for path, summary in self.by_path.items():
             for name in summary.exports:
                 where = self.origin(path, name)
-                if where is not None and where in found:
+                if where is None:
+                    continue
+                if where in found:
                     self.facts.non_space_envs[(path, name)] = found[where]
+                if where in rootless:
+                    self.facts.rootless_envs[(path, name)] = rootless[where]
+
+    def plain_root(self, path: str, name: str, depth: int) -> tuple[str, str] | None:
+        """The plain class of the run (no base, or builtins alone) that the class ends in,
+        when every base of it at any depth is a class of the run: then it derives from no
+        library class, gymnasium.Env included. None when any base is a library's or unknown."""
+        summary = self.by_path.get(path)
+        if summary is None or depth > MAX_CHAIN:
+            return None
+        if name in summary.plain_classes:
+            return path, name
+        stores = summary.class_stores.get(name)
+        if stores is None or not stores.bases:
+            return None
+        first: tuple[str, str] | None = None
+        for base in stores.bases:
+            if base.startswith(OWN):
+                where: tuple[str, str] | None = (path, base[len(OWN) :])
+            else:
+                split = self.facts._split(base, path) if base else None
+                where = self.origin(*split) if split is not None and "." not in split[1] else None
+            root = None if where is None else self.plain_root(*where, depth=depth + 1)
+            if root is None:
+                return None  # a base the run does not show to be its own: it may be gymnasium.Env
+            first = first or root
+        return first
 
 
 def _definer(facts: ProjectFacts, by_path: dict[str, ModuleSummary], path: str, name: str) -> tuple[str, str] | None:

@@ -94,6 +94,20 @@ class RegistryView:
         path = self.facts.modules.get(module)
         return self.facts.non_space_envs.get((path, name)) if path else None
 
+    def rootless_env(self, module: str, name: str) -> tuple[str, str] | None:
+        """For ``module:name`` as an ``entry_point`` spells it, a class of the run none of
+        whose bases is a library's: (the plain class of the run it ends in, that module,
+        named as from the entry point's package where the run knows it so)."""
+        path = self.facts.modules.get(module)
+        found = self.facts.rootless_envs.get((path, name)) if path else None
+        if found is None:
+            return None
+        root, root_path = found
+        names = sorted((m for m, p in self.facts.modules.items() if p == root_path), key=lambda m: (m.count("."), m))
+        package = module.split(".")[0] + "."
+        named = next((m for m in names if m.startswith(package)), names[-1] if names else root_path)
+        return root, named
+
     def wrapper_stepper(self, module: str, name: str) -> str | None:
         """For ``module:name`` as an ``entry_point`` spells it, the class of the run whose
         reset steps the wrapper around it (that class, or a base of it)."""

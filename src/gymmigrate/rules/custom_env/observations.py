@@ -22,6 +22,37 @@ def decide_mujoco(decision: ClassDecision) -> None:
             "GM508",
             "mujoco-py MujocoEnv: Gymnasium's MujocoEnv needs observation_space (and render settings) in __init__, and self.sim.data becomes self.data; port by hand",
         )
+        return
+    builtin = decision.env.legacy_mujoco_env_base(decision.classdef)
+    if builtin is None:
+        return
+    relies = _relies_on_mujoco_py_base(decision)
+    if relies:
+        # The import rules retarget the base to Gymnasium's v4 class of the same name, which
+        # runs on the mujoco bindings and fixes its observation space: what the subclass
+        # takes from the old base does not carry over, and nothing else says so.
+        decision.report(
+            decision.classdef,
+            "GM508",
+            f"subclass of mujoco-py `{builtin}`, whose base becomes Gymnasium's v4 class (mujoco bindings, "
+            f"a fixed observation_space, render through mujoco_renderer): it {', '.join(relies)}; port by hand",
+        )
+
+
+def _relies_on_mujoco_py_base(decision: ClassDecision) -> list[str]:
+    """What the class takes from a mujoco-py base that Gymnasium's v4 class does not give."""
+    found: list[str] = []
+    nodes = decision.index.nodes
+    attributes = [a for a in nodes.get(ast.Attribute, ()) if isinstance(a, ast.Attribute)]
+    if any(is_self_attribute(a.value, ("sim",)) for a in attributes):
+        found.append("reads self.sim (self.data on the mujoco bindings)")
+    if any(is_self_attribute(a, ("_get_viewer",)) for a in attributes):
+        found.append("calls self._get_viewer() (gone: self.mujoco_renderer)")
+    if "_get_obs" in decision.methods and "observation_space" not in identifiers(decision.classdef):
+        found.append("overrides _get_obs, from which the old base derived observation_space (v4 fixes its shape)")
+    if "viewer_setup" in decision.methods:
+        found.append("overrides viewer_setup (never called: v4 takes default_camera_config)")
+    return found
 
 
 def _uses_mujoco_py(decision: ClassDecision) -> bool:

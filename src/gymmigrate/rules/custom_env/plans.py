@@ -33,6 +33,9 @@ class SeedPlan:
     renames: dict[str, str] = field(default_factory=dict)  # the seed's other names -> ``seed``
     callers: set[str] = field(default_factory=set)  # methods that call self.seed()
     keep: bool = False  # seed() stays a method; reset() calls it when given a seed
+    # the class has no seed(): its ``self.seed()`` calls reached gym's Env.seed, gone in
+    # Gymnasium, and only they are dropped
+    base_calls_only: bool = False
 
 
 @dataclass

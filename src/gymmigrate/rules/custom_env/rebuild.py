@@ -147,6 +147,12 @@ class ClassRewrite:
     # -- GM503 ---------------------------------------------------------------------------
 
     def _seed(self, seed: SeedPlan) -> None:
+        if seed.base_calls_only:
+            for name in seed.callers:
+                current = self.replacements.get(name, self.methods.get(name))
+                if current is not None:
+                    self.replacements[name] = current.visit(_SelfSeedCallRemover(None))  # type: ignore[assignment]
+            return
         fn = self.method("seed")
         assert fn is not None
         if seed.keep:

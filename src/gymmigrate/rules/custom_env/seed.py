@@ -46,6 +46,7 @@ REMOVED_SEEDING_HELPERS = frozenset({"hash_seed", "create_seed", "_bigint_from_b
 def decide_seed(decision: ClassDecision) -> None:
     seed_method = decision.method("seed")
     if seed_method is None:
+        _decide_base_seed_calls(decision)
         return
     calls = _seed_call_sites(decision)
     facts = decision.family.facts
@@ -176,6 +177,44 @@ def decide_seed(decision: ClassDecision) -> None:
             "seed() removed: its extra seeding moved into reset() under `if seed is not None:`; it now runs only when a seed is given",
             FixKind.ASSIST,
         )
+
+
+def _decide_base_seed_calls(decision: ClassDecision) -> None:
+    """``self.seed()`` in a class that defines no seed() and derives from ``gym.Env`` alone:
+    the call reached gym's ``Env.seed``, which Gymnasium's Env does not have
+    (AttributeError). Without a seed it seeded nothing a Gymnasium env needs (``np_random``
+    seeds itself on first use), so it goes; with one, that seed belongs in reset(seed=...)."""
+    if not decision.env.only_gym_env_bases(decision.classdef):
+        return  # a mix-in or another base may define the seed() the call reaches
+    if "seed" in decision.methods or "_seed" in decision.methods or _binds_in_class_body(decision.classdef, "seed"):
+        return
+    calls = list(decision.index.self_calls.get("seed", ()))
+    if not calls:
+        return
+    facts = decision.family.facts
+    if any(not isinstance(facts.parent(call), ast.Expr) or _passes_a_seed(call) for call in calls):
+        for call in calls:
+            decision.report(
+                call,
+                "GM503",
+                "Gymnasium's Env has no seed() (AttributeError) and this class defines none: "
+                "seed through the first reset(seed=...) instead",
+                FixKind.FLAG,
+            )
+        return
+    for call in calls:
+        decision.report(call, "GM503", "self.seed() removed: Gymnasium's Env has no seed() (AttributeError), and gym's seeded nothing this class defines; np_random seeds itself on first use")
+    callers = {method.name for call in calls if (method := method_of(decision, call)) is not None}
+    decision.plan.seed = SeedPlan(callers=callers, base_calls_only=True)
+
+
+def _binds_in_class_body(classdef: ast.ClassDef, name: str) -> bool:
+    return any(
+        isinstance(target, ast.Name) and target.id == name
+        for statement in classdef.body
+        if isinstance(statement, (ast.Assign, ast.AnnAssign))
+        for target in (statement.targets if isinstance(statement, ast.Assign) else [statement.target])
+    )
 
 
 def _state_only_seed_builds(statements: list[ast.stmt], init: ast.AST | None) -> set[str]:

@@ -166,6 +166,8 @@ class RegistryApi(RuleFamily):
         for call in calls:
             if not any(N.strip_gym_prefix(q) in _REGISTER_FUNCTIONS for q in self.facts.qualified_names(call.func)):
                 continue
+            if self._decide_rootless_register(call):
+                continue  # make rejects it whatever the checker does
             if any(kw.arg == "disable_env_checker" or _sets_checker(kw) for kw in call.keywords):
                 continue  # set already
             if not self._decide_non_space_register(call):
@@ -531,6 +533,32 @@ class RegistryApi(RuleFamily):
             and value.args[0].attr == "entry_point"
             for value in before
         )
+
+    def _decide_rootless_register(self, call: ast.Call) -> bool:
+        """``register(entry_point="pkg.hop:Hop")`` of a class of the run none of whose bases,
+        at any depth, is a library's: built on a copy of another gym's ``Env`` (a plain
+        class), it is no gymnasium.Env, and ``gymnasium.make`` raises TypeError before its
+        env checker runs. Reported: ``disable_env_checker`` would claim a fix that is none."""
+        entry = keyword(call, "entry_point")
+        value = entry.value if entry is not None else (call.args[1] if len(call.args) > 1 else None)
+        target = string_value(value)
+        project = self.receivers.project
+        if project is None or target is None or target.count(":") != 1:
+            return False
+        module, _, name = target.partition(":")
+        root = project.rootless_env(module, name)
+        if root is None:
+            return False
+        self.report(
+            call,
+            "GM807",
+            f"`{name}` derives from no gymnasium.Env: its bases end in `{root[0]}` of `{root[1]}`, a plain class of the run "
+            "(a copy of another gym's Env), so gymnasium.make raises TypeError (the environment must inherit from "
+            "gymnasium.Env) before any env checker runs, and disable_env_checker does not help; port the class onto "
+            "gymnasium.Env and gymnasium.spaces, or build it without make",
+            FixKind.FLAG,
+        )
+        return True
 
     def _non_space_entry(self, value: ast.expr | None) -> tuple[str, str, str, str] | None:
         """(class, space attribute, space class, its bases) when the entry point names a
