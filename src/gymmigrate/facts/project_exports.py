@@ -213,7 +213,7 @@ def join_thunk_factory_refs(facts: ProjectFacts, by_path: dict[str, ModuleSummar
             continue
         found: dict[str, EnvKind] = {}
         for name, refs in summary.thunk_factory_refs.items():
-            kinds = set()
+            kinds: set[EnvKind | None] = set()
             for ref in refs:
                 split = facts._split(ref, path)
                 if split is None or "." in split[1] or split in facts.legacy_steps:

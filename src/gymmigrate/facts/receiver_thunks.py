@@ -305,10 +305,10 @@ class ThunkKinds(_Facade):
         thunks = self._passed_thunks(argument)
         if not thunks or not all(isinstance(t, ast.Call) for t in thunks):
             return None
-        functions = {id(f): f for t in thunks if (f := self.local_function(t.func)) is not None}  # type: ignore[attr-defined]
-        if len(functions) != 1 or len([t for t in thunks if self.local_function(t.func) is not None]) != len(thunks):  # type: ignore[attr-defined]
+        functions = [self.local_function(t.func) for t in thunks]  # type: ignore[attr-defined]
+        function = functions[0]
+        if function is None or any(f is not function for f in functions):
             return None
-        function = next(iter(functions.values()))
         if self.facts.parent(function) is not self.facts.tree or self.factory_thunk_refs(function) is None:
             return None
         return function.name
