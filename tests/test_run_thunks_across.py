@@ -75,3 +75,41 @@ def test_thunks_of_a_module_left_as_it_is_leave_the_items(tmp_path: Path) -> Non
     project, review = _migrated(tmp_path, {"envs/factory.py": "# gymmigrate: skip-file\n"})
     assert "obs, reward, done, info = env.step(action)" in (project / "vec" / "batch.py").read_text()
     assert ("batch.py", 14, "GM301") in review, review
+
+
+_TRIAL_WRAPPER = (
+    "import gym\n\n\nclass Trials(gym.Wrapper):\n    rounds = 2\n    finished = 0\n\n"
+    "    def step(self, action):\n        obs, reward, inner_done, info = self.env.step(action)\n"
+    "        trial_over = False\n        if inner_done:\n            self.finished += 1\n"
+    "            trial_over = self.finished == self.rounds\n"
+    "        return obs, reward, trial_over, info\n"
+)
+_TRIAL_BUILDER = (
+    "import gym\n\nfrom vec.batch import Batch\nfrom trials import Trials\n\n\n"
+    "def make_env(env_id, seed):\n    def thunk():\n        env = gym.make(env_id)\n        env.seed(seed)\n"
+    "        env = Trials(env)\n        return env\n\n    return thunk\n\n\n"
+    "def trials(n):\n    return Batch([make_env('CartPole-v1', i) for i in range(n)])\n"
+)
+
+
+def test_thunks_wrapping_in_a_class_of_another_module_settle_the_batch_items(tmp_path: Path) -> None:
+    # ``make_env`` of one module wraps ``gym.make`` in a Gym wrapper class another module
+    # defines: the join says what that class is, and the batch follows its ported step
+    project, review = _migrated(tmp_path, {"trials.py": _TRIAL_WRAPPER, "build.py": _TRIAL_BUILDER})
+    assert "obs, reward, terminated, truncated, info = env.step(action)" in (project / "vec" / "batch.py").read_text()
+    assert not [r for r in review if r[0] == "batch.py"], review
+    code = "import build\nprint(build.trials(2).reset().shape)"
+    run = subprocess.run([sys.executable, "-W", "ignore", "-c", code], cwd=project, capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.split() == ["(2,", "4)"]
+
+
+def test_thunks_making_a_plain_class_of_another_module_leave_the_items(tmp_path: Path) -> None:
+    # the same factory around the project's own plain class of another module: no Gym env
+    board = "class Board:\n    def reset(self):\n        return 0\n\n    def step(self, action):\n        return 0, 0.0, False, {}\n"
+    builder = _TRIAL_BUILDER.replace("from trials import Trials", "from board import Board").replace(
+        "env = gym.make(env_id)\n        env.seed(seed)\n        env = Trials(env)", "env = Board()"
+    )
+    project, review = _migrated(tmp_path, {"board.py": board, "build.py": builder})
+    assert "obs, reward, done, info = env.step(action)" in (project / "vec" / "batch.py").read_text()
+    assert ("batch.py", 14, "GM301") in review, review

@@ -475,7 +475,6 @@ class ProjectFacts:
         join_unmade_classes(facts, by_path)
         facts.registers_from_data = any(summary.opaque_registrations for summary in summaries)
         Exports(facts, by_path).run()
-        join_thunk_factory_refs(facts, by_path)
         join_tables(facts, by_path, altered)
         facts.own_renders = own_renders(facts, by_path)
         facts.modeless_renders = modeless_renders(facts, by_path)
@@ -484,6 +483,7 @@ class ProjectFacts:
         # before the parameters: an argument made by such a class keeps the def's calls on its contract
         facts.forwarding_wrappers = forwarding_wrappers(facts, by_path)
         facts.legacy_steps = legacy_steps(facts, by_path)
+        join_thunk_factory_refs(facts, by_path)  # after legacy_steps: a class kept on the old step is no Gym env to them
         facts.seed_owners, facts.seed_chains = legacy_seeds(facts, by_path)
         params = ParamJoin(facts, by_path, calls_to)
         params.run()

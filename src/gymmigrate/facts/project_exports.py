@@ -213,10 +213,13 @@ def join_thunk_factory_refs(facts: ProjectFacts, by_path: dict[str, ModuleSummar
             continue
         found: dict[str, EnvKind] = {}
         for name, refs in summary.thunk_factory_refs.items():
-            kinds = set()
+            kinds: set[EnvKind | None] = set()
             for ref in refs:
                 split = facts._split(ref, path)
-                kinds.add(facts.call_kinds.get(split) if split is not None and "." not in split[1] else None)
+                if split is None or "." in split[1] or split in facts.legacy_steps:
+                    kinds.add(None)  # its step keeps the four fields: what it builds is no Gym env to its callers
+                    continue
+                kinds.add(facts.call_kinds.get(split))
             kind = kinds.pop() if len(kinds) == 1 else None
             if kind is not None and kind is not EnvKind.UNKNOWN:
                 found[name] = kind

@@ -101,6 +101,11 @@ class ParamJoin:
             return kind
         if not kind.startswith(REF):
             return EnvKind.UNKNOWN
+        if kind.startswith(REF + OWN):
+            # a def of the calling module whose thunks build classes of other modules
+            # (``join_thunk_factory_refs`` gave it its kind)
+            found = self.facts.thunk_factories.get(caller, {}).get(kind[len(REF + OWN) :])
+            return found if found is not None else EnvKind.UNKNOWN
         found = self.facts.thunk_factory(kind[len(REF) :], caller)
         return found if found is not None else EnvKind.UNKNOWN
 

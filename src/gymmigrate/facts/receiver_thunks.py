@@ -280,8 +280,13 @@ class ThunkKinds(_Facade):
             returned = self._thunk_returns(value, 1)  # type: ignore[arg-type]
             if not returned:
                 return None
-            for made in returned:
-                if not (isinstance(made, ast.Call) and isinstance(made.func, (ast.Name, ast.Attribute))):
+            # ``env = Wrapper(env)`` then ``return env``: the last calls that make the name
+            # say what the thunk returns, as a call returned directly does
+            calls = [self._made_by_calls(made) for made in returned]
+            if any(found is None for found in calls):
+                return None
+            for made in (call for found in calls for call in found or ()):
+                if not isinstance(made.func, (ast.Name, ast.Attribute)):
                     return None
                 if self.kind_of(made) is not EnvKind.UNKNOWN:
                     return None  # this module knows what it makes (``factory_thunk_kind`` says it)
@@ -291,6 +296,22 @@ class ThunkKinds(_Facade):
                     return None  # a name of this module, or a library's
                 names.add(name)
         return frozenset(names) or None
+
+    def own_thunk_factory(self, argument: ast.expr) -> str | None:
+        """The name of the one top-level def of this module whose calls are every item of a
+        list of thunks (``[make_env(i) for i in range(n)]``), when its thunks return calls of
+        names of other modules of the run (``factory_thunk_refs``): what they return is the
+        join's to say (``ProjectFacts.thunk_factories``). None otherwise."""
+        thunks = self._passed_thunks(argument)
+        if not thunks or not all(isinstance(t, ast.Call) for t in thunks):
+            return None
+        functions = [self.local_function(t.func) for t in thunks]  # type: ignore[attr-defined]
+        function = functions[0]
+        if function is None or any(f is not function for f in functions):
+            return None
+        if self.facts.parent(function) is not self.facts.tree or self.factory_thunk_refs(function) is None:
+            return None
+        return function.name
 
     def called_factory_kind(self, factory_call: ast.Call) -> EnvKind:
         """``get_creator(name)(config)``: what calling the thunk that ``factory_call`` returns

@@ -470,7 +470,14 @@ class CallSummarizer:
         """What calling each item of a list of thunks returns; ``ref:<qualified>`` when they
         are all calls of one def imported from the run, which the join asks."""
         imported = self.receivers.imported_thunk_factory(argument)
-        return REF + imported if imported is not None and not N.is_library(imported) else self.receivers.thunk_list_kind(argument)
+        if imported is not None and not N.is_library(imported):
+            return REF + imported
+        kind = self.receivers.thunk_list_kind(argument)
+        if kind is EnvKind.UNKNOWN and (own := self.receivers.own_thunk_factory(argument)) is not None:
+            # ``[make_env(i) ...]`` with this module's ``make_env`` whose thunks build a class
+            # of another module of the run: the join says what that class is
+            return REF + OWN + own
+        return kind
 
     def _thunks_stack(self, argument: ast.expr) -> str | None:
         """The Gym-only stack every item of a list of thunks makes an env of; ``ref:<qualified>``

@@ -224,6 +224,10 @@ class ResetContractSites(ResetSeedBase):
             and classdef is not None
             and own_reset(classdef) is function
             and any(a.arg in moved for a in extra_params(function))
+            # only a Gym env's or wrapper's reset takes part in the contract (``sites``): a
+            # batch of envs of the project's own (``def reset(self, task=None)`` of its vec
+            # env) keeps its keyword and no ``options`` of its own to hand on
+            and self.receivers.class_kind(classdef) is EnvKind.GYM_ENV
         )
         edit = self._edit(call)
         edit.to_options = moved

@@ -42,6 +42,7 @@ from gymmigrate.rules.wrappers.step_ends import (
     _only_own_step_limit,
     _only_step_limits,
     _own_end_kind,
+    _replaces_inner_end,
     _task_end_sets,
 )
 from gymmigrate.rules.wrappers.step_inner import (
@@ -56,6 +57,7 @@ from gymmigrate.rules.wrappers.step_returns import (
     _code,
     _cut,
     _five,
+    _own_cut,
     _reduced_flags,
     _reshaped_flags,
 )
@@ -594,6 +596,22 @@ class StepOverrides(RuleFamily):
                     kind=FixKind.ASSIST,
                 )
                 self.plan.replace(value, lambda node, t=terminated: _five(node, _cut(node, t, per_agent)))
+            elif _replaces_inner_end(function, done, {done_name, inner_done, *flags} - {None}, done_attribute[0] if done_attribute else None):  # type: ignore[arg-type]
+                # ``done_trial = False; if self.done_mdp: ... done_trial = True`` returned: the
+                # override's own flag stands in for the inner end (which it read to decide, and
+                # may have reset from). Returning the inner ``terminated`` beside it would end
+                # episodes the override keeps going; both flags are cut from its own, so
+                # ``terminated or truncated`` is its old done.
+                self.report(
+                    ret,
+                    "GM602",
+                    "this step override returns its own `done` in place of the inner step's (which it only reads to "
+                    f"decide): returned as terminated where the inner step terminated (`... and {terminated}`) and as "
+                    f"truncation otherwise (`... and not {terminated}`), so `terminated or truncated` is its old done; "
+                    "if its own end really ends the episode, return it as terminated instead",
+                    kind=FixKind.ASSIST,
+                )
+                self.plan.replace(value, lambda node, t=terminated: _five(node, _own_cut(node, t)))
             else:
                 self.report(
                     ret,

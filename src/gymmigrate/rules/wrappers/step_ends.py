@@ -31,6 +31,30 @@ def _names(expr: ast.AST) -> set[str]:
     return {node.id for node in walk(expr) if isinstance(node, ast.Name)}
 
 
+def _replaces_inner_end(function: ast.AST, done: ast.expr, inner: set[str], attribute: str | None) -> bool:
+    """``done`` is a local of ``function`` whose every assignment is a plain one that reads
+    none of the inner step's flags (``inner``, nor ``self.<attribute>`` where the unpack
+    stores its done): the override's own flag, returned in place of the inner end rather
+    than merged with it (``done or lost_life`` reads it)."""
+    if not isinstance(done, ast.Name) or done.id in inner:
+        return False
+    name, assigned = done.id, 0
+    for node in walk(function):
+        if isinstance(node, (ast.AugAssign, ast.AnnAssign, ast.NamedExpr, ast.For, ast.AsyncFor, ast.With, ast.AsyncWith, ast.Global, ast.Nonlocal)):
+            if name in _names(node):
+                return False
+        elif isinstance(node, ast.arg) and node.arg == name:
+            return False
+        elif isinstance(node, ast.Assign) and any(name in _names(target) for target in node.targets):
+            if not (len(node.targets) == 1 and isinstance(node.targets[0], ast.Name)):
+                return False
+            reads = _names(node.value) | {n.attr for n in walk(node.value) if isinstance(n, ast.Attribute)}
+            if reads & inner or (attribute is not None and attribute in reads):
+                return False
+            assigned += 1
+    return assigned > 0
+
+
 def _only_own_step_limit(function: ast.AST, done: ast.expr, flags: tuple[str, str]) -> bool:
     """``self.t >= self.t_max`` returned as done, or a local whose every assignment in
     ``function`` is an initializer (``False``/``None``), a step-limit comparison, or ``True``

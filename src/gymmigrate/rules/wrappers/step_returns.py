@@ -56,3 +56,14 @@ def _cut(node: cst.Tuple, terminated: str, per_agent: bool | str = False) -> lis
         right=cst.UnaryOperation(operator=cst.Not(), expression=cst.Name(terminated)),
     )
     return [cst.Name(terminated), cut]
+
+
+def _own_cut(node: cst.Tuple, terminated: str) -> list[cst.BaseExpression]:
+    """The override's own ``done`` standing in for the inner end: ``done and terminated,
+    done and not terminated``, so that ``terminated or truncated`` is ``done`` itself."""
+    done = _parenthesized(node.elements[2].value)
+    flag = cst.Name(terminated)
+    return [
+        cst.BooleanOperation(left=done, operator=cst.And(), right=flag),
+        cst.BooleanOperation(left=done, operator=cst.And(), right=cst.UnaryOperation(operator=cst.Not(), expression=flag)),
+    ]
