@@ -9,8 +9,9 @@ four-field contract) are in ``class_shapes.py``.
 from __future__ import annotations
 
 import ast
+import weakref
 from collections.abc import Callable, Iterator
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, cast
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.class_shapes import (
@@ -487,6 +488,19 @@ def duck_wrapper_attribute(classdef: ast.ClassDef) -> str | None:
 
 
 def duck_wrapper_slot(classdef: ast.ClassDef) -> tuple[ast.arg, str] | None:
+    """The class's slot (``_duck_wrapper_slot``), decided once per class: every receiver
+    question about the class's instances asks it again."""
+    known = _DUCK_SLOTS.get(classdef, _UNDECIDED)
+    if known is _UNDECIDED:
+        known = _DUCK_SLOTS[classdef] = _duck_wrapper_slot(classdef)
+    return cast("tuple[ast.arg, str] | None", known)
+
+
+_UNDECIDED = object()
+_DUCK_SLOTS: weakref.WeakKeyDictionary[ast.ClassDef, object] = weakref.WeakKeyDictionary()
+
+
+def _duck_wrapper_slot(classdef: ast.ClassDef) -> tuple[ast.arg, str] | None:
     """The ``__init__`` parameter a plain class stores in an attribute (its only store
     there), with that attribute, when the class forwards to it: ``__getattr__`` returns
     ``getattr(self.env, name)``, or ``step`` returns ``self.env.step(...)`` or the four
