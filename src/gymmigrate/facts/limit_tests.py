@@ -13,7 +13,7 @@ from collections.abc import Collection
 from typing import TypeVar
 
 from gymmigrate.facts.env_classes import identifiers
-from gymmigrate.facts.module import ModuleFacts, own_returns, walk
+from gymmigrate.facts.module import ModuleFacts, own_returns, self_attribute, walk
 from gymmigrate.facts.self_attributes import self_stores
 
 # A word that counts steps or time (matched on the lower-cased identifier: ``MAX_STEPS``
@@ -291,10 +291,6 @@ def or_operands(expr: ast.expr) -> list[ast.expr]:
 
 def is_self(node: ast.AST) -> bool:
     return isinstance(node, ast.Name) and node.id == "self"
-
-
-def self_attribute(node: ast.AST) -> str | None:
-    return node.attr if isinstance(node, ast.Attribute) and is_self(node.value) else None
 
 
 def under_limit(test: ast.AST) -> bool:

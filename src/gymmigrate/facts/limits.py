@@ -45,12 +45,17 @@ from gymmigrate.facts.limit_tests import (
     is_periodic,
     is_self,
     is_step_limit,
-    self_attribute,
     streak_attributes,
     under_limit,
     unwrap_bool,
 )
-from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns, walk
+from gymmigrate.facts.module import (
+    FUNCTIONS,
+    ModuleFacts,
+    own_returns,
+    self_attribute,
+    walk,
+)
 from gymmigrate.facts.self_attributes import self_stores
 
 # An attribute named as a place or an amount (``self.agent_pos += 1``) that reaches a bound is

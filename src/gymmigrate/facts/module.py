@@ -641,6 +641,13 @@ def is_super_call(node: ast.AST | None) -> TypeGuard[ast.Call]:
     return isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "super"
 
 
+def self_attribute(node: ast.AST | None) -> str | None:
+    """``x`` of ``self.x``; None for anything else."""
+    if isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name) and node.value.id == "self":
+        return node.attr
+    return None
+
+
 def named_class_call(
     call: ast.AST | None, method: str, function: ast.AST | None, classes: Iterable[ast.expr]
 ) -> ast.expr | None:

@@ -27,6 +27,7 @@ from gymmigrate.facts.module import (
     is_super_call,
     named_class_call,
     own_returns,
+    self_attribute,
     walk,
 )
 from gymmigrate.facts.own_api import own_api_shape
@@ -521,7 +522,7 @@ def _duck_wrapper_slot(classdef: ast.ClassDef) -> tuple[ast.arg, str] | None:
     for node in walk(classdef):
         if isinstance(node, (ast.Assign, ast.AnnAssign, ast.AugAssign)):
             for target in node.targets if isinstance(node, ast.Assign) else [node.target]:
-                attribute = _self_attribute(target)
+                attribute = self_attribute(target)
                 if attribute is not None:
                     stores.setdefault(attribute, []).append(node)
     for attribute in sorted(stores, key=lambda name: name != "env"):
@@ -555,12 +556,6 @@ def _unpacks_inner_step_wait(classdef: ast.ClassDef) -> bool:
 
 
 
-def _self_attribute(node: ast.AST) -> str | None:
-    if isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name) and node.value.id == "self":
-        return node.attr
-    return None
-
-
 def _legacy_contract(step: ast.AST | None, reset: ast.AST | None, attribute: str) -> bool:
     """The class keeps the held env's legacy contract without handing its results on as
     they are: its ``step`` unpacks four values from ``self.<attribute>.step(...)`` and every
@@ -590,7 +585,7 @@ def _offers_spaces(classdef: ast.ClassDef, methods: dict[str, ast.FunctionDef | 
     ``observation_space`` as methods or properties, or stored on ``self``): it presents an
     env's whole surface, not a helper's own reset/step contract around one."""
     stored = {name for node in walk(classdef) if isinstance(node, ast.Attribute) and isinstance(node.ctx, ast.Store)
-              and (name := _self_attribute(node)) is not None}
+              and (name := self_attribute(node)) is not None}
     return all(space in methods or space in stored for space in ("action_space", "observation_space"))
 
 
@@ -599,7 +594,7 @@ def _four(node: ast.AST | None) -> bool:
 
 
 def _is_self_env(node: ast.AST, attribute: str = "env") -> bool:
-    return _self_attribute(node) == attribute
+    return self_attribute(node) == attribute
 
 
 def _enclosing_def(classdef: ast.ClassDef, node: ast.AST) -> ast.AST | None:

@@ -20,6 +20,7 @@ from gymmigrate.facts.module import (
     call_argument,
     is_super_call,
     named_class_call,
+    self_attribute,
     statements_in,
     walk,
 )
@@ -316,7 +317,7 @@ def store_seen(facts: ModuleFacts, read: ast.Attribute, name: str) -> ast.expr |
         if parent is None or block is None:
             return None
         for statement in reversed(block[: block.index(node)]):
-            if isinstance(statement, ast.Assign) and len(statement.targets) == 1 and _stored_self_name(statement.targets[0]) == name:
+            if isinstance(statement, ast.Assign) and len(statement.targets) == 1 and self_attribute(statement.targets[0]) == name:
                 return statement.value
             if _may_store(statement, name):
                 return None
@@ -341,7 +342,7 @@ def _block_of(parent: ast.AST | None, node: ast.AST) -> list[ast.AST] | None:
 def _may_store(statement: ast.AST, name: str) -> bool:
     """``statement`` stores ``self.<name>``, or calls a method of ``self``, which might."""
     for node in walk(statement):
-        if isinstance(node, ast.Attribute) and isinstance(node.ctx, (ast.Store, ast.Del)) and _stored_self_name(node) == name:
+        if isinstance(node, ast.Attribute) and isinstance(node.ctx, (ast.Store, ast.Del)) and self_attribute(node) == name:
             return True
         if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and isinstance(node.func.value, ast.Name) and node.func.value.id == "self":
             return True
@@ -377,7 +378,7 @@ def self_stores(facts: ModuleFacts, classdef: ast.ClassDef, name: str) -> list[a
     other stores go.
     """
     for attr in facts.attributes.get(name, ()):
-        if isinstance(attr.ctx, ast.Store) and _stored_self_name(attr) is not None and facts.enclosing_class(attr) is classdef:
+        if isinstance(attr.ctx, ast.Store) and self_attribute(attr) is not None and facts.enclosing_class(attr) is classdef:
             holder = facts.parent(attr)
             if not (isinstance(holder, ast.Assign) and holder.targets == [attr]):
                 return None
@@ -408,12 +409,6 @@ def binds_self_attribute(classdef: ast.ClassDef, attribute: str) -> bool:
     return False
 
 
-def _stored_self_name(target: ast.AST) -> str | None:
-    if isinstance(target, ast.Attribute) and isinstance(target.value, ast.Name) and target.value.id == "self":
-        return target.attr
-    return None
-
-
 def _collect_self_stores(classdef: ast.ClassDef) -> dict[str, list[ast.expr]]:
     values: dict[str, list[ast.expr]] = defaultdict(list)
     stack: list[ast.AST] = list(classdef.body)
@@ -423,16 +418,16 @@ def _collect_self_stores(classdef: ast.ClassDef) -> dict[str, list[ast.expr]]:
             continue
         if isinstance(node, ast.Assign):
             for target in node.targets:
-                name = _stored_self_name(target)
+                name = self_attribute(target)
                 if name is not None:
                     values[name].append(node.value)
                 elif isinstance(target, (ast.Tuple, ast.List)) and isinstance(node.value, (ast.Tuple, ast.List)):
                     for element, value in zip(target.elts, node.value.elts):
-                        name = _stored_self_name(element)
+                        name = self_attribute(element)
                         if name is not None:
                             values[name].append(value)
         elif isinstance(node, ast.AnnAssign) and node.value is not None:
-            name = _stored_self_name(node.target)
+            name = self_attribute(node.target)
             if name is not None:
                 values[name].append(node.value)
         stack.extend(statements_in(node))  # assignments are statements: no expression walk

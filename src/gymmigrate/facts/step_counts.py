@@ -20,10 +20,9 @@ from gymmigrate.facts.limit_tests import (
     data_end_attributes,
     is_local_sign_test,
     is_step_limit,
-    self_attribute,
     streak_attributes,
 )
-from gymmigrate.facts.module import FUNCTIONS, LOOPS, ModuleFacts, walk
+from gymmigrate.facts.module import FUNCTIONS, LOOPS, ModuleFacts, self_attribute, walk
 from gymmigrate.facts.receivers import Receivers
 
 # class -> (its own body counts, its bases of this module, the qualified names of its
