@@ -263,19 +263,20 @@ class ClassRewrite:
         returns = own_returns(fn)
         if any(_tuple_len(r.value) == 5 for r in returns):
             return  # already the five-value API
+        planned = self.renamed.get(method_name, method_name)  # the name the plan knows it by
         splits: dict[str, tuple[list[cst.BaseExpression], list[cst.BaseExpression]]] = {}
         plans: list[Callable[[cst.Return], cst.Return] | None] = []
         rename_done = False
-        truncating = self.plan.truncating_returns.get(self.renamed.get(method_name, method_name), set())
-        passing = self.plan.passthrough_returns.get(self.renamed.get(method_name, method_name), set())
-        task_ending = self.plan.task_end_returns.get(self.renamed.get(method_name, method_name), set())
-        foreign = self.plan.foreign_returns.get(self.renamed.get(method_name, method_name), set())
-        per_agent = self.plan.per_agent_returns.get(self.renamed.get(method_name, method_name), {})
+        truncating = self.plan.truncating_returns.get(planned, set())
+        passing = self.plan.passthrough_returns.get(planned, set())
+        task_ending = self.plan.task_end_returns.get(planned, set())
+        foreign = self.plan.foreign_returns.get(planned, set())
+        per_agent = self.plan.per_agent_returns.get(planned, {})
         per_agent_lines: dict[str, tuple[str, str]] = {}
-        unpacked = self.plan.unpacked_helper_returns.get(self.renamed.get(method_name, method_name), {})
-        kept = self.plan.kept_returns.get(self.renamed.get(method_name, method_name), set())
-        accumulated = self.plan.accumulated_returns.get(self.renamed.get(method_name, method_name), set())
-        flagged = self.plan.flagged_limit_returns.get(self.renamed.get(method_name, method_name), set())
+        unpacked = self.plan.unpacked_helper_returns.get(planned, {})
+        kept = self.plan.kept_returns.get(planned, set())
+        accumulated = self.plan.accumulated_returns.get(planned, set())
+        flagged = self.plan.flagged_limit_returns.get(planned, set())
         accumulating: str | None = None
         flagging: str | None = None
         task_ended: str | None = None
