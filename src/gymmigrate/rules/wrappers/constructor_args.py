@@ -49,7 +49,7 @@ from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
 from gymmigrate.facts.env_specs import recreates_from_spec
-from gymmigrate.facts.module import FUNCTIONS, walk
+from gymmigrate.facts.module import FUNCTIONS, is_super_call, walk
 from gymmigrate.facts.project_imports import imports_env_checker
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
@@ -272,7 +272,7 @@ def _base_init_call(body: list[ast.stmt]) -> ast.stmt | None:
         func = statement.value.func
         if isinstance(func, ast.Attribute) and func.attr == "__init__":
             owner = func.value
-            if isinstance(owner, ast.Call) and isinstance(owner.func, ast.Name) and owner.func.id == "super":
+            if is_super_call(owner):
                 return statement
             first = statement.value.args[:1]
             if isinstance(owner, (ast.Name, ast.Attribute)) and first and isinstance(first[0], ast.Name) and first[0].id == "self":
