@@ -16,7 +16,7 @@ from collections.abc import Sequence
 
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts.flow import Flow
-from gymmigrate.facts.module import own_returns
+from gymmigrate.facts.module import own_returns, self_attribute
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import RuleFamily
 from gymmigrate.rules.wrappers.common import (
@@ -269,13 +269,7 @@ def _pass_seed_and_options(node: cst.BaseExpression) -> cst.BaseExpression:
 
 def _retries(value: ast.expr, function: ast.FunctionDef | ast.AsyncFunctionDef) -> bool:
     """``self.reset(...)`` (or ``self.<the override's own name>(...)``): this reset again."""
-    return (
-        isinstance(value, ast.Call)
-        and isinstance(value.func, ast.Attribute)
-        and isinstance(value.func.value, ast.Name)
-        and value.func.value.id == "self"
-        and value.func.attr in ("reset", function.name)
-    )
+    return isinstance(value, ast.Call) and self_attribute(value.func) in ("reset", function.name)
 
 
 def _pass_options(node: cst.BaseExpression) -> cst.BaseExpression:
