@@ -154,4 +154,3 @@ def _report_unfollowed_builtin_hooks(family: RuleFamily, classdef: ast.ClassDef,
             "and CarRacing's internal `_render` another signature); call what you mean by hand",
             FixKind.FLAG,
         )
-
