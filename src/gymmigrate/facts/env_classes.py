@@ -23,6 +23,7 @@ from gymmigrate.facts.module import (
     ModuleFacts,
     is_super_call,
     named_class_call,
+    self_attribute,
     walk,
 )
 from gymmigrate.facts.receivers import Receivers
@@ -440,7 +441,7 @@ def _render_mode_is_a_flag(init: ast.FunctionDef | ast.AsyncFunctionDef) -> bool
             isinstance(node, ast.Assign)
             and isinstance(node.value, ast.Constant)
             and isinstance(node.value.value, bool)
-            and any(isinstance(t, ast.Attribute) and t.attr == "render_mode" and isinstance(t.value, ast.Name) and t.value.id == "self" for t in node.targets)
+            and any(self_attribute(t) == "render_mode" for t in node.targets)
         ):
             return True
     return False
