@@ -26,6 +26,7 @@ from gymmigrate.facts.module import (
     self_attribute,
     walk,
 )
+from gymmigrate.facts.receiver_classes import is_object
 from gymmigrate.facts.receivers import Receivers
 
 # Qualified names (without the gym/gymnasium prefix) of the mujoco-py era base class.
@@ -274,7 +275,7 @@ class EnvClasses:
     def only_gym_env_bases(self, classdef: ast.ClassDef) -> bool:
         """Every base is ``gym.Env`` / ``gymnasium.Env`` itself (``object`` aside), and there is
         one: nothing else the class inherits from may define a method."""
-        bases = [b for b in classdef.bases if not (isinstance(b, ast.Name) and b.id == "object")]
+        bases = [b for b in classdef.bases if not is_object(b)]
         return bool(bases) and not classdef.keywords and all(
             any(N.strip_gym_prefix(q) in DIRECT_ENV_BASES for q in self.facts.qualified_names(base)) for base in bases
         )
@@ -386,7 +387,7 @@ class EnvClasses:
 
 def _first_base(classdef: ast.ClassDef) -> ast.expr | None:
     """The base ``super()`` reaches first (``object`` aside)."""
-    bases = [b for b in classdef.bases if not (isinstance(b, ast.Name) and b.id == "object")]
+    bases = [b for b in classdef.bases if not is_object(b)]
     return bases[0] if bases else None
 
 
