@@ -8,7 +8,13 @@ from __future__ import annotations
 
 import ast
 
-from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns, walk
+from gymmigrate.facts.module import (
+    FUNCTIONS,
+    ModuleFacts,
+    own_returns,
+    self_attribute,
+    walk,
+)
 
 
 def property_slot(classdef: ast.ClassDef, name: str) -> str | None:
@@ -106,7 +112,7 @@ def items_added_in_place(classdef: ast.ClassDef, name: str) -> tuple[list[ast.ex
     items: list[ast.expr] = []
     containers: list[ast.expr] = []
     for node in walk(classdef):
-        if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and _is_self_attribute(node.func.value, name):
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and self_attribute(node.func.value) == name:
             method, args = node.func.attr, node.args
             if any(isinstance(a, ast.Starred) for a in args) or node.keywords:
                 return None
@@ -118,12 +124,12 @@ def items_added_in_place(classdef: ast.ClassDef, name: str) -> tuple[list[ast.ex
                 containers.append(args[0])
             elif method not in _NO_NEW_ITEMS:
                 return None
-        elif isinstance(node, ast.Subscript) and isinstance(node.ctx, ast.Store) and _is_self_attribute(node.value, name):
+        elif isinstance(node, ast.Subscript) and isinstance(node.ctx, ast.Store) and self_attribute(node.value) == name:
             assign = _parent_assign(classdef, node)
             if assign is None:
                 return None
             items.append(assign.value)
-        elif isinstance(node, ast.AugAssign) and _is_self_attribute(node.target, name):
+        elif isinstance(node, ast.AugAssign) and self_attribute(node.target) == name:
             if not isinstance(node.op, ast.Add):
                 return None
             containers.append(node.value)
@@ -133,10 +139,6 @@ def items_added_in_place(classdef: ast.ClassDef, name: str) -> tuple[list[ast.ex
 def holds_no_items(node: ast.AST) -> bool:
     """``[]``, ``()`` or ``None`` (a list dropped in ``close()``): no item comes from it."""
     return (isinstance(node, (ast.List, ast.Tuple, ast.Set)) and not node.elts) or (isinstance(node, ast.Constant) and node.value is None)
-
-
-def _is_self_attribute(node: ast.AST, name: str) -> bool:
-    return isinstance(node, ast.Attribute) and node.attr == name and isinstance(node.value, ast.Name) and node.value.id == "self"
 
 
 def _parent_assign(classdef: ast.ClassDef, target: ast.Subscript) -> ast.Assign | None:
@@ -155,6 +157,6 @@ def changed_in_place(classdef: ast.ClassDef, name: str) -> bool:
             held = node.func.value
         elif isinstance(node, ast.Subscript) and not isinstance(node.ctx, ast.Load):
             held = node.value
-        if isinstance(held, ast.Attribute) and held.attr == name and isinstance(held.value, ast.Name) and held.value.id == "self":
+        if self_attribute(held) == name:
             return True
     return False

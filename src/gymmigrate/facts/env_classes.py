@@ -23,8 +23,10 @@ from gymmigrate.facts.module import (
     ModuleFacts,
     is_super_call,
     named_class_call,
+    self_attribute,
     walk,
 )
+from gymmigrate.facts.receiver_classes import is_object
 from gymmigrate.facts.receivers import Receivers
 
 # Qualified names (without the gym/gymnasium prefix) of the mujoco-py era base class.
@@ -273,7 +275,7 @@ class EnvClasses:
     def only_gym_env_bases(self, classdef: ast.ClassDef) -> bool:
         """Every base is ``gym.Env`` / ``gymnasium.Env`` itself (``object`` aside), and there is
         one: nothing else the class inherits from may define a method."""
-        bases = [b for b in classdef.bases if not (isinstance(b, ast.Name) and b.id == "object")]
+        bases = [b for b in classdef.bases if not is_object(b)]
         return bool(bases) and not classdef.keywords and all(
             any(N.strip_gym_prefix(q) in DIRECT_ENV_BASES for q in self.facts.qualified_names(base)) for base in bases
         )
@@ -385,7 +387,7 @@ class EnvClasses:
 
 def _first_base(classdef: ast.ClassDef) -> ast.expr | None:
     """The base ``super()`` reaches first (``object`` aside)."""
-    bases = [b for b in classdef.bases if not (isinstance(b, ast.Name) and b.id == "object")]
+    bases = [b for b in classdef.bases if not is_object(b)]
     return bases[0] if bases else None
 
 
@@ -440,7 +442,7 @@ def _render_mode_is_a_flag(init: ast.FunctionDef | ast.AsyncFunctionDef) -> bool
             isinstance(node, ast.Assign)
             and isinstance(node.value, ast.Constant)
             and isinstance(node.value.value, bool)
-            and any(isinstance(t, ast.Attribute) and t.attr == "render_mode" and isinstance(t.value, ast.Name) and t.value.id == "self" for t in node.targets)
+            and any(self_attribute(t) == "render_mode" for t in node.targets)
         ):
             return True
     return False
