@@ -417,15 +417,16 @@ class GymOnlyLibraries(ImportsBase):
                 top = module.split(".", 1)[0]
                 if top in _SUCCESSOR_KEEPS_NAME and not self.context.profile.imports_gym:
                     continue  # ``import retro`` next to Gymnasium alone: stable-retro already
-                if top in GYM_ONLY_LIBRARIES and top in reported and (top, self.facts.enclosing_function(node)) not in users:
-                    users.add((top, self.facts.enclosing_function(node)))
+                user = (top, self.facts.enclosing_function(node))
+                if top in GYM_ONLY_LIBRARIES and top in reported and user not in users:
+                    users.add(user)
                     if (asked_at or {}).get(top) is None:
                         # another function of the file uses the library: the same question, listed there
                         self.report(node, "GM107", GYM_ONLY_LIBRARIES[top], question=gym_only_question(N.gym_only_stack(top)))
                     continue
                 if top in GYM_ONLY_LIBRARIES and top not in reported and not self._of_the_run(top):
                     reported.add(top)
-                    users.add((top, self.facts.enclosing_function(node)))
+                    users.add(user)
                     line = (asked_at or {}).get(top)
                     if line is not None:
                         self.report(node, "GM107", f"{GYM_ONLY_LIBRARIES[top]} (this module stays on gym with it: the item at line {line})", tier=Tier.NOTE)

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import ast
 
+from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.module import dotted_name, walk
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import RuleFamily
@@ -51,14 +52,10 @@ def decide_shape_write(family: RuleFamily, spaces: SpaceValues, attribute: ast.A
 def _rebuilt_next(family: RuleFamily, statement: ast.Assign, space: str) -> bool:
     """The statement after ``statement`` in its block assigns ``space`` again, and it does not
     read ``space.shape`` (which the write would have changed) while building the new value."""
-    parent = family.facts.parent(statement)
-    block = next(
-        (b for field in ("body", "orelse", "finalbody") if isinstance(b := getattr(parent, field, None), list) and statement in b),
-        None,
-    )
-    if block is None:
+    found = Flow.of(family.facts).block_of(statement)
+    if found is None:
         return False
-    index = block.index(statement)
+    block, index = found
     if index + 1 >= len(block):
         return False
     following = block[index + 1]

@@ -32,7 +32,7 @@ from gymmigrate.facts.atari_signs import (
 )
 from gymmigrate.facts.creation import CreationFinder
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.module import walk
+from gymmigrate.facts.module import self_attribute, walk
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.env_ids.catalog import is_atari_id
 from gymmigrate.rules.wrapper_usage.atari_limits import (
@@ -166,7 +166,7 @@ def _other_ids(family: ForwardingFamily, call: ast.Call) -> bool:
 def _class_env(family: ForwardingFamily, env: ast.expr, classdef: ast.ClassDef) -> bool:
     """``self.env``, or ``self`` in a class whose unknown attributes reach its env (a Gym
     wrapper, a class with ``__getattr__``): the env the class works on."""
-    if isinstance(env, ast.Attribute) and env.attr == "env" and isinstance(env.value, ast.Name) and env.value.id == "self":
+    if self_attribute(env) == "env":
         return True
     if isinstance(env, ast.Name) and env.id == "self":
         return family.receivers.is_gym_wrapper_class(classdef) or any(
@@ -206,7 +206,7 @@ def _may_be_gym_env(family: ForwardingFamily, env: ast.expr, through_unwrapped: 
     envs have it), a class's ``self.env``, or an expression the receivers call a Gym env."""
     if through_unwrapped:
         return True
-    if isinstance(env, ast.Attribute) and env.attr == "env" and isinstance(env.value, ast.Name) and env.value.id == "self":
+    if self_attribute(env) == "env":
         return True
     return family.receivers.kind_of(env) is EnvKind.GYM_ENV
 

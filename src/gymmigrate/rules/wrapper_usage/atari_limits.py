@@ -59,6 +59,22 @@ def is_make_call(facts: ModuleFacts, expr: ast.AST) -> bool:
     )
 
 
+def made_on_every_path(facts: ModuleFacts, expr: ast.expr) -> list[ast.Call] | None:
+    """The ``make(...)`` calls ``expr`` holds the direct result of on every path (the call
+    itself, or a name every binding of which assigns one), else None."""
+    if is_make_call(facts, expr):
+        return [expr]  # type: ignore[list-item]
+    if not isinstance(expr, ast.Name):
+        return None
+    makes: list[ast.Call] = []
+    for binding in facts.bindings_of(expr):
+        statement = facts.parent(binding)
+        if not (isinstance(statement, ast.Assign) and statement.targets == [binding] and is_make_call(facts, statement.value)):
+            return None
+        makes.append(statement.value)  # type: ignore[arg-type]
+    return makes or None
+
+
 def reaching_make(facts: ModuleFacts, expr: ast.AST) -> ast.Call | None:
     """The ``make(...)`` call whose result ``expr`` certainly holds where it is read: the
     call itself, or the assignment of one that dominates a read of a name."""

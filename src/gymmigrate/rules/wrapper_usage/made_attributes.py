@@ -18,7 +18,7 @@ from gymmigrate.facts import names as N
 from gymmigrate.facts.init_attributes import local_init_attributes
 from gymmigrate.facts.module import call_argument, own_entry_point, string_value
 from gymmigrate.facts.receivers import Receivers
-from gymmigrate.rules.wrapper_usage.atari_limits import is_make_call, make_ids
+from gymmigrate.rules.wrapper_usage.atari_limits import made_on_every_path, make_ids
 from gymmigrate.rules.wrapper_usage.tables import MAKE_LAYER_ATTRIBUTES
 
 _REGISTER = frozenset({"register", "envs.register", "envs.registration.register"})
@@ -30,15 +30,11 @@ def classes_holding(facts: ModuleFacts, receivers: Receivers, receiver: ast.expr
     tell (an id it does not register, or that is no literal)."""
     if name in MAKE_LAYER_ATTRIBUTES or not isinstance(receiver, ast.Name):
         return None
-    makes = []
-    for binding in facts.bindings_of(receiver):
-        statement = facts.parent(binding)
-        if not (isinstance(statement, ast.Assign) and statement.targets == [binding] and is_make_call(facts, statement.value)):
-            return None
-        makes.append(statement.value)
+    makes = made_on_every_path(facts, receiver)
+    if makes is None:
+        return None
     found: set[str] = set()
     for make in makes:
-        assert isinstance(make, ast.Call)
         ids = make_ids(facts, receivers, make)
         if not ids or None in ids:
             return None

@@ -19,7 +19,7 @@ from gymmigrate.edits.lazy import cst
 from gymmigrate.facts.module import dotted_name, string_value
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import RuleFamily
-from gymmigrate.rules.wrapper_usage.atari_limits import is_make_call
+from gymmigrate.rules.wrapper_usage.atari_limits import made_on_every_path
 from gymmigrate.rules.wrapper_usage.origins import INNER, MADE, WRAPPED, EnvOrigins
 
 _ACTION = "action"  # the parameter of Gymnasium's Wrapper.step
@@ -33,9 +33,9 @@ def decide_step_keyword(family: RuleFamily, origins: EnvOrigins, call: ast.Call)
     if keyword is None or keyword == _ACTION:
         return
     receiver = call.func.value
-    makes = _made_on_every_path(family, receiver)
+    makes = made_on_every_path(family.facts, receiver)
     text = dotted_name(receiver) or "the env"
-    if makes is not None and makes and all(_takes_first(family, make, keyword) for make in makes):
+    if makes and all(_takes_first(family, make, keyword) for make in makes):
         family.report(
             call,
             "GM606",
@@ -56,23 +56,6 @@ def decide_step_keyword(family: RuleFamily, origins: EnvOrigins, call: ast.Call)
         "if that is what the env's step takes first",
         FixKind.FLAG,
     )
-
-
-def _made_on_every_path(family: RuleFamily, receiver: ast.expr) -> list[ast.Call] | None:
-    """The ``make(...)`` calls ``receiver`` holds the direct result of on every path (the
-    call itself, or a name every binding of which assigns one), else None."""
-    facts = family.facts
-    if is_make_call(facts, receiver):
-        return [receiver]  # type: ignore[list-item]
-    if not isinstance(receiver, ast.Name):
-        return None
-    makes: list[ast.Call] = []
-    for binding in facts.bindings_of(receiver):
-        statement = facts.parent(binding)
-        if not (isinstance(statement, ast.Assign) and statement.targets == [binding] and is_make_call(facts, statement.value)):
-            return None
-        makes.append(statement.value)  # type: ignore[arg-type]
-    return makes or None
 
 
 def _takes_first(family: RuleFamily, make: ast.Call, keyword: str) -> bool:
