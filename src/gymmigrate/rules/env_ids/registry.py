@@ -48,6 +48,8 @@ from gymmigrate.facts.summaries import plain_classes, space_calls
 from gymmigrate.facts.wrapper_steps import reset_steps, self_handoffs, steps_its_wrapper
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
+from gymmigrate.rules.env_ids import registry_edits as E
+from gymmigrate.rules.env_ids.env_specs import is_env_spec
 from gymmigrate.rules.env_ids.syntax import gym_alias, is_registry
 
 if TYPE_CHECKING:
@@ -89,13 +91,11 @@ REMOVED_SPEC_ATTRIBUTES = {
     "max_episode_seconds": "the time limit in seconds is gone: only `max_episode_steps` is kept",
     "local_only": "gone with the scoreboard: drop it",
 }
-_SPEC_FUNCTIONS = frozenset({"spec", "envs.spec", "envs.registration.spec"})
 _SPEC_CONSTRUCTORS = _REGISTER_FUNCTIONS | {"envs.registration.EnvSpec", "envs.EnvSpec", "EnvSpec"}
 # gym 0.9's EnvSpec keywords that Gymnasium's register()/EnvSpec() do not take.
 LEGACY_SPEC_KEYWORDS = frozenset({"timestep_limit", "tags", "trials", "max_episode_seconds", "local_only"})
 # The legacy keywords a register call can lose without changing what make builds.
 DROPPED_SPEC_KEYWORDS = frozenset({"tags", "trials", "local_only"})
-_TIME_LIMIT_TAG = "wrapper_config.TimeLimit.max_episode_steps"
 _LEGACY_KEYWORD_HINTS = {
     "timestep_limit": "`timestep_limit` was gym 0.9's spelling of `max_episode_steps` and overrode it there: "
     "keep the one limit you mean as `max_episode_steps=`",
@@ -105,9 +105,6 @@ _LEGACY_KEYWORD_HINTS = {
     "max_episode_seconds": "the time limit in seconds is gone: drop it, or keep a step limit in `max_episode_steps=`",
     "local_only": "gone with the scoreboard: drop it",
 }
-# How far ``spec = specs[i]; s = spec`` chains are followed: enough for real code, and
-# it bounds the work per attribute.
-_MAX_SPEC_DEPTH = 3
 # gym's entry points whose envs Gymnasium's ids make with another class, as the spec now
 # names it: gym's Atari ids were ``gym.envs.atari:AtariEnv``; ale-py registers every
 # Atari id (``ALE/Pong-v5``, ``PongNoFrameskip-v4``) with ``ale_py.env:AtariEnv``.
@@ -144,18 +141,18 @@ class RegistryApi(RuleFamily):
                 continue
             why = "the private attribute was made public" if private.startswith("_") else "gym 0.9's name for the same limit"
             for attribute in self.facts.attributes.get(private, ()):
-                if self._is_env_spec(attribute.value, 0):
+                if is_env_spec(self.facts, attribute.value):
                     self.report(attribute, "GM806", f"`EnvSpec.{private}` -> `EnvSpec.{public}`: {why}")
                     self.plan.replace(attribute, lambda node, public=public: node.with_changes(attr=cst.Name(public)))
         for attribute in self.facts.attributes.get("entry_point", ()):
-            if self._is_env_spec(attribute.value, 0):
+            if is_env_spec(self.facts, attribute.value):
                 self._decide_entry_point_text(attribute)
         if self.context.profile.imports_gym:
             for removed, hint in REMOVED_SPEC_ATTRIBUTES.items():
                 for attribute in self.facts.attributes.get(removed, ()):
                     if attribute in limit_reads:
                         continue  # the time-limit tag: decided with its read
-                    if self._is_env_spec(attribute.value, 0):
+                    if is_env_spec(self.facts, attribute.value):
                         self.report(
                             attribute, "GM806", f"`EnvSpec.{removed}` does not exist in Gymnasium (AttributeError): {hint}", FixKind.FLAG
                         )
@@ -168,7 +165,7 @@ class RegistryApi(RuleFamily):
                 continue
             if self._decide_rootless_register(call):
                 continue  # make rejects it whatever the checker does
-            if any(kw.arg == "disable_env_checker" or _sets_checker(kw) for kw in call.keywords):
+            if any(kw.arg == "disable_env_checker" or E.sets_checker(kw) for kw in call.keywords):
                 continue  # set already
             if not self._decide_non_space_register(call):
                 self._decide_wrapper_stepper(call)
@@ -188,7 +185,7 @@ class RegistryApi(RuleFamily):
             read = self._time_limit_read(attribute)
             if read is None:
                 continue
-            proven = self.context.profile.imports_gym and self._is_env_spec(attribute.value, 0)
+            proven = self.context.profile.imports_gym and is_env_spec(self.facts, attribute.value)
             if not (proven or (isinstance(attribute.value, ast.Attribute) and attribute.value.attr == "spec")):
                 continue
             reads[attribute] = read
@@ -205,7 +202,7 @@ class RegistryApi(RuleFamily):
                 )
                 continue
             self.report(read, "GM806", "gym 0.9's time-limit tag of `EnvSpec.tags` -> `EnvSpec.max_episode_steps`: the same limit")
-            self.plan.replace(read, _spec_max_episode_steps)
+            self.plan.replace(read, E.spec_max_episode_steps)
         return reads
 
     def _time_limit_read(self, attribute: ast.Attribute) -> ast.expr | None:
@@ -214,7 +211,7 @@ class RegistryApi(RuleFamily):
             return None
         parent = self.facts.parent(attribute)
         if isinstance(parent, ast.Subscript) and parent.value is attribute and isinstance(parent.ctx, ast.Load):
-            return parent if string_value(parent.slice) == _TIME_LIMIT_TAG else None
+            return parent if string_value(parent.slice) == E.TIME_LIMIT_TAG else None
         call = self.facts.parent(parent) if isinstance(parent, ast.Attribute) else None
         if (
             isinstance(parent, ast.Attribute)
@@ -223,7 +220,7 @@ class RegistryApi(RuleFamily):
             and call.func is parent
             and len(call.args) == 1
             and not call.keywords
-            and string_value(call.args[0]) == _TIME_LIMIT_TAG
+            and string_value(call.args[0]) == E.TIME_LIMIT_TAG
         ):
             return call  # a default would stand for None: ``get(key, 100)`` is not this
         return None
@@ -297,14 +294,14 @@ class RegistryApi(RuleFamily):
         # ``**kwargs`` may set the limit too, and positional arguments past the entry point
         # meant other parameters in gym 0.9: then the limit's spelling is not the call's to settle.
         open_call = None in given or len(call.args) > 2 or any(isinstance(arg, ast.Starred) for arg in call.args)
-        limits = [kw for kw in legacy if kw.arg == "timestep_limit" or _limit_tag(kw) is not None]
+        limits = [kw for kw in legacy if kw.arg == "timestep_limit" or E.limit_tag(kw) is not None]
         renamed = limits[0] if len(limits) == 1 and "max_episode_steps" not in given and not open_call else None
         rest = [kw for kw in legacy if kw is not renamed]
-        what = "`register(...)`" if _called_name(call) == "register" else "`EnvSpec(...)`"
+        what = "`register(...)`" if E.called_name(call) == "register" else "`EnvSpec(...)`"
         if renamed is not None:
             spelled = "`timestep_limit=`" if renamed.arg == "timestep_limit" else "the `wrapper_config.TimeLimit.max_episode_steps` tag"
             # the edit and its finding sit on the call: the keyword itself is no node an edit can replace
-            self.plan.replace(call, lambda node, keyword=renamed.arg: _limit_as_max_episode_steps(node, keyword))
+            self.plan.replace(call, lambda node, keyword=renamed.arg: E.limit_as_max_episode_steps(node, keyword))
             self.report(
                 call,
                 "GM806",
@@ -321,7 +318,7 @@ class RegistryApi(RuleFamily):
             if kw.arg in DROPPED_SPEC_KEYWORDS and not open_call and not any(isinstance(n, ast.Call) for n in ast.walk(kw.value))
         ]  # a value that calls something runs code: what it does is not the keyword's to drop
         if dropped:
-            self.plan.replace(call, lambda node, names=tuple(dropped): _without_keywords(node, names))
+            self.plan.replace(call, lambda node, names=tuple(dropped): E.without_keywords(node, names))
             names = ", ".join(f"`{arg}=`" for arg in dict.fromkeys(dropped))
             self.report(
                 call,
@@ -411,7 +408,7 @@ class RegistryApi(RuleFamily):
             question=("GM808", stepper),
         )
         if starred:
-            self.plan.replace(starred[0].value, _checker_off_before)
+            self.plan.replace(starred[0].value, E.checker_off_before)
         else:
             self.plan.replace(call, lambda node: append_keyword(node, "disable_env_checker", cst.Name("True")))
 
@@ -493,7 +490,7 @@ class RegistryApi(RuleFamily):
 
         def build(node: cst.BaseExpression, spec: str = spec, renamed: bool = renamed) -> cst.BaseExpression:
             if renamed:
-                node = _renamed_gym_envs(node)
+                node = E.renamed_gym_envs(node)
             guarded = cst.parse_expression(f"isinstance({spec}.entry_point, str) and x")
             assert isinstance(guarded, cst.BooleanOperation)
             return guarded.with_changes(right=node)
@@ -516,7 +513,7 @@ class RegistryApi(RuleFamily):
             f'"{value}" -> "{moved}": the spec of a Gymnasium id names the class that makes its env, and gym\'s '
             "Atari envs are ale-py's now",
         )
-        self.plan.replace(other, lambda node, moved=moved: _with_string(node, moved))
+        self.plan.replace(other, lambda node, moved=moved: E.with_string(node, moved))
 
     def _guarded(self, test: ast.expr) -> bool:
         """The test already follows ``isinstance(<...>.entry_point, str) and``."""
@@ -620,72 +617,6 @@ class RegistryApi(RuleFamily):
             self.plan.add_import("import gymnasium")
         return "gymnasium"
 
-    # -- GM806 -------------------------------------------------------------------------------
-
-    def _is_env_spec(self, expr: ast.AST, depth: int) -> bool:
-        if depth > _MAX_SPEC_DEPTH:
-            return False
-        if isinstance(expr, ast.Attribute) and expr.attr == "spec":
-            return True  # env.spec, self.spec, gym.make(...).spec
-        if isinstance(expr, ast.Call):
-            if any(N.strip_gym_prefix(q) in _SPEC_FUNCTIONS for q in self.facts.qualified_names(expr.func)):
-                return True
-            return isinstance(expr.func, ast.Attribute) and expr.func.attr == "spec" and is_registry(self.facts, expr.func.value)
-        if isinstance(expr, ast.Subscript):
-            return is_registry(self.facts, expr.value) or self._is_env_specs_dict(expr.value)
-        if isinstance(expr, ast.Name):
-            return self._name_is_env_spec(expr, depth)
-        return False
-
-    def _is_env_specs_dict(self, expr: ast.AST) -> bool:
-        return isinstance(expr, ast.Attribute) and expr.attr == "env_specs" and is_registry(self.facts, expr.value)
-
-    def _iterates_specs(self, iterable: ast.AST) -> bool:
-        """``registry.all()``, ``registry.values()``, ``registry.env_specs.values()``."""
-        if not (isinstance(iterable, ast.Call) and isinstance(iterable.func, ast.Attribute)):
-            return False
-        owner = iterable.func.value
-        return iterable.func.attr in ("all", "values") and (is_registry(self.facts, owner) or self._is_env_specs_dict(owner))
-
-    def _lists_specs(self, iterable: ast.AST, depth: int) -> bool:
-        """``specs = [s for s in registry.values() if ...]``: a name bound only to a list of
-        the registry's specs (a comprehension over them that yields its own target)."""
-        if depth > _MAX_SPEC_DEPTH or not isinstance(iterable, ast.Name):
-            return False
-        bindings = self.facts.bindings_of(iterable)
-        for binding in bindings:
-            parent = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
-            value = parent.value if isinstance(parent, ast.Assign) and binding in parent.targets else None
-            if not (
-                isinstance(value, (ast.ListComp, ast.GeneratorExp, ast.SetComp))
-                and len(value.generators) == 1
-                and isinstance(value.elt, ast.Name)
-                and isinstance(value.generators[0].target, ast.Name)
-                and value.elt.id == value.generators[0].target.id
-                and self._iterates_specs(value.generators[0].iter)
-            ):
-                return False
-        return bool(bindings)
-
-    def _name_is_env_spec(self, name: ast.Name, depth: int) -> bool:
-        """Every binding of ``name`` is ``name = <an EnvSpec>`` or ``for name in <the specs>``."""
-        bindings = self.facts.bindings_of(name)
-        if not bindings:
-            return False
-        for binding in bindings:
-            if not isinstance(binding, ast.Name):
-                return False
-            parent = self.facts.parent(binding)
-            if isinstance(parent, ast.Assign) and binding in parent.targets:
-                if not self._is_env_spec(parent.value, depth + 1):
-                    return False
-            elif isinstance(parent, (ast.For, ast.AsyncFor, ast.comprehension)) and parent.target is binding:
-                if not (self._iterates_specs(parent.iter) or self._lists_specs(parent.iter, depth)):
-                    return False
-            else:
-                return False
-        return True
-
 
 def _local_wrapper_steppers(facts: ModuleFacts, receivers: Receivers) -> dict[str, str]:
     """In a run of one file: its classes whose reset steps the wrapper around them, with
@@ -705,94 +636,3 @@ def _local_wrapper_steppers(facts: ModuleFacts, receivers: Receivers) -> dict[st
                     changed = True
                     break
     return found
-
-
-def _sets_checker(kw: ast.keyword) -> bool:
-    """``**{"disable_env_checker": ..., **kwargs}``: GM808's own spelling."""
-    return kw.arg is None and isinstance(kw.value, ast.Dict) and any(string_value(key) == "disable_env_checker" for key in kw.value.keys)
-
-
-def _checker_off_before(node: cst.BaseExpression) -> cst.BaseExpression:
-    """``**kwargs`` -> ``**{"disable_env_checker": True, **kwargs}``: a caller that passes
-    the keyword keeps its own choice."""
-    return cst.Dict(
-        [
-            cst.DictElement(cst.SimpleString('"disable_env_checker"'), cst.Name("True")),
-            cst.StarredDictElement(node),
-        ]
-    )
-
-
-def _renamed_gym_envs(node: cst.BaseExpression) -> cst.BaseExpression:
-    """``node`` with a ``"gym.envs..."`` string literal in it renamed to ``"gymnasium.envs..."``."""
-
-    def rename(string: cst.SimpleString) -> cst.SimpleString:
-        quote = string.quote
-        body = string.value[len(string.prefix) + len(quote) : -len(quote)]
-        if body.startswith("gym.envs"):
-            return string.with_changes(value=f"{string.prefix}{quote}gymnasium{body[3:]}{quote}")
-        return string
-
-    if isinstance(node, cst.SimpleString):
-        return rename(node)
-    if isinstance(node, cst.Comparison):
-        return node.with_changes(left=_renamed_gym_envs(node.left))
-    if isinstance(node, cst.Call):
-        return node.with_changes(args=[arg.with_changes(value=_renamed_gym_envs(arg.value)) for arg in node.args])
-    return node
-
-
-def _with_string(node: cst.BaseExpression, text: str) -> cst.BaseExpression:
-    """The string literal ``node`` holding ``text`` instead, in the same quotes."""
-    if isinstance(node, cst.SimpleString):
-        quote = node.quote
-        return node.with_changes(value=f"{node.prefix}{quote}{text}{quote}")
-    return cst.SimpleString(f'"{text}"', lpar=node.lpar, rpar=node.rpar)  # an implicit concatenation
-
-
-def _called_name(call: ast.Call) -> str:
-    func = call.func
-    return func.attr if isinstance(func, ast.Attribute) else func.id if isinstance(func, ast.Name) else ""
-
-
-def _spec_max_episode_steps(node: cst.BaseExpression) -> cst.BaseExpression:
-    """``<spec>.tags.get(tag)`` / ``<spec>.tags[tag]`` -> ``<spec>.max_episode_steps``."""
-    tags = node.func.value if isinstance(node, cst.Call) else node.value  # type: ignore[attr-defined]
-    return cst.Attribute(value=tags.value, attr=cst.Name("max_episode_steps"), lpar=node.lpar, rpar=node.rpar)
-
-
-def _limit_tag(kw: ast.keyword) -> ast.expr | None:
-    """The value of ``tags={"wrapper_config.TimeLimit.max_episode_steps": N}``, a dict
-    literal whose one key is the time-limit tag; None for any other ``tags``."""
-    value = kw.value
-    if kw.arg != "tags" or not isinstance(value, ast.Dict) or len(value.keys) != 1:
-        return None
-    key = value.keys[0]
-    return value.values[0] if key is not None and string_value(key) == _TIME_LIMIT_TAG else None
-
-
-def _without_keywords(node: cst.BaseExpression, names: tuple[str, ...]) -> cst.BaseExpression:
-    """The call without its ``names=`` keyword arguments. Where the last argument goes, the
-    one now last takes its comma and the space before ``)``: the call's layout stays."""
-    if not isinstance(node, cst.Call) or not node.args:
-        return node
-    kept = [arg for arg in node.args if arg.keyword is None or arg.keyword.value not in names]
-    if kept and kept[-1] is not node.args[-1]:
-        # the space before ``)`` (a newline in a call laid out one argument a line) goes with it
-        kept[-1] = kept[-1].with_changes(comma=node.args[-1].comma, whitespace_after_arg=node.args[-1].whitespace_after_arg)
-    return node.with_changes(args=kept)
-
-
-def _limit_as_max_episode_steps(node: cst.BaseExpression, keyword: str) -> cst.BaseExpression:
-    """The call with its ``timestep_limit=N`` (or time-limit ``tags``) spelled ``max_episode_steps=N``."""
-    if not isinstance(node, cst.Call):
-        return node
-    args = []
-    for arg in node.args:
-        if arg.keyword is not None and arg.keyword.value == keyword:
-            value = arg.value
-            if keyword == "tags" and isinstance(value, cst.Dict) and isinstance(element := value.elements[0], cst.DictElement):
-                value = element.value
-            arg = arg.with_changes(keyword=cst.Name("max_episode_steps"), value=value)
-        args.append(arg)
-    return node.with_changes(args=args)
