@@ -4,7 +4,7 @@ one ``gymmigrate rewrite`` and run on Gymnasium 1.4.
 ``arm/base.py``: ``ArmEnv.step`` returns the observation alone, a helper the tasks of
 ``arm/tasks/`` build their steps on; ``ArmEnv`` derives from ``CoreEnv`` of ``arm/core.py``
 through a class of its own module. Before: the tasks were not known to be env classes
-(their base's module could not tell what ``MocapBase`` was), so they kept four values
+(their base's module could not tell what ``JointBase`` was), so they kept four values
 beside a migrated reset, and the helper was asked to return five values by hand, which
 would have broken every task. ``sim/``: a base that defines no step unpacks
 ``self.step(...)``, a subclass hands its base's step result on, and a plain class hands on
@@ -35,8 +35,8 @@ from gymnasium.utils.env_checker import check_env
 import arm.registry
 from arm.tasks.hold import HoldTask
 from arm.tasks.push import PushTask
-from sim.cube import CubeEnv
-from sim.goal import GoalCube
+from sim.block import BlockEnv
+from sim.goal import TargetBlock
 from sim.runner import Runner
 
 for env_id in ("ArmPush-v0", "ArmHold-v0"):
@@ -44,11 +44,11 @@ for env_id in ("ArmPush-v0", "ArmHold-v0"):
     env.reset(seed=0)
     steps = [env.step(np.ones(2, np.float32)) for _ in range(5)]
     print(env_id, steps[0][1], steps[-1][2:4])
-for cls in (PushTask, HoldTask, CubeEnv, GoalCube):
+for cls in (PushTask, HoldTask, BlockEnv, TargetBlock):
     check_env(cls())
-print(CubeEnv().rollout(4), GoalCube().reset(seed=1)[0].tolist())
-gym.register("Cube-v0", entry_point="sim.cube:CubeEnv", max_episode_steps=7)
-print(Runner("Cube-v0").episode_length())
+print(BlockEnv().rollout(4), TargetBlock().reset(seed=1)[0].tolist())
+gym.register("Block-v0", entry_point="sim.block:BlockEnv", max_episode_steps=7)
+print(Runner("Block-v0").episode_length())
 """
 
 
