@@ -44,7 +44,10 @@ def keeps_legacy_step(classdef: ast.ClassDef) -> bool:
     values = [r.value for r in own_returns(step) if r.value is not None]
     if not values:
         return False
+    handed_on = _bound_to_super_step(step)
     for value in values:
+        if isinstance(value, ast.Name) and value.id in handed_on:
+            return False  # ``results = super().step(a)`` ... ``return results``: the base's step, migrated with it
         if isinstance(value, ast.Call) and isinstance(value.func, ast.Name) and value.func.id != "super":
             continue  # ``zip(*results)``, ``tuple(batch)``
         if is_batched_step_return(value, step):
@@ -52,6 +55,28 @@ def keeps_legacy_step(classdef: ast.ClassDef) -> bool:
         if not isinstance(value, (ast.Name, ast.ListComp, ast.GeneratorExp, ast.List)):
             return False  # a tuple literal the rules migrate, a helper's or an inner env's result
     return True
+
+
+def _bound_to_super_step(step: ast.FunctionDef | ast.AsyncFunctionDef) -> frozenset[str]:
+    """The names the step binds once, and whole, to ``super().step(...)``."""
+    stores: dict[str, int] = {}
+    for node in walk(step):
+        if isinstance(node, ast.Name) and isinstance(node.ctx, ast.Store):
+            stores[node.id] = stores.get(node.id, 0) + 1
+    return frozenset(
+        node.targets[0].id
+        for node in walk(step)
+        if isinstance(node, ast.Assign)
+        and len(node.targets) == 1
+        and isinstance(node.targets[0], ast.Name)
+        and stores.get(node.targets[0].id) == 1
+        and isinstance(node.value, ast.Call)
+        and isinstance(node.value.func, ast.Attribute)
+        and node.value.func.attr == "step"
+        and isinstance(node.value.func.value, ast.Call)
+        and isinstance(node.value.func.value.func, ast.Name)
+        and node.value.func.value.func.id == "super"
+    )
 
 
 # NumPy functions that put per-env values side by side (or give one env's value a batch

@@ -216,6 +216,14 @@ class ModuleSummary:
     # can follow; class -> its methods whose returns can take five values with a base's hook.
     step_hooks: dict[str, frozenset[str]] = field(default_factory=dict)
     plain_overrides: dict[str, frozenset[str]] = field(default_factory=dict)
+    # -- a class's own step as subclasses and its own methods use it (facts/own_steps.py) --
+    # Class -> how many overrides in this module build on its step, which returns the
+    # observation alone (every override returns its own step values); class -> whether its
+    # step, which returns its own step values, builds on its base's; the classes whose
+    # step, and every step of this module's classes below them, gives five values once migrated.
+    helper_candidates: dict[str, int] = field(default_factory=dict)
+    own_step_shapes: dict[str, bool] = field(default_factory=dict)
+    five_step_trees: frozenset[str] = frozenset()
     # Stores of ``np_random`` (``facts/rng_handovers.py``): (line, to another object than
     # ``self``, the value is a Generator, the class built into that object just before). A class elsewhere that only reads its np_random
     # follows the run's handovers when every store is a Generator (GM505).

@@ -64,6 +64,7 @@ from gymmigrate.facts.project_classes import (
     join_mode_renders,
     join_overrides,
     join_registered_classes,
+    join_step_shapes,
     join_unmade_classes,
     join_unset_spaces,
     own_api_classes,
@@ -182,6 +183,13 @@ class ProjectFacts:
     # (path, class) -> the step hooks of the class (``return self.post_step(...)`` in its
     # step) that every override in another module can follow (facts/step_hooks.py).
     followed_hooks: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
+    # (path, class) whose own step is a helper returning the observation alone, on which
+    # every override in the run builds its step; with the names that reach one (re-exports,
+    # subclasses elsewhere that define no step); (path, class) whose step and those of the
+    # classes of its module below it give five values once migrated (facts/own_steps.py).
+    helper_steps: frozenset[tuple[str, str]] = frozenset()
+    helper_step_names: frozenset[tuple[str, str]] = frozenset()
+    five_step_trees: frozenset[tuple[str, str]] = frozenset()
     # every store of ``np_random`` in the run: (path, line, handed to another object, a Generator, class built just before)
     rng_stores: list[tuple[str, int, bool, bool, str]] = field(default_factory=list)
     # (path, class) of the run (and names re-exporting one) that counts no steps, nor does
@@ -558,6 +566,7 @@ class ProjectFacts:
         }
         facts.quiet_classes = reexported(facts, by_path, quiet_classes(facts, by_path))
         facts.own_api_classes = reexported(facts, by_path, own_api_classes(facts, by_path))
+        join_step_shapes(facts, by_path)  # after the overrides, call kinds, kept steps and own APIs
         # after the registrations: a make that may build a class taking no render_mode gets none
         join_mode_handovers(facts, by_path, calls_to, set(facts.subclasses_of))
         return facts

@@ -185,6 +185,50 @@ def join_overrides(facts: ProjectFacts, summaries: list[ModuleSummary], by_path:
                 facts.inherited_hooks[heir] = facts.inherited_hooks.get(heir, frozenset()) | followed
 
 
+def join_step_shapes(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> None:
+    """The helper steps of the run and the names that reach one, and the classes whose steps
+    give five values once migrated (facts/own_steps.py). A candidate is a helper where
+    every override of its step in another module, at any depth below classes that define
+    no step, returns its own step values too, and at least one of them builds on it."""
+    helpers = set()
+    for path, summary in by_path.items():
+        if path in facts.blocked:
+            continue
+        for name, local in summary.helper_candidates.items():
+            overrides: int | None = local
+            seen: set[tuple[str, str]] = set()
+            todo = list(facts.subclasses_of.get((path, name), ()))
+            while todo and overrides is not None:
+                sub = todo.pop()
+                if sub in seen:
+                    continue
+                seen.add(sub)
+                if "step" not in facts.subclass_methods.get(sub, ()):
+                    todo += facts.subclasses_of.get(sub, ())
+                elif sub[0] in facts.blocked or sub[0] not in by_path or sub[1] not in by_path[sub[0]].own_step_shapes:
+                    overrides = None
+                else:
+                    overrides += by_path[sub[0]].own_step_shapes[sub[1]]
+            if overrides:
+                helpers.add((path, name))
+    facts.helper_steps = frozenset(helpers)
+    reach = set(helpers)
+    todo = list(helpers)
+    while todo:
+        for sub in facts.subclasses_of.get(todo.pop(), ()):
+            if sub not in reach and "step" not in facts.subclass_methods.get(sub, ()):
+                reach.add(sub)
+                todo.append(sub)
+    for path, summary in by_path.items():
+        for name in summary.exports:
+            if name not in summary.classes and class_definer(facts, by_path, path, name) in reach:
+                reach.add((path, name))  # a re-export (``from .base import Base``)
+    facts.helper_step_names = frozenset(reach)
+    facts.five_step_trees = frozenset(
+        (path, name) for path, summary in by_path.items() if path not in facts.blocked for name in summary.five_step_trees
+    )
+
+
 def join_mode_renders(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> None:
     """``mode_renders_below``: a subclass's ``self.render(mode)`` reaches the render() of
     the nearest base that defines one; every class above it keeps ``mode`` (optional

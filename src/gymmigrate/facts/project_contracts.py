@@ -76,12 +76,13 @@ class NonSpaces:
         for path, summary in self.by_path.items():
             for name in summary.exports:
                 where = self.origin(path, name)
-                if where is None:
-                    continue
-                if where in found:
+                if where is not None and where in found:
                     self.facts.non_space_envs[(path, name)] = found[where]
-                if where in rootless:
-                    self.facts.rootless_envs[(path, name)] = rootless[where]
+                # the class itself, or the one a re-export names: a subclass's export refers
+                # to its base, which is not the class registered
+                definer = class_definer(self.facts, self.by_path, path, name)
+                if definer is not None and definer in rootless:
+                    self.facts.rootless_envs[(path, name)] = rootless[definer]
 
     def plain_root(self, path: str, name: str, depth: int) -> tuple[str, str] | None:
         """The plain class of the run (no base, or builtins alone) that the class ends in,

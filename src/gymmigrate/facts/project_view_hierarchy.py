@@ -8,6 +8,7 @@ import os
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts.done_causes import Cause, DoneCause, Limit
+from gymmigrate.facts.kinds import EnvKind
 
 if TYPE_CHECKING:
     from gymmigrate.facts.project import ProjectFacts
@@ -76,6 +77,41 @@ class HierarchyView:
         """Every override of ``classname``'s step hook ``method`` in other modules of the run
         can return five values with it (facts/step_hooks.py): they follow the base."""
         return method in self.facts.followed_hooks.get((self.path, classname), ())
+
+    def helper_step_here(self, classname: str) -> bool:
+        """This file's ``classname`` has a helper step its overrides in the run build on
+        (facts/own_steps.py)."""
+        return (self.path, classname) in self.facts.helper_steps
+
+    def helper_step(self, qualified: str) -> bool:
+        """``super().step(...)`` in a subclass of the imported name ``qualified`` reaches a
+        helper step (the class itself, a re-export, a subclass defining no step)."""
+        split = self.facts._split(qualified, self.path)
+        return split is not None and split in self.facts.helper_step_names
+
+    def steps_below_give_five(self, classname: str) -> int | None:
+        """How many classes of other modules of the run below this file's ``classname`` (at
+        any depth) define a step, where every step they and the classes of their own modules
+        below them define gives five values once migrated (facts/own_steps.py); None where
+        one may not: a subclass that is no env class the run migrates, keeps its legacy
+        step, or returns what the run does not carry to five values."""
+        facts = self.facts
+        steps = 0
+        seen: set[tuple[str, str]] = set()
+        todo = list(facts.subclasses_of.get((self.path, classname), ()))
+        while todo:
+            sub = todo.pop()
+            if sub in seen:
+                continue
+            seen.add(sub)
+            if sub[0] in facts.blocked or sub not in facts.five_step_trees or sub in facts.legacy_steps or sub in facts.own_api_classes:
+                return None
+            if facts.call_kinds.get(sub) is not EnvKind.GYM_ENV:
+                return None
+            if "step" in facts.subclass_methods.get(sub, ()):
+                steps += 1
+            todo += facts.subclasses_of.get(sub, ())
+        return steps
 
     def inherited_hooks(self, classname: str) -> frozenset[str]:
         """The step hooks that bases of ``classname`` in other modules migrate, which its

@@ -31,6 +31,11 @@ from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.mode_handovers import param_renders
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
 from gymmigrate.facts.module_summary import ModuleSummary, Signature
+from gymmigrate.facts.own_steps import (
+    five_step_trees,
+    helper_candidates,
+    own_step_shapes,
+)
 from gymmigrate.facts.receiver_classes import duck_wrapper_param
 from gymmigrate.facts.receivers import Receivers
 from gymmigrate.facts.render_handovers import bare_render_params, handed_constructions
@@ -224,6 +229,9 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         done_methods=done_methods(facts),
         step_hooks=step_hooks(facts),
         plain_overrides=plain_overrides(facts),
+        helper_candidates=helper_candidates(facts),
+        own_step_shapes=own_step_shapes(facts),
+        five_step_trees=five_step_trees(facts, receivers),
         rng_stores=rng_stores(facts, receivers),
         step_counting=step_counting(facts, receivers),
         render_mode_heirs=render_mode_heirs(facts, receivers),

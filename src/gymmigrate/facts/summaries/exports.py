@@ -111,15 +111,7 @@ class Exports:
                 # its instances are is decided where they are made, never "no env".
                 return EnvKind.UNKNOWN
             if kind is EnvKind.UNKNOWN:
-                # ``class Hunter(HuntEnv)`` with ``HuntEnv`` from another module of the run.
-                # With several such bases (``class Flock(BaseAviary, MultiAgentEnv)``), the
-                # first one's, as ``class_kind`` takes the first base that says anything.
-                for base in binding.bases:
-                    run_bases = [q for q in self.facts.qualified_names(base) if not N.is_library(q)]
-                    if len(run_bases) == 1:
-                        return REF + run_bases[0]
-                    if run_bases:
-                        break
+                return self._run_base(binding) or kind
             return kind
         if isinstance(binding, FUNCTIONS):
             kind = self.receivers.returns_kind(binding)
@@ -145,6 +137,29 @@ class Exports:
                         return EnvKind.PZ_PARALLEL
                     return self.receivers.returned_kind(value)
         return EnvKind.UNKNOWN
+
+    def _run_base(self, classdef: ast.ClassDef) -> str | None:
+        """``ref:`` the class of another module of the run that ``classdef`` derives from
+        (``class Hunter(HuntEnv)`` with ``HuntEnv`` imported), through the bases of this
+        module it derives from (``class Task(Mid)`` with ``class Mid(HuntEnv)`` here: its
+        module cannot tell what ``Mid`` is either). With several such bases (``class
+        Flock(BaseAviary, MultiAgentEnv)``), the first one's, as ``class_kind`` takes the
+        first base that says anything. None where no base is one."""
+        return self.facts.memo(("run-base", id(classdef)), lambda: self._compute_run_base(classdef), while_computing=None)
+
+    def _compute_run_base(self, classdef: ast.ClassDef) -> str | None:
+        for base in classdef.bases:
+            run_bases = [q for q in self.facts.qualified_names(base) if not N.is_library(q)]
+            if len(run_bases) == 1:
+                return REF + run_bases[0]
+            if run_bases:
+                return None
+            local = self.receivers.local_class(base)
+            if local is not None and local is not classdef and self.receivers.class_kind(local) is EnvKind.UNKNOWN:
+                found = self._run_base(local)
+                if found is not None:
+                    return found
+        return None
 
     def _returned_run_call(self, function: ast.FunctionDef | ast.AsyncFunctionDef) -> str | None:
         """The one imported name every return of ``function`` calls (``return Env(...)``),

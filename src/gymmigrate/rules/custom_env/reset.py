@@ -14,6 +14,7 @@ import ast
 from gymmigrate.facts.env_classes import is_self_attribute, is_super_method_call
 from gymmigrate.facts.module import own_returns, walk
 from gymmigrate.facts.own_api import is_info_pair
+from gymmigrate.facts.own_steps import self_step_gives_five
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import (
     ClassDecision,
@@ -494,6 +495,8 @@ def decide_internal_calls(decision: ClassDecision) -> None:
                 continue
             if isinstance(parent, ast.Return) and is_self_call(call, set(decision.plan.step_helpers if target == "step" else decision.plan.reset_helpers)):
                 continue  # a delegation the rewrite followed: the helper returns the new contract
+            if target == "step" and call.func.attr == "step" and self_step_gives_five(facts, decision.family.receivers, decision.classdef):
+                continue  # every step it may run gives five values: the step family moves this call with them
             if (
                 target == "reset"
                 and isinstance(parent, ast.Assign)

@@ -26,6 +26,7 @@ from gymmigrate.facts.env_classes import (
 from gymmigrate.facts.limit_tests import is_end_of_data, is_step_limit, unwrap_bool
 from gymmigrate.facts.limits import DoneTracer
 from gymmigrate.facts.module import ModuleFacts, own_returns, walk
+from gymmigrate.facts.own_steps import hands_on_base_step, helper_step
 from gymmigrate.facts.step_hooks import ENV_API
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import (
@@ -96,6 +97,22 @@ def decide_step(decision: ClassDecision, inherited: dict[int, list[str]]) -> Non
             _decide_returns(decision, override, set())
     function = decision.method("step")
     if function is None:
+        return
+    if helper_step(decision.family.facts, decision.family.receivers, decision.classdef):
+        # Its overrides return the step's values themselves: five fields here would reach
+        # them as their observation. An explanation, nothing to decide.
+        local, elsewhere = overrides(decision, "step")
+        count = len(local) + len(elsewhere)
+        shown = f" ({count} in the run)" if count > 1 else ""
+        decision.report(
+            function,
+            "GM504",
+            f"`{decision.classdef.name}.step` returns the observation alone: a helper, not a Gym step; every override"
+            f"{shown} returns the step's values itself (five once migrated), building on it with `super().step(...)`, "
+            "so it keeps its return",
+            FixKind.FLAG,
+            tier=Tier.NOTE,
+        )
         return
     # The class's tests of the end of its data and of a run of consecutive steps, as text, for
     # the rewrite's own split (``cst_edits._split_done``): they stay in terminated, whatever
@@ -226,6 +243,8 @@ def _decide_returns(
             continue
         if returns_helper(ret, decision, helpers) or is_super_method_call(ret.value, function.name):
             continue  # the helper's (or the base's own hook's) returns carry the contract
+        if function.name == "step" and isinstance(ret.value, ast.Name) and hands_on_base_step(ret.value, decision.classdef, function):
+            continue  # ``results = super().step(a)`` ... ``return results``: the base's step, handed on
         if is_self_call(ret.value, set(absent) - set(blocked or {})):
             continue  # a hook only subclasses define: reported in decide_step
         if inner_gym_env_call(decision, ret.value, "step"):

@@ -15,6 +15,11 @@ from gymmigrate.facts.decisions import Action, Decision, decide, receiver_text
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import is_super_call
+from gymmigrate.facts.own_steps import (
+    is_base_step_call,
+    reaches_helper_step,
+    self_step_gives_five,
+)
 from gymmigrate.facts.version_checks import dead_version_branch
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import Rule, RuleFamily
@@ -141,6 +146,10 @@ class StepFamilyBase(RuleFamily):
         if dead_version_branch(receiver, self.facts) is not None or self.receivers.in_legacy_by_version_method(receiver):
             # the legacy branch of a gym version check: it never runs on Gymnasium (GM108)
             return Decision(Action.LEAVE, "under a gym version check that picks the API of the gym installed"), False
+        if self._reaches_helper_step(receiver):
+            # ``ob = super().step(a)`` over a base step that returns the observation alone,
+            # which every override builds its own step on: no step result, nothing to move
+            return Decision(Action.LEAVE, "the base's step is a helper that returns the observation alone"), False
         kept = self.receivers.legacy_step_class(receiver)
         if kept is not None:
             # The run leaves that class's step as it was (GM504 reports it there): its
@@ -148,27 +157,46 @@ class StepFamilyBase(RuleFamily):
             return Decision(Action.LEAVE, f"`{receiver_text(receiver)}` is a {kept}, whose step keeps four fields"), False
         if kind is EnvKind.GYM_VEC:
             return decide(kind, receiver, profile, legacy_shape=legacy_shape, expected=EnvKind.GYM_VEC, origins=self.receivers), True
-        own = self._own_step_of_wrapper(receiver)
+        own = self._self_step(receiver)
         if own is not None:
             return own, False
         return decide(kind, receiver, profile, legacy_shape=legacy_shape, origins=self.receivers), False
 
-    def _own_step_of_wrapper(self, receiver: ast.expr) -> Decision | None:
+    def _reaches_helper_step(self, receiver: ast.expr) -> bool:
+        """``super().step(...)`` (or ``Base.step(self, ...)`` naming the first base) in a
+        class whose base's step is a helper of the run (facts/own_steps.py)."""
+        call = self.facts.parent(self.facts.parent(receiver))
+        classdef = self.facts.enclosing_class(receiver)
+        function = self.facts.enclosing_function(receiver)
+        if classdef is None or function is None or self.facts.parent(function) is not classdef:
+            return False
+        return is_base_step_call(call, classdef, function) and reaches_helper_step(self.facts, self.receivers, classdef)
+
+    def _self_step(self, receiver: ast.expr) -> Decision | None:
         """``self.step(a)`` inside a Gym wrapper class of this module runs the wrapper's own
         step. With no ``step`` of its own, or one that only returns the inner step (``return
         self.env.step(action)``), that is the inner Gym env's five values: rewritten. Any
         other ``step`` of its own is migrated (or not) by the wrappers family, decided
-        there: reported, not left silently on four fields. None: not such a call."""
+        there: reported, not left silently on four fields. In any other class, it runs the
+        class's own step or an override below it: where every one of them gives five values
+        once the run has migrated it (facts/own_steps.py), so does the call: rewritten; else
+        the env-class family asks about it. None: not such a call."""
         if not (isinstance(receiver, ast.Name) and receiver.id == "self"):
             return None
         function = self.facts.enclosing_function(receiver)
         classdef = self.facts.parent(function) if function is not None else None
-        if not isinstance(classdef, ast.ClassDef) or self.receivers.class_kind(classdef) is not EnvKind.GYM_ENV:
-            return None
-        if not self.receivers.is_gym_wrapper_class(classdef):
+        if not isinstance(classdef, ast.ClassDef):
             return None
         params = [*function.args.posonlyargs, *function.args.args]  # type: ignore[union-attr]
         if not params or params[0].arg != "self":
+            return None
+        kind = self.receivers.class_kind(classdef)
+        if kind is not EnvKind.GYM_ENV or not self.receivers.is_gym_wrapper_class(classdef):
+            selection = self.context.options.selection
+            if kind is EnvKind.GYM_ENV and selection is not None and not selection.allows("GM504"):
+                return None  # the env classes' steps stay on four values: so does this call
+            if self_step_gives_five(self.facts, self.receivers, classdef):
+                return Decision(Action.REWRITE, "`self.step()` runs the class's own step or an override below it, each of which gives five values once migrated")
             return None
         step = next((s for s in classdef.body if isinstance(s, (ast.FunctionDef, ast.AsyncFunctionDef)) and s.name == "step"), None)
         if step is None or _only_returns_inner_step(step):

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts.decisions import Action, Decision, receiver_text
 from gymmigrate.facts.flow import end, start
-from gymmigrate.facts.module import LOOPS, ModuleFacts
+from gymmigrate.facts.module import LOOPS, ModuleFacts, is_super_call
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.step_done.common import (
     StepFamilyBase,
@@ -249,13 +249,14 @@ class ResultRules(StepFamilyBase):
         self._report_by_hand(read, result)
 
     def _passed_through(self, read: ast.Name, step: _ResultStep) -> bool:
-        """``return res`` in a Gym wrapper's ``step``, ``res`` the wrapped ``self.env.step(a)``:
-        the wrapper hands the inner env's result on unchanged, which is right for any length."""
+        """``return res`` in a class's ``step``, ``res`` its base's ``super().step(a)`` or, in
+        a Gym wrapper, the wrapped ``self.env.step(a)``: the step hands that result on
+        unchanged, which is right for any length."""
         statement = self.facts.parent(read)
         function = self.facts.enclosing_function(read)
         receiver = step.receiver
         classdef = self.facts.enclosing_class(read)
-        return (
+        if not (
             isinstance(statement, ast.Return)
             and statement.value is read
             and isinstance(function, (ast.FunctionDef, ast.AsyncFunctionDef))
@@ -263,7 +264,12 @@ class ResultRules(StepFamilyBase):
             and self.facts.enclosing_function(step.assign) is function
             and classdef is not None
             and self.facts.parent(function) is classdef
-            and self.receivers.is_gym_wrapper_class(classdef)
+        ):
+            return False
+        if is_super_call(receiver):
+            return True
+        return (
+            self.receivers.is_gym_wrapper_class(classdef)
             and isinstance(receiver, ast.Attribute)
             and receiver.attr == "env"
             and isinstance(receiver.value, ast.Name)
