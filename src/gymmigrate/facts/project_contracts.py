@@ -11,6 +11,7 @@ from collections import defaultdict
 from collections.abc import Iterator
 from typing import TYPE_CHECKING
 
+from gymmigrate.facts.import_roots import nearest_root
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module_summary import MAX_CHAIN, OWN, REF, ModuleSummary, is_ref
 from gymmigrate.facts.project_exports import Exports
@@ -76,12 +77,12 @@ class NonSpaces:
         for path, summary in self.by_path.items():
             for name in summary.exports:
                 where = self.origin(path, name)
-                if where is None:
-                    continue
-                if where in found:
+                if where is not None and where in found:
                     self.facts.non_space_envs[(path, name)] = found[where]
-                if where in rootless:
-                    self.facts.rootless_envs[(path, name)] = rootless[where]
+                # a subclass defined here is rootless for its own bases, not its base's
+                defined = self._defined(path, name)
+                if defined is not None and defined in rootless:
+                    self.facts.rootless_envs[(path, name)] = rootless[defined]
 
     def plain_root(self, path: str, name: str, depth: int) -> tuple[str, str] | None:
         """The plain class of the run (no base, or builtins alone) that the class ends in,
@@ -101,12 +102,38 @@ class NonSpaces:
                 where: tuple[str, str] | None = (path, base[len(OWN) :])
             else:
                 split = self.facts._split(base, path) if base else None
-                where = self.origin(*split) if split is not None and "." not in split[1] else None
+                where = self._defined(*split) if split is not None and "." not in split[1] else None
+                if where is None:
+                    # a plain root in a module with no Gym code (``class Serializable(object)``)
+                    masked = self._root_without_gym(base, path)
+                    if masked is None:
+                        return None  # a base the run does not show to be its own: it may be gymnasium.Env
+                    first = first or masked
+                    continue
             root = None if where is None else self.plain_root(*where, depth=depth + 1)
             if root is None:
                 return None  # a base the run does not show to be its own: it may be gymnasium.Env
             first = first or root
         return first
+
+    def _defined(self, path: str, name: str) -> tuple[str, str] | None:
+        """Where the class ``name`` of module ``path`` is defined: there when the module
+        defines it (a subclass exports a reference to its base, which ``origin`` follows),
+        else its re-exports followed."""
+        summary = self.by_path.get(path)
+        return (path, name) if summary is not None and name in summary.classes else self.origin(path, name)
+
+    def _root_without_gym(self, qualified: str, importer: str) -> tuple[str, str] | None:
+        """``pkg.core.serializable.Serializable`` (absolute) named in a module with no Gym
+        code, whose summary lists only its plain roots (``summarize_masks``), which ``_split``
+        does not know: that module and the class, where the class is one of those roots."""
+        parts = qualified.split(".")
+        for cut in range(len(parts) - 1, 0, -1):
+            paths = self.facts.mask_modules.get(".".join(parts[:cut]), ())
+            path = nearest_root(paths, cut, importer) if paths else None
+            if path is not None and cut == len(parts) - 1 and parts[-1] in self.facts.plain_roots.get(path, ()):
+                return path, parts[-1]
+        return None
 
 
 def _definer(facts: ProjectFacts, by_path: dict[str, ModuleSummary], path: str, name: str) -> tuple[str, str] | None:
