@@ -73,6 +73,11 @@ class CallSummary:
     # library stack (GM107; ``thunk_list_stack``): (position as a string, or the keyword,
     # that stack). What the env functions handed to a vec env class make.
     thunk_stacks: tuple[tuple[str, str], ...] = ()
+    # Arguments that are instances of a class of the run (``Holder(name)``, or a name every
+    # binding reaching the call builds one): (position as a string, or the keyword, ``@Name``
+    # for a class of the calling module, else its qualified name). What ``holder.env`` is in
+    # the def given it (``ProjectFacts.held_made``).
+    holders: tuple[tuple[str, str], ...] = ()
 
 
 @dataclass(frozen=True)
@@ -342,6 +347,10 @@ class ModuleSummary:
     # certainly stores on ``self``, calls on ``self`` and hands up to a base ``__init__``:
     # the join follows the bases across modules (``ProjectFacts.init_attributes``).
     class_stores: dict[str, ClassStores] = field(default_factory=dict)
+    # Top-level classes deriving only ``object``, no Gym env or wrapper -> the attributes every
+    # store of which is what ``gym.make`` returned, bare (``facts/made_holders.py``): on an
+    # instance, ``holder.env.env`` is a chain through make's own layers.
+    made_holders: dict[str, frozenset[str]] = field(default_factory=dict)
 
 
 def is_ref(kind: object) -> bool:

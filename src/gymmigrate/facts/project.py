@@ -90,6 +90,7 @@ from gymmigrate.facts.project_exports import (
     join_thunk_factory_refs,
     reexport_wrappers,
 )
+from gymmigrate.facts.project_holders import join_made_holders
 from gymmigrate.facts.project_ids import id_slots
 from gymmigrate.facts.project_imports import (
     env_modules_through_packages,
@@ -309,6 +310,13 @@ class ProjectFacts:
     # (path, plain class, attribute) -> (the ``__init__`` parameter it holds, its position in a
     # call): where a caller's construction passes what ``holder.attribute`` is (creation sites).
     held_slots: dict[tuple[str, str, str], tuple[str, int]] = field(default_factory=dict)
+    # (path, name of a class of the run, re-exports followed) -> the attributes its instances
+    # hold a bare make result in (``ModuleSummary.made_holders``)
+    made_holders: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
+    # (path, qualname, parameter) -> the attributes holding a bare make result in what every
+    # call of another module passes there (``CallSummary.holders``; empty where a call passes
+    # anything else); only parameters such calls reach (``project_holders.py``).
+    held_made: dict[tuple[str, str, str], frozenset[str]] = field(default_factory=dict)
     # Modules of the run that import legacy ``gym``: the envs they make are legacy Gym envs,
     # wherever they are rendered (a driver that never names gym).
     legacy_gym: frozenset[str] = frozenset()
@@ -487,6 +495,7 @@ class ProjectFacts:
         facts.seed_owners, facts.seed_chains = legacy_seeds(facts, by_path)
         params = ParamJoin(facts, by_path, calls_to)
         params.run()
+        join_made_holders(facts, by_path, calls_to)
         join_duck_wrappers(facts, by_path)
         join_render_handovers(facts, by_path, calls_to)
         id_calls_to = {key: list(calls) for key, calls in calls_to.items()}

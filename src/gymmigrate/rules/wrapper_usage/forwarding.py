@@ -131,6 +131,8 @@ class WrapperForwarding(RuleFamily):
         # ``def run_agent(env): ... env.flat_actions`` in a file that never names the library,
         # called from other modules of the run with Gym envs
         view = project.view(context.path)
+        if view.receives_made_holders():
+            return True  # ``env.env.env`` where every caller passes ``GymEnv(name)``, holding a make result
         return any(
             EnvKind.GYM_ENV in view.param_kinds(name, arg.arg)
             for name, function in facts.functions.items()
