@@ -308,6 +308,14 @@ class ModuleSummary:
     # each attribute only ever stored from that parameter (``self.gym_env = gym_env``): an
     # instance's attribute is what every construction of the run passes there.
     held_params: dict[str, dict[str, str]] = field(default_factory=dict)
+    # The same for every top-level class whose kind the module cannot tell (a proxy deriving a
+    # plain class of another module) besides the plain ones: what a subclass elsewhere that hands
+    # its own parameter up to that ``__init__`` holds there (``ProjectFacts.init_held``).
+    init_params: dict[str, dict[str, str]] = field(default_factory=dict)
+    # Top-level class -> {property: attribute} for each ``@property`` that only returns
+    # ``self.<attribute>`` (``summaries/classes.property_aliases``): a subclass in another
+    # module reading the property reads that attribute (``ProjectFacts.property_aliases``).
+    property_aliases: dict[str, dict[str, str]] = field(default_factory=dict)
     # Top-level classes -> {attribute: kind} for each attribute the class resets or steps
     # (``self.env.step(a)``), or holds an env of a known API in, and stores only from
     # constructions this module settles (``self.env = ParallelPettingZooEnv(...)``,

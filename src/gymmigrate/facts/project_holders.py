@@ -2,14 +2,16 @@
 results (``ModuleSummary.made_holders``) and the parameters every call of another module
 hands one of their instances (``CallSummary.holders``): ``def __init__(self, env)`` given
 ``GymEnv(name)`` by every caller, where ``GymEnv`` stores ``self.env = gym.make(name)``,
-reads ``env.env`` as that make result.
+reads ``env.env`` as that make result. And the properties that only return an attribute of
+``self`` (``ModuleSummary.property_aliases``), inherited along the bases of the run: a
+subclass of a proxy reads ``self.wrapped_env`` as the ``self._wrapped_env`` its base stores.
 """
 
 from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from gymmigrate.facts.module_summary import OWN, CallSummary, ModuleSummary
+from gymmigrate.facts.module_summary import MAX_CHAIN, OWN, CallSummary, ModuleSummary
 from gymmigrate.facts.project_contracts import class_definer
 
 if TYPE_CHECKING:
@@ -58,3 +60,40 @@ def _held(facts: ProjectFacts, holder: str | None, caller: str) -> frozenset[str
     where = (caller, holder[len(OWN) :]) if holder.startswith(OWN) else facts._split(holder, caller)
     return facts.made_holders.get(where, frozenset()) if where is not None else frozenset()
 
+
+def join_property_aliases(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> None:
+    """``ProjectFacts.property_aliases`` for every name of a class of the run (re-exports
+    followed) that has such properties, its own or its bases' of the run."""
+    memo: dict[tuple[str, str], dict[str, str]] = {}
+    for path, summary in by_path.items():
+        for name in summary.exports:
+            if name in summary.defs:
+                continue  # a def's export names what it returns, not a class
+            where = class_definer(facts, by_path, path, name)
+            found = _aliases(facts, by_path, where, memo, 0) if where is not None else {}
+            if found:
+                facts.property_aliases[(path, name)] = found
+
+
+def _aliases(
+    facts: ProjectFacts, by_path: dict[str, ModuleSummary], where: tuple[str, str], memo: dict[tuple[str, str], dict[str, str]], depth: int
+) -> dict[str, str]:
+    """The property aliases of the class ``where`` defines, its own over its bases' (an
+    earlier base over a later one, as the method resolution order reads them)."""
+    if where in memo:
+        return memo[where]
+    memo[where] = {}  # a cycle of bases adds nothing
+    if depth > MAX_CHAIN:
+        return {}
+    path, name = where
+    summary = by_path[path]
+    found: dict[str, str] = {}
+    stores = summary.class_stores.get(name)
+    for base in reversed(stores.bases if stores is not None else ()):
+        split = (path, base[len(OWN) :]) if base.startswith(OWN) else facts._split(base, path) if base else None
+        definer = class_definer(facts, by_path, *split) if split is not None and "." not in split[1] else None
+        if definer is not None:
+            found.update(_aliases(facts, by_path, definer, memo, depth + 1))
+    found.update(summary.property_aliases.get(name, {}))
+    memo[where] = found
+    return found

@@ -57,6 +57,12 @@ class ClassView:
         result in every call (``held_made``): its ``holder.env`` reads are the forwarding rules'."""
         return any(key[0] == self.path and held for key, held in self.facts.held_made.items())
 
+    def property_alias(self, qualified: str, name: str) -> str | None:
+        """The attribute of ``self`` that the property ``name`` of the run's class
+        ``qualified`` (or of a base of it of the run) only returns (``ProjectFacts.property_aliases``)."""
+        split = self.facts._split(qualified, self.path)
+        return None if split is None else self.facts.property_aliases.get(split, {}).get(name)
+
     def init_held(self, qualified: str, attribute: str) -> tuple[str, int] | None:
         """``self.<attribute>`` that the run's plain class ``qualified`` (a base of this file's
         class) stores only from a parameter of its ``__init__``: that parameter and its
