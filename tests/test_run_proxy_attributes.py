@@ -37,7 +37,7 @@ def test_the_migrated_camera_reaches_the_env_on_gymnasium(tmp_path: Path) -> Non
     code = (
         "import sys, types\n"
         "sys.modules['recorders'] = types.SimpleNamespace(build_tape=lambda: None)\n"
-        "from pkg import arena, factories\n"
+        "from pkg import studio, factories\n"
         "camera = factories.camera_env()\n"
         "assert camera.inner.unwrapped.markers_hidden is True\n"
         "assert camera.inner.unwrapped.size == 4\n"
