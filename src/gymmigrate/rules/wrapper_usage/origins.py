@@ -486,6 +486,10 @@ class EnvOrigins:
         classdef = self.facts.enclosing_class(receiver)
         if classdef is None or self.receivers.project is None:
             return None
+        # asked of every read of an untraced ``self.x.y``: one answer per class and attribute
+        return self.facts.memo((f"handed-gym-env:{receiver.attr}", id(classdef)), lambda: self._handed(receiver, classdef))
+
+    def _handed(self, receiver: ast.Attribute, classdef: ast.ClassDef) -> str | None:
         lineage = list(self.receivers.local_lineage(classdef))
         if any(receiver.attr in self.receivers.self_stores(c) for c in lineage):
             return None
