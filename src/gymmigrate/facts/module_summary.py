@@ -73,6 +73,11 @@ class CallSummary:
     # library stack (GM107; ``thunk_list_stack``): (position as a string, or the keyword,
     # that stack). What the env functions handed to a vec env class make.
     thunk_stacks: tuple[tuple[str, str], ...] = ()
+    # Arguments that are instances of a class of the run (``Holder(name)``, or a name every
+    # binding reaching the call builds one): (position as a string, or the keyword, ``@Name``
+    # for a class of the calling module, else its qualified name). What ``holder.env`` is in
+    # the def given it (``ProjectFacts.held_made``).
+    holders: tuple[tuple[str, str], ...] = ()
 
 
 @dataclass(frozen=True)
@@ -311,6 +316,14 @@ class ModuleSummary:
     # each attribute only ever stored from that parameter (``self.gym_env = gym_env``): an
     # instance's attribute is what every construction of the run passes there.
     held_params: dict[str, dict[str, str]] = field(default_factory=dict)
+    # The same for every top-level class whose kind the module cannot tell (a proxy deriving a
+    # plain class of another module) besides the plain ones: what a subclass elsewhere that hands
+    # its own parameter up to that ``__init__`` holds there (``ProjectFacts.init_held``).
+    init_params: dict[str, dict[str, str]] = field(default_factory=dict)
+    # Top-level class -> {property: attribute} for each ``@property`` that only returns
+    # ``self.<attribute>`` (``summaries/classes.property_aliases``): a subclass in another
+    # module reading the property reads that attribute (``ProjectFacts.property_aliases``).
+    property_aliases: dict[str, dict[str, str]] = field(default_factory=dict)
     # Top-level classes -> {attribute: kind} for each attribute the class resets or steps
     # (``self.env.step(a)``), or holds an env of a known API in, and stores only from
     # constructions this module settles (``self.env = ParallelPettingZooEnv(...)``,
@@ -350,6 +363,10 @@ class ModuleSummary:
     # certainly stores on ``self``, calls on ``self`` and hands up to a base ``__init__``:
     # the join follows the bases across modules (``ProjectFacts.init_attributes``).
     class_stores: dict[str, ClassStores] = field(default_factory=dict)
+    # Top-level classes deriving only ``object``, no Gym env or wrapper -> the attributes every
+    # store of which is what ``gym.make`` returned, bare (``facts/made_holders.py``): on an
+    # instance, ``holder.env.env`` is a chain through make's own layers.
+    made_holders: dict[str, frozenset[str]] = field(default_factory=dict)
 
 
 def is_ref(kind: object) -> bool:

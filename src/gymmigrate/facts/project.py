@@ -91,6 +91,7 @@ from gymmigrate.facts.project_exports import (
     join_thunk_factory_refs,
     reexport_wrappers,
 )
+from gymmigrate.facts.project_holders import join_made_holders, join_property_aliases
 from gymmigrate.facts.project_ids import id_slots
 from gymmigrate.facts.project_imports import (
     env_modules_through_packages,
@@ -317,6 +318,16 @@ class ProjectFacts:
     # (path, plain class, attribute) -> (the ``__init__`` parameter it holds, its position in a
     # call): where a caller's construction passes what ``holder.attribute`` is (creation sites).
     held_slots: dict[tuple[str, str, str], tuple[str, int]] = field(default_factory=dict)
+    # (path, name of a class of the run, re-exports followed) -> the attributes its instances
+    # hold a bare make result in (``ModuleSummary.made_holders``)
+    made_holders: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
+    # (path, qualname, parameter) -> the attributes holding a bare make result in what every
+    # call of another module passes there (``CallSummary.holders``; empty where a call passes
+    # anything else); only parameters such calls reach (``project_holders.py``).
+    held_made: dict[tuple[str, str, str], frozenset[str]] = field(default_factory=dict)
+    # (path, name of a class of the run, re-exports followed) -> {property: attribute of self it
+    # only returns}, its own and its bases' of the run (``ModuleSummary.property_aliases``)
+    property_aliases: dict[tuple[str, str], dict[str, str]] = field(default_factory=dict)
     # Modules of the run that import legacy ``gym``: the envs they make are legacy Gym envs,
     # wherever they are rendered (a driver that never names gym).
     legacy_gym: frozenset[str] = frozenset()
@@ -495,6 +506,8 @@ class ProjectFacts:
         facts.seed_owners, facts.seed_chains = legacy_seeds(facts, by_path)
         params = ParamJoin(facts, by_path, calls_to)
         params.run()
+        join_made_holders(facts, by_path, calls_to)
+        join_property_aliases(facts, by_path)
         join_duck_wrappers(facts, by_path)
         join_render_handovers(facts, by_path, calls_to)
         id_calls_to = {key: list(calls) for key, calls in calls_to.items()}

@@ -11,6 +11,7 @@ from collections import defaultdict
 from collections.abc import Iterator
 from typing import TYPE_CHECKING
 
+from gymmigrate.facts.import_roots import nearest_root
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module_summary import MAX_CHAIN, OWN, REF, ModuleSummary, is_ref
 from gymmigrate.facts.project_exports import Exports
@@ -102,12 +103,38 @@ class NonSpaces:
                 where: tuple[str, str] | None = (path, base[len(OWN) :])
             else:
                 split = self.facts._split(base, path) if base else None
-                where = self.origin(*split) if split is not None and "." not in split[1] else None
+                where = self._defined(*split) if split is not None and "." not in split[1] else None
+                if where is None:
+                    # a plain root in a module with no Gym code (``class Serializable(object)``)
+                    masked = self._root_without_gym(base, path)
+                    if masked is None:
+                        return None  # a base the run does not show to be its own: it may be gymnasium.Env
+                    first = first or masked
+                    continue
             root = None if where is None else self.plain_root(*where, depth=depth + 1)
             if root is None:
                 return None  # a base the run does not show to be its own: it may be gymnasium.Env
             first = first or root
         return first
+
+    def _defined(self, path: str, name: str) -> tuple[str, str] | None:
+        """Where the class ``name`` of module ``path`` is defined: there when the module
+        defines it (a subclass exports a reference to its base, which ``origin`` follows),
+        else its re-exports followed."""
+        summary = self.by_path.get(path)
+        return (path, name) if summary is not None and name in summary.classes else self.origin(path, name)
+
+    def _root_without_gym(self, qualified: str, importer: str) -> tuple[str, str] | None:
+        """``pkg.core.serializable.Serializable`` (absolute) named in a module with no Gym
+        code, whose summary lists only its plain roots (``summarize_masks``), which ``_split``
+        does not know: that module and the class, where the class is one of those roots."""
+        parts = qualified.split(".")
+        for cut in range(len(parts) - 1, 0, -1):
+            paths = self.facts.mask_modules.get(".".join(parts[:cut]), ())
+            path = nearest_root(paths, cut, importer) if paths else None
+            if path is not None and cut == len(parts) - 1 and parts[-1] in self.facts.plain_roots.get(path, ()):
+                return path, parts[-1]
+        return None
 
 
 def _definer(facts: ProjectFacts, by_path: dict[str, ModuleSummary], path: str, name: str) -> tuple[str, str] | None:

@@ -277,11 +277,13 @@ def join_held(facts: ProjectFacts, by_path: dict[str, ModuleSummary], params: Pa
     for path, summary in by_path.items():
         if path in facts.blocked:
             continue
-        for name, held in summary.held_params.items():
+        for name, held in summary.init_params.items():
             init = summary.defs.get(f"{name}.__init__")
             for attribute, param in held.items():
                 if init is not None and param in init.params[1:]:
                     facts.init_held[(path, name, attribute)] = (param, init.params.index(param) - 1)
+        for name, held in summary.held_params.items():
+            init = summary.defs.get(f"{name}.__init__")
             if (path, name) in facts.subclasses_of:
                 continue
             for attribute, param in held.items():

@@ -40,6 +40,29 @@ class ClassView:
         split = self.facts._split(qualified, self.path)
         return None if split is None else self.facts.held_slots.get((*split, attribute))
 
+    def holds_made(self, qualified: str, attribute: str) -> bool:
+        """An instance of the run's class ``qualified`` holds a bare ``gym.make`` result in
+        ``attribute`` (``ProjectFacts.made_holders``)."""
+        split = self.facts._split(qualified, self.path)
+        return split is not None and attribute in self.facts.made_holders.get(split, ())
+
+    def held_made(self, qualname: str, param: str) -> frozenset[str] | None:
+        """The attributes holding a bare make result in what every call of another module
+        passes to ``param`` of this module's ``qualname``; None where no such call passes it
+        (``ProjectFacts.held_made``)."""
+        return self.facts.held_made.get((self.path, qualname, param))
+
+    def receives_made_holders(self) -> bool:
+        """Some call of another module hands a def of this module a holder of a bare make
+        result in every call (``held_made``): its ``holder.env`` reads are the forwarding rules'."""
+        return any(key[0] == self.path and held for key, held in self.facts.held_made.items())
+
+    def property_alias(self, qualified: str, name: str) -> str | None:
+        """The attribute of ``self`` that the property ``name`` of the run's class
+        ``qualified`` (or of a base of it of the run) only returns (``ProjectFacts.property_aliases``)."""
+        split = self.facts._split(qualified, self.path)
+        return None if split is None else self.facts.property_aliases.get(split, {}).get(name)
+
     def init_held(self, qualified: str, attribute: str) -> tuple[str, int] | None:
         """``self.<attribute>`` that the run's plain class ``qualified`` (a base of this file's
         class) stores only from a parameter of its ``__init__``: that parameter and its

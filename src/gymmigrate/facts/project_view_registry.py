@@ -100,10 +100,26 @@ class RegistryView:
         named as from the entry point's package where the run knows it so)."""
         path = self.facts.modules.get(module)
         found = self.facts.rootless_envs.get((path, name)) if path else None
+        return None if found is None else self._named_root(found, module)
+
+    def rootless_class(self, qualified: str) -> tuple[str, str] | None:
+        """``rootless_env`` for a class this module defines (``Flatten``) or imports
+        (``lab.proxy.Flatten``, a def's own import too): what a def registered as an entry
+        point returns an instance of."""
+        split = (self.path, qualified) if "." not in qualified else self.facts._split(qualified, self.path)
+        found = self.facts.rootless_envs.get(split) if split is not None else None
         if found is None:
             return None
+        # named from the package the class is imported from, or this module's shortest dotted name
+        here = sorted((m for m, p in self.facts.modules.items() if p == self.path and "." in m), key=lambda m: (m.count("."), m))
+        module = qualified if "." in qualified else next(iter(here), qualified)
+        return self._named_root(found, module)
+
+    def _named_root(self, found: tuple[str, str], module: str) -> tuple[str, str]:
+        """(root class, its module named as from ``module``'s package where the run knows it so)."""
         root, root_path = found
-        names = sorted((m for m, p in self.facts.modules.items() if p == root_path), key=lambda m: (m.count("."), m))
+        known = [*self.facts.modules.items(), *((m, p) for m, paths in self.facts.mask_modules.items() for p in paths)]
+        names = sorted((m for m, p in known if p == root_path), key=lambda m: (m.count("."), m))
         package = module.split(".")[0] + "."
         named = next((m for m in names if m.startswith(package)), names[-1] if names else root_path)
         return root, named

@@ -142,13 +142,14 @@ class SelfAttributes:
             found += class_self_stores(self.facts, local).get(name, []) or self.inherited_values(local, name, _seen | {id(classdef)})
         return found
 
-    def handed_up(self, attr: ast.Attribute) -> ast.Name | None:
+    def handed_up(self, attr: ast.Attribute, name: str | None = None) -> ast.Name | None:
         """``self.env_class`` in a class that never stores it, whose ``__init__`` (its own, or
         that of the nearest base of this module defining one) hands its own parameter up to
         a base of another module of the run, with ``super().__init__(..., env_class=env_class)``
         or ``Base.__init__(self, ...)``, at the slot of the parameter that base stores on
         ``self.env_class`` and nothing else (``ProjectView.init_held``): the read of that
-        parameter in the call, whose values are the attribute's. None otherwise."""
+        parameter in the call, whose values are the attribute's. None otherwise. ``name``: the
+        attribute the base stores, where ``attr`` reads a property of the base returning it."""
         project = getattr(self.receivers, "project", None)
         classdef = self.facts.enclosing_class(attr)
         if project is None or classdef is None or not isinstance(attr.value, ast.Name) or not self.is_self(attr.value):
@@ -164,26 +165,28 @@ class SelfAttributes:
             if base is None:
                 return None
             classdef = base  # the nearest base here whose ``__init__`` its constructions run
-        if init is None or len(classdef.bases) != 1 or self.receivers.local_class(classdef.bases[0]) is not None:
+        if init is None or not classdef.bases:
             return None
-        qualified = self.receivers.qualified_names(classdef.bases[0])
-        held = project.init_held(next(iter(qualified)), attr.attr) if len(qualified) == 1 else None
-        if held is None:
-            return None
-        param, position = held
         ups = []
         for call in self.facts.attribute_calls.get("__init__", ()):
             if self.facts.enclosing_function(call) is not init:
                 continue
             if is_super_call(call.func.value):  # type: ignore[attr-defined]
-                ups.append((call, 0))
-            elif named_class_call(call, "__init__", init, classdef.bases) is not None:
-                ups.append((call, 1))
+                ups.append((call, 0, classdef.bases[0]))  # the first base: the next class of the MRO
+            elif (named := named_class_call(call, "__init__", init, classdef.bases)) is not None:
+                ups.append((call, 1, named))
             else:
                 return None  # another ``__init__`` called here: not the one shape this reads
         if len(ups) != 1:
             return None
-        call, shift = ups[0]
+        call, shift, reached = ups[0]
+        if self.receivers.local_class(reached) is not None:
+            return None
+        qualified = self.receivers.qualified_names(reached)
+        held = project.init_held(next(iter(qualified)), name or attr.attr) if len(qualified) == 1 else None
+        if held is None:
+            return None
+        param, position = held
         argument = call_argument(call, position + shift, param)
         params = [*init.args.posonlyargs, *init.args.args[1:], *init.args.kwonlyargs]
         if not isinstance(argument, ast.Name):

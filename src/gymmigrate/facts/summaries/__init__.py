@@ -28,6 +28,7 @@ from gymmigrate.facts.env_specs import module_spec_lists, recreates_from_spec
 from gymmigrate.facts.id_params import escaping_parameters, id_parameters
 from gymmigrate.facts.init_attributes import module_class_stores
 from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.made_holders import made_holders
 from gymmigrate.facts.mode_handovers import param_renders
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
 from gymmigrate.facts.module_summary import ModuleSummary, Signature
@@ -61,6 +62,7 @@ from gymmigrate.facts.summaries.classes import (
     own_renders,
     plain_classes,
     plain_roots,
+    property_aliases,
     render_forwards,
     render_mode_heirs,
     rendering_wrappers,
@@ -243,6 +245,9 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         named_ids=named[0],
         opaque_make=named[1],
         held_params=held_params(facts, receivers),
+        init_params=held_params(facts, receivers, plain_only=False),
+        property_aliases=property_aliases(facts),
+        made_holders=made_holders(facts, receivers),
         param_renders=param_renders(facts, receivers),
         driven_kinds=driven_kinds(facts, receivers),
         stored_attributes=stored_attributes(facts, receivers),

@@ -396,6 +396,7 @@ class CallSummarizer:
         sources = [(slot, source) for slot, a in slots if isinstance(a, ast.Name) and (source := flow.source_of(a)) is not None]
         items = [(slot, kind) for slot, a in slots if (kind := self._items_kind(a)) is not None]
         creators = [(slot, kind) for slot, a in slots if (kind := self._creator(a, 0)) is not None]
+        holders = [(slot, held) for slot, a in slots if (held := self._instance_of_run_class(a)) is not None]
         return CallSummary(
             target,
             tuple(args),
@@ -409,7 +410,29 @@ class CallSummarizer:
             items=tuple(items),
             creators=tuple(creators),
             thunk_stacks=tuple(stacks),
+            holders=tuple(holders),
         )
+
+    def _instance_of_run_class(self, argument: ast.expr) -> str | None:
+        """The class of the run ``argument`` is an instance of (``CallSummary.holders``):
+        ``@Name`` for a top-level class of this module, the qualified name of one it imports;
+        ``Holder(name)``, or a name every binding reaching the call builds one. None otherwise."""
+        values = self._reaching_values(argument) if isinstance(argument, ast.Name) else [argument]
+        classes: set[str] = set()
+        for value in values or ():
+            if not isinstance(value, ast.Call):
+                return None
+            local = self.receivers.local_class(value.func)
+            if local is not None:
+                if self.facts.classes.get(local.name) is not local:
+                    return None
+                classes.add(OWN + local.name)
+                continue
+            found = [q for q in self.facts.qualified_names(value.func) if not N.is_library(q)]
+            if len(found) != 1 or "." not in found[0]:
+                return None
+            classes.add(found[0])
+        return classes.pop() if len(classes) == 1 else None
 
     def _creator(self, argument: ast.expr, depth: int) -> Kind | None:
         """What calling ``argument`` gives, where it is a creator handed on (``CallSummary.creators``):

@@ -109,13 +109,15 @@ def plain_roots(tree: ast.Module) -> frozenset[str]:
     return frozenset(found)
 
 
-def held_params(facts: ModuleFacts, receivers: Receivers) -> dict[str, dict[str, str]]:
+def held_params(facts: ModuleFacts, receivers: Receivers, plain_only: bool = True) -> dict[str, dict[str, str]]:
     """``ModuleSummary.held_params``: per top-level plain class, the attributes its methods
-    store only from a parameter of its ``__init__`` that nothing rebinds."""
+    store only from a parameter of its ``__init__`` that nothing rebinds. ``plain_only=False``:
+    per top-level class of any kind but a Gym env's (``ModuleSummary.init_params``)."""
     found: dict[str, dict[str, str]] = {}
     for name, classdef in facts.classes.items():
         init = next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == "__init__"), None)
-        if init is None or receivers.class_kind(classdef) is not EnvKind.NOT_ENV:
+        kind = receivers.class_kind(classdef)
+        if init is None or kind is not EnvKind.NOT_ENV and (plain_only or kind is not EnvKind.UNKNOWN):
             continue
         params = {a.arg for a in (*init.args.posonlyargs, *init.args.args[1:], *init.args.kwonlyargs)}
         held = {}
@@ -395,4 +397,29 @@ def render_forwards(facts: ModuleFacts, receivers: Receivers) -> dict[str, int]:
         call = held_env_render_forward(facts, receivers, classdef)
         if call is not None:
             found[name] = call.lineno
+    return found
+
+
+def property_aliases(facts: ModuleFacts) -> dict[str, dict[str, str]]:
+    """``ModuleSummary.property_aliases``: per top-level class, each ``@property`` whose body
+    only returns an attribute of ``self`` (``def wrapped_env(self): return self._wrapped_env``),
+    and that attribute: a subclass reading the property reads what the attribute holds."""
+    found: dict[str, dict[str, str]] = {}
+    for name, classdef in facts.classes.items():
+        for statement in classdef.body:
+            if not (isinstance(statement, FUNCTIONS) and len(statement.decorator_list) == 1):
+                continue
+            decorator = statement.decorator_list[0]
+            params = [*statement.args.posonlyargs, *statement.args.args]
+            body = [s for s in statement.body if not (isinstance(s, ast.Expr) and isinstance(s.value, ast.Constant))]
+            if not (isinstance(decorator, ast.Name) and decorator.id == "property" and len(params) == 1 and len(body) == 1):
+                continue
+            returned = body[0].value if isinstance(body[0], ast.Return) else None
+            if (
+                isinstance(returned, ast.Attribute)
+                and isinstance(returned.value, ast.Name)
+                and returned.value.id == params[0].arg
+                and returned.attr != statement.name
+            ):
+                found.setdefault(name, {})[statement.name] = returned.attr
     return found

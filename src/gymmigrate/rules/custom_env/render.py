@@ -28,6 +28,7 @@ from gymmigrate.facts.render_modes import own_object, own_object_render, passes_
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import ClassDecision, method_of, param_names
 from gymmigrate.rules.custom_env.hooks import local_subclasses
+from gymmigrate.rules.wrapper_usage.origins import EnvOrigins
 
 if TYPE_CHECKING:
     from gymmigrate.rules.base import RuleFamily
@@ -135,6 +136,7 @@ def decide_render(decision: ClassDecision) -> None:
     decision.plan.render = True
     _plan_internal_renders(decision, function)
     _report_forwarded_modes(decision, function)
+    _report_bare_inner_renders(decision, function)
     # Notes: the standard Gymnasium signature, applied; the render calls and creation
     # sites in the run are reviewed where they are (GM401/GM402), not here.
     decision.report(function, "GM405", f"render() takes no mode: it reads self.render_mode, fixed when the env is made, and draws nothing when that is None{old_default}", tier=Tier.NOTE)
@@ -375,6 +377,36 @@ def _report_forwarded_modes(decision: ClassDecision, function: ast.AST) -> None:
             f"the mode is no longer passed on to {decision.family.facts.segment(func.value)}.render(): make the inner envs "
             f"with render_mode=self.render_mode{rest}",
             FixKind.ASSIST,
+        )
+
+
+def _report_bare_inner_renders(decision: ClassDecision, function: ast.AST) -> None:
+    """``self.wrapped_env.render()``, bare, on the Gym env the class holds: legacy drew that
+    env in its own default mode ("human"); on Gymnasium it draws only in the render_mode it
+    was made with, and nothing where it was made without one, whatever this env's mode. Where
+    the inner env comes from is not this class's to change: reported (FLAG). The project's own
+    objects (a viewer, a simulator) and objects the run does not show to be Gym envs are not."""
+    family = decision.family
+    origins = EnvOrigins(family.facts, family.receivers)
+    for call in decision.function(function).of(ast.Call):
+        func = call.func  # type: ignore[attr-defined]
+        if not (isinstance(func, ast.Attribute) and func.attr == "render") or call.args or call.keywords:  # type: ignore[attr-defined]
+            continue
+        held = func.value
+        if not (isinstance(held, ast.Attribute) and isinstance(held.value, ast.Name) and held.value.id == "self"):
+            continue
+        if isinstance(call, ast.Call) and own_object(family.receivers, call):
+            continue
+        if family.receivers.kind_of(held) is not EnvKind.GYM_ENV and origins.handed_gym_env(held) is None:
+            continue
+        text = family.facts.segment(held)
+        decision.report(
+            call,
+            "GM405",
+            f"`{text}.render()` drew that env in its own default mode (\"human\"); on Gymnasium it draws only in the "
+            f"render_mode `{text}` was made with, and nothing where it was made without one: give it "
+            "render_mode=\"human\" (or this env's self.render_mode) where it is made",
+            FixKind.FLAG,
         )
 
 

@@ -43,7 +43,7 @@ from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
 from gymmigrate.facts.entry_sources import entry_from_run
 from gymmigrate.facts.flow import Flow
-from gymmigrate.facts.module import full_name, keyword, string_value
+from gymmigrate.facts.module import full_name, keyword, own_returns, string_value
 from gymmigrate.facts.summaries import plain_classes, space_calls
 from gymmigrate.facts.wrapper_steps import reset_steps, self_handoffs, steps_its_wrapper
 from gymmigrate.findings import FixKind
@@ -540,7 +540,22 @@ class RegistryApi(RuleFamily):
         value = entry.value if entry is not None else (call.args[1] if len(call.args) > 1 else None)
         target = string_value(value)
         project = self.receivers.project
-        if project is None or target is None or target.count(":") != 1:
+        if project is None:
+            return False
+        factory = self._rootless_factory(value, target)
+        if factory is not None:
+            function, returned, (base, module) = factory
+            self.report(
+                call,
+                "GM807",
+                f"`{function}` returns a `{returned}`, which derives from no gymnasium.Env: its bases end in `{base}` "
+                f"of `{module}`, a plain class of the run, so gymnasium.make raises TypeError (the environment must "
+                "inherit from gymnasium.Env) before any env checker runs; make the class a gymnasium.Env (a "
+                "gymnasium.Wrapper around the env it holds), or build it without make",
+                FixKind.FLAG,
+            )
+            return True
+        if target is None or target.count(":") != 1:
             return False
         module, _, name = target.partition(":")
         root = project.rootless_env(module, name)
@@ -556,6 +571,51 @@ class RegistryApi(RuleFamily):
             FixKind.FLAG,
         )
         return True
+
+    def _rootless_factory(self, value: ast.expr | None, target: str | None) -> tuple[str, str, tuple[str, str]] | None:
+        """(def, class, its plain root) where the entry point is a def of this module
+        (``entry_point=flat_board``, or a string naming it here) whose every return is an
+        instance of one class of the run none of whose bases is a library's: what ``make``
+        builds is that object, which is no gymnasium.Env."""
+        project = self.receivers.project
+        assert project is not None
+        function = self.receivers.local_function(value) if isinstance(value, ast.Name) else None
+        if function is None and target is not None and target.count(":") == 1:
+            module, _, name = target.partition(":")
+            if project.facts.modules.get(module) == project.path:
+                function = self.facts.functions.get(name)
+        if function is None:
+            return None
+        returns = own_returns(function)
+        classes: set[str] = set()
+        for returned in returns:
+            for made in self._returned_values(returned.value):
+                if not isinstance(made, ast.Call):
+                    return None
+                local = self.receivers.local_class(made.func)
+                qualified = [local.name] if local is not None else [q for q in self.facts.qualified_names(made.func) if not N.is_library(q)]
+                if len(qualified) != 1:
+                    return None
+                classes.add(qualified[0])
+        if len(classes) != 1:
+            return None
+        returned_class = classes.pop()
+        root = project.rootless_class(returned_class)
+        return None if root is None else (function.name, returned_class.rsplit(".", 1)[-1], root)
+
+    def _returned_values(self, value: ast.expr | None) -> list[ast.expr | None]:
+        """What a return hands back: the value, or for a name the values of the assignments
+        that reach it (``env = Flatten(env)`` then ``return env``); ``[None]`` where that is not shown."""
+        if not isinstance(value, ast.Name):
+            return [value]
+        reaching = Flow.of(self.facts).reaching(value)
+        if not reaching:
+            return [None]
+        values: list[ast.expr | None] = []
+        for binding in reaching:
+            statement = self.facts.parent(binding)
+            values.append(statement.value if isinstance(statement, ast.Assign) and statement.targets == [binding] else None)
+        return values
 
     def _non_space_entry(self, value: ast.expr | None) -> tuple[str, str, str, str] | None:
         """(class, space attribute, space class, its bases) when the entry point names a

@@ -71,9 +71,11 @@ from gymmigrate.rules.wrapper_usage.monitor_attributes import (
 )
 from gymmigrate.rules.wrapper_usage.origins import (
     CYCLE,
+    EVERY,
     INNER,
     MADE,
     RAW,
+    SOME,
     WRAPPED,
     EnvOrigins,
     Origin,
@@ -131,6 +133,8 @@ class WrapperForwarding(RuleFamily):
         # ``def run_agent(env): ... env.flat_actions`` in a file that never names the library,
         # called from other modules of the run with Gym envs
         view = project.view(context.path)
+        if view.receives_made_holders():
+            return True  # ``env.env.env`` where every caller passes ``GymEnv(name)``, holding a make result
         return any(
             EnvKind.GYM_ENV in view.param_kinds(name, arg.arg)
             for name, function in facts.functions.items()
@@ -180,7 +184,11 @@ class WrapperForwarding(RuleFamily):
             return
         sub_env = self.origins.is_sub_env(receiver)
         kind = self.receivers.kind_of(receiver)
-        known = sub_env or kind is EnvKind.GYM_ENV
+        # ``self._inner`` that a base of another module stores from what this class's
+        # constructions hand it: Gym envs, made or bare, where the run builds the class (SOME:
+        # at some constructions, the others untraced)
+        handed = self.origins.handed_gym_env(receiver) if kind is EnvKind.UNKNOWN else None
+        known = sub_env or handed is not None or kind is EnvKind.GYM_ENV
         monitor_read = reads_monitor_videos(self, attr, known, kind)
         if not known and not monitor_read and not self.origins.outer_is_wrapper(receiver):
             self._read_past_test_double(attr)
@@ -191,8 +199,10 @@ class WrapperForwarding(RuleFamily):
         if monitor_api(self, attr):
             return
         origin: Origin
-        if sub_env:
-            origin = INNER  # what the env_fns built: make() results, maybe wrapped
+        if sub_env or handed == EVERY:
+            origin = INNER  # what the env_fns built, or the constructions hand on: make() results, maybe wrapped
+        elif handed == SOME:
+            origin = None  # a Gym env where some constructions are, untraced where the others are: asked
         else:
             # what the read sees where the bindings disagree, or the name may hold its env
             # bare or wrapped: ``env = Arena()`` just above ``env = dress(env, env.size)``
@@ -278,6 +288,18 @@ class WrapperForwarding(RuleFamily):
                     f"use `.unwrapped.{name} = ...` or `.set_wrapper_attr(\"{name}\", ...)` to change the env",
                     kind=FixKind.FLAG,
                 )
+            elif handed == SOME:
+                # the same decision as the reads through it: is it a (made) Gym env?
+                self.report(
+                    attr,
+                    code,
+                    f"`{dotted_name(receiver)}` is a Gym env where some constructions of this class hand one in (the "
+                    f"others could not be traced): where it is a make result, writing `.{name}` sets it on the outermost "
+                    "wrapper, not on the env, and reads through it raise AttributeError (forwarding is gone); use "
+                    f"`.set_wrapper_attr(\"{name}\", ...)` and `.get_wrapper_attr(...)` (a Gymnasium env, wrapped or not, has both)",
+                    kind=FixKind.FLAG,
+                    question=("GM604", "wrapped", id(self.facts.enclosing_class(attr)), self.origins.stored_as(receiver)),
+                )
             return
         text = dotted_name(receiver) or "the env"
         if (
@@ -310,7 +332,8 @@ class WrapperForwarding(RuleFamily):
                 f"could not tell whether `{text}` is wrapped: if it is, `.{name}` raises AttributeError on Gymnasium "
                 f"1.x; use `.unwrapped.{name}` or `.get_wrapper_attr(\"{name}\")`",
                 kind=FixKind.FLAG,
-                question=("GM604", "wrapped", id(owner), text),
+                # ``self.inner`` and the ``self._inner`` that property returns: one object
+                question=("GM604", "wrapped", id(owner), self.origins.stored_as(attr.value) or text),
             )
             return
         if name == "_max_episode_steps":

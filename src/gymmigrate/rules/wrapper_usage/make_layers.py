@@ -116,14 +116,38 @@ class MakeLayers:
             return  # no layer has what is read through it (GM604's item): which one it names does not matter
         receiver = attr.value
         depth = 1
-        while isinstance(receiver, ast.Attribute) and receiver.attr == "env":
+        # down the chain to the env it is read on: the first link that holds a bare make result
+        # on every path (a name or ``self.x`` bound only to one, or ``holder.env`` of a class of
+        # the run that keeps one there: ``holder.env.env`` is one layer below that make)
+        while not (bare := bare_make(self.facts, self.family.receivers, receiver, frozenset())):
+            if not (isinstance(receiver, ast.Attribute) and receiver.attr == "env"):
+                break
             receiver = receiver.value
             depth += 1
         if isinstance(receiver, ast.Name) and receiver.id == "self":
             return
-        if self.family.receivers.kind_of(receiver) is not EnvKind.GYM_ENV:
+        bare = bare and not is_make_call(self.facts, receiver)
+        if not bare and self.family.receivers.kind_of(receiver) is not EnvKind.GYM_ENV:
             return
-        origin = self.family.origins.at_read(receiver)
+        origin = MADE if bare else self.family.origins.at_read(receiver)
+        read = parent.attr if isinstance(parent, ast.Attribute) and parent.value is attr else None
+        layer_read = read is not None and (read.startswith("_") or read in _LAYER_ATTRIBUTES)
+        if depth == 1 and bare and not layer_read:
+            # The env under make's TimeLimit: gym's make put TimeLimit outermost, as
+            # Gymnasium's still does, so ``.env`` dropped the time limit whichever layers
+            # were below it, and forwarded the base env's attributes, which Gymnasium's inner
+            # layer no longer does. ``.unwrapped`` is that env. (A read of a layer's own or
+            # private name through it, ``env.env.checked_step``, meant a layer: GM604 asks.)
+            self.family.plan.replace(attr, lambda node: node.with_changes(attr=cst.Name("unwrapped")))
+            self.family.report(
+                attr,
+                "GM606",
+                f"`{dotted_name(attr) or self.facts.segment(attr)}` -> `.unwrapped`: `{dotted_name(receiver) or 'the receiver'}` "
+                "holds a gym.make result on every path, whose `.env` was the env under its TimeLimit, forwarding that env's "
+                "attributes; Gymnasium's make stacks wrappers there that forward nothing",
+                FixKind.AUTO,
+            )
+            return
         if depth == 1 and is_make_call(self.facts, receiver):
             # gym 0.21's make returned TimeLimit(env): ``gym.make(id).env`` was the env
             # itself, without its time limit. Gymnasium's make adds layers under the

@@ -31,6 +31,7 @@ from gymmigrate.facts.pytest_params import fixture_values, param_fixtures
 from gymmigrate.facts.receiver_classes import duck_wrapper_attribute
 from gymmigrate.facts.receivers import Receivers
 from gymmigrate.facts.self_attributes import store_seen
+from gymmigrate.facts.summaries.classes import property_aliases
 from gymmigrate.rules.wrapper_usage.tables import (
     OWN_ATTRIBUTES,
     current_name,
@@ -45,6 +46,9 @@ RAW = "raw"  # an env class's constructor or ``.unwrapped``: no wrapper in betwe
 # Reached a name whose origin is being computed (``env = Wrapper(env)``): no evidence
 # either way; the other bindings decide.
 CYCLE = "cycle"
+# How many constructions of a class hand a Gym env to the attribute a base stores (``handed_gym_env``).
+EVERY = "every"
+SOME = "some"
 # Deeper than any real chain of distinct names; beyond it the origin is unknown (reported).
 MAX_DEPTH = 20
 
@@ -467,6 +471,81 @@ class EnvOrigins:
             return False  # this module's own calls pass something untraced
         kinds = project.param_kinds(function.name, bindings[0].arg)
         return bool(kinds) and all(kind is EnvKind.GYM_ENV for kind in kinds)
+
+    def handed_gym_env(self, receiver: ast.expr) -> str | None:
+        """``self._inner`` (or a property of a base returning it, ``self.inner``) in a class
+        that never stores it, whose ``__init__`` hands its own parameter up to a base of
+        another module of the run that stores it there from its ``__init__`` (``class
+        Camera(Proxy)``, ``super().__init__(inner)``; ``SelfAttributes.handed_up``): EVERY
+        where every construction of the class, here and in the other modules of the run,
+        passes a Gym env (made or bare, ``get_wrapper_attr`` reads it as forwarding did, and
+        ``set_wrapper_attr`` reaches the env that has the name); SOME where some pass one and
+        the others pass what the run cannot trace (the reads are asked about); else None."""
+        if not (isinstance(receiver, ast.Attribute) and isinstance(receiver.value, ast.Name) and self.receivers.is_self(receiver.value)):
+            return None
+        classdef = self.facts.enclosing_class(receiver)
+        if classdef is None or self.receivers.project is None:
+            return None
+        # asked of every read of an untraced ``self.x.y``: one answer per class and attribute
+        return self.facts.memo((f"handed-gym-env:{receiver.attr}", id(classdef)), lambda: self._handed(receiver, classdef))
+
+    def _handed(self, receiver: ast.Attribute, classdef: ast.ClassDef) -> str | None:
+        lineage = list(self.receivers.local_lineage(classdef))
+        if any(receiver.attr in self.receivers.self_stores(c) for c in lineage):
+            return None
+        param = self.receivers.attributes.handed_up(receiver, self._property_alias(lineage, receiver.attr))
+        kinds = set(self._handed_kinds(param)) if param is not None else set()
+        if kinds == {EnvKind.GYM_ENV}:
+            return EVERY
+        return SOME if kinds == {EnvKind.GYM_ENV, EnvKind.UNKNOWN} else None
+
+    def stored_as(self, receiver: ast.expr) -> str | None:
+        """``self._inner`` for ``self.inner``, a property of a base of the run returning that
+        attribute, in a class that never stores ``inner``; None for anything else."""
+        if not (isinstance(receiver, ast.Attribute) and isinstance(receiver.value, ast.Name) and self.receivers.is_self(receiver.value)):
+            return None
+        classdef = self.facts.enclosing_class(receiver)
+        if classdef is None:
+            return None
+        lineage = list(self.receivers.local_lineage(classdef))
+        if any(receiver.attr in self.receivers.self_stores(c) for c in lineage):
+            return None
+        alias = self._property_alias(lineage, receiver.attr)
+        return f"self.{alias}" if alias is not None else None
+
+    def _handed_kinds(self, param: ast.Name) -> list[EnvKind]:
+        """What each construction of the run passes for the ``__init__`` parameter ``param``
+        reads: this module's (subclasses that inherit the ``__init__`` too) and the others'."""
+        bindings = self.facts.bindings_of(param)
+        function = self.facts.parent(self.facts.parent(bindings[0])) if len(bindings) == 1 and isinstance(bindings[0], ast.arg) else None
+        classdef = self.facts.parent(function) if isinstance(function, FUNCTIONS) else None
+        if not isinstance(classdef, ast.ClassDef) or self.receivers.project is None:
+            return []
+        constructions, elsewhere = self.receivers.constructions(classdef)
+        params = [*function.args.posonlyargs, *function.args.args]  # type: ignore[union-attr]
+        position = params.index(bindings[0]) - 1 if bindings[0] in params else None
+        kinds = [EnvKind.UNKNOWN] if elsewhere else []
+        for call, shift in constructions:
+            argument = call_argument(call, None if position is None else position + shift, param.id)
+            kinds.append(self.receivers.kind_of(argument) if argument is not None else EnvKind.UNKNOWN)
+        if self.facts.parent(classdef) is self.facts.tree:
+            kinds += self.receivers.project.param_kinds(f"{classdef.name}.__init__", param.id)
+        return kinds
+
+    def _property_alias(self, lineage: list[ast.ClassDef], name: str) -> str | None:
+        """The attribute of ``self`` that a property ``name`` of these classes or of their
+        bases of the run only returns (``def inner(self): return self._inner``)."""
+        own = self.facts.memo(("property-aliases", 0), lambda: property_aliases(self.facts))
+        view = self.receivers.project
+        for classdef in lineage:
+            if self.facts.classes.get(classdef.name) is classdef and name in own.get(classdef.name, {}):
+                return own[classdef.name][name]
+            for base in classdef.bases:
+                for qualified in self.facts.qualified_names(base):
+                    alias = view.property_alias(qualified, name) if view is not None else None
+                    if alias is not None:
+                        return alias
+        return None
 
     def traced_gym_env(self, receiver: ast.expr) -> bool:
         """``holder.env`` where ``holder`` is only ever an object of a class of this module
