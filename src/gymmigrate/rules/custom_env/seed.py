@@ -4,7 +4,8 @@ The canonical ``self.np_random, seed = seeding.np_random(seed)`` body is deleted
 anything else that uses the seed moves into ``reset`` under ``if seed is not None:``;
 set-up that does not touch the seed (spaces, simulators) moves into ``__init__`` where
 ``self.seed()`` was called; ``self.seed()`` calls go. Where the result of ``seed()`` is
-used, or the body returns early, the method is only reported. So is a method that a
+used, or the body returns early, the method is only reported; so is one that returns the
+seeding of an object it holds (``return self.scene.seed(seed)``: not a ``[seed]`` to drop). So is a method that a
 caller elsewhere in the file may still reach: ``self.seed(7)`` in a subclass that
 inherits it, or an ``x.seed(3)`` the seed rules leave because ``x`` could not be traced.
 """
@@ -96,7 +97,7 @@ def decide_seed(decision: ClassDecision) -> None:
             canonical_names.update(target)
             deleted.extend(group)
             continue
-        if index == len(groups) - 1 and len(group) == 1 and isinstance(group[0], ast.Return):
+        if index == len(groups) - 1 and len(group) == 1 and isinstance(group[0], ast.Return) and not _seeds_held_object(group[0]):
             deleted.extend(group)
             continue
         if len(group) == 1 and isinstance(group[0], ast.Expr) and is_super_method_call(group[0].value, "seed"):
@@ -104,7 +105,7 @@ def decide_seed(decision: ClassDecision) -> None:
             continue
         moved.append(index)
     moved = _without_dead_returns(groups, moved)
-    if any(inner_gym_env_call(decision, node, "seed") for i in moved for s in groups[i] for node in walk(s)):
+    if any(inner_gym_env_call(decision, node, name) for i in moved for s in groups[i] for node in walk(s) for name in ("seed", "_seed")):
         # Moved into reset(), `self.inner.seed(seed)` would be rewritten by the call-site
         # rule on the next run (a reset of the inner env inside this reset): by hand.
         decision.report(
@@ -112,6 +113,18 @@ def decide_seed(decision: ClassDecision) -> None:
             "GM503",
             "seed() seeds an env this class holds; Gymnasium seeds it through its reset: pass `seed` to that "
             "env's reset(seed=...) in this class's reset() by hand",
+            FixKind.FLAG,
+            question=moving_seed_question(seed_method),
+        )
+        return
+    if moved and moved[-1] == len(groups) - 1 and isinstance(groups[-1][0], ast.Return):
+        # ``return self.scene.seed(seed)``: what it returns is the seeding of an object the
+        # class holds, which the deletion of a plain ``return [seed]`` would lose unseen.
+        decision.report(
+            seed_method,
+            "GM503",
+            f"seed() seeds an object this class holds (`{facts.segment(groups[-1][0].value)}`, returned); Gymnasium "  # type: ignore[arg-type]
+            "never calls seed(): seed that object in reset() under `if seed is not None:` by hand",
             FixKind.FLAG,
             question=moving_seed_question(seed_method),
         )
@@ -419,6 +432,18 @@ def _only_prints(facts: ModuleFacts, group: list[ast.stmt]) -> bool:
         if not names or not all(name.startswith(("logging.", "gym.logger.", "gymnasium.logger.")) for name in names):
             return False
     return True
+
+
+def _seeds_held_object(statement: ast.Return) -> bool:
+    """``return self.scene.seed(seed)``: the value calls a method of an object the class
+    holds (``self.<attribute>.<method>(...)``), seeding work of its own, not a ``[seed]``
+    that only reports what was done."""
+    return any(
+        isinstance(node, ast.Call)
+        and isinstance(node.func, ast.Attribute)
+        and is_self_attribute(node.func.value)
+        for node in walk(statement)
+    )
 
 
 def _does_nothing(group: list[ast.stmt]) -> bool:
