@@ -13,6 +13,7 @@ inherits it, or an ``x.seed(3)`` the seed rules leave because ``x`` could not be
 from __future__ import annotations
 
 import ast
+import os
 
 from gymmigrate.facts.decisions import Action, decide
 from gymmigrate.facts.env_classes import (
@@ -61,6 +62,17 @@ def decide_seed(decision: ClassDecision) -> None:
             "could not be traced (or seeds made envs in a seed() method of its own), which may be an instance of it; "
             "once that call seeds through reset(seed=...), "
             "remove this method",
+            FixKind.FLAG,
+        )
+        return
+    below = _called_below_elsewhere(decision, seed_method)
+    if kept_for is None and below:
+        decision.report(
+            seed_method,
+            "GM503",
+            f"seed() kept: {', '.join(below)} (another module of this run) calls it on its own instances "
+            "(`self.seed(...)`), which would raise AttributeError once it is gone; once those calls seed through "
+            "reset(seed=...), remove this method",
             FixKind.FLAG,
         )
         return
@@ -371,6 +383,18 @@ def _untraced_seed_call(decision: ClassDecision) -> ast.Call | None:
         if verdict.action is Action.REPORT:
             return call
     return None
+
+
+def _called_below_elsewhere(decision: ClassDecision, seed_method: ast.FunctionDef | ast.AsyncFunctionDef) -> list[str]:
+    """The subclasses in other modules of the run whose ``self.seed(...)`` (or
+    ``super().seed(...)``) reaches this seed(), by its name or as the ``_seed`` gym <= 0.9's
+    ``Env.seed`` called: ``Class (module.py)``."""
+    project = decision.family.receivers.project
+    if project is None or decision.family.facts.parent(decision.classdef) is not decision.family.facts.tree:
+        return []
+    names = {seed_method.name, "seed"}
+    found = sorted({where for name in names for where in project.called_below_elsewhere(decision.classdef.name, name)})
+    return [f"`{where.rsplit(':', 1)[1]}` ({os.path.basename(where.rsplit(':', 1)[0])})" for where in found]
 
 
 def _inherits_seed(decision: ClassDecision, classdef: ast.ClassDef) -> bool:
