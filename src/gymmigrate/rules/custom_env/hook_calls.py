@@ -75,14 +75,21 @@ def rename_hook_calls_first(family: RuleFamily, env: EnvClasses) -> bool:
 
 
 def _renamed_above(family: RuleFamily, classdef: ast.ClassDef, renames: Renames) -> set[str]:
-    """The hooks that this module's bases of the class rename (at any depth)."""
+    """The hooks that the class's bases rename (at any depth): this module's, and those of
+    other modules of the run that the lookup reaches first (``ProjectView.hooks_renamed_above``)."""
     found: set[str] = set()
     seen = {id(classdef)}
     todo = [classdef]
+    project = family.receivers.project
     while todo:
         for base in todo.pop().bases:
             local = family.receivers.local_class(base)
-            if local is None or id(local) in seen:
+            if local is None:
+                if project is not None:
+                    for qualified in family.facts.qualified_names(base):
+                        found.update(project.hooks_renamed_above(qualified))
+                continue
+            if id(local) in seen:
                 continue
             seen.add(id(local))
             found.update(renames.get(id(local), (local, {}))[1])
@@ -114,7 +121,10 @@ def _base_hook_calls(
     for old, new in UNDERSCORE_METHODS.items():
         if old not in inherited:
             continue
-        through_base = old in own
+        # ``super()._reset()`` reaches the base's hook whether the class renames its own
+        # (then the base, under the same condition, renames its too) or keeps its own as a
+        # helper beside a public ``reset`` (then only a rename seen above says so)
+        through_base = old in own or old in above
         through_self = old not in own and old in above and not _defines(classdef, old, new)
         for call in family.facts.attribute_calls.get(old, ()):
             func = call.func
