@@ -34,6 +34,7 @@ from gymmigrate.facts import names as N
 from gymmigrate.facts.creation import Creation, CreationFinder
 from gymmigrate.facts.decisions import Action, Decision, receiver_text
 from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.legacy_wrapper_hooks import in_dead_hook
 from gymmigrate.facts.module import (
     COMPOUND_STATEMENTS,
     statement_lines,
@@ -65,6 +66,8 @@ class SeedCalls(ResetSeedBase):
         receiver = func.value
         if dead_version_branch(call, self.facts) is not None:
             return  # the legacy branch of a gym version check: it never runs on Gymnasium (GM108)
+        if in_dead_hook(self.receivers, call):
+            return  # a gym < 0.9 wrapper hook left dead (GM616): its body stays whole
         if is_space(receiver):
             self._check_space_seed(call)
             return
