@@ -3,14 +3,14 @@
 Gymnasium 1.4 (``facts/project_hooks.py``).
 
 ``sims``: ``SimEnv`` has a canonical seed(), and ``ObjectsEnv`` (``objects.py``, below it
-through ``ArmEnv`` of ``arm.py``) calls ``self.seed(env_seed)`` in its constructor. Before,
+through ``ArmEnv`` of ``arm.py``) calls ``self.seed(layout_seed)`` in its constructor. Before,
 GM503 deleted the seed() and ``ObjectsEnv()`` raised AttributeError; now it is kept and
 reported. ``GridEnv``'s seed() goes: the only call below it (``MazeEnv``) reaches a seed()
 of the subclass's own.
 
 ``arena``: ``ArenaEnv`` is a gym 0.7 env (``_step``, ``_reset``) the run renames.
-``BlockingEnv`` keeps a ``_reset`` of its own as a helper of a reset that takes margins and
-calls ``super(BlockingEnv, self)._reset()``; ``RestartEnv`` calls ``self._reset()`` from a
+``GuardEnv`` keeps a ``_reset`` of its own as a helper of a reset that takes a handicap and
+calls ``super(GuardEnv, self)._reset()``; ``RestartEnv`` calls ``self._reset()`` from a
 helper. Before, both calls kept the old name and raised AttributeError on Gymnasium; now
 they call ``reset`` and take the observation from its pair. ``PlainEnv`` renames its own
 ``_reset`` like the base, whose super call already followed.
@@ -35,16 +35,16 @@ _PLAY = """
 import numpy as np
 from sims.objects import ObjectsEnv
 from sims.maze import MazeEnv
-from arena.blocking import BlockingEnv
+from arena.guard import GuardEnv
 from arena.restart import RestartEnv
 from arena.plain import PlainEnv
 
 one, two = ObjectsEnv(), ObjectsEnv()
 print(one.colors == two.colors, one.reset(seed=3)[0].shape)
 print(MazeEnv().layout, MazeEnv().reset(seed=1)[0] == MazeEnv().reset(seed=1)[0])
-blocking = BlockingEnv()
-obs, info = blocking.reset(margins=[1])
-print(type(obs).__name__, info, blocking.elapsed, blocking.step(0)[1:4])
+guard = GuardEnv()
+obs, info = guard.reset(handicap=[1])
+print(type(obs).__name__, info, guard.elapsed, guard.step(0)[1:4])
 print(RestartEnv().restart().tolist(), PlainEnv().reset(seed=2)[0].tolist())
 """
 
@@ -60,7 +60,7 @@ def test_callers_elsewhere_keep_working_after_their_base_migrates(tmp_path: Path
     assert core.count("    def seed(self, seed=None):") == 1  # SimEnv's stays, GridEnv's goes
     assert "        self.seed()\n" in core
     assert "seed() kept: `ObjectsEnv` (objects.py)" in result.output
-    assert "ob, _ = super(BlockingEnv, self).reset()" in (project / "arena" / "blocking.py").read_text()
+    assert "ob, _ = super(GuardEnv, self).reset()" in (project / "arena" / "guard.py").read_text()
     assert "ob, _ = self.reset()" in (project / "arena" / "restart.py").read_text()
     assert "        return super().reset(seed=seed)\n" in (project / "arena" / "plain.py").read_text()
     run = subprocess.run([sys.executable, "-W", "ignore", "-c", _PLAY], cwd=project, capture_output=True, text=True, timeout=120)
@@ -89,9 +89,9 @@ def test_the_legacy_package_ran_the_same_way(tmp_path: Path) -> None:
     )
     (shim / "utils.py").write_text("from gymnasium.utils import seeding\n")
     code = (
-        "from sims.objects import ObjectsEnv\nfrom arena.blocking import BlockingEnv\nfrom arena.restart import RestartEnv\n"
+        "from sims.objects import ObjectsEnv\nfrom arena.guard import GuardEnv\nfrom arena.restart import RestartEnv\n"
         "one, two = ObjectsEnv(), ObjectsEnv()\nprint(one.colors == two.colors)\n"
-        "blocking = BlockingEnv()\nobs = blocking.reset(margins=[1])\nprint(type(obs).__name__, blocking.elapsed, blocking.step(0)[1:3])\n"
+        "guard = GuardEnv()\nobs = guard.reset(handicap=[1])\nprint(type(obs).__name__, guard.elapsed, guard.step(0)[1:3])\n"
         "print(RestartEnv().restart().tolist())\n"
     )
     env = {**os.environ, "PYTHONPATH": f"{tmp_path}:{project}"}
