@@ -266,11 +266,11 @@ def super_calls(facts: ModuleFacts) -> dict[str, frozenset[str]]:
             and (
                 is_super_call(node.func.value)
                 or (
-                    isinstance(node.func.value, (ast.Name, ast.Attribute))
-                    and ast.unparse(node.func.value) in spelled
-                    and bool(node.args)
+                    bool(node.args)
                     and isinstance(node.args[0], ast.Name)
                     and node.args[0].id == "self"
+                    and isinstance(node.func.value, (ast.Name, ast.Attribute))
+                    and ast.unparse(node.func.value) in spelled
                 )
             )
         )
