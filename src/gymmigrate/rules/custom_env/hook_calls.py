@@ -1,7 +1,9 @@
 """gym < 0.9 hooks called across a class hierarchy follow their rename.
 
 A subclass of the run's own env calls its base's old hook by name: ``super()._reset()``,
-``Base._step(self, a)``, or ``self._seed(s)`` where only a base defines ``_seed``. The
+``Base._step(self, a)``, or ``self._seed(s)`` where only a base defines ``_seed``, in the
+base's module or another of the run (whose renames the run's facts give:
+``ProjectView.hooks_renamed_above``). The
 base's ``_reset`` becomes ``reset`` in the same run, so a call left on the old name raises
 AttributeError on every reset. Renaming the call alone is not enough either: the renamed
 base returns ``(obs, info)`` (five step values), so the caller's use of the result must
@@ -108,11 +110,13 @@ def _base_hook_calls(
     family: RuleFamily, classdef: ast.ClassDef, own: dict[str, str], above: set[str], *, builtin: bool = False
 ) -> list[tuple[ast.Call, str]]:
     """The class's calls of a base's gym < 0.9 hook that the run renames: ``super()._reset()``
-    and ``Base._reset(self)`` from a hook the class renames itself, and ``self._step(a)`` on a
-    hook a base of this module renames. A base renames its hook under the class's own
-    condition (no public name above it), so the class's rename stands for the base's; a hook
-    the class does not define follows only a rename seen here (a base may publish its hook
-    under the public name, ``reset = _reset``, and keep it)."""
+    and ``Base._reset(self)`` from a hook the class renames itself or from any other method
+    (a ``_reset`` kept as the helper of a public reset of its own), and ``self._step(a)`` on
+    a hook it does not define. A base renames its hook under the class's own condition (no
+    public name above it), so the class's rename stands for the base's; otherwise only a
+    rename seen above (``above``: bases of this module, and of other modules through the
+    run's facts) counts (a base may publish its hook under the public name, ``reset =
+    _reset``, and keep it)."""
     inherited = family.receivers.base_methods(classdef)
     if builtin:
         inherited = inherited | _BUILTIN_HOOKS  # the first base is one of Gym's own env classes
