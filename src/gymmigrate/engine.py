@@ -232,12 +232,13 @@ def _settle(first: Transformed, original_text: str, path: str, options: RewriteO
         except SyntaxError as exc:
             raise TransformError(f"the rewrite would not parse (line {exc.lineno}: {exc.msg}); file left unchanged") from None
         again = _migrate(current.rewritten, text, current.encoding, tree, path, options)
-        if again.rewritten == current.rewritten:
+        settled = again.rewritten == current.rewritten
+        if settled and not current.renamed_first:
             if current is first:
                 return first
             final = _text_of(current.rewritten, current.encoding)
             return replace(current, original=first.original, findings=_placed(findings, original_text, final))
-        if again.rewritten in seen:
+        if not settled and again.rewritten in seen:
             raise TransformError(
                 f"the rewrite oscillates ({', '.join(sorted(again.changed_by))} undo what another round wrote); file left unchanged"
             )
@@ -245,12 +246,17 @@ def _settle(first: Transformed, original_text: str, path: str, options: RewriteO
         # The later round's own changes, placed in the original by way of the text it read.
         back = LineMap(original_text, text)
         # Its message names lines of that text too ("the same question at line 12"): they
-        # follow the same way, so the item reads the original throughout.
+        # follow the same way, so the item reads the original throughout. After a round of
+        # renames alone every finding of the next is the file's, whether or not it changes
+        # anything more (a review item on a renamed call is all there may be).
         findings += [
             replace(f, line=back.backward(f.line), message=renumber_lines(f.message, back.backward))
             for f in again.findings
             if f.is_change or current.renamed_first
         ]
+        if settled:
+            final = _text_of(current.rewritten, current.encoding)
+            return replace(current, original=first.original, findings=_placed(findings, original_text, final))
         current = again
     raise TransformError(
         f"the rewrite does not settle after {MAX_ROUNDS} rounds ({', '.join(sorted(current.changed_by))} kept changing it); "

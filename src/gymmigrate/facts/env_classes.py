@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import ast
 from collections import defaultdict
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.kinds import EnvKind
@@ -36,6 +36,9 @@ DIRECT_ENV_BASES = frozenset({"Env", "core.Env", "GoalEnv", "core.GoalEnv"})
 
 # The API methods gym <= 0.9 spelled with a leading underscore (``_reset`` for ``reset``).
 HOOK_NAMES = frozenset({"step", "reset", "seed", "render", "close", "configure"})
+# gym <= 0.9's ``Env.step`` called ``self._step`` and so on: each hook and its public name,
+# in the order the rules report them.
+UNDERSCORE_HOOKS = {"_step": "step", "_reset": "reset", "_seed": "seed", "_render": "render", "_close": "close", "_configure": "configure"}
 
 
 def class_level_bindings(
@@ -66,6 +69,44 @@ def class_level_bindings(
 
     visit(classdef.body, False)
     return aliases, frozenset(bound | set(aliases))
+
+
+def hook_renames(
+    classdef: ast.ClassDef,
+    methods: dict[str, ast.FunctionDef | ast.AsyncFunctionDef],
+    inherited: Callable[[], frozenset[str]],
+) -> dict[str, str]:
+    """The gym <= 0.9 hooks the class renames (public name -> hook): it defines ``_reset`` and
+    nothing of the run above or beside it defines ``reset`` (``inherited``: the methods of
+    its bases of the run, asked only when there is a hook). Gymnasium's base class calls
+    none of the hooks. Not a hook the class publishes (``reset = _reset``: subclasses call it
+    by name) nor ``_seed`` where the reset seeds through it: those keep their names."""
+    aliases, bound = class_level_bindings(classdef, methods)
+    kept = {alias.value.id for alias in aliases.values()}  # type: ignore[attr-defined]
+    reset = methods.get("reset")
+    if "reset" in aliases or (reset is not None and seeds_through_hook(reset)):
+        # the reset written at the alias seeds through it (and so does that reset once
+        # written, on the next pass): ``_seed`` is the class's own helper then
+        kept.add("_seed")
+    olds = [old for old in UNDERSCORE_HOOKS if old in methods and old not in kept]
+    above = inherited() if olds else frozenset()
+    return {
+        UNDERSCORE_HOOKS[old]: old
+        for old in olds
+        if UNDERSCORE_HOOKS[old] not in methods and UNDERSCORE_HOOKS[old] not in above and UNDERSCORE_HOOKS[old] not in bound
+    }
+
+
+def seeds_through_hook(reset: ast.FunctionDef | ast.AsyncFunctionDef) -> bool:
+    """A Gymnasium reset (keyword ``seed`` and ``options``) that calls ``self._seed(seed)``."""
+    if not {"seed", "options"} <= {a.arg for a in reset.args.kwonlyargs}:
+        return False
+    return any(
+        isinstance(node, ast.Call)
+        and self_attribute(node.func) == "_seed"
+        and [a.id for a in node.args if isinstance(a, ast.Name)] == ["seed"]
+        for node in walk(reset)
+    )
 
 
 def identifiers(node: ast.AST) -> list[str]:

@@ -134,6 +134,14 @@ class ModuleSummary:
     # Top-level class -> the names its methods call as ``self.<name>(...)``: a helper a
     # subclass elsewhere defines may be called by its base here, so its return is shared.
     self_calls: dict[str, frozenset[str]] = field(default_factory=dict)
+    # Top-level class -> the names its methods call on a base (``super().m(...)``,
+    # ``Base.m(self, ...)``), and -> its bases of the run in the order it names them (``@Name``
+    # for one of this module), and -> the gym <= 0.9 hooks it renames (``_reset`` ->
+    # ``reset``) on this module's knowledge: the join finds the callers in other modules of a
+    # method the run removes or renames (``facts/project_hooks.py``).
+    super_calls: dict[str, frozenset[str]] = field(default_factory=dict)
+    run_bases: dict[str, tuple[str, ...]] = field(default_factory=dict)
+    renamed_hooks: dict[str, frozenset[str]] = field(default_factory=dict)
     # The methods the module calls on another receiver than ``self`` or ``super()``
     # (``env.postprocess(...)``): a helper of a class elsewhere that step returns keeps
     # its own return when this module may call it directly (``common.delegates``).

@@ -92,6 +92,7 @@ from gymmigrate.facts.project_exports import (
     reexport_wrappers,
 )
 from gymmigrate.facts.project_holders import join_made_holders, join_property_aliases
+from gymmigrate.facts.project_hooks import join_hook_calls
 from gymmigrate.facts.project_ids import id_slots
 from gymmigrate.facts.project_imports import (
     env_modules_through_packages,
@@ -175,6 +176,16 @@ class ProjectFacts:
     subclass_methods: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
     # (path, class) -> the ``self.<name>(...)`` its methods call (``ModuleSummary.self_calls``).
     self_calls: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
+    # (path, class) -> its bases of the run, resolved, in the order it names them; the gym
+    # <= 0.9 hooks an env class of the run renames (``_reset``); and, per method the run may
+    # remove or rename, the classes of other modules whose ``self.m(...)`` or
+    # ``super().m(...)`` reaches it there, as "path:Class" (``facts/project_hooks.py``).
+    class_bases: dict[tuple[str, str], tuple[tuple[str, str], ...]] = field(default_factory=dict)
+    hook_renames: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
+    called_below: dict[tuple[str, str], dict[str, list[str]]] = field(default_factory=dict)
+    # (path, top-level name) of a class of the run (or a re-export of one) -> the hooks a
+    # lookup from it up finds first in a class that renames them
+    renamed_above: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
     # method name -> the modules of the run that call it on a receiver other than ``self``
     # (``ModuleSummary.instance_calls``).
     instance_calls: dict[str, list[str]] = field(default_factory=dict)
@@ -544,6 +555,7 @@ class ProjectFacts:
                 if resolved is not None:
                     facts.handed_on.add(resolved)
         facts.class_methods = class_methods(facts, by_path)
+        join_hook_calls(facts, by_path)  # after the class methods: a base elsewhere may define the public name
         join_init_attributes(facts, by_path)
         driven = inherit_driven_kinds(facts, by_path)
         for path, summary in by_path.items():

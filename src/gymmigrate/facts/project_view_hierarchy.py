@@ -68,6 +68,20 @@ class HierarchyView:
                 todo += links.get(other, ())
         return found
 
+    def called_below_elsewhere(self, classname: str, method: str) -> list[str]:
+        """Classes of other modules of the run, below this file's ``classname`` at any depth,
+        whose ``self.<method>(...)`` or ``super().<method>(...)`` reaches its ``method``, as
+        "pkg/far.py:FarEnv" (``facts/project_hooks.py``; a ``self.seed(...)`` reaching a
+        ``_seed`` is listed under ``_seed``)."""
+        return self.facts.called_below.get((self.path, classname), {}).get(method, [])
+
+    def hooks_renamed_above(self, qualified: str) -> frozenset[str]:
+        """The gym <= 0.9 hooks (``_reset``) that the imported class of the run ``qualified``,
+        or the base of it that defines each, renames: ``super()._reset()`` in a subclass
+        here reaches a method the run renames ``reset``."""
+        split = self.facts._split(qualified, self.path)
+        return frozenset() if split is None else self.facts.renamed_above.get(split, frozenset())
+
     def called_on_instances_elsewhere(self, method: str) -> list[str]:
         """Other modules of the run that call ``x.<method>(...)`` on a receiver other than
         ``self``: one of them may be an instance of this file's class."""

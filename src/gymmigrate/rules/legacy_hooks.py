@@ -19,6 +19,7 @@ import ast
 
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.env_classes import self_calls
+from gymmigrate.facts.legacy_wrapper_hooks import API_HOOKS, dead_hook_internals
 from gymmigrate.facts.module import is_super_call
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
@@ -31,7 +32,7 @@ HOOK_BASES = {
     "_reverse_action": "ActionWrapper",
     "_reward": "RewardWrapper",
 }
-API_METHODS = {"_step": "step", "_reset": "reset", "_render": "render", "_seed": "seed", "_close": "close"}
+API_METHODS = API_HOOKS
 
 
 class LegacyWrapperHooks(RuleFamily):
@@ -74,6 +75,8 @@ class LegacyWrapperHooks(RuleFamily):
                     continue  # not a dead hook: the class's own step, or a base's step calls it
                 if not self.plan.allow_renames_first:
                     continue  # the rename was left out (--ignore GM616, a suppression comment)
+                if self._reads_gone_internals(methods[old], old, new):
+                    continue
                 self.plan.renames_first = True
                 self.plan.replace(methods[old], lambda node, new=new: node.with_changes(name=node.name.with_changes(value=new)))
                 for call in self._hook_calls(classdef, old):
@@ -84,6 +87,27 @@ class LegacyWrapperHooks(RuleFamily):
                     f"gym < 0.9 wrapper method `{old}` renamed `{new}` (Gymnasium calls `{new}` only), and migrated as "
                     f"the wrapper's `{new}`",
                 )
+
+    def _reads_gone_internals(self, hook: ast.FunctionDef | ast.AsyncFunctionDef, old: str, new: str) -> bool:
+        """The hook was written for gym 0.9's internals of its base wrapper class
+        (``facts/legacy_wrapper_hooks.py``): renamed, Gymnasium would call a body that raises
+        AttributeError at once; left as it is, it is never called and the class works as
+        Gymnasium's base does. Reported, not renamed."""
+        found = dead_hook_internals(self.receivers, hook)
+        if found is None:
+            return False
+        base, gone = found
+        shown = ", ".join(f"`{name}`" for name in gone)
+        self.report(
+            hook,
+            "GM616",
+            f"gym < 0.9 wrapper method `{old}` left as it is: it reads {shown}, gym 0.9's internals of `{base}` that "
+            f"neither this class nor Gymnasium's `{base}` has, so renamed `{new}` it would raise AttributeError on "
+            f"its first call; as it is, Gymnasium never calls it and the class does what Gymnasium's `{base}` does. "
+            f"Port the body to `{new}` by hand if it should still run",
+            FixKind.FLAG,
+        )
+        return True
 
     def _ancestry(self, classdef: ast.ClassDef) -> tuple[set[str], set[str]]:
         """The Gym wrapper classes ``classdef`` derives from (last name: ``ObservationWrapper``),

@@ -7,19 +7,29 @@ classes whose render(mode) may stay the project's own."""
 from __future__ import annotations
 
 import ast
+from functools import partial
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.class_shapes import wrapped_env_renders
 from gymmigrate.facts.done_causes import Cause, DoneCause
 from gymmigrate.facts.env_classes import (
+    UNDERSCORE_HOOKS,
     EnvClasses,
+    class_level_bindings,
+    hook_renames,
     is_super_method_call,
     mode_can_stay_optional,
 )
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.limits import DoneTracer
-from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns, walk
+from gymmigrate.facts.module import (
+    FUNCTIONS,
+    ModuleFacts,
+    is_super_call,
+    own_returns,
+    walk,
+)
 from gymmigrate.facts.module_summary import OWN
 from gymmigrate.facts.receivers import Receivers
 from gymmigrate.facts.render_modes import (
@@ -200,13 +210,7 @@ def render_mode_heirs(facts: ModuleFacts, receivers: Receivers) -> tuple[tuple[s
     custom_env/render.py gives ``render_mode=render_mode``)."""
     found = []
     for name, classdef in facts.classes.items():
-        bases = []
-        for base in classdef.bases:
-            local = receivers.local_class(base)
-            if local is not None and local is not classdef:
-                bases.append(OWN + local.name)
-            else:
-                bases.extend(q for q in facts.qualified_names(base) if not N.is_library(q))
+        bases = _run_bases(facts, receivers, classdef)
         if not bases:
             continue
         init = next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == "__init__"), None)
@@ -220,6 +224,80 @@ def render_mode_heirs(facts: ModuleFacts, receivers: Receivers) -> tuple[tuple[s
             passes_on = len(calls) == 1 and all(k.arg is not None for k in calls[0].keywords)
         found.append((name, tuple(sorted(bases)), passes_on))
     return tuple(found)
+
+
+def _run_bases(facts: ModuleFacts, receivers: Receivers, classdef: ast.ClassDef) -> list[str]:
+    """The class's bases that may be classes of the run, in the order it names them:
+    ``@Name`` for one of this module, the qualified name of an imported one."""
+    bases = []
+    for base in classdef.bases:
+        local = receivers.local_class(base)
+        if local is not None and local is not classdef:
+            bases.append(OWN + local.name)
+        else:
+            bases.extend(q for q in facts.qualified_names(base) if not N.is_library(q))
+    return bases
+
+
+def run_bases(facts: ModuleFacts, receivers: Receivers) -> dict[str, tuple[str, ...]]:
+    """``ModuleSummary.run_bases``: per top-level class with a base of the run, those bases
+    in declaration order (a method is looked up in the first that defines it)."""
+    found = {}
+    for name, classdef in facts.classes.items():
+        bases = _run_bases(facts, receivers, classdef)
+        if bases:
+            found[name] = tuple(bases)
+    return found
+
+
+def super_calls(facts: ModuleFacts) -> dict[str, frozenset[str]]:
+    """``ModuleSummary.super_calls``: per top-level class, the methods its own methods call
+    on a base: ``super().m(...)``, ``super(Cls, self).m(...)`` or ``Base.m(self, ...)``
+    naming one of its bases as it spells them. What they reach is the nearest base above
+    the class defining ``m``, never the class's own."""
+    found: dict[str, frozenset[str]] = {}
+    for name, classdef in facts.classes.items():
+        spelled = {ast.unparse(base) for base in classdef.bases}
+        called = frozenset(
+            node.func.attr
+            for statement in classdef.body
+            if isinstance(statement, FUNCTIONS)
+            for node in walk(statement)
+            if isinstance(node, ast.Call)
+            and isinstance(node.func, ast.Attribute)
+            and (
+                is_super_call(node.func.value)
+                or (
+                    bool(node.args)
+                    and isinstance(node.args[0], ast.Name)
+                    and node.args[0].id == "self"
+                    and isinstance(node.func.value, (ast.Name, ast.Attribute))
+                    and ast.unparse(node.func.value) in spelled
+                )
+            )
+        )
+        if called:
+            found[name] = called
+    return found
+
+
+def renamed_hooks(facts: ModuleFacts, receivers: Receivers) -> dict[str, frozenset[str]]:
+    """``ModuleSummary.renamed_hooks``: per top-level class that is no Gym wrapper, the gym
+    <= 0.9 hooks (``_reset``) it renames on this module's knowledge (``hook_renames``: no
+    public name in the class or its bases here). The join drops those whose public name a
+    base in another module defines, and keeps only env classes of the run. A class that
+    publishes a hook (``reset = _reset``) keeps them all, and is not listed."""
+    found: dict[str, frozenset[str]] = {}
+    for name, classdef in facts.classes.items():
+        if receivers.is_gym_wrapper_class(classdef):
+            continue
+        methods = {s.name: s for s in classdef.body if isinstance(s, FUNCTIONS)}
+        if not any(old in methods for old in UNDERSCORE_HOOKS) or class_level_bindings(classdef, methods)[0]:
+            continue
+        renames = hook_renames(classdef, methods, partial(receivers.base_methods, classdef))
+        if renames:
+            found[name] = frozenset(renames.values())
+    return found
 
 
 def subclasses(facts: ModuleFacts) -> tuple[tuple[str, tuple[str, ...], tuple[str, ...]], ...]:

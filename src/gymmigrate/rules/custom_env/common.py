@@ -8,13 +8,15 @@ from typing import TYPE_CHECKING
 
 from gymmigrate.facts.decisions import Action, decide
 from gymmigrate.facts.env_classes import (
+    UNDERSCORE_HOOKS,
     ClassIndex,
     EnvClasses,
     FunctionIndex,
     class_level_bindings,
+    hook_renames,
     is_super_method_call,
 )
-from gymmigrate.facts.module import full_name, own_returns, walk
+from gymmigrate.facts.module import full_name, own_returns
 from gymmigrate.facts.step_calls import foreign_step
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import Rule
@@ -44,8 +46,8 @@ CLASS_RULES = (
 # only defines the underscore names gets the public ones, unless a base class of the run
 # defines the public one: then that base's ``step`` calls the subclass's ``_step`` (a hook
 # of the project's own, ``TrialEnv.step`` -> ``self._step(action)``), and a rename would
-# override the base's step with the hook.
-UNDERSCORE_METHODS = {"_step": "step", "_reset": "reset", "_seed": "seed", "_render": "render", "_close": "close", "_configure": "configure"}
+# override the base's step with the hook (``facts.env_classes.hook_renames``).
+UNDERSCORE_METHODS = UNDERSCORE_HOOKS
 UNDERSCORE_RULE = {"step": "GM504", "reset": "GM501", "seed": "GM503", "render": "GM405", "close": "GM405", "configure": "GM405"}
 
 Method = ast.FunctionDef | ast.AsyncFunctionDef
@@ -65,20 +67,9 @@ class ClassDecision:
         # keep their names, which subclasses call (``Base._reset(self)``); only the public
         # names change contract (``reset.py``). Renaming the hooks would leave the aliases
         # naming nothing: NameError when the class body runs.
-        self.aliases, bound = class_level_bindings(classdef, self.methods)
+        self.aliases, _ = class_level_bindings(classdef, self.methods)
         self.plan.published = {new: alias.value.id for new, alias in self.aliases.items()}  # type: ignore[attr-defined]
-        kept = set(self.plan.published.values())
-        reset = self.methods.get("reset")
-        if "reset" in self.plan.published or (reset is not None and _seeds_through_hook(reset)):
-            # the reset written at the alias seeds through it (and so does that reset once
-            # written, on the next pass): ``_seed`` is the class's own helper then
-            kept.add("_seed")
-        olds = [old for old in UNDERSCORE_METHODS if old in self.methods and old not in kept]
-        inherited = inherited_methods(family, classdef) if olds else frozenset()
-        for old in olds:
-            new = UNDERSCORE_METHODS[old]
-            if new not in self.methods and new not in inherited and new not in bound:
-                self.plan.renamed[new] = old
+        self.plan.renamed.update(hook_renames(classdef, self.methods, lambda: inherited_methods(family, classdef)))
         # ``def seed(self, seed=None): return self._seed(seed)``: seeding moves into reset,
         # so the helper is the method to migrate and the forwarding one goes with it.
         public, helper = self.methods.get("seed"), self.methods.get("_seed")
@@ -125,16 +116,6 @@ def method_of(decision: ClassDecision, node: ast.AST) -> Method | None:
     return None
 
 
-
-
-def _seeds_through_hook(reset: Method) -> bool:
-    """A Gymnasium reset (keyword ``seed`` and ``options``) that calls ``self._seed(seed)``."""
-    if not {"seed", "options"} <= {a.arg for a in reset.args.kwonlyargs}:
-        return False
-    return any(
-        is_self_call(node, {"_seed"}) and [a.id for a in node.args if isinstance(a, ast.Name)] == ["seed"]  # type: ignore[attr-defined]
-        for node in walk(reset)
-    )
 
 
 def _forwards(function: Method, helper: str) -> bool:

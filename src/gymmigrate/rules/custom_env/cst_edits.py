@@ -647,11 +647,19 @@ class _SelfMethodCallRenamer(cst.CSTTransformer):
 
 
 class _SelfResetUnpacker(cst.CSTTransformer):
-    """``x = self.reset()`` -> ``x, _ = self.reset()``."""
+    """``x = self.reset()`` -> ``x, _ = self.reset()``; so for the base's reset a helper
+    calls, ``super().reset()`` or ``Base.reset(self)`` (``bases``)."""
+
+    def __init__(self, bases: frozenset[str] = frozenset()) -> None:
+        super().__init__()
+        self.bases = bases
 
     def leave_Assign(self, original_node: cst.Assign, updated_node: cst.Assign) -> cst.Assign:
         reset = m.Call(func=m.Attribute(value=m.Name("self"), attr=m.Name("reset") | m.Name("_reset")))
-        if not m.matches(updated_node, m.Assign(targets=[m.AssignTarget(m.Name() | m.Attribute())], value=reset)):
+        value = updated_node.value
+        if not (m.matches(value, reset) or is_base_reset(value, self.bases)):
+            return updated_node
+        if not m.matches(updated_node, m.Assign(targets=[m.AssignTarget(m.Name() | m.Attribute())])):
             return updated_node
         target = cst.Tuple([cst.Element(updated_node.targets[0].target), cst.Element(cst.Name("_"))], lpar=[], rpar=[])
         return updated_node.with_changes(targets=[updated_node.targets[0].with_changes(target=target)])

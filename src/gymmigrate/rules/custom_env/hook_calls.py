@@ -1,7 +1,9 @@
 """gym < 0.9 hooks called across a class hierarchy follow their rename.
 
 A subclass of the run's own env calls its base's old hook by name: ``super()._reset()``,
-``Base._step(self, a)``, or ``self._seed(s)`` where only a base defines ``_seed``. The
+``Base._step(self, a)``, or ``self._seed(s)`` where only a base defines ``_seed``, in the
+base's module or another of the run (whose renames the run's facts give:
+``ProjectView.hooks_renamed_above``). The
 base's ``_reset`` becomes ``reset`` in the same run, so a call left on the old name raises
 AttributeError on every reset. Renaming the call alone is not enough either: the renamed
 base returns ``(obs, info)`` (five step values), so the caller's use of the result must
@@ -75,14 +77,21 @@ def rename_hook_calls_first(family: RuleFamily, env: EnvClasses) -> bool:
 
 
 def _renamed_above(family: RuleFamily, classdef: ast.ClassDef, renames: Renames) -> set[str]:
-    """The hooks that this module's bases of the class rename (at any depth)."""
+    """The hooks that the class's bases rename (at any depth): this module's, and those of
+    other modules of the run that the lookup reaches first (``ProjectView.hooks_renamed_above``)."""
     found: set[str] = set()
     seen = {id(classdef)}
     todo = [classdef]
+    project = family.receivers.project
     while todo:
         for base in todo.pop().bases:
             local = family.receivers.local_class(base)
-            if local is None or id(local) in seen:
+            if local is None:
+                if project is not None:
+                    for qualified in family.facts.qualified_names(base):
+                        found.update(project.hooks_renamed_above(qualified))
+                continue
+            if id(local) in seen:
                 continue
             seen.add(id(local))
             found.update(renames.get(id(local), (local, {}))[1])
@@ -101,11 +110,13 @@ def _base_hook_calls(
     family: RuleFamily, classdef: ast.ClassDef, own: dict[str, str], above: set[str], *, builtin: bool = False
 ) -> list[tuple[ast.Call, str]]:
     """The class's calls of a base's gym < 0.9 hook that the run renames: ``super()._reset()``
-    and ``Base._reset(self)`` from a hook the class renames itself, and ``self._step(a)`` on a
-    hook a base of this module renames. A base renames its hook under the class's own
-    condition (no public name above it), so the class's rename stands for the base's; a hook
-    the class does not define follows only a rename seen here (a base may publish its hook
-    under the public name, ``reset = _reset``, and keep it)."""
+    and ``Base._reset(self)`` from a hook the class renames itself or from any other method
+    (a ``_reset`` kept as the helper of a public reset of its own), and ``self._step(a)`` on
+    a hook it does not define. A base renames its hook under the class's own condition (no
+    public name above it), so the class's rename stands for the base's; otherwise only a
+    rename seen above (``above``: bases of this module, and of other modules through the
+    run's facts) counts (a base may publish its hook under the public name, ``reset =
+    _reset``, and keep it)."""
     inherited = family.receivers.base_methods(classdef)
     if builtin:
         inherited = inherited | _BUILTIN_HOOKS  # the first base is one of Gym's own env classes
@@ -114,7 +125,10 @@ def _base_hook_calls(
     for old, new in UNDERSCORE_METHODS.items():
         if old not in inherited:
             continue
-        through_base = old in own
+        # ``super()._reset()`` reaches the base's hook whether the class renames its own
+        # (then the base, under the same condition, renames its too) or keeps its own as a
+        # helper beside a public ``reset`` (then only a rename seen above says so)
+        through_base = old in own or old in above
         through_self = old not in own and old in above and not _defines(classdef, old, new)
         for call in family.facts.attribute_calls.get(old, ()):
             func = call.func

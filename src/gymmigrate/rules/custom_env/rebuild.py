@@ -389,9 +389,9 @@ class ClassRewrite:
     def _unpack_self_reset(self) -> None:
         for name, fn in self.methods.items():
             current = self.replacements.get(name, fn)
-            if current is None or name in ("reset", "_reset") or name not in self.plan.reset_callers:
+            if current is None or name in ("reset", self.renamed.get("reset")) or name not in self.plan.reset_callers:
                 continue
-            new = current.visit(_SelfResetUnpacker())
+            new = current.visit(_SelfResetUnpacker(self.plan.reset_bases))
             if new is not current:
                 self.replacements[name] = new  # type: ignore[assignment]
 

@@ -12,12 +12,14 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.facts.env_classes import is_self_attribute, is_super_method_call
+from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import own_returns, walk
 from gymmigrate.facts.own_api import is_info_pair
 from gymmigrate.facts.own_steps import self_step_gives_five
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import (
     ClassDecision,
+    Method,
     callable_without_arguments,
     delegates,
     inner_gym_env_call,
@@ -479,16 +481,21 @@ def _info_is_own_dict(decision: ClassDecision, function: ast.AST) -> bool:
 
 
 def decide_internal_calls(decision: ClassDecision) -> None:
-    """``obs = self.reset()`` in the class itself: reset() returns (obs, info) now."""
+    """``obs = self.reset()`` in the class itself: reset() returns (obs, info) now. So does
+    the base's reset that ``obs = super().reset()`` (or ``Base.reset(self)``) calls outside
+    the class's own reset, a helper's (``_reset`` beside a public ``reset``)."""
     facts = decision.family.facts
     unpackable = False
+    own_reset = decision.method("reset")
+    bases = reset_bases(decision)
     for target, code in (("reset", "GM501"), ("step", "GM504")):
         # ``self._step(a)`` is the step only where the gym < 0.9 name is renamed; beside a
         # ``step`` of the class (or of a base of the run) it is a hook on a contract of its own
         legacy = ("_" + target,) if decision.renamed.get(target) == "_" + target else ()
-        for call in (*decision.index.self_calls.get(target, ()), *(c for name in legacy for c in decision.index.self_calls.get(name, ()))):
+        up = _base_resets_outside_reset(decision, own_reset, bases) if target == "reset" else []
+        for call in (*decision.index.self_calls.get(target, ()), *(c for name in legacy for c in decision.index.self_calls.get(name, ())), *up):
             method = method_of(decision, call)
-            if method is None or method.name in decision.removed or method.name in ("reset", "_reset"):
+            if method is None or method.name in decision.removed or method.name == "reset" or method is own_reset:
                 continue
             parent = facts.parent(call)
             if isinstance(parent, ast.Expr):
@@ -497,6 +504,8 @@ def decide_internal_calls(decision: ClassDecision) -> None:
                 continue  # a delegation the rewrite followed: the helper returns the new contract
             if target == "step" and call.func.attr == "step" and self_step_gives_five(facts, decision.family.receivers, decision.classdef):
                 continue  # every step it may run gives five values: the step family moves this call with them
+            if call in up:
+                decision.plan.reset_bases = bases  # the build unpacks ``Base.reset(self)`` as well
             if (
                 target == "reset"
                 and isinstance(parent, ast.Assign)
@@ -518,8 +527,27 @@ def decide_internal_calls(decision: ClassDecision) -> None:
                 )
             else:
                 what = "(obs, info)" if target == "reset" else "(obs, reward, terminated, truncated, info)"
-                decision.report(call, code, f"self.{target}() returns {what} now: update how its result is used", FixKind.FLAG)
+                called = f"{facts.segment(call.func)}()" if call in up else f"self.{target}()"
+                decision.report(call, code, f"{called} returns {what} now: update how its result is used", FixKind.FLAG)
     decision.plan.unpack_self_reset = unpackable
+
+
+def _base_resets_outside_reset(decision: ClassDecision, own_reset: Method | None, bases: frozenset[str]) -> list[ast.Call]:
+    """``super().reset()`` and ``Base.reset(self)`` in the class's methods but its reset,
+    where the base is a Gym env (its reset returns the pair once migrated, or Gymnasium's)."""
+    receivers = decision.family.receivers
+    found: list[ast.Call] = []
+    for call in decision.index.nodes[ast.Call]:
+        if not isinstance(call, ast.Call) or not isinstance(call.func, ast.Attribute) or not is_base_reset(call, bases):
+            continue
+        if own_reset is not None and method_of(decision, call) is own_reset:
+            continue
+        if decision.family.facts.enclosing_class(call) is not decision.classdef:
+            continue  # a class nested in a method: its own bases
+        if receivers.super_kind(call.func.value) is EnvKind.GYM_ENV:
+            found.append(call)
+    found.sort(key=lambda c: (c.lineno, c.col_offset))
+    return found
 
 
 def _super_reset_needs_seed(node: ast.AST, bases: frozenset[str]) -> bool:

@@ -4,7 +4,8 @@ The canonical ``self.np_random, seed = seeding.np_random(seed)`` body is deleted
 anything else that uses the seed moves into ``reset`` under ``if seed is not None:``;
 set-up that does not touch the seed (spaces, simulators) moves into ``__init__`` where
 ``self.seed()`` was called; ``self.seed()`` calls go. Where the result of ``seed()`` is
-used, or the body returns early, the method is only reported. So is a method that a
+used, or the body returns early, the method is only reported; so is one that returns the
+seeding of an object it holds (``return self.scene.seed(seed)``: not a ``[seed]`` to drop). So is a method that a
 caller elsewhere in the file may still reach: ``self.seed(7)`` in a subclass that
 inherits it, or an ``x.seed(3)`` the seed rules leave because ``x`` could not be traced.
 """
@@ -12,6 +13,7 @@ inherits it, or an ``x.seed(3)`` the seed rules leave because ``x`` could not be
 from __future__ import annotations
 
 import ast
+import os
 
 from gymmigrate.facts.decisions import Action, decide
 from gymmigrate.facts.env_classes import (
@@ -63,6 +65,17 @@ def decide_seed(decision: ClassDecision) -> None:
             FixKind.FLAG,
         )
         return
+    below = _called_below_elsewhere(decision, seed_method)
+    if kept_for is None and below:
+        decision.report(
+            seed_method,
+            "GM503",
+            f"seed() kept: {', '.join(below)} (another module of this run) calls it on its own instances "
+            "(`self.seed(...)`), which would raise AttributeError once it is gone; once those calls seed through "
+            "reset(seed=...), remove this method",
+            FixKind.FLAG,
+        )
+        return
     if kept_for is not None:
         decision.report(
             seed_method,
@@ -96,7 +109,7 @@ def decide_seed(decision: ClassDecision) -> None:
             canonical_names.update(target)
             deleted.extend(group)
             continue
-        if index == len(groups) - 1 and len(group) == 1 and isinstance(group[0], ast.Return):
+        if index == len(groups) - 1 and len(group) == 1 and isinstance(group[0], ast.Return) and not _seeds_held_object(group[0]):
             deleted.extend(group)
             continue
         if len(group) == 1 and isinstance(group[0], ast.Expr) and is_super_method_call(group[0].value, "seed"):
@@ -104,7 +117,7 @@ def decide_seed(decision: ClassDecision) -> None:
             continue
         moved.append(index)
     moved = _without_dead_returns(groups, moved)
-    if any(inner_gym_env_call(decision, node, "seed") for i in moved for s in groups[i] for node in walk(s)):
+    if any(inner_gym_env_call(decision, node, name) for i in moved for s in groups[i] for node in walk(s) for name in ("seed", "_seed")):
         # Moved into reset(), `self.inner.seed(seed)` would be rewritten by the call-site
         # rule on the next run (a reset of the inner env inside this reset): by hand.
         decision.report(
@@ -112,6 +125,18 @@ def decide_seed(decision: ClassDecision) -> None:
             "GM503",
             "seed() seeds an env this class holds; Gymnasium seeds it through its reset: pass `seed` to that "
             "env's reset(seed=...) in this class's reset() by hand",
+            FixKind.FLAG,
+            question=moving_seed_question(seed_method),
+        )
+        return
+    if moved and moved[-1] == len(groups) - 1 and isinstance(groups[-1][0], ast.Return):
+        # ``return self.scene.seed(seed)``: what it returns is the seeding of an object the
+        # class holds, which the deletion of a plain ``return [seed]`` would lose unseen.
+        decision.report(
+            seed_method,
+            "GM503",
+            f"seed() seeds an object this class holds (`{facts.segment(groups[-1][0].value)}`, returned); Gymnasium "  # type: ignore[arg-type]
+            "never calls seed(): seed that object in reset() under `if seed is not None:` by hand",
             FixKind.FLAG,
             question=moving_seed_question(seed_method),
         )
@@ -360,6 +385,18 @@ def _untraced_seed_call(decision: ClassDecision) -> ast.Call | None:
     return None
 
 
+def _called_below_elsewhere(decision: ClassDecision, seed_method: ast.FunctionDef | ast.AsyncFunctionDef) -> list[str]:
+    """The subclasses in other modules of the run whose ``self.seed(...)`` (or
+    ``super().seed(...)``) reaches this seed(), by its name or as the ``_seed`` gym <= 0.9's
+    ``Env.seed`` called: ``Class (module.py)``."""
+    project = decision.family.receivers.project
+    if project is None or decision.family.facts.parent(decision.classdef) is not decision.family.facts.tree:
+        return []
+    names = {seed_method.name, "seed"}
+    found = sorted({where for name in names for where in project.called_below_elsewhere(decision.classdef.name, name)})
+    return [f"`{where.rsplit(':', 1)[1]}` ({os.path.basename(where.rsplit(':', 1)[0])})" for where in found]
+
+
 def _inherits_seed(decision: ClassDecision, classdef: ast.ClassDef) -> bool:
     """``classdef`` derives from the decided class through local classes, none of which
     (``classdef`` included) defines its own seed() in between."""
@@ -419,6 +456,18 @@ def _only_prints(facts: ModuleFacts, group: list[ast.stmt]) -> bool:
         if not names or not all(name.startswith(("logging.", "gym.logger.", "gymnasium.logger.")) for name in names):
             return False
     return True
+
+
+def _seeds_held_object(statement: ast.Return) -> bool:
+    """``return self.scene.seed(seed)``: the value calls a method of an object the class
+    holds (``self.<attribute>.<method>(...)``), seeding work of its own, not a ``[seed]``
+    that only reports what was done."""
+    return any(
+        isinstance(node, ast.Call)
+        and isinstance(node.func, ast.Attribute)
+        and is_self_attribute(node.func.value)
+        for node in walk(statement)
+    )
 
 
 def _does_nothing(group: list[ast.stmt]) -> bool:

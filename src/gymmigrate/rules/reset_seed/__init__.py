@@ -10,6 +10,9 @@ Gym 0.26 (and so Gymnasium) changed three things about starting an episode:
   again" (``Env.reset`` docstring). A seed moved onto every reset of an episode loop makes
   every episode identical, the most common hand-migration bug (GM203, GM208: ``seeds``;
   GM204, with ``--seed N``: ``cli_seed``).
+  gym < 0.9's ``env._seed(s)`` (the hook its ``Env.seed`` called) is the same call, decided
+  as ``env.seed(s)``: no Gymnasium env has a ``_seed``, and the run renames or removes it in
+  its own env classes (custom_env/seed.py), so reading it through the wrappers cannot work.
 * Seeds must be Python ints (``Seed must be a python integer``, GM206); ``Space.seed()``
   returns an int or a dict, not ``[seed]`` (GM205); custom reset keywords go into
   ``options={...}`` (GM207).
@@ -30,6 +33,7 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts.module import is_super_call
 from gymmigrate.rules.base import FileContext
 from gymmigrate.rules.reset_seed.catalog import RULES
 from gymmigrate.rules.reset_seed.cli_seed import CliSeed
@@ -46,11 +50,11 @@ class ResetSeed(ResetCalls, SeedCalls, CliSeed, ResetContractSites):
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
         # ``def reset``: an env class of a reset contract the run's wrappers pass keywords to (GM207)
-        return bool(facts.attribute_calls.get("reset") or facts.attribute_calls.get("seed")) or "def reset" in facts.text
+        return bool(facts.attribute_calls.get("reset") or _seed_calls(facts)) or "def reset" in facts.text
 
     def decide(self) -> None:
         self._start()
-        seeds: list[ast.Call] = self.facts.attribute_calls.get("seed", [])
+        seeds = _seed_calls(self.facts)
         resets: list[ast.Call] = self.facts.attribute_calls.get("reset", [])
         self.contract_keywords = self._plan_contract()
         for call in seeds:
@@ -59,3 +63,19 @@ class ResetSeed(ResetCalls, SeedCalls, CliSeed, ResetContractSites):
             self._decide_reset(call)
         if self.context.options.seed is not None:
             self._decide_cli_seed(self.context.options.seed, [*seeds, *resets])
+
+
+def _seed_calls(facts: ModuleFacts) -> list[ast.Call]:
+    """``x.seed(...)``, and gym < 0.9's ``x._seed(...)`` on another object than the class's
+    own (``self._seed(s)``, ``super()._seed(s)`` and ``Base._seed(self, s)`` are its hook,
+    the custom-env rules' business), in source order."""
+    hooks = [call for call in facts.attribute_calls.get("_seed", []) if not _on_own_class(call)]
+    seeds = facts.attribute_calls.get("seed", [])
+    return sorted([*seeds, *hooks], key=lambda call: (call.lineno, call.col_offset)) if hooks else seeds
+
+
+def _on_own_class(call: ast.Call) -> bool:
+    receiver = call.func.value  # type: ignore[attr-defined]
+    if (isinstance(receiver, ast.Name) and receiver.id == "self") or is_super_call(receiver):
+        return True
+    return bool(call.args) and isinstance(call.args[0], ast.Name) and call.args[0].id == "self"

@@ -26,6 +26,7 @@ from gymmigrate.facts.batched_steps import steps_batched
 from gymmigrate.facts.class_shapes import per_agent_receivers
 from gymmigrate.facts.decisions import Action, Decision, receiver_text
 from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.legacy_wrapper_hooks import in_dead_hook
 from gymmigrate.facts.module import is_super_call
 from gymmigrate.facts.reset_flow import scope_of_expression
 from gymmigrate.facts.version_checks import dead_version_branch
@@ -72,6 +73,8 @@ class ResetCalls(ResetSeedBase):
         receiver = func.value
         if dead_version_branch(call, self.facts) is not None or self.receivers.in_legacy_by_version_method(call):
             return  # the legacy branch of a gym version check: it never runs on Gymnasium (GM108)
+        if in_dead_hook(self.receivers, call):
+            return  # a gym < 0.9 wrapper hook left dead (GM616): its body stays whole
         if self.receivers.legacy_step_class(receiver) is not None:
             # A class of the run whose step keeps its own four fields (a batch, a wrapper around
             # one) keeps its reset with it (GM504/GM602 report the class): the calls on its

@@ -34,6 +34,7 @@ from gymmigrate.facts import names as N
 from gymmigrate.facts.creation import Creation, CreationFinder
 from gymmigrate.facts.decisions import Action, Decision, receiver_text
 from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.legacy_wrapper_hooks import in_dead_hook
 from gymmigrate.facts.module import (
     COMPOUND_STATEMENTS,
     statement_lines,
@@ -65,6 +66,8 @@ class SeedCalls(ResetSeedBase):
         receiver = func.value
         if dead_version_branch(call, self.facts) is not None:
             return  # the legacy branch of a gym version check: it never runs on Gymnasium (GM108)
+        if in_dead_hook(self.receivers, call):
+            return  # a gym < 0.9 wrapper hook left dead (GM616): its body stays whole
         if is_space(receiver):
             self._check_space_seed(call)
             return
@@ -77,17 +80,18 @@ class SeedCalls(ResetSeedBase):
             return
         code = "GM208" if vector else "GM203"
         name = receiver_text(receiver)
+        called = f"{name}.{func.attr}"  # ``env.seed``, or gym < 0.9's ``env._seed``
         if decision.action is Action.REPORT:
             self.report(
                 call,
                 code,
-                f"{decision.reason}: if it is a Gym env, replace seed(s) with reset(seed=s)",
+                f"{decision.reason}: if it is a Gym env, replace {func.attr}(s) with reset(seed=s)",
                 FixKind.FLAG,
                 question=self.receiver_question(receiver, decision),
             )
             return
         function = self.facts.enclosing_function(call)
-        if function is not None and function.name == "seed":
+        if function is not None and function.name in ("seed", "_seed"):
             if self._seed_reaches_own_seed(call, function, receiver, name):
                 return
             if self._seed_through_unwrapped(call, function, decision, code, name):
@@ -109,7 +113,7 @@ class SeedCalls(ResetSeedBase):
             self.report(
                 call,
                 code,
-                f"`{name}.seed()` is gone and its result (legacy: [seed]) is used here: call "
+                f"`{called}()` is gone and its result (legacy: [seed]) is used here: call "
                 f"`{name}.reset(seed=s)` and keep the seed value yourself",
                 FixKind.FLAG,
             )
@@ -119,7 +123,7 @@ class SeedCalls(ResetSeedBase):
             self.report(
                 call,
                 code,
-                f"`{name}.seed()` without exactly one seed is gone: pass the seed to the first "
+                f"`{called}()` without exactly one seed is gone: pass the seed to the first "
                 f"`{name}.reset(seed=s)` (with no seed Gymnasium draws one from entropy); then delete this call",
                 FixKind.FLAG,
             )
@@ -145,7 +149,7 @@ class SeedCalls(ResetSeedBase):
                 self.report(
                     call,
                     code,
-                    f"`{name}.seed(s)` merged into the reset that follows the set-up "
+                    f"`{called}(s)` merged into the reset that follows the set-up "
                     f"(`{segment(self.facts, setup.func)}(...)`, line {setup.lineno}): `{name}.reset(seed=s)`; "
                     f"a reset here would run before that set-up. If the set-up draws from the env's "
                     f"random generator, it is no longer seeded: seed it yourself{why}",
@@ -156,7 +160,7 @@ class SeedCalls(ResetSeedBase):
             self.report(
                 call,
                 code,
-                f"`{name}.seed(s)` merged into the reset that follows it: `{name}.reset(seed=s)`{why}",
+                f"`{called}(s)` merged into the reset that follows it: `{name}.reset(seed=s)`{why}",
                 self._kind(decision, FixKind.AUTO),
                 question=self.receiver_question(receiver, decision),
             )
@@ -167,7 +171,7 @@ class SeedCalls(ResetSeedBase):
         self.report(
             call,
             code,
-            f"`{name}.seed(s)` -> `{name}.reset(seed=s)` at the same place: it seeds once here and starts an extra "
+            f"`{called}(s)` -> `{name}.reset(seed=s)` at the same place: it seeds once here and starts an extra "
             f"episode; later resets continue the seeded stream{why}",
             self._kind(decision),
             tier=Tier.NOTE if decision.action is Action.REWRITE else None,  # it explains the rewrite: nothing to decide

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 from gymmigrate.facts.decisions import Action, Decision, decide, receiver_text
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import EnvKind
+from gymmigrate.facts.legacy_wrapper_hooks import in_dead_hook
 from gymmigrate.facts.module import is_super_call
 from gymmigrate.facts.own_steps import (
     is_base_step_call,
@@ -143,6 +144,9 @@ class StepFamilyBase(RuleFamily):
             return Decision(Action.REWRITE, "the run's wrappers pass their own step here"), False
         kind = self.receivers.super_kind(receiver) or self.receivers.kind_of(receiver)
         profile = self.context.profile
+        if in_dead_hook(self.receivers, receiver):
+            # a gym < 0.9 wrapper hook GM616 leaves dead: its body stays whole for a person to port
+            return Decision(Action.LEAVE, "in a gym < 0.9 hook Gymnasium never calls, left as it is"), False
         if dead_version_branch(receiver, self.facts) is not None or self.receivers.in_legacy_by_version_method(receiver):
             # the legacy branch of a gym version check: it never runs on Gymnasium (GM108)
             return Decision(Action.LEAVE, "under a gym version check that picks the API of the gym installed"), False

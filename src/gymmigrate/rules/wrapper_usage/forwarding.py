@@ -173,6 +173,9 @@ class WrapperForwarding(RuleFamily):
             return  # no TimeLimit on an Atari make now
         if name in SAFE_ATTRIBUTES or (name.startswith("__") and name.endswith("__")):
             return
+        call = self.facts.parent(attr)
+        if name == "_seed" and isinstance(call, ast.Call) and call.func is attr:
+            return  # gym < 0.9's ``env._seed(s)`` is ``env.seed(s)``: the seeding rules' business (GM203)
         if isinstance(receiver, ast.Name) and receiver.id in ("self", "cls"):
             if receiver.id == "self":
                 self_forwarding(self, attr)
