@@ -279,6 +279,26 @@ PZ_WRAPPER_BASES = frozenset(name for name in PZ_AEC_BASES | PZ_PARALLEL_BASES i
 
 # Libraries whose objects are never environments (their .step() is an optimiser or
 # scheduler step).
+# Every render mode Gym's and Gymnasium's own envs and wrappers have known (gym 0.25's
+# "single_*" and the "*_list" collections included; "state_pixels" is CarRacing's): a
+# render called with another literal mode is no sign of a Gym env by itself.
+GYM_RENDER_MODES = frozenset(
+    {
+        "human",
+        "rgb_array",
+        "ansi",
+        "depth_array",
+        "state_pixels",
+        "rgb_array_list",
+        "ansi_list",
+        "depth_array_list",
+        "state_pixels_list",
+        "single_rgb_array",
+        "single_depth_array",
+        "single_state_pixels",
+    }
+)
+
 # Libraries whose environments have an API of their own (tf_agents' PyEnvironment: reset and
 # step return a TimeStep): what they make, and a class deriving one of their classes, is
 # left alone, with no question asked. rllab's envs (its ``GymEnv`` adapter around a gym id,
