@@ -201,6 +201,15 @@ class SitePlanning(EnvUses, UntracedEnvs):
         _, text = schedule(self.facts, [site.node], make, home)
         return f"{text} at line {site.node.lineno} (the render at line {always[0].node.lineno} runs on every pass)"
 
+    def _bound_in_def(self, name: ast.Name, call: ast.Call) -> bool:
+        """Every binding of ``name`` is in the def around ``call`` (a parameter, a local)."""
+        function = self.facts.enclosing_function(call)
+        bindings = self.facts.bindings_of(name)
+        return function is not None and bool(bindings) and all(
+            (self.facts.parent(self.facts.parent(b)) if isinstance(b, ast.arg) else self.facts.enclosing_function(b)) is function
+            for b in bindings
+        )
+
     def _plan_site(
         self,
         site: RenderSite,
@@ -235,8 +244,12 @@ class SitePlanning(EnvUses, UntracedEnvs):
             where = site.creation.gap or "no gym.make was found"
             # On an env the run does not show to be a Gym env, where it is made matters only if
             # it is one: the receiver's question ("is it a Gym env?"), asked by its reset and
-            # step too, decides this render as well (one decision per receiver).
+            # step too, decides this render as well (one decision per receiver). A name bound
+            # outside the def (a module's env drawn from several callbacks) keeps the render
+            # question of its bindings, which is already one for all of them.
             receiver = func.value if site.decision is Action.REPORT and isinstance(func, ast.Attribute) else None
+            if isinstance(receiver, ast.Name) and not self._bound_in_def(receiver, call):
+                receiver = None
             asked = self.receiver_question(receiver, Decision(site.decision, where)) if receiver is not None else None
             self.report(
                 call,
