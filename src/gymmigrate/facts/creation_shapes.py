@@ -101,7 +101,7 @@ def enumerated_iterable(facts: ModuleFacts, binding: ast.Name) -> ast.expr | Non
 
 
 # Methods of a list that add no item to it.
-_NO_NEW_ITEMS = frozenset({"pop", "clear", "remove", "sort", "reverse", "index", "count", "copy"})
+NO_NEW_ITEMS = frozenset({"pop", "clear", "remove", "sort", "reverse", "index", "count", "copy"})
 
 
 def items_added_in_place(classdef: ast.ClassDef, name: str) -> tuple[list[ast.expr], list[ast.expr]] | None:
@@ -122,7 +122,7 @@ def items_added_in_place(classdef: ast.ClassDef, name: str) -> tuple[list[ast.ex
                 items.append(args[1])
             elif method == "extend" and len(args) == 1:
                 containers.append(args[0])
-            elif method not in _NO_NEW_ITEMS:
+            elif method not in NO_NEW_ITEMS:
                 return None
         elif isinstance(node, ast.Subscript) and isinstance(node.ctx, ast.Store) and self_attribute(node.value) == name:
             assign = _parent_assign(classdef, node)

@@ -26,6 +26,7 @@ class Origins(Protocol):
     def mixed_callers(self, expr: ast.AST) -> str | None: ...
 
     def library_made(self, expr: ast.AST) -> str | None: ...
+    def library_record_env(self, expr: ast.AST) -> str | None: ...
     def gym_only_stack(self, expr: ast.AST) -> str | None: ...
     def own_api_holder(self, expr: ast.AST) -> str | None: ...
     def dispatched_from_gym(self, expr: ast.AST) -> str | None: ...
@@ -99,6 +100,11 @@ def decide(
         return Decision(
             Action.REPORT, f"`{name}` is an env built on {stack}, a library still on gym (GM107): not rewritten; it becomes a Gymnasium env when that library is ported"
         )
+    foreign = origins.library_record_env(receiver) if (env_like or legacy_shape) and origins is not None else None
+    if foreign is not None:
+        # the class fills it from another library and reads its step as a record (a
+        # TimeStep): no Gym env, whatever the file's imports say, so nothing to ask
+        return Decision(Action.LEAVE, f"`{name}` is made by `{foreign}` and its step() result is read as a record, not Gym's tuple")
     if (env_like or legacy_shape) and origins is not None and origins.run_defined(receiver):
         return Decision(Action.REPORT, f"`{name}` holds an object the project makes itself, not shown to be a Gym env; not rewritten")
     holder = origins.own_api_holder(receiver) if (env_like or legacy_shape) and origins is not None else None

@@ -279,10 +279,35 @@ PZ_WRAPPER_BASES = frozenset(name for name in PZ_AEC_BASES | PZ_PARALLEL_BASES i
 
 # Libraries whose objects are never environments (their .step() is an optimiser or
 # scheduler step).
+# Every render mode Gym's and Gymnasium's own envs and wrappers have known (gym 0.25's
+# "single_*" and the "*_list" collections included; "state_pixels" is CarRacing's): a
+# render called with another literal mode is no sign of a Gym env by itself.
+GYM_RENDER_MODES = frozenset(
+    {
+        "human",
+        "rgb_array",
+        "ansi",
+        "depth_array",
+        "state_pixels",
+        "rgb_array_list",
+        "ansi_list",
+        "depth_array_list",
+        "state_pixels_list",
+        "single_rgb_array",
+        "single_depth_array",
+        "single_state_pixels",
+    }
+)
+
 # Libraries whose environments have an API of their own (tf_agents' PyEnvironment: reset and
 # step return a TimeStep): what they make, and a class deriving one of their classes, is
-# left alone, with no question asked.
-OWN_ENV_API_PACKAGES = ("tf_agents", "dm_env")
+# left alone, with no question asked. rllab's envs (its ``GymEnv`` adapter around a gym id,
+# ``normalize(...)``) take rllab's API, which never moved to Gymnasium: reset gives the
+# observation, step a ``Step`` record, their spaces ``flatten``; so do those of the
+# TensorFlow port its repository ships as ``sandbox.rocky.tf`` (``TfEnv``), a package named
+# by its module path because its top-level name says nothing.
+OWN_ENV_API_PACKAGES = ("tf_agents", "dm_env", "rllab")
+OWN_ENV_API_MODULES = ("sandbox.rocky.tf.envs",)
 
 # The same for single classes of a library whose other classes may be Gym's (RLlib's atari
 # wrappers are Gym wrappers): RLlib's ``MultiAgentEnv`` and its wrappers around PettingZoo,
@@ -314,7 +339,11 @@ OWN_ENV_API_CLASSES = frozenset(
 def has_own_env_api(qualified: str) -> bool:
     """``qualified`` is a class (or callable) of a library whose envs have an API of their
     own (``OWN_ENV_API_PACKAGES``, ``OWN_ENV_API_CLASSES``)."""
-    return top_package(qualified) in OWN_ENV_API_PACKAGES or qualified in OWN_ENV_API_CLASSES
+    return (
+        top_package(qualified) in OWN_ENV_API_PACKAGES
+        or qualified in OWN_ENV_API_CLASSES
+        or qualified.startswith(tuple(module + "." for module in OWN_ENV_API_MODULES))
+    )
 
 NOT_ENV_PACKAGES = (
     *OWN_ENV_API_PACKAGES,

@@ -16,7 +16,11 @@ import ast
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts import same_tests
-from gymmigrate.facts.creation_shapes import holds_no_items, items_added_in_place
+from gymmigrate.facts.creation_shapes import (
+    NO_NEW_ITEMS,
+    holds_no_items,
+    items_added_in_place,
+)
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import MAX_DEPTH, EnvKind, join_kinds
 from gymmigrate.facts.module import FUNCTIONS, call_argument, own_returns, walk
@@ -26,6 +30,11 @@ if TYPE_CHECKING:
     from gymmigrate.facts.kinds import ReceiverFacade as _Facade
 else:
     _Facade = object
+
+
+# Builtins that read a list without adding to it: a list handed to one keeps the items the
+# module shows.
+_READING_BUILTINS = frozenset({"len", "enumerate", "zip", "list", "tuple", "sorted", "reversed", "iter", "print"})
 
 
 class BindingKinds(_Facade):
@@ -202,6 +211,16 @@ class BindingKinds(_Facade):
                     return self._element_kind(iterable.args[0])
                 if iterable.func.id == "zip" and index < len(iterable.args):
                     return self._element_kind(iterable.args[index])
+            if isinstance(iterable, ast.Name):
+                # ``for name, env in envs`` over a list of pairs the code builds
+                # (``envs.append((name, env))``): the item at this place of every pair
+                pairs = self._name_list_items(iterable)
+                width = len(container.elts)
+                if pairs and all(
+                    isinstance(p, (ast.Tuple, ast.List)) and len(p.elts) == width and not any(isinstance(e, ast.Starred) for e in p.elts)
+                    for p in pairs
+                ):
+                    return join_kinds(self.kind_of(p.elts[index]) for p in pairs)  # type: ignore[attr-defined]
             return EnvKind.UNKNOWN
         if isinstance(value, (ast.Tuple, ast.List)) and len(value.elts) == len(container.elts):
             if not any(isinstance(el, ast.Starred) for el in value.elts):
@@ -290,6 +309,52 @@ class BindingKinds(_Facade):
                 kinds += [self.kind_of(item) for item in items]
                 return join_kinds(kinds)
         return EnvKind.UNKNOWN
+
+    def _name_list_items(self, container: ast.Name) -> list[ast.expr] | None:
+        """The items of the list a name holds, where each binding of it is a list display and
+        its scope adds items only with ``append``/``insert`` on it (``envs = []``, then
+        ``envs.append((name, env))``): every item the run shows, or None."""
+        bindings = self.facts.bindings_of(container)
+        if not bindings:
+            return None
+        # reads that see the same bindings share one list (``bindings_of``): one answer for them
+        return self.facts.memo(("name-list-items", id(bindings)), lambda: self._collect_name_list_items(container, bindings), while_computing=None)
+
+    def _collect_name_list_items(self, container: ast.Name, bindings: list[ast.AST]) -> list[ast.expr] | None:
+        items: list[ast.expr] = []
+        for binding in bindings:
+            parent = self.facts.parent(binding)
+            if not (isinstance(binding, ast.Name) and isinstance(parent, ast.Assign) and parent.targets == [binding]):
+                return None
+            if not isinstance(parent.value, (ast.List, ast.Tuple)) or any(isinstance(e, ast.Starred) for e in parent.value.elts):
+                return None
+            items += parent.value.elts
+        scope = self.facts.scope_of(container).node
+        wanted = {id(b) for b in bindings}
+        for node in walk(scope):
+            if not (isinstance(node, ast.Name) and node.id == container.id and isinstance(node.ctx, ast.Load)):
+                continue
+            if {id(b) for b in self.facts.bindings_of(node)} != wanted:
+                continue  # another variable of the same spelling (a def's own local)
+            holder = self.facts.parent(node)
+            if isinstance(holder, ast.Attribute) and holder.value is node:
+                call = self.facts.parent(holder)
+                if not (isinstance(call, ast.Call) and call.func is holder):
+                    return None  # ``envs.extend``, a bound method handed on: items not shown
+                if holder.attr == "append" and len(call.args) == 1 and not call.keywords:
+                    items.append(call.args[0])
+                elif holder.attr == "insert" and len(call.args) == 2 and not call.keywords:
+                    items.append(call.args[1])
+                elif holder.attr not in NO_NEW_ITEMS:
+                    return None
+            elif isinstance(holder, ast.Subscript) and holder.value is node:
+                if not isinstance(holder.ctx, ast.Load):
+                    return None  # ``envs[i] = ...``: an item the reads above do not show
+            elif isinstance(holder, (ast.For, ast.AsyncFor, ast.comprehension)) and holder.iter is node:
+                continue
+            elif not (isinstance(holder, ast.Call) and isinstance(holder.func, ast.Name) and holder.func.id in _READING_BUILTINS):
+                return None  # handed on (``fill(envs)``), stored elsewhere: items may come from there
+        return items
 
     def _param_element_kind(self, param: ast.arg) -> EnvKind:
         """The items of the list a parameter holds (``def __init__(self, envs)`` then

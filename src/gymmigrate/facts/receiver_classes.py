@@ -304,6 +304,24 @@ class ClassKinds(_Facade):
         param = duck_wrapper_param(classdef)
         return param is not None and not self.is_duck_wrapper(classdef) and self._param_kind(param) is EnvKind.UNKNOWN
 
+    def built_nowhere(self, classdef: ast.ClassDef) -> bool:
+        """A top-level class that no code of a run of several modules builds or hands on: its
+        module reads its name nowhere (no call, no value), and no other module of the run
+        calls it, derives from it or reads it as a value. No env reaches its methods in the
+        run, so nothing there is to migrate with it. False for a file run alone (the
+        modules that would build it are not seen)."""
+        project = self.project
+        if project is None or self.facts.classes.get(classdef.name) is not classdef:
+            return False
+        if self.facts.reads_of(classdef.name):
+            return False
+        return not (
+            project.built_elsewhere(classdef.name)
+            or project.subclassed_elsewhere(classdef.name)
+            or project.handed_on(classdef.name)
+            or project.handed_on(f"{classdef.name}.__init__")  # the join names a class by its constructor
+        )
+
     def has_gym_wrapper_base(self, classdef: ast.ClassDef, _seen: frozenset[int] = frozenset()) -> bool:
         for base in classdef.bases:
             for q in self.qualified_names(base):

@@ -34,6 +34,10 @@ if TYPE_CHECKING:
 else:
     _Facade = object
 
+# What a tuple answers besides its items: a read of any other attribute of a step's result
+# shows a record (dm_env's ``TimeStep``), not Gym's tuple.
+_TUPLE_METHODS = frozenset({"count", "index"})
+
 
 class ForeignObjects(_Facade):
     """What shows an object is not Gym's (part of ``Receivers``)."""
@@ -237,6 +241,78 @@ class ForeignObjects(_Facade):
             return None
         finally:
             self.depth -= 1
+
+    def library_record_env(self, expr: ast.AST) -> str | None:
+        """``self.X`` that its class fills from a call of a library other than Gym
+        (``self._env = suite.load(domain, task)``) and whose ``step()`` result the class reads
+        as a record (``time_step = self._env.step(a)``, then ``time_step.reward``): a Gym
+        step returns a tuple, which has no such fields, so the object keeps another library's
+        API and every call on it is left alone. The class's other stores there, if any, are
+        ones the run cannot place (no env of a known kind, nothing the run makes itself): the
+        class reads them all the same way. The library's callable, or None.
+
+        A fact of the receiver, not of the call: each reset, step and spec read on
+        ``self.X`` in the class gets the same answer."""
+        if not (isinstance(expr, ast.Attribute) and isinstance(expr.value, ast.Name) and self.is_self(expr.value)):
+            return None
+        classdef = self.facts.enclosing_class(expr)
+        if classdef is None:
+            return None
+        attribute = expr.attr
+        return self.facts.memo(
+            (f"library-record-env:{attribute}", id(classdef)), lambda: self._library_record_env(expr, classdef), while_computing=None
+        )
+
+    def _library_record_env(self, expr: ast.Attribute, classdef: ast.ClassDef) -> str | None:
+        library = None
+        for value in self.self_attribute_values(expr, expr.attr):
+            if self.kind_of(value) is not EnvKind.UNKNOWN or self.run_defined(value):
+                return None  # a value the run places otherwise: the class is no adapter of one library
+            made = self.library_made(value)
+            if made is not None and made.split(".", 1)[0] in N.GYM_ONLY_PACKAGES:
+                return None  # a Gym-only stack's env (GM107): that decision's
+            library = library or made
+        if library is None or not self._step_read_as_record(classdef, expr.attr):
+            return None
+        return library
+
+    def _step_read_as_record(self, classdef: ast.ClassDef, attribute: str) -> bool:
+        """A ``self.<attribute>.step(...)`` in a method of ``classdef`` whose result is read
+        by a field (``.reward``, ``.last()``), directly or through the one name it is
+        stored in: no method of a tuple (``count``, ``index``)."""
+        for call in self.facts.attribute_calls.get("step", ()):
+            receiver = call.func.value  # type: ignore[attr-defined]
+            if not (
+                isinstance(receiver, ast.Attribute) and receiver.attr == attribute
+                and isinstance(receiver.value, ast.Name) and self.is_self(receiver.value)
+                and self.facts.enclosing_class(call) is classdef
+            ):
+                continue
+            if any(self._record_field(read) for read in self._result_reads(call)):
+                return True
+        return False
+
+    def _result_reads(self, call: ast.Call) -> list[ast.AST]:
+        """The expressions that read ``call``'s result: the call itself, and each read of the
+        one name a plain assignment stores it in, within the same function."""
+        parent = self.facts.parent(call)
+        if not (isinstance(parent, ast.Assign) and parent.value is call and len(parent.targets) == 1 and isinstance(parent.targets[0], ast.Name)):
+            return [call]
+        target = parent.targets[0]
+        function = self.facts.enclosing_function(call)
+        if function is None:
+            return []
+        return [
+            node
+            for node in walk(function)
+            if isinstance(node, ast.Name) and node.id == target.id and isinstance(node.ctx, ast.Load)
+            and any(binding is target for binding in self.facts.bindings_of(node))
+        ]
+
+    def _record_field(self, read: ast.AST) -> bool:
+        """``read`` is the value of an attribute read that is no method of a tuple."""
+        parent = self.facts.parent(read)
+        return isinstance(parent, ast.Attribute) and parent.value is read and parent.attr not in _TUPLE_METHODS
 
     def _from_run(self, qualified: str) -> bool:
         if qualified.startswith("."):

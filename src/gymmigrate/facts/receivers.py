@@ -335,7 +335,7 @@ class Receivers(BindingKinds, WrappingCalls, ClassKinds, ParameterKinds, MadeObj
             return EnvKind.PZ_AEC if qualified.endswith(N.PZ_AEC_SUFFIXES) else None
         if package == N.SUPERSUIT_PACKAGE:
             return self._supersuit_kind(qualified, call)
-        if package in N.NOT_ENV_PACKAGES or qualified in N.OWN_ENV_API_CLASSES:
+        if package in N.NOT_ENV_PACKAGES or N.has_own_env_api(qualified):
             return EnvKind.NOT_ENV  # (RLlib's multi-agent envs: per-agent dicts, never Gym's API)
         return None
 

@@ -153,6 +153,19 @@ def not_a_mode_call(call: ast.Call, facts: ModuleFacts) -> bool:
     return value is not None and _not_a_string(value, facts, 0)
 
 
+def declared_render_modes(facts: ModuleFacts) -> frozenset[str]:
+    """The strings of the module's render-mode lists: a ``"render.modes"`` or
+    ``"render_modes"`` entry of any dict display (an env class's ``metadata``)."""
+    found: set[str] = set()
+    for node in walk(facts.tree):
+        if not isinstance(node, ast.Dict):
+            continue
+        for key, value in zip(node.keys, node.values):
+            if isinstance(key, ast.Constant) and key.value in ("render.modes", "render_modes"):
+                found.update(n.value for n in walk(value) if isinstance(n, ast.Constant) and isinstance(n.value, str))
+    return frozenset(found)
+
+
 def _not_a_string(value: ast.AST, facts: ModuleFacts, depth: int) -> bool:
     if isinstance(value, ast.Constant):
         return not isinstance(value.value, str)

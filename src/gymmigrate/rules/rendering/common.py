@@ -12,11 +12,12 @@ from dataclasses import dataclass
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
 from gymmigrate.facts.creation import Creation, CreationFinder
-from gymmigrate.facts.decisions import Action
+from gymmigrate.facts.decisions import Action, looks_like_env
 from gymmigrate.facts.env_specs import is_spec_make
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import walk
 from gymmigrate.facts.render_modes import (
+    declared_render_modes,
     local_env_class_takes_render_mode,
     not_a_mode_call,
 )
@@ -94,9 +95,26 @@ class RenderingBase(RuleFamily):
 
     def _mode_argument(self, call: ast.Call) -> ast.AST | None:
         """The mode a legacy render call passes; None when its argument is certainly no mode
-        string (``obj.render(img)`` on a grid cell drawing into an array: not a Gym render)."""
+        string (``obj.render(img)`` on a grid cell drawing into an array: not a Gym render),
+        or is a mode of another API's render on an object not shown to be an env
+        (``self.sim.render(w, h, mode="offscreen")``: ``_foreign_mode``)."""
         found = mode_argument(call)
-        return None if found is None or not_a_mode_call(call, self.facts) else found
+        if found is None or not_a_mode_call(call, self.facts) or self._foreign_mode(call, found):
+            return None
+        return found
+
+    def _foreign_mode(self, call: ast.Call, found: ast.AST) -> bool:
+        """``x.render(mode="offscreen")``: a literal mode that no Gym env renders in and no
+        class of this module lists in its metadata, on a receiver that neither looks like an
+        env nor is shown to be one. The mode was the only sign of a legacy Gym render; a mode
+        Gym never had is no such sign (a simulator's own render, mujoco-py's ``MjSim``)."""
+        value = found.value if isinstance(found, ast.keyword) else found
+        if not (isinstance(value, ast.Constant) and isinstance(value.value, str)) or value.value in N.GYM_RENDER_MODES:
+            return False
+        receiver = call.func.value if isinstance(call.func, ast.Attribute) else None
+        if receiver is None or looks_like_env(receiver) or self.receivers.kind_of(receiver) is not EnvKind.UNKNOWN:
+            return False
+        return value.value not in self.facts.memo(("declared-render-modes", 0), lambda: declared_render_modes(self.facts))
 
     def _is_make(self, call: ast.Call) -> bool:
         return self.facts.memo(

@@ -13,7 +13,7 @@ import ast
 from collections import defaultdict
 
 from gymmigrate.facts.class_shapes import wrapped_env_renders
-from gymmigrate.facts.decisions import Action
+from gymmigrate.facts.decisions import Action, Decision
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.module import keyword, string_value
 from gymmigrate.facts.version_checks import reads_version
@@ -201,6 +201,15 @@ class SitePlanning(EnvUses, UntracedEnvs):
         _, text = schedule(self.facts, [site.node], make, home)
         return f"{text} at line {site.node.lineno} (the render at line {always[0].node.lineno} runs on every pass)"
 
+    def _bound_in_def(self, name: ast.Name, call: ast.Call) -> bool:
+        """Every binding of ``name`` is in the def around ``call`` (a parameter, a local)."""
+        function = self.facts.enclosing_function(call)
+        bindings = self.facts.bindings_of(name)
+        return function is not None and bool(bindings) and all(
+            (self.facts.parent(self.facts.parent(b)) if isinstance(b, ast.arg) else self.facts.enclosing_function(b)) is function
+            for b in bindings
+        )
+
     def _plan_site(
         self,
         site: RenderSite,
@@ -233,13 +242,23 @@ class SitePlanning(EnvUses, UntracedEnvs):
                 )
                 return
             where = site.creation.gap or "no gym.make was found"
+            # On an env the run does not show to be a Gym env, where it is made matters only if
+            # it is one: the receiver's question ("is it a Gym env?"), asked by its reset and
+            # step too, decides this render as well (one decision per receiver). A name bound
+            # outside the def (a module's env drawn from several callbacks) keeps the render
+            # question of its bindings, which is already one for all of them.
+            receiver = func.value if site.decision is Action.REPORT and isinstance(func, ast.Attribute) else None
+            if isinstance(receiver, ast.Name) and not self._bound_in_def(receiver, call):
+                receiver = None
+            asked = self.receiver_question(receiver, Decision(site.decision, where)) if receiver is not None else None
             self.report(
                 call,
                 code,
                 f"{site.consumer} needs the env created with {target}, but its creation site was not found "
                 f"({where}); add it there by hand",
                 FixKind.FLAG,
-                question=self._untraced_question(site, where)
+                question=asked
+                or self._untraced_question(site, where)
                 or (recorder_mode_question(call.lineno, call.col_offset) if code == "GM407" else None),
             )
             return

@@ -134,7 +134,7 @@ class RenderSites(RecorderSites):
                 )
             return None
         if close is not None and isinstance(close.value, ast.Constant) and close.value.value is True:
-            self._plan_close(call, decision.action, decision.reason)
+            self._plan_close(call, receiver, decision)
             return None
         if mode_arg is None:
             if not (
@@ -512,9 +512,13 @@ class RenderSites(RecorderSites):
             env = id(self.facts.enclosing_class(call) or self.facts.enclosing_function(call))
         return ("render-arguments", receiver_text(receiver), env, arguments)
 
-    def _plan_close(self, call: ast.Call, action: Action, reason: str) -> None:
+    def _plan_close(self, call: ast.Call, receiver: ast.expr, decision: Decision) -> None:
+        action, reason = decision.action, decision.reason
         if action is Action.REPORT:
-            self.report(call, "GM406", f"{reason}: render(close=True) is close() on a Gym env", FixKind.FLAG)
+            # whether it is a Gym env is the receiver's one question, asked by its reset and
+            # step too (a parameter: once for the def)
+            question = self.receiver_question(receiver, decision)
+            self.report(call, "GM406", f"{reason}: render(close=True) is close() on a Gym env", FixKind.FLAG, question=question)
             return
         self.plan.replace(call, close_call)
         if action is Action.REWRITE_FOR_REVIEW:

@@ -118,6 +118,8 @@ class StepDone(UnpackRules, TimeLimitRules, ResultRules):
                 return
         if isinstance(parent, ast.Expr) or self._returned_from_step_method(call, parent):
             return  # result unused, or passed through by a wrapper's step (the wrapper rules' job)
+        if self.plan_indexed_step(call, receiver):
+            return
         self.report_unpacked_use(call, receiver)
 
     def _plan_step_callables(self) -> None:

@@ -5,7 +5,8 @@
 move (``res[3]`` -> ``res[4]``; ``res[2]`` -> ``res[2] or res[3]``, the legacy done);
 observation, reward and ``res[-1]`` keep their places. Any other use (the result passed
 on, indexed by a variable, read where another binding may reach) is reported, as is a
-step result used without being stored at all (``env.step(a)[2]``).
+step result used without being stored at all (``if env.step(a)[2]:``), except the two
+constant reads of it that ``UnpackRules.plan_indexed_step`` migrates.
 """
 
 from __future__ import annotations
@@ -61,7 +62,7 @@ class ResultRules(StepFamilyBase):
         """A step whose result is used some other way than stored or unpacked."""
         if self._discarded(call):
             return  # ``[env.step(a) for a in actions]`` as a statement: nothing reads the result
-        if _subscript_index(self.facts.parent(call), call) in _SAME_PLACE:
+        if subscript_index(self.facts.parent(call), call) in _SAME_PLACE:
             return  # ``env.step(0)[0]``: the observation (reward, info) is where it was
         if _unpacked_into_no_gym_count(self.facts.parent(call), call):
             # ``ob, s_ob, reward, done, info, avail = env.step(a)``, ``reward, terminated,
@@ -232,7 +233,7 @@ class ResultRules(StepFamilyBase):
             return  # observation, reward and info keep their places
         # An index is only found on a subscript (``_constant_index``).
         if index == 3 and isinstance(subscript, ast.Subscript):
-            self.plan.replace(subscript, lambda node: _with_index(node, 4))
+            self.plan.replace(subscript, lambda node: with_index(node, 4))
             exact = FixKind.AUTO if step.decision.action is Action.REWRITE else FixKind.ASSIST
             self.report(subscript, "GM304", f"`{result.id}[3]` (info) is `{result.id}[4]` now", exact)
             return
@@ -288,7 +289,7 @@ class ResultRules(StepFamilyBase):
     def _constant_index(self, read: ast.Name) -> int | None:
         """``res[2]`` read (not stored) with a literal integer index -> 2; otherwise None."""
         subscript = self.facts.parent(read)
-        index = _subscript_index(subscript, read)
+        index = subscript_index(subscript, read)
         if index is None or self._parenthesized(subscript.slice):  # type: ignore[union-attr]
             return None
         return index
@@ -300,7 +301,7 @@ class ResultRules(StepFamilyBase):
         return before.endswith(b"(")
 
 
-def _with_index(subscript: cst.Subscript, index: int) -> cst.Subscript:
+def with_index(subscript: cst.Subscript, index: int) -> cst.Subscript:
     element = subscript.slice[0]
     return subscript.with_changes(
         slice=[element.with_changes(slice=element.slice.with_changes(value=cst.Integer(str(index))))]
@@ -312,7 +313,7 @@ def _either(subscript: cst.Subscript, bare: bool) -> cst.BaseExpression:
     either = cst.BooleanOperation(
         left=subscript.with_changes(lpar=(), rpar=()),
         operator=cst.Or(),
-        right=_with_index(subscript, 3).with_changes(lpar=(), rpar=()),
+        right=with_index(subscript, 3).with_changes(lpar=(), rpar=()),
     )
     if bare:
         return either
@@ -322,7 +323,7 @@ def _either(subscript: cst.Subscript, bare: bool) -> cst.BaseExpression:
 _SAME_PLACE = (0, 1, -1)  # observation, reward and info: the same index in both APIs
 
 
-def _subscript_index(subscript: ast.AST | None, value: ast.AST) -> int | None:
+def subscript_index(subscript: ast.AST | None, value: ast.AST) -> int | None:
     """``value[2]`` read (not stored) with a literal integer index -> 2; otherwise None."""
     if not isinstance(subscript, ast.Subscript) or subscript.value is not value:
         return None

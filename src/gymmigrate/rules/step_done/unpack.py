@@ -35,6 +35,7 @@ from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.step_done.common import StepNames, StepUnpack, looks_vectorised
 from gymmigrate.rules.step_done.next_state import DoneStep
 from gymmigrate.rules.step_done.read_attributes import DoneAttributeReports
+from gymmigrate.rules.step_done.results import subscript_index, with_index
 
 
 class UnpackRules(DoneAttributeReports):
@@ -122,6 +123,50 @@ class UnpackRules(DoneAttributeReports):
             )
         else:
             self.report(assign, names.code, message)
+
+    def plan_indexed_step(self, call: ast.Call, receiver: ast.expr) -> bool:
+        """``done = env.step(a)[2]`` or ``env.step(a)[3]`` on a receiver the run rewrites: the
+        result is read at one constant place and never kept, so its new places are certain.
+        Index 3 (info) is index 4 now; a done assigned to a name becomes a five-target unpack
+        with ``done = terminated or truncated`` after it, the legacy flag's very value (the
+        result holds no second read to write ``res[2] or res[3]`` with). Any other use of an
+        indexed step stays GM304's report. True when planned."""
+        subscript = self.facts.parent(call)
+        index = subscript_index(subscript, call)
+        if index not in (2, 3) or not isinstance(subscript, ast.Subscript):
+            return False
+        statement = self.facts.parent(subscript)
+        done_target = statement.targets[0] if isinstance(statement, ast.Assign) and len(statement.targets) == 1 else None
+        if index == 2 and not (
+            isinstance(statement, ast.Assign) and statement.value is subscript
+            and isinstance(done_target, ast.Name) and done_target.id != "_"
+        ):
+            return False  # ``if env.step(a)[2]:``: no statement of its own to unpack in
+        decision, vector = self.decision(receiver, legacy_shape=False)
+        if decision.action not in (Action.REWRITE, Action.REWRITE_FOR_REVIEW) or vector or looks_vectorised(receiver, done_target or call):
+            return False
+        question = self.receiver_question(receiver, decision) if decision.action is Action.REWRITE_FOR_REVIEW else None
+        kind = FixKind.AUTO if decision.action is Action.REWRITE else FixKind.ASSIST
+        unsure = f"; {decision.reason}" if decision.action is Action.REWRITE_FOR_REVIEW else ""
+        text = self.facts.segment(call)
+        if index == 3:
+            self.plan.replace(subscript, lambda node: with_index(node, 4))
+            self.report(subscript, "GM304", f"`{text}[3]` (info) is `{text}[4]` now{unsure}", kind, question=question)
+            return True
+        assert isinstance(statement, ast.Assign) and isinstance(done_target, ast.Name)
+        names = self._step_names(statement, vector=False)
+        self.plan.replace(done_target, lambda node: _five_targets(node, names))
+        self.plan.replace(subscript, lambda node: node.value.with_changes(lpar=node.lpar, rpar=node.rpar))
+        self._keep_done(statement, done_target, names)
+        self.report(
+            statement,
+            "GM304",
+            f"`{text}[2]` (done) is `{names.terminated} or {names.truncated}` now: the step is unpacked into five values "
+            f"and `{done_target.id}` keeps the legacy flag{unsure}",
+            kind,
+            question=question,
+        )
+        return True
 
     def _keep_done(self, assign: ast.Assign, done_target: ast.expr, names: StepNames) -> None:
         """``done = terminated or truncated`` right after the step (``np.logical_or`` for vectors)."""
@@ -358,6 +403,14 @@ def _split_done(target: cst.BaseExpression, names: StepNames) -> cst.BaseExpress
     comma = done.comma if isinstance(done.comma, cst.Comma) else cst.Comma(whitespace_after=cst.SimpleWhitespace(" "))
     elements[2:3] = [cst.Element(value=first, comma=comma), cst.Element(value=second, comma=comma)]
     return target.with_changes(elements=elements)
+
+
+def _five_targets(done: cst.BaseExpression, names: StepNames) -> cst.BaseExpression:
+    """``done`` (the name an indexed step's flag went to) -> ``_, _, terminated, truncated, _``."""
+    comma = cst.Comma(whitespace_after=cst.SimpleWhitespace(" "))
+    values = ("_", "_", names.terminated, names.truncated, "_")
+    elements = [cst.Element(value=cst.Name(v), comma=comma if i < 4 else cst.MaybeSentinel.DEFAULT) for i, v in enumerate(values)]
+    return cst.Tuple(elements=elements, lpar=[], rpar=[]).with_changes(lpar=done.lpar, rpar=done.rpar)
 
 
 # ``np.any(done)``, ``np.logical_not(done)``: calls that read a flag array element by element

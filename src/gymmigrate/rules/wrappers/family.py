@@ -40,6 +40,18 @@ class WrapperClasses(StepOverrides, ResetOverrides):
         for classdef in self.facts.all_classes:
             if not self.receivers.is_gym_wrapper_class(classdef):
                 if self.context.profile.imports_gym and self.receivers.unproved_duck_wrapper(classdef):
+                    if self.receivers.built_nowhere(classdef):
+                        # no code of the run builds it: no env reaches it, nothing to decide now
+                        self.report(
+                            classdef,
+                            "GM602",
+                            f"`{classdef.name}` holds an env in `self.{duck_wrapper_attribute(classdef)}` and forwards to it like "
+                            "a Gym wrapper, but no code of this run builds it: left as it is (four-field step, bare reset); "
+                            "code outside the run that puts a Gym env in it must migrate it",
+                            FixKind.FLAG,
+                            tier=Tier.NOTE,
+                        )
+                        continue
                     self.report(
                         classdef,
                         "GM602",
