@@ -57,6 +57,19 @@ def test_a_limit_in_a_helpers_dict_key_ends_the_episode_truncated() -> None:
         check_env(module.CorridorSim(), skip_render_check=True)
 
 
+def test_a_step_count_kept_in_a_dict_entry_ends_the_episode_truncated() -> None:
+    module = _migrated("GM504/keyed_entry_counts_steps.py")
+    env = module.Maze()
+    env.reset(seed=0)
+    endings = []
+    for _ in range(40):
+        _, _, terminated, truncated, _ = env.step(1)
+        endings.append((terminated, truncated))
+        if terminated or truncated:
+            break
+    assert endings == [(False, False)] * 30 + [(False, True)]
+
+
 def test_a_pettingzoo_limit_from_the_held_simulation_goes_to_truncations() -> None:
     pytest.importorskip("pettingzoo")
     module = _migrated("PZ108/limit_through_inner_sim.py")

@@ -45,6 +45,7 @@ from gymmigrate.facts.limit_tests import (
     is_periodic,
     is_self,
     is_step_limit,
+    self_field,
     streak_attributes,
     under_limit,
     unwrap_bool,
@@ -101,28 +102,30 @@ class DoneTracer:
 
     @property
     def counters(self) -> set[str]:
-        """Attributes ``step`` advances by a fixed amount on every call: ``self.n += 1``
-        (or ``self.t = self.t + self.dt``) among the top-level statements of ``step``."""
+        """What ``step`` advances by a fixed amount on every call: ``self.n += 1`` (or
+        ``self.t = self.t + self.dt``), or a named entry of a dict the env holds
+        (``self.state["count"] += 1``, ``limit_tests.self_field``), among the top-level
+        statements of ``step``."""
         if self._counters is None:
             found: set[str] = set()
             step = self.methods.get("step") or self.methods.get("_step")
             for statement in step.body if step is not None else ():
                 if isinstance(statement, ast.AugAssign) and isinstance(statement.op, (ast.Add, ast.Sub)):
-                    name = self_attribute(statement.target)
-                    if name is not None and _fixed(statement.value) and not _PLACE_WORD.search(name):
-                        found.add(name)
+                    field = self_field(statement.target)
+                    if field is not None and _fixed(statement.value) and not _PLACE_WORD.search(field[1]):
+                        found.add(field[0])
                 elif isinstance(statement, ast.Assign) and len(statement.targets) == 1:
-                    name = self_attribute(statement.targets[0])
+                    field = self_field(statement.targets[0])
                     value = statement.value
                     if (
-                        name is not None
+                        field is not None
                         and isinstance(value, ast.BinOp)
                         and isinstance(value.op, (ast.Add, ast.Sub))
-                        and self_attribute(value.left) == name
+                        and self_field(value.left) == field
                         and _fixed(value.right)
-                        and not _PLACE_WORD.search(name)
+                        and not _PLACE_WORD.search(field[1])
                     ):
-                        found.add(name)
+                        found.add(field[0])
             self._counters = found
         return self._counters
 
@@ -142,8 +145,8 @@ class DoneTracer:
     def _counter(self, expr: ast.AST) -> bool:
         while isinstance(expr, ast.BinOp) and isinstance(expr.op, (ast.Div, ast.FloorDiv, ast.Mult)):
             expr = expr.left  # ``self.step_counter / self.SIM_FREQ``: seconds of a step count
-        name = self_attribute(expr)
-        return name is not None and name in self.counters
+        field = self_field(expr)
+        return field is not None and field[0] in self.counters
 
     # -- tracing --------------------------------------------------------------------------
 

@@ -458,7 +458,7 @@ def _decide_returns(
         traced = tracer.trace(done)
         if traced.cause is Cause.TRUNCATION:
             decision.plan.truncating_returns.setdefault(function.name, set()).add(position)
-            _report_truncation(decision, ret, done, traced)
+            _report_truncation(decision, ret, done, traced, function)
             continue
         dm_last = next((limit for limit in traced.limits if limit.text.endswith(".last()") and not limit.where), None)
         if dm_last is not None:
@@ -606,8 +606,10 @@ def _limits_text(traced: DoneCause) -> str:
     return " and ".join(parts) + (" and others" if len(places) > 3 else "")
 
 
-def _report_truncation(decision: ClassDecision, ret: ast.Return, done: ast.expr, traced: DoneCause) -> None:
+def _report_truncation(decision: ClassDecision, ret: ast.Return, done: ast.expr, traced: DoneCause, function: Method) -> None:
     text = decision.family.facts.segment(done)
+    # the same done returned again by the same step is one decision: asked once
+    question = ("step-done", id(function), text)
     if traced.elsewhere():
         decision.report(
             ret,
@@ -615,6 +617,7 @@ def _report_truncation(decision: ClassDecision, ret: ast.Return, done: ast.expr,
             f"step returns terminated=False and truncated=`{text}`: every override in the run ends the episode only on "
             f"the step/time limit {_limits_text(traced)}, a truncation; check subclasses outside this run",
             FixKind.ASSIST,
+            question=question,
         )
     elif not traced.plain():
         decision.report(
@@ -624,6 +627,7 @@ def _report_truncation(decision: ClassDecision, ret: ast.Return, done: ast.expr,
             "step advances on every call compared with a bound (an episode length, a truncation); if reaching it is "
             "the task's goal, return it as terminated instead",
             FixKind.ASSIST,
+            question=question,
         )
     else:
         decision.report(
