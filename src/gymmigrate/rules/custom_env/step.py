@@ -477,7 +477,8 @@ def _decide_returns(
             what = (
                 "split it from the task's own end by hand"
                 if traced.cause is Cause.MIXED
-                else "not every way to it could be followed: a dict of per-agent flags, an override that takes arguments"
+                else "it holds more than one flag (per-agent flags in a dict, tuple or list) or a value not every way to "
+                "which could be followed"
             )
             decision.report(
                 ret,
@@ -582,13 +583,13 @@ def done_tracer(decision: ClassDecision) -> DoneTracer:
     project = decision.family.receivers.project
     classdef = decision.classdef
 
-    def external(name: str) -> list[DoneCause]:
+    def external(name: str, index: int | None) -> list[DoneCause]:
         if project is None:
             return []
         found: list[DoneCause] = []
         for owner in (classdef, *local_subclasses(decision)):
             if facts.parent(owner) is facts.tree:
-                found += project.done_overrides(owner.name, name)
+                found += project.done_overrides(owner.name, name, index)
         return found
 
     return facts.memo(("done-tracer-run", id(classdef)), lambda: DoneTracer(facts, classdef, external))
