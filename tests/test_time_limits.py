@@ -149,7 +149,7 @@ def test_a_subclasses_limit_through_the_bases_helpers_is_named_not_settled(tmp_p
     findings = [f for file in json.loads(report.read_text())["files"] for f in file["review"] + file["notes"]]
     messages = [(f["tier"], f["message"]) for f in findings if f["rule"] == "GM504"]
     assert len(messages) == 1 and messages[0][0] == "review"
-    assert "timed.py:16" in messages[0][1] and "among its causes" in messages[0][1]
+    assert "timed.py:17" in messages[0][1] and "among its causes" in messages[0][1]
 
 
 def test_a_subclass_folding_only_the_tasks_end_keeps_the_note(tmp_path: Path) -> None:

@@ -241,7 +241,7 @@ class DoneTracer:
         bindings = scope.bindings.get(name.id, []) if scope is not None else []
         key = ("local", id(function), name.id)
         if key in self._busy:
-            # ``done = game_done or done``: the name read again while its own bindings are
+            # ``ended = over or ended``: the name read again while its own bindings are
             # followed adds no cause the other bindings do not give
             return NEVER
         values = []
@@ -275,7 +275,7 @@ class DoneTracer:
             self._busy.discard(key)
 
     def _unpacked(self, target: ast.Tuple | ast.List, binding: ast.AST, depth: int) -> DoneCause | None:
-        """``goal_rews, game_done = self.goal_rewards(infos)``: the value in ``binding``'s
+        """``rewards, over = self.score(infos)``: the value in ``binding``'s
         place of what is unpacked (a tuple literal, or the tuples the method returns); None
         for anything else."""
         holder = self.facts.parent(target)

@@ -142,7 +142,7 @@ def _idle_attribute(facts: ModuleFacts, target: ast.expr, classdef: ast.ClassDef
 
 def past_the_end(facts: ModuleFacts, node: ast.AST) -> bool:
     """``node`` runs only in the branch of a step where the done it returns already holds
-    (``if not done: ... else: self.steps_beyond_done += 1``): a count there counts the steps
+    (``if not done: ... else: self.steps_after_fall += 1``): a count there counts the steps
     taken after the episode ended, and a test there is asked after it ended; neither can
     end it."""
     function = facts.enclosing_function(node)

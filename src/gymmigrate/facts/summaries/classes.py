@@ -274,7 +274,7 @@ def done_methods(facts: ModuleFacts) -> tuple[dict[str, dict[str, DoneCause]], d
     ``def _computeDone(self): return self.t > self.T`` tells its base class in another
     module that the done of its ``step`` is a step limit (facts/limits.py). Second, for the
     methods that return tuples (``return rewards, done``), why each of their values is True:
-    a base's ``rewards, done = self.goal_rewards(infos)`` reads one of them. A parameter is
+    a base's ``rewards, over = self.score(infos)`` reads one of them. A parameter is
     what the tracer cannot see into: what the base passes stays in the base's module."""
     found: dict[str, dict[str, DoneCause]] = {}
     items: dict[str, dict[str, tuple[DoneCause, ...]]] = {}
