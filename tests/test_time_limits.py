@@ -7,7 +7,10 @@ ends is truncated, not terminated.
 * a PettingZoo AEC env whose ``dones`` come from the simulation it holds (PZ108);
 * a base env whose ``_compute_done`` its subclasses in other modules of the run
   override with the limit (GM504 through the run's class hierarchy); a goal override
-  among them makes it a report that names the limit's line instead.
+  among them makes it a report that names the limit's line instead;
+* a step count kept in a named entry of a dict the env holds (``self.board["moves"]``);
+* a subclass's limit folded into a flag the base's step reads through a helper's returned
+  tuple and arguments: named in a report, not settled as a class that counts nothing.
 """
 
 from __future__ import annotations
@@ -55,6 +58,19 @@ def test_a_limit_in_a_helpers_dict_key_ends_the_episode_truncated() -> None:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         check_env(module.CorridorSim(), skip_render_check=True)
+
+
+def test_a_step_count_kept_in_a_dict_entry_ends_the_episode_truncated() -> None:
+    module = _migrated("GM504/keyed_entry_counts_steps.py")
+    env = module.Maze()
+    env.reset(seed=0)
+    endings = []
+    for _ in range(40):
+        _, _, terminated, truncated, _ = env.step(1)
+        endings.append((terminated, truncated))
+        if terminated or truncated:
+            break
+    assert endings == [(False, False)] * 30 + [(False, True)]
 
 
 def test_a_pettingzoo_limit_from_the_held_simulation_goes_to_truncations() -> None:
@@ -119,6 +135,43 @@ def test_a_goal_override_in_the_run_makes_it_a_report_naming_the_limit(tmp_path:
     assert len(messages) == 1 and "hover.py:16" in messages[0] and "among its causes" in messages[0]
 
 
+def test_a_subclasses_limit_through_the_bases_helpers_is_named_not_settled(tmp_path: Path) -> None:
+    """``fixtures/project_limit_through_arguments``: the base's step unpacks a flag from
+    ``self.score(infos, dones)`` and hands it to ``self.per_agent(dones, game_over)``; the
+    subclass in another module folds its time limit into the flag ``score`` returns. One item
+    names that limit at the base's return, never the note that the class counts nothing."""
+    target = tmp_path / "project_limit_through_arguments"
+    shutil.copytree(FIXTURES / "project_limit_through_arguments", target)
+    report = tmp_path / "report.json"
+    result = runner.invoke(app, ["rewrite", "--report", str(report), str(target)])
+    assert result.exit_code == 0, result.output
+    assert "return obs, tuple(rewards), terminated, False, tuple(infos)" in (target / "arena" / "base.py").read_text()
+    findings = [f for file in json.loads(report.read_text())["files"] for f in file["review"] + file["notes"]]
+    messages = [(f["tier"], f["message"]) for f in findings if f["rule"] == "GM504"]
+    assert len(messages) == 1 and messages[0][0] == "review"
+    assert "timed.py:17" in messages[0][1] and "among its causes" in messages[0][1]
+
+
+def test_a_subclass_folding_only_the_tasks_end_keeps_the_note(tmp_path: Path) -> None:
+    """The same base with a subclass whose ``score`` folds only an end of the task: nothing
+    the run follows counts steps, so the base's step keeps its note."""
+    target = tmp_path / "project_limit_through_arguments"
+    shutil.copytree(FIXTURES / "project_limit_through_arguments", target)
+    (target / "arena" / "timed.py").write_text(
+        "from gym import spaces\n\nfrom arena.base import Arena\n\n\n"
+        "class RingArena(Arena):\n    def __init__(self, agents=2):\n        super().__init__(agents)\n"
+        "        self.action_space = spaces.Tuple([spaces.Discrete(2)] * agents)\n\n"
+        "    def score(self, infos, dones):\n        out = any(info.get('out') for info in infos)\n"
+        "        return [0.0] * self.agents, out or any(dones)\n"
+    )
+    report = tmp_path / "report.json"
+    result = runner.invoke(app, ["rewrite", "--report", str(report), str(target)])
+    assert result.exit_code == 0, result.output
+    findings = [f for file in json.loads(report.read_text())["files"] for f in file["review"] + file["notes"]]
+    messages = [(f["tier"], f["message"]) for f in findings if f["rule"] == "GM504"]
+    assert len(messages) == 1 and messages[0][0] == "note" and "counts nothing" in messages[0][1]
+
+
 _STEP = "class E:\n    def step(self, a):\n        self.n += 1\n{body}\n        return obs, 0.0, done, {{}}\n{helpers}"
 
 
@@ -141,6 +194,15 @@ _STEP = "class E:\n    def step(self, a):\n        self.n += 1\n{body}\n        
         ("        done = self.n >= self.max_steps", "    def __init__(self, data, max_steps):\n        self.max_steps = max_steps\n", "truncation"),
         ("        done = self.n >= self.max_steps", "    def __init__(self, data):\n        self.max_steps = len(data)\n    def resize(self, k):\n        self.max_steps = k\n", "truncation"),
         ("        done = len(self.history) >= self.max_steps", "", "truncation"),
+        # A named entry of a dict the env holds counts as an attribute does; a number index does not.
+        ("        self.board['moves'] += 1\n        done = self.board['moves'] > 30", "", "truncation"),
+        ("        self.cart[0] += 1\n        done = self.cart[0] > 30", "", "termination"),
+        # Helpers followed with their arguments, the tuples they return, per-agent copies of a flag.
+        ("        done = self._over(self.n)", "    def _over(self, steps):\n        return steps >= self.max_steps\n", "truncation"),
+        ("        done = self._over(self.hit)", "    def _over(self, hit):\n        return hit or self.n > 9\n", "mixed"),
+        ("        score, done = self._score()", "    def _score(self):\n        return 1.0, self.t > self.T\n", "truncation"),
+        ("        done = tuple(self.n > 9 for _ in range(2))", "", "unknown"),
+        ("        done = False\n        done = done or self.n > 9", "", "truncation"),
     ],
 )
 def test_done_causes(body: str, helpers: str, cause: str) -> None:

@@ -45,6 +45,21 @@ def is_step_limit(expr: ast.AST, data_ends: Collection[str] = (), streaks: Colle
     return any(STEP_LIMIT_WORD.search(word.lower()) and "beyond" not in word for word in identifiers(expr))
 
 
+def self_field(node: ast.AST | None) -> tuple[str, str] | None:
+    """A value the instance keeps from step to step, with the word that names it: ``self.n``
+    (``("n", "n")``), or one named entry of a dict it holds, ``self.state["count"]``
+    (``("state['count']", "count")``), which counts the same way. None for anything else,
+    an entry of a number index among them (``self.pos[1]``: a coordinate)."""
+    name = self_attribute(node)
+    if name is not None:
+        return name, name
+    if isinstance(node, ast.Subscript) and isinstance(node.slice, ast.Constant) and isinstance(node.slice.value, str):
+        holder = self_attribute(node.value)
+        if holder is not None:
+            return f"{holder}[{node.slice.value!r}]", node.slice.value
+    return None
+
+
 def is_local_sign_test(facts: ModuleFacts, test: ast.Compare) -> bool:
     """``time_to_sleep > 0`` on a name only the enclosing function assigns: a value of
     this one call (a delay, a margin), not a counter, which a step limit needs to keep

@@ -5,21 +5,25 @@ Gymnasium), the task's own end (a termination), or both.
 
 * a comparison of a step or time counter with a bound (``self.t >= self.max_steps``,
   ``self.step_counter / self.SIM_FREQ > self.EPISODE_LEN_SEC``) is a limit. A counter is
-  named like one (``STEP_LIMIT_WORD``) or is an attribute the class's ``step`` advances by
-  a fixed amount on every call (``self.n += 1`` at the top of ``step``), unless it is named as a
-  place or an amount (``self.agent_pos``). A test of a
-  period (``self.t % FREQ == 0``) is not a limit;
+  named like one (``STEP_LIMIT_WORD``) or is an attribute (or a named entry of a dict the
+  env holds, ``self.state["count"]``) the class's ``step`` advances by a fixed amount on
+  every call (``self.n += 1`` at the top of ``step``), unless it is named as a place or an
+  amount (``self.agent_pos``). A test of a period (``self.t % FREQ == 0``) is not a limit;
 * a local assigned in the same function, ``self.flag`` as the class stores it, ``True``
   stored or returned under ``if <limit>:``, ``True if <limit> else False``, ``bool(...)``;
-* ``self.helper()`` through every return of the helper and of its overrides (subclasses of
-  the module, and of the run: the caller passes what the run's summaries give), and
-  ``self.helper()["__all__"]`` through the key's stores in the dict the helper returns;
+  a local unpacked from a tuple (``rewards, over = self.score(infos)``: the value in its
+  place of what the helper returns); a parameter, as what the call being followed passes;
+* ``self.helper(...)`` through every return of the helper and of its overrides (subclasses
+  of the module, and of the run: the caller passes what the run's summaries give), its
+  parameters holding the call's arguments, and ``self.helper()["__all__"]`` through the
+  key's stores in the dict the helper returns;
 * ``self.inner.helper()`` where the class stores an instance of a class of the module
   in ``self.inner``.
 
 The result is certain only as far as the code shows it: anything the tracer cannot see
 into is a termination (what ``done`` meant before truncation existed), and a limit mixed
-into a test in any other way than ``a or <limit>`` makes the cause UNKNOWN, with the limits
+into a test in any other way than ``a or <limit>``, or into a collection of flags (per
+agent: a dict, ``tuple(done for _ in agents)``), makes the cause UNKNOWN, with the limits
 it found, so that a report can name them.
 """
 
@@ -45,6 +49,7 @@ from gymmigrate.facts.limit_tests import (
     is_periodic,
     is_self,
     is_step_limit,
+    self_field,
     streak_attributes,
     under_limit,
     unwrap_bool,
@@ -64,7 +69,9 @@ _PLACE_WORD = re.compile(
     r"(^|_)(pos|position|loc|location|coord|coords|x|y|z|dist|distance|height|depth|level|score|"
     r"energy|health|fuel|money|balance|cash|stock|inventory)(_|$)"
 )
-_MAX_DEPTH = 8
+# Deep enough for a flag handed through a helper's arguments and a tuple another method
+# returns (``rewards, over = self.score(infos)``, ``return self.per_agent(dones, over)``).
+_MAX_DEPTH = 12
 
 
 def _opaque(found: DoneCause) -> DoneCause:
@@ -73,8 +80,12 @@ def _opaque(found: DoneCause) -> DoneCause:
 
 
 Method = ast.FunctionDef | ast.AsyncFunctionDef
-# Overrides of a method that other modules of the run define: method name -> their causes.
-External = Callable[[str], list[DoneCause]]
+# Overrides of a method that other modules of the run define: (method name, the position of
+# the value in the tuple it returns, None for the whole value) -> their causes.
+External = Callable[[str, "int | None"], list[DoneCause]]
+# What the parameters of a method hold while a call of it is followed: for each parameter,
+# the tracer of the caller and the argument (or the callee's and the default).
+Arguments = dict[str, tuple["DoneTracer", ast.expr]]
 
 
 class DoneTracer:
@@ -89,7 +100,7 @@ class DoneTracer:
         self.data_ends = data_end_attributes(facts, classdef)
         self.streaks = streak_attributes(facts, classdef)
         self._subclasses: list[ast.ClassDef] | None = None
-        self._busy: set[tuple[str, int]] = set()
+        self._busy: set[tuple[str, int] | tuple[str, int, str]] = set()
 
     def tracer_of(self, classdef: ast.ClassDef) -> DoneTracer:
         if classdef is self.classdef:
@@ -101,28 +112,30 @@ class DoneTracer:
 
     @property
     def counters(self) -> set[str]:
-        """Attributes ``step`` advances by a fixed amount on every call: ``self.n += 1``
-        (or ``self.t = self.t + self.dt``) among the top-level statements of ``step``."""
+        """What ``step`` advances by a fixed amount on every call: ``self.n += 1`` (or
+        ``self.t = self.t + self.dt``), or a named entry of a dict the env holds
+        (``self.state["count"] += 1``, ``limit_tests.self_field``), among the top-level
+        statements of ``step``."""
         if self._counters is None:
             found: set[str] = set()
             step = self.methods.get("step") or self.methods.get("_step")
             for statement in step.body if step is not None else ():
                 if isinstance(statement, ast.AugAssign) and isinstance(statement.op, (ast.Add, ast.Sub)):
-                    name = self_attribute(statement.target)
-                    if name is not None and _fixed(statement.value) and not _PLACE_WORD.search(name):
-                        found.add(name)
+                    field = self_field(statement.target)
+                    if field is not None and _fixed(statement.value) and not _PLACE_WORD.search(field[1]):
+                        found.add(field[0])
                 elif isinstance(statement, ast.Assign) and len(statement.targets) == 1:
-                    name = self_attribute(statement.targets[0])
+                    field = self_field(statement.targets[0])
                     value = statement.value
                     if (
-                        name is not None
+                        field is not None
                         and isinstance(value, ast.BinOp)
                         and isinstance(value.op, (ast.Add, ast.Sub))
-                        and self_attribute(value.left) == name
+                        and self_field(value.left) == field
                         and _fixed(value.right)
-                        and not _PLACE_WORD.search(name)
+                        and not _PLACE_WORD.search(field[1])
                     ):
-                        found.add(name)
+                        found.add(field[0])
             self._counters = found
         return self._counters
 
@@ -142,8 +155,8 @@ class DoneTracer:
     def _counter(self, expr: ast.AST) -> bool:
         while isinstance(expr, ast.BinOp) and isinstance(expr.op, (ast.Div, ast.FloorDiv, ast.Mult)):
             expr = expr.left  # ``self.step_counter / self.SIM_FREQ``: seconds of a step count
-        name = self_attribute(expr)
-        return name is not None and name in self.counters
+        field = self_field(expr)
+        return field is not None and field[0] in self.counters
 
     # -- tracing --------------------------------------------------------------------------
 
@@ -170,6 +183,11 @@ class DoneTracer:
             return self._local(expr, depth)
         if isinstance(expr, ast.Attribute) and isinstance(expr.ctx, ast.Load) and is_self(expr.value):
             return self._attribute(expr.attr, depth)
+        flags = _flags_of(expr)
+        if flags is not None:
+            # One flag per agent (``tuple(done for _ in agents)``, ``(done,) * 2``): not one
+            # flag; the limits among their causes are named.
+            return _opaque(combine(self.trace(flag, depth + 1) for flag in flags))
         if isinstance(expr, ast.Call):
             if is_dm_env_last(self.facts, expr):
                 # dm_env's ``time_step.last()`` is also True when dm_control's own time limit
@@ -221,12 +239,59 @@ class DoneTracer:
         function = self.facts.enclosing_function(name)
         scope = self.facts.scopes.get(function) if function is not None else None
         bindings = scope.bindings.get(name.id, []) if scope is not None else []
+        key = ("local", id(function), name.id)
+        if key in self._busy:
+            # ``ended = over or ended``: the name read again while its own bindings are
+            # followed adds no cause the other bindings do not give
+            return NEVER
         values = []
-        for binding in bindings:
-            holder = self.facts.parent(binding)
-            if not (isinstance(holder, ast.Assign) and holder.targets == [binding]):
-                return self._inside(name, depth)
-            values.append(holder.value)
+        followed: list[DoneCause] = []
+        self._busy.add(key)
+        try:
+            for binding in bindings:
+                holder = self.facts.parent(binding)
+                if isinstance(binding, ast.arg) and function is not None:
+                    if _overwritten(function, name):
+                        continue  # ``dones = tuple(...)`` before the read: the parameter's value is gone
+                    passed = _arguments(self.facts).get(id(function))
+                    if not passed or name.id not in passed[-1]:
+                        return self._inside(name, depth)
+                    caller, argument = passed[-1][name.id]
+                    followed.append(caller.trace(argument, depth + 1))
+                    continue
+                if isinstance(holder, (ast.Tuple, ast.List)):
+                    unpacked = self._unpacked(holder, binding, depth)
+                    if unpacked is None:
+                        return self._inside(name, depth)
+                    followed.append(unpacked)
+                    continue
+                if not (isinstance(holder, ast.Assign) and holder.targets == [binding]):
+                    return self._inside(name, depth)
+                values.append(holder.value)
+            if followed:
+                return combine([*followed, *([self._assigned(values, function, name, depth)] if values else [])])
+            return self._assigned(values, function, name, depth)
+        finally:
+            self._busy.discard(key)
+
+    def _unpacked(self, target: ast.Tuple | ast.List, binding: ast.AST, depth: int) -> DoneCause | None:
+        """``rewards, over = self.score(infos)``: the value in ``binding``'s
+        place of what is unpacked (a tuple literal, or the tuples the method returns); None
+        for anything else."""
+        holder = self.facts.parent(target)
+        if not (isinstance(holder, ast.Assign) and holder.targets == [target]) or any(isinstance(e, ast.Starred) for e in target.elts):
+            return None
+        index = next(i for i, element in enumerate(target.elts) if element is binding)
+        value = holder.value
+        if isinstance(value, (ast.Tuple, ast.List)):
+            if len(value.elts) != len(target.elts) or any(isinstance(e, ast.Starred) for e in value.elts):
+                return None
+            return self.trace(value.elts[index], depth + 1)
+        if isinstance(value, ast.Call):
+            return self._call(value, depth, index)
+        return None
+
+    def _assigned(self, values: list[ast.expr], function: ast.AST | None, name: ast.Name, depth: int) -> DoneCause:
         if not values or function is None:
             return TERMINATION
         if any(_is_dict(v) for v in values):
@@ -256,16 +321,46 @@ class DoneTracer:
 
     # -- methods --------------------------------------------------------------------------
 
-    def _call(self, call: ast.Call, depth: int) -> DoneCause | None:
-        """``self.m()`` / ``self.inner.m()``: the causes of what every candidate ``m`` returns."""
-        returns = self._returned(call)
+    def _call(self, call: ast.Call, depth: int, index: int | None = None) -> DoneCause | None:
+        """``self.m(...)`` / ``self.inner.m(...)``: the causes of what every candidate ``m``
+        returns (``index``: of the value at that position of the tuples it returns), its
+        parameters holding what the call passes."""
+        returns = self._returned(call, index)
         if returns is None:
             return None
-        causes = [tracer.returns_cause(method, depth + 1) for tracer, method in returns[0]]
+        causes = []
+        stack = _arguments(self.facts)
+        for tracer, method in returns[0]:
+            passed = stack.setdefault(id(method), [])
+            passed.append(self._passed(call, method, tracer))
+            try:
+                causes.append(tracer.returns_cause(method, depth + 1, index))
+            finally:
+                passed.pop()
         return combine([*causes, *returns[1]])
 
-    def _returned(self, call: ast.Call) -> tuple[list[tuple[DoneTracer, Method]], list[DoneCause]] | None:
-        if call.args or call.keywords or not isinstance(call.func, ast.Attribute):
+    def _passed(self, call: ast.Call, method: Method, callee: DoneTracer) -> Arguments:
+        """What ``call`` gives each parameter of ``method`` (after ``self``): its argument, or
+        the parameter's default; nothing where a ``*args`` or ``**kwargs`` hides the mapping."""
+        if any(isinstance(a, ast.Starred) for a in call.args) or any(k.arg is None for k in call.keywords):
+            return {}
+        args = method.args
+        params = [*args.posonlyargs, *args.args]
+        passed: Arguments = {}
+        for param, default in zip(params[len(params) - len(args.defaults) :], args.defaults, strict=False):
+            passed[param.arg] = (callee, default)
+        for param, keyword_default in zip(args.kwonlyargs, args.kw_defaults, strict=False):
+            if keyword_default is not None:
+                passed[param.arg] = (callee, keyword_default)
+        static = any(isinstance(d, ast.Name) and d.id == "staticmethod" for d in method.decorator_list)
+        for param, argument in zip(params if static else params[1:], call.args, strict=False):
+            passed[param.arg] = (self, argument)
+        for keyword in call.keywords:
+            passed[keyword.arg] = (self, keyword.value)  # type: ignore[index]
+        return passed
+
+    def _returned(self, call: ast.Call, index: int | None = None) -> tuple[list[tuple[DoneTracer, Method]], list[DoneCause]] | None:
+        if not isinstance(call.func, ast.Attribute):
             return None
         owner, name = call.func.value, call.func.attr
         if is_self(owner):
@@ -276,7 +371,7 @@ class DoneTracer:
                 return None
             tracer = self.tracer_of(inner)
         methods = tracer.candidates(name)
-        external = tracer.external(name) if tracer.external is not None else []
+        external = tracer.external(name, index) if tracer.external is not None else []
         if not methods and not external:
             return None
         return methods, external
@@ -294,16 +389,40 @@ class DoneTracer:
                 found.append((self.tracer_of(sub), method))
         return found
 
-    def returns_cause(self, method: Method, depth: int) -> DoneCause:
+    def defines(self, name: str) -> bool:
+        """The class or a base of it in this module defines the method ``name``."""
+        return self._own_or_inherited(self.classdef, name, set()) is not None
+
+    def returns_cause(self, method: Method, depth: int, index: int | None = None) -> DoneCause:
+        """Why what ``method`` returns is True (``index``: the value at that position of the
+        tuples it returns; a return that is no tuple literal hides it)."""
         key = ("method", id(method))
         if key in self._busy:
             return TERMINATION
         self._busy.add(key)
         try:
-            values = [r.value for r in own_returns(method) if r.value is not None]
-            return combine(self._in_context(v, depth) for v in values) if values else TERMINATION
+            causes = []
+            for ret in own_returns(method):
+                value = ret.value
+                if value is None:
+                    continue
+                if index is None:
+                    causes.append(self._in_context(value, depth))
+                elif isinstance(value, ast.Tuple) and index < len(value.elts) and not any(isinstance(e, ast.Starred) for e in value.elts):
+                    causes.append(self._in_context(value.elts[index], depth))
+                else:
+                    causes.append(_opaque(self.trace(value, depth)))
+            return combine(causes) if causes else TERMINATION
         finally:
             self._busy.discard(key)
+
+    def returned_items(self, method: Method) -> tuple[DoneCause, ...]:
+        """Why each value of the tuples ``method`` returns is True, where every return is a
+        tuple literal of one length (``return rewards, done``); empty otherwise."""
+        lengths = {len(r.value.elts) if isinstance(r.value, ast.Tuple) else -1 for r in own_returns(method)}
+        if len(lengths) != 1 or (length := lengths.pop()) < 2:
+            return ()
+        return tuple(self.returns_cause(method, 0, index) for index in range(length))
 
     def _own_or_inherited(self, classdef: ast.ClassDef, name: str, seen: set[int]) -> tuple[ast.ClassDef, Method] | None:
         if id(classdef) in seen:
@@ -410,6 +529,48 @@ class DoneTracer:
 
 
 _ANY_KEY = object()  # every key of a dict
+
+
+def _arguments(facts: ModuleFacts) -> dict[int, list[Arguments]]:
+    """The arguments of the calls being followed, by method (``id``), innermost last: shared
+    by the tracers of a module, since a call of one class may reach a method of another."""
+    return facts.memo(("done-arguments", id(facts.tree)), dict)
+
+
+def _overwritten(function: ast.AST, name: ast.Name) -> bool:
+    """A statement of ``function``'s body before the one holding ``name`` assigns the name
+    (``dones = tuple(...)`` before ``return dones``): the parameter's value cannot reach it."""
+    body = getattr(function, "body", [])
+    for statement in body:
+        if statement.lineno <= name.lineno <= (statement.end_lineno or statement.lineno):
+            return False
+        if isinstance(statement, ast.Assign) and any(isinstance(t, ast.Name) and t.id == name.id for t in statement.targets):
+            return True
+    return False
+
+
+def _flags_of(expr: ast.expr) -> list[ast.expr] | None:
+    """The flags of a collection of them, one per agent: ``(done, done)``, ``[done] * n``,
+    ``tuple(done for _ in agents)``, ``[d for d in dones]``; None for anything else."""
+    if isinstance(expr, ast.BinOp) and isinstance(expr.op, ast.Mult):
+        for side in (expr.left, expr.right):
+            if isinstance(side, (ast.Tuple, ast.List)):
+                return _flags_of(side)
+        return None
+    if isinstance(expr, (ast.Tuple, ast.List)) and expr.elts and not any(isinstance(e, ast.Starred) for e in expr.elts):
+        return list(expr.elts)
+    if isinstance(expr, (ast.ListComp, ast.GeneratorExp)):
+        return [expr.elt]
+    if (
+        isinstance(expr, ast.Call)
+        and isinstance(expr.func, ast.Name)
+        and expr.func.id in ("tuple", "list")
+        and len(expr.args) == 1
+        and not expr.keywords
+        and isinstance(expr.args[0], (ast.ListComp, ast.GeneratorExp, ast.List, ast.Tuple))
+    ):
+        return _flags_of(expr.args[0])
+    return None
 
 
 def _key_stores(facts: ModuleFacts, function: ast.AST, name: str, created: ast.expr, key: object) -> list[ast.expr] | None:

@@ -221,9 +221,11 @@ class ModuleSummary:
     # own interface, no env of any library, whose seed() only the project calls (GM203).
     plain_roots: frozenset[str] = frozenset()
     # -- done values across modules (facts/limits.py) --
-    # Class (with an imported base) -> its methods that take only ``self`` and return a
-    # value -> why that value is True (a step limit, the task's end...), traced in the class.
+    # Class (with an imported base) -> its methods that return a value -> why that value is
+    # True (a step limit, the task's end...), traced in the class; and for those returning
+    # tuples of one length, why each of their values is True.
     done_methods: dict[str, dict[str, DoneCause]] = field(default_factory=dict)
+    done_items: dict[str, dict[str, tuple[DoneCause, ...]]] = field(default_factory=dict)
     # -- step hooks across modules (facts/step_hooks.py) --
     # Class -> the hooks its step returns (``return self.post_step(...)``) that this module
     # can follow; class -> its methods whose returns can take five values with a base's hook.

@@ -61,13 +61,16 @@ def _takes_agents(read: CollectionRead) -> bool:
 
 
 def _true_list(value: ast.expr) -> bool:
-    """``len(obs) * [True]``, ``[True] * n``, ``[True for _ in obs]``, ``[True, True]``."""
+    """``len(obs) * [True]``, ``[True] * n``, ``[True for _ in obs]``, ``[True, True]``, and
+    the same as a tuple (``(True, True)``, ``tuple([True for _ in obs])``)."""
     if isinstance(value, ast.BinOp) and isinstance(value.op, ast.Mult):
         return any(_true_list(side) for side in (value.left, value.right))
-    if isinstance(value, ast.List):
+    if isinstance(value, (ast.List, ast.Tuple)):
         return bool(value.elts) and all(isinstance(e, ast.Constant) and e.value is True for e in value.elts)
-    if isinstance(value, ast.ListComp):
+    if isinstance(value, (ast.ListComp, ast.GeneratorExp)):
         return isinstance(value.elt, ast.Constant) and value.elt.value is True
+    if isinstance(value, ast.Call) and isinstance(value.func, ast.Name) and value.func.id in ("tuple", "list"):
+        return len(value.args) == 1 and not value.keywords and _true_list(value.args[0])
     return False
 
 

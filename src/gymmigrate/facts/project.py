@@ -170,9 +170,11 @@ class ProjectFacts:
     # where ("pkg/far.py:FarEnv"): a hook a base class migrates must migrate there too.
     overrides: dict[tuple[str, str], dict[str, list[str]]] = field(default_factory=dict)
     # (path, class) -> its direct subclasses in other modules of the run, and (path, class)
-    # -> the done causes of their self-only methods (``ModuleSummary.done_methods``).
+    # -> the done causes of their methods, and of each value of the tuples they return
+    # (``ModuleSummary.done_methods``, ``done_items``).
     subclasses_of: dict[tuple[str, str], list[tuple[str, str]]] = field(default_factory=dict)
     done_methods: dict[tuple[str, str], dict[str, DoneCause]] = field(default_factory=dict)
+    done_items: dict[tuple[str, str], dict[str, tuple[DoneCause, ...]]] = field(default_factory=dict)
     subclass_methods: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
     # (path, class) -> the ``self.<name>(...)`` its methods call (``ModuleSummary.self_calls``).
     self_calls: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)

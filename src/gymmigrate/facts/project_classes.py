@@ -156,6 +156,8 @@ def join_overrides(facts: ProjectFacts, summaries: list[ModuleSummary], by_path:
         facts.init_passers.update((summary.path, name) for name in summary.passes_init_up)
         for name, methods_done in summary.done_methods.items():
             facts.done_methods[(summary.path, name)] = methods_done
+        for name, methods_items in summary.done_items.items():
+            facts.done_items[(summary.path, name)] = methods_items
     # A step hook is followed when every override elsewhere can follow it too; the
     # module of each override then migrates its returns with the base (hooks.py).
     for path, summary in by_path.items():

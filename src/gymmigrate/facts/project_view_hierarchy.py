@@ -137,10 +137,11 @@ class HierarchyView:
         reach ``classname``'s render(), as ("pull.py:5", call)."""
         return self.facts.mode_renders_below.get((self.path, classname), [])
 
-    def done_overrides(self, classname: str, method: str) -> list[DoneCause]:
+    def done_overrides(self, classname: str, method: str, index: int | None = None) -> list[DoneCause]:
         """Why what ``method`` returns is True in each override of it by subclasses in
         other modules of the run, at any depth (``Base`` <- ``Single`` <- ``Hover``); each
-        limit names the module it is in."""
+        limit names the module it is in. ``index``: why the value at that position of the
+        tuples it returns is True."""
         found: list[DoneCause] = []
         seen: set[tuple[str, str]] = set()
         todo = list(self.facts.subclasses_of.get((self.path, classname), ()))
@@ -149,9 +150,13 @@ class HierarchyView:
             if sub in seen:
                 continue
             seen.add(sub)
-            cause = self.facts.done_methods.get(sub, {}).get(method)
+            if index is None:
+                cause = self.facts.done_methods.get(sub, {}).get(method)
+            else:
+                items = self.facts.done_items.get(sub, {}).get(method, ())
+                cause = items[index] if index < len(items) else None
             if cause is None and method in self.facts.subclass_methods.get(sub, ()):
-                cause = DoneCause(Cause.UNKNOWN)  # an override that takes arguments, or returns nothing
+                cause = DoneCause(Cause.UNKNOWN)  # an override that returns nothing, or no tuple of the base's shape
             if cause is not None:
                 where = os.path.basename(sub[0])
                 found.append(DoneCause(cause.cause, tuple(Limit(limit.line, limit.text, where, limit.by_counter) for limit in cause.limits)))

@@ -20,9 +20,17 @@ from gymmigrate.facts.limit_tests import (
     data_end_attributes,
     is_local_sign_test,
     is_step_limit,
+    self_field,
     streak_attributes,
 )
-from gymmigrate.facts.module import FUNCTIONS, LOOPS, ModuleFacts, self_attribute, walk
+from gymmigrate.facts.module import (
+    FUNCTIONS,
+    LOOPS,
+    ModuleFacts,
+    own_returns,
+    self_attribute,
+    walk,
+)
 from gymmigrate.facts.receivers import Receivers
 
 # class -> (its own body counts, its bases of this module, the qualified names of its
@@ -69,13 +77,20 @@ def counts_in(facts: ModuleFacts, classdef: ast.ClassDef) -> bool:
         if isinstance(node, ast.AugAssign) and isinstance(node.op, (ast.Add, ast.Sub)) and self_attribute(node.target) not in streaks:
             counted = (
                 _is_number(node.value)
-                and not isinstance(node.target, ast.Subscript)
+                and (not isinstance(node.target, ast.Subscript) or self_field(node.target) is not None)
                 and len(directions.get(facts.segment(node.target), ())) < 2
             )
             if counted or any(STEP_LIMIT_WORD.search(w) for w in identifiers(node.target)):
-                if not _idle_attribute(facts, node.target, classdef) and not _moved_once_per_call(facts, node.target):
-                    return True  # `self.steps += 1`, `self.t += self.dt`; not `self.pos[1] += 1`
-        if isinstance(node, ast.Compare) and is_step_limit(node, data_ends, streaks) and not is_local_sign_test(facts, node):
+                if not _idle_attribute(facts, node.target, classdef) and not _moved_once_per_call(facts, node.target) and not past_the_end(facts, node):
+                    # `self.steps += 1`, `self.t += self.dt`, `self.state["count"] += 1` (a named
+                    # entry counts as an attribute does); not `self.pos[1] += 1`
+                    return True
+        if (
+            isinstance(node, ast.Compare)
+            and is_step_limit(node, data_ends, streaks)
+            and not is_local_sign_test(facts, node)
+            and not past_the_end(facts, node)
+        ):
             return True  # a step-limit test in a helper (`def _done(self): return self.t > 200`)
         if (
             isinstance(node, ast.Assign)
@@ -86,6 +101,7 @@ def counts_in(facts: ModuleFacts, classdef: ast.ClassDef) -> bool:
             and facts.segment(node.value.left) == facts.segment(node.targets[0])
             and self_attribute(node.targets[0]) not in streaks
             and not _moved_once_per_call(facts, node.targets[0])
+            and not past_the_end(facts, node)
         ):
             return True  # `self.t = self.t + 1`
     return False
@@ -94,7 +110,10 @@ def counts_in(facts: ModuleFacts, classdef: ast.ClassDef) -> bool:
 def _idle_attribute(facts: ModuleFacts, target: ast.expr, classdef: ast.ClassDef) -> bool:
     """``self.<name>`` that cannot limit an episode: the module never reads it
     but to count it, or it also moves it the other way or back from its own value
-    (a position). Only attributes of the class itself; anything else may count."""
+    (a position). Only attributes of the class itself and named entries of them; anything
+    else may count."""
+    if isinstance(target, ast.Subscript) and self_field(target) is not None:
+        return _idle_entry(facts, target)
     if not (isinstance(target, ast.Attribute) and isinstance(target.value, ast.Name) and target.value.id == "self"):
         return False
     directions: set[type] = set()
@@ -119,6 +138,66 @@ def _idle_attribute(facts: ModuleFacts, target: ast.expr, classdef: ast.ClassDef
     if len(directions) > 1:
         return True  # ``+=`` and ``-=``: a position
     return reads == 0
+
+
+def past_the_end(facts: ModuleFacts, node: ast.AST) -> bool:
+    """``node`` runs only in the branch of a step where the done it returns already holds
+    (``if not done: ... else: self.steps_after_fall += 1``): a count there counts the steps
+    taken after the episode ended, and a test there is asked after it ended; neither can
+    end it."""
+    function = facts.enclosing_function(node)
+    if function is None:
+        return False
+    flag = _returned_flag(function)
+    if flag is None:
+        return False
+    child = node
+    for parent in facts.ancestors(node):
+        if parent is function:
+            return False
+        if isinstance(parent, ast.If) and child is not parent.test:
+            test, holds = parent.test, child in parent.body
+            if isinstance(test, ast.UnaryOp) and isinstance(test.op, ast.Not):
+                test, holds = test.operand, not holds
+            if isinstance(test, ast.Name) and test.id == flag and holds:
+                # the flag is final there: nothing binds it again below the test
+                scope = facts.scopes.get(function)
+                bindings = scope.bindings.get(flag, []) if scope is not None else []
+                return bool(bindings) and all(getattr(b, "lineno", parent.lineno) < parent.lineno for b in bindings)
+        child = parent
+    return False
+
+
+def _returned_flag(function: ast.AST) -> str | None:
+    """The name every return of a step gives as its done (the third of four or five values)."""
+    names = set()
+    for ret in own_returns(function):
+        value = ret.value
+        if not (isinstance(value, ast.Tuple) and len(value.elts) in (4, 5) and isinstance(value.elts[2], ast.Name)):
+            return None
+        names.add(value.elts[2].id)
+    return names.pop() if len(names) == 1 else None
+
+
+def _idle_entry(facts: ModuleFacts, target: ast.Subscript) -> bool:
+    """``self.state["count"]`` that the module never reads but to count it: no other read of
+    that entry, nor of the whole dict (which may hand the entry on: a copy, a return)."""
+    holder = target.value
+    key = target.slice.value  # type: ignore[attr-defined]
+    text = facts.segment(target)
+    for attr in facts.attributes.get(holder.attr, ()):  # type: ignore[attr-defined]
+        if not (isinstance(attr.ctx, ast.Load) and isinstance(attr.value, ast.Name) and attr.value.id == "self"):
+            continue
+        entry = facts.parent(attr)
+        if not (isinstance(entry, ast.Subscript) and entry.value is attr):
+            return False  # the whole dict is read
+        if not (isinstance(entry.slice, ast.Constant) and entry.slice.value == key) or not isinstance(entry.ctx, ast.Load):
+            continue  # another entry, or a store of this one
+        update = facts.parent(entry)
+        statement = facts.parent(update) if isinstance(update, ast.BinOp) and update.left is entry else None
+        if not (isinstance(statement, ast.Assign) and [facts.segment(t) for t in statement.targets] == [text]):
+            return False  # read, not only advanced (``self.state["count"] = self.state["count"] + 1``)
+    return True
 
 
 def _moved_once_per_call(facts: ModuleFacts, target: ast.expr) -> bool:

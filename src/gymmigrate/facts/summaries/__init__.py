@@ -185,6 +185,7 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
     call_summaries = tuple(calls.calls())
     named = named_ids(facts)
     made = made_factories(facts, receivers)
+    done_causes = done_methods(facts)
     return ModuleSummary(
         path,
         defs,
@@ -234,7 +235,8 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         bootstrap_masks=bootstrap_masks(facts),
         record_classes=top_level_records(facts.tree),
         plain_roots=plain_roots(facts.tree),
-        done_methods=done_methods(facts),
+        done_methods=done_causes[0],
+        done_items=done_causes[1],
         step_hooks=step_hooks(facts),
         plain_overrides=plain_overrides(facts),
         helper_candidates=helper_candidates(facts),

@@ -39,6 +39,7 @@ from gymmigrate.facts.render_modes import (
     own_object,
     passes_mode,
 )
+from gymmigrate.facts.step_hooks import ENV_API
 
 if TYPE_CHECKING:  # the calls summarizer reads this module's held_params: a type only here
     from gymmigrate.facts.summaries.calls import CallSummarizer
@@ -348,28 +349,36 @@ def self_calls(facts: ModuleFacts) -> dict[str, frozenset[str]]:
     return found
 
 
-def done_methods(facts: ModuleFacts) -> dict[str, dict[str, DoneCause]]:
-    """For each class with an imported base, why its self-only methods' values are True:
-    a subclass's ``def _computeDone(self): return self.t > self.T`` tells its base class in
-    another module that the done of its ``step`` is a step limit (facts/limits.py)."""
+def done_methods(facts: ModuleFacts) -> tuple[dict[str, dict[str, DoneCause]], dict[str, dict[str, tuple[DoneCause, ...]]]]:
+    """For each class with an imported base, why its methods' values are True: a subclass's
+    ``def _computeDone(self): return self.t > self.T`` tells its base class in another
+    module that the done of its ``step`` is a step limit (facts/limits.py). Second, for the
+    methods that return tuples (``return rewards, done``), why each of their values is True:
+    a base's ``rewards, over = self.score(infos)`` reads one of them. A parameter is
+    what the tracer cannot see into: what the base passes stays in the base's module."""
     found: dict[str, dict[str, DoneCause]] = {}
+    items: dict[str, dict[str, tuple[DoneCause, ...]]] = {}
     for name, classdef in facts.classes.items():
         if not any(not N.is_library(q) for base in classdef.bases for q in facts.qualified_names(base)):
             continue
         tracer = DoneTracer(facts, classdef)
         methods = {}
         for statement in classdef.body:
-            if not isinstance(statement, FUNCTIONS) or len(statement.args.args) != 1 or statement.args.vararg or statement.args.kwonlyargs:
+            if not isinstance(statement, FUNCTIONS) or not any(r.value is not None for r in own_returns(statement)):
                 continue
-            if not any(r.value is not None for r in own_returns(statement)):
-                continue
+            if statement.name in ENV_API or statement.name.startswith("__"):
+                continue  # the env's own API and dunders: no helper a base's step asks for its done
             try:
                 methods[statement.name] = tracer.returns_cause(statement, 0)
+                returned = tracer.returned_items(statement)
             except RecursionError:  # a pathological nesting: the override counts as untraced
                 methods[statement.name] = DoneCause(Cause.UNKNOWN)
+                continue
+            if returned:
+                items.setdefault(name, {})[statement.name] = returned
         if methods:
             found[name] = methods
-    return found
+    return found, items
 
 
 def mode_renders(facts: ModuleFacts) -> dict[str, tuple[int, str]]:

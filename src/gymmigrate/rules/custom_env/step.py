@@ -477,7 +477,7 @@ def _decide_returns(
         traced = tracer.trace(done)
         if traced.cause is Cause.TRUNCATION:
             decision.plan.truncating_returns.setdefault(function.name, set()).add(position)
-            _report_truncation(decision, ret, done, traced)
+            _report_truncation(decision, ret, done, traced, function)
             continue
         dm_last = next((limit for limit in traced.limits if limit.text.endswith(".last()") and not limit.where), None)
         if dm_last is not None:
@@ -496,7 +496,8 @@ def _decide_returns(
             what = (
                 "split it from the task's own end by hand"
                 if traced.cause is Cause.MIXED
-                else "not every way to it could be followed: a dict of per-agent flags, an override that takes arguments"
+                else "it holds more than one flag (per-agent flags in a dict, tuple or list) or a value not every way to "
+                "which could be followed"
             )
             decision.report(
                 ret,
@@ -601,13 +602,13 @@ def done_tracer(decision: ClassDecision) -> DoneTracer:
     project = decision.family.receivers.project
     classdef = decision.classdef
 
-    def external(name: str) -> list[DoneCause]:
+    def external(name: str, index: int | None) -> list[DoneCause]:
         if project is None:
             return []
         found: list[DoneCause] = []
         for owner in (classdef, *local_subclasses(decision)):
             if facts.parent(owner) is facts.tree:
-                found += project.done_overrides(owner.name, name)
+                found += project.done_overrides(owner.name, name, index)
         return found
 
     return facts.memo(("done-tracer-run", id(classdef)), lambda: DoneTracer(facts, classdef, external))
@@ -625,8 +626,10 @@ def _limits_text(traced: DoneCause) -> str:
     return " and ".join(parts) + (" and others" if len(places) > 3 else "")
 
 
-def _report_truncation(decision: ClassDecision, ret: ast.Return, done: ast.expr, traced: DoneCause) -> None:
+def _report_truncation(decision: ClassDecision, ret: ast.Return, done: ast.expr, traced: DoneCause, function: Method) -> None:
     text = decision.family.facts.segment(done)
+    # the same done returned again by the same step is one decision: asked once
+    question = ("step-done", id(function), text)
     if traced.elsewhere():
         decision.report(
             ret,
@@ -634,6 +637,7 @@ def _report_truncation(decision: ClassDecision, ret: ast.Return, done: ast.expr,
             f"step returns terminated=False and truncated=`{text}`: every override in the run ends the episode only on "
             f"the step/time limit {_limits_text(traced)}, a truncation; check subclasses outside this run",
             FixKind.ASSIST,
+            question=question,
         )
     elif not traced.plain():
         decision.report(
@@ -643,6 +647,7 @@ def _report_truncation(decision: ClassDecision, ret: ast.Return, done: ast.expr,
             "step advances on every call compared with a bound (an episode length, a truncation); if reaching it is "
             "the task's goal, return it as terminated instead",
             FixKind.ASSIST,
+            question=question,
         )
     else:
         decision.report(

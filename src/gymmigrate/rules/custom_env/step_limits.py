@@ -22,7 +22,7 @@ from gymmigrate.facts.limit_tests import (
     unwrap_bool,
 )
 from gymmigrate.facts.module import own_returns, walk
-from gymmigrate.facts.step_counts import counts_in
+from gymmigrate.facts.step_counts import counts_in, past_the_end
 from gymmigrate.findings import Tier
 from gymmigrate.rules.custom_env.common import ClassDecision
 
@@ -84,7 +84,10 @@ def step_limit_text(decision: ClassDecision, function: ast.AST) -> str | None:
         c
         for s in function.body  # type: ignore[attr-defined]
         for c in walk(s)
-        if isinstance(c, ast.Compare) and is_step_limit(c, data_ends, streaks) and not is_local_sign_test(decision.family.facts, c)
+        if isinstance(c, ast.Compare)
+        and is_step_limit(c, data_ends, streaks)
+        and not is_local_sign_test(decision.family.facts, c)
+        and not past_the_end(decision.family.facts, c)
     ]
     if not found:
         return None

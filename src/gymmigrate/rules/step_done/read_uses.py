@@ -21,7 +21,7 @@ from gymmigrate.facts.done_uses import (
 )
 from gymmigrate.facts.flow import bound_names, end, start
 from gymmigrate.facts.limit_tests import if_setting_true, is_step_limit
-from gymmigrate.facts.module import FUNCTIONS, walk
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, walk
 from gymmigrate.rules.step_done.next_state import DoneStep, NextStateReads
 
 
@@ -328,12 +328,16 @@ class DoneReadUses(NextStateReads):
     def _only_ends_or_unread(self, read: ast.Name) -> str | None:
         """What the code shows the flag is for, when that settles it: returned by a def of the
         file whose every caller unpacks the result and reads the flag only to end a loop
-        (``if done: break``), or stored in a list of the function that nothing reads
-        (``episode.append(Transition(..., done=done))``). None otherwise."""
+        (``if done: break``), stored in a list of the function that nothing reads
+        (``episode.append(Transition(..., done=done))``), or folded into a flag of the
+        episode that only ends a loop or nothing reads (``over |= done``). None otherwise."""
         node: ast.AST = read
         parent = self.facts.parent(node)
         if isinstance(parent, ast.Tuple) and isinstance(self.facts.parent(parent), ast.Return):
             return self._returned_for_loop_exit(read, parent)
+        folded = _folded_into(self.facts.statement_of(read), read)
+        if folded is not None:
+            return self._folded_flag_use(folded)
         while parent is not None and not isinstance(parent, ast.stmt):
             if (
                 isinstance(parent, ast.Call)
@@ -345,6 +349,27 @@ class DoneReadUses(NextStateReads):
             ):
                 return self._unread_list(parent.func.value)
             node, parent = parent, self.facts.parent(parent)
+        return None
+
+    def _folded_flag_use(self, flag: ast.Name) -> str | None:
+        """``over |= done`` (or ``over = over or done``): where every binding of ``over`` in
+        its function is a constant or such a fold, and every other read of it ends a loop
+        (``while not over``, ``if over: break``), ``over`` is whether the episode ended, its
+        books; what it says, or None when it may feed anything else."""
+        scope = self.flow.binding_scope(flag)
+        if scope is None or self._declared_outside(flag, flag.id):
+            return None
+        for binding in scope.bindings.get(flag.id, ()):
+            statement = self.facts.statement_of(binding) if isinstance(binding, ast.Name) else None
+            if statement is None:
+                return None
+            if not _constant_binding(statement, binding) and _folded_into(statement, None, flag.id) is None:
+                return None
+        uses = [use for use in self.flow.reads(flag) if _folded_into(self.facts.statement_of(use), None, flag.id) is None]
+        if not uses:
+            return f"is only folded into `{flag.id}`, which nothing reads"
+        if all(_ends_loop(self.facts, use) for use in uses):
+            return f"is only folded into `{flag.id}`, which is read only to end a loop"
         return None
 
     def _unwrapped_for_loop_exit(self, read: ast.Name) -> str | None:
@@ -603,6 +628,61 @@ def _passes(argument: ast.expr, name: str) -> bool:
     if isinstance(argument, (ast.Tuple, ast.List)):
         return any(_passes(element, name) for element in argument.elts)
     return isinstance(argument, ast.Name) and argument.id == name
+
+
+def _folded_into(statement: ast.AST | None, read: ast.Name | None, name: str | None = None) -> ast.Name | None:
+    """The flag ``x`` of ``x |= read`` or ``x = x or read`` (``read`` None: any value; ``name``:
+    only a flag of that name); None for any other statement."""
+    target: ast.expr
+    if isinstance(statement, ast.AugAssign) and isinstance(statement.op, ast.BitOr):
+        target, values = statement.target, [statement.value]
+    elif (
+        isinstance(statement, ast.Assign)
+        and len(statement.targets) == 1
+        and isinstance(statement.value, ast.BoolOp)
+        and isinstance(statement.value.op, ast.Or)
+    ):
+        target, values = statement.targets[0], statement.value.values
+        if not any(isinstance(v, ast.Name) and isinstance(target, ast.Name) and v.id == target.id for v in values):
+            return None
+    else:
+        return None
+    if not isinstance(target, ast.Name) or (name is not None and target.id != name):
+        return None
+    if read is not None and not any(v is read for v in values):
+        return None
+    return target
+
+
+def _constant_binding(statement: ast.AST, binding: ast.AST) -> bool:
+    """``over = False``, or ``over, total = False, 0.0``: ``binding`` is given a constant."""
+    if not (isinstance(statement, ast.Assign) and len(statement.targets) == 1):
+        return False
+    target, value = statement.targets[0], statement.value
+    if target is binding:
+        return isinstance(value, ast.Constant)
+    return (
+        isinstance(target, (ast.Tuple, ast.List))
+        and isinstance(value, (ast.Tuple, ast.List))
+        and len(target.elts) == len(value.elts)
+        and any(t is binding and isinstance(v, ast.Constant) for t, v in zip(target.elts, value.elts, strict=True))
+    )
+
+
+def _ends_loop(facts: ModuleFacts, use: ast.Name) -> bool:
+    """``while not over:`` or ``if over: break`` (only leaving, no ``else``)."""
+    test: ast.AST = use
+    holder = facts.parent(test)
+    if isinstance(holder, ast.UnaryOp) and isinstance(holder.op, ast.Not):
+        test, holder = holder, facts.parent(holder)
+    if isinstance(holder, ast.While) and holder.test is test:
+        return True
+    return (
+        isinstance(holder, ast.If)
+        and holder.test is test
+        and not holder.orelse
+        and all(isinstance(s, ast.Break) or (isinstance(s, ast.Return) and s.value is None) for s in holder.body)
+    )
 
 
 # Names a flag's unwrapping may call besides the flag itself (``done[0] if isinstance(done, list) else done``).

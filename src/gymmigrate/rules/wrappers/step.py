@@ -19,6 +19,7 @@ module decides, and ``step_returns.py`` builds the returns it decides on.
 from __future__ import annotations
 
 import ast
+from collections.abc import Callable
 from dataclasses import replace
 
 from gymmigrate.edits.lazy import cst
@@ -44,6 +45,8 @@ from gymmigrate.rules.wrappers.step_ends import (
     _own_end_kind,
     _replaces_inner_end,
     _task_end_sets,
+    gym_time_limit_test,
+    limit_tests,
 )
 from gymmigrate.rules.wrappers.step_inner import (
     _only_inner_done,
@@ -102,6 +105,19 @@ class StepOverrides(RuleFamily):
             # ``info["TimeLimit.truncated"] = not done``: the leftover key's value asks nothing
             if finding.rule == "GM302" and finding.line in writes and finding.needs_review and not isinstance(node, ast.stmt):
                 self.plan.findings[index] = replace(finding, message=f"{finding.message} (the value of the leftover key)", tier=Tier.NOTE)
+
+    def _limit_tests(self, classdef: ast.AST | None) -> Callable[[ast.AST], bool]:
+        """The step-limit tests of the wrapper class (``step_ends.limit_tests``), with the
+        overrides of its methods in other modules of the run."""
+        project = self.receivers.project
+        if not isinstance(classdef, ast.ClassDef):
+            return limit_tests(self.facts, None, lambda name: True)
+
+        def overridden(name: str) -> bool:
+            top_level = self.facts.parent(classdef) is self.facts.tree
+            return project is not None and top_level and bool(project.overridden_elsewhere(classdef.name, name))
+
+        return limit_tests(self.facts, classdef, overridden)
 
     def _settle_merged_reads(self, function: ast.AST, name: str, done_name: str) -> None:
         """The StepDone family's GM302 items on reads of ``done_name`` in ``name = done_name
@@ -378,7 +394,9 @@ class StepOverrides(RuleFamily):
             elif (
                 isinstance(done, ast.Name)
                 and done.id == done_name
-                and _only_step_limits(self.facts, lines, done_name, done_line, unpacks, bool(per_agent))
+                and _only_step_limits(
+                    self.facts, lines, done_name, done_line, unpacks, bool(per_agent), self._limit_tests(classdef)
+                )
             ):
                 # The TimeLimit pattern: the override ends episodes only on a step count,
                 # which is truncation by definition. An explanation, not a question.
@@ -397,6 +415,32 @@ class StepOverrides(RuleFamily):
                 )
                 self.plan.replace(value, lambda node, t=terminated: _five(node, _cut(node, t, per_agent)))
                 self._settle_key_writes(function)
+            elif (
+                isinstance(done, ast.Name)
+                and done.id == done_name
+                and isinstance(classdef, ast.ClassDef)
+                and _only_step_limits(
+                    self.facts, lines, done_name, done_line, unpacks, bool(per_agent), gym_time_limit_test(self.facts, classdef)
+                )
+            ):
+                # ``if self._past_limit(): done = True`` in a subclass of gym's TimeLimit: the
+                # end is its base's limit, a truncation whatever else the class does; but the
+                # test calls a method Gymnasium's TimeLimit does not have.
+                self.report(
+                    ret,
+                    "GM602",
+                    "this step override ends episodes only on `self._past_limit()`, the limit test of gym's TimeLimit it "
+                    "derives from (a truncation): that end is returned as truncation "
+                    + (
+                        f"agent by agent (`done and not {terminated}` of each agent: the flags are per-agent lists)"
+                        if per_agent
+                        else f"(`... and not {terminated}`)"
+                    )
+                    + "; Gymnasium's TimeLimit has no `_past_limit()`: test `self._elapsed_steps >= "
+                    "self._max_episode_steps` there",
+                    kind=FixKind.ASSIST,
+                )
+                self.plan.replace(value, lambda node, t=terminated: _five(node, _cut(node, t, per_agent)))
             elif done_name not in _names(done) and inner_done not in _names(done) and _only_own_step_limit(function, done, flags):
                 # ``done = False; if self.t >= self.t_max: done = True`` returned, the inner
                 # step's done read for something else (a penalty): the wrapper hides the inner

@@ -18,9 +18,17 @@ import re
 from collections.abc import Callable
 
 from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts.done_causes import Cause, combine
 from gymmigrate.facts.done_uses import always_false_here, falsy_constant
-from gymmigrate.facts.limit_tests import if_setting_true, own_task_end
+from gymmigrate.facts.limit_tests import (
+    if_setting_true,
+    is_self,
+    own_task_end,
+    unwrap_bool,
+)
+from gymmigrate.facts.limits import DoneTracer
 from gymmigrate.facts.module import FUNCTIONS, own_returns, walk
+from gymmigrate.facts.names import strip_gym_prefix
 from gymmigrate.facts.per_agent_flags import true_list
 from gymmigrate.rules.custom_env.step import is_step_limit
 from gymmigrate.rules.step_done.common import StepUnpack
@@ -135,10 +143,12 @@ def _is_initializer(statement: ast.stmt, name: str) -> bool:
     return isinstance(value, ast.Constant) and (value.value is None or value.value is False)
 
 
-def _sets_done_on_limit(line: ast.stmt, name: str, parent: ast.AST | None, per_agent: bool = False) -> bool:
+def _sets_done_on_limit(
+    line: ast.stmt, name: str, parent: ast.AST | None, per_agent: bool = False, limit: Callable[[ast.AST], bool] = is_step_limit
+) -> bool:
     """``if self._elapsed_steps >= self._max_episode_steps: done = True`` or
-    ``done = done or self.t >= self.limit``: ``name`` is set only by a step-limit test.
-    With per-agent flags, ``done = len(obs) * [True]`` there too."""
+    ``done = done or self.t >= self.limit``: ``name`` is set only by a step-limit test
+    (``limit``). With per-agent flags, ``done = len(obs) * [True]`` there too."""
     if per_agent and isinstance(line, ast.Assign) and len(line.targets) == 1 and true_list(line.value):
         target = line.targets[0]
         return (
@@ -147,9 +157,68 @@ def _sets_done_on_limit(line: ast.stmt, name: str, parent: ast.AST | None, per_a
             and isinstance(parent, ast.If)
             and line in parent.body
             and not parent.orelse
-            and is_step_limit(parent.test)
+            and limit(parent.test)
         )
-    return _sets_done_when(line, name, parent, is_step_limit)
+    return _sets_done_when(line, name, parent, limit)
+
+
+def limit_tests(facts: ModuleFacts, classdef: ast.ClassDef | None, overridden: Callable[[str], bool]) -> Callable[[ast.AST], bool]:
+    """A test of a step limit in a method of ``classdef``: one that names a step counter
+    (``is_step_limit``), or ``self.<m>()`` where ``m`` is a method of the class (or a base of
+    this module) every return of which is such a test, overridden nowhere else in the run
+    (``overridden``)."""
+
+    def test(expr: ast.AST) -> bool:
+        if is_step_limit(expr):
+            return True
+        name = _own_call(expr)
+        if classdef is None or name is None:
+            return False
+        tracer = facts.memo(("done-tracer", id(classdef)), lambda: DoneTracer(facts, classdef))
+        candidates = tracer.candidates(name)
+        if not candidates:
+            return False
+        found = combine(owner.returns_cause(method, 0) for owner, method in candidates)
+        return found.cause is Cause.TRUNCATION and found.plain() and not overridden(name)
+
+    return test
+
+
+# gym's TimeLimit tested its own limit in ``_past_limit()`` (with a limit in seconds beside the
+# one in steps); Gymnasium's TimeLimit has no such method.
+_GYM_TIME_LIMIT_TEST = "_past_limit"
+
+
+def gym_time_limit_test(facts: ModuleFacts, classdef: ast.ClassDef | None) -> Callable[[ast.AST], bool]:
+    """``self._past_limit()`` in a subclass of Gym's TimeLimit that does not define it (nor a
+    base of this module): the test of the limit its base keeps, a truncation by what that
+    wrapper is for, through a method Gymnasium's TimeLimit no longer has."""
+
+    def test(expr: ast.AST) -> bool:
+        if classdef is None or _own_call(expr) != _GYM_TIME_LIMIT_TEST:
+            return False
+        tracer = facts.memo(("done-tracer", id(classdef)), lambda: DoneTracer(facts, classdef))
+        return not tracer.defines(_GYM_TIME_LIMIT_TEST) and any(
+            strip_gym_prefix(q) in ("wrappers.TimeLimit", "wrappers.time_limit.TimeLimit")
+            for base in classdef.bases
+            for q in facts.qualified_names(base)
+        )
+
+    return test
+
+
+def _own_call(expr: ast.AST) -> str | None:
+    """``m`` of ``self.m()`` (or ``bool(self.m())``), a call with no arguments."""
+    expr = unwrap_bool(expr)
+    if (
+        isinstance(expr, ast.Call)
+        and isinstance(expr.func, ast.Attribute)
+        and is_self(expr.func.value)
+        and not expr.args
+        and not expr.keywords
+    ):
+        return expr.func.attr
+    return None
 
 
 def _sets_done_when(line: ast.stmt, name: str, parent: ast.AST | None, test: Callable[[ast.AST], bool]) -> bool:
@@ -249,10 +318,11 @@ def _only_step_limits(
     done_line: ast.stmt | None,
     unpacks: dict[ast.stmt, StepUnpack | None],
     per_agent: bool = False,
+    limit: Callable[[ast.AST], bool] = is_step_limit,
 ) -> bool:
-    """Every change of ``name`` after the inner step is a step-limit test setting it."""
+    """Every change of ``name`` after the inner step is a step-limit test (``limit``) setting it."""
     changes = _done_changes(lines, name, done_line, unpacks)
-    return bool(changes) and all(_sets_done_on_limit(line, name, facts.parent(line), per_agent) for line in changes)
+    return bool(changes) and all(_sets_done_on_limit(line, name, facts.parent(line), per_agent, limit) for line in changes)
 
 
 def _life_loss_sets(
