@@ -176,6 +176,9 @@ class ProjectFacts:
     # method name -> the modules of the run that call it on a receiver other than ``self``
     # (``ModuleSummary.instance_calls``).
     instance_calls: dict[str, list[str]] = field(default_factory=dict)
+    # receiver name -> where the run calls ``<name>.contains(value)`` / ``x.<name>.contains(value)``
+    # (path, line; ``ModuleSummary.contains_calls``)
+    contains_calls: dict[str, list[tuple[str, int]]] = field(default_factory=dict)
     # (path, class) of the classes whose ``__init__`` hands up to a base of another module
     # with ``super().__init__`` (``ModuleSummary.passes_init_up``): the base sees that call.
     init_passers: set[tuple[str, str]] = field(default_factory=set)

@@ -5,6 +5,7 @@
 from __future__ import annotations
 
 import os
+from collections.abc import Iterable
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts.done_causes import Cause, DoneCause, Limit
@@ -72,6 +73,11 @@ class HierarchyView:
         ``self``: one of them may be an instance of this file's class."""
         return sorted(path for path in self.facts.instance_calls.get(method, ()) if path != self.path)
 
+    def contains_calls(self, name: str) -> list[str]:
+        """Where the run calls ``contains()`` on a receiver read by ``name`` (``space`` or
+        ``x.space``), as "utils.py:55", relative to this module's folder, in source order."""
+        return _places(self.path, self.facts.contains_calls.get(name, ()))
+
     def hook_followed_elsewhere(self, classname: str, method: str) -> bool:
         """Every override of ``classname``'s step hook ``method`` in other modules of the run
         can return five values with it (facts/step_hooks.py): they follow the base."""
@@ -118,3 +124,15 @@ class HierarchyView:
     def init_attributes_here(self, name: str) -> frozenset[str]:
         """``init_attributes`` of a class of this module."""
         return self.facts.init_attributes.get((self.path, name), frozenset())
+
+
+def _places(path: str, found: Iterable[tuple[str, int]]) -> list[str]:
+    """``[(path, line), ...]`` in source order as "utils.py:55", ":62" (the same file again),
+    relative to the folder of the module at ``path``."""
+    here = os.path.dirname(path)
+    shown: list[str] = []
+    previous = None
+    for where, line in sorted(set(found)):
+        shown.append(f":{line}" if where == previous else f"{os.path.relpath(where, here)}:{line}")
+        previous = where
+    return shown

@@ -46,6 +46,7 @@ from gymmigrate.facts.step_counts import step_counting
 from gymmigrate.facts.step_hooks import plain_overrides, step_hooks
 from gymmigrate.facts.summaries.calls import CallSummarizer
 from gymmigrate.facts.summaries.classes import (
+    contains_calls,
     done_methods,
     driven_kinds,
     fixed_mode_renders,
@@ -208,6 +209,7 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         pz_wrappers=pz_wrappers.summarize(facts),
         plain_classes=plain_classes(facts),
         space_calls=space_calls(facts, receivers),
+        contains_calls=contains_calls(facts),
         unset_spaces=module_unset_spaces(facts, receivers),
         def_builds=def_builds(facts, receivers),
         checked_entries=checked_entries(facts),

@@ -233,6 +233,18 @@ def subclasses(facts: ModuleFacts) -> tuple[tuple[str, tuple[str, ...], tuple[st
     return tuple(found)
 
 
+def contains_calls(facts: ModuleFacts) -> tuple[tuple[str, int], ...]:
+    """``ModuleSummary.contains_calls``: ``x.contains(value)`` (a space's one-argument
+    membership test), by the name its receiver is read by, with the line."""
+    found = []
+    for call in facts.attribute_calls.get("contains", ()):
+        receiver = call.func.value  # type: ignore[attr-defined]
+        name = receiver.attr if isinstance(receiver, ast.Attribute) else receiver.id if isinstance(receiver, ast.Name) else None
+        if name is not None and len(call.args) == 1 and not call.keywords and not isinstance(call.args[0], ast.Starred):
+            found.append((name, call.lineno))
+    return tuple(found)
+
+
 def instance_calls(facts: ModuleFacts) -> frozenset[str]:
     """``ModuleSummary.instance_calls``: the methods the module calls on a receiver that
     is neither ``self`` nor ``super()`` (``env.postprocess(...)``, ``self.env.observe()``):
