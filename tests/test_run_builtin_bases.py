@@ -1,9 +1,14 @@
 """Subclasses of env classes the run does not define: one of Gymnasium's own envs with an
-``__init__`` of its own (GM405) (``fixtures/project_builtin_bases``).
+``__init__`` of its own (GM405), and a mujoco-py scene whose API other modules read (GM508)
+(``fixtures/project_builtin_bases``).
 
 ``LightCart(CartPoleEnv)`` takes ``render_mode`` and hands it to ``CartPoleEnv.__init__``, so the
 make of its registered id in another module gets ``render_mode="human"`` for its render loop
 (before, the id counted as registered without render_mode and the render stayed a question).
+The scene's one GM508 item names the places outside any MujocoEnv class that read the
+mujoco-py API in the modules its imports connect it to (``Player`` is handed the scene by
+``Match``); an MjSim's own (``sim.model``) is mujoco-py itself, and a tool that imports nothing
+of the arena is another project: neither is named.
 """
 
 from __future__ import annotations
@@ -52,3 +57,9 @@ def test_the_migrated_subclass_is_made_with_a_render_mode(run: Path) -> None:
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == "rgb_array"
 
+
+def test_the_scene_item_names_the_mujoco_py_reads_outside_its_class(run: Path) -> None:
+    [scene] = [f for f in _findings(run) if f["rule"] == "GM508"]
+    assert (scene["path"], scene["line"]) == ("arena/scene.py", 6)
+    assert "match.py:12 and 2 more lines, player.py:9)" in scene["message"]
+    assert "replay.py" not in scene["message"]  # a module of another project of the run

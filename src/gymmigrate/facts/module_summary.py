@@ -164,6 +164,11 @@ class ModuleSummary:
     # (the name the receiver is read by, line) per ``x.contains(value)``: ``space`` for
     # ``space.contains(o)``, ``observation_space`` for ``env.observation_space.contains(o)``.
     contains_calls: tuple[tuple[str, int], ...] = ()
+    # -- the mujoco-py API read outside a MujocoEnv subclass (rules/custom_env/observations.py, GM508) --
+    # Lines reading what only a mujoco-py MujocoEnv has (``x.model.data``, ``x.model.geom_names``,
+    # ``x.model.body_name2id(...)``, ``x.data._wrapped``) on another object than ``self`` or an
+    # MjSim, and the old base's ``_render`` / ``_get_viewer`` called on that same object.
+    mujoco_py_uses: tuple[int, ...] = ()
     # -- spaces an env leaves unset (facts/space_setters.py, GM511) --
     # Top-level class -> (the spaces its own code leaves unset once constructed, its bases
     # of the run, ``@Name`` for one of this module); a class that sets both, or whose code

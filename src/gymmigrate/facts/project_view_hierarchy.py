@@ -78,6 +78,22 @@ class HierarchyView:
         ``x.space``), as "utils.py:55", relative to this module's folder, in source order."""
         return _places(self.path, self.facts.contains_calls.get(name, ()))
 
+    def mujoco_py_uses(self) -> list[str]:
+        """Where the modules its imports connect this one to read the mujoco-py MujocoEnv's
+        API outside such a class (``ProjectFacts.mujoco_py_uses``, ``import_components``):
+        per module, its first such line and how many more ("agents/agent.py:94 and 23 more
+        lines"), relative to this module's folder."""
+        here = os.path.dirname(self.path)
+        components = self.facts.import_components
+        by_path: dict[str, list[int]] = {}
+        for where, line in sorted(set(self.facts.mujoco_py_uses)):
+            if components.get(where, where) == components.get(self.path, self.path):  # this module's project
+                by_path.setdefault(where, []).append(line)
+        return [
+            f"{os.path.relpath(where, here)}:{lines[0]}" + (f" and {len(lines) - 1} more line{'s' if len(lines) > 2 else ''}" if len(lines) > 1 else "")
+            for where, lines in by_path.items()
+        ]
+
     def hook_followed_elsewhere(self, classname: str, method: str) -> bool:
         """Every override of ``classname``'s step hook ``method`` in other modules of the run
         can return five values with it (facts/step_hooks.py): they follow the base."""

@@ -13,6 +13,7 @@ import ast
 from gymmigrate.facts import names as N
 from gymmigrate.facts.env_classes import MUJOCO_BASES, identifiers, is_self_attribute
 from gymmigrate.facts.module import own_returns
+from gymmigrate.facts.summaries.classes import mujoco_py_uses
 from gymmigrate.rules.custom_env.common import ClassDecision, tuple_len
 
 
@@ -22,7 +23,7 @@ def decide_mujoco(decision: ClassDecision) -> None:
             decision.classdef,
             "GM508",
             "mujoco-py MujocoEnv: Gymnasium's MujocoEnv needs observation_space (and render settings) in __init__, and "
-            "self.sim.data becomes self.data; port by hand",
+            f"self.sim.data becomes self.data; port by hand{_uses_elsewhere(decision)}",
         )
         return
     builtin = decision.env.legacy_mujoco_env_base(decision.classdef)
@@ -37,8 +38,31 @@ def decide_mujoco(decision: ClassDecision) -> None:
             decision.classdef,
             "GM508",
             f"subclass of mujoco-py `{builtin}`, whose base becomes Gymnasium's v4 class (mujoco bindings, "
-            f"a fixed observation_space, render through mujoco_renderer): it {', '.join(relies)}; port by hand",
+            f"a fixed observation_space, render through mujoco_renderer): it {', '.join(relies)}; port by hand"
+            f"{_uses_elsewhere(decision)}",
         )
+
+
+def _uses_elsewhere(decision: ClassDecision) -> str:
+    """The places that read the mujoco-py MujocoEnv's API on an object outside such a class
+    (``summaries.classes.mujoco_py_uses``): on an instance of this one they break with it,
+    so the one item of the port names them."""
+    project = decision.family.receivers.project
+    if project is not None:
+        places = project.mujoco_py_uses()
+    else:
+        lines = mujoco_py_uses(decision.family.facts)
+        places = [f"line {lines[0]}" + (f" and {len(lines) - 1} more" if len(lines) > 1 else "")] if lines else []
+    if not places:
+        return ""
+    reader = "module" if project is None else "project (the modules its imports connect)"
+    more = len(places) - 8
+    shown = ", ".join(places[:8]) + (f", and {more} more module{'s' if more > 1 else ''}" if more > 0 else "")
+    return (
+        f"; the {reader} also reads the mujoco-py API outside its MujocoEnv classes ({shown}): on an instance of this "
+        "class those uses change with the port (`model.data` becomes `data`, `model.geom_names.index(n)` "
+        "`model.geom(n).id`, `_render(mode)` `render()`)"
+    )
 
 
 def _relies_on_mujoco_py_base(decision: ClassDecision) -> list[str]:
