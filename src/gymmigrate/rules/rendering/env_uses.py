@@ -123,7 +123,20 @@ class EnvUses(MakeEdits):
             return True  # stepped and drawn through a class of the run holding it (sites.py)
         make = self._makes_by_id.get(key)
         steps = (self._steps_of_make(make) if make is not None else None) or []
+        if not steps and make is not None:
+            steps = self._steps_traced_to(make)
         return bool(steps) and all(self._loop_renders(call, self._rendered_nodes) for call in steps)
+
+    def _steps_traced_to(self, make: ast.Call) -> list[ast.Call]:
+        """The ``x.step(...)`` calls of the module whose receiver the creation search follows
+        back to ``make`` alone (a loop over what a factory returns, a wrapper of the made
+        env): where the env is stepped when its own binding is not."""
+        steps = []
+        for call in self.facts.attribute_calls.get("step", ()):
+            creation = self.finder.find(call.func.value)  # type: ignore[attr-defined]
+            if creation.found and any(c is make for c in creation.calls):
+                steps.append(call)
+        return steps
 
     def _steps_of_make(self, make: ast.Call) -> list[ast.Call] | None:
         """The steps of the env ``env = make(...)`` binds, or ``self.env = make(...)`` in a
