@@ -112,6 +112,12 @@ class CreationFinder:
         """The creation calls behind ``expr`` (a fresh object: callers may annotate it)."""
         return self._follow(expr, self._expr).copy()
 
+    def reached(self, expr: ast.AST) -> bool:
+        """A search of this finder went through ``expr`` (and kept its answer): what ``expr``
+        makes flows into an expression asked about (``env = Wrapper(made)`` on the way from
+        a make to a render of the wrapper)."""
+        return ("_expr", id(expr)) in self._memo
+
     # -- memo -----------------------------------------------------------------------------
 
     def _follow(self, node: ast.AST, compute: Callable[[ast.AST], Creation]) -> Creation:

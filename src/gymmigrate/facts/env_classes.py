@@ -291,6 +291,8 @@ class EnvClasses:
             params = [a.arg for a in (*init.args.args, *init.args.kwonlyargs)]
             if "render_mode" in params:
                 return True
+        if self.render_mode_builtin_base(classdef) is not None:
+            return True
         render = methods.get("render") or methods.get("_render")
         if render is None or not any(a.arg == "mode" for a in render.args.args):
             return False
@@ -299,6 +301,44 @@ class EnvClasses:
         if self.own_render_mode(classdef) is not None:
             return False  # its render(mode) is kept (GM405): no render_mode to give it
         return init is not None or not self.has_local_env_base(classdef)
+
+    def render_mode_builtin_base(self, classdef: ast.ClassDef) -> ast.expr | None:
+        """The class's first base where it is one of Gymnasium's own envs whose ``__init__``
+        takes ``render_mode`` (``CartPoleEnv``) and the class, with no render(mode) of its
+        own, either inherits that ``__init__`` or calls it exactly once from its own, by
+        ``super()`` or by naming the base, with no ``**`` argument: custom_env/render.py hands
+        ``render_mode`` on there (GM405). None otherwise."""
+        return self.facts.memo(("render-mode-builtin-base", id(classdef)), lambda: self._render_mode_builtin_base(classdef))
+
+    def builtin_render_mode_first_base(self, classdef: ast.ClassDef) -> ast.expr | None:
+        """The class's first base where it is one of Gymnasium's own envs whose ``__init__``
+        takes ``render_mode`` (``N.RENDER_MODE_ENV_CLASSES``), else None."""
+        base = _first_base(classdef)
+        if base is None or not any(N.takes_render_mode_builtin(q) for q in self.facts.qualified_names(base)):
+            return None
+        return base
+
+    def _render_mode_builtin_base(self, classdef: ast.ClassDef) -> ast.expr | None:
+        base = self.builtin_render_mode_first_base(classdef)
+        if base is None:
+            return None
+        methods = self.index(classdef).methods
+        render = methods.get("render") or methods.get("_render")
+        if render is not None and any(a.arg == "mode" for a in render.args.args):
+            return None  # its render(mode) migration decides (GM405)
+        init = methods.get("__init__")
+        if init is None:
+            return base
+        if init.args.kwarg is not None:
+            return None  # ``**kwargs`` reach the base as they are
+        calls = [n for n in walk(init) if isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute) and n.func.attr == "__init__"]
+        if len(calls) != 1 or any(k.arg is None or k.arg == "render_mode" for k in calls[0].keywords):
+            return None
+        call = calls[0]
+        assert isinstance(call.func, ast.Attribute)
+        if is_super_call(call.func.value) or ast.dump(call.func.value) == ast.dump(base):
+            return base
+        return None
 
     def own_render_mode(self, classdef: ast.ClassDef) -> str | None:
         """The class's own way of choosing its render mode, which a migration to

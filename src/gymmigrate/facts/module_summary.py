@@ -173,6 +173,15 @@ class ModuleSummary:
     # ``self.action_space = C(...)`` / ``self.observation_space = C(...)`` in its methods;
     # ``@C`` for a class of the module itself.
     space_calls: dict[str, tuple[tuple[str, str], ...]] = field(default_factory=dict)
+    # -- spaces whose ``contains()`` the run asks (rules/spaces/box_contains.py, GM910) --
+    # (the name the receiver is read by, line) per ``x.contains(value)``: ``space`` for
+    # ``space.contains(o)``, ``observation_space`` for ``env.observation_space.contains(o)``.
+    contains_calls: tuple[tuple[str, int], ...] = ()
+    # -- the mujoco-py API read outside a MujocoEnv subclass (rules/custom_env/observations.py, GM508) --
+    # Lines reading what only a mujoco-py MujocoEnv has (``x.model.data``, ``x.model.geom_names``,
+    # ``x.model.body_name2id(...)``, ``x.data._wrapped``) on another object than ``self`` or an
+    # MjSim, and the old base's ``_render`` / ``_get_viewer`` called on that same object.
+    mujoco_py_uses: tuple[int, ...] = ()
     # -- spaces an env leaves unset (facts/space_setters.py, GM511) --
     # Top-level class -> (the spaces its own code leaves unset once constructed, its bases
     # of the run, ``@Name`` for one of this module); a class that sets both, or whose code

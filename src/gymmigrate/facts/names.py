@@ -47,6 +47,46 @@ def is_builtin_env_class_path(rest: str) -> bool:
     return last[:1].isupper() and (last.endswith("Env") or last in GYM_BOX2D_ENV_CLASSES)
 
 
+# Gymnasium 1.4's own env classes whose ``__init__`` takes ``render_mode`` (checked in its
+# sources), by the modules that hold them, gym's prefix stripped: a subclass's own
+# ``__init__`` must take it and hand it on, or ``gymnasium.make(id, render_mode=...)`` raises
+# TypeError. ``LunarLanderContinuous`` and ``BipedalWalkerHardcore`` refuse to be built
+# directly; the MuJoCo classes take it through ``**kwargs`` beside a constructor the mujoco-py
+# classes did not have (GM508).
+_RENDER_MODE_ENV_MODULES = {
+    "envs.classic_control": ("AcrobotEnv", "CartPoleEnv", "Continuous_MountainCarEnv", "MountainCarEnv", "PendulumEnv"),
+    "envs.toy_text": ("BlackjackEnv", "CliffWalkingEnv", "FrozenLakeEnv", "TaxiEnv"),
+    "envs.box2d": ("BipedalWalker", "CarRacing", "LunarLander"),
+}
+_RENDER_MODE_ENV_FILES = {
+    "AcrobotEnv": "acrobot",
+    "CartPoleEnv": "cartpole",
+    "Continuous_MountainCarEnv": "continuous_mountain_car",
+    "MountainCarEnv": "mountain_car",
+    "PendulumEnv": "pendulum",
+    "BlackjackEnv": "blackjack",
+    "CliffWalkingEnv": "cliffwalking",
+    "FrozenLakeEnv": "frozen_lake",
+    "TaxiEnv": "taxi",
+    "BipedalWalker": "bipedal_walker",
+    "CarRacing": "car_racing",
+    "LunarLander": "lunar_lander",
+}
+RENDER_MODE_ENV_CLASSES = frozenset(
+    path
+    for package, classes in _RENDER_MODE_ENV_MODULES.items()
+    for name in classes
+    for path in (f"{package}.{name}", f"{package}.{_RENDER_MODE_ENV_FILES[name]}.{name}")
+)
+
+
+def takes_render_mode_builtin(qualified: str) -> bool:
+    """``gym.envs.classic_control.cartpole.CartPoleEnv``: one of Gymnasium's own env classes
+    whose ``__init__`` takes ``render_mode`` (``RENDER_MODE_ENV_CLASSES``)."""
+    rest = strip_gym_prefix(qualified)
+    return rest is not None and rest in RENDER_MODE_ENV_CLASSES
+
+
 GYM_ENV_BASE_CLASSES = frozenset(
     {
         "Env",

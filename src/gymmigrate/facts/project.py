@@ -98,6 +98,7 @@ from gymmigrate.facts.project_imports import (
     env_modules_through_packages,
     imported_env_modules,
     imports_env_checker,
+    join_import_components,
     join_nearby_packages,
     join_opaque_registrations,
     made_by_def,
@@ -191,6 +192,12 @@ class ProjectFacts:
     # method name -> the modules of the run that call it on a receiver other than ``self``
     # (``ModuleSummary.instance_calls``).
     instance_calls: dict[str, list[str]] = field(default_factory=dict)
+    # receiver name -> where the run calls ``<name>.contains(value)`` / ``x.<name>.contains(value)``
+    # (path, line; ``ModuleSummary.contains_calls``)
+    contains_calls: dict[str, list[tuple[str, int]]] = field(default_factory=dict)
+    # where the run reads the mujoco-py MujocoEnv's API outside such a class (path, line;
+    # ``ModuleSummary.mujoco_py_uses``)
+    mujoco_py_uses: list[tuple[str, int]] = field(default_factory=list)
     # (path, class) of the classes whose ``__init__`` hands up to a base of another module
     # with ``super().__init__`` (``ModuleSummary.passes_init_up``): the base sees that call.
     init_passers: set[tuple[str, str]] = field(default_factory=set)
@@ -309,6 +316,9 @@ class ProjectFacts:
     # imports and of those that import it (one step each way): a project's neighbourhood,
     # not every project of a run over several.
     nearby_packages: dict[str, frozenset[str]] = field(default_factory=dict)
+    # path -> one path that stands for the modules its imports connect it to, either way and
+    # through any number of steps (``join_import_components``): one project of a run over several.
+    import_components: dict[str, str] = field(default_factory=dict)
     # (path, "Agent.train_model") -> ``ModuleSummary.bootstrap_masks`` of that def, with
     # its parameters in order (a call passes them by position).
     bootstrap_masks: dict[tuple[str, str], tuple[tuple[str, ...], frozenset[tuple[str, str]]]] = field(default_factory=dict)
@@ -501,6 +511,7 @@ class ProjectFacts:
         facts.recreates_from_spec = any(s.recreates_from_spec for s in summaries)
         facts.legacy_gym = frozenset(s.path for s in summaries if any(q == "gym" or q.startswith("gym.") for q in s.imported))
         join_nearby_packages(facts, summaries)
+        join_import_components(facts, summaries)
         facts.requires = required_packages(imported)
         join_registered_classes(facts, by_path)
         join_unset_spaces(facts, by_path)

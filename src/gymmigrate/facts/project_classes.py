@@ -137,6 +137,9 @@ def join_overrides(facts: ProjectFacts, summaries: list[ModuleSummary], by_path:
         facts.self_calls.update(((summary.path, name), called) for name, called in summary.self_calls.items())
         for name in summary.instance_calls:
             facts.instance_calls.setdefault(name, []).append(summary.path)
+        for name, line in summary.contains_calls:
+            facts.contains_calls.setdefault(name, []).append((summary.path, line))
+        facts.mujoco_py_uses.extend((summary.path, line) for line in summary.mujoco_py_uses)
         for name, bases, methods in summary.subclasses:
             for qualified in bases:
                 level, parts = import_parts(qualified)

@@ -40,6 +40,28 @@ def join_nearby_packages(facts: ProjectFacts, summaries: list[ModuleSummary]) ->
     facts.nearby_packages = {path: frozenset(tops) for path, tops in nearby.items()}
 
 
+def join_import_components(facts: ProjectFacts, summaries: list[ModuleSummary]) -> None:
+    """``ProjectFacts.import_components``: the modules of the run its imports connect, each
+    way and through any number of steps (every package on an imported path counts): what
+    one module says of another of its project, not of an unrelated one the run also holds."""
+    parent = {s.path: s.path for s in summaries}
+
+    def root(path: str) -> str:
+        while parent[path] != path:
+            parent[path] = parent[parent[path]]
+            path = parent[path]
+        return path
+
+    for summary in summaries:
+        for qualified in (*summary.imported, *summary.star_imports):
+            level, parts = import_parts(qualified)
+            for cut in range(0 if level else 1, len(parts) + 1):
+                path = facts._module_path(parts[:cut], level, summary.path)
+                if path and path in parent:
+                    parent[root(path)] = root(summary.path)
+    facts.import_components = {path: root(path) for path in parent}
+
+
 def join_opaque_registrations(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> None:
     kept = sorted(
         name

@@ -5,6 +5,7 @@
 from __future__ import annotations
 
 import os
+from collections.abc import Iterable
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts.done_causes import Cause, DoneCause, Limit
@@ -86,6 +87,27 @@ class HierarchyView:
         """Other modules of the run that call ``x.<method>(...)`` on a receiver other than
         ``self``: one of them may be an instance of this file's class."""
         return sorted(path for path in self.facts.instance_calls.get(method, ()) if path != self.path)
+
+    def contains_calls(self, name: str) -> list[str]:
+        """Where the run calls ``contains()`` on a receiver read by ``name`` (``space`` or
+        ``x.space``), as "utils.py:55", relative to this module's folder, in source order."""
+        return _places(self.path, self.facts.contains_calls.get(name, ()))
+
+    def mujoco_py_uses(self) -> list[str]:
+        """Where the modules its imports connect this one to read the mujoco-py MujocoEnv's
+        API outside such a class (``ProjectFacts.mujoco_py_uses``, ``import_components``):
+        per module, its first such line and how many more ("agents/agent.py:94 and 23 more
+        lines"), relative to this module's folder."""
+        here = os.path.dirname(self.path)
+        components = self.facts.import_components
+        by_path: dict[str, list[int]] = {}
+        for where, line in sorted(set(self.facts.mujoco_py_uses)):
+            if components.get(where, where) == components.get(self.path, self.path):  # this module's project
+                by_path.setdefault(where, []).append(line)
+        return [
+            f"{os.path.relpath(where, here)}:{lines[0]}" + (f" and {len(lines) - 1} more line{'s' if len(lines) > 2 else ''}" if len(lines) > 1 else "")
+            for where, lines in by_path.items()
+        ]
 
     def hook_followed_elsewhere(self, classname: str, method: str) -> bool:
         """Every override of ``classname``'s step hook ``method`` in other modules of the run
@@ -173,3 +195,15 @@ class HierarchyView:
     def init_attributes_here(self, name: str) -> frozenset[str]:
         """``init_attributes`` of a class of this module."""
         return self.facts.init_attributes.get((self.path, name), frozenset())
+
+
+def _places(path: str, found: Iterable[tuple[str, int]]) -> list[str]:
+    """``[(path, line), ...]`` in source order as "utils.py:55", ":62" (the same file again),
+    relative to the folder of the module at ``path``."""
+    here = os.path.dirname(path)
+    shown: list[str] = []
+    previous = None
+    for where, line in sorted(set(found)):
+        shown.append(f":{line}" if where == previous else f"{os.path.relpath(where, here)}:{line}")
+        previous = where
+    return shown

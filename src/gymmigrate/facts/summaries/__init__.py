@@ -52,6 +52,7 @@ from gymmigrate.facts.step_counts import step_counting
 from gymmigrate.facts.step_hooks import plain_overrides, step_hooks
 from gymmigrate.facts.summaries.calls import CallSummarizer
 from gymmigrate.facts.summaries.classes import (
+    contains_calls,
     done_methods,
     driven_kinds,
     fixed_mode_renders,
@@ -59,6 +60,7 @@ from gymmigrate.facts.summaries.classes import (
     instance_calls,
     mode_renders,
     modeless_renders,
+    mujoco_py_uses,
     own_renders,
     plain_classes,
     plain_roots,
@@ -222,6 +224,8 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         pz_wrappers=pz_wrappers.summarize(facts),
         plain_classes=plain_classes(facts),
         space_calls=space_calls(facts, receivers),
+        contains_calls=contains_calls(facts),
+        mujoco_py_uses=mujoco_py_uses(facts),
         unset_spaces=module_unset_spaces(facts, receivers),
         def_builds=def_builds(facts, receivers),
         checked_entries=checked_entries(facts),

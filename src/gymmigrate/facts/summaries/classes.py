@@ -314,6 +314,58 @@ def subclasses(facts: ModuleFacts) -> tuple[tuple[str, tuple[str, ...], tuple[st
     return tuple(found)
 
 
+def contains_calls(facts: ModuleFacts) -> tuple[tuple[str, int], ...]:
+    """``ModuleSummary.contains_calls``: ``x.contains(value)`` (a space's one-argument
+    membership test), by the name its receiver is read by, with the line."""
+    found = []
+    for call in facts.attribute_calls.get("contains", ()):
+        receiver = call.func.value  # type: ignore[attr-defined]
+        name = receiver.attr if isinstance(receiver, ast.Attribute) else receiver.id if isinstance(receiver, ast.Name) else None
+        if name is not None and len(call.args) == 1 and not call.keywords and not isinstance(call.args[0], ast.Starred):
+            found.append((name, call.lineno))
+    return tuple(found)
+
+
+# What ``env.model`` is on a mujoco-py MujocoEnv and on no object of the ``mujoco`` bindings
+# Gymnasium's MujocoEnv holds (``mujoco.MjModel`` has no ``data``, no ``*_names``, no
+# ``*_name2id``): mujoco-py 0.5's ``model.data`` and the name tables of mujoco-py <= 2.
+_MUJOCO_PY_MODEL = frozenset({"data", "geom_names", "body_names", "joint_names", "site_names", "actuator_names", "camera_names", "sensor_names"})
+_MUJOCO_PY_MODEL_SUFFIXES = ("_name2id", "_id2name")
+# The old base's methods an object built on it answered and Gymnasium's MujocoEnv does not.
+_MUJOCO_PY_METHODS = ("_render", "_get_viewer")
+
+
+def mujoco_py_uses(facts: ModuleFacts) -> tuple[int, ...]:
+    """``ModuleSummary.mujoco_py_uses``: the lines reading the mujoco-py MujocoEnv's own API
+    (``x.model.data``, ``x.model.geom_names``, ``x.data._wrapped``) on an object other than
+    ``self`` (a class's own reads are its own item) or an MjSim (``sim.model``: mujoco-py
+    itself, which does not change); and the old base's ``_render`` / ``_get_viewer`` called on
+    an object read that way in the module."""
+    lines: set[int] = set()
+    objects: set[str] = set()
+    for name, nodes in facts.attributes.items():
+        if name in _MUJOCO_PY_MODEL or name.endswith(_MUJOCO_PY_MODEL_SUFFIXES):
+            holder_attr = "model"
+        elif name == "_wrapped":
+            holder_attr = "data"
+        else:
+            continue
+        for node in nodes:
+            holder = node.value
+            if not (isinstance(holder, ast.Attribute) and holder.attr == holder_attr):
+                continue
+            owner = holder.value
+            if (isinstance(owner, ast.Name) and owner.id in ("self", "sim")) or (isinstance(owner, ast.Attribute) and owner.attr == "sim"):
+                continue
+            lines.add(node.lineno)
+            objects.add(ast.dump(owner))
+    for method in _MUJOCO_PY_METHODS:
+        for call in facts.attribute_calls.get(method, ()):
+            if ast.dump(call.func.value) in objects:  # type: ignore[attr-defined]
+                lines.add(call.lineno)
+    return tuple(sorted(lines))
+
+
 def instance_calls(facts: ModuleFacts) -> frozenset[str]:
     """``ModuleSummary.instance_calls``: the methods the module calls on a receiver that
     is neither ``self`` nor ``super()`` (``env.postprocess(...)``, ``self.env.observe()``):

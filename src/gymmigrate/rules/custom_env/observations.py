@@ -10,8 +10,10 @@ from __future__ import annotations
 
 import ast
 
-from gymmigrate.facts.env_classes import identifiers, is_self_attribute
+from gymmigrate.facts import names as N
+from gymmigrate.facts.env_classes import MUJOCO_BASES, identifiers, is_self_attribute
 from gymmigrate.facts.module import own_returns
+from gymmigrate.facts.summaries.classes import mujoco_py_uses
 from gymmigrate.rules.custom_env.common import ClassDecision, tuple_len
 
 
@@ -20,7 +22,8 @@ def decide_mujoco(decision: ClassDecision) -> None:
         decision.report(
             decision.classdef,
             "GM508",
-            "mujoco-py MujocoEnv: Gymnasium's MujocoEnv needs observation_space (and render settings) in __init__, and self.sim.data becomes self.data; port by hand",
+            "mujoco-py MujocoEnv: Gymnasium's MujocoEnv needs observation_space (and render settings) in __init__, and "
+            f"self.sim.data becomes self.data; port by hand{_uses_elsewhere(decision)}",
         )
         return
     builtin = decision.env.legacy_mujoco_env_base(decision.classdef)
@@ -35,8 +38,31 @@ def decide_mujoco(decision: ClassDecision) -> None:
             decision.classdef,
             "GM508",
             f"subclass of mujoco-py `{builtin}`, whose base becomes Gymnasium's v4 class (mujoco bindings, "
-            f"a fixed observation_space, render through mujoco_renderer): it {', '.join(relies)}; port by hand",
+            f"a fixed observation_space, render through mujoco_renderer): it {', '.join(relies)}; port by hand"
+            f"{_uses_elsewhere(decision)}",
         )
+
+
+def _uses_elsewhere(decision: ClassDecision) -> str:
+    """The places that read the mujoco-py MujocoEnv's API on an object outside such a class
+    (``summaries.classes.mujoco_py_uses``): on an instance of this one they break with it,
+    so the one item of the port names them."""
+    project = decision.family.receivers.project
+    if project is not None:
+        places = project.mujoco_py_uses()
+    else:
+        lines = mujoco_py_uses(decision.family.facts)
+        places = [f"line {lines[0]}" + (f" and {len(lines) - 1} more" if len(lines) > 1 else "")] if lines else []
+    if not places:
+        return ""
+    reader = "module" if project is None else "project (the modules its imports connect)"
+    more = len(places) - 8
+    shown = ", ".join(places[:8]) + (f", and {more} more module{'s' if more > 1 else ''}" if more > 0 else "")
+    return (
+        f"; the {reader} also reads the mujoco-py API outside its MujocoEnv classes ({shown}): on an instance of this "
+        "class those uses change with the port (`model.data` becomes `data`, `model.geom_names.index(n)` "
+        "`model.geom(n).id`, `_render(mode)` `render()`)"
+    )
 
 
 def _relies_on_mujoco_py_base(decision: ClassDecision) -> list[str]:
@@ -52,13 +78,40 @@ def _relies_on_mujoco_py_base(decision: ClassDecision) -> list[str]:
         found.append("overrides _get_obs, from which the old base derived observation_space (v4 fixes its shape)")
     if "viewer_setup" in decision.methods:
         found.append("overrides viewer_setup (never called: v4 takes default_camera_config)")
+    constructor = _legacy_mujoco_constructor(decision)
+    if constructor is not None:
+        found.append(
+            f"calls `{decision.family.facts.segment(constructor.func)}(...)` on line {constructor.lineno} with mujoco-py's "
+            "(model_path, frame_skip), where Gymnasium's MujocoEnv also requires observation_space (TypeError)"
+        )
     return found
+
+
+def _legacy_mujoco_constructor(decision: ClassDecision) -> ast.Call | None:
+    """``mujoco_env.MujocoEnv.__init__(self, path, 4)`` in the class: the mujoco-py base's
+    constructor called by name, with no ``observation_space`` (the third parameter of
+    Gymnasium's, which the import rules make it)."""
+    facts = decision.family.facts
+    for call in decision.index.nodes.get(ast.Call, ()):
+        func = call.func  # type: ignore[attr-defined]
+        if not (isinstance(func, ast.Attribute) and func.attr == "__init__"):
+            continue
+        if not any(N.strip_gym_prefix(q) in MUJOCO_BASES for q in facts.qualified_names(func.value)):
+            continue
+        args = call.args  # type: ignore[attr-defined]
+        if any(isinstance(a, ast.Starred) for a in args) or any(k.arg in (None, "observation_space") for k in call.keywords):  # type: ignore[attr-defined]
+            continue
+        if len(args) <= 3:  # self, model_path, frame_skip
+            return call  # type: ignore[return-value]
+    return None
 
 
 def _uses_mujoco_py(decision: ClassDecision) -> bool:
     nodes = decision.index.nodes
     if any(isinstance(a, ast.Attribute) and is_self_attribute(a.value, ("sim",)) for a in nodes.get(ast.Attribute, ())):
         return True
+    if _legacy_mujoco_constructor(decision) is not None:
+        return True  # Gymnasium's constructor requires the observation_space this call omits
     return "observation_space" not in identifiers(decision.classdef)
 
 

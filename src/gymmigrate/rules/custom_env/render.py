@@ -249,7 +249,21 @@ def decide_subclass_render_mode(decision: ClassDecision) -> None:
     init = decision.method("__init__")
     if init is None or "render_mode" in param_names(init) or init.args.kwarg is not None:
         return
-    if not _ancestor_takes_render_mode(decision, decision.classdef, set()):
+    builtin = decision.env.render_mode_builtin_base(decision.classdef)
+    if builtin is not None:
+        # One of Gymnasium's own envs (``CartPoleEnv(render_mode=None)``), whose __init__ the
+        # class calls once: it takes the mode there and draws with it.
+        decision.plan.pass_render_mode = True
+        decision.report(
+            init,
+            "GM405",
+            f"__init__ takes render_mode=None and passes it to `{decision.family.facts.segment(builtin)}`'s __init__, "
+            "which takes it in Gymnasium: gymnasium.make passes render_mode to the registered class",
+            tier=Tier.NOTE,
+        )
+        return
+    builtin_init = decision.env.builtin_render_mode_first_base(decision.classdef) is not None and not _renders_with_mode(decision)
+    if not builtin_init and not _ancestor_takes_render_mode(decision, decision.classdef, set()):
         return
     calls = [
         node
@@ -273,6 +287,12 @@ def decide_subclass_render_mode(decision: ClassDecision) -> None:
         "to the registered class",
         tier=Tier.NOTE,
     )
+
+
+def _renders_with_mode(decision: ClassDecision) -> bool:
+    """The class defines render(mode) (``_render`` in gym <= 0.9): its own migration decides."""
+    render = decision.method("render") or decision.method("_render")
+    return render is not None and "mode" in param_names(render)
 
 
 def _ancestor_takes_render_mode(decision: ClassDecision, classdef: ast.ClassDef, seen: set[int]) -> bool:

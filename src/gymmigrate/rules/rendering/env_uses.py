@@ -13,6 +13,7 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.facts import names as N
+from gymmigrate.facts.creation import CreationFinder
 from gymmigrate.facts.module import walk
 from gymmigrate.rules.render_schedule import render_condition
 from gymmigrate.rules.rendering.common import RenderSite
@@ -54,12 +55,31 @@ class EnvUses(MakeEdits):
                         if wrapped not in targets:
                             targets.append(wrapped)
                         continue
+                    if self._renders_reach(parent, sites):
+                        # The renders' creation search went through this wrapper (a factory
+                        # returns it, a loop renders what the factory gives): it is the env
+                        # rendered; its binding's own uses are the ones to look at.
+                        assign = self.facts.parent(parent)
+                        if isinstance(assign, ast.Assign) and len(assign.targets) == 1 and isinstance(assign.targets[0], ast.Name):
+                            if assign.targets[0] not in targets:
+                                targets.append(assign.targets[0])
+                        continue
                     return f"passed to {self.facts.segment(parent.func)}()"
                 if isinstance(parent, ast.Attribute) and parent.attr == "step":
                     call = self.facts.parent(parent)
                     if isinstance(call, ast.Call) and call.func is parent and not self._loop_renders(call, rendered):
                         return f"stepped at line {call.lineno}"
         return None
+
+    def _renders_reach(self, call: ast.Call, sites: list[RenderSite]) -> bool:
+        """The search from a render site's receiver back to its make went through ``call``:
+        what the call makes is what that site renders. Asked of a finder of these sites alone
+        (the family's own has followed recorders' and wrappers' arguments too)."""
+        probe = CreationFinder(self.facts, self.receivers, self._is_make)
+        for site in sites:
+            if isinstance(site.node.func, ast.Attribute):
+                probe.find(site.node.func.value)
+        return probe.reached(call)
 
     def _rendered_wrapper(self, call: ast.Call, receivers: list[ast.expr]) -> ast.Name | None:
         """``env = Shim(env)`` (the call's result bound to a plain name) where that binding
@@ -103,7 +123,20 @@ class EnvUses(MakeEdits):
             return True  # stepped and drawn through a class of the run holding it (sites.py)
         make = self._makes_by_id.get(key)
         steps = (self._steps_of_make(make) if make is not None else None) or []
+        if not steps and make is not None:
+            steps = self._steps_traced_to(make)
         return bool(steps) and all(self._loop_renders(call, self._rendered_nodes) for call in steps)
+
+    def _steps_traced_to(self, make: ast.Call) -> list[ast.Call]:
+        """The ``x.step(...)`` calls of the module whose receiver the creation search follows
+        back to ``make`` alone (a loop over what a factory returns, a wrapper of the made
+        env): where the env is stepped when its own binding is not."""
+        steps = []
+        for call in self.facts.attribute_calls.get("step", ()):
+            creation = self.finder.find(call.func.value)  # type: ignore[attr-defined]
+            if creation.found and any(c is make for c in creation.calls):
+                steps.append(call)
+        return steps
 
     def _steps_of_make(self, make: ast.Call) -> list[ast.Call] | None:
         """The steps of the env ``env = make(...)`` binds, or ``self.env = make(...)`` in a

@@ -26,9 +26,12 @@ has the script):
   the empty space with gym's shape, dtype, sample and flattening.
   ``Box(0, 255, dtype=np.int8)`` (a literal bound outside an integer dtype's range) raises
   ``ValueError`` too (gym cast the bound, 255 to -1 for int8). Reported: the dtype the
-  bounds were meant for is the author's choice.
+  bounds were meant for is the author's choice. So does a ``Box`` whose constant ``low`` lies
+  above its ``high`` (a parameter's default among the constants: ``bounds.py``).
 * GM910 ``Box.__eq__`` compares ``dtype`` (gym 0.21 compared shape and bounds only):
-  ``box_a == box_b`` is False now for a float32 and a float64 Box. Reported.
+  ``box_a == box_b`` is False now for a float32 and a float64 Box. Reported. So does
+  ``Box.contains`` (gym <= 0.20 did not): a float32 Box with float64 bounds, on an env whose
+  observations are float64, whose ``contains()`` the run asks, is reported (``box_contains.py``).
 * GM911 a space subclass whose ``__init__`` skips its space's (``super(Discrete,
   self).__init__(...)`` runs ``Space.__init__`` only) lacks what only that ``__init__``
   sets in Gymnasium 1.4 (``Discrete.start``): ``sample()``, ``contains()``, ``repr()``
@@ -45,7 +48,8 @@ Sources: Gymnasium 1.4.0 ``spaces/discrete.py``, ``spaces/multi_binary.py``,
 
 This module is the family (it finds the calls and compares, and decides GM910); the
 rules' decisions are ``type_checks.py`` (GM903, GM905: isinstance and type()),
-``json_writes.py`` (GM903: json), ``sizes.py`` (GM909) and ``subclasses.py`` (GM911), on
+``json_writes.py`` (GM903: json), ``sizes.py`` and ``bounds.py`` (GM909), ``box_contains.py``
+(GM910) and ``subclasses.py`` (GM911), on
 what ``values.py`` says an expression is.
 """
 
@@ -57,6 +61,8 @@ from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.module import walk
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
+from gymmigrate.rules.spaces.bounds import decide_crossed_bounds
+from gymmigrate.rules.spaces.box_contains import decide_box_contains
 from gymmigrate.rules.spaces.json_writes import JSON_WRITERS, decide_json
 from gymmigrate.rules.spaces.multi_discrete import (
     decide_bounds_read,
@@ -80,7 +86,8 @@ RULES = (
         "GM909",
         "zero-size spaces raise",
         FixKind.FLAG,
-        "`MultiBinary(0)`, `Discrete(0)`, `Discrete(<float>)` and `Box` bounds outside an integer dtype raise in Gymnasium 1.x: reported; "
+        "`MultiBinary(0)`, `Discrete(0)`, `Discrete(<float>)`, `Box` bounds outside an integer dtype and `Box` low above high "
+        "raise in Gymnasium 1.x: reported; "
         "a `MultiBinary(n)` whose int size can be 0 gets an empty `Box` for 0.",
     ),
     Rule(
@@ -90,7 +97,13 @@ RULES = (
         "gym's `MultiDiscrete.low` / `.high` become `start` / `start + nvec - 1` on a space known to be a `MultiDiscrete`; "
         "other receivers are reported.",
     ),
-    Rule("GM910", "Box equality compares dtype", FixKind.FLAG, "`box == other_space` is False across dtypes in Gymnasium 1.x: reported."),
+    Rule(
+        "GM910",
+        "Box equality and contains() compare dtype",
+        FixKind.FLAG,
+        "`box == other_space` is False across dtypes in Gymnasium 1.x, and `contains()` of a float64 value is False for a "
+        "float32 Box: reported.",
+    ),
     Rule(
         "GM913",
         "space shape is read-only",
@@ -148,7 +161,9 @@ class SpaceDrift(RuleFamily):
                 decide_pairs_construction(self, call)
         for call in [*self.facts.calls_by_name.get("Box", ()), *self.facts.attribute_calls.get("Box", ())]:
             if space_class_of(self.facts.qualified_names(call.func)) == "Box":
-                decide_box_bounds(self, call)
+                if not decide_box_bounds(self, call):
+                    decide_crossed_bounds(self, call)
+                decide_box_contains(self, call)
         for classdef in self.facts.all_classes:
             decide_subclass(self, classdef)
         for name in ("low", "high"):

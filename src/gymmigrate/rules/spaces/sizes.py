@@ -116,14 +116,15 @@ def decide_size(family: RuleFamily, spaces: SpaceValues, call: ast.Call, name: s
         family.report(call, "GM909", f"`Discrete(n)` needs an integer in Gymnasium 1.x (a float raises TypeError): `{family.facts.segment(size)}` is a float; use `//` or int()", FixKind.FLAG)
 
 
-def decide_box_bounds(family: RuleFamily, call: ast.Call) -> None:
+def decide_box_bounds(family: RuleFamily, call: ast.Call) -> bool:
     """``Box(0, 255, dtype=np.int8)``: gym cast the bound into the dtype (255 wrapped to -1);
-    Gymnasium 1.x raises ValueError for a bound outside an integer dtype's range."""
+    Gymnasium 1.x raises ValueError for a bound outside an integer dtype's range. True when
+    reported."""
     dtype = _argument(call, 3, "dtype")
     dtype_name = _dtype_name(family.facts, dtype) if dtype is not None else None
     limits = _INT_RANGES.get(dtype_name) if dtype_name is not None else None
     if limits is None:
-        return
+        return False
     for position, name in ((0, "low"), (1, "high")):
         bound = _number(_argument(call, position, name))
         if bound is None or limits[0] <= bound <= limits[1]:
@@ -136,7 +137,8 @@ def decide_box_bounds(family: RuleFamily, call: ast.Call) -> None:
             "dtype the bounds were meant for (`np.uint8` for 0..255 pixels) or bounds the dtype holds",
             FixKind.FLAG,
         )
-        return
+        return True
+    return False
 
 
 def _dtype_name(facts: ModuleFacts, dtype: ast.AST) -> str | None:
