@@ -54,6 +54,26 @@ def keeps_legacy_step(classdef: ast.ClassDef) -> bool:
     return True
 
 
+def handed_on_attribute(classdef: ast.ClassDef) -> str | None:
+    """``x`` when the class's own ``step`` and ``reset`` return nothing but
+    ``self.x.step(...)`` and ``self.x.reset(...)``: the object in ``self.x`` answers both
+    calls in the instance's place. None for any other shape."""
+    found: set[str] = set()
+    for method in ("step", "reset"):
+        function = next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == method), None)
+        values = [r.value for r in own_returns(function)] if function is not None else []
+        if not values:
+            return None
+        for value in values:
+            if not (isinstance(value, ast.Call) and isinstance(value.func, ast.Attribute) and value.func.attr == method):
+                return None
+            owner = value.func.value
+            if not (isinstance(owner, ast.Attribute) and isinstance(owner.value, ast.Name) and owner.value.id == "self"):
+                return None
+            found.add(owner.attr)
+    return found.pop() if len(found) == 1 else None
+
+
 # NumPy functions that put per-env values side by side (or give one env's value a batch
 # axis): what they return is an array with one entry per env, never one env's flag.
 _BATCHING_FUNCTIONS = frozenset({"stack", "vstack", "hstack", "concatenate", "expand_dims", "atleast_1d"})

@@ -7,6 +7,7 @@ conventions of the names it holds (a kind not yet resolved: ``new:``, ``ref:``, 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 from gymmigrate.facts.done_causes import DoneCause
 from gymmigrate.facts.init_attributes import ClassStores
@@ -33,6 +34,15 @@ TABLE = "table:"
 # Beyond this many parameters passed on from call to call the join stops following.
 MAX_CHAIN = 50
 Kind = EnvKind | str  # a kind, or ``new:<class>[|<class>...]`` / ``param:<def>:<name>`` / ``held:...`` until the join resolves it
+
+
+class InitHeld(NamedTuple):
+    """What a class of the run holds in an attribute from its ``__init__`` (``ProjectFacts.init_held``)."""
+
+    param: str  # the ``__init__`` parameter
+    position: int  # its position in a call (no ``self``)
+    stored: str  # the attribute stored (a property's read gives the one it returns)
+    handed_on: bool  # the class is a Gym env wrapper written by hand around it
 
 
 # An argument made right there by ``gym.make`` and handed only to calls of the run
@@ -303,6 +313,12 @@ class ModuleSummary:
     # each attribute only ever stored from that parameter (``self.gym_env = gym_env``): an
     # instance's attribute is what every construction of the run passes there.
     held_params: dict[str, dict[str, str]] = field(default_factory=dict)
+    # Top-level classes of any kind -> {attribute: (``__init__`` parameter, attribute stored,
+    # a Gym env wrapper written by hand around it)} for each attribute only ever stored from
+    # that parameter, and each read-only property returning one (``wrapped_env`` ->
+    # ``_wrapped_env``): what a subclass that hands its own parameter up to that ``__init__``
+    # holds there (``ProjectView.init_held``).
+    init_held: dict[str, dict[str, tuple[str, str, bool]]] = field(default_factory=dict)
     # Top-level classes -> {attribute: kind} for each attribute the class resets or steps
     # (``self.env.step(a)``), or holds an env of a known API in, and stores only from
     # constructions this module settles (``self.env = ParallelPettingZooEnv(...)``,

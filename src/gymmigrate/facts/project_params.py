@@ -19,6 +19,7 @@ from gymmigrate.facts.module_summary import (
     REF,
     TABLE,
     CallSummary,
+    InitHeld,
     Kind,
     ModuleSummary,
     Signature,
@@ -277,11 +278,13 @@ def join_held(facts: ProjectFacts, by_path: dict[str, ModuleSummary], params: Pa
     for path, summary in by_path.items():
         if path in facts.blocked:
             continue
+        for name, stored in summary.init_held.items():
+            init = summary.defs.get(f"{name}.__init__")
+            for attribute, (param, held_in, handed_on) in stored.items():
+                if init is not None and param in init.params[1:]:
+                    facts.init_held[(path, name, attribute)] = InitHeld(param, init.params.index(param) - 1, held_in, handed_on)
         for name, held in summary.held_params.items():
             init = summary.defs.get(f"{name}.__init__")
-            for attribute, param in held.items():
-                if init is not None and param in init.params[1:]:
-                    facts.init_held[(path, name, attribute)] = (param, init.params.index(param) - 1)
             if (path, name) in facts.subclasses_of:
                 continue
             for attribute, param in held.items():

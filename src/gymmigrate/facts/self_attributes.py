@@ -74,6 +74,17 @@ class SelfAttributes:
             return own
         values = values or [v for v in self.inherited_values(classdef, name) if not self._copies_attribute(v, name)]
         if not values:
+            handed = self.handed_up(attr)
+            if handed is not None:
+                # ``self._wrapped_env`` that a base of another module stores from the
+                # parameter this class's ``__init__`` hands up: what its constructions pass;
+                # where they do not settle it, a Gym env when that base is a Gym env whose
+                # step and reset are the held object's (the object keeps its contract)
+                kind = self.receivers.kind_of(handed[0])
+                if kind is EnvKind.UNKNOWN and handed[1]:
+                    return EnvKind.GYM_ENV
+                if kind is not EnvKind.UNKNOWN:
+                    return kind
             if name == "env" and self._is_pettingzoo_wrapper(classdef):
                 return self.receivers.class_kind(classdef)
             library = self._set_by_library_base(classdef, name)
@@ -142,17 +153,21 @@ class SelfAttributes:
             found += class_self_stores(self.facts, local).get(name, []) or self.inherited_values(local, name, _seen | {id(classdef)})
         return found
 
-    def handed_up(self, attr: ast.Attribute) -> ast.Name | None:
+    def handed_up(self, attr: ast.Attribute) -> tuple[ast.Name, bool] | None:
         """``self.env_class`` in a class that never stores it, whose ``__init__`` (its own, or
         that of the nearest base of this module defining one) hands its own parameter up to
         a base of another module of the run, with ``super().__init__(..., env_class=env_class)``
-        or ``Base.__init__(self, ...)``, at the slot of the parameter that base stores on
-        ``self.env_class`` and nothing else (``ProjectView.init_held``): the read of that
-        parameter in the call, whose values are the attribute's. None otherwise."""
+        (the first base: the next class of the order ``super()`` follows) or
+        ``Base.__init__(self, ...)``, at the slot of the parameter that base stores on
+        ``self.env_class`` and nothing else, or returns from such an attribute as a
+        property (``ProjectView.init_held``): the read of that parameter in the call, whose
+        values are the attribute's, and whether that base is a Gym env wrapper written by
+        hand around the attribute. None otherwise."""
         project = getattr(self.receivers, "project", None)
         classdef = self.facts.enclosing_class(attr)
         if project is None or classdef is None or not isinstance(attr.value, ast.Name) or not self.is_self(attr.value):
             return None
+        reader = classdef
         seen: set[int] = set()
         init = None
         while id(classdef) not in seen:
@@ -164,34 +179,38 @@ class SelfAttributes:
             if base is None:
                 return None
             classdef = base  # the nearest base here whose ``__init__`` its constructions run
-        if init is None or len(classdef.bases) != 1 or self.receivers.local_class(classdef.bases[0]) is not None:
+        if init is None or not classdef.bases:
             return None
-        qualified = self.receivers.qualified_names(classdef.bases[0])
-        held = project.init_held(next(iter(qualified)), attr.attr) if len(qualified) == 1 else None
-        if held is None:
-            return None
-        param, position = held
-        ups = []
+        found = []
         for call in self.facts.attribute_calls.get("__init__", ()):
             if self.facts.enclosing_function(call) is not init:
                 continue
             if is_super_call(call.func.value):  # type: ignore[attr-defined]
-                ups.append((call, 0))
-            elif named_class_call(call, "__init__", init, classdef.bases) is not None:
-                ups.append((call, 1))
+                base, shift = classdef.bases[0], 0
             else:
-                return None  # another ``__init__`` called here: not the one shape this reads
-        if len(ups) != 1:
+                named = named_class_call(call, "__init__", init, classdef.bases)
+                if named is None:
+                    return None  # another ``__init__`` called here: not the one shape this reads
+                base, shift = named, 1
+            if self.receivers.local_class(base) is not None:
+                continue  # a base of this module: its stores are the class's own (``self_attribute_values``)
+            qualified = self.receivers.qualified_names(base)
+            held = project.init_held(next(iter(qualified)), attr.attr) if len(qualified) == 1 else None
+            if held is not None:
+                found.append((call, shift, held))
+        if len(found) != 1:
             return None
-        call, shift = ups[0]
-        argument = call_argument(call, position + shift, param)
+        call, shift, held = found[0]
+        if held.stored != attr.attr and self._stored_in_hierarchy(reader, held.stored, set()):
+            return None  # the property returns what this class stores there itself
+        argument = call_argument(call, held.position + shift, held.param)
         params = [*init.args.posonlyargs, *init.args.args[1:], *init.args.kwonlyargs]
         if not isinstance(argument, ast.Name):
             return None
         bindings = self.facts.bindings_of(argument)
         if len(bindings) != 1 or bindings[0] not in params or self.facts.enclosing_function(argument) is not init:
             return None
-        return argument
+        return argument, held.handed_on
 
     def _copies_attribute(self, value: ast.expr, name: str) -> bool:
         """``value`` is ``self.<name>`` itself, or a local name every binding of which is

@@ -10,7 +10,7 @@ import ast
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts import names as N
-from gymmigrate.facts.class_shapes import wrapped_env_renders
+from gymmigrate.facts.class_shapes import handed_on_attribute, wrapped_env_renders
 from gymmigrate.facts.done_causes import Cause, DoneCause
 from gymmigrate.facts.env_classes import (
     EnvClasses,
@@ -114,23 +114,78 @@ def held_params(facts: ModuleFacts, receivers: Receivers) -> dict[str, dict[str,
     store only from a parameter of its ``__init__`` that nothing rebinds."""
     found: dict[str, dict[str, str]] = {}
     for name, classdef in facts.classes.items():
-        init = next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == "__init__"), None)
-        if init is None or receivers.class_kind(classdef) is not EnvKind.NOT_ENV:
+        if receivers.class_kind(classdef) is not EnvKind.NOT_ENV:
             continue
-        params = {a.arg for a in (*init.args.posonlyargs, *init.args.args[1:], *init.args.kwonlyargs)}
-        held = {}
-        for attribute, stored in receivers.self_stores(classdef).items():
-            # ``__setstate__`` restores what pickling saved (a pickling wrapper's
-            # ``self.x = pickle.loads(ob)``): the same object, not another value
-            values = [v for v in stored if getattr(facts.enclosing_function(v), "name", None) != "__setstate__"]
-            if len(values) != 1 or not isinstance(values[0], ast.Name) or values[0].id not in params:
-                continue
-            bindings = facts.bindings_of(values[0])
-            if len(bindings) == 1 and isinstance(bindings[0], ast.arg) and facts.enclosing_function(values[0]) is init:
-                held[attribute] = values[0].id
+        held = _held_from_init(facts, receivers, classdef)
         if held:
             found[name] = held
     return found
+
+
+def init_held(facts: ModuleFacts, receivers: Receivers) -> dict[str, dict[str, tuple[str, str, bool]]]:
+    """``ModuleSummary.init_held``: per top-level class of any kind, each attribute its
+    methods store only from a parameter of its ``__init__`` -> (that parameter, the
+    attribute, whether the class is a Gym env wrapper written by hand around it), and each
+    read-only property returning one of those (``def wrapped_env(self): return
+    self._wrapped_env``) -> the same, for the attribute it returns. A subclass handing its
+    own parameter up to that ``__init__`` holds in it what its constructions pass
+    (``SelfAttributes.handed_up``).
+
+    A wrapper written by hand: a Gym env class whose own ``step`` and ``reset`` return the
+    attribute's (``handed_on_attribute``), as ``gym.Wrapper`` does with ``self.env``; the
+    Gym contract its instances keep is the held object's, so that object is a Gym env."""
+    found: dict[str, dict[str, tuple[str, str, bool]]] = {}
+    for name, classdef in facts.classes.items():
+        params = _held_from_init(facts, receivers, classdef)
+        if not params:
+            continue
+        handed_on = handed_on_attribute(classdef) if receivers.class_kind(classdef) is EnvKind.GYM_ENV else None
+        held = {attribute: (param, attribute, attribute == handed_on) for attribute, param in params.items()}
+        stores = receivers.self_stores(classdef)
+        for statement in classdef.body:
+            returned = _property_attribute(facts, statement)
+            if returned is not None and returned in held and statement.name not in stores:  # type: ignore[union-attr]
+                held[statement.name] = held[returned]  # type: ignore[union-attr]
+        found[name] = held
+    return found
+
+
+def _held_from_init(facts: ModuleFacts, receivers: Receivers, classdef: ast.ClassDef) -> dict[str, str]:
+    """The attributes ``classdef``'s methods store only from a parameter of its ``__init__``
+    that nothing rebinds -> that parameter."""
+    init = next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == "__init__"), None)
+    if init is None:
+        return {}
+    params = {a.arg for a in (*init.args.posonlyargs, *init.args.args[1:], *init.args.kwonlyargs)}
+    held = {}
+    for attribute, stored in receivers.self_stores(classdef).items():
+        # ``__setstate__`` restores what pickling saved (a pickling wrapper's
+        # ``self.x = pickle.loads(ob)``): the same object, not another value
+        values = [v for v in stored if getattr(facts.enclosing_function(v), "name", None) != "__setstate__"]
+        if len(values) != 1 or not isinstance(values[0], ast.Name) or values[0].id not in params:
+            continue
+        bindings = facts.bindings_of(values[0])
+        if len(bindings) == 1 and isinstance(bindings[0], ast.arg) and facts.enclosing_function(values[0]) is init:
+            held[attribute] = values[0].id
+    return held
+
+
+def _property_attribute(facts: ModuleFacts, statement: ast.stmt) -> str | None:
+    """``x`` of a read-only property whose whole body (after a docstring) is ``return
+    self.x``; None for anything else."""
+    if not isinstance(statement, ast.FunctionDef) or len(statement.decorator_list) != 1:
+        return None
+    decorator = statement.decorator_list[0]
+    if not (isinstance(decorator, ast.Name) and decorator.id == "property" and not facts.module_scope.bindings.get("property")):
+        return None
+    body = [s for s in statement.body if not (isinstance(s, ast.Expr) and isinstance(s.value, ast.Constant))]
+    params = statement.args.args
+    if len(body) != 1 or not isinstance(body[0], ast.Return) or len(params) != 1:
+        return None
+    value = body[0].value
+    if isinstance(value, ast.Attribute) and isinstance(value.value, ast.Name) and value.value.id == params[0].arg:
+        return value.attr
+    return None
 
 
 _DRIVING_METHODS = ("reset", "step")
