@@ -3,8 +3,9 @@
 ``fixtures/project_handed_up_envs/``: ``flat.Flat`` hands its ``inner`` up to
 ``holder.Holder.__init__`` (``super().__init__``, the first of its two bases), which stores it
 on ``self._inner`` and returns it from the ``inner`` property; ``main.py`` builds ``Flat`` only
-over ``gym.make(...)`` results, so its step and reset on ``self.inner`` are rewritten and
-its own four-field contract kept. ``scaled.Scaled`` hands its ``env`` up to ``proxy.Proxy``,
+over Gym envs (``gym.make(...)`` results, and ``LongCorridor``, its own subclass of the run's
+``Corridor``), so its step and reset on ``self.inner`` are rewritten and its own four-field
+contract kept. ``scaled.Scaled`` hands its ``env`` up to ``proxy.Proxy``,
 a Gym env whose step and reset are the held env's (a wrapper written by hand): nothing
 builds ``Scaled``, and the env it holds is still a Gym env, so its calls are rewritten with
 no question (they were asked, and its step unpacked four values).
@@ -40,8 +41,8 @@ def test_the_migrated_code_runs_on_gymnasium(tmp_path: Path) -> None:
         "import gymnasium, main, scaled\n"
         "env = scaled.Scaled(gymnasium.make('CartPole-v1'))\n"
         "obs, info = env.reset(seed=0)\n"
-        "print(main.play_flat(3), main.play_logged(), len(env.step(0)))\n"
+        "print(main.play_flat(3), main.play_logged(), len(env.step(0)), main.walk()[1])\n"
     )
     run = subprocess.run([sys.executable, "-W", "ignore", "-c", code], cwd=project, capture_output=True, text=True, timeout=120)
     assert run.returncode == 0, run.stderr
-    assert run.stdout.split() == ["3.0", "[1.0]", "5"]
+    assert run.stdout.split() == ["3.0", "[1.0]", "5", "False"]
