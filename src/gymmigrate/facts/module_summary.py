@@ -312,6 +312,9 @@ class ModuleSummary:
     # Top-level plain classes (no env, no wrapper) -> {attribute: ``__init__`` parameter} for
     # each attribute only ever stored from that parameter (``self.gym_env = gym_env``): an
     # instance's attribute is what every construction of the run passes there.
+    # Top-level classes this module cannot classify (their bases are another module's) whose
+    # constructor takes render_mode once migrated, where the run shows them env classes.
+    render_mode_if_env: frozenset[str] = frozenset()
     held_params: dict[str, dict[str, str]] = field(default_factory=dict)
     # Top-level classes of any kind -> {attribute: (``__init__`` parameter, attribute stored,
     # a Gym env wrapper written by hand around it)} for each attribute only ever stored from
