@@ -1,0 +1,27 @@
+"""Directly built envs of classes whose bases are another module's (issue #19).
+
+``fixtures/project_bare_run_classes/``: ``kit.arm.ArmXY`` derives ``Arm`` (``TaskEnv`` of
+another module and a plain mixin), and the run registers it: its module cannot classify it,
+but no class of its hierarchy is a Gym wrapper, so ``ArmXY(...)`` is the env itself and
+``put_in_hand()`` on it is left with no question (it was asked whether the env is wrapped).
+The near case stays asked: ``ClippedXY`` derives ``ClippedArm``, which derives the run's
+``Clip``, a ``gym.Wrapper``.
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+from tests.fixture_cases import migrated_project
+
+
+def test_a_directly_built_env_of_a_wrapper_free_hierarchy_is_the_env_itself(tmp_path: Path) -> None:
+    project, review = migrated_project(tmp_path, "project_bare_run_classes")
+    play = (project / "play.py").read_text()
+    assert play == (Path(__file__).resolve().parent.parent / "fixtures" / "project_bare_run_classes" / "play.py").read_text()
+    assert review == [("play.py", 13, "GM604")]
+    run = subprocess.run([sys.executable, "-W", "ignore", "-c", "import play\nprint(play.grab())\n"], cwd=project, capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.split() == ["0.25"]
