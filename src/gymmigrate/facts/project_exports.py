@@ -48,7 +48,7 @@ class Exports:
                     self.facts.made_at[key] = where
                 if (
                     where[1] in defining.classes
-                    and (where[1] in self.facts.env_classes.get(where[0], ()) or self._wrapper_free(*where, set()))
+                    and (where[1] in self.facts.env_classes.get(where[0], ()) or self._wrapper_free(where[0], where[1], set()))
                     and not any(n in self.by_path[p].wrapper_classes for p, n in trail)
                 ):
                     self.facts.bare_env_classes.add(key)
@@ -77,7 +77,7 @@ class Exports:
                 where = self.origin(*split, set(), trail) if split is not None and "." not in split[1] else None
                 if where is None or any(n in self.by_path[p].wrapper_classes for p, n in trail):
                     return False
-            if not self._wrapper_free(*where, seen):
+            if where is None or not self._wrapper_free(where[0], where[1], seen):
                 return False
         return True
 

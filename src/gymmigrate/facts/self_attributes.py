@@ -185,16 +185,16 @@ class SelfAttributes:
         for call in self.facts.attribute_calls.get("__init__", ()):
             if self.facts.enclosing_function(call) is not init:
                 continue
+            called: ast.expr | None
             if is_super_call(call.func.value):  # type: ignore[attr-defined]
-                base, shift = classdef.bases[0], 0
+                called, shift = classdef.bases[0], 0
             else:
-                named = named_class_call(call, "__init__", init, classdef.bases)
-                if named is None:
+                called, shift = named_class_call(call, "__init__", init, classdef.bases), 1
+                if called is None:
                     return None  # another ``__init__`` called here: not the one shape this reads
-                base, shift = named, 1
-            if self.receivers.local_class(base) is not None:
+            if self.receivers.local_class(called) is not None:
                 continue  # a base of this module: its stores are the class's own (``self_attribute_values``)
-            qualified = self.receivers.qualified_names(base)
+            qualified = self.receivers.qualified_names(called)
             held = project.init_held(next(iter(qualified)), attr.attr) if len(qualified) == 1 else None
             if held is not None:
                 found.append((call, shift, held))

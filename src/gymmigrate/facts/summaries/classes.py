@@ -143,9 +143,11 @@ def init_held(facts: ModuleFacts, receivers: Receivers) -> dict[str, dict[str, t
         held = {attribute: (param, attribute, attribute == handed_on) for attribute, param in params.items()}
         stores = receivers.self_stores(classdef)
         for statement in classdef.body:
+            if not isinstance(statement, ast.FunctionDef):
+                continue
             returned = _property_attribute(facts, statement)
-            if returned is not None and returned in held and statement.name not in stores:  # type: ignore[union-attr]
-                held[statement.name] = held[returned]  # type: ignore[union-attr]
+            if returned is not None and returned in held and statement.name not in stores:
+                held[statement.name] = held[returned]
         found[name] = held
     return found
 
@@ -170,10 +172,10 @@ def _held_from_init(facts: ModuleFacts, receivers: Receivers, classdef: ast.Clas
     return held
 
 
-def _property_attribute(facts: ModuleFacts, statement: ast.stmt) -> str | None:
+def _property_attribute(facts: ModuleFacts, statement: ast.FunctionDef) -> str | None:
     """``x`` of a read-only property whose whole body (after a docstring) is ``return
     self.x``; None for anything else."""
-    if not isinstance(statement, ast.FunctionDef) or len(statement.decorator_list) != 1:
+    if len(statement.decorator_list) != 1:
         return None
     decorator = statement.decorator_list[0]
     if not (isinstance(decorator, ast.Name) and decorator.id == "property" and not facts.module_scope.bindings.get("property")):
