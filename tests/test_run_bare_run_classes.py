@@ -1,6 +1,6 @@
 """Directly built envs of classes whose bases are another module's (issue #19).
 
-``fixtures/project_bare_run_classes/``: ``kit.arm.ArmXY`` derives ``Arm`` (``TaskEnv`` of
+``fixtures/project_bare_run_classes/``: ``rig.arm.ArmXY`` derives ``Arm`` (``TaskEnv`` of
 another module and a plain mixin), and the run registers it: its module cannot classify it,
 but no class of its hierarchy is a Gym wrapper, so ``ArmXY(...)`` is the env itself and
 ``put_in_hand()`` on it is left with no question (it was asked whether the env is wrapped).
