@@ -79,6 +79,58 @@ def _bound_to_super_step(step: ast.FunctionDef | ast.AsyncFunctionDef) -> frozen
     )
 
 
+def handed_on_attribute(classdef: ast.ClassDef) -> str | None:
+    """``x`` when the class's own ``step`` and ``reset`` return nothing but
+    ``self.x.step(...)`` and ``self.x.reset(...)``: the object in ``self.x`` answers both
+    calls in the instance's place. None for any other shape."""
+    found: set[str] = set()
+    for method in ("step", "reset"):
+        function = next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == method), None)
+        values = [r.value for r in own_returns(function)] if function is not None else []
+        if not values:
+            return None
+        for value in values:
+            if not (isinstance(value, ast.Call) and isinstance(value.func, ast.Attribute) and value.func.attr == method):
+                return None
+            owner = value.func.value
+            if not (isinstance(owner, ast.Attribute) and isinstance(owner.value, ast.Name) and owner.value.id == "self"):
+                return None
+            found.add(owner.attr)
+    return found.pop() if len(found) == 1 else None
+
+
+
+def property_aliases_of(facts: ModuleFacts, classdef: ast.ClassDef) -> dict[str, str]:
+    """Each read-only ``@property`` of the class whose whole body (after a docstring) only
+    returns another attribute of ``self`` (``def wrapped_env(self): return
+    self._wrapped_env``) -> that attribute: reading the property reads what the attribute
+    holds. A property with a setter or other binding of its name in the class, or under a
+    module-level ``property`` of the module's own, is none."""
+    if facts.module_scope.bindings.get("property"):
+        return {}
+    named: dict[str, int] = {}
+    for statement in classdef.body:
+        if isinstance(statement, (*FUNCTIONS, ast.ClassDef)):
+            named[statement.name] = named.get(statement.name, 0) + 1
+    found: dict[str, str] = {}
+    for statement in classdef.body:
+        if not (isinstance(statement, FUNCTIONS) and len(statement.decorator_list) == 1 and named[statement.name] == 1):
+            continue
+        decorator = statement.decorator_list[0]
+        params = [*statement.args.posonlyargs, *statement.args.args]
+        body = [s for s in statement.body if not (isinstance(s, ast.Expr) and isinstance(s.value, ast.Constant))]
+        if not (isinstance(decorator, ast.Name) and decorator.id == "property" and len(params) == 1 and len(body) == 1):
+            continue
+        returned = body[0].value if isinstance(body[0], ast.Return) else None
+        if (
+            isinstance(returned, ast.Attribute)
+            and isinstance(returned.value, ast.Name)
+            and returned.value.id == params[0].arg
+            and returned.attr != statement.name
+        ):
+            found[statement.name] = returned.attr
+    return found
+
 # NumPy functions that put per-env values side by side (or give one env's value a batch
 # axis): what they return is an array with one entry per env, never one env's flag.
 _BATCHING_FUNCTIONS = frozenset({"stack", "vstack", "hstack", "concatenate", "expand_dims", "atleast_1d"})

@@ -20,6 +20,7 @@ from __future__ import annotations
 import ast
 import re
 import sys
+from typing import cast
 
 from gymmigrate.facts.module import ModuleFacts
 
@@ -29,6 +30,10 @@ _MUTATORS = frozenset(
 )
 
 Display = ast.Dict | ast.List | ast.Tuple
+
+# Mapping constructors whose arguments are the table itself: ``OrderedDict(((k, v), ...))``,
+# ``dict([(k, v), ...])``, ``dict(k=v)``: as closed as the display they copy.
+_MAPPING_TYPES = frozenset({"collections.OrderedDict", "dict"})
 
 
 def lookup(facts: ModuleFacts, callee: ast.Subscript) -> tuple[ast.expr, str | None] | None:
@@ -64,11 +69,42 @@ def module_table(facts: ModuleFacts, binding: ast.Name) -> Display | None:
         return None
     if len(facts.module_scope.bindings.get(binding.id, ())) != 1:
         return None
-    value = assign.value
+    value: ast.expr | None = assign.value
+    if isinstance(value, ast.Call):
+        value = facts.memo(("mapping-display", id(value)), lambda: _mapping_display(facts, cast(ast.Call, assign.value)))
     if not isinstance(value, (ast.Dict, ast.List, ast.Tuple)):
         return None
     altered = facts.memo(("table-altered", id(binding)), lambda: any(written(facts, r) for r in facts.reads_of(binding.id, binding)))
     return None if altered else value
+
+
+def _mapping_display(facts: ModuleFacts, call: ast.Call) -> ast.Dict | None:
+    """The dict a mapping constructor call builds, as a display of the same key and value
+    nodes: ``OrderedDict((("a", A), ("b", B)))`` is ``{"a": A, "b": B}``, ``dict(a=A)`` is
+    ``{"a": A}``. None for any other call, or one whose pairs are not all shown."""
+    func = call.func
+    qualified = facts.qualified_names(func)
+    if isinstance(func, ast.Name) and not qualified and facts.resolve(func.id, facts.scope_of(func))[0] is None:
+        qualified = {func.id}  # the builtin, not rebound
+    if not qualified & _MAPPING_TYPES or len(call.args) > 1:
+        return None
+    keys: list[ast.expr | None] = []
+    values: list[ast.expr] = []
+    if call.args:
+        pairs = call.args[0]
+        if not isinstance(pairs, (ast.Tuple, ast.List)):
+            return None
+        for pair in pairs.elts:
+            if not (isinstance(pair, ast.Tuple) and len(pair.elts) == 2):
+                return None
+            keys.append(pair.elts[0])
+            values.append(pair.elts[1])
+    for keyword in call.keywords:
+        if keyword.arg is None:
+            return None  # ``dict(**other)``: entries not shown
+        keys.append(ast.Constant(keyword.arg))
+        values.append(keyword.value)
+    return ast.Dict(keys=keys, values=values)
 
 
 def entries(display: Display, field: str | None) -> list[ast.expr] | None:

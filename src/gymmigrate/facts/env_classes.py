@@ -283,8 +283,11 @@ class EnvClasses:
         return self.facts.memo(("takes-render-mode", id(classdef)), lambda: self._takes_render_mode(classdef))
 
     def _takes_render_mode(self, classdef: ast.ClassDef) -> bool:
-        if not self.is_custom_env(classdef):
-            return False
+        return self.is_custom_env(classdef) and self.would_take_render_mode(classdef)
+
+    def would_take_render_mode(self, classdef: ast.ClassDef) -> bool:
+        """``takes_render_mode`` were the class an env class: what the run decides of a
+        class whose bases only another module shows to be env classes."""
         methods = self.index(classdef).methods
         init = methods.get("__init__")
         if init is not None:

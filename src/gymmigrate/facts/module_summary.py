@@ -7,6 +7,7 @@ conventions of the names it holds (a kind not yet resolved: ``new:``, ``ref:``, 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 from gymmigrate.facts.done_causes import DoneCause
 from gymmigrate.facts.init_attributes import ClassStores
@@ -33,6 +34,14 @@ TABLE = "table:"
 # Beyond this many parameters passed on from call to call the join stops following.
 MAX_CHAIN = 50
 Kind = EnvKind | str  # a kind, or ``new:<class>[|<class>...]`` / ``param:<def>:<name>`` / ``held:...`` until the join resolves it
+
+
+class InitHeld(NamedTuple):
+    """What a class of the run holds in an attribute from its ``__init__`` (``ProjectFacts.init_held``)."""
+
+    param: str  # the ``__init__`` parameter
+    position: int  # its position in a call (no ``self``)
+    handed_on: bool  # the class is a Gym env wrapper written by hand around the attribute
 
 
 # An argument made right there by ``gym.make`` and handed only to calls of the run
@@ -331,17 +340,23 @@ class ModuleSummary:
     # a registered id no module names is made by nothing of the run (GM511).
     named_ids: frozenset[str] = frozenset()
     opaque_make: bool = False
+    # Top-level classes this module cannot classify (their bases are another module's) whose
+    # constructor takes render_mode once migrated, where the run shows them env classes.
+    render_mode_if_env: frozenset[str] = frozenset()
     # Top-level plain classes (no env, no wrapper) -> {attribute: ``__init__`` parameter} for
     # each attribute only ever stored from that parameter (``self.gym_env = gym_env``): an
     # instance's attribute is what every construction of the run passes there.
     held_params: dict[str, dict[str, str]] = field(default_factory=dict)
-    # The same for every top-level class whose kind the module cannot tell (a proxy deriving a
-    # plain class of another module) besides the plain ones: what a subclass elsewhere that hands
-    # its own parameter up to that ``__init__`` holds there (``ProjectFacts.init_held``).
-    init_params: dict[str, dict[str, str]] = field(default_factory=dict)
+    # The same for top-level classes of any kind (a proxy deriving a plain class of another
+    # module, a Gym env storing the env it wraps), with whether the class is a Gym env wrapper
+    # written by hand around the attribute (its step and reset are the held object's,
+    # ``class_shapes.handed_on_attribute``): what a subclass elsewhere that hands its own
+    # parameter up to that ``__init__`` holds there (``ProjectFacts.init_held``).
+    init_held: dict[str, dict[str, tuple[str, bool]]] = field(default_factory=dict)
     # Top-level class -> {property: attribute} for each ``@property`` that only returns
-    # ``self.<attribute>`` (``summaries/classes.property_aliases``): a subclass in another
-    # module reading the property reads that attribute (``ProjectFacts.property_aliases``).
+    # ``self.<attribute>`` (``class_shapes.property_aliases_of``): a subclass in another module
+    # reading the property reads that attribute (``ProjectFacts.property_aliases``), and holds
+    # there what it hands up to ``init_held`` (``SelfAttributes.handed_up``).
     property_aliases: dict[str, dict[str, str]] = field(default_factory=dict)
     # Top-level classes -> {attribute: kind} for each attribute the class resets or steps
     # (``self.env.step(a)``), or holds an env of a known API in, and stores only from

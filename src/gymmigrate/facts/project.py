@@ -54,6 +54,7 @@ from gymmigrate.facts.module_summary import (
     TABLE,
     UNRESOLVED,
     CallSummary,
+    InitHeld,
     ModuleSummary,
     is_ref,
 )
@@ -378,10 +379,12 @@ class ProjectFacts:
     # what calling the class or other creator passed there gives (``CallSummary.creators``;
     # unknown for any other argument).
     creator_kinds: dict[tuple[str, str, str], list[EnvKind]] = field(default_factory=dict)
-    # (path, class, attribute) -> the ``__init__`` parameter the attribute holds and its
-    # position in a call (``ModuleSummary.held_params``), for every class, subclassed or not:
-    # a subclass elsewhere that hands its own parameter up there holds that in the attribute.
-    init_held: dict[tuple[str, str, str], tuple[str, int]] = field(default_factory=dict)
+    # (path, class, attribute) -> the ``__init__`` parameter the attribute holds, its
+    # position in a call and whether the class is a Gym env wrapper written by hand around it
+    # (``ModuleSummary.init_held``), for every class, subclassed or not: a subclass elsewhere
+    # that hands its own parameter up there holds that in the attribute (read as such, or
+    # through a property returning it: ``property_aliases``).
+    init_held: dict[tuple[str, str, str], InitHeld] = field(default_factory=dict)
     # path -> its top-level defs returning a thunk -> what that thunk returns (modules left
     # as they are give none: their thunks keep the old API)
     thunk_factories: dict[str, dict[str, EnvKind]] = field(default_factory=dict)

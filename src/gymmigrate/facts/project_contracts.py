@@ -166,14 +166,33 @@ def thread_render_mode(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -
     every such subclass is a silent no-op and ``gymnasium.make(id, render_mode=...)`` of a
     registered one a TypeError. Every name re-exporting such a class counts too."""
     takes = {(path, name) for path, names in facts.render_mode_classes.items() for name in names}
+    # a class its module cannot classify, which the run shows to be an env class (its bases
+    # are the run's: ``class Point(MultitaskEnv, Serializable)``), takes it as the rules give it
+    takes |= {
+        (path, name)
+        for path, summary in by_path.items()
+        if path not in facts.blocked
+        for name in summary.render_mode_if_env
+        if facts.call_kinds.get((path, name)) is EnvKind.GYM_ENV
+    }
 
     def resolve(base: str, path: str) -> tuple[str, str] | None:
         if base.startswith(OWN):
             return path, base[len(OWN) :]
         split = facts._split(base, path)
-        if split is None or "." in split[1] or facts.call_kinds.get(split) is not EnvKind.GYM_ENV:
-            return None  # only a base that makes the subclass an env class the rules decide
+        if split is None or "." in split[1]:
+            return None
         return _definer(facts, by_path, *split)
+
+    def makes_env_class(base: str, path: str) -> bool:
+        """The base makes the subclass an env class the rules decide (a class of its own
+        module, or one the run shows to be a Gym env class); another base may be the one
+        that takes render_mode (``class Reach(ArmBase, TaskEnv)`` with only ``TaskEnv``
+        known to be an env class, ``ArmBase`` taking render_mode from a base of its own)."""
+        if base.startswith(OWN):
+            return True
+        split = facts._split(base, path)
+        return split is not None and "." not in split[1] and facts.call_kinds.get(split) is EnvKind.GYM_ENV
 
     changed = True
     while changed:
@@ -185,7 +204,13 @@ def thread_render_mode(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -
             # stay whole takes no render_mode; an optional one takes it beside the mode
             kept = summary.fixed_mode_renders if path in facts.render_called else frozenset()
             for name, bases, passes_on in summary.render_mode_heirs:
-                if passes_on and name not in kept and (path, name) not in takes and any(resolve(b, path) in takes for b in bases):
+                if (
+                    passes_on
+                    and name not in kept
+                    and (path, name) not in takes
+                    and any(resolve(b, path) in takes for b in bases)
+                    and any(makes_env_class(b, path) for b in bases)
+                ):
                     takes.add((path, name))
                     changed = True
     for path, summary in by_path.items():

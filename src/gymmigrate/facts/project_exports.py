@@ -48,10 +48,38 @@ class Exports:
                     self.facts.made_at[key] = where
                 if (
                     where[1] in defining.classes
-                    and where[1] in self.facts.env_classes.get(where[0], ())
+                    and (where[1] in self.facts.env_classes.get(where[0], ()) or self._wrapper_free(where[0], where[1], set()))
                     and not any(n in self.by_path[p].wrapper_classes for p, n in trail)
                 ):
                     self.facts.bare_env_classes.add(key)
+
+    def _wrapper_free(self, path: str, name: str, seen: set[tuple[str, str]]) -> bool:
+        """The class ``name`` of module ``path``, which the run shows to make Gym envs though
+        its own module cannot tell (``class Reach(ArmBase, TaskEnv)``), and its bases of the
+        run at any depth are no Gym wrapper classes: an instance made by calling it is the
+        env itself. False where a base of the run cannot be followed (a plain root of the
+        run, deriving only ``object``, needs none)."""
+        if (path, name) in seen:
+            return True
+        seen.add((path, name))
+        summary = self.by_path.get(path)
+        if summary is None or name in summary.wrapper_classes or len(seen) > MAX_CHAIN:
+            return False
+        heir = next((h for h in summary.render_mode_heirs if h[0] == name), None)
+        for base in heir[1] if heir is not None else ():
+            if base.startswith(OWN):
+                where: tuple[str, str] | None = (path, base[len(OWN) :])
+            elif self.facts.view(path).is_plain_root(base):
+                continue  # a class of the run deriving only ``object``: no wrapper
+            else:
+                split = self.facts._split(base, path)
+                trail: list[tuple[str, str]] = []
+                where = self.origin(*split, set(), trail) if split is not None and "." not in split[1] else None
+                if where is None or any(n in self.by_path[p].wrapper_classes for p, n in trail):
+                    return False
+            if where is None or not self._wrapper_free(where[0], where[1], seen):
+                return False
+        return True
 
     def origin(
         self, path: str, name: str, seen: set[tuple[str, str]], trail: list[tuple[str, str]] | None = None

@@ -19,6 +19,7 @@ from gymmigrate.facts.module_summary import (
     REF,
     TABLE,
     CallSummary,
+    InitHeld,
     Kind,
     ModuleSummary,
     Signature,
@@ -277,11 +278,11 @@ def join_held(facts: ProjectFacts, by_path: dict[str, ModuleSummary], params: Pa
     for path, summary in by_path.items():
         if path in facts.blocked:
             continue
-        for name, held in summary.init_params.items():
+        for name, stored in summary.init_held.items():
             init = summary.defs.get(f"{name}.__init__")
-            for attribute, param in held.items():
+            for attribute, (param, handed_on) in stored.items():
                 if init is not None and param in init.params[1:]:
-                    facts.init_held[(path, name, attribute)] = (param, init.params.index(param) - 1)
+                    facts.init_held[(path, name, attribute)] = InitHeld(param, init.params.index(param) - 1, handed_on)
         for name, held in summary.held_params.items():
             init = summary.defs.get(f"{name}.__init__")
             if (path, name) in facts.subclasses_of:

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 
 from gymmigrate.facts.import_roots import import_parts, nearest_root
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.module_summary import MAX_CHAIN, REF
+from gymmigrate.facts.module_summary import MAX_CHAIN, REF, InitHeld
 
 if TYPE_CHECKING:
     from gymmigrate.facts.project import ProjectFacts
@@ -63,10 +63,11 @@ class ClassView:
         split = self.facts._split(qualified, self.path)
         return None if split is None else self.facts.property_aliases.get(split, {}).get(name)
 
-    def init_held(self, qualified: str, attribute: str) -> tuple[str, int] | None:
-        """``self.<attribute>`` that the run's plain class ``qualified`` (a base of this file's
-        class) stores only from a parameter of its ``__init__``: that parameter and its
-        position in a call, subclassed or not (``ProjectFacts.init_held``)."""
+    def init_held(self, qualified: str, attribute: str) -> InitHeld | None:
+        """``self.<attribute>`` that the run's class ``qualified`` (a base of this file's
+        class) stores only from a parameter of its ``__init__``: that parameter, its position
+        in a call and whether the class is a Gym env wrapper written by hand around it,
+        subclassed or not (``ProjectFacts.init_held``)."""
         split = self.facts._split(qualified, self.path)
         return None if split is None else self.facts.init_held.get((*split, attribute))
 

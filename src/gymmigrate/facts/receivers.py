@@ -236,7 +236,7 @@ class Receivers(BindingKinds, WrappingCalls, ClassKinds, ParameterKinds, MadeObj
             if handed is not None:
                 # ``self.env_class(...)`` stored by a base of another module from what this
                 # class's ``__init__`` hands up: what calling that parameter's values gives
-                return self.returned_kind(handed)
+                return self.returned_kind(handed.argument)
         if isinstance(func, ast.Subscript):
             return self.returned_kind(func)  # ``self.env_fns[i]()``: an item of a list of thunks
         if isinstance(func, ast.Call):

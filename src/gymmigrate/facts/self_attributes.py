@@ -11,9 +11,11 @@ from __future__ import annotations
 
 import ast
 from collections import defaultdict
-from typing import TYPE_CHECKING
+from functools import partial
+from typing import TYPE_CHECKING, NamedTuple
 
 from gymmigrate.facts import names as N
+from gymmigrate.facts.class_shapes import property_aliases_of
 from gymmigrate.facts.kinds import EnvKind, ReceiverQueries, join_kinds
 from gymmigrate.facts.module import (
     FUNCTIONS,
@@ -28,6 +30,14 @@ from gymmigrate.facts.receiver_classes import duck_wrapper_attribute
 
 if TYPE_CHECKING:
     from gymmigrate.facts.module import ModuleFacts
+
+
+class HandedUp(NamedTuple):
+    """What ``SelfAttributes.handed_up`` finds a subclass holds in an attribute its base of
+    another module of the run stores from its ``__init__``."""
+
+    argument: ast.Name  # the read of the subclass's own parameter in the call handing it up
+    handed_on: bool  # that base is a Gym env wrapper written by hand around the attribute
 
 
 class SelfAttributes:
@@ -74,6 +84,17 @@ class SelfAttributes:
             return own
         values = values or [v for v in self.inherited_values(classdef, name) if not self._copies_attribute(v, name)]
         if not values:
+            handed = self.handed_up(attr)
+            if handed is not None:
+                # ``self._wrapped_env`` that a base of another module stores from the
+                # parameter this class's ``__init__`` hands up: what its constructions pass;
+                # where they do not settle it, a Gym env when that base is a Gym env whose
+                # step and reset are the held object's (the object keeps its contract)
+                kind = self.receivers.kind_of(handed.argument)
+                if kind is EnvKind.UNKNOWN and handed.handed_on:
+                    return EnvKind.GYM_ENV
+                if kind is not EnvKind.UNKNOWN:
+                    return kind
             if name == "env" and self._is_pettingzoo_wrapper(classdef):
                 return self.receivers.class_kind(classdef)
             library = self._set_by_library_base(classdef, name)
@@ -142,18 +163,25 @@ class SelfAttributes:
             found += class_self_stores(self.facts, local).get(name, []) or self.inherited_values(local, name, _seen | {id(classdef)})
         return found
 
-    def handed_up(self, attr: ast.Attribute, name: str | None = None) -> ast.Name | None:
+    def handed_up(self, attr: ast.Attribute) -> HandedUp | None:
         """``self.env_class`` in a class that never stores it, whose ``__init__`` (its own, or
         that of the nearest base of this module defining one) hands its own parameter up to
         a base of another module of the run, with ``super().__init__(..., env_class=env_class)``
-        or ``Base.__init__(self, ...)``, at the slot of the parameter that base stores on
+        (the first base: the next class of the order ``super()`` follows) or
+        ``Base.__init__(self, ...)``, at the slot of the parameter that base stores on
         ``self.env_class`` and nothing else (``ProjectView.init_held``): the read of that
-        parameter in the call, whose values are the attribute's. None otherwise. ``name``: the
-        attribute the base stores, where ``attr`` reads a property of the base returning it."""
+        parameter in the call, whose values are the attribute's, and whether that base is a
+        Gym env wrapper written by hand around the attribute. The same for ``self.inner``, a
+        property of these classes or of their bases of the run that only returns
+        ``self._inner`` (``property_alias``), where the class stores no ``_inner`` itself.
+        None otherwise."""
         project = getattr(self.receivers, "project", None)
         classdef = self.facts.enclosing_class(attr)
         if project is None or classdef is None or not isinstance(attr.value, ast.Name) or not self.is_self(attr.value):
             return None
+        stored = self.property_alias(classdef, attr.attr) or attr.attr
+        if stored != attr.attr and self._stored_in_hierarchy(classdef, stored, set()):
+            return None  # the property returns what this class stores there itself
         seen: set[int] = set()
         init = None
         while id(classdef) not in seen:
@@ -167,34 +195,63 @@ class SelfAttributes:
             classdef = base  # the nearest base here whose ``__init__`` its constructions run
         if init is None or not classdef.bases:
             return None
-        ups = []
+        found = []
         for call in self.facts.attribute_calls.get("__init__", ()):
             if self.facts.enclosing_function(call) is not init:
                 continue
+            called: ast.expr | None
             if is_super_call(call.func.value):  # type: ignore[attr-defined]
-                ups.append((call, 0, classdef.bases[0]))  # the first base: the next class of the MRO
-            elif (named := named_class_call(call, "__init__", init, classdef.bases)) is not None:
-                ups.append((call, 1, named))
+                called, shift = classdef.bases[0], 0
             else:
-                return None  # another ``__init__`` called here: not the one shape this reads
-        if len(ups) != 1:
+                called, shift = named_class_call(call, "__init__", init, classdef.bases), 1
+                if called is None:
+                    return None  # another ``__init__`` called here: not the one shape this reads
+            if self.receivers.local_class(called) is not None:
+                continue  # a base of this module: its stores are the class's own (``self_attribute_values``)
+            qualified = self.receivers.qualified_names(called)
+            held = project.init_held(next(iter(qualified)), stored) if len(qualified) == 1 else None
+            if held is not None:
+                found.append((call, shift, held))
+        if len(found) != 1:
             return None
-        call, shift, reached = ups[0]
-        if self.receivers.local_class(reached) is not None:
-            return None
-        qualified = self.receivers.qualified_names(reached)
-        held = project.init_held(next(iter(qualified)), name or attr.attr) if len(qualified) == 1 else None
-        if held is None:
-            return None
-        param, position = held
-        argument = call_argument(call, position + shift, param)
+        call, shift, held = found[0]
+        argument = call_argument(call, held.position + shift, held.param)
         params = [*init.args.posonlyargs, *init.args.args[1:], *init.args.kwonlyargs]
         if not isinstance(argument, ast.Name):
             return None
         bindings = self.facts.bindings_of(argument)
         if len(bindings) != 1 or bindings[0] not in params or self.facts.enclosing_function(argument) is not init:
             return None
-        return argument
+        return HandedUp(argument, held.handed_on)
+
+    def property_alias(self, classdef: ast.ClassDef, name: str) -> str | None:
+        """The attribute of ``self`` that a read-only property ``name`` of ``classdef``, of a
+        class of this module it derives from, or of their bases of the run only returns
+        (``def inner(self): return self._inner``; ``class_shapes.property_aliases_of``,
+        ``ProjectView.property_alias``). None where no such property is found."""
+        project = getattr(self.receivers, "project", None)
+        seen: set[int] = set()
+        pending = [classdef]
+        while pending:
+            current = pending.pop(0)
+            if id(current) in seen:
+                continue
+            seen.add(id(current))
+            own = self.facts.memo(("property-aliases", id(current)), partial(property_aliases_of, self.facts, current))
+            if name in own:
+                return own[name]
+            for base in current.bases:
+                local = self.receivers.local_class(base)
+                if local is not None:
+                    pending.append(local)
+                    continue
+                if project is None:
+                    continue
+                for qualified in self.receivers.qualified_names(base):
+                    alias = project.property_alias(qualified, name)
+                    if alias is not None:
+                        return alias
+        return None
 
     def _copies_attribute(self, value: ast.expr, name: str) -> bool:
         """``value`` is ``self.<name>`` itself, or a local name every binding of which is

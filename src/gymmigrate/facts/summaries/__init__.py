@@ -57,6 +57,7 @@ from gymmigrate.facts.summaries.classes import (
     driven_kinds,
     fixed_mode_renders,
     held_params,
+    init_held,
     instance_calls,
     mode_renders,
     modeless_renders,
@@ -172,7 +173,7 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
     for name, function in facts.functions.items():
         defs[name] = signature(function, is_method=False)
     env = EnvClasses.of(facts, receivers)
-    env_classes, render_mode = set(), set()
+    env_classes, render_mode, render_mode_if_env = set(), set(), set()
     for name, classdef in facts.classes.items():
         for statement in classdef.body:
             if isinstance(statement, FUNCTIONS):
@@ -181,6 +182,8 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
             env_classes.add(name)
             if env.takes_render_mode(classdef) and id(classdef) not in render_kept_classes(facts, receivers):
                 render_mode.add(name)
+        elif receivers.class_kind(classdef) is EnvKind.UNKNOWN and env.would_take_render_mode(classdef):
+            render_mode_if_env.add(name)
     calls = CallSummarizer(facts, receivers)
     untraced = UntracedCalls(calls)
     exports = Exports(facts, receivers)
@@ -256,8 +259,9 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         registered_ids=registered_ids(facts),
         named_ids=named[0],
         opaque_make=named[1],
+        render_mode_if_env=frozenset(render_mode_if_env),
         held_params=held_params(facts, receivers),
-        init_params=held_params(facts, receivers, plain_only=False),
+        init_held=init_held(facts, receivers),
         property_aliases=property_aliases(facts),
         made_holders=made_holders(facts, receivers),
         param_renders=param_renders(facts, receivers),

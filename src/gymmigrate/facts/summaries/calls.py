@@ -680,11 +680,16 @@ class CallSummarizer:
     def _own_factory(self, func: ast.expr) -> str | None:
         """``@create_env`` for a top-level def of this module whose returns its own module
         cannot classify (``return wrappers.wrap(wrappers.make_atari(name))``, calls of
-        another module of the run): the join knows what calling it gives (``call_kinds``)."""
+        another module of the run), or a top-level class of it whose bases are another
+        module's (``class Pusher(MujocoEnv, MultitaskEnv)``): the join knows what calling it
+        gives (``call_kinds``)."""
         function = self.receivers.local_function(func)
-        if function is None or self.facts.functions.get(function.name) is not function:
+        if function is not None:
+            return OWN + function.name if self.facts.functions.get(function.name) is function else None
+        classdef = self.receivers.local_class(func)
+        if classdef is None or self.facts.classes.get(classdef.name) is not classdef:
             return None
-        return OWN + function.name
+        return OWN + classdef.name
 
     def _held_attribute(self, attribute: ast.Attribute) -> str | None:
         """``held:Trainer.__init__:test_env`` for ``self.test_env`` read in a method of a

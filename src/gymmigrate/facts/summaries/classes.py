@@ -11,7 +11,11 @@ from functools import partial
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts import names as N
-from gymmigrate.facts.class_shapes import wrapped_env_renders
+from gymmigrate.facts.class_shapes import (
+    handed_on_attribute,
+    property_aliases_of,
+    wrapped_env_renders,
+)
 from gymmigrate.facts.done_causes import Cause, DoneCause
 from gymmigrate.facts.env_classes import (
     UNDERSCORE_HOOKS,
@@ -120,30 +124,58 @@ def plain_roots(tree: ast.Module) -> frozenset[str]:
     return frozenset(found)
 
 
-def held_params(facts: ModuleFacts, receivers: Receivers, plain_only: bool = True) -> dict[str, dict[str, str]]:
+def held_params(facts: ModuleFacts, receivers: Receivers) -> dict[str, dict[str, str]]:
     """``ModuleSummary.held_params``: per top-level plain class, the attributes its methods
-    store only from a parameter of its ``__init__`` that nothing rebinds. ``plain_only=False``:
-    per top-level class of any kind but a Gym env's (``ModuleSummary.init_params``)."""
+    store only from a parameter of its ``__init__`` that nothing rebinds."""
     found: dict[str, dict[str, str]] = {}
     for name, classdef in facts.classes.items():
-        init = next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == "__init__"), None)
-        kind = receivers.class_kind(classdef)
-        if init is None or kind is not EnvKind.NOT_ENV and (plain_only or kind is not EnvKind.UNKNOWN):
+        if receivers.class_kind(classdef) is not EnvKind.NOT_ENV:
             continue
-        params = {a.arg for a in (*init.args.posonlyargs, *init.args.args[1:], *init.args.kwonlyargs)}
-        held = {}
-        for attribute, stored in receivers.self_stores(classdef).items():
-            # ``__setstate__`` restores what pickling saved (a pickling wrapper's
-            # ``self.x = pickle.loads(ob)``): the same object, not another value
-            values = [v for v in stored if getattr(facts.enclosing_function(v), "name", None) != "__setstate__"]
-            if len(values) != 1 or not isinstance(values[0], ast.Name) or values[0].id not in params:
-                continue
-            bindings = facts.bindings_of(values[0])
-            if len(bindings) == 1 and isinstance(bindings[0], ast.arg) and facts.enclosing_function(values[0]) is init:
-                held[attribute] = values[0].id
+        held = _held_from_init(facts, receivers, classdef)
         if held:
             found[name] = held
     return found
+
+
+def init_held(facts: ModuleFacts, receivers: Receivers) -> dict[str, dict[str, tuple[str, bool]]]:
+    """``ModuleSummary.init_held``: per top-level class of any kind, each attribute its
+    methods store only from a parameter of its ``__init__`` -> (that parameter, whether the
+    class is a Gym env wrapper written by hand around it). A subclass handing its own
+    parameter up to that ``__init__`` holds in the attribute what its constructions pass,
+    also where it reads it through a property returning it (``property_aliases``;
+    ``SelfAttributes.handed_up``).
+
+    A wrapper written by hand: a Gym env class whose own ``step`` and ``reset`` return the
+    attribute's (``handed_on_attribute``), as ``gym.Wrapper`` does with ``self.env``; the
+    Gym contract its instances keep is the held object's, so that object is a Gym env."""
+    found: dict[str, dict[str, tuple[str, bool]]] = {}
+    for name, classdef in facts.classes.items():
+        params = _held_from_init(facts, receivers, classdef)
+        if not params:
+            continue
+        handed_on = handed_on_attribute(classdef) if receivers.class_kind(classdef) is EnvKind.GYM_ENV else None
+        found[name] = {attribute: (param, attribute == handed_on) for attribute, param in params.items()}
+    return found
+
+
+def _held_from_init(facts: ModuleFacts, receivers: Receivers, classdef: ast.ClassDef) -> dict[str, str]:
+    """The attributes ``classdef``'s methods store only from a parameter of its ``__init__``
+    that nothing rebinds -> that parameter."""
+    init = next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == "__init__"), None)
+    if init is None:
+        return {}
+    params = {a.arg for a in (*init.args.posonlyargs, *init.args.args[1:], *init.args.kwonlyargs)}
+    held = {}
+    for attribute, stored in receivers.self_stores(classdef).items():
+        # ``__setstate__`` restores what pickling saved (a pickling wrapper's
+        # ``self.x = pickle.loads(ob)``): the same object, not another value
+        values = [v for v in stored if getattr(facts.enclosing_function(v), "name", None) != "__setstate__"]
+        if len(values) != 1 or not isinstance(values[0], ast.Name) or values[0].id not in params:
+            continue
+        bindings = facts.bindings_of(values[0])
+        if len(bindings) == 1 and isinstance(bindings[0], ast.arg) and facts.enclosing_function(values[0]) is init:
+            held[attribute] = values[0].id
+    return held
 
 
 _DRIVING_METHODS = ("reset", "step")
@@ -540,25 +572,8 @@ def render_forwards(facts: ModuleFacts, receivers: Receivers) -> dict[str, int]:
 
 
 def property_aliases(facts: ModuleFacts) -> dict[str, dict[str, str]]:
-    """``ModuleSummary.property_aliases``: per top-level class, each ``@property`` whose body
-    only returns an attribute of ``self`` (``def wrapped_env(self): return self._wrapped_env``),
-    and that attribute: a subclass reading the property reads what the attribute holds."""
-    found: dict[str, dict[str, str]] = {}
-    for name, classdef in facts.classes.items():
-        for statement in classdef.body:
-            if not (isinstance(statement, FUNCTIONS) and len(statement.decorator_list) == 1):
-                continue
-            decorator = statement.decorator_list[0]
-            params = [*statement.args.posonlyargs, *statement.args.args]
-            body = [s for s in statement.body if not (isinstance(s, ast.Expr) and isinstance(s.value, ast.Constant))]
-            if not (isinstance(decorator, ast.Name) and decorator.id == "property" and len(params) == 1 and len(body) == 1):
-                continue
-            returned = body[0].value if isinstance(body[0], ast.Return) else None
-            if (
-                isinstance(returned, ast.Attribute)
-                and isinstance(returned.value, ast.Name)
-                and returned.value.id == params[0].arg
-                and returned.attr != statement.name
-            ):
-                found.setdefault(name, {})[statement.name] = returned.attr
-    return found
+    """``ModuleSummary.property_aliases``: per top-level class, each read-only ``@property``
+    that only returns another attribute of ``self`` -> that attribute
+    (``class_shapes.property_aliases_of``): a subclass reading the property reads what the
+    attribute holds."""
+    return {name: aliases for name, classdef in facts.classes.items() if (aliases := property_aliases_of(facts, classdef))}

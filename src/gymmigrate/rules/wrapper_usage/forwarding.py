@@ -189,8 +189,9 @@ class WrapperForwarding(RuleFamily):
         kind = self.receivers.kind_of(receiver)
         # ``self._inner`` that a base of another module stores from what this class's
         # constructions hand it: Gym envs, made or bare, where the run builds the class (SOME:
-        # at some constructions, the others untraced)
-        handed = self.origins.handed_gym_env(receiver) if kind is EnvKind.UNKNOWN else None
+        # at some constructions, the others untraced). The receiver kinds follow the same
+        # hand-up (``SelfAttributes.handed_up``): a Gym env there is still asked which.
+        handed = self.origins.handed_gym_env(receiver) if kind in (EnvKind.UNKNOWN, EnvKind.GYM_ENV) else None
         known = sub_env or handed is not None or kind is EnvKind.GYM_ENV
         monitor_read = reads_monitor_videos(self, attr, known, kind)
         if not known and not monitor_read and not self.origins.outer_is_wrapper(receiver):

@@ -31,7 +31,6 @@ from gymmigrate.facts.pytest_params import fixture_values, param_fixtures
 from gymmigrate.facts.receiver_classes import duck_wrapper_attribute
 from gymmigrate.facts.receivers import Receivers
 from gymmigrate.facts.self_attributes import store_seen
-from gymmigrate.facts.summaries.classes import property_aliases
 from gymmigrate.rules.wrapper_usage.tables import (
     OWN_ATTRIBUTES,
     current_name,
@@ -490,11 +489,10 @@ class EnvOrigins:
         return self.facts.memo((f"handed-gym-env:{receiver.attr}", id(classdef)), lambda: self._handed(receiver, classdef))
 
     def _handed(self, receiver: ast.Attribute, classdef: ast.ClassDef) -> str | None:
-        lineage = list(self.receivers.local_lineage(classdef))
-        if any(receiver.attr in self.receivers.self_stores(c) for c in lineage):
+        if any(receiver.attr in self.receivers.self_stores(c) for c in self.receivers.local_lineage(classdef)):
             return None
-        param = self.receivers.attributes.handed_up(receiver, self._property_alias(lineage, receiver.attr))
-        kinds = set(self._handed_kinds(param)) if param is not None else set()
+        handed = self.receivers.attributes.handed_up(receiver)
+        kinds = set(self._handed_kinds(handed.argument)) if handed is not None else set()
         if kinds == {EnvKind.GYM_ENV}:
             return EVERY
         return SOME if kinds == {EnvKind.GYM_ENV, EnvKind.UNKNOWN} else None
@@ -507,10 +505,9 @@ class EnvOrigins:
         classdef = self.facts.enclosing_class(receiver)
         if classdef is None:
             return None
-        lineage = list(self.receivers.local_lineage(classdef))
-        if any(receiver.attr in self.receivers.self_stores(c) for c in lineage):
+        if any(receiver.attr in self.receivers.self_stores(c) for c in self.receivers.local_lineage(classdef)):
             return None
-        alias = self._property_alias(lineage, receiver.attr)
+        alias = self.receivers.attributes.property_alias(classdef, receiver.attr)
         return f"self.{alias}" if alias is not None else None
 
     def _handed_kinds(self, param: ast.Name) -> list[EnvKind]:
@@ -531,21 +528,6 @@ class EnvOrigins:
         if self.facts.parent(classdef) is self.facts.tree:
             kinds += self.receivers.project.param_kinds(f"{classdef.name}.__init__", param.id)
         return kinds
-
-    def _property_alias(self, lineage: list[ast.ClassDef], name: str) -> str | None:
-        """The attribute of ``self`` that a property ``name`` of these classes or of their
-        bases of the run only returns (``def inner(self): return self._inner``)."""
-        own = self.facts.memo(("property-aliases", 0), lambda: property_aliases(self.facts))
-        view = self.receivers.project
-        for classdef in lineage:
-            if self.facts.classes.get(classdef.name) is classdef and name in own.get(classdef.name, {}):
-                return own[classdef.name][name]
-            for base in classdef.bases:
-                for qualified in self.facts.qualified_names(base):
-                    alias = view.property_alias(qualified, name) if view is not None else None
-                    if alias is not None:
-                        return alias
-        return None
 
     def traced_gym_env(self, receiver: ast.expr) -> bool:
         """``holder.env`` where ``holder`` is only ever an object of a class of this module
