@@ -83,6 +83,12 @@ class SelfAttributes:
         if own is not None:
             return own
         values = values or [v for v in self.inherited_values(classdef, name) if not self._copies_attribute(v, name)]
+        if all(_placeholder(v) for v in values):
+            # ``self.env = None`` in a base (or no store there) that its subclasses fill: a
+            # method of the base runs on their instances, so it holds what they store
+            below = self._stored_below(classdef, name)
+            if below:
+                return join_kinds([self._value_kind(value, self.facts.enclosing_class(value) or classdef) for value in below])
         if not values:
             handed = self.handed_up(attr)
             if handed is not None:
@@ -150,6 +156,30 @@ class SelfAttributes:
             if (kind := project.driven_kind(q, name)) is not None
         }
         return kinds.pop() if len(kinds) == 1 else EnvKind.UNKNOWN
+
+    def _stored_below(self, classdef: ast.ClassDef, name: str) -> list[ast.expr]:
+        """What the subclasses of ``classdef`` in this module, at any depth, store to
+        ``self.<name>`` (placeholders aside), where ``classdef`` and those subclasses are
+        subclassed in no other module of the run: every instance a method of ``classdef``
+        runs on is one of theirs (or holds the placeholder). Empty where another module
+        derives from one of them (its stores are not seen here) or none stores it."""
+        project = getattr(self.receivers, "project", None)
+        below: list[ast.ClassDef] = []
+        pending = [classdef]
+        while pending:
+            current = pending.pop()
+            if project is not None and project.subclassed_elsewhere(current.name):
+                return []
+            for sub in self.facts.all_classes:
+                if sub is not current and sub not in below and any(self.receivers.local_class(b) is current for b in sub.bases):
+                    below.append(sub)
+                    pending.append(sub)
+        return [
+            value
+            for sub in below
+            for value in class_self_stores(self.facts, sub).get(name, [])
+            if not _placeholder(value) and not self._copies_attribute(value, name)
+        ]
 
     def inherited_values(self, classdef: ast.ClassDef, name: str, _seen: frozenset[int] = frozenset()) -> list[ast.expr]:
         """Values stored to ``self.<name>`` by the classes of this module that ``classdef``
@@ -389,6 +419,12 @@ def store_seen(facts: ModuleFacts, read: ast.Attribute, name: str) -> ast.expr |
             return None
         node = parent
     return None
+
+
+def _placeholder(value: ast.expr) -> bool:
+    """``None`` stored until the real object comes (``self.env = None`` in a base's
+    ``__init__``)."""
+    return isinstance(value, ast.Constant) and value.value is None
 
 
 def _block_of(parent: ast.AST | None, node: ast.AST) -> list[ast.AST] | None:

@@ -43,6 +43,30 @@ class ResetSeedBase(RuleFamily):
             self.plan.replace(call, edit.build)
         return edit
 
+    def own_plain_class(self, classdef: ast.ClassDef, seen: set[str]) -> bool:
+        """A class whose bases are ``object`` or plain classes of this module, none a Gym env
+        or wrapper class: its methods are called by the project alone."""
+        if classdef.name in seen or classdef.keywords:
+            return False
+        seen.add(classdef.name)
+        if self.receivers.class_kind(classdef) not in (EnvKind.UNKNOWN, EnvKind.NOT_ENV):
+            return False
+        if self.receivers.is_gym_wrapper_class(classdef):
+            return False
+        for base in classdef.bases:
+            if isinstance(base, ast.Name) and base.id == "object":
+                continue
+            names = self.facts.qualified_names(base)
+            if any(q in ("abc.ABC", "abc.ABCMeta") for q in names):
+                continue  # an abstract interface of the project says nothing Gym would call
+            project = self.receivers.project
+            if project is not None and any(project.is_plain_root(q) for q in names):
+                continue  # ``from ._environment import Environment``, the project's own ``class Environment(ABC)``
+            local = self.receivers.local_class(base)
+            if local is None or not self.own_plain_class(local, seen):
+                return False
+        return True
+
     # -- the receiver ---------------------------------------------------------------------
 
     def _receiver_kind(self, receiver: ast.expr) -> EnvKind:

@@ -327,6 +327,10 @@ class ResetCalls(ResetSeedBase):
         if classdef is not None:
             if self.receivers.is_gym_wrapper_class(classdef) or self.receivers.class_kind(classdef).is_gym:
                 return Use.PASSTHROUGH
+            if self.own_plain_class(classdef, set()):
+                # the project's own class (a task around its env), whose reset() its own code
+                # calls: it returned the observation, and keeps returning it
+                return Use.EXPRESSION
         return Use.FOREIGN_RESET
 
     def _note_wrapper_info_name(self, call: ast.Call, info: str) -> None:

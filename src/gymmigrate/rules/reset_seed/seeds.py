@@ -318,49 +318,37 @@ class SeedCalls(ResetSeedBase):
         if project is not None and project.seed_classes():
             return False  # env classes of the run keep a seed(): the env may have one
         classdef = self.facts.enclosing_class(function)
-        if classdef is not None and not self._own_plain_class(classdef, set()):
+        if classdef is not None and not self.own_plain_class(classdef, set()):
             return False  # an env class's own seed() hook (GM503 decides it), or a base from elsewhere
         statement = self.facts.parent(call)
         seed = _seed_argument(call)
-        if not isinstance(statement, ast.Expr) or seed is None:
+        returned = isinstance(statement, ast.Return) and isinstance(seed, ast.Name)
+        if not (isinstance(statement, ast.Expr) or returned) or seed is None:
             return False
-        edit = self._edit(call)
-        edit.to_reset = True
-        edit.int_seed = self.numpy_seeds.is_numpy(seed)
+        numpy = self.numpy_seeds.is_numpy(seed)
+        kept = ""
+        if returned:
+            # ``return self.env.seed(s)``: the project's seed() handed on the env's [seed];
+            # it seeds through the reset and still returns that list to its callers
+            seed_text = segment(self.facts, seed)
+            reset = f"{segment(self.facts, receiver)}.reset(seed={f'int({seed_text})' if numpy else seed_text})"
+            self.plan.insert_before(statement, reset)  # type: ignore[arg-type]  # a Return, checked above
+            self.plan.replace(call, lambda node: cst.List([cst.Element(cst.Name(seed_text))]))
+            kept = f", and it returns [{seed_text}] as before (legacy gave the seed it drew where none was passed)"
+        else:
+            edit = self._edit(call)
+            edit.to_reset = True
+            edit.int_seed = numpy
         owner = f"`{classdef.name}.seed()`" if classdef is not None else "this seed()"
         self.report(
             call,
             code,
             f"`{name}.seed(s)` -> `{name}.reset(seed=s)` in {owner}, which this project calls itself (Gymnasium has "
             f"no env.seed()): this also resets `{name}`; if the project calls it mid-episode, that episode now "
-            "restarts here",
+            f"restarts here{kept}",
             FixKind.ASSIST,
             question=moving_seed_question(function),
         )
-        return True
-
-    def _own_plain_class(self, classdef: ast.ClassDef, seen: set[str]) -> bool:
-        """A class whose bases are ``object`` or plain classes of this module, none a Gym env
-        or wrapper class: its methods are called by the project alone."""
-        if classdef.name in seen or classdef.keywords:
-            return False
-        seen.add(classdef.name)
-        if self.receivers.class_kind(classdef) not in (EnvKind.UNKNOWN, EnvKind.NOT_ENV):
-            return False
-        if self.receivers.is_gym_wrapper_class(classdef):
-            return False
-        for base in classdef.bases:
-            if isinstance(base, ast.Name) and base.id == "object":
-                continue
-            names = self.facts.qualified_names(base)
-            if any(q in ("abc.ABC", "abc.ABCMeta") for q in names):
-                continue  # an abstract interface of the project says nothing Gym would call
-            project = self.receivers.project
-            if project is not None and any(project.is_plain_root(q) for q in names):
-                continue  # ``from ._environment import Environment``, the project's own ``class Environment(ABC)``
-            local = self.receivers.local_class(base)
-            if local is None or not self._own_plain_class(local, seen):
-                return False
         return True
 
     def _seed_in_wrapper_seed(
