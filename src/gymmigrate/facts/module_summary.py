@@ -31,6 +31,10 @@ HELD = "held:"
 # the run. As a call's target, the call reaches each class or def the table holds; as what
 # calling an argument gives (``CallSummary.creators``), what calling through the table gives.
 TABLE = "table:"
+# In ``ModuleSummary.fixtures``: another fixture a fixture takes and returns as it is
+# (``fixture:env``), and a value that is a ``make(...)`` result, maybe in Gym wrappers.
+FIXTURE = "fixture:"
+MADE_VALUE = "made"
 # Beyond this many parameters passed on from call to call the join stops following.
 MAX_CHAIN = 50
 Kind = EnvKind | str  # a kind, or ``new:<class>[|<class>...]`` / ``param:<def>:<name>`` / ``held:...`` until the join resolves it
@@ -401,6 +405,11 @@ class ModuleSummary:
     # store of which is what ``gym.make`` returned, bare (``facts/made_holders.py``): on an
     # instance, ``holder.env.env`` is a chain through make's own layers.
     made_holders: dict[str, frozenset[str]] = field(default_factory=dict)
+    # -- pytest fixtures (facts/summaries/fixtures.py) --
+    # For a ``conftest.py``: fixture (pytest's name for it) -> (its def, what each value it
+    # returns or yields is: ``made``, ``ref:<qualified>``, ``@Name``, ``fixture:<name>``, "").
+    # The tests below it take these by parameter name (``ProjectView.fixture_kind``).
+    fixtures: dict[str, tuple[str, tuple[str, ...]]] = field(default_factory=dict)
 
 
 def is_ref(kind: object) -> bool:

@@ -345,6 +345,9 @@ class ProjectFacts:
     # (path, name of a class of the run, re-exports followed) -> the attributes its instances
     # hold a bare make result in (``ModuleSummary.made_holders``)
     made_holders: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
+    # conftest.py path -> its fixtures (``ModuleSummary.fixtures``): what the tests below it
+    # take by parameter name (``ProjectView.fixture_kind``, ``fixture_origin``)
+    fixtures: dict[str, dict[str, tuple[str, tuple[str, ...]]]] = field(default_factory=dict)
     # (path, qualname, parameter) -> the attributes holding a bare make result in what every
     # call of another module passes there (``CallSummary.holders``; empty where a call passes
     # anything else); only parameters such calls reach (``project_holders.py``).
@@ -468,6 +471,8 @@ class ProjectFacts:
             facts.pz_wrappers[summary.path] = summary.pz_wrappers
             facts.spec_lists[summary.path] = summary.spec_lists
             facts.render_mode_classes[summary.path] = frozenset() if left else summary.render_mode_classes
+            if summary.fixtures and not left:
+                facts.fixtures[summary.path] = summary.fixtures
             if summary.path.endswith(".ipynb"):
                 continue  # a notebook calls the run's modules; nothing imports it
             for name in module_names(summary.path):

@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING
 from gymmigrate.facts.import_roots import import_parts, is_test_path
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.project_view_classes import ClassView
+from gymmigrate.facts.project_view_fixtures import FixtureView
 from gymmigrate.facts.project_view_hierarchy import HierarchyView
 from gymmigrate.facts.project_view_registry import RegistryView
 from gymmigrate.facts.project_view_renders import RenderView
@@ -25,7 +26,7 @@ if TYPE_CHECKING:
 
 
 @dataclass(frozen=True)
-class ProjectView(ClassView, HierarchyView, RegistryView, RenderView):
+class ProjectView(ClassView, FixtureView, HierarchyView, RegistryView, RenderView):
     """The run's facts as one file sees them."""
 
     facts: ProjectFacts

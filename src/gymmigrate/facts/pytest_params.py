@@ -8,20 +8,99 @@ from __future__ import annotations
 
 import ast
 
-from gymmigrate.facts.module import ModuleFacts, own_returns, string_value, walk
+from gymmigrate.facts.module import (
+    FUNCTIONS,
+    ModuleFacts,
+    own_returns,
+    string_value,
+    walk,
+)
 
 
 def pytest_fixture(facts: ModuleFacts, name: str) -> ast.FunctionDef | ast.AsyncFunctionDef | None:
-    """The module's ``@pytest.fixture`` function called ``name``: pytest passes what it
-    returns (or yields) to a test's parameter of that name."""
-    function = facts.functions.get(name)
-    if function is None:
+    """The module's ``@pytest.fixture`` function pytest knows as ``name``: pytest passes
+    what it returns (or yields) to a test's parameter of that name."""
+    return module_fixtures(facts).get(name)
+
+
+def module_fixtures(facts: ModuleFacts) -> dict[str, ast.FunctionDef | ast.AsyncFunctionDef]:
+    """The module's top-level ``@pytest.fixture`` defs by the name pytest gives them: the
+    decorator's ``name=`` where it sets one (``@pytest.fixture(name="env")`` on ``def
+    make_env()``: only ``env`` asks for it), else the def's own name."""
+    return facts.memo(("pytest-fixtures", 0), lambda: _module_fixtures(facts))
+
+
+def _module_fixtures(facts: ModuleFacts) -> dict[str, ast.FunctionDef | ast.AsyncFunctionDef]:
+    found: dict[str, ast.FunctionDef | ast.AsyncFunctionDef] = {}
+    for function in facts.functions.values():
+        for decorator in function.decorator_list:
+            target = decorator.func if isinstance(decorator, ast.Call) else decorator
+            if not any(q in ("pytest.fixture", "_pytest.fixtures.fixture") for q in facts.qualified_names(target)):
+                continue
+            named = next((k.value for k in decorator.keywords if k.arg == "name"), None) if isinstance(decorator, ast.Call) else None
+            if named is None:
+                found[function.name] = function
+            elif (text := string_value(named)) is not None:
+                found[text] = function
+            break
+    return found
+
+
+def injected(facts: ModuleFacts, function: ast.AST) -> bool:
+    """pytest fills the parameters of ``function`` with fixtures by their names: a test
+    (``test*`` at module level, or a ``test*`` method of a ``Test*`` class) or a fixture."""
+    if not isinstance(function, (ast.FunctionDef, ast.AsyncFunctionDef)):
+        return False
+    if function in module_fixtures(facts).values():
+        return True
+    if not function.name.startswith("test"):
+        return False
+    # pytest collects the module's attributes: a def under ``if not missing:`` is one too
+    if facts.enclosing_function(function) is not None:
+        return False
+    holder = facts.enclosing_class(function)
+    return holder is None or (
+        holder.name.startswith("Test") and facts.is_method(function) and facts.enclosing(holder, (ast.ClassDef, *FUNCTIONS)) is None
+    )
+
+
+def requested_fixtures(facts: ModuleFacts, call: ast.Call) -> list[str] | None:
+    """The fixture names ``request.getfixturevalue(name)`` asks for, where ``request`` is
+    pytest's own fixture (a parameter of that name of a test or fixture that no fixture of
+    the module overrides) and the name is a string, or a parameter of the test whose every
+    ``@pytest.mark.parametrize`` value is one (``["env_a", "env_b"]``). None otherwise."""
+    func = call.func
+    if not (
+        isinstance(func, ast.Attribute)
+        and func.attr == "getfixturevalue"
+        and isinstance(func.value, ast.Name)
+        and func.value.id == "request"
+        and len(call.args) == 1
+        and not call.keywords
+        and "request" not in module_fixtures(facts)
+    ):
         return None
-    for decorator in function.decorator_list:
-        target = decorator.func if isinstance(decorator, ast.Call) else decorator
-        if any(q in ("pytest.fixture", "_pytest.fixtures.fixture") for q in facts.qualified_names(target)):
-            return function
-    return None
+    bindings = facts.bindings_of(func.value)
+    if not (len(bindings) == 1 and isinstance(bindings[0], ast.arg)):
+        return None
+    function = facts.parent(facts.parent(bindings[0]))
+    if function is None or not injected(facts, function):
+        return None
+    argument = call.args[0]
+    literal = string_value(argument)
+    if literal is not None:
+        return [literal]
+    if not isinstance(argument, ast.Name):
+        return None
+    named = facts.bindings_of(argument)
+    if not (len(named) == 1 and isinstance(named[0], ast.arg) and facts.parent(facts.parent(named[0])) is function):
+        return None
+    values = param_values(facts, function, argument.id)  # type: ignore[arg-type]
+    if not values:
+        return None
+    names = [string_value(value) for value in values]
+    return None if any(n is None for n in names) else names  # type: ignore[return-value]
+
 
 def param_fixtures(facts: ModuleFacts, function: ast.FunctionDef | ast.AsyncFunctionDef, name: str) -> list[ast.FunctionDef | ast.AsyncFunctionDef]:
     """The module's pytest fixtures that give a test's parameter ``name`` its values:

@@ -21,7 +21,13 @@ from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.import_roots import is_test_path
 from gymmigrate.facts.kinds import EnvKind, join_kinds
 from gymmigrate.facts.module import FUNCTIONS, call_argument, walk
-from gymmigrate.facts.pytest_params import fixture_values, param_fixtures, param_values
+from gymmigrate.facts.pytest_params import (
+    fixture_values,
+    injected,
+    param_fixtures,
+    param_values,
+    pytest_fixture,
+)
 from gymmigrate.facts.receiver_callers import CallerSites
 from gymmigrate.facts.receiver_classes import other_library_class_kind
 from gymmigrate.facts.receiver_thunks import ThunkKinds
@@ -78,6 +84,9 @@ class ParameterKinds(CallerSites, ThunkKinds):
             values = param_values(self.facts, function, name) if not is_method else None
             if values:
                 return join_kinds(self.kind_of(value) for value in values)
+            conftest = self._conftest_fixture_kind(function, name)
+            if conftest is not None:
+                return conftest
             return EnvKind.GYM_ENV if self._wrapped_in_gym_wrapper(function, param) else EnvKind.UNKNOWN
         defaults = has_default(function, param)
         kinds = list(external)
@@ -402,6 +411,27 @@ class ParameterKinds(CallerSites, ThunkKinds):
                     return found
         return EnvKind.UNKNOWN
 
+
+    def _conftest_fixture_kind(self, function: ast.FunctionDef | ast.AsyncFunctionDef, name: str) -> EnvKind | None:
+        """What pytest gives the parameter ``name`` of a test or fixture from a conftest.py
+        of the run above this module (``ProjectView.fixture_kind``): the module's own
+        fixtures and parametrizations, asked first, override it. None where none is known."""
+        if self.project is None or not injected(self.facts, function):
+            return None
+        classdef = self.facts.enclosing_class(function)
+        if classdef is not None and not _pytest_test_method(function, classdef, name):
+            return None  # the class's own fixture of that name comes first
+        return self.project.fixture_kind(name)
+
+    def requested_fixture_kind(self, names: list[str]) -> EnvKind:
+        """What ``request.getfixturevalue(n)`` gives for each name it may ask: the module's
+        fixture of that name, else the nearest conftest.py's."""
+        kinds = []
+        for name in names:
+            local = pytest_fixture(self.facts, name)
+            found = self._fixture_kind(local) if local is not None else (self.project.fixture_kind(name) if self.project is not None else None)
+            kinds.append(EnvKind.UNKNOWN if found is None else found)
+        return join_kinds(kinds)
 
     def _fixture_kind(self, fixture: ast.FunctionDef | ast.AsyncFunctionDef) -> EnvKind:
         values = fixture_values(self.facts, fixture)

@@ -47,6 +47,7 @@ from gymmigrate.facts.module import (
     own_returns,
 )
 from gymmigrate.facts.narrowing import Narrowing
+from gymmigrate.facts.pytest_params import requested_fixtures
 from gymmigrate.facts.receiver_bindings import BindingKinds
 from gymmigrate.facts.receiver_classes import ClassKinds
 from gymmigrate.facts.receiver_origins import MadeObjects
@@ -183,6 +184,9 @@ class Receivers(BindingKinds, WrappingCalls, ClassKinds, ParameterKinds, MadeObj
         # spec.make() on one of the registry's EnvSpecs
         if is_spec_make(self.facts, self.project, call):
             return EnvKind.GYM_ENV
+        requested = requested_fixtures(self.facts, call)
+        if requested is not None:
+            return self.requested_fixture_kind(requested)  # pytest's ``request.getfixturevalue("env")``
         if (
             len(call.args) == 1
             and not call.keywords

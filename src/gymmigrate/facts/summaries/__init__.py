@@ -90,6 +90,7 @@ from gymmigrate.facts.summaries.defs import (
     signature,
 )
 from gymmigrate.facts.summaries.exports import Exports
+from gymmigrate.facts.summaries.fixtures import conftest_fixtures
 from gymmigrate.facts.summaries.untraced import UntracedCalls, calls_from_outside
 from gymmigrate.facts.wrapper_attributes import wrapper_defined
 from gymmigrate.facts.wrapper_steps import module_reset_steps, self_handoffs
@@ -264,6 +265,7 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         init_held=init_held(facts, receivers),
         property_aliases=property_aliases(facts),
         made_holders=made_holders(facts, receivers),
+        fixtures=conftest_fixtures(path, facts, receivers),
         param_renders=param_renders(facts, receivers),
         driven_kinds=driven_kinds(facts, receivers),
         stored_attributes=stored_attributes(facts, receivers),

@@ -27,7 +27,15 @@ from gymmigrate.facts.creator_tables import entries, lookup, table_display
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import FUNCTIONS, call_argument, own_returns, walk
-from gymmigrate.facts.pytest_params import fixture_values, param_fixtures
+from gymmigrate.facts.project_view_fixtures import FixtureOrigin
+from gymmigrate.facts.pytest_params import (
+    fixture_values,
+    injected,
+    param_fixtures,
+    param_values,
+    pytest_fixture,
+    requested_fixtures,
+)
 from gymmigrate.facts.receiver_classes import duck_wrapper_attribute
 from gymmigrate.facts.receivers import Receivers
 from gymmigrate.facts.self_attributes import store_seen
@@ -165,6 +173,9 @@ class EnvOrigins:
         return None
 
     def _call_origin(self, call: ast.Call) -> Origin:
+        requested = self._requested(call)
+        if requested is not None:
+            return _join_fed(requested)  # pytest's ``request.getfixturevalue(...)``
         if len(call.args) == 1 and self.facts.qualified_names(call.func) & {"copy.deepcopy", "copy.copy"}:
             return self.origin(call.args[0])  # a copy of the env, as made or wrapped as it is
         for q in self.facts.qualified_names(call.func):
@@ -286,7 +297,10 @@ class EnvOrigins:
         if not calls:
             fixtures = param_fixtures(self.facts, function, param.arg)
             if not fixtures:
-                return None
+                # pytest gives it the fixture of that name of a conftest.py above the module,
+                # unless the module parametrizes it itself
+                conftest = self._conftest_fixture(function, param.arg)
+                return _join_fed(conftest) if conftest is not None else None
             # A test's parameter named after a pytest fixture of the module (or parametrized
             # over fixtures with ``fixture_ref``) gets what the fixtures yield or return.
             return join_origins([self.origin(value) for fixture in fixtures for value in fixture_values(self.facts, fixture)])
@@ -296,6 +310,79 @@ class EnvOrigins:
             origin = self.origin(argument) if argument is not None else None
             origins.append(None if origin == CYCLE else origin)
         return join_origins(origins)
+
+    def _conftest_fixture(self, function: ast.FunctionDef | ast.AsyncFunctionDef, name: str) -> list[FixtureOrigin] | None:
+        """Per value of the conftest fixture pytest hands the parameter ``name`` of a test or
+        fixture of this module (``ProjectView.fixture_origin``): where it comes from and what
+        its outermost wrapper defines. None where the module feeds it itself, or no conftest
+        of the run defines it."""
+        view = self.receivers.project
+        if view is None or not injected(self.facts, function) or param_values(self.facts, function, name) is not None:
+            return None
+        return view.fixture_origin(name)
+
+    def _requested(self, call: ast.Call) -> list[FixtureOrigin] | None:
+        """Per value of the fixtures ``request.getfixturevalue(n)`` may give (this module's
+        fixture of that name, else the nearest conftest's): where it comes from and what its
+        outermost wrapper defines (None: not shown). None for any other call."""
+        names = requested_fixtures(self.facts, call)
+        if names is None:
+            return None
+        found: list[FixtureOrigin] = []
+        view = self.receivers.project
+        for name in names:
+            local = pytest_fixture(self.facts, name)
+            if local is not None:
+                found += [self._value_outer(value) for value in fixture_values(self.facts, local)]
+                continue
+            remote = view.fixture_origin(name) if view is not None else None
+            found += remote if remote is not None else [(None, None)]
+        return found
+
+    def _value_outer(self, value: ast.expr) -> FixtureOrigin:
+        origin = self.origin(value)
+        if origin == CYCLE:
+            origin = None
+        return origin, (frozenset(self.outer_attributes(value)) if self.outer_wrapper(value) is not None else None)
+
+    def _fed_by_fixtures(self, expr: ast.expr) -> list[FixtureOrigin] | None:
+        """For a name that holds what pytest hands a test (its parameter named after a
+        fixture, or ``request.getfixturevalue(...)`` bound to it), per value of those
+        fixtures, where it comes from and what its outermost wrapper defines."""
+        if not isinstance(expr, ast.Name):
+            return None
+        bindings = self.facts.bindings_of(expr)
+        if len(bindings) != 1:
+            return None
+        binding = bindings[0]
+        if isinstance(binding, ast.arg):
+            function = self.facts.parent(self.facts.parent(binding))
+            if not isinstance(function, FUNCTIONS) or self.receivers.call_sites(function, None):
+                return None
+            local = param_fixtures(self.facts, function, binding.arg)
+            if local:
+                return [self._value_outer(value) for fixture in local for value in fixture_values(self.facts, fixture)]
+            return self._conftest_fixture(function, binding.arg)
+        statement = self.facts.parent(binding)
+        if isinstance(statement, ast.Assign) and statement.targets == [binding] and isinstance(statement.value, ast.Call):
+            return self._requested(statement.value)
+        return None
+
+    def fixture_attributes(self, expr: ast.expr) -> frozenset[str] | None:
+        """What every value a pytest fixture may hand ``expr`` has on its outermost layer
+        without forwarding: a wrapper's own attributes, anything on a bare env (RAW). None
+        where ``expr`` is no fixture's value or a value's outermost layer is not shown."""
+        fed = self._fed_by_fixtures(expr)
+        if not fed:
+            return None
+        common: frozenset[str] | None = None  # None here: every name so far (only bare envs)
+        for origin, attributes in fed:
+            if origin == RAW:
+                continue
+            if origin != WRAPPED or attributes is None:
+                return frozenset()
+            common = attributes if common is None else common & attributes
+        return common
 
     def _memo(self, key: _Key, compute: Callable[[], Origin]) -> Origin:
         """``compute()``, kept for ``key`` unless it rests on an answer still being computed.
@@ -622,7 +709,9 @@ class EnvOrigins:
         """Attributes the outermost wrapper of ``expr`` defines itself (gymnasium's or this module's)."""
         owner = self.outer_wrapper(expr)
         if owner is None:
-            return set()
+            fixed = self.fixture_attributes(expr)
+            # only bare envs: the read needs no forwarding, whatever the name (left to RAW)
+            return set(fixed) if fixed is not None else set()
         if owner in OWN_ATTRIBUTES:
             return OWN_ATTRIBUTES[owner]
         local = self.facts.classes.get(owner)
@@ -646,6 +735,17 @@ class EnvOrigins:
         if names is None:
             names = self._class_attrs[classdef] = _defined_attributes(classdef)
         return names
+
+def _join_fed(fed: list[FixtureOrigin]) -> Origin:
+    """Where the values fixtures hand one name come from: a bare env in some and a wrapper
+    in others, every one shown, is read with get_wrapper_attr (a Gymnasium env has it too,
+    bare or wrapped), as a wrapper."""
+    origins = [origin for origin, _ in fed]
+    joined = join_origins(origins)
+    if joined is None and RAW in origins and None not in origins and CYCLE not in origins:
+        return WRAPPED
+    return joined
+
 
 def _defined_attributes(classdef: ast.ClassDef) -> set[str]:
     """Methods (at any depth) and ``self.x = ...`` targets of a class."""
