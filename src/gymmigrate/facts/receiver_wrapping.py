@@ -99,8 +99,12 @@ class WrappingCalls(_Facade):
         if depth > MAX_DEPTH:
             return False
         if isinstance(value, ast.Call):
-            if not value.args or isinstance(value.args[0], ast.Starred):
+            if value.args and isinstance(value.args[0], ast.Starred):
                 return False
+            if not value.args:
+                # ``PermuteFrame(env=env, ...)``: gym.Wrapper names the env it wraps ``env``
+                inner = next((k.value for k in value.keywords if k.arg == "env"), None)
+                return inner is not None and self._makes_gym_wrapper(value) and self._hands_on_param(inner, param, function, depth + 1, seen)
             local = self.local_function(value.func)
             hands_on = self._makes_gym_wrapper(value) or (local is not None and local is not function and self.wraps_argument(local))
             return hands_on and self._hands_on_param(value.args[0], param, function, depth + 1, seen)
