@@ -383,7 +383,9 @@ class WrapperForwarding(RuleFamily):
         and in wrappers on others (``make_env`` returning ``gym.make(id)`` in one branch and
         ``Sim()`` in another): its origins disagree, but none is unknown."""
         reached = self.origins.reached(receiver)
-        return bool(reached) and reached <= _TRACED_ORIGINS
+        # a make on some path: a wrapper of the code's own on some paths only keeps its
+        # question (which branch a helper takes is not told here)
+        return MADE in reached and reached <= _TRACED_ORIGINS
 
     def _wrapped_on_some_path(self, attr: ast.Attribute) -> bool:
         """A read through a receiver that is a make() result (or a Gym wrapper) on some paths

@@ -228,7 +228,9 @@ class EnvOrigins:
         if isinstance(expr, ast.Call):
             function = self.receivers.local_function(expr.func)
             returned = (id(function), "<returns>")
-            if function is not None and returned not in seen:
+            # a def that hands its argument back, maybe wrapped (``env = dress(env)``), is
+            # what its own origin says: which branch a call takes is not told here
+            if function is not None and returned not in seen and not self.receivers.wraps_argument(function):
                 returns = own_returns(function)
                 if returns:
                     found = set()
@@ -236,7 +238,8 @@ class EnvOrigins:
                         found |= self._reached(r.value, seen | {returned})
                     return frozenset(found)
         origin = self.origin(expr)
-        return frozenset() if origin == CYCLE else frozenset({origin})
+        # a value resting on the name itself (``env = dress(env)``): not told here
+        return frozenset({None}) if origin == CYCLE else frozenset({origin})
 
     def _handed_through(self, argument: ast.expr) -> Origin:
         """What a def of another module of the run gives that returns its argument, maybe in
