@@ -201,6 +201,14 @@ class EnvOrigins:
         each branch of a conditional, each return of a def of the module it calls. Where they
         disagree ``origin`` answers None for a bare env on one path and a made one on another
         as for an untraced one; this tells them apart. A name reached again adds nothing."""
+        if isinstance(expr, ast.Name):
+            # the one assignment every path to the read passes last is all the read sees
+            flow = Flow.of(self.facts)
+            last = flow.last_binding_of(expr)
+            statement = self.facts.statement_of(last) if isinstance(last, ast.Name) else None
+            if isinstance(statement, ast.Assign) and statement.targets == [last] and flow.dominates(statement, expr, expr):
+                scope, _ = self.facts.resolve(expr.id, self.facts.scope_of(expr))
+                return self._reached(statement.value, frozenset({(id(scope), expr.id)}))
         return self._reached(expr, frozenset())
 
     def _reached(self, expr: ast.expr | None, seen: frozenset[_Key]) -> frozenset[Origin]:
