@@ -435,3 +435,18 @@ def test_a_helper_of_the_run_that_only_wraps_leads_the_recorder_to_the_make(tmp_
     assert result.exit_code == 0, result.output
     assert 'gym.make("CartPole-v1", render_mode="rgb_array")' in (folder / "film.py").read_text()
     assert "Review" not in result.output, result.output
+
+
+def test_reads_through_a_helper_of_the_run_that_wraps_its_argument(tmp_path: Path) -> None:
+    """``self.env = dressing.dress(env=gym.make(id))``, by keyword or position, with ``dress``
+    in another module returning its argument in Gym wrappers: a wrapper stack, so a read of
+    what a layer defines goes through get_wrapper_attr; a def that returns something else
+    settles nothing."""
+    folder = tmp_path / "wrapped"
+    shutil.copytree(FIXTURES / "project_wrapped_reads", folder)
+    result = runner.invoke(app, ["rewrite", str(folder)])
+    assert result.exit_code == 0, result.output
+    lines = (folder / "task.py").read_text().splitlines()
+    assert lines[10].strip() == 'return self.env.get_wrapper_attr("kept")'
+    assert lines[18].strip() == 'return self.env.get_wrapper_attr("kept")'
+    assert lines[26].strip() == "return self.env.kept"

@@ -174,7 +174,8 @@ class ModuleSummary:
     wrapper_defined: dict[str, frozenset[str]] = field(default_factory=dict)
     # Top-level defs that return their first argument, maybe in Gym wrappers
     # (``Receivers.wraps_argument``): what they give has the kind of what they take.
-    wrapping_helpers: frozenset[str] = frozenset()
+    # def name -> the name of that parameter, which a call may pass by keyword.
+    wrapping_helpers: dict[str, str] = field(default_factory=dict)
     # Top-level PettingZoo wrapper classes and aliases of PettingZoo's wrapper bases
     # (``facts/pz_wrappers.py``): name -> ("aec" | "parallel" | "ref:<qualified>", methods).
     pz_wrappers: dict[str, tuple[str, tuple[str, ...]]] = field(default_factory=dict)

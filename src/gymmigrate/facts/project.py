@@ -127,7 +127,7 @@ class ProjectFacts:
     defs: dict[str, frozenset[str]] = field(default_factory=dict)  # path -> qualnames defined
     env_classes: dict[str, frozenset[str]] = field(default_factory=dict)  # path -> env classes
     wrapper_classes: dict[str, frozenset[str]] = field(default_factory=dict)  # path -> Gym wrapper classes
-    wrapping_helpers: dict[str, frozenset[str]] = field(default_factory=dict)  # path -> defs that wrap their argument
+    wrapping_helpers: dict[str, dict[str, str]] = field(default_factory=dict)  # path -> def that wraps its argument -> that parameter
     gym_only_makers: dict[str, dict[str, str]] = field(default_factory=dict)  # path -> defs making a Gym-only stack's envs
     # path -> its PettingZoo wrapper classes (``ModuleSummary.pz_wrappers``)
     pz_wrappers: dict[str, dict[str, tuple[str, tuple[str, ...]]]] = field(default_factory=dict)
@@ -461,7 +461,7 @@ class ProjectFacts:
             left = summary.path in facts.blocked
             facts.env_classes[summary.path] = frozenset() if left else summary.env_classes
             facts.wrapper_classes[summary.path] = frozenset() if left else summary.wrapper_classes
-            facts.wrapping_helpers[summary.path] = frozenset() if left else summary.wrapping_helpers
+            facts.wrapping_helpers[summary.path] = {} if left else summary.wrapping_helpers
             if summary.gym_only_makers:
                 facts.gym_only_makers[summary.path] = summary.gym_only_makers
             if summary.thunk_factories and not left:

@@ -180,7 +180,13 @@ class ClassView:
         """An imported def of the run returns its first argument, maybe in Gym wrappers
         (``from common.wrappers import wrap_deepmind``)."""
         split = self.facts._split(qualified, self.path)
-        return split is not None and split[1] in self.facts.wrapping_helpers.get(split[0], ())
+        return split is not None and split[1] in self.facts.wrapping_helpers.get(split[0], {})
+
+    def wrapped_parameter(self, qualified: str) -> str | None:
+        """The parameter whose argument an imported def of the run returns, maybe in Gym
+        wrappers (``ProjectView.wraps_argument``): a call may pass it by keyword (``env=``)."""
+        split = self.facts._split(qualified, self.path)
+        return None if split is None else self.facts.wrapping_helpers.get(split[0], {}).get(split[1])
 
     def gym_only_maker(self, qualified: str) -> str | None:
         """The Gym-only stack (``nes_py``) whose envs an imported def of the run returns

@@ -59,14 +59,27 @@ class WrappingCalls(_Facade):
         """The env ``value`` hands on: its first argument, where it calls a def of the run
         that returns that argument or Gym wrappers around it (``def wrap_deepmind(env):
         if clip: env = ClipReward(env); return env``; ``ProjectView.wraps_argument``)."""
-        if not (isinstance(value, ast.Call) and value.args and not isinstance(value.args[0], ast.Starred)):
+        if not isinstance(value, ast.Call) or (value.args and isinstance(value.args[0], ast.Starred)):
             return None
+        parameter: str | None = None
         local = self.local_function(value.func)
         if local is not None:
-            return value.args[0] if self.wraps_argument(local) else None
-        if self.project is not None and any(self.project.wraps_argument(q) for q in self.qualified_names(value.func)):
+            parameter = self.wrapped_parameter(local) if self.wraps_argument(local) else None
+        elif self.project is not None:
+            parameter = next(
+                (p for q in self.qualified_names(value.func) if (p := self.project.wrapped_parameter(q)) is not None), None
+            )
+        if parameter is None:
+            return None
+        if value.args:
             return value.args[0]
-        return None
+        # ``wrap_deepmind(env=make_atari(id), ...)``: the same argument, passed by its name
+        return next((k.value for k in value.keywords if k.arg == parameter), None)
+
+    @staticmethod
+    def wrapped_parameter(function: ast.FunctionDef | ast.AsyncFunctionDef) -> str:
+        """The name of the first parameter, the one a def that ``wraps_argument`` hands on."""
+        return [*function.args.posonlyargs, *function.args.args][0].arg
 
     def wraps_argument(self, function: ast.AST) -> bool:
         """Every return of the top-level def ``function`` is its first parameter, maybe
@@ -86,8 +99,12 @@ class WrappingCalls(_Facade):
         if depth > MAX_DEPTH:
             return False
         if isinstance(value, ast.Call):
-            if not value.args or isinstance(value.args[0], ast.Starred):
+            if value.args and isinstance(value.args[0], ast.Starred):
                 return False
+            if not value.args:
+                # ``PermuteFrame(env=env, ...)``: gym.Wrapper names the env it wraps ``env``
+                inner = next((k.value for k in value.keywords if k.arg == "env"), None)
+                return inner is not None and self._makes_gym_wrapper(value) and self._hands_on_param(inner, param, function, depth + 1, seen)
             local = self.local_function(value.func)
             hands_on = self._makes_gym_wrapper(value) or (local is not None and local is not function and self.wraps_argument(local))
             return hands_on and self._hands_on_param(value.args[0], param, function, depth + 1, seen)

@@ -224,7 +224,11 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         wrapper_classes=frozenset(name for name, classdef in facts.classes.items() if receivers.is_gym_wrapper_class(classdef)),
         duck_wrappers=unproved_duck_wrappers(facts, receivers),
         wrapper_defined=wrapper_defined(facts),
-        wrapping_helpers=frozenset(name for name, function in facts.functions.items() if receivers.wraps_argument(function)),
+        wrapping_helpers={
+            name: receivers.wrapped_parameter(function)
+            for name, function in facts.functions.items()
+            if receivers.wraps_argument(function)
+        },
         pz_wrappers=pz_wrappers.summarize(facts),
         plain_classes=plain_classes(facts),
         space_calls=space_calls(facts, receivers),

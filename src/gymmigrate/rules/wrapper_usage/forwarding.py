@@ -195,7 +195,8 @@ class WrapperForwarding(RuleFamily):
         known = sub_env or handed is not None or kind is EnvKind.GYM_ENV
         monitor_read = reads_monitor_videos(self, attr, known, kind)
         if not known and not monitor_read and not self.origins.outer_is_wrapper(receiver):
-            self._read_past_test_double(attr)
+            if not self._wrapped_on_some_path(attr):
+                self._read_past_test_double(attr)
             return
         if monitor_read:
             report_monitor_videos(self, attr)
@@ -222,6 +223,8 @@ class WrapperForwarding(RuleFamily):
             origin = WRAPPED  # ``isinstance(env, gym.Env)`` checked it: bare or wrapped, get_wrapper_attr reads both
         if origin is None and self.origins.traced_gym_env(receiver):
             origin = WRAPPED
+        if origin is None and self._gym_env_on_every_path(receiver):
+            origin = WRAPPED  # bare on some paths, made or wrapped on others: get_wrapper_attr reads both
         if origin == RAW:
             return
         if name in self.origins.outer_attributes(receiver):
@@ -375,6 +378,41 @@ class WrapperForwarding(RuleFamily):
         replace_with_get_wrapper_attr(self.facts, self.plan, attr, name)
         self._wrapped_reads.note(attr, name)
 
+    def _gym_env_on_every_path(self, receiver: ast.expr) -> bool:
+        """Every value the receiver may hold is a Gym env the run traces, bare on some paths
+        and in wrappers on others (``make_env`` returning ``gym.make(id)`` in one branch and
+        ``Sim()`` in another): its origins disagree, but none is unknown."""
+        reached = self.origins.reached(receiver)
+        # a make on some path: a wrapper of the code's own on some paths only keeps its
+        # question (which branch a helper takes is not told here)
+        return MADE in reached and reached <= _TRACED_ORIGINS
+
+    def _wrapped_on_some_path(self, attr: ast.Attribute) -> bool:
+        """A read through a receiver that is a make() result (or a Gym wrapper) on some paths
+        and what the run cannot trace on the others (``make_env`` returning ``gym.make(id)``
+        in one branch, an instance of a class looked up by name in another): where it is
+        made, the read raises AttributeError. Reported, one question per object and scope,
+        as the untraced side decides between ``.unwrapped`` and leaving it."""
+        if not isinstance(attr.ctx, ast.Load):
+            return False
+        reached = self.origins.reached(attr.value)
+        if None not in reached or not reached & _WRAPPER_ORIGINS:
+            return False
+        name = attr.attr
+        text = dotted_name(attr.value) or "the env"
+        owner = self.facts.enclosing_class(attr) if text.startswith("self.") else self.facts.enclosing_function(attr)
+        self.report(
+            attr,
+            "GM604",
+            f"`{text}` is a make() result (Gym wrappers) on some paths, and what it holds on the others could not be traced: where "
+            f"it is made, `.{name}` raises AttributeError on Gymnasium 1.x (wrappers no longer forward it); use "
+            f"`.unwrapped.{name}` if every path gives a Gym env (a bare env is its own `unwrapped`), or "
+            f"`.get_wrapper_attr(\"{name}\")`",
+            kind=FixKind.FLAG,
+            question=("GM604", "wrapped", id(owner), self.origins.stored_as(attr.value) or text),
+        )
+        return True
+
     def _base_only(self, name: str) -> bool:
         """State or a method of the base envs that no wrapper class of the run defines."""
         return name in BASE_ENV_ATTRIBUTES and name not in self.origins.local_wrapper_attributes()
@@ -402,6 +440,11 @@ class WrapperForwarding(RuleFamily):
             kind=FixKind.FLAG,
             question=("GM604", "test double", id(owner), text),
         )
+
+
+# What a traced Gym env comes from, and of those, what is a wrapper stack where it is read.
+_WRAPPER_ORIGINS = frozenset({MADE, WRAPPED, INNER})
+_TRACED_ORIGINS = _WRAPPER_ORIGINS | {RAW}
 
 
 def _calls_atari_methods(facts: ModuleFacts) -> bool:

@@ -132,6 +132,9 @@ class EnvOrigins:
                 return origin
             if isinstance(expr, ast.Subscript):
                 return self._items_origin(expr.value)
+            if isinstance(expr, ast.IfExp):
+                # ``Sim() if coop else gym.make(id)``: what either branch gives
+                return join_origins([self.origin(expr.body), self.origin(expr.orelse)])
             return None
         finally:
             self._depth -= 1
@@ -198,7 +201,75 @@ class EnvOrigins:
                 return RAW
         if isinstance(call.func, ast.Subscript):
             return self._table_origin(call.func)
+        if self.receivers.local_function(call.func) is None:
+            handed = self.receivers.wrapped_argument(call)
+            if handed is not None:
+                return self._handed_through(handed)
         return self._returns_origin(call.func)
+
+    def reached(self, expr: ast.expr) -> frozenset[Origin]:
+        """The origins of every value ``expr`` may hold, unjoined: each assignment of a name,
+        each branch of a conditional, each return of a def of the module it calls. Where they
+        disagree ``origin`` answers None for a bare env on one path and a made one on another
+        as for an untraced one; this tells them apart. A name reached again adds nothing."""
+        if isinstance(expr, ast.Name):
+            # the one assignment every path to the read passes last is all the read sees
+            flow = Flow.of(self.facts)
+            last = flow.last_binding_of(expr)
+            statement = self.facts.statement_of(last) if isinstance(last, ast.Name) else None
+            if isinstance(statement, ast.Assign) and statement.targets == [last] and flow.dominates(statement, expr, expr):
+                scope, _ = self.facts.resolve(expr.id, self.facts.scope_of(expr))
+                return self._reached(statement.value, frozenset({(id(scope), expr.id)}))
+        return self._reached(expr, frozenset())
+
+    def _reached(self, expr: ast.expr | None, seen: frozenset[_Key]) -> frozenset[Origin]:
+        if expr is None or len(seen) > MAX_DEPTH:
+            return frozenset({None})
+        if isinstance(expr, ast.IfExp):
+            return self._reached(expr.body, seen) | self._reached(expr.orelse, seen)
+        if isinstance(expr, ast.Name):
+            scope, bindings = self.facts.resolve(expr.id, self.facts.scope_of(expr))
+            if scope is None:
+                return frozenset({None})
+            key = (id(scope), expr.id)
+            if key in seen:
+                return frozenset()
+            found: set[Origin] = set()
+            for binding in bindings:
+                parent = self.facts.parent(binding)
+                if isinstance(binding, ast.arg):
+                    found.add(self._param_origin(binding))
+                elif isinstance(binding, ast.Name) and isinstance(parent, ast.Assign) and binding in parent.targets:
+                    found |= self._reached(parent.value, seen | {key})
+                else:
+                    found.add(None)
+            return frozenset(found)
+        if isinstance(expr, ast.Call):
+            function = self.receivers.local_function(expr.func)
+            returned = (id(function), "<returns>")
+            # a def that hands its argument back, maybe wrapped (``env = dress(env)``), is
+            # what its own origin says: which branch a call takes is not told here
+            if function is not None and returned not in seen and not self.receivers.wraps_argument(function):
+                returns = own_returns(function)
+                if returns:
+                    found = set()
+                    for r in returns:
+                        found |= self._reached(r.value, seen | {returned})
+                    return frozenset(found)
+        origin = self.origin(expr)
+        # a value resting on the name itself (``env = dress(env)``): not told here
+        return frozenset({None}) if origin == CYCLE else frozenset({origin})
+
+    def _handed_through(self, argument: ast.expr) -> Origin:
+        """What a def of another module of the run gives that returns its argument, maybe in
+        Gym wrappers (``wrap_deepmind(env=make_atari(id))``): as made as the argument is;
+        any other Gym env may come back bare or wrapped, and get_wrapper_attr reads both."""
+        inner = self.origin(argument)
+        if inner in (MADE, CYCLE):
+            return inner
+        if inner is not None or self.receivers.kind_of(argument) is EnvKind.GYM_ENV:
+            return WRAPPED
+        return None
 
     def _returns_origin(self, func: ast.expr) -> Origin:
         """What calling ``func`` returns, for a def of the module or a name of the run."""
