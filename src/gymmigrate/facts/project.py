@@ -428,6 +428,9 @@ class ProjectFacts:
     # Some module registers envs whose entry points are no literal (``opaque_registrations``):
     # an id made anywhere may then build any env class of the run.
     registers_from_data: bool = False
+    # Some module loads an earlier run's policy, weights or normaliser: an env id the run
+    # bumps may be made for that model (an evaluation script reaching another module's task).
+    loads_saved_state: bool = False
     # (path, name of a class of the run, re-exports followed) -> the attributes its instances
     # certainly hold once constructed (``facts/init_attributes.py``; none: not listed)
     init_attributes: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
@@ -451,6 +454,8 @@ class ProjectFacts:
                     facts.mask_modules[name] = (*facts.mask_modules.get(name, ()), summary.path)
         # every module that writes into a name it imports, Gym code or not (``join_tables``)
         altered = [(s.path, q) for s in summaries for q in s.altered]
+        # Gym code or not: an evaluation script loads the model into another module's task
+        facts.loads_saved_state = any(summary.loads_saved_state for summary in summaries)
         summaries = [s for s in summaries if not s.masks_only]
         by_path = {s.path: s for s in summaries}
         for summary in summaries:
