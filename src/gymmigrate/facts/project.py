@@ -431,6 +431,8 @@ class ProjectFacts:
     # Some module loads an earlier run's policy, weights or normaliser: an env id the run
     # bumps may be made for that model (an evaluation script reaching another module's task).
     loads_saved_state: bool = False
+    # Every env-id-shaped string of the run's modules (``ModuleSummary.named_ids``)
+    named_ids: frozenset[str] = frozenset()
     # (path, name of a class of the run, re-exports followed) -> the attributes its instances
     # certainly hold once constructed (``facts/init_attributes.py``; none: not listed)
     init_attributes: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
@@ -458,6 +460,7 @@ class ProjectFacts:
         facts.loads_saved_state = any(summary.loads_saved_state for summary in summaries)
         summaries = [s for s in summaries if not s.masks_only]
         by_path = {s.path: s for s in summaries}
+        facts.named_ids = frozenset().union(*(s.named_ids for s in summaries))
         for summary in summaries:
             facts.defs[summary.path] = frozenset(summary.defs)
             left = summary.path in facts.blocked
