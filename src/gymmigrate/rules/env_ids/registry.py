@@ -220,7 +220,7 @@ class RegistryApi(RuleFamily):
     def _names_atari_ids(self) -> bool:
         """An Atari id among the run's ids (the module's alone, processed by itself)."""
         project = self.context.options.project
-        ids = project.named_ids if project is not None else {node.value for node in self.facts.strings}
+        ids = project.named_ids if project is not None else {node.value for node in self.facts.strings if isinstance(node.value, str)}
         return any(is_atari_id(env_id) for env_id in ids)
 
     def _time_limit_read(self, attribute: ast.Attribute) -> ast.expr | None:
