@@ -115,6 +115,10 @@ from gymmigrate.facts.reset_contract import join as join_reset_sites
 _MAX_REEXPORT_HOPS = 8
 
 
+def _read_for_its_load(summary: ModuleSummary) -> bool:
+    return summary.masks_only and not (summary.bootstrap_masks or summary.record_classes or summary.plain_roots or summary.altered)
+
+
 @dataclass
 class ProjectFacts:
     """The run's joined facts; picklable, sent once to each worker with the options."""
@@ -440,6 +444,10 @@ class ProjectFacts:
     @classmethod
     def join(cls, summaries: list[ModuleSummary], blocked: dict[str, str] | None = None) -> ProjectFacts:
         facts = cls()
+        # Gym code or not: an evaluation script loads the model into another module's task.
+        # A Gym-free module read for that alone tells the run nothing else.
+        facts.loads_saved_state = any(summary.loads_saved_state for summary in summaries)
+        summaries = [s for s in summaries if not _read_for_its_load(s)]
         facts.blocked = dict(blocked or {})
         facts.blocked.update(
             (s.path, "it says `# gymmigrate: skip-file`") for s in summaries if s.skips_file and s.path not in facts.blocked
@@ -456,8 +464,6 @@ class ProjectFacts:
                     facts.mask_modules[name] = (*facts.mask_modules.get(name, ()), summary.path)
         # every module that writes into a name it imports, Gym code or not (``join_tables``)
         altered = [(s.path, q) for s in summaries for q in s.altered]
-        # Gym code or not: an evaluation script loads the model into another module's task
-        facts.loads_saved_state = any(summary.loads_saved_state for summary in summaries)
         summaries = [s for s in summaries if not s.masks_only]
         by_path = {s.path: s for s in summaries}
         facts.named_ids = frozenset().union(*(s.named_ids for s in summaries))
