@@ -334,7 +334,7 @@ class ModuleSummary:
     # ``register(id, entry_point="pkg.mod:Class")``: (the id if a literal, the entry point).
     registrations: tuple[tuple[str | None, str], ...] = ()
     # The module calls what loads an earlier run's policy, weights or normaliser
-    # (``summaries.defs.loads_saved_state``): a new env version is a question for the run.
+    # (``summaries.defs.loads_model_for_the_run``): a new env version is a question for the run.
     loads_saved_state: bool = False
     # The ids of every Gym ``register(...)`` call, whatever its entry point (None: no literal).
     registered_ids: tuple[str | None, ...] = ()

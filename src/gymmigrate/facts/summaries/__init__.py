@@ -81,6 +81,7 @@ from gymmigrate.facts.summaries.defs import (
     bootstrap_masks,
     gym_only_makers,
     handed_on,
+    loads_model_for_the_run,
     loads_saved_state,
     made_factories,
     masks_of,
@@ -132,7 +133,7 @@ def summarize_masks(path: str, text: str) -> ModuleSummary | None:
     # creators) keeps that table open, Gym code or not. Its facts cost a walk: asked only
     # where the text shows such a write (``runner._may_write_into_import``).
     altered = altered_imports(ModuleFacts(tree, text)) if writes_into_import(text.encode("utf-8", "surrogateescape")) else frozenset()
-    loads = loads_saved_state(tree)
+    loads = loads_model_for_the_run(tree)
     if not masks and not records and not roots and not altered and not loads:
         return None
     defs = {name: signature(_named(functions, classes, name), is_method="." in name) for name in masks}
@@ -259,7 +260,7 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         modeless_renders=modeless_renders(facts, receivers),
         render_only_classes=frozenset(name for name, classdef in facts.classes.items() if draws_only_in_render(facts, receivers, classdef)),
         registrations=registrations(facts),
-        loads_saved_state=loads_saved_state(facts.tree),
+        loads_saved_state=loads_model_for_the_run(facts.tree),
         registered_ids=registered_ids(facts),
         named_ids=named[0],
         opaque_make=named[1],

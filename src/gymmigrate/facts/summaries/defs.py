@@ -165,6 +165,39 @@ def loads_saved_state(tree: ast.AST) -> bool:
     return False
 
 
+# Modules whose own ``load`` reads a saved model (a plain ``import`` binding them)
+_MODEL_LOADING_MODULES = frozenset({"torch", "joblib", "keras", "tensorflow", "tf"})
+
+
+def loads_model_for_the_run(tree: ast.AST) -> bool:
+    """A load another module's env ids may answer to: an ML library's or an object's load
+    (``torch.load``, ``PPO.load``, ``solution.load``, ``load_state_dict``). A plain module's
+    data reader (``pickle.load`` of a map, ``pyglet.image.load``, ``json.load``) is the
+    module's own business: only a program that makes the id itself is asked for it
+    (``loads_saved_state``)."""
+    modules = {
+        (alias.asname or alias.name).split(".")[0]
+        for node in walk(tree)
+        if isinstance(node, ast.Import)
+        for alias in node.names
+        if (alias.asname or alias.name).split(".")[0] not in _MODEL_LOADING_MODULES
+    }
+    for node in walk(tree):
+        if not (isinstance(node, ast.Call) and isinstance(node.func, (ast.Attribute, ast.Name))):
+            continue
+        func = node.func
+        name = func.attr if isinstance(func, ast.Attribute) else func.id
+        if name in _LOADS_SAVED_STATE:
+            return True
+        if isinstance(func, ast.Attribute) and name == "load":
+            root = func.value
+            while isinstance(root, ast.Attribute):
+                root = root.value
+            if not (isinstance(root, ast.Name) and (root.id in modules or root.id.startswith("suite_"))):
+                return True
+    return False
+
+
 def registrations(facts: ModuleFacts) -> tuple[tuple[str | None, str], ...]:
     """``register(id=..., entry_point="pkg.mod:Class")`` calls: (the id if a literal, the entry point)."""
     found = []
