@@ -290,11 +290,13 @@ def summarize_path(path: Path) -> ModuleSummary | None:
         if notebook is not None:
             return _notebook_summary(path, source)
         if not screen(source, relevant):
-            if not any(screen(source, test) for test in (_may_mask_bootstrapping, _may_define_plain_root, writes_into_import)):
+            tests = (_may_mask_bootstrapping, _may_define_plain_root, writes_into_import, _may_load_saved_state)
+            if not any(screen(source, test) for test in tests):
                 return None
             # no Gym code, but maybe the agent whose ``learn`` masks bootstrapping (GM302), the
-            # project's own interface its env adapters derive (``class Environment(ABC)``), or
-            # a write into a table of creators another module holds (``creator_tables.py``)
+            # project's own interface its env adapters derive (``class Environment(ABC)``), a
+            # write into a table of creators another module holds (``creator_tables.py``), or
+            # an evaluation script loading a saved model into the run's tasks (GM803)
             return summarize_masks(str(path), decode(source)[0])
         text, _ = decode(source)
     except (OSError, Refused, TransformError):
@@ -339,6 +341,14 @@ _RECORD_CLASS = re.compile(rb"namedtuple|NamedTuple|@dataclass")
 
 # ``class Environment(ABC):`` / ``(object)`` / ``(metaclass=ABCMeta)`` at the top level
 _PLAIN_ROOT = re.compile(rb"^class\s+\w+\s*\((?:object|ABC|abc\.ABC|metaclass=(?:abc\.)?ABCMeta)\)\s*:", re.MULTILINE)
+
+
+# What ``summaries.defs.loads_saved_state`` looks for, as text: the parse decides.
+_LOAD_CALL = re.compile(rb"\.load\(|load_state_dict|load_weights|load_model|from_pretrained|restore\(|load_from_checkpoint")
+
+
+def _may_load_saved_state(source: bytes) -> bool:
+    return _LOAD_CALL.search(source) is not None
 
 
 def _may_define_plain_root(source: bytes) -> bool:

@@ -338,6 +338,9 @@ class ModuleSummary:
     reset_sites: ResetSites = field(default_factory=ResetSites)
     # ``register(id, entry_point="pkg.mod:Class")``: (the id if a literal, the entry point).
     registrations: tuple[tuple[str | None, str], ...] = ()
+    # The module calls what loads an earlier run's policy, weights or normaliser
+    # (``summaries.defs.loads_model_for_the_run``): a new env version is a question for the run.
+    loads_saved_state: bool = False
     # The ids of every Gym ``register(...)`` call, whatever its entry point (None: no literal).
     registered_ids: tuple[str | None, ...] = ()
     # Env-id-shaped strings of the module besides its register() ids (``pkg:`` dropped), and

@@ -115,6 +115,10 @@ from gymmigrate.facts.reset_contract import join as join_reset_sites
 _MAX_REEXPORT_HOPS = 8
 
 
+def _read_for_its_load(summary: ModuleSummary) -> bool:
+    return summary.masks_only and not (summary.bootstrap_masks or summary.record_classes or summary.plain_roots or summary.altered)
+
+
 @dataclass
 class ProjectFacts:
     """The run's joined facts; picklable, sent once to each worker with the options."""
@@ -431,6 +435,11 @@ class ProjectFacts:
     # Some module registers envs whose entry points are no literal (``opaque_registrations``):
     # an id made anywhere may then build any env class of the run.
     registers_from_data: bool = False
+    # Some module loads an earlier run's policy, weights or normaliser: an env id the run
+    # bumps may be made for that model (an evaluation script reaching another module's task).
+    loads_saved_state: bool = False
+    # Every env-id-shaped string of the run's modules (``ModuleSummary.named_ids``)
+    named_ids: frozenset[str] = frozenset()
     # (path, name of a class of the run, re-exports followed) -> the attributes its instances
     # certainly hold once constructed (``facts/init_attributes.py``; none: not listed)
     init_attributes: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
@@ -438,6 +447,10 @@ class ProjectFacts:
     @classmethod
     def join(cls, summaries: list[ModuleSummary], blocked: dict[str, str] | None = None) -> ProjectFacts:
         facts = cls()
+        # Gym code or not: an evaluation script loads the model into another module's task.
+        # A Gym-free module read for that alone tells the run nothing else.
+        facts.loads_saved_state = any(summary.loads_saved_state for summary in summaries)
+        summaries = [s for s in summaries if not _read_for_its_load(s)]
         facts.blocked = dict(blocked or {})
         facts.blocked.update(
             (s.path, "it says `# gymmigrate: skip-file`") for s in summaries if s.skips_file and s.path not in facts.blocked
@@ -456,6 +469,7 @@ class ProjectFacts:
         altered = [(s.path, q) for s in summaries for q in s.altered]
         summaries = [s for s in summaries if not s.masks_only]
         by_path = {s.path: s for s in summaries}
+        facts.named_ids = frozenset().union(*(s.named_ids for s in summaries))
         for summary in summaries:
             facts.defs[summary.path] = frozenset(summary.defs)
             left = summary.path in facts.blocked

@@ -87,7 +87,36 @@ class GeneratorApi(RuleFamily):
         calls.sort(key=lambda c: (c.end_lineno, c.end_col_offset, -c.lineno, -c.col_offset))
         for call in calls:
             self._rng_call(call)
+        self._wrapper_random_states()
         self._removed_helpers()
+
+    def _wrapper_random_states(self) -> None:
+        """``self.np_random = np.random.RandomState(0)`` in a subclass of a Gym wrapper. gym
+        0.21's Wrapper had no ``np_random`` of its own, so the wrapper kept a private stream;
+        Gymnasium's Wrapper hands ``np_random`` to the env it wraps, so the assignment replaces
+        the base env's Generator with a RandomState (the env's own ``integers``/``random``
+        draws then fail) and the wrapper shares that stream. A duck wrapper has no such
+        property: its store stays its own."""
+        for node in self.facts.attributes.get("np_random", ()):
+            if not (isinstance(node.ctx, ast.Store) and is_self_attribute(node)):
+                continue
+            assign = self.facts.parent(node)
+            if not (isinstance(assign, ast.Assign) and _is_random_state(assign.value)):
+                continue
+            classdef = self.facts.enclosing_class(node)
+            if classdef is None or not self.receivers.has_gym_wrapper_base(classdef):
+                continue
+            self.report(
+                node,
+                "GM505",
+                f"a RandomState stored as `self.np_random` in the wrapper {classdef.name}: a Gymnasium wrapper's "
+                "np_random is its env's (a property that sets `env.np_random`), so this RandomState replaces the base env's "
+                "Generator, whose own draws (`integers`, `random`) then fail; keep the wrapper's stream in an attribute of its "
+                "own (`self._rng`) and read that",
+                FixKind.FLAG,
+                # its __init__ and its seed() storing one: one decision for the class
+                question=("GM505", "wrapper RandomState", id(classdef)),
+            )
 
     # -- GM505 / GM901 ---------------------------------------------------------------------
 

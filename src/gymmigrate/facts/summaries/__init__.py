@@ -81,6 +81,8 @@ from gymmigrate.facts.summaries.defs import (
     bootstrap_masks,
     gym_only_makers,
     handed_on,
+    loads_model_for_the_run,
+    loads_saved_state,
     made_factories,
     masks_of,
     named_ids,
@@ -97,7 +99,7 @@ from gymmigrate.facts.wrapper_steps import module_reset_steps, self_handoffs
 from gymmigrate.source_text import first_statement_line
 from gymmigrate.suppressions import skips_file
 
-__all__ = ["plain_classes", "space_calls", "summarize", "summarize_masks"]
+__all__ = ["loads_saved_state", "plain_classes", "space_calls", "summarize", "summarize_masks"]
 
 
 def summarize(path: str, text: str) -> ModuleSummary | None:
@@ -132,7 +134,8 @@ def summarize_masks(path: str, text: str) -> ModuleSummary | None:
     # creators) keeps that table open, Gym code or not. Its facts cost a walk: asked only
     # where the text shows such a write (``runner._may_write_into_import``).
     altered = altered_imports(ModuleFacts(tree, text)) if writes_into_import(text.encode("utf-8", "surrogateescape")) else frozenset()
-    if not masks and not records and not roots and not altered:
+    loads = loads_model_for_the_run(tree)
+    if not masks and not records and not roots and not altered and not loads:
         return None
     defs = {name: signature(_named(functions, classes, name), is_method="." in name) for name in masks}
     return ModuleSummary(
@@ -146,6 +149,7 @@ def summarize_masks(path: str, text: str) -> ModuleSummary | None:
         record_classes=records,
         plain_roots=roots,
         altered=altered,
+        loads_saved_state=loads,
     )
 
 
@@ -261,6 +265,7 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         modeless_renders=modeless_renders(facts, receivers),
         render_only_classes=frozenset(name for name, classdef in facts.classes.items() if draws_only_in_render(facts, receivers, classdef)),
         registrations=registrations(facts),
+        loads_saved_state=loads_model_for_the_run(facts.tree),
         registered_ids=registered_ids(facts),
         named_ids=named[0],
         opaque_make=named[1],

@@ -17,6 +17,7 @@ from gymmigrate.facts.module import (
     own_entry_point,
     own_returns,
     string_value,
+    walk,
 )
 from gymmigrate.facts.module_summary import Signature
 from gymmigrate.facts.receivers import Receivers
@@ -138,6 +139,63 @@ def handed_on(facts: ModuleFacts) -> frozenset[str]:
                 if not (isinstance(parent, ast.Call) and parent.func is node):
                     found.add(shown)
     return frozenset(found)
+
+
+# What loading an earlier run's policy, weights or normaliser looks like: the called name.
+_LOADS_SAVED_STATE = frozenset({"load_state_dict", "load_weights", "load_model", "from_pretrained", "restore", "load_from_checkpoint"})
+
+
+def loads_saved_state(tree: ast.AST) -> bool:
+    """Does the program load what an earlier run saved? Calls only: a commented-out
+    ``torch.load`` (a notebook's old cell) or one quoted in a docstring loads nothing.
+    tf_agents' ``suite_gym.load("CartPole-v1")`` (``suite_atari``, ``suite_mujoco``...)
+    makes an env: it loads nothing either."""
+    for node in walk(tree):
+        if not isinstance(node, ast.Call):
+            continue
+        func = node.func
+        name = func.attr if isinstance(func, ast.Attribute) else func.id if isinstance(func, ast.Name) else ""
+        if name in _LOADS_SAVED_STATE:
+            return True
+        if isinstance(func, ast.Attribute) and name == "load":
+            owner = func.value
+            owner_name = owner.attr if isinstance(owner, ast.Attribute) else owner.id if isinstance(owner, ast.Name) else ""
+            if not owner_name.startswith("suite_"):
+                return True
+    return False
+
+
+# Modules whose own ``load`` reads a saved model (a plain ``import`` binding them)
+_MODEL_LOADING_MODULES = frozenset({"torch", "joblib", "keras", "tensorflow", "tf"})
+
+
+def loads_model_for_the_run(tree: ast.AST) -> bool:
+    """A load another module's env ids may answer to: an ML library's or an object's load
+    (``torch.load``, ``PPO.load``, ``solution.load``, ``load_state_dict``). A plain module's
+    data reader (``pickle.load`` of a map, ``pyglet.image.load``, ``json.load``) is the
+    module's own business: only a program that makes the id itself is asked for it
+    (``loads_saved_state``)."""
+    modules = {
+        (alias.asname or alias.name).split(".")[0]
+        for node in walk(tree)
+        if isinstance(node, ast.Import)
+        for alias in node.names
+        if (alias.asname or alias.name).split(".")[0] not in _MODEL_LOADING_MODULES
+    }
+    for node in walk(tree):
+        if not (isinstance(node, ast.Call) and isinstance(node.func, (ast.Attribute, ast.Name))):
+            continue
+        func = node.func
+        name = func.attr if isinstance(func, ast.Attribute) else func.id
+        if name in _LOADS_SAVED_STATE:
+            return True
+        if isinstance(func, ast.Attribute) and name == "load":
+            root = func.value
+            while isinstance(root, ast.Attribute):
+                root = root.value
+            if not (isinstance(root, ast.Name) and (root.id in modules or root.id.startswith("suite_"))):
+                return True
+    return False
 
 
 def registrations(facts: ModuleFacts) -> tuple[tuple[str | None, str], ...]:

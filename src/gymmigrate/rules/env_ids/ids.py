@@ -32,7 +32,7 @@ from gymmigrate.facts import names as N
 from gymmigrate.facts.handovers import handovers
 from gymmigrate.facts.import_guards import catches_import_error
 from gymmigrate.facts.module import walk
-from gymmigrate.facts.summaries import registered_ids
+from gymmigrate.facts.summaries import loads_saved_state, registered_ids
 from gymmigrate.findings import FixKind, Tier, gym_only_question, id_version_question
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.env_ids.atari_evidence import AtariEvidence
@@ -70,30 +70,6 @@ RULES = (
 
 # ``notes.gymnasium_imported`` is set when the registration block imports ``gymnasium`` itself, so the
 # registry family does not import it a second time.
-
-# What loading an earlier run's policy, weights or normaliser looks like: the called name.
-_LOADS_SAVED_STATE = frozenset({"load_state_dict", "load_weights", "load_model", "from_pretrained", "restore", "load_from_checkpoint"})
-
-
-def _loads_saved_state(tree: ast.AST) -> bool:
-    """Does the program load what an earlier run saved? Calls only: a commented-out
-    ``torch.load`` (a notebook's old cell) or one quoted in a docstring loads nothing.
-    tf_agents' ``suite_gym.load("CartPole-v1")`` (``suite_atari``, ``suite_mujoco``...)
-    makes an env: it loads nothing either."""
-    for node in walk(tree):
-        if not isinstance(node, ast.Call):
-            continue
-        func = node.func
-        name = func.attr if isinstance(func, ast.Attribute) else func.id if isinstance(func, ast.Name) else ""
-        if name in _LOADS_SAVED_STATE:
-            return True
-        if isinstance(func, ast.Attribute) and name == "load":
-            owner = func.value
-            owner_name = owner.attr if isinstance(owner, ast.Attribute) else owner.id if isinstance(owner, ast.Name) else ""
-            if not owner_name.startswith("suite_"):
-                return True
-    return False
-
 
 _ALE_LIVES = "ale.lives"
 # ``Atari``/``atari``: a class, def or helper named for Atari (``atari_evidence._named_for_atari``)
@@ -318,11 +294,16 @@ class EnvIds(RuleFamily):
             self._bumped.setdefault(old, (new, site.string))
         # A new version is a question for a program that loads what an earlier run saved
         # (a policy, a normaliser); one that trains from scratch just gets the current env.
-        settled = migration.kind is FixKind.ASSIST and not _loads_saved_state(self.facts.tree)
+        # The run is the program: an evaluation script of the run may load, through a class or
+        # task of this module, a model trained on the old version.
+        project = self.context.options.project
+        run_loads = project is not None and project.loads_saved_state
+        settled = migration.kind is FixKind.ASSIST and not run_loads and not loads_saved_state(self.facts.tree)
+        here = "in the run" if project is not None else "here"
         self.report(
             site.string,
             migration.rule,
-            f"`{old}` -> {new_text}{where}: {migration.reason}" + ("; nothing here loads a saved model" if settled else ""),
+            f"`{old}` -> {new_text}{where}: {migration.reason}" + (f"; nothing {here} loads a saved model" if settled else ""),
             kind=migration.kind,
             tier=Tier.NOTE if settled else None,
             # the same change at several places of the run (several ids of one family of

@@ -49,6 +49,7 @@ from gymmigrate.facts.wrapper_steps import reset_steps, self_handoffs, steps_its
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.env_ids import registry_edits as E
+from gymmigrate.rules.env_ids.catalog import is_atari_id
 from gymmigrate.rules.env_ids.env_specs import is_env_spec
 from gymmigrate.rules.env_ids.syntax import gym_alias, is_registry
 
@@ -201,9 +202,26 @@ class RegistryApi(RuleFamily):
                     FixKind.FLAG,
                 )
                 continue
-            self.report(read, "GM806", "gym 0.9's time-limit tag of `EnvSpec.tags` -> `EnvSpec.max_episode_steps`: the same limit")
+            if self._names_atari_ids():
+                # ale-py registers no step limit: the name is the same, the value is not
+                self.report(
+                    read,
+                    "GM806",
+                    "gym 0.9's time-limit tag of `EnvSpec.tags` -> `EnvSpec.max_episode_steps`, but the run makes Atari ids, "
+                    "which ale-py registers with no step limit: this reads None for them (a comparison with it raises "
+                    "TypeError) where gym gave a limit; pass `max_episode_steps=` where the env is made, or a default here",
+                    FixKind.ASSIST,
+                )
+            else:
+                self.report(read, "GM806", "gym 0.9's time-limit tag of `EnvSpec.tags` -> `EnvSpec.max_episode_steps`: the same limit")
             self.plan.replace(read, E.spec_max_episode_steps)
         return reads
+
+    def _names_atari_ids(self) -> bool:
+        """An Atari id among the run's ids (the module's alone, processed by itself)."""
+        project = self.context.options.project
+        ids = project.named_ids if project is not None else {node.value for node in self.facts.strings if isinstance(node.value, str)}
+        return any(is_atari_id(env_id) for env_id in ids)
 
     def _time_limit_read(self, attribute: ast.Attribute) -> ast.expr | None:
         """The read of the time-limit tag that ``attribute`` (a ``.tags``) starts, if it is one."""

@@ -1,0 +1,45 @@
+"""A new env version is a question where the run loads a saved model, in any module.
+
+``fixtures/project_saved_models``: ``tasks/driving.py`` makes a retired CarRacing id and
+loads nothing; ``evaluate.py``, with no Gym code of its own, loads saved weights into a
+policy and runs it through that task. Without the evaluation script, nothing of the run
+loads a model, and the bump stays a note.
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+from pathlib import Path
+
+from typer.testing import CliRunner
+
+from gymmigrate.cli import app
+
+FIXTURE = Path(__file__).resolve().parent.parent / "fixtures" / "project_saved_models"
+runner = CliRunner()
+
+
+def _bump(run: Path) -> tuple[str, str, str]:
+    result = runner.invoke(app, ["check", "--output-format", "json", str(run)])
+    assert result.exit_code == 1
+    [bump] = [f for f in json.loads(result.stdout) if f["rule"] == "GM803"]
+    assert Path(bump["path"]).relative_to(run).as_posix() == "tasks/driving.py"
+    return bump["kind"], bump["tier"], bump["message"]
+
+
+def test_a_model_loaded_by_another_module_makes_the_bump_a_question(tmp_path: Path) -> None:
+    run = tmp_path / "run"
+    shutil.copytree(FIXTURE, run)
+    kind, tier, message = _bump(run)
+    assert (kind, tier) == ("assist", "review")
+    assert "nothing" not in message
+
+
+def test_a_run_that_loads_nothing_keeps_the_bump_a_note(tmp_path: Path) -> None:
+    run = tmp_path / "run"
+    shutil.copytree(FIXTURE, run)
+    (run / "evaluate.py").unlink()
+    kind, tier, message = _bump(run)
+    assert (kind, tier) == ("assist", "note")
+    assert message.endswith("nothing in the run loads a saved model")
