@@ -240,6 +240,8 @@ class EnvOrigins:
                 if isinstance(binding, ast.arg):
                     found.add(self._param_origin(binding))
                 elif isinstance(binding, ast.Name) and isinstance(parent, ast.Assign) and binding in parent.targets:
+                    if _walks_down(parent.value, expr.id):
+                        continue  # ``env = env.env`` searching the layers: a layer of what it already held
                     found |= self._reached(parent.value, seen | {key})
                 else:
                     found.add(None)
@@ -829,3 +831,11 @@ def _defined_attributes(classdef: ast.ClassDef) -> set[str]:
                 if isinstance(target, ast.Attribute) and isinstance(target.value, ast.Name) and target.value.id == "self":
                     names.add(target.attr)
     return names
+
+
+def _walks_down(value: ast.expr, name: str) -> bool:
+    """``name.env`` / ``name.env.env``: a layer of the stack the name already holds."""
+    while isinstance(value, ast.Attribute) and value.attr == "env":
+        value = value.value
+    return isinstance(value, ast.Name) and value.id == name and not isinstance(value, ast.Attribute)
+
