@@ -30,6 +30,7 @@ from gymmigrate.rules.rendering.common import (
     imports_legacy_make,
 )
 from gymmigrate.rules.rendering.recorders import RecorderSites
+from gymmigrate.rules.wrapper_usage.atari_limits import made_on_every_path, make_ids
 
 # Libraries whose env objects (and what hangs off them) are not Gym envs: their render()
 # keeps its own signature.
@@ -512,6 +513,26 @@ class RenderSites(RecorderSites):
             env = id(self.facts.enclosing_class(call) or self.facts.enclosing_function(call))
         return ("render-arguments", receiver_text(receiver), env, arguments)
 
+    def _render_keeps_close(self, receiver: ast.expr) -> str | None:
+        """The class of the run every make of ``receiver`` builds, where its render takes
+        ``close`` (``RegistryView.render_takes_close_of_id``); else None."""
+        project = self.receivers.project
+        makes = made_on_every_path(self.facts, receiver) if project is not None else None
+        if project is None or makes is None:
+            return None
+        found = set()
+        for make in makes:
+            ids = make_ids(self.facts, self.receivers, make)
+            if not ids or None in ids:
+                return None
+            for env_id in ids:
+                assert env_id is not None
+                keeper = project.render_takes_close_of_id(env_id)
+                if keeper is None:
+                    return None
+                found.add(keeper)
+        return ", ".join(sorted(found)) or None
+
     def _plan_close(self, call: ast.Call, receiver: ast.expr, decision: Decision) -> None:
         action, reason = decision.action, decision.reason
         if action is Action.REPORT:
@@ -519,6 +540,20 @@ class RenderSites(RecorderSites):
             # step too (a parameter: once for the def)
             question = self.receiver_question(receiver, decision)
             self.report(call, "GM406", f"{reason}: render(close=True) is close() on a Gym env", FixKind.FLAG, question=question)
+            return
+        keeper = self._render_keeps_close(receiver)
+        if keeper is not None:
+            # The run keeps that class's render(close=...) (its render is migrated with the
+            # parameter), so the call still closes only the viewer; close() would shut the
+            # whole env down.
+            self.report(
+                call,
+                "GM406",
+                f"render(close=True) kept: the render() this env's class has (defined in `{keeper}`) keeps its `close` "
+                "parameter, which closes only the viewer, where close() shuts the env down; keep the call, or call "
+                "close() if that is meant",
+                FixKind.FLAG,
+            )
             return
         self.plan.replace(call, close_call)
         if action is Action.REWRITE_FOR_REVIEW:
