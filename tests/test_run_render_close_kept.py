@@ -2,9 +2,11 @@
 
 ``sims/base.py``'s ``SimEnv.render(mode, close)`` closes only its viewer; the run migrates it
 to ``render(self, close=False)``. ``watch.py`` makes ``HoverEnv`` (registered by the run,
-deriving ``SimEnv`` in another module) and calls ``render(close=True)``: that call still
-means "close the viewer", so it is kept and reported, where ``close()`` would shut the env
-down. The same call on ``CartPole-v1``, whose render takes no ``close``, becomes ``close()``.
+deriving ``SimEnv`` in another module) and calls ``render(close=True)``, directly and through
+a wrapper: that call means "close the viewer", where ``close()`` would shut the env down, and
+Gymnasium's wrappers (make adds some) take no render arguments, so it becomes
+``unwrapped.render(close=True)``. The same call on ``CartPole-v1``, whose render takes no
+``close``, becomes ``close()``.
 """
 
 from __future__ import annotations
@@ -21,14 +23,15 @@ FIXTURE = Path(__file__).resolve().parent.parent / "fixtures" / "project_render_
 runner = CliRunner()
 
 
-def test_render_close_is_kept_where_the_class_keeps_it(tmp_path: Path) -> None:
+def test_render_close_reaches_the_class_that_keeps_it(tmp_path: Path) -> None:
     run = tmp_path / "run"
     shutil.copytree(FIXTURE, run)
     result = runner.invoke(app, ["rewrite", str(run), "--report", str(tmp_path / "report.json")])
     assert result.exit_code == 0, result.output
     assert "def render(self, close=False):" in (run / "sims" / "base.py").read_text()
     watch = (run / "watch.py").read_text()
-    assert "hover.render(close=True)\n" in watch
+    assert "hover.unwrapped.render(close=True)\n" in watch
+    assert "logged.unwrapped.render(close=True)\n" in watch
     assert "pole.close()\n" in watch
     text = json.dumps(json.loads((tmp_path / "report.json").read_text()))
-    assert "render(close=True) kept" in text
+    assert "render(close=True) -> unwrapped.render(close=True)" in text
