@@ -18,7 +18,11 @@ from gymmigrate.facts.module import full_name, keyword, string_value, walk
 from gymmigrate.facts.render_modes import modeless_render, own_object_render
 from gymmigrate.facts.summaries.classes import held_env_render_forward
 from gymmigrate.findings import FixKind, Tier
-from gymmigrate.rules.render_calls import arguments_in_order, close_call, unwrapped_render_call
+from gymmigrate.rules.render_calls import (
+    arguments_in_order,
+    close_call,
+    unwrapped_render_call,
+)
 from gymmigrate.rules.render_schedule import never_run_guard, same_value_at_make
 from gymmigrate.rules.rendering.common import (
     HUMAN,
