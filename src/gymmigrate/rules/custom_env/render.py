@@ -61,7 +61,7 @@ def decide_render(decision: ClassDecision) -> None:
         decision.report(
             function,
             "GM405",
-            f"render(mode) kept as it is: the class calls `self.render()` itself on line {setup.lineno} and its body never "
+            f"render(mode) kept as it is: the class's __init__ calls `self.render()` on line {setup.lineno} and its body never "
             "reads `mode` (set-up, not a frame), which a render() drawing nothing without a render_mode would skip; "
             "__init__ takes render_mode and stores it: decide whether render_mode=\"human\" should run that set-up",
             FixKind.FLAG,
@@ -177,13 +177,14 @@ def _keeps_mode_already(function: ast.FunctionDef | ast.AsyncFunctionDef, defaul
 
 
 def _own_setup_render(decision: ClassDecision, function: ast.FunctionDef | ast.AsyncFunctionDef) -> ast.Call | None:
-    """A bare ``self.render()`` in another method of the class, where render's body never
-    reads ``mode``: the class uses render() for work of its own, whatever the mode."""
+    """A bare ``self.render()`` in the class's ``__init__``, where render's body never reads
+    ``mode``: the class uses render() to set itself up, whatever the mode. A bare call in
+    step or reset draws each frame (Gymnasium's 'human' idiom, which the check keeps)."""
     if any(isinstance(n, ast.Name) and n.id == "mode" for n in walk(function)):
         return None
     for call in decision.env.index(decision.classdef).self_calls.get("render", ()):
         method = method_of(decision, call)
-        if not call.args and not call.keywords and method is not None and method.name != "render":
+        if not call.args and not call.keywords and method is not None and method.name == "__init__":
             return call
     return None
 
