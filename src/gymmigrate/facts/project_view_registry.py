@@ -52,6 +52,22 @@ class RegistryView:
             return None
         return self.facts.id_classes.get(env_id.rpartition(":")[2])
 
+    def render_takes_close_of_id(self, env_id: str) -> str | None:
+        """The class of the run defining the render() that ``make(env_id)``'s class has
+        (its own, or a base's of another module of the run, each class with one base there),
+        where that render (``_render`` in gym <= 0.9) takes ``close``; else None."""
+        current = self.class_of_id(env_id)
+        seen = set()
+        while current is not None and current not in seen:
+            seen.add(current)
+            for method in ("render", "_render"):
+                params = self.facts.def_params.get((current[0], f"{current[1]}.{method}"))
+                if params is not None:
+                    return current[1] if "close" in params else None
+            bases = [base for base, subs in self.facts.subclasses_of.items() if current in subs]
+            current = bases[0] if len(bases) == 1 else None
+        return None
+
     def seed_class_of_id(self, env_id: str) -> str | None:
         """The class of the run that keeps seed() which the run registers ``env_id`` for."""
         return self.facts.seed_ids.get(env_id)

@@ -62,6 +62,12 @@ def close_call(node: Any) -> Any:
     )
 
 
+def unwrapped_render_call(node: Any) -> Any:
+    """``env.render(...)`` -> ``env.unwrapped.render(...)``: Gymnasium's wrappers (make adds
+    some) take no render arguments; the env's own render still does."""
+    return node.with_changes(func=node.func.with_changes(value=cst.Attribute(value=node.func.value, attr=cst.Name("unwrapped"))))
+
+
 def without_mode_argument(node: Any) -> Any:
     mode = next((a for a in node.args if a.keyword is not None and a.keyword.value == "mode"), None)
     if mode is None and node.args and node.args[0].keyword is None and not node.args[0].star:

@@ -252,6 +252,10 @@ def render_mode_heirs(facts: ModuleFacts, receivers: Receivers) -> tuple[tuple[s
         # bases (``thread_render_mode``), so the text of this module does not decide.
         if init is None or init.args.kwarg is not None:
             passes_on = True
+        elif receivers.own_api(classdef) is not None:
+            # Left whole on its API of its own (custom_env/env_class.py): its __init__ never
+            # gets the parameter, so its subclasses must not pass it (a TypeError).
+            passes_on = False
         else:
             calls = [n for n in walk(init) if isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute) and n.func.attr == "__init__"]
             passes_on = len(calls) == 1 and all(k.arg is not None for k in calls[0].keywords)

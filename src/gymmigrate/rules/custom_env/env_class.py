@@ -161,6 +161,7 @@ class EnvClassFamily(RuleFamily):
             plan.renamed
             or plan.seed
             or plan.render
+            or plan.render_init_only
             or plan.pass_render_mode
             or plan.unpack_self_reset
             or plan.reset

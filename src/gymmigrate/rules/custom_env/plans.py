@@ -65,6 +65,8 @@ class ClassPlan:
     render: bool = False
     pass_render_mode: bool = False  # a subclass __init__ takes render_mode and passes it to the base
     render_helper: str | None = None  # keeps the old render(mode) body for the class's own mode calls
+    # render(mode) kept as it is (set-up the class runs itself); __init__ still takes render_mode
+    render_init_only: bool = False
     render_keeps_mode: bool = False  # render(self, mode=None, ...): a mode passed wins, else self.render_mode
     render_helper_callers: set[str] = field(default_factory=set)  # methods that call self.render(mode)
     # objects of the project's own (as written: ``self._engine``) whose render(mode) render()

@@ -101,6 +101,8 @@ class ClassRewrite:
             self._step()
         if self.plan.render:
             self._render()
+        if self.plan.render_init_only:
+            self._add_render_mode_to_init()
         if self.plan.pass_render_mode:
             self._pass_render_mode()
         if self.plan.unpack_self_reset:

@@ -51,6 +51,23 @@ def decide_render(decision: ClassDecision) -> None:
         old_default = f" (the old default was {text}: pass render_mode={text} to gymnasium.make to keep it)"
     if _keeps_mode_already(function, default):
         return  # render(self, mode=None) reading self.render_mode: migrated by an earlier run
+    setup = _own_setup_render(decision, function)
+    if setup is not None:
+        # Its own ``self.render()`` (``if gui: self.render()`` in __init__) runs set-up the
+        # env needs (a GUI client connected); the check that draws nothing without a
+        # render_mode would skip it. The body is the same for every mode, so it stays whole;
+        # gymnasium.make and subclasses still pass render_mode, so __init__ takes it.
+        decision.plan.render_init_only = True
+        decision.report(
+            function,
+            "GM405",
+            f"render(mode) kept as it is: the class's __init__ calls `self.render()` on line {setup.lineno} and its body never "
+            "reads `mode` (set-up, not a frame), which a render() drawing nothing without a render_mode would skip; "
+            "__init__ takes render_mode and stores it: decide whether render_mode=\"human\" should run that set-up",
+            FixKind.FLAG,
+        )
+        _add_init_render_mode(decision)
+        return
     mechanism = decision.env.own_render_mode(decision.classdef)
     if mechanism is not None:
         decision.report(
@@ -159,6 +176,19 @@ def _keeps_mode_already(function: ast.FunctionDef | ast.AsyncFunctionDef, defaul
     )
 
 
+def _own_setup_render(decision: ClassDecision, function: ast.FunctionDef | ast.AsyncFunctionDef) -> ast.Call | None:
+    """A bare ``self.render()`` in the class's ``__init__``, where render's body never reads
+    ``mode``: the class uses render() to set itself up, whatever the mode. A bare call in
+    step or reset draws each frame (Gymnasium's 'human' idiom, which the check keeps)."""
+    if any(isinstance(n, ast.Name) and n.id == "mode" for n in walk(function)):
+        return None
+    for call in decision.env.index(decision.classdef).self_calls.get("render", ()):
+        method = method_of(decision, call)
+        if not call.args and not call.keywords and method is not None and method.name == "__init__":
+            return call
+    return None
+
+
 def _can_keep_mode(function: ast.FunctionDef | ast.AsyncFunctionDef) -> bool:
     """``mode`` can become ``mode=None`` in place (``mode_can_stay_optional``; the run's
     facts decide the same way for a class whose subclasses elsewhere pass a mode)."""
@@ -244,7 +274,7 @@ def decide_subclass_render_mode(decision: ClassDecision) -> None:
     """A subclass of a local env whose ``__init__`` takes ``render_mode`` (or gets it here)
     must take it too and pass it on: ``gymnasium.make(id, render_mode=...)`` passes it to
     the registered class, and ``BigGrid.__init__(self)`` would raise TypeError."""
-    if decision.plan.render:
+    if decision.plan.render or decision.plan.render_init_only:
         return  # its own render(mode) migration adds render_mode to __init__
     init = decision.method("__init__")
     if init is None or "render_mode" in param_names(init) or init.args.kwarg is not None:

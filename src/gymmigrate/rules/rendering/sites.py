@@ -18,7 +18,11 @@ from gymmigrate.facts.module import full_name, keyword, string_value, walk
 from gymmigrate.facts.render_modes import modeless_render, own_object_render
 from gymmigrate.facts.summaries.classes import held_env_render_forward
 from gymmigrate.findings import FixKind, Tier
-from gymmigrate.rules.render_calls import arguments_in_order, close_call
+from gymmigrate.rules.render_calls import (
+    arguments_in_order,
+    close_call,
+    unwrapped_render_call,
+)
 from gymmigrate.rules.render_schedule import never_run_guard, same_value_at_make
 from gymmigrate.rules.rendering.common import (
     HUMAN,
@@ -30,6 +34,7 @@ from gymmigrate.rules.rendering.common import (
     imports_legacy_make,
 )
 from gymmigrate.rules.rendering.recorders import RecorderSites
+from gymmigrate.rules.wrapper_usage.atari_limits import make_ids
 
 # Libraries whose env objects (and what hangs off them) are not Gym envs: their render()
 # keeps its own signature.
@@ -512,6 +517,30 @@ class RenderSites(RecorderSites):
             env = id(self.facts.enclosing_class(call) or self.facts.enclosing_function(call))
         return ("render-arguments", receiver_text(receiver), env, arguments)
 
+    def _render_keeps_close(self, receiver: ast.expr) -> str | None:
+        """The classes of the run every make behind ``receiver`` builds, where their render
+        takes ``close`` (``RegistryView.render_takes_close_of_id``); else None."""
+        project = self.receivers.project
+        if project is None:
+            return None
+        # the makes behind the name, through the wrappers it is rebound to (legacy wrappers
+        # handed render(close=...) on to the env)
+        creation = self.finder.find(receiver)
+        if not creation.complete or not creation.calls:
+            return None
+        found = set()
+        for make in creation.calls:
+            ids = make_ids(self.facts, self.receivers, make)
+            if not ids or None in ids:
+                return None
+            for env_id in ids:
+                assert env_id is not None
+                keeper = project.render_takes_close_of_id(env_id)
+                if keeper is None:
+                    return None
+                found.add(keeper)
+        return ", ".join(sorted(found)) or None
+
     def _plan_close(self, call: ast.Call, receiver: ast.expr, decision: Decision) -> None:
         action, reason = decision.action, decision.reason
         if action is Action.REPORT:
@@ -519,6 +548,24 @@ class RenderSites(RecorderSites):
             # step too (a parameter: once for the def)
             question = self.receiver_question(receiver, decision)
             self.report(call, "GM406", f"{reason}: render(close=True) is close() on a Gym env", FixKind.FLAG, question=question)
+            return
+        if isinstance(receiver, ast.Attribute) and receiver.attr == "unwrapped" and self._render_keeps_close(receiver.value):
+            return  # the env's own render(close=...), as the branch below writes it
+        keeper = self._render_keeps_close(receiver)
+        if keeper is not None:
+            # The run keeps that class's render(close=...) (its render is migrated with the
+            # parameter), so the call means "close only the viewer"; close() would shut the
+            # whole env down, and Gymnasium's wrappers (make adds some) take no render
+            # arguments: the env's own render is reached through unwrapped.
+            self.plan.replace(call, unwrapped_render_call)
+            self.report(
+                call,
+                "GM406",
+                f"render(close=True) -> unwrapped.render(close=True): the render() of this env's class (defined in "
+                f"`{keeper}`) keeps its `close` parameter, which closes only the viewer, where close() shuts the env "
+                "down; Gymnasium's wrappers' render() takes no arguments",
+                FixKind.ASSIST,
+            )
             return
         self.plan.replace(call, close_call)
         if action is Action.REWRITE_FOR_REVIEW:
