@@ -181,7 +181,7 @@ class HierarchyView:
                 cause = DoneCause(Cause.UNKNOWN)  # an override that returns nothing, or no tuple of the base's shape
             if cause is not None:
                 where = os.path.basename(sub[0])
-                found.append(DoneCause(cause.cause, tuple(Limit(limit.line, limit.text, where, limit.by_counter) for limit in cause.limits)))
+                found.append(DoneCause(cause.cause, tuple(Limit(limit.line, limit.text, where, limit.by_counter, limit.drawn) for limit in cause.limits)))
             todo += self.facts.subclasses_of.get(sub, ())
         return found
 
