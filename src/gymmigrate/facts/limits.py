@@ -46,9 +46,9 @@ from gymmigrate.facts.limit_tests import (
     data_end_attributes,
     is_dm_env_last,
     is_end_of_data,
+    is_limit_setting_test,
     is_periodic,
     is_self,
-    is_limit_setting_test,
     is_step_limit,
     limit_under_guard,
     random_bound,
@@ -144,7 +144,7 @@ class DoneTracer:
 
     def is_limit(self, expr: ast.AST) -> bool:
         """A comparison of a step or time counter with a bound (not the end of the data)."""
-        if is_limit_setting_test(expr) and not self._counter(_nonzero_side(expr)):
+        if isinstance(expr, ast.Compare) and is_limit_setting_test(expr) and not self._counter(_nonzero_side(expr)):
             return False  # ``if self.t_limit > 0:`` picks a mode; its ``else`` is no limit reached
         if is_step_limit(expr, self.data_ends, self.streaks):
             return True

@@ -73,12 +73,12 @@ def counts_in(facts: ModuleFacts, classdef: ast.ClassDef) -> bool:
         if isinstance(node, ast.AugAssign) and isinstance(node.op, (ast.Add, ast.Sub)) and _is_number(node.value):
             up = isinstance(node.op, ast.Add) == (node.value.value >= 0)  # type: ignore[attr-defined]
             directions.setdefault(facts.segment(node.target), set()).add(up)
-        elif _self_step(facts, node):
+        elif isinstance(node, ast.Assign) and isinstance(node.value, ast.BinOp) and _self_step(facts, node):
             # ``self.vel = self.vel + 1`` for one action, ``- 1`` for the other: the same
             # both ways as the augmented form
-            value = node.value  # type: ignore[attr-defined]
-            up = isinstance(value.op, ast.Add) == (value.right.value >= 0)
-            directions.setdefault(facts.segment(node.targets[0]), set()).add(up)  # type: ignore[attr-defined]
+            value = node.value
+            up = isinstance(value.op, ast.Add) == (value.right.value >= 0)  # type: ignore[attr-defined]
+            directions.setdefault(facts.segment(node.targets[0]), set()).add(up)
     unreached = _methods_step_never_runs(classdef)
     for node in walk(classdef):
         if isinstance(node, ast.AugAssign) and _local_of(facts, node.target, unreached):
@@ -102,10 +102,11 @@ def counts_in(facts: ModuleFacts, classdef: ast.ClassDef) -> bool:
         ):
             return True  # a step-limit test in a helper (`def _done(self): return self.t > 200`)
         if (
-            _self_step(facts, node)
-            and not _local_of(facts, node.targets[0], unreached)  # type: ignore[attr-defined]
-            and len(directions.get(facts.segment(node.targets[0]), ())) < 2  # type: ignore[attr-defined]
-            and self_attribute(node.targets[0]) not in streaks  # type: ignore[attr-defined]
+            isinstance(node, ast.Assign)
+            and _self_step(facts, node)
+            and not _local_of(facts, node.targets[0], unreached)
+            and len(directions.get(facts.segment(node.targets[0]), ())) < 2
+            and self_attribute(node.targets[0]) not in streaks
             and not _moved_once_per_call(facts, node.targets[0])
             and not past_the_end(facts, node)
         ):
