@@ -76,3 +76,71 @@ def test_any_other_use_keeps_the_review_item(tmp_path: Path, use: str, other: st
     item = _reset_item(tmp_path, use, other)
     assert item["tier"] == "review"
     assert "only directly" not in str(item["message"])
+
+
+BASE = '''import gym
+
+
+class Scene(gym.Env):
+    def __init__(self, size=3):
+        self.size = size
+
+    def reset(self):
+        self.t = 0
+
+    def step(self, action):
+        raise NotImplementedError
+'''
+TASK = '''import gym
+import numpy as np
+
+from scene import Scene
+
+
+class Reach(Scene):
+    observation_space = gym.spaces.Box(-1.0, 1.0, (3,))
+
+    def reset(self):
+        super().reset()
+        return np.zeros(self.size)
+{more}
+'''
+RESETLESS = '''
+
+class Push(Scene):
+    def step(self, action):
+        return np.zeros(self.size), 0.0, False, {}
+'''
+
+
+def _base_item(tmp_path: Path, more: str = "", other: str = OTHER) -> dict[str, object]:
+    (tmp_path / "scene.py").write_text(BASE)
+    (tmp_path / "tasks.py").write_text(TASK.replace("{more}", more))
+    (tmp_path / "train.py").write_text(other)
+    result = runner.invoke(app, ["check", "--output-format", "json", str(tmp_path)])
+    found = [
+        f
+        for f in json.loads(result.stdout)
+        if Path(f["path"]).name == "scene.py" and f["rule"] == "GM501" and "returns nothing" in f["message"]
+    ]
+    assert len(found) == 1, found
+    return found[0]
+
+
+def test_a_base_only_its_overriding_subclasses_reset_gets_a_note(tmp_path: Path) -> None:
+    item = _base_item(tmp_path)
+    assert item["tier"] == "note"
+    assert "every subclass of it overrides reset (Reach)" in str(item["message"])
+
+
+@pytest.mark.parametrize(
+    ("more", "other"),
+    [
+        pytest.param(RESETLESS, OTHER, id="a subclass inherits the reset"),
+        pytest.param("", "from scene import Scene\n\nenv = Scene()\nenv.reset()\n", id="the base built itself"),
+    ],
+)
+def test_a_base_reached_another_way_keeps_the_review_item(tmp_path: Path, more: str, other: str) -> None:
+    item = _base_item(tmp_path, more, other)
+    assert item["tier"] == "review"
+    assert "overrides reset" not in str(item["message"])

@@ -24,6 +24,8 @@ class Limit:
     text: str
     where: str = ""  # another module of the run ("HoverAviary.py"); "" for this one
     by_counter: bool = False  # found as a count ``step`` advances, not by its name
+    # attributes of its bound the class draws at random (a horizon per episode, maybe the task's)
+    drawn: tuple[str, ...] = ()
 
     def place(self) -> str:
         return f"{self.where}:{self.line}" if self.where else f"line {self.line}"
@@ -41,7 +43,11 @@ class DoneCause:
 
     def plain(self) -> bool:
         """Every limit is named as one and in this module: settled, not a question."""
-        return not any(limit.where or limit.by_counter for limit in self.limits)
+        return not any(limit.where or limit.by_counter or limit.drawn for limit in self.limits)
+
+    def drawn(self) -> tuple[str, ...]:
+        """The attributes drawn at random that bound its limits (``Limit.drawn``)."""
+        return tuple(dict.fromkeys(a for limit in self.limits for a in limit.drawn))
 
 
 NEVER = DoneCause(Cause.NEVER)

@@ -14,14 +14,14 @@ from typing import TypeVar
 
 from gymmigrate.facts.env_classes import identifiers
 from gymmigrate.facts.module import ModuleFacts, own_returns, self_attribute, walk
-from gymmigrate.facts.self_attributes import self_stores
+from gymmigrate.facts.self_attributes import class_self_stores, self_stores
 
 # A word that counts steps or time (matched on the lower-cased identifier: ``MAX_STEPS``
 # too). ``cycles``, ``frames`` and ``num_moves`` are how PettingZoo's envs count theirs
 # (``self.frames >= self.max_cycles``); a bare ``moves`` is often a list of legal moves.
 STEP_LIMIT_WORD = re.compile(
     r"(^|_)(t|ts|step|steps|timestep|timesteps|tick|ticks|iter|iters|iteration|iterations|horizon|"
-    r"time|time_limit|ep_len|episode_len|episode_length|counter|cycle|cycles|frame|frames|num_moves|n_moves)(_|$)"
+    r"time|time_limit|seconds|secs|ep_len|episode_len|episode_length|counter|cycle|cycles|frame|frames|num_moves|n_moves)(_|$)"
 )
 LIMIT_OPS = (ast.Gt, ast.GtE, ast.Lt, ast.LtE, ast.Eq)
 
@@ -326,6 +326,98 @@ def _is_bound_name(expr: ast.AST) -> bool:
         return True
     name = expr.attr if isinstance(expr, ast.Attribute) else expr.id if isinstance(expr, ast.Name) else ""
     return name.isupper() or any(word in name.lower() for word in ("max", "limit", "horizon"))
+
+
+def is_limit_setting_test(expr: ast.AST) -> bool:
+    """``self.t_limit > 0``, ``self.max_steps == 0``: a bound compared with zero, which asks
+    whether a limit is set (a mode of the env), not whether a count has reached it."""
+    if not (isinstance(expr, ast.Compare) and len(expr.ops) == 1):
+        return False
+    left, right = expr.left, expr.comparators[0]
+    bound = left if _is_zero(right) else right if _is_zero(left) else None
+    return bound is not None and not isinstance(bound, ast.Constant) and _is_bound_name(bound)
+
+
+def limit_under_guard(expr: ast.AST) -> ast.expr | None:
+    """``self.max_steps is not None and self.t >= self.max_steps`` (or ``self.max_steps and
+    ...``): the one operand of an ``and`` beside tests that only ask whether a value it reads
+    is set; that operand is the test itself, which cannot hold while the value is unset."""
+    if not (isinstance(expr, ast.BoolOp) and isinstance(expr.op, ast.And)):
+        return None
+    guards: list[str] = []
+    rest: list[ast.expr] = []
+    for operand in expr.values:
+        guarded = _presence_test(operand)
+        if guarded is not None:
+            guards.append(guarded)
+        else:
+            rest.append(operand)
+    if len(rest) != 1 or not guards:
+        return None
+    read = {ast.unparse(node) for node in walk(rest[0]) if isinstance(node, (ast.Name, ast.Attribute))}
+    return rest[0] if all(guard in read for guard in guards) else None
+
+
+def _presence_test(expr: ast.expr) -> str | None:
+    """``x is not None`` or a bare ``x`` / ``self.x``: the text of what it asks to be set."""
+    if isinstance(expr, (ast.Name, ast.Attribute)):
+        return ast.unparse(expr)
+    if (
+        isinstance(expr, ast.Compare)
+        and len(expr.ops) == 1
+        and isinstance(expr.ops[0], ast.IsNot)
+        and isinstance(expr.comparators[0], ast.Constant)
+        and expr.comparators[0].value is None
+        and isinstance(expr.left, (ast.Name, ast.Attribute))
+    ):
+        return ast.unparse(expr.left)
+    return None
+
+
+# Draws of a random number: NumPy's and the standard library's modules, and the generators
+# envs keep (``self.np_random.integers``, ``self.rng.random``).
+_RANDOM_MODULES = ("numpy.random.", "random.", "torch.rand")
+_GENERATOR_WORD = re.compile(r"(^|_)(rng|np_random|random_state|generator|random)$")
+
+
+def draws_at_random(facts: ModuleFacts, expr: ast.AST) -> bool:
+    """``expr`` calls a random draw anywhere in it."""
+    for node in walk(expr):
+        if not isinstance(node, ast.Call):
+            continue
+        if any(q.startswith(_RANDOM_MODULES) for q in facts.qualified_names(node.func)):
+            return True
+        owner = node.func.value if isinstance(node.func, ast.Attribute) else None
+        while isinstance(owner, ast.Attribute):
+            if _GENERATOR_WORD.search(owner.attr.lower()):
+                return True
+            owner = owner.value
+        if isinstance(owner, ast.Name) and _GENERATOR_WORD.search(owner.id.lower()):
+            return True
+    return False
+
+
+def random_bound(facts: ModuleFacts, classdef: ast.ClassDef, test: ast.Compare) -> list[str]:
+    """The attributes of the bound side of the limit ``test`` that the class sets from a
+    random draw (``self.horizon = 6 + np.random.randint(10)``): a horizon drawn per episode,
+    which may be the task's own length. The other side must not start from the same draw
+    (``self.t = self.start`` against ``self.start + self.length``: a random start, a fixed
+    length). Empty for anything else."""
+    if len(test.ops) != 1:
+        return []
+    sides = (test.left, test.comparators[0])
+    attributes = [{a for node in walk(side) if (a := self_attribute(node)) is not None} for side in sides]
+    drawn = [
+        {a for a in names if any(draws_at_random(facts, value) for value in self_stores(facts, classdef, a) or ())} for names in attributes
+    ]
+    for index in (0, 1):
+        other = attributes[1 - index]
+        if drawn[index] and not drawn[1 - index]:
+            starts = [value for a in other for value in class_self_stores(facts, classdef).get(a, ())]
+            if any(self_attribute(node) in drawn[index] for value in starts for node in walk(value)):
+                return []
+            return sorted(drawn[index])
+    return []
 
 
 def is_dm_env_last(facts: ModuleFacts, call: ast.Call) -> bool:

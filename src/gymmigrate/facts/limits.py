@@ -46,9 +46,12 @@ from gymmigrate.facts.limit_tests import (
     data_end_attributes,
     is_dm_env_last,
     is_end_of_data,
+    is_limit_setting_test,
     is_periodic,
     is_self,
     is_step_limit,
+    limit_under_guard,
+    random_bound,
     self_field,
     streak_attributes,
     under_limit,
@@ -141,6 +144,8 @@ class DoneTracer:
 
     def is_limit(self, expr: ast.AST) -> bool:
         """A comparison of a step or time counter with a bound (not the end of the data)."""
+        if isinstance(expr, ast.Compare) and is_limit_setting_test(expr) and not self._counter(_nonzero_side(expr)):
+            return False  # ``if self.t_limit > 0:`` picks a mode; its ``else`` is no limit reached
         if is_step_limit(expr, self.data_ends, self.streaks):
             return True
         if not isinstance(expr, ast.Compare) or len(expr.ops) != 1 or not isinstance(expr.ops[0], LIMIT_OPS):
@@ -168,13 +173,21 @@ class DoneTracer:
             return NEVER if expr.value in (False, None, 0) else TERMINATION
         if isinstance(expr, ast.Compare):
             if self.is_limit(expr):
-                limit = Limit(expr.lineno, self.facts.segment(expr), by_counter=not is_step_limit(expr, self.data_ends, self.streaks))
+                limit = Limit(
+                    expr.lineno,
+                    self.facts.segment(expr),
+                    by_counter=not is_step_limit(expr, self.data_ends, self.streaks),
+                    drawn=tuple(random_bound(self.facts, self.classdef, expr)),
+                )
                 return DoneCause(Cause.TRUNCATION, (limit,))
             if is_end_of_data(expr, self.data_ends):
                 return DoneCause(Cause.TERMINATION, ends_of_data=(Limit(expr.lineno, self.facts.segment(expr)),))
             return self._inside(expr, depth)
         if isinstance(expr, ast.BoolOp) and isinstance(expr.op, ast.Or):
             return combine(self.trace(v, depth + 1) for v in expr.values)
+        guarded = limit_under_guard(expr)
+        if guarded is not None and self.is_limit(guarded):
+            return self.trace(guarded, depth + 1)  # ``self.max_steps is not None and <limit>``
         if isinstance(expr, ast.IfExp):
             if _is_true(expr.body) and _is_false(expr.orelse):
                 return self.trace(expr.test, depth + 1)  # ``True if <limit> else False``
@@ -625,6 +638,11 @@ def _fixed(value: ast.expr) -> bool:
 def _bound(expr: ast.AST) -> bool:
     """A limit a counter is compared with: a number, a name or attribute (no call)."""
     return all(isinstance(node, (ast.Constant, ast.Name, ast.Attribute, ast.BinOp, ast.operator, ast.expr_context)) for node in walk(expr))
+
+
+def _nonzero_side(test: ast.Compare) -> ast.expr:
+    right = test.comparators[0]
+    return test.left if isinstance(right, ast.Constant) else right
 
 
 def _is_true(expr: ast.AST) -> bool:

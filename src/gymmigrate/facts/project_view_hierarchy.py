@@ -30,9 +30,21 @@ class HierarchyView:
             path == self.path and qualname in (classname, f"{classname}.__init__") for path, qualname, _ in self.facts.param_kinds
         )
 
+    def called_from_outside(self, classname: str) -> bool:
+        """Another module of the run calls this file's class ``classname`` (builds one),
+        with arguments or without (``built_elsewhere``: the calls that pass parameters)."""
+        calls = self.facts.called_from_outside
+        return self.built_elsewhere(classname) or (self.path, classname) in calls or (self.path, f"{classname}.__init__") in calls
+
     def subclassed_elsewhere(self, classname: str) -> bool:
         """Another module of the run derives a class from this file's ``classname``."""
         return (self.path, classname) in self.facts.overrides
+
+    def subclasses_elsewhere_without(self, classname: str, method: str) -> list[str]:
+        """The subclasses of this file's ``classname`` in other modules of the run that do
+        not define ``method`` themselves ("pkg/far.py:FarEnv")."""
+        subs = self.facts.subclasses_of.get((self.path, classname), [])
+        return [f"{path}:{name}" for path, name in subs if method not in self.facts.subclass_methods.get((path, name), frozenset())]
 
     def built_through_super_elsewhere(self, classname: str) -> bool:
         """Every subclass of this file's ``classname`` in another module runs its
@@ -181,7 +193,7 @@ class HierarchyView:
                 cause = DoneCause(Cause.UNKNOWN)  # an override that returns nothing, or no tuple of the base's shape
             if cause is not None:
                 where = os.path.basename(sub[0])
-                found.append(DoneCause(cause.cause, tuple(Limit(limit.line, limit.text, where, limit.by_counter) for limit in cause.limits)))
+                found.append(DoneCause(cause.cause, tuple(Limit(limit.line, limit.text, where, limit.by_counter, limit.drawn) for limit in cause.limits)))
             todo += self.facts.subclasses_of.get(sub, ())
         return found
 

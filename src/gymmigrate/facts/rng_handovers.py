@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import ast
 
+from gymmigrate.facts import names as N
 from gymmigrate.facts.env_classes import EnvClasses, is_self_attribute
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.module import ModuleFacts, walk
@@ -23,6 +24,26 @@ NP_RANDOM = ("np_random", "_np_random")
 # instance the statement just before built into that object: ``s = Scene()`` then
 # ``s.np_random = self.np_random`` gives "Scene"; "" for any other store)
 Store = tuple[int, bool, bool, str]
+
+
+def reads_np_random(facts: ModuleFacts) -> bool:
+    """Some code of the module reads an ``np_random`` (draws from it, hands it on), beyond
+    storing one (``self.np_random, seed = seeding.np_random(seed)``, the seeding function
+    itself): where none does, nothing of the module draws from a generator left unseeded."""
+    if "np_random" not in facts.text:
+        return False
+
+    def compute() -> bool:
+        for node in walk(facts.tree):
+            name = node.attr if isinstance(node, ast.Attribute) else node.id if isinstance(node, ast.Name) else None
+            if name not in NP_RANDOM or not isinstance(node.ctx, ast.Load):  # type: ignore[attr-defined]
+                continue
+            if any(N.strip_gym_prefix(q) == "utils.seeding.np_random" for q in facts.qualified_names(node)):
+                continue
+            return True
+        return False
+
+    return facts.memo(("reads-np-random", id(facts.tree)), compute)
 
 
 def rng_stores(facts: ModuleFacts, receivers: Receivers) -> tuple[Store, ...]:

@@ -73,7 +73,16 @@ def counts_in(facts: ModuleFacts, classdef: ast.ClassDef) -> bool:
         if isinstance(node, ast.AugAssign) and isinstance(node.op, (ast.Add, ast.Sub)) and _is_number(node.value):
             up = isinstance(node.op, ast.Add) == (node.value.value >= 0)  # type: ignore[attr-defined]
             directions.setdefault(facts.segment(node.target), set()).add(up)
+        elif isinstance(node, ast.Assign) and isinstance(node.value, ast.BinOp) and _self_step(facts, node):
+            # ``self.vel = self.vel + 1`` for one action, ``- 1`` for the other: the same
+            # both ways as the augmented form
+            value = node.value
+            up = isinstance(value.op, ast.Add) == (value.right.value >= 0)  # type: ignore[attr-defined]
+            directions.setdefault(facts.segment(node.targets[0]), set()).add(up)
+    unreached = _methods_step_never_runs(classdef)
     for node in walk(classdef):
+        if isinstance(node, ast.AugAssign) and _local_of(facts, node.target, unreached):
+            continue  # ``countdown -= 1`` in ``__init__``: a local of a call step never makes
         if isinstance(node, ast.AugAssign) and isinstance(node.op, (ast.Add, ast.Sub)) and self_attribute(node.target) not in streaks:
             counted = (
                 _is_number(node.value)
@@ -94,17 +103,59 @@ def counts_in(facts: ModuleFacts, classdef: ast.ClassDef) -> bool:
             return True  # a step-limit test in a helper (`def _done(self): return self.t > 200`)
         if (
             isinstance(node, ast.Assign)
-            and len(node.targets) == 1
-            and isinstance(node.value, ast.BinOp)
-            and isinstance(node.value.op, (ast.Add, ast.Sub))
-            and _is_number(node.value.right)
-            and facts.segment(node.value.left) == facts.segment(node.targets[0])
+            and _self_step(facts, node)
+            and not _local_of(facts, node.targets[0], unreached)
+            and len(directions.get(facts.segment(node.targets[0]), ())) < 2
             and self_attribute(node.targets[0]) not in streaks
             and not _moved_once_per_call(facts, node.targets[0])
             and not past_the_end(facts, node)
         ):
             return True  # `self.t = self.t + 1`
     return False
+
+
+def _self_step(facts: ModuleFacts, node: ast.AST) -> bool:
+    """``x = x + <number>`` (or ``- <number>``)."""
+    return (
+        isinstance(node, ast.Assign)
+        and len(node.targets) == 1
+        and isinstance(node.value, ast.BinOp)
+        and isinstance(node.value.op, (ast.Add, ast.Sub))
+        and _is_number(node.value.right)
+        and facts.segment(node.value.left) == facts.segment(node.targets[0])
+    )
+
+
+def _methods_step_never_runs(classdef: ast.ClassDef) -> set[int]:
+    """The methods of ``classdef`` (by ``id``) that its ``step`` never calls, through
+    ``self.<method>(...)`` at any depth; none when the class defines no step (a base's
+    step may call any of them) or hands a method on (a callback may run anywhere)."""
+    methods = {m.name: m for m in classdef.body if isinstance(m, FUNCTIONS)}
+    if not any(name in methods for name in ("step", "_step")):
+        return set()
+    called = {id(n.func) for n in walk(classdef) if isinstance(n, ast.Call)}
+    if any(self_attribute(n) in methods and id(n) not in called for n in walk(classdef)):
+        return set()
+    reached: set[int] = set()
+    todo = [m for name, m in methods.items() if name in ("step", "_step")]
+    while todo:
+        method = todo.pop()
+        if id(method) in reached:
+            continue
+        reached.add(id(method))
+        todo += [methods[n.func.attr] for n in walk(method) if isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute) and self_attribute(n.func) in methods]
+    return {id(m) for m in methods.values() if id(m) not in reached}
+
+
+def _local_of(facts: ModuleFacts, target: ast.AST, methods: set[int]) -> bool:
+    """``target`` is a plain local of one of ``methods`` (or of a def inside one): it lives
+    for that call only."""
+    if not methods or not isinstance(target, ast.Name):
+        return False
+    scope = facts.scope_of(target)
+    if target.id in scope.declared_global or target.id in scope.declared_nonlocal:
+        return False
+    return any(id(ancestor) in methods for ancestor in facts.ancestors(target))
 
 
 def _idle_attribute(facts: ModuleFacts, target: ast.expr, classdef: ast.ClassDef) -> bool:

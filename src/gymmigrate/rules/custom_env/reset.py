@@ -16,6 +16,7 @@ from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import own_returns, walk
 from gymmigrate.facts.own_api import is_info_pair
 from gymmigrate.facts.own_steps import self_step_gives_five
+from gymmigrate.facts.rng_handovers import reads_np_random
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import (
     ClassDecision,
@@ -129,9 +130,10 @@ def decide_reset(decision: ClassDecision) -> None:
         decision.report(function, "GM501", f"reset calls the base's private reset hook, not its reset: it seeds through the base's `{hooked}` when given a seed, as legacy seed(seed) did")
     elif hook is not None and any(is_self_call(c, {hook}) for c in decision.function(function).of(ast.Call)):
         pass  # seeds through the base's hook already (as this rule writes it)
-    elif "np_random" not in decision.family.facts.text:
-        # Nothing of the module draws from np_random (a batch seeds its envs inside, say):
-        # leaving it unseeded changes nothing here, so this is not a decision.
+    elif not reads_np_random(decision.family.facts):
+        # Nothing of the module draws from np_random (a batch seeds its envs inside, say; a
+        # seed() that only stores one): leaving it unseeded changes nothing here, so this is
+        # not a decision.
         decision.report(
             function,
             "GM501",
@@ -601,7 +603,7 @@ def decide_published(decision: ClassDecision) -> bool:
             f"`reset = {hook}` becomes a reset taking seed and options that {first}{seeds} and returns "
             f"`(self.{hook}(), {{}})`; `{hook}` keeps its name and its bare observation for the code that calls it",
         )
-        if not direct and seed_hook is None and "np_random" in decision.family.facts.text:
+        if not direct and seed_hook is None and reads_np_random(decision.family.facts):
             decision.report(
                 decision.aliases["reset"],
                 "GM501",

@@ -65,6 +65,20 @@ def decide_reset_without_observation(decision: ClassDecision) -> None:
             tier=Tier.NOTE,
         )
         return
+    heirs = _base_of_overrides_only(decision)
+    if heirs:
+        # A base whose own instances the run never makes: its reset runs only under the
+        # overrides (``super().reset()``), which return the observation themselves; no
+        # wrapper, checker or ``make`` meets its None.
+        decision.report(
+            function,
+            "GM501",
+            f"{what}; the run never builds `{name}` itself and every subclass of it overrides reset ({heirs}), so "
+            "its reset runs only under theirs, which return the observation: nothing unpacks this one's None",
+            FixKind.FLAG,
+            tier=Tier.NOTE,
+        )
+        return
     direct = _used_directly(decision)
     decision.report(
         function,
@@ -148,6 +162,40 @@ def _used_directly(decision: ClassDecision) -> bool:
             if not (isinstance(owner, ast.Attribute) and _only_asked(facts, owner)):
                 return False
     return True
+
+
+def _base_of_overrides_only(decision: ClassDecision) -> str:
+    """The names of the subclasses overriding reset, where the run proves the class is
+    only a base: no code of the run builds it (a call of its name here, a call from another
+    module, a registration), it has subclasses, and each direct subclass defines its own
+    reset. "" otherwise."""
+    family = decision.family
+    project = family.receivers.project
+    classdef = decision.classdef
+    facts = family.facts
+    if project is None or facts.parent(classdef) is not facts.tree:
+        return ""
+    name = classdef.name
+    if project.called_from_outside(name) or project.registered_here(name) or project.facts.registers_from_data:
+        return ""
+    for read in facts.reads_of(name):
+        holder = facts.parent(read)
+        if isinstance(holder, ast.ClassDef) and read in holder.bases:
+            continue
+        if isinstance(holder, ast.Call) and isinstance(holder.func, ast.Name) and holder.func.id == "super" and holder.args[:1] == [read]:
+            continue  # ``super(Base, self)``
+        return ""  # built, or handed on (a table of classes, a factory's argument)
+    if project.subclasses_elsewhere_without(name, "reset"):
+        return ""
+    direct = [sub for sub in local_subclasses(decision) if any(decision.family.receivers.local_class(b) is classdef for b in sub.bases)]
+    if any(decision.env.index(sub).methods.get("reset") is None for sub in direct):
+        return ""
+    local, elsewhere = overrides(decision, "reset")
+    names = [sub.name for sub in direct] + [w.rsplit(":", 1)[-1] for w in project.overridden_elsewhere(name, "reset")]
+    if not names or not (local or elsewhere):
+        return ""
+    shown = ", ".join(names[:4]) + (f" and {len(names) - 4} more" if len(names) > 4 else "")
+    return shown
 
 
 def _only_asked(facts: ModuleFacts, attribute: ast.Attribute) -> bool:

@@ -639,6 +639,18 @@ def _report_truncation(decision: ClassDecision, ret: ast.Return, done: ast.expr,
             FixKind.ASSIST,
             question=question,
         )
+    elif traced.drawn():
+        drawn = ", ".join(f"`self.{name}`" for name in traced.drawn())
+        decision.report(
+            ret,
+            "GM504",
+            f"step returns terminated=False and truncated=`{text}`: it is True only on {_limits_text(traced)}, whose "
+            f"bound ({drawn}) the class draws at random: a horizon drawn per episode may be the task's own length (a "
+            "finite-horizon task, its reward paid at that step) rather than a time limit; if reaching it ends the task, "
+            "return it as terminated instead",
+            FixKind.ASSIST,
+            question=question,
+        )
     elif not traced.plain():
         decision.report(
             ret,
