@@ -94,6 +94,11 @@ class SitePlanning(EnvUses, UntracedEnvs):
                 mode = final_mode[key] = wanted.pop()
                 variable = any(s.variable for s in make_sites)
                 self._add_mode(make, mode, "" if variable else self._quote_style(make, make_sites))
+            elif self._frames_over_bare_renders(make_sites):
+                recorder = next(s for s in make_sites if s.code == "GM407")
+                final_mode[key] = RGB_ARRAY
+                self._framed[key] = (recorder.consumer, recorder.node.lineno)
+                self._add_mode(make, RGB_ARRAY, self._quote_style(make, make_sites))
             else:
                 final_mode[key] = None
                 modes = " and ".join(sorted(f'"{m}"' for m in wanted))
@@ -105,6 +110,26 @@ class SitePlanning(EnvUses, UntracedEnvs):
         self._rendered_nodes = {id(site.node) for site in sites}
         for site in sites:
             self._plan_site(site, makes, final_mode, blocked)
+
+    @staticmethod
+    def _frames_over_bare_renders(sites: list[RenderSite]) -> bool:
+        """A recorder (GM407) and bare legacy renders (GM402, "human") on one make, every other
+        site asking a mode the recorders take: the make gets "rgb_array". The recorder raises
+        without a frame mode, while a bare render() is Gymnasium's API in any mode; and once
+        migrated nothing in the code says it meant "human" any more, so a run over the output
+        gives the recorder its mode: this run must give it too, or a second run changes the file.
+        A render that passes "human" itself keeps the conflict (it stays, and asks again)."""
+        recorders = [s for s in sites if s.code == "GM407"]
+        if not recorders or any(s.variable for s in sites):
+            return False
+        bare = [s for s in sites if s.code == "GM402"]
+        rest = [s for s in sites if s.code not in ("GM402", "GM407")]
+        return (
+            bool(bare)
+            and all(s.mode == HUMAN for s in bare)
+            and all(RGB_ARRAY in s.accepted for s in recorders)
+            and all(s.mode == RGB_ARRAY for s in rest)
+        )
 
     def _keeps_schedule(
         self, make: ast.Call, sites: list[RenderSite], final_mode: dict[int, str | None], blocked: dict[int, str]
@@ -310,6 +335,20 @@ class SitePlanning(EnvUses, UntracedEnvs):
         if reasons:
             # the make's one question, whichever render or recorder meets it
             self.report(call, code, f"not rewritten: {reasons[0]}", FixKind.FLAG, question=("render", tuple(sorted(keys)), reasons[0]))
+            return
+        framed = [self._framed[k] for k in keys if k in self._framed]
+        if code == "GM402" and framed:
+            consumer, line = framed[0]
+            where = " and ".join(self._call_summary(makes[k]) for k in keys if k in self._framed)
+            self.report(
+                call,
+                code,
+                f'not rewritten: legacy render() meant "human" (a window), but {consumer} at line {line} records only '
+                f'an env made with render_mode="rgb_array", which {where} now gets: this render() returns a frame and '
+                'draws nothing; to watch the env, make a second env with render_mode="human"',
+                FixKind.FLAG,
+                question=question("framed"),
+            )
             return
         accepted = site.accepted or (site.mode,)
         conflicting = [final_mode[k] for k in keys if final_mode[k] not in accepted]
