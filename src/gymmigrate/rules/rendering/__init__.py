@@ -22,6 +22,12 @@ found through ``gymmigrate.facts.creation``.
   ``render_mode="rgb_array"`` on the make that feeds them; so does a legacy ``Monitor``
   that records videos, which the wrapper family replaces by ``RecordVideo`` (GM611) in
   the same run.
+  Bare legacy renders of the same make do not block it: the recorder raises without a
+  frame mode, a bare ``render()`` is Gymnasium's API in any mode, and once migrated nothing
+  says it meant "human" (a second run would add the mode), so the make gets "rgb_array"
+  and each bare render is asked about (GM402: it returns a frame now). A recorder that
+  never runs as the code stands (a switch bound once to False) leaves the make to the
+  renders that run.
 
 Receivers go through ``facts.decisions.decide``: Stable-Baselines3 VecEnvs keep
 ``vec_env.render("human")`` (SB105, their 2.x API) and PettingZoo envs are left alone.

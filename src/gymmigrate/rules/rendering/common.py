@@ -81,6 +81,8 @@ class RenderingBase(RuleFamily):
     _scheduled: dict[int, str]  # id(make) -> the creation-time condition of its renders
     _unscheduled: dict[int, str]  # id(make) -> the run-time condition of its renders
     _switched_off: dict[int, str]  # id(make) -> the constant that keeps all its renders from running
+    _framed: dict[int, tuple[str, int]]  # id(make) -> (the recorder, its line) whose rgb_array overrides bare renders
+    _idle_recorders: dict[int, str]  # id(recorder call) -> why it never runs (its make serves the renders)
     _mode_dropped: set[int]  # render calls that lose their mode argument
     _has_legacy_mode_calls: bool  # some render() call of the file still passes a mode
     _makes_by_id: dict[int, ast.Call]  # the makes of the sites, by id

@@ -63,6 +63,8 @@ class Rendering(RenderSites, SitePlanning):
         self._scheduled: dict[int, str] = {}  # id(make) -> the creation-time condition of its renders
         self._unscheduled: dict[int, str] = {}  # id(make) -> the run-time condition of its renders
         self._switched_off: dict[int, str] = {}  # id(make) -> the constant that keeps its renders off
+        self._framed: dict[int, tuple[str, int]] = {}  # id(make) -> the recorder that gives it rgb_array over bare renders
+        self._idle_recorders: dict[int, str] = {}  # id(recorder call) -> why it never runs
         self._mode_dropped: set[int] = set()  # render calls that lose their mode argument
         render_calls = self.facts.attribute_calls.get("render", [])
         # A file that still passes modes to render() is legacy code even once its imports

@@ -24,7 +24,7 @@ from gymmigrate.findings import (
     recorder_mode_question,
 )
 from gymmigrate.rules.render_calls import without_mode_argument
-from gymmigrate.rules.render_schedule import render_condition, schedule
+from gymmigrate.rules.render_schedule import never_run_guard, render_condition, schedule
 from gymmigrate.rules.rendering.common import (
     HUMAN,
     LEGACY_SINGLE_FRAME,
@@ -80,6 +80,13 @@ class SitePlanning(EnvUses, UntracedEnvs):
                     "(make would raise TypeError): give it a render_mode parameter first"
                 )
                 continue
+            if self._frames_over_bare_renders(make_sites):
+                idle = {id(s.node): self._recorder_idle(s.node, make, make_sites) for s in make_sites if s.code == "GM407"}
+                if all(idle.values()):
+                    # Every recorder is switched off as the code stands: the renders that run
+                    # decide the make, as if the recorders were not there.
+                    self._idle_recorders.update((node, str(why)) for node, why in idle.items())
+                    make_sites = [s for s in make_sites if s.code != "GM407"]
             wanted = {s.mode for s in make_sites}
             # An env whose class draws in render() alone draws only where render() is called, in
             # human mode too: its renders keep their schedule by themselves.
@@ -94,6 +101,11 @@ class SitePlanning(EnvUses, UntracedEnvs):
                 mode = final_mode[key] = wanted.pop()
                 variable = any(s.variable for s in make_sites)
                 self._add_mode(make, mode, "" if variable else self._quote_style(make, make_sites))
+            elif self._frames_over_bare_renders(make_sites):
+                recorder = next(s for s in make_sites if s.code == "GM407")
+                final_mode[key] = RGB_ARRAY
+                self._framed[key] = (recorder.consumer, recorder.node.lineno)
+                self._add_mode(make, RGB_ARRAY, self._quote_style(make, make_sites))
             else:
                 final_mode[key] = None
                 modes = " and ".join(sorted(f'"{m}"' for m in wanted))
@@ -105,6 +117,28 @@ class SitePlanning(EnvUses, UntracedEnvs):
         self._rendered_nodes = {id(site.node) for site in sites}
         for site in sites:
             self._plan_site(site, makes, final_mode, blocked)
+
+    @staticmethod
+    def _frames_over_bare_renders(sites: list[RenderSite]) -> bool:
+        """A recorder (GM407) and bare legacy renders (GM402, "human") on one make, every other
+        site asking a mode the recorders take: the make gets "rgb_array". The recorder raises
+        without a frame mode, while a bare render() is Gymnasium's API in any mode; and once
+        migrated nothing in the code says it meant "human" any more, so a run over the output
+        gives the recorder its mode: this run must give it too, or a second run changes the file.
+        A render that passes "human" itself keeps the conflict (it stays, and asks again); a
+        recorder that never runs as the code stands leaves the make to the renders
+        (``_recorder_idle``)."""
+        recorders = [s for s in sites if s.code == "GM407"]
+        if not recorders or any(s.variable for s in sites):
+            return False
+        bare = [s for s in sites if s.code == "GM402"]
+        rest = [s for s in sites if s.code not in ("GM402", "GM407")]
+        return (
+            bool(bare)
+            and all(s.mode == HUMAN for s in bare)
+            and all(RGB_ARRAY in s.accepted for s in recorders)
+            and all(s.mode == RGB_ARRAY for s in rest)
+        )
 
     def _keeps_schedule(
         self, make: ast.Call, sites: list[RenderSite], final_mode: dict[int, str | None], blocked: dict[int, str]
@@ -156,10 +190,39 @@ class SitePlanning(EnvUses, UntracedEnvs):
         self._unscheduled[key] = condition
         return True
 
+    def _recorder_idle(self, recorder: ast.Call, make: ast.Call, sites: list[RenderSite]) -> str | None:
+        """Why ``recorder`` never runs as the code stands (``if record:`` with ``record = False``
+        bound once, or a flag every call of the def passes False), else None. Its make then
+        serves the renders that run; the recorder would need "rgb_array" if it were turned on,
+        and a second run finds the same switch, so the choice stays."""
+        home = self._stepping_function(make, [site.node for site in sites])
+        switch = self._switch(recorder, make, home)
+        if switch is not None:
+            name, value, line, _ = switch
+            return f"`{name}` is bound once, to {value!r}, at line {line}"
+        flag = never_run_guard(self.facts, recorder)
+        function = self.facts.enclosing_function(recorder)
+        if flag is not None and isinstance(function, (ast.FunctionDef, ast.AsyncFunctionDef)):
+            return f"every call of `{function.name}` passes `{flag.id}` False"
+        return None
+
     def _switched_off_by(self, render: ast.Call, make: ast.Call, home: ast.AST | None) -> str | None:
         """``if worker == 0 and render:`` with ``render = False`` bound once at module level:
         the render never runs. The constant, as ``render (False, line 3)``, or None."""
-        for test, negated in render_condition(self.facts, render, make, home):
+        switch = self._switch(render, make, home)
+        if switch is None:
+            return None
+        name, value, line, test = switch
+        return (
+            f"`{name}` is bound once, to {value!r}, at line {line}; if you turn it on, pass "
+            f'render_mode="human" if {self.facts.segment(test)} else None to {self._call_summary(make)}'
+        )
+
+    def _switch(self, call: ast.Call, make: ast.Call, home: ast.AST | None) -> tuple[str, object, int, ast.AST] | None:
+        """A test between ``make`` and ``call`` that reads a name bound once, at module level, to
+        False, None or 0, so ``call`` never runs: (the name, its value, the line binding it, the
+        test), or None."""
+        for test, negated in render_condition(self.facts, call, make, home):
             if negated:
                 continue
             operands = test.values if isinstance(test, ast.BoolOp) and isinstance(test.op, ast.And) else [test]
@@ -177,10 +240,7 @@ class SitePlanning(EnvUses, UntracedEnvs):
                     and statement.value.value in (False, None, 0)
                     and not isinstance(statement.value.value, float)
                 ):
-                    return (
-                        f"`{operand.id}` is bound once, to {statement.value.value!r}, at line {statement.lineno}; if you "
-                        f'turn it on, pass render_mode="human" if {self.facts.segment(test)} else None to {self._call_summary(make)}'
-                    )
+                    return operand.id, statement.value.value, statement.lineno, test
         return None
 
     def _mixed_schedules(self, make: ast.Call, sites: list[RenderSite], home: ast.AST | None) -> str | None:
@@ -262,6 +322,10 @@ class SitePlanning(EnvUses, UntracedEnvs):
                 or (recorder_mode_question(call.lineno, call.col_offset) if code == "GM407" else None),
             )
             return
+        idle = self._idle_recorders.get(id(call))
+        if idle is not None:
+            self._report_idle_recorder(site, idle)
+            return
         keys = [id(m) for m in site.creation.calls]
         # The render calls of one env ask one question (which mode it is made with).
         def question(outcome: str) -> tuple[object, ...]:
@@ -311,8 +375,29 @@ class SitePlanning(EnvUses, UntracedEnvs):
             # the make's one question, whichever render or recorder meets it
             self.report(call, code, f"not rewritten: {reasons[0]}", FixKind.FLAG, question=("render", tuple(sorted(keys)), reasons[0]))
             return
+        framed = [self._framed[k] for k in keys if k in self._framed]
+        if code == "GM402" and framed:
+            consumer, line = framed[0]
+            where = " and ".join(self._call_summary(makes[k]) for k in keys if k in self._framed)
+            self.report(
+                call,
+                code,
+                f'not rewritten: legacy render() meant "human" (a window), but {consumer} at line {line} records only '
+                f'an env made with render_mode="rgb_array", which {where} now gets: this render() returns a frame and '
+                'draws nothing; to watch the env, make a second env with render_mode="human"',
+                FixKind.FLAG,
+                question=question("framed"),
+            )
+            return
         accepted = site.accepted or (site.mode,)
         conflicting = [final_mode[k] for k in keys if final_mode[k] not in accepted]
+        if conflicting and code == "GM407" and len(keys) == 1:
+            # A make that serves the renders (a run over this output finds it so): a recorder
+            # that never runs asks nothing of it.
+            idle = self._recorder_idle(call, makes[keys[0]], [site])
+            if idle is not None:
+                self._report_idle_recorder(site, idle)
+                return
         if conflicting:
             self.report(
                 call,
@@ -408,6 +493,16 @@ class SitePlanning(EnvUses, UntracedEnvs):
             self.report(call, code, message, tier=Tier.NOTE if exact else None, question=question("moved"))
         else:
             self.report(call, code, f"{where} already has {target}; render() takes no arguments", FixKind.AUTO)
+
+    def _report_idle_recorder(self, site: RenderSite, idle: str) -> None:
+        self.report(
+            site.node,
+            site.code,
+            f"not rewritten: this {site.consumer} never runs as the code stands ({idle}), so the renders that run "
+            'decide how the env is made; if you turn it on, it needs the env made with render_mode="rgb_array"',
+            FixKind.FLAG,
+            tier=Tier.NOTE,
+        )
 
     def _draws_only_in_render(self, keys: list[int], makes: dict[int, ast.Call]) -> bool:
         """Every make of ``keys`` builds, by a literal id the run registers, an env class of
