@@ -118,6 +118,11 @@ class ModuleSummary:
     # qualified names of the run that made the receivers of ``x.render(mode)`` calls no make
     # of the module created (``pkg.make_board``): a def among them leaves the mode in place
     render_makers: frozenset[str] = frozenset()
+    # ``env.seed(s)`` on what only the join can classify (``A()`` in one branch, ``B()`` in
+    # another, names of the run): per call, the makers of its receiver joined by ``|``
+    # (``CallSummarizer.reaching_makers``). GM203 rewrites the call where they all give Gym
+    # envs, leaving no caller; otherwise it stays, an untraced seed() caller.
+    seed_makers: frozenset[str] = frozenset()
     imported: tuple[str, ...] = ()  # qualified names its imports bind
     # ``# gymmigrate: skip-file``: the module stays as it is, so the run must not assume it migrated.
     skips_file: bool = False

@@ -83,6 +83,7 @@ from gymmigrate.facts.project_contracts import (
     own_renders,
     render_only_ids,
     seed_keepers,
+    seeds_untraced,
     thread_render_mode,
     wrapper_steppers,
 )
@@ -570,7 +571,7 @@ class ProjectFacts:
         facts.def_params = {(path, q): signature.params for path, summary in by_path.items() for q, signature in summary.defs.items()}
         for summary in summaries:
             facts.rng_stores.extend((summary.path, *store) for store in summary.rng_stores)
-            if summary.untraced_seed_call:
+            if seeds_untraced(facts, summary):
                 facts.seed_called.update(imported_env_modules(facts, summary))
             facts.configure_called = facts.configure_called or summary.calls_configure
             if summary.untraced_render_call or any(made_by_def(facts, maker, summary.path, by_path) for maker in summary.render_makers):

@@ -12,13 +12,21 @@ from collections.abc import Iterator
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts.import_roots import nearest_root
-from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.module_summary import MAX_CHAIN, OWN, REF, ModuleSummary, is_ref
+from gymmigrate.facts.kinds import EnvKind, join_kinds
+from gymmigrate.facts.module_summary import (
+    KNOWN,
+    MAX_CHAIN,
+    OWN,
+    REF,
+    ModuleSummary,
+    is_ref,
+)
 from gymmigrate.facts.project_exports import Exports
 from gymmigrate.facts.wrapper_steps import steps_its_wrapper
 
 if TYPE_CHECKING:
     from gymmigrate.facts.project import ProjectFacts
+    from gymmigrate.facts.project_view import ProjectView
 
 
 class NonSpaces:
@@ -231,6 +239,33 @@ def thread_render_mode(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -
     for path, name in takes:
         found[path].add(name)
     facts.render_mode_classes = {path: frozenset(found.get(path, ())) for path in set(facts.render_mode_classes) | set(found)}
+
+
+def seeds_untraced(facts: ProjectFacts, summary: ModuleSummary) -> bool:
+    """``summary``'s module calls ``x.seed(...)`` on what the run leaves a seed() caller: a
+    receiver no module can trace, or one only the join classifies (``seed_makers``) that
+    GM203 does not make ``reset(seed=...)``. It does where every maker builds a Gym env the
+    run migrates, as the receiver kinds see it there (``ProjectView.call_kind``, joined), and
+    none is a make behind which a wrapper's seed() may still be called through
+    ``get_wrapper_attr``: such a call leaves no caller, on the first run as on the output."""
+    if summary.untraced_seed_call:
+        return True
+    view = facts.view(summary.path)
+    for makers in summary.seed_makers:
+        kinds = [_seed_maker_kind(view, maker) for maker in makers.split("|")]
+        if join_kinds(kinds) is not EnvKind.GYM_ENV:
+            return True
+    return False
+
+
+def _seed_maker_kind(view: ProjectView, maker: str) -> EnvKind:
+    """What ``maker`` builds, for ``seeds_untraced``: a Gym env only where GM203 rewrites a
+    seed call on it to ``reset(seed=...)``; unknown where it may do otherwise or leave it."""
+    if maker == KNOWN + EnvKind.NOT_ENV.name:
+        return EnvKind.NOT_ENV  # ``env = None`` before the branches: join_kinds drops it
+    if maker.startswith(KNOWN) or view.returns_made(maker) or view.keeps_legacy_step(maker):
+        return EnvKind.UNKNOWN  # a make (maybe under the run's seeding wrappers), an env kept on four fields
+    return EnvKind.GYM_ENV if view.call_kind(maker) is EnvKind.GYM_ENV else EnvKind.UNKNOWN
 
 
 def seed_keepers(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> tuple[frozenset[tuple[str, str]], dict[str, str]]:

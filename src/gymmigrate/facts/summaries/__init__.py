@@ -208,6 +208,7 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         untraced_render_call=untraced.has_untraced_call("render"),
         calls_configure=calls_from_outside(facts, "configure"),
         render_makers=frozenset(untraced.render_makers),  # filled by the line above
+        seed_makers=frozenset(untraced.seed_makers),  # filled with untraced_seed_call
         imported=tuple(sorted(set(facts.imports.values()))),
         exports=exports.exports(env_classes),
         aliases=exports.aliases(),

@@ -636,6 +636,25 @@ class CallSummarizer:
         another module of the run) in others: the run's names joined by ``|`` with the kinds
         this module settles itself (``=GYM_ENV``), for the join to resolve as one; None when
         a binding is anything else, or when no binding calls a name of the run."""
+        found = self._makers(name)
+        if found is None:
+            return None
+        made, known = found
+        return "|".join(sorted(made) + sorted(known)) if made and known else None
+
+    def reaching_makers(self, name: ast.Name) -> str | None:
+        """What made the values that reach this read of ``name``, for the join to resolve
+        as one: the run's names (``A()`` in one branch, ``B()`` in another) joined by ``|``
+        with the kinds this module settles itself (``=GYM_ENV``); None when a value is
+        anything else, or when no value calls a name of the run."""
+        found = self._makers(name)
+        if found is None or not found[0]:
+            return None
+        made, known = found
+        return "|".join(sorted(made) + sorted(known))
+
+    def _makers(self, name: ast.Name) -> tuple[set[str], set[str]] | None:
+        """(the run's names, the kinds settled here) of the values reaching ``name``."""
         values = self._reaching_values(name)
         if values is None:
             return None
@@ -653,7 +672,7 @@ class CallSummarizer:
             if own is None and (len(qualified) != 1 or "." not in qualified[0]):
                 return None
             made.add(own or qualified[0])
-        return "|".join(sorted(made) + sorted(known)) if made and known else None
+        return made, known
 
     def _env_like_instance(self, value: ast.expr, depth: int) -> bool:
         """An instance of a plain class of this module with a reset or step of its own:

@@ -1,7 +1,7 @@
 """``x.seed(...)`` / ``x.render(mode)`` calls a module makes on receivers it cannot trace:
 the join keeps the ``seed`` and ``render(mode)`` of the run's env classes that such a call
 may reach (``ModuleSummary.untraced_seed_call``, ``untraced_render_call``,
-``render_makers``).
+``render_makers``, ``seed_makers``).
 """
 
 from __future__ import annotations
@@ -36,6 +36,7 @@ class UntracedCalls:
 
     def __init__(self, calls: CallSummarizer) -> None:
         self.render_makers: set[str] = set()  # what made the receivers of render(mode) calls (run names)
+        self.seed_makers: set[str] = set()  # what made the receivers of seed(s) calls, for the join
         self.calls = calls
         self.facts = calls.facts
         self.receivers = calls.receivers
@@ -77,6 +78,12 @@ class UntracedCalls:
             made_by = self.calls.reaching_instance_class(receiver) if method == "seed" else self.calls.instance_class(receiver)
             if made_by is not None and not N.is_library(made_by):
                 continue  # an instance of a class it imports: the run knows that class
+            if method == "seed" and (makers := self._seed_makers(call)) is not None:
+                # ``A()`` in one branch, ``B()`` in another, both of the run: the join knows
+                # whether GM203 rewrites the call (every one a Gym env), and only then is
+                # it no caller
+                self.seed_makers.add(makers)
+                continue
             return True
         return False
 
@@ -115,16 +122,31 @@ class UntracedCalls:
             self.receivers.class_kind(classdef) is EnvKind.GYM_ENV or self.receivers.is_gym_wrapper_class(classdef)
         )
 
-    def _seed_call_rewritten_here(self, call: ast.Call) -> bool:
-        """``env.seed(s)`` as a statement, with one seed, on an untraced receiver that GM203
-        rewrites anyway (an env-like name in a file that uses only Gym). Counting it as a
-        caller kept a class's seed() in one run and removed it in the next."""
+    def _rewritable_seed_call(self, call: ast.Call) -> bool:
+        """``env.seed(s)`` as a statement, with one seed, outside a ``seed()`` method: the
+        shape GM203 makes ``reset(seed=s)`` wherever it knows the receiver for a Gym env."""
         if not isinstance(self.facts.parent(call), ast.Expr) or len(call.args) + len(call.keywords) != 1:
             return False
         if (call.args and isinstance(call.args[0], ast.Starred)) or (call.keywords and call.keywords[0].arg != "seed"):
             return False
         function = self.facts.enclosing_function(call)
-        if function is not None and function.name == "seed":
+        return function is None or function.name != "seed"
+
+    def _seed_makers(self, call: ast.Call) -> str | None:
+        """What made every value reaching the receiver of a rewritable ``env.seed(s)``,
+        names of the run among them (``CallSummarizer.reaching_makers``). Counting such a
+        call as untraced kept the seed() of the classes it builds in one run while GM203,
+        knowing them for Gym envs through the join, rewrote it; the next run removed them."""
+        receiver = call.func.value  # type: ignore[attr-defined]
+        if not isinstance(receiver, ast.Name) or not self._rewritable_seed_call(call):
+            return None
+        return self.calls.reaching_makers(receiver)
+
+    def _seed_call_rewritten_here(self, call: ast.Call) -> bool:
+        """``env.seed(s)`` as a statement, with one seed, on an untraced receiver that GM203
+        rewrites anyway (an env-like name in a file that uses only Gym). Counting it as a
+        caller kept a class's seed() in one run and removed it in the next."""
+        if not self._rewritable_seed_call(call):
             return False
         receiver = call.func.value  # type: ignore[attr-defined]
         profile = FileProfile.from_source(self.facts.text)
