@@ -71,17 +71,7 @@ def _dead_hook_internals(receivers: Receivers, function: ast.AST) -> tuple[str, 
     base = _library_base(receivers, classdef)
     if base is None:
         return None
-    defined: set[str] = set()
-    seen = {id(classdef)}
-    todo = [classdef]
-    while todo:
-        current = todo.pop()
-        defined |= self_defined(current)
-        for base_node in current.bases:
-            local = receivers.local_class(base_node)
-            if local is not None and id(local) not in seen:
-                seen.add(id(local))
-                todo.append(local)
+    defined = {name for current in receivers.local_lineage(classdef) for name in self_defined(current)}
     gone: set[str] = set()
     for node in walk(function):
         if not (
@@ -105,16 +95,10 @@ def _library_base(receivers: Receivers, classdef: ast.ClassDef) -> str | None:
     its last name, where Gymnasium's private names of it are known."""
     facts = receivers.facts
     found: str | None = None
-    seen = {id(classdef)}
-    todo = [classdef]
-    while todo:
-        for base in todo.pop().bases:
-            local = receivers.local_class(base)
-            if local is not None:
-                if id(local) not in seen:
-                    seen.add(id(local))
-                    todo.append(local)
-                continue
+    for current in receivers.local_lineage(classdef):
+        for base in current.bases:
+            if receivers.local_class(base) is not None:
+                continue  # local_lineage visits it
             rests = [rest for q in facts.qualified_names(base) if (rest := N.strip_gym_prefix(q)) is not None]
             if not rests:
                 return None  # a class of another module, or another library's

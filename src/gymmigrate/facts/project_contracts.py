@@ -493,6 +493,16 @@ def class_definer(facts: ProjectFacts, by_path: dict[str, ModuleSummary], path: 
     return None
 
 
+def base_definer(facts: ProjectFacts, by_path: dict[str, ModuleSummary], path: str, base: str) -> tuple[str, str] | None:
+    """The class of the run (module and name, re-exports followed) that the base ``base``
+    of a class of module ``path`` names, as its summary spells it (``OWN`` for a class of
+    that module)."""
+    if base.startswith(OWN):
+        return path, base[len(OWN) :]
+    split = facts._split(base, path)
+    return class_definer(facts, by_path, *split) if split is not None and "." not in split[1] else None
+
+
 def class_methods(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> dict[tuple[str, str], frozenset[str]]:
     """(path, name) -> the methods of the class of the run that ``name`` of module ``path``
     is (re-exports followed), with those of its bases of the run in any module, at any
@@ -517,11 +527,7 @@ def class_methods(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> dic
         prefix = name + "."
         found = {q[len(prefix) :] for q in by_path[path].defs if q.startswith(prefix) and "." not in q[len(prefix) :]}
         for base in bases.get(key, ()) if depth < MAX_CHAIN else ():
-            if base.startswith(OWN):
-                where: tuple[str, str] | None = (path, base[len(OWN) :])
-            else:
-                split = facts._split(base, path)
-                where = definer(*split) if split is not None and "." not in split[1] else None
+            where = base_definer(facts, by_path, path, base)
             if where is not None and where[1] in by_path[where[0]].classes:
                 found |= methods(where, depth + 1)
         memo[key] = frozenset(found)
@@ -566,11 +572,7 @@ def wrapper_steppers(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> 
         memo[key] = None  # a cycle of bases adds nothing
         found = key[1] if key in own else None
         for base in bases.get(key, ()) if depth < MAX_CHAIN and found is None else ():
-            if base.startswith(OWN):
-                where: tuple[str, str] | None = (key[0], base[len(OWN) :])
-            else:
-                split = facts._split(base, key[0])
-                where = class_definer(facts, by_path, *split) if split is not None and "." not in split[1] else None
+            where = base_definer(facts, by_path, key[0], base)
             if where is not None and where[1] in by_path[where[0]].classes:
                 found = found or stepper(where, depth + 1)
         memo[key] = found

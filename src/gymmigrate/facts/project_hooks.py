@@ -23,8 +23,8 @@ from typing import TYPE_CHECKING
 
 from gymmigrate.facts.env_classes import UNDERSCORE_HOOKS
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.module_summary import MAX_CHAIN, OWN, ModuleSummary
-from gymmigrate.facts.project_contracts import class_definer
+from gymmigrate.facts.module_summary import MAX_CHAIN, ModuleSummary
+from gymmigrate.facts.project_contracts import base_definer, class_definer
 
 if TYPE_CHECKING:
     from gymmigrate.facts.project import ProjectFacts
@@ -41,15 +41,7 @@ def join_hook_calls(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> N
     bases: dict[Key, tuple[Key, ...]] = {}
     for path, summary in by_path.items():
         for name, spelled in summary.run_bases.items():
-            resolved = []
-            for base in spelled:
-                if base.startswith(OWN):
-                    resolved.append((path, base[len(OWN) :]))
-                    continue
-                split = facts._split(base, path)
-                where = class_definer(facts, by_path, *split) if split is not None and "." not in split[1] else None
-                if where is not None:
-                    resolved.append(where)
+            resolved = [where for base in spelled if (where := base_definer(facts, by_path, path, base)) is not None]
             if resolved:
                 bases[(path, name)] = tuple(resolved)
     facts.class_bases = bases

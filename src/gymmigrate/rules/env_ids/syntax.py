@@ -83,7 +83,7 @@ def plain_string(facts: ModuleFacts, node: ast.AST) -> str | None:
     return node.value if raw == node.value else None
 
 
-def param_default(function: ast.FunctionDef | ast.AsyncFunctionDef, param: ast.arg) -> ast.expr | None:
+def param_default(function: ast.FunctionDef | ast.AsyncFunctionDef | ast.Lambda, param: ast.arg) -> ast.expr | None:
     """The default value of ``param`` in ``function``'s signature, if it has one."""
     args = function.args
     positional = [*args.posonlyargs, *args.args]

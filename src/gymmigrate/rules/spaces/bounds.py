@@ -21,6 +21,7 @@ from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.module import call_argument
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import RuleFamily
+from gymmigrate.rules.env_ids.syntax import param_default
 
 # A scalar, or a 1-D array of scalars (what the bounds of a flat Box hold).
 Value = float | tuple[float, ...]
@@ -117,15 +118,7 @@ def _default_of(facts: ModuleFacts, param: ast.arg) -> ast.expr | None:
     function = facts.parent(facts.parent(param))
     if not isinstance(function, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda)):
         return None
-    args = function.args
-    positional = [*args.posonlyargs, *args.args]
-    for arg, default in zip(positional[len(positional) - len(args.defaults) :], args.defaults):
-        if arg is param:
-            return default
-    for arg, kw_default in zip(args.kwonlyargs, args.kw_defaults):
-        if arg is param:
-            return kw_default
-    return None
+    return param_default(function, param)
 
 
 def _numpy_value(evaluation: _Evaluation, call: ast.Call, depth: int) -> Value | None:
