@@ -43,18 +43,13 @@ from gymmigrate.facts.module import (
 from gymmigrate.facts.receiver_classes import is_object
 from gymmigrate.facts.receivers import Receivers
 from gymmigrate.facts.step_calls import foreign_step
+from gymmigrate.facts.step_hooks import tuple_len
 
 Method = ast.FunctionDef | ast.AsyncFunctionDef
 
 
 def own_step(classdef: ast.ClassDef) -> Method | None:
     return next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == "step"), None)
-
-
-def _tuple_len(value: ast.AST | None) -> int | None:
-    if isinstance(value, ast.Tuple) and not any(isinstance(e, ast.Starred) for e in value.elts):
-        return len(value.elts)
-    return None
 
 
 def is_base_step_call(node: ast.AST | None, classdef: ast.ClassDef, method: Method) -> bool:
@@ -130,7 +125,7 @@ def builds_own_step(classdef: ast.ClassDef, step: Method) -> bool | None:
     none; None for any other step."""
     calls = [n for n in walk(step) if is_base_step_call(n, classdef, step)]
     returns = own_returns(step)
-    if not returns or any(_tuple_len(r.value) not in (4, 5) for r in returns):
+    if not returns or any(tuple_len(r.value) not in (4, 5) for r in returns):
         return None
     if not calls:
         return False
@@ -228,7 +223,7 @@ def passes_five(facts: ModuleFacts, receivers: Receivers, classdef: ast.ClassDef
         return any(isinstance(n, ast.Raise) for n in walk(step))
     for ret in returns:
         value = ret.value
-        size = _tuple_len(value)
+        size = tuple_len(value)
         if size == 5 or (size == 4 and migrated and not is_batched_step_return(value, step)):
             continue
         if hands_on_base_step(value, classdef, step):

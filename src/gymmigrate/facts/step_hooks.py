@@ -21,7 +21,7 @@ from gymmigrate.facts.env_classes import DIRECT_ENV_BASES, is_super_method_call
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns, walk
 
 
-def _tuple_len(value: ast.AST | None) -> int | None:
+def tuple_len(value: ast.AST | None) -> int | None:
     if isinstance(value, ast.Tuple) and not any(isinstance(e, ast.Starred) for e in value.elts):
         return len(value.elts)
     return None
@@ -46,7 +46,7 @@ def plain_override(method: ast.FunctionDef | ast.AsyncFunctionDef) -> bool:
             return False
         if is_super_method_call(ret.value, method.name):
             returned.append(ret.value)
-        elif _tuple_len(ret.value) not in (4, 5):
+        elif tuple_len(ret.value) not in (4, 5):
             return False
     return len(supers) == len(returned)
 
@@ -78,7 +78,7 @@ def step_hooks(facts: ModuleFacts) -> dict[str, frozenset[str]]:
     for name, classdef in facts.classes.items():
         methods = _methods(classdef)
         step = methods.get("step")
-        if step is None or any(_tuple_len(r.value) == 5 for r in own_returns(step)):
+        if step is None or any(tuple_len(r.value) == 5 for r in own_returns(step)):
             continue
         hooks = set()
         for ret in own_returns(step):

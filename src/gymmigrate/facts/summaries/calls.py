@@ -10,6 +10,7 @@ from __future__ import annotations
 import ast
 import builtins
 import re
+from collections.abc import Iterable
 from typing import cast
 
 from gymmigrate.facts import names as N
@@ -294,24 +295,8 @@ class CallSummarizer:
         """``Evaluator.__call__`` (qualified through the imports) for ``evaluate(env)``,
         where ``evaluate`` holds an instance of a class of the run every way it is bound
         (``evaluate = Evaluator(3)``, or passed so to the def whose parameter it is)."""
-        values = self.receivers.called_instances(func)
-        classes = set()
-        for value in values:
-            if not isinstance(value, ast.Call):
-                return None
-            local = self.receivers.local_class(value.func)
-            if local is not None:
-                if self.facts.classes.get(local.name) is not local:
-                    return None
-                classes.add(OWN + local.name)
-                continue
-            found = [q for q in self.facts.qualified_names(value.func) if not N.is_library(q)]
-            if len(found) != 1 or "." not in found[0]:
-                return None
-            classes.add(found[0])
-        if len(classes) != 1:
-            return None
-        return f"{classes.pop()}.__call__"
+        held = self._run_class_of(self.receivers.called_instances(func))
+        return None if held is None else f"{held}.__call__"
 
     def _own_target(self, func: ast.expr) -> str | None:
         function = self.receivers.local_function(func)
@@ -418,8 +403,13 @@ class CallSummarizer:
         ``@Name`` for a top-level class of this module, the qualified name of one it imports;
         ``Holder(name)``, or a name every binding reaching the call builds one. None otherwise."""
         values = self._reaching_values(argument) if isinstance(argument, ast.Name) else [argument]
+        return self._run_class_of(values or ())
+
+    def _run_class_of(self, values: Iterable[ast.expr]) -> str | None:
+        """The one class of the run every value is a construction of: ``@Name`` for a
+        top-level class of this module, the qualified name of one it imports. None otherwise."""
         classes: set[str] = set()
-        for value in values or ():
+        for value in values:
             if not isinstance(value, ast.Call):
                 return None
             local = self.receivers.local_class(value.func)

@@ -7,6 +7,7 @@ classes whose render(mode) may stay the project's own."""
 from __future__ import annotations
 
 import ast
+from collections.abc import Iterator
 from functools import partial
 from typing import TYPE_CHECKING
 
@@ -287,6 +288,16 @@ def run_bases(facts: ModuleFacts, receivers: Receivers) -> dict[str, tuple[str, 
     return found
 
 
+def _method_attribute_calls(classdef: ast.ClassDef) -> Iterator[tuple[ast.Call, ast.Attribute]]:
+    """The ``x.m(...)`` calls in the class's own methods (nested defs included), each with
+    its ``x.m``."""
+    for statement in classdef.body:
+        if isinstance(statement, FUNCTIONS):
+            for node in walk(statement):
+                if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute):
+                    yield node, node.func
+
+
 def super_calls(facts: ModuleFacts) -> dict[str, frozenset[str]]:
     """``ModuleSummary.super_calls``: per top-level class, the methods its own methods call
     on a base: ``super().m(...)``, ``super(Cls, self).m(...)`` or ``Base.m(self, ...)``
@@ -296,20 +307,16 @@ def super_calls(facts: ModuleFacts) -> dict[str, frozenset[str]]:
     for name, classdef in facts.classes.items():
         spelled = {ast.unparse(base) for base in classdef.bases}
         called = frozenset(
-            node.func.attr
-            for statement in classdef.body
-            if isinstance(statement, FUNCTIONS)
-            for node in walk(statement)
-            if isinstance(node, ast.Call)
-            and isinstance(node.func, ast.Attribute)
-            and (
-                is_super_call(node.func.value)
+            func.attr
+            for node, func in _method_attribute_calls(classdef)
+            if (
+                is_super_call(func.value)
                 or (
                     bool(node.args)
                     and isinstance(node.args[0], ast.Name)
                     and node.args[0].id == "self"
-                    and isinstance(node.func.value, (ast.Name, ast.Attribute))
-                    and ast.unparse(node.func.value) in spelled
+                    and isinstance(func.value, (ast.Name, ast.Attribute))
+                    and ast.unparse(func.value) in spelled
                 )
             )
         )
@@ -423,14 +430,9 @@ def self_calls(facts: ModuleFacts) -> dict[str, frozenset[str]]:
     found: dict[str, frozenset[str]] = {}
     for name, classdef in facts.classes.items():
         called = frozenset(
-            node.func.attr
-            for statement in classdef.body
-            if isinstance(statement, FUNCTIONS)
-            for node in walk(statement)
-            if isinstance(node, ast.Call)
-            and isinstance(node.func, ast.Attribute)
-            and isinstance(node.func.value, ast.Name)
-            and node.func.value.id == "self"
+            func.attr
+            for _, func in _method_attribute_calls(classdef)
+            if isinstance(func.value, ast.Name) and func.value.id == "self"
         )
         if called:
             found[name] = called
