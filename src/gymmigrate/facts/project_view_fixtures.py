@@ -56,7 +56,6 @@ class FixtureView:
         return None
 
     def _value(self, conftest: str, shape: str, depth: int) -> tuple[EnvKind, FixtureOrigin]:
-        view = self.facts.view(conftest)
         if shape == MADE_VALUE:
             return EnvKind.GYM_ENV, (FIXTURE_MADE, None)
         if shape.startswith(FIXTURE):
@@ -78,6 +77,7 @@ class FixtureView:
             return kind, ((FIXTURE_MADE if key in self.facts.made else None), None)
         if shape.startswith(REF):
             qualified = shape[len(REF) :]
+            view = self.facts.view(conftest)
             kind = view.call_kind(qualified) or EnvKind.UNKNOWN
             if view.is_wrapper_class(qualified):
                 return kind, (FIXTURE_WRAPPED, view.wrapper_defined(qualified))

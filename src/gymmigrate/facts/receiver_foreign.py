@@ -58,11 +58,10 @@ class ForeignObjects(_Facade):
         left while ``step`` is rewritten on the "this file uses only Gym" guess); another
         method (``close``, ``render``) forwarded so speaks for its own call only. ``decide``
         asks it only for a receiver whose kind is unknown: proved a Gym env, it is rewritten."""
-        if not (isinstance(expr, ast.Attribute) and isinstance(expr.value, ast.Name) and self.is_self(expr.value)):
+        read = self._self_read(expr)
+        if read is None:
             return None
-        classdef = self.facts.enclosing_class(expr)
-        if classdef is None:
-            return None
+        expr, classdef = read
         attribute = expr.attr
         forwarded = self.facts.memo((f"own-api-forwarded:{attribute}", id(classdef)), lambda: self._own_api_forwarded(classdef, attribute))
         called = self.facts.parent(expr)
@@ -73,6 +72,13 @@ class ForeignObjects(_Facade):
             return None
         return f"`{classdef.name}`, whose `{found[0].name}` forwards to it and which derives from `{found[2]}`, an env API other than Gym's"
 
+    def _self_read(self, expr: ast.AST) -> tuple[ast.Attribute, ast.ClassDef] | None:
+        """``expr`` as a ``self.X`` and the class whose method reads it; None for anything else."""
+        if not (isinstance(expr, ast.Attribute) and isinstance(expr.value, ast.Name) and self.is_self(expr.value)):
+            return None
+        classdef = self.facts.enclosing_class(expr)
+        return None if classdef is None else (expr, classdef)
+
     def dispatched_from_gym(self, expr: ast.AST) -> str | None:
         """``self.X`` of a class that every construction of this module builds in a def that
         sends Gym envs to another class first (``if isinstance(env, gym.Env): return
@@ -80,11 +86,10 @@ class ForeignObjects(_Facade):
         DeepMindWrapper(env)``): the code says this class is for envs that are not Gym's.
         Asked with ``own_api_holder`` only, so the class also forwards an API of its own. The
         dispatching def's name, or None."""
-        if not (isinstance(expr, ast.Attribute) and isinstance(expr.value, ast.Name) and self.is_self(expr.value)):
+        read = self._self_read(expr)
+        if read is None:
             return None
-        classdef = self.facts.enclosing_class(expr)
-        if classdef is None:
-            return None
+        expr, classdef = read
         return self.facts.memo(("dispatched-from-gym", id(classdef)), lambda: self._dispatched_from_gym(classdef), while_computing=None)
 
     def _dispatched_from_gym(self, classdef: ast.ClassDef) -> str | None:
@@ -253,11 +258,10 @@ class ForeignObjects(_Facade):
 
         A fact of the receiver, not of the call: each reset, step and spec read on
         ``self.X`` in the class gets the same answer."""
-        if not (isinstance(expr, ast.Attribute) and isinstance(expr.value, ast.Name) and self.is_self(expr.value)):
+        read = self._self_read(expr)
+        if read is None:
             return None
-        classdef = self.facts.enclosing_class(expr)
-        if classdef is None:
-            return None
+        expr, classdef = read
         attribute = expr.attr
         return self.facts.memo(
             (f"library-record-env:{attribute}", id(classdef)), lambda: self._library_record_env(expr, classdef), while_computing=None

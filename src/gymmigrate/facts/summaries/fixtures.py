@@ -29,12 +29,13 @@ def conftest_fixtures(path: str, facts: ModuleFacts, receivers: Receivers) -> di
     if os.path.basename(path) != "conftest.py":
         return {}
     return {
-        name: (function.name, tuple(_shape(facts, receivers, function, value) for value in fixture_values(facts, function)))
+        name: (function.name, tuple(_shape(facts, receivers, name, function, value) for value in fixture_values(facts, function)))
         for name, function in module_fixtures(facts).items()
     }
 
 
-def _shape(facts: ModuleFacts, receivers: Receivers, function: ast.AST, value: ast.expr) -> str:
+def _shape(facts: ModuleFacts, receivers: Receivers, own: str, function: ast.AST, value: ast.expr) -> str:
+    """What ``value``, returned or yielded by the fixture ``own`` (the def ``function``), is (``conftest_fixtures``)."""
     if made_value(facts, value, function, receivers):
         return MADE_VALUE
     for _ in range(_MAX_HOPS):
@@ -46,7 +47,6 @@ def _shape(facts: ModuleFacts, receivers: Receivers, function: ast.AST, value: a
             # the fixture it overrides: not followed)
             requested = bindings[0].arg
             owner = facts.parent(facts.parent(bindings[0]))
-            own = next((n for n, f in module_fixtures(facts).items() if f is function), None)
             return FIXTURE + requested if owner is function and requested != own else ""
         reaching = receivers.values_reaching(value)
         if reaching is None or len(reaching) != 1:

@@ -332,7 +332,7 @@ class WrapperForwarding(RuleFamily):
             # One question per object ("is `self.viewer` wrapped?"): asked at its first
             # read, which names the lines of the others (the plan's ask_once); those are
             # notes pointing there, so a person fixing the item sees every read.
-            owner = self.facts.enclosing_class(attr) if text.startswith("self.") else self.facts.enclosing_function(attr)
+            owner = self._question_owner(attr, text)
             self.report(
                 attr,
                 code,
@@ -400,7 +400,7 @@ class WrapperForwarding(RuleFamily):
             return False
         name = attr.attr
         text = dotted_name(attr.value) or "the env"
-        owner = self.facts.enclosing_class(attr) if text.startswith("self.") else self.facts.enclosing_function(attr)
+        owner = self._question_owner(attr, text)
         self.report(
             attr,
             "GM604",
@@ -412,6 +412,10 @@ class WrapperForwarding(RuleFamily):
             question=("GM604", "wrapped", id(owner), self.origins.stored_as(attr.value) or text),
         )
         return True
+
+    def _question_owner(self, attr: ast.Attribute, text: str) -> ast.AST | None:
+        """What one GM604 question is asked per: the class for a ``self.`` receiver, else the def."""
+        return self.facts.enclosing_class(attr) if text.startswith("self.") else self.facts.enclosing_function(attr)
 
     def _base_only(self, name: str) -> bool:
         """State or a method of the base envs that no wrapper class of the run defines."""
@@ -430,7 +434,7 @@ class WrapperForwarding(RuleFamily):
         if not doubles:
             return
         text = dotted_name(attr.value) or "the env"
-        owner = self.facts.enclosing_class(attr) if text.startswith("self.") else self.facts.enclosing_function(attr)
+        owner = self._question_owner(attr, text)
         self.report(
             attr,
             "GM604",

@@ -649,13 +649,17 @@ class EnvOrigins:
         return self.facts.memo((f"handed-gym-env:{receiver.attr}", id(classdef)), lambda: self._handed(receiver, classdef))
 
     def _handed(self, receiver: ast.Attribute, classdef: ast.ClassDef) -> str | None:
-        if any(receiver.attr in self.receivers.self_stores(c) for c in self.receivers.local_lineage(classdef)):
+        if self._stored_in_lineage(receiver, classdef):
             return None
         handed = self.receivers.attributes.handed_up(receiver)
         kinds = set(self._handed_kinds(handed.argument)) if handed is not None else set()
         if kinds == {EnvKind.GYM_ENV}:
             return EVERY
         return SOME if kinds == {EnvKind.GYM_ENV, EnvKind.UNKNOWN} else None
+
+    def _stored_in_lineage(self, receiver: ast.Attribute, classdef: ast.ClassDef) -> bool:
+        """``self.<attr>`` is stored by ``classdef`` or a class of this module it derives from."""
+        return any(receiver.attr in self.receivers.self_stores(c) for c in self.receivers.local_lineage(classdef))
 
     def stored_as(self, receiver: ast.expr) -> str | None:
         """``self._inner`` for ``self.inner``, a property of a base of the run returning that
@@ -665,7 +669,7 @@ class EnvOrigins:
         classdef = self.facts.enclosing_class(receiver)
         if classdef is None:
             return None
-        if any(receiver.attr in self.receivers.self_stores(c) for c in self.receivers.local_lineage(classdef)):
+        if self._stored_in_lineage(receiver, classdef):
             return None
         alias = self.receivers.attributes.property_alias(classdef, receiver.attr)
         return f"self.{alias}" if alias is not None else None
