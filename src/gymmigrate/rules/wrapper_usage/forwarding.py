@@ -393,7 +393,10 @@ class WrapperForwarding(RuleFamily):
         in one branch, an instance of a class looked up by name in another): where it is
         made, the read raises AttributeError. Reported, one question per object and scope,
         as the untraced side decides between ``.unwrapped`` and leaving it."""
-        if not isinstance(attr.ctx, ast.Load):
+        if not isinstance(attr.ctx, ast.Load) or not isinstance(attr.value, ast.Name):
+            # a name a factory's call bound (``env = make_env(...)``): an item of a container
+            # or an attribute is told by ``origin`` alone, and unjoining its values costs a walk
+            # of every item per read
             return False
         reached = self.origins.reached(attr.value)
         if None not in reached or not reached & _WRAPPER_ORIGINS:

@@ -114,6 +114,8 @@ class EnvOrigins:
         self._class_attrs: dict[ast.ClassDef, set[str]] = {}
         # (scope, name) -> (lines, values) of its assignments, sorted by line; None if one is not ``x = ...``
         self._assign_lines: dict[tuple[int, str], tuple[list[int], list[ast.expr]] | None] = {}
+        # assignment -> what the reads it settles may hold (``reached``)
+        self._reached_after: dict[ast.Assign, frozenset[Origin]] = {}
 
     def origin(self, expr: ast.AST | None) -> Origin:
         """MADE / WRAPPED / INNER / RAW, CYCLE, or None when it cannot be told."""
@@ -219,7 +221,11 @@ class EnvOrigins:
             statement = self.facts.statement_of(last) if isinstance(last, ast.Name) else None
             if isinstance(statement, ast.Assign) and statement.targets == [last] and flow.dominates(statement, expr, expr):
                 scope, _ = self.facts.resolve(expr.id, self.facts.scope_of(expr))
-                return self._reached(statement.value, frozenset({(id(scope), expr.id)}))
+                # every read after the same assignment sees the same values: asked once
+                found = self._reached_after.get(statement)
+                if found is None:
+                    found = self._reached_after[statement] = self._reached(statement.value, frozenset({(id(scope), expr.id)}))
+                return found
         return self._reached(expr, frozenset())
 
     def _reached(self, expr: ast.expr | None, seen: frozenset[_Key]) -> frozenset[Origin]:
