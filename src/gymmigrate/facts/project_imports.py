@@ -1,6 +1,7 @@
 """Which modules of the run reach which, passes of ``ProjectFacts.join``: the packages near
-each module, the env modules a module imports (directly or through package ``__init__``
-modules) for its untraced ``seed``/``render`` calls, the importers of a module registering
+each module, the env modules a module imports (directly, through package ``__init__``
+modules, or for ``render``, through the modules of the factories it imports) for its
+untraced ``seed``/``render`` calls, the importers of a module registering
 envs from data, and the packages the migrated imports require.
 """
 
@@ -111,8 +112,15 @@ def made_by_def(facts: ProjectFacts, qualified: str, importer: str, by_path: dic
 
 def env_modules_through_packages(facts: ProjectFacts, summary: ModuleSummary, by_path: dict[str, ModuleSummary]) -> set[str]:
     """``_imported_env_modules``, and those of every package ``__init__`` of the run it
-    imports, followed through the ``__init__`` modules those import."""
+    imports, followed through the ``__init__`` modules those import; and those of every
+    module whose def it imports (``from env import make_env``): a factory of the run builds
+    the env classes its own module imports (in its body, often), so an env this module got
+    from it, untraced, may be one of theirs."""
     found = imported_env_modules(facts, summary)
+    for qualified in summary.imported:
+        resolved = facts._resolve(qualified, summary.path)
+        if resolved is not None and resolved[0] in by_path and made_by_def(facts, qualified, summary.path, by_path):
+            found |= imported_env_modules(facts, by_path[resolved[0]])
     seen = {summary.path}
     queue = [summary]
     while queue:

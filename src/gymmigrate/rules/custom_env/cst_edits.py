@@ -609,17 +609,29 @@ class _PerAgentSplitter(cst.CSTTransformer):
 
 
 class _SelfSeedCallRemover(cst.CSTTransformer):
-    """Drops ``self.seed(...)`` statements, or puts ``replacement`` statements in their place."""
+    """Drops ``self.seed(...)`` statements, or puts ``replacement`` statements in their place;
+    with ``reseed`` (the seed parameter's name, the statement), a call that passes a seed
+    becomes that statement on it: the generator the call built stays built from its seed."""
 
-    def __init__(self, replacement: list[cst.BaseStatement] | None = None) -> None:
+    def __init__(self, replacement: list[cst.BaseStatement] | None = None, reseed: tuple[str, str] | None = None) -> None:
         self.replacement = replacement or []
+        self.reseed = reseed
 
     def leave_IndentedBlock(self, original_node: cst.IndentedBlock, updated_node: cst.IndentedBlock) -> cst.IndentedBlock:
         kept: list[cst.BaseStatement] = []
         carried: Sequence[cst.EmptyLine] = ()
+        reseeded = False
         for stmt in updated_node.body:
             if m.matches(stmt, m.SimpleStatementLine([m.Expr(m.Call(func=m.Attribute(value=m.Name("self"), attr=m.Name("seed") | m.Name("_seed"))))])):
                 carried = _leading_lines(stmt)
+                seed = _passed_seed(stmt, self.reseed[0]) if self.reseed is not None else None
+                if seed is not None and self.reseed is not None:
+                    text = self.reseed[1].format(cst.Module([]).code_for_node(seed))
+                    line = cast("cst.SimpleStatementLine", cst.parse_statement(text + "\n"))
+                    kept.append(line.with_changes(leading_lines=carried, trailing_whitespace=stmt.trailing_whitespace))  # type: ignore[attr-defined]
+                    carried = ()
+                    reseeded = True
+                    continue
                 if self.replacement:
                     kept.extend([self.replacement[0].with_changes(leading_lines=carried), *self.replacement[1:]])
                     carried = ()
@@ -628,11 +640,25 @@ class _SelfSeedCallRemover(cst.CSTTransformer):
                 stmt = stmt.with_changes(leading_lines=[*carried, *_leading_lines(stmt)])
                 carried = ()
             kept.append(stmt)
-        if len(kept) == len(updated_node.body) and not self.replacement:
+        if len(kept) == len(updated_node.body) and not self.replacement and not reseeded:
             return updated_node
         if not kept:
             kept = [cst.SimpleStatementLine([cst.Pass()])]
         return updated_node.with_changes(body=kept)
+
+
+def _passed_seed(stmt: cst.BaseStatement, parameter: str) -> cst.BaseExpression | None:
+    """The one seed ``self.seed(s)`` (or ``self.seed(seed=s)``) passes; None for
+    ``self.seed()``, ``self.seed(None)`` or anything starred (as ``seed.passes_one_seed``)."""
+    call = cast("cst.Call", cast("cst.Expr", cast("cst.SimpleStatementLine", stmt).body[0]).value)
+    if len(call.args) != 1:
+        return None
+    arg = call.args[0]
+    if arg.star or (arg.keyword is not None and arg.keyword.value != parameter):
+        return None
+    if isinstance(arg.value, cst.Name) and arg.value.value == "None":
+        return None
+    return arg.value
 
 
 class _SelfMethodCallRenamer(cst.CSTTransformer):

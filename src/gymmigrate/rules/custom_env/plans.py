@@ -36,6 +36,11 @@ class SeedPlan:
     # the class has no seed(): its ``self.seed()`` calls reached gym's Env.seed, gone in
     # Gymnasium, and only they are dropped
     base_calls_only: bool = False
+    # ``self.seed(s)`` calls that pass a seed become this statement (``{}``: the seed as
+    # written), ``self.np_random, _ = seeding.np_random(s)``: the generator the removed
+    # canonical seed() built from that seed, built in place (the seed's parameter name, the
+    # statement)
+    reseed: tuple[str, str] | None = None
 
 
 @dataclass

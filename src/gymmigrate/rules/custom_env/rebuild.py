@@ -168,7 +168,7 @@ class ClassRewrite:
             current = self.replacements.get(name, method)
             if current is None or name == seed_method or name not in seed.callers:
                 continue
-            new = current.visit(_SelfSeedCallRemover(setup if name == "__init__" else None))
+            new = current.visit(_SelfSeedCallRemover(setup if name == "__init__" else None, seed.reseed))
             if new is not current:
                 self.replacements[name] = new  # type: ignore[assignment]
         if moved:

@@ -104,7 +104,8 @@ def decide_render(decision: ClassDecision) -> None:
             caller = f"`{call}` at {where}{more}, in a subclass in another module of this run, asks it for a mode"
         elif elsewhere:
             caller = (
-                "another module of this run imports this class and passes a mode to `.render()` on an object that "
+                "another module of this run imports this class (or a factory of the run whose module does) and passes "
+                "a mode to `.render()` on an object that "
                 "could not be traced, or on a Gym env with a mode or arguments the rendering rules leave (GM401), "
                 "which may be an instance of it"
             )

@@ -100,6 +100,7 @@ def decide_seed(decision: ClassDecision) -> None:
     moved: list[int] = []
     canonical_names: set[str] = set()
     deleted: list[ast.stmt] = []
+    canonical: ast.Assign | None = None
     for index, group in enumerate(groups):
         if (index == 0 and is_docstring(group)) or _does_nothing(group):
             deleted.extend(group)  # a docstring, ``pass`` or ``...``: nothing to move
@@ -107,6 +108,7 @@ def decide_seed(decision: ClassDecision) -> None:
         target = _np_random_seeding(decision, group)
         if target is not None:
             canonical_names.update(target)
+            canonical = canonical or group[0]  # type: ignore[assignment]  # an Assign (``_np_random_seeding``)
             deleted.extend(group)
             continue
         if index == len(groups) - 1 and len(group) == 1 and isinstance(group[0], ast.Return) and not _seeds_held_object(group[0]):
@@ -170,8 +172,22 @@ def decide_seed(decision: ClassDecision) -> None:
     if setup and init_call is None:
         decision.report(seed_method, "GM503", "seed() also builds state that does not depend on the seed; move it into __init__ and the seeding into reset() by hand", FixKind.FLAG, question=moving_seed_question(seed_method))
         return
+    # Only seed()'s canonical line goes (nothing moved or set up): a seed passed to it still
+    # builds the generator where the call was (``seed=1001`` in __init__ made every run draw
+    # the same), instead of being dropped for a reset(seed=...) no caller makes.
+    reseed = _reseeding(decision, canonical, calls, seed_method, seed_name) if canonical is not None and not moved and not setup else None
+    reseeded = False
     for call in calls:
         if facts.enclosing_function(call) is seed_method or (setup and call is init_call):
+            continue
+        if reseed is not None and _passes_one_seed(call, seed_name):
+            reseeded = True
+            decision.report(
+                call,
+                "GM503",
+                f"self.seed(s) -> `{reseed[1].format('s')}`: Gymnasium's Env has no seed(); the seed given here still "
+                "builds the generator, as the removed seed() did, so runs seeded through it draw as before",
+            )
             continue
         given = _passes_a_seed(call)
         message = (
@@ -186,9 +202,12 @@ def decide_seed(decision: ClassDecision) -> None:
     elif setup:
         decision.report(init_call, "GM503", "the set-up seed() did besides seeding (spaces, objects) now runs here in __init__ instead of the self.seed() call", FixKind.ASSIST)  # type: ignore[arg-type]
     callers = {method.name for call in calls if (method := method_of(decision, call)) is not None}
-    decision.plan.seed = SeedPlan(moved=moved, setup=setup, renames={n: "seed" for n in seed_names if n != "seed"}, callers=callers)
+    decision.plan.seed = SeedPlan(
+        moved=moved, setup=setup, renames={n: "seed" for n in seed_names if n != "seed"}, callers=callers, reseed=reseed if reseeded else None
+    )
     decision.removed.add(seed_method.name)
-    decision.deleted_statements.extend(deleted)
+    # a reseeded call reads the seeding import the canonical line read: it stays
+    decision.deleted_statements.extend(s for s in deleted if not (reseeded and s is canonical))
     kept = set(moved) | set(setup)
     decision.family.context.notes.dropped_statements.update(
         node for index, group in enumerate(groups) if index not in kept for statement in group for node in walk(statement) if isinstance(node, ast.stmt)
@@ -260,6 +279,55 @@ def _state_only_seed_builds(statements: list[ast.stmt], init: ast.AST | None) ->
             if isinstance(node, ast.Attribute) and isinstance(node.ctx, ast.Store) and isinstance(node.value, ast.Name) and node.value.id == "self"
         }
     return assigned
+
+
+def _reseeding(
+    decision: ClassDecision, canonical: ast.Assign, calls: list[ast.Call], seed_method: ast.FunctionDef | ast.AsyncFunctionDef, seed_name: str
+) -> tuple[str, str] | None:
+    """``(seed_name, "self.np_random, _ = seeding.np_random({})")``: the canonical line of
+    seed() on the seed a call passes, in the words of this module, where the seeding
+    function it calls is a module-level import every caller of seed() still sees (no
+    parameter or local of theirs hides it). ``_`` read in a caller (a translation function)
+    is not rebound there: the first element is taken instead."""
+    facts = decision.family.facts
+    func = canonical.value.func  # type: ignore[attr-defined]  # ``is_seeding_np_random``: a call
+    root = func
+    while isinstance(root, ast.Attribute):
+        root = root.value
+    if not isinstance(root, ast.Name):
+        return None
+    bindings = facts.bindings_of(root)
+    if not bindings or not all(isinstance(b, ast.alias) and facts.parent(facts.parent(b)) is facts.tree for b in bindings):
+        return None
+    callers = {f for call in calls if (f := facts.enclosing_function(call)) is not None and f is not seed_method}
+    bound = {n.arg for f in callers for n in walk(f) if isinstance(n, ast.arg)} | {
+        n.id for f in callers for n in walk(f) if isinstance(n, ast.Name) and not isinstance(n.ctx, ast.Load)
+    }
+    if root.id in bound:
+        return None
+    target = canonical.targets[0]
+    attribute = target.elts[0] if isinstance(target, (ast.Tuple, ast.List)) else target
+    name = f"self.{attribute.attr}"  # type: ignore[attr-defined]  # ``_np_random_seeding``: a self attribute
+    seeding = facts.segment(func)
+    if "_" in bound or any(isinstance(n, ast.Name) and n.id == "_" for f in callers for n in walk(f)):
+        return seed_name, f"{name} = {seeding}({{}})[0]"
+    return seed_name, f"{name}, _ = {seeding}({{}})"
+
+
+def _passes_one_seed(call: ast.Call, parameter: str) -> bool:
+    """``self.seed(s)`` or ``self.seed(<parameter>=s)`` with one seed that is not None, the
+    calls ``_SelfSeedCallRemover`` reseeds on."""
+    if len(call.args) + len(call.keywords) != 1:
+        return False
+    if call.args:
+        value = call.args[0]
+        if isinstance(value, ast.Starred):
+            return False
+    else:
+        if call.keywords[0].arg != parameter:
+            return False
+        value = call.keywords[0].value
+    return not (isinstance(value, ast.Constant) and value.value is None)
 
 
 def _passes_a_seed(call: ast.Call) -> bool:
