@@ -306,6 +306,10 @@ class ModuleSummary:
     # a render() nor asks workers to render: a project's stub (``logger.warn(...)``), whose
     # callers need no render_mode anywhere (rules/rendering/).
     silent_renders: frozenset[str] = frozenset()
+    # Top-level classes that declare metadata render modes (-> them), or have exactly one
+    # base to inherit them from (-> None) (``frame_modes.frame_classes``): which envs give
+    # no frames for a legacy Monitor to record.
+    frame_classes: dict[str, tuple[str, ...] | None] = field(default_factory=dict)
     # classes whose render() forwards bare to the env they hold -> line of that forward
     render_forwards: dict[str, int] = field(default_factory=dict)
     # Top-level classes with an imported base that render themselves with a mode

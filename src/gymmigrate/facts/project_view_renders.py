@@ -8,6 +8,8 @@ import ast
 import os
 from typing import TYPE_CHECKING
 
+from gymmigrate.facts.frame_modes import FRAME_MODES
+
 if TYPE_CHECKING:
     from gymmigrate.facts.project import ProjectFacts
 
@@ -88,6 +90,25 @@ class RenderView:
         """An imported class of the run whose render() is a stub (it renders no env)."""
         split = self.facts._split(qualified, self.path)
         return split is not None and split in self.facts.silent_renders
+
+    def class_where(self, qualified: str) -> tuple[str, str] | None:
+        """(module path, class) of an imported class of the run that ``frame_modes`` knows."""
+        split = self.facts._split(qualified, self.path)
+        return split if split is not None and split in self.facts.frame_classes else None
+
+    def declares_no_frames(self, where: tuple[str, str]) -> bool:
+        """The class of the run, or the one base it inherits its metadata from (each of the
+        run), declares render modes and none is a frame mode (``frame_modes``)."""
+        seen: set[tuple[str, str]] = set()
+        current: tuple[str, str] | None = where
+        while current is not None and current not in seen and current in self.facts.frame_classes:
+            seen.add(current)
+            modes = self.facts.frame_classes[current]
+            if modes is not None:
+                return not FRAME_MODES & set(modes)
+            bases = self.facts.class_bases.get(current, ())
+            current = bases[0] if len(bases) == 1 else None
+        return False
 
     def render_forward(self, qualified: str) -> str | None:
         """For an imported class of the run whose render() forwards bare to the env it holds

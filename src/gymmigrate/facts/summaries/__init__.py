@@ -25,6 +25,7 @@ from gymmigrate.facts.creator_tables import altered_imports, writes_into_import
 from gymmigrate.facts.done_uses import top_level_records
 from gymmigrate.facts.env_classes import EnvClasses
 from gymmigrate.facts.env_specs import module_spec_lists, recreates_from_spec
+from gymmigrate.facts.frame_modes import frame_classes
 from gymmigrate.facts.id_params import escaping_parameters, id_parameters
 from gymmigrate.facts.init_attributes import module_class_stores
 from gymmigrate.facts.kinds import EnvKind
@@ -281,6 +282,7 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         stored_attributes=stored_attributes(facts, receivers),
         handed_on=handed_on(facts),
         silent_renders=frozenset(name for name, classdef in facts.classes.items() if renders_nothing(facts, classdef)),
+        frame_classes=frame_classes(facts),
         render_forwards=render_forwards(facts, receivers),
         atari_users=atari_users(facts),
         id_params=id_parameters(facts, receivers),

@@ -11,6 +11,7 @@ import ast
 from gymmigrate.facts import names as N
 from gymmigrate.facts.class_shapes import renders_nothing
 from gymmigrate.facts.decisions import Action, receiver_text
+from gymmigrate.facts.frame_modes import frameless_env
 from gymmigrate.facts.import_guards import import_error_guard
 from gymmigrate.facts.module import keyword
 from gymmigrate.findings import FixKind
@@ -105,7 +106,8 @@ class RecorderSites(RenderingBase):
         """The env of a ``Monitor`` that becomes ``RecordVideo`` (GM611), else None.
 
         Mirrors the wrapper family's rewrite: it needs the env and the directory, no
-        star arguments, and videos (``video_callable=False`` becomes RecordEpisodeStatistics).
+        star arguments, and videos (``video_callable=False``, or an env whose class declares
+        no frame mode, ``frame_modes``, becomes RecordEpisodeStatistics).
         """
         if not call.args or any(isinstance(a, ast.Starred) for a in call.args) or any(k.arg is None for k in call.keywords):
             return None
@@ -114,7 +116,10 @@ class RecorderSites(RenderingBase):
         trigger = values.get("video_callable")
         if "directory" not in values or (isinstance(trigger, ast.Constant) and trigger.value is False):
             return None
-        return values.get("env")
+        env = values.get("env")
+        if env is not None and frameless_env(self.facts, self.receivers, env) is not None:
+            return None  # an env that gives no frames: its Monitor recorded none, and becomes statistics alone
+        return env
 
     def _sb3_make_vec_env(self, expr: ast.AST) -> str | None:
         """``make_vec_env`` builds the envs itself: the mode goes in its ``env_kwargs``."""

@@ -4,7 +4,9 @@ gym 0.23 removed ``gym.wrappers.Monitor``. Its statistics are ``RecordEpisodeSta
 and its videos ``RecordVideo``, which needs frames: the env must be made with
 ``render_mode="rgb_array"``. Stable-Baselines3's ``Monitor`` is another class and is
 never touched (SB108); ``Monitor(..., video_callable=False)`` recorded no video and
-becomes ``RecordEpisodeStatistics`` alone.
+becomes ``RecordEpisodeStatistics`` alone, and so does a Monitor over an env whose class
+declares no frame mode (``facts/frame_modes.py``): legacy Monitor switched its video
+recorder off for such an env, and the rendering family gives its make no mode either.
 
 The render mode is part of the same decision, taken on the original source like every
 other. Where the env's ``make`` call is found (every path from the env argument ends in
@@ -26,6 +28,7 @@ from gymmigrate.edits.arguments import append_keyword
 from gymmigrate.edits.lazy import cst
 from gymmigrate.edits.syntax import dotted_node
 from gymmigrate.facts.flow import Flow
+from gymmigrate.facts.frame_modes import frameless_env
 from gymmigrate.facts.module import dotted_name, keyword
 from gymmigrate.findings import FixKind, Tier, recorder_mode_question
 from gymmigrate.rules.wrapper_usage.arguments import positional
@@ -81,10 +84,44 @@ def plan_monitor(family: StacksFamily, call: ast.Call) -> MonitorRewrite | None:
     # Where each value sits in the call, to find its LibCST counterpart in the build.
     where = {name: _argument_slot(call, value) for name, value in values.items()}
 
-    if isinstance(trigger, ast.Constant) and trigger.value is False:
-        family.report(call, "GM611", f"Monitor without videos is RecordEpisodeStatistics{note}{explained}", tier=None if note else Tier.NOTE)
+    with_trigger = trigger is not None and not (isinstance(trigger, ast.Constant) and trigger.value is None)
+    # ``env = Monitor(env, d)`` next to ``env = RecordEpisodeStatistics(env)``: the code keeps
+    # its own statistics wrapper, so the Monitor's would count every episode twice.
+    counted = _statistics_beside(family, call)
+    # An env whose class declares render modes without a frame mode: legacy Monitor switched
+    # its video recorder off for it and wrote statistics only. RecordVideo has no such switch
+    # (it needs render_mode="rgb_array", which the env cannot honour), so the statistics are
+    # the faithful rewrite.
+    frameless = frameless_env(family.facts, family.receivers, env)
+    if frameless is not None or (isinstance(trigger, ast.Constant) and trigger.value is False):
+        if frameless is not None:
+            if "force" in values:  # nothing records into the folder now
+                explained = explained.replace("RecordVideo writes over the folder's files", "it cleared the folder's Monitor files, which nothing writes now")
+            # the folder read elsewhere (a plotter of the Monitor's statistics files, a copy
+            # of them): nothing writes those files now, which a person must know
+            elsewhere = _read_elsewhere(family, values["directory"], call)
+            if elsewhere:
+                note += (
+                    f"; `{family.facts.segment(values['directory'])}` is read at {elsewhere}: the Monitor's statistics "
+                    "files are not written there any more"
+                )
+            family.report(
+                call,
+                "GM611",
+                f"Monitor over {frameless}, whose metadata declares no \"rgb_array\" render mode, recorded no video, only "
+                f"statistics (legacy Monitor switched its video recorder off): "
+                + ("the RecordEpisodeStatistics beside it keeps them, so it is its env" if counted else "it is RecordEpisodeStatistics")
+                + f"{note}{explained}",
+                tier=None if note else Tier.NOTE,
+            )
+        else:
+            family.report(call, "GM611", f"Monitor without videos is RecordEpisodeStatistics{note}{explained}", tier=None if note else Tier.NOTE)
 
         def stats_only(node: cst.Call) -> cst.BaseExpression:
+            if counted and frameless is not None:
+                # the RecordEpisodeStatistics beside it counts already; a second would add
+                # the episode statistics to info twice (Gymnasium refuses that)
+                return _slot_value(node, where["env"])
             return cst.Call(
                 func=dotted_node(prefix + "RecordEpisodeStatistics"),
                 args=[cst.Arg(value=_slot_value(node, where["env"]))],
@@ -93,11 +130,7 @@ def plan_monitor(family: StacksFamily, call: ast.Call) -> MonitorRewrite | None:
             )
 
         family.plan.replace(call, stats_only)
-        return MonitorRewrite(uses=("RecordEpisodeStatistics",) if not prefix else ())
-    with_trigger = trigger is not None and not (isinstance(trigger, ast.Constant) and trigger.value is None)
-    # ``env = Monitor(env, d)`` next to ``env = RecordEpisodeStatistics(env)``: the code keeps
-    # its own statistics wrapper, so the Monitor's would count every episode twice.
-    counted = _statistics_beside(family, call)
+        return MonitorRewrite(uses=("RecordEpisodeStatistics",) if not (prefix or (counted and frameless is not None)) else ())
 
     def record_video(node: cst.Call) -> cst.BaseExpression:
         eq = cst.AssignEqual(cst.SimpleWhitespace(""), cst.SimpleWhitespace(""))
@@ -130,6 +163,15 @@ def plan_monitor(family: StacksFamily, call: ast.Call) -> MonitorRewrite | None:
     if prefix:
         return MonitorRewrite(uses=())
     return MonitorRewrite(uses=("RecordVideo",) if counted else ("RecordEpisodeStatistics", "RecordVideo"))
+
+
+def _read_elsewhere(family: StacksFamily, directory: ast.expr, call: ast.Call) -> str:
+    """``line 12, 40`` for the other reads of the folder name ``directory`` in its scope."""
+    if not isinstance(directory, ast.Name):
+        return ""
+    reads = family.facts.scope_of(directory).reads.get(directory.id, [])
+    lines = sorted({read.lineno for read in reads if read is not directory and read.lineno != call.lineno})
+    return ("line " if len(lines) == 1 else "lines ") + ", ".join(map(str, lines)) if lines else ""
 
 
 def _statistics_beside(family: StacksFamily, call: ast.Call) -> bool:
