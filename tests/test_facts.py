@@ -196,6 +196,28 @@ def test_a_def_passing_its_parameter_on_at_many_calls_asks_each_frontier_once() 
     assert len(asked) < 2000
 
 
+def test_a_def_rebinding_its_parameter_under_many_ifs_walks_each_set_of_bindings_once() -> None:
+    # ``wrap_deepmind``: ``env = Wrapper(env)`` eight times, under ``if``s. Every read of
+    # ``env`` reads all eight bindings; a walk from one rebinding depends on the set already
+    # on its path, not the order (8!: over two hundred thousand walks), so it is kept per set.
+    lines = ["import gym", "from gym import wrappers", "def wrap(env, flags):"]
+    for i in range(8):
+        lines += [f"    if flags[{i}]:", "        env = wrappers.TimeLimit(env, 100)"]
+    lines += ["    return env"]
+    facts = facts_of("\n".join(lines))
+    receivers = Receivers(facts)
+    hands_on = receivers._hands_on_param
+    walked: list[ast.AST] = []
+
+    def counted(value: ast.expr, *rest: object) -> bool:
+        walked.append(value)
+        return hands_on(value, *rest)  # type: ignore[arg-type]
+
+    receivers._hands_on_param = counted  # type: ignore[method-assign]
+    assert receivers.wraps_argument(facts.functions["wrap"]) is True
+    assert len(walked) < 5000
+
+
 @pytest.mark.parametrize(
     ("code", "handles"),
     [
