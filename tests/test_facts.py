@@ -173,6 +173,51 @@ def test_a_long_rebinding_chain_is_linear_and_cannot_overflow() -> None:
     assert len(receivers._cache) < 5000
 
 
+def test_a_def_passing_its_parameter_on_at_many_calls_asks_each_frontier_once() -> None:
+    # ``parse(text, params)`` calling itself at eight places with ``params`` (a recursive
+    # descent parser): each call's argument is asked while others are open, and its
+    # "unknown", cut short, is not kept. Asked again under the same open questions it is
+    # reused, so the work follows the sets of open calls (2**8), not their orders (8!:
+    # about a hundred thousand classifications, half a minute).
+    lines = ["import gym", "def parse(text, params):", "    if not text:", "        return params.reset()"]
+    lines += [f"    if text[0] == {i}:\n        return parse(text[1:], params)" for i in range(8)]
+    lines += ["parse('ab', gym.make('CartPole-v1'))"]
+    facts = facts_of("\n".join(lines))
+    receivers = Receivers(facts)
+    classify = receivers._classify
+    asked: list[ast.AST] = []
+
+    def counted(expr: ast.AST) -> EnvKind:
+        asked.append(expr)
+        return classify(expr)
+
+    receivers._classify = counted  # type: ignore[method-assign]
+    assert receivers.kind_of(name_reads(facts, "params")[0]) is EnvKind.UNKNOWN
+    assert len(asked) < 2000
+
+
+def test_a_def_rebinding_its_parameter_under_many_ifs_walks_each_set_of_bindings_once() -> None:
+    # ``wrap_deepmind``: ``env = Wrapper(env)`` eight times, under ``if``s. Every read of
+    # ``env`` reads all eight bindings; a walk from one rebinding depends on the set already
+    # on its path, not the order (8!: over two hundred thousand walks), so it is kept per set.
+    lines = ["import gym", "from gym import wrappers", "def wrap(env, flags):"]
+    for i in range(8):
+        lines += [f"    if flags[{i}]:", "        env = wrappers.TimeLimit(env, 100)"]
+    lines += ["    return env"]
+    facts = facts_of("\n".join(lines))
+    receivers = Receivers(facts)
+    hands_on = receivers._hands_on_param
+    walked: list[ast.AST] = []
+
+    def counted(value: ast.expr, *rest: object) -> bool:
+        walked.append(value)
+        return hands_on(value, *rest)  # type: ignore[arg-type]
+
+    receivers._hands_on_param = counted  # type: ignore[method-assign]
+    assert receivers.wraps_argument(facts.functions["wrap"]) is True
+    assert len(walked) < 5000
+
+
 @pytest.mark.parametrize(
     ("code", "handles"),
     [

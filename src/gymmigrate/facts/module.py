@@ -119,6 +119,9 @@ class ModuleFacts:
         self.strings: list[ast.Constant] = []
         self.import_statements: list[ast.Import | ast.ImportFrom] = []
         self._memo: dict[tuple[str, int], object] = {}
+        # Every store into ``_memo`` counts: a receiver answer cut short by a cycle may be
+        # reused only while no fact it could have read has changed (``Receivers.kind_of``).
+        self.memo_writes = 0
         # Whether a qualified name is a record class of another module of the run (set by the
         # engine from the run's facts; ``done_uses.builds_record``). None of them outside a run.
         self.is_run_record: Callable[[str], bool] = _no_record
@@ -518,7 +521,9 @@ class ModuleFacts:
             pass
         if while_computing is not _UNSET:
             self._memo[key] = while_computing
+            self.memo_writes += 1
         value = self._memo[key] = compute()
+        self.memo_writes += 1
         return value
 
 

@@ -69,6 +69,11 @@ class Narrowing:
         self._bound: dict[tuple[int, str], bool] = {}
         self._afters: dict[tuple[int, State, str], State] = {}
 
+    def answers(self) -> int:
+        """How many states are kept: they grow as the receiver analysis answers, so a count
+        that has not moved means none of its answers changed since."""
+        return len(self._afters) + len(self._bound)
+
     def is_env(self, read: ast.Name) -> bool:
         """Every path to ``read`` has made or checked its name a Gym env."""
         return self._state(read) is State.GYM

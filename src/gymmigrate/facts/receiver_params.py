@@ -108,14 +108,14 @@ class ParameterKinds(CallerSites, ThunkKinds):
             # an env the run migrates, as likely as not): a VecEnv at one site proves nothing of
             # the others, so the calls are reported (``mixed_callers``), not left in silence.
             shown = ", ".join(f"`{text}`" for text in sorted(set(own_objects)))
-            self._mixed_params[param] = ([f"project's own object ({shown})"], [EnvKind.SB3_VEC.value])
+            self.note(self._mixed_params, param, ([f"project's own object ({shown})"], [EnvKind.SB3_VEC.value]))
             return EnvKind.UNKNOWN
 
         others = {k for k in kinds if k not in (EnvKind.NOT_ENV, EnvKind.UNKNOWN) and not k.is_gym}
         if gym and others:
             # Some callers pass a Gym env, others a VecEnv or a PettingZoo env: the same code
             # serves both, so no rewrite is right for all of them; reported (``mixed_callers``).
-            self._mixed_params[param] = (sorted(k.value for k in gym), sorted(k.value for k in others))
+            self.note(self._mixed_params, param, (sorted(k.value for k in gym), sorted(k.value for k in others)))
             local = kinds[len(external) :]
             if self.project is not None and not any(k in others for k in local) and not is_test_path(self.project.path):
                 # every other kind is a test module's double (``MockEnv`` with an ``ale`` of its
@@ -123,7 +123,7 @@ class ParameterKinds(CallerSites, ThunkKinds):
                 qualname = f"{classdef.name}.{function.name}" if is_method else function.name  # type: ignore[union-attr]
                 doubles = self.project.test_double_callers(qualname, name)
                 if doubles:
-                    self._test_double_params[param] = doubles
+                    self.note(self._test_double_params, param, doubles)
             return EnvKind.UNKNOWN
         if gym:
             kept, other = self.param_kept_classes(param)
@@ -131,7 +131,7 @@ class ParameterKinds(CallerSites, ThunkKinds):
                 # Some callers pass an instance of a class whose step and reset the run keeps
                 # on their own contract (``legacy_step_class``), others another env: the calls
                 # here cannot follow both contracts; reported (``mixed_callers``).
-                self._mixed_params[param] = (sorted(k.value for k in gym), [f"{name} (whose step and reset keep their own contract)" for name in sorted(kept)])
+                self.note(self._mixed_params, param, (sorted(k.value for k in gym), [f"{name} (whose step and reset keep their own contract)" for name in sorted(kept)]))
                 return EnvKind.UNKNOWN
         return join_kinds(kinds)
 

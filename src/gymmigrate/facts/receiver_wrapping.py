@@ -12,7 +12,8 @@ the expression being classified: ``Receivers`` asks it what a call returns, and
 from __future__ import annotations
 
 import ast
-from typing import TYPE_CHECKING
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, NamedTuple
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.kinds import MAX_DEPTH
@@ -93,10 +94,22 @@ class WrappingCalls(_Facade):
         if not positional:
             return False
         values = [r.value for r in own_returns(function)]
-        return bool(values) and all(v is not None and self._hands_on_param(v, positional[0], function, 0) for v in values)
+        answers: dict[tuple[int, frozenset[int]], _HandedOn] = {}
+        return bool(values) and all(v is not None and self._hands_on_param(v, positional[0], function, 0, frozenset(), answers, _Walk()) for v in values)
 
-    def _hands_on_param(self, value: ast.expr, param: ast.arg, function: ast.AST, depth: int, seen: frozenset[int] = frozenset()) -> bool:
+    def _hands_on_param(
+        self,
+        value: ast.expr,
+        param: ast.arg,
+        function: ast.AST,
+        depth: int,
+        seen: frozenset[int],
+        answers: dict[tuple[int, frozenset[int]], _HandedOn],
+        walk: _Walk,
+    ) -> bool:
+        walk.deepest = max(walk.deepest, depth)
         if depth > MAX_DEPTH:
+            walk.cut = True
             return False
         if isinstance(value, ast.Call):
             if value.args and isinstance(value.args[0], ast.Starred):
@@ -104,10 +117,10 @@ class WrappingCalls(_Facade):
             if not value.args:
                 # ``PermuteFrame(env=env, ...)``: gym.Wrapper names the env it wraps ``env``
                 inner = next((k.value for k in value.keywords if k.arg == "env"), None)
-                return inner is not None and self._makes_gym_wrapper(value) and self._hands_on_param(inner, param, function, depth + 1, seen)
+                return inner is not None and self._makes_gym_wrapper(value) and self._hands_on_param(inner, param, function, depth + 1, seen, answers, walk)
             local = self.local_function(value.func)
             hands_on = self._makes_gym_wrapper(value) or (local is not None and local is not function and self.wraps_argument(local))
-            return hands_on and self._hands_on_param(value.args[0], param, function, depth + 1, seen)
+            return hands_on and self._hands_on_param(value.args[0], param, function, depth + 1, seen, answers, walk)
         if not (isinstance(value, ast.Name) and value.id == param.arg):
             return False
         for binding in self.facts.bindings_of(value):
@@ -120,6 +133,52 @@ class WrappingCalls(_Facade):
                 return False
             if id(assign) in seen:
                 continue  # ``env = Clip(env)`` read back through itself: no other value
-            if not self._hands_on_param(assign.value, param, function, depth + 1, seen | {id(assign)}):
+            if not self._assigned_hands_on(assign, param, function, depth + 1, seen | {id(assign)}, answers, walk):
                 return False
         return True
+
+    def _assigned_hands_on(
+        self,
+        assign: ast.Assign,
+        param: ast.arg,
+        function: ast.AST,
+        depth: int,
+        seen: frozenset[int],
+        answers: dict[tuple[int, frozenset[int]], _HandedOn],
+        walk: _Walk,
+    ) -> bool:
+        """``_hands_on_param`` of one rebinding's value. Every read of the parameter's name
+        reads all its bindings in the def (``env = A(env)`` ten times over), each walked with
+        the bindings already on the path left out: every order of them, 10! walks (``wrap_deepmind``:
+        minutes). The walk from a rebinding depends on that set, not on the order it was
+        built in, so its answer is kept per (rebinding, set) and the walks follow the sets;
+        one the depth bound cut short is walked again, as before (and reused only where
+        the bound is as far away)."""
+        key = (id(assign), seen)
+        known = answers.get(key)
+        if known is not None and depth + known.height <= MAX_DEPTH:
+            walk.deepest = max(walk.deepest, depth + known.height)
+            return known.answer
+        inner = _Walk()
+        answer = self._hands_on_param(assign.value, param, function, depth, seen, answers, inner)
+        if not inner.cut:
+            answers[key] = _HandedOn(answer, inner.deepest - depth)
+        walk.cut = walk.cut or inner.cut
+        walk.deepest = max(walk.deepest, inner.deepest)
+        return answer
+
+
+@dataclass
+class _Walk:
+    """What one walk of ``_hands_on_param`` met: whether the depth bound cut it short, and
+    how deep it went."""
+
+    cut: bool = False
+    deepest: int = 0
+
+
+class _HandedOn(NamedTuple):
+    """A rebinding's answer, from a walk the depth bound did not cut short."""
+
+    answer: bool
+    height: int  # how far below the rebinding the walk went

@@ -31,7 +31,7 @@ what pytest passes a test. Two helpers it owns answer narrower questions:
 from __future__ import annotations
 
 import ast
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, NamedTuple
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts import same_tests
@@ -78,6 +78,16 @@ _NOT_ENV_EXPRESSIONS = (
 )
 
 
+class _CutAnswer(NamedTuple):
+    """An "unknown" of ``kind_of`` cut short by the questions open above it: what the
+    analysis looked like when it was asked (``Receivers._mark``), and what computing it
+    did besides answering, to be done again when it is reused."""
+
+    mark: tuple[int, ...]
+    cuts: int
+    effects: tuple[tuple[dict, object, object], ...]
+
+
 class Receivers(BindingKinds, WrappingCalls, ClassKinds, ParameterKinds, MadeObjects):
     """Classifies expressions of one module. One per file, shared by every rule.
 
@@ -92,6 +102,10 @@ class Receivers(BindingKinds, WrappingCalls, ClassKinds, ParameterKinds, MadeObj
         self._cache: dict[ast.AST, EnvKind] = {}
         self._in_progress: set[ast.AST] = set()
         self._cuts = 0  # answers cut short by a cycle (or the depth bound) so far
+        # (expression, questions open, classes being asked, depth) -> its cut-short answer
+        self._cut_answers: dict[tuple[ast.AST, frozenset[ast.AST], frozenset[ast.ClassDef], int], _CutAnswer] = {}
+        # stores into the tables of what callers pass (``note``), in order, while a question is open
+        self._effects: list[tuple[dict, object, object]] = []
         self._name_kinds: dict[int, EnvKind] = {}  # id(bindings list) -> kind, see _classify_name
         self._mixed: set[int] = set()  # bindings lists whose kinds disagree
         self._vec_wrapped: dict[int, str] = {}  # id(Gym wrapper class) -> what it wraps (``wraps_vec_env``)
@@ -132,6 +146,25 @@ class Receivers(BindingKinds, WrappingCalls, ClassKinds, ParameterKinds, MadeObj
         if expr in self._in_progress or self.depth > MAX_DEPTH:
             self._cuts += 1
             return EnvKind.UNKNOWN  # a cycle such as ``env = wrap(env)``: no new evidence
+        # An answer cut short is not kept (below), yet the same question comes back with the
+        # same questions open: a def passing its parameter on at k calls of itself asks each
+        # call's argument again under every order of the others, k! paths. What an answer can
+        # depend on is the questions open (and the classes being asked, and the depth) and
+        # the answers kept so far; while those are the same, computing it again gives the
+        # same "unknown" and does the same stores, so it is reused with them, and the paths
+        # collapse to the sets of open questions. Only an answer whose computation kept
+        # nothing new is reused: then the analysis it saw is the one it left.
+        frontier = None
+        if self._in_progress:
+            frontier = (expr, frozenset(self._in_progress), frozenset(self._vec_wrapping), self.depth)
+            known = self._cut_answers.get(frontier)
+            if known is not None and known.mark == self._mark():
+                self._cuts += known.cuts
+                for table, key, value in known.effects:
+                    self.note(table, key, value)
+                return EnvKind.UNKNOWN
+        mark = self._mark() if frontier is not None else ()
+        effects = len(self._effects)
         self._in_progress.add(expr)
         self.depth += 1
         cuts = self._cuts
@@ -144,9 +177,33 @@ class Receivers(BindingKinds, WrappingCalls, ClassKinds, ParameterKinds, MadeObj
             # "Unknown" only because a question still open above was cut short (``env =
             # wrap(env, clip)`` asked while ``wrap``'s parameter is): the open question may
             # settle it, so it is asked again later rather than kept.
+            if frontier is not None and self._mark() == mark:
+                self._cut_answers[frontier] = _CutAnswer(mark, self._cuts - cuts, tuple(self._effects[effects:]))
             return kind
+        if not self._in_progress:
+            self._effects.clear()  # no question is open to reuse them
         self._cache[expr] = kind
         return kind
+
+    def note(self, table: dict, key: object, value: object) -> None:
+        """Store ``value`` under ``key`` in one of the tables filled on the way to an answer
+        (``_mixed_params``): recorded, so a reused answer stores it again."""
+        table[key] = value
+        if self._in_progress:
+            self._effects.append((table, key, value))
+
+    def _mark(self) -> tuple[int, ...]:
+        """The sizes of everything kept that an answer may read: they only grow, so equal
+        sizes mean nothing kept has changed."""
+        return (
+            len(self._cache),
+            len(self._name_kinds),
+            len(self._mixed),
+            len(self._vec_wrapped),
+            self.facts.memo_writes,
+            self.narrowing.answers(),
+            self.class_narrowing.answers(),
+        )
 
     def qualified_names(self, node: ast.AST) -> set[str]:
         return self.facts.qualified_names(node)
