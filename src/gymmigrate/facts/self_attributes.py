@@ -314,6 +314,17 @@ class SelfAttributes:
             return None  # the class stores it itself
         if any(isinstance(s, FUNCTIONS) and s.name == "__init__" for s in classdef.body):
             return None
+        # Decided once per class and attribute: classes that build one another from the same
+        # held attribute (``Subgoal(self.bot)`` in each subclass of ``Subgoal``) would
+        # otherwise ask it again along every order of their construction sites. While it is
+        # being decided, the question asked back settles nothing (None: the stores' join).
+        return self.facts.memo(
+            (f"own-constructions:{name}", id(classdef)),
+            partial(self._decide_own_constructions, classdef, values),
+            while_computing=None,
+        )
+
+    def _decide_own_constructions(self, classdef: ast.ClassDef, values: list[ast.expr]) -> EnvKind | None:
         positions: set[tuple[int, str]] = set()
         for value in values:
             bindings = self.facts.bindings_of(value) if isinstance(value, ast.Name) else []
