@@ -9,6 +9,7 @@ import pytest
 
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.flow import Flow
+from gymmigrate.facts.kinds import WORK_BUDGET
 from gymmigrate.facts.module import call_argument, full_name, own_returns
 from gymmigrate.facts.per_agent_flags import PerAgent, per_agent_done
 from gymmigrate.facts.receivers import EnvKind, Receivers
@@ -242,6 +243,37 @@ def test_classes_building_one_another_from_a_held_attribute_decide_it_once_per_c
     read = next(a for a in facts.attributes["bot"] if a.lineno == len(lines) and isinstance(a.ctx, ast.Load))
     assert receivers.kind_of(read) is EnvKind.UNKNOWN
     assert len(asked) < 3000
+
+
+def test_a_question_through_dozens_of_mutually_recursive_methods_is_given_up_within_its_budget() -> None:
+    # A compiler: ``_compile(expr, info)`` dispatches to a ``_compile_<op>(self, expr,
+    # info)`` per operator, each compiling its operands with ``self._compile(arg, info)``.
+    # What ``info`` holds is asked along every order of the methods (2**k open sets even
+    # when kept per set); past the budget the question is "unknown", and the questions
+    # open then are kept so, so the next read does not pay again.
+    ops = [f"op{i}" for i in range(16)]
+    lines = ["import gym", "class Compiler:", "    def _compile(self, expr, info):"]
+    lines += [f"        if expr.kind == {op!r}:\n            return self._compile_{op}(expr, info)" for op in ops]
+    lines += ["        return info.reset()"]
+    for op in ops:
+        lines += [f"    def _compile_{op}(self, expr, info):"]
+        lines += [f"        a{j} = self._compile(expr.args[{j}], info)" for j in range(2)]
+        lines += ["        return info.step(a0)"]
+    lines += ["Compiler()._compile(None, gym.make('CartPole-v1'))"]
+    facts = facts_of("\n".join(lines))
+    receivers = Receivers(facts)
+    classify = receivers._classify
+    asked: list[ast.AST] = []
+
+    def counted(expr: ast.AST) -> EnvKind:
+        asked.append(expr)
+        return classify(expr)
+
+    receivers._classify = counted  # type: ignore[method-assign]
+    reads = name_reads(facts, "info")
+    kinds = [receivers.kind_of(read) for read in reads]
+    assert set(kinds) <= {EnvKind.UNKNOWN, EnvKind.GYM_ENV}
+    assert len(asked) < 2 * WORK_BUDGET
 
 
 @pytest.mark.parametrize(

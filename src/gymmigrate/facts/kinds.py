@@ -20,6 +20,14 @@ if TYPE_CHECKING:
 # callers report. Keeps recursion far from the interpreter's limit.
 MAX_DEPTH = 120
 
+# Receiver questions one question may open in all, counting the ones it asks back. A real
+# question opens a few hundred at most (the benchmark's packages and the fixtures under
+# a hundred); code that dispatches among dozens of mutually recursive methods
+# (``self._compile(expr, info)`` in each of sixty ``_compile_<op>(self, expr, info)``)
+# opens one per order of them. Past the budget the question is given up as "unknown",
+# which callers report, like a cycle.
+WORK_BUDGET = 20_000
+
 
 class EnvKind(str, Enum):
     GYM_ENV = "Gym env"

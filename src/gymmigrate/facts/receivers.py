@@ -38,7 +38,7 @@ from gymmigrate.facts import same_tests
 from gymmigrate.facts.callables import CallableKinds
 from gymmigrate.facts.env_specs import is_spec_make
 from gymmigrate.facts.flow import Flow
-from gymmigrate.facts.kinds import MAX_DEPTH, EnvKind, join_kinds
+from gymmigrate.facts.kinds import MAX_DEPTH, WORK_BUDGET, EnvKind, join_kinds
 from gymmigrate.facts.module import (
     FUNCTIONS,
     ModuleFacts,
@@ -115,6 +115,8 @@ class Receivers(BindingKinds, WrappingCalls, ClassKinds, ParameterKinds, MadeObj
         # of those, the parameters whose other kinds come only from test modules: their callers there
         self._test_double_params: dict[ast.arg, list[str]] = {}
         self.depth = 0  # shared with the helpers: one bound on the whole chain of questions
+        self._work = 0  # questions opened since the outermost open one was asked
+        self._given_up = False  # the outermost open question ran past WORK_BUDGET
         self.callables = CallableKinds(self, project)
         self.narrowing = Narrowing(facts, lambda value: self.kind_of(value) is EnvKind.GYM_ENV)
         self.class_narrowing = Narrowing(facts, lambda value: False, check="issubclass")
@@ -146,6 +148,12 @@ class Receivers(BindingKinds, WrappingCalls, ClassKinds, ParameterKinds, MadeObj
         if expr in self._in_progress or self.depth > MAX_DEPTH:
             self._cuts += 1
             return EnvKind.UNKNOWN  # a cycle such as ``env = wrap(env)``: no new evidence
+        if self._given_up:
+            return EnvKind.UNKNOWN  # unwinding a question given up (below)
+        self._work = self._work + 1 if self._in_progress else 1
+        if self._work > WORK_BUDGET:
+            self._given_up = True
+            return EnvKind.UNKNOWN
         # An answer cut short is not kept (below), yet the same question comes back with the
         # same questions open: a def passing its parameter on at k calls of itself asks each
         # call's argument again under every order of the others, k! paths. What an answer can
@@ -173,6 +181,14 @@ class Receivers(BindingKinds, WrappingCalls, ClassKinds, ParameterKinds, MadeObj
         finally:
             self.depth -= 1
             self._in_progress.discard(expr)
+        if self._given_up:
+            # Every question open when the budget ran out is kept as "unknown", so the
+            # questions asked after it do not spend the budget on the same paths again.
+            self._cache[expr] = EnvKind.UNKNOWN
+            if not self._in_progress:
+                self._given_up = False
+                self._effects.clear()
+            return EnvKind.UNKNOWN
         if kind is EnvKind.UNKNOWN and self._cuts != cuts and self._in_progress:
             # "Unknown" only because a question still open above was cut short (``env =
             # wrap(env, clip)`` asked while ``wrap``'s parameter is): the open question may
