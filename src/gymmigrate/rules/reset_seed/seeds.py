@@ -200,7 +200,7 @@ class SeedCalls(ResetSeedBase):
         nothing rebinds before the reset; otherwise the call is reported and left. Where no
         reset of the env follows the if in its block, the seeded reset in place stays."""
         branch = self.facts.parent(statement)
-        if not isinstance(branch, ast.If) or segment(self.facts, receiver) is None:
+        if not isinstance(branch, ast.If):
             return False
         in_body = bool(branch.body) and branch.body[-1] is statement
         in_else = bool(branch.orelse) and branch.orelse[-1] is statement
@@ -238,8 +238,14 @@ class SeedCalls(ResetSeedBase):
                 self.plan.replace(branch, _without_else)
         test = segment(self.facts, branch.test)
         seed = value.get(as_int=numpy, moved=lambda: removed in self.plan.removed)
-        self._edit(reset).add_seed = _conditional_seed(seed, test, in_body)
         shown = f"s if {test} else None" if in_body else f"None if {test} else s"
+        argument = _seed_argument(call)
+        if argument is not None and _none_guard(branch.test, in_body) == ast.unparse(argument):
+            # ``if s is not None: env.seed(s)``: reset(seed=None) is what the other path does anyway
+            self._edit(reset).add_seed = seed
+            shown = "s"
+        else:
+            self._edit(reset).add_seed = _conditional_seed(seed, test, in_body)
         self.report(
             call,
             code,
@@ -686,6 +692,15 @@ def _conditional_seed(
         return cst.IfExp(test=condition, body=body, orelse=orelse)
 
     return value
+
+
+def _none_guard(test: ast.expr, in_body: bool) -> str | None:
+    """``x`` of ``if x is not None:`` (seed in the body) or ``if x is None:`` (seed in the else)."""
+    if not (isinstance(test, ast.Compare) and len(test.ops) == 1 and isinstance(test.comparators[0], ast.Constant)):
+        return None
+    if test.comparators[0].value is not None or not isinstance(test.ops[0], ast.IsNot if in_body else ast.Is):
+        return None
+    return ast.unparse(test.left)
 
 
 def _bound_names(statements: list[ast.stmt]) -> set[str]:
