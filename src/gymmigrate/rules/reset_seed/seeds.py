@@ -28,6 +28,7 @@ never again" (``Env.reset`` docstring). So:
 from __future__ import annotations
 
 import ast
+from collections.abc import Callable
 
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import names as N
@@ -165,6 +166,8 @@ class SeedCalls(ResetSeedBase):
                 question=self.receiver_question(receiver, decision),
             )
             return
+        if self._merge_from_branch(call, statement, receiver, decision, code, called, numpy):
+            return
         edit = self._edit(call)
         edit.to_reset = True
         edit.int_seed = numpy
@@ -177,6 +180,128 @@ class SeedCalls(ResetSeedBase):
             tier=Tier.NOTE if decision.action is Action.REWRITE else None,  # it explains the rewrite: nothing to decide
             question=self.receiver_question(receiver, decision),
         )
+
+    def _merge_from_branch(
+        self,
+        call: ast.Call,
+        statement: ast.Expr,
+        receiver: ast.expr,
+        decision: Decision,
+        code: str,
+        called: str,
+        numpy: bool,
+    ) -> bool:
+        """``if c: env.seed(s)`` (or the seed ending an else) followed, after the if, by the
+        reset of the same env: legacy's seeded episode is the one that reset returns. A reset
+        put in the seed's place would play that episode and hand the program the next one,
+        so the seed goes to the reset after the if, on the path that seeded:
+        ``env.reset(seed=s if c else None)`` (``reset(seed=None)`` continues the stream as
+        ``reset()`` did). That needs a test without side effects whose names, like the seed's,
+        nothing rebinds before the reset; otherwise the call is reported and left. Where no
+        reset of the env follows the if in its block, the seeded reset in place stays."""
+        branch = self.facts.parent(statement)
+        if not isinstance(branch, ast.If):
+            return False
+        in_body = bool(branch.body) and branch.body[-1] is statement
+        in_else = bool(branch.orelse) and branch.orelse[-1] is statement
+        if not (in_body or in_else):
+            return False
+        reset, setup = self._next_reset(branch, receiver)  # type: ignore[arg-type]  # any statement of a block
+        if reset is None:
+            return False
+        name = receiver_text(receiver)
+        why = self._why(decision)
+        blocker = self._branch_blocker(branch, statement, reset, receiver, setup)
+        whole_if = in_body and len(branch.body) == 1 and not branch.orelse
+        if blocker is None and in_body and len(branch.body) == 1 and branch.orelse:
+            blocker = "the seed is all the if does and an else follows"
+        if blocker is not None:
+            self.report(
+                call,
+                code,
+                f"`{called}(s)` seeds in a branch the reset after the if (line {reset.lineno}) follows: that reset "
+                f"gave the seeded episode, so `{name}.reset(seed=s)` here would hand the program the next one; "
+                f"pass the seed to that reset on this path only ({blocker}){why}",
+                FixKind.FLAG,
+                question=self.receiver_question(receiver, decision),
+            )
+            return True
+        value = SeedValue()
+        self.plan.replace(call, value.take)
+        if whole_if:
+            self.plan.remove(branch, keep_comments=True)
+            removed: ast.stmt = branch
+        else:
+            self.plan.remove(statement, keep_comments=True)
+            removed = statement
+            if in_else and len(branch.orelse) == 1:
+                self.plan.replace(branch, _without_else)
+        test = segment(self.facts, branch.test)
+        seed = value.get(as_int=numpy, moved=lambda: removed in self.plan.removed)
+        shown = f"s if {test} else None" if in_body else f"None if {test} else s"
+        argument = _seed_argument(call)
+        if argument is not None and _none_guard(branch.test, in_body) == ast.unparse(argument):
+            # ``if s is not None: env.seed(s)``: reset(seed=None) is what the other path does anyway
+            self._edit(reset).add_seed = seed
+            shown = "s"
+        else:
+            self._edit(reset).add_seed = _conditional_seed(seed, test, in_body)
+        self.report(
+            call,
+            code,
+            f"`{called}(s)` merged into the reset after the if (line {reset.lineno}), on the path that seeded: "
+            f"`{name}.reset(seed={shown})`; that reset returns the seeded episode, as legacy's did{why}",
+            self._kind(decision, FixKind.AUTO),
+            question=self.receiver_question(receiver, decision),
+        )
+        return True
+
+    def _branch_blocker(
+        self, branch: ast.If, statement: ast.Expr, reset: ast.Call, receiver: ast.expr, setup: ast.Call | None
+    ) -> str | None:
+        """Why the seed of ``statement`` cannot move to ``reset`` as a conditional seed, or None."""
+        if setup is not None:
+            return f"set-up on the env runs before that reset (line {setup.lineno})"
+        for node in walk(branch.test):
+            if isinstance(node, (ast.Call, ast.NamedExpr, ast.Await, ast.Yield, ast.YieldFrom, ast.Lambda, ast.IfExp)):
+                return "the if's test does more than read values"
+        wanted = segment(self.facts, receiver)
+        for part in (*branch.body, *branch.orelse):
+            for node in walk(part):
+                if (
+                    node is not statement.value
+                    and isinstance(node, ast.Call)
+                    and isinstance(node.func, ast.Attribute)
+                    and node.func.attr in ("seed", "_seed")
+                    and segment(self.facts, node.func.value) == wanted
+                ):
+                    return "the env is seeded elsewhere in the if"
+        read = {node.id for node in walk(branch.test) if isinstance(node, ast.Name)}
+        read |= {node.id for node in walk(statement.value) if isinstance(node, ast.Name)}
+        root = _root_name(receiver)
+        if root is not None:
+            read.add(root)
+        between = self._statements_between(branch, reset)
+        if between is None:
+            return "the reset is not in the if's block"
+        bound = _bound_names([*branch.body, *branch.orelse, *between])
+        if "*" in bound:
+            return "names are rebound globally before that reset"
+        rebound = bound & read
+        if rebound:
+            return f"{', '.join(sorted(rebound))} may change before that reset"
+        return None
+
+    def _statements_between(self, first: ast.stmt, reset: ast.Call) -> list[ast.stmt] | None:
+        found = self._place_in_block(first)
+        if found is None:
+            return None
+        block, position = found
+        holder = self.facts.parent(reset)
+        for index in range(position + 1, len(block)):
+            if block[index] is holder:
+                return block[position + 1 : index]
+        return None
 
     def _pettingzoo_seed(self, receiver: ast.expr) -> bool:
         """``self._env.seed(s)`` on a PettingZoo env, under the same conditions on which PZ106
@@ -541,6 +666,64 @@ class SeedCalls(ResetSeedBase):
         if value.args or any(kw.arg is None or kw.arg == "seed" for kw in value.keywords):
             return None
         return value
+
+
+def _without_else(node: cst.If) -> cst.If:
+    """The if whose else held only the seed merged after it: the else goes."""
+    return node.with_changes(orelse=None)
+
+
+def _conditional_seed(
+    seed: Callable[[], cst.BaseExpression | None], test: str, in_body: bool
+) -> Callable[[], cst.BaseExpression | None]:
+    """``s if test else None`` (``None if test else s`` for a seed in the else)."""
+
+    def value() -> cst.BaseExpression | None:
+        taken = seed()
+        if taken is None:
+            return None
+        if isinstance(taken, (cst.IfExp, cst.Lambda, cst.NamedExpr)) and not taken.lpar:
+            taken = taken.with_changes(lpar=[cst.LeftParen()], rpar=[cst.RightParen()])
+        condition = cst.parse_expression(f"({test})")
+        if isinstance(condition, (cst.Name, cst.Attribute, cst.Comparison, cst.UnaryOperation, cst.Subscript)):
+            condition = condition.with_changes(lpar=[], rpar=[])  # plain enough to read without them
+        none = cst.Name("None")
+        body, orelse = (taken, none) if in_body else (none, taken)
+        return cst.IfExp(test=condition, body=body, orelse=orelse)
+
+    return value
+
+
+def _none_guard(test: ast.expr, in_body: bool) -> str | None:
+    """``x`` of ``if x is not None:`` (seed in the body) or ``if x is None:`` (seed in the else)."""
+    if not (isinstance(test, ast.Compare) and len(test.ops) == 1 and isinstance(test.comparators[0], ast.Constant)):
+        return None
+    if test.comparators[0].value is not None or not isinstance(test.ops[0], ast.IsNot if in_body else ast.Is):
+        return None
+    return ast.unparse(test.left)
+
+
+def _bound_names(statements: list[ast.stmt]) -> set[str]:
+    """Names any of ``statements`` (re)binds, at any depth."""
+    bound: set[str] = set()
+    for statement in statements:
+        for node in walk(statement):
+            targets: list[ast.expr] = []
+            if isinstance(node, ast.Assign):
+                targets = list(node.targets)
+            elif isinstance(node, (ast.AugAssign, ast.AnnAssign, ast.NamedExpr, ast.For, ast.AsyncFor)):
+                targets = [node.target]
+            elif isinstance(node, (ast.With, ast.AsyncWith)):
+                targets = [item.optional_vars for item in node.items if item.optional_vars is not None]
+            elif isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+                bound.add(node.name)
+            elif isinstance(node, (ast.Import, ast.ImportFrom)):
+                bound.update((alias.asname or alias.name).split(".")[0] for alias in node.names)
+            elif isinstance(node, (ast.Global, ast.Nonlocal, ast.Delete)):
+                return {"*"} | bound  # too much to follow: treat every name as rebound
+            for target in targets:
+                bound.update(inner.id for inner in walk(target) if isinstance(inner, ast.Name))
+    return bound
 
 
 def _through_unwrapped(node: cst.Attribute) -> cst.Attribute:
