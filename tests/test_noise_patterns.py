@@ -76,3 +76,19 @@ def test_a_sampled_discrete_action_takes_the_integer_branch_of_a_migrated_step()
     assert not isinstance(action, int)  # np.int64: the legacy check alone would miss it
     *_, info = env.step(action)
     assert info["move"] in ("N", "S", "E", "W")
+
+
+def test_a_removed_import_repeated_in_a_file_is_one_item_naming_every_import() -> None:
+    path = RULE_FIXTURES / "GM105" / "noop_same_removed_import_in_two_methods.py"
+    result = transform_source(path.read_bytes(), str(path))
+    asked = [f for f in result.findings if f.needs_review]
+    assert [(f.line, f.rule) for f in asked] == [(7, "GM105")]
+    assert asked[0].message.endswith("(the same question at line 14)")
+    assert [f.line for f in result.findings if "asked once, at line 7" in f.message] == [14]
+
+
+def test_removed_imports_needing_different_moves_name_no_other_line() -> None:
+    path = RULE_FIXTURES / "GM105" / "noop_different_moves_asked_apart.py"
+    result = transform_source(path.read_bytes(), str(path))
+    assert [f.line for f in result.findings if f.needs_review] == [2, 7]
+    assert not any("the same question" in f.message or "asked once" in f.message for f in result.findings)

@@ -60,6 +60,10 @@ class Creation:
     complete: bool = True
     # Why the search stopped, for the report ("`env` is a function parameter").
     gap: str = ""
+    # Calls of defs of other modules of the run that return make(...) results: each a make,
+    # made where this module cannot edit (``ProjectView.made_at``)
+    made_elsewhere: list[ast.Call] = field(default_factory=list)
+    untraced: bool = False  # the search stopped somewhere else too (not at such a call)
 
     def add(self, call: ast.Call) -> None:
         if not any(c is call for c in self.calls):
@@ -68,16 +72,22 @@ class Creation:
     def merge(self, other: Creation) -> None:
         for call in other.calls:
             self.add(call)
+        self.made_elsewhere.extend(c for c in other.made_elsewhere if not any(c is m for m in self.made_elsewhere))
+        self.untraced = self.untraced or other.untraced
         if not other.complete:
             self.complete = False
             self.gap = self.gap or other.gap
 
-    def fail(self, gap: str) -> None:
+    def fail(self, gap: str, made_elsewhere: ast.Call | None = None) -> None:
         self.complete = False
         self.gap = self.gap or gap
+        if made_elsewhere is None:
+            self.untraced = True
+        else:
+            self.made_elsewhere.append(made_elsewhere)
 
     def copy(self) -> Creation:
-        return Creation(list(self.calls), self.complete, self.gap)
+        return Creation(list(self.calls), self.complete, self.gap, list(self.made_elsewhere), self.untraced)
 
     @property
     def found(self) -> bool:
@@ -255,7 +265,7 @@ class CreationFinder:
             if where is not None:
                 # A factory of another module of the run: its make is the creation site, in
                 # a file this one cannot edit; the question names it.
-                result.fail(f"`{self.facts.segment(call.func)}(...)` makes it with {where}, in another module")
+                result.fail(f"`{self.facts.segment(call.func)}(...)` makes it with {where}, in another module", call)
                 return result
         result.fail(f"`{self.facts.segment(call.func)}(...)` is not a known env factory")
         return result

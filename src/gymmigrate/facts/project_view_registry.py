@@ -52,10 +52,13 @@ class RegistryView:
             return None
         return self.facts.id_classes.get(env_id.rpartition(":")[2])
 
-    def render_takes_close_of_id(self, env_id: str) -> str | None:
+    def render_takes_of_id(self, env_id: str, keywords: tuple[str, ...], positional: int = 0, modeless: bool = False) -> str | None:
         """The class of the run defining the render() that ``make(env_id)``'s class has
         (its own, or a base's of another module of the run, each class with one base there),
-        where that render (``_render`` in gym <= 0.9) takes ``close``; else None."""
+        where that render (``_render`` in gym <= 0.9) takes ``positional`` arguments after
+        ``self`` and every one of ``keywords`` (``close``, ``record_dir``...) as its own
+        parameters, and, with ``modeless``, takes no ``mode`` (a render the run leaves as it
+        is, not one drawing only with a render_mode); else None."""
         current = self.class_of_id(env_id)
         seen = set()
         while current is not None and current not in seen:
@@ -63,7 +66,9 @@ class RegistryView:
             for method in ("render", "_render"):
                 params = self.facts.def_params.get((current[0], f"{current[1]}.{method}"))
                 if params is not None:
-                    return current[1] if "close" in params else None
+                    named = params[1 + positional :]
+                    takes = len(params) > positional and all(k in named for k in keywords) and not (modeless and "mode" in params)
+                    return current[1] if takes else None
             bases = [base for base, subs in self.facts.subclasses_of.items() if current in subs]
             current = bases[0] if len(bases) == 1 else None
         return None

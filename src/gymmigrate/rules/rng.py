@@ -80,7 +80,7 @@ class GeneratorApi(RuleFamily):
     def decide(self) -> None:
         self.env = EnvClasses.of(self.facts, self.receivers)
         self._noted_stream = False
-        self._asked = Repeats()  # one question per class: is its inherited np_random a Generator?
+        self._asked = Repeats("GM505")  # one question per class: is its inherited np_random a Generator?
         calls = [call for method in RNG_METHODS for call in self.facts.attribute_calls.get(method, ())]
         # In the order a LibCST traversal leaves them (inner calls first): the first
         # rewritten site carries the one note about the changed random stream.
@@ -173,17 +173,15 @@ class GeneratorApi(RuleFamily):
             owner = self.facts.enclosing_function(call) or self.facts.tree
             self.report(call, code, f"np_random.{method}(...) on a Generator: {reason}", FixKind.FLAG, question=("GM505", method, id(owner)))
             return
-        tier = None
-        if kind is FixKind.AUTO and why:
-            # what the run shows about the class, said at its first call
-            first, _ = self._asked.tier((id(self.facts.enclosing_class(call)), why), call, "note")
-            message = f"{message}; {why}" if first is None else message
-        elif kind is not FixKind.AUTO and why:
-            # One question per class (is its base a gym class?): asked at the first call,
-            # the class's other calls are notes that point there.
-            tier, same = self._asked.tier((id(self.facts.enclosing_class(call)), why), call, "question")
-            message = f"{message}{same}" if same else f"{message}; {why}"
-        self.report(call, code, message, kind, tier=tier)
+        question = None
+        if why:
+            # what the run shows about the class, said at its first call; where that is a
+            # question (is its base a gym class?), it is one per class: asked at the first
+            # call, naming the class's other calls, which are notes that point there
+            key = (id(self.facts.enclosing_class(call)), why)
+            message = f"{message}; {why}" if self._asked.first(key, call) else message
+            question = self._asked.question(key) if kind is not FixKind.AUTO else None
+        self.report(call, code, message, kind, question=question)
         self._note_stream(call, code)
 
     def _note_stream(self, node: ast.AST, code: str) -> None:

@@ -265,12 +265,11 @@ class SpacesLogger(RuleFamily):
     # -- GM907: gym.error ------------------------------------------------------------------
 
     def _decide_errors(self) -> None:
-        repeats = Repeats()  # one review item per removed class and file
+        repeats = Repeats("GM907")  # one review item per removed class and file
         for name in REMOVED_ERRORS:
             for attribute in sorted(self.facts.attributes.get(name, ()), key=lambda a: (a.lineno, a.col_offset)):
                 if self.facts.qualified_names(attribute.value) & ERROR_MODULES:
-                    tier, same = repeats.tier(name, attribute)
-                    self.report(attribute, "GM907", _error_message(name) + same, tier=tier)
+                    self.report(attribute, "GM907", _error_message(name), question=repeats.question(name))
 
     # -- GM908: check_env(warn=) -------------------------------------------------------
 

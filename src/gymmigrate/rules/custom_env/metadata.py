@@ -30,7 +30,7 @@ class MetadataKeys(RuleFamily):
         return "render.modes" in facts.text or "video.frames_per_second" in facts.text
 
     def decide(self) -> None:
-        self._fps_advice = Repeats()
+        self._fps_advice = Repeats("GM404")
         sites: dict[str, list[ast.Constant]] = {}
         for string in self.facts.strings:
             value = string.value
@@ -173,8 +173,8 @@ class MetadataKeys(RuleFamily):
                 f"added \"render_fps\": {DEFAULT_RENDER_FPS} because render modes are declared without a frame rate; "
                 "no rgb_array mode, so no recorded video reads it"
             )
-        tier, same = self._fps_advice.tier("render_fps", metadata)
-        self.report(metadata, "GM404", message + same, FixKind.ASSIST, tier=tier if frames else Tier.NOTE)
+        question = self._fps_advice.question("render_fps")
+        self.report(metadata, "GM404", message, FixKind.ASSIST, tier=None if frames else Tier.NOTE, question=question)
         self.plan.replace(metadata, _with_render_fps)
 
 

@@ -52,9 +52,11 @@ class ImportsBase(RuleFamily):
 
     def _report_removed(self, node: ast.stmt, message: str, advice: str, question: Hashable | None = None) -> None:
         """GM105 once per decision: the first import that needs a given move (say, to
-        gymnasium_robotics) is a review item; later imports in the same file needing the
-        same move are notes pointing at it."""
+        gymnasium_robotics) is a review item naming the later imports of the file needing
+        the same move, which are notes pointing at it (``EditPlan.ask_once``)."""
         # the advice up to its colon names the move (``the mujoco-py envs ... were removed``),
-        # whatever module it then names
-        tier, same = self._removed_advice.tier(advice.split(": ", 1)[0], node, "move")
-        self.report(node, "GM105", message + same, tier=tier, question=question)
+        # whatever module it then names; a removed helper's own question (what replaces it,
+        # asked by its uses too) is that move
+        if question is None:
+            question = self._removed_advice.question(advice.split(": ", 1)[0])
+        self.report(node, "GM105", message, question=question)

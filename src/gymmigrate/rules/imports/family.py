@@ -36,7 +36,7 @@ class Imports(ImportStatements, ImportGuards, RemovedAttributes, RllibEra):
         if plugins:
             self._keep_module_on_gym(plugins)
             return
-        self._removed_advice = Repeats()  # GM105: one review item per move and file
+        self._removed_advice = Repeats("GM105")  # GM105: one review item per move and file
         self._gym_names = set()
         self._kept_space_imports = self._space_checks_of_gym_only_envs()
         guards = self._guards()

@@ -10,7 +10,7 @@ import re
 
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts.module import walk
-from gymmigrate.findings import FixKind, Tier
+from gymmigrate.findings import FixKind, Tier, removed_helper_question
 from gymmigrate.rules.imports.common import ImportsBase
 from gymmigrate.rules.imports.table import (
     LEGACY_WRAPPER_MODULES,
@@ -102,7 +102,9 @@ class RemovedAttributes(ImportsBase):
                         break
                     hint = missing_name_hint(rest, attr, renamed_elsewhere=True)
                     if hint is not None:
-                        self._report_removed(node, f"`{module}.{attr}` does not exist in Gymnasium: {hint}", hint)  # type: ignore[arg-type]
+                        # the name's import, if the file has one, asks the same: what replaces it
+                        question = removed_helper_question(rest, attr)
+                        self._report_removed(node, f"`{module}.{attr}` does not exist in Gymnasium: {hint}", hint, question)  # type: ignore[arg-type]
                         break
 
     def _removed_entry_points(self) -> None:

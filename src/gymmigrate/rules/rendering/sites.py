@@ -321,14 +321,35 @@ class RenderSites(RecorderSites):
         return modeless_render(self.facts, self.receivers, classdef)
 
     def _report_other_signature(self, call: ast.Call, receiver: ast.expr) -> None:
-        if not self.context.profile.imports_gym:
+        imports_gym = self.context.profile.imports_gym
+        if imports_gym and self._report_unpacked_arguments(call, receiver):
             return
-        if self._report_unpacked_arguments(call, receiver):
-            return
+        if isinstance(receiver, ast.Attribute) and receiver.attr == "unwrapped":
+            return  # the env's own render, past the wrappers: its own signature
         if self.receivers.kind_of(receiver) is not EnvKind.GYM_ENV:
             return
         creation = self.finder.find(receiver)
-        if not (creation.found and all(self._is_gym_make(make) for make in creation.calls)):
+        # every creation a make: gym.make here, or a def of another module returning make()
+        # results (the only creation a file that never names gym can know is made)
+        made_here = creation.found and imports_gym and all(self._is_gym_make(make) for make in creation.calls)
+        made_elsewhere = not creation.calls and bool(creation.made_elsewhere) and not creation.untraced
+        if not (made_here or made_elsewhere):
+            return
+        keeper = self._render_keeps(receiver, call, modeless=True)
+        if keeper is not None:
+            # The render of the class every make builds takes these arguments and no mode:
+            # the run leaves it as it is, so it draws as it did; the wrappers make adds take
+            # no render arguments, so the env's own render is reached through unwrapped, as
+            # the bare env was before. (A render taking a mode becomes one that draws only
+            # with a render_mode: that call is reported below.)
+            self.plan.replace(call, unwrapped_render_call)
+            self.report(
+                call,
+                "GM401",
+                f"render(...) -> unwrapped.render(...): the render() of this env's class (defined in `{keeper}`) takes "
+                f"these arguments; Gymnasium's wrappers (gym.make adds some) take none in render()",
+                FixKind.ASSIST,
+            )
             return
         self.report(
             call,
@@ -338,6 +359,7 @@ class RenderSites(RecorderSites):
             "for the env's own signature, or pass the settings to gym.make",
             FixKind.FLAG,
         )
+
 
     def _report_unpacked_arguments(self, call: ast.Call, receiver: ast.expr) -> bool:
         """``env.render(**kwargs)`` (or ``*args``) outside a render method: what it passes is
@@ -517,9 +539,13 @@ class RenderSites(RecorderSites):
             env = id(self.facts.enclosing_class(call) or self.facts.enclosing_function(call))
         return ("render-arguments", receiver_text(receiver), env, arguments)
 
-    def _render_keeps_close(self, receiver: ast.expr) -> str | None:
+    def _render_keeps(self, receiver: ast.expr, call: ast.Call, modeless: bool = False) -> str | None:
         """The classes of the run every make behind ``receiver`` builds, where their render
-        takes ``close`` (``RegistryView.render_takes_close_of_id``); else None."""
+        takes the arguments ``call`` passes, each by its own parameter
+        (``RegistryView.render_takes_of_id``, ``modeless`` too); else None."""
+        if any(isinstance(a, ast.Starred) for a in call.args) or any(k.arg is None for k in call.keywords):
+            return None
+        keywords = tuple(k.arg for k in call.keywords if k.arg is not None)
         project = self.receivers.project
         if project is None:
             return None
@@ -535,7 +561,7 @@ class RenderSites(RecorderSites):
                 return None
             for env_id in ids:
                 assert env_id is not None
-                keeper = project.render_takes_close_of_id(env_id)
+                keeper = project.render_takes_of_id(env_id, keywords, len(call.args), modeless)
                 if keeper is None:
                     return None
                 found.add(keeper)
@@ -549,9 +575,9 @@ class RenderSites(RecorderSites):
             question = self.receiver_question(receiver, decision)
             self.report(call, "GM406", f"{reason}: render(close=True) is close() on a Gym env", FixKind.FLAG, question=question)
             return
-        if isinstance(receiver, ast.Attribute) and receiver.attr == "unwrapped" and self._render_keeps_close(receiver.value):
+        if isinstance(receiver, ast.Attribute) and receiver.attr == "unwrapped" and self._render_keeps(receiver.value, call):
             return  # the env's own render(close=...), as the branch below writes it
-        keeper = self._render_keeps_close(receiver)
+        keeper = self._render_keeps(receiver, call)
         if keeper is not None:
             # The run keeps that class's render(close=...) (its render is migrated with the
             # parameter), so the call means "close only the viewer"; close() would shut the

@@ -126,17 +126,16 @@ def report_monitor_consumers(
     _report_monitor_attributes(family, legacy)
     if imports_sb3:
         return  # Stable-Baselines' own Monitor is still there
-    repeats = Repeats()
+    repeats = Repeats("GM611")
     for call in name_lookups(family.facts):
-        tier, same = repeats.tier(MONITOR_NAME, call)
         family.report(
             call,
             "GM611",
             f"`{family.facts.segment(call)}` looks for a wrapper named `{MONITOR_NAME}`: gym's Monitor is gone (it "
             "becomes RecordEpisodeStatistics/RecordVideo), so the search finds nothing on Gymnasium; "
-            f"RecordEpisodeStatistics keeps `episode_count`, `return_queue`, `length_queue`{same}",
+            f"RecordEpisodeStatistics keeps `episode_count`, `return_queue`, `length_queue`",
             kind=FixKind.FLAG,
-            tier=tier,
+            question=repeats.question(MONITOR_NAME),
         )
 
 

@@ -105,7 +105,7 @@ class WrapperRenames(RuleFamily):
     def decide(self) -> None:
         self._legacy = LegacyImports(self.facts, self.context.profile)
         self._imports = WrapperImports(self, self._legacy)
-        self._removed_repeats = Repeats()  # GM610: one review item per removed wrapper and file
+        self._removed_repeats = Repeats("GM610")  # GM610: one review item per removed wrapper and file
         self._monitor_calls: set[int] = set()  # ids of the Monitor calls rewritten
         self._names_used: set[str] = set()  # bare names the rewritten Monitor calls use
         self._unused_after: list[ast.Name] = []  # funcs replaced by a vector wrapper path
@@ -199,8 +199,8 @@ class WrapperRenames(RuleFamily):
                 continue
             name = rest.rsplit(".", 1)[-1]
             if name in REMOVED and (dotted_name(node) or "").endswith(name):
-                tier, same = self._removed_repeats.tier(name, node)
-                self.report(node, "GM610", f"`{name}` was removed in Gymnasium 1.0: {REMOVED[name]}{same}", tier=tier)
+                question = self._removed_repeats.question(name)
+                self.report(node, "GM610", f"`{name}` was removed in Gymnasium 1.0: {REMOVED[name]}", question=question)
                 return
 
     def _is_call_func(self, node: ast.AST) -> bool:
