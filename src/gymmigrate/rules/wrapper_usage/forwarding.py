@@ -39,7 +39,7 @@ import ast
 
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.module import dotted_name
+from gymmigrate.facts.module import FUNCTIONS, dotted_name
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.wrapper_usage.atari_api import (
@@ -135,10 +135,19 @@ class WrapperForwarding(RuleFamily):
         view = project.view(context.path)
         if view.receives_made_holders():
             return True  # ``env.env.env`` where every caller passes ``GymEnv(name)``, holding a make result
-        return any(
+        if any(
             EnvKind.GYM_ENV in view.param_kinds(name, arg.arg)
             for name, function in facts.functions.items()
             for arg in (*function.args.posonlyargs, *function.args.args, *function.args.kwonlyargs)
+        ):
+            return True
+        # ``class Planner: def __init__(self, task)``, built by other modules of the run with Gym envs
+        return any(
+            EnvKind.GYM_ENV in view.param_kinds(f"{name}.__init__", arg.arg) or view.gym_env_handers(f"{name}.__init__", arg.arg)
+            for name, classdef in facts.classes.items()
+            for init in classdef.body
+            if isinstance(init, FUNCTIONS) and init.name == "__init__"
+            for arg in (*init.args.posonlyargs, *init.args.args, *init.args.kwonlyargs)
         )
 
     def decide(self) -> None:
@@ -192,6 +201,12 @@ class WrapperForwarding(RuleFamily):
         # at some constructions, the others untraced). The receiver kinds follow the same
         # hand-up (``SelfAttributes.handed_up``): a Gym env there is still asked which.
         handed = self.origins.handed_gym_env(receiver) if kind in (EnvKind.UNKNOWN, EnvKind.GYM_ENV) else None
+        if handed == SOME and self.origins.held_init_param(receiver) is not None:
+            if self.receivers.test_double_callers(receiver):
+                handed = None  # only tests pass something else: asked naming their doubles (_read_past_test_double)
+            else:
+                self._held_question(attr)
+                return
         known = sub_env or handed is not None or kind is EnvKind.GYM_ENV
         monitor_read = reads_monitor_videos(self, attr, known, kind)
         if not known and not monitor_read and not self.origins.outer_is_wrapper(receiver):
@@ -377,6 +392,27 @@ class WrapperForwarding(RuleFamily):
         )
         replace_with_get_wrapper_attr(self.facts, self.plan, attr, name)
         self._wrapped_reads.note(attr, name)
+
+    def _held_question(self, attr: ast.Attribute) -> None:
+        """``self.task.width`` in a plain class of the run that holds its constructor's
+        ``task``, given a Gym env by some constructions and something else (or what the run
+        cannot trace) by the others: where it is a make result the read raises
+        AttributeError, where it is not, ``.unwrapped`` would. One question per parameter,
+        naming the constructions that pass a Gym env."""
+        held = self.origins.held_init_param(attr.value)
+        classdef = self.facts.enclosing_class(attr)
+        assert held is not None and classdef is not None  # held_init_param found both
+        name = attr.attr
+        text = dotted_name(attr.value) or held.id
+        where = ", ".join(self.origins.held_constructions(held)) or "some constructions"
+        message = (
+            f"`{text}` holds what the constructions of `{classdef.name}` pass for `{held.id}`: a Gym env at {where}, "
+            "something else or what the run cannot trace at the others. Where it is a make() result, "
+            f"`.{name}` raises AttributeError on Gymnasium 1.x (wrappers no longer forward it): use "
+            f"`.unwrapped.{name}` if every construction passes a Gym env, or `.get_wrapper_attr(\"{name}\")`"
+        )
+        question = ("GM604", "held", id(self.facts.bindings_of(held)[0]))
+        self.report(attr, "GM604", message, kind=FixKind.FLAG, question=question)
 
     def _gym_env_on_every_path(self, receiver: ast.expr) -> bool:
         """Every value the receiver may hold is a Gym env the run traces, bare on some paths
