@@ -36,6 +36,7 @@ own methods), ``getattr_hasattr.py`` (a class's ``__getattr__`` handing lookups 
 from __future__ import annotations
 
 import ast
+from collections.abc import Hashable
 
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.kinds import EnvKind
@@ -58,6 +59,7 @@ from gymmigrate.rules.wrapper_usage.forwarding_edits import (
     through,
 )
 from gymmigrate.rules.wrapper_usage.getattr_hasattr import (
+    UNWRAPPED,
     WrappedReads,
     getattr_forwarding,
     hasattr_through_wrappers,
@@ -342,21 +344,21 @@ class WrapperForwarding(RuleFamily):
                 tier=Tier.NOTE,
             )
             self.plan.replace(attr, through("unwrapped", name))
+            self._wrapped_reads.note(attr, name, UNWRAPPED)
             return
         if origin is None:
             # One question per object ("is `self.viewer` wrapped?"): asked at its first
             # read, which names the lines of the others (the plan's ask_once); those are
             # notes pointing there, so a person fixing the item sees every read.
             owner = self._question_owner(attr, text)
-            self.report(
-                attr,
-                code,
+            message = (
                 f"could not tell whether `{text}` is wrapped: if it is, `.{name}` raises AttributeError on Gymnasium "
-                f"1.x; use `.unwrapped.{name}` or `.get_wrapper_attr(\"{name}\")`",
-                kind=FixKind.FLAG,
-                # ``self.inner`` and the ``self._inner`` that property returns: one object
-                question=("GM604", "wrapped", id(owner), self.origins.stored_as(attr.value) or text),
+                f"1.x; use `.unwrapped.{name}` or `.get_wrapper_attr(\"{name}\")`"
             )
+            # ``self.inner`` and the ``self._inner`` that property returns: one object
+            question = ("GM604", "wrapped", id(owner), self.origins.stored_as(attr.value) or text)
+            self.report(attr, code, message, kind=FixKind.FLAG, question=question)
+            self._asked(attr, question, message)
             return
         if name == "_max_episode_steps":
             if origin == MADE:
@@ -382,6 +384,7 @@ class WrapperForwarding(RuleFamily):
                 tier=Tier.NOTE,
             )
             self.plan.replace(attr, through("unwrapped", name))
+            self._wrapped_reads.note(attr, name, UNWRAPPED)
             return
         self.report(
             attr,
@@ -413,6 +416,12 @@ class WrapperForwarding(RuleFamily):
         )
         question = ("GM604", "held", id(self.facts.bindings_of(held)[0]))
         self.report(attr, "GM604", message, kind=FixKind.FLAG, question=question)
+        self._asked(attr, question, message)
+
+    def _asked(self, attr: ast.Attribute, question: Hashable, message: str) -> None:
+        """A read asked about: a ``hasattr`` of the name on the same object is named by the same question."""
+        if isinstance(attr.ctx, ast.Load):
+            self._wrapped_reads.ask(attr, question, message)
 
     def _gym_env_on_every_path(self, receiver: ast.expr) -> bool:
         """Every value the receiver may hold is a Gym env the run traces, bare on some paths
@@ -440,16 +449,15 @@ class WrapperForwarding(RuleFamily):
         name = attr.attr
         text = dotted_name(attr.value) or "the env"
         owner = self._question_owner(attr, text)
-        self.report(
-            attr,
-            "GM604",
+        message = (
             f"`{text}` is a make() result (Gym wrappers) on some paths, and what it holds on the others could not be traced: where "
             f"it is made, `.{name}` raises AttributeError on Gymnasium 1.x (wrappers no longer forward it); use "
             f"`.unwrapped.{name}` if every path gives a Gym env (a bare env is its own `unwrapped`), or "
-            f"`.get_wrapper_attr(\"{name}\")`",
-            kind=FixKind.FLAG,
-            question=("GM604", "wrapped", id(owner), self.origins.stored_as(attr.value) or text),
+            f"`.get_wrapper_attr(\"{name}\")`"
         )
+        question = ("GM604", "wrapped", id(owner), self.origins.stored_as(attr.value) or text)
+        self.report(attr, "GM604", message, kind=FixKind.FLAG, question=question)
+        self._asked(attr, question, message)
         return True
 
     def _question_owner(self, attr: ast.Attribute, text: str) -> ast.AST | None:
