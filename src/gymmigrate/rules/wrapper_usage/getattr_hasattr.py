@@ -1,11 +1,11 @@
 """Attributes looked up by a name held in a value (GM604): ``getattr`` in a class's own
-``__getattr__``, and ``hasattr`` guards of reads the run rewrote.
+``__getattr__``, and ``hasattr`` guards of reads the run rewrote or asked about.
 
 Legacy ``Wrapper.__getattr__`` forwarded a lookup that failed on a wrapper to the env below
 it; Gymnasium's wrappers do not. A class that hands its unknown attributes on to a held
 make result (``getattr(self._env, name)``) lost the layers below, and ``hasattr(env, "x")``
 over a made env is False for what only the base env has. Part of
-``forwarding.WrapperForwarding``, which records the reads it rewrote (``WrappedReads``).
+``forwarding.WrapperForwarding``, which records the reads it rewrote or asked about (``WrappedReads``).
 """
 
 from __future__ import annotations
