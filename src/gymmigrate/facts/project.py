@@ -412,6 +412,10 @@ class ProjectFacts:
     # passes a Gym env there: where that env is made, for a message (a render whose make
     # is in the run script).
     gym_env_callers: dict[tuple[str, str, str], tuple[tuple[str, int], ...]] = field(default_factory=dict)
+    # ...and of each that hands on a parameter of its own def (or what its class holds from
+    # one) that some call further up gives a Gym env, the others what the run cannot tell:
+    # where the reads of a held env must be asked about, not left in silence.
+    gym_env_handers: dict[tuple[str, str, str], tuple[tuple[str, int], ...]] = field(default_factory=dict)
     # the same for the calls that pass an env of another kind (a VecEnv, a test double with
     # an API of its own): whether those are only tests decides what a made env's reads need.
     other_env_callers: dict[tuple[str, str, str], tuple[tuple[str, int], ...]] = field(default_factory=dict)

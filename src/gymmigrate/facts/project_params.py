@@ -45,6 +45,7 @@ class ParamJoin:
         self.calls_to = calls_to
         self.memo: dict[tuple[str, str, str], EnvKind] = {}
         self.creator_memo: dict[tuple[str, str, str], EnvKind] = {}
+        self.reach_memo: dict[tuple[str, str, str], EnvKind] = {}  # GYM_ENV where some call up the chain gives one
         self.depth = 0
         self.subclassed: set[tuple[str, str]] | None = None
 
@@ -52,6 +53,8 @@ class ParamJoin:
         external: dict[tuple[str, str, str], list[EnvKind]] = defaultdict(list)
         kept: dict[tuple[str, str, str], list[str | None]] = defaultdict(list)
         sources: dict[tuple[str, str, str], list[str | None]] = defaultdict(list)
+        # calls that hand on their own parameter (or what their class holds from one)
+        handers: dict[tuple[str, str, str], list[tuple[str, int, str]]] = defaultdict(list)
         for (path, qualname), calls in self.calls_to.items():
             signature = self.by_path[path].defs[qualname]
             outside = [call for caller, call in calls if caller != path]  # the file sees its own call sites itself
@@ -80,6 +83,8 @@ class ParamJoin:
                     external[(path, qualname, param)].append(resolved)
                     kept[(path, qualname, param)].append(self._kept_class(kind, caller))
                     key = (path, qualname, param)
+                    if resolved is not EnvKind.GYM_ENV and isinstance(kind, str) and kind.startswith((HELD, PARAM)):
+                        handers[key].append((caller, call.line, kind))
                     if resolved is EnvKind.GYM_ENV:
                         self.facts.gym_env_callers[key] = (*self.facts.gym_env_callers.get(key, ()), (caller, call.line))
                     elif not resolved.is_gym and resolved not in (EnvKind.NOT_ENV, EnvKind.UNKNOWN):
@@ -88,6 +93,10 @@ class ParamJoin:
                 for param in signature.params:
                     self.facts.passed_ids[(path, qualname, param)] = tuple(self._id_passed(signature, call, param) for call in outside)
         self.facts.param_kinds = dict(external)
+        for key, handed in handers.items():
+            found = tuple((caller, line) for caller, line, kind in handed if self._reaches_gym_env(kind, caller))
+            if found:
+                self.facts.gym_env_handers[key] = found
         self.facts.param_sources = {key: tuple(found) for key, found in sources.items()}
         self.facts.kept_params = {key: tuple(names) for key, names in kept.items() if any(names)}
 
@@ -233,6 +242,29 @@ class ParamJoin:
             return join_kinds(kinds)
 
         return self._chained(self.memo, (path, qualname, param), joined)
+
+    def _reaches_gym_env(self, kind: str, caller: str) -> bool:
+        """``param:f:env`` or ``held:Agent.__init__:env`` that some call of the run, up the
+        chain of defs handing it on, gives a Gym env, whatever the others give (their kinds
+        joined may well be unknown): ``gym_env_handers``."""
+        prefix = HELD if kind.startswith(HELD) else PARAM
+        qualname, _, param = kind[len(prefix) :].rpartition(":")
+        return self._gym_env_upstream(caller, qualname, param) is EnvKind.GYM_ENV
+
+    def _gym_env_upstream(self, path: str, qualname: str, param: str) -> EnvKind:
+        def reached() -> EnvKind:
+            signature = self.by_path[path].defs.get(qualname)
+            for caller, call in self.calls_to.get((path, qualname), ()) if signature is not None else ():
+                for p, k in self._passed(signature, call):  # type: ignore[arg-type]
+                    if p != param:
+                        continue
+                    if self._resolve(k, caller) is EnvKind.GYM_ENV:
+                        return EnvKind.GYM_ENV
+                    if isinstance(k, str) and k.startswith((HELD, PARAM)) and self._reaches_gym_env(k, caller):
+                        return EnvKind.GYM_ENV
+            return EnvKind.UNKNOWN
+
+        return self._chained(self.reach_memo, (path, qualname, param), reached)
 
     def _resolve(self, kind: Kind, caller: str) -> EnvKind:
         if isinstance(kind, EnvKind):

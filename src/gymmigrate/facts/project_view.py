@@ -116,6 +116,15 @@ class ProjectView(ClassView, FixtureView, HierarchyView, RegistryView, RenderVie
             for path, line in self.facts.gym_env_callers.get((self.path, qualname, param), ())
         ]
 
+    def gym_env_handers(self, qualname: str, param: str) -> list[str]:
+        """``agents.py:10`` for each call in another module that hands on, to ``param`` of
+        this file's ``qualname``, what some call further up gives a Gym env
+        (``ProjectFacts.gym_env_handers``)."""
+        return [
+            f"{os.path.relpath(path, os.path.dirname(self.path))}:{line}"
+            for path, line in self.facts.gym_env_handers.get((self.path, qualname, param), ())
+        ]
+
     def test_double_callers(self, qualname: str, param: str) -> list[str] | None:
         """``tests/x_test.py:16`` for each call in another module that passes an env of
         another kind than a Gym env to ``param`` (a mock with an API of its own), when every

@@ -36,10 +36,11 @@ own methods), ``getattr_hasattr.py`` (a class's ``__getattr__`` handing lookups 
 from __future__ import annotations
 
 import ast
+from collections.abc import Hashable
 
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.module import dotted_name
+from gymmigrate.facts.module import FUNCTIONS, dotted_name
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.wrapper_usage.atari_api import (
@@ -58,6 +59,7 @@ from gymmigrate.rules.wrapper_usage.forwarding_edits import (
     through,
 )
 from gymmigrate.rules.wrapper_usage.getattr_hasattr import (
+    UNWRAPPED,
     WrappedReads,
     getattr_forwarding,
     hasattr_through_wrappers,
@@ -135,10 +137,19 @@ class WrapperForwarding(RuleFamily):
         view = project.view(context.path)
         if view.receives_made_holders():
             return True  # ``env.env.env`` where every caller passes ``GymEnv(name)``, holding a make result
-        return any(
+        if any(
             EnvKind.GYM_ENV in view.param_kinds(name, arg.arg)
             for name, function in facts.functions.items()
             for arg in (*function.args.posonlyargs, *function.args.args, *function.args.kwonlyargs)
+        ):
+            return True
+        # ``class Planner: def __init__(self, task)``, built by other modules of the run with Gym envs
+        return any(
+            EnvKind.GYM_ENV in view.param_kinds(f"{name}.__init__", arg.arg) or view.gym_env_handers(f"{name}.__init__", arg.arg)
+            for name, classdef in facts.classes.items()
+            for init in classdef.body
+            if isinstance(init, FUNCTIONS) and init.name == "__init__"
+            for arg in (*init.args.posonlyargs, *init.args.args, *init.args.kwonlyargs)
         )
 
     def decide(self) -> None:
@@ -192,6 +203,12 @@ class WrapperForwarding(RuleFamily):
         # at some constructions, the others untraced). The receiver kinds follow the same
         # hand-up (``SelfAttributes.handed_up``): a Gym env there is still asked which.
         handed = self.origins.handed_gym_env(receiver) if kind in (EnvKind.UNKNOWN, EnvKind.GYM_ENV) else None
+        if handed == SOME and self.origins.held_init_param(receiver) is not None:
+            if self.receivers.test_double_callers(receiver):
+                handed = None  # only tests pass something else: asked naming their doubles (_read_past_test_double)
+            else:
+                self._held_question(attr)
+                return
         known = sub_env or handed is not None or kind is EnvKind.GYM_ENV
         monitor_read = reads_monitor_videos(self, attr, known, kind)
         if not known and not monitor_read and not self.origins.outer_is_wrapper(receiver):
@@ -327,21 +344,21 @@ class WrapperForwarding(RuleFamily):
                 tier=Tier.NOTE,
             )
             self.plan.replace(attr, through("unwrapped", name))
+            self._wrapped_reads.note(attr, name, UNWRAPPED)
             return
         if origin is None:
             # One question per object ("is `self.viewer` wrapped?"): asked at its first
             # read, which names the lines of the others (the plan's ask_once); those are
             # notes pointing there, so a person fixing the item sees every read.
             owner = self._question_owner(attr, text)
-            self.report(
-                attr,
-                code,
+            message = (
                 f"could not tell whether `{text}` is wrapped: if it is, `.{name}` raises AttributeError on Gymnasium "
-                f"1.x; use `.unwrapped.{name}` or `.get_wrapper_attr(\"{name}\")`",
-                kind=FixKind.FLAG,
-                # ``self.inner`` and the ``self._inner`` that property returns: one object
-                question=("GM604", "wrapped", id(owner), self.origins.stored_as(attr.value) or text),
+                f"1.x; use `.unwrapped.{name}` or `.get_wrapper_attr(\"{name}\")`"
             )
+            # ``self.inner`` and the ``self._inner`` that property returns: one object
+            question = ("GM604", "wrapped", id(owner), self.origins.stored_as(attr.value) or text)
+            self.report(attr, code, message, kind=FixKind.FLAG, question=question)
+            self._asked(attr, question, message)
             return
         if name == "_max_episode_steps":
             if origin == MADE:
@@ -367,6 +384,7 @@ class WrapperForwarding(RuleFamily):
                 tier=Tier.NOTE,
             )
             self.plan.replace(attr, through("unwrapped", name))
+            self._wrapped_reads.note(attr, name, UNWRAPPED)
             return
         self.report(
             attr,
@@ -377,6 +395,33 @@ class WrapperForwarding(RuleFamily):
         )
         replace_with_get_wrapper_attr(self.facts, self.plan, attr, name)
         self._wrapped_reads.note(attr, name)
+
+    def _held_question(self, attr: ast.Attribute) -> None:
+        """``self.task.width`` in a plain class of the run that holds its constructor's
+        ``task``, given a Gym env by some constructions and something else (or what the run
+        cannot trace) by the others: where it is a make result the read raises
+        AttributeError, where it is not, ``.unwrapped`` would. One question per parameter,
+        naming the constructions that pass a Gym env."""
+        held = self.origins.held_init_param(attr.value)
+        classdef = self.facts.enclosing_class(attr)
+        assert held is not None and classdef is not None  # held_init_param found both
+        name = attr.attr
+        text = dotted_name(attr.value) or held.id
+        where = ", ".join(self.origins.held_constructions(held)) or "some constructions"
+        message = (
+            f"`{text}` holds what the constructions of `{classdef.name}` pass for `{held.id}`: a Gym env at {where}, "
+            "something else or what the run cannot trace at the others. Where it is a make() result, "
+            f"`.{name}` raises AttributeError on Gymnasium 1.x (wrappers no longer forward it): use "
+            f"`.unwrapped.{name}` if every construction passes a Gym env, or `.get_wrapper_attr(\"{name}\")`"
+        )
+        question = ("GM604", "held", id(self.facts.bindings_of(held)[0]))
+        self.report(attr, "GM604", message, kind=FixKind.FLAG, question=question)
+        self._asked(attr, question, message)
+
+    def _asked(self, attr: ast.Attribute, question: Hashable, message: str) -> None:
+        """A read asked about: a ``hasattr`` of the name on the same object is named by the same question."""
+        if isinstance(attr.ctx, ast.Load):
+            self._wrapped_reads.ask(attr, question, message)
 
     def _gym_env_on_every_path(self, receiver: ast.expr) -> bool:
         """Every value the receiver may hold is a Gym env the run traces, bare on some paths
@@ -404,16 +449,15 @@ class WrapperForwarding(RuleFamily):
         name = attr.attr
         text = dotted_name(attr.value) or "the env"
         owner = self._question_owner(attr, text)
-        self.report(
-            attr,
-            "GM604",
+        message = (
             f"`{text}` is a make() result (Gym wrappers) on some paths, and what it holds on the others could not be traced: where "
             f"it is made, `.{name}` raises AttributeError on Gymnasium 1.x (wrappers no longer forward it); use "
             f"`.unwrapped.{name}` if every path gives a Gym env (a bare env is its own `unwrapped`), or "
-            f"`.get_wrapper_attr(\"{name}\")`",
-            kind=FixKind.FLAG,
-            question=("GM604", "wrapped", id(owner), self.origins.stored_as(attr.value) or text),
+            f"`.get_wrapper_attr(\"{name}\")`"
         )
+        question = ("GM604", "wrapped", id(owner), self.origins.stored_as(attr.value) or text)
+        self.report(attr, "GM604", message, kind=FixKind.FLAG, question=question)
+        self._asked(attr, question, message)
         return True
 
     def _question_owner(self, attr: ast.Attribute, text: str) -> ast.AST | None:

@@ -114,3 +114,15 @@ def has_wrapper_attr():
         )
 
     return build
+
+
+def hasattr_unwrapped():
+    """``hasattr(x, "name")`` -> ``hasattr(x.unwrapped, "name")``."""
+
+    def build(node: cst.Call) -> cst.BaseExpression:
+        receiver = node.args[0]
+        return node.with_changes(
+            args=[receiver.with_changes(value=cst.Attribute(value=receiver.value, attr=cst.Name("unwrapped"))), *node.args[1:]]
+        )
+
+    return build

@@ -1,16 +1,17 @@
 """Attributes looked up by a name held in a value (GM604): ``getattr`` in a class's own
-``__getattr__``, and ``hasattr`` guards of reads the run rewrote.
+``__getattr__``, and ``hasattr`` guards of reads the run rewrote or asked about.
 
 Legacy ``Wrapper.__getattr__`` forwarded a lookup that failed on a wrapper to the env below
 it; Gymnasium's wrappers do not. A class that hands its unknown attributes on to a held
 make result (``getattr(self._env, name)``) lost the layers below, and ``hasattr(env, "x")``
 over a made env is False for what only the base env has. Part of
-``forwarding.WrapperForwarding``, which records the reads it rewrote (``WrappedReads``).
+``forwarding.WrapperForwarding``, which records the reads it rewrote or asked about (``WrappedReads``).
 """
 
 from __future__ import annotations
 
 import ast
+from collections.abc import Hashable
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts import ModuleFacts
@@ -20,6 +21,7 @@ from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.wrapper_usage.forwarding_edits import (
     get_wrapper_attr_of,
     has_wrapper_attr,
+    hasattr_unwrapped,
 )
 from gymmigrate.rules.wrapper_usage.origins import MADE, RAW, WRAPPED
 
@@ -27,14 +29,22 @@ if TYPE_CHECKING:
     from gymmigrate.rules.wrapper_usage.self_forwarding import ForwardingFamily
 
 
+# How the run rewrote a read (``WrappedReads``): the hasattr guarding it follows.
+GET_WRAPPER_ATTR = "get_wrapper_attr"
+UNWRAPPED = "unwrapped"
+
+
 class WrappedReads:
-    """The reads the run rewrote to ``get_wrapper_attr``, by the object read (owner, receiver
-    text) and the name: a ``hasattr`` of the same name on the same receiver rests on the
-    same proof that the object is wrapped."""
+    """The reads the run rewrote (to ``get_wrapper_attr`` or through ``.unwrapped``), or asked
+    about, by the object read (owner, receiver text) and the name: a ``hasattr`` of the same
+    name on the same receiver rests on the same proof that the object is wrapped, or on the
+    same open question."""
 
     def __init__(self, facts: ModuleFacts) -> None:
         self.facts = facts
-        self._reads: set[tuple[int, str, str]] = set()  # (owner id, receiver text, name)
+        self._reads: dict[tuple[int, str, str], str] = {}  # (owner id, receiver text, name) -> how
+        # (owner id, receiver text, name) -> the question of the first read asked about, its message
+        self._asked: dict[tuple[int, str, str], tuple[Hashable, str]] = {}
 
     def _owner(self, node: ast.AST, text: str) -> ast.AST | None:
         """What one receiver text names the same object in: the class for ``self.x``, else
@@ -43,42 +53,85 @@ class WrappedReads:
             return self.facts.enclosing_class(node)
         return self.facts.enclosing_function(node) or self.facts.tree
 
-    def note(self, attr: ast.Attribute, name: str) -> None:
-        text = dotted_name(attr.value)
-        owner = self._owner(attr, text) if text else None
-        if text and owner is not None:
-            self._reads.add((id(owner), text, name))
+    def _key(self, node: ast.AST, text: str | None, name: str) -> tuple[int, str, str] | None:
+        owner = self._owner(node, text) if text else None
+        return (id(owner), text, name) if text and owner is not None else None
 
-    def rewrote(self, node: ast.AST, text: str, name: str) -> bool:
-        """Was a read of ``name`` on the object ``text`` names where ``node`` sits rewritten?"""
-        owner = self._owner(node, text)
-        return owner is not None and (id(owner), text, name) in self._reads
+    def note(self, attr: ast.Attribute, name: str, how: str = GET_WRAPPER_ATTR) -> None:
+        key = self._key(attr, dotted_name(attr.value), name)
+        if key is not None:
+            self._reads.setdefault(key, how)
+
+    def ask(self, attr: ast.Attribute, question: Hashable, message: str) -> None:
+        """A review item asked ``question`` about the read ``attr``."""
+        key = self._key(attr, dotted_name(attr.value), attr.attr)
+        if key is not None:
+            self._asked.setdefault(key, (question, message))
+
+    def rewrote(self, node: ast.AST, text: str, name: str) -> str | None:
+        """How a read of ``name`` on the object ``text`` names where ``node`` sits was
+        rewritten, or None."""
+        key = self._key(node, text, name)
+        return self._reads.get(key) if key is not None else None
+
+    def asked(self, node: ast.AST, text: str, name: str) -> tuple[Hashable, str] | None:
+        key = self._key(node, text, name)
+        return self._asked.get(key) if key is not None else None
 
 
 def hasattr_through_wrappers(family: ForwardingFamily, reads: WrappedReads, call: ast.Call) -> None:
-    """``hasattr(env, "x")`` guarding a read ``env.x`` the run rewrote to
-    ``get_wrapper_attr``: the same proof says ``env`` is wrapped, and without
-    forwarding the test is False for what only an inner layer has, so the guarded
-    branch would be dead. ``has_wrapper_attr`` looks through every layer (gymnasium
-    1.4: a Wrapper asks itself, then its env; an Env itself), as legacy forwarding
-    answered for public names (gym refused to forward ``_private`` ones: left alone)."""
+    """``hasattr(env, "x")`` guarding a read ``env.x`` the run rewrote: the same proof
+    says ``env`` is wrapped, and without forwarding the test is False for what only an
+    inner layer has, so the guarded branch would be dead. Beside a ``get_wrapper_attr``
+    read, ``has_wrapper_attr`` looks through every layer (gymnasium 1.4: a Wrapper asks
+    itself, then its env; an Env itself), as legacy forwarding answered for public names
+    (gym refused to forward ``_private`` ones: left alone); beside an ``.unwrapped`` read,
+    the test asks the env that read does. Beside a read asked about, the same question
+    names the test: it goes with the reads, whatever the answer."""
     if family.facts.bindings_of(call.func) or len(call.args) != 2 or call.keywords:  # type: ignore[arg-type]
         return
     receiver, key = call.args
     if not (isinstance(key, ast.Constant) and isinstance(key.value, str)) or key.value.startswith("_"):
         return
     text = dotted_name(receiver)
-    if not text or not reads.rewrote(call, text, key.value):
+    if not text:
         return
+    how = reads.rewrote(call, text, key.value)
+    if how == UNWRAPPED:
+        family.report(
+            call,
+            "GM604",
+            f"attribute forwarding is gone in Gymnasium 1.0, so `hasattr` is False for what only the env below the "
+            f"wrappers has: `hasattr({text}.unwrapped, \"{key.value}\")` tests the env the `.unwrapped.{key.value}` "
+            "read it guards reads",
+            tier=Tier.NOTE,
+        )
+        family.plan.replace(call, hasattr_unwrapped())
+        return
+    if how == GET_WRAPPER_ATTR:
+        family.report(
+            call,
+            "GM604",
+            f"attribute forwarding is gone in Gymnasium 1.0, so `hasattr` is False for what only the env below the "
+            f"wrappers has: `{text}.has_wrapper_attr(\"{key.value}\")` looks through every layer, as the "
+            f"`get_wrapper_attr(\"{key.value}\")` read it guards does",
+            tier=Tier.NOTE,
+        )
+        family.plan.replace(call, has_wrapper_attr())
+        return
+    asked = reads.asked(call, text, key.value)
+    if asked is None:
+        return
+    question, message = asked
     family.report(
         call,
         "GM604",
-        f"attribute forwarding is gone in Gymnasium 1.0, so `hasattr` is False for what only the env below the "
-        f"wrappers has: `{text}.has_wrapper_attr(\"{key.value}\")` looks through every layer, as the "
-        f"`get_wrapper_attr(\"{key.value}\")` read it guards does",
-        tier=Tier.NOTE,
+        f"`hasattr({text}, \"{key.value}\")` is silently False where the reads of `{text}.{key.value}` would raise "
+        f"AttributeError (forwarding is gone), so it goes with them: test `hasattr({text}.unwrapped, \"{key.value}\")` "
+        f"or `{text}.has_wrapper_attr(\"{key.value}\")` as they are read. {message}",
+        kind=FixKind.FLAG,
+        question=question,
     )
-    family.plan.replace(call, has_wrapper_attr())
 
 
 def getattr_forwarding(family: ForwardingFamily, call: ast.Call) -> None:
