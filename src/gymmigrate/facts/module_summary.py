@@ -279,6 +279,10 @@ class ModuleSummary:
     # Adapter(dm_env.Environment)``, directly or through a class of this module): the join
     # adds their subclasses in other modules (``ProjectFacts.own_api_classes``).
     own_api_classes: frozenset[str] = frozenset()
+    # Top-level classes of two APIs whose step and reset take Gymnasium's shapes only under
+    # ``if self.<flag>:`` (``own_api.gymnasium_flag``): class name -> flag. A subclass in
+    # another module that sets the flag True takes those shapes (GM504).
+    own_api_flags: dict[str, str] = field(default_factory=dict)
     # GM402 across modules (``facts/render_handovers.py``): (def, parameter) rendered bare
     # and handed nowhere; calls passing an env built right there by an imported class:
     # (call line, slot, class, construction line, column).

@@ -14,7 +14,7 @@ Decided from the class body alone, like ``class_shapes.keeps_legacy_step``.
 from __future__ import annotations
 
 import ast
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 
 from gymmigrate.facts.collection_reads import Shape, collection_read, named
 from gymmigrate.facts.module import FUNCTIONS, own_returns, walk
@@ -123,3 +123,52 @@ def _tuple_len(value: ast.AST) -> int | None:
     if isinstance(value, ast.Tuple) and not any(isinstance(e, ast.Starred) for e in value.elts):
         return len(value.elts)
     return None
+
+
+def gymnasium_flag(classdef: ast.ClassDef) -> str | None:
+    """The attribute that picks Gymnasium's shapes in a class of two APIs: its step returns
+    five values only under ``if self.<flag>:`` and four values only outside it, and its reset
+    (when it defines one) returns ``(obs, info)`` only under the same test and a bare
+    observation only outside it. None when the class has no such one flag."""
+    methods = {s.name: s for s in classdef.body if isinstance(s, FUNCTIONS)}
+    step = methods.get("step")
+    if step is None:
+        return None
+    flags = _split_by_flag(step, lambda v: _tuple_len(v) == 5, lambda v: _tuple_len(v) == 4)
+    reset = methods.get("reset")
+    if flags and reset is not None:
+        flags &= _split_by_flag(reset, is_info_pair, _bare_observation)
+    return next(iter(flags)) if len(flags) == 1 else None
+
+
+def _split_by_flag(function: ast.AST, new: Callable[[ast.expr], bool], old: Callable[[ast.expr], bool]) -> set[str]:
+    """The flags ``F`` such that every return of ``function`` that ``new`` accepts sits in
+    the body of an ``if self.F:`` and every one ``old`` accepts sits outside such a body
+    (and some return of each kind exists)."""
+    returns: list[tuple[ast.expr, frozenset[str]]] = []
+
+    def visit(node: ast.AST, under: frozenset[str]) -> None:
+        if isinstance(node, (*FUNCTIONS, ast.Lambda, ast.ClassDef)) and node is not function:
+            return  # a nested def's returns are its own
+        if isinstance(node, ast.Return) and node.value is not None:
+            returns.append((node.value, under))
+            return
+        if isinstance(node, ast.If):
+            test = node.test
+            flag = test.attr if isinstance(test, ast.Attribute) and isinstance(test.value, ast.Name) and test.value.id == "self" else None
+            visit(test, under)
+            for child in node.body:
+                visit(child, under | {flag} if flag is not None else under)
+            for child in node.orelse:
+                visit(child, under)
+            return
+        for inner in ast.iter_child_nodes(node):
+            visit(inner, under)
+
+    visit(function, frozenset())
+    news = [under for value, under in returns if new(value)]
+    olds = [under for value, under in returns if old(value)]
+    if not news or not olds:
+        return set()
+    flags = set.intersection(*(set(u) for u in news))
+    return {f for f in flags if not any(f in u for u in olds)}

@@ -227,6 +227,9 @@ class ProjectFacts:
     # (path, class) of the run (and names re-exporting one) deriving a library class with
     # an env API of its own, in any module (``class Stacker(adapters.Adapter)``).
     own_api_classes: frozenset[tuple[str, str]] = frozenset()
+    # (path, class) -> the flag that picks Gymnasium's shapes in that class of two APIs
+    # (``ModuleSummary.own_api_flags``)
+    own_api_flags: dict[tuple[str, str], str] = field(default_factory=dict)
     # constructors of a run class (path, line, column) that get render_mode="human" for the
     # bare renders of a def of another module every call of which passes their env, and
     # (path, def, parameter) of those renders -> the constructors (facts/render_handovers.py)
@@ -470,6 +473,8 @@ class ProjectFacts:
                 facts.bootstrap_masks[(summary.path, qualname)] = (summary.defs[qualname].params, masks)
             if summary.record_classes:
                 facts.record_classes[summary.path] = summary.record_classes
+            for name, flag in summary.own_api_flags.items():
+                facts.own_api_flags[(summary.path, name)] = flag
             if summary.plain_roots:
                 facts.plain_roots[summary.path] = summary.plain_roots
             if summary.masks_only:

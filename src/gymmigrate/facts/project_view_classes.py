@@ -125,6 +125,12 @@ class ClassView:
         split = self.facts._split(qualified, self.path)
         return split is not None and split in self.facts.own_api_classes
 
+    def own_api_flag(self, qualified: str) -> str | None:
+        """For an imported class of the run with two APIs, the attribute that picks
+        Gymnasium's shapes in its step and reset (``ProjectFacts.own_api_flags``)."""
+        split = self.facts._split(qualified, self.path)
+        return self.facts.own_api_flags.get(split) if split is not None else None
+
     def counts_no_steps(self, qualified: str) -> bool:
         """An imported class of the run that counts no steps, nor does any base of it
         (``ProjectFacts.quiet_classes``): it cannot end a subclass's episodes on a limit."""

@@ -33,6 +33,7 @@ from gymmigrate.facts.made_holders import made_holders
 from gymmigrate.facts.mode_handovers import param_renders
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts
 from gymmigrate.facts.module_summary import ModuleSummary, Signature
+from gymmigrate.facts.own_api import gymnasium_flag, own_api_shape
 from gymmigrate.facts.own_steps import (
     five_step_trees,
     helper_candidates,
@@ -227,6 +228,7 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         instance_calls=instance_calls(facts),
         recreates_from_spec=recreates_from_spec(facts),
         own_api_classes=frozenset(n for n, c in facts.classes.items() if receivers.derives_own_api(c)),
+        own_api_flags={n: f for n, c in facts.classes.items() if own_api_shape(c) is not None and (f := gymnasium_flag(c)) is not None},
         wrapper_classes=frozenset(name for name, classdef in facts.classes.items() if receivers.is_gym_wrapper_class(classdef)),
         duck_wrappers=unproved_duck_wrappers(facts, receivers),
         wrapper_defined=wrapper_defined(facts),

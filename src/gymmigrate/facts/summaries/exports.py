@@ -179,6 +179,10 @@ class Exports:
                 value = reaching[0] if reaching is not None and len(reaching) == 1 else None
             if not (isinstance(value, ast.Call) and isinstance(value.func, (ast.Name, ast.Attribute))):
                 return None
+            declared = self._declared_class_parameter(function, value.func)
+            if declared is not None:
+                found.add(declared)
+                continue
             local = self.receivers.local_function(value.func)
             if local is not None:
                 # A def of this module whose returns ``returns_kind`` could not judge either:
@@ -197,6 +201,28 @@ class Exports:
                 return None  # a library's, or a name of this module (``returns_kind`` judged it)
             found.add(name)
         return found.pop() if len(found) == 1 else None
+
+    def _declared_class_parameter(self, function: ast.FunctionDef | ast.AsyncFunctionDef, func: ast.expr) -> str | None:
+        """``def make(spec, env_class=GridEnv) -> GridEnv: return env_class(spec)``: a call of a
+        parameter of ``function`` whose default and the def's return annotation name the same
+        class of another module of the run. Whatever class a caller hands in, the def declares
+        its result an instance of that class (a subclass at most), so its callers get what
+        calling the class gives. A default alone is no proof (a caller may pass another
+        class); an annotation alone over an unknown callable is not read either."""
+        if not isinstance(func, ast.Name) or function.returns is None:
+            return None
+        arguments = function.args
+        positional = [*arguments.posonlyargs, *arguments.args]
+        defaults: dict[str, ast.expr] = dict(zip((a.arg for a in positional[len(positional) - len(arguments.defaults) :]), arguments.defaults))
+        defaults.update((a.arg, d) for a, d in zip(arguments.kwonlyargs, arguments.kw_defaults) if d is not None)
+        default = defaults.get(func.id)
+        if default is None or self.facts.bindings_of(func) != [p for p in (*positional, *arguments.kwonlyargs) if p.arg == func.id]:
+            return None  # no parameter of this def, or one rebound before the call
+        named = self.facts.qualified_names(default)
+        if len(named) != 1 or named != self.facts.qualified_names(function.returns):
+            return None
+        name = next(iter(named))
+        return None if N.is_library(name) or "." not in name else name
 
     def aliases(self) -> dict[str, str]:
         """Top-level names bound to a Gym callable: ``make = gym.make``, ``from gym import make``."""

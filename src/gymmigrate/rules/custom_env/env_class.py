@@ -20,7 +20,8 @@ from collections.abc import Callable
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts.env_classes import EnvClasses
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.module import ModuleFacts
+from gymmigrate.facts.module import ModuleFacts, own_returns
+from gymmigrate.facts.own_api import gymnasium_flag, is_info_pair, own_api_shape
 from gymmigrate.facts.summaries.untraced import calls_from_outside
 from gymmigrate.findings import FixKind, Tier, configure_hook_question
 from gymmigrate.rules.base import FileContext, RuleFamily
@@ -178,6 +179,19 @@ def _report_own_api(decision: ClassDecision) -> None:
     if shape is None:
         if not {"reset", "step"} & set(decision.methods):
             return  # nothing of its own on that contract: its base's item covers it
+        taken = _gymnasium_through_flag(decision)
+        if taken is not None:
+            base, flag = taken
+            decision.report(
+                classdef,
+                "GM504",
+                f"`{classdef.name}` takes Gymnasium's shapes from `{base}`, which has two APIs: its __init__ sets "
+                f"`self.{flag} = True`, which picks `{base}`'s five-value step and (obs, info) reset, and its own "
+                f"overrides return those shapes: left as it is, on Gymnasium's API (`{base}`'s item asks about the other)",
+                FixKind.FLAG,
+                tier=Tier.NOTE,
+            )
+            return
         shape = "it derives from an env class of the run that follows one"
     decision.report(
         classdef,
@@ -187,6 +201,73 @@ def _report_own_api(decision: ClassDecision) -> None:
         "its callers together by hand",
         FixKind.FLAG,
     )
+
+
+def _gymnasium_through_flag(decision: ClassDecision) -> tuple[str, str] | None:
+    """(base, flag) for a subclass of a class of two APIs (``own_api.gymnasium_flag``: its
+    step and reset take Gymnasium's shapes only under ``if self.<flag>:``) whose __init__
+    sets that flag to True last, which nothing else in the class writes, and whose own step
+    and reset return only Gymnasium's shapes: its instances are on Gymnasium's API. None
+    otherwise (a flag the subclass leaves to its callers, or sets to something else)."""
+    classdef = decision.classdef
+    receivers = decision.family.receivers
+    found: set[tuple[str, str]] = set()
+    for base_expr in classdef.bases:
+        local = receivers.local_class(base_expr)
+        if local is not None:
+            flag = gymnasium_flag(local) if own_api_shape(local) is not None else None
+        elif receivers.project is not None:
+            flags = {receivers.project.own_api_flag(q) for q in receivers.facts.qualified_names(base_expr)}
+            flag = flags.pop() if len(flags) == 1 else None
+        else:
+            flag = None
+        if flag is not None:
+            found.add((ast.unparse(base_expr), flag))
+    if len(found) != 1:
+        return None
+    base, flag = found.pop()
+    init = decision.methods.get("__init__")
+    if not isinstance(init, (ast.FunctionDef, ast.AsyncFunctionDef)):
+        return None
+    sets = [i for i, s in enumerate(init.body) if _sets_flag_true(s, flag)]
+    if not sets or any(_calls_init(s) for s in init.body[sets[-1] + 1 :]):
+        return None  # a base __init__ called after it may set the flag again
+    writes = [
+        n
+        for n in ast.walk(classdef)
+        if isinstance(n, ast.Attribute) and n.attr == flag and isinstance(n.ctx, ast.Store)
+    ]
+    if len(writes) != 1:
+        return None
+    step, reset = decision.methods.get("step"), decision.methods.get("reset")
+    if step is not None and not all(r.value is not None and _five(r.value) for r in own_returns(step)):
+        return None
+    if reset is not None and not all(r.value is not None and is_info_pair(r.value) for r in own_returns(reset)):
+        return None
+    return base, flag
+
+
+def _five(value: ast.expr) -> bool:
+    return isinstance(value, ast.Tuple) and len(value.elts) == 5
+
+
+def _sets_flag_true(statement: ast.stmt, flag: str) -> bool:
+    """``self.<flag> = True``."""
+    if not (isinstance(statement, ast.Assign) and len(statement.targets) == 1):
+        return False
+    target = statement.targets[0]
+    return (
+        isinstance(target, ast.Attribute)
+        and target.attr == flag
+        and isinstance(target.value, ast.Name)
+        and target.value.id == "self"
+        and isinstance(statement.value, ast.Constant)
+        and statement.value.value is True
+    )
+
+
+def _calls_init(statement: ast.stmt) -> bool:
+    return any(isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute) and n.func.attr == "__init__" for n in ast.walk(statement))
 
 
 def _rewrite_class(plan: ClassPlan) -> Callable[[cst.ClassDef], cst.ClassDef]:
