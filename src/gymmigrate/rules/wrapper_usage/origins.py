@@ -193,8 +193,8 @@ class EnvOrigins:
                 return self._wrapped(call)
             if rest.startswith("envs."):
                 return RAW
-        if self.is_run_wrapper_class(call.func):
-            return self._wrapped(call)
+        if self.is_run_wrapper_class(call.func) or self.receivers.library_wrapper_class(call.func):
+            return self._wrapped(call)  # (an env library's Gym wrappers, ``ImgObsWrapper``, as gym's own)
         local = self.receivers.local_class(call.func)
         if local is not None:
             if self.receivers.is_gym_wrapper_class(local):
