@@ -144,10 +144,40 @@ def is_batched_step_return(value: ast.AST | None, step: ast.AST) -> bool:
     list filled in the method. Such a step is a batch of envs with its own API (stacked flags,
     no place for a scalar ``truncated``): the rules leave its contract, and its callers',
     as they are (GM504/GM602 report the class once)."""
+    if _transposed(value) or (isinstance(value, ast.Name) and _bound_only_to_transposed(value.id, step)):
+        return True  # ``return zip(*results)``: the per-env results, one tuple per field
     if not (isinstance(value, ast.Tuple) and len(value.elts) == 4):
         return False
     lists = _lists_filled_in(step)
     return all(_is_batched(element, lists) for element in value.elts[1:3])
+
+
+def _transposed(value: ast.AST | None) -> bool:
+    """``zip(*results)``: a list of per-env results turned into one tuple per field (the
+    unpacked form, ``obs, rews, dones, infos = zip(*results)``, is read below)."""
+    return (
+        isinstance(value, ast.Call)
+        and isinstance(value.func, ast.Name)
+        and value.func.id == "zip"
+        and len(value.args) == 1
+        and isinstance(value.args[0], ast.Starred)
+        and not value.keywords
+    )
+
+
+def _bound_only_to_transposed(name: str, step: ast.AST) -> bool:
+    """Every binding of ``name`` in the step stores a ``zip(*...)`` (``results =
+    zip(*[first] + rest)``, then ``return results``)."""
+    stores = [n for n in walk(step) if isinstance(n, ast.Name) and n.id == name and isinstance(n.ctx, ast.Store)]
+    # a store that is no plain ``name = ...`` (unpacked, a loop target, ``+=``) is left uncounted
+    values = [
+        node.value
+        for node in walk(step)
+        if isinstance(node, ast.Assign)
+        for target in node.targets
+        if isinstance(target, ast.Name) and target.id == name
+    ]
+    return bool(stores) and len(values) == len(stores) and all(_transposed(v) for v in values)
 
 
 def _is_batched(expr: ast.expr, lists: frozenset[str]) -> bool:

@@ -139,6 +139,34 @@ GYM_VEC_FACTORIES = frozenset(
 )
 GYM_VEC_PREFIXES = ("wrappers.vector.",)
 
+# minigrid 3.2.0 minigrid/wrappers.py: its classes (gym_minigrid 1.x had the same names).
+MINIGRID_WRAPPERS = frozenset(
+    {
+        "ActionBonus",
+        "DictObservationSpaceWrapper",
+        "DirectionObsWrapper",
+        "FlatObsWrapper",
+        "FullyObsWrapper",
+        "ImgObsWrapper",
+        "NoDeath",
+        "OneHotPartialObsWrapper",
+        "PositionBonus",
+        "RGBImgObsWrapper",
+        "RGBImgPartialObsWrapper",
+        "ReseedWrapper",
+        "StochasticActionWrapper",
+        "SymbolicObsWrapper",
+        "ViewSizeWrapper",
+    }
+)
+
+# Modules of Gym env libraries whose classes (named here) are Gym wrappers: called on a
+# Gym env they give one (the gym-era name and its Gymnasium successor alike).
+GYM_LIBRARY_WRAPPERS: dict[str, frozenset[str]] = {
+    "gym_minigrid.wrappers": MINIGRID_WRAPPERS,
+    "minigrid.wrappers": MINIGRID_WRAPPERS,
+}
+
 # Top-level packages with no Gymnasium release: GM107 reports their imports with a route
 # (``rules/imports/libraries.py`` GYM_ONLY_LIBRARIES), and an object they make is decided by that port.
 GYM_ONLY_PACKAGES = frozenset(

@@ -294,7 +294,13 @@ class BindingKinds(_Facade):
                     kinds.append(self._param_element_kind(binding))
                 else:
                     kinds.append(EnvKind.UNKNOWN)
-            return join_kinds(kinds)
+            joined = join_kinds(kinds)
+            if joined is EnvKind.UNKNOWN:
+                # ``envs = []``, then ``envs.append(env)`` in a loop: the items it is given
+                items = self._name_list_items(container)
+                if items:
+                    return join_kinds(self.kind_of(item) for item in items)
+            return joined
         if isinstance(container, ast.Attribute) and isinstance(container.value, ast.Name):
             if self.is_self(container.value):
                 values = self.self_attribute_values(container, container.attr)
@@ -352,9 +358,39 @@ class BindingKinds(_Facade):
                     return None  # ``envs[i] = ...``: an item the reads above do not show
             elif isinstance(holder, (ast.For, ast.AsyncFor, ast.comprehension)) and holder.iter is node:
                 continue
+            elif isinstance(holder, ast.Call) and self._stored_untouched(holder, node):
+                continue  # ``Batch(envs)`` keeping the list as it is: its items are these
             elif not (isinstance(holder, ast.Call) and isinstance(holder.func, ast.Name) and holder.func.id in _READING_BUILTINS):
                 return None  # handed on (``fill(envs)``), stored elsewhere: items may come from there
         return items
+
+    def _stored_untouched(self, call: ast.Call, argument: ast.expr) -> bool:
+        """``call`` builds a class of this module (no class here derives from it) whose
+        ``__init__`` only stores the parameter ``argument`` lands on as ``self.<attr>``, and
+        the class adds no items to that attribute in place: the list keeps the items given."""
+        classdef = self.local_class(call.func)
+        if classdef is None or any(isinstance(a, ast.Starred) for a in call.args) or argument not in call.args:
+            return False
+        if any(self.local_class(b) is classdef for sub in self.facts.classes.values() for b in sub.bases):
+            return False
+        init = next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == "__init__"), None)
+        params = [*init.args.posonlyargs, *init.args.args] if init is not None else []
+        position = call.args.index(argument) + 1  # calls pass no ``self``
+        if init is None or position >= len(params):
+            return False
+        name = params[position].arg
+        attrs = []
+        for node in walk(init):
+            if isinstance(node, ast.Name) and node.id == name and not isinstance(node.ctx, ast.Load):
+                return False  # rebound in ``__init__``
+            if isinstance(node, ast.Name) and node.id == name:
+                statement = self.facts.parent(node)
+                target = statement.targets[0] if isinstance(statement, ast.Assign) and len(statement.targets) == 1 else None
+                stored = isinstance(target, ast.Attribute) and isinstance(target.value, ast.Name) and self.is_self(target.value)
+                if not (stored and isinstance(statement, ast.Assign) and statement.value is node):
+                    return False  # read another way (``fill(envs)``, ``envs.append``): items may change
+                attrs.append(target.attr)  # type: ignore[union-attr]
+        return bool(attrs) and all((added := items_added_in_place(classdef, attr)) is not None and not any(added) for attr in attrs)
 
     def _param_element_kind(self, param: ast.arg) -> EnvKind:
         """The items of the list a parameter holds (``def __init__(self, envs)`` then

@@ -53,8 +53,23 @@ class WrappingCalls(_Facade):
                 return True
         if isinstance(value.func, ast.Name) and self.project is not None and not self.facts.bindings_of(value.func):
             return self.project.star_wrapper_class(value.func.id, self.facts.star_imports)
+        if self.library_wrapper_class(value.func):
+            return True
         local = self.local_class(value.func)
         return local is not None and self.is_gym_wrapper_class(local)
+
+    def library_wrapper_class(self, func: ast.expr) -> bool:
+        """``func`` names a Gym wrapper class of an env library (``N.GYM_LIBRARY_WRAPPERS``:
+        ``ImgObsWrapper`` of gym_minigrid), imported by name or through a star import of its
+        module where the file binds the name nowhere else."""
+        names = self.qualified_names(func)
+        if isinstance(func, ast.Name) and not self.facts.bindings_of(func):
+            names = names | {f"{module}.{func.id}" for module in self.facts.star_imports}
+        for qualified in names:
+            module, _, name = qualified.rpartition(".")
+            if name in N.GYM_LIBRARY_WRAPPERS.get(module, ()):
+                return True
+        return False
 
     def wrapped_argument(self, value: ast.AST) -> ast.expr | None:
         """The env ``value`` hands on: its first argument, where it calls a def of the run

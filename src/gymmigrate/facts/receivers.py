@@ -270,6 +270,8 @@ class Receivers(BindingKinds, WrappingCalls, ClassKinds, ParameterKinds, MadeObj
         kinds = [k for k in (self.kind_from_qualified(q, call) for q in self.qualified_names(func)) if k is not None]
         if kinds:
             return join_kinds(kinds)
+        if self.library_wrapper_class(func):
+            return EnvKind.GYM_ENV  # ``ImgObsWrapper(env)``: a Gym wrapper of an env library, as gym's own
         wrapped = self.wrapped_argument(call)
         if wrapped is not None:
             inner = self.kind_of(wrapped)

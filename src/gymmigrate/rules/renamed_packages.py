@@ -22,31 +22,11 @@ from gymmigrate.edits.lazy import cst
 from gymmigrate.edits.syntax import dotted_node
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.module import walk
+from gymmigrate.facts.names import MINIGRID_WRAPPERS
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 
 LEGACY, CURRENT = "gym_minigrid", "minigrid"
-
-# minigrid 3.2.0 minigrid/wrappers.py: its classes (gym_minigrid 1.x had the same names).
-MINIGRID_WRAPPERS = frozenset(
-    {
-        "ActionBonus",
-        "DictObservationSpaceWrapper",
-        "DirectionObsWrapper",
-        "FlatObsWrapper",
-        "FullyObsWrapper",
-        "ImgObsWrapper",
-        "NoDeath",
-        "OneHotPartialObsWrapper",
-        "PositionBonus",
-        "RGBImgObsWrapper",
-        "RGBImgPartialObsWrapper",
-        "ReseedWrapper",
-        "StochasticActionWrapper",
-        "SymbolicObsWrapper",
-        "ViewSizeWrapper",
-    }
-)
 
 # Where gym_minigrid.minigrid's names live in minigrid 3.2.0.
 MOVED_NAMES = {

@@ -215,8 +215,8 @@ class EnvOrigins:
                 return self._wrapped(call)
             if rest.startswith("envs."):
                 return RAW
-        if self.is_run_wrapper_class(call.func):
-            return self._wrapped(call)
+        if self.is_run_wrapper_class(call.func) or self.receivers.library_wrapper_class(call.func):
+            return self._wrapped(call)  # (an env library's Gym wrappers, ``ImgObsWrapper``, as gym's own)
         local = self.receivers.local_class(call.func)
         if local is not None:
             if self.receivers.is_gym_wrapper_class(local):
@@ -386,6 +386,8 @@ class EnvOrigins:
         if classdef is not None:
             if function.name == "__init__" and param.arg == "env" and self.receivers.is_gym_wrapper_class(classdef):
                 return INNER
+            if function.name == "__init__" and self.facts.parent(classdef) is self.facts.tree:
+                return self._constructions_origin(classdef, function, param)
             return None
         if param.annotation is not None and any(
             wrapper_rest(q) == "TimeLimit" for q in self.facts.qualified_names(param.annotation)
@@ -408,6 +410,27 @@ class EnvOrigins:
         origins: list[Origin] = []
         for call in calls:
             argument = call_argument(call, position, param.arg)
+            origin = self.origin(argument) if argument is not None else None
+            origins.append(None if origin == CYCLE else origin)
+        return join_origins(origins)
+
+    def _constructions_origin(self, classdef: ast.ClassDef, init: ast.FunctionDef | ast.AsyncFunctionDef, param: ast.arg) -> Origin:
+        """A constructor parameter of a class of this module that no other module of the run
+        builds (``Adapter(env)`` after ``env = gym.make(...)``): what every construction here
+        passes, as a module function's parameter is what its callers pass."""
+        params = [*init.args.posonlyargs, *init.args.args]
+        index = next((i for i, p in enumerate(params) if p is param), None)
+        if index is None or index == 0:
+            return None  # ``self``, or a keyword-only parameter
+        calls, elsewhere = self.receivers.constructions(classdef)
+        view = self.receivers.project
+        if not calls or elsewhere or (view is not None and view.built_elsewhere(classdef.name)):
+            return None
+        origins: list[Origin] = []
+        for call, shift in calls:
+            if any(isinstance(a, ast.Starred) for a in call.args) or any(k.arg is None for k in call.keywords):
+                return None  # ``Adapter(*args)``: which argument lands here is not shown
+            argument = call_argument(call, index - 1 + shift, param.arg)
             origin = self.origin(argument) if argument is not None else None
             origins.append(None if origin == CYCLE else origin)
         return join_origins(origins)
