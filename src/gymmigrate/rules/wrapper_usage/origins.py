@@ -42,6 +42,7 @@ from gymmigrate.facts.self_attributes import store_seen
 from gymmigrate.rules.wrapper_usage.tables import (
     OWN_ATTRIBUTES,
     current_name,
+    wrapper_class_rest,
     wrapper_rest,
 )
 
@@ -212,7 +213,8 @@ class EnvOrigins:
             if rest in N.GYM_ENV_FACTORIES:
                 return MADE
             if rest.startswith("wrappers.") and not rest.startswith("wrappers.vector."):
-                return self._wrapped(call)
+                # a recorder or frame buffer beside the wrappers is no env at all, whatever it is handed
+                return self._wrapped(call) if wrapper_class_rest(q) is not None else None
             if rest.startswith("envs."):
                 return RAW
         if self.is_run_wrapper_class(call.func) or self.receivers.library_wrapper_class(call.func):
@@ -879,11 +881,11 @@ class EnvOrigins:
             value = self.nearest_assignment(expr)
             annotation = self._annotated_wrapper(expr) if value is None else None
             if annotation is not None:  # ``env: gym.wrappers.TimeLimit``
-                named = {rest for q in self.facts.qualified_names(annotation) if (rest := wrapper_rest(q)) is not None}
+                named = {rest for q in self.facts.qualified_names(annotation) if (rest := wrapper_class_rest(q)) is not None}
                 return current_name(named.pop()) if len(named) == 1 else None
         if not isinstance(value, ast.Call):
             return None
-        names = {rest for q in self.facts.qualified_names(value.func) if (rest := wrapper_rest(q)) is not None}
+        names = {rest for q in self.facts.qualified_names(value.func) if (rest := wrapper_class_rest(q)) is not None}
         if len(names) == 1:
             # Its 1.x name: ``FrameStack`` is becoming FrameStackObservation in the same run.
             return current_name(names.pop())

@@ -105,6 +105,18 @@ def wrapper_rest(qualified: str) -> str | None:
     return None
 
 
+def wrapper_class_rest(qualified: str) -> str | None:
+    """``wrapper_rest`` of a wrapper class only: None for the helpers that live beside the
+    wrappers (gym's ``VideoRecorder`` and ``StatsRecorder``, ``LazyFrames``, ``RunningMeanStd``).
+    Their constructors take the env too, ``VideoRecorder(env, path)``, but what they return is
+    a recorder, not a layer around it: reading its attributes forwards nothing."""
+    name = wrapper_rest(qualified)
+    if name is None or name in N.GYM_NOT_ENV_CLASSES:
+        return None
+    modules = (N.strip_gym_prefix(qualified) or "").split(".")[:-1]
+    return None if N.GYM_NOT_ENV_MODULES.intersection(modules) else name
+
+
 def experimental_name(name: str) -> str | None:
     """``ClipActionV0`` -> ``ClipAction``; None for a name that is not an experimental wrapper."""
     if name in EXPERIMENTAL_SPECIAL:
