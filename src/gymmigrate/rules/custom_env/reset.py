@@ -504,7 +504,7 @@ def decide_internal_calls(decision: ClassDecision) -> None:
                 continue
             if isinstance(parent, ast.Return) and is_self_call(call, set(decision.plan.step_helpers if target == "step" else decision.plan.reset_helpers)):
                 continue  # a delegation the rewrite followed: the helper returns the new contract
-            if target == "step" and call.func.attr == "step" and self_step_gives_five(facts, decision.family.receivers, decision.classdef):
+            if target == "step" and call.func.attr == "step" and self_step_gives_five(facts, decision.family.receivers, decision.classdef, method.name):
                 continue  # every step it may run gives five values: the step family moves this call with them
             if call in up:
                 decision.plan.reset_bases = bases  # the build unpacks ``Base.reset(self)`` as well
