@@ -11,6 +11,7 @@ its own four-value step: the unpack stays.
 
 from __future__ import annotations
 
+import json
 import shutil
 import subprocess
 import sys
@@ -38,6 +39,9 @@ def test_warmup_unpack_moves_with_the_steps_that_run_it(tmp_path: Path) -> None:
     project = tmp_path / "project"
     shutil.copytree(FIXTURES / "project_warmup_steps", project)
     before = {p: (project / p).read_text() for p in ("road/convoy.py", "ring/pair.py")}
+    checked = runner.invoke(app, ["check", "--output-format", "json", str(project)])
+    kept = [(Path(f["path"]).relative_to(project).as_posix(), f["line"], f["rule"]) for f in json.loads(checked.stdout) if f["tier"] == "review" and "self.step()" in f["message"]]
+    assert kept == [("ring/base.py", 18, "GM504")], kept  # the unpack left on four values is asked about
     result = runner.invoke(app, ["rewrite", str(project)])
     assert result.exit_code == 0, result.output
     again = runner.invoke(app, ["rewrite", str(project)])

@@ -497,7 +497,9 @@ def decide_internal_calls(decision: ClassDecision) -> None:
         up = _base_resets_outside_reset(decision, own_reset, bases) if target == "reset" else []
         for call in (*decision.index.self_calls.get(target, ()), *(c for name in legacy for c in decision.index.self_calls.get(name, ())), *up):
             method = method_of(decision, call)
-            if method is None or method.name in decision.removed or method.name == "reset" or method is own_reset:
+            # a reset's own ``self.reset()`` is its recursion; its ``self.step()`` (a warm-up) is
+            # a caller like any other, asked about where the steps it may run do not all give five
+            if method is None or method.name in decision.removed or (target == "reset" and (method.name == "reset" or method is own_reset)):
                 continue
             parent = facts.parent(call)
             if isinstance(parent, ast.Expr):
