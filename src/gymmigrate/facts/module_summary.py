@@ -158,6 +158,8 @@ class ModuleSummary:
     # ``reset``) on this module's knowledge: the join finds the callers in other modules of a
     # method the run removes or renames (``facts/project_hooks.py``).
     super_calls: dict[str, frozenset[str]] = field(default_factory=dict)
+    # Top-level class -> the methods it calls as ``Cls.m(self, ...)``: past its MRO's order.
+    named_class_calls: dict[str, frozenset[str]] = field(default_factory=dict)
     run_bases: dict[str, tuple[str, ...]] = field(default_factory=dict)
     renamed_hooks: dict[str, frozenset[str]] = field(default_factory=dict)
     # The methods the module calls on another receiver than ``self`` or ``super()``

@@ -36,6 +36,7 @@ from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import (
     FUNCTIONS,
     ModuleFacts,
+    is_super_call,
     named_class_call,
     own_returns,
     walk,
@@ -173,6 +174,48 @@ def _below(facts: ModuleFacts, classdef: ast.ClassDef) -> list[ast.ClassDef]:
     return found
 
 
+def calls_base_method(classdef: ast.ClassDef, method: str, *, named: bool = False) -> bool:
+    """Some method of ``classdef`` calls ``method`` on a base: ``super().m(...)`` (unless
+    ``named``) or ``Cls.m(self, ...)`` naming any class."""
+    for node in walk(classdef):
+        if not (isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == method):
+            continue
+        held = node.func.value
+        if is_super_call(held):
+            if not named:
+                return True
+            continue
+        if isinstance(held, ast.Name) and held.id == "self":
+            continue
+        if isinstance(held, (ast.Name, ast.Attribute)) and node.args and isinstance(node.args[0], ast.Name) and node.args[0].id == "self":
+            return True
+    return False
+
+
+def replaces_method(classdef: ast.ClassDef, method: str) -> bool:
+    """``classdef`` defines ``method`` and none of its methods calls a base's: an instance of
+    it (or of a class below it) never runs the base's ``method``, nor what that runs."""
+    return any(isinstance(s, FUNCTIONS) and s.name == method for s in classdef.body) and not calls_base_method(classdef, method)
+
+
+def _below_running(facts: ModuleFacts, classdef: ast.ClassDef, method: str | None) -> list[ast.ClassDef]:
+    """``_below``, less the classes that run no ``method`` of ``classdef``: one that
+    replaces it (``replaces_method``) and every class derived from that one, which finds
+    the replacement before ``classdef``'s in its MRO, ``super()`` going through it. Where one
+    of them calls ``Cls.method(self)``, which may skip past it to ``classdef``'s with the
+    replacing class's step, that replacing class and those below it stay to be checked."""
+    below = _below(facts, classdef)
+    if method is None:
+        return below
+    cut: list[ast.ClassDef] = []
+    for sub in below:
+        if replaces_method(sub, method):
+            tree = [sub, *_below(facts, sub)]
+            if not any(calls_base_method(c, method, named=True) for c in tree):
+                cut += tree
+    return [sub for sub in below if sub not in cut]
+
+
 def helper_candidates(facts: ModuleFacts) -> dict[str, int]:
     """Top-level classes whose own step returns the observation alone and whose every
     override in this module returns its own step values (``builds_own_step``): class ->
@@ -260,12 +303,17 @@ def _abstract_root(facts: ModuleFacts, classdef: ast.ClassDef) -> bool:
     )
 
 
-def self_step_gives_five(facts: ModuleFacts, receivers: Receivers, classdef: ast.ClassDef) -> bool:
+def self_step_gives_five(facts: ModuleFacts, receivers: Receivers, classdef: ast.ClassDef, method: str | None = None) -> bool:
     """``self.step(...)`` in a method of ``classdef`` gives Gymnasium's five values after the
     run: the class's own step does (with none, it derives ``gym.Env`` alone, whose step is
     abstract), and so does every override below it, in this module and in the others of
-    the run (``ProjectView.steps_below_give_five``); and some step exists to run."""
-    return facts.memo(("self-step-five", id(classdef)), lambda: _self_step_gives_five(facts, receivers, classdef), while_computing=False)
+    the run (``ProjectView.steps_below_give_five``); and some step exists to run. With the
+    calling ``method`` named, a subclass that replaces that method without calling the
+    base's (``replaces_method``) never runs this call: its step, and those below it, are
+    not the call's to check."""
+    return facts.memo(
+        (f"self-step-five:{method or ''}", id(classdef)), lambda: _self_step_gives_five(facts, receivers, classdef, method), while_computing=False
+    )
 
 
 def _migrated(receivers: Receivers, classdef: ast.ClassDef) -> bool:
@@ -273,7 +321,7 @@ def _migrated(receivers: Receivers, classdef: ast.ClassDef) -> bool:
     return receivers.class_kind(classdef) is EnvKind.GYM_ENV and not receivers.is_gym_wrapper_class(classdef) and not receivers.class_keeps_legacy_step(classdef)
 
 
-def _self_step_gives_five(facts: ModuleFacts, receivers: Receivers, classdef: ast.ClassDef) -> bool:
+def _self_step_gives_five(facts: ModuleFacts, receivers: Receivers, classdef: ast.ClassDef, method: str | None) -> bool:
     env = EnvClasses.of(facts, receivers)
     steps = 0
     step = own_step(classdef)
@@ -285,7 +333,7 @@ def _self_step_gives_five(facts: ModuleFacts, receivers: Receivers, classdef: as
         if not passes_five(facts, receivers, classdef, step, migrated=_migrated(receivers, classdef), base=base):
             return False
         steps += 1
-    below = _below(facts, classdef)
+    below = _below_running(facts, classdef, method)
     for sub in below:
         own = own_step(sub)
         # a subclass's ``super().step(a)`` reaches a step of this chain, checked here
@@ -298,7 +346,7 @@ def _self_step_gives_five(facts: ModuleFacts, receivers: Receivers, classdef: as
         for owner in (classdef, *below):
             if facts.parent(owner) is not facts.tree:
                 continue
-            elsewhere = project.steps_below_give_five(owner.name)
+            elsewhere = project.steps_below_give_five(owner.name, method)
             if elsewhere is None:
                 return False
             steps += elsewhere

@@ -185,6 +185,11 @@ class ProjectFacts:
     done_methods: dict[tuple[str, str], dict[str, DoneCause]] = field(default_factory=dict)
     done_items: dict[tuple[str, str], dict[str, tuple[DoneCause, ...]]] = field(default_factory=dict)
     subclass_methods: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
+    # (path, class) -> the methods its own methods call on a base (``ModuleSummary.super_calls``):
+    # one it defines but never calls up replaces the base's for every instance below it.
+    base_calls: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
+    # (path, class) -> the methods it calls as ``Cls.m(self, ...)`` (``ModuleSummary.named_class_calls``).
+    named_calls: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
     # (path, class) -> the ``self.<name>(...)`` its methods call (``ModuleSummary.self_calls``).
     self_calls: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
     # (path, class) -> its bases of the run, resolved, in the order it names them; the gym

@@ -156,6 +156,8 @@ def join_overrides(facts: ProjectFacts, summaries: list[ModuleSummary], by_path:
                     found.setdefault(method, []).append(f"{summary.path}:{name}")
                 facts.subclasses_of.setdefault(base, []).append((summary.path, name))
             facts.subclass_methods[(summary.path, name)] = frozenset(methods)
+            facts.base_calls[(summary.path, name)] = summary.super_calls.get(name, frozenset())
+            facts.named_calls[(summary.path, name)] = summary.named_class_calls.get(name, frozenset())
         facts.init_passers.update((summary.path, name) for name in summary.passes_init_up)
         for name, methods_done in summary.done_methods.items():
             facts.done_methods[(summary.path, name)] = methods_done

@@ -137,21 +137,26 @@ class HierarchyView:
         split = self.facts._split(qualified, self.path)
         return split is not None and split in self.facts.helper_step_names
 
-    def steps_below_give_five(self, classname: str) -> int | None:
+    def steps_below_give_five(self, classname: str, method: str | None = None) -> int | None:
         """How many classes of other modules of the run below this file's ``classname`` (at
         any depth) define a step, where every step they and the classes of their own modules
         below them define gives five values once migrated (facts/own_steps.py); None where
         one may not: a subclass that is no env class the run migrates, keeps its legacy
-        step, or returns what the run does not carry to five values."""
+        step, or returns what the run does not carry to five values. With ``method`` (the
+        one calling ``self.step``) named, a subclass that defines it and never calls a
+        base's never runs the call, nor do the classes below it: they are left out."""
         facts = self.facts
         steps = 0
         seen: set[tuple[str, str]] = set()
+        cut = self._replacing(classname, method) if method is not None else set()
         todo = list(facts.subclasses_of.get((self.path, classname), ()))
         while todo:
             sub = todo.pop()
             if sub in seen:
                 continue
             seen.add(sub)
+            if sub in cut:
+                continue
             if sub[0] in facts.blocked or sub not in facts.five_step_trees or sub in facts.legacy_steps or sub in facts.own_api_classes:
                 return None
             if facts.call_kinds.get(sub) is not EnvKind.GYM_ENV:
@@ -160,6 +165,35 @@ class HierarchyView:
                 steps += 1
             todo += facts.subclasses_of.get(sub, ())
         return steps
+
+    def _replacing(self, classname: str, method: str) -> set[tuple[str, str]]:
+        """The classes of other modules below this file's ``classname`` that never run its
+        ``method``: one that defines it and calls no base's, and every class derived from
+        that one (its definition precedes ``classname``'s in their MRO, and ``super()`` goes
+        through it); not where one of them calls ``Cls.method(self)``, which may skip past
+        it to ``classname``'s with the replacing class's step."""
+        facts = self.facts
+        below: list[tuple[str, str]] = []
+        todo = list(facts.subclasses_of.get((self.path, classname), ()))
+        while todo:
+            sub = todo.pop()
+            if sub not in below:
+                below.append(sub)
+                todo += facts.subclasses_of.get(sub, ())
+        cut: set[tuple[str, str]] = set()
+        for replacing in below:
+            if method not in facts.subclass_methods.get(replacing, ()) or method in facts.base_calls.get(replacing, ()):
+                continue
+            tree: set[tuple[str, str]] = set()
+            todo = [replacing]
+            while todo:
+                sub = todo.pop()
+                if sub not in tree:
+                    tree.add(sub)
+                    todo += facts.subclasses_of.get(sub, ())
+            if not any(method in facts.named_calls.get(sub, ()) for sub in tree):
+                cut |= tree
+        return cut
 
     def inherited_hooks(self, classname: str) -> frozenset[str]:
         """The step hooks that bases of ``classname`` in other modules migrate, which its

@@ -309,20 +309,33 @@ def super_calls(facts: ModuleFacts) -> dict[str, frozenset[str]]:
         called = frozenset(
             func.attr
             for node, func in _method_attribute_calls(classdef)
-            if (
-                is_super_call(func.value)
-                or (
-                    bool(node.args)
-                    and isinstance(node.args[0], ast.Name)
-                    and node.args[0].id == "self"
-                    and isinstance(func.value, (ast.Name, ast.Attribute))
-                    and ast.unparse(func.value) in spelled
-                )
-            )
+            if is_super_call(func.value) or (_called_with_self(node, func) and ast.unparse(func.value) in spelled)
         )
         if called:
             found[name] = called
     return found
+
+
+def named_class_calls(facts: ModuleFacts) -> dict[str, frozenset[str]]:
+    """``ModuleSummary.named_class_calls``: per top-level class, the methods its own methods
+    call as ``Cls.m(self, ...)`` naming any class: unlike ``super()``, such a call can skip
+    past the classes its MRO puts first (a grandbase's ``reset`` past its base's)."""
+    found: dict[str, frozenset[str]] = {}
+    for name, classdef in facts.classes.items():
+        called = frozenset(func.attr for node, func in _method_attribute_calls(classdef) if _called_with_self(node, func))
+        if called:
+            found[name] = called
+    return found
+
+
+def _called_with_self(node: ast.Call, func: ast.Attribute) -> bool:
+    return (
+        bool(node.args)
+        and isinstance(node.args[0], ast.Name)
+        and node.args[0].id == "self"
+        and isinstance(func.value, (ast.Name, ast.Attribute))
+        and not (isinstance(func.value, ast.Name) and func.value.id == "self")
+    )
 
 
 def renamed_hooks(facts: ModuleFacts, receivers: Receivers) -> dict[str, frozenset[str]]:

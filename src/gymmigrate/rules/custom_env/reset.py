@@ -497,14 +497,16 @@ def decide_internal_calls(decision: ClassDecision) -> None:
         up = _base_resets_outside_reset(decision, own_reset, bases) if target == "reset" else []
         for call in (*decision.index.self_calls.get(target, ()), *(c for name in legacy for c in decision.index.self_calls.get(name, ())), *up):
             method = method_of(decision, call)
-            if method is None or method.name in decision.removed or method.name == "reset" or method is own_reset:
+            # a reset's own ``self.reset()`` is its recursion; its ``self.step()`` (a warm-up) is
+            # a caller like any other, asked about where the steps it may run do not all give five
+            if method is None or method.name in decision.removed or (target == "reset" and (method.name == "reset" or method is own_reset)):
                 continue
             parent = facts.parent(call)
             if isinstance(parent, ast.Expr):
                 continue
             if isinstance(parent, ast.Return) and is_self_call(call, set(decision.plan.step_helpers if target == "step" else decision.plan.reset_helpers)):
                 continue  # a delegation the rewrite followed: the helper returns the new contract
-            if target == "step" and call.func.attr == "step" and self_step_gives_five(facts, decision.family.receivers, decision.classdef):
+            if target == "step" and call.func.attr == "step" and self_step_gives_five(facts, decision.family.receivers, decision.classdef, method.name):
                 continue  # every step it may run gives five values: the step family moves this call with them
             if call in up:
                 decision.plan.reset_bases = bases  # the build unpacks ``Base.reset(self)`` as well

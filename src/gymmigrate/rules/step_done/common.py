@@ -199,7 +199,7 @@ class StepFamilyBase(RuleFamily):
             selection = self.context.options.selection
             if kind is EnvKind.GYM_ENV and selection is not None and not selection.allows("GM504"):
                 return None  # the env classes' steps stay on four values: so does this call
-            if self_step_gives_five(self.facts, self.receivers, classdef):
+            if self_step_gives_five(self.facts, self.receivers, classdef, function.name):  # type: ignore[union-attr]
                 return Decision(Action.REWRITE, "`self.step()` runs the class's own step or an override below it, each of which gives five values once migrated")
             return None
         step = next((s for s in classdef.body if isinstance(s, (ast.FunctionDef, ast.AsyncFunctionDef)) and s.name == "step"), None)
