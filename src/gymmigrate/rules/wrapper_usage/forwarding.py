@@ -64,6 +64,7 @@ from gymmigrate.rules.wrapper_usage.getattr_hasattr import (
     getattr_forwarding,
     hasattr_through_wrappers,
 )
+from gymmigrate.rules.wrapper_usage.held_envs import EVERY, SOME
 from gymmigrate.rules.wrapper_usage.made_attributes import classes_holding
 from gymmigrate.rules.wrapper_usage.make_layers import MakeLayers
 from gymmigrate.rules.wrapper_usage.monitor_attributes import (
@@ -73,11 +74,9 @@ from gymmigrate.rules.wrapper_usage.monitor_attributes import (
 )
 from gymmigrate.rules.wrapper_usage.origins import (
     CYCLE,
-    EVERY,
     INNER,
     MADE,
     RAW,
-    SOME,
     WRAPPED,
     EnvOrigins,
     Origin,
