@@ -174,6 +174,20 @@ def test_a_long_rebinding_chain_is_linear_and_cannot_overflow() -> None:
     assert len(receivers._cache) < 5000
 
 
+def count_classifications(receivers: Receivers) -> list[ast.AST]:
+    """Every expression ``receivers`` classifies from now on (its cached answers aside):
+    the work a question costs, counted instead of timed."""
+    classify = receivers._classify
+    asked: list[ast.AST] = []
+
+    def counted(expr: ast.AST) -> EnvKind:
+        asked.append(expr)
+        return classify(expr)
+
+    receivers._classify = counted  # type: ignore[method-assign]
+    return asked
+
+
 def test_a_def_passing_its_parameter_on_at_many_calls_asks_each_frontier_once() -> None:
     # ``parse(text, params)`` calling itself at eight places with ``params`` (a recursive
     # descent parser): each call's argument is asked while others are open, and its
@@ -185,14 +199,7 @@ def test_a_def_passing_its_parameter_on_at_many_calls_asks_each_frontier_once() 
     lines += ["parse('ab', gym.make('CartPole-v1'))"]
     facts = facts_of("\n".join(lines))
     receivers = Receivers(facts)
-    classify = receivers._classify
-    asked: list[ast.AST] = []
-
-    def counted(expr: ast.AST) -> EnvKind:
-        asked.append(expr)
-        return classify(expr)
-
-    receivers._classify = counted  # type: ignore[method-assign]
+    asked = count_classifications(receivers)
     assert receivers.kind_of(name_reads(facts, "params")[0]) is EnvKind.UNKNOWN
     assert len(asked) < 2000
 
@@ -232,14 +239,7 @@ def test_classes_building_one_another_from_a_held_attribute_decide_it_once_per_c
         lines += ["        return self.bot.step(0)"]
     facts = facts_of("\n".join(lines))
     receivers = Receivers(facts)
-    classify = receivers._classify
-    asked: list[ast.AST] = []
-
-    def counted(expr: ast.AST) -> EnvKind:
-        asked.append(expr)
-        return classify(expr)
-
-    receivers._classify = counted  # type: ignore[method-assign]
+    asked = count_classifications(receivers)
     read = next(a for a in facts.attributes["bot"] if a.lineno == len(lines) and isinstance(a.ctx, ast.Load))
     assert receivers.kind_of(read) is EnvKind.UNKNOWN
     assert len(asked) < 3000
@@ -262,14 +262,7 @@ def test_a_question_through_dozens_of_mutually_recursive_methods_is_given_up_wit
     lines += ["Compiler()._compile(None, gym.make('CartPole-v1'))"]
     facts = facts_of("\n".join(lines))
     receivers = Receivers(facts)
-    classify = receivers._classify
-    asked: list[ast.AST] = []
-
-    def counted(expr: ast.AST) -> EnvKind:
-        asked.append(expr)
-        return classify(expr)
-
-    receivers._classify = counted  # type: ignore[method-assign]
+    asked = count_classifications(receivers)
     reads = name_reads(facts, "info")
     kinds = [receivers.kind_of(read) for read in reads]
     assert set(kinds) <= {EnvKind.UNKNOWN, EnvKind.GYM_ENV}
