@@ -125,6 +125,20 @@ def decide_box_bounds(family: RuleFamily, call: ast.Call) -> bool:
     limits = _INT_RANGES.get(dtype_name) if dtype_name is not None else None
     if limits is None:
         return False
+    if dtype_name == "int8" and isinstance(dtype, (ast.Attribute, ast.Constant)) and _pixel_bounds(call):
+        # 0..255 is exactly uint8's range and no other dtype's: the pixels it was written for.
+        # gym's space held no value (255 wrapped to -1), so no Gymnasium space keeps that;
+        # the samples change from all zeros to 0..255, which the item says.
+        family.report(
+            call,
+            "GM909",
+            "`Box(0, 255)` with int8 raises ValueError in Gymnasium 1.x (int8 holds -128..127; gym wrapped 255 to -1, "
+            "a space no value was in, whose `sample()` gave zeros): dtype -> uint8, the dtype 0..255 was written for; "
+            "its samples now span 0..255",
+            FixKind.ASSIST,
+        )
+        family.plan.replace(dtype, _to_uint8)
+        return True
     for position, name in ((0, "low"), (1, "high")):
         bound = _number(_argument(call, position, name))
         if bound is None or limits[0] <= bound <= limits[1]:
@@ -139,6 +153,20 @@ def decide_box_bounds(family: RuleFamily, call: ast.Call) -> bool:
         )
         return True
     return False
+
+
+def _pixel_bounds(call: ast.Call) -> bool:
+    """Literal bounds 0 and 255: the pixel range."""
+    return _number(_argument(call, 0, "low")) == 0 and _number(_argument(call, 1, "high")) == 255
+
+
+def _to_uint8(node: cst.BaseExpression) -> cst.BaseExpression:
+    """``np.int8`` -> ``np.uint8``, ``"int8"`` -> ``"uint8"``, spelled as written."""
+    if isinstance(node, cst.Attribute):
+        return node.with_changes(attr=cst.Name("uint8"))
+    if isinstance(node, cst.SimpleString):
+        return node.with_changes(value=node.value.replace("int8", "uint8", 1))
+    return node
 
 
 def _dtype_name(facts: ModuleFacts, dtype: ast.AST) -> str | None:
