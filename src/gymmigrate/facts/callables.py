@@ -113,10 +113,19 @@ class CallableKinds:
             return self.receivers.returns_kind(callee)
         if isinstance(callee, ast.Call) and any(q in ("functools.partial",) for q in self.receivers.qualified_names(callee.func)) and callee.args:
             return self.kind_of_call_to(callee.args[0], callee)
+        if isinstance(callee, ast.Call):
+            # ``create = make_creator(params)`` then ``create()``: what the thunk it returns gives
+            return self.receivers.called_factory_kind(callee)
         if isinstance(callee, ast.Subscript):
             table = self._table_returned_kind(callee)
             if table is not None:
                 return table
+            index = callee.slice
+            if isinstance(callee.value, ast.Call) and isinstance(index, ast.Constant) and type(index.value) is int:
+                # ``make_creator(params)[0]``: the thunk every return of the factory holds there
+                item = self.receivers.called_item_kind(callee.value, index.value, None)
+                if item is not EnvKind.UNKNOWN:
+                    return item
             # ``self.env_fns[i]()``: what calling an item of the sequence returns
             return self._item_returned_kind(callee.value)
         if isinstance(callee, ast.Attribute):
@@ -394,7 +403,8 @@ class CallableKinds:
             return EnvKind.UNKNOWN
         function = self.receivers.local_function(value.func)
         if function is None:
-            return EnvKind.UNKNOWN
+            # a def of another module of the run returning ``create_env, env_name``
+            return self.receivers.called_item_kind(value, index, size)
         returned = [r.value for r in own_returns(function)]
         if not returned or not all(isinstance(r, ast.Tuple) and len(r.elts) == size for r in returned):
             return EnvKind.UNKNOWN

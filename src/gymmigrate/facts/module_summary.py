@@ -415,6 +415,14 @@ class ModuleSummary:
     # those names: the join gives the def the one kind their calls give there
     # (``ProjectFacts.thunk_factories``), which this module alone cannot know.
     thunk_factory_refs: dict[str, frozenset[str]] = field(default_factory=dict)
+    # Top-level defs that return, on every path, a tuple of one size holding a thunk of their
+    # own at one index (``return create_env, env_name``) -> (index, size, what calling that
+    # thunk returns): ``create, _ = make_creator(...)`` then ``create()`` in another module.
+    thunk_items: dict[str, tuple[int, int, EnvKind]] = field(default_factory=dict)
+    # Top-level defs whose thunk (the whole return: None; else (index, size) of the tuple
+    # item, as ``thunk_items``) returns ``make(...)`` results on every path, maybe in Gym
+    # wrappers: a wrapper stack, whose own attributes need ``get_wrapper_attr`` (GM604).
+    made_thunks: dict[str, tuple[int, int] | None] = field(default_factory=dict)
     # -- what a class's instances certainly hold (facts/init_attributes.py, GM604, GM507) --
     # Top-level class -> its bases, the names its body binds, and what each of its methods
     # certainly stores on ``self``, calls on ``self`` and hands up to a base ``__init__``:

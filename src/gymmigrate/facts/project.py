@@ -409,6 +409,11 @@ class ProjectFacts:
     # path -> its top-level defs returning a thunk -> what that thunk returns (modules left
     # as they are give none: their thunks keep the old API)
     thunk_factories: dict[str, dict[str, EnvKind]] = field(default_factory=dict)
+    # path -> its top-level defs returning a thunk as an item of a tuple -> (index, size,
+    # what that thunk returns), and those whose thunk returns make() results -> which item
+    # (None: the whole return); modules left as they are give none (``ModuleSummary.thunk_items``)
+    thunk_items: dict[str, dict[str, tuple[int, int, EnvKind]]] = field(default_factory=dict)
+    made_thunks: dict[str, dict[str, tuple[int, int] | None]] = field(default_factory=dict)
     # (path, table, field) -> what calling through that closed table of creators gives
     # (``join_tables``; field "" for its values themselves)
     table_kinds: dict[tuple[str, str, str], EnvKind] = field(default_factory=dict)
@@ -500,6 +505,10 @@ class ProjectFacts:
                 facts.gym_only_makers[summary.path] = summary.gym_only_makers
             if summary.thunk_factories and not left:
                 facts.thunk_factories[summary.path] = summary.thunk_factories
+            if summary.thunk_items and not left:
+                facts.thunk_items[summary.path] = summary.thunk_items
+            if summary.made_thunks and not left:
+                facts.made_thunks[summary.path] = summary.made_thunks
             if summary.atari_users:
                 facts.atari_users[summary.path] = summary.atari_users
             facts.pz_wrappers[summary.path] = summary.pz_wrappers
@@ -694,6 +703,27 @@ class ProjectFacts:
         imports it) returns; None when it is no such def."""
         split = self._split(qualified, importer)
         return None if split is None else self.thunk_factories.get(split[0], {}).get(split[1])
+
+    def thunk_item_kind(self, qualified: str, importer: str, index: int, size: int | None) -> EnvKind | None:
+        """What the thunk at ``index`` of the tuple the def of the run ``qualified`` returns
+        gives when called (``size``: the number of names it is unpacked to, None for any);
+        None when it is no such def or the item is another."""
+        split = self._split(qualified, importer)
+        found = None if split is None else self.thunk_items.get(split[0], {}).get(split[1])
+        if found is None or found[0] != index or (size is not None and found[1] != size):
+            return None
+        return found[2]
+
+    def thunk_made(self, qualified: str, importer: str, item: tuple[int, int | None] | None) -> bool:
+        """The thunk the def of the run ``qualified`` returns (``item`` None), or holds at
+        ``item`` (index, size: None for any) of the tuple it returns, returns make() results."""
+        split = self._split(qualified, importer)
+        if split is None or split[1] not in self.made_thunks.get(split[0], {}):
+            return False
+        found = self.made_thunks[split[0]][split[1]]
+        if item is None or found is None:
+            return item is None and found is None
+        return found[0] == item[0] and (item[1] is None or found[1] == item[1])
 
     def _split(self, qualified: str, importer: str) -> tuple[str, str] | None:
         """``("/run/pkg/utils.py", "make")`` for ``pkg.utils.make`` (or ``.utils.make``)."""

@@ -264,6 +264,17 @@ class ProjectView(ClassView, FixtureView, HierarchyView, RegistryView, RenderVie
         make_env``; ``ProjectFacts.thunk_factories``); None when it is no such def."""
         return self.facts.thunk_factory(qualified, self.path)
 
+    def thunk_item_kind(self, qualified: str, index: int, size: int | None) -> EnvKind | None:
+        """What the thunk at ``index`` of the tuple an imported def of the run returns
+        returns (``create, _ = make_creator(...)``; ``ProjectFacts.thunk_items``); None when
+        it is no such def."""
+        return self.facts.thunk_item_kind(qualified, self.path, index, size)
+
+    def thunk_made(self, qualified: str, item: tuple[int, int | None] | None) -> bool:
+        """The thunk an imported def of the run returns (or holds at ``item`` of the tuple it
+        returns) returns make() results (``ProjectFacts.made_thunks``)."""
+        return self.facts.thunk_made(qualified, self.path, item)
+
     def item_kinds(self, qualname: str, param: str) -> list[EnvKind]:
         """Per call in another module of ``param`` of this file's ``qualname`` (as
         ``param_kinds``), the kind of every item of the list it passes (unknown where it

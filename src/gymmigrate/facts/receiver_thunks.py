@@ -250,10 +250,12 @@ class ThunkKinds(_Facade):
             f"{other[0].lineno}), so no one API serves both"
         )
 
-    def factory_thunk_kind(self, function: ast.FunctionDef | ast.AsyncFunctionDef) -> EnvKind:
+    def factory_thunk_kind(self, function: ast.FunctionDef | ast.AsyncFunctionDef, item: tuple[int, int | None] | None = None) -> EnvKind:
         """What calling the thunk a def returns on every path returns (``make_env(i)``
-        returning a nested def around ``gym.make``): one kind, else unknown."""
-        values = self._def_returns(function)
+        returning a nested def around ``gym.make``), or with ``item`` (index, size: None for
+        any) the thunk every return holds at that index of a tuple (``return create, name``):
+        one kind, else unknown."""
+        values = self._def_returns(function) if item is None else self.returned_items(function, *item)
         if values is None or any(isinstance(v, EnvKind) for v in values):
             return EnvKind.UNKNOWN
         returned: list[ast.expr | EnvKind] = []
@@ -266,6 +268,44 @@ class ThunkKinds(_Facade):
             return EnvKind.UNKNOWN
         kinds = {value if isinstance(value, EnvKind) else self.kind_of(value) for value in returned}
         return kinds.pop() if len(kinds) == 1 else EnvKind.UNKNOWN
+
+    def returned_items(self, function: ast.FunctionDef | ast.AsyncFunctionDef, index: int, size: int | None) -> list[ast.expr] | None:
+        """The ``index``-th item of what ``function`` returns on every path, when every return
+        is a tuple display of ``size`` items (of one size, when None) without a starred
+        item; None otherwise."""
+        values = self._def_returns(function)
+        if values is None or not all(isinstance(v, ast.Tuple) and not any(isinstance(e, ast.Starred) for e in v.elts) for v in values):
+            return None
+        sizes = {len(v.elts) for v in values}  # type: ignore[union-attr]
+        if len(sizes) != 1 or (size is not None and sizes != {size}) or not 0 <= index < sizes.pop():
+            return None
+        return [v.elts[index] for v in values]  # type: ignore[union-attr]
+
+    def thunk_item(self, function: ast.FunctionDef | ast.AsyncFunctionDef) -> tuple[int, int] | None:
+        """(index, size) of the one item that every return of ``function``, a tuple of one
+        size, holds a thunk the def defines at (``return create_env, env_name`` with
+        ``create_env`` a nested def or a lambda); None when there is no such one item."""
+        values = self._def_returns(function)
+        if not values or not isinstance(values[0], ast.Tuple):
+            return None
+        size = len(values[0].elts)
+        found = [
+            index
+            for index in range(size)
+            if (items := self.returned_items(function, index, size)) is not None and all(self._defined_thunk(item, function) for item in items)
+        ]
+        return (found[0], size) if len(found) == 1 else None
+
+    def _defined_thunk(self, item: ast.expr, function: ast.AST) -> bool:
+        """``item`` is a lambda, or a name every binding of which is a def nested in ``function``."""
+        if isinstance(item, ast.Lambda):
+            return True
+        bindings = self.facts.bindings_of(item) if isinstance(item, ast.Name) else []
+        return bool(bindings) and all(isinstance(b, FUNCTIONS) and self.facts.parent(b) is not self.facts.tree and function in self.facts.ancestors(b) for b in bindings)
+
+    def thunk_returns(self, thunk: ast.expr) -> list[ast.expr | EnvKind] | None:
+        """What calling ``thunk`` returns (``_thunk_returns``), for the summaries."""
+        return self._thunk_returns(thunk, 1)
 
     def factory_thunk_refs(self, function: ast.FunctionDef | ast.AsyncFunctionDef) -> frozenset[str] | None:
         """The names of other modules of the run that the thunks a def returns call on every
@@ -323,6 +363,25 @@ class ThunkKinds(_Facade):
         if self.project is None:
             return EnvKind.UNKNOWN
         kinds = {self.project.thunk_factory_kind(q) for q in self.qualified_names(factory_call.func)}
+        found = kinds.pop() if len(kinds) == 1 else None
+        return found if found is not None else EnvKind.UNKNOWN
+
+    def called_item_kind(self, factory_call: ast.Call, index: int, size: int | None) -> EnvKind:
+        """``create, _ = make_creator(params)`` then ``create()`` (``size`` 2), or
+        ``make_creator(params)[0]()`` (``size`` None): what calling the thunk the ``index``-th
+        item of what ``factory_call`` returns gives, for a def of this module
+        (``factory_thunk_kind``) or of another module of the run
+        (``ModuleSummary.thunk_items``). Unknown for anything else."""
+        function = self.local_function(factory_call.func)
+        if function is not None:
+            return self.facts.memo(
+                (f"factory-item-kind {index} {size}", id(function)),
+                lambda: self.factory_thunk_kind(function, (index, size)),
+                while_computing=EnvKind.UNKNOWN,
+            )
+        if self.project is None:
+            return EnvKind.UNKNOWN
+        kinds = {self.project.thunk_item_kind(q, index, size) for q in self.qualified_names(factory_call.func)}
         found = kinds.pop() if len(kinds) == 1 else None
         return found if found is not None else EnvKind.UNKNOWN
 

@@ -87,6 +87,7 @@ from gymmigrate.facts.summaries.defs import (
     loads_model_for_the_run,
     loads_saved_state,
     made_factories,
+    made_thunks,
     masks_of,
     named_ids,
     opaque_registrations,
@@ -295,6 +296,13 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         thunk_factories={
             name: kind for name, function in facts.functions.items() if (kind := receivers.factory_thunk_kind(function)) is not EnvKind.UNKNOWN
         },
+        thunk_items={
+            name: (*item, kind)
+            for name, function in facts.functions.items()
+            if (item := receivers.thunk_item(function)) is not None
+            and (kind := receivers.factory_thunk_kind(function, item)) is not EnvKind.UNKNOWN
+        },
+        made_thunks=made_thunks(facts, receivers),
         thunk_factory_refs={
             name: refs for name, function in facts.functions.items() if (refs := receivers.factory_thunk_refs(function))
         },

@@ -70,6 +70,30 @@ def made_factories(facts: ModuleFacts, receivers: Receivers | None = None) -> fr
     return frozenset(found)
 
 
+def made_thunks(facts: ModuleFacts, receivers: Receivers) -> dict[str, tuple[int, int] | None]:
+    """Top-level defs that return a thunk of their own on every path, whole (None) or as
+    one item of a tuple (``return create_env, env_name``: (index, size)), every return of
+    which is a ``make(...)`` result, as ``made_factories`` reads one
+    (``ModuleSummary.made_thunks``). A thunk returning anything else (the project's own
+    object, a call of another module) gives none."""
+    found: dict[str, tuple[int, int] | None] = {}
+    for name, function in facts.functions.items():
+        item = receivers.thunk_item(function)
+        thunks = [r.value for r in own_returns(function)] if item is None else receivers.returned_items(function, *item)
+        if not thunks or any(t is None for t in thunks):
+            continue
+        returned: list[ast.expr] = []
+        for thunk in thunks:
+            values = receivers.thunk_returns(thunk)  # type: ignore[arg-type]
+            if not values or any(not isinstance(v, ast.expr) for v in values):
+                returned = []
+                break
+            returned += values  # type: ignore[arg-type]
+        if returned and all(_made(facts, v, facts.enclosing_function(v) or v, 0, receivers) for v in returned):
+            found[name] = item
+    return found
+
+
 def made_value(facts: ModuleFacts, value: ast.expr, function: ast.AST, receivers: Receivers | None = None) -> bool:
     """``value``, returned by ``function`` (a def or a lambda), is a ``make(...)`` result,
     maybe wrapped in Gym wrappers (as ``made_factories``)."""

@@ -125,6 +125,9 @@ class WrapperForwarding(RuleFamily):
             return False
         if any(name in facts.text for _, name in project.made):
             return True
+        # ``create, _ = make_creator(params)`` then ``create()``: a thunk of make() results
+        if any(name in facts.text for names in project.made_thunks.values() for name in names):
+            return True
         # ``self.env = CREATORS[name](**cfg)``: a table of another module whose creators make envs
         if any(name in facts.text for _, name, _ in project.made_tables):
             return True

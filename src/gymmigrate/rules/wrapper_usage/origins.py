@@ -205,6 +205,11 @@ class EnvOrigins(HeldEnvQuestions):
                 return self._wrapped(call)
             if self.receivers.class_kind(local) is EnvKind.GYM_ENV:
                 return RAW
+        if isinstance(call.func, (ast.Subscript, ast.Call)):
+            thunk = _called_factory(call.func)
+            if thunk is not None:
+                # ``make_creator(params)[0]()``, ``make_single(id)()``: what the factory's thunk returns
+                return self._called_thunk_origin(*thunk)
         if isinstance(call.func, ast.Subscript):
             return self._table_origin(call.func)
         if self.receivers.local_function(call.func) is None:
@@ -289,6 +294,10 @@ class EnvOrigins(HeldEnvQuestions):
         if function is not None:
             values = [r.value for r in own_returns(function) if r.value is not None]
             return self._memo((id(function), "<returns>"), lambda: join_origins([self.origin(v) for v in values]))
+        if isinstance(func, ast.Name):
+            thunk = self._thunk_origin(func)
+            if thunk is not None:
+                return thunk
         view = self.receivers.project
         if view is not None:
             qualified = self.facts.qualified_names(func)
@@ -297,6 +306,42 @@ class EnvOrigins(HeldEnvQuestions):
             if any(view.makes_bare_env(q) for q in qualified):
                 return RAW  # an env class of another module of the run: the env itself
         return None
+
+    def _thunk_origin(self, func: ast.Name) -> Origin:
+        """``create()`` where every binding of ``create`` takes the thunk a factory returns:
+        ``create = make_single(id)``, ``create = make_creator(params)[0]`` or ``create, _ =
+        make_creator(params)``: what that thunk's returns are, for a def of this module, or
+        MADE where a def of another module of the run is shown to return a thunk of make()
+        results there (``ProjectView.thunk_made``). None for any other binding."""
+        bindings = self.facts.bindings_of(func)
+        if not bindings:
+            return None
+        origins: list[Origin] = []
+        for binding in bindings:
+            factory = _factory_item(self.facts, binding)
+            if factory is None:
+                return None
+            call, item = factory
+            origins.append(self._memo((id(binding), "<thunk>"), lambda call=call, item=item: self._called_thunk_origin(call, item)))  # type: ignore[misc]
+        return join_origins(origins)
+
+    def _called_thunk_origin(self, call: ast.Call, item: tuple[int, int | None] | None) -> Origin:
+        function = self.receivers.local_function(call.func)
+        if function is None:
+            view = self.receivers.project
+            if view is not None and any(view.thunk_made(q, item) for q in self.facts.qualified_names(call.func)):
+                return MADE
+            return None
+        thunks = [r.value for r in own_returns(function)] if item is None else self.receivers.returned_items(function, *item)
+        if not thunks or any(t is None for t in thunks):
+            return None
+        values: list[ast.expr] = []
+        for thunk in thunks:
+            returned = self.receivers.thunk_returns(thunk)  # type: ignore[arg-type]
+            if not returned or any(not isinstance(v, ast.expr) for v in returned):
+                return None
+            values += returned  # type: ignore[arg-type]
+        return join_origins([self.origin(v) for v in values])
 
     def _table_origin(self, callee: ast.Subscript) -> Origin:
         """``CREATORS[name](...)``, ``ENVS[key]["make"](...)`` on a closed table of creators
@@ -737,6 +782,31 @@ class EnvOrigins(HeldEnvQuestions):
         if names is None:
             names = self._class_attrs[classdef] = _defined_attributes(classdef)
         return names
+
+def _factory_item(facts: ModuleFacts, binding: ast.AST) -> tuple[ast.Call, tuple[int, int | None] | None] | None:
+    """The factory call a name's binding takes a thunk from, and which item of its return
+    (None: all of it): ``create = f(x)``, ``create = f(x)[0]`` ((0, None): any size),
+    ``create, _ = f(x)`` ((0, 2)). None for any other binding."""
+    parent = facts.parent(binding) if isinstance(binding, ast.Name) else None
+    if isinstance(parent, ast.Assign) and parent.targets == [binding]:
+        return _called_factory(parent.value)
+    if isinstance(parent, ast.Tuple) and not any(isinstance(e, ast.Starred) for e in parent.elts):
+        assign = facts.parent(parent)
+        if isinstance(assign, ast.Assign) and assign.targets == [parent] and isinstance(assign.value, ast.Call):
+            return assign.value, (parent.elts.index(binding), len(parent.elts))  # type: ignore[arg-type]
+    return None
+
+
+def _called_factory(value: ast.expr) -> tuple[ast.Call, tuple[int, int | None] | None] | None:
+    """``f(x)`` (the whole return) or ``f(x)[0]`` ((0, None): that item, of a tuple of any
+    size) as a callable: the factory call and which item of its return. None otherwise."""
+    if isinstance(value, ast.Call):
+        return value, None
+    index = value.slice if isinstance(value, ast.Subscript) else None
+    if isinstance(value, ast.Subscript) and isinstance(value.value, ast.Call) and isinstance(index, ast.Constant) and type(index.value) is int:
+        return value.value, (index.value, None)
+    return None
+
 
 def _join_fed(fed: list[FixtureOrigin]) -> Origin:
     """Where the values fixtures hand one name come from: a bare env in some and a wrapper
