@@ -7,7 +7,9 @@ never again" (``Env.reset`` docstring). So:
 * GM203/GM208 ``env.seed(s)`` (``envs.seed(s)`` on a vector env) is merged into the reset
   of the same env that follows it in the same block (statements in between must leave
   the env alone), keeping the comments above it; otherwise it becomes
-  ``env.reset(seed=s)`` in place. A seed is never moved into a loop. A ``seed()`` whose
+  ``env.reset(seed=s)`` in place (listed for review where a later loop resets an env whose
+  reset may have side effects). A seed moves into a loop only as the first iteration's seed of
+  a counted loop's reset, ``env.reset(seed=s if i == 0 else None)``. A ``seed()`` whose
   result is used, that has no single seed, or that sits in a ``seed()`` method is reported;
   in a project's own ``seed()`` (a plain class's) on envs ``make`` built, while env classes
   of the run keep their seed() (GM503), it becomes ``env.unwrapped.seed(s)``. On an env the
