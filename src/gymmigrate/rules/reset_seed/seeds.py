@@ -7,7 +7,9 @@ never again" (``Env.reset`` docstring). So:
 * GM203/GM208 ``env.seed(s)`` (``envs.seed(s)`` on a vector env) is merged into the reset
   of the same env that follows it in the same block (statements in between must leave
   the env alone), keeping the comments above it; otherwise it becomes
-  ``env.reset(seed=s)`` in place. A seed is never moved into a loop. A ``seed()`` whose
+  ``env.reset(seed=s)`` in place (listed for review where a later loop resets an env whose
+  reset may have side effects). A seed moves into a loop only as the first iteration's seed of
+  a counted loop's reset, ``env.reset(seed=s if i == 0 else None)``. A ``seed()`` whose
   result is used, that has no single seed, or that sits in a ``seed()`` method is reported;
   in a project's own ``seed()`` (a plain class's) on envs ``make`` built, while env classes
   of the run keep their seed() (GM503), it becomes ``env.unwrapped.seed(s)``. On an env the
@@ -46,6 +48,7 @@ from gymmigrate.facts.multi_agent import MultiAgent
 from gymmigrate.facts.reset_flow import line_before, segment
 from gymmigrate.facts.version_checks import dead_version_branch
 from gymmigrate.findings import FixKind, Tier
+from gymmigrate.rules.env_ids.catalog import known_elsewhere
 from gymmigrate.rules.multi_agent_gate import pettingzoo_in_reach
 from gymmigrate.rules.reset_seed.call_edits import SeedValue
 from gymmigrate.rules.reset_seed.common import (
@@ -168,18 +171,183 @@ class SeedCalls(ResetSeedBase):
             return
         if self._merge_from_branch(call, statement, receiver, decision, code, called, numpy):
             return
+        if self._merge_into_counted_loop(call, statement, receiver, decision, code, called, numpy):
+            return
         edit = self._edit(call)
         edit.to_reset = True
         edit.int_seed = numpy
+        said = (
+            f"`{called}(s)` -> `{name}.reset(seed=s)` at the same place: it seeds once here and starts an extra "
+            f"episode; later resets continue the seeded stream"
+        )
+        if (
+            decision.action is Action.REWRITE
+            and self._reset_later(statement, receiver)
+            and not self._made_from_gym_id(receiver)
+        ):
+            # the env's class is the project's own or unknown: its reset may reconnect, play or
+            # count, so the extra episode may shift every later one
+            self.report(
+                call,
+                code,
+                f"{said}. The env's reset may have side effects (its class is not a Gym-registered env): if the "
+                f"extra episode matters, delete this line and pass the seed to the first reset only "
+                f"(`{name}.reset(seed=s if first else None)`)",
+                FixKind.ASSIST,
+                question=self.receiver_question(receiver, decision),
+            )
+            return
         self.report(
             call,
             code,
-            f"`{called}(s)` -> `{name}.reset(seed=s)` at the same place: it seeds once here and starts an extra "
-            f"episode; later resets continue the seeded stream{why}",
+            f"{said}{why}",
             self._kind(decision),
             tier=Tier.NOTE if decision.action is Action.REWRITE else None,  # it explains the rewrite: nothing to decide
             question=self.receiver_question(receiver, decision),
         )
+
+    def _reset_later(self, statement: ast.Expr, receiver: ast.expr) -> bool:
+        """A compound statement after ``statement`` in its block (a loop, a branch) resets the
+        env, or a later statement calls a function of this module that resets it by that name:
+        the reset in the seed's place adds an episode before the program's own first one, on a
+        path no merge follows."""
+        found = self._place_in_block(statement)
+        if found is None:
+            return False
+        block, position = found
+        wanted = segment(self.facts, receiver)
+
+        def resets(part: ast.AST) -> bool:
+            return any(
+                isinstance(node, ast.Call)
+                and isinstance(node.func, ast.Attribute)
+                and node.func.attr == "reset"
+                and segment(self.facts, node.func.value) == wanted
+                for node in walk(part)
+            )
+
+        functions = self.facts.memo(("seed-local-functions", 0), lambda: _functions_by_name(self.facts.tree))
+        for later in block[position + 1 :]:
+            if isinstance(later, COMPOUND_STATEMENTS) and resets(later):
+                return True
+            for node in walk(later):
+                if isinstance(node, ast.Call) and isinstance(node.func, ast.Name):
+                    if any(resets(function) for function in functions.get(node.func.id, ())):
+                        return True
+        return False
+
+    def _made_from_gym_id(self, receiver: ast.expr) -> bool:
+        """Every env ``receiver`` may be is ``gym.make`` of a literal id Gym (or a package
+        registered with Gymnasium) registers and the run does not: a reset without side
+        effects beyond drawing the episode."""
+        makes = self._makes_behind(receiver)
+        if not makes.complete or not makes.calls:
+            return False
+        project = self.receivers.project
+        for make in makes.calls:
+            if not any(N.strip_gym_prefix(q) in N.GYM_ENV_FACTORIES for q in self.facts.qualified_names(make.func)):
+                return False
+            env_id = string_value(make.args[0]) if make.args else None
+            if env_id is None or not known_elsewhere(env_id):
+                return False
+            if project is not None and project.may_register(env_id):
+                return False  # the run's own class, whatever the id says
+        return True
+
+    def _merge_into_counted_loop(
+        self,
+        call: ast.Call,
+        statement: ast.Expr,
+        receiver: ast.expr,
+        decision: Decision,
+        code: str,
+        called: str,
+        numpy: bool,
+    ) -> bool:
+        """``env.seed(s)`` followed in its block by a counted loop (``for i in range(n)``,
+        ``for i, x in enumerate(xs)``, ``i = 0 ... while i < n: ... i += 1``) whose body's first
+        statement touching the env resets it, at the body's top level: legacy's seeded episode
+        is the one the first iteration's reset returns. A reset in the seed's place would start
+        an extra episode before it, so the seed goes to that reset on the first iteration only:
+        ``env.reset(seed=s if i == 0 else None)`` (``seed=None`` continues the stream as
+        ``reset()`` did). Statements between the seed and the loop must leave the env alone, and
+        nothing may rebind the counter or the seed's names before that reset."""
+        found = self._place_in_block(statement)
+        if found is None:
+            return False
+        block, position = found
+        if not self._alone_on_its_line(statement, block, position):
+            return False
+        wanted = segment(self.facts, receiver)
+        root = _root_name(receiver)
+        if root is None:
+            return False
+        between: list[ast.stmt] = []
+        for line in statement_lines(block, position + 1):
+            if isinstance(line[0], (ast.For, ast.While)):
+                loop = line[0]
+                break
+            if not _independent_of(line, root):
+                return False
+            between.extend(line)
+        else:
+            return False
+        counter = _loop_counter(loop, [*block[:position], *between])
+        if counter is None:
+            return False
+        reset_statement = _first_touching(loop.body, root)
+        if reset_statement is None or isinstance(reset_statement, COMPOUND_STATEMENTS):
+            return False
+        resets = [
+            node
+            for node in walk(reset_statement)
+            if isinstance(node, ast.Call)
+            and isinstance(node.func, ast.Attribute)
+            and node.func.attr == "reset"
+            and segment(self.facts, node.func.value) == wanted
+        ]
+        if len(resets) != 1 or resets[0].args or resets[0].keywords:
+            return False
+        reset = resets[0]
+        before = loop.body[: loop.body.index(reset_statement)]
+        if any(self._calls_local(part) for part in before):
+            return False  # a function of the module may reset the env first
+        read = {node.id for node in walk(statement.value) if isinstance(node, ast.Name)} | {root}
+        # the counter is 0 when the loop starts (the for binds it; a while's ``i = 0`` was
+        # checked): only what the body does before the reset may change it
+        bound = _bound_names([*between, *before])
+        if isinstance(loop, ast.For):
+            bound |= {node.id for node in walk(loop.target) if isinstance(node, ast.Name)}
+        if "*" in bound or counter in _bound_names(before) or read & (bound | {counter}):
+            return False
+        value = SeedValue()
+        self.plan.replace(call, value.take)
+        self.plan.remove(statement, keep_comments=True)
+        seed = value.get(as_int=numpy, moved=lambda: statement in self.plan.removed)
+        self._edit(reset).add_seed = _conditional_seed(seed, f"{counter} == 0", True)
+        self.report(
+            call,
+            code,
+            f"`{called}(s)` merged into the reset of the loop's first iteration (line {reset.lineno}): "
+            f"`{receiver_text(receiver)}.reset(seed=s if {counter} == 0 else None)`; that reset returns the seeded "
+            f"episode, as legacy's did, and no extra episode starts{self._why(decision)}",
+            self._kind(decision, FixKind.AUTO),
+            tier=Tier.NOTE if decision.action is Action.REWRITE else None,  # it explains the rewrite: nothing to decide
+            question=self.receiver_question(receiver, decision),
+        )
+        return True
+
+    def _calls_local(self, statement: ast.stmt) -> bool:
+        """Does ``statement`` call a function or method of this module (which may touch the env)?"""
+        local = self.facts.memo(("seed-local-defs", 0), lambda: _defined_names(self.facts.tree))
+        for node in walk(statement):
+            if isinstance(node, ast.Call):
+                func = node.func
+                if isinstance(func, ast.Name) and func.id in local:
+                    return True
+                if isinstance(func, ast.Attribute) and func.attr in local:
+                    return True
+        return False
 
     def _merge_from_branch(
         self,
@@ -787,3 +955,83 @@ def _independent_of(line: list[ast.stmt], root: str | None) -> bool:
                 if "seed" not in called:
                     return False
     return root not in bound
+
+
+def _defined_names(tree: ast.AST) -> frozenset[str]:
+    return frozenset(
+        node.name for node in ast.walk(tree) if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef))
+    )
+
+
+def _first_touching(body: list[ast.stmt], root: str) -> ast.stmt | None:
+    """The first statement of ``body`` that names ``root``."""
+    for statement in body:
+        if any(isinstance(node, ast.Name) and node.id == root for node in walk(statement)):
+            return statement
+    return None
+
+
+def _loop_counter(loop: ast.For | ast.While, earlier: list[ast.stmt]) -> str | None:
+    """The counter that is 0 on a loop's first iteration and never again: ``for i in range(n)``,
+    ``range(0, n)``, ``for i, x in enumerate(xs)``, or ``i = 0`` (the last binding of ``i`` in
+    ``earlier``) then ``while i < n:`` whose body does ``i += 1`` at its top level, binds ``i``
+    nowhere else and never continues."""
+    if isinstance(loop, ast.For):
+        it = loop.iter
+        if not (isinstance(it, ast.Call) and isinstance(it.func, ast.Name) and not it.keywords):
+            return None
+        if it.func.id == "range" and isinstance(loop.target, ast.Name):
+            if len(it.args) == 1 or (len(it.args) == 2 and _is_zero(it.args[0])):
+                return loop.target.id
+        if it.func.id == "enumerate" and len(it.args) == 1 and isinstance(loop.target, ast.Tuple):
+            first = loop.target.elts[0] if loop.target.elts else None
+            if isinstance(first, ast.Name):
+                return first.id
+        return None
+    test = loop.test
+    if not (
+        isinstance(test, ast.Compare)
+        and len(test.ops) == 1
+        and isinstance(test.ops[0], ast.Lt)
+        and isinstance(test.left, ast.Name)
+    ):
+        return None
+    counter = test.left.id
+    steps = [
+        s
+        for s in loop.body
+        if isinstance(s, ast.AugAssign)
+        and isinstance(s.op, ast.Add)
+        and isinstance(s.target, ast.Name)
+        and s.target.id == counter
+        and isinstance(s.value, ast.Constant)
+        and s.value.value == 1
+    ]
+    if len(steps) != 1 or any(isinstance(node, ast.Continue) for part in loop.body for node in walk(part)):
+        return None
+    if counter in _bound_names([s for s in loop.body if s is not steps[0]]):
+        return None
+    for index in range(len(earlier) - 1, -1, -1):
+        part = earlier[index]
+        if counter in _bound_names([part]):
+            if (
+                isinstance(part, ast.Assign)
+                and len(part.targets) == 1
+                and isinstance(part.targets[0], ast.Name)
+                and _is_zero(part.value)
+            ):
+                return counter
+            return None
+    return None
+
+
+def _is_zero(node: ast.expr) -> bool:
+    return isinstance(node, ast.Constant) and type(node.value) is int and node.value == 0
+
+
+def _functions_by_name(tree: ast.AST) -> dict[str, list[ast.FunctionDef | ast.AsyncFunctionDef]]:
+    found: dict[str, list[ast.FunctionDef | ast.AsyncFunctionDef]] = {}
+    for node in ast.walk(tree):
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+            found.setdefault(node.name, []).append(node)
+    return found
