@@ -149,7 +149,21 @@ def _insert_after_super_init(body: cst.BaseSuite, statement: cst.BaseStatement) 
             break
         if index > at + 2:
             break
+    # A later base __init__ (``A.__init__(self)`` then ``B.__init__(self)`` for two bases)
+    # may set the attribute itself (Gymnasium's own envs store self.render_mode from their
+    # parameter, None when not given): the statement goes after the last one, or that base
+    # would undo it.
+    for index in range(len(existing) - 1, at - 1, -1):
+        if _contains(existing[index], _BASE_INIT):
+            at = index + 1
+            break
     return body.with_changes(body=[*existing[:at], statement, *existing[at:]])
+
+
+# ``super().__init__(...)`` / ``super(C, self).__init__(...)`` or ``Base.__init__(self, ...)``.
+_BASE_INIT = m.Call(func=m.Attribute(value=m.Call(func=m.Name("super")), attr=m.Name("__init__"))) | m.Call(
+    func=m.Attribute(attr=m.Name("__init__")), args=[m.Arg(value=m.Name("self")), m.ZeroOrMore()]
+)
 
 
 def _is_tuple_annotation(annotation: cst.BaseExpression, length: int) -> bool:

@@ -74,6 +74,7 @@ class ClassPlan:
     render_init_only: bool = False
     render_keeps_mode: bool = False  # render(self, mode=None, ...): a mode passed wins, else self.render_mode
     render_helper_callers: set[str] = field(default_factory=set)  # methods that call self.render(mode)
+    render_helper_default: str | None = None  # the old default mode, for the class's own bare self.render()
     # objects of the project's own (as written: ``self._engine``) whose render(mode) render()
     # keeps handing the mode to, as self.render_mode
     render_mode_receivers: set[str] = field(default_factory=set)

@@ -444,10 +444,12 @@ class ClassRewrite:
         )
         self.set_method("render", render.with_changes(leading_lines=fn.leading_lines, decorators=fn.decorators))  # type: ignore[arg-type]
         calls = _SelfModeRenderCalls(helper)
+        # The other methods' bare calls keep the old default; the old body's own stay render().
+        outside = _SelfModeRenderCalls(helper, self.plan.render_helper_default)
         for name, method in self.methods.items():
             current = self.replacements.get(name, method)
             if current is not None and name in self.plan.render_helper_callers and name != self.renamed.get("render", "render"):
-                self.replacements[name] = current.visit(calls)  # type: ignore[assignment]
+                self.replacements[name] = current.visit(outside)  # type: ignore[assignment]
         if self.renamed.get("render", "render") in self.plan.render_helper_callers:
             kept = kept.visit(calls)  # type: ignore[assignment]
         self.after_method.setdefault(self.renamed.get("render", "render"), []).append(kept)
@@ -484,22 +486,32 @@ class ClassRewrite:
 
 
 class _SelfModeRenderCalls(cst.CSTTransformer):
-    """``self.render(mode="x")`` / ``self.render("x")`` -> ``self.<helper>(...)`` (calls without
-    arguments are the new render())."""
+    """``self.render(mode="x")`` / ``self.render("x")`` -> ``self.<helper>(...)``; calls without
+    arguments are the new render(), unless ``default`` is given (the old default mode, which
+    they rendered in): then ``self.<helper>(mode=<default>)``."""
 
-    def __init__(self, helper: str) -> None:
+    def __init__(self, helper: str, default: str | None = None) -> None:
         self.helper = helper
+        self.default = default
 
     def leave_Call(self, original_node: cst.Call, updated_node: cst.Call) -> cst.Call:
         func = updated_node.func
-        if (
-            updated_node.args
-            and isinstance(func, cst.Attribute)
+        if not (
+            isinstance(func, cst.Attribute)
             and isinstance(func.value, cst.Name)
             and func.value.value == "self"
             and func.attr.value == "render"
         ):
+            return updated_node
+        if updated_node.args:
             return updated_node.with_changes(func=func.with_changes(attr=cst.Name(self.helper)))
+        if self.default is not None:
+            mode = cst.Arg(
+                keyword=cst.Name("mode"),
+                value=cst.parse_expression(self.default),
+                equal=cst.AssignEqual(whitespace_before=cst.SimpleWhitespace(""), whitespace_after=cst.SimpleWhitespace("")),
+            )
+            return updated_node.with_changes(func=func.with_changes(attr=cst.Name(self.helper)), args=[mode])
         return updated_node
 
 

@@ -152,7 +152,7 @@ def decide_render(decision: ClassDecision) -> None:
         )
         return
     decision.plan.render = True
-    _plan_internal_renders(decision, function)
+    _plan_internal_renders(decision, function, default)
     _report_forwarded_modes(decision, function)
     _report_bare_inner_renders(decision, function)
     # Notes: the standard Gymnasium signature, applied; the render calls and creation
@@ -349,20 +349,32 @@ def _ancestor_takes_render_mode(decision: ClassDecision, classdef: ast.ClassDef,
     return False
 
 
-def _plan_internal_renders(decision: ClassDecision, function: ast.FunctionDef | ast.AsyncFunctionDef) -> None:
+def _plan_internal_renders(
+    decision: ClassDecision, function: ast.FunctionDef | ast.AsyncFunctionDef, default: ast.expr | None
+) -> None:
     """The class renders itself with a mode (``obs = self.render(mode="rgb_array")`` in
     ``reset``/``step``): those calls must keep working once ``render()`` takes no mode. The
     old body is kept as a helper that takes the mode, ``render()`` calls it with
-    ``self.render_mode``, and the internal calls call the helper."""
+    ``self.render_mode``, and the internal calls call the helper. A bare ``self.render()``
+    where the old default is a mode other than "human" (a plot refreshed each step with
+    ``mode="rgb_array"``) rendered in that mode whatever the env was made with: the
+    render_mode check would silence it, so it calls the helper with the old default. A bare
+    call with the default "human" is Gymnasium's own idiom (a frame each step of a 'human'
+    env), which the check keeps."""
     facts = decision.family.facts
-    calls = [
+    own = [
         call
         for call in facts.attribute_calls.get("render", ())
         if isinstance(call.func.value, ast.Name)  # type: ignore[attr-defined]
         and call.func.value.id == "self"  # type: ignore[attr-defined]
-        and (call.args or call.keywords)
         and method_of(decision, call) is not None
     ]
+    calls = [call for call in own if call.args or call.keywords]
+    keeps = _bare_keeps_default(decision, default)
+    bare = [c for c in own if not (c.args or c.keywords) and method_of(decision, c) is not function] if keeps else []
+    if bare:
+        decision.plan.render_helper_default = facts.segment(default)  # type: ignore[arg-type]
+        calls += bare
     if not calls:
         return
     taken = set(decision.methods) | {n.attr for node in walk(decision.classdef) for n in [node] if isinstance(n, ast.Attribute)}
@@ -376,9 +388,26 @@ def _plan_internal_renders(decision: ClassDecision, function: ast.FunctionDef | 
         function,
         "GM405",
         f"the class renders itself with a mode (`self.render(...)` on line {lines}): the old body is kept as "
-        f"`{helper}(mode)`, which those calls now use, and render() calls it with self.render_mode",
+        f"`{helper}(mode)`, which those calls now use, and render() calls it with self.render_mode"
+        + (
+            f"; a bare `self.render()` drew in the old default {decision.plan.render_helper_default} whatever the env "
+            "was made with, so it passes that mode to the helper (render() would draw nothing without a render_mode)"
+            if bare
+            else ""
+        ),
         tier=Tier.NOTE,
     )
+
+
+def _bare_keeps_default(decision: ClassDecision, default: ast.expr | None) -> bool:
+    """The old default is a literal mode other than "human", the class does not read
+    render_mode already (a bare call guarded by it is Gymnasium's idiom), and no local
+    subclass overrides render (the helper would bypass the override)."""
+    if not (isinstance(default, ast.Constant) and isinstance(default.value, str) and default.value != "human"):
+        return False
+    if any(isinstance(n, ast.Attribute) and n.attr == "render_mode" for n in walk(decision.classdef)):
+        return False
+    return not any("render" in decision.env.index(sub).methods for sub in local_subclasses(decision))
 
 
 def _report_forwarded_modes(decision: ClassDecision, function: ast.AST) -> None:
