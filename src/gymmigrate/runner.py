@@ -195,9 +195,7 @@ def _with_star_bindings(
     module summarized again with the name bound, so its class is the run's class it names
     (a Gym env when that one is), and the run joined once more."""
     again = [_summary_with(summary, bindings[summary.path]) if summary.path in bindings else summary for summary in summaries]
-    project = _run_facts(again, paths)
-    project.star_bindings = bindings  # the names are bound now: the second join finds none to add
-    return again, project
+    return again, _run_facts(again, paths)
 
 
 def _summary_with(summary: ModuleSummary, bindings: dict[str, str]) -> ModuleSummary:

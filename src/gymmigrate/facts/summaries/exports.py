@@ -255,8 +255,12 @@ def star_bases(facts: ModuleFacts) -> frozenset[str]:
     if not facts.star_imports:
         return frozenset()
     bound = facts.module_scope.bindings
+    # a name the run's star bindings bound stays one (every join of the run finds it again)
     return frozenset(
-        base.id for classdef in facts.classes.values() for base in classdef.bases if isinstance(base, ast.Name) and base.id not in bound
+        base.id
+        for classdef in facts.classes.values()
+        for base in classdef.bases
+        if isinstance(base, ast.Name) and (base.id not in bound or base.id in facts.star_bindings)
     )
 
 
