@@ -14,6 +14,7 @@ PettingZoo.
 from __future__ import annotations
 
 import json
+import os
 import shutil
 import subprocess
 import sys
@@ -680,3 +681,21 @@ def test_a_class_handed_to_another_module_makes_what_every_caller_hands_in(tmp_p
     player = (project / "kit" / "agents" / "player.py").read_text()
     assert "obs, info = self.env.reset()" in player
     assert "obs, reward, terminated, truncated, info = self.env.step(0)" in player
+
+
+def test_a_base_bound_only_by_a_star_import_of_the_run_is_bound_cycles_and_all_kept(tmp_path: Path) -> None:
+    """``ProjectFacts.star_bindings``: a class base that only a star import binds stands for
+    the name of that module (through its own star imports, a cycle of them followed once);
+    a module's ``__all__`` decides what its star import binds."""
+    facts = _join(
+        {
+            "pkg/a.py": "import gym\nfrom .b import *\n\n\nclass A(gym.Env):\n    pass\n",
+            "pkg/b.py": "from .a import *\n\n\nclass B(A):\n    pass\n",
+            "pkg/c.py": "from .b import *\n\n\nclass C(A):\n    pass\n",
+            "pkg/d.py": "import gym\n\n__all__ = ['helper']\n\n\nclass Hidden(gym.Env):\n    pass\n\n\ndef helper():\n    return 1\n",
+            "pkg/e.py": "from .d import *\n\n\nclass E(Hidden):\n    pass\n",
+        },
+        tmp_path,
+    )
+    root = os.path.realpath(tmp_path / "pkg")
+    assert facts.star_bindings == {f"{root}/b.py": {"A": ".a.A"}, f"{root}/c.py": {"A": ".b.A"}}

@@ -95,7 +95,9 @@ def plan_file(tree: ast.Module, text: str, path: str, options: RewriteOptions, r
     """Every rule family decides on the same facts; nothing is changed yet.
 
     ``renames_first``: a family may ask for a round of its renames alone (``Plan.renames_first``)."""
-    facts = ModuleFacts(tree, text)
+    # names its star imports of the run bind, where its classes derive them
+    bindings = options.project.star_bindings.get(os.path.realpath(path)) if options.project is not None else None
+    facts = ModuleFacts(tree, text, bindings)
     context = FileContext(path=path, options=options, profile=FileProfile.from_source(text))
     plan = Plan(facts, allow_renames_first=renames_first)
     if skips_file(text, first_statement_line(tree)):

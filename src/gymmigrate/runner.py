@@ -90,6 +90,8 @@ def run_files(
         pool = (lambda python: _run_parallel(python, _Summarize(), workers)) if workers > 1 else None  # noqa: E731
         summaries = run_summaries(list(paths), pool)
         project = _run_facts(summaries, paths)
+        if project.star_bindings:
+            summaries, project = _with_star_bindings(summaries, paths, project.star_bindings)
         if lint:
             results = _computed(list(paths), _Task(replace(options, project=project), write, want_diff, True), workers)
         else:
@@ -183,6 +185,30 @@ def _result_of(answer: FileResult | PendingWrite) -> FileResult:
 
 def _finished(answer: FileResult | PendingWrite) -> FileResult:
     return answer.write() if isinstance(answer, PendingWrite) else answer
+
+
+def _with_star_bindings(
+    summaries: list[ModuleSummary], paths: Sequence[Path], bindings: dict[str, dict[str, str]]
+) -> tuple[list[ModuleSummary], ProjectFacts]:
+    """The summaries and facts of a run in which some module derives a class that only a
+    star import of another module of the run binds (``ProjectFacts.star_bindings``): that
+    module summarized again with the name bound, so its class is the run's class it names
+    (a Gym env when that one is), and the run joined once more."""
+    again = [_summary_with(summary, bindings[summary.path]) if summary.path in bindings else summary for summary in summaries]
+    return again, _run_facts(again, paths)
+
+
+def _summary_with(summary: ModuleSummary, bindings: dict[str, str]) -> ModuleSummary:
+    if Path(summary.path).suffix != ".py":
+        return summary  # a notebook: no module of the run imports it
+    try:
+        source = read_source(Path(summary.path), _may_matter_to_the_run)
+        if source is None:
+            return summary
+        text, _ = decode(source)
+    except (OSError, Refused, TransformError):
+        return summary
+    return summarize(summary.path, text, bindings) or summary
 
 
 def _run_facts(summaries: list[ModuleSummary], paths: Sequence[Path], blocked: dict[str, str] | None = None) -> ProjectFacts:

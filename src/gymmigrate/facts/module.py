@@ -15,7 +15,7 @@ import ast
 import io
 import weakref
 from collections import defaultdict
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from itertools import chain
 from typing import NamedTuple, TypeGuard, cast
@@ -97,9 +97,14 @@ class ModuleFacts:
     ``ast.arg``, an ``ast.alias`` (imports), or a ``FunctionDef``/``ClassDef``.
     """
 
-    def __init__(self, tree: ast.Module, text: str) -> None:
+    def __init__(self, tree: ast.Module, text: str, star_bindings: Mapping[str, str] | None = None) -> None:
         self.tree = tree
         self.text = text
+        # Names this module reads that only its star imports of the run's modules bind, with
+        # the qualified name each stands for (``{"Base": ".base.Base"}``; the run's join,
+        # ``ProjectFacts.star_bindings``): bound as if imported by name, so that a class
+        # deriving one is known the way ``from .base import Base`` would make it known.
+        self.star_bindings: Mapping[str, str] = star_bindings or {}
         # Split where the tokenizer does (\n, \r\n, \r), not at form feeds or \u2028 as
         # str.splitlines would, so line numbers agree with ast's.
         self.lines = io.StringIO(text, newline="").readlines()
@@ -253,6 +258,7 @@ class ModuleFacts:
                 if alias.name == "*":
                     if scope is self.module_scope:  # ``from utils.wrappers import *``
                         self.star_imports += ("." * node.level + (node.module or ""),)
+                        self._bind_star_names(node, alias)
                     continue
                 base = "." * node.level + (node.module or "")
                 bound = alias.asname or alias.name
@@ -260,6 +266,20 @@ class ModuleFacts:
             self._scope_of[alias] = scope
             self.imports[alias] = qualified
             self._bind(scope, bound, alias)
+
+    def _bind_star_names(self, node: ast.ImportFrom, star: ast.alias) -> None:
+        """Bind the names ``star_bindings`` gives this star import, each to an alias of its
+        own (not in the tree: no rule edits it) placed where the star import is."""
+        base = "." * node.level + (node.module or "")
+        for name, qualified in self.star_bindings.items():
+            if qualified != (f"{base}.{name}" if base and not base.endswith(".") else base + name):
+                continue
+            bound = ast.alias(name=name, asname=None)
+            ast.copy_location(bound, star)
+            self.parents[bound] = node
+            self._scope_of[bound] = self.module_scope
+            self.imports[bound] = qualified
+            self._bind(self.module_scope, name, bound)
 
     # -- structure ----------------------------------------------------------------------
 

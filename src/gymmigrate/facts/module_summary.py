@@ -133,6 +133,12 @@ class ModuleSummary:
     # run knows which names it defines itself.
     exports: dict[str, Kind] = field(default_factory=dict)
     star_imports: tuple[str, ...] = ()  # ``from .utils import *``: modules whose names it re-exports
+    # Names its top-level classes derive that the module never binds itself: with star
+    # imports, they may come from one (``ProjectFacts.star_bindings``).
+    star_bases: frozenset[str] = frozenset()
+    # Its ``__all__`` (what a star import of it binds), None without one; () where the
+    # module builds it in a way its text does not show (a star import of it binds nothing sure).
+    declared_all: tuple[str, ...] | None = None
     # Top-level name -> the library callable it is bound to (``make = gym.make``,
     # ``from gym import make``): a creation site of the run that takes ``make``'s keywords.
     aliases: dict[str, str] = field(default_factory=dict)

@@ -92,6 +92,7 @@ from gymmigrate.facts.project_exports import (
     join_tables,
     join_thunk_factory_refs,
     reexport_wrappers,
+    star_bindings,
 )
 from gymmigrate.facts.project_holders import join_made_holders, join_property_aliases
 from gymmigrate.facts.project_hooks import join_hook_calls
@@ -197,6 +198,10 @@ class ProjectFacts:
     # remove or rename, the classes of other modules whose ``self.m(...)`` or
     # ``super().m(...)`` reaches it there, as "path:Class" (``facts/project_hooks.py``).
     class_bases: dict[tuple[str, str], tuple[tuple[str, str], ...]] = field(default_factory=dict)
+    # path -> the names its classes derive that only its star imports of modules of the run
+    # bind, each with the qualified name it stands for (``project_exports.star_bindings``):
+    # the module is summarized and migrated with them bound (``ModuleFacts.star_bindings``).
+    star_bindings: dict[str, dict[str, str]] = field(default_factory=dict)
     hook_renames: dict[tuple[str, str], frozenset[str]] = field(default_factory=dict)
     called_below: dict[tuple[str, str], dict[str, list[str]]] = field(default_factory=dict)
     # (path, top-level name) of a class of the run (or a re-export of one) -> the hooks a
@@ -570,6 +575,7 @@ class ProjectFacts:
         join_unmade_classes(facts, by_path)
         facts.registers_from_data = any(summary.opaque_registrations for summary in summaries)
         Exports(facts, by_path).run()
+        facts.star_bindings = star_bindings(facts, by_path)
         join_tables(facts, by_path, altered)
         facts.own_renders = own_renders(facts, by_path)
         facts.modeless_renders = modeless_renders(facts, by_path)

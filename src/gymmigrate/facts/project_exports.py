@@ -121,6 +121,27 @@ class Exports:
             names.update(self._star_names(star, seen))
         return names
 
+    def public_names(self, path: str, seen: set[str]) -> frozenset[str]:
+        """The names ``from <module at path> import *`` binds: its ``__all__``, else its
+        top-level names not starting with ``_``, with those its own star imports bind (each
+        module once, chains of at most ``MAX_CHAIN``)."""
+        summary = self.by_path[path]
+        if summary.declared_all is not None:
+            return frozenset(summary.declared_all)
+        seen.add(path)
+        names = {n for n in summary.exports if not n.startswith("_")}
+        if len(seen) < MAX_CHAIN:
+            for star in self._star_paths(summary):
+                if star not in seen:
+                    names |= self.public_names(star, seen)
+        return frozenset(names)
+
+    def star_target(self, summary: ModuleSummary, module: str) -> str | None:
+        """The module of the run that ``summary``'s ``from <module> import *`` names."""
+        level, parts = import_parts(module)
+        path = self.facts._module_path(parts, level, summary.path)
+        return path if path and path != summary.path and path in self.by_path else None
+
     def _star_paths(self, summary: ModuleSummary) -> list[str]:
         found = []
         for module in summary.star_imports:
@@ -196,6 +217,29 @@ class Exports:
             if found is not None:
                 return found
         return None
+
+
+def star_bindings(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> dict[str, dict[str, str]]:
+    """Per module, the names its top-level classes derive (``ModuleSummary.star_bases``)
+    that one of its star imports of the run's modules binds, each with the qualified name
+    it stands for: ``{"Base": ".base.Base"}`` for ``from .base import *`` then ``class
+    Child(Base)``. The last star import that binds a name wins, as at import time."""
+    exports = Exports(facts, by_path)
+    found: dict[str, dict[str, str]] = {}
+    for path, summary in by_path.items():
+        if not summary.star_bases:
+            continue
+        bound: dict[str, str] = {}
+        for module in summary.star_imports:
+            target = exports.star_target(summary, module)
+            if target is None:
+                continue
+            given = exports.public_names(target, set())
+            for name in summary.star_bases & given:
+                bound[name] = f"{module}.{name}" if module and not module.endswith(".") else module + name
+        if bound:
+            found[path] = bound
+    return found
 
 
 def reexport_wrappers(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> None:

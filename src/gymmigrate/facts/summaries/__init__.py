@@ -95,7 +95,7 @@ from gymmigrate.facts.summaries.defs import (
     registrations,
     signature,
 )
-from gymmigrate.facts.summaries.exports import Exports
+from gymmigrate.facts.summaries.exports import Exports, declared_all, star_bases
 from gymmigrate.facts.summaries.fixtures import conftest_fixtures
 from gymmigrate.facts.summaries.untraced import UntracedCalls, calls_from_outside
 from gymmigrate.facts.wrapper_attributes import wrapper_defined
@@ -106,12 +106,12 @@ from gymmigrate.suppressions import skips_file
 __all__ = ["loads_saved_state", "plain_classes", "space_calls", "summarize", "summarize_masks"]
 
 
-def summarize(path: str, text: str) -> ModuleSummary | None:
+def summarize(path: str, text: str, star_bindings: Mapping[str, str] | None = None) -> ModuleSummary | None:
     """The summary of one module's text (already screened by its reader), or None when it
-    does not parse."""
+    does not parse. ``star_bindings``: the names its star imports bind (``ModuleFacts``)."""
     try:
         tree = ast.parse(text)
-        facts = ModuleFacts(tree, text)
+        facts = ModuleFacts(tree, text, star_bindings)
         summary = _summary(facts, Receivers(facts), os.path.realpath(path))
         return replace(summary, skips_file=True) if skips_file(text, first_statement_line(tree)) else summary
     except Exception:  # noqa: BLE001  (the file's own run reports why; it just adds no facts)
@@ -222,6 +222,8 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         star_imports=tuple(
             "." * s.level + (s.module or "") for s in facts.tree.body if isinstance(s, ast.ImportFrom) and any(a.name == "*" for a in s.names)
         ),
+        star_bases=star_bases(facts),
+        declared_all=declared_all(facts),
         subclasses=subclasses(facts),
         self_calls=self_calls(facts),
         super_calls=super_calls(facts),

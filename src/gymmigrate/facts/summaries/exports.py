@@ -246,3 +246,42 @@ class Exports:
             return REF + qualified
         kind = self.receivers.kind_from_qualified(qualified, ast.Call(func=ast.Name(id="_"), args=[], keywords=[]))
         return kind if kind is not None else EnvKind.UNKNOWN
+
+
+def star_bases(facts: ModuleFacts) -> frozenset[str]:
+    """The plain names the module's top-level classes derive that it never binds itself:
+    where it has star imports, one of them may bind the name (``class Child(Base)`` after
+    ``from .base import *``)."""
+    if not facts.star_imports:
+        return frozenset()
+    bound = facts.module_scope.bindings
+    # a name the run's star bindings bound stays one (every join of the run finds it again)
+    return frozenset(
+        base.id
+        for classdef in facts.classes.values()
+        for base in classdef.bases
+        if isinstance(base, ast.Name) and (base.id not in bound or base.id in facts.star_bindings)
+    )
+
+
+def declared_all(facts: ModuleFacts) -> tuple[str, ...] | None:
+    """The module's ``__all__``: None without one; () where its text does not show the
+    names (built, extended or assigned more than once), so a star import of it binds no
+    name the run can be sure of."""
+    if "__all__" not in facts.text:
+        return None  # most modules: no walk
+    found: list[ast.expr] = []
+    for statement in ast.walk(facts.tree):
+        if isinstance(statement, ast.Assign) and any(isinstance(t, ast.Name) and t.id == "__all__" for t in statement.targets):
+            found.append(statement.value)
+        elif isinstance(statement, (ast.AugAssign, ast.AnnAssign)) and isinstance(statement.target, ast.Name) and statement.target.id == "__all__":
+            found.append(statement.value or ast.Constant(None))
+        elif isinstance(statement, ast.Attribute) and isinstance(statement.value, ast.Name) and statement.value.id == "__all__":
+            found.append(ast.Constant(None))  # ``__all__.append(...)``, ``__all__.extend(...)``
+    if not found:
+        return None
+    value = found[0]
+    if len(found) > 1 or not isinstance(value, (ast.List, ast.Tuple)):
+        return ()
+    names = [item.value for item in value.elts if isinstance(item, ast.Constant) and isinstance(item.value, str)]
+    return tuple(names) if len(names) == len(value.elts) else ()
