@@ -6,7 +6,9 @@ Gymnasium 1.4 (``facts/project_hooks.py``).
 through ``ArmEnv`` of ``arm.py``) calls ``self.seed(layout_seed)`` in its constructor. Before,
 GM503 deleted the seed() and ``ObjectsEnv()`` raised AttributeError; now it is kept and
 reported. ``GridEnv``'s seed() goes: the only call below it (``MazeEnv``) reaches a seed()
-of the subclass's own.
+of the subclass's own. ``TrackedEnv``'s seed() (a generic class) is kept too: ``ReplayEnv``
+names its base parametrized (``TrackedEnv[str]``), which is that base all the same, and
+reseeds through the getter on every reset.
 
 ``arena``: ``ArenaEnv`` is a gym 0.7 env (``_step``, ``_reset``) the run renames.
 ``GuardEnv`` keeps a ``_reset`` of its own as a helper of a reset that takes a handicap and
@@ -38,6 +40,7 @@ from sims.maze import MazeEnv
 from arena.guard import GuardEnv
 from arena.restart import RestartEnv
 from arena.plain import PlainEnv
+from sims.replay import ReplayEnv
 
 one, two = ObjectsEnv(), ObjectsEnv()
 print(one.colors == two.colors, one.reset(seed=3)[0].shape)
@@ -46,6 +49,8 @@ guard = GuardEnv()
 obs, info = guard.reset(handicap=[1])
 print(type(obs).__name__, info, guard.elapsed, guard.step(0)[1:4])
 print(RestartEnv().restart().tolist(), PlainEnv().reset(seed=2)[0].tolist())
+replay = ReplayEnv()
+print(replay.reset()[0].tolist() == replay.reset()[0].tolist())
 """
 
 
@@ -60,6 +65,7 @@ def test_callers_elsewhere_keep_working_after_their_base_migrates(tmp_path: Path
     assert core.count("    def seed(self, seed=None):") == 1  # SimEnv's stays, GridEnv's goes
     assert "        self.seed()\n" in core
     assert "seed() kept: `ObjectsEnv` (objects.py)" in result.output
+    assert "seed() kept: `ReplayEnv` (replay.py)" in result.output
     assert "ob, _ = super(GuardEnv, self).reset()" in (project / "arena" / "guard.py").read_text()
     assert "ob, _ = self.reset()" in (project / "arena" / "restart.py").read_text()
     assert "        return super().reset(seed=seed)\n" in (project / "arena" / "plain.py").read_text()
@@ -70,6 +76,7 @@ def test_callers_elsewhere_keep_working_after_their_base_migrates(tmp_path: Path
         "7 True",
         "ndarray {} 0 (1.0, False, False)",
         "[0.0, 0.0] [0.0, 0.0]",
+        "True",
     ]
 
 

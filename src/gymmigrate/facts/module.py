@@ -666,6 +666,12 @@ def is_super_call(node: ast.AST | None) -> TypeGuard[ast.Call]:
     return isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "super"
 
 
+def unsubscripted(base: ast.expr) -> ast.expr:
+    """The class a base of a class statement names: ``Base`` of ``Base[T]`` (a generic class
+    parametrized, which is ``Base`` in the subclass's MRO), the base itself otherwise."""
+    return base.value if isinstance(base, ast.Subscript) else base
+
+
 def self_attribute(node: ast.AST | None) -> str | None:
     """``x`` of ``self.x``; None for anything else."""
     if isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name) and node.value.id == "self":

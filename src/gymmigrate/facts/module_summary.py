@@ -115,6 +115,9 @@ class ModuleSummary:
     # ``x.configure(...)`` on anything but ``self`` / ``super()``: a caller of the gym < 0.9
     # hook renamed from ``_configure`` that the class itself does not decide (GM405).
     calls_configure: bool = False
+    # ``x.seed(...)`` / ``x._seed(...)`` on anything but a library module or a space
+    # (``summaries.untraced.calls_seed``): a call that may reach an env class's seed().
+    calls_seed: bool = False
     # qualified names of the run that made the receivers of ``x.render(mode)`` calls no make
     # of the module created (``pkg.make_board``): a def among them leaves the mode in place
     render_makers: frozenset[str] = frozenset()

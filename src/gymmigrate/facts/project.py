@@ -146,6 +146,9 @@ class ProjectFacts:
     seed_called: set[str] = field(default_factory=set)
     # a module of the run calls ``x.configure(...)`` / ``x._configure(...)`` on other than self
     configure_called: bool = False
+    # Some module of the run calls ``x.seed(...)`` / ``x._seed(...)`` on other than a library
+    # module or a space (``ModuleSummary.calls_seed``): an env class's seed() may run.
+    seed_used: bool = False
     render_called: set[str] = field(default_factory=set)  # ...and an untraced ``x.render(mode)``
     # Some module imports Gym's (or Gymnasium's) ``check_env``, which tests in Gymnasium 1.x
     # that a seeded reset makes the steps reproducible (GM510).
@@ -606,6 +609,7 @@ class ProjectFacts:
             if seeds_untraced(facts, summary):
                 facts.seed_called.update(imported_env_modules(facts, summary))
             facts.configure_called = facts.configure_called or summary.calls_configure
+            facts.seed_used = facts.seed_used or summary.calls_seed
             if summary.untraced_render_call or any(made_by_def(facts, maker, summary.path, by_path) for maker in summary.render_makers):
                 # ``import pkg`` reaches the env classes ``pkg/__init__.py`` imports too
                 # (``env = pkg.make_benchmark(...)``; ``env.render(mode="readable")``)

@@ -46,6 +46,11 @@ class ProjectView(ClassView, FixtureView, HierarchyView, RegistryView, RenderVie
         imports this module's env classes: their seed() may be what it calls."""
         return self.path in self.facts.seed_called
 
+    def seed_used(self) -> bool:
+        """Some module of the run calls ``x.seed(...)`` or ``x._seed(...)`` on other than a
+        library module or a space: an env class's seed() may be what it calls."""
+        return self.facts.seed_used
+
     def configure_called(self) -> bool:
         """Some module of the run calls ``x.configure(...)`` (or ``x._configure``) on other
         than ``self``: an env's renamed gym < 0.9 ``configure`` hook may be what it calls."""

@@ -28,6 +28,7 @@ from gymmigrate.facts.module import (
     named_class_call,
     own_returns,
     self_attribute,
+    unsubscripted,
     walk,
 )
 from gymmigrate.facts.own_api import own_api_shape
@@ -377,7 +378,7 @@ class ClassKinds(_Facade):
             seen.add(id(current))
             yield current
             if follows is None or follows(current):
-                pending.extend(base for b in current.bases if (base := self.local_class(b)) is not None)
+                pending.extend(base for b in current.bases if (base := self.local_class(unsubscripted(b))) is not None)
 
     def local_function(self, func: ast.AST) -> ast.FunctionDef | ast.AsyncFunctionDef | None:
         return self.facts.functions.get(func.id) if isinstance(func, ast.Name) else None

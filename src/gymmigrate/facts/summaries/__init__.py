@@ -97,7 +97,11 @@ from gymmigrate.facts.summaries.defs import (
 )
 from gymmigrate.facts.summaries.exports import Exports, declared_all, star_bases
 from gymmigrate.facts.summaries.fixtures import conftest_fixtures
-from gymmigrate.facts.summaries.untraced import UntracedCalls, calls_from_outside
+from gymmigrate.facts.summaries.untraced import (
+    UntracedCalls,
+    calls_from_outside,
+    calls_seed,
+)
 from gymmigrate.facts.wrapper_attributes import wrapper_defined
 from gymmigrate.facts.wrapper_steps import module_reset_steps, self_handoffs
 from gymmigrate.source_text import first_statement_line
@@ -211,6 +215,7 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         untraced_seed_call=untraced.has_untraced_call("seed"),
         untraced_render_call=untraced.has_untraced_call("render"),
         calls_configure=calls_from_outside(facts, "configure"),
+        calls_seed=calls_seed(facts),
         render_makers=frozenset(untraced.render_makers),  # filled by the line above
         seed_makers=frozenset(untraced.seed_makers),  # filled with untraced_seed_call
         imported=tuple(sorted(set(facts.imports.values()))),

@@ -33,6 +33,7 @@ from gymmigrate.facts.module import (
     ModuleFacts,
     is_super_call,
     own_returns,
+    unsubscripted,
     walk,
 )
 from gymmigrate.facts.module_summary import OWN
@@ -268,7 +269,8 @@ def _run_bases(facts: ModuleFacts, receivers: Receivers, classdef: ast.ClassDef)
     """The class's bases that may be classes of the run, in the order it names them:
     ``@Name`` for one of this module, the qualified name of an imported one."""
     bases = []
-    for base in classdef.bases:
+    for spelled in classdef.bases:
+        base = unsubscripted(spelled)  # ``Base[T]``: the subclass inherits Base's methods
         local = receivers.local_class(base)
         if local is not None and local is not classdef:
             bases.append(OWN + local.name)

@@ -30,6 +30,29 @@ def calls_from_outside(facts: ModuleFacts, method: str) -> bool:
     return False
 
 
+def calls_seed(facts: ModuleFacts) -> bool:
+    """``x.seed(...)`` or ``x._seed(...)`` on anything but a library module
+    (``np.random.seed``) or a space: a call that may reach an env class's seed()."""
+    for name in ("seed", "_seed"):
+        for call in facts.attribute_calls.get(name, ()):
+            receiver = call.func.value  # type: ignore[attr-defined]
+            named = facts.qualified_names(receiver)
+            if named and all(N.is_library(q) for q in named):
+                continue
+            if _names_a_space(receiver):
+                continue
+            return True
+    return False
+
+
+def _names_a_space(receiver: ast.expr) -> bool:
+    """``env.action_space``, ``space``, ``spaces["x"]``: its seed() is Space.seed."""
+    while isinstance(receiver, ast.Subscript):
+        receiver = receiver.value
+    name = receiver.attr if isinstance(receiver, ast.Attribute) else receiver.id if isinstance(receiver, ast.Name) else ""
+    return name.lower().endswith(("space", "spaces"))
+
+
 class UntracedCalls:
     """Asks of one module's seed and render calls, with the classes its call summaries
     resolve (``CallSummarizer.instance_class``)."""

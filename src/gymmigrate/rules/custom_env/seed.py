@@ -28,6 +28,7 @@ from gymmigrate.facts.module import (
     statement_lines,
     walk,
 )
+from gymmigrate.facts.summaries.untraced import calls_seed
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import (
     ClassDecision,
@@ -214,6 +215,17 @@ def decide_seed(decision: ClassDecision) -> None:
     )
     if not moved:
         decision.report(seed_method, "GM503", "seed() removed: super().reset(seed=seed) in reset() seeds self.np_random")
+    elif not calls and not _seed_called_in_run(decision):
+        # Nothing of the run called seed(): its seeding never ran, and now runs only on a
+        # seeded reset, which nothing asks for either. Nothing to decide.
+        decision.report(
+            seed_method,
+            "GM503",
+            "seed() removed: its extra seeding moved into reset() under `if seed is not None:`; nothing in this run "
+            "calls seed(), so it runs only once a reset is given a seed",
+            FixKind.ASSIST,
+            tier=Tier.NOTE,
+        )
     else:
         decision.report(
             seed_method,
@@ -463,6 +475,13 @@ def _called_below_elsewhere(decision: ClassDecision, seed_method: ast.FunctionDe
     names = {seed_method.name, "seed"}
     found = sorted({where for name in names for where in project.called_below_elsewhere(decision.classdef.name, name)})
     return [f"`{where.rsplit(':', 1)[1]}` ({os.path.basename(where.rsplit(':', 1)[0])})" for where in found]
+
+
+def _seed_called_in_run(decision: ClassDecision) -> bool:
+    """This module or another of the run calls ``x.seed(...)`` / ``x._seed(...)`` on what may
+    be an env (not ``np.random`` nor a space): the seed() may have run before."""
+    project = decision.family.receivers.project
+    return calls_seed(decision.family.facts) or (project is not None and project.seed_used())
 
 
 def _inherits_seed(decision: ClassDecision, classdef: ast.ClassDef) -> bool:

@@ -50,7 +50,7 @@ from gymmigrate.facts.version_checks import dead_version_branch
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.env_ids.catalog import known_elsewhere
 from gymmigrate.rules.multi_agent_gate import pettingzoo_in_reach
-from gymmigrate.rules.reset_seed.call_edits import SeedValue
+from gymmigrate.rules.reset_seed.call_edits import SeedValue, int_call
 from gymmigrate.rules.reset_seed.common import (
     ResetSeedBase,
     is_space,
@@ -740,6 +740,12 @@ class SeedCalls(ResetSeedBase):
         return project.seed_class_of_id(env_id) if env_id is not None and project is not None else None
 
     def _check_space_seed(self, call: ast.Call) -> None:
+        seed = _seed_argument(call)
+        if seed is not None and self.numpy_seeds.is_numpy(seed):
+            # ``space.seed(rng.integers(...))``: Gymnasium's Space.seed raises on a numpy
+            # integer (legacy RandomState.randint gave a Python int); int() is the same seed
+            self.plan.replace(seed, int_call)
+            self.report(seed, "GM206", "numpy seed wrapped in int(): Gymnasium's Space.seed accepts only Python ints", tier=Tier.NOTE)
         parent = self.facts.parent(call)
         if isinstance(parent, ast.Subscript) and parent.value is call:
             self.report(
