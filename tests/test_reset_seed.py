@@ -224,7 +224,9 @@ def test_merged_seed_keeps_its_comment_and_a_multiline_call() -> None:
     )
 
 
-def test_seed_is_never_merged_into_a_reset_inside_a_loop() -> None:
+def test_seed_before_a_counted_loop_seeds_only_its_first_reset() -> None:
+    # Merged as a plain seed, the loop's reset would reseed every episode (GM204); a standalone
+    # reset before the loop would play an extra episode: the first iteration takes the seed.
     out, findings = migrate(
         """\
         import gym
@@ -235,7 +237,23 @@ def test_seed_is_never_merged_into_a_reset_inside_a_loop() -> None:
             obs = env.reset()
         """
     )
-    assert "env.reset(seed=5)\nfor episode in range(3):\n    obs, info = env.reset()\n" in out
+    assert "env.seed" not in out
+    assert "for episode in range(3):\n    obs, info = env.reset(seed=5 if episode == 0 else None)\n" in out
+    assert not [f for f in findings if f[1] == "GM204"]
+
+
+def test_seed_before_an_uncounted_loop_stays_a_reset_of_its_own() -> None:
+    out, findings = migrate(
+        """\
+        import gym
+
+        env = gym.make("CartPole-v1")
+        env.seed(5)
+        while True:
+            obs = env.reset()
+        """
+    )
+    assert "env.reset(seed=5)\nwhile True:\n    obs, info = env.reset()\n" in out
     assert not [f for f in findings if f[1] == "GM204"]
 
 
