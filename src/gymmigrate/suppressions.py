@@ -2,9 +2,11 @@
 
 - ``# gymmigrate: ignore`` silences every finding on its line;
   ``# gymmigrate: ignore[GM301, GM201]`` only those rules (codes or prefixes).
-- ``# noqa: GM301`` does the same the way ruff and flake8 users write it; a bare
-  ``# noqa`` silences every finding on the line, as it does for those tools. Codes that
-  are not gymmigrate's (``# noqa: E501``) silence nothing here.
+- ``# noqa: GM301`` does the same the way ruff and flake8 users write it. A bare
+  ``# noqa`` silences nothing here: it was written for those tools (an unused or star
+  import, a long line), mostly long before the migration, and silencing every finding of
+  its line would hide the very import of the removed package that breaks. Codes that are
+  not gymmigrate's (``# noqa: E501``) silence nothing either.
 - The comment sits on the finding's line or on the first line of the statement that
   holds it (a multi-line call is silenced from its first line).
 - ``# gymmigrate: skip-file`` on a line of its own before the first statement (after
@@ -79,7 +81,8 @@ def _codes_silenced(comment: str) -> set[str]:
     for match in _IGNORE.finditer(comment):
         codes |= _code_list(match["codes"])
     for match in _NOQA.finditer(comment):
-        codes |= _code_list(match["codes"])
+        if match["codes"] is not None:  # a bare noqa is the linters' (module docstring)
+            codes |= _code_list(match["codes"])
     return codes
 
 
@@ -98,7 +101,7 @@ def _may_silence(text: str, rules: set[str]) -> bool:
             return True
         for noqa in re.finditer("noqa", line, re.IGNORECASE):
             found = _NOQA.match(line, noqa.start())
-            if found is not None and _silences_one_of(_code_list(found["codes"]), rules):
+            if found is not None and found["codes"] is not None and _silences_one_of(_code_list(found["codes"]), rules):
                 return True
     return False
 

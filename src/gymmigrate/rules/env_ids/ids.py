@@ -191,7 +191,7 @@ class EnvIds(RuleFamily):
             plugin = plugin_of(site.env_id)
             # The import of the plugin package asks the same question (GM107): the file's
             # review list asks it once, at the first of them; where the import's item is
-            # silenced (a bare noqa comment on ``import pybullet_envs``), the id's site asks it.
+            # silenced (a noqa comment naming GM107 on ``import pybullet_envs``), the id's site asks it.
             question = gym_only_question(N.gym_only_stack(plugin)) if plugin is not None else None
             if self._registered_by_run(site.env_id):
                 # The project registers this id for a class of its own: the id resolves under

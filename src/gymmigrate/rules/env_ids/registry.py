@@ -6,13 +6,15 @@ that turn the env checker off (GM807, GM808).
   itself, ``registry.all()`` is ``registry.values()``, and ``registry.spec()`` /
   ``make()`` / ``register()`` are the module functions ``gym.spec`` / ``gym.make`` /
   ``gym.register``. ``gym.envs.registry`` is spelled ``gym.registry``.
-* GM806 ``EnvSpec._kwargs`` / ``_env_name`` became ``kwargs`` / ``name`` (and gym 0.9's
+* GM806 ``EnvSpec._kwargs`` / ``_entry_point`` / ``_env_name`` became ``kwargs`` / ``entry_point`` / ``name`` (and gym 0.9's
   ``timestep_limit`` is ``max_episode_steps``; ``trials``, ``tags``... are gone and reported): rewritten where
   the object is an ``EnvSpec`` (``x.spec``, ``gym.spec(...)``, an item of the registry,
   a name only ever bound to one of those).
   The same keywords of gym 0.9's ``register(...)`` / ``EnvSpec(...)``: ``timestep_limit=N``
   (or ``tags`` holding only the time-limit tag) is ``max_episode_steps=N``; ``tags``, ``trials``
   and ``local_only`` are dropped where their value runs no code; the others are reported.
+  ``timestep_limit=None`` (the default) is dropped. A call of a module function that hands
+  its ``**kwargs`` unchanged to one ``register`` is decided as that ``register``.
 * GM807 ``register(...)`` of a class of the run whose ``action_space`` or
   ``observation_space`` is an instance of a class of the run that certainly is not a
   ``Space`` (``class MultiAgentActionSpace(list)``, the multi-agent lists of spaces of
@@ -62,10 +64,11 @@ RULES = (
         "GM806",
         "EnvSpec attributes",
         FixKind.AUTO,
-        "`spec._kwargs` / `spec._env_name` / `spec.timestep_limit` become `spec.kwargs` / `spec.name` / "
-        "`spec.max_episode_steps`; removed ones (`trials`, `tags`...) are reported. gym 0.9's `register(timestep_limit=N)` "
-        "(or a time-limit tag) becomes `max_episode_steps=N`; its `tags`, `trials` and `local_only` are dropped "
-        "(reported where their value runs code), its other keywords reported.",
+        "`spec._kwargs` / `spec._entry_point` / `spec._env_name` / `spec.timestep_limit` become `spec.kwargs` / "
+        "`spec.entry_point` / `spec.name` / `spec.max_episode_steps`; removed ones (`trials`, `tags`...) are reported. "
+        "gym 0.9's `register(timestep_limit=N)` (or a time-limit tag) becomes `max_episode_steps=N`, "
+        "`timestep_limit=None` is dropped, also through a module function that hands its `**kwargs` to `register`; "
+        "its `tags`, `trials` and `local_only` are dropped (reported where their value runs code), its other keywords reported.",
     ),
     Rule(
         "GM807",
@@ -84,7 +87,7 @@ RULES = (
 _REGISTER_FUNCTIONS = frozenset({"register", "envs.register", "envs.registration.register"})
 
 REGISTRY_METHODS = frozenset({"spec", "make", "register"})
-SPEC_ATTRIBUTES = {"_kwargs": "kwargs", "_env_name": "name", "timestep_limit": "max_episode_steps"}
+SPEC_ATTRIBUTES = {"_kwargs": "kwargs", "_entry_point": "entry_point", "_env_name": "name", "timestep_limit": "max_episode_steps"}
 # EnvSpec attributes of gym < 0.21 that Gymnasium's EnvSpec does not have (AttributeError).
 REMOVED_SPEC_ATTRIBUTES = {
     "trials": "gym 0.9's number of trials for the reward threshold is gone: use your own count (e.g. 100)",
@@ -158,8 +161,21 @@ class RegistryApi(RuleFamily):
                             attribute, "GM806", f"`EnvSpec.{removed}` does not exist in Gymnasium (AttributeError): {hint}", FixKind.FLAG
                         )
         if self.context.profile.imports_gym:
-            for spec_call in self._spec_constructions():
+            constructions = self._spec_constructions()
+            for spec_call in constructions:
                 self._decide_legacy_spec_keywords(spec_call)
+            for outer, inner, certain in self._forwarded_spec_constructions(constructions):
+                if certain:
+                    self._decide_legacy_spec_keywords(outer, inner)
+                elif legacy := list(dict.fromkeys(kw.arg for kw in outer.keywords if kw.arg in LEGACY_SPEC_KEYWORDS)):
+                    names = ", ".join(f"`{arg}=`" for arg in legacy)
+                    self.report(
+                        outer,
+                        "GM806",
+                        f"{names} reaches Gymnasium's `register(...)` through `**` (TypeError where this runs), after the "
+                        f"function reads or changes the keywords: {'; '.join(_LEGACY_KEYWORD_HINTS[arg] for arg in legacy)}",
+                        FixKind.FLAG,
+                    )
         calls = [*self.facts.calls_by_name.get("register", ()), *self.facts.attribute_calls.get("register", ())]
         for call in calls:
             if not any(N.strip_gym_prefix(q) in _REGISTER_FUNCTIONS for q in self.facts.qualified_names(call.func)):
@@ -297,7 +313,39 @@ class RegistryApi(RuleFamily):
                     found.append(call)
         return found
 
-    def _decide_legacy_spec_keywords(self, call: ast.Call) -> None:
+    def _forwarded_spec_constructions(self, constructions: list[ast.Call]) -> list[tuple[ast.Call, ast.Call, bool]]:
+        """Calls of a module function whose ``**kwargs`` only ever reach one spec construction
+        as ``**kwargs`` (``def register(id, **kw): ... gym.register(id, **kw)``): each keyword
+        such a call passes lands in that construction unchanged, so it is decided as if written
+        there (the construction's own keywords count as given). Where the function also reads the
+        mapping (``kw.pop``, ``kw["x"] = ...``), what reaches the construction is not the call's to
+        say: not certain. Each triple is (call, construction, certain)."""
+        found: list[tuple[ast.Call, ast.Call, bool]] = []
+        for name, function in self.facts.functions.items():
+            rest = function.args.kwarg
+            named = {arg.arg for arg in (*function.args.posonlyargs, *function.args.args, *function.args.kwonlyargs)}
+            if rest is None or named & (LEGACY_SPEC_KEYWORDS | {"max_episode_steps"}):
+                continue  # a keyword the function names itself never reaches the construction
+            reads = [
+                node for node in ast.walk(function) if isinstance(node, ast.Name) and node.id == rest.arg
+            ]
+            spread = [
+                call
+                for call in constructions
+                if self.facts.enclosing_function(call) is function
+                and any(kw.arg is None and isinstance(kw.value, ast.Name) and kw.value.id == rest.arg for kw in call.keywords)
+            ]
+            if len(spread) != 1:
+                continue
+            # every read of the mapping is that one ``**`` spread: nothing reads, pops or adds a key
+            certain = len(reads) == 1 and any(kw.value is reads[0] for kw in spread[0].keywords)
+            for call in self.facts.calls_by_name.get(name, ()):
+                bindings = self.facts.bindings_of(call.func) if isinstance(call.func, ast.Name) else []
+                if bindings == [function] and self.facts.enclosing_function(call) is not function:
+                    found.append((call, spread[0], certain))
+        return found
+
+    def _decide_legacy_spec_keywords(self, call: ast.Call, forwarded_to: ast.Call | None = None) -> None:
         """gym <= 0.9's ``timestep_limit=N`` and ``tags={"wrapper_config.TimeLimit.max_episode_steps": N}``
         were the spellings of ``max_episode_steps=N``; Gymnasium's ``register``/``EnvSpec`` take
         neither (TypeError where the module is imported), so the limit moves to
@@ -308,14 +356,32 @@ class RegistryApi(RuleFamily):
         legacy = [kw for kw in call.keywords if kw.arg in LEGACY_SPEC_KEYWORDS]
         if not legacy:
             return
+        # ``timestep_limit=None`` set no limit on any gym (None was its default, and only a
+        # value overrode ``max_episode_steps``): dropping it is exact, whatever else is given.
+        unset = [kw for kw in legacy if kw.arg == "timestep_limit" and isinstance(kw.value, ast.Constant) and kw.value.value is None]
+        legacy = [kw for kw in legacy if kw not in unset]
         given = {kw.arg for kw in call.keywords}
         # ``**kwargs`` may set the limit too, and positional arguments past the entry point
         # meant other parameters in gym 0.9: then the limit's spelling is not the call's to settle.
         open_call = None in given or len(call.args) > 2 or any(isinstance(arg, ast.Starred) for arg in call.args)
+        if forwarded_to is not None:
+            # the keywords land in the construction: what it gives itself is given too, and its
+            # positional arguments are the function's, not this call's
+            given |= {kw.arg for kw in forwarded_to.keywords if kw.arg is not None}
+            open_call = None in {kw.arg for kw in call.keywords} or any(isinstance(arg, ast.Starred) for arg in call.args)
+            open_call = open_call or len(forwarded_to.args) > 2 or any(isinstance(arg, ast.Starred) for arg in forwarded_to.args)
+        what = "`register(...)`" if E.called_name(forwarded_to or call) == "register" else "`EnvSpec(...)`"
+        if unset:
+            self.plan.replace(call, lambda node: E.without_keywords(node, ("timestep_limit",)))
+            self.report(
+                call,
+                "GM806",
+                f"`timestep_limit=None` dropped: None set no limit in gym (its default); Gymnasium's {what} takes "
+                "no such keyword (TypeError)",
+            )
         limits = [kw for kw in legacy if kw.arg == "timestep_limit" or E.limit_tag(kw) is not None]
         renamed = limits[0] if len(limits) == 1 and "max_episode_steps" not in given and not open_call else None
         rest = [kw for kw in legacy if kw is not renamed]
-        what = "`register(...)`" if E.called_name(call) == "register" else "`EnvSpec(...)`"
         if renamed is not None:
             spelled = "`timestep_limit=`" if renamed.arg == "timestep_limit" else "the `wrapper_config.TimeLimit.max_episode_steps` tag"
             # the edit and its finding sit on the call: the keyword itself is no node an edit can replace

@@ -6,6 +6,7 @@ for class checks moved to ale_py; with the LibCST builds of the new statements."
 from __future__ import annotations
 
 import ast
+import builtins
 import re
 
 from gymmigrate.edits.lazy import cst
@@ -35,6 +36,14 @@ from gymmigrate.rules.imports.table import (
 _NAMES_GYM = re.compile(r"\bgym\b(?![_-])")
 # calls that only show a text to the user: print, a logger's levels, warnings.warn, sys.exit
 _SHOWING_CALLS = frozenset({"print", "warn", "warning", "error", "info", "debug", "critical", "exception", "fatal", "exit"})
+
+# Gymnasium 1.4 modules whose ``import *`` raises on a plain install: their ``__all__``
+# names the array-conversion wrappers (``JaxToNumpy``, ``ToArray``...), which their
+# ``__getattr__`` imports from modules needing the optional ``array_api_compat``.
+_STAR_IMPORT_RAISES = frozenset({"gymnasium.wrappers", "gymnasium.wrappers.vector"})
+# Names through which a module looks its own names up at run time.
+_NAME_LOOKUPS = frozenset({"eval", "exec", "globals", "vars", "locals", "__import__"})
+_BUILTINS = frozenset(dir(builtins))
 
 
 class ImportStatements(GymOnlyLibraries):
@@ -297,8 +306,56 @@ class ImportStatements(GymOnlyLibraries):
         if new_module == module:
             return
         code = "GM102" if rest == "" else "GM104" if new_rest != rest else "GM103"
+        if star and new_module in _STAR_IMPORT_RAISES:
+            self._decide_failing_star(node, code, module, new_module)
+            return
         self.report(node, code, f"from {module} import ... -> from {new_module} import ...")
         self.plan.replace(node, lambda from_node: from_node.with_changes(module=dotted_node(new_module)))
+
+    def _decide_failing_star(self, node: ast.ImportFrom, code: str, module: str, new_module: str) -> None:
+        """``from gym.wrappers import *``: the same star import of Gymnasium raises (see
+        ``_STAR_IMPORT_RAISES``), so it is never written. Where the module's free names are all
+        builtins or names of the new module, and nothing else can supply or look up a name
+        (another star import, ``eval``/``exec``/``globals()``/``vars()``, ``__all__``), those names
+        are imported explicitly; otherwise the import is reported."""
+        free: set[str] = set()
+        dynamic = False
+        for other in ast.walk(self.facts.tree):
+            if other is not node and isinstance(other, ast.ImportFrom) and any(alias.name == "*" for alias in other.names):
+                dynamic = True
+            elif isinstance(other, ast.Name):
+                if other.id in _NAME_LOOKUPS or other.id == "__all__":
+                    dynamic = True
+                elif isinstance(other.ctx, ast.Load) and not self.facts.bindings_of(other) and other.id not in _BUILTINS:
+                    if not (other.id.startswith("__") and other.id.endswith("__")):  # ``__file__``: the import system's
+                        free.add(other.id)
+        names = sorted(free)
+        if not dynamic and names and all(has_name(new_module, name) and not name.startswith("_") for name in names):
+            self.report(
+                node,
+                code,
+                f"from {module} import * -> from {new_module} import {', '.join(names)}: Gymnasium's star import of "
+                f"`{new_module}` raises ModuleNotFoundError without the optional array-api packages; these are the names the module uses",
+            )
+            self.plan.replace(
+                node,
+                lambda from_node, names=tuple(names): from_node.with_changes(
+                    module=dotted_node(new_module),
+                    names=[cst.ImportAlias(name=cst.Name(name)) for name in names],
+                    lpar=None,
+                    rpar=None,
+                ),
+            )
+            return
+        self.report(
+            node,
+            code,
+            f"`from {module} import *` left on gym: Gymnasium's star import of `{new_module}` raises ModuleNotFoundError "
+            "without the optional array-api packages (its `__all__` names the array-conversion wrappers), and which "
+            "of its names this module uses is not known here (a name looked up at run time, another star import, or a "
+            f"name Gymnasium lacks): import the names it uses explicitly from `{new_module}`",
+            FixKind.FLAG,
+        )
 
     def _renamed_names(self, node: ast.ImportFrom, rest: str) -> bool:
         """``from gym.envs.registration import load``: a name Gymnasium kept under another
