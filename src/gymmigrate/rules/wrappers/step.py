@@ -35,6 +35,7 @@ from gymmigrate.rules.custom_env.plans import (
 from gymmigrate.rules.step_done.common import StepUnpack
 from gymmigrate.rules.wrappers.common import _assigned_names
 from gymmigrate.rules.wrappers.step_ends import (
+    _clears,
     _done_changes,
     _life_loss_sets,
     _merges_life_loss,
@@ -44,7 +45,6 @@ from gymmigrate.rules.wrappers.step_ends import (
     _only_step_limits,
     _own_end_kind,
     _replaces_inner_end,
-    _clears,
     _task_end_sets,
     gym_time_limit_test,
     limit_tests,
