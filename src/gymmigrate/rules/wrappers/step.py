@@ -35,6 +35,7 @@ from gymmigrate.rules.custom_env.plans import (
 from gymmigrate.rules.step_done.common import StepUnpack
 from gymmigrate.rules.wrappers.common import _assigned_names
 from gymmigrate.rules.wrappers.step_ends import (
+    _clears,
     _done_changes,
     _life_loss_sets,
     _merges_life_loss,
@@ -323,6 +324,22 @@ class StepOverrides(RuleFamily):
         replaced_done_reads = 0
         settled_lives: set[int] = set()
         settled_task_ends = False
+        # ``if self.steps < self.min_len: done = False`` after the inner step takes back the
+        # inner end too: where a return passes the inner flags on, that line clears both
+        # (``terminated = truncated = False``), else the inner ``terminated`` would end an
+        # episode the override keeps going.
+        clears = (
+            _clears(lines, done_name, done_line, unpacks)
+            if done_name is not None and flags is not None and consistent and "_" not in flags and not per_agent
+            else []
+        )
+        clear_note = (
+            f"; `{done_name} = False` (line{'s' if len(clears) > 1 else ''} "
+            f"{', '.join(str(c.lineno) for c in clears)}) takes back the inner end too, so it clears both flags there"
+            if clears
+            else ""
+        )
+        clears_flags = False
         for ret in own_returns(function):
             value = ret.value
             if not isinstance(value, ast.Tuple) or len(value.elts) != 4:
@@ -409,10 +426,12 @@ class StepOverrides(RuleFamily):
                         "per-agent lists)"
                         if per_agent
                         else f"returned as truncation (`... and not {terminated}`)"
-                    ),
+                    )
+                    + clear_note,
                     kind=FixKind.ASSIST,
                     tier=Tier.NOTE,
                 )
+                clears_flags = True
                 self.plan.replace(value, lambda node, t=terminated: _five(node, _cut(node, t, per_agent)))
                 self._settle_key_writes(function)
             elif (
@@ -437,9 +456,11 @@ class StepOverrides(RuleFamily):
                         else f"(`... and not {terminated}`)"
                     )
                     + "; Gymnasium's TimeLimit has no `_past_limit()`: test `self._elapsed_steps >= "
-                    "self._max_episode_steps` there",
+                    "self._max_episode_steps` there"
+                    + clear_note,
                     kind=FixKind.ASSIST,
                 )
+                clears_flags = True
                 self.plan.replace(value, lambda node, t=terminated: _five(node, _cut(node, t, per_agent)))
             elif done_name not in _names(done) and inner_done not in _names(done) and _only_own_step_limit(function, done, flags):
                 # ``done = False; if self.t >= self.t_max: done = True`` returned, the inner
@@ -534,10 +555,12 @@ class StepOverrides(RuleFamily):
                         if game_over
                         else "this step override ends the episode on a lost life (the EpisodicLifeEnv pattern): a lost "
                         f"life sets `{terminated}` as Stable-Baselines3 does; `{truncated}` stays the inner step's"
-                    ),
+                    )
+                    + clear_note,
                     kind=FixKind.ASSIST,
                     tier=Tier.NOTE,
                 )
+                clears_flags = True
                 for life_loss, text in life_losses:
                     if id(life_loss) not in settled_lives:  # once for every return that reads it
                         settled_lives.add(id(life_loss))
@@ -592,10 +615,11 @@ class StepOverrides(RuleFamily):
                     "GM602",
                     "this step override ends the episode when the task ends (success, a goal, a failure): that end "
                     f"sets `{terminated}` (line{'s' if len(task_ends) > 1 else ''} {ends}), a terminal state even on the "
-                    f"step a time limit cuts; `{truncated}` stays the inner step's",
+                    f"step a time limit cuts; `{truncated}` stays the inner step's" + clear_note,
                     kind=FixKind.ASSIST,
                     tier=Tier.NOTE,
                 )
+                clears_flags = True
                 self.plan.replace(value, lambda node, t=terminated, u=truncated: _five(node, [cst.Name(t), cst.Name(u)]))
             elif (reshaped := done_name or inner_done) is not None and not done_modified and _reshapes(done, reshaped, terminated):
                 # ``np.asarray(done)``, ``bool(done)``: the inner done only reshaped, no end of
@@ -662,10 +686,12 @@ class StepOverrides(RuleFamily):
                     "GM602",
                     "this step override decides `done` itself; its own end condition is now returned as truncation "
                     f"(`... and not {terminated}`): if it really ends the episode (e.g. a lost life), return it as "
-                    "terminated instead",
+                    "terminated instead" + clear_note,
                     kind=FixKind.ASSIST,
                 )
+                clears_flags = True
                 self.plan.replace(value, lambda node, t=terminated: _five(node, _cut(node, t)))
+        dropped = False
         if done_name is not None and done_line is not None and replaced_done_reads:
             claimed = sum(noted.claimed_reads for noted in unpacks.values() if noted is not None)
             reads = sum(
@@ -673,7 +699,8 @@ class StepOverrides(RuleFamily):
                 for node in walk(function)
                 if isinstance(node, ast.Name) and node.id == done_name and isinstance(node.ctx, ast.Load)
             )
-            if reads - claimed - replaced_done_reads <= 0:
+            dropped = reads - claimed - replaced_done_reads <= 0
+            if dropped:
                 # nothing reads ``done`` any more: drop the line that kept it
                 if inserted is not None and done_line is inserted[0]:
                     self.plan.withdraw(inserted[0], inserted[1].done_line)
@@ -683,5 +710,16 @@ class StepOverrides(RuleFamily):
                     # a later inner step's ``done = ...`` line, unread as well
                     if noted is not None and noted.done_line is not None and line is not done_line and done_name in _assigned_names(line):
                         self.plan.withdraw(line, noted.done_line)
-
-
+        if clears_flags and flags is not None:
+            terminated, truncated = flags
+            for clear in clears:
+                if dropped:
+                    # nothing reads ``done`` any more: the line clears the flags instead
+                    self.plan.replace(
+                        clear,
+                        lambda node, t=terminated, u=truncated: node.with_changes(
+                            targets=[cst.AssignTarget(target=cst.Name(t)), cst.AssignTarget(target=cst.Name(u))]
+                        ),
+                    )
+                else:
+                    self.plan.insert_after(clear, f"{terminated} = {truncated} = False")

@@ -271,8 +271,12 @@ def _set_alone_when(line: ast.stmt, parent: ast.AST | None, test: Callable[[ast.
     return branch is not None and line in branch.body and not branch.orelse and test(branch.test)
 
 
-# what a task's own end is called: ``info["is_success"]``, ``reached_goal``, ``self.crashed``
-_TASK_END_WORDS = re.compile(r"success|goal|solved|reached|\bwon\b|\bwin\b|crash|collision|collided|fail", re.IGNORECASE)
+# what a task's own end is called: ``info["is_success"]``, ``reached_goal``, ``self.crashed``,
+# ``self._is_fallen()`` (a robot or an object held that fell: a failure of the task)
+_TASK_END_WORDS = re.compile(
+    r"success|goal|solved|reached|\bwon\b|\bwin\b|crash|collision|collided|fail|fallen|(?:^|_)(?:fall|fell)(?:_|$)",
+    re.IGNORECASE,
+)
 
 
 def _own_task_end(line: ast.stmt, name: str, parent: ast.AST | None) -> bool:
@@ -362,6 +366,31 @@ def _task_end_sets(
     if changes and all(_own_task_end(line, name, facts.parent(line)) for line in changes):
         return changes  # type: ignore[return-value]
     return []
+
+
+def _clears(
+    lines: list[ast.stmt], name: str, done_line: ast.stmt | None, unpacks: dict[ast.stmt, StepUnpack | None]
+) -> list[ast.Assign]:
+    """``done = False`` (or ``None``) after an inner step (``if self.steps < self.min_len:
+    done = False``): the override takes back the episode's end, the inner step's included,
+    which ``_is_initializer`` alone would read as a start value. Lines before every inner
+    step (a start value, or one a later unpack overwrites) are not among them."""
+    found: list[ast.Assign] = []
+    seen_unpack = False
+    for line in lines:
+        if line in unpacks or line is done_line:
+            seen_unpack = True
+            continue
+        if (
+            seen_unpack
+            and isinstance(line, ast.Assign)
+            and len(line.targets) == 1
+            and isinstance(line.targets[0], ast.Name)
+            and line.targets[0].id == name
+            and _is_initializer(line, name)
+        ):
+            found.append(line)
+    return found
 
 
 def _never_ends(changes: list[ast.stmt], name: str, classdef: ast.ClassDef, facts: ModuleFacts) -> str | None:
