@@ -31,18 +31,24 @@ _MUTATORS = frozenset(
 
 Display = ast.Dict | ast.List | ast.Tuple
 
+# What a lookup calls of each record: a key of dict records (``T[k]["make"]``) or a
+# position of tuple records (``T[k][0]`` over ``{"a": (A, "2D")}``); "" for the values themselves.
+Field = str | int
+
 # Mapping constructors whose arguments are the table itself: ``OrderedDict(((k, v), ...))``,
 # ``dict([(k, v), ...])``, ``dict(k=v)``: as closed as the display they copy.
 _MAPPING_TYPES = frozenset({"collections.OrderedDict", "dict"})
 
 
-def lookup(facts: ModuleFacts, callee: ast.Subscript) -> tuple[ast.expr, str | None] | None:
-    """``T[k]`` -> (``T``, None); ``T[k]["make"]`` -> (``T``, ``"make"``): the table a called
-    lookup reads, and the field of its records it calls. None for other shapes."""
+def lookup(facts: ModuleFacts, callee: ast.Subscript) -> tuple[ast.expr, Field | None] | None:
+    """``T[k]`` -> (``T``, None); ``T[k]["make"]`` -> (``T``, ``"make"``); ``T[k][0]`` ->
+    (``T``, 0): the table a called lookup reads, and the field of its records it calls.
+    None for other shapes."""
     value = callee.value
     if isinstance(value, ast.Subscript):
         field = callee.slice
-        if not (isinstance(field, ast.Constant) and isinstance(field.value, str)):
+        # a key of the records, or a position in them (not a bool, which is an int too)
+        if not (isinstance(field, ast.Constant) and (isinstance(field.value, str) or type(field.value) is int)):
             return None
         if isinstance(value.value, (ast.Name, ast.Attribute)):
             return value.value, field.value
@@ -107,10 +113,11 @@ def _mapping_display(facts: ModuleFacts, call: ast.Call) -> ast.Dict | None:
     return ast.Dict(keys=keys, values=values)
 
 
-def entries(display: Display, field: str | None) -> list[ast.expr] | None:
+def entries(display: Display, field: Field | None) -> list[ast.expr] | None:
     """The table's values (``field`` None), or the ``field`` of each of its records (dict
-    displays; a record without it cannot be called through it and is skipped). None when a
-    value is not shown (``**other``, ``*more``, a record that is no display) or none is left."""
+    displays; a record without it cannot be called through it and is skipped; for a
+    position, tuple or list displays that all hold it). None when a value is not shown
+    (``**other``, ``*more``, a record that is no display) or none is left."""
     if isinstance(display, ast.Dict):
         if any(key is None for key in display.keys):
             return None
@@ -121,12 +128,28 @@ def entries(display: Display, field: str | None) -> list[ast.expr] | None:
         values = list(display.elts)
     if field is None:
         return values or None
+    if isinstance(field, int):
+        # ``T[k][0]``: every record a tuple or list display that shows that position
+        held = [r for r in values if isinstance(r, (ast.Tuple, ast.List)) and not any(isinstance(e, ast.Starred) for e in r.elts)]
+        if len(held) != len(values) or not all(0 <= field < len(r.elts) for r in held):
+            return None
+        return [r.elts[field] for r in held] or None
     found = []
     for record in values:
         if not isinstance(record, ast.Dict) or any(key is None for key in record.keys):
             return None
         found += [v for k, v in zip(record.keys, record.values) if isinstance(k, ast.Constant) and k.value == field]
     return found or None
+
+
+def record_positions(display: Display) -> range:
+    """The positions every record shows, when every value is a tuple or list display
+    without ``*more``."""
+    values = display.values if isinstance(display, ast.Dict) else display.elts
+    records = [v for v in values if isinstance(v, (ast.Tuple, ast.List)) and not any(isinstance(e, ast.Starred) for e in v.elts)]
+    if not values or len(records) != len(values):
+        return range(0)
+    return range(min(len(r.elts) for r in records))
 
 
 def record_fields(display: Display) -> set[str]:
