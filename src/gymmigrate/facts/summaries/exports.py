@@ -8,7 +8,13 @@ import ast
 from collections.abc import Iterator
 
 from gymmigrate.facts import names as N
-from gymmigrate.facts.creator_tables import Field, entries, module_table, record_fields, record_positions
+from gymmigrate.facts.creator_tables import (
+    Field,
+    entries,
+    module_table,
+    record_fields,
+    record_positions,
+)
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
 from gymmigrate.facts.module_summary import OWN, REF, Kind
