@@ -2,9 +2,10 @@
 
 ``fixtures/project_record_positions/``: ``registry.py`` binds ``SCENES`` to a dict whose every
 record holds a Gym env class of the run at position 0, so ``SCENES[name][0](size=2)`` in
-``play.py`` makes a Gym env: ``run_scene``'s reset and step are rewritten. ``GAMES`` holds the
-project's own game there: ``run_game``'s reset is left with no question. The near case stays
-asked: ``MIXED`` holds both.
+``play.py`` makes a Gym env (one record shown in the display, one stored at top level):
+``run_scene``'s reset and step are rewritten. ``GAMES`` holds the project's own game there:
+``run_game``'s reset is left with no question. The near cases stay asked: ``MIXED`` is given
+the game by a top-level store, ``LATE`` entries a def stores from its parameters.
 """
 
 from __future__ import annotations
@@ -22,7 +23,8 @@ def test_a_position_of_every_record_settles_what_a_lookup_makes(tmp_path: Path) 
     assert "    obs, info = env.reset()\n    obs, reward, terminated, truncated, info = env.step(len(obs) % 2)\n" in play
     assert "    env = GAMES[name][0]()\n    obs = env.reset()\n" in play
     assert "    env = MIXED[name][0]()\n    obs = env.reset()\n" in play
-    assert review == [("play.py", 19, "GM201")]
+    assert "    env = LATE[name][0]()\n    obs = env.reset()\n" in play
+    assert review == [("play.py", 19, "GM201"), ("play.py", 25, "GM201")]
     code = "import play\nprint(play.run_scene('walk'), play.run_scene('hill'), play.run_game('board'))\n"
     run = subprocess.run([sys.executable, "-W", "ignore", "-c", code], cwd=project, capture_output=True, text=True, timeout=120)
     assert run.returncode == 0, run.stderr

@@ -80,8 +80,37 @@ def module_table(facts: ModuleFacts, binding: ast.Name) -> Display | None:
         value = facts.memo(("mapping-display", id(value)), lambda: _mapping_display(facts, cast(ast.Call, assign.value)))
     if not isinstance(value, (ast.Dict, ast.List, ast.Tuple)):
         return None
-    altered = facts.memo(("table-altered", id(binding)), lambda: any(written(facts, r) for r in facts.reads_of(binding.id, binding)))
-    return None if altered else value
+    display = value
+    return facts.memo(("table-closed", id(binding)), lambda: _closed(facts, binding, display))
+
+
+def _closed(facts: ModuleFacts, binding: ast.Name, display: Display) -> Display | None:
+    """``display`` with the items this module stores into the dict it builds at top level
+    (``T[k] = v``, maybe under an ``if`` or a ``try``: each is an entry the table may hold, shown here),
+    or None when the module writes into it any other way (``del``, ``update``, a store
+    into a record)."""
+    stored: list[tuple[ast.expr, ast.expr]] = []
+    for read in facts.reads_of(binding.id, binding):
+        if not written(facts, read):
+            continue
+        item = facts.parent(read)
+        assign = facts.parent(item)
+        if not (
+            isinstance(item, ast.Subscript)
+            and item.value is read
+            and isinstance(item.ctx, ast.Store)
+            and isinstance(assign, ast.Assign)
+            and assign.targets == [item]
+            # at top level: a def storing into it fills it with what its callers hand it
+            and facts.scope_of(assign) is facts.module_scope
+        ):
+            return None
+        stored.append((item.slice, assign.value))
+    if not stored:
+        return display
+    if not isinstance(display, ast.Dict):
+        return None  # an item stored into a list or tuple replaces one the run cannot name
+    return ast.Dict(keys=[*display.keys, *(k for k, _ in stored)], values=[*display.values, *(v for _, v in stored)])
 
 
 def _mapping_display(facts: ModuleFacts, call: ast.Call) -> ast.Dict | None:
