@@ -31,18 +31,24 @@ _MUTATORS = frozenset(
 
 Display = ast.Dict | ast.List | ast.Tuple
 
+# What a lookup calls of each record: a key of dict records (``T[k]["make"]``) or a
+# position of tuple records (``T[k][0]`` over ``{"a": (A, "2D")}``); "" for the values themselves.
+Field = str | int
+
 # Mapping constructors whose arguments are the table itself: ``OrderedDict(((k, v), ...))``,
 # ``dict([(k, v), ...])``, ``dict(k=v)``: as closed as the display they copy.
 _MAPPING_TYPES = frozenset({"collections.OrderedDict", "dict"})
 
 
-def lookup(facts: ModuleFacts, callee: ast.Subscript) -> tuple[ast.expr, str | None] | None:
-    """``T[k]`` -> (``T``, None); ``T[k]["make"]`` -> (``T``, ``"make"``): the table a called
-    lookup reads, and the field of its records it calls. None for other shapes."""
+def lookup(facts: ModuleFacts, callee: ast.Subscript) -> tuple[ast.expr, Field | None] | None:
+    """``T[k]`` -> (``T``, None); ``T[k]["make"]`` -> (``T``, ``"make"``); ``T[k][0]`` ->
+    (``T``, 0): the table a called lookup reads, and the field of its records it calls.
+    None for other shapes."""
     value = callee.value
     if isinstance(value, ast.Subscript):
         field = callee.slice
-        if not (isinstance(field, ast.Constant) and isinstance(field.value, str)):
+        # a key of the records, or a position in them (not a bool, which is an int too)
+        if not (isinstance(field, ast.Constant) and (isinstance(field.value, str) or type(field.value) is int)):
             return None
         if isinstance(value.value, (ast.Name, ast.Attribute)):
             return value.value, field.value
@@ -74,8 +80,37 @@ def module_table(facts: ModuleFacts, binding: ast.Name) -> Display | None:
         value = facts.memo(("mapping-display", id(value)), lambda: _mapping_display(facts, cast(ast.Call, assign.value)))
     if not isinstance(value, (ast.Dict, ast.List, ast.Tuple)):
         return None
-    altered = facts.memo(("table-altered", id(binding)), lambda: any(written(facts, r) for r in facts.reads_of(binding.id, binding)))
-    return None if altered else value
+    display = value
+    return facts.memo(("table-closed", id(binding)), lambda: _closed(facts, binding, display))
+
+
+def _closed(facts: ModuleFacts, binding: ast.Name, display: Display) -> Display | None:
+    """``display`` with the items this module stores into the dict it builds at top level
+    (``T[k] = v``, maybe under an ``if`` or a ``try``: each is an entry the table may hold, shown here),
+    or None when the module writes into it any other way (``del``, ``update``, a store
+    into a record)."""
+    stored: list[tuple[ast.expr, ast.expr]] = []
+    for read in facts.reads_of(binding.id, binding):
+        if not written(facts, read):
+            continue
+        item = facts.parent(read)
+        assign = facts.parent(item)
+        if not (
+            isinstance(item, ast.Subscript)
+            and item.value is read
+            and isinstance(item.ctx, ast.Store)
+            and isinstance(assign, ast.Assign)
+            and assign.targets == [item]
+            # at top level: a def storing into it fills it with what its callers hand it
+            and facts.scope_of(assign) is facts.module_scope
+        ):
+            return None
+        stored.append((item.slice, assign.value))
+    if not stored:
+        return display
+    if not isinstance(display, ast.Dict):
+        return None  # an item stored into a list or tuple replaces one the run cannot name
+    return ast.Dict(keys=[*display.keys, *(k for k, _ in stored)], values=[*display.values, *(v for _, v in stored)])
 
 
 def _mapping_display(facts: ModuleFacts, call: ast.Call) -> ast.Dict | None:
@@ -107,10 +142,11 @@ def _mapping_display(facts: ModuleFacts, call: ast.Call) -> ast.Dict | None:
     return ast.Dict(keys=keys, values=values)
 
 
-def entries(display: Display, field: str | None) -> list[ast.expr] | None:
+def entries(display: Display, field: Field | None) -> list[ast.expr] | None:
     """The table's values (``field`` None), or the ``field`` of each of its records (dict
-    displays; a record without it cannot be called through it and is skipped). None when a
-    value is not shown (``**other``, ``*more``, a record that is no display) or none is left."""
+    displays; a record without it cannot be called through it and is skipped; for a
+    position, tuple or list displays that all hold it). None when a value is not shown
+    (``**other``, ``*more``, a record that is no display) or none is left."""
     if isinstance(display, ast.Dict):
         if any(key is None for key in display.keys):
             return None
@@ -121,12 +157,28 @@ def entries(display: Display, field: str | None) -> list[ast.expr] | None:
         values = list(display.elts)
     if field is None:
         return values or None
+    if isinstance(field, int):
+        # ``T[k][0]``: every record a tuple or list display that shows that position
+        held = [r for r in values if isinstance(r, (ast.Tuple, ast.List)) and not any(isinstance(e, ast.Starred) for e in r.elts)]
+        if len(held) != len(values) or not all(0 <= field < len(r.elts) for r in held):
+            return None
+        return [r.elts[field] for r in held] or None
     found = []
     for record in values:
         if not isinstance(record, ast.Dict) or any(key is None for key in record.keys):
             return None
         found += [v for k, v in zip(record.keys, record.values) if isinstance(k, ast.Constant) and k.value == field]
     return found or None
+
+
+def record_positions(display: Display) -> range:
+    """The positions every record shows, when every value is a tuple or list display
+    without ``*more``."""
+    values = display.values if isinstance(display, ast.Dict) else display.elts
+    records = [v for v in values if isinstance(v, (ast.Tuple, ast.List)) and not any(isinstance(e, ast.Starred) for e in v.elts)]
+    if not values or len(records) != len(values):
+        return range(0)
+    return range(min(len(r.elts) for r in records))
 
 
 def record_fields(display: Display) -> set[str]:

@@ -9,6 +9,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import NamedTuple
 
+from gymmigrate.facts.creator_tables import Field
 from gymmigrate.facts.done_causes import DoneCause
 from gymmigrate.facts.init_attributes import ClassStores
 from gymmigrate.facts.kinds import EnvKind
@@ -148,10 +149,10 @@ class ModuleSummary:
     # (top-level name, field) of each closed table of creators (``facts/creator_tables.py``;
     # field "" for its values themselves) -> what calling each value (or each record's
     # field) gives, as ``exports``: the modules that call through ``T[k](...)`` read it.
-    tables: dict[tuple[str, str], tuple[Kind, ...]] = field(default_factory=dict)
+    tables: dict[tuple[str, Field], tuple[Kind, ...]] = field(default_factory=dict)
     # ...and whether each callable there returns a ``make(...)`` result: ``@`` (shown here),
     # ``ref:<qualified>`` (a call of a name of the run: made when the run says so), "" (not shown)
-    made_tables: dict[tuple[str, str], tuple[str, ...]] = field(default_factory=dict)
+    made_tables: dict[tuple[str, Field], tuple[str, ...]] = field(default_factory=dict)
     # Qualified names of imported names this module writes into (``T[k] = v``): no table.
     altered: frozenset[str] = frozenset()
     # -- method contracts across modules (rules/custom_env/hooks.py) --

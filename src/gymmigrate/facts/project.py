@@ -43,6 +43,7 @@ from dataclasses import dataclass, field
 from functools import cached_property
 from pathlib import Path
 
+from gymmigrate.facts.creator_tables import Field
 from gymmigrate.facts.done_causes import DoneCause
 from gymmigrate.facts.import_roots import import_parts, module_names, nearest_root
 from gymmigrate.facts.kinds import EnvKind
@@ -424,9 +425,9 @@ class ProjectFacts:
     made_thunks: dict[str, dict[str, tuple[int, int] | None]] = field(default_factory=dict)
     # (path, table, field) -> what calling through that closed table of creators gives
     # (``join_tables``; field "" for its values themselves)
-    table_kinds: dict[tuple[str, str, str], EnvKind] = field(default_factory=dict)
+    table_kinds: dict[tuple[str, str, Field], EnvKind] = field(default_factory=dict)
     # ...and those whose every callable there returns a ``make(...)`` result: a wrapper stack
-    made_tables: set[tuple[str, str, str]] = field(default_factory=set)
+    made_tables: set[tuple[str, str, Field]] = field(default_factory=set)
     # (path, top-level name) another module writes into (``T[k] = v``): no closed table
     altered_tables: frozenset[tuple[str, str]] = frozenset()
     # (path, qualname, parameter) -> (caller path, line) of each call in another module that

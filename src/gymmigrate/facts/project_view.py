@@ -12,6 +12,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from gymmigrate.facts.creator_tables import Field
 from gymmigrate.facts.import_roots import import_parts, is_test_path
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.project_view_classes import ClassView
@@ -88,20 +89,20 @@ class ProjectView(ClassView, FixtureView, HierarchyView, RegistryView, RenderVie
         found = self.facts.call_kinds.get((path, name))
         return found if found is not None else EnvKind.UNKNOWN
 
-    def table_kind(self, qualified: str, field: str | None) -> EnvKind | None:
+    def table_kind(self, qualified: str, field: Field | None) -> EnvKind | None:
         """What calling through an imported table of creators of the run gives
         (``T[k](...)``, ``T[k]["make"](...)`` with ``field``; ``ProjectFacts.table_kinds``):
         unknown for a name of the run that is no closed table, None for no name of the run."""
         split = self.facts._split(qualified, self.path)
         if split is None or "." in split[1]:
             return None
-        return self.facts.table_kinds.get((*split, field or ""), EnvKind.UNKNOWN)
+        return self.facts.table_kinds.get((*split, "" if field is None else field), EnvKind.UNKNOWN)
 
-    def table_made(self, qualified: str, field: str | None) -> bool:
+    def table_made(self, qualified: str, field: Field | None) -> bool:
         """Every callable of an imported table of creators of the run returns a
         ``make(...)`` result, maybe wrapped (``ProjectFacts.made_tables``)."""
         split = self.facts._split(qualified, self.path)
-        return split is not None and (*split, field or "") in self.facts.made_tables
+        return split is not None and (*split, "" if field is None else field) in self.facts.made_tables
 
     def table_altered(self, name: str) -> bool:
         """Another module of the run writes into this module's top-level ``name``."""

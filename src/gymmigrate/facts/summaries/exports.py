@@ -8,7 +8,13 @@ import ast
 from collections.abc import Iterator
 
 from gymmigrate.facts import names as N
-from gymmigrate.facts.creator_tables import entries, module_table, record_fields
+from gymmigrate.facts.creator_tables import (
+    Field,
+    entries,
+    module_table,
+    record_fields,
+    record_positions,
+)
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns
 from gymmigrate.facts.module_summary import OWN, REF, Kind
@@ -37,12 +43,12 @@ class Exports:
                 exports[name] = EnvKind.UNKNOWN
         return exports
 
-    def tables(self, env_classes: set[str]) -> dict[tuple[str, str], tuple[Kind, ...]]:
+    def tables(self, env_classes: set[str]) -> dict[tuple[str, Field], tuple[Kind, ...]]:
         """The module's closed tables of creators (``ModuleSummary.tables``): per table and
         field, what calling each of its callables gives."""
         return {(name, field): tuple(self._called(value, env_classes) for value in values) for name, field, values in self._creator_tables()}
 
-    def made_tables(self, made_defs: frozenset[str]) -> dict[tuple[str, str], tuple[str, ...]]:
+    def made_tables(self, made_defs: frozenset[str]) -> dict[tuple[str, Field], tuple[str, ...]]:
         """Per closed table of creators and field (as ``tables``), whether each callable
         returns a ``make(...)`` result (``ModuleSummary.made_tables``): ``@`` when this
         module shows it (a lambda around ``make``, maybe in Gym wrappers; a def of
@@ -50,7 +56,7 @@ class Exports:
         run (made when the run says so), "" otherwise."""
         return {(name, field): tuple(self._made(value, made_defs) for value in values) for name, field, values in self._creator_tables()}
 
-    def _creator_tables(self) -> Iterator[tuple[str, str, list[ast.expr]]]:
+    def _creator_tables(self) -> Iterator[tuple[str, Field, list[ast.expr]]]:
         """Every closed table of callables the module binds once at top level, per field
         ("" for the table's own values): its name, the field and the callables, so that
         ``tables`` and ``made_tables`` always describe the same tables."""
@@ -60,11 +66,12 @@ class Exports:
             display = module_table(self.facts, bindings[0])
             if display is None:
                 continue
-            for field in (None, *sorted(record_fields(display))):
+            fields: list[Field | None] = [None, *sorted(record_fields(display)), *record_positions(display)]
+            for field in fields:
                 values = entries(display, field)
                 # only callables: a table of numbers or strings is no table of creators
                 if values is not None and all(isinstance(v, (ast.Lambda, ast.Name, ast.Attribute)) for v in values):
-                    yield name, field or "", values
+                    yield name, "" if field is None else field, values
 
     def _made(self, value: ast.expr, made_defs: frozenset[str]) -> str:
         if isinstance(value, ast.Lambda):
