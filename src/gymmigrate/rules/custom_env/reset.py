@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import ast
 
-from gymmigrate.facts.env_classes import is_self_attribute, is_super_method_call
+from gymmigrate.facts.env_classes import env_base_call, is_self_attribute, is_super_method_call
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import own_returns, walk
 from gymmigrate.facts.own_api import is_info_pair
@@ -132,6 +132,8 @@ def decide_reset(decision: ClassDecision) -> None:
         decision.report(function, "GM501", f"reset calls the base's private reset hook, not its reset: it seeds through the base's `{hooked}` when given a seed, as legacy seed(seed) did")
     elif hook is not None and any(is_self_call(c, {hook}) for c in decision.function(function).of(ast.Call)):
         pass  # seeds through the base's hook already (as this rule writes it)
+    elif any(_seeds_through_env_reset(decision, c, function) for c in decision.function(function).of(ast.Call)):
+        pass  # seeds through Env's own reset already (as this rule writes it)
     elif not reads_np_random(decision.family.facts):
         # Nothing of the module draws from np_random (a batch seeds its envs inside, say; a
         # seed() that only stores one): leaving it unseeded changes nothing here, so this is
@@ -213,6 +215,13 @@ def decide_reset(decision: ClassDecision) -> None:
             # Env.reset called by name has a note of its own
             seeds = ", and calls super().reset(seed=seed) first to seed np_random" if inserted and not decision.plan.reset_env_seeds else ""
             decision.report(function, "GM501", f"reset takes seed and options (wrappers always pass them){seeds}")
+
+
+def _seeds_through_env_reset(decision: ClassDecision, call: ast.AST, function: ast.AST) -> bool:
+    """``gymnasium.Env.reset(self, seed=seed)``: Env's own reset given the seed."""
+    return env_base_call(decision.family.facts, call, "reset", function) and any(
+        k.arg == "seed" for k in call.keywords  # type: ignore[attr-defined]
+    )
 
 
 def _env_reset_seeds(decision: ClassDecision) -> str | None:
