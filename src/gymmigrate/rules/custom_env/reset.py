@@ -11,7 +11,11 @@ from __future__ import annotations
 
 import ast
 
-from gymmigrate.facts.env_classes import env_base_call, is_self_attribute, is_super_method_call
+from gymmigrate.facts.env_classes import (
+    env_base_call,
+    is_self_attribute,
+    is_super_method_call,
+)
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import own_returns, walk
 from gymmigrate.facts.own_api import is_info_pair
