@@ -139,6 +139,17 @@ def is_super_method_call(node: ast.AST | None, method: str) -> bool:
     )
 
 
+def env_base_call(facts: ModuleFacts, node: ast.AST | None, method: str, function: ast.AST | None) -> bool:
+    """``gym.Env.method(self, ...)`` (Gymnasium's ``Env`` however imported) in ``function``, a
+    method, handing on its own first parameter: every env class derives from Env, so this is
+    the unbound call of Env's own method on this very instance, as ``Base.method(self)`` is."""
+    if not (isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute)):
+        return False
+    receiver = node.func.value
+    named = named_class_call(node, method, function, [receiver])
+    return named is not None and any(N.strip_gym_prefix(q) in DIRECT_ENV_BASES for q in facts.qualified_names(receiver))
+
+
 def self_calls(facts: ModuleFacts, classdef: ast.ClassDef, name: str) -> list[ast.Call]:
     """``self.<name>(...)`` calls in the methods of ``classdef`` (not of a class nested in it)."""
     return [

@@ -64,6 +64,10 @@ class ClassPlan:
     reset_pairs_untested: bool = False
     reset_forwards_keywords: bool = False  # reset(**kwargs) passes seed/options to super().reset(**kwargs)
     reset_super_seeds: bool = True  # super().reset(seed=seed) may be called (else only reported)
+    # where super().reset() would run a base's own reset (abstract, or one of another
+    # contract): the name the module calls Gymnasium by, for ``<name>.Env.reset(self, seed=seed)``,
+    # which seeds np_random as the base Env does and nothing else
+    reset_env_seeds: str | None = None
     # ``self.scene.np_random = self.np_random`` of __init__ (source): reset repeats it after
     # super().reset(seed=seed), which replaces self.np_random
     reset_rehands: list[str] = field(default_factory=list)

@@ -214,6 +214,10 @@ class ClassRewrite:
             # after super().reset(seed=seed), so what the hook seeds is what reset draws from
             call = cst.parse_statement(f"self.{self.plan.reset_seed_hook}(seed)\n")
             fn = _insert_after_super_reset(fn, [call], bases)
+        if self.plan.reset_env_seeds is not None:
+            # last, so it goes above what the lines before put first (under `if seed is not None:`)
+            seeding = cst.parse_statement(f"{self.plan.reset_env_seeds}.Env.reset(self, seed=seed)\n")
+            fn = fn.with_changes(body=_insert_at_top(fn.body, [seeding]))
         self.set_method("reset", fn)
 
     def _return_info_pairs(

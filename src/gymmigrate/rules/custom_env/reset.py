@@ -11,11 +11,16 @@ from __future__ import annotations
 
 import ast
 
-from gymmigrate.facts.env_classes import is_self_attribute, is_super_method_call
+from gymmigrate.facts.env_classes import (
+    env_base_call,
+    is_self_attribute,
+    is_super_method_call,
+)
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import own_returns, walk
 from gymmigrate.facts.own_api import is_info_pair
 from gymmigrate.facts.own_steps import self_step_gives_five
+from gymmigrate.facts.receiver_classes import is_object
 from gymmigrate.facts.rng_handovers import reads_np_random
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import (
@@ -30,6 +35,7 @@ from gymmigrate.rules.custom_env.common import (
     random_state_np_random,
 )
 from gymmigrate.rules.custom_env.hooks import overrides
+from gymmigrate.rules.env_ids.syntax import gym_alias
 
 
 def decide_reset(decision: ClassDecision) -> None:
@@ -130,6 +136,8 @@ def decide_reset(decision: ClassDecision) -> None:
         decision.report(function, "GM501", f"reset calls the base's private reset hook, not its reset: it seeds through the base's `{hooked}` when given a seed, as legacy seed(seed) did")
     elif hook is not None and any(is_self_call(c, {hook}) for c in decision.function(function).of(ast.Call)):
         pass  # seeds through the base's hook already (as this rule writes it)
+    elif any(_seeds_through_env_reset(decision, c, function) for c in decision.function(function).of(ast.Call)):
+        pass  # seeds through Env's own reset already (as this rule writes it)
     elif not reads_np_random(decision.family.facts):
         # Nothing of the module draws from np_random (a batch seeds its envs inside, say; a
         # seed() that only stores one): leaving it unseeded changes nothing here, so this is
@@ -153,6 +161,19 @@ def decide_reset(decision: ClassDecision) -> None:
             "seeds np_random once it is given `seed=seed`; where the call is fixed, pass the seed there",
             FixKind.FLAG,
             Tier.NOTE,
+        )
+    elif not modern and (gymnasium := _env_reset_seeds(decision)) is not None:
+        # Gymnasium's Env.reset only seeds np_random (when given a seed): called as a plain
+        # function on an instance of a class that derives from Env, it is exactly the
+        # seeding super().reset(seed=seed) would have done, without the base's own reset
+        decision.plan.reset_env_seeds = gymnasium
+        inserted = True
+        decision.report(
+            function,
+            "GM501",
+            f"reset() must seed np_random, but super().reset() here would also run the base env's own reset: it calls "
+            f"`{gymnasium}.Env.reset(self, seed=seed)` first, which seeds np_random as Gymnasium's Env.reset does and nothing else",
+            tier=Tier.NOTE,
         )
     else:
         decision.report(
@@ -195,8 +216,30 @@ def decide_reset(decision: ClassDecision) -> None:
                 f"reset takes seed and options (wrappers always pass them) after its own defaulted parameters ({', '.join(extra)})",
             )
         elif not legacy_flag:
-            seeds = ", and calls super().reset(seed=seed) first to seed np_random" if inserted else ""
+            # Env.reset called by name has a note of its own
+            seeds = ", and calls super().reset(seed=seed) first to seed np_random" if inserted and not decision.plan.reset_env_seeds else ""
             decision.report(function, "GM501", f"reset takes seed and options (wrappers always pass them){seeds}")
+
+
+def _seeds_through_env_reset(decision: ClassDecision, call: ast.AST, function: ast.AST) -> bool:
+    """``gymnasium.Env.reset(self, seed=seed)``: Env's own reset given the seed."""
+    return env_base_call(decision.family.facts, call, "reset", function) and any(
+        k.arg == "seed" for k in call.keywords  # type: ignore[attr-defined]
+    )
+
+
+def _env_reset_seeds(decision: ClassDecision) -> str | None:
+    """The name the migrated module calls Gymnasium by (adding ``import gymnasium`` where it
+    has none), when the class is known to derive from ``Env`` through its bases (this
+    module's, the run's or Gymnasium's own: a Gym env class with a base, not a plain class
+    that forwards to an env), so ``Env.reset(self, seed=seed)`` seeds its np_random; None
+    otherwise, and where the class seeds through a ``seed()`` of its own that moves into reset."""
+    classdef = decision.classdef
+    if decision.family.receivers.class_kind(classdef) is not EnvKind.GYM_ENV:
+        return None
+    if not any(not is_object(base) for base in classdef.bases) or decision.plan.seed is not None:
+        return None
+    return gym_alias(decision.family.facts) or decision.family.plan.ensure_import("gymnasium")
 
 
 def _handed_np_random(decision: ClassDecision, reset: ast.AST) -> None:

@@ -506,6 +506,9 @@ def _decide_returns(
                 f"{_limits_text(traced)} is a step/time limit among its causes: return that end as truncated, not "
                 f"terminated; {what}",
                 FixKind.ASSIST,
+                # every return of the step ending on the same limits is one split of that
+                # step's done, decided once, not once per return statement
+                question=("step-limit", id(function), _limits_text(traced), what),
             )
             continue
         if traced.cause is Cause.TERMINATION and traced.ends_of_data and limit_hint is None:

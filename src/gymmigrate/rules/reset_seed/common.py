@@ -11,6 +11,7 @@ import ast
 from collections.abc import Hashable
 
 from gymmigrate.facts.decisions import Action, Decision, decide
+from gymmigrate.facts.env_classes import env_base_call
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import is_super_call, named_class_call
 from gymmigrate.facts.reset_flow import (
@@ -87,7 +88,9 @@ class ResetSeedBase(RuleFamily):
         if function is None or classdef is None or self.facts.parent(function) is not classdef:
             return False
         method = call.func.attr if isinstance(call.func, ast.Attribute) else ""
-        return named_class_call(call, method, function, classdef.bases) is not None
+        return named_class_call(call, method, function, classdef.bases) is not None or env_base_call(
+            self.facts, call, method, function
+        )
 
     def _decide(self, receiver: ast.expr, legacy_shape: bool = False) -> tuple[Decision, bool]:
         """The decision for a Gym single-env or vector-env call, and whether it is a vector env."""
