@@ -68,6 +68,7 @@ class StepDone(UnpackRules, TimeLimitRules, ResultRules):
         for call in steps:
             self._plan_step(call)
         self._plan_step_callables()
+        self._plan_pass_through_methods()
         self.finish_done_reads()
         self.finish_results()
         if TIME_LIMIT_KEY in facts.text:
@@ -144,6 +145,34 @@ class StepDone(UnpackRules, TimeLimitRules, ResultRules):
                         self.step_callables.add(id(node.func))
                         self.plan_unpack(parent, parent.targets[0], node.func)  # type: ignore[arg-type]
 
+    def _plan_pass_through_methods(self) -> None:
+        """``obs, r, done, info = self.advance(a)`` where ``advance`` is a method of the class
+        whose body only returns ``self.x.step(...)``: the call gives exactly that step's result,
+        so its unpack is decided on ``self.x`` (rewritten where the run proves a Gym env, asked
+        where it cannot tell, left where it proves something else). ``step`` itself is
+        ``_self_step``'s; a method a subclass of this module replaces may give anything."""
+        classes = [n for n in walk(self.facts.tree) if isinstance(n, ast.ClassDef)]
+        for classdef in classes:
+            inner = {
+                s.name: step
+                for s in classdef.body
+                if isinstance(s, FUNCTIONS) and s.name != "step" and (step := _passed_through_step(s)) is not None
+            }
+            replaced = {
+                s.name for c in classes if c is not classdef and classdef in self.receivers.local_lineage(c) for s in c.body if isinstance(s, FUNCTIONS)
+            }
+            for name in set(inner) - replaced:
+                for call in self.facts.attribute_calls.get(name, ()):
+                    func = call.func
+                    assert isinstance(func, ast.Attribute)
+                    parent = self.facts.parent(call)
+                    if not (isinstance(func.value, ast.Name) and self.receivers.is_self(func.value)):
+                        continue
+                    if classdef not in self.receivers.local_lineage(self.facts.enclosing_class(call) or classdef):
+                        continue  # ``self`` of an unrelated class, with a method of the same name
+                    if isinstance(parent, ast.Assign) and parent.value is call and _four_targets(parent) and not _starred(parent.targets[0]):  # type: ignore[arg-type]
+                        self.plan_unpack(parent, parent.targets[0], inner[name].func.value)  # type: ignore[arg-type, attr-defined]
+
     def _forwarded_unpack(self, assign: ast.Assign, target: ast.expr) -> ast.Assign | None:
         """``obs, r, done, info = res`` where ``res = x.step(a)`` (``assign``) is the only
         binding of ``res`` and that unpack its only read, dominated by the step."""
@@ -167,6 +196,20 @@ class StepDone(UnpackRules, TimeLimitRules, ResultRules):
             return False
         function = self.facts.enclosing(call, (*FUNCTIONS, ast.Lambda))
         return isinstance(function, FUNCTIONS) and function.name == "step"
+
+
+def _passed_through_step(function: ast.FunctionDef | ast.AsyncFunctionDef) -> ast.Call | None:
+    """``self.x.step(...)`` where the method's body (docstring aside) is only ``return`` of it."""
+    body = [s for s in function.body if not (isinstance(s, ast.Expr) and isinstance(s.value, ast.Constant))]
+    if len(body) != 1 or not isinstance(body[0], ast.Return):
+        return None
+    value = body[0].value
+    if not (isinstance(value, ast.Call) and isinstance(value.func, ast.Attribute) and value.func.attr == "step"):
+        return None
+    inner = value.func.value
+    if isinstance(inner, ast.Attribute) and isinstance(inner.value, ast.Name) and inner.value.id == "self":
+        return value
+    return None
 
 
 def _numpy_name(module: ast.Module) -> str | None:
