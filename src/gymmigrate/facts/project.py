@@ -151,6 +151,11 @@ class ProjectFacts:
     # module or a space (``ModuleSummary.calls_seed``): an env class's seed() may run.
     seed_used: bool = False
     render_called: set[str] = field(default_factory=set)  # ...and an untraced ``x.render(mode)``
+    # Modules with such a call -> (path, class) of the one env class of the run they reach
+    # (``render_called``) whose own render() takes ``mode``, and the imported names that
+    # build it there: that def keeps ``mode`` for them (GM405), so their calls ask its
+    # question, not one of their own.
+    kept_mode_renders: dict[str, tuple[str, str, frozenset[str]]] = field(default_factory=dict)
     # Some module imports Gym's (or Gymnasium's) ``check_env``, which tests in Gymnasium 1.x
     # that a seeded reset makes the steps reproducible (GM510).
     checks_envs: bool = False
@@ -614,7 +619,27 @@ class ProjectFacts:
             if summary.untraced_render_call or any(made_by_def(facts, maker, summary.path, by_path) for maker in summary.render_makers):
                 # ``import pkg`` reaches the env classes ``pkg/__init__.py`` imports too
                 # (``env = pkg.make_benchmark(...)``; ``env.render(mode="readable")``)
-                facts.render_called.update(env_modules_through_packages(facts, summary, by_path))
+                reached = env_modules_through_packages(facts, summary, by_path)
+                facts.render_called.update(reached)
+                definers = {
+                    (path, name)
+                    for path in reached
+                    for name in by_path[path].env_classes
+                    if "mode" in getattr(by_path[path].defs.get(f"{name}.render"), "params", ())
+                    and (path, name) not in facts.own_renders
+                }
+                if len(definers) == 1:
+                    path, name = definers.pop()
+                    # the names this module builds it by (``from pkg import BoardEnv``, a
+                    # package's re-export followed)
+                    builds = frozenset(
+                        qualified
+                        for qualified in summary.imported
+                        if facts._split(qualified, summary.path) == (path, name)
+                        or (facts._resolve(qualified, summary.path) or facts._resolve_reexported(qualified, summary.path, by_path))
+                        in ((path, name), (path, f"{name}.__init__"))
+                    )
+                    facts.kept_mode_renders[summary.path] = (path, name, builds)
             for provider in imported_env_modules(facts, summary, declared=by_path):
                 facts.importers.setdefault(provider, set()).add(summary.path)
         for path in facts.render_called:
