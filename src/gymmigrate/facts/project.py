@@ -105,6 +105,7 @@ from gymmigrate.facts.project_imports import (
     join_import_components,
     join_nearby_packages,
     join_opaque_registrations,
+    kept_mode_render,
     made_by_def,
     required_packages,
 )
@@ -610,6 +611,7 @@ class ProjectFacts:
         facts.id_slots = id_slots(by_path, id_calls_to)
         facts.escaping_params = {(path, q): names for path, summary in by_path.items() for q, names in summary.escaping_params.items()}
         facts.def_params = {(path, q): signature.params for path, summary in by_path.items() for q, signature in summary.defs.items()}
+        render_callers: list[ModuleSummary] = []
         for summary in summaries:
             facts.rng_stores.extend((summary.path, *store) for store in summary.rng_stores)
             if seeds_untraced(facts, summary):
@@ -619,29 +621,14 @@ class ProjectFacts:
             if summary.untraced_render_call or any(made_by_def(facts, maker, summary.path, by_path) for maker in summary.render_makers):
                 # ``import pkg`` reaches the env classes ``pkg/__init__.py`` imports too
                 # (``env = pkg.make_benchmark(...)``; ``env.render(mode="readable")``)
-                reached = env_modules_through_packages(facts, summary, by_path)
-                facts.render_called.update(reached)
-                definers = {
-                    (path, name)
-                    for path in reached
-                    for name in by_path[path].env_classes
-                    if "mode" in getattr(by_path[path].defs.get(f"{name}.render"), "params", ())
-                    and (path, name) not in facts.own_renders
-                }
-                if len(definers) == 1:
-                    path, name = definers.pop()
-                    # the names this module builds it by (``from pkg import BoardEnv``, a
-                    # package's re-export followed)
-                    builds = frozenset(
-                        qualified
-                        for qualified in summary.imported
-                        if facts._split(qualified, summary.path) == (path, name)
-                        or (facts._resolve(qualified, summary.path) or facts._resolve_reexported(qualified, summary.path, by_path))
-                        in ((path, name), (path, f"{name}.__init__"))
-                    )
-                    facts.kept_mode_renders[summary.path] = (path, name, builds)
+                facts.render_called.update(env_modules_through_packages(facts, summary, by_path))
+                render_callers.append(summary)
             for provider in imported_env_modules(facts, summary, declared=by_path):
                 facts.importers.setdefault(provider, set()).add(summary.path)
+        for summary in render_callers:
+            kept = kept_mode_render(facts, summary, by_path)
+            if kept is not None:
+                facts.kept_mode_renders[summary.path] = kept
         for path in facts.render_called:
             # Their classes keep render(mode): one whose ``mode`` can become optional takes
             # render_mode beside it (custom_env/render.py), one whose cannot takes none.
