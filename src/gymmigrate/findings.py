@@ -96,6 +96,14 @@ def id_version_question(rule: str, change: str) -> tuple[str, ...]:
     return (RUN_QUESTION, "id-version", "", rule, change)
 
 
+def kept_render_question(path: str, name: str) -> tuple[str, ...]:
+    """What a class of the run whose render(mode) keeps ``mode`` for the untraced
+    ``x.render(mode)`` calls of other modules asks (GM405 at its def), and what each of those
+    calls asks where that class is the one render(mode) its module can reach: one decision,
+    asked at the def (``path``, the deciding module); the calls are listed there."""
+    return (RUN_QUESTION, "kept-render-mode", path, name)
+
+
 def recorder_mode_question(line: int, column: int) -> tuple[object, ...]:
     """What a Monitor call turned RecordVideo asks wherever it keeps a question: the mode its
     env is made with (GM407, creation site not found) and the arguments it dropped (GM611),

@@ -105,6 +105,7 @@ from gymmigrate.facts.project_imports import (
     join_import_components,
     join_nearby_packages,
     join_opaque_registrations,
+    kept_mode_render,
     made_by_def,
     required_packages,
 )
@@ -151,6 +152,11 @@ class ProjectFacts:
     # module or a space (``ModuleSummary.calls_seed``): an env class's seed() may run.
     seed_used: bool = False
     render_called: set[str] = field(default_factory=set)  # ...and an untraced ``x.render(mode)``
+    # Modules with such a call -> (path, class) of the one env class of the run they reach
+    # (``render_called``) whose own render() takes ``mode``, and the imported names that
+    # build it there: that def keeps ``mode`` for them (GM405), so their calls ask its
+    # question, not one of their own.
+    kept_mode_renders: dict[str, tuple[str, str, frozenset[str]]] = field(default_factory=dict)
     # Some module imports Gym's (or Gymnasium's) ``check_env``, which tests in Gymnasium 1.x
     # that a seeded reset makes the steps reproducible (GM510).
     checks_envs: bool = False
@@ -605,6 +611,7 @@ class ProjectFacts:
         facts.id_slots = id_slots(by_path, id_calls_to)
         facts.escaping_params = {(path, q): names for path, summary in by_path.items() for q, names in summary.escaping_params.items()}
         facts.def_params = {(path, q): signature.params for path, summary in by_path.items() for q, signature in summary.defs.items()}
+        render_callers: list[ModuleSummary] = []
         for summary in summaries:
             facts.rng_stores.extend((summary.path, *store) for store in summary.rng_stores)
             if seeds_untraced(facts, summary):
@@ -615,8 +622,13 @@ class ProjectFacts:
                 # ``import pkg`` reaches the env classes ``pkg/__init__.py`` imports too
                 # (``env = pkg.make_benchmark(...)``; ``env.render(mode="readable")``)
                 facts.render_called.update(env_modules_through_packages(facts, summary, by_path))
+                render_callers.append(summary)
             for provider in imported_env_modules(facts, summary, declared=by_path):
                 facts.importers.setdefault(provider, set()).add(summary.path)
+        for summary in render_callers:
+            kept = kept_mode_render(facts, summary, by_path)
+            if kept is not None:
+                facts.kept_mode_renders[summary.path] = kept
         for path in facts.render_called:
             # Their classes keep render(mode): one whose ``mode`` can become optional takes
             # render_mode beside it (custom_env/render.py), one whose cannot takes none.

@@ -139,6 +139,48 @@ def env_modules_through_packages(facts: ProjectFacts, summary: ModuleSummary, by
 
 
 
+def kept_mode_render(
+    facts: ProjectFacts, summary: ModuleSummary, by_path: dict[str, ModuleSummary]
+) -> tuple[str, str, frozenset[str]] | None:
+    """For a module with an untraced ``x.render(mode)``: (path, class, the names the module
+    imports it by) of the one env class of the run it reaches whose own render() takes
+    ``mode`` and keeps it for the calls of other modules (its module is ``render_called``);
+    None when it reaches none or several. It reaches what it imports
+    (``env_modules_through_packages``) and what the ``__init__`` of each package above it
+    imports, which runs whenever the module is imported (``import pkg.runner`` runs
+    ``pkg/__init__.py`` first)."""
+    reached = env_modules_through_packages(facts, summary, by_path)
+    # its dotted name from the run's root (the longest suffix naming it): each prefix is a
+    # package whose ``__init__`` runs first (a comment-only one has no summary: skipped)
+    dotted = max((name for name, path in facts.modules.items() if path == summary.path), key=len, default="")
+    parts = dotted.split(".")[:-1]
+    for cut in range(1, len(parts) + 1):
+        init = by_path.get(facts.modules.get(".".join(parts[:cut])) or "")
+        if init is not None and init is not summary:
+            reached |= env_modules_through_packages(facts, init, by_path)
+    definers = {
+        (path, name)
+        for path in reached
+        if path in facts.render_called
+        for name in by_path[path].env_classes
+        if "mode" in getattr(by_path[path].defs.get(f"{name}.render"), "params", ())
+        and (path, name) not in facts.own_renders
+    }
+    if len(definers) != 1:
+        return None
+    path, name = definers.pop()
+    # the names this module builds it by (``from pkg import BoardEnv``, a package's
+    # re-export followed)
+    builds = frozenset(
+        qualified
+        for qualified in summary.imported
+        if facts._split(qualified, summary.path) == (path, name)
+        or (facts._resolve(qualified, summary.path) or facts._resolve_reexported(qualified, summary.path, by_path))
+        in ((path, name), (path, f"{name}.__init__"))
+    )
+    return path, name, builds
+
+
 def required_packages(imported: set[str]) -> frozenset[str]:
     """The packages the migrated code needs declared, by what the run imports (``imported``)."""
     requires = {

@@ -24,6 +24,13 @@ class RenderView:
         """The same for ``x.render(mode)``: this module's env classes keep render(mode)."""
         return self.path in self.facts.render_called
 
+    def kept_mode_render(self) -> tuple[str, str, frozenset[str]] | None:
+        """(path, class, the names this module imports it by) of the one env class of the run
+        this module reaches whose render() takes ``mode``, where this module renders an
+        untraced ``x.render(mode)`` (``ProjectFacts.kept_mode_renders``): that def keeps
+        ``mode`` for its calls."""
+        return self.facts.kept_mode_renders.get(self.path)
+
     def settled_render(self, qualname: str, param: str) -> list[str]:
         """``cli.py:5`` for each constructor in another module that gets ``render_mode="human"``
         for the bare renders of ``param`` of this file's ``qualname``, when every call of the

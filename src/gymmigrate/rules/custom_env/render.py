@@ -25,7 +25,7 @@ from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import is_super_call, walk
 from gymmigrate.facts.multi_agent import MultiAgent
 from gymmigrate.facts.render_modes import own_object, own_object_render, passes_mode
-from gymmigrate.findings import FixKind, Tier
+from gymmigrate.findings import FixKind, Tier, kept_render_question
 from gymmigrate.rules.custom_env.common import ClassDecision, method_of, param_names
 from gymmigrate.rules.custom_env.hooks import local_subclasses
 from gymmigrate.rules.wrapper_usage.origins import EnvOrigins
@@ -115,13 +115,16 @@ def decide_render(decision: ClassDecision) -> None:
                 f"`{facts.segment(blocking)}` on line {blocking.lineno} still passes a mode (its env's creation could "
                 "not be followed, so it was not migrated) and may reach this class"
             )
+        # The untraced calls of other modules that reach this class alone ask this item's
+        # question (rendering/sites.py): one decision, listed here.
+        question = kept_render_question(project.path, decision.classdef.name) if elsewhere and not below and project is not None else None
         if not _can_keep_mode(function):
             then = (
                 "render that mode another way (or drop the argument), then run again"
                 if below
                 else "give that env its render_mode where it is made, then run again"
             )
-            decision.report(function, "GM405", f"render(mode) kept: {caller}; {then}", FixKind.FLAG)
+            decision.report(function, "GM405", f"render(mode) kept: {caller}; {then}", FixKind.FLAG, question=question)
             return
         # Those callers keep working, and so does Gymnasium's render() without arguments.
         decision.plan.render = True
@@ -131,6 +134,7 @@ def decide_render(decision: ClassDecision) -> None:
             "GM405",
             f"render() reads self.render_mode (fixed when the env is made) when no mode is passed, but keeps `mode` as an "
             f"optional parameter: {caller}; once every caller passes none, remove the parameter{old_default}",
+            question=question,
         )
         _add_init_render_mode(decision)
         return

@@ -7,6 +7,7 @@ literal); GM406's ``render(close=True)``."""
 from __future__ import annotations
 
 import ast
+import os
 from collections.abc import Hashable
 
 from gymmigrate.facts.creation import CreationFinder
@@ -17,7 +18,7 @@ from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import full_name, keyword, string_value, walk
 from gymmigrate.facts.render_modes import modeless_render, own_object_render
 from gymmigrate.facts.summaries.classes import held_env_render_forward
-from gymmigrate.findings import FixKind, Tier
+from gymmigrate.findings import FixKind, Tier, kept_render_question
 from gymmigrate.rules.render_calls import (
     arguments_in_order,
     close_call,
@@ -194,6 +195,8 @@ class RenderSites(RecorderSites):
             creation = self.finder.find(receiver)
             if creation.found and all(same_value_at_make(self.facts, value, call, make) for make in creation.calls):
                 return RenderSite(call, "GM401", value.id, (), decision.action, creation, variable=True)
+        if mode is None and self._report_kept_mode_call(call, receiver, decision):
+            return None
         if mode is None:
             self.report(
                 call,
@@ -209,6 +212,39 @@ class RenderSites(RecorderSites):
             mode = RGB_ARRAY
         quote = self._quote(value) or '"'
         return RenderSite(call, "GM401", mode, (), decision.action, self.finder.find(receiver), legacy_spelling=legacy, quote=quote)
+
+    def _report_kept_mode_call(self, call: ast.Call, receiver: ast.expr, decision: Decision) -> bool:
+        """``env.render(mode)`` on an env no make of this module is traced to, where the one
+        env class of the run this module reaches whose render() takes a mode keeps ``mode``
+        for such calls (GM405 at that def): the call stays, and asks that def's question
+        (``kept_render_question``), decided once there. An env traced to a make keeps its
+        own item: its render_mode goes to that make."""
+        project = self.receivers.project
+        kept = project.kept_mode_render() if project is not None else None
+        if project is None or kept is None:
+            return False
+        creation = self.finder.find(receiver)
+        if creation.found:
+            # traced: only to constructions of that very class (its instance, no make)
+            if not creation.complete or not all(self.facts.qualified_names(made.func) & kept[2] for made in creation.calls):
+                return False
+            what = "is an instance of"
+        elif decision.action in (Action.REPORT, Action.REWRITE_FOR_REVIEW):
+            what = "could not be traced; it may be an instance of"
+        else:
+            return False
+        path, name, _ = kept
+        where = os.path.relpath(path, os.path.dirname(project.path))
+        self.report(
+            call,
+            "GM401",
+            f"not rewritten: the render mode of `{receiver_text(receiver)}` is not a literal, and the env {what} `{name}` "
+            f"({where}), the one env class of the run this module reaches whose render() takes a mode; that render() "
+            "keeps `mode` for such calls (GM405 there): decided with it",
+            FixKind.FLAG,
+            question=kept_render_question(path, name),
+        )
+        return True
 
     def _reached_from_other_library(self, receiver: ast.expr) -> bool:
         """``tf_env.pyenv.envs[0]`` with ``tf_env`` made by tf_agents (or dm_control): an
