@@ -323,3 +323,25 @@ def test_a_gym_026_reset_that_returns_the_pair_is_not_paired_again() -> None:
     obs, info = env.reset(seed=0)
     assert obs.shape == (2,) and info == {}
     check_env(env, skip_render_check=True)
+
+
+def test_helper_returns_split_by_node_not_by_a_reused_id() -> None:
+    """The step rebuild splits ``return self._observe()`` into a four-value unpack and a
+    five-value return; each split Return is replaced, which frees its id. A later bare
+    ``return`` could be allocated at that address and be taken for it (an AssertionError on
+    some runs of the same input, not others). Many alternating returns make the reuse likely."""
+    import libcst as cst
+
+    from gymmigrate.rules.custom_env.cst_edits import _HelperReturnUnpacker, visit_suite
+
+    branches = "".join(
+        f"    if c == {i}:\n        return self._observe()\n    if d == {i}:\n        return\n" for i in range(300)
+    )
+    function = cst.parse_module("def step(self, a):\n" + branches).body[0]
+    assert isinstance(function, cst.FunctionDef)
+    positions = {2 * i: ("obs", "reward", "done", "info") for i in range(300)}
+    for _ in range(10):
+        body = visit_suite(function.body, _HelperReturnUnpacker(positions))
+        code = cst.Module(body=[function.with_changes(body=body)]).code
+        assert code.count("return obs, reward, done, False, info") == 300
+        assert code.count("        return\n") == 300

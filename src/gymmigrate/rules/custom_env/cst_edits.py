@@ -383,23 +383,29 @@ class _HelperReturnUnpacker(OwnBodyOnly, cst.CSTTransformer):
     def __init__(self, positions: dict[int, tuple[str, ...]]) -> None:
         self.positions = positions
         self.count = 0
-        self.split: dict[int, tuple[str, ...]] = {}  # id of a (left) Return -> its names
+        # id of a (left) Return -> the Return and its names. The node is kept alive with its id:
+        # a Return dropped by the traversal frees its id, which a later bare ``return`` may then
+        # reuse and be taken for it (an AssertionError on some runs, not others).
+        self.split: dict[int, tuple[cst.Return, tuple[str, ...]]] = {}
 
     def leave_Return(self, original_node: cst.Return, updated_node: cst.Return) -> cst.Return:
         names = self.positions.get(self.count)
         self.count += 1
         if names is not None:
-            self.split[id(updated_node)] = names
+            self.split[id(updated_node)] = (updated_node, names)
         return updated_node
 
     def leave_SimpleStatementLine(
         self, original_node: cst.SimpleStatementLine, updated_node: cst.SimpleStatementLine
     ) -> cst.BaseStatement | cst.FlattenSentinel[cst.BaseStatement]:
-        if len(updated_node.body) != 1 or id(updated_node.body[0]) not in self.split:
+        if len(updated_node.body) != 1:
             return updated_node
         ret = updated_node.body[0]
+        split = self.split.get(id(ret))
+        if split is None or split[0] is not ret:
+            return updated_node
         assert isinstance(ret, cst.Return) and ret.value is not None
-        obs, reward, done, info = self.split[id(ret)]
+        obs, reward, done, info = split[1]
         targets = cst.parse_expression(f"{obs}, {reward}, {done}, {info}")
         assert isinstance(targets, cst.Tuple)
         unpack = cst.Assign(targets=[cst.AssignTarget(targets)], value=ret.value)
