@@ -42,9 +42,20 @@ class Need:
     what: str
 
 
-# Items that join another's question but are named apart in it, with what they are.
+# Items that join another's question but are named apart in it, with what they are: per
+# rule, the phrase of the item's own advice and the words the question names its lines with
+# (an unrewritten step's done that masks a bootstrap, or that ends the episode).
 # The suffix keeps no parentheses inside it (``report._SAME_IN_FILE`` strips it whole).
-_NAMED_APART = {"GM302": "where the step's done decides bootstrapping: read `terminated` there once the step gives five values"}
+UNTRACED_MASK = "read `terminated` once the step gives five values"
+UNTRACED_BOUNDARY = "keep `terminated or truncated` there"
+UNTRACED_SPLIT = "split the test"
+_NAMED_APART = {
+    "GM302": (
+        (UNTRACED_MASK, "where the step's done decides bootstrapping: read `terminated` there once the step gives five values"),
+        (UNTRACED_BOUNDARY, "where the step's done marks the episode's boundary: keep `terminated or truncated` there"),
+        (UNTRACED_SPLIT, "where the step's done both ends the episode and replaces the next state: split the test, reset under `terminated or truncated`, replace under `terminated`"),
+    )
+}
 
 
 @dataclass
@@ -148,18 +159,21 @@ class Plan:
             # the reads of a step's done that decide bootstrapping (GM302) are named apart: they
             # are what must change beyond the API if the answer is "a Gym env"
             head = self.findings[first]
-            apart = {
-                rule: {self.findings[i].line for i in others if self.findings[i].rule == rule} - {head.line}
-                for rule in _NAMED_APART
-                if rule != head.rule
-            }
+            apart: dict[str, set[int]] = {}
+            for i in others:
+                finding = self.findings[i]
+                if finding.rule == head.rule or finding.line == head.line:
+                    continue
+                for phrase, words in _NAMED_APART.get(finding.rule, ()):
+                    if phrase in finding.message:
+                        apart.setdefault(words, set()).add(finding.line)
+                        break
             named = set().union(*apart.values())
             lines = sorted({self.findings[i].line for i in others} - {head.line} - named)
             parts = [f"{'line' if len(lines) == 1 else 'lines'} {', '.join(map(str, lines))}"] if lines else []
-            for rule, rule_lines in apart.items():
-                if rule_lines:
-                    where = "line" if len(rule_lines) == 1 else "lines"
-                    parts.append(f"{'and at ' if parts else ''}{where} {', '.join(map(str, sorted(rule_lines)))}, {_NAMED_APART[rule]}")
+            for words, word_lines in apart.items():
+                where = "line" if len(word_lines) == 1 else "lines"
+                parts.append(f"{'and at ' if parts else ''}{where} {', '.join(map(str, sorted(word_lines)))}, {words}")
             if parts:
                 also = f" (the same question at {'; '.join(parts)})"
                 self.findings[first] = replace(self.findings[first], message=self.findings[first].message + also)

@@ -85,8 +85,11 @@ class NextStateReads(StepFamilyBase):
             return True
         statement = facts.statement_of(read)
         function = facts.enclosing_function(step.assign) or facts.tree
-        if isinstance(statement, ast.Assign) and site is statement.value:
-            # ``mask = 1 - done`` read by a target that also reads the next state
+        if isinstance(statement, ast.Assign) and site is statement.value and not isinstance(site, (ast.Dict, ast.Tuple, ast.List, ast.Set)):
+            # ``mask = 1 - done`` read by a target that also reads the next state. A record
+            # that holds the flag as one field (``exp = {"state": s, "terminal": done}``) is
+            # no mask: a statement that reads it beside the next state (``exp["r"] = v(s2)``,
+            # ``return exp, s2``) computes nothing from the flag.
             targets = {t.id for t in statement.targets if isinstance(t, ast.Name)}
             if targets and any(
                 targets & names and names & next_names for names in self._statement_reads(function).values()

@@ -17,7 +17,6 @@ from gymmigrate.facts.done_uses import (
     DoneUse,
     always_false_here,
     classify_done_read,
-    stored_in_sequence,
 )
 from gymmigrate.facts.module import walk
 from gymmigrate.findings import FixKind, Tier
@@ -342,7 +341,7 @@ class DoneReadReports(DoneUntracedReports):
             )
         elif (
             (
-                (owner is step.assign and ((use is DoneUse.DATA and stored_in_sequence(read, self.facts)) or self._stores_step_without_next_state(read, step)))
+                (owner is step.assign and self._stored_per_step(read, step))
                 # carried into the next iteration's slot: only a store of the flag itself
                 # (``news[i] = new``), never a call that also takes the step's observation
                 or (owner is None and use is DoneUse.DATA and self._flag_alone_in_slot(statement, read) and self._step_or_start_flag(read, step))

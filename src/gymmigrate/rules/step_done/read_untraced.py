@@ -12,12 +12,14 @@ from __future__ import annotations
 import ast
 from collections.abc import Hashable
 
+from gymmigrate.edits.plan import UNTRACED_BOUNDARY, UNTRACED_MASK, UNTRACED_SPLIT
 from gymmigrate.facts.decisions import Decision
 from gymmigrate.facts.done_uses import (
     DoneUse,
     classify_done_read,
     loaded_names,
     multiplies_bare,
+    stored_in_sequence,
     value_site,
 )
 from gymmigrate.facts.flow import bound_names
@@ -46,14 +48,69 @@ class DoneUntracedReports(DoneSettledReads):
             what = self._untraced_bootstrap_use(read, step)
             if what is None:
                 continue
+            # per use, as the certain path decides it: a mask reads ``terminated``; a store
+            # it keeps as the rollout's episode boundary, or a test that also resets the env,
+            # needs the episode's end whatever ended it
+            advice = f"{UNTRACED_MASK}, so a time-limit truncation still bootstraps"
+            if classify_done_read(read, self.facts) is DoneUse.DATA:
+                if not (self._masks_next_state(read, step) or self._callee_masks(read, step) is not None) and self._stored_as_boundary(read, step):
+                    what = "is stored per step without the next state (a rollout's episode boundary)"
+                    advice = f"{UNTRACED_BOUNDARY}, the episode's end legacy `done` was"
+            elif (replaced_first := self._starts_new_episode(read, step)) is not None:
+                if replaced_first:
+                    # the test replaces a name of the next state, then resets: the reset needs
+                    # the episode's end, the replacement only ``terminated``
+                    what = f"{what} and ends the episode (its branch resets the env)"
+                    advice = (
+                        f"{UNTRACED_SPLIT}: reset under `terminated or truncated`, the episode's end legacy `done` "
+                        "was, and replace the next state only under `terminated`"
+                    )
+                else:
+                    # every name it sets comes after the reset: the new episode's start
+                    what = "ends the episode: its branch resets the env and sets up the new episode"
+                    advice = f"{UNTRACED_BOUNDARY}, the episode's end legacy `done` was"
             self.report(
                 read,
                 "GM302",
-                f"{decision.reason}: if it is a Gym env, `{read.id}` {what} here: read `terminated` once the step "
-                "gives five values, so a time-limit truncation still bootstraps",
+                f"{decision.reason}: if it is a Gym env, `{read.id}` {what} here: {advice}",
                 FixKind.FLAG,
                 question=question,
             )
+
+    def _stored_per_step(self, read: ast.Name, step: DoneStep) -> bool:
+        """The flag stored per step in a sequence or handed to a store with the step's reward
+        but no next state: a rollout's episode boundary, unless the store may hold the next
+        state (``_may_store_next_state``, checked by the caller)."""
+        return (classify_done_read(read, self.facts) is DoneUse.DATA and stored_in_sequence(read, self.facts)) or (
+            self._stores_step_without_next_state(read, step)
+        )
+
+    def _stored_as_boundary(self, read: ast.Name, step: DoneStep) -> bool:
+        """What the certain path keeps as ``terminated or truncated`` with a note: a store
+        per step without the next state (``experience = {"state": s, "terminal": done}``
+        before ``s = s2``). After an auto-reset the next value belongs to another episode,
+        so ``terminated`` there would join two episodes at a time-limit cut."""
+        return self._stored_per_step(read, step) and not self._may_store_next_state(read, step)
+
+    def _starts_new_episode(self, read: ast.Name, step: DoneStep) -> bool | None:
+        """``if done:`` whose branch resets an env, at any depth (``if mode: s = env.reset(**cfg)``
+        / ``else: s = env.reset()``): the test ends the episode. None when it does not;
+        else whether a name computed from the observation is replaced before that reset
+        (``if done: s2 = zeros; s = env.reset()``, a terminal transition) rather than set
+        after it for the new episode (``s = env.reset(); ctx = init(s)``)."""
+        parent = self.facts.parent(read)
+        if not (isinstance(parent, ast.If) and parent.test is read):
+            return None
+        reset_at = next((index for index, statement in enumerate(parent.body) if resets(statement)), None)
+        if reset_at is None:
+            return None
+        derived = self._derived_names(step)
+        return any(
+            isinstance(statement, ast.Assign)
+            and not resets(statement.value)
+            and any(name in derived for target in statement.targets for name in bound_names(target))
+            for statement in parent.body[:reset_at]
+        )
 
     def _untraced_bootstrap_use(self, read: ast.Name, step: DoneStep) -> str | None:
         """What ``read`` decides about bootstrapping, for a step left unrewritten (reported,
