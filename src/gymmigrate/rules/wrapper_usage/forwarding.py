@@ -282,6 +282,22 @@ class WrapperForwarding(RuleFamily):
                 and len(statement.targets) == 1
                 and statement.targets[0] is attr
             ):
+                if origin == INNER and self._forwarding_setter(attr, name):
+                    # The wrapper's own setter of ``name`` handing the write to ``self.env``:
+                    # a layer of this family has the property, so set_wrapper_attr calls its
+                    # setter as the legacy write did; a bare env is set directly, as before;
+                    # any other layer passes it down to the one that has it, where the
+                    # getter's get_wrapper_attr reads it back. Nothing is left to decide.
+                    self.report(
+                        attr,
+                        code,
+                        f"the `{name}` setter hands the write to the wrapped env: `set_wrapper_attr(\"{name}\", ...)` "
+                        f"sets it on the next layer that has `{name}` (this class's own setter) or on the env, as the "
+                        "legacy write did",
+                        tier=Tier.NOTE,
+                    )
+                    self.plan.replace(statement, set_wrapper_attr(name))
+                    return
                 holders = classes_holding(self.facts, self.receivers, receiver, name) if origin == MADE else None
                 if holders is not None:
                     # Every env the make may build has the name when it is written, and no
@@ -465,6 +481,22 @@ class WrapperForwarding(RuleFamily):
     def _question_owner(self, attr: ast.Attribute, text: str) -> ast.AST | None:
         """What one GM604 question is asked per: the class for a ``self.`` receiver, else the def."""
         return self.facts.enclosing_class(attr) if text.startswith("self.") else self.facts.enclosing_function(attr)
+
+    def _forwarding_setter(self, attr: ast.Attribute, name: str) -> bool:
+        """Whether ``attr`` is ``self.env.<name>`` written in the class's own ``@<name>.setter``:
+        the setter of a property the class defines, forwarding to the env it wraps."""
+        receiver = attr.value
+        if not (isinstance(receiver, ast.Attribute) and receiver.attr == "env" and isinstance(receiver.value, ast.Name)):
+            return False
+        function = self.facts.enclosing_function(attr)
+        if function is None or not self.facts.is_method(function) or not function.args.args:
+            return False
+        if receiver.value.id != function.args.args[0].arg or function.name != name:
+            return False
+        return any(
+            isinstance(d, ast.Attribute) and d.attr == "setter" and isinstance(d.value, ast.Name) and d.value.id == name
+            for d in function.decorator_list
+        )
 
     def _base_only(self, name: str) -> bool:
         """State or a method of the base envs that no wrapper class of the run defines."""
