@@ -41,6 +41,7 @@ from collections.abc import Hashable
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import FUNCTIONS, dotted_name
+from gymmigrate.facts.narrowing import isinstance_guards
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.wrapper_usage.atari_api import (
@@ -96,6 +97,10 @@ RULES = (
         "your own is noted; `env.step(action_dict=a)` on a make result -> `env.step(a)`.",
     ),
 )
+
+
+# where an isinstance check stops holding for a read: its function, class body or module
+_NARROWING_ENDS = (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda, ast.ClassDef, ast.Module)
 
 
 class WrapperForwarding(RuleFamily):
@@ -193,6 +198,8 @@ class WrapperForwarding(RuleFamily):
             if receiver.id == "self":
                 self_forwarding(self, attr)
             return
+        if isinstance(receiver, ast.Name) and self._narrowed_to_bare_env(receiver):
+            return  # ``if isinstance(env, OwnEnv):`` there env is that class itself: no layer to read through
         if gone_from_builtin(self, attr):
             self._make_layers.no_layer_has(attr)
             return
@@ -481,6 +488,33 @@ class WrapperForwarding(RuleFamily):
     def _question_owner(self, attr: ast.Attribute, text: str) -> ast.AST | None:
         """What one GM604 question is asked per: the class for a ``self.`` receiver, else the def."""
         return self.facts.enclosing_class(attr) if text.startswith("self.") else self.facts.enclosing_function(attr)
+
+    def _narrowed_to_bare_env(self, read: ast.Name) -> bool:
+        """Whether ``read`` sits in ``if isinstance(<name>, Cls):`` (not rebound under it)
+        where ``Cls`` is a Gym env class of the run that is no Gym wrapper: an instance of
+        it is the env itself, whatever wraps it elsewhere, so its reads never forwarded."""
+        for guard, tested, classes in isinstance_guards(self.facts, read, _NARROWING_ENDS):
+            if tested != read.id:
+                continue
+            if any(guard in self.facts.ancestors(binding) for binding in self.facts.bindings_of(read)):
+                return False  # rebound under the check
+            members = classes.elts if isinstance(classes, ast.Tuple) else [classes]
+            return bool(members) and all(self._bare_env_class(member) for member in members)
+        return False
+
+    def _bare_env_class(self, expr: ast.expr) -> bool:
+        """``expr`` names a Gym env class of the run that is no Gym wrapper class."""
+        if isinstance(expr, ast.Name) and expr.id in self.facts.classes:
+            classdef = self.facts.classes[expr.id]
+            if self.facts.bindings_of(expr) != [classdef]:
+                return False  # the name holds something else too
+            return self.receivers.class_kind(classdef) is EnvKind.GYM_ENV and not self.receivers.is_gym_wrapper_class(classdef)
+        project = self.receivers.project
+        qualified = self.facts.qualified_names(expr)
+        if project is None or len(qualified) != 1:
+            return False
+        (name,) = qualified
+        return project.call_kind(name) is EnvKind.GYM_ENV and not project.is_wrapper_class(name)
 
     def _forwarding_setter(self, attr: ast.Attribute, name: str) -> bool:
         """Whether ``attr`` is ``self.env.<name>`` written in the class's own ``@<name>.setter``:
