@@ -41,6 +41,7 @@ from collections.abc import Hashable
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import FUNCTIONS, dotted_name
+from gymmigrate.facts.narrowing import isinstance_guards
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.wrapper_usage.atari_api import (
@@ -96,6 +97,10 @@ RULES = (
         "your own is noted; `env.step(action_dict=a)` on a make result -> `env.step(a)`.",
     ),
 )
+
+
+# where an isinstance check stops holding for a read: its function, class body or module
+_NARROWING_ENDS = (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda, ast.ClassDef, ast.Module)
 
 
 class WrapperForwarding(RuleFamily):
@@ -193,6 +198,8 @@ class WrapperForwarding(RuleFamily):
             if receiver.id == "self":
                 self_forwarding(self, attr)
             return
+        if isinstance(receiver, ast.Name) and self._narrowed_to_bare_env(receiver):
+            return  # ``if isinstance(env, OwnEnv):`` there env is that class itself: no layer to read through
         if gone_from_builtin(self, attr):
             self._make_layers.no_layer_has(attr)
             return
@@ -282,6 +289,22 @@ class WrapperForwarding(RuleFamily):
                 and len(statement.targets) == 1
                 and statement.targets[0] is attr
             ):
+                if origin == INNER and self._forwarding_setter(attr, name):
+                    # The wrapper's own setter of ``name`` handing the write to ``self.env``:
+                    # a layer of this family has the property, so set_wrapper_attr calls its
+                    # setter as the legacy write did; a bare env is set directly, as before;
+                    # any other layer passes it down to the one that has it, where the
+                    # getter's get_wrapper_attr reads it back. Nothing is left to decide.
+                    self.report(
+                        attr,
+                        code,
+                        f"the `{name}` setter hands the write to the wrapped env: `set_wrapper_attr(\"{name}\", ...)` "
+                        f"sets it on the next layer that has `{name}` (this class's own setter) or on the env, as the "
+                        "legacy write did",
+                        tier=Tier.NOTE,
+                    )
+                    self.plan.replace(statement, set_wrapper_attr(name))
+                    return
                 holders = classes_holding(self.facts, self.receivers, receiver, name) if origin == MADE else None
                 if holders is not None:
                     # Every env the make may build has the name when it is written, and no
@@ -465,6 +488,49 @@ class WrapperForwarding(RuleFamily):
     def _question_owner(self, attr: ast.Attribute, text: str) -> ast.AST | None:
         """What one GM604 question is asked per: the class for a ``self.`` receiver, else the def."""
         return self.facts.enclosing_class(attr) if text.startswith("self.") else self.facts.enclosing_function(attr)
+
+    def _narrowed_to_bare_env(self, read: ast.Name) -> bool:
+        """Whether ``read`` sits in ``if isinstance(<name>, Cls):`` (not rebound under it)
+        where ``Cls`` is a Gym env class of the run that is no Gym wrapper: an instance of
+        it is the env itself, whatever wraps it elsewhere, so its reads never forwarded."""
+        for guard, tested, classes in isinstance_guards(self.facts, read, _NARROWING_ENDS):
+            if tested != read.id:
+                continue
+            if any(guard in self.facts.ancestors(binding) for binding in self.facts.bindings_of(read)):
+                return False  # rebound under the check
+            members = classes.elts if isinstance(classes, ast.Tuple) else [classes]
+            return bool(members) and all(self._bare_env_class(member) for member in members)
+        return False
+
+    def _bare_env_class(self, expr: ast.expr) -> bool:
+        """``expr`` names a Gym env class of the run that is no Gym wrapper class."""
+        if isinstance(expr, ast.Name) and expr.id in self.facts.classes:
+            classdef = self.facts.classes[expr.id]
+            if self.facts.bindings_of(expr) != [classdef]:
+                return False  # the name holds something else too
+            return self.receivers.class_kind(classdef) is EnvKind.GYM_ENV and not self.receivers.is_gym_wrapper_class(classdef)
+        project = self.receivers.project
+        qualified = self.facts.qualified_names(expr)
+        if project is None or len(qualified) != 1:
+            return False
+        (name,) = qualified
+        return project.call_kind(name) is EnvKind.GYM_ENV and not project.is_wrapper_class(name)
+
+    def _forwarding_setter(self, attr: ast.Attribute, name: str) -> bool:
+        """Whether ``attr`` is ``self.env.<name>`` written in the class's own ``@<name>.setter``:
+        the setter of a property the class defines, forwarding to the env it wraps."""
+        receiver = attr.value
+        if not (isinstance(receiver, ast.Attribute) and receiver.attr == "env" and isinstance(receiver.value, ast.Name)):
+            return False
+        function = self.facts.enclosing_function(attr)
+        if function is None or not self.facts.is_method(function) or not function.args.args:
+            return False
+        if receiver.value.id != function.args.args[0].arg or function.name != name:
+            return False
+        return any(
+            isinstance(d, ast.Attribute) and d.attr == "setter" and isinstance(d.value, ast.Name) and d.value.id == name
+            for d in function.decorator_list
+        )
 
     def _base_only(self, name: str) -> bool:
         """State or a method of the base envs that no wrapper class of the run defines."""
