@@ -33,7 +33,11 @@ from gymmigrate.rules.custom_env.plans import (
     batched_step_message,
 )
 from gymmigrate.rules.step_done.common import StepUnpack
-from gymmigrate.rules.wrappers.common import _assigned_names, _inner_call, inner_env_names
+from gymmigrate.rules.wrappers.common import (
+    _assigned_names,
+    _inner_call,
+    inner_env_names,
+)
 from gymmigrate.rules.wrappers.step_ends import (
     _clears,
     _done_changes,
