@@ -18,6 +18,8 @@ has the script):
   ``OrderedDict``): ``isinstance(x, OrderedDict)`` / ``type(x) is OrderedDict`` on a
   space's ``sample()`` or ``.spaces`` become ``isinstance(x, dict)`` (an OrderedDict is
   a dict; no other space's sample is either). ``Tuple.sample()`` is a tuple in both.
+  ``Tuple.spaces`` is a tuple (gym 0.21: the list it was built from): added to a list it
+  is read as ``list(...)``, changed in place it is reported (``tuple_spaces.py``).
 * GM909 ``MultiBinary(0)`` and ``Discrete(0)`` raise ``ValueError`` (gym 0.21 built
   them); ``Discrete(<float>)`` raises ``TypeError``. Reported: what an empty space
   should become is the env's choice. ``MultiDiscrete([])`` still builds. Except a
@@ -48,7 +50,7 @@ Sources: Gymnasium 1.4.0 ``spaces/discrete.py``, ``spaces/multi_binary.py``,
 
 This module is the family (it finds the calls and compares, and decides GM910); the
 rules' decisions are ``type_checks.py`` (GM903, GM905: isinstance and type()),
-``json_writes.py`` (GM903: json), ``sizes.py`` and ``bounds.py`` (GM909), ``box_contains.py``
+``json_writes.py`` (GM903: json), ``tuple_spaces.py`` (GM905: a Tuple's members), ``sizes.py`` and ``bounds.py`` (GM909), ``box_contains.py``
 (GM910) and ``subclasses.py`` (GM911), on
 what ``values.py`` says an expression is.
 """
@@ -71,6 +73,7 @@ from gymmigrate.rules.spaces.multi_discrete import (
 from gymmigrate.rules.spaces.shape_writes import decide_shape_write
 from gymmigrate.rules.spaces.sizes import decide_box_bounds, decide_size
 from gymmigrate.rules.spaces.subclasses import decide_subclass
+from gymmigrate.rules.spaces.tuple_spaces import decide_tuple_members
 from gymmigrate.rules.spaces.type_checks import decide_isinstance, type_check
 from gymmigrate.rules.spaces.values import SpaceValues, space_class_of
 
@@ -81,7 +84,13 @@ RULES = (
         FixKind.AUTO,
         "`isinstance(x, int)` / `type(x) is int` on a space's `n`/`sample()` accept `np.integer`; `json.dumps` gets `int(...)`.",
     ),
-    Rule("GM905", "Dict.sample() is a dict", FixKind.AUTO, "`isinstance(x, OrderedDict)` on a space's `sample()` becomes `isinstance(x, dict)`."),
+    Rule(
+        "GM905",
+        "Dict.sample() is a dict",
+        FixKind.AUTO,
+        "`isinstance(x, OrderedDict)` on a space's `sample()` becomes `isinstance(x, dict)`; a `Tuple`'s `.spaces` (a tuple "
+        "now) added to a list is read as `list(...)`, changed in place it is reported.",
+    ),
     Rule(
         "GM909",
         "zero-size spaces raise",
@@ -171,6 +180,8 @@ class SpaceDrift(RuleFamily):
                 decide_bounds_read(self, self.spaces, attribute)
         for attribute in self.facts.attributes.get("shape", ()):
             decide_shape_write(self, self.spaces, attribute)
+        for attribute in self.facts.attributes.get("spaces", ()):
+            decide_tuple_members(self, self.spaces, attribute)
 
     def _compares(self) -> list[ast.Compare]:
         return self.facts.memo(("space-drift-compares", 0), lambda: [n for n in walk(self.facts.tree) if isinstance(n, ast.Compare)])

@@ -33,7 +33,11 @@ from gymmigrate.rules.custom_env.plans import (
     batched_step_message,
 )
 from gymmigrate.rules.step_done.common import StepUnpack
-from gymmigrate.rules.wrappers.common import _assigned_names
+from gymmigrate.rules.wrappers.common import (
+    _assigned_names,
+    _inner_call,
+    inner_env_names,
+)
 from gymmigrate.rules.wrappers.step_ends import (
     _clears,
     _done_changes,
@@ -195,6 +199,20 @@ class StepOverrides(RuleFamily):
         calls = [n for n in walk(function) if isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute) and n.func.attr == "step"]
         return all(any(call is line.value for line in unpacks if isinstance(line, ast.Assign)) for call in calls)
 
+    def _only_passed_through_steps(self, function: ast.AST, unpacks: dict[ast.stmt, StepUnpack | None]) -> bool:
+        """The override unpacks no step: each ``step`` call in it is the whole value of a
+        ``return`` of the wrapped env's step (``return self.env.step(action)``), which hands
+        Gymnasium's five values on as they are; at least one exists. No inner step's flags
+        are bound anywhere in it, so a four-value return beside those is the override's own
+        transition (an error path's ``return obs, 0.0, True, {}``)."""
+        if unpacks:
+            return False
+        classdef = self.facts.parent(function)
+        inner = inner_env_names(classdef) if isinstance(classdef, ast.ClassDef) else ()
+        calls = [n for n in walk(function) if isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute) and n.func.attr == "step"]
+        returned = {id(ret.value) for ret in own_returns(function) if _inner_call(ret.value, "step", inner) is not None}
+        return bool(calls) and all(id(call) in returned for call in calls)
+
     def _ignores_inner_done(self, unpacks: dict[ast.stmt, StepUnpack | None]) -> bool:
         """No inner step's done is ever read: each unpack's done target is ``_``, or a name
         every read of which another binding reaches first (``done = info["level"] > n`` right
@@ -226,6 +244,7 @@ class StepOverrides(RuleFamily):
         unpacks: dict[ast.stmt, StepUnpack | None],
         flags: tuple[str, str] | None,
         ignored: bool,
+        passed_through: bool = False,
     ) -> bool:
         """``return obs, reward, done, info`` where ``done`` is the override's own end alone:
         a step count is returned as truncated (terminated False); any other end as terminated
@@ -239,6 +258,9 @@ class StepOverrides(RuleFamily):
         why = (
             "this step override never reads the inner step's done (it decides the episode's end itself)"
             if ignored
+            else "no inner step's result reaches this return (the override only hands the wrapped env's step on whole "
+            "elsewhere and builds this transition itself)"
+            if passed_through
             else "no inner step runs on the way to this return (the override builds this transition itself)"
         )
         kind = _own_end_kind(self.facts, function, done, set(unpacks))
@@ -318,8 +340,9 @@ class StepOverrides(RuleFamily):
         done_name, done_line, inserted, inner_done = inner.done_name, inner.done_line, inner.inserted, inner.inner_done
         bound, done_attribute, per_agent, done_modified = inner.bound, inner.done_attribute, inner.per_agent, inner.done_modified
         loops = (ast.For, ast.AsyncFor, ast.While)
-        own_steps = self._only_unpacked_steps(function, unpacks)
-        ignored = own_steps and self._ignores_inner_done(unpacks)
+        passed_through = self._only_passed_through_steps(function, unpacks)
+        own_steps = passed_through or self._only_unpacked_steps(function, unpacks)
+        ignored = own_steps and not passed_through and self._ignores_inner_done(unpacks)
         anchored: set[int] = set()  # statements a ``terminated = False`` is bound before
         replaced_done_reads = 0
         settled_lives: set[int] = set()
@@ -350,7 +373,7 @@ class StepOverrides(RuleFamily):
                 # No inner step's done reaches this return: what it returns is the override's
                 # own end (a replayed or synthetic step, or an inner done it never read). The
                 # inner flags are not passed on here, as before, and not read either.
-                if self._return_own_end(function, ret, unpacks, flags, ignored):
+                if self._return_own_end(function, ret, unpacks, flags, ignored, passed_through):
                     continue
             if flags is None or not consistent or "_" in flags:
                 self.report(
