@@ -5,7 +5,7 @@ Where a rule lives (families decide in the order of ``PIPELINE`` below):
     GM101-GM105, GM107, GM108  imports ......................... imports/
     GM106, GM803-GM805         env ids, Atari registration ..... env_ids/ids.py
     GM112                      renamed env packages (gym_minigrid) renamed_packages.py
-    GM802, GM806, GM807, GM808 registry API, EnvSpec ........... env_ids/registry.py
+    GM802, GM806-GM808, GM810 registry API, EnvSpec ........... env_ids/registry.py
     GM809                      ids built from parts ............ env_ids/composed.py
     GM305, GM801               removed make() keywords ......... make_kwargs.py
     GM608-GM615                renamed/removed wrappers ........ wrapper_usage/
@@ -65,7 +65,7 @@ PIPELINE = (
     FamilySpec(
         "RegistryApi",
         "gymmigrate.rules.env_ids.registry",
-        ("registry", "_kwargs", "_env_name", "entry_point", "timestep_limit", "trials", "tags", "max_episode_seconds", "local_only"),
+        ("registry", "_kwargs", "_env_name", "entry_point", "order_enforce", "timestep_limit", "trials", "tags", "max_episode_seconds", "local_only"),
     ),
     FamilySpec("MakeKeywords", "gymmigrate.rules.make_kwargs", ("new_step_api", "autoreset", "apply_api_compatibility", "return_info")),
     FamilySpec("WrapperRenames", "gymmigrate.rules.wrapper_usage.renames", ("wrappers", '"Monitor"', "'Monitor'")),

@@ -7,7 +7,7 @@
     handed_on_ids.py   ids the project's code makes: passed on, made elsewhere, retired
     id_literals.py     IdSite, the literal a name holds, which calls take an id
     atari_evidence.py  Atari envs made without a literal id (GM106's ale_py import)
-    registry.py        GM802 registry API, GM806 EnvSpec attributes, GM807/GM808 [21]
+    registry.py        GM802 registry API, GM806 EnvSpec attributes, GM807/GM808/GM810 [21]
     env_specs.py       which expressions are an EnvSpec (GM806's receivers)
     registry_edits.py  registry.py's CST edits: spec keywords, checker off, entry points
 """

@@ -30,6 +30,13 @@ that turn the env checker off (GM807, GM808).
   such a class: Gymnasium 1.x's checker, between those wrappers and the env, raises TypeError
   on that step inside its own reset. The call gets ``disable_env_checker=True`` (ASSIST); an
   entry point nothing ties to the run (read from a file, the command line) is reported once.
+* GM810 ``register(...)`` with ``order_enforce=False`` and no step limit: gym 0.21's make
+  returned the bare env for it (no checker, no OrderEnforcing, no TimeLimit), the env's own
+  attributes and reset keywords in reach; Gymnasium 1.x's make wraps it in
+  ``PassiveEnvChecker``, which forwards none of them. The call gets
+  ``disable_env_checker=True``, so make returns what it made before. Through a helper that
+  sets ``kwargs["order_enforce"]`` and hands ``**kwargs`` on, the keyword goes into a dict
+  before them, computed from what the call passes (a caller's own choice wins).
 
 Source: gym 0.21 ``envs/registration.py`` against Gymnasium 1.4 ``envs/registration.py``.
 """
@@ -83,6 +90,13 @@ RULES = (
         "`register(...)` of an env whose reset steps the wrapper that handed itself to it (or of an entry point the module "
         "traces only to the run's own modules and classes, in a run with such an env) gets `disable_env_checker=True`.",
     ),
+    Rule(
+        "GM810",
+        "registrations that made the bare env",
+        FixKind.AUTO,
+        "`register(...)` with `order_enforce=False` and no `max_episode_steps` (gym 0.21's make returned the bare env) "
+        "gets `disable_env_checker=True`, also through a helper that sets `kwargs[\"order_enforce\"]`.",
+    ),
 )
 _REGISTER_FUNCTIONS = frozenset({"register", "envs.register", "envs.registration.register"})
 
@@ -122,7 +136,7 @@ class RegistryApi(RuleFamily):
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
         text = facts.text
-        return "registry" in text or "entry_point" in text or any(
+        return "registry" in text or "entry_point" in text or "order_enforce" in text or any(
             word in text for word in (*SPEC_ATTRIBUTES, *REMOVED_SPEC_ATTRIBUTES)
         )
 
@@ -184,8 +198,16 @@ class RegistryApi(RuleFamily):
                 continue  # make rejects it whatever the checker does
             if any(kw.arg == "disable_env_checker" or E.sets_checker(kw) for kw in call.keywords):
                 continue  # set already
-            if not self._decide_non_space_register(call):
-                self._decide_wrapper_stepper(call)
+            if not self._decide_non_space_register(call) and not self._decide_wrapper_stepper(call):
+                self._decide_bare_make(call)
+        # ``from gym.envs.registration import register as gym_register`` (a helper of the run that
+        # keeps the name ``register`` for itself): the call under another name is the same registration
+        for alias, imported in self.facts.imports.items():
+            local = alias.asname or alias.name
+            if local != "register" and N.strip_gym_prefix(imported) in _REGISTER_FUNCTIONS:
+                for call in self.facts.calls_by_name.get(local, ()):
+                    if not any(kw.arg == "disable_env_checker" or E.sets_checker(kw) for kw in call.keywords):
+                        self._decide_bare_make(call)
 
     # -- GM806: gym 0.9's time-limit tag, read -------------------------------------------
 
@@ -445,24 +467,24 @@ class RegistryApi(RuleFamily):
 
     # -- GM808 -------------------------------------------------------------------------------
 
-    def _decide_wrapper_stepper(self, call: ast.Call) -> None:
+    def _decide_wrapper_stepper(self, call: ast.Call) -> bool:
         """``register(...)`` of a class whose reset steps the wrapper around it, or of an
         entry point the run cannot resolve (``register(id=id, **kwargs)`` in a helper, an
         entry point from a loop) in a run that has such a class: ``disable_env_checker=True``.
         Where ``**kwargs`` may carry the keyword too, it goes into a dict before them (a
         caller's own choice wins; a second keyword would be a TypeError)."""
         if any(isinstance(arg, ast.Starred) for arg in call.args):
-            return  # positional arguments the call does not show may reach the parameter
+            return False  # positional arguments the call does not show may reach the parameter
         starred = [kw for kw in call.keywords if kw.arg is None]
         if len(starred) > 1:
-            return
+            return False
         entry = keyword(call, "entry_point")
         value = entry.value if entry is not None else (call.args[1] if len(call.args) > 1 else None)
         if value is None and not starred:
-            return  # no entry point: not a registration Gymnasium makes
+            return False  # no entry point: not a registration Gymnasium makes
         found = self._stepping_entry(value)
         if found is None:
-            return
+            return False
         stepper, named = found
         if named is None and not self._entry_from_run(call, value):
             # nothing the module shows ties this entry point to the run: the checker stays on
@@ -475,7 +497,7 @@ class RegistryApi(RuleFamily):
                 FixKind.FLAG,
                 question=("GM808 unresolved", stepper),
             )
-            return
+            return True
         if named == stepper:
             what = f"`{stepper}`"
         elif named is not None:
@@ -495,6 +517,75 @@ class RegistryApi(RuleFamily):
             self.plan.replace(starred[0].value, E.checker_off_before)
         else:
             self.plan.replace(call, lambda node: append_keyword(node, "disable_env_checker", cst.Name("True")))
+        return True
+
+    # -- GM810 -------------------------------------------------------------------------------
+
+    def _decide_bare_make(self, call: ast.Call) -> None:
+        """``register(..., order_enforce=False)`` with no step limit: gym 0.21's make returned
+        the env itself for it (no checker before 0.24, OrderEnforcing and TimeLimit turned off),
+        Gymnasium 1.x's wraps it in PassiveEnvChecker, which forwards neither attributes nor
+        reset keywords: ``disable_env_checker=True`` makes what legacy made. A ``**kwargs``
+        of the enclosing def that the def gives ``kwargs["order_enforce"] = ...`` is decided at
+        run time, from what the call then passes: a dict before them (a caller's own choice wins)."""
+        if not self.context.profile.imports_gym:
+            return  # written for Gymnasium: its make's checker is what the author chose
+        if any(isinstance(arg, ast.Starred) for arg in call.args) or len(call.args) > 2:
+            return  # positional arguments the call does not show (or gym 0.21's own order) may set the keywords
+        starred = [kw for kw in call.keywords if kw.arg is None]
+        if len(starred) > 1:
+            return
+        limit = keyword(call, "max_episode_steps")
+        if limit is not None and not (isinstance(limit.value, ast.Constant) and limit.value.value is None):
+            return  # made under TimeLimit on gym 0.21 too
+        order = keyword(call, "order_enforce")
+        if order is not None:
+            if not (isinstance(order.value, ast.Constant) and order.value.value is False):
+                return  # OrderEnforcing (or a choice the call does not show): today's behaviour stays
+            set_order = False
+        elif starred and self._sets_order_enforce(call, starred[0].value):
+            set_order = True
+        else:
+            return  # gym 0.21 wrapped it in OrderEnforcing (order_enforce=True by default)
+        if not starred:
+            self.report(
+                call,
+                "GM810",
+                "`order_enforce=False` and no step limit: gym 0.21's make returned the env itself for this id, Gymnasium 1.x's "
+                "wraps it in the env checker, which forwards none of the env's own attributes or reset keywords; registered "
+                "with `disable_env_checker=True`, so make returns the bare env as before",
+            )
+            self.plan.replace(call, lambda node: append_keyword(node, "disable_env_checker", cst.Name("True")))
+            return
+        held = starred[0].value
+        if not isinstance(held, ast.Name):
+            return  # the dict's test reads the keywords by a plain name
+        self.report(
+            call,
+            "GM810",
+            f"`{held.id}` may hold `order_enforce=False` and no step limit: gym 0.21's make returned the env itself for "
+            "such an id, Gymnasium 1.x's wraps it in the env checker, which forwards none of the env's own attributes or "
+            "reset keywords; the checker is turned off for exactly those registrations, so make returns the bare env as before",
+        )
+        self.plan.replace(held, lambda node: E.checker_off_when_bare(node, set_order))
+
+    def _sets_order_enforce(self, call: ast.Call, held: ast.expr) -> bool:
+        """``held`` is the enclosing def's own ``**kwargs``, and the def stores
+        ``kwargs["order_enforce"] = <not a literal True>`` in it."""
+        function = self.facts.enclosing_function(call)
+        if function is None or not isinstance(held, ast.Name) or function.args.kwarg is None or function.args.kwarg.arg != held.id:
+            return False
+        for node in ast.walk(function):
+            if isinstance(node, ast.Assign) and len(node.targets) == 1:
+                target = node.targets[0]
+                if (
+                    isinstance(target, ast.Subscript)
+                    and isinstance(target.value, ast.Name)
+                    and target.value.id == held.id
+                    and string_value(target.slice) == "order_enforce"
+                ):
+                    return not (isinstance(node.value, ast.Constant) and node.value.value is True)
+        return False
 
     def _entry_from_run(self, call: ast.Call, value: ast.expr | None) -> bool:
         """The entry point the call does not resolve is still shown to be the run's (a string

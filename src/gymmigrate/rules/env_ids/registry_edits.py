@@ -28,6 +28,21 @@ def checker_off_before(node: cst.BaseExpression) -> cst.BaseExpression:
     )
 
 
+def checker_off_when_bare(node: cst.BaseExpression, set_order: bool) -> cst.BaseExpression:
+    """``**kwargs`` -> ``**{"disable_env_checker": not kwargs.get("order_enforce", True) and
+    kwargs.get("max_episode_steps") is None, **kwargs}``: the checker goes off where gym 0.21's
+    make returned the bare env (order_enforce was True by default); a caller's own keyword wins."""
+    name = cst.ensure_type(node, cst.Name).value
+    limit = f'{name}.get("max_episode_steps") is None'
+    test = f'not {name}.get("order_enforce", True) and {limit}' if set_order else limit
+    return cst.Dict(
+        [
+            cst.DictElement(cst.SimpleString('"disable_env_checker"'), cst.parse_expression(test)),
+            cst.StarredDictElement(node),
+        ]
+    )
+
+
 def renamed_gym_envs(node: cst.BaseExpression) -> cst.BaseExpression:
     """``node`` with a ``"gym.envs..."`` string literal in it renamed to ``"gymnasium.envs..."``."""
 
