@@ -1,0 +1,24 @@
+"""Own wrapper contracts: what the items on a wrapper subclass's constructor and reset advise."""
+
+from __future__ import annotations
+
+from gymmigrate.engine import transform_source
+from tests.fixture_cases import FIXTURES
+
+
+def _messages(path: str, rule: str) -> list[str]:
+    source = (FIXTURES / path).read_bytes()
+    return [f.message for f in transform_source(source, path).findings if f.rule == rule]
+
+
+def test_gm603_advises_the_wrapper_base_by_name_where_an_env_base_comes_first() -> None:
+    # ``super().__init__(env)`` would reach the env base's abstract constructor first
+    (message,) = _messages("rules/GM603/env_base_ahead.py", "GM603")
+    assert "call `gym.Wrapper.__init__(self, env)`" in message
+    assert "`__getattr__`" in message
+
+
+def test_gm603_keeps_super_advice_where_the_wrapper_base_comes_first() -> None:
+    (message,) = _messages("rules/GM603/wrapper_base_first.py", "GM603")
+    assert "call it instead of setting `self.env` by hand" in message
+    assert "gym.Wrapper.__init__(self, env)" not in message
