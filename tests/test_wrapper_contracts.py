@@ -22,3 +22,12 @@ def test_gm603_keeps_super_advice_where_the_wrapper_base_comes_first() -> None:
     (message,) = _messages("rules/GM603/wrapper_base_first.py", "GM603")
     assert "call it instead of setting `self.env` by hand" in message
     assert "gym.Wrapper.__init__(self, env)" not in message
+
+
+def test_gm601_reports_a_wrapper_reset_that_returns_nothing() -> None:
+    (message,) = _messages("rules/GM601/reset_returns_nothing.py", "GM601")
+    assert "returns nothing at the end of its body" in message
+
+
+def test_gm601_is_quiet_on_a_pass_through_reset_and_a_raising_hook() -> None:
+    assert _messages("rules/GM601/reset_returns_inner_pair_kept.py", "GM601") == []
