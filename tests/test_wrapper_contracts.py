@@ -31,3 +31,14 @@ def test_gm601_reports_a_wrapper_reset_that_returns_nothing() -> None:
 
 def test_gm601_is_quiet_on_a_pass_through_reset_and_a_raising_hook() -> None:
     assert _messages("rules/GM601/reset_returns_inner_pair_kept.py", "GM601") == []
+
+
+def test_gm602_reports_a_step_that_returns_a_four_value_method() -> None:
+    messages = _messages("rules/GM602/step_returns_own_four_value_method.py", "GM602")
+    assert len(messages) == 2
+    assert "`self.run_many(...)`" in messages[0] and "wrapped env's own `run_many`" in messages[0]
+    assert "`self.scripted(...)`" in messages[1] and "gives four values" in messages[1]
+
+
+def test_gm602_is_quiet_on_a_method_that_hands_on_five_values() -> None:
+    assert _messages("rules/GM602/step_returns_own_five_value_method_kept.py", "GM602") == []
