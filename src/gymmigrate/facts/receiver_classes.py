@@ -324,17 +324,20 @@ class ClassKinds(_Facade):
         )
 
     def has_gym_wrapper_base(self, classdef: ast.ClassDef, _seen: frozenset[int] = frozenset()) -> bool:
-        for base in classdef.bases:
-            for q in self.qualified_names(base):
-                rest = N.strip_gym_prefix(q)
-                if rest is not None and (rest in N.GYM_WRAPPER_BASE_CLASSES or N.is_wrapper_class_path(rest) or rest.startswith("wrappers.vector.")):
-                    return True
-                if rest is None and self.project is not None and self.project.is_wrapper_class(q):
-                    return True  # a Gym wrapper class of another module of the run (``pkg.TrialWrapper``)
-            local = self.local_class(base)
-            if local is not None and local is not classdef and id(local) not in _seen:
-                if self.is_gym_wrapper_class(local, _seen | {id(classdef)}):
-                    return True
+        return any(self.is_gym_wrapper_base(classdef, base, _seen) for base in classdef.bases)
+
+    def is_gym_wrapper_base(self, classdef: ast.ClassDef, base: ast.expr, _seen: frozenset[int] = frozenset()) -> bool:
+        """``base`` (one of ``classdef``'s bases) is a Gym wrapper class, Gym's own or one of the run."""
+        for q in self.qualified_names(base):
+            rest = N.strip_gym_prefix(q)
+            if rest is not None and (rest in N.GYM_WRAPPER_BASE_CLASSES or N.is_wrapper_class_path(rest) or rest.startswith("wrappers.vector.")):
+                return True
+            if rest is None and self.project is not None and self.project.is_wrapper_class(q):
+                return True  # a Gym wrapper class of another module of the run (``pkg.TrialWrapper``)
+        local = self.local_class(base)
+        if local is not None and local is not classdef and id(local) not in _seen:
+            if self.is_gym_wrapper_class(local, _seen | {id(classdef)}):
+                return True
         return False
 
     def forwards_inner_contract(self, classdef: ast.ClassDef) -> bool:

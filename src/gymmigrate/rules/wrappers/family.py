@@ -328,7 +328,10 @@ class WrapperClasses(StepOverrides, ResetOverrides):
     # -- GM603 ------------------------------------------------------------------------------
 
     def _check_init(self, classdef: ast.ClassDef, init: ast.FunctionDef | ast.AsyncFunctionDef) -> None:
-        if not any(_is_super_init(node) for node in walk(init)):
+        if any(_is_super_init(node) for node in walk(init)):
+            return
+        ahead = self._bases_ahead_of_wrapper(classdef)
+        if ahead is None:
             self.report(
                 init,
                 "GM603",
@@ -336,6 +339,31 @@ class WrapperClasses(StepOverrides, ResetOverrides):
                 "needs it to set `env` and the action/observation space and metadata properties; call it "
                 "instead of setting `self.env` by hand",
             )
+            return
+        first, wrapper = ahead
+        # The method resolution order reaches the bases listed first before the wrapper base:
+        # ``super().__init__(env)`` would run ``first``'s constructor with the env as its argument.
+        self.report(
+            init,
+            "GM603",
+            f"`{classdef.name}.__init__` never calls the wrapper base's constructor: gymnasium.Wrapper needs it "
+            "to set its private fields (`wrapper.metadata` and the space properties read them); "
+            f"`super().__init__(env)` would run the constructor of `{ast.unparse(first)}`, listed before "
+            f"`{ast.unparse(wrapper)}`, with the env as its argument wherever that base has one, so call "
+            f"`{ast.unparse(wrapper)}.__init__(self, env)`. "
+            "Gymnasium 1.x's Wrapper no longer forwards the attributes it does not define to the env "
+            "(gym's `__getattr__` is gone): what this class and its callers read through it and it does not "
+            "define itself (the env's own extensions) needs a forwarding `__getattr__` to `self.env` or "
+            "`get_wrapper_attr`",
+        )
+
+    def _bases_ahead_of_wrapper(self, classdef: ast.ClassDef) -> tuple[ast.expr, ast.expr] | None:
+        """The first base listed before ``classdef``'s first Gym wrapper base, and that wrapper
+        base; None where the wrapper base comes first (``super()`` reaches it)."""
+        for index, base in enumerate(classdef.bases):
+            if self.receivers.is_gym_wrapper_base(classdef, base):
+                return (classdef.bases[0], base) if index else None
+        return None
 
 
 def _is_super_init(node: ast.AST) -> bool:

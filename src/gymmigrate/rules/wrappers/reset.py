@@ -15,8 +15,9 @@ import ast
 from collections.abc import Sequence
 
 from gymmigrate.edits.lazy import cst
+from gymmigrate.facts.fall_through import may_fall_off
 from gymmigrate.facts.flow import Flow
-from gymmigrate.facts.module import own_returns, self_attribute
+from gymmigrate.facts.module import full_name, own_returns, self_attribute
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.base import RuleFamily
 from gymmigrate.rules.wrappers.common import (
@@ -40,6 +41,7 @@ class ResetOverrides(RuleFamily):
     """GM601 (mixed into the family; no ``RULES``, so not registered itself)."""
 
     def _fix_reset(self, classdef: ast.ClassDef, function: ast.FunctionDef | ast.AsyncFunctionDef) -> None:
+        self._report_reset_without_result(classdef, function)
         inner = inner_env_names(classdef)  # ``self._env`` kept beside ``self.env``
         bases = classdef.bases  # ``gym.Wrapper.reset(self)``: the base's reset, as ``super()``'s
         noted_info = self.notes.reset_info_names.get(f"{classdef.name}.{function.name}")
@@ -109,6 +111,32 @@ class ResetOverrides(RuleFamily):
                 self.plan.insert_after(body[0], f"{info_name} = {{}}")
             else:
                 self.plan.insert_before(body[0], f"{info_name} = {{}}")
+
+    def _report_reset_without_result(self, classdef: ast.ClassDef, function: ast.FunctionDef | ast.AsyncFunctionDef) -> None:
+        """A reset override that returns nothing on some path (a bare ``return``, the end of its
+        body): gym never checked it, but Gymnasium's callers, outer wrappers and vector envs
+        unpack ``obs, info = env.reset()``, a TypeError on None. What it should return (the
+        inner reset's pair, or its own observation) is the class's decision: one item."""
+        abstract = any((full_name(d) or "").endswith("abstractmethod") for d in function.decorator_list)
+        if abstract or _placeholder_body(function) or any(isinstance(n, (ast.Yield, ast.YieldFrom)) for n in ast.walk(function)):
+            return
+        returns = own_returns(function)
+        bare = [ret for ret in returns if ret.value is None or (isinstance(ret.value, ast.Constant) and ret.value.value is None)]
+        falls = may_fall_off(function.body)
+        if not bare and not falls:
+            return
+        places = [f"line {ret.lineno} (a bare `return`)" for ret in bare] + (["the end of its body"] if falls else [])
+        some = len(bare) < len(returns)
+        self.report(
+            function,
+            "GM601",
+            f"`{classdef.name}.reset` returns nothing at {' and at '.join(places)}"
+            + (", a value elsewhere" if some else "")
+            + ": Gymnasium's callers, outer wrappers and vector envs unpack `obs, info = env.reset()`, a TypeError "
+            "on None; return the inner reset's `(obs, info)` there (`return self.env.reset(...)` with the arguments it was given), "
+            "or an observation of its own with an info dict, by hand",
+            FixKind.FLAG,
+        )
 
     def _fix_reset_signature(
         self, function: ast.FunctionDef | ast.AsyncFunctionDef, inner: Sequence[str] = INNER, bases: Sequence[ast.expr] = ()
@@ -310,4 +338,13 @@ def _keyword_seed_and_options(node: cst.FunctionDef) -> cst.FunctionDef:
             star_arg=cst.ParamStar(comma=_comma()),
             kwonly_params=[keyword("seed").with_changes(comma=_comma()), keyword("options")],
         )
+    )
+
+
+def _placeholder_body(function: ast.FunctionDef | ast.AsyncFunctionDef) -> bool:
+    """A body of only a docstring, ``pass``, ``...`` or a ``raise``: a hook for subclasses, no reset to run."""
+    body = function.body[1:] if _is_docstring(function.body[0]) else function.body
+    return all(
+        isinstance(s, (ast.Pass, ast.Raise)) or (isinstance(s, ast.Expr) and isinstance(s.value, ast.Constant) and s.value.value is Ellipsis)
+        for s in body
     )

@@ -35,7 +35,11 @@ from gymmigrate.rules.custom_env.plans import (
 from gymmigrate.rules.step_done.common import StepUnpack
 from gymmigrate.rules.wrappers.common import (
     _assigned_names,
+<<<<<<< HEAD
     _inner_call,
+=======
+    _is_inner_env,
+>>>>>>> ccwrapper
     inner_env_names,
 )
 from gymmigrate.rules.wrappers.step_ends import (
@@ -315,6 +319,38 @@ class StepOverrides(RuleFamily):
                 return True
         return False
 
+    def _report_other_method_returns(self, classdef: ast.ClassDef, function: ast.FunctionDef | ast.AsyncFunctionDef) -> None:
+        """``return self.multistep([action])``: the step hands on what another method gives,
+        not the inner step. Where that method (the class's own, followed through its returns)
+        gives four values, or ends in a method of the wrapped env other than step, whose
+        arity this wrapper cannot see, the override may keep gym's four values under
+        Gymnasium's five-value callers: one item. A method that hands on the inner step or
+        returns five values is the new contract already."""
+        inner = inner_env_names(classdef)
+        for ret in own_returns(function):
+            call = ret.value
+            if not isinstance(call, ast.Call) or not isinstance(call.func, ast.Attribute) or call.func.attr == "step":
+                continue
+            if any(isinstance(n, ast.Attribute) and n.attr == "step" for n in walk(call)):
+                continue  # the inner step's result, processed: its own rules read it
+            shape = _other_method_shape(classdef, call, inner, set())
+            if shape is None:
+                continue
+            what = (
+                "gives four values (obs, reward, done, info)"
+                if shape == 4
+                else f"ends in the wrapped env's own `{shape}`, whose result this wrapper cannot see"
+            )
+            self.report(
+                ret,
+                "GM602",
+                f"this step override returns `{ast.unparse(call.func)}(...)`, not the inner step, and that {what}: "
+                "Gymnasium's callers unpack five values from step; where it keeps gym's four, unpack them here and "
+                "return (obs, reward, terminated, truncated, info) with done split, or port that method to five "
+                "values together with the env's step",
+                kind=FixKind.FLAG,
+            )
+
     def _fix_step(self, function: ast.FunctionDef | ast.AsyncFunctionDef) -> None:
         """Return the inner step's terminated/truncated instead of ``done``.
 
@@ -335,6 +371,8 @@ class StepOverrides(RuleFamily):
                     question=BATCHED_STEP_QUESTION,
                 )
                 return
+        if isinstance(classdef, ast.ClassDef):
+            self._report_other_method_returns(classdef, function)
         inner = _read_inner_step(function, classdef, self.notes.step_unpacks)
         lines, unpacks, flags, consistent = inner.lines, inner.unpacks, inner.flags, inner.consistent
         done_name, done_line, inserted, inner_done = inner.done_name, inner.done_line, inner.inserted, inner.inner_done
@@ -746,3 +784,33 @@ class StepOverrides(RuleFamily):
                     )
                 else:
                     self.plan.insert_after(clear, f"{terminated} = {truncated} = False")
+
+
+def _other_method_shape(classdef: ast.ClassDef, call: ast.Call, inner: tuple[str, ...], seen: set[str]) -> int | str | None:
+    """What ``call`` (``self.m(...)`` or ``self.env.m(...)``) is known to give: 4 where the
+    class's own ``m`` returns a four-value tuple (followed through its returns), the method's
+    name where it ends in a method of the wrapped env other than step, None where it returns
+    five values, the inner step, or what this class cannot follow."""
+    func = call.func
+    if not isinstance(func, ast.Attribute) or func.attr == "step":
+        return None
+    if _is_inner_env(func.value, inner):
+        return func.attr
+    if not (isinstance(func.value, ast.Name) and func.value.id == "self") or func.attr in seen:
+        return None
+    method = next((m for m in classdef.body if isinstance(m, FUNCTIONS) and m.name == func.attr), None)
+    if method is None:
+        return None
+    seen.add(func.attr)
+    shapes: set[int | str | None] = set()
+    for ret in own_returns(method):
+        value = ret.value
+        if isinstance(value, ast.Tuple) and not any(isinstance(e, ast.Starred) for e in value.elts):
+            shapes.add(4 if len(value.elts) == 4 else None)
+        elif isinstance(value, ast.Call):
+            shapes.add(_other_method_shape(classdef, value, inner, seen))
+        else:
+            shapes.add(None)
+    known = shapes - {None}
+    # one answer on every path: a method that sometimes gives five values is the class's own contract
+    return known.pop() if len(known) == 1 and None not in shapes else None
