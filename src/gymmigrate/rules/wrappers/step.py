@@ -35,11 +35,8 @@ from gymmigrate.rules.custom_env.plans import (
 from gymmigrate.rules.step_done.common import StepUnpack
 from gymmigrate.rules.wrappers.common import (
     _assigned_names,
-<<<<<<< HEAD
     _inner_call,
-=======
     _is_inner_env,
->>>>>>> ccwrapper
     inner_env_names,
 )
 from gymmigrate.rules.wrappers.step_ends import (
