@@ -120,6 +120,7 @@ GYM_ONLY_PACKAGES: dict[str, str] = {
     "dmc2gym": "a Gym-only env package (Shimmy's dm_control envs replace it)",
     "dm2gym": "a Gym-only env package (Shimmy's dm_control envs replace it)",
     "slimevolleygym": "a Gym-only env package",
+    "gym-ignition": "a Gym-only env package (archived): its runtimes derive legacy gym.Env",
     "universe": "OpenAI universe, abandoned and built on gym 0.9: its wrappers and remote envs keep gym's old API",
     "safety-gym": "a Gym-only env package (archived; its successor is safety-gymnasium)",
     "pybullet": "if the project uses its bundled envs (pybullet_envs), they register with Gym only",

@@ -180,6 +180,7 @@ GYM_ONLY_PACKAGES = frozenset(
         "dmc2gym",
         "gfootball",
         "gym_super_mario_bros",
+        "gym_ignition",
         "gym_tetris",
         "gym_unity",
         "marl_baselines3",

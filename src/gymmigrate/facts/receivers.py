@@ -454,6 +454,8 @@ class Receivers(BindingKinds, WrappingCalls, ClassKinds, ParameterKinds, MadeObj
             owner = self.kind_of(attr.value)
             if owner is EnvKind.SB3_MODEL and name == "env":
                 return EnvKind.SB3_VEC
+            if owner is EnvKind.SB3_VEC and name == "unwrapped":
+                return EnvKind.SB3_VEC  # every VecEnv family's ``unwrapped`` is the innermost VecEnv
             if owner is EnvKind.GYM_ENV:
                 return EnvKind.GYM_ENV
         if any(N.top_package(q) in N.NOT_ENV_PACKAGES for q in self.qualified_names(attr)):

@@ -52,6 +52,7 @@ class Imports(ImportStatements, ImportGuards, RemovedAttributes, RllibEra):
         self._version_checks()
         self._gym_only_libraries()
         self._gym_envs_handed_to_gym_only()
+        self._gym_only_classes_and_entry_points()
         self._rllib_era()
         self._removed_module_attributes()
         self._missing_module_attributes()

@@ -69,6 +69,16 @@ GYM_ONLY_LIBRARIES = {
         "step, per-agent arrays when several agents act); wrap them with Shimmy (`GymV21Environment-v0`, gym "
         "installed) or port the wrapper"
     ),
+    # gym-ignition (robotology, archived; succeeded by gym-gz): its ``Runtime`` and
+    # ``GazeboRuntime`` derive legacy ``gym.Env`` and its randomizers ``gym.Wrapper``, so an entry
+    # point into them, or a class of the run deriving them, makes an env ``gymnasium.make`` refuses.
+    "gym_ignition": (
+        "gym_ignition (gym-ignition, archived) has no Gymnasium release: its `Runtime`/`GazeboRuntime` derive "
+        "legacy `gym.Env` and its randomizers `gym.Wrapper`, so `gymnasium.make` of an id whose entry point is one "
+        "of them (or a class deriving them) fails (\"Gym is incompatible with Gymnasium\"); port those classes to "
+        "gymnasium (reset(seed=, options=) -> (obs, info), a five-value step), or keep them on gym and make them "
+        "through Shimmy (`GymV21Environment-v0`, gym installed)"
+    ),
     "colabgymrender": (
         "colabgymrender has no Gymnasium release: its Recorder wraps a gym env and calls render(mode=...), which "
         "Gymnasium envs reject; record with gymnasium.wrappers.RecordVideo (render_mode=\"rgb_array\" at make)"
@@ -469,6 +479,75 @@ class GymOnlyLibraries(ImportsBase):
                     question=gym_only_question(N.gym_only_stack(library)),
                 )
 
+    def _gym_only_classes_and_entry_points(self) -> None:
+        """Envs a Gym-only package's classes make, outside its own calls: a class of the run
+        deriving one of them (``class MyRuntime(Runtime)`` of gym_ignition) inherits gym's API
+        and is built by that library's base, so no method of it decides alone; and a register
+        call whose entry point names one of them gives an id ``gymnasium.make`` refuses ("Gym
+        is incompatible with Gymnasium"). One item at the class (its methods are left) and one
+        at the register call, both asking the package's question (port it, or Shimmy). The
+        libraries that build legacy envs around what they are handed (``_LEGACY_ENV_BUILDERS``)
+        are not env bases: a class of the run deriving their callbacks or policies is no env."""
+        if not any(q.split(".", 1)[0] in N.GYM_ONLY_PACKAGES for q in self.facts.imports.values()) and "entry_point" not in self.facts.text:
+            return
+        for node in walk(self.facts.tree):
+            if isinstance(node, ast.ClassDef):
+                if not _overrides_env_api(node):
+                    continue  # a model or scene helper of the library, not one of its envs
+                for base in node.bases:
+                    library = self._gym_only_callable(base)
+                    if library is None:
+                        continue
+                    self.report(
+                        node,
+                        "GM107",
+                        f"`{node.name}` derives `{full_name(base) or library}` of {library}, which has no Gymnasium release: "
+                        f"its instances are {library}'s legacy gym envs, so its reset, step, seed and render keep gym's API and "
+                        f"are left as they are here: {GYM_ONLY_LIBRARIES.get(library, 'port this class with its base, or keep it on gym behind Shimmy')}",
+                        FixKind.FLAG,
+                        question=gym_only_question(N.gym_only_stack(library)),
+                    )
+                    break
+            elif isinstance(node, ast.Call):
+                for keyword in node.keywords:
+                    if keyword.arg != "entry_point":
+                        continue
+                    found = [
+                        (text, top)
+                        for text in self._entry_point_texts(keyword.value)
+                        if (top := text.strip().split(":", 1)[0].split(".", 1)[0]) in N.GYM_ONLY_PACKAGES
+                        and top not in _LEGACY_ENV_BUILDERS
+                        and not self._module_of_the_run(text.strip().split(":", 1)[0])
+                    ]
+                    if not found:
+                        continue
+                    text, top = found[0]
+                    self.report(
+                        node,
+                        "GM107",
+                        f"the entry point `{text}` is a class of {top}, which has no Gymnasium release: the "
+                        f"env it makes is a legacy gym env, which `gymnasium.make` of this id refuses (\"Gym is incompatible "
+                        f"with Gymnasium\"); left as it is: {GYM_ONLY_LIBRARIES.get(top, 'port the class, or make it through Shimmy')}",
+                        FixKind.FLAG,
+                        question=gym_only_question(N.gym_only_stack(top)),
+                    )
+
+    def _entry_point_texts(self, value: ast.expr) -> list[str]:
+        """The strings an entry point may be: a literal, or a name every binding of which
+        assigns one (``ENTRY = "pkg.mod:Cls"`` on each branch of an ``if``)."""
+        if isinstance(value, ast.Constant) and isinstance(value.value, str):
+            return [value.value]
+        if not isinstance(value, ast.Name):
+            return []
+        texts: list[str] = []
+        for binding in self.facts.bindings_of(value):
+            statement = self.facts.parent(binding)
+            assigned = statement.value if isinstance(statement, (ast.Assign, ast.AnnAssign)) else None
+            if not (isinstance(assigned, ast.Constant) and isinstance(assigned.value, str)):
+                return []  # some binding is not a literal: what the name holds is not known
+            texts.append(assigned.value)
+        return texts
+
     def _gym_only_callable(self, func: ast.expr) -> str | None:
         """The Gym-only package (not one of the run) ``func`` is imported from, if any."""
         for qualified in self.facts.qualified_names(func):
@@ -488,3 +567,12 @@ class GymOnlyLibraries(ImportsBase):
         """A package of the project itself that shares a library's name (its own ``multiagent``)."""
         project = self.receivers.project
         return project is not None and project.is_module(module)
+
+
+# The env API a legacy env class overrides (gym 0.9's ``_step``/``_reset`` too): a class
+# deriving a Gym-only package's class and defining one of them is one of its envs.
+_ENV_API = frozenset({"step", "reset", "_step", "_reset"})
+
+
+def _overrides_env_api(classdef: ast.ClassDef) -> bool:
+    return any(isinstance(item, (ast.FunctionDef, ast.AsyncFunctionDef)) and item.name in _ENV_API for item in classdef.body)
