@@ -295,8 +295,15 @@ class ClassKinds(_Facade):
         return self.has_gym_wrapper_base(classdef, _seen)
 
     def own_batch(self, classdef: ast.ClassDef) -> bool:
-        """``own_batch_on_wrapper_base``, once per class."""
-        return bool(self.facts.memo(("own-batch", id(classdef)), lambda: own_batch_on_wrapper_base(self.facts, classdef), while_computing=False))
+        """A class on a Gym wrapper base (not ``gym.Env``'s: an env class holds what it
+        steps as it likes) that ``own_batch_on_wrapper_base`` shows is a batch of its own."""
+        return bool(
+            self.facts.memo(
+                ("own-batch", id(classdef)),
+                lambda: own_batch_on_wrapper_base(self.facts, classdef) and self.has_gym_wrapper_base(classdef),
+                while_computing=False,
+            )
+        )
 
     def is_duck_wrapper(self, classdef: ast.ClassDef) -> bool:
         """A plain class (no base but ``object``) that stores a constructor parameter in
