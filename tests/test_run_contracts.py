@@ -242,3 +242,20 @@ def test_a_subclass_in_another_module_that_renders_with_a_mode_keeps_its_base_re
         "big = BigTileEnv()\nbig.reset()\nprint(big.step(0)[0].shape)"
     )
     assert _run(project, code) == ["[[0, 255, 0, 0, 0, 0]] None", "[[255, 0, 0, 0, 0, 0]]", "[[7, 7]]", "(6, 6)"]
+
+
+def test_an_own_batch_on_a_wrapper_base_keeps_its_contract_with_its_callers(tmp_path: Path) -> None:
+    """``fixtures/project_own_batch_layers/``: ``Stacker`` derives the project's Gym wrapper
+    base but is no layer (it holds ``venv``, never runs the base ``__init__``, reads its
+    dones one per env): its step and reset, the four-field step in another module and
+    ``hasattr`` on it stay; ``Clip``, a real layer on the same base, is migrated."""
+    project, _ = _migrated(tmp_path, "project_own_batch_layers")
+    wrappers = (project / "stack" / "wrappers.py").read_text()
+    train = (project / "train.py").read_text()
+    assert "obs, rews, news, infos = self.venv.step(actions)" in wrappers
+    assert "obs, reward, terminated, truncated, info = self.env.step(action)" in wrappers
+    assert "obs, rews, dones, infos = env.step([1] * env.num_envs)" in train
+    assert 'hasattr(env, "horizon")' in train and "has_wrapper_attr" not in train
+    assert "RecordConstructorArgs" not in wrappers
+    shape, ends = _run(project, "from train import train\nprint(*train(2, 40))")[0].rsplit(" ", 1)
+    assert shape == "(2, 8)" and int(ends) >= 1

@@ -14,6 +14,7 @@ from collections.abc import Callable, Iterator
 from typing import TYPE_CHECKING, cast
 
 from gymmigrate.facts import names as N
+from gymmigrate.facts.batched_steps import done_read_per_env
 from gymmigrate.facts.class_shapes import (
     is_vec_env_shaped,
     keeps_bare_reset,
@@ -23,6 +24,7 @@ from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import (
     FUNCTIONS,
+    ModuleFacts,
     call_argument,
     is_super_call,
     named_class_call,
@@ -56,6 +58,10 @@ class ClassKinds(_Facade):
             # A wrapper around an object of a Gym-only library (gym_unity's batched envs): that
             # object keeps gym's API, so neither the wrapper nor its callers are Gymnasium code.
             return EnvKind.UNKNOWN
+        if useful and useful[0] is EnvKind.GYM_ENV and self.own_batch(classdef):
+            # Not a wrapper layer (no ``self.env``, no base ``__init__``): a batch of the
+            # project's own, stepped as a VecEnv is (four fields, per-env flags).
+            return EnvKind.SB3_VEC
         if useful and useful[0] is EnvKind.GYM_ENV and self.wraps_vec_env(classdef):
             # A Gym wrapper the run puts only around VecEnvs: its instances answer as the
             # VecEnv does (four-field step, reset with no seed), and are left as VecEnvs are.
@@ -284,7 +290,20 @@ class ClassKinds(_Facade):
         the run proves (``is_duck_wrapper``)."""
         if self.is_duck_wrapper(classdef):
             return True
+        if self.own_batch(classdef):
+            return False  # no layer over an env: a batch of its own on the wrapper base
         return self.has_gym_wrapper_base(classdef, _seen)
+
+    def own_batch(self, classdef: ast.ClassDef) -> bool:
+        """A class on a Gym wrapper base (not ``gym.Env``'s: an env class holds what it
+        steps as it likes) that ``own_batch_on_wrapper_base`` shows is a batch of its own."""
+        return bool(
+            self.facts.memo(
+                ("own-batch", id(classdef)),
+                lambda: own_batch_on_wrapper_base(self.facts, classdef) and self.has_gym_wrapper_base(classdef),
+                while_computing=False,
+            )
+        )
 
     def is_duck_wrapper(self, classdef: ast.ClassDef) -> bool:
         """A plain class (no base but ``object``) that stores a constructor parameter in
@@ -678,3 +697,33 @@ def other_library_class_kind(qualified: str) -> EnvKind | None:
     if qualified in N.PZ_PARALLEL_BASES:
         return EnvKind.PZ_PARALLEL
     return None
+
+
+def own_batch_on_wrapper_base(facts: ModuleFacts, classdef: ast.ClassDef) -> bool:
+    """A class on a Gym wrapper base that is no wrapper layer but a batch of its own: its
+    ``__init__`` never runs the base's (so no ``self.env`` is set), none of its methods
+    touches ``self.env``, and its ``step`` unpacks another object's four-field step and
+    reads that done one flag per env (``for i, new in enumerate(news)``). Its step and its
+    callers keep the batch's four fields, and nothing forwards attribute reads to an inner
+    env it does not have. A layer that sets ``self.env`` or calls the base ``__init__`` is a
+    Gym wrapper, whatever it steps."""
+    methods = {s.name: s for s in classdef.body if isinstance(s, FUNCTIONS)}
+    init, step = methods.get("__init__"), methods.get("step")
+    if init is None or step is None:
+        return False
+    for node in walk(init):
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "__init__":
+            return False  # ``super().__init__(env)`` / ``Base.__init__(self, env)``: a layer
+    for method in methods.values():
+        for node in walk(method):
+            if isinstance(node, ast.Attribute) and node.attr == "env" and isinstance(node.value, ast.Name) and node.value.id == "self":
+                return False
+    for node in walk(step):
+        if not (isinstance(node, ast.Assign) and len(node.targets) == 1 and isinstance(node.targets[0], (ast.Tuple, ast.List))):
+            continue
+        target, value = node.targets[0], node.value
+        if len(target.elts) != 4 or not (isinstance(value, ast.Call) and isinstance(value.func, ast.Attribute) and value.func.attr == "step"):
+            continue
+        if done_read_per_env(facts, target.elts[2], target):
+            return True
+    return False

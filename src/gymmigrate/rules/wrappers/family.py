@@ -328,7 +328,7 @@ class WrapperClasses(StepOverrides, ResetOverrides):
     # -- GM603 ------------------------------------------------------------------------------
 
     def _check_init(self, classdef: ast.ClassDef, init: ast.FunctionDef | ast.AsyncFunctionDef) -> None:
-        if any(_is_super_init(node) for node in walk(init)):
+        if any(_is_super_init(node) for node in walk(init)) or not _uses_self_env(classdef):
             return
         ahead = self._bases_ahead_of_wrapper(classdef)
         if ahead is None:
@@ -364,6 +364,22 @@ class WrapperClasses(StepOverrides, ResetOverrides):
             if self.receivers.is_gym_wrapper_base(classdef, base):
                 return (classdef.bases[0], base) if index else None
         return None
+
+
+def _uses_self_env(classdef: ast.ClassDef) -> bool:
+    """Some method of the class reads or sets ``self.env``, or the class leaves ``step`` to
+    the base (whose step reads ``self.env``). A class on a Wrapper base that defines its own
+    step and never touches ``self.env`` (it holds a ``venv``, worker pipes, ``num_envs``: a
+    batch of its own) is no wrapper layer: the base's ``__init__(env)`` has no env to take
+    there, so GM603 has nothing to ask of it."""
+    if not any(isinstance(s, FUNCTIONS) and s.name == "step" for s in classdef.body):
+        return True
+    return any(
+        isinstance(node, ast.Attribute) and node.attr == "env" and isinstance(node.value, ast.Name) and node.value.id == "self"
+        for statement in classdef.body
+        if isinstance(statement, FUNCTIONS)
+        for node in walk(statement)
+    )
 
 
 def _is_super_init(node: ast.AST) -> bool:
