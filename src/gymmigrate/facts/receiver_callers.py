@@ -180,14 +180,27 @@ class CallerSites(_Facade):
             or self._unwrapped_of(c.func.value, classdef)  # type: ignore[attr-defined]
         ] + instances
 
-    def argument_sources(self, param: ast.arg) -> frozenset[str] | None:
+    def argument_sources(self, param: ast.arg, _seen: frozenset[int] = frozenset()) -> frozenset[str] | None:
         """The variables the calls of the run hand on for ``param`` (``Flow.source_of``, each
         with its module), when every call hands on one; None when a call passes anything else
         or leaves the parameter to its default, or when no call is known. Parameters fed only
-        the same variables hold the same values: what those are is one question."""
-        return self.facts.memo(("argument-sources", id(param)), lambda: self._argument_sources(param))
+        the same variables hold the same values: what those are is one question. A call
+        handing on a parameter of another def of the module (``helper(env)`` in ``search(env)``)
+        passes what that parameter is fed, where its calls are known: the two defs hold one
+        object, and ask one question."""
+        if _seen:
+            return self._argument_sources(param, _seen)
+        return self.facts.memo(("argument-sources", id(param)), lambda: self._argument_sources(param, _seen))
 
-    def _argument_sources(self, param: ast.arg) -> frozenset[str] | None:
+    def _handed_parameter(self, argument: ast.Name, flow: Flow) -> ast.arg | None:
+        """The parameter ``argument`` reads, where it is its one binding (a def's parameter
+        the def never rebinds), else None."""
+        bindings = flow.reaching(argument) or self.facts.bindings_of(argument)
+        if len(bindings) == 1 and isinstance(bindings[0], ast.arg) and self.facts.bindings_of(argument) == bindings:
+            return bindings[0]
+        return None
+
+    def _argument_sources(self, param: ast.arg, _seen: frozenset[int] = frozenset()) -> frozenset[str] | None:
         slot = self.facts.parameter_slot(param)
         if slot is None:
             return None
@@ -202,6 +215,12 @@ class CallerSites(_Facade):
             source = flow.source_of(argument) if isinstance(argument, ast.Name) else None
             if source is None:
                 return None
+            handed = self._handed_parameter(argument, flow) if isinstance(argument, ast.Name) else None
+            if handed is not None and id(handed) not in _seen and handed is not param:
+                upstream = self.argument_sources(handed, _seen | {id(param)})
+                if upstream is not None:
+                    found.update(upstream)
+                    continue
             found.add(f"{here}|{source}")
         owner = classdef if classdef is not None else function
         if self.project is not None and self.facts.parent(owner) is self.facts.tree:
