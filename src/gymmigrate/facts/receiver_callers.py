@@ -209,7 +209,7 @@ class CallerSites(_Facade):
             return None  # a constructor's calls are every construction of its class
         flow = Flow.of(self.facts)
         here = self.project.path if self.project is not None else ""
-        found = set()
+        found: set[str] = set()
         for call in self.call_sites(function, classdef):
             argument = call_argument(call, position, param.arg)
             source = flow.source_of(argument) if isinstance(argument, ast.Name) else None

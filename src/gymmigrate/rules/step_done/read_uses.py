@@ -422,7 +422,7 @@ class DoneReadUses(NextStateReads):
             return f"is returned by `{function.name}`, whose callers drop it or read it only to end their loop"
         return f"is returned by `{function.name}`, whose callers read it only to end their loop"
 
-    def _helper_calls(self, read: ast.Name, function: ast.AST) -> list[ast.Call]:
+    def _helper_calls(self, read: ast.Name, function: ast.FunctionDef | ast.AsyncFunctionDef) -> list[ast.Call]:
         """The calls of the def returning ``read`` that ``_caller_unpacks`` looks at."""
         if self.facts.enclosing_class(read) is not None:
             return list(self._own_method_calls(function))
