@@ -15,6 +15,7 @@ from __future__ import annotations
 import ast
 from typing import TYPE_CHECKING, cast
 
+from gymmigrate.facts.creator_tables import entries, lookup, table_display
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import FUNCTIONS, call_argument, is_super_call
@@ -192,6 +193,23 @@ class CallerSites(_Facade):
             return self._argument_sources(param, _seen)
         return self.facts.memo(("argument-sources", id(param)), lambda: self._argument_sources(param, _seen))
 
+    def _table_calls(self, function: ast.AST, classdef: ast.ClassDef | None) -> list[ast.Call]:
+        """``SEARCHES[name](env)`` where ``SEARCHES`` is a closed table of this module that
+        holds the module-level def ``function``: a call that may reach it, with the same
+        arguments as every other def of the table."""
+        if classdef is not None or self.facts.functions.get(function.name) is not function:  # type: ignore[attr-defined]
+            return []
+        found = []
+        for call in self.facts.lookup_calls:
+            table = lookup(self.facts, cast(ast.Subscript, call.func))
+            if table is None or table[1] is not None or not isinstance(table[0], ast.Name):
+                continue
+            display = table_display(self.facts, table[0])
+            values = entries(display, None) if display is not None else None
+            if values and any(isinstance(v, ast.Name) and self.facts.bindings_of(v) == [function] for v in values):
+                found.append(call)
+        return found
+
     def _handed_parameter(self, argument: ast.Name, flow: Flow) -> ast.arg | None:
         """The parameter ``argument`` reads, where it is its one binding (a def's parameter
         the def never rebinds), else None."""
@@ -210,7 +228,7 @@ class CallerSites(_Facade):
         flow = Flow.of(self.facts)
         here = self.project.path if self.project is not None else ""
         found: set[str] = set()
-        for call in self.call_sites(function, classdef):
+        for call in [*self.call_sites(function, classdef), *self._table_calls(function, classdef)]:
             argument = call_argument(call, position, param.arg)
             source = flow.source_of(argument) if isinstance(argument, ast.Name) else None
             if source is None:
