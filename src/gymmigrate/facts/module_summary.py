@@ -119,6 +119,9 @@ class ModuleSummary:
     # ``x.seed(...)`` / ``x._seed(...)`` on anything but a library module or a space
     # (``summaries.untraced.calls_seed``): a call that may reach an env class's seed().
     calls_seed: bool = False
+    # ``x.reset(return_info=False)`` (or any mode but ``True`` not handed on by a reset):
+    # a caller of a gym 0.22-0.25 reset that may expect the bare observation (GM502).
+    passes_return_info: bool = False
     # qualified names of the run that made the receivers of ``x.render(mode)`` calls no make
     # of the module created (``pkg.make_board``): a def among them leaves the mode in place
     render_makers: frozenset[str] = frozenset()

@@ -52,6 +52,11 @@ class ProjectView(ClassView, FixtureView, HierarchyView, RegistryView, RenderVie
         library module or a space: an env class's seed() may be what it calls."""
         return self.facts.seed_used
 
+    def return_info_passed(self) -> bool:
+        """Some module of the run calls ``x.reset(return_info=...)`` with a mode other than
+        ``True`` (not a reset handing its own flag on): a caller may want the bare observation."""
+        return self.facts.return_info_passed
+
     def configure_called(self) -> bool:
         """Some module of the run calls ``x.configure(...)`` (or ``x._configure``) on other
         than ``self``: an env's renamed gym < 0.9 ``configure`` hook may be what it calls."""

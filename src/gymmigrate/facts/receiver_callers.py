@@ -15,6 +15,7 @@ from __future__ import annotations
 import ast
 from typing import TYPE_CHECKING, cast
 
+from gymmigrate.facts.creator_tables import entries, lookup, table_display
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import FUNCTIONS, call_argument, is_super_call
@@ -180,14 +181,44 @@ class CallerSites(_Facade):
             or self._unwrapped_of(c.func.value, classdef)  # type: ignore[attr-defined]
         ] + instances
 
-    def argument_sources(self, param: ast.arg) -> frozenset[str] | None:
+    def argument_sources(self, param: ast.arg, _seen: frozenset[int] = frozenset()) -> frozenset[str] | None:
         """The variables the calls of the run hand on for ``param`` (``Flow.source_of``, each
         with its module), when every call hands on one; None when a call passes anything else
         or leaves the parameter to its default, or when no call is known. Parameters fed only
-        the same variables hold the same values: what those are is one question."""
-        return self.facts.memo(("argument-sources", id(param)), lambda: self._argument_sources(param))
+        the same variables hold the same values: what those are is one question. A call
+        handing on a parameter of another def of the module (``helper(env)`` in ``search(env)``)
+        passes what that parameter is fed, where its calls are known: the two defs hold one
+        object, and ask one question."""
+        if _seen:
+            return self._argument_sources(param, _seen)
+        return self.facts.memo(("argument-sources", id(param)), lambda: self._argument_sources(param, _seen))
 
-    def _argument_sources(self, param: ast.arg) -> frozenset[str] | None:
+    def _table_calls(self, function: ast.AST, classdef: ast.ClassDef | None) -> list[ast.Call]:
+        """``SEARCHES[name](env)`` where ``SEARCHES`` is a closed table of this module that
+        holds the module-level def ``function``: a call that may reach it, with the same
+        arguments as every other def of the table."""
+        if classdef is not None or self.facts.functions.get(function.name) is not function:  # type: ignore[attr-defined]
+            return []
+        found = []
+        for call in self.facts.lookup_calls:
+            table = lookup(self.facts, cast(ast.Subscript, call.func))
+            if table is None or table[1] is not None or not isinstance(table[0], ast.Name):
+                continue
+            display = table_display(self.facts, table[0])
+            values = entries(display, None) if display is not None else None
+            if values and any(isinstance(v, ast.Name) and self.facts.bindings_of(v) == [function] for v in values):
+                found.append(call)
+        return found
+
+    def _handed_parameter(self, argument: ast.Name, flow: Flow) -> ast.arg | None:
+        """The parameter ``argument`` reads, where it is its one binding (a def's parameter
+        the def never rebinds), else None."""
+        bindings = flow.reaching(argument) or self.facts.bindings_of(argument)
+        if len(bindings) == 1 and isinstance(bindings[0], ast.arg) and self.facts.bindings_of(argument) == bindings:
+            return bindings[0]
+        return None
+
+    def _argument_sources(self, param: ast.arg, _seen: frozenset[int] = frozenset()) -> frozenset[str] | None:
         slot = self.facts.parameter_slot(param)
         if slot is None:
             return None
@@ -196,12 +227,18 @@ class CallerSites(_Facade):
             return None  # a constructor's calls are every construction of its class
         flow = Flow.of(self.facts)
         here = self.project.path if self.project is not None else ""
-        found = set()
-        for call in self.call_sites(function, classdef):
+        found: set[str] = set()
+        for call in [*self.call_sites(function, classdef), *self._table_calls(function, classdef)]:
             argument = call_argument(call, position, param.arg)
             source = flow.source_of(argument) if isinstance(argument, ast.Name) else None
             if source is None:
                 return None
+            handed = self._handed_parameter(argument, flow) if isinstance(argument, ast.Name) else None
+            if handed is not None and id(handed) not in _seen and handed is not param:
+                upstream = self.argument_sources(handed, _seen | {id(param)})
+                if upstream is not None:
+                    found.update(upstream)
+                    continue
             found.add(f"{here}|{source}")
         owner = classdef if classdef is not None else function
         if self.project is not None and self.facts.parent(owner) is self.facts.tree:

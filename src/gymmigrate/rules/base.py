@@ -163,13 +163,25 @@ class RuleFamily:
         """A parameter the def never rebinds, every call of which (in the run) hands on the
         same variables (``Receivers.argument_sources``): whether it is a Gym env is whether
         those are, one question for every def they feed (``evaluate(env)`` and
-        ``evaluate_rtg(env)`` called with one ``env``). None for any other receiver."""
+        ``evaluate_rtg(env)`` called with one ``env``). A parameter whose calls are not all
+        known is its own source: the defs it alone feeds (``helper(env)``) ask its question
+        (``Receivers.argument_sources`` follows them up to it). None for any other receiver."""
         if not isinstance(receiver, ast.Name):
             return None
         bindings = self.facts.bindings_of(receiver)
         if len(bindings) != 1 or not isinstance(bindings[0], ast.arg):
             return None
-        return self.receivers.argument_sources(bindings[0])
+        fed = self.receivers.argument_sources(bindings[0])
+        if fed is not None:
+            return fed
+        source = Flow.of(self.facts).source_of(receiver)
+        here = self.receivers.project.path if self.receivers.project is not None else ""
+        return frozenset({f"{here}|{source}"}) if source is not None else None
+
+    def origin_question(self, receiver: ast.AST) -> frozenset[str] | None:
+        """What a parameter receiver holds, as one question for every def fed the same
+        variables (``_fed_question``); None for any other receiver."""
+        return self._fed_question(receiver)
 
     def _twin_class(self, cls: ast.ClassDef, attribute: str) -> ast.ClassDef:
         """The first class of the module that stores the very same values in

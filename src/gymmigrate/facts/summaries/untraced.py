@@ -30,6 +30,24 @@ def calls_from_outside(facts: ModuleFacts, method: str) -> bool:
     return False
 
 
+def passes_return_info(facts: ModuleFacts) -> bool:
+    """``x.reset(return_info=...)`` choosing a mode (anything but ``True``, or a reset's own
+    ``return_info`` handed on to an inner reset): a caller that may expect the bare
+    observation a gym 0.22-0.25 reset gave without the flag."""
+    for name in ("reset", "_reset"):
+        for call in facts.attribute_calls.get(name, ()):
+            for kw in call.keywords:
+                if kw.arg != "return_info":
+                    continue
+                value = kw.value
+                if isinstance(value, ast.Constant) and value.value is True:
+                    continue
+                if isinstance(value, ast.Name) and value.id == "return_info":
+                    continue
+                return True
+    return False
+
+
 def calls_seed(facts: ModuleFacts) -> bool:
     """``x.seed(...)`` or ``x._seed(...)`` on anything but a library module
     (``np.random.seed``) or a space: a call that may reach an env class's seed()."""

@@ -22,6 +22,7 @@ from gymmigrate.facts.own_api import is_info_pair
 from gymmigrate.facts.own_steps import self_step_gives_five
 from gymmigrate.facts.receiver_classes import is_object
 from gymmigrate.facts.rng_handovers import reads_np_random
+from gymmigrate.facts.summaries.untraced import passes_return_info
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import (
     ClassDecision,
@@ -58,16 +59,23 @@ def decide_reset(decision: ClassDecision) -> None:
         # to decide here either.
         read = _reads_name(function, "return_info", skip=_handed_to_reset(function))
         handed = not read and _reads_name(function, "return_info")
+        # A body that chose between modes: the bare-observation mode is gone, which only a
+        # caller passing a mode (``reset(return_info=False)``) can have relied on. With none
+        # in the run, every caller got the default, and the caller rules migrate those.
+        chosen = read and _return_info_passed(decision)
         decision.report(
             function,
             "GM502",
             "return_info removed: reset() always returns (obs, info) now; check callers that expected a bare observation"
+            if chosen
+            else "return_info removed (no caller in the run passes it; the callers' unpacking is migrated with them): "
+            "reset() always returns (obs, info) now"
             if read
             else "return_info removed (reset() only handed it on to an inner reset(), which returns (obs, info) in "
             "Gymnasium): reset() returns (obs, info) now"
             if handed
             else "return_info removed (reset() never read it): reset() returns (obs, info) now",
-            tier=None if read else Tier.NOTE,
+            tier=None if chosen else Tier.NOTE,
         )
         for ret in untested_returns(function):
             decision.plan.reset_pairs_untested = True
@@ -333,6 +341,13 @@ def _set_once_before(decision: ClassDecision, init: ast.AST, handoff: ast.stmt, 
         isinstance(statement, ast.Assign) and len(statement.targets) == 1 and statement.targets[0] is stores[0]
         for statement in before
     )
+
+
+def _return_info_passed(decision: ClassDecision) -> bool:
+    """Some caller of the run (this module alone when it is run alone) passes a reset a
+    ``return_info`` mode (``summaries.untraced.passes_return_info``)."""
+    project = decision.family.receivers.project
+    return passes_return_info(decision.family.facts) or (project is not None and project.return_info_passed())
 
 
 def _reads_name(function: ast.AST, name: str, skip: frozenset[int] = frozenset()) -> bool:

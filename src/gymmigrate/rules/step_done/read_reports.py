@@ -260,7 +260,9 @@ class DoneReadReports(DoneUntracedReports):
                 FixKind.FLAG,
                 question=question,
             )
-        elif owner is step.assign and (settled := self._only_ends_or_unread(read)) is not None:
+        elif (owner is step.assign or self._returned_in_tuple(read)) and (settled := self._only_ends_or_unread(read)) is not None:
+            # Returned to callers that only end a loop with it (or drop it): whichever binding
+            # reaches the return (``done = True`` before a retry loop too), no caller bootstraps.
             # The code shows what the flag is for: ending a loop, or nothing at all (a note).
             self._report_read(
                 read,
@@ -434,6 +436,11 @@ class DoneReadReports(DoneUntracedReports):
                 FixKind.FLAG,
                 question=question,
             )
+
+    def _returned_in_tuple(self, read: ast.Name) -> bool:
+        """``return obs, reward, done, info``: the flag is one element of a returned tuple."""
+        parent = self.facts.parent(read)
+        return isinstance(parent, ast.Tuple) and isinstance(self.facts.parent(parent), ast.Return)
 
     @staticmethod
     def _flag_alone_in_slot(statement: ast.AST, read: ast.Name) -> bool:

@@ -399,7 +399,15 @@ class DoneReadUses(NextStateReads):
         if not isinstance(function, FUNCTIONS):
             return None
         unpacks = self._caller_unpacks(read)
-        if unpacks is None or not unpacks[1] or not unpacks[0]:
+        if unpacks is None:
+            return None
+        # A call whose result is dropped (``helper(env, a)`` as a statement) reads no flag:
+        # with every other call an unpack that only ends a loop, nothing bootstraps from it.
+        calls = self._helper_calls(read, function)
+        discarded = [call for call in calls if isinstance(self.facts.parent(call), ast.Expr)]
+        if not unpacks[0] and len(unpacks[1]) + len(discarded) != len(calls):
+            return None
+        if not unpacks[1] and not discarded:
             return None
         for unpacked in unpacks[1]:
             uses = self.flow.reads(unpacked.done)
@@ -410,7 +418,15 @@ class DoneReadUses(NextStateReads):
             # no loop exit alone.
             if any(self._bootstrap_choice(use, unpacked, dominated=True) is not None for use in uses):
                 return None
+        if discarded:
+            return f"is returned by `{function.name}`, whose callers drop it or read it only to end their loop"
         return f"is returned by `{function.name}`, whose callers read it only to end their loop"
+
+    def _helper_calls(self, read: ast.Name, function: ast.FunctionDef | ast.AsyncFunctionDef) -> list[ast.Call]:
+        """The calls of the def returning ``read`` that ``_caller_unpacks`` looks at."""
+        if self.facts.enclosing_class(read) is not None:
+            return list(self._own_method_calls(function))
+        return list(self.facts.calls_by_name.get(function.name, []))
 
     def _caller_unpacks(self, read: ast.Name) -> tuple[bool, list[DoneStep]] | None:
         """``return s2, r, done, info`` (in any order) from a def of the file: each call of it
@@ -431,10 +447,7 @@ class DoneReadUses(NextStateReads):
             index = next(i for i, value in enumerate(values.elts) if value is read)
             step = self._step_binding(read)
             observation = self._returned_observation(values, read, step) if step is not None else None
-            if self.facts.enclosing_class(read) is not None:
-                calls = self._own_method_calls(function)
-            else:
-                calls = self.facts.calls_by_name.get(function.name, [])
+            calls = self._helper_calls(read, function)
             every = True
             found: list[DoneStep] = []
             for call in calls:

@@ -380,8 +380,13 @@ class WrapperForwarding(RuleFamily):
                 f"could not tell whether `{text}` is wrapped: if it is, `.{name}` raises AttributeError on Gymnasium "
                 f"1.x; use `.unwrapped.{name}` or `.get_wrapper_attr(\"{name}\")`"
             )
-            # ``self.inner`` and the ``self._inner`` that property returns: one object
-            question = ("GM604", "wrapped", id(owner), self.origins.stored_as(attr.value) or text)
+            # ``self.inner`` and the ``self._inner`` that property returns: one object; a
+            # parameter fed one variable by every call (``search(env)``, ``helper(env)``): one
+            # object for every def it reaches
+            fed = self.origin_question(attr.value)
+            question: Hashable = (
+                ("GM604", "wrapped", "fed", fed) if fed is not None else ("GM604", "wrapped", id(owner), self.origins.stored_as(attr.value) or text)
+            )
             self.report(attr, code, message, kind=FixKind.FLAG, question=question)
             self._asked(attr, question, message)
             return
