@@ -24,7 +24,8 @@ reported at its import: its uses read the imported name.
 
 Only where the name resolves to the numpy module through the file's imports (never a text
 match: a project's own ``np`` object is left alone), in files that use Gym, Gymnasium or an
-RL stack, like every rule. A builtin replacement is written only where the file does not
+RL stack, like every rule. A module that sets the name on numpy itself (a shim) reads what it set:
+left. A builtin replacement is written only where the file does not
 bind that name itself.
 """
 
@@ -33,7 +34,7 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.edits.lazy import cst
-from gymmigrate.facts.module import ModuleFacts
+from gymmigrate.facts.module import ModuleFacts, full_name
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 
@@ -88,8 +89,12 @@ class NumpyRemoved(RuleFamily):
     def decide(self) -> None:
         sites = [node for name in _ALL for node in self.facts.attributes.get(name, ())]
         sites.sort(key=lambda node: (node.lineno, node.col_offset))
-        for node in sites:
-            if isinstance(node.ctx, ast.Load) and self.facts.qualified_names(node) == {f"numpy.{node.attr}"}:
+        on_numpy = [node for node in sites if self.facts.qualified_names(node) == {f"numpy.{node.attr}"}]
+        # a module that sets the name on numpy itself (``np.float = float``, a shim for NumPy
+        # 1.24) reads what it set, whatever that is: its reads do not fail and stay
+        shimmed = {node.attr for node in on_numpy if not isinstance(node.ctx, ast.Load)}
+        for node in on_numpy:
+            if isinstance(node.ctx, ast.Load) and node.attr not in shimmed:
                 self._attribute(node)
         imported = [alias for alias, qualified in self.facts.imports.items() if qualified == f"numpy.{alias.name}" and alias.name in _ALL]
         for alias in sorted(imported, key=lambda alias: (alias.lineno, alias.col_offset)):
@@ -98,9 +103,9 @@ class NumpyRemoved(RuleFamily):
                 self._import_from(statement, alias)
 
     def _attribute(self, node: ast.Attribute) -> None:
-        name = node.attr
+        name, spelled = node.attr, full_name(node) or f"np.{node.attr}"
         if name in _NO_EXACT:
-            self.report(node, "GM914", f"`np.{name}` was removed in NumPy 2, which Gymnasium 1.4 installs: write {_NO_EXACT[name]}", FixKind.FLAG)
+            self.report(node, "GM914", f"`{spelled}` was removed in NumPy 2, which Gymnasium 1.4 installs: write {_NO_EXACT[name]}", FixKind.FLAG)
             return
         if name in _BUILTINS:
             builtin = _BUILTINS[name]
@@ -108,22 +113,22 @@ class NumpyRemoved(RuleFamily):
                 self.report(
                     node,
                     "GM914",
-                    f"`np.{name}` (the builtin `{builtin}`) was removed in NumPy 1.24; this file binds `{builtin}` itself: "
+                    f"`{spelled}` (the builtin `{builtin}`) was removed in NumPy 1.24; this file binds `{builtin}` itself: "
                     f"write the builtin `{builtin}` where the code means it",
                     FixKind.FLAG,
                 )
                 return
             self.plan.replace(node, lambda _node, builtin=builtin: cst.Name(builtin))
-            self.report(node, "GM914", f"`np.{name}` was the builtin `{builtin}` (removed in NumPy 1.24): `{builtin}`")
+            self.report(node, "GM914", f"`{spelled}` was the builtin `{builtin}` (removed in NumPy 1.24): `{builtin}`")
             return
         new = _RENAMED[name]
         if name == "NINF":
             parenthesised = self._binds_tighter_than_minus(node)
             self.plan.replace(node, lambda cst_node, parenthesised=parenthesised: _negated_inf(cst_node, parenthesised))
-            self.report(node, "GM914", "`np.NINF` was removed in NumPy 2: `-np.inf`")
+            self.report(node, "GM914", f"`{spelled}` was removed in NumPy 2: `-{spelled[: -len(name)]}inf`")
             return
         self.plan.replace(node, lambda cst_node, new=new: cst_node.with_changes(attr=cst.Name(new)))
-        self.report(node, "GM914", f"`np.{name}` was removed in NumPy 2: `np.{new}`, the same object")
+        self.report(node, "GM914", f"`{spelled}` was removed in NumPy 2: `{spelled[: -len(name)]}{new}`, the same object")
 
     def _binds_tighter_than_minus(self, node: ast.Attribute) -> bool:
         """``-np.inf`` needs parentheses where its place binds tighter than a unary minus:
