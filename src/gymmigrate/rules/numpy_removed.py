@@ -105,7 +105,13 @@ class NumpyRemoved(RuleFamily):
     def _attribute(self, node: ast.Attribute) -> None:
         name, spelled = node.attr, full_name(node) or f"np.{node.attr}"
         if name in _NO_EXACT:
-            self.report(node, "GM914", f"`{spelled}` was removed in NumPy 2, which Gymnasium 1.4 installs: write {_NO_EXACT[name]}", FixKind.FLAG)
+            self.report(
+                node,
+                "GM914",
+                f"`{spelled}` was removed in NumPy 2, which Gymnasium 1.4 installs: write {_NO_EXACT[name]}",
+                FixKind.FLAG,
+                question=("GM914", name),  # one answer for every use of the name in the file
+            )
             return
         if name in _BUILTINS:
             builtin = _BUILTINS[name]
