@@ -23,6 +23,7 @@ Where a rule lives (families decide in the order of ``PIPELINE`` below):
     GM616                      gym < 0.9 wrapper hooks ......... legacy_hooks.py
     GM902, GM904, GM906-GM908  spaces, logger, errors, utils ... spaces_logger.py
     GM903, GM905, GM909, GM910 space drift (ints, dicts, sizes, ==) spaces/
+    GM914                      NumPy names removed in 1.24/2.0 . numpy_removed.py
     PZ101-PZ112                PettingZoo APIs and env modules . pettingzoo/
     GM109, GM110, SB110        dependency declarations ......... dependency_files.py (carried
                                out by gymmigrate.dependencies, not a family)
@@ -103,6 +104,7 @@ PIPELINE = (
         "gymmigrate.rules.spaces.drift",
         ("isinstance", "type(", "json", "==", "space.shape", "Box", "Discrete", "MultiBinary", "MultiDiscrete", "Space", "Tuple", "Dict", "Text", "Graph", "Sequence", "OneOf"),
     ),
+    FamilySpec("NumpyRemoved", "gymmigrate.rules.numpy_removed", ("numpy",)),
     FamilySpec("EnvModules", "gymmigrate.rules.pettingzoo.env_modules", ("pettingzoo",)),
     FamilySpec("SpacesAndMake", "gymmigrate.rules.pettingzoo.spaces_make", _PZ, follows_the_run=True),
 )
