@@ -188,8 +188,9 @@ class SeedCalls(ResetSeedBase):
             # the env's class is the project's own or unknown: its reset may reconnect, play or
             # count, so the extra episode may shift every later one
             fix = (
-                f"pass the seed to the reset of line {later[1].lineno} (`{name}.reset(seed=s)`) if the statements "
-                f"in between do not need the seeding, and delete this line"
+                f"pass the seed to the reset of line {later[1].lineno} (`{name}.reset(seed=s)`)"
+                + (" if the statements in between do not need the seeding" if self._between(statement, later[1]) else "")
+                + ", and delete this line"
                 if later[1] is not None
                 else f"delete this line and pass the seed to the first reset only (`{name}.reset(seed=s if first else None)`)"
             )
@@ -246,6 +247,11 @@ class SeedCalls(ResetSeedBase):
                     if any(resets(function) for function in functions.get(node.func.id, ())):
                         return True, None
         return False, None
+
+    def _between(self, statement: ast.stmt, later: ast.stmt) -> bool:
+        """Statements of the block stand between ``statement`` and ``later``."""
+        found = self._place_in_block(statement)
+        return found is not None and later in found[0] and found[0].index(later) > found[1] + 1
 
     def _made_from_gym_id(self, receiver: ast.expr) -> bool:
         """Every env ``receiver`` may be is ``gym.make`` of a literal id Gym (or a package
