@@ -161,12 +161,23 @@ def decide_seed(decision: ClassDecision) -> None:
     unseeded_call = any(facts.enclosing_function(call) is not seed_method and not _passes_a_seed(call) for call in calls)
     builds_state = unseeded_call and bool(_state_only_seed_builds([s for i in moved for s in groups[i]], init))
     needed = (setup or moved) and _needs_the_method(groups, moved, setup, seed_names)
-    if (needed or builds_state) and not _calls_removed_helpers(seed_method):
+    # ``self.seed(seed)`` in __init__ with extra seeding (``np.random.seed(seed)``): the
+    # constructor's seed made every later draw of that generator reproducible. Moved under
+    # reset()'s ``if seed is not None:`` it would run only on a seeded reset, which a caller
+    # that seeds through the constructor never makes: the constructor keeps calling it.
+    seeded_construction = bool(moved) and any(
+        init is not None and facts.enclosing_function(call) is init and _passes_a_seed(call) for call in calls
+    )
+    if (needed or builds_state or seeded_construction) and not _calls_removed_helpers(seed_method):
         why = (
             "besides seeding np_random it builds state from the seeded generator or from its own locals, which cannot be split up"
             if needed
             else "the class calls it without a seed, which builds the generators its later draws need (under reset()'s "
             "`if seed is not None:` that would never run)"
+            if builds_state
+            else "__init__ calls it with the constructor's seed, and what it seeds besides np_random (a global "
+            "generator, an object the env holds) must stay seeded there: under reset()'s `if seed is not None:` "
+            "alone, a run seeded through the constructor would no longer reproduce"
         )
         _keep_as_helper(decision, seed_method, why)
         return

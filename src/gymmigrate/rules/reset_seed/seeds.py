@@ -182,17 +182,23 @@ class SeedCalls(ResetSeedBase):
         )
         if (
             decision.action is Action.REWRITE
-            and self._reset_later(statement, receiver)
+            and (later := self._reset_later(statement, receiver))[0]
             and not self._made_from_gym_id(receiver)
         ):
             # the env's class is the project's own or unknown: its reset may reconnect, play or
             # count, so the extra episode may shift every later one
+            fix = (
+                f"pass the seed to the reset of line {later[1].lineno} (`{name}.reset(seed=s)`)"
+                + (" if the statements in between do not need the seeding" if self._between(statement, later[1]) else "")
+                + ", and delete this line"
+                if later[1] is not None
+                else f"delete this line and pass the seed to the first reset only (`{name}.reset(seed=s if first else None)`)"
+            )
             self.report(
                 call,
                 code,
                 f"{said}. The env's reset may have side effects (its class is not a Gym-registered env): if the "
-                f"extra episode matters, delete this line and pass the seed to the first reset only "
-                f"(`{name}.reset(seed=s if first else None)`)",
+                f"extra episode matters, {fix}",
                 FixKind.ASSIST,
                 question=self.receiver_question(receiver, decision),
             )
@@ -206,14 +212,17 @@ class SeedCalls(ResetSeedBase):
             question=self.receiver_question(receiver, decision),
         )
 
-    def _reset_later(self, statement: ast.Expr, receiver: ast.expr) -> bool:
+    def _reset_later(self, statement: ast.Expr, receiver: ast.expr) -> tuple[bool, ast.stmt | None]:
         """A compound statement after ``statement`` in its block (a loop, a branch) resets the
         env, or a later statement calls a function of this module that resets it by that name:
         the reset in the seed's place adds an episode before the program's own first one, on a
-        path no merge follows."""
+        path no merge follows. So does a plain statement of the same block that resets it, which
+        the merge did not reach (a statement in between blocked it: ``env.seed(i)``, an
+        attribute set, then the loop's ``obs = env.reset()``): every pass then runs two resets.
+        ``(found, that plain statement or None)``."""
         found = self._place_in_block(statement)
         if found is None:
-            return False
+            return False, None
         block, position = found
         wanted = segment(self.facts, receiver)
 
@@ -228,13 +237,21 @@ class SeedCalls(ResetSeedBase):
 
         functions = self.facts.memo(("seed-local-functions", 0), lambda: _functions_by_name(self.facts.tree))
         for later in block[position + 1 :]:
+            # a plain statement's reset runs with it, unless a lambda only holds it
             if isinstance(later, COMPOUND_STATEMENTS) and resets(later):
-                return True
+                return True, None
+            if resets(later) and not any(isinstance(node, ast.Lambda) for node in walk(later)):
+                return True, later
             for node in walk(later):
                 if isinstance(node, ast.Call) and isinstance(node.func, ast.Name):
                     if any(resets(function) for function in functions.get(node.func.id, ())):
-                        return True
-        return False
+                        return True, None
+        return False, None
+
+    def _between(self, statement: ast.stmt, later: ast.stmt) -> bool:
+        """Statements of the block stand between ``statement`` and ``later``."""
+        found = self._place_in_block(statement)
+        return found is not None and later in found[0] and found[0].index(later) > found[1] + 1
 
     def _made_from_gym_id(self, receiver: ast.expr) -> bool:
         """Every env ``receiver`` may be is ``gym.make`` of a literal id Gym (or a package

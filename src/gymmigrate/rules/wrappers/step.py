@@ -657,7 +657,7 @@ class StepOverrides(RuleFamily):
                 and done_name is not None
                 and done.id == done_name
                 and not per_agent
-                and (task_ends := _task_end_sets(self.facts, lines, done_name, done_line, unpacks))
+                and (task_ends := _task_end_sets(self.facts, lines, done_name, done_line, unpacks, classdef))
             ):
                 # ``done = done or info["is_success"]``: the wrapper's own condition is the task
                 # ending (success, a goal, a crash), which Gymnasium calls terminated, on the

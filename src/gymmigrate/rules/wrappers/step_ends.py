@@ -24,10 +24,11 @@ from gymmigrate.facts.limit_tests import (
     if_setting_true,
     is_self,
     own_task_end,
+    streak_attributes,
     unwrap_bool,
 )
 from gymmigrate.facts.limits import DoneTracer
-from gymmigrate.facts.module import FUNCTIONS, own_returns, walk
+from gymmigrate.facts.module import FUNCTIONS, own_returns, self_attribute, walk
 from gymmigrate.facts.names import strip_gym_prefix
 from gymmigrate.facts.per_agent_flags import true_list
 from gymmigrate.rules.custom_env.step import is_step_limit
@@ -166,10 +167,13 @@ def limit_tests(facts: ModuleFacts, classdef: ast.ClassDef | None, overridden: C
     """A test of a step limit in a method of ``classdef``: one that names a step counter
     (``is_step_limit``), or ``self.<m>()`` where ``m`` is a method of the class (or a base of
     this module) every return of which is such a test, overridden nowhere else in the run
-    (``overridden``)."""
+    (``overridden``). A counter the class starts over on a condition of the step (a run of
+    consecutive steps, ``streak_attributes``) is no step limit: reaching its bound is
+    something the task did, a termination."""
+    streaks = streak_attributes(facts, classdef) if classdef is not None else frozenset()
 
     def test(expr: ast.AST) -> bool:
-        if is_step_limit(expr):
+        if is_step_limit(expr, (), streaks):
             return True
         name = _own_call(expr)
         if classdef is None or name is None:
@@ -279,14 +283,21 @@ _TASK_END_WORDS = re.compile(
 )
 
 
-def _own_task_end(line: ast.stmt, name: str, parent: ast.AST | None) -> bool:
+def _own_task_end(line: ast.stmt, name: str, parent: ast.AST | None, streaks: frozenset[str] = frozenset()) -> bool:
     """``done = done or <task end>`` (the flag anywhere in the ``or``), or ``done = True`` in
     an ``if`` that tests a task end and whose other branch leaves ``done`` as it was: an end
     of the task an env class's step would return as terminated too (``own_task_end``: no
     step limit among its tests). A wrapper is not the task's author, so each test must also
-    show the end: a task's own word (success, a goal, a crash) or the lives."""
-    tests = own_task_end(line, name, parent)
-    return tests is not None and all(_names_task_end(test) or _tests_lives(test) for test in tests)
+    show the end: a task's own word (success, a goal, a crash), the lives, or the bound of a
+    count the step starts over on a condition of its own (``streaks``: consecutive misses,
+    a goal held), which only what the agent did reaches."""
+    tests = own_task_end(line, name, parent, (), streaks)
+    return tests is not None and all(_names_task_end(test) or _tests_lives(test) or _tests_streak(test, streaks) for test in tests)
+
+
+def _tests_streak(expr: ast.AST, streaks: frozenset[str]) -> bool:
+    """A comparison of one of ``streaks`` (``self.missed > self.max_missed``)."""
+    return isinstance(expr, ast.Compare) and any(self_attribute(node) in streaks for node in walk(expr))
 
 
 def _names_task_end(expr: ast.AST) -> bool:
@@ -357,13 +368,19 @@ def _life_loss_sets(
 
 
 def _task_end_sets(
-    facts: ModuleFacts, lines: list[ast.stmt], name: str, done_line: ast.stmt | None, unpacks: dict[ast.stmt, StepUnpack | None]
+    facts: ModuleFacts,
+    lines: list[ast.stmt],
+    name: str,
+    done_line: ast.stmt | None,
+    unpacks: dict[ast.stmt, StepUnpack | None],
+    classdef: ast.AST | None = None,
 ) -> list[ast.Assign]:
     """The changes of ``name`` after the inner step, when every one ends the episode on the
     task's own end (``done = done or info.get("is_success")``, ``if reached_goal: done =
     True``, a test of the lives among them); else nothing."""
     changes = _done_changes(lines, name, done_line, unpacks)
-    if changes and all(_own_task_end(line, name, facts.parent(line)) for line in changes):
+    streaks = streak_attributes(facts, classdef) if isinstance(classdef, ast.ClassDef) else frozenset()
+    if changes and all(_own_task_end(line, name, facts.parent(line), streaks) for line in changes):
         return changes  # type: ignore[return-value]
     return []
 
