@@ -22,7 +22,12 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.module import ModuleFacts, call_argument, self_attribute, string_value
+from gymmigrate.facts.module import (
+    ModuleFacts,
+    call_argument,
+    self_attribute,
+    string_value,
+)
 from gymmigrate.facts.self_attributes import self_stores
 from gymmigrate.facts.space_setters import SPACES, local_unset_spaces, registered_here
 from gymmigrate.facts.summaries.defs import named_ids
@@ -163,7 +168,7 @@ def _is_display(facts: ModuleFacts, value: ast.expr) -> bool:
     if isinstance(value, ast.BinOp) and isinstance(value.op, ast.Mult):
         return isinstance(value.left, (ast.List, ast.Tuple)) or isinstance(value.right, (ast.List, ast.Tuple))  # ``[space] * n``
     if isinstance(value, ast.Name):
-        bound = facts.assigned_values(value)
+        bound = facts.assigned_values(value) or []
         return bool(bound) and all(isinstance(v, (ast.List, ast.Tuple, ast.ListComp)) for v in bound)
     return False
 
