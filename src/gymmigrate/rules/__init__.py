@@ -12,7 +12,7 @@ Where a rule lives (families decide in the order of ``PIPELINE`` below):
     GM401-GM403, GM406, GM407  rendering at call sites ......... rendering/
     GM701, GM702, GM705-GM708  vector envs ..................... vector/
     GM404, GM405, GM501-GM509  custom Env subclasses ........... custom_env/
-    GM511                      spaces an env never sets ........ custom_env/spaces.py
+    GM511                      spaces unset or lists ........... custom_env/spaces.py
     GM505, GM506, GM901        np_random Generator API ......... rng.py
     GM510                      stdlib random in env methods .... stdlib_random.py
     GM201-GM208, GM704         reset and seeding at call sites . reset_seed/

@@ -35,9 +35,10 @@ CLASS_RULES = (
     Rule("GM509", "float64 observations", FixKind.FLAG, "`np.array(...)` observations for a float32 `Box` are reported."),
     Rule(
         "GM511",
-        "spaces never set",
+        "spaces unset or lists",
         FixKind.FLAG,
-        "An env class an entry point makes that never sets `action_space` or `observation_space` is reported (make's env checker raises).",
+        "An env class an entry point makes that never sets `action_space` or `observation_space`, or any env class that sets one "
+        "to a plain list of spaces, is reported (make's env checker raises).",
     ),
 )
 

@@ -1,4 +1,5 @@
-"""GM511: an env class that ``gymnasium.make`` builds but that never sets a space (report only).
+"""GM511: an env class that ``gymnasium.make`` builds but that never sets a space, or whose
+space is a plain list or tuple of spaces (report only).
 
 gym 0.21's ``Env`` gave every env ``action_space = None`` and ``observation_space = None``;
 Gymnasium's only annotates them, and the env checker ``make`` puts around every env raises
@@ -6,6 +7,12 @@ Gymnasium's only annotates them, and the env checker ``make`` puts around every 
 built. Asked once at the class, where an entry point of the run makes it (the class itself or
 a registered def that constructs it) and neither the class nor a base sets the space by the
 end of its construction (``facts/space_setters.py``).
+
+A space stored as a list or tuple display (``self.action_space = [spaces.Discrete(5) for _ in
+agents]``, a multi-agent env written before PettingZoo) is no ``Space``: gym <= 0.23 never looked,
+while Gymnasium's checker raises ``TypeError: action space does not inherit from
+gymnasium.spaces.Space`` and wrappers read ``.shape`` or ``.sample()`` from it. Asked once at the
+class wherever it is built, since a list is never a space whatever it holds.
 
 Source: Gymnasium 1.4 ``wrappers/common.py`` (``PassiveEnvChecker.__init__``), ``core.py``.
 """
@@ -15,11 +22,21 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.module import ModuleFacts, call_argument, string_value
+from gymmigrate.facts.module import (
+    ModuleFacts,
+    call_argument,
+    self_attribute,
+    string_value,
+)
+from gymmigrate.facts.self_attributes import self_stores
 from gymmigrate.facts.space_setters import SPACES, local_unset_spaces, registered_here
 from gymmigrate.facts.summaries.defs import named_ids
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import ClassDecision
+from gymmigrate.rules.spaces.values import SpaceValues
+
+# What a list has and a Tuple space has not: each changes the list in place.
+_LIST_MUTATORS = ("append", "extend", "insert", "remove", "pop", "clear", "sort", "reverse")
 
 
 def decide_unset_spaces(decision: ClassDecision) -> None:
@@ -93,3 +110,80 @@ def _made_by_nothing_here(facts: ModuleFacts, name: str) -> bool:
             continue
         ids.append(literal)
     return others and bool(ids) and None not in ids and not (set(ids) & named)
+
+
+def decide_list_spaces(decision: ClassDecision) -> None:
+    """An env class whose ``action_space``/``observation_space`` is a list or tuple display."""
+    classdef = decision.classdef
+    family = decision.family
+    facts, receivers = family.facts, family.receivers
+    if not family.context.profile.imports_gym or receivers.class_kind(classdef) is not EnvKind.GYM_ENV:
+        return  # code written for Gymnasium met the checker already
+    found: list[tuple[str, ast.expr]] = []
+    for space in SPACES:
+        displays = _list_displays(facts, SpaceValues(facts, receivers), classdef, space)
+        if displays:
+            found.append((space, displays[0]))
+    if not found:
+        return
+    named = " and ".join(f"`{space}` (line {value.lineno})" for space, value in found)
+    first = found[0][0].split("_")[0]
+    message = (
+        f"`{classdef.name}` sets {named} to a plain list (or tuple) of spaces, which is no Space: the env checker `gymnasium.make` puts "
+        f'around it raises TypeError ("{first} space does not inherit from gymnasium.spaces.Space"), and wrappers that read '
+        "`.shape` or `.sample()` fail; where the list is fixed make it `spaces.Tuple([...])` (indexing and `len()` still work), "
+        "or keep the list and make the env with `disable_env_checker=True` (or build it directly, never through make)"
+    )
+    mutated = _mutations(facts, classdef, {space for space, _ in found})
+    if mutated:
+        message += (
+            f"; {', '.join(mutated)} change{'s' if len(mutated) == 1 else ''} it in place, which a Tuple space cannot do: "
+            "assign a new Tuple there, or keep the list"
+        )
+    decision.report(classdef, "GM511", message, FixKind.FLAG)
+
+
+def _list_displays(facts: ModuleFacts, spaces: SpaceValues, classdef: ast.ClassDef, space: str) -> list[ast.expr]:
+    """The list or tuple displays the class stores as ``space`` (in a method as ``self.<space>``,
+    or in its body), where no store of it is a space: ``self.action_space = []`` that a loop
+    fills and a later ``spaces.Tuple(self.action_space)`` replaces is a builder, not the space.
+    Empty where a store is one the class cannot show (``self.action_space += ...``)."""
+    stored = self_stores(facts, classdef, space)
+    if stored is None:
+        return []
+    values = list(stored)
+    for statement in classdef.body:
+        if isinstance(statement, ast.Assign) and any(isinstance(t, ast.Name) and t.id == space for t in statement.targets):
+            values.append(statement.value)
+    displays = [value for value in values if _is_display(facts, value)]
+    if not displays or any(spaces.space_class(value) is not None for value in values):
+        return []
+    return displays
+
+
+def _is_display(facts: ModuleFacts, value: ast.expr) -> bool:
+    """A list or tuple built in place, or a name every binding of which is one."""
+    if isinstance(value, (ast.List, ast.Tuple, ast.ListComp)):
+        return True
+    if isinstance(value, ast.BinOp) and isinstance(value.op, ast.Mult):
+        return isinstance(value.left, (ast.List, ast.Tuple)) or isinstance(value.right, (ast.List, ast.Tuple))  # ``[space] * n``
+    if isinstance(value, ast.Name):
+        bound = facts.assigned_values(value) or []
+        return bool(bound) and all(isinstance(v, (ast.List, ast.Tuple, ast.ListComp)) for v in bound)
+    return False
+
+
+def _mutations(facts: ModuleFacts, classdef: ast.ClassDef, names: set[str]) -> list[str]:
+    """``self.<space>.append(...)`` and the like in the class: the lines that change the list."""
+    found = []
+    for mutator in _LIST_MUTATORS:
+        for call in facts.attribute_calls.get(mutator, ()):
+            held = call.func.value if isinstance(call.func, ast.Attribute) else None
+            if (
+                isinstance(held, ast.Attribute)
+                and held.attr in names
+                and self_attribute(held) is not None
+                and facts.enclosing_class(call) is classdef
+            ):
+                found.append((call.lineno, f"`self.{held.attr}.{mutator}()` (line {call.lineno})"))
+    return [text for _, text in sorted(found)]
