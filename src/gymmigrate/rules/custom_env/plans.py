@@ -82,6 +82,9 @@ class ClassPlan:
     # objects of the project's own (as written: ``self._engine``) whose render(mode) render()
     # keeps handing the mode to, as self.render_mode
     render_mode_receivers: set[str] = field(default_factory=set)
+    # the modes the ported render draws, declared as ``metadata = {"render_modes": [...]}``:
+    # gymnasium.make's env checker asserts render_mode is None where none are declared
+    declare_render_modes: tuple[str, ...] = ()
     info_helper: bool = False  # reset returns self._get_info() (it takes no arguments)
     local_env_base: bool = False  # __init__ comes from a base (of the module, or a library): none is added
     unpack_self_reset: bool = False

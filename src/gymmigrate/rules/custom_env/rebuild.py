@@ -10,6 +10,7 @@ rewrites its methods in the order the rules depend on each other (``seed`` folds
 
 from __future__ import annotations
 
+import json
 from collections.abc import Callable, Sequence
 
 import libcst as cst
@@ -108,6 +109,8 @@ class ClassRewrite:
         if self.plan.unpack_self_reset:
             self._unpack_self_reset()
         rebuilt = self._rebuild()
+        if self.plan.declare_render_modes:
+            rebuilt = _declare_render_modes(rebuilt, self.plan.declare_render_modes)
         if self.plan.reset_alias is not None:
             rebuilt = _replace_reset_alias(rebuilt, *self.plan.reset_alias)
         return rebuilt
@@ -553,6 +556,21 @@ def _unpack_super_reset(fn: cst.FunctionDef, bases: frozenset[str]) -> tuple[cst
             return updated_node.with_changes(targets=[updated_node.targets[0].with_changes(target=target)])
 
     return fn.with_changes(body=fn.body.visit(Unpack())), name
+
+
+def _declare_render_modes(classdef: cst.ClassDef, modes: tuple[str, ...]) -> cst.ClassDef:
+    listed = ", ".join(json.dumps(mode) for mode in modes)
+    statement = cst.parse_statement(f'metadata = {{"render_modes": [{listed}]}}\n')
+    body = _insert_at_top(classdef.body, [statement])
+    if isinstance(body, cst.IndentedBlock):
+        # the method that now follows it keeps a blank line above it
+        statements = list(body.body)
+        at = statements.index(statement) + 1
+        following = statements[at] if at < len(statements) else None
+        if isinstance(following, cst.FunctionDef) and not following.leading_lines:
+            statements[at] = following.with_changes(leading_lines=[cst.EmptyLine(indent=False)])
+        body = body.with_changes(body=statements)
+    return classdef.with_changes(body=body)
 
 
 def rewrite_class(plan: ClassPlan) -> Callable[[cst.ClassDef], cst.ClassDef]:

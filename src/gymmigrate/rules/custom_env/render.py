@@ -20,13 +20,24 @@ from gymmigrate.edits.arguments import append_keyword
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import names as N
 from gymmigrate.facts.creation import CreationFinder
-from gymmigrate.facts.env_classes import is_super_method_call, mode_can_stay_optional
+from gymmigrate.facts.env_classes import (
+    DIRECT_ENV_BASES,
+    is_super_method_call,
+    mode_can_stay_optional,
+)
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import is_super_call, walk
 from gymmigrate.facts.multi_agent import MultiAgent
+from gymmigrate.facts.receiver_classes import is_object
 from gymmigrate.facts.render_modes import own_object, own_object_render, passes_mode
 from gymmigrate.findings import FixKind, Tier, kept_render_question
-from gymmigrate.rules.custom_env.common import ClassDecision, method_of, param_names
+from gymmigrate.rules.custom_env.common import (
+    ClassDecision,
+    Method,
+    local_bases,
+    method_of,
+    param_names,
+)
 from gymmigrate.rules.custom_env.hooks import local_subclasses
 from gymmigrate.rules.wrapper_usage.origins import EnvOrigins
 
@@ -129,6 +140,7 @@ def decide_render(decision: ClassDecision) -> None:
         # Those callers keep working, and so does Gymnasium's render() without arguments.
         decision.plan.render = True
         decision.plan.render_keeps_mode = True
+        _declare_render_modes(decision, function, default)
         decision.report(
             function,
             "GM405",
@@ -157,12 +169,105 @@ def decide_render(decision: ClassDecision) -> None:
         return
     decision.plan.render = True
     _plan_internal_renders(decision, function, default)
+    _declare_render_modes(decision, function, default)
     _report_forwarded_modes(decision, function)
     _report_bare_inner_renders(decision, function)
     # Notes: the standard Gymnasium signature, applied; the render calls and creation
     # sites in the run are reviewed where they are (GM401/GM402), not here.
     decision.report(function, "GM405", f"render() takes no mode: it reads self.render_mode, fixed when the env is made, and draws nothing when that is None{old_default}", tier=Tier.NOTE)
     _add_init_render_mode(decision)
+
+
+def _declare_render_modes(decision: ClassDecision, function: Method, default: ast.expr | None) -> None:
+    """Gymnasium's env checker (on by default in gymnasium.make) asserts that an env whose
+    ``metadata["render_modes"]`` is empty (``Env``'s own) has ``render_mode`` None: the ported
+    render, given its mode by make, would fail on its first call. A class whose hierarchy (this
+    module's classes up to ``gym.Env``) declares no ``metadata`` gets one listing the modes its
+    render drew: its old default and the modes its body tests ``mode`` against. Where those
+    are unknown, or a ``metadata`` exists without the key, the place is reported. A hierarchy
+    that leaves this module (another class of the run, one of Gymnasium's envs) is not known,
+    and a local base with its own render(mode) declares them in its own migration."""
+    hierarchy = [decision.classdef, *local_bases(decision)]
+    env = decision.env
+    if not all(_local_or_env_bases(decision, c) for c in hierarchy):
+        return
+    if any("render" in env.index(base).methods for base in hierarchy[1:]):
+        return  # the base's own render is migrated (and declares its modes) or drew already
+    declared = [c for c in hierarchy if _class_metadata(c) is not None or env.index(c).stores_to_self("metadata")]
+    if declared:
+        metadata = _class_metadata(declared[0])
+        if not isinstance(metadata, ast.Dict) or any(
+            isinstance(k, ast.Constant) and k.value in ("render_modes", "render.modes") for k in metadata.keys
+        ):
+            return  # declared, or built in a way this run does not read: as before
+        decision.report(
+            declared[0],
+            "GM405",
+            "render() now reads self.render_mode, but this `metadata` declares no \"render_modes\": gymnasium.make's env "
+            "checker then asserts render_mode is None, so the first render() of an env made with one fails; list the "
+            "modes render() draws there",
+            FixKind.FLAG,
+        )
+        return
+    modes = _legacy_modes(function, default)
+    if not modes:
+        decision.report(
+            decision.classdef,
+            "GM405",
+            "render() now reads self.render_mode, but the class declares no metadata[\"render_modes\"] and its old "
+            "render names no mode (no default, no test of `mode`): gymnasium.make's env checker then asserts "
+            "render_mode is None; add `metadata = {\"render_modes\": [...]}` with the modes it draws",
+            FixKind.FLAG,
+        )
+        return
+    decision.plan.declare_render_modes = modes
+    listed = ", ".join(f'"{mode}"' for mode in modes)
+    decision.report(
+        decision.classdef,
+        "GM405",
+        f"metadata = {{\"render_modes\": [{listed}]}} added (the modes the old render drew: its default and the modes it "
+        "tests): gymnasium.make's env checker asserts render_mode is None for an env that declares none",
+        tier=Tier.NOTE,
+    )
+
+
+def _local_or_env_bases(decision: ClassDecision, classdef: ast.ClassDef) -> bool:
+    receivers = decision.family.receivers
+    return all(
+        is_object(base)
+        or receivers.local_class(base) is not None
+        or any(N.strip_gym_prefix(q) in DIRECT_ENV_BASES for q in decision.family.facts.qualified_names(base))
+        for base in classdef.bases
+    ) and not classdef.keywords
+
+
+def _class_metadata(classdef: ast.ClassDef) -> ast.expr | None:
+    """The value of a class-level ``metadata = ...`` (or annotated), else None."""
+    for statement in classdef.body:
+        if isinstance(statement, ast.Assign) and any(isinstance(t, ast.Name) and t.id == "metadata" for t in statement.targets):
+            return statement.value
+        if isinstance(statement, ast.AnnAssign) and isinstance(statement.target, ast.Name) and statement.target.id == "metadata":
+            return statement.value or ast.Constant(None)
+    return None
+
+
+def _legacy_modes(function: Method, default: ast.expr | None) -> tuple[str, ...]:
+    """The old default mode, then each string the body compares ``mode`` with (``==``, ``!=``,
+    ``in``, ``not in`` a literal tuple/list/set), in order of appearance."""
+    modes: list[str] = []
+    if isinstance(default, ast.Constant) and isinstance(default.value, str):
+        modes.append(default.value)
+    for node in walk(function):
+        if not isinstance(node, ast.Compare) or len(node.ops) != 1:
+            continue
+        left, right = node.left, node.comparators[0]
+        if isinstance(right, ast.Name) and right.id == "mode":
+            left, right = right, left
+        if not (isinstance(left, ast.Name) and left.id == "mode"):
+            continue
+        values = right.elts if isinstance(right, (ast.Tuple, ast.List, ast.Set)) else [right]
+        modes.extend(v.value for v in values if isinstance(v, ast.Constant) and isinstance(v.value, str))
+    return tuple(dict.fromkeys(modes))
 
 
 def _keeps_mode_already(function: ast.FunctionDef | ast.AsyncFunctionDef, default: ast.AST | None) -> bool:
