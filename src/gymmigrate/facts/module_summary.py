@@ -312,6 +312,9 @@ class ModuleSummary:
     # not migrate), and Gym wrappers of the project's own protocol (a step returning its own
     # record): the callers of their instances keep that contract, reset included.
     legacy_steps: frozenset[str] = frozenset()
+    # Top-level classes whose reset (their own, or a base's of this module) the run keeps
+    # as it was (``Receivers.reset_kept``): it takes no seed/options after the run.
+    kept_resets: frozenset[str] = frozenset()
     # Top-level Gym wrapper classes every construction here puts around, and factories that
     # return on every path, an instance of one imported name (the import as written): they
     # keep that name's contract when the run keeps it (``project_contracts.legacy_steps``).

@@ -78,6 +78,7 @@ from gymmigrate.facts.project_contracts import (
     class_definer,
     class_methods,
     forwarding_wrappers,
+    kept_resets,
     legacy_seeds,
     legacy_steps,
     modeless_renders,
@@ -310,6 +311,10 @@ class ProjectFacts:
     # (path, top-level name) of a class (or a re-export of one) whose step keeps the legacy
     # four-field contract after the run.
     legacy_steps: frozenset[tuple[str, str]] = frozenset()
+    # (path, top-level name) of a class (or a re-export of one) whose reset, its own or a
+    # base's of its module, the run keeps as it was, without seed/options: a subclass's
+    # ``super().reset()`` passes it none.
+    kept_resets: frozenset[tuple[str, str]] = frozenset()
     # (path, name) of an env class (or a re-export of one) whose render(mode) hands its mode
     # to an object of the project's own and that no render call of the run passes a mode to
     # nor a registration makes ``make`` reach (``project_contracts.own_renders``): it keeps
@@ -596,6 +601,7 @@ class ProjectFacts:
         # before the parameters: an argument made by such a class keeps the def's calls on its contract
         facts.forwarding_wrappers = forwarding_wrappers(facts, by_path)
         facts.legacy_steps = legacy_steps(facts, by_path)
+        facts.kept_resets = kept_resets(facts, by_path)
         join_thunk_factory_refs(facts, by_path)  # after legacy_steps: a class kept on the old step is no Gym env to them
         facts.seed_owners, facts.seed_chains = legacy_seeds(facts, by_path)
         params = ParamJoin(facts, by_path, calls_to)

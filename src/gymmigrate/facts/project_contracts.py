@@ -318,6 +318,13 @@ def legacy_steps(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> froz
     return _through_makers(facts, by_path, kept, ("step",), facts.forwarding_wrappers)
 
 
+def kept_resets(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> frozenset[tuple[str, str]]:
+    """Every (path, name) of the run whose instances' reset the run keeps as it was
+    (``ModuleSummary.kept_resets``), with the names that re-export one."""
+    kept = {(path, name) for path, summary in by_path.items() if path not in facts.blocked for name in summary.kept_resets}
+    return frozenset(_kept_names(facts, by_path, Exports(facts, by_path), kept, ("reset",)))
+
+
 def own_renders(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> frozenset[tuple[str, str]]:
     """The env classes whose render(mode) only hands its mode on to objects of the project's
     own (``ModuleSummary.own_renders``, each object's class checked here to be a class of the

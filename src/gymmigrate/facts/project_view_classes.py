@@ -143,6 +143,12 @@ class ClassView:
         split = self.facts._split(qualified, self.path)
         return split is not None and split in self.facts.legacy_steps
 
+    def keeps_reset(self, qualified: str) -> bool:
+        """An imported name of the run makes instances whose reset the run keeps as it was,
+        without seed/options (``ProjectFacts.kept_resets``)."""
+        split = self.facts._split(qualified, self.path)
+        return split is not None and split in self.facts.kept_resets
+
     def forwards_inner_contract(self, qualified: str) -> bool:
         """An imported Gym wrapper class of the run whose step and reset hand on the wrapped
         env's results unchanged (``ProjectFacts.forwarding_wrappers``)."""

@@ -285,6 +285,44 @@ class MadeObjects(ForeignObjects, GymOnlyStacks):
                 return True
         return False
 
+    def reset_kept(self, classdef: ast.ClassDef) -> bool:
+        """The reset ``classdef``'s instances run stays as it was after the run
+        (``keeps_own_reset``): its own, or the one the nearest base of this module (or of the
+        run) that has one defines. Such a reset takes no ``seed``/``options``."""
+        if any(isinstance(s, FUNCTIONS) and s.name == "reset" for s in classdef.body):
+            return self.keeps_own_reset(classdef)
+        return self.inherited_reset_kept(classdef)
+
+    def inherited_reset_kept(self, classdef: ast.ClassDef) -> bool:
+        """The reset ``super().reset()`` reaches from ``classdef`` (its bases', in order) stays
+        as it was after the run, without ``seed``/``options``: a helper of the project's own
+        API the run keeps. False where no base of the run has a reset (Gymnasium's Env.reset
+        takes the seed) or the first one that has migrates."""
+        return self._base_reset_kept(classdef, frozenset({id(classdef)})) is True
+
+    def _base_reset_kept(self, classdef: ast.ClassDef, seen: frozenset[int]) -> bool | None:
+        """Whether the first reset of the run among ``classdef``'s bases stays as it was;
+        None where none of them (nor their bases) has one."""
+        for base in classdef.bases:
+            local = self.local_class(base)
+            if local is not None:
+                if id(local) in seen:
+                    continue
+                if any(isinstance(s, FUNCTIONS) and s.name == "reset" for s in local.body):
+                    return self.keeps_own_reset(local)
+                found = self._base_reset_kept(local, seen | {id(local)})
+                if found is not None:
+                    return found
+                continue
+            if self.project is None:
+                continue
+            for qualified in self.qualified_names(base):
+                if self.project.keeps_reset(qualified):
+                    return True
+                if "reset" in self.project.class_methods(qualified):
+                    return False
+        return None
+
     def keeps_own_reset(self, classdef: ast.ClassDef) -> bool:
         """The class keeps its reset with the four-field step the run keeps: an env class whose
         step keeps its legacy contract (``class_keeps_legacy_step``), a Gym wrapper whose own

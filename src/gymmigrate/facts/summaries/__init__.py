@@ -324,6 +324,7 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
             for name, classdef in facts.classes.items()
             if (name in env_classes and receivers.class_keeps_legacy_step(classdef)) or receivers.own_record_wrapper(classdef)
         ),
+        kept_resets=frozenset(name for name, classdef in facts.classes.items() if receivers.reset_kept(classdef)),
         legacy_if=receivers.legacy_dependencies(),
         forwarding_wrappers=frozenset(
             name

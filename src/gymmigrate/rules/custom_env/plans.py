@@ -63,6 +63,9 @@ class ClassPlan:
     # other mode of a two-mode env): they return ``(obs, {})`` like the kept branches
     reset_pairs_untested: bool = False
     reset_forwards_keywords: bool = False  # reset(**kwargs) passes seed/options to super().reset(**kwargs)
+    # the base reset the class's reset calls stays as it was (no seed/options, its old
+    # return): the call is left as written
+    reset_base_kept: bool = False
     reset_super_seeds: bool = True  # super().reset(seed=seed) may be called (else only reported)
     # where super().reset() would run a base's own reset (abstract, or one of another
     # contract): the name the module calls Gymnasium by, for ``<name>.Env.reset(self, seed=seed)``,

@@ -194,7 +194,7 @@ class ClassRewrite:
                 fn = pair_untested_returns(fn)
             fn = _drop_return_info(fn)
         elif not modern and not self.plan.reset_returns_pairs:
-            fn, base_info = _unpack_super_reset(fn, self.plan.reset_bases)
+            fn, base_info = (fn, None) if self.plan.reset_base_kept else _unpack_super_reset(fn, self.plan.reset_bases)
             fn = self._return_info_pairs(fn, base_info, frozenset(self.plan.reset_helpers), own=True)
             for helper in self.plan.reset_helpers:
                 helper_fn = self.method(helper)
@@ -204,7 +204,7 @@ class ClassRewrite:
                 pair = cst.parse_expression(f"tuple[{_code(fn.returns.annotation).strip()}, dict]")
                 fn = fn.with_changes(returns=fn.returns.with_changes(annotation=pair))
         bases = self.plan.reset_bases
-        if self.plan.reset_super_seeds or _calls_super_reset(fn, bases):
+        if not self.plan.reset_base_kept and (self.plan.reset_super_seeds or _calls_super_reset(fn, bases)):
             fn, _ = _ensure_super_reset(fn, bases)
         if self.plan.reset_rehands:
             # the object __init__ handed the generator to gets the one the seed just made
@@ -238,7 +238,7 @@ class ClassRewrite:
         retries = frozenset({"reset", self.renamed.get("reset", "reset")}) if own else frozenset()
 
         def pair(ret: cst.Return) -> cst.Return:
-            if ret.value is None or is_base_reset(ret.value, self.plan.reset_bases):
+            if ret.value is None or (is_base_reset(ret.value, self.plan.reset_bases) and not self.plan.reset_base_kept):
                 return ret  # the base reset already returns (obs, info)
             if _is_self_call(ret.value, helpers | retries):
                 return ret  # a helper, or a retry of reset itself, that now returns (obs, info)

@@ -447,7 +447,14 @@ def _ancestor_takes_render_mode(decision: ClassDecision, classdef: ast.ClassDef,
         seen.add(id(base))
         methods = {s.name: s for s in base.body if isinstance(s, (ast.FunctionDef, ast.AsyncFunctionDef))}
         render, init = methods.get("render"), methods.get("__init__")
-        if render is not None and "mode" in param_names(render) and own_object_render(decision.family.facts, receivers, base) is None:
+        if (
+            render is not None
+            and "mode" in param_names(render)
+            and own_object_render(decision.family.facts, receivers, base) is None
+            # a base whose step and reset the run keeps on their own API keeps render(mode)
+            # too (env_class.py): no render_mode reaches its __init__, so none goes there
+            and not receivers.keeps_own_reset(base)
+        ):
             return True  # its migration adds render_mode to its __init__
         if init is not None:
             if "render_mode" in param_names(init):

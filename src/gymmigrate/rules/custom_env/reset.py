@@ -51,6 +51,13 @@ def decide_reset(decision: ClassDecision) -> None:
     # ``**kwargs``; new keyword-only parameters would take them.
     forwards = not modern and not legacy_flag and _forwards_keywords(decision, function)
     decision.plan.reset_forwards_keywords = forwards
+    bases = reset_bases(decision)
+    super_resets = any(is_base_reset(c, bases) for s in function.body for c in walk(s) if isinstance(c, ast.Call))
+    # The base reset the call reaches is one the run keeps as it was (a helper of the
+    # project's own API, beside a step it keeps): it takes no seed and returns what it did,
+    # so the call stays as it is, and np_random is seeded by Env.reset(self, seed=seed).
+    base_kept = super_resets and decision.family.receivers.inherited_reset_kept(decision.classdef)
+    decision.plan.reset_base_kept = base_kept
     if legacy_flag:
         # A flag the body never reads (gym 0.22-0.25 signatures often took it unused) had
         # one mode only: dropping it and returning the pair is the whole migration, a note.
@@ -93,7 +100,7 @@ def decide_reset(decision: ClassDecision) -> None:
         # gym 0.26: ``def reset(self, seed=None): ... return obs, {}``: already the pair.
         decision.plan.reset_returns_pairs = True
     elif not modern:
-        base_info = _unpack_super_reset(decision, function)
+        base_info = None if base_kept else _unpack_super_reset(decision, function)
         # ``def reset(self): return self._reset()`` gets ``(self._reset(), {})``; only a
         # helper that itself returns a reset's result (``return self.env.reset()``, a pair
         # now) returns the pair instead, when reset is its only caller. A hook subclasses
@@ -105,13 +112,11 @@ def decide_reset(decision: ClassDecision) -> None:
         _return_info_pairs(decision, function, base_info, set(decision.plan.reset_helpers))
         for helper in helpers:
             _return_info_pairs(decision, helper, None, set())
-    bases = reset_bases(decision)
     decision.plan.reset_bases = bases
-    super_resets = any(is_base_reset(c, bases) for s in function.body for c in walk(s) if isinstance(c, ast.Call))
     # Only an inner env's reset gets the keywords: that env seeds itself, and this class
     # has no ``seed`` name of its own to seed np_random with.
     inner_only = forwards and not super_resets
-    decision.plan.reset_super_seeds = not inner_only and decision.env.extends_gym_env_directly(decision.classdef)
+    decision.plan.reset_super_seeds = not inner_only and not base_kept and decision.env.extends_gym_env_directly(decision.classdef)
     inserted = False
     random_state = random_state_np_random(decision)
     kept_random_state = random_state is not None and not super_resets and decision.plan.reset_super_seeds
@@ -131,11 +136,12 @@ def decide_reset(decision: ClassDecision) -> None:
                 "Generator methods (randint -> integers)",
                 FixKind.FLAG,
             )
-    hook = None if kept_random_state or inner_only or decision.plan.reset_super_seeds or super_resets else private_reset_seed_hook(decision, function)
+    seeding_super = super_resets and not base_kept
+    hook = None if kept_random_state or inner_only or decision.plan.reset_super_seeds or seeding_super else private_reset_seed_hook(decision, function)
     hooked = hook if not modern else None
     if kept_random_state or inner_only:
         pass
-    elif decision.plan.reset_super_seeds or super_resets:
+    elif decision.plan.reset_super_seeds or seeding_super:
         inserted = not super_resets
     elif hooked:
         # the base's reset would reset a second time; its seed hook is what legacy
@@ -153,7 +159,7 @@ def decide_reset(decision: ClassDecision) -> None:
         decision.report(
             function,
             "GM501",
-            "reset() does not seed np_random (super().reset() here would also run the base env's own reset); "
+            f"reset() does not seed np_random ({_unseeded_why(base_kept)}); "
             "nothing in this module reads np_random, so nothing draws from it unseeded",
             FixKind.FLAG,
             Tier.NOTE,
@@ -179,7 +185,7 @@ def decide_reset(decision: ClassDecision) -> None:
         decision.report(
             function,
             "GM501",
-            f"reset() must seed np_random, but super().reset() here would also run the base env's own reset: it calls "
+            f"reset() must seed np_random, but {_unseeded_why(base_kept)}: it calls "
             f"`{gymnasium}.Env.reset(self, seed=seed)` first, which seeds np_random as Gymnasium's Env.reset does and nothing else",
             tier=Tier.NOTE,
         )
@@ -187,7 +193,7 @@ def decide_reset(decision: ClassDecision) -> None:
         decision.report(
             function,
             "GM501",
-            "reset() must seed np_random, but super().reset() here would also run the base env's own reset; call Env.reset(self, seed=seed) first by hand",
+            f"reset() must seed np_random, but {_unseeded_why(base_kept)}; call Env.reset(self, seed=seed) first by hand",
             FixKind.FLAG,
         )
     if inserted and not modern:
@@ -205,7 +211,7 @@ def decide_reset(decision: ClassDecision) -> None:
         or inserted
         or bool(hooked)
         or decision.plan.seed is not None and (bool(decision.plan.seed.moved) or decision.plan.seed.keep)
-        or any(_super_reset_needs_seed(c, bases) for s in function.body for c in walk(s))
+        or (not base_kept and any(_super_reset_needs_seed(c, bases) for s in function.body for c in walk(s)))
     )
     if forwards and migrates:
         where = "the inner env's reset()" if inner_only else "super().reset()"
@@ -227,6 +233,13 @@ def decide_reset(decision: ClassDecision) -> None:
             # Env.reset called by name has a note of its own
             seeds = ", and calls super().reset(seed=seed) first to seed np_random" if inserted and not decision.plan.reset_env_seeds else ""
             decision.report(function, "GM501", f"reset takes seed and options (wrappers always pass them){seeds}")
+
+
+def _unseeded_why(base_kept: bool) -> str:
+    """Why the reset cannot seed through its base's reset."""
+    if base_kept:
+        return "the base's reset it calls stays as it was in this run, without seed/options (its class keeps its own API), and is called as before"
+    return "super().reset() here would also run the base env's own reset"
 
 
 def _seeds_through_env_reset(decision: ClassDecision, call: ast.AST, function: ast.AST) -> bool:
@@ -712,7 +725,9 @@ def _spelled(call: ast.AST) -> str:
 def _own_class_reset(decision: ClassDecision, function: ast.AST) -> str | None:
     """The class's own name where its reset calls ``Own.reset(self, ...)``."""
     own = frozenset({decision.classdef.name})
-    return decision.classdef.name if any(is_base_reset(c, own) for c in walk(function) if isinstance(c, ast.Call)) else None
+    # ``super().reset()`` is a base's reset, never the class's own
+    calls = [c for c in walk(function) if isinstance(c, ast.Call) and not is_super_method_call(c, "reset")]
+    return decision.classdef.name if any(is_base_reset(c, own) for c in calls) else None
 
 
 def reset_bases(decision: ClassDecision) -> frozenset[str]:
