@@ -280,6 +280,9 @@ class ModuleSummary:
     # step, which returns its own step values, builds on its base's; the classes whose
     # step, and every step of this module's classes below them, gives five values once migrated.
     helper_candidates: dict[str, int] = field(default_factory=dict)
+    # candidate -> the classes below it here whose step is its own (none, or one that only
+    # hands it on), each with whether it needs a class below it elsewhere
+    helper_hand_ons: dict[str, tuple[tuple[str, bool], ...]] = field(default_factory=dict)
     own_step_shapes: dict[str, bool] = field(default_factory=dict)
     five_step_trees: frozenset[str] = frozenset()
     # Stores of ``np_random`` (``facts/rng_handovers.py``): (line, to another object than

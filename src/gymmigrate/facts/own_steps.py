@@ -4,7 +4,9 @@ step the run migrates.
 
 * **Helpers.** A step none of whose returns is a step result (``return self._get_obs()``)
   is a *helper* where every override in the run builds its own Gym step on it: ``ob =
-  super().step(a)`` ... ``return ob, reward, False, info``. It is on no Gym step contract
+  super().step(a)`` ... ``return ob, reward, False, info``, or ``failed = super().step(a)``
+  ... ``return ob, reward, failed, info`` (a flag, one whole field, never indexed; an
+  argument-less ``self.sim.step()`` it returns is no Gym step). It is on no Gym step contract
   (neither legacy nor Gymnasium: its overrides are), so it keeps its return (GM504 says
   why and asks nothing), and ``super().step(...)`` in the overrides gives them that one
   value, no step result (GM301/GM304 leave it). Each module's summary lists its
@@ -85,7 +87,14 @@ def hands_on_base_step(value: ast.AST | None, classdef: ast.ClassDef, method: Me
 
 
 def _is_step_call(node: ast.AST | None) -> bool:
-    return isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "step"
+    """``x.step(a)``: some object's step that may be a Gym env's. Gym's step takes the
+    action, so ``self._sim.step()`` with nothing to pass is some other object's advance."""
+    return (
+        isinstance(node, ast.Call)
+        and isinstance(node.func, ast.Attribute)
+        and node.func.attr == "step"
+        and bool(node.args or node.keywords)
+    )
 
 
 # Builtins that make a sequence of what they are given: a step result as much as anything.
@@ -144,7 +153,14 @@ def builds_own_step(classdef: ast.ClassDef, step: Method) -> bool | None:
         if isinstance(node, ast.Starred) and isinstance(node.value, ast.Name) and node.value.id in names:
             return None
     first_fields = [r.value.elts[0] for r in returns]  # type: ignore[union-attr]
-    return True if any(isinstance(n, ast.Name) and n.id in names for field in first_fields for n in walk(field)) else None
+    if any(isinstance(n, ast.Name) and n.id in names for field in first_fields for n in walk(field)):
+        return True
+    # ``failed = super().step(a)`` ... ``return ob, reward, failed, {}``: the base's value is
+    # one later field whole (a flag), and nothing indexes it as a sequence would be
+    if any(isinstance(n, ast.Subscript) and isinstance(n.value, ast.Name) and n.value.id in names for n in walk(step)):
+        return None
+    later = [field for r in returns for field in r.value.elts[1:]]  # type: ignore[union-attr]
+    return True if any(isinstance(field, ast.Name) and field.id in names for field in later) else None
 
 
 def _children(facts: ModuleFacts) -> dict[str, list[ast.ClassDef]]:
@@ -216,18 +232,49 @@ def _below_running(facts: ModuleFacts, classdef: ast.ClassDef, method: str | Non
     return [sub for sub in below if sub not in cut]
 
 
+def hands_on_only(classdef: ast.ClassDef, step: Method) -> bool:
+    """Every return of the step hands its base's step result on as it is (``return
+    super().step(changed_action)``): the base's step under another action, nothing more."""
+    returns = own_returns(step)
+    return bool(returns) and all(hands_on_base_step(r.value, classdef, step) for r in returns)
+
+
 def helper_candidates(facts: ModuleFacts) -> dict[str, int]:
     """Top-level classes whose own step returns the observation alone and whose every
-    override in this module returns its own step values (``builds_own_step``): class ->
-    how many of those overrides build on it."""
+    override in this module returns its own step values (``builds_own_step``) or hands
+    the base's on to overrides of its own (``helper_hand_ons``): class -> how many of
+    those overrides build on it."""
     found: dict[str, int] = {}
     for name, classdef in facts.classes.items():
         step = own_step(classdef)
         if step is None or not returns_observation(classdef, step):
             continue
-        shapes = [builds_own_step(sub, own) for sub in _below(facts, classdef) if (own := own_step(sub)) is not None]
+        shapes = [
+            builds_own_step(sub, own)
+            for sub in _below(facts, classdef)
+            if (own := own_step(sub)) is not None and not hands_on_only(sub, own)
+        ]
         if None not in shapes:
             found[name] = shapes.count(True)
+    return found
+
+
+def helper_hand_ons(facts: ModuleFacts) -> dict[str, tuple[tuple[str, bool], ...]]:
+    """Helper candidate -> the top-level classes of this module below it whose step is the
+    candidate's: none of their own, or one that only hands the base's on
+    (``hands_on_only``), each with whether it must have a class deriving from it (a class
+    of this module, or one the join finds elsewhere). Overrides elsewhere below any of
+    them are overrides of the helper; a class handing the value on with none below it
+    returns it as its own Gym step, and the base is no helper."""
+    found: dict[str, tuple[tuple[str, bool], ...]] = {}
+    for name in helper_candidates_of(facts):
+        passes = tuple(
+            (sub.name, own is not None and not _below(facts, sub))
+            for sub in _below(facts, facts.classes[name])
+            if (own := own_step(sub)) is None or hands_on_only(sub, own)
+        )
+        if passes:
+            found[name] = passes
     return found
 
 
@@ -363,7 +410,9 @@ def helper_step(facts: ModuleFacts, receivers: Receivers, classdef: ast.ClassDef
         return False
     project = receivers.project
     if project is None:
-        return local > 0
+        # a class below whose step hands the value on, with nothing below it, returns it as
+        # its own Gym step (the join looks for such classes' subclasses in the whole run)
+        return local > 0 and not any(needs_below for _, needs_below in helper_hand_ons(facts).get(classdef.name, ()))
     return project.helper_step_here(classdef.name)
 
 
@@ -374,7 +423,7 @@ def helper_candidates_of(facts: ModuleFacts) -> dict[str, int]:
 def reaches_helper_step(facts: ModuleFacts, receivers: Receivers, classdef: ast.ClassDef) -> bool:
     """``super().step(...)`` in ``classdef`` reaches a helper step (``helper_step``): the
     first base's own, a class of this module or of another module of the run (through
-    classes of this module that define no step)."""
+    classes of this module that define no step or one that only hands the base's on)."""
     seen: set[int] = set()
     current = classdef
     while id(current) not in seen:
@@ -386,7 +435,10 @@ def reaches_helper_step(facts: ModuleFacts, receivers: Receivers, classdef: ast.
         if local is None:
             project = receivers.project
             return project is not None and any(project.helper_step(q) for q in facts.qualified_names(bases[0]))
-        if own_step(local) is not None:
+        step = own_step(local)
+        if step is not None and not hands_on_only(local, step):
             return helper_step(facts, receivers, local)
+        # no step of its own, or one that hands the base's on (an intermediate of a helper,
+        # ``helper_hand_ons``): ``super().step`` gives what the base's gives
         current = local
     return False

@@ -15,6 +15,7 @@ from gymmigrate.facts.init_attributes import ClassStores, certain_attributes
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module_summary import MAX_CHAIN, OWN, REF, ModuleSummary, is_ref
 from gymmigrate.facts.project_contracts import class_definer
+from gymmigrate.facts.project_exports import Exports
 
 if TYPE_CHECKING:
     from gymmigrate.facts.project import ProjectFacts
@@ -192,12 +193,29 @@ def join_overrides(facts: ProjectFacts, summaries: list[ModuleSummary], by_path:
                 facts.inherited_hooks[heir] = facts.inherited_hooks.get(heir, frozenset()) | followed
 
 
+def star_reexporters(exports: Exports, path: str, name: str) -> list[str]:
+    """The modules of the run whose ``from <module at path> import *`` binds ``name``, a
+    class of ``path`` (one level: a package's ``__init__`` gathering its modules)."""
+    if name not in exports.public_names(path, set()):
+        return []
+    return [
+        where
+        for where, summary in exports.by_path.items()
+        if name not in summary.classes and name not in summary.exports and any(exports.star_target(summary, m) == path for m in summary.star_imports)
+    ]
+
+
 def join_step_shapes(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> None:
     """The helper steps of the run and the names that reach one, and the classes whose steps
     give five values once migrated (facts/own_steps.py). A candidate is a helper where
     every override of its step in another module, at any depth below classes that define
-    no step, returns its own step values too, and at least one of them builds on it."""
+    no step, returns its own step values too, and at least one of them builds on it. The
+    classes of its module below it whose step is its own (``helper_hand_ons``: none, or one
+    that only hands it on) are looked through: overrides elsewhere below them count the
+    same way, and one that hands it on needs a class below it."""
     helpers = set()
+    intermediates = set()
+    exports = Exports(facts, by_path)
     for path, summary in by_path.items():
         if path in facts.blocked:
             continue
@@ -205,6 +223,14 @@ def join_step_shapes(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> 
             overrides: int | None = local
             seen: set[tuple[str, str]] = set()
             todo = list(facts.subclasses_of.get((path, name), ()))
+            hand_ons = summary.helper_hand_ons.get(name, ())
+            for passing, needs_below in hand_ons:
+                elsewhere = [
+                    sub for where in (path, *star_reexporters(exports, path, passing)) for sub in facts.subclasses_of.get((where, passing), ())
+                ]
+                if needs_below and not elsewhere:
+                    overrides = None  # its step hands the one value on as its own step
+                todo += elsewhere
             while todo and overrides is not None:
                 sub = todo.pop()
                 if sub in seen:
@@ -218,9 +244,10 @@ def join_step_shapes(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> 
                     overrides += by_path[sub[0]].own_step_shapes[sub[1]]
             if overrides:
                 helpers.add((path, name))
+                intermediates |= {(path, passing) for passing, _ in hand_ons}
     facts.helper_steps = frozenset(helpers)
-    reach = set(helpers)
-    todo = list(helpers)
+    reach = helpers | intermediates
+    todo = list(reach)
     while todo:
         for sub in facts.subclasses_of.get(todo.pop(), ()):
             if sub not in reach and "step" not in facts.subclass_methods.get(sub, ()):
@@ -230,6 +257,10 @@ def join_step_shapes(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> 
         for name in summary.exports:
             if name not in summary.classes and class_definer(facts, by_path, path, name) in reach:
                 reach.add((path, name))  # a re-export (``from .base import Base``)
+    for path, name in helpers | intermediates:
+        # ``from .base import *`` in a package's ``__init__``: subclasses elsewhere name the
+        # helper's classes through it
+        reach |= {(where, name) for where in star_reexporters(exports, path, name)}
     facts.helper_step_names = frozenset(reach)
     facts.five_step_trees = frozenset(
         (path, name) for path, summary in by_path.items() if path not in facts.blocked for name in summary.five_step_trees
@@ -374,6 +405,11 @@ def reexported(facts: ProjectFacts, by_path: dict[str, ModuleSummary], defined: 
                     found.add((path, name))
                     break
                 export = by_path[where[0]].exports.get(where[1])
+    exports = Exports(facts, by_path)
+    for path, name in defined:
+        if path in by_path:
+            # ``from .base import *`` in a package's ``__init__``: its importers name the class there
+            found |= {(where, name) for where in star_reexporters(exports, path, name)}
     return frozenset(found)
 
 

@@ -37,6 +37,7 @@ from gymmigrate.facts.own_api import gymnasium_flag, own_api_shape
 from gymmigrate.facts.own_steps import (
     five_step_trees,
     helper_candidates,
+    helper_hand_ons,
     own_step_shapes,
 )
 from gymmigrate.facts.receiver_classes import duck_wrapper_param
@@ -272,6 +273,7 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         step_hooks=step_hooks(facts),
         plain_overrides=plain_overrides(facts),
         helper_candidates=helper_candidates(facts),
+        helper_hand_ons=helper_hand_ons(facts),
         own_step_shapes=own_step_shapes(facts),
         five_step_trees=five_step_trees(facts, receivers),
         rng_stores=rng_stores(facts, receivers),

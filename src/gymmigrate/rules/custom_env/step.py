@@ -98,16 +98,18 @@ def decide_step(decision: ClassDecision, inherited: dict[int, list[str]]) -> Non
     function = decision.method("step")
     if function is None:
         return
-    if helper_step(decision.family.facts, decision.family.receivers, decision.classdef):
+    if helper_step(decision.family.facts, decision.family.receivers, decision.classdef) and not decision.plan.reset_kept:
         # Its overrides return the step's values themselves: five fields here would reach
-        # them as their observation. An explanation, nothing to decide.
+        # them as their observation. An explanation, nothing to decide. (A reset the class
+        # keeps on its own return is still asked about below: its subclasses' resets need it.)
         local, elsewhere = overrides(decision, "step")
         count = len(local) + len(elsewhere)
         shown = f" ({count} in the run)" if count > 1 else ""
         decision.report(
             function,
             "GM504",
-            f"`{decision.classdef.name}.step` returns the observation alone: a helper, not a Gym step; every override"
+            f"`{decision.classdef.name}.step` returns one value (the observation, or a flag), no step result: a helper, "
+            "not a Gym step; every override"
             f"{shown} returns the step's values itself (five once migrated), building on it with `super().step(...)`, "
             "so it keeps its return",
             FixKind.FLAG,

@@ -151,9 +151,9 @@ class StepFamilyBase(RuleFamily):
             # the legacy branch of a gym version check: it never runs on Gymnasium (GM108)
             return Decision(Action.LEAVE, "under a gym version check that picks the API of the gym installed"), False
         if self._reaches_helper_step(receiver):
-            # ``ob = super().step(a)`` over a base step that returns the observation alone,
-            # which every override builds its own step on: no step result, nothing to move
-            return Decision(Action.LEAVE, "the base's step is a helper that returns the observation alone"), False
+            # ``ob = super().step(a)`` over a base step that returns one value (the observation,
+            # a flag), which every override builds its own step on: no step result, nothing to move
+            return Decision(Action.LEAVE, "the base's step is a helper that returns one value, no step result"), False
         kept = self.receivers.legacy_step_class(receiver)
         if kept is not None:
             # The run leaves that class's step as it was (GM504 reports it there): its
