@@ -8,8 +8,10 @@ Gym 0.26 (and so Gymnasium) changed three things about starting an episode:
 * ``env.seed(s)`` is gone (``AttributeError: 'TimeLimit' object has no attribute 'seed'``):
   a seed is passed to ``reset(seed=s)``, "right after initialization and then never
   again" (``Env.reset`` docstring). A seed moved onto every reset of an episode loop makes
-  every episode identical, the most common hand-migration bug (GM203, GM208: ``seeds``;
-  GM204, with ``--seed N``: ``cli_seed``).
+  every episode identical, the most common hand-migration bug (GM203, GM208: ``seeds``,
+  with its mixins ``seed_methods`` for the seed()s of the project a call still reaches,
+  ``seed_merges`` for a seed merged into a loop's or an if's later reset, and
+  ``next_reset`` for finding the reset a seed leads to; GM204, with ``--seed N``: ``cli_seed``).
   gym < 0.9's ``env._seed(s)`` (the hook its ``Env.seed`` called) is the same call, decided
   as ``env.seed(s)``: no Gymnasium env has a ``_seed``, and the run renames or removes it in
   its own env classes (custom_env/seed.py), so reading it through the wrappers cannot work.

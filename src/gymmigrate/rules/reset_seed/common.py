@@ -2,7 +2,8 @@
 
 ``ResetSeedBase`` carries the state of one file's decisions (the edits collected per
 call, the names introduced for ``info``); the rule modules (``resets``, ``seeds``,
-``cli_seed``) extend it and ``ResetSeed`` in ``__init__`` puts them together.
+``cli_seed``; ``seeds`` through its mixins ``seed_methods``, ``seed_merges`` and
+``next_reset``) extend it and ``ResetSeed`` in ``__init__`` puts them together.
 """
 
 from __future__ import annotations
@@ -174,3 +175,13 @@ def moving_seed_question(seed_method: ast.FunctionDef | ast.AsyncFunctionDef) ->
     seed call inside the method, GM205 at a space seeded there and GM503 at the method itself
     ask it alike, so the file's review list asks it once."""
     return ("seed() method", seed_method.lineno)
+
+
+def _seed_argument(call: ast.Call) -> ast.expr | None:
+    """The one seed of ``x.seed(s)`` / ``x.seed(seed=s)``, else None."""
+    if len(call.args) + len(call.keywords) != 1:
+        return None
+    if call.args:
+        return None if isinstance(call.args[0], ast.Starred) else call.args[0]
+    keyword = call.keywords[0]
+    return keyword.value if keyword.arg == "seed" else None
