@@ -211,14 +211,23 @@ class StepFamilyBase(RuleFamily):
         )
 
 
-def _only_returns_inner_step(step: ast.FunctionDef | ast.AsyncFunctionDef) -> bool:
-    """The body is ``return self.env.step(...)`` (or ``super().step(...)``), docstring aside."""
-    body = [s for s in step.body if not (isinstance(s, ast.Expr) and isinstance(s.value, ast.Constant))]
+def sole_step_return(function: ast.FunctionDef | ast.AsyncFunctionDef) -> ast.Call | None:
+    """The ``x.step(...)`` call of a body that is only ``return x.step(...)``, docstring aside."""
+    body = [s for s in function.body if not (isinstance(s, ast.Expr) and isinstance(s.value, ast.Constant))]
     if len(body) != 1 or not isinstance(body[0], ast.Return):
-        return False
+        return None
     value = body[0].value
     if not (isinstance(value, ast.Call) and isinstance(value.func, ast.Attribute) and value.func.attr == "step"):
+        return None
+    return value
+
+
+def _only_returns_inner_step(step: ast.FunctionDef | ast.AsyncFunctionDef) -> bool:
+    """The body is ``return self.env.step(...)`` (or ``super().step(...)``), docstring aside."""
+    value = sole_step_return(step)
+    if value is None:
         return False
+    assert isinstance(value.func, ast.Attribute)
     inner = value.func.value
     if is_super_call(inner):
         return True

@@ -21,7 +21,7 @@ from gymmigrate.facts.reset_contract import sites as reset_sites
 from gymmigrate.facts.step_calls import extra_actions, foreign_step
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import FileContext
-from gymmigrate.rules.step_done.common import RULES, TIME_LIMIT_KEY
+from gymmigrate.rules.step_done.common import RULES, TIME_LIMIT_KEY, sole_step_return
 from gymmigrate.rules.step_done.results import ResultRules
 from gymmigrate.rules.step_done.time_limit import TimeLimitRules, time_limit_reads
 from gymmigrate.rules.step_done.unpack import UnpackRules
@@ -200,12 +200,10 @@ class StepDone(UnpackRules, TimeLimitRules, ResultRules):
 
 def _passed_through_step(function: ast.FunctionDef | ast.AsyncFunctionDef) -> ast.Call | None:
     """``self.x.step(...)`` where the method's body (docstring aside) is only ``return`` of it."""
-    body = [s for s in function.body if not (isinstance(s, ast.Expr) and isinstance(s.value, ast.Constant))]
-    if len(body) != 1 or not isinstance(body[0], ast.Return):
+    value = sole_step_return(function)
+    if value is None:
         return None
-    value = body[0].value
-    if not (isinstance(value, ast.Call) and isinstance(value.func, ast.Attribute) and value.func.attr == "step"):
-        return None
+    assert isinstance(value.func, ast.Attribute)
     inner = value.func.value
     if isinstance(inner, ast.Attribute) and isinstance(inner.value, ast.Name) and inner.value.id == "self":
         return value
