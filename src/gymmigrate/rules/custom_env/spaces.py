@@ -33,10 +33,7 @@ from gymmigrate.facts.space_setters import SPACES, local_unset_spaces, registere
 from gymmigrate.facts.summaries.defs import named_ids
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import ClassDecision
-from gymmigrate.rules.spaces.values import SpaceValues
-
-# What a list has and a Tuple space has not: each changes the list in place.
-_LIST_MUTATORS = ("append", "extend", "insert", "remove", "pop", "clear", "sort", "reverse")
+from gymmigrate.rules.spaces.values import LIST_MUTATORS, SpaceValues
 
 
 def decide_unset_spaces(decision: ClassDecision) -> None:
@@ -176,7 +173,7 @@ def _is_display(facts: ModuleFacts, value: ast.expr) -> bool:
 def _mutations(facts: ModuleFacts, classdef: ast.ClassDef, names: set[str]) -> list[str]:
     """``self.<space>.append(...)`` and the like in the class: the lines that change the list."""
     found = []
-    for mutator in _LIST_MUTATORS:
+    for mutator in LIST_MUTATORS:
         for call in facts.attribute_calls.get(mutator, ()):
             held = call.func.value if isinstance(call.func, ast.Attribute) else None
             if (

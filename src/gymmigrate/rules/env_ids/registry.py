@@ -196,7 +196,7 @@ class RegistryApi(RuleFamily):
                 continue
             if self._decide_rootless_register(call):
                 continue  # make rejects it whatever the checker does
-            if any(kw.arg == "disable_env_checker" or E.sets_checker(kw) for kw in call.keywords):
+            if _checker_chosen(call):
                 continue  # set already
             if not self._decide_non_space_register(call) and not self._decide_wrapper_stepper(call):
                 self._decide_bare_make(call)
@@ -206,7 +206,7 @@ class RegistryApi(RuleFamily):
             local = alias.asname or alias.name
             if local != "register" and N.strip_gym_prefix(imported) in _REGISTER_FUNCTIONS:
                 for call in self.facts.calls_by_name.get(local, ()):
-                    if not any(kw.arg == "disable_env_checker" or E.sets_checker(kw) for kw in call.keywords):
+                    if not _checker_chosen(call):
                         self._decide_bare_make(call)
 
     # -- GM806: gym 0.9's time-limit tag, read -------------------------------------------
@@ -871,3 +871,8 @@ def _local_wrapper_steppers(facts: ModuleFacts, receivers: Receivers) -> dict[st
                     changed = True
                     break
     return found
+
+
+def _checker_chosen(call: ast.Call) -> bool:
+    """The registration says itself whether make's env checker runs: nothing to add."""
+    return any(kw.arg == "disable_env_checker" or E.sets_checker(kw) for kw in call.keywords)

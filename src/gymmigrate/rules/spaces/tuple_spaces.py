@@ -17,10 +17,7 @@ from gymmigrate.edits.lazy import cst
 from gymmigrate.facts.module import dotted_name, walk
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import RuleFamily
-from gymmigrate.rules.spaces.values import SpaceValues
-
-# What a list has and a tuple has not: each raises AttributeError on a Tuple's members.
-_LIST_MUTATORS = frozenset({"append", "extend", "insert", "remove", "pop", "sort", "reverse", "clear"})
+from gymmigrate.rules.spaces.values import LIST_MUTATORS, SpaceValues
 
 
 def decide_tuple_members(family: RuleFamily, spaces: SpaceValues, attribute: ast.Attribute) -> None:
@@ -41,7 +38,7 @@ def decide_tuple_members(family: RuleFamily, spaces: SpaceValues, attribute: ast
         family.plan.replace(attribute, _list_of)
         return
     mutated = None
-    if isinstance(parent, ast.Attribute) and parent.attr in _LIST_MUTATORS and isinstance(facts.parent(parent), ast.Call):
+    if isinstance(parent, ast.Attribute) and parent.attr in LIST_MUTATORS and isinstance(facts.parent(parent), ast.Call):
         mutated = f"`{shown}.{parent.attr}()`"
     elif isinstance(parent, ast.AugAssign) and parent.target is attribute:
         mutated = f"`{shown} {_op(parent.op)}= ...`"

@@ -19,6 +19,9 @@ from gymmigrate.facts.receivers import Receivers
 SPACE_ATTRIBUTES = frozenset({"action_space", "observation_space", "single_action_space", "single_observation_space"})
 SPACE_INT_ATTRIBUTES = frozenset({"n", "start"})
 UNKNOWN = "?"  # a space of a class not known here
+# What a list has and a tuple has not: each changes a list in place and raises on a tuple
+# (a Tuple space's members, or a list of spaces that should become a Tuple space).
+LIST_MUTATORS = frozenset({"append", "extend", "insert", "remove", "pop", "sort", "reverse", "clear"})
 # A narrowing check holds up to the def or class around the name.
 _NARROWING_ENDS = (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef, ast.Module)
 
