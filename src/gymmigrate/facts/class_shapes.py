@@ -2,7 +2,8 @@
 resolve: a step that keeps the legacy four fields (``keeps_legacy_step``), a batched
 return of per-env flags (``is_batched_step_return``, ``per_agent_receivers``), a reset
 that returns bare observations (``keeps_bare_reset``), a VecEnv-shaped class
-(``is_vec_env_shaped``), a render() that draws nothing (``renders_nothing``) and the
+(``is_vec_env_shaped``), a method that touches ``self.env`` (``touches_self_env``), a
+render() that draws nothing (``renders_nothing``) and the
 methods that draw the wrapped env (``wrapped_env_renders``).
 
 Separate from ``receiver_classes.py`` because these are plain functions of a class's
@@ -15,6 +16,17 @@ from __future__ import annotations
 import ast
 
 from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, own_returns, walk
+
+
+def touches_self_env(classdef: ast.ClassDef) -> bool:
+    """Some method of the class reads or sets ``self.env``: the slot a Gym wrapper layer
+    keeps its inner env in."""
+    return any(
+        isinstance(node, ast.Attribute) and node.attr == "env" and isinstance(node.value, ast.Name) and node.value.id == "self"
+        for statement in classdef.body
+        if isinstance(statement, FUNCTIONS)
+        for node in walk(statement)
+    )
 
 
 def keeps_bare_reset(classdef: ast.ClassDef) -> bool:

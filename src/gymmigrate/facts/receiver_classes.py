@@ -19,6 +19,7 @@ from gymmigrate.facts.class_shapes import (
     is_vec_env_shaped,
     keeps_bare_reset,
     keeps_legacy_step,
+    touches_self_env,
 )
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import EnvKind
@@ -714,10 +715,8 @@ def own_batch_on_wrapper_base(facts: ModuleFacts, classdef: ast.ClassDef) -> boo
     for node in walk(init):
         if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "__init__":
             return False  # ``super().__init__(env)`` / ``Base.__init__(self, env)``: a layer
-    for method in methods.values():
-        for node in walk(method):
-            if isinstance(node, ast.Attribute) and node.attr == "env" and isinstance(node.value, ast.Name) and node.value.id == "self":
-                return False
+    if touches_self_env(classdef):
+        return False
     for node in walk(step):
         if not (isinstance(node, ast.Assign) and len(node.targets) == 1 and isinstance(node.targets[0], (ast.Tuple, ast.List))):
             continue

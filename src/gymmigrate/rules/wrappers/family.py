@@ -8,6 +8,7 @@ import ast
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
+from gymmigrate.facts.class_shapes import touches_self_env
 from gymmigrate.facts.module import FUNCTIONS, is_super_call, walk
 from gymmigrate.facts.receiver_classes import duck_wrapper_attribute
 from gymmigrate.findings import FixKind, Tier, gym_only_question
@@ -374,12 +375,7 @@ def _uses_self_env(classdef: ast.ClassDef) -> bool:
     there, so GM603 has nothing to ask of it."""
     if not any(isinstance(s, FUNCTIONS) and s.name == "step" for s in classdef.body):
         return True
-    return any(
-        isinstance(node, ast.Attribute) and node.attr == "env" and isinstance(node.value, ast.Name) and node.value.id == "self"
-        for statement in classdef.body
-        if isinstance(statement, FUNCTIONS)
-        for node in walk(statement)
-    )
+    return touches_self_env(classdef)
 
 
 def _is_super_init(node: ast.AST) -> bool:
