@@ -94,6 +94,18 @@ class NextReset(ResetSeedBase):
 
         return self.facts.memo(("reset-seed-block", id(parent)), index).get(id(statement))
 
+    def _resets_in(self, part: ast.AST, receiver_code: str) -> list[ast.Call]:
+        """The calls ``<receiver>.reset(...)`` anywhere in ``part``, the receiver spelled as
+        ``receiver_code``."""
+        return [
+            node
+            for node in walk(part)
+            if isinstance(node, ast.Call)
+            and isinstance(node.func, ast.Attribute)
+            and node.func.attr == "reset"
+            and segment(self.facts, node.func.value) == receiver_code
+        ]
+
     def _reset_statement(self, line: list[ast.stmt], receiver_code: str) -> ast.Call | None:
         if len(line) != 1 or not isinstance(line[0], (ast.Expr, ast.Assign)):
             return None

@@ -70,14 +70,7 @@ class SeedMerges(NextReset):
         reset_statement = _first_touching(loop.body, root)
         if reset_statement is None or isinstance(reset_statement, COMPOUND_STATEMENTS):
             return False
-        resets = [
-            node
-            for node in walk(reset_statement)
-            if isinstance(node, ast.Call)
-            and isinstance(node.func, ast.Attribute)
-            and node.func.attr == "reset"
-            and segment(self.facts, node.func.value) == wanted
-        ]
+        resets = self._resets_in(reset_statement, wanted)
         if len(resets) != 1 or resets[0].args or resets[0].keywords:
             return False
         reset = resets[0]

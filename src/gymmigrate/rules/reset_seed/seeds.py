@@ -216,13 +216,7 @@ class SeedCalls(SeedMethods, SeedMerges):
         wanted = segment(self.facts, receiver)
 
         def resets(part: ast.AST) -> bool:
-            return any(
-                isinstance(node, ast.Call)
-                and isinstance(node.func, ast.Attribute)
-                and node.func.attr == "reset"
-                and segment(self.facts, node.func.value) == wanted
-                for node in walk(part)
-            )
+            return bool(self._resets_in(part, wanted))
 
         functions = self.facts.memo(("seed-local-functions", 0), lambda: _functions_by_name(self.facts.tree))
         for later in block[position + 1 :]:
