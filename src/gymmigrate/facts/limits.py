@@ -307,7 +307,7 @@ class DoneTracer:
     def _assigned(self, values: list[ast.expr], function: ast.AST | None, name: ast.Name, depth: int) -> DoneCause:
         if not values or function is None:
             return TERMINATION
-        if any(_is_dict(v) for v in values):
+        if any(_is_dict(self.facts, v) for v in values):
             # A dict of flags (per agent, ``"__all__"``): not one flag; its limits are named.
             stored = _key_stores(self.facts, function, name.id, ast.Dict(keys=[], values=[]), _ANY_KEY) or []
             parts = [self._dict_values(v, depth) for v in values] + [self._in_context(v, depth + 1) for v in stored]
@@ -319,6 +319,8 @@ class DoneTracer:
             return combine(self.trace(v, depth + 1) for v in value.values)
         if isinstance(value, ast.DictComp):
             return self.trace(value.value, depth + 1)
+        if isinstance(value, ast.Call) and _is_dict(self.facts, value):
+            return combine(self.trace(k.value, depth + 1) for k in value.keywords)
         return TERMINATION
 
     def _attribute(self, name: str, depth: int) -> DoneCause:
@@ -509,7 +511,7 @@ class DoneTracer:
             assign = self.facts.parent(bindings[0])
             if not (isinstance(assign, ast.Assign) and assign.targets == [bindings[0]]):
                 return None
-            if _is_dict(assign.value):
+            if _is_dict(self.facts, assign.value):
                 return _key_stores(self.facts, function, holder.id, assign.value, key.value)
             holder = assign.value
         if not isinstance(holder, ast.Call):
@@ -533,7 +535,7 @@ class DoneTracer:
             if len(bindings) != 1:
                 return None
             assign = self.facts.parent(bindings[0])
-            if not (isinstance(assign, ast.Assign) and assign.targets == [bindings[0]] and _is_dict(assign.value)):
+            if not (isinstance(assign, ast.Assign) and assign.targets == [bindings[0]] and _is_dict(self.facts, assign.value)):
                 return None
             return _key_stores(self.facts, method, value.id, assign.value, key)
         if isinstance(value, ast.Dict):
@@ -597,9 +599,11 @@ def _key_stores(facts: ModuleFacts, function: ast.AST, name: str, created: ast.e
             parent = facts.parent(node)
             if isinstance(parent, ast.Subscript) and isinstance(parent.ctx, ast.Store):
                 holder = facts.parent(parent)
+                index = parent.slice
+                if isinstance(holder, (ast.Tuple, ast.List)) and _other_key(index, key):
+                    continue  # ``name["x"], name["y"] = ...``: other entries, this one untouched
                 if not (isinstance(holder, ast.Assign) and holder.targets == [parent]):
                     return None
-                index = parent.slice
                 if isinstance(index, ast.Constant) and key is not _ANY_KEY:
                     if index.value == key:
                         values.append(holder.value)
@@ -610,6 +614,11 @@ def _key_stores(facts: ModuleFacts, function: ast.AST, name: str, created: ast.e
     return values
 
 
+def _other_key(index: ast.expr, key: object) -> bool:
+    """``index`` is a constant key that is not ``key`` (a store that leaves ``key`` as it was)."""
+    return key is not _ANY_KEY and isinstance(index, ast.Constant) and index.value != key
+
+
 def _literal_values(created: ast.expr, key: object) -> list[ast.expr] | None:
     if isinstance(created, ast.Dict):
         if any(k is None for k in created.keys):
@@ -617,10 +626,23 @@ def _literal_values(created: ast.expr, key: object) -> list[ast.expr] | None:
         return [v for k, v in zip(created.keys, created.values, strict=True) if not isinstance(k, ast.Constant) or k.value == key]
     if isinstance(created, ast.DictComp):
         return [created.value]
+    if isinstance(created, ast.Call):  # ``dict(done=False, ...)``, vetted by ``_is_dict``
+        return [k.value for k in created.keywords if key is _ANY_KEY or k.arg == key]
     return None
 
 
-def _is_dict(value: ast.expr) -> bool:
+def _is_dict(facts: ModuleFacts, value: ast.expr) -> bool:
+    """A dict made here whose keys are all spelled: a literal, a comprehension, or the
+    builtin ``dict(done=False, ...)`` with keywords alone (the same dict as the literal;
+    a ``dict`` bound in the module, or ``dict(other)``/``dict(**kw)``, is something else)."""
+    if isinstance(value, ast.Call):
+        return (
+            isinstance(value.func, ast.Name)
+            and value.func.id == "dict"
+            and not facts.reaching_bindings(value.func)
+            and not value.args
+            and all(k.arg is not None for k in value.keywords)
+        )
     return isinstance(value, (ast.Dict, ast.DictComp))
 
 
