@@ -430,3 +430,38 @@ def is_dm_env_last(facts: ModuleFacts, call: ast.Call) -> bool:
         and not call.keywords
         and ("dm_control" in facts.text or "dm_env" in facts.text)
     )
+
+
+def elapsed_since_step_mark(facts: ModuleFacts, test: ast.AST) -> bool:
+    """``lost = time.time() - self.seen_at`` then ``lost > 5``, where the method holding the
+    test also moves ``self.seen_at`` (on the step the target is seen): the value is the time
+    since an event of the task, which starts over within the episode, like a streak of
+    steps; an episode's own clock is marked only where it begins (reset), never by the step
+    that reads it. The local's every binding is such a difference, in the same method."""
+    if not isinstance(test, ast.Compare):
+        return False
+    function = facts.enclosing_function(test)
+    if function is None:
+        return False
+    moved = {
+        name
+        for node in walk(function)
+        if isinstance(node, ast.Assign)
+        for target in node.targets
+        if (name := self_attribute(target)) is not None
+    }
+    for side in (test.left, *test.comparators):
+        if not isinstance(side, ast.Name):
+            continue
+        bindings = facts.bindings_of(side)
+        if bindings and all(_difference_from(facts, binding, function, moved) for binding in bindings):
+            return True
+    return False
+
+
+def _difference_from(facts: ModuleFacts, binding: ast.AST, function: ast.AST, moved: set[str]) -> bool:
+    holder = facts.parent(binding)
+    if not (isinstance(holder, ast.Assign) and holder.targets == [binding]) or facts.enclosing_function(binding) is not function:
+        return False
+    value = holder.value
+    return isinstance(value, ast.BinOp) and isinstance(value.op, ast.Sub) and self_attribute(value.right) in moved

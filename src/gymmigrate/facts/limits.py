@@ -44,6 +44,7 @@ from gymmigrate.facts.done_causes import (
 from gymmigrate.facts.limit_tests import (
     LIMIT_OPS,
     data_end_attributes,
+    elapsed_since_step_mark,
     is_dm_env_last,
     is_end_of_data,
     is_limit_setting_test,
@@ -146,6 +147,8 @@ class DoneTracer:
         """A comparison of a step or time counter with a bound (not the end of the data)."""
         if isinstance(expr, ast.Compare) and is_limit_setting_test(expr) and not self._counter(_nonzero_side(expr)):
             return False  # ``if self.t_limit > 0:`` picks a mode; its ``else`` is no limit reached
+        if elapsed_since_step_mark(self.facts, expr):
+            return False  # time since the task's own event, which the step marks again
         if is_step_limit(expr, self.data_ends, self.streaks):
             return True
         if not isinstance(expr, ast.Compare) or len(expr.ops) != 1 or not isinstance(expr.ops[0], LIMIT_OPS):

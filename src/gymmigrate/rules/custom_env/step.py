@@ -23,7 +23,7 @@ from gymmigrate.facts.env_classes import (
     is_self_attribute,
     is_super_method_call,
 )
-from gymmigrate.facts.limit_tests import is_end_of_data, is_step_limit, unwrap_bool
+from gymmigrate.facts.limit_tests import elapsed_since_step_mark, is_end_of_data, is_step_limit, unwrap_bool
 from gymmigrate.facts.limits import DoneTracer
 from gymmigrate.facts.module import ModuleFacts, own_returns, walk
 from gymmigrate.facts.own_steps import hands_on_base_step, helper_step
@@ -125,7 +125,11 @@ def decide_step(decision: ClassDecision, inherited: dict[int, list[str]]) -> Non
         "".join(facts.segment(node).split())
         for node in walk(decision.classdef)
         if isinstance(node, ast.Compare)
-        and (is_end_of_data(node, data_ends) or (is_step_limit(node, data_ends) and not is_step_limit(node, data_ends, streaks)))
+        and (
+            is_end_of_data(node, data_ends)
+            or (is_step_limit(node, data_ends) and not is_step_limit(node, data_ends, streaks))
+            or (is_step_limit(node, data_ends) and elapsed_since_step_mark(facts, node))
+        )
     )
     # ``def step(self, a): return self._step(a)`` (gym <= 0.9's own base class did
     # this): the helper's returns are the step's, so they get the five fields.
@@ -344,23 +348,23 @@ def _decide_returns(
         decision.plan.step = True
         if isinstance(done, ast.Name) and index.assigns_name(done.id):
             assigned = single_assignment(index, done.id)
-            if assigned is not None and split_done(assigned, data_ends, streaks):
+            if assigned is not None and split_done(assigned, data_ends, streaks, facts):
                 decision.report(
                     ret,
                     "GM504",
                     f"`{done.id}` split: the step-limit test became truncated, the rest terminated",
                     FixKind.ASSIST,
-                    tier=split_tier(tracer.trace(done), assigned, data_ends, streaks),
+                    tier=split_tier(tracer.trace(done), assigned, data_ends, streaks, facts),
                     question=split_question(assigned),
                 )
                 continue
-        elif split_done(done, data_ends, streaks):
+        elif split_done(done, data_ends, streaks, facts):
             decision.report(
                 ret,
                 "GM504",
                 "done split: the step-limit test became truncated, the rest terminated",
                 FixKind.ASSIST,
-                tier=split_tier(tracer.trace(done), done, data_ends, streaks),
+                tier=split_tier(tracer.trace(done), done, data_ends, streaks, facts),
                 question=split_question(done),
             )
             continue
@@ -447,7 +451,7 @@ def _decide_returns(
                 tier=Tier.NOTE,
             )
             continue
-        if isinstance(done, ast.Name) and (limit := accumulated_limit(function, ret, done.id, data_ends, streaks)) is not None:
+        if isinstance(done, ast.Name) and (limit := accumulated_limit(function, ret, done.id, data_ends, streaks, facts)) is not None:
             # ``done = task`` ... ``done = done or self.t >= self.max_steps`` right before the
             # return: the last line adds the step limit to the task's end, so it is the
             # truncation and the flag before it the termination.
@@ -461,7 +465,7 @@ def _decide_returns(
                 tier=Tier.NOTE,
             )
             continue
-        if isinstance(done, ast.Name) and (flag := flagged_limit(function, done.id, data_ends, streaks)) is not None:
+        if isinstance(done, ast.Name) and (flag := flagged_limit(function, done.id, data_ends, streaks, facts)) is not None:
             # ``done = False`` ... ``if self.t >= self.t_limit: done = True`` beside the task's
             # own ``if <end>: done = True``: that one ``if`` is the truncation, the rest of the
             # flag the termination, and nothing else reads or resets the flag.
@@ -472,7 +476,7 @@ def _decide_returns(
                 f"`{done.id}` split: its step-limit line (line {flag.lineno}) became "
                 f"`truncated = bool({decision.family.facts.segment(flag.test)})`, the task's own ends terminated",
                 FixKind.ASSIST,
-                tier=split_tier(tracer.trace(done), flag.test, data_ends, streaks),
+                tier=split_tier(tracer.trace(done), flag.test, data_ends, streaks, facts),
                 question=split_question(flag.test),
             )
             continue

@@ -16,12 +16,13 @@ from gymmigrate.facts import names as N
 from gymmigrate.facts.done_causes import DoneCause
 from gymmigrate.facts.limit_tests import (
     data_end_attributes,
+    elapsed_since_step_mark,
     is_local_sign_test,
     is_step_limit,
     streak_attributes,
     unwrap_bool,
 )
-from gymmigrate.facts.module import own_returns, walk
+from gymmigrate.facts.module import ModuleFacts, own_returns, walk
 from gymmigrate.facts.step_counts import counts_in, past_the_end
 from gymmigrate.findings import Tier
 from gymmigrate.rules.custom_env.common import ClassDecision
@@ -88,6 +89,7 @@ def step_limit_text(decision: ClassDecision, function: ast.AST) -> str | None:
         and is_step_limit(c, data_ends, streaks)
         and not is_local_sign_test(decision.family.facts, c)
         and not past_the_end(decision.family.facts, c)
+        and not elapsed_since_step_mark(decision.family.facts, c)
     ]
     if not found:
         return None
@@ -130,7 +132,7 @@ def split_question(expr: ast.AST) -> Hashable:
 
 
 def accumulated_limit(
-    function: ast.AST, ret: ast.Return, name: str, data_ends: frozenset[str], streaks: frozenset[str]
+    function: ast.AST, ret: ast.Return, name: str, data_ends: frozenset[str], streaks: frozenset[str], facts: ModuleFacts
 ) -> ast.Assign | None:
     """``name = name or <step limit> [or ...]`` as the statement right before ``ret``, the
     function's last statement and only return, where every other binding of ``name`` is a
@@ -146,7 +148,7 @@ def accumulated_limit(
         return None
     own = [v for v in value.values if isinstance(v, ast.Name) and v.id == name]
     limits = [v for v in value.values if not (isinstance(v, ast.Name) and v.id == name)]
-    if len(own) != 1 or not limits or not all(is_step_limit(v, data_ends, streaks) for v in limits):
+    if len(own) != 1 or not limits or not all(limit_test(facts, v, data_ends, streaks) for v in limits):
         return None
     names = [n for n in walk(function) if isinstance(n, ast.Name)]
     if any(n.id in ("terminated", "truncated") for n in names):
@@ -161,12 +163,14 @@ def accumulated_limit(
         statement = next((s for s in walk(function) if isinstance(s, ast.Assign) and store in s.targets), None)
         if statement is None or statement.lineno >= last.lineno:
             return None
-        if any(isinstance(n, ast.Compare) and is_step_limit(n, data_ends, streaks) for n in walk(statement.value)):
+        if any(isinstance(n, ast.Compare) and limit_test(facts, n, data_ends, streaks) for n in walk(statement.value)):
             return None
     return last if len(stores) > 1 else None
 
 
-def flagged_limit(function: ast.AST, name: str, data_ends: frozenset[str], streaks: frozenset[str]) -> ast.If | None:
+def flagged_limit(
+    function: ast.AST, name: str, data_ends: frozenset[str], streaks: frozenset[str], facts: ModuleFacts
+) -> ast.If | None:
     """The one ``if <step limit>: name = True`` of a step whose ``name`` is a flag: set
     ``False`` once by a statement of the body, then ``True`` only by that ``if`` (a statement of
     the body after it, with no ``else``) and by ``if``s that test no step limit; read only as
@@ -210,7 +214,7 @@ def flagged_limit(function: ast.AST, name: str, data_ends: frozenset[str], strea
     limits = [
         s
         for s in body
-        if isinstance(s, ast.If) and not s.orelse and len(s.body) == 1 and s.body[0] in stores and is_step_limit(s.test, data_ends, streaks)
+        if isinstance(s, ast.If) and not s.orelse and len(s.body) == 1 and s.body[0] in stores and limit_test(facts, s.test, data_ends, streaks)
     ]
     if len(limits) != 1 or body.index(limits[0]) < body.index(falses[0]):
         return None
@@ -219,7 +223,7 @@ def flagged_limit(function: ast.AST, name: str, data_ends: frozenset[str], strea
         if store is falses[0] or store is limit.body[0]:
             continue
         parent = next((n for n in walk(function) if isinstance(n, ast.If) and (store in n.body or store in n.orelse)), None)
-        if parent is None or any(isinstance(n, ast.Compare) and is_step_limit(n, data_ends, streaks) for n in walk(parent.test)):
+        if parent is None or any(isinstance(n, ast.Compare) and limit_test(facts, n, data_ends, streaks) for n in walk(parent.test)):
             return None
     if any(ret.lineno <= (limit.end_lineno or limit.lineno) for ret in returns):
         return None
@@ -230,18 +234,26 @@ def _statement_of(function: ast.AST, target: ast.Name) -> ast.AST | None:
     return next((s for s in walk(function) if isinstance(s, ast.Assign) and target in s.targets), None)
 
 
-def split_tier(traced: DoneCause, split: ast.AST, data_ends: frozenset[str], streaks: frozenset[str]) -> Tier | None:
+def split_tier(
+    traced: DoneCause, split: ast.AST, data_ends: frozenset[str], streaks: frozenset[str], facts: ModuleFacts
+) -> Tier | None:
     """A split whose limits are all named as step limits in this module, with no override
     elsewhere in the run, and compared with a bound the env holds rather than a literal, is
     settled (``self.current_step >= self.ep_length``): a note, as for a done that is only such
     a limit (``step._report_truncation``). ``self.t >= 2`` may be the game's own length: asked."""
-    limits = [op for op in _or_operands(unwrap_bool(split)) if is_step_limit(op, data_ends, streaks)]
+    limits = [op for op in _or_operands(unwrap_bool(split)) if limit_test(facts, op, data_ends, streaks)]
     literal = any(
         isinstance(side, ast.Constant) for op in limits if isinstance(op, ast.Compare) for side in (op.left, *op.comparators)
     )
     return Tier.NOTE if traced.limits and traced.plain() and not literal else None
 
 
-def split_done(expr: ast.AST, data_ends: frozenset[str], streaks: frozenset[str]) -> bool:
+def split_done(expr: ast.AST, data_ends: frozenset[str], streaks: frozenset[str], facts: ModuleFacts) -> bool:
     """``bool(task or self.steps >= self.max_steps)`` has a clear step-limit test."""
-    return any(is_step_limit(op, data_ends, streaks) for op in _or_operands(unwrap_bool(expr)))
+    return any(limit_test(facts, op, data_ends, streaks) for op in _or_operands(unwrap_bool(expr)))
+
+
+def limit_test(facts: ModuleFacts, test: ast.AST, data_ends: frozenset[str], streaks: frozenset[str]) -> bool:
+    """``is_step_limit``, but not a time since an event the step marks again
+    (``elapsed_since_step_mark``): the step's own split and its items name only real limits."""
+    return is_step_limit(test, data_ends, streaks) and not elapsed_since_step_mark(facts, test)
