@@ -23,7 +23,12 @@ from gymmigrate.facts.env_classes import (
     is_self_attribute,
     is_super_method_call,
 )
-from gymmigrate.facts.limit_tests import elapsed_since_step_mark, is_end_of_data, is_step_limit, unwrap_bool
+from gymmigrate.facts.limit_tests import (
+    elapsed_since_step_mark,
+    is_end_of_data,
+    is_step_limit,
+    unwrap_bool,
+)
 from gymmigrate.facts.limits import DoneTracer
 from gymmigrate.facts.module import ModuleFacts, own_returns, walk
 from gymmigrate.facts.own_steps import hands_on_base_step, helper_step
