@@ -77,6 +77,7 @@ from gymmigrate.facts.project_contracts import (
     NonSpaces,
     class_definer,
     class_methods,
+    default_mode_ids,
     forwarding_wrappers,
     kept_resets,
     legacy_seeds,
@@ -342,6 +343,12 @@ class ProjectFacts:
     # ``render_mode`` (its ``__init__`` cannot hand it on): id (None: not a literal) -> class.
     # ``gymnasium.make(id, render_mode=...)`` of one would raise TypeError.
     no_render_mode_ids: dict[str | None, str] = field(default_factory=dict)
+    # ...each id's class as (path, class), and the literal ids among them whose class (or the
+    # base of the run it inherits render() from) keeps a render(mode=<default>): a bare
+    # render() of the made env, which Gymnasium's wrappers pass on with no arguments, still
+    # draws in that default mode.
+    no_render_mode_classes: dict[str | None, tuple[str, str]] = field(default_factory=dict)
+    default_mode_ids: frozenset[str] = frozenset()
     # Env classes of the run that keep their own seed() (GM503: a module of the run calls
     # ``x.seed(...)`` on what it cannot trace), as (path, class), and the literal ids the run
     # registers for one of them: id -> class.
@@ -653,6 +660,7 @@ class ProjectFacts:
                     facts.handed_on.add(resolved)
         facts.class_methods = class_methods(facts, by_path)
         join_hook_calls(facts, by_path)  # after the class methods: a base elsewhere may define the public name
+        facts.default_mode_ids = default_mode_ids(facts, by_path)
         join_init_attributes(facts, by_path)
         driven = inherit_driven_kinds(facts, by_path)
         for path, summary in by_path.items():

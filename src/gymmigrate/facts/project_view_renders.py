@@ -81,6 +81,11 @@ class RenderView:
             return ids.get(env_id)
         return next(iter(sorted(ids.values())), None)
 
+    def bare_render_keeps_default(self, env_id: str | None) -> bool:
+        """``gymnasium.make(env_id)`` builds a class of the run that takes no ``render_mode``
+        but whose render() gives ``mode`` a default (``ProjectFacts.default_mode_ids``)."""
+        return env_id is not None and env_id in self.facts.default_mode_ids
+
     def draws_only_in_render(self, env_id: str) -> bool:
         """``gymnasium.make(env_id)`` builds an env class of the run whose drawing is its
         render() alone (``ProjectFacts.render_only_ids``); ``module:id`` names the id after
