@@ -539,13 +539,13 @@ def _star_definer(
     return found.pop() if len(found) == 1 else None
 
 
-def default_mode_ids(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> frozenset[str]:
-    """``ProjectFacts.default_mode_ids``: the literal ids of ``no_render_mode_classes`` whose
-    class, or the first base of the run up its chain that defines render() (bases in the
-    order they are named), gives render()'s ``mode`` a default. A base that cannot be
+def render_definers(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> dict[str, tuple[str, str]]:
+    """Each literal id of ``no_render_mode_classes`` -> the class whose render()
+    ``gymnasium.make(id)`` reaches: its class, or the first base of the run up its chain
+    that defines render() (bases in the order they are named). A base that cannot be
     followed leaves the id out: what its render() takes is not known."""
     exports = Exports(facts, by_path)
-    found = set()
+    found = {}
     for env_id, start in facts.no_render_mode_classes.items():
         key: tuple[str, str] | None = start
         for _ in range(MAX_CHAIN):
@@ -553,12 +553,11 @@ def default_mode_ids(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> 
                 break
             summary = by_path[key[0]]
             if f"{key[1]}.render" in summary.defs:
-                if key[1] in summary.default_mode_renders:
-                    found.add(env_id)
+                found[env_id] = key
                 break
             bases = summary.run_bases.get(key[1], ())
             key = _star_definer(facts, by_path, exports, *split, frozenset()) if bases and (split := _base_split(facts, key[0], bases[0])) else None
-    return frozenset(found)
+    return found
 
 
 def _base_split(facts: ProjectFacts, path: str, base: str) -> tuple[str, str] | None:

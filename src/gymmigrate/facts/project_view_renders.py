@@ -86,6 +86,11 @@ class RenderView:
         but whose render() gives ``mode`` a default (``ProjectFacts.default_mode_ids``)."""
         return env_id is not None and env_id in self.facts.default_mode_ids
 
+    def made_render(self, name: str) -> bool:
+        """This module's class ``name`` defines the render() that ``gymnasium.make`` of an id
+        the run registers reaches (``ProjectFacts.registered_renders``)."""
+        return (self.path, name) in self.facts.registered_renders
+
     def draws_only_in_render(self, env_id: str) -> bool:
         """``gymnasium.make(env_id)`` builds an env class of the run whose drawing is its
         render() alone (``ProjectFacts.render_only_ids``); ``module:id`` names the id after
