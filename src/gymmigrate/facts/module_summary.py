@@ -344,6 +344,9 @@ class ModuleSummary:
     # Top-level classes whose render(mode) cannot keep ``mode`` as an optional parameter
     # (``mode_can_stay_optional``): kept whole for such callers, they take no render_mode.
     fixed_mode_renders: frozenset[str] = frozenset()
+    # Top-level classes whose own render() has a ``mode`` parameter with a default: a bare
+    # render() (Gymnasium's wrappers call it with no arguments) still reaches that default.
+    default_mode_renders: frozenset[str] = frozenset()
     # The module registers envs whose entry points are no literal (read from a data file):
     # the ids its importers make may name any env class of the run.
     opaque_registrations: bool = False

@@ -83,6 +83,7 @@ from gymmigrate.facts.project_contracts import (
     legacy_steps,
     modeless_renders,
     own_renders,
+    render_definers,
     render_only_ids,
     seed_keepers,
     seeds_untraced,
@@ -342,6 +343,15 @@ class ProjectFacts:
     # ``render_mode`` (its ``__init__`` cannot hand it on): id (None: not a literal) -> class.
     # ``gymnasium.make(id, render_mode=...)`` of one would raise TypeError.
     no_render_mode_ids: dict[str | None, str] = field(default_factory=dict)
+    # ...each id's class as (path, class), and the literal ids among them whose class (or the
+    # base of the run it inherits render() from) keeps a render(mode=<default>): a bare
+    # render() of the made env, which Gymnasium's wrappers pass on with no arguments, still
+    # draws in that default mode.
+    no_render_mode_classes: dict[str | None, tuple[str, str]] = field(default_factory=dict)
+    default_mode_ids: frozenset[str] = frozenset()
+    # (path, class) of the render() each of those literal ids reaches: a class the run leaves
+    # whole keeps it, and gymnasium.make's wrappers expose render(self) only in front of it.
+    registered_renders: frozenset[tuple[str, str]] = frozenset()
     # Env classes of the run that keep their own seed() (GM503: a module of the run calls
     # ``x.seed(...)`` on what it cannot trace), as (path, class), and the literal ids the run
     # registers for one of them: id -> class.
@@ -653,6 +663,9 @@ class ProjectFacts:
                     facts.handed_on.add(resolved)
         facts.class_methods = class_methods(facts, by_path)
         join_hook_calls(facts, by_path)  # after the class methods: a base elsewhere may define the public name
+        definers = render_definers(facts, by_path)
+        facts.default_mode_ids = frozenset(i for i, (path, name) in definers.items() if name in by_path[path].default_mode_renders)
+        facts.registered_renders = frozenset(definers.values())
         join_init_attributes(facts, by_path)
         driven = inherit_driven_kinds(facts, by_path)
         for path, summary in by_path.items():

@@ -235,6 +235,7 @@ def thread_render_mode(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -
             defined = by_path[definer[0]]
             if definer[1] in defined.env_classes or any(h[0] == definer[1] for h in defined.render_mode_heirs):
                 facts.no_render_mode_ids.setdefault(env_id, definer[1])
+                facts.no_render_mode_classes.setdefault(env_id, definer)
     found: dict[str, set[str]] = defaultdict(set)
     for path, name in takes:
         found[path].add(name)
@@ -508,6 +509,62 @@ def base_definer(facts: ProjectFacts, by_path: dict[str, ModuleSummary], path: s
         return path, base[len(OWN) :]
     split = facts._split(base, path)
     return class_definer(facts, by_path, *split) if split is not None and "." not in split[1] else None
+
+
+def _star_definer(
+    facts: ProjectFacts, by_path: dict[str, ModuleSummary], exports: Exports, path: str, name: str, seen: frozenset[tuple[str, str]]
+) -> tuple[str, str] | None:
+    """``class_definer``, with a module's ``from m import *`` of the run's modules followed
+    too (a package's ``__init__`` that re-exports its submodules' classes so). Where several
+    star imports bind the name (a submodule re-exporting what an earlier one gave), they
+    must all lead to one class: a binding that comes back to the name itself is the earlier
+    one again, anything else two classes is not known."""
+    summary = by_path.get(path)
+    if summary is None or (path, name) in seen or len(seen) > MAX_CHAIN * 4:
+        return None
+    seen = seen | {(path, name)}
+    if name in summary.classes:
+        return path, name
+    kind = summary.exports.get(name)
+    if kind is not None:
+        split = facts._split(str(kind)[len(REF) :], path) if is_ref(kind) else None
+        return _star_definer(facts, by_path, exports, *split, seen) if split is not None and "." not in split[1] else None
+    found = {
+        where
+        for module in summary.star_imports
+        if (target := exports.star_target(summary, module)) is not None
+        and name in exports.public_names(target, set())
+        and (where := _star_definer(facts, by_path, exports, target, name, seen)) is not None
+    }
+    return found.pop() if len(found) == 1 else None
+
+
+def render_definers(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> dict[str, tuple[str, str]]:
+    """Each literal id of ``no_render_mode_classes`` -> the class whose render()
+    ``gymnasium.make(id)`` reaches: its class, or the first base of the run up its chain
+    that defines render() (bases in the order they are named). A base that cannot be
+    followed leaves the id out: what its render() takes is not known."""
+    exports = Exports(facts, by_path)
+    found = {}
+    for env_id, start in facts.no_render_mode_classes.items():
+        key: tuple[str, str] | None = start
+        for _ in range(MAX_CHAIN):
+            if env_id is None or key is None:
+                break
+            summary = by_path[key[0]]
+            if f"{key[1]}.render" in summary.defs:
+                found[env_id] = key
+                break
+            bases = summary.run_bases.get(key[1], ())
+            key = _star_definer(facts, by_path, exports, *split, frozenset()) if bases and (split := _base_split(facts, key[0], bases[0])) else None
+    return found
+
+
+def _base_split(facts: ProjectFacts, path: str, base: str) -> tuple[str, str] | None:
+    if base.startswith(OWN):
+        return path, base[len(OWN) :]
+    split = facts._split(base, path)
+    return split if split is not None and "." not in split[1] else None
 
 
 def class_methods(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> dict[tuple[str, str], frozenset[str]]:

@@ -81,6 +81,16 @@ class RenderView:
             return ids.get(env_id)
         return next(iter(sorted(ids.values())), None)
 
+    def bare_render_keeps_default(self, env_id: str | None) -> bool:
+        """``gymnasium.make(env_id)`` builds a class of the run that takes no ``render_mode``
+        but whose render() gives ``mode`` a default (``ProjectFacts.default_mode_ids``)."""
+        return env_id is not None and env_id in self.facts.default_mode_ids
+
+    def made_render(self, name: str) -> bool:
+        """This module's class ``name`` defines the render() that ``gymnasium.make`` of an id
+        the run registers reaches (``ProjectFacts.registered_renders``)."""
+        return (self.path, name) in self.facts.registered_renders
+
     def draws_only_in_render(self, env_id: str) -> bool:
         """``gymnasium.make(env_id)`` builds an env class of the run whose drawing is its
         render() alone (``ProjectFacts.render_only_ids``); ``module:id`` names the id after

@@ -56,6 +56,7 @@ from gymmigrate.facts.step_hooks import plain_overrides, step_hooks
 from gymmigrate.facts.summaries.calls import CallSummarizer
 from gymmigrate.facts.summaries.classes import (
     contains_calls,
+    default_mode_renders,
     done_methods,
     driven_kinds,
     fixed_mode_renders,
@@ -320,6 +321,7 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         mode_renders=mode_renders(facts),
         opaque_registrations=opaque_registrations(facts),
         fixed_mode_renders=fixed_mode_renders(facts),
+        default_mode_renders=default_mode_renders(facts),
         rendering_wrappers=rendering_wrappers(facts, receivers),
         legacy_steps=frozenset(
             name

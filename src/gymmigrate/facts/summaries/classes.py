@@ -517,6 +517,19 @@ def fixed_mode_renders(facts: ModuleFacts) -> frozenset[str]:
     )
 
 
+def default_mode_renders(facts: ModuleFacts) -> frozenset[str]:
+    """Classes whose own ``render(self, mode=<default>, ...)`` gives ``mode`` a default."""
+    found = set()
+    for name, classdef in facts.classes.items():
+        for method in classdef.body:
+            if isinstance(method, FUNCTIONS) and method.name == "render":
+                params = [a.arg for a in method.args.args]
+                first_default = len(params) - len(method.args.defaults)
+                if "mode" in params and params.index("mode") >= first_default:
+                    found.add(name)
+    return frozenset(found)
+
+
 def own_renders(facts: ModuleFacts, receivers: Receivers, calls: CallSummarizer) -> tuple[tuple[str, tuple[str, ...]], ...]:
     """``ModuleSummary.own_renders``: the top-level env classes whose render(mode) only hands
     its mode on (``mode_handed_on``) and that no render call here passes a mode to, with

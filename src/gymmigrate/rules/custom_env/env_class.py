@@ -40,6 +40,7 @@ from gymmigrate.rules.custom_env.plans import ClassPlan
 from gymmigrate.rules.custom_env.render import (
     decide_render,
     decide_subclass_render_mode,
+    report_kept_render_options,
 )
 from gymmigrate.rules.custom_env.reset import (
     decide_internal_calls,
@@ -145,6 +146,8 @@ class EnvClassFamily(RuleFamily):
                 # calling ``self.env.render()``, the 'human' default) keep it, and no
                 # gymnasium.make ever passes the class a render_mode.
                 decide_render(decision)
+            else:
+                report_kept_render_options(decision)
             decide_subclass_render_mode(decision)
             if not kept:
                 decide_internal_calls(decision)

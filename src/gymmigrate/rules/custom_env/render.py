@@ -178,6 +178,31 @@ def decide_render(decision: ClassDecision) -> None:
     _add_init_render_mode(decision)
 
 
+def report_kept_render_options(decision: ClassDecision) -> None:
+    """A class the run leaves whole (its step and reset keep their own API) keeps its
+    ``render(self, mode, <options>...)``; where ``gymnasium.make`` of an id the run
+    registers reaches that render, the wrappers make adds (OrderEnforcing, the env checker)
+    expose ``render(self)`` only, so a caller of the made env passing a mode or an option
+    raises TypeError. Porting it is a design decision: one item, at the def."""
+    function = decision.method("render")
+    project = decision.family.receivers.project
+    if function is None or project is None or not project.made_render(decision.classdef.name):
+        return
+    names = param_names(function)
+    options = [n for n in names[1:] if n != "mode"]
+    if "mode" not in names or not options:
+        return
+    decision.report(
+        function,
+        "GM405",
+        f"render(mode, {', '.join(options)}) kept with the class's own step/reset, but gymnasium.make builds it for an "
+        "id this run registers, and the wrappers make adds expose render() without arguments: a caller passing a mode or "
+        "an option raises TypeError. Map the modes to render_mode at construction, move the options to the constructor "
+        'or attributes, and declare metadata["render_modes"]',
+        FixKind.FLAG,
+    )
+
+
 def _declare_render_modes(decision: ClassDecision, function: Method, default: ast.expr | None) -> None:
     """Gymnasium's env checker (on by default in gymnasium.make) asserts that an env whose
     ``metadata["render_modes"]`` is empty (``Env``'s own) has ``render_mode`` None: the ported

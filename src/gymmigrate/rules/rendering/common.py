@@ -86,6 +86,7 @@ class RenderingBase(RuleFamily):
     _mode_dropped: set[int]  # render calls that lose their mode argument
     _has_legacy_mode_calls: bool  # some render() call of the file still passes a mode
     _makes_by_id: dict[int, ast.Call]  # the makes of the sites, by id
+    _kept_default: dict[int, str]  # id(make) -> the class whose render() keeps its default mode (bare renders stay)
     _rendered_nodes: set[int]  # the render and recorder calls of the sites, by id
     _drawn_by_forward: set[int]  # id(make) whose env a render forward's callers draw every step
     _forwarded_sites: list[RenderSite]  # the callers of a render forward (sites.py)

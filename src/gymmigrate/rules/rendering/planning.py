@@ -56,6 +56,7 @@ class SitePlanning(EnvUses, UntracedEnvs):
         # it, or the one its sites agree on.
         final_mode: dict[int, str | None] = {}
         blocked: dict[int, str] = {}  # id(make) -> why its sites cannot be rewritten
+        kept_default: dict[int, str] = {}  # id(make) -> the class whose render() keeps its default mode
         for key, make_sites in by_make.items():
             make = makes[key]
             existing = keyword(make, "render_mode")
@@ -73,6 +74,14 @@ class SitePlanning(EnvUses, UntracedEnvs):
                 blocked[key] = "its gym.make passes **kwargs that may already hold render_mode: set it there by hand"
                 continue
             unready = self._registered_without_render_mode(make)
+            if unready is not None and self._bare_renders_keep_default(make, make_sites):
+                # Gymnasium's wrappers call render() with no arguments, and the class's own
+                # render() still takes them with its default mode: these renders draw as they
+                # did. Porting that render to render_mode is the class's design question,
+                # not these calls'.
+                final_mode[key] = None
+                kept_default[key] = unready
+                continue
             if unready is not None:
                 final_mode[key] = None
                 blocked[key] = (
@@ -115,8 +124,21 @@ class SitePlanning(EnvUses, UntracedEnvs):
                 )
         self._makes_by_id = makes
         self._rendered_nodes = {id(site.node) for site in sites}
+        self._kept_default = kept_default
         for site in sites:
             self._plan_site(site, makes, final_mode, blocked)
+
+    def _bare_renders_keep_default(self, make: ast.Call, sites: list[RenderSite]) -> bool:
+        """Every render of the make is a bare ``render()``, and its literal id names a class of
+        the run that takes no render_mode but whose render() gives ``mode`` a default."""
+        project = self.receivers.project
+        first = make.args[0] if make.args else None
+        return (
+            project is not None
+            and isinstance(first, ast.Constant)
+            and project.bare_render_keeps_default(string_value(first))
+            and all(s.code == "GM402" and not s.node.args and not s.node.keywords for s in sites)
+        )
 
     @staticmethod
     def _frames_over_bare_renders(sites: list[RenderSite]) -> bool:
@@ -369,6 +391,17 @@ class SitePlanning(EnvUses, UntracedEnvs):
                 self.report(call, code, f"mode dropped, no render_mode added (it draws nothing until you choose): {choice}")
             else:
                 self.report(call, code, f"not rewritten: {choice}", FixKind.FLAG, question=question("unscheduled"))
+            return
+        kept = [self._kept_default[k] for k in keys if k in self._kept_default]
+        if kept and len(kept) == len(keys):
+            self.report(
+                call,
+                code,
+                f"not rewritten: the env is {kept[0]} (registered in this run), whose render() keeps its default mode; "
+                "Gymnasium's wrappers call render() with no arguments, so this bare render() still reaches that default",
+                FixKind.FLAG,
+                tier=Tier.NOTE,
+            )
             return
         reasons = [blocked[k] for k in keys if k in blocked]
         if reasons:
