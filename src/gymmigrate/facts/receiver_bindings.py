@@ -162,14 +162,14 @@ class BindingKinds(_Facade):
             return False
         return self.facts.computing(("duck-wrapper", id(classdef))) or self.is_duck_wrapper(classdef)
 
-    def _wrappers_applied(self, value: ast.expr, name: str) -> list[ast.expr] | None:
-        """``env = w(env)`` with ``w`` the variable of a loop over a list (``for w in
-        wrappers``) or an item of one (``wrappers[i](env, **kwargs[i])``), where the run shows
-        every item that list can hold and each names a Gym wrapper class: those items (none
-        where every caller hands in an empty list, or none at all). None for any other call,
-        and where one item is anything else or not shown (a caller of this module's def passing
-        a list it builds elsewhere, a call from outside the module)."""
-        if not (isinstance(value, ast.Call) and value.args and isinstance(value.args[0], ast.Name) and value.args[0].id == name):
+    def handed_wrappers(self, value: ast.expr) -> list[ast.expr] | None:
+        """``w(env)`` with ``w`` the variable of a loop over a list (``for w in wrappers``) or
+        an item of one (``wrappers[i](env, **kwargs[i])``), where the run shows every item that
+        list can hold and each names a Gym wrapper class: those items (none where every caller
+        hands in an empty list, or none at all). None for any other call, and where one item
+        is anything else or not shown (a caller of this module's def passing a list it builds
+        elsewhere, a call from outside the module)."""
+        if not (isinstance(value, ast.Call) and value.args and not isinstance(value.args[0], ast.Starred)):
             return None
         func = value.func
         container: ast.AST | None = None
@@ -263,7 +263,7 @@ class BindingKinds(_Facade):
                 return None  # ``env = Recorder(env)``: a proxy the run proves, around the same env
             if isinstance(value, ast.Attribute) and value.attr == "unwrapped" and isinstance(value.value, ast.Name) and value.value.id == binding.id:
                 return None  # ``env = env.unwrapped``: the same env, its kind unchanged
-            wrappers = self._wrappers_applied(value, binding.id)
+            wrappers = self.handed_wrappers(value) if _rewraps(value, binding.id) else None
             if wrappers is not None:
                 # ``for w in wrappers: env = w(env)``: a Gym wrapper around the env is a Gym
                 # env; with no wrapper handed in at all the loop never runs and the name
@@ -634,3 +634,8 @@ def _default_of(function: ast.FunctionDef | ast.AsyncFunctionDef, param: ast.arg
     if param in function.args.kwonlyargs:
         return function.args.kw_defaults[function.args.kwonlyargs.index(param)]
     return None
+
+
+def _rewraps(value: ast.expr, name: str) -> bool:
+    """``value`` is a call whose first argument is ``name`` itself (``env = w(env)``)."""
+    return isinstance(value, ast.Call) and bool(value.args) and isinstance(value.args[0], ast.Name) and value.args[0].id == name
