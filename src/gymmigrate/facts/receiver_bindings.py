@@ -162,6 +162,89 @@ class BindingKinds(_Facade):
             return False
         return self.facts.computing(("duck-wrapper", id(classdef))) or self.is_duck_wrapper(classdef)
 
+    def handed_wrappers(self, value: ast.expr) -> list[ast.expr] | None:
+        """``w(env)`` with ``w`` the variable of a loop over a list (``for w in wrappers``) or
+        an item of one (``wrappers[i](env, **kwargs[i])``), where the run shows every item that
+        list can hold and each names a Gym wrapper class: those items (none where every caller
+        hands in an empty list, or none at all). None for any other call, and where one item
+        is anything else or not shown (a caller of this module's def passing a list it builds
+        elsewhere, a call from outside the module)."""
+        if not (isinstance(value, ast.Call) and value.args and not isinstance(value.args[0], ast.Starred)):
+            return None
+        func = value.func
+        container: ast.AST | None = None
+        if isinstance(func, ast.Subscript):
+            container = func.value
+        elif isinstance(func, ast.Name):
+            bindings = self.facts.bindings_of(func)
+            loop = self.facts.parent(bindings[0]) if len(bindings) == 1 else None
+            if isinstance(loop, (ast.For, ast.AsyncFor)) and loop.target is bindings[0]:
+                container = loop.iter
+        items = self._handed_items(container, 0) if container is not None else None
+        if items is None or not all(self.names_gym_wrapper_class(item) for item in items):
+            return None
+        return items
+
+    def _handed_items(self, container: ast.AST, depth: int) -> list[ast.expr] | None:
+        """Every item a list, tuple or array can hold, where the module shows them all: a
+        display (empty too), ``list``/``tuple``/numpy's ``array`` of one, a name bound only to
+        those, a parameter of a def of this module from what each of its calls passes (its
+        default where a call passes nothing); None otherwise."""
+        if depth > 6:
+            return None
+        if isinstance(container, (ast.List, ast.Tuple)):
+            return None if any(isinstance(el, ast.Starred) for el in container.elts) else list(container.elts)
+        if isinstance(container, ast.Call) and len(container.args) <= 1 and not container.keywords:
+            names = self.qualified_names(container.func)
+            if isinstance(container.func, ast.Name) and container.func.id in ("list", "tuple") and not self.facts.bindings_of(container.func):
+                names = names | {container.func.id}
+            if names & {"list", "tuple", "numpy.array", "numpy.asarray"}:
+                return self._handed_items(container.args[0], depth + 1) if container.args else []
+            return None
+        if not isinstance(container, ast.Name):
+            return None
+        bindings = self.facts.bindings_of(container)
+        if not bindings:
+            return None
+        values: list[ast.expr] = []
+        for binding in bindings:
+            parent = self.facts.parent(binding)
+            if isinstance(binding, ast.Name) and isinstance(parent, ast.Assign) and parent.targets == [binding]:
+                found = self._handed_items(parent.value, depth + 1)
+            elif isinstance(binding, ast.arg):
+                found = self._param_handed_items(binding, depth)
+            else:
+                found = None
+            if found is None:
+                return None
+            values += found
+        return values
+
+    def _param_handed_items(self, param: ast.arg, depth: int) -> list[ast.expr] | None:
+        slot = self.facts.parameter_slot(param)
+        if slot is None or slot[1] is not None:
+            return None
+        function, _, position = slot
+        if self.callables.external_param_kinds(function, None, param.arg):
+            return None  # a module the run holds passes its own list: not shown here
+        calls = self.call_sites(function, None)
+        if not calls:
+            return None
+        values: list[ast.expr] = []
+        for call in calls:
+            argument = call_argument(call, position, param.arg)
+            if argument is None:
+                if any(isinstance(a, ast.Starred) for a in call.args) or any(kw.arg is None for kw in call.keywords):
+                    return None  # ``*args``/``**kwargs`` may pass it
+                argument = _default_of(function, param)
+                if argument is None:
+                    return None
+            found = self._handed_items(argument, depth + 1)
+            if found is None:
+                return None
+            values += found
+        return values
+
     def binding_kind(self, binding: ast.AST) -> EnvKind | None:
         """The kind of value one binding stores (None: it adds no evidence, e.g. ``+=``)."""
         if isinstance(binding, (ast.alias, *FUNCTIONS, ast.ClassDef, ast.ExceptHandler)):
@@ -180,6 +263,12 @@ class BindingKinds(_Facade):
                 return None  # ``env = Recorder(env)``: a proxy the run proves, around the same env
             if isinstance(value, ast.Attribute) and value.attr == "unwrapped" and isinstance(value.value, ast.Name) and value.value.id == binding.id:
                 return None  # ``env = env.unwrapped``: the same env, its kind unchanged
+            wrappers = self.handed_wrappers(value) if _rewraps(value, binding.id) else None
+            if wrappers is not None:
+                # ``for w in wrappers: env = w(env)``: a Gym wrapper around the env is a Gym
+                # env; with no wrapper handed in at all the loop never runs and the name
+                # keeps what it held
+                return EnvKind.GYM_ENV if wrappers else None
             return self.kind_of(parent.value)
         if isinstance(parent, ast.AnnAssign):
             if parent.value is not None:
@@ -534,3 +623,19 @@ class BindingKinds(_Facade):
 
 def _is_env_method_call(call: ast.Call) -> bool:
     return isinstance(call.func, ast.Attribute) and call.func.attr in ("reset", "step", "last")
+
+
+def _default_of(function: ast.FunctionDef | ast.AsyncFunctionDef, param: ast.arg) -> ast.expr | None:
+    """The default value of ``param`` (a positional or keyword-only parameter), if it has one."""
+    positional = [*function.args.posonlyargs, *function.args.args]
+    if param in positional:
+        index = positional.index(param) - (len(positional) - len(function.args.defaults))
+        return function.args.defaults[index] if index >= 0 else None
+    if param in function.args.kwonlyargs:
+        return function.args.kw_defaults[function.args.kwonlyargs.index(param)]
+    return None
+
+
+def _rewraps(value: ast.expr, name: str) -> bool:
+    """``value`` is a call whose first argument is ``name`` itself (``env = w(env)``)."""
+    return isinstance(value, ast.Call) and bool(value.args) and isinstance(value.args[0], ast.Name) and value.args[0].id == name

@@ -43,19 +43,22 @@ class WrappingCalls(_Facade):
     def _makes_gym_wrapper(self, value: ast.expr) -> bool:
         """``Wrapper(env, ...)`` with a Gym wrapper class (Gymnasium's, this module's, or
         another module's of the run): a Gym env whatever ``env`` was."""
-        if not isinstance(value, ast.Call):
-            return False
-        for q in self.qualified_names(value.func):
+        return isinstance(value, ast.Call) and self.names_gym_wrapper_class(value.func)
+
+    def names_gym_wrapper_class(self, func: ast.expr) -> bool:
+        """``func`` names a Gym wrapper class (Gymnasium's, an env library's, this module's
+        or another module's of the run)."""
+        for q in self.qualified_names(func):
             rest = N.strip_gym_prefix(q)
             if rest is not None and (rest in N.GYM_WRAPPER_BASE_CLASSES or N.is_wrapper_class_path(rest)):
                 return True
             if self.project is not None and self.project.is_wrapper_class(q):
                 return True
-        if isinstance(value.func, ast.Name) and self.project is not None and not self.facts.bindings_of(value.func):
-            return self.project.star_wrapper_class(value.func.id, self.facts.star_imports)
-        if self.library_wrapper_class(value.func):
+        if isinstance(func, ast.Name) and self.project is not None and not self.facts.bindings_of(func):
+            return self.project.star_wrapper_class(func.id, self.facts.star_imports)
+        if self.library_wrapper_class(func):
             return True
-        local = self.local_class(value.func)
+        local = self.local_class(func)
         return local is not None and self.is_gym_wrapper_class(local)
 
     def library_wrapper_class(self, func: ast.expr) -> bool:

@@ -62,6 +62,7 @@ from gymmigrate.rules.wrapper_usage.forwarding_edits import (
 from gymmigrate.rules.wrapper_usage.getattr_hasattr import (
     UNWRAPPED,
     WrappedReads,
+    forwarded_through_wrapper_attr,
     getattr_forwarding,
     hasattr_through_wrappers,
 )
@@ -251,6 +252,8 @@ class WrapperForwarding(RuleFamily):
             origin = WRAPPED
         if origin is None and self._gym_env_on_every_path(receiver):
             origin = WRAPPED  # bare on some paths, made or wrapped on others: get_wrapper_attr reads both
+        if origin is None and forwarded_through_wrapper_attr(self, receiver):
+            origin = WRAPPED  # its class's ``__getattr__`` reads it through get_wrapper_attr: so do its own reads
         if origin == RAW:
             return
         if name in self.origins.outer_attributes(receiver):

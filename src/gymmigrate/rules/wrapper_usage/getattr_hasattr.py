@@ -160,15 +160,10 @@ def getattr_forwarding(family: ForwardingFamily, call: ast.Call) -> None:
         values = family.receivers.self_stores(classdef).get(stored, [])
     if not values or held is None:
         return
-    # a make result or wrappers; or a Gym env by type (an isinstance test, an annotation),
-    # which callers make with make: a raw env has its attributes itself, an unknown
-    # target is not asked about
-    origins = [family.origins.origin(v) for v in values]
-    if not (any(o in (MADE, WRAPPED) for o in origins) or any(family.receivers.kind_of(v) is EnvKind.GYM_ENV for v in values)):
+    verdict = _forwarded_to(family, values)
+    if verdict is None:
         return
-    if any(o == RAW for o in origins):
-        return
-    if all(o in (MADE, WRAPPED) or family.receivers.kind_of(v) is EnvKind.GYM_ENV for o, v in zip(origins, values)):
+    if verdict:
         # Every object it can hold is a Gym env: ``get_wrapper_attr`` looks the name up
         # on each layer down to the base env, as gym's forwarding did, and raises
         # AttributeError for a name none has (checked on gymnasium 1.4), so ``hasattr``
@@ -193,6 +188,58 @@ def getattr_forwarding(family: ForwardingFamily, call: ast.Call) -> None:
         f"`{held}.get_wrapper_attr({looked_up.id})` (every layer, as gym's forwarding did) or read `{held}.unwrapped`",
         kind=FixKind.FLAG,
     )
+
+
+def _forwarded_to(family: ForwardingFamily, values: list[ast.expr]) -> bool | None:
+    """What a ``__getattr__`` forwarding to an object stored as ``values`` is rewritten to:
+    True where every value is a Gym env (``get_wrapper_attr``), False where only some are (a
+    question), None where none is shown to be one, or one is a bare env (left)."""
+    # a make result or wrappers; or a Gym env by type (an isinstance test, an annotation),
+    # which callers make with make: a raw env has its attributes itself, an unknown
+    # target is not asked about
+    origins = [family.origins.origin(v) for v in values]
+    if not (any(o in (MADE, WRAPPED) for o in origins) or any(family.receivers.kind_of(v) is EnvKind.GYM_ENV for v in values)):
+        return None
+    if any(o == RAW for o in origins):
+        return None
+    return all(o in (MADE, WRAPPED) or family.receivers.kind_of(v) is EnvKind.GYM_ENV for o, v in zip(origins, values))
+
+
+def forwarded_through_wrapper_attr(family: ForwardingFamily, receiver: ast.expr) -> bool:
+    """``self.x`` in a class whose ``__getattr__(self, name)`` returns ``getattr(self.x,
+    name)`` and is rewritten to ``self.x.get_wrapper_attr(name)`` (every object stored there
+    a Gym env): the class's own reads of ``self.x`` rest on the same proof."""
+    if not (isinstance(receiver, ast.Attribute) and isinstance(receiver.value, ast.Name) and family.receivers.is_self(receiver.value)):
+        return False
+    classdef = family.facts.enclosing_class(receiver)
+    if classdef is None:
+        return False
+    lookup = next((s for s in classdef.body if isinstance(s, ast.FunctionDef) and s.name == "__getattr__"), None)
+    params = [*lookup.args.posonlyargs, *lookup.args.args] if lookup is not None else []
+    if lookup is None or len(params) != 2:
+        return False
+    for node in ast.walk(lookup):
+        if (
+            isinstance(node, ast.Return)
+            and isinstance(node.value, ast.Call)
+            and isinstance(node.value.func, ast.Name)
+            and node.value.func.id == "getattr"
+            and not family.facts.bindings_of(node.value.func)
+            and len(node.value.args) == 2
+            and not node.value.keywords
+        ):
+            target, looked_up = node.value.args
+            if (
+                isinstance(target, ast.Attribute)
+                and target.attr == receiver.attr
+                and isinstance(target.value, ast.Name)
+                and family.receivers.is_self(target.value)
+                and isinstance(looked_up, ast.Name)
+                and looked_up.id == params[1].arg
+            ):
+                values = family.receivers.self_stores(classdef).get(receiver.attr, [])
+                return bool(values) and _forwarded_to(family, values) is True
+    return False
 
 
 def _looked_up_attribute(facts: ModuleFacts, target: ast.expr) -> str | None:

@@ -205,6 +205,12 @@ class EnvOrigins(HeldEnvQuestions):
                 return self._wrapped(call)
             if self.receivers.class_kind(local) is EnvKind.GYM_ENV:
                 return RAW
+        wrappers = self.receivers.handed_wrappers(call)
+        if wrappers is not None:
+            # ``for w in wrappers: env = w(env)`` over Gym wrapper classes every caller shows:
+            # wrapped where some caller hands one in; with none the call never runs and the
+            # name keeps what it held
+            return self._wrapped(call) if wrappers else self.origin(call.args[0])
         if isinstance(call.func, (ast.Subscript, ast.Call)):
             thunk = _called_factory(call.func)
             if thunk is not None:

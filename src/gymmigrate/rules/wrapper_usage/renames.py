@@ -40,8 +40,9 @@ from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import dotted_name, string_value
-from gymmigrate.findings import FixKind
+from gymmigrate.findings import FixKind, removed_helper_question
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
+from gymmigrate.rules.imports.table import removed_module_hint, removed_name_hint
 from gymmigrate.rules.repeats import Repeats
 from gymmigrate.rules.wrapper_usage.arguments import HANDLERS, positional
 from gymmigrate.rules.wrapper_usage.legacy_imports import LegacyImports
@@ -92,6 +93,11 @@ _AUTORESET_MESSAGE = (
 )
 _REMOVED_SUFFIXES = tuple(REMOVED)
 
+
+
+# The imports family's GM105 questions, one per move (``Repeats("GM105")`` there): a removed
+# wrapper used from a removed module asks the question of that module's import.
+_REMOVED_MODULE_QUESTIONS = Repeats("GM105")
 
 class WrapperRenames(RuleFamily):
     RULES = RULES
@@ -200,6 +206,15 @@ class WrapperRenames(RuleFamily):
             name = rest.rsplit(".", 1)[-1]
             if name in REMOVED and (dotted_name(node) or "").endswith(name):
                 question = self._removed_repeats.question(name)
+                module = rest.rsplit(".", 1)[0]
+                hint = removed_module_hint(module, unknown=False)
+                if hint is not None:
+                    # from a module Gymnasium removed: its import (or the chain naming it) is
+                    # GM105's item, which asks what replaces it; the uses ask the same
+                    question = _REMOVED_MODULE_QUESTIONS.question(hint.split(": ", 1)[0])
+                elif removed_name_hint(module, name) is not None:
+                    # a name its module no longer has: its import asks what replaces it (GM105)
+                    question = removed_helper_question(module, name)
                 self.report(node, "GM610", f"`{name}` was removed in Gymnasium 1.0: {REMOVED[name]}", question=question)
                 return
 
