@@ -552,10 +552,13 @@ def _bare_keeps_default(decision: ClassDecision, default: ast.expr | None) -> bo
 
 
 def _report_forwarded_modes(decision: ClassDecision, function: ast.AST) -> None:
-    """``env.render(mode, close)`` to inner envs loses its ``mode`` argument (the build
-    drops it: Gymnasium's render() takes none); the inner envs then render in the mode
-    they were made with, and any other argument must still be one they accept. An object
-    of the project's own that is no Gym env keeps getting a mode: ``self.render_mode``."""
+    """``env.render(mode, close)`` to an inner env the run proves a Gym (or PettingZoo) env
+    loses its ``mode`` argument (the build drops it: Gymnasium's render() takes none); the
+    inner env then renders in the mode it was made with, and any other argument must still
+    be one it accepts. Any other receiver (an object of the project's own, or one the run
+    cannot trace) keeps getting a mode in the same place: ``self.render_mode``. Dropping it
+    there would shift the next argument into the mode parameter."""
+    origins = EnvOrigins(decision.family.facts, decision.family.receivers)
     for call in decision.function(function).of(ast.Call):
         func = call.func  # type: ignore[attr-defined]
         if not (isinstance(func, ast.Attribute) and func.attr == "render") or is_super_call(func.value):
@@ -574,6 +577,20 @@ def _report_forwarded_modes(decision: ClassDecision, function: ast.AST) -> None:
                 f"{decision.family.facts.segment(func.value)}.render() is handed self.render_mode, the mode the env is "
                 "made with: it is an object of the project's own, no Gym env, and takes the mode as before",
                 tier=Tier.NOTE,
+            )
+            continue
+        if not _renders_without_mode(decision, origins, func.value):
+            # Not shown to be an env whose render() lost the mode: it keeps the mode where
+            # it took it, now the one the env is made with.
+            text = decision.family.facts.segment(func.value)
+            decision.plan.render_mode_receivers.add(text)
+            decision.report(
+                call,
+                "GM405",
+                f"`{text}.render()` is handed self.render_mode where it was handed `mode` (its other arguments stay "
+                f"where they were): the run does not show `{text}` to be a Gym env. If it is one, its render() takes "
+                "no mode on Gymnasium: drop the argument and make it with render_mode",
+                FixKind.ASSIST,
             )
             continue
         others = len(call.args) + len(call.keywords) - len(passes_mode)  # type: ignore[attr-defined]
@@ -599,6 +616,15 @@ def _report_forwarded_modes(decision: ClassDecision, function: ast.AST) -> None:
             f"with render_mode=self.render_mode{rest}",
             FixKind.ASSIST,
         )
+
+
+def _renders_without_mode(decision: ClassDecision, origins: EnvOrigins, held: ast.expr) -> bool:
+    """``held`` is proven an env whose render() takes no mode once migrated: a Gym env or
+    vector env, a PettingZoo env, or a Gym env handed to the class from outside."""
+    kind = decision.family.receivers.kind_of(held)
+    if kind.is_gym or kind in (EnvKind.PZ_AEC, EnvKind.PZ_PARALLEL):
+        return True
+    return origins.handed_gym_env(held) is not None
 
 
 def _report_bare_inner_renders(decision: ClassDecision, function: ast.AST) -> None:
