@@ -304,6 +304,13 @@ class EnvOrigins(HeldEnvQuestions):
             thunk = self._thunk_origin(func)
             if thunk is not None:
                 return thunk
+            listed = self._listed_thunk_origin(func)
+            if listed is not None:
+                return listed
+        if isinstance(func, ast.Attribute) and self.receivers.callables.held_callable_kind(func) is EnvKind.GYM_ENV:
+            # ``env = holder.x()`` in a worker every spawn hands ``Pickled(fn)``, each ``fn``
+            # a thunk returning a Gym env: bare or wrapped, as the kinds say
+            return WRAPPED
         view = self.receivers.project
         if view is not None:
             qualified = self.facts.qualified_names(func)
@@ -312,6 +319,21 @@ class EnvOrigins(HeldEnvQuestions):
             if any(view.makes_bare_env(q) for q in qualified):
                 return RAW  # an env class of another module of the run: the env itself
         return None
+
+    def _listed_thunk_origin(self, func: ast.Name) -> Origin:
+        """``fn()`` in ``self.envs = [fn() for fn in env_fns]`` (or a ``for fn in env_fns``
+        loop), ``env_fns`` a parameter that every call the run shows (in this module and in
+        the others) feeds a list of thunks returning Gym envs (``thunks_returned_kind``): a
+        Gym env, bare or wrapped, so its own methods are reached through make's wrappers.
+        None where one caller feeds anything else, or ``fn`` is bound otherwise."""
+        bindings = self.facts.bindings_of(func)
+        loop = self.facts.parent(bindings[0]) if len(bindings) == 1 else None
+        if not (isinstance(loop, (ast.For, ast.comprehension)) and loop.target is bindings[0] and isinstance(loop.iter, ast.Name)):
+            return None
+        sources = self.facts.bindings_of(loop.iter)
+        if len(sources) != 1 or not isinstance(sources[0], ast.arg):
+            return None
+        return WRAPPED if self.receivers.thunks_returned_kind(sources[0]) is EnvKind.GYM_ENV else None
 
     def _thunk_origin(self, func: ast.Name) -> Origin:
         """``create()`` where every binding of ``create`` takes the thunk a factory returns:
@@ -402,6 +424,10 @@ class EnvOrigins(HeldEnvQuestions):
                 continue
             if isinstance(binding, ast.Name) and isinstance(parent, ast.AnnAssign) and parent.value is not None:
                 origins.append(self.origin(parent.value))
+                continue
+            if isinstance(parent, ast.For) and parent.target is binding and _self_attribute(parent.iter):
+                # ``for env in self.envs``: an item of what the class stores there
+                origins.append(self._items_origin(parent.iter))
                 continue
             return None
         return join_origins(origins)
@@ -788,6 +814,11 @@ class EnvOrigins(HeldEnvQuestions):
         if names is None:
             names = self._class_attrs[classdef] = _defined_attributes(classdef)
         return names
+
+def _self_attribute(expr: ast.expr) -> bool:
+    """``self.envs``: an attribute of the instance a method reads."""
+    return isinstance(expr, ast.Attribute) and isinstance(expr.value, ast.Name) and expr.value.id == "self"
+
 
 def _factory_item(facts: ModuleFacts, binding: ast.AST) -> tuple[ast.Call, tuple[int, int | None] | None] | None:
     """The factory call a name's binding takes a thunk from, and which item of its return
