@@ -177,6 +177,7 @@ GYM_ONLY_PACKAGES = frozenset(
         "colabgymrender",
         "d4rl",
         "dm2gym",
+        "dm_control2gym",
         "dmc2gym",
         "gfootball",
         "gym_super_mario_bros",

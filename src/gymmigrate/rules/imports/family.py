@@ -13,7 +13,7 @@ from gymmigrate.findings import FixKind, gym_only_question
 from gymmigrate.rules.base import FileContext
 from gymmigrate.rules.imports.common import RULES
 from gymmigrate.rules.imports.guards import ImportGuards, innermost_guard
-from gymmigrate.rules.imports.libraries import GYM_ONLY_LIBRARIES
+from gymmigrate.rules.imports.libraries import GYM_ONLY_LIBRARIES, GYM_ONLY_MODULES
 from gymmigrate.rules.imports.plugin_modules import first_gym_import, plugin_only_module
 from gymmigrate.rules.imports.removed import RemovedAttributes
 from gymmigrate.rules.imports.rllib import RllibEra
@@ -28,7 +28,7 @@ class Imports(ImportStatements, ImportGuards, RemovedAttributes, RllibEra):
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
         return "gym" in facts.text or "stable_baselines" in facts.text or any(
-            library in facts.text for library in GYM_ONLY_LIBRARIES
+            library in facts.text for library in (*GYM_ONLY_LIBRARIES, *GYM_ONLY_MODULES)
         )
 
     def decide(self) -> None:

@@ -174,6 +174,34 @@ GYM_ONLY_LIBRARIES = {
         "list-per-agent reset/step and builds gym.spaces; its successor is PettingZoo's MPE (`mpe2`); until it is "
         "ported, code that steps its envs or checks their spaces against gym classes stays on gym"
     ),
+    # dm_control2gym (never on PyPI) wraps a dm_control task in a legacy ``gym.Env``: the
+    # Gymnasium wrappers put around what its ``make`` returns refuse it.
+    "dm_control2gym": (
+        "dm_control2gym makes dm_control envs with the legacy Gym API and has no Gymnasium release: Gymnasium "
+        "wrappers refuse its envs; use Shimmy's dm_control envs (`gymnasium.make(\"dm_control/<domain>-<task>-v0\")`, "
+        "or `shimmy.DmControlCompatibilityV0(dm_control_env)`, `shimmy[dm-control]` installed)"
+    ),
+    # RL libraries that drive the envs handed to them with gym's old API (``obs = env.reset()``,
+    # a four-value step, ``env.seed``) in their training and evaluation loops: a migrated env
+    # breaks at their first reset or step, out of the run's sight.
+    "chainerrl": (
+        "chainerrl (archived) has no Gymnasium release: its agents' training and evaluation loops "
+        "(`experiments.train_agent_with_evaluation`, `agent.act_and_train`...) reset and step the env with gym's "
+        "API (`obs = env.reset()`, a four-value step), so a Gymnasium env handed to them breaks at the first "
+        "reset; pfrl, its successor, came from the same loops (check the API of the release installed): port the loop to Gymnasium's API yourself (or an "
+        "adapter env returning the old values), or move to a maintained library (Stable-Baselines3)"
+    ),
+    "rlkit": (
+        "rlkit has no Gymnasium release: its path collectors and samplers (`rollout`, `MdpPathCollector`...) "
+        "reset and step the env with gym's API (`o = env.reset()`, a four-value step), so a Gymnasium env handed "
+        "to them breaks at the first reset; port the rollout code to Gymnasium's API, or move to a maintained "
+        "library (Stable-Baselines3)"
+    ),
+    "pytorch_neat": (
+        "PyTorch-NEAT (`pytorch_neat`) has no Gymnasium release: its `MultiEnvEvaluator` resets and steps the "
+        "envs its `make_env` returns with gym's API (`state = env.reset()`, a four-value step), so a Gymnasium "
+        "env breaks at the first reset; port its evaluation loop to Gymnasium's API"
+    ),
 }
 
 # Gym-only modules of libraries that are not Gym-only as a whole (GM107 at their import):
@@ -186,12 +214,52 @@ _TENSORFORCE_GYM = (
     "and Gymnasium envs handed to it are stepped wrong; adapt the Gymnasium env to tensorforce's Environment "
     "yourself, or keep this code on gym"
 )
+# keras-rl (``import rl``, last release 0.4.2) and keras-rl2 (1.0.5), the same package: its
+# ``Agent.fit``/``test`` reset and step the env with gym's API. Its top-level name ``rl`` is a
+# common name for a project's own package, so only its own modules are matched.
+_KERAS_RL = (
+    "keras-rl / keras-rl2 (`rl`) has no Gymnasium release: `Agent.fit` and `Agent.test` reset and step the env "
+    "with gym's API (`observation = env.reset()`, a four-value step), so a Gymnasium env handed to them breaks "
+    "at the first reset; port the training loop to Gymnasium's API yourself, or move to a maintained library "
+    "(Stable-Baselines3)"
+)
 GYM_ONLY_MODULES = {
     "tensorforce.contrib.openai_gym": ("tensorforce", _TENSORFORCE_GYM),
     "tensorforce.environments.openai_gym": ("tensorforce", _TENSORFORCE_GYM),
     "tensorforce.contrib.OpenAIGym": ("tensorforce", _TENSORFORCE_GYM),
     "tensorforce.environments.OpenAIGym": ("tensorforce", _TENSORFORCE_GYM),
+    "rl.agents": ("keras-rl", _KERAS_RL),
+    "rl.core": ("keras-rl", _KERAS_RL),
+    "rl.callbacks": ("keras-rl", _KERAS_RL),
+    "rl.memory": ("keras-rl", _KERAS_RL),
+    "rl.policy": ("keras-rl", _KERAS_RL),
+    "rl.processors": ("keras-rl", _KERAS_RL),
 }
+
+
+def gym_only_module(module: str) -> tuple[str, str] | None:
+    """The Gym-only library a module belongs to through ``GYM_ONLY_MODULES``: the module
+    itself or one of its packages (``rl.agents.dqn`` is keras-rl's ``rl.agents``)."""
+    parts = module.split(".")
+    for end in range(len(parts), 0, -1):
+        found = GYM_ONLY_MODULES.get(".".join(parts[:end]))
+        if found is not None:
+            return found
+    return None
+
+
+def _folded(name: str) -> str:
+    return name.lower().replace("_", "").replace("-", "")
+
+
+def vendored_library(module: str) -> str | None:
+    """The Gym-only library a module names inside a checkout of its repository, imported
+    through the checkout's folder (``PyTorch_NEAT.pytorch_neat.multi_env_eval``: a git submodule
+    named after the library that holds its package): the folder's name, folded, is the package's."""
+    parts = module.split(".")
+    if len(parts) >= 2 and parts[1] in GYM_ONLY_LIBRARIES and _folded(parts[0]) == _folded(parts[1]):
+        return parts[1]
+    return None
 
 # Gym-only packages whose Gymnasium successor is imported under the same name (stable-retro
 # installs ``retro``): the import is the legacy package only in a file that uses gym.
@@ -419,12 +487,15 @@ class GymOnlyLibraries(ImportsBase):
             if isinstance(node, ast.ImportFrom) and node.module and not node.level:
                 modules += [f"{node.module}.{alias.name}" for alias in node.names]
             for module in modules:
-                gym_only = GYM_ONLY_MODULES.get(module)
+                gym_only = gym_only_module(module)
                 if gym_only is not None and gym_only[0] not in reported and not self._module_of_the_run(module):
                     reported.add(gym_only[0])
                     self.report(node, "GM107", gym_only[1], question=gym_only_question(gym_only[0]))
                     continue
                 top = module.split(".", 1)[0]
+                vendored = vendored_library(module)
+                if vendored is not None and not self._of_the_run(top):
+                    top = vendored  # the checkout folder is absent: the import is the library's
                 if top in _SUCCESSOR_KEEPS_NAME and not self.context.profile.imports_gym:
                     continue  # ``import retro`` next to Gymnasium alone: stable-retro already
                 user = (top, self.facts.enclosing_function(node))
