@@ -369,6 +369,7 @@ class ModuleSummary:
     # render() (``render_modes.draws_only_in_render``). Made in human mode, they still draw
     # only when render() is called.
     render_only_classes: frozenset[str] = frozenset()
+    own_flag_steps: frozenset[str] = frozenset()  # classes whose step() draws only on flags of their own
     # -- a reset contract of the run (facts/reset_contract.py, GM207) --
     # The extra reset keywords its env classes take, its reset calls pass, and the sites
     # the rewrite cannot carry.

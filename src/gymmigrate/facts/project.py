@@ -333,6 +333,7 @@ class ProjectFacts:
     seed_owners: frozenset[tuple[str, str]] = frozenset()
     seed_chains: frozenset[tuple[str, str]] = frozenset()
     silent_renders: frozenset[tuple[str, str]] = frozenset()  # (path, class) whose render() is a stub
+    own_flag_steps: frozenset[tuple[str, str]] = frozenset()  # (path, class) whose step() draws on its own flags only
     # (path, class) -> the render modes its metadata declares, or None: it inherits those of
     # its one base (``ModuleSummary.frame_classes``)
     frame_classes: dict[tuple[str, str], tuple[str, ...] | None] = field(default_factory=dict)
@@ -692,6 +693,7 @@ class ProjectFacts:
         join_opaque_registrations(facts, by_path)
         facts.rendering_wrappers = reexported(facts, by_path, {(p, n) for p, summary in by_path.items() for n in summary.rendering_wrappers})
         facts.silent_renders = frozenset((path, name) for path, summary in by_path.items() for name in summary.silent_renders)
+        facts.own_flag_steps = frozenset((path, name) for path, summary in by_path.items() for name in summary.own_flag_steps)
         facts.frame_classes = {(path, name): modes for path, summary in by_path.items() for name, modes in summary.frame_classes.items()}
         # each forward under every name of the run that re-exports its class (few classes have one)
         facts.render_forwards = {

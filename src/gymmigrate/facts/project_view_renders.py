@@ -103,6 +103,12 @@ class RenderView:
         split = self.facts._split(qualified, self.path)
         return split is not None and split[1] in self.facts.render_mode_classes.get(split[0], ())
 
+    def steps_draw_on_own_flags(self, qualified: str) -> bool:
+        """An imported class of the run whose step() and reset() draw only under conditions of
+        its own, never by ``render_mode`` (``render_modes.steps_draw_on_own_flags``)."""
+        split = self.facts._split(qualified, self.path)
+        return split is not None and split in self.facts.own_flag_steps
+
     def renders_nothing(self, qualified: str) -> bool:
         """An imported class of the run whose render() is a stub (it renders no env)."""
         split = self.facts._split(qualified, self.path)

@@ -384,28 +384,74 @@ def draws_only_in_render(facts: ModuleFacts, receivers: Receivers, classdef: ast
 
 
 def _draws_only_in_render(facts: ModuleFacts, receivers: Receivers, classdef: ast.ClassDef) -> bool:
+    renders = _step_renders(facts, receivers, classdef)
+    return renders is not None and not renders
+
+
+def steps_draw_on_own_flags(facts: ModuleFacts, receivers: Receivers, classdef: ast.ClassDef) -> bool:
+    """The same class shape as ``draws_only_in_render``, where step() or reset() (or a method
+    they call on ``self``) may call a render(), but each such call runs only under a condition
+    of the class's own (``if self.gui:``): nothing of the class reads ``render_mode``, so made
+    with ``render_mode="human"`` its step() draws no more than before, and an explicit
+    render() call is still what draws where those conditions do not hold."""
+    return facts.memo(("own-flag-steps", id(classdef)), lambda: _steps_draw_on_own_flags(facts, receivers, classdef))
+
+
+def _steps_draw_on_own_flags(facts: ModuleFacts, receivers: Receivers, classdef: ast.ClassDef) -> bool:
+    renders = _step_renders(facts, receivers, classdef)
+    return renders is not None and all(guarded for _, guarded in renders)
+
+
+def _step_renders(facts: ModuleFacts, receivers: Receivers, classdef: ast.ClassDef) -> list[tuple[ast.Call, bool]] | None:
+    """The render() calls step() and reset() reach (through the methods of the class they
+    call on ``self``), each with whether a condition guards it on the way; None where the class
+    is no env of this module's own lineage defining render() and step()."""
     if not EnvClasses.of(facts, receivers).is_custom_env(classdef):
-        return False
+        return None
     lineage = _lineage_of_this_module(facts, receivers, classdef)
     if lineage is None:
-        return False
+        return None
     methods: dict[str, ast.FunctionDef | ast.AsyncFunctionDef] = {}
     for current in lineage:
         for statement in current.body:
             if isinstance(statement, FUNCTIONS):
                 methods.setdefault(statement.name, statement)
     if "render" not in methods or "step" not in methods:
-        return False
-    pending: list[str] = [name for name in ("step", "reset") if name in methods]
-    seen = set(pending)
+        return None
+    found: list[tuple[ast.Call, bool]] = []
+    pending: list[tuple[str, bool]] = [(name, False) for name in ("step", "reset") if name in methods]
+    # a method reached unguarded once is walked unguarded; guarded first, it may be walked again
+    seen: dict[str, bool] = dict(pending)
     while pending:
-        for node in walk(methods[pending.pop()]):
+        name, outer = pending.pop()
+        method = methods[name]
+        for node in walk(method):
             if not (isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute)):
                 continue
+            guarded = outer or _guarded_within(facts, node, method)
             if node.func.attr == "render":
-                return False
+                found.append((node, guarded))
+                continue
             called = node.func.attr
-            if isinstance(node.func.value, ast.Name) and node.func.value.id == "self" and called in methods and called not in seen:
-                seen.add(called)
-                pending.append(called)
-    return True
+            if isinstance(node.func.value, ast.Name) and node.func.value.id == "self" and called in methods:
+                if called not in seen or (seen[called] and not guarded):
+                    seen[called] = guarded
+                    pending.append((called, guarded))
+    return found
+
+
+def _guarded_within(facts: ModuleFacts, node: ast.AST, method: ast.AST) -> bool:
+    """A condition of ``method`` decides whether ``node`` runs: it lies in a branch of an
+    ``if``/``while``/conditional expression, past the first operand of ``and``/``or``, in an
+    ``except`` or a ``match`` case (the tests themselves always run)."""
+    child: ast.AST = node
+    parent = facts.parent(node)
+    while parent is not None and parent is not method:
+        if isinstance(parent, (ast.If, ast.IfExp, ast.While)) and child is not parent.test:
+            return True
+        if isinstance(parent, ast.BoolOp) and child is not parent.values[0]:
+            return True
+        if isinstance(parent, (ast.ExceptHandler, ast.Match)) and child is not getattr(parent, "subject", None):
+            return True
+        child, parent = parent, facts.parent(parent)
+    return False

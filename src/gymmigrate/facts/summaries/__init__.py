@@ -43,7 +43,11 @@ from gymmigrate.facts.own_steps import (
 from gymmigrate.facts.receiver_classes import duck_wrapper_param
 from gymmigrate.facts.receivers import Receivers
 from gymmigrate.facts.render_handovers import bare_render_params, handed_constructions
-from gymmigrate.facts.render_modes import draws_only_in_render, render_kept_classes
+from gymmigrate.facts.render_modes import (
+    draws_only_in_render,
+    render_kept_classes,
+    steps_draw_on_own_flags,
+)
 from gymmigrate.facts.reset_contract import sites as reset_sites
 from gymmigrate.facts.rng_handovers import rng_stores
 from gymmigrate.facts.space_setters import (
@@ -283,6 +287,7 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         own_renders=own_renders(facts, receivers, calls),
         modeless_renders=modeless_renders(facts, receivers),
         render_only_classes=frozenset(name for name, classdef in facts.classes.items() if draws_only_in_render(facts, receivers, classdef)),
+        own_flag_steps=frozenset(name for name, classdef in facts.classes.items() if steps_draw_on_own_flags(facts, receivers, classdef)),
         registrations=registrations(facts),
         loads_saved_state=loads_model_for_the_run(facts.tree),
         registered_ids=registered_ids(facts),

@@ -16,6 +16,7 @@ from gymmigrate.facts.class_shapes import wrapped_env_renders
 from gymmigrate.facts.decisions import Action, Decision
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.module import keyword, string_value
+from gymmigrate.facts.render_modes import steps_draw_on_own_flags
 from gymmigrate.facts.version_checks import reads_version
 from gymmigrate.findings import (
     FixKind,
@@ -485,6 +486,17 @@ class SitePlanning(EnvUses, UntracedEnvs):
                         tier=Tier.NOTE,
                     )
                     return
+                if self._steps_draw_on_own_flags(keys, makes):
+                    # the env's class is built here and its step() draws only under flags of
+                    # its own, never by render_mode: human mode adds no drawing to step()
+                    self.report(
+                        call,
+                        code,
+                        f'legacy render() meant "human": added {target} to {where}; the env\'s class does not draw by '
+                        "render_mode in step() or reset() (only under conditions of its own), so this call is still what draws",
+                        tier=Tier.NOTE,
+                    )
+                    return
                 self.report(
                     call,
                     code,
@@ -547,6 +559,21 @@ class SitePlanning(EnvUses, UntracedEnvs):
             first = makes[key].args[0] if makes[key].args else keyword(makes[key], "id")
             env_id = string_value(first) if first is not None else None
             if env_id is None or not project.draws_only_in_render(env_id):
+                return False
+        return True
+
+    def _steps_draw_on_own_flags(self, keys: list[int], makes: dict[int, ast.Call]) -> bool:
+        """Every make of ``keys`` calls the constructor of an env class of the run (this
+        module's or imported) whose step() and reset() draw only under conditions of its own
+        (``render_modes.steps_draw_on_own_flags``)."""
+        project = self.receivers.project
+        for key in keys:
+            func = makes[key].func
+            local = self.receivers.local_class(func)
+            if local is not None:
+                if not steps_draw_on_own_flags(self.facts, self.receivers, local):
+                    return False
+            elif project is None or not any(project.steps_draw_on_own_flags(q) for q in self.facts.qualified_names(func)):
                 return False
         return True
 
