@@ -40,8 +40,12 @@ def decide_unset_spaces(decision: ClassDecision) -> None:
     classdef = decision.classdef
     family = decision.family
     facts, receivers = family.facts, family.receivers
-    if not family.context.profile.imports_gym:
-        return  # written for Gymnasium: no legacy default was ever there
+    profile = family.context.profile
+    if profile.imports_gymnasium and not profile.imports_gym:
+        # written for Gymnasium: no legacy default was ever there. A module that imports
+        # neither gets its Env from a base of the run (``class Cart(SimBase)``), which the
+        # join below follows to gym.Env, so it is asked like the base's own module.
+        return
     if facts.classes.get(classdef.name) is not classdef or receivers.class_kind(classdef) is not EnvKind.GYM_ENV:
         return
     project = receivers.project
