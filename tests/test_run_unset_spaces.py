@@ -109,3 +109,32 @@ def test_a_registered_stub_no_make_of_the_run_names_is_a_note(tmp_path: Path, ma
     result = runner.invoke(app, ["check", "--output-format", "json", str(tmp_path)])
     [finding] = [f for f in json.loads(result.stdout) if f["rule"] == "GM511"]
     assert finding["path"].endswith("hard.py") and finding["tier"] == tier, finding
+
+
+def _plain_module_package(root: Path, child_imports: str, child_init: str) -> None:
+    """A package whose registered class lives in a module that imports no Gym package: its
+    Env comes from a base of the run (``pond.envs.base``) that derives from gym.Env."""
+    (root / "pond" / "envs").mkdir(parents=True)
+    (root / "pond" / "__init__.py").write_text('from gym.envs.registration import register\nregister(id="Frog-v0", entry_point="pond.envs:Frog")\n')
+    (root / "pond" / "envs" / "__init__.py").write_text("from pond.envs.base import PondBase\nfrom pond.envs.frog import Frog\n")
+    (root / "pond" / "envs" / "base.py").write_text("import gym\n\n\nclass PondBase(gym.Env):\n    def __init__(self, depth):\n        self.depth = depth\n")
+    (root / "pond" / "envs" / "frog.py").write_text(
+        f"{child_imports}import numpy as np\n\nfrom pond.envs import PondBase\n\n\nclass Frog(PondBase):\n    def __init__(self):\n"
+        f"        PondBase.__init__(self, depth=3)\n{child_init}\n    def reset(self):\n        return np.zeros(2)\n\n"
+        "    def step(self, action):\n        return np.zeros(2), 0.0, False, {}\n"
+    )
+
+
+@pytest.mark.parametrize(
+    ("child_imports", "child_init", "asked"),
+    [
+        ("", "", True),  # nothing of the chain sets a space: make raises
+        ("from gym import spaces\n", "        self.action_space = spaces.Discrete(2)\n        self.observation_space = spaces.Box(0, 1, (2,))\n", False),
+        ("import gymnasium\n", "", False),  # a module written for Gymnasium: no legacy default to miss
+    ],
+)
+def test_a_class_in_a_module_without_gym_imports_is_asked_through_its_base(tmp_path: Path, child_imports: str, child_init: str, asked: bool) -> None:
+    _plain_module_package(tmp_path, child_imports, child_init)
+    result = runner.invoke(app, ["check", "--output-format", "json", str(tmp_path)])
+    found = [(Path(f["path"]).name, f["line"]) for f in json.loads(result.stdout) if f["rule"] == "GM511"]
+    assert found == ([("frog.py", 6 + child_imports.count("\n"))] if asked else [])

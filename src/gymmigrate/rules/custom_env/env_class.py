@@ -50,7 +50,11 @@ from gymmigrate.rules.custom_env.reset import (
 from gymmigrate.rules.custom_env.reset_none import decide_reset_without_observation
 from gymmigrate.rules.custom_env.seed import decide_seed
 from gymmigrate.rules.custom_env.seeding_import import drop_unused_seeding_import
-from gymmigrate.rules.custom_env.spaces import decide_list_spaces, decide_unset_spaces
+from gymmigrate.rules.custom_env.spaces import (
+    decide_list_spaces,
+    decide_observation_stores,
+    decide_unset_spaces,
+)
 from gymmigrate.rules.custom_env.step import decide_step
 
 
@@ -97,6 +101,7 @@ class EnvClassFamily(RuleFamily):
             decide_mujoco(decision)
             decide_unset_spaces(decision)
             decide_list_spaces(decision)
+            decide_observation_stores(decision)
             if self.receivers.class_kind(classdef) is EnvKind.OWN_API:
                 # Its reset/step are on a contract of their own, and the calls on its instances
                 # stay on it (the receiver rules leave them): nothing that contract reaches

@@ -133,6 +133,10 @@ class ClassPlan:
     # method -> position of ``return self._observe()`` (a helper of four values that other
     # code reads too) -> the names it is unpacked into before returning five
     unpacked_helper_returns: dict[str, dict[int, tuple[str, ...]]] = field(default_factory=dict)
+    # method -> locals returned as the info whose every binding is ``name = None``: they
+    # become ``name = {}`` (Gymnasium's env checker asserts a dict)
+    none_infos: dict[str, set[str]] = field(default_factory=dict)
+    none_infos_asked: set[tuple[str, str]] = field(default_factory=set)  # (method, local) reported instead
     reset_helpers: list[str] = field(default_factory=list)  # likewise for reset()
     # ``return self.env.reset()`` of an env the class holds: the call-site rule passes the
     # inner (obs, info) through, so these receivers' resets are not paired again.

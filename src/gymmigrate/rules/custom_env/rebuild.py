@@ -371,6 +371,9 @@ class ClassRewrite:
             return plan(ret) if plan is not None else ret
 
         body = visit_suite(fn.body, _ReturnRewriter(rewrite))
+        none_infos = self.plan.none_infos.get(planned)
+        if none_infos:
+            body = visit_suite(body, _NoneInfoFiller(none_infos))
         if unpacked:
             body = visit_suite(body, _HelperReturnUnpacker(unpacked))
         if fn.returns is not None and _is_tuple_annotation(fn.returns.annotation, 4):
@@ -792,3 +795,18 @@ def _replace_in_blocks(
     orelse_try = statement.orelse.with_changes(body=suite(statement.orelse.body)) if statement.orelse else None
     final = statement.finalbody.with_changes(body=suite(statement.finalbody.body)) if statement.finalbody else None
     return statement.with_changes(body=suite(statement.body), handlers=handlers, orelse=orelse_try, finalbody=final)
+
+
+class _NoneInfoFiller(OwnBodyOnly, cst.CSTTransformer):
+    """``info = None`` -> ``info = {}`` for the planned locals (``ClassPlan.none_infos``): each
+    is only ever None and only returned as step's info, which Gymnasium asserts is a dict."""
+
+    def __init__(self, names: set[str]) -> None:
+        self.names = names
+
+    def leave_Assign(self, original_node: cst.Assign, updated_node: cst.Assign) -> cst.Assign:
+        target = updated_node.targets[0].target
+        if len(updated_node.targets) == 1 and isinstance(target, cst.Name) and target.value in self.names:
+            if m.matches(updated_node.value, m.Name("None")):
+                return updated_node.with_changes(value=cst.Dict([]))
+        return updated_node

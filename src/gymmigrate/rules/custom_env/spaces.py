@@ -25,6 +25,7 @@ from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import (
     ModuleFacts,
     call_argument,
+    own_returns,
     self_attribute,
     string_value,
 )
@@ -40,8 +41,12 @@ def decide_unset_spaces(decision: ClassDecision) -> None:
     classdef = decision.classdef
     family = decision.family
     facts, receivers = family.facts, family.receivers
-    if not family.context.profile.imports_gym:
-        return  # written for Gymnasium: no legacy default was ever there
+    profile = family.context.profile
+    if profile.imports_gymnasium and not profile.imports_gym:
+        # written for Gymnasium: no legacy default was ever there. A module that imports
+        # neither gets its Env from a base of the run (``class Cart(SimBase)``), which the
+        # join below follows to gym.Env, so it is asked like the base's own module.
+        return
     if facts.classes.get(classdef.name) is not classdef or receivers.class_kind(classdef) is not EnvKind.GYM_ENV:
         return
     project = receivers.project
@@ -184,3 +189,89 @@ def _mutations(facts: ModuleFacts, classdef: ast.ClassDef, names: set[str]) -> l
             ):
                 found.append((call.lineno, f"`self.{held.attr}.{mutator}()` (line {call.lineno})"))
     return [text for _, text in sorted(found)]
+
+
+# The methods whose returned observation is the env's: step's first item, reset's value
+_OBSERVING = frozenset({"step", "reset", "_step", "_reset"})
+# numpy conversions that hand the value on as an array (``np.asarray(self.observation_space)``)
+_ARRAY_OF = frozenset({"asarray", "array", "copy", "ravel", "float32"})
+
+
+def decide_observation_stores(decision: ClassDecision) -> None:
+    """An env class that keeps its observation in ``self.observation_space`` (or a value in
+    ``self.action_space``) outside ``__init__``: gym never looked, Gymnasium's env checker
+    asks for a Space there. Proved where the class returns that attribute as its observation
+    (from step or reset), or stores a number or a numpy call there; anything else is left."""
+    classdef = decision.classdef
+    family = decision.family
+    facts, receivers = family.facts, family.receivers
+    profile = family.context.profile
+    if profile.imports_gymnasium and not profile.imports_gym:
+        return  # code written for Gymnasium met the checker already
+    if receivers.class_kind(classdef) is not EnvKind.GYM_ENV:
+        return
+    returned = _returned_as_observation(facts, classdef)
+    values = SpaceValues(facts, receivers)
+    for method in classdef.body:
+        if not isinstance(method, (ast.FunctionDef, ast.AsyncFunctionDef)) or method.name == "__init__":
+            continue
+        for node in ast.walk(method):
+            if not (isinstance(node, ast.Assign) and len(node.targets) == 1):
+                continue
+            space = self_attribute(node.targets[0])
+            if space not in SPACES or values.space_class(node.value) is not None:
+                continue  # a space rebuilt outside __init__ (``spaces.Box(...)`` for a new size) is one
+            why = (
+                "it returns that attribute as its observation"
+                if space in returned
+                else "a number"
+                if _is_number(node.value)
+                else f"`{facts.segment(node.value.func)}(...)` returns an array"
+                if isinstance(node.value, ast.Call) and _numpy_call(facts, node.value)
+                else None
+            )
+            if why is None:
+                continue
+            decision.report(
+                node,
+                "GM511",
+                f"`{classdef.name}` stores a value that is no Space in `self.{space}` in {method.name}() ({why}): the env "
+                f"checker `gymnasium.make` puts around it raises TypeError (\"{space.split('_')[0]} space does not inherit "
+                f"from gymnasium.spaces.Space\"); set `self.{space}` to the Space once in `__init__` and keep the value in "
+                "another attribute",
+                FixKind.FLAG,
+            )
+            return  # once per class, at the first such store
+
+
+def _returned_as_observation(facts: ModuleFacts, classdef: ast.ClassDef) -> set[str]:
+    """The spaces (``observation_space``) that step returns as its first item or reset as its
+    value (or its first item), bare or through a numpy conversion."""
+    found: set[str] = set()
+    for method in classdef.body:
+        if not isinstance(method, (ast.FunctionDef, ast.AsyncFunctionDef)) or method.name not in _OBSERVING:
+            continue
+        for ret in own_returns(method):
+            value = ret.value
+            if isinstance(value, ast.Tuple) and value.elts:
+                value = value.elts[0]
+            elif method.name.endswith("step"):
+                continue  # a step's value is its tuple, never the observation alone
+            if isinstance(value, ast.Call) and len(value.args) == 1 and _numpy_call(facts, value) and value.func.attr in _ARRAY_OF:  # type: ignore[attr-defined]
+                value = value.args[0]
+            space = self_attribute(value)
+            if space in SPACES:
+                found.add(space)
+    return found
+
+
+def _is_number(value: ast.expr) -> bool:
+    if isinstance(value, ast.UnaryOp) and isinstance(value.op, ast.USub):
+        value = value.operand
+    return isinstance(value, ast.Constant) and type(value.value) in (int, float)
+
+
+def _numpy_call(facts: ModuleFacts, call: ast.Call) -> bool:
+    """``np.zeros(...)``, ``numpy.random.rand(...)``: a function of numpy, which returns an array
+    or a number, never a Space."""
+    return isinstance(call.func, ast.Attribute) and any(q.startswith("numpy.") for q in facts.qualified_names(call.func))

@@ -221,6 +221,98 @@ def _absent_hooks(decision: ClassDecision, function: Method) -> set[str]:
     return found
 
 
+def _decide_none_info(decision: ClassDecision, function: Method, ret: ast.Return) -> None:
+    """``info = None`` ... ``return obs, reward, done, info``: gym let the info be None, but
+    Gymnasium's env checker (which make puts around every env) asserts a dict. Where every
+    binding of that local is ``= None`` and it is read only as a returned info, the
+    bindings become ``{}``; where other code reads (or tests) it too, a person decides."""
+    info = ret.value.elts[3]  # type: ignore[union-attr]
+    if not isinstance(info, ast.Name):
+        return
+    bindings = _none_info_bindings(function, info.id)
+    if bindings is None:
+        return
+    names = decision.plan.none_infos.setdefault(function.name, set())
+    asked = decision.plan.none_infos_asked
+    if info.id in names or (function.name, info.id) in asked:
+        return  # one finding per local, however many returns hand it on
+    if bindings[0]:
+        names.add(info.id)
+        decision.report(
+            bindings[1][0],
+            "GM504",
+            f"`{info.id} = None` -> `{info.id} = {{}}`: it is step's info, which Gymnasium's env checker (put around "
+            "the env by make) asserts is a dict",
+            FixKind.AUTO,
+        )
+        return
+    asked.add((function.name, info.id))
+    decision.report(
+        bindings[1][0],
+        "GM504",
+        f"`{info.id}` is returned as step's info and is None here, but other code reads it too: Gymnasium's env checker (put around the env "
+        "by make) asserts a dict; return `{}` where it is None",
+        FixKind.FLAG,
+    )
+
+
+_SCOPES = (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda, ast.ClassDef)
+
+
+def _walk_own(function: Method) -> list[ast.AST]:
+    """The nodes of ``function``'s own scope: a nested def, lambda or class is listed, its
+    inside is not (its names are another scope's)."""
+    found: list[ast.AST] = []
+    stack: list[ast.AST] = [*function.body]
+    while stack:
+        node = stack.pop()
+        found.append(node)
+        if not isinstance(node, _SCOPES):
+            stack.extend(ast.iter_child_nodes(node))
+    return found
+
+
+def _none_info_bindings(function: Method, name: str) -> tuple[bool, list[ast.Assign]] | None:
+    """The ``name = None`` statements of ``function`` and whether rewriting them is certain:
+    every binding of the local is one, no nested scope names it, and every read is the
+    info of a returned 4-tuple (no ``is None`` test, no copy elsewhere). None when no
+    binding is ``= None``, or another binding may replace it."""
+    nones: list[ast.Assign] = []
+    certain = not any(isinstance(a, ast.arg) and a.arg == name for a in ast.walk(function.args))
+    for node in _walk_own(function):
+        if isinstance(node, (ast.Global, ast.Nonlocal)) and name in node.names:
+            certain = False
+        elif isinstance(node, _SCOPES):
+            if any(isinstance(n, ast.Name) and n.id == name for n in ast.walk(node)):
+                certain = False
+        elif isinstance(node, ast.Assign) and isinstance(node.value, ast.Constant) and node.value.value is None:
+            if any(isinstance(t, ast.Name) and t.id == name for t in node.targets):
+                nones.append(node)
+                if len(node.targets) != 1:
+                    certain = False
+    if not nones:
+        return None
+    own = {id(n) for assign in nones for n in assign.targets}
+    returned = {
+        id(r.value.elts[3])  # type: ignore[union-attr]
+        for r in own_returns(function)
+        if tuple_len(r.value) == 4
+    }
+    for node in _walk_own(function):
+        if isinstance(node, ast.Name) and node.id == name:
+            if isinstance(node.ctx, ast.Load):
+                certain = certain and id(node) in returned
+            elif id(node) not in own:
+                # another binding (``info = {}`` on some path, a loop target, del): whether
+                # None reaches the return is the flow's question, not asked here
+                return None
+        elif isinstance(node, (ast.alias, ast.ExceptHandler, ast.MatchAs, ast.MatchStar)) and name in (
+            getattr(node, "asname", None) or getattr(node, "name", None) or "",
+        ):
+            certain = False
+    return certain, nones
+
+
 def _never_set(assigned: ast.AST | None) -> bool:
     """The one value a flag is given in the step is the literal ``False``."""
     return isinstance(assigned, ast.Constant) and assigned.value is False
@@ -351,6 +443,7 @@ def _decide_returns(
             )
             continue
         decision.plan.step = True
+        _decide_none_info(decision, function, ret)
         if isinstance(done, ast.Name) and index.assigns_name(done.id):
             assigned = single_assignment(index, done.id)
             if assigned is not None and split_done(assigned, data_ends, streaks, facts):

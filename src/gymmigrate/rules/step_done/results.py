@@ -18,8 +18,8 @@ from dataclasses import dataclass
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts.decisions import Action, Decision, receiver_text
 from gymmigrate.facts.flow import end, start
-from gymmigrate.facts.module import LOOPS, ModuleFacts, is_super_call
-from gymmigrate.findings import FixKind
+from gymmigrate.facts.module import LOOPS, ModuleFacts, full_name, is_super_call
+from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.step_done.common import (
     StepFamilyBase,
     looks_vectorised,
@@ -48,6 +48,30 @@ def _unpacked_into_no_gym_count(parent: ast.AST | None, call: ast.Call) -> bool:
         and isinstance(parent.targets[0], (ast.Tuple, ast.List))
         and len(parent.targets[0].elts) not in (4, 5)
         and not any(isinstance(element, ast.Starred) for element in parent.targets[0].elts)
+    )
+
+
+# Calls that only show a value: printing or logging any tuple works, whatever its length
+_SHOWING_FUNCTIONS = frozenset({"print", "pprint"})
+_SHOWING_METHODS = frozenset({"debug", "info", "warning", "warn", "error", "critical", "log", "pprint"})
+
+
+def _only_shown(call: ast.Call, facts: ModuleFacts) -> bool:
+    """The step result is an argument of ``print`` or a logging call, straight or inside an
+    f-string that is one: the five values are shown, nothing reads a field of them."""
+    node: ast.AST = call
+    parent = facts.parent(node)
+    while isinstance(parent, (ast.FormattedValue, ast.JoinedStr)):
+        node, parent = parent, facts.parent(parent)
+    if not isinstance(parent, ast.Call) or node is parent.func:
+        return False
+    if not (node in parent.args or any(keyword.value is node for keyword in parent.keywords)):
+        return False
+    if isinstance(parent.func, ast.Name):
+        return parent.func.id in _SHOWING_FUNCTIONS
+    name = full_name(parent.func) or ""
+    return isinstance(parent.func, ast.Attribute) and (
+        parent.func.attr in _SHOWING_METHODS or name.startswith(("logging.", "logger.", "log."))
     )
 
 
@@ -99,6 +123,16 @@ class ResultRules(StepFamilyBase):
                     "3 truncated, 4 info): update this use with it",
                     FixKind.FLAG,
                     question=self.receiver_question(receiver, decision),
+                )
+                return
+            if _only_shown(call, self.facts):
+                self.report(
+                    call,
+                    "GM304",
+                    f"`{receiver_text(receiver)}.step()` result is only printed or logged: it shows five values now "
+                    "(terminated and truncated where done was); nothing to change",
+                    FixKind.FLAG,
+                    Tier.NOTE,
                 )
                 return
             unsure = f"{decision.reason.removesuffix('; not rewritten')}: if it is, its " if decision.action is Action.REPORT else ""
