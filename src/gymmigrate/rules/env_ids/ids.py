@@ -117,7 +117,7 @@ class EnvIds(RuleFamily):
             if call is None:
                 evidence = atari.formatted_id(value)
             else:
-                assert isinstance(value, (ast.Name, ast.Attribute))
+                assert isinstance(value, (ast.Name, ast.Attribute, ast.Subscript))
                 evidence = atari.helper(call, value)
             if evidence is not None:
                 node, message, kind = evidence
