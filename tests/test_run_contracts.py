@@ -259,3 +259,30 @@ def test_an_own_batch_on_a_wrapper_base_keeps_its_contract_with_its_callers(tmp_
     assert "RecordConstructorArgs" not in wrappers
     shape, ends = _run(project, "from train import train\nprint(*train(2, 40))")[0].rsplit(" ", 1)
     assert shape == "(2, 8)" and int(ends) >= 1
+
+
+def test_a_script_gets_render_mode_where_no_id_it_may_make_names_a_class_without_one(tmp_path: Path) -> None:
+    """``fixtures/project_unreached_registry/``: ``customs`` registers ``Custom-v0`` for a class
+    whose ``__init__`` takes no ``render_mode``. ``run_any.py``, a script, makes an id from
+    its command line and imports nothing that runs that registration: ``Custom-v0`` does not
+    exist in its process, so its make gets the mode its render asks. ``show.py`` is a module
+    another one imports after ``customs``: its make may build ``CustomEnv``, and is left."""
+    project, review = _migrated(tmp_path, "project_unreached_registry")
+    assert 'gym.make(env_id, render_mode="human")' in (project / "run_any.py").read_text()
+    assert "render_mode" not in (project / "show.py").read_text()
+    assert any(Path(f["path"]).name == "show.py" and f["rule"] == "GM402" and "CustomEnv" in f["message"] for f in review), review
+
+
+def test_a_script_whose_imports_may_register_the_class_keeps_its_make(tmp_path: Path) -> None:
+    """The same script importing ``customs``, or a ``gym.envs`` entry point in the run's
+    ``setup.py`` (gym imports it with gym): the id may name ``CustomEnv``, the make is left."""
+    for name, change in (
+        ("imports", lambda p: (p / "run_any.py").write_text((p / "run_any.py").read_text().replace("import gym\n", "import gym\n\nimport customs  # noqa: F401\n", 1))),
+        ("plugin", lambda p: (p / "setup.py").write_text('from setuptools import setup\n\nsetup(name="customs", entry_points={"gym.envs": ["customs = customs:register_all"]})\n')),
+    ):
+        project = tmp_path / name
+        shutil.copytree(FIXTURES / "project_unreached_registry", project)
+        change(project)
+        result = runner.invoke(app, ["rewrite", str(project)])
+        assert result.exit_code == 0, result.output
+        assert "render_mode" not in (project / "run_any.py").read_text(), name

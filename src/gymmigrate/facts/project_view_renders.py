@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import ast
 import os
+from collections.abc import Collection, Mapping
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts.frame_modes import FRAME_MODES
@@ -73,13 +74,38 @@ class RenderView:
         where this module imports one that registers envs from data (``opaque_kept_renders``)."""
         return self.facts.opaque_kept_renders.get(self.path)
 
-    def registered_without_render_mode(self, env_id: str | None) -> str | None:
+    def registered_without_render_mode(self, env_id: str | None, script: bool = False) -> str | None:
         """The class of the run that ``gymnasium.make(env_id)`` builds (any registered one
-        when ``env_id`` is None: not a literal) if its constructor takes no ``render_mode``."""
+        when ``env_id`` is None: not a literal) if its constructor takes no ``render_mode``.
+        In a ``script`` (a module run by itself), an id that is not a literal names only the
+        classes whose registering module its imports may run."""
         ids = self.facts.no_render_mode_ids
         if env_id is not None:
             return ids.get(env_id)
-        return next(iter(sorted(ids.values())), None)
+        # A registration runs when its module is imported: an id whose registering modules a
+        # script's imports never run does not exist where it makes its env (unless a
+        # ``gym.envs`` entry point of the run may import them when gym is imported). A module
+        # that is not a script may be imported after the registrar by a module with no Gym
+        # code, which the run does not read: there every id counts.
+        plugins = not script or any(self.facts.plugin_routes.values())
+        registrars = self.facts.no_render_mode_registrars
+        reached = self._imports_reach()
+        return next(
+            iter(sorted(name for key, name in ids.items() if plugins or key not in registrars or registrars[key] & reached)),
+            None,
+        )
+
+    def _imports_reach(self) -> set[str]:
+        """The modules of the run that may have been imported in a process that runs this
+        one: those its imports run, and, for each module that imports it (at any depth),
+        those that module's imports run (a script may import the registrar, then this)."""
+        imports = self.facts.module_imports
+        importers: dict[str, set[str]] = {}
+        for path, found in imports.items():
+            for imported in found:
+                importers.setdefault(imported, set()).add(path)
+        roots = _closure({self.path}, importers)
+        return _closure(roots, imports)
 
     def bare_render_keeps_default(self, env_id: str | None) -> bool:
         """``gymnasium.make(env_id)`` builds a class of the run that takes no ``render_mode``
@@ -162,3 +188,15 @@ class RenderView:
         """``modeless_render_here`` for a name this module imports (re-exports followed)."""
         split = self.facts._split(qualified, self.path)
         return split is not None and split in self.facts.modeless_renders
+
+
+def _closure(start: set[str], edges: Mapping[str, Collection[str]]) -> set[str]:
+    """``start`` and every path ``edges`` lead to from it, through any number of steps."""
+    seen = set(start)
+    pending = list(start)
+    while pending:
+        for path in edges.get(pending.pop(), ()):
+            if path not in seen:
+                seen.add(path)
+                pending.append(path)
+    return seen
