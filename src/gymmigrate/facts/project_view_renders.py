@@ -83,17 +83,22 @@ class RenderView:
         if env_id is not None:
             return ids.get(env_id)
         # A registration runs when its module is imported: an id whose registering modules a
-        # script's imports never run does not exist where it makes its env (unless a
-        # ``gym.envs`` entry point of the run may import them when gym is imported). A module
-        # that is not a script may be imported after the registrar by a module with no Gym
-        # code, which the run does not read: there every id counts.
-        plugins = not script or any(self.facts.plugin_routes.values())
+        # script's imports never run does not exist where it makes its env. Every id counts
+        # in a module that is not a script (a module with no Gym code, which the run does not
+        # read, may import the registrar before it), in a run with a packaging file (an
+        # installed package may be imported by an id's ``pkg:`` prefix, a ``gym.envs`` entry
+        # point by gym itself), and for a registrar below the script's directory (importable
+        # by such a prefix from the command line).
+        everything = not script or bool(self.facts.plugin_routes)
         registrars = self.facts.no_render_mode_registrars
         reached = self._imports_reach()
-        return next(
-            iter(sorted(name for key, name in ids.items() if plugins or key not in registrars or registrars[key] & reached)),
-            None,
-        )
+        below = os.path.dirname(self.path) + os.sep
+
+        def counts(key: str | None) -> bool:
+            paths = registrars.get(key)
+            return everything or paths is None or bool(paths & reached) or any(p.startswith(below) for p in paths)
+
+        return next(iter(sorted(name for key, name in ids.items() if counts(key))), None)
 
     def _imports_reach(self) -> set[str]:
         """The modules of the run that may have been imported in a process that runs this

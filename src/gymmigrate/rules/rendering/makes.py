@@ -95,8 +95,11 @@ class MakeEdits(RenderingBase):
         if project is not None and first is not None:
             # A class another module of the run registers (``pkg/__init__.py``), render_mode
             # not threaded down to it (custom_env/render.py reports why).
+            # ``gym.make("pkg:" + name)`` imports ``pkg`` first: what it registers counts too
+            prefixed = any(isinstance(n, ast.Constant) and isinstance(n.value, str) and ":" in n.value for n in ast.walk(first))
             found = project.registered_without_render_mode(
-                string_value(first) if isinstance(first, ast.Constant) else None, script=_is_script(self.facts.tree)
+                string_value(first) if isinstance(first, ast.Constant) else None,
+                script=_is_script(self.facts.tree) and not prefixed,
             )
             if found is not None:
                 return found
