@@ -259,3 +259,42 @@ def test_an_own_batch_on_a_wrapper_base_keeps_its_contract_with_its_callers(tmp_
     assert "RecordConstructorArgs" not in wrappers
     shape, ends = _run(project, "from train import train\nprint(*train(2, 40))")[0].rsplit(" ", 1)
     assert shape == "(2, 8)" and int(ends) >= 1
+
+
+
+def test_a_script_gets_render_mode_where_no_id_it_may_make_names_a_class_without_one(tmp_path: Path) -> None:
+    """``fixtures/project_unreached_registry/``: ``lib/customs`` registers ``Custom-v0`` for a
+    class whose ``__init__`` takes no ``render_mode``. ``tools/run_any.py``, a script, makes an
+    id from its command line, imports nothing that runs that registration, and ``customs`` is
+    not below its directory (no ``customs:`` prefix reaches it): ``Custom-v0`` does not exist
+    in its process, so its make gets the mode its render asks. ``lib/show.py`` is a module
+    ``lib/main.py`` imports after ``customs``: its make may build ``CustomEnv``, and is left."""
+    project, review = _migrated(tmp_path, "project_unreached_registry")
+    assert 'gym.make(env_id, render_mode="human")' in (project / "tools" / "run_any.py").read_text()
+    assert "render_mode" not in (project / "lib" / "show.py").read_text()
+    assert any(Path(f["path"]).name == "show.py" and f["rule"] == "GM402" and "CustomEnv" in f["message"] for f in review), review
+
+
+def _edit(path: Path, old: str, new: str) -> None:
+    path.write_text(path.read_text().replace(old, new, 1))
+
+
+def test_a_script_whose_imports_or_ids_may_register_the_class_keeps_its_make(tmp_path: Path) -> None:
+    """The same script importing ``customs``, making ``"customs:" + name`` (make imports the
+    package first), lying beside the package (a ``customs:`` prefix from the command line
+    reaches it), or in a run with a packaging file (an installed package, a ``gym.envs`` entry
+    point): the id may name ``CustomEnv``, and the make is left."""
+    script = Path("tools") / "run_any.py"
+    for name, change in (
+        ("imports", lambda p: _edit(p / script, "import gym\n", "import gym\n\nimport customs  # noqa: F401\n")),
+        ("prefix", lambda p: _edit(p / script, "gym.make(env_id)", 'gym.make("customs:" + env_id)')),
+        ("beside", lambda p: shutil.move(str(p / script), str(p / "lib" / "run_any.py"))),
+        ("packaged", lambda p: (p / "setup.py").write_text('from setuptools import setup\n\nsetup(name="customs", packages=["customs"])\n')),
+    ):
+        project = tmp_path / name
+        shutil.copytree(FIXTURES / "project_unreached_registry", project)
+        change(project)
+        result = runner.invoke(app, ["rewrite", str(project)])
+        assert result.exit_code == 0, result.output
+        made = project / ("lib" if name == "beside" else "tools") / "run_any.py"
+        assert "render_mode" not in made.read_text(), name

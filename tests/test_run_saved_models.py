@@ -43,3 +43,19 @@ def test_a_run_that_loads_nothing_keeps_the_bump_a_note(tmp_path: Path) -> None:
     kind, tier, message = _bump(run)
     assert (kind, tier) == ("assist", "note")
     assert message.endswith("nothing in the run loads a saved model")
+
+
+def test_a_smoke_script_that_loads_nothing_keeps_its_bump_a_note(tmp_path: Path) -> None:
+    """``fixtures/project_smoke_bump``: ``evaluate.py`` loads saved weights into the task of
+    ``walker.py``, whose bump stays a question. ``smoke.py`` makes its id at the top level of a
+    script with no def or class, and loads nothing: no other module can load a model through
+    it, so its bump is a note."""
+    run = tmp_path / "run"
+    shutil.copytree(FIXTURE.parent / "project_smoke_bump", run)
+    result = runner.invoke(app, ["check", "--output-format", "json", str(run)])
+    assert result.exit_code == 1
+    bumps = {Path(f["path"]).name: (f["kind"], f["tier"], f["message"]) for f in json.loads(result.stdout) if f["rule"] == "GM803"}
+    assert bumps["walker.py"][:2] == ("assist", "review")
+    kind, tier, message = bumps["smoke.py"]
+    assert (kind, tier) == ("assist", "note")
+    assert "nothing in this script" in message and "loads a saved model" in message

@@ -349,6 +349,9 @@ class ProjectFacts:
     # render() of the made env, which Gymnasium's wrappers pass on with no arguments, still
     # draws in that default mode.
     no_render_mode_classes: dict[str | None, tuple[str, str]] = field(default_factory=dict)
+    # ...and the paths of the modules whose register() calls name each of them: the id exists
+    # in a process only once one of those modules has been imported there.
+    no_render_mode_registrars: dict[str | None, set[str]] = field(default_factory=dict)
     default_mode_ids: frozenset[str] = frozenset()
     # (path, class) of the render() each of those literal ids reaches: a class the run leaves
     # whole keeps it, and gymnasium.make's wrappers expose render(self) only in front of it.
@@ -371,6 +374,9 @@ class ProjectFacts:
     # path -> one path that stands for the modules its imports connect it to, either way and
     # through any number of steps (``join_import_components``): one project of a run over several.
     import_components: dict[str, str] = field(default_factory=dict)
+    # path -> the modules of the run its imports run (each package on an imported path
+    # included), one step: what importing it imports (``ProjectView.imports_reach``).
+    module_imports: dict[str, frozenset[str]] = field(default_factory=dict)
     # (path, "Agent.train_model") -> ``ModuleSummary.bootstrap_masks`` of that def, with
     # its parameters in order (a call passes them by position).
     bootstrap_masks: dict[tuple[str, str], tuple[tuple[str, ...], frozenset[tuple[str, str]]]] = field(default_factory=dict)

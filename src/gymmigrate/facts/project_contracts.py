@@ -236,6 +236,7 @@ def thread_render_mode(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -
             if definer[1] in defined.env_classes or any(h[0] == definer[1] for h in defined.render_mode_heirs):
                 facts.no_render_mode_ids.setdefault(env_id, definer[1])
                 facts.no_render_mode_classes.setdefault(env_id, definer)
+                facts.no_render_mode_registrars.setdefault(env_id, set()).add(summary.path)
     found: dict[str, set[str]] = defaultdict(set)
     for path, name in takes:
         found[path].add(name)

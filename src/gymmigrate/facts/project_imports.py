@@ -53,6 +53,7 @@ def join_import_components(facts: ProjectFacts, summaries: list[ModuleSummary]) 
             path = parent[path]
         return path
 
+    edges: dict[str, set[str]] = {}
     for summary in summaries:
         for qualified in (*summary.imported, *summary.star_imports):
             level, parts = import_parts(qualified)
@@ -60,7 +61,9 @@ def join_import_components(facts: ProjectFacts, summaries: list[ModuleSummary]) 
                 path = facts._module_path(parts[:cut], level, summary.path)
                 if path and path in parent:
                     parent[root(path)] = root(summary.path)
+                    edges.setdefault(summary.path, set()).add(path)
     facts.import_components = {path: root(path) for path in parent}
+    facts.module_imports = {path: frozenset(found) for path, found in edges.items()}
 
 
 def join_opaque_registrations(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> None:

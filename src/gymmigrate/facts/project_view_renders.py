@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import ast
 import os
+from collections.abc import Collection, Mapping
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts.frame_modes import FRAME_MODES
@@ -73,13 +74,43 @@ class RenderView:
         where this module imports one that registers envs from data (``opaque_kept_renders``)."""
         return self.facts.opaque_kept_renders.get(self.path)
 
-    def registered_without_render_mode(self, env_id: str | None) -> str | None:
+    def registered_without_render_mode(self, env_id: str | None, script: bool = False) -> str | None:
         """The class of the run that ``gymnasium.make(env_id)`` builds (any registered one
-        when ``env_id`` is None: not a literal) if its constructor takes no ``render_mode``."""
+        when ``env_id`` is None: not a literal) if its constructor takes no ``render_mode``.
+        In a ``script`` (a module run by itself), an id that is not a literal names only the
+        classes whose registering module its imports may run."""
         ids = self.facts.no_render_mode_ids
         if env_id is not None:
             return ids.get(env_id)
-        return next(iter(sorted(ids.values())), None)
+        # A registration runs when its module is imported: an id whose registering modules a
+        # script's imports never run does not exist where it makes its env. Every id counts
+        # in a module that is not a script (a module with no Gym code, which the run does not
+        # read, may import the registrar before it), in a run with a packaging file (an
+        # installed package may be imported by an id's ``pkg:`` prefix, a ``gym.envs`` entry
+        # point by gym itself), and for a registrar below the script's directory (importable
+        # by such a prefix from the command line).
+        everything = not script or bool(self.facts.plugin_routes)
+        registrars = self.facts.no_render_mode_registrars
+        reached = self._imports_reach()
+        below = os.path.dirname(self.path) + os.sep
+
+        def counts(key: str | None) -> bool:
+            paths = registrars.get(key)
+            return everything or paths is None or bool(paths & reached) or any(p.startswith(below) for p in paths)
+
+        return next(iter(sorted(name for key, name in ids.items() if counts(key))), None)
+
+    def _imports_reach(self) -> set[str]:
+        """The modules of the run that may have been imported in a process that runs this
+        one: those its imports run, and, for each module that imports it (at any depth),
+        those that module's imports run (a script may import the registrar, then this)."""
+        imports = self.facts.module_imports
+        importers: dict[str, set[str]] = {}
+        for path, found in imports.items():
+            for imported in found:
+                importers.setdefault(imported, set()).add(path)
+        roots = _closure({self.path}, importers)
+        return _closure(roots, imports)
 
     def bare_render_keeps_default(self, env_id: str | None) -> bool:
         """``gymnasium.make(env_id)`` builds a class of the run that takes no ``render_mode``
@@ -168,3 +199,15 @@ class RenderView:
         """``modeless_render_here`` for a name this module imports (re-exports followed)."""
         split = self.facts._split(qualified, self.path)
         return split is not None and split in self.facts.modeless_renders
+
+
+def _closure(start: set[str], edges: Mapping[str, Collection[str]]) -> set[str]:
+    """``start`` and every path ``edges`` lead to from it, through any number of steps."""
+    seen = set(start)
+    pending = list(start)
+    while pending:
+        for path in edges.get(pending.pop(), ()):
+            if path not in seen:
+                seen.add(path)
+                pending.append(path)
+    return seen

@@ -74,7 +74,7 @@ class AtariEvidence:
             kind = FixKind.ASSIST
         return value, message, kind
 
-    def helper(self, call: ast.Call, name: ast.Name | ast.Attribute) -> Evidence | None:
+    def helper(self, call: ast.Call, name: ast.Name | ast.Attribute | ast.Subscript) -> Evidence | None:
         """``def make_atari(env_id): env = gym.make(env_id); assert "NoFrameskip" in env.spec.id``:
         a helper that makes its env from a parameter and uses what only Atari envs have (the
         ``ale`` interface, ``get_action_meanings()``, a ``NoFrameskip`` check, directly or in
@@ -83,7 +83,11 @@ class AtariEvidence:
         (``if "NoFrameskip" in env_id:``), the helper may make other envs too: for review."""
         function = self.facts.enclosing_function(call)
         if function is None:
-            return None
+            if isinstance(name, ast.Name):
+                return None
+            # ``env = gym.make(sys.argv[1])`` in a script's top level: the script's top-level
+            # code is what uses the env it makes
+            return self._script(call, name)
         bindings: list[ast.AST] = []
         if isinstance(name, ast.Name):
             bindings = self.facts.bindings_of(name)
@@ -147,6 +151,28 @@ class AtariEvidence:
             )
             kind = FixKind.ASSIST
         return name, message, kind
+
+    def _script(self, call: ast.Call, name: ast.Attribute | ast.Subscript) -> Evidence | None:
+        """``env = gym.make(sys.argv[1])`` at a script's top level (or under its ``if __name__ ==
+        "__main__":``) whose top-level code uses what only Atari envs have: the script makes
+        Atari envs, and any other id the command line names too, so the registration is for
+        review (an import that may fail where ale-py is not installed)."""
+        scope: ast.AST = self.facts.enclosing(call, ast.If) or self.facts.tree
+        signs: list[str] = []
+        pending = list(ast.iter_child_nodes(scope))
+        while pending:
+            node = pending.pop(0)
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef, ast.Lambda)):
+                continue  # what a def does runs only where it is called (``through`` below)
+            signs += self._atari_signs(node, scope)
+            pending.extend(ast.iter_child_nodes(node))
+        if not signs:
+            return None
+        message = (
+            f"this script makes its env from an id it is given and {signs[0].removeprefix('it ')}, which only Atari envs have: "
+            "since Gymnasium 1.0 Atari envs need `import ale_py`; added it with `register_envs(ale_py)`"
+        )
+        return name, message, FixKind.ASSIST
 
     def _ids_given(self, function: ast.AST, param: ast.arg) -> tuple[list[str], bool]:
         """The env ids the calls of the run give ``param`` of the top-level def ``function``:

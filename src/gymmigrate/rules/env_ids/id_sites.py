@@ -83,6 +83,10 @@ class IdSites(HandedOnIds):
                 sites.extend(self._stored_ids(arg))
             elif atari_template(self.facts, arg) is not None:
                 self.atari_reads.append((None, arg))
+            elif isinstance(arg, (ast.Subscript, ast.Attribute)) and not (isinstance(arg, ast.Attribute) and isinstance(arg.value, ast.Name) and arg.value.id == "self"):
+                # ``gym.make(sys.argv[1])``, ``gym.make(args.env)``: an id from outside; what
+                # the code does with the env may still say it makes Atari envs
+                self.atari_reads.append((call, arg))
             built = self._assigned_value(arg) if isinstance(arg, ast.Name) else arg
             leading = leading_literal(built) if built is not None else None
             text = leading.value if leading is not None else None

@@ -117,7 +117,7 @@ class EnvIds(RuleFamily):
             if call is None:
                 evidence = atari.formatted_id(value)
             else:
-                assert isinstance(value, (ast.Name, ast.Attribute))
+                assert isinstance(value, (ast.Name, ast.Attribute, ast.Subscript))
                 evidence = atari.helper(call, value)
             if evidence is not None:
                 node, message, kind = evidence
@@ -296,10 +296,15 @@ class EnvIds(RuleFamily):
         # (a policy, a normaliser); one that trains from scratch just gets the current env.
         # The run is the program: an evaluation script of the run may load, through a class or
         # task of this module, a model trained on the old version.
+        # A script with no def or class, whose make takes the literal itself, offers another
+        # module no class or task to load through: only its own loads count.
         project = self.context.options.project
-        run_loads = project is not None and project.loads_saved_state
+        standalone = self._standalone_make(site)
+        run_loads = project is not None and project.loads_saved_state and not standalone
         settled = migration.kind is FixKind.ASSIST and not run_loads and not loads_saved_state(self.facts.tree)
-        here = "in the run" if project is not None else "here"
+        here = "in the run" if project is not None and not standalone else "here"
+        if standalone and project is not None and project.loads_saved_state:
+            here = "in this script, which has no def or class another module could load one through,"
         self.report(
             site.string,
             migration.rule,
@@ -310,6 +315,13 @@ class EnvIds(RuleFamily):
             # envs, one id in several notebook cells or scripts) is one decision
             question=None if settled or migration.kind is FixKind.AUTO else id_version_question(migration.rule, migration.reason),
         )
+
+    def _standalone_make(self, site: IdSite) -> bool:
+        """``env = gym.make("LunarLander-v2")`` in a module that defines no def or class: the
+        id is made right there, in a script no other module uses for its envs."""
+        if site.call is None or not any(arg is site.string for arg in site.call.args):
+            return False
+        return not any(isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef, ast.Lambda)) for node in walk(self.facts.tree))
 
     def _bump_comparisons(self) -> None:
         """``if self.env_name == 'LunarLander-v2':`` where this module bumps that id: the test

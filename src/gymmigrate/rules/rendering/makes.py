@@ -95,7 +95,12 @@ class MakeEdits(RenderingBase):
         if project is not None and first is not None:
             # A class another module of the run registers (``pkg/__init__.py``), render_mode
             # not threaded down to it (custom_env/render.py reports why).
-            found = project.registered_without_render_mode(string_value(first) if isinstance(first, ast.Constant) else None)
+            # ``gym.make("pkg:" + name)`` imports ``pkg`` first: what it registers counts too
+            prefixed = any(isinstance(n, ast.Constant) and isinstance(n.value, str) and ":" in n.value for n in ast.walk(first))
+            found = project.registered_without_render_mode(
+                string_value(first) if isinstance(first, ast.Constant) else None,
+                script=_is_script(self.facts.tree) and not prefixed,
+            )
             if found is not None:
                 return found
             # A module of the run registers envs from a data file (ids not visible), and one
@@ -117,3 +122,20 @@ class MakeEdits(RenderingBase):
             if classdef is not None and not env.takes_render_mode(classdef):
                 return classdef.name
         return None
+
+
+def _is_script(tree: ast.Module) -> bool:
+    """A module with an ``if __name__ == "__main__":`` block: a program run by itself, so
+    what registers ids in its process is what its own imports run."""
+    for statement in tree.body:
+        test = statement.test if isinstance(statement, ast.If) else None
+        if (
+            isinstance(test, ast.Compare)
+            and isinstance(test.left, ast.Name)
+            and test.left.id == "__name__"
+            and len(test.comparators) == 1
+            and isinstance(test.comparators[0], ast.Constant)
+            and test.comparators[0].value == "__main__"
+        ):
+            return True
+    return False
