@@ -119,7 +119,7 @@ def decide_seed(decision: ClassDecision) -> None:
             deleted.extend(group)
             continue
         moved.append(index)
-    moved = _without_dead_returns(groups, moved)
+    moved = _without_dead_locals(groups, moved)
     if any(inner_gym_env_call(decision, node, name) for i in moved for s in groups[i] for node in walk(s) for name in ("seed", "_seed")):
         # Moved into reset(), `self.inner.seed(seed)` would be rewritten by the call-site
         # rule on the next run (a reset of the inner env inside this reset): by hand.
@@ -385,13 +385,16 @@ def _needs_the_method(groups: list[list[ast.stmt]], moved: list[int], setup: lis
     return False
 
 
-def _without_dead_returns(groups: list[list[ast.stmt]], moved: list[int]) -> list[int]:
-    """The moved statements less those that only computed what seed() returned (``seed2 =
-    seeding.hash_seed(seed1 + 1)`` for ``return [seed1, seed2]``): the return goes with the
-    method, so in reset() they would be dead code (and a removed helper's call)."""
+def _without_dead_locals(groups: list[list[ast.stmt]], moved: list[int]) -> list[int]:
+    """The moved statements less the dead ones: those that only computed what seed()
+    returned (``seed2 = seeding.hash_seed(seed1 + 1)`` for ``return [seed1, seed2]``): the
+    return goes with the method, so in reset() they would be dead code (and a removed
+    helper's call); and, with or without a return, a local whose value nothing reads and
+    whose computation calls only removed seeding helpers (``seed2 = seeding.hash_seed(seed1
+    + 1)`` under a commented-out return): moved, it would raise on every seeded reset and
+    drops nothing but a value never used."""
     last = groups[-1] if groups else []
-    if not (len(last) == 1 and isinstance(last[0], ast.Return)):
-        return moved
+    returns = len(last) == 1 and isinstance(last[0], ast.Return)
     dead = []
     for index in moved:
         group = groups[index]
@@ -400,10 +403,12 @@ def _without_dead_returns(groups: list[list[ast.stmt]], moved: list[int]) -> lis
         targets = group[0].targets
         if not all(isinstance(t, ast.Name) for t in targets):
             continue
+        if not returns and not _only_removed_helper_calls(group[0].value):
+            continue
         names = {t.id for t in targets}  # type: ignore[attr-defined]
         read_elsewhere = any(
             isinstance(node, ast.Name) and node.id in names and isinstance(node.ctx, ast.Load)
-            for other, statements in enumerate(groups[:-1])
+            for other, statements in enumerate(groups[:-1] if returns else groups)
             if other != index
             for statement in statements
             for node in walk(statement)
@@ -411,6 +416,13 @@ def _without_dead_returns(groups: list[list[ast.stmt]], moved: list[int]) -> lis
         if not read_elsewhere:
             dead.append(index)
     return [index for index in moved if index not in dead]
+
+
+def _only_removed_helper_calls(value: ast.expr) -> bool:
+    """Calls something, and nothing but ``seeding.hash_seed(...)`` and the like: dropping
+    it loses no side effect."""
+    calls = [node for node in walk(value) if isinstance(node, ast.Call)]
+    return bool(calls) and all(_calls_removed_helpers(call.func) for call in calls)
 
 
 def _calls_removed_helpers(function: ast.AST) -> bool:
