@@ -119,7 +119,9 @@ def decide_seed(decision: ClassDecision) -> None:
             deleted.extend(group)
             continue
         moved.append(index)
-    moved = _without_dead_locals(groups, moved)
+    live = _without_dead_locals(groups, moved)
+    dead_helper_lines = [s for i in moved if i not in live for s in groups[i] if _calls_removed_helpers(s)]
+    moved = live
     if any(inner_gym_env_call(decision, node, name) for i in moved for s in groups[i] for node in walk(s) for name in ("seed", "_seed")):
         # Moved into reset(), `self.inner.seed(seed)` would be rewritten by the call-site
         # rule on the next run (a reset of the inner env inside this reset): by hand.
@@ -181,7 +183,9 @@ def decide_seed(decision: ClassDecision) -> None:
         )
         _keep_as_helper(decision, seed_method, why)
         return
-    if setup and init_call is None:
+    init_end = bool(setup) and not calls and _setup_fits_init_end(decision, [s for i in setup for s in groups[i]], init)
+    if setup and init_call is None and not init_end:
+        decision.family.context.notes.dead_in_hand_ported_seed.update(dead_helper_lines)
         decision.report(seed_method, "GM503", "seed() also builds state that does not depend on the seed; move it into __init__ and the seeding into reset() by hand", FixKind.FLAG, question=moving_seed_question(seed_method))
         return
     # Only seed()'s canonical line goes (nothing moved or set up): a seed passed to it still
@@ -211,11 +215,20 @@ def decide_seed(decision: ClassDecision) -> None:
     if setup and all(_only_prints(facts, groups[i]) for i in setup):
         # A message printed or logged changes no state: where it runs now decides nothing.
         decision.report(init_call, "GM503", "what seed() printed or logged besides seeding now runs here in __init__ instead of the self.seed() call", FixKind.ASSIST, tier=Tier.NOTE)  # type: ignore[arg-type]
+    elif init_end:
+        decision.report(
+            init,  # type: ignore[arg-type]  # ``_setup_fits_init_end``: __init__ exists
+            "GM503",
+            "the set-up seed() did besides seeding now runs at the end of __init__: it reads only what __init__ "
+            "builds, and reset() sets again everything it sets",
+            FixKind.ASSIST,
+            tier=Tier.NOTE,
+        )
     elif setup:
         decision.report(init_call, "GM503", "the set-up seed() did besides seeding (spaces, objects) now runs here in __init__ instead of the self.seed() call", FixKind.ASSIST)  # type: ignore[arg-type]
     callers = {method.name for call in calls if (method := method_of(decision, call)) is not None}
     decision.plan.seed = SeedPlan(
-        moved=moved, setup=setup, renames={n: "seed" for n in seed_names if n != "seed"}, callers=callers, reseed=reseed if reseeded else None
+        moved=moved, setup=setup, setup_at_init_end=init_end, renames={n: "seed" for n in seed_names if n != "seed"}, callers=callers, reseed=reseed if reseeded else None
     )
     decision.removed.add(seed_method.name)
     # a reseeded call reads the seeding import the canonical line read: it stays
@@ -423,6 +436,42 @@ def _only_removed_helper_calls(value: ast.expr) -> bool:
     it loses no side effect."""
     calls = [node for node in walk(value) if isinstance(node, ast.Call)]
     return bool(calls) and all(_calls_removed_helpers(call.func) for call in calls)
+
+
+def _setup_fits_init_end(decision: ClassDecision, statements: list[ast.stmt], init: ast.AST | None) -> bool:
+    """Set-up of a seed() no method of the class calls (its callers made the env, then
+    seeded it) that may run once at the end of ``__init__`` instead: every ``self``
+    attribute it reads ``__init__`` assigns, every one it assigns reset() assigns again at
+    its top level (so after the first reset nothing differs), it reads no other name than
+    module-level ones and builtins, and ``__init__`` has no ``return`` to skip it."""
+    reset = decision.method("reset")
+    if not isinstance(init, (ast.FunctionDef, ast.AsyncFunctionDef)) or reset is None or not init.body:
+        return False
+    if init.body[0].lineno == init.lineno or any(isinstance(n, (ast.Return, ast.Yield, ast.YieldFrom)) for n in walk(init)):
+        return False  # a one-line body, or one a return may leave early
+    stored = {n.attr for n in walk(init) if is_self_attribute(n) and isinstance(n.ctx, ast.Store)}  # type: ignore[attr-defined]
+    reset_sets = {
+        target.attr
+        for statement in reset.body
+        if isinstance(statement, (ast.Assign, ast.AnnAssign))
+        for target in (statement.targets if isinstance(statement, ast.Assign) else [statement.target])
+        if is_self_attribute(target)
+    }
+    facts = decision.family.facts
+    for statement in statements:
+        if not isinstance(statement, (ast.Assign, ast.AnnAssign, ast.Expr, ast.Assert)):
+            return False
+        for node in walk(statement):
+            if is_self_attribute(node):
+                if isinstance(node.ctx, ast.Store) and node.attr not in reset_sets:  # type: ignore[attr-defined]
+                    return False
+                if isinstance(node.ctx, ast.Load) and node.attr not in stored:  # type: ignore[attr-defined]
+                    return False
+            elif isinstance(node, ast.Name) and node.id != "self":
+                bindings = facts.bindings_of(node)
+                if isinstance(node.ctx, ast.Store) or any(facts.enclosing_function(b) is not None for b in bindings):
+                    return False
+    return True
 
 
 def _calls_removed_helpers(function: ast.AST) -> bool:
