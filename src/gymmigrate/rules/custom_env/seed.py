@@ -28,7 +28,7 @@ from gymmigrate.facts.module import (
     statement_lines,
     walk,
 )
-from gymmigrate.facts.summaries.untraced import calls_seed
+from gymmigrate.facts.summaries.untraced import calls_seed, calls_seed_without_a_value, passes_a_value
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import (
     ClassDecision,
@@ -247,6 +247,17 @@ def decide_seed(decision: ClassDecision) -> None:
             "GM503",
             "seed() removed: its extra seeding moved into reset() under `if seed is not None:`; nothing in this run "
             "calls seed(), so it runs only once a reset is given a seed",
+            FixKind.ASSIST,
+            tier=Tier.NOTE,
+        )
+    elif not _seed_called_without_a_value(decision, calls, seed_method):
+        # Every call of seed() the run sees passes a seed (an int, a computed seed): the
+        # extra seeding only ever ran on a given seed, as it now does in reset().
+        decision.report(
+            seed_method,
+            "GM503",
+            "seed() removed: its extra seeding moved into reset() under `if seed is not None:`; every call of seed() "
+            "in this run passes a seed, so it runs as before once that seed goes to reset(seed=...)",
             FixKind.ASSIST,
             tier=Tier.NOTE,
         )
@@ -554,6 +565,17 @@ def _seed_called_in_run(decision: ClassDecision) -> bool:
     be an env (not ``np.random`` nor a space): the seed() may have run before."""
     project = decision.family.receivers.project
     return calls_seed(decision.family.facts) or (project is not None and project.seed_used())
+
+
+def _seed_called_without_a_value(decision: ClassDecision, calls: list[ast.Call], seed_method: ast.AST) -> bool:
+    """A call of seed() the run sees passes no seed: ``self.seed()`` in the class (its
+    constructor's included), or an ``x.seed()`` / ``x.seed(None)`` in this module or another
+    of the run (``calls_seed_without_a_value``); the extra seeding ran there too."""
+    facts = decision.family.facts
+    if any(facts.enclosing_function(call) is not seed_method and not passes_a_value(call) for call in calls):
+        return True
+    project = decision.family.receivers.project
+    return calls_seed_without_a_value(facts) or (project is not None and project.seed_used_without_a_value())
 
 
 def _inherits_seed(decision: ClassDecision, classdef: ast.ClassDef) -> bool:
