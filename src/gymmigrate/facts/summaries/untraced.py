@@ -64,13 +64,17 @@ def calls_seed(facts: ModuleFacts) -> bool:
 
 
 def calls_seed_without_a_value(facts: ModuleFacts) -> bool:
-    """One of the calls ``calls_seed`` counts passes no seed: ``x.seed()``, ``x.seed(None)``
-    or one whose seed cannot be read (``x.seed(*args)``, ``x.seed(**kw)``). A seed()
-    reached only by calls that pass a value (an int, a computed seed) ran only on a given
-    seed, as reset(seed=...) under ``if seed is not None:`` does."""
+    """One of the calls ``calls_seed`` counts, on another object than ``self`` or
+    ``super()``, passes no seed: ``x.seed()``, ``x.seed(None)`` or one whose seed cannot be
+    read (``x.seed(*args)``, ``x.seed(**kw)``). A seed() reached only by calls that pass a
+    value (an int, a computed seed) ran only on a given seed, as reset(seed=...) under
+    ``if seed is not None:`` does. A class's own ``self.seed()`` calls are its decision's
+    (they reach its own seed(), or a base's that keeps it for them)."""
     for name in ("seed", "_seed"):
         for call in facts.attribute_calls.get(name, ()):
             receiver = call.func.value  # type: ignore[attr-defined]
+            if (isinstance(receiver, ast.Name) and receiver.id == "self") or is_super_call(receiver):
+                continue
             named = facts.qualified_names(receiver)
             if (named and all(N.is_library(q) for q in named)) or _names_a_space(receiver):
                 continue
