@@ -28,7 +28,11 @@ from gymmigrate.facts.module import (
     statement_lines,
     walk,
 )
-from gymmigrate.facts.summaries.untraced import calls_seed, calls_seed_without_a_value, passes_a_value
+from gymmigrate.facts.summaries.untraced import (
+    calls_seed,
+    calls_seed_without_a_value,
+    passes_a_value,
+)
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import (
     ClassDecision,
@@ -462,7 +466,7 @@ def _setup_fits_init_end(decision: ClassDecision, statements: list[ast.stmt], in
         return False  # a one-line body, or one a return may leave early
     stored = {n.attr for n in walk(init) if is_self_attribute(n) and isinstance(n.ctx, ast.Store)}  # type: ignore[attr-defined]
     reset_sets = {
-        target.attr
+        target.attr  # type: ignore[attr-defined]  # ``is_self_attribute``: an Attribute
         for statement in reset.body
         if isinstance(statement, (ast.Assign, ast.AnnAssign))
         for target in (statement.targets if isinstance(statement, ast.Assign) else [statement.target])
