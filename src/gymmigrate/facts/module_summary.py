@@ -119,6 +119,8 @@ class ModuleSummary:
     # ``x.seed(...)`` / ``x._seed(...)`` on anything but a library module or a space
     # (``summaries.untraced.calls_seed``): a call that may reach an env class's seed().
     calls_seed: bool = False
+    # one of those calls passes no seed (``summaries.untraced.calls_seed_without_a_value``)
+    calls_seed_without_a_value: bool = False
     # ``x.reset(return_info=False)`` (or any mode but ``True`` not handed on by a reset):
     # a caller of a gym 0.22-0.25 reset that may expect the bare observation (GM502).
     passes_return_info: bool = False

@@ -153,6 +153,8 @@ class ProjectFacts:
     # Some module of the run calls ``x.seed(...)`` / ``x._seed(...)`` on other than a library
     # module or a space (``ModuleSummary.calls_seed``): an env class's seed() may run.
     seed_used: bool = False
+    # ...and one of those calls passes no seed (``ModuleSummary.calls_seed_without_a_value``)
+    seed_used_without_a_value: bool = False
     # Some module of the run passes a reset a ``return_info`` mode (``ModuleSummary.passes_return_info``).
     return_info_passed: bool = False
     render_called: set[str] = field(default_factory=set)  # ...and an untraced ``x.render(mode)``
@@ -643,6 +645,7 @@ class ProjectFacts:
                 facts.seed_called.update(imported_env_modules(facts, summary))
             facts.configure_called = facts.configure_called or summary.calls_configure
             facts.seed_used = facts.seed_used or summary.calls_seed
+            facts.seed_used_without_a_value = facts.seed_used_without_a_value or summary.calls_seed_without_a_value
             facts.return_info_passed = facts.return_info_passed or summary.passes_return_info
             if summary.untraced_render_call or any(made_by_def(facts, maker, summary.path, by_path) for maker in summary.render_makers):
                 # ``import pkg`` reaches the env classes ``pkg/__init__.py`` imports too

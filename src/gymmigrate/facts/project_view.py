@@ -52,6 +52,10 @@ class ProjectView(ClassView, FixtureView, HierarchyView, RegistryView, RenderVie
         library module or a space: an env class's seed() may be what it calls."""
         return self.facts.seed_used
 
+    def seed_used_without_a_value(self) -> bool:
+        """One of the calls ``seed_used`` counts passes no seed (``x.seed()``, ``x.seed(None)``)."""
+        return self.facts.seed_used_without_a_value
+
     def return_info_passed(self) -> bool:
         """Some module of the run calls ``x.reset(return_info=...)`` with a mode other than
         ``True`` (not a reset handing its own flag on): a caller may want the bare observation."""

@@ -45,3 +45,7 @@ class FamilyNotes:
     # EnvClassFamily -> GeneratorApi: statements of a removed seed() that go with it (not
     # moved into reset() or __init__): a removed seeding helper there needs no decision.
     dropped_statements: set[ast.stmt] = field(default_factory=set)
+    # EnvClassFamily -> GeneratorApi: dead lines of a seed() left for a port by hand (its
+    # GM503 item asks for it) that only compute a value with a removed seeding helper: that
+    # item covers them (the port drops them), no second decision.
+    dead_in_hand_ported_seed: set[ast.stmt] = field(default_factory=set)

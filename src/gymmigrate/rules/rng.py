@@ -368,6 +368,17 @@ class GeneratorApi(RuleFamily):
                     # The line goes with the seed() method the rewrite removes: nothing to replace.
                     self.report(node, "GM506", f"seeding.{helper} was removed in gym 0.26; this line goes with the removed seed()", tier=Tier.NOTE)
                     return
+                if self.facts.statement_of(node) in self.context.notes.dead_in_hand_ported_seed:
+                    # Its value is never read, and the seed() it is in is left to port by
+                    # hand (GM503 asks there): porting drops it, no second decision.
+                    self.report(
+                        node,
+                        "GM506",
+                        f"seeding.{helper} was removed in gym 0.26; its value is never read: drop this line when porting "
+                        "this seed() by hand (the GM503 item there)",
+                        tier=Tier.NOTE,
+                    )
+                    return
                 # with its import (GM105), one decision: what replaces the helper
                 self.report(
                     node,

@@ -107,6 +107,7 @@ from gymmigrate.facts.summaries.untraced import (
     UntracedCalls,
     calls_from_outside,
     calls_seed,
+    calls_seed_without_a_value,
     passes_return_info,
 )
 from gymmigrate.facts.wrapper_attributes import wrapper_defined
@@ -223,6 +224,7 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         untraced_render_call=untraced.has_untraced_call("render"),
         calls_configure=calls_from_outside(facts, "configure"),
         calls_seed=calls_seed(facts),
+        calls_seed_without_a_value=calls_seed_without_a_value(facts),
         passes_return_info=passes_return_info(facts),
         render_makers=frozenset(untraced.render_makers),  # filled by the line above
         seed_makers=frozenset(untraced.seed_makers),  # filled with untraced_seed_call

@@ -63,6 +63,34 @@ def calls_seed(facts: ModuleFacts) -> bool:
     return False
 
 
+def calls_seed_without_a_value(facts: ModuleFacts) -> bool:
+    """One of the calls ``calls_seed`` counts, on another object than ``self`` or
+    ``super()``, passes no seed: ``x.seed()``, ``x.seed(None)`` or one whose seed cannot be
+    read (``x.seed(*args)``, ``x.seed(**kw)``). A seed() reached only by calls that pass a
+    value (an int, a computed seed) ran only on a given seed, as reset(seed=...) under
+    ``if seed is not None:`` does. A class's own ``self.seed()`` calls are its decision's
+    (they reach its own seed(), or a base's that keeps it for them)."""
+    for name in ("seed", "_seed"):
+        for call in facts.attribute_calls.get(name, ()):
+            receiver = call.func.value  # type: ignore[attr-defined]
+            if (isinstance(receiver, ast.Name) and receiver.id == "self") or is_super_call(receiver):
+                continue
+            named = facts.qualified_names(receiver)
+            if (named and all(N.is_library(q) for q in named)) or _names_a_space(receiver):
+                continue
+            if not passes_a_value(call):
+                return True
+    return False
+
+
+def passes_a_value(call: ast.Call) -> bool:
+    """``x.seed(s)`` with one seed written out that is not ``None``."""
+    if any(isinstance(a, ast.Starred) for a in call.args) or any(k.arg is None for k in call.keywords):
+        return False
+    argument = call.args[0] if call.args else next((k.value for k in call.keywords), None)
+    return argument is not None and not (isinstance(argument, ast.Constant) and argument.value is None)
+
+
 def _names_a_space(receiver: ast.expr) -> bool:
     """``env.action_space``, ``space``, ``spaces["x"]``: its seed() is Space.seed."""
     while isinstance(receiver, ast.Subscript):

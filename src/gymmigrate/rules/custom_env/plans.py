@@ -30,6 +30,8 @@ class SeedPlan:
 
     moved: list[int] = field(default_factory=list)  # into reset(), under ``if seed is not None:``
     setup: list[int] = field(default_factory=list)  # into __init__, where self.seed() was called
+    # no self.seed() call in the class: the set-up goes to the end of __init__ instead
+    setup_at_init_end: bool = False
     renames: dict[str, str] = field(default_factory=dict)  # the seed's other names -> ``seed``
     callers: set[str] = field(default_factory=set)  # methods that call self.seed()
     keep: bool = False  # seed() stays a method; reset() calls it when given a seed

@@ -174,6 +174,11 @@ class ClassRewrite:
             new = current.visit(_SelfSeedCallRemover(setup if name == "__init__" else None, seed.reseed))
             if new is not current:
                 self.replacements[name] = new  # type: ignore[assignment]
+        init = self.replacements.get("__init__", self.methods.get("__init__"))
+        if seed.setup_at_init_end and setup and init is not None and isinstance(init.body, cst.IndentedBlock):
+            # the comments above the first set-up line spoke of the seeding that went
+            appended = [setup[0].with_changes(leading_lines=[]), *setup[1:]]
+            self.replacements["__init__"] = init.with_changes(body=init.body.with_changes(body=[*init.body.body, *appended]))
         if moved:
             self.seed_folded = [_rename_names(s, seed.renames) for s in moved]
         self.set_method("seed", None)

@@ -28,7 +28,11 @@ from gymmigrate.facts.module import (
     statement_lines,
     walk,
 )
-from gymmigrate.facts.summaries.untraced import calls_seed
+from gymmigrate.facts.summaries.untraced import (
+    calls_seed,
+    calls_seed_without_a_value,
+    passes_a_value,
+)
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import (
     ClassDecision,
@@ -119,7 +123,9 @@ def decide_seed(decision: ClassDecision) -> None:
             deleted.extend(group)
             continue
         moved.append(index)
-    moved = _without_dead_returns(groups, moved)
+    live = _without_dead_locals(groups, moved)
+    dead_helper_lines = [s for i in moved if i not in live for s in groups[i] if _calls_removed_helpers(s)]
+    moved = live
     if any(inner_gym_env_call(decision, node, name) for i in moved for s in groups[i] for node in walk(s) for name in ("seed", "_seed")):
         # Moved into reset(), `self.inner.seed(seed)` would be rewritten by the call-site
         # rule on the next run (a reset of the inner env inside this reset): by hand.
@@ -181,7 +187,9 @@ def decide_seed(decision: ClassDecision) -> None:
         )
         _keep_as_helper(decision, seed_method, why)
         return
-    if setup and init_call is None:
+    init_end = bool(setup) and not calls and _setup_fits_init_end(decision, [s for i in setup for s in groups[i]], init)
+    if setup and init_call is None and not init_end:
+        decision.family.context.notes.dead_in_hand_ported_seed.update(dead_helper_lines)
         decision.report(seed_method, "GM503", "seed() also builds state that does not depend on the seed; move it into __init__ and the seeding into reset() by hand", FixKind.FLAG, question=moving_seed_question(seed_method))
         return
     # Only seed()'s canonical line goes (nothing moved or set up): a seed passed to it still
@@ -211,11 +219,20 @@ def decide_seed(decision: ClassDecision) -> None:
     if setup and all(_only_prints(facts, groups[i]) for i in setup):
         # A message printed or logged changes no state: where it runs now decides nothing.
         decision.report(init_call, "GM503", "what seed() printed or logged besides seeding now runs here in __init__ instead of the self.seed() call", FixKind.ASSIST, tier=Tier.NOTE)  # type: ignore[arg-type]
+    elif init_end:
+        decision.report(
+            init,  # type: ignore[arg-type]  # ``_setup_fits_init_end``: __init__ exists
+            "GM503",
+            "the set-up seed() did besides seeding now runs at the end of __init__: it reads only what __init__ "
+            "builds, and reset() sets again everything it sets",
+            FixKind.ASSIST,
+            tier=Tier.NOTE,
+        )
     elif setup:
         decision.report(init_call, "GM503", "the set-up seed() did besides seeding (spaces, objects) now runs here in __init__ instead of the self.seed() call", FixKind.ASSIST)  # type: ignore[arg-type]
     callers = {method.name for call in calls if (method := method_of(decision, call)) is not None}
     decision.plan.seed = SeedPlan(
-        moved=moved, setup=setup, renames={n: "seed" for n in seed_names if n != "seed"}, callers=callers, reseed=reseed if reseeded else None
+        moved=moved, setup=setup, setup_at_init_end=init_end, renames={n: "seed" for n in seed_names if n != "seed"}, callers=callers, reseed=reseed if reseeded else None
     )
     decision.removed.add(seed_method.name)
     # a reseeded call reads the seeding import the canonical line read: it stays
@@ -234,6 +251,17 @@ def decide_seed(decision: ClassDecision) -> None:
             "GM503",
             "seed() removed: its extra seeding moved into reset() under `if seed is not None:`; nothing in this run "
             "calls seed(), so it runs only once a reset is given a seed",
+            FixKind.ASSIST,
+            tier=Tier.NOTE,
+        )
+    elif not _seed_called_without_a_value(decision, calls, seed_method):
+        # Every call of seed() the run sees passes a seed (an int, a computed seed): the
+        # extra seeding only ever ran on a given seed, as it now does in reset().
+        decision.report(
+            seed_method,
+            "GM503",
+            "seed() removed: its extra seeding moved into reset() under `if seed is not None:`; every call of seed() "
+            "in this run passes a seed, so it runs as before once that seed goes to reset(seed=...)",
             FixKind.ASSIST,
             tier=Tier.NOTE,
         )
@@ -385,13 +413,16 @@ def _needs_the_method(groups: list[list[ast.stmt]], moved: list[int], setup: lis
     return False
 
 
-def _without_dead_returns(groups: list[list[ast.stmt]], moved: list[int]) -> list[int]:
-    """The moved statements less those that only computed what seed() returned (``seed2 =
-    seeding.hash_seed(seed1 + 1)`` for ``return [seed1, seed2]``): the return goes with the
-    method, so in reset() they would be dead code (and a removed helper's call)."""
+def _without_dead_locals(groups: list[list[ast.stmt]], moved: list[int]) -> list[int]:
+    """The moved statements less the dead ones: those that only computed what seed()
+    returned (``seed2 = seeding.hash_seed(seed1 + 1)`` for ``return [seed1, seed2]``): the
+    return goes with the method, so in reset() they would be dead code (and a removed
+    helper's call); and, with or without a return, a local whose value nothing reads and
+    whose computation calls only removed seeding helpers (``seed2 = seeding.hash_seed(seed1
+    + 1)`` under a commented-out return): moved, it would raise on every seeded reset and
+    drops nothing but a value never used."""
     last = groups[-1] if groups else []
-    if not (len(last) == 1 and isinstance(last[0], ast.Return)):
-        return moved
+    returns = len(last) == 1 and isinstance(last[0], ast.Return)
     dead = []
     for index in moved:
         group = groups[index]
@@ -400,10 +431,12 @@ def _without_dead_returns(groups: list[list[ast.stmt]], moved: list[int]) -> lis
         targets = group[0].targets
         if not all(isinstance(t, ast.Name) for t in targets):
             continue
+        if not returns and not _only_removed_helper_calls(group[0].value):
+            continue
         names = {t.id for t in targets}  # type: ignore[attr-defined]
         read_elsewhere = any(
             isinstance(node, ast.Name) and node.id in names and isinstance(node.ctx, ast.Load)
-            for other, statements in enumerate(groups[:-1])
+            for other, statements in enumerate(groups[:-1] if returns else groups)
             if other != index
             for statement in statements
             for node in walk(statement)
@@ -411,6 +444,49 @@ def _without_dead_returns(groups: list[list[ast.stmt]], moved: list[int]) -> lis
         if not read_elsewhere:
             dead.append(index)
     return [index for index in moved if index not in dead]
+
+
+def _only_removed_helper_calls(value: ast.expr) -> bool:
+    """Calls something, and nothing but ``seeding.hash_seed(...)`` and the like: dropping
+    it loses no side effect."""
+    calls = [node for node in walk(value) if isinstance(node, ast.Call)]
+    return bool(calls) and all(_calls_removed_helpers(call.func) for call in calls)
+
+
+def _setup_fits_init_end(decision: ClassDecision, statements: list[ast.stmt], init: ast.AST | None) -> bool:
+    """Set-up of a seed() no method of the class calls (its callers made the env, then
+    seeded it) that may run once at the end of ``__init__`` instead: every ``self``
+    attribute it reads ``__init__`` assigns, every one it assigns reset() assigns again at
+    its top level (so after the first reset nothing differs), it reads no other name than
+    module-level ones and builtins, and ``__init__`` has no ``return`` to skip it."""
+    reset = decision.method("reset")
+    if not isinstance(init, (ast.FunctionDef, ast.AsyncFunctionDef)) or reset is None or not init.body:
+        return False
+    if init.body[0].lineno == init.lineno or any(isinstance(n, (ast.Return, ast.Yield, ast.YieldFrom)) for n in walk(init)):
+        return False  # a one-line body, or one a return may leave early
+    stored = {n.attr for n in walk(init) if is_self_attribute(n) and isinstance(n.ctx, ast.Store)}  # type: ignore[attr-defined]
+    reset_sets = {
+        target.attr  # type: ignore[attr-defined]  # ``is_self_attribute``: an Attribute
+        for statement in reset.body
+        if isinstance(statement, (ast.Assign, ast.AnnAssign))
+        for target in (statement.targets if isinstance(statement, ast.Assign) else [statement.target])
+        if is_self_attribute(target)
+    }
+    facts = decision.family.facts
+    for statement in statements:
+        if not isinstance(statement, (ast.Assign, ast.AnnAssign, ast.Expr, ast.Assert)):
+            return False
+        for node in walk(statement):
+            if is_self_attribute(node):
+                if isinstance(node.ctx, ast.Store) and node.attr not in reset_sets:  # type: ignore[attr-defined]
+                    return False
+                if isinstance(node.ctx, ast.Load) and node.attr not in stored:  # type: ignore[attr-defined]
+                    return False
+            elif isinstance(node, ast.Name) and node.id != "self":
+                bindings = facts.bindings_of(node)
+                if isinstance(node.ctx, ast.Store) or any(facts.enclosing_function(b) is not None for b in bindings):
+                    return False
+    return True
 
 
 def _calls_removed_helpers(function: ast.AST) -> bool:
@@ -493,6 +569,17 @@ def _seed_called_in_run(decision: ClassDecision) -> bool:
     be an env (not ``np.random`` nor a space): the seed() may have run before."""
     project = decision.family.receivers.project
     return calls_seed(decision.family.facts) or (project is not None and project.seed_used())
+
+
+def _seed_called_without_a_value(decision: ClassDecision, calls: list[ast.Call], seed_method: ast.AST) -> bool:
+    """A call of seed() the run sees passes no seed: ``self.seed()`` in the class (its
+    constructor's included), or an ``x.seed()`` / ``x.seed(None)`` in this module or another
+    of the run (``calls_seed_without_a_value``); the extra seeding ran there too."""
+    facts = decision.family.facts
+    if any(facts.enclosing_function(call) is not seed_method and not passes_a_value(call) for call in calls):
+        return True
+    project = decision.family.receivers.project
+    return calls_seed_without_a_value(facts) or (project is not None and project.seed_used_without_a_value())
 
 
 def _inherits_seed(decision: ClassDecision, classdef: ast.ClassDef) -> bool:
