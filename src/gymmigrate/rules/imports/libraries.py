@@ -204,6 +204,11 @@ GYM_ONLY_LIBRARIES = {
     ),
 }
 
+# The libraries above that drive envs (agents, collectors, evaluators) rather than make
+# them: their objects are no envs, so the run's facts do not count them among the Gym-only
+# packages whose objects are envs (``facts.names.GYM_ONLY_PACKAGES``).
+LEGACY_API_CONSUMERS = frozenset({"chainerrl", "rlkit", "pytorch_neat"})
+
 # Gym-only modules of libraries that are not Gym-only as a whole (GM107 at their import):
 # tensorforce's gym adapter, ``contrib.openai_gym`` (0.4) and ``environments.openai_gym`` (0.5
 # to 0.6.5, the last release), imports gym, makes envs through gym's registry and steps them
