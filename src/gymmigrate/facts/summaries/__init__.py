@@ -81,6 +81,7 @@ from gymmigrate.facts.summaries.classes import (
     stored_attributes,
     subclasses,
     super_calls,
+    varargs_renders,
 )
 from gymmigrate.facts.summaries.defs import (
     bootstrap_masks,
@@ -282,6 +283,7 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         render_mode_heirs=render_mode_heirs(facts, receivers),
         own_renders=own_renders(facts, receivers, calls),
         modeless_renders=modeless_renders(facts, receivers),
+        varargs_renders=varargs_renders(facts),
         render_only_classes=frozenset(name for name, classdef in facts.classes.items() if draws_only_in_render(facts, receivers, classdef)),
         registrations=registrations(facts),
         loads_saved_state=loads_model_for_the_run(facts.tree),
