@@ -367,6 +367,9 @@ class ModuleSummary:
     # Top-level env classes whose render(self) draws the same whatever render mode they are
     # made with (``render_modes.modeless_render``): a bare render() of one asks for none.
     modeless_renders: frozenset[str] = frozenset()
+    # Top-level classes whose own render(self, *args) names no mode: the run leaves it, and a
+    # mode passed to one of its instances still reaches it (``classes.varargs_renders``).
+    varargs_renders: frozenset[str] = frozenset()
     # Top-level env classes whose drawing is their render() alone: step() and reset() call no
     # render() (``render_modes.draws_only_in_render``). Made in human mode, they still draw
     # only when render() is called.

@@ -88,6 +88,7 @@ from gymmigrate.facts.project_contracts import (
     seed_keepers,
     seeds_untraced,
     thread_render_mode,
+    varargs_renders,
     wrapper_steppers,
 )
 from gymmigrate.facts.project_exports import (
@@ -327,6 +328,10 @@ class ProjectFacts:
     # render()) whose render() no render mode changes and that the run does not register
     # (``project_contracts.modeless_renders``): a bare render() of one asks for none.
     modeless_renders: frozenset[tuple[str, str]] = frozenset()
+    # (path, name) of a class (or a re-export of one, or a subclass that defines no render())
+    # whose render(self, *args) names no mode and stays (``project_contracts.varargs_renders``):
+    # ``x.render("human")`` on an instance still works as it did.
+    varargs_renders: frozenset[tuple[str, str]] = frozenset()
     # (path, name) of a Gym wrapper class (or a re-export of one) whose step and reset hand on
     # the wrapped env's results: around an instance of ``legacy_steps`` it keeps that contract.
     forwarding_wrappers: frozenset[tuple[str, str]] = frozenset()
@@ -615,6 +620,7 @@ class ProjectFacts:
         join_tables(facts, by_path, altered)
         facts.own_renders = own_renders(facts, by_path)
         facts.modeless_renders = modeless_renders(facts, by_path)
+        facts.varargs_renders = varargs_renders(facts, by_path)
         for path, name in facts.own_renders:  # they keep render(mode): no render_mode to pass
             facts.render_mode_classes[path] = facts.render_mode_classes.get(path, frozenset()) - {name}
         # before the parameters: an argument made by such a class keeps the def's calls on its contract

@@ -374,6 +374,20 @@ def modeless_renders(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> 
     return frozenset(reach - facts.registered_classes)
 
 
+def varargs_renders(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> frozenset[tuple[str, str]]:
+    """The classes whose render(self, *args) names no mode (``ModuleSummary.varargs_renders``),
+    with their re-exports and the subclasses that define no render()."""
+    kept = {
+        (path, name)
+        for path, summary in by_path.items()
+        if path not in facts.blocked
+        for name in summary.varargs_renders
+    }
+    if not kept:
+        return frozenset()
+    return frozenset(_kept_names(facts, by_path, Exports(facts, by_path), kept, ("render",)) | kept)
+
+
 def legacy_seeds(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> tuple[frozenset[tuple[str, str]], frozenset[tuple[str, str]]]:
     """The (path, name) of the run that call a class defining ``seed()`` (its re-exports and
     subclasses too), and those whose instances hold one somewhere in their wrapper chain: the

@@ -190,6 +190,12 @@ class RenderView:
         split = self.facts._split(qualified, self.path)
         return split is not None and split in self.facts.own_renders
 
+    def varargs_render(self, qualified: str) -> bool:
+        """An imported name of the run is a class whose render(self, *args) names no mode
+        (``ProjectFacts.varargs_renders``): a mode passed to it still reaches it."""
+        split = self.facts._split(qualified, self.path)
+        return split is not None and split in self.facts.varargs_renders
+
     def modeless_render_here(self, name: str) -> bool:
         """A class of this module whose render() no render mode changes
         (``ProjectFacts.modeless_renders``)."""

@@ -85,6 +85,7 @@ from gymmigrate.facts.summaries.classes import (
     stored_attributes,
     subclasses,
     super_calls,
+    varargs_renders,
 )
 from gymmigrate.facts.summaries.defs import (
     bootstrap_masks,
@@ -288,6 +289,7 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         render_mode_heirs=render_mode_heirs(facts, receivers),
         own_renders=own_renders(facts, receivers, calls),
         modeless_renders=modeless_renders(facts, receivers),
+        varargs_renders=varargs_renders(facts),
         render_only_classes=frozenset(name for name, classdef in facts.classes.items() if draws_only_in_render(facts, receivers, classdef)),
         own_flag_steps=frozenset(name for name, classdef in facts.classes.items() if steps_draw_on_own_flags(facts, receivers, classdef)),
         registrations=registrations(facts),

@@ -517,6 +517,23 @@ def fixed_mode_renders(facts: ModuleFacts) -> frozenset[str]:
     )
 
 
+def varargs_renders(facts: ModuleFacts) -> frozenset[str]:
+    """Classes whose own ``render(self, *args, ...)`` names no ``mode``: GM405 leaves it as it
+    is, so a mode passed to it still reaches whatever it hands its arguments to."""
+    return frozenset(
+        name
+        for name, classdef in facts.classes.items()
+        for method in classdef.body
+        if isinstance(method, FUNCTIONS) and method.name == "render" and takes_mode_unnamed(method)
+    )
+
+
+def takes_mode_unnamed(method: ast.FunctionDef | ast.AsyncFunctionDef) -> bool:
+    """``def render(self, *args, **kwargs)``: a ``*args`` and no parameter named ``mode``."""
+    names = [a.arg for a in (*method.args.posonlyargs, *method.args.args, *method.args.kwonlyargs)]
+    return method.args.vararg is not None and "mode" not in names
+
+
 def default_mode_renders(facts: ModuleFacts) -> frozenset[str]:
     """Classes whose own ``render(self, mode=<default>, ...)`` gives ``mode`` a default."""
     found = set()

@@ -235,6 +235,8 @@ def _declare_render_modes(decision: ClassDecision, function: Method, default: as
         )
         return
     modes = _legacy_modes(function, default)
+    if not modes and _draws_a_window(decision, function):
+        modes = ("human",)
     if not modes:
         decision.report(
             decision.classdef,
@@ -247,11 +249,16 @@ def _declare_render_modes(decision: ClassDecision, function: Method, default: as
         return
     decision.plan.declare_render_modes = modes
     listed = ", ".join(f'"{mode}"' for mode in modes)
+    drew = (
+        "its default and the modes it tests"
+        if _legacy_modes(function, default)
+        else "it names no mode, but opens a window and returns no frame: a \"human\" render"
+    )
     decision.report(
         decision.classdef,
         "GM405",
-        f"metadata = {{\"render_modes\": [{listed}]}} added (the modes the old render drew: its default and the modes it "
-        "tests): gymnasium.make's env checker asserts render_mode is None for an env that declares none",
+        f"metadata = {{\"render_modes\": [{listed}]}} added (the modes the old render drew: {drew}): gymnasium.make's env "
+        "checker asserts render_mode is None for an env that declares none",
         tier=Tier.NOTE,
     )
 
@@ -293,6 +300,34 @@ def _legacy_modes(function: Method, default: ast.expr | None) -> tuple[str, ...]
         values = right.elts if isinstance(right, (ast.Tuple, ast.List, ast.Set)) else [right]
         modes.extend(v.value for v in values if isinstance(v, ast.Constant) and isinstance(v.value, str))
     return tuple(dict.fromkeys(modes))
+
+
+# The calls that show a frame in a window of the screen, and nothing else: a render that
+# makes one is a "human" render.
+_WINDOW_CALLS = frozenset(
+    {
+        "cv2.imshow",
+        "cv2.waitKey",
+        "matplotlib.pyplot.show",
+        "matplotlib.pyplot.pause",
+        "pygame.display.flip",
+        "pygame.display.update",
+    }
+)
+
+
+def _draws_a_window(decision: ClassDecision, function: Method) -> bool:
+    """The old render, naming no mode, shows its frame in a window (``cv2.imshow``,
+    ``plt.show``/``plt.pause``, ``pygame.display.flip``) and returns no value: the one mode
+    it drew is "human". A render returning anything (an array, text) may be another mode,
+    and stays asked."""
+    facts = decision.family.facts
+    nodes = list(walk(function))
+    if any(isinstance(n, (ast.Lambda, ast.FunctionDef, ast.AsyncFunctionDef, ast.Yield, ast.YieldFrom)) and n is not function for n in nodes):
+        return False  # nested code: its returns and calls are not the render's own
+    if any(isinstance(n, ast.Return) and not (n.value is None or (isinstance(n.value, ast.Constant) and n.value.value is None)) for n in nodes):
+        return False
+    return any(isinstance(n, ast.Call) and facts.qualified_names(n.func) & _WINDOW_CALLS for n in nodes)
 
 
 def _keeps_mode_already(function: ast.FunctionDef | ast.AsyncFunctionDef, default: ast.AST | None) -> bool:
@@ -499,9 +534,13 @@ def _plan_internal_renders(
     ``self.render_mode``, and the internal calls call the helper. A bare ``self.render()``
     where the old default is a mode other than "human" (a plot refreshed each step with
     ``mode="rgb_array"``) rendered in that mode whatever the env was made with: the
-    render_mode check would silence it, so it calls the helper with the old default. A bare
-    call with the default "human" is Gymnasium's own idiom (a frame each step of a 'human'
-    env), which the check keeps."""
+    render_mode check would silence it, so it calls the helper with the old default. So does
+    a bare call the class makes under a switch of its own (``if self.render_gui:
+    self.render()``, the flag set by the project's own ``configure(render=True)`` or
+    constructor), whatever the old default: the project turned drawing on there, and an env
+    made without a render_mode would silently stop drawing. An unconditional bare call
+    with the default "human" (or None) is Gymnasium's own idiom (a frame each step of a
+    'human' env), which the check keeps."""
     facts = decision.family.facts
     own = [
         call
@@ -511,10 +550,17 @@ def _plan_internal_renders(
         and method_of(decision, call) is not None
     ]
     calls = [call for call in own if call.args or call.keywords]
-    keeps = _bare_keeps_default(decision, default)
-    bare = [c for c in own if not (c.args or c.keywords) and method_of(decision, c) is not function] if keeps else []
+    bare = [c for c in own if not (c.args or c.keywords) and method_of(decision, c) is not function]
+    # Each method's bare calls all become helper calls (the build rewrites per method), so
+    # the class's switch keeps them only where every one of them is under such a switch.
+    switched = bool(bare) and all(_under_own_switch(decision, c) for c in bare)
+    if not _bare_keeps_default(decision, default, switched):
+        bare = []
+    switch = ""
     if bare:
         decision.plan.render_helper_default = facts.segment(default)  # type: ignore[arg-type]
+        if switched:
+            switch = " under the class's own switch, which the project sets to draw,"
         calls += bare
     if not calls:
         return
@@ -531,7 +577,7 @@ def _plan_internal_renders(
         f"the class renders itself with a mode (`self.render(...)` on line {lines}): the old body is kept as "
         f"`{helper}(mode)`, which those calls now use, and render() calls it with self.render_mode"
         + (
-            f"; a bare `self.render()` drew in the old default {decision.plan.render_helper_default} whatever the env "
+            f"; a bare `self.render()`{switch} drew in the old default {decision.plan.render_helper_default} whatever the env "
             "was made with, so it passes that mode to the helper (render() would draw nothing without a render_mode)"
             if bare
             else ""
@@ -540,15 +586,34 @@ def _plan_internal_renders(
     )
 
 
-def _bare_keeps_default(decision: ClassDecision, default: ast.expr | None) -> bool:
-    """The old default is a literal mode other than "human", the class does not read
-    render_mode already (a bare call guarded by it is Gymnasium's idiom), and no local
-    subclass overrides render (the helper would bypass the override)."""
-    if not (isinstance(default, ast.Constant) and isinstance(default.value, str) and default.value != "human"):
+def _bare_keeps_default(decision: ClassDecision, default: ast.expr | None, switched: bool) -> bool:
+    """The old default is a literal mode other than "human" (or any literal default, None
+    included, where the class's bare calls are all ``switched`` on by a switch of its own),
+    the class does not read render_mode already (a bare call guarded by it is Gymnasium's
+    idiom), and no local subclass overrides render (the helper would bypass the override)."""
+    literal = isinstance(default, ast.Constant) and (default.value is None or isinstance(default.value, str))
+    if not (literal and (switched or (isinstance(default.value, str) and default.value != "human"))):  # type: ignore[union-attr]
         return False
     if any(isinstance(n, ast.Attribute) and n.attr == "render_mode" for n in walk(decision.classdef)):
         return False
     return not any("render" in decision.env.index(sub).methods for sub in local_subclasses(decision))
+
+
+def _under_own_switch(decision: ClassDecision, call: ast.Call) -> bool:
+    """``call`` sits under an ``if`` of its method whose test reads an attribute of ``self``
+    (a flag of the instance: ``if self.render_gui:``) and no render_mode."""
+    facts = decision.family.facts
+    method = method_of(decision, call)
+    for ancestor in facts.ancestors(call):
+        if ancestor is method:
+            return False
+        if isinstance(ancestor, ast.If):
+            reads = [n for n in walk(ancestor.test) if isinstance(n, ast.Attribute)]
+            if any(n.attr == "render_mode" for n in reads):
+                return False
+            if any(isinstance(n.value, ast.Name) and n.value.id == "self" for n in reads):
+                return True
+    return False
 
 
 def _report_forwarded_modes(decision: ClassDecision, function: ast.AST) -> None:

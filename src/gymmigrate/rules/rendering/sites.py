@@ -17,7 +17,10 @@ from gymmigrate.facts.env_classes import EnvClasses
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import full_name, keyword, string_value, walk
 from gymmigrate.facts.render_modes import modeless_render, own_object_render
-from gymmigrate.facts.summaries.classes import held_env_render_forward
+from gymmigrate.facts.summaries.classes import (
+    held_env_render_forward,
+    takes_mode_unnamed,
+)
 from gymmigrate.findings import FixKind, Tier, kept_render_question
 from gymmigrate.rules.render_calls import (
     arguments_in_order,
@@ -93,6 +96,10 @@ class RenderSites(RecorderSites):
             return None
         if mode_arg is not None and self._class_keeps_its_mode(receiver):
             return None  # ``render(mode)`` of a class that chooses its mode itself is kept (GM405 says so)
+        if mode_arg is not None and self._varargs_render_instance(receiver):
+            # ``env = Walker(cfg)`` whose render(self, *args) names no mode: the run leaves it,
+            # so the mode still reaches it and no render_mode is wanted anywhere.
+            return None
         if mode_arg is None and close is None and self._own_render_instance(receiver):
             # An instance of a class whose render(mode) stays the project's own (GM405 keeps
             # it): a bare call still runs it with its default mode, as it did. Or of a class
@@ -284,6 +291,28 @@ class RenderSites(RecorderSites):
         classes = EnvClasses.of(self.facts, self.receivers)
         made = [self.receivers.local_class(call.func) for call in creation.calls]
         return all(c is not None and classes.own_render_mode(c) is not None for c in made)
+
+    def _varargs_render_instance(self, receiver: ast.expr) -> bool:
+        """Every creation of ``receiver`` builds a class of this module (its own render or
+        its local bases') or of the run whose render(self, *args) names no mode."""
+        if not hasattr(self, "_varargs_finder"):
+            self._varargs_finder = CreationFinder(self.facts, self.receivers, self._builds_varargs_render)
+        creation = self._varargs_finder.find(receiver)
+        return creation.found and creation.complete and bool(creation.calls) and all(self._builds_varargs_render(c) for c in creation.calls)
+
+    def _builds_varargs_render(self, call: ast.Call) -> bool:
+        classdef = self.receivers.local_class(call.func)
+        seen: set[int] = set()
+        while classdef is not None and id(classdef) not in seen:
+            seen.add(id(classdef))
+            render = next((s for s in classdef.body if isinstance(s, (ast.FunctionDef, ast.AsyncFunctionDef)) and s.name == "render"), None)
+            if render is not None:
+                return takes_mode_unnamed(render)
+            classdef = next((b for b in map(self.receivers.local_class, classdef.bases) if b is not None), None)
+        project = self.receivers.project
+        if project is None or self.receivers.local_class(call.func) is not None:
+            return False
+        return any(project.varargs_render(q) for q in self.facts.qualified_names(call.func))
 
     def _own_render_instance(self, receiver: ast.expr, depth: int = 0) -> bool:
         """Every value ``receiver`` may hold is built by a class (of this module or of the run)
