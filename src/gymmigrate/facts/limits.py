@@ -43,6 +43,7 @@ from gymmigrate.facts.done_causes import (
 )
 from gymmigrate.facts.limit_tests import (
     LIMIT_OPS,
+    compares_the_action,
     data_end_attributes,
     elapsed_since_step_mark,
     is_dm_env_last,
@@ -149,6 +150,8 @@ class DoneTracer:
             return False  # ``if self.t_limit > 0:`` picks a mode; its ``else`` is no limit reached
         if elapsed_since_step_mark(self.facts, expr):
             return False  # time since the task's own event, which the step marks again
+        if isinstance(expr, ast.Compare) and compares_the_action(self.facts, expr):
+            return False  # the action the step was given is neither a count nor its bound
         if is_step_limit(expr, self.data_ends, self.streaks):
             return True
         if not isinstance(expr, ast.Compare) or len(expr.ops) != 1 or not isinstance(expr.ops[0], LIMIT_OPS):

@@ -15,6 +15,7 @@ from collections.abc import Hashable
 from gymmigrate.facts import names as N
 from gymmigrate.facts.done_causes import DoneCause
 from gymmigrate.facts.limit_tests import (
+    compares_the_action,
     data_end_attributes,
     elapsed_since_step_mark,
     is_local_sign_test,
@@ -88,6 +89,7 @@ def step_limit_text(decision: ClassDecision, function: ast.AST) -> str | None:
         if isinstance(c, ast.Compare)
         and is_step_limit(c, data_ends, streaks)
         and not is_local_sign_test(decision.family.facts, c)
+        and not compares_the_action(decision.family.facts, c)
         and not past_the_end(decision.family.facts, c)
         and not elapsed_since_step_mark(decision.family.facts, c)
     ]
