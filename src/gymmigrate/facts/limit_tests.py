@@ -79,6 +79,22 @@ def is_local_sign_test(facts: ModuleFacts, test: ast.Compare) -> bool:
     )
 
 
+def compares_the_action(facts: ModuleFacts, test: ast.Compare) -> bool:
+    """``self.queued_step == action`` in ``step``: a side is a parameter of the step itself
+    (the action the agent chose), never a count the env keeps nor its bound, whatever the
+    other side is called: a comparison of values, not a step limit."""
+    function = facts.enclosing_function(test)
+    if function is None or function.name != "step":
+        return False
+    parameters = {a.arg for a in (*function.args.posonlyargs, *function.args.args, *function.args.kwonlyargs)[1:]}
+    return any(
+        isinstance(side, ast.Name)
+        and side.id in parameters
+        and all(isinstance(b, ast.arg) for b in facts.bindings_of(side))
+        for side in (test.left, *test.comparators)
+    )
+
+
 def _is_zero(expr: ast.AST) -> bool:
     return isinstance(expr, ast.Constant) and isinstance(expr.value, (int, float)) and not isinstance(expr.value, bool) and expr.value == 0
 

@@ -43,6 +43,7 @@ from gymmigrate.facts.done_causes import (
 )
 from gymmigrate.facts.limit_tests import (
     LIMIT_OPS,
+    compares_the_action,
     data_end_attributes,
     elapsed_since_step_mark,
     is_dm_env_last,
@@ -149,6 +150,8 @@ class DoneTracer:
             return False  # ``if self.t_limit > 0:`` picks a mode; its ``else`` is no limit reached
         if elapsed_since_step_mark(self.facts, expr):
             return False  # time since the task's own event, which the step marks again
+        if isinstance(expr, ast.Compare) and compares_the_action(self.facts, expr):
+            return False  # the action the step was given is neither a count nor its bound
         if is_step_limit(expr, self.data_ends, self.streaks):
             return True
         if not isinstance(expr, ast.Compare) or len(expr.ops) != 1 or not isinstance(expr.ops[0], LIMIT_OPS):
@@ -266,6 +269,8 @@ class DoneTracer:
         try:
             for binding in bindings:
                 holder = self.facts.parent(binding)
+                if function is not None and _killed_before(function, binding, name):
+                    continue  # ``done = <test>`` later in the body replaces it before the read: dead
                 if isinstance(binding, ast.arg) and function is not None:
                     if _overwritten(function, name):
                         continue  # ``dones = tuple(...)`` before the read: the parameter's value is gone
@@ -565,6 +570,36 @@ def _overwritten(function: ast.AST, name: ast.Name) -> bool:
         if isinstance(statement, ast.Assign) and any(isinstance(t, ast.Name) and t.id == name.id for t in statement.targets):
             return True
     return False
+
+
+def _killed_before(function: ast.AST, binding: ast.AST, read: ast.Name) -> bool:
+    """A statement of ``function``'s own body after the one holding ``binding`` and before
+    the one holding ``read`` assigns the name afresh (``done = <test>``, its value not
+    reading the name): every path from the binding to the read passes it, so the binding's
+    value never reaches the read (a test overwritten on the next line ends nothing)."""
+    body = getattr(function, "body", [])
+    place = [_position(body, node) for node in (binding, read)]
+    if place[0] is None or place[1] is None:
+        return False
+    for statement in body[place[0] + 1 : place[1]]:
+        if (
+            isinstance(statement, ast.Assign)
+            and any(isinstance(t, ast.Name) and t.id == read.id for t in statement.targets)
+            and not any(isinstance(n, ast.Name) and n.id == read.id for n in walk(statement.value))
+        ):
+            return True
+    return False
+
+
+def _position(body: list[ast.stmt], node: ast.AST) -> int | None:
+    """The index of the statement of ``body`` that holds ``node`` (by its lines)."""
+    line = getattr(node, "lineno", None)
+    if line is None:
+        return None
+    for index, statement in enumerate(body):
+        if statement.lineno <= line <= (statement.end_lineno or statement.lineno):
+            return index
+    return None
 
 
 def _flags_of(expr: ast.expr) -> list[ast.expr] | None:

@@ -17,6 +17,7 @@ from gymmigrate.facts import names as N
 from gymmigrate.facts.env_classes import identifiers
 from gymmigrate.facts.limit_tests import (
     STEP_LIMIT_WORD,
+    compares_the_action,
     data_end_attributes,
     is_local_sign_test,
     is_step_limit,
@@ -98,6 +99,7 @@ def counts_in(facts: ModuleFacts, classdef: ast.ClassDef) -> bool:
             isinstance(node, ast.Compare)
             and is_step_limit(node, data_ends, streaks)
             and not is_local_sign_test(facts, node)
+            and not compares_the_action(facts, node)
             and not past_the_end(facts, node)
         ):
             return True  # a step-limit test in a helper (`def _done(self): return self.t > 200`)

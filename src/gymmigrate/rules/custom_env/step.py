@@ -452,7 +452,7 @@ def _decide_returns(
                     "GM504",
                     f"`{done.id}` split: the step-limit test became truncated, the rest terminated",
                     FixKind.ASSIST,
-                    tier=split_tier(tracer.trace(done), assigned, data_ends, streaks, facts),
+                    tier=split_tier(tracer.trace(done)),
                     question=split_question(assigned),
                 )
                 continue
@@ -462,7 +462,7 @@ def _decide_returns(
                 "GM504",
                 "done split: the step-limit test became truncated, the rest terminated",
                 FixKind.ASSIST,
-                tier=split_tier(tracer.trace(done), done, data_ends, streaks, facts),
+                tier=split_tier(tracer.trace(done)),
                 question=split_question(done),
             )
             continue
@@ -574,7 +574,7 @@ def _decide_returns(
                 f"`{done.id}` split: its step-limit line (line {flag.lineno}) became "
                 f"`truncated = bool({decision.family.facts.segment(flag.test)})`, the task's own ends terminated",
                 FixKind.ASSIST,
-                tier=split_tier(tracer.trace(done), flag.test, data_ends, streaks, facts),
+                tier=split_tier(tracer.trace(done)),
                 question=split_question(flag.test),
             )
             continue

@@ -15,6 +15,7 @@ from collections.abc import Hashable
 from gymmigrate.facts import names as N
 from gymmigrate.facts.done_causes import DoneCause
 from gymmigrate.facts.limit_tests import (
+    compares_the_action,
     data_end_attributes,
     elapsed_since_step_mark,
     is_local_sign_test,
@@ -88,6 +89,7 @@ def step_limit_text(decision: ClassDecision, function: ast.AST) -> str | None:
         if isinstance(c, ast.Compare)
         and is_step_limit(c, data_ends, streaks)
         and not is_local_sign_test(decision.family.facts, c)
+        and not compares_the_action(decision.family.facts, c)
         and not past_the_end(decision.family.facts, c)
         and not elapsed_since_step_mark(decision.family.facts, c)
     ]
@@ -234,18 +236,14 @@ def _statement_of(function: ast.AST, target: ast.Name) -> ast.AST | None:
     return next((s for s in walk(function) if isinstance(s, ast.Assign) and target in s.targets), None)
 
 
-def split_tier(
-    traced: DoneCause, split: ast.AST, data_ends: frozenset[str], streaks: frozenset[str], facts: ModuleFacts
-) -> Tier | None:
+def split_tier(traced: DoneCause) -> Tier | None:
     """A split whose limits are all named as step limits in this module, with no override
-    elsewhere in the run, and compared with a bound the env holds rather than a literal, is
-    settled (``self.current_step >= self.ep_length``): a note, as for a done that is only such
-    a limit (``step._report_truncation``). ``self.t >= 2`` may be the game's own length: asked."""
-    limits = [op for op in _or_operands(unwrap_bool(split)) if limit_test(facts, op, data_ends, streaks)]
-    literal = any(
-        isinstance(side, ast.Constant) for op in limits if isinstance(op, ast.Compare) for side in (op.left, *op.comparators)
-    )
-    return Tier.NOTE if traced.limits and traced.plain() and not literal else None
+    elsewhere in the run, is settled (``self.current_step >= self.ep_length``, ``self.num_step
+    >= 100``): a note, by the same test as a done that is only such a limit
+    (``step._report_truncation``), a literal bound included: the split gives each cause the
+    flag it has, so nothing is left to decide. A limit found only as a count the step
+    advances, or with a bound drawn at random, is asked."""
+    return Tier.NOTE if traced.limits and traced.plain() else None
 
 
 def split_done(expr: ast.AST, data_ends: frozenset[str], streaks: frozenset[str], facts: ModuleFacts) -> bool:
