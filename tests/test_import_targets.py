@@ -130,7 +130,10 @@ def test_rewritten_imports_exist_in_gymnasium(line: str) -> None:
 
 def test_the_gym_only_packages_the_facts_know_are_the_libraries_gm107_reports() -> None:
     from gymmigrate.facts.names import GYM_ONLY_PACKAGES
-    from gymmigrate.rules.imports.libraries import GYM_ONLY_LIBRARIES, LEGACY_API_CONSUMERS
+    from gymmigrate.rules.imports.libraries import (
+        GYM_ONLY_LIBRARIES,
+        LEGACY_API_CONSUMERS,
+    )
 
     # The libraries that only drive the envs handed to them are reported, but their
     # objects are no envs: the facts leave them out.
