@@ -178,7 +178,7 @@ _FIXTURES = Path(__file__).parent.parent / "fixtures" / "rules" / "GM604"
 
 def test_an_untraced_envs_own_uses_are_named_by_its_question() -> None:
     result = runner.invoke(app, ["check", str(_FIXTURES / "untraced_env_own_methods_join_question.py")])
-    item, looked_up = _review(result.stderr)
+    item, looked_up, growing = _review(result.stderr)
     own = (
         "the env's own methods and attributes, which a Gymnasium wrapper no longer forwards: if it is a Gym env, "
         "read them through `.unwrapped` or `get_wrapper_attr`)"
@@ -187,6 +187,8 @@ def test_an_untraced_envs_own_uses_are_named_by_its_question() -> None:
     assert item["message"].endswith(f"(the same question at lines 17, 20, {own}")
     # a name looked up by getattr/hasattr is the env's own too; Gym's `observation_space` is not
     assert int(looked_up["line"]) == 27 and looked_up["message"].endswith(f"(the same question at lines 30, 31, {own}")
+    # `self.envs.append(env)` is a call on the list of envs, not on an env
+    assert int(growing["line"]) == 42 and "(the same question" not in growing["message"]
     # the lines are placed through a rewrite like the others the question names
     assert renumber_lines(item["message"], lambda n: n + 1).endswith("(the same question at lines 18, 21, the env's own methods and attributes, which a Gymnasium wrapper no longer forwards: if it is a Gym env, read them through `.unwrapped` or `get_wrapper_attr`)")
 

@@ -41,9 +41,9 @@ from collections.abc import Hashable
 from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts.decisions import Action, Decision
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.module import FUNCTIONS, dotted_name
+from gymmigrate.facts.module import FUNCTIONS, dotted_name, full_name, walk
 from gymmigrate.facts.narrowing import isinstance_guards
-from gymmigrate.findings import RUN_QUESTION, FixKind, Tier
+from gymmigrate.findings import RUN_QUESTION, FixKind, Tier, gym_only_question
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.wrapper_usage.atari_api import (
     ATARI_METHOD_WORDS,
@@ -115,6 +115,7 @@ class WrapperForwarding(RuleFamily):
         self.origins = EnvOrigins(self.facts, self.receivers)
         self._make_layers = MakeLayers(self)
         self._wrapped_reads = WrappedReads(self.facts)
+        self._iterated: set[str] | None = None  # ``_collections``
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
@@ -574,11 +575,26 @@ class WrapperForwarding(RuleFamily):
             self._join_receiver(attr.value, attr.lineno)
 
     def _join_receiver(self, receiver: ast.expr, line: int) -> None:
+        if not isinstance(receiver, ast.Subscript) and full_name(receiver) in self._collections():
+            return  # ``self.envs.append(env)``: the list of envs, not an env (its items ask the question)
         for action in (Action.REPORT, Action.REWRITE_FOR_REVIEW):
             question = self.receiver_question(receiver, Decision(action, ""))
-            # only the "is it a Gym env" questions of a receiver, not a library's port (GM107)
-            if isinstance(question, tuple) and question[0] in ("receiver", "fed", RUN_QUESTION):
+            # only the "is it a Gym env" questions of a receiver, not a library's port (GM107):
+            # that is decided by the library, whatever the env's own methods are
+            if isinstance(question, tuple) and question[0] in ("receiver", "fed", RUN_QUESTION) and question != gym_only_question(str(question[-1])):
                 self.plan.join(question, line)
+
+    def _collections(self) -> set[str]:
+        """The names the module iterates over or subscripts (``for env in self.envs``, ``self.envs[0]``):
+        collections of envs, whose items the questions are about."""
+        if self._iterated is None:
+            self._iterated = set()
+            for node in walk(self.facts.tree):
+                value = node.iter if isinstance(node, (ast.For, ast.AsyncFor, ast.comprehension)) else node.value if isinstance(node, ast.Subscript) else None
+                name = full_name(value) if value is not None else None
+                if name:
+                    self._iterated.add(name)
+        return self._iterated
 
     def _read_past_test_double(self, attr: ast.Attribute) -> bool:
         """``self.environment.ale.lives()`` where this module's own calls hand ``environment`` a
