@@ -167,3 +167,33 @@ def test_lines_a_rewrite_joins_are_named_once() -> None:
     message = "the step on line 40 (the same question at lines 5, 6; and at line 9, where ...)"
     assert renumber_lines(message, where.__getitem__) == "the step on line 44 (the same question at line 7; and at line 12, where ...)"
     assert renumber_lines("see file.py:40 and the 3 lines above", where.__getitem__) == "see file.py:40 and the 3 lines above"
+
+
+# An env whose reset and step ask whether it is a Gym env: its own methods and attributes,
+# which a Gymnasium wrapper no longer forwards, depend on the same answer and are named by
+# that one item. Receivers nothing asks about, a proven Gym env and a proven other object
+# get nothing new.
+_FIXTURES = Path(__file__).parent.parent / "fixtures" / "rules" / "GM604"
+
+
+def test_an_untraced_envs_own_uses_are_named_by_its_question() -> None:
+    result = runner.invoke(app, ["check", str(_FIXTURES / "untraced_env_own_methods_join_question.py")])
+    item, looked_up, growing = _review(result.stderr)
+    own = (
+        "the env's own methods and attributes, which a Gymnasium wrapper no longer forwards: if it is a Gym env, "
+        "read them through `.unwrapped` or `get_wrapper_attr`)"
+    )
+    assert int(item["line"]) == 11 and item["rule"] == "GM301"
+    assert item["message"].endswith(f"(the same question at lines 17, 20, {own}")
+    # a name looked up by getattr/hasattr is the env's own too; Gym's `observation_space` is not
+    assert int(looked_up["line"]) == 27 and looked_up["message"].endswith(f"(the same question at lines 30, 31, {own}")
+    # `self.envs.append(env)` is a call on the list of envs, not on an env
+    assert int(growing["line"]) == 42 and "(the same question" not in growing["message"]
+    # the lines are placed through a rewrite like the others the question names
+    assert renumber_lines(item["message"], lambda n: n + 1).endswith("(the same question at lines 18, 21, the env's own methods and attributes, which a Gymnasium wrapper no longer forwards: if it is a Gym env, read them through `.unwrapped` or `get_wrapper_attr`)")
+
+
+@pytest.mark.parametrize("case", ["noop_own_methods_of_unasked_or_proven_env", "own_methods_of_proven_envs_unchanged"])
+def test_own_uses_of_receivers_not_asked_about_stay_silent(case: str) -> None:
+    result = runner.invoke(app, ["check", str(_FIXTURES / f"{case}.py")])
+    assert not _review(result.stderr) and "own methods and attributes" not in result.stdout + result.stderr

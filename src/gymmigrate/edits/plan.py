@@ -49,6 +49,11 @@ class Need:
 UNTRACED_MASK = "read `terminated` once the step gives five values"
 UNTRACED_BOUNDARY = "keep `terminated or truncated` there"
 UNTRACED_SPLIT = "split the test"
+# The words naming an env's own methods and attributes in its question (``Plan.join``).
+_OWN_USES = (
+    "the env's own methods and attributes, which a Gymnasium wrapper no longer forwards: "
+    "if it is a Gym env, read them through `.unwrapped` or `get_wrapper_attr`"
+)
 _NAMED_APART = {
     "GM302": (
         (UNTRACED_MASK, "where the step's done decides bootstrapping: read `terminated` there once the step gives five values"),
@@ -81,6 +86,10 @@ class Plan:
     # file asking the same question (is this receiver a Gym env?) are one decision.
     finding_questions: list[Hashable | None] = field(default_factory=list)
     finding_needs: list[Need | None] = field(default_factory=list)  # see ``Need``
+    # Lines whose code depends on the answer to a question but that no rule reports on their
+    # own (``join``): an untraced env's own methods and attributes, which a Gymnasium wrapper
+    # no longer forwards. The item asking that question names them; with no item, nothing.
+    joined: dict[Hashable, set[int]] = field(default_factory=lambda: defaultdict(set))
     # Changes of one file that are made at every place or at none (GM207's reset contract):
     # findings with the same key are kept or left out together (``edits.filtering``).
     finding_groups: list[Hashable | None] = field(default_factory=list)
@@ -141,6 +150,10 @@ class Plan:
             )
         )
 
+    def join(self, question: Hashable, line: int) -> None:
+        """``line`` depends on the answer to ``question``: named by the item that asks it, if one does."""
+        self.joined[question].add(line)
+
     def ask_once(self) -> None:
         """One review item per question: where several review items of the file ask the same
         question (the same untraced receiver, in one function or one class), the first one
@@ -150,8 +163,8 @@ class Plan:
         for index, question in enumerate(self.finding_questions):
             if question is not None and self.findings[index].needs_review:
                 groups[question].append(index)
-        for indexes in groups.values():
-            if len(indexes) < 2:
+        for question, indexes in groups.items():
+            if len(indexes) < 2 and not self.joined.get(question):
                 continue
             # at one place, the item left for a person (not rewritten) asks, the rewrite points at it
             indexes.sort(key=lambda i: (self.findings[i].line, self.findings[i].column, self.findings[i].kind is not FixKind.FLAG))
@@ -171,6 +184,10 @@ class Plan:
             named = set().union(*apart.values())
             lines = sorted({self.findings[i].line for i in others} - {head.line} - named)
             parts = [f"{'line' if len(lines) == 1 else 'lines'} {', '.join(map(str, lines))}"] if lines else []
+            own = sorted(self.joined.get(question, set()) - {self.findings[i].line for i in indexes} - named)
+            if own:
+                # no finding of their own: the answer decides them too (a wrapper stack no longer forwards them)
+                apart[_OWN_USES] = set(own)
             for words, word_lines in apart.items():
                 where = "line" if len(word_lines) == 1 else "lines"
                 parts.append(f"{'and at ' if parts else ''}{where} {', '.join(map(str, sorted(word_lines)))}, {words}")

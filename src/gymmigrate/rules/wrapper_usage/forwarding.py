@@ -39,10 +39,11 @@ import ast
 from collections.abc import Hashable
 
 from gymmigrate.facts import ModuleFacts
+from gymmigrate.facts.decisions import Action, Decision
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.module import FUNCTIONS, dotted_name
+from gymmigrate.facts.module import FUNCTIONS, dotted_name, full_name, walk
 from gymmigrate.facts.narrowing import isinstance_guards
-from gymmigrate.findings import FixKind, Tier
+from gymmigrate.findings import RUN_QUESTION, FixKind, Tier, gym_only_question
 from gymmigrate.rules.base import FileContext, Rule, RuleFamily
 from gymmigrate.rules.wrapper_usage.atari_api import (
     ATARI_METHOD_WORDS,
@@ -114,6 +115,7 @@ class WrapperForwarding(RuleFamily):
         self.origins = EnvOrigins(self.facts, self.receivers)
         self._make_layers = MakeLayers(self)
         self._wrapped_reads = WrappedReads(self.facts)
+        self._iterated: set[str] | None = None  # ``_collections``
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
@@ -170,9 +172,15 @@ class WrapperForwarding(RuleFamily):
             if isinstance(node, ast.Attribute):
                 self._attribute_access(node)
         for call in self.facts.calls_by_name.get("getattr", []):
+            reported = len(self.plan.findings)
             getattr_forwarding(self, call)
+            if len(self.plan.findings) == reported:
+                self._join_dynamic_lookup(call)
         for call in self.facts.calls_by_name.get("hasattr", []):
+            reported = len(self.plan.findings)
             hasattr_through_wrappers(self, self._wrapped_reads, call)
+            if len(self.plan.findings) == reported:
+                self._join_dynamic_lookup(call)
         for call in self.facts.calls_by_name.get("isinstance", []):
             self._make_layers.isinstance_time_limit(call)
         for call in self.facts.attribute_calls.get("step", []):
@@ -222,8 +230,8 @@ class WrapperForwarding(RuleFamily):
         known = sub_env or handed is not None or kind is EnvKind.GYM_ENV
         monitor_read = reads_monitor_videos(self, attr, known, kind)
         if not known and not monitor_read and not self.origins.outer_is_wrapper(receiver):
-            if not self._wrapped_on_some_path(attr):
-                self._read_past_test_double(attr)
+            if not self._wrapped_on_some_path(attr) and not self._read_past_test_double(attr):
+                self._join_gym_env_question(attr)
             return
         if monitor_read:
             report_monitor_videos(self, attr)
@@ -544,7 +552,51 @@ class WrapperForwarding(RuleFamily):
         """State or a method of the base envs that no wrapper class of the run defines."""
         return name in BASE_ENV_ATTRIBUTES and name not in self.origins.local_wrapper_attributes()
 
-    def _read_past_test_double(self, attr: ast.Attribute) -> None:
+    def _join_dynamic_lookup(self, call: ast.Call) -> None:
+        """``getattr(env, cmd)`` / ``hasattr(env, cmd)`` that no rule decided: a name of the env's own
+        looked up through a wrapper stack is not found any more, as ``env.cmd`` would not be."""
+        if len(call.args) < 2 or self.facts.bindings_of(call.func):  # type: ignore[arg-type]
+            return
+        target, looked_up = call.args[0], call.args[1]
+        if isinstance(looked_up, ast.Constant) and (
+            not isinstance(looked_up.value, str) or looked_up.value in SAFE_ATTRIBUTES or looked_up.value.startswith("__")
+        ):
+            return  # Gym's own API, or a dunder: found on every wrapper
+        if isinstance(target, (ast.Name, ast.Attribute, ast.Subscript)) and not (isinstance(target, ast.Name) and target.id in ("self", "cls")):
+            self._join_receiver(target, call.lineno)
+
+    def _join_gym_env_question(self, attr: ast.Attribute) -> None:
+        """``env.setMapSize(n)`` on an env whose reset or step asks whether it is a Gym env: if
+        it is, a wrapper stack no longer forwards the env's own method, so that answer decides
+        this read too. It is named by that item, not asked again (``Plan.join``); where nothing
+        asks about the receiver, nothing is said (a proven Gym env is decided above, a proven
+        other object needs nothing)."""
+        if isinstance(attr.ctx, ast.Load):
+            self._join_receiver(attr.value, attr.lineno)
+
+    def _join_receiver(self, receiver: ast.expr, line: int) -> None:
+        if not isinstance(receiver, ast.Subscript) and full_name(receiver) in self._collections():
+            return  # ``self.envs.append(env)``: the list of envs, not an env (its items ask the question)
+        for action in (Action.REPORT, Action.REWRITE_FOR_REVIEW):
+            question = self.receiver_question(receiver, Decision(action, ""))
+            # only the "is it a Gym env" questions of a receiver, not a library's port (GM107):
+            # that is decided by the library, whatever the env's own methods are
+            if isinstance(question, tuple) and question[0] in ("receiver", "fed", RUN_QUESTION) and question != gym_only_question(str(question[-1])):
+                self.plan.join(question, line)
+
+    def _collections(self) -> set[str]:
+        """The names the module iterates over or subscripts (``for env in self.envs``, ``self.envs[0]``):
+        collections of envs, whose items the questions are about."""
+        if self._iterated is None:
+            self._iterated = set()
+            for node in walk(self.facts.tree):
+                value = node.iter if isinstance(node, (ast.For, ast.AsyncFor, ast.comprehension)) else node.value if isinstance(node, ast.Subscript) else None
+                name = full_name(value) if value is not None else None
+                if name:
+                    self._iterated.add(name)
+        return self._iterated
+
+    def _read_past_test_double(self, attr: ast.Attribute) -> bool:
         """``self.environment.ale.lives()`` where this module's own calls hand ``environment`` a
         Gym env and only a test module passes a double of its own (``MockEnv`` that sets
         ``self.ale``): the double has the attribute, the made env's wrappers do not (forwarding
@@ -552,10 +604,10 @@ class WrapperForwarding(RuleFamily):
         on the double, which has no ``unwrapped``: the change is for a person, with both sides named."""
         name = attr.attr
         if name not in BASE_ENV_ATTRIBUTES or not isinstance(attr.ctx, ast.Load):
-            return
+            return False
         doubles = self.receivers.test_double_callers(attr.value)
         if not doubles:
-            return
+            return False
         text = dotted_name(attr.value) or "the env"
         owner = self._question_owner(attr, text)
         self.report(
@@ -567,6 +619,7 @@ class WrapperForwarding(RuleFamily):
             kind=FixKind.FLAG,
             question=("GM604", "test double", id(owner), text),
         )
+        return True
 
 
 # What a traced Gym env comes from, and of those, what is a wrapper stack where it is read.
