@@ -120,7 +120,8 @@ class CodeStrings(ImportsBase):
         ]
         for name, named in self.facts.calls_by_name.items():
             for call in named:
-                assert isinstance(call.func, ast.Name)
+                if not isinstance(call.func, ast.Name):
+                    continue
                 if name in _BUILTINS and not self.facts.bindings_of(call.func):
                     calls.append(call)
                 elif self.facts.qualified_names(call.func) & _TIMEIT:
@@ -132,12 +133,11 @@ class CodeStrings(ImportsBase):
         such an import of the same call binds, or a method call on an env the namespace the
         code runs in holds."""
         builtin = isinstance(call.func, ast.Name) and call.func.id in _BUILTINS and not self.facts.bindings_of(call.func)
-        if builtin:
-            assert isinstance(call.func, ast.Name)
+        slots: tuple[tuple[str, int], ...] = _TIMEIT_CODE
+        globals_at: int | None = None
+        if builtin and isinstance(call.func, ast.Name):
             param, globals_at = _BUILTINS[call.func.id]
             slots = ((param, 0),)
-        else:
-            slots, globals_at = _TIMEIT_CODE, None
         codes: list[tuple[ast.expr, ast.Module]] = []
         for name, position in slots:
             node = call_argument(call, position, name)
