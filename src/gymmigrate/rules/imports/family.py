@@ -1,7 +1,8 @@
 """The imports family: which files it may fire on, and one file's decision, in order: the
 import statements (``statements.py``), unless a fallback or detector guards them
 (``guards.py``), then the other GM108 checks, GM107 (``libraries.py``) and the removed
-names read through the gym module (``removed.py``)."""
+names read through the gym module (``removed.py``), and Gym code run from strings
+(``code_strings.py``)."""
 
 from __future__ import annotations
 
@@ -11,6 +12,7 @@ from gymmigrate.facts import ModuleFacts
 from gymmigrate.facts import names as N
 from gymmigrate.findings import FixKind, gym_only_question
 from gymmigrate.rules.base import FileContext
+from gymmigrate.rules.imports.code_strings import CodeStrings
 from gymmigrate.rules.imports.common import RULES
 from gymmigrate.rules.imports.guards import ImportGuards, innermost_guard
 from gymmigrate.rules.imports.libraries import GYM_ONLY_LIBRARIES, GYM_ONLY_MODULES
@@ -21,7 +23,7 @@ from gymmigrate.rules.imports.statements import ImportStatements
 from gymmigrate.rules.repeats import Repeats
 
 
-class Imports(ImportStatements, ImportGuards, RemovedAttributes, RllibEra):
+class Imports(ImportStatements, ImportGuards, RemovedAttributes, RllibEra, CodeStrings):
     RULES = RULES
     decides_the_module = True
 
@@ -57,6 +59,7 @@ class Imports(ImportStatements, ImportGuards, RemovedAttributes, RllibEra):
         self._removed_module_attributes()
         self._missing_module_attributes()
         self._removed_entry_points()
+        self._code_strings()
 
     def _keep_module_on_gym(self, plugins: tuple[str, ...]) -> None:
         """Every env of the module is one of ``plugins``' (``plugin_modules.py``): nothing of
