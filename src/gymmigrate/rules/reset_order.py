@@ -15,7 +15,8 @@ decides. A step or render there, before anything else of the env, is reported. A
 else ends the search without an item, where a reset may have run: a ``reset()`` (or a
 legacy ``seed()``, which becomes one) anywhere in the statement, even only in a branch or on
 a later pass of the loop that steps; the env handed to a helper, rebound, or reached by a
-closure; a method of ``self`` called, for ``self.env``. Reading an attribute of the env
+closure; a method of ``self`` called, for ``self.env``. A make that ends its branch of an
+``if`` unused is followed past the ``if`` where every branch binds the name to such a make. Reading an attribute of the env
 (``env.action_space``) or calling another of its methods resets no wrapper (only the
 wrapper's own ``reset()`` lets it step) and is passed over. A module-level env that a function of the module reads is left alone (the
 function may reset it between). A file that spells ``order_enforce`` (a registration that
@@ -47,6 +48,7 @@ _ORDERED = frozenset({"step", "render"})
 _SCOPES = (*FUNCTIONS, ast.Lambda, ast.ClassDef)
 _RESETS = frozenset({"reset", "seed"})  # a legacy seed() becomes reset(seed=...) (GM203)
 _READ = object()  # a use of the env that cannot reset it
+_OPEN = object()  # the statements ran out with the env neither used nor reset
 
 
 class ResetOrder(RuleFamily):
@@ -58,6 +60,7 @@ class ResetOrder(RuleFamily):
         return context.profile.imports_gym and bool(facts.attribute_calls.get("make")) and "order_enforce" not in facts.text
 
     def decide(self) -> None:
+        reported: set[int] = set()  # one item per call: the makes of an if's branches reach the same render
         for call in self.facts.attribute_calls.get("make", ()):
             if self.facts.qualified_names(call.func) != {"gym.make"}:
                 continue
@@ -71,7 +74,8 @@ class ResetOrder(RuleFamily):
             elif not (isinstance(target, ast.Attribute) and isinstance(target.value, ast.Name) and self.receivers.is_self(target.value)):
                 continue
             first = self._first_use_before_reset(statement, target)
-            if isinstance(first, ast.Call) and isinstance(first.func, ast.Attribute):
+            if isinstance(first, ast.Call) and isinstance(first.func, ast.Attribute) and id(first) not in reported:
+                reported.add(id(first))
                 method = first.func.attr
                 self.report(
                     first,
@@ -83,11 +87,21 @@ class ResetOrder(RuleFamily):
 
     def _first_use_before_reset(self, statement: ast.stmt, target: ast.expr) -> ast.Call | object | None:
         """The ``step``/``render`` call that is the first use of ``target``'s env in the
-        statements after ``statement`` in its block; None where another use comes first."""
+        statements after ``statement`` in its block (and, for a make in a branch of an
+        ``if`` whose every branch makes the env, after the ``if``); None where another use
+        comes first."""
         block = self._block_of(statement)
         if block is None:
             return None
-        for later in block[block.index(statement) + 1 :]:
+        found = self._scan(block[block.index(statement) + 1 :], target)
+        if found is _OPEN and isinstance(target, ast.Name):
+            found = self._after_branches(statement, target)
+        return None if found is _OPEN else found
+
+    def _scan(self, statements: list[ast.stmt], target: ast.expr) -> ast.Call | object | None:
+        """The first use of the env in ``statements`` that decides: a step/render call, None
+        for a use where a reset may run, ``_OPEN`` where nothing uses the env."""
+        for later in statements:
             if self._stores(later, target):
                 return None
             for node in self._uses(later, target):
@@ -99,7 +113,72 @@ class ResetOrder(RuleFamily):
                 if found is not None and self._reset_on_an_earlier_pass(node, later, target):
                     return None
                 return found
-        return None
+        return _OPEN
+
+    def _after_branches(self, statement: ast.stmt, target: ast.Name) -> ast.Call | object | None:
+        """For a make that ends its branch of an ``if`` unused: where every branch of the
+        ``if`` (through ``elif``) likewise binds the name to an unused make, the env after
+        the ``if`` is a fresh make whichever branch ran, so the search goes on after it."""
+        current: ast.stmt = statement
+        while True:
+            holder = self.facts.parent(current)
+            if not isinstance(holder, ast.If) or not self._every_branch_makes(holder, target):
+                return None
+            block = self._block_of(holder)
+            if block is None:
+                return None
+            found = self._scan(block[block.index(holder) + 1 :], target)
+            if found is not _OPEN:
+                return found
+            current = holder
+
+    def _every_branch_makes(self, branching: ast.If, target: ast.Name) -> bool:
+        """Each branch of ``branching`` ends with ``target`` bound by ``gym.make`` and unused
+        since. A missing ``else`` counts only where no other binding of the name can reach
+        past the ``if`` (none before it in its scope, and no loop around it to bring a
+        later one back): the name is then unbound on that path, and a use raises anyway."""
+        for branch in (branching.body, branching.orelse):
+            if not branch:
+                if not self._nothing_else_binds(branching, target):
+                    return False
+                continue
+            last = branch[-1]
+            if isinstance(last, ast.If) and self._every_branch_makes(last, target):
+                continue
+            makes = [i for i, s in enumerate(branch) if self._is_make_of(s, target.id)]
+            if not makes or self._scan(branch[makes[-1] + 1 :], branch[makes[-1]].targets[0]) is not _OPEN:  # type: ignore[attr-defined]
+                return False
+        return True
+
+    def _is_make_of(self, statement: ast.stmt, name: str) -> bool:
+        return (
+            isinstance(statement, ast.Assign)
+            and len(statement.targets) == 1
+            and isinstance(statement.targets[0], ast.Name)
+            and statement.targets[0].id == name
+            and isinstance(statement.value, ast.Call)
+            and self.facts.qualified_names(statement.value.func) == {"gym.make"}
+        )
+
+    def _nothing_else_binds(self, branching: ast.If, target: ast.Name) -> bool:
+        parent = self.facts.parent(branching)
+        while isinstance(parent, ast.If) and parent.orelse == [branching]:  # an elif: judge the whole chain
+            branching, parent = parent, self.facts.parent(parent)
+        scope = self.facts.enclosing_function(branching)
+        if scope is not None and any(a.arg == target.id for a in ast.walk(scope.args) if isinstance(a, ast.arg)):
+            return False  # a parameter reaches the branch that makes nothing
+        if any(isinstance(a, (ast.For, ast.AsyncFor, ast.While)) for a in takewhile(lambda a: a is not scope, self.facts.ancestors(branching))):
+            return False
+        for node in walk(scope if scope is not None else self.facts.tree):
+            if isinstance(node, ast.Name) and node.id == target.id and not isinstance(node.ctx, ast.Load):
+                if self.facts.enclosing_function(node) is scope and node.lineno <= (branching.end_lineno or branching.lineno):
+                    parent = self.facts.parent(node)
+                    if not (isinstance(parent, ast.stmt) and self._is_make_of(parent, target.id) and self._within(parent, branching)):
+                        return False
+        return True
+
+    def _within(self, node: ast.AST, outer: ast.AST) -> bool:
+        return any(a is outer for a in self.facts.ancestors(node))
 
     def _reset_on_an_earlier_pass(self, name: ast.Name, statement: ast.stmt, target: ast.expr) -> bool:
         """A loop around the step (within ``statement``) also uses the env otherwise than to

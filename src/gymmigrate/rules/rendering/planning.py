@@ -15,8 +15,10 @@ from collections import defaultdict
 from gymmigrate.facts.class_shapes import wrapped_env_renders
 from gymmigrate.facts.decisions import Action, Decision
 from gymmigrate.facts.flow import Flow
+from gymmigrate.facts.made_holders import is_make
 from gymmigrate.facts.module import keyword, string_value
 from gymmigrate.facts.render_modes import steps_draw_on_own_flags
+from gymmigrate.facts.summaries.defs import registered_ids
 from gymmigrate.facts.version_checks import reads_version
 from gymmigrate.findings import (
     FixKind,
@@ -24,6 +26,7 @@ from gymmigrate.findings import (
     gym_only_question,
     recorder_mode_question,
 )
+from gymmigrate.rules.env_ids.catalog import known_elsewhere
 from gymmigrate.rules.render_calls import without_mode_argument
 from gymmigrate.rules.render_schedule import never_run_guard, render_condition, schedule
 from gymmigrate.rules.rendering.common import (
@@ -497,6 +500,18 @@ class SitePlanning(EnvUses, UntracedEnvs):
                         tier=Tier.NOTE,
                     )
                     return
+                unknown = self._unknown_id(keys, makes)
+                if unknown is not None:
+                    # Nothing tells what the class behind the id draws, or where: no ground
+                    # for calling the render redundant, and keeping it is right either way.
+                    self.report(
+                        call,
+                        code,
+                        f'legacy render() meant "human": added {target} to {where}; the id {unknown!r} names no env of '
+                        "Gymnasium or of this run, so whether it draws inside step() is not known: keep this call",
+                        tier=Tier.NOTE,
+                    )
+                    return
                 self.report(
                     call,
                     code,
@@ -561,6 +576,30 @@ class SitePlanning(EnvUses, UntracedEnvs):
             if env_id is None or not project.draws_only_in_render(env_id):
                 return False
         return True
+
+    def _unknown_id(self, keys: list[int], makes: dict[int, ast.Call]) -> str | None:
+        """The literal id of a ``gym.make`` of ``keys`` that neither Gymnasium (nor a package
+        registered with it) nor the run registers (an id the run may register through a
+        registration it does not spell as a literal counts as registered): the class it
+        builds, and so whether human mode makes its step() draw, is not known."""
+        project = self.receivers.project
+        for key in keys:
+            make = makes[key]
+            if not is_make(self.facts, make):
+                continue
+            first = make.args[0] if make.args else keyword(make, "id")
+            env_id = string_value(first) if first is not None else None
+            if env_id is None or known_elsewhere(env_id):
+                continue
+            if project is not None:
+                if project.may_register(env_id) or project.facts.registers_from_data:
+                    continue
+            else:
+                here = registered_ids(self.facts)
+                if env_id in here or None in here:
+                    continue
+            return env_id
+        return None
 
     def _steps_draw_on_own_flags(self, keys: list[int], makes: dict[int, ast.Call]) -> bool:
         """Every make of ``keys`` calls the constructor of an env class of the run (this
