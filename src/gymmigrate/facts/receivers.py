@@ -362,7 +362,7 @@ class Receivers(BindingKinds, WrappingCalls, ClassKinds, ParameterKinds, MadeObj
             return EnvKind.UNKNOWN
         if self.kind_of(owner) is EnvKind.SB3_MODEL:
             return EnvKind.SB3_VEC
-        methods = self._instance_methods(owner, func.attr)
+        methods = self.instance_methods(owner, func.attr)
         if methods:
             return join_kinds(
                 self.facts.memo(("returned-kind", id(m)), lambda m=m: self.returns_kind(m), while_computing=EnvKind.UNKNOWN)
@@ -370,7 +370,7 @@ class Receivers(BindingKinds, WrappingCalls, ClassKinds, ParameterKinds, MadeObj
             )
         return EnvKind.UNKNOWN
 
-    def _instance_methods(self, owner: ast.expr, name: str) -> list[ast.FunctionDef | ast.AsyncFunctionDef]:
+    def instance_methods(self, owner: ast.expr, name: str) -> list[ast.FunctionDef | ast.AsyncFunctionDef]:
         """The ``def name`` of each class of this module that ``owner`` is bound to an
         instance of (``g = Builder()``, in every binding), or none when one binding is anything
         else or its class does not define ``name`` itself."""

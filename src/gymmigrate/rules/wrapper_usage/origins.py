@@ -307,6 +307,12 @@ class EnvOrigins(HeldEnvQuestions):
             listed = self._listed_thunk_origin(func)
             if listed is not None:
                 return listed
+        if isinstance(func, ast.Attribute):
+            # ``factory.get_env()`` on an instance of a class of the module: what its method
+            # returns (one that returns nothing gives None, on which any attribute read fails)
+            values = [r.value for m in self.receivers.instance_methods(func.value, func.attr) for r in own_returns(m) if r.value is not None]
+            if values:
+                return join_origins([self.origin(v) for v in values])
         if isinstance(func, ast.Attribute) and self.receivers.callables.held_callable_kind(func) is EnvKind.GYM_ENV:
             # ``env = holder.x()`` in a worker every spawn hands ``Pickled(fn)``, each ``fn``
             # a thunk returning a Gym env: bare or wrapped, as the kinds say
