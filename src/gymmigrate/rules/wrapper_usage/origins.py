@@ -177,7 +177,11 @@ class EnvOrigins(HeldEnvQuestions):
                 return None
             if expr.attr in ("env", duck_wrapper_attribute(classdef)) and self.receivers.is_gym_wrapper_class(classdef):
                 return INNER
-            return join_origins([self.origin(v) for v in self.receivers.self_stores(classdef).get(expr.attr, [])])
+            stores = self.receivers.self_stores(classdef).get(expr.attr, [])
+            # ``self.env = None`` in ``__init__`` and the env stored by another method: a read
+            # that meets the None fails on any attribute, so it only ever reads the other stores
+            held = [v for v in stores if not (isinstance(v, ast.Constant) and v.value is None)]
+            return join_origins([self.origin(v) for v in held])
         return None
 
     def _call_origin(self, call: ast.Call) -> Origin:
