@@ -247,9 +247,10 @@ class Receivers(BindingKinds, WrappingCalls, ClassKinds, ParameterKinds, MadeObj
 
     def _classify_call(self, call: ast.Call) -> EnvKind:
         func = call.func
-        # model.get_env() on anything: Stable-Baselines3's accessor for its VecEnv.
         if isinstance(func, ast.Attribute) and func.attr == "get_env":
-            return EnvKind.SB3_VEC
+            accessed = self._get_env_kind(func)
+            if accessed is not None:
+                return accessed
         # gym.spec(id).make()
         if isinstance(func, ast.Attribute) and func.attr == "make" and isinstance(func.value, ast.Call):
             if any(N.strip_gym_prefix(q) in ("spec", "envs.spec") for q in self.qualified_names(func.value.func)):
@@ -333,6 +334,8 @@ class Receivers(BindingKinds, WrappingCalls, ClassKinds, ParameterKinds, MadeObj
             held = self.callables.held_callable_kind(func)  # ``env_fn_wrapper.x()`` in a worker
             if held is not EnvKind.UNKNOWN:
                 return held
+        if isinstance(func, ast.Attribute) and func.attr == "learn" and self.kind_of(func.value) is EnvKind.SB3_MODEL:
+            return EnvKind.SB3_MODEL  # ``PPO(...).learn(n)``: an algorithm's ``learn`` returns the algorithm
         # ``VecNormalize.load(...)`` is a classmethod call on a known class.
         if isinstance(func, ast.Attribute):
             owner = self.qualified_names(func.value)
@@ -341,6 +344,52 @@ class Receivers(BindingKinds, WrappingCalls, ClassKinds, ParameterKinds, MadeObj
             if any(q.startswith(N.SB3_PACKAGES) for q in owner) and func.attr == "load":
                 return EnvKind.SB3_MODEL
         return EnvKind.UNKNOWN
+
+    def _get_env_kind(self, func: ast.Attribute) -> EnvKind | None:
+        """``x.get_env()``: Stable-Baselines' ``BaseAlgorithm.get_env`` (its VecEnv) only where
+        the run proves ``x`` an algorithm (``PPO(...)``, ``PPO.load(...)``, a callback's
+        ``self.model``, ``self`` in a subclass of one); a method of that name on the project's
+        own object is no accessor of a library: None, so the call is followed as any other
+        call of the class's own method (``self.get_env()``, an instance of a class of this
+        module). Otherwise unknown: the name alone decides nothing."""
+        owner = func.value
+        if isinstance(owner, ast.Name) and self.is_self(owner):
+            if self.own_method(func) is not None:
+                return None
+            classdef = self.facts.enclosing_class(func)
+            if classdef is not None and self.attributes.set_by_library_base(classdef, "env") is EnvKind.SB3_VEC:
+                return EnvKind.SB3_VEC
+            return EnvKind.UNKNOWN
+        if self.kind_of(owner) is EnvKind.SB3_MODEL:
+            return EnvKind.SB3_VEC
+        methods = self.instance_methods(owner, func.attr)
+        if methods:
+            return join_kinds(
+                self.facts.memo(("returned-kind", id(m)), lambda m=m: self.returns_kind(m), while_computing=EnvKind.UNKNOWN)
+                for m in methods
+            )
+        return EnvKind.UNKNOWN
+
+    def instance_methods(self, owner: ast.expr, name: str) -> list[ast.FunctionDef | ast.AsyncFunctionDef]:
+        """The ``def name`` of each class of this module that ``owner`` is bound to an
+        instance of (``g = Builder()``, in every binding), or none when one binding is anything
+        else or its class does not define ``name`` itself."""
+        if not isinstance(owner, ast.Name):
+            return []
+        bindings = self.facts.bindings_of(owner)
+        found: list[ast.FunctionDef | ast.AsyncFunctionDef] = []
+        for binding in bindings:
+            statement = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
+            if not (isinstance(statement, ast.Assign) and statement.targets == [binding] and isinstance(statement.value, ast.Call)):
+                return []
+            classdef = self.local_class(statement.value.func)
+            if classdef is None:
+                return []
+            method = next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == name), None)
+            if method is None:
+                return []
+            found.append(method)
+        return found
 
     def _closure_self(self, name: ast.Name) -> bool:
         """``self`` read in a def nested in a method: that method's first parameter."""

@@ -103,7 +103,7 @@ class SelfAttributes:
                     return kind
             if name == "env" and self._is_pettingzoo_wrapper(classdef):
                 return self.receivers.class_kind(classdef)
-            library = self._set_by_library_base(classdef, name)
+            library = self.set_by_library_base(classdef, name)
             if library is not None:
                 return library
             return self._driven_by_run_base(classdef, name)
@@ -117,7 +117,7 @@ class SelfAttributes:
                 return EnvKind.GYM_ENV
         return kind
 
-    def _set_by_library_base(self, classdef: ast.ClassDef, name: str) -> EnvKind | None:
+    def set_by_library_base(self, classdef: ast.ClassDef, name: str) -> EnvKind | None:
         """``self.env`` (and a runner's ``self.model``) that neither the class nor a base of
         the module stores, in a subclass of a Stable-Baselines or baselines algorithm or
         runner (``class MySAC(SAC)``, ``class Runner(AbstractEnvRunner)``): that library's

@@ -177,7 +177,11 @@ class EnvOrigins(HeldEnvQuestions):
                 return None
             if expr.attr in ("env", duck_wrapper_attribute(classdef)) and self.receivers.is_gym_wrapper_class(classdef):
                 return INNER
-            return join_origins([self.origin(v) for v in self.receivers.self_stores(classdef).get(expr.attr, [])])
+            stores = self.receivers.self_stores(classdef).get(expr.attr, [])
+            # ``self.env = None`` in ``__init__`` and the env stored by another method: a read
+            # that meets the None fails on any attribute, so it only ever reads the other stores
+            held = [v for v in stores if not (isinstance(v, ast.Constant) and v.value is None)]
+            return join_origins([self.origin(v) for v in held])
         return None
 
     def _call_origin(self, call: ast.Call) -> Origin:
@@ -307,6 +311,12 @@ class EnvOrigins(HeldEnvQuestions):
             listed = self._listed_thunk_origin(func)
             if listed is not None:
                 return listed
+        if isinstance(func, ast.Attribute):
+            # ``factory.get_env()`` on an instance of a class of the module: what its method
+            # returns (one that returns nothing gives None, on which any attribute read fails)
+            values = [r.value for m in self.receivers.instance_methods(func.value, func.attr) for r in own_returns(m) if r.value is not None]
+            if values:
+                return join_origins([self.origin(v) for v in values])
         if isinstance(func, ast.Attribute) and self.receivers.callables.held_callable_kind(func) is EnvKind.GYM_ENV:
             # ``env = holder.x()`` in a worker every spawn hands ``Pickled(fn)``, each ``fn``
             # a thunk returning a Gym env: bare or wrapped, as the kinds say
