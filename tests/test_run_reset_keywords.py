@@ -68,3 +68,21 @@ def test_blocked_contract_names_its_places_relative_to_the_reporting_module(tmp_
     assert places, result.output
     assert all(str(tmp_path) not in shown for shown in places), places
     assert any("extra/blocker.py:5 (`step_fn=`)" in shown for shown in places), places
+
+
+def test_blocked_contract_names_the_calls_that_pass_the_keywords(tmp_path: Path) -> None:
+    # The env's reset item names where the run passes its keywords (the calls a person
+    # changes, in this module and others), not only the place that blocked the move.
+    project = tmp_path / "project"
+    shutil.copytree(FIXTURES / "project_reset_keywords", project)
+    (project / "chain" / "extra").mkdir()
+    (project / "chain" / "extra" / "blocker.py").write_text(
+        "import gym\n\n\nclass Other(gym.Env):\n    def reset(self, step_fn):\n        return 0\n"
+    )
+    result = runner.invoke(app, ["check", str(project)])
+    item = next(line for line in result.output.splitlines() if "core.py:16:" in line and "cannot be rewritten:" in line)
+    callers = item.split("to this reset (at ")[1].split(")")[0]
+    assert callers == "line 32, line 39, use.py:9", item
+    # the blocker's own reset is named as its parameter, not as a place of the run
+    other = next(line for line in result.output.splitlines() if "blocker.py:5:" in line and "cannot be rewritten:" in line)
+    assert "this reset's own `step_fn` parameter" in other, other

@@ -138,3 +138,66 @@ def test_a_class_in_a_module_without_gym_imports_is_asked_through_its_base(tmp_p
     result = runner.invoke(app, ["check", "--output-format", "json", str(tmp_path)])
     found = [(Path(f["path"]).name, f["line"]) for f in json.loads(result.stdout) if f["rule"] == "GM511"]
     assert found == ([("frog.py", 6 + child_imports.count("\n"))] if asked else [])
+
+
+_BASE = """import gym
+
+
+class Field(gym.Env):
+    def __init__(self, size=2):
+        self.size = size
+
+    def reset(self):
+        self.action_space = gym.spaces.Discrete(2)
+        self.observation_space = gym.spaces.Discrete(self.size)
+        return 0
+
+    def step(self, action):
+        return 0, 0.0, True, {}
+"""
+
+_SUB = """import gym
+
+from farm.base import Field
+
+
+class Meadow(Field):
+    def __init__(self):
+        super().__init__(size=5)
+
+
+class Paddock(Field):
+    def __init__(self):
+        self.size = 3
+"""
+
+_REGISTER = """import gym
+
+gym.envs.registration.register(id="Field-v0", entry_point="farm.base:Field")
+gym.envs.registration.register(id="Meadow-v0", entry_point="farm.sub:Meadow")
+gym.envs.registration.register(id="Paddock-v0", entry_point="farm.sub:Paddock")
+field = gym.make("Field-v0")
+meadow = gym.make("Meadow-v0")
+paddock = gym.make("Paddock-v0")
+"""
+
+
+def test_a_subclass_built_through_its_base_is_asked_about_once_at_the_base(tmp_path: Path) -> None:
+    # Meadow runs Field's __init__: spaces set there reach it, so Field's item names it and
+    # Meadow gets a note. Paddock never runs that __init__: it keeps an item of its own.
+    farm = tmp_path / "farm"
+    farm.mkdir()
+    (farm / "__init__.py").write_text("")
+    (farm / "base.py").write_text(_BASE)
+    (farm / "sub.py").write_text(_SUB)
+    (tmp_path / "main.py").write_text(_REGISTER)
+    result = runner.invoke(app, ["check", "--output-format", "json", str(tmp_path)])
+    assert result.exit_code in (0, 1), result.output
+    found = {(Path(f["path"]).name, f["line"]): f for f in json.loads(result.stdout) if f["rule"] == "GM511"}
+    assert sorted((key, f["tier"]) for key, f in found.items()) == [
+        (("base.py", 4), "review"),
+        (("sub.py", 6), "note"),
+        (("sub.py", 11), "review"),
+    ]
+    assert "`Meadow`" in found[("base.py", 4)]["message"] and "`Paddock`" not in found[("base.py", 4)]["message"]
+    assert "`Field` (base.py)" in found[("sub.py", 6)]["message"]

@@ -223,6 +223,9 @@ class ModuleSummary:
     # of the run, ``@Name`` for one of this module); a class that sets both, or whose code
     # cannot show it, is not listed.
     unset_spaces: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = field(default_factory=dict)
+    # Of those, the classes whose construction runs their base's ``__init__`` (none of their
+    # own, or one that calls it): a space their base sets would be theirs too.
+    base_built: frozenset[str] = frozenset()
     # Top-level def -> the classes it may construct (``@Name``, or the qualified name of a
     # name of the run), through the defs of the module it calls: what a registered def makes.
     def_builds: dict[str, tuple[str, ...]] = field(default_factory=dict)

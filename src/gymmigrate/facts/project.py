@@ -496,6 +496,10 @@ class ProjectFacts:
     # those of them whose every registration has a literal id that no module of the run
     # names, where every make() of the run passes a literal id: nothing of the run makes them
     unmade_classes: set[tuple[str, str]] = field(default_factory=set)
+    # GM511 asked once per hierarchy: a made class -> the highest base of the run it inherits
+    # the unset spaces from (``join_unset_spaces``), and that base -> those made classes.
+    unset_owner: dict[tuple[str, str], tuple[str, str]] = field(default_factory=dict)
+    unset_heirs: dict[tuple[str, str], list[tuple[str, str]]] = field(default_factory=dict)
     # the ids the run registers with the Gym registry (None: one it registers is no literal)
     registered_ids: set[str | None] = field(default_factory=set)
     # literal id -> the class of the run its entry point names (path, class), where every

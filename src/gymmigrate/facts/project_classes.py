@@ -76,6 +76,32 @@ def join_unset_spaces(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) ->
                 if spaces:
                     facts.unset_spaces[made] = spaces
 
+    def owner(key: tuple[str, str]) -> tuple[str, str]:
+        # up through single bases of the run whose __init__ each class runs, while the base
+        # leaves every space unset too: the spaces set there are set for the made class
+        spaces = facts.unset_spaces[key]
+        for _ in range(MAX_CHAIN):
+            summary = by_path.get(key[0])
+            entry = summary.unset_spaces.get(key[1]) if summary is not None else None
+            if summary is None or entry is None or key[1] not in summary.base_built or len(entry[1]) != 1:
+                break
+            base = _class_named(facts, by_path, entry[1][0], key[0])
+            if base is None or base == key or not spaces <= unset(base, 0):
+                break
+            key = base
+        return key
+
+    groups: dict[tuple[str, str], list[tuple[str, str]]] = {}
+    for made in facts.unset_spaces:
+        top = owner(made)
+        if top != made:
+            groups.setdefault(top, []).append(made)
+    for top, heirs in groups.items():
+        if len(heirs) + (top in facts.unset_spaces) < 2:
+            continue  # one made class: its own item names it best
+        facts.unset_heirs[top] = heirs
+        facts.unset_owner.update((heir, top) for heir in heirs)
+
 
 def join_unmade_classes(facts: ProjectFacts, by_path: dict[str, ModuleSummary]) -> None:
     """``ProjectFacts.unmade_classes``: of the classes GM511 would report, those every

@@ -87,6 +87,19 @@ class RegistryView:
         of the run makes it (the class itself, or a registered def that constructs it)."""
         return self.facts.unset_spaces.get((self.path, name), frozenset())
 
+    def unset_owner(self, name: str) -> tuple[str, str] | None:
+        """For a class of this module ``unset_spaces`` names: the base of the run GM511 asks
+        at instead (path, class), whose construction leaves the same spaces unset."""
+        return self.facts.unset_owner.get((self.path, name))
+
+    def unset_heirs(self, name: str) -> list[tuple[str, str, frozenset[str], bool]]:
+        """The made classes whose unset spaces GM511 asks about at this module's ``name``:
+        (path, class, the spaces, made by nothing of the run)."""
+        return [
+            (path, heir, self.facts.unset_spaces[(path, heir)], (path, heir) in self.facts.unmade_classes)
+            for path, heir in sorted(self.facts.unset_heirs.get((self.path, name), ()))
+        ]
+
     def made_by_nothing(self, name: str) -> bool:
         """A class of this module whose spaces are unset (``unset_spaces``) that every
         registration names by a literal id no module of the run names, while every make() of

@@ -42,6 +42,7 @@ class ResetSites:
     step_values: frozenset[str] = frozenset()  # keywords passed a wrapper's ``self.step`` here
     other_values: frozenset[str] = frozenset()  # keywords passed anything else here
     blockers: tuple[tuple[str, int], ...] = ()  # (keyword, line) the rewrite cannot carry
+    calls: tuple[tuple[str, int], ...] = ()  # (keyword, line) of the ``x.reset(...)`` calls passing it
 
     def __bool__(self) -> bool:
         return bool(self.env_params or self.passed or self.blockers)
@@ -54,6 +55,7 @@ class Contract:
     keywords: frozenset[str]
     step_callables: frozenset[str]
     blockers: tuple[tuple[str, int, str], ...]  # (path, line, keyword) of sites no rewrite can carry
+    calls: tuple[tuple[str, int, str], ...] = ()  # (path, line, keyword) of the calls that pass a keyword
 
 
 def extra_params(function: ast.FunctionDef | ast.AsyncFunctionDef) -> list[ast.arg]:
@@ -126,16 +128,18 @@ def sites(facts: ModuleFacts, is_env_class: Callable[[ast.ClassDef], bool]) -> R
             if param in reset.args.posonlyargs or not _has_default(reset, param) or reset.args.vararg is not None:
                 blockers.append((param.arg, reset.lineno))
     passed: set[str] = set()
+    calls: list[tuple[str, int]] = []
     step_values: set[str] = set()
     other_values: set[str] = set()
     for call in facts.attribute_calls.get("reset", []):
         named = [kw for kw in call.keywords if kw.arg is not None and kw.arg not in STANDARD]
         for kw in named:
             passed.add(kw.arg)  # type: ignore[arg-type]
+            calls.append((kw.arg, call.lineno))  # type: ignore[arg-type]
             (step_values if is_step_value(facts, kw.value, kw.arg) else other_values).add(kw.arg)  # type: ignore[arg-type]
             if not forwards_kwargs(facts, call) or any(isinstance(a, ast.Starred) for a in call.args):
                 blockers.append((kw.arg, call.lineno))  # type: ignore[arg-type]
-    return ResetSites(frozenset(env_params), frozenset(passed), frozenset(step_values), frozenset(other_values), tuple(blockers))
+    return ResetSites(frozenset(env_params), frozenset(passed), frozenset(step_values), frozenset(other_values), tuple(blockers), tuple(calls))
 
 
 def join(parts: list[tuple[str, ResetSites]]) -> Contract | None:
@@ -150,4 +154,5 @@ def join(parts: list[tuple[str, ResetSites]]) -> Contract | None:
     blockers = tuple(
         (path, line, keyword) for path, s in parts for keyword, line in s.blockers if keyword in keywords
     )
-    return Contract(keywords, frozenset(k for k in keywords if k in step and k not in other), blockers)
+    calls = tuple((path, line, keyword) for path, s in parts for keyword, line in s.calls if keyword in keywords)
+    return Contract(keywords, frozenset(k for k in keywords if k in step and k not in other), blockers, calls)

@@ -183,6 +183,42 @@ def _local(facts: ModuleFacts, receivers: Receivers, classdef: ast.ClassDef, see
     return unset
 
 
+def runs_base_init(classdef: ast.ClassDef) -> bool:
+    """Building ``classdef`` runs its base's ``__init__``: it has none of its own, or its own
+    calls ``super().__init__(...)`` or ``Base.__init__(self, ...)``. A space the base sets
+    in its construction is then set on this class too."""
+    init = next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == "__init__"), None)
+    if init is None:
+        return True
+    for node in walk(init):
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "__init__":
+            held = node.func.value
+            if isinstance(held, ast.Call) and isinstance(held.func, ast.Name) and held.func.id == "super":
+                return True
+            if isinstance(held, ast.Name) and node.args and isinstance(node.args[0], ast.Name) and node.args[0].id == "self":
+                return True
+    return False
+
+
+def local_unset_owner(facts: ModuleFacts, receivers: Receivers, classdef: ast.ClassDef) -> ast.ClassDef:
+    """The highest class of this module above ``classdef`` (itself where none) that leaves
+    every space ``classdef`` leaves unset, through single bases whose ``__init__`` each
+    class runs: setting the spaces there sets them for ``classdef``, so GM511 asks there."""
+    spaces = local_unset_spaces(facts, receivers, classdef) or frozenset()
+    owner = classdef
+    seen = {id(classdef)}
+    while spaces and runs_base_init(owner):
+        own = own_unset_spaces(facts, receivers, owner)
+        if own is None or len(own[1]) != 1 or not own[1][0].startswith(OWN):
+            break
+        base = facts.classes.get(own[1][0][len(OWN) :])
+        if base is None or id(base) in seen or not spaces <= (local_unset_spaces(facts, receivers, base) or frozenset()):
+            break
+        seen.add(id(base))
+        owner = base
+    return owner
+
+
 def module_unset_spaces(facts: ModuleFacts, receivers: Receivers) -> dict[str, tuple[tuple[str, ...], tuple[str, ...]]]:
     """``ModuleSummary.unset_spaces``: each top-level class whose own code leaves a space
     unset, with its bases of the run (the join intersects what they leave unset)."""

@@ -54,6 +54,7 @@ from gymmigrate.facts.space_setters import (
     checked_entries,
     def_builds,
     module_unset_spaces,
+    runs_base_init,
 )
 from gymmigrate.facts.step_counts import step_counting
 from gymmigrate.facts.step_hooks import plain_overrides, step_hooks
@@ -264,6 +265,7 @@ def _summary(facts: ModuleFacts, receivers: Receivers, path: str) -> ModuleSumma
         contains_calls=contains_calls(facts),
         mujoco_py_uses=mujoco_py_uses(facts),
         unset_spaces=module_unset_spaces(facts, receivers),
+        base_built=frozenset(name for name, classdef in facts.classes.items() if runs_base_init(classdef)),
         def_builds=def_builds(facts, receivers),
         checked_entries=checked_entries(facts),
         reset_steps=module_reset_steps(facts),

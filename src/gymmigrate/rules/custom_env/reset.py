@@ -37,6 +37,7 @@ from gymmigrate.rules.custom_env.common import (
 )
 from gymmigrate.rules.custom_env.hooks import overrides
 from gymmigrate.rules.env_ids.syntax import gym_alias
+from gymmigrate.rules.reset_seed.contract import blocked_params, run_contract
 
 
 def decide_reset(decision: ClassDecision) -> None:
@@ -220,7 +221,14 @@ def decide_reset(decision: ClassDecision) -> None:
         star_kwarg = function.args.kwarg.arg if function.args.kwarg else None
         extra = [n for n in names[1:] if n not in ("seed", "options", "return_info", star_kwarg)]
         if extra and not legacy_flag and not _all_defaulted(function, extra):
-            decision.report(function, "GM501", f"reset keeps its own parameters ({', '.join(extra)}) before seed/options; Gymnasium code passes such settings in options", FixKind.ASSIST)
+            kept = f"reset keeps its own parameters ({', '.join(extra)}) before seed/options"
+            receivers = decision.family.receivers
+            if receivers.class_kind(decision.classdef) is EnvKind.GYM_ENV and blocked_params(run_contract(decision.family.facts, receivers), function):
+                # The run passes some of them down its wrappers and GM207 asks at this same
+                # reset whether they move into options: one decision, one item.
+                decision.report(function, "GM501", f"{kept}; whether they move into options is the GM207 item on this reset", FixKind.ASSIST, Tier.NOTE)
+            else:
+                decision.report(function, "GM501", f"{kept}; Gymnasium code passes such settings in options", FixKind.ASSIST)
         elif extra and not legacy_flag:
             # Every one has a default: Gymnasium's callers (keyword seed/options only) and the
             # project's own positional calls both work as they are, nothing to decide.

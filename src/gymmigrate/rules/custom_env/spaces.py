@@ -6,7 +6,9 @@ Gymnasium's only annotates them, and the env checker ``make`` puts around every 
 ``AttributeError: The environment must specify an observation space`` the moment the env is
 built. Asked once at the class, where an entry point of the run makes it (the class itself or
 a registered def that constructs it) and neither the class nor a base sets the space by the
-end of its construction (``facts/space_setters.py``).
+end of its construction (``facts/space_setters.py``). Where two made classes or more
+inherit the unset spaces from one base whose ``__init__`` they run (single bases all the
+way up), it is asked once at the highest such base, naming them; each gets a note.
 
 A space stored as a list or tuple display (``self.action_space = [spaces.Discrete(5) for _ in
 agents]``, a multi-agent env written before PettingZoo) is no ``Space``: gym <= 0.23 never looked,
@@ -20,6 +22,7 @@ Source: Gymnasium 1.4 ``wrappers/common.py`` (``PassiveEnvChecker.__init__``), `
 from __future__ import annotations
 
 import ast
+import os
 
 from gymmigrate.facts.kinds import EnvKind
 from gymmigrate.facts.module import (
@@ -29,8 +32,14 @@ from gymmigrate.facts.module import (
     self_attribute,
     string_value,
 )
+from gymmigrate.facts.receivers import Receivers
 from gymmigrate.facts.self_attributes import self_stores
-from gymmigrate.facts.space_setters import SPACES, local_unset_spaces, registered_here
+from gymmigrate.facts.space_setters import (
+    SPACES,
+    local_unset_owner,
+    local_unset_spaces,
+    registered_here,
+)
 from gymmigrate.facts.summaries.defs import named_ids
 from gymmigrate.findings import FixKind, Tier
 from gymmigrate.rules.custom_env.common import ClassDecision
@@ -51,23 +60,63 @@ def decide_unset_spaces(decision: ClassDecision) -> None:
         return
     project = receivers.project
     unset = project.unset_spaces(classdef.name) if project is not None else frozenset()
-    if not unset:
+    owner: str | None = None  # the base GM511 asks at instead
+    heirs: list[tuple[str, frozenset[str], bool]] = []  # (subclass, its spaces, made by nothing)
+    if project is not None:
+        above = project.unset_owner(classdef.name)
+        owner = f"`{above[1]}` ({_shown(decision, above[0])})" if above is not None else None
+        heirs = [(name, spaces, unmade) for _, name, spaces, unmade in project.unset_heirs(classdef.name)]
+    if not unset and not heirs:
         # ``register(id=..., entry_point=Sim)`` in this module (a run of one file, or an entry
         # point the join does not read: the class object itself)
         made = facts.memo(("registered-here", 0), lambda: registered_here(facts, receivers, None))
         unset = (local_unset_spaces(facts, receivers, classdef) or frozenset()) if classdef.name in made else frozenset()
+        owners = facts.memo(("unset-owners", 0), lambda: _local_owners(facts, receivers, made))
+        if unset and (above_here := owners.get(classdef.name)) is not None:
+            owner = f"`{above_here.name}` (line {above_here.lineno})"
+        heirs = [
+            (name, local_unset_spaces(facts, receivers, facts.classes[name]) or frozenset(), _made_by_nothing_here(facts, name))
+            for name, above_here in owners.items()
+            if above_here is classdef
+        ]
+    if owner is not None:
+        # its base's construction leaves them unset as well and runs in this class's: set there,
+        # they are set here too, so the base's item asks once for the whole hierarchy
+        named = " and ".join(f"`{space}`" for space in SPACES if space in unset)
+        decision.report(
+            classdef,
+            "GM511",
+            f"`{classdef.name}` leaves {named} unset once built as its base {owner} does, whose __init__ it runs: "
+            "the GM511 item at that base asks it once for its subclasses",
+            FixKind.FLAG,
+            Tier.NOTE,
+        )
+        return
+    made_here = bool(unset)
+    unset = unset.union(*(spaces for _, spaces, _ in heirs))
     if not unset:
         return
     missing = [space for space in SPACES if space in unset]
     named = " and ".join(f"`{space}`" for space in missing)
     first = missing[0].split("_")[0]
-    if project.made_by_nothing(classdef.name) if project is not None else _made_by_nothing_here(facts, classdef.name):
+    subclasses = ", ".join(f"`{name}`" for name, _, _ in heirs)
+    what, run = ("subclass", "runs") if len(heirs) == 1 else ("subclasses", "run")
+    unmade = all(nothing for _, _, nothing in heirs) and (
+        not made_here or (project.made_by_nothing(classdef.name) if project is not None else _made_by_nothing_here(facts, classdef.name))
+    )
+    who = (
+        f"`{classdef.name}`{f' (and its registered {what} {subclasses}, which {run} its __init__)' if heirs and made_here else ''}"
+        if made_here or not heirs
+        else f"`{classdef.name}`'s registered {what} {subclasses}, which {run} its __init__,"
+    )
+    leaves = "leaves" if made_here and not heirs or not made_here and len(heirs) == 1 else "leave"
+    if unmade:
         # registered, but no module of the run names its id: no make of the run builds it,
         # and a make elsewhere met the same unset spaces under gym (its reset raised first)
         decision.report(
             classdef,
             "GM511",
-            f"`{classdef.name}` leaves {named} unset once built; it is registered, but no make of the run names its id: "
+            f"{who} {leaves} {named} unset once built; registered, but no make of the run names the id: "
             f"where something else makes it, the env checker `gymnasium.make` puts around it raises AttributeError "
             f"(\"The environment must specify an {first} space\")",
             FixKind.FLAG,
@@ -77,13 +126,44 @@ def decide_unset_spaces(decision: ClassDecision) -> None:
     decision.report(
         classdef,
         "GM511",
-        f"`{classdef.name}` leaves {named} unset once built (gym 0.21's Env had None there; Gymnasium's has no default), and an entry "
-        f"point of the run makes it: the env checker `gymnasium.make` puts around it raises AttributeError (\"The environment "
+        f"{who} {leaves} {named} unset once built (gym 0.21's Env had None there; Gymnasium's has no default), and an entry "
+        f"point of the run makes {'them' if heirs else 'it'}: the env checker `gymnasium.make` puts around it raises AttributeError (\"The environment "
         f"must specify an {first} space\") where no wrapper in between sets one; set "
         + " and ".join(f"`self.{space}`" for space in missing)
-        + " in `__init__`, or register (or make) it with `disable_env_checker=True`",
+        + (f" in `{classdef.name}.__init__`" if heirs else " in `__init__`")
+        + ", or register (or make) it with `disable_env_checker=True`",
         FixKind.FLAG,
     )
+
+
+def _local_owners(facts: ModuleFacts, receivers: Receivers, made: frozenset[str]) -> dict[str, ast.ClassDef]:
+    """A run of this module alone: each made class that leaves spaces unset -> the base GM511
+    asks at instead (``local_unset_owner``), where that base covers two made classes or more
+    (itself among them when made): one made class keeps its own item."""
+    groups: dict[int, list[str]] = {}
+    tops: dict[int, ast.ClassDef] = {}
+    for name in made:
+        classdef = facts.classes.get(name)
+        if classdef is None or not local_unset_spaces(facts, receivers, classdef):
+            continue
+        top = local_unset_owner(facts, receivers, classdef)
+        if top is not classdef:
+            groups.setdefault(id(top), []).append(name)
+            tops[id(top)] = top
+    owners: dict[str, ast.ClassDef] = {}
+    for key, names in groups.items():
+        top = tops[key]
+        if len(names) + (top.name in made and bool(local_unset_spaces(facts, receivers, top))) >= 2:
+            owners.update((name, top) for name in sorted(names))
+    return owners
+
+
+def _shown(decision: ClassDecision, path: str) -> str:
+    """A module of the run as the item shows it: relative to the reporting module."""
+    here = os.path.abspath(decision.family.context.path)
+    if os.path.abspath(path) == here:
+        return "this file"
+    return os.path.relpath(path, os.path.dirname(here))
 
 
 def _made_by_nothing_here(facts: ModuleFacts, name: str) -> bool:

@@ -31,7 +31,8 @@ from gymmigrate.edits.plan import Need
 from gymmigrate.facts.decisions import Action, Decision, receiver_text
 from gymmigrate.facts.env_classes import is_super_method_call
 from gymmigrate.facts.kinds import EnvKind
-from gymmigrate.facts.module import walk
+from gymmigrate.facts.module import ModuleFacts, walk
+from gymmigrate.facts.receivers import Receivers
 from gymmigrate.facts.reset_contract import (
     Contract,
     extra_params,
@@ -45,16 +46,31 @@ from gymmigrate.rules.reset_seed.common import ResetSeedBase
 # The contract's changes of a file are made at every place or at none: a keyword moved into
 # options at one call and not read from there by the reset it reaches is lost.
 _CONTRACT = "GM207 reset contract"
+# the calls an item names before it counts the rest
+_MAX_LISTED = 8
+
+
+def run_contract(facts: ModuleFacts, receivers: Receivers) -> Contract | None:
+    """The run's reset contract as this module sees it (this module alone without a run)."""
+    project = receivers.project
+    if project is not None:
+        return project.reset_contract()
+    return join([("this file", sites(facts, lambda c: receivers.class_kind(c) is EnvKind.GYM_ENV))])
+
+
+def blocked_params(contract: Contract | None, reset: ast.FunctionDef | ast.AsyncFunctionDef) -> list[str]:
+    """The parameters of an env's ``reset`` that the contract names while a site of the run
+    blocks it: the GM207 item at that reset carries the decision about them."""
+    if contract is None or not contract.blockers:
+        return []
+    return [a.arg for a in extra_params(reset) if a.arg in contract.keywords]
 
 
 class ResetContractSites(ResetSeedBase):
     """GM207 (mixed into the family)."""
 
     def _contract(self) -> Contract | None:
-        project = self.receivers.project
-        if project is not None:
-            return project.reset_contract()
-        return join([("this file", sites(self.facts, lambda c: self.receivers.class_kind(c) is EnvKind.GYM_ENV))])
+        return run_contract(self.facts, self.receivers)
 
     def _shown_path(self, path: str) -> str:
         # Like the run's other cross-module items: relative to this module, never the
@@ -62,6 +78,25 @@ class ResetContractSites(ResetSeedBase):
         if path == "this file" or not os.path.isabs(path):
             return path
         return os.path.relpath(path, os.path.dirname(os.path.abspath(self.context.path)))
+
+    def _here(self, path: str) -> bool:
+        return path == "this file" or os.path.abspath(path) == os.path.abspath(self.context.path)
+
+    def _order(self, place: tuple[str, int]) -> tuple[bool, str, int]:
+        return not self._here(place[0]), self._shown_path(place[0]), place[1]
+
+    def _at(self, path: str, line: int) -> str:
+        return f"line {line}" if self._here(path) else f"{self._shown_path(path)}:{line}"
+
+    def _place(self, path: str, line: int, keyword: str, reset: ast.FunctionDef | ast.AsyncFunctionDef) -> str:
+        if line == reset.lineno and self._here(path):
+            return f"this reset's own `{keyword}` parameter"  # not a place elsewhere: its parameter cannot take the value from options
+        return f"{self._shown_path(path)}:{line} (`{keyword}=`)"
+
+    @staticmethod
+    def _listed(places: list[str]) -> str:
+        shown = ", ".join(places[:_MAX_LISTED])
+        return shown + (f" and {len(places) - _MAX_LISTED} more" if len(places) > _MAX_LISTED else "")
 
     def _plan_contract(self) -> frozenset[str]:
         """Plans the contract's edits in this module; the keywords it moved (the calls'
@@ -76,14 +111,19 @@ class ResetContractSites(ResetSeedBase):
         ]
         if contract.blockers:
             for classdef, reset in resets:
-                moved = [a.arg for a in extra_params(reset) if a.arg in contract.keywords]
+                moved = blocked_params(contract, reset)
                 if moved and self.receivers.class_kind(classdef) is EnvKind.GYM_ENV:
                     shown = ", ".join(f"`{k}=`" for k in moved)
-                    places = ", ".join(f"{self._shown_path(path)}:{line} (`{keyword}=`)" for path, line, keyword in contract.blockers)
+                    places = ", ".join(self._place(path, line, keyword, reset) for path, line, keyword in contract.blockers)
+                    # the calls that pass them are where a person changes something: name them
+                    callers = self._listed(
+                        [self._at(path, line) for path, line in sorted({(p, n) for p, n, k in contract.calls if k in moved}, key=self._order)]
+                    )
                     self.report(
                         reset,
                         "GM207",
-                        f"the run passes {shown} down its wrappers to this reset, which Gymnasium's wrappers and the "
+                        f"the run passes {shown} down its wrappers to this reset{f' (at {callers})' if callers else ''}, "
+                        "which Gymnasium's wrappers and the "
                         "checkers of make() refuse (they take only seed= and options=); not moved into options, because "
                         f"these places cannot be rewritten: {places}",
                         FixKind.FLAG,
