@@ -68,3 +68,34 @@ def test_blocked_contract_names_its_places_relative_to_the_reporting_module(tmp_
     assert places, result.output
     assert all(str(tmp_path) not in shown for shown in places), places
     assert any("extra/blocker.py:5 (`step_fn=`)" in shown for shown in places), places
+
+
+_RUN_SUBCLASS = """
+from arm.use import firsts, grip
+
+hard, moved = firsts()
+assert hard[0] == 5.0 and moved[0] == 6.0, (hard, moved)
+assert grip() == 2.0
+print("ok")
+"""
+
+
+def test_keywords_of_a_subclass_env_whose_base_is_imported_travel_in_options(tmp_path: Path) -> None:
+    # ``ReachEnv(BaseSim)`` with ``BaseSim`` imported: its module alone cannot tell it is a
+    # Gym env, the run can; every keyword a caller passes down the wrappers moves, not only
+    # those the base's reset takes. ``BigGripper`` (no env) keeps its own keywords.
+    project = tmp_path / "project"
+    shutil.copytree(FIXTURES / "project_reset_keywords_subclass", project)
+    result = runner.invoke(app, ["rewrite", str(project)])
+    assert result.exit_code == 0, result.output
+    again = runner.invoke(app, ["rewrite", str(project)])
+    assert "rewrote 0 of" in again.output, again.output
+    reach = (project / "arm" / "reach.py").read_text()
+    assert 'random_pose = (options or {}).get("random_pose", random_pose)' in reach
+    use = (project / "arm" / "use.py").read_text()
+    assert 'env.reset(options={"random_pose": True})' in use
+    assert "gripper.reset(force=2.0)" in use
+    assert "def reset(self, wide=False, force=1.0):" in (project / "arm" / "bigger.py").read_text()
+    run = subprocess.run([sys.executable, "-W", "ignore", "-c", _RUN_SUBCLASS], cwd=project, capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.split() == ["ok"]

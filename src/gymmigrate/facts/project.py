@@ -695,7 +695,10 @@ class ProjectFacts:
         facts.render_only_ids = render_only_ids(facts, by_path)
         NonSpaces(facts, by_path).run()
         facts.wrapper_steppers = wrapper_steppers(facts, by_path)
-        facts.reset_contract = join_reset_sites([(path, s.reset_sites) for path, s in by_path.items() if path not in facts.blocked])
+        facts.reset_contract = join_reset_sites(
+            [(path, s.reset_sites) for path, s in by_path.items() if path not in facts.blocked],
+            lambda path, name: facts.call_kinds.get((path, name)) is EnvKind.GYM_ENV,
+        )
         reexport_wrappers(facts, by_path)
         # where each is defined (re-exports and factories of one are not the class)
         facts.seed_wrappers = frozenset(
