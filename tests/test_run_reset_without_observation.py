@@ -151,14 +151,23 @@ MIDDLE = '''
 class Camera(Scene):
     """No reset of its own: only a base again, for subclasses of another module."""
 
+    def __init__(self, size=3):
+        super().__init__(size)
+        self.zoom = 1
+
     def look(self):
         return self.size
 '''
+# built elsewhere only as the base of ``super().__init__(...)``: that builds a Reach
+SUPER_INIT = """
+    def __init__(self):
+        super().__init__(size=3)
+"""
 
 
 def _middle_item(tmp_path: Path, other: str) -> dict[str, object]:
     (tmp_path / "scene.py").write_text(BASE + MIDDLE)
-    (tmp_path / "tasks.py").write_text(TASK.replace("{more}", "").replace("Scene", "Camera"))
+    (tmp_path / "tasks.py").write_text(TASK.replace("{more}", SUPER_INIT).replace("Scene", "Camera"))
     (tmp_path / "train.py").write_text(other)
     result = runner.invoke(app, ["check", "--output-format", "json", str(tmp_path)])
     found = [f for f in json.loads(result.stdout) if f["path"].endswith("scene.py") and f["rule"] == "GM501" and "returns nothing" in f["message"]]

@@ -187,7 +187,8 @@ def _overriders(decision: ClassDecision, classdef: ast.ClassDef, seen: set[int])
         return []
     seen.add(id(classdef))
     name = classdef.name
-    if project.called_from_outside(name) or project.registered_here(name) or project.facts.registers_from_data:
+    # a subclass's ``super().__init__(...)`` elsewhere builds that subclass, not this base
+    if project.built_from_outside(name) or project.registered_here(name) or project.facts.registers_from_data:
         return []
     for read in facts.reads_of(name):
         holder = facts.parent(read)
