@@ -86,3 +86,49 @@ def test_blocked_contract_names_the_calls_that_pass_the_keywords(tmp_path: Path)
     # the blocker's own reset is named as its parameter, not as a place of the run
     other = next(line for line in result.output.splitlines() if "blocker.py:5:" in line and "cannot be rewritten:" in line)
     assert "this reset's own `step_fn` parameter" in other, other
+_RUN_SUBCLASS = """
+from arm.use import firsts, grip, track
+
+hard, moved = firsts()
+assert hard[0] == 5.0 and moved[0] == 6.0, (hard, moved)
+assert grip() == 2.0
+assert track()[0] == 5.0
+
+print("ok")
+"""
+
+
+def test_keywords_of_a_subclass_env_whose_base_is_imported_travel_in_options(tmp_path: Path) -> None:
+    # ``ReachEnv(BaseSim)`` with ``BaseSim`` imported: its module alone cannot tell it is a
+    # Gym env, the run can; every keyword a caller passes down the wrappers moves, not only
+    # those the base's reset takes. ``BigGripper`` (no env) keeps its own keywords.
+    project = tmp_path / "project"
+    shutil.copytree(FIXTURES / "project_reset_keywords_subclass", project)
+    result = runner.invoke(app, ["rewrite", str(project)])
+    assert result.exit_code == 0, result.output
+    again = runner.invoke(app, ["rewrite", str(project)])
+    assert "rewrote 0 of" in again.output, again.output
+    reach = (project / "arm" / "reach.py").read_text()
+    assert 'random_pose = (options or {}).get("random_pose", random_pose)' in reach
+    use = (project / "arm" / "use.py").read_text()
+    assert 'env.reset(options={"random_pose": True})' in use
+    assert "gripper.reset(force=2.0)" in use
+    assert "def reset(self, wide=False, force=1.0):" in (project / "arm" / "bigger.py").read_text()
+    run = subprocess.run([sys.executable, "-W", "ignore", "-c", _RUN_SUBCLASS], cwd=project, capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.split() == ["ok"]
+
+
+def test_direct_parent_reset_up_a_base_of_another_module_is_no_wrapper_call(tmp_path: Path) -> None:
+    # ``TrackEnv(CameraSim)``, ``CameraSim`` imported and without a reset of its own: its
+    # ``super().reset(hard=...)`` reaches ``BaseSim.reset``, which keeps ``hard``; no wrapper
+    # is in between, so no item. A keyword no reset up the chain takes is still asked about.
+    project = tmp_path / "project"
+    shutil.copytree(FIXTURES / "project_reset_keywords_subclass", project)
+    result = runner.invoke(app, ["check", str(project)])
+    assert not [line for line in result.output.splitlines() if "track.py" in line and "GM207 [flag]" in line], result.output
+    track = project / "arm" / "track.py"
+    track.write_text(track.read_text().replace("super().reset(hard=hard)", "super().reset(hard=hard, slow=slow)"))
+    result = runner.invoke(app, ["check", str(project)])
+    flagged = [line for line in result.output.splitlines() if "track.py:6" in line and "GM207 [flag]" in line]
+    assert flagged and "`slow=`" in flagged[0], result.output

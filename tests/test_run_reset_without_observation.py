@@ -144,3 +144,47 @@ def test_a_base_reached_another_way_keeps_the_review_item(tmp_path: Path, more: 
     item = _base_item(tmp_path, more, other)
     assert item["tier"] == "review"
     assert "overrides reset" not in str(item["message"])
+
+
+MIDDLE = '''
+
+class Camera(Scene):
+    """No reset of its own: only a base again, for subclasses of another module."""
+
+    def __init__(self, size=3):
+        super().__init__(size)
+        self.zoom = 1
+
+    def look(self):
+        return self.size
+'''
+# built elsewhere only as the base of ``super().__init__(...)``: that builds a Reach
+SUPER_INIT = """
+    def __init__(self):
+        super().__init__(size=3)
+"""
+
+
+def _middle_item(tmp_path: Path, other: str) -> dict[str, object]:
+    (tmp_path / "scene.py").write_text(BASE + MIDDLE)
+    (tmp_path / "tasks.py").write_text(TASK.replace("{more}", SUPER_INIT).replace("Scene", "Camera"))
+    (tmp_path / "train.py").write_text(other)
+    result = runner.invoke(app, ["check", "--output-format", "json", str(tmp_path)])
+    found = [f for f in json.loads(result.stdout) if f["path"].endswith("scene.py") and f["rule"] == "GM501" and "returns nothing" in f["message"]]
+    assert len(found) == 1, found
+    return found[0]
+
+
+def test_a_base_under_a_resetless_base_only_gets_a_note(tmp_path: Path) -> None:
+    # Scene <- Camera (no reset, never built) <- Reach (another module, overrides reset):
+    # Scene's reset runs only under Reach's ``super().reset()``.
+    item = _middle_item(tmp_path, OTHER)
+    assert item["tier"] == "note"
+    assert "every subclass of it overrides reset (Reach)" in str(item["message"])
+
+
+def test_a_built_resetless_middle_base_keeps_the_review_item(tmp_path: Path) -> None:
+    # Camera built itself: its instances run Scene's reset, whose None a wrapper unpacks.
+    item = _middle_item(tmp_path, "from scene import Camera\n\nenv = Camera()\nenv.reset()\n")
+    assert item["tier"] == "review"
+    assert "overrides reset" not in str(item["message"])

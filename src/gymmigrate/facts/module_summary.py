@@ -92,6 +92,9 @@ class CallSummary:
     # for a class of the calling module, else its qualified name). What ``holder.env`` is in
     # the def given it (``ProjectFacts.held_made``).
     holders: tuple[tuple[str, str], ...] = ()
+    # ``super().__init__(...)`` (any ``super().m(...)``) in a subclass: it runs the base's
+    # method on an instance of the subclass, and builds no instance of the base.
+    up: bool = False
 
 
 @dataclass(frozen=True)

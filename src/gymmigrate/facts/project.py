@@ -176,6 +176,9 @@ class ProjectFacts:
     called_elsewhere: set[tuple[str, str]] = field(default_factory=set)
     # the defs and classes of the run (path, qualname) another module calls, with or without arguments
     called_from_outside: set[tuple[str, str]] = field(default_factory=set)
+    # ...of them, those another module calls other than as ``super().m(...)`` of a subclass
+    # (which runs the base's method on the subclass's instance, and builds no base).
+    built_from_outside: set[tuple[str, str]] = field(default_factory=set)
     # Modules the run leaves as they are (refused, skip-file), with the reason: their
     # classes count as unknown, so no other module is rewritten as if they had migrated.
     blocked: dict[str, str] = field(default_factory=dict)
@@ -608,6 +611,9 @@ class ProjectFacts:
                     if split is not None and split[0] != summary.path:
                         facts.called_elsewhere.add(split)
         facts.called_from_outside = {key for key, calls in calls_to.items() if any(caller != key[0] for caller, _ in calls)}
+        facts.built_from_outside = {
+            key for key, calls in calls_to.items() if any(caller != key[0] and not call.up for caller, call in calls)
+        }
         imported = {q for summary in summaries for q in summary.imported}
         facts.checks_envs = any(imports_env_checker(q) for q in imported)
         facts.recreates_from_spec = any(s.recreates_from_spec for s in summaries)
@@ -699,7 +705,10 @@ class ProjectFacts:
         facts.render_only_ids = render_only_ids(facts, by_path)
         NonSpaces(facts, by_path).run()
         facts.wrapper_steppers = wrapper_steppers(facts, by_path)
-        facts.reset_contract = join_reset_sites([(path, s.reset_sites) for path, s in by_path.items() if path not in facts.blocked])
+        facts.reset_contract = join_reset_sites(
+            [(path, s.reset_sites) for path, s in by_path.items() if path not in facts.blocked],
+            lambda path, name: facts.call_kinds.get((path, name)) is EnvKind.GYM_ENV,
+        )
         reexport_wrappers(facts, by_path)
         # where each is defined (re-exports and factories of one are not the class)
         facts.seed_wrappers = frozenset(

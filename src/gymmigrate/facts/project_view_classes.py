@@ -221,6 +221,26 @@ class ClassView:
         prefix = split[1] + "."
         return split if any(q.startswith(prefix) for q in self.facts.defs.get(split[0], ())) else None
 
+    def inherited_params(self, qualified: str, method: str) -> tuple[str, ...] | None:
+        """The parameters of ``method`` as an imported class of the run has it: its own, or
+        that of the first of its bases of the run (depth first, in the order each class
+        names them) that defines one (``class Camera(BaseSim)`` reaching ``BaseSim.reset``).
+        None where no class of the run on the way defines it."""
+        split = self.facts._split(qualified, self.path)
+        if split is None or "." in split[1]:
+            return None
+        todo, seen = [split], set()
+        while todo:
+            current = todo.pop(0)
+            if current in seen:
+                continue
+            seen.add(current)
+            params = self.facts.def_params.get((current[0], f"{current[1]}.{method}"))
+            if params is not None:
+                return params
+            todo[:0] = self.facts.class_bases.get(current, ())
+        return None
+
     def class_methods(self, qualified: str) -> frozenset[str]:
         """The methods of an imported class of the run (``from pkg import TrialEnv``) with
         those of its bases of the run; empty when the run does not define the class."""

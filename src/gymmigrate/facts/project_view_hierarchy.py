@@ -36,6 +36,17 @@ class HierarchyView:
         calls = self.facts.called_from_outside
         return self.built_elsewhere(classname) or (self.path, classname) in calls or (self.path, f"{classname}.__init__") in calls
 
+    def built_from_outside(self, classname: str) -> bool:
+        """Another module of the run builds an instance of this file's ``classname``: a call
+        of it, or of its ``__init__`` other than a subclass's ``super().__init__(...)``
+        (which builds the subclass); a class without ``__init__`` of its own called there."""
+        calls = self.facts.built_from_outside
+        return (
+            (self.path, classname) in self.facts.called_elsewhere
+            or (self.path, classname) in calls
+            or (self.path, f"{classname}.__init__") in calls
+        )
+
     def subclassed_elsewhere(self, classname: str) -> bool:
         """Another module of the run derives a class from this file's ``classname``."""
         return (self.path, classname) in self.facts.overrides

@@ -43,9 +43,12 @@ class ResetSites:
     other_values: frozenset[str] = frozenset()  # keywords passed anything else here
     blockers: tuple[tuple[str, int], ...] = ()  # (keyword, line) the rewrite cannot carry
     calls: tuple[tuple[str, int], ...] = ()  # (keyword, line) of the ``x.reset(...)`` calls passing it
+    # top-level classes this module cannot tell are Gym envs (a base imported from another
+    # module of the run) -> the extra keywords of their own resets: the run decides (``join``)
+    class_params: tuple[tuple[str, frozenset[str]], ...] = ()
 
     def __bool__(self) -> bool:
-        return bool(self.env_params or self.passed or self.blockers)
+        return bool(self.env_params or self.passed or self.blockers or self.class_params)
 
 
 @dataclass(frozen=True)
@@ -117,6 +120,8 @@ def sites(facts: ModuleFacts, is_env_class: Callable[[ast.ClassDef], bool]) -> R
     """``is_env_class(classdef)``: a Gym env class (the receivers' answer)."""
     env_params: set[str] = set()
     blockers: list[tuple[str, int]] = []
+    class_params: list[tuple[str, frozenset[str]]] = []
+    top = {id(n) for n in facts.tree.body if isinstance(n, ast.ClassDef)}
     for classdef in [n for n in walk(facts.tree) if isinstance(n, ast.ClassDef)]:
         reset = own_reset(classdef)
         if reset is None:
@@ -124,6 +129,8 @@ def sites(facts: ModuleFacts, is_env_class: Callable[[ast.ClassDef], bool]) -> R
         extras = extra_params(reset)
         if extras and is_env_class(classdef):
             env_params.update(a.arg for a in extras)
+        elif extras and id(classdef) in top:
+            class_params.append((classdef.name, frozenset(a.arg for a in extras)))
         for param in extras:
             if param in reset.args.posonlyargs or not _has_default(reset, param) or reset.args.vararg is not None:
                 blockers.append((param.arg, reset.lineno))
@@ -139,12 +146,27 @@ def sites(facts: ModuleFacts, is_env_class: Callable[[ast.ClassDef], bool]) -> R
             (step_values if is_step_value(facts, kw.value, kw.arg) else other_values).add(kw.arg)  # type: ignore[arg-type]
             if not forwards_kwargs(facts, call) or any(isinstance(a, ast.Starred) for a in call.args):
                 blockers.append((kw.arg, call.lineno))  # type: ignore[arg-type]
-    return ResetSites(frozenset(env_params), frozenset(passed), frozenset(step_values), frozenset(other_values), tuple(blockers), tuple(calls))
+    return ResetSites(
+        frozenset(env_params),
+        frozenset(passed),
+        frozenset(step_values),
+        frozenset(other_values),
+        tuple(blockers),
+        tuple(calls),
+        tuple(class_params),
+    )
 
 
-def join(parts: list[tuple[str, ResetSites]]) -> Contract | None:
-    """The contract of the run from each module's sites (path, sites); None without one."""
-    env_params = frozenset().union(*(s.env_params for _, s in parts))
+def join(parts: list[tuple[str, ResetSites]], is_env_class: Callable[[str, str], bool] = lambda path, name: False) -> Contract | None:
+    """The contract of the run from each module's sites (path, sites); None without one.
+    ``is_env_class(path, name)``: the run shows that top-level class to be a Gym env (its
+    module alone could not tell, ``class TaskEnv(BaseSim)`` with ``BaseSim`` imported): its
+    reset's keywords count as an env's too, or a caller elsewhere passing one through the
+    wrappers would keep it and raise TypeError at the first of them."""
+    env_params = frozenset().union(
+        *(s.env_params for _, s in parts),
+        *(params for path, s in parts for name, params in s.class_params if is_env_class(path, name)),
+    )
     passed = frozenset().union(*(s.passed for _, s in parts))
     keywords = env_params & passed
     if not keywords:

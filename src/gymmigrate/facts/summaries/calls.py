@@ -396,6 +396,7 @@ class CallSummarizer:
             creators=tuple(creators),
             thunk_stacks=tuple(stacks),
             holders=tuple(holders),
+            up=isinstance(call.func, ast.Attribute) and self._super_base(call.func.value) is not None,
         )
 
     def _instance_of_run_class(self, argument: ast.expr) -> str | None:

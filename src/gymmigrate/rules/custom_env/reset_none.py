@@ -168,34 +168,49 @@ def _base_of_overrides_only(decision: ClassDecision) -> str:
     """The names of the subclasses overriding reset, where the run proves the class is
     only a base: no code of the run builds it (a call of its name here, a call from another
     module, a registration), it has subclasses, and each direct subclass defines its own
-    reset. "" otherwise."""
+    reset or is, in this module, only such a base itself (``class CameraSim(BaseSim)``
+    with no reset, whose subclasses elsewhere override it). "" otherwise."""
+    names = _overriders(decision, decision.classdef, set())
+    if not names:
+        return ""
+    return ", ".join(names[:4]) + (f" and {len(names) - 4} more" if len(names) > 4 else "")
+
+
+def _overriders(decision: ClassDecision, classdef: ast.ClassDef, seen: set[int]) -> list[str]:
+    """The subclasses under ``classdef`` whose own reset runs in place of its, where the
+    run builds ``classdef`` nowhere and every subclass below it either overrides reset or
+    is such a base too; [] where that is not proved."""
     family = decision.family
     project = family.receivers.project
-    classdef = decision.classdef
     facts = family.facts
-    if project is None or facts.parent(classdef) is not facts.tree:
-        return ""
+    if project is None or facts.parent(classdef) is not facts.tree or id(classdef) in seen:
+        return []
+    seen.add(id(classdef))
     name = classdef.name
-    if project.called_from_outside(name) or project.registered_here(name) or project.facts.registers_from_data:
-        return ""
+    # a subclass's ``super().__init__(...)`` elsewhere builds that subclass, not this base
+    if project.built_from_outside(name) or project.registered_here(name) or project.facts.registers_from_data:
+        return []
     for read in facts.reads_of(name):
         holder = facts.parent(read)
         if isinstance(holder, ast.ClassDef) and read in holder.bases:
             continue
         if isinstance(holder, ast.Call) and isinstance(holder.func, ast.Name) and holder.func.id == "super" and holder.args[:1] == [read]:
             continue  # ``super(Base, self)``
-        return ""  # built, or handed on (a table of classes, a factory's argument)
+        return []  # built, or handed on (a table of classes, a factory's argument)
     if project.subclasses_elsewhere_without(name, "reset"):
-        return ""
-    direct = [sub for sub in local_subclasses(decision) if any(decision.family.receivers.local_class(b) is classdef for b in sub.bases)]
-    if any(decision.env.index(sub).methods.get("reset") is None for sub in direct):
-        return ""
-    local, elsewhere = overrides(decision, "reset")
-    names = [sub.name for sub in direct] + [w.rsplit(":", 1)[-1] for w in project.overridden_elsewhere(name, "reset")]
-    if not names or not (local or elsewhere):
-        return ""
-    shown = ", ".join(names[:4]) + (f" and {len(names) - 4} more" if len(names) > 4 else "")
-    return shown
+        return []
+    names: list[str] = []
+    for sub in walk(facts.tree):
+        if not isinstance(sub, ast.ClassDef) or not any(family.receivers.local_class(b) is classdef for b in sub.bases):
+            continue
+        if decision.env.index(sub).methods.get("reset") is not None:
+            names.append(sub.name)
+            continue
+        below = _overriders(decision, sub, seen)
+        if not below:
+            return []
+        names.extend(below)
+    return names + [w.rsplit(":", 1)[-1] for w in project.overridden_elsewhere(name, "reset")]
 
 
 def _only_asked(facts: ModuleFacts, attribute: ast.Attribute) -> bool:

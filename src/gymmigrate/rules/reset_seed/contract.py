@@ -198,16 +198,15 @@ class ResetContractSites(ResetSeedBase):
         return False
 
     def _run_reset_takes(self, base: ast.expr, passed: tuple[str, ...]) -> bool:
-        """An imported base that is a class of the run defining ``reset`` with every keyword
-        passed among its parameters."""
+        """An imported base that is a class of the run whose reset (its own, or the first a
+        base of the run up its chain defines) takes every keyword passed as a parameter."""
         project = self.receivers.project
         if project is None:
             return False
         for qualified in self.facts.qualified_names(base):
-            where = project.class_of_run(qualified)
-            if where is None:
+            if project.class_of_run(qualified) is None:
                 continue
-            params = project.facts.def_params.get((where[0], f"{where[1]}.reset"))
+            params = project.inherited_params(qualified, "reset")
             return params is not None and set(passed) <= set(params)
         return False
 
