@@ -630,7 +630,7 @@ def _decide_returns(
                 question=("step-done", id(function), facts.segment(done)),
             )
             continue
-        if traced.held and limit_hint is None:
+        if traced.held and no_counter:
             # The class counts nothing, but the flag is read off an object it holds, which
             # ends episodes by its own rules (step or time limits among them, unseen here):
             # "nothing counts a limit" would not be true, so the split is asked.
