@@ -37,6 +37,9 @@ class DoneCause:
     limits: tuple[Limit, ...] = ()
     # tests of the end of the env's data among the causes (``is_end_of_data``): terminations
     ends_of_data: tuple[Limit, ...] = ()
+    # values read off an object the env holds (``self._env.episode_over``): that object
+    # decides the end by itself, on limits of its own this class never shows
+    held: tuple[Limit, ...] = ()
 
     def elsewhere(self) -> bool:
         return any(limit.where for limit in self.limits)
@@ -60,16 +63,18 @@ def combine(parts: Iterable[DoneCause]) -> DoneCause:
     parts = list(parts)
     limits: list[Limit] = []
     ends: list[Limit] = []
+    held: list[Limit] = []
     for part in parts:
         limits += [limit for limit in part.limits if limit not in limits]
         ends += [end for end in part.ends_of_data if end not in ends]
+        held += [read for read in part.held if read not in held]
     causes = {part.cause for part in parts} - {Cause.NEVER}
     if not causes:
-        return DoneCause(Cause.NEVER, tuple(limits), tuple(ends))
+        return DoneCause(Cause.NEVER, tuple(limits), tuple(ends), tuple(held))
     if Cause.UNKNOWN in causes:
         cause = Cause.UNKNOWN
     elif len(causes) == 1:
         cause = causes.pop()
     else:
         cause = Cause.MIXED
-    return DoneCause(cause, tuple(limits), tuple(ends))
+    return DoneCause(cause, tuple(limits), tuple(ends), tuple(held))

@@ -84,6 +84,16 @@ def _opaque(found: DoneCause) -> DoneCause:
     return DoneCause(Cause.UNKNOWN, found.limits) if found.limits else TERMINATION
 
 
+def _held_read(expr: ast.AST) -> bool:
+    """``self.<held>.<name>``: an attribute of an object the instance holds, read as it is."""
+    return (
+        isinstance(expr, ast.Attribute)
+        and isinstance(expr.ctx, ast.Load)
+        and isinstance(expr.value, ast.Attribute)
+        and is_self(expr.value.value)
+    )
+
+
 Method = ast.FunctionDef | ast.AsyncFunctionDef
 # Overrides of a method that other modules of the run define: (method name, the position of
 # the value in the tuple it returns, None for the whole value) -> their causes.
@@ -202,6 +212,9 @@ class DoneTracer:
             return self._local(expr, depth)
         if isinstance(expr, ast.Attribute) and isinstance(expr.ctx, ast.Load) and is_self(expr.value):
             return self._attribute(expr.attr, depth)
+        if _held_read(expr):
+            # ``self._env.episode_over``: the held object's own flag, set by its own rules
+            return DoneCause(Cause.TERMINATION, held=(Limit(expr.lineno, self.facts.segment(expr)),))
         flags = _flags_of(expr)
         if flags is not None:
             # One flag per agent (``tuple(done for _ in agents)``, ``(done,) * 2``): not one
@@ -215,6 +228,9 @@ class DoneTracer:
             found = self._call(expr, depth)
             if found is not None:
                 return found
+            if _held_read(expr.func) and not expr.args and not expr.keywords:
+                # ``self.sim.is_over()``: asked of the held object, which decides by itself
+                return DoneCause(Cause.TERMINATION, held=(Limit(expr.lineno, self.facts.segment(expr)),))
             return self._inside(expr, depth)
         if isinstance(expr, ast.Subscript):
             values = self._keyed_values(expr, depth)

@@ -238,7 +238,13 @@ class HierarchyView:
                 cause = DoneCause(Cause.UNKNOWN)  # an override that returns nothing, or no tuple of the base's shape
             if cause is not None:
                 where = os.path.basename(sub[0])
-                found.append(DoneCause(cause.cause, tuple(Limit(limit.line, limit.text, where, limit.by_counter, limit.drawn) for limit in cause.limits)))
+                found.append(
+                    DoneCause(
+                        cause.cause,
+                        tuple(Limit(limit.line, limit.text, where, limit.by_counter, limit.drawn) for limit in cause.limits),
+                        held=tuple(Limit(read.line, read.text, where) for read in cause.held),
+                    )
+                )
             todo += self.facts.subclasses_of.get(sub, ())
         return found
 

@@ -630,6 +630,21 @@ def _decide_returns(
                 question=("step-done", id(function), facts.segment(done)),
             )
             continue
+        if traced.held and no_counter:
+            # The class counts nothing, but the flag is read off an object it holds, which
+            # ends episodes by its own rules (step or time limits among them, unseen here):
+            # "nothing counts a limit" would not be true, so the split is asked.
+            reads = ", ".join(f"`{read.text}` ({read.place()})" for read in traced.held)
+            decision.report(
+                ret,
+                "GM504",
+                f"step returns `{facts.segment(done)}` as terminated with truncated=False, but it is read off an "
+                f"object the env holds ({reads}), which decides the end by its own rules: if that object ends "
+                "episodes on a step or time limit of its own, return that end as truncated, not terminated",
+                FixKind.ASSIST,
+                question=("step-done", id(function), facts.segment(done)),
+            )
+            continue
         status = _simulator_status_end(decision, function, done) if limit_hint is None else None
         if status is not None:
             decision.report(
