@@ -28,8 +28,12 @@ from gymmigrate.rules.wrapper_usage.forwarding_edits import (
     replace_with_get_wrapper_attr,
     unwrapped_below,
 )
-from gymmigrate.rules.wrapper_usage.origins import INNER, MADE, WRAPPED
-from gymmigrate.rules.wrapper_usage.tables import BASE_ENV_ATTRIBUTES, OWN_ATTRIBUTES, wrapper_rest
+from gymmigrate.rules.wrapper_usage.origins import INNER, MADE, WRAPPED, Origin
+from gymmigrate.rules.wrapper_usage.tables import (
+    BASE_ENV_ATTRIBUTES,
+    OWN_ATTRIBUTES,
+    wrapper_rest,
+)
 
 if TYPE_CHECKING:
     from gymmigrate.rules.wrapper_usage.self_forwarding import ForwardingFamily
@@ -127,6 +131,7 @@ class MakeLayers:
         if depth == 0 or (isinstance(chain, ast.Name) and chain.id in ("self", "cls")):
             return False  # a wrapper class's own ``self.env`` is self-forwarding's business
         origins = self.family.origins
+        origin: Origin
         if origins.is_sub_env(chain):
             origin = INNER
         elif self.family.receivers.kind_of(chain) is EnvKind.GYM_ENV:
