@@ -212,7 +212,7 @@ class WrapperForwarding(RuleFamily):
         if gone_from_builtin(self, attr):
             self._make_layers.no_layer_has(attr)
             return
-        if self._make_layers.read_through(attr):
+        if self._make_layers.read_through(attr) or self._make_layers.read_through_wrapper(attr):
             return
         sub_env = self.origins.is_sub_env(receiver)
         kind = self.receivers.kind_of(receiver)

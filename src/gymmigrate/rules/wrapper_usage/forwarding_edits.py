@@ -14,9 +14,10 @@ if TYPE_CHECKING:
     from gymmigrate.edits.plan import Plan
 
 
-def replace_with_get_wrapper_attr(facts: ModuleFacts, plan: Plan, attr: ast.Attribute, name: str) -> None:
+def replace_with_get_wrapper_attr(facts: ModuleFacts, plan: Plan, attr: ast.Attribute, name: str, below: int = 0) -> None:
     """``x.get_wrapper_attr("name")``, quoted so that it can stand inside the f-strings
-    around it (before Python 3.12 an f-string cannot hold its own quote)."""
+    around it (before Python 3.12 an f-string cannot hold its own quote); ``below`` ``.env``
+    links between ``x`` and the name are dropped (``x.env.name``: the search starts at ``x``)."""
     used = set()
     for ancestor in facts.ancestors(attr):
         if isinstance(ancestor, ast.JoinedStr):
@@ -25,7 +26,7 @@ def replace_with_get_wrapper_attr(facts: ModuleFacts, plan: Plan, attr: ast.Attr
     quote = next((q for q in ('"', "'") if q not in used), None)
     if quote is None:
         return  # both quotes taken by nested f-strings: the finding stands alone
-    plan.replace(attr, get_wrapper_attr(name, quote))
+    plan.replace(attr, get_wrapper_attr(name, quote, below))
 
 
 def unwrapped_below(depth: int):
@@ -71,10 +72,14 @@ def through(*attrs: str):
     return build
 
 
-def get_wrapper_attr(name: str, quote: str = '"'):
+def get_wrapper_attr(name: str, quote: str = '"', below: int = 0):
     def build(node: cst.Attribute) -> cst.BaseExpression:
+        value: cst.BaseExpression = node.value
+        for _ in range(below):
+            assert isinstance(value, cst.Attribute)
+            value = value.value
         return cst.Call(
-            func=cst.Attribute(value=node.value, attr=cst.Name("get_wrapper_attr")),
+            func=cst.Attribute(value=value, attr=cst.Name("get_wrapper_attr")),
             args=[cst.Arg(value=cst.SimpleString(f"{quote}{name}{quote}"))],
             lpar=node.lpar,
             rpar=node.rpar,

@@ -24,9 +24,16 @@ from gymmigrate.rules.wrapper_usage.atari_limits import (
     isinstance_time_limit_on_atari,
 )
 from gymmigrate.rules.wrapper_usage.bare_make import bare_make, bare_make_result
-from gymmigrate.rules.wrapper_usage.forwarding_edits import unwrapped_below
-from gymmigrate.rules.wrapper_usage.origins import INNER, MADE, WRAPPED
-from gymmigrate.rules.wrapper_usage.tables import wrapper_rest
+from gymmigrate.rules.wrapper_usage.forwarding_edits import (
+    replace_with_get_wrapper_attr,
+    unwrapped_below,
+)
+from gymmigrate.rules.wrapper_usage.origins import INNER, MADE, WRAPPED, Origin
+from gymmigrate.rules.wrapper_usage.tables import (
+    BASE_ENV_ATTRIBUTES,
+    OWN_ATTRIBUTES,
+    wrapper_rest,
+)
 
 if TYPE_CHECKING:
     from gymmigrate.rules.wrapper_usage.self_forwarding import ForwardingFamily
@@ -39,6 +46,8 @@ _LAYERS = 3
 _LAYER_ATTRIBUTES = frozenset(
     {"has_reset", "checked_reset", "checked_step", "checked_render", "checked_data_reuse", "close_called"}
 )
+# What any Gymnasium wrapper defines itself: read past one by ``.env``, it may have meant that one's.
+_ANY_WRAPPER_ATTRIBUTES = frozenset().union(*OWN_ATTRIBUTES.values())
 
 
 class MakeLayers:
@@ -98,6 +107,65 @@ class MakeLayers:
             )
         self.family.report(attr, "GM604", message, kind=FixKind.AUTO, tier=Tier.NOTE)
         self.family.plan.replace(attr, unwrapped_below(depth))
+        self._read_through.add(id(attr))
+        return True
+
+    def read_through_wrapper(self, attr: ast.Attribute) -> bool:
+        """``env.env.robot`` (a read) with ``env`` a Gym env the run proves wrapped: a
+        Gymnasium wrapper or one of the run's around a make result, a make result that is
+        not a bare one on every path, a sub-env of a vector env. Legacy ``.env`` was a gym
+        wrapper or the base env, and either forwarded ``robot`` from the layers below it;
+        Gymnasium's layers forward nothing (``OrderEnforcing`` now sits under make's
+        TimeLimit). No wrapper that could be above the link has ``robot`` (not one of the
+        run's, not one of Gymnasium's), so ``env.get_wrapper_attr("robot")`` finds what the
+        legacy read found; base-env state is read through ``.unwrapped``. Writes, private
+        names and the wrappers' own attributes stay with GM606's question: which layer the
+        chain meant."""
+        name = attr.attr
+        if not isinstance(attr.ctx, ast.Load) or name.startswith("_") or name in _LAYER_ATTRIBUTES | _ANY_WRAPPER_ATTRIBUTES:
+            return False
+        chain: ast.expr = attr.value
+        depth = 0
+        while isinstance(chain, ast.Attribute) and chain.attr == "env":
+            chain, depth = chain.value, depth + 1
+        if depth == 0 or (isinstance(chain, ast.Name) and chain.id in ("self", "cls")):
+            return False  # a wrapper class's own ``self.env`` is self-forwarding's business
+        origins = self.family.origins
+        origin: Origin
+        if origins.is_sub_env(chain):
+            origin = INNER
+        elif self.family.receivers.kind_of(chain) is EnvKind.GYM_ENV:
+            origin = origins.at_read(chain)
+            if origin is None and (origins.outer_is_wrapper(chain) or origins.traced_gym_env(chain)):
+                origin = WRAPPED  # a wrapper where it is read, whatever else the name held
+        else:
+            return False  # unknown, or the project's own object holding something as ``.env``
+        if origin not in (MADE, WRAPPED, INNER) or (origin == MADE and depth > _LAYERS):
+            return False  # a bare env's ``.env`` is its own attribute; past make's layers is past the env
+        receiver = dotted_name(chain) or self.facts.segment(chain)
+        text = dotted_name(attr) or f"{receiver}{'.env' * depth}.{name}"
+        if name in origins.local_wrapper_attributes():
+            return False  # a wrapper of the run has it: the chain may have meant that layer
+        if name in BASE_ENV_ATTRIBUTES:
+            self.family.report(
+                attr,
+                "GM604",
+                f"`{text}` -> `{receiver}.unwrapped.{name}`: `{name}` is the base env's, which legacy wrappers forwarded "
+                "from below; Gymnasium's wrappers forward nothing",
+                kind=FixKind.AUTO,
+                tier=Tier.NOTE,
+            )
+            self.family.plan.replace(attr, unwrapped_below(depth))
+        else:
+            self.family.report(
+                attr,
+                "GM604",
+                f"`{text}` -> `{receiver}.get_wrapper_attr(\"{name}\")`: legacy wrappers forwarded `{name}` from the "
+                "layers below; Gymnasium's forward nothing, and no wrapper above the link defines it",
+                kind=FixKind.AUTO,
+                tier=Tier.NOTE,
+            )
+            replace_with_get_wrapper_attr(self.facts, self.family.plan, attr, name, below=depth)
         self._read_through.add(id(attr))
         return True
 
