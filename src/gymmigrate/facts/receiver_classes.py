@@ -492,6 +492,23 @@ class ClassKinds(_Facade):
         kind = self.facts.memo(("class-kind", id(local)), lambda: self.class_kind(local), while_computing=EnvKind.UNKNOWN)
         return kind if kind.is_gym else None
 
+    def checked_class_is_env(self, cls: ast.expr) -> bool | None:
+        """Whether instances of the class an ``isinstance`` names are Gym envs: True for a Gym
+        env class (of Gym's, or of the run deriving one), False for a class shown to be
+        something else (the run's own plain env class, another library's env), None when the
+        run cannot tell."""
+        kind = self._base_kind(cls)
+        if kind is EnvKind.UNKNOWN and self.project is not None:
+            # ``_base_kind`` passes over a class of another module that is no env
+            found = {self.project.call_kind(q) for q in self.qualified_names(cls)} - {None}
+            if found == {EnvKind.NOT_ENV}:
+                kind = EnvKind.NOT_ENV
+        if kind is EnvKind.GYM_ENV:
+            return True
+        if kind in (EnvKind.UNKNOWN, EnvKind.GYM_VEC, EnvKind.OWN_API):
+            return None
+        return False
+
     def _base_kind(self, base: ast.AST) -> EnvKind:
         for q in self.qualified_names(base):
             rest = N.strip_gym_prefix(q)
