@@ -106,6 +106,7 @@ class Narrowing:
         """A class shown to be no Gym env that an ``isinstance`` of ``read``'s frame tests the
         name against (its spelling), or None: the code says the name may hold one."""
         scope = self.facts.scope_of(read)
+        excluded = self._excluded_classes(read)
         for call in self.facts.calls_by_name.get("isinstance", ()):
             if (
                 len(call.args) == 2
@@ -116,9 +117,37 @@ class Narrowing:
                 and self._is_builtin(call.func, "isinstance")
             ):
                 for item in self._class_items(call.args[1]):
+                    if ast.dump(item) in excluded:
+                        continue
                     if not self._is_gym_env_class(item) and self.class_is_env is not None and self.class_is_env(item) is False:
                         return ast.unparse(item)
         return None
+
+    def _excluded_classes(self, read: ast.Name) -> set[str]:
+        """The classes ``read`` is known not to be an instance of: it sits in the ``else`` of
+        ``if isinstance(name, C):`` (or the body of ``if not isinstance(name, C):``)."""
+        excluded: set[str] = set()
+        child: ast.AST = self.facts.statement_of(read)
+        while True:
+            parent = self.facts.parent(child)
+            if parent is None or isinstance(parent, (*FUNCTIONS, ast.ClassDef)):
+                break
+            if isinstance(parent, ast.If):
+                test, in_else = parent.test, any(child is s for s in parent.orelse)
+                if isinstance(test, ast.UnaryOp) and isinstance(test.op, ast.Not):
+                    test, in_else = test.operand, any(child is s for s in parent.body)
+                if (
+                    in_else
+                    and isinstance(test, ast.Call)
+                    and isinstance(test.func, ast.Name)
+                    and test.func.id == "isinstance"
+                    and len(test.args) == 2
+                    and isinstance(test.args[0], ast.Name)
+                    and test.args[0].id == read.id
+                ):
+                    excluded.update(ast.dump(item) for item in self._class_items(test.args[1]))
+            child = parent
+        return excluded
 
     def checks_gym_env(self, test: ast.expr, name: str) -> bool:
         """``test`` is true only where ``name`` holds a Gym env (``isinstance(name, gym.Env)``,

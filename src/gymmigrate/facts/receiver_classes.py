@@ -504,7 +504,15 @@ class ClassKinds(_Facade):
             if found == {EnvKind.NOT_ENV}:
                 kind = EnvKind.NOT_ENV
         if kind is EnvKind.GYM_ENV:
-            return True
+            # a wrapper class of the run may wrap anything (GM604 asks what is forwarded
+            # under its check): only an env class of the run says what the object is
+            local = self.local_class(cls)
+            if local is not None:
+                return None if self.is_gym_wrapper_class(local) else True
+            project = self.project
+            if project is None or any(project.wrapper_class(q) for q in self.qualified_names(cls)):
+                return None
+            return True if any(project.call_kind(q) is EnvKind.GYM_ENV for q in self.qualified_names(cls)) else None
         if kind in (EnvKind.UNKNOWN, EnvKind.GYM_VEC, EnvKind.OWN_API):
             return None
         return False
