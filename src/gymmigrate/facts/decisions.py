@@ -32,6 +32,7 @@ class Origins(Protocol):
     def dispatched_from_gym(self, expr: ast.AST) -> str | None: ...
     def handles_gym_envs(self) -> bool: ...
     def annotated_class(self, expr: ast.AST) -> str | None: ...
+    def tested_other_class(self, expr: ast.AST) -> str | None: ...
 
 # Spellings that name an environment. Used only to decide between reporting and
 # staying silent (or, in a file that uses nothing but Gym, rewriting for review):
@@ -127,6 +128,15 @@ def decide(
         # the code says what it holds, and that is no Gym class the run knows: a file's
         # imports do not outweigh it (``environment: VecEnv`` of the project's own vec env)
         return Decision(Action.REPORT, f"`{name}` is annotated {annotated}; not rewritten")
+    tested = origins.tested_other_class(receiver) if fallback and origins is not None else None
+    if tested is not None:
+        # ``if isinstance(env, gym.Env): ... elif isinstance(env, PlainEnv): ...``: the code
+        # says this name may hold that class's instance, whose API is its own
+        return Decision(
+            Action.REPORT,
+            f"`{name}` may hold a `{tested}` (this function tests for one), which is no Gym env: not rewritten;"
+            f" branch on `isinstance({name}, {tested})` as the code does elsewhere",
+        )
     if fallback and origins is not None and not origins.handles_gym_envs():
         # Gym's spaces, errors, a viewer or seeding utils only: the file makes, wraps and
         # subclasses no Gym env, so its env-like names may hold any env (a project's own)

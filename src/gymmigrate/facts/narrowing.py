@@ -44,6 +44,8 @@ _ENDS = (ast.Raise, ast.Return, ast.Continue, ast.Break)
 class State(Enum):
     GYM = "gym"
     NOT_GYM = "not gym"
+    # an instance of a class shown to be no Gym env (``isinstance(env, PlainEnv)`` holds)
+    OTHER_CLASS = "other class"
     OTHER = "other"
     DEAD = "dead"
 
@@ -59,12 +61,22 @@ def _join(first: State, second: State) -> State:
 class Narrowing:
     """One per file and check. ``value_is_env``: the receiver analysis's answer for an
     assigned value. ``check``: the builtin that states the fact (``isinstance``: the name
-    holds a Gym env; ``issubclass``: it holds a Gym env class)."""
+    holds a Gym env; ``issubclass``: it holds a Gym env class). ``class_is_env``: for a
+    class the check names that is no class of Gym's, whether its instances are Gym envs
+    (True: a Gym env class of the run; False: a class shown to be something else, such as
+    the project's own plain env class; None: cannot tell)."""
 
-    def __init__(self, facts: ModuleFacts, value_is_env: Callable[[ast.expr], bool], check: str = "isinstance") -> None:
+    def __init__(
+        self,
+        facts: ModuleFacts,
+        value_is_env: Callable[[ast.expr], bool],
+        check: str = "isinstance",
+        class_is_env: Callable[[ast.expr], bool | None] | None = None,
+    ) -> None:
         self.facts = facts
         self.value_is_env = value_is_env
         self.check = check
+        self.class_is_env = class_is_env
         self._tested: set[tuple[int, str]] | None = None
         self._bound: dict[tuple[int, str], bool] = {}
         self._afters: dict[tuple[int, State, str], State] = {}
@@ -84,6 +96,58 @@ class Narrowing:
         ``return OtherWrapper(env)``): with legacy Gym, whose vector envs were ``gym.Env``
         too, no Gym env reaches it."""
         return self.check == "isinstance" and self._state(read) is State.NOT_GYM
+
+    def is_other_class(self, read: ast.Name) -> bool:
+        """Every path to ``read`` has passed ``isinstance(name, C)`` with ``C`` a class shown
+        to be no Gym env (``elif isinstance(env, PlainEnv):``): it holds an instance of ``C``."""
+        return self._state(read) is State.OTHER_CLASS
+
+    def other_class_tested(self, read: ast.Name) -> str | None:
+        """A class shown to be no Gym env that an ``isinstance`` of ``read``'s frame tests the
+        name against (its spelling), or None: the code says the name may hold one."""
+        scope = self.facts.scope_of(read)
+        excluded = self._excluded_classes(read)
+        for call in self.facts.calls_by_name.get("isinstance", ()):
+            if (
+                len(call.args) == 2
+                and isinstance(call.args[0], ast.Name)
+                and call.args[0].id == read.id
+                and self.facts.scope_of(call.args[0]) is scope
+                and isinstance(call.func, ast.Name)
+                and self._is_builtin(call.func, "isinstance")
+            ):
+                for item in self._class_items(call.args[1]):
+                    if ast.dump(item) in excluded:
+                        continue
+                    if not self._is_gym_env_class(item) and self.class_is_env is not None and self.class_is_env(item) is False:
+                        return ast.unparse(item)
+        return None
+
+    def _excluded_classes(self, read: ast.Name) -> set[str]:
+        """The classes ``read`` is known not to be an instance of: it sits in the ``else`` of
+        ``if isinstance(name, C):`` (or the body of ``if not isinstance(name, C):``)."""
+        excluded: set[str] = set()
+        child: ast.AST = self.facts.statement_of(read)
+        while True:
+            parent = self.facts.parent(child)
+            if parent is None or isinstance(parent, (*FUNCTIONS, ast.ClassDef)):
+                break
+            if isinstance(parent, ast.If):
+                test, in_else = parent.test, any(child is s for s in parent.orelse)
+                if isinstance(test, ast.UnaryOp) and isinstance(test.op, ast.Not):
+                    test, in_else = test.operand, any(child is s for s in parent.body)
+                if (
+                    in_else
+                    and isinstance(test, ast.Call)
+                    and isinstance(test.func, ast.Name)
+                    and test.func.id == "isinstance"
+                    and len(test.args) == 2
+                    and isinstance(test.args[0], ast.Name)
+                    and test.args[0].id == read.id
+                ):
+                    excluded.update(ast.dump(item) for item in self._class_items(test.args[1]))
+            child = parent
+        return excluded
 
     def checks_gym_env(self, test: ast.expr, name: str) -> bool:
         """``test`` is true only where ``name`` holds a Gym env (``isinstance(name, gym.Env)``,
@@ -191,6 +255,11 @@ class Narrowing:
         if self._binds(test, name):
             return State.OTHER, State.OTHER
         checked = self._checks(test, name)
+        if checked is None and self._checks_other_class(test, name):
+            # ``elif isinstance(env, PlainEnv):``: its body holds that class's instance; where
+            # the check fails, nothing is learnt
+            negated = isinstance(test, ast.UnaryOp) and isinstance(test.op, ast.Not)
+            return (state, State.OTHER_CLASS) if negated else (State.OTHER_CLASS, state)
         if checked is None:
             if isinstance(test, ast.BoolOp) and isinstance(test.op, ast.And) and any(
                 not isinstance(v, ast.UnaryOp) and self._checks(v, name) is True for v in test.values
@@ -231,10 +300,40 @@ class Narrowing:
         classes = test.args[1]
         if self.check == "isinstance" and isinstance(classes, ast.Name) and classes.id == "str" and self._is_builtin(classes, "str"):
             return False
-        items = classes.elts if isinstance(classes, ast.Tuple) else [classes]
-        if items and all(self._is_gym_env_class(item) for item in items):
+        items = self._class_items(classes)
+        if items and all(self._is_gym_env_class(item) or self._run_class_is_env(item) is True for item in items):
+            # ``isinstance(env, (RLEnv, gym.Env))`` with ``RLEnv`` a Gym env class of the run
             return True
         return None
+
+    def _checks_other_class(self, test: ast.expr, name: str) -> bool:
+        """``isinstance(name, C)`` (or ``not`` it) where every class named is shown to be no
+        Gym env."""
+        if isinstance(test, ast.UnaryOp) and isinstance(test.op, ast.Not):
+            test = test.operand
+        if not (
+            self.check == "isinstance"
+            and isinstance(test, ast.Call)
+            and isinstance(test.func, ast.Name)
+            and test.func.id == "isinstance"
+            and len(test.args) == 2
+            and not test.keywords
+            and isinstance(test.args[0], ast.Name)
+            and test.args[0].id == name
+            and self._is_builtin(test.func, "isinstance")
+        ):
+            return False
+        items = self._class_items(test.args[1])
+        return bool(items) and all(not self._is_gym_env_class(item) and self._run_class_is_env(item) is False for item in items)
+
+    @staticmethod
+    def _class_items(classes: ast.expr) -> list[ast.expr]:
+        return list(classes.elts) if isinstance(classes, ast.Tuple) else [classes]
+
+    def _run_class_is_env(self, item: ast.expr) -> bool | None:
+        if self.check != "isinstance" or self.class_is_env is None:
+            return None
+        return self.class_is_env(item)
 
     def _is_gym_env_class(self, node: ast.expr) -> bool:
         found = self.facts.qualified_names(node)

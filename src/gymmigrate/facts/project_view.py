@@ -213,6 +213,11 @@ class ProjectView(ClassView, FixtureView, HierarchyView, RegistryView, RenderVie
         run module that defines it."""
         return any(name in self.facts.wrapper_classes.get(path, ()) for path in self._star_paths(stars))
 
+    def wrapper_class(self, qualified: str) -> bool:
+        """An imported name of the run is a Gym wrapper class of the module that defines it."""
+        split = self.facts._split(qualified, self.path)
+        return split is not None and split[1] in self.facts.wrapper_classes.get(split[0], ())
+
     def _star_paths(self, stars: tuple[str, ...]) -> list[str]:
         found = []
         for module in stars:

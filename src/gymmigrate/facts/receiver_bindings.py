@@ -47,6 +47,10 @@ class BindingKinds(_Facade):
             # before the read: what the bindings could not tell, the code has checked or made.
             # A kind they do tell stays (gym's VectorEnv passed ``isinstance(x, gym.Env)``).
             return EnvKind.GYM_ENV
+        if kind is EnvKind.UNKNOWN and self.narrowing.is_other_class(name):
+            # ``elif isinstance(env, PlainEnv):`` around the read: an instance of a class shown
+            # to be no Gym env, with that class's own API
+            return EnvKind.NOT_ENV
         if kind in (EnvKind.UNKNOWN, EnvKind.GYM_ENV, EnvKind.GYM_VEC) and self.narrowing.is_not_env(name):
             # ``if isinstance(env, gym.Env): return GymWrapper(env)`` before the read: the
             # legacy code sent every Gym env (its vector envs too) elsewhere, so what reaches

@@ -492,6 +492,31 @@ class ClassKinds(_Facade):
         kind = self.facts.memo(("class-kind", id(local)), lambda: self.class_kind(local), while_computing=EnvKind.UNKNOWN)
         return kind if kind.is_gym else None
 
+    def checked_class_is_env(self, cls: ast.expr) -> bool | None:
+        """Whether instances of the class an ``isinstance`` names are Gym envs: True for a Gym
+        env class (of Gym's, or of the run deriving one), False for a class shown to be
+        something else (the run's own plain env class, another library's env), None when the
+        run cannot tell."""
+        kind = self._base_kind(cls)
+        if kind is EnvKind.UNKNOWN and self.project is not None:
+            # ``_base_kind`` passes over a class of another module that is no env
+            found = {self.project.call_kind(q) for q in self.qualified_names(cls)} - {None}
+            if found == {EnvKind.NOT_ENV}:
+                kind = EnvKind.NOT_ENV
+        if kind is EnvKind.GYM_ENV:
+            # a wrapper class of the run may wrap anything (GM604 asks what is forwarded
+            # under its check): only an env class of the run says what the object is
+            local = self.local_class(cls)
+            if local is not None:
+                return None if self.is_gym_wrapper_class(local) else True
+            project = self.project
+            if project is None or any(project.wrapper_class(q) for q in self.qualified_names(cls)):
+                return None
+            return True if any(project.call_kind(q) is EnvKind.GYM_ENV for q in self.qualified_names(cls)) else None
+        if kind in (EnvKind.UNKNOWN, EnvKind.GYM_VEC, EnvKind.OWN_API):
+            return None
+        return False
+
     def _base_kind(self, base: ast.AST) -> EnvKind:
         for q in self.qualified_names(base):
             rest = N.strip_gym_prefix(q)

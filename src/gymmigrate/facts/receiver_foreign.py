@@ -338,6 +338,15 @@ class ForeignObjects(_Facade):
             return True
         return any(self.is_gym_wrapper_class(c) or self._known_kind(c) in (EnvKind.GYM_ENV, EnvKind.GYM_VEC) for c in self.facts.all_classes)
 
+    def tested_other_class(self, expr: ast.AST) -> str | None:
+        """A class shown to be no Gym env (the project's own plain env class) that an
+        ``isinstance`` of the read's frame tests the name against, spelled as written: the
+        code itself says the name may hold one, so the "this file uses only Gym" fallback
+        has nothing to go on (``Narrowing.other_class_tested``)."""
+        if not isinstance(expr, ast.Name):
+            return None
+        return self.narrowing.other_class_tested(expr)
+
     def annotated_class(self, expr: ast.AST) -> str | None:
         """The annotation, as written, of a binding that reaches ``expr`` (``def __init__(self,
         environment: VecEnv)`` then ``self.environment = environment``; ``env: MyEnv = ...``)

@@ -118,7 +118,9 @@ class Receivers(BindingKinds, WrappingCalls, ClassKinds, ParameterKinds, MadeObj
         self._work = 0  # questions opened since the outermost open one was asked
         self._given_up = False  # the outermost open question ran past WORK_BUDGET
         self.callables = CallableKinds(self, project)
-        self.narrowing = Narrowing(facts, lambda value: self.kind_of(value) is EnvKind.GYM_ENV)
+        self.narrowing = Narrowing(
+            facts, lambda value: self.kind_of(value) is EnvKind.GYM_ENV, class_is_env=self.checked_class_is_env
+        )
         self.class_narrowing = Narrowing(facts, lambda value: False, check="issubclass")
         self.attributes = SelfAttributes(self)
 

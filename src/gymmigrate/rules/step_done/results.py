@@ -417,13 +417,25 @@ def _nearest_binding(block: list[ast.stmt], node: ast.AST, name: str) -> ast.stm
 
 def _always_binds(statement: ast.stmt, name: str) -> bool:
     if isinstance(statement, ast.Assign):
-        return any(isinstance(t, ast.Name) and t.id == name for t in statement.targets)
+        # ``obs, reward, done, info = env.step(a)`` binds ``obs`` too: one field of that
+        # step, not a step result, so no step before it reaches the reads after it
+        return any(_target_binds(t, name) for t in statement.targets)
     if isinstance(statement, ast.AnnAssign):
         return statement.value is not None and isinstance(statement.target, ast.Name) and statement.target.id == name
     if isinstance(statement, ast.If):
         return bool(statement.orelse) and _block_binds(statement.body, name) and _block_binds(statement.orelse, name)
     if isinstance(statement, (ast.With, ast.AsyncWith)):
         return _block_binds(statement.body, name)
+    return False
+
+
+def _target_binds(target: ast.expr, name: str) -> bool:
+    if isinstance(target, ast.Name):
+        return target.id == name
+    if isinstance(target, ast.Starred):
+        return _target_binds(target.value, name)
+    if isinstance(target, (ast.Tuple, ast.List)):
+        return any(_target_binds(element, name) for element in target.elts)
     return False
 
 
