@@ -84,6 +84,27 @@ def test_no_receiver_half_migrated() -> None:
     assert not half, "\n".join(half)
 
 
+def _narrowed_by(facts, call: ast.AST, name: str) -> tuple:
+    """The ``if isinstance(name, ...)`` tests (and the branch) a call sits under: a receiver
+    narrowed to a class is another decision than the same name outside the test (a worker
+    branching on its env's class migrates the Gym branch and asks about the rest)."""
+    found = []
+    node, parent = call, facts.parent(call)
+    while parent is not None:
+        if isinstance(parent, ast.If) and any(
+            isinstance(test, ast.Call)
+            and isinstance(test.func, ast.Name)
+            and test.func.id == "isinstance"
+            and test.args
+            and isinstance(test.args[0], ast.Name)
+            and test.args[0].id == name
+            for test in ast.walk(parent.test)
+        ):
+            found.append((id(parent), node in parent.body))
+        node, parent = parent, facts.parent(parent)
+    return tuple(found)
+
+
 def _half_migrated(case) -> str | None:
     """The first receiver of ``case`` with its reset rewritten and a legacy step left, or the
     reverse. A receiver is a name as the same bindings reach it (not those under the other
@@ -109,7 +130,12 @@ def _half_migrated(case) -> str | None:
             if isinstance(receiver, ast.Name):
                 reaching = Flow.of(facts).reaching(receiver) or facts.bindings_of(receiver)
                 cut = same_tests.excluded(facts, receiver, reaching)
-                key: tuple = (id(facts.scope_of(receiver)), receiver.id, frozenset(id(b) for b in reaching if id(b) not in cut))
+                key: tuple = (
+                    id(facts.scope_of(receiver)),
+                    receiver.id,
+                    frozenset(id(b) for b in reaching if id(b) not in cut),
+                    _narrowed_by(facts, call, receiver.id),
+                )
             elif isinstance(receiver, ast.Attribute) and isinstance(receiver.value, ast.Name) and receiver.value.id == "self":
                 key = (id(facts.enclosing_class(receiver)), receiver.attr)
             else:
