@@ -57,7 +57,11 @@ RETIRED_IDS: dict[str, IdMigration] = {
     "Pendulum-v0": IdMigration("Pendulum-v1", FixKind.AUTO, "v1 only simplified the equations, same behaviour"),
     "FrozenLake-v0": IdMigration("FrozenLake-v1", FixKind.AUTO, _SAME),
     "FrozenLake8x8-v0": IdMigration("FrozenLake8x8-v1", FixKind.AUTO, _SAME),
-    "Blackjack-v0": IdMigration("Blackjack-v1", FixKind.AUTO, "v1 fixed `natural=True` handling; the defaults are unchanged"),
+    # Gymnasium registers v1 with ``sab=True`` (Sutton and Barto's rules: a natural against the
+    # dealer's three-card 21 wins instead of drawing); ``sab=False`` keeps v0's game.
+    "Blackjack-v0": IdMigration(
+        "Blackjack-v1", FixKind.AUTO, "v1 is registered with sab=True; sab=False keeps v0's rules", (("sab", "False"),)
+    ),
     "Taxi-v3": IdMigration("Taxi-v4", FixKind.AUTO, "v4 only fixed the optional rainy/fickle modes; the defaults are unchanged"),
     "Taxi-v2": IdMigration("Taxi-v4", FixKind.ASSIST, "v3 corrected the map, so episodes differ from v2"),
     # Taxi's Version History: v1 changed the pickup locations, v2 the start states, v3 the map.
