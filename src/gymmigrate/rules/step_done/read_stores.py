@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import ast
 
+from gymmigrate.facts.bootstrap import episode_flushes
 from gymmigrate.facts.done_uses import loaded_names, value_site
 from gymmigrate.facts.flow import end, start
 from gymmigrate.facts.module import FUNCTIONS, walk
@@ -30,11 +31,42 @@ class DoneStoreReads(DoneReadUses):
         found = stored_flag_readers(read, self.facts)
         if found:
             return found
+        callee = self._flag_callee(read)
+        if callee is None:
+            return []
+        function, flag = callee
+        flushes = self._callee_flushes(read)
+        if flushes:
+            # ``if done: ...; self.window = deque(maxlen=n)`` in the callee: the flag ends the
+            # episode's state there, and every other read of it in the callee (stored beside
+            # the next state) is taken as the mask it may be.
+            tests = {id(n) for test in flushes for n in walk(test.test)}
+            return [Reader(test.test, "boundary") for test in flushes] + [
+                Reader(node, "mask")
+                for node in walk(function)
+                if isinstance(node, ast.Name) and node.id == flag and isinstance(node.ctx, ast.Load) and id(node) not in tests
+            ]
+        return [
+            reader
+            for node in walk(function)
+            if isinstance(node, ast.Name) and node.id == flag and isinstance(node.ctx, ast.Load)
+            for reader in stored_flag_readers(node, self.facts)
+        ]
+
+    def _callee_flushes(self, read: ast.Name) -> list[ast.If]:
+        """The branches of the callee of this module ``read`` is passed to that test the flag
+        and empty the callee's state kept across calls (``facts/bootstrap.py``)."""
+        callee = self._flag_callee(read)
+        return [] if callee is None else episode_flushes(*callee)
+
+    def _flag_callee(self, read: ast.Name) -> tuple[ast.FunctionDef | ast.AsyncFunctionDef, str] | None:
+        """The def of this module ``read`` is passed to and the parameter it binds; None when
+        the callee cannot be followed."""
         call = self.facts.parent(read)
         if isinstance(call, ast.keyword):
             call = self.facts.parent(call)
         if not isinstance(call, ast.Call) or call.func is read or any(isinstance(a, ast.Starred) for a in call.args):
-            return []
+            return None
         function = self.receivers.local_function(call.func) or self.receivers.own_method(call.func)
         method = function is not None and isinstance(self.facts.parent(function), ast.ClassDef)
         if function is None and isinstance(call.func, ast.Attribute) and isinstance(call.func.value, ast.Name):
@@ -44,7 +76,7 @@ class DoneStoreReads(DoneReadUses):
                 function = next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == call.func.attr), None)
                 method = True
         if function is None:
-            return []
+            return None
         params = [a.arg for a in (*function.args.posonlyargs, *function.args.args)]
         params = params[1:] if method else params
         if read in call.args:
@@ -52,14 +84,7 @@ class DoneStoreReads(DoneReadUses):
             flag = params[index] if index < len(params) else None
         else:
             flag = next((k.arg for k in call.keywords if k.value is read), None)
-        if flag is None:
-            return []
-        return [
-            reader
-            for node in walk(function)
-            if isinstance(node, ast.Name) and node.id == flag and isinstance(node.ctx, ast.Load)
-            for reader in stored_flag_readers(node, self.facts)
-        ]
+        return None if flag is None else (function, flag)
 
     def _stores_step_without_next_state(self, read: ast.Name, step: DoneStep) -> bool:
         """``memory.store_memory(obs, value, reward, done)``: a call that hands on the step's

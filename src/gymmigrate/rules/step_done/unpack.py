@@ -240,6 +240,11 @@ class UnpackRules(DoneAttributeReports):
                         if not self._readers_keep_boundary(read, steps[first]):
                             self._claim(read, steps[first], callee=callee)
                             continue
+                    elif self._callee_flushes(read):
+                        # the callee ends the episode's state on the flag (so it masks
+                        # nothing by ``facts/bootstrap.py``): the same item as a store
+                        # whose readers use it both ways
+                        self._readers_keep_boundary(read, steps[first])
                     masked = self._none_mask(read, steps[first])
                     if masked is not None and masked[1]:
                         self._claim(read, steps[first], none_mask=masked[0])
