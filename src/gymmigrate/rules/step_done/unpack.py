@@ -186,6 +186,8 @@ class UnpackRules(DoneAttributeReports):
                 # ``global done``: readers live in other scopes and cannot all be traced.
                 if needed or self._declared_outside(step.assign, step.done.id):
                     self._keep_done(step.assign, step.done, step.names)
+                if needed:
+                    self._report_zero_tails(step)
 
     def _plan_done_reads(self, steps: list[DoneStep]) -> list[bool]:
         """Plan every read of one ``done`` variable that its rewritten steps bind (in
