@@ -323,6 +323,56 @@ def test_flag_passed_with_the_next_state_to_a_method_that_masks_it_bootstraps_at
         assert new == pytest.approx(reward + 0.5 * next_value if was_cut else old)
 
 
+NSTEP_FLUSH = textwrap.dedent(
+    """
+    from collections import deque
+
+    import gym
+
+
+    class NStepRows:
+        def __init__(self, n, gamma=0.5):
+            self.n, self.gamma = n, gamma
+            self.window = deque(maxlen=n)
+            self.rows = []
+
+        def add(self, state, reward, next_state, done):
+            self.window.append((float(state[0]), reward))
+            if done:
+                for k in range(len(self.window)):
+                    ret = sum(self.gamma**j * r for j, (_, r) in enumerate(list(self.window)[k:]))
+                    self.rows.append((self.window[k][0], ret, float(next_state[0]), bool(done)))
+                self.window = deque(maxlen=self.n)
+            elif len(self.window) == self.n:
+                ret = sum(self.gamma**j * r for j, (_, r) in enumerate(self.window))
+                self.rows.append((self.window[0][0], ret, float(next_state[0]), bool(done)))
+
+
+    def rows(steps=40):
+        env = gym.make("SemanticsWalk-v0")
+        memory = NStepRows(3)
+        state = env.reset()
+        for _ in range(steps):
+            next_state, reward, done, _ = env.step(1)
+            memory.add(state, reward, next_state, done)
+            state = env.reset() if done else next_state
+        return memory.rows
+    """
+)
+
+
+def test_flag_a_callee_also_flushes_its_window_on_keeps_the_legacy_rows(monkeypatch: pytest.MonkeyPatch) -> None:
+    # The method stores the flag beside the next state, but also empties its n-step window
+    # on it: passing ``terminated`` would run a window cut by the time limit into the next
+    # episode. The flag stays ``terminated or truncated`` (asked), and the rows are legacy's.
+    legacy = run_legacy(NSTEP_FLUSH, "rows", monkeypatch)
+    text, findings = migrate(NSTEP_FLUSH)
+    assert "memory.add(state, reward, next_state, done)" in text
+    assert any(rule == "GM302" and kind == "flag" for _, rule, kind, _ in findings)
+    assert run_migrated(text, "rows") == legacy
+    assert sum(1 for _, _, _, done in legacy if done) >= 2, "the time limit must cut an episode in this run"
+
+
 # -- GM602: a lost life is a termination -------------------------------------------------------
 
 LIFE_LOSS = textwrap.dedent(

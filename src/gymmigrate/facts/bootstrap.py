@@ -120,6 +120,14 @@ class _Body:
         return derived
 
     def masks(self, flag: str, derived: set[str]) -> bool:
+        if any(
+            kind == "test" and flag in reads and isinstance(node, ast.If) and _starts_afresh(node)
+            for node, kind, reads in self.checks
+        ):
+            # ``if done: ...; self.window = deque(maxlen=n)``: the flag also ends per-episode
+            # state, an episode boundary a time-limit truncation must still reach; whatever
+            # else it masks, ``terminated`` there would carry that state into the next episode.
+            return False
         for node, kind, reads in self.checks:
             if flag not in reads:
                 continue
@@ -154,6 +162,51 @@ class _Body:
             }
         reads = [n for n in walk(node) if isinstance(n, ast.Name) and n.id == flag and isinstance(n.ctx, ast.Load)]
         return bool(reads) and all(multiplies_bare(n, lambda child: parents.get(id(child))) for n in reads)
+
+
+# Calls that build an empty container when given no elements (``deque(maxlen=n)``).
+_EMPTY_CONTAINERS = frozenset({"list", "dict", "set", "deque", "OrderedDict", "defaultdict"})
+
+
+def episode_flushes(function: ast.FunctionDef | ast.AsyncFunctionDef, flag: str) -> list[ast.If]:
+    """The branches of ``function``'s own body that test ``flag`` and empty state kept
+    across calls (``if done: ...; self.window = deque(maxlen=n)``): there the flag is the
+    episode boundary, whatever else it masks."""
+    return [
+        node
+        for node in _walk_own(function)
+        if isinstance(node, ast.If) and flag in _loads(node.test) and _starts_afresh(node)
+    ]
+
+
+def _starts_afresh(branch: ast.If) -> bool:
+    """A branch of ``branch`` empties state kept across calls: rebinds an attribute to an
+    empty container (``self.window = deque(maxlen=n)``, ``self.rewards = []``) or clears
+    one (``self.window.clear()``). A local name emptied is left out: it may be scratch."""
+    for statement in [*branch.body, *branch.orelse]:
+        for node in walk(statement):
+            if isinstance(node, ast.Assign) and any(isinstance(t, ast.Attribute) for t in node.targets) and _empty(node.value):
+                return True
+            if (
+                isinstance(node, ast.Call)
+                and isinstance(node.func, ast.Attribute)
+                and node.func.attr == "clear"
+                and isinstance(node.func.value, ast.Attribute)
+                and not node.args
+            ):
+                return True
+    return False
+
+
+def _empty(value: ast.expr) -> bool:
+    """``[]``, ``{}``, ``()``, ``deque(maxlen=n)``, ``list()``: a container with no elements."""
+    if isinstance(value, (ast.List, ast.Tuple, ast.Set)):
+        return not value.elts
+    if isinstance(value, ast.Dict):
+        return not value.keys
+    if isinstance(value, ast.Call) and not value.args:
+        return (full_name(value.func) or "").rsplit(".", 1)[-1] in _EMPTY_CONTAINERS
+    return False
 
 
 def _walk_own(function: ast.AST):

@@ -130,6 +130,8 @@ class StepFamilyBase(RuleFamily):
     # Steps whose flag a read stores per step as a rollout's episode boundary (the note that
     # it stays ``terminated or truncated``) -> that read: the run's decision for the rollout.
     rollout_stores: dict[ast.Assign, ast.Name]
+    # Functions (by id) already asked how a trajectory cut by a time limit ends: one item each.
+    zero_tail_functions: set[int]
     result_steps: dict[tuple[int, str], list]  # ``res = x.step(a)`` by variable
     # Four-target step unpacks: a read that one of them dominates belongs to it alone.
     legacy_unpacks: set[ast.Assign]

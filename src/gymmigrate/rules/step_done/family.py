@@ -53,6 +53,7 @@ class StepDone(UnpackRules, TimeLimitRules, ResultRules):
         self.reported_reads = set()
         self.callee_questions = {}
         self.rollout_stores = {}
+        self.zero_tail_functions = set()
         steps = facts.attribute_calls.get("step", [])
         self.forwarded_unpacks = {}
         self.step_callables = set()

@@ -437,6 +437,34 @@ class DoneReadReports(DoneUntracedReports):
                 question=question,
             )
 
+    def _report_zero_tails(self, step: DoneStep) -> None:
+        """``if done: buffer.store(trajectory, 0); trajectory = []``: an on-policy rollout ends
+        its trajectory on the kept ``done`` with a last value of 0. That is right for a real
+        end and what legacy code did, but a time-limit truncation is now told apart and
+        should bootstrap from the final observation's value instead. One item per rollout
+        function, naming every such line."""
+        function = self.facts.enclosing_function(step.assign)
+        if function is None or id(function) in self.zero_tail_functions:
+            return
+        if TIME_LIMIT_KEY in self.facts.segment(function):
+            return  # the code already tells truncations apart
+        lines = self._zero_tails(step, function)
+        if not lines:
+            return
+        self.zero_tail_functions.add(id(function))
+        names = step.names
+        shown = ", ".join(str(line) for line in lines)
+        observation = self.facts.segment(step.target.elts[0])
+        self.report(
+            step.assign,
+            "GM302",
+            f"`{step.done.id}` ends a trajectory with a last value of 0 (line{'s' if len(lines) > 1 else ''} {shown}): "
+            f"it stays `{names.terminated} or {names.truncated}`, as legacy `done` was, so a time-limit truncation is "
+            f"closed as if the episode had really ended. Where `{names.truncated}` is true, pass the value of the "
+            f"final observation `{observation}` instead (`0 if {names.terminated} else V({observation})`)",
+            FixKind.FLAG,
+        )
+
     def _returned_in_tuple(self, read: ast.Name) -> bool:
         """``return obs, reward, done, info``: the flag is one element of a returned tuple."""
         parent = self.facts.parent(read)

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import ast
 
+from gymmigrate.facts.bootstrap import episode_flushes
 from gymmigrate.facts.done_uses import loaded_names, value_site
 from gymmigrate.facts.flow import end, start
 from gymmigrate.facts.module import FUNCTIONS, walk
@@ -30,11 +31,42 @@ class DoneStoreReads(DoneReadUses):
         found = stored_flag_readers(read, self.facts)
         if found:
             return found
+        callee = self._flag_callee(read)
+        if callee is None:
+            return []
+        function, flag = callee
+        flushes = self._callee_flushes(read)
+        if flushes:
+            # ``if done: ...; self.window = deque(maxlen=n)`` in the callee: the flag ends the
+            # episode's state there, and every other read of it in the callee (stored beside
+            # the next state) is taken as the mask it may be.
+            tests = {id(n) for test in flushes for n in walk(test.test)}
+            return [Reader(test.test, "boundary") for test in flushes] + [
+                Reader(node, "mask")
+                for node in walk(function)
+                if isinstance(node, ast.Name) and node.id == flag and isinstance(node.ctx, ast.Load) and id(node) not in tests
+            ]
+        return [
+            reader
+            for node in walk(function)
+            if isinstance(node, ast.Name) and node.id == flag and isinstance(node.ctx, ast.Load)
+            for reader in stored_flag_readers(node, self.facts)
+        ]
+
+    def _callee_flushes(self, read: ast.Name) -> list[ast.If]:
+        """The branches of the callee of this module ``read`` is passed to that test the flag
+        and empty the callee's state kept across calls (``facts/bootstrap.py``)."""
+        callee = self._flag_callee(read)
+        return [] if callee is None else episode_flushes(*callee)
+
+    def _flag_callee(self, read: ast.Name) -> tuple[ast.FunctionDef | ast.AsyncFunctionDef, str] | None:
+        """The def of this module ``read`` is passed to and the parameter it binds; None when
+        the callee cannot be followed."""
         call = self.facts.parent(read)
         if isinstance(call, ast.keyword):
             call = self.facts.parent(call)
         if not isinstance(call, ast.Call) or call.func is read or any(isinstance(a, ast.Starred) for a in call.args):
-            return []
+            return None
         function = self.receivers.local_function(call.func) or self.receivers.own_method(call.func)
         method = function is not None and isinstance(self.facts.parent(function), ast.ClassDef)
         if function is None and isinstance(call.func, ast.Attribute) and isinstance(call.func.value, ast.Name):
@@ -44,7 +76,7 @@ class DoneStoreReads(DoneReadUses):
                 function = next((s for s in classdef.body if isinstance(s, FUNCTIONS) and s.name == call.func.attr), None)
                 method = True
         if function is None:
-            return []
+            return None
         params = [a.arg for a in (*function.args.posonlyargs, *function.args.args)]
         params = params[1:] if method else params
         if read in call.args:
@@ -52,14 +84,53 @@ class DoneStoreReads(DoneReadUses):
             flag = params[index] if index < len(params) else None
         else:
             flag = next((k.arg for k in call.keywords if k.value is read), None)
-        if flag is None:
-            return []
-        return [
-            reader
+        return None if flag is None else (function, flag)
+
+    def _zero_tails(self, step: DoneStep, function: ast.AST) -> list[int]:
+        """The lines, in ``function``, of ``if done:`` branches that ``step`` binds the flag
+        of and that close a trajectory with a last value of 0: a call handing on a
+        container the branch empties together with a zero (``store(trajectory, 0)``, then
+        ``trajectory = []``), or a zero appended to a list the function appends per-step
+        values to (``values.append(0)`` beside ``values.append(v)``)."""
+        found: list[int] = []
+        for branch in walk(function):
+            if not (isinstance(branch, ast.If) and isinstance(branch.test, ast.Name) and branch.test.id == step.done.id):
+                continue
+            if self._dominating_step(branch.test, step.done) is not step.assign:
+                continue
+            emptied = {
+                name
+                for statement in branch.body
+                for node in walk(statement)
+                for name in _emptied_names(node)
+            }
+            for statement in branch.body:
+                for node in walk(statement):
+                    if not isinstance(node, ast.Call) or not any(_zero(a) for a in [*node.args, *(k.value for k in node.keywords)]):
+                        continue
+                    handed = any(n.id in emptied for a in node.args if not _zero(a) for n in walk(a) if isinstance(n, ast.Name))
+                    if handed or self._zero_appended_to_values(node, function):
+                        found.append(node.lineno)
+        return sorted(set(found))
+
+    @staticmethod
+    def _zero_appended_to_values(call: ast.Call, function: ast.AST) -> bool:
+        """``values.append(0)`` where ``function`` also appends a computed value to
+        ``values`` (``values.append(v)``): the zero is the trajectory's last value."""
+        func = call.func
+        if not (isinstance(func, ast.Attribute) and func.attr == "append" and isinstance(func.value, ast.Name) and len(call.args) == 1):
+            return False
+        owner = func.value.id
+        return any(
+            isinstance(node, ast.Call)
+            and isinstance(node.func, ast.Attribute)
+            and node.func.attr == "append"
+            and isinstance(node.func.value, ast.Name)
+            and node.func.value.id == owner
+            and len(node.args) == 1
+            and not isinstance(node.args[0], ast.Constant)
             for node in walk(function)
-            if isinstance(node, ast.Name) and node.id == flag and isinstance(node.ctx, ast.Load)
-            for reader in stored_flag_readers(node, self.facts)
-        ]
+        )
 
     def _stores_step_without_next_state(self, read: ast.Name, step: DoneStep) -> bool:
         """``memory.store_memory(obs, value, reward, done)``: a call that hands on the step's
@@ -280,6 +351,25 @@ def _empties(node: ast.AST, container: str) -> bool:
             and isinstance(target.slice, ast.Slice)
         )
     return False
+
+
+def _emptied_names(node: ast.AST) -> list[str]:
+    """The name ``node`` empties: ``name = []``, ``name.clear()``, ``del name[:]``."""
+    if isinstance(node, ast.Assign) and len(node.targets) == 1 and isinstance(node.targets[0], ast.Name):
+        name = node.targets[0].id
+        return [name] if _empties(node, name) else []
+    if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and isinstance(node.func.value, ast.Name):
+        name = node.func.value.id
+        return [name] if _empties(node, name) else []
+    if isinstance(node, ast.Delete) and len(node.targets) == 1 and isinstance(node.targets[0], ast.Subscript):
+        value = node.targets[0].value
+        return [value.id] if isinstance(value, ast.Name) and _empties(node, value.id) else []
+    return []
+
+
+def _zero(node: ast.AST) -> bool:
+    """``0``, ``0.0``: a last value of zero (``True``/``False`` are flags, not values)."""
+    return isinstance(node, ast.Constant) and type(node.value) in (int, float) and node.value == 0
 
 
 def _tests_flag(test: ast.expr, flag: str) -> bool:

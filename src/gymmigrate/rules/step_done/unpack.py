@@ -186,6 +186,8 @@ class UnpackRules(DoneAttributeReports):
                 # ``global done``: readers live in other scopes and cannot all be traced.
                 if needed or self._declared_outside(step.assign, step.done.id):
                     self._keep_done(step.assign, step.done, step.names)
+                if needed:
+                    self._report_zero_tails(step)
 
     def _plan_done_reads(self, steps: list[DoneStep]) -> list[bool]:
         """Plan every read of one ``done`` variable that its rewritten steps bind (in
@@ -240,6 +242,11 @@ class UnpackRules(DoneAttributeReports):
                         if not self._readers_keep_boundary(read, steps[first]):
                             self._claim(read, steps[first], callee=callee)
                             continue
+                    elif self._callee_flushes(read):
+                        # the callee ends the episode's state on the flag (so it masks
+                        # nothing by ``facts/bootstrap.py``): the same item as a store
+                        # whose readers use it both ways
+                        self._readers_keep_boundary(read, steps[first])
                     masked = self._none_mask(read, steps[first])
                     if masked is not None and masked[1]:
                         self._claim(read, steps[first], none_mask=masked[0])
