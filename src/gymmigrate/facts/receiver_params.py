@@ -38,6 +38,7 @@ class ParameterKinds(CallerSites, ThunkKinds):
 
     # parameters whose callers pass a Gym env and another kind of env: (gym kinds, others)
     _mixed_params: dict[ast.arg, tuple[list[str], list[str]]]
+    _own_mixed_params: dict[ast.arg, tuple[list[str], list[str]]]
     _test_double_params: dict[ast.arg, list[str]]
 
     def _param_kind(self, param: ast.arg) -> EnvKind:
@@ -91,6 +92,8 @@ class ParameterKinds(CallerSites, ThunkKinds):
         defaults = has_default(function, param)
         kinds = list(external)
         own_objects: list[str] = []  # arguments of unknown kind that the project itself makes
+        mixed_own: list[str] = []  # the project's own objects a name bound to a Gym env in other branches may hold
+        handed: list[tuple[list[str], list[str]]] = []  # what a mixed parameter handed on here may hold
         for call in calls:
             shift = shifts.get(id(call), 0)
             argument = call_argument(call, None if position is None else position + shift, name)
@@ -102,6 +105,9 @@ class ParameterKinds(CallerSites, ThunkKinds):
                 kinds.append(self.kind_of(argument))
                 if kinds[-1] is EnvKind.UNKNOWN and self.run_defined(argument):
                     own_objects.append(self._made_by(argument))
+                if kinds[-1] is EnvKind.UNKNOWN:
+                    mixed_own.extend(self._own_beside_gym(argument))
+                    handed.extend(self._handed_mixed(argument))
         gym = {k for k in kinds if k.is_gym}
         if EnvKind.SB3_VEC in kinds and own_objects and not gym:
             # A VecEnv at some sites, an object of the project's own at others (a proxy around
@@ -111,6 +117,21 @@ class ParameterKinds(CallerSites, ThunkKinds):
             self.note(self._mixed_params, param, ([f"project's own object ({shown})"], [EnvKind.SB3_VEC.value]))
             return EnvKind.UNKNOWN
 
+        if handed and not mixed_own:
+            # a parameter of a caller that is itself mixed (``def collect(self, env):
+            # self.play(env)``): the same objects reach this one
+            self.note(self._mixed_params, param, handed[0])
+            self.note(self._own_mixed_params, param, handed[0])
+            return EnvKind.UNKNOWN
+        if mixed_own:
+            # ``env = Point() if own else gym.make(name)`` handed on: the same calls serve the
+            # project's own class, on its own (old) API, and a Gym env, so no rewrite is right
+            # for both and the file's imports settle nothing; reported (``mixed_callers``)
+            shown = ", ".join(f"`{text}`" for text in sorted(set(mixed_own)))
+            mixed = ([EnvKind.GYM_ENV.value], [f"project's own object ({shown}, not shown to be a Gym env: migrate its class together with these calls, or branch)"])
+            self.note(self._mixed_params, param, mixed)
+            self.note(self._own_mixed_params, param, mixed)
+            return EnvKind.UNKNOWN
         others = {k for k in kinds if k not in (EnvKind.NOT_ENV, EnvKind.UNKNOWN) and not k.is_gym}
         if gym and others:
             # Some callers pass a Gym env, others a VecEnv or a PettingZoo env: the same code
@@ -134,6 +155,37 @@ class ParameterKinds(CallerSites, ThunkKinds):
                 self.note(self._mixed_params, param, (sorted(k.value for k in gym), [f"{name} (whose step and reset keep their own contract)" for name in sorted(kept)]))
                 return EnvKind.UNKNOWN
         return join_kinds(kinds)
+
+    def _handed_mixed(self, argument: ast.expr) -> list[tuple[list[str], list[str]]]:
+        """What a parameter ``argument`` reads holds, where its own callers pass the project's
+        own object beside a Gym env (``_own_mixed_params``): it hands the same objects on.
+        (A parameter mixed with a VecEnv is asked where it is read, as before: its hand-ons
+        keep the fallback.)"""
+        if not isinstance(argument, ast.Name):
+            return []
+        return [self._own_mixed_params[b] for b in self.facts.bindings_of(argument) if isinstance(b, ast.arg) and b in self._own_mixed_params]
+
+    def _own_beside_gym(self, argument: ast.expr) -> list[str]:
+        """What the project itself makes (``Point`` for ``env = Point()``) among the values a
+        name argument may hold, when another of them is a Gym env (``env = gym.make(name)`` in
+        the other branch): the object handed on is one or the other. Empty otherwise."""
+        if not isinstance(argument, ast.Name):
+            return []
+        reaching = Flow.of(self.facts).reaching(argument)
+        bindings = reaching if reaching is not None else self.facts.bindings_of(argument)
+        values: list[ast.expr] = []
+        for binding in bindings:
+            parent = self.facts.parent(binding) if isinstance(binding, ast.Name) else None
+            if isinstance(parent, ast.Assign) and len(parent.targets) == 1 and parent.targets[0] is binding:
+                values.append(parent.value)  # a plain ``env = ...``; a parameter or unpack says nothing here
+        kinds = [self.kind_of(value) for value in values]
+        if not any(k.is_gym for k in kinds):
+            return []
+        return [
+            self.facts.segment(value.func if isinstance(value, ast.Call) else value)
+            for value, kind in zip(values, kinds)
+            if kind is EnvKind.UNKNOWN and self.run_defined(value)
+        ]
 
     def _made_by(self, argument: ast.expr) -> str:
         """What an argument is made by, as the code spells it: ``Recorder`` for ``env`` bound

@@ -112,6 +112,9 @@ class Receivers(BindingKinds, WrappingCalls, ClassKinds, ParameterKinds, MadeObj
         self._vec_wrapping: set[ast.ClassDef] = set()  # those being asked now
         # parameters whose callers pass a Gym env and another kind of env: (gym kinds, others)
         self._mixed_params: dict[ast.arg, tuple[list[str], list[str]]] = {}
+        # of those, the parameters that may hold the project's own object beside a Gym env
+        # (``env = Walker()`` in one branch, ``gym.make(...)`` in another): what they hand on
+        self._own_mixed_params: dict[ast.arg, tuple[list[str], list[str]]] = {}
         # of those, the parameters whose other kinds come only from test modules: their callers there
         self._test_double_params: dict[ast.arg, list[str]] = {}
         self.depth = 0  # shared with the helpers: one bound on the whole chain of questions
