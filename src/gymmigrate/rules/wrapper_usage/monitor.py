@@ -187,6 +187,8 @@ def _stepped_never_closed(family: StacksFamily, call: ast.Call) -> str | None:
         return None
     stepped = False
     for read in facts.reads_of(target.id, target):
+        if any(a is assign for a in facts.ancestors(read)):
+            continue  # ``env = Monitor(env, d)``: the wrapped env, read before this binding exists
         parent = facts.parent(read)
         if isinstance(parent, ast.Attribute) and parent.value is read:
             caller = facts.parent(parent)
