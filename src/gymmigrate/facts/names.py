@@ -80,6 +80,12 @@ RENDER_MODE_ENV_CLASSES = frozenset(
 )
 
 
+# Gym env base classes Gymnasium no longer has, whose subclasses must be ported onto
+# ``gymnasium.Env`` (GM105 says so): once ported, such a class derives from Gym's Env
+# alone, so nothing of the old base reads or sets a render mode for it.
+PORTED_TO_ENV_BASES = frozenset({"envs.toy_text.discrete.DiscreteEnv"})
+
+
 def takes_render_mode_builtin(qualified: str) -> bool:
     """``gym.envs.classic_control.cartpole.CartPoleEnv``: one of Gymnasium's own env classes
     whose ``__init__`` takes ``render_mode`` (``RENDER_MODE_ENV_CLASSES``)."""

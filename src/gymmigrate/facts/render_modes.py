@@ -307,8 +307,9 @@ def modeless_render(facts: ModuleFacts, receivers: Receivers, classdef: ast.Clas
 
 def _lineage_of_this_module(facts: ModuleFacts, receivers: Receivers, classdef: ast.ClassDef) -> list[ast.ClassDef] | None:
     """The class and its bases of this module, where every base is one of them, ``object``
-    or Gym's env: a base of no module here (a library's env, a mix-in) may define the
-    render that runs, or what it calls. None where one is not, or where a class of the
+    or Gym's env (or a removed Gym base its port replaces by Gym's env,
+    ``PORTED_TO_ENV_BASES``): a base of no module here (a library's env, a mix-in) may
+    define the render that runs, or what it calls. None where one is not, or where a class of the
     lineage names ``render_mode`` (it draws by mode already)."""
     lineage = list(receivers.local_lineage(classdef))
     for current in lineage:
@@ -317,6 +318,7 @@ def _lineage_of_this_module(facts: ModuleFacts, receivers: Receivers, classdef: 
                 receivers.local_class(base) is not None
                 or (isinstance(base, ast.Name) and base.id == "object")
                 or any(N.strip_gym_prefix(q) in DIRECT_ENV_BASES for q in facts.qualified_names(base))
+                or any(N.strip_gym_prefix(q) in N.PORTED_TO_ENV_BASES for q in facts.qualified_names(base))
             ):
                 return None
         if any(_names_render_mode(node) for node in walk(current)):

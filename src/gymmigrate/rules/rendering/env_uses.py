@@ -14,6 +14,7 @@ import ast
 
 from gymmigrate.facts import names as N
 from gymmigrate.facts.creation import CreationFinder
+from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.module import walk
 from gymmigrate.rules.render_schedule import render_condition
 from gymmigrate.rules.rendering.common import RenderSite
@@ -203,6 +204,10 @@ class EnvUses(MakeEdits):
     def _loop_renders(self, call: ast.Call, rendered: set[int]) -> bool:
         """The innermost loop around ``call`` holds one of the render sites."""
         loop = next((a for a in self.facts.ancestors(call) if isinstance(a, (ast.For, ast.While, ast.AsyncFor))), None)
+        if loop is None and self._rendered_next(call, rendered):
+            # ``obs = env.step(a)`` then ``env.render()`` in the same block: this step is
+            # drawn as it happens, as human mode draws it.
+            return True
         if loop is None:
             helper = self.facts.enclosing_function(call)
             if helper is not None and any(
@@ -219,6 +224,26 @@ class EnvUses(MakeEdits):
             calls = [c for c in self.facts.calls_by_name.get(name, ()) if helper in self.facts.bindings_of(c.func)]  # type: ignore[arg-type]
             return bool(calls) and all(self._loop_renders(c, rendered) for c in calls if c is not call)
         return any(id(node) in rendered for node in walk(loop) if isinstance(node, ast.Call))
+
+    def _rendered_next(self, call: ast.Call, rendered: set[int]) -> bool:
+        """A statement after the one holding ``call``, in the same block and before any other
+        ``step``, is a bare render site (``env.render()`` as a statement of its own): the
+        step always runs with a render right after it, nothing between them skipping it."""
+        statement = self.facts.statement_of(call)
+        found = Flow.of(self.facts).block_of(statement)
+        if found is None:
+            return False
+        block, index = found
+        for later in block[index + 1 :]:
+            if isinstance(later, ast.Expr) and isinstance(later.value, ast.Call) and id(later.value) in rendered:
+                return True
+            if any(
+                isinstance(node, (ast.Return, ast.Break, ast.Continue, ast.Raise))
+                or (isinstance(node, ast.Attribute) and node.attr == "step")
+                for node in ast.walk(later)
+            ):
+                return False
+        return False
 
     def _drawn_every_step(self, render: ast.Call, keys: list[int]) -> bool:
         """``render`` runs on every pass of the loop that holds each step of the envs the

@@ -146,6 +146,14 @@ def plan_monitor(family: StacksFamily, call: ast.Call) -> MonitorRewrite | None:
             new_args.append(cst.Arg(keyword=cst.Name("episode_trigger"), value=_slot_value(node, where["video_callable"]), equal=eq))
         return cst.Call(func=dotted_node(prefix + "RecordVideo"), args=new_args, lpar=node.lpar, rpar=node.rpar)
 
+    unclosed = _stepped_never_closed(family, call)
+    if unclosed is not None:
+        # Legacy Monitor finished its open video at interpreter exit (gym's atexit closer);
+        # RecordVideo writes it only in close(), so the last recorded episode is lost.
+        note += (
+            f"; `{unclosed}` is stepped here and never closed: RecordVideo saves the video it is recording "
+            f"only on close() (legacy Monitor saved it at exit), so call {unclosed}.close() when the run ends"
+        )
     what = (
         "RecordVideo(env) (the RecordEpisodeStatistics beside it keeps the statistics)"
         if counted
@@ -163,6 +171,37 @@ def plan_monitor(family: StacksFamily, call: ast.Call) -> MonitorRewrite | None:
     if prefix:
         return MonitorRewrite(uses=())
     return MonitorRewrite(uses=("RecordVideo",) if counted else ("RecordEpisodeStatistics", "RecordVideo"))
+
+
+def _stepped_never_closed(family: StacksFamily, call: ast.Call) -> str | None:
+    """``env = Monitor(...)`` bound to a plain name that this module steps (``env.step``) and
+    never closes: no ``.close()`` on it, no ``with`` over it, and it never leaves the module's
+    sight (passed to a call, returned, stored, rebound from), where another place might close
+    it. The name, else None."""
+    facts = family.facts
+    assign = facts.parent(call)
+    if not (isinstance(assign, ast.Assign) and assign.value is call and len(assign.targets) == 1):
+        return None
+    target = assign.targets[0]
+    if not isinstance(target, ast.Name):
+        return None
+    stepped = False
+    for read in facts.reads_of(target.id, target):
+        if any(a is assign for a in facts.ancestors(read)):
+            continue  # ``env = Monitor(env, d)``: the wrapped env, read before this binding exists
+        parent = facts.parent(read)
+        if isinstance(parent, ast.Attribute) and parent.value is read:
+            caller = facts.parent(parent)
+            if parent.attr == "close":
+                return None
+            if parent.attr == "step" and isinstance(caller, ast.Call) and caller.func is parent:
+                stepped = True
+            continue
+        if isinstance(parent, ast.withitem):
+            return None
+        if not isinstance(parent, (ast.Compare, ast.BoolOp, ast.UnaryOp, ast.JoinedStr, ast.FormattedValue, ast.Expr)):
+            return None  # passed on, returned, stored or rebound from: closed elsewhere, maybe
+    return target.id if stepped else None
 
 
 def _read_elsewhere(family: StacksFamily, directory: ast.expr, call: ast.Call) -> str:
