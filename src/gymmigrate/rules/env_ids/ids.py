@@ -648,7 +648,10 @@ def _if_made(env_id: str, migration: IdMigration | None) -> tuple[str, str]:
     if migration is not None:
         keywords = ", ".join(f"{k}={v}" for k, v in migration.kwargs)
         target = f"`{migration.new_id}`" + (f" with {keywords}" if keywords else "")
-        return migration.rule, f"Gymnasium 1.4 makes {target} instead ({migration.reason})"
+        # a retired id is registered no more (ale-py's removed spellings neither): make refuses
+        # it (DeprecatedEnv for an old version, ImportError for MuJoCo's mujoco-py ones,
+        # NameNotFound for a retired name) and makes no other env in its place
+        return migration.rule, f"Gymnasium 1.4 raises for it and registers {target} in its place ({migration.reason})"
     return "GM805", f"it no longer exists: {removed_family(env_id)}"
 
 
