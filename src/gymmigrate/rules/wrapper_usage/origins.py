@@ -759,6 +759,8 @@ class EnvOrigins(HeldEnvQuestions):
         value: ast.expr | None = expr
         if isinstance(expr, ast.Name):
             value = self.nearest_assignment(expr)
+            if value is None:
+                value = self._looped_construction(expr)
             annotation = self._annotated_wrapper(expr) if value is None else None
             if annotation is not None:  # ``env: gym.wrappers.TimeLimit``
                 named = {rest for q in self.facts.qualified_names(annotation) if (rest := wrapper_class_rest(q)) is not None}
@@ -773,6 +775,39 @@ class EnvOrigins(HeldEnvQuestions):
         if local is not None and self.receivers.is_gym_wrapper_class(local):
             return local.name
         return None
+
+    def _looped_construction(self, name: ast.Name) -> ast.Call | None:
+        """``for env in envs:`` where ``envs = [Tracked(gym.make(i)) for i in ids]`` (or a
+        list or tuple of constructions) in the same scope, bound once and never added to or
+        stored into: each item the loop binds is built by one of those calls, and the first
+        is returned where they all have one outermost wrapper class. None otherwise."""
+        bindings = self.facts.bindings_of(name)
+        loop = self.facts.parent(bindings[0]) if len(bindings) == 1 else None
+        if not (isinstance(loop, ast.For) and loop.target is bindings[0] and isinstance(loop.iter, ast.Name)):
+            return None
+        held = self.facts.bindings_of(loop.iter)
+        assign = self.facts.parent(held[0]) if len(held) == 1 else None
+        if not (isinstance(assign, ast.Assign) and assign.targets == [held[0]]):
+            return None
+        if self.facts.scope_of(held[0]) is not self.facts.scope_of(bindings[0]):
+            return None  # a list of an enclosing scope: what else fills it is not in view
+        items: list[ast.expr]
+        if isinstance(assign.value, ast.ListComp):
+            items = [assign.value.elt]
+        elif isinstance(assign.value, (ast.List, ast.Tuple)):
+            items = list(assign.value.elts)
+        else:
+            return None
+        if not items or not all(isinstance(item, ast.Call) for item in items):
+            return None
+        for read in self.facts.reads_of(loop.iter.id, held[0]):
+            parent = self.facts.parent(read)
+            if isinstance(parent, ast.Attribute) or (isinstance(parent, ast.Subscript) and not isinstance(parent.ctx, ast.Load)):
+                return None  # ``envs.append(other)``, ``envs[0] = other``: items built elsewhere
+        owners = {self.outer_wrapper(item) for item in items}
+        if len(owners) != 1 or None in owners:
+            return None
+        return items[0]  # type: ignore[return-value]
 
     def _annotated_wrapper(self, name: ast.Name) -> ast.expr | None:
         """The annotation of the parameter ``name`` is, when it is its only binding."""
