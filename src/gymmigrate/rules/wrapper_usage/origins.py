@@ -782,10 +782,19 @@ class EnvOrigins(HeldEnvQuestions):
         stored into: each item the loop binds is built by one of those calls, and the first
         is returned where they all have one outermost wrapper class. None otherwise."""
         bindings = self.facts.bindings_of(name)
-        loop = self.facts.parent(bindings[0]) if len(bindings) == 1 else None
-        if not (isinstance(loop, ast.For) and loop.target is bindings[0] and isinstance(loop.iter, ast.Name)):
+        # every binding of the name a loop over the same list (``for env in envs:`` to train,
+        # again to evaluate): whichever reaches the read, its item is one of that list's
+        iterated: list[ast.Name] = []
+        for binding in bindings:
+            loop = self.facts.parent(binding)
+            if not (isinstance(loop, ast.For) and loop.target is binding and isinstance(loop.iter, ast.Name)):
+                return None
+            iterated.append(loop.iter)
+        if not iterated:
             return None
-        held = self.facts.bindings_of(loop.iter)
+        held = self.facts.bindings_of(iterated[0])
+        if any(self.facts.bindings_of(other) != held for other in iterated):
+            return None
         assign = self.facts.parent(held[0]) if len(held) == 1 else None
         if not (isinstance(assign, ast.Assign) and assign.targets == [held[0]]):
             return None
@@ -800,7 +809,7 @@ class EnvOrigins(HeldEnvQuestions):
             return None
         if not items or not all(isinstance(item, ast.Call) for item in items):
             return None
-        for read in self.facts.reads_of(loop.iter.id, held[0]):
+        for read in self.facts.reads_of(iterated[0].id, held[0]):
             parent = self.facts.parent(read)
             if isinstance(parent, ast.Attribute) or (isinstance(parent, ast.Subscript) and not isinstance(parent.ctx, ast.Load)):
                 return None  # ``envs.append(other)``, ``envs[0] = other``: items built elsewhere
