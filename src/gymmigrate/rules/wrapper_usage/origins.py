@@ -911,14 +911,21 @@ def _join_fed(fed: list[FixtureOrigin]) -> Origin:
 
 
 def _defined_attributes(classdef: ast.ClassDef) -> set[str]:
-    """Methods (at any depth) and ``self.x = ...`` targets of a class."""
+    """Methods (at any depth) and ``self.x = ...`` targets of a class, unpacked ones too
+    (``self.obs, info = self.env.reset()``, as the migrated reset stores it)."""
     names: set[str] = set()
     for node in walk(classdef):
         if isinstance(node, FUNCTIONS):
             names.add(node.name)
         elif isinstance(node, ast.Assign):
-            for target in node.targets:
-                if isinstance(target, ast.Attribute) and isinstance(target.value, ast.Name) and target.value.id == "self":
+            targets = list(node.targets)
+            while targets:
+                target = targets.pop()
+                if isinstance(target, (ast.Tuple, ast.List)):
+                    targets.extend(target.elts)
+                elif isinstance(target, ast.Starred):
+                    targets.append(target.value)
+                elif isinstance(target, ast.Attribute) and isinstance(target.value, ast.Name) and target.value.id == "self":
                     names.add(target.attr)
     return names
 
