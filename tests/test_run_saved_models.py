@@ -59,3 +59,33 @@ def test_a_smoke_script_that_loads_nothing_keeps_its_bump_a_note(tmp_path: Path)
     kind, tier, message = bumps["smoke.py"]
     assert (kind, tier) == ("assist", "note")
     assert "nothing in this script" in message and "loads a saved model" in message
+
+
+def test_a_load_that_cannot_reach_the_module_keeps_its_bump_a_note(tmp_path: Path) -> None:
+    """``fixtures/project_unreached_bump``: ``evaluate.py`` loads saved weights into the task
+    of ``tasks/driving.py``, whose bump stays a question. ``train_walker.py`` defines a def
+    that makes the id it is given, trains from scratch and loads nothing, and no module of the
+    run imports it: the load is another program's, so its bump is a note."""
+    run = tmp_path / "run"
+    shutil.copytree(FIXTURE.parent / "project_unreached_bump", run)
+    result = runner.invoke(app, ["check", "--output-format", "json", str(run)])
+    assert result.exit_code == 1
+    bumps = {Path(f["path"]).name: (f["kind"], f["tier"], f["message"]) for f in json.loads(result.stdout) if f["rule"] == "GM803"}
+    assert bumps["driving.py"][:2] == ("assist", "review")
+    kind, tier, message = bumps["train_walker.py"]
+    assert (kind, tier) == ("assist", "note")
+    assert message.endswith("nothing here or in a module that imports this one loads a saved model")
+
+
+def test_a_load_through_an_import_chain_makes_the_bump_a_question(tmp_path: Path) -> None:
+    """The same run where the evaluation script reaches the trainer through another module
+    (``evaluate.py`` imports ``runner.py``, which imports ``train_walker.py``): the model may
+    be loaded for its envs, so its bump stays a question."""
+    run = tmp_path / "run"
+    shutil.copytree(FIXTURE.parent / "project_unreached_bump", run)
+    (run / "runner.py").write_text("import gym\n\nfrom train_walker import train\n\nSPACE = gym.spaces.Discrete(2)\n")
+    evaluate = run / "evaluate.py"
+    evaluate.write_text("import runner\n" + evaluate.read_text())
+    result = runner.invoke(app, ["check", "--output-format", "json", str(run)])
+    bumps = {Path(f["path"]).name: (f["kind"], f["tier"]) for f in json.loads(result.stdout) if f["rule"] == "GM803"}
+    assert bumps["train_walker.py"] == ("assist", "review")

@@ -514,6 +514,9 @@ class ProjectFacts:
     # Some module loads an earlier run's policy, weights or normaliser: an env id the run
     # bumps may be made for that model (an evaluation script reaching another module's task).
     loads_saved_state: bool = False
+    # ...and the modules a loading module reaches through its imports (itself included): an
+    # env id of a module outside them is made by no program that loads a model for it
+    load_reach: frozenset[str] = frozenset()
     # Every env-id-shaped string of the run's modules (``ModuleSummary.named_ids``)
     named_ids: frozenset[str] = frozenset()
     # (path, name of a class of the run, re-exports followed) -> the attributes its instances
@@ -526,6 +529,8 @@ class ProjectFacts:
         # Gym code or not: an evaluation script loads the model into another module's task.
         # A Gym-free module read for that alone tells the run nothing else.
         facts.loads_saved_state = any(summary.loads_saved_state for summary in summaries)
+        loaders = [summary for summary in summaries if summary.loads_saved_state]
+        everything = {summary.path: summary for summary in summaries}
         summaries = [s for s in summaries if not _read_for_its_load(s)]
         facts.blocked = dict(blocked or {})
         facts.blocked.update(
@@ -578,6 +583,7 @@ class ProjectFacts:
                     facts.modules[name] = ""
                 else:
                     facts.modules[name] = summary.path
+        facts.load_reach = facts._reached_by(loaders, everything)
         methods_named: dict[str, list[tuple[str, str]]] = defaultdict(list)
         for summary in summaries:
             for qualname, signature in summary.defs.items():
@@ -855,6 +861,22 @@ class ProjectFacts:
                 return path, f"{qualname}.__init__"
             return None
         return None
+
+    def _reached_by(self, starts: list[ModuleSummary], everything: dict[str, ModuleSummary]) -> frozenset[str]:
+        """The paths of ``starts`` and of every module of the run they import, followed on
+        through the imports of those."""
+        reached = {summary.path for summary in starts}
+        pending = list(starts)
+        while pending:
+            summary = pending.pop()
+            for qualified in summary.imported:
+                level, parts = import_parts(qualified)
+                for module in (parts, parts[:-1]):  # `import envs` / `from envs import make_env`
+                    path = self._module_path(module, level, summary.path, everything) if module or level else None
+                    if path is not None and path not in reached and path in everything:
+                        reached.add(path)
+                        pending.append(everything[path])
+        return frozenset(reached)
 
     def _module_path(self, module: list[str], level: int, importer: str, known: Container[str] | None = None) -> str | None:
         """The path of the module an import of ``importer`` names; a relative one is looked

@@ -168,7 +168,22 @@ def summarize_masks(path: str, text: str) -> ModuleSummary | None:
         plain_roots=roots,
         altered=altered,
         loads_saved_state=loads,
+        # what a loading module imports: the modules of the run it may load a model for
+        imported=_imported_names(tree) if loads else (),
     )
+
+
+def _imported_names(tree: ast.Module) -> tuple[str, ...]:
+    """The qualified names the imports of ``tree`` name (``pkg.mod``, ``.tasks.Task``), as
+    ``ModuleSummary.imported`` holds them, without the module's full facts."""
+    names: set[str] = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            names.update(alias.name for alias in node.names)
+        elif isinstance(node, ast.ImportFrom):
+            base = "." * node.level + (node.module or "")
+            names.update(f"{base}.{alias.name}" if base and not base.endswith(".") else base + alias.name for alias in node.names if alias.name != "*")
+    return tuple(sorted(names))
 
 
 def _named(

@@ -215,6 +215,8 @@ class IdSites(HandedOnIds):
             argument = call_argument(call, position, param.arg)
             if argument is not None:
                 values.append((argument, f"an argument of `{callee}(...)`"))
+        if owner is self.facts.tree and position is not None:
+            values.extend((argument, f"an argument of `{function.name}(...)` started as a worker") for argument in self._started_with(function, position))
         sites = []
         for value, via in values:
             if isinstance(value, ast.Subscript):
@@ -231,6 +233,23 @@ class IdSites(HandedOnIds):
             if site is not None:
                 sites.append(site)
         return sites
+
+    def _started_with(self, function: ast.FunctionDef | ast.AsyncFunctionDef, position: int) -> list[ast.expr]:
+        """What ``Process(target=worker, args=(env_id, queue))`` (a ``Thread`` alike) passes
+        at ``position`` of the module's def it starts: the process calls it with those
+        arguments, as a plain call would."""
+        found = []
+        for calls in (*self.facts.calls_by_name.values(), *self.facts.attribute_calls.values()):
+            for call in calls:
+                keywords = {kw.arg: kw.value for kw in call.keywords if kw.arg is not None}
+                target, args = keywords.get("target"), keywords.get("args")
+                if not (isinstance(target, ast.Name) and isinstance(args, (ast.Tuple, ast.List))):
+                    continue
+                if self.facts.bindings_of(target) != [function]:
+                    continue  # another def of that name, or a name rebound
+                if position < len(args.elts) and not any(isinstance(e, ast.Starred) for e in args.elts[: position + 1]):
+                    found.append(args.elts[position])
+        return found
 
     def _options_read_as_ids(self) -> frozenset[str]:
         """``gym.make(args.game)`` (``str(args.game)``): the attribute names of parsed options that

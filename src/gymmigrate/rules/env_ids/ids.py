@@ -25,6 +25,7 @@ envs (a built id, a helper that uses what only Atari envs have).
 from __future__ import annotations
 
 import ast
+import os
 
 from gymmigrate.edits.lazy import cst
 from gymmigrate.facts import ModuleFacts
@@ -296,15 +297,20 @@ class EnvIds(RuleFamily):
         # (a policy, a normaliser); one that trains from scratch just gets the current env.
         # The run is the program: an evaluation script of the run may load, through a class or
         # task of this module, a model trained on the old version.
+        # Only a module that imports this one (directly or through others) can load a model
+        # into its classes or tasks: a load elsewhere in the run is another program's.
         # A script with no def or class, whose make takes the literal itself, offers another
         # module no class or task to load through: only its own loads count.
         project = self.context.options.project
         standalone = self._standalone_make(site)
-        run_loads = project is not None and project.loads_saved_state and not standalone
+        reached = project is not None and os.path.realpath(self.context.path) in project.load_reach
+        run_loads = reached and not standalone
         settled = migration.kind is FixKind.ASSIST and not run_loads and not loads_saved_state(self.facts.tree)
         here = "in the run" if project is not None and not standalone else "here"
         if standalone and project is not None and project.loads_saved_state:
             here = "in this script, which has no def or class another module could load one through,"
+        elif project is not None and project.loads_saved_state and not standalone:
+            here = "here or in a module that imports this one"
         self.report(
             site.string,
             migration.rule,
@@ -642,7 +648,10 @@ def _if_made(env_id: str, migration: IdMigration | None) -> tuple[str, str]:
     if migration is not None:
         keywords = ", ".join(f"{k}={v}" for k, v in migration.kwargs)
         target = f"`{migration.new_id}`" + (f" with {keywords}" if keywords else "")
-        return migration.rule, f"Gymnasium 1.4 makes {target} instead ({migration.reason})"
+        # a retired id is registered no more (ale-py's removed spellings neither): make refuses
+        # it (DeprecatedEnv for an old version, ImportError for MuJoCo's mujoco-py ones,
+        # NameNotFound for a retired name) and makes no other env in its place
+        return migration.rule, f"Gymnasium 1.4 raises for it and registers {target} in its place ({migration.reason})"
     return "GM805", f"it no longer exists: {removed_family(env_id)}"
 
 

@@ -759,6 +759,8 @@ class EnvOrigins(HeldEnvQuestions):
         value: ast.expr | None = expr
         if isinstance(expr, ast.Name):
             value = self.nearest_assignment(expr)
+            if value is None:
+                value = self._looped_construction(expr)
             annotation = self._annotated_wrapper(expr) if value is None else None
             if annotation is not None:  # ``env: gym.wrappers.TimeLimit``
                 named = {rest for q in self.facts.qualified_names(annotation) if (rest := wrapper_class_rest(q)) is not None}
@@ -773,6 +775,48 @@ class EnvOrigins(HeldEnvQuestions):
         if local is not None and self.receivers.is_gym_wrapper_class(local):
             return local.name
         return None
+
+    def _looped_construction(self, name: ast.Name) -> ast.Call | None:
+        """``for env in envs:`` where ``envs = [Tracked(gym.make(i)) for i in ids]`` (or a
+        list or tuple of constructions) in the same scope, bound once and never added to or
+        stored into: each item the loop binds is built by one of those calls, and the first
+        is returned where they all have one outermost wrapper class. None otherwise."""
+        bindings = self.facts.bindings_of(name)
+        # every binding of the name a loop over the same list (``for env in envs:`` to train,
+        # again to evaluate): whichever reaches the read, its item is one of that list's
+        iterated: list[ast.Name] = []
+        for binding in bindings:
+            loop = self.facts.parent(binding)
+            if not (isinstance(loop, ast.For) and loop.target is binding and isinstance(loop.iter, ast.Name)):
+                return None
+            iterated.append(loop.iter)
+        if not iterated:
+            return None
+        held = self.facts.bindings_of(iterated[0])
+        if any(self.facts.bindings_of(other) != held for other in iterated):
+            return None
+        assign = self.facts.parent(held[0]) if len(held) == 1 else None
+        if not (isinstance(assign, ast.Assign) and assign.targets == [held[0]]):
+            return None
+        if self.facts.scope_of(held[0]) is not self.facts.scope_of(bindings[0]):
+            return None  # a list of an enclosing scope: what else fills it is not in view
+        items: list[ast.expr]
+        if isinstance(assign.value, ast.ListComp):
+            items = [assign.value.elt]
+        elif isinstance(assign.value, (ast.List, ast.Tuple)):
+            items = list(assign.value.elts)
+        else:
+            return None
+        if not items or not all(isinstance(item, ast.Call) for item in items):
+            return None
+        for read in self.facts.reads_of(iterated[0].id, held[0]):
+            parent = self.facts.parent(read)
+            if isinstance(parent, ast.Attribute) or (isinstance(parent, ast.Subscript) and not isinstance(parent.ctx, ast.Load)):
+                return None  # ``envs.append(other)``, ``envs[0] = other``: items built elsewhere
+        owners = {self.outer_wrapper(item) for item in items}
+        if len(owners) != 1 or None in owners:
+            return None
+        return items[0]  # type: ignore[return-value]
 
     def _annotated_wrapper(self, name: ast.Name) -> ast.expr | None:
         """The annotation of the parameter ``name`` is, when it is its only binding."""
@@ -867,14 +911,21 @@ def _join_fed(fed: list[FixtureOrigin]) -> Origin:
 
 
 def _defined_attributes(classdef: ast.ClassDef) -> set[str]:
-    """Methods (at any depth) and ``self.x = ...`` targets of a class."""
+    """Methods (at any depth) and ``self.x = ...`` targets of a class, unpacked ones too
+    (``self.obs, info = self.env.reset()``, as the migrated reset stores it)."""
     names: set[str] = set()
     for node in walk(classdef):
         if isinstance(node, FUNCTIONS):
             names.add(node.name)
         elif isinstance(node, ast.Assign):
-            for target in node.targets:
-                if isinstance(target, ast.Attribute) and isinstance(target.value, ast.Name) and target.value.id == "self":
+            targets = list(node.targets)
+            while targets:
+                target = targets.pop()
+                if isinstance(target, (ast.Tuple, ast.List)):
+                    targets.extend(target.elts)
+                elif isinstance(target, ast.Starred):
+                    targets.append(target.value)
+                elif isinstance(target, ast.Attribute) and isinstance(target.value, ast.Name) and target.value.id == "self":
                     names.add(target.attr)
     return names
 
