@@ -10,6 +10,7 @@ one walk per class collects.
 from __future__ import annotations
 
 import ast
+import weakref
 from collections import defaultdict
 from functools import partial
 from typing import TYPE_CHECKING, NamedTuple
@@ -503,17 +504,31 @@ def binds_self_attribute(classdef: ast.ClassDef, attribute: str) -> bool:
     whether the class has a hand in the attribute at all (``rules/base.py`` pins the
     decision on ``self.env`` to the class that binds it).
     """
-    for node in walk(classdef):
-        targets: list[ast.expr] = []
-        if isinstance(node, ast.Assign):
-            targets = list(node.targets)
-        elif isinstance(node, (ast.AnnAssign, ast.AugAssign)):
-            targets = [node.target]
-        for target in targets:
-            for sub in walk(target):
-                if isinstance(sub, ast.Attribute) and sub.attr == attribute and isinstance(sub.value, ast.Name) and sub.value.id == "self":
-                    return True
-    return False
+    return attribute in _self_attributes_bound(classdef)
+
+
+# The attributes each class binds, read once per class: the rules ask about one attribute
+# after another (every receiver ``self.x`` of the module), and a walk of the class per
+# question cost a sixth of a large run. Weak keys: a tree dropped is forgotten with it.
+_BOUND_BY_CLASS: weakref.WeakKeyDictionary[ast.ClassDef, frozenset[str]] = weakref.WeakKeyDictionary()
+
+
+def _self_attributes_bound(classdef: ast.ClassDef) -> frozenset[str]:
+    bound = _BOUND_BY_CLASS.get(classdef)
+    if bound is None:
+        found: set[str] = set()
+        for node in walk(classdef):
+            targets: list[ast.expr] = []
+            if isinstance(node, ast.Assign):
+                targets = list(node.targets)
+            elif isinstance(node, (ast.AnnAssign, ast.AugAssign)):
+                targets = [node.target]
+            for target in targets:
+                for sub in walk(target):
+                    if isinstance(sub, ast.Attribute) and isinstance(sub.value, ast.Name) and sub.value.id == "self":
+                        found.add(sub.attr)
+        bound = _BOUND_BY_CLASS[classdef] = frozenset(found)
+    return bound
 
 
 def _collect_self_stores(classdef: ast.ClassDef) -> dict[str, list[ast.expr]]:
