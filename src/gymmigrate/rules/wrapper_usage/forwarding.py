@@ -116,6 +116,7 @@ class WrapperForwarding(RuleFamily):
         self._make_layers = MakeLayers(self)
         self._wrapped_reads = WrappedReads(self.facts)
         self._iterated: set[str] | None = None  # ``_collections``
+        self._env_api_receivers: set[str] | None = None  # ``_join_receiver``
 
     @classmethod
     def may_fire(cls, facts: ModuleFacts, context: FileContext) -> bool:
@@ -575,14 +576,33 @@ class WrapperForwarding(RuleFamily):
             self._join_receiver(attr.value, attr.lineno)
 
     def _join_receiver(self, receiver: ast.expr, line: int) -> None:
-        if not isinstance(receiver, ast.Subscript) and full_name(receiver) in self._collections():
+        name = full_name(receiver)
+        if not isinstance(receiver, ast.Subscript) and name in self._collections():
             return  # ``self.envs.append(env)``: the list of envs, not an env (its items ask the question)
+        # no reset, step, seed, render or close of that name asks whether it is a Gym env (an
+        # item of a collection, ``self.envs[0]``, may be asked under a loop variable's name)
+        if not isinstance(receiver, ast.Subscript) and name is not None and name not in self._api_receivers():
+            return
         for action in (Action.REPORT, Action.REWRITE_FOR_REVIEW):
             question = self.receiver_question(receiver, Decision(action, ""))
             # only the "is it a Gym env" questions of a receiver, not a library's port (GM107):
             # that is decided by the library, whatever the env's own methods are
             if isinstance(question, tuple) and question[0] in ("receiver", "fed", RUN_QUESTION) and question != gym_only_question(str(question[-1])):
                 self.plan.join(question, line)
+
+    def _api_receivers(self) -> set[str]:
+        """The names whose env-API calls (``reset``, ``step``, ``seed``, ``render``, ``close``)
+        the module makes: the receivers a "could not tell whether ... is a Gym env" question
+        is asked about. Read once: asking every attribute read for its receiver's question
+        cost a tenth of a large run."""
+        if self._env_api_receivers is None:
+            self._env_api_receivers = {
+                name
+                for method in ("reset", "step", "seed", "render", "close", "_reset", "_step", "_seed", "_render")
+                for call in self.facts.attribute_calls.get(method, ())
+                if (name := full_name(call.func.value)) is not None  # type: ignore[attr-defined]
+            }
+        return self._env_api_receivers
 
     def _collections(self) -> set[str]:
         """The names the module iterates over or subscripts (``for env in self.envs``, ``self.envs[0]``):
