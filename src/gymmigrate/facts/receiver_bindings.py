@@ -13,6 +13,7 @@ methods resolve as they did when ``Receivers`` defined them.
 from __future__ import annotations
 
 import ast
+from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from gymmigrate.facts import same_tests
@@ -207,16 +208,28 @@ class BindingKinds(_Facade):
             return None
         if not isinstance(container, ast.Name):
             return None
-        bindings = self.facts.bindings_of(container)
+        return self._through_bindings(
+            container, lambda value: self._handed_items(value, depth + 1), lambda param: self._param_handed_items(param, depth)
+        )
+
+    def _through_bindings(
+        self,
+        name: ast.Name,
+        of_value: Callable[[ast.expr], list[ast.expr] | None],
+        of_param: Callable[[ast.arg], list[ast.expr] | None],
+    ) -> list[ast.expr] | None:
+        """What every binding of ``name`` gives: ``of_value`` of a plain assignment's value,
+        ``of_param`` of a parameter; None where one binding is anything else or gives None."""
+        bindings = self.facts.bindings_of(name)
         if not bindings:
             return None
         values: list[ast.expr] = []
         for binding in bindings:
             parent = self.facts.parent(binding)
             if isinstance(binding, ast.Name) and isinstance(parent, ast.Assign) and parent.targets == [binding]:
-                found = self._handed_items(parent.value, depth + 1)
+                found = of_value(parent.value)
             elif isinstance(binding, ast.arg):
-                found = self._param_handed_items(binding, depth)
+                found = of_param(binding)
             else:
                 found = None
             if found is None:
@@ -546,21 +559,9 @@ class BindingKinds(_Facade):
             return [container.elt]
         values: list[ast.expr] = []
         if isinstance(container, ast.Name):
-            bindings = self.facts.bindings_of(container)
-            if not bindings:
-                return None
-            for binding in bindings:
-                parent = self.facts.parent(binding)
-                if isinstance(binding, ast.Name) and isinstance(parent, ast.Assign) and parent.targets == [binding]:
-                    found = self.item_values(parent.value, _depth + 1)
-                elif isinstance(binding, ast.arg):
-                    found = self._param_item_values(binding, _depth)
-                else:
-                    found = None
-                if found is None:
-                    return None
-                values += found
-            return values
+            return self._through_bindings(
+                container, lambda value: self.item_values(value, _depth + 1), lambda param: self._param_item_values(param, _depth)
+            )
         if isinstance(container, ast.Attribute) and isinstance(container.value, ast.Name) and self.is_self(container.value):
             stored = self.self_attribute_values(container, container.attr)
             if not stored:
