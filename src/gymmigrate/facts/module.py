@@ -553,6 +553,18 @@ class ModuleFacts:
         return key in self._memo and self._memo[key] is None
 
 
+def param_default(function: ast.FunctionDef | ast.AsyncFunctionDef | ast.Lambda, param: ast.arg) -> ast.expr | None:
+    """The default value of ``param`` in ``function``'s signature, if it has one."""
+    args = function.args
+    positional = [*args.posonlyargs, *args.args]
+    if param in positional:
+        index = positional.index(param) - (len(positional) - len(args.defaults))
+        return args.defaults[index] if index >= 0 else None
+    if param in args.kwonlyargs:
+        return args.kw_defaults[args.kwonlyargs.index(param)]
+    return None
+
+
 def dotted_name(expr: ast.AST) -> str | None:
     """``a.b.c`` for a chain of attributes on a name, else None."""
     parts = []

@@ -24,7 +24,13 @@ from gymmigrate.facts.creation_shapes import (
 )
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.kinds import MAX_DEPTH, EnvKind, join_kinds
-from gymmigrate.facts.module import FUNCTIONS, call_argument, own_returns, walk
+from gymmigrate.facts.module import (
+    FUNCTIONS,
+    call_argument,
+    own_returns,
+    param_default,
+    walk,
+)
 from gymmigrate.facts.receiver_classes import duck_wrapper_param
 
 if TYPE_CHECKING:
@@ -253,7 +259,7 @@ class BindingKinds(_Facade):
             if argument is None:
                 if any(isinstance(a, ast.Starred) for a in call.args) or any(kw.arg is None for kw in call.keywords):
                     return None  # ``*args``/``**kwargs`` may pass it
-                argument = _default_of(function, param)
+                argument = param_default(function, param)
                 if argument is None:
                     return None
             found = self._handed_items(argument, depth + 1)
@@ -628,17 +634,6 @@ class BindingKinds(_Facade):
 
 def _is_env_method_call(call: ast.Call) -> bool:
     return isinstance(call.func, ast.Attribute) and call.func.attr in ("reset", "step", "last")
-
-
-def _default_of(function: ast.FunctionDef | ast.AsyncFunctionDef, param: ast.arg) -> ast.expr | None:
-    """The default value of ``param`` (a positional or keyword-only parameter), if it has one."""
-    positional = [*function.args.posonlyargs, *function.args.args]
-    if param in positional:
-        index = positional.index(param) - (len(positional) - len(function.args.defaults))
-        return function.args.defaults[index] if index >= 0 else None
-    if param in function.args.kwonlyargs:
-        return function.args.kw_defaults[function.args.kwonlyargs.index(param)]
-    return None
 
 
 def _rewraps(value: ast.expr, name: str) -> bool:

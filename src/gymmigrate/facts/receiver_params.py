@@ -20,7 +20,7 @@ from gymmigrate.facts.callables import (
 from gymmigrate.facts.flow import Flow
 from gymmigrate.facts.import_roots import is_test_path
 from gymmigrate.facts.kinds import EnvKind, join_kinds
-from gymmigrate.facts.module import FUNCTIONS, call_argument, walk
+from gymmigrate.facts.module import FUNCTIONS, call_argument, param_default, walk
 from gymmigrate.facts.pytest_params import (
     fixture_values,
     injected,
@@ -502,10 +502,4 @@ def _pytest_test_method(function: ast.FunctionDef | ast.AsyncFunctionDef, classd
 
 def has_default(function: ast.AST, param: ast.arg) -> bool:
     """Whether ``param`` has a default value."""
-    args = function.args  # type: ignore[attr-defined]
-    positional = [*args.posonlyargs, *args.args]
-    if param in positional:
-        return positional.index(param) >= len(positional) - len(args.defaults)
-    if param in args.kwonlyargs:
-        return args.kw_defaults[args.kwonlyargs.index(param)] is not None
-    return False
+    return param_default(function, param) is not None  # type: ignore[arg-type]

@@ -28,7 +28,7 @@ import ast
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, walk
+from gymmigrate.facts.module import FUNCTIONS, ModuleFacts, param_default, walk
 
 STANDARD = frozenset({"self", "seed", "options", "return_info"})
 
@@ -64,14 +64,6 @@ class Contract:
 def extra_params(function: ast.FunctionDef | ast.AsyncFunctionDef) -> list[ast.arg]:
     args = function.args
     return [a for a in (*args.posonlyargs, *args.args, *args.kwonlyargs) if a.arg not in STANDARD]
-
-
-def _has_default(function: ast.FunctionDef | ast.AsyncFunctionDef, param: ast.arg) -> bool:
-    args = function.args
-    if param in args.kwonlyargs:
-        return args.kw_defaults[args.kwonlyargs.index(param)] is not None
-    positional = [*args.posonlyargs, *args.args]
-    return positional.index(param) >= len(positional) - len(args.defaults)
 
 
 def own_reset(classdef: ast.ClassDef) -> ast.FunctionDef | ast.AsyncFunctionDef | None:
@@ -132,7 +124,7 @@ def sites(facts: ModuleFacts, is_env_class: Callable[[ast.ClassDef], bool]) -> R
         elif extras and id(classdef) in top:
             class_params.append((classdef.name, frozenset(a.arg for a in extras)))
         for param in extras:
-            if param in reset.args.posonlyargs or not _has_default(reset, param) or reset.args.vararg is not None:
+            if param in reset.args.posonlyargs or param_default(reset, param) is None or reset.args.vararg is not None:
                 blockers.append((param.arg, reset.lineno))
     passed: set[str] = set()
     calls: list[tuple[str, int]] = []

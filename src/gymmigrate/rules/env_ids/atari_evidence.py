@@ -19,12 +19,11 @@ from gymmigrate.facts.atari_signs import (
     self_stored,
     under_condition,
 )
-from gymmigrate.facts.module import call_argument, full_name, walk
+from gymmigrate.facts.module import call_argument, full_name, param_default, walk
 from gymmigrate.facts.receivers import Receivers
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.env_ids.catalog import is_atari_id
 from gymmigrate.rules.env_ids.syntax import (
-    param_default,
     plain_string,
     split_module_prefix,
 )

@@ -12,7 +12,7 @@ import re
 from dataclasses import replace
 
 from gymmigrate.facts import ModuleFacts
-from gymmigrate.facts.module import call_argument
+from gymmigrate.facts.module import call_argument, param_default
 from gymmigrate.facts.receivers import Receivers
 from gymmigrate.rules.env_ids.atari_evidence import atari_template
 from gymmigrate.rules.env_ids.handed_on_ids import HandedOnIds
@@ -20,7 +20,6 @@ from gymmigrate.rules.env_ids.id_literals import IdSite, calls_in_source_order
 from gymmigrate.rules.env_ids.syntax import (
     id_argument,
     leading_literal,
-    param_default,
     plain_string,
 )
 

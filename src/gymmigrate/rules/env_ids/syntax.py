@@ -83,18 +83,6 @@ def plain_string(facts: ModuleFacts, node: ast.AST) -> str | None:
     return node.value if raw == node.value else None
 
 
-def param_default(function: ast.FunctionDef | ast.AsyncFunctionDef | ast.Lambda, param: ast.arg) -> ast.expr | None:
-    """The default value of ``param`` in ``function``'s signature, if it has one."""
-    args = function.args
-    positional = [*args.posonlyargs, *args.args]
-    if param in positional:
-        index = positional.index(param) - (len(positional) - len(args.defaults))
-        return args.defaults[index] if index >= 0 else None
-    if param in args.kwonlyargs:
-        return args.kw_defaults[args.kwonlyargs.index(param)]
-    return None
-
-
 def split_module_prefix(text: str) -> tuple[str, str]:
     """``("ale_py:", "ALE/Pong-v5")`` for ``"ale_py:ALE/Pong-v5"``: the module a ``make`` imports first, and the id."""
     if ":" in text:

@@ -18,10 +18,9 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from gymmigrate.facts import ModuleFacts
-from gymmigrate.facts.module import call_argument
+from gymmigrate.facts.module import call_argument, param_default
 from gymmigrate.findings import FixKind
 from gymmigrate.rules.base import RuleFamily
-from gymmigrate.rules.env_ids.syntax import param_default
 
 # A scalar, or a 1-D array of scalars (what the bounds of a flat Box hold).
 Value = float | tuple[float, ...]
